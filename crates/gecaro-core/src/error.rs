@@ -1,0 +1,115 @@
+//! The one error type of `gecaro-core`.
+
+use std::fmt;
+
+/// Where in a robot description a problem was found.
+///
+/// File readers (`gecaro-io`) map a `Field` back to a line of the file the
+/// description came from, so every message can name the file, line and key.
+#[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Field {
+    /// The list of frames as a whole (count, order).
+    Frames,
+    /// One key of frame `index` (0..=n+1), such as `sigma` or `qmin`.
+    Frame {
+        /// Frame number j, 0 for the base frame.
+        index: usize,
+        /// The key of the frame table (`sigma`, `alpha`, `d`, `theta`, `r`, `beta`,
+        /// `qmin`, `qmax`, `offset`, `K`).
+        key: &'static str,
+    },
+    /// A coupling matrix, `Cm` or `Cj` (eq. 4).
+    Coupling(&'static str),
+    /// The priority matrix, optionally one row (frame) of it.
+    Priority {
+        /// The row (frame number) at fault, if one is.
+        row: Option<usize>,
+    },
+}
+
+impl fmt::Display for Field {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Field::Frames => f.write_str("frames"),
+            Field::Frame { index, key } => write!(f, "frame {index}, `{key}`"),
+            Field::Coupling(name) => write!(f, "coupling matrix `{name}`"),
+            Field::Priority { row: None } => f.write_str("priority matrix"),
+            Field::Priority { row: Some(row) } => write!(f, "priority matrix, row {row}"),
+        }
+    }
+}
+
+/// Errors of the robot model and the kinematic models.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A robot description breaks a rule of the model (paper §2).
+    #[error("{field}: {message}")]
+    Invalid {
+        /// Where the problem is.
+        field: Field,
+        /// What is wrong, in words a user can act on.
+        message: String,
+    },
+    /// A configuration does not have one motor value per joint.
+    #[error("a configuration needs {expected} motor values (one per joint), got {found}")]
+    ConfigurationLength {
+        /// Number of joints n.
+        expected: usize,
+        /// Number of values given.
+        found: usize,
+    },
+    /// A configuration holds NaN or an infinite value.
+    #[error("motor value qm{joint} is not a finite number ({value})")]
+    NonFiniteConfiguration {
+        /// Joint number, 1-based.
+        joint: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// A parameter name that is not in the robot's vocabulary.
+    #[error("unknown parameter `{name}`{}", suggestion_text(.suggestion))]
+    UnknownParameter {
+        /// The name as given.
+        name: String,
+        /// The closest valid name, if one is close.
+        suggestion: Option<String>,
+    },
+    /// A target was given with NaN or infinite coordinates.
+    #[error("the {what} target is not finite")]
+    NonFiniteTarget {
+        /// `position` or `frame`.
+        what: &'static str,
+    },
+    /// The numerical inverse geometric model did not reach its target.
+    #[error(
+        "target not reached by the inverse geometric model after {iterations} iterations \
+         (remaining error {residual:.3e}; tolerance {tolerance:.1e}): \
+         it is out of reach within the joint limits, or needs another start configuration"
+    )]
+    Unreachable {
+        /// Iterations spent.
+        iterations: usize,
+        /// Norm of the remaining pose difference (metres and radians).
+        residual: f64,
+        /// The tolerance that was asked for.
+        tolerance: f64,
+    },
+}
+
+fn suggestion_text(suggestion: &Option<String>) -> String {
+    match suggestion {
+        Some(name) => format!(" (did you mean `{name}`?)"),
+        None => String::new(),
+    }
+}
+
+impl Error {
+    pub(crate) fn invalid(field: Field, message: impl Into<String>) -> Self {
+        Error::Invalid {
+            field,
+            message: message.into(),
+        }
+    }
+}

@@ -1,0 +1,18 @@
+//! Kinematic models of a [`Robot`](crate::Robot): direct geometric model
+//! (eq. 1–3), pose difference (Appendix I), Jacobian with respect to the
+//! geometric parameters and gains (Appendix II), and a numerical inverse
+//! geometric model.
+//!
+//! Conventions: all vectors are expressed in the world (measurement) frame −1;
+//! a 6-vector is `[position (m); orientation (rad)]`; configurations are motor
+//! variables qm (eq. 4) unless a name says joint positions.
+
+mod direct;
+mod inverse;
+mod jacobian;
+mod pose_difference;
+
+pub use direct::{FrameChain, forward_kinematics, frame_transform, terminal_pose};
+pub use inverse::{InverseOptions, InverseSolution, Target, inverse_kinematics};
+pub use jacobian::{joint_jacobian, parameter_jacobian, parameter_jacobian_of_chain};
+pub use pose_difference::{OrientationDifference, orientation_difference, pose_difference};

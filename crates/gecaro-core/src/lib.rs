@@ -1,0 +1,80 @@
+//! # gecaro-core
+//!
+//! The robot model and the kinematic models of GECARO (Khalil et al.), on
+//! which every calibration method of gecaro is built.
+//!
+//! - [`Robot`]: n joints, frames 0..=n+1 in Khalil–Kleinfinger parameters
+//!   (σ, α, d, θ, r) with Hayati's β for parallel axes (eq. 2–3), joint limits,
+//!   offsets, transmission gains K and the coupling matrices Cm, Cj of eq. 4.
+//! - [`ParameterSpace`]: the parameter vector η and its names
+//!   (`theta0 r0 alpha1 d1 theta1 r1 beta1 … K1 … Kn`).
+//! - [`PriorityMatrix`]: the (n+2)×6 priority matrix and the default rules of §4.
+//! - Kinematics: [`forward_kinematics`] (eq. 1), [`pose_difference`]
+//!   (Appendix I), [`parameter_jacobian`] (Appendix II) and the numerical
+//!   [`inverse_kinematics`].
+//!
+//! Units: metres and radians throughout; gains are dimensionless. Every
+//! vector is expressed in the world frame −1; 6-vectors are `[position; rotation]`.
+//!
+//! ## Example
+//!
+//! The Stanford arm of the paper's Table 1, its end-effector at one
+//! configuration, and the 6×43 Jacobian of eq. 7:
+//!
+//! ```
+//! use std::f64::consts::FRAC_PI_2;
+//! use gecaro_core::{forward_kinematics, parameter_jacobian, Frame, FrameType, Joint, Robot, RobotSpec};
+//!
+//! let revolute = |alpha: f64, r: f64| Frame { alpha, r, ..Frame::new(FrameType::Revolute) };
+//! let frames = vec![
+//!     Frame { theta: FRAC_PI_2, r: 0.5, ..Frame::new(FrameType::Fixed) },
+//!     revolute(0.1, 0.0),
+//!     revolute(-FRAC_PI_2, 0.2),
+//!     Frame { alpha: FRAC_PI_2, ..Frame::new(FrameType::Prismatic) },
+//!     revolute(0.0, 0.0),
+//!     revolute(-FRAC_PI_2, 0.0),
+//!     revolute(FRAC_PI_2, 0.0),
+//!     Frame { alpha: 1.3, d: 0.2, theta: FRAC_PI_2, r: 0.1, ..Frame::new(FrameType::Fixed) },
+//! ];
+//! let joints = frames[1..7].iter().map(|f| Joint::default_for(f.frame_type)).collect();
+//! let stanford = Robot::new(RobotSpec {
+//!     name: "Stanford".into(),
+//!     frames,
+//!     joints,
+//!     motor_coupling: None,
+//!     joint_coupling: None,
+//!     priority: None,
+//! })?;
+//!
+//! let qm = [0.0, 0.0, 0.5, 0.0, 0.0, 0.0];
+//! let tool = forward_kinematics(&stanford, &qm)?.world_from_tool().translation.vector;
+//! assert!((tool - nalgebra::Vector3::new(-0.0505392, 0.2, 1.0344655)).norm() < 1e-6);
+//!
+//! let jacobian = parameter_jacobian(&stanford, &qm)?;
+//! assert_eq!(jacobian.shape(), (6, 43));
+//! # Ok::<(), gecaro_core::Error>(())
+//! ```
+
+#![warn(missing_docs)]
+
+mod error;
+mod kinematics;
+mod parameters;
+mod priority;
+mod robot;
+
+#[cfg(test)]
+mod test_robots;
+
+pub use error::{Error, Field};
+pub use kinematics::{
+    FrameChain, InverseOptions, InverseSolution, OrientationDifference, Target, forward_kinematics,
+    frame_transform, inverse_kinematics, joint_jacobian, orientation_difference,
+    parameter_jacobian, parameter_jacobian_of_chain, pose_difference, terminal_pose,
+};
+pub use parameters::{ParameterId, ParameterKind, ParameterSpace};
+pub use priority::PriorityMatrix;
+pub use robot::{Frame, FrameType, Joint, Robot, RobotSpec};
+
+#[cfg(test)]
+pub(crate) use test_robots::stanford as ready_robot_for_tests;

@@ -1,0 +1,635 @@
+//! The robot model of paper §2: Khalil–Kleinfinger frames with Hayati β,
+//! joint parameters (limits, offsets, gains) and the coupling matrices of eq. 4.
+//!
+//! A robot with n joints has n+2 frames j = 0..=n+1. Frame j is placed on
+//! frame j−1 by (eq. 3)
+//!
+//! ```text
+//! (j-1)T(j) = Rot(y, β_j) · Rot(x, α_j) · Trans(x, d_j) · Rot(z, θ_j) · Trans(z, r_j)
+//! ```
+//!
+//! Frame 0 (the base, relative to the world frame −1) and frame n+1 (the
+//! end-effector) are fixed (σ = 2); frames 1..=n are joints, revolute (σ = 0,
+//! the joint variable q_j is added to θ_j) or prismatic (σ = 1, q_j is added to
+//! r_j). Frame 0 carries only θ0 and r0: α0 = d0 = β0 = 0.
+//!
+//! Joint variables come from motor variables by eq. 4,
+//! `q = Cj · diag(K) · Cm · qm + Offset`, and the joint limits `qmin ≤ q ≤ qmax`
+//! apply to q (metres or radians, before θ_j / r_j are added).
+//!
+//! A [`Robot`] is always valid: [`Robot::new`] checks every rule and names the
+//! [`Field`] at fault.
+
+use nalgebra::{DMatrix, DVector};
+
+use crate::parameters::{ParameterId, ParameterKind, ParameterSpace};
+use crate::priority::PriorityMatrix;
+use crate::{Error, Field};
+
+/// The type σ_j of frame j.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum FrameType {
+    /// σ = 0: revolute joint, q_j is added to θ_j.
+    Revolute,
+    /// σ = 1: prismatic joint, q_j is added to r_j.
+    Prismatic,
+    /// σ = 2: a frame of constant parameters (frames 0 and n+1).
+    Fixed,
+}
+
+impl FrameType {
+    /// The paper's σ: 0, 1 or 2.
+    pub fn sigma(self) -> u8 {
+        match self {
+            FrameType::Revolute => 0,
+            FrameType::Prismatic => 1,
+            FrameType::Fixed => 2,
+        }
+    }
+
+    /// The type of σ, or `None` if σ is not 0, 1 or 2.
+    pub fn from_sigma(sigma: i64) -> Option<Self> {
+        match sigma {
+            0 => Some(FrameType::Revolute),
+            1 => Some(FrameType::Prismatic),
+            2 => Some(FrameType::Fixed),
+            _ => None,
+        }
+    }
+
+    /// One letter as in a joint string like `RRPRRR`: `R`, `P` or `F`.
+    pub fn letter(self) -> char {
+        match self {
+            FrameType::Revolute => 'R',
+            FrameType::Prismatic => 'P',
+            FrameType::Fixed => 'F',
+        }
+    }
+}
+
+/// The geometric parameters of one frame (eq. 3). Lengths in metres, angles in radians.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Frame {
+    /// σ_j.
+    pub frame_type: FrameType,
+    /// α_j: angle between z_{j−1} and z_j about x_{j−1}.
+    pub alpha: f64,
+    /// d_j: distance between z_{j−1} and z_j along x_{j−1}.
+    pub d: f64,
+    /// θ_j: angle between x_{j−1} and x_j about z_j (constant part).
+    pub theta: f64,
+    /// r_j: distance between x_{j−1} and x_j along z_j (constant part).
+    pub r: f64,
+    /// β_j: Hayati angle about y_{j−1}; nominally 0, needed for parallel axes.
+    pub beta: f64,
+}
+
+impl Frame {
+    /// A frame of the given type with all parameters zero.
+    pub fn new(frame_type: FrameType) -> Self {
+        Frame {
+            frame_type,
+            alpha: 0.0,
+            d: 0.0,
+            theta: 0.0,
+            r: 0.0,
+            beta: 0.0,
+        }
+    }
+
+    /// The value of a geometric parameter of this frame (`Gain` is not one).
+    fn get(&self, kind: ParameterKind) -> f64 {
+        match kind {
+            ParameterKind::Alpha => self.alpha,
+            ParameterKind::D => self.d,
+            ParameterKind::Theta => self.theta,
+            ParameterKind::R => self.r,
+            ParameterKind::Beta => self.beta,
+            ParameterKind::Gain => f64::NAN,
+        }
+    }
+
+    fn get_mut(&mut self, kind: ParameterKind) -> Option<&mut f64> {
+        match kind {
+            ParameterKind::Alpha => Some(&mut self.alpha),
+            ParameterKind::D => Some(&mut self.d),
+            ParameterKind::Theta => Some(&mut self.theta),
+            ParameterKind::R => Some(&mut self.r),
+            ParameterKind::Beta => Some(&mut self.beta),
+            ParameterKind::Gain => None,
+        }
+    }
+}
+
+/// The joint parameters of one joint (paper §2.2).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Joint {
+    /// Lower limit of the joint variable q_j.
+    pub qmin: f64,
+    /// Upper limit of the joint variable q_j.
+    pub qmax: f64,
+    /// Offset_j of eq. 4 (added to the joint variable; not identified — the
+    /// identifiable joint offset is θ_j or r_j).
+    pub offset: f64,
+    /// Transmission gain K_j of eq. 4.
+    pub gain: f64,
+}
+
+impl Joint {
+    /// Limits ±π for a revolute joint, 0..1 m for a prismatic one; offset 0, gain 1.
+    pub fn default_for(frame_type: FrameType) -> Self {
+        let (qmin, qmax) = match frame_type {
+            FrameType::Prismatic => (0.0, 1.0),
+            _ => (-std::f64::consts::PI, std::f64::consts::PI),
+        };
+        Joint {
+            qmin,
+            qmax,
+            offset: 0.0,
+            gain: 1.0,
+        }
+    }
+}
+
+/// Everything needed to build a [`Robot`]; plain data, not yet validated.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RobotSpec {
+    /// A human name, e.g. `Stanford`.
+    pub name: String,
+    /// Frames 0..=n+1.
+    pub frames: Vec<Frame>,
+    /// Joints 1..=n (element j−1 is joint j).
+    pub joints: Vec<Joint>,
+    /// Cm of eq. 4 (n×n); identity when `None`.
+    pub motor_coupling: Option<DMatrix<f64>>,
+    /// Cj of eq. 4 (n×n); identity when `None`.
+    pub joint_coupling: Option<DMatrix<f64>>,
+    /// A priority matrix overriding the defaults of paper §4.
+    pub priority: Option<PriorityMatrix>,
+}
+
+/// A valid serial robot (see the module docs for the conventions).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Robot {
+    name: String,
+    frames: Vec<Frame>,
+    joints: Vec<Joint>,
+    motor_coupling: DMatrix<f64>,
+    joint_coupling: DMatrix<f64>,
+    priority_override: Option<PriorityMatrix>,
+    parameters: ParameterSpace,
+    /// Cj · diag(K) · Cm, kept in step with the gains.
+    motor_to_joint: DMatrix<f64>,
+}
+
+impl Robot {
+    /// Validates a description and builds the robot.
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] naming the field at fault when: there are fewer than
+    /// three frames; frame 0 or n+1 is not fixed (σ = 2), or a joint frame is;
+    /// frame 0 has a non-zero α, d or β; a value is NaN or infinite; the joint
+    /// count does not match; qmin > qmax; a gain is zero; a coupling matrix is
+    /// not n×n or is singular; the priority matrix has the wrong shape or gives
+    /// a priority to something that is not a parameter.
+    pub fn new(spec: RobotSpec) -> Result<Self, Error> {
+        let RobotSpec {
+            name,
+            frames,
+            joints,
+            motor_coupling,
+            joint_coupling,
+            priority,
+        } = spec;
+        validate_frames(&frames)?;
+        let n = frames.len() - 2;
+        if joints.len() != n {
+            return Err(Error::invalid(
+                Field::Frames,
+                format!(
+                    "{} joint frames need {} sets of joint parameters, got {}",
+                    n,
+                    n,
+                    joints.len()
+                ),
+            ));
+        }
+        for (index, joint) in joints.iter().enumerate() {
+            validate_joint(index + 1, joint)?;
+        }
+        let motor_coupling = validate_coupling("Cm", motor_coupling, n)?;
+        let joint_coupling = validate_coupling("Cj", joint_coupling, n)?;
+        let parameters = ParameterSpace::new(n);
+        if let Some(priority) = &priority {
+            priority.validate(&parameters)?;
+        }
+        let mut robot = Robot {
+            name,
+            frames,
+            joints,
+            motor_coupling,
+            joint_coupling,
+            priority_override: priority,
+            parameters,
+            motor_to_joint: DMatrix::zeros(n, n),
+        };
+        robot.update_motor_to_joint();
+        Ok(robot)
+    }
+
+    /// The description this robot was built from (to edit and rebuild).
+    pub fn to_spec(&self) -> RobotSpec {
+        RobotSpec {
+            name: self.name.clone(),
+            frames: self.frames.clone(),
+            joints: self.joints.clone(),
+            motor_coupling: Some(self.motor_coupling.clone()),
+            joint_coupling: Some(self.joint_coupling.clone()),
+            priority: self.priority_override.clone(),
+        }
+    }
+
+    /// The robot's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Renames the robot.
+    pub fn set_name(&mut self, name: impl Into<String>) {
+        self.name = name.into();
+    }
+
+    /// Number of joints n.
+    pub fn joint_count(&self) -> usize {
+        self.joints.len()
+    }
+
+    /// Frames 0..=n+1.
+    pub fn frames(&self) -> &[Frame] {
+        &self.frames
+    }
+
+    /// Joints 1..=n (element j−1 is joint j).
+    pub fn joints(&self) -> &[Joint] {
+        &self.joints
+    }
+
+    /// The joint letters, e.g. `RRPRRR` for the Stanford arm.
+    pub fn joint_letters(&self) -> String {
+        self.frames[1..=self.joint_count()]
+            .iter()
+            .map(|frame| frame.frame_type.letter())
+            .collect()
+    }
+
+    /// Cm of eq. 4.
+    pub fn motor_coupling(&self) -> &DMatrix<f64> {
+        &self.motor_coupling
+    }
+
+    /// Cj of eq. 4.
+    pub fn joint_coupling(&self) -> &DMatrix<f64> {
+        &self.joint_coupling
+    }
+
+    /// The parameter vocabulary of this robot.
+    pub fn parameters(&self) -> &ParameterSpace {
+        &self.parameters
+    }
+
+    /// The priority matrix in force: the user's override, or the defaults of paper §4.
+    pub fn priority(&self) -> PriorityMatrix {
+        self.priority_override
+            .clone()
+            .unwrap_or_else(|| PriorityMatrix::default_for(self))
+    }
+
+    /// The user's priority matrix, if the robot carries one.
+    pub fn priority_override(&self) -> Option<&PriorityMatrix> {
+        self.priority_override.as_ref()
+    }
+
+    /// Replaces (or, with `None`, removes) the priority override.
+    ///
+    /// # Errors
+    /// When the matrix does not fit this robot.
+    pub fn set_priority_override(&mut self, priority: Option<PriorityMatrix>) -> Result<(), Error> {
+        if let Some(priority) = &priority {
+            priority.validate(&self.parameters)?;
+        }
+        self.priority_override = priority;
+        Ok(())
+    }
+
+    /// The value of one parameter.
+    ///
+    /// # Panics
+    /// If `id` is not a parameter of this robot (see [`ParameterSpace::index_of`]).
+    pub fn parameter(&self, id: ParameterId) -> f64 {
+        assert!(
+            self.parameters.contains(id),
+            "{id} is not a parameter of this robot"
+        );
+        match id.kind {
+            ParameterKind::Gain => self.joints[id.frame - 1].gain,
+            kind => self.frames[id.frame].get(kind),
+        }
+    }
+
+    /// The parameter vector η in vocabulary order.
+    pub fn parameter_values(&self) -> DVector<f64> {
+        DVector::from_iterator(
+            self.parameters.len(),
+            self.parameters.ids().iter().map(|id| self.parameter(*id)),
+        )
+    }
+
+    /// Sets one parameter.
+    ///
+    /// # Errors
+    /// When `id` is not a parameter of this robot, the value is not finite, or
+    /// a gain would become zero.
+    pub fn set_parameter(&mut self, id: ParameterId, value: f64) -> Result<(), Error> {
+        if !self.parameters.contains(id) {
+            return Err(Error::UnknownParameter {
+                name: id.to_string(),
+                suggestion: None,
+            });
+        }
+        let field = Field::Frame {
+            index: id.frame,
+            key: if id.kind == ParameterKind::Gain {
+                "K"
+            } else {
+                id.kind.symbol()
+            },
+        };
+        if !value.is_finite() {
+            return Err(Error::invalid(
+                field,
+                format!("{value} is not a finite number"),
+            ));
+        }
+        match id.kind {
+            ParameterKind::Gain => {
+                if value == 0.0 {
+                    return Err(Error::invalid(field, "a transmission gain cannot be zero"));
+                }
+                self.joints[id.frame - 1].gain = value;
+                self.update_motor_to_joint();
+            }
+            kind => {
+                if let Some(slot) = self.frames[id.frame].get_mut(kind) {
+                    *slot = value;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Adds `deltas` (vocabulary order) to the parameters: η ← η + Δη.
+    ///
+    /// # Errors
+    /// When `deltas` has the wrong length, or a result is invalid (see
+    /// [`Robot::set_parameter`]).
+    pub fn apply_deltas(&mut self, deltas: &[f64]) -> Result<(), Error> {
+        if deltas.len() != self.parameters.len() {
+            return Err(Error::invalid(
+                Field::Frames,
+                format!(
+                    "a parameter update needs {} values, got {}",
+                    self.parameters.len(),
+                    deltas.len()
+                ),
+            ));
+        }
+        for (index, delta) in deltas.iter().enumerate() {
+            if *delta != 0.0 {
+                let id = self.parameters.id(index);
+                self.set_parameter(id, self.parameter(id) + delta)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Joint variables from motor variables, eq. 4: `q = Cj·diag(K)·Cm·qm + Offset`.
+    ///
+    /// # Errors
+    /// When `qm` does not hold n finite values.
+    pub fn joint_positions(&self, motor_positions: &[f64]) -> Result<DVector<f64>, Error> {
+        self.check_configuration(motor_positions)?;
+        let qm = DVector::from_column_slice(motor_positions);
+        let mut q = &self.motor_to_joint * qm;
+        for (value, joint) in q.iter_mut().zip(&self.joints) {
+            *value += joint.offset;
+        }
+        Ok(q)
+    }
+
+    /// Motor variables from joint variables, the inverse of eq. 4:
+    /// `qm = (Cj·diag(K)·Cm)⁻¹ · (q − Offset)`.
+    ///
+    /// # Errors
+    /// When `q` does not hold n finite values.
+    pub fn motor_positions(&self, joint_positions: &[f64]) -> Result<DVector<f64>, Error> {
+        self.check_configuration(joint_positions)?;
+        let shifted = DVector::from_iterator(
+            self.joint_count(),
+            joint_positions
+                .iter()
+                .zip(&self.joints)
+                .map(|(q, joint)| q - joint.offset),
+        );
+        // Validation guarantees the product is regular; LU keeps this exact to rounding.
+        let lu = self.motor_to_joint.clone().lu();
+        lu.solve(&shifted).ok_or_else(|| {
+            Error::invalid(
+                Field::Coupling("Cj·diag(K)·Cm"),
+                "the motor-to-joint map is singular",
+            )
+        })
+    }
+
+    /// The product Cj · diag(K) · Cm, so that q = M · qm + Offset.
+    pub fn motor_to_joint(&self) -> &DMatrix<f64> {
+        &self.motor_to_joint
+    }
+
+    /// Whether each joint variable of `q` lies within its limits (with a
+    /// tolerance of 1e-9 for values pushed there by a solver).
+    pub fn within_limits(&self, joint_positions: &[f64]) -> bool {
+        joint_positions
+            .iter()
+            .zip(&self.joints)
+            .all(|(q, joint)| *q >= joint.qmin - 1e-9 && *q <= joint.qmax + 1e-9)
+    }
+
+    /// Checks that a configuration has n finite values.
+    ///
+    /// # Errors
+    /// [`Error::ConfigurationLength`] or [`Error::NonFiniteConfiguration`].
+    pub fn check_configuration(&self, values: &[f64]) -> Result<(), Error> {
+        if values.len() != self.joint_count() {
+            return Err(Error::ConfigurationLength {
+                expected: self.joint_count(),
+                found: values.len(),
+            });
+        }
+        if let Some((index, value)) = values.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(Error::NonFiniteConfiguration {
+                joint: index + 1,
+                value: *value,
+            });
+        }
+        Ok(())
+    }
+
+    fn update_motor_to_joint(&mut self) {
+        let gains = DVector::from_iterator(self.joints.len(), self.joints.iter().map(|j| j.gain));
+        self.motor_to_joint =
+            &self.joint_coupling * DMatrix::from_diagonal(&gains) * &self.motor_coupling;
+    }
+}
+
+fn validate_frames(frames: &[Frame]) -> Result<(), Error> {
+    if frames.len() < 3 {
+        return Err(Error::invalid(
+            Field::Frames,
+            format!(
+                "a robot needs frame 0 (base), at least one joint frame and frame n+1 \
+                 (end-effector); found {} frame(s)",
+                frames.len()
+            ),
+        ));
+    }
+    let last = frames.len() - 1;
+    for (index, frame) in frames.iter().enumerate() {
+        let field = |key| Field::Frame { index, key };
+        let is_end = index == 0 || index == last;
+        match (is_end, frame.frame_type) {
+            (true, FrameType::Fixed) | (false, FrameType::Revolute | FrameType::Prismatic) => {}
+            (true, other) => {
+                return Err(Error::invalid(
+                    field("sigma"),
+                    format!(
+                        "frame {index} is the {} frame and must be fixed (sigma = 2), not sigma = {}",
+                        if index == 0 {
+                            "base"
+                        } else {
+                            "end-effector (n+1)"
+                        },
+                        other.sigma()
+                    ),
+                ));
+            }
+            (false, _) => {
+                return Err(Error::invalid(
+                    field("sigma"),
+                    format!(
+                        "frame {index} lies between the base and the end-effector, so it is a \
+                         joint: sigma must be 0 (revolute) or 1 (prismatic), not 2; only \
+                         frames 0 and {last} are fixed"
+                    ),
+                ));
+            }
+        }
+        for (key, value) in [
+            ("alpha", frame.alpha),
+            ("d", frame.d),
+            ("theta", frame.theta),
+            ("r", frame.r),
+            ("beta", frame.beta),
+        ] {
+            if !value.is_finite() {
+                return Err(Error::invalid(
+                    field(key),
+                    format!("{value} is not a finite number"),
+                ));
+            }
+        }
+        if index == 0 {
+            for (key, value) in [("alpha", frame.alpha), ("d", frame.d), ("beta", frame.beta)] {
+                if value != 0.0 {
+                    return Err(Error::invalid(
+                        field(key),
+                        format!(
+                            "frame 0 carries only theta and r (alpha0 = d0 = beta0 = 0 by \
+                             definition of the base frame); got {key} = {value}"
+                        ),
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+fn validate_joint(index: usize, joint: &Joint) -> Result<(), Error> {
+    let field = |key| Field::Frame { index, key };
+    for (key, value) in [
+        ("qmin", joint.qmin),
+        ("qmax", joint.qmax),
+        ("offset", joint.offset),
+        ("K", joint.gain),
+    ] {
+        if !value.is_finite() {
+            return Err(Error::invalid(
+                field(key),
+                format!("{value} is not a finite number"),
+            ));
+        }
+    }
+    if joint.qmin > joint.qmax {
+        return Err(Error::invalid(
+            field("qmin"),
+            format!(
+                "qmin = {} is greater than qmax = {}",
+                joint.qmin, joint.qmax
+            ),
+        ));
+    }
+    if joint.gain == 0.0 {
+        return Err(Error::invalid(
+            field("K"),
+            "a transmission gain cannot be zero",
+        ));
+    }
+    Ok(())
+}
+
+fn validate_coupling(
+    name: &'static str,
+    matrix: Option<DMatrix<f64>>,
+    n: usize,
+) -> Result<DMatrix<f64>, Error> {
+    let Some(matrix) = matrix else {
+        return Ok(DMatrix::identity(n, n));
+    };
+    let field = Field::Coupling(name);
+    if matrix.shape() != (n, n) {
+        return Err(Error::invalid(
+            field,
+            format!(
+                "must be {n}×{n} (one row and column per joint), got {}×{}",
+                matrix.nrows(),
+                matrix.ncols()
+            ),
+        ));
+    }
+    if matrix.iter().any(|v| !v.is_finite()) {
+        return Err(Error::invalid(
+            field,
+            "holds a value that is not a finite number",
+        ));
+    }
+    let singular_values = matrix.clone().svd(false, false).singular_values;
+    let largest = singular_values.max();
+    let smallest = singular_values.min();
+    if largest == 0.0 || smallest <= 1e-12 * largest {
+        return Err(Error::invalid(
+            field,
+            "is singular: motor variables could not be recovered from joint variables (eq. 4)",
+        ));
+    }
+    Ok(matrix)
+}

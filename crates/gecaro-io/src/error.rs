@@ -1,0 +1,78 @@
+//! The one error type of `gecaro-io`.
+
+use std::path::PathBuf;
+
+/// Errors reading or writing gecaro files. Every variant names the file; parse
+/// errors also name the line and, where there is one, the key or column.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// The file could not be read.
+    #[error("cannot read {}: {source}", .path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The file could not be written (nothing was left behind).
+    #[error("cannot write {}: {message}", .path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        message: String,
+    },
+    /// The output file exists and overwriting was not asked for.
+    #[error("{} already exists (use --force to overwrite it)", .path.display())]
+    OutputExists {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The file's content is wrong at a known place.
+    #[error("{}:{line}: {}{message}", .path.display(), field_prefix(.field))]
+    Parse {
+        /// The file (or `<name>` for text that is not a file).
+        path: PathBuf,
+        /// 1-based line number.
+        line: usize,
+        /// The key or column at fault, if any.
+        field: Option<String>,
+        /// What is wrong.
+        message: String,
+    },
+    /// Neither a file nor a ready robot has this name.
+    #[error(
+        "no robot file `{name}` and no ready robot of that name; ready robots: {}",
+        .available.join(", ")
+    )]
+    UnknownRobot {
+        /// The name or path as given.
+        name: String,
+        /// The ready robots.
+        available: Vec<String>,
+    },
+}
+
+fn field_prefix(field: &Option<String>) -> String {
+    match field {
+        Some(field) => format!("{field}: "),
+        None => String::new(),
+    }
+}
+
+impl Error {
+    pub(crate) fn parse(
+        path: impl Into<PathBuf>,
+        line: usize,
+        field: Option<String>,
+        message: impl Into<String>,
+    ) -> Self {
+        Error::Parse {
+            path: path.into(),
+            line,
+            field,
+            message: message.into(),
+        }
+    }
+}

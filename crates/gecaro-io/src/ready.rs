@@ -1,0 +1,111 @@
+//! The library of ready robots shipped in the repository's `robots/` folder,
+//! embedded in the binary so that `gecaro fk stanford ...` works anywhere.
+
+use std::path::Path;
+
+use crate::Error;
+use crate::robot_file::{RobotFile, parse_robot_file, read_robot_file, virtual_path};
+
+/// A robot of the library.
+#[derive(Copy, Clone, Debug)]
+pub struct ReadyRobot {
+    /// The name to use on the command line (`stanford`).
+    pub name: &'static str,
+    /// The robot file's text.
+    pub text: &'static str,
+}
+
+macro_rules! ready {
+    ($($name:literal),* $(,)?) => {
+        &[$(ReadyRobot { name: $name, text: include_str!(concat!("../../../robots/", $name, ".toml")) }),*]
+    };
+}
+
+const READY: &[ReadyRobot] = ready![
+    "stanford",
+    "puma560",
+    "industrial6",
+    "scara",
+    "panda",
+    "ur10e"
+];
+
+/// All ready robots, in the order they are listed to users.
+pub fn ready_robots() -> &'static [ReadyRobot] {
+    READY
+}
+
+/// The ready robot called `name` (case-insensitive), parsed.
+///
+/// Returns `None` when there is no such ready robot.
+///
+/// # Errors
+/// Never for the shipped files (every ready robot is tested), but the parse
+/// error is passed on rather than hidden.
+pub fn ready_robot(name: &str) -> Option<Result<RobotFile, Error>> {
+    READY
+        .iter()
+        .find(|ready| ready.name.eq_ignore_ascii_case(name))
+        .map(|ready| parse_robot_file(ready.text, &virtual_path(ready.name)))
+}
+
+/// A robot from a path or, when no such file exists, a ready robot's name.
+///
+/// # Errors
+/// [`Error::UnknownRobot`] (listing the ready robots) when neither exists, and
+/// the file's own errors otherwise.
+pub fn load_robot(path_or_name: &str) -> Result<RobotFile, Error> {
+    let path = Path::new(path_or_name);
+    if path.is_file() {
+        return read_robot_file(path);
+    }
+    ready_robot(path_or_name).unwrap_or_else(|| {
+        if path.extension().is_some() || path_or_name.contains(std::path::MAIN_SEPARATOR) {
+            // Looks like a path: say the file is missing rather than list robots only.
+            Err(Error::Read {
+                path: path.to_owned(),
+                source: std::io::Error::new(
+                    std::io::ErrorKind::NotFound,
+                    format!(
+                        "no such file (ready robots: {})",
+                        READY.iter().map(|r| r.name).collect::<Vec<_>>().join(", ")
+                    ),
+                ),
+            })
+        } else {
+            Err(Error::UnknownRobot {
+                name: path_or_name.to_owned(),
+                available: READY.iter().map(|ready| ready.name.to_owned()).collect(),
+            })
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::robot_file::format_robot_file;
+
+    #[test]
+    fn every_ready_robot_loads_and_round_trips() {
+        for ready in ready_robots() {
+            let file = ready_robot(ready.name)
+                .expect("listed")
+                .unwrap_or_else(|error| panic!("{}: {error}", ready.name));
+            let again = parse_robot_file(&format_robot_file(&file), Path::new("again.toml"))
+                .unwrap_or_else(|error| panic!("{}: {error}", ready.name));
+            assert_eq!(file.robot.frames(), again.robot.frames(), "{}", ready.name);
+            assert_eq!(file.robot.joints().len(), again.robot.joints().len());
+        }
+    }
+
+    #[test]
+    fn unknown_names_list_the_library() {
+        let error = load_robot("stanfrod").expect_err("no such robot");
+        let message = error.to_string();
+        assert!(
+            message.contains("stanford") && message.contains("puma560"),
+            "{message}"
+        );
+    }
+}

@@ -1,0 +1,89 @@
+//! `gecaro fk` and `gecaro jacobian`.
+
+use gecaro_core::{forward_kinematics, parameter_jacobian};
+use gecaro_io::load_robot;
+use serde::Serialize;
+
+use crate::cli::ConfigurationArgs;
+use crate::failure::Failure;
+use crate::format::{number, table};
+
+#[derive(Serialize)]
+struct PoseJson {
+    position: [f64; 3],
+    rotation: [[f64; 3]; 3],
+}
+
+pub(crate) fn forward(args: &ConfigurationArgs) -> Result<(), Failure> {
+    let robot = load_robot(&args.robot)?.robot;
+    let chain = forward_kinematics(&robot, &args.qm)?;
+    let tool = chain.world_from_tool();
+    let position = tool.translation.vector;
+    let rotation = tool.rotation.matrix();
+    let pose = PoseJson {
+        position: [position.x, position.y, position.z],
+        rotation: std::array::from_fn(|i| std::array::from_fn(|j| rotation[(i, j)])),
+    };
+    if args.json {
+        return super::print_json(&pose);
+    }
+    println!(
+        "{} at qm = ({})",
+        robot.name(),
+        crate::format::list(&args.qm)
+    );
+    println!(
+        "position (m):  x = {}  y = {}  z = {}",
+        number(position.x, 7),
+        number(position.y, 7),
+        number(position.z, 7)
+    );
+    println!(
+        "rotation (columns s, n, a of frame {}):",
+        robot.frames().len() - 1
+    );
+    for row in pose.rotation {
+        println!(
+            "  [{:>10} {:>10} {:>10}]",
+            number(row[0], 7),
+            number(row[1], 7),
+            number(row[2], 7)
+        );
+    }
+    Ok(())
+}
+
+#[derive(Serialize)]
+struct JacobianJson {
+    parameters: Vec<String>,
+    rows: Vec<Vec<f64>>,
+}
+
+pub(crate) fn jacobian(args: &ConfigurationArgs) -> Result<(), Failure> {
+    let robot = load_robot(&args.robot)?.robot;
+    let jacobian = parameter_jacobian(&robot, &args.qm)?;
+    let names = robot.parameters().names();
+    if args.json {
+        return super::print_json(&JacobianJson {
+            parameters: names,
+            rows: jacobian
+                .row_iter()
+                .map(|row| row.iter().copied().collect())
+                .collect(),
+        });
+    }
+    println!(
+        "Jacobian of frame {} w.r.t. the {} parameters at qm = ({}); one row per parameter (column of J)",
+        robot.frames().len() - 1,
+        names.len(),
+        crate::format::list(&args.qm)
+    );
+    let mut rows = table(&["parameter", "∂x", "∂y", "∂z", "δx", "δy", "δz"], 1);
+    for (name, column) in names.iter().zip(jacobian.column_iter()) {
+        let mut cells = vec![name.clone()];
+        cells.extend(column.iter().map(|v| number(*v, 6)));
+        rows.add_row(cells);
+    }
+    println!("{rows}");
+    Ok(())
+}

@@ -1,0 +1,26 @@
+//! One module per command family; each turns parsed arguments into library
+//! calls and prints the result.
+
+mod kinematics;
+mod robot;
+
+use crate::cli::{Cli, Command};
+use crate::failure::Failure;
+
+/// Runs one command line.
+pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
+    match cli.command {
+        Command::Robot(command) => robot::run(command),
+        Command::Fk(args) => kinematics::forward(&args),
+        Command::Jacobian(args) => kinematics::jacobian(&args),
+    }
+}
+
+/// Prints a value as pretty JSON on stdout.
+pub(crate) fn print_json(value: &impl serde::Serialize) -> Result<(), Failure> {
+    let text = serde_json::to_string_pretty(value).map_err(|error| {
+        Failure::Numerical(format!("cannot encode the result as JSON: {error}"))
+    })?;
+    println!("{text}");
+    Ok(())
+}

@@ -1,0 +1,248 @@
+//! `gecaro robot show | check | new`.
+
+use std::f64::consts::FRAC_PI_2;
+
+use gecaro_core::{Frame, FrameType, Joint, Robot, RobotSpec};
+use gecaro_io::{
+    AngleUnit, OutputPolicy, RobotFile, format_robot_file, load_robot, write_atomically,
+};
+
+use crate::cli::RobotCommand;
+use crate::failure::Failure;
+use crate::format::{number, table};
+
+pub(crate) fn run(command: RobotCommand) -> Result<(), Failure> {
+    match command {
+        RobotCommand::Show { robot, deg } => show(&robot, deg),
+        RobotCommand::Check { robot } => check(&robot),
+        RobotCommand::New {
+            joints,
+            output,
+            force,
+        } => new(&joints, &output, force),
+    }
+}
+
+fn show(name: &str, degrees: bool) -> Result<(), Failure> {
+    let file = load_robot(name)?;
+    let robot = &file.robot;
+    let angle = |value: f64| {
+        if degrees {
+            number(value.to_degrees(), 4)
+        } else {
+            number(value, 6)
+        }
+    };
+    let unit = if degrees { "m, deg" } else { "m, rad" };
+    println!(
+        "{} — {} joints ({}), {} parameters ({unit})",
+        robot.name(),
+        robot.joint_count(),
+        robot.joint_letters(),
+        robot.parameters().len()
+    );
+    if let Some(description) = &file.description {
+        println!("{description}");
+    }
+    let mut frames = table(
+        &[
+            "j", "σ", "α", "d", "θ", "r", "β", "K", "qmin", "qmax", "offset",
+        ],
+        2,
+    );
+    for (j, frame) in robot.frames().iter().enumerate() {
+        let mut row = vec![
+            j.to_string(),
+            frame.frame_type.sigma().to_string(),
+            angle(frame.alpha),
+            number(frame.d, 6),
+            angle(frame.theta),
+            number(frame.r, 6),
+            angle(frame.beta),
+        ];
+        match (j, frame.frame_type) {
+            (1.., FrameType::Revolute | FrameType::Prismatic) => {
+                let joint = &robot.joints()[j - 1];
+                let joint_value = |value: f64| {
+                    if frame.frame_type == FrameType::Revolute {
+                        angle(value)
+                    } else {
+                        number(value, 6)
+                    }
+                };
+                row.extend([
+                    number(joint.gain, 6),
+                    joint_value(joint.qmin),
+                    joint_value(joint.qmax),
+                    joint_value(joint.offset),
+                ]);
+            }
+            _ => row.extend(["–", "–", "–", "–"].map(String::from)),
+        }
+        frames.add_row(row);
+    }
+    println!("{frames}");
+    let n = robot.joint_count();
+    for (name, matrix) in [
+        ("Cm", robot.motor_coupling()),
+        ("Cj", robot.joint_coupling()),
+    ] {
+        if *matrix != nalgebra::DMatrix::identity(n, n) {
+            println!("{name} = {matrix:.6}");
+        }
+    }
+    let origin = if robot.priority_override().is_some() {
+        "from the file"
+    } else {
+        "default rules of §4"
+    };
+    println!("Priority matrix ({origin}; 0 = not identified):");
+    let mut priority = table(&["j", "α", "d", "θ", "r", "β", "K"], 1);
+    for (j, row) in robot.priority().rows().iter().enumerate() {
+        let mut cells = vec![j.to_string()];
+        cells.extend(row.iter().map(ToString::to_string));
+        priority.add_row(cells);
+    }
+    println!("{priority}");
+    Ok(())
+}
+
+fn check(name: &str) -> Result<(), Failure> {
+    let file = load_robot(name)?;
+    let robot = &file.robot;
+    println!(
+        "ok: {} — {} joints ({}), {} frames, {} parameters",
+        robot.name(),
+        robot.joint_count(),
+        robot.joint_letters(),
+        robot.frames().len(),
+        robot.parameters().len()
+    );
+    for note in notes(robot) {
+        println!("note: {note}");
+    }
+    Ok(())
+}
+
+/// Things worth knowing about a valid robot: parallel axes (β is then the
+/// parameter that keeps the model continuous) and nearly parallel ones (the
+/// common normal of the Khalil table is far away and ill-conditioned).
+fn notes(robot: &Robot) -> Vec<String> {
+    let mut notes = Vec::new();
+    let n = robot.joint_count();
+    for j in 2..=n {
+        let frame = &robot.frames()[j];
+        let sine = frame.alpha.sin().abs();
+        if sine < 1e-12 {
+            notes.push(format!(
+                "axes {} and {j} are parallel: beta{j} (Hayati, eq. 3) models their misalignment",
+                j - 1
+            ));
+        } else if sine < 1e-2 {
+            notes.push(format!(
+                "axes {} and {j} are nearly parallel (alpha{j} = {} rad): their common normal \
+                 is ill-conditioned; consider modelling them as parallel and using beta{j}",
+                j - 1,
+                number(frame.alpha, 6)
+            ));
+        }
+    }
+    let limits_default = robot.joints().iter().enumerate().filter(|(index, joint)| {
+        let frame_type = robot.frames()[index + 1].frame_type;
+        **joint
+            == Joint {
+                offset: joint.offset,
+                gain: joint.gain,
+                ..Joint::default_for(frame_type)
+            }
+    });
+    let defaulted: Vec<String> = limits_default
+        .map(|(index, _)| (index + 1).to_string())
+        .collect();
+    if !defaulted.is_empty() {
+        notes.push(format!(
+            "joint(s) {} use the default limits (±π rad, or 0..1 m for prismatic joints)",
+            defaulted.join(", ")
+        ));
+    }
+    notes
+}
+
+fn new(letters: &str, output: &std::path::Path, force: bool) -> Result<(), Failure> {
+    let mut frames = vec![Frame::new(FrameType::Fixed)];
+    for (index, letter) in letters.chars().enumerate() {
+        let frame_type = match letter.to_ascii_uppercase() {
+            'R' => FrameType::Revolute,
+            'P' => FrameType::Prismatic,
+            other => {
+                return Err(Failure::usage(
+                    format!(
+                        "joint {} is `{other}`: joints are R (revolute) or P (prismatic)",
+                        index + 1
+                    ),
+                    Some("for example: --joints RRPRRR".to_owned()),
+                ));
+            }
+        };
+        // Alternate α = ±π/2 so the template is a non-degenerate arm to start from.
+        let alpha = if index == 0 {
+            0.0
+        } else if index % 2 == 1 {
+            -FRAC_PI_2
+        } else {
+            FRAC_PI_2
+        };
+        frames.push(Frame {
+            alpha,
+            ..Frame::new(frame_type)
+        });
+    }
+    if frames.len() == 1 {
+        return Err(Failure::usage(
+            "--joints is empty",
+            Some("for example: --joints RRPRRR".to_owned()),
+        ));
+    }
+    frames.push(Frame {
+        r: 0.1,
+        ..Frame::new(FrameType::Fixed)
+    });
+    let joints = frames[1..frames.len() - 1]
+        .iter()
+        .map(|frame| Joint::default_for(frame.frame_type))
+        .collect();
+    let robot = Robot::new(RobotSpec {
+        name: output.file_stem().map_or_else(
+            || "robot".into(),
+            |stem| stem.to_string_lossy().into_owned(),
+        ),
+        frames,
+        joints,
+        motor_coupling: None,
+        joint_coupling: None,
+        priority: None,
+    })?;
+    let text = format!(
+        "# Template written by `gecaro robot new --joints {letters}`: edit the values.\n\
+         # Keys per frame: sigma, alpha, d, theta, r, beta (all frames; frame 0 has only theta, r)\n\
+         # and qmin, qmax, offset, K (joints). q_j is added to theta_j (R) or r_j (P).\n\
+         # Optional tables: [coupling] Cm, Cj (n×n) and [priority] matrix ((n+2)×6).\n{}",
+        format_robot_file(&RobotFile {
+            robot,
+            description: Some(format!("{letters} arm (template)")),
+            angle_unit: AngleUnit::Radians,
+        })
+    );
+    let policy = if force {
+        OutputPolicy::Overwrite
+    } else {
+        OutputPolicy::KeepExisting
+    };
+    write_atomically(output, text.as_bytes(), policy)?;
+    println!(
+        "wrote {} ({} joints: {letters})",
+        output.display(),
+        letters.len()
+    );
+    Ok(())
+}
