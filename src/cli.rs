@@ -24,6 +24,10 @@ pub(crate) enum Command {
     Fk(ConfigurationArgs),
     /// The 6×Np Jacobian of the end-effector w.r.t. every parameter (Appendix II).
     Jacobian(ConfigurationArgs),
+    /// Identifiable (base) parameters of a method: QR of W (Appendix III).
+    Identifiable(IdentifiableArgs),
+    /// The paper's Table 2: identifiable parameters of all methods for a robot.
+    Table2(Table2Args),
 }
 
 #[derive(Debug, Subcommand)]
@@ -67,6 +71,120 @@ pub(crate) struct ConfigurationArgs {
         required = true
     )]
     pub(crate) qm: Vec<f64>,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    pub(crate) json: bool,
+}
+
+/// The method names of the registry, for clap's value list.
+fn method_names() -> clap::builder::PossibleValuesParser {
+    clap::builder::PossibleValuesParser::new(gecaro_calib::METHODS.iter().map(|info| info.name))
+}
+
+/// Whether the plane of a plane method is known or identified.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum PlaneKnowledge {
+    /// The plane (plane1) or its normal (plane2) is known.
+    Known,
+    /// It is identified with the robot parameters.
+    Unknown,
+}
+
+/// How orientation differences are computed (Appendix I).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum OrientationMethod {
+    /// Method 2: axis–angle of Aⁱ·Aʲᵀ (exact).
+    AxisAngle,
+    /// Method 1: half the sum of the cross products of the axes (first order).
+    CrossProducts,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct PlaneArgs {
+    /// For plane1/plane2: is the plane (its normal for plane2) known, or identified too?
+    /// Default: known when --plane-normal is given.
+    #[arg(long, value_enum)]
+    pub(crate) plane: Option<PlaneKnowledge>,
+    /// Normal of the plane, world frame (e.g. 0.3,0.5,0.81).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        value_name = "NX,NY,NZ"
+    )]
+    pub(crate) plane_normal: Option<Vec<f64>>,
+    /// A point of the plane, world frame, metres (e.g. 0.3,0.2,0.6).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        value_name = "X,Y,Z"
+    )]
+    pub(crate) plane_point: Option<Vec<f64>>,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct MethodArgs {
+    /// The calibration method.
+    #[arg(long, value_parser = method_names())]
+    pub(crate) method: String,
+    #[command(flatten)]
+    pub(crate) plane: PlaneArgs,
+    /// Orientation difference for frame and frame-link (Appendix I).
+    #[arg(long, value_enum, default_value = "axis-angle")]
+    pub(crate) orientation: OrientationMethod,
+    /// Configurations per set when generating link data (default 4 for point-link, 2 for frame-link).
+    #[arg(long)]
+    pub(crate) set_size: Option<usize>,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct IdentifiableArgs {
+    /// Robot file or ready robot name.
+    pub(crate) robot: String,
+    #[command(flatten)]
+    pub(crate) method: MethodArgs,
+    /// Priority matrix (TOML: matrix = [[alpha, d, theta, r, beta, K], ...]); default: the robot's.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) priority: Option<PathBuf>,
+    /// Use these measured configurations instead of random ones (excitation check).
+    #[arg(long, value_name = "FILE")]
+    pub(crate) data: Option<PathBuf>,
+    /// Number of random configurations (default: about 2.5 equations per unknown).
+    #[arg(long)]
+    pub(crate) count: Option<usize>,
+    /// Seed of the random configurations.
+    #[arg(long, default_value_t = 1)]
+    pub(crate) seed: u64,
+    /// Print JSON instead of tables.
+    #[arg(long)]
+    pub(crate) json: bool,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct Table2Args {
+    /// Robot file or ready robot name.
+    #[arg(default_value = "stanford")]
+    pub(crate) robot: String,
+    /// Normal of the plane of the plane methods (default 0.3,0.5,0.81, as in the paper).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        value_name = "NX,NY,NZ"
+    )]
+    pub(crate) plane_normal: Option<Vec<f64>>,
+    /// A point of that plane (default: the middle of the robot's workspace).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        value_name = "X,Y,Z"
+    )]
+    pub(crate) plane_point: Option<Vec<f64>>,
+    /// Seed of the random configurations.
+    #[arg(long, default_value_t = 1)]
+    pub(crate) seed: u64,
     /// Print JSON instead of a table.
     #[arg(long)]
     pub(crate) json: bool,

@@ -19,6 +19,9 @@ pub(crate) enum Failure {
     /// A value breaks a rule of the robot model.
     #[error(transparent)]
     Model(gecaro_core::Error),
+    /// Measurements that do not fit the method or the robot.
+    #[error("{0}")]
+    Input(String),
     /// The inverse model or an identification did not converge.
     #[error("{0}")]
     Numerical(String),
@@ -42,6 +45,20 @@ impl From<gecaro_core::Error> for Failure {
     }
 }
 
+impl From<gecaro_calib::Error> for Failure {
+    fn from(error: gecaro_calib::Error) -> Self {
+        use gecaro_calib::Error as Calib;
+        match error {
+            Calib::Model(model) => model.into(),
+            Calib::InvalidOption { .. } => Failure::usage(error.to_string(), None),
+            Calib::Generation { .. } | Calib::Numerical { .. } => {
+                Failure::Numerical(error.to_string())
+            }
+            _ => Failure::Input(error.to_string()),
+        }
+    }
+}
+
 impl Failure {
     pub(crate) fn usage(message: impl Into<String>, help: impl Into<Option<String>>) -> Self {
         Failure::Usage {
@@ -53,7 +70,7 @@ impl Failure {
     pub(crate) fn exit_code(&self) -> u8 {
         match self {
             Failure::Usage { .. } => EXIT_USAGE,
-            Failure::File(_) | Failure::Model(_) => EXIT_INPUT,
+            Failure::File(_) | Failure::Model(_) | Failure::Input(_) => EXIT_INPUT,
             Failure::Numerical(_) => EXIT_NUMERICAL,
         }
     }

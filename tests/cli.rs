@@ -194,3 +194,135 @@ fn bad_command_lines_are_clear_errors() {
         .code(3)
         .stderr(predicate::str::contains("no/such/robot.toml"));
 }
+
+#[test]
+fn table2_prints_the_paper_totals() {
+    gecaro()
+        .args(["table2"])
+        .assert()
+        .success()
+        .stdout(predicate::str::is_match(r"Total\s*┆\s*31\s*┆\s*34\s*┆\s*24\s*┆\s*21\s*┆\s*27\s*┆\s*24\s*┆\s*26\s*┆\s*24\s*┆\s*25").expect("regex"));
+    let table = json_output(&["table2", "stanford", "--json"]);
+    let totals: Vec<u64> = table["totals"]
+        .as_array()
+        .expect("totals")
+        .iter()
+        .map(|v| v.as_u64().expect("count"))
+        .collect();
+    assert_eq!(totals, [31, 34, 24, 21, 27, 24, 26, 24, 25]);
+}
+
+#[test]
+fn identifiable_json_lists_every_parameter_in_vocabulary_order() {
+    let report = json_output(&["identifiable", "stanford", "--method", "position", "--json"]);
+    assert_eq!(report["count"], 31);
+    assert_eq!(report["method"], "position");
+    let parameters = report["parameters"].as_array().expect("parameters");
+    assert_eq!(parameters.len(), 43);
+    assert_eq!(parameters[0]["name"], "theta0");
+    assert_eq!(parameters[42]["name"], "K6");
+    let identifiable = parameters
+        .iter()
+        .filter(|p| p["status"] == "identifiable")
+        .count();
+    assert_eq!(identifiable, 31);
+    assert!(report["condition_number"].as_f64().expect("number") > 1.0);
+    assert_eq!(report["priority_matrix"].as_array().expect("rows").len(), 8);
+    // A plane method with an unknown plane: a, b, c are auxiliary unknowns.
+    let plane = json_output(&[
+        "identifiable",
+        "stanford",
+        "--method",
+        "plane1",
+        "--plane",
+        "unknown",
+        "--plane-normal",
+        "0.3,0.5,0.81",
+        "--plane-point",
+        "0.3,0.2,0.6",
+        "--json",
+    ]);
+    assert_eq!(plane["count"], 24);
+    assert_eq!(plane["auxiliary"].as_array().expect("auxiliary").len(), 3);
+}
+
+#[test]
+fn identifiable_on_measured_data_checks_the_excitation() {
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let robot = gecaro_io::load_robot("stanford").expect("stanford").robot;
+    let method =
+        gecaro_calib::method("position", &gecaro_calib::MethodOptions::default()).expect("method");
+    let samples =
+        gecaro_calib::random_samples(&robot, method.as_ref(), Some(40), 9).expect("samples");
+    let good = folder.path().join("good.csv");
+    std::fs::write(
+        &good,
+        gecaro_io::format_samples(6, method.data_columns(), &samples),
+    )
+    .expect("write");
+    gecaro()
+        .args(["identifiable", "stanford", "--method", "position", "--data"])
+        .arg(&good)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains(
+            "same base set as random configurations",
+        ));
+    // Five configurations: 15 equations for 43 unknowns.
+    let few = folder.path().join("few.csv");
+    std::fs::write(
+        &few,
+        gecaro_io::format_samples(6, method.data_columns(), &samples[..5]),
+    )
+    .expect("write");
+    gecaro()
+        .args(["identifiable", "stanford", "--method", "position", "--data"])
+        .arg(&few)
+        .assert()
+        .code(3)
+        .stderr(predicate::str::contains("too few equations"));
+    // A NaN in the data: the line and the column.
+    let nan = folder.path().join("nan.csv");
+    let text = gecaro_io::format_samples(6, method.data_columns(), &samples);
+    let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
+    let mut fields: Vec<String> = lines[3].split(',').map(str::to_owned).collect();
+    fields[7] = "NaN".into();
+    lines[3] = fields.join(",");
+    std::fs::write(&nan, lines.join("\n")).expect("write");
+    gecaro()
+        .args(["identifiable", "stanford", "--method", "position", "--data"])
+        .arg(&nan)
+        .assert()
+        .code(3)
+        .stderr(predicate::str::contains(
+            "nan.csv:4: y: `NaN` is not a finite number",
+        ));
+}
+
+#[test]
+fn bad_method_options_are_usage_errors() {
+    gecaro()
+        .args(["identifiable", "stanford", "--method", "plane3"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("position").and(predicate::str::contains("distance")));
+    gecaro()
+        .args([
+            "identifiable",
+            "stanford",
+            "--method",
+            "plane1",
+            "--plane-normal",
+            "0,0,0",
+            "--plane-point",
+            "0.3,0.2,0.6",
+        ])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("normal is zero"));
+    gecaro()
+        .args(["identifiable", "stanford", "--method", "plane2"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("needs a plane"));
+}

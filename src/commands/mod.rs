@@ -1,7 +1,9 @@
 //! One module per command family; each turns parsed arguments into library
 //! calls and prints the result.
 
+mod identifiability;
 mod kinematics;
+mod options;
 mod robot;
 
 use crate::cli::{Cli, Command};
@@ -13,6 +15,8 @@ pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
         Command::Robot(command) => robot::run(command),
         Command::Fk(args) => kinematics::forward(&args),
         Command::Jacobian(args) => kinematics::jacobian(&args),
+        Command::Identifiable(args) => identifiability::identifiable(&args),
+        Command::Table2(args) => identifiability::table2(&args),
     }
 }
 

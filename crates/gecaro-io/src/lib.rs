@@ -1,18 +1,22 @@
 //! # gecaro-io
 //!
 //! The files of gecaro: robot files (TOML, [`read_robot_file`]), the library
-//! of ready robots ([`ready_robots`], [`load_robot`]), and safe output
-//! ([`write_atomically`]). Every error names the file, and for content errors
+//! of ready robots ([`ready_robots`], [`load_robot`]), measurement data (CSV,
+//! [`read_samples`]), and safe output ([`write_atomically`]). Every error names the file, and for content errors
 //! the line and key ([`Error::Parse`]).
 
 #![warn(missing_docs)]
 
+mod data_file;
 mod error;
 mod output;
 mod ready;
 mod robot_file;
 
+pub use data_file::{data_headers, format_samples, parse_samples, read_samples, write_samples};
 pub use error::Error;
 pub use output::{OutputPolicy, write_atomically};
 pub use ready::{ReadyRobot, load_robot, ready_robot, ready_robots};
-pub use robot_file::{AngleUnit, RobotFile, format_robot_file, parse_robot_file, read_robot_file};
+pub use robot_file::{
+    AngleUnit, RobotFile, format_robot_file, parse_robot_file, read_priority_file, read_robot_file,
+};

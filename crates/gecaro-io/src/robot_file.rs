@@ -78,7 +78,7 @@ const FRAME_KEYS: &[&str] = &[
     "sigma", "alpha", "d", "theta", "r", "beta", "qmin", "qmax", "offset", "K",
 ];
 const COUPLING_KEYS: &[&str] = &["Cm", "Cj"];
-const PRIORITY_KEYS: &[&str] = &["matrix"];
+const PRIORITY_KEYS: &[&str] = &["matrix", "priority"];
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -115,10 +115,13 @@ struct RawCoupling {
     Cj: Option<Spanned<Vec<Spanned<Vec<f64>>>>>,
 }
 
+/// A priority matrix as written: rows of integer cells, each with its place.
+type RawPriorityMatrix = Spanned<Vec<Spanned<Vec<Spanned<i64>>>>>;
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawPriority {
-    matrix: Spanned<Vec<Spanned<Vec<Spanned<i64>>>>>,
+    matrix: RawPriorityMatrix,
 }
 
 /// Byte ranges of the keys of one table.
@@ -453,6 +456,50 @@ fn read_priority(
         rows.push(cells);
     }
     Ok(PriorityMatrix::from_rows(rows))
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawPriorityFile {
+    matrix: Option<RawPriorityMatrix>,
+    priority: Option<Spanned<RawPriority>>,
+}
+
+/// Reads a priority matrix from a TOML file holding `matrix = [[...], ...]`,
+/// or a `[priority]` table with it (so a robot file's table can be reused),
+/// and checks it against `robot`.
+///
+/// # Errors
+/// [`Error::Read`], or [`Error::Parse`] with the line of the problem.
+pub fn read_priority_file(path: &Path, robot: &Robot) -> Result<PriorityMatrix, Error> {
+    let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
+        path: path.to_owned(),
+        source,
+    })?;
+    let source = Source { path, text: &text };
+    let raw: RawPriorityFile =
+        toml::from_str(&text).map_err(|error| toml_error(&source, &error))?;
+    let table = match (raw.matrix, raw.priority) {
+        (Some(matrix), None) => {
+            let span = matrix.span();
+            Spanned::new(span, RawPriority { matrix })
+        }
+        (None, Some(table)) => table,
+        _ => {
+            return Err(source.error_at(
+                None,
+                Some("matrix".into()),
+                "a priority file holds `matrix = [[alpha, d, theta, r, beta, K], ...]` (one row per \
+                 frame), at the top or in a [priority] table",
+            ));
+        }
+    };
+    let mut spans = SpanIndex::default();
+    let priority = read_priority(&source, &table, &mut spans)?;
+    priority
+        .validate(robot.parameters())
+        .map_err(|error| model_error(&source, &spans, error))?;
+    Ok(priority)
 }
 
 fn toml_error(source: &Source<'_>, error: &toml::de::Error) -> Error {

@@ -110,6 +110,20 @@ impl FrameChain {
 pub fn forward_kinematics(robot: &Robot, motor_positions: &[f64]) -> Result<FrameChain, Error> {
     let joint_positions = robot.joint_positions(motor_positions)?;
     let coupled = robot.motor_coupling() * nalgebra::DVector::from_column_slice(motor_positions);
+    Ok(chain_at_joint_positions(
+        robot,
+        joint_positions.as_slice(),
+        coupled.as_slice().to_vec(),
+    ))
+}
+
+/// The frame chain at joint variables q (eq. 1–3 without eq. 4). The caller
+/// guarantees n values; `coupled_motor_positions` is Cm·qm (for the gain columns).
+pub(crate) fn chain_at_joint_positions(
+    robot: &Robot,
+    joint_positions: &[f64],
+    coupled_motor_positions: Vec<f64>,
+) -> FrameChain {
     let frames = robot.frames();
     let mut world_from_frame = Vec::with_capacity(frames.len());
     let mut pose = IsometryMatrix3::identity();
@@ -121,11 +135,11 @@ pub fn forward_kinematics(robot: &Robot, motor_positions: &[f64]) -> Result<Fram
         pose *= frame_transform(frame, q);
         world_from_frame.push(pose);
     }
-    Ok(FrameChain {
+    FrameChain {
         world_from_frame,
-        joint_positions: joint_positions.as_slice().to_vec(),
-        coupled_motor_positions: coupled.as_slice().to_vec(),
-    })
+        joint_positions: joint_positions.to_vec(),
+        coupled_motor_positions,
+    }
 }
 
 /// The end-effector pose `(−1)T(n+1)` at motor configuration `motor_positions` (eq. 1).

@@ -3,19 +3,19 @@
 //!
 //! Damped least squares (Levenberg–Marquardt) on the joint variables q, from a
 //! chosen start configuration. Each step solves `J Δq ≈ Δx` with
-//! `Δq = Σ σ_i/(σ_i² + λ) v_i u_iᵀ Δx` (SVD of the 3×n or 6×n joint Jacobian,
-//! so redundant and position-only problems need nothing special), clamps q to
-//! the joint limits, and keeps the step only if it lowers ‖Δx‖; λ shrinks after
-//! a kept step and grows after a refused one. Close to the solution λ → 0 and
-//! the iteration is Newton's, so targets are met to ~1e-13 m.
+//! `Δq = Σ σ_i/(σ_i² + λ) v_i u_iᵀ Δx` (SVD of the k×n task Jacobian, so
+//! redundant, position-only and plane problems need nothing special), clamps
+//! q to the joint limits, and keeps the step only if it lowers ‖Δx‖; λ shrinks
+//! after a kept step and grows after a refused one. Close to the solution
+//! λ → 0 and the iteration is Newton's, so targets are met to ~1e-13 m.
 //!
 //! Failure is an error, never a silently wrong configuration: when the target
 //! is out of reach within the joint limits, or the iteration stalls from this
 //! start, [`Error::Unreachable`] reports the remaining error.
 
-use nalgebra::{DVector, IsometryMatrix3, Vector3};
+use nalgebra::{DMatrix, DVector, IsometryMatrix3, Vector3};
 
-use super::direct::forward_kinematics;
+use super::direct::{FrameChain, chain_at_joint_positions};
 use super::jacobian::joint_jacobian;
 use super::pose_difference::{OrientationDifference, orientation_difference};
 use crate::Error;
@@ -28,6 +28,32 @@ pub enum Target {
     Position(Vector3<f64>),
     /// Frame n+1 at this pose.
     Frame(IsometryMatrix3<f64>),
+    /// The origin of frame n+1 anywhere on the plane `normal · x = offset`
+    /// (`normal` of unit length); the solution is close to the start.
+    Plane {
+        /// Unit normal of the plane.
+        normal: Vector3<f64>,
+        /// Signed distance of the plane from the world origin (metres).
+        offset: f64,
+    },
+}
+
+impl Target {
+    fn rows(&self) -> usize {
+        match self {
+            Target::Position(_) => 3,
+            Target::Frame(_) => 6,
+            Target::Plane { .. } => 1,
+        }
+    }
+
+    fn name(&self) -> &'static str {
+        match self {
+            Target::Position(_) => "position",
+            Target::Frame(_) => "frame",
+            Target::Plane { .. } => "plane",
+        }
+    }
 }
 
 /// Settings of [`inverse_kinematics`].
@@ -63,6 +89,9 @@ pub struct InverseSolution {
 
 const INITIAL_DAMPING: f64 = 1e-3;
 const MAX_DAMPING: f64 = 1e8;
+/// A solve that has not halved its error in this many iterations has stalled
+/// (a local minimum or a joint limit in the way) and is given up.
+const STALL_ITERATIONS: usize = 25;
 
 /// Solves the inverse geometric model for `target`, starting from the motor
 /// configuration `start_motor_positions`.
@@ -79,15 +108,13 @@ pub fn inverse_kinematics(
     check_target(target)?;
     let start = robot.joint_positions(start_motor_positions)?;
     let mut joint_positions = clamp_to_limits(robot, start);
-    let mut error = pose_error(robot, target, &joint_positions)?;
+    let (mut chain, mut error) = evaluate(robot, target, &joint_positions);
     let mut damping = INITIAL_DAMPING;
     let mut iterations = 0;
+    let (mut checkpoint_error, mut checkpoint_iteration) = (error.norm(), 0);
     while error.norm() > options.tolerance && iterations < options.max_iterations {
         iterations += 1;
-        let motor = robot.motor_positions(joint_positions.as_slice())?;
-        let chain = forward_kinematics(robot, motor.as_slice())?;
-        let full = joint_jacobian(robot, &chain);
-        let jacobian = full.rows(0, error.len()).into_owned();
+        let jacobian = task_jacobian(robot, target, &chain);
         let svd = jacobian.svd(true, true);
         let (Some(u), Some(v_t)) = (&svd.u, &svd.v_t) else {
             break;
@@ -102,11 +129,11 @@ pub fn inverse_kinematics(
                     .zip(svd.singular_values.iter())
                     .map(|(p, s)| p * s / (s * s + damping)),
             );
-            let step = v_t.transpose() * scaled;
-            let candidate = clamp_to_limits(robot, &joint_positions + step);
-            let candidate_error = pose_error(robot, target, &candidate)?;
+            let candidate = clamp_to_limits(robot, &joint_positions + v_t.transpose() * scaled);
+            let (candidate_chain, candidate_error) = evaluate(robot, target, &candidate);
             if candidate_error.norm() < error.norm() {
                 joint_positions = candidate;
+                chain = candidate_chain;
                 error = candidate_error;
                 damping = (damping / 3.0).max(1e-15);
                 improved = true;
@@ -115,6 +142,11 @@ pub fn inverse_kinematics(
             damping *= 10.0;
         }
         if !improved {
+            break;
+        }
+        if error.norm() < 0.5 * checkpoint_error {
+            (checkpoint_error, checkpoint_iteration) = (error.norm(), iterations);
+        } else if iterations - checkpoint_iteration > STALL_ITERATIONS {
             break;
         }
     }
@@ -139,15 +171,17 @@ fn check_target(target: &Target) -> Result<(), Error> {
     let finite = match target {
         Target::Position(point) => point.iter().all(|v| v.is_finite()),
         Target::Frame(pose) => pose.to_homogeneous().iter().all(|v| v.is_finite()),
+        Target::Plane { normal, offset } => {
+            normal.iter().all(|v| v.is_finite())
+                && offset.is_finite()
+                && (normal.norm() - 1.0).abs() < 1e-9
+        }
     };
     if finite {
         Ok(())
     } else {
         Err(Error::NonFiniteTarget {
-            what: match target {
-                Target::Position(_) => "position",
-                Target::Frame(_) => "frame",
-            },
+            what: target.name(),
         })
     }
 }
@@ -159,16 +193,16 @@ fn clamp_to_limits(robot: &Robot, mut joint_positions: DVector<f64>) -> DVector<
     joint_positions
 }
 
-/// `Δx` from the current frame to the target: 3 rows for a position, 6 for a frame.
-fn pose_error(
+/// The frame chain at `joint_positions` and the task error `Δx` towards the target.
+fn evaluate(
     robot: &Robot,
     target: &Target,
     joint_positions: &DVector<f64>,
-) -> Result<DVector<f64>, Error> {
-    let motor = robot.motor_positions(joint_positions.as_slice())?;
-    let chain = forward_kinematics(robot, motor.as_slice())?;
+) -> (FrameChain, DVector<f64>) {
+    // Cm·qm only feeds the gain columns of the parameter Jacobian; not needed here.
+    let chain = chain_at_joint_positions(robot, joint_positions.as_slice(), Vec::new());
     let current = chain.world_from_tool();
-    Ok(match target {
+    let error = match target {
         Target::Position(point) => {
             DVector::from_column_slice((point - current.translation.vector).as_slice())
         }
@@ -181,7 +215,23 @@ fn pose_error(
             );
             DVector::from_iterator(6, position.iter().chain(rotation.iter()).copied())
         }
-    })
+        Target::Plane { normal, offset } => {
+            DVector::from_element(1, offset - normal.dot(&current.translation.vector))
+        }
+    };
+    (chain, error)
+}
+
+/// The rows of the joint Jacobian that the target constrains.
+fn task_jacobian(robot: &Robot, target: &Target, chain: &FrameChain) -> DMatrix<f64> {
+    let full = joint_jacobian(robot, chain);
+    match target {
+        Target::Plane { normal, .. } => {
+            let row = normal.transpose() * full.fixed_rows::<3>(0);
+            DMatrix::from_row_slice(1, row.len(), row.as_slice())
+        }
+        _ => full.rows(0, target.rows()).into_owned(),
+    }
 }
 
 #[cfg(test)]
@@ -220,6 +270,30 @@ mod tests {
             }
         }
         assert!(solved >= 50, "only {solved} of 60 solved");
+    }
+
+    #[test]
+    fn plane_targets_move_onto_the_plane() {
+        let robot = stanford();
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        let normal = Vector3::new(0.3, 0.5, 0.81).normalize();
+        let offset = normal.dot(&Vector3::new(0.3, 0.2, 0.6));
+        let mut solved = 0;
+        for _ in 0..20 {
+            let start = random_configuration(&robot, &mut rng);
+            let target = Target::Plane { normal, offset };
+            if let Ok(solution) =
+                inverse_kinematics(&robot, &target, &start, &InverseOptions::default())
+            {
+                let point = terminal_pose(&robot, &solution.motor_positions)
+                    .expect("valid")
+                    .translation
+                    .vector;
+                assert!((normal.dot(&point) - offset).abs() < 1e-12);
+                solved += 1;
+            }
+        }
+        assert!(solved >= 15, "{solved} of 20");
     }
 
     #[test]

@@ -1,0 +1,370 @@
+//! The identifiable (base) parameters of a study, Appendix III.
+//!
+//! W is built at the robot's parameters, its columns ordered by priority
+//! (auxiliary unknowns first, then the robot parameters by decreasing priority,
+//! ties in column-major order of the priority matrix; priority 0 is left out).
+//! A QR factorisation without pivoting of the ordered W (eq. 33) gives |R_ii|,
+//! the distance of column i from the span of the columns before it, so taking
+//! the columns greedily and keeping those with |R_ii| > τ yields the
+//! highest-priority independent set. The numerical zero is eq. 34 with a floor
+//! (NOTES.md), `τ = max(c·ε, 1e-9) · max|R_ii|`: columns of W built from a
+//! numerical inverse model can show |R_ii| ≈ 1e-13 where the theory says 0.
+//!
+//! Every parameter is then *identifiable*, *regrouped* ('n': its column is a
+//! combination of kept ones), *no effect* ('0': its column is ~0) or
+//! *excluded* (priority 0). The regrouping relations come from
+//! `W2 = W1·β`, `β = R1⁻¹R2` (eq. 35–37), computed by least squares on the
+//! kept columns; the base parameters are `Δη_b = Δη_1 + β Δη_2` (eq. 32).
+
+use gecaro_core::{ParameterId, PriorityMatrix, Robot};
+
+use crate::Error;
+use crate::linalg::{
+    condition_number, greedy_rank, largest_column_norm, least_squares, select_columns, view,
+};
+use crate::methods::{CalibrationMethod, MethodOptions};
+use crate::observation::{ColumnLayout, ObservationSystem};
+use crate::sample::Sample;
+use crate::sampler::Sampler;
+use crate::study::{Study, StudyStates};
+
+/// The floor of the numerical zero, relative to max|R_ii| (NOTES.md).
+pub const RELATIVE_ZERO_FLOOR: f64 = 1e-9;
+
+/// Independent equations per unknown in random data for identifiability.
+const RANDOM_EQUATIONS_PER_UNKNOWN: f64 = 2.5;
+
+/// What the study can say about one parameter.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum ParameterStatus {
+    /// In the base set: identified.
+    Identifiable,
+    /// 'n': its effect is regrouped onto identifiable parameters.
+    Regrouped,
+    /// '0': it has no effect on these measurements.
+    NoEffect,
+    /// Priority 0: not identified by the user's choice.
+    Excluded,
+}
+
+impl ParameterStatus {
+    /// The name used in JSON: `identifiable`, `regrouped`, `no_effect`, `excluded`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ParameterStatus::Identifiable => "identifiable",
+            ParameterStatus::Regrouped => "regrouped",
+            ParameterStatus::NoEffect => "no_effect",
+            ParameterStatus::Excluded => "excluded",
+        }
+    }
+
+    /// The cell of the paper's Table 2: blank, `n`, `0`; `-` for excluded.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            ParameterStatus::Identifiable => "",
+            ParameterStatus::Regrouped => "n",
+            ParameterStatus::NoEffect => "0",
+            ParameterStatus::Excluded => "-",
+        }
+    }
+}
+
+/// One parameter (or auxiliary unknown) and its status.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Classified {
+    /// `theta0`, `alpha3`, `K2`, or an auxiliary name such as `a`.
+    pub name: String,
+    /// The robot parameter, `None` for an auxiliary unknown.
+    pub parameter: Option<ParameterId>,
+    /// Its priority (0 for auxiliary unknowns, which always come first).
+    pub priority: u32,
+    /// What the study says of it.
+    pub status: ParameterStatus,
+    /// |R_ii| of its column in the ordered QR (`None` when excluded).
+    pub diagonal: Option<f64>,
+}
+
+/// A base parameter and the non-identifiable parameters it absorbs:
+/// `Δη_base + Σ coefficient·Δη_absorbed` is what gets identified (eq. 32).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Relation {
+    /// The base parameter.
+    pub base: String,
+    /// Absorbed parameters with their coefficients β.
+    pub absorbed: Vec<(String, f64)>,
+}
+
+/// The result of Appendix III for a study.
+#[derive(Clone, Debug)]
+pub struct RankReport {
+    /// The study's methods, joined with `+`.
+    pub method: String,
+    /// Every robot parameter, in vocabulary order.
+    pub parameters: Vec<Classified>,
+    /// Every auxiliary unknown, in order.
+    pub auxiliary: Vec<Classified>,
+    /// Vocabulary indices of the identifiable robot parameters, in column order.
+    pub base_parameters: Vec<usize>,
+    /// Indices of the identifiable auxiliary unknowns.
+    pub base_auxiliary: Vec<usize>,
+    /// Regrouping relations, one per base parameter that absorbs something.
+    pub relations: Vec<Relation>,
+    /// Condition number σ_max/σ_min of W_b (kept columns, weighted rows).
+    pub condition_number: f64,
+    /// The numerical zero τ used.
+    pub tolerance: f64,
+    /// Smallest |R_ii| among kept columns.
+    pub smallest_kept: f64,
+    /// Largest |R_ii| among rejected columns (0 if none).
+    pub largest_rejected: f64,
+    /// Largest relative residual of the regrouping relations, ‖W2 − W1β‖/‖W2‖ per column.
+    pub relation_residual: f64,
+    /// Rows of W.
+    pub rows: usize,
+    /// Independent equations.
+    pub equations: usize,
+    /// The input priority matrix with the non-identifiable parameters set to 0.
+    pub priority: PriorityMatrix,
+}
+
+impl RankReport {
+    /// Number of identifiable robot parameters (auxiliary unknowns not counted).
+    pub fn count(&self) -> usize {
+        self.base_parameters.len()
+    }
+
+    /// The status of the parameter called `name`.
+    pub fn status(&self, name: &str) -> Option<ParameterStatus> {
+        self.parameters
+            .iter()
+            .chain(&self.auxiliary)
+            .find(|classified| classified.name == name)
+            .map(|classified| classified.status)
+    }
+}
+
+/// The identifiable parameters of `study` on `robot` with `priority` (Appendix III).
+///
+/// # Errors
+/// Invalid data (see [`Study::check`]), or [`Error::TooFewEquations`] when the
+/// data give fewer independent equations than candidate columns.
+pub fn identifiable_parameters(
+    robot: &Robot,
+    study: &Study,
+    priority: &PriorityMatrix,
+) -> Result<RankReport, Error> {
+    study.check(robot)?;
+    priority.validate(robot.parameters())?;
+    let mut states = StudyStates::default();
+    study.evaluate(robot, &mut states)?;
+    let auxiliary = study.initial_auxiliary(&states)?;
+    analyse(robot, study, &states, &auxiliary, priority)
+}
+
+/// [`identifiable_parameters`] at given states and auxiliary values (used by identification).
+pub(crate) fn analyse(
+    robot: &Robot,
+    study: &Study,
+    states: &StudyStates,
+    auxiliary: &[f64],
+    priority: &PriorityMatrix,
+) -> Result<RankReport, Error> {
+    let space = robot.parameters();
+    let candidates: Vec<ParameterId> = priority.ordered_candidates(space);
+    let candidate_indices: Vec<usize> = candidates
+        .iter()
+        .map(|id| space.index_of(*id).expect("candidates are parameters"))
+        .collect();
+    let auxiliary_names = study.auxiliary_names();
+    let layout = ColumnLayout::new(space.len(), &candidate_indices, auxiliary_names.len());
+    let columns = layout.columns();
+    let equations = study.equation_count();
+    if equations < columns {
+        return Err(Error::TooFewEquations {
+            equations,
+            unknowns: columns,
+        });
+    }
+    let mut system = ObservationSystem::default();
+    study.assemble(states, auxiliary, &layout, &mut system);
+    let rows = system.rows();
+    let matrix = view(system.matrix(), rows, columns);
+    if !system.matrix().iter().all(|v| v.is_finite()) {
+        return Err(Error::Numerical {
+            message: "the observation matrix has non-finite entries".into(),
+        });
+    }
+    // Eq. 34 with the floor of NOTES.md. max|R_ii| of an unpivoted QR is at
+    // most the largest column norm (R_11 is a column norm), which is used as
+    // the scale so that τ is known before the greedy pass.
+    let tolerance =
+        (columns as f64 * f64::EPSILON).max(RELATIVE_ZERO_FLOOR) * largest_column_norm(matrix);
+    let rank = greedy_rank(matrix, tolerance);
+    let diagonal = &rank.diagonal;
+    let statuses: Vec<ParameterStatus> = (0..columns)
+        .map(|column| {
+            if rank.norms[column] <= tolerance {
+                ParameterStatus::NoEffect
+            } else if rank.kept.contains(&column) {
+                ParameterStatus::Identifiable
+            } else {
+                ParameterStatus::Regrouped
+            }
+        })
+        .collect();
+    let column_name = |column: usize| -> String {
+        if column < auxiliary_names.len() {
+            auxiliary_names[column].clone()
+        } else {
+            candidates[column - auxiliary_names.len()].to_string()
+        }
+    };
+    let kept = rank.kept.clone();
+    let regrouped: Vec<usize> = (0..columns)
+        .filter(|c| statuses[*c] == ParameterStatus::Regrouped)
+        .collect();
+
+    // Regrouping relations W2 = W1·β and the conditioning of W_b.
+    let kept_matrix = select_columns(system.matrix(), rows, &kept);
+    let regrouped_matrix = select_columns(system.matrix(), rows, &regrouped);
+    let mut relations = Vec::new();
+    let mut relation_residual: f64 = 0.0;
+    if !kept.is_empty() && !regrouped.is_empty() {
+        let beta = least_squares(kept_matrix.as_ref(), regrouped_matrix.as_ref());
+        let fitted = &kept_matrix * &beta;
+        for j in 0..regrouped.len() {
+            let (mut error, mut norm) = (0.0, 0.0);
+            for i in 0..rows {
+                error += (regrouped_matrix[(i, j)] - fitted[(i, j)]).powi(2);
+                norm += regrouped_matrix[(i, j)].powi(2);
+            }
+            relation_residual = relation_residual.max((error / norm).sqrt());
+        }
+        for (k, &base) in kept.iter().enumerate() {
+            let absorbed: Vec<(String, f64)> = regrouped
+                .iter()
+                .enumerate()
+                .filter(|(j, _)| beta[(k, *j)].abs() > 1e-8)
+                .map(|(j, &column)| (column_name(column), beta[(k, j)]))
+                .collect();
+            if !absorbed.is_empty() {
+                relations.push(Relation {
+                    base: column_name(base),
+                    absorbed,
+                });
+            }
+        }
+    }
+    let condition_number = condition_number(kept_matrix.as_ref())?;
+
+    // Reports in vocabulary order.
+    let auxiliary_count = auxiliary_names.len();
+    let mut parameters: Vec<Classified> = space
+        .ids()
+        .iter()
+        .map(|id| Classified {
+            name: id.to_string(),
+            parameter: Some(*id),
+            priority: priority.get(*id),
+            status: ParameterStatus::Excluded,
+            diagonal: None,
+        })
+        .collect();
+    for (position, id) in candidates.iter().enumerate() {
+        let column = auxiliary_count + position;
+        let entry = &mut parameters[candidate_indices[position]];
+        debug_assert_eq!(entry.parameter, Some(*id));
+        entry.status = statuses[column];
+        entry.diagonal = Some(diagonal[column]);
+    }
+    let auxiliary: Vec<Classified> = auxiliary_names
+        .iter()
+        .enumerate()
+        .map(|(column, name)| Classified {
+            name: name.clone(),
+            parameter: None,
+            priority: 0,
+            status: statuses[column],
+            diagonal: Some(diagonal[column]),
+        })
+        .collect();
+    let mut new_priority = priority.clone();
+    for entry in &parameters {
+        if let (Some(id), false) = (
+            entry.parameter,
+            entry.status == ParameterStatus::Identifiable,
+        ) {
+            new_priority.set(id, 0);
+        }
+    }
+    let rejected = statuses
+        .iter()
+        .zip(diagonal)
+        .filter(|(s, _)| **s != ParameterStatus::Identifiable);
+    Ok(RankReport {
+        method: study.method_names(),
+        base_parameters: kept
+            .iter()
+            .filter(|c| **c >= auxiliary_count)
+            .map(|c| candidate_indices[c - auxiliary_count])
+            .collect(),
+        base_auxiliary: kept
+            .iter()
+            .copied()
+            .filter(|c| *c < auxiliary_count)
+            .collect(),
+        parameters,
+        auxiliary,
+        relations,
+        condition_number,
+        tolerance,
+        smallest_kept: kept
+            .iter()
+            .map(|c| diagonal[*c])
+            .fold(f64::INFINITY, f64::min),
+        largest_rejected: rejected.map(|(_, d)| *d).fold(0.0, f64::max),
+        relation_residual,
+        rows,
+        equations,
+        priority: new_priority,
+    })
+}
+
+/// Noise-free random data for `method` on `robot`: configurations satisfying
+/// the method's constraint, enough for about 2.5 independent equations per
+/// unknown unless `count` is given.
+///
+/// # Errors
+/// When configurations cannot be generated (see [`CalibrationMethod::generate`]).
+pub fn random_samples(
+    robot: &Robot,
+    method: &dyn CalibrationMethod,
+    count: Option<usize>,
+    seed: u64,
+) -> Result<Vec<Sample>, Error> {
+    let unknowns = robot.parameters().len() + method.auxiliary_names().len();
+    let count = count.unwrap_or_else(|| {
+        let needed =
+            RANDOM_EQUATIONS_PER_UNKNOWN * unknowns as f64 / method.equations_per_configuration();
+        needed.ceil() as usize + 2
+    });
+    method.generate(robot, count, 0.0, &mut Sampler::new(seed))
+}
+
+/// Identifiable parameters of one method on random configurations (the
+/// paper's "Identifiable parameters" function).
+///
+/// # Errors
+/// As [`random_samples`] and [`identifiable_parameters`].
+pub fn identifiable_parameters_random(
+    robot: &Robot,
+    method_name: &str,
+    options: &MethodOptions,
+    count: Option<usize>,
+    seed: u64,
+) -> Result<RankReport, Error> {
+    let method = crate::methods::method(method_name, options)?;
+    let samples = random_samples(robot, method.as_ref(), count, seed)?;
+    let study = Study::single(method, samples, "random configurations");
+    identifiable_parameters(robot, &study, &robot.priority())
+}

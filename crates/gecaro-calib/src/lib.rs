@@ -1,0 +1,66 @@
+//! # gecaro-calib
+//!
+//! The calibration methods of GECARO (Khalil et al.) and the three functions
+//! each of them offers: identifiable parameters (Appendix III), points
+//! generation (simulation with a "real" robot and sensor noise) and
+//! identification (iterative linearised least squares, eq. 10).
+//!
+//! - [`CalibrationMethod`]: the shared trait (eq. 5–6), one implementation
+//!   per method of paper §3, listed in [`METHODS`].
+//! - [`Study`]: one or more measurement sets stacked into one system.
+//! - [`identifiable_parameters`]: the base parameters, regrouping relations,
+//!   condition number ([`RankReport`]).
+//!
+//! ## Example
+//!
+//! The identifiable parameters of the position measure method for a
+//! two-joint planar arm: the link lengths and joint offsets, not everything.
+//!
+//! ```
+//! use gecaro_core::{Frame, FrameType, Joint, Robot, RobotSpec};
+//! use gecaro_calib::{identifiable_parameters_random, MethodOptions, ParameterStatus};
+//!
+//! let link = |d: f64| Frame { d, ..Frame::new(FrameType::Revolute) };
+//! let robot = Robot::new(RobotSpec {
+//!     name: "planar RR".into(),
+//!     frames: vec![Frame::new(FrameType::Fixed), link(0.0), link(0.4), Frame { d: 0.3, ..Frame::new(FrameType::Fixed) }],
+//!     joints: vec![Joint::default_for(FrameType::Revolute); 2],
+//!     motor_coupling: None,
+//!     joint_coupling: None,
+//!     priority: None,
+//! })?;
+//! let report = identifiable_parameters_random(&robot, "position", &MethodOptions::default(), None, 1)?;
+//! assert_eq!(report.status("d2"), Some(ParameterStatus::Identifiable));
+//! assert!(report.count() < robot.parameters().len());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+#![warn(missing_docs)]
+
+mod error;
+mod identifiability;
+mod linalg;
+mod methods;
+mod observation;
+mod sample;
+mod sampler;
+mod study;
+mod table2;
+
+pub use error::Error;
+pub use identifiability::{
+    Classified, ParameterStatus, RELATIVE_ZERO_FLOOR, RankReport, Relation,
+    identifiable_parameters, identifiable_parameters_random, random_samples,
+};
+pub use methods::{
+    CalibrationMethod, METHODS, MethodInfo, MethodOptions, Plane, method, method_info,
+};
+pub use observation::{
+    ColumnLayout, ObservationSystem, RowKind, RowWriter, TerminalState, evaluate_states,
+};
+pub use sample::{DataColumn, Sample};
+pub use sampler::Sampler;
+pub use study::{MeasurementSet, Study, StudyStates};
+pub use table2::{
+    STANFORD_PLANE_POINT, TABLE2_COLUMNS, TABLE2_PLANE_NORMAL, Table2Column, default_plane, table2,
+};

@@ -1,0 +1,141 @@
+//! Dense linear algebra on the tall observation matrix W, with faer (the only
+//! module that touches it). Sequential: faer's threads slow these sizes down
+//! on small machines.
+
+use faer::linalg::solvers::SolveLstsq;
+use faer::{Mat, MatRef};
+
+use crate::Error;
+
+/// A column-major `rows × columns` view of `data`.
+pub(crate) fn view(data: &[f64], rows: usize, columns: usize) -> MatRef<'_, f64> {
+    MatRef::from_column_major_slice(data, rows, columns)
+}
+
+/// An owned copy of the listed columns of a column-major matrix.
+pub(crate) fn select_columns(data: &[f64], rows: usize, columns: &[usize]) -> Mat<f64> {
+    Mat::from_fn(rows, columns.len(), |i, j| data[columns[j] * rows + i])
+}
+
+/// The greedy, priority-ordered rank test of Appendix III.
+///
+/// Columns are taken in order; column j is kept when its distance from the
+/// span of the columns kept before it, |R_jj| in a QR of `[kept, j]`, exceeds
+/// the tolerance. The distances come from classical Gram–Schmidt with one
+/// re-orthogonalisation ("twice is enough"), which is as accurate as
+/// Householder for this purpose and, unlike a plain QR of the whole ordered
+/// matrix, lets no rejected column rotate the later ones: faer's unpivoted QR
+/// returns R_kk = 0 for every column after one whose |R_jj| ≈ 1e-15.
+pub(crate) struct GreedyRank {
+    /// |R_jj| of every column (its distance from the kept columns before it).
+    pub(crate) diagonal: Vec<f64>,
+    /// Indices of the kept columns, in order.
+    pub(crate) kept: Vec<usize>,
+    /// Euclidean norm of every column.
+    pub(crate) norms: Vec<f64>,
+}
+
+/// See [`GreedyRank`]; `tolerance` is the numerical zero τ.
+pub(crate) fn greedy_rank(matrix: MatRef<'_, f64>, tolerance: f64) -> GreedyRank {
+    let (rows, columns) = matrix.shape();
+    let mut basis = Mat::<f64>::zeros(rows, columns.min(rows));
+    let mut kept = Vec::new();
+    let mut diagonal = Vec::with_capacity(columns);
+    let mut norms = Vec::with_capacity(columns);
+    for column in 0..columns {
+        let mut residual = matrix.col(column).to_owned();
+        norms.push(residual.norm_l2());
+        let rank = kept.len();
+        if rank > 0 {
+            let span = basis.get(.., ..rank);
+            for _ in 0..2 {
+                let projection = span.transpose() * &residual;
+                residual -= span * projection;
+            }
+        }
+        let distance = residual.norm_l2();
+        diagonal.push(distance);
+        if distance > tolerance && rank < basis.ncols() {
+            let scaled = residual * faer::Scale(1.0 / distance);
+            basis.col_mut(rank).copy_from(&scaled);
+            kept.push(column);
+        }
+    }
+    GreedyRank {
+        diagonal,
+        kept,
+        norms,
+    }
+}
+
+/// The largest column norm of `matrix` (0 for an empty matrix).
+pub(crate) fn largest_column_norm(matrix: MatRef<'_, f64>) -> f64 {
+    (0..matrix.ncols())
+        .map(|j| matrix.col(j).norm_l2())
+        .fold(0.0, f64::max)
+}
+
+/// The least-squares solution X of `matrix · X ≈ right` (QR, full column rank assumed).
+pub(crate) fn least_squares(matrix: MatRef<'_, f64>, right: MatRef<'_, f64>) -> Mat<f64> {
+    matrix.qr().solve_lstsq(right)
+}
+
+/// Singular values, largest first.
+///
+/// # Errors
+/// [`Error::Numerical`] if the SVD does not converge (non-finite input).
+pub(crate) fn singular_values(matrix: MatRef<'_, f64>) -> Result<Vec<f64>, Error> {
+    matrix.singular_values().map_err(|error| Error::Numerical {
+        message: format!("singular value decomposition failed: {error:?}"),
+    })
+}
+
+/// `σ_max / σ_min` of a full-column-rank matrix (∞ when rank deficient, 1 when empty).
+///
+/// # Errors
+/// As [`singular_values`].
+pub(crate) fn condition_number(matrix: MatRef<'_, f64>) -> Result<f64, Error> {
+    let values = singular_values(matrix)?;
+    Ok(match (values.first(), values.last()) {
+        (Some(largest), Some(smallest)) if *smallest > 0.0 => largest / smallest,
+        (Some(_), Some(_)) => f64::INFINITY,
+        _ => 1.0,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A seeded 120×12 matrix whose column 3 is column 0 + column 1.
+    fn dependent_matrix() -> (Vec<f64>, usize, usize) {
+        let (rows, columns) = (120, 12);
+        let mut state = 12345_u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1_u64 << 53) as f64 - 0.5
+        };
+        let mut data: Vec<f64> = (0..rows * columns).map(|_| next()).collect();
+        for i in 0..rows {
+            data[3 * rows + i] = data[i] + data[rows + i];
+        }
+        (data, rows, columns)
+    }
+
+    #[test]
+    fn greedy_rank_matches_an_independent_qr_and_skips_dependent_columns() {
+        let (data, rows, columns) = dependent_matrix();
+        let rank = greedy_rank(view(&data, rows, columns), 1e-9);
+        assert_eq!(rank.kept, [0, 1, 2, 4, 5, 6, 7, 8, 9, 10, 11]);
+        assert!(rank.diagonal[3] < 1e-14, "{:?}", rank.diagonal);
+        // The kept columns' |R_jj| equal those of a Householder QR (nalgebra) of the kept columns.
+        let kept =
+            nalgebra::DMatrix::from_fn(rows, rank.kept.len(), |i, j| data[rank.kept[j] * rows + i]);
+        let r = kept.qr().r();
+        for (position, column) in rank.kept.iter().enumerate() {
+            assert!((r[(position, position)].abs() - rank.diagonal[*column]).abs() < 1e-12);
+        }
+    }
+}

@@ -1,0 +1,98 @@
+//! Frame (location) measure (paper §3.1): the sensor gives position and
+//! orientation of frame n+1. All six rows of eq. 7 per configuration:
+//! `J(q, η) Δη = Δx(measured, model)`, with Δx of Appendix I (method 2 by default).
+
+use gecaro_core::{OrientationDifference, Robot, orientation_difference};
+use nalgebra::UnitQuaternion;
+
+use super::{CalibrationMethod, MethodInfo};
+use crate::Error;
+use crate::observation::{RowKind, RowWriter, TerminalState};
+use crate::sample::{DataColumn, Sample};
+use crate::sampler::Sampler;
+
+pub(super) const INFO: MethodInfo = MethodInfo {
+    name: "frame",
+    title: "Frame measure",
+    uses_plane: false,
+    build: |options| {
+        Ok(Box::new(FrameMeasure {
+            orientation: options.orientation,
+        }))
+    },
+};
+
+/// Frame measure; see the module docs.
+#[derive(Debug)]
+pub(crate) struct FrameMeasure {
+    orientation: OrientationDifference,
+}
+
+impl CalibrationMethod for FrameMeasure {
+    fn name(&self) -> &'static str {
+        INFO.name
+    }
+
+    fn title(&self) -> &'static str {
+        INFO.title
+    }
+
+    fn data_columns(&self) -> &'static [DataColumn] {
+        &[DataColumn::Position, DataColumn::Orientation]
+    }
+
+    fn row_count(&self, samples: &[Sample]) -> usize {
+        6 * samples.len()
+    }
+
+    fn equations_per_configuration(&self) -> f64 {
+        6.0
+    }
+
+    fn linearise(
+        &self,
+        samples: &[Sample],
+        states: &[TerminalState],
+        _auxiliary: &[f64],
+        rows: &mut RowWriter<'_>,
+    ) {
+        let mut coefficients = vec![0.0; states.first().map_or(0, |s| s.jacobian.ncols())];
+        for (index, (sample, state)) in samples.iter().zip(states).enumerate() {
+            let position = sample.position.unwrap_or_default() - state.pose.translation.vector;
+            let measured_rotation = sample.orientation.unwrap_or_default().to_rotation_matrix();
+            let rotation =
+                orientation_difference(&measured_rotation, &state.pose.rotation, self.orientation);
+            for axis in 0..6 {
+                coefficients.fill(0.0);
+                state.add_jacobian_row(axis, 1.0, &mut coefficients);
+                let (kind, residual) = if axis < 3 {
+                    (RowKind::Length, position[axis])
+                } else {
+                    (RowKind::Angle, rotation[axis - 3])
+                };
+                rows.push(kind, index, residual, &coefficients, &[]);
+            }
+        }
+    }
+
+    fn generate(
+        &self,
+        robot: &Robot,
+        count: usize,
+        noise: f64,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error> {
+        (0..count)
+            .map(|_| {
+                let motor_positions = sampler.configuration(robot);
+                let pose = gecaro_core::terminal_pose(robot, &motor_positions)?;
+                let rotation = sampler.gaussian_rotation(noise) * pose.rotation;
+                Ok(Sample {
+                    position: Some(pose.translation.vector + sampler.gaussian_vector(noise)),
+                    orientation: Some(UnitQuaternion::from_rotation_matrix(&rotation)),
+                    ..Sample::new(motor_positions)
+                })
+            })
+            .collect()
+    }
+}

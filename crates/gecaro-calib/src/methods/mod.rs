@@ -1,0 +1,305 @@
+//! The seven calibration methods of paper §3, as observation models.
+//!
+//! Every method is the paper's eq. 5, `0 = f(q, X, η)`, linearised as eq. 6,
+//! `Δy = Ψ Δη`: given the current parameters it writes the residuals Δy and the
+//! rows of W for a data set ([`CalibrationMethod::linearise`]), and it can
+//! generate configurations that satisfy its constraint
+//! ([`CalibrationMethod::generate`]). Identifiability, identification and
+//! points generation are written once against this trait.
+//!
+//! | name | method | rows | paper |
+//! |---|---|---|---|
+//! | `position` | position measure | 3 per configuration | eq. 7, rows 1–3 |
+//! | `frame` | frame (location) measure | 6 per configuration | eq. 7 |
+//! | `point-link` | point link | 3 per configuration | eq. 12, rows 1–3 |
+//! | `frame-link` | frame link | 6 per configuration | eq. 12 |
+//! | `plane1` | plane link 1, plane equation | 1 per configuration | eq. 15 |
+//! | `plane2` | plane link 2, plane normal | 1 per configuration | eq. 17 |
+//! | `distance` | distance measure | 1 per pair | eq. 19–20 |
+//!
+//! Link and plane-normal equations hold between configurations. Instead of
+//! one reference pair per configuration, each configuration is compared with
+//! the mean of its set: `(J_i − J̄)Δη = −(y_i − ȳ)`. Since
+//! `Σ_{i<j} ‖e_i − e_j‖² = k·Σ_i ‖e_i − ē‖²` for a set of k, this is eq. 12
+//! (or 17) written for *every* pair of the set at once, in k rows instead of
+//! k(k−1)/2, and it treats every configuration alike. The centring uses up one
+//! equation per set and per dimension ([`CalibrationMethod::dependent_rows`]).
+//!
+//! To add an eighth method: write one file with a type implementing
+//! [`CalibrationMethod`] and its [`MethodInfo`], and list it in [`METHODS`].
+
+mod distance;
+mod frame;
+mod frame_link;
+mod link;
+mod plane;
+mod plane_equation;
+mod plane_normal;
+mod point_link;
+mod position;
+
+use std::fmt;
+
+use gecaro_core::{OrientationDifference, Robot};
+
+use crate::Error;
+use crate::observation::{RowWriter, TerminalState};
+use crate::sample::{DataColumn, Sample};
+use crate::sampler::Sampler;
+
+pub use plane::Plane;
+
+/// One calibration method; see the module docs.
+pub trait CalibrationMethod: fmt::Debug + Send + Sync {
+    /// The name used in files and on the command line (`point-link`).
+    fn name(&self) -> &'static str;
+
+    /// The menu title of paper §4 (`Point link`).
+    fn title(&self) -> &'static str;
+
+    /// The data columns beyond `qm1..qmn`.
+    fn data_columns(&self) -> &'static [DataColumn];
+
+    /// Checks the structure of a data set (set and pair sizes). The presence
+    /// of the [`data_columns`](Self::data_columns) fields is checked by the caller.
+    ///
+    /// # Errors
+    /// [`Error::InvalidData`] naming the first line at fault.
+    fn check_samples(&self, _samples: &[Sample]) -> Result<(), Error> {
+        Ok(())
+    }
+
+    /// Number of rows of W that `samples` give.
+    fn row_count(&self, samples: &[Sample]) -> usize;
+
+    /// Rows that carry no independent information (one per set and dimension
+    /// for mean-centred sets): independent equations = rows − dependent rows.
+    fn dependent_rows(&self, _samples: &[Sample]) -> usize {
+        0
+    }
+
+    /// Independent equations per configuration, roughly (to size random data).
+    fn equations_per_configuration(&self) -> f64;
+
+    /// Names of the method's own unknowns, identified with η (plane coefficients).
+    fn auxiliary_names(&self) -> Vec<String> {
+        Vec::new()
+    }
+
+    /// Initial values of the auxiliary unknowns, from the states at the
+    /// starting parameters (e.g. the best-fit plane of the nominal points).
+    ///
+    /// # Errors
+    /// When they cannot be determined from these data.
+    fn initial_auxiliary(&self, _states: &[TerminalState]) -> Result<Vec<f64>, Error> {
+        Ok(Vec::new())
+    }
+
+    /// Writes the rows `Δy = W Δη` at the current parameters (whose poses and
+    /// Jacobians are `states`, one per sample) and auxiliary values.
+    fn linearise(
+        &self,
+        samples: &[Sample],
+        states: &[TerminalState],
+        auxiliary: &[f64],
+        rows: &mut RowWriter<'_>,
+    );
+
+    /// Generates about `count` configurations of `robot` that satisfy the
+    /// method's constraint, with what a sensor would measure there, perturbed
+    /// by Gaussian noise of standard deviation `noise` (metres; radians for
+    /// orientations).
+    ///
+    /// # Errors
+    /// [`Error::Generation`] when configurations cannot be found.
+    fn generate(
+        &self,
+        robot: &Robot,
+        count: usize,
+        noise: f64,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error>;
+}
+
+/// Options that some methods take.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MethodOptions {
+    /// The plane of the plane methods (needed to generate points; for
+    /// identification it is the known plane, or the start for an unknown one).
+    pub plane: Option<Plane>,
+    /// Whether the plane (plane1) or its normal (plane2) is unknown and identified.
+    pub plane_unknown: bool,
+    /// How orientation differences are computed (Appendix I).
+    pub orientation: OrientationDifference,
+    /// Configurations per set when generating link data (default: 4 for
+    /// point link, 2 for frame link).
+    pub set_size: Option<usize>,
+}
+
+/// A method in the registry: its names and how to build it from options.
+#[derive(Copy, Clone)]
+pub struct MethodInfo {
+    /// Command-line name.
+    pub name: &'static str,
+    /// Menu title.
+    pub title: &'static str,
+    /// Whether the method uses a plane.
+    pub uses_plane: bool,
+    build: fn(&MethodOptions) -> Result<Box<dyn CalibrationMethod>, Error>,
+}
+
+impl fmt::Debug for MethodInfo {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("MethodInfo")
+            .field("name", &self.name)
+            .finish()
+    }
+}
+
+impl MethodInfo {
+    /// Builds the method with these options.
+    ///
+    /// # Errors
+    /// When the options do not suit the method.
+    pub fn build(&self, options: &MethodOptions) -> Result<Box<dyn CalibrationMethod>, Error> {
+        (self.build)(options)
+    }
+}
+
+/// The seven methods, in the order of the paper's menus.
+pub const METHODS: &[MethodInfo] = &[
+    position::INFO,
+    frame::INFO,
+    point_link::INFO,
+    frame_link::INFO,
+    plane_equation::INFO,
+    plane_normal::INFO,
+    distance::INFO,
+];
+
+/// The method called `name`, built with `options`.
+///
+/// # Errors
+/// [`Error::UnknownMethod`] (listing the methods) or the method's option errors.
+pub fn method(name: &str, options: &MethodOptions) -> Result<Box<dyn CalibrationMethod>, Error> {
+    method_info(name)?.build(options)
+}
+
+/// The registry entry of the method called `name`.
+///
+/// # Errors
+/// [`Error::UnknownMethod`] listing the methods.
+pub fn method_info(name: &str) -> Result<&'static MethodInfo, Error> {
+    METHODS
+        .iter()
+        .find(|info| info.name == name)
+        .ok_or_else(|| Error::UnknownMethod {
+            name: name.to_owned(),
+            available: METHODS.iter().map(|info| info.name).collect(),
+        })
+}
+
+// ---------------------------------------------------------------------------
+// Helpers shared by several methods.
+
+/// Sample indices grouped by their `group` id, groups in order of first appearance.
+pub(crate) fn groups(samples: &[Sample]) -> Vec<Vec<usize>> {
+    let mut order: Vec<u64> = Vec::new();
+    let mut members: Vec<Vec<usize>> = Vec::new();
+    for (index, sample) in samples.iter().enumerate() {
+        let id = sample.group.unwrap_or(0);
+        match order.iter().position(|known| *known == id) {
+            Some(position) => members[position].push(index),
+            None => {
+                order.push(id);
+                members.push(vec![index]);
+            }
+        }
+    }
+    members
+}
+
+/// Checks that every group has between `min` and `max` members.
+pub(crate) fn check_group_sizes(
+    samples: &[Sample],
+    min: usize,
+    max: usize,
+    what: &str,
+) -> Result<(), Error> {
+    for members in groups(samples) {
+        if members.len() < min || members.len() > max {
+            let first = &samples[members[0]];
+            let expected = if min == max {
+                format!("exactly {min}")
+            } else {
+                format!("at least {min}")
+            };
+            return Err(Error::InvalidData {
+                line: first.line,
+                message: format!(
+                    "{what} {} has {} configuration(s); it needs {expected}",
+                    first.group.unwrap_or(0),
+                    members.len()
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Mean-centres, in place, the per-member blocks of one set: `buffer` holds
+/// `members` equal blocks (values, or rows of coefficients), and each entry
+/// of a block loses its mean over the members (see the module docs).
+pub(crate) fn centre(buffer: &mut [f64], members: usize) {
+    let stride = buffer.len() / members.max(1);
+    for offset in 0..stride {
+        let mean = (0..members)
+            .map(|m| buffer[m * stride + offset])
+            .sum::<f64>()
+            / members as f64;
+        for m in 0..members {
+            buffer[m * stride + offset] -= mean;
+        }
+    }
+}
+
+/// Sizes of the sets of generated link data: about `count` configurations
+/// in sets of `size` (at least 2 each); the remainder is spread over the sets.
+pub(crate) fn set_sizes(count: usize, size: usize) -> Vec<usize> {
+    let count = count.max(2);
+    let sets = (count / size.max(2)).max(1);
+    let mut sizes = vec![count / sets; sets];
+    for extra in 0..count % sets {
+        sizes[extra] += 1;
+    }
+    sizes
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn centring_removes_the_mean() {
+        let mut values = vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
+        centre(&mut values, 3);
+        assert_eq!(values, [-2.0, -2.0, 0.0, 0.0, 2.0, 2.0]);
+    }
+
+    #[test]
+    fn set_sizes_cover_the_count() {
+        assert_eq!(set_sizes(10, 4), [5, 5]);
+        assert_eq!(set_sizes(3, 4), [3]);
+        assert_eq!(set_sizes(8, 2).iter().sum::<usize>(), 8);
+    }
+
+    #[test]
+    fn unknown_methods_list_the_seven() {
+        let error = method("plane3", &MethodOptions::default()).expect_err("no such method");
+        let message = error.to_string();
+        for info in METHODS {
+            assert!(message.contains(info.name), "{message}");
+        }
+        assert_eq!(METHODS.len(), 7);
+    }
+}

@@ -1,0 +1,124 @@
+//! Plane link 1, with the plane equation (paper §3.3.1): the terminal points
+//! lie in a plane `a x + b y + c z + 1 = 0` (eq. 13–14). One row per
+//! configuration (eq. 15). The plane is known, or unknown and identified with
+//! η, starting from the best-fit plane of the nominal points.
+//!
+//! Rows are eq. 15 divided by ‖(a, b, c)‖ so that the residual is the distance
+//! of the terminal point from the plane, in metres:
+//! `f = (a·P + 1)/‖a‖`, `(a·J_P/‖a‖) Δη + ∂f/∂a Δa = −f`.
+
+use gecaro_core::Robot;
+use nalgebra::Vector3;
+
+use super::plane::{Plane, generate_in_plane, required};
+use super::{CalibrationMethod, MethodInfo};
+use crate::Error;
+use crate::observation::{RowKind, RowWriter, TerminalState};
+use crate::sample::{DataColumn, Sample};
+use crate::sampler::Sampler;
+
+pub(super) const INFO: MethodInfo = MethodInfo {
+    name: "plane1",
+    title: "Plane link 1",
+    uses_plane: true,
+    build: |options| {
+        let known = if options.plane_unknown {
+            None
+        } else {
+            Some(required(options.plane, "plane1 with a known plane")?.coefficients()?)
+        };
+        Ok(Box::new(PlaneEquation {
+            plane: options.plane,
+            known,
+        }))
+    },
+};
+
+/// Plane link 1; see the module docs.
+#[derive(Debug)]
+pub(crate) struct PlaneEquation {
+    /// The plane to generate points in.
+    plane: Option<Plane>,
+    /// The coefficients (a, b, c) when the plane is known.
+    known: Option<Vector3<f64>>,
+}
+
+impl CalibrationMethod for PlaneEquation {
+    fn name(&self) -> &'static str {
+        INFO.name
+    }
+
+    fn title(&self) -> &'static str {
+        INFO.title
+    }
+
+    fn data_columns(&self) -> &'static [DataColumn] {
+        &[]
+    }
+
+    fn row_count(&self, samples: &[Sample]) -> usize {
+        samples.len()
+    }
+
+    fn equations_per_configuration(&self) -> f64 {
+        1.0
+    }
+
+    fn auxiliary_names(&self) -> Vec<String> {
+        match self.known {
+            Some(_) => Vec::new(),
+            None => ["a", "b", "c"].map(String::from).to_vec(),
+        }
+    }
+
+    fn initial_auxiliary(&self, states: &[TerminalState]) -> Result<Vec<f64>, Error> {
+        if self.known.is_some() {
+            return Ok(Vec::new());
+        }
+        let fitted = Plane::fit(states.iter().map(|state| state.pose.translation.vector))?;
+        Ok(fitted.coefficients()?.as_slice().to_vec())
+    }
+
+    fn linearise(
+        &self,
+        _samples: &[Sample],
+        states: &[TerminalState],
+        auxiliary: &[f64],
+        rows: &mut RowWriter<'_>,
+    ) {
+        let unknown = self.known.is_none();
+        let abc = self
+            .known
+            .unwrap_or_else(|| Vector3::from_column_slice(&auxiliary[..3]));
+        let norm = abc.norm();
+        let mut coefficients = vec![0.0; states.first().map_or(0, |s| s.jacobian.ncols())];
+        for (index, state) in states.iter().enumerate() {
+            let point = state.pose.translation.vector;
+            let distance = (abc.dot(&point) + 1.0) / norm;
+            coefficients.fill(0.0);
+            for axis in 0..3 {
+                state.add_jacobian_row(axis, abc[axis] / norm, &mut coefficients);
+            }
+            let derivative = point / norm - abc * (distance / norm);
+            let auxiliary_row: &[f64] = if unknown { derivative.as_slice() } else { &[] };
+            rows.push(
+                RowKind::Length,
+                index,
+                -distance,
+                &coefficients,
+                auxiliary_row,
+            );
+        }
+    }
+
+    fn generate(
+        &self,
+        robot: &Robot,
+        count: usize,
+        noise: f64,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error> {
+        let plane = required(self.plane, "generating plane1 points")?;
+        generate_in_plane(robot, &plane, count, noise, sampler)
+    }
+}

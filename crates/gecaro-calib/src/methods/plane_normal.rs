@@ -1,0 +1,137 @@
+//! Plane link 2, with the plane normal (paper §3.3.2): the terminal points lie
+//! in a plane whose normal (a, b, c) is known (an inclinometer gives it) or
+//! unknown. The vector between any two points of the plane is orthogonal to
+//! the normal (eq. 16–17); written for all pairs at once by centring on the
+//! mean point, one row per configuration:
+//! `(n·(J_i − J̄)/‖n‖) Δη + ∂f/∂n Δn = −n·(P_i − P̄)/‖n‖`.
+//!
+//! An unknown normal is identified with η. Its scale has no effect, so one of
+//! a, b, c comes out non-identifiable ('n') and stays fixed: "2 of a, b, c
+//! identified", as in Table 2.
+
+use gecaro_core::Robot;
+use nalgebra::Vector3;
+
+use super::plane::{Plane, generate_in_plane, required};
+use super::{CalibrationMethod, MethodInfo, centre};
+use crate::Error;
+use crate::observation::{RowKind, RowWriter, TerminalState};
+use crate::sample::{DataColumn, Sample};
+use crate::sampler::Sampler;
+
+pub(super) const INFO: MethodInfo = MethodInfo {
+    name: "plane2",
+    title: "Plane link 2",
+    uses_plane: true,
+    build: |options| {
+        let known = if options.plane_unknown {
+            None
+        } else {
+            Some(required(options.plane, "plane2 with a known normal")?.normal())
+        };
+        Ok(Box::new(PlaneNormal {
+            plane: options.plane,
+            known,
+        }))
+    },
+};
+
+/// Plane link 2; see the module docs.
+#[derive(Debug)]
+pub(crate) struct PlaneNormal {
+    plane: Option<Plane>,
+    known: Option<Vector3<f64>>,
+}
+
+impl CalibrationMethod for PlaneNormal {
+    fn name(&self) -> &'static str {
+        INFO.name
+    }
+
+    fn title(&self) -> &'static str {
+        INFO.title
+    }
+
+    fn data_columns(&self) -> &'static [DataColumn] {
+        &[]
+    }
+
+    fn row_count(&self, samples: &[Sample]) -> usize {
+        samples.len()
+    }
+
+    fn dependent_rows(&self, _samples: &[Sample]) -> usize {
+        1
+    }
+
+    fn equations_per_configuration(&self) -> f64 {
+        1.0
+    }
+
+    fn auxiliary_names(&self) -> Vec<String> {
+        match self.known {
+            Some(_) => Vec::new(),
+            None => ["a", "b", "c"].map(String::from).to_vec(),
+        }
+    }
+
+    fn initial_auxiliary(&self, states: &[TerminalState]) -> Result<Vec<f64>, Error> {
+        if self.known.is_some() {
+            return Ok(Vec::new());
+        }
+        let fitted = Plane::fit(states.iter().map(|state| state.pose.translation.vector))?;
+        Ok(fitted.normal().as_slice().to_vec())
+    }
+
+    fn linearise(
+        &self,
+        _samples: &[Sample],
+        states: &[TerminalState],
+        auxiliary: &[f64],
+        rows: &mut RowWriter<'_>,
+    ) {
+        let unknown = self.known.is_none();
+        let normal = self
+            .known
+            .unwrap_or_else(|| Vector3::from_column_slice(&auxiliary[..3]));
+        let norm = normal.norm();
+        let parameters = states.first().map_or(0, |s| s.jacobian.ncols());
+        let count = states.len();
+        let mut values = vec![0.0; count];
+        let mut coefficients = vec![0.0; count * parameters];
+        let mut derivatives = vec![0.0; count * 3];
+        for (index, state) in states.iter().enumerate() {
+            let point = state.pose.translation.vector;
+            values[index] = normal.dot(&point) / norm;
+            let row = &mut coefficients[index * parameters..(index + 1) * parameters];
+            for axis in 0..3 {
+                state.add_jacobian_row(axis, normal[axis] / norm, row);
+            }
+            let derivative = point / norm - normal * (values[index] / norm);
+            derivatives[index * 3..(index + 1) * 3].copy_from_slice(derivative.as_slice());
+        }
+        for buffer in [&mut values, &mut coefficients, &mut derivatives] {
+            centre(buffer, count);
+        }
+        for index in 0..count {
+            let auxiliary_row: &[f64] = if unknown {
+                &derivatives[index * 3..(index + 1) * 3]
+            } else {
+                &[]
+            };
+            let row = &coefficients[index * parameters..(index + 1) * parameters];
+            rows.push(RowKind::Length, index, -values[index], row, auxiliary_row);
+        }
+    }
+
+    fn generate(
+        &self,
+        robot: &Robot,
+        count: usize,
+        noise: f64,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error> {
+        let plane = required(self.plane, "generating plane2 points")?;
+        generate_in_plane(robot, &plane, count, noise, sampler)
+    }
+}

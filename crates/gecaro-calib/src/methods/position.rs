@@ -1,0 +1,82 @@
+//! Position measure (paper §3.1): an external sensor gives the position of the
+//! origin of frame n+1 in the world frame. Rows 1–3 of eq. 7 per configuration:
+//! `J_P(q, η) Δη = P_measured − P(q, η)`.
+
+use gecaro_core::Robot;
+
+use super::{CalibrationMethod, MethodInfo};
+use crate::Error;
+use crate::observation::{RowKind, RowWriter, TerminalState};
+use crate::sample::{DataColumn, Sample};
+use crate::sampler::Sampler;
+
+pub(super) const INFO: MethodInfo = MethodInfo {
+    name: "position",
+    title: "Position measure",
+    uses_plane: false,
+    build: |_| Ok(Box::new(PositionMeasure)),
+};
+
+/// Position measure; see the module docs.
+#[derive(Debug)]
+pub(crate) struct PositionMeasure;
+
+impl CalibrationMethod for PositionMeasure {
+    fn name(&self) -> &'static str {
+        INFO.name
+    }
+
+    fn title(&self) -> &'static str {
+        INFO.title
+    }
+
+    fn data_columns(&self) -> &'static [DataColumn] {
+        &[DataColumn::Position]
+    }
+
+    fn row_count(&self, samples: &[Sample]) -> usize {
+        3 * samples.len()
+    }
+
+    fn equations_per_configuration(&self) -> f64 {
+        3.0
+    }
+
+    fn linearise(
+        &self,
+        samples: &[Sample],
+        states: &[TerminalState],
+        _auxiliary: &[f64],
+        rows: &mut RowWriter<'_>,
+    ) {
+        let mut coefficients = vec![0.0; states.first().map_or(0, |s| s.jacobian.ncols())];
+        for (index, (sample, state)) in samples.iter().zip(states).enumerate() {
+            let measured = sample.position.unwrap_or_default();
+            let difference = measured - state.pose.translation.vector;
+            for axis in 0..3 {
+                coefficients.fill(0.0);
+                state.add_jacobian_row(axis, 1.0, &mut coefficients);
+                rows.push(RowKind::Length, index, difference[axis], &coefficients, &[]);
+            }
+        }
+    }
+
+    fn generate(
+        &self,
+        robot: &Robot,
+        count: usize,
+        noise: f64,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error> {
+        (0..count)
+            .map(|_| {
+                let motor_positions = sampler.configuration(robot);
+                let pose = gecaro_core::terminal_pose(robot, &motor_positions)?;
+                Ok(Sample {
+                    position: Some(pose.translation.vector + sampler.gaussian_vector(noise)),
+                    ..Sample::new(motor_positions)
+                })
+            })
+            .collect()
+    }
+}

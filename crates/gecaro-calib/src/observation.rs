@@ -1,0 +1,278 @@
+//! The linearised calibration equations `Δy = W Δη` (eq. 6, 8) as methods
+//! write them, row by row.
+//!
+//! A method sees the current end-effector pose and parameter Jacobian of every
+//! configuration ([`TerminalState`]) and pushes rows through a [`RowWriter`]:
+//! the residual Δy (what the model misses; zero at the real parameters), the
+//! coefficients of the Np robot parameters (vocabulary order) and of its own
+//! auxiliary unknowns. The [`ObservationSystem`] keeps only the columns a
+//! [`ColumnLayout`] asks for, column-major, so that the tall W goes to the QR
+//! without a copy. Rows are multiplied by a per-set weight (1/σ of the sensor)
+//! when several measurement sets are stacked.
+
+use gecaro_core::{Error as ModelError, Robot, forward_kinematics, parameter_jacobian_of_chain};
+use nalgebra::{IsometryMatrix3, Matrix6xX};
+
+use crate::sample::Sample;
+
+/// The end-effector pose and parameter Jacobian at one configuration.
+#[derive(Clone, Debug)]
+pub struct TerminalState {
+    /// `(−1)T(n+1)` (eq. 1).
+    pub pose: IsometryMatrix3<f64>,
+    /// The 6×Np Jacobian of Appendix II.
+    pub jacobian: Matrix6xX<f64>,
+}
+
+impl TerminalState {
+    /// Adds `scale ×` row `axis` (0–2 position, 3–5 rotation) of the Jacobian to `out`.
+    pub fn add_jacobian_row(&self, axis: usize, scale: f64, out: &mut [f64]) {
+        for (value, coefficient) in out.iter_mut().zip(self.jacobian.row(axis).iter()) {
+            *value += scale * coefficient;
+        }
+    }
+}
+
+/// Evaluates the pose and Jacobian of every sample, reusing `states`' storage.
+///
+/// # Errors
+/// When a sample's configuration does not fit the robot.
+pub fn evaluate_states(
+    robot: &Robot,
+    samples: &[Sample],
+    states: &mut Vec<TerminalState>,
+) -> Result<(), ModelError> {
+    let parameters = robot.parameters().len();
+    states.truncate(samples.len());
+    for (index, sample) in samples.iter().enumerate() {
+        let chain = forward_kinematics(robot, &sample.motor_positions)?;
+        if index == states.len() {
+            states.push(TerminalState {
+                pose: *chain.world_from_tool(),
+                jacobian: Matrix6xX::zeros(parameters),
+            });
+        }
+        let state = &mut states[index];
+        state.pose = *chain.world_from_tool();
+        parameter_jacobian_of_chain(robot, &chain, &mut state.jacobian);
+    }
+    Ok(())
+}
+
+/// What a row measures, so that errors are reported in the right unit.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum RowKind {
+    /// A length (metres): positions, distances, distances to a plane.
+    Length,
+    /// An angle (radians): orientation differences.
+    Angle,
+}
+
+/// Which columns of W to build, in which order.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ColumnLayout {
+    /// For each robot parameter (vocabulary order), its column in W, if kept.
+    parameter_columns: Vec<Option<usize>>,
+    /// For each auxiliary unknown (all sets, in order), its column in W, if kept.
+    auxiliary_columns: Vec<Option<usize>>,
+    columns: usize,
+}
+
+impl ColumnLayout {
+    /// Auxiliary unknowns first (in order), then the listed robot parameters in
+    /// the order given (`parameters` holds vocabulary indices).
+    pub fn new(parameter_count: usize, parameters: &[usize], auxiliary_count: usize) -> Self {
+        let mut parameter_columns = vec![None; parameter_count];
+        for (position, index) in parameters.iter().enumerate() {
+            parameter_columns[*index] = Some(auxiliary_count + position);
+        }
+        ColumnLayout {
+            parameter_columns,
+            auxiliary_columns: (0..auxiliary_count).map(Some).collect(),
+            columns: auxiliary_count + parameters.len(),
+        }
+    }
+
+    /// Number of columns of W.
+    pub fn columns(&self) -> usize {
+        self.columns
+    }
+
+    /// Number of auxiliary columns (they come first).
+    pub fn auxiliary_count(&self) -> usize {
+        self.auxiliary_columns.len()
+    }
+}
+
+/// The stacked, weighted linear system of all measurement sets.
+#[derive(Clone, Debug, Default)]
+pub struct ObservationSystem {
+    rows: usize,
+    columns: usize,
+    /// W, column-major, rows already weighted.
+    matrix: Vec<f64>,
+    /// Δy, not weighted (metres or radians).
+    residuals: Vec<f64>,
+    weights: Vec<f64>,
+    kinds: Vec<RowKind>,
+    /// The observation (configuration, pair) each row belongs to, numbered across sets.
+    observations: Vec<usize>,
+    observation_count: usize,
+}
+
+impl ObservationSystem {
+    /// Clears and sizes the system for `rows` rows in `layout`.
+    pub(crate) fn reset(&mut self, rows: usize, layout: &ColumnLayout) {
+        self.rows = rows;
+        self.columns = layout.columns();
+        self.matrix.clear();
+        self.matrix.resize(rows * self.columns, 0.0);
+        for buffer in [&mut self.residuals, &mut self.weights] {
+            buffer.clear();
+            buffer.resize(rows, 0.0);
+        }
+        self.kinds.clear();
+        self.kinds.resize(rows, RowKind::Length);
+        self.observations.clear();
+        self.observations.resize(rows, 0);
+        self.observation_count = 0;
+    }
+
+    /// Number of rows.
+    pub fn rows(&self) -> usize {
+        self.rows
+    }
+
+    /// Number of columns.
+    pub fn columns(&self) -> usize {
+        self.columns
+    }
+
+    /// W, column-major (`rows × columns`), weighted.
+    pub fn matrix(&self) -> &[f64] {
+        &self.matrix
+    }
+
+    /// Column `column` of W.
+    pub fn column(&self, column: usize) -> &[f64] {
+        &self.matrix[column * self.rows..(column + 1) * self.rows]
+    }
+
+    /// Δy, not weighted.
+    pub fn residuals(&self) -> &[f64] {
+        &self.residuals
+    }
+
+    /// Δy multiplied by the row weights: the right-hand side that goes with [`Self::matrix`].
+    pub fn weighted_residuals(&self) -> Vec<f64> {
+        self.residuals
+            .iter()
+            .zip(&self.weights)
+            .map(|(r, w)| r * w)
+            .collect()
+    }
+
+    /// What each row measures.
+    pub fn kinds(&self) -> &[RowKind] {
+        &self.kinds
+    }
+
+    /// Per observation (configuration or pair): the norm of its length rows
+    /// (metres) and of its angle rows (radians).
+    pub fn observation_errors(&self) -> Vec<(f64, f64)> {
+        let mut errors = vec![(0.0, 0.0); self.observation_count];
+        for row in 0..self.rows {
+            let squared = self.residuals[row] * self.residuals[row];
+            let error = &mut errors[self.observations[row]];
+            match self.kinds[row] {
+                RowKind::Length => error.0 += squared,
+                RowKind::Angle => error.1 += squared,
+            }
+        }
+        errors
+            .into_iter()
+            .map(|(l, a)| (l.sqrt(), a.sqrt()))
+            .collect()
+    }
+
+    /// A writer for the rows `first_row..first_row + rows` of one measurement set.
+    pub(crate) fn writer<'a>(
+        &'a mut self,
+        layout: &'a ColumnLayout,
+        first_row: usize,
+        rows: usize,
+        auxiliary_offset: usize,
+        weight: f64,
+    ) -> RowWriter<'a> {
+        let observation_base = self.observation_count;
+        RowWriter {
+            system: self,
+            layout,
+            next_row: first_row,
+            end_row: first_row + rows,
+            auxiliary_offset,
+            weight,
+            observation_base,
+        }
+    }
+}
+
+/// Writes the rows of one measurement set; see the module docs.
+#[derive(Debug)]
+pub struct RowWriter<'a> {
+    system: &'a mut ObservationSystem,
+    layout: &'a ColumnLayout,
+    next_row: usize,
+    end_row: usize,
+    auxiliary_offset: usize,
+    weight: f64,
+    observation_base: usize,
+}
+
+impl RowWriter<'_> {
+    /// Appends one row: `Σ parameters[k]·Δη_k + Σ auxiliary[k]·Δaux_k = residual`.
+    ///
+    /// `observation` numbers the configuration or pair the row belongs to
+    /// (0-based within this set); `parameters` has Np entries, `auxiliary` one
+    /// per auxiliary unknown of the method.
+    ///
+    /// # Panics
+    /// When the method pushes more rows than its `row_count` promised (a bug in the method).
+    pub fn push(
+        &mut self,
+        kind: RowKind,
+        observation: usize,
+        residual: f64,
+        parameters: &[f64],
+        auxiliary: &[f64],
+    ) {
+        assert!(
+            self.next_row < self.end_row,
+            "a method wrote more rows than its row_count"
+        );
+        let row = self.next_row;
+        let rows = self.system.rows;
+        for (index, column) in self.layout.parameter_columns.iter().enumerate() {
+            if let Some(column) = column {
+                self.system.matrix[column * rows + row] = self.weight * parameters[index];
+            }
+        }
+        for (index, value) in auxiliary.iter().enumerate() {
+            if let Some(column) = self.layout.auxiliary_columns[self.auxiliary_offset + index] {
+                self.system.matrix[column * rows + row] = self.weight * value;
+            }
+        }
+        self.system.residuals[row] = residual;
+        self.system.weights[row] = self.weight;
+        self.system.kinds[row] = kind;
+        let observation = self.observation_base + observation;
+        self.system.observations[row] = observation;
+        self.system.observation_count = self.system.observation_count.max(observation + 1);
+        self.next_row += 1;
+    }
+
+    /// Whether every promised row was written.
+    pub(crate) fn is_complete(&self) -> bool {
+        self.next_row == self.end_row
+    }
+}

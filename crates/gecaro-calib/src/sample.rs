@@ -1,0 +1,66 @@
+//! One measured (or generated) configuration, the unit of every data set.
+//!
+//! A data set is a list of [`Sample`]s. Every sample has the motor variables
+//! qm1..qmn of one configuration; which other fields a method needs is given by
+//! its [`DataColumn`]s (and so are the columns of its CSV files).
+
+use nalgebra::{UnitQuaternion, Vector3};
+
+/// One configuration with what was measured there.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sample {
+    /// Motor variables qm (eq. 4): radians or metres.
+    pub motor_positions: Vec<f64>,
+    /// Measured position of the origin of frame n+1 in the world frame (m).
+    pub position: Option<Vector3<f64>>,
+    /// Measured orientation of frame n+1 in the world frame.
+    pub orientation: Option<UnitQuaternion<f64>>,
+    /// Set id (link methods: same point/frame) or pair id (distance method).
+    pub group: Option<u64>,
+    /// Measured distance to the other configuration of the pair (m).
+    pub distance: Option<f64>,
+    /// Line of the data file this sample came from, for messages.
+    pub line: Option<usize>,
+}
+
+impl Sample {
+    /// A sample with only a configuration.
+    pub fn new(motor_positions: Vec<f64>) -> Self {
+        Sample {
+            motor_positions,
+            position: None,
+            orientation: None,
+            group: None,
+            distance: None,
+            line: None,
+        }
+    }
+}
+
+/// A group of columns of a data file beyond `qm1..qmn`, and the sample field it fills.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum DataColumn {
+    /// `x, y, z`: [`Sample::position`].
+    Position,
+    /// `qw, qx, qy, qz` (a unit quaternion): [`Sample::orientation`].
+    Orientation,
+    /// `set`: [`Sample::group`], configurations reaching the same point or frame.
+    Set,
+    /// `pair`: [`Sample::group`], the two configurations of a distance.
+    Pair,
+    /// `distance`: [`Sample::distance`].
+    Distance,
+}
+
+impl DataColumn {
+    /// The CSV header names of this group of columns.
+    pub fn headers(self) -> &'static [&'static str] {
+        match self {
+            DataColumn::Position => &["x", "y", "z"],
+            DataColumn::Orientation => &["qw", "qx", "qy", "qz"],
+            DataColumn::Set => &["set"],
+            DataColumn::Pair => &["pair"],
+            DataColumn::Distance => &["distance"],
+        }
+    }
+}

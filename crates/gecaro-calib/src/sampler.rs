@@ -1,0 +1,147 @@
+//! Seeded random configurations and configurations that reach a target, for
+//! points generation and for the random observation matrices of
+//! identifiability (paper §3.2, §4).
+//!
+//! Everything random in gecaro draws from one [`Sampler`], a ChaCha8 stream
+//! seeded by the user: the same seed gives the same configurations, bit for
+//! bit, on every platform.
+
+use gecaro_core::{InverseOptions, Robot, Target, inverse_kinematics};
+use nalgebra::{Rotation3, Vector3};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, StandardNormal};
+
+use crate::Error;
+
+/// Start configurations tried before a target is declared out of reach.
+const REACH_ATTEMPTS: usize = 30;
+
+/// Two configurations are distinct when some joint differs by more than this
+/// fraction of its range.
+const DISTINCT_FRACTION: f64 = 0.02;
+
+/// The source of randomness of points generation; see the module docs.
+#[derive(Clone, Debug)]
+pub struct Sampler {
+    rng: ChaCha8Rng,
+}
+
+impl Sampler {
+    /// A sampler seeded with `seed`.
+    pub fn new(seed: u64) -> Self {
+        Sampler {
+            rng: ChaCha8Rng::seed_from_u64(seed),
+        }
+    }
+
+    /// A uniform number in `[low, high)`; `low` when the range is empty.
+    pub fn uniform(&mut self, low: f64, high: f64) -> f64 {
+        if high > low {
+            self.rng.random_range(low..high)
+        } else {
+            low
+        }
+    }
+
+    /// A Gaussian number of mean 0 and standard deviation `sigma` (0 draws nothing).
+    pub fn gaussian(&mut self, sigma: f64) -> f64 {
+        if sigma == 0.0 {
+            return 0.0;
+        }
+        let unit: f64 = StandardNormal.sample(&mut self.rng);
+        sigma * unit
+    }
+
+    /// A vector of three independent Gaussian numbers.
+    pub fn gaussian_vector(&mut self, sigma: f64) -> Vector3<f64> {
+        Vector3::new(
+            self.gaussian(sigma),
+            self.gaussian(sigma),
+            self.gaussian(sigma),
+        )
+    }
+
+    /// A small random rotation, each rotation-vector component of deviation `sigma`.
+    pub fn gaussian_rotation(&mut self, sigma: f64) -> Rotation3<f64> {
+        Rotation3::new(self.gaussian_vector(sigma))
+    }
+
+    /// Motor variables of a configuration drawn uniformly within the joint limits.
+    ///
+    /// # Panics
+    /// Never for a valid robot (its coupling is invertible).
+    pub fn configuration(&mut self, robot: &Robot) -> Vec<f64> {
+        let joint_positions: Vec<f64> = robot
+            .joints()
+            .iter()
+            .map(|joint| self.uniform(joint.qmin, joint.qmax))
+            .collect();
+        robot
+            .motor_positions(&joint_positions)
+            .expect("a valid robot maps joint to motor variables")
+            .as_slice()
+            .to_vec()
+    }
+
+    /// Motor variables of a configuration reaching `target`, distinct from
+    /// every configuration in `distinct_from`. Tries `start` first, then
+    /// random starts within the joint limits.
+    ///
+    /// # Errors
+    /// [`Error::Generation`] when no attempt succeeds.
+    pub fn reach(
+        &mut self,
+        robot: &Robot,
+        target: &Target,
+        start: Option<&[f64]>,
+        distinct_from: &[&[f64]],
+    ) -> Result<Vec<f64>, Error> {
+        let options = InverseOptions::default();
+        for attempt in 0..REACH_ATTEMPTS {
+            let start = match (attempt, start) {
+                (0, Some(start)) => start.to_vec(),
+                _ => self.configuration(robot),
+            };
+            let Ok(solution) = inverse_kinematics(robot, target, &start, &options) else {
+                continue;
+            };
+            if distinct_from
+                .iter()
+                .all(|other| distinct(robot, &solution.motor_positions, other))
+            {
+                return Ok(solution.motor_positions);
+            }
+        }
+        let what = match target {
+            Target::Position(_) => "point",
+            Target::Frame(_) => "frame",
+            Target::Plane { .. } => "plane",
+        };
+        Err(Error::Generation {
+            message: format!(
+                "no configuration within the joint limits reached the {what} from {REACH_ATTEMPTS} \
+                 start configurations{}",
+                if distinct_from.is_empty() {
+                    ""
+                } else {
+                    " (distinct from the others of its set)"
+                }
+            ),
+        })
+    }
+}
+
+/// Whether two motor configurations differ noticeably in joint space.
+fn distinct(robot: &Robot, first: &[f64], second: &[f64]) -> bool {
+    let (Ok(q1), Ok(q2)) = (robot.joint_positions(first), robot.joint_positions(second)) else {
+        return true;
+    };
+    robot
+        .joints()
+        .iter()
+        .zip(q1.iter().zip(q2.iter()))
+        .any(|(joint, (a, b))| {
+            (a - b).abs() > DISTINCT_FRACTION * (joint.qmax - joint.qmin).max(1e-9)
+        })
+}

@@ -1,0 +1,386 @@
+//! `gecaro identifiable` and `gecaro table2` (Appendix III, Table 2).
+
+use gecaro_calib::{
+    CalibrationMethod, ParameterStatus, RankReport, Study, TABLE2_COLUMNS, TABLE2_PLANE_NORMAL,
+    default_plane, identifiable_parameters, method, random_samples, table2 as table2_reports,
+};
+use gecaro_core::{ParameterId, ParameterKind, Robot};
+use gecaro_io::{load_robot, read_priority_file, read_samples};
+use serde::Serialize;
+
+use super::options::{method_options, plane, vector3};
+use crate::cli::{IdentifiableArgs, Table2Args};
+use crate::failure::Failure;
+use crate::format::{number, table};
+
+#[derive(Serialize)]
+struct ParameterJson {
+    name: String,
+    priority: u32,
+    status: &'static str,
+}
+
+#[derive(Serialize)]
+struct AbsorbedJson {
+    name: String,
+    coefficient: f64,
+}
+
+#[derive(Serialize)]
+struct RelationJson {
+    base: String,
+    absorbed: Vec<AbsorbedJson>,
+}
+
+#[derive(Serialize)]
+struct ExcitationJson {
+    same_base_set: bool,
+    /// Identifiable on random configurations but not on the data.
+    not_excited: Vec<String>,
+    /// Identifiable on the data but not on random configurations.
+    only_in_data: Vec<String>,
+    random_condition_number: f64,
+}
+
+#[derive(Serialize)]
+struct IdentifiableJson {
+    method: String,
+    robot: String,
+    source: String,
+    configurations: usize,
+    count: usize,
+    condition_number: f64,
+    rows: usize,
+    equations: usize,
+    tolerance: f64,
+    smallest_kept: f64,
+    largest_rejected: f64,
+    relation_residual: f64,
+    parameters: Vec<ParameterJson>,
+    auxiliary: Vec<ParameterJson>,
+    regrouping: Vec<RelationJson>,
+    priority_matrix: Vec<[u32; 6]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    excitation: Option<ExcitationJson>,
+}
+
+pub(crate) fn identifiable(args: &IdentifiableArgs) -> Result<(), Failure> {
+    let robot = load_robot(&args.robot)?.robot;
+    let priority = match &args.priority {
+        Some(path) => read_priority_file(path, &robot)?,
+        None => robot.priority(),
+    };
+    let options = method_options(&args.method)?;
+    let chosen = method(&args.method.method, &options)?;
+    let random = |method: Box<dyn CalibrationMethod>| -> Result<(usize, RankReport), Failure> {
+        let samples = random_samples(&robot, method.as_ref(), args.count, args.seed)?;
+        let configurations = samples.len();
+        let study = Study::single(method, samples, "random configurations");
+        Ok((
+            configurations,
+            identifiable_parameters(&robot, &study, &priority)?,
+        ))
+    };
+    let (source, configurations, report, excitation) = match &args.data {
+        None => {
+            let (configurations, report) = random(chosen)?;
+            (
+                format!(
+                    "{configurations} random configurations (seed {})",
+                    args.seed
+                ),
+                configurations,
+                report,
+                None,
+            )
+        }
+        Some(path) => {
+            let samples = read_samples(path, robot.joint_count(), chosen.data_columns())?;
+            let configurations = samples.len();
+            let study = Study::single(chosen, samples, path.display().to_string());
+            let report = identifiable_parameters(&robot, &study, &priority)?;
+            // The excitation check of §4: the same base set as random configurations?
+            let reference = random(method(&args.method.method, &options)?)
+                .ok()
+                .map(|(_, reference)| reference);
+            let excitation = reference.map(|reference| excitation(&report, &reference));
+            (
+                path.display().to_string(),
+                configurations,
+                report,
+                excitation,
+            )
+        }
+    };
+    if args.json {
+        return super::print_json(&IdentifiableJson {
+            method: report.method.clone(),
+            robot: robot.name().to_owned(),
+            source,
+            configurations,
+            count: report.count(),
+            condition_number: report.condition_number,
+            rows: report.rows,
+            equations: report.equations,
+            tolerance: report.tolerance,
+            smallest_kept: report.smallest_kept,
+            largest_rejected: report.largest_rejected,
+            relation_residual: report.relation_residual,
+            parameters: report
+                .parameters
+                .iter()
+                .map(|p| ParameterJson {
+                    name: p.name.clone(),
+                    priority: p.priority,
+                    status: p.status.as_str(),
+                })
+                .collect(),
+            auxiliary: report
+                .auxiliary
+                .iter()
+                .map(|p| ParameterJson {
+                    name: p.name.clone(),
+                    priority: p.priority,
+                    status: p.status.as_str(),
+                })
+                .collect(),
+            regrouping: report
+                .relations
+                .iter()
+                .map(|relation| RelationJson {
+                    base: relation.base.clone(),
+                    absorbed: relation
+                        .absorbed
+                        .iter()
+                        .map(|(name, coefficient)| AbsorbedJson {
+                            name: name.clone(),
+                            coefficient: *coefficient,
+                        })
+                        .collect(),
+                })
+                .collect(),
+            priority_matrix: report.priority.rows().to_vec(),
+            excitation,
+        });
+    }
+    print_report(&robot, &report, &source);
+    if let Some(excitation) = excitation {
+        print_excitation(&excitation);
+    }
+    Ok(())
+}
+
+fn excitation(data: &RankReport, random: &RankReport) -> ExcitationJson {
+    let identifiable = |report: &RankReport| -> Vec<String> {
+        report
+            .parameters
+            .iter()
+            .filter(|p| p.status == ParameterStatus::Identifiable)
+            .map(|p| p.name.clone())
+            .collect()
+    };
+    let (on_data, on_random) = (identifiable(data), identifiable(random));
+    let not_excited: Vec<String> = on_random
+        .iter()
+        .filter(|n| !on_data.contains(n))
+        .cloned()
+        .collect();
+    let only_in_data: Vec<String> = on_data
+        .iter()
+        .filter(|n| !on_random.contains(n))
+        .cloned()
+        .collect();
+    ExcitationJson {
+        same_base_set: not_excited.is_empty() && only_in_data.is_empty(),
+        not_excited,
+        only_in_data,
+        random_condition_number: random.condition_number,
+    }
+}
+
+fn print_excitation(excitation: &ExcitationJson) {
+    if excitation.same_base_set {
+        println!(
+            "Excitation: the data give the same base set as random configurations \
+             (condition number on random configurations: {}).",
+            number(excitation.random_condition_number, 1)
+        );
+    } else {
+        println!("Excitation: the data do NOT give the base set of random configurations.");
+        if !excitation.not_excited.is_empty() {
+            println!(
+                "  not excited by the data: {}",
+                excitation.not_excited.join(", ")
+            );
+        }
+        if !excitation.only_in_data.is_empty() {
+            println!(
+                "  identifiable only in the data: {}",
+                excitation.only_in_data.join(", ")
+            );
+        }
+    }
+}
+
+/// The status cell of one parameter in the frame × kind grid.
+fn cell(report: &RankReport, id: ParameterId) -> String {
+    report
+        .parameters
+        .iter()
+        .find(|p| p.parameter == Some(id))
+        .map_or_else(String::new, |p| match p.status {
+            ParameterStatus::Identifiable => "id".to_owned(),
+            other => other.symbol().to_owned(),
+        })
+}
+
+fn print_report(robot: &Robot, report: &RankReport, source: &str) {
+    println!(
+        "Identifiable parameters — {}, {} method, {source}",
+        robot.name(),
+        report.method
+    );
+    let auxiliary_kept = report.base_auxiliary.len();
+    println!(
+        "{} identifiable of {} parameters{}; {} equations; condition number of W_b: {}",
+        report.count(),
+        report.parameters.len(),
+        if report.auxiliary.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " (+{auxiliary_kept} auxiliary of {})",
+                report.auxiliary.len()
+            )
+        },
+        report.equations,
+        number(report.condition_number, 2)
+    );
+    println!(
+        "id = identifiable, n = regrouped on others, 0 = no effect, - = excluded (priority 0)"
+    );
+    let mut grid = table(&["j", "α", "d", "θ", "r", "β", "K"], 1);
+    for frame in 0..robot.frames().len() {
+        let mut row = vec![frame.to_string()];
+        row.extend(ParameterKind::ALL.map(|kind| cell(report, ParameterId::new(kind, frame))));
+        grid.add_row(row);
+    }
+    println!("{grid}");
+    for auxiliary in &report.auxiliary {
+        println!(
+            "auxiliary {}: {}",
+            auxiliary.name,
+            auxiliary.status.as_str()
+        );
+    }
+    if !report.relations.is_empty() {
+        println!("Regrouping relations (what each base parameter identifies, eq. 32):");
+        for relation in &report.relations {
+            let terms: Vec<String> = relation
+                .absorbed
+                .iter()
+                .map(|(name, coefficient)| {
+                    let sign = if *coefficient < 0.0 { "−" } else { "+" };
+                    format!("{sign} {}·{name}", number(coefficient.abs(), 6))
+                })
+                .collect();
+            println!("  {0}_b = {0} {1}", relation.base, terms.join(" "));
+        }
+    }
+    println!(
+        "Numerical zero τ = {:.1e}; smallest kept |R_ii| = {:.3e}, largest rejected = {:.1e}; \
+         relations hold to {:.1e}",
+        report.tolerance, report.smallest_kept, report.largest_rejected, report.relation_residual
+    );
+    println!("New priority matrix (non-identifiable set to 0):");
+    let mut priority = table(&["j", "α", "d", "θ", "r", "β", "K"], 1);
+    for (j, row) in report.priority.rows().iter().enumerate() {
+        let mut cells = vec![j.to_string()];
+        cells.extend(row.iter().map(ToString::to_string));
+        priority.add_row(cells);
+    }
+    println!("{priority}");
+}
+
+#[derive(Serialize)]
+struct Table2Json {
+    robot: String,
+    plane_normal: [f64; 3],
+    plane_point: [f64; 3],
+    columns: Vec<&'static str>,
+    totals: Vec<usize>,
+    parameters: Vec<Table2Row>,
+}
+
+#[derive(Serialize)]
+struct Table2Row {
+    name: String,
+    statuses: Vec<&'static str>,
+}
+
+pub(crate) fn table2(args: &Table2Args) -> Result<(), Failure> {
+    let robot = load_robot(&args.robot)?.robot;
+    let normal = match &args.plane_normal {
+        Some(values) => values.clone(),
+        None => TABLE2_PLANE_NORMAL.to_vec(),
+    };
+    let plane = match &args.plane_point {
+        Some(point) => plane(Some(&normal), Some(point))?.expect("both given"),
+        None => {
+            let middle = default_plane(&robot)?;
+            gecaro_calib::Plane::new(vector3(&normal, "--plane-normal")?, middle.point())?
+        }
+    };
+    let reports = table2_reports(&robot, plane, &robot.priority(), args.seed)?;
+    let totals: Vec<usize> = reports.iter().map(RankReport::count).collect();
+    if args.json {
+        return super::print_json(&Table2Json {
+            robot: robot.name().to_owned(),
+            plane_normal: plane.normal().into(),
+            plane_point: plane.point().into(),
+            columns: TABLE2_COLUMNS.iter().map(|c| c.heading).collect(),
+            totals,
+            parameters: robot
+                .parameters()
+                .ids()
+                .iter()
+                .enumerate()
+                .map(|(index, id)| Table2Row {
+                    name: id.to_string(),
+                    statuses: reports
+                        .iter()
+                        .map(|r| r.parameters[index].status.as_str())
+                        .collect(),
+                })
+                .collect(),
+        });
+    }
+    println!(
+        "Table 2 — identifiable parameters of {} ({} joints, {})",
+        robot.name(),
+        robot.joint_count(),
+        robot.joint_letters()
+    );
+    println!(
+        "blank = identifiable, n = regrouped, 0 = no effect; plane methods use the plane of normal ({}) through ({})",
+        crate::format::list(plane.normal().as_slice()),
+        crate::format::list(plane.point().as_slice())
+    );
+    let mut headers = vec!["parameter"];
+    headers.extend(TABLE2_COLUMNS.iter().map(|c| c.heading));
+    let mut grid = table(&headers, 1);
+    for (index, id) in robot.parameters().ids().iter().enumerate() {
+        let mut row = vec![id.to_string()];
+        row.extend(
+            reports
+                .iter()
+                .map(|r| r.parameters[index].status.symbol().to_owned()),
+        );
+        grid.add_row(row);
+    }
+    let mut total = vec!["Total".to_owned()];
+    total.extend(totals.iter().map(ToString::to_string));
+    grid.add_row(total);
+    println!("{grid}");
+    Ok(())
+}

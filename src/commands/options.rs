@@ -1,0 +1,79 @@
+//! Turning command-line method options into library options.
+
+use gecaro_calib::{MethodOptions, Plane};
+use gecaro_core::OrientationDifference;
+use nalgebra::Vector3;
+
+use crate::cli::{MethodArgs, OrientationMethod, PlaneArgs, PlaneKnowledge};
+use crate::failure::Failure;
+
+/// Three comma-separated numbers from an option.
+pub(crate) fn vector3(values: &[f64], option: &str) -> Result<Vector3<f64>, Failure> {
+    match values {
+        [x, y, z] => Ok(Vector3::new(*x, *y, *z)),
+        _ => Err(Failure::usage(
+            format!(
+                "{option} needs three comma-separated numbers, got {}",
+                values.len()
+            ),
+            Some(format!("for example: {option} 0.3,0.5,0.81")),
+        )),
+    }
+}
+
+/// The plane given by `--plane-normal` and `--plane-point`, if any.
+pub(crate) fn plane(
+    normal: Option<&[f64]>,
+    point: Option<&[f64]>,
+) -> Result<Option<Plane>, Failure> {
+    match (normal, point) {
+        (None, None) => Ok(None),
+        (Some(normal), Some(point)) => Ok(Some(Plane::new(
+            vector3(normal, "--plane-normal")?,
+            vector3(point, "--plane-point")?,
+        )?)),
+        _ => Err(Failure::usage(
+            "a plane needs both --plane-normal and --plane-point",
+            Some("for example: --plane-normal 0.3,0.5,0.81 --plane-point 0.3,0.2,0.6".to_owned()),
+        )),
+    }
+}
+
+fn plane_options(args: &PlaneArgs) -> Result<(Option<Plane>, bool), Failure> {
+    let plane = plane(args.plane_normal.as_deref(), args.plane_point.as_deref())?;
+    let unknown = match (args.plane, &plane) {
+        (Some(PlaneKnowledge::Unknown), _) => true,
+        (Some(PlaneKnowledge::Known), None) => {
+            return Err(Failure::usage(
+                "--plane known needs the plane: --plane-normal and --plane-point",
+                None,
+            ));
+        }
+        (Some(PlaneKnowledge::Known), Some(_)) => false,
+        // Known when given; without a plane only an unknown one makes sense.
+        (None, plane) => plane.is_none(),
+    };
+    Ok((plane, unknown))
+}
+
+/// The library options of a method from its command-line arguments.
+pub(crate) fn method_options(args: &MethodArgs) -> Result<MethodOptions, Failure> {
+    let (plane, plane_unknown) = plane_options(&args.plane)?;
+    if let Some(size) = args.set_size
+        && size < 2
+    {
+        return Err(Failure::usage(
+            format!("--set-size {size}: a set needs at least 2 configurations"),
+            None,
+        ));
+    }
+    Ok(MethodOptions {
+        plane,
+        plane_unknown,
+        orientation: match args.orientation {
+            OrientationMethod::AxisAngle => OrientationDifference::AxisAngle,
+            OrientationMethod::CrossProducts => OrientationDifference::CrossProducts,
+        },
+        set_size: args.set_size,
+    })
+}
