@@ -28,6 +28,14 @@ pub(crate) enum Command {
     Identifiable(IdentifiableArgs),
     /// The paper's Table 2: identifiable parameters of all methods for a robot.
     Table2(Table2Args),
+    /// Points generation: simulated measurements of a "real" robot for a method.
+    Generate(GenerateArgs),
+    /// Identification: the robot's parameters from measurements (eq. 10, iterated).
+    Identify(IdentifyArgs),
+    /// Error statistics of a (calibrated) robot on measurements.
+    Evaluate(EvaluateArgs),
+    /// Generate data for the Stanford arm and identify it with every method.
+    Demo(DemoArgs),
 }
 
 #[derive(Debug, Subcommand)]
@@ -188,4 +196,104 @@ pub(crate) struct Table2Args {
     /// Print JSON instead of a table.
     #[arg(long)]
     pub(crate) json: bool,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct GenerateArgs {
+    /// Nominal robot (file or ready robot name).
+    pub(crate) robot: String,
+    #[command(flatten)]
+    pub(crate) method: MethodArgs,
+    /// Number of configurations (rows of the data file).
+    #[arg(long)]
+    pub(crate) count: usize,
+    /// The "real" robot, as a robot file; default: the nominal one with errors at --error-level.
+    #[arg(long, value_name = "REAL.toml", conflicts_with = "error_level")]
+    pub(crate) real: Option<PathBuf>,
+    /// Errors of the simulated real robot: ±L cm on lengths, ±L° on angles, ±L % on gains.
+    #[arg(long, value_name = "L", default_value_t = 1.0)]
+    pub(crate) error_level: f64,
+    /// Sensor noise, standard deviation (metres; radians for orientations).
+    #[arg(long, value_name = "SIGMA", default_value_t = 0.0)]
+    pub(crate) noise: f64,
+    /// Seed of every random draw (errors, configurations, noise).
+    #[arg(long, default_value_t = 1)]
+    pub(crate) seed: u64,
+    /// Output data file (CSV).
+    #[arg(short, long, value_name = "DATA.csv")]
+    pub(crate) output: PathBuf,
+    /// Also save the simulated real robot, so that the truth is known.
+    #[arg(long, value_name = "REAL.toml")]
+    pub(crate) real_out: Option<PathBuf>,
+    /// Overwrite output files that exist.
+    #[arg(long)]
+    pub(crate) force: bool,
+}
+
+/// The step rule of identification.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum SolverArg {
+    /// Plain Gauss–Newton (the paper), damped only when a step would increase the residual.
+    GaussNewton,
+    /// Levenberg–Marquardt from the first step.
+    Lm,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct IdentifyArgs {
+    /// Nominal robot (file or ready robot name).
+    pub(crate) robot: String,
+    #[command(flatten)]
+    pub(crate) method: MethodArgs,
+    /// Measurements (CSV).
+    #[arg(long, value_name = "DATA.csv")]
+    pub(crate) data: PathBuf,
+    /// Priority matrix (TOML: matrix = [[alpha, d, theta, r, beta, K], ...]); default: the robot's.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) priority: Option<PathBuf>,
+    /// Step rule.
+    #[arg(long, value_enum, default_value = "gauss-newton")]
+    pub(crate) solver: SolverArg,
+    /// Iteration limit.
+    #[arg(long, default_value_t = 30)]
+    pub(crate) max_iterations: usize,
+    /// Write the calibrated robot (nominal + identified deviations) to this file.
+    #[arg(short, long, value_name = "CALIBRATED.toml")]
+    pub(crate) output: Option<PathBuf>,
+    /// Overwrite the output file if it exists.
+    #[arg(long)]
+    pub(crate) force: bool,
+    /// Write the best iterate even when the identification did not converge.
+    #[arg(long)]
+    pub(crate) write_unconverged: bool,
+    /// Print JSON instead of tables.
+    #[arg(long)]
+    pub(crate) json: bool,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct EvaluateArgs {
+    /// The (calibrated) robot (file or ready robot name).
+    pub(crate) robot: String,
+    #[command(flatten)]
+    pub(crate) method: MethodArgs,
+    /// Measurements (CSV), ideally not those used for identification.
+    #[arg(long, value_name = "DATA.csv")]
+    pub(crate) data: PathBuf,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub(crate) json: bool,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct DemoArgs {
+    /// Error level of the simulated real robot.
+    #[arg(long, value_name = "L", default_value_t = 3.0)]
+    pub(crate) error_level: f64,
+    /// Sensor noise, standard deviation (metres, radians).
+    #[arg(long, value_name = "SIGMA", default_value_t = 5e-5)]
+    pub(crate) noise: f64,
+    /// Seed of every random draw.
+    #[arg(long, default_value_t = 1)]
+    pub(crate) seed: u64,
 }

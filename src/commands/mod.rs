@@ -1,6 +1,7 @@
 //! One module per command family; each turns parsed arguments into library
 //! calls and prints the result.
 
+mod calibration;
 mod identifiability;
 mod kinematics;
 mod options;
@@ -17,6 +18,10 @@ pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
         Command::Jacobian(args) => kinematics::jacobian(&args),
         Command::Identifiable(args) => identifiability::identifiable(&args),
         Command::Table2(args) => identifiability::table2(&args),
+        Command::Generate(args) => calibration::generate(&args),
+        Command::Identify(args) => calibration::identify(&args),
+        Command::Evaluate(args) => calibration::evaluate(&args),
+        Command::Demo(args) => calibration::demo(&args),
     }
 }
 

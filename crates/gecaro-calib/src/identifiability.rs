@@ -20,7 +20,8 @@ use gecaro_core::{ParameterId, PriorityMatrix, Robot};
 
 use crate::Error;
 use crate::linalg::{
-    condition_number, greedy_rank, largest_column_norm, least_squares, select_columns, view,
+    column_geometry, condition_number, greedy_rank, largest_column_norm, least_squares,
+    select_columns, view,
 };
 use crate::methods::{CalibrationMethod, MethodOptions};
 use crate::observation::{ColumnLayout, ObservationSystem};
@@ -158,16 +159,20 @@ pub fn identifiable_parameters(
     let mut states = StudyStates::default();
     study.evaluate(robot, &mut states)?;
     let auxiliary = study.initial_auxiliary(&states)?;
-    analyse(robot, study, &states, &auxiliary, priority)
+    analyse(robot, study, &states, &auxiliary, priority, None)
 }
 
 /// [`identifiable_parameters`] at given states and auxiliary values (used by identification).
+///
+/// Only the auxiliary unknowns listed in `auxiliary_candidates` (all when
+/// `None`) are candidates; the others are reported as excluded.
 pub(crate) fn analyse(
     robot: &Robot,
     study: &Study,
     states: &StudyStates,
     auxiliary: &[f64],
     priority: &PriorityMatrix,
+    auxiliary_candidates: Option<&[usize]>,
 ) -> Result<RankReport, Error> {
     let space = robot.parameters();
     let candidates: Vec<ParameterId> = priority.ordered_candidates(space);
@@ -175,8 +180,19 @@ pub(crate) fn analyse(
         .iter()
         .map(|id| space.index_of(*id).expect("candidates are parameters"))
         .collect();
-    let auxiliary_names = study.auxiliary_names();
-    let layout = ColumnLayout::new(space.len(), &candidate_indices, auxiliary_names.len());
+    let all_auxiliary_names = study.auxiliary_names();
+    let all_auxiliary: Vec<usize> = (0..all_auxiliary_names.len()).collect();
+    let auxiliary_indices = auxiliary_candidates.unwrap_or(&all_auxiliary).to_vec();
+    let auxiliary_names: Vec<String> = auxiliary_indices
+        .iter()
+        .map(|i| all_auxiliary_names[*i].clone())
+        .collect();
+    let layout = ColumnLayout::with_auxiliary(
+        space.len(),
+        &candidate_indices,
+        all_auxiliary_names.len(),
+        &auxiliary_indices,
+    );
     let columns = layout.columns();
     let equations = study.equation_count();
     if equations < columns {
@@ -188,18 +204,22 @@ pub(crate) fn analyse(
     let mut system = ObservationSystem::default();
     study.assemble(states, auxiliary, &layout, &mut system);
     let rows = system.rows();
-    let matrix = view(system.matrix(), rows, columns);
     if !system.matrix().iter().all(|v| v.is_finite()) {
         return Err(Error::Numerical {
             message: "the observation matrix has non-finite entries".into(),
         });
     }
+    // Everything below depends only on the column geometry of W (norms,
+    // distances, relations, singular values), which one QR of the tall W
+    // hands to a small c×c matrix.
+    let reduced = column_geometry(view(system.matrix(), rows, columns));
+    let geometry = reduced.as_ref();
     // Eq. 34 with the floor of NOTES.md. max|R_ii| of an unpivoted QR is at
     // most the largest column norm (R_11 is a column norm), which is used as
     // the scale so that τ is known before the greedy pass.
     let tolerance =
-        (columns as f64 * f64::EPSILON).max(RELATIVE_ZERO_FLOOR) * largest_column_norm(matrix);
-    let rank = greedy_rank(matrix, tolerance);
+        (columns as f64 * f64::EPSILON).max(RELATIVE_ZERO_FLOOR) * largest_column_norm(geometry);
+    let rank = greedy_rank(geometry, tolerance);
     let diagonal = &rank.diagonal;
     let statuses: Vec<ParameterStatus> = (0..columns)
         .map(|column| {
@@ -224,21 +244,17 @@ pub(crate) fn analyse(
         .filter(|c| statuses[*c] == ParameterStatus::Regrouped)
         .collect();
 
-    // Regrouping relations W2 = W1·β and the conditioning of W_b.
-    let kept_matrix = select_columns(system.matrix(), rows, &kept);
-    let regrouped_matrix = select_columns(system.matrix(), rows, &regrouped);
+    // Regrouping relations W2 = W1·β (eq. 36–37) and the conditioning of W_b.
+    let kept_matrix = select_columns(geometry, &kept);
+    let regrouped_matrix = select_columns(geometry, &regrouped);
     let mut relations = Vec::new();
     let mut relation_residual: f64 = 0.0;
     if !kept.is_empty() && !regrouped.is_empty() {
         let beta = least_squares(kept_matrix.as_ref(), regrouped_matrix.as_ref());
-        let fitted = &kept_matrix * &beta;
+        let misfit = &kept_matrix * &beta - &regrouped_matrix;
         for j in 0..regrouped.len() {
-            let (mut error, mut norm) = (0.0, 0.0);
-            for i in 0..rows {
-                error += (regrouped_matrix[(i, j)] - fitted[(i, j)]).powi(2);
-                norm += regrouped_matrix[(i, j)].powi(2);
-            }
-            relation_residual = relation_residual.max((error / norm).sqrt());
+            relation_residual =
+                relation_residual.max(misfit.col(j).norm_l2() / regrouped_matrix.col(j).norm_l2());
         }
         for (k, &base) in kept.iter().enumerate() {
             let absorbed: Vec<(String, f64)> = regrouped
@@ -277,15 +293,18 @@ pub(crate) fn analyse(
         entry.status = statuses[column];
         entry.diagonal = Some(diagonal[column]);
     }
-    let auxiliary: Vec<Classified> = auxiliary_names
+    let auxiliary: Vec<Classified> = all_auxiliary_names
         .iter()
         .enumerate()
-        .map(|(column, name)| Classified {
-            name: name.clone(),
-            parameter: None,
-            priority: 0,
-            status: statuses[column],
-            diagonal: Some(diagonal[column]),
+        .map(|(index, name)| {
+            let column = auxiliary_indices.iter().position(|i| *i == index);
+            Classified {
+                name: name.clone(),
+                parameter: None,
+                priority: 0,
+                status: column.map_or(ParameterStatus::Excluded, |c| statuses[c]),
+                diagonal: column.map(|c| diagonal[c]),
+            }
         })
         .collect();
     let mut new_priority = priority.clone();
@@ -327,6 +346,123 @@ pub(crate) fn analyse(
         rows,
         equations,
         priority: new_priority,
+    })
+}
+
+/// A study of noise-free random data of the same kind as `study` on `robot`:
+/// each set regenerated by its method (constraint satisfied exactly), with
+/// as many configurations as the data, and at least about 2.5 independent
+/// equations per unknown.
+///
+/// # Errors
+/// When a method cannot generate such data (e.g. no distinct inverse-model solution).
+pub fn random_counterpart(robot: &Robot, study: &Study, seed: u64) -> Result<Study, Error> {
+    let mut states = StudyStates::default();
+    study.evaluate(robot, &mut states)?;
+    let unknowns = robot.parameters().len() + study.auxiliary_names().len();
+    let mut sampler = Sampler::new(seed);
+    let mut sets = Vec::with_capacity(study.sets.len());
+    for (index, set) in study.sets.iter().enumerate() {
+        let needed = (RANDOM_EQUATIONS_PER_UNKNOWN * unknowns as f64
+            / set.method.equations_per_configuration())
+        .ceil() as usize;
+        let count = set.samples.len().max(needed);
+        let samples = set.method.generate_like(
+            robot,
+            &set.samples,
+            states.set(index),
+            count,
+            &mut sampler,
+        )?;
+        sets.push(crate::study::MeasurementSet {
+            method: set.method.clone_method(),
+            samples,
+            sigma: set.sigma,
+            label: format!("random configurations like {}", set.label),
+        });
+    }
+    Ok(Study { sets })
+}
+
+/// The structural identifiable parameters of a study: Appendix III on
+/// random, noise-free data of the same kind ([`random_counterpart`]).
+///
+/// For methods whose equations are constraints (link and plane methods), W
+/// evaluated on data at parameters that do not satisfy the constraints has
+/// small but non-zero columns that vanish once the constraints hold: an
+/// analysis of such data at the nominal parameters would call parameters
+/// identifiable that are not. The paper determines the base parameters
+/// "beforehand, on random configurations"; the data then only have to excite
+/// them ([`excitation`]).
+///
+/// # Errors
+/// As [`random_counterpart`] and [`identifiable_parameters`].
+pub fn structural_parameters(
+    robot: &Robot,
+    study: &Study,
+    priority: &PriorityMatrix,
+    seed: u64,
+) -> Result<RankReport, Error> {
+    study.check(robot)?;
+    let random = random_counterpart(robot, study, seed)?;
+    identifiable_parameters(robot, &random, priority)
+}
+
+/// How well a data set excites the structural base parameters (paper §4's
+/// excitation check).
+#[derive(Clone, Debug)]
+pub struct Excitation {
+    /// The rank test of the data on the structural base columns only, in
+    /// priority order: the kept ones are excited.
+    pub report: RankReport,
+    /// Structural base parameters that the data do not excite (they stay at nominal).
+    pub not_excited: Vec<String>,
+}
+
+/// The excitation check of paper §4: which structural base parameters the data
+/// excite, and the condition number of the data's W_b.
+///
+/// # Errors
+/// Invalid data or too few equations.
+pub fn excitation(
+    robot: &Robot,
+    study: &Study,
+    structural: &RankReport,
+) -> Result<Excitation, Error> {
+    study.check(robot)?;
+    let mut states = StudyStates::default();
+    study.evaluate(robot, &mut states)?;
+    let auxiliary = study.initial_auxiliary(&states)?;
+    excitation_at(robot, study, &states, &auxiliary, structural)
+}
+
+/// [`excitation`] at given states and auxiliary values.
+pub(crate) fn excitation_at(
+    robot: &Robot,
+    study: &Study,
+    states: &StudyStates,
+    auxiliary: &[f64],
+    structural: &RankReport,
+) -> Result<Excitation, Error> {
+    let report = analyse(
+        robot,
+        study,
+        states,
+        auxiliary,
+        &structural.priority,
+        Some(&structural.base_auxiliary),
+    )?;
+    let not_excited = structural
+        .parameters
+        .iter()
+        .chain(&structural.auxiliary)
+        .filter(|p| p.status == ParameterStatus::Identifiable)
+        .filter(|p| report.status(&p.name) != Some(ParameterStatus::Identifiable))
+        .map(|p| p.name.clone())
+        .collect();
+    Ok(Excitation {
+        report,
+        not_excited,
     })
 }
 

@@ -39,18 +39,25 @@
 
 mod error;
 mod identifiability;
+mod identification;
 mod linalg;
 mod methods;
 mod observation;
 mod sample;
 mod sampler;
+mod simulation;
 mod study;
 mod table2;
 
 pub use error::Error;
 pub use identifiability::{
-    Classified, ParameterStatus, RELATIVE_ZERO_FLOOR, RankReport, Relation,
-    identifiable_parameters, identifiable_parameters_random, random_samples,
+    Classified, Excitation, ParameterStatus, RELATIVE_ZERO_FLOOR, RankReport, Relation, excitation,
+    identifiable_parameters, identifiable_parameters_random, random_counterpart, random_samples,
+    structural_parameters,
+};
+pub use identification::{
+    ErrorSummary, Identification, IdentificationOptions, IdentifiedParameter, IterationRecord,
+    Solver, StopReason, evaluate, identify, identify_with_progress,
 };
 pub use methods::{
     CalibrationMethod, METHODS, MethodInfo, MethodOptions, Plane, method, method_info,
@@ -60,6 +67,7 @@ pub use observation::{
 };
 pub use sample::{DataColumn, Sample};
 pub use sampler::Sampler;
+pub use simulation::{perturbed_robot, simulate_measurements};
 pub use study::{MeasurementSet, Study, StudyStates};
 pub use table2::{
     STANFORD_PLANE_POINT, TABLE2_COLUMNS, TABLE2_PLANE_NORMAL, Table2Column, default_plane, table2,

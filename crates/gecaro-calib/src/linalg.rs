@@ -3,7 +3,8 @@
 //! on small machines.
 
 use faer::linalg::solvers::SolveLstsq;
-use faer::{Mat, MatRef};
+use faer::linalg::triangular_solve::solve_upper_triangular_in_place;
+use faer::{Mat, MatRef, Par};
 
 use crate::Error;
 
@@ -12,9 +13,11 @@ pub(crate) fn view(data: &[f64], rows: usize, columns: usize) -> MatRef<'_, f64>
     MatRef::from_column_major_slice(data, rows, columns)
 }
 
-/// An owned copy of the listed columns of a column-major matrix.
-pub(crate) fn select_columns(data: &[f64], rows: usize, columns: &[usize]) -> Mat<f64> {
-    Mat::from_fn(rows, columns.len(), |i, j| data[columns[j] * rows + i])
+/// An owned copy of the listed columns of `matrix`.
+pub(crate) fn select_columns(matrix: MatRef<'_, f64>, columns: &[usize]) -> Mat<f64> {
+    Mat::from_fn(matrix.nrows(), columns.len(), |i, j| {
+        matrix[(i, columns[j])]
+    })
 }
 
 /// The greedy, priority-ordered rank test of Appendix III.
@@ -68,6 +71,25 @@ pub(crate) fn greedy_rank(matrix: MatRef<'_, f64>, tolerance: f64) -> GreedyRank
     }
 }
 
+/// A `c × c` matrix R̃ with the column geometry of the tall `rows × c` matrix
+/// W: `R̃ᵀR̃ = WᵀW`, so every column norm, distance between a column and the
+/// span of others, least-squares relation and singular value of W is that of
+/// R̃. From faer's column-pivoted QR, `W·P = Q·R`, as `R̃ = R·Pᵀ` (columns
+/// back in W's order); Q is orthogonal, so nothing is lost but the rows.
+pub(crate) fn column_geometry(matrix: MatRef<'_, f64>) -> Mat<f64> {
+    let (rows, columns) = matrix.shape();
+    let qr = matrix.col_piv_qr();
+    let r = qr.thin_R();
+    let (forward, _) = qr.P().arrays();
+    let mut reduced = Mat::<f64>::zeros(columns, columns);
+    for (position, &column) in forward.iter().enumerate() {
+        for row in 0..rows.min(columns).min(position + 1) {
+            reduced[(row, column)] = r[(row, position)];
+        }
+    }
+    reduced
+}
+
 /// The largest column norm of `matrix` (0 for an empty matrix).
 pub(crate) fn largest_column_norm(matrix: MatRef<'_, f64>) -> f64 {
     (0..matrix.ncols())
@@ -103,6 +125,49 @@ pub(crate) fn condition_number(matrix: MatRef<'_, f64>) -> Result<f64, Error> {
     })
 }
 
+/// The solution of `min ‖W x − r‖` and the diagonal of `(WᵀW)⁻¹`.
+pub(crate) struct LeastSquares {
+    pub(crate) solution: Vec<f64>,
+    /// diag((WᵀW)⁻¹) = squared row norms of R⁻¹ for W = QR.
+    pub(crate) inverse_normal_diagonal: Vec<f64>,
+}
+
+/// See [`LeastSquares`]; `matrix` must have full column rank and at least as
+/// many rows as columns. One QR gives both.
+pub(crate) fn solve_with_covariance(matrix: MatRef<'_, f64>, right: &[f64]) -> LeastSquares {
+    let qr = matrix.qr();
+    let solution = qr.solve_lstsq(MatRef::from_column_major_slice(right, right.len(), 1));
+    let columns = matrix.ncols();
+    let r = qr.thin_R().get(..columns, ..columns);
+    let mut inverse = Mat::<f64>::identity(columns, columns);
+    solve_upper_triangular_in_place(r, inverse.as_mut(), Par::Seq);
+    LeastSquares {
+        solution: (0..columns).map(|i| solution[(i, 0)]).collect(),
+        inverse_normal_diagonal: (0..columns)
+            .map(|i| inverse.row(i).norm_l2().powi(2))
+            .collect(),
+    }
+}
+
+/// The Levenberg–Marquardt step: `min ‖W x − r‖² + λ‖D x‖²` with D the
+/// column norms of W (Marquardt's scaling), as the least-squares solution of
+/// `[W; √λ D] x = [r; 0]`.
+pub(crate) fn damped_step(matrix: MatRef<'_, f64>, right: &[f64], damping: f64) -> Vec<f64> {
+    let (rows, columns) = matrix.shape();
+    let mut augmented = Mat::<f64>::zeros(rows + columns, columns);
+    augmented.get_mut(..rows, ..).copy_from(matrix);
+    for j in 0..columns {
+        augmented[(rows + j, j)] =
+            (damping.sqrt() * matrix.col(j).norm_l2()).max(f64::MIN_POSITIVE);
+    }
+    let mut extended = Mat::<f64>::zeros(rows + columns, 1);
+    for (i, value) in right.iter().enumerate() {
+        extended[(i, 0)] = *value;
+    }
+    let solution = augmented.qr().solve_lstsq(&extended);
+    (0..columns).map(|i| solution[(i, 0)]).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -122,6 +187,38 @@ mod tests {
             data[3 * rows + i] = data[i] + data[rows + i];
         }
         (data, rows, columns)
+    }
+
+    #[test]
+    fn covariance_diagonal_matches_the_normal_equations() {
+        let data = [1.0, 2.0, 0.5, 1.0, 0.0, 1.0, 3.0, 1.0, -1.0, 0.5, 2.0, 1.0];
+        let right = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
+        let solved = solve_with_covariance(view(&data, 6, 2), &right);
+        let w = nalgebra::DMatrix::from_column_slice(6, 2, &data);
+        let inverse = (w.transpose() * &w).try_inverse().expect("regular");
+        let expected = &inverse * w.transpose() * nalgebra::DVector::from_column_slice(&right);
+        for i in 0..2 {
+            assert!((inverse[(i, i)] - solved.inverse_normal_diagonal[i]).abs() < 1e-12);
+            assert!((expected[i] - solved.solution[i]).abs() < 1e-12);
+        }
+        // Zero damping is the plain least-squares step.
+        let plain = damped_step(view(&data, 6, 2), &right, 0.0);
+        assert!((plain[0] - expected[0]).abs() < 1e-12 && (plain[1] - expected[1]).abs() < 1e-12);
+    }
+
+    #[test]
+    fn column_geometry_keeps_inner_products() {
+        let (data, rows, columns) = dependent_matrix();
+        let w = view(&data, rows, columns);
+        let reduced = column_geometry(w);
+        let gram = w.transpose() * w;
+        let reduced_gram = reduced.transpose() * &reduced;
+        assert!((gram - reduced_gram).norm_l2() < 1e-12);
+        // The greedy analysis gives the same answer on W and on R̃.
+        assert_eq!(
+            greedy_rank(w, 1e-9).kept,
+            greedy_rank(reduced.as_ref(), 1e-9).kept
+        );
     }
 
     #[test]

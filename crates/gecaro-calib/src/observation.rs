@@ -93,6 +93,22 @@ impl ColumnLayout {
         }
     }
 
+    /// Auxiliary unknowns first (only those listed in `auxiliary`, indices
+    /// into all auxiliary unknowns), then the listed robot parameters.
+    pub fn with_auxiliary(
+        parameter_count: usize,
+        parameters: &[usize],
+        auxiliary_count: usize,
+        auxiliary: &[usize],
+    ) -> Self {
+        let mut layout = ColumnLayout::new(parameter_count, parameters, auxiliary.len());
+        layout.auxiliary_columns = vec![None; auxiliary_count];
+        for (column, index) in auxiliary.iter().enumerate() {
+            layout.auxiliary_columns[*index] = Some(column);
+        }
+        layout
+    }
+
     /// Number of columns of W.
     pub fn columns(&self) -> usize {
         self.columns
@@ -100,7 +116,7 @@ impl ColumnLayout {
 
     /// Number of auxiliary columns (they come first).
     pub fn auxiliary_count(&self) -> usize {
-        self.auxiliary_columns.len()
+        self.auxiliary_columns.iter().flatten().count()
     }
 }
 

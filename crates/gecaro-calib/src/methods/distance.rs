@@ -20,7 +20,7 @@ pub(super) const INFO: MethodInfo = MethodInfo {
 };
 
 /// Distance measure; see the module docs.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(crate) struct DistanceMeasure;
 
 impl CalibrationMethod for DistanceMeasure {
@@ -30,6 +30,10 @@ impl CalibrationMethod for DistanceMeasure {
 
     fn title(&self) -> &'static str {
         INFO.title
+    }
+
+    fn clone_method(&self) -> Box<dyn CalibrationMethod> {
+        Box::new(self.clone())
     }
 
     fn data_columns(&self) -> &'static [DataColumn] {

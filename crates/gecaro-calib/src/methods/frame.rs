@@ -23,7 +23,7 @@ pub(super) const INFO: MethodInfo = MethodInfo {
 };
 
 /// Frame measure; see the module docs.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(crate) struct FrameMeasure {
     orientation: OrientationDifference,
 }
@@ -35,6 +35,10 @@ impl CalibrationMethod for FrameMeasure {
 
     fn title(&self) -> &'static str {
         INFO.title
+    }
+
+    fn clone_method(&self) -> Box<dyn CalibrationMethod> {
+        Box::new(self.clone())
     }
 
     fn data_columns(&self) -> &'static [DataColumn] {

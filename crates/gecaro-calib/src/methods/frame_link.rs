@@ -24,7 +24,7 @@ pub(super) const INFO: MethodInfo = MethodInfo {
 };
 
 /// Frame link; see the module docs.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(crate) struct FrameLink {
     set_size: usize,
     orientation: OrientationDifference,
@@ -43,6 +43,10 @@ impl CalibrationMethod for FrameLink {
 
     fn title(&self) -> &'static str {
         INFO.title
+    }
+
+    fn clone_method(&self) -> Box<dyn CalibrationMethod> {
+        Box::new(self.clone())
     }
 
     fn data_columns(&self) -> &'static [DataColumn] {

@@ -57,6 +57,9 @@ pub trait CalibrationMethod: fmt::Debug + Send + Sync {
     /// The menu title of paper §4 (`Point link`).
     fn title(&self) -> &'static str;
 
+    /// A boxed copy of this method with the same options.
+    fn clone_method(&self) -> Box<dyn CalibrationMethod>;
+
     /// The data columns beyond `qm1..qmn`.
     fn data_columns(&self) -> &'static [DataColumn];
 
@@ -119,6 +122,24 @@ pub trait CalibrationMethod: fmt::Debug + Send + Sync {
         noise: f64,
         sampler: &mut Sampler,
     ) -> Result<Vec<Sample>, Error>;
+
+    /// Noise-free random data of the same kind as `samples` (whose states at
+    /// `robot` are `states`), for the structural identifiability of a data
+    /// set. By default [`generate`](Self::generate); the plane methods use the
+    /// best-fit plane of the data when they were given no plane.
+    ///
+    /// # Errors
+    /// As [`generate`](Self::generate).
+    fn generate_like(
+        &self,
+        robot: &Robot,
+        _samples: &[Sample],
+        _states: &[TerminalState],
+        count: usize,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error> {
+        self.generate(robot, count, 0.0, sampler)
+    }
 }
 
 /// Options that some methods take.
@@ -269,8 +290,8 @@ pub(crate) fn set_sizes(count: usize, size: usize) -> Vec<usize> {
     let count = count.max(2);
     let sets = (count / size.max(2)).max(1);
     let mut sizes = vec![count / sets; sets];
-    for extra in 0..count % sets {
-        sizes[extra] += 1;
+    for size in sizes.iter_mut().take(count % sets) {
+        *size += 1;
     }
     sizes
 }

@@ -6,6 +6,7 @@ use gecaro_core::{InverseOptions, Robot, Target, inverse_kinematics};
 use nalgebra::{Matrix3, Vector3};
 
 use crate::Error;
+use crate::observation::TerminalState;
 use crate::sample::Sample;
 use crate::sampler::Sampler;
 
@@ -105,6 +106,15 @@ impl Plane {
             });
         }
         Plane::new(eigen.eigenvectors.column(smallest).into_owned(), centroid)
+    }
+}
+
+/// The plane to generate data like `states` in: the given one, or the
+/// least-squares plane of the terminal points.
+pub(super) fn plane_like(plane: Option<Plane>, states: &[TerminalState]) -> Result<Plane, Error> {
+    match plane {
+        Some(plane) => Ok(plane),
+        None => Plane::fit(states.iter().map(|state| state.pose.translation.vector)),
     }
 }
 

@@ -10,7 +10,7 @@
 use gecaro_core::Robot;
 use nalgebra::Vector3;
 
-use super::plane::{Plane, generate_in_plane, required};
+use super::plane::{Plane, generate_in_plane, plane_like, required};
 use super::{CalibrationMethod, MethodInfo};
 use crate::Error;
 use crate::observation::{RowKind, RowWriter, TerminalState};
@@ -35,7 +35,7 @@ pub(super) const INFO: MethodInfo = MethodInfo {
 };
 
 /// Plane link 1; see the module docs.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(crate) struct PlaneEquation {
     /// The plane to generate points in.
     plane: Option<Plane>,
@@ -50,6 +50,10 @@ impl CalibrationMethod for PlaneEquation {
 
     fn title(&self) -> &'static str {
         INFO.title
+    }
+
+    fn clone_method(&self) -> Box<dyn CalibrationMethod> {
+        Box::new(self.clone())
     }
 
     fn data_columns(&self) -> &'static [DataColumn] {
@@ -120,5 +124,16 @@ impl CalibrationMethod for PlaneEquation {
     ) -> Result<Vec<Sample>, Error> {
         let plane = required(self.plane, "generating plane1 points")?;
         generate_in_plane(robot, &plane, count, noise, sampler)
+    }
+
+    fn generate_like(
+        &self,
+        robot: &Robot,
+        _samples: &[Sample],
+        states: &[TerminalState],
+        count: usize,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error> {
+        generate_in_plane(robot, &plane_like(self.plane, states)?, count, 0.0, sampler)
     }
 }

@@ -12,7 +12,7 @@
 use gecaro_core::Robot;
 use nalgebra::Vector3;
 
-use super::plane::{Plane, generate_in_plane, required};
+use super::plane::{Plane, generate_in_plane, plane_like, required};
 use super::{CalibrationMethod, MethodInfo, centre};
 use crate::Error;
 use crate::observation::{RowKind, RowWriter, TerminalState};
@@ -37,7 +37,7 @@ pub(super) const INFO: MethodInfo = MethodInfo {
 };
 
 /// Plane link 2; see the module docs.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(crate) struct PlaneNormal {
     plane: Option<Plane>,
     known: Option<Vector3<f64>>,
@@ -50,6 +50,10 @@ impl CalibrationMethod for PlaneNormal {
 
     fn title(&self) -> &'static str {
         INFO.title
+    }
+
+    fn clone_method(&self) -> Box<dyn CalibrationMethod> {
+        Box::new(self.clone())
     }
 
     fn data_columns(&self) -> &'static [DataColumn] {
@@ -133,5 +137,16 @@ impl CalibrationMethod for PlaneNormal {
     ) -> Result<Vec<Sample>, Error> {
         let plane = required(self.plane, "generating plane2 points")?;
         generate_in_plane(robot, &plane, count, noise, sampler)
+    }
+
+    fn generate_like(
+        &self,
+        robot: &Robot,
+        _samples: &[Sample],
+        states: &[TerminalState],
+        count: usize,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error> {
+        generate_in_plane(robot, &plane_like(self.plane, states)?, count, 0.0, sampler)
     }
 }

@@ -23,7 +23,7 @@ pub(super) const INFO: MethodInfo = MethodInfo {
 };
 
 /// Point link; see the module docs.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(crate) struct PointLink {
     set_size: usize,
 }
@@ -35,6 +35,10 @@ impl CalibrationMethod for PointLink {
 
     fn title(&self) -> &'static str {
         INFO.title
+    }
+
+    fn clone_method(&self) -> Box<dyn CalibrationMethod> {
+        Box::new(self.clone())
     }
 
     fn data_columns(&self) -> &'static [DataColumn] {

@@ -18,7 +18,7 @@ pub(super) const INFO: MethodInfo = MethodInfo {
 };
 
 /// Position measure; see the module docs.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(crate) struct PositionMeasure;
 
 impl CalibrationMethod for PositionMeasure {
@@ -28,6 +28,10 @@ impl CalibrationMethod for PositionMeasure {
 
     fn title(&self) -> &'static str {
         INFO.title
+    }
+
+    fn clone_method(&self) -> Box<dyn CalibrationMethod> {
+        Box::new(self.clone())
     }
 
     fn data_columns(&self) -> &'static [DataColumn] {

@@ -1,0 +1,85 @@
+//! Points generation (paper §4): a simulated "real" robot and what sensors
+//! would measure on it.
+//!
+//! The real robot is the nominal one with every parameter that has a non-zero
+//! priority moved by a uniform error of ±L units at error level L: lengths
+//! ±L cm, angles ±L°, gains ±L % (level 10 moves the Stanford's terminal point
+//! by 0.3–0.8 m). The method then generates configurations that satisfy its
+//! constraint *for the real robot*, with Gaussian sensor noise.
+
+use gecaro_core::{ParameterKind, Robot};
+
+use crate::Error;
+use crate::methods::CalibrationMethod;
+use crate::sample::Sample;
+use crate::sampler::Sampler;
+
+/// Size of one error unit: metres for lengths, radians for angles, and a
+/// fraction of the value for gains.
+fn unit(kind: ParameterKind) -> f64 {
+    match kind {
+        ParameterKind::D | ParameterKind::R => 0.01,
+        ParameterKind::Alpha | ParameterKind::Theta | ParameterKind::Beta => 1f64.to_radians(),
+        ParameterKind::Gain => 0.01,
+    }
+}
+
+/// The nominal robot with uniform errors of ±`level` units on every parameter
+/// of non-zero priority (see the module docs).
+///
+/// # Errors
+/// [`Error::InvalidOption`] for a negative or non-finite level.
+pub fn perturbed_robot(nominal: &Robot, level: f64, sampler: &mut Sampler) -> Result<Robot, Error> {
+    if !(level.is_finite() && level >= 0.0) {
+        return Err(Error::InvalidOption {
+            option: "--error-level",
+            message: format!("must be a number ≥ 0, not {level}"),
+        });
+    }
+    let priority = nominal.priority();
+    let mut real = nominal.clone();
+    for id in nominal.parameters().ids() {
+        if priority.get(*id) == 0 {
+            continue;
+        }
+        let error = sampler.uniform(-level, level) * unit(id.kind);
+        let value = nominal.parameter(*id);
+        let moved = match id.kind {
+            ParameterKind::Gain => value * (1.0 + error),
+            _ => value + error,
+        };
+        real.set_parameter(*id, moved)?;
+    }
+    real.set_name(format!(
+        "{} (simulated real, error level {level})",
+        nominal.name()
+    ));
+    Ok(real)
+}
+
+/// Data a method's sensor would give on `real`: `count` configurations that
+/// satisfy its constraint, with Gaussian noise of `noise` (metres, radians).
+///
+/// # Errors
+/// [`Error::Generation`] when the constraint cannot be met.
+pub fn simulate_measurements(
+    real: &Robot,
+    method: &dyn CalibrationMethod,
+    count: usize,
+    noise: f64,
+    sampler: &mut Sampler,
+) -> Result<Vec<Sample>, Error> {
+    if !(noise.is_finite() && noise >= 0.0) {
+        return Err(Error::InvalidOption {
+            option: "--noise",
+            message: format!("must be a standard deviation ≥ 0, not {noise}"),
+        });
+    }
+    if count == 0 {
+        return Err(Error::InvalidOption {
+            option: "--count",
+            message: "must be at least 1".into(),
+        });
+    }
+    method.generate(real, count, noise, sampler)
+}

@@ -1,0 +1,573 @@
+//! `gecaro generate`, `identify`, `evaluate` and `demo`: the paper's "Points
+//! generation" and "Identification" functions, and the evaluation of a
+//! calibrated robot.
+
+use std::path::Path;
+use std::time::Instant;
+
+use gecaro_calib::{
+    CalibrationMethod, ErrorSummary, Identification, IdentificationOptions, MethodOptions, Plane,
+    Sampler, Solver, StopReason, Study, evaluate as evaluate_study, identify_with_progress, method,
+    perturbed_robot, simulate_measurements,
+};
+use gecaro_core::{Robot, terminal_pose};
+use gecaro_io::{
+    AngleUnit, OutputPolicy, RobotFile, format_robot_file, load_robot, read_priority_file,
+    read_robot_file, read_samples, write_atomically, write_samples,
+};
+use indicatif::{ProgressBar, ProgressStyle};
+use nalgebra::Vector3;
+use serde::Serialize;
+
+use super::options::method_options;
+use crate::cli::{DemoArgs, EvaluateArgs, GenerateArgs, IdentifyArgs, SolverArg};
+use crate::failure::Failure;
+use crate::format::{number, table};
+
+/// Millimetres, for human output of lengths.
+fn mm(metres: f64) -> String {
+    number(metres * 1000.0, 3)
+}
+
+/// Degrees, for human output of angles.
+fn degrees(radians: f64) -> String {
+    number(radians.to_degrees(), 4)
+}
+
+fn policy(force: bool) -> OutputPolicy {
+    if force {
+        OutputPolicy::Overwrite
+    } else {
+        OutputPolicy::KeepExisting
+    }
+}
+
+/// Refuses early, before any work or any file is written, an output that
+/// exists (without --force) or whose folder is missing.
+fn check_output(path: &Path, force: bool) -> Result<(), Failure> {
+    if !force && path.exists() {
+        return Err(gecaro_io::Error::OutputExists {
+            path: path.to_owned(),
+        }
+        .into());
+    }
+    let folder = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    if !folder.is_dir() {
+        return Err(gecaro_io::Error::Write {
+            path: path.to_owned(),
+            message: format!("the folder {} does not exist", folder.display()),
+        }
+        .into());
+    }
+    Ok(())
+}
+
+/// A spinner on stderr (hidden when stderr is not a terminal).
+fn spinner(message: impl Into<String>) -> ProgressBar {
+    let bar = ProgressBar::new_spinner();
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {msg} [{elapsed}]")
+            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+    );
+    bar.set_message(message.into());
+    bar.enable_steady_tick(std::time::Duration::from_millis(120));
+    bar
+}
+
+pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
+    let nominal = load_robot(&args.robot)?;
+    let robot = &nominal.robot;
+    check_output(&args.output, args.force)?;
+    if let Some(real_out) = &args.real_out {
+        check_output(real_out, args.force)?;
+    }
+    let options = method_options(&args.method)?;
+    let chosen = method(&args.method.method, &options)?;
+    let mut sampler = Sampler::new(args.seed);
+    let real = match &args.real {
+        Some(path) => {
+            let real = read_robot_file(path)?.robot;
+            if real.joint_letters() != robot.joint_letters() {
+                return Err(Failure::Input(format!(
+                    "{}: the real robot has joints {}, the nominal one {}",
+                    path.display(),
+                    real.joint_letters(),
+                    robot.joint_letters()
+                )));
+            }
+            real
+        }
+        None => perturbed_robot(robot, args.error_level, &mut sampler)?,
+    };
+    let bar = spinner(format!(
+        "generating {} configurations ({})",
+        args.count,
+        chosen.title()
+    ));
+    let samples =
+        simulate_measurements(&real, chosen.as_ref(), args.count, args.noise, &mut sampler);
+    bar.finish_and_clear();
+    let samples = samples?;
+    write_samples(
+        &args.output,
+        robot.joint_count(),
+        chosen.data_columns(),
+        &samples,
+        policy(args.force),
+    )?;
+    println!(
+        "wrote {} configurations ({}) to {}",
+        samples.len(),
+        chosen.title(),
+        args.output.display()
+    );
+    let displacement = terminal_displacement(robot, &real, &samples)?;
+    match &args.real {
+        Some(path) => println!("real robot: {}", path.display()),
+        None => println!(
+            "real robot: {} at error level {} (seed {}); its terminal point differs from the nominal by RMS {} mm, max {} mm",
+            robot.name(),
+            number(args.error_level, 3),
+            args.seed,
+            mm(displacement.0),
+            mm(displacement.1)
+        ),
+    }
+    if args.noise > 0.0 {
+        println!(
+            "sensor noise: σ = {} mm ({} rad for orientations)",
+            mm(args.noise),
+            number(args.noise, 9)
+        );
+    }
+    if let Some(real_out) = &args.real_out {
+        let file = RobotFile {
+            robot: real,
+            description: Some(format!(
+                "simulated real robot: {} at error level {}, seed {}",
+                robot.name(),
+                args.error_level,
+                args.seed
+            )),
+            angle_unit: nominal.angle_unit,
+        };
+        write_atomically(
+            real_out,
+            format_robot_file(&file).as_bytes(),
+            policy(args.force),
+        )?;
+        println!("wrote the real robot to {}", real_out.display());
+    }
+    Ok(())
+}
+
+/// RMS and max distance between the nominal and real terminal points over the samples.
+fn terminal_displacement(
+    nominal: &Robot,
+    real: &Robot,
+    samples: &[gecaro_calib::Sample],
+) -> Result<(f64, f64), Failure> {
+    let mut squares = 0.0;
+    let mut max: f64 = 0.0;
+    for sample in samples {
+        let a = terminal_pose(nominal, &sample.motor_positions)?
+            .translation
+            .vector;
+        let b = terminal_pose(real, &sample.motor_positions)?
+            .translation
+            .vector;
+        let distance = (a - b).norm();
+        squares += distance * distance;
+        max = max.max(distance);
+    }
+    Ok(((squares / samples.len().max(1) as f64).sqrt(), max))
+}
+
+#[derive(Serialize)]
+struct SummaryJson {
+    rms: f64,
+    mean: f64,
+    max: f64,
+    count: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    rms_rotation: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    max_rotation: Option<f64>,
+}
+
+impl From<&ErrorSummary> for SummaryJson {
+    fn from(summary: &ErrorSummary) -> Self {
+        SummaryJson {
+            rms: summary.rms,
+            mean: summary.mean,
+            max: summary.max,
+            count: summary.count,
+            rms_rotation: summary.rms_rotation,
+            max_rotation: summary.max_rotation,
+        }
+    }
+}
+
+#[derive(Serialize)]
+struct ParameterJson {
+    name: String,
+    nominal: f64,
+    identified: f64,
+    std: f64,
+}
+
+#[derive(Serialize)]
+struct IdentificationJson {
+    method: String,
+    converged: bool,
+    iterations: usize,
+    rms_history: Vec<f64>,
+    rms_before: f64,
+    rms_after: f64,
+    condition_number: f64,
+    parameters: Vec<ParameterJson>,
+    auxiliary: Vec<ParameterJson>,
+    stop_reason: &'static str,
+    residual_sigma: f64,
+    before: SummaryJson,
+    after: SummaryJson,
+    not_excited: Vec<String>,
+    identifiable: usize,
+}
+
+fn parameter_json(parameters: &[gecaro_calib::IdentifiedParameter]) -> Vec<ParameterJson> {
+    parameters
+        .iter()
+        .map(|p| ParameterJson {
+            name: p.name.clone(),
+            nominal: p.nominal,
+            identified: p.identified,
+            std: p.std,
+        })
+        .collect()
+}
+
+/// Reads a single-method study from the command line's method and data file.
+fn single_study(
+    robot: &Robot,
+    method_args: &crate::cli::MethodArgs,
+    data: &Path,
+) -> Result<Study, Failure> {
+    let options = method_options(method_args)?;
+    let chosen = method(&method_args.method, &options)?;
+    let samples = read_samples(data, robot.joint_count(), chosen.data_columns())?;
+    Ok(Study::single(chosen, samples, data.display().to_string()))
+}
+
+pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
+    let file = load_robot(&args.robot)?;
+    let robot = &file.robot;
+    let priority = match &args.priority {
+        Some(path) => Some(read_priority_file(path, robot)?),
+        None => None,
+    };
+    if let Some(output) = &args.output {
+        check_output(output, args.force)?;
+    }
+    let study = single_study(robot, &args.method, &args.data)?;
+    let options = IdentificationOptions {
+        solver: match args.solver {
+            SolverArg::GaussNewton => Solver::GaussNewton,
+            SolverArg::Lm => Solver::LevenbergMarquardt,
+        },
+        max_iterations: args.max_iterations,
+        priority,
+        ..IdentificationOptions::default()
+    };
+    let bar = spinner("identifying");
+    let mut iteration = 0;
+    let result = identify_with_progress(robot, &study, &options, |record| {
+        bar.set_message(format!(
+            "iteration {iteration}: residual RMS {:.3e}",
+            record.rms
+        ));
+        iteration += 1;
+    });
+    bar.finish_and_clear();
+    let result = result?;
+    let converged = result.stop_reason == StopReason::Converged;
+    if args.json {
+        super::print_json(&IdentificationJson {
+            method: study.method_names(),
+            converged,
+            iterations: result.iterations(),
+            rms_history: result.history.iter().map(|h| h.rms).collect(),
+            rms_before: result.rms_before(),
+            rms_after: result.rms_after(),
+            condition_number: result.condition_number,
+            parameters: parameter_json(&result.parameters),
+            auxiliary: parameter_json(&result.auxiliary),
+            stop_reason: result.stop_reason.as_str(),
+            residual_sigma: result.residual_sigma,
+            before: (&result.before).into(),
+            after: (&result.after).into(),
+            not_excited: result.not_excited.clone(),
+            identifiable: result.rank.count(),
+        })?;
+    } else {
+        print_identification(robot, &study, &result, &args.data);
+    }
+    if let Some(output) = &args.output {
+        if converged || args.write_unconverged {
+            let calibrated = calibrated_file(&file, &study, &result, &args.data);
+            write_atomically(
+                output,
+                format_robot_file(&calibrated).as_bytes(),
+                policy(args.force),
+            )?;
+            if !args.json {
+                println!("wrote the calibrated robot to {}", output.display());
+            }
+        }
+    }
+    if converged {
+        Ok(())
+    } else {
+        Err(Failure::Numerical(format!(
+            "the identification did not converge ({}) after {} iterations; best residual RMS {:.3e}. {}",
+            result.stop_reason.as_str().replace('_', " "),
+            result.iterations(),
+            result.rms_after(),
+            if args.output.is_some() && !args.write_unconverged {
+                "Nothing was written (--write-unconverged saves the best iterate)."
+            } else {
+                "Try --solver lm, more --max-iterations, or check the data."
+            }
+        )))
+    }
+}
+
+fn calibrated_file(
+    file: &RobotFile,
+    study: &Study,
+    result: &Identification,
+    data: &Path,
+) -> RobotFile {
+    let mut robot = result.calibrated.clone();
+    robot.set_name(format!("{} (calibrated)", file.robot.name()));
+    RobotFile {
+        robot,
+        description: Some(format!(
+            "{} calibrated by gecaro: {} method on {}, {} parameters identified, residual RMS {:.3e} → {:.3e}",
+            file.robot.name(),
+            study.method_names(),
+            data.display(),
+            result.parameters.len(),
+            result.rms_before(),
+            result.rms_after()
+        )),
+        angle_unit: file.angle_unit,
+    }
+}
+
+fn print_identification(robot: &Robot, study: &Study, result: &Identification, data: &Path) {
+    let configurations: usize = study.sets.iter().map(|s| s.samples.len()).sum();
+    println!(
+        "Identification — {}, {} method, {} ({configurations} configurations, {} equations)",
+        robot.name(),
+        study.method_names(),
+        data.display(),
+        study.equation_count()
+    );
+    println!(
+        "{} identifiable parameters{}; condition number of W_b {}",
+        result.parameters.len(),
+        if result.auxiliary.is_empty() {
+            String::new()
+        } else {
+            format!(" + {} auxiliary", result.auxiliary.len())
+        },
+        number(result.condition_number, 2)
+    );
+    if !result.not_excited.is_empty() {
+        println!(
+            "warning: the data do not excite {}: left at their nominal values",
+            result.not_excited.join(", ")
+        );
+    }
+    let mut iterations = table(&["iteration", "residual RMS", "step ‖Δη‖", "damping λ"], 1);
+    for (index, record) in result.history.iter().enumerate() {
+        iterations.add_row(vec![
+            index.to_string(),
+            format!("{:.3e}", record.rms),
+            if index == 0 {
+                "–".into()
+            } else {
+                format!("{:.2e}", record.step)
+            },
+            if record.damping == 0.0 {
+                "–".into()
+            } else {
+                format!("{:.0e}", record.damping)
+            },
+        ]);
+    }
+    println!("{iterations}");
+    match result.stop_reason {
+        StopReason::Converged => println!("Converged after {} iterations.", result.iterations()),
+        StopReason::IterationLimit => {
+            println!("NOT converged: iteration limit reached; showing the best iterate.")
+        }
+        StopReason::Diverged => println!(
+            "NOT converged: no step lowers the residual any more; showing the best iterate."
+        ),
+    }
+    print_errors("Errors", &result.before, Some(&result.after));
+    println!(
+        "Residual standard deviation σ = {:.3e}",
+        result.residual_sigma
+    );
+    let mut parameters = table(&["parameter", "nominal", "identified", "deviation", "σ"], 1);
+    for parameter in result.parameters.iter().chain(&result.auxiliary) {
+        parameters.add_row(vec![
+            parameter.name.clone(),
+            number(parameter.nominal, 9),
+            number(parameter.identified, 9),
+            format!("{:+.3e}", parameter.identified - parameter.nominal),
+            format!("{:.2e}", parameter.std),
+        ]);
+    }
+    println!("Identified parameters (metres, radians):\n{parameters}");
+}
+
+/// Prints RMS/mean/max errors, before → after when both are given.
+fn print_errors(title: &str, before: &ErrorSummary, after: Option<&ErrorSummary>) {
+    let arrow = |a: String, b: Option<String>| match b {
+        Some(b) => format!("{a} → {b}"),
+        None => a,
+    };
+    println!(
+        "{title} over {} observations: RMS {} mm, mean {} mm, max {} mm",
+        before.count,
+        arrow(mm(before.rms), after.map(|a| mm(a.rms))),
+        arrow(mm(before.mean), after.map(|a| mm(a.mean))),
+        arrow(mm(before.max), after.map(|a| mm(a.max))),
+    );
+    if let Some(rms_rotation) = before.rms_rotation {
+        println!(
+            "{title} of orientation: RMS {}°, max {}°",
+            arrow(
+                degrees(rms_rotation),
+                after.and_then(|a| a.rms_rotation).map(degrees)
+            ),
+            arrow(
+                degrees(before.max_rotation.unwrap_or(0.0)),
+                after.and_then(|a| a.max_rotation).map(degrees)
+            ),
+        );
+    }
+}
+
+pub(crate) fn evaluate(args: &EvaluateArgs) -> Result<(), Failure> {
+    let robot = load_robot(&args.robot)?.robot;
+    let study = single_study(&robot, &args.method, &args.data)?;
+    let summary = evaluate_study(&robot, &study)?;
+    if args.json {
+        return super::print_json(&SummaryJson::from(&summary));
+    }
+    println!(
+        "{} on {} ({} method):",
+        robot.name(),
+        args.data.display(),
+        study.method_names()
+    );
+    print_errors("Errors", &summary, None);
+    Ok(())
+}
+
+/// Configurations per method in the demo: enough for a clean identification.
+const DEMO_COUNTS: [(&str, usize); 7] = [
+    ("position", 50),
+    ("frame", 30),
+    ("point-link", 80),
+    ("frame-link", 60),
+    ("plane1", 120),
+    ("plane2", 120),
+    ("distance", 200),
+];
+
+pub(crate) fn demo(args: &DemoArgs) -> Result<(), Failure> {
+    let robot = load_robot("stanford")?.robot;
+    let plane = Plane::new(
+        Vector3::from(gecaro_calib::TABLE2_PLANE_NORMAL),
+        Vector3::from(gecaro_calib::STANFORD_PLANE_POINT),
+    )?;
+    let options = MethodOptions {
+        plane: Some(plane),
+        ..MethodOptions::default()
+    };
+    let mut sampler = Sampler::new(args.seed);
+    let real = perturbed_robot(&robot, args.error_level, &mut sampler)?;
+    println!(
+        "gecaro demo — {} (Table 1); simulated real robot at error level {}, sensor noise σ = {} mm, seed {}",
+        robot.name(),
+        number(args.error_level, 3),
+        mm(args.noise),
+        args.seed
+    );
+    let mut summary = table(
+        &[
+            "method",
+            "configurations",
+            "parameters",
+            "iterations",
+            "error RMS before → after (mm)",
+            "time",
+        ],
+        1,
+    );
+    let bar = ProgressBar::new(DEMO_COUNTS.len() as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let mut failures = Vec::new();
+    for (name, count) in DEMO_COUNTS {
+        let chosen: Box<dyn CalibrationMethod> = method(name, &options)?;
+        bar.set_message(chosen.title());
+        let started = Instant::now();
+        let samples =
+            simulate_measurements(&real, chosen.as_ref(), count, args.noise, &mut sampler)?;
+        let title = chosen.title();
+        let study = Study::single(chosen, samples, name);
+        let result =
+            identify_with_progress(&robot, &study, &IdentificationOptions::default(), |_| {})?;
+        let elapsed = started.elapsed();
+        if result.stop_reason != StopReason::Converged {
+            failures.push(format!("{title}: {}", result.stop_reason.as_str()));
+        }
+        summary.add_row(vec![
+            title.to_owned(),
+            study.sets[0].samples.len().to_string(),
+            result.parameters.len().to_string(),
+            result.iterations().to_string(),
+            format!("{} → {}", mm(result.before.rms), mm(result.after.rms)),
+            format!("{:.0} ms", elapsed.as_secs_f64() * 1000.0),
+        ]);
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    println!("{summary}");
+    println!(
+        "Errors are per configuration: distance to the measured point (position, frame), to the set's \
+         mean point (links), to the plane, or distance error (pairs). Next: `gecaro generate`, \
+         `gecaro identify`, `gecaro evaluate` (see the README)."
+    );
+    let _ = AngleUnit::Radians;
+    if failures.is_empty() {
+        Ok(())
+    } else {
+        Err(Failure::Numerical(format!(
+            "not converged: {}",
+            failures.join("; ")
+        )))
+    }
+}
