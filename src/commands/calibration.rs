@@ -12,8 +12,8 @@ use gecaro_calib::{
 };
 use gecaro_core::{Robot, terminal_pose};
 use gecaro_io::{
-    AngleUnit, OutputPolicy, RobotFile, format_robot_file, load_robot, read_priority_file,
-    read_robot_file, read_samples, write_atomically, write_samples,
+    OutputPolicy, RobotFile, format_robot_file, load_robot, read_priority_file, read_robot_file,
+    read_samples, write_atomically, write_samples,
 };
 use indicatif::{ProgressBar, ProgressStyle};
 use nalgebra::Vector3;
@@ -315,17 +315,17 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
     } else {
         print_identification(robot, &study, &result, &args.data);
     }
-    if let Some(output) = &args.output {
-        if converged || args.write_unconverged {
-            let calibrated = calibrated_file(&file, &study, &result, &args.data);
-            write_atomically(
-                output,
-                format_robot_file(&calibrated).as_bytes(),
-                policy(args.force),
-            )?;
-            if !args.json {
-                println!("wrote the calibrated robot to {}", output.display());
-            }
+    if let Some(output) = &args.output
+        && (converged || args.write_unconverged)
+    {
+        let calibrated = calibrated_file(&file, &study, &result, &args.data);
+        write_atomically(
+            output,
+            format_robot_file(&calibrated).as_bytes(),
+            policy(args.force),
+        )?;
+        if !args.json {
+            println!("wrote the calibrated robot to {}", output.display());
         }
     }
     if converged {
@@ -561,7 +561,6 @@ pub(crate) fn demo(args: &DemoArgs) -> Result<(), Failure> {
          mean point (links), to the plane, or distance error (pairs). Next: `gecaro generate`, \
          `gecaro identify`, `gecaro evaluate` (see the README)."
     );
-    let _ = AngleUnit::Radians;
     if failures.is_empty() {
         Ok(())
     } else {
