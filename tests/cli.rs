@@ -326,3 +326,202 @@ fn bad_method_options_are_usage_errors() {
         .code(2)
         .stderr(predicate::str::contains("needs a plane"));
 }
+
+#[test]
+fn generate_identify_evaluate_round_trip() {
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let data = folder.path().join("train.csv");
+    let held_out = folder.path().join("test.csv");
+    let real = folder.path().join("real.toml");
+    let calibrated = folder.path().join("calibrated.toml");
+    gecaro()
+        .args([
+            "generate",
+            "stanford",
+            "--method",
+            "position",
+            "--count",
+            "40",
+            "--error-level",
+            "2",
+            "--seed",
+            "3",
+            "-o",
+        ])
+        .arg(&data)
+        .arg("--real-out")
+        .arg(&real)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("wrote 40 configurations"));
+    let header = std::fs::read_to_string(&data).expect("data");
+    assert!(
+        header.starts_with("qm1,qm2,qm3,qm4,qm5,qm6,x,y,z\n"),
+        "{header}"
+    );
+    // Held-out data from the same real robot, other configurations.
+    gecaro()
+        .args([
+            "generate", "stanford", "--method", "position", "--count", "30", "--seed", "4",
+            "--real",
+        ])
+        .arg(&real)
+        .arg("-o")
+        .arg(&held_out)
+        .assert()
+        .success();
+    let identification = gecaro()
+        .args([
+            "identify", "stanford", "--method", "position", "--json", "--data",
+        ])
+        .arg(&data)
+        .arg("-o")
+        .arg(&calibrated)
+        .output()
+        .expect("runs");
+    assert!(
+        identification.status.success(),
+        "{}",
+        String::from_utf8_lossy(&identification.stderr)
+    );
+    let report: Value = serde_json::from_slice(&identification.stdout).expect("JSON");
+    assert_eq!(report["converged"], true);
+    assert_eq!(report["stop_reason"], "converged");
+    assert_eq!(report["method"], "position");
+    assert!(report["iterations"].as_u64().expect("count") <= 6);
+    assert_eq!(
+        report["parameters"].as_array().expect("parameters").len(),
+        31
+    );
+    assert!(report["rms_after"].as_f64().expect("rms") < 1e-10);
+    assert_eq!(
+        report["rms_history"].as_array().expect("history").len() as u64,
+        report["iterations"].as_u64().expect("count") + 1
+    );
+    for parameter in report["parameters"].as_array().expect("parameters") {
+        for key in ["name", "nominal", "identified", "std"] {
+            assert!(parameter.get(key).is_some(), "{key}");
+        }
+    }
+    // The calibrated robot file loads everywhere and predicts held-out data of the real robot.
+    gecaro()
+        .args(["robot", "check"])
+        .arg(&calibrated)
+        .assert()
+        .success();
+    let before = json_output(&[
+        "evaluate",
+        "stanford",
+        "--method",
+        "position",
+        "--json",
+        "--data",
+        held_out.to_str().expect("utf-8"),
+    ]);
+    let after = json_output(&[
+        "evaluate",
+        calibrated.to_str().expect("utf-8"),
+        "--method",
+        "position",
+        "--json",
+        "--data",
+        held_out.to_str().expect("utf-8"),
+    ]);
+    assert_eq!(after["count"], 30);
+    assert!(before["rms"].as_f64().expect("rms") > 1e-3);
+    assert!(after["rms"].as_f64().expect("rms") < 1e-9, "{after}");
+}
+
+#[test]
+fn identification_failures_exit_4_and_write_nothing() {
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let data = folder.path().join("far.csv");
+    let output = folder.path().join("calibrated.toml");
+    gecaro()
+        .args([
+            "generate",
+            "stanford",
+            "--method",
+            "position",
+            "--count",
+            "40",
+            "--error-level",
+            "10",
+            "--seed",
+            "2",
+            "-o",
+        ])
+        .arg(&data)
+        .assert()
+        .success();
+    gecaro()
+        .args([
+            "identify",
+            "stanford",
+            "--method",
+            "position",
+            "--max-iterations",
+            "1",
+            "--data",
+        ])
+        .arg(&data)
+        .arg("-o")
+        .arg(&output)
+        .assert()
+        .code(4)
+        .stderr(predicate::str::contains("did not converge"))
+        .stderr(predicate::str::contains("Nothing was written"));
+    assert!(!output.exists());
+    gecaro()
+        .args([
+            "identify",
+            "stanford",
+            "--method",
+            "position",
+            "--max-iterations",
+            "1",
+            "--write-unconverged",
+            "--data",
+        ])
+        .arg(&data)
+        .arg("-o")
+        .arg(&output)
+        .assert()
+        .code(4);
+    assert!(output.exists(), "the best iterate is written when asked");
+}
+
+#[test]
+fn generate_refuses_existing_outputs_before_doing_anything() {
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let data = folder.path().join("data.csv");
+    std::fs::write(&data, "keep me").expect("write");
+    gecaro()
+        .args([
+            "generate", "stanford", "--method", "distance", "--count", "10", "-o",
+        ])
+        .arg(&data)
+        .assert()
+        .code(3)
+        .stderr(predicate::str::contains("--force"));
+    assert_eq!(std::fs::read_to_string(&data).expect("read"), "keep me");
+    gecaro()
+        .args([
+            "generate", "stanford", "--method", "distance", "--count", "10", "-o",
+        ])
+        .arg(folder.path().join("missing/data.csv"))
+        .assert()
+        .code(3)
+        .stderr(predicate::str::contains("does not exist"));
+}
+
+#[test]
+fn demo_identifies_every_method() {
+    gecaro()
+        .args(["demo"])
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("Position measure"))
+        .stdout(predicate::str::contains("Distance measure"))
+        .stdout(predicate::str::contains("Plane link 2"));
+}

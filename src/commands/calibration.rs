@@ -236,6 +236,9 @@ struct IdentificationJson {
     after: SummaryJson,
     not_excited: Vec<String>,
     identifiable: usize,
+    route: &'static str,
+    moved: Vec<ParameterJson>,
+    warnings: Vec<String>,
 }
 
 fn parameter_json(parameters: &[gecaro_calib::IdentifiedParameter]) -> Vec<ParameterJson> {
@@ -311,6 +314,9 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
             after: (&result.after).into(),
             not_excited: result.not_excited.clone(),
             identifiable: result.rank.count(),
+            route: result.route.as_str(),
+            moved: parameter_json(&result.moved),
+            warnings: result.warnings.clone(),
         })?;
     } else {
         print_identification(robot, &study, &result, &args.data);
@@ -387,12 +393,6 @@ fn print_identification(robot: &Robot, study: &Study, result: &Identification, d
         },
         number(result.condition_number, 2)
     );
-    if !result.not_excited.is_empty() {
-        println!(
-            "warning: the data do not excite {}: left at their nominal values",
-            result.not_excited.join(", ")
-        );
-    }
     let mut iterations = table(&["iteration", "residual RMS", "step ‖Δη‖", "damping λ"], 1);
     for (index, record) in result.history.iter().enumerate() {
         iterations.add_row(vec![
@@ -412,7 +412,16 @@ fn print_identification(robot: &Robot, study: &Study, result: &Identification, d
     }
     println!("{iterations}");
     match result.stop_reason {
-        StopReason::Converged => println!("Converged after {} iterations.", result.iterations()),
+        StopReason::Converged => println!(
+            "Converged after {} iterations ({}).",
+            result.iterations(),
+            match result.route {
+                gecaro_calib::Route::GaussNewton => "plain Gauss–Newton, as in the paper",
+                gecaro_calib::Route::MinimumNorm =>
+                    "minimum-norm route: the plain steps did not converge",
+                gecaro_calib::Route::LevenbergMarquardt => "Levenberg–Marquardt",
+            }
+        ),
         StopReason::IterationLimit => {
             println!("NOT converged: iteration limit reached; showing the best iterate.")
         }
@@ -436,6 +445,17 @@ fn print_identification(robot: &Robot, study: &Study, result: &Identification, d
         ]);
     }
     println!("Identified parameters (metres, radians):\n{parameters}");
+    if !result.moved.is_empty() {
+        let moved: Vec<String> = result
+            .moved
+            .iter()
+            .map(|p| format!("{} {:+.3e}", p.name, p.identified - p.nominal))
+            .collect();
+        println!("Moved outside the base set: {}", moved.join(", "));
+    }
+    for warning in &result.warnings {
+        println!("warning: {warning}");
+    }
 }
 
 /// Prints RMS/mean/max errors, before → after when both are given.

@@ -1,41 +1,93 @@
 //! Identification (paper §3.1, eq. 9–10): iterative linearised least squares.
 //!
-//! The identifiable parameters are first determined on the data themselves
-//! (Appendix III, [`crate::identifiable_parameters`]). Then, from the nominal
-//! parameters, each iteration rebuilds W_b and Δy from the updated
-//! parameters and solves `W_b Δη_b = Δy` in the least-squares sense (eq. 10,
-//! QR of W_b); the base parameters and the methods' auxiliary unknowns are
-//! updated by Δη_b. The regrouped parameters keep their nominal values: their
-//! effect is carried by the base parameters that absorb them.
+//! The identifiable parameters are the structural base set of the study
+//! (Appendix III on random data of the same kind) that these data excite
+//! ([`crate::structural_parameters`], [`crate::excitation`]). From the nominal
+//! parameters, each iteration rebuilds W_b and Δy at the updated parameters and
+//! solves `W_b Δη_b = Δy` in the least-squares sense (eq. 10, QR of W_b); the
+//! base parameters and the methods' auxiliary unknowns are updated. The
+//! non-base parameters keep their nominal values: their effect is carried by
+//! the base parameters that absorb them.
 //!
-//! Plain Gauss–Newton steps, as in the paper, are the default. When a plain
-//! step would increase the residual, the step is damped (Levenberg–Marquardt,
-//! `min ‖W Δ − Δy‖² + λ‖D Δ‖²` with D the column norms of W) until it lowers
-//! it, and λ is relaxed again after each success. The iteration stops when
-//! the correction the data ask for is negligible, `‖Δη_b‖ ≤ tol·(1 + ‖η_b‖)`
-//! (converged; that last correction is not counted as an update), when no
-//! damping lowers the residual any more (diverged), or at the iteration
-//! limit. The best iterate is always returned with the reason it stopped.
+//! ## Routes to the solution
 //!
-//! Precision (eq. 10's least squares): `σ² = ‖r‖²/(equations − b)`, and
-//! `cov(Δη_b) = σ² (W_bᵀW_b)⁻¹` at the solution.
+//! 1. **The paper's scheme** (default): plain Gauss–Newton steps, a step
+//!    that would increase the residual being shortened along its direction
+//!    (backtracking). It converges in about five iterations for position,
+//!    frame and distance measure even from errors of half a metre.
+//! 2. **Minimum-norm route**, taken automatically when a plain step would
+//!    increase the residual or the plain scheme does not converge. Methods
+//!    without an external length (link, plane) cannot observe the robot's
+//!    scale, which the base set pins through a non-base length (the Stanford's
+//!    r7 for point link). With errors of a few centimetres on that length the
+//!    base-set solution is the real robot rescaled by tens of percent, and from
+//!    the nominal robot the linearisation mistakes shrinking the robot for
+//!    progress. So the route first iterates minimum-norm Gauss–Newton steps
+//!    over *all* parameters with an effect (truncated SVD at the structural
+//!    rank): they reach a robot that reproduces the data close to the nominal
+//!    one. It then walks the non-base parameters back to their nominal values
+//!    in continuation stages, re-converging the base parameters after each (a
+//!    stage is halved when it fails), which ends at the paper's base-parameter
+//!    solution. The base set is chosen at the nominal geometry, where its
+//!    regrouping relations hold to first order: with errors of degrees and
+//!    centimetres an exact solution may not exist with every non-base
+//!    parameter at nominal. The continuation then stops where one still does,
+//!    and the moved non-base parameters are reported
+//!    ([`Identification::moved`]) rather than leaving a residual of model error.
+//! 3. **Levenberg–Marquardt** (`Solver::LevenbergMarquardt`): damped steps on
+//!    the base set from the start, `min ‖W Δ − Δy‖² + λ‖D Δ‖²` with D the
+//!    column norms of W; also the fallback of the continuation steps.
+//!
+//! An iteration stops when the correction the data ask for is negligible,
+//! `‖Δη_b‖ ≤ tol·(1 + ‖η_b‖)` with tol = 1e-8 (converged; that last
+//! correction is applied — with quadratic convergence it lands on the
+//! solution to rounding — but not counted as an update), when no step lowers
+//! the residual (diverged), or at the limit.
+//! The best iterate is always returned, with the reason it stopped.
+//!
+//! Precision: `σ² = ‖r‖²/(equations − b)`, `cov(Δη_b) = σ² (W_bᵀW_b)⁻¹` at the
+//! solution.
 
 use gecaro_core::{ParameterId, PriorityMatrix, Robot};
 
 use crate::Error;
-use crate::identifiability::{RankReport, excitation_at, structural_parameters};
-use crate::linalg::{condition_number, damped_step, solve_with_covariance, view};
+use crate::identifiability::{
+    ParameterStatus, RankReport, excitation_at, structural_parameters_at,
+};
+use crate::linalg::{damped_step, minimum_norm_step, precision, step, view};
 use crate::observation::{ColumnLayout, ObservationSystem};
 use crate::study::{Study, StudyStates};
 
 /// How steps are taken.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 pub enum Solver {
-    /// Plain Gauss–Newton steps (eq. 10), damped only when one would increase the residual.
+    /// The paper's plain Gauss–Newton steps, with the minimum-norm route when they fail.
     #[default]
     GaussNewton,
     /// Levenberg–Marquardt damping from the first step.
     LevenbergMarquardt,
+}
+
+/// Which route produced the solution (see the module docs).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum Route {
+    /// Plain Gauss–Newton on the base parameters (the paper).
+    GaussNewton,
+    /// Minimum-norm steps on all parameters, then continuation to the base set.
+    MinimumNorm,
+    /// Levenberg–Marquardt on the base parameters.
+    LevenbergMarquardt,
+}
+
+impl Route {
+    /// `gauss-newton`, `minimum-norm` or `levenberg-marquardt`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Route::GaussNewton => "gauss-newton",
+            Route::MinimumNorm => "minimum-norm",
+            Route::LevenbergMarquardt => "levenberg-marquardt",
+        }
+    }
 }
 
 /// Settings of [`identify`].
@@ -43,7 +95,7 @@ pub enum Solver {
 pub struct IdentificationOptions {
     /// Step rule.
     pub solver: Solver,
-    /// Iteration limit (parameter updates).
+    /// Iteration limit (parameter updates) of each route.
     pub max_iterations: usize,
     /// Priority matrix; the robot's when `None`.
     pub priority: Option<PriorityMatrix>,
@@ -57,7 +109,7 @@ impl Default for IdentificationOptions {
             solver: Solver::GaussNewton,
             max_iterations: 30,
             priority: None,
-            step_tolerance: 1e-10,
+            step_tolerance: 1e-8,
         }
     }
 }
@@ -65,12 +117,11 @@ impl Default for IdentificationOptions {
 /// Why the iteration stopped.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub enum StopReason {
-    /// The last step was negligible.
+    /// The last correction was negligible.
     Converged,
     /// The iteration limit was reached first.
     IterationLimit,
-    /// No step, however damped, lowered the residual: the linearisation does
-    /// not hold from here (errors too large, or wrong data).
+    /// No step lowered the residual: the linearisation does not hold from here.
     Diverged,
 }
 
@@ -90,9 +141,9 @@ impl StopReason {
 pub struct IterationRecord {
     /// RMS of the (weighted) residual vector after the update.
     pub rms: f64,
-    /// Norm of the update ‖Δη_b‖ (0 for the starting point).
+    /// Norm of the update (0 for the starting point).
     pub step: f64,
-    /// The damping λ of the update (0 for a plain step).
+    /// The damping λ of the update (0 for an undamped step).
     pub damping: f64,
 }
 
@@ -119,8 +170,8 @@ impl ErrorSummary {
         let errors = system.observation_errors();
         let count = errors.len();
         let lengths: Vec<f64> = errors.iter().map(|e| e.0).collect();
-        let has_angles = system.kinds().contains(&crate::RowKind::Angle);
         let angles: Vec<f64> = errors.iter().map(|e| e.1).collect();
+        let has_angles = system.kinds().contains(&crate::RowKind::Angle);
         let rms = |values: &[f64]| {
             (values.iter().map(|v| v * v).sum::<f64>() / values.len().max(1) as f64).sqrt()
         };
@@ -158,8 +209,10 @@ pub struct Identification {
     pub calibrated: Robot,
     /// The structural identifiable parameters (random data like these, Appendix III).
     pub rank: RankReport,
-    /// Entry 0 is the starting point; then one entry per accepted update.
+    /// Entry 0 is the starting point; then one entry per accepted update of the route taken.
     pub history: Vec<IterationRecord>,
+    /// The route that produced the solution.
+    pub route: Route,
     /// Errors of the observations at the nominal parameters.
     pub before: ErrorSummary,
     /// Errors of the observations at the identified parameters.
@@ -176,10 +229,17 @@ pub struct Identification {
     pub stop_reason: StopReason,
     /// Structural base parameters the data do not excite: not identified, left at nominal.
     pub not_excited: Vec<String>,
+    /// Parameters outside the base set that the minimum-norm route had to move
+    /// (their `std` is NaN): with them at nominal, the base set — chosen at the
+    /// nominal geometry, where its regroupings hold to first order — cannot
+    /// reproduce these data. Empty on the paper's route.
+    pub moved: Vec<IdentifiedParameter>,
+    /// Things a user should know about these results, in words.
+    pub warnings: Vec<String>,
 }
 
 impl Identification {
-    /// Number of parameter updates.
+    /// Number of parameter updates of the route taken.
     pub fn iterations(&self) -> usize {
         self.history.len() - 1
     }
@@ -198,7 +258,24 @@ impl Identification {
     }
 }
 
-/// The state being iterated: parameters, auxiliary values and their system.
+/// Above this condition number of W_b the data are called poorly exciting.
+pub const POOR_CONDITIONING: f64 = 1e4;
+
+/// Largest damping tried before a step is declared impossible.
+const MAX_DAMPING: f64 = 1e12;
+const INITIAL_DAMPING: f64 = 1e-3;
+/// Shortest fraction of a step tried when backtracking.
+const MIN_FRACTION: f64 = 1.0 / 64.0;
+/// Continuation stages tried (the first goes straight to nominal).
+const CONTINUATION_ATTEMPTS: usize = 8;
+/// Iterations allowed to re-converge the base parameters after a stage.
+const CONTINUATION_ITERATIONS: usize = 10;
+/// Seed of the random data of the structural analysis: fixed, so that an
+/// identification is a pure function of its inputs.
+const STRUCTURAL_SEED: u64 = 0x6ECA20;
+
+/// Parameters, auxiliary values and the system they give.
+#[derive(Clone)]
 struct Iterate {
     robot: Robot,
     auxiliary: Vec<f64>,
@@ -206,12 +283,374 @@ struct Iterate {
     cost: f64,
 }
 
-/// Largest damping tried before a step is declared impossible.
-const MAX_DAMPING: f64 = 1e12;
-const INITIAL_DAMPING: f64 = 1e-3;
-/// Seed of the random data of the structural analysis: fixed, so that an
-/// identification is a pure function of its inputs.
-const STRUCTURAL_SEED: u64 = 0x6ECA20;
+/// How a descent treats a step that increases the residual.
+#[derive(Copy, Clone, PartialEq, Eq)]
+enum Damping {
+    /// Plain steps only: stop (diverged) at the first increase.
+    Never,
+    /// Plain steps, damped when one increases the residual.
+    WhenNeeded,
+    /// Damped from the first step.
+    Always,
+}
+
+/// The result of one descent.
+struct Run {
+    best: Iterate,
+    history: Vec<IterationRecord>,
+    stop: StopReason,
+}
+
+/// Everything an identification iterates on.
+struct Problem<'a> {
+    study: &'a Study,
+    nominal: &'a Robot,
+    options: &'a IdentificationOptions,
+    /// Vocabulary indices of the base parameters (column order).
+    base: Vec<usize>,
+    /// Indices of the identified auxiliary unknowns.
+    base_auxiliary: Vec<usize>,
+    /// Columns: identified auxiliary unknowns, then base parameters.
+    layout: ColumnLayout,
+    rows: usize,
+    /// Condition number of W_b on the data at nominal: chooses the solver (see `linalg::solve`).
+    condition: f64,
+}
+
+impl Problem<'_> {
+    fn assemble(
+        &self,
+        robot: &Robot,
+        auxiliary: &[f64],
+        layout: &ColumnLayout,
+        states: &mut StudyStates,
+    ) -> Result<Iterate, Error> {
+        self.assemble_into(
+            robot,
+            auxiliary,
+            layout,
+            states,
+            ObservationSystem::default(),
+        )
+    }
+
+    /// [`assemble`](Self::assemble) reusing the storage of `system`.
+    fn assemble_into(
+        &self,
+        robot: &Robot,
+        auxiliary: &[f64],
+        layout: &ColumnLayout,
+        states: &mut StudyStates,
+        system: ObservationSystem,
+    ) -> Result<Iterate, Error> {
+        self.study.evaluate(robot, states)?;
+        self.iterate_into(robot, auxiliary, layout, states, system)
+    }
+
+    /// The iterate at states already evaluated at `robot`.
+    fn iterate_at(
+        &self,
+        robot: &Robot,
+        auxiliary: &[f64],
+        layout: &ColumnLayout,
+        states: &StudyStates,
+    ) -> Result<Iterate, Error> {
+        self.iterate_into(
+            robot,
+            auxiliary,
+            layout,
+            states,
+            ObservationSystem::default(),
+        )
+    }
+
+    fn iterate_into(
+        &self,
+        robot: &Robot,
+        auxiliary: &[f64],
+        layout: &ColumnLayout,
+        states: &StudyStates,
+        mut system: ObservationSystem,
+    ) -> Result<Iterate, Error> {
+        self.study.assemble(states, auxiliary, layout, &mut system);
+        let cost: f64 = system.weighted_residuals().iter().map(|r| r * r).sum();
+        if !cost.is_finite() || !system.matrix().iter().all(|v| v.is_finite()) {
+            return Err(Error::Numerical {
+                message: "the residuals became non-finite".into(),
+            });
+        }
+        Ok(Iterate {
+            robot: robot.clone(),
+            auxiliary: auxiliary.to_vec(),
+            system,
+            cost,
+        })
+    }
+
+    fn record(&self, iterate: &Iterate, step: &[f64], damping: f64) -> IterationRecord {
+        IterationRecord {
+            rms: (iterate.cost / self.rows.max(1) as f64).sqrt(),
+            step: norm(step),
+            damping,
+        }
+    }
+
+    /// Whether a step over `parameters` (vocabulary indices, after the
+    /// auxiliary columns) is negligible at `robot`.
+    fn negligible(&self, step: &[f64], robot: &Robot, parameters: &[usize]) -> bool {
+        let scale = norm(
+            &parameters
+                .iter()
+                .map(|i| robot.parameter(robot.parameters().id(*i)))
+                .collect::<Vec<_>>(),
+        );
+        norm(step) <= self.options.step_tolerance * (1.0 + scale)
+    }
+
+    /// Adds `step` (auxiliary columns first, then `parameters`) to an iterate.
+    fn stepped(
+        &self,
+        iterate: &Iterate,
+        step: &[f64],
+        parameters: &[usize],
+    ) -> Result<(Robot, Vec<f64>), Error> {
+        let mut robot = iterate.robot.clone();
+        let mut auxiliary = iterate.auxiliary.clone();
+        for (column, index) in self.base_auxiliary.iter().enumerate() {
+            auxiliary[*index] += step[column];
+        }
+        let mut deltas = vec![0.0; robot.parameters().len()];
+        for (position, index) in parameters.iter().enumerate() {
+            deltas[*index] = step[self.base_auxiliary.len() + position];
+        }
+        robot.apply_deltas(&deltas)?;
+        Ok((robot, auxiliary))
+    }
+
+    /// Applies a final, negligible correction to the parameters, and to the
+    /// residuals through the linear model `r ← r − W Δ` (exact to O(‖Δ‖²),
+    /// below 1e-16 m for a negligible Δ) instead of re-evaluating the model.
+    fn polish(&self, mut current: Iterate, step: &[f64], parameters: &[usize]) -> Iterate {
+        let Ok((robot, auxiliary)) = self.stepped(&current, step, parameters) else {
+            return current;
+        };
+        current.system.apply_linear_step(step);
+        current.cost = current
+            .system
+            .weighted_residuals()
+            .iter()
+            .map(|r| r * r)
+            .sum();
+        current.robot = robot;
+        current.auxiliary = auxiliary;
+        current
+    }
+
+    /// Gauss–Newton on the base parameters from `start` (see [`Damping`]).
+    fn descend(
+        &self,
+        start: Iterate,
+        damping_rule: Damping,
+        max_iterations: usize,
+        states: &mut StudyStates,
+        progress: &mut dyn FnMut(&IterationRecord),
+    ) -> Run {
+        let mut current = start;
+        let mut history = Vec::new();
+        let mut damping = if damping_rule == Damping::Always {
+            INITIAL_DAMPING
+        } else {
+            0.0
+        };
+        let mut stop = StopReason::IterationLimit;
+        // The storage of a replaced or refused iterate, reused by the next trial.
+        let mut spare = ObservationSystem::default();
+        'iterations: while history.len() < max_iterations {
+            let matrix = view(current.system.matrix(), self.rows, self.layout.columns());
+            let right = current.system.weighted_residuals();
+            let mut fraction = 1.0;
+            loop {
+                let mut step = if damping == 0.0 {
+                    step(matrix, &right, self.condition)
+                } else {
+                    damped_step(matrix, &right, damping)
+                };
+                if damping <= INITIAL_DAMPING
+                    && fraction == 1.0
+                    && self.negligible(&step, &current.robot, &self.base)
+                {
+                    current = self.polish(current, &step, &self.base);
+                    stop = StopReason::Converged;
+                    break 'iterations;
+                }
+                step.iter_mut().for_each(|value| *value *= fraction);
+                let recycled = std::mem::take(&mut spare);
+                let trial =
+                    self.stepped(&current, &step, &self.base)
+                        .and_then(|(robot, auxiliary)| {
+                            self.assemble_into(&robot, &auxiliary, &self.layout, states, recycled)
+                        });
+                match trial {
+                    Ok(trial) if trial.cost <= current.cost => {
+                        let record = self.record(&trial, &step, damping);
+                        progress(&record);
+                        history.push(record);
+                        spare = std::mem::replace(&mut current, trial).system;
+                        damping = match damping_rule {
+                            Damping::Always => (damping / 10.0).max(1e-12),
+                            _ if damping <= INITIAL_DAMPING => 0.0,
+                            _ => damping / 10.0,
+                        };
+                        break;
+                    }
+                    // A plain step that increases the residual: shorten it along
+                    // its direction first (backtracking), then damp it.
+                    _ if damping == 0.0 && fraction > MIN_FRACTION => fraction *= 0.5,
+                    _ if damping_rule == Damping::Never || damping >= MAX_DAMPING => {
+                        stop = StopReason::Diverged;
+                        break 'iterations;
+                    }
+                    _ => {
+                        fraction = 1.0;
+                        damping = if damping == 0.0 {
+                            INITIAL_DAMPING
+                        } else {
+                            damping * 10.0
+                        };
+                    }
+                }
+            }
+        }
+        Run {
+            best: current,
+            history,
+            stop,
+        }
+    }
+
+    /// The minimum-norm route from `start` (see the module docs).
+    fn minimum_norm_route(
+        &self,
+        start: Iterate,
+        effective: &[usize],
+        states: &mut StudyStates,
+        progress: &mut dyn FnMut(&IterationRecord),
+    ) -> Result<Run, Error> {
+        let auxiliary_count = start.auxiliary.len();
+        let layout = ColumnLayout::with_auxiliary(
+            self.nominal.parameters().len(),
+            effective,
+            auxiliary_count,
+            &self.base_auxiliary,
+        );
+        let rank = self.base.len() + self.base_auxiliary.len();
+        let mut current = self.assemble(&start.robot, &start.auxiliary, &layout, states)?;
+        let mut history = Vec::new();
+        // Phase 1: minimum-norm steps over every parameter with an effect.
+        let mut reached = false;
+        'iterations: while history.len() < self.options.max_iterations {
+            let matrix = view(current.system.matrix(), self.rows, layout.columns());
+            let step = minimum_norm_step(matrix, &current.system.weighted_residuals(), rank)?;
+            if self.negligible(&step, &current.robot, effective) {
+                current = self.polish(current, &step, effective);
+                reached = true;
+                break;
+            }
+            let mut fraction = 1.0;
+            loop {
+                let scaled: Vec<f64> = step.iter().map(|v| v * fraction).collect();
+                let trial =
+                    self.stepped(&current, &scaled, effective)
+                        .and_then(|(robot, auxiliary)| {
+                            self.assemble(&robot, &auxiliary, &layout, states)
+                        });
+                match trial {
+                    Ok(trial) if trial.cost <= current.cost => {
+                        let record = self.record(&trial, &scaled, 0.0);
+                        progress(&record);
+                        history.push(record);
+                        current = trial;
+                        break;
+                    }
+                    _ if fraction > MIN_FRACTION => fraction *= 0.5,
+                    _ => break 'iterations,
+                }
+            }
+        }
+        let reached_cost = current.cost;
+        let mut current =
+            self.assemble(&current.robot, &current.auxiliary, &self.layout, states)?;
+        if !reached {
+            return Ok(Run {
+                best: current,
+                history,
+                stop: StopReason::Diverged,
+            });
+        }
+        // Phase 2: continuation of the non-base parameters back to nominal,
+        // as far as an exact solution exists: first straight to nominal, then
+        // by halves.
+        let free: Vec<usize> = effective
+            .iter()
+            .copied()
+            .filter(|i| !self.base.contains(i))
+            .collect();
+        let from: Vec<f64> = free
+            .iter()
+            .map(|i| current.robot.parameter(current.robot.parameters().id(*i)))
+            .collect();
+        let floor = self.rows as f64 * 1e-24;
+        let (mut done, mut stride) = (0.0_f64, 1.0_f64);
+        for _ in 0..CONTINUATION_ATTEMPTS {
+            if done >= 1.0 {
+                break;
+            }
+            let target = (done + stride).min(1.0);
+            let mut robot = current.robot.clone();
+            for (index, start_value) in free.iter().zip(&from) {
+                let id = robot.parameters().id(*index);
+                let nominal = self.nominal.parameter(id);
+                robot.set_parameter(id, start_value + target * (nominal - start_value))?;
+            }
+            let mut stage_records = Vec::new();
+            let run = self
+                .assemble(&robot, &current.auxiliary, &self.layout, states)
+                .map(|moved| {
+                    self.descend(
+                        moved,
+                        Damping::WhenNeeded,
+                        CONTINUATION_ITERATIONS,
+                        states,
+                        &mut |record| stage_records.push(*record),
+                    )
+                });
+            match run {
+                Ok(run)
+                    if run.stop == StopReason::Converged
+                        && run.best.cost <= reached_cost * 1.001 + floor =>
+                {
+                    for record in &run.history {
+                        progress(record);
+                    }
+                    history.extend(run.history);
+                    current = run.best;
+                    done = target;
+                    stride = 1.0 - done;
+                }
+                _ => stride *= 0.5,
+            }
+        }
+        Ok(Run {
+            best: current,
+            history,
+            stop: StopReason::Converged,
+        })
+    }
+}
+
+fn norm(values: &[f64]) -> f64 {
+    values.iter().map(|v| v * v).sum::<f64>().sqrt()
+}
 
 /// Identifies the base parameters of `robot` from `study` (see the module docs).
 ///
@@ -244,15 +683,12 @@ pub fn identify_with_progress(
     let mut states = StudyStates::default();
     study.evaluate(robot, &mut states)?;
     let initial_auxiliary = study.initial_auxiliary(&states)?;
-    // The base set: structural (random, constraint-satisfying data), then only
-    // what these data excite (paper §3.1, §4).
-    let rank = structural_parameters(robot, study, &priority, STRUCTURAL_SEED)?;
+    // The base set: structural (random, constraint-satisfying data), then what
+    // these data excite (paper §3.1, §4).
+    let rank = structural_parameters_at(robot, study, &states, &priority, STRUCTURAL_SEED)?;
     let excited = excitation_at(robot, study, &states, &initial_auxiliary, &rank)?;
-    let not_excited = excited.not_excited;
-    let excited = excited.report;
-    let base = &excited.base_parameters;
-    let base_auxiliary = &excited.base_auxiliary;
-    let unknowns = base.len() + base_auxiliary.len();
+    let base = excited.report.base_parameters.clone();
+    let base_auxiliary = excited.report.base_auxiliary.clone();
     if base.is_empty() {
         return Err(Error::Numerical {
             message:
@@ -260,6 +696,7 @@ pub fn identify_with_progress(
                     .into(),
         });
     }
+    let unknowns = base.len() + base_auxiliary.len();
     let equations = study.equation_count();
     if equations <= unknowns {
         return Err(Error::TooFewEquations {
@@ -267,138 +704,114 @@ pub fn identify_with_progress(
             unknowns: unknowns + 1,
         });
     }
-    let auxiliary_count = initial_auxiliary.len();
     let layout = ColumnLayout::with_auxiliary(
         robot.parameters().len(),
-        base,
-        auxiliary_count,
-        base_auxiliary,
+        &base,
+        initial_auxiliary.len(),
+        &base_auxiliary,
     );
-
-    let assemble =
-        |robot: &Robot, auxiliary: &[f64], states: &mut StudyStates| -> Result<Iterate, Error> {
-            study.evaluate(robot, states)?;
-            let mut system = ObservationSystem::default();
-            study.assemble(states, auxiliary, &layout, &mut system);
-            let cost: f64 = system.weighted_residuals().iter().map(|r| r * r).sum();
-            if !cost.is_finite() || !system.matrix().iter().all(|v| v.is_finite()) {
-                return Err(Error::Numerical {
-                    message: "the residuals became non-finite".into(),
-                });
-            }
-            Ok(Iterate {
+    let problem = Problem {
+        study,
+        nominal: robot,
+        options,
+        base,
+        base_auxiliary,
+        layout,
+        rows: study.row_count(),
+        condition: excited.report.condition_number,
+    };
+    // The excitation check built W_b at the nominal parameters already: reuse
+    // it when every structural base parameter is excited (same columns).
+    let start = match excited.system {
+        Some(system) if excited.not_excited.is_empty() => {
+            let cost = system.weighted_residuals().iter().map(|r| r * r).sum();
+            Iterate {
                 robot: robot.clone(),
-                auxiliary: auxiliary.to_vec(),
+                auxiliary: initial_auxiliary.clone(),
                 system,
                 cost,
-            })
-        };
-    let rms = |cost: f64, rows: usize| (cost / rows.max(1) as f64).sqrt();
-
-    let mut current = assemble(robot, &initial_auxiliary, &mut states)?;
-    let before = ErrorSummary::of(&current.system);
-    let rows = current.system.rows();
-    let mut history = vec![IterationRecord {
-        rms: rms(current.cost, rows),
-        step: 0.0,
-        damping: 0.0,
-    }];
-    progress(&history[0]);
-    let mut damping = match options.solver {
-        Solver::GaussNewton => 0.0,
-        Solver::LevenbergMarquardt => INITIAL_DAMPING,
-    };
-    let mut stop_reason = StopReason::IterationLimit;
-    let negligible = |step: &[f64], robot: &Robot| {
-        let scale = base
-            .iter()
-            .map(|index| robot.parameter(robot.parameters().id(*index)).powi(2))
-            .sum::<f64>()
-            .sqrt();
-        norm(step) <= options.step_tolerance * (1.0 + scale)
-    };
-    while history.len() <= options.max_iterations {
-        let matrix = view(current.system.matrix(), rows, layout.columns());
-        let right = current.system.weighted_residuals();
-        let mut accepted = None;
-        loop {
-            let step = if damping == 0.0 {
-                solve_with_covariance(matrix, &right).solution
-            } else {
-                damped_step(matrix, &right, damping)
-            };
-            // Converged when the correction the data ask for is negligible
-            // (judged on an undamped or lightly damped step only).
-            if damping <= INITIAL_DAMPING && negligible(&step, &current.robot) {
-                stop_reason = StopReason::Converged;
-                break;
             }
-            let trial = apply_step(&current, &step, base, base_auxiliary)
-                .and_then(|(robot, auxiliary)| assemble(&robot, &auxiliary, &mut states));
-            match trial {
-                Ok(trial) if trial.cost <= current.cost => {
-                    accepted = Some((trial, step));
-                    break;
-                }
-                _ if damping >= MAX_DAMPING => {
-                    // No step lowers the residual: the linearisation does not hold here.
-                    stop_reason = StopReason::Diverged;
-                    break;
-                }
-                // A step that increases the residual: damp it (Levenberg–Marquardt).
-                _ => {
-                    damping = if damping == 0.0 {
-                        INITIAL_DAMPING
-                    } else {
-                        damping * 10.0
-                    }
+        }
+        _ => problem.iterate_at(robot, &initial_auxiliary, &problem.layout, &states)?,
+    };
+    let before = ErrorSummary::of(&start.system);
+    let first = problem.record(&start, &[], 0.0);
+    progress(&first);
+
+    let (run, route) = match options.solver {
+        Solver::LevenbergMarquardt => (
+            problem.descend(
+                start,
+                Damping::Always,
+                options.max_iterations,
+                &mut states,
+                &mut progress,
+            ),
+            Route::LevenbergMarquardt,
+        ),
+        Solver::GaussNewton => {
+            let plain = problem.descend(
+                start.clone(),
+                Damping::Never,
+                options.max_iterations,
+                &mut states,
+                &mut progress,
+            );
+            if plain.stop == StopReason::Converged {
+                (plain, Route::GaussNewton)
+            } else {
+                let effective: Vec<usize> = rank
+                    .parameters
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, p)| {
+                        matches!(
+                            p.status,
+                            ParameterStatus::Identifiable | ParameterStatus::Regrouped
+                        )
+                    })
+                    .map(|(index, _)| index)
+                    .collect();
+                progress(&first);
+                let robust =
+                    problem.minimum_norm_route(start, &effective, &mut states, &mut progress)?;
+                if robust.stop == StopReason::Converged || robust.best.cost < plain.best.cost {
+                    (robust, Route::MinimumNorm)
+                } else {
+                    (plain, Route::GaussNewton)
                 }
             }
         }
-        let Some((trial, step)) = accepted else {
-            break;
-        };
-        history.push(IterationRecord {
-            rms: rms(trial.cost, rows),
-            step: norm(&step),
-            damping,
-        });
-        progress(&history[history.len() - 1]);
-        current = trial;
-        damping = match options.solver {
-            // Back to plain steps as soon as a damped one has succeeded.
-            Solver::GaussNewton => {
-                if damping <= INITIAL_DAMPING {
-                    0.0
-                } else {
-                    damping / 10.0
-                }
-            }
-            Solver::LevenbergMarquardt => (damping / 10.0).max(1e-12),
-        };
-    }
+    };
+    let Run {
+        best,
+        history: updates,
+        stop,
+    } = run;
+    let mut history = vec![first];
+    history.extend(updates);
 
-    // Precision at the solution: σ² (W_bᵀ W_b)⁻¹.
-    let matrix = view(current.system.matrix(), rows, layout.columns());
-    let right = current.system.weighted_residuals();
-    let solved = solve_with_covariance(matrix, &right);
-    let degrees_of_freedom = (equations - unknowns) as f64;
-    let variance = current.cost / degrees_of_freedom;
+    // Precision at the solution: σ² (W_bᵀ W_b)⁻¹, and the condition number of W_b.
+    let matrix = view(best.system.matrix(), problem.rows, problem.layout.columns());
+    let (solved, condition_number) = precision(matrix, problem.condition)?;
+    let variance = best.cost / (equations - unknowns) as f64;
     let std = |column: usize| (variance * solved.inverse_normal_diagonal[column]).sqrt();
     let auxiliary_names = study.auxiliary_names();
-    let auxiliary_columns = base_auxiliary.len();
-    let auxiliary = base_auxiliary
+    let auxiliary_columns = problem.base_auxiliary.len();
+    let auxiliary: Vec<IdentifiedParameter> = problem
+        .base_auxiliary
         .iter()
         .enumerate()
         .map(|(column, &index)| IdentifiedParameter {
             name: auxiliary_names[index].clone(),
             parameter: None,
             nominal: initial_auxiliary[index],
-            identified: current.auxiliary[index],
+            identified: best.auxiliary[index],
             std: std(column),
         })
         .collect();
-    let parameters = base
+    let parameters: Vec<IdentifiedParameter> = problem
+        .base
         .iter()
         .enumerate()
         .map(|(position, &index)| {
@@ -407,48 +820,106 @@ pub fn identify_with_progress(
                 name: id.to_string(),
                 parameter: Some(id),
                 nominal: robot.parameter(id),
-                identified: current.robot.parameter(id),
+                identified: best.robot.parameter(id),
                 std: std(auxiliary_columns + position),
             }
         })
         .collect();
+    let moved: Vec<IdentifiedParameter> = robot
+        .parameters()
+        .ids()
+        .iter()
+        .filter(|id| {
+            let index = robot.parameters().index_of(**id).unwrap_or(usize::MAX);
+            !problem.base.contains(&index)
+                && (best.robot.parameter(**id) - robot.parameter(**id)).abs() > 1e-12
+        })
+        .map(|id| IdentifiedParameter {
+            name: id.to_string(),
+            parameter: Some(*id),
+            nominal: robot.parameter(*id),
+            identified: best.robot.parameter(*id),
+            std: f64::NAN,
+        })
+        .collect();
+    let warnings = warnings(
+        study,
+        &excited.not_excited,
+        condition_number,
+        &parameters,
+        &moved,
+    );
     Ok(Identification {
-        condition_number: condition_number(matrix)?,
-        after: ErrorSummary::of(&current.system),
+        moved,
+        warnings,
+        condition_number,
+        after: ErrorSummary::of(&best.system),
         before,
-        calibrated: current.robot,
+        calibrated: best.robot,
         rank,
         history,
+        route,
         parameters,
         auxiliary,
         residual_sigma: variance.sqrt(),
-        stop_reason,
-        not_excited,
+        stop_reason: stop,
+        not_excited: excited.not_excited,
     })
 }
 
-fn norm(values: &[f64]) -> f64 {
-    values.iter().map(|v| v * v).sum::<f64>().sqrt()
-}
-
-/// The robot and auxiliary values after adding `step` (auxiliary columns first).
-fn apply_step(
-    current: &Iterate,
-    step: &[f64],
-    base: &[usize],
-    base_auxiliary: &[usize],
-) -> Result<(Robot, Vec<f64>), Error> {
-    let mut robot = current.robot.clone();
-    let mut auxiliary = current.auxiliary.clone();
-    for (column, index) in base_auxiliary.iter().enumerate() {
-        auxiliary[*index] += step[column];
+/// The warnings of an identification (see [`Identification::warnings`]).
+fn warnings(
+    study: &Study,
+    not_excited: &[String],
+    condition_number: f64,
+    parameters: &[IdentifiedParameter],
+    moved: &[IdentifiedParameter],
+) -> Vec<String> {
+    let mut warnings = Vec::new();
+    if !not_excited.is_empty() {
+        warnings.push(format!(
+            "the data do not excite {}: not identified, left at their nominal values",
+            not_excited.join(", ")
+        ));
     }
-    let mut deltas = vec![0.0; robot.parameters().len()];
-    for (position, index) in base.iter().enumerate() {
-        deltas[*index] = step[base_auxiliary.len() + position];
+    if condition_number > POOR_CONDITIONING {
+        let mut relative: Vec<(&IdentifiedParameter, f64)> = parameters
+            .iter()
+            .map(|p| {
+                (
+                    p,
+                    p.std / (p.identified.abs() + if p.name.starts_with('K') { 1.0 } else { 1e-3 }),
+                )
+            })
+            .collect();
+        relative.sort_by(|a, b| b.1.total_cmp(&a.1));
+        let worst: Vec<String> = relative
+            .iter()
+            .take(3)
+            .map(|(p, _)| format!("{} (σ {:.1e})", p.name, p.std))
+            .collect();
+        warnings.push(format!(
+            "the data excite the robot poorly: condition number of W_b {condition_number:.1e} (above {POOR_CONDITIONING:.0e}); \
+             the least determined parameters are {}; add configurations that move these joints more",
+            worst.join(", ")
+        ));
     }
-    robot.apply_deltas(&deltas)?;
-    Ok((robot, auxiliary))
+    if !study.observes_scale() {
+        warnings.push(
+            "no measurement here observes the robot's scale (link and plane methods measure no length): \
+             it is pinned by lengths outside the base set held at nominal, and noise can move it far; \
+             add a distance measurement to the study to fix it"
+                .into(),
+        );
+    }
+    if !moved.is_empty() {
+        warnings.push(format!(
+            "{} parameters outside the base set were moved too: with them at nominal, the base set (chosen at \
+             the nominal geometry) cannot reproduce these data",
+            moved.len()
+        ));
+    }
+    warnings
 }
 
 /// Error statistics of a (calibrated) robot on a study: per configuration (or

@@ -57,7 +57,7 @@ pub use identifiability::{
 };
 pub use identification::{
     ErrorSummary, Identification, IdentificationOptions, IdentifiedParameter, IterationRecord,
-    Solver, StopReason, evaluate, identify, identify_with_progress,
+    POOR_CONDITIONING, Route, Solver, StopReason, evaluate, identify, identify_with_progress,
 };
 pub use methods::{
     CalibrationMethod, METHODS, MethodInfo, MethodOptions, Plane, method, method_info,

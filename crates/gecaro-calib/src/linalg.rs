@@ -2,15 +2,16 @@
 //! module that touches it). Sequential: faer's threads slow these sizes down
 //! on small machines.
 
-use faer::linalg::solvers::SolveLstsq;
+use faer::linalg::solvers::{DenseSolveCore, Solve, SolveLstsq};
 use faer::linalg::triangular_solve::solve_upper_triangular_in_place;
 use faer::{Mat, MatRef, Par};
 
 use crate::Error;
 
-/// A column-major `rows × columns` view of `data`.
+/// A row-major `rows × columns` view of `data` (the layout of
+/// [`ObservationSystem`](crate::ObservationSystem)).
 pub(crate) fn view(data: &[f64], rows: usize, columns: usize) -> MatRef<'_, f64> {
-    MatRef::from_column_major_slice(data, rows, columns)
+    MatRef::from_row_major_slice(data, rows, columns)
 }
 
 /// An owned copy of the listed columns of `matrix`.
@@ -74,19 +75,15 @@ pub(crate) fn greedy_rank(matrix: MatRef<'_, f64>, tolerance: f64) -> GreedyRank
 /// A `c × c` matrix R̃ with the column geometry of the tall `rows × c` matrix
 /// W: `R̃ᵀR̃ = WᵀW`, so every column norm, distance between a column and the
 /// span of others, least-squares relation and singular value of W is that of
-/// R̃. From faer's column-pivoted QR, `W·P = Q·R`, as `R̃ = R·Pᵀ` (columns
-/// back in W's order); Q is orthogonal, so nothing is lost but the rows.
+/// R̃. From faer's QR without pivoting, `W = Q·R` with Q orthogonal: R is a
+/// valid factor even when columns of W are dependent (its diagonal is then not
+/// the greedy |R_jj| — the greedy pass on R̃ computes those).
 pub(crate) fn column_geometry(matrix: MatRef<'_, f64>) -> Mat<f64> {
     let (rows, columns) = matrix.shape();
-    let qr = matrix.col_piv_qr();
+    let qr = matrix.qr();
     let r = qr.thin_R();
-    let (forward, _) = qr.P().arrays();
     let mut reduced = Mat::<f64>::zeros(columns, columns);
-    for (position, &column) in forward.iter().enumerate() {
-        for row in 0..rows.min(columns).min(position + 1) {
-            reduced[(row, column)] = r[(row, position)];
-        }
-    }
+    reduced.get_mut(..rows.min(columns), ..).copy_from(r);
     reduced
 }
 
@@ -132,21 +129,87 @@ pub(crate) struct LeastSquares {
     pub(crate) inverse_normal_diagonal: Vec<f64>,
 }
 
+/// The condition number of W below which [`solve`] uses the normal equations:
+/// they square it, and 1e5² · ε ≈ 1e-6 relative accuracy in the step is ample
+/// for an iteration whose residual is recomputed exactly each time.
+pub(crate) const NORMAL_EQUATIONS_CONDITION: f64 = 1e5;
+
+/// The least-squares step `min ‖W x − r‖`: through the normal equations
+/// `WᵀW x = Wᵀr` (Cholesky) when W is well conditioned (`condition` below
+/// [`NORMAL_EQUATIONS_CONDITION`]) — a quarter of the cost of a QR of the tall
+/// W — and through QR otherwise or if the Cholesky factorisation fails.
+pub(crate) fn step(matrix: MatRef<'_, f64>, right: &[f64], condition: f64) -> Vec<f64> {
+    if condition < NORMAL_EQUATIONS_CONDITION {
+        let gram = matrix.transpose() * matrix;
+        let projected = matrix.transpose() * MatRef::from_column_major_slice(right, right.len(), 1);
+        if let Ok(cholesky) = gram.llt(faer::Side::Lower) {
+            let solution = cholesky.solve(&projected);
+            return (0..matrix.ncols()).map(|i| solution[(i, 0)]).collect();
+        }
+    }
+    solve_with_covariance(matrix, right).0.solution
+}
+
 /// See [`LeastSquares`]; `matrix` must have full column rank and at least as
-/// many rows as columns. One QR gives both.
-pub(crate) fn solve_with_covariance(matrix: MatRef<'_, f64>, right: &[f64]) -> LeastSquares {
+/// many rows as columns. One QR gives both, and the condition number of W
+/// (that of R).
+pub(crate) fn solve_with_covariance(matrix: MatRef<'_, f64>, right: &[f64]) -> (LeastSquares, f64) {
     let qr = matrix.qr();
     let solution = qr.solve_lstsq(MatRef::from_column_major_slice(right, right.len(), 1));
     let columns = matrix.ncols();
     let r = qr.thin_R().get(..columns, ..columns);
     let mut inverse = Mat::<f64>::identity(columns, columns);
     solve_upper_triangular_in_place(r, inverse.as_mut(), Par::Seq);
-    LeastSquares {
-        solution: (0..columns).map(|i| solution[(i, 0)]).collect(),
-        inverse_normal_diagonal: (0..columns)
-            .map(|i| inverse.row(i).norm_l2().powi(2))
-            .collect(),
+    let condition = condition_number(r).unwrap_or(f64::INFINITY);
+    (
+        LeastSquares {
+            solution: (0..columns).map(|i| solution[(i, 0)]).collect(),
+            inverse_normal_diagonal: (0..columns)
+                .map(|i| inverse.row(i).norm_l2().powi(2))
+                .collect(),
+        },
+        condition,
+    )
+}
+
+/// The precision of a least-squares solution with full-rank W: diag((WᵀW)⁻¹)
+/// and the condition number of W. Through the normal equations (Cholesky
+/// inverse, eigenvalues of WᵀW) when W is well conditioned (`condition`
+/// below [`NORMAL_EQUATIONS_CONDITION`]), through QR otherwise.
+///
+/// # Errors
+/// [`Error::Numerical`] if W has non-finite entries.
+pub(crate) fn precision(
+    matrix: MatRef<'_, f64>,
+    condition: f64,
+) -> Result<(LeastSquares, f64), Error> {
+    if !(0..matrix.ncols()).all(|j| matrix.col(j).iter().all(|v| v.is_finite())) {
+        return Err(Error::Numerical {
+            message: "the observation matrix has non-finite entries".into(),
+        });
     }
+    let columns = matrix.ncols();
+    if condition < NORMAL_EQUATIONS_CONDITION {
+        let gram = matrix.transpose() * matrix;
+        if let (Ok(cholesky), Ok(eigenvalues)) = (
+            gram.llt(faer::Side::Lower),
+            gram.self_adjoint_eigenvalues(faer::Side::Lower),
+        ) {
+            let inverse = cholesky.inverse();
+            let condition = match (eigenvalues.first(), eigenvalues.last()) {
+                (Some(smallest), Some(largest)) if *smallest > 0.0 => (largest / smallest).sqrt(),
+                _ => f64::INFINITY,
+            };
+            return Ok((
+                LeastSquares {
+                    solution: vec![0.0; columns],
+                    inverse_normal_diagonal: (0..columns).map(|i| inverse[(i, i)]).collect(),
+                },
+                condition,
+            ));
+        }
+    }
+    Ok(solve_with_covariance(matrix, &vec![0.0; matrix.nrows()]))
 }
 
 /// The Levenberg–Marquardt step: `min ‖W x − r‖² + λ‖D x‖²` with D the
@@ -168,6 +231,34 @@ pub(crate) fn damped_step(matrix: MatRef<'_, f64>, right: &[f64], damping: f64) 
     (0..columns).map(|i| solution[(i, 0)]).collect()
 }
 
+/// The minimum-norm least-squares solution of `W x ≈ r` restricted to the
+/// `rank` largest singular values (truncated SVD): for a W whose rank is known
+/// to be `rank`, the step of smallest norm among the best ones.
+///
+/// # Errors
+/// [`Error::Numerical`] if the SVD does not converge.
+pub(crate) fn minimum_norm_step(
+    matrix: MatRef<'_, f64>,
+    right: &[f64],
+    rank: usize,
+) -> Result<Vec<f64>, Error> {
+    let svd = matrix.thin_svd().map_err(|error| Error::Numerical {
+        message: format!("singular value decomposition failed: {error:?}"),
+    })?;
+    let (u, s, v) = (svd.U(), svd.S().column_vector(), svd.V());
+    let mut step = vec![0.0; matrix.ncols()];
+    for k in 0..rank.min(s.nrows()) {
+        if s[k] <= 0.0 {
+            break;
+        }
+        let coefficient = (0..right.len()).map(|i| u[(i, k)] * right[i]).sum::<f64>() / s[k];
+        for (j, value) in step.iter_mut().enumerate() {
+            *value += coefficient * v[(j, k)];
+        }
+    }
+    Ok(step)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -184,7 +275,7 @@ mod tests {
         };
         let mut data: Vec<f64> = (0..rows * columns).map(|_| next()).collect();
         for i in 0..rows {
-            data[3 * rows + i] = data[i] + data[rows + i];
+            data[i * columns + 3] = data[i * columns] + data[i * columns + 1];
         }
         (data, rows, columns)
     }
@@ -193,17 +284,34 @@ mod tests {
     fn covariance_diagonal_matches_the_normal_equations() {
         let data = [1.0, 2.0, 0.5, 1.0, 0.0, 1.0, 3.0, 1.0, -1.0, 0.5, 2.0, 1.0];
         let right = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
-        let solved = solve_with_covariance(view(&data, 6, 2), &right);
-        let w = nalgebra::DMatrix::from_column_slice(6, 2, &data);
+        let (solved, _) = solve_with_covariance(view(&data, 6, 2), &right);
+        let normal = step(view(&data, 6, 2), &right, 1.0);
+        let (precise, _) = precision(view(&data, 6, 2), 1.0).expect("finite");
+        let (precise_qr, _) = precision(view(&data, 6, 2), f64::INFINITY).expect("finite");
+        let w = nalgebra::DMatrix::from_row_slice(6, 2, &data);
         let inverse = (w.transpose() * &w).try_inverse().expect("regular");
         let expected = &inverse * w.transpose() * nalgebra::DVector::from_column_slice(&right);
         for i in 0..2 {
             assert!((inverse[(i, i)] - solved.inverse_normal_diagonal[i]).abs() < 1e-12);
             assert!((expected[i] - solved.solution[i]).abs() < 1e-12);
+            assert!((expected[i] - normal[i]).abs() < 1e-12);
+            assert!((inverse[(i, i)] - precise.inverse_normal_diagonal[i]).abs() < 1e-12);
+            assert!((inverse[(i, i)] - precise_qr.inverse_normal_diagonal[i]).abs() < 1e-12);
         }
         // Zero damping is the plain least-squares step.
         let plain = damped_step(view(&data, 6, 2), &right, 0.0);
         assert!((plain[0] - expected[0]).abs() < 1e-12 && (plain[1] - expected[1]).abs() < 1e-12);
+    }
+
+    #[test]
+    fn minimum_norm_step_ignores_the_null_space() {
+        // W has a zero singular value along (1, -1): the minimum-norm step has no component there.
+        let data = [1.0, 1.0, 2.0, 2.0, 3.0, 3.0];
+        let step = minimum_norm_step(view(&data, 3, 2), &[2.0, 4.0, 6.0], 1).expect("svd");
+        assert!(
+            (step[0] - 1.0).abs() < 1e-12 && (step[1] - 1.0).abs() < 1e-12,
+            "{step:?}"
+        );
     }
 
     #[test]
@@ -228,8 +336,9 @@ mod tests {
         assert_eq!(rank.kept, [0, 1, 2, 4, 5, 6, 7, 8, 9, 10, 11]);
         assert!(rank.diagonal[3] < 1e-14, "{:?}", rank.diagonal);
         // The kept columns' |R_jj| equal those of a Householder QR (nalgebra) of the kept columns.
-        let kept =
-            nalgebra::DMatrix::from_fn(rows, rank.kept.len(), |i, j| data[rank.kept[j] * rows + i]);
+        let kept = nalgebra::DMatrix::from_fn(rows, rank.kept.len(), |i, j| {
+            data[i * columns + rank.kept[j]]
+        });
         let r = kept.qr().r();
         for (position, column) in rank.kept.iter().enumerate() {
             assert!((r[(position, position)].abs() - rank.diagonal[*column]).abs() < 1e-12);

@@ -6,12 +6,11 @@
 //! the residual Δy (what the model misses; zero at the real parameters), the
 //! coefficients of the Np robot parameters (vocabulary order) and of its own
 //! auxiliary unknowns. The [`ObservationSystem`] keeps only the columns a
-//! [`ColumnLayout`] asks for, column-major, so that the tall W goes to the QR
-//! without a copy. Rows are multiplied by a per-set weight (1/σ of the sensor)
+//! [`ColumnLayout`] asks for, row by row (each row is written contiguously). Rows are multiplied by a per-set weight (1/σ of the sensor)
 //! when several measurement sets are stacked.
 
-use gecaro_core::{Error as ModelError, Robot, forward_kinematics, parameter_jacobian_of_chain};
-use nalgebra::{IsometryMatrix3, Matrix6xX};
+use gecaro_core::{ChainBuffer, Error as ModelError, KinematicModel, Robot};
+use nalgebra::IsometryMatrix3;
 
 use crate::sample::Sample;
 
@@ -20,41 +19,83 @@ use crate::sample::Sample;
 pub struct TerminalState {
     /// `(−1)T(n+1)` (eq. 1).
     pub pose: IsometryMatrix3<f64>,
-    /// The 6×Np Jacobian of Appendix II.
-    pub jacobian: Matrix6xX<f64>,
+    /// The 6×Np Jacobian of Appendix II, row-major: `jacobian[axis * Np + k]`.
+    jacobian: Vec<f64>,
+    parameters: usize,
 }
 
 impl TerminalState {
-    /// Adds `scale ×` row `axis` (0–2 position, 3–5 rotation) of the Jacobian to `out`.
+    /// Number of parameters Np (length of a Jacobian row).
+    pub fn parameter_count(&self) -> usize {
+        self.parameters
+    }
+
+    /// Row `axis` of the Jacobian (0–2 position, 3–5 rotation), Np entries.
+    pub fn jacobian_row(&self, axis: usize) -> &[f64] {
+        &self.jacobian[axis * self.parameters..(axis + 1) * self.parameters]
+    }
+
+    /// Adds `scale ×` row `axis` of the Jacobian to `out`.
     pub fn add_jacobian_row(&self, axis: usize, scale: f64, out: &mut [f64]) {
-        for (value, coefficient) in out.iter_mut().zip(self.jacobian.row(axis).iter()) {
+        for (value, coefficient) in out.iter_mut().zip(self.jacobian_row(axis)) {
             *value += scale * coefficient;
         }
     }
 }
 
+/// Below this many samples, states are evaluated on one thread.
+const PARALLEL_MINIMUM: usize = 1024;
+
 /// Evaluates the pose and Jacobian of every sample, reusing `states`' storage.
 ///
+/// Large data sets are split over the available cores. Each state depends
+/// only on its own configuration, so the result is the same, bit for bit,
+/// whatever the number of threads.
+///
 /// # Errors
-/// When a sample's configuration does not fit the robot.
+/// When a sample's configuration does not fit the robot (the first such sample).
 pub fn evaluate_states(
     robot: &Robot,
     samples: &[Sample],
     states: &mut Vec<TerminalState>,
 ) -> Result<(), ModelError> {
-    let parameters = robot.parameters().len();
+    let model = KinematicModel::new(robot);
     states.truncate(samples.len());
-    for (index, sample) in samples.iter().enumerate() {
-        let chain = forward_kinematics(robot, &sample.motor_positions)?;
-        if index == states.len() {
-            states.push(TerminalState {
-                pose: *chain.world_from_tool(),
-                jacobian: Matrix6xX::zeros(parameters),
-            });
-        }
-        let state = &mut states[index];
+    states.resize_with(samples.len(), || TerminalState {
+        pose: IsometryMatrix3::identity(),
+        jacobian: Vec::new(),
+        parameters: model.parameter_count(),
+    });
+    let threads = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
+    if threads < 2 || samples.len() < PARALLEL_MINIMUM {
+        return evaluate_chunk(&model, samples, states);
+    }
+    let chunk = samples.len().div_ceil(threads);
+    let results: Vec<Result<(), ModelError>> = std::thread::scope(|scope| {
+        let workers: Vec<_> = samples
+            .chunks(chunk)
+            .zip(states.chunks_mut(chunk))
+            .map(|(samples, states)| scope.spawn(|| evaluate_chunk(&model, samples, states)))
+            .collect();
+        workers
+            .into_iter()
+            .map(|worker| worker.join().expect("evaluating kinematics does not panic"))
+            .collect()
+    });
+    results.into_iter().collect()
+}
+
+fn evaluate_chunk(
+    model: &KinematicModel,
+    samples: &[Sample],
+    states: &mut [TerminalState],
+) -> Result<(), ModelError> {
+    let mut chain = ChainBuffer::default();
+    for (sample, state) in samples.iter().zip(states) {
+        model.forward(&sample.motor_positions, &mut chain)?;
         state.pose = *chain.world_from_tool();
-        parameter_jacobian_of_chain(robot, &chain, &mut state.jacobian);
+        state.parameters = model.parameter_count();
+        model.jacobian_rows(&chain, &mut state.jacobian);
     }
     Ok(())
 }
@@ -73,6 +114,8 @@ pub enum RowKind {
 pub struct ColumnLayout {
     /// For each robot parameter (vocabulary order), its column in W, if kept.
     parameter_columns: Vec<Option<usize>>,
+    /// The kept (parameter, column) pairs.
+    mapped: Vec<(usize, usize)>,
     /// For each auxiliary unknown (all sets, in order), its column in W, if kept.
     auxiliary_columns: Vec<Option<usize>>,
     columns: usize,
@@ -87,6 +130,11 @@ impl ColumnLayout {
             parameter_columns[*index] = Some(auxiliary_count + position);
         }
         ColumnLayout {
+            mapped: parameters
+                .iter()
+                .enumerate()
+                .map(|(position, index)| (*index, auxiliary_count + position))
+                .collect(),
             parameter_columns,
             auxiliary_columns: (0..auxiliary_count).map(Some).collect(),
             columns: auxiliary_count + parameters.len(),
@@ -103,6 +151,12 @@ impl ColumnLayout {
     ) -> Self {
         let mut layout = ColumnLayout::new(parameter_count, parameters, auxiliary.len());
         layout.auxiliary_columns = vec![None; auxiliary_count];
+        debug_assert!(
+            layout
+                .mapped
+                .iter()
+                .all(|(_, column)| *column >= auxiliary.len())
+        );
         for (column, index) in auxiliary.iter().enumerate() {
             layout.auxiliary_columns[*index] = Some(column);
         }
@@ -125,7 +179,7 @@ impl ColumnLayout {
 pub struct ObservationSystem {
     rows: usize,
     columns: usize,
-    /// W, column-major, rows already weighted.
+    /// W, row-major (each row written contiguously), rows already weighted.
     matrix: Vec<f64>,
     /// Δy, not weighted (metres or radians).
     residuals: Vec<f64>,
@@ -164,14 +218,21 @@ impl ObservationSystem {
         self.columns
     }
 
-    /// W, column-major (`rows × columns`), weighted.
+    /// W, row-major (`rows × columns`), weighted.
     pub fn matrix(&self) -> &[f64] {
         &self.matrix
     }
 
-    /// Column `column` of W.
-    pub fn column(&self, column: usize) -> &[f64] {
-        &self.matrix[column * self.rows..(column + 1) * self.rows]
+    /// Row `row` of W (weighted).
+    pub fn row(&self, row: usize) -> &[f64] {
+        &self.matrix[row * self.columns..(row + 1) * self.columns]
+    }
+
+    /// Column `column` of W (weighted), copied.
+    pub fn column(&self, column: usize) -> Vec<f64> {
+        (0..self.rows)
+            .map(|row| self.matrix[row * self.columns + column])
+            .collect()
     }
 
     /// Δy, not weighted.
@@ -186,6 +247,22 @@ impl ObservationSystem {
             .zip(&self.weights)
             .map(|(r, w)| r * w)
             .collect()
+    }
+
+    /// Updates the residuals for a small parameter step through the linear
+    /// model: `Δy ← Δy − W·step` (columns of W in this system's layout).
+    pub(crate) fn apply_linear_step(&mut self, step: &[f64]) {
+        for row in 0..self.rows {
+            let predicted: f64 = self.matrix[row * self.columns..(row + 1) * self.columns]
+                .iter()
+                .zip(step)
+                .map(|(w, s)| w * s)
+                .sum();
+            // W is weighted; the stored residuals are not.
+            if self.weights[row] != 0.0 {
+                self.residuals[row] -= predicted / self.weights[row];
+            }
+        }
     }
 
     /// What each row measures.
@@ -267,15 +344,14 @@ impl RowWriter<'_> {
             "a method wrote more rows than its row_count"
         );
         let row = self.next_row;
-        let rows = self.system.rows;
-        for (index, column) in self.layout.parameter_columns.iter().enumerate() {
-            if let Some(column) = column {
-                self.system.matrix[column * rows + row] = self.weight * parameters[index];
-            }
+        let columns = self.system.columns;
+        let target = &mut self.system.matrix[row * columns..(row + 1) * columns];
+        for (index, column) in &self.layout.mapped {
+            target[*column] = self.weight * parameters[*index];
         }
         for (index, value) in auxiliary.iter().enumerate() {
             if let Some(column) = self.layout.auxiliary_columns[self.auxiliary_offset + index] {
-                self.system.matrix[column * rows + row] = self.weight * value;
+                target[column] = self.weight * value;
             }
         }
         self.system.residuals[row] = residual;

@@ -138,6 +138,12 @@ impl Study {
             .collect()
     }
 
+    /// Whether some set measures a length (position, frame, distance), so that
+    /// the robot's scale is observable; link and plane methods alone cannot see it.
+    pub fn observes_scale(&self) -> bool {
+        self.sets.iter().any(|set| !set.method.scale_invariant())
+    }
+
     /// Total rows of W.
     pub fn row_count(&self) -> usize {
         self.sets

@@ -68,9 +68,10 @@ mod test_robots;
 
 pub use error::{Error, Field};
 pub use kinematics::{
-    FrameChain, InverseOptions, InverseSolution, OrientationDifference, Target, forward_kinematics,
-    frame_transform, inverse_kinematics, joint_jacobian, orientation_difference,
-    parameter_jacobian, parameter_jacobian_of_chain, pose_difference, terminal_pose,
+    ChainBuffer, FrameChain, InverseOptions, InverseSolution, KinematicModel,
+    OrientationDifference, Target, forward_kinematics, frame_transform, inverse_kinematics,
+    joint_jacobian, orientation_difference, parameter_jacobian, parameter_jacobian_of_chain,
+    pose_difference, terminal_pose,
 };
 pub use parameters::{ParameterId, ParameterKind, ParameterSpace};
 pub use priority::PriorityMatrix;

@@ -85,7 +85,7 @@ impl CalibrationMethod for DistanceMeasure {
         _auxiliary: &[f64],
         rows: &mut RowWriter<'_>,
     ) {
-        let mut coefficients = vec![0.0; states.first().map_or(0, |s| s.jacobian.ncols())];
+        let mut coefficients = vec![0.0; states.first().map_or(0, TerminalState::parameter_count)];
         for (pair, members) in groups(samples).into_iter().enumerate() {
             let (first, second) = (&states[members[0]], &states[members[1]]);
             let difference = second.pose.translation.vector - first.pose.translation.vector;

@@ -60,21 +60,18 @@ impl CalibrationMethod for FrameMeasure {
         _auxiliary: &[f64],
         rows: &mut RowWriter<'_>,
     ) {
-        let mut coefficients = vec![0.0; states.first().map_or(0, |s| s.jacobian.ncols())];
         for (index, (sample, state)) in samples.iter().zip(states).enumerate() {
             let position = sample.position.unwrap_or_default() - state.pose.translation.vector;
             let measured_rotation = sample.orientation.unwrap_or_default().to_rotation_matrix();
             let rotation =
                 orientation_difference(&measured_rotation, &state.pose.rotation, self.orientation);
             for axis in 0..6 {
-                coefficients.fill(0.0);
-                state.add_jacobian_row(axis, 1.0, &mut coefficients);
                 let (kind, residual) = if axis < 3 {
                     (RowKind::Length, position[axis])
                 } else {
                     (RowKind::Angle, rotation[axis - 3])
                 };
-                rows.push(kind, index, residual, &coefficients, &[]);
+                rows.push(kind, index, residual, state.jacobian_row(axis), &[]);
             }
         }
     }

@@ -69,6 +69,10 @@ impl CalibrationMethod for FrameLink {
         6.0 * (1.0 - 1.0 / self.set_size.max(2) as f64)
     }
 
+    fn scale_invariant(&self) -> bool {
+        true
+    }
+
     fn linearise(
         &self,
         samples: &[Sample],

@@ -44,7 +44,7 @@ pub(super) fn linearise_sets(
     rows: &mut RowWriter<'_>,
 ) {
     let dimension = linked.dimension();
-    let parameters = states.first().map_or(0, |s| s.jacobian.ncols());
+    let parameters = states.first().map_or(0, TerminalState::parameter_count);
     for members in groups(samples) {
         let count = members.len();
         let mut values = vec![0.0; count * dimension];

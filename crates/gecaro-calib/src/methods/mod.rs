@@ -84,6 +84,13 @@ pub trait CalibrationMethod: fmt::Debug + Send + Sync {
     /// Independent equations per configuration, roughly (to size random data).
     fn equations_per_configuration(&self) -> f64;
 
+    /// Whether the method's constraint still holds for the robot scaled about
+    /// any point, i.e. it measures no length (link and plane methods): such
+    /// data cannot observe the robot's scale (Table 2 loses it).
+    fn scale_invariant(&self) -> bool {
+        false
+    }
+
     /// Names of the method's own unknowns, identified with η (plane coefficients).
     fn auxiliary_names(&self) -> Vec<String> {
         Vec::new()

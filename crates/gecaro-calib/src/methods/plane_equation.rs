@@ -83,6 +83,10 @@ impl CalibrationMethod for PlaneEquation {
         Ok(fitted.coefficients()?.as_slice().to_vec())
     }
 
+    fn scale_invariant(&self) -> bool {
+        true
+    }
+
     fn linearise(
         &self,
         _samples: &[Sample],
@@ -95,7 +99,7 @@ impl CalibrationMethod for PlaneEquation {
             .known
             .unwrap_or_else(|| Vector3::from_column_slice(&auxiliary[..3]));
         let norm = abc.norm();
-        let mut coefficients = vec![0.0; states.first().map_or(0, |s| s.jacobian.ncols())];
+        let mut coefficients = vec![0.0; states.first().map_or(0, TerminalState::parameter_count)];
         for (index, state) in states.iter().enumerate() {
             let point = state.pose.translation.vector;
             let distance = (abc.dot(&point) + 1.0) / norm;

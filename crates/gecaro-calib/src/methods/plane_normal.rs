@@ -87,6 +87,10 @@ impl CalibrationMethod for PlaneNormal {
         Ok(fitted.normal().as_slice().to_vec())
     }
 
+    fn scale_invariant(&self) -> bool {
+        true
+    }
+
     fn linearise(
         &self,
         _samples: &[Sample],
@@ -99,7 +103,7 @@ impl CalibrationMethod for PlaneNormal {
             .known
             .unwrap_or_else(|| Vector3::from_column_slice(&auxiliary[..3]));
         let norm = normal.norm();
-        let parameters = states.first().map_or(0, |s| s.jacobian.ncols());
+        let parameters = states.first().map_or(0, TerminalState::parameter_count);
         let count = states.len();
         let mut values = vec![0.0; count];
         let mut coefficients = vec![0.0; count * parameters];

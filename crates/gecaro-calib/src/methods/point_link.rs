@@ -61,6 +61,10 @@ impl CalibrationMethod for PointLink {
         3.0 * (1.0 - 1.0 / self.set_size.max(2) as f64)
     }
 
+    fn scale_invariant(&self) -> bool {
+        true
+    }
+
     fn linearise(
         &self,
         samples: &[Sample],

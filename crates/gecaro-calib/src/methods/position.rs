@@ -53,14 +53,17 @@ impl CalibrationMethod for PositionMeasure {
         _auxiliary: &[f64],
         rows: &mut RowWriter<'_>,
     ) {
-        let mut coefficients = vec![0.0; states.first().map_or(0, |s| s.jacobian.ncols())];
         for (index, (sample, state)) in samples.iter().zip(states).enumerate() {
             let measured = sample.position.unwrap_or_default();
             let difference = measured - state.pose.translation.vector;
             for axis in 0..3 {
-                coefficients.fill(0.0);
-                state.add_jacobian_row(axis, 1.0, &mut coefficients);
-                rows.push(RowKind::Length, index, difference[axis], &coefficients, &[]);
+                rows.push(
+                    RowKind::Length,
+                    index,
+                    difference[axis],
+                    state.jacobian_row(axis),
+                    &[],
+                );
             }
         }
     }

@@ -10,9 +10,11 @@
 mod direct;
 mod inverse;
 mod jacobian;
+mod model;
 mod pose_difference;
 
 pub use direct::{FrameChain, forward_kinematics, frame_transform, terminal_pose};
 pub use inverse::{InverseOptions, InverseSolution, Target, inverse_kinematics};
 pub use jacobian::{joint_jacobian, parameter_jacobian, parameter_jacobian_of_chain};
+pub use model::{ChainBuffer, KinematicModel};
 pub use pose_difference::{OrientationDifference, orientation_difference, pose_difference};

@@ -1,0 +1,387 @@
+//! A robot compiled for fast, allocation-free kinematics in tight loops.
+//!
+//! The direct model (eq. 1–3) and the parameter Jacobian (Appendix II) of a
+//! [`Robot`] are evaluated for thousands of configurations per identification
+//! iteration. Everything that does not depend on the configuration — the sines
+//! and cosines of α_j and β_j, whole transforms of fixed frames, the motor to
+//! joint map of eq. 4, the column of each parameter — is computed once here;
+//! per configuration only sin/cos(θ_j + q_j) of revolute joints remain. The
+//! results are identical to [`forward_kinematics`](super::forward_kinematics)
+//! and [`parameter_jacobian`](super::parameter_jacobian) (tested).
+
+use nalgebra::{IsometryMatrix3, Matrix3, Matrix6xX, Rotation3, Translation3, Vector3};
+
+use super::direct::frame_transform;
+use crate::Error;
+use crate::parameters::{ParameterId, ParameterKind};
+use crate::robot::{FrameType, Robot};
+
+/// Per-frame constants of eq. 3.
+#[derive(Clone, Debug)]
+struct CompiledFrame {
+    frame_type: FrameType,
+    /// Rot(y, β)·Rot(x, α), the part before the joint.
+    tilt: Matrix3<f64>,
+    /// The whole transform of a fixed frame.
+    fixed: IsometryMatrix3<f64>,
+    d: f64,
+    theta: f64,
+    r: f64,
+    /// cos β, sin β for the rotated x axis of the α/d columns.
+    cos_beta: f64,
+    sin_beta: f64,
+    /// Columns of θ, r, α, d, β of this frame in η (when they exist).
+    columns: [Option<usize>; 5],
+}
+
+/// A [`Robot`] compiled for repeated kinematics; see the module docs.
+#[derive(Clone, Debug)]
+pub struct KinematicModel {
+    frames: Vec<CompiledFrame>,
+    /// Cj·diag(K)·Cm, row-major n×n, and the offsets of eq. 4.
+    motor_to_joint: Vec<f64>,
+    /// Whether Cm and Cj are the identity (then q_j = K_j·qm_j + offset_j).
+    uncoupled: bool,
+    offsets: Vec<f64>,
+    /// Cm (row-major) and Cj, for the gain columns.
+    motor_coupling: Vec<f64>,
+    joint_coupling: Vec<f64>,
+    /// Column of K_j in η, and of the joint variable's parameter (θ or r).
+    gain_columns: Vec<Option<usize>>,
+    joint_columns: Vec<usize>,
+    parameter_count: usize,
+}
+
+/// Frame poses of one configuration, filled by [`KinematicModel::forward`].
+#[derive(Clone, Debug, Default)]
+pub struct ChainBuffer {
+    world_from_frame: Vec<IsometryMatrix3<f64>>,
+    joint_positions: Vec<f64>,
+    coupled_motor_positions: Vec<f64>,
+}
+
+impl ChainBuffer {
+    /// `(−1)T(n+1)`, the end-effector pose.
+    pub fn world_from_tool(&self) -> &IsometryMatrix3<f64> {
+        self.world_from_frame
+            .last()
+            .expect("filled by KinematicModel::forward")
+    }
+
+    /// `(−1)T(j)`.
+    pub fn world_from_frame(&self, frame: usize) -> &IsometryMatrix3<f64> {
+        &self.world_from_frame[frame]
+    }
+}
+
+impl KinematicModel {
+    /// Compiles `robot`.
+    pub fn new(robot: &Robot) -> Self {
+        let parameters = robot.parameters();
+        let column = |kind, frame| parameters.index_of(ParameterId::new(kind, frame));
+        let frames = robot
+            .frames()
+            .iter()
+            .enumerate()
+            .map(|(j, frame)| {
+                let (sin_alpha, cos_alpha) = frame.alpha.sin_cos();
+                let (sin_beta, cos_beta) = frame.beta.sin_cos();
+                let rot_x = Matrix3::new(
+                    1.0, 0.0, 0.0, 0.0, cos_alpha, -sin_alpha, 0.0, sin_alpha, cos_alpha,
+                );
+                let rot_y = Matrix3::new(
+                    cos_beta, 0.0, sin_beta, 0.0, 1.0, 0.0, -sin_beta, 0.0, cos_beta,
+                );
+                CompiledFrame {
+                    frame_type: frame.frame_type,
+                    tilt: rot_y * rot_x,
+                    fixed: frame_transform(frame, 0.0),
+                    d: frame.d,
+                    theta: frame.theta,
+                    r: frame.r,
+                    cos_beta,
+                    sin_beta,
+                    columns: [
+                        column(ParameterKind::Theta, j),
+                        column(ParameterKind::R, j),
+                        column(ParameterKind::Alpha, j),
+                        column(ParameterKind::D, j),
+                        column(ParameterKind::Beta, j),
+                    ],
+                }
+            })
+            .collect();
+        let n = robot.joint_count();
+        let row_major = |matrix: &nalgebra::DMatrix<f64>| -> Vec<f64> {
+            (0..n)
+                .flat_map(|i| (0..n).map(move |j| (i, j)))
+                .map(|(i, j)| matrix[(i, j)])
+                .collect()
+        };
+        let joint_columns = (1..=n)
+            .map(|joint| {
+                let kind = match robot.frames()[joint].frame_type {
+                    FrameType::Prismatic => ParameterKind::R,
+                    _ => ParameterKind::Theta,
+                };
+                column(kind, joint).expect("joint frames have θ and r")
+            })
+            .collect();
+        let identity = nalgebra::DMatrix::<f64>::identity(n, n);
+        KinematicModel {
+            frames,
+            uncoupled: *robot.motor_coupling() == identity && *robot.joint_coupling() == identity,
+            motor_to_joint: row_major(robot.motor_to_joint()),
+            offsets: robot.joints().iter().map(|joint| joint.offset).collect(),
+            motor_coupling: row_major(robot.motor_coupling()),
+            joint_coupling: row_major(robot.joint_coupling()),
+            gain_columns: (1..=n)
+                .map(|joint| column(ParameterKind::Gain, joint))
+                .collect(),
+            joint_columns,
+            parameter_count: parameters.len(),
+        }
+    }
+
+    /// Number of joints n.
+    pub fn joint_count(&self) -> usize {
+        self.offsets.len()
+    }
+
+    /// Number of parameters Np (columns of the Jacobian).
+    pub fn parameter_count(&self) -> usize {
+        self.parameter_count
+    }
+
+    /// Direct model (eq. 1) at motor variables `motor_positions`, into `chain`.
+    ///
+    /// # Errors
+    /// When `motor_positions` does not hold n finite values.
+    pub fn forward(&self, motor_positions: &[f64], chain: &mut ChainBuffer) -> Result<(), Error> {
+        let n = self.joint_count();
+        if motor_positions.len() != n {
+            return Err(Error::ConfigurationLength {
+                expected: n,
+                found: motor_positions.len(),
+            });
+        }
+        if let Some((index, value)) = motor_positions
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !v.is_finite())
+        {
+            return Err(Error::NonFiniteConfiguration {
+                joint: index + 1,
+                value: *value,
+            });
+        }
+        chain.joint_positions.clear();
+        chain.coupled_motor_positions.clear();
+        if self.uncoupled {
+            chain
+                .coupled_motor_positions
+                .extend_from_slice(motor_positions);
+            chain
+                .joint_positions
+                .extend((0..n).map(|j| {
+                    self.motor_to_joint[j * n + j] * motor_positions[j] + self.offsets[j]
+                }));
+        } else {
+            let matrix_vector = |matrix: &[f64], row: usize| {
+                (0..n)
+                    .map(|j| matrix[row * n + j] * motor_positions[j])
+                    .sum::<f64>()
+            };
+            chain
+                .joint_positions
+                .extend((0..n).map(|i| matrix_vector(&self.motor_to_joint, i) + self.offsets[i]));
+            chain
+                .coupled_motor_positions
+                .extend((0..n).map(|i| matrix_vector(&self.motor_coupling, i)));
+        }
+        chain.world_from_frame.clear();
+        let mut pose = IsometryMatrix3::identity();
+        for (j, frame) in self.frames.iter().enumerate() {
+            let local = match frame.frame_type {
+                FrameType::Fixed => frame.fixed,
+                FrameType::Revolute => {
+                    frame.moving(frame.theta + chain.joint_positions[j - 1], frame.r)
+                }
+                FrameType::Prismatic => {
+                    frame.moving(frame.theta, frame.r + chain.joint_positions[j - 1])
+                }
+            };
+            pose *= local;
+            chain.world_from_frame.push(pose);
+        }
+        Ok(())
+    }
+
+    /// The 6×Np parameter Jacobian (Appendix II) of the configuration in
+    /// `chain` (filled by [`forward`](Self::forward)), into `jacobian`.
+    pub fn jacobian(&self, chain: &ChainBuffer, jacobian: &mut Matrix6xX<f64>) {
+        if jacobian.ncols() != self.parameter_count {
+            *jacobian = Matrix6xX::zeros(self.parameter_count);
+        }
+        self.fill_jacobian(chain, jacobian);
+    }
+
+    /// The same Jacobian, row-major: `rows[axis * Np + column]` (rows 0–2
+    /// position, 3–5 rotation), so that each row is a contiguous slice.
+    pub fn jacobian_rows(&self, chain: &ChainBuffer, rows: &mut Vec<f64>) {
+        rows.clear();
+        rows.resize(6 * self.parameter_count, 0.0);
+        self.fill_jacobian(
+            chain,
+            &mut RowMajor {
+                rows,
+                parameters: self.parameter_count,
+            },
+        );
+    }
+
+    fn fill_jacobian(&self, chain: &ChainBuffer, jacobian: &mut impl JacobianStore) {
+        let tool = chain.world_from_tool().translation.vector;
+        let zero = Vector3::zeros();
+        let mut previous = IsometryMatrix3::identity();
+        for (j, frame) in self.frames.iter().enumerate() {
+            let pose = chain.world_from_frame[j];
+            let z_axis: Vector3<f64> = pose.rotation.matrix().column(2).into();
+            jacobian.set(
+                frame.columns[0],
+                z_axis.cross(&(tool - pose.translation.vector)),
+                z_axis,
+            );
+            jacobian.set(frame.columns[1], z_axis, zero);
+            if j > 0 {
+                let axes = previous.rotation.matrix();
+                let x_previous: Vector3<f64> = axes.column(0).into();
+                let y_previous: Vector3<f64> = axes.column(1).into();
+                let z_previous: Vector3<f64> = axes.column(2).into();
+                let lever = tool - previous.translation.vector;
+                let x_rotated = x_previous * frame.cos_beta - z_previous * frame.sin_beta;
+                jacobian.set(frame.columns[2], x_rotated.cross(&lever), x_rotated);
+                jacobian.set(frame.columns[3], x_rotated, zero);
+                jacobian.set(frame.columns[4], y_previous.cross(&lever), y_previous);
+            }
+            previous = pose;
+        }
+        // K_j: Σ_i j_{q_i} Cj(i, j) (Cm·qm)_j, from the joint columns (eq. 4).
+        let n = self.joint_count();
+        for (joint, gain_column) in self.gain_columns.iter().enumerate() {
+            let Some(gain_column) = *gain_column else {
+                continue;
+            };
+            let mut column = nalgebra::Vector6::zeros();
+            for i in 0..n {
+                let weight =
+                    self.joint_coupling[i * n + joint] * chain.coupled_motor_positions[joint];
+                if weight != 0.0 {
+                    column += jacobian.column(self.joint_columns[i]) * weight;
+                }
+            }
+            jacobian.set(
+                Some(gain_column),
+                column.fixed_rows::<3>(0).into_owned(),
+                column.fixed_rows::<3>(3).into_owned(),
+            );
+        }
+    }
+}
+
+/// Where a Jacobian is written: column by column.
+trait JacobianStore {
+    fn set(&mut self, column: Option<usize>, position: Vector3<f64>, rotation: Vector3<f64>);
+    fn column(&self, column: usize) -> nalgebra::Vector6<f64>;
+}
+
+impl JacobianStore for Matrix6xX<f64> {
+    fn set(&mut self, column: Option<usize>, position: Vector3<f64>, rotation: Vector3<f64>) {
+        if let Some(column) = column {
+            let mut target = self.column_mut(column);
+            target.fixed_rows_mut::<3>(0).copy_from(&position);
+            target.fixed_rows_mut::<3>(3).copy_from(&rotation);
+        }
+    }
+
+    fn column(&self, column: usize) -> nalgebra::Vector6<f64> {
+        Matrix6xX::column(self, column).into_owned()
+    }
+}
+
+/// A row-major 6×Np buffer.
+struct RowMajor<'a> {
+    rows: &'a mut Vec<f64>,
+    parameters: usize,
+}
+
+impl JacobianStore for RowMajor<'_> {
+    fn set(&mut self, column: Option<usize>, position: Vector3<f64>, rotation: Vector3<f64>) {
+        if let Some(column) = column {
+            for axis in 0..3 {
+                self.rows[axis * self.parameters + column] = position[axis];
+                self.rows[(axis + 3) * self.parameters + column] = rotation[axis];
+            }
+        }
+    }
+
+    fn column(&self, column: usize) -> nalgebra::Vector6<f64> {
+        nalgebra::Vector6::from_fn(|axis, _| self.rows[axis * self.parameters + column])
+    }
+}
+
+impl CompiledFrame {
+    /// Eq. 3 with the configuration-dependent θ and r: `tilt · (Trans(x,d)·Rot(z,θ)·Trans(z,r))`.
+    fn moving(&self, theta: f64, r: f64) -> IsometryMatrix3<f64> {
+        let (sin_theta, cos_theta) = theta.sin_cos();
+        let rot_z = Matrix3::new(
+            cos_theta, -sin_theta, 0.0, sin_theta, cos_theta, 0.0, 0.0, 0.0, 1.0,
+        );
+        let z_axis: Vector3<f64> = self.tilt.column(2).into();
+        let x_axis: Vector3<f64> = self.tilt.column(0).into();
+        IsometryMatrix3::from_parts(
+            Translation3::from(x_axis * self.d + z_axis * r),
+            Rotation3::from_matrix_unchecked(self.tilt * rot_z),
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kinematics::{forward_kinematics, parameter_jacobian};
+    use crate::test_robots::{random_configuration, random_robot, stanford};
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
+
+    #[test]
+    fn compiled_model_equals_the_reference_implementation() {
+        let mut rng = ChaCha8Rng::seed_from_u64(17);
+        let mut robots = vec![stanford()];
+        robots.extend((0..10).map(|i| random_robot(&mut rng, 2 + i % 6)));
+        for robot in robots {
+            let model = KinematicModel::new(&robot);
+            let mut chain = ChainBuffer::default();
+            let mut jacobian = Matrix6xX::zeros(0);
+            for _ in 0..5 {
+                let qm = random_configuration(&robot, &mut rng);
+                model.forward(&qm, &mut chain).expect("valid");
+                model.jacobian(&chain, &mut jacobian);
+                let reference = forward_kinematics(&robot, &qm).expect("valid");
+                for (a, b) in reference.poses().iter().zip(&chain.world_from_frame) {
+                    assert!((a.to_homogeneous() - b.to_homogeneous()).abs().max() < 1e-14);
+                }
+                let expected = parameter_jacobian(&robot, &qm).expect("valid");
+                assert!((&expected - &jacobian).abs().max() < 1e-13);
+                let mut rows = Vec::new();
+                model.jacobian_rows(&chain, &mut rows);
+                let np = expected.ncols();
+                for axis in 0..6 {
+                    for column in 0..np {
+                        assert_eq!(rows[axis * np + column], jacobian[(axis, column)]);
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,295 @@
+//! Identification against known simulated truth (paper §3–§4): every method,
+//! noise-free and noisy data, large errors, and the reported precision.
+
+use gecaro_calib::{
+    IdentificationOptions, MeasurementSet, MethodOptions, Plane, Route, STANFORD_PLANE_POINT,
+    Sample, Sampler, StopReason, Study, TABLE2_PLANE_NORMAL, evaluate, identify, method,
+    perturbed_robot, simulate_measurements,
+};
+use gecaro_core::Robot;
+use nalgebra::Vector3;
+
+fn stanford() -> Robot {
+    gecaro_io::load_robot("stanford")
+        .expect("ready robot")
+        .robot
+}
+
+fn options(plane_unknown: bool) -> MethodOptions {
+    MethodOptions {
+        plane: Some(
+            Plane::new(
+                Vector3::from(TABLE2_PLANE_NORMAL),
+                Vector3::from(STANFORD_PLANE_POINT),
+            )
+            .expect("plane"),
+        ),
+        plane_unknown,
+        ..MethodOptions::default()
+    }
+}
+
+/// (method, plane unknown, configurations) for every column of Table 2.
+const VARIANTS: [(&str, bool, usize); 9] = [
+    ("position", false, 50),
+    ("frame", false, 30),
+    ("point-link", false, 80),
+    ("frame-link", false, 60),
+    ("plane1", false, 120),
+    ("plane1", true, 120),
+    ("plane2", false, 120),
+    ("plane2", true, 120),
+    ("distance", false, 200),
+];
+
+/// The real robot and its measurements by one method.
+fn simulate(
+    level: f64,
+    noise: f64,
+    seed: u64,
+    name: &str,
+    unknown: bool,
+    count: usize,
+) -> (Robot, Study) {
+    let mut sampler = Sampler::new(seed);
+    let real = perturbed_robot(&stanford(), level, &mut sampler).expect("real robot");
+    let chosen = method(name, &options(unknown)).expect("method");
+    let samples =
+        simulate_measurements(&real, chosen.as_ref(), count, noise, &mut sampler).expect("data");
+    (real, Study::single(chosen, samples, name))
+}
+
+/// Fresh data of the same method on the same real robot (other configurations).
+fn held_out(real: &Robot, name: &str, unknown: bool, count: usize, seed: u64) -> Study {
+    let chosen = method(name, &options(unknown)).expect("method");
+    let samples = simulate_measurements(real, chosen.as_ref(), count, 0.0, &mut Sampler::new(seed))
+        .expect("data");
+    Study::single(chosen, samples, "held out")
+}
+
+#[test]
+fn noise_free_data_are_reproduced_to_rounding_by_every_method() {
+    for (name, unknown, count) in VARIANTS {
+        let (real, study) = simulate(1.0, 0.0, 21, name, unknown, count);
+        let result = identify(&stanford(), &study, &IdentificationOptions::default())
+            .expect("identification");
+        assert_eq!(result.stop_reason, StopReason::Converged, "{name}");
+        assert!(
+            result.before.rms > 1e-3,
+            "{name}: the errors are visible before ({})",
+            result.before.rms
+        );
+        assert!(
+            result.after.rms < 1e-10,
+            "{name}: after {:e}",
+            result.after.rms
+        );
+        // The calibrated robot also predicts the real robot on configurations it never saw.
+        let fresh = held_out(&real, name, unknown, count, 99);
+        let nominal_error = evaluate(&stanford(), &fresh).expect("nominal").rms;
+        let calibrated_error = evaluate(&result.calibrated, &fresh)
+            .expect("calibrated")
+            .rms;
+        assert!(nominal_error > 1e-3, "{name}");
+        assert!(
+            calibrated_error < 1e-9,
+            "{name}: held-out {calibrated_error:e}"
+        );
+    }
+}
+
+#[test]
+fn with_sensor_noise_the_residual_settles_at_the_noise_level() {
+    let sigma = 1e-4;
+    // Methods that measure a length observe the scale on their own; link and
+    // plane methods are stacked with a distance set (weights 1/σ), as a real
+    // setup would be: the weighted residual σ is then ≈ 1.
+    for (name, unknown, count) in VARIANTS {
+        let (real, mut study) = simulate(1.0, sigma, 22, name, unknown, count);
+        let standalone = study.observes_scale();
+        if !standalone {
+            let distance = method("distance", &MethodOptions::default()).expect("method");
+            let pairs =
+                simulate_measurements(&real, distance.as_ref(), 120, sigma, &mut Sampler::new(5))
+                    .expect("data");
+            study.sets.push(MeasurementSet {
+                method: distance,
+                samples: pairs,
+                sigma,
+                label: "pairs".into(),
+            });
+            study.sets[0].sigma = sigma;
+        }
+        let result = identify(&stanford(), &study, &IdentificationOptions::default())
+            .expect("identification");
+        assert_eq!(result.stop_reason, StopReason::Converged, "{name}");
+        let ratio = if standalone {
+            result.residual_sigma / sigma
+        } else {
+            result.residual_sigma
+        };
+        assert!(
+            (0.75..1.3).contains(&ratio),
+            "{name}: residual σ ratio {ratio}"
+        );
+        // The fit is at least as good as the truth's (least squares), and no better than noise allows.
+        let truth = evaluate(&real, &study).expect("truth").rms;
+        let fitted = result.after.rms;
+        assert!(
+            fitted <= truth * 1.02 && fitted > truth * 0.6,
+            "{name}: {fitted:e} vs truth {truth:e}"
+        );
+    }
+}
+
+#[test]
+fn link_and_plane_methods_alone_warn_that_they_cannot_see_the_scale() {
+    let (_, study) = simulate(1.0, 1e-4, 22, "point-link", false, 80);
+    let result =
+        identify(&stanford(), &study, &IdentificationOptions::default()).expect("identification");
+    assert!(
+        result.warnings.iter().any(|w| w.contains("scale")),
+        "{:?}",
+        result.warnings
+    );
+    let (_, study) = simulate(1.0, 1e-4, 22, "position", false, 50);
+    let result =
+        identify(&stanford(), &study, &IdentificationOptions::default()).expect("identification");
+    assert!(result.warnings.is_empty(), "{:?}", result.warnings);
+}
+
+#[test]
+fn position_and_frame_converge_from_half_metre_errors_in_at_most_six_plain_iterations() {
+    for seed in 1..=6 {
+        for (name, count) in [("position", 60), ("frame", 40)] {
+            let (_, study) = simulate(10.0, 0.0, seed, name, false, count);
+            let result = identify(&stanford(), &study, &IdentificationOptions::default())
+                .expect("identification");
+            assert!(
+                result.before.max > 0.3,
+                "level 10 moves the terminal point by 0.3–0.8 m: {}",
+                result.before.max
+            );
+            assert_eq!(result.stop_reason, StopReason::Converged);
+            assert_eq!(
+                result.route,
+                Route::GaussNewton,
+                "{name}, seed {seed}: the paper's plain scheme"
+            );
+            assert!(
+                result.iterations() <= 6,
+                "{name}, seed {seed}: {} iterations",
+                result.iterations()
+            );
+            assert!(result.after.rms < 1e-10);
+        }
+    }
+}
+
+#[test]
+fn link_and_plane_methods_converge_from_level_three() {
+    for seed in 1..=5 {
+        for (name, unknown, count) in [
+            ("point-link", false, 80),
+            ("frame-link", false, 60),
+            ("plane1", false, 120),
+            ("plane1", true, 120),
+            ("plane2", false, 120),
+            ("plane2", true, 120),
+        ] {
+            let (real, study) = simulate(3.0, 0.0, seed, name, unknown, count);
+            let result = identify(&stanford(), &study, &IdentificationOptions::default())
+                .expect("identification");
+            assert_eq!(
+                result.stop_reason,
+                StopReason::Converged,
+                "{name}, seed {seed}"
+            );
+            assert!(
+                result.after.rms < 1e-10,
+                "{name}, seed {seed}: {:e}",
+                result.after.rms
+            );
+            let fresh = held_out(&real, name, unknown, count, 7);
+            assert!(
+                evaluate(&result.calibrated, &fresh).expect("held out").rms < 1e-9,
+                "{name}, seed {seed}"
+            );
+        }
+    }
+}
+
+#[test]
+fn reported_standard_deviations_match_a_monte_carlo_spread() {
+    let sigma = 2e-4;
+    let (_, exact) = simulate(1.0, 0.0, 5, "position", false, 40);
+    let samples = exact.sets[0].samples.clone();
+    let runs = 80;
+    let mut values: Vec<Vec<f64>> = Vec::new();
+    // The reported σ of each run scatters too (σ̂ from 89 degrees of freedom): average them.
+    let mut reported: Vec<f64> = Vec::new();
+    let mut noise = Sampler::new(1234);
+    for _ in 0..runs {
+        let noisy: Vec<Sample> = samples
+            .iter()
+            .map(|sample| Sample {
+                position: sample.position.map(|p| p + noise.gaussian_vector(sigma)),
+                ..sample.clone()
+            })
+            .collect();
+        let study = Study::single(
+            method("position", &MethodOptions::default()).expect("method"),
+            noisy,
+            "run",
+        );
+        let result = identify(&stanford(), &study, &IdentificationOptions::default())
+            .expect("identification");
+        if reported.is_empty() {
+            reported = vec![0.0; result.parameters.len()];
+            values = vec![Vec::new(); reported.len()];
+        }
+        for (column, parameter) in result.parameters.iter().enumerate() {
+            values[column].push(parameter.identified);
+            reported[column] += parameter.std / runs as f64;
+        }
+    }
+    let ratios: Vec<f64> = values
+        .iter()
+        .zip(&reported)
+        .map(|(spread, std)| {
+            let mean = spread.iter().sum::<f64>() / runs as f64;
+            let sample_std =
+                (spread.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (runs - 1) as f64).sqrt();
+            sample_std / std
+        })
+        .collect();
+    // With 80 runs a sample standard deviation is within ±16 % (2σ) of the truth.
+    let within = ratios.iter().filter(|r| (0.75..1.3).contains(*r)).count();
+    assert!(
+        within as f64 >= 0.9 * ratios.len() as f64,
+        "ratios {ratios:?}"
+    );
+    let mut sorted = ratios.clone();
+    sorted.sort_by(f64::total_cmp);
+    let median = sorted[sorted.len() / 2];
+    assert!((0.9..1.1).contains(&median), "median ratio {median}");
+}
+
+#[test]
+fn failures_are_reported_not_hidden() {
+    // An iteration limit is a stop reason with the best iterate, not silence.
+    let (_, study) = simulate(10.0, 0.0, 3, "position", false, 60);
+    let options = IdentificationOptions {
+        max_iterations: 2,
+        ..IdentificationOptions::default()
+    };
+    let result = identify(&stanford(), &study, &options).expect("identification");
+    assert_ne!(result.stop_reason, StopReason::Converged);
+    assert!(result.rms_after() < result.rms_before());
+    // Fewer equations than unknowns is an error.
+    let (_, mut study) = simulate(1.0, 0.0, 3, "position", false, 60);
+    study.sets[0].samples.truncate(8);
+    let error =
+        identify(&stanford(), &study, &IdentificationOptions::default()).expect_err("too few");
+    assert!(error.to_string().contains("too few equations"), "{error}");
+}
