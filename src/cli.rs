@@ -137,6 +137,28 @@ pub(crate) struct MethodArgs {
     #[arg(long, value_parser = method_names())]
     pub(crate) method: String,
     #[command(flatten)]
+    pub(crate) options: MethodOptionArgs,
+}
+
+/// Where the measurements come from: one method and its data, or a study file.
+#[derive(Debug, Args)]
+pub(crate) struct StudySource {
+    /// Robot file or ready robot name (not with --study).
+    #[arg(required_unless_present = "study")]
+    pub(crate) robot: Option<String>,
+    /// The calibration method (not with --study).
+    #[arg(long, value_parser = method_names(), required_unless_present = "study")]
+    pub(crate) method: Option<String>,
+    #[command(flatten)]
+    pub(crate) options: MethodOptionArgs,
+    /// A study file: several measurement sets (method, data, σ each) used together.
+    #[arg(long, value_name = "STUDY.toml", conflicts_with_all = ["robot", "method"])]
+    pub(crate) study: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct MethodOptionArgs {
+    #[command(flatten)]
     pub(crate) plane: PlaneArgs,
     /// Orientation difference for frame and frame-link (Appendix I).
     #[arg(long, value_enum, default_value = "axis-angle")]
@@ -148,15 +170,13 @@ pub(crate) struct MethodArgs {
 
 #[derive(Debug, Args)]
 pub(crate) struct IdentifiableArgs {
-    /// Robot file or ready robot name.
-    pub(crate) robot: String,
     #[command(flatten)]
-    pub(crate) method: MethodArgs,
+    pub(crate) source: StudySource,
     /// Priority matrix (TOML: matrix = [[alpha, d, theta, r, beta, K], ...]); default: the robot's.
     #[arg(long, value_name = "FILE")]
     pub(crate) priority: Option<PathBuf>,
-    /// Use these measured configurations instead of random ones (excitation check).
-    #[arg(long, value_name = "FILE")]
+    /// Check these measured configurations (excitation check) instead of only random ones.
+    #[arg(long, value_name = "FILE", conflicts_with = "study")]
     pub(crate) data: Option<PathBuf>,
     /// Number of random configurations (default: about 2.5 equations per unknown).
     #[arg(long)]
@@ -241,13 +261,16 @@ pub(crate) enum SolverArg {
 
 #[derive(Debug, Args)]
 pub(crate) struct IdentifyArgs {
-    /// Nominal robot (file or ready robot name).
-    pub(crate) robot: String,
     #[command(flatten)]
-    pub(crate) method: MethodArgs,
+    pub(crate) source: StudySource,
     /// Measurements (CSV).
-    #[arg(long, value_name = "DATA.csv")]
-    pub(crate) data: PathBuf,
+    #[arg(
+        long,
+        value_name = "DATA.csv",
+        required_unless_present = "study",
+        conflicts_with = "study"
+    )]
+    pub(crate) data: Option<PathBuf>,
     /// Priority matrix (TOML: matrix = [[alpha, d, theta, r, beta, K], ...]); default: the robot's.
     #[arg(long, value_name = "FILE")]
     pub(crate) priority: Option<PathBuf>,

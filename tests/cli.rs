@@ -266,7 +266,7 @@ fn identifiable_on_measured_data_checks_the_excitation() {
         .assert()
         .success()
         .stdout(predicate::str::contains(
-            "same base set as random configurations",
+            "the data excite every identifiable parameter",
         ));
     // Five configurations: 15 equations for 43 unknowns.
     let few = folder.path().join("few.csv");
@@ -524,4 +524,83 @@ fn demo_identifies_every_method() {
         .stdout(predicate::str::contains("Position measure"))
         .stdout(predicate::str::contains("Distance measure"))
         .stdout(predicate::str::contains("Plane link 2"));
+}
+
+#[test]
+fn studies_stack_several_methods_from_a_file() {
+    let study = Path::new("examples/real/mukca_panda_3/study.toml");
+    let report = json_output(&[
+        "identifiable",
+        "--study",
+        study.to_str().expect("utf-8"),
+        "--json",
+    ]);
+    assert_eq!(report["method"], "point-link+distance");
+    assert_eq!(report["excitation"]["same_base_set"], true, "{report}");
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let calibrated = folder.path().join("calibrated.toml");
+    let output = gecaro()
+        .args(["identify", "--study"])
+        .arg(study)
+        .arg("--json")
+        .arg("-o")
+        .arg(&calibrated)
+        .output()
+        .expect("runs");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let result: Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    assert_eq!(result["converged"], true);
+    assert!(result["after"]["rms"].as_f64().expect("rms") < 0.5e-3);
+    // The held-out scatter of the ball, as `evaluate --json` reports it.
+    let before = json_output(&[
+        "evaluate",
+        "examples/real/mukca_panda_3/robot.toml",
+        "--method",
+        "point-link",
+        "--json",
+        "--data",
+        "examples/real/mukca_panda_3/test_sets.csv",
+    ]);
+    let after = json_output(&[
+        "evaluate",
+        calibrated.to_str().expect("utf-8"),
+        "--method",
+        "point-link",
+        "--json",
+        "--data",
+        "examples/real/mukca_panda_3/test_sets.csv",
+    ]);
+    assert!(before["rms"].as_f64().expect("rms") > 3e-3);
+    assert!(after["rms"].as_f64().expect("rms") < 0.35e-3, "{after}");
+    // --study excludes ROBOT and --method.
+    gecaro()
+        .args(["identify", "stanford", "--study"])
+        .arg(study)
+        .assert()
+        .code(2);
+}
+
+#[test]
+fn study_files_report_their_own_mistakes() {
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let study = folder.path().join("study.toml");
+    std::fs::write(&study, "robot = \"stanford\"\n[[measurements]]\nmethod = \"point-lnk\"\ndata = \"x.csv\"\nsigma = 0.001\n").expect("write");
+    gecaro()
+        .args(["identify", "--study"])
+        .arg(&study)
+        .assert()
+        .code(3)
+        .stderr(predicate::str::contains("study.toml:3: method"))
+        .stderr(predicate::str::contains("point-link"));
+    std::fs::write(&study, "robot = \"stanford\"\n[[measurements]]\nmethod = \"distance\"\ndata = \"x.csv\"\nsigma = -1\n").expect("write");
+    gecaro()
+        .args(["identify", "--study"])
+        .arg(&study)
+        .assert()
+        .code(3)
+        .stderr(predicate::str::contains("sigma: must be a positive"));
 }

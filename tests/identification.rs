@@ -116,6 +116,7 @@ fn with_sensor_noise_the_residual_settles_at_the_noise_level() {
                 method: distance,
                 samples: pairs,
                 sigma,
+                sigma_rotation: None,
                 label: "pairs".into(),
             });
             study.sets[0].sigma = sigma;

@@ -19,7 +19,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use nalgebra::Vector3;
 use serde::Serialize;
 
-use super::options::method_options;
+use super::options::{load_study, method_options};
 use crate::cli::{DemoArgs, EvaluateArgs, GenerateArgs, IdentifyArgs, SolverArg};
 use crate::failure::Failure;
 use crate::format::{number, table};
@@ -84,7 +84,7 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
     if let Some(real_out) = &args.real_out {
         check_output(real_out, args.force)?;
     }
-    let options = method_options(&args.method)?;
+    let options = method_options(&args.method.options)?;
     let chosen = method(&args.method.method, &options)?;
     let mut sampler = Sampler::new(args.seed);
     let real = match &args.real {
@@ -259,23 +259,27 @@ fn single_study(
     method_args: &crate::cli::MethodArgs,
     data: &Path,
 ) -> Result<Study, Failure> {
-    let options = method_options(method_args)?;
+    let options = method_options(&method_args.options)?;
     let chosen = method(&method_args.method, &options)?;
     let samples = read_samples(data, robot.joint_count(), chosen.data_columns())?;
     Ok(Study::single(chosen, samples, data.display().to_string()))
 }
 
 pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
-    let file = load_robot(&args.robot)?;
+    let (file, study, study_priority) = load_study(&args.source, args.data.as_deref())?;
     let robot = &file.robot;
     let priority = match &args.priority {
         Some(path) => Some(read_priority_file(path, robot)?),
-        None => None,
+        None => study_priority,
     };
     if let Some(output) = &args.output {
         check_output(output, args.force)?;
     }
-    let study = single_study(robot, &args.method, &args.data)?;
+    let data_label = args
+        .data
+        .clone()
+        .or_else(|| args.source.study.clone())
+        .unwrap_or_default();
     let options = IdentificationOptions {
         solver: match args.solver {
             SolverArg::GaussNewton => Solver::GaussNewton,
@@ -319,12 +323,12 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
             warnings: result.warnings.clone(),
         })?;
     } else {
-        print_identification(robot, &study, &result, &args.data);
+        print_identification(robot, &study, &result, &data_label);
     }
     if let Some(output) = &args.output
         && (converged || args.write_unconverged)
     {
-        let calibrated = calibrated_file(&file, &study, &result, &args.data);
+        let calibrated = calibrated_file(&file, &study, &result, &data_label);
         write_atomically(
             output,
             format_robot_file(&calibrated).as_bytes(),

@@ -1,14 +1,15 @@
 //! `gecaro identifiable` and `gecaro table2` (Appendix III, Table 2).
 
 use gecaro_calib::{
-    CalibrationMethod, ParameterStatus, RankReport, Study, TABLE2_COLUMNS, TABLE2_PLANE_NORMAL,
-    default_plane, identifiable_parameters, method, random_samples, table2 as table2_reports,
+    ParameterStatus, RankReport, Study, TABLE2_COLUMNS, TABLE2_PLANE_NORMAL, default_plane,
+    excitation, identifiable_parameters, random_samples, structural_parameters,
+    table2 as table2_reports,
 };
 use gecaro_core::{ParameterId, ParameterKind, Robot};
-use gecaro_io::{load_robot, read_priority_file, read_samples};
+use gecaro_io::{load_robot, read_priority_file};
 use serde::Serialize;
 
-use super::options::{method_options, plane, vector3};
+use super::options::{load_study, plane, vector3};
 use crate::cli::{IdentifiableArgs, Table2Args};
 use crate::failure::Failure;
 use crate::format::{number, table};
@@ -34,12 +35,12 @@ struct RelationJson {
 
 #[derive(Serialize)]
 struct ExcitationJson {
+    /// Whether the data excite every structural base parameter.
     same_base_set: bool,
-    /// Identifiable on random configurations but not on the data.
+    /// Structural base parameters the data do not excite.
     not_excited: Vec<String>,
-    /// Identifiable on the data but not on random configurations.
-    only_in_data: Vec<String>,
-    random_condition_number: f64,
+    /// Condition number of W_b built from the data (at the nominal parameters).
+    condition_number: f64,
 }
 
 #[derive(Serialize)]
@@ -65,52 +66,47 @@ struct IdentifiableJson {
 }
 
 pub(crate) fn identifiable(args: &IdentifiableArgs) -> Result<(), Failure> {
-    let robot = load_robot(&args.robot)?.robot;
-    let priority = match &args.priority {
-        Some(path) => read_priority_file(path, &robot)?,
-        None => robot.priority(),
+    let (file, study, study_priority) = load_study(&args.source, args.data.as_deref())?;
+    let robot = &file.robot;
+    let priority = match (&args.priority, study_priority) {
+        (Some(path), _) => read_priority_file(path, robot)?,
+        (None, Some(priority)) => priority,
+        (None, None) => robot.priority(),
     };
-    let options = method_options(&args.method)?;
-    let chosen = method(&args.method.method, &options)?;
-    let random = |method: Box<dyn CalibrationMethod>| -> Result<(usize, RankReport), Failure> {
-        let samples = random_samples(&robot, method.as_ref(), args.count, args.seed)?;
-        let configurations = samples.len();
-        let study = Study::single(method, samples, "random configurations");
-        Ok((
+    let has_data = study.sets.iter().all(|set| !set.samples.is_empty());
+    let (source, configurations, report, excitation) = if has_data {
+        // Appendix III on random data like these (constraints exactly
+        // satisfied), then the excitation check of §4 on the data.
+        let structural = structural_parameters(robot, &study, &priority, args.seed)?;
+        let checked = excitation(robot, &study, &structural)?;
+        let configurations = study.sets.iter().map(|set| set.samples.len()).sum();
+        let labels: Vec<&str> = study.sets.iter().map(|set| set.label.as_str()).collect();
+        let excitation = ExcitationJson {
+            same_base_set: checked.not_excited.is_empty(),
+            not_excited: checked.not_excited,
+            condition_number: checked.report.condition_number,
+        };
+        (
+            format!("random configurations like {}", labels.join(", ")),
             configurations,
-            identifiable_parameters(&robot, &study, &priority)?,
-        ))
-    };
-    let (source, configurations, report, excitation) = match &args.data {
-        None => {
-            let (configurations, report) = random(chosen)?;
-            (
-                format!(
-                    "{configurations} random configurations (seed {})",
-                    args.seed
-                ),
-                configurations,
-                report,
-                None,
-            )
-        }
-        Some(path) => {
-            let samples = read_samples(path, robot.joint_count(), chosen.data_columns())?;
-            let configurations = samples.len();
-            let study = Study::single(chosen, samples, path.display().to_string());
-            let report = identifiable_parameters(&robot, &study, &priority)?;
-            // The excitation check of §4: the same base set as random configurations?
-            let reference = random(method(&args.method.method, &options)?)
-                .ok()
-                .map(|(_, reference)| reference);
-            let excitation = reference.map(|reference| excitation(&report, &reference));
-            (
-                path.display().to_string(),
-                configurations,
-                report,
-                excitation,
-            )
-        }
+            structural,
+            Some(excitation),
+        )
+    } else {
+        let set = &study.sets[0];
+        let samples = random_samples(robot, set.method.as_ref(), args.count, args.seed)?;
+        let configurations = samples.len();
+        let random = Study::single(set.method.clone_method(), samples, "random configurations");
+        let report = identifiable_parameters(robot, &random, &priority)?;
+        (
+            format!(
+                "{configurations} random configurations (seed {})",
+                args.seed
+            ),
+            configurations,
+            report,
+            None,
+        )
     };
     if args.json {
         return super::print_json(&IdentifiableJson {
@@ -163,62 +159,26 @@ pub(crate) fn identifiable(args: &IdentifiableArgs) -> Result<(), Failure> {
             excitation,
         });
     }
-    print_report(&robot, &report, &source);
+    print_report(robot, &report, &source);
     if let Some(excitation) = excitation {
         print_excitation(&excitation);
     }
     Ok(())
 }
 
-fn excitation(data: &RankReport, random: &RankReport) -> ExcitationJson {
-    let identifiable = |report: &RankReport| -> Vec<String> {
-        report
-            .parameters
-            .iter()
-            .filter(|p| p.status == ParameterStatus::Identifiable)
-            .map(|p| p.name.clone())
-            .collect()
-    };
-    let (on_data, on_random) = (identifiable(data), identifiable(random));
-    let not_excited: Vec<String> = on_random
-        .iter()
-        .filter(|n| !on_data.contains(n))
-        .cloned()
-        .collect();
-    let only_in_data: Vec<String> = on_data
-        .iter()
-        .filter(|n| !on_random.contains(n))
-        .cloned()
-        .collect();
-    ExcitationJson {
-        same_base_set: not_excited.is_empty() && only_in_data.is_empty(),
-        not_excited,
-        only_in_data,
-        random_condition_number: random.condition_number,
-    }
-}
-
 fn print_excitation(excitation: &ExcitationJson) {
     if excitation.same_base_set {
         println!(
-            "Excitation: the data give the same base set as random configurations \
-             (condition number on random configurations: {}).",
-            number(excitation.random_condition_number, 1)
+            "Excitation: the data excite every identifiable parameter; condition number of their W_b: {}.",
+            number(excitation.condition_number, 1)
         );
     } else {
-        println!("Excitation: the data do NOT give the base set of random configurations.");
-        if !excitation.not_excited.is_empty() {
-            println!(
-                "  not excited by the data: {}",
-                excitation.not_excited.join(", ")
-            );
-        }
-        if !excitation.only_in_data.is_empty() {
-            println!(
-                "  identifiable only in the data: {}",
-                excitation.only_in_data.join(", ")
-            );
-        }
+        println!(
+            "Excitation: the data do NOT excite {} (condition number of W_b on the data: {}); \
+             they would stay at their nominal values.",
+            excitation.not_excited.join(", "),
+            number(excitation.condition_number, 1)
+        );
     }
 }
 

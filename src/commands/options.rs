@@ -4,7 +4,7 @@ use gecaro_calib::{MethodOptions, Plane};
 use gecaro_core::OrientationDifference;
 use nalgebra::Vector3;
 
-use crate::cli::{MethodArgs, OrientationMethod, PlaneArgs, PlaneKnowledge};
+use crate::cli::{MethodOptionArgs, OrientationMethod, PlaneArgs, PlaneKnowledge};
 use crate::failure::Failure;
 
 /// Three comma-separated numbers from an option.
@@ -57,7 +57,7 @@ fn plane_options(args: &PlaneArgs) -> Result<(Option<Plane>, bool), Failure> {
 }
 
 /// The library options of a method from its command-line arguments.
-pub(crate) fn method_options(args: &MethodArgs) -> Result<MethodOptions, Failure> {
+pub(crate) fn method_options(args: &MethodOptionArgs) -> Result<MethodOptions, Failure> {
     let (plane, plane_unknown) = plane_options(&args.plane)?;
     if let Some(size) = args.set_size
         && size < 2
@@ -76,4 +76,43 @@ pub(crate) fn method_options(args: &MethodArgs) -> Result<MethodOptions, Failure
         },
         set_size: args.set_size,
     })
+}
+
+/// The robot, the study and the study's priority matrix named by a command
+/// line: one method with its data file, or a study file.
+pub(crate) fn load_study(
+    source: &crate::cli::StudySource,
+    data: Option<&std::path::Path>,
+) -> Result<
+    (
+        gecaro_io::RobotFile,
+        gecaro_calib::Study,
+        Option<gecaro_core::PriorityMatrix>,
+    ),
+    Failure,
+> {
+    if let Some(path) = &source.study {
+        let file = gecaro_io::read_study_file(path)?;
+        return Ok((file.robot, file.study, file.priority));
+    }
+    let (Some(robot), Some(method)) = (&source.robot, &source.method) else {
+        return Err(Failure::usage("give ROBOT and --method, or --study", None));
+    };
+    let robot = gecaro_io::load_robot(robot)?;
+    let chosen = gecaro_calib::method(method, &method_options(&source.options)?)?;
+    let samples = match data {
+        Some(path) => {
+            gecaro_io::read_samples(path, robot.robot.joint_count(), chosen.data_columns())?
+        }
+        None => Vec::new(),
+    };
+    let label = data.map_or_else(
+        || "random configurations".to_owned(),
+        |p| p.display().to_string(),
+    );
+    Ok((
+        robot,
+        gecaro_calib::Study::single(chosen, samples, label),
+        None,
+    ))
 }

@@ -409,6 +409,7 @@ pub(crate) fn random_counterpart_at(
             method: set.method.clone_method(),
             samples,
             sigma: set.sigma,
+            sigma_rotation: set.sigma_rotation,
             label: format!("random configurations like {}", set.label),
         });
     }

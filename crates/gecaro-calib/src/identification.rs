@@ -264,6 +264,8 @@ pub const POOR_CONDITIONING: f64 = 1e4;
 /// Largest damping tried before a step is declared impossible.
 const MAX_DAMPING: f64 = 1e12;
 const INITIAL_DAMPING: f64 = 1e-3;
+/// A step that cannot lower the cost by more than this fraction is negligible.
+const COST_TOLERANCE: f64 = 1e-12;
 /// Shortest fraction of a step tried when backtracking.
 const MIN_FRACTION: f64 = 1.0 / 64.0;
 /// Continuation stages tried (the first goes straight to nominal).
@@ -396,15 +398,35 @@ impl Problem<'_> {
     }
 
     /// Whether a step over `parameters` (vocabulary indices, after the
-    /// auxiliary columns) is negligible at `robot`.
-    fn negligible(&self, step: &[f64], robot: &Robot, parameters: &[usize]) -> bool {
+    /// auxiliary columns) is negligible at `iterate`: small against the
+    /// parameters, or unable to lower the cost by more than a relative 1e-12
+    /// (a least-squares step lowers ‖r‖² by ‖W·Δ‖² at most). The second test
+    /// ends iterations on noisy, ill-conditioned data, where rounding keeps the
+    /// computed correction from vanishing at the minimum.
+    fn negligible(&self, step: &[f64], iterate: &Iterate, parameters: &[usize]) -> bool {
+        let robot = &iterate.robot;
         let scale = norm(
             &parameters
                 .iter()
                 .map(|i| robot.parameter(robot.parameters().id(*i)))
                 .collect::<Vec<_>>(),
         );
-        norm(step) <= self.options.step_tolerance * (1.0 + scale)
+        if norm(step) <= self.options.step_tolerance * (1.0 + scale) {
+            return true;
+        }
+        let system = &iterate.system;
+        let predicted: f64 = (0..system.rows())
+            .map(|row| {
+                system
+                    .row(row)
+                    .iter()
+                    .zip(step)
+                    .map(|(w, s)| w * s)
+                    .sum::<f64>()
+                    .powi(2)
+            })
+            .sum();
+        predicted <= COST_TOLERANCE * iterate.cost
     }
 
     /// Adds `step` (auxiliary columns first, then `parameters`) to an iterate.
@@ -477,7 +499,7 @@ impl Problem<'_> {
                 };
                 if damping <= INITIAL_DAMPING
                     && fraction == 1.0
-                    && self.negligible(&step, &current.robot, &self.base)
+                    && self.negligible(&step, &current, &self.base)
                 {
                     current = self.polish(current, &step, &self.base);
                     stop = StopReason::Converged;
@@ -551,7 +573,7 @@ impl Problem<'_> {
         'iterations: while history.len() < self.options.max_iterations {
             let matrix = view(current.system.matrix(), self.rows, layout.columns());
             let step = minimum_norm_step(matrix, &current.system.weighted_residuals(), rank)?;
-            if self.negligible(&step, &current.robot, effective) {
+            if self.negligible(&step, &current, effective) {
                 current = self.polish(current, &step, effective);
                 reached = true;
                 break;

@@ -295,7 +295,7 @@ impl ObservationSystem {
         first_row: usize,
         rows: usize,
         auxiliary_offset: usize,
-        weight: f64,
+        weights: [f64; 2],
     ) -> RowWriter<'a> {
         let observation_base = self.observation_count;
         RowWriter {
@@ -304,7 +304,7 @@ impl ObservationSystem {
             next_row: first_row,
             end_row: first_row + rows,
             auxiliary_offset,
-            weight,
+            weights,
             observation_base,
         }
     }
@@ -318,7 +318,8 @@ pub struct RowWriter<'a> {
     next_row: usize,
     end_row: usize,
     auxiliary_offset: usize,
-    weight: f64,
+    /// Row weights of length and angle rows (1/σ of the sensor).
+    weights: [f64; 2],
     observation_base: usize,
 }
 
@@ -344,18 +345,22 @@ impl RowWriter<'_> {
             "a method wrote more rows than its row_count"
         );
         let row = self.next_row;
+        let weight = match kind {
+            RowKind::Length => self.weights[0],
+            RowKind::Angle => self.weights[1],
+        };
         let columns = self.system.columns;
         let target = &mut self.system.matrix[row * columns..(row + 1) * columns];
         for (index, column) in &self.layout.mapped {
-            target[*column] = self.weight * parameters[*index];
+            target[*column] = weight * parameters[*index];
         }
         for (index, value) in auxiliary.iter().enumerate() {
             if let Some(column) = self.layout.auxiliary_columns[self.auxiliary_offset + index] {
-                target[column] = self.weight * value;
+                target[column] = weight * value;
             }
         }
         self.system.residuals[row] = residual;
-        self.system.weights[row] = self.weight;
+        self.system.weights[row] = weight;
         self.system.kinds[row] = kind;
         let observation = self.observation_base + observation;
         self.system.observations[row] = observation;

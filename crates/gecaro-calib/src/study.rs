@@ -17,9 +17,12 @@ pub struct MeasurementSet {
     pub method: Box<dyn CalibrationMethod>,
     /// The configurations and what was measured there.
     pub samples: Vec<Sample>,
-    /// The sensor's standard deviation (metres, radians for orientations); the
-    /// rows are weighted by 1/σ. Use 1 for an unweighted single-set study.
+    /// The sensor's standard deviation (metres, and radians for orientations
+    /// unless `sigma_rotation` is given); the rows are weighted by 1/σ. Use 1
+    /// for an unweighted single-set study.
     pub sigma: f64,
+    /// A separate standard deviation for the orientation rows (radians).
+    pub sigma_rotation: Option<f64>,
     /// A name for messages (usually the data file).
     pub label: String,
 }
@@ -56,6 +59,7 @@ impl Study {
                 method,
                 samples,
                 sigma: 1.0,
+                sigma_rotation: None,
                 label: label.into(),
             }],
         }
@@ -91,6 +95,14 @@ impl Study {
                     None => format!("{}: {message}", set.label),
                 },
             };
+            if let Some(sigma) = set.sigma_rotation
+                && !(sigma.is_finite() && sigma > 0.0)
+            {
+                return Err(invalid(
+                    None,
+                    format!("sigma_rotation must be a positive number, not {sigma}"),
+                ));
+            }
             if !(set.sigma.is_finite() && set.sigma > 0.0) {
                 return Err(invalid(
                     None,
@@ -203,8 +215,16 @@ impl Study {
             let rows = set.method.row_count(&set.samples);
             let count = set.method.auxiliary_names().len();
             let own = &auxiliary[auxiliary_offset..auxiliary_offset + count];
-            let mut writer =
-                system.writer(layout, first_row, rows, auxiliary_offset, 1.0 / set.sigma);
+            let mut writer = system.writer(
+                layout,
+                first_row,
+                rows,
+                auxiliary_offset,
+                [
+                    1.0 / set.sigma,
+                    1.0 / set.sigma_rotation.unwrap_or(set.sigma),
+                ],
+            );
             set.method
                 .linearise(&set.samples, states.set(index), own, &mut writer);
             debug_assert!(

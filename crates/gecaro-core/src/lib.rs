@@ -61,6 +61,7 @@ mod error;
 mod kinematics;
 mod parameters;
 mod priority;
+mod reframe;
 mod robot;
 
 #[cfg(test)]

@@ -12,6 +12,7 @@ mod error;
 mod output;
 mod ready;
 mod robot_file;
+mod study_file;
 
 pub use data_file::{data_headers, format_samples, parse_samples, read_samples, write_samples};
 pub use error::Error;
@@ -20,3 +21,4 @@ pub use ready::{ReadyRobot, load_robot, ready_robot, ready_robots};
 pub use robot_file::{
     AngleUnit, RobotFile, format_robot_file, parse_robot_file, read_priority_file, read_robot_file,
 };
+pub use study_file::{StudyFile, read_study_file};

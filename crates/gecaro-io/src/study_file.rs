@@ -1,0 +1,241 @@
+//! Study files: several measurement sets calibrated together.
+//!
+//! ```toml
+//! robot = "panda-ball.toml"     # relative to this file, or a ready robot's name
+//! priority = "priority.toml"    # optional, as for `--priority`
+//!
+//! [[measurements]]
+//! method = "point-link"
+//! data = "sets.csv"             # relative to this file
+//! sigma = 0.0003                # the sensor's standard deviation: metres (radians for orientations)
+//! # sigma_rotation = 0.005      # optional: a separate σ for orientation rows (radians)
+//!
+//! [[measurements]]
+//! method = "distance"
+//! data = "pairs.csv"
+//! sigma = 0.0001
+//! # plane methods add: plane = "known" | "unknown", plane_normal = [..], plane_point = [..]
+//! # optional: set_size = 4, orientation = "axis-angle" | "cross-products"
+//! ```
+//!
+//! Each set's rows are weighted by 1/σ, so that sets measured in different
+//! units and with different sensors count by their precision.
+
+use std::path::{Path, PathBuf};
+
+use gecaro_calib::{MeasurementSet, MethodOptions, Plane, Study};
+use gecaro_core::{OrientationDifference, PriorityMatrix};
+use nalgebra::Vector3;
+use serde::Deserialize;
+use toml::Spanned;
+
+use crate::Error;
+use crate::data_file::read_samples;
+use crate::ready::load_robot;
+use crate::robot_file::{RobotFile, read_priority_file};
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawStudy {
+    robot: Spanned<String>,
+    priority: Option<Spanned<String>>,
+    measurements: Spanned<Vec<Spanned<RawMeasurement>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawMeasurement {
+    method: Spanned<String>,
+    data: Spanned<String>,
+    sigma: Spanned<f64>,
+    sigma_rotation: Option<Spanned<f64>>,
+    plane: Option<Spanned<String>>,
+    plane_normal: Option<Spanned<Vec<f64>>>,
+    plane_point: Option<Spanned<Vec<f64>>>,
+    set_size: Option<Spanned<usize>>,
+    orientation: Option<Spanned<String>>,
+}
+
+/// A study read from a file, with its robot.
+#[derive(Debug)]
+pub struct StudyFile {
+    /// The nominal robot.
+    pub robot: RobotFile,
+    /// The measurement sets.
+    pub study: Study,
+    /// The priority matrix given by the study, if any.
+    pub priority: Option<PriorityMatrix>,
+}
+
+/// Reads a study file and everything it refers to.
+///
+/// # Errors
+/// [`Error::Parse`] with the line of the study file at fault, or the errors
+/// of the robot and data files it names.
+pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
+    let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
+        path: path.to_owned(),
+        source,
+    })?;
+    let line_of = |offset: usize| {
+        text[..offset.min(text.len())]
+            .bytes()
+            .filter(|b| *b == b'\n')
+            .count()
+            + 1
+    };
+    let fail = |span: std::ops::Range<usize>, field: &str, message: String| {
+        Error::parse(path, line_of(span.start), Some(field.to_owned()), message)
+    };
+    let raw: RawStudy = toml::from_str(&text).map_err(|error| {
+        let line = error.span().map_or(1, |span| line_of(span.start));
+        Error::parse(path, line, None, error.message().trim().to_owned())
+    })?;
+    let folder = path.parent().unwrap_or(Path::new("."));
+    let relative = |name: &str| -> PathBuf { folder.join(name) };
+    let robot_path = relative(raw.robot.get_ref());
+    let robot = if robot_path.is_file() {
+        load_robot(&robot_path.to_string_lossy())?
+    } else {
+        load_robot(raw.robot.get_ref())?
+    };
+    let priority = match &raw.priority {
+        Some(name) => Some(read_priority_file(&relative(name.get_ref()), &robot.robot)?),
+        None => None,
+    };
+    if raw.measurements.get_ref().is_empty() {
+        return Err(fail(
+            raw.measurements.span(),
+            "measurements",
+            "a study needs at least one [[measurements]] table".into(),
+        ));
+    }
+    let mut sets = Vec::new();
+    for measurement in raw.measurements.get_ref() {
+        let table = measurement.get_ref();
+        let sigma = *table.sigma.get_ref();
+        if !(sigma.is_finite() && sigma > 0.0) {
+            return Err(fail(
+                table.sigma.span(),
+                "sigma",
+                format!("must be a positive standard deviation, not {sigma}"),
+            ));
+        }
+        let sigma_rotation = match &table.sigma_rotation {
+            None => None,
+            Some(value) if value.get_ref().is_finite() && *value.get_ref() > 0.0 => {
+                Some(*value.get_ref())
+            }
+            Some(value) => {
+                return Err(fail(
+                    value.span(),
+                    "sigma_rotation",
+                    format!(
+                        "must be a positive standard deviation, not {}",
+                        value.get_ref()
+                    ),
+                ));
+            }
+        };
+        let vector = |field: &Option<Spanned<Vec<f64>>>,
+                      name: &str|
+         -> Result<Option<Vector3<f64>>, Error> {
+            match field {
+                None => Ok(None),
+                Some(values) => match values.get_ref().as_slice() {
+                    [x, y, z] => Ok(Some(Vector3::new(*x, *y, *z))),
+                    other => Err(fail(
+                        values.span(),
+                        name,
+                        format!("needs three numbers, got {}", other.len()),
+                    )),
+                },
+            }
+        };
+        let plane = match (
+            vector(&table.plane_normal, "plane_normal")?,
+            vector(&table.plane_point, "plane_point")?,
+        ) {
+            (Some(normal), Some(point)) => Some(Plane::new(normal, point).map_err(|error| {
+                fail(
+                    table
+                        .plane_normal
+                        .as_ref()
+                        .map_or(measurement.span(), Spanned::span),
+                    "plane_normal",
+                    error.to_string(),
+                )
+            })?),
+            (None, None) => None,
+            _ => {
+                return Err(fail(
+                    measurement.span(),
+                    "plane_normal",
+                    "a plane needs both plane_normal and plane_point".into(),
+                ));
+            }
+        };
+        let plane_unknown = match table
+            .plane
+            .as_ref()
+            .map(|p| (p.get_ref().as_str(), p.span()))
+        {
+            None => plane.is_none(),
+            Some(("known", span)) => {
+                if plane.is_none() {
+                    return Err(fail(
+                        span,
+                        "plane",
+                        "plane = \"known\" needs plane_normal and plane_point".into(),
+                    ));
+                }
+                false
+            }
+            Some(("unknown", _)) => true,
+            Some((other, span)) => {
+                return Err(fail(
+                    span,
+                    "plane",
+                    format!("must be \"known\" or \"unknown\", not {other:?}"),
+                ));
+            }
+        };
+        let orientation = match table
+            .orientation
+            .as_ref()
+            .map(|o| (o.get_ref().as_str(), o.span()))
+        {
+            None | Some(("axis-angle", _)) => OrientationDifference::AxisAngle,
+            Some(("cross-products", _)) => OrientationDifference::CrossProducts,
+            Some((other, span)) => {
+                return Err(fail(
+                    span,
+                    "orientation",
+                    format!("must be \"axis-angle\" or \"cross-products\", not {other:?}"),
+                ));
+            }
+        };
+        let options = MethodOptions {
+            plane,
+            plane_unknown,
+            orientation,
+            set_size: table.set_size.as_ref().map(|s| *s.get_ref()),
+        };
+        let method = gecaro_calib::method(table.method.get_ref(), &options)
+            .map_err(|error| fail(table.method.span(), "method", error.to_string()))?;
+        let data_path = relative(table.data.get_ref());
+        let samples = read_samples(&data_path, robot.robot.joint_count(), method.data_columns())?;
+        sets.push(MeasurementSet {
+            method,
+            samples,
+            sigma,
+            sigma_rotation,
+            label: data_path.display().to_string(),
+        });
+    }
+    Ok(StudyFile {
+        robot,
+        study: Study { sets },
+        priority,
+    })
+}
