@@ -217,6 +217,11 @@ pub struct Identification {
     pub before: ErrorSummary,
     /// Errors of the observations at the identified parameters.
     pub after: ErrorSummary,
+    /// Per observation (configuration or pair): the position-like error (m)
+    /// and the orientation error (rad) at the nominal parameters.
+    pub errors_before: Vec<(f64, f64)>,
+    /// The same at the identified parameters.
+    pub errors_after: Vec<(f64, f64)>,
     /// Condition number of W_b at the solution.
     pub condition_number: f64,
     /// The identified base parameters, in column (priority) order.
@@ -757,6 +762,7 @@ pub fn identify_with_progress(
         _ => problem.iterate_at(robot, &initial_auxiliary, &problem.layout, &states)?,
     };
     let before = ErrorSummary::of(&start.system);
+    let errors_before = start.system.observation_errors();
     let first = problem.record(&start, &[], 0.0);
     progress(&first);
 
@@ -876,6 +882,8 @@ pub fn identify_with_progress(
         warnings,
         condition_number,
         after: ErrorSummary::of(&best.system),
+        errors_after: best.system.observation_errors(),
+        errors_before,
         before,
         calibrated: best.robot,
         rank,

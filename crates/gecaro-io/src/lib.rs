@@ -8,6 +8,7 @@
 #![warn(missing_docs)]
 
 mod data_file;
+mod document;
 mod error;
 mod output;
 mod ready;
@@ -15,6 +16,9 @@ mod robot_file;
 mod study_file;
 
 pub use data_file::{data_headers, format_samples, parse_samples, read_samples, write_samples};
+pub use document::{
+    CouplingDocument, DocumentError, FrameDocument, Location, PriorityDocument, RobotDocument,
+};
 pub use error::Error;
 pub use output::{OutputPolicy, write_atomically};
 pub use ready::{ReadyRobot, load_robot, ready_robot, ready_robots};

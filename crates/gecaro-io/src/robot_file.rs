@@ -32,18 +32,15 @@
 //! the closest known key. gecaro writes files in radians with every digit
 //! (Rust's shortest round-trip form), so load → save → load is the identity.
 
-use std::collections::BTreeMap;
-use std::f64::consts::TAU;
 use std::fmt::Write as _;
-use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use gecaro_core::{Field, Frame, FrameType, Joint, PriorityMatrix, Robot, RobotSpec};
+use gecaro_core::{FrameType, PriorityMatrix, Robot};
 use nalgebra::DMatrix;
 use serde::Deserialize;
-use toml::Spanned;
 
 use crate::Error;
+use crate::document::{DocumentError, Location, PriorityDocument, RobotDocument};
 
 /// The unit of the angles written in a robot file.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
@@ -80,82 +77,6 @@ const FRAME_KEYS: &[&str] = &[
 const COUPLING_KEYS: &[&str] = &["Cm", "Cj"];
 const PRIORITY_KEYS: &[&str] = &["matrix", "priority"];
 
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawRobot {
-    name: Option<Spanned<String>>,
-    description: Option<String>,
-    angle_unit: Option<Spanned<String>>,
-    frame: Option<Spanned<Vec<Spanned<RawFrame>>>>,
-    coupling: Option<Spanned<RawCoupling>>,
-    priority: Option<Spanned<RawPriority>>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawFrame {
-    sigma: Option<Spanned<i64>>,
-    alpha: Option<Spanned<f64>>,
-    d: Option<Spanned<f64>>,
-    theta: Option<Spanned<f64>>,
-    r: Option<Spanned<f64>>,
-    beta: Option<Spanned<f64>>,
-    qmin: Option<Spanned<f64>>,
-    qmax: Option<Spanned<f64>>,
-    offset: Option<Spanned<f64>>,
-    #[serde(rename = "K")]
-    gain: Option<Spanned<f64>>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-#[allow(non_snake_case)]
-struct RawCoupling {
-    Cm: Option<Spanned<Vec<Spanned<Vec<f64>>>>>,
-    Cj: Option<Spanned<Vec<Spanned<Vec<f64>>>>>,
-}
-
-/// A priority matrix as written: rows of integer cells, each with its place.
-type RawPriorityMatrix = Spanned<Vec<Spanned<Vec<Spanned<i64>>>>>;
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawPriority {
-    matrix: RawPriorityMatrix,
-}
-
-/// Byte ranges of the keys of one table.
-type KeySpans = BTreeMap<&'static str, Range<usize>>;
-
-/// Byte ranges of the keys of a robot file, to turn a [`Field`] into a line.
-#[derive(Default)]
-struct SpanIndex {
-    frames_table: Option<Range<usize>>,
-    frames: Vec<(Range<usize>, KeySpans)>,
-    coupling: KeySpans,
-    priority: Option<Range<usize>>,
-    priority_rows: Vec<Range<usize>>,
-}
-
-impl SpanIndex {
-    fn span_of(&self, field: &Field) -> Option<Range<usize>> {
-        match field {
-            Field::Frame { index, key } => self
-                .frames
-                .get(*index)
-                .map(|(table, keys)| keys.get(key).cloned().unwrap_or_else(|| table.clone())),
-            Field::Coupling(name) => self.coupling.get(name).cloned(),
-            Field::Priority { row: Some(row) } => self
-                .priority_rows
-                .get(*row)
-                .cloned()
-                .or_else(|| self.priority.clone()),
-            Field::Priority { row: None } => self.priority.clone(),
-            _ => self.frames_table.clone(),
-        }
-    }
-}
-
 /// Where a text came from, to name it in messages.
 struct Source<'a> {
     path: &'a Path,
@@ -168,14 +89,72 @@ impl Source<'_> {
         self.text[..offset].bytes().filter(|b| *b == b'\n').count() + 1
     }
 
-    fn error_at(
-        &self,
-        span: Option<Range<usize>>,
-        field: Option<String>,
-        message: impl Into<String>,
-    ) -> Error {
-        let line = span.map_or(1, |span| self.line_of(span.start));
-        Error::parse(self.path, line, field, message)
+    /// The line of a document location: the key's line inside its table, or
+    /// the table's header (a text scan of the file as written).
+    fn line_of_location(&self, location: &Location) -> usize {
+        let lines: Vec<&str> = self.text.lines().collect();
+        let key_of = |line: &str| {
+            line.split('=')
+                .next()
+                .map(str::trim)
+                .unwrap_or_default()
+                .to_owned()
+        };
+        let is_header = |line: &str| line.trim_start().starts_with('[') && !line.contains('=');
+        // (start, end) of the table whose header satisfies `matches`.
+        let table = |matches: &dyn Fn(&str) -> bool, occurrence: usize| -> Option<(usize, usize)> {
+            let start = lines
+                .iter()
+                .enumerate()
+                .filter(|(_, line)| matches(line.trim()))
+                .nth(occurrence)
+                .map(|(index, _)| index)?;
+            let end = lines[start + 1..]
+                .iter()
+                .position(|line| is_header(line))
+                .map_or(lines.len(), |p| start + 1 + p);
+            Some((start, end))
+        };
+        let find = |range: (usize, usize), key: &str| -> usize {
+            (range.0..range.1)
+                .find(|i| key_of(lines[*i]) == key)
+                .unwrap_or(range.0)
+                + 1
+        };
+        match location {
+            Location::Frame { frame, key } => table(&|line| line.starts_with("[[frame]]"), *frame)
+                .map_or(1, |range| find(range, key)),
+            Location::Coupling { matrix } => table(&|line| line.starts_with("[coupling]"), 0)
+                .map_or(1, |range| find(range, matrix)),
+            Location::Priority { row } => {
+                table(&|line| line.starts_with("[priority]"), 0).map_or(1, |range| {
+                    let matrix_line = find(range, "matrix");
+                    match row {
+                        // One row per line after `matrix = [`, as gecaro writes it.
+                        Some(row) => (matrix_line..range.1)
+                            .filter(|i| lines[*i].trim_start().starts_with('['))
+                            .nth(*row)
+                            .map_or(matrix_line, |i| i + 1),
+                        None => matrix_line,
+                    }
+                })
+            }
+            Location::Key { key } => (0..lines.len())
+                .find(|i| key_of(lines[*i]) == *key)
+                .map_or(1, |i| i + 1),
+            Location::Document => {
+                table(&|line| line.starts_with("[[frame]]"), 0).map_or(1, |(start, _)| start + 1)
+            }
+        }
+    }
+
+    fn document_error(&self, error: DocumentError) -> Error {
+        Error::parse(
+            self.path,
+            self.line_of_location(&error.location),
+            Some(error.location.to_string()),
+            error.message,
+        )
     }
 }
 
@@ -198,271 +177,22 @@ pub fn read_robot_file(path: &Path) -> Result<RobotFile, Error> {
 /// [`Error::Parse`] naming the line and key of the first problem.
 pub fn parse_robot_file(text: &str, path: &Path) -> Result<RobotFile, Error> {
     let source = Source { path, text };
-    let raw: RawRobot = toml::from_str(text).map_err(|error| toml_error(&source, &error))?;
-    let angle_unit = match &raw.angle_unit {
-        None => AngleUnit::Radians,
-        Some(unit) => match unit.get_ref().as_str() {
-            "rad" | "radian" | "radians" => AngleUnit::Radians,
-            "deg" | "degree" | "degrees" => AngleUnit::Degrees,
-            other => {
-                return Err(source.error_at(
-                    Some(unit.span()),
-                    Some("angle_unit".into()),
-                    format!("must be \"rad\" or \"deg\", not {other:?}"),
-                ));
-            }
-        },
-    };
-    let mut spans = SpanIndex::default();
-    let raw_frames = match &raw.frame {
-        Some(frames) if !frames.get_ref().is_empty() => frames,
-        _ => {
-            return Err(source.error_at(
-                None,
-                Some("frame".into()),
-                "no [[frame]] tables: a robot needs frames 0..n+1 (base, joints, end-effector)",
-            ));
-        }
-    };
-    spans.frames_table = Some(raw_frames.span());
-    let mut frames = Vec::new();
-    let mut joints = Vec::new();
-    let last = raw_frames.get_ref().len() - 1;
-    for (index, raw_frame) in raw_frames.get_ref().iter().enumerate() {
-        let (frame, joint, keys) = read_frame(&source, index, last, raw_frame, angle_unit)?;
-        spans.frames.push((raw_frame.span(), keys));
-        frames.push(frame);
-        if let Some(joint) = joint {
-            joints.push(joint);
-        }
-    }
-    let (motor_coupling, joint_coupling) = match &raw.coupling {
-        None => (None, None),
-        Some(coupling) => {
-            let coupling = coupling.get_ref();
-            (
-                read_coupling(&source, "Cm", coupling.Cm.as_ref(), &mut spans)?,
-                read_coupling(&source, "Cj", coupling.Cj.as_ref(), &mut spans)?,
-            )
-        }
-    };
-    let priority = match &raw.priority {
-        None => None,
-        Some(priority) => Some(read_priority(&source, priority, &mut spans)?),
-    };
-    let name = raw.name.map(Spanned::into_inner).unwrap_or_else(|| {
-        path.file_stem()
-            .map_or_else(|| "robot".into(), |s| s.to_string_lossy().into_owned())
-    });
-    let robot = Robot::new(RobotSpec {
-        name,
-        frames,
-        joints,
-        motor_coupling,
-        joint_coupling,
-        priority,
-    })
-    .map_err(|error| model_error(&source, &spans, error))?;
-    Ok(RobotFile {
-        robot,
-        description: raw.description,
-        angle_unit,
-    })
-}
-
-fn model_error(source: &Source<'_>, spans: &SpanIndex, error: gecaro_core::Error) -> Error {
-    match error {
-        gecaro_core::Error::Invalid { field, message } => {
-            let label = match &field {
-                Field::Frame { index, key } => format!("frame {index}, {key}"),
-                Field::Coupling(name) => format!("coupling.{name}"),
-                Field::Priority { row: Some(row) } => format!("priority.matrix row {row}"),
-                Field::Priority { row: None } => "priority.matrix".into(),
-                _ => "frame".into(),
-            };
-            source.error_at(spans.span_of(&field), Some(label), message)
-        }
-        other => source.error_at(None, None, other.to_string()),
-    }
-}
-
-fn read_frame(
-    source: &Source<'_>,
-    index: usize,
-    last: usize,
-    raw: &Spanned<RawFrame>,
-    unit: AngleUnit,
-) -> Result<(Frame, Option<Joint>, KeySpans), Error> {
-    let table = raw.get_ref();
-    let mut keys = BTreeMap::new();
-    let at = |span: Range<usize>, key: &str, message: String| {
-        source.error_at(Some(span), Some(format!("frame {index}, {key}")), message)
-    };
-    let Some(sigma) = &table.sigma else {
-        return Err(source.error_at(
-            Some(raw.span()),
-            Some(format!("frame {index}, sigma")),
-            "every frame needs `sigma` (0 revolute, 1 prismatic, 2 fixed)",
-        ));
-    };
-    keys.insert("sigma", sigma.span());
-    let frame_type = FrameType::from_sigma(*sigma.get_ref()).ok_or_else(|| {
-        at(
-            sigma.span(),
-            "sigma",
-            format!(
-                "sigma = {} is not a frame type: 0 revolute, 1 prismatic, 2 fixed",
-                sigma.get_ref()
-            ),
-        )
-    })?;
-    let mut value = |key: &'static str,
-                     field: &Option<Spanned<f64>>,
-                     default: f64,
-                     angle: bool|
-     -> Result<f64, Error> {
-        let Some(field) = field else {
-            return Ok(default);
-        };
-        keys.insert(key, field.span());
-        let raw_value = *field.get_ref();
-        if !raw_value.is_finite() {
-            return Err(at(
-                field.span(),
-                key,
-                format!("{raw_value} is not a finite number"),
-            ));
-        }
-        if !angle {
-            return Ok(raw_value);
-        }
-        match unit {
-            AngleUnit::Degrees => Ok(raw_value.to_radians()),
-            AngleUnit::Radians if raw_value.abs() > TAU + 1e-9 => Err(at(
-                field.span(),
-                key,
-                format!(
-                    "{raw_value} rad is more than a full turn; the file's angles are in radians \
-                     — if it is written in degrees, add angle_unit = \"deg\" at the top"
-                ),
-            )),
-            AngleUnit::Radians => Ok(raw_value),
-        }
-    };
-    let frame = Frame {
-        frame_type,
-        alpha: value("alpha", &table.alpha, 0.0, true)?,
-        d: value("d", &table.d, 0.0, false)?,
-        theta: value("theta", &table.theta, 0.0, true)?,
-        r: value("r", &table.r, 0.0, false)?,
-        beta: value("beta", &table.beta, 0.0, true)?,
-    };
-    let is_joint = index != 0 && index != last && frame_type != FrameType::Fixed;
-    let joint_angle = frame_type == FrameType::Revolute;
-    let joint = if is_joint {
-        let defaults = Joint::default_for(frame_type);
-        Some(Joint {
-            qmin: value("qmin", &table.qmin, defaults.qmin, joint_angle)?,
-            qmax: value("qmax", &table.qmax, defaults.qmax, joint_angle)?,
-            offset: value("offset", &table.offset, defaults.offset, joint_angle)?,
-            gain: value("K", &table.gain, defaults.gain, false)?,
-        })
-    } else {
-        for (key, field) in [
-            ("qmin", &table.qmin),
-            ("qmax", &table.qmax),
-            ("offset", &table.offset),
-            ("K", &table.gain),
-        ] {
-            if let Some(field) = field {
-                return Err(at(
-                    field.span(),
-                    key,
-                    format!("frame {index} is fixed (sigma = 2) and has no joint, so no `{key}`"),
-                ));
-            }
-        }
-        None
-    };
-    Ok((frame, joint, keys))
-}
-
-type RawMatrix = Spanned<Vec<Spanned<Vec<f64>>>>;
-
-fn read_coupling(
-    source: &Source<'_>,
-    name: &'static str,
-    raw: Option<&RawMatrix>,
-    spans: &mut SpanIndex,
-) -> Result<Option<DMatrix<f64>>, Error> {
-    let Some(raw) = raw else {
-        return Ok(None);
-    };
-    spans.coupling.insert(name, raw.span());
-    let rows = raw.get_ref();
-    let columns = rows.first().map_or(0, |row| row.get_ref().len());
-    for row in rows {
-        if row.get_ref().len() != columns {
-            return Err(source.error_at(
-                Some(row.span()),
-                Some(format!("coupling.{name}")),
-                format!(
-                    "rows of different lengths ({} and {columns}): a coupling matrix is n×n",
-                    row.get_ref().len()
-                ),
-            ));
-        }
-    }
-    Ok(Some(DMatrix::from_fn(rows.len(), columns, |i, j| {
-        rows[i].get_ref()[j]
-    })))
-}
-
-fn read_priority(
-    source: &Source<'_>,
-    raw: &Spanned<RawPriority>,
-    spans: &mut SpanIndex,
-) -> Result<PriorityMatrix, Error> {
-    let matrix = &raw.get_ref().matrix;
-    spans.priority = Some(matrix.span());
-    let mut rows = Vec::with_capacity(matrix.get_ref().len());
-    for (frame, row) in matrix.get_ref().iter().enumerate() {
-        spans.priority_rows.push(row.span());
-        let field = Some(format!("priority.matrix row {frame}"));
-        let values = row.get_ref();
-        if values.len() != 6 {
-            return Err(source.error_at(
-                Some(row.span()),
-                field,
-                format!(
-                    "has {} entries; each row is [alpha, d, theta, r, beta, K] (6 entries)",
-                    values.len()
-                ),
-            ));
-        }
-        let mut cells = [0_u32; 6];
-        for (cell, value) in cells.iter_mut().zip(values) {
-            *cell = u32::try_from(*value.get_ref()).map_err(|_| {
-                source.error_at(
-                    Some(value.span()),
-                    field.clone(),
-                    format!(
-                        "{} is not a priority: priorities are integers ≥ 0 (0 = do not identify)",
-                        value.get_ref()
-                    ),
-                )
-            })?;
-        }
-        rows.push(cells);
-    }
-    Ok(PriorityMatrix::from_rows(rows))
+    let document: RobotDocument =
+        toml::from_str(text).map_err(|error| toml_error(&source, &error))?;
+    let fallback = path.file_stem().map_or_else(
+        || "robot".into(),
+        |stem| stem.to_string_lossy().into_owned(),
+    );
+    document
+        .to_robot_file(&fallback)
+        .map_err(|error| source.document_error(error))
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct RawPriorityFile {
-    matrix: Option<RawPriorityMatrix>,
-    priority: Option<Spanned<RawPriority>>,
+struct PriorityFileDocument {
+    matrix: Option<Vec<Vec<i64>>>,
+    priority: Option<PriorityDocument>,
 }
 
 /// Reads a priority matrix from a TOML file holding `matrix = [[...], ...]`,
@@ -477,28 +207,53 @@ pub fn read_priority_file(path: &Path, robot: &Robot) -> Result<PriorityMatrix, 
         source,
     })?;
     let source = Source { path, text: &text };
-    let raw: RawPriorityFile =
+    let file: PriorityFileDocument =
         toml::from_str(&text).map_err(|error| toml_error(&source, &error))?;
-    let table = match (raw.matrix, raw.priority) {
-        (Some(matrix), None) => {
-            let span = matrix.span();
-            Spanned::new(span, RawPriority { matrix })
-        }
+    let document = match (file.matrix, file.priority) {
+        (Some(matrix), None) => PriorityDocument { matrix },
         (None, Some(table)) => table,
         _ => {
-            return Err(source.error_at(
-                None,
+            return Err(Error::parse(
+                path,
+                1,
                 Some("matrix".into()),
                 "a priority file holds `matrix = [[alpha, d, theta, r, beta, K], ...]` (one row per \
                  frame), at the top or in a [priority] table",
             ));
         }
     };
-    let mut spans = SpanIndex::default();
-    let priority = read_priority(&source, &table, &mut spans)?;
+    // Rows are located relative to the `matrix` key, wherever it is.
+    let matrix_line = text
+        .lines()
+        .position(|line| line.trim_start().starts_with("matrix"))
+        .map_or(1, |i| i + 1);
+    let row_line = |row: Option<usize>| {
+        row.and_then(|row| {
+            text.lines()
+                .enumerate()
+                .skip(matrix_line)
+                .filter(|(_, line)| line.trim_start().starts_with('['))
+                .nth(row)
+                .map(|(i, _)| i + 1)
+        })
+        .unwrap_or(matrix_line)
+    };
+    let fail = |error: DocumentError| {
+        let row = match &error.location {
+            Location::Priority { row } => *row,
+            _ => None,
+        };
+        Error::parse(
+            path,
+            row_line(row),
+            Some(error.location.to_string()),
+            error.message,
+        )
+    };
+    let priority = document.read().map_err(fail)?;
     priority
         .validate(robot.parameters())
-        .map_err(|error| model_error(&source, &spans, error))?;
+        .map_err(|error| fail(crate::document::model_error(error)))?;
     Ok(priority)
 }
 
@@ -524,7 +279,12 @@ fn toml_error(source: &Source<'_>, error: &toml::de::Error) -> Error {
         }
         None => message,
     };
-    source.error_at(error.span(), None, message)
+    Error::parse(
+        source.path,
+        error.span().map_or(1, |span| source.line_of(span.start)),
+        None,
+        message,
+    )
 }
 
 /// The key of serde's "unknown field `x`, expected ..." message.

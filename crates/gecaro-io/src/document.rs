@@ -1,0 +1,439 @@
+//! The robot file as a plain document, shared by the TOML files and the JSON
+//! API of the web page, and its conversion to a validated [`Robot`].
+//!
+//! A document holds the values as written (angles in the document's unit,
+//! omitted keys as `None`). [`RobotDocument::to_robot_file`] applies the
+//! defaults, converts degrees, refuses likely degree/radian mix-ups, and
+//! checks every rule of the model; each error carries the [`Location`] of the
+//! key at fault, which the TOML reader turns into a line and the web page into
+//! a highlighted cell.
+
+use std::f64::consts::TAU;
+
+use gecaro_core::{Field, Frame, FrameType, Joint, PriorityMatrix, Robot, RobotSpec};
+use nalgebra::DMatrix;
+use serde::{Deserialize, Serialize};
+
+use crate::robot_file::{AngleUnit, RobotFile};
+
+/// A robot file's content (see the robot file format in the README).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RobotDocument {
+    /// The robot's name.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// Free text.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub description: Option<String>,
+    /// `rad` (default) or `deg`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub angle_unit: Option<String>,
+    /// Frames 0..n+1.
+    #[serde(default)]
+    pub frame: Vec<FrameDocument>,
+    /// Coupling matrices of eq. 4.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coupling: Option<CouplingDocument>,
+    /// A priority matrix overriding the defaults.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub priority: Option<PriorityDocument>,
+}
+
+/// One frame as written; omitted keys take their defaults.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(missing_docs)]
+pub struct FrameDocument {
+    pub sigma: Option<i64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub d: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub theta: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub r: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub beta: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub qmin: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub qmax: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub offset: Option<f64>,
+    #[serde(rename = "K", default, skip_serializing_if = "Option::is_none")]
+    pub gain: Option<f64>,
+}
+
+/// The `[coupling]` table.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case, missing_docs)]
+pub struct CouplingDocument {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub Cm: Option<Vec<Vec<f64>>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub Cj: Option<Vec<Vec<f64>>>,
+}
+
+/// The `[priority]` table.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PriorityDocument {
+    /// (n+2) rows of `[alpha, d, theta, r, beta, K]`.
+    pub matrix: Vec<Vec<i64>>,
+}
+
+/// Where in a document a problem is.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Location {
+    /// The document as a whole (the list of frames).
+    Document,
+    /// A key of the top level (`angle_unit`).
+    Key {
+        /// The key.
+        key: String,
+    },
+    /// A key of frame `frame`.
+    Frame {
+        /// Frame number j.
+        frame: usize,
+        /// The key (`sigma`, `alpha`, ..., `K`).
+        key: String,
+    },
+    /// A coupling matrix (`Cm` or `Cj`).
+    Coupling {
+        /// The matrix.
+        matrix: String,
+    },
+    /// The priority matrix, or one of its rows.
+    Priority {
+        /// The row (frame), if one is at fault.
+        row: Option<usize>,
+    },
+}
+
+impl std::fmt::Display for Location {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Location::Document => f.write_str("frame"),
+            Location::Key { key } => f.write_str(key),
+            Location::Frame { frame, key } => write!(f, "frame {frame}, {key}"),
+            Location::Coupling { matrix } => write!(f, "coupling.{matrix}"),
+            Location::Priority { row: None } => f.write_str("priority.matrix"),
+            Location::Priority { row: Some(row) } => write!(f, "priority.matrix row {row}"),
+        }
+    }
+}
+
+/// A problem of a document, at a location.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct DocumentError {
+    /// Where.
+    pub location: Location,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl DocumentError {
+    fn new(location: Location, message: impl Into<String>) -> Self {
+        DocumentError {
+            location,
+            message: message.into(),
+        }
+    }
+}
+
+impl RobotDocument {
+    /// The document of a robot file (every key written out, in the file's angle unit).
+    pub fn from_robot_file(file: &RobotFile) -> Self {
+        let robot = &file.robot;
+        let unit = file.angle_unit;
+        let angle = |value: f64| match unit {
+            AngleUnit::Radians => value,
+            AngleUnit::Degrees => value.to_degrees(),
+        };
+        let last = robot.frames().len() - 1;
+        let frame = robot
+            .frames()
+            .iter()
+            .enumerate()
+            .map(|(j, frame)| {
+                let joint = (j >= 1 && j < last).then(|| robot.joints()[j - 1]);
+                let joint_angle = |value: f64| {
+                    if frame.frame_type == FrameType::Revolute {
+                        angle(value)
+                    } else {
+                        value
+                    }
+                };
+                FrameDocument {
+                    sigma: Some(i64::from(frame.frame_type.sigma())),
+                    alpha: (j != 0).then(|| angle(frame.alpha)),
+                    d: (j != 0).then_some(frame.d),
+                    theta: Some(angle(frame.theta)),
+                    r: Some(frame.r),
+                    beta: (j != 0).then(|| angle(frame.beta)),
+                    qmin: joint.map(|joint| joint_angle(joint.qmin)),
+                    qmax: joint.map(|joint| joint_angle(joint.qmax)),
+                    offset: joint.map(|joint| joint_angle(joint.offset)),
+                    gain: joint.map(|joint| joint.gain),
+                }
+            })
+            .collect();
+        let n = robot.joint_count();
+        let identity = DMatrix::<f64>::identity(n, n);
+        let rows = |matrix: &DMatrix<f64>| {
+            matrix
+                .row_iter()
+                .map(|row| row.iter().copied().collect())
+                .collect()
+        };
+        let coupling = (*robot.motor_coupling() != identity || *robot.joint_coupling() != identity)
+            .then(|| CouplingDocument {
+                Cm: Some(rows(robot.motor_coupling())),
+                Cj: Some(rows(robot.joint_coupling())),
+            });
+        let priority = robot.priority_override().map(|priority| PriorityDocument {
+            matrix: priority
+                .rows()
+                .iter()
+                .map(|row| row.iter().map(|p| i64::from(*p)).collect())
+                .collect(),
+        });
+        RobotDocument {
+            name: Some(robot.name().to_owned()),
+            description: file.description.clone(),
+            angle_unit: (unit == AngleUnit::Degrees).then(|| "deg".to_owned()),
+            frame,
+            coupling,
+            priority,
+        }
+    }
+
+    /// The validated robot file (see the module docs); `fallback_name` names
+    /// a document without a name.
+    ///
+    /// # Errors
+    /// The first problem found, with its location.
+    pub fn to_robot_file(&self, fallback_name: &str) -> Result<RobotFile, DocumentError> {
+        let angle_unit = match self.angle_unit.as_deref() {
+            None | Some("rad" | "radian" | "radians") => AngleUnit::Radians,
+            Some("deg" | "degree" | "degrees") => AngleUnit::Degrees,
+            Some(other) => {
+                return Err(DocumentError::new(
+                    Location::Key {
+                        key: "angle_unit".into(),
+                    },
+                    format!("must be \"rad\" or \"deg\", not {other:?}"),
+                ));
+            }
+        };
+        if self.frame.is_empty() {
+            return Err(DocumentError::new(
+                Location::Document,
+                "no [[frame]] tables: a robot needs frames 0..n+1 (base, joints, end-effector)",
+            ));
+        }
+        let last = self.frame.len() - 1;
+        let mut frames = Vec::with_capacity(self.frame.len());
+        let mut joints = Vec::new();
+        for (index, document) in self.frame.iter().enumerate() {
+            let (frame, joint) = document.read(index, last, angle_unit)?;
+            frames.push(frame);
+            joints.extend(joint);
+        }
+        let (motor_coupling, joint_coupling) = match &self.coupling {
+            None => (None, None),
+            Some(coupling) => (
+                read_matrix("Cm", coupling.Cm.as_ref())?,
+                read_matrix("Cj", coupling.Cj.as_ref())?,
+            ),
+        };
+        let priority = self
+            .priority
+            .as_ref()
+            .map(PriorityDocument::read)
+            .transpose()?;
+        let robot = Robot::new(RobotSpec {
+            name: self
+                .name
+                .clone()
+                .unwrap_or_else(|| fallback_name.to_owned()),
+            frames,
+            joints,
+            motor_coupling,
+            joint_coupling,
+            priority,
+        })
+        .map_err(model_error)?;
+        Ok(RobotFile {
+            robot,
+            description: self.description.clone(),
+            angle_unit,
+        })
+    }
+}
+
+impl FrameDocument {
+    fn read(
+        &self,
+        index: usize,
+        last: usize,
+        unit: AngleUnit,
+    ) -> Result<(Frame, Option<Joint>), DocumentError> {
+        let at = |key: &str, message: String| {
+            DocumentError::new(
+                Location::Frame {
+                    frame: index,
+                    key: key.into(),
+                },
+                message,
+            )
+        };
+        let sigma = self.sigma.ok_or_else(|| {
+            at(
+                "sigma",
+                "every frame needs `sigma` (0 revolute, 1 prismatic, 2 fixed)".into(),
+            )
+        })?;
+        let frame_type = FrameType::from_sigma(sigma).ok_or_else(|| {
+            at(
+                "sigma",
+                format!("sigma = {sigma} is not a frame type: 0 revolute, 1 prismatic, 2 fixed"),
+            )
+        })?;
+        let value = |key: &str,
+                     given: Option<f64>,
+                     default: f64,
+                     is_angle: bool|
+         -> Result<f64, DocumentError> {
+            let Some(given) = given else {
+                return Ok(default);
+            };
+            if !given.is_finite() {
+                return Err(at(key, format!("{given} is not a finite number")));
+            }
+            if !is_angle {
+                return Ok(given);
+            }
+            match unit {
+                AngleUnit::Degrees => Ok(given.to_radians()),
+                AngleUnit::Radians if given.abs() > TAU + 1e-9 => Err(at(
+                    key,
+                    format!(
+                        "{given} rad is more than a full turn; the file's angles are in radians \
+                         — if it is written in degrees, add angle_unit = \"deg\" at the top"
+                    ),
+                )),
+                AngleUnit::Radians => Ok(given),
+            }
+        };
+        let frame = Frame {
+            frame_type,
+            alpha: value("alpha", self.alpha, 0.0, true)?,
+            d: value("d", self.d, 0.0, false)?,
+            theta: value("theta", self.theta, 0.0, true)?,
+            r: value("r", self.r, 0.0, false)?,
+            beta: value("beta", self.beta, 0.0, true)?,
+        };
+        let joint_keys = [
+            ("qmin", self.qmin),
+            ("qmax", self.qmax),
+            ("offset", self.offset),
+            ("K", self.gain),
+        ];
+        if index == 0 || index == last || frame_type == FrameType::Fixed {
+            if let Some((key, _)) = joint_keys.iter().find(|(_, given)| given.is_some()) {
+                return Err(at(
+                    key,
+                    format!("frame {index} is fixed (sigma = 2) and has no joint, so no `{key}`"),
+                ));
+            }
+            return Ok((frame, None));
+        }
+        let defaults = Joint::default_for(frame_type);
+        let revolute = frame_type == FrameType::Revolute;
+        let joint = Joint {
+            qmin: value("qmin", self.qmin, defaults.qmin, revolute)?,
+            qmax: value("qmax", self.qmax, defaults.qmax, revolute)?,
+            offset: value("offset", self.offset, defaults.offset, revolute)?,
+            gain: value("K", self.gain, defaults.gain, false)?,
+        };
+        Ok((frame, Some(joint)))
+    }
+}
+
+fn read_matrix(
+    name: &str,
+    rows: Option<&Vec<Vec<f64>>>,
+) -> Result<Option<DMatrix<f64>>, DocumentError> {
+    let Some(rows) = rows else { return Ok(None) };
+    let columns = rows.first().map_or(0, Vec::len);
+    if let Some(row) = rows.iter().find(|row| row.len() != columns) {
+        return Err(DocumentError::new(
+            Location::Coupling {
+                matrix: name.into(),
+            },
+            format!(
+                "rows of different lengths ({} and {columns}): a coupling matrix is n×n",
+                row.len()
+            ),
+        ));
+    }
+    Ok(Some(DMatrix::from_fn(rows.len(), columns, |i, j| {
+        rows[i][j]
+    })))
+}
+
+impl PriorityDocument {
+    /// The matrix, with its shape and signs checked (the rest is the robot's check).
+    ///
+    /// # Errors
+    /// A row that does not have 6 entries, or a negative entry.
+    pub fn read(&self) -> Result<PriorityMatrix, DocumentError> {
+        let mut rows = Vec::with_capacity(self.matrix.len());
+        for (frame, values) in self.matrix.iter().enumerate() {
+            let at = |message: String| {
+                DocumentError::new(Location::Priority { row: Some(frame) }, message)
+            };
+            if values.len() != 6 {
+                return Err(at(format!(
+                    "has {} entries; each row is [alpha, d, theta, r, beta, K] (6 entries)",
+                    values.len()
+                )));
+            }
+            let mut cells = [0_u32; 6];
+            for (cell, value) in cells.iter_mut().zip(values) {
+                *cell = u32::try_from(*value).map_err(|_| {
+                    at(format!("{value} is not a priority: priorities are integers ≥ 0 (0 = do not identify)"))
+                })?;
+            }
+            rows.push(cells);
+        }
+        Ok(PriorityMatrix::from_rows(rows))
+    }
+}
+
+/// A model error with its location.
+pub(crate) fn model_error(error: gecaro_core::Error) -> DocumentError {
+    match error {
+        gecaro_core::Error::Invalid { field, message } => {
+            let location = match field {
+                Field::Frame { index, key } => Location::Frame {
+                    frame: index,
+                    key: key.into(),
+                },
+                Field::Coupling(name) => Location::Coupling {
+                    matrix: name.into(),
+                },
+                Field::Priority { row } => Location::Priority { row },
+                _ => Location::Document,
+            };
+            DocumentError::new(location, message)
+        }
+        other => DocumentError::new(Location::Document, other.to_string()),
+    }
+}

@@ -1,0 +1,29 @@
+//! # gecaro-report
+//!
+//! The pictures of a calibration and a self-contained HTML report: plots as
+//! SVG made with plotters ([`convergence_svg`], [`error_histograms_svg`],
+//! [`errors_per_configuration_svg`], [`robot_projections_svg`]) and
+//! [`html_report`], one HTML file with the plots inline, readable without a
+//! network.
+
+#![warn(missing_docs)]
+
+mod html;
+mod plots;
+
+pub use html::{ReportInput, html_report};
+pub use plots::{
+    convergence_svg, error_histograms_svg, errors_per_configuration_svg, robot_projections_svg,
+};
+
+/// Errors of report making.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// Drawing a plot failed.
+    #[error("cannot draw a plot: {0}")]
+    Plot(String),
+    /// The robot or configuration does not fit.
+    #[error("{0}")]
+    Model(String),
+}

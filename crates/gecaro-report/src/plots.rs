@@ -1,0 +1,310 @@
+//! The plots of a calibration, as SVG text (plotters' SVG backend with the
+//! bundled DejaVu Sans, so no system font is needed and the SVG shows the same
+//! everywhere).
+
+use std::sync::Once;
+
+use gecaro_calib::IterationRecord;
+use gecaro_core::{Robot, forward_kinematics};
+use plotters::prelude::*;
+
+use crate::Error;
+
+const WIDTH: u32 = 720;
+const HEIGHT: u32 = 340;
+const BEFORE: RGBColor = RGBColor(214, 39, 40);
+const AFTER: RGBColor = RGBColor(31, 119, 180);
+const FONT: &str = "sans-serif";
+
+/// Registers the bundled font once per process.
+fn fonts() {
+    static REGISTER: Once = Once::new();
+    REGISTER.call_once(|| {
+        // DejaVu Sans is a valid font; registration only fails for invalid bytes.
+        let _ = plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular());
+        let _ = plotters::style::register_font(FONT, FontStyle::Bold, dejavu::sans::bold());
+    });
+}
+
+fn plot_error(error: impl std::fmt::Display) -> Error {
+    Error::Plot(error.to_string())
+}
+
+/// Renders into an SVG string with `draw`.
+fn svg(
+    width: u32,
+    height: u32,
+    draw: impl FnOnce(DrawingArea<SVGBackend<'_>, plotters::coord::Shift>) -> Result<(), Error>,
+) -> Result<String, Error> {
+    fonts();
+    let mut text = String::new();
+    {
+        let root = SVGBackend::with_string(&mut text, (width, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_error)?;
+        draw(root.clone())?;
+        root.present().map_err(plot_error)?;
+    }
+    Ok(text)
+}
+
+/// The residual RMS of every iteration (log scale): how identification converged.
+///
+/// # Errors
+/// [`Error::Plot`] if drawing fails.
+pub fn convergence_svg(history: &[IterationRecord]) -> Result<String, Error> {
+    let values: Vec<f64> = history.iter().map(|h| h.rms.max(1e-18)).collect();
+    let largest = values.iter().copied().fold(f64::MIN_POSITIVE, f64::max) * 2.0;
+    let smallest = values
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min)
+        .min(largest / 10.0)
+        / 2.0;
+    let last = values.len().saturating_sub(1).max(1);
+    svg(WIDTH, HEIGHT, |root| {
+        let mut chart = ChartBuilder::on(&root)
+            .caption("Convergence: residual RMS per iteration", (FONT, 18))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(70)
+            .build_cartesian_2d(0..last, (smallest..largest).log_scale())
+            .map_err(plot_error)?;
+        chart
+            .configure_mesh()
+            .x_desc("iteration")
+            .y_desc("residual RMS")
+            .x_labels(last.min(12) + 1)
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .label_style((FONT, 13))
+            .draw()
+            .map_err(plot_error)?;
+        chart
+            .draw_series(LineSeries::new(
+                values.iter().enumerate().map(|(i, v)| (i, *v)),
+                AFTER.stroke_width(2),
+            ))
+            .map_err(plot_error)?;
+        chart
+            .draw_series(
+                values
+                    .iter()
+                    .enumerate()
+                    .map(|(i, v)| Circle::new((i, *v), 4, AFTER.filled())),
+            )
+            .map_err(plot_error)?;
+        Ok(())
+    })
+}
+
+/// One histogram panel of errors (millimetres or degrees).
+fn histogram_panel(
+    area: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    title: &str,
+    values: &[f64],
+    color: RGBColor,
+    unit: &str,
+) -> Result<(), Error> {
+    const BINS: usize = 20;
+    let top = values.iter().copied().fold(0.0, f64::max).max(1e-12);
+    let width = top / BINS as f64 * 1.0001;
+    let mut counts = [0_u32; BINS];
+    for value in values {
+        counts[((value / width) as usize).min(BINS - 1)] += 1;
+    }
+    let highest = counts.iter().copied().max().unwrap_or(1).max(1);
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, (FONT, 16))
+        .margin(10)
+        .x_label_area_size(38)
+        .y_label_area_size(45)
+        .build_cartesian_2d(0.0..width * BINS as f64, 0..highest + highest / 10 + 1)
+        .map_err(plot_error)?;
+    chart
+        .configure_mesh()
+        .disable_x_mesh()
+        .x_desc(unit)
+        .y_desc("configurations")
+        .x_labels(6)
+        .x_label_formatter(&|v| short(*v))
+        .label_style((FONT, 12))
+        .draw()
+        .map_err(plot_error)?;
+    chart
+        .draw_series(counts.iter().enumerate().map(|(bin, count)| {
+            let left = bin as f64 * width;
+            Rectangle::new(
+                [(left, 0), (left + width * 0.92, *count)],
+                color.mix(0.8).filled(),
+            )
+        }))
+        .map_err(plot_error)?;
+    Ok(())
+}
+
+/// A compact axis label.
+fn short(value: f64) -> String {
+    if value == 0.0 {
+        "0".into()
+    } else if value.abs() >= 100.0 {
+        format!("{value:.0}")
+    } else if value.abs() >= 1.0 {
+        format!("{value:.1}")
+    } else if value.abs() >= 0.01 {
+        format!("{value:.3}")
+    } else {
+        format!("{value:.0e}")
+    }
+}
+
+/// Histograms of the per-configuration errors before and after (side by
+/// side, each on its own scale: they usually differ by orders of magnitude).
+/// `before` and `after` are in the unit of `unit` (e.g. mm).
+///
+/// # Errors
+/// [`Error::Plot`] if drawing fails.
+pub fn error_histograms_svg(before: &[f64], after: &[f64], unit: &str) -> Result<String, Error> {
+    svg(WIDTH, HEIGHT, |root| {
+        let (left, right) = root.split_horizontally(WIDTH / 2);
+        histogram_panel(&left, "before (nominal)", before, BEFORE, unit)?;
+        histogram_panel(&right, "after (calibrated)", after, AFTER, unit)?;
+        Ok(())
+    })
+}
+
+/// The error of every configuration before and after (log scale).
+///
+/// # Errors
+/// [`Error::Plot`] if drawing fails.
+pub fn errors_per_configuration_svg(
+    before: &[f64],
+    after: &[f64],
+    unit: &str,
+) -> Result<String, Error> {
+    let all = before.iter().chain(after).copied().filter(|v| *v > 0.0);
+    let largest = all.clone().fold(f64::MIN_POSITIVE, f64::max) * 2.0;
+    let smallest = all.fold(f64::INFINITY, f64::min).min(largest / 10.0) / 2.0;
+    let count = before.len().max(after.len()).max(1);
+    svg(WIDTH, HEIGHT, |root| {
+        let mut chart = ChartBuilder::on(&root)
+            .caption("Error of every configuration", (FONT, 18))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(70)
+            .build_cartesian_2d(0..count, (smallest..largest).log_scale())
+            .map_err(plot_error)?;
+        chart
+            .configure_mesh()
+            .x_desc("configuration (or pair)")
+            .y_desc(unit)
+            .y_label_formatter(&|v| short(*v))
+            .label_style((FONT, 13))
+            .draw()
+            .map_err(plot_error)?;
+        for (values, color, label) in [(before, BEFORE, "before"), (after, AFTER, "after")] {
+            chart
+                .draw_series(
+                    values
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, v)| **v > 0.0)
+                        .map(|(i, v)| Circle::new((i, *v), 3, color.filled())),
+                )
+                .map_err(plot_error)?
+                .label(label)
+                .legend(move |(x, y)| Circle::new((x, y), 4, color.filled()));
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.9))
+            .border_style(BLACK.mix(0.3))
+            .label_font((FONT, 13))
+            .draw()
+            .map_err(plot_error)?;
+        Ok(())
+    })
+}
+
+/// Three projections (top, front, side) of the robot's frames 0..n+1 at a
+/// motor configuration: the chain of frame origins and the tool's z axis.
+///
+/// # Errors
+/// [`Error::Plot`] if drawing fails, [`Error::Model`] for a bad configuration.
+pub fn robot_projections_svg(robot: &Robot, motor_positions: &[f64]) -> Result<String, Error> {
+    let chain =
+        forward_kinematics(robot, motor_positions).map_err(|e| Error::Model(e.to_string()))?;
+    let points: Vec<[f64; 3]> = std::iter::once([0.0; 3])
+        .chain(chain.poses().iter().map(|pose| {
+            let p = pose.translation.vector;
+            [p.x, p.y, p.z]
+        }))
+        .collect();
+    let reach = points
+        .iter()
+        .flat_map(|p| p.iter().map(|v| v.abs()))
+        .fold(0.1_f64, f64::max)
+        * 1.15;
+    svg(WIDTH, 260, |root| {
+        let panels = root.split_evenly((1, 3));
+        for (panel, (title, a, b)) in panels.iter().zip([
+            ("top (x, y)", 0, 1),
+            ("front (x, z)", 0, 2),
+            ("side (y, z)", 1, 2),
+        ]) {
+            let mut chart = ChartBuilder::on(panel)
+                .caption(title, (FONT, 14))
+                .margin(8)
+                .x_label_area_size(24)
+                .y_label_area_size(36)
+                .build_cartesian_2d(-reach..reach, -reach..reach)
+                .map_err(plot_error)?;
+            chart
+                .configure_mesh()
+                .x_labels(5)
+                .y_labels(5)
+                .x_label_formatter(&|v| format!("{v:.1}"))
+                .y_label_formatter(&|v| format!("{v:.1}"))
+                .label_style((FONT, 10))
+                .draw()
+                .map_err(plot_error)?;
+            chart
+                .draw_series(LineSeries::new(
+                    points.iter().map(|p| (p[a], p[b])),
+                    BLACK.stroke_width(2),
+                ))
+                .map_err(plot_error)?;
+            chart
+                .draw_series(
+                    points
+                        .iter()
+                        .skip(1)
+                        .map(|p| Circle::new((p[a], p[b]), 3, AFTER.filled())),
+                )
+                .map_err(plot_error)?;
+        }
+        Ok(())
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plots_are_svg_with_text() {
+        let history: Vec<IterationRecord> = [1e-2, 1e-4, 1e-9, 1e-15]
+            .iter()
+            .map(|rms| IterationRecord {
+                rms: *rms,
+                step: 0.0,
+                damping: 0.0,
+            })
+            .collect();
+        let convergence = convergence_svg(&history).expect("svg");
+        assert!(convergence.starts_with("<svg") && convergence.contains("residual RMS"));
+        let histograms =
+            error_histograms_svg(&[10.0, 20.0, 35.0], &[0.01, 0.02], "mm").expect("svg");
+        assert!(histograms.contains("after (calibrated)"));
+        let points = errors_per_configuration_svg(&[10.0, 20.0], &[0.01, 0.02], "mm").expect("svg");
+        assert!(points.contains("<circle"));
+    }
+}
