@@ -32,6 +32,8 @@ pub(crate) enum Command {
     Generate(GenerateArgs),
     /// Identification: the robot's parameters from measurements (eq. 10, iterated).
     Identify(IdentifyArgs),
+    /// Identify and write a self-contained HTML report with plots.
+    Report(ReportArgs),
     /// Error statistics of a (calibrated) robot on measurements.
     Evaluate(EvaluateArgs),
     /// Generate data for the Stanford arm and identify it with every method.
@@ -259,8 +261,9 @@ pub(crate) enum SolverArg {
     Lm,
 }
 
+/// What an identification runs on and how: shared by `identify` and `report`.
 #[derive(Debug, Args)]
-pub(crate) struct IdentifyArgs {
+pub(crate) struct IdentificationRunArgs {
     #[command(flatten)]
     pub(crate) source: StudySource,
     /// Measurements (CSV).
@@ -280,10 +283,20 @@ pub(crate) struct IdentifyArgs {
     /// Iteration limit.
     #[arg(long, default_value_t = 30)]
     pub(crate) max_iterations: usize,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct IdentifyArgs {
+    #[command(flatten)]
+    pub(crate) run: IdentificationRunArgs,
     /// Write the calibrated robot (nominal + identified deviations) to this file.
     #[arg(short, long, value_name = "CALIBRATED.toml")]
     pub(crate) output: Option<PathBuf>,
-    /// Overwrite the output file if it exists.
+    /// Write the plots as SVG into this folder (created if missing): convergence.svg,
+    /// errors_histogram.svg, errors_per_configuration.svg.
+    #[arg(long, value_name = "DIR")]
+    pub(crate) plot: Option<PathBuf>,
+    /// Overwrite output files that exist.
     #[arg(long)]
     pub(crate) force: bool,
     /// Write the best iterate even when the identification did not converge.
@@ -292,6 +305,18 @@ pub(crate) struct IdentifyArgs {
     /// Print JSON instead of tables.
     #[arg(long)]
     pub(crate) json: bool,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct ReportArgs {
+    #[command(flatten)]
+    pub(crate) run: IdentificationRunArgs,
+    /// The report (one self-contained HTML file).
+    #[arg(short, long, value_name = "REPORT.html")]
+    pub(crate) output: PathBuf,
+    /// Overwrite the report if it exists.
+    #[arg(long)]
+    pub(crate) force: bool,
 }
 
 #[derive(Debug, Args)]

@@ -59,6 +59,12 @@ impl From<gecaro_calib::Error> for Failure {
     }
 }
 
+impl From<gecaro_report::Error> for Failure {
+    fn from(error: gecaro_report::Error) -> Self {
+        Failure::Numerical(error.to_string())
+    }
+}
+
 impl Failure {
     pub(crate) fn usage(message: impl Into<String>, help: impl Into<Option<String>>) -> Self {
         Failure::Usage {

@@ -604,3 +604,106 @@ fn study_files_report_their_own_mistakes() {
         .code(3)
         .stderr(predicate::str::contains("sigma: must be a positive"));
 }
+
+/// Text of every `<text>` element of an SVG, for checking what a plot says.
+fn svg_texts(svg: &str) -> Vec<String> {
+    svg.split("<text")
+        .skip(1)
+        .filter_map(|rest| {
+            let start = rest.find('>')? + 1;
+            let end = rest.find("</text>")?;
+            Some(rest[start..end].trim().to_owned())
+        })
+        .collect()
+}
+
+#[test]
+fn report_and_plots_show_the_identification() {
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let data = folder.path().join("frame.csv");
+    let report = folder.path().join("report.html");
+    let plots = folder.path().join("plots");
+    gecaro()
+        .args([
+            "generate", "scara", "--method", "frame", "--count", "25", "--noise", "1e-5", "-o",
+        ])
+        .arg(&data)
+        .assert()
+        .success();
+    gecaro()
+        .args(["report", "scara", "--method", "frame", "--data"])
+        .arg(&data)
+        .arg("-o")
+        .arg(&report)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("wrote the report"));
+    let html = std::fs::read_to_string(&report).expect("report");
+    assert!(html.starts_with("<!DOCTYPE html>") && html.trim_end().ends_with("</html>"));
+    // Self-contained: no scripts, stylesheets or images fetched from anywhere.
+    for fetch in ["src=\"http", "href=\"http", "<script", "<link", "url("] {
+        assert!(!html.contains(fetch), "the report fetches {fetch}");
+    }
+    for section in [
+        "Convergence",
+        "Errors before and after",
+        "Identified parameters",
+        "Identifiable parameters",
+        "Robot (nominal)",
+    ] {
+        assert!(html.contains(&format!("<h2>{section}</h2>")), "{section}");
+    }
+    assert_eq!(
+        html.matches("<svg").count(),
+        4,
+        "convergence, histograms, per configuration, robot"
+    );
+    assert!(
+        html.contains("gecaro report scara --method frame --data"),
+        "the command line is recorded"
+    );
+    assert!(html.contains("converged after"));
+    // Every identified parameter has a row with its σ.
+    let identified = json_output(&[
+        "identify",
+        "scara",
+        "--method",
+        "frame",
+        "--json",
+        "--data",
+        data.to_str().expect("utf-8"),
+    ]);
+    for parameter in identified["parameters"].as_array().expect("parameters") {
+        let name = parameter["name"].as_str().expect("name");
+        assert!(html.contains(&format!("<tr><td>{name}</td>")), "{name}");
+    }
+    // The same report again needs --force, and leaves the first intact without it.
+    gecaro()
+        .args(["report", "scara", "--method", "frame", "--data"])
+        .arg(&data)
+        .arg("-o")
+        .arg(&report)
+        .assert()
+        .code(3);
+    assert_eq!(std::fs::read_to_string(&report).expect("report"), html);
+
+    gecaro()
+        .args(["identify", "scara", "--method", "frame", "--data"])
+        .arg(&data)
+        .arg("--plot")
+        .arg(&plots)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("wrote the plots"));
+    let convergence = std::fs::read_to_string(plots.join("convergence.svg")).expect("svg");
+    let texts = svg_texts(&convergence);
+    assert!(texts.iter().any(|t| t == "iteration"), "{texts:?}");
+    // One marker per iterate of the history (plus none elsewhere).
+    let iterations = identified["iterations"].as_u64().expect("count") as usize;
+    assert_eq!(convergence.matches("<circle").count(), iterations + 1);
+    let per_configuration =
+        std::fs::read_to_string(plots.join("errors_per_configuration.svg")).expect("svg");
+    // 25 configurations before and after, plus two legend markers.
+    assert_eq!(per_configuration.matches("<circle").count(), 2 * 25 + 2);
+    assert!(plots.join("errors_histogram.svg").is_file());
+}

@@ -2,7 +2,7 @@
 //! generation" and "Identification" functions, and the evaluation of a
 //! calibrated robot.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use gecaro_calib::{
@@ -20,7 +20,10 @@ use nalgebra::Vector3;
 use serde::Serialize;
 
 use super::options::{load_study, method_options};
-use crate::cli::{DemoArgs, EvaluateArgs, GenerateArgs, IdentifyArgs, SolverArg};
+use crate::cli::{
+    DemoArgs, EvaluateArgs, GenerateArgs, IdentificationRunArgs, IdentifyArgs, ReportArgs,
+    SolverArg,
+};
 use crate::failure::Failure;
 use crate::format::{number, table};
 
@@ -265,15 +268,29 @@ fn single_study(
     Ok(Study::single(chosen, samples, data.display().to_string()))
 }
 
-pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
+/// An identification run from the command line, with what produced it.
+struct Run {
+    file: RobotFile,
+    study: Study,
+    result: Identification,
+    data_label: PathBuf,
+}
+
+/// Loads the robot and data, identifies with a spinner showing the residual.
+/// `outputs` are checked before any work is done.
+fn run_identification(
+    args: &IdentificationRunArgs,
+    outputs: &[&Path],
+    force: bool,
+) -> Result<Run, Failure> {
     let (file, study, study_priority) = load_study(&args.source, args.data.as_deref())?;
     let robot = &file.robot;
     let priority = match &args.priority {
         Some(path) => Some(read_priority_file(path, robot)?),
         None => study_priority,
     };
-    if let Some(output) = &args.output {
-        check_output(output, args.force)?;
+    for output in outputs {
+        check_output(output, force)?;
     }
     let data_label = args
         .data
@@ -299,7 +316,126 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         iteration += 1;
     });
     bar.finish_and_clear();
-    let result = result?;
+    Ok(Run {
+        result: result?,
+        file,
+        study,
+        data_label,
+    })
+}
+
+/// The error of a run that did not converge; `written` says what was saved anyway.
+fn not_converged(result: &Identification, advice: &str) -> Failure {
+    Failure::Numerical(format!(
+        "the identification did not converge ({}) after {} iterations; best residual RMS {:.3e}. {advice}",
+        result.stop_reason.as_str().replace('_', " "),
+        result.iterations(),
+        result.rms_after(),
+    ))
+}
+
+/// Millimetre lengths of per-observation errors, for the plots.
+fn millimetres(errors: &[(f64, f64)]) -> Vec<f64> {
+    errors.iter().map(|error| error.0 * 1e3).collect()
+}
+
+/// Writes the three plots of `identify --plot` into `folder`.
+fn write_plots(
+    folder: &Path,
+    result: &Identification,
+    force: bool,
+) -> Result<Vec<PathBuf>, Failure> {
+    std::fs::create_dir_all(folder).map_err(|error| gecaro_io::Error::Write {
+        path: folder.to_owned(),
+        message: error.to_string(),
+    })?;
+    let (before, after) = (
+        millimetres(&result.errors_before),
+        millimetres(&result.errors_after),
+    );
+    let plots = [
+        (
+            "convergence.svg",
+            gecaro_report::convergence_svg(&result.history)?,
+        ),
+        (
+            "errors_histogram.svg",
+            gecaro_report::error_histograms_svg(&before, &after, "mm")?,
+        ),
+        (
+            "errors_per_configuration.svg",
+            gecaro_report::errors_per_configuration_svg(&before, &after, "mm")?,
+        ),
+    ];
+    let paths: Vec<PathBuf> = plots.iter().map(|(name, _)| folder.join(name)).collect();
+    for path in &paths {
+        check_output(path, force)?;
+    }
+    for (path, (_, svg)) in paths.iter().zip(&plots) {
+        write_atomically(path, svg.as_bytes(), policy(force))?;
+    }
+    Ok(paths)
+}
+
+/// The command line as typed, quoted where a shell would need it.
+fn command_line() -> String {
+    std::env::args()
+        .enumerate()
+        .map(|(index, argument)| {
+            let argument = if index == 0 {
+                "gecaro".to_owned()
+            } else {
+                argument
+            };
+            let plain = !argument.is_empty()
+                && argument
+                    .chars()
+                    .all(|c| c.is_ascii_alphanumeric() || "-_./,=:+@%".contains(c));
+            if plain {
+                argument
+            } else {
+                format!("'{}'", argument.replace('\'', "'\\''"))
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+pub(crate) fn report(args: &ReportArgs) -> Result<(), Failure> {
+    let run = run_identification(&args.run, &[&args.output], args.force)?;
+    let html = gecaro_report::html_report(&gecaro_report::ReportInput {
+        robot: &run.file,
+        study: &run.study,
+        identification: &run.result,
+        command: &command_line(),
+    })?;
+    write_atomically(&args.output, html.as_bytes(), policy(args.force))?;
+    println!(
+        "wrote the report of {} ({} method, {}) to {}",
+        run.file.robot.name(),
+        run.study.method_names(),
+        run.data_label.display(),
+        args.output.display()
+    );
+    if run.result.stop_reason == StopReason::Converged {
+        Ok(())
+    } else {
+        Err(not_converged(
+            &run.result,
+            "The report shows the best iterate.",
+        ))
+    }
+}
+
+pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
+    let outputs: Vec<&Path> = args.output.iter().map(PathBuf::as_path).collect();
+    let Run {
+        file,
+        study,
+        result,
+        data_label,
+    } = run_identification(&args.run, &outputs, args.force)?;
+    let robot = &file.robot;
     let converged = result.stop_reason == StopReason::Converged;
     if args.json {
         super::print_json(&IdentificationJson {
@@ -338,21 +474,32 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
             println!("wrote the calibrated robot to {}", output.display());
         }
     }
+    if let Some(folder) = &args.plot {
+        let paths = write_plots(folder, &result, args.force)?;
+        if !args.json {
+            println!("wrote the plots to {}", display_list(&paths));
+        }
+    }
     if converged {
         Ok(())
     } else {
-        Err(Failure::Numerical(format!(
-            "the identification did not converge ({}) after {} iterations; best residual RMS {:.3e}. {}",
-            result.stop_reason.as_str().replace('_', " "),
-            result.iterations(),
-            result.rms_after(),
+        Err(not_converged(
+            &result,
             if args.output.is_some() && !args.write_unconverged {
                 "Nothing was written (--write-unconverged saves the best iterate)."
             } else {
                 "Try --solver lm, more --max-iterations, or check the data."
-            }
-        )))
+            },
+        ))
     }
+}
+
+fn display_list(paths: &[PathBuf]) -> String {
+    paths
+        .iter()
+        .map(|path| path.display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 fn calibrated_file(

@@ -20,6 +20,7 @@ pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
         Command::Table2(args) => identifiability::table2(&args),
         Command::Generate(args) => calibration::generate(&args),
         Command::Identify(args) => calibration::identify(&args),
+        Command::Report(args) => calibration::report(&args),
         Command::Evaluate(args) => calibration::evaluate(&args),
         Command::Demo(args) => calibration::demo(&args),
     }

@@ -54,9 +54,12 @@ pub(crate) fn write_with(
             folder.display()
         )));
     }
-    let mut temporary = tempfile::Builder::new()
-        .prefix(".gecaro-")
-        .suffix(".tmp")
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".gecaro-").suffix(".tmp");
+    if let Some(permissions) = permissions_for(path) {
+        builder.permissions(permissions);
+    }
+    let mut temporary = builder
         .tempfile_in(folder)
         .map_err(|error| failure(error.to_string()))?;
     produce(temporary.as_file_mut()).map_err(|error| failure(error.to_string()))?;
@@ -77,6 +80,24 @@ pub(crate) fn write_with(
             failure(error.error.to_string())
         }
     })
+}
+
+/// The permissions of the written file: those of the file it replaces, or
+/// read-write for the owner and readable by others (0644 on Unix) for a new
+/// one. Temporary files are created private; an output must not stay so.
+fn permissions_for(path: &Path) -> Option<std::fs::Permissions> {
+    if let Ok(metadata) = std::fs::metadata(path) {
+        return Some(metadata.permissions());
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt as _;
+        Some(std::fs::Permissions::from_mode(0o644))
+    }
+    #[cfg(not(unix))]
+    {
+        None
+    }
 }
 
 #[cfg(test)]
@@ -108,6 +129,19 @@ mod tests {
         ));
         write_atomically(&path, b"three", OutputPolicy::Overwrite).expect("overwrite");
         assert_eq!(std::fs::read_to_string(&path).expect("read"), "three");
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt as _;
+            let mode = std::fs::metadata(&path)
+                .expect("metadata")
+                .permissions()
+                .mode();
+            assert_eq!(
+                mode & 0o777,
+                0o644,
+                "outputs are not private temporary files"
+            );
+        }
         let missing = folder.path().join("no/such/folder/out.csv");
         assert!(matches!(
             write_atomically(&missing, b"x", OutputPolicy::Overwrite),

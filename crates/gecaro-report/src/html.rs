@@ -45,7 +45,8 @@ fn number(value: f64) -> String {
     if value == 0.0 {
         "0".into()
     } else if value.abs() >= 1e-3 && value.abs() < 1e4 {
-        format!("{value:.6}")
+        let text = format!("{value:.6}");
+        text.trim_end_matches('0').trim_end_matches('.').to_owned()
     } else {
         format!("{value:.3e}")
     }

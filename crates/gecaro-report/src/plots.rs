@@ -141,18 +141,21 @@ fn histogram_panel(
     Ok(())
 }
 
-/// A compact axis label.
-fn short(value: f64) -> String {
-    if value == 0.0 {
-        "0".into()
-    } else if value.abs() >= 100.0 {
-        format!("{value:.0}")
-    } else if value.abs() >= 1.0 {
-        format!("{value:.1}")
-    } else if value.abs() >= 0.01 {
-        format!("{value:.3}")
+/// A compact axis label: three significant digits, no trailing zeros.
+pub(crate) fn short(value: f64) -> String {
+    let magnitude = value.abs();
+    if magnitude == 0.0 {
+        return "0".into();
+    }
+    if !(1e-3..1e5).contains(&magnitude) {
+        return format!("{value:.0e}");
+    }
+    let decimals = (2 - magnitude.log10().floor() as i32).max(0) as usize;
+    let text = format!("{value:.decimals$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_owned()
     } else {
-        format!("{value:.0e}")
+        text
     }
 }
 
@@ -306,5 +309,19 @@ mod tests {
         assert!(histograms.contains("after (calibrated)"));
         let points = errors_per_configuration_svg(&[10.0, 20.0], &[0.01, 0.02], "mm").expect("svg");
         assert!(points.contains("<circle"));
+    }
+
+    #[test]
+    fn axis_labels_are_short() {
+        let labels: Vec<String> = [0.0, 50.0, 100.0, 0.1, 0.05, 0.125, 1.5, 2e-5, 123456.0]
+            .iter()
+            .map(|v| short(*v))
+            .collect();
+        assert_eq!(
+            labels,
+            [
+                "0", "50", "100", "0.1", "0.05", "0.125", "1.5", "2e-5", "1e5"
+            ]
+        );
     }
 }
