@@ -15,9 +15,9 @@ use gecaro_io::{
     OutputPolicy, RobotFile, format_robot_file, load_robot, read_priority_file, read_robot_file,
     read_samples, write_atomically, write_samples,
 };
+use gecaro_report::json::{IdentificationJson, SummaryJson};
 use indicatif::{ProgressBar, ProgressStyle};
 use nalgebra::Vector3;
-use serde::Serialize;
 
 use super::options::{load_study, method_options};
 use crate::cli::{
@@ -187,73 +187,6 @@ fn terminal_displacement(
         max = max.max(distance);
     }
     Ok(((squares / samples.len().max(1) as f64).sqrt(), max))
-}
-
-#[derive(Serialize)]
-struct SummaryJson {
-    rms: f64,
-    mean: f64,
-    max: f64,
-    count: usize,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    rms_rotation: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    max_rotation: Option<f64>,
-}
-
-impl From<&ErrorSummary> for SummaryJson {
-    fn from(summary: &ErrorSummary) -> Self {
-        SummaryJson {
-            rms: summary.rms,
-            mean: summary.mean,
-            max: summary.max,
-            count: summary.count,
-            rms_rotation: summary.rms_rotation,
-            max_rotation: summary.max_rotation,
-        }
-    }
-}
-
-#[derive(Serialize)]
-struct ParameterJson {
-    name: String,
-    nominal: f64,
-    identified: f64,
-    std: f64,
-}
-
-#[derive(Serialize)]
-struct IdentificationJson {
-    method: String,
-    converged: bool,
-    iterations: usize,
-    rms_history: Vec<f64>,
-    rms_before: f64,
-    rms_after: f64,
-    condition_number: f64,
-    parameters: Vec<ParameterJson>,
-    auxiliary: Vec<ParameterJson>,
-    stop_reason: &'static str,
-    residual_sigma: f64,
-    before: SummaryJson,
-    after: SummaryJson,
-    not_excited: Vec<String>,
-    identifiable: usize,
-    route: &'static str,
-    moved: Vec<ParameterJson>,
-    warnings: Vec<String>,
-}
-
-fn parameter_json(parameters: &[gecaro_calib::IdentifiedParameter]) -> Vec<ParameterJson> {
-    parameters
-        .iter()
-        .map(|p| ParameterJson {
-            name: p.name.clone(),
-            nominal: p.nominal,
-            identified: p.identified,
-            std: p.std,
-        })
-        .collect()
 }
 
 /// Reads a single-method study from the command line's method and data file.
@@ -438,26 +371,7 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
     let robot = &file.robot;
     let converged = result.stop_reason == StopReason::Converged;
     if args.json {
-        super::print_json(&IdentificationJson {
-            method: study.method_names(),
-            converged,
-            iterations: result.iterations(),
-            rms_history: result.history.iter().map(|h| h.rms).collect(),
-            rms_before: result.rms_before(),
-            rms_after: result.rms_after(),
-            condition_number: result.condition_number,
-            parameters: parameter_json(&result.parameters),
-            auxiliary: parameter_json(&result.auxiliary),
-            stop_reason: result.stop_reason.as_str(),
-            residual_sigma: result.residual_sigma,
-            before: (&result.before).into(),
-            after: (&result.after).into(),
-            not_excited: result.not_excited.clone(),
-            identifiable: result.rank.count(),
-            route: result.route.as_str(),
-            moved: parameter_json(&result.moved),
-            warnings: result.warnings.clone(),
-        })?;
+        super::print_json(&IdentificationJson::new(&study, &result))?;
     } else {
         print_identification(robot, &study, &result, &data_label);
     }

@@ -1,69 +1,18 @@
 //! `gecaro identifiable` and `gecaro table2` (Appendix III, Table 2).
 
 use gecaro_calib::{
-    ParameterStatus, RankReport, Study, TABLE2_COLUMNS, TABLE2_PLANE_NORMAL, default_plane,
-    excitation, identifiable_parameters, random_samples, structural_parameters,
-    table2 as table2_reports,
+    Excitation, ParameterStatus, RankReport, TABLE2_COLUMNS, TABLE2_PLANE_NORMAL, default_plane,
+    identifiability, table2 as table2_reports,
 };
 use gecaro_core::{ParameterId, ParameterKind, Robot};
 use gecaro_io::{load_robot, read_priority_file};
+use gecaro_report::json::IdentifiableJson;
 use serde::Serialize;
 
 use super::options::{load_study, plane, vector3};
 use crate::cli::{IdentifiableArgs, Table2Args};
 use crate::failure::Failure;
 use crate::format::{number, table};
-
-#[derive(Serialize)]
-struct ParameterJson {
-    name: String,
-    priority: u32,
-    status: &'static str,
-}
-
-#[derive(Serialize)]
-struct AbsorbedJson {
-    name: String,
-    coefficient: f64,
-}
-
-#[derive(Serialize)]
-struct RelationJson {
-    base: String,
-    absorbed: Vec<AbsorbedJson>,
-}
-
-#[derive(Serialize)]
-struct ExcitationJson {
-    /// Whether the data excite every structural base parameter.
-    same_base_set: bool,
-    /// Structural base parameters the data do not excite.
-    not_excited: Vec<String>,
-    /// Condition number of W_b built from the data (at the nominal parameters).
-    condition_number: f64,
-}
-
-#[derive(Serialize)]
-struct IdentifiableJson {
-    method: String,
-    robot: String,
-    source: String,
-    configurations: usize,
-    count: usize,
-    condition_number: f64,
-    rows: usize,
-    equations: usize,
-    tolerance: f64,
-    smallest_kept: f64,
-    largest_rejected: f64,
-    relation_residual: f64,
-    parameters: Vec<ParameterJson>,
-    auxiliary: Vec<ParameterJson>,
-    regrouping: Vec<RelationJson>,
-    priority_matrix: Vec<[u32; 6]>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    excitation: Option<ExcitationJson>,
-}
 
 pub(crate) fn identifiable(args: &IdentifiableArgs) -> Result<(), Failure> {
     let (file, study, study_priority) = load_study(&args.source, args.data.as_deref())?;
@@ -73,111 +22,28 @@ pub(crate) fn identifiable(args: &IdentifiableArgs) -> Result<(), Failure> {
         (None, Some(priority)) => priority,
         (None, None) => robot.priority(),
     };
-    let has_data = study.sets.iter().all(|set| !set.samples.is_empty());
-    let (source, configurations, report, excitation) = if has_data {
-        // Appendix III on random data like these (constraints exactly
-        // satisfied), then the excitation check of §4 on the data.
-        let structural = structural_parameters(robot, &study, &priority, args.seed)?;
-        let checked = excitation(robot, &study, &structural)?;
-        let configurations = study.sets.iter().map(|set| set.samples.len()).sum();
-        let labels: Vec<&str> = study.sets.iter().map(|set| set.label.as_str()).collect();
-        let excitation = ExcitationJson {
-            same_base_set: checked.not_excited.is_empty(),
-            not_excited: checked.not_excited,
-            condition_number: checked.report.condition_number,
-        };
-        (
-            format!("random configurations like {}", labels.join(", ")),
-            configurations,
-            structural,
-            Some(excitation),
-        )
-    } else {
-        let set = &study.sets[0];
-        let samples = random_samples(robot, set.method.as_ref(), args.count, args.seed)?;
-        let configurations = samples.len();
-        let random = Study::single(set.method.clone_method(), samples, "random configurations");
-        let report = identifiable_parameters(robot, &random, &priority)?;
-        (
-            format!(
-                "{configurations} random configurations (seed {})",
-                args.seed
-            ),
-            configurations,
-            report,
-            None,
-        )
-    };
+    let analysis = identifiability(robot, &study, &priority, args.count, args.seed)?;
     if args.json {
-        return super::print_json(&IdentifiableJson {
-            method: report.method.clone(),
-            robot: robot.name().to_owned(),
-            source,
-            configurations,
-            count: report.count(),
-            condition_number: report.condition_number,
-            rows: report.rows,
-            equations: report.equations,
-            tolerance: report.tolerance,
-            smallest_kept: report.smallest_kept,
-            largest_rejected: report.largest_rejected,
-            relation_residual: report.relation_residual,
-            parameters: report
-                .parameters
-                .iter()
-                .map(|p| ParameterJson {
-                    name: p.name.clone(),
-                    priority: p.priority,
-                    status: p.status.as_str(),
-                })
-                .collect(),
-            auxiliary: report
-                .auxiliary
-                .iter()
-                .map(|p| ParameterJson {
-                    name: p.name.clone(),
-                    priority: p.priority,
-                    status: p.status.as_str(),
-                })
-                .collect(),
-            regrouping: report
-                .relations
-                .iter()
-                .map(|relation| RelationJson {
-                    base: relation.base.clone(),
-                    absorbed: relation
-                        .absorbed
-                        .iter()
-                        .map(|(name, coefficient)| AbsorbedJson {
-                            name: name.clone(),
-                            coefficient: *coefficient,
-                        })
-                        .collect(),
-                })
-                .collect(),
-            priority_matrix: report.priority.rows().to_vec(),
-            excitation,
-        });
+        return super::print_json(&IdentifiableJson::new(robot, &analysis));
     }
-    print_report(robot, &report, &source);
-    if let Some(excitation) = excitation {
-        print_excitation(&excitation);
+    print_report(robot, &analysis.report, &analysis.source);
+    if let Some(excitation) = &analysis.excitation {
+        print_excitation(excitation);
     }
     Ok(())
 }
 
-fn print_excitation(excitation: &ExcitationJson) {
-    if excitation.same_base_set {
+fn print_excitation(excitation: &Excitation) {
+    let condition = number(excitation.report.condition_number, 1);
+    if excitation.not_excited.is_empty() {
         println!(
-            "Excitation: the data excite every identifiable parameter; condition number of their W_b: {}.",
-            number(excitation.condition_number, 1)
+            "Excitation: the data excite every identifiable parameter; condition number of their W_b: {condition}."
         );
     } else {
         println!(
-            "Excitation: the data do NOT excite {} (condition number of W_b on the data: {}); \
+            "Excitation: the data do NOT excite {} (condition number of W_b on the data: {condition}); \
              they would stay at their nominal values.",
             excitation.not_excited.join(", "),
-            number(excitation.condition_number, 1)
         );
     }
 }

@@ -535,6 +535,63 @@ pub fn random_samples(
     method.generate(robot, count, 0.0, &mut Sampler::new(seed))
 }
 
+/// The paper's "Identifiable parameters" function for a study, and what it
+/// was computed on.
+#[derive(Clone, Debug)]
+pub struct Identifiability {
+    /// The base parameters, regrouping relations and new priority matrix.
+    pub report: RankReport,
+    /// What the rank test ran on, in words.
+    pub source: String,
+    /// Configurations of the data (measured, or random when there were none).
+    pub configurations: usize,
+    /// For measured data: how well they excite the base parameters.
+    pub excitation: Option<Excitation>,
+}
+
+/// Identifiable parameters of `study` (Appendix III). A study without samples
+/// is analysed on `count` random configurations (default: about 2.5
+/// equations per unknown) drawn with `seed`. A study with measured samples is
+/// analysed structurally, on random configurations like the data (their
+/// constraints exactly satisfied), followed by the excitation check of §4 on
+/// the data themselves.
+///
+/// # Errors
+/// Invalid data, configurations that cannot be generated, or too few equations.
+pub fn identifiability(
+    robot: &Robot,
+    study: &Study,
+    priority: &PriorityMatrix,
+    count: Option<usize>,
+    seed: u64,
+) -> Result<Identifiability, Error> {
+    let has_data = !study.sets.is_empty() && study.sets.iter().all(|set| !set.samples.is_empty());
+    if has_data {
+        let report = structural_parameters(robot, study, priority, seed)?;
+        let checked = excitation(robot, study, &report)?;
+        let labels: Vec<&str> = study.sets.iter().map(|set| set.label.as_str()).collect();
+        return Ok(Identifiability {
+            report,
+            source: format!("random configurations like {}", labels.join(", ")),
+            configurations: study.sets.iter().map(|set| set.samples.len()).sum(),
+            excitation: Some(checked),
+        });
+    }
+    let set = study.sets.first().ok_or_else(|| Error::InvalidData {
+        line: None,
+        message: "the study has no measurement set".into(),
+    })?;
+    let samples = random_samples(robot, set.method.as_ref(), count, seed)?;
+    let configurations = samples.len();
+    let random = Study::single(set.method.clone_method(), samples, "random configurations");
+    Ok(Identifiability {
+        report: identifiable_parameters(robot, &random, priority)?,
+        source: format!("{configurations} random configurations (seed {seed})"),
+        configurations,
+        excitation: None,
+    })
+}
+
 /// Identifiable parameters of one method on random configurations (the
 /// paper's "Identifiable parameters" function).
 ///

@@ -51,9 +51,9 @@ mod table2;
 
 pub use error::Error;
 pub use identifiability::{
-    Classified, Excitation, ParameterStatus, RELATIVE_ZERO_FLOOR, RankReport, Relation, excitation,
-    identifiable_parameters, identifiable_parameters_random, random_counterpart, random_samples,
-    structural_parameters,
+    Classified, Excitation, Identifiability, ParameterStatus, RELATIVE_ZERO_FLOOR, RankReport,
+    Relation, excitation, identifiability, identifiable_parameters, identifiable_parameters_random,
+    random_counterpart, random_samples, structural_parameters,
 };
 pub use identification::{
     ErrorSummary, Identification, IdentificationOptions, IdentifiedParameter, IterationRecord,

@@ -2,13 +2,15 @@
 //!
 //! The pictures of a calibration and a self-contained HTML report: plots as
 //! SVG made with plotters ([`convergence_svg`], [`error_histograms_svg`],
-//! [`errors_per_configuration_svg`], [`robot_projections_svg`]) and
+//! [`errors_per_configuration_svg`], [`robot_projections_svg`]),
 //! [`html_report`], one HTML file with the plots inline, readable without a
-//! network.
+//! network, and the JSON documents of the results ([`json`]) that the command
+//! line prints and the web API answers.
 
 #![warn(missing_docs)]
 
 mod html;
+pub mod json;
 mod plots;
 
 pub use html::{ReportInput, html_report};

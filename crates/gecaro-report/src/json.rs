@@ -1,0 +1,270 @@
+//! The results as JSON documents: what `gecaro … --json` prints and what the
+//! web API answers, built from the library's result types so that both speak
+//! the same shapes (documented in `docs/api.md`).
+//!
+//! Units: metres and radians everywhere, as in the robot model.
+
+use gecaro_calib::{
+    Classified, ErrorSummary, Identifiability, Identification, IdentifiedParameter, RankReport,
+    StopReason, Study,
+};
+use gecaro_core::Robot;
+use serde::Serialize;
+
+/// One parameter's identifiability.
+#[derive(Clone, Debug, Serialize)]
+pub struct StatusJson {
+    /// `theta0`, `alpha3`, `K2`, or an auxiliary unknown (`a`, `b`, …).
+    pub name: String,
+    /// Its priority (column order of the QR).
+    pub priority: u32,
+    /// `identifiable`, `regrouped`, `no_effect` or `excluded`.
+    pub status: &'static str,
+}
+
+impl From<&Classified> for StatusJson {
+    fn from(classified: &Classified) -> Self {
+        StatusJson {
+            name: classified.name.clone(),
+            priority: classified.priority,
+            status: classified.status.as_str(),
+        }
+    }
+}
+
+/// A parameter absorbed by a base parameter, with its coefficient.
+#[derive(Clone, Debug, Serialize)]
+pub struct AbsorbedJson {
+    /// The absorbed parameter.
+    pub name: String,
+    /// Its coefficient β in eq. 32.
+    pub coefficient: f64,
+}
+
+/// A regrouping relation: `base_b = base + Σ coefficient·absorbed` (eq. 32).
+#[derive(Clone, Debug, Serialize)]
+pub struct RelationJson {
+    /// The base parameter.
+    pub base: String,
+    /// What it absorbs.
+    pub absorbed: Vec<AbsorbedJson>,
+}
+
+/// The excitation check of measured data (§4).
+#[derive(Clone, Debug, Serialize)]
+pub struct ExcitationJson {
+    /// Whether the data excite every structural base parameter.
+    pub same_base_set: bool,
+    /// Structural base parameters the data do not excite.
+    pub not_excited: Vec<String>,
+    /// Condition number of W_b built from the data (at the nominal parameters).
+    pub condition_number: f64,
+}
+
+/// The "Identifiable parameters" function's result.
+#[derive(Clone, Debug, Serialize)]
+pub struct IdentifiableJson {
+    /// The study's methods, joined with `+`.
+    pub method: String,
+    /// The robot's name.
+    pub robot: String,
+    /// What the rank test ran on.
+    pub source: String,
+    /// Configurations of that data.
+    pub configurations: usize,
+    /// Number of identifiable robot parameters.
+    pub count: usize,
+    /// Condition number of W_b.
+    pub condition_number: f64,
+    /// Rows of W.
+    pub rows: usize,
+    /// Independent equations.
+    pub equations: usize,
+    /// The numerical zero τ.
+    pub tolerance: f64,
+    /// Smallest |R_ii| kept.
+    pub smallest_kept: f64,
+    /// Largest |R_ii| rejected.
+    pub largest_rejected: f64,
+    /// How well the regrouping relations hold.
+    pub relation_residual: f64,
+    /// Every robot parameter, in vocabulary order.
+    pub parameters: Vec<StatusJson>,
+    /// The method's own unknowns (plane coefficients).
+    pub auxiliary: Vec<StatusJson>,
+    /// Regrouping relations.
+    pub regrouping: Vec<RelationJson>,
+    /// The new priority matrix ((n+2) rows of α, d, θ, r, β, K; 0 = not identified).
+    pub priority_matrix: Vec<[u32; 6]>,
+    /// For measured data: the excitation check.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub excitation: Option<ExcitationJson>,
+}
+
+impl IdentifiableJson {
+    /// The document of an identifiability analysis of `robot`.
+    pub fn new(robot: &Robot, analysis: &Identifiability) -> Self {
+        let report: &RankReport = &analysis.report;
+        IdentifiableJson {
+            method: report.method.clone(),
+            robot: robot.name().to_owned(),
+            source: analysis.source.clone(),
+            configurations: analysis.configurations,
+            count: report.count(),
+            condition_number: report.condition_number,
+            rows: report.rows,
+            equations: report.equations,
+            tolerance: report.tolerance,
+            smallest_kept: report.smallest_kept,
+            largest_rejected: report.largest_rejected,
+            relation_residual: report.relation_residual,
+            parameters: report.parameters.iter().map(StatusJson::from).collect(),
+            auxiliary: report.auxiliary.iter().map(StatusJson::from).collect(),
+            regrouping: report
+                .relations
+                .iter()
+                .map(|relation| RelationJson {
+                    base: relation.base.clone(),
+                    absorbed: relation
+                        .absorbed
+                        .iter()
+                        .map(|(name, coefficient)| AbsorbedJson {
+                            name: name.clone(),
+                            coefficient: *coefficient,
+                        })
+                        .collect(),
+                })
+                .collect(),
+            priority_matrix: report.priority.rows().to_vec(),
+            excitation: analysis.excitation.as_ref().map(|checked| ExcitationJson {
+                same_base_set: checked.not_excited.is_empty(),
+                not_excited: checked.not_excited.clone(),
+                condition_number: checked.report.condition_number,
+            }),
+        }
+    }
+}
+
+/// Error statistics over observations (metres; radians for orientations).
+#[derive(Clone, Debug, Serialize)]
+pub struct SummaryJson {
+    /// Root mean square.
+    pub rms: f64,
+    /// Mean.
+    pub mean: f64,
+    /// Largest.
+    pub max: f64,
+    /// Number of observations.
+    pub count: usize,
+    /// RMS of the orientation errors, for methods that measure orientation.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rms_rotation: Option<f64>,
+    /// Largest orientation error.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_rotation: Option<f64>,
+}
+
+impl From<&ErrorSummary> for SummaryJson {
+    fn from(summary: &ErrorSummary) -> Self {
+        SummaryJson {
+            rms: summary.rms,
+            mean: summary.mean,
+            max: summary.max,
+            count: summary.count,
+            rms_rotation: summary.rms_rotation,
+            max_rotation: summary.max_rotation,
+        }
+    }
+}
+
+/// An identified parameter.
+#[derive(Clone, Debug, Serialize)]
+pub struct ParameterJson {
+    /// Its name.
+    pub name: String,
+    /// Its nominal value.
+    pub nominal: f64,
+    /// Its identified value.
+    pub identified: f64,
+    /// Its standard deviation (eq. 11).
+    pub std: f64,
+}
+
+fn parameters(parameters: &[IdentifiedParameter]) -> Vec<ParameterJson> {
+    parameters
+        .iter()
+        .map(|p| ParameterJson {
+            name: p.name.clone(),
+            nominal: p.nominal,
+            identified: p.identified,
+            std: p.std,
+        })
+        .collect()
+}
+
+/// The "Identification" function's result.
+#[derive(Clone, Debug, Serialize)]
+pub struct IdentificationJson {
+    /// The study's methods, joined with `+`.
+    pub method: String,
+    /// Whether the iteration converged.
+    pub converged: bool,
+    /// Iterations done.
+    pub iterations: usize,
+    /// Residual RMS of every iterate, from the nominal robot on.
+    pub rms_history: Vec<f64>,
+    /// Residual RMS at the nominal robot.
+    pub rms_before: f64,
+    /// Residual RMS at the identified robot.
+    pub rms_after: f64,
+    /// Condition number of W_b at the solution.
+    pub condition_number: f64,
+    /// The identified base parameters.
+    pub parameters: Vec<ParameterJson>,
+    /// The identified auxiliary unknowns.
+    pub auxiliary: Vec<ParameterJson>,
+    /// `converged`, `iteration_limit` or `diverged`.
+    pub stop_reason: &'static str,
+    /// Standard deviation of the residual (eq. 11).
+    pub residual_sigma: f64,
+    /// Errors at the nominal robot.
+    pub before: SummaryJson,
+    /// Errors at the identified robot.
+    pub after: SummaryJson,
+    /// Structural base parameters that the data do not excite.
+    pub not_excited: Vec<String>,
+    /// Number of structurally identifiable parameters.
+    pub identifiable: usize,
+    /// The step rule that produced the result.
+    pub route: &'static str,
+    /// Parameters outside the base set that had to move.
+    pub moved: Vec<ParameterJson>,
+    /// What the user should know about the result.
+    pub warnings: Vec<String>,
+}
+
+impl IdentificationJson {
+    /// The document of an identification on `study`.
+    pub fn new(study: &Study, result: &Identification) -> Self {
+        IdentificationJson {
+            method: study.method_names(),
+            converged: result.stop_reason == StopReason::Converged,
+            iterations: result.iterations(),
+            rms_history: result.history.iter().map(|h| h.rms).collect(),
+            rms_before: result.rms_before(),
+            rms_after: result.rms_after(),
+            condition_number: result.condition_number,
+            parameters: parameters(&result.parameters),
+            auxiliary: parameters(&result.auxiliary),
+            stop_reason: result.stop_reason.as_str(),
+            residual_sigma: result.residual_sigma,
+            before: (&result.before).into(),
+            after: (&result.after).into(),
+            not_excited: result.not_excited.clone(),
+            identifiable: result.rank.count(),
+            route: result.route.as_str(),
+            moved: parameters(&result.moved),
+            warnings: result.warnings.clone(),
+        }
+    }
+}
