@@ -4,7 +4,7 @@ use gecaro_calib::{MethodOptions, Plane};
 use gecaro_core::OrientationDifference;
 use nalgebra::Vector3;
 
-use crate::cli::{MethodOptionArgs, OrientationMethod, PlaneArgs, PlaneKnowledge};
+use crate::cli::{MethodOptionArgs, OrientationMethod, PlaneKnowledge};
 use crate::failure::Failure;
 
 /// Three comma-separated numbers from an option.
@@ -39,34 +39,17 @@ pub(crate) fn plane(
     }
 }
 
-fn plane_options(args: &PlaneArgs) -> Result<(Option<Plane>, bool), Failure> {
-    let plane = plane(args.plane_normal.as_deref(), args.plane_point.as_deref())?;
-    let unknown = match (args.plane, &plane) {
-        (Some(PlaneKnowledge::Unknown), _) => true,
-        (Some(PlaneKnowledge::Known), None) => {
-            return Err(Failure::usage(
-                "--plane known needs the plane: --plane-normal and --plane-point",
-                None,
-            ));
-        }
-        (Some(PlaneKnowledge::Known), Some(_)) => false,
-        // Known when given; without a plane only an unknown one makes sense.
-        (None, plane) => plane.is_none(),
-    };
-    Ok((plane, unknown))
-}
-
 /// The library options of a method from its command-line arguments.
 pub(crate) fn method_options(args: &MethodOptionArgs) -> Result<MethodOptions, Failure> {
-    let (plane, plane_unknown) = plane_options(&args.plane)?;
-    if let Some(size) = args.set_size
-        && size < 2
-    {
-        return Err(Failure::usage(
-            format!("--set-size {size}: a set needs at least 2 configurations"),
-            None,
-        ));
-    }
+    let given = plane(
+        args.plane.plane_normal.as_deref(),
+        args.plane.plane_point.as_deref(),
+    )?;
+    let unknown = args
+        .plane
+        .plane
+        .map(|knowledge| knowledge == PlaneKnowledge::Unknown);
+    let (plane, plane_unknown) = MethodOptions::plane_choice(given, unknown)?;
     Ok(MethodOptions {
         plane,
         plane_unknown,
@@ -74,7 +57,7 @@ pub(crate) fn method_options(args: &MethodOptionArgs) -> Result<MethodOptions, F
             OrientationMethod::AxisAngle => OrientationDifference::AxisAngle,
             OrientationMethod::CrossProducts => OrientationDifference::CrossProducts,
         },
-        set_size: args.set_size,
+        set_size: MethodOptions::check_set_size(args.set_size)?,
     })
 }
 

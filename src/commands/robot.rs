@@ -1,8 +1,6 @@
 //! `gecaro robot show | check | new`.
 
-use std::f64::consts::FRAC_PI_2;
-
-use gecaro_core::{Frame, FrameType, Joint, Robot, RobotSpec};
+use gecaro_core::{FrameType, Joint, Robot};
 use gecaro_io::{
     AngleUnit, OutputPolicy, RobotFile, format_robot_file, load_robot, write_atomically,
 };
@@ -169,58 +167,18 @@ fn notes(robot: &Robot) -> Vec<String> {
 }
 
 fn new(letters: &str, output: &std::path::Path, force: bool) -> Result<(), Failure> {
-    let mut frames = vec![Frame::new(FrameType::Fixed)];
-    for (index, letter) in letters.chars().enumerate() {
-        let frame_type = match letter.to_ascii_uppercase() {
-            'R' => FrameType::Revolute,
-            'P' => FrameType::Prismatic,
-            other => {
-                return Err(Failure::usage(
-                    format!(
-                        "joint {} is `{other}`: joints are R (revolute) or P (prismatic)",
-                        index + 1
-                    ),
-                    Some("for example: --joints RRPRRR".to_owned()),
-                ));
-            }
-        };
-        // Alternate α = ±π/2 so the template is a non-degenerate arm to start from.
-        let alpha = if index == 0 {
-            0.0
-        } else if index % 2 == 1 {
-            -FRAC_PI_2
-        } else {
-            FRAC_PI_2
-        };
-        frames.push(Frame {
-            alpha,
-            ..Frame::new(frame_type)
-        });
-    }
-    if frames.len() == 1 {
-        return Err(Failure::usage(
-            "--joints is empty",
+    let name = output.file_stem().map_or_else(
+        || "robot".into(),
+        |stem| stem.to_string_lossy().into_owned(),
+    );
+    let robot = Robot::template(name, letters).map_err(|error| {
+        Failure::usage(
+            format!(
+                "--joints {letters}: {}",
+                error.to_string().trim_start_matches("frames: ")
+            ),
             Some("for example: --joints RRPRRR".to_owned()),
-        ));
-    }
-    frames.push(Frame {
-        r: 0.1,
-        ..Frame::new(FrameType::Fixed)
-    });
-    let joints = frames[1..frames.len() - 1]
-        .iter()
-        .map(|frame| Joint::default_for(frame.frame_type))
-        .collect();
-    let robot = Robot::new(RobotSpec {
-        name: output.file_stem().map_or_else(
-            || "robot".into(),
-            |stem| stem.to_string_lossy().into_owned(),
-        ),
-        frames,
-        joints,
-        motor_coupling: None,
-        joint_coupling: None,
-        priority: None,
+        )
     })?;
     let text = format!(
         "# Template written by `gecaro robot new --joints {letters}`: edit the values.\n\

@@ -237,6 +237,71 @@ impl Robot {
         Ok(robot)
     }
 
+    /// A template arm to start a new robot file from: joint types from the
+    /// letters (`R` revolute, `P` prismatic, case-insensitive; e.g. `RRPRRR`),
+    /// α alternating −π/2, +π/2 from joint 2 on so that the chain is not
+    /// degenerate, the tool frame 0.1 m along the last z axis, default limits.
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] (at [`Field::Frames`]) for an empty string or a
+    /// letter other than R or P.
+    ///
+    /// ```
+    /// let robot = gecaro_core::Robot::template("scara", "RRPR")?;
+    /// assert_eq!(robot.joint_letters(), "RRPR");
+    /// assert_eq!(robot.frames().len(), 6);
+    /// # Ok::<(), gecaro_core::Error>(())
+    /// ```
+    pub fn template(name: impl Into<String>, joint_letters: &str) -> Result<Self, Error> {
+        if joint_letters.is_empty() {
+            return Err(Error::invalid(
+                Field::Frames,
+                "no joints: give joint letters such as RRPRRR",
+            ));
+        }
+        let mut frames = vec![Frame::new(FrameType::Fixed)];
+        for (index, letter) in joint_letters.chars().enumerate() {
+            let frame_type = match letter.to_ascii_uppercase() {
+                'R' => FrameType::Revolute,
+                'P' => FrameType::Prismatic,
+                other => {
+                    return Err(Error::invalid(
+                        Field::Frames,
+                        format!(
+                            "joint {} is `{other}`: joints are R (revolute) or P (prismatic)",
+                            index + 1
+                        ),
+                    ));
+                }
+            };
+            let alpha = match index {
+                0 => 0.0,
+                odd if odd % 2 == 1 => -std::f64::consts::FRAC_PI_2,
+                _ => std::f64::consts::FRAC_PI_2,
+            };
+            frames.push(Frame {
+                alpha,
+                ..Frame::new(frame_type)
+            });
+        }
+        frames.push(Frame {
+            r: 0.1,
+            ..Frame::new(FrameType::Fixed)
+        });
+        let joints = frames[1..frames.len() - 1]
+            .iter()
+            .map(|frame| Joint::default_for(frame.frame_type))
+            .collect();
+        Robot::new(RobotSpec {
+            name: name.into(),
+            frames,
+            joints,
+            motor_coupling: None,
+            joint_coupling: None,
+            priority: None,
+        })
+    }
+
     /// The description this robot was built from (to edit and rebuild).
     pub fn to_spec(&self) -> RobotSpec {
         RobotSpec {

@@ -164,6 +164,44 @@ pub struct MethodOptions {
     pub set_size: Option<usize>,
 }
 
+impl MethodOptions {
+    /// The plane options from what a user said: `plane` if given, and whether
+    /// it is unknown (`None`: known when given; without a plane only an
+    /// unknown one makes sense).
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] when the plane is said to be known but not given.
+    pub fn plane_choice(
+        plane: Option<Plane>,
+        unknown: Option<bool>,
+    ) -> Result<(Option<Plane>, bool), Error> {
+        match (unknown, plane) {
+            (Some(false), None) => Err(Error::InvalidOption {
+                option: "--plane known",
+                message:
+                    "a known plane needs its normal and a point (--plane-normal, --plane-point)"
+                        .into(),
+            }),
+            (Some(unknown), plane) => Ok((plane, unknown)),
+            (None, plane) => Ok((plane, plane.is_none())),
+        }
+    }
+
+    /// Set sizes below 2 cannot make a link set.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] for a size below 2.
+    pub fn check_set_size(size: Option<usize>) -> Result<Option<usize>, Error> {
+        match size {
+            Some(size) if size < 2 => Err(Error::InvalidOption {
+                option: "--set-size",
+                message: format!("{size}: a set needs at least 2 configurations"),
+            }),
+            other => Ok(other),
+        }
+    }
+}
+
 /// A method in the registry: its names and how to build it from options.
 #[derive(Copy, Clone)]
 pub struct MethodInfo {
