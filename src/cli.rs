@@ -38,6 +38,8 @@ pub(crate) enum Command {
     Evaluate(EvaluateArgs),
     /// Generate data for the Stanford arm and identify it with every method.
     Demo(DemoArgs),
+    /// Serve the GECARO main page (robot table, seven method menus) on 127.0.0.1.
+    Serve(ServeArgs),
 }
 
 #[derive(Debug, Subcommand)]
@@ -344,4 +346,17 @@ pub(crate) struct DemoArgs {
     /// Seed of every random draw.
     #[arg(long, default_value_t = 1)]
     pub(crate) seed: u64,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct ServeArgs {
+    /// Port on 127.0.0.1 (0: any free port).
+    #[arg(long, default_value_t = 8080)]
+    pub(crate) port: u16,
+    /// The folder of robot and data files the page may open and save (nothing outside it).
+    #[arg(long, value_name = "DIR", default_value = ".")]
+    pub(crate) dir: PathBuf,
+    /// Open the page in the default browser.
+    #[arg(long)]
+    pub(crate) open: bool,
 }

@@ -10,7 +10,7 @@ use gecaro_calib::{
     Sampler, Solver, StopReason, Study, evaluate as evaluate_study, identify_with_progress, method,
     perturbed_robot, simulate_measurements,
 };
-use gecaro_core::{Robot, terminal_pose};
+use gecaro_core::Robot;
 use gecaro_io::{
     OutputPolicy, RobotFile, format_robot_file, load_robot, read_priority_file, read_robot_file,
     read_samples, write_atomically, write_samples,
@@ -127,7 +127,7 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
         chosen.title(),
         args.output.display()
     );
-    let displacement = terminal_displacement(robot, &real, &samples)?;
+    let displacement = gecaro_calib::terminal_displacement(robot, &real, &samples)?;
     match &args.real {
         Some(path) => println!("real robot: {}", path.display()),
         None => println!(
@@ -165,28 +165,6 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
         println!("wrote the real robot to {}", real_out.display());
     }
     Ok(())
-}
-
-/// RMS and max distance between the nominal and real terminal points over the samples.
-fn terminal_displacement(
-    nominal: &Robot,
-    real: &Robot,
-    samples: &[gecaro_calib::Sample],
-) -> Result<(f64, f64), Failure> {
-    let mut squares = 0.0;
-    let mut max: f64 = 0.0;
-    for sample in samples {
-        let a = terminal_pose(nominal, &sample.motor_positions)?
-            .translation
-            .vector;
-        let b = terminal_pose(real, &sample.motor_positions)?
-            .translation
-            .vector;
-        let distance = (a - b).norm();
-        squares += distance * distance;
-        max = max.max(distance);
-    }
-    Ok(((squares / samples.len().max(1) as f64).sqrt(), max))
 }
 
 /// Reads a single-method study from the command line's method and data file.
@@ -378,7 +356,12 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
     if let Some(output) = &args.output
         && (converged || args.write_unconverged)
     {
-        let calibrated = calibrated_file(&file, &study, &result, &data_label);
+        let calibrated = gecaro_report::calibrated_robot_file(
+            &file,
+            &study,
+            &result,
+            &data_label.display().to_string(),
+        );
         write_atomically(
             output,
             format_robot_file(&calibrated).as_bytes(),
@@ -414,29 +397,6 @@ fn display_list(paths: &[PathBuf]) -> String {
         .map(|path| path.display().to_string())
         .collect::<Vec<_>>()
         .join(", ")
-}
-
-fn calibrated_file(
-    file: &RobotFile,
-    study: &Study,
-    result: &Identification,
-    data: &Path,
-) -> RobotFile {
-    let mut robot = result.calibrated.clone();
-    robot.set_name(format!("{} (calibrated)", file.robot.name()));
-    RobotFile {
-        robot,
-        description: Some(format!(
-            "{} calibrated by gecaro: {} method on {}, {} parameters identified, residual RMS {:.3e} → {:.3e}",
-            file.robot.name(),
-            study.method_names(),
-            data.display(),
-            result.parameters.len(),
-            result.rms_before(),
-            result.rms_after()
-        )),
-        angle_unit: file.angle_unit,
-    }
 }
 
 fn print_identification(robot: &Robot, study: &Study, result: &Identification, data: &Path) {

@@ -6,6 +6,7 @@ mod identifiability;
 mod kinematics;
 mod options;
 mod robot;
+mod serve;
 
 use crate::cli::{Cli, Command};
 use crate::failure::Failure;
@@ -23,6 +24,7 @@ pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
         Command::Report(args) => calibration::report(&args),
         Command::Evaluate(args) => calibration::evaluate(&args),
         Command::Demo(args) => calibration::demo(&args),
+        Command::Serve(args) => serve::serve(&args),
     }
 }
 

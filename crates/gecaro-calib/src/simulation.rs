@@ -7,7 +7,7 @@
 //! by 0.3–0.8 m). The method then generates configurations that satisfy its
 //! constraint *for the real robot*, with Gaussian sensor noise.
 
-use gecaro_core::{ParameterKind, Robot};
+use gecaro_core::{ParameterKind, Robot, terminal_pose};
 
 use crate::Error;
 use crate::methods::CalibrationMethod;
@@ -55,6 +55,33 @@ pub fn perturbed_robot(nominal: &Robot, level: f64, sampler: &mut Sampler) -> Re
         nominal.name()
     ));
     Ok(real)
+}
+
+/// How far the terminal point of `real` is from that of `nominal` over the
+/// configurations of `samples`: (RMS, largest) distance in metres. It tells
+/// how large the simulated errors are in the units a user feels.
+///
+/// # Errors
+/// When a configuration does not fit the robots.
+pub fn terminal_displacement(
+    nominal: &Robot,
+    real: &Robot,
+    samples: &[Sample],
+) -> Result<(f64, f64), Error> {
+    let mut squares = 0.0;
+    let mut largest: f64 = 0.0;
+    for sample in samples {
+        let a = terminal_pose(nominal, &sample.motor_positions)?
+            .translation
+            .vector;
+        let b = terminal_pose(real, &sample.motor_positions)?
+            .translation
+            .vector;
+        let distance = (a - b).norm();
+        squares += distance * distance;
+        largest = largest.max(distance);
+    }
+    Ok(((squares / samples.len().max(1) as f64).sqrt(), largest))
 }
 
 /// Data a method's sensor would give on `real`: `count` configurations that

@@ -213,24 +213,49 @@ impl RobotDocument {
         }
     }
 
+    /// Every problem of the document: those of each frame on its own, then,
+    /// when the frames are fine, the first problem of the whole (joint count,
+    /// coupling, priority). Empty for a valid document.
+    pub fn problems(&self) -> Vec<DocumentError> {
+        let mut problems = Vec::new();
+        if let Err(problem) = self.angle_unit() {
+            problems.push(problem);
+        }
+        let unit = self.angle_unit().unwrap_or(AngleUnit::Radians);
+        let last = self.frame.len().saturating_sub(1);
+        for (index, frame) in self.frame.iter().enumerate() {
+            if let Err(problem) = frame.read(index, last, unit) {
+                problems.push(problem);
+            }
+        }
+        if problems.is_empty()
+            && let Err(problem) = self.to_robot_file("robot")
+        {
+            problems.push(problem);
+        }
+        problems
+    }
+
+    fn angle_unit(&self) -> Result<AngleUnit, DocumentError> {
+        match self.angle_unit.as_deref() {
+            None | Some("rad" | "radian" | "radians") => Ok(AngleUnit::Radians),
+            Some("deg" | "degree" | "degrees") => Ok(AngleUnit::Degrees),
+            Some(other) => Err(DocumentError::new(
+                Location::Key {
+                    key: "angle_unit".into(),
+                },
+                format!("must be \"rad\" or \"deg\", not {other:?}"),
+            )),
+        }
+    }
+
     /// The validated robot file (see the module docs); `fallback_name` names
     /// a document without a name.
     ///
     /// # Errors
     /// The first problem found, with its location.
     pub fn to_robot_file(&self, fallback_name: &str) -> Result<RobotFile, DocumentError> {
-        let angle_unit = match self.angle_unit.as_deref() {
-            None | Some("rad" | "radian" | "radians") => AngleUnit::Radians,
-            Some("deg" | "degree" | "degrees") => AngleUnit::Degrees,
-            Some(other) => {
-                return Err(DocumentError::new(
-                    Location::Key {
-                        key: "angle_unit".into(),
-                    },
-                    format!("must be \"rad\" or \"deg\", not {other:?}"),
-                ));
-            }
-        };
+        let angle_unit = self.angle_unit()?;
         if self.frame.is_empty() {
             return Err(DocumentError::new(
                 Location::Document,
@@ -435,5 +460,67 @@ pub(crate) fn model_error(error: gecaro_core::Error) -> DocumentError {
             DocumentError::new(location, message)
         }
         other => DocumentError::new(Location::Document, other.to_string()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn stanford() -> RobotDocument {
+        let file = crate::ready_robot("stanford")
+            .expect("ready")
+            .expect("valid");
+        RobotDocument::from_robot_file(&file)
+    }
+
+    #[test]
+    fn a_valid_document_has_no_problems_and_round_trips() {
+        let document = stanford();
+        assert!(document.problems().is_empty());
+        let file = document.to_robot_file("x").expect("valid");
+        assert_eq!(RobotDocument::from_robot_file(&file), document);
+    }
+
+    #[test]
+    fn every_bad_frame_is_reported_at_its_cell() {
+        let mut document = stanford();
+        document.frame[2].sigma = Some(7);
+        document.frame[4].alpha = Some(f64::NAN);
+        document.frame[5].qmin = Some(2.0);
+        document.frame[5].qmax = Some(1.0);
+        let problems = document.problems();
+        let locations: Vec<String> = problems.iter().map(|p| p.location.to_string()).collect();
+        // Frame-level problems are all found; qmin > qmax is a rule of the whole model,
+        // reported once the frames themselves are fine.
+        assert_eq!(
+            locations,
+            ["frame 2, sigma", "frame 4, alpha"],
+            "{problems:?}"
+        );
+        document.frame[2].sigma = Some(0);
+        document.frame[4].alpha = Some(0.0);
+        let problems = document.problems();
+        assert_eq!(problems.len(), 1, "{problems:?}");
+        assert_eq!(
+            problems[0].location,
+            Location::Frame {
+                frame: 5,
+                key: "qmin".into()
+            }
+        );
+    }
+
+    #[test]
+    fn an_unknown_angle_unit_is_reported_with_the_frames() {
+        let mut document = stanford();
+        document.angle_unit = Some("grad".into());
+        document.frame[1].d = Some(f64::INFINITY);
+        let locations: Vec<String> = document
+            .problems()
+            .iter()
+            .map(|p| p.location.to_string())
+            .collect();
+        assert_eq!(locations, ["angle_unit", "frame 1, d"]);
     }
 }

@@ -23,6 +23,7 @@ pub use error::Error;
 pub use output::{OutputPolicy, write_atomically};
 pub use ready::{ReadyRobot, load_robot, ready_robot, ready_robots};
 pub use robot_file::{
-    AngleUnit, RobotFile, format_robot_file, parse_robot_file, read_priority_file, read_robot_file,
+    AngleUnit, RobotFile, fallback_name, format_robot_file, parse_robot_document, parse_robot_file,
+    read_priority_file, read_robot_file,
 };
 pub use study_file::{StudyFile, read_study_file};

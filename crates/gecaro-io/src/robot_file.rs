@@ -177,15 +177,30 @@ pub fn read_robot_file(path: &Path) -> Result<RobotFile, Error> {
 /// [`Error::Parse`] naming the line and key of the first problem.
 pub fn parse_robot_file(text: &str, path: &Path) -> Result<RobotFile, Error> {
     let source = Source { path, text };
-    let document: RobotDocument =
-        toml::from_str(text).map_err(|error| toml_error(&source, &error))?;
-    let fallback = path.file_stem().map_or_else(
+    let document = parse_robot_document(text, path)?;
+    document
+        .to_robot_file(&fallback_name(path))
+        .map_err(|error| source.document_error(error))
+}
+
+/// The robot's name for a file without `name`: the file's stem.
+pub fn fallback_name(path: &Path) -> String {
+    path.file_stem().map_or_else(
         || "robot".into(),
         |stem| stem.to_string_lossy().into_owned(),
-    );
-    document
-        .to_robot_file(&fallback)
-        .map_err(|error| source.document_error(error))
+    )
+}
+
+/// Parses the text of a robot file into its document, without checking the
+/// model's rules (the web page shows an invalid robot to be fixed); `path`
+/// only names it in messages.
+///
+/// # Errors
+/// [`Error::Parse`] for TOML syntax errors, unknown keys and values of the
+/// wrong type, naming the line.
+pub fn parse_robot_document(text: &str, path: &Path) -> Result<RobotDocument, Error> {
+    let source = Source { path, text };
+    toml::from_str(text).map_err(|error| toml_error(&source, &error))
 }
 
 #[derive(Deserialize)]

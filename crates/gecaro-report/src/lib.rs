@@ -29,3 +29,28 @@ pub enum Error {
     #[error("{0}")]
     Model(String),
 }
+
+/// The calibrated robot as a robot file: the identified robot, named
+/// "<name> (calibrated)", with a description of how it was obtained from the
+/// data labelled `data`, in the nominal file's angle unit.
+pub fn calibrated_robot_file(
+    nominal: &gecaro_io::RobotFile,
+    study: &gecaro_calib::Study,
+    result: &gecaro_calib::Identification,
+    data: &str,
+) -> gecaro_io::RobotFile {
+    let mut robot = result.calibrated.clone();
+    robot.set_name(format!("{} (calibrated)", nominal.robot.name()));
+    gecaro_io::RobotFile {
+        robot,
+        description: Some(format!(
+            "{} calibrated by gecaro: {} method on {data}, {} parameters identified, residual RMS {:.3e} → {:.3e}",
+            nominal.robot.name(),
+            study.method_names(),
+            result.parameters.len(),
+            result.rms_before(),
+            result.rms_after()
+        )),
+        angle_unit: nominal.angle_unit,
+    }
+}

@@ -1,0 +1,1189 @@
+// gecaro's page: the robot's table, a 3D view, and a menu per calibration
+// method with its three functions. It talks to the JSON API of docs/api.md;
+// every computation happens on the server. No framework, no dependencies.
+'use strict';
+
+const KINDS = ['alpha', 'd', 'theta', 'r', 'beta', 'K'];
+const KIND_HEADS = ['α', 'd', 'θ', 'r', 'β', 'K'];
+const COLUMNS = [
+  { key: 'sigma', head: 'σ' }, { key: 'alpha', head: 'α' }, { key: 'd', head: 'd' },
+  { key: 'theta', head: 'θ' }, { key: 'r', head: 'r' }, { key: 'beta', head: 'β' },
+  { key: 'K', head: 'K' }, { key: 'offset', head: 'offset' }, { key: 'qmin', head: 'qmin' },
+  { key: 'qmax', head: 'qmax' },
+];
+const ANGLES = new Set(['alpha', 'theta', 'beta']);
+const JOINT_KEYS = new Set(['K', 'offset', 'qmin', 'qmax']);
+const JOINT_ANGLES = new Set(['offset', 'qmin', 'qmax']);
+const DEFAULT_COUNTS = {
+  position: 50, frame: 30, 'point-link': 80, 'frame-link': 60, plane1: 120, plane2: 120, distance: 200,
+};
+const FUNCTIONS = ['identifiable', 'generate', 'identify'];
+
+const state = {
+  info: null,
+  robot: null, // {origin, name, document, problems, summary}
+  file: null, // the robot's file in the folder, once opened or saved
+  dirty: false,
+  q: [],
+  pose: null,
+  localProblems: new Map(),
+  files: { robots: [], data: [] },
+  generated: {}, // method -> {csv, file_name, real}
+  method: 'position',
+  function: 'identifiable',
+  robotSerial: 0, // changes with every robot loaded, so late answers about the last one are dropped
+  view: { azimuth: -0.9, elevation: 0.45, zoom: 1, bounds: null },
+};
+
+// ---------------------------------------------------------------- helpers
+
+function h(tag, attributes, ...children) {
+  const element = document.createElement(tag);
+  for (const [name, value] of Object.entries(attributes || {})) {
+    if (value === undefined || value === null || value === false) continue;
+    if (name.startsWith('on')) element.addEventListener(name.slice(2), value);
+    else if (name === 'class') element.className = value;
+    else if (name === 'text') element.textContent = value;
+    else element.setAttribute(name, value === true ? '' : value);
+  }
+  for (const child of children.flat()) {
+    if (child === undefined || child === null || child === false) continue;
+    element.append(child instanceof Node ? child : document.createTextNode(String(child)));
+  }
+  return element;
+}
+
+const $ = (id) => document.getElementById(id);
+
+class ApiFailure extends Error {
+  constructor(status, body) {
+    super(body && body.error ? body.error : `HTTP ${status}`);
+    this.status = status;
+    this.problems = (body && body.problems) || [];
+  }
+}
+
+async function api(path, body) {
+  const request = body === undefined ? {} : {
+    method: 'POST',
+    headers: { 'Content-Type': 'application/json' },
+    body: JSON.stringify(body),
+  };
+  const response = await fetch(`/api${path}`, request);
+  const text = await response.text();
+  let data;
+  try { data = JSON.parse(text); } catch { data = { error: text || response.statusText }; }
+  if (!response.ok) throw new ApiFailure(response.status, data);
+  return data;
+}
+
+/** A number as a person reads it: up to 8 significant digits. */
+function fmt(value) {
+  if (value === undefined || value === null) return '';
+  if (value === 0) return '0';
+  const size = Math.abs(value);
+  if (size >= 1e-4 && size < 1e7) return String(Number(value.toPrecision(8)));
+  return value.toExponential(4);
+}
+
+function fixed(value, digits) {
+  return Number.isFinite(value) ? value.toFixed(digits) : '–';
+}
+
+function sci(value) {
+  return Number.isFinite(value) ? value.toExponential(2) : '–';
+}
+
+function toast(text) {
+  const element = $('toast');
+  element.textContent = text;
+  element.classList.add('show');
+  clearTimeout(toast.timer);
+  toast.timer = setTimeout(() => element.classList.remove('show'), 2600);
+}
+
+function slug(text) {
+  return text.toLowerCase().replace(/[^a-z0-9]+/g, '-').replace(/^-|-$/g, '') || 'robot';
+}
+
+function download(name, text, type) {
+  const url = URL.createObjectURL(new Blob([text], { type }));
+  const link = h('a', { href: url, download: name });
+  document.body.append(link);
+  link.click();
+  link.remove();
+  setTimeout(() => URL.revokeObjectURL(url), 1000);
+}
+
+function parseVector(text, what) {
+  const parts = text.trim().split(/[\s,;]+/).filter(Boolean).map(Number);
+  if (parts.length !== 3 || !parts.every(Number.isFinite)) {
+    throw new Error(`${what} needs three numbers, e.g. 0.3, 0.5, 0.81`);
+  }
+  return parts;
+}
+
+// ---------------------------------------------------------------- dialogs
+
+function openDialog({ title, body, ok = 'OK', onOk }) {
+  const dialog = $('dialog');
+  $('dialog-title').textContent = title;
+  $('dialog-body').replaceChildren(body);
+  $('dialog-error').textContent = '';
+  const okButton = $('dialog-ok');
+  okButton.textContent = ok;
+  okButton.hidden = !onOk;
+  $('dialog-form').onsubmit = async (event) => {
+    event.preventDefault();
+    if (!onOk) return;
+    okButton.disabled = true;
+    try {
+      await onOk();
+      dialog.close();
+    } catch (error) {
+      $('dialog-error').textContent = error.message;
+    } finally {
+      okButton.disabled = false;
+    }
+  };
+  dialog.showModal();
+  const first = body.querySelector && body.querySelector('input');
+  if (first) first.focus();
+}
+
+function dialogError(text) {
+  $('dialog-error').textContent = text;
+}
+
+// ---------------------------------------------------------------- robot
+
+function document_() {
+  return state.robot.document;
+}
+
+function setRobot(view, file) {
+  state.robot = view;
+  state.file = file || null;
+  state.dirty = false;
+  state.localProblems.clear();
+  const joints = view.document.frame.length - 2;
+  state.q = new Array(Math.max(joints, 0)).fill(0);
+  state.pose = null;
+  state.robotSerial += 1;
+  state.view.zoom = 1;
+  state.view.bounds = null;
+  renderRobot();
+  refreshPose();
+}
+
+function renderRobot() {
+  const view = state.robot;
+  const doc = view.document;
+  $('robot-name').textContent = doc.name || 'Unnamed robot';
+  const origin = state.file ? `file ${state.file}`
+    : view.origin === 'ready' ? `ready robot “${view.name}” (Save as… to keep a copy)`
+      : 'not saved yet';
+  $('robot-origin').textContent = (state.dirty ? '• modified · ' : '') + origin;
+  $('angle-unit').value = doc.angle_unit === 'deg' ? 'deg' : 'rad';
+  renderFrames();
+  renderProblems();
+  renderPriority();
+  renderSliders();
+  prefillPlanes();
+}
+
+function applicable(frame, last, key) {
+  if (frame === 0) return key === 'sigma' || key === 'theta' || key === 'r';
+  if (frame === last) return !JOINT_KEYS.has(key);
+  return true;
+}
+
+function renderFrames() {
+  const doc = document_();
+  const last = doc.frame.length - 1;
+  const head = h('tr', {}, h('th', { text: 'j' }), COLUMNS.map((c) => h('th', { text: c.head })));
+  const rows = doc.frame.map((frame, j) => h('tr', {},
+    h('td', { text: String(j) }),
+    COLUMNS.map((column) => {
+      if (!applicable(j, last, column.key)) return h('td', { class: 'none', text: '·' });
+      const input = h('input', {
+        type: 'text',
+        inputmode: 'decimal',
+        class: column.key === 'sigma' ? 'sigma' : '',
+        value: fmt(frame[column.key]),
+        placeholder: column.key === 'K' ? '1' : column.key === 'sigma' ? '' : '0',
+        'data-frame': j,
+        'data-key': column.key,
+        'aria-label': `frame ${j} ${column.key}`,
+        onchange: (event) => editCell(j, column.key, event.target),
+      });
+      return h('td', {}, input);
+    })));
+  $('frames-table').replaceChildren(h('thead', {}, head), h('tbody', {}, rows));
+}
+
+function editCell(frame, key, input) {
+  const text = input.value.trim();
+  const slot = `${frame}/${key}`;
+  const target = document_().frame[frame];
+  state.localProblems.delete(slot);
+  if (text === '') {
+    delete target[key];
+  } else {
+    const value = Number(text);
+    if (!Number.isFinite(value)) {
+      state.localProblems.set(slot, { frame, key, message: `“${text}” is not a number` });
+    } else if (key === 'sigma' && !Number.isInteger(value)) {
+      state.localProblems.set(slot, { frame, key, message: 'sigma is 0 (revolute), 1 (prismatic) or 2 (fixed)' });
+    } else {
+      target[key] = value;
+    }
+  }
+  markModified();
+  renderProblems();
+  scheduleCheck();
+}
+
+function markModified() {
+  if (!state.dirty) {
+    state.dirty = true;
+    $('robot-origin').textContent = `• modified · ${$('robot-origin').textContent}`;
+  }
+}
+
+let checkTimer = null;
+let checkSerial = 0;
+function scheduleCheck() {
+  clearTimeout(checkTimer);
+  checkTimer = setTimeout(checkRobot, 180);
+}
+
+async function checkRobot() {
+  const serial = ++checkSerial;
+  try {
+    const view = await api('/robots/check', { robot: document_() });
+    if (serial !== checkSerial) return;
+    const jointsBefore = state.robot.summary ? state.robot.summary.joints.length : -1;
+    state.robot.problems = view.problems;
+    state.robot.summary = view.summary || null;
+    renderProblems();
+    if (view.summary) {
+      renderPriority();
+      if (view.summary.joints.length !== jointsBefore) renderSliders();
+      else updateSliderRanges();
+      refreshPose();
+    }
+  } catch (error) {
+    if (serial !== checkSerial) return;
+    state.robot.problems = [{ location: { kind: 'document' }, message: error.message }];
+    state.robot.summary = null;
+    renderProblems();
+  }
+}
+
+function locationText(location) {
+  switch (location.kind) {
+    case 'frame': return `Frame ${location.frame}, ${location.key}`;
+    case 'key': return location.key;
+    case 'coupling': return `Coupling matrix ${location.matrix}`;
+    case 'priority': return location.row === null || location.row === undefined
+      ? 'Priority matrix' : `Priority matrix, row ${location.row}`;
+    default: return 'Robot';
+  }
+}
+
+function renderProblems() {
+  for (const input of document.querySelectorAll('#frames-table input.invalid')) {
+    input.classList.remove('invalid');
+    input.removeAttribute('title');
+  }
+  const items = [];
+  const mark = (frame, key, message) => {
+    const input = document.querySelector(`#frames-table input[data-frame="${frame}"][data-key="${key}"]`);
+    if (input) {
+      input.classList.add('invalid');
+      input.title = message;
+    }
+  };
+  for (const problem of state.localProblems.values()) {
+    mark(problem.frame, problem.key, problem.message);
+    items.push(h('li', { text: `Frame ${problem.frame}, ${problem.key}: ${problem.message}` }));
+  }
+  for (const problem of state.robot.problems || []) {
+    if (problem.location.kind === 'frame') mark(problem.location.frame, problem.location.key, problem.message);
+    items.push(h('li', { text: `${locationText(problem.location)}: ${problem.message}` }));
+  }
+  $('problems').replaceChildren(...items);
+  const badge = $('robot-status');
+  const summary = state.robot.summary;
+  if (items.length === 0 && summary) {
+    badge.className = 'badge ok';
+    badge.textContent = `valid · ${summary.letters.length} joints ${summary.letters} · ${summary.parameter_count} parameters`;
+  } else {
+    badge.className = 'badge bad';
+    badge.textContent = `${items.length} problem${items.length === 1 ? '' : 's'}`;
+  }
+  for (const button of document.querySelectorAll('button.run')) {
+    button.disabled = items.length > 0;
+  }
+}
+
+function renderPriority() {
+  const doc = document_();
+  const summary = state.robot.summary;
+  const matrix = doc.priority ? doc.priority.matrix : summary ? summary.priority : null;
+  $('priority-origin').textContent = doc.priority ? '(set for this robot)' : '(the paper’s default rules)';
+  if (!matrix) {
+    $('priority-table').replaceChildren();
+    return;
+  }
+  const head = h('tr', {}, h('th', { text: 'j' }), KIND_HEADS.map((k) => h('th', { text: k })));
+  const rows = matrix.map((row, j) => h('tr', {}, h('th', { text: String(j) }),
+    row.map((value, c) => h('td', {}, h('input', {
+      type: 'text',
+      inputmode: 'numeric',
+      value: String(value),
+      'data-row': j,
+      'data-column': c,
+      'aria-label': `priority of ${KINDS[c]}${j}`,
+      onchange: editPriority,
+    })))));
+  $('priority-table').replaceChildren(h('thead', {}, head), h('tbody', {}, rows));
+}
+
+function editPriority() {
+  const rows = [];
+  for (const input of document.querySelectorAll('#priority-table input')) {
+    const row = Number(input.dataset.row);
+    rows[row] = rows[row] || [];
+    const value = Number(input.value.trim());
+    rows[row][Number(input.dataset.column)] = Number.isInteger(value) ? value : -1;
+  }
+  document_().priority = { matrix: rows };
+  $('priority-origin').textContent = '(set for this robot)';
+  markModified();
+  scheduleCheck();
+}
+
+function changeAngleUnit(event) {
+  const doc = document_();
+  const toDegrees = event.target.value === 'deg';
+  const wasDegrees = doc.angle_unit === 'deg';
+  if (toDegrees === wasDegrees) return;
+  const factor = toDegrees ? 180 / Math.PI : Math.PI / 180;
+  for (const frame of doc.frame) {
+    for (const key of Object.keys(frame)) {
+      const angle = ANGLES.has(key) || (JOINT_ANGLES.has(key) && frame.sigma === 0);
+      if (angle && typeof frame[key] === 'number') frame[key] *= factor;
+    }
+  }
+  if (toDegrees) doc.angle_unit = 'deg'; else delete doc.angle_unit;
+  markModified();
+  renderFrames();
+  scheduleCheck();
+}
+
+// ---------------------------------------------------------------- sliders and view
+
+function sliderValue(index) {
+  const joint = state.robot.summary.joints[index];
+  return Math.min(Math.max(state.q[index] || 0, joint.qmin), joint.qmax);
+}
+
+function sliderText(index) {
+  const joint = state.robot.summary.joints[index];
+  const value = state.q[index];
+  return joint.revolute ? `${(value * 180 / Math.PI).toFixed(1)}°` : `${value.toFixed(3)} m`;
+}
+
+function renderSliders() {
+  const summary = state.robot.summary;
+  const container = $('sliders');
+  if (!summary) {
+    container.replaceChildren(h('span', { class: 'muted', text: 'Fix the table to move the robot.' }));
+    return;
+  }
+  state.q = summary.joints.map((_, i) => state.q[i] || 0);
+  const cells = summary.joints.flatMap((joint, i) => {
+    state.q[i] = sliderValue(i);
+    const output = h('output', { id: `slider-value-${i + 1}`, text: sliderText(i) });
+    const input = h('input', {
+      type: 'range',
+      id: `slider-${i + 1}`,
+      min: joint.qmin,
+      max: joint.qmax,
+      step: (joint.qmax - joint.qmin) / 2000,
+      value: state.q[i],
+      'aria-label': `joint ${i + 1}`,
+      oninput: (event) => {
+        state.q[i] = Number(event.target.value);
+        output.textContent = sliderText(i);
+        refreshPose();
+      },
+    });
+    return [h('label', { for: `slider-${i + 1}`, text: `q${i + 1}` }), input, output];
+  });
+  container.replaceChildren(...cells);
+}
+
+function updateSliderRanges() {
+  state.robot.summary.joints.forEach((joint, i) => {
+    const input = $(`slider-${i + 1}`);
+    if (!input) return;
+    input.min = joint.qmin;
+    input.max = joint.qmax;
+    input.step = (joint.qmax - joint.qmin) / 2000;
+    state.q[i] = sliderValue(i);
+    input.value = state.q[i];
+    $(`slider-value-${i + 1}`).textContent = sliderText(i);
+  });
+}
+
+let poseBusy = false;
+let posePending = false;
+async function refreshPose() {
+  if (!state.robot.summary) return;
+  if (poseBusy) {
+    posePending = true;
+    return;
+  }
+  poseBusy = true;
+  const serial = state.robotSerial;
+  try {
+    const pose = await api('/robots/pose', { robot: document_(), q: state.q });
+    if (serial === state.robotSerial) {
+      state.pose = pose.frames;
+      drawView();
+    } else {
+      posePending = true;
+    }
+  } catch (error) {
+    if (serial === state.robotSerial) {
+      state.pose = null;
+      drawView(error.message);
+    }
+  } finally {
+    poseBusy = false;
+    if (posePending) {
+      posePending = false;
+      refreshPose();
+    }
+  }
+}
+
+function project(point) {
+  const { azimuth, elevation } = state.view;
+  const right = [-Math.sin(azimuth), Math.cos(azimuth), 0];
+  const up = [-Math.sin(elevation) * Math.cos(azimuth), -Math.sin(elevation) * Math.sin(azimuth), Math.cos(elevation)];
+  const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  return [dot(point, right), dot(point, up)];
+}
+
+/** A round grid step: 1, 2 or 5 × 10^k, about `target`. */
+function niceStep(target) {
+  const power = Math.pow(10, Math.floor(Math.log10(target)));
+  const mantissa = target / power;
+  return (mantissa < 1.5 ? 1 : mantissa < 3.5 ? 2 : 5) * power;
+}
+
+/** Centre and radius of what is drawn: the world origin and every frame. */
+function viewBounds(origins) {
+  const points = [[0, 0, 0], ...origins];
+  const low = [0, 1, 2].map((k) => Math.min(...points.map((p) => p[k])));
+  const high = [0, 1, 2].map((k) => Math.max(...points.map((p) => p[k])));
+  const centre = low.map((l, k) => (l + high[k]) / 2);
+  const radius = Math.max(0.1, Math.hypot(...high.map((h_, k) => h_ - low[k])) / 2);
+  return { centre, radius };
+}
+
+function drawView(message) {
+  const canvas = $('robot-view');
+  const ratio = window.devicePixelRatio || 1;
+  const width = canvas.clientWidth;
+  const height = canvas.clientHeight;
+  if (canvas.width !== width * ratio) {
+    canvas.width = width * ratio;
+    canvas.height = height * ratio;
+  }
+  const context = canvas.getContext('2d');
+  context.setTransform(ratio, 0, 0, ratio, 0, 0);
+  context.clearRect(0, 0, width, height);
+  if (!state.pose) {
+    context.fillStyle = '#5b6775';
+    context.font = '14px system-ui, sans-serif';
+    context.fillText(message || 'No valid robot to draw.', 16, 28);
+    return;
+  }
+  const origins = state.pose.map((f) => f.origin);
+  if (!state.view.bounds) state.view.bounds = viewBounds(origins);
+  const { centre, radius } = state.view.bounds;
+  const scale = (Math.min(width, height) * 0.46 * state.view.zoom) / radius;
+  const [cx, cy] = project(centre);
+  const toScreen = (point) => {
+    const [x, y] = project(point);
+    return [width / 2 + (x - cx) * scale, height / 2 - (y - cy) * scale];
+  };
+  const line = (a, b, color, widthPx, dash) => {
+    const [ax, ay] = toScreen(a);
+    const [bx, by] = toScreen(b);
+    context.strokeStyle = color;
+    context.lineWidth = widthPx;
+    context.setLineDash(dash || []);
+    context.beginPath();
+    context.moveTo(ax, ay);
+    context.lineTo(bx, by);
+    context.stroke();
+    context.setLineDash([]);
+  };
+  // Floor grid (the world's xy plane) around the robot.
+  const step = niceStep(radius / 4);
+  const extent = Math.ceil((radius * 1.2) / step) * step;
+  const [gx, gy] = [Math.round(centre[0] / step) * step, Math.round(centre[1] / step) * step];
+  for (let v = -extent; v <= extent + 1e-9; v += step) {
+    line([gx + v, gy - extent, 0], [gx + v, gy + extent, 0], '#e3e8ee', 1);
+    line([gx - extent, gy + v, 0], [gx + extent, gy + v, 0], '#e3e8ee', 1);
+  }
+  // World axes.
+  const axis = radius * 0.12;
+  line([0, 0, 0], [axis, 0, 0], '#e8a3a3', 1.5);
+  line([0, 0, 0], [0, axis, 0], '#9fd09f', 1.5);
+  line([0, 0, 0], [0, 0, axis], '#9dbfe0', 1.5);
+  line([0, 0, 0], origins[0], '#9aa6b2', 2, [5, 4]);
+  // Links between successive frame origins.
+  context.lineCap = 'round';
+  for (let i = 0; i + 1 < origins.length; i += 1) line(origins[i], origins[i + 1], '#3b4a5a', 7);
+  context.lineCap = 'butt';
+  // Frame axes: x red, y green, z blue; the tool's larger.
+  state.pose.forEach((frame, j) => {
+    const size = j === state.pose.length - 1 ? axis * 1.6 : axis;
+    const tip = (v) => frame.origin.map((o, k) => o + v[k] * size);
+    line(frame.origin, tip(frame.x), '#d62728', 2);
+    line(frame.origin, tip(frame.y), '#2ca02c', 2);
+    line(frame.origin, tip(frame.z), '#1f77b4', 2.5);
+  });
+  // Origins, with the numbers of the frames that share a point.
+  const spots = [];
+  state.pose.forEach((frame, j) => {
+    const [x, y] = toScreen(frame.origin);
+    const spot = spots.find((s) => Math.hypot(s.x - x, s.y - y) < 4);
+    if (spot) spot.frames.push(j); else spots.push({ x, y, frames: [j] });
+  });
+  context.font = '12px system-ui, sans-serif';
+  const last = state.pose.length - 1;
+  for (const spot of spots) {
+    const joint = spot.frames.some((j) => j !== 0 && j !== last);
+    context.fillStyle = '#ffffff';
+    context.strokeStyle = '#14202e';
+    context.lineWidth = 2;
+    context.beginPath();
+    context.arc(spot.x, spot.y, joint ? 6 : 4, 0, 2 * Math.PI);
+    context.fill();
+    context.stroke();
+    context.fillStyle = '#14202e';
+    context.fillText(spot.frames.join(','), spot.x + 9, spot.y - 8);
+  }
+  context.fillStyle = '#5b6775';
+  context.fillText(`floor grid ${fmt(step)} m`, 10, height - 10);
+}
+
+function installViewControls() {
+  const canvas = $('robot-view');
+  let dragging = null;
+  canvas.addEventListener('pointerdown', (event) => {
+    dragging = { x: event.clientX, y: event.clientY };
+    canvas.setPointerCapture(event.pointerId);
+  });
+  canvas.addEventListener('pointermove', (event) => {
+    if (!dragging) return;
+    state.view.azimuth -= (event.clientX - dragging.x) * 0.01;
+    state.view.elevation = Math.max(-1.5, Math.min(1.5, state.view.elevation + (event.clientY - dragging.y) * 0.01));
+    dragging = { x: event.clientX, y: event.clientY };
+    drawView();
+  });
+  canvas.addEventListener('pointerup', () => { dragging = null; });
+  canvas.addEventListener('wheel', (event) => {
+    event.preventDefault();
+    state.view.zoom = Math.max(0.2, Math.min(8, state.view.zoom * Math.exp(-event.deltaY * 0.001)));
+    drawView();
+  }, { passive: false });
+}
+
+// ---------------------------------------------------------------- robot menu
+
+async function loadReady(name) {
+  setRobot(await api(`/robots/ready/${encodeURIComponent(name)}`), null);
+}
+
+async function loadFile(name) {
+  setRobot(await api(`/robots/file?name=${encodeURIComponent(name)}`), name);
+}
+
+async function refreshFiles() {
+  try {
+    state.files = await api('/files');
+  } catch (error) {
+    state.files = { robots: [], data: [] };
+  }
+  for (const method of state.info.methods) refreshDataChoices(method.name);
+}
+
+function openRobotDialog() {
+  const ready = h('div', { class: 'choices' }, state.info.ready.map((name) => h('button', {
+    type: 'button',
+    id: `open-ready-${name}`,
+    text: name,
+    onclick: async () => {
+      try {
+        await loadReady(name);
+        $('dialog').close();
+      } catch (error) {
+        dialogError(error.message);
+      }
+    },
+  })));
+  const list = h('div', { class: 'file-list' }, h('div', { class: 'empty', text: 'Loading…' }));
+  openDialog({ title: 'Open a robot', body: h('div', {}, h('h3', { text: 'Ready robots' }), ready, h('h3', { text: `Robot files in ${state.info.folder}` }), list) });
+  api('/files').then((files) => {
+    state.files = files;
+    list.replaceChildren(...(files.robots.length ? files.robots.map((name) => h('button', {
+      type: 'button',
+      text: name,
+      onclick: async () => {
+        try {
+          await loadFile(name);
+          $('dialog').close();
+        } catch (error) {
+          dialogError(error.message);
+        }
+      },
+    })) : [h('div', { class: 'empty', text: 'No .toml files in this folder.' })]));
+  }).catch((error) => dialogError(error.message));
+}
+
+function newRobotDialog() {
+  const joints = h('input', { type: 'text', id: 'new-joints', value: 'RRRRRR', pattern: '[RrPp]+', required: true });
+  const name = h('input', { type: 'text', id: 'new-name', placeholder: 'e.g. My arm' });
+  openDialog({
+    title: 'New robot',
+    body: h('div', {},
+      h('label', { class: 'dialog-field' }, 'Joint types, from joint 1 to n (R revolute, P prismatic)', joints),
+      h('label', { class: 'dialog-field' }, 'Name', name),
+      h('p', { class: 'muted', text: 'A template arm to edit: α alternates ±90°, the tool 0.1 m along the last z axis.' })),
+    ok: 'Create',
+    onOk: async () => {
+      const view = await api('/robots/new', { joints: joints.value.trim(), name: name.value.trim() || undefined });
+      setRobot(view, null);
+      state.dirty = true;
+      renderRobot();
+    },
+  });
+}
+
+function saveAsDialog(documentToSave, suggested, after) {
+  const name = h('input', { type: 'text', id: 'save-name', value: suggested });
+  const overwrite = h('input', { type: 'checkbox', id: 'save-overwrite' });
+  openDialog({
+    title: 'Save robot as',
+    body: h('div', {},
+      h('label', { class: 'dialog-field' }, `File name in ${state.info.folder}`, name),
+      h('label', {}, overwrite, ' Replace the file if it exists')),
+    ok: 'Save',
+    onOk: async () => {
+      try {
+        await api('/robots/save', { robot: documentToSave, name: name.value.trim(), overwrite: overwrite.checked });
+      } catch (error) {
+        if (error.problems.length) throw new Error(`${error.message} — fix the table first.`);
+        throw error;
+      }
+      toast(`Saved ${name.value.trim()}`);
+      if (after) after(name.value.trim());
+      refreshFiles();
+    },
+  });
+}
+
+function saveRobotAs() {
+  const suggested = state.file || `${slug(document_().name || 'robot')}.toml`;
+  saveAsDialog(document_(), suggested, (name) => {
+    state.file = name;
+    state.dirty = false;
+    renderRobot();
+  });
+}
+
+async function saveRobot() {
+  if (!state.file) {
+    saveRobotAs();
+    return;
+  }
+  try {
+    await api('/robots/save', { robot: document_(), name: state.file, overwrite: true });
+    state.dirty = false;
+    renderRobot();
+    toast(`Saved ${state.file}`);
+  } catch (error) {
+    toast(`Not saved: ${error.message}`);
+  }
+}
+
+// ---------------------------------------------------------------- method panels
+
+function field(label, input) {
+  return h('label', { class: 'field' }, h('span', { text: label }), input);
+}
+
+function methodInfo(name) {
+  return state.info.methods.find((m) => m.name === name);
+}
+
+function optionFields(method, fn) {
+  const id = (suffix) => `${method.name}-${fn}-${suffix}`;
+  const fields = [];
+  if (method.uses_plane) {
+    fields.push(field(method.name === 'plane2' ? 'Plane normal' : 'Plane', h('select', { id: id('plane') },
+      h('option', { value: 'known', text: 'known' }),
+      h('option', { value: 'unknown', text: 'unknown (identified)' }))));
+    fields.push(field('Normal (world)', h('input', { type: 'text', class: 'vector plane-normal', id: id('normal') })));
+    fields.push(field('Point of the plane (m)', h('input', { type: 'text', class: 'vector plane-point', id: id('point') })));
+  }
+  if (method.uses_orientation && fn !== 'generate') {
+    fields.push(field('Orientation difference', h('select', { id: id('orientation') },
+      h('option', { value: 'axis-angle', text: 'axis–angle (App. I, method 2)' }),
+      h('option', { value: 'cross-products', text: 'cross products (method 1)' }))));
+  }
+  if (method.uses_sets && fn === 'generate') {
+    fields.push(field('Configurations per set', h('input', { type: 'number', min: 2, step: 1, id: id('set-size'), placeholder: method.name === 'point-link' ? '4' : '2' })));
+  }
+  return fields;
+}
+
+function methodRequest(name, fn) {
+  const method = methodInfo(name);
+  const value = (suffix) => {
+    const element = $(`${name}-${fn}-${suffix}`);
+    return element ? element.value.trim() : '';
+  };
+  const request = { name };
+  if (method.uses_plane) {
+    const normal = value('normal');
+    const point = value('point');
+    if (normal || point) {
+      request.plane_normal = parseVector(normal, 'The plane normal');
+      request.plane_point = parseVector(point, 'The point of the plane');
+    }
+    request.plane_unknown = value('plane') === 'unknown';
+  }
+  if (method.uses_orientation && fn !== 'generate') request.orientation = value('orientation');
+  if (method.uses_sets && fn === 'generate' && value('set-size')) request.set_size = Number(value('set-size'));
+  return request;
+}
+
+function prefillPlanes() {
+  const summary = state.robot.summary;
+  if (!summary) return;
+  for (const input of document.querySelectorAll('input.plane-normal')) {
+    if (!input.value) input.value = summary.plane_normal.join(', ');
+  }
+  if (!summary.plane_point) return;
+  for (const input of document.querySelectorAll('input.plane-point')) {
+    if (!input.value) input.value = summary.plane_point.map((v) => Number(v.toFixed(4))).join(', ');
+  }
+}
+
+function dataSelect(name, fn, withRandom) {
+  const select = h('select', { id: `${name}-${fn}-data`, class: 'data-choice', 'data-method': name, 'data-random': withRandom ? '1' : '' });
+  return select;
+}
+
+function refreshDataChoices(name) {
+  for (const select of document.querySelectorAll(`select.data-choice[data-method="${name}"]`)) {
+    const previous = select.value;
+    const options = [];
+    if (select.dataset.random) options.push(h('option', { value: 'random', text: 'Random configurations' }));
+    const generated = state.generated[name];
+    if (generated) options.push(h('option', { value: 'generated', text: `Generated here: ${generated.file_name}` }));
+    for (const file of state.files.data) options.push(h('option', { value: `file:${file}`, text: file }));
+    if (!select.dataset.random) options.push(h('option', { value: 'upload', text: 'Upload a CSV file…' }));
+    select.replaceChildren(...options);
+    if ([...select.options].some((o) => o.value === previous)) select.value = previous;
+    select.dispatchEvent(new Event('change'));
+  }
+}
+
+async function dataRequest(name, fn) {
+  const choice = $(`${name}-${fn}-data`).value;
+  if (choice === 'random' || choice === '') return undefined;
+  if (choice === 'generated') {
+    const generated = state.generated[name];
+    return { csv: { text: generated.csv, name: generated.file_name } };
+  }
+  if (choice.startsWith('file:')) return { file: choice.slice(5) };
+  const upload = $(`${name}-${fn}-upload`);
+  if (!upload.files.length) throw new Error('Choose a CSV file to upload.');
+  const file = upload.files[0];
+  return { csv: { text: await file.text(), name: file.name } };
+}
+
+function errorBox(error) {
+  const lines = [error.message];
+  for (const problem of error.problems || []) lines.push(`${locationText(problem.location)}: ${problem.message}`);
+  return h('div', { class: 'error-box', text: lines.join('\n') });
+}
+
+function runButton(id, text, action) {
+  const button = h('button', { type: 'button', class: 'primary run', id, text });
+  button.addEventListener('click', async () => {
+    button.disabled = true;
+    try {
+      await action();
+    } finally {
+      button.disabled = (state.robot.problems || []).length > 0 || state.localProblems.size > 0;
+    }
+  });
+  return button;
+}
+
+function stat(label, value, extra) {
+  return h('div', { class: `stat ${extra && extra.class ? extra.class : ''}` },
+    h('div', { class: 'value', id: extra && extra.id, text: value }),
+    h('div', { class: 'label', text: label }));
+}
+
+// Identifiable parameters ---------------------------------------------------
+
+function identifiablePanel(method) {
+  const name = method.name;
+  const result = h('div', { class: 'result', id: `${name}-identifiable-result` });
+  const count = h('input', { type: 'number', min: 1, id: `${name}-identifiable-count-input`, placeholder: 'auto' });
+  const seed = h('input', { type: 'number', min: 0, value: 1, id: `${name}-identifiable-seed` });
+  const run = runButton(`${name}-identifiable-run`, 'Compute', async () => {
+    result.replaceChildren(h('div', { class: 'progress' }, h('div', { class: 'spinner' }), 'QR of the observation matrix…'));
+    try {
+      const request = {
+        robot: document_(),
+        method: methodRequest(name, 'identifiable'),
+        data: await dataRequest(name, 'identifiable'),
+        seed: Number(seed.value || 1),
+      };
+      if (count.value) request.count = Number(count.value);
+      const report = await api('/identifiable', request);
+      renderIdentifiable(result, name, report);
+    } catch (error) {
+      result.replaceChildren(errorBox(error));
+    }
+  });
+  return h('div', { class: 'panel', id: `${name}-identifiable` },
+    h('div', { class: 'form' },
+      field('Data', dataSelect(name, 'identifiable', true)),
+      field('Random configurations', count),
+      field('Seed', seed),
+      optionFields(method, 'identifiable'),
+      run),
+    h('p', { class: 'hint', text: 'Appendix III: column-pivoted QR of W on configurations that satisfy the method’s constraint. Measured data are checked for excitation as well.' }),
+    result);
+}
+
+function renderIdentifiable(container, name, report) {
+  const frames = document_().frame.length;
+  const status = new Map(report.parameters.map((p) => [p.name, p.status]));
+  const symbol = { identifiable: 'id', regrouped: 'n', no_effect: '0', excluded: '–' };
+  const head = h('tr', {}, h('th', { text: 'j' }), KIND_HEADS.map((k) => h('th', { text: k })));
+  const rows = [];
+  for (let j = 0; j < frames; j += 1) {
+    rows.push(h('tr', {}, h('th', { text: String(j) }), KINDS.map((kind) => {
+      const s = status.get(`${kind}${j}`);
+      return h('td', { class: s ? `s-${s}` : '', text: s ? symbol[s] : '' });
+    })));
+  }
+  const parts = [
+    h('div', { class: 'cards' },
+      stat('identifiable parameters', String(report.count), { id: `${name}-identifiable-count`, class: 'ok' }),
+      stat(`of ${report.parameters.length} parameters`, `${report.parameters.length - report.count} not`),
+      stat('condition number of W_b', fmt(Number(report.condition_number.toPrecision(4)))),
+      stat(`equations (${report.rows} rows)`, String(report.equations)),
+      stat('configurations', String(report.configurations))),
+    h('p', { class: 'muted', text: `On ${report.source}; numerical zero τ = ${sci(report.tolerance)}.` }),
+  ];
+  if (report.excitation) {
+    parts.push(report.excitation.same_base_set
+      ? h('p', { class: 'stat ok', text: `The data excite every identifiable parameter (condition number on the data ${fmt(Number(report.excitation.condition_number.toPrecision(4)))}).` })
+      : h('div', { class: 'warnings', text: `The data do not excite ${report.excitation.not_excited.join(', ')}: they would stay at their nominal values.` }));
+  }
+  parts.push(h('p', { class: 'muted', text: 'id = identifiable · n = regrouped on other parameters · 0 = no effect · – = excluded (priority 0)' }));
+  parts.push(h('table', { class: 'grid', id: `${name}-identifiable-grid` }, h('thead', {}, head), h('tbody', {}, rows)));
+  if (report.auxiliary.length) {
+    parts.push(h('p', {}, `Plane unknowns: ${report.auxiliary.map((a) => `${a.name} ${symbol[a.status]}`).join(', ')}`));
+  }
+  if (report.regrouping.length) {
+    parts.push(h('h3', { text: 'Regrouping relations (eq. 32)' }));
+    parts.push(h('ul', { class: 'relations' }, report.regrouping.map((relation) => h('li', {
+      text: `${relation.base}_b = ${relation.base} ${relation.absorbed.map((a) => `${a.coefficient < 0 ? '−' : '+'} ${fmt(Number(Math.abs(a.coefficient).toPrecision(6)))}·${a.name}`).join(' ')}`,
+    }))));
+  }
+  const priorityRows = report.priority_matrix.map((row, j) => h('tr', {}, h('th', { text: String(j) }), row.map((v) => h('td', { text: String(v) }))));
+  parts.push(h('details', {}, h('summary', { text: 'New priority matrix (non-identifiable parameters set to 0)' }),
+    h('table', { class: 'grid' }, h('thead', {}, head.cloneNode(true)), h('tbody', {}, priorityRows))));
+  container.replaceChildren(...parts);
+}
+
+// Points generation -----------------------------------------------------------
+
+function generatePanel(method) {
+  const name = method.name;
+  const result = h('div', { class: 'result', id: `${name}-generate-result` });
+  const count = h('input', { type: 'number', min: 1, value: DEFAULT_COUNTS[name] || 50, id: `${name}-generate-count` });
+  const real = h('select', { id: `${name}-generate-real`, class: 'real-choice' });
+  const level = h('input', { type: 'number', min: 0, step: 0.5, value: 1, id: `${name}-generate-level` });
+  const noise = h('input', { type: 'number', min: 0, step: 0.01, value: 0.05, id: `${name}-generate-noise` });
+  const seed = h('input', { type: 'number', min: 0, value: 1, id: `${name}-generate-seed` });
+  const saveAs = h('input', { type: 'text', id: `${name}-generate-save`, placeholder: 'optional, e.g. data.csv', class: 'vector' });
+  const overwrite = h('input', { type: 'checkbox', id: `${name}-generate-overwrite` });
+  real.addEventListener('focus', () => refreshRealChoices(real));
+  refreshRealChoices(real);
+  const run = runButton(`${name}-generate-run`, 'Generate', async () => {
+    result.replaceChildren(h('div', { class: 'progress' }, h('div', { class: 'spinner' }), 'Generating configurations…'));
+    try {
+      const request = {
+        robot: document_(),
+        method: methodRequest(name, 'generate'),
+        count: Number(count.value),
+        noise: Number(noise.value || 0) * 1e-3,
+        seed: Number(seed.value || 1),
+      };
+      if (real.value.startsWith('file:')) {
+        request.real = (await api(`/robots/file?name=${encodeURIComponent(real.value.slice(5))}`)).document;
+      } else {
+        request.error_level = Number(level.value || 0);
+      }
+      if (saveAs.value.trim()) {
+        request.save_as = saveAs.value.trim();
+        request.overwrite = overwrite.checked;
+      }
+      const generated = await api('/generate', request);
+      state.generated[name] = generated;
+      refreshDataChoices(name);
+      if (generated.saved) refreshFiles();
+      renderGenerated(result, name, generated);
+    } catch (error) {
+      result.replaceChildren(errorBox(error));
+    }
+  });
+  return h('div', { class: 'panel', id: `${name}-generate` },
+    h('div', { class: 'form' },
+      field('Configurations', count),
+      field('Real robot', real),
+      field('Error level L (±L cm, ±L°, ±L %)', level),
+      field('Sensor noise σ (mm; mrad)', noise),
+      field('Seed', seed),
+      optionFields(method, 'generate'),
+      field('Save to the folder as', saveAs),
+      h('label', {}, overwrite, ' replace'),
+      run),
+    h('p', { class: 'hint', text: 'Configurations of the simulated real robot that satisfy the method’s constraint, with what the sensor measures there.' }),
+    result);
+}
+
+function refreshRealChoices(select) {
+  const previous = select.value;
+  select.replaceChildren(h('option', { value: 'random', text: 'nominal + random errors' }),
+    ...state.files.robots.map((file) => h('option', { value: `file:${file}`, text: file })));
+  if ([...select.options].some((o) => o.value === previous)) select.value = previous;
+}
+
+function renderGenerated(container, name, generated) {
+  const preview = generated.csv.split('\n').slice(0, 6).join('\n');
+  container.replaceChildren(...[
+    h('div', { class: 'cards' },
+      stat('configurations', String(generated.configurations), { id: `${name}-generate-count-result`, class: 'ok' }),
+      stat('terminal point moved, RMS (mm)', fixed(generated.displacement_rms * 1e3, 2)),
+      stat('largest (mm)', fixed(generated.displacement_max * 1e3, 2))),
+    generated.saved ? h('p', { text: `Saved to ${generated.saved}.` }) : null,
+    h('div', { class: 'actions' },
+      h('button', { type: 'button', id: `${name}-generate-download`, text: `Download ${generated.file_name}`, onclick: () => download(generated.file_name, generated.csv, 'text/csv') }),
+      h('button', {
+        type: 'button',
+        id: `${name}-generate-identify`,
+        text: 'Identify these data',
+        onclick: () => {
+          selectFunction('identify');
+          $(`${name}-identify-data`).value = 'generated';
+          $(`${name}-identify-data`).dispatchEvent(new Event('change'));
+        },
+      }),
+      h('button', { type: 'button', text: 'Save the real robot as…', onclick: () => saveAsDialog(generated.real, `${slug(document_().name || 'robot')}-real.toml`) })),
+    h('pre', { class: 'preview', text: `${preview}\n…` })].filter(Boolean));
+}
+
+// Identification --------------------------------------------------------------
+
+function identifyPanel(method) {
+  const name = method.name;
+  const result = h('div', { class: 'result', id: `${name}-identify-result` });
+  const data = dataSelect(name, 'identify', false);
+  const upload = h('input', { type: 'file', accept: '.csv,text/csv', id: `${name}-identify-upload`, hidden: true });
+  data.addEventListener('change', () => { upload.hidden = data.value !== 'upload'; });
+  const solver = h('select', { id: `${name}-identify-solver` },
+    h('option', { value: 'gauss-newton', text: 'Gauss–Newton (the paper)' }),
+    h('option', { value: 'lm', text: 'Levenberg–Marquardt' }));
+  const iterations = h('input', { type: 'number', min: 1, max: 500, value: 30, id: `${name}-identify-iterations` });
+  const run = runButton(`${name}-identify-run`, 'Identify', async () => {
+    const progress = h('div', { class: 'progress', id: `${name}-identify-progress` }, h('div', { class: 'spinner' }), h('span', { text: 'Reading the data…' }));
+    result.replaceChildren(progress);
+    try {
+      const submitted = await api('/identify', {
+        robot: document_(),
+        method: methodRequest(name, 'identify'),
+        data: await dataRequest(name, 'identify'),
+        solver: solver.value,
+        max_iterations: Number(iterations.value || 30),
+      });
+      const job = await followJob(submitted.job, progress.lastChild);
+      if (job.state === 'failed') {
+        result.replaceChildren(errorBox(new Error(job.error)));
+      } else {
+        renderIdentification(result, name, submitted.job, job.result);
+      }
+    } catch (error) {
+      result.replaceChildren(errorBox(error));
+    }
+  });
+  return h('div', { class: 'panel', id: `${name}-identify` },
+    h('div', { class: 'form' },
+      field('Data', data),
+      upload,
+      field('Step rule', solver),
+      field('Iteration limit', iterations),
+      optionFields(method, 'identify'),
+      run),
+    h('p', { class: 'hint', text: 'Iterated linearised least squares (eq. 10): W is rebuilt at every iterate; σ of each parameter from eq. 11.' }),
+    result);
+}
+
+async function followJob(id, label) {
+  for (;;) {
+    const job = await api(`/jobs/${id}`);
+    if (job.state === 'done' || job.state === 'failed') return job;
+    const history = job.history;
+    label.textContent = job.state === 'queued' ? 'Waiting for a free core…'
+      : history.length ? `Iteration ${history.length - 1}: residual RMS ${sci(history[history.length - 1])}` : 'Starting…';
+    await new Promise((resolve) => setTimeout(resolve, 120));
+  }
+}
+
+function renderIdentification(container, name, job, result) {
+  const id = result.identification;
+  const mm = (v) => fixed(v * 1e3, v * 1e3 < 0.1 ? 4 : 3);
+  const cards = h('div', { class: 'cards' },
+    stat(`after ${id.iterations} iterations (${id.route.replace(/_/g, ' ')})`, id.converged ? 'Converged' : 'Not converged', { id: `${name}-identify-status`, class: id.converged ? 'ok' : 'bad' }),
+    stat('error RMS before → after (mm)', `${mm(id.before.rms)} → ${mm(id.after.rms)}`),
+    stat('largest error (mm)', `${mm(id.before.max)} → ${mm(id.after.max)}`),
+    id.before.rms_rotation !== undefined
+      ? stat('orientation RMS (°)', `${fixed(id.before.rms_rotation * 180 / Math.PI, 3)} → ${fixed(id.after.rms_rotation * 180 / Math.PI, 4)}`) : null,
+    stat('identified parameters', String(id.parameters.length + id.auxiliary.length)),
+    stat('condition number of W_b', fmt(Number(id.condition_number.toPrecision(4)))),
+    stat('residual σ', sci(id.residual_sigma)));
+  const warnings = id.warnings.length
+    ? h('div', { class: 'warnings' }, h('strong', { text: 'Warnings' }), h('ul', {}, id.warnings.map((w) => h('li', { text: w })))) : null;
+  const plot = (title, svg, plotId) => {
+    const holder = h('div', { class: 'plot', id: plotId });
+    holder.innerHTML = svg; // SVG made by the server (plotters), not user text.
+    return h('figure', {}, holder, h('figcaption', { class: 'muted', text: title }));
+  };
+  const plots = h('div', { class: 'plots' },
+    plot('Residual RMS per iteration', result.plots.convergence, `${name}-identify-convergence`),
+    plot('Errors before and after (mm)', result.plots.errors_histogram, `${name}-identify-histogram`),
+    plot('Error of every configuration (mm)', result.plots.errors_per_configuration, `${name}-identify-per-configuration`));
+  const rows = id.parameters.concat(id.auxiliary).map((p) => h('tr', {},
+    h('td', { text: p.name }), h('td', { text: fmt(p.nominal) }), h('td', { text: fmt(p.identified) }),
+    h('td', { text: (p.identified - p.nominal).toExponential(3) }), h('td', { text: sci(p.std) })));
+  const table = h('table', { class: 'values', id: `${name}-identify-parameters` },
+    h('thead', {}, h('tr', {}, ['parameter', 'nominal', 'identified', 'deviation', 'σ'].map((t) => h('th', { text: t })))),
+    h('tbody', {}, rows));
+  const moved = id.moved.length
+    ? h('p', { class: 'muted', text: `Outside the base set, moved: ${id.moved.map((p) => `${p.name} ${(p.identified - p.nominal).toExponential(2)}`).join(', ')}` }) : null;
+  const actions = h('div', { class: 'actions' },
+    h('button', { type: 'button', class: 'primary', id: `${name}-identify-save`, text: 'Save calibrated robot…', onclick: () => saveAsDialog(result.calibrated, result.calibrated_name) }),
+    h('button', {
+      type: 'button',
+      text: 'Open the calibrated robot in the table',
+      onclick: async () => setRobot(await api('/robots/check', { robot: result.calibrated }), null),
+    }),
+    h('a', { href: `/api/jobs/${job}/report`, download: `gecaro-report-${job}.html` }, h('button', { type: 'button', text: 'Download the report' })));
+  container.replaceChildren(...[cards, warnings, actions, plots, h('h3', { text: 'Identified parameters (m, rad)' }), table, moved].filter(Boolean));
+}
+
+// ---------------------------------------------------------------- tabs
+
+function buildMethodPanels() {
+  const tabs = $('method-tabs');
+  const panels = $('method-panels');
+  for (const method of state.info.methods) {
+    tabs.append(h('button', {
+      type: 'button',
+      role: 'tab',
+      id: `tab-${method.name}`,
+      'data-method': method.name,
+      text: method.title,
+      onclick: () => selectMethod(method.name),
+    }));
+    panels.append(h('div', { class: 'method', id: `method-${method.name}`, hidden: true },
+      identifiablePanel(method), generatePanel(method), identifyPanel(method)));
+  }
+  for (const button of $('function-tabs').querySelectorAll('button')) {
+    button.addEventListener('click', () => selectFunction(button.dataset.function));
+  }
+  selectMethod(state.method);
+}
+
+function selectMethod(name) {
+  state.method = name;
+  for (const button of $('method-tabs').querySelectorAll('button')) {
+    button.classList.toggle('active', button.dataset.method === name);
+  }
+  for (const method of state.info.methods) $(`method-${method.name}`).hidden = method.name !== name;
+  selectFunction(state.function);
+}
+
+function selectFunction(fn) {
+  state.function = fn;
+  for (const button of $('function-tabs').querySelectorAll('button')) {
+    button.classList.toggle('active', button.dataset.function === fn);
+  }
+  for (const f of FUNCTIONS) $(`${state.method}-${f}`).classList.toggle('active', f === fn);
+}
+
+// ---------------------------------------------------------------- start
+
+async function start() {
+  state.info = await api('/info');
+  $('folder').textContent = `folder: ${state.info.folder}`;
+  buildMethodPanels();
+  installViewControls();
+  $('angle-unit').addEventListener('change', changeAngleUnit);
+  $('robot-new').addEventListener('click', newRobotDialog);
+  $('robot-open').addEventListener('click', openRobotDialog);
+  $('robot-save').addEventListener('click', saveRobot);
+  $('robot-save-as').addEventListener('click', saveRobotAs);
+  $('dialog-cancel').addEventListener('click', () => $('dialog').close());
+  $('priority-reset').addEventListener('click', () => {
+    delete document_().priority;
+    markModified();
+    renderPriority();
+    scheduleCheck();
+  });
+  $('sliders-zero').addEventListener('click', () => {
+    state.q = state.q.map(() => 0);
+    renderSliders();
+    refreshPose();
+  });
+  window.addEventListener('resize', () => drawView());
+  window.addEventListener('beforeunload', (event) => {
+    if (state.dirty) event.preventDefault();
+  });
+  await refreshFiles();
+  await loadReady('stanford');
+}
+
+start().catch((error) => {
+  document.body.prepend(h('div', { class: 'error-box', text: `gecaro could not start: ${error.message}` }));
+});

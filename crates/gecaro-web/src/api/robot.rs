@@ -1,0 +1,327 @@
+//! The Robot menu: the ready robots and the folder's files, New, Open, Save,
+//! the check of an edited table, and the poses of the frames for the view.
+
+use axum::extract::{Path as UrlPath, Query, State};
+use gecaro_calib::{DataColumn, METHODS};
+use gecaro_core::{FrameType, Robot, forward_kinematics};
+use gecaro_io::{
+    DocumentError, RobotDocument, RobotFile, fallback_name, format_robot_file,
+    parse_robot_document, ready_robot, ready_robots,
+};
+use serde::{Deserialize, Serialize};
+
+use super::{Json, robot_file};
+use crate::error::ApiError;
+use crate::limits::MAX_JOINTS;
+use crate::state::AppState;
+use crate::workspace::Listing;
+
+/// A method as the menus show it.
+#[derive(Serialize)]
+pub(crate) struct MethodView {
+    name: &'static str,
+    title: &'static str,
+    /// CSV columns after `qm1..qmn`.
+    columns: Vec<&'static str>,
+    uses_plane: bool,
+    uses_sets: bool,
+    uses_orientation: bool,
+}
+
+/// What the page needs to start.
+#[derive(Serialize)]
+pub(crate) struct Info {
+    version: &'static str,
+    folder: String,
+    ready: Vec<&'static str>,
+    methods: Vec<MethodView>,
+}
+
+pub(crate) async fn info(State(state): State<AppState>) -> Json<Info> {
+    let methods = METHODS
+        .iter()
+        .map(|info| {
+            // Options do not change a method's columns: build with defaults.
+            let columns = gecaro_calib::method(info.name, &gecaro_calib::MethodOptions::default())
+                .map(|method| method.data_columns().to_vec())
+                .unwrap_or_default();
+            MethodView {
+                name: info.name,
+                title: info.title,
+                columns: columns
+                    .iter()
+                    .flat_map(|c| c.headers().iter().copied())
+                    .collect(),
+                uses_plane: info.uses_plane,
+                uses_sets: columns.contains(&DataColumn::Set),
+                uses_orientation: columns.contains(&DataColumn::Orientation),
+            }
+        })
+        .collect();
+    Json(Info {
+        version: env!("CARGO_PKG_VERSION"),
+        folder: state.workspace().root().display().to_string(),
+        ready: ready_robots().iter().map(|ready| ready.name).collect(),
+        methods,
+    })
+}
+
+pub(crate) async fn files(State(state): State<AppState>) -> Result<Json<Listing>, ApiError> {
+    state
+        .compute(|state| Ok(Json(state.workspace().list())))
+        .await
+}
+
+/// One joint's range, in metres or radians.
+#[derive(Serialize)]
+struct JointView {
+    revolute: bool,
+    qmin: f64,
+    qmax: f64,
+}
+
+/// What the page shows of a valid robot beyond its table.
+#[derive(Serialize)]
+pub(crate) struct Summary {
+    name: String,
+    letters: String,
+    joints: Vec<JointView>,
+    /// The priority matrix in force (the document's, or the paper's defaults).
+    priority: Vec<[u32; 6]>,
+    /// Whether `priority` is the default one.
+    default_priority: bool,
+    parameter_count: usize,
+    /// A plane through the middle of the workspace (normal of Table 2), to
+    /// start the plane methods from.
+    plane_normal: [f64; 3],
+    plane_point: Option<[f64; 3]>,
+}
+
+fn summary(robot: &Robot) -> Summary {
+    Summary {
+        name: robot.name().to_owned(),
+        letters: robot.joint_letters(),
+        joints: robot
+            .joints()
+            .iter()
+            .zip(&robot.frames()[1..])
+            .map(|(joint, frame)| JointView {
+                revolute: frame.frame_type == FrameType::Revolute,
+                qmin: joint.qmin,
+                qmax: joint.qmax,
+            })
+            .collect(),
+        priority: robot.priority().rows().to_vec(),
+        default_priority: robot.priority_override().is_none(),
+        parameter_count: robot.parameters().len(),
+        plane_normal: gecaro_calib::TABLE2_PLANE_NORMAL,
+        plane_point: gecaro_calib::default_plane(robot)
+            .ok()
+            .map(|plane| plane.point().into()),
+    }
+}
+
+/// A robot for the page: where it came from, its document, and either its
+/// summary (valid) or its problems.
+#[derive(Serialize)]
+pub(crate) struct RobotView {
+    /// `ready`, `file` or `new`.
+    origin: &'static str,
+    /// The ready robot's or file's name.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    name: Option<String>,
+    document: RobotDocument,
+    problems: Vec<DocumentError>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    summary: Option<Summary>,
+}
+
+fn view(origin: &'static str, name: Option<String>, document: RobotDocument) -> RobotView {
+    let checked = robot_file(&document);
+    let (problems, summary) = match checked {
+        Ok(file) => (Vec::new(), Some(summary(&file.robot))),
+        Err(ApiError::InvalidRobot(problems)) => (problems, None),
+        Err(_) => (Vec::new(), None),
+    };
+    RobotView {
+        origin,
+        name,
+        document,
+        problems,
+        summary,
+    }
+}
+
+pub(crate) async fn ready(UrlPath(name): UrlPath<String>) -> Result<Json<RobotView>, ApiError> {
+    let file = ready_robot(&name).ok_or_else(|| {
+        let names: Vec<&str> = ready_robots().iter().map(|r| r.name).collect();
+        ApiError::NotFound(format!(
+            "no ready robot {name:?}; ready robots: {}",
+            names.join(", ")
+        ))
+    })??;
+    Ok(Json(view(
+        "ready",
+        Some(name),
+        RobotDocument::from_robot_file(&file),
+    )))
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct FileQuery {
+    name: String,
+}
+
+pub(crate) async fn open_file(
+    State(state): State<AppState>,
+    query: Result<Query<FileQuery>, axum::extract::rejection::QueryRejection>,
+) -> Result<Json<RobotView>, ApiError> {
+    let Query(FileQuery { name }) = query?;
+    state
+        .compute(move |state| {
+            let (path, text) = state.workspace().read_text(&name, "toml")?;
+            let mut document = parse_robot_document(&text, std::path::Path::new(&name))?;
+            if document.name.is_none() {
+                document.name = Some(fallback_name(&path));
+            }
+            Ok(Json(view("file", Some(name), document)))
+        })
+        .await
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RobotRequest {
+    robot: RobotDocument,
+}
+
+/// Checks an edited table: its problems, or its summary.
+pub(crate) async fn check(Json(request): Json<RobotRequest>) -> Json<RobotView> {
+    Json(view("edited", None, request.robot))
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct NewRequest {
+    /// Joint letters, R and P (`RRPRRR`).
+    joints: String,
+    #[serde(default)]
+    name: Option<String>,
+}
+
+pub(crate) async fn new(Json(request): Json<NewRequest>) -> Result<Json<RobotView>, ApiError> {
+    if request.joints.len() > MAX_JOINTS {
+        return Err(ApiError::BadRequest(format!(
+            "{} joints: the server takes robots of up to {MAX_JOINTS} joints",
+            request.joints.len()
+        )));
+    }
+    let name = request
+        .name
+        .unwrap_or_else(|| format!("new {} arm", request.joints.to_uppercase()));
+    let robot = Robot::template(name, &request.joints)
+        .map_err(|error| ApiError::BadRequest(error.to_string()))?;
+    let file = RobotFile {
+        robot,
+        description: Some(format!("{} arm (template)", request.joints.to_uppercase())),
+        angle_unit: gecaro_io::AngleUnit::Radians,
+    };
+    Ok(Json(view(
+        "new",
+        None,
+        RobotDocument::from_robot_file(&file),
+    )))
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct SaveRequest {
+    robot: RobotDocument,
+    /// The file, relative to the folder, ending in `.toml`.
+    name: String,
+    #[serde(default)]
+    overwrite: bool,
+}
+
+#[derive(Serialize)]
+pub(crate) struct Saved {
+    name: String,
+    path: String,
+}
+
+/// Saves a valid robot to a file of the folder (atomically).
+pub(crate) async fn save(
+    State(state): State<AppState>,
+    Json(request): Json<SaveRequest>,
+) -> Result<Json<Saved>, ApiError> {
+    let file = robot_file(&request.robot)?;
+    let text = format_robot_file(&file);
+    state
+        .compute(move |state| {
+            let path = state.workspace().write(
+                &request.name,
+                "toml",
+                text.as_bytes(),
+                request.overwrite,
+            )?;
+            Ok(Json(Saved {
+                name: request.name,
+                path: path.display().to_string(),
+            }))
+        })
+        .await
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct PoseRequest {
+    robot: RobotDocument,
+    /// Joint variables q (radians or metres), one per joint.
+    q: Vec<f64>,
+}
+
+/// A frame's pose: origin and axes in the world frame.
+#[derive(Serialize)]
+pub(crate) struct FramePose {
+    origin: [f64; 3],
+    x: [f64; 3],
+    y: [f64; 3],
+    z: [f64; 3],
+}
+
+#[derive(Serialize)]
+pub(crate) struct Pose {
+    /// Frames 0..n+1.
+    frames: Vec<FramePose>,
+    /// The motor variables of the configuration (eq. 4 inverted).
+    motor: Vec<f64>,
+}
+
+/// The frames at a joint configuration, for the robot view.
+pub(crate) async fn pose(Json(request): Json<PoseRequest>) -> Result<Json<Pose>, ApiError> {
+    let robot = robot_file(&request.robot)?.robot;
+    let motor = robot.motor_positions(&request.q)?;
+    let chain = forward_kinematics(&robot, motor.as_slice())?;
+    let column = |pose: &nalgebra::IsometryMatrix3<f64>, axis: usize| -> [f64; 3] {
+        let c = pose.rotation.matrix().column(axis);
+        [c[0], c[1], c[2]]
+    };
+    let frames = chain
+        .poses()
+        .iter()
+        .map(|pose| {
+            let t = pose.translation.vector;
+            FramePose {
+                origin: [t.x, t.y, t.z],
+                x: column(pose, 0),
+                y: column(pose, 1),
+                z: column(pose, 2),
+            }
+        })
+        .collect();
+    Ok(Json(Pose {
+        frames,
+        motor: motor.iter().copied().collect(),
+    }))
+}

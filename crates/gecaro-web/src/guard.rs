@@ -1,0 +1,68 @@
+//! What keeps a local server local: requests must be addressed to the
+//! server's own host name (a page of another site that rebinds a DNS name to
+//! 127.0.0.1 is refused), state-changing requests from another origin are
+//! refused (no cross-site saves into the folder), and every answer carries
+//! headers that keep browsers from sniffing, framing or leaking it.
+
+use axum::extract::{Request, State};
+use axum::http::{HeaderValue, Method, header};
+use axum::middleware::Next;
+use axum::response::{IntoResponse, Response};
+
+use crate::error::ApiError;
+use crate::state::AppState;
+
+const CONTENT_SECURITY_POLICY: &str = "default-src 'self'; img-src 'self' data: blob:; \
+     style-src 'self' 'unsafe-inline'; script-src 'self'; connect-src 'self'; \
+     frame-ancestors 'none'; base-uri 'none'; form-action 'none'";
+
+/// The middleware (see the module docs).
+pub(crate) async fn guard(State(state): State<AppState>, request: Request, next: Next) -> Response {
+    let allowed = state.allowed_hosts();
+    if !allowed.is_empty() {
+        let host = request
+            .headers()
+            .get(header::HOST)
+            .and_then(|value| value.to_str().ok())
+            .unwrap_or("");
+        if !allowed.iter().any(|name| name == host) {
+            return ApiError::Forbidden(format!(
+                "this server answers requests addressed to {}, not {host:?}",
+                allowed.join(" or ")
+            ))
+            .into_response();
+        }
+        let changes_state = !matches!(*request.method(), Method::GET | Method::HEAD);
+        if changes_state && let Some(origin) = request.headers().get(header::ORIGIN) {
+            let origin = origin.to_str().unwrap_or("");
+            let same = allowed
+                .iter()
+                .any(|name| origin.strip_prefix("http://") == Some(name.as_str()));
+            if !same {
+                return ApiError::Forbidden(format!(
+                    "requests from the page {origin:?} are refused; use the page this server serves"
+                ))
+                .into_response();
+            }
+        }
+    }
+    let mut response = next.run(request).await;
+    let headers = response.headers_mut();
+    headers.insert(
+        header::X_CONTENT_TYPE_OPTIONS,
+        HeaderValue::from_static("nosniff"),
+    );
+    headers.insert(header::X_FRAME_OPTIONS, HeaderValue::from_static("DENY"));
+    headers.insert(
+        header::REFERRER_POLICY,
+        HeaderValue::from_static("no-referrer"),
+    );
+    headers.insert(
+        header::CONTENT_SECURITY_POLICY,
+        HeaderValue::from_static(CONTENT_SECURITY_POLICY),
+    );
+    headers
+        .entry(header::CACHE_CONTROL)
+        .or_insert(HeaderValue::from_static("no-store"));
+    response
+}

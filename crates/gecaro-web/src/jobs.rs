@@ -1,0 +1,215 @@
+//! Identification jobs: an identification runs in the background while the
+//! page polls its progress (the residual RMS of every iteration so far) and
+//! finally its result.
+
+use std::collections::VecDeque;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, PoisonError};
+
+use serde::Serialize;
+
+use crate::error::ApiError;
+use crate::limits::{MAX_JOBS_ACTIVE, MAX_JOBS_KEPT};
+
+/// Where a job is.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum JobState {
+    /// Waiting for a computing slot.
+    Queued,
+    /// Iterating.
+    Running,
+    /// Finished with a result (converged or not: see the result).
+    Done,
+    /// Stopped by an error (bad data, too few equations, …).
+    Failed,
+}
+
+/// What a finished job produced.
+#[derive(Debug)]
+pub struct JobOutcome {
+    /// The result as the API answers it.
+    pub result: serde_json::Value,
+    /// The HTML report of the identification.
+    pub report: String,
+}
+
+/// One job's progress.
+#[derive(Debug)]
+struct Progress {
+    state: JobState,
+    history: Vec<f64>,
+    outcome: Option<Arc<JobOutcome>>,
+    error: Option<String>,
+}
+
+/// One identification job.
+#[derive(Debug)]
+pub struct Job {
+    id: u64,
+    progress: Mutex<Progress>,
+}
+
+/// A job as the API shows it.
+#[derive(Debug, Serialize)]
+pub struct JobView {
+    /// The job's number.
+    pub id: u64,
+    /// Where it is.
+    pub state: JobState,
+    /// Residual RMS of every iterate so far, from the nominal robot on.
+    pub history: Vec<f64>,
+    /// The error of a failed job.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+    /// The result of a finished job.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub result: Option<serde_json::Value>,
+}
+
+impl Job {
+    fn progress(&self) -> std::sync::MutexGuard<'_, Progress> {
+        self.progress.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// The job's number.
+    pub fn id(&self) -> u64 {
+        self.id
+    }
+
+    /// Marks the job as running.
+    pub fn start(&self) {
+        self.progress().state = JobState::Running;
+    }
+
+    /// Records the residual RMS of one more iterate.
+    pub fn record(&self, rms: f64) {
+        self.progress().history.push(rms);
+    }
+
+    /// Finishes the job with its outcome.
+    pub fn finish(&self, outcome: JobOutcome) {
+        let mut progress = self.progress();
+        progress.state = JobState::Done;
+        progress.outcome = Some(Arc::new(outcome));
+    }
+
+    /// Ends the job with an error.
+    pub fn fail(&self, error: String) {
+        let mut progress = self.progress();
+        progress.state = JobState::Failed;
+        progress.error = Some(error);
+    }
+
+    /// The job as the API shows it.
+    pub fn view(&self) -> JobView {
+        let progress = self.progress();
+        JobView {
+            id: self.id,
+            state: progress.state,
+            history: progress.history.clone(),
+            error: progress.error.clone(),
+            result: progress
+                .outcome
+                .as_ref()
+                .map(|outcome| outcome.result.clone()),
+        }
+    }
+
+    /// The outcome of a finished job.
+    pub fn outcome(&self) -> Option<Arc<JobOutcome>> {
+        self.progress().outcome.clone()
+    }
+
+    fn active(&self) -> bool {
+        matches!(self.progress().state, JobState::Queued | JobState::Running)
+    }
+}
+
+/// The jobs of the server: at most [`MAX_JOBS_ACTIVE`] queued or running, and
+/// the [`MAX_JOBS_KEPT`] most recent kept for their results.
+#[derive(Debug, Default)]
+pub struct Jobs {
+    next: AtomicU64,
+    jobs: Mutex<VecDeque<Arc<Job>>>,
+}
+
+impl Jobs {
+    /// A new queued job.
+    ///
+    /// # Errors
+    /// [`ApiError::Busy`] when [`MAX_JOBS_ACTIVE`] jobs are queued or running.
+    pub fn create(&self) -> Result<Arc<Job>, ApiError> {
+        let mut jobs = self.jobs.lock().unwrap_or_else(PoisonError::into_inner);
+        if jobs.iter().filter(|job| job.active()).count() >= MAX_JOBS_ACTIVE {
+            return Err(ApiError::Busy(format!(
+                "{MAX_JOBS_ACTIVE} identifications are already queued or running; try again when one has finished"
+            )));
+        }
+        while jobs.len() >= MAX_JOBS_KEPT {
+            match jobs.iter().position(|job| !job.active()) {
+                Some(oldest_finished) => {
+                    jobs.remove(oldest_finished);
+                }
+                None => break,
+            }
+        }
+        let job = Arc::new(Job {
+            id: self.next.fetch_add(1, Ordering::Relaxed) + 1,
+            progress: Mutex::new(Progress {
+                state: JobState::Queued,
+                history: Vec::new(),
+                outcome: None,
+                error: None,
+            }),
+        });
+        jobs.push_back(Arc::clone(&job));
+        Ok(job)
+    }
+
+    /// The job numbered `id`.
+    ///
+    /// # Errors
+    /// [`ApiError::NotFound`] for an unknown or forgotten job.
+    pub fn get(&self, id: u64) -> Result<Arc<Job>, ApiError> {
+        self.jobs
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .iter()
+            .find(|job| job.id == id)
+            .cloned()
+            .ok_or_else(|| {
+                ApiError::NotFound(format!(
+                    "no job {id} (the server keeps the last {MAX_JOBS_KEPT} jobs)"
+                ))
+            })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn active_jobs_are_bounded_and_old_results_forgotten() {
+        let jobs = Jobs::default();
+        let active: Vec<_> = (0..MAX_JOBS_ACTIVE)
+            .map(|_| jobs.create().expect("room"))
+            .collect();
+        assert!(matches!(jobs.create(), Err(ApiError::Busy(_))));
+        for job in &active {
+            job.fail("stopped".into());
+        }
+        let first = active[0].id();
+        for _ in 0..MAX_JOBS_KEPT {
+            jobs.create().expect("room").fail("stopped".into());
+        }
+        assert!(matches!(jobs.get(first), Err(ApiError::NotFound(_))));
+        let last = jobs.create().expect("room");
+        last.start();
+        last.record(1e-3);
+        let view = jobs.get(last.id()).expect("kept").view();
+        assert_eq!(view.state, JobState::Running);
+        assert_eq!(view.history, [1e-3]);
+    }
+}

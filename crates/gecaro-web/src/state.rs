@@ -1,0 +1,81 @@
+//! What every request shares: the folder, the jobs, and the right to compute.
+
+use std::sync::Arc;
+
+use tokio::sync::Semaphore;
+
+use crate::error::ApiError;
+use crate::jobs::Jobs;
+use crate::workspace::Workspace;
+
+/// The shared state of the server (cheap to clone).
+#[derive(Clone, Debug)]
+pub struct AppState {
+    inner: Arc<Inner>,
+}
+
+#[derive(Debug)]
+struct Inner {
+    workspace: Workspace,
+    jobs: Jobs,
+    /// Computations at once: one per core, so the page stays responsive.
+    computing: Arc<Semaphore>,
+    /// `Host` headers accepted (`127.0.0.1:8080`, `localhost:8080`); empty = any.
+    allowed_hosts: Vec<String>,
+}
+
+impl AppState {
+    /// The state of a server working in `workspace` and answering requests
+    /// addressed to one of `allowed_hosts` (all when empty, for tests).
+    pub fn new(workspace: Workspace, allowed_hosts: Vec<String>) -> Self {
+        let cores = std::thread::available_parallelism().map_or(2, std::num::NonZero::get);
+        AppState {
+            inner: Arc::new(Inner {
+                workspace,
+                jobs: Jobs::default(),
+                computing: Arc::new(Semaphore::new(cores.max(1))),
+                allowed_hosts,
+            }),
+        }
+    }
+
+    /// The sandboxed folder.
+    pub fn workspace(&self) -> &Workspace {
+        &self.inner.workspace
+    }
+
+    /// The identification jobs.
+    pub fn jobs(&self) -> &Jobs {
+        &self.inner.jobs
+    }
+
+    /// The accepted `Host` headers.
+    pub fn allowed_hosts(&self) -> &[String] {
+        &self.inner.allowed_hosts
+    }
+
+    /// Runs `work` on a blocking thread once a computing slot is free. A
+    /// panic in `work` becomes an [`ApiError::Internal`]; the server lives on.
+    pub async fn compute<T, F>(&self, work: F) -> Result<T, ApiError>
+    where
+        T: Send + 'static,
+        F: FnOnce(&AppState) -> Result<T, ApiError> + Send + 'static,
+    {
+        let permit = Arc::clone(&self.inner.computing)
+            .acquire_owned()
+            .await
+            .map_err(|_| ApiError::Internal("the server is shutting down".into()))?;
+        let state = self.clone();
+        let result = tokio::task::spawn_blocking(move || {
+            let _permit = permit;
+            work(&state)
+        })
+        .await;
+        match result {
+            Ok(outcome) => outcome,
+            Err(error) => Err(ApiError::Internal(format!(
+                "the computation failed unexpectedly ({error}); please report this with the request"
+            ))),
+        }
+    }
+}

@@ -1,0 +1,671 @@
+//! The JSON API on its own (docs/api.md): every route, through the router,
+//! without a network.
+
+use std::time::Duration;
+
+use axum::Router;
+use axum::body::Body;
+use axum::http::{Request, StatusCode, header};
+use gecaro_web::{AppState, Workspace, router};
+use http_body_util::BodyExt;
+use serde_json::{Value, json};
+use tower::ServiceExt;
+
+struct Api {
+    app: Router,
+    folder: tempfile::TempDir,
+}
+
+impl Api {
+    fn new() -> Self {
+        Self::with_hosts(Vec::new())
+    }
+
+    fn with_hosts(hosts: Vec<String>) -> Self {
+        let folder = tempfile::tempdir().expect("folder");
+        let state = AppState::new(Workspace::new(folder.path()).expect("workspace"), hosts);
+        Api {
+            app: router(state),
+            folder,
+        }
+    }
+
+    async fn send(&self, request: Request<Body>) -> (StatusCode, Vec<u8>, header::HeaderMap) {
+        let response = self.app.clone().oneshot(request).await.expect("infallible");
+        let status = response.status();
+        let headers = response.headers().clone();
+        let bytes = response
+            .into_body()
+            .collect()
+            .await
+            .expect("body")
+            .to_bytes();
+        (status, bytes.to_vec(), headers)
+    }
+
+    async fn get(&self, uri: &str) -> (StatusCode, Value) {
+        let request = Request::get(uri).body(Body::empty()).expect("request");
+        let (status, bytes, _) = self.send(request).await;
+        (
+            status,
+            serde_json::from_slice(&bytes).unwrap_or(Value::Null),
+        )
+    }
+
+    async fn post(&self, uri: &str, body: &Value) -> (StatusCode, Value) {
+        self.post_raw(uri, body.to_string()).await
+    }
+
+    async fn post_raw(&self, uri: &str, body: String) -> (StatusCode, Value) {
+        let request = Request::post(uri)
+            .header(header::CONTENT_TYPE, "application/json")
+            .body(Body::from(body))
+            .expect("request");
+        let (status, bytes, _) = self.send(request).await;
+        let value = serde_json::from_slice(&bytes)
+            .unwrap_or_else(|_| panic!("{uri}: not JSON: {}", String::from_utf8_lossy(&bytes)));
+        (status, value)
+    }
+
+    async fn document(&self, robot: &str) -> Value {
+        let (status, view) = self.get(&format!("/api/robots/ready/{robot}")).await;
+        assert_eq!(status, StatusCode::OK, "{view}");
+        view["document"].clone()
+    }
+
+    /// Waits for an identification job to end.
+    async fn finished(&self, job: u64) -> Value {
+        for _ in 0..600 {
+            let (status, view) = self.get(&format!("/api/jobs/{job}")).await;
+            assert_eq!(status, StatusCode::OK, "{view}");
+            if view["state"] == "done" || view["state"] == "failed" {
+                return view;
+            }
+            tokio::time::sleep(Duration::from_millis(50)).await;
+        }
+        panic!("job {job} did not finish within 30 s");
+    }
+}
+
+fn error_text(value: &Value) -> &str {
+    value["error"]
+        .as_str()
+        .unwrap_or_else(|| panic!("no error message in {value}"))
+}
+
+#[tokio::test]
+async fn info_lists_the_ready_robots_and_the_seven_methods() {
+    let api = Api::new();
+    let (status, info) = api.get("/api/info").await;
+    assert_eq!(status, StatusCode::OK);
+    let methods: Vec<&str> = info["methods"]
+        .as_array()
+        .expect("methods")
+        .iter()
+        .map(|m| m["name"].as_str().expect("name"))
+        .collect();
+    assert_eq!(
+        methods,
+        [
+            "position",
+            "frame",
+            "point-link",
+            "frame-link",
+            "plane1",
+            "plane2",
+            "distance"
+        ]
+    );
+    assert_eq!(
+        info["methods"][1]["columns"],
+        json!(["x", "y", "z", "qw", "qx", "qy", "qz"])
+    );
+    assert_eq!(info["methods"][4]["uses_plane"], true);
+    assert!(
+        info["ready"]
+            .as_array()
+            .expect("ready")
+            .contains(&json!("stanford"))
+    );
+}
+
+#[tokio::test]
+async fn the_page_and_its_assets_are_served_with_safe_headers() {
+    let api = Api::new();
+    for (path, kind) in [
+        ("/", "text/html"),
+        ("/app.js", "text/javascript"),
+        ("/style.css", "text/css"),
+    ] {
+        let (status, bytes, headers) = api
+            .send(Request::get(path).body(Body::empty()).expect("request"))
+            .await;
+        assert_eq!(status, StatusCode::OK, "{path}");
+        assert!(!bytes.is_empty());
+        let content_type = headers[header::CONTENT_TYPE].to_str().expect("ascii");
+        assert!(content_type.starts_with(kind), "{path}: {content_type}");
+        assert_eq!(headers[header::X_CONTENT_TYPE_OPTIONS], "nosniff");
+        assert!(headers.contains_key(header::CONTENT_SECURITY_POLICY));
+    }
+    let (status, body) = api.get("/no/such/page").await;
+    assert_eq!(status, StatusCode::NOT_FOUND);
+    assert!(error_text(&body).contains("no such"));
+}
+
+#[tokio::test]
+async fn robots_are_opened_checked_and_their_problems_located() {
+    let api = Api::new();
+    let (status, view) = api.get("/api/robots/ready/stanford").await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(view["summary"]["letters"], "RRPRRR");
+    assert_eq!(view["summary"]["parameter_count"], 43);
+    assert_eq!(view["problems"], json!([]));
+    let (status, missing) = api.get("/api/robots/ready/r2d2").await;
+    assert_eq!(status, StatusCode::NOT_FOUND);
+    assert!(error_text(&missing).contains("stanford"));
+
+    let mut document = view["document"].clone();
+    document["frame"][2]["sigma"] = json!(7);
+    document["frame"][4]["alpha"] = json!(100.0);
+    let (status, checked) = api
+        .post("/api/robots/check", &json!({ "robot": document }))
+        .await;
+    assert_eq!(status, StatusCode::OK);
+    assert!(checked.get("summary").is_none());
+    let problems = checked["problems"].as_array().expect("problems");
+    assert_eq!(problems.len(), 2, "{checked}");
+    assert_eq!(
+        problems[0]["location"],
+        json!({ "kind": "frame", "frame": 2, "key": "sigma" })
+    );
+    assert_eq!(
+        problems[1]["location"],
+        json!({ "kind": "frame", "frame": 4, "key": "alpha" })
+    );
+    assert!(
+        problems[1]["message"]
+            .as_str()
+            .expect("text")
+            .contains("angle_unit")
+    );
+
+    // The same document, refused by a computing route with the same problems.
+    let (status, refused) = api
+        .post(
+            "/api/identifiable",
+            &json!({ "robot": document, "method": { "name": "position" } }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert_eq!(refused["problems"].as_array().expect("problems").len(), 2);
+}
+
+#[tokio::test]
+async fn new_robots_follow_the_joint_letters() {
+    let api = Api::new();
+    let (status, view) = api
+        .post(
+            "/api/robots/new",
+            &json!({ "joints": "RRPR", "name": "Mine" }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{view}");
+    assert_eq!(view["summary"]["letters"], "RRPR");
+    assert_eq!(view["document"]["name"], "Mine");
+    let (status, refused) = api
+        .post("/api/robots/new", &json!({ "joints": "RXR" }))
+        .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert!(error_text(&refused).contains("joint 2 is `X`"));
+}
+
+#[tokio::test]
+async fn saves_stay_inside_the_folder_and_never_break_a_file() {
+    let api = Api::new();
+    let document = api.document("puma560").await;
+    let save = |name: &str, overwrite: bool| json!({ "robot": document, "name": name, "overwrite": overwrite });
+    let (status, saved) = api
+        .post("/api/robots/save", &save("puma.toml", false))
+        .await;
+    assert_eq!(status, StatusCode::OK, "{saved}");
+    let path = api.folder.path().join("puma.toml");
+    let written = std::fs::read_to_string(&path).expect("saved");
+    let loaded = gecaro_io::read_robot_file(&path).expect("a valid robot file");
+    assert_eq!(loaded.robot.joint_letters(), "RRRRRR");
+
+    // Exists: 409 without overwrite, file untouched.
+    let (status, conflict) = api
+        .post("/api/robots/save", &save("puma.toml", false))
+        .await;
+    assert_eq!(status, StatusCode::CONFLICT);
+    assert!(error_text(&conflict).contains("already exists"));
+    // An invalid robot is not saved over a good file.
+    let mut broken = document.clone();
+    broken["frame"][1]["qmin"] = json!(3.0);
+    broken["frame"][1]["qmax"] = json!(-3.0);
+    let (status, refused) = api
+        .post(
+            "/api/robots/save",
+            &json!({ "robot": broken, "name": "puma.toml", "overwrite": true }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY, "{refused}");
+    assert_eq!(std::fs::read_to_string(&path).expect("kept"), written);
+    // Outside the folder, hidden, or not a robot file: 403.
+    for name in [
+        "../escape.toml",
+        "/tmp/escape.toml",
+        ".hidden.toml",
+        "robot.txt",
+        "a/../../x.toml",
+    ] {
+        let (status, body) = api.post("/api/robots/save", &save(name, true)).await;
+        assert_eq!(status, StatusCode::FORBIDDEN, "{name}: {body}");
+    }
+    assert!(
+        !api.folder
+            .path()
+            .parent()
+            .expect("parent")
+            .join("escape.toml")
+            .exists()
+    );
+
+    // Listed, and opened back to the same document.
+    let (_, files) = api.get("/api/files").await;
+    assert_eq!(files["robots"], json!(["puma.toml"]));
+    let (status, opened) = api.get("/api/robots/file?name=puma.toml").await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(opened["origin"], "file");
+    assert_eq!(opened["summary"]["letters"], "RRRRRR");
+    let (status, _) = api.get("/api/robots/file?name=../etc/passwd.toml").await;
+    assert_eq!(status, StatusCode::FORBIDDEN);
+    let (status, _) = api.get("/api/robots/file?name=nothing.toml").await;
+    assert_eq!(status, StatusCode::NOT_FOUND);
+    let (status, _) = api.get("/api/robots/file").await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+
+    // A file with a TOML mistake: 422 naming the line.
+    std::fs::write(
+        api.folder.path().join("bad.toml"),
+        "name = \"x\"\n[[frame]]\nsigma = \n",
+    )
+    .expect("write");
+    let (status, bad) = api.get("/api/robots/file?name=bad.toml").await;
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert!(error_text(&bad).contains("bad.toml:3"), "{bad}");
+}
+
+#[tokio::test]
+async fn poses_give_every_frame() {
+    let api = Api::new();
+    let document = api.document("stanford").await;
+    let (status, pose) = api
+        .post(
+            "/api/robots/pose",
+            &json!({ "robot": document, "q": [0.0, 0.0, 0.5, 0.0, 0.0, 0.0] }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK);
+    let frames = pose["frames"].as_array().expect("frames");
+    assert_eq!(frames.len(), 8);
+    // Matches the direct geometric model of the library (and the CLI's fk test).
+    let tool = &frames[7]["origin"];
+    let expected = [-0.0505392, 0.2, 1.0344655];
+    for (axis, want) in expected.iter().enumerate() {
+        assert!(
+            (tool[axis].as_f64().expect("number") - want).abs() < 1e-7,
+            "{tool}"
+        );
+    }
+    let (status, wrong) = api
+        .post(
+            "/api/robots/pose",
+            &json!({ "robot": document, "q": [0.0] }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert!(error_text(&wrong).contains("6 motor values"));
+}
+
+#[tokio::test]
+async fn identifiable_parameters_match_table_2() {
+    let api = Api::new();
+    let document = api.document("stanford").await;
+    for (method, expected) in [("position", 31), ("frame", 34), ("distance", 25)] {
+        let (status, report) = api
+            .post(
+                "/api/identifiable",
+                &json!({ "robot": document, "method": { "name": method } }),
+            )
+            .await;
+        assert_eq!(status, StatusCode::OK, "{report}");
+        assert_eq!(report["count"], expected, "{method}");
+        assert_eq!(
+            report["parameters"].as_array().expect("parameters").len(),
+            43
+        );
+    }
+    let (status, plane) = api
+        .post(
+            "/api/identifiable",
+            &json!({ "robot": document, "method": { "name": "plane2", "plane_normal": [0.3, 0.5, 0.81], "plane_point": [0.3, 0.2, 0.6] } }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{plane}");
+    assert!(
+        plane["regrouping"]
+            .as_array()
+            .is_some_and(|r| !r.is_empty())
+    );
+}
+
+#[tokio::test]
+async fn generation_is_reproducible_and_saves_into_the_folder() {
+    let api = Api::new();
+    let document = api.document("scara").await;
+    let request = json!({
+        "robot": document,
+        "method": { "name": "position" },
+        "count": 12,
+        "error_level": 2.0,
+        "noise": 1e-5,
+        "seed": 7,
+    });
+    let (status, first) = api.post("/api/generate", &request).await;
+    assert_eq!(status, StatusCode::OK, "{first}");
+    let (_, second) = api.post("/api/generate", &request).await;
+    assert_eq!(first["csv"], second["csv"], "same seed, same data");
+    let csv = first["csv"].as_str().expect("csv");
+    assert_eq!(csv.lines().count(), 13);
+    assert!(csv.starts_with("qm1,qm2,qm3,qm4,x,y,z\n"));
+    assert!(first["displacement_rms"].as_f64().expect("rms") > 1e-3);
+    assert_eq!(first["real"]["frame"].as_array().expect("frames").len(), 6);
+
+    let mut saving = request.clone();
+    saving["save_as"] = json!("scara.csv");
+    let (status, saved) = api.post("/api/generate", &saving).await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(saved["saved"], "scara.csv");
+    assert_eq!(
+        std::fs::read_to_string(api.folder.path().join("scara.csv")).expect("file"),
+        csv
+    );
+    let (status, _) = api.post("/api/generate", &saving).await;
+    assert_eq!(status, StatusCode::CONFLICT);
+
+    for (field, value, status) in [
+        ("count", json!(0), StatusCode::BAD_REQUEST),
+        ("count", json!(10_000_000), StatusCode::BAD_REQUEST),
+        ("noise", json!(-1.0), StatusCode::BAD_REQUEST),
+        ("count", json!("many"), StatusCode::BAD_REQUEST),
+    ] {
+        let mut bad = request.clone();
+        bad[field] = value.clone();
+        let (got, body) = api.post("/api/generate", &bad).await;
+        assert_eq!(got, status, "{field} = {value}: {body}");
+    }
+}
+
+#[tokio::test]
+async fn identification_runs_as_a_job_with_progress_plots_and_report() {
+    let api = Api::new();
+    let document = api.document("stanford").await;
+    let (_, generated) = api
+        .post(
+            "/api/generate",
+            &json!({ "robot": document, "method": { "name": "position" }, "count": 40, "error_level": 2.0, "seed": 3 }),
+        )
+        .await;
+    let csv = generated["csv"].as_str().expect("csv");
+    let (status, submitted) = api
+        .post(
+            "/api/identify",
+            &json!({ "robot": document, "method": { "name": "position" }, "data": { "csv": { "text": csv, "name": "gen.csv" } } }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::ACCEPTED, "{submitted}");
+    let job = submitted["job"].as_u64().expect("job number");
+    let view = api.finished(job).await;
+    assert_eq!(view["state"], "done", "{view}");
+    let result = &view["result"];
+    let identification = &result["identification"];
+    assert_eq!(identification["converged"], true);
+    assert_eq!(
+        identification["parameters"]
+            .as_array()
+            .expect("parameters")
+            .len(),
+        31
+    );
+    assert!(identification["rms_after"].as_f64().expect("rms") < 1e-9);
+    assert_eq!(
+        view["history"].as_array().expect("history").len(),
+        identification["rms_history"]
+            .as_array()
+            .expect("history")
+            .len()
+    );
+    for plot in [
+        "convergence",
+        "errors_histogram",
+        "errors_per_configuration",
+    ] {
+        assert!(
+            result["plots"][plot]
+                .as_str()
+                .expect("svg")
+                .starts_with("<svg"),
+            "{plot}"
+        );
+    }
+    // The calibrated robot is a valid document that predicts the data.
+    let (status, checked) = api
+        .post(
+            "/api/robots/check",
+            &json!({ "robot": result["calibrated"] }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(checked["problems"], json!([]));
+    assert_eq!(result["calibrated_name"], "stanford-calibrated.toml");
+
+    let (status, bytes, headers) = api
+        .send(
+            Request::get(format!("/api/jobs/{job}/report"))
+                .body(Body::empty())
+                .expect("request"),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK);
+    assert!(
+        headers[header::CONTENT_TYPE]
+            .to_str()
+            .expect("ascii")
+            .starts_with("text/html")
+    );
+    let html = String::from_utf8(bytes).expect("utf-8");
+    assert!(html.contains("<h2>Convergence</h2>") && html.contains("gen.csv"));
+
+    let (status, _) = api.get("/api/jobs/999999").await;
+    assert_eq!(status, StatusCode::NOT_FOUND);
+    let (status, _) = api.get("/api/jobs/abc").await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+}
+
+#[tokio::test]
+async fn bad_data_is_an_answer_not_a_failed_job() {
+    let api = Api::new();
+    let document = api.document("stanford").await;
+    let identify =
+        |data: Value| json!({ "robot": document, "method": { "name": "position" }, "data": data });
+    let cases = [
+        (json!({ "csv": { "text": "qm1,qm2\n1,2\n" } }), "qm3"),
+        (
+            json!({ "csv": { "text": "qm1,qm2,qm3,qm4,qm5,qm6,x,y,z\n0,0,0.5,0,0,0,1,2,nan\n" } }),
+            "uploaded data:2: z",
+        ),
+        (json!({ "file": "missing.csv" }), "no file"),
+    ];
+    for (data, expected) in cases {
+        let (status, body) = api.post("/api/identify", &identify(data.clone())).await;
+        assert!(status.is_client_error(), "{data}: {status} {body}");
+        assert!(error_text(&body).contains(expected), "{data}: {body}");
+    }
+    let (status, body) = api
+        .post("/api/identify", &identify(json!({ "file": "../x.csv" })))
+        .await;
+    assert_eq!(status, StatusCode::FORBIDDEN, "{body}");
+    // Well-formed but too few: found by the identification itself, a failed job.
+    let one = json!({ "csv": { "text": "qm1,qm2,qm3,qm4,qm5,qm6,x,y,z\n0,0,0.5,0,0,0,1,2,3\n" } });
+    let (status, submitted) = api.post("/api/identify", &identify(one)).await;
+    assert_eq!(status, StatusCode::ACCEPTED);
+    let view = api.finished(submitted["job"].as_u64().expect("job")).await;
+    assert_eq!(view["state"], "failed");
+    assert!(
+        view["error"]
+            .as_str()
+            .expect("error")
+            .contains("too few equations"),
+        "{view}"
+    );
+    let (status, _) = api
+        .get(&format!("/api/jobs/{}/report", submitted["job"]))
+        .await;
+    assert_eq!(status, StatusCode::CONFLICT);
+}
+
+#[tokio::test]
+async fn malformed_requests_get_4xx_with_a_message() {
+    let api = Api::new();
+    let document = api.document("stanford").await;
+    let (status, body) = api.post_raw("/api/identifiable", "{not json".into()).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert!(!error_text(&body).is_empty());
+    let (status, body) = api
+        .post(
+            "/api/identifiable",
+            &json!({ "robot": document, "method": { "name": "laser" } }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert!(error_text(&body).contains("position"), "{body}");
+    let (status, body) = api
+        .post(
+            "/api/identifiable",
+            &json!({ "robot": document, "method": { "name": "position" }, "colour": 1 }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert!(error_text(&body).contains("colour"), "{body}");
+    let (status, body) = api
+        .post("/api/identifiable", &json!({ "robot": document, "method": { "name": "plane1", "plane_normal": [0, 0, 0], "plane_point": [0, 0, 0] } }))
+        .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST, "{body}");
+    // Without a JSON content type.
+    let request = Request::post("/api/robots/check")
+        .body(Body::from("{}"))
+        .expect("request");
+    let (status, _, _) = api.send(request).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    // Too large.
+    let huge = format!(
+        "{{\"robot\": {{\"name\": \"{}\"}}}}",
+        "x".repeat(gecaro_web::limits::MAX_BODY_BYTES + 10)
+    );
+    let (status, body) = api.post_raw("/api/robots/check", huge).await;
+    assert_eq!(status, StatusCode::PAYLOAD_TOO_LARGE, "{body}");
+    // Too many joints.
+    let mut long = document.clone();
+    let joint = long["frame"][1].clone();
+    let frames = long["frame"].as_array_mut().expect("frames");
+    for _ in 0..40 {
+        frames.insert(1, joint.clone());
+    }
+    let (status, body) = api
+        .post("/api/robots/pose", &json!({ "robot": long, "q": [] }))
+        .await;
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert!(error_text(&body).contains("32 joints"), "{body}");
+}
+
+#[tokio::test]
+async fn garbage_never_gets_a_server_error() {
+    let api = Api::new();
+    let document = api.document("stanford").await;
+    let routes = [
+        "/api/robots/check",
+        "/api/robots/new",
+        "/api/robots/save",
+        "/api/robots/pose",
+        "/api/identifiable",
+        "/api/generate",
+        "/api/identify",
+    ];
+    let bodies = [
+        json!(null),
+        json!([]),
+        json!({}),
+        json!({ "robot": null }),
+        json!({ "robot": {} }),
+        json!({ "robot": { "frame": [] } }),
+        json!({ "robot": { "frame": [{ "sigma": 2 }] } }),
+        json!({ "robot": { "frame": [{ "sigma": 2 }, { "sigma": 2 }] } }),
+        json!({ "robot": { "frame": [{ "sigma": -1 }, { "sigma": 0 }, { "sigma": 2 }] } }),
+        json!({ "robot": { "frame": [{ "sigma": 2 }, { "sigma": 0, "qmin": 1e308, "qmax": -1e308 }, { "sigma": 2 }] } }),
+        json!({ "robot": document, "q": [1e308, -1e308, 1e300, 0, 0, 0] }),
+        json!({ "robot": document, "method": { "name": "position" }, "count": 1 }),
+        json!({ "robot": document, "method": { "name": "plane1" }, "count": 3 }),
+        json!({ "robot": document, "method": { "name": "point-link", "set_size": 1 }, "count": 3 }),
+        json!({ "robot": document, "method": { "name": "distance" }, "data": { "csv": { "text": "" } } }),
+        json!({ "robot": document, "method": { "name": "position" }, "data": { "csv": { "text": "\u{0}\u{1}" } } }),
+        json!({ "robot": document, "name": "", "joints": "" }),
+        json!({ "robot": document, "name": "x".repeat(5000), "overwrite": true }),
+        json!({ "joints": "R".repeat(100) }),
+    ];
+    for route in routes {
+        for body in &bodies {
+            let (status, answer) = api.post(route, body).await;
+            assert!(
+                status.is_success() || status.is_client_error(),
+                "{route} {body}: {status} {answer}"
+            );
+            if !status.is_success() {
+                assert!(!error_text(&answer).is_empty());
+            }
+        }
+    }
+}
+
+#[tokio::test]
+async fn requests_for_other_hosts_and_cross_site_writes_are_refused() {
+    let api = Api::with_hosts(vec!["127.0.0.1:8080".into(), "localhost:8080".into()]);
+    let get = |host: &str| {
+        Request::get("/api/info")
+            .header(header::HOST, host)
+            .body(Body::empty())
+            .expect("request")
+    };
+    assert_eq!(api.send(get("127.0.0.1:8080")).await.0, StatusCode::OK);
+    assert_eq!(api.send(get("localhost:8080")).await.0, StatusCode::OK);
+    assert_eq!(
+        api.send(get("attacker.example:8080")).await.0,
+        StatusCode::FORBIDDEN
+    );
+    let new = |origin: &str| {
+        Request::post("/api/robots/new")
+            .header(header::HOST, "127.0.0.1:8080")
+            .header(header::ORIGIN, origin)
+            .header(header::CONTENT_TYPE, "application/json")
+            .body(Body::from(r#"{"joints": "RR"}"#))
+            .expect("request")
+    };
+    assert_eq!(
+        api.send(new("http://127.0.0.1:8080")).await.0,
+        StatusCode::OK
+    );
+    assert_eq!(
+        api.send(new("https://attacker.example")).await.0,
+        StatusCode::FORBIDDEN
+    );
+}
