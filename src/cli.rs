@@ -24,6 +24,8 @@ pub(crate) enum Command {
     Fk(ConfigurationArgs),
     /// The 6×Np Jacobian of the end-effector w.r.t. every parameter (Appendix II).
     Jacobian(ConfigurationArgs),
+    /// Inverse geometric model: a configuration that puts the end-effector at a target.
+    Ik(IkArgs),
     /// Identifiable (base) parameters of a method: QR of W (Appendix III).
     Identifiable(IdentifiableArgs),
     /// The paper's Table 2: identifiable parameters of all methods for a robot.
@@ -84,6 +86,41 @@ pub(crate) struct ConfigurationArgs {
     )]
     pub(crate) qm: Vec<f64>,
     /// Print JSON instead of a table.
+    #[arg(long)]
+    pub(crate) json: bool,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct IkArgs {
+    /// Robot file or ready robot name.
+    pub(crate) robot: String,
+    /// Target position of the origin of frame n+1, world frame, metres.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        value_name = "X,Y,Z",
+        required = true
+    )]
+    pub(crate) position: Vec<f64>,
+    /// Target orientation of frame n+1 (unit quaternion); free when omitted.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        value_name = "QW,QX,QY,QZ"
+    )]
+    pub(crate) orientation: Option<Vec<f64>>,
+    /// Start configuration (motor variables); default: the middle of the
+    /// joint ranges, then 20 seeded random starts if that one fails.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        value_name = "QM1,.."
+    )]
+    pub(crate) start: Option<Vec<f64>>,
+    /// Print JSON instead of text.
     #[arg(long)]
     pub(crate) json: bool,
 }
@@ -158,6 +195,9 @@ pub(crate) struct StudySource {
     /// A study file: several measurement sets (method, data, σ each) used together.
     #[arg(long, value_name = "STUDY.toml", conflicts_with_all = ["robot", "method"])]
     pub(crate) study: Option<PathBuf>,
+    /// Refuse data with joints outside their limits (by default a warning).
+    #[arg(long)]
+    pub(crate) strict_limits: bool,
 }
 
 #[derive(Debug, Args)]
@@ -330,6 +370,9 @@ pub(crate) struct EvaluateArgs {
     /// Measurements (CSV), ideally not those used for identification.
     #[arg(long, value_name = "DATA.csv")]
     pub(crate) data: PathBuf,
+    /// Refuse data with joints outside their limits (by default a warning).
+    #[arg(long)]
+    pub(crate) strict_limits: bool,
     /// Print JSON instead of text.
     #[arg(long)]
     pub(crate) json: bool,

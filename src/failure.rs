@@ -7,7 +7,8 @@ use miette::Diagnostic;
 pub(crate) const EXIT_USAGE: u8 = 2;
 /// Exit code for bad input: files, values, names.
 pub(crate) const EXIT_INPUT: u8 = 3;
-/// Exit code for a numerical failure: unreachable target, divergence, rank deficiency.
+/// Exit code for well-formed input that cannot give a trustworthy answer:
+/// too few equations, divergence, an iteration limit, an unreachable target.
 pub(crate) const EXIT_NUMERICAL: u8 = 4;
 
 /// A failed command.
@@ -51,7 +52,7 @@ impl From<gecaro_calib::Error> for Failure {
         match error {
             Calib::Model(model) => model.into(),
             Calib::InvalidOption { .. } => Failure::usage(error.to_string(), None),
-            Calib::Generation { .. } | Calib::Numerical { .. } => {
+            Calib::Generation { .. } | Calib::Numerical { .. } | Calib::TooFewEquations { .. } => {
                 Failure::Numerical(error.to_string())
             }
             _ => Failure::Input(error.to_string()),

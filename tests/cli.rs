@@ -279,7 +279,7 @@ fn identifiable_on_measured_data_checks_the_excitation() {
         .args(["identifiable", "stanford", "--method", "position", "--data"])
         .arg(&few)
         .assert()
-        .code(3)
+        .code(4)
         .stderr(predicate::str::contains("too few equations"));
     // A NaN in the data: the line and the column.
     let nan = folder.path().join("nan.csv");

@@ -514,6 +514,7 @@ fn print_errors(title: &str, before: &ErrorSummary, after: Option<&ErrorSummary>
 pub(crate) fn evaluate(args: &EvaluateArgs) -> Result<(), Failure> {
     let robot = load_robot(&args.robot)?.robot;
     let study = single_study(&robot, &args.method, &args.data)?;
+    super::options::check_limits(&robot, &study, args.strict_limits)?;
     let summary = evaluate_study(&robot, &study)?;
     if args.json {
         return super::print_json(&SummaryJson::from(&summary));

@@ -1,10 +1,14 @@
-//! `gecaro fk` and `gecaro jacobian`.
+//! `gecaro fk`, `gecaro jacobian` and `gecaro ik`.
 
-use gecaro_core::{forward_kinematics, parameter_jacobian};
+use gecaro_core::{
+    InverseOptions, InverseSolution, Target, forward_kinematics, inverse_kinematics,
+    parameter_jacobian,
+};
 use gecaro_io::load_robot;
+use nalgebra::{IsometryMatrix3, Quaternion, UnitQuaternion};
 use serde::Serialize;
 
-use crate::cli::ConfigurationArgs;
+use crate::cli::{ConfigurationArgs, IkArgs};
 use crate::failure::Failure;
 use crate::format::{number, table};
 
@@ -86,4 +90,98 @@ pub(crate) fn jacobian(args: &ConfigurationArgs) -> Result<(), Failure> {
     }
     println!("{rows}");
     Ok(())
+}
+
+/// Random starts tried after the default one, when no start is given.
+const RANDOM_STARTS: usize = 20;
+
+#[derive(Serialize)]
+struct InverseJson {
+    motor_positions: Vec<f64>,
+    joint_positions: Vec<f64>,
+    iterations: usize,
+    residual: f64,
+}
+
+pub(crate) fn inverse(args: &IkArgs) -> Result<(), Failure> {
+    let robot = load_robot(&args.robot)?.robot;
+    let position = super::options::vector3(&args.position, "--position")?;
+    let target = match &args.orientation {
+        None => Target::Position(position),
+        Some(values) => {
+            let [w, x, y, z] = values[..] else {
+                return Err(Failure::usage(
+                    format!(
+                        "--orientation needs four numbers (qw,qx,qy,qz), got {}",
+                        values.len()
+                    ),
+                    Some("for example: --orientation 1,0,0,0".to_owned()),
+                ));
+            };
+            let quaternion = Quaternion::new(w, x, y, z);
+            if !quaternion.norm().is_finite() || (quaternion.norm() - 1.0).abs() > 1e-6 {
+                return Err(Failure::usage(
+                    format!(
+                        "--orientation has norm {:.6}, not 1: it is not a unit quaternion",
+                        quaternion.norm()
+                    ),
+                    None,
+                ));
+            }
+            let rotation = UnitQuaternion::from_quaternion(quaternion).to_rotation_matrix();
+            Target::Frame(IsometryMatrix3::from_parts(position.into(), rotation))
+        }
+    };
+    let options = InverseOptions::default();
+    let solution = match &args.start {
+        Some(start) => inverse_kinematics(&robot, &target, start, &options)?,
+        None => solve_from_several_starts(&robot, &target, &options)?,
+    };
+    if args.json {
+        return super::print_json(&InverseJson {
+            motor_positions: solution.motor_positions.clone(),
+            joint_positions: solution.joint_positions.clone(),
+            iterations: solution.iterations,
+            residual: solution.residual,
+        });
+    }
+    println!(
+        "{} reaches the target in {} iterations (remaining error {:.1e})",
+        robot.name(),
+        solution.iterations,
+        solution.residual
+    );
+    println!("qm = {}", crate::format::list(&solution.motor_positions));
+    println!("q  = {}", crate::format::list(&solution.joint_positions));
+    Ok(())
+}
+
+/// The middle of the joint ranges first, then seeded random starts; the
+/// error of the first start when none reaches the target.
+fn solve_from_several_starts(
+    robot: &gecaro_core::Robot,
+    target: &Target,
+    options: &InverseOptions,
+) -> Result<InverseSolution, Failure> {
+    let middle: Vec<f64> = robot
+        .joints()
+        .iter()
+        .map(|j| 0.5 * (j.qmin + j.qmax))
+        .collect();
+    let first = robot.motor_positions(&middle)?;
+    let first_error = match inverse_kinematics(robot, target, first.as_slice(), options) {
+        Ok(solution) => return Ok(solution),
+        Err(error) => error,
+    };
+    let mut sampler = gecaro_calib::Sampler::new(1);
+    for _ in 0..RANDOM_STARTS {
+        let start = sampler.configuration(robot);
+        if let Ok(solution) = inverse_kinematics(robot, target, &start, options) {
+            return Ok(solution);
+        }
+    }
+    Err(Failure::Numerical(format!(
+        "{first_error} (tried the middle of the joint ranges and {RANDOM_STARTS} random starts; \
+         --start chooses another)"
+    )))
 }

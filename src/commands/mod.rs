@@ -17,6 +17,7 @@ pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
         Command::Robot(command) => robot::run(command),
         Command::Fk(args) => kinematics::forward(&args),
         Command::Jacobian(args) => kinematics::jacobian(&args),
+        Command::Ik(args) => kinematics::inverse(&args),
         Command::Identifiable(args) => identifiability::identifiable(&args),
         Command::Table2(args) => identifiability::table2(&args),
         Command::Generate(args) => calibration::generate(&args),

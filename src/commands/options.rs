@@ -76,6 +76,7 @@ pub(crate) fn load_study(
 > {
     if let Some(path) = &source.study {
         let file = gecaro_io::read_study_file(path)?;
+        check_limits(&file.robot.robot, &file.study, source.strict_limits)?;
         return Ok((file.robot, file.study, file.priority));
     }
     let (Some(robot), Some(method)) = (&source.robot, &source.method) else {
@@ -93,9 +94,39 @@ pub(crate) fn load_study(
         || "random configurations".to_owned(),
         |p| p.display().to_string(),
     );
-    Ok((
-        robot,
-        gecaro_calib::Study::single(chosen, samples, label),
-        None,
-    ))
+    let study = gecaro_calib::Study::single(chosen, samples, label);
+    check_limits(&robot.robot, &study, source.strict_limits)?;
+    Ok((robot, study, None))
+}
+
+/// Joints outside their limits in the data: a warning on stderr, or with
+/// `--strict-limits` an error.
+pub(crate) fn check_limits(
+    robot: &gecaro_core::Robot,
+    study: &gecaro_calib::Study,
+    strict: bool,
+) -> Result<(), Failure> {
+    let violations = study.limit_violations(robot);
+    let Some(first) = violations.first() else {
+        return Ok(());
+    };
+    let message = format!(
+        "{} joint value{} outside the joint limits; first: {first}",
+        violations.len(),
+        if violations.len() == 1 {
+            " is"
+        } else {
+            "s are"
+        },
+    );
+    if strict {
+        Err(Failure::Input(format!(
+            "{message} (--strict-limits refuses such data)"
+        )))
+    } else {
+        eprintln!(
+            "warning: {message} (the data are used as they are; --strict-limits refuses them)"
+        );
+        Ok(())
+    }
 }

@@ -68,7 +68,7 @@ pub use observation::{
 pub use sample::{DataColumn, Sample};
 pub use sampler::Sampler;
 pub use simulation::{perturbed_robot, simulate_measurements, terminal_displacement};
-pub use study::{MeasurementSet, Study, StudyStates};
+pub use study::{LimitViolation, MeasurementSet, Study, StudyStates};
 pub use table2::{
     STANFORD_PLANE_POINT, TABLE2_COLUMNS, TABLE2_PLANE_NORMAL, Table2Column, default_plane, table2,
 };

@@ -27,6 +27,49 @@ pub struct MeasurementSet {
     pub label: String,
 }
 
+/// A measured configuration that puts a joint outside its limits (eq. 4
+/// maps the motor variables to joint variables first).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LimitViolation {
+    /// The set's label (usually its data file).
+    pub label: String,
+    /// The line of the data file, when known.
+    pub line: Option<usize>,
+    /// The joint, 1-based.
+    pub joint: usize,
+    /// Its joint variable q (radians or metres).
+    pub value: f64,
+    /// Its lower limit.
+    pub qmin: f64,
+    /// Its upper limit.
+    pub qmax: f64,
+}
+
+impl std::fmt::Display for LimitViolation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.line {
+            Some(line) => write!(f, "{}:{line}: ", self.label)?,
+            None => write!(f, "{}: ", self.label)?,
+        }
+        let (bound, name) = if self.value < self.qmin {
+            (self.qmin, "qmin")
+        } else {
+            (self.qmax, "qmax")
+        };
+        write!(
+            f,
+            "q{} = {} is {} {name} = {bound}",
+            self.joint,
+            self.value,
+            if self.value < self.qmin {
+                "below"
+            } else {
+                "above"
+            }
+        )
+    }
+}
+
 /// One or more measurement sets calibrated together.
 #[derive(Debug, Default)]
 pub struct Study {
@@ -63,6 +106,33 @@ impl Study {
                 label: label.into(),
             }],
         }
+    }
+
+    /// Configurations whose joint variables lie outside the joint limits, in
+    /// data order (one entry per joint out of range). Configurations that do
+    /// not fit the robot are left to [`Study::check`].
+    pub fn limit_violations(&self, robot: &Robot) -> Vec<LimitViolation> {
+        let mut violations = Vec::new();
+        for set in &self.sets {
+            for sample in &set.samples {
+                let Ok(joints) = robot.joint_positions(&sample.motor_positions) else {
+                    continue;
+                };
+                for (index, (value, joint)) in joints.iter().zip(robot.joints()).enumerate() {
+                    if *value < joint.qmin || *value > joint.qmax {
+                        violations.push(LimitViolation {
+                            label: set.label.clone(),
+                            line: sample.line,
+                            joint: index + 1,
+                            value: *value,
+                            qmin: joint.qmin,
+                            qmax: joint.qmax,
+                        });
+                    }
+                }
+            }
+        }
+        violations
     }
 
     /// The method names, joined with `+`.

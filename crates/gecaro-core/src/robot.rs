@@ -675,7 +675,7 @@ fn validate_coupling(
         return Err(Error::invalid(
             field,
             format!(
-                "must be {n}×{n} (one row and column per joint), got {}×{}",
+                "{name} must be {n}×{n} (one row and column per joint), got {}×{}",
                 matrix.nrows(),
                 matrix.ncols()
             ),
@@ -684,7 +684,7 @@ fn validate_coupling(
     if matrix.iter().any(|v| !v.is_finite()) {
         return Err(Error::invalid(
             field,
-            "holds a value that is not a finite number",
+            format!("{name} holds a value that is not a finite number"),
         ));
     }
     let singular_values = matrix.clone().svd(false, false).singular_values;
@@ -693,7 +693,15 @@ fn validate_coupling(
     if largest == 0.0 || smallest <= 1e-12 * largest {
         return Err(Error::invalid(
             field,
-            "is singular: motor variables could not be recovered from joint variables (eq. 4)",
+            format!(
+                "{name} is singular{}: motor variables could not be recovered from joint \
+                 variables (eq. 4)",
+                if smallest > 0.0 {
+                    format!(" (condition number {:.1e})", largest / smallest)
+                } else {
+                    String::new()
+                }
+            ),
         ));
     }
     Ok(matrix)

@@ -20,6 +20,11 @@ use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use crate::Error;
 use crate::output::{OutputPolicy, write_with};
 
+/// Most configurations a data file may hold. Files are streamed, so a larger
+/// one (or an endless stream) stops here with an error naming the line,
+/// instead of exhausting memory; no calibration needs this many.
+pub const MAX_CONFIGURATIONS: usize = 1_000_000;
+
 /// A quaternion whose norm is further than this from 1 is refused (it is not
 /// an orientation, or its columns are mixed up).
 const UNIT_TOLERANCE: f64 = 1e-6;
@@ -46,9 +51,9 @@ pub fn read_samples(
     joint_count: usize,
     columns: &[DataColumn],
 ) -> Result<Vec<Sample>, Error> {
-    let file = std::fs::File::open(path).map_err(|source| Error::Read {
+    let file = std::fs::File::open(path).map_err(|cause| Error::Read {
         path: path.to_owned(),
-        source,
+        cause,
     })?;
     parse_samples(std::io::BufReader::new(file), path, joint_count, columns)
 }
@@ -105,6 +110,16 @@ pub fn parse_samples(
     for record in records {
         let record = record.map_err(|error| csv_error(path, &error))?;
         let line = line_of(&record);
+        if samples.len() == MAX_CONFIGURATIONS {
+            return Err(fail(
+                line,
+                None,
+                format!(
+                    "more than {MAX_CONFIGURATIONS} configurations; reading stopped here \
+                     (calibration needs far fewer: split or subsample the file)"
+                ),
+            ));
+        }
         if record.len() != names.len() {
             return Err(fail(
                 line,

@@ -15,7 +15,9 @@ mod ready;
 mod robot_file;
 mod study_file;
 
-pub use data_file::{data_headers, format_samples, parse_samples, read_samples, write_samples};
+pub use data_file::{
+    MAX_CONFIGURATIONS, data_headers, format_samples, parse_samples, read_samples, write_samples,
+};
 pub use document::{
     CouplingDocument, DocumentError, FrameDocument, Location, PriorityDocument, RobotDocument,
 };

@@ -64,7 +64,7 @@ pub fn load_robot(path_or_name: &str) -> Result<RobotFile, Error> {
             // Looks like a path: say the file is missing rather than list robots only.
             Err(Error::Read {
                 path: path.to_owned(),
-                source: std::io::Error::new(
+                cause: std::io::Error::new(
                     std::io::ErrorKind::NotFound,
                     format!(
                         "no such file (ready robots: {})",

@@ -164,9 +164,9 @@ impl Source<'_> {
 /// [`Error::Read`] if the file cannot be read, [`Error::Parse`] naming the
 /// line and key of the first problem otherwise.
 pub fn read_robot_file(path: &Path) -> Result<RobotFile, Error> {
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
+    let text = std::fs::read_to_string(path).map_err(|cause| Error::Read {
         path: path.to_owned(),
-        source,
+        cause,
     })?;
     parse_robot_file(&text, path)
 }
@@ -217,9 +217,9 @@ struct PriorityFileDocument {
 /// # Errors
 /// [`Error::Read`], or [`Error::Parse`] with the line of the problem.
 pub fn read_priority_file(path: &Path, robot: &Robot) -> Result<PriorityMatrix, Error> {
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
+    let text = std::fs::read_to_string(path).map_err(|cause| Error::Read {
         path: path.to_owned(),
-        source,
+        cause,
     })?;
     let source = Source { path, text: &text };
     let file: PriorityFileDocument =

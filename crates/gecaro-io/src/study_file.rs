@@ -73,9 +73,9 @@ pub struct StudyFile {
 /// [`Error::Parse`] with the line of the study file at fault, or the errors
 /// of the robot and data files it names.
 pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
+    let text = std::fs::read_to_string(path).map_err(|cause| Error::Read {
         path: path.to_owned(),
-        source,
+        cause,
     })?;
     let line_of = |offset: usize| {
         text[..offset.min(text.len())]

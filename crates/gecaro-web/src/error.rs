@@ -130,8 +130,8 @@ impl From<gecaro_io::Error> for ApiError {
         match &error {
             gecaro_io::Error::OutputExists { .. } => ApiError::Conflict(error.to_string()),
             gecaro_io::Error::Write { .. } => ApiError::Internal(error.to_string()),
-            gecaro_io::Error::Read { source, .. }
-                if source.kind() == std::io::ErrorKind::NotFound =>
+            gecaro_io::Error::Read { cause, .. }
+                if cause.kind() == std::io::ErrorKind::NotFound =>
             {
                 ApiError::NotFound(error.to_string())
             }
