@@ -87,17 +87,30 @@ async fn click(client: &Client, selector: &str) {
 
 /// The text of `selector` once it exists and is not empty.
 async fn text_of(client: &Client, selector: &str, seconds: u64) -> String {
+    text_when(client, selector, seconds, |_| true).await
+}
+
+/// The text of `selector` once it exists, is not empty and satisfies `ready`.
+async fn text_when(
+    client: &Client,
+    selector: &str,
+    seconds: u64,
+    ready: impl Fn(&str) -> bool,
+) -> String {
     let deadline = std::time::Instant::now() + Duration::from_secs(seconds);
+    let mut last = String::new();
     loop {
         if let Ok(element) = client.find(Locator::Css(selector)).await
             && let Ok(text) = element.text().await
-            && !text.trim().is_empty()
         {
-            return text;
+            if !text.trim().is_empty() && ready(&text) {
+                return text;
+            }
+            last = text;
         }
         assert!(
             std::time::Instant::now() < deadline,
-            "{selector} did not show within {seconds} s"
+            "{selector} did not show the expected text within {seconds} s (last: {last:?})"
         );
         tokio::time::sleep(Duration::from_millis(100)).await;
     }
@@ -175,7 +188,7 @@ async fn the_page_works_as_a_person_uses_it() {
     let client = client.expect("chromedriver answers within 10 s");
 
     client.goto(&url).await.expect("page");
-    assert_eq!(text_of(&client, "#robot-name", 20).await, "Stanford");
+    text_when(&client, "#robot-name", 30, |name| name == "Stanford").await;
 
     // Robot ▸ Open…: another ready robot, then the Stanford again.
     click(&client, "#robot-open").await;
@@ -264,7 +277,7 @@ async fn the_page_works_as_a_person_uses_it() {
         .send_keys(&format!("7{}", Key::Tab))
         .await
         .expect("type");
-    let message = text_of(&client, "#problems li", 10).await;
+    let message = text_of(&client, "#problems li", 30).await;
     assert!(
         message.contains("Frame 2, sigma") && message.contains("not a frame type"),
         "{message}"
