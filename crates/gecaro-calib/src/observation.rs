@@ -373,3 +373,35 @@ impl RowWriter<'_> {
         self.next_row == self.end_row
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Sampler;
+
+    #[test]
+    fn parallel_evaluation_is_bit_identical_to_serial() {
+        let robot = Robot::template("arm", "RRPRRR").expect("template");
+        let mut sampler = Sampler::new(9);
+        let samples: Vec<Sample> = (0..PARALLEL_MINIMUM * 2 + 17)
+            .map(|_| Sample::new(sampler.configuration(&robot)))
+            .collect();
+        let mut parallel = Vec::new();
+        evaluate_states(&robot, &samples, &mut parallel).expect("states");
+        let model = KinematicModel::new(&robot);
+        let mut serial: Vec<TerminalState> = samples
+            .iter()
+            .map(|_| TerminalState {
+                pose: IsometryMatrix3::identity(),
+                jacobian: Vec::new(),
+                parameters: model.parameter_count(),
+            })
+            .collect();
+        evaluate_chunk(&model, &samples, &mut serial).expect("states");
+        for (a, b) in parallel.iter().zip(&serial) {
+            assert_eq!(a.pose, b.pose);
+            let bits = |values: &[f64]| values.iter().map(|v| v.to_bits()).collect::<Vec<u64>>();
+            assert_eq!(bits(&a.jacobian), bits(&b.jacobian));
+        }
+    }
+}

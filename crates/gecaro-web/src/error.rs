@@ -34,6 +34,9 @@ pub enum ApiError {
     /// The body is larger than the server accepts: 413.
     #[error("{0}")]
     TooLarge(String),
+    /// The request took too long: 408.
+    #[error("{0}")]
+    Timeout(String),
     /// Too many jobs at once: 503.
     #[error("{0}")]
     Busy(String),
@@ -61,6 +64,7 @@ impl ApiError {
             ApiError::Conflict(_) => StatusCode::CONFLICT,
             ApiError::Forbidden(_) => StatusCode::FORBIDDEN,
             ApiError::TooLarge(_) => StatusCode::PAYLOAD_TOO_LARGE,
+            ApiError::Timeout(_) => StatusCode::REQUEST_TIMEOUT,
             ApiError::Busy(_) => StatusCode::SERVICE_UNAVAILABLE,
             ApiError::Internal(_) => StatusCode::INTERNAL_SERVER_ERROR,
         }

@@ -2,7 +2,9 @@
 //! server's own host name (a page of another site that rebinds a DNS name to
 //! 127.0.0.1 is refused), state-changing requests from another origin are
 //! refused (no cross-site saves into the folder), and every answer carries
-//! headers that keep browsers from sniffing, framing or leaking it.
+//! headers that keep browsers from sniffing, framing or leaking it. A request
+//! that takes longer than [`crate::limits::REQUEST_TIMEOUT`] (a slow upload, an oversized
+//! computation) is answered 408 and its connection freed.
 
 use axum::extract::{Request, State};
 use axum::http::{HeaderValue, Method, header};
@@ -46,7 +48,15 @@ pub(crate) async fn guard(State(state): State<AppState>, request: Request, next:
             }
         }
     }
-    let mut response = next.run(request).await;
+    let limit = state.request_timeout();
+    let Ok(mut response) = tokio::time::timeout(limit, next.run(request)).await else {
+        return ApiError::Timeout(format!(
+            "the request took longer than {:.1} s and was abandoned; ask for less (fewer \
+             configurations), or use an identification job",
+            limit.as_secs_f64()
+        ))
+        .into_response();
+    };
     let headers = response.headers_mut();
     headers.insert(
         header::X_CONTENT_TYPE_OPTIONS,

@@ -22,6 +22,8 @@ struct Inner {
     computing: Arc<Semaphore>,
     /// `Host` headers accepted (`127.0.0.1:8080`, `localhost:8080`); empty = any.
     allowed_hosts: Vec<String>,
+    /// The longest a request may take.
+    request_timeout: std::time::Duration,
 }
 
 impl AppState {
@@ -35,8 +37,28 @@ impl AppState {
                 jobs: Jobs::default(),
                 computing: Arc::new(Semaphore::new(cores.max(1))),
                 allowed_hosts,
+                request_timeout: crate::limits::REQUEST_TIMEOUT,
             }),
         }
+    }
+
+    /// The same state with another request timeout (the default is
+    /// [`REQUEST_TIMEOUT`](crate::limits::REQUEST_TIMEOUT)). Only for a state
+    /// not yet shared with a router.
+    ///
+    /// # Panics
+    /// When the state has been cloned already.
+    #[must_use]
+    pub fn with_request_timeout(mut self, timeout: std::time::Duration) -> Self {
+        Arc::get_mut(&mut self.inner)
+            .expect("the timeout is set before the state is shared")
+            .request_timeout = timeout;
+        self
+    }
+
+    /// The longest a request may take.
+    pub fn request_timeout(&self) -> std::time::Duration {
+        self.inner.request_timeout
     }
 
     /// The sandboxed folder.

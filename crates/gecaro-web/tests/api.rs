@@ -669,3 +669,72 @@ async fn requests_for_other_hosts_and_cross_site_writes_are_refused() {
         StatusCode::FORBIDDEN
     );
 }
+
+#[tokio::test]
+async fn a_stalled_request_times_out_with_a_message() {
+    let folder = tempfile::tempdir().expect("folder");
+    let state = AppState::new(
+        Workspace::new(folder.path()).expect("workspace"),
+        Vec::new(),
+    )
+    .with_request_timeout(Duration::from_millis(200));
+    let app = router(state);
+    // A body that never finishes arriving.
+    let stalled = futures_util::stream::pending::<Result<bytes::Bytes, std::io::Error>>();
+    let request = Request::post("/api/robots/check")
+        .header(header::CONTENT_TYPE, "application/json")
+        .body(Body::from_stream(stalled))
+        .expect("request");
+    let response = app.oneshot(request).await.expect("infallible");
+    assert_eq!(response.status(), StatusCode::REQUEST_TIMEOUT);
+    let bytes = response
+        .into_body()
+        .collect()
+        .await
+        .expect("body")
+        .to_bytes();
+    let body: Value = serde_json::from_slice(&bytes).expect("JSON");
+    assert!(error_text(&body).contains("longer than 0.2 s"), "{body}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn parallel_saves_of_one_file_never_corrupt_it() {
+    let api = Api::new();
+    let stanford = api.document("stanford").await;
+    let puma = api.document("puma560").await;
+    let mut saves = Vec::new();
+    for index in 0..40 {
+        let robot = if index % 2 == 0 {
+            stanford.clone()
+        } else {
+            puma.clone()
+        };
+        let app = api.app.clone();
+        saves.push(tokio::spawn(async move {
+            let body = json!({ "robot": robot, "name": "shared.toml", "overwrite": true });
+            let request = Request::post("/api/robots/save")
+                .header(header::CONTENT_TYPE, "application/json")
+                .body(Body::from(body.to_string()))
+                .expect("request");
+            app.oneshot(request).await.expect("infallible").status()
+        }));
+    }
+    for save in saves {
+        assert_eq!(save.await.expect("task"), StatusCode::OK);
+    }
+    // One of the two robots, whole; no temporary file left behind.
+    let path = api.folder.path().join("shared.toml");
+    let saved = gecaro_io::read_robot_file(&path).expect("a valid robot file");
+    assert!(["RRPRRR", "RRRRRR"].contains(&saved.robot.joint_letters().as_str()));
+    let names: Vec<String> = std::fs::read_dir(api.folder.path())
+        .expect("list")
+        .map(|entry| {
+            entry
+                .expect("entry")
+                .file_name()
+                .to_string_lossy()
+                .into_owned()
+        })
+        .collect();
+    assert_eq!(names, ["shared.toml"]);
+}
