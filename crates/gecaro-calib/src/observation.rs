@@ -9,6 +9,8 @@
 //! [`ColumnLayout`] asks for, row by row (each row is written contiguously). Rows are multiplied by a per-set weight (1/σ of the sensor)
 //! when several measurement sets are stacked.
 
+use std::sync::OnceLock;
+
 use gecaro_core::{ChainBuffer, Error as ModelError, KinematicModel, Robot};
 use nalgebra::IsometryMatrix3;
 
@@ -66,8 +68,11 @@ pub fn evaluate_states(
         jacobian: Vec::new(),
         parameters: model.parameter_count(),
     });
-    let threads = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
-    if threads < 2 || samples.len() < PARALLEL_MINIMUM {
+    if samples.len() < PARALLEL_MINIMUM {
+        return evaluate_chunk(&model, samples, states);
+    }
+    let threads = available_threads();
+    if threads < 2 {
         return evaluate_chunk(&model, samples, states);
     }
     let chunk = samples.len().div_ceil(threads);
@@ -83,6 +88,14 @@ pub fn evaluate_states(
             .collect()
     });
     results.into_iter().collect()
+}
+
+/// The cores this process may use, asked once: the standard library reads
+/// the cgroup quota files on every call, which costs more than evaluating
+/// a hundred configurations.
+fn available_threads() -> usize {
+    static THREADS: OnceLock<usize> = OnceLock::new();
+    *THREADS.get_or_init(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get))
 }
 
 fn evaluate_chunk(

@@ -38,6 +38,7 @@ mod plane_normal;
 mod point_link;
 mod position;
 
+use std::collections::HashMap;
 use std::fmt;
 
 use gecaro_core::{OrientationDifference, Robot};
@@ -269,18 +270,18 @@ pub fn method_info(name: &str) -> Result<&'static MethodInfo, Error> {
 // Helpers shared by several methods.
 
 /// Sample indices grouped by their `group` id, groups in order of first appearance.
+///
+/// Linear in the number of samples (a file of 10⁶ rows may hold 5·10⁵ pairs).
 pub(crate) fn groups(samples: &[Sample]) -> Vec<Vec<usize>> {
-    let mut order: Vec<u64> = Vec::new();
+    let mut position_of: HashMap<u64, usize> = HashMap::new();
     let mut members: Vec<Vec<usize>> = Vec::new();
     for (index, sample) in samples.iter().enumerate() {
         let id = sample.group.unwrap_or(0);
-        match order.iter().position(|known| *known == id) {
-            Some(position) => members[position].push(index),
-            None => {
-                order.push(id);
-                members.push(vec![index]);
-            }
-        }
+        let position = *position_of.entry(id).or_insert_with(|| {
+            members.push(Vec::new());
+            members.len() - 1
+        });
+        members[position].push(index);
     }
     members
 }
@@ -350,6 +351,28 @@ mod tests {
         let mut values = vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
         centre(&mut values, 3);
         assert_eq!(values, [-2.0, -2.0, 0.0, 0.0, 2.0, 2.0]);
+    }
+
+    #[test]
+    fn groups_keep_the_order_of_first_appearance_at_any_size() {
+        let with_group = |group: u64| Sample {
+            group: Some(group),
+            ..Sample::new(vec![0.0])
+        };
+        let small: Vec<Sample> = [7, 3, 7, 9, 3].into_iter().map(with_group).collect();
+        assert_eq!(groups(&small), [vec![0, 2], vec![1, 4], vec![3]]);
+        // 10⁵ pairs, ids in descending order: one pass (this was quadratic).
+        let pairs: Vec<Sample> = (0..200_000_u64)
+            .map(|row| with_group(1_000_000 - row / 2))
+            .collect();
+        let grouped = groups(&pairs);
+        assert_eq!(grouped.len(), 100_000);
+        assert!(
+            grouped
+                .iter()
+                .enumerate()
+                .all(|(k, members)| members == &[2 * k, 2 * k + 1])
+        );
     }
 
     #[test]
