@@ -60,7 +60,7 @@ pub use identification::{
     POOR_CONDITIONING, Route, Solver, StopReason, evaluate, identify, identify_with_progress,
 };
 pub use methods::{
-    CalibrationMethod, METHODS, MethodInfo, MethodOptions, Plane, method, method_info,
+    CalibrationMethod, CloneMethod, METHODS, MethodInfo, MethodOptions, Plane, method, method_info,
 };
 pub use observation::{
     ColumnLayout, ObservationSystem, RowKind, RowWriter, TerminalState, evaluate_states,

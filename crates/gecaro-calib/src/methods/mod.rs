@@ -51,15 +51,19 @@ use crate::sampler::Sampler;
 pub use plane::Plane;
 
 /// One calibration method; see the module docs.
-pub trait CalibrationMethod: fmt::Debug + Send + Sync {
+pub trait CalibrationMethod: CloneMethod + fmt::Debug + Send + Sync {
+    /// The method's entry in [`METHODS`]: its names and how it is built.
+    fn info(&self) -> &'static MethodInfo;
+
     /// The name used in files and on the command line (`point-link`).
-    fn name(&self) -> &'static str;
+    fn name(&self) -> &'static str {
+        self.info().name
+    }
 
     /// The menu title of paper §4 (`Point link`).
-    fn title(&self) -> &'static str;
-
-    /// A boxed copy of this method with the same options.
-    fn clone_method(&self) -> Box<dyn CalibrationMethod>;
+    fn title(&self) -> &'static str {
+        self.info().title
+    }
 
     /// The data columns beyond `qm1..qmn`.
     fn data_columns(&self) -> &'static [DataColumn];
@@ -200,6 +204,19 @@ impl MethodOptions {
             }),
             other => Ok(other),
         }
+    }
+}
+
+/// Boxed copies of methods, for every method that is `Clone` (all of them):
+/// a supertrait of [`CalibrationMethod`], so that no method writes it.
+pub trait CloneMethod {
+    /// A boxed copy of this method with the same options.
+    fn clone_method(&self) -> Box<dyn CalibrationMethod>;
+}
+
+impl<T: CalibrationMethod + Clone + 'static> CloneMethod for T {
+    fn clone_method(&self) -> Box<dyn CalibrationMethod> {
+        Box::new(self.clone())
     }
 }
 

@@ -44,16 +44,8 @@ pub(crate) struct PlaneEquation {
 }
 
 impl CalibrationMethod for PlaneEquation {
-    fn name(&self) -> &'static str {
-        INFO.name
-    }
-
-    fn title(&self) -> &'static str {
-        INFO.title
-    }
-
-    fn clone_method(&self) -> Box<dyn CalibrationMethod> {
-        Box::new(self.clone())
+    fn info(&self) -> &'static MethodInfo {
+        &INFO
     }
 
     fn data_columns(&self) -> &'static [DataColumn] {

@@ -22,16 +22,8 @@ pub(super) const INFO: MethodInfo = MethodInfo {
 pub(crate) struct PositionMeasure;
 
 impl CalibrationMethod for PositionMeasure {
-    fn name(&self) -> &'static str {
-        INFO.name
-    }
-
-    fn title(&self) -> &'static str {
-        INFO.title
-    }
-
-    fn clone_method(&self) -> Box<dyn CalibrationMethod> {
-        Box::new(self.clone())
+    fn info(&self) -> &'static MethodInfo {
+        &INFO
     }
 
     fn data_columns(&self) -> &'static [DataColumn] {
