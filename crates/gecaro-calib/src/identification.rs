@@ -54,7 +54,9 @@ use crate::Error;
 use crate::identifiability::{
     ParameterStatus, RankReport, excitation_at, structural_parameters_at,
 };
-use crate::linalg::{damped_step, minimum_norm_step, precision, step, view};
+use crate::linalg::{
+    NormalEquations, damped_step, minimum_norm_step, precision, predicted_decrease, step, view,
+};
 use crate::observation::{ColumnLayout, ObservationSystem};
 use crate::study::{Study, StudyStates};
 
@@ -287,6 +289,8 @@ struct Iterate {
     robot: Robot,
     auxiliary: Vec<f64>,
     system: ObservationSystem,
+    /// The system's normal equations (its step, predicted decrease, precision).
+    normal: NormalEquations,
     cost: f64,
 }
 
@@ -348,10 +352,11 @@ impl Problem<'_> {
         auxiliary: &[f64],
         layout: &ColumnLayout,
         states: &mut StudyStates,
-        system: ObservationSystem,
+        mut system: ObservationSystem,
     ) -> Result<Iterate, Error> {
-        self.study.evaluate(robot, states)?;
-        self.iterate_into(robot, auxiliary, layout, states, system)
+        self.study
+            .linearise(robot, auxiliary, layout, states, &mut system)?;
+        Self::iterate_of(robot, auxiliary, system)
     }
 
     /// The iterate at states already evaluated at `robot`.
@@ -362,26 +367,25 @@ impl Problem<'_> {
         layout: &ColumnLayout,
         states: &StudyStates,
     ) -> Result<Iterate, Error> {
-        self.iterate_into(
-            robot,
-            auxiliary,
-            layout,
-            states,
-            ObservationSystem::default(),
-        )
+        let mut system = ObservationSystem::default();
+        self.study.assemble(states, auxiliary, layout, &mut system);
+        Self::iterate_of(robot, auxiliary, system)
     }
 
-    fn iterate_into(
-        &self,
+    /// The iterate of a system written at `robot` and `auxiliary`.
+    fn iterate_of(
         robot: &Robot,
         auxiliary: &[f64],
-        layout: &ColumnLayout,
-        states: &StudyStates,
-        mut system: ObservationSystem,
+        system: ObservationSystem,
     ) -> Result<Iterate, Error> {
-        self.study.assemble(states, auxiliary, layout, &mut system);
-        let cost: f64 = system.weighted_residuals().iter().map(|r| r * r).sum();
-        if !cost.is_finite() || !system.matrix().iter().all(|v| v.is_finite()) {
+        let right = system.weighted_residuals();
+        let cost: f64 = right.iter().map(|r| r * r).sum();
+        let normal = NormalEquations::of(
+            view(system.matrix(), system.rows(), system.columns()),
+            &right,
+        );
+        // Non-finite entries of W or Δy reach the normal equations.
+        if !cost.is_finite() || !normal.is_finite() {
             return Err(Error::Numerical {
                 message: "the residuals became non-finite".into(),
             });
@@ -390,6 +394,7 @@ impl Problem<'_> {
             robot: robot.clone(),
             auxiliary: auxiliary.to_vec(),
             system,
+            normal,
             cost,
         })
     }
@@ -420,18 +425,9 @@ impl Problem<'_> {
             return true;
         }
         let system = &iterate.system;
-        let predicted: f64 = (0..system.rows())
-            .map(|row| {
-                system
-                    .row(row)
-                    .iter()
-                    .zip(step)
-                    .map(|(w, s)| w * s)
-                    .sum::<f64>()
-                    .powi(2)
-            })
-            .sum();
-        predicted <= COST_TOLERANCE * iterate.cost
+        let matrix = view(system.matrix(), system.rows(), system.columns());
+        predicted_decrease(matrix, &iterate.normal, step, self.condition)
+            <= COST_TOLERANCE * iterate.cost
     }
 
     /// Adds `step` (auxiliary columns first, then `parameters`) to an iterate.
@@ -462,6 +458,7 @@ impl Problem<'_> {
             return current;
         };
         current.system.apply_linear_step(step);
+        current.normal.apply_step(step);
         current.cost = current
             .system
             .weighted_residuals()
@@ -498,7 +495,7 @@ impl Problem<'_> {
             let mut fraction = 1.0;
             loop {
                 let mut step = if damping == 0.0 {
-                    step(matrix, &right, self.condition)
+                    step(matrix, &current.normal, &right, self.condition)
                 } else {
                     damped_step(matrix, &right, damping)
                 };
@@ -751,13 +748,7 @@ pub fn identify_with_progress(
     // it when every structural base parameter is excited (same columns).
     let start = match excited.system {
         Some(system) if excited.not_excited.is_empty() => {
-            let cost = system.weighted_residuals().iter().map(|r| r * r).sum();
-            Iterate {
-                robot: robot.clone(),
-                auxiliary: initial_auxiliary.clone(),
-                system,
-                cost,
-            }
+            Problem::iterate_of(robot, &initial_auxiliary, system)?
         }
         _ => problem.iterate_at(robot, &initial_auxiliary, &problem.layout, &states)?,
     };
@@ -821,7 +812,7 @@ pub fn identify_with_progress(
 
     // Precision at the solution: σ² (W_bᵀ W_b)⁻¹, and the condition number of W_b.
     let matrix = view(best.system.matrix(), problem.rows, problem.layout.columns());
-    let (solved, condition_number) = precision(matrix, problem.condition)?;
+    let (solved, condition_number) = precision(matrix, &best.normal, problem.condition)?;
     let variance = best.cost / (equations - unknowns) as f64;
     let std = |column: usize| (variance * solved.inverse_normal_diagonal[column]).sqrt();
     let auxiliary_names = study.auxiliary_names();

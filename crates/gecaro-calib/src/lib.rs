@@ -43,6 +43,7 @@ mod identification;
 mod linalg;
 mod methods;
 mod observation;
+mod parallel;
 mod sample;
 mod sampler;
 mod simulation;

@@ -2,11 +2,13 @@
 //! module that touches it). Sequential: faer's threads slow these sizes down
 //! on small machines.
 
+use faer::linalg::matmul::triangular::{self, BlockStructure};
 use faer::linalg::solvers::{DenseSolveCore, Solve, SolveLstsq};
 use faer::linalg::triangular_solve::solve_upper_triangular_in_place;
-use faer::{Mat, MatRef, Par};
+use faer::{Accum, Mat, MatRef, Par};
 
 use crate::Error;
+use crate::parallel::run_parts;
 
 /// A row-major `rows × columns` view of `data` (the layout of
 /// [`ObservationSystem`](crate::ObservationSystem)).
@@ -72,19 +74,173 @@ pub(crate) fn greedy_rank(matrix: MatRef<'_, f64>, tolerance: f64) -> GreedyRank
     }
 }
 
+/// Rows of W in one part of [`column_geometry`] and [`NormalEquations`]:
+/// parts are fixed by the matrix's size alone and combined in order, so the
+/// results do not depend on the number of cores that computed them.
+const PART_ROWS: usize = 2048;
+
 /// A `c × c` matrix R̃ with the column geometry of the tall `rows × c` matrix
 /// W: `R̃ᵀR̃ = WᵀW`, so every column norm, distance between a column and the
 /// span of others, least-squares relation and singular value of W is that of
-/// R̃. From faer's QR without pivoting, `W = Q·R` with Q orthogonal: R is a
-/// valid factor even when columns of W are dependent (its diagonal is then not
-/// the greedy |R_jj| — the greedy pass on R̃ computes those).
+/// R̃. R̃ is the R of a Householder QR of W (`W = Q·R`, Q orthogonal), computed
+/// as a tall-skinny QR: the R of each part of [`PART_ROWS`] rows (on all
+/// cores), stacked, factored again. Orthogonal transformations only, so it is
+/// as accurate as one QR of W. R is a valid factor even when columns of W are
+/// dependent (its diagonal is then not the greedy |R_jj| — the greedy pass on
+/// R̃ computes those).
 pub(crate) fn column_geometry(matrix: MatRef<'_, f64>) -> Mat<f64> {
+    let parts = row_parts(matrix);
+    if parts.len() == 1 {
+        return triangular_factor(matrix);
+    }
+    let factors = run_parts(parts, triangular_factor);
+    let columns = matrix.ncols();
+    let stacked = Mat::from_fn(factors.len() * columns, columns, |i, j| {
+        factors[i / columns][(i % columns, j)]
+    });
+    triangular_factor(stacked.as_ref())
+}
+
+/// `matrix` cut into consecutive parts of [`PART_ROWS`] rows (the last one longer).
+fn row_parts(matrix: MatRef<'_, f64>) -> Vec<MatRef<'_, f64>> {
+    let rows = matrix.nrows();
+    let count = (rows / PART_ROWS).max(1);
+    (0..count)
+        .map(|part| {
+            let start = part * PART_ROWS;
+            let end = if part + 1 == count {
+                rows
+            } else {
+                start + PART_ROWS
+            };
+            matrix.subrows(start, end - start)
+        })
+        .collect()
+}
+
+/// The c × c R of a QR of `matrix` (zero rows below when it has fewer rows than columns).
+fn triangular_factor(matrix: MatRef<'_, f64>) -> Mat<f64> {
     let (rows, columns) = matrix.shape();
     let qr = matrix.qr();
-    let r = qr.thin_R();
     let mut reduced = Mat::<f64>::zeros(columns, columns);
-    reduced.get_mut(..rows.min(columns), ..).copy_from(r);
     reduced
+        .get_mut(..rows.min(columns), ..)
+        .copy_from(qr.thin_R());
+    reduced
+}
+
+/// The normal equations of a weighted system `W x ≈ r`: WᵀW (its lower
+/// triangle, the strict upper one zero: what a Cholesky factorisation or an
+/// eigensolver with `Side::Lower` reads) and Wᵀr, summed over the parts of
+/// [`row_parts`] (on all cores for a tall W). An iterate computes them once:
+/// they give its step, its predicted decrease and its precision, and their
+/// finiteness is that of W and r.
+#[derive(Clone, Debug)]
+pub(crate) struct NormalEquations {
+    gram: Mat<f64>,
+    projected: Mat<f64>,
+}
+
+impl NormalEquations {
+    /// WᵀW and Wᵀr.
+    pub(crate) fn of(matrix: MatRef<'_, f64>, right: &[f64]) -> Self {
+        let (gram, projected) = part_sums(matrix, right);
+        NormalEquations { gram, projected }
+    }
+
+    /// Whether every entry is finite (false when W or r has a NaN or an infinity).
+    pub(crate) fn is_finite(&self) -> bool {
+        self.gram.is_all_finite() && self.projected.is_all_finite()
+    }
+
+    /// `WᵀW · x`, from the lower triangle.
+    fn gram_times(&self, x: &[f64]) -> Vec<f64> {
+        let n = x.len();
+        (0..n)
+            .map(|i| {
+                (0..n)
+                    .map(|j| {
+                        let entry = if i >= j {
+                            self.gram[(i, j)]
+                        } else {
+                            self.gram[(j, i)]
+                        };
+                        entry * x[j]
+                    })
+                    .sum()
+            })
+            .collect()
+    }
+
+    /// After the residuals moved by the linear model, `r ← r − W·step`:
+    /// `Wᵀr ← Wᵀr − WᵀW·step`.
+    pub(crate) fn apply_step(&mut self, step: &[f64]) {
+        for (i, change) in self.gram_times(step).into_iter().enumerate() {
+            self.projected[(i, 0)] -= change;
+        }
+    }
+}
+
+/// `‖W·step‖²`, the most a least-squares step can lower ‖r‖² by: from the
+/// normal equations (`stepᵀWᵀW step`) when W is well conditioned (see
+/// [`NORMAL_EQUATIONS_CONDITION`]), else row by row.
+pub(crate) fn predicted_decrease(
+    matrix: MatRef<'_, f64>,
+    normal: &NormalEquations,
+    step: &[f64],
+    condition: f64,
+) -> f64 {
+    if condition < NORMAL_EQUATIONS_CONDITION {
+        return normal
+            .gram_times(step)
+            .iter()
+            .zip(step)
+            .map(|(a, b)| a * b)
+            .sum();
+    }
+    (0..matrix.nrows())
+        .map(|row| {
+            (0..matrix.ncols())
+                .map(|column| matrix[(row, column)] * step[column])
+                .sum::<f64>()
+                .powi(2)
+        })
+        .sum()
+}
+
+fn part_sums(matrix: MatRef<'_, f64>, right: &[f64]) -> (Mat<f64>, Mat<f64>) {
+    let mut start = 0;
+    let parts: Vec<(MatRef<'_, f64>, MatRef<'_, f64>)> = row_parts(matrix)
+        .into_iter()
+        .map(|part| {
+            let rows = part.nrows();
+            let right = MatRef::from_column_major_slice(&right[start..start + rows], rows, 1);
+            start += rows;
+            (part, right)
+        })
+        .collect();
+    let mut sums = run_parts(parts, |(part, right)| {
+        let mut gram = Mat::<f64>::zeros(part.ncols(), part.ncols());
+        triangular::matmul(
+            gram.as_mut(),
+            BlockStructure::TriangularLower,
+            Accum::Replace,
+            part.transpose(),
+            BlockStructure::Rectangular,
+            part,
+            BlockStructure::Rectangular,
+            1.0,
+            Par::Seq,
+        );
+        (gram, part.transpose() * right)
+    })
+    .into_iter();
+    let (mut gram, mut projected) = sums.next().expect("at least one part");
+    for (part_gram, part_projected) in sums {
+        gram += part_gram;
+        projected += part_projected;
+    }
+    (gram, projected)
 }
 
 /// The largest column norm of `matrix` (0 for an empty matrix).
@@ -138,14 +294,17 @@ pub(crate) const NORMAL_EQUATIONS_CONDITION: f64 = 1e5;
 /// `WᵀW x = Wᵀr` (Cholesky) when W is well conditioned (`condition` below
 /// [`NORMAL_EQUATIONS_CONDITION`]) — a quarter of the cost of a QR of the tall
 /// W — and through QR otherwise or if the Cholesky factorisation fails.
-pub(crate) fn step(matrix: MatRef<'_, f64>, right: &[f64], condition: f64) -> Vec<f64> {
-    if condition < NORMAL_EQUATIONS_CONDITION {
-        let gram = matrix.transpose() * matrix;
-        let projected = matrix.transpose() * MatRef::from_column_major_slice(right, right.len(), 1);
-        if let Ok(cholesky) = gram.llt(faer::Side::Lower) {
-            let solution = cholesky.solve(&projected);
-            return (0..matrix.ncols()).map(|i| solution[(i, 0)]).collect();
-        }
+pub(crate) fn step(
+    matrix: MatRef<'_, f64>,
+    normal: &NormalEquations,
+    right: &[f64],
+    condition: f64,
+) -> Vec<f64> {
+    if condition < NORMAL_EQUATIONS_CONDITION
+        && let Ok(cholesky) = normal.gram.llt(faer::Side::Lower)
+    {
+        let solution = cholesky.solve(&normal.projected);
+        return (0..matrix.ncols()).map(|i| solution[(i, 0)]).collect();
     }
     solve_with_covariance(matrix, right).0.solution
 }
@@ -181,16 +340,18 @@ pub(crate) fn solve_with_covariance(matrix: MatRef<'_, f64>, right: &[f64]) -> (
 /// [`Error::Numerical`] if W has non-finite entries.
 pub(crate) fn precision(
     matrix: MatRef<'_, f64>,
+    normal: &NormalEquations,
     condition: f64,
 ) -> Result<(LeastSquares, f64), Error> {
-    if !(0..matrix.ncols()).all(|j| matrix.col(j).iter().all(|v| v.is_finite())) {
+    if !normal.gram.is_all_finite() {
         return Err(Error::Numerical {
             message: "the observation matrix has non-finite entries".into(),
         });
     }
     let columns = matrix.ncols();
     if condition < NORMAL_EQUATIONS_CONDITION {
-        let gram = matrix.transpose() * matrix;
+        let gram = &normal.gram;
+
         if let (Ok(cholesky), Ok(eigenvalues)) = (
             gram.llt(faer::Side::Lower),
             gram.self_adjoint_eigenvalues(faer::Side::Lower),
@@ -265,7 +426,12 @@ mod tests {
 
     /// A seeded 120×12 matrix whose column 3 is column 0 + column 1.
     fn dependent_matrix() -> (Vec<f64>, usize, usize) {
-        let (rows, columns) = (120, 12);
+        tall_dependent_matrix(120)
+    }
+
+    /// The same with `rows` rows.
+    fn tall_dependent_matrix(rows: usize) -> (Vec<f64>, usize, usize) {
+        let columns = 12;
         let mut state = 12345_u64;
         let mut next = || {
             state = state
@@ -285,9 +451,12 @@ mod tests {
         let data = [1.0, 2.0, 0.5, 1.0, 0.0, 1.0, 3.0, 1.0, -1.0, 0.5, 2.0, 1.0];
         let right = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
         let (solved, _) = solve_with_covariance(view(&data, 6, 2), &right);
-        let normal = step(view(&data, 6, 2), &right, 1.0);
-        let (precise, _) = precision(view(&data, 6, 2), 1.0).expect("finite");
-        let (precise_qr, _) = precision(view(&data, 6, 2), f64::INFINITY).expect("finite");
+        let equations = NormalEquations::of(view(&data, 6, 2), &right);
+        let normal = step(view(&data, 6, 2), &equations, &right, 1.0);
+        let through_qr = step(view(&data, 6, 2), &equations, &right, f64::INFINITY);
+        let (precise, _) = precision(view(&data, 6, 2), &equations, 1.0).expect("finite");
+        let (precise_qr, _) =
+            precision(view(&data, 6, 2), &equations, f64::INFINITY).expect("finite");
         let w = nalgebra::DMatrix::from_row_slice(6, 2, &data);
         let inverse = (w.transpose() * &w).try_inverse().expect("regular");
         let expected = &inverse * w.transpose() * nalgebra::DVector::from_column_slice(&right);
@@ -295,6 +464,7 @@ mod tests {
             assert!((inverse[(i, i)] - solved.inverse_normal_diagonal[i]).abs() < 1e-12);
             assert!((expected[i] - solved.solution[i]).abs() < 1e-12);
             assert!((expected[i] - normal[i]).abs() < 1e-12);
+            assert!((expected[i] - through_qr[i]).abs() < 1e-12);
             assert!((inverse[(i, i)] - precise.inverse_normal_diagonal[i]).abs() < 1e-12);
             assert!((inverse[(i, i)] - precise_qr.inverse_normal_diagonal[i]).abs() < 1e-12);
         }
@@ -316,17 +486,69 @@ mod tests {
 
     #[test]
     fn column_geometry_keeps_inner_products() {
-        let (data, rows, columns) = dependent_matrix();
+        // One block; several blocks of one part; several parts on all cores
+        // (the last part longer than the others).
+        for rows in [120, 1000, 5 * PART_ROWS + 77] {
+            let (data, rows, columns) = tall_dependent_matrix(rows);
+            let w = view(&data, rows, columns);
+            let reduced = column_geometry(w);
+            let gram = w.transpose() * w;
+            let reduced_gram = reduced.transpose() * &reduced;
+            assert!(
+                (&gram - reduced_gram).norm_l2() < 1e-13 * gram.norm_l2(),
+                "{rows} rows"
+            );
+            // The greedy analysis gives the same answer on W and on R̃.
+            assert_eq!(
+                greedy_rank(w, 1e-9).kept,
+                greedy_rank(reduced.as_ref(), 1e-9).kept
+            );
+            // R̃ is upper triangular.
+            for j in 0..columns {
+                for i in j + 1..columns {
+                    assert_eq!(reduced[(i, j)], 0.0);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn normal_equations_sum_the_parts() {
+        let (data, rows, columns) = tall_dependent_matrix(3 * PART_ROWS + 5);
         let w = view(&data, rows, columns);
-        let reduced = column_geometry(w);
-        let gram = w.transpose() * w;
-        let reduced_gram = reduced.transpose() * &reduced;
-        assert!((gram - reduced_gram).norm_l2() < 1e-12);
-        // The greedy analysis gives the same answer on W and on R̃.
-        assert_eq!(
-            greedy_rank(w, 1e-9).kept,
-            greedy_rank(reduced.as_ref(), 1e-9).kept
+        let right: Vec<f64> = (0..rows).map(|i| (i as f64 * 0.37).sin()).collect();
+        let mut equations = NormalEquations::of(w, &right);
+        let full = w.transpose() * w;
+        let lower = Mat::from_fn(
+            columns,
+            columns,
+            |i, j| if i >= j { full[(i, j)] } else { 0.0 },
         );
+        let projected = w.transpose() * MatRef::from_column_major_slice(&right, rows, 1);
+        assert!((&equations.gram - &lower).norm_l2() < 1e-12 * full.norm_l2());
+        assert!((&equations.projected - &projected).norm_l2() < 1e-12 * projected.norm_l2());
+        assert!(equations.is_finite());
+        // ‖W·s‖² both ways, and the update of Wᵀr for r ← r − W·s.
+        let step: Vec<f64> = (0..columns).map(|j| 0.1 * j as f64 - 0.4).collect();
+        let moved = w * MatRef::from_column_major_slice(&step, columns, 1);
+        let exact = moved.norm_l2().powi(2);
+        for condition in [1.0, f64::INFINITY] {
+            let predicted = predicted_decrease(w, &equations, &step, condition);
+            assert!(
+                (predicted - exact).abs() < 1e-12 * exact,
+                "{predicted} vs {exact}"
+            );
+        }
+        let shifted: Vec<f64> = (0..rows).map(|i| right[i] - moved[(i, 0)]).collect();
+        equations.apply_step(&step);
+        let expected = NormalEquations::of(w, &shifted);
+        assert!(
+            (&equations.projected - &expected.projected).norm_l2() < 1e-10 * projected.norm_l2()
+        );
+        // A NaN anywhere in W shows.
+        let mut broken = data.clone();
+        broken[7 * columns + 2] = f64::NAN;
+        assert!(!NormalEquations::of(view(&broken, rows, columns), &right).is_finite());
     }
 
     #[test]

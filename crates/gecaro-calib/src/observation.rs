@@ -9,11 +9,11 @@
 //! [`ColumnLayout`] asks for, row by row (each row is written contiguously). Rows are multiplied by a per-set weight (1/σ of the sensor)
 //! when several measurement sets are stacked.
 
-use std::sync::OnceLock;
-
-use gecaro_core::{ChainBuffer, Error as ModelError, KinematicModel, Robot};
+use gecaro_core::{ChainBuffer, Error as ModelError, JacobianRows, KinematicModel, Robot};
 use nalgebra::IsometryMatrix3;
 
+use crate::methods::CalibrationMethod;
+use crate::parallel::{available_threads, run_parts};
 use crate::sample::Sample;
 
 /// The end-effector pose and parameter Jacobian at one configuration.
@@ -21,19 +21,41 @@ use crate::sample::Sample;
 pub struct TerminalState {
     /// `(−1)T(n+1)` (eq. 1).
     pub pose: IsometryMatrix3<f64>,
-    /// The 6×Np Jacobian of Appendix II, row-major: `jacobian[axis * Np + k]`.
+    /// The Jacobian of Appendix II, row-major: `jacobian[axis * Np + k]`;
+    /// rows 0–2 (position) and, when evaluated, 3–5 (rotation).
     jacobian: Vec<f64>,
     parameters: usize,
+    /// Rows of the Jacobian held: 3 or 6.
+    rows: usize,
 }
 
 impl TerminalState {
+    fn empty(model: &KinematicModel) -> Self {
+        TerminalState {
+            pose: IsometryMatrix3::identity(),
+            jacobian: Vec::new(),
+            parameters: model.parameter_count(),
+            rows: 0,
+        }
+    }
+
     /// Number of parameters Np (length of a Jacobian row).
     pub fn parameter_count(&self) -> usize {
         self.parameters
     }
 
     /// Row `axis` of the Jacobian (0–2 position, 3–5 rotation), Np entries.
+    ///
+    /// # Panics
+    /// For a rotation row of a state evaluated with [`JacobianRows::Position`]:
+    /// a method that reads rotation rows must say so in
+    /// [`CalibrationMethod::jacobian_rows`].
     pub fn jacobian_row(&self, axis: usize) -> &[f64] {
+        assert!(
+            axis < self.rows,
+            "Jacobian row {axis} was not evaluated (the method asks for {} rows)",
+            self.rows
+        );
         &self.jacobian[axis * self.parameters..(axis + 1) * self.parameters]
     }
 
@@ -45,10 +67,16 @@ impl TerminalState {
     }
 }
 
-/// Below this many samples, states are evaluated on one thread.
+/// Below this many samples, a set is evaluated on one thread.
 const PARALLEL_MINIMUM: usize = 1024;
 
-/// Evaluates the pose and Jacobian of every sample, reusing `states`' storage.
+/// Configurations evaluated and linearised together by
+/// [`linearise_independent`]: their states (2 kB each for 43 parameters)
+/// stay in the core's cache between the model and the method.
+const BLOCK: usize = 32;
+
+/// Evaluates the pose and the `rows` of the Jacobian of every sample,
+/// reusing `states`' storage.
 ///
 /// Large data sets are split over the available cores. Each state depends
 /// only on its own configuration, so the result is the same, bit for bit,
@@ -59,48 +87,36 @@ const PARALLEL_MINIMUM: usize = 1024;
 pub fn evaluate_states(
     robot: &Robot,
     samples: &[Sample],
+    rows: JacobianRows,
     states: &mut Vec<TerminalState>,
 ) -> Result<(), ModelError> {
     let model = KinematicModel::new(robot);
     states.truncate(samples.len());
-    states.resize_with(samples.len(), || TerminalState {
-        pose: IsometryMatrix3::identity(),
-        jacobian: Vec::new(),
-        parameters: model.parameter_count(),
-    });
-    if samples.len() < PARALLEL_MINIMUM {
-        return evaluate_chunk(&model, samples, states);
-    }
-    let threads = available_threads();
-    if threads < 2 {
-        return evaluate_chunk(&model, samples, states);
-    }
-    let chunk = samples.len().div_ceil(threads);
-    let results: Vec<Result<(), ModelError>> = std::thread::scope(|scope| {
-        let workers: Vec<_> = samples
-            .chunks(chunk)
-            .zip(states.chunks_mut(chunk))
-            .map(|(samples, states)| scope.spawn(|| evaluate_chunk(&model, samples, states)))
-            .collect();
-        workers
-            .into_iter()
-            .map(|worker| worker.join().expect("evaluating kinematics does not panic"))
-            .collect()
-    });
-    results.into_iter().collect()
+    states.resize_with(samples.len(), || TerminalState::empty(&model));
+    let parts = samples
+        .chunks(part_size(samples.len()))
+        .zip(states.chunks_mut(part_size(samples.len())))
+        .collect();
+    run_parts(parts, |(samples, states)| {
+        evaluate_chunk(&model, samples, rows, states)
+    })
+    .into_iter()
+    .collect()
 }
 
-/// The cores this process may use, asked once: the standard library reads
-/// the cgroup quota files on every call, which costs more than evaluating
-/// a hundred configurations.
-fn available_threads() -> usize {
-    static THREADS: OnceLock<usize> = OnceLock::new();
-    *THREADS.get_or_init(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get))
+/// Samples per thread: all of them below [`PARALLEL_MINIMUM`], else an even share.
+fn part_size(samples: usize) -> usize {
+    if samples < PARALLEL_MINIMUM {
+        samples.max(1)
+    } else {
+        samples.div_ceil(available_threads())
+    }
 }
 
 fn evaluate_chunk(
     model: &KinematicModel,
     samples: &[Sample],
+    rows: JacobianRows,
     states: &mut [TerminalState],
 ) -> Result<(), ModelError> {
     let mut chain = ChainBuffer::default();
@@ -108,9 +124,58 @@ fn evaluate_chunk(
         model.forward(&sample.motor_positions, &mut chain)?;
         state.pose = *chain.world_from_tool();
         state.parameters = model.parameter_count();
-        model.jacobian_rows(&chain, &mut state.jacobian);
+        state.rows = rows.count();
+        model.jacobian_rows(&chain, &mut state.jacobian, rows);
     }
     Ok(())
+}
+
+/// Evaluates and linearises a set of `method`, whose configurations are
+/// independent ([`CalibrationMethod::independent_configurations`]), into
+/// `writer`: block by block, so that each block's states are still in cache
+/// when the method reads them, and large sets over all cores. The rows are
+/// those of [`evaluate_states`] followed by [`CalibrationMethod::linearise`]
+/// on the whole set, bit for bit. Returns the end of the observations
+/// written (see [`RowWriter::observation_end`]).
+///
+/// # Errors
+/// When a sample's configuration does not fit the robot (the first such sample).
+pub(crate) fn linearise_independent(
+    model: &KinematicModel,
+    method: &dyn CalibrationMethod,
+    samples: &[Sample],
+    auxiliary: &[f64],
+    mut writer: RowWriter<'_>,
+) -> Result<usize, ModelError> {
+    let rows = method.jacobian_rows();
+    let parts: Vec<(&[Sample], RowWriter<'_>)> = samples
+        .chunks(part_size(samples.len()))
+        .map(|chunk| {
+            (
+                chunk,
+                writer.split_front(method.row_count(chunk), chunk.len()),
+            )
+        })
+        .collect();
+    let ends = run_parts(parts, |(chunk, mut part)| {
+        let mut states: Vec<TerminalState> = Vec::with_capacity(BLOCK);
+        let mut end = 0;
+        for block in chunk.chunks(BLOCK) {
+            states.resize_with(block.len(), || TerminalState::empty(model));
+            evaluate_chunk(model, block, rows, &mut states[..block.len()])?;
+            let mut rows = part.split_front(method.row_count(block), block.len());
+            method.linearise(block, &states[..block.len()], auxiliary, &mut rows);
+            debug_assert!(
+                rows.is_complete(),
+                "{} wrote fewer rows than promised",
+                method.name()
+            );
+            end = end.max(rows.observation_end());
+        }
+        Ok(end)
+    });
+    ends.into_iter()
+        .try_fold(0, |end, part: Result<usize, ModelError>| Ok(end.max(part?)))
 }
 
 /// What a row measures, so that errors are reported in the right unit.
@@ -301,7 +366,8 @@ impl ObservationSystem {
             .collect()
     }
 
-    /// A writer for the rows `first_row..first_row + rows` of one measurement set.
+    /// A writer for the rows `first_row..first_row + rows` of one measurement
+    /// set, whose observations are numbered after those written so far.
     pub(crate) fn writer<'a>(
         &'a mut self,
         layout: &'a ColumnLayout,
@@ -310,33 +376,54 @@ impl ObservationSystem {
         auxiliary_offset: usize,
         weights: [f64; 2],
     ) -> RowWriter<'a> {
-        let observation_base = self.observation_count;
+        let range = first_row..first_row + rows;
+        let columns = self.columns;
         RowWriter {
-            system: self,
+            matrix: &mut self.matrix[range.start * columns..range.end * columns],
+            residuals: &mut self.residuals[range.clone()],
+            weights: &mut self.weights[range.clone()],
+            kinds: &mut self.kinds[range.clone()],
+            observations: &mut self.observations[range],
+            columns,
             layout,
-            next_row: first_row,
-            end_row: first_row + rows,
+            next_row: 0,
             auxiliary_offset,
-            weights,
-            observation_base,
+            row_weights: weights,
+            observation_base: self.observation_count,
+            observation_end: 0,
         }
+    }
+
+    /// Records that observations up to `end` (exclusive) were written
+    /// ([`RowWriter::observation_end`]).
+    pub(crate) fn record_observations(&mut self, end: usize) {
+        self.observation_count = self.observation_count.max(end);
     }
 }
 
-/// Writes the rows of one measurement set; see the module docs.
+/// Writes rows of one measurement set into the rows of the system it was
+/// made for; see the module docs.
 #[derive(Debug)]
 pub struct RowWriter<'a> {
-    system: &'a mut ObservationSystem,
+    /// The writer's rows of W (row-major), Δy, weights, kinds and observations.
+    matrix: &'a mut [f64],
+    residuals: &'a mut [f64],
+    weights: &'a mut [f64],
+    kinds: &'a mut [RowKind],
+    observations: &'a mut [usize],
+    columns: usize,
     layout: &'a ColumnLayout,
     next_row: usize,
-    end_row: usize,
     auxiliary_offset: usize,
     /// Row weights of length and angle rows (1/σ of the sensor).
-    weights: [f64; 2],
+    row_weights: [f64; 2],
+    /// Number, in the whole system, of this writer's observation 0.
     observation_base: usize,
+    /// One past the largest observation written (in the whole system's numbering).
+    observation_end: usize,
 }
 
-impl RowWriter<'_> {
+impl<'a> RowWriter<'a> {
     /// Appends one row: `Σ parameters[k]·Δη_k + Σ auxiliary[k]·Δaux_k = residual`.
     ///
     /// `observation` numbers the configuration or pair the row belongs to
@@ -353,17 +440,16 @@ impl RowWriter<'_> {
         parameters: &[f64],
         auxiliary: &[f64],
     ) {
+        let row = self.next_row;
         assert!(
-            self.next_row < self.end_row,
+            row < self.residuals.len(),
             "a method wrote more rows than its row_count"
         );
-        let row = self.next_row;
         let weight = match kind {
-            RowKind::Length => self.weights[0],
-            RowKind::Angle => self.weights[1],
+            RowKind::Length => self.row_weights[0],
+            RowKind::Angle => self.row_weights[1],
         };
-        let columns = self.system.columns;
-        let target = &mut self.system.matrix[row * columns..(row + 1) * columns];
+        let target = &mut self.matrix[row * self.columns..(row + 1) * self.columns];
         for (index, column) in &self.layout.mapped {
             target[*column] = weight * parameters[*index];
         }
@@ -372,18 +458,64 @@ impl RowWriter<'_> {
                 target[column] = weight * value;
             }
         }
-        self.system.residuals[row] = residual;
-        self.system.weights[row] = weight;
-        self.system.kinds[row] = kind;
+        self.residuals[row] = residual;
+        self.weights[row] = weight;
+        self.kinds[row] = kind;
         let observation = self.observation_base + observation;
-        self.system.observations[row] = observation;
-        self.system.observation_count = self.system.observation_count.max(observation + 1);
+        self.observations[row] = observation;
+        self.observation_end = self.observation_end.max(observation + 1);
         self.next_row += 1;
     }
 
     /// Whether every promised row was written.
     pub(crate) fn is_complete(&self) -> bool {
-        self.next_row == self.end_row
+        self.next_row == self.residuals.len()
+    }
+
+    /// One past the largest observation written, numbered in the whole
+    /// system (0 when nothing was written).
+    pub(crate) fn observation_end(&self) -> usize {
+        self.observation_end
+    }
+
+    /// A writer for this writer's first `rows` rows, numbering observations
+    /// from this writer's; this writer keeps the remaining rows and numbers
+    /// its observations `observations` further on. Lets independent blocks of
+    /// a set be written separately (on separate threads).
+    ///
+    /// # Panics
+    /// When rows were written already, or fewer than `rows` remain.
+    pub(crate) fn split_front(&mut self, rows: usize, observations: usize) -> RowWriter<'a> {
+        assert!(
+            self.next_row == 0 && rows <= self.residuals.len(),
+            "a writer is split before it writes, within its rows"
+        );
+        let (matrix, rest) = std::mem::take(&mut self.matrix).split_at_mut(rows * self.columns);
+        self.matrix = rest;
+        let (residuals, rest) = std::mem::take(&mut self.residuals).split_at_mut(rows);
+        self.residuals = rest;
+        let (weights, rest) = std::mem::take(&mut self.weights).split_at_mut(rows);
+        self.weights = rest;
+        let (kinds, rest) = std::mem::take(&mut self.kinds).split_at_mut(rows);
+        self.kinds = rest;
+        let (observation_slots, rest) = std::mem::take(&mut self.observations).split_at_mut(rows);
+        self.observations = rest;
+        let front = RowWriter {
+            matrix,
+            residuals,
+            weights,
+            kinds,
+            observations: observation_slots,
+            columns: self.columns,
+            layout: self.layout,
+            next_row: 0,
+            auxiliary_offset: self.auxiliary_offset,
+            row_weights: self.row_weights,
+            observation_base: self.observation_base,
+            observation_end: 0,
+        };
+        self.observation_base += observations;
+        front
     }
 }
 
@@ -399,22 +531,33 @@ mod tests {
         let samples: Vec<Sample> = (0..PARALLEL_MINIMUM * 2 + 17)
             .map(|_| Sample::new(sampler.configuration(&robot)))
             .collect();
-        let mut parallel = Vec::new();
-        evaluate_states(&robot, &samples, &mut parallel).expect("states");
         let model = KinematicModel::new(&robot);
-        let mut serial: Vec<TerminalState> = samples
-            .iter()
-            .map(|_| TerminalState {
-                pose: IsometryMatrix3::identity(),
-                jacobian: Vec::new(),
-                parameters: model.parameter_count(),
-            })
-            .collect();
-        evaluate_chunk(&model, &samples, &mut serial).expect("states");
-        for (a, b) in parallel.iter().zip(&serial) {
-            assert_eq!(a.pose, b.pose);
-            let bits = |values: &[f64]| values.iter().map(|v| v.to_bits()).collect::<Vec<u64>>();
-            assert_eq!(bits(&a.jacobian), bits(&b.jacobian));
+        for rows in [JacobianRows::Full, JacobianRows::Position] {
+            let mut parallel = Vec::new();
+            evaluate_states(&robot, &samples, rows, &mut parallel).expect("states");
+            let mut serial: Vec<TerminalState> = samples
+                .iter()
+                .map(|_| TerminalState::empty(&model))
+                .collect();
+            evaluate_chunk(&model, &samples, rows, &mut serial).expect("states");
+            for (a, b) in parallel.iter().zip(&serial) {
+                assert_eq!(a.pose, b.pose);
+                let bits =
+                    |values: &[f64]| values.iter().map(|v| v.to_bits()).collect::<Vec<u64>>();
+                assert_eq!(bits(&a.jacobian), bits(&b.jacobian));
+                assert_eq!(a.jacobian.len(), rows.count() * model.parameter_count());
+            }
         }
+    }
+
+    #[test]
+    #[should_panic(expected = "Jacobian row 3 was not evaluated")]
+    fn rotation_rows_of_a_position_state_are_refused() {
+        let robot = Robot::template("arm", "RRR").expect("template");
+        let samples = [Sample::new(vec![0.1, 0.2, 0.3])];
+        let mut states = Vec::new();
+        evaluate_states(&robot, &samples, JacobianRows::Position, &mut states).expect("states");
+        assert_eq!(states[0].jacobian_row(2).len(), robot.parameters().len());
+        let _ = states[0].jacobian_row(3);
     }
 }

@@ -3,11 +3,14 @@
 //! observation matrix (rows of a set weighted by 1/σ). A single-method
 //! calibration is a study of one set.
 
-use gecaro_core::Robot;
+use gecaro_core::{KinematicModel, Robot};
 
 use crate::Error;
 use crate::methods::CalibrationMethod;
-use crate::observation::{ColumnLayout, ObservationSystem, TerminalState, evaluate_states};
+use crate::observation::{
+    ColumnLayout, ObservationSystem, RowWriter, TerminalState, evaluate_states,
+    linearise_independent,
+};
 use crate::sample::{DataColumn, Sample};
 
 /// One measurement set of a study.
@@ -246,14 +249,15 @@ impl Study {
             .sum()
     }
 
-    /// Evaluates the pose and Jacobian of every sample at the robot's parameters.
+    /// Evaluates the pose and Jacobian (the rows its method reads) of every
+    /// sample at the robot's parameters.
     ///
     /// # Errors
     /// When a configuration does not fit the robot.
     pub fn evaluate(&self, robot: &Robot, states: &mut StudyStates) -> Result<(), Error> {
         states.states.resize_with(self.sets.len(), Vec::new);
         for (set, buffer) in self.sets.iter().zip(&mut states.states) {
-            evaluate_states(robot, &set.samples, buffer)?;
+            evaluate_states(robot, &set.samples, set.method.jacobian_rows(), buffer)?;
         }
         Ok(())
     }
@@ -278,6 +282,69 @@ impl Study {
         layout: &ColumnLayout,
         system: &mut ObservationSystem,
     ) {
+        self.write_sets(auxiliary, layout, system, |index, set, own, mut writer| {
+            set.method
+                .linearise(&set.samples, states.set(index), own, &mut writer);
+            debug_assert!(
+                writer.is_complete(),
+                "{} wrote fewer rows than promised",
+                set.method.name()
+            );
+            Ok(writer.observation_end())
+        })
+        .expect("writing evaluated states cannot fail");
+    }
+
+    /// [`evaluate`](Self::evaluate) at `robot` then [`assemble`](Self::assemble),
+    /// with the same result, bit for bit; sets whose configurations are
+    /// independent ([`CalibrationMethod::independent_configurations`]) are
+    /// evaluated and written block by block, in parallel, without keeping
+    /// their states (`states` holds those of the other sets afterwards).
+    ///
+    /// # Errors
+    /// When a configuration does not fit the robot.
+    pub fn linearise(
+        &self,
+        robot: &Robot,
+        auxiliary: &[f64],
+        layout: &ColumnLayout,
+        states: &mut StudyStates,
+        system: &mut ObservationSystem,
+    ) -> Result<(), Error> {
+        let model = KinematicModel::new(robot);
+        states.states.resize_with(self.sets.len(), Vec::new);
+        self.write_sets(auxiliary, layout, system, |index, set, own, mut writer| {
+            if set.method.independent_configurations() {
+                return Ok(linearise_independent(
+                    &model,
+                    set.method.as_ref(),
+                    &set.samples,
+                    own,
+                    writer,
+                )?);
+            }
+            let buffer = &mut states.states[index];
+            evaluate_states(robot, &set.samples, set.method.jacobian_rows(), buffer)?;
+            set.method.linearise(&set.samples, buffer, own, &mut writer);
+            debug_assert!(
+                writer.is_complete(),
+                "{} wrote fewer rows than promised",
+                set.method.name()
+            );
+            Ok(writer.observation_end())
+        })
+    }
+
+    /// Sizes `system` and hands each set's rows to `write`, with the set's
+    /// own auxiliary values and its row weights (1/σ); `write` returns the
+    /// end of the observations it wrote.
+    fn write_sets(
+        &self,
+        auxiliary: &[f64],
+        layout: &ColumnLayout,
+        system: &mut ObservationSystem,
+        mut write: impl FnMut(usize, &MeasurementSet, &[f64], RowWriter<'_>) -> Result<usize, Error>,
+    ) -> Result<(), Error> {
         system.reset(self.row_count(), layout);
         let mut first_row = 0;
         let mut auxiliary_offset = 0;
@@ -285,7 +352,7 @@ impl Study {
             let rows = set.method.row_count(&set.samples);
             let count = set.method.auxiliary_names().len();
             let own = &auxiliary[auxiliary_offset..auxiliary_offset + count];
-            let mut writer = system.writer(
+            let writer = system.writer(
                 layout,
                 first_row,
                 rows,
@@ -295,16 +362,12 @@ impl Study {
                     1.0 / set.sigma_rotation.unwrap_or(set.sigma),
                 ],
             );
-            set.method
-                .linearise(&set.samples, states.set(index), own, &mut writer);
-            debug_assert!(
-                writer.is_complete(),
-                "{} wrote fewer rows than promised",
-                set.method.name()
-            );
+            let end = write(index, set, own, writer)?;
+            system.record_observations(end);
             first_row += rows;
             auxiliary_offset += count;
         }
+        Ok(())
     }
 }
 
@@ -334,4 +397,116 @@ fn check_field(column: DataColumn, sample: &Sample) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::methods::{METHODS, MethodOptions};
+    use crate::{RowKind, Sampler, default_plane, perturbed_robot, simulate_measurements};
+
+    /// Everything a system holds, as bits.
+    fn fingerprint(system: &ObservationSystem) -> (Vec<u64>, Vec<u64>, Vec<RowKind>, Vec<u64>) {
+        let bits = |values: &[f64]| values.iter().map(|v| v.to_bits()).collect::<Vec<u64>>();
+        let errors: Vec<f64> = system
+            .observation_errors()
+            .iter()
+            .flat_map(|(length, angle)| [*length, *angle])
+            .collect();
+        (
+            bits(system.matrix()),
+            bits(&system.weighted_residuals()),
+            system.kinds().to_vec(),
+            bits(&errors),
+        )
+    }
+
+    fn two_phase(
+        study: &Study,
+        robot: &Robot,
+        auxiliary: &[f64],
+        layout: &ColumnLayout,
+    ) -> ObservationSystem {
+        let mut states = StudyStates::default();
+        study.evaluate(robot, &mut states).expect("states");
+        let mut system = ObservationSystem::default();
+        study.assemble(&states, auxiliary, layout, &mut system);
+        system
+    }
+
+    /// The fused, blocked and parallel route writes exactly what evaluation
+    /// followed by assembly writes: every method, small sets, and large
+    /// independent sets (several threads, a partial last block), stacked
+    /// with another set so that observations are numbered across sets.
+    #[test]
+    fn fused_linearisation_is_bit_identical_to_evaluate_then_assemble() {
+        let nominal = Robot::template("arm", "RRPRRR").expect("template");
+        let mut sampler = Sampler::new(5);
+        let real = perturbed_robot(&nominal, 1.0, &mut sampler).expect("real");
+        let options = MethodOptions {
+            plane: Some(default_plane(&nominal).expect("plane")),
+            plane_unknown: true,
+            ..MethodOptions::default()
+        };
+        let parameters: Vec<usize> = (0..nominal.parameters().len()).rev().step_by(2).collect();
+        for info in METHODS {
+            let method = info.build(&options).expect("method");
+            let large = method.independent_configurations();
+            let count = if large { 2 * 1024 + 45 } else { 12 };
+            let samples = if info.name == "plane1" {
+                // No measured columns: random configurations will do.
+                (0..count)
+                    .map(|_| Sample::new(sampler.configuration(&nominal)))
+                    .collect()
+            } else {
+                simulate_measurements(&real, method.as_ref(), count, 1e-4, &mut sampler)
+                    .expect("data")
+            };
+            let position = crate::methods::method("position", &options).expect("position");
+            let study = Study {
+                sets: vec![
+                    MeasurementSet {
+                        method: position.clone_method(),
+                        samples: simulate_measurements(
+                            &real,
+                            position.as_ref(),
+                            3,
+                            0.0,
+                            &mut sampler,
+                        )
+                        .expect("data"),
+                        sigma: 1e-3,
+                        sigma_rotation: None,
+                        label: "first".into(),
+                    },
+                    MeasurementSet {
+                        method,
+                        samples,
+                        sigma: 2e-4,
+                        sigma_rotation: Some(1e-3),
+                        label: info.name.into(),
+                    },
+                ],
+            };
+            let mut states = StudyStates::default();
+            study.evaluate(&nominal, &mut states).expect("states");
+            let auxiliary = study.initial_auxiliary(&states).expect("auxiliary");
+            let layout =
+                ColumnLayout::new(nominal.parameters().len(), &parameters, auxiliary.len());
+            let expected = two_phase(&study, &nominal, &auxiliary, &layout);
+            let mut fused = ObservationSystem::default();
+            // Storage from a different study must not leak into the result.
+            let mut recycled = StudyStates::default();
+            let junk = two_phase(&study, &real, &auxiliary, &layout);
+            fused.clone_from(&junk);
+            study
+                .linearise(&nominal, &auxiliary, &layout, &mut recycled, &mut fused)
+                .expect("fused");
+            assert_eq!(fingerprint(&fused), fingerprint(&expected), "{}", info.name);
+            assert_eq!(
+                fused.observation_errors().len(),
+                3 + if info.name == "distance" { 6 } else { count }
+            );
+        }
+    }
 }

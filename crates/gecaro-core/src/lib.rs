@@ -69,7 +69,7 @@ mod test_robots;
 
 pub use error::{Error, Field};
 pub use kinematics::{
-    ChainBuffer, FrameChain, InverseOptions, InverseSolution, KinematicModel,
+    ChainBuffer, FrameChain, InverseOptions, InverseSolution, JacobianRows, KinematicModel,
     OrientationDifference, Target, forward_kinematics, frame_transform, inverse_kinematics,
     joint_jacobian, orientation_difference, parameter_jacobian, parameter_jacobian_of_chain,
     pose_difference, terminal_pose,

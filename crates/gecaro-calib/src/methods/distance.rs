@@ -4,7 +4,7 @@
 //! `u·(J_j − J_i) Δη = D_measured − D`. Data: `pair` ids (two rows each) and
 //! `distance` (the same on both rows).
 
-use gecaro_core::{Robot, terminal_pose};
+use gecaro_core::{JacobianRows, Robot, terminal_pose};
 
 use super::{CalibrationMethod, MethodInfo, check_group_sizes, groups};
 use crate::Error;
@@ -26,6 +26,10 @@ pub(crate) struct DistanceMeasure;
 impl CalibrationMethod for DistanceMeasure {
     fn info(&self) -> &'static MethodInfo {
         &INFO
+    }
+
+    fn jacobian_rows(&self) -> JacobianRows {
+        JacobianRows::Position
     }
 
     fn data_columns(&self) -> &'static [DataColumn] {

@@ -33,6 +33,10 @@ impl CalibrationMethod for FrameMeasure {
         &INFO
     }
 
+    fn independent_configurations(&self) -> bool {
+        true
+    }
+
     fn data_columns(&self) -> &'static [DataColumn] {
         &[DataColumn::Position, DataColumn::Orientation]
     }

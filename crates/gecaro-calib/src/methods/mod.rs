@@ -41,7 +41,7 @@ mod position;
 use std::collections::HashMap;
 use std::fmt;
 
-use gecaro_core::{OrientationDifference, Robot};
+use gecaro_core::{JacobianRows, OrientationDifference, Robot};
 
 use crate::Error;
 use crate::observation::{RowWriter, TerminalState};
@@ -108,6 +108,22 @@ pub trait CalibrationMethod: CloneMethod + fmt::Debug + Send + Sync {
     /// When they cannot be determined from these data.
     fn initial_auxiliary(&self, _states: &[TerminalState]) -> Result<Vec<f64>, Error> {
         Ok(Vec::new())
+    }
+
+    /// The rows of the parameter Jacobian that [`linearise`](Self::linearise)
+    /// reads: all six by default; methods that measure no orientation say
+    /// [`JacobianRows::Position`] and the model skips the rotation rows.
+    fn jacobian_rows(&self) -> JacobianRows {
+        JacobianRows::Full
+    }
+
+    /// Whether the rows of configuration i depend on nothing but its state,
+    /// its sample and the auxiliary values, and belong to observation i
+    /// (position, frame, plane-equation rows; not sets or pairs). Such a set
+    /// is evaluated and linearised block by block, in parallel: `linearise`
+    /// is then called on consecutive blocks of the samples.
+    fn independent_configurations(&self) -> bool {
+        false
     }
 
     /// Writes the rows `Δy = W Δη` at the current parameters (whose poses and

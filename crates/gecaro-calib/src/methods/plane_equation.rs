@@ -7,7 +7,7 @@
 //! of the terminal point from the plane, in metres:
 //! `f = (a·P + 1)/‖a‖`, `(a·J_P/‖a‖) Δη + ∂f/∂a Δa = −f`.
 
-use gecaro_core::Robot;
+use gecaro_core::{JacobianRows, Robot};
 use nalgebra::Vector3;
 
 use super::plane::{Plane, generate_in_plane, plane_like, required};
@@ -46,6 +46,14 @@ pub(crate) struct PlaneEquation {
 impl CalibrationMethod for PlaneEquation {
     fn info(&self) -> &'static MethodInfo {
         &INFO
+    }
+
+    fn jacobian_rows(&self) -> JacobianRows {
+        JacobianRows::Position
+    }
+
+    fn independent_configurations(&self) -> bool {
+        true
     }
 
     fn data_columns(&self) -> &'static [DataColumn] {

@@ -9,7 +9,7 @@
 //! a, b, c comes out non-identifiable ('n') and stays fixed: "2 of a, b, c
 //! identified", as in Table 2.
 
-use gecaro_core::Robot;
+use gecaro_core::{JacobianRows, Robot};
 use nalgebra::Vector3;
 
 use super::plane::{Plane, generate_in_plane, plane_like, required};
@@ -46,6 +46,10 @@ pub(crate) struct PlaneNormal {
 impl CalibrationMethod for PlaneNormal {
     fn info(&self) -> &'static MethodInfo {
         &INFO
+    }
+
+    fn jacobian_rows(&self) -> JacobianRows {
+        JacobianRows::Position
     }
 
     fn data_columns(&self) -> &'static [DataColumn] {

@@ -2,7 +2,7 @@
 //! coincide (a ball in a socket, a tip on a fixed mark). Only joint sensors
 //! are needed. Data: `set` ids. Rows 1–3 of eq. 12, mean-centred per set.
 
-use gecaro_core::Robot;
+use gecaro_core::{JacobianRows, Robot};
 
 use super::link::{Linked, dependent_rows, generate_sets, linearise_sets};
 use super::{CalibrationMethod, MethodInfo, check_group_sizes};
@@ -31,6 +31,10 @@ pub(crate) struct PointLink {
 impl CalibrationMethod for PointLink {
     fn info(&self) -> &'static MethodInfo {
         &INFO
+    }
+
+    fn jacobian_rows(&self) -> JacobianRows {
+        JacobianRows::Position
     }
 
     fn data_columns(&self) -> &'static [DataColumn] {

@@ -2,7 +2,7 @@
 //! origin of frame n+1 in the world frame. Rows 1–3 of eq. 7 per configuration:
 //! `J_P(q, η) Δη = P_measured − P(q, η)`.
 
-use gecaro_core::Robot;
+use gecaro_core::{JacobianRows, Robot};
 
 use super::{CalibrationMethod, MethodInfo};
 use crate::Error;
@@ -24,6 +24,14 @@ pub(crate) struct PositionMeasure;
 impl CalibrationMethod for PositionMeasure {
     fn info(&self) -> &'static MethodInfo {
         &INFO
+    }
+
+    fn jacobian_rows(&self) -> JacobianRows {
+        JacobianRows::Position
+    }
+
+    fn independent_configurations(&self) -> bool {
+        true
     }
 
     fn data_columns(&self) -> &'static [DataColumn] {

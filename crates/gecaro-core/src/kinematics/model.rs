@@ -50,6 +50,30 @@ pub struct KinematicModel {
     gain_columns: Vec<Option<usize>>,
     joint_columns: Vec<usize>,
     parameter_count: usize,
+    /// Whether the Jacobian writes every column (then a buffer of the right
+    /// size needs no zeroing first).
+    writes_every_column: bool,
+}
+
+/// Which rows of the parameter Jacobian to compute.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Hash)]
+pub enum JacobianRows {
+    /// Rows 0–2, the position of the terminal point: enough for every
+    /// method that measures no orientation.
+    Position,
+    /// All six rows: position, then orientation.
+    #[default]
+    Full,
+}
+
+impl JacobianRows {
+    /// Number of rows: 3 or 6.
+    pub fn count(self) -> usize {
+        match self {
+            JacobianRows::Position => 3,
+            JacobianRows::Full => 6,
+        }
+    }
 }
 
 /// Frame poses of one configuration, filled by [`KinematicModel::forward`].
@@ -79,7 +103,7 @@ impl KinematicModel {
     pub fn new(robot: &Robot) -> Self {
         let parameters = robot.parameters();
         let column = |kind, frame| parameters.index_of(ParameterId::new(kind, frame));
-        let frames = robot
+        let frames: Vec<CompiledFrame> = robot
             .frames()
             .iter()
             .enumerate()
@@ -128,16 +152,27 @@ impl KinematicModel {
             })
             .collect();
         let identity = nalgebra::DMatrix::<f64>::identity(n, n);
+        let gain_columns: Vec<Option<usize>> = (1..=n)
+            .map(|joint| column(ParameterKind::Gain, joint))
+            .collect();
+        let mut written = vec![false; parameters.len()];
+        for index in frames
+            .iter()
+            .flat_map(|frame: &CompiledFrame| frame.columns)
+            .chain(gain_columns.iter().copied())
+            .flatten()
+        {
+            written[index] = true;
+        }
         KinematicModel {
+            writes_every_column: written.iter().all(|w| *w),
             frames,
             uncoupled: *robot.motor_coupling() == identity && *robot.joint_coupling() == identity,
             motor_to_joint: row_major(robot.motor_to_joint()),
             offsets: robot.joints().iter().map(|joint| joint.offset).collect(),
             motor_coupling: row_major(robot.motor_coupling()),
             joint_coupling: row_major(robot.joint_coupling()),
-            gain_columns: (1..=n)
-                .map(|joint| column(ParameterKind::Gain, joint))
-                .collect(),
+            gain_columns,
             joint_columns,
             parameter_count: parameters.len(),
         }
@@ -227,15 +262,20 @@ impl KinematicModel {
     }
 
     /// The same Jacobian, row-major: `rows[axis * Np + column]` (rows 0–2
-    /// position, 3–5 rotation), so that each row is a contiguous slice.
-    pub fn jacobian_rows(&self, chain: &ChainBuffer, rows: &mut Vec<f64>) {
-        rows.clear();
-        rows.resize(6 * self.parameter_count, 0.0);
+    /// position, 3–5 rotation), so that each row is a contiguous slice; only
+    /// the position rows when `which` says so (`rows` then holds 3·Np values).
+    pub fn jacobian_rows(&self, chain: &ChainBuffer, rows: &mut Vec<f64>, which: JacobianRows) {
+        let size = which.count() * self.parameter_count;
+        if rows.len() != size || !self.writes_every_column {
+            rows.clear();
+            rows.resize(size, 0.0);
+        }
         self.fill_jacobian(
             chain,
             &mut RowMajor {
                 rows,
                 parameters: self.parameter_count,
+                rotation: which == JacobianRows::Full,
             },
         );
     }
@@ -309,10 +349,12 @@ impl JacobianStore for Matrix6xX<f64> {
     }
 }
 
-/// A row-major 6×Np buffer.
+/// A row-major 6×Np (or 3×Np, position rows only) buffer.
 struct RowMajor<'a> {
     rows: &'a mut Vec<f64>,
     parameters: usize,
+    /// Whether the rotation rows 3–5 are kept.
+    rotation: bool,
 }
 
 impl JacobianStore for RowMajor<'_> {
@@ -320,13 +362,24 @@ impl JacobianStore for RowMajor<'_> {
         if let Some(column) = column {
             for axis in 0..3 {
                 self.rows[axis * self.parameters + column] = position[axis];
-                self.rows[(axis + 3) * self.parameters + column] = rotation[axis];
+            }
+            if self.rotation {
+                for axis in 0..3 {
+                    self.rows[(axis + 3) * self.parameters + column] = rotation[axis];
+                }
             }
         }
     }
 
     fn column(&self, column: usize) -> nalgebra::Vector6<f64> {
-        nalgebra::Vector6::from_fn(|axis, _| self.rows[axis * self.parameters + column])
+        let kept = if self.rotation { 6 } else { 3 };
+        nalgebra::Vector6::from_fn(|axis, _| {
+            if axis < kept {
+                self.rows[axis * self.parameters + column]
+            } else {
+                0.0
+            }
+        })
     }
 }
 
@@ -359,6 +412,7 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(17);
         let mut robots = vec![stanford()];
         robots.extend((0..10).map(|i| random_robot(&mut rng, 2 + i % 6)));
+        let mut rows = Vec::new();
         for robot in robots {
             let model = KinematicModel::new(&robot);
             let mut chain = ChainBuffer::default();
@@ -373,12 +427,17 @@ mod tests {
                 }
                 let expected = parameter_jacobian(&robot, &qm).expect("valid");
                 assert!((&expected - &jacobian).abs().max() < 1e-13);
-                let mut rows = Vec::new();
-                model.jacobian_rows(&chain, &mut rows);
+                // Row-major, all rows then position rows only, into a buffer
+                // reused across configurations and robots (stale values must not survive).
                 let np = expected.ncols();
-                for axis in 0..6 {
-                    for column in 0..np {
-                        assert_eq!(rows[axis * np + column], jacobian[(axis, column)]);
+                for which in [JacobianRows::Full, JacobianRows::Position] {
+                    rows.iter_mut().for_each(|value| *value = f64::NAN);
+                    model.jacobian_rows(&chain, &mut rows, which);
+                    assert_eq!(rows.len(), which.count() * np);
+                    for axis in 0..which.count() {
+                        for column in 0..np {
+                            assert_eq!(rows[axis * np + column], jacobian[(axis, column)]);
+                        }
                     }
                 }
             }
