@@ -177,23 +177,25 @@ pub(crate) fn analyse(
     analyse_keeping(
         robot,
         study,
-        states,
-        auxiliary,
         priority,
         auxiliary_candidates,
+        |layout, system| {
+            study.assemble(states, auxiliary, layout, system);
+            Ok(())
+        },
     )
     .map(|(report, _)| report)
 }
 
-/// [`analyse`], also returning the observation system it built (columns: the
-/// auxiliary candidates, then the candidates in priority order).
-pub(crate) fn analyse_keeping(
+/// [`analyse`] on the system that `write` writes in the layout it is given
+/// (columns: the auxiliary candidates, then the candidates in priority
+/// order), also returning that system.
+fn analyse_keeping(
     robot: &Robot,
     study: &Study,
-    states: &StudyStates,
-    auxiliary: &[f64],
     priority: &PriorityMatrix,
     auxiliary_candidates: Option<&[usize]>,
+    write: impl FnOnce(&ColumnLayout, &mut ObservationSystem) -> Result<(), Error>,
 ) -> Result<(RankReport, ObservationSystem), Error> {
     let space = robot.parameters();
     let candidates: Vec<ParameterId> = priority.ordered_candidates(space);
@@ -223,7 +225,7 @@ pub(crate) fn analyse_keeping(
         });
     }
     let mut system = ObservationSystem::default();
-    study.assemble(states, auxiliary, &layout, &mut system);
+    write(&layout, &mut system)?;
     let rows = system.rows();
     if !system.matrix().iter().all(|v| v.is_finite()) {
         return Err(Error::Numerical {
@@ -380,11 +382,11 @@ pub(crate) fn analyse_keeping(
 /// When a method cannot generate such data (e.g. no distinct inverse-model solution).
 pub fn random_counterpart(robot: &Robot, study: &Study, seed: u64) -> Result<Study, Error> {
     let mut states = StudyStates::default();
-    study.evaluate(robot, &mut states)?;
+    study.evaluate_poses(robot, &mut states)?;
     random_counterpart_at(robot, study, &states, seed)
 }
 
-/// [`random_counterpart`] with the study's states at `robot` already evaluated.
+/// [`random_counterpart`] with the study's states (poses) at `robot` already evaluated.
 pub(crate) fn random_counterpart_at(
     robot: &Robot,
     study: &Study,
@@ -437,11 +439,11 @@ pub fn structural_parameters(
 ) -> Result<RankReport, Error> {
     study.check(robot)?;
     let mut states = StudyStates::default();
-    study.evaluate(robot, &mut states)?;
+    study.evaluate_poses(robot, &mut states)?;
     structural_parameters_at(robot, study, &states, priority, seed)
 }
 
-/// [`structural_parameters`] with the study's states at `robot` already evaluated.
+/// [`structural_parameters`] with the study's states (poses) at `robot` already evaluated.
 pub(crate) fn structural_parameters_at(
     robot: &Robot,
     study: &Study,
@@ -478,26 +480,26 @@ pub fn excitation(
 ) -> Result<Excitation, Error> {
     study.check(robot)?;
     let mut states = StudyStates::default();
-    study.evaluate(robot, &mut states)?;
+    study.evaluate_poses(robot, &mut states)?;
     let auxiliary = study.initial_auxiliary(&states)?;
-    excitation_at(robot, study, &states, &auxiliary, structural)
+    excitation_at(robot, study, &mut states, &auxiliary, structural)
 }
 
-/// [`excitation`] at given states and auxiliary values.
+/// [`excitation`] with these auxiliary values (`states` is storage for
+/// [`Study::linearise`]).
 pub(crate) fn excitation_at(
     robot: &Robot,
     study: &Study,
-    states: &StudyStates,
+    states: &mut StudyStates,
     auxiliary: &[f64],
     structural: &RankReport,
 ) -> Result<Excitation, Error> {
     let (report, system) = analyse_keeping(
         robot,
         study,
-        states,
-        auxiliary,
         &structural.priority,
         Some(&structural.base_auxiliary),
+        |layout, system| study.linearise(robot, auxiliary, layout, states, system),
     )?;
     let not_excited = structural
         .parameters

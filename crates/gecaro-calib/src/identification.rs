@@ -359,19 +359,6 @@ impl Problem<'_> {
         Self::iterate_of(robot, auxiliary, system)
     }
 
-    /// The iterate at states already evaluated at `robot`.
-    fn iterate_at(
-        &self,
-        robot: &Robot,
-        auxiliary: &[f64],
-        layout: &ColumnLayout,
-        states: &StudyStates,
-    ) -> Result<Iterate, Error> {
-        let mut system = ObservationSystem::default();
-        self.study.assemble(states, auxiliary, layout, &mut system);
-        Self::iterate_of(robot, auxiliary, system)
-    }
-
     /// The iterate of a system written at `robot` and `auxiliary`.
     fn iterate_of(
         robot: &Robot,
@@ -705,12 +692,12 @@ pub fn identify_with_progress(
     let priority = options.priority.clone().unwrap_or_else(|| robot.priority());
     priority.validate(robot.parameters())?;
     let mut states = StudyStates::default();
-    study.evaluate(robot, &mut states)?;
+    study.evaluate_poses(robot, &mut states)?;
     let initial_auxiliary = study.initial_auxiliary(&states)?;
     // The base set: structural (random, constraint-satisfying data), then what
     // these data excite (paper §3.1, §4).
     let rank = structural_parameters_at(robot, study, &states, &priority, STRUCTURAL_SEED)?;
-    let excited = excitation_at(robot, study, &states, &initial_auxiliary, &rank)?;
+    let excited = excitation_at(robot, study, &mut states, &initial_auxiliary, &rank)?;
     let base = excited.report.base_parameters.clone();
     let base_auxiliary = excited.report.base_auxiliary.clone();
     if base.is_empty() {
@@ -750,7 +737,7 @@ pub fn identify_with_progress(
         Some(system) if excited.not_excited.is_empty() => {
             Problem::iterate_of(robot, &initial_auxiliary, system)?
         }
-        _ => problem.iterate_at(robot, &initial_auxiliary, &problem.layout, &states)?,
+        _ => problem.assemble(robot, &initial_auxiliary, &problem.layout, &mut states)?,
     };
     let before = ErrorSummary::of(&start.system);
     let errors_before = start.system.observation_errors();

@@ -64,7 +64,8 @@ pub use methods::{
     CalibrationMethod, CloneMethod, METHODS, MethodInfo, MethodOptions, Plane, method, method_info,
 };
 pub use observation::{
-    ColumnLayout, ObservationSystem, RowKind, RowWriter, TerminalState, evaluate_states,
+    ColumnLayout, ObservationSystem, RowKind, RowWriter, TerminalState, evaluate_poses,
+    evaluate_states,
 };
 pub use sample::{DataColumn, Sample};
 pub use sampler::Sampler;

@@ -2,7 +2,9 @@
 //! module that touches it). Sequential: faer's threads slow these sizes down
 //! on small machines.
 
+use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::matmul::triangular::{self, BlockStructure};
+use faer::linalg::qr::no_pivoting::factor as qr_factor;
 use faer::linalg::solvers::{DenseSolveCore, Solve, SolveLstsq};
 use faer::linalg::triangular_solve::solve_upper_triangular_in_place;
 use faer::{Accum, Mat, MatRef, Par};
@@ -42,28 +44,43 @@ pub(crate) struct GreedyRank {
 }
 
 /// See [`GreedyRank`]; `tolerance` is the numerical zero τ.
+///
+/// The matrix is small here (the c × c R̃ of [`column_geometry`]), so the
+/// projections are plain loops over contiguous columns, without allocation
+/// per column.
 pub(crate) fn greedy_rank(matrix: MatRef<'_, f64>, tolerance: f64) -> GreedyRank {
     let (rows, columns) = matrix.shape();
-    let mut basis = Mat::<f64>::zeros(rows, columns.min(rows));
+    let capacity = columns.min(rows);
+    // The kept directions, orthonormal, one after the other.
+    let mut basis: Vec<f64> = Vec::with_capacity(rows * capacity);
+    let mut residual = vec![0.0; rows];
+    let mut projections = vec![0.0; capacity];
     let mut kept = Vec::new();
     let mut diagonal = Vec::with_capacity(columns);
     let mut norms = Vec::with_capacity(columns);
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
     for column in 0..columns {
-        let mut residual = matrix.col(column).to_owned();
-        norms.push(residual.norm_l2());
+        for (row, value) in residual.iter_mut().enumerate() {
+            *value = matrix[(row, column)];
+        }
+        norms.push(dot(&residual, &residual).sqrt());
         let rank = kept.len();
         if rank > 0 {
-            let span = basis.get(.., ..rank);
             for _ in 0..2 {
-                let projection = span.transpose() * &residual;
-                residual -= span * projection;
+                for (direction, projection) in basis.chunks_exact(rows).zip(&mut projections) {
+                    *projection = dot(direction, &residual);
+                }
+                for (direction, projection) in basis.chunks_exact(rows).zip(&projections) {
+                    for (value, component) in residual.iter_mut().zip(direction) {
+                        *value -= projection * component;
+                    }
+                }
             }
         }
-        let distance = residual.norm_l2();
+        let distance = dot(&residual, &residual).sqrt();
         diagonal.push(distance);
-        if distance > tolerance && rank < basis.ncols() {
-            let scaled = residual * faer::Scale(1.0 / distance);
-            basis.col_mut(rank).copy_from(&scaled);
+        if distance > tolerance && rank < capacity {
+            basis.extend(residual.iter().map(|value| value / distance));
             kept.push(column);
         }
     }
@@ -118,15 +135,36 @@ fn row_parts(matrix: MatRef<'_, f64>) -> Vec<MatRef<'_, f64>> {
         .collect()
 }
 
-/// The c × c R of a QR of `matrix` (zero rows below when it has fewer rows than columns).
+/// The c × c R of a QR of `matrix` (zero rows below when it has fewer rows
+/// than columns). Unblocked Householder: for these narrow matrices it is
+/// faster than faer's blocked default (measured: 31 vs 55 µs at 150 × 31,
+/// 95 vs 112 µs at 2048 × 31).
 fn triangular_factor(matrix: MatRef<'_, f64>) -> Mat<f64> {
+    const BLOCK_SIZE: usize = 1;
     let (rows, columns) = matrix.shape();
-    let qr = matrix.qr();
-    let mut reduced = Mat::<f64>::zeros(columns, columns);
-    reduced
-        .get_mut(..rows.min(columns), ..)
-        .copy_from(qr.thin_R());
-    reduced
+    let mut factored = matrix.to_owned();
+    let mut coefficients = Mat::<f64>::zeros(BLOCK_SIZE, rows.min(columns));
+    let mut scratch = MemBuffer::new(qr_factor::qr_in_place_scratch::<f64>(
+        rows,
+        columns,
+        BLOCK_SIZE,
+        Par::Seq,
+        Default::default(),
+    ));
+    qr_factor::qr_in_place(
+        factored.as_mut(),
+        coefficients.as_mut(),
+        Par::Seq,
+        MemStack::new(&mut scratch),
+        Default::default(),
+    );
+    Mat::from_fn(columns, columns, |i, j| {
+        if i <= j && i < rows {
+            factored[(i, j)]
+        } else {
+            0.0
+        }
+    })
 }
 
 /// The normal equations of a weighted system `W x ≈ r`: WᵀW (its lower
@@ -265,11 +303,26 @@ pub(crate) fn singular_values(matrix: MatRef<'_, f64>) -> Result<Vec<f64>, Error
     })
 }
 
+/// Below this condition number, [`condition_number`] takes the eigenvalues
+/// of WᵀW: their relative accuracy, about c·ε·κ², is then better than 1e-6
+/// and they cost half a singular value decomposition.
+const EIGENVALUE_ROUTE_LIMIT: f64 = 1e4;
+
 /// `σ_max / σ_min` of a full-column-rank matrix (∞ when rank deficient, 1 when empty).
 ///
 /// # Errors
 /// As [`singular_values`].
 pub(crate) fn condition_number(matrix: MatRef<'_, f64>) -> Result<f64, Error> {
+    if matrix.ncols() > 0 && matrix.nrows() >= matrix.ncols() {
+        let gram = matrix.transpose() * matrix;
+        if let Ok(eigenvalues) = gram.self_adjoint_eigenvalues(faer::Side::Lower)
+            && let (Some(smallest), Some(largest)) = (eigenvalues.first(), eigenvalues.last())
+            && *smallest > 0.0
+            && *largest < EIGENVALUE_ROUTE_LIMIT.powi(2) * smallest
+        {
+            return Ok((largest / smallest).sqrt());
+        }
+    }
     let values = singular_values(matrix)?;
     Ok(match (values.first(), values.last()) {
         (Some(largest), Some(smallest)) if *smallest > 0.0 => largest / smallest,
@@ -471,6 +524,30 @@ mod tests {
         // Zero damping is the plain least-squares step.
         let plain = damped_step(view(&data, 6, 2), &right, 0.0);
         assert!((plain[0] - expected[0]).abs() < 1e-12 && (plain[1] - expected[1]).abs() < 1e-12);
+    }
+
+    #[test]
+    fn condition_numbers_agree_with_the_singular_values_on_both_routes() {
+        let (data, rows, columns) = tall_dependent_matrix(200);
+        // Drop the dependent column 3, then scale column 5 to set the conditioning.
+        let independent: Vec<usize> = (0..columns).filter(|c| *c != 3).collect();
+        for scale in [1.0, 1e-2, 1e-5, 1e-9] {
+            let matrix = Mat::from_fn(rows, independent.len(), |i, j| {
+                let value = data[i * columns + independent[j]];
+                if independent[j] == 5 {
+                    value * scale
+                } else {
+                    value
+                }
+            });
+            let values = singular_values(matrix.as_ref()).expect("svd");
+            let expected = values[0] / values[values.len() - 1];
+            let computed = condition_number(matrix.as_ref()).expect("finite");
+            assert!(
+                (computed - expected).abs() < 1e-6 * expected,
+                "scale {scale}: {computed} vs {expected}"
+            );
+        }
     }
 
     #[test]

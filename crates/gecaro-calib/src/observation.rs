@@ -47,9 +47,10 @@ impl TerminalState {
     /// Row `axis` of the Jacobian (0–2 position, 3–5 rotation), Np entries.
     ///
     /// # Panics
-    /// For a rotation row of a state evaluated with [`JacobianRows::Position`]:
-    /// a method that reads rotation rows must say so in
-    /// [`CalibrationMethod::jacobian_rows`].
+    /// For a row that was not evaluated: a rotation row of a state evaluated
+    /// with [`JacobianRows::Position`] (a method that reads rotation rows must
+    /// say so in [`CalibrationMethod::jacobian_rows`]), or any row of a state
+    /// from [`evaluate_poses`].
     pub fn jacobian_row(&self, axis: usize) -> &[f64] {
         assert!(
             axis < self.rows,
@@ -90,6 +91,29 @@ pub fn evaluate_states(
     rows: JacobianRows,
     states: &mut Vec<TerminalState>,
 ) -> Result<(), ModelError> {
+    evaluate_into(robot, samples, Some(rows), states)
+}
+
+/// The poses of every sample only, as [`evaluate_states`] does (the states
+/// hold no Jacobian rows): what initial auxiliary values and data-like
+/// random configurations need.
+///
+/// # Errors
+/// As [`evaluate_states`].
+pub fn evaluate_poses(
+    robot: &Robot,
+    samples: &[Sample],
+    states: &mut Vec<TerminalState>,
+) -> Result<(), ModelError> {
+    evaluate_into(robot, samples, None, states)
+}
+
+fn evaluate_into(
+    robot: &Robot,
+    samples: &[Sample],
+    rows: Option<JacobianRows>,
+    states: &mut Vec<TerminalState>,
+) -> Result<(), ModelError> {
     let model = KinematicModel::new(robot);
     states.truncate(samples.len());
     states.resize_with(samples.len(), || TerminalState::empty(&model));
@@ -113,10 +137,11 @@ fn part_size(samples: usize) -> usize {
     }
 }
 
+/// The poses and, unless `rows` is `None`, those Jacobian rows of `samples`.
 fn evaluate_chunk(
     model: &KinematicModel,
     samples: &[Sample],
-    rows: JacobianRows,
+    rows: Option<JacobianRows>,
     states: &mut [TerminalState],
 ) -> Result<(), ModelError> {
     let mut chain = ChainBuffer::default();
@@ -124,8 +149,16 @@ fn evaluate_chunk(
         model.forward(&sample.motor_positions, &mut chain)?;
         state.pose = *chain.world_from_tool();
         state.parameters = model.parameter_count();
-        state.rows = rows.count();
-        model.jacobian_rows(&chain, &mut state.jacobian, rows);
+        match rows {
+            Some(rows) => {
+                state.rows = rows.count();
+                model.jacobian_rows(&chain, &mut state.jacobian, rows);
+            }
+            None => {
+                state.rows = 0;
+                state.jacobian.clear();
+            }
+        }
     }
     Ok(())
 }
@@ -162,7 +195,7 @@ pub(crate) fn linearise_independent(
         let mut end = 0;
         for block in chunk.chunks(BLOCK) {
             states.resize_with(block.len(), || TerminalState::empty(model));
-            evaluate_chunk(model, block, rows, &mut states[..block.len()])?;
+            evaluate_chunk(model, block, Some(rows), &mut states[..block.len()])?;
             let mut rows = part.split_front(method.row_count(block), block.len());
             method.linearise(block, &states[..block.len()], auxiliary, &mut rows);
             debug_assert!(
@@ -539,7 +572,7 @@ mod tests {
                 .iter()
                 .map(|_| TerminalState::empty(&model))
                 .collect();
-            evaluate_chunk(&model, &samples, rows, &mut serial).expect("states");
+            evaluate_chunk(&model, &samples, Some(rows), &mut serial).expect("states");
             for (a, b) in parallel.iter().zip(&serial) {
                 assert_eq!(a.pose, b.pose);
                 let bits =

@@ -8,7 +8,7 @@ use gecaro_core::{KinematicModel, Robot};
 use crate::Error;
 use crate::methods::CalibrationMethod;
 use crate::observation::{
-    ColumnLayout, ObservationSystem, RowWriter, TerminalState, evaluate_states,
+    ColumnLayout, ObservationSystem, RowWriter, TerminalState, evaluate_poses, evaluate_states,
     linearise_independent,
 };
 use crate::sample::{DataColumn, Sample};
@@ -258,6 +258,21 @@ impl Study {
         states.states.resize_with(self.sets.len(), Vec::new);
         for (set, buffer) in self.sets.iter().zip(&mut states.states) {
             evaluate_states(robot, &set.samples, set.method.jacobian_rows(), buffer)?;
+        }
+        Ok(())
+    }
+
+    /// Evaluates the pose (no Jacobian) of every sample at the robot's
+    /// parameters: enough for [`initial_auxiliary`](Self::initial_auxiliary)
+    /// and for random data like these; [`linearise`](Self::linearise)
+    /// evaluates the Jacobians it needs.
+    ///
+    /// # Errors
+    /// When a configuration does not fit the robot.
+    pub fn evaluate_poses(&self, robot: &Robot, states: &mut StudyStates) -> Result<(), Error> {
+        states.states.resize_with(self.sets.len(), Vec::new);
+        for (set, buffer) in self.sets.iter().zip(&mut states.states) {
+            evaluate_poses(robot, &set.samples, buffer)?;
         }
         Ok(())
     }

@@ -103,6 +103,7 @@ pub trait CalibrationMethod: CloneMethod + fmt::Debug + Send + Sync {
 
     /// Initial values of the auxiliary unknowns, from the states at the
     /// starting parameters (e.g. the best-fit plane of the nominal points).
+    /// Only the poses of `states` are evaluated ([`crate::evaluate_poses`]).
     ///
     /// # Errors
     /// When they cannot be determined from these data.
@@ -152,8 +153,8 @@ pub trait CalibrationMethod: CloneMethod + fmt::Debug + Send + Sync {
     ) -> Result<Vec<Sample>, Error>;
 
     /// Noise-free random data of the same kind as `samples` (whose states at
-    /// `robot` are `states`), for the structural identifiability of a data
-    /// set. By default [`generate`](Self::generate); the plane methods use the
+    /// `robot` are `states`, poses only), for the structural identifiability
+    /// of a data set. By default [`generate`](Self::generate); the plane methods use the
     /// best-fit plane of the data when they were given no plane.
     ///
     /// # Errors
