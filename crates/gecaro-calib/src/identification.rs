@@ -458,6 +458,16 @@ impl Problem<'_> {
     }
 
     /// Gauss–Newton on the base parameters from `start` (see [`Damping`]).
+    ///
+    /// A trial iterate is written into the storage of the current one (W is
+    /// the largest thing here: 3.7 MB at m = 5000, and fresh memory is slow
+    /// to touch); plain steps are nearly always accepted. After the first
+    /// refused trial the current system is rebuilt (bit for bit the same) and
+    /// a second storage is kept from then on.
+    ///
+    /// # Errors
+    /// Only if rebuilding the current iterate fails, which its first
+    /// evaluation did not.
     fn descend(
         &self,
         start: Iterate,
@@ -465,7 +475,7 @@ impl Problem<'_> {
         max_iterations: usize,
         states: &mut StudyStates,
         progress: &mut dyn FnMut(&IterationRecord),
-    ) -> Run {
+    ) -> Result<Run, Error> {
         let mut current = start;
         let mut history = Vec::new();
         let mut damping = if damping_rule == Damping::Always {
@@ -474,13 +484,14 @@ impl Problem<'_> {
             0.0
         };
         let mut stop = StopReason::IterationLimit;
-        // The storage of a replaced or refused iterate, reused by the next trial.
-        let mut spare = ObservationSystem::default();
+        // The storage of a replaced or refused iterate, reused by the next
+        // trial; `None` while trials write into the current iterate's storage.
+        let mut spare: Option<ObservationSystem> = None;
         'iterations: while history.len() < max_iterations {
-            let matrix = view(current.system.matrix(), self.rows, self.layout.columns());
             let right = current.system.weighted_residuals();
             let mut fraction = 1.0;
             loop {
+                let matrix = view(current.system.matrix(), self.rows, self.layout.columns());
                 let mut step = if damping == 0.0 {
                     step(matrix, &current.normal, &right, self.condition)
                 } else {
@@ -495,18 +506,22 @@ impl Problem<'_> {
                     break 'iterations;
                 }
                 step.iter_mut().for_each(|value| *value *= fraction);
-                let recycled = std::mem::take(&mut spare);
+                let (storage, shared) = match spare.take() {
+                    Some(storage) => (storage, false),
+                    None => (std::mem::take(&mut current.system), true),
+                };
                 let trial =
                     self.stepped(&current, &step, &self.base)
                         .and_then(|(robot, auxiliary)| {
-                            self.assemble_into(&robot, &auxiliary, &self.layout, states, recycled)
+                            self.assemble_into(&robot, &auxiliary, &self.layout, states, storage)
                         });
                 match trial {
                     Ok(trial) if trial.cost <= current.cost => {
                         let record = self.record(&trial, &step, damping);
                         progress(&record);
                         history.push(record);
-                        spare = std::mem::replace(&mut current, trial).system;
+                        let previous = std::mem::replace(&mut current, trial).system;
+                        spare = (!shared).then_some(previous);
                         damping = match damping_rule {
                             Damping::Always => (damping / 10.0).max(1e-12),
                             _ if damping <= INITIAL_DAMPING => 0.0,
@@ -514,40 +529,57 @@ impl Problem<'_> {
                         };
                         break;
                     }
-                    // A plain step that increases the residual: shorten it along
-                    // its direction first (backtracking), then damp it.
-                    _ if damping == 0.0 && fraction > MIN_FRACTION => fraction *= 0.5,
-                    _ if damping_rule == Damping::Never || damping >= MAX_DAMPING => {
-                        stop = StopReason::Diverged;
-                        break 'iterations;
-                    }
-                    _ => {
-                        fraction = 1.0;
-                        damping = if damping == 0.0 {
-                            INITIAL_DAMPING
+                    refused => {
+                        let storage = refused.map(|trial| trial.system).unwrap_or_default();
+                        if shared {
+                            let (robot, auxiliary) = (current.robot, current.auxiliary);
+                            current = self.assemble_into(
+                                &robot,
+                                &auxiliary,
+                                &self.layout,
+                                states,
+                                storage,
+                            )?;
+                            spare = Some(ObservationSystem::default());
                         } else {
-                            damping * 10.0
-                        };
+                            spare = Some(storage);
+                        }
                     }
+                }
+                // A plain step that increases the residual: shorten it along
+                // its direction first (backtracking), then damp it.
+                if damping == 0.0 && fraction > MIN_FRACTION {
+                    fraction *= 0.5;
+                } else if damping_rule == Damping::Never || damping >= MAX_DAMPING {
+                    stop = StopReason::Diverged;
+                    break 'iterations;
+                } else {
+                    fraction = 1.0;
+                    damping = if damping == 0.0 {
+                        INITIAL_DAMPING
+                    } else {
+                        damping * 10.0
+                    };
                 }
             }
         }
-        Run {
+        Ok(Run {
             best: current,
             history,
             stop,
-        }
+        })
     }
 
     /// The minimum-norm route from `start` (see the module docs).
     fn minimum_norm_route(
         &self,
-        start: Iterate,
+        start: (&Robot, &[f64]),
         effective: &[usize],
         states: &mut StudyStates,
         progress: &mut dyn FnMut(&IterationRecord),
     ) -> Result<Run, Error> {
-        let auxiliary_count = start.auxiliary.len();
+        let (start_robot, start_auxiliary) = start;
+        let auxiliary_count = start_auxiliary.len();
         let layout = ColumnLayout::with_auxiliary(
             self.nominal.parameters().len(),
             effective,
@@ -555,7 +587,7 @@ impl Problem<'_> {
             &self.base_auxiliary,
         );
         let rank = self.base.len() + self.base_auxiliary.len();
-        let mut current = self.assemble(&start.robot, &start.auxiliary, &layout, states)?;
+        let mut current = self.assemble(start_robot, start_auxiliary, &layout, states)?;
         let mut history = Vec::new();
         // Phase 1: minimum-norm steps over every parameter with an effect.
         let mut reached = false;
@@ -626,7 +658,7 @@ impl Problem<'_> {
             let mut stage_records = Vec::new();
             let run = self
                 .assemble(&robot, &current.auxiliary, &self.layout, states)
-                .map(|moved| {
+                .and_then(|moved| {
                     self.descend(
                         moved,
                         Damping::WhenNeeded,
@@ -752,17 +784,17 @@ pub fn identify_with_progress(
                 options.max_iterations,
                 &mut states,
                 &mut progress,
-            ),
+            )?,
             Route::LevenbergMarquardt,
         ),
         Solver::GaussNewton => {
             let plain = problem.descend(
-                start.clone(),
+                start,
                 Damping::Never,
                 options.max_iterations,
                 &mut states,
                 &mut progress,
-            );
+            )?;
             if plain.stop == StopReason::Converged {
                 (plain, Route::GaussNewton)
             } else {
@@ -779,8 +811,12 @@ pub fn identify_with_progress(
                     .map(|(index, _)| index)
                     .collect();
                 progress(&first);
-                let robust =
-                    problem.minimum_norm_route(start, &effective, &mut states, &mut progress)?;
+                let robust = problem.minimum_norm_route(
+                    (robot, &initial_auxiliary),
+                    &effective,
+                    &mut states,
+                    &mut progress,
+                )?;
                 if robust.stop == StopReason::Converged || robust.best.cost < plain.best.cost {
                     (robust, Route::MinimumNorm)
                 } else {

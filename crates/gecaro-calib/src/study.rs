@@ -263,16 +263,22 @@ impl Study {
     }
 
     /// Evaluates the pose (no Jacobian) of every sample at the robot's
-    /// parameters: enough for [`initial_auxiliary`](Self::initial_auxiliary)
-    /// and for random data like these; [`linearise`](Self::linearise)
-    /// evaluates the Jacobians it needs.
+    /// parameters, for the sets whose method uses them
+    /// ([`CalibrationMethod::uses_starting_poses`]; the others get no
+    /// states): enough for [`initial_auxiliary`](Self::initial_auxiliary) and
+    /// for random data like these; [`linearise`](Self::linearise) evaluates
+    /// the Jacobians it needs.
     ///
     /// # Errors
     /// When a configuration does not fit the robot.
     pub fn evaluate_poses(&self, robot: &Robot, states: &mut StudyStates) -> Result<(), Error> {
         states.states.resize_with(self.sets.len(), Vec::new);
         for (set, buffer) in self.sets.iter().zip(&mut states.states) {
-            evaluate_poses(robot, &set.samples, buffer)?;
+            if set.method.uses_starting_poses() {
+                evaluate_poses(robot, &set.samples, buffer)?;
+            } else {
+                buffer.clear();
+            }
         }
         Ok(())
     }

@@ -111,6 +111,15 @@ pub trait CalibrationMethod: CloneMethod + fmt::Debug + Send + Sync {
         Ok(Vec::new())
     }
 
+    /// Whether [`initial_auxiliary`](Self::initial_auxiliary) or
+    /// [`generate_like`](Self::generate_like) read the poses of the data at
+    /// the starting parameters; when not, they are not evaluated and those
+    /// functions get no states. By default, when the method has auxiliary
+    /// unknowns (the plane methods fit the data's plane only then).
+    fn uses_starting_poses(&self) -> bool {
+        !self.auxiliary_names().is_empty()
+    }
+
     /// The rows of the parameter Jacobian that [`linearise`](Self::linearise)
     /// reads: all six by default; methods that measure no orientation say
     /// [`JacobianRows::Position`] and the model skips the rotation rows.
