@@ -2,7 +2,9 @@
 //! orientation of frame n+1. All six rows of eq. 7 per configuration:
 //! `J(q, η) Δη = Δx(measured, model)`, with Δx of Appendix I (method 2 by default).
 
-use gecaro_core::{OrientationDifference, Robot, orientation_difference};
+use gecaro_core::{
+    ChainBuffer, KinematicModel, OrientationDifference, Robot, orientation_difference,
+};
 use nalgebra::UnitQuaternion;
 
 use super::{CalibrationMethod, MethodInfo};
@@ -79,10 +81,12 @@ impl CalibrationMethod for FrameMeasure {
         noise: f64,
         sampler: &mut Sampler,
     ) -> Result<Vec<Sample>, Error> {
+        let model = KinematicModel::new(robot);
+        let mut chain = ChainBuffer::default();
         (0..count)
             .map(|_| {
                 let motor_positions = sampler.configuration(robot);
-                let pose = gecaro_core::terminal_pose(robot, &motor_positions)?;
+                let pose = model.terminal_pose(&motor_positions, &mut chain)?;
                 let rotation = sampler.gaussian_rotation(noise) * pose.rotation;
                 Ok(Sample {
                     position: Some(pose.translation.vector + sampler.gaussian_vector(noise)),

@@ -2,7 +2,7 @@
 //! origin of frame n+1 in the world frame. Rows 1–3 of eq. 7 per configuration:
 //! `J_P(q, η) Δη = P_measured − P(q, η)`.
 
-use gecaro_core::{JacobianRows, Robot};
+use gecaro_core::{ChainBuffer, JacobianRows, KinematicModel, Robot};
 
 use super::{CalibrationMethod, MethodInfo};
 use crate::Error;
@@ -75,10 +75,12 @@ impl CalibrationMethod for PositionMeasure {
         noise: f64,
         sampler: &mut Sampler,
     ) -> Result<Vec<Sample>, Error> {
+        let model = KinematicModel::new(robot);
+        let mut chain = ChainBuffer::default();
         (0..count)
             .map(|_| {
                 let motor_positions = sampler.configuration(robot);
-                let pose = gecaro_core::terminal_pose(robot, &motor_positions)?;
+                let pose = model.terminal_pose(&motor_positions, &mut chain)?;
                 Ok(Sample {
                     position: Some(pose.translation.vector + sampler.gaussian_vector(noise)),
                     ..Sample::new(motor_positions)

@@ -252,6 +252,20 @@ impl KinematicModel {
         Ok(())
     }
 
+    /// The end-effector pose `(−1)T(n+1)` at `motor_positions` (the direct
+    /// model into `chain`, then its last frame).
+    ///
+    /// # Errors
+    /// As [`forward`](Self::forward).
+    pub fn terminal_pose(
+        &self,
+        motor_positions: &[f64],
+        chain: &mut ChainBuffer,
+    ) -> Result<IsometryMatrix3<f64>, Error> {
+        self.forward(motor_positions, chain)?;
+        Ok(*chain.world_from_tool())
+    }
+
     /// The 6×Np parameter Jacobian (Appendix II) of the configuration in
     /// `chain` (filled by [`forward`](Self::forward)), into `jacobian`.
     pub fn jacobian(&self, chain: &ChainBuffer, jacobian: &mut Matrix6xX<f64>) {
