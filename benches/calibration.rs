@@ -63,9 +63,10 @@ fn identify_position(bencher: divan::Bencher, count: usize) {
     });
 }
 
-/// The arithmetic limit of one identification iteration at m = 5000: the
-/// direct model and Jacobian of every configuration and one QR least-squares
-/// solve of the 15 000 × 31 W_b (what any iterative scheme must do per step).
+/// A textbook reference for one identification iteration at m = 5000: the
+/// direct model and Jacobian of every configuration written into the
+/// 15 000 × 31 W_b (gecaro's fused evaluation, on all cores) and one
+/// Householder QR least-squares solve of it (faer, one thread).
 #[divan::bench]
 fn iteration_floor_position_5000(bencher: divan::Bencher) {
     use faer::linalg::solvers::SolveLstsq;
@@ -75,11 +76,11 @@ fn iteration_floor_position_5000(bencher: divan::Bencher) {
     let mut states = gecaro_calib::StudyStates::default();
     let layout = gecaro_calib::ColumnLayout::new(robot.parameters().len(), &base, 0);
     let mut system = gecaro_calib::ObservationSystem::default();
-    study.evaluate(&robot, &mut states).expect("states");
-    study.assemble(&states, &[], &layout, &mut system);
-    let residuals = system.weighted_residuals();
     bencher.bench_local(|| {
-        study.evaluate(&robot, &mut states).expect("states");
+        study
+            .linearise(&robot, &[], &layout, &mut states, &mut system)
+            .expect("system");
+        let residuals = system.weighted_residuals();
         let w =
             faer::MatRef::from_row_major_slice(system.matrix(), system.rows(), system.columns());
         w.qr().solve_lstsq(faer::MatRef::from_column_major_slice(
