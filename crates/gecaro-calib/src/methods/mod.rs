@@ -27,6 +27,14 @@
 //!
 //! To add an eighth method: write one file with a type implementing
 //! [`CalibrationMethod`] and its [`MethodInfo`], and list it in [`METHODS`].
+//! Two provided methods only make it faster and are safe to leave alone:
+//! [`jacobian_rows`](CalibrationMethod::jacobian_rows) (say
+//! [`JacobianRows::Position`] when no orientation row is read) and
+//! [`independent_configurations`](CalibrationMethod::independent_configurations)
+//! (rows of one configuration depend on it alone: evaluated and written in
+//! parallel blocks). A method whose `generate_like` reads the data's poses
+//! without having auxiliary unknowns must say so in
+//! [`uses_starting_poses`](CalibrationMethod::uses_starting_poses).
 
 mod distance;
 mod frame;
