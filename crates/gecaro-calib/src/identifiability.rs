@@ -157,40 +157,20 @@ pub fn identifiable_parameters(
     study.check(robot)?;
     priority.validate(robot.parameters())?;
     let mut states = StudyStates::default();
-    study.evaluate(robot, &mut states)?;
+    study.evaluate_poses(robot, &mut states)?;
     let auxiliary = study.initial_auxiliary(&states)?;
-    analyse(robot, study, &states, &auxiliary, priority, None)
-}
-
-/// [`identifiable_parameters`] at given states and auxiliary values (used by identification).
-///
-/// Only the auxiliary unknowns listed in `auxiliary_candidates` (all when
-/// `None`) are candidates; the others are reported as excluded.
-pub(crate) fn analyse(
-    robot: &Robot,
-    study: &Study,
-    states: &StudyStates,
-    auxiliary: &[f64],
-    priority: &PriorityMatrix,
-    auxiliary_candidates: Option<&[usize]>,
-) -> Result<RankReport, Error> {
-    analyse_keeping(
-        robot,
-        study,
-        priority,
-        auxiliary_candidates,
-        |layout, system| {
-            study.assemble(states, auxiliary, layout, system);
-            Ok(())
-        },
-    )
+    analyse(robot, study, priority, None, |layout, system| {
+        study.linearise(robot, &auxiliary, layout, &mut states, system)
+    })
     .map(|(report, _)| report)
 }
 
-/// [`analyse`] on the system that `write` writes in the layout it is given
+/// Appendix III on the system that `write` writes in the layout it is given
 /// (columns: the auxiliary candidates, then the candidates in priority
-/// order), also returning that system.
-fn analyse_keeping(
+/// order), also returning that system. Only the auxiliary unknowns listed in
+/// `auxiliary_candidates` (all when `None`) are candidates; the others are
+/// reported as excluded.
+fn analyse(
     robot: &Robot,
     study: &Study,
     priority: &PriorityMatrix,
@@ -494,7 +474,7 @@ pub(crate) fn excitation_at(
     auxiliary: &[f64],
     structural: &RankReport,
 ) -> Result<Excitation, Error> {
-    let (report, system) = analyse_keeping(
+    let (report, system) = analyse(
         robot,
         study,
         &structural.priority,

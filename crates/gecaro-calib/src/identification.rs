@@ -976,10 +976,10 @@ fn warnings(
 pub fn evaluate(robot: &Robot, study: &Study) -> Result<ErrorSummary, Error> {
     study.check(robot)?;
     let mut states = StudyStates::default();
-    study.evaluate(robot, &mut states)?;
+    study.evaluate_poses(robot, &mut states)?;
     let auxiliary = study.initial_auxiliary(&states)?;
     let layout = ColumnLayout::new(robot.parameters().len(), &[], auxiliary.len());
     let mut system = ObservationSystem::default();
-    study.assemble(&states, &auxiliary, &layout, &mut system);
+    study.linearise(robot, &auxiliary, &layout, &mut states, &mut system)?;
     Ok(ErrorSummary::of(&system))
 }

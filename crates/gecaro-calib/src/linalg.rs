@@ -1,6 +1,8 @@
 //! Dense linear algebra on the tall observation matrix W, with faer (the only
-//! module that touches it). Sequential: faer's threads slow these sizes down
-//! on small machines.
+//! module that touches it; nalgebra for the eigenvalues of small Gram
+//! matrices). faer's own threads are off (`Par::Seq`: they slow these sizes
+//! down on small machines); a tall W is cut into fixed row parts instead,
+//! spread over the cores by [`crate::parallel`] and combined in order.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::matmul::triangular::{self, BlockStructure};

@@ -117,10 +117,8 @@ fn evaluate_into(
     let model = KinematicModel::new(robot);
     states.truncate(samples.len());
     states.resize_with(samples.len(), || TerminalState::empty(&model));
-    let parts = samples
-        .chunks(part_size(samples.len()))
-        .zip(states.chunks_mut(part_size(samples.len())))
-        .collect();
+    let part = part_size(samples.len());
+    let parts = samples.chunks(part).zip(states.chunks_mut(part)).collect();
     run_parts(parts, |(samples, states)| {
         evaluate_chunk(&model, samples, rows, states)
     })
@@ -196,14 +194,8 @@ pub(crate) fn linearise_independent(
         for block in chunk.chunks(BLOCK) {
             states.resize_with(block.len(), || TerminalState::empty(model));
             evaluate_chunk(model, block, Some(rows), &mut states[..block.len()])?;
-            let mut rows = part.split_front(method.row_count(block), block.len());
-            method.linearise(block, &states[..block.len()], auxiliary, &mut rows);
-            debug_assert!(
-                rows.is_complete(),
-                "{} wrote fewer rows than promised",
-                method.name()
-            );
-            end = end.max(rows.observation_end());
+            let block_rows = part.split_front(method.row_count(block), block.len());
+            end = end.max(block_rows.write(method, block, &states[..block.len()], auxiliary));
         }
         Ok(end)
     });
@@ -500,14 +492,22 @@ impl<'a> RowWriter<'a> {
         self.next_row += 1;
     }
 
-    /// Whether every promised row was written.
-    pub(crate) fn is_complete(&self) -> bool {
-        self.next_row == self.residuals.len()
-    }
-
-    /// One past the largest observation written, numbered in the whole
-    /// system (0 when nothing was written).
-    pub(crate) fn observation_end(&self) -> usize {
+    /// Has `method` write its rows for `samples` (whose states are `states`)
+    /// and returns one past the largest observation written, numbered in the
+    /// whole system (0 when nothing was written).
+    pub(crate) fn write(
+        mut self,
+        method: &dyn CalibrationMethod,
+        samples: &[Sample],
+        states: &[TerminalState],
+        auxiliary: &[f64],
+    ) -> usize {
+        method.linearise(samples, states, auxiliary, &mut self);
+        debug_assert!(
+            self.next_row == self.residuals.len(),
+            "{} wrote fewer rows than promised",
+            method.name()
+        );
         self.observation_end
     }
 
@@ -523,22 +523,12 @@ impl<'a> RowWriter<'a> {
             self.next_row == 0 && rows <= self.residuals.len(),
             "a writer is split before it writes, within its rows"
         );
-        let (matrix, rest) = std::mem::take(&mut self.matrix).split_at_mut(rows * self.columns);
-        self.matrix = rest;
-        let (residuals, rest) = std::mem::take(&mut self.residuals).split_at_mut(rows);
-        self.residuals = rest;
-        let (weights, rest) = std::mem::take(&mut self.weights).split_at_mut(rows);
-        self.weights = rest;
-        let (kinds, rest) = std::mem::take(&mut self.kinds).split_at_mut(rows);
-        self.kinds = rest;
-        let (observation_slots, rest) = std::mem::take(&mut self.observations).split_at_mut(rows);
-        self.observations = rest;
         let front = RowWriter {
-            matrix,
-            residuals,
-            weights,
-            kinds,
-            observations: observation_slots,
+            matrix: take_front(&mut self.matrix, rows * self.columns),
+            residuals: take_front(&mut self.residuals, rows),
+            weights: take_front(&mut self.weights, rows),
+            kinds: take_front(&mut self.kinds, rows),
+            observations: take_front(&mut self.observations, rows),
             columns: self.columns,
             layout: self.layout,
             next_row: 0,
@@ -550,6 +540,13 @@ impl<'a> RowWriter<'a> {
         self.observation_base += observations;
         front
     }
+}
+
+/// The first `count` entries of `slice`, which keeps the rest.
+fn take_front<'a, T>(slice: &mut &'a mut [T], count: usize) -> &'a mut [T] {
+    let (front, rest) = std::mem::take(slice).split_at_mut(count);
+    *slice = rest;
+    front
 }
 
 #[cfg(test)]

@@ -303,15 +303,8 @@ impl Study {
         layout: &ColumnLayout,
         system: &mut ObservationSystem,
     ) {
-        self.write_sets(auxiliary, layout, system, |index, set, own, mut writer| {
-            set.method
-                .linearise(&set.samples, states.set(index), own, &mut writer);
-            debug_assert!(
-                writer.is_complete(),
-                "{} wrote fewer rows than promised",
-                set.method.name()
-            );
-            Ok(writer.observation_end())
+        self.write_sets(auxiliary, layout, system, |index, set, own, writer| {
+            Ok(writer.write(set.method.as_ref(), &set.samples, states.set(index), own))
         })
         .expect("writing evaluated states cannot fail");
     }
@@ -334,7 +327,7 @@ impl Study {
     ) -> Result<(), Error> {
         let model = KinematicModel::new(robot);
         states.states.resize_with(self.sets.len(), Vec::new);
-        self.write_sets(auxiliary, layout, system, |index, set, own, mut writer| {
+        self.write_sets(auxiliary, layout, system, |index, set, own, writer| {
             if set.method.independent_configurations() {
                 return Ok(linearise_independent(
                     &model,
@@ -346,13 +339,7 @@ impl Study {
             }
             let buffer = &mut states.states[index];
             evaluate_states(robot, &set.samples, set.method.jacobian_rows(), buffer)?;
-            set.method.linearise(&set.samples, buffer, own, &mut writer);
-            debug_assert!(
-                writer.is_complete(),
-                "{} wrote fewer rows than promised",
-                set.method.name()
-            );
-            Ok(writer.observation_end())
+            Ok(writer.write(set.method.as_ref(), &set.samples, buffer, own))
         })
     }
 

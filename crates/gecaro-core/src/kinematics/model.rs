@@ -158,7 +158,7 @@ impl KinematicModel {
         let mut written = vec![false; parameters.len()];
         for index in frames
             .iter()
-            .flat_map(|frame: &CompiledFrame| frame.columns)
+            .flat_map(|frame| frame.columns)
             .chain(gain_columns.iter().copied())
             .flatten()
         {
