@@ -20,7 +20,7 @@ use gecaro_core::{ParameterId, PriorityMatrix, Robot};
 
 use crate::Error;
 use crate::linalg::{
-    column_geometry, condition_number, greedy_rank, largest_column_norm, least_squares,
+    column_geometry, condition_number, greedy_rank, largest_column_norm, regrouping_relations,
     select_columns, view,
 };
 use crate::methods::{CalibrationMethod, MethodOptions};
@@ -248,17 +248,11 @@ fn analyse(
         .collect();
 
     // Regrouping relations W2 = W1·β (eq. 36–37) and the conditioning of W_b.
-    let kept_matrix = select_columns(geometry, &kept);
-    let regrouped_matrix = select_columns(geometry, &regrouped);
     let mut relations = Vec::new();
     let mut relation_residual: f64 = 0.0;
     if !kept.is_empty() && !regrouped.is_empty() {
-        let beta = least_squares(kept_matrix.as_ref(), regrouped_matrix.as_ref());
-        let misfit = &kept_matrix * &beta - &regrouped_matrix;
-        for j in 0..regrouped.len() {
-            relation_residual =
-                relation_residual.max(misfit.col(j).norm_l2() / regrouped_matrix.col(j).norm_l2());
-        }
+        let (beta, misfits) = regrouping_relations(geometry, &kept, &regrouped);
+        relation_residual = misfits.iter().copied().fold(0.0, f64::max);
         for (k, &base) in kept.iter().enumerate() {
             let absorbed: Vec<(String, f64)> = regrouped
                 .iter()
@@ -274,6 +268,7 @@ fn analyse(
             }
         }
     }
+    let kept_matrix = select_columns(geometry, &kept);
     let condition_number = condition_number(kept_matrix.as_ref())?;
 
     // Reports in vocabulary order.

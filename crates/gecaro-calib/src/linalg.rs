@@ -355,9 +355,29 @@ pub(crate) fn largest_column_norm(matrix: MatRef<'_, f64>) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The least-squares solution X of `matrix · X ≈ right` (QR, full column rank assumed).
-pub(crate) fn least_squares(matrix: MatRef<'_, f64>, right: MatRef<'_, f64>) -> Mat<f64> {
-    matrix.qr().solve_lstsq(right)
+/// The least-squares relations `W₂ ≈ W₁·β` between two groups of columns of
+/// `matrix` (column indices `first` and `second`), and the relative misfit
+/// ‖W₂ⱼ − W₁βⱼ‖ / ‖W₂ⱼ‖ of each column of W₂ (eq. 36–37). One QR of
+/// `[W₁ W₂] = Q·[R₁₁ R₁₂; 0 R₂₂]` gives both: β = R₁₁⁻¹R₁₂, the misfit of
+/// column j is ‖R₂₂ⱼ‖ and its norm ‖[R₁₂ⱼ; R₂₂ⱼ]‖. W₁ must have full column
+/// rank.
+pub(crate) fn regrouping_relations(
+    matrix: MatRef<'_, f64>,
+    first: &[usize],
+    second: &[usize],
+) -> (Mat<f64>, Vec<f64>) {
+    let ordered: Vec<usize> = first.iter().chain(second).copied().collect();
+    let factor = triangular_factor(select_columns(matrix, &ordered).as_ref());
+    let (base, others) = (first.len(), second.len());
+    let mut beta = factor.get(..base, base..).to_owned();
+    solve_upper_triangular_in_place(factor.get(..base, ..base), beta.as_mut(), Par::Seq);
+    let misfits = (0..others)
+        .map(|j| {
+            let column = factor.col(base + j);
+            column.get(base..).norm_l2() / column.norm_l2()
+        })
+        .collect();
+    (beta, misfits)
 }
 
 /// Singular values, largest first.
@@ -400,19 +420,109 @@ pub(crate) fn condition_number(matrix: MatRef<'_, f64>) -> Result<f64, Error> {
 /// The smallest and largest eigenvalues of the symmetric matrix whose lower
 /// triangle is `gram` (`None` if they are not finite).
 ///
-/// nalgebra's symmetric eigensolver, not faer's: for these c × c Gram
-/// matrices (c ≈ 30) it takes 40 µs where faer takes 61 µs, most of which
-/// faer spends in the `hypot` of its Givens rotations.
+/// nalgebra reduces the matrix to tridiagonal form (Householder); only the two
+/// extreme eigenvalues of the tridiagonal matrix are then needed, which
+/// [`tridiagonal_extremes`] finds in a fraction of the time of nalgebra's
+/// implicit QR iteration for all of them.
 fn eigenvalue_range(gram: MatRef<'_, f64>) -> Option<(f64, f64)> {
     let size = gram.nrows();
     let symmetric = nalgebra::DMatrix::from_fn(size, size, |i, j| gram[(i.max(j), i.min(j))]);
-    let eigenvalues = symmetric.symmetric_eigenvalues();
-    let smallest = eigenvalues.iter().copied().fold(f64::INFINITY, f64::min);
-    let largest = eigenvalues
-        .iter()
-        .copied()
-        .fold(f64::NEG_INFINITY, f64::max);
+    if size == 0 || !symmetric.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let (diagonal, off_diagonal) =
+        nalgebra::SymmetricTridiagonal::new(symmetric).unpack_tridiagonal();
+    let (smallest, largest) = tridiagonal_extremes(diagonal.as_slice(), off_diagonal.as_slice())?;
     (smallest.is_finite() && largest.is_finite()).then_some((smallest, largest))
+}
+
+/// Trial points per end and sweep of [`tridiagonal_extremes`].
+const MULTISECTION_POINTS: usize = 4;
+
+/// The smallest and largest eigenvalues of the symmetric tridiagonal matrix T
+/// with `diagonal` (length n ≥ 1) and `off_diagonal` (length n − 1), each to
+/// a few ε relative to itself or ε²·‖T‖, whichever is larger (`None` if an
+/// entry is not finite or its square overflows).
+///
+/// Sylvester's law of inertia: the number of negative pivots of the LDLᵀ
+/// factorisation of T − xI (the Sturm count) is the number of eigenvalues
+/// below x. Both ends are bracketed by Gershgorin's discs and narrowed
+/// together, [`MULTISECTION_POINTS`] trial points per end and sweep, whose
+/// independent pivot recurrences keep the divider busy (a dependent chain of
+/// divisions is what limits one bisection). The counts are backward stable,
+/// so the eigenvalues are as accurate as T itself (absolute error of order
+/// n·ε·‖T‖, as for the QR iteration).
+fn tridiagonal_extremes(diagonal: &[f64], off_diagonal: &[f64]) -> Option<(f64, f64)> {
+    const LANES: usize = 2 * MULTISECTION_POINTS;
+    let size = diagonal.len();
+    // b²_{i−1} beside d_i (0 beside d_0).
+    let couplings: Vec<f64> = std::iter::once(0.0)
+        .chain(off_diagonal.iter().map(|b| b * b))
+        .collect();
+    if size == 0
+        || couplings.len() != size
+        || !diagonal.iter().chain(&couplings).all(|v| v.is_finite())
+    {
+        return None;
+    }
+    // Gershgorin's discs contain every eigenvalue.
+    let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
+    for (i, d) in diagonal.iter().enumerate() {
+        let radius = off_diagonal.get(i).map_or(0.0, |b| b.abs())
+            + i.checked_sub(1).map_or(0.0, |k| off_diagonal[k].abs());
+        low = low.min(d - radius);
+        high = high.max(d + radius);
+    }
+    let scale = low.abs().max(high.abs());
+    // dstebz's pivot floor: a zero pivot counts as a tiny negative one.
+    let pivot_floor = f64::MIN_POSITIVE * couplings.iter().copied().fold(1.0, f64::max);
+    let floor = (f64::EPSILON * f64::EPSILON * scale).max(pivot_floor);
+    let resolved = |(a, b): (f64, f64)| b - a <= 4.0 * f64::EPSILON * a.abs().max(b.abs()) + floor;
+    // Brackets (a, b): for the smallest eigenvalue, none below a and at least
+    // one below b; for the largest, fewer than n below a and all below b.
+    let margin = 2.0 * f64::EPSILON * scale * size as f64 + floor;
+    let mut smallest = (low - margin, high + margin);
+    let mut largest = smallest;
+    let mut points = [0.0; LANES];
+    while !(resolved(smallest) && resolved(largest)) {
+        for k in 0..MULTISECTION_POINTS {
+            let fraction = (k + 1) as f64 / (MULTISECTION_POINTS + 1) as f64;
+            points[k] = smallest.0 + fraction * (smallest.1 - smallest.0);
+            points[MULTISECTION_POINTS + k] = largest.0 + fraction * (largest.1 - largest.0);
+        }
+        // Pivot i of T − xI: d_i − x − b²_{i−1} / pivot_{i−1} (no coupling
+        // before the first: 0 / 1).
+        let mut pivots = [1.0; LANES];
+        let mut below = [0usize; LANES];
+        for (entry, coupling) in diagonal.iter().zip(&couplings) {
+            for ((pivot, point), count) in pivots.iter_mut().zip(&points).zip(&mut below) {
+                let value = entry - point - coupling / *pivot;
+                *pivot = if value.abs() < pivot_floor {
+                    -pivot_floor
+                } else {
+                    value
+                };
+                *count += usize::from(*pivot < 0.0);
+            }
+        }
+        for k in 0..MULTISECTION_POINTS {
+            if below[k] == 0 {
+                smallest.0 = smallest.0.max(points[k]);
+            } else {
+                smallest.1 = smallest.1.min(points[k]);
+            }
+            let upper = MULTISECTION_POINTS + k;
+            if below[upper] < size {
+                largest.0 = largest.0.max(points[upper]);
+            } else {
+                largest.1 = largest.1.min(points[upper]);
+            }
+        }
+    }
+    Some((
+        0.5 * (smallest.0 + smallest.1),
+        0.5 * (largest.0 + largest.1),
+    ))
 }
 
 /// The solution of `min ‖W x − r‖` and the diagonal of `(WᵀW)⁻¹`.
@@ -581,6 +691,118 @@ mod tests {
             data[i * columns + 3] = data[i * columns] + data[i * columns + 1];
         }
         (data, rows, columns)
+    }
+
+    /// Extreme eigenvalues by nalgebra's implicit QR iteration (all of them).
+    fn extremes_by_qr(diagonal: &[f64], off_diagonal: &[f64]) -> (f64, f64) {
+        let size = diagonal.len();
+        let matrix = nalgebra::DMatrix::from_fn(size, size, |i, j| match i.abs_diff(j) {
+            0 => diagonal[i],
+            1 => off_diagonal[i.min(j)],
+            _ => 0.0,
+        });
+        let values = matrix.symmetric_eigenvalues();
+        (values.min(), values.max())
+    }
+
+    #[test]
+    fn tridiagonal_extremes_of_special_matrices() {
+        let cases: [(&[f64], &[f64]); 6] = [
+            // One entry; diagonal (a zero coupling splits the matrix); zero matrix.
+            (&[2.5], &[]),
+            (&[3.0, -1.0, 7.0], &[0.0, 0.0]),
+            (&[0.0, 0.0, 0.0], &[0.0, 0.0]),
+            // The second-difference matrix: eigenvalues 2 − 2cos(kπ/(n+1)).
+            (&[2.0; 8], &[-1.0; 7]),
+            // Wilkinson's W21⁺ (nearly equal largest pair), indefinite shift of it.
+            (
+                &[
+                    10.0, 9.0, 8.0, 7.0, 6.0, 5.0, 4.0, 3.0, 2.0, 1.0, 0.0, 1.0, 2.0, 3.0, 4.0,
+                    5.0, 6.0, 7.0, 8.0, 9.0, 10.0,
+                ],
+                &[1.0; 20],
+            ),
+            (&[-1e-3, 4e5, -2e5], &[3e2, 1e-4]),
+        ];
+        for (diagonal, off_diagonal) in cases {
+            let (smallest, largest) = tridiagonal_extremes(diagonal, off_diagonal).expect("finite");
+            let (expected_smallest, expected_largest) = extremes_by_qr(diagonal, off_diagonal);
+            // Relative to ‖T‖, with an absolute floor for the zero matrix.
+            let tolerance = 1e-14 * expected_smallest.abs().max(expected_largest.abs()) + 1e-300;
+            assert!(
+                (smallest - expected_smallest).abs() <= tolerance
+                    && (largest - expected_largest).abs() <= tolerance,
+                "{diagonal:?}: ({smallest}, {largest}) vs ({expected_smallest}, {expected_largest})"
+            );
+        }
+        let second_difference = tridiagonal_extremes(&[2.0; 8], &[-1.0; 7]).expect("finite");
+        let exact = |k: f64| 2.0 - 2.0 * (k * std::f64::consts::PI / 9.0).cos();
+        assert!((second_difference.0 - exact(1.0)).abs() < 1e-15 * 4.0);
+        assert!((second_difference.1 - exact(8.0)).abs() < 1e-15 * 4.0);
+        assert_eq!(tridiagonal_extremes(&[], &[]), None);
+        assert_eq!(tridiagonal_extremes(&[1.0, f64::NAN], &[1.0]), None);
+        assert_eq!(tridiagonal_extremes(&[1.0, 1.0], &[1e200]), None);
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn tridiagonal_extremes_agree_with_the_qr_iteration(
+            entries in proptest::collection::vec((-1e3..1e3_f64, -1e3..1e3_f64), 1..40),
+        ) {
+            let diagonal: Vec<f64> = entries.iter().map(|e| e.0).collect();
+            let off_diagonal: Vec<f64> = entries[1..].iter().map(|e| e.1).collect();
+            let (smallest, largest) =
+                tridiagonal_extremes(&diagonal, &off_diagonal).expect("finite");
+            let (expected_smallest, expected_largest) = extremes_by_qr(&diagonal, &off_diagonal);
+            // Both are backward stable: absolute agreement to a few n·ε·‖T‖.
+            let scale = expected_smallest.abs().max(expected_largest.abs()).max(1.0);
+            let tolerance = 8.0 * diagonal.len() as f64 * f64::EPSILON * scale;
+            proptest::prop_assert!((smallest - expected_smallest).abs() <= tolerance);
+            proptest::prop_assert!((largest - expected_largest).abs() <= tolerance);
+        }
+
+        #[test]
+        fn regrouping_relations_agree_with_least_squares(
+            seed in 0_u64..1000,
+            scale in -8.0..0.0_f64,
+        ) {
+            // 12 columns: 0–6 independent (column 2 scaled by 10^scale), 7–11
+            // combinations of them plus a part outside their span.
+            let mut state = seed;
+            let mut next = || {
+                state = state
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                (state >> 11) as f64 / (1_u64 << 53) as f64 - 0.5
+            };
+            let rows = 40;
+            let mut matrix = Mat::<f64>::from_fn(rows, 12, |_, _| next());
+            for i in 0..rows {
+                matrix[(i, 2)] *= 10_f64.powf(scale);
+            }
+            let coefficients = Mat::<f64>::from_fn(7, 5, |_, _| next());
+            let outside = Mat::<f64>::from_fn(rows, 5, |_, _| 1e-3 * next());
+            let combined = matrix.get(.., ..7) * &coefficients + &outside;
+            matrix.get_mut(.., 7..).copy_from(&combined);
+            let first = [6, 0, 2, 5, 1, 3, 4];
+            let second = [9, 7, 11, 8, 10];
+            let (beta, misfits) = regrouping_relations(matrix.as_ref(), &first, &second);
+            let kept = select_columns(matrix.as_ref(), &first);
+            let regrouped = select_columns(matrix.as_ref(), &second);
+            let expected = kept.qr().solve_lstsq(&regrouped);
+            let misfit = &kept * &expected - &regrouped;
+            for j in 0..second.len() {
+                for k in 0..first.len() {
+                    let size = expected.col(j).norm_l2();
+                    proptest::prop_assert!(
+                        (beta[(k, j)] - expected[(k, j)]).abs() <= 1e-9 * size,
+                        "β[{k}, {j}]: {} vs {}", beta[(k, j)], expected[(k, j)]
+                    );
+                }
+                let relative = misfit.col(j).norm_l2() / regrouped.col(j).norm_l2();
+                proptest::prop_assert!((misfits[j] - relative).abs() <= 1e-9 * relative);
+            }
+        }
     }
 
     #[test]
