@@ -79,10 +79,10 @@ fn stanford_table2_matches_the_paper_cell_for_cell() {
             report.smallest_kept
         );
         assert!(
-            report.relation_residual < 1e-9,
+            report.relation_residual() < 1e-9,
             "{}: {}",
             report.method,
-            report.relation_residual
+            report.relation_residual()
         );
     }
 }
@@ -219,7 +219,7 @@ fn regrouping_relations_hold_on_fresh_data() {
         {
             let target = system.column(space.index_of_name(&regrouped.name).expect("name"));
             let mut combination = vec![0.0; target.len()];
-            for relation in &report.relations {
+            for relation in report.relations() {
                 for (absorbed, coefficient) in &relation.absorbed {
                     if *absorbed == regrouped.name {
                         let base =

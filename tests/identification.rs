@@ -2,9 +2,9 @@
 //! noise-free and noisy data, large errors, and the reported precision.
 
 use gecaro_calib::{
-    IdentificationOptions, MeasurementSet, MethodOptions, Plane, Route, STANFORD_PLANE_POINT,
-    Sample, Sampler, StopReason, Study, TABLE2_PLANE_NORMAL, evaluate, identify, method,
-    perturbed_robot, simulate_measurements,
+    IdentificationOptions, MeasurementSet, MethodOptions, ParameterStatus, Plane, Route,
+    STANFORD_PLANE_POINT, Sample, Sampler, StopReason, Study, TABLE2_PLANE_NORMAL, evaluate,
+    identify, method, perturbed_robot, simulate_measurements,
 };
 use gecaro_core::Robot;
 use nalgebra::Vector3;
@@ -74,6 +74,26 @@ fn noise_free_data_are_reproduced_to_rounding_by_every_method() {
         let result = identify(&stanford(), &study, &IdentificationOptions::default())
             .expect("identification");
         assert_eq!(result.stop_reason, StopReason::Converged, "{name}");
+        // The structural report (relations and conditioning computed on
+        // first read): every regrouped parameter is absorbed by a relation
+        // that holds, and the random W_b is well conditioned.
+        let rank = &result.rank;
+        for regrouped in rank
+            .parameters
+            .iter()
+            .filter(|p| p.status == ParameterStatus::Regrouped)
+        {
+            assert!(
+                rank.relations()
+                    .iter()
+                    .any(|relation| relation.absorbed.iter().any(|(n, _)| *n == regrouped.name)),
+                "{name}: {} is in no relation",
+                regrouped.name
+            );
+        }
+        assert!(rank.relation_residual() < 1e-9, "{name}");
+        let condition = rank.condition_number();
+        assert!((1.0..1e4).contains(&condition), "{name}: {condition}");
         assert!(
             result.before.rms > 1e-3,
             "{name}: the errors are visible before ({})",

@@ -34,7 +34,7 @@ pub(crate) fn identifiable(args: &IdentifiableArgs) -> Result<(), Failure> {
 }
 
 fn print_excitation(excitation: &Excitation) {
-    let condition = number(excitation.report.condition_number, 1);
+    let condition = number(excitation.report.condition_number(), 1);
     if excitation.not_excited.is_empty() {
         println!(
             "Excitation: the data excite every identifiable parameter; condition number of their W_b: {condition}."
@@ -80,7 +80,7 @@ fn print_report(robot: &Robot, report: &RankReport, source: &str) {
             )
         },
         report.equations,
-        number(report.condition_number, 2)
+        number(report.condition_number(), 2)
     );
     println!(
         "id = identifiable, n = regrouped on others, 0 = no effect, - = excluded (priority 0)"
@@ -99,9 +99,9 @@ fn print_report(robot: &Robot, report: &RankReport, source: &str) {
             auxiliary.status.as_str()
         );
     }
-    if !report.relations.is_empty() {
+    if !report.relations().is_empty() {
         println!("Regrouping relations (what each base parameter identifies, eq. 32):");
-        for relation in &report.relations {
+        for relation in report.relations() {
             let terms: Vec<String> = relation
                 .absorbed
                 .iter()
@@ -116,7 +116,10 @@ fn print_report(robot: &Robot, report: &RankReport, source: &str) {
     println!(
         "Numerical zero τ = {:.1e}; smallest kept |R_ii| = {:.3e}, largest rejected = {:.1e}; \
          relations hold to {:.1e}",
-        report.tolerance, report.smallest_kept, report.largest_rejected, report.relation_residual
+        report.tolerance,
+        report.smallest_kept,
+        report.largest_rejected,
+        report.relation_residual()
     );
     println!("New priority matrix (non-identifiable set to 0):");
     let mut priority = table(&["j", "α", "d", "θ", "r", "β", "K"], 1);

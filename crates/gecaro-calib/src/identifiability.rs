@@ -13,9 +13,14 @@
 //! Every parameter is then *identifiable*, *regrouped* ('n': its column is a
 //! combination of kept ones), *no effect* ('0': its column is ~0) or
 //! *excluded* (priority 0). The regrouping relations come from
-//! `W2 = W1·β`, `β = R1⁻¹R2` (eq. 35–37), computed by least squares on the
-//! kept columns; the base parameters are `Δη_b = Δη_1 + β Δη_2` (eq. 32).
+//! `W2 = W1·β`, `β = R1⁻¹R2` (eq. 35–37), from one QR of the kept and the
+//! regrouped columns; the base parameters are `Δη_b = Δη_1 + β Δη_2` (eq. 32).
+//! The relations and the condition number of W_b are computed when first read
+//! ([`RankReport::relations`], [`RankReport::condition_number`]).
 
+use std::sync::OnceLock;
+
+use faer::Mat;
 use gecaro_core::{ParameterId, PriorityMatrix, Robot};
 
 use crate::Error;
@@ -108,27 +113,103 @@ pub struct RankReport {
     pub base_parameters: Vec<usize>,
     /// Indices of the identifiable auxiliary unknowns.
     pub base_auxiliary: Vec<usize>,
-    /// Regrouping relations, one per base parameter that absorbs something.
-    pub relations: Vec<Relation>,
-    /// Condition number σ_max/σ_min of W_b (kept columns, weighted rows).
-    pub condition_number: f64,
     /// The numerical zero τ used.
     pub tolerance: f64,
     /// Smallest |R_ii| among kept columns.
     pub smallest_kept: f64,
     /// Largest |R_ii| among rejected columns (0 if none).
     pub largest_rejected: f64,
-    /// Largest relative residual of the regrouping relations, ‖W2 − W1β‖/‖W2‖ per column.
-    pub relation_residual: f64,
     /// Rows of W.
     pub rows: usize,
     /// Independent equations.
     pub equations: usize,
     /// The input priority matrix with the non-identifiable parameters set to 0.
     pub priority: PriorityMatrix,
+    /// The regrouping relations and the condition number, when first read.
+    conditioning: Conditioning,
+}
+
+/// The parts of a [`RankReport`] that its base set does not depend on — the
+/// regrouping relations and the condition number of W_b — computed from the
+/// column geometry of W when first read: an identification, for one, needs
+/// neither from its structural analysis unless its report is shown.
+#[derive(Clone, Debug)]
+struct Conditioning {
+    /// R̃ of the ordered W (`R̃ᵀR̃ = WᵀW`, see [`column_geometry`]).
+    geometry: Mat<f64>,
+    /// The kept and the regrouped columns, in column order.
+    kept: Vec<usize>,
+    regrouped: Vec<usize>,
+    /// What each column of W stands for.
+    columns: Vec<Column>,
+    relations: OnceLock<(Vec<Relation>, f64)>,
+    condition_number: OnceLock<f64>,
+}
+
+/// A column of W: an entry of [`RankReport::auxiliary`] or of [`RankReport::parameters`].
+#[derive(Copy, Clone, Debug)]
+enum Column {
+    Auxiliary(usize),
+    Parameter(usize),
 }
 
 impl RankReport {
+    /// Regrouping relations `W2 = W1·β` (eq. 36–37), one per base parameter
+    /// that absorbs something (coefficients below 1e-8 left out).
+    pub fn relations(&self) -> &[Relation] {
+        &self.regrouping().0
+    }
+
+    /// Largest relative residual of the regrouping relations,
+    /// ‖W2 − W1β‖/‖W2‖ per column (0 when nothing is regrouped).
+    pub fn relation_residual(&self) -> f64 {
+        self.regrouping().1
+    }
+
+    /// Condition number σ_max/σ_min of W_b (kept columns, weighted rows): ∞
+    /// when nothing is kept, NaN if the singular value decomposition fails
+    /// (which it does not for the finite W that a rank test accepts).
+    pub fn condition_number(&self) -> f64 {
+        let conditioning = &self.conditioning;
+        *conditioning.condition_number.get_or_init(|| {
+            let kept = select_columns(conditioning.geometry.as_ref(), &conditioning.kept);
+            condition_number(kept.as_ref()).unwrap_or(f64::NAN)
+        })
+    }
+
+    fn regrouping(&self) -> &(Vec<Relation>, f64) {
+        let conditioning = &self.conditioning;
+        conditioning.relations.get_or_init(|| {
+            let (kept, regrouped) = (&conditioning.kept, &conditioning.regrouped);
+            if kept.is_empty() || regrouped.is_empty() {
+                return (Vec::new(), 0.0);
+            }
+            let name = |column: usize| match conditioning.columns[column] {
+                Column::Auxiliary(index) => self.auxiliary[index].name.clone(),
+                Column::Parameter(index) => self.parameters[index].name.clone(),
+            };
+            let (beta, misfits) =
+                regrouping_relations(conditioning.geometry.as_ref(), kept, regrouped);
+            let relations = kept
+                .iter()
+                .enumerate()
+                .filter_map(|(k, &base)| {
+                    let absorbed: Vec<(String, f64)> = regrouped
+                        .iter()
+                        .enumerate()
+                        .filter(|(j, _)| beta[(k, *j)].abs() > 1e-8)
+                        .map(|(j, &column)| (name(column), beta[(k, j)]))
+                        .collect();
+                    (!absorbed.is_empty()).then(|| Relation {
+                        base: name(base),
+                        absorbed,
+                    })
+                })
+                .collect();
+            (relations, misfits.iter().copied().fold(0.0, f64::max))
+        })
+    }
+
     /// Number of identifiable robot parameters (auxiliary unknowns not counted).
     pub fn count(&self) -> usize {
         self.base_parameters.len()
@@ -235,41 +316,10 @@ fn analyse(
             }
         })
         .collect();
-    let column_name = |column: usize| -> String {
-        if column < auxiliary_names.len() {
-            auxiliary_names[column].clone()
-        } else {
-            candidates[column - auxiliary_names.len()].to_string()
-        }
-    };
     let kept = rank.kept.clone();
     let regrouped: Vec<usize> = (0..columns)
         .filter(|c| statuses[*c] == ParameterStatus::Regrouped)
         .collect();
-
-    // Regrouping relations W2 = W1·β (eq. 36–37) and the conditioning of W_b.
-    let mut relations = Vec::new();
-    let mut relation_residual: f64 = 0.0;
-    if !kept.is_empty() && !regrouped.is_empty() {
-        let (beta, misfits) = regrouping_relations(geometry, &kept, &regrouped);
-        relation_residual = misfits.iter().copied().fold(0.0, f64::max);
-        for (k, &base) in kept.iter().enumerate() {
-            let absorbed: Vec<(String, f64)> = regrouped
-                .iter()
-                .enumerate()
-                .filter(|(j, _)| beta[(k, *j)].abs() > 1e-8)
-                .map(|(j, &column)| (column_name(column), beta[(k, j)]))
-                .collect();
-            if !absorbed.is_empty() {
-                relations.push(Relation {
-                    base: column_name(base),
-                    absorbed,
-                });
-            }
-        }
-    }
-    let kept_matrix = select_columns(geometry, &kept);
-    let condition_number = condition_number(kept_matrix.as_ref())?;
 
     // Reports in vocabulary order.
     let auxiliary_count = auxiliary_names.len();
@@ -332,18 +382,31 @@ fn analyse(
             .collect(),
         parameters,
         auxiliary,
-        relations,
-        condition_number,
         tolerance,
         smallest_kept: kept
             .iter()
             .map(|c| diagonal[*c])
             .fold(f64::INFINITY, f64::min),
         largest_rejected: rejected.map(|(_, d)| *d).fold(0.0, f64::max),
-        relation_residual,
         rows,
         equations,
         priority: new_priority,
+        conditioning: Conditioning {
+            geometry: reduced,
+            kept,
+            regrouped,
+            columns: auxiliary_indices
+                .iter()
+                .map(|index| Column::Auxiliary(*index))
+                .chain(
+                    candidate_indices
+                        .iter()
+                        .map(|index| Column::Parameter(*index)),
+                )
+                .collect(),
+            relations: OnceLock::new(),
+            condition_number: OnceLock::new(),
+        },
     };
     Ok((report, system))
 }

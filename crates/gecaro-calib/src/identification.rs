@@ -761,7 +761,7 @@ pub fn identify_with_progress(
         base_auxiliary,
         layout,
         rows: study.row_count(),
-        condition: excited.report.condition_number,
+        condition: excited.report.condition_number(),
     };
     // The excitation check built W_b at the nominal parameters already: reuse
     // it when every structural base parameter is excited (same columns).

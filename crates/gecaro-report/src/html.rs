@@ -213,11 +213,11 @@ pub fn html_report(input: &ReportInput<'_>) -> Result<String, Error> {
         html,
         "</table><p>{} identifiable parameters; condition number of W<sub>b</sub> on random configurations {}.</p>",
         rank.count(),
-        number(rank.condition_number)
+        number(rank.condition_number())
     );
-    if !rank.relations.is_empty() {
+    if !rank.relations().is_empty() {
         html.push_str("<details><summary>Regrouping relations (eq. 32)</summary><ul>");
-        for relation in &rank.relations {
+        for relation in rank.relations() {
             let terms: Vec<String> = relation
                 .absorbed
                 .iter()

@@ -111,17 +111,17 @@ impl IdentifiableJson {
             source: analysis.source.clone(),
             configurations: analysis.configurations,
             count: report.count(),
-            condition_number: report.condition_number,
+            condition_number: report.condition_number(),
             rows: report.rows,
             equations: report.equations,
             tolerance: report.tolerance,
             smallest_kept: report.smallest_kept,
             largest_rejected: report.largest_rejected,
-            relation_residual: report.relation_residual,
+            relation_residual: report.relation_residual(),
             parameters: report.parameters.iter().map(StatusJson::from).collect(),
             auxiliary: report.auxiliary.iter().map(StatusJson::from).collect(),
             regrouping: report
-                .relations
+                .relations()
                 .iter()
                 .map(|relation| RelationJson {
                     base: relation.base.clone(),
@@ -139,7 +139,7 @@ impl IdentifiableJson {
             excitation: analysis.excitation.as_ref().map(|checked| ExcitationJson {
                 same_base_set: checked.not_excited.is_empty(),
                 not_excited: checked.not_excited.clone(),
-                condition_number: checked.report.condition_number,
+                condition_number: checked.report.condition_number(),
             }),
         }
     }
