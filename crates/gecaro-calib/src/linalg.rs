@@ -8,6 +8,7 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::matmul::triangular::{self, BlockStructure};
 use faer::linalg::qr::no_pivoting::factor as qr_factor;
 use faer::linalg::solvers::{DenseSolveCore, Solve, SolveLstsq};
+use faer::linalg::triangular_inverse::invert_lower_triangular;
 use faer::linalg::triangular_solve::solve_upper_triangular_in_place;
 use faer::{Accum, Mat, MatRef, Par};
 
@@ -602,7 +603,10 @@ pub(crate) fn precision(
         if let (Ok(cholesky), Some((smallest, largest))) =
             (gram.llt(faer::Side::Lower), eigenvalue_range(gram.as_ref()))
         {
-            let inverse = cholesky.inverse();
+            // WᵀW = LLᵀ: (WᵀW)⁻¹ = L⁻ᵀL⁻¹, whose diagonal holds the squared
+            // column norms of L⁻¹.
+            let mut inverse_factor = Mat::<f64>::zeros(columns, columns);
+            invert_lower_triangular(inverse_factor.as_mut(), cholesky.L(), Par::Seq);
             let condition = if smallest > 0.0 {
                 (largest / smallest).sqrt()
             } else {
@@ -611,7 +615,9 @@ pub(crate) fn precision(
             return Ok((
                 LeastSquares {
                     solution: vec![0.0; columns],
-                    inverse_normal_diagonal: (0..columns).map(|i| inverse[(i, i)]).collect(),
+                    inverse_normal_diagonal: (0..columns)
+                        .map(|i| inverse_factor.col(i).get(i..).squared_norm_l2())
+                        .collect(),
                 },
                 condition,
             ));

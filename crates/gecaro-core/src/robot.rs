@@ -415,6 +415,52 @@ impl Robot {
     /// When `id` is not a parameter of this robot, the value is not finite, or
     /// a gain would become zero.
     pub fn set_parameter(&mut self, id: ParameterId, value: f64) -> Result<(), Error> {
+        if self.assign(id, value)? {
+            self.update_motor_to_joint();
+        }
+        Ok(())
+    }
+
+    /// Adds `deltas` (vocabulary order) to the parameters: η ← η + Δη.
+    ///
+    /// # Errors
+    /// When `deltas` has the wrong length, or a result is invalid (see
+    /// [`Robot::set_parameter`]).
+    pub fn apply_deltas(&mut self, deltas: &[f64]) -> Result<(), Error> {
+        if deltas.len() != self.parameters.len() {
+            return Err(Error::invalid(
+                Field::Frames,
+                format!(
+                    "a parameter update needs {} values, got {}",
+                    self.parameters.len(),
+                    deltas.len()
+                ),
+            ));
+        }
+        // Cj·diag(K)·Cm once for all the gains, even when a later value fails.
+        let mut gains_changed = false;
+        let mut outcome = Ok(());
+        for (index, delta) in deltas.iter().enumerate() {
+            if *delta != 0.0 {
+                let id = self.parameters.id(index);
+                match self.assign(id, self.parameter(id) + delta) {
+                    Ok(gain) => gains_changed |= gain,
+                    Err(error) => {
+                        outcome = Err(error);
+                        break;
+                    }
+                }
+            }
+        }
+        if gains_changed {
+            self.update_motor_to_joint();
+        }
+        outcome
+    }
+
+    /// Validates and stores one parameter value; whether it was a gain (then
+    /// the motor-to-joint map is out of date).
+    fn assign(&mut self, id: ParameterId, value: f64) -> Result<bool, Error> {
         if !self.parameters.contains(id) {
             return Err(Error::UnknownParameter {
                 name: id.to_string(),
@@ -441,40 +487,15 @@ impl Robot {
                     return Err(Error::invalid(field, "a transmission gain cannot be zero"));
                 }
                 self.joints[id.frame - 1].gain = value;
-                self.update_motor_to_joint();
+                Ok(true)
             }
             kind => {
                 if let Some(slot) = self.frames[id.frame].get_mut(kind) {
                     *slot = value;
                 }
+                Ok(false)
             }
         }
-        Ok(())
-    }
-
-    /// Adds `deltas` (vocabulary order) to the parameters: η ← η + Δη.
-    ///
-    /// # Errors
-    /// When `deltas` has the wrong length, or a result is invalid (see
-    /// [`Robot::set_parameter`]).
-    pub fn apply_deltas(&mut self, deltas: &[f64]) -> Result<(), Error> {
-        if deltas.len() != self.parameters.len() {
-            return Err(Error::invalid(
-                Field::Frames,
-                format!(
-                    "a parameter update needs {} values, got {}",
-                    self.parameters.len(),
-                    deltas.len()
-                ),
-            ));
-        }
-        for (index, delta) in deltas.iter().enumerate() {
-            if *delta != 0.0 {
-                let id = self.parameters.id(index);
-                self.set_parameter(id, self.parameter(id) + delta)?;
-            }
-        }
-        Ok(())
     }
 
     /// Joint variables from motor variables, eq. 4: `q = Cj·diag(K)·Cm·qm + Offset`.
@@ -705,4 +726,51 @@ fn validate_coupling(
         ));
     }
     Ok(matrix)
+}
+
+#[cfg(test)]
+mod tests {
+    use rand::SeedableRng;
+
+    use super::*;
+    use crate::test_robots::random_robot;
+
+    /// `deltas` added one `set_parameter` at a time, up to the first error.
+    fn one_by_one(robot: &Robot, deltas: &[f64]) -> (Robot, bool) {
+        let mut robot = robot.clone();
+        for (index, delta) in deltas.iter().enumerate() {
+            let id = robot.parameters().id(index);
+            if *delta != 0.0
+                && robot
+                    .set_parameter(id, robot.parameter(id) + delta)
+                    .is_err()
+            {
+                return (robot, false);
+            }
+        }
+        (robot, true)
+    }
+
+    #[test]
+    fn apply_deltas_keeps_the_motor_to_joint_map_in_step_with_the_gains() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        let robot = random_robot(&mut rng, 5);
+        let count = robot.parameters().len();
+        let gains: Vec<usize> = (0..count)
+            .filter(|i| robot.parameters().id(*i).kind == ParameterKind::Gain)
+            .collect();
+        assert_eq!(gains.len(), 5);
+        let mut deltas: Vec<f64> = (0..count).map(|i| 1e-3 * (i as f64 + 1.0)).collect();
+        let mut together = robot.clone();
+        together.apply_deltas(&deltas).expect("valid");
+        assert_eq!((together, true), one_by_one(&robot, &deltas));
+
+        // The fourth gain driven to zero: an error, the earlier values kept,
+        // and the map still that of the gains stored.
+        let fourth = robot.parameters().id(gains[3]);
+        deltas[gains[3]] = -robot.parameter(fourth);
+        let mut failing = robot.clone();
+        assert!(failing.apply_deltas(&deltas).is_err());
+        assert_eq!((failing, false), one_by_one(&robot, &deltas));
+    }
 }
