@@ -7,7 +7,7 @@
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::matmul::triangular::{self, BlockStructure};
 use faer::linalg::qr::no_pivoting::factor as qr_factor;
-use faer::linalg::solvers::{DenseSolveCore, Solve, SolveLstsq};
+use faer::linalg::solvers::{Solve, SolveLstsq};
 use faer::linalg::triangular_inverse::invert_lower_triangular;
 use faer::linalg::triangular_solve::solve_upper_triangular_in_place;
 use faer::{Accum, Mat, MatRef, Par};
