@@ -1,5 +1,5 @@
 //! Dense linear algebra on the tall observation matrix W, with faer (the only
-//! module that touches it; nalgebra for the eigenvalues of small Gram
+//! module that touches it; nalgebra for the tridiagonal form of small Gram
 //! matrices). faer's own threads are off (`Par::Seq`: they slow these sizes
 //! down on small machines); a tall W is cut into fixed row parts instead,
 //! spread over the cores by [`crate::parallel`] and combined in order.
