@@ -59,6 +59,36 @@ pub(crate) enum RobotCommand {
         /// Robot file or ready robot name.
         robot: String,
     },
+    /// Re-express a robot in another world frame and/or with another tool
+    /// frame (frames 0, 1 and n, n+1 rewritten; same motion otherwise).
+    Reframe {
+        /// Robot file or ready robot name.
+        robot: String,
+        /// The robot's current world frame in the new one: position (metres)
+        /// and unit quaternion.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            allow_hyphen_values = true,
+            value_name = "X,Y,Z,QW,QX,QY,QZ"
+        )]
+        world: Option<Vec<f64>>,
+        /// The new tool frame in the current one (frame n+1): position
+        /// (metres) and unit quaternion.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            allow_hyphen_values = true,
+            value_name = "X,Y,Z,QW,QX,QY,QZ"
+        )]
+        tool: Option<Vec<f64>>,
+        /// Output robot file.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Overwrite the output file if it exists.
+        #[arg(long)]
+        force: bool,
+    },
     /// Write a template robot file to edit.
     New {
         /// Joint types from joint 1 to n: R revolute, P prismatic (e.g. RRPRRR).

@@ -173,6 +173,97 @@ fn robot_new_writes_a_loadable_template_and_refuses_to_overwrite() {
 }
 
 #[test]
+fn robot_reframe_moves_the_world_and_tool_frames_and_nothing_else() {
+    use nalgebra::{IsometryMatrix3, Matrix3, Quaternion, Translation3, UnitQuaternion};
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let path = folder.path().join("moved.toml");
+    // The old world 0.5 m below and turned 45° about y; a tool 0.1 m out along
+    // z and 5 cm along y, turned 90° about x.
+    let (world, tool) = (
+        "0.1,0.2,-0.5,0.9238795325112867,0,0.3826834323650898,0",
+        "0,0.05,0.1,0.7071067811865476,0.7071067811865476,0,0",
+    );
+    gecaro()
+        .args([
+            "robot", "reframe", "stanford", "--world", world, "--tool", tool, "-o",
+        ])
+        .arg(&path)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("frames 0, 1 and 6, 7 rewritten"));
+    let pose = |text: &str| -> IsometryMatrix3<f64> {
+        let v: Vec<f64> = text
+            .split(',')
+            .map(|x| x.parse().expect("number"))
+            .collect();
+        let rotation = UnitQuaternion::from_quaternion(Quaternion::new(v[3], v[4], v[5], v[6]));
+        IsometryMatrix3::from_parts(
+            Translation3::new(v[0], v[1], v[2]),
+            rotation.to_rotation_matrix(),
+        )
+    };
+    let fk = |robot: &str, qm: &str| -> IsometryMatrix3<f64> {
+        let json = json_output(&["fk", robot, "--qm", qm, "--json"]);
+        let p = as_f64s(&json["position"]);
+        let rows: Vec<Vec<f64>> = json["rotation"]
+            .as_array()
+            .expect("rows")
+            .iter()
+            .map(as_f64s)
+            .collect();
+        let rotation = Matrix3::from_fn(|i, j| rows[i][j]);
+        IsometryMatrix3::from_parts(
+            Translation3::new(p[0], p[1], p[2]),
+            nalgebra::Rotation3::from_matrix_unchecked(rotation),
+        )
+    };
+    let moved = path.to_str().expect("utf-8 path");
+    for qm in [
+        "0,0,0.5,0,0,0",
+        "0.3,-0.4,0.6,0.2,0.9,-1.1",
+        "-2,1,0.2,3,-1,0.5",
+    ] {
+        let expected = pose(world) * fk("stanford", qm) * pose(tool);
+        let got = fk(moved, qm);
+        let difference = expected.inverse() * got;
+        assert!(
+            difference.translation.vector.norm() < 1e-9
+                && (difference.rotation.matrix() - Matrix3::identity()).norm() < 1e-9,
+            "{qm}: {difference:?}"
+        );
+    }
+    // Only one of the two: frames 0, 1 only; nothing asked: a usage error, no file.
+    let world_only = folder.path().join("world.toml");
+    gecaro()
+        .args(["robot", "reframe", "stanford", "--world", world, "-o"])
+        .arg(&world_only)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("frames 0, 1 rewritten"));
+    let nothing = folder.path().join("nothing.toml");
+    gecaro()
+        .args(["robot", "reframe", "stanford", "-o"])
+        .arg(&nothing)
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("give --world, --tool or both"));
+    gecaro()
+        .args([
+            "robot",
+            "reframe",
+            "stanford",
+            "--tool",
+            "0,0,0,2,0,0,0",
+            "-o",
+        ])
+        .arg(&nothing)
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("--tool has norm 2.000000"));
+    assert!(!nothing.exists());
+}
+
+#[test]
 fn bad_command_lines_are_clear_errors() {
     gecaro()
         .args(["fk", "stanfrod", "--qm", "0,0,0,0,0,0"])

@@ -12,14 +12,14 @@ use gecaro_calib::{
 };
 use gecaro_core::Robot;
 use gecaro_io::{
-    OutputPolicy, RobotFile, format_robot_file, load_robot, read_priority_file, read_robot_file,
-    read_samples, write_atomically, write_samples,
+    RobotFile, format_robot_file, load_robot, read_priority_file, read_robot_file, read_samples,
+    write_atomically, write_samples,
 };
 use gecaro_report::json::{IdentificationJson, SummaryJson};
 use indicatif::{ProgressBar, ProgressStyle};
 use nalgebra::Vector3;
 
-use super::options::{load_study, method_options};
+use super::options::{load_study, method_options, output_policy};
 use crate::cli::{
     DemoArgs, EvaluateArgs, GenerateArgs, IdentificationRunArgs, IdentifyArgs, ReportArgs,
     SolverArg,
@@ -35,14 +35,6 @@ fn mm(metres: f64) -> String {
 /// Degrees, for human output of angles.
 fn degrees(radians: f64) -> String {
     number(radians.to_degrees(), 4)
-}
-
-fn policy(force: bool) -> OutputPolicy {
-    if force {
-        OutputPolicy::Overwrite
-    } else {
-        OutputPolicy::KeepExisting
-    }
 }
 
 /// Refuses early, before any work or any file is written, an output that
@@ -119,7 +111,7 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
         robot.joint_count(),
         chosen.data_columns(),
         &samples,
-        policy(args.force),
+        output_policy(args.force),
     )?;
     println!(
         "wrote {} configurations ({}) to {}",
@@ -160,7 +152,7 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
         write_atomically(
             real_out,
             format_robot_file(&file).as_bytes(),
-            policy(args.force),
+            output_policy(args.force),
         )?;
         println!("wrote the real robot to {}", real_out.display());
     }
@@ -283,7 +275,7 @@ fn write_plots(
         check_output(path, force)?;
     }
     for (path, (_, svg)) in paths.iter().zip(&plots) {
-        write_atomically(path, svg.as_bytes(), policy(force))?;
+        write_atomically(path, svg.as_bytes(), output_policy(force))?;
     }
     Ok(paths)
 }
@@ -320,7 +312,7 @@ pub(crate) fn report(args: &ReportArgs) -> Result<(), Failure> {
         identification: &run.result,
         command: &command_line(),
     })?;
-    write_atomically(&args.output, html.as_bytes(), policy(args.force))?;
+    write_atomically(&args.output, html.as_bytes(), output_policy(args.force))?;
     println!(
         "wrote the report of {} ({} method, {}) to {}",
         run.file.robot.name(),
@@ -365,7 +357,7 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         write_atomically(
             output,
             format_robot_file(&calibrated).as_bytes(),
-            policy(args.force),
+            output_policy(args.force),
         )?;
         if !args.json {
             println!("wrote the calibrated robot to {}", output.display());

@@ -5,7 +5,7 @@ use gecaro_core::{
     parameter_jacobian,
 };
 use gecaro_io::load_robot;
-use nalgebra::{IsometryMatrix3, Quaternion, UnitQuaternion};
+use nalgebra::IsometryMatrix3;
 use serde::Serialize;
 
 use crate::cli::{ConfigurationArgs, IkArgs};
@@ -109,26 +109,7 @@ pub(crate) fn inverse(args: &IkArgs) -> Result<(), Failure> {
     let target = match &args.orientation {
         None => Target::Position(position),
         Some(values) => {
-            let [w, x, y, z] = values[..] else {
-                return Err(Failure::usage(
-                    format!(
-                        "--orientation needs four numbers (qw,qx,qy,qz), got {}",
-                        values.len()
-                    ),
-                    Some("for example: --orientation 1,0,0,0".to_owned()),
-                ));
-            };
-            let quaternion = Quaternion::new(w, x, y, z);
-            if !quaternion.norm().is_finite() || (quaternion.norm() - 1.0).abs() > 1e-6 {
-                return Err(Failure::usage(
-                    format!(
-                        "--orientation has norm {:.6}, not 1: it is not a unit quaternion",
-                        quaternion.norm()
-                    ),
-                    None,
-                ));
-            }
-            let rotation = UnitQuaternion::from_quaternion(quaternion).to_rotation_matrix();
+            let rotation = super::options::rotation(values, "--orientation")?;
             Target::Frame(IsometryMatrix3::from_parts(position.into(), rotation))
         }
     };

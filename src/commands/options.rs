@@ -2,10 +2,20 @@
 
 use gecaro_calib::{MethodOptions, Plane};
 use gecaro_core::OrientationDifference;
-use nalgebra::Vector3;
+use gecaro_io::OutputPolicy;
+use nalgebra::{IsometryMatrix3, Quaternion, Rotation3, UnitQuaternion, Vector3};
 
 use crate::cli::{MethodOptionArgs, OrientationMethod, PlaneKnowledge};
 use crate::failure::Failure;
+
+/// What `--force` says of an existing output file.
+pub(crate) fn output_policy(force: bool) -> OutputPolicy {
+    if force {
+        OutputPolicy::Overwrite
+    } else {
+        OutputPolicy::KeepExisting
+    }
+}
 
 /// Three comma-separated numbers from an option.
 pub(crate) fn vector3(values: &[f64], option: &str) -> Result<Vector3<f64>, Failure> {
@@ -19,6 +29,48 @@ pub(crate) fn vector3(values: &[f64], option: &str) -> Result<Vector3<f64>, Fail
             Some(format!("for example: {option} 0.3,0.5,0.81")),
         )),
     }
+}
+
+/// A rotation from four comma-separated numbers: a unit quaternion qw,qx,qy,qz.
+pub(crate) fn rotation(values: &[f64], option: &str) -> Result<Rotation3<f64>, Failure> {
+    let [w, x, y, z] = values[..] else {
+        return Err(Failure::usage(
+            format!(
+                "{option} needs four numbers (qw,qx,qy,qz), got {}",
+                values.len()
+            ),
+            Some(format!("for example: {option} 1,0,0,0")),
+        ));
+    };
+    let quaternion = Quaternion::new(w, x, y, z);
+    if !quaternion.norm().is_finite() || (quaternion.norm() - 1.0).abs() > 1e-6 {
+        return Err(Failure::usage(
+            format!(
+                "{option} has norm {:.6}, not 1: it is not a unit quaternion",
+                quaternion.norm()
+            ),
+            None,
+        ));
+    }
+    Ok(UnitQuaternion::from_quaternion(quaternion).to_rotation_matrix())
+}
+
+/// A rigid transform from seven comma-separated numbers: position x,y,z
+/// (metres), then a unit quaternion qw,qx,qy,qz.
+pub(crate) fn pose(values: &[f64], option: &str) -> Result<IsometryMatrix3<f64>, Failure> {
+    if values.len() != 7 {
+        return Err(Failure::usage(
+            format!(
+                "{option} needs seven numbers (x,y,z,qw,qx,qy,qz), got {}",
+                values.len()
+            ),
+            Some(format!("for example: {option} 0.1,0,0.5,1,0,0,0")),
+        ));
+    }
+    Ok(IsometryMatrix3::from_parts(
+        vector3(&values[..3], option)?.into(),
+        rotation(&values[3..], option)?,
+    ))
 }
 
 /// The plane given by `--plane-normal` and `--plane-point`, if any.

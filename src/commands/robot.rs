@@ -1,9 +1,10 @@
-//! `gecaro robot show | check | new`.
+//! `gecaro robot show | check | reframe | new`.
 
 use gecaro_core::{FrameType, Joint, Robot};
-use gecaro_io::{
-    AngleUnit, OutputPolicy, RobotFile, format_robot_file, load_robot, write_atomically,
-};
+use gecaro_io::{AngleUnit, RobotFile, format_robot_file, load_robot, write_atomically};
+use nalgebra::IsometryMatrix3;
+
+use super::options::output_policy;
 
 use crate::cli::RobotCommand;
 use crate::failure::Failure;
@@ -13,6 +14,13 @@ pub(crate) fn run(command: RobotCommand) -> Result<(), Failure> {
     match command {
         RobotCommand::Show { robot, deg } => show(&robot, deg),
         RobotCommand::Check { robot } => check(&robot),
+        RobotCommand::Reframe {
+            robot,
+            world,
+            tool,
+            output,
+            force,
+        } => reframe(&robot, world.as_deref(), tool.as_deref(), &output, force),
         RobotCommand::New {
             joints,
             output,
@@ -166,6 +174,66 @@ fn notes(robot: &Robot) -> Vec<String> {
     notes
 }
 
+fn reframe(
+    name: &str,
+    world: Option<&[f64]>,
+    tool: Option<&[f64]>,
+    output: &std::path::Path,
+    force: bool,
+) -> Result<(), Failure> {
+    if world.is_none() && tool.is_none() {
+        return Err(Failure::usage(
+            "nothing to change: give --world, --tool or both",
+            Some(
+                "for example: --world 0,0,-0.5,1,0,0,0 (the old world 0.5 m below the new one)"
+                    .to_owned(),
+            ),
+        ));
+    }
+    let original = load_robot(name)?;
+    let pose = |values: Option<&[f64]>, option| {
+        values.map_or(Ok(IsometryMatrix3::identity()), |values| {
+            super::options::pose(values, option)
+        })
+    };
+    let new_world_from_old_world = pose(world, "--world")?;
+    let old_tool_from_new_tool = pose(tool, "--tool")?;
+    let robot = original
+        .robot
+        .reframed(&new_world_from_old_world, &old_tool_from_new_tool)?;
+    let changed: Vec<&str> = [(world, "world"), (tool, "tool")]
+        .iter()
+        .filter(|(values, _)| values.is_some())
+        .map(|(_, frame)| *frame)
+        .collect();
+    let file = RobotFile {
+        description: Some(format!(
+            "{} with a new {} frame (gecaro robot reframe)",
+            robot.name(),
+            changed.join(" and ")
+        )),
+        robot,
+        angle_unit: original.angle_unit,
+    };
+    write_atomically(
+        output,
+        format_robot_file(&file).as_bytes(),
+        output_policy(force),
+    )?;
+    let n = file.robot.joint_count();
+    let frames: Vec<String> = [(world, "0, 1"), (tool, &format!("{n}, {}", n + 1) as &str)]
+        .iter()
+        .filter(|(values, _)| values.is_some())
+        .map(|(_, frames)| (*frames).to_owned())
+        .collect();
+    println!(
+        "wrote {} (frames {} rewritten)",
+        output.display(),
+        frames.join(" and ")
+    );
+    Ok(())
+}
+
 fn new(letters: &str, output: &std::path::Path, force: bool) -> Result<(), Failure> {
     let name = output.file_stem().map_or_else(
         || "robot".into(),
@@ -191,12 +259,7 @@ fn new(letters: &str, output: &std::path::Path, force: bool) -> Result<(), Failu
             angle_unit: AngleUnit::Radians,
         })
     );
-    let policy = if force {
-        OutputPolicy::Overwrite
-    } else {
-        OutputPolicy::KeepExisting
-    };
-    write_atomically(output, text.as_bytes(), policy)?;
+    write_atomically(output, text.as_bytes(), output_policy(force))?;
     println!(
         "wrote {} ({} joints: {letters})",
         output.display(),
