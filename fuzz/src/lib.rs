@@ -12,7 +12,7 @@ use axum::Router;
 use axum::body::Body;
 use axum::http::{Request, StatusCode, header};
 use gecaro_calib::{METHODS, MethodOptions, Study};
-use gecaro_web::{AppState, Workspace, router};
+use gecaro_web::{AppState, POST_ROUTES, Workspace, router};
 use http_body_util::BodyExt;
 use tower::ServiceExt;
 
@@ -85,19 +85,8 @@ pub fn data_file(input: &[u8]) {
     }
 }
 
-/// The POST routes of the web API, picked by the first byte (0–6).
-pub const POST_ROUTES: &[&str] = &[
-    "/api/robots/check",
-    "/api/robots/new",
-    "/api/robots/save",
-    "/api/robots/pose",
-    "/api/identifiable",
-    "/api/generate",
-    "/api/identify",
-];
-
-/// The GET routes, picked by the first byte (7 and above); the rest of the
-/// input is appended to the path.
+/// The GET routes, picked by the first byte from 7 on (0–6 pick one of
+/// [`POST_ROUTES`]); the rest of the input is appended to the path.
 pub const GET_ROUTES: &[&str] = &[
     "/api/robots/ready/",
     "/api/robots/file?path=",

@@ -201,16 +201,21 @@ fn reframe(
     let robot = original
         .robot
         .reframed(&new_world_from_old_world, &old_tool_from_new_tool)?;
-    let changed: Vec<&str> = [(world, "world"), (tool, "tool")]
-        .iter()
-        .filter(|(values, _)| values.is_some())
-        .map(|(_, frame)| *frame)
-        .collect();
+    // What was rewritten: the frames' names and numbers.
+    let n = robot.joint_count();
+    let (frames, numbers): (Vec<&str>, Vec<String>) = [
+        (world.is_some(), "world", "0, 1".to_owned()),
+        (tool.is_some(), "tool", format!("{n}, {}", n + 1)),
+    ]
+    .into_iter()
+    .filter(|(given, _, _)| *given)
+    .map(|(_, frame, numbers)| (frame, numbers))
+    .unzip();
     let file = RobotFile {
         description: Some(format!(
             "{} with a new {} frame (gecaro robot reframe)",
             robot.name(),
-            changed.join(" and ")
+            frames.join(" and ")
         )),
         robot,
         angle_unit: original.angle_unit,
@@ -220,16 +225,10 @@ fn reframe(
         format_robot_file(&file).as_bytes(),
         output_policy(force),
     )?;
-    let n = file.robot.joint_count();
-    let frames: Vec<String> = [(world, "0, 1"), (tool, &format!("{n}, {}", n + 1) as &str)]
-        .iter()
-        .filter(|(values, _)| values.is_some())
-        .map(|(_, frames)| (*frames).to_owned())
-        .collect();
     println!(
         "wrote {} (frames {} rewritten)",
         output.display(),
-        frames.join(" and ")
+        numbers.join(" and ")
     );
     Ok(())
 }

@@ -166,7 +166,7 @@ impl RankReport {
         self.regrouping().1
     }
 
-    /// Condition number σ_max/σ_min of W_b (kept columns, weighted rows): ∞
+    /// Condition number σ_max/σ_min of W_b (kept columns, weighted rows): 1
     /// when nothing is kept, NaN if the singular value decomposition fails
     /// (which it does not for the finite W that a rank test accepts).
     pub fn condition_number(&self) -> f64 {

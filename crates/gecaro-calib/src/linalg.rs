@@ -433,8 +433,7 @@ fn eigenvalue_range(gram: MatRef<'_, f64>) -> Option<(f64, f64)> {
     }
     let (diagonal, off_diagonal) =
         nalgebra::SymmetricTridiagonal::new(symmetric).unpack_tridiagonal();
-    let (smallest, largest) = tridiagonal_extremes(diagonal.as_slice(), off_diagonal.as_slice())?;
-    (smallest.is_finite() && largest.is_finite()).then_some((smallest, largest))
+    tridiagonal_extremes(diagonal.as_slice(), off_diagonal.as_slice())
 }
 
 /// Trial points per end and sweep of [`tridiagonal_extremes`].

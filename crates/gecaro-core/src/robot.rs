@@ -439,19 +439,15 @@ impl Robot {
         }
         // Cj·diag(K)·Cm once for all the gains, even when a later value fails.
         let mut gains_changed = false;
-        let mut outcome = Ok(());
-        for (index, delta) in deltas.iter().enumerate() {
-            if *delta != 0.0 {
+        let outcome = deltas
+            .iter()
+            .enumerate()
+            .filter(|(_, delta)| **delta != 0.0)
+            .try_for_each(|(index, delta)| {
                 let id = self.parameters.id(index);
-                match self.assign(id, self.parameter(id) + delta) {
-                    Ok(gain) => gains_changed |= gain,
-                    Err(error) => {
-                        outcome = Err(error);
-                        break;
-                    }
-                }
-            }
-        }
+                gains_changed |= self.assign(id, self.parameter(id) + delta)?;
+                Ok(())
+            });
         if gains_changed {
             self.update_motor_to_joint();
         }

@@ -43,6 +43,7 @@ use axum::Router;
 use axum::extract::DefaultBodyLimit;
 use axum::routing::get;
 
+pub use api::POST_ROUTES;
 pub use error::ApiError;
 pub use state::AppState;
 pub use workspace::Workspace;

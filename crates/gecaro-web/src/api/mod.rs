@@ -35,6 +35,19 @@ impl<T: serde::Serialize> axum::response::IntoResponse for Json<T> {
     }
 }
 
+/// Every POST route of the API (full paths), each taking a JSON body: for
+/// clients, tests and the fuzz targets. [`routes`] registers them (a test
+/// checks that each one answers).
+pub const POST_ROUTES: [&str; 7] = [
+    "/api/robots/check",
+    "/api/robots/new",
+    "/api/robots/save",
+    "/api/robots/pose",
+    "/api/identifiable",
+    "/api/generate",
+    "/api/identify",
+];
+
 /// The routes under `/api`.
 pub(crate) fn routes() -> Router<AppState> {
     Router::new()
