@@ -148,6 +148,7 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
                 args.seed
             )),
             angle_unit: nominal.angle_unit,
+            urdf: nominal.urdf.clone(),
         };
         write_atomically(
             real_out,

@@ -217,6 +217,14 @@ fn reframe(
             robot.name(),
             frames.join(" and ")
         )),
+        urdf: original.urdf.as_ref().map(|names| {
+            names.reframed(
+                &original.robot,
+                &robot,
+                &new_world_from_old_world,
+                &old_tool_from_new_tool,
+            )
+        }),
         robot,
         angle_unit: original.angle_unit,
     };
@@ -256,6 +264,7 @@ fn new(letters: &str, output: &std::path::Path, force: bool) -> Result<(), Failu
             robot,
             description: Some(format!("{letters} arm (template)")),
             angle_unit: AngleUnit::Radians,
+            urdf: None,
         })
     );
     write_atomically(output, text.as_bytes(), output_policy(force))?;

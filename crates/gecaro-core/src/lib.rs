@@ -9,6 +9,8 @@
 //! - [`ParameterSpace`]: the parameter vector η and its names
 //!   (`theta0 r0 alpha1 d1 theta1 r1 beta1 … K1 … Kn`).
 //! - [`PriorityMatrix`]: the (n+2)×6 priority matrix and the default rules of §4.
+//! - [`AxisChain`]: a chain given by its joint axes at q = 0 (URDF's form) and
+//!   its Khalil–Kleinfinger frames, with Hayati's β for (nearly) parallel axes.
 //! - Kinematics: [`forward_kinematics`] (eq. 1), [`pose_difference`]
 //!   (Appendix I), [`parameter_jacobian`] (Appendix II) and the numerical
 //!   [`inverse_kinematics`].
@@ -57,9 +59,11 @@
 
 #![warn(missing_docs)]
 
+mod axis_chain;
 mod error;
 mod kinematics;
 mod parameters;
+mod placement;
 mod priority;
 mod reframe;
 mod robot;
@@ -67,6 +71,7 @@ mod robot;
 #[cfg(test)]
 mod test_robots;
 
+pub use axis_chain::{AxisChain, ChainJoint};
 pub use error::{Error, Field};
 pub use kinematics::{
     ChainBuffer, FrameChain, InverseOptions, InverseSolution, JacobianRows, KinematicModel,
@@ -75,6 +80,7 @@ pub use kinematics::{
     pose_difference, terminal_pose,
 };
 pub use parameters::{ParameterId, ParameterKind, ParameterSpace};
+pub use placement::NEARLY_PARALLEL_DEGREES;
 pub use priority::PriorityMatrix;
 pub use robot::{Frame, FrameType, Joint, Robot, RobotSpec};
 

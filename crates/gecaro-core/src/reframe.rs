@@ -15,85 +15,47 @@
 //! measurements as well, makes the tables generic and well conditioned without
 //! losing information — the reason the paper's Stanford arm has α1 = 0.1.
 //!
-//! Both rewrites solve the same decomposition: a rigid transform `H` given in a
-//! frame whose z axis is a joint axis is written
-//! `H = Rot(z, θa)·Trans(z, ra)·Rot(x, α)·Trans(x, d)·Rot(z, θb)·Trans(z, rb)`,
-//! the x axis of the middle frame on the common normal of the two z axes.
+//! Both rewrites keep every other frame and place the rewritten ones by the
+//! rules of [`crate::placement`]: frame 0 (on the new world z axis) and frame
+//! n (on axis n) face the next axis on their common normal, or with Hayati's
+//! β when it is parallel or nearly so — never with a common normal far away;
+//! x points from the axis towards the next one (d ≥ 0).
 
 use nalgebra::{IsometryMatrix3, Vector3};
 
 use crate::kinematics::frame_transform;
+use crate::placement::{Line, decompose, nearly_parallel, place_facing, z_axis_of};
 use crate::robot::{Frame, FrameType, Robot};
 use crate::{Error, Field};
 
-/// The six parameters of `H = Rz(θa)·Tz(ra)·Rx(α)·Tx(d)·Rz(θb)·Tz(rb)`.
-#[derive(Copy, Clone, Debug, PartialEq)]
-struct SixParameters {
-    theta_a: f64,
-    r_a: f64,
-    alpha: f64,
-    d: f64,
-    theta_b: f64,
-    r_b: f64,
+/// The world poses of `frames` at q = 0.
+fn poses_at_zero(frames: &[Frame]) -> Vec<IsometryMatrix3<f64>> {
+    frames
+        .iter()
+        .scan(IsometryMatrix3::identity(), |pose, frame| {
+            *pose *= frame_transform(frame, 0.0);
+            Some(*pose)
+        })
+        .collect()
 }
 
-/// Lines closer to parallel than this (sine of their angle) are treated as parallel.
-const PARALLEL: f64 = 1e-12;
-
-fn decompose(transform: &IsometryMatrix3<f64>) -> SixParameters {
-    let z_axis = Vector3::z();
-    let rotation = transform.rotation.matrix();
-    let z_b: Vector3<f64> = rotation.column(2).into();
-    let x_b: Vector3<f64> = rotation.column(0).into();
-    let origin = transform.translation.vector;
-    let cross = z_axis.cross(&z_b);
-    let (foot_a, normal, distance) = if cross.norm() > PARALLEL {
-        // Closest points of the z axis (through 0) and of the line origin + t·z_b.
-        let b = z_axis.dot(&z_b);
-        let denominator = 1.0 - b * b;
-        let d = -z_axis.dot(&origin);
-        let e = -z_b.dot(&origin);
-        let s = (b * e - d) / denominator;
-        let t = (e - b * d) / denominator;
-        let foot_a = z_axis * s;
-        let foot_b = origin + z_b * t;
-        let between = foot_b - foot_a;
-        let normal = if between.norm() > 1e-15 {
-            between.normalize()
-        } else {
-            cross.normalize()
-        };
-        (s, normal, between.dot(&normal))
+/// Preferred senses of the x axis of a frame on `line` facing `next`: from
+/// `line` towards `next` (so that d ≥ 0), else along z × z_next, else (the
+/// axes coincide) the frame's old x.
+fn towards(line: &Line, next: &Line, old_x: Vector3<f64>) -> [Vector3<f64>; 3] {
+    let between = if nearly_parallel(&line.direction, &next.direction) {
+        let offset = next.point - line.point;
+        offset - line.direction.into_inner() * line.direction.dot(&offset)
     } else {
-        // Parallel axes: the normal through the new frame's origin.
-        let radial = origin - z_axis * origin.z;
-        if radial.norm() > 1e-15 {
-            (origin.z, radial.normalize(), radial.norm())
-        } else {
-            let fallback = x_b - z_axis * x_b.z;
-            (
-                origin.z,
-                if fallback.norm() > 1e-12 {
-                    fallback.normalize()
-                } else {
-                    Vector3::x()
-                },
-                0.0,
-            )
-        }
+        next.closest_point_to(line) - line.closest_point_to(next)
     };
-    let theta_a = normal.y.atan2(normal.x);
-    let alpha = z_axis.cross(&z_b).dot(&normal).atan2(z_axis.dot(&z_b));
-    let foot_b = z_axis * foot_a + normal * distance;
-    let r_b = (origin - foot_b).dot(&z_b);
-    let theta_b = normal.cross(&x_b).dot(&z_b).atan2(normal.dot(&x_b));
-    SixParameters {
-        theta_a,
-        r_a: foot_a,
-        alpha,
-        d: distance,
-        theta_b,
-        r_b,
+    [between, line.direction.cross(&next.direction), old_x]
+}
+
+fn line_of(pose: &IsometryMatrix3<f64>) -> Line {
+    Line {
+        point: pose.translation.vector,
+        direction: z_axis_of(pose),
     }
 }
 
@@ -101,8 +63,8 @@ impl Robot {
     /// The same robot in another world frame and with another tool frame (see
     /// the module docs): `new_world_from_old_world` maps old world coordinates
     /// to new ones, `old_tool_from_new_tool` is the new tool frame in the old one.
-    /// Frames 0 and 1 (and the β of frame 1) change when the world changes,
-    /// frames n and n+1 (the θ or r offset of joint n) when the tool changes.
+    /// Frames 0 and 1 change when the world changes, frames n and n+1 (the θ
+    /// and r of joint n) when the tool changes.
     ///
     /// # Errors
     /// [`Error::Invalid`] for a one-joint robot when both frames change (frame 1
@@ -133,48 +95,58 @@ impl Robot {
         let mut spec = self.to_spec();
         let frames = &mut spec.frames;
         if world_changes {
-            // Frame 1 at q1 = 0 in the new world: Rz(θ0)Tz(r0)·Rx(α1)Tx(d1)Rz(θ1)Tz(r1).
-            let pose = new_world_from_old_world
-                * frame_transform(&frames[0], 0.0)
-                * frame_transform(&frames[1], 0.0);
-            let six = decompose(&pose);
-            frames[0].theta = six.theta_a;
-            frames[0].r = six.r_a;
-            frames[1] = Frame {
-                frame_type: frames[1].frame_type,
-                alpha: six.alpha,
-                d: six.d,
-                theta: six.theta_b,
-                r: six.r_b,
-                beta: 0.0,
+            let old = poses_at_zero(frames);
+            let frame_one = new_world_from_old_world * old[1];
+            let axis_one = line_of(&frame_one);
+            let world_z = Line {
+                point: Vector3::zeros(),
+                direction: Vector3::z_axis(),
             };
+            let frame_zero = place_facing(
+                &world_z,
+                &axis_one,
+                || Vector3::z() * frame_one.translation.vector.z,
+                &towards(
+                    &world_z,
+                    &axis_one,
+                    new_world_from_old_world.rotation * (old[0].rotation * Vector3::x()),
+                ),
+            );
+            frames[0] = Frame {
+                theta: frame_zero.x.y.atan2(frame_zero.x.x),
+                r: frame_zero.origin.z,
+                ..Frame::new(FrameType::Fixed)
+            };
+            frames[1] = decompose(
+                &(frame_zero.pose().inverse() * frame_one),
+                frames[1].frame_type,
+                nearly_parallel(&world_z.direction, &axis_one.direction),
+            );
         }
         if tool_changes {
-            // The new tool seen from frame n without its θ and r offsets.
-            let joint = frames[n];
-            let offsets = frame_transform(
-                &Frame {
-                    frame_type: FrameType::Fixed,
-                    alpha: 0.0,
-                    d: 0.0,
-                    theta: joint.theta,
-                    r: joint.r,
-                    beta: 0.0,
-                },
-                0.0,
+            let poses = poses_at_zero(frames);
+            let (frame_n, tool) = (poses[n], poses[n + 1] * old_tool_from_new_tool);
+            let axis_n = line_of(&frame_n);
+            let old_x = frame_n.rotation * Vector3::x();
+            let placed = place_facing(
+                &axis_n,
+                &line_of(&tool),
+                || frame_n.translation.vector,
+                &towards(&axis_n, &line_of(&tool), old_x),
             );
-            let pose = offsets * frame_transform(&frames[n + 1], 0.0) * old_tool_from_new_tool;
-            let six = decompose(&pose);
-            frames[n].theta = six.theta_a;
-            frames[n].r = six.r_a;
-            frames[n + 1] = Frame {
-                frame_type: FrameType::Fixed,
-                alpha: six.alpha,
-                d: six.d,
-                theta: six.theta_b,
-                r: six.r_b,
-                beta: 0.0,
-            };
+            // Frame n turns about and slides along its own z axis: only θ_n, r_n change.
+            let turn = old_x
+                .cross(&placed.x)
+                .dot(&axis_n.direction)
+                .atan2(old_x.dot(&placed.x));
+            let theta = frames[n].theta + turn;
+            frames[n].theta = theta.sin().atan2(theta.cos());
+            frames[n].r += (placed.origin - axis_n.point).dot(&axis_n.direction);
+            frames[n + 1] = decompose(
+                &(placed.pose().inverse() * tool),
+                FrameType::Fixed,
+                nearly_parallel(&axis_n.direction, &z_axis_of(&tool)),
+            );
         }
         // A user's priority matrix keeps its meaning cell by cell.
         Robot::new(spec)
@@ -253,6 +225,40 @@ mod tests {
             );
             let qm = [0.3, -0.2, 0.5, 0.1, 0.4, -0.6];
             let expected = world * terminal_pose(&robot, &qm).expect("valid");
+            let got = terminal_pose(&reframed, &qm).expect("valid");
+            assert!(
+                (expected.to_homogeneous() - got.to_homogeneous())
+                    .abs()
+                    .max()
+                    < 1e-12
+            );
+        }
+    }
+
+    #[test]
+    fn nearly_parallel_world_and_tool_frames_take_beta_not_a_far_normal() {
+        let robot = stanford();
+        let poses = poses_at_zero(robot.frames());
+        // A world whose z axis is 1e-4 rad from axis 1, and a tool whose z is
+        // 2e-4 rad from axis 6, both well off the axes.
+        let tilt = |angle: f64| {
+            IsometryMatrix3::from_parts(
+                nalgebra::Translation3::new(0.2, -0.1, 0.05),
+                nalgebra::Rotation3::from_axis_angle(&Vector3::x_axis(), angle),
+            )
+        };
+        let world = tilt(1e-4) * poses[1].inverse();
+        let tool = poses[7].inverse() * poses[6] * tilt(2e-4);
+        let reframed = robot.reframed(&world, &tool).expect("valid");
+        for frame in reframed.frames() {
+            assert!(frame.d.abs() < 1.0 && frame.r.abs() < 1.0, "{frame:?}");
+        }
+        assert!(reframed.frames()[1].beta != 0.0 && reframed.frames()[7].beta != 0.0);
+        for qm in [
+            [0.3, -0.2, 0.5, 0.1, 0.4, -0.6],
+            [1.0, 0.5, 0.2, -2.0, 1.1, 0.7],
+        ] {
+            let expected = world * terminal_pose(&robot, &qm).expect("valid") * tool;
             let got = terminal_pose(&reframed, &qm).expect("valid");
             assert!(
                 (expected.to_homogeneous() - got.to_homogeneous())

@@ -15,6 +15,7 @@ use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
 use crate::robot_file::{AngleUnit, RobotFile};
+use crate::urdf::names::UrdfDocument;
 
 /// A robot file's content (see the robot file format in the README).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -38,6 +39,9 @@ pub struct RobotDocument {
     /// A priority matrix overriding the defaults.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub priority: Option<PriorityDocument>,
+    /// Names kept from an imported URDF.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub urdf: Option<UrdfDocument>,
 }
 
 /// One frame as written; omitted keys take their defaults.
@@ -138,7 +142,7 @@ pub struct DocumentError {
 }
 
 impl DocumentError {
-    fn new(location: Location, message: impl Into<String>) -> Self {
+    pub(crate) fn new(location: Location, message: impl Into<String>) -> Self {
         DocumentError {
             location,
             message: message.into(),
@@ -210,6 +214,7 @@ impl RobotDocument {
             frame,
             coupling,
             priority,
+            urdf: file.urdf.as_ref().map(UrdfDocument::from_names),
         }
     }
 
@@ -294,10 +299,16 @@ impl RobotDocument {
             priority,
         })
         .map_err(model_error)?;
+        let urdf = self
+            .urdf
+            .as_ref()
+            .map(|urdf| urdf.read(robot.joint_count()))
+            .transpose()?;
         Ok(RobotFile {
             robot,
             description: self.description.clone(),
             angle_unit,
+            urdf,
         })
     }
 }

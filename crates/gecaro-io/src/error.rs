@@ -41,6 +41,14 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
+    /// A file's format cannot be told, or it cannot carry what is asked.
+    #[error("{}: {message}", .path.display())]
+    Format {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong and what to do.
+        message: String,
+    },
     /// Neither a file nor a ready robot has this name.
     #[error(
         "no robot file `{name}` and no ready robot of that name; ready robots: {}",

@@ -2,26 +2,39 @@
 //!
 //! The files of gecaro: robot files (TOML, [`read_robot_file`]), the library
 //! of ready robots ([`ready_robots`], [`load_robot`]), measurement data (CSV,
-//! [`read_samples`]), and safe output ([`write_atomically`]). Every error names the file, and for content errors
+//! [`read_samples`]), robots from and to other formats (URDF, DH tables,
+//! SYMORO: [`import_robot`], [`export_urdf`], [`export_table`]), and safe
+//! output ([`write_atomically`]). Every error names the file, and for content errors
 //! the line and key ([`Error::Parse`]).
 
 #![warn(missing_docs)]
 
 mod data_file;
+mod dh_table;
 mod document;
 mod error;
+mod input;
+mod interchange;
 mod output;
+mod pose;
 mod ready;
 mod robot_file;
 mod study_file;
+mod symoro;
+mod units;
+mod urdf;
 
 pub use data_file::{
     MAX_CONFIGURATIONS, data_headers, format_samples, parse_samples, read_samples, write_samples,
 };
+pub use dh_table::{DhConvention, TableExport, TableUnits, export_table};
 pub use document::{
     CouplingDocument, DocumentError, FrameDocument, Location, PriorityDocument, RobotDocument,
 };
 pub use error::Error;
+pub use interchange::{
+    ChainEnds, ImportOptions, Imported, RobotFormat, import_robot, import_robot_text,
+};
 pub use output::{OutputPolicy, write_atomically};
 pub use ready::{ReadyRobot, load_robot, ready_robot, ready_robots};
 pub use robot_file::{
@@ -29,3 +42,6 @@ pub use robot_file::{
     read_priority_file, read_robot_file,
 };
 pub use study_file::{StudyFile, read_study_file};
+pub use units::LengthUnit;
+pub use urdf::export::{UrdfExport, export_urdf};
+pub use urdf::names::{UrdfDocument, UrdfJointDocument, UrdfJointNames, UrdfNames};

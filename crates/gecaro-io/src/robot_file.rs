@@ -41,6 +41,7 @@ use serde::Deserialize;
 
 use crate::Error;
 use crate::document::{DocumentError, Location, PriorityDocument, RobotDocument};
+use crate::urdf::names::{UrdfDocument, UrdfNames};
 
 /// The unit of the angles written in a robot file.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
@@ -61,6 +62,9 @@ pub struct RobotFile {
     pub description: Option<String>,
     /// The unit the file's angles were written in.
     pub angle_unit: AngleUnit,
+    /// The names and link frames of the URDF the robot was imported from
+    /// (the `[urdf]` table), for writing it back.
+    pub urdf: Option<UrdfNames>,
 }
 
 const TOP_KEYS: &[&str] = &[
@@ -70,6 +74,7 @@ const TOP_KEYS: &[&str] = &[
     "frame",
     "coupling",
     "priority",
+    "urdf",
 ];
 const FRAME_KEYS: &[&str] = &[
     "sigma", "alpha", "d", "theta", "r", "beta", "qmin", "qmax", "offset", "K",
@@ -140,7 +145,7 @@ impl Source<'_> {
                 })
             }
             Location::Key { key } => (0..lines.len())
-                .find(|i| key_of(lines[*i]) == *key)
+                .find(|i| key_of(lines[*i]) == *key || lines[*i].trim() == format!("[{key}]"))
                 .map_or(1, |i| i + 1),
             Location::Document => {
                 table(&|line| line.starts_with("[[frame]]"), 0).map_or(1, |(start, _)| start + 1)
@@ -404,6 +409,20 @@ pub fn format_robot_file(file: &RobotFile) -> String {
             let _ = writeln!(text, "    [{}],", cells.join(", "));
         }
         let _ = writeln!(text, "]");
+    }
+    if let Some(names) = &file.urdf {
+        #[derive(serde::Serialize)]
+        struct Table<'a> {
+            urdf: &'a UrdfDocument,
+        }
+        let document = UrdfDocument::from_names(names);
+        if let Ok(table) = toml::to_string(&Table { urdf: &document }) {
+            let _ = writeln!(
+                text,
+                "\n# Names and link frames of the URDF this robot was imported from, for\n\
+                 # `gecaro robot export --to urdf` (link_frame: the link in frame j, x y z qw qx qy qz).\n{table}"
+            );
+        }
     }
     text
 }

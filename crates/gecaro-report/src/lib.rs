@@ -52,5 +52,6 @@ pub fn calibrated_robot_file(
             result.rms_after()
         )),
         angle_unit: nominal.angle_unit,
+        urdf: nominal.urdf.clone(),
     }
 }

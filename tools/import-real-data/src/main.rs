@@ -305,6 +305,7 @@ fn import_mukca(
                     .unwrap_or_default()
             )),
             angle_unit: AngleUnit::Radians,
+            urdf: None,
         }),
     )?;
     write(
@@ -437,6 +438,7 @@ fn write_camera_example(
             robot,
             description: Some(description.to_owned()),
             angle_unit: AngleUnit::Radians,
+            urdf: None,
         }),
     )?;
     write(

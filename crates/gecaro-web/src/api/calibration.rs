@@ -174,6 +174,7 @@ pub(crate) async fn generate(
                 robot: real,
                 description: Some(description),
                 angle_unit: nominal.angle_unit,
+                urdf: nominal.urdf.clone(),
             };
             Ok(Json(Generated {
                 configurations: samples.len(),

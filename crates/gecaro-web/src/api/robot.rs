@@ -226,6 +226,7 @@ pub(crate) async fn new(Json(request): Json<NewRequest>) -> Result<Json<RobotVie
         robot,
         description: Some(format!("{} arm (template)", request.joints.to_uppercase())),
         angle_unit: gecaro_io::AngleUnit::Radians,
+        urdf: None,
     };
     Ok(Json(view(
         "new",

@@ -1,0 +1,146 @@
+//! Reading input files in bounded memory.
+//!
+//! Every reader of gecaro opens its input here: it must be a regular file
+//! (a folder, FIFO or device such as `/dev/zero` could be endless), whole
+//! files read into memory have a size limit, and streamed files a limit on
+//! the length of one line, so that no input can exhaust memory.
+
+use std::io::Read;
+use std::path::Path;
+
+use crate::Error;
+
+/// Largest robot, study or priority file (TOML, URDF, tables).
+pub(crate) const MAX_DESCRIPTION_BYTES: u64 = 64 << 20;
+
+/// Longest line of a streamed (CSV) file.
+pub(crate) const MAX_LINE_BYTES: usize = 1 << 20;
+
+fn refuse(path: &Path, message: impl Into<String>) -> Error {
+    Error::Read {
+        path: path.to_owned(),
+        cause: std::io::Error::other(message.into()),
+    }
+}
+
+/// Opens a regular file for reading.
+pub(crate) fn open_regular(path: &Path) -> Result<(std::fs::File, u64), Error> {
+    let file = std::fs::File::open(path).map_err(|cause| Error::Read {
+        path: path.to_owned(),
+        cause,
+    })?;
+    let metadata = file.metadata().map_err(|cause| Error::Read {
+        path: path.to_owned(),
+        cause,
+    })?;
+    if !metadata.is_file() {
+        return Err(refuse(
+            path,
+            "not a regular file (a folder, FIFO or device); give a file",
+        ));
+    }
+    Ok((file, metadata.len()))
+}
+
+/// The whole text of a regular UTF-8 file of at most `limit` bytes.
+pub(crate) fn read_text(path: &Path, limit: u64) -> Result<String, Error> {
+    let (file, length) = open_regular(path)?;
+    let too_large = || {
+        refuse(
+            path,
+            format!(
+                "larger than {} MiB: not a file gecaro reads whole",
+                limit >> 20
+            ),
+        )
+    };
+    if length > limit {
+        return Err(too_large());
+    }
+    let mut bytes = Vec::with_capacity(usize::try_from(length).unwrap_or(0));
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|cause| Error::Read {
+            path: path.to_owned(),
+            cause,
+        })?;
+    if bytes.len() as u64 > limit {
+        return Err(too_large());
+    }
+    String::from_utf8(bytes).map_err(|error| {
+        let line = 1 + error.as_bytes()[..error.utf8_error().valid_up_to()]
+            .iter()
+            .filter(|b| **b == b'\n')
+            .count();
+        Error::parse(path, line, None, "the file is not UTF-8 text")
+    })
+}
+
+/// A reader that fails once a line grows longer than `limit` bytes: a CSV
+/// reader keeps a whole record in memory.
+pub(crate) struct LineLimit<R> {
+    inner: R,
+    limit: usize,
+    current: usize,
+}
+
+impl<R> LineLimit<R> {
+    pub(crate) fn new(inner: R, limit: usize) -> Self {
+        LineLimit {
+            inner,
+            limit,
+            current: 0,
+        }
+    }
+}
+
+impl<R: Read> Read for LineLimit<R> {
+    fn read(&mut self, buffer: &mut [u8]) -> std::io::Result<usize> {
+        let count = self.inner.read(buffer)?;
+        for byte in &buffer[..count] {
+            if *byte == b'\n' {
+                self.current = 0;
+            } else {
+                self.current += 1;
+                if self.current > self.limit {
+                    return Err(std::io::Error::other(format!(
+                        "a line longer than {} KiB: not a data file (no line breaks?)",
+                        self.limit >> 10
+                    )));
+                }
+            }
+        }
+        Ok(count)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn folders_devices_and_oversized_files_are_refused() {
+        let folder = tempfile::tempdir().expect("temporary folder");
+        let message = |result: Result<String, Error>| result.expect_err("refused").to_string();
+        assert!(message(read_text(folder.path(), 10)).contains("not a regular file"));
+        #[cfg(unix)]
+        assert!(message(read_text(Path::new("/dev/zero"), 10)).contains("not a regular file"));
+        let path = folder.path().join("big.toml");
+        std::fs::write(&path, "x".repeat(2 << 20)).expect("write");
+        assert!(message(read_text(&path, 1 << 20)).contains("larger than 1 MiB"));
+        std::fs::write(&path, b"ok\n\xff\n").expect("write");
+        assert!(message(read_text(&path, 1 << 20)).contains(":2: the file is not UTF-8"));
+    }
+
+    #[test]
+    fn a_line_without_end_stops_the_reader() {
+        let mut limited = LineLimit::new(std::io::repeat(b'1'), 1000);
+        let mut sink = Vec::new();
+        let error = limited.read_to_end(&mut sink).expect_err("stops");
+        assert!(error.to_string().contains("longer than"));
+        assert!(sink.len() < 10_000);
+        let lines = "a\n".repeat(10_000);
+        let mut fine = LineLimit::new(lines.as_bytes(), 4);
+        assert_eq!(fine.read_to_end(&mut sink).expect("short lines"), 20_000);
+    }
+}

@@ -1,0 +1,107 @@
+//! Rigid transforms as files write them: URDF's `xyz` + `rpy`, and gecaro's
+//! seven numbers `x, y, z, qw, qx, qy, qz`.
+//!
+//! `rpy` is URDF's convention: fixed axes roll about x, then pitch about y,
+//! then yaw about z, i.e. `R = Rz(yaw)·Ry(pitch)·Rx(roll)` (radians).
+
+use nalgebra::{IsometryMatrix3, Quaternion, Rotation3, Translation3, UnitQuaternion, Vector3};
+
+/// The transform of URDF's `<origin xyz rpy>`.
+pub(crate) fn from_xyz_rpy(xyz: [f64; 3], rpy: [f64; 3]) -> IsometryMatrix3<f64> {
+    IsometryMatrix3::from_parts(
+        Translation3::new(xyz[0], xyz[1], xyz[2]),
+        Rotation3::from_euler_angles(rpy[0], rpy[1], rpy[2]),
+    )
+}
+
+/// Roll, pitch, yaw of a rotation, accurate everywhere: the pitch from
+/// `atan2` (an `asin` loses half the digits next to ±π/2), and at the
+/// singularity (cos pitch = 0) the whole turn about z in the yaw.
+pub(crate) fn rpy(rotation: &Rotation3<f64>) -> [f64; 3] {
+    let m = rotation.matrix();
+    let cos_pitch = m[(0, 0)].hypot(m[(1, 0)]);
+    let pitch = (-m[(2, 0)]).atan2(cos_pitch);
+    if cos_pitch > 1e-12 {
+        [
+            m[(2, 1)].atan2(m[(2, 2)]),
+            pitch,
+            m[(1, 0)].atan2(m[(0, 0)]),
+        ]
+    } else {
+        [0.0, pitch, (-m[(0, 1)]).atan2(m[(1, 1)])]
+    }
+}
+
+/// `[x, y, z, qw, qx, qy, qz]` of a transform (the quaternion with qw ≥ 0).
+pub(crate) fn to_seven(pose: &IsometryMatrix3<f64>) -> [f64; 7] {
+    let t = pose.translation.vector;
+    let mut q = UnitQuaternion::from_rotation_matrix(&pose.rotation);
+    if q.w < 0.0 {
+        q = UnitQuaternion::new_unchecked(-q.into_inner());
+    }
+    [t.x, t.y, t.z, q.w, q.i, q.j, q.k]
+}
+
+/// The transform of `[x, y, z, qw, qx, qy, qz]`, or why not.
+pub(crate) fn from_seven(values: &[f64]) -> Result<IsometryMatrix3<f64>, String> {
+    let [x, y, z, w, i, j, k] = values[..] else {
+        return Err(format!(
+            "needs seven numbers [x, y, z, qw, qx, qy, qz], got {}",
+            values.len()
+        ));
+    };
+    if !values.iter().all(|v| v.is_finite()) {
+        return Err("holds a value that is not a finite number".into());
+    }
+    let quaternion = Quaternion::new(w, i, j, k);
+    if (quaternion.norm() - 1.0).abs() > 1e-6 {
+        return Err(format!(
+            "(qw, qx, qy, qz) has norm {:.6}, not 1: it is not a unit quaternion",
+            quaternion.norm()
+        ));
+    }
+    Ok(IsometryMatrix3::from_parts(
+        Translation3::from(Vector3::new(x, y, z)),
+        UnitQuaternion::from_quaternion(quaternion).to_rotation_matrix(),
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rpy_is_urdf_s_convention_and_round_trips_next_to_the_singularity() {
+        let (roll, pitch, yaw) = (0.3, -0.7, 2.1);
+        let product = Rotation3::from_axis_angle(&Vector3::z_axis(), yaw)
+            * Rotation3::from_axis_angle(&Vector3::y_axis(), pitch)
+            * Rotation3::from_axis_angle(&Vector3::x_axis(), roll);
+        let pose = from_xyz_rpy([0.0; 3], [roll, pitch, yaw]);
+        assert!((pose.rotation.matrix() - product.matrix()).abs().max() < 1e-15);
+        for pitch in [
+            std::f64::consts::FRAC_PI_2,
+            std::f64::consts::FRAC_PI_2 - 4.9e-12,
+            -std::f64::consts::FRAC_PI_2 + 1e-9,
+            1.2,
+            -3.0,
+        ] {
+            let rotation = Rotation3::from_euler_angles(0.4, pitch, -1.1);
+            let [r, p, y] = rpy(&rotation);
+            let again = Rotation3::from_euler_angles(r, p, y);
+            assert!(
+                (again.matrix() - rotation.matrix()).abs().max() < 1e-15,
+                "pitch {pitch}"
+            );
+        }
+    }
+
+    #[test]
+    fn seven_numbers_round_trip_and_refuse_what_is_not_a_pose() {
+        let pose = from_xyz_rpy([0.1, -0.2, 0.3], [0.5, 0.6, -2.9]);
+        let again = from_seven(&to_seven(&pose)).expect("valid");
+        assert!((again.to_homogeneous() - pose.to_homogeneous()).abs().max() < 1e-15);
+        assert!(from_seven(&[0.0; 6]).is_err());
+        assert!(from_seven(&[0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0]).is_err());
+        assert!(from_seven(&[f64::NAN, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]).is_err());
+    }
+}

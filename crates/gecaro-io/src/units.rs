@@ -1,0 +1,70 @@
+//! Units of lengths and angles in files that are not gecaro's own (tables,
+//! tracker exports). gecaro computes in metres and radians; readers convert.
+
+use crate::robot_file::AngleUnit;
+
+/// The unit of the lengths of a table or data file.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum LengthUnit {
+    /// Metres (the default, and what gecaro writes).
+    #[default]
+    Metres,
+    /// Millimetres.
+    Millimetres,
+}
+
+impl LengthUnit {
+    /// Metres per unit.
+    pub fn to_metres(self) -> f64 {
+        match self {
+            LengthUnit::Metres => 1.0,
+            LengthUnit::Millimetres => 1e-3,
+        }
+    }
+
+    /// The unit of a name: `m`, `mm` (and their long forms).
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "m" | "metre" | "metres" | "meter" | "meters" => Some(LengthUnit::Metres),
+            "mm" | "millimetre" | "millimetres" | "millimeter" | "millimeters" => {
+                Some(LengthUnit::Millimetres)
+            }
+            _ => None,
+        }
+    }
+
+    /// Its short name.
+    pub fn name(self) -> &'static str {
+        match self {
+            LengthUnit::Metres => "m",
+            LengthUnit::Millimetres => "mm",
+        }
+    }
+}
+
+impl AngleUnit {
+    /// Radians per unit.
+    pub fn to_radians(self) -> f64 {
+        match self {
+            AngleUnit::Radians => 1.0,
+            AngleUnit::Degrees => std::f64::consts::PI / 180.0,
+        }
+    }
+
+    /// The unit of a name: `rad`, `deg` (and their long forms).
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "rad" | "radian" | "radians" => Some(AngleUnit::Radians),
+            "deg" | "degree" | "degrees" => Some(AngleUnit::Degrees),
+            _ => None,
+        }
+    }
+
+    /// Its short name.
+    pub fn name(self) -> &'static str {
+        match self {
+            AngleUnit::Radians => "rad",
+            AngleUnit::Degrees => "deg",
+        }
+    }
+}

@@ -1,0 +1,327 @@
+//! Robot → URDF: one link per frame that carries one, one joint per joint,
+//! named after the URDF the robot was imported from (its [`UrdfNames`]) or
+//! after the robot.
+//!
+//! - Joint origins are the frames at the zero of the URDF joint variables,
+//!   β included; each link keeps its imported frame (so meshes and child
+//!   frames of the original description stay where they were).
+//! - The offsets of eq. 4 move the zero of their joint: they are folded into
+//!   the joint origins (and limits), q_urdf = q − offset.
+//! - A coupling that is exactly a mimic (Cj = I plus single entries m at
+//!   independent joints, Cm = I, K = 1) becomes `<mimic multiplier=m
+//!   offset=…>`; the mimic joint's offset stays in the relation.
+//! - Any other gain or coupling cannot be written in a URDF: the URDF then
+//!   takes joint values `q_urdf = Cj·diag(K)·Cm·qm` and the map is returned
+//!   as a joint calibration (YAML) for the driver, with a note. Nothing is
+//!   dropped silently.
+
+use gecaro_core::{FrameType, Robot, frame_transform};
+use nalgebra::{DMatrix, IsometryMatrix3, Vector3};
+
+use super::names::{UrdfJointNames, UrdfNames};
+use crate::pose::rpy;
+use crate::robot_file::RobotFile;
+
+/// A URDF written from a robot.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UrdfExport {
+    /// The URDF text.
+    pub urdf: String,
+    /// What a driver must apply to reach the URDF's joint values, when
+    /// gains or couplings are not expressible in it (YAML text).
+    pub joint_calibration: Option<String>,
+    /// What the conversion changed or moved elsewhere, for the user.
+    pub notes: Vec<String>,
+}
+
+/// Names for a robot that was not imported from a URDF.
+fn generated_names(robot: &Robot) -> UrdfNames {
+    UrdfNames {
+        robot: robot
+            .name()
+            .chars()
+            .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+            .collect(),
+        base_link: "base_link".into(),
+        world_from_base_link: IsometryMatrix3::identity(),
+        joints: (1..=robot.joint_count())
+            .map(|j| UrdfJointNames {
+                name: format!("joint_{j}"),
+                link: format!("link_{j}"),
+                frame_from_link: IsometryMatrix3::identity(),
+                effort: 0.0,
+                velocity: 0.0,
+            })
+            .collect(),
+        tip_joint: None,
+        tip_link: "tool0".into(),
+        tool_from_tip_link: IsometryMatrix3::identity(),
+    }
+}
+
+/// For each joint, the independent joint it mimics and the multiplier, if
+/// the map Cj·diag(K)·Cm is exactly "identity plus mimic rows"; `None` when
+/// it is not (then the whole map goes to the joint calibration).
+fn mimics(robot: &Robot) -> Option<Vec<Option<(usize, f64)>>> {
+    let map = robot.motor_to_joint();
+    let n = robot.joint_count();
+    let unit_row = |row: usize| (0..n).all(|c| map[(row, c)] == f64::from(u8::from(c == row)));
+    let mut relations = Vec::with_capacity(n);
+    for row in 0..n {
+        if unit_row(row) {
+            relations.push(None);
+            continue;
+        }
+        let others: Vec<usize> = (0..n)
+            .filter(|c| *c != row && map[(row, *c)] != 0.0)
+            .collect();
+        match others.as_slice() {
+            [target] if map[(row, row)] == 1.0 && unit_row(*target) => {
+                relations.push(Some((*target, map[(row, *target)])));
+            }
+            _ => return None,
+        }
+    }
+    Some(relations)
+}
+
+fn origin(pose: &IsometryMatrix3<f64>) -> urdf_rs::Pose {
+    let t = pose.translation.vector;
+    urdf_rs::Pose {
+        xyz: urdf_rs::Vec3([t.x, t.y, t.z]),
+        rpy: urdf_rs::Vec3(rpy(&pose.rotation)),
+    }
+}
+
+fn link(name: &str) -> urdf_rs::Link {
+    urdf_rs::Link {
+        name: name.to_owned(),
+        inertial: urdf_rs::Inertial::default(),
+        visual: Vec::new(),
+        collision: Vec::new(),
+    }
+}
+
+fn fixed_joint(
+    name: String,
+    parent: &str,
+    child: &str,
+    pose: &IsometryMatrix3<f64>,
+) -> urdf_rs::Joint {
+    urdf_rs::Joint {
+        name,
+        joint_type: urdf_rs::JointType::Fixed,
+        origin: origin(pose),
+        parent: urdf_rs::LinkName {
+            link: parent.to_owned(),
+        },
+        child: urdf_rs::LinkName {
+            link: child.to_owned(),
+        },
+        axis: urdf_rs::Axis::default(),
+        limit: urdf_rs::JointLimit::default(),
+        calibration: None,
+        dynamics: None,
+        mimic: None,
+        safety_controller: None,
+    }
+}
+
+/// The URDF of a robot file (see the module docs).
+///
+/// # Errors
+/// When urdf-rs cannot write the document (names that are not valid XML
+/// text are escaped, so this does not happen for a valid robot).
+pub fn export_urdf(file: &RobotFile) -> Result<UrdfExport, String> {
+    let robot = &file.robot;
+    let n = robot.joint_count();
+    let names = file.urdf.clone().unwrap_or_else(|| generated_names(robot));
+    let relations = mimics(robot);
+    let mut notes = Vec::new();
+    // The offset folded into each joint's origin (all but mimic joints').
+    let folded: Vec<f64> = robot
+        .joints()
+        .iter()
+        .enumerate()
+        .map(|(j, joint)| match &relations {
+            Some(relations) if relations[j].is_some() => 0.0,
+            _ => joint.offset,
+        })
+        .collect();
+    if folded.iter().any(|offset| *offset != 0.0) {
+        notes.push(
+            "joint offsets are folded into the joint origins: the URDF joint value is q − offset"
+                .to_owned(),
+        );
+    }
+    // Frames at the zero of the URDF joint values.
+    let world_from_frame: Vec<IsometryMatrix3<f64>> = robot
+        .frames()
+        .iter()
+        .enumerate()
+        .scan(IsometryMatrix3::identity(), |pose, (j, frame)| {
+            let q = if (1..=n).contains(&j) {
+                folded[j - 1]
+            } else {
+                0.0
+            };
+            *pose *= frame_transform(frame, q);
+            Some(*pose)
+        })
+        .collect();
+    let taken = |name: &str| {
+        names.base_link == name
+            || names.tip_link == name
+            || names.joints.iter().any(|j| j.link == name)
+    };
+    let mut links = Vec::new();
+    let mut joints = Vec::new();
+    if names.world_from_base_link != IsometryMatrix3::identity() {
+        let world = if taken("world") {
+            "gecaro_world"
+        } else {
+            "world"
+        };
+        links.push(link(world));
+        joints.push(fixed_joint(
+            format!("{world}_to_{}", names.base_link),
+            world,
+            &names.base_link,
+            &names.world_from_base_link,
+        ));
+        notes.push(format!(
+            "the robot's world frame is not its base link (it was reframed): root link `{world}` carries `{}`",
+            names.base_link
+        ));
+    }
+    links.push(link(&names.base_link));
+    let mut parent_link = names.base_link.clone();
+    let mut world_from_parent = names.world_from_base_link;
+    for (j, joint_names) in names.joints.iter().enumerate() {
+        let world_from_link = world_from_frame[j + 1] * joint_names.frame_from_link;
+        let axis = joint_names.frame_from_link.rotation.inverse() * Vector3::z();
+        let frame = &robot.frames()[j + 1];
+        let limits = &robot.joints()[j];
+        let mimic =
+            relations
+                .as_ref()
+                .and_then(|relations| relations[j])
+                .map(|(target, multiplier)| urdf_rs::Mimic {
+                    joint: names.joints[target].name.clone(),
+                    multiplier: Some(multiplier),
+                    offset: Some(limits.offset),
+                });
+        joints.push(urdf_rs::Joint {
+            name: joint_names.name.clone(),
+            joint_type: match frame.frame_type {
+                FrameType::Prismatic => urdf_rs::JointType::Prismatic,
+                _ => urdf_rs::JointType::Revolute,
+            },
+            origin: origin(&(world_from_parent.inverse() * world_from_link)),
+            parent: urdf_rs::LinkName {
+                link: parent_link.clone(),
+            },
+            child: urdf_rs::LinkName {
+                link: joint_names.link.clone(),
+            },
+            axis: urdf_rs::Axis {
+                xyz: urdf_rs::Vec3([axis.x, axis.y, axis.z]),
+            },
+            limit: urdf_rs::JointLimit {
+                lower: limits.qmin - folded[j],
+                upper: limits.qmax - folded[j],
+                effort: joint_names.effort,
+                velocity: joint_names.velocity,
+                ..urdf_rs::JointLimit::default()
+            },
+            calibration: None,
+            dynamics: None,
+            mimic,
+            safety_controller: None,
+        });
+        links.push(link(&joint_names.link));
+        parent_link = joint_names.link.clone();
+        world_from_parent = world_from_link;
+    }
+    let mut tip = names.tip_link.clone();
+    if names.joints.iter().any(|joint| joint.link == tip) {
+        tip = format!("{tip}_tool");
+        notes.push(format!(
+            "the tool frame n+1 gets its own link `{tip}` (the URDF's tip was the last joint's link)"
+        ));
+    }
+    let world_from_tip = world_from_frame[n + 1] * names.tool_from_tip_link;
+    joints.push(fixed_joint(
+        names
+            .tip_joint
+            .clone()
+            .unwrap_or_else(|| format!("{parent_link}_to_{tip}")),
+        &parent_link,
+        &tip,
+        &(world_from_parent.inverse() * world_from_tip),
+    ));
+    links.push(link(&tip));
+
+    let joint_calibration = if relations.is_some() {
+        None
+    } else {
+        notes.push(
+            "gains K or couplings are not expressible in a URDF: the URDF's joint values are \
+             q_urdf = Cj·diag(K)·Cm·qm, written to the joint calibration file for the driver"
+                .to_owned(),
+        );
+        Some(joint_calibration(robot, &names))
+    };
+    let document = urdf_rs::Robot {
+        name: names.robot.clone(),
+        version: None,
+        links,
+        joints,
+        materials: Vec::new(),
+    };
+    let text = urdf_rs::write_to_string(&document).map_err(|error| error.to_string())?;
+    Ok(UrdfExport {
+        urdf: format!(
+            "<?xml version=\"1.0\"?>\n<!-- written by gecaro robot export from `{}`: kinematic chain only (no meshes, no inertia) -->\n{text}\n",
+            robot.name().replace("--", "- -")
+        ),
+        joint_calibration,
+        notes,
+    })
+}
+
+/// The YAML of `q_urdf = M·qm` (M = Cj·diag(K)·Cm) for a driver.
+fn joint_calibration(robot: &Robot, names: &UrdfNames) -> String {
+    let map: &DMatrix<f64> = robot.motor_to_joint();
+    let mut text = format!(
+        "# gecaro joint calibration of `{}` (GECARO eq. 4 with the offsets folded into the URDF):\n\
+         # the URDF joint values are q_urdf = M · qm, qm the motor (encoder) values, M = Cj·diag(K)·Cm.\n\
+         # A driver applies this map before publishing joint states.\n",
+        robot.name()
+    );
+    text.push_str("joints: [");
+    text.push_str(
+        &names
+            .joints
+            .iter()
+            .map(|joint| format!("\"{}\"", joint.name.replace('"', "\\\"")))
+            .collect::<Vec<_>>()
+            .join(", "),
+    );
+    text.push_str("]\nmatrix:\n");
+    for row in map.row_iter() {
+        let values: Vec<String> = row.iter().map(|v| format!("{v:?}")).collect();
+        text.push_str(&format!("  - [{}]\n", values.join(", ")));
+    }
+    text.push_str("gains: [");
+    text.push_str(
+        &robot
+            .joints()
+            .iter()
+            .map(|joint| format!("{:?}", joint.gain))
+            .collect::<Vec<_>>()
+            .join(", "),
+    );
+    text.push_str("]\n");
+    text
+}
