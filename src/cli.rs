@@ -17,7 +17,7 @@ pub(crate) struct Cli {
 
 #[derive(Debug, Subcommand)]
 pub(crate) enum Command {
-    /// Show, check or create robot files.
+    /// Show, check, create, convert or re-express robot files.
     #[command(subcommand)]
     Robot(RobotCommand),
     /// Direct geometric model: the end-effector frame at a configuration (eq. 1).
@@ -89,6 +89,13 @@ pub(crate) enum RobotCommand {
         #[arg(long)]
         force: bool,
     },
+    /// Convert a URDF, a DH / modified-DH table or a SYMORO .par file into a
+    /// robot file (same joint variables: sign and zero).
+    Import(ImportArgs),
+    /// Write a robot as a URDF or a DH / modified-DH table (gains and
+    /// couplings that the format cannot carry go to FILE's
+    /// .joint_calibration.yaml beside it).
+    Export(ExportArgs),
     /// Write a template robot file to edit.
     New {
         /// Joint types from joint 1 to n: R revolute, P prismatic (e.g. RRPRRR).
@@ -101,6 +108,90 @@ pub(crate) enum RobotCommand {
         #[arg(long)]
         force: bool,
     },
+}
+
+/// A robot file format other than gecaro's.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum FormatArg {
+    /// ROS URDF.
+    Urdf,
+    /// Standard Denavit–Hartenberg table (TOML or CSV).
+    Dh,
+    /// Craig's modified Denavit–Hartenberg table (TOML or CSV).
+    Mdh,
+    /// SYMORO .par file (import only).
+    Symoro,
+}
+
+/// The unit of angles in a file that does not say.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum AngleUnitArg {
+    /// Radians.
+    Rad,
+    /// Degrees.
+    Deg,
+}
+
+/// The unit of lengths in a file that does not say.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum LengthUnitArg {
+    /// Metres.
+    M,
+    /// Millimetres.
+    Mm,
+}
+
+/// Units of a file's columns that do not state theirs.
+#[derive(Debug, Args)]
+pub(crate) struct UnitArgs {
+    /// Unit of the angles (joint angles, α, θ) where the file does not say.
+    #[arg(long, value_enum, value_name = "rad|deg")]
+    pub(crate) angle_unit: Option<AngleUnitArg>,
+    /// Unit of the lengths (positions, distances, a, d) where the file does not say.
+    #[arg(long, value_enum, value_name = "m|mm")]
+    pub(crate) length_unit: Option<LengthUnitArg>,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct ImportArgs {
+    /// The file: .urdf, .par, or a table (.toml with `convention`, or .csv with --from).
+    pub(crate) file: PathBuf,
+    /// Its format (default: from the extension, or the table's `convention`).
+    #[arg(long, value_enum)]
+    pub(crate) from: Option<FormatArg>,
+    /// URDF: the link whose frame is the world frame (default: the root link).
+    #[arg(long, value_name = "LINK")]
+    pub(crate) base: Option<String>,
+    /// URDF: the link whose frame is the end-effector frame n+1 (default: the
+    /// leaf with the most moving joints).
+    #[arg(long, value_name = "LINK")]
+    pub(crate) tip: Option<String>,
+    /// The robot's name (default: the file's).
+    #[arg(long)]
+    pub(crate) name: Option<String>,
+    #[command(flatten)]
+    pub(crate) units: UnitArgs,
+    /// Output robot file.
+    #[arg(short, long, value_name = "ROBOT.toml")]
+    pub(crate) output: PathBuf,
+    /// Overwrite the output file if it exists.
+    #[arg(long)]
+    pub(crate) force: bool,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct ExportArgs {
+    /// Robot file or ready robot name.
+    pub(crate) robot: String,
+    /// The format to write.
+    #[arg(long, value_enum)]
+    pub(crate) to: FormatArg,
+    /// Output file (.urdf, or .toml for a table).
+    #[arg(short, long)]
+    pub(crate) output: PathBuf,
+    /// Overwrite the output files if they exist.
+    #[arg(long)]
+    pub(crate) force: bool,
 }
 
 #[derive(Debug, Args)]

@@ -40,7 +40,7 @@ fn rows() -> Vec<Row> {
             let cells: Vec<&str> = line.trim().trim_matches('|').split(" | ").collect();
             let id = cells.first()?.trim();
             let is_row = id.len() == 3
-                && "RDPC".contains(&id[..1])
+                && "RDPCI".contains(&id[..1])
                 && id[1..].chars().all(|c| c.is_ascii_digit());
             if !is_row {
                 return None;
@@ -219,6 +219,18 @@ rows! {
     d13_not_utf8 => "D13",
     d14_endless_stream => "D14",
     d15_missing_file => "D15",
+    i01_not_well_formed_xml => "I01",
+    i02_unknown_link => "I02",
+    i03_branch_without_tip => "I03",
+    i04_mimic_outside_the_chain => "I04",
+    i05_xacro => "I05",
+    i06_zero_axis => "I06",
+    i07_floating_joint => "I07",
+    i08_nan_in_a_table => "I08",
+    i09_short_table_row => "I09",
+    i10_table_without_convention => "I10",
+    i11_beta_into_dh => "I11",
+    i12_import_over_an_existing_file => "I12",
     p01_too_few_equations => "P01",
     p02_poorly_excited => "P02",
     p03_iteration_limit => "P03",

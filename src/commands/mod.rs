@@ -3,6 +3,7 @@
 
 mod calibration;
 mod identifiability;
+mod interchange;
 mod kinematics;
 mod options;
 mod robot;

@@ -1,4 +1,5 @@
-//! `gecaro robot show | check | reframe | new`.
+//! `gecaro robot show | check | reframe | new` (`import` and `export` are
+//! in [`super::interchange`]).
 
 use gecaro_core::{FrameType, Joint, Robot};
 use gecaro_io::{AngleUnit, RobotFile, format_robot_file, load_robot, write_atomically};
@@ -26,6 +27,8 @@ pub(crate) fn run(command: RobotCommand) -> Result<(), Failure> {
             output,
             force,
         } => new(&joints, &output, force),
+        RobotCommand::Import(args) => super::interchange::import(&args),
+        RobotCommand::Export(args) => super::interchange::export(&args),
     }
 }
 

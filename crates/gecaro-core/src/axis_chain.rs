@@ -35,7 +35,7 @@ use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Unit, Vector3};
 
 use crate::kinematics::frame_transform;
 use crate::placement::{
-    Line, Placed, decompose, nearly_parallel, place_facing, tidy, turned_x, z_axis_of,
+    Line, Placed, decompose, nearly_parallel, place_facing, tidy, tidy_angle, turned_x, z_axis_of,
 };
 use crate::robot::{Frame, FrameType};
 use crate::{Error, Field};
@@ -191,7 +191,7 @@ impl AxisChain {
         poses.push(self.world_from_tool);
         let x0 = placed[0].x;
         let mut frames = vec![Frame {
-            theta: tidy(x0.y.atan2(x0.x)),
+            theta: tidy_angle(x0.y.atan2(x0.x)),
             r: tidy(placed[0].origin.z),
             ..Frame::new(FrameType::Fixed)
         }];

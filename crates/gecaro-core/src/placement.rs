@@ -185,30 +185,38 @@ pub(crate) fn decompose(
     let position = relative.translation.vector;
     Frame {
         frame_type,
-        alpha: tidy(alpha),
+        alpha: tidy_angle(alpha),
         d: tidy(position.dot(&turned)),
-        theta: tidy(theta),
+        theta: tidy_angle(theta),
         r: tidy(position.dot(&u)),
-        beta: tidy(beta),
+        beta: tidy_angle(beta),
     }
 }
 
-/// `value`, or the round number within [`TIDY`] of it: 0, k·π/2, or a
-/// number with ten decimals.
+/// A length, or the round number within [`TIDY`] of it: 0 or a number with
+/// ten decimals.
 pub(crate) fn tidy(value: f64) -> f64 {
-    if value.abs() < TIDY {
-        return 0.0;
-    }
-    let quarter_turns = (value / std::f64::consts::FRAC_PI_2).round();
-    if quarter_turns != 0.0 && (value - quarter_turns * std::f64::consts::FRAC_PI_2).abs() < TIDY {
-        return quarter_turns * std::f64::consts::FRAC_PI_2;
-    }
     let decimal = (value * 1e10).round() / 1e10;
     if (value - decimal).abs() < TIDY {
         decimal
     } else {
         value
     }
+}
+
+/// An angle, or the round number within [`TIDY`] of it: a multiple of π/2
+/// (a half turn written +π, never −π), 0, or a number with ten decimals.
+pub(crate) fn tidy_angle(value: f64) -> f64 {
+    let quarter_turns = (value / std::f64::consts::FRAC_PI_2).round();
+    if (value - quarter_turns * std::f64::consts::FRAC_PI_2).abs() < TIDY {
+        let quarter_turns = if quarter_turns == -2.0 {
+            2.0
+        } else {
+            quarter_turns
+        };
+        return quarter_turns * std::f64::consts::FRAC_PI_2;
+    }
+    tidy(value)
 }
 
 /// The frame on `line` facing `next` (see the module docs): on the common
@@ -243,4 +251,29 @@ pub(crate) fn place_facing(
 /// The z axis of a pose.
 pub(crate) fn z_axis_of(pose: &IsometryMatrix3<f64>) -> Unit<Vector3<f64>> {
     Unit::new_normalize(pose.rotation * Vector3::z())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::{FRAC_PI_2, PI};
+
+    #[test]
+    #[allow(clippy::approx_constant)] // a drawing's rounded π/2 must stay rounded
+    fn round_numbers_are_written_as_such_and_nothing_else_moves() {
+        assert_eq!(tidy(2e-17), 0.0);
+        assert_eq!(tidy(-0.6127000000000002), -0.6127);
+        assert_eq!(tidy(-PI), -PI, "a length is not an angle");
+        assert_eq!(tidy(0.123456789012345), 0.123456789012345);
+        assert_eq!(tidy_angle(-PI), PI);
+        assert_eq!(tidy_angle(PI - 1e-15), PI);
+        assert_eq!(tidy_angle(-3.0 * FRAC_PI_2 + 3e-15), -3.0 * FRAC_PI_2);
+        assert_eq!(tidy_angle(-FRAC_PI_2), -FRAC_PI_2);
+        assert_eq!(
+            tidy_angle(1.570796327),
+            1.570796327,
+            "a drawing's rounded π/2 stays"
+        );
+        assert_eq!(tidy_angle(-1e-16), 0.0);
+    }
 }

@@ -45,7 +45,7 @@ use toml::Spanned;
 
 use crate::Error;
 use crate::input::LineLimit;
-use crate::interchange::Imported;
+use crate::interchange::{Exported, Imported, joint_calibration};
 use crate::pose::{from_xyz_rpy, rpy};
 use crate::robot_file::{AngleUnit, RobotFile};
 use crate::units::LengthUnit;
@@ -228,8 +228,30 @@ fn joint_type(text: &str) -> Option<FrameType> {
 
 fn parse_toml(text: &str, path: &Path, defaults: TableUnits) -> Result<Table, Error> {
     let line_of = |offset: usize| text[..offset.min(text.len())].matches('\n').count() + 1;
+    // The line of `field` in the table whose header is at `span` (its keys
+    // run to the next header), else the header's line.
     let fail = |span: std::ops::Range<usize>, field: &str, message: String| {
-        Error::parse(path, line_of(span.start), Some(field.to_owned()), message)
+        let table = &text[span.start.min(text.len())..];
+        let offset = table
+            .lines()
+            .scan(0, |at, line| {
+                let start = *at;
+                *at += line.len() + 1;
+                Some((start, line))
+            })
+            .take_while(|(start, line)| *start == 0 || !line.trim_start().starts_with('['))
+            .find(|(_, line)| {
+                line.split('=')
+                    .next()
+                    .is_some_and(|key| key.trim() == field)
+            })
+            .map_or(0, |(start, _)| start);
+        Error::parse(
+            path,
+            line_of(span.start + offset),
+            Some(field.to_owned()),
+            message,
+        )
     };
     let document: TableDocument = toml::from_str(text).map_err(|error| {
         let line = error.span().map_or(1, |span| line_of(span.start));
@@ -687,24 +709,11 @@ pub(crate) fn import_table(
     })
 }
 
-/// A table written from a robot.
-#[derive(Clone, Debug, PartialEq)]
-pub struct TableExport {
-    /// The TOML text (the format [`crate::import_robot`] reads).
-    pub text: String,
-    /// What the conversion changed, for the user.
-    pub notes: Vec<String>,
-}
-
 fn transform_document(pose: &IsometryMatrix3<f64>) -> Option<TransformDocument> {
-    (pose.to_homogeneous() - IsometryMatrix3::<f64>::identity().to_homogeneous())
-        .abs()
-        .max()
-        .gt(&0.0)
-        .then(|| TransformDocument {
-            xyz: pose.translation.vector.into(),
-            rpy: rpy(&pose.rotation),
-        })
+    (*pose != IsometryMatrix3::identity()).then(|| TransformDocument {
+        xyz: pose.translation.vector.into(),
+        rpy: rpy(&pose.rotation),
+    })
 }
 
 /// The DH or MDH table of a robot (SI units), with its offsets folded into
@@ -712,7 +721,7 @@ fn transform_document(pose: &IsometryMatrix3<f64>) -> Option<TransformDocument> 
 ///
 /// # Errors
 /// A frame with β ≠ 0 (not expressible in a DH table), naming it.
-pub fn export_table(file: &RobotFile, convention: DhConvention) -> Result<TableExport, String> {
+pub(crate) fn export_table(file: &RobotFile, convention: DhConvention) -> Result<Exported, String> {
     let robot = &file.robot;
     let frames = robot.frames();
     let n = robot.joint_count();
@@ -795,7 +804,16 @@ pub fn export_table(file: &RobotFile, convention: DhConvention) -> Result<TableE
         joint: rows,
     };
     let text = toml::to_string(&output).map_err(|error| error.to_string())?;
-    Ok(TableExport {
+    let joint_names: Vec<String> = (1..=n).map(|j| format!("joint {j}")).collect();
+    let joint_calibration = joint_calibration(robot, &joint_names, "table");
+    if joint_calibration.is_some() {
+        notes.push(
+            "gains K or couplings are not expressible in a DH table: its joint values are \
+             q = Cj·diag(K)·Cm·qm, a map written to the joint calibration file for the driver"
+                .into(),
+        );
+    }
+    Ok(Exported {
         text: format!(
             "# {} table (gecaro robot export): one [[joint]] per joint; q is added to theta (R) or d (P).\n{text}",
             match convention {
@@ -805,6 +823,7 @@ pub fn export_table(file: &RobotFile, convention: DhConvention) -> Result<TableE
                     "Modified (Craig) Denavit–Hartenberg: Rx(alpha)·Tx(a)·Rz(theta)·Tz(d) per row",
             }
         ),
+        joint_calibration,
         notes,
     })
 }

@@ -9,6 +9,9 @@
 
 use std::path::Path;
 
+use gecaro_core::Robot;
+use nalgebra::DMatrix;
+
 use crate::Error;
 use crate::dh_table::{DhConvention, TableUnits};
 use crate::input::{MAX_DESCRIPTION_BYTES, read_text};
@@ -151,4 +154,81 @@ fn has_extension(path: &Path, extension: &str) -> bool {
     path.extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case(extension))
+}
+
+/// A robot written in another format.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Exported {
+    /// The text of the file.
+    pub text: String,
+    /// What a driver must apply to the motor values to get the file's joint
+    /// values, when gains or couplings are not expressible in the format
+    /// (YAML text, for `FILE.joint_calibration.yaml`).
+    pub joint_calibration: Option<String>,
+    /// What the conversion changed or moved elsewhere, for the user.
+    pub notes: Vec<String>,
+}
+
+/// Writes a robot as URDF or as a DH / modified-DH table (TOML).
+///
+/// # Errors
+/// What the format cannot carry at all (β in a DH table; SYMORO is read
+/// only), in words a user can act on.
+pub fn export_robot(file: &RobotFile, format: RobotFormat) -> Result<Exported, String> {
+    match format {
+        RobotFormat::Urdf => crate::urdf::export::export_urdf(file),
+        RobotFormat::Dh => crate::dh_table::export_table(file, DhConvention::Standard),
+        RobotFormat::Mdh => crate::dh_table::export_table(file, DhConvention::Modified),
+        RobotFormat::Symoro => Err(
+            "gecaro reads SYMORO .par files but does not write them; export to urdf, dh or mdh"
+                .into(),
+        ),
+    }
+}
+
+/// The joint calibration of a robot whose map `M = Cj·diag(K)·Cm` (eq. 4)
+/// is not the identity, for a format whose joint values are `M·qm` (offsets
+/// folded into the file): YAML naming the file's joints.
+pub(crate) fn joint_calibration(
+    robot: &Robot,
+    joint_names: &[String],
+    format: &str,
+) -> Option<String> {
+    let map: &DMatrix<f64> = robot.motor_to_joint();
+    if *map == DMatrix::identity(map.nrows(), map.ncols()) {
+        return None;
+    }
+    let list = |values: Vec<String>| format!("[{}]", values.join(", "));
+    let mut text = format!(
+        "# gecaro joint calibration of `{}` (GECARO eq. 4, offsets folded into the {format}):\n\
+         # the {format}'s joint values are q = M · qm, qm the motor (encoder) values, M = Cj·diag(K)·Cm.\n\
+         # A driver applies this map before publishing joint states.\n",
+        robot.name()
+    );
+    text.push_str(&format!(
+        "joints: {}\nmatrix:\n",
+        list(
+            joint_names
+                .iter()
+                .map(|name| format!("\"{}\"", name.replace('"', "\\\"")))
+                .collect()
+        )
+    ));
+    for row in map.row_iter() {
+        text.push_str(&format!(
+            "  - {}\n",
+            list(row.iter().map(|v| format!("{v:?}")).collect())
+        ));
+    }
+    text.push_str(&format!(
+        "gains: {}\n",
+        list(
+            robot
+                .joints()
+                .iter()
+                .map(|joint| format!("{:?}", joint.gain))
+                .collect()
+        )
+    ));
+    Some(text)
 }

@@ -3,7 +3,7 @@
 //! The files of gecaro: robot files (TOML, [`read_robot_file`]), the library
 //! of ready robots ([`ready_robots`], [`load_robot`]), measurement data (CSV,
 //! [`read_samples`]), robots from and to other formats (URDF, DH tables,
-//! SYMORO: [`import_robot`], [`export_urdf`], [`export_table`]), and safe
+//! SYMORO: [`import_robot`], [`export_robot`]), and safe
 //! output ([`write_atomically`]). Every error names the file, and for content errors
 //! the line and key ([`Error::Parse`]).
 
@@ -27,13 +27,14 @@ mod urdf;
 pub use data_file::{
     MAX_CONFIGURATIONS, data_headers, format_samples, parse_samples, read_samples, write_samples,
 };
-pub use dh_table::{DhConvention, TableExport, TableUnits, export_table};
+pub use dh_table::{DhConvention, TableUnits};
 pub use document::{
     CouplingDocument, DocumentError, FrameDocument, Location, PriorityDocument, RobotDocument,
 };
 pub use error::Error;
 pub use interchange::{
-    ChainEnds, ImportOptions, Imported, RobotFormat, import_robot, import_robot_text,
+    ChainEnds, Exported, ImportOptions, Imported, RobotFormat, export_robot, import_robot,
+    import_robot_text,
 };
 pub use output::{OutputPolicy, write_atomically};
 pub use ready::{ReadyRobot, load_robot, ready_robot, ready_robots};
@@ -43,5 +44,4 @@ pub use robot_file::{
 };
 pub use study_file::{StudyFile, read_study_file};
 pub use units::LengthUnit;
-pub use urdf::export::{UrdfExport, export_urdf};
 pub use urdf::names::{UrdfDocument, UrdfJointDocument, UrdfJointNames, UrdfNames};

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use gecaro_core::{FrameType, Robot, terminal_pose};
 use gecaro_io::{
-    DhConvention, ImportOptions, Imported, RobotFormat, TableUnits, export_table, import_robot,
+    ImportOptions, Imported, RobotFormat, TableUnits, export_robot, import_robot,
     import_robot_text, load_robot,
 };
 use nalgebra::{IsometryMatrix3, Vector3};
@@ -189,8 +189,8 @@ fn tables_export_and_read_back_with_the_same_direct_model() {
             robot: robot.clone(),
             ..file
         };
-        for convention in [DhConvention::Standard, DhConvention::Modified] {
-            let exported = export_table(&file, convention).expect("β = 0");
+        for convention in [RobotFormat::Dh, RobotFormat::Mdh] {
+            let exported = export_robot(&file, convention).expect("β = 0");
             let back = import_robot_text(
                 &exported.text,
                 Path::new("table.toml"),
@@ -225,7 +225,7 @@ fn hayati_beta_has_no_place_in_a_dh_table() {
     let mut spec = file.robot.to_spec();
     spec.frames[3].beta = 0.001;
     file.robot = Robot::new(spec).expect("valid");
-    let message = export_table(&file, DhConvention::Modified).expect_err("β ≠ 0");
+    let message = export_robot(&file, RobotFormat::Mdh).expect_err("β ≠ 0");
     assert!(
         message.contains("frame 3") && message.contains("URDF"),
         "{message}"
@@ -265,7 +265,7 @@ fn bad_tables_name_the_file_and_line() {
     assert!(table_error(csv, "t.csv", Some(RobotFormat::Dh)).contains("different units"));
     let toml = "convention = \"dh\"\n[[joint]]\ntype = \"R\"\nalpha = nan\n";
     assert!(
-        table_error(toml, "t.toml", None).contains("t.toml:2: alpha: NaN is not a finite number")
+        table_error(toml, "t.toml", None).contains("t.toml:4: alpha: NaN is not a finite number")
     );
     let toml = "[[joint]]\ntype = \"R\"\n";
     assert!(table_error(toml, "t.toml", None).contains("convention"));

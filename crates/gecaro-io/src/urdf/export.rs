@@ -16,23 +16,12 @@
 //!   dropped silently.
 
 use gecaro_core::{FrameType, Robot, frame_transform};
-use nalgebra::{DMatrix, IsometryMatrix3, Vector3};
+use nalgebra::{IsometryMatrix3, Vector3};
 
 use super::names::{UrdfJointNames, UrdfNames};
+use crate::interchange::{Exported, joint_calibration};
 use crate::pose::rpy;
 use crate::robot_file::RobotFile;
-
-/// A URDF written from a robot.
-#[derive(Clone, Debug, PartialEq)]
-pub struct UrdfExport {
-    /// The URDF text.
-    pub urdf: String,
-    /// What a driver must apply to reach the URDF's joint values, when
-    /// gains or couplings are not expressible in it (YAML text).
-    pub joint_calibration: Option<String>,
-    /// What the conversion changed or moved elsewhere, for the user.
-    pub notes: Vec<String>,
-}
 
 /// Names for a robot that was not imported from a URDF.
 fn generated_names(robot: &Robot) -> UrdfNames {
@@ -132,7 +121,7 @@ fn fixed_joint(
 /// # Errors
 /// When urdf-rs cannot write the document (names that are not valid XML
 /// text are escaped, so this does not happen for a valid robot).
-pub fn export_urdf(file: &RobotFile) -> Result<UrdfExport, String> {
+pub(crate) fn export_urdf(file: &RobotFile) -> Result<Exported, String> {
     let robot = &file.robot;
     let n = robot.joint_count();
     let names = file.urdf.clone().unwrap_or_else(|| generated_names(robot));
@@ -266,11 +255,16 @@ pub fn export_urdf(file: &RobotFile) -> Result<UrdfExport, String> {
         None
     } else {
         notes.push(
-            "gains K or couplings are not expressible in a URDF: the URDF's joint values are \
-             q_urdf = Cj·diag(K)·Cm·qm, written to the joint calibration file for the driver"
+            "gains K or couplings are not expressible in a URDF: its joint values are \
+             q_urdf = Cj·diag(K)·Cm·qm, a map written to the joint calibration file for the driver"
                 .to_owned(),
         );
-        Some(joint_calibration(robot, &names))
+        let joint_names: Vec<String> = names
+            .joints
+            .iter()
+            .map(|joint| joint.name.clone())
+            .collect();
+        joint_calibration(robot, &joint_names, "URDF")
     };
     let document = urdf_rs::Robot {
         name: names.robot.clone(),
@@ -280,48 +274,12 @@ pub fn export_urdf(file: &RobotFile) -> Result<UrdfExport, String> {
         materials: Vec::new(),
     };
     let text = urdf_rs::write_to_string(&document).map_err(|error| error.to_string())?;
-    Ok(UrdfExport {
-        urdf: format!(
+    Ok(Exported {
+        text: format!(
             "<?xml version=\"1.0\"?>\n<!-- written by gecaro robot export from `{}`: kinematic chain only (no meshes, no inertia) -->\n{text}\n",
             robot.name().replace("--", "- -")
         ),
         joint_calibration,
         notes,
     })
-}
-
-/// The YAML of `q_urdf = M·qm` (M = Cj·diag(K)·Cm) for a driver.
-fn joint_calibration(robot: &Robot, names: &UrdfNames) -> String {
-    let map: &DMatrix<f64> = robot.motor_to_joint();
-    let mut text = format!(
-        "# gecaro joint calibration of `{}` (GECARO eq. 4 with the offsets folded into the URDF):\n\
-         # the URDF joint values are q_urdf = M · qm, qm the motor (encoder) values, M = Cj·diag(K)·Cm.\n\
-         # A driver applies this map before publishing joint states.\n",
-        robot.name()
-    );
-    text.push_str("joints: [");
-    text.push_str(
-        &names
-            .joints
-            .iter()
-            .map(|joint| format!("\"{}\"", joint.name.replace('"', "\\\"")))
-            .collect::<Vec<_>>()
-            .join(", "),
-    );
-    text.push_str("]\nmatrix:\n");
-    for row in map.row_iter() {
-        let values: Vec<String> = row.iter().map(|v| format!("{v:?}")).collect();
-        text.push_str(&format!("  - [{}]\n", values.join(", ")));
-    }
-    text.push_str("gains: [");
-    text.push_str(
-        &robot
-            .joints()
-            .iter()
-            .map(|joint| format!("{:?}", joint.gain))
-            .collect::<Vec<_>>()
-            .join(", "),
-    );
-    text.push_str("]\n");
-    text
 }

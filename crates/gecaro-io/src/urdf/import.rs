@@ -106,21 +106,25 @@ impl Source<'_> {
         }
     }
 
-    /// Where urdf-rs found a problem it does not locate: the first
-    /// well-formedness error (quick-xml), else the first line holding the
-    /// value its message quotes.
-    fn locate(&self, message: &str) -> usize {
+    /// The first well-formedness error of the XML (quick-xml), with its line.
+    fn xml_error(&self) -> Option<(usize, String)> {
         let mut reader = quick_xml::Reader::from_str(self.text);
         reader.config_mut().check_end_names = true;
         loop {
             match reader.read_event() {
-                Err(_) => {
-                    return self.line_at(usize::try_from(reader.error_position()).unwrap_or(0));
+                Err(error) => {
+                    let offset = usize::try_from(reader.error_position()).unwrap_or(0);
+                    return Some((self.line_at(offset), error.to_string()));
                 }
-                Ok(quick_xml::events::Event::Eof) => break,
+                Ok(quick_xml::events::Event::Eof) => return None,
                 Ok(_) => {}
             }
         }
+    }
+
+    /// Where urdf-rs found a problem of content it does not locate: the
+    /// first line holding the value its message quotes.
+    fn locate(&self, message: &str) -> usize {
         let quoted = message
             .split('`')
             .nth(1)
@@ -381,15 +385,18 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
              `xacro robot.urdf.xacro > robot.urdf`, then import robot.urdf",
         ));
     }
-    let robot = urdf_rs::read_from_string(text).map_err(|error| {
-        let message = error.to_string();
-        source.error(
-            source.locate(&message),
-            format!(
-                "not a valid URDF: {}",
-                message.trim_start_matches("custom: ")
-            ),
-        )
+    let robot = urdf_rs::read_from_string(text).map_err(|error| match source.xml_error() {
+        Some((line, message)) => source.error(line, format!("not well-formed XML: {message}")),
+        None => {
+            let message = error.to_string();
+            source.error(
+                source.locate(&message),
+                format!(
+                    "not a valid URDF: {}",
+                    message.trim_start_matches("custom: ")
+                ),
+            )
+        }
     })?;
     let tree = Tree::new(&robot, &source)?;
     let root = tree.root(&source)?;
