@@ -38,6 +38,9 @@ pub(crate) enum Command {
     Report(ReportArgs),
     /// Error statistics of a (calibrated) robot on measurements.
     Evaluate(EvaluateArgs),
+    /// Correct a robot program for the calibrated robot: the joint values
+    /// that reach what the nominal program meant ("program filtering").
+    Compensate(CompensateArgs),
     /// Generate data for the Stanford arm and identify it with every method.
     Demo(DemoArgs),
     /// Serve the GECARO main page (robot table, seven method menus) on 127.0.0.1.
@@ -494,6 +497,47 @@ pub(crate) struct EvaluateArgs {
     /// Refuse data with joints outside their limits (by default a warning).
     #[arg(long)]
     pub(crate) strict_limits: bool,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub(crate) json: bool,
+}
+
+/// What a joint target of a program asks of the calibrated robot.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum MatchArg {
+    /// Position and orientation of frame n+1.
+    Pose,
+    /// Position of the origin of frame n+1 only.
+    Position,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct CompensateArgs {
+    /// The nominal robot the program was written with (file or ready robot name).
+    pub(crate) nominal: String,
+    /// The calibrated robot (file).
+    pub(crate) calibrated: String,
+    /// The program (CSV): joint targets qm1..qmn, or Cartesian targets
+    /// x,y,z[,qw,qx,qy,qz] (world frame), other columns kept.
+    #[arg(long, value_name = "PROGRAM.csv")]
+    pub(crate) program: PathBuf,
+    #[command(flatten)]
+    pub(crate) units: UnitArgs,
+    /// Other column names: NAME=COLUMN pairs (e.g. x=X_mm,qm1=A1).
+    #[arg(long, value_name = "NAME=COLUMN,..")]
+    pub(crate) columns: Option<String>,
+    /// What a joint target asks: the whole pose of frame n+1, or only its
+    /// position (robots calibrated from position measurements, whose tool
+    /// orientation is not identified).
+    #[arg(long = "match", value_enum, default_value = "pose")]
+    pub(crate) matching: MatchArg,
+    /// The corrected program (CSV): the program's columns with corrected
+    /// joints, then residual, residual_rotation and status.
+    #[arg(short, long, value_name = "CORRECTED.csv")]
+    pub(crate) output: PathBuf,
+    /// Overwrite the output file if it exists.
+    #[arg(long)]
+    pub(crate) force: bool,
     /// Print JSON instead of text.
     #[arg(long)]
     pub(crate) json: bool,

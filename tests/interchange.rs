@@ -246,3 +246,219 @@ fn a_csv_dh_table_in_millimetres_and_degrees() {
         1e-12,
     );
 }
+
+/// A deterministic spread of configurations in an industrial arm's working
+/// region (degrees): away from the folded and singular ones.
+fn working_program(count: usize) -> Vec<[f64; 6]> {
+    (0..count)
+        .map(|i| {
+            let t = i as f64;
+            let wave =
+                |k: f64, low: f64, high: f64| low + (high - low) * (0.5 + 0.5 * (t * k).sin());
+            [
+                wave(0.71, -80.0, 80.0),
+                wave(1.37, -100.0, -35.0),
+                wave(2.11, 25.0, 100.0),
+                wave(0.53, -80.0, 80.0),
+                if i % 2 == 0 { 1.0 } else { -1.0 } * wave(1.93, 25.0, 90.0),
+                wave(2.97, -120.0, 120.0),
+            ]
+        })
+        .collect()
+}
+
+/// Rows of a CSV written by gecaro (no quoted fields here), by column name.
+fn csv_rows(path: &Path) -> Vec<std::collections::HashMap<String, String>> {
+    let text = std::fs::read_to_string(path).expect("written");
+    let mut lines = text.lines();
+    let header: Vec<String> = lines
+        .next()
+        .expect("header")
+        .split(',')
+        .map(str::to_owned)
+        .collect();
+    lines
+        .map(|line| {
+            header
+                .iter()
+                .cloned()
+                .zip(line.split(',').map(str::to_owned))
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn a_compensated_program_brings_the_real_robot_from_millimetres_to_the_noise() {
+    let folder = tempfile::tempdir().expect("folder");
+    let file = |name: &str| folder.path().join(name).display().to_string();
+    // A real robot ±3 mm, ±0.3° off its nominal model, measured by a tracker (σ 0.05 mm).
+    run(&[
+        "generate",
+        "industrial6",
+        "--method",
+        "position",
+        "--count",
+        "80",
+        "--error-level",
+        "0.3",
+        "--noise",
+        "5e-5",
+        "--seed",
+        "3",
+        "-o",
+        &file("train.csv"),
+        "--real-out",
+        &file("real.toml"),
+    ]);
+    run(&[
+        "identify",
+        "industrial6",
+        "--method",
+        "position",
+        "--data",
+        &file("train.csv"),
+        "-o",
+        &file("calibrated.toml"),
+    ]);
+    // The program as a controller exports it: degrees (4 decimals), point names, speeds.
+    let program: Vec<Vec<f64>> = working_program(40)
+        .iter()
+        .map(|q| q.iter().map(|v| (v * 1e4).round() / 1e4).collect())
+        .collect();
+    let mut text = String::from("point,qm1,qm2,qm3,qm4,qm5,qm6,speed\n");
+    for (i, q) in program.iter().enumerate() {
+        let values: Vec<String> = q.iter().map(|v| format!("{v:.4}")).collect();
+        text.push_str(&format!("P{i},{},250\n", values.join(",")));
+    }
+    std::fs::write(file("program.csv"), text).expect("write");
+    let (stdout, stderr) = run(&[
+        "compensate",
+        "industrial6",
+        &file("calibrated.toml"),
+        "--program",
+        &file("program.csv"),
+        "--angle-unit",
+        "deg",
+        "--match",
+        "position",
+        "-o",
+        &file("corrected.csv"),
+    ]);
+    assert!(stdout.contains("40 joint targets: 40 reached"), "{stdout}");
+    assert!(
+        stderr.contains("columns kept as they are (not read): point, speed"),
+        "{stderr}"
+    );
+
+    let load = |name: &str| gecaro_io::load_robot(name).expect("robot").robot;
+    let (nominal, real, calibrated) = (
+        load("industrial6"),
+        load(&file("real.toml")),
+        load(&file("calibrated.toml")),
+    );
+    let radians = |q: &[f64]| q.iter().map(|v| v.to_radians()).collect::<Vec<f64>>();
+    let point = |robot: &gecaro_core::Robot, qm: &[f64]| {
+        gecaro_core::terminal_pose(robot, qm)
+            .expect("valid")
+            .translation
+            .vector
+    };
+    let (mut before, mut after) = (0.0_f64, 0.0_f64);
+    for (row, q) in csv_rows(Path::new(&file("corrected.csv")))
+        .iter()
+        .zip(&program)
+    {
+        assert_eq!(row["status"], "ok");
+        assert_eq!(row["speed"], "250", "other columns are kept");
+        let corrected: Vec<f64> = (1..=6)
+            .map(|j| {
+                row[&format!("qm{j}")]
+                    .parse::<f64>()
+                    .expect("number")
+                    .to_radians()
+            })
+            .collect();
+        let original = radians(q);
+        let wanted = point(&nominal, &original);
+        // The calibrated model reaches what the nominal one meant, to rounding.
+        assert!((point(&calibrated, &corrected) - wanted).norm() < 1e-10);
+        before = before.max((point(&real, &original) - wanted).norm());
+        after = after.max((point(&real, &corrected) - wanted).norm());
+    }
+    assert!(
+        before > 2e-3,
+        "the real robot misses by millimetres: {before}"
+    );
+    assert!(
+        after < 1.5e-4,
+        "compensated, it misses by the sensor noise: {after}"
+    );
+}
+
+#[test]
+fn cartesian_targets_in_millimetres_are_reached_and_unreachable_ones_are_flagged() {
+    let folder = tempfile::tempdir().expect("folder");
+    let file = |name: &str| folder.path().join(name).display().to_string();
+    let nominal = gecaro_io::load_robot("industrial6").expect("ready").robot;
+    // A tracker-style export: the points the nominal robot reaches, in mm,
+    // with the columns named its way, and one point 5 m away.
+    let mut text = String::from("name,X_mm,Y_mm,Z_mm\n");
+    for (i, q) in working_program(12).iter().enumerate() {
+        let q: Vec<f64> = q.iter().map(|v| v.to_radians()).collect();
+        let p = gecaro_core::terminal_pose(&nominal, &q)
+            .expect("valid")
+            .translation
+            .vector
+            * 1e3;
+        text.push_str(&format!("T{i},{},{},{}\n", p.x, p.y, p.z));
+    }
+    text.push_str("far,5000,0,0\n");
+    std::fs::write(file("points.csv"), text).expect("write");
+    let output = gecaro()
+        .args([
+            "compensate",
+            "industrial6",
+            "industrial6",
+            "--program",
+            &file("points.csv"),
+            "--length-unit",
+            "mm",
+            "--columns",
+            "x=X_mm,y=Y_mm,z=Z_mm",
+            "-o",
+            &file("joints.csv"),
+        ])
+        .output()
+        .expect("runs");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(
+        output.status.code(),
+        Some(4),
+        "a flagged target is a failure for scripts: {stderr}"
+    );
+    assert!(
+        stderr.contains("1 target(s) not reached") && stderr.contains("lines 14"),
+        "{stderr}"
+    );
+    let rows = csv_rows(Path::new(&file("joints.csv")));
+    assert_eq!(rows.len(), 13, "every target is written, flagged or not");
+    assert_eq!(rows[12]["status"], "not-reached");
+    for row in &rows[..12] {
+        assert_eq!(row["status"], "ok");
+        let qm: Vec<f64> = (1..=6)
+            .map(|j| row[&format!("qm{j}")].parse().expect("number"))
+            .collect();
+        let reached = gecaro_core::terminal_pose(&nominal, &qm)
+            .expect("valid")
+            .translation
+            .vector
+            * 1e3;
+        let wanted =
+            [&row["X_mm"], &row["Y_mm"], &row["Z_mm"]].map(|v| v.parse::<f64>().expect("number"));
+        assert!(
+            (reached - nalgebra::Vector3::from(wanted)).norm() < 1e-7,
+            "{row:?}"
+        );
+    }
+}

@@ -92,9 +92,6 @@ pub(crate) fn jacobian(args: &ConfigurationArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Random starts tried after the default one, when no start is given.
-const RANDOM_STARTS: usize = 20;
-
 #[derive(Serialize)]
 struct InverseJson {
     motor_positions: Vec<f64>,
@@ -144,25 +141,11 @@ fn solve_from_several_starts(
     target: &Target,
     options: &InverseOptions,
 ) -> Result<InverseSolution, Failure> {
-    let middle: Vec<f64> = robot
-        .joints()
-        .iter()
-        .map(|j| 0.5 * (j.qmin + j.qmax))
-        .collect();
-    let first = robot.motor_positions(&middle)?;
-    let first_error = match inverse_kinematics(robot, target, first.as_slice(), options) {
-        Ok(solution) => return Ok(solution),
-        Err(error) => error,
-    };
-    let mut sampler = gecaro_calib::Sampler::new(1);
-    for _ in 0..RANDOM_STARTS {
-        let start = sampler.configuration(robot);
-        if let Ok(solution) = inverse_kinematics(robot, target, &start, options) {
-            return Ok(solution);
-        }
-    }
-    Err(Failure::Numerical(format!(
-        "{first_error} (tried the middle of the joint ranges and {RANDOM_STARTS} random starts; \
-         --start chooses another)"
-    )))
+    gecaro_calib::solve_from_starts(robot, target, options, 1).map_err(|first_error| {
+        Failure::Numerical(format!(
+            "{first_error} (tried the middle of the joint ranges and {} random starts; \
+             --start chooses another)",
+            gecaro_calib::RANDOM_STARTS
+        ))
+    })
 }

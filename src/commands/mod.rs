@@ -2,6 +2,7 @@
 //! calls and prints the result.
 
 mod calibration;
+mod compensation;
 mod identifiability;
 mod interchange;
 mod kinematics;
@@ -25,6 +26,7 @@ pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
         Command::Identify(args) => calibration::identify(&args),
         Command::Report(args) => calibration::report(&args),
         Command::Evaluate(args) => calibration::evaluate(&args),
+        Command::Compensate(args) => compensation::compensate(&args),
         Command::Demo(args) => calibration::demo(&args),
         Command::Serve(args) => serve::serve(&args),
     }

@@ -10,6 +10,8 @@
 //! - [`Study`]: one or more measurement sets stacked into one system.
 //! - [`identifiable_parameters`]: the base parameters, regrouping relations,
 //!   condition number ([`RankReport`]).
+//! - [`compensate`]: what a calibration is for — the joint values for which
+//!   the calibrated robot reaches the targets of a nominal program.
 //!
 //! ## Example
 //!
@@ -37,6 +39,7 @@
 
 #![warn(missing_docs)]
 
+mod compensation;
 mod error;
 mod identifiability;
 mod identification;
@@ -50,6 +53,9 @@ mod simulation;
 mod study;
 mod table2;
 
+pub use compensation::{
+    CompensatedPoint, CompensationStatus, Match, ProgramPoint, ProgramTarget, compensate,
+};
 pub use error::Error;
 pub use identifiability::{
     Classified, Excitation, Identifiability, ParameterStatus, RELATIVE_ZERO_FLOOR, RankReport,
@@ -68,7 +74,7 @@ pub use observation::{
     evaluate_states,
 };
 pub use sample::{DataColumn, Sample};
-pub use sampler::Sampler;
+pub use sampler::{RANDOM_STARTS, Sampler, solve_from_starts};
 pub use simulation::{perturbed_robot, simulate_measurements, terminal_displacement};
 pub use study::{LimitViolation, MeasurementSet, Study, StudyStates};
 pub use table2::{

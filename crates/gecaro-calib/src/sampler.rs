@@ -6,7 +6,7 @@
 //! seeded by the user: the same seed gives the same configurations, bit for
 //! bit, on every platform.
 
-use gecaro_core::{InverseOptions, Robot, Target, inverse_kinematics};
+use gecaro_core::{InverseOptions, InverseSolution, Robot, Target, inverse_kinematics};
 use nalgebra::{Rotation3, Vector3};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -20,6 +20,41 @@ const REACH_ATTEMPTS: usize = 30;
 /// Two configurations are distinct when some joint differs by more than this
 /// fraction of its range.
 const DISTINCT_FRACTION: f64 = 0.02;
+
+/// Random starts [`solve_from_starts`] tries after the middle of the joint ranges.
+pub const RANDOM_STARTS: usize = 20;
+
+/// The inverse geometric model without a start configuration: from the
+/// middle of the joint ranges, then from [`RANDOM_STARTS`] random
+/// configurations (seeded by `seed`).
+///
+/// # Errors
+/// The error of the first start when none reaches the target.
+pub fn solve_from_starts(
+    robot: &Robot,
+    target: &Target,
+    options: &InverseOptions,
+    seed: u64,
+) -> Result<InverseSolution, gecaro_core::Error> {
+    let middle: Vec<f64> = robot
+        .joints()
+        .iter()
+        .map(|joint| 0.5 * (joint.qmin + joint.qmax))
+        .collect();
+    let first = robot.motor_positions(&middle)?;
+    let first_error = match inverse_kinematics(robot, target, first.as_slice(), options) {
+        Ok(solution) => return Ok(solution),
+        Err(error) => error,
+    };
+    let mut sampler = Sampler::new(seed);
+    for _ in 0..RANDOM_STARTS {
+        let start = sampler.configuration(robot);
+        if let Ok(solution) = inverse_kinematics(robot, target, &start, options) {
+            return Ok(solution);
+        }
+    }
+    Err(first_error)
+}
 
 /// The source of randomness of points generation; see the module docs.
 #[derive(Clone, Debug)]

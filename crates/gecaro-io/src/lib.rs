@@ -9,6 +9,7 @@
 
 #![warn(missing_docs)]
 
+mod columns;
 mod data_file;
 mod dh_table;
 mod document;
@@ -17,6 +18,7 @@ mod input;
 mod interchange;
 mod output;
 mod pose;
+mod program_file;
 mod ready;
 mod robot_file;
 mod study_file;
@@ -24,6 +26,7 @@ mod symoro;
 mod units;
 mod urdf;
 
+pub use columns::{ColumnMap, DataUnits};
 pub use data_file::{
     MAX_CONFIGURATIONS, data_headers, format_samples, parse_samples, read_samples, write_samples,
 };
@@ -37,6 +40,7 @@ pub use interchange::{
     import_robot_text,
 };
 pub use output::{OutputPolicy, write_atomically};
+pub use program_file::{ProgramFile, ProgramKind, read_program};
 pub use ready::{ReadyRobot, load_robot, ready_robot, ready_robots};
 pub use robot_file::{
     AngleUnit, RobotFile, fallback_name, format_robot_file, parse_robot_document, parse_robot_file,

@@ -63,6 +63,9 @@ pub struct InverseOptions {
     pub max_iterations: usize,
     /// Success when ‖Δx‖ (metres and radians) falls below this.
     pub tolerance: f64,
+    /// Keep q within the joint limits (clamped after every step). Without
+    /// it, a solution beyond a limit is found and returned as it is.
+    pub respect_limits: bool,
 }
 
 impl Default for InverseOptions {
@@ -70,6 +73,7 @@ impl Default for InverseOptions {
         InverseOptions {
             max_iterations: 200,
             tolerance: 1e-12,
+            respect_limits: true,
         }
     }
 }
@@ -107,7 +111,14 @@ pub fn inverse_kinematics(
 ) -> Result<InverseSolution, Error> {
     check_target(target)?;
     let start = robot.joint_positions(start_motor_positions)?;
-    let mut joint_positions = clamp_to_limits(robot, start);
+    let limit = |q: DVector<f64>| {
+        if options.respect_limits {
+            clamp_to_limits(robot, q)
+        } else {
+            q
+        }
+    };
+    let mut joint_positions = limit(start);
     let (mut chain, mut error) = evaluate(robot, target, &joint_positions);
     let mut damping = INITIAL_DAMPING;
     let mut iterations = 0;
@@ -129,7 +140,7 @@ pub fn inverse_kinematics(
                     .zip(svd.singular_values.iter())
                     .map(|(p, s)| p * s / (s * s + damping)),
             );
-            let candidate = clamp_to_limits(robot, &joint_positions + v_t.transpose() * scaled);
+            let candidate = limit(&joint_positions + v_t.transpose() * scaled);
             let (candidate_chain, candidate_error) = evaluate(robot, target, &candidate);
             if candidate_error.norm() < error.norm() {
                 joint_positions = candidate;

@@ -1,0 +1,618 @@
+//! Compensation ("program filtering"): what a calibration is for. A robot
+//! program was written with the nominal model; for each of its targets,
+//! find the motor values qm for which the *calibrated* robot reaches the pose
+//! the program means.
+//!
+//! - A joint target qm₀ means the pose the nominal model gives it,
+//!   `nominal FK(qm₀)` (eq. 1, the whole frame n+1), or only its point when
+//!   the calibration measured positions only ([`Match::Position`]: a
+//!   position calibration does not identify the orientation of frame n+1);
+//!   a Cartesian target is a point or a pose of frame n+1 in the world frame.
+//! - The calibrated robot's inverse geometric model solves for it, from the
+//!   program's own joints (joint targets, or Cartesian targets that carry
+//!   them), else from the previous target's solution (a program is a path),
+//!   else from the middle of the joint ranges and random starts.
+//! - With redundancy (more joints than the target constrains: 7 axes, or a
+//!   point for a 6-axis arm) the solution is the one closest to the start
+//!   joints: the solution is moved along the null space of the task
+//!   Jacobian towards them until `qm − qm₀` is orthogonal to it (the
+//!   first-order condition of the closest point), staying within the limits.
+//! - Every target gets its remaining error against the calibrated model and
+//!   a status: reached, reached only beyond a joint limit, or not reached
+//!   (then the start joints are kept). Nothing is dropped or written silently.
+
+use gecaro_core::{
+    InverseOptions, OrientationDifference, Robot, Target, forward_kinematics, inverse_kinematics,
+    joint_jacobian, orientation_difference, terminal_pose,
+};
+use nalgebra::{DMatrix, DVector, IsometryMatrix3, Vector3};
+
+use crate::Error;
+use crate::sampler::solve_from_starts;
+
+/// One target of a program.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ProgramTarget {
+    /// Motor values of the program: the pose the nominal model gives them.
+    Joints(Vec<f64>),
+    /// A point for the origin of frame n+1 (world frame, metres).
+    Position(Vector3<f64>),
+    /// A pose of frame n+1 (world frame).
+    Pose(IsometryMatrix3<f64>),
+}
+
+/// A target and, for Cartesian ones, the program's joints if it has them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProgramPoint {
+    /// What the robot must reach.
+    pub target: ProgramTarget,
+    /// The program's joints for a Cartesian target (start and reference of
+    /// the closest solution); ignored for joint targets, which are their own.
+    pub joints: Option<Vec<f64>>,
+}
+
+/// What a joint target asks of the calibrated robot.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum Match {
+    /// The whole pose of frame n+1 (calibrations that measured orientations).
+    #[default]
+    Pose,
+    /// Only the position of the origin of frame n+1; the joints move as
+    /// little as they can (calibrations from position measurements).
+    Position,
+}
+
+/// What became of one target.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum CompensationStatus {
+    /// Reached within the joint limits.
+    Reached,
+    /// Reached only with a joint beyond its limit (the values are written, flagged).
+    OutsideLimits,
+    /// Not reached: the start joints are kept.
+    NotReached,
+}
+
+impl CompensationStatus {
+    /// The word written in output files: `ok`, `outside-limits`, `not-reached`.
+    pub fn word(self) -> &'static str {
+        match self {
+            CompensationStatus::Reached => "ok",
+            CompensationStatus::OutsideLimits => "outside-limits",
+            CompensationStatus::NotReached => "not-reached",
+        }
+    }
+}
+
+/// A compensated target.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CompensatedPoint {
+    /// The motor values to send (eq. 4).
+    pub motor_positions: Vec<f64>,
+    /// Distance between the target point and where the calibrated robot
+    /// puts frame n+1 at these values (metres).
+    pub position_error: f64,
+    /// Angle between the target orientation and the calibrated robot's
+    /// (radians); `None` for a point target.
+    pub rotation_error: Option<f64>,
+    /// Reached, beyond a limit, or not reached.
+    pub status: CompensationStatus,
+}
+
+/// Iterations of the move towards the closest solution.
+const CLOSEST_ITERATIONS: usize = 60;
+
+/// Compensates every point of a program (see the module docs); `progress`
+/// is called with the number of points done.
+///
+/// # Errors
+/// Robots with different joint counts, or a target of the wrong length or
+/// not finite.
+pub fn compensate(
+    nominal: &Robot,
+    calibrated: &Robot,
+    points: &[ProgramPoint],
+    matching: Match,
+    mut progress: impl FnMut(usize),
+) -> Result<Vec<CompensatedPoint>, Error> {
+    if nominal.joint_count() != calibrated.joint_count() {
+        return Err(Error::InvalidData {
+            line: None,
+            message: format!(
+                "the nominal robot has {} joints, the calibrated one {}: not the same robot",
+                nominal.joint_count(),
+                calibrated.joint_count()
+            ),
+        });
+    }
+    let options = InverseOptions::default();
+    let mut previous: Option<Vec<f64>> = None;
+    let mut results = Vec::with_capacity(points.len());
+    for (index, point) in points.iter().enumerate() {
+        let (target, joints) = match &point.target {
+            ProgramTarget::Joints(qm) => {
+                let pose = terminal_pose(nominal, qm)?;
+                let target = match matching {
+                    Match::Pose => Target::Frame(pose),
+                    Match::Position => Target::Position(pose.translation.vector),
+                };
+                (target, Some(qm))
+            }
+            ProgramTarget::Position(position) => {
+                (Target::Position(*position), point.joints.as_ref())
+            }
+            ProgramTarget::Pose(pose) => (Target::Frame(*pose), point.joints.as_ref()),
+        };
+        if let Some(joints) = joints {
+            calibrated.check_configuration(joints)?;
+        }
+        let start = joints.or(previous.as_ref()).cloned();
+        // Without the program's joints the configuration is free: other starts
+        // may reach the target within the limits where the previous one does not.
+        let free = joints.is_none();
+        let result = compensate_one(
+            calibrated,
+            &target,
+            start.as_deref(),
+            free,
+            &options,
+            index as u64,
+        )?;
+        if result.status != CompensationStatus::NotReached {
+            previous = Some(result.motor_positions.clone());
+        }
+        results.push(result);
+        progress(index + 1);
+    }
+    Ok(results)
+}
+
+fn compensate_one(
+    robot: &Robot,
+    target: &Target,
+    start: Option<&[f64]>,
+    free: bool,
+    options: &InverseOptions,
+    seed: u64,
+) -> Result<CompensatedPoint, Error> {
+    let solve = |options: &InverseOptions| {
+        let from_start = match start {
+            Some(start) => inverse_kinematics(robot, target, start, options),
+            None => return solve_from_starts(robot, target, options, seed),
+        };
+        match from_start {
+            Err(gecaro_core::Error::Unreachable { .. }) if free => {
+                solve_from_starts(robot, target, options, seed)
+            }
+            other => other,
+        }
+    };
+    let (motor_positions, status) = match solve(options) {
+        Ok(solution) => {
+            let reference = start.map_or_else(|| solution.motor_positions.clone(), <[f64]>::to_vec);
+            (
+                closest_solution(robot, target, solution.motor_positions, &reference, options)?,
+                CompensationStatus::Reached,
+            )
+        }
+        Err(gecaro_core::Error::Unreachable { .. }) => {
+            let unlimited = InverseOptions {
+                respect_limits: false,
+                ..*options
+            };
+            match solve(&unlimited) {
+                Ok(solution) => (solution.motor_positions, CompensationStatus::OutsideLimits),
+                Err(gecaro_core::Error::Unreachable { .. }) => {
+                    let kept = match start {
+                        Some(start) => start.to_vec(),
+                        None => robot
+                            .motor_positions(
+                                &robot
+                                    .joints()
+                                    .iter()
+                                    .map(|joint| 0.5 * (joint.qmin + joint.qmax))
+                                    .collect::<Vec<_>>(),
+                            )?
+                            .as_slice()
+                            .to_vec(),
+                    };
+                    (kept, CompensationStatus::NotReached)
+                }
+                Err(other) => return Err(other.into()),
+            }
+        }
+        Err(other) => return Err(other.into()),
+    };
+    let (position_error, rotation_error) = errors(robot, target, &motor_positions)?;
+    Ok(CompensatedPoint {
+        motor_positions,
+        position_error,
+        rotation_error,
+        status,
+    })
+}
+
+/// How far the robot at `motor_positions` is from `target`.
+fn errors(
+    robot: &Robot,
+    target: &Target,
+    motor_positions: &[f64],
+) -> Result<(f64, Option<f64>), Error> {
+    let pose = terminal_pose(robot, motor_positions)?;
+    Ok(match target {
+        Target::Position(point) => ((point - pose.translation.vector).norm(), None),
+        Target::Frame(wanted) => (
+            (wanted.translation.vector - pose.translation.vector).norm(),
+            Some(
+                orientation_difference(
+                    &wanted.rotation,
+                    &pose.rotation,
+                    OrientationDifference::AxisAngle,
+                )
+                .norm(),
+            ),
+        ),
+        Target::Plane { normal, offset } => {
+            ((offset - normal.dot(&pose.translation.vector)).abs(), None)
+        }
+    })
+}
+
+/// The task rows of the Jacobian w.r.t. the motor values: J_q · ∂q/∂qm.
+fn task_jacobian(
+    robot: &Robot,
+    target: &Target,
+    motor_positions: &[f64],
+) -> Result<DMatrix<f64>, Error> {
+    let chain = forward_kinematics(robot, motor_positions)?;
+    let full = joint_jacobian(robot, &chain) * robot.motor_to_joint();
+    let rows = match target {
+        Target::Position(_) => 3,
+        _ => 6,
+    };
+    Ok(DMatrix::from_fn(rows, full.ncols(), |i, j| full[(i, j)]))
+}
+
+/// The part of `reference − current` along the solutions: its projection on
+/// the null space of the task Jacobian (zero at the closest solution).
+fn null_space_step(
+    robot: &Robot,
+    target: &Target,
+    current: &[f64],
+    reference: &[f64],
+) -> Result<DVector<f64>, Error> {
+    let jacobian = task_jacobian(robot, target, current)?;
+    let svd = jacobian.svd(false, true);
+    let away = DVector::from_column_slice(reference) - DVector::from_column_slice(current);
+    let mut step = away.clone();
+    if let Some(v_t) = svd.v_t {
+        let largest = svd.singular_values.max();
+        for (row, value) in v_t.row_iter().zip(svd.singular_values.iter()) {
+            if *value > 1e-9 * largest {
+                let direction = row.transpose();
+                step -= &direction * direction.dot(&away);
+            }
+        }
+    }
+    Ok(step)
+}
+
+/// From a solution, the solution closest to `reference` (see the module
+/// docs); the solution itself when the task leaves no freedom.
+fn closest_solution(
+    robot: &Robot,
+    target: &Target,
+    solution: Vec<f64>,
+    reference: &[f64],
+    options: &InverseOptions,
+) -> Result<Vec<f64>, Error> {
+    let task_rows = match target {
+        Target::Position(_) => 3,
+        _ => 6,
+    };
+    if robot.joint_count() <= task_rows {
+        return Ok(solution);
+    }
+    let distance = |qm: &[f64]| {
+        qm.iter()
+            .zip(reference)
+            .map(|(a, b)| (a - b) * (a - b))
+            .sum::<f64>()
+            .sqrt()
+    };
+    let mut current = solution;
+    let mut step = null_space_step(robot, target, &current, reference)?;
+    // The iteration converges linearly; its rate r, once seen, says how far
+    // to move at once (1/(1 − r) of the step, capped).
+    let mut rate: f64 = 0.0;
+    for _ in 0..CLOSEST_ITERATIONS {
+        if step.norm() < 1e-13 {
+            break;
+        }
+        // Move along the solutions, back onto the target; keep the move when
+        // it brings the joints closer — or, once the gain is below rounding,
+        // when less is left to go — else try a shorter move.
+        let here = distance(&current);
+        let extrapolated = (1.0 / (1.0 - rate)).clamp(1.0, 8.0);
+        let fractions = std::iter::once(extrapolated)
+            .filter(|f| *f > 1.0)
+            .chain((0..7).map(|halvings| 0.5_f64.powi(halvings)));
+        let mut accepted = None;
+        for fraction in fractions {
+            let moved = DVector::from_column_slice(&current) + &step * fraction;
+            if let Ok(projected) = inverse_kinematics(robot, target, moved.as_slice(), options) {
+                let joints = robot.joint_positions(&projected.motor_positions)?;
+                let next = null_space_step(robot, target, &projected.motor_positions, reference)?;
+                let there = distance(&projected.motor_positions);
+                let closer = there < here - 1e-15 * here
+                    || (there <= here + 1e-15 * here && next.norm() < step.norm());
+                if robot.within_limits(joints.as_slice()) && closer {
+                    accepted = Some((projected.motor_positions, next));
+                    break;
+                }
+            }
+        }
+        let Some((next_position, next_step)) = accepted else {
+            break;
+        };
+        rate = (next_step.norm() / step.norm()).min(0.95);
+        current = next_position;
+        step = next_step;
+    }
+    Ok(current)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::f64::consts::FRAC_PI_2;
+
+    use gecaro_core::{Frame, FrameType, Joint, RobotSpec};
+
+    use super::*;
+    use crate::sampler::Sampler;
+    use crate::simulation::perturbed_robot;
+
+    /// A robot from (σ, α, d, r) rows and limits of its joints.
+    fn robot(name: &str, rows: &[(FrameType, f64, f64, f64)], limits: &[(f64, f64)]) -> Robot {
+        let frames = rows
+            .iter()
+            .map(|(frame_type, alpha, d, r)| Frame {
+                alpha: *alpha,
+                d: *d,
+                r: *r,
+                ..Frame::new(*frame_type)
+            })
+            .collect();
+        let joints = limits
+            .iter()
+            .map(|(qmin, qmax)| Joint {
+                qmin: *qmin,
+                qmax: *qmax,
+                ..Joint::default_for(FrameType::Revolute)
+            })
+            .collect();
+        Robot::new(RobotSpec {
+            name: name.into(),
+            frames,
+            joints,
+            motor_coupling: None,
+            joint_coupling: None,
+            priority: None,
+        })
+        .expect("valid")
+    }
+
+    /// The PUMA 560 of `robots/puma560.toml`.
+    fn puma() -> Robot {
+        use FrameType::{Fixed, Revolute};
+        let degrees = |a: f64, b: f64| (a.to_radians(), b.to_radians());
+        robot(
+            "PUMA 560",
+            &[
+                (Fixed, 0.0, 0.0, 0.6604),
+                (Revolute, 0.0, 0.0, 0.0),
+                (Revolute, -FRAC_PI_2, 0.0, 0.0),
+                (Revolute, 0.0, 0.4318, 0.15005),
+                (Revolute, -FRAC_PI_2, 0.0203, 0.4318),
+                (Revolute, FRAC_PI_2, 0.0, 0.0),
+                (Revolute, -FRAC_PI_2, 0.0, 0.0),
+                (Fixed, 0.0, 0.0, 0.05625),
+            ],
+            &[
+                degrees(-160.0, 160.0),
+                degrees(-45.0, 225.0),
+                degrees(-225.0, 45.0),
+                degrees(-110.0, 170.0),
+                degrees(-100.0, 100.0),
+                degrees(-266.0, 266.0),
+            ],
+        )
+    }
+
+    /// The Franka Panda of `robots/panda.toml` (7 axes).
+    fn panda() -> Robot {
+        use FrameType::{Fixed, Revolute};
+        robot(
+            "Panda",
+            &[
+                (Fixed, 0.0, 0.0, 0.0),
+                (Revolute, 0.0, 0.0, 0.333),
+                (Revolute, -FRAC_PI_2, 0.0, 0.0),
+                (Revolute, FRAC_PI_2, 0.0, 0.316),
+                (Revolute, FRAC_PI_2, 0.0825, 0.0),
+                (Revolute, -FRAC_PI_2, -0.0825, 0.384),
+                (Revolute, FRAC_PI_2, 0.0, 0.0),
+                (Revolute, FRAC_PI_2, 0.088, 0.0),
+                (Fixed, 0.0, 0.0, 0.107),
+            ],
+            &[
+                (-2.8973, 2.8973),
+                (-1.7628, 1.7628),
+                (-2.8973, 2.8973),
+                (-3.0718, -0.0698),
+                (-2.8973, 2.8973),
+                (-0.0175, 3.7525),
+                (-2.8973, 2.8973),
+            ],
+        )
+    }
+
+    /// A program of joint targets well inside the limits and away from
+    /// singular configurations (smallest singular value of the pose Jacobian
+    /// above 0.05), as programs are: next to a singularity a few millimetres
+    /// of error move the boundary of the workspace.
+    fn program(robot: &Robot, count: usize, sampler: &mut Sampler) -> Vec<Vec<f64>> {
+        let mut program = Vec::with_capacity(count);
+        while program.len() < count {
+            let qm: Vec<f64> = robot
+                .joints()
+                .iter()
+                .map(|joint| {
+                    let margin = 0.1 * (joint.qmax - joint.qmin);
+                    sampler.uniform(joint.qmin + margin, joint.qmax - margin)
+                })
+                .collect();
+            let pose = Target::Frame(terminal_pose(robot, &qm).expect("valid"));
+            let jacobian = task_jacobian(robot, &pose, &qm).expect("valid");
+            if jacobian.singular_values().min() > 0.05 {
+                program.push(qm);
+            }
+        }
+        program
+    }
+
+    fn joint_targets(program: &[Vec<f64>]) -> Vec<ProgramPoint> {
+        program
+            .iter()
+            .map(|qm| ProgramPoint {
+                target: ProgramTarget::Joints(qm.clone()),
+                joints: None,
+            })
+            .collect()
+    }
+
+    /// The part of `qm − reference` along the solutions: zero at the closest one.
+    fn along_solutions(robot: &Robot, target: &Target, qm: &[f64], reference: &[f64]) -> f64 {
+        null_space_step(robot, target, qm, reference)
+            .expect("valid")
+            .norm()
+    }
+
+    #[test]
+    fn the_calibrated_robot_reaches_what_the_nominal_program_meant() {
+        let mut sampler = Sampler::new(4);
+        for nominal in [puma(), panda()] {
+            // Errors of ±3 mm, ±0.3°, ±0.3 % (what calibrations find).
+            let calibrated = perturbed_robot(&nominal, 0.3, &mut sampler).expect("valid");
+            let program = program(&nominal, 60, &mut sampler);
+            let mut done = 0;
+            let results = compensate(
+                &nominal,
+                &calibrated,
+                &joint_targets(&program),
+                Match::Pose,
+                |count| done = count,
+            )
+            .expect("compensates");
+            assert_eq!(done, program.len());
+            for (qm, result) in program.iter().zip(&results) {
+                assert_eq!(
+                    result.status,
+                    CompensationStatus::Reached,
+                    "{}",
+                    nominal.name()
+                );
+                let wanted = terminal_pose(&nominal, qm).expect("valid");
+                let got = terminal_pose(&calibrated, &result.motor_positions).expect("valid");
+                assert!((wanted.to_homogeneous() - got.to_homogeneous()).abs().max() < 1e-10);
+                assert!(
+                    result.position_error < 1e-10 && result.rotation_error.expect("pose") < 1e-10
+                );
+                // A correction, not another branch of the inverse model (a
+                // wrist or elbow flip moves joints by about π) — except next to
+                // the PUMA's wrist singularity, where q4 and q6 trade freely.
+                let moved = qm
+                    .iter()
+                    .zip(&result.motor_positions)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+                if nominal.joint_count() == 7 || qm[4].sin().abs() > 0.2 {
+                    assert!(
+                        moved < 0.3,
+                        "{}: moved {moved} rad at {qm:?}",
+                        nominal.name()
+                    );
+                }
+                if nominal.joint_count() == 7 {
+                    let target = Target::Frame(wanted);
+                    let drift = along_solutions(&calibrated, &target, &result.motor_positions, qm);
+                    assert!(drift < 1e-9, "not the closest solution: {drift:e}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn points_for_a_six_axis_arm_take_the_closest_solution() {
+        let mut sampler = Sampler::new(5);
+        let nominal = puma();
+        let calibrated = perturbed_robot(&nominal, 1.0, &mut sampler).expect("valid");
+        for qm in program(&nominal, 20, &mut sampler) {
+            let point = terminal_pose(&nominal, &qm)
+                .expect("valid")
+                .translation
+                .vector;
+            let results = compensate(
+                &nominal,
+                &calibrated,
+                &[ProgramPoint {
+                    target: ProgramTarget::Position(point),
+                    joints: Some(qm.clone()),
+                }],
+                Match::Pose,
+                |_| {},
+            )
+            .expect("compensates");
+            let result = &results[0];
+            assert_eq!(result.status, CompensationStatus::Reached);
+            assert!(result.position_error < 1e-10 && result.rotation_error.is_none());
+            let drift = along_solutions(
+                &calibrated,
+                &Target::Position(point),
+                &result.motor_positions,
+                &qm,
+            );
+            assert!(drift < 1e-9, "not the closest solution: {drift:e}");
+        }
+    }
+
+    #[test]
+    fn targets_beyond_a_limit_or_out_of_reach_are_flagged() {
+        let nominal = puma();
+        let mut spec = nominal.to_spec();
+        // The calibrated robot reaches the program's first pose only with q1
+        // beyond its limit: a joint offset pushes it there.
+        spec.frames[1].theta = 0.05;
+        let calibrated = Robot::new(spec).expect("valid");
+        let at_limit = vec![nominal.joints()[0].qmin + 0.01, 0.3, -0.5, 0.2, 0.6, 0.1];
+        let points = vec![
+            ProgramPoint {
+                target: ProgramTarget::Joints(at_limit.clone()),
+                joints: None,
+            },
+            ProgramPoint {
+                target: ProgramTarget::Position(Vector3::new(5.0, 0.0, 0.0)),
+                joints: None,
+            },
+        ];
+        let results =
+            compensate(&nominal, &calibrated, &points, Match::Pose, |_| {}).expect("runs");
+        assert_eq!(results[0].status, CompensationStatus::OutsideLimits);
+        assert!(results[0].motor_positions[0] < nominal.joints()[0].qmin);
+        assert!(results[0].position_error < 1e-10);
+        assert_eq!(results[1].status, CompensationStatus::NotReached);
+        assert!(results[1].position_error > 3.0);
+        let other = panda();
+        assert!(compensate(&nominal, &other, &points, Match::Pose, |_| {}).is_err());
+    }
+}

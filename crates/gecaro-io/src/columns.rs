@@ -1,0 +1,167 @@
+//! Columns of CSV files as other programs write them: found by name in any
+//! order, renamed by the user (`--columns x=X_mm,y=Y_mm`), in millimetres
+//! and degrees, next to columns gecaro does not use (time stamps, point
+//! names) which are left alone.
+
+use gecaro_core::{FrameType, Robot};
+
+use crate::robot_file::AngleUnit;
+use crate::units::LengthUnit;
+
+/// gecaro's column names mapped to a file's (`x=X_mm`): the file's name is
+/// looked up instead of gecaro's.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ColumnMap {
+    pairs: Vec<(String, String)>,
+}
+
+impl ColumnMap {
+    /// A map from `gecaro=file` pairs separated by commas (`x=X_mm,y=Y_mm`).
+    ///
+    /// # Errors
+    /// A pair without `=`, an empty name, or a gecaro name given twice.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let mut pairs: Vec<(String, String)> = Vec::new();
+        for pair in text
+            .split(',')
+            .map(str::trim)
+            .filter(|pair| !pair.is_empty())
+        {
+            let Some((ours, theirs)) = pair.split_once('=') else {
+                return Err(format!("`{pair}` is not NAME=COLUMN (e.g. x=X_mm)"));
+            };
+            let (ours, theirs) = (ours.trim(), theirs.trim());
+            if ours.is_empty() || theirs.is_empty() {
+                return Err(format!("`{pair}` has an empty name"));
+            }
+            if pairs.iter().any(|(name, _)| name == ours) {
+                return Err(format!("`{ours}` is mapped twice"));
+            }
+            pairs.push((ours.to_owned(), theirs.to_owned()));
+        }
+        Ok(ColumnMap { pairs })
+    }
+
+    /// The map of `(gecaro, file)` pairs.
+    pub fn from_pairs(pairs: impl IntoIterator<Item = (String, String)>) -> Self {
+        ColumnMap {
+            pairs: pairs.into_iter().collect(),
+        }
+    }
+
+    /// Whether nothing is renamed.
+    pub fn is_empty(&self) -> bool {
+        self.pairs.is_empty()
+    }
+
+    /// The file's name of gecaro's column `name`.
+    pub(crate) fn file_name<'a>(&'a self, name: &'a str) -> &'a str {
+        self.pairs
+            .iter()
+            .find(|(ours, _)| ours == name)
+            .map_or(name, |(_, theirs)| theirs.as_str())
+    }
+
+    /// gecaro names mapped to nothing the file has, as an error message.
+    pub(crate) fn unused(&self, header: &[String], known: &[String]) -> Option<String> {
+        self.pairs.iter().find_map(|(ours, theirs)| {
+            if !known.contains(ours) {
+                Some(format!(
+                    "--columns maps `{ours}`, which is not a column of this file's kind ({})",
+                    known.join(",")
+                ))
+            } else if !header.contains(theirs) {
+                Some(format!(
+                    "--columns maps `{ours}` to `{theirs}`, which is not in the header"
+                ))
+            } else {
+                None
+            }
+        })
+    }
+}
+
+/// The units of the lengths and angles of a data or program file.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub struct DataUnits {
+    /// Positions, distances, prismatic joint values.
+    pub length: LengthUnit,
+    /// Revolute joint values.
+    pub angle: AngleUnit,
+}
+
+impl DataUnits {
+    /// The factor from the file's unit of joint `j` (0-based) to gecaro's.
+    pub(crate) fn joint_scale(&self, robot_types: &[FrameType], j: usize) -> f64 {
+        match robot_types.get(j) {
+            Some(FrameType::Prismatic) => self.length.to_metres(),
+            _ => self.angle.to_radians(),
+        }
+    }
+
+    /// Whether both units are gecaro's own (metres, radians).
+    pub fn is_si(&self) -> bool {
+        *self == DataUnits::default()
+    }
+}
+
+/// The joint types 1..n of a robot, for unit conversions.
+pub(crate) fn joint_types(robot: &Robot) -> Vec<FrameType> {
+    robot.frames()[1..=robot.joint_count()]
+        .iter()
+        .map(|frame| frame.frame_type)
+        .collect()
+}
+
+/// Where gecaro's columns are in a header, and what else is there.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(crate) struct Layout {
+    /// Position in the header of each wanted column that is present.
+    pub(crate) positions: Vec<Option<usize>>,
+    /// Header columns nobody asked for, in order.
+    pub(crate) unused: Vec<String>,
+}
+
+/// Finds `wanted` (gecaro names) in `header` through `map`.
+pub(crate) fn locate(header: &[String], wanted: &[String], map: &ColumnMap) -> Layout {
+    let positions: Vec<Option<usize>> = wanted
+        .iter()
+        .map(|name| {
+            let file_name = map.file_name(name);
+            header.iter().position(|column| column == file_name)
+        })
+        .collect();
+    let used: Vec<usize> = positions.iter().flatten().copied().collect();
+    let unused = header
+        .iter()
+        .enumerate()
+        .filter(|(index, _)| !used.contains(index))
+        .map(|(_, name)| name.clone())
+        .collect();
+    Layout { positions, unused }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn maps_parse_and_refuse_what_is_not_one() {
+        let map = ColumnMap::parse("x=X_mm, y = Y_mm,z=Z_mm").expect("valid");
+        assert_eq!(map.file_name("y"), "Y_mm");
+        assert_eq!(map.file_name("qm1"), "qm1");
+        assert!(ColumnMap::parse("x").is_err());
+        assert!(ColumnMap::parse("x=A,x=B").is_err());
+        assert!(ColumnMap::parse("=A").is_err());
+    }
+
+    #[test]
+    fn columns_are_found_by_name_and_the_rest_is_left() {
+        let header: Vec<String> = ["time", "X_mm", "qm1", "point"].map(String::from).to_vec();
+        let map = ColumnMap::parse("x=X_mm").expect("valid");
+        let wanted: Vec<String> = ["qm1", "x", "y"].map(String::from).to_vec();
+        let layout = locate(&header, &wanted, &map);
+        assert_eq!(layout.positions, [Some(2), Some(1), None]);
+        assert_eq!(layout.unused, ["time", "point"]);
+    }
+}

@@ -1,0 +1,360 @@
+//! Robot programs for compensation: a CSV file of targets, as a controller
+//! export or a script writes it, and the same file corrected.
+//!
+//! A program has joint targets (columns `qm1..qmn`: the configurations the
+//! nominal model was programmed with) or Cartesian targets (`x,y,z`, and
+//! `qw,qx,qy,qz` for an orientation, world frame); Cartesian targets may
+//! carry the program's joints too. Columns are found by name (or through a
+//! [`ColumnMap`]), in the file's units ([`DataUnits`]); every other column
+//! (time stamps, point names, speeds) is kept as written.
+//!
+//! The corrected program is the same file with the corrected joint values
+//! in the program's own `qm` columns, order and units (added at the end when
+//! the program had none), then `residual` (position, the file's length
+//! unit), `residual_rotation` (the file's angle unit, targets with an
+//! orientation) and `status` (`ok`, `outside-limits`, `not-reached`).
+
+use std::path::Path;
+
+use gecaro_calib::{CompensatedPoint, ProgramPoint, ProgramTarget};
+use gecaro_core::{FrameType, Robot};
+use nalgebra::{IsometryMatrix3, Quaternion, Translation3, UnitQuaternion, Vector3};
+
+use crate::Error;
+use crate::columns::{ColumnMap, DataUnits, joint_types, locate};
+use crate::input::{LineLimit, MAX_LINE_BYTES, open_regular};
+
+/// What a program's targets are.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum ProgramKind {
+    /// Joint configurations.
+    Joints,
+    /// Points of frame n+1.
+    Position,
+    /// Poses of frame n+1.
+    Pose,
+}
+
+/// A program read from a CSV file (see the module docs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProgramFile {
+    header: Vec<String>,
+    records: Vec<Vec<String>>,
+    lines: Vec<usize>,
+    /// Positions of `qm1..qmn` in the header, if the program has them.
+    joint_columns: Option<Vec<usize>>,
+    kind: ProgramKind,
+    units: DataUnits,
+    joint_types: Vec<FrameType>,
+    /// The targets, in gecaro's units.
+    pub points: Vec<ProgramPoint>,
+    /// Columns kept as they are (not read by gecaro).
+    pub unused_columns: Vec<String>,
+}
+
+/// Most targets a program may hold (as many as a data file's configurations).
+const MAX_TARGETS: usize = crate::data_file::MAX_CONFIGURATIONS;
+
+/// Reads a program for `robot` in `units`, columns renamed by `map`.
+///
+/// # Errors
+/// [`Error::Read`] when it cannot be opened (or is not a regular file),
+/// [`Error::Parse`] with line and column for any problem of content.
+pub fn read_program(
+    path: &Path,
+    robot: &Robot,
+    units: DataUnits,
+    map: &ColumnMap,
+) -> Result<ProgramFile, Error> {
+    let (file, _) = open_regular(path)?;
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .comment(Some(b'#'))
+        .trim(csv::Trim::All)
+        .flexible(true)
+        .from_reader(LineLimit::new(
+            std::io::BufReader::new(file),
+            MAX_LINE_BYTES,
+        ));
+    let csv_error = |error: csv::Error| {
+        let line = error.position().map_or(1, |p| p.line() as usize);
+        let message = match error.kind() {
+            csv::ErrorKind::Utf8 { .. } => "the file is not UTF-8 text".to_owned(),
+            _ => error.to_string(),
+        };
+        Error::parse(path, line, None, message)
+    };
+    let mut records = reader.records();
+    let n = robot.joint_count();
+    let joint_names: Vec<String> = (1..=n).map(|j| format!("qm{j}")).collect();
+    let expected = format!("{} and/or x,y,z[,qw,qx,qy,qz]", joint_names.join(","));
+    let Some(header) = records.next().transpose().map_err(csv_error)? else {
+        return Err(Error::parse(
+            path,
+            1,
+            None,
+            format!("the file is empty; a program's header names {expected}"),
+        ));
+    };
+    let header_line = header.position().map_or(1, |p| p.line() as usize);
+    let header: Vec<String> = header.iter().map(str::to_owned).collect();
+    let fail_header = |message: String| Error::parse(path, header_line, None, message);
+    let cartesian: Vec<String> = ["x", "y", "z", "qw", "qx", "qy", "qz"]
+        .map(String::from)
+        .to_vec();
+    let wanted: Vec<String> = joint_names.iter().chain(&cartesian).cloned().collect();
+    if let Some(message) = map.unused(&header, &wanted) {
+        return Err(fail_header(message));
+    }
+    let layout = locate(&header, &wanted, map);
+    let (joints, rest) = layout.positions.split_at(n);
+    let (position, orientation) = rest.split_at(3);
+    let all_or_none = |group: &[Option<usize>],
+                       names: &[String],
+                       what: &str|
+     -> Result<Option<Vec<usize>>, Error> {
+        let found: Vec<usize> = group.iter().flatten().copied().collect();
+        if found.is_empty() {
+            return Ok(None);
+        }
+        if found.len() < group.len() {
+            let missing: Vec<&str> = group
+                .iter()
+                .zip(names)
+                .filter(|(position, _)| position.is_none())
+                .map(|(_, name)| map.file_name(name))
+                .collect();
+            return Err(fail_header(format!(
+                "{what}: missing column(s) {}",
+                missing.join(",")
+            )));
+        }
+        Ok(Some(found))
+    };
+    let joint_columns = all_or_none(joints, &joint_names, "the joints")?;
+    let position_columns = all_or_none(position, &cartesian[..3], "the position")?;
+    let orientation_columns = all_or_none(orientation, &cartesian[3..], "the orientation")?;
+    let kind = match (&position_columns, &orientation_columns, &joint_columns) {
+        (Some(_), Some(_), _) => ProgramKind::Pose,
+        (Some(_), None, _) => ProgramKind::Position,
+        (None, Some(_), _) => {
+            return Err(fail_header(
+                "an orientation (qw,qx,qy,qz) needs its position (x,y,z)".into(),
+            ));
+        }
+        (None, None, Some(_)) => ProgramKind::Joints,
+        (None, None, None) => {
+            return Err(fail_header(format!(
+                "no target columns; a program's header names {expected}"
+            )));
+        }
+    };
+    let types = joint_types(robot);
+    let length = units.length.to_metres();
+    let mut program = ProgramFile {
+        header: header.clone(),
+        records: Vec::new(),
+        lines: Vec::new(),
+        joint_columns,
+        kind,
+        units,
+        joint_types: types,
+        points: Vec::new(),
+        unused_columns: layout.unused.clone(),
+    };
+    for record in records {
+        let record = record.map_err(csv_error)?;
+        let line = record.position().map_or(1, |p| p.line() as usize);
+        if program.records.len() == MAX_TARGETS {
+            return Err(Error::parse(
+                path,
+                line,
+                None,
+                format!(
+                    "more than {MAX_TARGETS} targets; reading stopped here (split the program)"
+                ),
+            ));
+        }
+        if record.len() != header.len() {
+            return Err(Error::parse(
+                path,
+                line,
+                None,
+                format!(
+                    "{} values for {} columns ({})",
+                    record.len(),
+                    header.len(),
+                    header.join(",")
+                ),
+            ));
+        }
+        let number = |column: usize| -> Result<f64, Error> {
+            let text = &record[column];
+            match text.parse::<f64>() {
+                Ok(value) if value.is_finite() => Ok(value),
+                Ok(_) => Err(Error::parse(
+                    path,
+                    line,
+                    Some(header[column].clone()),
+                    format!("`{text}` is not a finite number"),
+                )),
+                Err(_) => Err(Error::parse(
+                    path,
+                    line,
+                    Some(header[column].clone()),
+                    format!("`{text}` is not a number"),
+                )),
+            }
+        };
+        let joints = program
+            .joint_columns
+            .as_ref()
+            .map(|columns| {
+                columns
+                    .iter()
+                    .enumerate()
+                    .map(|(j, column)| {
+                        Ok(number(*column)? * units.joint_scale(&program.joint_types, j))
+                    })
+                    .collect::<Result<Vec<f64>, Error>>()
+            })
+            .transpose()?;
+        let position = position_columns
+            .as_ref()
+            .map(|columns| -> Result<Vector3<f64>, Error> {
+                Ok(Vector3::new(
+                    number(columns[0])?,
+                    number(columns[1])?,
+                    number(columns[2])?,
+                ) * length)
+            })
+            .transpose()?;
+        let target = match (kind, position) {
+            (ProgramKind::Joints, _) | (_, None) => {
+                ProgramTarget::Joints(joints.clone().unwrap_or_default())
+            }
+            (ProgramKind::Position, Some(position)) => ProgramTarget::Position(position),
+            (ProgramKind::Pose, Some(position)) => {
+                let columns = orientation_columns.as_ref().map_or(&[][..], Vec::as_slice);
+                let quaternion = Quaternion::new(
+                    number(columns[0])?,
+                    number(columns[1])?,
+                    number(columns[2])?,
+                    number(columns[3])?,
+                );
+                if (quaternion.norm() - 1.0).abs() > 1e-6 {
+                    return Err(Error::parse(
+                        path,
+                        line,
+                        Some(header[columns[0]].clone()),
+                        format!(
+                            "(qw, qx, qy, qz) has norm {:.6}, not 1: it is not a unit quaternion",
+                            quaternion.norm()
+                        ),
+                    ));
+                }
+                ProgramTarget::Pose(IsometryMatrix3::from_parts(
+                    Translation3::from(position),
+                    UnitQuaternion::from_quaternion(quaternion).to_rotation_matrix(),
+                ))
+            }
+        };
+        let joints = match kind {
+            ProgramKind::Joints => None,
+            _ => joints,
+        };
+        program.points.push(ProgramPoint { target, joints });
+        program
+            .records
+            .push(record.iter().map(str::to_owned).collect());
+        program.lines.push(line);
+    }
+    if program.points.is_empty() {
+        return Err(Error::parse(
+            path,
+            header_line + 1,
+            None,
+            "the program has a header but no targets",
+        ));
+    }
+    Ok(program)
+}
+
+impl ProgramFile {
+    /// What the targets are.
+    pub fn kind(&self) -> ProgramKind {
+        self.kind
+    }
+
+    /// The line of target `index` in the file.
+    pub fn line(&self, index: usize) -> usize {
+        self.lines[index]
+    }
+
+    /// The units of the file.
+    pub fn units(&self) -> DataUnits {
+        self.units
+    }
+
+    /// The corrected program (see the module docs): one result per target.
+    ///
+    /// # Panics
+    /// If `results` does not hold one result per target (a bug of the caller).
+    pub fn format_corrected(&self, results: &[CompensatedPoint]) -> String {
+        assert_eq!(results.len(), self.records.len(), "one result per target");
+        let n = self.joint_types.len();
+        let mut header = self.header.clone();
+        let joint_columns: Vec<usize> = match &self.joint_columns {
+            Some(columns) => columns.clone(),
+            None => (0..n)
+                .map(|j| {
+                    header.push(format!("qm{}", j + 1));
+                    header.len() - 1
+                })
+                .collect(),
+        };
+        let oriented = self.kind != ProgramKind::Position;
+        let column =
+            |name: &str, header: &mut Vec<String>| match header.iter().position(|h| h == name) {
+                Some(position) => position,
+                None => {
+                    header.push(name.to_owned());
+                    header.len() - 1
+                }
+            };
+        let residual = column("residual", &mut header);
+        let rotation = oriented.then(|| column("residual_rotation", &mut header));
+        let status = column("status", &mut header);
+        let mut writer = csv::WriterBuilder::new().from_writer(Vec::new());
+        let write = |writer: &mut csv::Writer<Vec<u8>>, record: &[String]| {
+            // Writing into memory does not fail.
+            let _ = writer.write_record(record);
+        };
+        write(&mut writer, &header);
+        for (record, result) in self.records.iter().zip(results) {
+            let mut fields = record.clone();
+            fields.resize(header.len(), String::new());
+            for (j, (column, value)) in joint_columns
+                .iter()
+                .zip(&result.motor_positions)
+                .enumerate()
+            {
+                fields[*column] =
+                    format!("{:?}", value / self.units.joint_scale(&self.joint_types, j));
+            }
+            fields[residual] = format!(
+                "{:.3e}",
+                result.position_error / self.units.length.to_metres()
+            );
+            if let Some(rotation) = rotation {
+                fields[rotation] = format!(
+                    "{:.3e}",
+                    result.rotation_error.unwrap_or(0.0) / self.units.angle.to_radians()
+                );
+            }
+            fields[status] = result.status.word().to_owned();
+            write(&mut writer, &fields);
+        }
+        String::from_utf8(writer.into_inner().unwrap_or_default()).unwrap_or_default()
+    }
+}

@@ -1,0 +1,218 @@
+//! `gecaro compensate`: a robot program corrected for the calibrated robot.
+
+use gecaro_calib::{CompensatedPoint, CompensationStatus, Match, compensate as compensate_program};
+use gecaro_io::{ColumnMap, DataUnits, ProgramKind, load_robot, read_program, write_atomically};
+use indicatif::{ProgressBar, ProgressStyle};
+use serde::Serialize;
+
+use super::interchange::table_units;
+use super::options::output_policy;
+use crate::cli::{CompensateArgs, MatchArg};
+use crate::failure::Failure;
+
+/// Targets below which no progress bar is drawn.
+const QUIET_BELOW: usize = 2000;
+
+#[derive(Serialize)]
+struct PointJson {
+    line: usize,
+    status: &'static str,
+    motor_positions: Vec<f64>,
+    position_error: f64,
+    rotation_error: Option<f64>,
+}
+
+#[derive(Serialize)]
+struct SummaryJson<'a> {
+    targets: usize,
+    reached: usize,
+    outside_limits: Vec<usize>,
+    not_reached: Vec<usize>,
+    largest_position_error: f64,
+    largest_correction: f64,
+    output: &'a str,
+    points: Vec<PointJson>,
+}
+
+pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
+    let nominal = load_robot(&args.nominal)?.robot;
+    let calibrated = load_robot(&args.calibrated)?.robot;
+    if !args.force && args.output.exists() {
+        return Err(gecaro_io::Error::OutputExists {
+            path: args.output.clone(),
+        }
+        .into());
+    }
+    let map = match &args.columns {
+        Some(text) => ColumnMap::parse(text).map_err(|message| {
+            Failure::usage(
+                format!("--columns: {message}"),
+                Some("for example: --columns x=X_mm,y=Y_mm,z=Z_mm".to_owned()),
+            )
+        })?,
+        None => ColumnMap::default(),
+    };
+    let given = table_units(&args.units);
+    let units = DataUnits {
+        length: given.length.unwrap_or_default(),
+        angle: given.angle.unwrap_or_default(),
+    };
+    let program = read_program(&args.program, &nominal, units, &map)?;
+    if !program.unused_columns.is_empty() && !args.json {
+        eprintln!(
+            "note: columns kept as they are (not read): {}",
+            program.unused_columns.join(", ")
+        );
+    }
+    let bar = if program.points.len() >= QUIET_BELOW {
+        let bar = ProgressBar::new(program.points.len() as u64);
+        bar.set_style(
+            ProgressStyle::with_template("compensating {bar:30} {pos}/{len} [{elapsed}]")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        bar
+    } else {
+        ProgressBar::hidden()
+    };
+    let matching = match args.matching {
+        MatchArg::Pose => Match::Pose,
+        MatchArg::Position => Match::Position,
+    };
+    let results = compensate_program(&nominal, &calibrated, &program.points, matching, |done| {
+        if done % 256 == 0 {
+            bar.set_position(done as u64);
+        }
+    })?;
+    bar.finish_and_clear();
+    write_atomically(
+        &args.output,
+        program.format_corrected(&results).as_bytes(),
+        output_policy(args.force),
+    )?;
+    report(args, &program, &results)
+}
+
+/// The largest change of a joint between the program and the correction,
+/// in the program's units.
+fn largest_correction(
+    program: &gecaro_io::ProgramFile,
+    results: &[CompensatedPoint],
+) -> Option<f64> {
+    program
+        .points
+        .iter()
+        .zip(results)
+        .filter(|(_, result)| result.status == CompensationStatus::Reached)
+        .filter_map(|(point, result)| {
+            let original = match &point.target {
+                gecaro_calib::ProgramTarget::Joints(qm) => Some(qm),
+                _ => point.joints.as_ref(),
+            }?;
+            Some(
+                original
+                    .iter()
+                    .zip(&result.motor_positions)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max),
+            )
+        })
+        .reduce(f64::max)
+}
+
+fn report(
+    args: &CompensateArgs,
+    program: &gecaro_io::ProgramFile,
+    results: &[CompensatedPoint],
+) -> Result<(), Failure> {
+    let lines_with = |status: CompensationStatus| -> Vec<usize> {
+        results
+            .iter()
+            .enumerate()
+            .filter(|(_, result)| result.status == status)
+            .map(|(index, _)| program.line(index))
+            .collect()
+    };
+    let outside = lines_with(CompensationStatus::OutsideLimits);
+    let unreached = lines_with(CompensationStatus::NotReached);
+    let reached = results.len() - outside.len() - unreached.len();
+    let largest_error = results
+        .iter()
+        .filter(|result| result.status != CompensationStatus::NotReached)
+        .map(|result| result.position_error)
+        .fold(0.0, f64::max);
+    let correction = largest_correction(program, results);
+    if args.json {
+        super::print_json(&SummaryJson {
+            targets: results.len(),
+            reached,
+            outside_limits: outside.clone(),
+            not_reached: unreached.clone(),
+            largest_position_error: largest_error,
+            largest_correction: correction.unwrap_or(0.0),
+            output: &args.output.display().to_string(),
+            points: results
+                .iter()
+                .enumerate()
+                .map(|(index, result)| PointJson {
+                    line: program.line(index),
+                    status: result.status.word(),
+                    motor_positions: result.motor_positions.clone(),
+                    position_error: result.position_error,
+                    rotation_error: result.rotation_error,
+                })
+                .collect(),
+        })?;
+    } else {
+        let units = program.units();
+        let kind = match program.kind() {
+            ProgramKind::Joints => "joint targets",
+            ProgramKind::Position => "point targets",
+            ProgramKind::Pose => "pose targets",
+        };
+        println!(
+            "{} {kind}: {reached} reached by the calibrated robot (largest residual {:.1e} {})",
+            results.len(),
+            largest_error / units.length.to_metres(),
+            units.length.name()
+        );
+        if let Some(correction) = correction {
+            println!(
+                "largest joint correction: {:.4} (motor units of the program; radians or metres unless --angle-unit/--length-unit)",
+                correction
+            );
+        }
+        println!("wrote {}", args.output.display());
+    }
+    let list = |lines: &[usize]| {
+        let shown: Vec<String> = lines.iter().take(10).map(ToString::to_string).collect();
+        format!(
+            "{}{}",
+            shown.join(", "),
+            if lines.len() > 10 { ", …" } else { "" }
+        )
+    };
+    if !outside.is_empty() {
+        eprintln!(
+            "warning: {} target(s) reached only beyond a joint limit (status outside-limits), lines {}",
+            outside.len(),
+            list(&outside)
+        );
+    }
+    if !unreached.is_empty() {
+        eprintln!(
+            "warning: {} target(s) not reached: their joints are left as in the program (status not-reached), lines {}",
+            unreached.len(),
+            list(&unreached)
+        );
+    }
+    if outside.is_empty() && unreached.is_empty() {
+        Ok(())
+    } else {
+        Err(Failure::Numerical(format!(
+            "{} of {} targets are flagged in {}; check them before running the program",
+            outside.len() + unreached.len(),
+            results.len(),
+            args.output.display()
+        )))
+    }
+}
