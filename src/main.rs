@@ -23,6 +23,12 @@ fn main() -> ExitCode {
     }))
     .ok();
     let cli = cli::Cli::parse();
+    // `gecaro robot show … | head`: end quietly when the reader goes away, as
+    // Unix tools do, instead of panicking on a failed print. Not for the web
+    // server, whose sockets must not raise the signal.
+    if !matches!(cli.command, cli::Command::Serve(_)) {
+        sigpipe::reset();
+    }
     match commands::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(failure) => {

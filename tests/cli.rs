@@ -798,3 +798,18 @@ fn report_and_plots_show_the_identification() {
     assert_eq!(per_configuration.matches("<circle").count(), 2 * 25 + 2);
     assert!(plots.join("errors_histogram.svg").is_file());
 }
+
+#[test]
+fn a_reader_that_goes_away_ends_the_output_quietly() {
+    // `gecaro robot show stanford | head -1`: no panic about a failed print.
+    let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("gecaro"))
+        .args(["robot", "show", "stanford"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("runs");
+    drop(child.stdout.take());
+    let output = child.wait_with_output().expect("ends");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
