@@ -155,6 +155,17 @@ pub(crate) struct UnitArgs {
     pub(crate) length_unit: Option<LengthUnitArg>,
 }
 
+/// How a data or program file is written: units and other column names.
+#[derive(Debug, Args)]
+pub(crate) struct DataFormatArgs {
+    #[command(flatten)]
+    pub(crate) units: UnitArgs,
+    /// Columns under other names: NAME=COLUMN pairs (e.g. x=X_mm,qm1=A1);
+    /// columns not used are left alone.
+    #[arg(long, value_name = "NAME=COLUMN,..")]
+    pub(crate) columns: Option<String>,
+}
+
 #[derive(Debug, Args)]
 pub(crate) struct ImportArgs {
     /// The file: .urdf, .par, or a table (.toml with `convention`, or .csv with --from).
@@ -322,6 +333,9 @@ pub(crate) struct StudySource {
     /// Refuse data with joints outside their limits (by default a warning).
     #[arg(long)]
     pub(crate) strict_limits: bool,
+    /// Units and column names of the data file (with --study: its keys).
+    #[command(flatten)]
+    pub(crate) format: DataFormatArgs,
 }
 
 #[derive(Debug, Args)]
@@ -494,6 +508,9 @@ pub(crate) struct EvaluateArgs {
     /// Measurements (CSV), ideally not those used for identification.
     #[arg(long, value_name = "DATA.csv")]
     pub(crate) data: PathBuf,
+    /// Units and column names of the data file.
+    #[command(flatten)]
+    pub(crate) format: DataFormatArgs,
     /// Refuse data with joints outside their limits (by default a warning).
     #[arg(long)]
     pub(crate) strict_limits: bool,
@@ -521,11 +538,9 @@ pub(crate) struct CompensateArgs {
     /// x,y,z[,qw,qx,qy,qz] (world frame), other columns kept.
     #[arg(long, value_name = "PROGRAM.csv")]
     pub(crate) program: PathBuf,
+    /// Units and column names of the program.
     #[command(flatten)]
-    pub(crate) units: UnitArgs,
-    /// Other column names: NAME=COLUMN pairs (e.g. x=X_mm,qm1=A1).
-    #[arg(long, value_name = "NAME=COLUMN,..")]
-    pub(crate) columns: Option<String>,
+    pub(crate) format: DataFormatArgs,
     /// What a joint target asks: the whole pose of frame n+1, or only its
     /// position (robots calibrated from position measurements, whose tool
     /// orientation is not identified).

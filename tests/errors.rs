@@ -219,6 +219,8 @@ rows! {
     d13_not_utf8 => "D13",
     d14_endless_stream => "D14",
     d15_missing_file => "D15",
+    d16_unused_columns_noted => "D16",
+    d17_column_map_that_does_not_fit => "D17",
     i01_not_well_formed_xml => "I01",
     i02_unknown_link => "I02",
     i03_branch_without_tip => "I03",

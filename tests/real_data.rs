@@ -18,8 +18,14 @@ fn example(name: &str) -> PathBuf {
 /// The held-out RMS error (and orientation RMS) of `robot` on a data file.
 fn held_out(robot: &Robot, name: &str, file: &str) -> (f64, Option<f64>) {
     let chosen = method(name, &MethodOptions::default()).expect("method");
-    let samples =
-        read_samples(&example(file), robot.joint_count(), chosen.data_columns()).expect("data");
+    let samples = read_samples(
+        &example(file),
+        &gecaro_io::joint_types(robot),
+        chosen.data_columns(),
+        &gecaro_io::DataFormat::default(),
+    )
+    .expect("data")
+    .samples;
     let summary = evaluate(robot, &Study::single(chosen, samples, file)).expect("evaluation");
     (summary.rms, summary.rms_rotation)
 }

@@ -73,9 +73,11 @@ pub fn data_file(input: &[u8]) {
         .collect();
     let robot = gecaro_core::Robot::template("fuzz", &letters).expect("a template robot");
     let path = Path::new("fuzz.csv");
-    match gecaro_io::parse_samples(csv, path, joint_count, method.data_columns()) {
-        Ok(samples) => {
-            let study = Study::single(method, samples, "fuzz.csv");
+    let types = gecaro_io::joint_types(&robot);
+    let format = gecaro_io::DataFormat::default();
+    match gecaro_io::parse_samples(csv, path, &types, method.data_columns(), &format) {
+        Ok(data) => {
+            let study = Study::single(method, data.samples, "fuzz.csv");
             let _ = study.limit_violations(&robot);
             if let Err(error) = study.check(&robot) {
                 assert_names(&error.to_string(), "fuzz.csv");

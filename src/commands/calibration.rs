@@ -12,7 +12,7 @@ use gecaro_calib::{
 };
 use gecaro_core::Robot;
 use gecaro_io::{
-    RobotFile, format_robot_file, load_robot, read_priority_file, read_robot_file, read_samples,
+    RobotFile, format_robot_file, load_robot, read_priority_file, read_robot_file,
     write_atomically, write_samples,
 };
 use gecaro_report::json::{IdentificationJson, SummaryJson};
@@ -165,10 +165,11 @@ fn single_study(
     robot: &Robot,
     method_args: &crate::cli::MethodArgs,
     data: &Path,
+    format: &crate::cli::DataFormatArgs,
 ) -> Result<Study, Failure> {
     let options = method_options(&method_args.options)?;
     let chosen = method(&method_args.method, &options)?;
-    let samples = read_samples(data, robot.joint_count(), chosen.data_columns())?;
+    let samples = super::options::read_data(data, robot, chosen.as_ref(), format)?;
     Ok(Study::single(chosen, samples, data.display().to_string()))
 }
 
@@ -506,7 +507,7 @@ fn print_errors(title: &str, before: &ErrorSummary, after: Option<&ErrorSummary>
 
 pub(crate) fn evaluate(args: &EvaluateArgs) -> Result<(), Failure> {
     let robot = load_robot(&args.robot)?.robot;
-    let study = single_study(&robot, &args.method, &args.data)?;
+    let study = single_study(&robot, &args.method, &args.data, &args.format)?;
     super::options::check_limits(&robot, &study, args.strict_limits)?;
     let summary = evaluate_study(&robot, &study)?;
     if args.json {

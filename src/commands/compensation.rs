@@ -1,11 +1,10 @@
 //! `gecaro compensate`: a robot program corrected for the calibrated robot.
 
 use gecaro_calib::{CompensatedPoint, CompensationStatus, Match, compensate as compensate_program};
-use gecaro_io::{ColumnMap, DataUnits, ProgramKind, load_robot, read_program, write_atomically};
+use gecaro_io::{ProgramKind, load_robot, read_program, write_atomically};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 
-use super::interchange::table_units;
 use super::options::output_policy;
 use crate::cli::{CompensateArgs, MatchArg};
 use crate::failure::Failure;
@@ -43,21 +42,8 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
         }
         .into());
     }
-    let map = match &args.columns {
-        Some(text) => ColumnMap::parse(text).map_err(|message| {
-            Failure::usage(
-                format!("--columns: {message}"),
-                Some("for example: --columns x=X_mm,y=Y_mm,z=Z_mm".to_owned()),
-            )
-        })?,
-        None => ColumnMap::default(),
-    };
-    let given = table_units(&args.units);
-    let units = DataUnits {
-        length: given.length.unwrap_or_default(),
-        angle: given.angle.unwrap_or_default(),
-    };
-    let program = read_program(&args.program, &nominal, units, &map)?;
+    let format = super::options::data_format(&args.format)?;
+    let program = read_program(&args.program, &nominal, format.units, &format.columns)?;
     if !program.unused_columns.is_empty() && !args.json {
         eprintln!(
             "note: columns kept as they are (not read): {}",

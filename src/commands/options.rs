@@ -5,7 +5,7 @@ use gecaro_core::OrientationDifference;
 use gecaro_io::OutputPolicy;
 use nalgebra::{IsometryMatrix3, Quaternion, Rotation3, UnitQuaternion, Vector3};
 
-use crate::cli::{MethodOptionArgs, OrientationMethod, PlaneKnowledge};
+use crate::cli::{DataFormatArgs, MethodOptionArgs, OrientationMethod, PlaneKnowledge};
 use crate::failure::Failure;
 
 /// What `--force` says of an existing output file.
@@ -127,7 +127,20 @@ pub(crate) fn load_study(
     Failure,
 > {
     if let Some(path) = &source.study {
+        if source.format.units.angle_unit.is_some()
+            || source.format.units.length_unit.is_some()
+            || source.format.columns.is_some()
+        {
+            return Err(Failure::usage(
+                "--angle-unit, --length-unit and --columns are for a data file; a study file \
+                 gives them per set",
+                Some("add length_unit = \"mm\", angle_unit = \"deg\" or columns = { x = \"X\" } to its [[measurements]]".to_owned()),
+            ));
+        }
         let file = gecaro_io::read_study_file(path)?;
+        for note in &file.notes {
+            eprintln!("note: {note}");
+        }
         check_limits(&file.robot.robot, &file.study, source.strict_limits)?;
         return Ok((file.robot, file.study, file.priority));
     }
@@ -137,9 +150,7 @@ pub(crate) fn load_study(
     let robot = gecaro_io::load_robot(robot)?;
     let chosen = gecaro_calib::method(method, &method_options(&source.options)?)?;
     let samples = match data {
-        Some(path) => {
-            gecaro_io::read_samples(path, robot.robot.joint_count(), chosen.data_columns())?
-        }
+        Some(path) => read_data(path, &robot.robot, chosen.as_ref(), &source.format)?,
         None => Vec::new(),
     };
     let label = data.map_or_else(
@@ -149,6 +160,51 @@ pub(crate) fn load_study(
     let study = gecaro_calib::Study::single(chosen, samples, label);
     check_limits(&robot.robot, &study, source.strict_limits)?;
     Ok((robot, study, None))
+}
+
+/// The format of a data file as the command line gives it.
+pub(crate) fn data_format(args: &DataFormatArgs) -> Result<gecaro_io::DataFormat, Failure> {
+    let units = super::interchange::table_units(&args.units);
+    Ok(gecaro_io::DataFormat {
+        units: gecaro_io::DataUnits {
+            length: units.length.unwrap_or_default(),
+            angle: units.angle.unwrap_or_default(),
+        },
+        columns: match &args.columns {
+            Some(text) => gecaro_io::ColumnMap::parse(text).map_err(|message| {
+                Failure::usage(
+                    format!("--columns: {message}"),
+                    Some("for example: --columns x=X_mm,y=Y_mm,z=Z_mm".to_owned()),
+                )
+            })?,
+            None => gecaro_io::ColumnMap::default(),
+        },
+    })
+}
+
+/// The samples of a data file for a method, with a note on the columns
+/// the method does not use.
+pub(crate) fn read_data(
+    path: &std::path::Path,
+    robot: &gecaro_core::Robot,
+    method: &dyn gecaro_calib::CalibrationMethod,
+    format: &DataFormatArgs,
+) -> Result<Vec<gecaro_calib::Sample>, Failure> {
+    let data = gecaro_io::read_samples(
+        path,
+        &gecaro_io::joint_types(robot),
+        method.data_columns(),
+        &data_format(format)?,
+    )?;
+    if !data.unused_columns.is_empty() {
+        eprintln!(
+            "note: {}: columns {} are not used by the {} method (left alone)",
+            path.display(),
+            data.unused_columns.join(", "),
+            method.name()
+        );
+    }
+    Ok(data.samples)
 }
 
 /// Joints outside their limits in the data: a warning on stderr, or with

@@ -105,8 +105,8 @@ impl DataUnits {
     }
 }
 
-/// The joint types 1..n of a robot, for unit conversions.
-pub(crate) fn joint_types(robot: &Robot) -> Vec<FrameType> {
+/// The joint types 1..n of a robot (what the unit of each joint value is).
+pub fn joint_types(robot: &Robot) -> Vec<FrameType> {
     robot.frames()[1..=robot.joint_count()]
         .iter()
         .map(|frame| frame.frame_type)

@@ -1,13 +1,20 @@
 //! Measurement data files: CSV with a header, one configuration per row.
 //!
-//! Columns: `qm1..qmn` (motor variables, radians or metres) always, then the
-//! method's own columns ([`DataColumn`]): `x,y,z` (metres) for a position,
-//! `qw,qx,qy,qz` (unit quaternion) for an orientation, `set` (link methods:
-//! rows with the same id reach the same point/frame), `pair` and `distance`
-//! (distance method: two rows per pair, the measured distance on both).
-//! Columns may come in any order; lines starting with `#` are comments.
-//! Files are read record by record, never whole, so size is only limited by
-//! the samples kept in memory.
+//! Columns: `qm1..qmn` (motor variables) always, then the method's own
+//! columns ([`DataColumn`]): `x,y,z` for a position, `qw,qx,qy,qz` (unit
+//! quaternion) for an orientation, `set` (link methods: rows with the same id
+//! reach the same point/frame), `pair` and `distance` (distance method: two
+//! rows per pair, the measured distance on both).
+//!
+//! Files are read as instruments and controllers write them ([`DataFormat`]):
+//! columns come in any order and are found by name, or under other names
+//! given by a [`ColumnMap`] (`x=X_mm`); lengths (positions, distances,
+//! prismatic joints) may be in millimetres and joint angles in degrees;
+//! columns gecaro does not use (time stamps, point names) are left alone and
+//! reported in [`DataFile::unused_columns`]. Lines starting with `#` are
+//! comments. Files are read record by record, never whole, with a limit on
+//! the length of a line and on the number of rows, so memory stays bounded
+//! whatever the input.
 //!
 //! Every error names the file, the line and the column.
 
@@ -15,9 +22,12 @@ use std::io::Read;
 use std::path::Path;
 
 use gecaro_calib::{DataColumn, Sample};
+use gecaro_core::FrameType;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use crate::Error;
+use crate::columns::{ColumnMap, DataUnits, locate};
+use crate::input::{LineLimit, MAX_LINE_BYTES, open_regular};
 use crate::output::{OutputPolicy, write_with};
 
 /// Most configurations a data file may hold. Files are streamed, so a larger
@@ -28,6 +38,26 @@ pub const MAX_CONFIGURATIONS: usize = 1_000_000;
 /// A quaternion whose norm is further than this from 1 is refused (it is not
 /// an orientation, or its columns are mixed up).
 const UNIT_TOLERANCE: f64 = 1e-6;
+
+/// How a data file is written: the units of its lengths and angles, and
+/// other names of its columns. The default is gecaro's own (metres,
+/// radians, `qm1,…,x,y,z`).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct DataFormat {
+    /// Units of positions, distances and joint values.
+    pub units: DataUnits,
+    /// Columns under other names.
+    pub columns: ColumnMap,
+}
+
+/// A data file read.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DataFile {
+    /// The configurations, in metres and radians.
+    pub samples: Vec<Sample>,
+    /// Columns of the file that the method does not use (left alone).
+    pub unused_columns: Vec<String>,
+}
 
 /// The header a data file for `joint_count` joints and these columns must have.
 pub fn data_headers(joint_count: usize, columns: &[DataColumn]) -> Vec<String> {
@@ -41,21 +71,34 @@ pub fn data_headers(joint_count: usize, columns: &[DataColumn]) -> Vec<String> {
         .collect()
 }
 
-/// Reads a data file.
+/// Reads a data file for a robot with these joint types (1..n).
 ///
 /// # Errors
-/// [`Error::Read`] when it cannot be opened, [`Error::Parse`] with line and
-/// column for any problem of content.
+/// [`Error::Read`] when it cannot be opened or is not a regular file,
+/// [`Error::Parse`] with line and column for any problem of content.
 pub fn read_samples(
     path: &Path,
-    joint_count: usize,
+    joint_types: &[FrameType],
     columns: &[DataColumn],
-) -> Result<Vec<Sample>, Error> {
-    let file = std::fs::File::open(path).map_err(|cause| Error::Read {
-        path: path.to_owned(),
-        cause,
-    })?;
-    parse_samples(std::io::BufReader::new(file), path, joint_count, columns)
+    format: &DataFormat,
+) -> Result<DataFile, Error> {
+    let (file, _) = open_regular(path)?;
+    parse_samples(
+        std::io::BufReader::with_capacity(1 << 16, file),
+        path,
+        joint_types,
+        columns,
+        format,
+    )
+}
+
+/// Where each field of a sample comes from in a record, and its scale.
+struct Fields {
+    joints: Vec<(usize, f64)>,
+    position: Option<[usize; 3]>,
+    orientation: Option<[usize; 4]>,
+    group: Option<(usize, &'static str)>,
+    distance: Option<usize>,
 }
 
 /// Parses data from any reader; `path` only names it in messages.
@@ -65,35 +108,36 @@ pub fn read_samples(
 pub fn parse_samples(
     reader: impl Read,
     path: &Path,
-    joint_count: usize,
+    joint_types: &[FrameType],
     columns: &[DataColumn],
-) -> Result<Vec<Sample>, Error> {
-    let expected = data_headers(joint_count, columns);
+    format: &DataFormat,
+) -> Result<DataFile, Error> {
+    let expected = data_headers(joint_types.len(), columns);
     let mut csv = csv::ReaderBuilder::new()
         .has_headers(false)
         .comment(Some(b'#'))
         .trim(csv::Trim::All)
         .flexible(true)
-        .from_reader(reader);
-    let mut records = csv.records();
+        .from_reader(LineLimit::new(reader, MAX_LINE_BYTES));
     let fail = |line: usize, field: Option<&str>, message: String| {
         Error::parse(path, line, field.map(str::to_owned), message)
     };
-    let header = match records.next() {
-        None => {
-            return Err(fail(
-                1,
-                None,
-                format!(
-                    "the file is empty; it needs a header line: {}",
-                    expected.join(",")
-                ),
-            ));
-        }
-        Some(record) => record.map_err(|error| csv_error(path, &error))?,
-    };
-    let header_line = line_of(&header);
-    let names: Vec<String> = header.iter().map(str::to_owned).collect();
+    let mut record = csv::StringRecord::new();
+    if !csv
+        .read_record(&mut record)
+        .map_err(|error| csv_error(path, &error))?
+    {
+        return Err(fail(
+            1,
+            None,
+            format!(
+                "the file is empty; it needs a header line: {}",
+                expected.join(",")
+            ),
+        ));
+    }
+    let header_line = line_of(&record);
+    let names: Vec<String> = record.iter().map(str::to_owned).collect();
     if names.iter().all(|name| name.parse::<f64>().is_ok()) {
         return Err(fail(
             header_line,
@@ -104,11 +148,41 @@ pub fn parse_samples(
             ),
         ));
     }
-    let positions =
-        column_positions(&names, &expected).map_err(|message| fail(header_line, None, message))?;
+    let layout = resolve_header(&names, &expected, &format.columns)
+        .map_err(|message| fail(header_line, None, message))?;
+    let at = |name: &str| {
+        expected
+            .iter()
+            .position(|e| e == name)
+            .and_then(|i| layout.positions[i])
+            .unwrap_or(0)
+    };
+    let units = format.units;
+    let length = units.length.to_metres();
+    let fields = Fields {
+        joints: (1..=joint_types.len())
+            .map(|j| (at(&format!("qm{j}")), units.joint_scale(joint_types, j - 1)))
+            .collect(),
+        position: columns
+            .contains(&DataColumn::Position)
+            .then(|| [at("x"), at("y"), at("z")]),
+        orientation: columns
+            .contains(&DataColumn::Orientation)
+            .then(|| [at("qw"), at("qx"), at("qy"), at("qz")]),
+        group: columns.iter().find_map(|column| match column {
+            DataColumn::Set => Some((at("set"), "set")),
+            DataColumn::Pair => Some((at("pair"), "pair")),
+            _ => None,
+        }),
+        distance: columns
+            .contains(&DataColumn::Distance)
+            .then(|| at("distance")),
+    };
     let mut samples = Vec::new();
-    for record in records {
-        let record = record.map_err(|error| csv_error(path, &error))?;
+    while csv
+        .read_record(&mut record)
+        .map_err(|error| csv_error(path, &error))?
+    {
         let line = line_of(&record);
         if samples.len() == MAX_CONFIGURATIONS {
             return Err(fail(
@@ -132,62 +206,60 @@ pub fn parse_samples(
                 ),
             ));
         }
-        let value = |name: &str| -> Result<f64, Error> {
-            let text = &record[positions[expected.iter().position(|e| e == name).unwrap_or(0)]];
-            let number: f64 = text
-                .parse()
-                .map_err(|_| fail(line, Some(name), format!("`{text}` is not a number")))?;
-            if number.is_finite() {
-                Ok(number)
-            } else {
-                Err(fail(
+        let value = |column: usize| -> Result<f64, Error> {
+            let text = &record[column];
+            match text.parse::<f64>() {
+                Ok(number) if number.is_finite() => Ok(number),
+                Ok(_) => Err(fail(
                     line,
-                    Some(name),
+                    Some(&names[column]),
                     format!("`{text}` is not a finite number"),
-                ))
+                )),
+                Err(_) => Err(fail(
+                    line,
+                    Some(&names[column]),
+                    format!("`{text}` is not a number"),
+                )),
             }
         };
-        let identifier = |name: &str| -> Result<u64, Error> {
-            let text = &record[positions[expected.iter().position(|e| e == name).unwrap_or(0)]];
-            text.parse().map_err(|_| {
-                fail(
-                    line,
-                    Some(name),
-                    format!("`{text}` is not an id (a whole number ≥ 0)"),
-                )
-            })
-        };
-        let motor_positions = (1..=joint_count)
-            .map(|j| value(&format!("qm{j}")))
+        let motor_positions = fields
+            .joints
+            .iter()
+            .map(|(column, scale)| Ok(value(*column)? * scale))
             .collect::<Result<Vec<f64>, Error>>()?;
         let mut sample = Sample {
             line: Some(line),
             ..Sample::new(motor_positions)
         };
-        for column in columns {
-            match column {
-                DataColumn::Position => {
-                    sample.position = Some(Vector3::new(value("x")?, value("y")?, value("z")?));
-                }
-                DataColumn::Orientation => {
-                    let quaternion =
-                        Quaternion::new(value("qw")?, value("qx")?, value("qy")?, value("qz")?);
-                    let norm = quaternion.norm();
-                    if (norm - 1.0).abs() > UNIT_TOLERANCE {
-                        return Err(fail(
-                            line,
-                            Some("qw"),
-                            format!(
-                                "(qw, qx, qy, qz) has norm {norm:.6}, not 1: it is not a unit quaternion"
-                            ),
-                        ));
-                    }
-                    sample.orientation = Some(UnitQuaternion::from_quaternion(quaternion));
-                }
-                DataColumn::Set => sample.group = Some(identifier("set")?),
-                DataColumn::Pair => sample.group = Some(identifier("pair")?),
-                DataColumn::Distance => sample.distance = Some(value("distance")?),
+        if let Some([x, y, z]) = fields.position {
+            sample.position = Some(Vector3::new(value(x)?, value(y)?, value(z)?) * length);
+        }
+        if let Some([w, i, j, k]) = fields.orientation {
+            let quaternion = Quaternion::new(value(w)?, value(i)?, value(j)?, value(k)?);
+            let norm = quaternion.norm();
+            if (norm - 1.0).abs() > UNIT_TOLERANCE {
+                return Err(fail(
+                    line,
+                    Some(&names[w]),
+                    format!(
+                        "(qw, qx, qy, qz) has norm {norm:.6}, not 1: it is not a unit quaternion"
+                    ),
+                ));
             }
+            sample.orientation = Some(UnitQuaternion::from_quaternion(quaternion));
+        }
+        if let Some((column, _)) = fields.group {
+            let text = &record[column];
+            sample.group = Some(text.parse().map_err(|_| {
+                fail(
+                    line,
+                    Some(&names[column]),
+                    format!("`{text}` is not an id (a whole number ≥ 0)"),
+                )
+            })?);
+        }
+        if let Some(column) = fields.distance {
+            sample.distance = Some(value(column)? * length);
         }
         samples.push(sample);
     }
@@ -198,30 +270,41 @@ pub fn parse_samples(
             "the file has a header but no configurations".into(),
         ));
     }
-    Ok(samples)
+    Ok(DataFile {
+        samples,
+        unused_columns: layout.unused,
+    })
 }
 
-/// For each expected column, its position in the file's header.
-fn column_positions(names: &[String], expected: &[String]) -> Result<Vec<usize>, String> {
-    let mut positions = Vec::with_capacity(expected.len());
-    for wanted in expected {
-        match names.iter().position(|name| name == wanted) {
-            Some(position) => positions.push(position),
-            None => {
-                return Err(format!(
-                    "missing column `{wanted}`; this method's data need the columns {}",
-                    expected.join(",")
-                ));
-            }
+/// The positions of the expected columns in a header; every one must be
+/// there once, the rest is left alone.
+fn resolve_header(
+    names: &[String],
+    expected: &[String],
+    map: &ColumnMap,
+) -> Result<crate::columns::Layout, String> {
+    if let Some(message) = map.unused(names, expected) {
+        return Err(message);
+    }
+    let layout = locate(names, expected, map);
+    // A renamed column that is missing is caught above, by its map entry.
+    for (wanted, position) in expected.iter().zip(&layout.positions) {
+        let Some(position) = position else {
+            return Err(format!(
+                "missing column `{wanted}`; this method's data need the columns {}",
+                expected.join(",")
+            ));
+        };
+        if names
+            .iter()
+            .filter(|name| *name == &names[*position])
+            .count()
+            > 1
+        {
+            return Err(format!("column `{}` appears twice", names[*position]));
         }
     }
-    if let Some(extra) = names.iter().find(|name| !expected.contains(name)) {
-        return Err(format!(
-            "unexpected column `{extra}`; this method's data have exactly the columns {}",
-            expected.join(",")
-        ));
-    }
-    Ok(positions)
+    Ok(layout)
 }
 
 fn line_of(record: &csv::StringRecord) -> usize {
@@ -236,6 +319,7 @@ fn csv_error(path: &Path, error: &csv::Error) -> Error {
         .map_or(1, |position| position.line() as usize);
     let message = match error.kind() {
         csv::ErrorKind::Utf8 { .. } => "the file is not UTF-8 text".to_owned(),
+        csv::ErrorKind::Io(cause) => cause.to_string(),
         _ => error.to_string(),
     };
     Error::parse(path, line, None, message)
@@ -296,8 +380,17 @@ pub fn write_samples(
 mod tests {
     use super::*;
 
+    const TWO_REVOLUTE: [FrameType; 2] = [FrameType::Revolute; 2];
+
     fn parse(text: &str, columns: &[DataColumn]) -> Result<Vec<Sample>, Error> {
-        parse_samples(text.as_bytes(), Path::new("data.csv"), 2, columns)
+        parse_samples(
+            text.as_bytes(),
+            Path::new("data.csv"),
+            &TWO_REVOLUTE,
+            columns,
+            &DataFormat::default(),
+        )
+        .map(|file| file.samples)
     }
 
     fn error_of(text: &str, columns: &[DataColumn]) -> String {
@@ -348,7 +441,10 @@ mod tests {
         assert!(error_of("", &position).contains("data.csv:1: the file is empty"));
         assert!(error_of("0,0,1,2,3\n", &position).contains("missing header"));
         assert!(error_of("qm1,qm2,x,y\n0,0,1,2\n", &position).contains("missing column `z`"));
-        assert!(error_of("qm1,qm2,x,y,z,w\n", &position).contains("unexpected column `w`"));
+        assert!(
+            error_of("qm1,qm2,x,y,x,z\n0,0,1,2,3,4\n", &position)
+                .contains("column `x` appears twice")
+        );
         assert!(
             error_of("qm1,qm2,x,y,z\n0,0,1,2\n", &position)
                 .contains("data.csv:2: 4 values for 5 columns")
@@ -370,6 +466,85 @@ mod tests {
         assert!(
             error_of("qm1,qm2,set\n0,0,1.5\n", &[DataColumn::Set])
                 .contains("set: `1.5` is not an id")
+        );
+    }
+
+    #[test]
+    fn instruments_files_in_millimetres_and_degrees_with_their_own_columns() {
+        // A tracker export: time stamps and point names around the values,
+        // positions in mm, a revolute joint in degrees and a prismatic one in mm.
+        let text = "time,point,A1,Z_mm,X_mm,Y_mm,A2\n\
+                    12.5,P1,90,300,100,-200,250\n";
+        let format = DataFormat {
+            units: DataUnits {
+                length: crate::LengthUnit::Millimetres,
+                angle: crate::AngleUnit::Degrees,
+            },
+            columns: ColumnMap::parse("qm1=A1,qm2=A2,x=X_mm,y=Y_mm,z=Z_mm").expect("valid"),
+        };
+        let joints = [FrameType::Revolute, FrameType::Prismatic];
+        let file = parse_samples(
+            text.as_bytes(),
+            Path::new("tracker.csv"),
+            &joints,
+            &[DataColumn::Position],
+            &format,
+        )
+        .expect("valid");
+        let sample = &file.samples[0];
+        assert!((sample.motor_positions[0] - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+        assert!((sample.motor_positions[1] - 0.25).abs() < 1e-15);
+        let position = sample.position.expect("read");
+        assert!((position - Vector3::new(0.1, -0.2, 0.3)).norm() < 1e-15);
+        assert_eq!(file.unused_columns, ["time", "point"]);
+        // A renamed column that is not there, and a map to a wrong name.
+        let missing = parse_samples(
+            "A1,A2,X_mm,Y_mm\n0,0,1,2\n".as_bytes(),
+            Path::new("t.csv"),
+            &joints,
+            &[DataColumn::Position],
+            &format,
+        )
+        .expect_err("missing")
+        .to_string();
+        assert!(
+            missing.contains("t.csv:1: --columns maps `z` to `Z_mm`, which is not in the header"),
+            "{missing}"
+        );
+        let wrong = DataFormat {
+            columns: ColumnMap::parse("x=X").expect("valid"),
+            ..DataFormat::default()
+        };
+        let error = parse_samples(
+            "qm1,qm2,x,y,z\n0,0,1,2,3\n".as_bytes(),
+            Path::new("t.csv"),
+            &TWO_REVOLUTE,
+            &[DataColumn::Position],
+            &wrong,
+        )
+        .expect_err("unknown")
+        .to_string();
+        assert!(
+            error.contains("maps `x` to `X`, which is not in the header"),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn a_file_without_line_breaks_stops_in_bounded_memory() {
+        let endless = std::io::repeat(b'7');
+        let error = parse_samples(
+            endless,
+            Path::new("blob.csv"),
+            &TWO_REVOLUTE,
+            &[DataColumn::Position],
+            &DataFormat::default(),
+        )
+        .expect_err("stops")
+        .to_string();
+        assert!(
+            error.contains("blob.csv:1:") && error.contains("longer than"),
+            "{error}"
         );
     }
 }

@@ -26,9 +26,10 @@ mod symoro;
 mod units;
 mod urdf;
 
-pub use columns::{ColumnMap, DataUnits};
+pub use columns::{ColumnMap, DataUnits, joint_types};
 pub use data_file::{
-    MAX_CONFIGURATIONS, data_headers, format_samples, parse_samples, read_samples, write_samples,
+    DataFile, DataFormat, MAX_CONFIGURATIONS, data_headers, format_samples, parse_samples,
+    read_samples, write_samples,
 };
 pub use dh_table::{DhConvention, TableUnits};
 pub use document::{

@@ -41,6 +41,7 @@ use serde::Deserialize;
 
 use crate::Error;
 use crate::document::{DocumentError, Location, PriorityDocument, RobotDocument};
+use crate::input::{MAX_DESCRIPTION_BYTES, read_text};
 use crate::urdf::names::{UrdfDocument, UrdfNames};
 
 /// The unit of the angles written in a robot file.
@@ -169,10 +170,7 @@ impl Source<'_> {
 /// [`Error::Read`] if the file cannot be read, [`Error::Parse`] naming the
 /// line and key of the first problem otherwise.
 pub fn read_robot_file(path: &Path) -> Result<RobotFile, Error> {
-    let text = std::fs::read_to_string(path).map_err(|cause| Error::Read {
-        path: path.to_owned(),
-        cause,
-    })?;
+    let text = read_text(path, MAX_DESCRIPTION_BYTES)?;
     parse_robot_file(&text, path)
 }
 
@@ -222,10 +220,7 @@ struct PriorityFileDocument {
 /// # Errors
 /// [`Error::Read`], or [`Error::Parse`] with the line of the problem.
 pub fn read_priority_file(path: &Path, robot: &Robot) -> Result<PriorityMatrix, Error> {
-    let text = std::fs::read_to_string(path).map_err(|cause| Error::Read {
-        path: path.to_owned(),
-        cause,
-    })?;
+    let text = read_text(path, MAX_DESCRIPTION_BYTES)?;
     let source = Source { path, text: &text };
     let file: PriorityFileDocument =
         toml::from_str(&text).map_err(|error| toml_error(&source, &error))?;

@@ -16,10 +16,20 @@
 //! sigma = 0.0001
 //! # plane methods add: plane = "known" | "unknown", plane_normal = [..], plane_point = [..]
 //! # optional: set_size = 4, orientation = "axis-angle" | "cross-products"
+//!
+//! [[measurements]]
+//! method = "position"
+//! data = "tracker.csv"          # as the tracker wrote it:
+//! length_unit = "mm"            # positions (and prismatic joints) in mm
+//! angle_unit = "deg"            # joint angles in degrees
+//! columns = { x = "X", y = "Y", z = "Z", qm1 = "A1" }   # other column names
+//! sigma = 0.00002               # σ stays in metres (radians)
 //! ```
 //!
+//! `length_unit` and `angle_unit` may also stand at the top, for every set.
 //! Each set's rows are weighted by 1/σ, so that sets measured in different
-//! units and with different sensors count by their precision.
+//! units and with different sensors count by their precision. Columns a set
+//! does not use are left alone and listed in [`StudyFile::notes`].
 
 use std::path::{Path, PathBuf};
 
@@ -30,15 +40,21 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use crate::Error;
-use crate::data_file::read_samples;
+use crate::columns::{ColumnMap, DataUnits, joint_types};
+use crate::data_file::{DataFormat, read_samples};
+use crate::input::{MAX_DESCRIPTION_BYTES, read_text};
 use crate::ready::load_robot;
+use crate::robot_file::AngleUnit;
 use crate::robot_file::{RobotFile, read_priority_file};
+use crate::units::LengthUnit;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawStudy {
     robot: Spanned<String>,
     priority: Option<Spanned<String>>,
+    length_unit: Option<Spanned<String>>,
+    angle_unit: Option<Spanned<String>>,
     measurements: Spanned<Vec<Spanned<RawMeasurement>>>,
 }
 
@@ -54,6 +70,9 @@ struct RawMeasurement {
     plane_point: Option<Spanned<Vec<f64>>>,
     set_size: Option<Spanned<usize>>,
     orientation: Option<Spanned<String>>,
+    length_unit: Option<Spanned<String>>,
+    angle_unit: Option<Spanned<String>>,
+    columns: Option<Spanned<std::collections::BTreeMap<String, String>>>,
 }
 
 /// A study read from a file, with its robot.
@@ -65,6 +84,8 @@ pub struct StudyFile {
     pub study: Study,
     /// The priority matrix given by the study, if any.
     pub priority: Option<PriorityMatrix>,
+    /// What the user should know: columns of data files left unused.
+    pub notes: Vec<String>,
 }
 
 /// Reads a study file and everything it refers to.
@@ -73,10 +94,7 @@ pub struct StudyFile {
 /// [`Error::Parse`] with the line of the study file at fault, or the errors
 /// of the robot and data files it names.
 pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
-    let text = std::fs::read_to_string(path).map_err(|cause| Error::Read {
-        path: path.to_owned(),
-        cause,
-    })?;
+    let text = read_text(path, MAX_DESCRIPTION_BYTES)?;
     let line_of = |offset: usize| {
         text[..offset.min(text.len())]
             .bytes()
@@ -110,7 +128,33 @@ pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
             "a study needs at least one [[measurements]] table".into(),
         ));
     }
+    let length_unit = |unit: &Option<Spanned<String>>, default: LengthUnit| match unit {
+        None => Ok(default),
+        Some(unit) => LengthUnit::from_name(unit.get_ref()).ok_or_else(|| {
+            fail(
+                unit.span(),
+                "length_unit",
+                format!("must be \"m\" or \"mm\", not {:?}", unit.get_ref()),
+            )
+        }),
+    };
+    let angle_unit = |unit: &Option<Spanned<String>>, default: AngleUnit| match unit {
+        None => Ok(default),
+        Some(unit) => AngleUnit::from_name(unit.get_ref()).ok_or_else(|| {
+            fail(
+                unit.span(),
+                "angle_unit",
+                format!("must be \"rad\" or \"deg\", not {:?}", unit.get_ref()),
+            )
+        }),
+    };
+    let study_units = DataUnits {
+        length: length_unit(&raw.length_unit, LengthUnit::Metres)?,
+        angle: angle_unit(&raw.angle_unit, AngleUnit::Radians)?,
+    };
+    let types = joint_types(&robot.robot);
     let mut sets = Vec::new();
+    let mut notes = Vec::new();
     for measurement in raw.measurements.get_ref() {
         let table = measurement.get_ref();
         let sigma = *table.sigma.get_ref();
@@ -224,7 +268,28 @@ pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
         let method = gecaro_calib::method(table.method.get_ref(), &options)
             .map_err(|error| fail(table.method.span(), "method", error.to_string()))?;
         let data_path = relative(table.data.get_ref());
-        let samples = read_samples(&data_path, robot.robot.joint_count(), method.data_columns())?;
+        let format = DataFormat {
+            units: DataUnits {
+                length: length_unit(&table.length_unit, study_units.length)?,
+                angle: angle_unit(&table.angle_unit, study_units.angle)?,
+            },
+            columns: table
+                .columns
+                .as_ref()
+                .map_or_else(ColumnMap::default, |columns| {
+                    ColumnMap::from_pairs(columns.get_ref().clone())
+                }),
+        };
+        let data = read_samples(&data_path, &types, method.data_columns(), &format)?;
+        if !data.unused_columns.is_empty() {
+            notes.push(format!(
+                "{}: columns {} are not used by the {} method (left alone)",
+                data_path.display(),
+                data.unused_columns.join(", "),
+                method.name()
+            ));
+        }
+        let samples = data.samples;
         sets.push(MeasurementSet {
             method,
             samples,
@@ -237,5 +302,6 @@ pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
         robot,
         study: Study { sets },
         priority,
+        notes,
     })
 }

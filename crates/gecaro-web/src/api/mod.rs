@@ -192,9 +192,11 @@ impl DataRequest {
         let samples = gecaro_io::parse_samples(
             text.as_bytes(),
             Path::new(&label),
-            robot.robot.joint_count(),
+            &gecaro_io::joint_types(&robot.robot),
             method.data_columns(),
-        )?;
+            &gecaro_io::DataFormat::default(),
+        )?
+        .samples;
         if samples.len() > MAX_SAMPLES {
             return Err(ApiError::Unprocessable(format!(
                 "{label} has {} configurations; the server takes up to {MAX_SAMPLES}",
