@@ -113,10 +113,10 @@ pub fn parse_samples(
     format: &DataFormat,
 ) -> Result<DataFile, Error> {
     let expected = data_headers(joint_types.len(), columns);
+    // Fields are trimmed where they are read (a slice, no copy per record).
     let mut csv = csv::ReaderBuilder::new()
         .has_headers(false)
         .comment(Some(b'#'))
-        .trim(csv::Trim::All)
         .flexible(true)
         .from_reader(LineLimit::new(reader, MAX_LINE_BYTES));
     let fail = |line: usize, field: Option<&str>, message: String| {
@@ -137,7 +137,7 @@ pub fn parse_samples(
         ));
     }
     let header_line = line_of(&record);
-    let names: Vec<String> = record.iter().map(str::to_owned).collect();
+    let names: Vec<String> = record.iter().map(|name| name.trim().to_owned()).collect();
     if names.iter().all(|name| name.parse::<f64>().is_ok()) {
         return Err(fail(
             header_line,
@@ -207,7 +207,7 @@ pub fn parse_samples(
             ));
         }
         let value = |column: usize| -> Result<f64, Error> {
-            let text = &record[column];
+            let text = record[column].trim();
             match text.parse::<f64>() {
                 Ok(number) if number.is_finite() => Ok(number),
                 Ok(_) => Err(fail(
@@ -249,7 +249,7 @@ pub fn parse_samples(
             sample.orientation = Some(UnitQuaternion::from_quaternion(quaternion));
         }
         if let Some((column, _)) = fields.group {
-            let text = &record[column];
+            let text = record[column].trim();
             sample.group = Some(text.parse().map_err(|_| {
                 fail(
                     line,

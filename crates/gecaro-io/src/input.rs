@@ -95,20 +95,20 @@ impl<R> LineLimit<R> {
 }
 
 impl<R: Read> Read for LineLimit<R> {
+    /// Counts the bytes since the last line break; a line is caught within
+    /// one read of passing the limit (reads are far shorter than the limit).
     fn read(&mut self, buffer: &mut [u8]) -> std::io::Result<usize> {
         let count = self.inner.read(buffer)?;
-        for byte in &buffer[..count] {
-            if *byte == b'\n' {
-                self.current = 0;
-            } else {
-                self.current += 1;
-                if self.current > self.limit {
-                    return Err(std::io::Error::other(format!(
-                        "a line longer than {} KiB: not a data file (no line breaks?)",
-                        self.limit >> 10
-                    )));
-                }
-            }
+        let chunk = &buffer[..count];
+        self.current = match chunk.iter().rposition(|byte| *byte == b'\n') {
+            Some(last) => count - last - 1,
+            None => self.current + count,
+        };
+        if self.current > self.limit {
+            return Err(std::io::Error::other(format!(
+                "a line longer than {} KiB: not a data file (no line breaks?)",
+                self.limit >> 10
+            )));
         }
         Ok(count)
     }
