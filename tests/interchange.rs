@@ -462,3 +462,142 @@ fn cartesian_targets_in_millimetres_are_reached_and_unreachable_ones_are_flagged
         );
     }
 }
+
+#[test]
+fn the_tracker_example_runs_as_its_readme_says() {
+    // examples/tracker/README.md, step by step, in a copy of the folder.
+    let folder = tempfile::tempdir().expect("folder");
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/tracker");
+    for entry in std::fs::read_dir(&source).expect("example").flatten() {
+        std::fs::copy(entry.path(), folder.path().join(entry.file_name())).expect("copy");
+    }
+    let at = |name: &str| folder.path().join(name).display().to_string();
+    let columns = "qm1=A1,qm2=A2,qm3=A3,qm4=A4,qm5=A5,qm6=A6,x=X,y=Y,z=Z";
+    let units = [
+        "--length-unit",
+        "mm",
+        "--angle-unit",
+        "deg",
+        "--columns",
+        columns,
+    ];
+    run(&[
+        "robot",
+        "import",
+        &at("kr16_2.urdf"),
+        "-o",
+        &at("kr16.toml"),
+    ]);
+    let mut identify = vec![
+        "identify",
+        &at("kr16.toml"),
+        "--method",
+        "position",
+        "--data",
+        &at("tracker.csv"),
+        "-o",
+        &at("calibrated.toml"),
+        "--json",
+    ]
+    .into_iter()
+    .map(String::from)
+    .collect::<Vec<_>>();
+    identify.extend(units.iter().map(|s| s.to_string()));
+    let identify: Vec<&str> = identify.iter().map(String::as_str).collect();
+    let (stdout, _) = run(&identify);
+    let result: Value = serde_json::from_str(&stdout).expect("JSON");
+    assert_eq!(
+        result["parameters"].as_array().expect("parameters").len(),
+        29
+    );
+    let held_out = |robot: &str| -> f64 {
+        let mut args = vec!["evaluate", robot, "--method", "position", "--data"];
+        let check = at("check.csv");
+        args.push(&check);
+        args.extend(units);
+        args.push("--json");
+        let (stdout, _) = run(&args);
+        let value: Value = serde_json::from_str(&stdout).expect("JSON");
+        value["rms"]
+            .as_f64()
+            .or_else(|| value["errors"]["rms"].as_f64())
+            .expect("rms")
+    };
+    let (before, after) = (held_out(&at("kr16.toml")), held_out(&at("calibrated.toml")));
+    assert!(before > 5e-3 && after < 5e-5, "held out {before} → {after}");
+    let joints = "qm1=A1,qm2=A2,qm3=A3,qm4=A4,qm5=A5,qm6=A6";
+    let (stdout, _) = run(&[
+        "compensate",
+        &at("kr16.toml"),
+        &at("calibrated.toml"),
+        "--program",
+        &at("job.csv"),
+        "--angle-unit",
+        "deg",
+        "--columns",
+        joints,
+        "--match",
+        "position",
+        "-o",
+        &at("job_corrected.csv"),
+    ]);
+    assert!(stdout.contains("30 joint targets: 30 reached"), "{stdout}");
+    run(&[
+        "robot",
+        "export",
+        &at("calibrated.toml"),
+        "--to",
+        "urdf",
+        "-o",
+        &at("kr16_2_calibrated.urdf"),
+    ]);
+    assert!(Path::new(&at("kr16_2_calibrated.joint_calibration.yaml")).exists());
+    // The job on the real robot: from millimetres off the intended points to the noise.
+    let load = |name: &str| gecaro_io::load_robot(name).expect("robot").robot;
+    let (nominal, real) = (load(&at("kr16.toml")), load(&at("real.toml")));
+    let read_job = |name: &str| -> Vec<Vec<f64>> {
+        csv_rows(Path::new(&at(name)))
+            .iter()
+            .map(|row| {
+                (1..=6)
+                    .map(|j| {
+                        row[&format!("A{j}")]
+                            .parse::<f64>()
+                            .expect("angle")
+                            .to_radians()
+                    })
+                    .collect()
+            })
+            .collect()
+    };
+    let text = std::fs::read_to_string(at("job.csv")).expect("job");
+    std::fs::write(
+        at("job-plain.csv"),
+        text.lines()
+            .filter(|l| !l.starts_with('#'))
+            .collect::<Vec<_>>()
+            .join("\n"),
+    )
+    .expect("write");
+    let (job, corrected) = (read_job("job-plain.csv"), read_job("job_corrected.csv"));
+    let point = |robot: &gecaro_core::Robot, qm: &[f64]| {
+        gecaro_core::terminal_pose(robot, qm)
+            .expect("valid")
+            .translation
+            .vector
+    };
+    let rms =
+        |values: Vec<f64>| (values.iter().map(|v| v * v).sum::<f64>() / values.len() as f64).sqrt();
+    let off = |configurations: &[Vec<f64>]| {
+        rms(job
+            .iter()
+            .zip(configurations)
+            .map(|(q, c)| (point(&real, c) - point(&nominal, q)).norm())
+            .collect())
+    };
+    let (job_before, job_after) = (off(&job), off(&corrected));
+    assert!(
+        job_before > 3e-3 && job_after < 5e-5,
+        "the job on the real robot: {job_before} → {job_after}"
+    );
+}

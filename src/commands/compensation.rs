@@ -78,31 +78,34 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
     report(args, &program, &results)
 }
 
-/// The largest change of a joint between the program and the correction,
-/// in the program's units.
+/// The largest change of a joint between the program and the correction, in
+/// the program's unit: (value, unit, joint number, line).
 fn largest_correction(
     program: &gecaro_io::ProgramFile,
     results: &[CompensatedPoint],
-) -> Option<f64> {
-    program
-        .points
-        .iter()
-        .zip(results)
-        .filter(|(_, result)| result.status == CompensationStatus::Reached)
-        .filter_map(|(point, result)| {
-            let original = match &point.target {
-                gecaro_calib::ProgramTarget::Joints(qm) => Some(qm),
-                _ => point.joints.as_ref(),
-            }?;
-            Some(
-                original
-                    .iter()
-                    .zip(&result.motor_positions)
-                    .map(|(a, b)| (a - b).abs())
-                    .fold(0.0, f64::max),
-            )
-        })
-        .reduce(f64::max)
+) -> Option<(f64, &'static str, usize, usize)> {
+    let mut largest: Option<(f64, &'static str, usize, usize)> = None;
+    for (index, (point, result)) in program.points.iter().zip(results).enumerate() {
+        if result.status != CompensationStatus::Reached {
+            continue;
+        }
+        let original = match &point.target {
+            gecaro_calib::ProgramTarget::Joints(qm) => Some(qm),
+            _ => point.joints.as_ref(),
+        };
+        for (j, (before, after)) in original
+            .into_iter()
+            .flatten()
+            .zip(&result.motor_positions)
+            .enumerate()
+        {
+            let (change, unit) = program.joint_in_file_unit(j, (after - before).abs());
+            if largest.is_none_or(|(value, ..)| change > value) {
+                largest = Some((change, unit, j + 1, program.line(index)));
+            }
+        }
+    }
+    largest
 }
 
 fn report(
@@ -134,7 +137,7 @@ fn report(
             outside_limits: outside.clone(),
             not_reached: unreached.clone(),
             largest_position_error: largest_error,
-            largest_correction: correction.unwrap_or(0.0),
+            largest_correction: correction.map_or(0.0, |(value, ..)| value),
             output: &args.output.display().to_string(),
             points: results
                 .iter()
@@ -161,11 +164,8 @@ fn report(
             largest_error / units.length.to_metres(),
             units.length.name()
         );
-        if let Some(correction) = correction {
-            println!(
-                "largest joint correction: {:.4} (motor units of the program; radians or metres unless --angle-unit/--length-unit)",
-                correction
-            );
+        if let Some((value, unit, joint, line)) = correction {
+            println!("largest joint correction: {value:.4} {unit} (joint {joint}, line {line})");
         }
         println!("wrote {}", args.output.display());
     }

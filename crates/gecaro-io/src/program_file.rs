@@ -11,8 +11,8 @@
 //! The corrected program is the same file with the corrected joint values
 //! in the program's own `qm` columns, order and units (added at the end when
 //! the program had none), then `residual` (position, the file's length
-//! unit), `residual_rotation` (the file's angle unit, targets with an
-//! orientation) and `status` (`ok`, `outside-limits`, `not-reached`).
+//! unit), `residual_rotation` (the file's angle unit, when orientations are
+//! matched) and `status` (`ok`, `outside-limits`, `not-reached`).
 
 use std::path::Path;
 
@@ -296,6 +296,16 @@ impl ProgramFile {
         self.units
     }
 
+    /// A value of joint `j` (0-based) in the file's unit, and that unit.
+    pub fn joint_in_file_unit(&self, j: usize, value: f64) -> (f64, &'static str) {
+        let scale = self.units.joint_scale(&self.joint_types, j);
+        let unit = match self.joint_types.get(j) {
+            Some(FrameType::Prismatic) => self.units.length.name(),
+            _ => self.units.angle.name(),
+        };
+        (value / scale, unit)
+    }
+
     /// The corrected program (see the module docs): one result per target.
     ///
     /// # Panics
@@ -313,7 +323,7 @@ impl ProgramFile {
                 })
                 .collect(),
         };
-        let oriented = self.kind != ProgramKind::Position;
+        let oriented = results.iter().any(|result| result.rotation_error.is_some());
         let column =
             |name: &str, header: &mut Vec<String>| match header.iter().position(|h| h == name) {
                 Some(position) => position,
