@@ -182,7 +182,8 @@ function renderRobot() {
   $('robot-name').textContent = doc.name || 'Unnamed robot';
   const origin = state.file ? `file ${state.file}`
     : view.origin === 'ready' ? `ready robot “${view.name}” (Save as… to keep a copy)`
-      : 'not saved yet';
+      : view.origin === 'imported' ? `converted from ${view.name} (Save as… to keep it as a robot file or a URDF)`
+        : 'not saved yet';
   $('robot-origin').textContent = (state.dirty ? '• modified · ' : '') + origin;
   $('angle-unit').value = doc.angle_unit === 'deg' ? 'deg' : 'rad';
   renderFrames();
@@ -314,6 +315,7 @@ function renderProblems() {
     items.push(h('li', { text: `${locationText(problem.location)}: ${problem.message}` }));
   }
   $('problems').replaceChildren(...items);
+  $('notes').replaceChildren(...(state.robot.notes || []).map((note) => h('li', { text: note })));
   const badge = $('robot-status');
   const summary = state.robot.summary;
   if (items.length === 0 && summary) {
@@ -614,8 +616,13 @@ async function loadReady(name) {
   setRobot(await api(`/robots/ready/${encodeURIComponent(name)}`), null);
 }
 
-async function loadFile(name) {
-  setRobot(await api(`/robots/file?name=${encodeURIComponent(name)}`), name);
+async function loadFile(name, chain = {}) {
+  const query = [`name=${encodeURIComponent(name)}`];
+  if (chain.base) query.push(`base=${encodeURIComponent(chain.base)}`);
+  if (chain.tip) query.push(`tip=${encodeURIComponent(chain.tip)}`);
+  const view = await api(`/robots/file?${query.join('&')}`);
+  // A converted file is not the robot's file: saving writes a new one.
+  setRobot(view, view.origin === 'imported' ? null : name);
 }
 
 async function refreshFiles() {
@@ -642,21 +649,40 @@ function openRobotDialog() {
     },
   })));
   const list = h('div', { class: 'file-list' }, h('div', { class: 'empty', text: 'Loading…' }));
-  openDialog({ title: 'Open a robot', body: h('div', {}, h('h3', { text: 'Ready robots' }), ready, h('h3', { text: `Robot files in ${state.info.folder}` }), list) });
+  const imports = h('div', { class: 'file-list', id: 'open-imports' }, h('div', { class: 'empty', text: 'Loading…' }));
+  const base = h('input', { type: 'text', id: 'open-base', placeholder: 'root link' });
+  const tip = h('input', { type: 'text', id: 'open-tip', placeholder: 'leaf with the most joints' });
+  openDialog({
+    title: 'Open a robot',
+    body: h('div', {},
+      h('h3', { text: 'Ready robots' }), ready,
+      h('h3', { text: `Robot files in ${state.info.folder}` }),
+      h('p', { class: 'muted', text: 'gecaro robot files, and DH tables (TOML with convention = "dh" or "mdh"), converted.' }),
+      list,
+      h('h3', { text: 'URDF and SYMORO files (converted)' }),
+      h('div', { class: 'chain-fields' },
+        h('label', { class: 'dialog-field' }, 'URDF base link', base),
+        h('label', { class: 'dialog-field' }, 'URDF tip link', tip)),
+      imports),
+  });
+  const button = (name) => h('button', {
+    type: 'button',
+    text: name,
+    onclick: async () => {
+      try {
+        await loadFile(name, { base: base.value.trim(), tip: tip.value.trim() });
+        $('dialog').close();
+      } catch (error) {
+        dialogError(error.message);
+      }
+    },
+  });
   api('/files').then((files) => {
     state.files = files;
-    list.replaceChildren(...(files.robots.length ? files.robots.map((name) => h('button', {
-      type: 'button',
-      text: name,
-      onclick: async () => {
-        try {
-          await loadFile(name);
-          $('dialog').close();
-        } catch (error) {
-          dialogError(error.message);
-        }
-      },
-    })) : [h('div', { class: 'empty', text: 'No .toml files in this folder.' })]));
+    list.replaceChildren(...(files.robots.length ? files.robots.map(button)
+      : [h('div', { class: 'empty', text: 'No .toml files in this folder.' })]));
+    imports.replaceChildren(...(files.imports && files.imports.length ? files.imports.map(button)
+      : [h('div', { class: 'empty', text: 'No .urdf or .par files in this folder.' })]));
   }).catch((error) => dialogError(error.message));
 }
 
@@ -682,21 +708,30 @@ function newRobotDialog() {
 function saveAsDialog(documentToSave, suggested, after) {
   const name = h('input', { type: 'text', id: 'save-name', value: suggested });
   const overwrite = h('input', { type: 'checkbox', id: 'save-overwrite' });
+  const format = h('select', { id: 'save-format' },
+    h('option', { value: 'toml', text: 'gecaro robot file (.toml)' }),
+    h('option', { value: 'urdf', text: 'URDF (.urdf), with a joint calibration beside it if needed' }));
+  format.addEventListener('change', () => {
+    name.value = name.value.replace(/\.(toml|urdf)$/i, '') + `.${format.value}`;
+  });
   openDialog({
     title: 'Save robot as',
     body: h('div', {},
+      h('label', { class: 'dialog-field' }, 'Format', format),
       h('label', { class: 'dialog-field' }, `File name in ${state.info.folder}`, name),
       h('label', {}, overwrite, ' Replace the file if it exists')),
     ok: 'Save',
     onOk: async () => {
+      let saved;
       try {
-        await api('/robots/save', { robot: documentToSave, name: name.value.trim(), overwrite: overwrite.checked });
+        saved = await api('/robots/save', { robot: documentToSave, name: name.value.trim(), overwrite: overwrite.checked });
       } catch (error) {
         if (error.problems.length) throw new Error(`${error.message} — fix the table first.`);
         throw error;
       }
-      toast(`Saved ${name.value.trim()}`);
-      if (after) after(name.value.trim());
+      const beside = saved.joint_calibration ? ` and ${saved.joint_calibration} (gains and couplings)` : '';
+      toast(`Saved ${saved.name}${beside}`);
+      if (after) after(saved.name);
       refreshFiles();
     },
   });
@@ -705,8 +740,11 @@ function saveAsDialog(documentToSave, suggested, after) {
 function saveRobotAs() {
   const suggested = state.file || `${slug(document_().name || 'robot')}.toml`;
   saveAsDialog(document_(), suggested, (name) => {
-    state.file = name;
-    state.dirty = false;
+    // A URDF is an export: the table stays tied to its robot file, if any.
+    if (!name.toLowerCase().endsWith('.urdf')) {
+      state.file = name;
+      state.dirty = false;
+    }
     renderRobot();
   });
 }

@@ -39,6 +39,8 @@ pub struct Listing {
     pub robots: Vec<String>,
     /// `*.csv` files.
     pub data: Vec<String>,
+    /// Robots in other formats, converted when opened: `*.urdf`, `*.par`.
+    pub imports: Vec<String>,
     /// Whether the listing stopped at its limit.
     pub truncated: bool,
 }
@@ -76,6 +78,7 @@ impl Workspace {
         self.walk(&self.root, "", 0, &mut listing);
         listing.robots.sort();
         listing.data.sort();
+        listing.imports.sort();
         listing
     }
 
@@ -106,6 +109,7 @@ impl Workspace {
             let bucket = match Path::new(&name).extension().and_then(|e| e.to_str()) {
                 Some("toml") => &mut listing.robots,
                 Some("csv") => &mut listing.data,
+                Some("urdf" | "par") => &mut listing.imports,
                 _ => continue,
             };
             if bucket.len() >= MAX_LISTED {
@@ -157,14 +161,14 @@ impl Workspace {
         }
     }
 
-    /// The path of the existing file `name`, with extension `extension`.
+    /// The path of the existing file `name`, with one of `extensions`.
     ///
     /// # Errors
     /// [`ApiError::Forbidden`] for names outside the folder or of another
     /// kind, [`ApiError::NotFound`] when there is no such file.
-    pub fn existing(&self, name: &str, extension: &str) -> Result<PathBuf, ApiError> {
+    pub fn existing(&self, name: &str, extensions: &[&str]) -> Result<PathBuf, ApiError> {
         let relative = Self::relative(name)?;
-        check_extension(&relative, name, extension)?;
+        check_extensions(&relative, name, extensions)?;
         let resolved = self.root.join(&relative).canonicalize().map_err(|_| {
             ApiError::NotFound(format!("no file {name} in {}", self.root.display()))
         })?;
@@ -179,8 +183,12 @@ impl Workspace {
     ///
     /// # Errors
     /// As [`existing`](Self::existing); [`ApiError::TooLarge`] for big files.
-    pub fn read_text(&self, name: &str, extension: &str) -> Result<(PathBuf, String), ApiError> {
-        let path = self.existing(name, extension)?;
+    pub fn read_text(
+        &self,
+        name: &str,
+        extensions: &[&str],
+    ) -> Result<(PathBuf, String), ApiError> {
+        let path = self.existing(name, extensions)?;
         let size = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
         if size > MAX_FILE_BYTES {
             return Err(ApiError::TooLarge(format!(
@@ -208,7 +216,7 @@ impl Workspace {
         overwrite: bool,
     ) -> Result<PathBuf, ApiError> {
         let relative = Self::relative(name)?;
-        check_extension(&relative, name, extension)?;
+        check_extensions(&relative, name, &[extension])?;
         let target = self.root.join(&relative);
         let parent = target
             .parent()
@@ -251,12 +259,18 @@ impl Workspace {
     }
 }
 
-fn check_extension(relative: &Path, name: &str, extension: &str) -> Result<(), ApiError> {
-    if relative.extension().and_then(|e| e.to_str()) == Some(extension) {
+fn check_extensions(relative: &Path, name: &str, extensions: &[&str]) -> Result<(), ApiError> {
+    let extension = relative.extension().and_then(|e| e.to_str());
+    if extension.is_some_and(|extension| extensions.contains(&extension)) {
         Ok(())
     } else {
         Err(ApiError::Forbidden(format!(
-            "file name {name:?}: only .{extension} files here"
+            "file name {name:?}: only {} files here",
+            extensions
+                .iter()
+                .map(|extension| format!(".{extension}"))
+                .collect::<Vec<_>>()
+                .join(", ")
         )))
     }
 }
@@ -289,7 +303,7 @@ mod tests {
             );
             assert!(
                 matches!(
-                    workspace.existing(name, "toml"),
+                    workspace.existing(name, &["toml"]),
                     Err(ApiError::Forbidden(_))
                 ),
                 "{name}"
@@ -313,11 +327,11 @@ mod tests {
         std::os::unix::fs::symlink(outside.path(), folder.path().join("out")).expect("link");
         let workspace = Workspace::new(folder.path()).expect("workspace");
         assert!(matches!(
-            workspace.existing("link.toml", "toml"),
+            workspace.existing("link.toml", &["toml"]),
             Err(ApiError::Forbidden(_))
         ));
         assert!(matches!(
-            workspace.existing("out/secret.toml", "toml"),
+            workspace.existing("out/secret.toml", &["toml"]),
             Err(ApiError::Forbidden(_))
         ));
         assert!(matches!(
@@ -357,7 +371,7 @@ mod tests {
             .expect("overwrite");
         assert_eq!(
             workspace
-                .read_text("robots/arm.toml", "toml")
+                .read_text("robots/arm.toml", &["toml"])
                 .expect("read")
                 .1,
             "three"
@@ -370,7 +384,7 @@ mod tests {
         assert_eq!(listing.robots, ["robots/arm.toml"]);
         assert_eq!(listing.data, ["data.csv"]);
         assert!(matches!(
-            workspace.existing("nothing.csv", "csv"),
+            workspace.existing("nothing.csv", &["csv"]),
             Err(ApiError::NotFound(_))
         ));
     }

@@ -297,6 +297,107 @@ async fn saves_stay_inside_the_folder_and_never_break_a_file() {
 }
 
 #[tokio::test]
+async fn urdf_dh_and_symoro_files_open_converted_and_robots_save_as_urdf() {
+    let api = Api::new();
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data");
+    for (from, to) in [
+        ("urdf/kuka_kr16_2.urdf", "kr16.urdf"),
+        ("urdf/panda.urdf", "panda.urdf"),
+        ("robots/stanford.par", "stanford.par"),
+        ("robots/puma560_mdh.toml", "puma-table.toml"),
+    ] {
+        std::fs::copy(data.join(from), api.folder.path().join(to)).expect("copy");
+    }
+    let (_, files) = api.get("/api/files").await;
+    assert_eq!(
+        files["imports"],
+        json!(["kr16.urdf", "panda.urdf", "stanford.par"])
+    );
+    assert_eq!(files["robots"], json!(["puma-table.toml"]));
+
+    // Converted, shown in the table, with what the conversion did.
+    let (status, kuka) = api.get("/api/robots/file?name=kr16.urdf").await;
+    assert_eq!(status, StatusCode::OK, "{kuka}");
+    assert_eq!(kuka["origin"], "imported");
+    assert_eq!(kuka["summary"]["letters"], "RRRRRR");
+    assert!(
+        kuka["notes"][0].as_str().expect("note").contains("folded"),
+        "{kuka}"
+    );
+    for (name, letters) in [("stanford.par", "RRPRRR"), ("puma-table.toml", "RRRRRR")] {
+        let (status, opened) = api.get(&format!("/api/robots/file?name={name}")).await;
+        assert_eq!(status, StatusCode::OK, "{name}: {opened}");
+        assert_eq!(opened["summary"]["letters"], letters);
+    }
+    // A branching URDF: the error names the leaves; a tip resolves it.
+    let (status, branching) = api.get("/api/robots/file?name=panda.urdf").await;
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert!(error_text(&branching).contains("--tip"), "{branching}");
+    let (status, panda) = api
+        .get("/api/robots/file?name=panda.urdf&tip=ball_link")
+        .await;
+    assert_eq!(status, StatusCode::OK, "{panda}");
+    assert_eq!(panda["summary"]["letters"], "RRRRRRR");
+
+    // Save as URDF: the original names come back; a gain goes beside it.
+    let mut document = kuka["document"].clone();
+    let (status, saved) = api
+        .post(
+            "/api/robots/save",
+            &json!({ "robot": document, "name": "out.urdf" }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{saved}");
+    assert!(saved.get("joint_calibration").is_none());
+    let text = std::fs::read_to_string(api.folder.path().join("out.urdf")).expect("written");
+    assert!(
+        text.contains("name=\"joint_a6-tool0\"") && text.contains("name=\"link_3\""),
+        "{text}"
+    );
+    document["frame"][2]["K"] = json!(1.002);
+    let (status, saved) = api
+        .post(
+            "/api/robots/save",
+            &json!({ "robot": document, "name": "geared.urdf" }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{saved}");
+    assert_eq!(saved["joint_calibration"], "geared.joint_calibration.yaml");
+    assert!(
+        api.folder
+            .path()
+            .join("geared.joint_calibration.yaml")
+            .is_file()
+    );
+    let (status, _) = api
+        .post(
+            "/api/robots/save",
+            &json!({ "robot": document, "name": "geared.urdf" }),
+        )
+        .await;
+    assert_eq!(
+        status,
+        StatusCode::CONFLICT,
+        "an existing URDF is kept without overwrite"
+    );
+    // Neither file is written when one of the two exists.
+    std::fs::remove_file(api.folder.path().join("geared.joint_calibration.yaml")).expect("remove");
+    let (status, _) = api
+        .post(
+            "/api/robots/save",
+            &json!({ "robot": document, "name": "geared.urdf" }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::CONFLICT);
+    assert!(
+        !api.folder
+            .path()
+            .join("geared.joint_calibration.yaml")
+            .exists()
+    );
+}
+
+#[tokio::test]
 async fn poses_give_every_frame() {
     let api = Api::new();
     let document = api.document("stanford").await;

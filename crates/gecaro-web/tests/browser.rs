@@ -265,6 +265,63 @@ async fn the_page_works_as_a_person_uses_it() {
     let calibrated = gecaro_io::read_robot_file(&saved).expect("a valid robot file was saved");
     assert_eq!(calibrated.robot.name(), "Stanford (calibrated)");
 
+    // Robot ▸ Open…: a URDF of the folder, converted into the table.
+    std::fs::copy(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../tests/data/urdf/kuka_kr16_2.urdf"),
+        folder.path().join("kr16.urdf"),
+    )
+    .expect("copy the URDF");
+    click(&client, "#robot-open").await;
+    let urdf = client
+        .wait()
+        .for_element(Locator::XPath(
+            "//div[@id='open-imports']/button[text()='kr16.urdf']",
+        ))
+        .await
+        .expect("the URDF is listed");
+    urdf.click().await.expect("open it");
+    text_when(&client, "#robot-name", 30, |name| name == "kuka_kr16_2").await;
+    assert!(
+        text_of(&client, "#robot-origin", 5)
+            .await
+            .contains("converted from kr16.urdf")
+    );
+    assert!(text_of(&client, "#notes li", 5).await.contains("folded"));
+    screenshot(&client, "05-urdf-opened.png").await;
+    // Save as… URDF: the original names come back in the folder.
+    click(&client, "#robot-save-as").await;
+    client
+        .find(Locator::Css("#save-format"))
+        .await
+        .expect("format choice")
+        .select_by_value("urdf")
+        .await
+        .expect("choose URDF");
+    let name = client.find(Locator::Css("#save-name")).await.expect("name");
+    assert!(
+        name.prop("value")
+            .await
+            .expect("value")
+            .unwrap_or_default()
+            .ends_with(".urdf")
+    );
+    name.clear().await.expect("clear");
+    name.send_keys("kr16-out.urdf").await.expect("type");
+    click(&client, "#dialog-ok").await;
+    let exported = folder.path().join("kr16-out.urdf");
+    for _ in 0..100 {
+        if exported.exists() {
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    let text = std::fs::read_to_string(&exported).expect("a URDF was saved");
+    assert!(
+        text.contains("name=\"joint_a1\"") && text.contains("name=\"tool0\""),
+        "{text}"
+    );
+
     // An invalid value in the table: the cell is marked and the message shown.
     let sigma = client
         .find(Locator::Css(
@@ -331,7 +388,7 @@ async fn the_page_works_as_a_person_uses_it() {
         .execute("window.scrollTo(0, 0)", Vec::new())
         .await
         .expect("scroll");
-    screenshot(&client, "05-validation.png").await;
+    screenshot(&client, "06-validation.png").await;
 
     client.close().await.expect("close the browser");
     let _ = stop.send(());

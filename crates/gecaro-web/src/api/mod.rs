@@ -183,7 +183,9 @@ impl DataRequest {
         method: &dyn CalibrationMethod,
     ) -> Result<(Vec<Sample>, String), ApiError> {
         let (label, text) = match self {
-            DataRequest::File(name) => (name.clone(), state.workspace().read_text(name, "csv")?.1),
+            DataRequest::File(name) => {
+                (name.clone(), state.workspace().read_text(name, &["csv"])?.1)
+            }
             DataRequest::Csv { text, name } => (
                 name.clone().unwrap_or_else(|| "uploaded data".into()),
                 text.clone(),

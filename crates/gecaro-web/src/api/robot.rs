@@ -5,8 +5,9 @@ use axum::extract::{Path as UrlPath, Query, State};
 use gecaro_calib::{DataColumn, METHODS};
 use gecaro_core::{FrameType, Robot, forward_kinematics};
 use gecaro_io::{
-    DocumentError, RobotDocument, RobotFile, fallback_name, format_robot_file,
-    parse_robot_document, ready_robot, ready_robots,
+    ChainEnds, DocumentError, ImportOptions, RobotDocument, RobotFile, RobotFormat, export_robot,
+    fallback_name, format_robot_file, import_robot_text, parse_robot_document, ready_robot,
+    ready_robots,
 };
 use serde::{Deserialize, Serialize};
 
@@ -125,7 +126,8 @@ fn summary(robot: &Robot) -> Summary {
 /// summary (valid) or its problems.
 #[derive(Serialize)]
 pub(crate) struct RobotView {
-    /// `ready`, `file` or `new`.
+    /// `ready`, `file`, `imported` (converted from another format: saving
+    /// writes a new robot file) or `new`.
     origin: &'static str,
     /// The ready robot's or file's name.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -134,6 +136,9 @@ pub(crate) struct RobotView {
     problems: Vec<DocumentError>,
     #[serde(skip_serializing_if = "Option::is_none")]
     summary: Option<Summary>,
+    /// What a conversion did (folded joints, couplings, default limits).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    notes: Vec<String>,
 }
 
 fn view(origin: &'static str, name: Option<String>, document: RobotDocument) -> RobotView {
@@ -149,6 +154,7 @@ fn view(origin: &'static str, name: Option<String>, document: RobotDocument) -> 
         document,
         problems,
         summary,
+        notes: Vec::new(),
     }
 }
 
@@ -171,21 +177,55 @@ pub(crate) async fn ready(UrlPath(name): UrlPath<String>) -> Result<Json<RobotVi
 #[serde(deny_unknown_fields)]
 pub(crate) struct FileQuery {
     name: String,
+    /// URDF: the base link (default: the root).
+    #[serde(default)]
+    base: Option<String>,
+    /// URDF: the tip link (default: the leaf with the most moving joints).
+    #[serde(default)]
+    tip: Option<String>,
 }
 
+/// Opens a robot file of the folder: a gecaro robot file as it is; a URDF,
+/// a SYMORO `.par` file or a DH table (TOML with `convention`) converted
+/// into a robot (origin `imported`, with the conversion's notes).
 pub(crate) async fn open_file(
     State(state): State<AppState>,
     query: Result<Query<FileQuery>, axum::extract::rejection::QueryRejection>,
 ) -> Result<Json<RobotView>, ApiError> {
-    let Query(FileQuery { name }) = query?;
+    let Query(FileQuery { name, base, tip }) = query?;
     state
         .compute(move |state| {
-            let (path, text) = state.workspace().read_text(&name, "toml")?;
-            let mut document = parse_robot_document(&text, std::path::Path::new(&name))?;
-            if document.name.is_none() {
-                document.name = Some(fallback_name(&path));
+            let (path, text) = state
+                .workspace()
+                .read_text(&name, &["toml", "urdf", "par"])?;
+            let label = std::path::Path::new(&name);
+            let is_table = |text: &str| text.contains("[[joint]]") && !text.contains("[[frame]]");
+            if path.extension().is_some_and(|e| e == "toml") && !is_table(&text) {
+                let mut document = parse_robot_document(&text, label)?;
+                if document.name.is_none() {
+                    document.name = Some(fallback_name(&path));
+                }
+                return Ok(Json(view("file", Some(name), document)));
             }
-            Ok(Json(view("file", Some(name), document)))
+            let imported = import_robot_text(
+                &text,
+                label,
+                &ImportOptions {
+                    chain: ChainEnds {
+                        base,
+                        tip,
+                        name: None,
+                    },
+                    ..ImportOptions::default()
+                },
+            )?;
+            let mut robot = view(
+                "imported",
+                Some(name),
+                RobotDocument::from_robot_file(&imported.file),
+            );
+            robot.notes = imported.notes;
+            Ok(Json(robot))
         })
         .await
 }
@@ -239,7 +279,8 @@ pub(crate) async fn new(Json(request): Json<NewRequest>) -> Result<Json<RobotVie
 #[serde(deny_unknown_fields)]
 pub(crate) struct SaveRequest {
     robot: RobotDocument,
-    /// The file, relative to the folder, ending in `.toml`.
+    /// The file, relative to the folder, ending in `.toml` (a robot file) or
+    /// `.urdf` (the robot as a URDF, names kept from an imported one).
     name: String,
     #[serde(default)]
     overwrite: bool,
@@ -249,26 +290,77 @@ pub(crate) struct SaveRequest {
 pub(crate) struct Saved {
     name: String,
     path: String,
+    /// The joint calibration written beside a URDF, when gains or couplings
+    /// are not expressible in it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    joint_calibration: Option<String>,
+    /// What the conversion changed (URDF).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    notes: Vec<String>,
 }
 
-/// Saves a valid robot to a file of the folder (atomically).
+/// Saves a valid robot to a file of the folder (atomically): a robot file,
+/// or a URDF with its joint calibration beside it when needed.
 pub(crate) async fn save(
     State(state): State<AppState>,
     Json(request): Json<SaveRequest>,
 ) -> Result<Json<Saved>, ApiError> {
     let file = robot_file(&request.robot)?;
-    let text = format_robot_file(&file);
+    let as_urdf = std::path::Path::new(&request.name)
+        .extension()
+        .is_some_and(|extension| extension == "urdf");
     state
         .compute(move |state| {
-            let path = state.workspace().write(
+            let workspace = state.workspace();
+            if !as_urdf {
+                let text = format_robot_file(&file);
+                let path =
+                    workspace.write(&request.name, "toml", text.as_bytes(), request.overwrite)?;
+                return Ok(Json(Saved {
+                    name: request.name,
+                    path: path.display().to_string(),
+                    joint_calibration: None,
+                    notes: Vec::new(),
+                }));
+            }
+            let exported =
+                export_robot(&file, RobotFormat::Urdf).map_err(ApiError::Unprocessable)?;
+            let calibration_name = exported.joint_calibration.as_ref().map(|_| {
+                std::path::Path::new(&request.name)
+                    .with_extension("joint_calibration.yaml")
+                    .to_string_lossy()
+                    .into_owned()
+            });
+            // Both files or neither: refuse before writing the first.
+            if !request.overwrite {
+                let taken = [
+                    Some((&request.name, "urdf")),
+                    calibration_name.as_ref().map(|n| (n, "yaml")),
+                ];
+                if let Some((name, _)) = taken
+                    .into_iter()
+                    .flatten()
+                    .find(|(name, extension)| workspace.existing(name, &[extension]).is_ok())
+                {
+                    return Err(ApiError::Conflict(format!(
+                        "{name} already exists (ask to replace it)"
+                    )));
+                }
+            }
+            if let (Some(name), Some(text)) = (&calibration_name, &exported.joint_calibration) {
+                workspace.write(name, "yaml", text.as_bytes(), request.overwrite)?;
+            }
+            let path = workspace.write(
                 &request.name,
-                "toml",
-                text.as_bytes(),
+                "urdf",
+                exported.text.as_bytes(),
                 request.overwrite,
             )?;
             Ok(Json(Saved {
                 name: request.name,
                 path: path.display().to_string(),
+                joint_calibration: calibration_name,
+                notes: exported.notes,
             }))
         })
         .await
