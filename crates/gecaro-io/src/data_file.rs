@@ -27,7 +27,7 @@ use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use crate::Error;
 use crate::columns::{ColumnMap, DataUnits, locate};
-use crate::input::{LineLimit, MAX_LINE_BYTES, open_regular};
+use crate::input::{csv_error, csv_reader, open_regular};
 use crate::output::{OutputPolicy, write_with};
 
 /// Most configurations a data file may hold. Files are streamed, so a larger
@@ -113,12 +113,7 @@ pub fn parse_samples(
     format: &DataFormat,
 ) -> Result<DataFile, Error> {
     let expected = data_headers(joint_types.len(), columns);
-    // Fields are trimmed where they are read (a slice, no copy per record).
-    let mut csv = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .comment(Some(b'#'))
-        .flexible(true)
-        .from_reader(LineLimit::new(reader, MAX_LINE_BYTES));
+    let mut csv = csv_reader(reader);
     let fail = |line: usize, field: Option<&str>, message: String| {
         Error::parse(path, line, field.map(str::to_owned), message)
     };
@@ -311,18 +306,6 @@ fn line_of(record: &csv::StringRecord) -> usize {
     record
         .position()
         .map_or(1, |position| position.line() as usize)
-}
-
-fn csv_error(path: &Path, error: &csv::Error) -> Error {
-    let line = error
-        .position()
-        .map_or(1, |position| position.line() as usize);
-    let message = match error.kind() {
-        csv::ErrorKind::Utf8 { .. } => "the file is not UTF-8 text".to_owned(),
-        csv::ErrorKind::Io(cause) => cause.to_string(),
-        _ => error.to_string(),
-    };
-    Error::parse(path, line, None, message)
 }
 
 /// The CSV text of a data set.

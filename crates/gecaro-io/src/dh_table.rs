@@ -44,7 +44,7 @@ use serde::{Deserialize, Serialize};
 use toml::Spanned;
 
 use crate::Error;
-use crate::input::LineLimit;
+use crate::input::{csv_error, csv_reader};
 use crate::interchange::{Exported, Imported, joint_calibration};
 use crate::pose::{from_xyz_rpy, rpy};
 use crate::robot_file::{AngleUnit, RobotFile};
@@ -398,20 +398,9 @@ fn parse_csv(
     defaults: TableUnits,
     convention: DhConvention,
 ) -> Result<Table, Error> {
-    let mut reader = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .comment(Some(b'#'))
-        .trim(csv::Trim::All)
-        .flexible(true)
-        .from_reader(LineLimit::new(
-            text.as_bytes(),
-            crate::input::MAX_LINE_BYTES,
-        ));
+    let mut reader = csv_reader(text.as_bytes());
     let mut records = reader.records();
-    let csv_error = |error: csv::Error| {
-        let line = error.position().map_or(1, |p| p.line() as usize);
-        Error::parse(path, line, None, error.to_string())
-    };
+    let csv_error = |error: csv::Error| csv_error(path, &error);
     let Some(header) = records.next().transpose().map_err(csv_error)? else {
         return Err(Error::parse(
             path,
@@ -426,7 +415,7 @@ fn parse_csv(
     };
     let mut columns = Vec::new();
     let mut suffixes = Vec::new();
-    for name in header.iter() {
+    for name in header.iter().map(str::trim) {
         let (stem, unit) = split_unit(name);
         let fits = match unit {
             None => true,
@@ -505,7 +494,12 @@ fn parse_csv(
                 "a row after the `tool` row: the tool comes last".into(),
             ));
         }
-        let cell = |name: &str| columns.iter().position(|c| *c == name).map(|i| &record[i]);
+        let cell = |name: &str| {
+            columns
+                .iter()
+                .position(|c| *c == name)
+                .map(|i| record[i].trim())
+        };
         let number = |name: &str| -> Result<Option<f64>, Error> {
             match cell(name) {
                 None | Some("") => Ok(None),

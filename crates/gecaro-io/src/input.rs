@@ -76,6 +76,32 @@ pub(crate) fn read_text(path: &Path, limit: u64) -> Result<String, Error> {
     })
 }
 
+/// The CSV reader of every gecaro CSV file: the header is read as the first
+/// record (so that its line is known), `#` starts a comment, rows may have
+/// any length (callers check it and name the line), fields are not trimmed
+/// (callers trim the slices they read), and lines are capped at
+/// [`MAX_LINE_BYTES`].
+pub(crate) fn csv_reader<R: Read>(reader: R) -> csv::Reader<LineLimit<R>> {
+    csv::ReaderBuilder::new()
+        .has_headers(false)
+        .comment(Some(b'#'))
+        .flexible(true)
+        .from_reader(LineLimit::new(reader, MAX_LINE_BYTES))
+}
+
+/// A CSV error as a parse error naming the file and the line.
+pub(crate) fn csv_error(path: &Path, error: &csv::Error) -> Error {
+    let line = error
+        .position()
+        .map_or(1, |position| position.line() as usize);
+    let message = match error.kind() {
+        csv::ErrorKind::Utf8 { .. } => "the file is not UTF-8 text".to_owned(),
+        csv::ErrorKind::Io(cause) => cause.to_string(),
+        _ => error.to_string(),
+    };
+    Error::parse(path, line, None, message)
+}
+
 /// A reader that fails once a line grows longer than `limit` bytes: a CSV
 /// reader keeps a whole record in memory.
 pub(crate) struct LineLimit<R> {

@@ -115,23 +115,17 @@ pub fn import_robot_text(
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
     let format = options.format.or_else(|| RobotFormat::guess(path));
+    let convention = match format {
+        Some(RobotFormat::Dh) => Some(DhConvention::Standard),
+        Some(RobotFormat::Mdh) => Some(DhConvention::Modified),
+        _ => None,
+    };
     let mut imported = match format {
         Some(RobotFormat::Urdf) => crate::urdf::import::import_urdf(text, path, &options.chain)?,
         Some(RobotFormat::Symoro) => crate::symoro::import_symoro(text, path)?,
-        Some(RobotFormat::Dh) => crate::dh_table::import_table(
-            text,
-            path,
-            Some(DhConvention::Standard),
-            is_csv,
-            options.units,
-        )?,
-        Some(RobotFormat::Mdh) => crate::dh_table::import_table(
-            text,
-            path,
-            Some(DhConvention::Modified),
-            is_csv,
-            options.units,
-        )?,
+        Some(RobotFormat::Dh | RobotFormat::Mdh) => {
+            crate::dh_table::import_table(text, path, convention, is_csv, options.units)?
+        }
         None if is_csv || has_extension(path, "toml") => {
             crate::dh_table::import_table(text, path, None, is_csv, options.units)?
         }

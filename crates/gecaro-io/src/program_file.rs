@@ -22,7 +22,7 @@ use nalgebra::{IsometryMatrix3, Quaternion, Translation3, UnitQuaternion, Vector
 
 use crate::Error;
 use crate::columns::{ColumnMap, DataUnits, joint_types, locate};
-use crate::input::{LineLimit, MAX_LINE_BYTES, open_regular};
+use crate::input::{csv_error, csv_reader, open_regular};
 
 /// What a program's targets are.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -67,23 +67,8 @@ pub fn read_program(
     map: &ColumnMap,
 ) -> Result<ProgramFile, Error> {
     let (file, _) = open_regular(path)?;
-    let mut reader = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .comment(Some(b'#'))
-        .trim(csv::Trim::All)
-        .flexible(true)
-        .from_reader(LineLimit::new(
-            std::io::BufReader::new(file),
-            MAX_LINE_BYTES,
-        ));
-    let csv_error = |error: csv::Error| {
-        let line = error.position().map_or(1, |p| p.line() as usize);
-        let message = match error.kind() {
-            csv::ErrorKind::Utf8 { .. } => "the file is not UTF-8 text".to_owned(),
-            _ => error.to_string(),
-        };
-        Error::parse(path, line, None, message)
-    };
+    let mut reader = csv_reader(std::io::BufReader::new(file));
+    let csv_error = |error: csv::Error| csv_error(path, &error);
     let mut records = reader.records();
     let n = robot.joint_count();
     let joint_names: Vec<String> = (1..=n).map(|j| format!("qm{j}")).collect();
@@ -97,7 +82,7 @@ pub fn read_program(
         ));
     };
     let header_line = header.position().map_or(1, |p| p.line() as usize);
-    let header: Vec<String> = header.iter().map(str::to_owned).collect();
+    let header: Vec<String> = header.iter().map(|name| name.trim().to_owned()).collect();
     let fail_header = |message: String| Error::parse(path, header_line, None, message);
     let cartesian: Vec<String> = ["x", "y", "z", "qw", "qx", "qy", "qz"]
         .map(String::from)
@@ -189,7 +174,7 @@ pub fn read_program(
             ));
         }
         let number = |column: usize| -> Result<f64, Error> {
-            let text = &record[column];
+            let text = record[column].trim();
             match text.parse::<f64>() {
                 Ok(value) if value.is_finite() => Ok(value),
                 Ok(_) => Err(Error::parse(

@@ -193,10 +193,10 @@ async fn the_page_works_as_a_person_uses_it() {
     // Robot ▸ Open…: another ready robot, then the Stanford again.
     click(&client, "#robot-open").await;
     click(&client, "#open-ready-puma560").await;
-    assert!(text_of(&client, "#robot-name", 10).await.contains("PUMA"));
+    text_when(&client, "#robot-name", 10, |name| name.contains("PUMA")).await;
     click(&client, "#robot-open").await;
     click(&client, "#open-ready-stanford").await;
-    assert_eq!(text_of(&client, "#robot-name", 10).await, "Stanford");
+    text_when(&client, "#robot-name", 10, |name| name == "Stanford").await;
     assert!(
         text_of(&client, "#robot-status", 10)
             .await
@@ -316,6 +316,11 @@ async fn the_page_works_as_a_person_uses_it() {
         }
         tokio::time::sleep(Duration::from_millis(50)).await;
     }
+    // Wait for the page to finish the save (its dialog closes, a toast says so).
+    text_when(&client, "#toast", 10, |text| {
+        text.contains("Saved kr16-out.urdf")
+    })
+    .await;
     let text = std::fs::read_to_string(&exported).expect("a URDF was saved");
     assert!(
         text.contains("name=\"joint_a1\"") && text.contains("name=\"tool0\""),
