@@ -1,6 +1,8 @@
 //! Benchmarks of gecaro's calibration functions (`cargo bench`).
 //! Figures and how to read them: docs/performance.md.
 
+use std::ops::ControlFlow;
+
 use gecaro_calib::{
     IdentificationOptions, Match, MethodOptions, Plane, ProgramPoint, ProgramTarget,
     STANFORD_PLANE_POINT, Sampler, Study, TABLE2_PLANE_NORMAL, compensate, identify, method,
@@ -134,6 +136,9 @@ fn compensate_6r_1000_targets(bencher: divan::Bencher) {
         })
         .collect();
     bencher.bench_local(|| {
-        compensate(&nominal, &calibrated, &points, Match::Pose, |_| {}).expect("compensates")
+        compensate(&nominal, &calibrated, &points, Match::Pose, |_| {
+            ControlFlow::Continue(())
+        })
+        .expect("compensates")
     });
 }

@@ -1,10 +1,12 @@
 //! Identification against known simulated truth (paper §3–§4): every method,
 //! noise-free and noisy data, large errors, and the reported precision.
 
+use std::ops::ControlFlow;
+
 use gecaro_calib::{
     IdentificationOptions, MeasurementSet, MethodOptions, ParameterStatus, Plane, Route,
     STANFORD_PLANE_POINT, Sample, Sampler, StopReason, Study, TABLE2_PLANE_NORMAL, evaluate,
-    identify, method, perturbed_robot, simulate_measurements,
+    identify, identify_with_progress, method, perturbed_robot, simulate_measurements,
 };
 use gecaro_core::Robot;
 use nalgebra::Vector3;
@@ -313,4 +315,27 @@ fn failures_are_reported_not_hidden() {
     let error =
         identify(&stanford(), &study, &IdentificationOptions::default()).expect_err("too few");
     assert!(error.to_string().contains("too few equations"), "{error}");
+}
+
+#[test]
+fn a_progress_hook_can_stop_an_identification() {
+    // Level 10 takes several iterations: stop after the second record.
+    let (_, study) = simulate(10.0, 0.0, 3, "position", false, 60);
+    let mut records = 0;
+    let error = identify_with_progress(
+        &stanford(),
+        &study,
+        &IdentificationOptions::default(),
+        |_| {
+            records += 1;
+            if records == 2 {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        },
+    )
+    .expect_err("interrupted");
+    assert_eq!(error, gecaro_calib::Error::Interrupted);
+    assert_eq!(records, 2, "no record after the stop");
 }

@@ -2,6 +2,7 @@
 //! generation" and "Identification" functions, and the evaluation of a
 //! calibrated robot.
 
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -219,6 +220,7 @@ fn run_identification(
             record.rms
         ));
         iteration += 1;
+        ControlFlow::Continue(())
     });
     bar.finish_and_clear();
     Ok(Run {
@@ -579,7 +581,9 @@ pub(crate) fn demo(args: &DemoArgs) -> Result<(), Failure> {
         let title = chosen.title();
         let study = Study::single(chosen, samples, name);
         let result =
-            identify_with_progress(&robot, &study, &IdentificationOptions::default(), |_| {})?;
+            identify_with_progress(&robot, &study, &IdentificationOptions::default(), |_| {
+                ControlFlow::Continue(())
+            })?;
         let elapsed = started.elapsed();
         if result.stop_reason != StopReason::Converged {
             failures.push(format!("{title}: {}", result.stop_reason.as_str()));

@@ -1,5 +1,7 @@
 //! `gecaro compensate`: a robot program corrected for the calibrated robot.
 
+use std::ops::ControlFlow;
+
 use gecaro_calib::{CompensatedPoint, CompensationStatus, Match, compensate as compensate_program};
 use gecaro_io::{ProgramKind, load_robot, read_program, write_atomically};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -68,6 +70,7 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
         if done % 256 == 0 {
             bar.set_position(done as u64);
         }
+        ControlFlow::Continue(())
     })?;
     bar.finish_and_clear();
     write_atomically(

@@ -21,6 +21,8 @@
 //!   a status: reached, reached only beyond a joint limit, or not reached
 //!   (then the start joints are kept). Nothing is dropped or written silently.
 
+use std::ops::ControlFlow;
+
 use gecaro_core::{
     InverseOptions, OrientationDifference, Robot, Target, forward_kinematics, inverse_kinematics,
     joint_jacobian, orientation_difference, terminal_pose,
@@ -103,7 +105,8 @@ pub struct CompensatedPoint {
 const CLOSEST_ITERATIONS: usize = 60;
 
 /// Compensates every point of a program (see the module docs); `progress`
-/// is called with the number of points done.
+/// is called with the number of points done, and stops the work with
+/// [`Error::Interrupted`] when it answers [`ControlFlow::Break`].
 ///
 /// # Errors
 /// Robots with different joint counts, or a target of the wrong length or
@@ -113,7 +116,7 @@ pub fn compensate(
     calibrated: &Robot,
     points: &[ProgramPoint],
     matching: Match,
-    mut progress: impl FnMut(usize),
+    mut progress: impl FnMut(usize) -> ControlFlow<()>,
 ) -> Result<Vec<CompensatedPoint>, Error> {
     if nominal.joint_count() != calibrated.joint_count() {
         return Err(Error::InvalidData {
@@ -162,7 +165,9 @@ pub fn compensate(
             previous = Some(result.motor_positions.clone());
         }
         results.push(result);
-        progress(index + 1);
+        if progress(index + 1).is_break() {
+            return Err(Error::Interrupted);
+        }
     }
     Ok(results)
 }
@@ -511,7 +516,10 @@ mod tests {
                 &calibrated,
                 &joint_targets(&program),
                 Match::Pose,
-                |count| done = count,
+                |count| {
+                    done = count;
+                    ControlFlow::Continue(())
+                },
             )
             .expect("compensates");
             assert_eq!(done, program.len());
@@ -570,7 +578,7 @@ mod tests {
                     joints: Some(qm.clone()),
                 }],
                 Match::Pose,
-                |_| {},
+                |_| ControlFlow::Continue(()),
             )
             .expect("compensates");
             let result = &results[0];
@@ -605,14 +613,29 @@ mod tests {
                 joints: None,
             },
         ];
-        let results =
-            compensate(&nominal, &calibrated, &points, Match::Pose, |_| {}).expect("runs");
+        let results = compensate(&nominal, &calibrated, &points, Match::Pose, |_| {
+            ControlFlow::Continue(())
+        })
+        .expect("runs");
         assert_eq!(results[0].status, CompensationStatus::OutsideLimits);
         assert!(results[0].motor_positions[0] < nominal.joints()[0].qmin);
         assert!(results[0].position_error < 1e-10);
         assert_eq!(results[1].status, CompensationStatus::NotReached);
         assert!(results[1].position_error > 3.0);
         let other = panda();
-        assert!(compensate(&nominal, &other, &points, Match::Pose, |_| {}).is_err());
+        assert!(
+            compensate(&nominal, &other, &points, Match::Pose, |_| {
+                ControlFlow::Continue(())
+            })
+            .is_err()
+        );
+        // A hook that answers Break stops the job after that point.
+        let mut seen = Vec::new();
+        let stopped = compensate(&nominal, &calibrated, &points, Match::Pose, |done| {
+            seen.push(done);
+            ControlFlow::Break(())
+        });
+        assert_eq!(stopped, Err(Error::Interrupted));
+        assert_eq!(seen, [1]);
     }
 }

@@ -50,6 +50,9 @@ pub enum Error {
         /// What could not be satisfied.
         message: String,
     },
+    /// The caller's progress hook asked to stop (a user's Ctrl-C).
+    #[error("interrupted")]
+    Interrupted,
     /// A dense factorisation failed (only with non-finite input).
     #[error("numerical failure: {message}")]
     Numerical {

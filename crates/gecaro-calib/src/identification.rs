@@ -48,6 +48,8 @@
 //! Precision: `σ² = ‖r‖²/(equations − b)`, `cov(Δη_b) = σ² (W_bᵀW_b)⁻¹` at the
 //! solution.
 
+use std::ops::ControlFlow;
+
 use gecaro_core::{ParameterId, PriorityMatrix, Robot};
 
 use crate::Error;
@@ -474,7 +476,7 @@ impl Problem<'_> {
         damping_rule: Damping,
         max_iterations: usize,
         states: &mut StudyStates,
-        progress: &mut dyn FnMut(&IterationRecord),
+        progress: &mut dyn FnMut(&IterationRecord) -> Result<(), Error>,
     ) -> Result<Run, Error> {
         let mut current = start;
         let mut history = Vec::new();
@@ -518,7 +520,7 @@ impl Problem<'_> {
                 match trial {
                     Ok(trial) if trial.cost <= current.cost => {
                         let record = self.record(&trial, &step, damping);
-                        progress(&record);
+                        progress(&record)?;
                         history.push(record);
                         let previous = std::mem::replace(&mut current, trial).system;
                         spare = (!shared).then_some(previous);
@@ -576,7 +578,7 @@ impl Problem<'_> {
         start: (&Robot, &[f64]),
         effective: &[usize],
         states: &mut StudyStates,
-        progress: &mut dyn FnMut(&IterationRecord),
+        progress: &mut dyn FnMut(&IterationRecord) -> Result<(), Error>,
     ) -> Result<Run, Error> {
         let (start_robot, start_auxiliary) = start;
         let auxiliary_count = start_auxiliary.len();
@@ -610,7 +612,7 @@ impl Problem<'_> {
                 match trial {
                     Ok(trial) if trial.cost <= current.cost => {
                         let record = self.record(&trial, &scaled, 0.0);
-                        progress(&record);
+                        progress(&record)?;
                         history.push(record);
                         current = trial;
                         break;
@@ -664,7 +666,10 @@ impl Problem<'_> {
                         Damping::WhenNeeded,
                         CONTINUATION_ITERATIONS,
                         states,
-                        &mut |record| stage_records.push(*record),
+                        &mut |record| {
+                            stage_records.push(*record);
+                            Ok(())
+                        },
                     )
                 });
             match run {
@@ -673,7 +678,7 @@ impl Problem<'_> {
                         && run.best.cost <= reached_cost * 1.001 + floor =>
                 {
                     for record in &run.history {
-                        progress(record);
+                        progress(record)?;
                     }
                     history.extend(run.history);
                     current = run.best;
@@ -706,20 +711,26 @@ pub fn identify(
     study: &Study,
     options: &IdentificationOptions,
 ) -> Result<Identification, Error> {
-    identify_with_progress(robot, study, options, |_| {})
+    identify_with_progress(robot, study, options, |_| ControlFlow::Continue(()))
 }
 
 /// [`identify`], calling `progress` after the starting point and after every
-/// accepted update (to show progress on long identifications).
+/// accepted update (to show progress on long identifications). When it
+/// answers [`ControlFlow::Break`] the identification stops there with
+/// [`Error::Interrupted`] (a user's Ctrl-C, a closed page).
 ///
 /// # Errors
-/// As [`identify`].
+/// As [`identify`], and [`Error::Interrupted`].
 pub fn identify_with_progress(
     robot: &Robot,
     study: &Study,
     options: &IdentificationOptions,
-    mut progress: impl FnMut(&IterationRecord),
+    mut progress: impl FnMut(&IterationRecord) -> ControlFlow<()>,
 ) -> Result<Identification, Error> {
+    let mut progress = |record: &IterationRecord| match progress(record) {
+        ControlFlow::Continue(()) => Ok(()),
+        ControlFlow::Break(()) => Err(Error::Interrupted),
+    };
     study.check(robot)?;
     let priority = options.priority.clone().unwrap_or_else(|| robot.priority());
     priority.validate(robot.parameters())?;
@@ -774,7 +785,7 @@ pub fn identify_with_progress(
     let before = ErrorSummary::of(&start.system);
     let errors_before = start.system.observation_errors();
     let first = problem.record(&start, &[], 0.0);
-    progress(&first);
+    progress(&first)?;
 
     let (run, route) = match options.solver {
         Solver::LevenbergMarquardt => (
@@ -810,7 +821,7 @@ pub fn identify_with_progress(
                     })
                     .map(|(index, _)| index)
                     .collect();
-                progress(&first);
+                progress(&first)?;
                 let robust = problem.minimum_norm_route(
                     (robot, &initial_auxiliary),
                     &effective,

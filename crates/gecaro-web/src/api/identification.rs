@@ -2,6 +2,7 @@
 //! page submits, polls the residual of every iteration, then shows the
 //! result, its plots, and offers the calibrated robot and the report.
 
+use std::ops::ControlFlow;
 use std::sync::Arc;
 
 use axum::extract::{Path as UrlPath, State};
@@ -90,6 +91,7 @@ pub(crate) async fn submit(
                 running.start();
                 let result = identify_with_progress(&file.robot, &study, &options, |record| {
                     running.record(record.rms);
+                    ControlFlow::Continue(())
                 })?;
                 outcome(&file, &study, &result, &label)
             })
