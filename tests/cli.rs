@@ -259,7 +259,9 @@ fn robot_reframe_moves_the_world_and_tool_frames_and_nothing_else() {
         .arg(&nothing)
         .assert()
         .failure()
-        .stderr(predicate::str::contains("--tool has norm 2.000000"));
+        .stderr(predicate::str::contains(
+            "--tool: (qw, qx, qy, qz) has norm 2.000000",
+        ));
     assert!(!nothing.exists());
 }
 

@@ -140,17 +140,7 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
         );
     }
     if let Some(real_out) = &args.real_out {
-        let file = RobotFile {
-            robot: real,
-            description: Some(format!(
-                "simulated real robot: {} at error level {}, seed {}",
-                robot.name(),
-                args.error_level,
-                args.seed
-            )),
-            angle_unit: nominal.angle_unit,
-            urdf: nominal.urdf.clone(),
-        };
+        let file = gecaro_report::simulated_robot_file(&nominal, real, args.error_level, args.seed);
         write_atomically(
             real_out,
             format_robot_file(&file).as_bytes(),
@@ -231,13 +221,11 @@ fn run_identification(
     })
 }
 
-/// The error of a run that did not converge; `written` says what was saved anyway.
+/// The error of a run that did not converge; `advice` says what was saved anyway.
 fn not_converged(result: &Identification, advice: &str) -> Failure {
     Failure::Numerical(format!(
-        "the identification did not converge ({}) after {} iterations; best residual RMS {:.3e}. {advice}",
-        result.stop_reason.as_str().replace('_', " "),
-        result.iterations(),
-        result.rms_after(),
+        "{}. {advice}",
+        result.failure().unwrap_or_default()
     ))
 }
 

@@ -1,11 +1,9 @@
 //! `gecaro robot import` and `gecaro robot export`: robots from and to URDF,
 //! DH tables and SYMORO files (the rules are in `docs/interchange.md`).
 
-use std::path::{Path, PathBuf};
-
 use gecaro_io::{
-    AngleUnit, ChainEnds, ImportOptions, LengthUnit, RobotFormat, TableUnits, export_robot,
-    format_robot_file, import_robot, load_robot, write_atomically,
+    AngleUnit, ChainEnds, Exported, ImportOptions, LengthUnit, RobotFormat, TableUnits,
+    export_robot, format_robot_file, import_robot, load_robot, write_atomically,
 };
 
 use super::options::output_policy;
@@ -85,11 +83,6 @@ fn format_name(format: RobotFormat) -> &'static str {
     }
 }
 
-/// `FILE.joint_calibration.yaml` for the output `FILE.ext`.
-fn joint_calibration_path(output: &Path) -> PathBuf {
-    output.with_extension("joint_calibration.yaml")
-}
-
 pub(crate) fn export(args: &ExportArgs) -> Result<(), Failure> {
     let file = load_robot(&args.robot)?;
     let format = format_of(args.to);
@@ -103,28 +96,8 @@ pub(crate) fn export(args: &ExportArgs) -> Result<(), Failure> {
             None,
         )
     })?;
-    let calibration_path = joint_calibration_path(&args.output);
-    let policy = output_policy(args.force);
-    // Refuse before writing anything, so that a refusal leaves no half export.
-    for (path, needed) in [
-        (&args.output, true),
-        (&calibration_path, exported.joint_calibration.is_some()),
-    ] {
-        if needed && !args.force && path.exists() {
-            return Err(gecaro_io::Error::OutputExists { path: path.clone() }.into());
-        }
-    }
-    let calibration_existed = calibration_path.exists();
-    if let Some(calibration) = &exported.joint_calibration {
-        write_atomically(&calibration_path, calibration.as_bytes(), policy)?;
-    }
-    if let Err(error) = write_atomically(&args.output, exported.text.as_bytes(), policy) {
-        // The two files go together: no calibration beside a file that failed.
-        if exported.joint_calibration.is_some() && !calibration_existed {
-            let _ = std::fs::remove_file(&calibration_path);
-        }
-        return Err(error.into());
-    }
+    let calibration_path = Exported::joint_calibration_path(&args.output);
+    exported.write(&args.output, output_policy(args.force))?;
     print_notes(&exported.notes);
     if exported.joint_calibration.is_some() {
         eprintln!(

@@ -3,7 +3,7 @@
 use gecaro_calib::{MethodOptions, Plane};
 use gecaro_core::OrientationDifference;
 use gecaro_io::OutputPolicy;
-use nalgebra::{IsometryMatrix3, Quaternion, Rotation3, UnitQuaternion, Vector3};
+use nalgebra::{IsometryMatrix3, Rotation3, Vector3};
 
 use crate::cli::{DataFormatArgs, MethodOptionArgs, OrientationMethod, PlaneKnowledge};
 use crate::failure::Failure;
@@ -42,17 +42,9 @@ pub(crate) fn rotation(values: &[f64], option: &str) -> Result<Rotation3<f64>, F
             Some(format!("for example: {option} 1,0,0,0")),
         ));
     };
-    let quaternion = Quaternion::new(w, x, y, z);
-    if !quaternion.norm().is_finite() || (quaternion.norm() - 1.0).abs() > 1e-6 {
-        return Err(Failure::usage(
-            format!(
-                "{option} has norm {:.6}, not 1: it is not a unit quaternion",
-                quaternion.norm()
-            ),
-            None,
-        ));
-    }
-    Ok(UnitQuaternion::from_quaternion(quaternion).to_rotation_matrix())
+    gecaro_io::unit_quaternion(w, x, y, z)
+        .map(|quaternion| quaternion.to_rotation_matrix())
+        .map_err(|message| Failure::usage(format!("{option}: {message}"), None))
 }
 
 /// A rigid transform from seven comma-separated numbers: position x,y,z
@@ -214,19 +206,9 @@ pub(crate) fn check_limits(
     study: &gecaro_calib::Study,
     strict: bool,
 ) -> Result<(), Failure> {
-    let violations = study.limit_violations(robot);
-    let Some(first) = violations.first() else {
+    let Some(message) = study.limit_summary(robot) else {
         return Ok(());
     };
-    let message = format!(
-        "{} joint value{} outside the joint limits; first: {first}",
-        violations.len(),
-        if violations.len() == 1 {
-            " is"
-        } else {
-            "s are"
-        },
-    );
     if strict {
         Err(Failure::Input(format!(
             "{message} (--strict-limits refuses such data)"

@@ -265,6 +265,19 @@ impl Identification {
             .map(|h| h.rms)
             .fold(f64::INFINITY, f64::min)
     }
+
+    /// Why the result is not trustworthy, as a sentence, when the iteration
+    /// did not converge (`None` when it did).
+    pub fn failure(&self) -> Option<String> {
+        (self.stop_reason != StopReason::Converged).then(|| {
+            format!(
+                "the identification did not converge ({}) after {} iterations; best residual RMS {:.3e}",
+                self.stop_reason.as_str().replace('_', " "),
+                self.iterations(),
+                self.rms_after(),
+            )
+        })
+    }
 }
 
 /// Above this condition number of W_b the data are called poorly exciting.

@@ -35,6 +35,39 @@ impl Sample {
             line: None,
         }
     }
+
+    /// Checks that this sample has the field of `column`, finite.
+    ///
+    /// # Errors
+    /// What is missing or not finite, as a sentence.
+    pub fn check_column(&self, column: DataColumn) -> Result<(), String> {
+        let missing = || format!("missing {}", column.headers().join(", "));
+        let finite = |finite: bool, what: &str| {
+            if finite {
+                Ok(())
+            } else {
+                Err(format!("the measured {what} is not finite"))
+            }
+        };
+        match column {
+            DataColumn::Position => {
+                let position = self.position.ok_or_else(missing)?;
+                finite(position.iter().all(|v| v.is_finite()), "position")
+            }
+            DataColumn::Orientation => {
+                let orientation = self.orientation.ok_or_else(missing)?;
+                finite(
+                    orientation.coords.iter().all(|v| v.is_finite()),
+                    "orientation",
+                )
+            }
+            DataColumn::Set | DataColumn::Pair => self.group.map(|_| ()).ok_or_else(missing),
+            DataColumn::Distance => {
+                let distance = self.distance.ok_or_else(missing)?;
+                finite(distance.is_finite(), "distance")
+            }
+        }
+    }
 }
 
 /// A group of columns of a data file beyond `qm1..qmn`, and the sample field it fills.

@@ -11,7 +11,7 @@ use crate::observation::{
     ColumnLayout, ObservationSystem, RowWriter, TerminalState, evaluate_poses, evaluate_states,
     linearise_independent,
 };
-use crate::sample::{DataColumn, Sample};
+use crate::sample::Sample;
 
 /// One measurement set of a study.
 #[derive(Debug)]
@@ -28,6 +28,18 @@ pub struct MeasurementSet {
     pub sigma_rotation: Option<f64>,
     /// A name for messages (usually the data file).
     pub label: String,
+}
+
+impl Clone for MeasurementSet {
+    fn clone(&self) -> Self {
+        MeasurementSet {
+            method: self.method.clone_method(),
+            samples: self.samples.clone(),
+            sigma: self.sigma,
+            sigma_rotation: self.sigma_rotation,
+            label: self.label.clone(),
+        }
+    }
 }
 
 /// A measured configuration that puts a joint outside its limits (eq. 4
@@ -74,7 +86,7 @@ impl std::fmt::Display for LimitViolation {
 }
 
 /// One or more measurement sets calibrated together.
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct Study {
     /// The measurement sets.
     pub sets: Vec<MeasurementSet>,
@@ -190,7 +202,8 @@ impl Study {
                     .check_configuration(&sample.motor_positions)
                     .map_err(|error| invalid(sample.line, error.to_string()))?;
                 for column in set.method.data_columns() {
-                    check_field(*column, sample)
+                    sample
+                        .check_column(*column)
                         .map_err(|message| invalid(sample.line, message))?;
                 }
             }
@@ -202,6 +215,22 @@ impl Study {
                 })?;
         }
         Ok(())
+    }
+
+    /// One sentence on the data's joint values outside the joint limits
+    /// (how many, and the first), or `None` when all are within them.
+    pub fn limit_summary(&self, robot: &Robot) -> Option<String> {
+        let violations = self.limit_violations(robot);
+        let first = violations.first()?;
+        Some(format!(
+            "{} joint value{} outside the joint limits; first: {first}",
+            violations.len(),
+            if violations.len() == 1 {
+                " is"
+            } else {
+                "s are"
+            },
+        ))
     }
 
     /// Names of all auxiliary unknowns, prefixed by the set's method when the study has several sets.
@@ -377,34 +406,6 @@ impl Study {
         }
         Ok(())
     }
-}
-
-fn check_field(column: DataColumn, sample: &Sample) -> Result<(), String> {
-    let missing = || format!("missing {}", column.headers().join(", "));
-    match column {
-        DataColumn::Position => {
-            let position = sample.position.ok_or_else(missing)?;
-            if !position.iter().all(|v| v.is_finite()) {
-                return Err("the measured position is not finite".into());
-            }
-        }
-        DataColumn::Orientation => {
-            let orientation = sample.orientation.ok_or_else(missing)?;
-            if !orientation.coords.iter().all(|v| v.is_finite()) {
-                return Err("the measured orientation is not finite".into());
-            }
-        }
-        DataColumn::Set | DataColumn::Pair => {
-            sample.group.ok_or_else(missing)?;
-        }
-        DataColumn::Distance => {
-            let distance = sample.distance.ok_or_else(missing)?;
-            if !distance.is_finite() {
-                return Err("the measured distance is not finite".into());
-            }
-        }
-    }
-    Ok(())
 }
 
 #[cfg(test)]

@@ -23,21 +23,18 @@ use std::path::Path;
 
 use gecaro_calib::{DataColumn, Sample};
 use gecaro_core::FrameType;
-use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use nalgebra::Vector3;
 
 use crate::Error;
 use crate::columns::{ColumnMap, DataUnits, locate};
 use crate::input::{csv_error, csv_reader, open_regular};
 use crate::output::{OutputPolicy, write_with};
+use crate::pose::unit_quaternion;
 
 /// Most configurations a data file may hold. Files are streamed, so a larger
 /// one (or an endless stream) stops here with an error naming the line,
 /// instead of exhausting memory; no calibration needs this many.
 pub const MAX_CONFIGURATIONS: usize = 1_000_000;
-
-/// A quaternion whose norm is further than this from 1 is refused (it is not
-/// an orientation, or its columns are mixed up).
-const UNIT_TOLERANCE: f64 = 1e-6;
 
 /// How a data file is written: the units of its lengths and angles, and
 /// other names of its columns. The default is gecaro's own (metres,
@@ -230,18 +227,9 @@ pub fn parse_samples(
             sample.position = Some(Vector3::new(value(x)?, value(y)?, value(z)?) * length);
         }
         if let Some([w, i, j, k]) = fields.orientation {
-            let quaternion = Quaternion::new(value(w)?, value(i)?, value(j)?, value(k)?);
-            let norm = quaternion.norm();
-            if (norm - 1.0).abs() > UNIT_TOLERANCE {
-                return Err(fail(
-                    line,
-                    Some(&names[w]),
-                    format!(
-                        "(qw, qx, qy, qz) has norm {norm:.6}, not 1: it is not a unit quaternion"
-                    ),
-                ));
-            }
-            sample.orientation = Some(UnitQuaternion::from_quaternion(quaternion));
+            let orientation = unit_quaternion(value(w)?, value(i)?, value(j)?, value(k)?)
+                .map_err(|message| fail(line, Some(&names[w]), message))?;
+            sample.orientation = Some(orientation);
         }
         if let Some((column, _)) = fields.group {
             let text = record[column].trim();
@@ -362,6 +350,7 @@ pub fn write_samples(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::UnitQuaternion;
 
     const TWO_REVOLUTE: [FrameType; 2] = [FrameType::Revolute; 2];
 

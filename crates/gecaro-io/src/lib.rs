@@ -41,6 +41,7 @@ pub use interchange::{
     import_robot_text,
 };
 pub use output::{OutputPolicy, write_atomically};
+pub use pose::{pose_from_seven, unit_quaternion};
 pub use program_file::{ProgramFile, ProgramKind, read_program};
 pub use ready::{ReadyRobot, load_robot, ready_robot, ready_robots};
 pub use robot_file::{

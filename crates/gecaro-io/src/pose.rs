@@ -42,8 +42,35 @@ pub(crate) fn to_seven(pose: &IsometryMatrix3<f64>) -> [f64; 7] {
     [t.x, t.y, t.z, q.w, q.i, q.j, q.k]
 }
 
-/// The transform of `[x, y, z, qw, qx, qy, qz]`, or why not.
-pub(crate) fn from_seven(values: &[f64]) -> Result<IsometryMatrix3<f64>, String> {
+/// The orientation of a unit quaternion `(qw, qx, qy, qz)`, or why not: a
+/// norm further than 1e-6 from 1 is refused (it is not an orientation, or its
+/// components are mixed up); within that, it is normalised.
+///
+/// # Errors
+/// The message says what is wrong (non-finite values, the norm).
+pub fn unit_quaternion(w: f64, x: f64, y: f64, z: f64) -> Result<UnitQuaternion<f64>, String> {
+    let quaternion = Quaternion::new(w, x, y, z);
+    let norm = quaternion.norm();
+    if !norm.is_finite() {
+        return Err("(qw, qx, qy, qz) holds a value that is not a finite number".into());
+    }
+    if (norm - 1.0).abs() > UNIT_TOLERANCE {
+        return Err(format!(
+            "(qw, qx, qy, qz) has norm {norm:.6}, not 1: it is not a unit quaternion"
+        ));
+    }
+    Ok(UnitQuaternion::from_quaternion(quaternion))
+}
+
+/// How far from 1 the norm of a unit quaternion may be.
+const UNIT_TOLERANCE: f64 = 1e-6;
+
+/// The transform of `[x, y, z, qw, qx, qy, qz]` (metres, then a unit
+/// quaternion), or why not.
+///
+/// # Errors
+/// The message says what is wrong (count, non-finite values, the norm).
+pub fn pose_from_seven(values: &[f64]) -> Result<IsometryMatrix3<f64>, String> {
     let [x, y, z, w, i, j, k] = values[..] else {
         return Err(format!(
             "needs seven numbers [x, y, z, qw, qx, qy, qz], got {}",
@@ -53,16 +80,9 @@ pub(crate) fn from_seven(values: &[f64]) -> Result<IsometryMatrix3<f64>, String>
     if !values.iter().all(|v| v.is_finite()) {
         return Err("holds a value that is not a finite number".into());
     }
-    let quaternion = Quaternion::new(w, i, j, k);
-    if (quaternion.norm() - 1.0).abs() > 1e-6 {
-        return Err(format!(
-            "(qw, qx, qy, qz) has norm {:.6}, not 1: it is not a unit quaternion",
-            quaternion.norm()
-        ));
-    }
     Ok(IsometryMatrix3::from_parts(
         Translation3::from(Vector3::new(x, y, z)),
-        UnitQuaternion::from_quaternion(quaternion).to_rotation_matrix(),
+        unit_quaternion(w, i, j, k)?.to_rotation_matrix(),
     ))
 }
 
@@ -98,10 +118,10 @@ mod tests {
     #[test]
     fn seven_numbers_round_trip_and_refuse_what_is_not_a_pose() {
         let pose = from_xyz_rpy([0.1, -0.2, 0.3], [0.5, 0.6, -2.9]);
-        let again = from_seven(&to_seven(&pose)).expect("valid");
+        let again = pose_from_seven(&to_seven(&pose)).expect("valid");
         assert!((again.to_homogeneous() - pose.to_homogeneous()).abs().max() < 1e-15);
-        assert!(from_seven(&[0.0; 6]).is_err());
-        assert!(from_seven(&[0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0]).is_err());
-        assert!(from_seven(&[f64::NAN, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]).is_err());
+        assert!(pose_from_seven(&[0.0; 6]).is_err());
+        assert!(pose_from_seven(&[0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0]).is_err());
+        assert!(pose_from_seven(&[f64::NAN, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]).is_err());
     }
 }

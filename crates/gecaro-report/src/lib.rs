@@ -55,3 +55,23 @@ pub fn calibrated_robot_file(
         urdf: nominal.urdf.clone(),
     }
 }
+
+/// The simulated real robot of a points generation as a robot file: `real`,
+/// described as drawn from `nominal` at `error_level` with `seed`, in the
+/// nominal file's angle unit.
+pub fn simulated_robot_file(
+    nominal: &gecaro_io::RobotFile,
+    real: gecaro_core::Robot,
+    error_level: f64,
+    seed: u64,
+) -> gecaro_io::RobotFile {
+    gecaro_io::RobotFile {
+        description: Some(format!(
+            "simulated real robot: {} at error level {error_level}, seed {seed}",
+            nominal.robot.name()
+        )),
+        robot: real,
+        angle_unit: nominal.angle_unit,
+        urdf: nominal.urdf.clone(),
+    }
+}

@@ -28,7 +28,7 @@ use nalgebra::IsometryMatrix3;
 use serde::{Deserialize, Serialize};
 
 use crate::document::{DocumentError, Location};
-use crate::pose::{from_seven, to_seven};
+use crate::pose::{pose_from_seven, to_seven};
 
 /// The names and link frames kept from an imported URDF (see the module docs).
 #[derive(Clone, Debug, PartialEq)]
@@ -179,7 +179,7 @@ impl UrdfDocument {
             values
                 .as_deref()
                 .map_or(Ok(IsometryMatrix3::identity()), |values| {
-                    from_seven(values).map_err(|message| at(format!("{key} {message}")))
+                    pose_from_seven(values).map_err(|message| at(format!("{key} {message}")))
                 })
         };
         let mut seen = std::collections::HashSet::new();
@@ -194,7 +194,7 @@ impl UrdfDocument {
             joints.push(UrdfJointNames {
                 name: joint.name.clone(),
                 link: joint.link.clone(),
-                frame_from_link: from_seven(&joint.link_frame)
+                frame_from_link: pose_from_seven(&joint.link_frame)
                     .map_err(|message| at(format!("joint {} link_frame {message}", index + 1)))?,
                 effort: joint.effort,
                 velocity: joint.velocity,

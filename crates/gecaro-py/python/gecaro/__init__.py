@@ -1,0 +1,70 @@
+"""gecaro: geometric calibration of serial robots (Khalil et al., GECARO).
+
+The Rust core of the ``gecaro`` command line, with numpy arrays in and out::
+
+    import gecaro
+
+    robot = gecaro.Robot.load("stanford")
+    run = gecaro.generate(robot, "position", 60, error_level=1.0, noise=1e-5, seed=1)
+    result = gecaro.identify(robot, "position", run.data)
+    print(result.before.rms, "→", result.after.rms)   # metres
+
+Units are metres and radians. See ``docs/python.md`` for the whole API and
+its mapping to the command line.
+"""
+
+from . import errors
+from ._gecaro import (
+    Data,
+    ErrorSummary,
+    Exported,
+    Generation,
+    Identifiability,
+    Identification,
+    Method,
+    Parameter,
+    Robot,
+    Study,
+    __version__,
+    evaluate,
+    generate,
+    identifiable,
+    identify,
+    methods,
+    ready_robots,
+)
+from .errors import (
+    GecaroError,
+    InputError,
+    LimitWarning,
+    NotConvergedError,
+    NotIdentifiableError,
+    NumericalError,
+)
+
+__all__ = [
+    "Data",
+    "ErrorSummary",
+    "Exported",
+    "GecaroError",
+    "Generation",
+    "Identifiability",
+    "Identification",
+    "InputError",
+    "LimitWarning",
+    "Method",
+    "NotConvergedError",
+    "NotIdentifiableError",
+    "NumericalError",
+    "Parameter",
+    "Robot",
+    "Study",
+    "__version__",
+    "errors",
+    "evaluate",
+    "generate",
+    "identifiable",
+    "identify",
+    "methods",
+    "ready_robots",
+]

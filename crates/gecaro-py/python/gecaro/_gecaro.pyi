@@ -1,0 +1,409 @@
+"""Type stubs of the compiled core of gecaro (see ``docs/python.md``).
+
+Units: metres and radians everywhere. ``qm`` are motor variables (eq. 4);
+poses are 4×4 homogeneous matrices of frame n+1 in the world frame.
+"""
+
+import os
+from typing import Callable, Literal, Mapping, Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+ArrayLike = npt.ArrayLike
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.int64]
+PathLike = Union[str, os.PathLike[str]]
+MethodName = Literal[
+    "position", "frame", "point-link", "frame-link", "plane1", "plane2", "distance"
+]
+
+def ready_robots() -> list[str]:
+    """Names of the ready robots shipped with gecaro (``Robot.load(name)``)."""
+
+def methods() -> list[str]:
+    """The names of the seven methods, in the order of the paper's menus."""
+
+class Robot:
+    """A serial robot: the Khalil–Kleinfinger table of frames 0..n+1 (paper §2),
+    joint limits, offsets, gains K, couplings Cm and Cj (eq. 4), priority matrix."""
+
+    @staticmethod
+    def load(source: PathLike) -> Robot:
+        """A robot file (TOML) or, when no such file exists, a ready robot's name."""
+    @staticmethod
+    def from_toml(text: str, name: str = "<string>") -> Robot:
+        """A robot from the text of a robot file; ``name`` labels it in messages."""
+    @staticmethod
+    def import_file(
+        path: PathLike,
+        format: Optional[Literal["urdf", "dh", "mdh", "symoro"]] = None,
+        *,
+        base: Optional[str] = None,
+        tip: Optional[str] = None,
+        name: Optional[str] = None,
+        length_unit: Optional[Literal["m", "mm"]] = None,
+        angle_unit: Optional[Literal["rad", "deg"]] = None,
+    ) -> Robot:
+        """A robot converted from a URDF, a DH / modified-DH table or a SYMORO
+        ``.par`` file, as ``gecaro robot import``; what changed is in ``notes``."""
+    @staticmethod
+    def from_table(
+        name: str,
+        sigma: ArrayLike,
+        alpha: ArrayLike,
+        d: ArrayLike,
+        theta: ArrayLike,
+        r: ArrayLike,
+        *,
+        beta: Optional[ArrayLike] = None,
+        qmin: Optional[ArrayLike] = None,
+        qmax: Optional[ArrayLike] = None,
+        offset: Optional[ArrayLike] = None,
+        gain: Optional[ArrayLike] = None,
+        motor_coupling: Optional[ArrayLike] = None,
+        joint_coupling: Optional[ArrayLike] = None,
+        priority: Optional[ArrayLike] = None,
+    ) -> Robot:
+        """A robot from its table: (n+2,) columns for frames 0..n+1 (σ 0 revolute,
+        1 prismatic, 2 fixed), (n,) joint columns, (n, n) couplings."""
+    def save(self, path: PathLike, *, overwrite: bool = False) -> None:
+        """Writes the robot file (TOML) atomically."""
+    def to_toml(self) -> str:
+        """The robot file's text."""
+    def export(self, to: Literal["urdf", "dh", "mdh"]) -> Exported:
+        """The robot in another format, as ``gecaro robot export``."""
+    name: str
+    @property
+    def description(self) -> Optional[str]: ...
+    @property
+    def notes(self) -> list[str]:
+        """What an import changed or could not carry."""
+    @property
+    def joint_count(self) -> int: ...
+    @property
+    def joint_types(self) -> str:
+        """Joint types 1..n as letters, e.g. ``"RRPRRR"``."""
+    @property
+    def parameter_names(self) -> list[str]:
+        """Parameter names in the order of ``parameters`` and the Jacobian's columns."""
+    parameters: FloatArray
+    """Values of the geometric parameters (settable with an array of the same length)."""
+    def __getitem__(self, name: str) -> float: ...
+    def __setitem__(self, name: str, value: float) -> None: ...
+    @property
+    def table(self) -> dict[str, npt.NDArray[np.float64] | IntArray]:
+        """Frames 0..n+1: ``sigma``, ``alpha``, ``d``, ``theta``, ``r``, ``beta``."""
+    @property
+    def joints(self) -> dict[str, FloatArray]:
+        """Joints 1..n: ``qmin``, ``qmax``, ``offset``, ``gain``."""
+    @property
+    def motor_coupling(self) -> FloatArray:
+        """Cm of eq. 4, (n, n)."""
+    @property
+    def joint_coupling(self) -> FloatArray:
+        """Cj of eq. 4, (n, n)."""
+    @property
+    def priority(self) -> IntArray:
+        """The priority matrix, (n+2, 6): α, d, θ, r, β, K per frame."""
+    @priority.setter
+    def priority(self, value: Union[ArrayLike, PathLike, None]) -> None: ...
+    def reframe(
+        self, world: Optional[ArrayLike] = None, tool: Optional[ArrayLike] = None
+    ) -> Robot:
+        """The robot in another world frame and with another tool frame
+        (4×4 matrices or ``[x, y, z, qw, qx, qy, qz]``)."""
+    def copy(self) -> Robot: ...
+    def __copy__(self) -> Robot: ...
+    def __deepcopy__(self, memo: object) -> Robot: ...
+    def fk(self, qm: ArrayLike) -> FloatArray:
+        """Direct geometric model (eq. 1): (n,) → (4, 4); (m, n) → (m, 4, 4)."""
+    def frames(self, qm: ArrayLike) -> FloatArray:
+        """Poses of frames 0..n+1: (n,) → (n+2, 4, 4); (m, n) → (m, n+2, 4, 4)."""
+    def jacobian(self, qm: ArrayLike) -> FloatArray:
+        """Jacobian w.r.t. every parameter (Appendix II): (n,) → (6, Np); (m, n) → (m, 6, Np)."""
+    def ik(
+        self,
+        target: ArrayLike,
+        start: Optional[ArrayLike] = None,
+        *,
+        respect_limits: bool = True,
+        tolerance: float = 1e-12,
+        max_iterations: int = 200,
+    ) -> FloatArray:
+        """Numerical inverse model: qm reaching a 4×4 pose, ``[x, y, z, qw, qx, qy, qz]``
+        or a point ``[x, y, z]``; raises NotConvergedError when out of reach."""
+    def joint_positions(self, qm: ArrayLike) -> FloatArray:
+        """q = Cj·diag(K)·Cm·qm + offset (eq. 4)."""
+    def motor_positions(self, q: ArrayLike) -> FloatArray:
+        """qm of joint variables q (eq. 4 inverted)."""
+
+class Exported:
+    """A robot written in another format."""
+
+    @property
+    def text(self) -> str: ...
+    @property
+    def joint_calibration(self) -> Optional[str]:
+        """YAML for the driver when gains or couplings cannot be written in the format."""
+    @property
+    def notes(self) -> list[str]: ...
+    def save(self, path: PathLike, *, overwrite: bool = False) -> list[str]:
+        """Writes the file and its joint calibration (both or neither)."""
+
+class Method:
+    """One of the seven calibration methods with its options."""
+
+    def __init__(
+        self,
+        name: MethodName,
+        *,
+        plane_normal: Optional[ArrayLike] = None,
+        plane_point: Optional[ArrayLike] = None,
+        plane: Optional[Literal["known", "unknown"]] = None,
+        orientation: Literal["axis-angle", "cross-products"] = "axis-angle",
+        set_size: Optional[int] = None,
+    ) -> None: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def title(self) -> str: ...
+    @property
+    def columns(self) -> list[str]:
+        """Data columns beyond qm1..qmn."""
+    @property
+    def auxiliary_names(self) -> list[str]: ...
+
+MethodLike = Union[Method, MethodName]
+
+class Data:
+    """Configurations and measurements, one row per configuration."""
+
+    def __init__(
+        self,
+        qm: ArrayLike,
+        *,
+        position: Optional[ArrayLike] = None,
+        orientation: Optional[ArrayLike] = None,
+        set: Optional[ArrayLike] = None,
+        pair: Optional[ArrayLike] = None,
+        distance: Optional[ArrayLike] = None,
+        label: Optional[str] = None,
+    ) -> None: ...
+    @staticmethod
+    def read(
+        path: PathLike,
+        robot: Robot,
+        method: MethodLike,
+        *,
+        length_unit: Optional[Literal["m", "mm"]] = None,
+        angle_unit: Optional[Literal["rad", "deg"]] = None,
+        columns: Union[Mapping[str, str], str, None] = None,
+    ) -> Data:
+        """Reads a data file (CSV), as the command line's ``--data``."""
+    def to_csv(self, method: MethodLike) -> str: ...
+    def write(self, path: PathLike, method: MethodLike, *, overwrite: bool = False) -> None: ...
+    @property
+    def qm(self) -> FloatArray:
+        """(m, n) motor variables."""
+    @property
+    def position(self) -> Optional[FloatArray]:
+        """(m, 3) measured positions."""
+    @property
+    def orientation(self) -> Optional[FloatArray]:
+        """(m, 4) measured orientations, qw, qx, qy, qz."""
+    @property
+    def group(self) -> Optional[IntArray]:
+        """(m,) set or pair ids."""
+    @property
+    def distance(self) -> Optional[FloatArray]:
+        """(m,) measured distances."""
+    @property
+    def label(self) -> str: ...
+    @property
+    def unused_columns(self) -> list[str]: ...
+    @property
+    def joint_count(self) -> int: ...
+    def __len__(self) -> int: ...
+
+class Study:
+    """Several measurement sets calibrated together."""
+
+    def __init__(self) -> None: ...
+    def add(
+        self,
+        method: MethodLike,
+        data: Data,
+        *,
+        sigma: float = 1.0,
+        sigma_rotation: Optional[float] = None,
+        label: Optional[str] = None,
+    ) -> None: ...
+    @staticmethod
+    def read(path: PathLike) -> Study:
+        """Reads a study file, as ``--study``."""
+    @property
+    def robot(self) -> Optional[Robot]: ...
+    @property
+    def priority(self) -> Optional[IntArray]: ...
+    @property
+    def notes(self) -> list[str]: ...
+    @property
+    def sets(self) -> list[dict[str, object]]: ...
+    @property
+    def methods(self) -> str: ...
+    def __len__(self) -> int: ...
+
+class Generation:
+    """Simulated measurements and the simulated real robot."""
+
+    @property
+    def data(self) -> Data: ...
+    @property
+    def real(self) -> Robot: ...
+    @property
+    def displacement(self) -> tuple[float, float]:
+        """RMS and max distance (m) between nominal and real terminal points."""
+
+class Identifiability:
+    """The identifiable parameters of a study (Appendix III)."""
+
+    @property
+    def count(self) -> int: ...
+    @property
+    def condition_number(self) -> float: ...
+    @property
+    def statuses(self) -> dict[str, str]: ...
+    @property
+    def identifiable(self) -> list[str]: ...
+    @property
+    def relations(self) -> list[tuple[str, list[tuple[str, float]]]]: ...
+    @property
+    def priority(self) -> IntArray: ...
+    @property
+    def excitation(self) -> Optional[dict[str, object]]: ...
+    def to_dict(self) -> dict[str, object]: ...
+    def to_json(self) -> str: ...
+
+class Parameter:
+    """One identified parameter."""
+
+    @property
+    def name(self) -> str: ...
+    @property
+    def nominal(self) -> float: ...
+    @property
+    def identified(self) -> float: ...
+    @property
+    def std(self) -> float:
+        """Standard deviation (eq. 11)."""
+    @property
+    def deviation(self) -> float: ...
+
+class ErrorSummary:
+    """Error statistics (metres; radians for orientations)."""
+
+    @property
+    def rms(self) -> float: ...
+    @property
+    def mean(self) -> float: ...
+    @property
+    def max(self) -> float: ...
+    @property
+    def count(self) -> int: ...
+    @property
+    def rms_rotation(self) -> Optional[float]: ...
+    @property
+    def max_rotation(self) -> Optional[float]: ...
+    def to_dict(self) -> dict[str, object]: ...
+
+class Identification:
+    """The result of an identification."""
+
+    @property
+    def calibrated(self) -> Robot: ...
+    @property
+    def converged(self) -> bool: ...
+    @property
+    def stop_reason(self) -> str: ...
+    @property
+    def route(self) -> str: ...
+    @property
+    def iterations(self) -> int: ...
+    @property
+    def history(self) -> dict[str, FloatArray]: ...
+    @property
+    def parameters(self) -> list[Parameter]: ...
+    @property
+    def auxiliary(self) -> list[Parameter]: ...
+    @property
+    def moved(self) -> list[Parameter]: ...
+    @property
+    def before(self) -> ErrorSummary: ...
+    @property
+    def after(self) -> ErrorSummary: ...
+    @property
+    def errors_before(self) -> FloatArray:
+        """(observations, 2): position error (m), orientation error (rad)."""
+    @property
+    def errors_after(self) -> FloatArray: ...
+    @property
+    def condition_number(self) -> float: ...
+    @property
+    def residual_sigma(self) -> float: ...
+    @property
+    def not_excited(self) -> list[str]: ...
+    @property
+    def warnings(self) -> list[str]: ...
+    def to_dict(self) -> dict[str, object]: ...
+    def to_json(self) -> str: ...
+    def report(self, path: Optional[PathLike] = None, *, overwrite: bool = False) -> str:
+        """The self-contained HTML report (written to ``path`` too when given)."""
+
+def generate(
+    robot: Robot,
+    method: MethodLike,
+    count: int,
+    *,
+    error_level: float = 1.0,
+    noise: float = 0.0,
+    seed: int = 1,
+    real: Optional[Robot] = None,
+) -> Generation:
+    """Points generation on a simulated real robot, as ``gecaro generate``."""
+
+def identifiable(
+    robot: Robot,
+    method: Union[MethodLike, Study],
+    data: Optional[Data] = None,
+    *,
+    count: Optional[int] = None,
+    seed: int = 1,
+    priority: Union[ArrayLike, PathLike, None] = None,
+    strict_limits: bool = False,
+) -> Identifiability:
+    """Identifiable parameters (Appendix III), as ``gecaro identifiable``."""
+
+def identify(
+    robot: Robot,
+    method: Union[MethodLike, Study],
+    data: Optional[Data] = None,
+    *,
+    solver: Literal["gauss-newton", "lm"] = "gauss-newton",
+    max_iterations: int = 30,
+    priority: Union[ArrayLike, PathLike, None] = None,
+    strict_limits: bool = False,
+    progress: Optional[Callable[[int, float], object]] = None,
+) -> Identification:
+    """Identification (eq. 10–11), as ``gecaro identify``."""
+
+def evaluate(
+    robot: Robot,
+    method: Union[MethodLike, Study],
+    data: Optional[Data] = None,
+    *,
+    strict_limits: bool = False,
+) -> ErrorSummary:
+    """Errors of a robot on measured data, as ``gecaro evaluate``."""

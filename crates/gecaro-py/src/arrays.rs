@@ -1,0 +1,193 @@
+//! numpy arrays in and out.
+//!
+//! Inputs are any array-like of real numbers (numpy arrays of any real dtype,
+//! lists, tuples): integers are converted to float64; other dtypes (complex,
+//! strings, objects) and wrong shapes are an `InputError` (a `ValueError`)
+//! naming the argument and the shape it needs. Inputs are copied into Rust
+//! memory before any work, so the GIL can be released without Python code
+//! changing them underneath. Outputs are new C-ordered float64 arrays.
+
+use numpy::ndarray::{ArrayD, IxDyn};
+use numpy::{IntoPyArray, PyArrayDyn, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::errors::input;
+
+/// The dimensions of an array, as Python writes them: `(3, 4)`, `(6,)`.
+fn shape_text(shape: &[usize]) -> String {
+    match shape {
+        [one] => format!("({one},)"),
+        _ => format!(
+            "({})",
+            shape
+                .iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    }
+}
+
+/// `value` as a numpy array of `dtype` (`float64` or `int64`), accepting the
+/// dtype kinds in `kinds` (`"fiu"`: float, signed, unsigned integers).
+fn converted<'py>(
+    value: &Bound<'py, PyAny>,
+    what: &str,
+    expected: &str,
+    dtype: &str,
+    kinds: &str,
+) -> PyResult<Bound<'py, PyAny>> {
+    let numpy = value.py().import("numpy")?;
+    let array = numpy
+        .call_method1("asarray", (value,))
+        .map_err(|error| input(format!("{what}: expected {expected}; {error}")))?;
+    let kind: String = array.getattr("dtype")?.getattr("kind")?.extract()?;
+    if !kinds.contains(kind.as_str()) {
+        let dtype_name: String = array.getattr("dtype")?.str()?.extract()?;
+        return Err(input(format!(
+            "{what}: expected {expected} of real numbers, got an array of dtype {dtype_name}"
+        )));
+    }
+    array.call_method1("astype", (dtype,))
+}
+
+/// A float64 array with its shape, copied.
+pub(crate) struct Real {
+    /// The shape.
+    pub(crate) shape: Vec<usize>,
+    /// The values in C order.
+    pub(crate) values: Vec<f64>,
+}
+
+impl Real {
+    /// `value` as float64 values; `expected` describes the shape in messages.
+    pub(crate) fn new(value: &Bound<'_, PyAny>, what: &str, expected: &str) -> PyResult<Self> {
+        let read = |array: PyReadonlyArrayDyn<'_, f64>| Real {
+            shape: array.shape().to_vec(),
+            values: array.as_array().iter().copied().collect(),
+        };
+        if let Ok(array) = value.extract::<PyReadonlyArrayDyn<'_, f64>>() {
+            return Ok(read(array));
+        }
+        let array = converted(value, what, expected, "float64", "fiu")?;
+        Ok(read(array.extract::<PyReadonlyArrayDyn<'_, f64>>()?))
+    }
+
+    /// The error of a shape other than `expected`.
+    pub(crate) fn wrong_shape(&self, what: &str, expected: &str) -> PyErr {
+        input(format!(
+            "{what}: expected {expected}, got an array of shape {}",
+            shape_text(&self.shape)
+        ))
+    }
+
+    /// `value` of exactly this shape (`None`: any length on that axis).
+    pub(crate) fn shaped(
+        value: &Bound<'_, PyAny>,
+        what: &str,
+        shape: &[Option<usize>],
+    ) -> PyResult<Self> {
+        let expected = format!(
+            "an array of shape ({})",
+            shape
+                .iter()
+                .enumerate()
+                .map(|(axis, length)| length
+                    .map_or_else(|| ["m", "k"][axis.min(1)].to_owned(), |n| n.to_string()))
+                .collect::<Vec<_>>()
+                .join(", ")
+                + if shape.len() == 1 { "," } else { "" }
+        );
+        let array = Real::new(value, what, &expected)?;
+        let fits = array.shape.len() == shape.len()
+            && array
+                .shape
+                .iter()
+                .zip(shape)
+                .all(|(found, wanted)| wanted.is_none_or(|wanted| *found == wanted));
+        if fits {
+            Ok(array)
+        } else {
+            Err(array.wrong_shape(what, &expected))
+        }
+    }
+
+    /// Rows of `row_length` values: `(k,)` is one row, `(m, k)` is m rows.
+    /// Returns the rows and whether the input was a single row.
+    pub(crate) fn rows(
+        value: &Bound<'_, PyAny>,
+        what: &str,
+        row_length: usize,
+    ) -> PyResult<(Vec<f64>, bool)> {
+        let expected = format!("an array of shape ({row_length},) or (m, {row_length})");
+        let array = Real::new(value, what, &expected)?;
+        match array.shape[..] {
+            [k] if k == row_length => Ok((array.values, true)),
+            [_, k] if k == row_length => Ok((array.values, false)),
+            _ => Err(array.wrong_shape(what, &expected)),
+        }
+    }
+}
+
+/// `value` as m non-negative integers (set or pair ids).
+pub(crate) fn identifiers(value: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<u64>> {
+    let expected = "an array of shape (m,) of integers ≥ 0";
+    let array = converted(value, what, expected, "int64", "iu")?;
+    let array = array.extract::<PyReadonlyArrayDyn<'_, i64>>()?;
+    if array.ndim() != 1 {
+        return Err(input(format!(
+            "{what}: expected {expected}, got an array of shape {}",
+            shape_text(array.shape())
+        )));
+    }
+    array
+        .as_array()
+        .iter()
+        .enumerate()
+        .map(|(row, id)| {
+            u64::try_from(*id).map_err(|_| input(format!("{what}: row {row} is {id}, not ≥ 0")))
+        })
+        .collect()
+}
+
+/// A new float64 array of this shape.
+pub(crate) fn array<'py>(
+    py: Python<'py>,
+    shape: &[usize],
+    values: Vec<f64>,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    Ok(ArrayD::from_shape_vec(IxDyn(shape), values)
+        .map_err(|error| pyo3::exceptions::PyRuntimeError::new_err(error.to_string()))?
+        .into_pyarray(py))
+}
+
+/// A new int64 array of this shape.
+pub(crate) fn integer_array<'py>(
+    py: Python<'py>,
+    shape: &[usize],
+    values: Vec<i64>,
+) -> PyResult<Bound<'py, PyArrayDyn<i64>>> {
+    Ok(ArrayD::from_shape_vec(IxDyn(shape), values)
+        .map_err(|error| pyo3::exceptions::PyRuntimeError::new_err(error.to_string()))?
+        .into_pyarray(py))
+}
+
+/// A named field of a record, for [`columns`].
+pub(crate) type Column<T> = (&'static str, fn(&T) -> f64);
+
+/// A dict of one (len,) array per named field of `records`.
+pub(crate) fn columns<'py, T>(
+    py: Python<'py>,
+    records: &[T],
+    fields: &[Column<T>],
+) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    for (key, value) in fields {
+        dict.set_item(
+            key,
+            array(py, &[records.len()], records.iter().map(value).collect())?,
+        )?;
+    }
+    Ok(dict)
+}

@@ -1,0 +1,322 @@
+//! `gecaro.Data`: the configurations of a data set and what was measured at
+//! each, as numpy arrays (one row per configuration, in the order of the
+//! data file's rows).
+//!
+//! Units: metres and radians. `orientation` is a unit quaternion
+//! `(qw, qx, qy, qz)` of frame n+1 in the world frame; `set` (link methods)
+//! and `pair` (distance) are integer ids; `distance` is in metres.
+
+use std::path::PathBuf;
+
+use gecaro_calib::{DataColumn, Sample};
+use gecaro_io::{ColumnMap, DataFormat, DataUnits, format_samples, joint_types, read_samples};
+use nalgebra::Vector3;
+use numpy::PyArrayDyn;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::arrays::{Real, array, identifiers, integer_array};
+use crate::errors::{IntoPyResult, input};
+use crate::robot::{PyRobot, angle_unit, length_unit, output_policy};
+
+/// The label of data built from arrays, in messages: `<arrays>:3: …` names
+/// row 3 (0-based, as numpy indexes it).
+const ARRAYS: &str = "<arrays>";
+
+/// A data set (see the module docs).
+#[pyclass(name = "Data", module = "gecaro")]
+#[derive(Clone)]
+pub(crate) struct PyData {
+    pub(crate) samples: Vec<Sample>,
+    joint_count: usize,
+    /// Names the data in messages and reports: the file, or `<arrays>`.
+    pub(crate) label: String,
+    unused_columns: Vec<String>,
+}
+
+impl PyData {
+    pub(crate) fn from_samples(samples: Vec<Sample>, joint_count: usize, label: String) -> Self {
+        PyData {
+            samples,
+            joint_count,
+            label,
+            unused_columns: Vec::new(),
+        }
+    }
+
+    /// The field of every sample as rows of `width` values, or None when no
+    /// sample has it.
+    fn field<'py>(
+        &self,
+        py: Python<'py>,
+        width: usize,
+        value: impl Fn(&Sample) -> Option<Vec<f64>>,
+    ) -> PyResult<Option<Bound<'py, PyArrayDyn<f64>>>> {
+        if self.samples.iter().all(|sample| value(sample).is_none()) {
+            return Ok(None);
+        }
+        let values = self
+            .samples
+            .iter()
+            .flat_map(|sample| value(sample).unwrap_or_else(|| vec![f64::NAN; width]))
+            .collect();
+        let shape = if width == 1 {
+            vec![self.samples.len()]
+        } else {
+            vec![self.samples.len(), width]
+        };
+        array(py, &shape, values).map(Some)
+    }
+}
+
+/// The column map of `columns`: a dict {gecaro name: file column} or text
+/// `"x=X_mm,y=Y_mm"`.
+fn column_map(columns: Option<&Bound<'_, PyAny>>) -> PyResult<ColumnMap> {
+    let Some(columns) = columns else {
+        return Ok(ColumnMap::default());
+    };
+    if let Ok(text) = columns.extract::<String>() {
+        return ColumnMap::parse(&text).map_err(|message| input(format!("columns: {message}")));
+    }
+    let pairs: Vec<(String, String)> = columns
+        .cast::<PyDict>()
+        .map_err(|_| input("columns: expected a dict {gecaro name: file column} or \"x=X_mm,…\""))?
+        .iter()
+        .map(|(ours, theirs)| Ok((ours.extract()?, theirs.extract()?)))
+        .collect::<PyResult<_>>()?;
+    Ok(ColumnMap::from_pairs(pairs))
+}
+
+#[pymethods]
+impl PyData {
+    /// Data from arrays: `qm` of shape (m, n), and what the method measures:
+    /// `position` (m, 3), `orientation` (m, 4) unit quaternions qw, qx, qy, qz,
+    /// `set` or `pair` (m,) integer ids, `distance` (m,).
+    #[new]
+    #[pyo3(signature = (qm, *, position = None, orientation = None, set = None, pair = None, distance = None, label = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        qm: &Bound<'_, PyAny>,
+        position: Option<&Bound<'_, PyAny>>,
+        orientation: Option<&Bound<'_, PyAny>>,
+        set: Option<&Bound<'_, PyAny>>,
+        pair: Option<&Bound<'_, PyAny>>,
+        distance: Option<&Bound<'_, PyAny>>,
+        label: Option<String>,
+    ) -> PyResult<Self> {
+        let qm = Real::shaped(qm, "qm", &[None, None])?;
+        let (m, n) = (qm.shape[0], qm.shape[1]);
+        if n == 0 {
+            return Err(qm.wrong_shape("qm", "an array of shape (m, n) with n ≥ 1 joints"));
+        }
+        let mut samples: Vec<Sample> = qm
+            .values
+            .chunks_exact(n)
+            .enumerate()
+            .map(|(row, values)| {
+                let mut sample = Sample::new(values.to_vec());
+                sample.line = Some(row);
+                sample
+            })
+            .collect();
+        if let Some(position) = position {
+            let position = Real::shaped(position, "position", &[Some(m), Some(3)])?;
+            for (sample, xyz) in samples.iter_mut().zip(position.values.chunks_exact(3)) {
+                sample.position = Some(Vector3::from_column_slice(xyz));
+            }
+        }
+        if let Some(orientation) = orientation {
+            let orientation = Real::shaped(orientation, "orientation", &[Some(m), Some(4)])?;
+            for (row, (sample, q)) in samples
+                .iter_mut()
+                .zip(orientation.values.chunks_exact(4))
+                .enumerate()
+            {
+                sample.orientation = Some(
+                    gecaro_io::unit_quaternion(q[0], q[1], q[2], q[3])
+                        .map_err(|message| input(format!("orientation: row {row}: {message}")))?,
+                );
+            }
+        }
+        let group = match (set, pair) {
+            (Some(_), Some(_)) => {
+                return Err(input(
+                    "give `set` (link methods) or `pair` (distance), not both",
+                ));
+            }
+            (Some(ids), None) => Some(identifiers(ids, "set")?),
+            (None, Some(ids)) => Some(identifiers(ids, "pair")?),
+            (None, None) => None,
+        };
+        if let Some(group) = group {
+            if group.len() != m {
+                return Err(input(format!(
+                    "{}: expected an array of shape ({m},), got {} values",
+                    if set.is_some() { "set" } else { "pair" },
+                    group.len()
+                )));
+            }
+            for (sample, id) in samples.iter_mut().zip(group) {
+                sample.group = Some(id);
+            }
+        }
+        if let Some(distance) = distance {
+            let distance = Real::shaped(distance, "distance", &[Some(m)])?;
+            for (sample, value) in samples.iter_mut().zip(distance.values) {
+                sample.distance = Some(value);
+            }
+        }
+        Ok(PyData::from_samples(
+            samples,
+            n,
+            label.unwrap_or_else(|| ARRAYS.to_owned()),
+        ))
+    }
+
+    /// Reads a data file (CSV) for `robot` and `method`, as the command line's
+    /// `--data`: columns found by name in any order, other names through
+    /// `columns` ({"x": "X_mm"} or "x=X_mm,…"), lengths in `length_unit`
+    /// ("m", "mm"), revolute joint values in `angle_unit` ("rad", "deg").
+    /// Columns the method does not use are listed in `unused_columns`.
+    #[staticmethod]
+    #[pyo3(signature = (path, robot, method, *, length_unit = None, angle_unit = None, columns = None))]
+    fn read(
+        path: PathBuf,
+        robot: PyRef<'_, PyRobot>,
+        method: &Bound<'_, PyAny>,
+        length_unit: Option<&str>,
+        angle_unit: Option<&str>,
+        columns: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        let method = crate::calibration::method_of(method)?;
+        let format = DataFormat {
+            units: DataUnits {
+                length: self::length_unit(length_unit)?.unwrap_or_default(),
+                angle: self::angle_unit(angle_unit)?.unwrap_or_default(),
+            },
+            columns: column_map(columns)?,
+        };
+        let file = read_samples(
+            &path,
+            &joint_types(robot.robot()),
+            method.get().method.data_columns(),
+            &format,
+        )
+        .py()?;
+        Ok(PyData {
+            samples: file.samples,
+            joint_count: robot.robot().joint_count(),
+            label: path.display().to_string(),
+            unused_columns: file.unused_columns,
+        })
+    }
+
+    /// The data file's text (CSV) for `method`, as `gecaro generate` writes it
+    /// (values written to round trip exactly).
+    fn to_csv(&self, method: &Bound<'_, PyAny>) -> PyResult<String> {
+        let method = crate::calibration::method_of(method)?;
+        let columns = method.get().method.data_columns();
+        self.check_columns(columns)?;
+        Ok(format_samples(self.joint_count, columns, &self.samples))
+    }
+
+    /// Writes the data file for `method` atomically; an existing file is kept
+    /// unless `overwrite`.
+    #[pyo3(signature = (path, method, *, overwrite = false))]
+    fn write(&self, path: PathBuf, method: &Bound<'_, PyAny>, overwrite: bool) -> PyResult<()> {
+        let text = self.to_csv(method)?;
+        gecaro_io::write_atomically(&path, text.as_bytes(), output_policy(overwrite)).py()
+    }
+
+    /// Motor variables, shape (m, n).
+    #[getter]
+    fn qm<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let values = self
+            .samples
+            .iter()
+            .flat_map(|sample| sample.motor_positions.iter().copied())
+            .collect();
+        array(py, &[self.samples.len(), self.joint_count], values)
+    }
+
+    /// Measured positions (m, 3), or None.
+    #[getter]
+    fn position<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArrayDyn<f64>>>> {
+        self.field(py, 3, |sample| {
+            sample.position.map(|p| p.as_slice().to_vec())
+        })
+    }
+
+    /// Measured orientations (m, 4) as qw, qx, qy, qz, or None.
+    #[getter]
+    fn orientation<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArrayDyn<f64>>>> {
+        self.field(py, 4, |sample| {
+            sample.orientation.map(|q| vec![q.w, q.i, q.j, q.k])
+        })
+    }
+
+    /// Set ids (link methods) or pair ids (distance), (m,), or None.
+    #[getter]
+    fn group<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArrayDyn<i64>>>> {
+        if self.samples.iter().all(|sample| sample.group.is_none()) {
+            return Ok(None);
+        }
+        let ids = self
+            .samples
+            .iter()
+            .map(|sample| sample.group.map_or(-1, |id| id as i64))
+            .collect();
+        integer_array(py, &[self.samples.len()], ids).map(Some)
+    }
+
+    /// Measured distances (m,), or None.
+    #[getter]
+    fn distance<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArrayDyn<f64>>>> {
+        self.field(py, 1, |sample| sample.distance.map(|d| vec![d]))
+    }
+
+    /// The file it was read from, or "<arrays>".
+    #[getter]
+    fn label(&self) -> &str {
+        &self.label
+    }
+
+    /// Columns of the file that the method does not use.
+    #[getter]
+    fn unused_columns(&self) -> Vec<String> {
+        self.unused_columns.clone()
+    }
+
+    /// Number of joints n.
+    #[getter]
+    fn joint_count(&self) -> usize {
+        self.joint_count
+    }
+
+    fn __len__(&self) -> usize {
+        self.samples.len()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Data({} configurations of {} joints, {})",
+            self.samples.len(),
+            self.joint_count,
+            self.label
+        )
+    }
+}
+
+impl PyData {
+    /// Every sample has the fields of `columns`.
+    fn check_columns(&self, columns: &[DataColumn]) -> PyResult<()> {
+        for (row, sample) in self.samples.iter().enumerate() {
+            for column in columns {
+                sample
+                    .check_column(*column)
+                    .map_err(|message| input(format!("{}: row {row}: {message}", self.label)))?;
+            }
+        }
+        Ok(())
+    }
+}

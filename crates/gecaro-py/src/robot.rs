@@ -1,0 +1,835 @@
+//! `gecaro.Robot`: a robot file in memory (paper §2: the Khalil–Kleinfinger
+//! table of frames 0..n+1, joint limits, offsets, gains K, couplings Cm and Cj
+//! of eq. 4, the priority matrix), with its direct, differential and inverse
+//! models.
+//!
+//! Units: metres and radians; motor variables `qm` (eq. 4) in, world-frame
+//! poses of frame n+1 out, as 4×4 homogeneous matrices.
+
+use std::path::PathBuf;
+
+use gecaro_core::{
+    ChainBuffer, Frame, FrameType, InverseOptions, JacobianRows, Joint, KinematicModel,
+    ParameterId, PriorityMatrix, Robot, RobotSpec, Target, inverse_kinematics,
+};
+use gecaro_io::{
+    AngleUnit, ChainEnds, ImportOptions, LengthUnit, OutputPolicy, RobotFile, RobotFormat,
+    TableUnits, export_robot, format_robot_file, import_robot, load_robot, parse_robot_file,
+    pose_from_seven, read_priority_file, write_atomically,
+};
+use nalgebra::{DMatrix, IsometryMatrix3, Matrix3, Rotation3, Translation3, Vector3};
+use numpy::PyArrayDyn;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::arrays::{Real, array, columns, integer_array};
+use crate::errors::{IntoPyResult, input};
+use crate::interrupt::Watch;
+
+/// What `overwrite` says of an existing output file.
+pub(crate) fn output_policy(overwrite: bool) -> OutputPolicy {
+    if overwrite {
+        OutputPolicy::Overwrite
+    } else {
+        OutputPolicy::KeepExisting
+    }
+}
+
+/// A path or a ready robot's name as given (`str` or `os.PathLike`).
+pub(crate) fn path_text(path: &std::path::Path) -> String {
+    path.to_string_lossy().into_owned()
+}
+
+/// A serial robot (see the module docs). Load one with `Robot.load`, build one
+/// with `Robot.from_table`, convert one with `Robot.import_file`.
+#[pyclass(name = "Robot", module = "gecaro")]
+pub(crate) struct PyRobot {
+    pub(crate) file: RobotFile,
+    /// The robot compiled for kinematics, rebuilt after every change.
+    model: KinematicModel,
+    /// What an import changed or could not carry.
+    notes: Vec<String>,
+}
+
+impl PyRobot {
+    pub(crate) fn new(file: RobotFile) -> Self {
+        let model = KinematicModel::new(&file.robot);
+        PyRobot {
+            file,
+            model,
+            notes: Vec::new(),
+        }
+    }
+
+    pub(crate) fn robot(&self) -> &Robot {
+        &self.file.robot
+    }
+
+    /// Replaces the robot (after a validated change).
+    fn replace(&mut self, robot: Robot) {
+        self.model = KinematicModel::new(&robot);
+        self.file.robot = robot;
+    }
+
+    fn parameter_id(&self, name: &str) -> PyResult<ParameterId> {
+        let parameters = self.robot().parameters();
+        let index = parameters.index_of_name(name).py()?;
+        Ok(parameters.id(index))
+    }
+
+    /// Calls `each(model, chain, configuration, output)` for every row of
+    /// `qm`, without the GIL, stopping on Ctrl-C; `width` values per row out.
+    fn batch<'py>(
+        &self,
+        py: Python<'py>,
+        qm: &Bound<'py, PyAny>,
+        shape: &[usize],
+        mut each: impl FnMut(&KinematicModel, &mut ChainBuffer, &[f64], &mut [f64]) -> PyResult<()>
+        + Send,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let n = self.robot().joint_count();
+        let (values, single) = Real::rows(qm, "qm", n)?;
+        let count = values.len() / n;
+        let width: usize = shape.iter().product();
+        let model = &self.model;
+        let output = py.detach(|| {
+            let mut watch = Watch::new();
+            let mut output = vec![0.0; count * width];
+            let mut chain = ChainBuffer::default();
+            for (row, (configuration, out)) in values
+                .chunks_exact(n)
+                .zip(output.chunks_exact_mut(width))
+                .enumerate()
+            {
+                if row % 1024 == 1023 && watch.poll().is_break() {
+                    break;
+                }
+                each(model, &mut chain, configuration, out)?;
+            }
+            watch.finish::<_, gecaro_core::Error>(Ok(output))
+        })?;
+        let mut full_shape = if single { Vec::new() } else { vec![count] };
+        full_shape.extend_from_slice(shape);
+        array(py, &full_shape, output)
+    }
+}
+
+/// The values of a homogeneous matrix, row by row.
+fn homogeneous_rows(pose: &IsometryMatrix3<f64>, out: &mut [f64]) {
+    let matrix = pose.to_homogeneous();
+    for row in 0..4 {
+        for column in 0..4 {
+            out[4 * row + column] = matrix[(row, column)];
+        }
+    }
+}
+
+/// A rigid transform from a 4×4 homogeneous matrix or the seven numbers
+/// `[x, y, z, qw, qx, qy, qz]` of gecaro's files and command line.
+pub(crate) fn pose(value: &Bound<'_, PyAny>, what: &str) -> PyResult<IsometryMatrix3<f64>> {
+    let expected = "a 4×4 homogeneous matrix or [x, y, z, qw, qx, qy, qz]";
+    let array = Real::new(value, what, expected)?;
+    match array.shape[..] {
+        [7] => pose_from_seven(&array.values).map_err(|message| input(format!("{what} {message}"))),
+        [4, 4] => {
+            let v = &array.values;
+            if !v.iter().all(|x| x.is_finite()) {
+                return Err(input(format!("{what}: holds a value that is not finite")));
+            }
+            if v[12..]
+                .iter()
+                .zip([0.0, 0.0, 0.0, 1.0])
+                .any(|(a, b)| (a - b).abs() > 1e-12)
+            {
+                return Err(input(format!(
+                    "{what}: the last row of a homogeneous matrix must be [0, 0, 0, 1]"
+                )));
+            }
+            let rotation = Matrix3::new(v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10]);
+            let error = (rotation.transpose() * rotation - Matrix3::identity())
+                .abs()
+                .max();
+            if error > 1e-6 || rotation.determinant() < 0.0 {
+                return Err(input(format!(
+                    "{what}: the upper-left 3×3 block is not a rotation (‖RᵀR − I‖ = {error:.1e}, det = {:.3})",
+                    rotation.determinant()
+                )));
+            }
+            let rotation = if error <= 1e-12 {
+                Rotation3::from_matrix_unchecked(rotation)
+            } else {
+                Rotation3::from_matrix(&rotation)
+            };
+            Ok(IsometryMatrix3::from_parts(
+                Translation3::new(v[3], v[7], v[11]),
+                rotation,
+            ))
+        }
+        _ => Err(array.wrong_shape(what, expected)),
+    }
+}
+
+/// The unit of a name, or an `InputError` listing the names.
+pub(crate) fn length_unit(name: Option<&str>) -> PyResult<Option<LengthUnit>> {
+    name.map(|name| {
+        LengthUnit::from_name(name).ok_or_else(|| {
+            input(format!(
+                "length_unit: `{name}` is not a unit; use \"m\" or \"mm\""
+            ))
+        })
+    })
+    .transpose()
+}
+
+/// The unit of a name, or an `InputError` listing the names.
+pub(crate) fn angle_unit(name: Option<&str>) -> PyResult<Option<AngleUnit>> {
+    name.map(|name| {
+        AngleUnit::from_name(name).ok_or_else(|| {
+            input(format!(
+                "angle_unit: `{name}` is not a unit; use \"rad\" or \"deg\""
+            ))
+        })
+    })
+    .transpose()
+}
+
+/// A priority matrix from an array of shape (n+2, 6) or a priority file.
+pub(crate) fn priority_matrix(robot: &Robot, value: &Bound<'_, PyAny>) -> PyResult<PriorityMatrix> {
+    if let Ok(path) = value.extract::<PathBuf>() {
+        return read_priority_file(&path, robot).py();
+    }
+    let rows = robot.joint_count() + 2;
+    let array = Real::shaped(value, "priority", &[Some(rows), Some(6)])?;
+    let mut matrix = Vec::with_capacity(rows);
+    for (frame, row) in array.values.chunks_exact(6).enumerate() {
+        let mut out = [0u32; 6];
+        for (column, value) in row.iter().enumerate() {
+            if !(value.fract() == 0.0 && *value >= 0.0 && *value <= f64::from(u32::MAX)) {
+                return Err(input(format!(
+                    "priority: row {frame}, column {column} is {value}, not an integer ≥ 0"
+                )));
+            }
+            out[column] = *value as u32;
+        }
+        matrix.push(out);
+    }
+    let matrix = PriorityMatrix::from_rows(matrix);
+    matrix.validate(robot.parameters()).py()?;
+    Ok(matrix)
+}
+
+/// Optional per-frame or per-joint values, `default` where not given.
+fn column(
+    value: Option<&Bound<'_, PyAny>>,
+    what: &str,
+    length: usize,
+    default: impl Fn(usize) -> f64,
+) -> PyResult<Vec<f64>> {
+    match value {
+        Some(value) => Ok(Real::shaped(value, what, &[Some(length)])?.values),
+        None => Ok((0..length).map(default).collect()),
+    }
+}
+
+fn square(
+    value: Option<&Bound<'_, PyAny>>,
+    what: &str,
+    n: usize,
+) -> PyResult<Option<DMatrix<f64>>> {
+    value
+        .map(|value| {
+            let array = Real::shaped(value, what, &[Some(n), Some(n)])?;
+            Ok(DMatrix::from_row_slice(n, n, &array.values))
+        })
+        .transpose()
+}
+
+#[pymethods]
+impl PyRobot {
+    /// A robot from a robot file (TOML) or, when no such file exists, a ready
+    /// robot's name (`gecaro.ready_robots()`), as the command line's ROBOT.
+    #[staticmethod]
+    fn load(source: PathBuf) -> PyResult<Self> {
+        Ok(PyRobot::new(load_robot(&path_text(&source)).py()?))
+    }
+
+    /// A robot from the text of a robot file; `name` labels it in messages.
+    #[staticmethod]
+    #[pyo3(signature = (text, name = "<string>"))]
+    fn from_toml(text: &str, name: &str) -> PyResult<Self> {
+        Ok(PyRobot::new(parse_robot_file(text, name.as_ref()).py()?))
+    }
+
+    /// A robot converted from a URDF, a DH or modified-DH table, or a SYMORO
+    /// `.par` file (`format`: "urdf", "dh", "mdh", "symoro"; default from the
+    /// extension), as `gecaro robot import`. What the conversion changed is in
+    /// `notes`.
+    #[staticmethod]
+    #[pyo3(signature = (path, format = None, *, base = None, tip = None, name = None, length_unit = None, angle_unit = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn import_file(
+        path: PathBuf,
+        format: Option<&str>,
+        base: Option<String>,
+        tip: Option<String>,
+        name: Option<String>,
+        length_unit: Option<&str>,
+        angle_unit: Option<&str>,
+    ) -> PyResult<Self> {
+        let format = format
+            .map(|text| {
+                RobotFormat::from_name(text).ok_or_else(|| {
+                    input(format!(
+                        "format: `{text}` is not a format; use \"urdf\", \"dh\", \"mdh\" or \"symoro\""
+                    ))
+                })
+            })
+            .transpose()?;
+        let imported = import_robot(
+            &path,
+            &ImportOptions {
+                format,
+                chain: ChainEnds { base, tip, name },
+                units: TableUnits {
+                    length: self::length_unit(length_unit)?,
+                    angle: self::angle_unit(angle_unit)?,
+                },
+            },
+        )
+        .py()?;
+        let mut robot = PyRobot::new(imported.file);
+        robot.notes = imported.notes;
+        Ok(robot)
+    }
+
+    /// A robot from its table (paper §2.1, frames 0..n+1): `sigma` 0 revolute,
+    /// 1 prismatic, 2 fixed (frames 0 and n+1 are fixed); angles in radians,
+    /// lengths in metres. Joint limits default to ±π (revolute) and 0..1 m
+    /// (prismatic), offsets to 0, gains K to 1, couplings Cm, Cj to identity.
+    #[staticmethod]
+    #[pyo3(signature = (name, sigma, alpha, d, theta, r, *, beta = None, qmin = None, qmax = None, offset = None, gain = None, motor_coupling = None, joint_coupling = None, priority = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn from_table(
+        name: String,
+        sigma: &Bound<'_, PyAny>,
+        alpha: &Bound<'_, PyAny>,
+        d: &Bound<'_, PyAny>,
+        theta: &Bound<'_, PyAny>,
+        r: &Bound<'_, PyAny>,
+        beta: Option<&Bound<'_, PyAny>>,
+        qmin: Option<&Bound<'_, PyAny>>,
+        qmax: Option<&Bound<'_, PyAny>>,
+        offset: Option<&Bound<'_, PyAny>>,
+        gain: Option<&Bound<'_, PyAny>>,
+        motor_coupling: Option<&Bound<'_, PyAny>>,
+        joint_coupling: Option<&Bound<'_, PyAny>>,
+        priority: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        let sigma = Real::shaped(sigma, "sigma", &[None])?.values;
+        let frames_count = sigma.len();
+        if frames_count < 3 {
+            return Err(input(format!(
+                "sigma: a robot has frames 0..n+1 with n ≥ 1 joints, so at least 3 rows; got {frames_count}"
+            )));
+        }
+        let n = frames_count - 2;
+        let columns = [
+            column(Some(alpha), "alpha", frames_count, |_| 0.0)?,
+            column(Some(d), "d", frames_count, |_| 0.0)?,
+            column(Some(theta), "theta", frames_count, |_| 0.0)?,
+            column(Some(r), "r", frames_count, |_| 0.0)?,
+            column(beta, "beta", frames_count, |_| 0.0)?,
+        ];
+        let mut frames = Vec::with_capacity(frames_count);
+        for (j, value) in sigma.iter().enumerate() {
+            let frame_type = (value.fract() == 0.0)
+                .then(|| FrameType::from_sigma(*value as i64))
+                .flatten()
+                .ok_or_else(|| {
+                    input(format!("sigma: frame {j} has σ = {value}; use 0 (revolute), 1 (prismatic) or 2 (fixed)"))
+                })?;
+            let mut frame = Frame::new(frame_type);
+            [frame.alpha, frame.d, frame.theta, frame.r, frame.beta] =
+                [0, 1, 2, 3, 4].map(|c| columns[c][j]);
+            frames.push(frame);
+        }
+        let types: Vec<FrameType> = frames[1..=n].iter().map(|f| f.frame_type).collect();
+        let defaults: Vec<Joint> = types.iter().map(|t| Joint::default_for(*t)).collect();
+        let qmin = column(qmin, "qmin", n, |j| defaults[j].qmin)?;
+        let qmax = column(qmax, "qmax", n, |j| defaults[j].qmax)?;
+        let offset = column(offset, "offset", n, |_| 0.0)?;
+        let gain = column(gain, "gain", n, |_| 1.0)?;
+        let joints = (0..n)
+            .map(|j| Joint {
+                qmin: qmin[j],
+                qmax: qmax[j],
+                offset: offset[j],
+                gain: gain[j],
+            })
+            .collect();
+        let robot = Robot::new(RobotSpec {
+            name,
+            frames,
+            joints,
+            motor_coupling: square(motor_coupling, "motor_coupling", n)?,
+            joint_coupling: square(joint_coupling, "joint_coupling", n)?,
+            priority: None,
+        })
+        .py()?;
+        let mut robot = PyRobot::new(RobotFile {
+            robot,
+            description: None,
+            angle_unit: AngleUnit::Radians,
+            urdf: None,
+        });
+        if let Some(priority) = priority {
+            robot.set_priority(Some(priority))?;
+        }
+        Ok(robot)
+    }
+
+    /// Writes the robot file (TOML), atomically; an existing file is kept
+    /// unless `overwrite`.
+    #[pyo3(signature = (path, *, overwrite = false))]
+    fn save(&self, path: PathBuf, overwrite: bool) -> PyResult<()> {
+        write_atomically(
+            &path,
+            format_robot_file(&self.file).as_bytes(),
+            output_policy(overwrite),
+        )
+        .py()
+    }
+
+    /// The robot file's text (TOML), as `save` writes it.
+    fn to_toml(&self) -> String {
+        format_robot_file(&self.file)
+    }
+
+    /// The robot in another format: "urdf", "dh" or "mdh", as
+    /// `gecaro robot export` (docs/interchange.md).
+    fn export(&self, to: &str) -> PyResult<Exported> {
+        let format = RobotFormat::from_name(to)
+            .filter(|format| *format != RobotFormat::Symoro)
+            .ok_or_else(|| {
+                input(format!(
+                    "to: `{to}` is not a format gecaro writes; use \"urdf\", \"dh\" or \"mdh\""
+                ))
+            })?;
+        let exported = export_robot(&self.file, format).map_err(|message| {
+            input(format!(
+                "{} cannot be written as {to}: {message}",
+                self.robot().name()
+            ))
+        })?;
+        Ok(Exported { exported })
+    }
+
+    /// The robot's name.
+    #[getter]
+    fn name(&self) -> &str {
+        self.robot().name()
+    }
+
+    #[setter]
+    fn set_name(&mut self, name: String) {
+        self.file.robot.set_name(name);
+    }
+
+    /// The robot file's description, if any.
+    #[getter]
+    fn description(&self) -> Option<&str> {
+        self.file.description.as_deref()
+    }
+
+    /// What an import changed or could not carry (empty for robot files).
+    #[getter]
+    fn notes(&self) -> Vec<String> {
+        self.notes.clone()
+    }
+
+    /// Number of joints n.
+    #[getter]
+    fn joint_count(&self) -> usize {
+        self.robot().joint_count()
+    }
+
+    /// The joint types 1..n as letters: `R` revolute, `P` prismatic.
+    #[getter]
+    fn joint_types(&self) -> String {
+        self.robot().joint_letters()
+    }
+
+    /// Names of the geometric parameters, in the order of `parameters` and of
+    /// the Jacobian's columns (`alpha1`, `d1`, …, `beta2`, `K1`, …).
+    #[getter]
+    fn parameter_names(&self) -> Vec<String> {
+        self.robot().parameters().names()
+    }
+
+    /// Values of the geometric parameters, in `parameter_names` order.
+    #[getter]
+    fn parameters<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let values = self.robot().parameter_values();
+        array(py, &[values.len()], values.as_slice().to_vec())
+    }
+
+    #[setter]
+    fn set_parameters(&mut self, values: &Bound<'_, PyAny>) -> PyResult<()> {
+        let count = self.robot().parameters().len();
+        let values = Real::shaped(values, "parameters", &[Some(count)])?.values;
+        let mut robot = self.robot().clone();
+        for (index, value) in values.iter().enumerate() {
+            let id = robot.parameters().id(index);
+            robot.set_parameter(id, *value).py()?;
+        }
+        self.replace(robot);
+        Ok(())
+    }
+
+    /// The value of one parameter: `robot["theta2"]`.
+    fn __getitem__(&self, name: &str) -> PyResult<f64> {
+        let id = self.parameter_id(name)?;
+        Ok(self.robot().parameter(id))
+    }
+
+    /// Sets one parameter: `robot["d3"] = 0.4`.
+    fn __setitem__(&mut self, name: &str, value: f64) -> PyResult<()> {
+        let id = self.parameter_id(name)?;
+        let mut robot = self.robot().clone();
+        robot.set_parameter(id, value).py()?;
+        self.replace(robot);
+        Ok(())
+    }
+
+    /// The frame table (frames 0..n+1) as arrays: `sigma` (0 revolute, 1
+    /// prismatic, 2 fixed), `alpha`, `d`, `theta`, `r`, `beta`.
+    #[getter]
+    fn table<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let frames = self.robot().frames();
+        let table = PyDict::new(py);
+        let sigma = frames
+            .iter()
+            .map(|f| i64::from(f.frame_type.sigma()))
+            .collect();
+        table.set_item("sigma", integer_array(py, &[frames.len()], sigma)?)?;
+        let table = columns(
+            py,
+            frames,
+            &[
+                ("alpha", |f| f.alpha),
+                ("d", |f| f.d),
+                ("theta", |f| f.theta),
+                ("r", |f| f.r),
+                ("beta", |f| f.beta),
+            ],
+        )?;
+        let sigma = frames
+            .iter()
+            .map(|f| i64::from(f.frame_type.sigma()))
+            .collect();
+        table.set_item("sigma", integer_array(py, &[frames.len()], sigma)?)?;
+        Ok(table)
+    }
+
+    /// The joints 1..n as arrays: `qmin`, `qmax`, `offset`, `gain` (K).
+    #[getter]
+    fn joints<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        columns(
+            py,
+            self.robot().joints(),
+            &[
+                ("qmin", |j| j.qmin),
+                ("qmax", |j| j.qmax),
+                ("offset", |j| j.offset),
+                ("gain", |j| j.gain),
+            ],
+        )
+    }
+
+    /// The motor coupling matrix Cm of eq. 4 (n×n).
+    #[getter]
+    fn motor_coupling<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        matrix(py, self.robot().motor_coupling())
+    }
+
+    /// The joint coupling matrix Cj of eq. 4 (n×n).
+    #[getter]
+    fn joint_coupling<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        matrix(py, self.robot().joint_coupling())
+    }
+
+    /// The priority matrix ((n+2)×6: α, d, θ, r, β, K per frame; 0 = not
+    /// identified, larger first), the paper's default rules unless set.
+    /// Set it to an array, a priority file's path, or None for the defaults.
+    #[getter]
+    fn priority<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<i64>>> {
+        let rows = self.robot().priority();
+        let values = rows
+            .rows()
+            .iter()
+            .flatten()
+            .map(|v| i64::from(*v))
+            .collect();
+        integer_array(py, &[rows.rows().len(), 6], values)
+    }
+
+    #[setter]
+    fn set_priority(&mut self, priority: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let matrix = priority
+            .map(|value| priority_matrix(self.robot(), value))
+            .transpose()?;
+        self.file.robot.set_priority_override(matrix).py()
+    }
+
+    /// The same robot in another world frame and with another tool frame:
+    /// `world` maps old world coordinates to new ones, `tool` is the new tool
+    /// frame in the old one; each a 4×4 matrix or [x, y, z, qw, qx, qy, qz].
+    #[pyo3(signature = (world = None, tool = None))]
+    fn reframe(
+        &self,
+        world: Option<&Bound<'_, PyAny>>,
+        tool: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        let identity = IsometryMatrix3::identity();
+        let world = world
+            .map(|w| pose(w, "world"))
+            .transpose()?
+            .unwrap_or(identity);
+        let tool = tool
+            .map(|t| pose(t, "tool"))
+            .transpose()?
+            .unwrap_or(identity);
+        let robot = self.robot().reframed(&world, &tool).py()?;
+        let mut file = self.file.clone();
+        file.robot = robot;
+        Ok(PyRobot::new(file))
+    }
+
+    /// A copy (changes to it leave this robot alone).
+    fn copy(&self) -> Self {
+        let mut copy = PyRobot::new(self.file.clone());
+        copy.notes = self.notes.clone();
+        copy
+    }
+
+    fn __copy__(&self) -> Self {
+        self.copy()
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        self.copy()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Robot({:?}, {} joints {}, {} parameters)",
+            self.robot().name(),
+            self.robot().joint_count(),
+            self.robot().joint_letters(),
+            self.robot().parameters().len()
+        )
+    }
+
+    /// Direct geometric model (eq. 1): the pose of frame n+1 in the world
+    /// frame at motor variables `qm`. `qm` of shape (n,) gives a 4×4 matrix;
+    /// (m, n) gives (m, 4, 4), computed in one call without the GIL.
+    fn fk<'py>(
+        &self,
+        py: Python<'py>,
+        qm: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        self.batch(py, qm, &[4, 4], |model, chain, configuration, out| {
+            model.forward(configuration, chain).py()?;
+            homogeneous_rows(chain.world_from_tool(), out);
+            Ok(())
+        })
+    }
+
+    /// Poses of every frame 0..n+1 in the world frame: (n+2, 4, 4) for qm of
+    /// shape (n,), (m, n+2, 4, 4) for (m, n).
+    fn frames<'py>(
+        &self,
+        py: Python<'py>,
+        qm: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let count = self.robot().frames().len();
+        self.batch(
+            py,
+            qm,
+            &[count, 4, 4],
+            |model, chain, configuration, out| {
+                model.forward(configuration, chain).py()?;
+                for (frame, out) in out.chunks_exact_mut(16).enumerate() {
+                    homogeneous_rows(chain.world_from_frame(frame), out);
+                }
+                Ok(())
+            },
+        )
+    }
+
+    /// The 6×Np Jacobian of frame n+1 with respect to every geometric
+    /// parameter (Appendix II; rows dx, dy, dz, δx, δy, δz in the world frame,
+    /// columns in `parameter_names` order). (m, n) gives (m, 6, Np).
+    fn jacobian<'py>(
+        &self,
+        py: Python<'py>,
+        qm: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let columns = self.model.parameter_count();
+        let mut rows = Vec::with_capacity(6 * columns);
+        self.batch(
+            py,
+            qm,
+            &[6, columns],
+            move |model, chain, configuration, out| {
+                model.forward(configuration, chain).py()?;
+                model.jacobian_rows(chain, &mut rows, JacobianRows::Full);
+                out.copy_from_slice(&rows);
+                Ok(())
+            },
+        )
+    }
+
+    /// Numerical inverse geometric model: motor variables qm that put frame
+    /// n+1 at `target`: a 4×4 pose, [x, y, z, qw, qx, qy, qz], or a point
+    /// [x, y, z] (orientation free). Without `start`, tries the middle of the
+    /// joint ranges and then seeded random starts, as `gecaro ik`.
+    /// Raises NotConvergedError when the target is not reached.
+    #[pyo3(signature = (target, start = None, *, respect_limits = true, tolerance = 1e-12, max_iterations = 200))]
+    fn ik<'py>(
+        &self,
+        py: Python<'py>,
+        target: &Bound<'py, PyAny>,
+        start: Option<&Bound<'py, PyAny>>,
+        respect_limits: bool,
+        tolerance: f64,
+        max_iterations: usize,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let point = Real::new(target, "target", "a pose or a point")?;
+        let target = match point.shape[..] {
+            [3] => Target::Position(Vector3::from_column_slice(&point.values)),
+            _ => Target::Frame(pose(target, "target")?),
+        };
+        let start = start
+            .map(|start| Real::shaped(start, "start", &[Some(self.robot().joint_count())]))
+            .transpose()?;
+        let options = InverseOptions {
+            max_iterations,
+            tolerance,
+            respect_limits,
+        };
+        let robot = self.robot();
+        let solution = py.detach(|| match &start {
+            Some(start) => inverse_kinematics(robot, &target, &start.values, &options),
+            None => gecaro_calib::solve_from_starts(robot, &target, &options, 1),
+        });
+        let solution = solution.map_err(|error| match (&start, error) {
+            (None, error @ gecaro_core::Error::Unreachable { .. }) => {
+                crate::errors::NotConvergedError::new_err(format!(
+                    "{error} (tried the middle of the joint ranges and {} random starts; \
+                     start= chooses another)",
+                    gecaro_calib::RANDOM_STARTS
+                ))
+            }
+            (_, error) => crate::errors::ToPyErr::to_py(error),
+        })?;
+        array(
+            py,
+            &[solution.motor_positions.len()],
+            solution.motor_positions,
+        )
+    }
+
+    /// Joint variables q = Cj·diag(K)·Cm·qm + offset (eq. 4) of motor
+    /// variables qm, shape (n,) or (m, n).
+    fn joint_positions<'py>(
+        &self,
+        py: Python<'py>,
+        qm: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let robot = self.robot();
+        let n = robot.joint_count();
+        self.batch(py, qm, &[n], |_, _, configuration, out| {
+            out.copy_from_slice(robot.joint_positions(configuration).py()?.as_slice());
+            Ok(())
+        })
+    }
+
+    /// Motor variables qm of joint variables q (eq. 4 inverted), shape (n,)
+    /// or (m, n).
+    fn motor_positions<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let robot = self.robot();
+        let n = robot.joint_count();
+        self.batch(py, q, &[n], |_, _, configuration, out| {
+            out.copy_from_slice(robot.motor_positions(configuration).py()?.as_slice());
+            Ok(())
+        })
+    }
+}
+
+fn matrix<'py>(py: Python<'py>, matrix: &DMatrix<f64>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let values = (0..matrix.nrows())
+        .flat_map(|row| (0..matrix.ncols()).map(move |column| matrix[(row, column)]))
+        .collect();
+    array(py, &[matrix.nrows(), matrix.ncols()], values)
+}
+
+/// A robot converted to another format (`Robot.export`).
+#[pyclass(name = "Exported", module = "gecaro", frozen)]
+pub(crate) struct Exported {
+    exported: gecaro_io::Exported,
+}
+
+#[pymethods]
+impl Exported {
+    /// The text of the file (URDF XML, or a DH table in TOML).
+    #[getter]
+    fn text(&self) -> &str {
+        &self.exported.text
+    }
+
+    /// The joint calibration (YAML) that a driver must apply when gains or
+    /// couplings cannot be written in the format; None when not needed.
+    #[getter]
+    fn joint_calibration(&self) -> Option<&str> {
+        self.exported.joint_calibration.as_deref()
+    }
+
+    /// What the conversion changed or moved elsewhere.
+    #[getter]
+    fn notes(&self) -> Vec<String> {
+        self.exported.notes.clone()
+    }
+
+    /// Writes the file and, when there is one, the joint calibration beside it
+    /// (`FILE.joint_calibration.yaml`): both or neither. Returns the paths written.
+    #[pyo3(signature = (path, *, overwrite = false))]
+    fn save(&self, path: PathBuf, overwrite: bool) -> PyResult<Vec<PathBuf>> {
+        self.exported.write(&path, output_policy(overwrite)).py()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Exported({} bytes{})",
+            self.exported.text.len(),
+            if self.exported.joint_calibration.is_some() {
+                ", with a joint calibration"
+            } else {
+                ""
+            }
+        )
+    }
+}
+
+/// Names of the ready robots shipped with gecaro (`Robot.load(name)`).
+#[pyfunction]
+pub(crate) fn ready_robots() -> Vec<&'static str> {
+    gecaro_io::ready_robots()
+        .iter()
+        .map(|ready| ready.name)
+        .collect()
+}

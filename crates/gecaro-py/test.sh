@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# The Python package's tests: builds and installs `gecaro` into a fresh
+# virtual environment (as a user would: pip install ./crates/gecaro-py), runs
+# the pytest suite against it and the command line, then the Python examples.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+
+venv="$PWD/target/python-test-venv"
+rm -rf "$venv"
+python3 -m venv "$venv"
+"$venv/bin/python" -m pip install --quiet --upgrade pip
+"$venv/bin/python" -m pip install --quiet -r crates/gecaro-py/requirements-test.txt
+"$venv/bin/python" -m pip install --quiet ./crates/gecaro-py
+
+# The command line the results are compared with.
+cargo build --locked --bin gecaro
+export GECARO_CLI="$PWD/target/debug/gecaro"
+
+(cd crates/gecaro-py && "$venv/bin/python" -m pytest -q)
+for example in examples/python/*.py; do
+    echo "== $example"
+    "$venv/bin/python" "$example"
+done

@@ -1,0 +1,197 @@
+"""Points generation, identifiable parameters, identification and evaluation:
+the same numbers as the command line on the same inputs and seeds, bit for bit."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import gecaro
+
+PLANE = ["--plane-normal", "0.3,0.5,0.81", "--plane-point", "0.3,0.2,0.6"]
+# (method, configurations, command-line options, Python options)
+METHODS = [
+    ("position", 40, [], {}),
+    ("frame", 30, [], {}),
+    ("point-link", 80, [], {}),
+    ("frame-link", 60, [], {}),
+    ("plane1", 120, PLANE, {"plane_normal": [0.3, 0.5, 0.81], "plane_point": [0.3, 0.2, 0.6]}),
+    ("plane2", 120, PLANE, {"plane_normal": [0.3, 0.5, 0.81], "plane_point": [0.3, 0.2, 0.6]}),
+    ("distance", 200, [], {}),
+]
+
+
+def assert_same_data(data: gecaro.Data, other: gecaro.Data) -> None:
+    for field in ["qm", "position", "orientation", "group", "distance"]:
+        mine, theirs = getattr(data, field), getattr(other, field)
+        assert (mine is None) == (theirs is None), field
+        if mine is None:
+            continue
+        if field == "orientation":
+            # A file's quaternions are normalised when read: equal to the last bit or two.
+            assert np.abs(mine - theirs).max() <= 2e-16, field
+        else:
+            assert np.array_equal(mine, theirs), field
+
+
+@pytest.mark.parametrize("name,count,cli_options,options", METHODS)
+def test_every_method_equals_the_command_line(
+    cli, tmp_path, monkeypatch, name, count, cli_options, options
+):
+    monkeypatch.chdir(tmp_path)  # data files named as the command line names them
+    robot = gecaro.Robot.load("stanford")
+    method = gecaro.Method(name, **options)
+    # Points generation: the same configurations and measurements.
+    cli.run(
+        "generate", "stanford", "--method", name, *cli_options, "--count", count,
+        "--error-level", "1", "--noise", "1e-5", "--seed", "3", "-o", "data.csv",
+        "--real-out", "real.toml",
+    )
+    generation = gecaro.generate(robot, method, count, error_level=1.0, noise=1e-5, seed=3)
+    from_file = gecaro.Data.read("data.csv", robot, method)
+    assert_same_data(generation.data, from_file)
+    assert generation.real.to_toml() == (tmp_path / "real.toml").read_text()
+    assert generation.data.to_csv(method) == (tmp_path / "data.csv").read_text()
+    # Identification: the --json document, and the calibrated robot file.
+    document = cli.json(
+        "identify", "stanford", "--method", name, *cli_options, "--data", "data.csv",
+        "-o", "calibrated.toml",
+    )
+    result = gecaro.identify(robot, method, from_file)
+    assert result.to_dict() == document
+    assert result.converged and document["converged"]
+    assert result.calibrated.to_toml() == (tmp_path / "calibrated.toml").read_text()
+    # The result's attributes are the document's numbers.
+    assert [p.name for p in result.parameters] == [p["name"] for p in document["parameters"]]
+    assert [p.std for p in result.parameters] == [p["std"] for p in document["parameters"]]
+    assert result.after.rms == document["after"]["rms"]
+    assert list(result.history["rms"]) == document["rms_history"]
+    # Identifiable parameters on the data.
+    assert gecaro.identifiable(robot, method, from_file).to_dict() == cli.json(
+        "identifiable", "stanford", "--method", name, *cli_options, "--data", "data.csv"
+    )
+    # Evaluation of the calibrated robot.
+    assert gecaro.evaluate(result.calibrated, method, from_file).to_dict() == cli.json(
+        "evaluate", "calibrated.toml", "--method", name, *cli_options, "--data", "data.csv"
+    )
+
+
+def test_identification_finds_the_simulated_truth():
+    robot = gecaro.Robot.load("stanford")
+    generation = gecaro.generate(robot, "frame", 60, error_level=1.0, noise=0.0, seed=11)
+    result = gecaro.identify(robot, "frame", generation.data)
+    real, calibrated = generation.real, result.calibrated
+    # The calibrated robot moves as the real one (the parameters themselves
+    # are known only up to the regrouping of Appendix III).
+    qm = np.random.default_rng(2).uniform(-1, 1, size=(50, robot.joint_count))
+    assert np.abs(calibrated.fk(qm) - real.fk(qm)).max() < 1e-8
+    assert result.after.rms < 1e-9 < result.before.rms
+
+
+def test_random_identifiability_equals_the_command_line(cli):
+    robot = gecaro.Robot.load("puma560")
+    for name in ["position", "distance"]:
+        analysis = gecaro.identifiable(robot, name, seed=5)
+        assert analysis.to_dict() == cli.json(
+            "identifiable", "puma560", "--method", name, "--seed", "5"
+        )
+        assert analysis.count == len([s for s in analysis.statuses.values() if s == "identifiable"]) - len(
+            [n for n in analysis.identifiable if n not in robot.parameter_names]
+        )
+        for base, absorbed in analysis.relations:
+            assert analysis.statuses[base] == "identifiable"
+            assert all(analysis.statuses[name] == "regrouped" for name, _ in absorbed)
+
+
+def test_a_study_file_equals_the_command_line(cli, repository):
+    folder = repository / "examples" / "real" / "ur10e_camera"
+    study = gecaro.Study.read(folder / "study_frames.toml")
+    assert study.robot is not None and study.priority is not None
+    result = gecaro.identify(study.robot, study)
+    assert result.to_dict() == cli.json("identify", "--study", folder / "study_frames.toml")
+    test = gecaro.Data.read(folder / "test.csv", study.robot, "frame")
+    before = gecaro.evaluate(study.robot, "frame", test)
+    after = gecaro.evaluate(result.calibrated, "frame", test)
+    assert after.rms < before.rms
+
+
+def test_a_study_built_from_sets_weights_them(tmp_path):
+    robot = gecaro.Robot.load("stanford")
+    positions = gecaro.generate(robot, "position", 30, noise=1e-5, seed=1)
+    distances = gecaro.generate(robot, "distance", 100, noise=1e-5, seed=1)
+    study = gecaro.Study()
+    study.add("position", positions.data, sigma=1e-5)
+    study.add("distance", distances.data, sigma=1e-5)
+    assert len(study) == 2 and study.methods == "position+distance"
+    result = gecaro.identify(robot, study)
+    assert result.converged
+    assert study.sets[1]["method"].name == "distance"
+    assert np.array_equal(study.sets[0]["data"].qm, positions.data.qm)
+
+
+def test_data_from_arrays_and_files_are_the_same(tmp_path):
+    robot = gecaro.Robot.load("stanford")
+    generation = gecaro.generate(robot, "frame", 20, noise=1e-5, seed=4)
+    data = generation.data
+    rebuilt = gecaro.Data(data.qm, position=data.position, orientation=data.orientation)
+    assert_same_data(rebuilt, data)
+    rebuilt.write(tmp_path / "frame.csv", "frame")
+    assert_same_data(gecaro.Data.read(tmp_path / "frame.csv", robot, "frame"), data)
+    # Quaternions are normalised on the way in, so the results agree to rounding.
+    first = gecaro.identify(robot, "frame", data)
+    second = gecaro.identify(robot, "frame", rebuilt)
+    assert np.allclose(first.calibrated.parameters, second.calibrated.parameters, atol=1e-12)
+
+
+def test_tracker_units_and_columns(repository, cli):
+    folder = repository / "examples" / "tracker"
+    robot = gecaro.Robot.import_file(folder / "kr16_2.urdf")
+    columns = {f"qm{j}": f"A{j}" for j in range(1, 7)} | {"x": "X", "y": "Y", "z": "Z"}
+    data = gecaro.Data.read(
+        folder / "tracker.csv", robot, "position", length_unit="mm", angle_unit="deg", columns=columns
+    )
+    assert data.unused_columns == ["Time_s", "Point"]
+    result = gecaro.identify(robot, "position", data)
+    assert result.after.rms < 1e-4 < result.before.rms
+    text = ",".join(f"{k}={v}" for k, v in columns.items())
+    assert gecaro.Data.read(
+        folder / "tracker.csv", robot, "position", length_unit="mm", angle_unit="deg", columns=text
+    ).qm.tolist() == data.qm.tolist()
+
+
+def test_progress_is_reported_and_a_callback_can_stop_the_identification():
+    robot = gecaro.Robot.load("stanford")
+    data = gecaro.generate(robot, "position", 50, noise=1e-5, seed=2).data
+    seen = []
+    result = gecaro.identify(robot, "position", data, progress=lambda i, rms: seen.append((i, rms)))
+    assert [rms for _, rms in seen] == list(result.history["rms"])
+
+    def stop(iteration, rms):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        gecaro.identify(robot, "position", data, progress=stop)
+
+    class Enough(Exception):
+        pass
+
+    def enough(iteration, rms):
+        if iteration == 1:
+            raise Enough
+
+    with pytest.raises(Enough):
+        gecaro.identify(robot, "position", data, progress=enough)
+
+
+def test_the_html_report(tmp_path):
+    robot = gecaro.Robot.load("stanford")
+    data = gecaro.generate(robot, "position", 40, noise=1e-5, seed=2).data
+    result = gecaro.identify(robot, "position", data)
+    html = result.report(tmp_path / "report.html")
+    assert html.startswith("<!DOCTYPE html>") and "<svg" in html
+    assert (tmp_path / "report.html").read_text() == html
+    with pytest.raises(gecaro.InputError, match="already exists"):
+        result.report(tmp_path / "report.html")
+    assert json.loads(result.to_json()) == result.to_dict()

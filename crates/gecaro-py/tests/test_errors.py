@@ -1,0 +1,207 @@
+"""Every failure is a gecaro exception with the command line's message."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import textwrap
+import warnings
+
+import numpy as np
+import pytest
+
+import gecaro
+
+
+def one_line(text: str) -> str:
+    return " ".join(text.split())
+
+
+def test_the_exception_classes():
+    assert issubclass(gecaro.InputError, gecaro.GecaroError)
+    assert issubclass(gecaro.InputError, ValueError)
+    assert issubclass(gecaro.NotIdentifiableError, gecaro.NumericalError)
+    assert issubclass(gecaro.NotConvergedError, gecaro.NumericalError)
+    assert issubclass(gecaro.NumericalError, gecaro.GecaroError)
+
+
+def test_a_malformed_robot_file_names_file_line_and_key(cli, tmp_path):
+    path = tmp_path / "bad.toml"
+    text = gecaro.Robot.load("stanford").to_toml().replace("sigma = 0\n", "sigma = 7\n", 1)
+    path.write_text(text)
+    with pytest.raises(gecaro.InputError) as raised:
+        gecaro.Robot.load(path)
+    message = str(raised.value)
+    assert "bad.toml" in message and "sigma" in message
+    assert one_line(message) in one_line(cli.run("robot", "show", path, expect=3).stderr)
+
+
+def test_unknown_robots_methods_and_options(cli):
+    with pytest.raises(gecaro.InputError, match="stanford") as raised:
+        gecaro.Robot.load("nosuchrobot")
+    assert one_line(str(raised.value)) in one_line(
+        cli.run("robot", "show", "nosuchrobot", expect=3).stderr
+    )
+    with pytest.raises(gecaro.InputError, match="unknown method `telepathy`"):
+        gecaro.Method("telepathy")
+    with pytest.raises(gecaro.InputError, match="plane_normal and plane_point"):
+        gecaro.Method("plane1", plane_normal=[0, 0, 1])
+    with pytest.raises(gecaro.InputError, match="known plane needs"):
+        gecaro.Method("plane1", plane="known")
+    with pytest.raises(gecaro.InputError, match="at least 2"):
+        gecaro.Method("point-link", set_size=1)
+    with pytest.raises(gecaro.InputError, match="orientation"):
+        gecaro.Method("frame", orientation="euler")
+    with pytest.raises(gecaro.InputError, match="gecaro.Method or a method's name"):
+        gecaro.identify(gecaro.Robot.load("stanford"), 42, None)
+    with pytest.raises(gecaro.InputError, match="solver"):
+        robot = gecaro.Robot.load("stanford")
+        gecaro.identify(robot, "position", gecaro.generate(robot, "position", 30).data, solver="newton")
+
+
+@pytest.mark.parametrize(
+    "value,message",
+    [
+        (np.zeros(5), r"qm: expected an array of shape \(6,\) or \(m, 6\), got an array of shape \(5,\)"),
+        (np.zeros((2, 3, 6)), r"got an array of shape \(2, 3, 6\)"),
+        (np.zeros(6, dtype=complex), "of real numbers, got an array of dtype complex128"),
+        (["a"] * 6, "of real numbers, got an array of dtype <U1"),
+        ([[0.0] * 6, [0.0] * 5], "qm: expected"),
+    ],
+)
+def test_wrong_shapes_and_dtypes_are_value_errors_naming_the_shape(value, message):
+    robot = gecaro.Robot.load("stanford")
+    with pytest.raises(ValueError, match=message):
+        robot.fk(value)
+
+
+def test_non_finite_configurations_name_the_joint(cli):
+    robot = gecaro.Robot.load("stanford")
+    with pytest.raises(gecaro.InputError, match=r"qm2 is not a finite number \(NaN\)") as raised:
+        robot.fk([0.0, np.nan, 0.0, 0.0, 0.0, 0.0])
+    stderr = cli.run("fk", "stanford", "--qm", "0,NaN,0,0,0,0", expect=3).stderr
+    assert one_line(str(raised.value)) in one_line(stderr)
+
+
+def test_bad_data_arrays_and_files(cli, tmp_path):
+    robot = gecaro.Robot.load("stanford")
+    qm = np.zeros((4, 6))
+    with pytest.raises(gecaro.InputError, match=r"position: expected an array of shape \(4, 3\)"):
+        gecaro.Data(qm, position=np.zeros((3, 3)))
+    with pytest.raises(gecaro.InputError, match="orientation: row 0: .* not a unit quaternion"):
+        gecaro.Data(qm, orientation=np.zeros((4, 4)))
+    with pytest.raises(gecaro.InputError, match="not both"):
+        gecaro.Data(qm, set=[0, 0, 1, 1], pair=[0, 0, 1, 1])
+    with pytest.raises(gecaro.InputError, match="not ≥ 0"):
+        gecaro.Data(qm, set=[0, -1, 1, 1])
+    with pytest.raises(gecaro.InputError, match=r"<arrays>:0: missing x, y, z"):
+        gecaro.identify(robot, "position", gecaro.Data(qm))
+    positions = np.ones((4, 3))
+    positions[1, 0] = np.inf
+    with pytest.raises(gecaro.InputError, match=r"<arrays>:1: the measured position is not finite"):
+        gecaro.evaluate(robot, "position", gecaro.Data(qm, position=positions))
+    with pytest.raises(gecaro.InputError, match="row 0: missing x, y, z"):
+        gecaro.Data(qm).to_csv("position")
+    # A data file with a bad value: the command line's message, file and line.
+    path = tmp_path / "bad.csv"
+    path.write_text("qm1,qm2,qm3,qm4,qm5,qm6,x,y,z\n0,0,0.5,0,0,0,1,2,3\n0,0,0.5,0,zero,0,1,2,3\n")
+    with pytest.raises(gecaro.InputError) as raised:
+        gecaro.Data.read(path, robot, "position")
+    assert "bad.csv:3" in str(raised.value)
+    stderr = cli.run("identify", "stanford", "--method", "position", "--data", path, expect=3).stderr
+    assert one_line(str(raised.value)) in one_line(stderr)
+    with pytest.raises(gecaro.InputError, match="length_unit"):
+        gecaro.Data.read(path, robot, "position", length_unit="inch")
+    with pytest.raises(gecaro.InputError, match="no data"):
+        gecaro.identify(robot, "position")
+
+
+def test_too_few_configurations_is_not_identifiable(cli, tmp_path):
+    robot = gecaro.Robot.load("stanford")
+    data = gecaro.generate(robot, "position", 4, seed=1).data
+    data.write(tmp_path / "few.csv", "position")
+    with pytest.raises(gecaro.NotIdentifiableError) as raised:
+        gecaro.identify(robot, "position", data)
+    stderr = cli.run("identify", "stanford", "--method", "position", "--data", "few.csv", expect=4).stderr
+    assert one_line(str(raised.value)) in one_line(stderr)
+
+
+def test_an_unconverged_identification_carries_its_best_iterate(cli, tmp_path):
+    robot = gecaro.Robot.load("stanford")
+    data = gecaro.generate(robot, "position", 50, error_level=3.0, noise=1e-5, seed=1).data
+    data.write(tmp_path / "data.csv", "position")
+    with pytest.raises(gecaro.NotConvergedError) as raised:
+        gecaro.identify(robot, "position", data, max_iterations=1)
+    result = raised.value.result
+    assert isinstance(result, gecaro.Identification) and not result.converged
+    assert result.stop_reason == "iteration_limit"
+    assert result.after.rms < result.before.rms
+    stderr = cli.run(
+        "identify", "stanford", "--method", "position", "--data", "data.csv",
+        "--max-iterations", "1", expect=4,
+    ).stderr
+    assert one_line(str(raised.value)).split(". ")[0] in one_line(stderr)
+
+
+def test_joint_values_outside_the_limits_warn_or_refuse(tmp_path):
+    robot = gecaro.Robot.load("stanford")
+    data = gecaro.generate(robot, "position", 40, seed=1).data
+    qm = data.qm
+    qm[3, 0] = 10.0
+    outside = gecaro.Data(qm, position=data.position)
+    with pytest.warns(gecaro.LimitWarning, match="q1 = 10 is above qmax"):
+        gecaro.evaluate(robot, "position", outside)
+    with pytest.raises(gecaro.InputError, match="strict_limits=True refuses"):
+        gecaro.evaluate(robot, "position", outside, strict_limits=True)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        gecaro.evaluate(robot, "position", data)
+
+
+def test_files_are_never_overwritten_unless_asked(tmp_path):
+    robot = gecaro.Robot.load("stanford")
+    path = tmp_path / "robot.toml"
+    path.write_text("keep me")
+    with pytest.raises(gecaro.InputError, match="overwrite=True"):
+        robot.save(path)
+    assert path.read_text() == "keep me"
+    robot.save(path, overwrite=True)
+    assert gecaro.Robot.load(path).to_toml() == robot.to_toml()
+    with pytest.raises(gecaro.InputError, match="does not exist"):
+        robot.save(tmp_path / "missing" / "robot.toml")
+
+
+def test_ctrl_c_interrupts_a_long_call(tmp_path):
+    """A real SIGINT while a long batched call runs without the GIL."""
+    script = tmp_path / "long.py"
+    script.write_text(
+        textwrap.dedent(
+            """
+            import sys, time, numpy as np, gecaro
+            robot = gecaro.Robot.load("stanford")
+            qm = np.zeros((3_000_000, 6))
+            print("ready", flush=True)
+            started = time.perf_counter()
+            try:
+                for _ in range(100):
+                    robot.jacobian(qm)
+            except KeyboardInterrupt:
+                print(f"interrupted after {time.perf_counter() - started:.2f} s", flush=True)
+                sys.exit(0)
+            print("not interrupted", flush=True)
+            sys.exit(1)
+            """
+        )
+    )
+    process = subprocess.Popen(
+        [sys.executable, str(script)], stdout=subprocess.PIPE, text=True
+    )
+    assert process.stdout.readline().strip() == "ready"
+    import signal
+    import time
+
+    time.sleep(0.5)
+    process.send_signal(signal.SIGINT)
+    output, _ = process.communicate(timeout=60)
+    assert process.returncode == 0, output
+    assert output.startswith("interrupted after")
