@@ -17,8 +17,6 @@ outlier loop and reports: the base kinematic regressor and its QR
 from __future__ import annotations
 
 import logging
-import statistics
-import sys
 import tempfile
 import time
 import warnings
@@ -34,18 +32,10 @@ from figaroh.calibration.config import unified_to_legacy_config
 from figaroh.calibration.parameter import add_pee_name
 from scipy.optimize import least_squares
 
-import gecaro
+from comparison import counts, gecaro_identify, measurements, panda_without_beta_or_gains
 
 warnings.simplefilter("ignore")
 logging.disable(logging.WARNING)
-
-
-def panda_without_beta_or_gains() -> gecaro.Robot:
-    robot = gecaro.Robot.load("panda")
-    priority = robot.priority
-    priority[:, 4:] = 0  # as compare_pybotics.py: the same truth for both
-    robot.priority = priority
-    return robot
 
 
 def figaroh_identify(urdf: Path, q: np.ndarray, measured: np.ndarray):
@@ -79,22 +69,17 @@ def figaroh_identify(urdf: Path, q: np.ndarray, measured: np.ndarray):
 
 
 def main() -> None:
-    counts = [int(arg) for arg in sys.argv[1:]] or [50, 500, 5000]
     nominal = panda_without_beta_or_gains()
     with tempfile.TemporaryDirectory() as folder:
         urdf = Path(folder) / "panda.urdf"
         nominal.export("urdf").save(urdf)
         print(f"{'m':>6} | {'gecaro':>10} {'before':>9} {'after':>9} | {'FIGAROH':>9} {'before':>9} {'after':>9} {'unknowns':>8}")
-        for count in counts:
-            data = gecaro.generate(nominal, "position", count, error_level=0.1, noise=1e-5, seed=1).data
-            times = []
-            for _ in range(20):
-                started = time.perf_counter()
-                result = gecaro.identify(nominal, "position", data)
-                times.append(time.perf_counter() - started)
+        for count in counts():
+            data = measurements(nominal, count)
+            gecaro_time, result = gecaro_identify(nominal, data)
             elapsed, before, after, unknowns, _ = figaroh_identify(urdf, data.qm, data.position)
             print(
-                f"{count:>6} | {statistics.median(times) * 1e3:>7.2f} ms {result.before.rms * 1e3:>6.3f} mm "
+                f"{count:>6} | {gecaro_time * 1e3:>7.2f} ms {result.before.rms * 1e3:>6.3f} mm "
                 f"{result.after.rms * 1e3:>6.4f} mm | {elapsed:>7.2f} s {before * 1e3:>6.3f} mm "
                 f"{after * 1e3:>6.4f} mm {unknowns:>8}"
             )

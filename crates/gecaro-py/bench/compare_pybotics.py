@@ -23,10 +23,7 @@ prints each one's time and residual.
 
 from __future__ import annotations
 
-import statistics
-import sys
 import time
-import warnings
 
 import numpy as np
 from pybotics.geometry import matrix_2_vector, vector_2_matrix
@@ -36,16 +33,7 @@ from pybotics.tool import Tool
 from scipy.optimize import least_squares
 
 import gecaro
-
-warnings.simplefilter("ignore", gecaro.LimitWarning)
-
-
-def panda_without_beta_or_gains() -> gecaro.Robot:
-    robot = gecaro.Robot.load("panda")
-    priority = robot.priority
-    priority[:, 4:] = 0  # β and K: not expressible in pybotics' MDH model
-    robot.priority = priority
-    return robot
+from comparison import counts, gecaro_identify, measurements, panda_without_beta_or_gains
 
 
 def pybotics_robot(robot: gecaro.Robot) -> PyboticsRobot:
@@ -89,21 +77,15 @@ def pybotics_identify(model: PyboticsRobot, q: np.ndarray, measured: np.ndarray)
 
 
 def main() -> None:
-    counts = [int(arg) for arg in sys.argv[1:]] or [50, 500, 5000]
     nominal = panda_without_beta_or_gains()
     model = pybotics_robot(nominal)
     qm = np.random.default_rng(1).uniform(-1, 1, size=(100, nominal.joint_count))
     gap = max(np.abs(model.fk(nominal.joint_positions(x)) - nominal.fk(x)).max() for x in qm)
     print(f"pybotics and gecaro models agree to {gap:.1e}")
     print(f"{'m':>6} | {'gecaro':>10} {'RMS after':>11} | {'pybotics':>10} {'RMS after':>11} {'fk calls':>9}")
-    for count in counts:
-        data = gecaro.generate(nominal, "position", count, error_level=0.1, noise=1e-5, seed=1).data
-        times = []
-        for _ in range(20):
-            started = time.perf_counter()
-            result = gecaro.identify(nominal, "position", data)
-            times.append(time.perf_counter() - started)
-        gecaro_time = statistics.median(times)
+    for count in counts():
+        data = measurements(nominal, count)
+        gecaro_time, result = gecaro_identify(nominal, data)
         q = nominal.joint_positions(data.qm)
         model = pybotics_robot(nominal)
         started = time.perf_counter()

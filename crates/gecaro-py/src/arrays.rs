@@ -191,3 +191,12 @@ pub(crate) fn columns<'py, T>(
     }
     Ok(dict)
 }
+
+/// A priority matrix's rows (α, d, θ, r, β, K per frame) as an (n+2, 6) int64 array.
+pub(crate) fn priority_array<'py>(
+    py: Python<'py>,
+    rows: &[[u32; 6]],
+) -> PyResult<Bound<'py, PyArrayDyn<i64>>> {
+    let values = rows.iter().flatten().map(|v| i64::from(*v)).collect();
+    integer_array(py, &[rows.len(), 6], values)
+}

@@ -19,7 +19,7 @@ use numpy::PyArrayDyn;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::{array, columns, integer_array};
+use crate::arrays::{array, columns, priority_array};
 use crate::data::PyData;
 use crate::errors::{IntoPyResult, LimitWarning, NotConvergedError, input};
 use crate::interrupt::Watch;
@@ -297,9 +297,7 @@ impl PyIdentifiability {
     /// The new priority matrix ((n+2)×6; non-identifiable parameters set to 0).
     #[getter]
     fn priority<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<i64>>> {
-        let rows = &self.json.priority_matrix;
-        let values = rows.iter().flatten().map(|v| i64::from(*v)).collect();
-        integer_array(py, &[rows.len(), 6], values)
+        priority_array(py, &self.json.priority_matrix)
     }
 
     /// For measured data, whether they excite the structural base set:

@@ -22,7 +22,7 @@ use numpy::PyArrayDyn;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::{Real, array, columns, integer_array};
+use crate::arrays::{Real, array, columns, integer_array, priority_array};
 use crate::errors::{IntoPyResult, input};
 use crate::interrupt::Watch;
 
@@ -563,14 +563,7 @@ impl PyRobot {
     /// Set it to an array, a priority file's path, or None for the defaults.
     #[getter]
     fn priority<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<i64>>> {
-        let rows = self.robot().priority();
-        let values = rows
-            .rows()
-            .iter()
-            .flatten()
-            .map(|v| i64::from(*v))
-            .collect();
-        integer_array(py, &[rows.rows().len(), 6], values)
+        priority_array(py, self.robot().priority().rows())
     }
 
     #[setter]

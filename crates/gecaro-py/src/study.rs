@@ -9,7 +9,7 @@ use numpy::PyArrayDyn;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::integer_array;
+use crate::arrays::priority_array;
 use crate::calibration::method_of;
 use crate::data::PyData;
 use crate::errors::IntoPyResult;
@@ -92,15 +92,7 @@ impl PyStudy {
     fn priority<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArrayDyn<i64>>>> {
         self.priority
             .as_ref()
-            .map(|matrix| {
-                let values = matrix
-                    .rows()
-                    .iter()
-                    .flatten()
-                    .map(|v| i64::from(*v))
-                    .collect();
-                integer_array(py, &[matrix.rows().len(), 6], values)
-            })
+            .map(|matrix| priority_array(py, matrix.rows()))
             .transpose()
     }
 

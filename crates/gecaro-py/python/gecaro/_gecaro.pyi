@@ -5,6 +5,7 @@ poses are 4×4 homogeneous matrices of frame n+1 in the world frame.
 """
 
 import os
+import pathlib
 from typing import Callable, Literal, Mapping, Optional, Sequence, Union
 
 import numpy as np
@@ -150,7 +151,7 @@ class Exported:
         """YAML for the driver when gains or couplings cannot be written in the format."""
     @property
     def notes(self) -> list[str]: ...
-    def save(self, path: PathLike, *, overwrite: bool = False) -> list[str]:
+    def save(self, path: PathLike, *, overwrite: bool = False) -> list[pathlib.Path]:
         """Writes the file and its joint calibration (both or neither)."""
 
 class Method:
