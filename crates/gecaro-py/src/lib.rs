@@ -13,6 +13,7 @@
 //! | [`data`] | `Data` (arrays ↔ data files) |
 //! | [`study`] | `Study` (several sets, study files) |
 //! | [`calibration`] | `generate`, `identifiable`, `identify`, `evaluate` and their results |
+//! | [`compensation`] | `compensate`, `Compensation` |
 //!
 //! Units everywhere: metres and radians (file readers convert from mm and
 //! degrees when told).
@@ -21,6 +22,7 @@ use pyo3::prelude::*;
 
 mod arrays;
 mod calibration;
+mod compensation;
 mod data;
 mod errors;
 mod interrupt;
@@ -41,11 +43,13 @@ fn _gecaro(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_class::<calibration::PyIdentification>()?;
     module.add_class::<calibration::PyParameter>()?;
     module.add_class::<calibration::PyErrorSummary>()?;
+    module.add_class::<compensation::PyCompensation>()?;
     module.add_function(wrap_pyfunction!(robot::ready_robots, module)?)?;
     module.add_function(wrap_pyfunction!(methods::methods, module)?)?;
     module.add_function(wrap_pyfunction!(calibration::generate, module)?)?;
     module.add_function(wrap_pyfunction!(calibration::identifiable, module)?)?;
     module.add_function(wrap_pyfunction!(calibration::identify, module)?)?;
     module.add_function(wrap_pyfunction!(calibration::evaluate, module)?)?;
+    module.add_function(wrap_pyfunction!(compensation::compensate, module)?)?;
     Ok(())
 }

@@ -15,6 +15,7 @@ its mapping to the command line.
 
 from . import errors
 from ._gecaro import (
+    Compensation,
     Data,
     ErrorSummary,
     Exported,
@@ -26,6 +27,7 @@ from ._gecaro import (
     Robot,
     Study,
     __version__,
+    compensate,
     evaluate,
     generate,
     identifiable,
@@ -43,6 +45,7 @@ from .errors import (
 )
 
 __all__ = [
+    "Compensation",
     "Data",
     "ErrorSummary",
     "Exported",
@@ -60,6 +63,7 @@ __all__ = [
     "Robot",
     "Study",
     "__version__",
+    "compensate",
     "errors",
     "evaluate",
     "generate",

@@ -408,3 +408,35 @@ def evaluate(
     strict_limits: bool = False,
 ) -> ErrorSummary:
     """Errors of a robot on measured data, as ``gecaro evaluate``."""
+
+class Compensation:
+    """A robot program corrected for the calibrated robot."""
+
+    @property
+    def qm(self) -> FloatArray:
+        """(m, n) motor values to send."""
+    @property
+    def position_error(self) -> FloatArray:
+        """(m,) distance (m) between target and calibrated robot at ``qm``."""
+    @property
+    def rotation_error(self) -> FloatArray:
+        """(m,) angle (rad); NaN for point targets."""
+    @property
+    def status(self) -> list[str]:
+        """Per target: "ok", "outside-limits" or "not-reached"."""
+    @property
+    def flagged(self) -> list[int]:
+        """Rows whose target is outside-limits or not-reached."""
+    def __len__(self) -> int: ...
+
+def compensate(
+    nominal: Robot,
+    calibrated: Robot,
+    *,
+    joints: Optional[ArrayLike] = None,
+    positions: Optional[ArrayLike] = None,
+    poses: Optional[ArrayLike] = None,
+    match: Literal["pose", "position"] = "pose",
+) -> Compensation:
+    """Program compensation, as ``gecaro compensate``; NotConvergedError (with
+    ``.result``) when targets are flagged."""

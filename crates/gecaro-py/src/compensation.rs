@@ -1,0 +1,227 @@
+//! `gecaro.compensate`: a robot program corrected for the calibrated robot
+//! (`gecaro compensate`): the motor values with which the calibrated robot
+//! reaches what the nominal program meant.
+
+use gecaro_calib::{
+    CompensatedPoint, CompensationStatus, Match, ProgramPoint, ProgramTarget, compensate as correct,
+};
+use nalgebra::Vector3;
+use numpy::PyArrayDyn;
+use pyo3::prelude::*;
+
+use crate::arrays::{Real, array};
+use crate::errors::{NotConvergedError, input};
+use crate::interrupt::Watch;
+use crate::robot::{PyRobot, pose};
+
+/// A corrected program.
+#[pyclass(name = "Compensation", module = "gecaro", frozen)]
+pub(crate) struct PyCompensation {
+    points: Vec<CompensatedPoint>,
+    joint_count: usize,
+}
+
+#[pymethods]
+impl PyCompensation {
+    /// The motor values to send, (m, n); a target not reached keeps the
+    /// program's joints (or the previous solution).
+    #[getter]
+    fn qm<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let values = self
+            .points
+            .iter()
+            .flat_map(|point| point.motor_positions.iter().copied())
+            .collect();
+        array(py, &[self.points.len(), self.joint_count], values)
+    }
+
+    /// Distance (m) between each target point and where the calibrated robot
+    /// puts frame n+1 at `qm`, (m,).
+    #[getter]
+    fn position_error<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let values = self
+            .points
+            .iter()
+            .map(|point| point.position_error)
+            .collect();
+        array(py, &[self.points.len()], values)
+    }
+
+    /// Angle (rad) between each target orientation and the calibrated
+    /// robot's, (m,); NaN for point targets.
+    #[getter]
+    fn rotation_error<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let values = self
+            .points
+            .iter()
+            .map(|point| point.rotation_error.unwrap_or(f64::NAN))
+            .collect();
+        array(py, &[self.points.len()], values)
+    }
+
+    /// Per target: "ok", "outside-limits" (reached only beyond a joint
+    /// limit) or "not-reached".
+    #[getter]
+    fn status(&self) -> Vec<&'static str> {
+        self.points
+            .iter()
+            .map(|point| point.status.word())
+            .collect()
+    }
+
+    /// Rows (0-based) whose target is flagged (outside-limits or not-reached).
+    #[getter]
+    fn flagged(&self) -> Vec<usize> {
+        self.points
+            .iter()
+            .enumerate()
+            .filter(|(_, point)| point.status != CompensationStatus::Reached)
+            .map(|(row, _)| row)
+            .collect()
+    }
+
+    fn __len__(&self) -> usize {
+        self.points.len()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Compensation({} targets, {} flagged)",
+            self.points.len(),
+            self.flagged().len()
+        )
+    }
+}
+
+/// The program's targets from the arguments: joint targets, or points or
+/// poses with the program's joints as optional starts.
+fn program(
+    joint_count: usize,
+    joints: Option<&Bound<'_, PyAny>>,
+    positions: Option<&Bound<'_, PyAny>>,
+    poses: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Vec<ProgramPoint>> {
+    let joints = joints
+        .map(|joints| Real::shaped(joints, "joints", &[None, Some(joint_count)]))
+        .transpose()?;
+    let rows = |values: &Real| -> Vec<Vec<f64>> {
+        values
+            .values
+            .chunks_exact(joint_count)
+            .map(<[f64]>::to_vec)
+            .collect()
+    };
+    let targets: Vec<ProgramTarget> = match (positions, poses) {
+        (Some(_), Some(_)) => return Err(input("give `positions` or `poses`, not both")),
+        (Some(positions), None) => Real::shaped(positions, "positions", &[None, Some(3)])?
+            .values
+            .chunks_exact(3)
+            .map(|xyz| ProgramTarget::Position(Vector3::from_column_slice(xyz)))
+            .collect(),
+        (None, Some(poses)) => {
+            let count = poses.len()?;
+            (0..count)
+                .map(|row| {
+                    Ok(ProgramTarget::Pose(pose(
+                        &poses.get_item(row)?,
+                        &format!("poses[{row}]"),
+                    )?))
+                })
+                .collect::<PyResult<_>>()?
+        }
+        (None, None) => match &joints {
+            Some(joints) => {
+                let targets = rows(joints)
+                    .into_iter()
+                    .map(ProgramTarget::Joints)
+                    .collect();
+                return Ok(targets_with_starts(targets, None));
+            }
+            None => return Err(input("no targets: give `joints`, `positions` or `poses`")),
+        },
+    };
+    let starts = joints.as_ref().map(rows);
+    if let Some(starts) = &starts
+        && starts.len() != targets.len()
+    {
+        return Err(input(format!(
+            "joints: {} rows for {} targets; the program's joints go one per target",
+            starts.len(),
+            targets.len()
+        )));
+    }
+    Ok(targets_with_starts(targets, starts))
+}
+
+fn targets_with_starts(
+    targets: Vec<ProgramTarget>,
+    starts: Option<Vec<Vec<f64>>>,
+) -> Vec<ProgramPoint> {
+    let mut starts = starts.map(Vec::into_iter);
+    targets
+        .into_iter()
+        .map(|target| ProgramPoint {
+            target,
+            joints: starts.as_mut().and_then(Iterator::next),
+        })
+        .collect()
+}
+
+/// Program compensation ("program filtering"): for each target of a program
+/// taught on the `nominal` model, the motor values with which the
+/// `calibrated` robot reaches it, as `gecaro compensate`. Targets are joint
+/// values (`joints`, (m, n): the pose the nominal model gives them, matched
+/// whole or, with `match="position"`, by its point), or Cartesian targets —
+/// `positions` (m, 3) or `poses` (m, 4, 4) / (m, 7) — with the program's
+/// `joints` as starts when it has them. Runs without the GIL; Ctrl-C stops it.
+///
+/// Raises NotConvergedError, with the whole result in `.result`, when some
+/// targets are reached only beyond a joint limit or not at all.
+#[pyfunction]
+#[pyo3(signature = (nominal, calibrated, *, joints = None, positions = None, poses = None, r#match = "pose"))]
+pub(crate) fn compensate(
+    py: Python<'_>,
+    nominal: PyRef<'_, PyRobot>,
+    calibrated: PyRef<'_, PyRobot>,
+    joints: Option<&Bound<'_, PyAny>>,
+    positions: Option<&Bound<'_, PyAny>>,
+    poses: Option<&Bound<'_, PyAny>>,
+    r#match: &str,
+) -> PyResult<PyCompensation> {
+    let matching = match r#match {
+        "pose" => Match::Pose,
+        "position" => Match::Position,
+        other => {
+            return Err(input(format!(
+                "match: `{other}` is neither \"pose\" nor \"position\""
+            )));
+        }
+    };
+    let joint_count = nominal.robot().joint_count();
+    let points = program(joint_count, joints, positions, poses)?;
+    let (nominal, calibrated) = (nominal.robot(), calibrated.robot());
+    let points = py.detach(|| {
+        let mut watch = Watch::new();
+        let result = correct(nominal, calibrated, &points, matching, |_| watch.poll());
+        watch.finish(result)
+    })?;
+    let result = PyCompensation {
+        points,
+        joint_count,
+    };
+    let flagged = result.flagged();
+    if flagged.is_empty() {
+        return Ok(result);
+    }
+    let shown: Vec<String> = flagged.iter().take(10).map(ToString::to_string).collect();
+    let error = NotConvergedError::new_err(format!(
+        "{} of {} targets are flagged (rows {}{}); check them before running the program \
+         (the exception's `result` holds every target's values and status)",
+        flagged.len(),
+        result.points.len(),
+        shown.join(", "),
+        if flagged.len() > 10 { ", …" } else { "" }
+    ));
+    error.value(py).setattr("result", Py::new(py, result)?)?;
+    Err(error)
+}

@@ -1,0 +1,76 @@
+"""Program compensation against the command line and against the models."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import gecaro
+
+COLUMNS = "qm1=A1,qm2=A2,qm3=A3,qm4=A4,qm5=A5,qm6=A6"
+
+
+@pytest.fixture
+def cell(cli, repository, tmp_path):
+    """The tracker example calibrated by the command line: (nominal, calibrated, job joints)."""
+    folder = repository / "examples" / "tracker"
+    cli.run("robot", "import", folder / "kr16_2.urdf", "-o", "kr16.toml")
+    cli.run(
+        "identify", "kr16.toml", "--method", "position", "--data", folder / "tracker.csv",
+        "--length-unit", "mm", "--angle-unit", "deg", "--columns", COLUMNS + ",x=X,y=Y,z=Z",
+        "-o", "calibrated.toml",
+    )
+    degrees = np.genfromtxt(folder / "job.csv", delimiter=",", skip_header=2, usecols=range(1, 7))
+    nominal = gecaro.Robot.load(tmp_path / "kr16.toml")
+    calibrated = gecaro.Robot.load(tmp_path / "calibrated.toml")
+    return nominal, calibrated, np.deg2rad(degrees)
+
+
+def test_joint_targets_equal_the_command_line(cli, cell, repository):
+    nominal, calibrated, joints = cell
+    document = cli.json(
+        "compensate", "kr16.toml", "calibrated.toml", "--program",
+        repository / "examples" / "tracker" / "job.csv", "--angle-unit", "deg",
+        "--columns", COLUMNS, "--match", "position", "-o", "corrected.csv",
+    )
+    result = gecaro.compensate(nominal, calibrated, joints=joints, match="position")
+    assert result.status == [point["status"] for point in document["points"]]
+    expected = np.array([point["motor_positions"] for point in document["points"]])
+    assert np.abs(result.qm - expected).max() <= 1e-15
+    # Independent route: the calibrated robot puts the flange where the nominal
+    # program meant it.
+    gap = calibrated.fk(result.qm)[:, :3, 3] - nominal.fk(joints)[:, :3, 3]
+    assert np.linalg.norm(gap, axis=1).max() < 1e-9
+    assert np.isnan(result.rotation_error).all() or (result.rotation_error >= 0).all()
+
+
+def test_pose_and_point_targets_are_reached(cell):
+    nominal, calibrated, joints = cell
+    poses = nominal.fk(joints)
+    whole = gecaro.compensate(nominal, calibrated, poses=poses, joints=joints)
+    assert np.abs(calibrated.fk(whole.qm) - poses).max() < 1e-9
+    assert whole.position_error.max() < 1e-9 and whole.rotation_error.max() < 1e-9
+    points = gecaro.compensate(nominal, calibrated, positions=poses[:, :3, 3])
+    assert np.abs(calibrated.fk(points.qm)[:, :3, 3] - poses[:, :3, 3]).max() < 1e-9
+    assert np.isnan(points.rotation_error).all()
+    assert len(points) == len(joints) and points.flagged == []
+
+
+def test_flagged_targets_and_bad_arguments(cell):
+    nominal, calibrated, joints = cell
+    far = np.array([[10.0, 0.0, 0.0], *nominal.fk(joints[:2])[:, :3, 3]])
+    with pytest.raises(gecaro.NotConvergedError, match=r"1 of 3 targets are flagged \(rows 0\)") as raised:
+        gecaro.compensate(nominal, calibrated, positions=far)
+    assert raised.value.result.status[0] == "not-reached"
+    with pytest.raises(gecaro.InputError, match="not both"):
+        gecaro.compensate(nominal, calibrated, positions=far, poses=nominal.fk(joints[:3]))
+    with pytest.raises(gecaro.InputError, match="no targets"):
+        gecaro.compensate(nominal, calibrated)
+    with pytest.raises(gecaro.InputError, match="match"):
+        gecaro.compensate(nominal, calibrated, joints=joints, match="orientation")
+    with pytest.raises(gecaro.InputError, match="one per target"):
+        gecaro.compensate(nominal, calibrated, positions=far, joints=joints)
+    with pytest.raises(gecaro.InputError, match=r"joints: expected an array of shape \(m, 6\)"):
+        gecaro.compensate(nominal, calibrated, joints=joints[:, :3])
+    with pytest.raises(gecaro.InputError, match="not the same robot"):
+        gecaro.compensate(gecaro.Robot.load("panda"), calibrated, joints=np.zeros((1, 7)))
