@@ -17,6 +17,10 @@ cargo build --locked --bin gecaro
 export GECARO_CLI="$PWD/target/debug/gecaro"
 
 (cd crates/gecaro-py && "$venv/bin/python" -m pytest -q)
+
+# The type stubs against the compiled module, and the examples against the stubs.
+(cd target && "$venv/bin/python" -m mypy.stubtest --ignore-disjoint-bases gecaro)
+"$venv/bin/python" -m mypy --strict --no-incremental examples/python
 for example in examples/python/*.py; do
     echo "== $example"
     "$venv/bin/python" "$example"

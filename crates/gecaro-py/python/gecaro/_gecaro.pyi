@@ -6,18 +6,39 @@ poses are 4×4 homogeneous matrices of frame n+1 in the world frame.
 
 import os
 import pathlib
-from typing import Callable, Literal, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Literal, Mapping, Optional, Union, final
 
 import numpy as np
 import numpy.typing as npt
 
 __version__: str
+__all__ = [
+    "__version__",
+    "Robot",
+    "Exported",
+    "Method",
+    "Data",
+    "Study",
+    "Generation",
+    "Identifiability",
+    "Identification",
+    "Parameter",
+    "ErrorSummary",
+    "Compensation",
+    "ready_robots",
+    "methods",
+    "generate",
+    "identifiable",
+    "identify",
+    "evaluate",
+    "compensate",
+]
 
-ArrayLike = npt.ArrayLike
-FloatArray = npt.NDArray[np.float64]
-IntArray = npt.NDArray[np.int64]
-PathLike = Union[str, os.PathLike[str]]
-MethodName = Literal[
+_ArrayLike = npt.ArrayLike
+_FloatArray = npt.NDArray[np.float64]
+_IntArray = npt.NDArray[np.int64]
+_PathLike = Union[str, os.PathLike[str]]
+_MethodName = Literal[
     "position", "frame", "point-link", "frame-link", "plane1", "plane2", "distance"
 ]
 
@@ -27,19 +48,20 @@ def ready_robots() -> list[str]:
 def methods() -> list[str]:
     """The names of the seven methods, in the order of the paper's menus."""
 
+@final
 class Robot:
     """A serial robot: the Khalil–Kleinfinger table of frames 0..n+1 (paper §2),
     joint limits, offsets, gains K, couplings Cm and Cj (eq. 4), priority matrix."""
 
     @staticmethod
-    def load(source: PathLike) -> Robot:
+    def load(source: _PathLike) -> Robot:
         """A robot file (TOML) or, when no such file exists, a ready robot's name."""
     @staticmethod
     def from_toml(text: str, name: str = "<string>") -> Robot:
         """A robot from the text of a robot file; ``name`` labels it in messages."""
     @staticmethod
     def import_file(
-        path: PathLike,
+        path: _PathLike,
         format: Optional[Literal["urdf", "dh", "mdh", "symoro"]] = None,
         *,
         base: Optional[str] = None,
@@ -53,24 +75,24 @@ class Robot:
     @staticmethod
     def from_table(
         name: str,
-        sigma: ArrayLike,
-        alpha: ArrayLike,
-        d: ArrayLike,
-        theta: ArrayLike,
-        r: ArrayLike,
+        sigma: _ArrayLike,
+        alpha: _ArrayLike,
+        d: _ArrayLike,
+        theta: _ArrayLike,
+        r: _ArrayLike,
         *,
-        beta: Optional[ArrayLike] = None,
-        qmin: Optional[ArrayLike] = None,
-        qmax: Optional[ArrayLike] = None,
-        offset: Optional[ArrayLike] = None,
-        gain: Optional[ArrayLike] = None,
-        motor_coupling: Optional[ArrayLike] = None,
-        joint_coupling: Optional[ArrayLike] = None,
-        priority: Optional[ArrayLike] = None,
+        beta: Optional[_ArrayLike] = None,
+        qmin: Optional[_ArrayLike] = None,
+        qmax: Optional[_ArrayLike] = None,
+        offset: Optional[_ArrayLike] = None,
+        gain: Optional[_ArrayLike] = None,
+        motor_coupling: Optional[_ArrayLike] = None,
+        joint_coupling: Optional[_ArrayLike] = None,
+        priority: Optional[_ArrayLike] = None,
     ) -> Robot:
         """A robot from its table: (n+2,) columns for frames 0..n+1 (σ 0 revolute,
         1 prismatic, 2 fixed), (n,) joint columns, (n, n) couplings."""
-    def save(self, path: PathLike, *, overwrite: bool = False) -> None:
+    def save(self, path: _PathLike, *, overwrite: bool = False) -> None:
         """Writes the robot file (TOML) atomically."""
     def to_toml(self) -> str:
         """The robot file's text."""
@@ -90,57 +112,58 @@ class Robot:
     @property
     def parameter_names(self) -> list[str]:
         """Parameter names in the order of ``parameters`` and the Jacobian's columns."""
-    parameters: FloatArray
+    parameters: _FloatArray
     """Values of the geometric parameters (settable with an array of the same length)."""
-    def __getitem__(self, name: str) -> float: ...
-    def __setitem__(self, name: str, value: float) -> None: ...
+    def __getitem__(self, name: str, /) -> float: ...
+    def __setitem__(self, name: str, value: float, /) -> None: ...
     @property
-    def table(self) -> dict[str, npt.NDArray[np.float64] | IntArray]:
+    def table(self) -> dict[str, npt.NDArray[np.float64] | _IntArray]:
         """Frames 0..n+1: ``sigma``, ``alpha``, ``d``, ``theta``, ``r``, ``beta``."""
     @property
-    def joints(self) -> dict[str, FloatArray]:
+    def joints(self) -> dict[str, _FloatArray]:
         """Joints 1..n: ``qmin``, ``qmax``, ``offset``, ``gain``."""
     @property
-    def motor_coupling(self) -> FloatArray:
+    def motor_coupling(self) -> _FloatArray:
         """Cm of eq. 4, (n, n)."""
     @property
-    def joint_coupling(self) -> FloatArray:
+    def joint_coupling(self) -> _FloatArray:
         """Cj of eq. 4, (n, n)."""
     @property
-    def priority(self) -> IntArray:
+    def priority(self) -> _IntArray:
         """The priority matrix, (n+2, 6): α, d, θ, r, β, K per frame."""
     @priority.setter
-    def priority(self, value: Union[ArrayLike, PathLike, None]) -> None: ...
+    def priority(self, value: Union[_ArrayLike, _PathLike, None]) -> None: ...
     def reframe(
-        self, world: Optional[ArrayLike] = None, tool: Optional[ArrayLike] = None
+        self, world: Optional[_ArrayLike] = None, tool: Optional[_ArrayLike] = None
     ) -> Robot:
         """The robot in another world frame and with another tool frame
         (4×4 matrices or ``[x, y, z, qw, qx, qy, qz]``)."""
     def copy(self) -> Robot: ...
     def __copy__(self) -> Robot: ...
     def __deepcopy__(self, memo: object) -> Robot: ...
-    def fk(self, qm: ArrayLike) -> FloatArray:
+    def fk(self, qm: _ArrayLike) -> _FloatArray:
         """Direct geometric model (eq. 1): (n,) → (4, 4); (m, n) → (m, 4, 4)."""
-    def frames(self, qm: ArrayLike) -> FloatArray:
+    def frames(self, qm: _ArrayLike) -> _FloatArray:
         """Poses of frames 0..n+1: (n,) → (n+2, 4, 4); (m, n) → (m, n+2, 4, 4)."""
-    def jacobian(self, qm: ArrayLike) -> FloatArray:
+    def jacobian(self, qm: _ArrayLike) -> _FloatArray:
         """Jacobian w.r.t. every parameter (Appendix II): (n,) → (6, Np); (m, n) → (m, 6, Np)."""
     def ik(
         self,
-        target: ArrayLike,
-        start: Optional[ArrayLike] = None,
+        target: _ArrayLike,
+        start: Optional[_ArrayLike] = None,
         *,
         respect_limits: bool = True,
         tolerance: float = 1e-12,
         max_iterations: int = 200,
-    ) -> FloatArray:
+    ) -> _FloatArray:
         """Numerical inverse model: qm reaching a 4×4 pose, ``[x, y, z, qw, qx, qy, qz]``
         or a point ``[x, y, z]``; raises NotConvergedError when out of reach."""
-    def joint_positions(self, qm: ArrayLike) -> FloatArray:
+    def joint_positions(self, qm: _ArrayLike) -> _FloatArray:
         """q = Cj·diag(K)·Cm·qm + offset (eq. 4)."""
-    def motor_positions(self, q: ArrayLike) -> FloatArray:
+    def motor_positions(self, q: _ArrayLike) -> _FloatArray:
         """qm of joint variables q (eq. 4 inverted)."""
 
+@final
 class Exported:
     """A robot written in another format."""
 
@@ -151,22 +174,23 @@ class Exported:
         """YAML for the driver when gains or couplings cannot be written in the format."""
     @property
     def notes(self) -> list[str]: ...
-    def save(self, path: PathLike, *, overwrite: bool = False) -> list[pathlib.Path]:
+    def save(self, path: _PathLike, *, overwrite: bool = False) -> list[pathlib.Path]:
         """Writes the file and its joint calibration (both or neither)."""
 
+@final
 class Method:
     """One of the seven calibration methods with its options."""
 
-    def __init__(
-        self,
-        name: MethodName,
+    def __new__(
+        cls,
+        name: _MethodName,
         *,
-        plane_normal: Optional[ArrayLike] = None,
-        plane_point: Optional[ArrayLike] = None,
+        plane_normal: Optional[_ArrayLike] = None,
+        plane_point: Optional[_ArrayLike] = None,
         plane: Optional[Literal["known", "unknown"]] = None,
         orientation: Literal["axis-angle", "cross-products"] = "axis-angle",
         set_size: Optional[int] = None,
-    ) -> None: ...
+    ) -> Method: ...
     @property
     def name(self) -> str: ...
     @property
@@ -177,49 +201,50 @@ class Method:
     @property
     def auxiliary_names(self) -> list[str]: ...
 
-MethodLike = Union[Method, MethodName]
+_MethodLike = Union[Method, _MethodName]
 
+@final
 class Data:
     """Configurations and measurements, one row per configuration."""
 
-    def __init__(
-        self,
-        qm: ArrayLike,
+    def __new__(
+        cls,
+        qm: _ArrayLike,
         *,
-        position: Optional[ArrayLike] = None,
-        orientation: Optional[ArrayLike] = None,
-        set: Optional[ArrayLike] = None,
-        pair: Optional[ArrayLike] = None,
-        distance: Optional[ArrayLike] = None,
+        position: Optional[_ArrayLike] = None,
+        orientation: Optional[_ArrayLike] = None,
+        set: Optional[_ArrayLike] = None,
+        pair: Optional[_ArrayLike] = None,
+        distance: Optional[_ArrayLike] = None,
         label: Optional[str] = None,
-    ) -> None: ...
+    ) -> Data: ...
     @staticmethod
     def read(
-        path: PathLike,
+        path: _PathLike,
         robot: Robot,
-        method: MethodLike,
+        method: _MethodLike,
         *,
         length_unit: Optional[Literal["m", "mm"]] = None,
         angle_unit: Optional[Literal["rad", "deg"]] = None,
         columns: Union[Mapping[str, str], str, None] = None,
     ) -> Data:
         """Reads a data file (CSV), as the command line's ``--data``."""
-    def to_csv(self, method: MethodLike) -> str: ...
-    def write(self, path: PathLike, method: MethodLike, *, overwrite: bool = False) -> None: ...
+    def to_csv(self, method: _MethodLike) -> str: ...
+    def write(self, path: _PathLike, method: _MethodLike, *, overwrite: bool = False) -> None: ...
     @property
-    def qm(self) -> FloatArray:
+    def qm(self) -> _FloatArray:
         """(m, n) motor variables."""
     @property
-    def position(self) -> Optional[FloatArray]:
+    def position(self) -> Optional[_FloatArray]:
         """(m, 3) measured positions."""
     @property
-    def orientation(self) -> Optional[FloatArray]:
+    def orientation(self) -> Optional[_FloatArray]:
         """(m, 4) measured orientations, qw, qx, qy, qz."""
     @property
-    def group(self) -> Optional[IntArray]:
+    def group(self) -> Optional[_IntArray]:
         """(m,) set or pair ids."""
     @property
-    def distance(self) -> Optional[FloatArray]:
+    def distance(self) -> Optional[_FloatArray]:
         """(m,) measured distances."""
     @property
     def label(self) -> str: ...
@@ -229,34 +254,37 @@ class Data:
     def joint_count(self) -> int: ...
     def __len__(self) -> int: ...
 
+@final
 class Study:
     """Several measurement sets calibrated together."""
 
     def __init__(self) -> None: ...
     def add(
         self,
-        method: MethodLike,
+        method: _MethodLike,
         data: Data,
         *,
         sigma: float = 1.0,
         sigma_rotation: Optional[float] = None,
         label: Optional[str] = None,
-    ) -> None: ...
+    ) -> Data: ...
     @staticmethod
-    def read(path: PathLike) -> Study:
+    def read(path: _PathLike) -> Study:
         """Reads a study file, as ``--study``."""
     @property
     def robot(self) -> Optional[Robot]: ...
     @property
-    def priority(self) -> Optional[IntArray]: ...
+    def priority(self) -> Optional[_IntArray]: ...
     @property
     def notes(self) -> list[str]: ...
     @property
-    def sets(self) -> list[dict[str, object]]: ...
+    def sets(self) -> list[dict[str, Any]]:
+        """Per set: ``method`` (Method), ``data`` (Data), ``sigma``, ``sigma_rotation``, ``label``."""
     @property
     def methods(self) -> str: ...
     def __len__(self) -> int: ...
 
+@final
 class Generation:
     """Simulated measurements and the simulated real robot."""
 
@@ -268,6 +296,7 @@ class Generation:
     def displacement(self) -> tuple[float, float]:
         """RMS and max distance (m) between nominal and real terminal points."""
 
+@final
 class Identifiability:
     """The identifiable parameters of a study (Appendix III)."""
 
@@ -282,12 +311,13 @@ class Identifiability:
     @property
     def relations(self) -> list[tuple[str, list[tuple[str, float]]]]: ...
     @property
-    def priority(self) -> IntArray: ...
+    def priority(self) -> _IntArray: ...
     @property
     def excitation(self) -> Optional[dict[str, object]]: ...
     def to_dict(self) -> dict[str, object]: ...
     def to_json(self) -> str: ...
 
+@final
 class Parameter:
     """One identified parameter."""
 
@@ -303,6 +333,7 @@ class Parameter:
     @property
     def deviation(self) -> float: ...
 
+@final
 class ErrorSummary:
     """Error statistics (metres; radians for orientations)."""
 
@@ -320,6 +351,7 @@ class ErrorSummary:
     def max_rotation(self) -> Optional[float]: ...
     def to_dict(self) -> dict[str, object]: ...
 
+@final
 class Identification:
     """The result of an identification."""
 
@@ -334,7 +366,7 @@ class Identification:
     @property
     def iterations(self) -> int: ...
     @property
-    def history(self) -> dict[str, FloatArray]: ...
+    def history(self) -> dict[str, _FloatArray]: ...
     @property
     def parameters(self) -> list[Parameter]: ...
     @property
@@ -346,10 +378,10 @@ class Identification:
     @property
     def after(self) -> ErrorSummary: ...
     @property
-    def errors_before(self) -> FloatArray:
+    def errors_before(self) -> _FloatArray:
         """(observations, 2): position error (m), orientation error (rad)."""
     @property
-    def errors_after(self) -> FloatArray: ...
+    def errors_after(self) -> _FloatArray: ...
     @property
     def condition_number(self) -> float: ...
     @property
@@ -360,12 +392,12 @@ class Identification:
     def warnings(self) -> list[str]: ...
     def to_dict(self) -> dict[str, object]: ...
     def to_json(self) -> str: ...
-    def report(self, path: Optional[PathLike] = None, *, overwrite: bool = False) -> str:
+    def report(self, path: Optional[_PathLike] = None, *, overwrite: bool = False) -> str:
         """The self-contained HTML report (written to ``path`` too when given)."""
 
 def generate(
     robot: Robot,
-    method: MethodLike,
+    method: _MethodLike,
     count: int,
     *,
     error_level: float = 1.0,
@@ -377,24 +409,24 @@ def generate(
 
 def identifiable(
     robot: Robot,
-    method: Union[MethodLike, Study],
+    method: Union[_MethodLike, Study],
     data: Optional[Data] = None,
     *,
     count: Optional[int] = None,
     seed: int = 1,
-    priority: Union[ArrayLike, PathLike, None] = None,
+    priority: Union[_ArrayLike, _PathLike, None] = None,
     strict_limits: bool = False,
 ) -> Identifiability:
     """Identifiable parameters (Appendix III), as ``gecaro identifiable``."""
 
 def identify(
     robot: Robot,
-    method: Union[MethodLike, Study],
+    method: Union[_MethodLike, Study],
     data: Optional[Data] = None,
     *,
     solver: Literal["gauss-newton", "lm"] = "gauss-newton",
     max_iterations: int = 30,
-    priority: Union[ArrayLike, PathLike, None] = None,
+    priority: Union[_ArrayLike, _PathLike, None] = None,
     strict_limits: bool = False,
     progress: Optional[Callable[[int, float], object]] = None,
 ) -> Identification:
@@ -402,24 +434,25 @@ def identify(
 
 def evaluate(
     robot: Robot,
-    method: Union[MethodLike, Study],
+    method: Union[_MethodLike, Study],
     data: Optional[Data] = None,
     *,
     strict_limits: bool = False,
 ) -> ErrorSummary:
     """Errors of a robot on measured data, as ``gecaro evaluate``."""
 
+@final
 class Compensation:
     """A robot program corrected for the calibrated robot."""
 
     @property
-    def qm(self) -> FloatArray:
+    def qm(self) -> _FloatArray:
         """(m, n) motor values to send."""
     @property
-    def position_error(self) -> FloatArray:
+    def position_error(self) -> _FloatArray:
         """(m,) distance (m) between target and calibrated robot at ``qm``."""
     @property
-    def rotation_error(self) -> FloatArray:
+    def rotation_error(self) -> _FloatArray:
         """(m,) angle (rad); NaN for point targets."""
     @property
     def status(self) -> list[str]:
@@ -433,9 +466,9 @@ def compensate(
     nominal: Robot,
     calibrated: Robot,
     *,
-    joints: Optional[ArrayLike] = None,
-    positions: Optional[ArrayLike] = None,
-    poses: Optional[ArrayLike] = None,
+    joints: Optional[_ArrayLike] = None,
+    positions: Optional[_ArrayLike] = None,
+    poses: Optional[_ArrayLike] = None,
     match: Literal["pose", "position"] = "pose",
 ) -> Compensation:
     """Program compensation, as ``gecaro compensate``; NotConvergedError (with
