@@ -47,6 +47,15 @@ pub(crate) fn list(values: &[f64]) -> String {
         .join(", ")
 }
 
+/// The observability indices as one line (see docs/planning.md).
+pub(crate) fn observability(indices: &gecaro_calib::Observability, of: &str) -> String {
+    format!(
+        "Observability of {of} (W_b scaled to 1 cm, 1°, 1 %; larger is better): \
+         O1 {:.3e}, O2 {:.3e}, O3 {:.3e}, O4 {:.3e}, O5 {:.3e}",
+        indices.o1, indices.o2, indices.o3, indices.o4, indices.o5
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::number;

@@ -321,6 +321,31 @@ fn identifiable_json_lists_every_parameter_in_vocabulary_order() {
     assert_eq!(identifiable, 31);
     assert!(report["condition_number"].as_f64().expect("number") > 1.0);
     assert_eq!(report["priority_matrix"].as_array().expect("rows").len(), 8);
+    // Observability: O3 = σ_min grows as √m with more configurations of the
+    // same kind, O1 is normalised by √m and stays; O2 = O3/σ_max ≤ 1.
+    let observability = |count: &str| {
+        let report = json_output(&[
+            "identifiable",
+            "stanford",
+            "--method",
+            "position",
+            "--count",
+            count,
+            "--json",
+        ]);
+        ["o1", "o2", "o3", "o4", "o5"]
+            .map(|key| report["observability"][key].as_f64().expect("an index"))
+    };
+    let (few, many) = (observability("100"), observability("400"));
+    assert!(
+        (0.8..1.25).contains(&(many[0] / few[0])),
+        "O1 {few:?} {many:?}"
+    );
+    assert!(
+        (1.5..2.6).contains(&(many[2] / few[2])),
+        "O3 {few:?} {many:?}"
+    );
+    assert!(few.iter().all(|v| *v > 0.0) && few[1] <= 1.0);
     // A plane method with an unknown plane: a, b, c are auxiliary unknowns.
     let plane = json_output(&[
         "identifiable",

@@ -1,10 +1,12 @@
 //! Identifiable parameters (Appendix III) against the paper's Table 2, the
-//! closed-form counts, and the regrouping relations on fresh data.
+//! closed-form counts, and the regrouping relations on fresh data; the
+//! observability indices against a direct SVD of W_b.
 
 use gecaro_calib::{
-    ColumnLayout, MethodOptions, ObservationSystem, ParameterStatus, Plane, RankReport,
-    STANFORD_PLANE_POINT, Study, StudyStates, TABLE2_COLUMNS, TABLE2_PLANE_NORMAL, default_plane,
-    identifiable_parameters, identifiable_parameters_random, method, random_samples, table2,
+    AUXILIARY_UNIT, ColumnLayout, MethodOptions, ObservationSystem, ParameterStatus, Plane,
+    RankReport, STANFORD_PLANE_POINT, Study, StudyStates, TABLE2_COLUMNS, TABLE2_PLANE_NORMAL,
+    default_plane, error_unit, identifiable_parameters, identifiable_parameters_random, method,
+    random_samples, table2,
 };
 use gecaro_core::Robot;
 use gecaro_io::load_robot;
@@ -260,4 +262,72 @@ fn too_few_configurations_is_an_error_not_a_wrong_answer() {
             .contains("15 independent equations for 43 unknowns"),
         "{error}"
     );
+}
+
+/// O1–O5 from the report (singular values of the reduced column geometry,
+/// faer) against nalgebra's SVD of W_b itself, built from the data with its
+/// columns scaled by hand.
+#[test]
+fn observability_indices_equal_a_direct_svd_of_the_scaled_base_columns() {
+    let robot = ready("stanford");
+    let options = MethodOptions {
+        plane: Some(paper_plane()),
+        plane_unknown: true,
+        ..MethodOptions::default()
+    };
+    for name in ["position", "frame", "point-link", "plane1", "distance"] {
+        let chosen = method(name, &options).expect("a method");
+        let samples = random_samples(&robot, chosen.as_ref(), None, 3).expect("samples");
+        let configurations = samples.len();
+        let study = Study::single(chosen, samples, "data");
+        let report = identifiable_parameters(&robot, &study, &robot.priority()).expect("report");
+        let indices = report.observability();
+
+        let mut states = StudyStates::default();
+        study.evaluate(&robot, &mut states).expect("states");
+        let auxiliary = study.initial_auxiliary(&states).expect("auxiliary");
+        let layout = ColumnLayout::with_auxiliary(
+            robot.parameters().len(),
+            &report.base_parameters,
+            auxiliary.len(),
+            &report.base_auxiliary,
+        );
+        let mut system = ObservationSystem::default();
+        study
+            .linearise(&robot, &auxiliary, &layout, &mut states, &mut system)
+            .expect("W_b");
+        let units: Vec<f64> = report
+            .base_auxiliary
+            .iter()
+            .map(|_| AUXILIARY_UNIT)
+            .chain(report.base_parameters.iter().map(|index| {
+                let id = robot.parameters().id(*index);
+                match id.kind {
+                    gecaro_core::ParameterKind::Gain => error_unit(id.kind) * robot.parameter(id),
+                    kind => error_unit(kind),
+                }
+            }))
+            .collect();
+        let w = nalgebra::DMatrix::from_row_slice(system.rows(), system.columns(), system.matrix());
+        let scaled = w * nalgebra::DMatrix::from_diagonal(&nalgebra::DVector::from_vec(units));
+        let mut values: Vec<f64> = scaled.singular_values().iter().copied().collect();
+        values.sort_by(|a, b| b.total_cmp(a));
+        let (largest, smallest) = (values[0], values[values.len() - 1]);
+        let geometric = values.iter().map(|v| v.ln()).sum::<f64>() / values.len() as f64;
+        let expected = [
+            geometric.exp() / (configurations as f64).sqrt(),
+            smallest / largest,
+            smallest,
+            smallest * smallest / largest,
+            1.0 / values.iter().map(|v| 1.0 / v).sum::<f64>(),
+        ];
+        let found = [indices.o1, indices.o2, indices.o3, indices.o4, indices.o5];
+        for (index, (found, expected)) in found.iter().zip(expected).enumerate() {
+            assert!(
+                (found - expected).abs() <= 1e-8 * expected.abs(),
+                "{name}: O{} = {found:e}, direct SVD {expected:e}",
+                index + 1
+            );
+        }
+    }
 }

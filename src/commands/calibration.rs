@@ -402,6 +402,10 @@ fn print_identification(robot: &Robot, study: &Study, result: &Identification, d
         },
         number(result.condition_number, 2)
     );
+    println!(
+        "{}",
+        crate::format::observability(&result.observability, "the data")
+    );
     let mut iterations = table(&["iteration", "residual RMS", "step ‖Δη‖", "damping λ"], 1);
     for (index, record) in result.history.iter().enumerate() {
         iterations.add_row(vec![

@@ -27,8 +27,21 @@ pub(crate) fn identifiable(args: &IdentifiableArgs) -> Result<(), Failure> {
         return super::print_json(&IdentifiableJson::new(robot, &analysis));
     }
     print_report(robot, &analysis.report, &analysis.source);
-    if let Some(excitation) = &analysis.excitation {
-        print_excitation(excitation);
+    match &analysis.excitation {
+        Some(excitation) => {
+            print_excitation(excitation);
+            println!(
+                "{}",
+                crate::format::observability(&excitation.report.observability(), "the data")
+            );
+        }
+        None => println!(
+            "{}",
+            crate::format::observability(
+                &analysis.report.observability(),
+                "these random configurations"
+            )
+        ),
     }
     Ok(())
 }

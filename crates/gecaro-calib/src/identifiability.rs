@@ -26,9 +26,10 @@ use gecaro_core::{ParameterId, PriorityMatrix, Robot};
 use crate::Error;
 use crate::linalg::{
     column_geometry, condition_number, greedy_rank, largest_column_norm, regrouping_relations,
-    select_columns, view,
+    select_columns, singular_values, view,
 };
 use crate::methods::{CalibrationMethod, MethodOptions};
+use crate::observability::{AUXILIARY_UNIT, Observability, column_unit};
 use crate::observation::{ColumnLayout, ObservationSystem};
 use crate::sample::Sample;
 use crate::sampler::Sampler;
@@ -144,6 +145,11 @@ struct Conditioning {
     columns: Vec<Column>,
     relations: OnceLock<(Vec<Relation>, f64)>,
     condition_number: OnceLock<f64>,
+    /// The error unit of each column (see [`crate::Observability`]) and the
+    /// configurations of the data, for the observability indices.
+    units: Vec<f64>,
+    configurations: usize,
+    observability: OnceLock<Observability>,
 }
 
 /// A column of W: an entry of [`RankReport::auxiliary`] or of [`RankReport::parameters`].
@@ -174,6 +180,23 @@ impl RankReport {
         *conditioning.condition_number.get_or_init(|| {
             let kept = select_columns(conditioning.geometry.as_ref(), &conditioning.kept);
             condition_number(kept.as_ref()).unwrap_or(f64::NAN)
+        })
+    }
+
+    /// The observability indices O1–O5 of W_b, its columns scaled by their
+    /// error units (see [`crate::Observability`]).
+    pub fn observability(&self) -> Observability {
+        let conditioning = &self.conditioning;
+        *conditioning.observability.get_or_init(|| {
+            let mut kept = select_columns(conditioning.geometry.as_ref(), &conditioning.kept);
+            for (position, column) in conditioning.kept.iter().enumerate() {
+                let unit = conditioning.units[*column];
+                for row in 0..kept.nrows() {
+                    kept[(row, position)] *= unit;
+                }
+            }
+            let values = singular_values(kept.as_ref()).unwrap_or_default();
+            Observability::from_singular_values(&values, conditioning.configurations)
         })
     }
 
@@ -406,6 +429,16 @@ fn analyse(
                 .collect(),
             relations: OnceLock::new(),
             condition_number: OnceLock::new(),
+            units: vec![AUXILIARY_UNIT; auxiliary_count]
+                .into_iter()
+                .chain(
+                    candidates
+                        .iter()
+                        .map(|id| column_unit(id.kind, robot.parameter(*id))),
+                )
+                .collect(),
+            configurations: study.sets.iter().map(|set| set.samples.len()).sum(),
+            observability: OnceLock::new(),
         },
     };
     Ok((report, system))

@@ -59,6 +59,7 @@ use crate::identifiability::{
 use crate::linalg::{
     NormalEquations, damped_step, minimum_norm_step, precision, predicted_decrease, step, view,
 };
+use crate::observability::Observability;
 use crate::observation::{ColumnLayout, ObservationSystem};
 use crate::study::{Study, StudyStates};
 
@@ -228,6 +229,9 @@ pub struct Identification {
     pub errors_after: Vec<(f64, f64)>,
     /// Condition number of W_b at the solution.
     pub condition_number: f64,
+    /// Observability indices O1–O5 of the data's W_b at the nominal robot
+    /// (see [`crate::Observability`]).
+    pub observability: Observability,
     /// The identified base parameters, in column (priority) order.
     pub parameters: Vec<IdentifiedParameter>,
     /// The identified auxiliary unknowns (plane coefficients).
@@ -916,6 +920,7 @@ pub fn identify_with_progress(
         &moved,
     );
     Ok(Identification {
+        observability: excited.report.observability(),
         moved,
         warnings,
         condition_number,

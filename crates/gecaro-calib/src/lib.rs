@@ -45,6 +45,7 @@ mod identifiability;
 mod identification;
 mod linalg;
 mod methods;
+mod observability;
 mod observation;
 mod parallel;
 mod sample;
@@ -69,13 +70,14 @@ pub use identification::{
 pub use methods::{
     CalibrationMethod, CloneMethod, METHODS, MethodInfo, MethodOptions, Plane, method, method_info,
 };
+pub use observability::{AUXILIARY_UNIT, Observability};
 pub use observation::{
     ColumnLayout, ObservationSystem, RowKind, RowWriter, TerminalState, evaluate_poses,
     evaluate_states,
 };
 pub use sample::{DataColumn, Sample};
 pub use sampler::{RANDOM_STARTS, Sampler, solve_from_starts};
-pub use simulation::{perturbed_robot, simulate_measurements, terminal_displacement};
+pub use simulation::{error_unit, perturbed_robot, simulate_measurements, terminal_displacement};
 pub use study::{LimitViolation, MeasurementSet, Study, StudyStates};
 pub use table2::{
     STANFORD_PLANE_POINT, TABLE2_COLUMNS, TABLE2_PLANE_NORMAL, Table2Column, default_plane, table2,

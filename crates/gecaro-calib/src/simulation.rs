@@ -14,9 +14,9 @@ use crate::methods::CalibrationMethod;
 use crate::sample::Sample;
 use crate::sampler::Sampler;
 
-/// Size of one error unit: metres for lengths, radians for angles, and a
-/// fraction of the value for gains.
-fn unit(kind: ParameterKind) -> f64 {
+/// Size of one error unit (the unit of `--error-level`): 0.01 m for lengths,
+/// 1° (in radians) for angles, and 1 % (a fraction of the value) for gains.
+pub fn error_unit(kind: ParameterKind) -> f64 {
     match kind {
         ParameterKind::D | ParameterKind::R => 0.01,
         ParameterKind::Alpha | ParameterKind::Theta | ParameterKind::Beta => 1f64.to_radians(),
@@ -42,7 +42,7 @@ pub fn perturbed_robot(nominal: &Robot, level: f64, sampler: &mut Sampler) -> Re
         if priority.get(*id) == 0 {
             continue;
         }
-        let error = sampler.uniform(-level, level) * unit(id.kind);
+        let error = sampler.uniform(-level, level) * error_unit(id.kind);
         let value = nominal.parameter(*id);
         let moved = match id.kind {
             ParameterKind::Gain => value * (1.0 + error),

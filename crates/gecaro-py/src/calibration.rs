@@ -311,6 +311,13 @@ impl PyIdentifiability {
             .transpose()
     }
 
+    /// Observability indices {"o1", …, "o5"} of W_b (docs/planning.md): of
+    /// the data when given, else of the random configurations.
+    #[getter]
+    fn observability<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        json_to_python(py, &to_json(&self.json.observability)?)
+    }
+
     /// The document `gecaro identifiable --json` prints, as a dict.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         json_to_python(py, &self.to_json()?)
@@ -585,6 +592,18 @@ impl PyIdentification {
     #[getter]
     fn condition_number(&self) -> f64 {
         self.result.condition_number
+    }
+
+    /// Observability indices {"o1", …, "o5"} of the data's W_b at the
+    /// nominal robot (docs/planning.md).
+    #[getter]
+    fn observability<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        json_to_python(
+            py,
+            &to_json(&gecaro_report::json::ObservabilityJson::from(
+                self.result.observability,
+            ))?,
+        )
     }
 
     /// Standard deviation of the residual (eq. 11).

@@ -68,6 +68,7 @@ def test_every_method_equals_the_command_line(
     assert [p.std for p in result.parameters] == [p["std"] for p in document["parameters"]]
     assert result.after.rms == document["after"]["rms"]
     assert list(result.history["rms"]) == document["rms_history"]
+    assert result.observability == document["observability"]
     # Identifiable parameters on the data.
     assert gecaro.identifiable(robot, method, from_file).to_dict() == cli.json(
         "identifiable", "stanford", "--method", name, *cli_options, "--data", "data.csv"

@@ -90,6 +90,7 @@ pub fn html_report(input: &ReportInput<'_>) -> Result<String, Error> {
          <tr><td>error RMS (observations)</td><td>{before} → {after} mm</td></tr>\
          <tr><td>largest error</td><td>{before_max} → {after_max} mm</td></tr>{rotation}\
          <tr><td>condition number of W<sub>b</sub></td><td>{condition}</td></tr>\
+         <tr><td>observability O1 · O2 · O3 · O4 · O5 (W<sub>b</sub> of the data scaled to 1 cm, 1°, 1 %)</td><td>{observability}</td></tr>\
          <tr><td>residual standard deviation σ</td><td>{sigma}</td></tr></table>",
         class = if converged { "ok" } else { "bad" },
         status = if converged {
@@ -130,6 +131,10 @@ pub fn html_report(input: &ReportInput<'_>) -> Result<String, Error> {
             _ => String::new(),
         },
         condition = number(result.condition_number),
+        observability = {
+            let o = &result.observability;
+            [o.o1, o.o2, o.o3, o.o4, o.o5].map(number).join(" · ")
+        },
         sigma = number(result.residual_sigma),
     );
     if !result.warnings.is_empty() {

@@ -5,8 +5,8 @@
 //! Units: metres and radians everywhere, as in the robot model.
 
 use gecaro_calib::{
-    Classified, ErrorSummary, Identifiability, Identification, IdentifiedParameter, RankReport,
-    StopReason, Study,
+    Classified, ErrorSummary, Identifiability, Identification, IdentifiedParameter, Observability,
+    RankReport, StopReason, Study,
 };
 use gecaro_core::Robot;
 use serde::Serialize;
@@ -48,6 +48,34 @@ pub struct RelationJson {
     pub base: String,
     /// What it absorbs.
     pub absorbed: Vec<AbsorbedJson>,
+}
+
+/// The observability indices of W_b, its columns scaled to 1 cm, 1°, 1 %
+/// (see [`gecaro_calib::Observability`]; larger is better for all five).
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct ObservabilityJson {
+    /// (σ1⋯σL)^(1/L)/√m (Borm & Menq).
+    pub o1: f64,
+    /// σL/σ1 (Driels & Pathre).
+    pub o2: f64,
+    /// σL (Nahvi & Hollerbach).
+    pub o3: f64,
+    /// σL²/σ1, the noise amplification index (Nahvi & Hollerbach).
+    pub o4: f64,
+    /// 1/Σ(1/σi) (Sun & Hollerbach).
+    pub o5: f64,
+}
+
+impl From<Observability> for ObservabilityJson {
+    fn from(indices: Observability) -> Self {
+        ObservabilityJson {
+            o1: indices.o1,
+            o2: indices.o2,
+            o3: indices.o3,
+            o4: indices.o4,
+            o5: indices.o5,
+        }
+    }
 }
 
 /// The excitation check of measured data (§4).
@@ -96,6 +124,9 @@ pub struct IdentifiableJson {
     pub regrouping: Vec<RelationJson>,
     /// The new priority matrix ((n+2) rows of α, d, θ, r, β, K; 0 = not identified).
     pub priority_matrix: Vec<[u32; 6]>,
+    /// Observability indices of W_b: of the measured data when given, else of
+    /// the random configurations.
+    pub observability: ObservabilityJson,
     /// For measured data: the excitation check.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub excitation: Option<ExcitationJson>,
@@ -136,6 +167,12 @@ impl IdentifiableJson {
                 })
                 .collect(),
             priority_matrix: report.priority.rows().to_vec(),
+            observability: analysis
+                .excitation
+                .as_ref()
+                .map_or(report, |checked| &checked.report)
+                .observability()
+                .into(),
             excitation: analysis.excitation.as_ref().map(|checked| ExcitationJson {
                 same_base_set: checked.not_excited.is_empty(),
                 not_excited: checked.not_excited.clone(),
@@ -219,6 +256,8 @@ pub struct IdentificationJson {
     pub rms_after: f64,
     /// Condition number of W_b at the solution.
     pub condition_number: f64,
+    /// Observability indices of the data's W_b at the nominal robot.
+    pub observability: ObservabilityJson,
     /// The identified base parameters.
     pub parameters: Vec<ParameterJson>,
     /// The identified auxiliary unknowns.
@@ -254,6 +293,7 @@ impl IdentificationJson {
             rms_before: result.rms_before(),
             rms_after: result.rms_after(),
             condition_number: result.condition_number,
+            observability: result.observability.into(),
             parameters: parameters(&result.parameters),
             auxiliary: parameters(&result.auxiliary),
             stop_reason: result.stop_reason.as_str(),

@@ -881,6 +881,12 @@ function runButton(id, text, action) {
   return button;
 }
 
+/** The observability indices O1–O5 (docs/planning.md) as one muted line. */
+function observabilityLine(indices, of) {
+  const values = ['o1', 'o2', 'o3', 'o4', 'o5'].map((key) => `${key.toUpperCase()} ${sci(indices[key])}`);
+  return h('p', { class: 'muted observability', text: `Observability of ${of} (W_b scaled to 1 cm, 1°, 1 %; larger is better): ${values.join(' · ')}` });
+}
+
 function stat(label, value, extra) {
   return h('div', { class: `stat ${extra && extra.class ? extra.class : ''}` },
     h('div', { class: 'value', id: extra && extra.id, text: value }),
@@ -941,6 +947,7 @@ function renderIdentifiable(container, name, report) {
       stat(`equations (${report.rows} rows)`, String(report.equations)),
       stat('configurations', String(report.configurations))),
     h('p', { class: 'muted', text: `On ${report.source}; numerical zero τ = ${sci(report.tolerance)}.` }),
+    observabilityLine(report.observability, report.excitation ? 'the data' : 'these random configurations'),
   ];
   if (report.excitation) {
     parts.push(report.excitation.same_base_set
@@ -1147,7 +1154,7 @@ function renderIdentification(container, name, job, result) {
       onclick: async () => setRobot(await api('/robots/check', { robot: result.calibrated }), null),
     }),
     h('a', { href: `/api/jobs/${job}/report`, download: `gecaro-report-${job}.html` }, h('button', { type: 'button', text: 'Download the report' })));
-  container.replaceChildren(...[cards, warnings, actions, plots, h('h3', { text: 'Identified parameters (m, rad)' }), table, moved].filter(Boolean));
+  container.replaceChildren(...[cards, observabilityLine(id.observability, 'the data'), warnings, actions, plots, h('h3', { text: 'Identified parameters (m, rad)' }), table, moved].filter(Boolean));
 }
 
 // ---------------------------------------------------------------- tabs

@@ -217,6 +217,11 @@ async fn the_page_works_as_a_person_uses_it() {
         31
     );
     screenshot(&client, "02-identifiable-position.png").await;
+    let observability = text_of(&client, "#position-identifiable-result p.observability", 5).await;
+    assert!(
+        observability.contains("random configurations") && observability.contains("O5 "),
+        "{observability}"
+    );
 
     // Points generation, then identification of the generated data.
     click(&client, "#function-generate").await;
@@ -241,6 +246,14 @@ async fn the_page_works_as_a_person_uses_it() {
         count(&client, "#position-identify-parameters tbody tr").await,
         31
     );
+    let observability = text_when(
+        &client,
+        "#position-identify-result p.observability",
+        5,
+        |text| text.contains("of the data"),
+    )
+    .await;
+    assert!(observability.contains("O1 "), "{observability}");
     let first = text_of(&client, "#position-identify-parameters tbody tr td", 5).await;
     assert!(!first.is_empty());
     screenshot(&client, "04-identification.png").await;
