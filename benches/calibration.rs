@@ -142,3 +142,27 @@ fn compensate_6r_1000_targets(bencher: divan::Bencher) {
         .expect("compensates")
     });
 }
+
+/// D-optimal planning (docs/planning.md): 50 configurations of the Stanford
+/// arm for the position method, chosen from a pool of 500 or 10 000
+/// candidates (generated outside the timing).
+#[divan::bench(args = [500, 10_000])]
+fn plan_d_optimal_50(bencher: divan::Bencher, pool: usize) {
+    let robot = stanford();
+    let position = method("position", &MethodOptions::default()).expect("method");
+    let candidates =
+        gecaro_calib::random_samples(&robot, position.as_ref(), Some(pool), 1).expect("candidates");
+    let priority = robot.priority();
+    bencher.bench_local(|| {
+        gecaro_calib::plan_d_optimal(
+            &robot,
+            position.as_ref(),
+            &candidates,
+            50,
+            &[],
+            &priority,
+            |_, _| ControlFlow::Continue(()),
+        )
+        .expect("plan")
+    });
+}

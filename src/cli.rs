@@ -32,6 +32,8 @@ pub(crate) enum Command {
     Table2(Table2Args),
     /// Points generation: simulated measurements of a "real" robot for a method.
     Generate(GenerateArgs),
+    /// Plan a calibration: the D-optimal configurations to measure, chosen from a pool.
+    Plan(PlanArgs),
     /// Identification: the robot's parameters from measurements (eq. 10, iterated).
     Identify(IdentifyArgs),
     /// Identify and write a self-contained HTML report with plots.
@@ -430,6 +432,40 @@ pub(crate) struct GenerateArgs {
     /// Overwrite output files that exist.
     #[arg(long)]
     pub(crate) force: bool,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct PlanArgs {
+    /// Nominal robot (file or ready robot name).
+    pub(crate) robot: String,
+    #[command(flatten)]
+    pub(crate) method: MethodArgs,
+    /// Number of configurations to measure (rows of the output; link sets and
+    /// distance pairs come whole, so the count is rounded to whole units).
+    #[arg(long)]
+    pub(crate) count: usize,
+    /// Candidates: a data file's configurations (e.g. the poses a cell can reach).
+    #[arg(long, value_name = "FILE", conflicts_with = "pool")]
+    pub(crate) candidates: Option<PathBuf>,
+    /// Or generate this many candidate configurations, as points generation
+    /// does (within the joint limits; default 20 × --count).
+    #[arg(long, value_name = "K")]
+    pub(crate) pool: Option<usize>,
+    /// Seed of the generated pool.
+    #[arg(long, default_value_t = 1)]
+    pub(crate) seed: u64,
+    /// Configurations measured already: part of the design, never dropped.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) keep: Option<PathBuf>,
+    /// Output: the chosen configurations (qm1..qmn, and set or pair ids).
+    #[arg(short, long, value_name = "PLANNED.csv")]
+    pub(crate) output: PathBuf,
+    /// Overwrite the output file if it exists.
+    #[arg(long)]
+    pub(crate) force: bool,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub(crate) json: bool,
 }
 
 /// The step rule of identification.

@@ -840,3 +840,80 @@ fn a_reader_that_goes_away_ends_the_output_quietly() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+#[test]
+fn plan_writes_the_chosen_configurations_and_beats_a_random_choice() {
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let output = folder.path().join("planned.csv");
+    let output_text = output.to_str().expect("utf-8");
+    let report = json_output(&[
+        "plan",
+        "stanford",
+        "--method",
+        "point-link",
+        "--count",
+        "40",
+        "--pool",
+        "400",
+        "--seed",
+        "2",
+        "-o",
+        output_text,
+        "--json",
+    ]);
+    assert_eq!(report["configurations"], 40);
+    assert_eq!(report["units"], 10);
+    assert!(report["log_det"].as_f64().expect("D") > report["random_log_det"].as_f64().expect("D"));
+    let text = std::fs::read_to_string(&output).expect("planned file");
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("qm1,qm2,qm3,qm4,qm5,qm6,set"));
+    let rows: Vec<&str> = lines.collect();
+    assert_eq!(rows.len(), 40);
+    // Whole sets of four, each set id four times.
+    let mut sets = std::collections::BTreeMap::new();
+    for row in &rows {
+        *sets
+            .entry(row.rsplit(',').next().expect("set").to_owned())
+            .or_insert(0) += 1;
+    }
+    assert!(sets.values().all(|count| *count == 4), "{sets:?}");
+    // The same inputs give the same plan; an existing output is kept.
+    gecaro()
+        .args([
+            "plan",
+            "stanford",
+            "--method",
+            "point-link",
+            "--count",
+            "40",
+        ])
+        .args(["--pool", "400", "--seed", "2", "-o", output_text])
+        .assert()
+        .code(3)
+        .stderr(predicate::str::contains("already exists"));
+    let again = folder.path().join("again.csv");
+    gecaro()
+        .args([
+            "plan",
+            "stanford",
+            "--method",
+            "point-link",
+            "--count",
+            "40",
+        ])
+        .args(["--pool", "400", "--seed", "2", "-o"])
+        .arg(&again)
+        .assert()
+        .success();
+    assert_eq!(std::fs::read_to_string(&again).expect("again"), text);
+    // More than the pool holds is a usage error.
+    gecaro()
+        .args([
+            "plan", "stanford", "--method", "position", "--count", "40", "--pool", "20",
+        ])
+        .arg("-o")
+        .arg(folder.path().join("too-many.csv"))
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("--count"));
+}

@@ -12,8 +12,9 @@ python3 -m venv "$venv"
 "$venv/bin/python" -m pip install --quiet -r crates/gecaro-py/requirements-test.txt
 "$venv/bin/python" -m pip install --quiet ./crates/gecaro-py
 
-# The command line the results are compared with.
-cargo build --locked --bin gecaro
+# The command line the results are compared with, in the profile `cargo test`
+# builds it (after the README's test command this rebuilds nothing).
+cargo build --locked --bin gecaro --profile test
 export GECARO_CLI="$PWD/target/debug/gecaro"
 
 (cd crates/gecaro-py && "$venv/bin/python" -m pytest -q)

@@ -40,7 +40,7 @@ fn degrees(radians: f64) -> String {
 
 /// Refuses early, before any work or any file is written, an output that
 /// exists (without --force) or whose folder is missing.
-fn check_output(path: &Path, force: bool) -> Result<(), Failure> {
+pub(crate) fn check_output(path: &Path, force: bool) -> Result<(), Failure> {
     if !force && path.exists() {
         return Err(gecaro_io::Error::OutputExists {
             path: path.to_owned(),

@@ -7,6 +7,7 @@ mod identifiability;
 mod interchange;
 mod kinematics;
 mod options;
+mod planning;
 mod robot;
 mod serve;
 
@@ -23,6 +24,7 @@ pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
         Command::Identifiable(args) => identifiability::identifiable(&args),
         Command::Table2(args) => identifiability::table2(&args),
         Command::Generate(args) => calibration::generate(&args),
+        Command::Plan(args) => planning::plan(&args),
         Command::Identify(args) => calibration::identify(&args),
         Command::Report(args) => calibration::report(&args),
         Command::Evaluate(args) => calibration::evaluate(&args),

@@ -48,6 +48,7 @@ mod methods;
 mod observability;
 mod observation;
 mod parallel;
+mod planning;
 mod sample;
 mod sampler;
 mod simulation;
@@ -75,6 +76,7 @@ pub use observation::{
     ColumnLayout, ObservationSystem, RowKind, RowWriter, TerminalState, evaluate_poses,
     evaluate_states,
 };
+pub use planning::{Plan, design_log_det, plan_d_optimal, units};
 pub use sample::{DataColumn, Sample};
 pub use sampler::{RANDOM_STARTS, Sampler, solve_from_starts};
 pub use simulation::{error_unit, perturbed_robot, simulate_measurements, terminal_displacement};

@@ -1,0 +1,131 @@
+//! D-optimal planning: the plan beats random subsets of the same pool on the
+//! D-criterion, and planned configurations calibrate better than random ones.
+
+use std::ops::ControlFlow;
+
+use gecaro_calib::{
+    IdentificationOptions, MethodOptions, Sample, Sampler, Study, design_log_det, evaluate,
+    identify, method, perturbed_robot, plan_d_optimal, random_samples, units,
+};
+use gecaro_core::{Robot, terminal_pose};
+use gecaro_io::load_robot;
+
+fn ready(name: &str) -> Robot {
+    load_robot(name).expect("ready robot").robot
+}
+
+fn plan(robot: &Robot, name: &str, pool: &[Sample], count: usize) -> gecaro_calib::Plan {
+    let chosen = method(name, &MethodOptions::default()).expect("method");
+    plan_d_optimal(
+        robot,
+        chosen.as_ref(),
+        pool,
+        count,
+        &[],
+        &robot.priority(),
+        |_, _| ControlFlow::Continue(()),
+    )
+    .expect("a plan")
+}
+
+#[test]
+fn the_plan_beats_the_best_of_a_hundred_random_subsets_and_is_deterministic() {
+    for (robot, name, count) in [
+        ("stanford", "position", 30),
+        ("stanford", "distance", 60),
+        ("panda", "point-link", 48),
+    ] {
+        let robot = ready(robot);
+        let chosen = method(name, &MethodOptions::default()).expect("method");
+        let pool = random_samples(&robot, chosen.as_ref(), Some(400), 7).expect("pool");
+        let planned = plan(&robot, name, &pool, count);
+        assert_eq!(planned.samples.len(), count, "{name}");
+        let again = plan(&robot, name, &pool, count);
+        assert_eq!(planned.chosen, again.chosen, "{name}: deterministic");
+        let log_det = design_log_det(
+            &robot,
+            chosen.as_ref(),
+            &pool,
+            &planned.samples,
+            &robot.priority(),
+        )
+        .expect("D");
+        assert!((log_det - planned.log_det).abs() < 1e-6 * log_det.abs().max(1.0));
+        // The best of 100 random subsets of as many units.
+        let pool_units = units(chosen.as_ref(), &pool);
+        let mut sampler = Sampler::new(3);
+        let mut best = f64::NEG_INFINITY;
+        for _ in 0..100 {
+            let mut order: Vec<usize> = (0..pool_units.len()).collect();
+            for i in (1..order.len()).rev() {
+                let j = (sampler.uniform(0.0, (i + 1) as f64) as usize).min(i);
+                order.swap(i, j);
+            }
+            let subset: Vec<Sample> = order[..planned.chosen.len()]
+                .iter()
+                .flat_map(|unit| pool[pool_units[*unit].clone()].to_vec())
+                .collect();
+            let value = design_log_det(&robot, chosen.as_ref(), &pool, &subset, &robot.priority())
+                .expect("D");
+            best = best.max(value);
+        }
+        assert!(
+            planned.log_det > best,
+            "{name}: plan D = {} ≤ best random {best}",
+            planned.log_det
+        );
+    }
+}
+
+/// Position measurements of `real` at the configurations of `samples`.
+fn measured(real: &Robot, samples: &[Sample], noise: f64, sampler: &mut Sampler) -> Vec<Sample> {
+    samples
+        .iter()
+        .map(|sample| {
+            let mut sample = Sample::new(sample.motor_positions.clone());
+            let point = terminal_pose(real, &sample.motor_positions)
+                .expect("pose")
+                .translation
+                .vector;
+            sample.position = Some(point + sampler.gaussian_vector(noise));
+            sample
+        })
+        .collect()
+}
+
+#[test]
+fn planned_configurations_calibrate_better_than_random_ones_in_nine_seeds_of_ten() {
+    let robot = ready("stanford");
+    let position = method("position", &MethodOptions::default()).expect("method");
+    let pool = random_samples(&robot, position.as_ref(), Some(300), 11).expect("pool");
+    let planned = plan(&robot, "position", &pool, 16);
+    let held_out = random_samples(&robot, position.as_ref(), Some(200), 12).expect("held out");
+    let mut wins = 0;
+    for seed in 0..10 {
+        let mut sampler = Sampler::new(100 + seed);
+        let real = perturbed_robot(&robot, 0.3, &mut sampler).expect("real");
+        let random: Vec<Sample> = (0..16)
+            .map(|i| pool[(i * 17 + seed as usize * 7) % pool.len()].clone())
+            .collect();
+        let error = |design: &[Sample], sampler: &mut Sampler| {
+            let data = measured(&real, design, 1e-4, sampler);
+            let study = Study::single(position.clone_method(), data, "design");
+            let result =
+                identify(&robot, &study, &IdentificationOptions::default()).expect("identified");
+            let check = Study::single(
+                position.clone_method(),
+                measured(&real, &held_out, 0.0, sampler),
+                "held out",
+            );
+            evaluate(&result.calibrated, &check).expect("evaluated").rms
+        };
+        let (planned_error, random_error) = (
+            error(&planned.samples, &mut sampler),
+            error(&random, &mut sampler),
+        );
+        if planned_error < random_error {
+            wins += 1;
+        }
+    }
+    assert!(wins >= 9, "planned configurations won {wins} of 10");
+}
