@@ -833,9 +833,14 @@ function dataSelect(name, fn, withRandom) {
   return select;
 }
 
-function refreshDataChoices(name) {
+/**
+ * Rebuilds the data choices of method `name`. `prefer` (an option value, such
+ * as 'generated' right after a generation) is selected in the Identification
+ * function's selector; the others keep their choice when it still exists.
+ */
+function refreshDataChoices(name, prefer) {
   for (const select of document.querySelectorAll(`select.data-choice[data-method="${name}"]`)) {
-    const previous = select.value;
+    const previous = prefer && !select.dataset.random ? prefer : select.value;
     const options = [];
     if (select.dataset.random) options.push(h('option', { value: 'random', text: 'Random configurations' }));
     const generated = state.generated[name];
@@ -1006,7 +1011,7 @@ function generatePanel(method) {
       }
       const generated = await api('/generate', request);
       state.generated[name] = generated;
-      refreshDataChoices(name);
+      refreshDataChoices(name, 'generated');
       if (generated.saved) refreshFiles();
       renderGenerated(result, name, generated);
     } catch (error) {

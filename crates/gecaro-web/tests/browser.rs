@@ -231,6 +231,15 @@ async fn the_page_works_as_a_person_uses_it() {
         "50"
     );
     screenshot(&client, "03-generation.png").await;
+    // The Identification function now offers the data just generated first.
+    let selected = client
+        .execute(
+            "return document.getElementById('position-identify-data').value",
+            vec![],
+        )
+        .await
+        .expect("script");
+    assert_eq!(selected.as_str(), Some("generated"));
     click(&client, "#position-generate-identify").await;
     click(&client, "#position-identify-run").await;
     assert_eq!(
