@@ -409,8 +409,12 @@ pub(crate) struct GenerateArgs {
     #[command(flatten)]
     pub(crate) method: MethodArgs,
     /// Number of configurations (rows of the data file).
-    #[arg(long)]
-    pub(crate) count: usize,
+    #[arg(long, required_unless_present = "configurations")]
+    pub(crate) count: Option<usize>,
+    /// Measure at these configurations instead of random ones: a planned
+    /// file (`gecaro plan`) or any data file's qm (and set or pair) columns.
+    #[arg(long, value_name = "PLANNED.csv", conflicts_with = "count")]
+    pub(crate) configurations: Option<PathBuf>,
     /// The "real" robot, as a robot file; default: the nominal one with errors at --error-level.
     #[arg(long, value_name = "REAL.toml", conflicts_with = "error_level")]
     pub(crate) real: Option<PathBuf>,

@@ -129,3 +129,89 @@ fn planned_configurations_calibrate_better_than_random_ones_in_nine_seeds_of_ten
     }
     assert!(wins >= 9, "planned configurations won {wins} of 10");
 }
+
+/// Planned configurations measured on a simulated real robot, for every
+/// method: the configurations stay where they were planned (moved onto the
+/// method's constraint only, for links and planes), and they identify the
+/// robot.
+#[test]
+fn every_method_measures_at_planned_configurations_and_identifies() {
+    let robot = ready("stanford");
+    let options = MethodOptions {
+        plane: Some(
+            gecaro_calib::Plane::new(
+                nalgebra::Vector3::from(gecaro_calib::TABLE2_PLANE_NORMAL),
+                nalgebra::Vector3::from(gecaro_calib::STANFORD_PLANE_POINT),
+            )
+            .expect("plane"),
+        ),
+        ..MethodOptions::default()
+    };
+    for (name, count) in [
+        ("position", 30),
+        ("frame", 20),
+        ("point-link", 60),
+        ("frame-link", 40),
+        ("plane1", 90),
+        ("plane2", 90),
+        ("distance", 100),
+    ] {
+        let chosen = method(name, &options).expect("method");
+        let pool = chosen
+            .generate(&robot, 6 * count, 0.0, &mut Sampler::new(4))
+            .expect("pool");
+        let planned = plan_d_optimal(
+            &robot,
+            chosen.as_ref(),
+            &pool,
+            count,
+            &[],
+            &robot.priority(),
+            |_, _| ControlFlow::Continue(()),
+        )
+        .expect("plan");
+        let mut sampler = Sampler::new(9);
+        let real = perturbed_robot(&robot, 0.1, &mut sampler).expect("real");
+        let data =
+            gecaro_calib::simulate_at(&real, chosen.as_ref(), &planned.samples, 1e-5, &mut sampler)
+                .expect("measured");
+        assert_eq!(data.len(), planned.samples.len(), "{name}");
+        // How far each configuration moved (largest joint change).
+        let moves: Vec<f64> = data
+            .iter()
+            .zip(&planned.samples)
+            .map(|(a, b)| {
+                a.motor_positions
+                    .iter()
+                    .zip(&b.motor_positions)
+                    .map(|(x, y)| (x - y).abs())
+                    .fold(0.0, f64::max)
+            })
+            .collect();
+        let constrained = chosen.name().contains("link") || chosen.name().starts_with("plane");
+        if constrained {
+            // Moved onto the constraint, nearby; a few near a singularity or a
+            // limit are reached from another start.
+            let near = moves.iter().filter(|m| **m < 0.1).count();
+            assert!(
+                near * 10 >= 9 * moves.len(),
+                "{name}: {near} of {} nearby",
+                moves.len()
+            );
+        } else {
+            assert!(
+                moves.iter().all(|m| *m == 0.0),
+                "{name}: configurations moved"
+            );
+        }
+        let study = Study::single(chosen.clone_method(), data, "planned");
+        let result =
+            identify(&robot, &study, &IdentificationOptions::default()).expect("identified");
+        assert!(
+            result.after.rms < 0.05 * result.before.rms,
+            "{name}: {} → {}",
+            result.before.rms,
+            result.after.rms
+        );
+    }
+}

@@ -98,15 +98,42 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
         }
         None => perturbed_robot(robot, args.error_level, &mut sampler)?,
     };
-    let bar = spinner(format!(
-        "generating {} configurations ({})",
-        args.count,
-        chosen.title()
-    ));
-    let samples =
-        simulate_measurements(&real, chosen.as_ref(), args.count, args.noise, &mut sampler);
-    bar.finish_and_clear();
-    let samples = samples?;
+    let samples = match (&args.configurations, args.count) {
+        (Some(path), _) => {
+            let planned = gecaro_io::read_samples(
+                path,
+                &gecaro_io::joint_types(robot),
+                &grouping_columns(chosen.data_columns()),
+                &gecaro_io::DataFormat::default(),
+            )?
+            .samples;
+            let bar = spinner(format!(
+                "measuring at {} planned configurations ({})",
+                planned.len(),
+                chosen.title()
+            ));
+            let samples = gecaro_calib::simulate_at(
+                &real,
+                chosen.as_ref(),
+                &planned,
+                args.noise,
+                &mut sampler,
+            );
+            bar.finish_and_clear();
+            samples?
+        }
+        (None, count) => {
+            let count = count.unwrap_or_default();
+            let bar = spinner(format!(
+                "generating {count} configurations ({})",
+                chosen.title()
+            ));
+            let samples =
+                simulate_measurements(&real, chosen.as_ref(), count, args.noise, &mut sampler);
+            bar.finish_and_clear();
+            samples?
+        }
+    };
     write_samples(
         &args.output,
         robot.joint_count(),
@@ -149,6 +176,23 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
         println!("wrote the real robot to {}", real_out.display());
     }
     Ok(())
+}
+
+/// The columns of a data file that say how its configurations group (set or
+/// pair ids), without the measurements.
+pub(crate) fn grouping_columns(
+    columns: &[gecaro_calib::DataColumn],
+) -> Vec<gecaro_calib::DataColumn> {
+    columns
+        .iter()
+        .copied()
+        .filter(|c| {
+            matches!(
+                c,
+                gecaro_calib::DataColumn::Set | gecaro_calib::DataColumn::Pair
+            )
+        })
+        .collect()
 }
 
 /// Reads a single-method study from the command line's method and data file.

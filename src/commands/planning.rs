@@ -8,7 +8,7 @@ use gecaro_io::{DataFormat, format_samples, joint_types, load_robot, read_sample
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 
-use super::calibration::check_output;
+use super::calibration::{check_output, grouping_columns};
 use super::options::{method_options, output_policy};
 use crate::cli::PlanArgs;
 use crate::failure::Failure;
@@ -29,22 +29,12 @@ struct PlanJson<'a> {
     output: String,
 }
 
-/// The columns of a planned file: the configurations and their grouping,
-/// no measurements.
-fn plan_columns(columns: &[DataColumn]) -> Vec<DataColumn> {
-    columns
-        .iter()
-        .copied()
-        .filter(|c| matches!(c, DataColumn::Set | DataColumn::Pair))
-        .collect()
-}
-
 pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
     let file = load_robot(&args.robot)?;
     let robot = &file.robot;
     check_output(&args.output, args.force)?;
     let chosen = method(&args.method.method, &method_options(&args.method.options)?)?;
-    let columns = plan_columns(chosen.data_columns());
+    let columns = grouping_columns(chosen.data_columns());
     let read = |path: &std::path::Path| -> Result<Vec<Sample>, Failure> {
         Ok(read_samples(path, &joint_types(robot), &columns, &DataFormat::default())?.samples)
     };

@@ -79,7 +79,9 @@ pub use observation::{
 pub use planning::{Plan, design_log_det, plan_d_optimal, units};
 pub use sample::{DataColumn, Sample};
 pub use sampler::{RANDOM_STARTS, Sampler, solve_from_starts};
-pub use simulation::{error_unit, perturbed_robot, simulate_measurements, terminal_displacement};
+pub use simulation::{
+    error_unit, perturbed_robot, simulate_at, simulate_measurements, terminal_displacement,
+};
 pub use study::{LimitViolation, MeasurementSet, Study, StudyStates};
 pub use table2::{
     STANFORD_PLANE_POINT, TABLE2_COLUMNS, TABLE2_PLANE_NORMAL, Table2Column, default_plane, table2,

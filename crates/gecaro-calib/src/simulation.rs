@@ -110,3 +110,33 @@ pub fn simulate_measurements(
     }
     method.generate(real, count, noise, sampler)
 }
+
+/// Simulated measurements of `real` at planned configurations (see
+/// [`CalibrationMethod::measure_at`]).
+///
+/// # Errors
+/// A negative or non-finite `noise`, no configurations, and the method's own.
+pub fn simulate_at(
+    real: &Robot,
+    method: &dyn CalibrationMethod,
+    planned: &[Sample],
+    noise: f64,
+    sampler: &mut Sampler,
+) -> Result<Vec<Sample>, Error> {
+    if !(noise.is_finite() && noise >= 0.0) {
+        return Err(Error::InvalidOption {
+            option: "--noise",
+            message: format!("must be a standard deviation ≥ 0, not {noise}"),
+        });
+    }
+    if planned.is_empty() {
+        return Err(Error::InvalidData {
+            line: None,
+            message: "no configurations to measure at".into(),
+        });
+    }
+    for sample in planned {
+        real.check_configuration(&sample.motor_positions)?;
+    }
+    method.measure_at(real, planned, noise, sampler)
+}

@@ -131,4 +131,27 @@ impl CalibrationMethod for DistanceMeasure {
         }
         Ok(samples)
     }
+
+    fn measure_at(
+        &self,
+        real: &Robot,
+        planned: &[Sample],
+        noise: f64,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error> {
+        check_group_sizes(planned, 2, 2, "pair")?;
+        let mut measured = planned.to_vec();
+        for pair in groups(planned) {
+            let point = |index: usize| -> Result<_, Error> {
+                Ok(terminal_pose(real, &planned[index].motor_positions)?
+                    .translation
+                    .vector)
+            };
+            let distance = (point(pair[1])? - point(pair[0])?).norm() + sampler.gaussian(noise);
+            for index in pair {
+                measured[index].distance = Some(distance);
+            }
+        }
+        Ok(measured)
+    }
 }

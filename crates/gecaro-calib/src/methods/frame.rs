@@ -2,11 +2,9 @@
 //! orientation of frame n+1. All six rows of eq. 7 per configuration:
 //! `J(q, η) Δη = Δx(measured, model)`, with Δx of Appendix I (method 2 by default).
 
-use gecaro_core::{
-    ChainBuffer, KinematicModel, OrientationDifference, Robot, orientation_difference,
-};
-use nalgebra::UnitQuaternion;
+use gecaro_core::{OrientationDifference, Robot, orientation_difference};
 
+use super::sensor::Sensor;
 use super::{CalibrationMethod, MethodInfo};
 use crate::Error;
 use crate::observation::{RowKind, RowWriter, TerminalState};
@@ -81,19 +79,26 @@ impl CalibrationMethod for FrameMeasure {
         noise: f64,
         sampler: &mut Sampler,
     ) -> Result<Vec<Sample>, Error> {
-        let model = KinematicModel::new(robot);
-        let mut chain = ChainBuffer::default();
+        let mut sensor = Sensor::new(robot);
         (0..count)
             .map(|_| {
                 let motor_positions = sampler.configuration(robot);
-                let pose = model.terminal_pose(&motor_positions, &mut chain)?;
-                let rotation = sampler.gaussian_rotation(noise) * pose.rotation;
-                Ok(Sample {
-                    position: Some(pose.translation.vector + sampler.gaussian_vector(noise)),
-                    orientation: Some(UnitQuaternion::from_rotation_matrix(&rotation)),
-                    ..Sample::new(motor_positions)
-                })
+                sensor.frame(motor_positions, noise, sampler)
             })
+            .collect()
+    }
+
+    fn measure_at(
+        &self,
+        real: &Robot,
+        planned: &[Sample],
+        noise: f64,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error> {
+        let mut sensor = Sensor::new(real);
+        planned
+            .iter()
+            .map(|sample| sensor.frame(sample.motor_positions.clone(), noise, sampler))
             .collect()
     }
 }

@@ -118,6 +118,48 @@ pub(super) fn generate_sets(
     Ok(samples)
 }
 
+/// The sets of `planned` measured on `real`: each set's first configuration
+/// gives the point or frame (the socket), every member (the first too, with
+/// the contact's scatter `noise`) is moved to reach it from its planned
+/// configuration.
+pub(super) fn measure_sets(
+    linked: Linked,
+    real: &Robot,
+    planned: &[Sample],
+    noise: f64,
+    sampler: &mut Sampler,
+) -> Result<Vec<Sample>, Error> {
+    let mut measured = planned.to_vec();
+    for set in groups(planned) {
+        if set.len() < 2 {
+            return Err(Error::InvalidData {
+                line: planned[set[0]].line,
+                message: format!(
+                    "set {} has one configuration; a set needs at least 2",
+                    planned[set[0]].group.unwrap_or(0)
+                ),
+            });
+        }
+        let pose = terminal_pose(real, &planned[set[0]].motor_positions)?;
+        let mut members: Vec<Vec<f64>> = Vec::with_capacity(set.len());
+        for index in &set {
+            let target = perturbed_target(linked, &pose, noise, sampler);
+            let others: Vec<&[f64]> = members.iter().map(Vec::as_slice).collect();
+            let reached = sampler.reach(
+                real,
+                &target,
+                Some(&planned[*index].motor_positions),
+                &others,
+            )?;
+            members.push(reached);
+        }
+        for (index, motor_positions) in set.into_iter().zip(members) {
+            measured[index].motor_positions = motor_positions;
+        }
+    }
+    Ok(measured)
+}
+
 fn generate_set(
     linked: Linked,
     robot: &Robot,

@@ -45,6 +45,7 @@ mod plane_equation;
 mod plane_normal;
 mod point_link;
 mod position;
+mod sensor;
 
 use std::collections::HashMap;
 use std::fmt;
@@ -165,6 +166,27 @@ pub trait CalibrationMethod: CloneMethod + fmt::Debug + Send + Sync {
         &self,
         robot: &Robot,
         count: usize,
+        noise: f64,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error>;
+
+    /// Simulated measurements of `real` at planned configurations (`planned`:
+    /// configurations with their set or pair ids, as `gecaro plan` writes
+    /// them): the measuring session as it would run. Methods that measure at
+    /// a configuration (position, frame, distance) measure there; methods
+    /// whose configurations must satisfy a constraint (links, planes) move
+    /// each to a configuration that satisfies it on `real`, starting from the
+    /// planned one, as the operator does when seating the ball or touching
+    /// the plane. Noise as in [`generate`](Self::generate).
+    ///
+    /// # Errors
+    /// [`Error::InvalidData`] for sets or pairs that do not fit the method,
+    /// [`Error::Generation`] when a configuration cannot be brought to the
+    /// constraint.
+    fn measure_at(
+        &self,
+        real: &Robot,
+        planned: &[Sample],
         noise: f64,
         sampler: &mut Sampler,
     ) -> Result<Vec<Sample>, Error>;

@@ -168,6 +168,32 @@ pub(super) fn generate_in_plane(
     Ok(samples)
 }
 
+/// Configurations of `planned` moved onto `plane` (shifted by Gaussian noise
+/// σ = `noise` along its normal) on `real`, each from its planned
+/// configuration: where the touch probe meets the plane.
+pub(super) fn measure_in_plane(
+    real: &Robot,
+    plane: &Plane,
+    planned: &[Sample],
+    noise: f64,
+    sampler: &mut Sampler,
+) -> Result<Vec<Sample>, Error> {
+    planned
+        .iter()
+        .map(|sample| {
+            let target = Target::Plane {
+                normal: plane.normal(),
+                offset: plane.normal().dot(&plane.point()) + sampler.gaussian(noise),
+            };
+            let reached = sampler.reach(real, &target, Some(&sample.motor_positions), &[])?;
+            Ok(Sample {
+                motor_positions: reached,
+                ..sample.clone()
+            })
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

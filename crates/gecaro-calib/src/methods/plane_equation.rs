@@ -10,7 +10,7 @@
 use gecaro_core::{JacobianRows, Robot};
 use nalgebra::Vector3;
 
-use super::plane::{Plane, generate_in_plane, plane_like, required};
+use super::plane::{Plane, generate_in_plane, measure_in_plane, plane_like, required};
 use super::{CalibrationMethod, MethodInfo};
 use crate::Error;
 use crate::observation::{RowKind, RowWriter, TerminalState};
@@ -128,6 +128,17 @@ impl CalibrationMethod for PlaneEquation {
     ) -> Result<Vec<Sample>, Error> {
         let plane = required(self.plane, "generating plane1 points")?;
         generate_in_plane(robot, &plane, count, noise, sampler)
+    }
+
+    fn measure_at(
+        &self,
+        real: &Robot,
+        planned: &[Sample],
+        noise: f64,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error> {
+        let plane = required(self.plane, "measuring plane1 points")?;
+        measure_in_plane(real, &plane, planned, noise, sampler)
     }
 
     fn generate_like(

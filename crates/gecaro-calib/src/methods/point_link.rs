@@ -4,7 +4,7 @@
 
 use gecaro_core::{JacobianRows, Robot};
 
-use super::link::{Linked, dependent_rows, generate_sets, linearise_sets};
+use super::link::{Linked, dependent_rows, generate_sets, linearise_sets, measure_sets};
 use super::{CalibrationMethod, MethodInfo, check_group_sizes};
 use crate::Error;
 use crate::observation::{RowWriter, TerminalState};
@@ -79,5 +79,15 @@ impl CalibrationMethod for PointLink {
         sampler: &mut Sampler,
     ) -> Result<Vec<Sample>, Error> {
         generate_sets(Linked::Point, robot, count, self.set_size, noise, sampler)
+    }
+
+    fn measure_at(
+        &self,
+        real: &Robot,
+        planned: &[Sample],
+        noise: f64,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error> {
+        measure_sets(Linked::Point, real, planned, noise, sampler)
     }
 }

@@ -2,8 +2,9 @@
 //! origin of frame n+1 in the world frame. Rows 1–3 of eq. 7 per configuration:
 //! `J_P(q, η) Δη = P_measured − P(q, η)`.
 
-use gecaro_core::{ChainBuffer, JacobianRows, KinematicModel, Robot};
+use gecaro_core::{JacobianRows, Robot};
 
+use super::sensor::Sensor;
 use super::{CalibrationMethod, MethodInfo};
 use crate::Error;
 use crate::observation::{RowKind, RowWriter, TerminalState};
@@ -75,17 +76,26 @@ impl CalibrationMethod for PositionMeasure {
         noise: f64,
         sampler: &mut Sampler,
     ) -> Result<Vec<Sample>, Error> {
-        let model = KinematicModel::new(robot);
-        let mut chain = ChainBuffer::default();
+        let mut sensor = Sensor::new(robot);
         (0..count)
             .map(|_| {
                 let motor_positions = sampler.configuration(robot);
-                let pose = model.terminal_pose(&motor_positions, &mut chain)?;
-                Ok(Sample {
-                    position: Some(pose.translation.vector + sampler.gaussian_vector(noise)),
-                    ..Sample::new(motor_positions)
-                })
+                sensor.point(motor_positions, noise, sampler)
             })
+            .collect()
+    }
+
+    fn measure_at(
+        &self,
+        real: &Robot,
+        planned: &[Sample],
+        noise: f64,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error> {
+        let mut sensor = Sensor::new(real);
+        planned
+            .iter()
+            .map(|sample| sensor.point(sample.motor_positions.clone(), noise, sampler))
             .collect()
     }
 }
