@@ -49,6 +49,7 @@ mod observability;
 mod observation;
 mod parallel;
 mod planning;
+mod prediction;
 mod sample;
 mod sampler;
 mod simulation;
@@ -77,6 +78,7 @@ pub use observation::{
     evaluate_states,
 };
 pub use planning::{Plan, design_log_det, plan_d_optimal, units};
+pub use prediction::{MonteCarlo, PoseErrors, Prediction, monte_carlo, predict};
 pub use sample::{DataColumn, Sample};
 pub use sampler::{RANDOM_STARTS, Sampler, solve_from_starts};
 pub use simulation::{

@@ -1,0 +1,248 @@
+//! How accurate the calibrated robot will be, before measuring: the
+//! precision of every identifiable parameter and the error of the calibrated
+//! robot at test poses, predicted from the planned configurations and the
+//! sensor's σ — and the same figures measured by Monte Carlo.
+//!
+//! With W_b the base columns at the nominal robot (Appendix III) of the
+//! planned configurations, and independent sensor noise of standard
+//! deviation σ on every row, the identified base parameters have covariance
+//! C = σ² (W_bᵀW_b)⁻¹ (eq. 11). At a test configuration q the calibrated
+//! robot's remaining position error is J_p(q) δη_b (J_p: the position rows of
+//! the Jacobian, base columns; the regrouped parameters act through the base
+//! ones at every configuration), with covariance J_p C J_pᵀ, so its expected
+//! squared norm is trace(J_p C J_pᵀ). Reported: the RMS over the test poses
+//! and the largest per-pose RMS, and likewise for orientation (rows 3–5) for
+//! methods that measure it.
+//!
+//! The test-pose errors concern what the data can identify: link, plane and
+//! distance data do not see the robot's world frame (nor, alone, its scale),
+//! so the real robot's error there stays in a calibrated robot's absolute
+//! errors and is not in the prediction.
+//!
+//! What the prediction assumes: first order (errors small enough that W_b at
+//! the nominal robot stands for W_b at the real one, and the regrouped
+//! parameters' second-order effect negligible — docs/performance.md#python),
+//! independent noise of equal σ on every row (the rows of link sets are
+//! centred, which correlates them: the prediction is then approximate), and
+//! an identification that converges.
+
+use std::ops::ControlFlow;
+
+use gecaro_core::{ChainBuffer, JacobianRows, KinematicModel, PriorityMatrix, Robot};
+use nalgebra::DMatrix;
+
+use crate::Error;
+use crate::identifiability::structural_parameters;
+use crate::identification::{IdentificationOptions, identify};
+use crate::methods::CalibrationMethod;
+use crate::observation::{ColumnLayout, ObservationSystem};
+use crate::parallel::run_parts;
+use crate::sample::Sample;
+use crate::sampler::Sampler;
+use crate::simulation::{perturbed_robot, simulate_at};
+use crate::study::{Study, StudyStates};
+
+/// Errors of a calibrated robot at test poses (metres; radians).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct PoseErrors {
+    /// RMS of the position error over the test poses.
+    pub position_rms: f64,
+    /// The largest per-pose RMS position error.
+    pub position_max: f64,
+    /// RMS of the orientation error, for methods that measure orientation.
+    pub rotation_rms: Option<f64>,
+    /// The largest per-pose RMS orientation error.
+    pub rotation_max: Option<f64>,
+}
+
+/// The predicted precision of a plan.
+#[derive(Clone, Debug)]
+pub struct Prediction {
+    /// Every identifiable parameter (auxiliary unknowns first) with its
+    /// predicted standard deviation (eq. 11 with the sensor's σ).
+    pub parameters: Vec<(String, f64)>,
+    /// The predicted errors of the calibrated robot at the test poses.
+    pub errors: PoseErrors,
+}
+
+/// Per-pose squared errors, summed: position, orientation.
+fn pose_errors(position: &[f64], rotation: Option<&[f64]>, runs: f64) -> PoseErrors {
+    let summary = |squares: &[f64]| {
+        let mean = squares.iter().sum::<f64>() / (squares.len().max(1) as f64 * runs);
+        let worst = squares.iter().copied().fold(0.0, f64::max) / runs;
+        (mean.sqrt(), worst.sqrt())
+    };
+    let (position_rms, position_max) = summary(position);
+    let rotation = rotation.map(summary);
+    PoseErrors {
+        position_rms,
+        position_max,
+        rotation_rms: rotation.map(|r| r.0),
+        rotation_max: rotation.map(|r| r.1),
+    }
+}
+
+/// Predicts the precision of measuring `planned` with `method` on `robot`
+/// with a sensor of standard deviation `noise`, and the calibrated robot's
+/// errors at `test_poses` (motor variables); see the module docs.
+///
+/// # Errors
+/// Invalid configurations, too few equations for the base set, or a
+/// singular W_b.
+pub fn predict(
+    robot: &Robot,
+    method: &dyn CalibrationMethod,
+    planned: &[Sample],
+    noise: f64,
+    test_poses: &[Vec<f64>],
+    priority: &PriorityMatrix,
+) -> Result<Prediction, Error> {
+    let study = Study::single(method.clone_method(), planned.to_vec(), "planned");
+    let report = structural_parameters(robot, &study, priority, 1)?;
+    let auxiliary_count = method.auxiliary_names().len();
+    let layout = ColumnLayout::with_auxiliary(
+        robot.parameters().len(),
+        &report.base_parameters,
+        auxiliary_count,
+        &report.base_auxiliary,
+    );
+    let mut states = StudyStates::default();
+    study.evaluate_poses(robot, &mut states)?;
+    let auxiliary = study.initial_auxiliary(&states)?;
+    let mut system = ObservationSystem::default();
+    study.linearise(robot, &auxiliary, &layout, &mut states, &mut system)?;
+    let width = layout.columns();
+    let w = DMatrix::from_row_slice(system.rows(), width, system.matrix());
+    let covariance = (w.transpose() * &w)
+        .cholesky()
+        .ok_or_else(|| Error::Numerical {
+            message: "the planned configurations do not determine the identifiable parameters \
+                      (W_bᵀW_b is singular): plan more or other configurations"
+                .into(),
+        })?
+        .inverse()
+        * (noise * noise);
+    let names: Vec<String> = report
+        .base_auxiliary
+        .iter()
+        .map(|index| report.auxiliary[*index].name.clone())
+        .chain(
+            report
+                .base_parameters
+                .iter()
+                .map(|index| report.parameters[*index].name.clone()),
+        )
+        .collect();
+    let parameters = names
+        .into_iter()
+        .enumerate()
+        .map(|(column, name)| (name, covariance[(column, column)].max(0.0).sqrt()))
+        .collect();
+    // The robot parameters' block of C, and their Jacobian columns.
+    let offset = report.base_auxiliary.len();
+    let robot_columns = report.base_parameters.len();
+    let block = covariance.view((offset, offset), (robot_columns, robot_columns));
+    let model = KinematicModel::new(robot);
+    let mut chain = ChainBuffer::default();
+    let mut rows = Vec::new();
+    let count = model.parameter_count();
+    let full = method.jacobian_rows() == JacobianRows::Full;
+    let mut position = Vec::with_capacity(test_poses.len());
+    let mut rotation = Vec::with_capacity(test_poses.len());
+    for pose in test_poses {
+        model.forward(pose, &mut chain)?;
+        model.jacobian_rows(&chain, &mut rows, JacobianRows::Full);
+        let jacobian = DMatrix::from_fn(6, robot_columns, |axis, column| {
+            rows[axis * count + report.base_parameters[column]]
+        });
+        let propagated = &jacobian * block * jacobian.transpose();
+        position.push((0..3).map(|i| propagated[(i, i)]).sum::<f64>());
+        rotation.push((3..6).map(|i| propagated[(i, i)]).sum::<f64>());
+    }
+    Ok(Prediction {
+        parameters,
+        errors: pose_errors(&position, full.then_some(&rotation[..]), 1.0),
+    })
+}
+
+/// What repeated simulated calibrations measured.
+#[derive(Clone, Debug)]
+pub struct MonteCarlo {
+    /// Calibrations run (converged or not).
+    pub runs: usize,
+    /// Calibrations that did not converge (their best iterate is counted).
+    pub not_converged: usize,
+    /// The calibrated robots' errors against their real robots at the test poses.
+    pub errors: PoseErrors,
+}
+
+/// Monte Carlo check of [`predict`]: `runs` calibrations, each of a real
+/// robot drawn at `error_level` (seeded by `seed` + run), measured at
+/// `planned` with noise σ = `noise` and identified; their errors at
+/// `test_poses` against the real robot. Runs on all cores; the result does
+/// not depend on their number. `progress(done)` may stop the work.
+///
+/// # Errors
+/// The first failed simulation or identification, or [`Error::Interrupted`].
+#[allow(clippy::too_many_arguments)]
+pub fn monte_carlo(
+    robot: &Robot,
+    method: &dyn CalibrationMethod,
+    planned: &[Sample],
+    noise: f64,
+    error_level: f64,
+    test_poses: &[Vec<f64>],
+    runs: usize,
+    seed: u64,
+    options: &IdentificationOptions,
+    progress: impl Fn(usize) -> ControlFlow<()> + Sync,
+) -> Result<MonteCarlo, Error> {
+    let full = method.jacobian_rows() == JacobianRows::Full;
+    let one = |run: usize| -> Result<(Vec<f64>, Vec<f64>, bool), Error> {
+        let mut sampler = Sampler::new(seed.wrapping_add(run as u64));
+        let real = perturbed_robot(robot, error_level, &mut sampler)?;
+        let data = simulate_at(&real, method, planned, noise, &mut sampler)?;
+        let study = Study::single(method.clone_method(), data, "simulated");
+        let result = identify(robot, &study, options)?;
+        let (calibrated, real) = (
+            KinematicModel::new(&result.calibrated),
+            KinematicModel::new(&real),
+        );
+        let (mut a, mut b) = (ChainBuffer::default(), ChainBuffer::default());
+        let mut position = Vec::with_capacity(test_poses.len());
+        let mut rotation = Vec::with_capacity(test_poses.len());
+        for pose in test_poses {
+            let (p, q) = (
+                calibrated.terminal_pose(pose, &mut a)?,
+                real.terminal_pose(pose, &mut b)?,
+            );
+            position.push((p.translation.vector - q.translation.vector).norm_squared());
+            rotation.push((p.rotation.inverse() * q.rotation).angle().powi(2));
+        }
+        Ok((position, rotation, result.failure().is_some()))
+    };
+    let outcomes = run_parts((0..runs).collect(), |run| {
+        if progress(run + 1).is_break() {
+            return Err(Error::Interrupted);
+        }
+        one(run)
+    });
+    let mut position = vec![0.0; test_poses.len()];
+    let mut rotation = vec![0.0; test_poses.len()];
+    let mut not_converged = 0;
+    for outcome in outcomes {
+        let (p, r, failed) = outcome?;
+        for (sum, value) in position.iter_mut().zip(p) {
+            *sum += value;
+        }
+        for (sum, value) in rotation.iter_mut().zip(r) {
+            *sum += value;
+        }
+        not_converged += usize::from(failed);
+    }
+    Ok(MonteCarlo {
+        runs,
+        not_converged,
+        errors: pose_errors(&position, full.then_some(&rotation[..]), runs.max(1) as f64),
+    })
+}
