@@ -56,14 +56,10 @@ fn the_plan_beats_the_best_of_a_hundred_random_subsets_and_is_deterministic() {
         let mut sampler = Sampler::new(3);
         let mut best = f64::NEG_INFINITY;
         for _ in 0..100 {
-            let mut order: Vec<usize> = (0..pool_units.len()).collect();
-            for i in (1..order.len()).rev() {
-                let j = (sampler.uniform(0.0, (i + 1) as f64) as usize).min(i);
-                order.swap(i, j);
-            }
-            let subset: Vec<Sample> = order[..planned.chosen.len()]
-                .iter()
-                .flat_map(|unit| pool[pool_units[*unit].clone()].to_vec())
+            let subset: Vec<Sample> = sampler
+                .subset(pool_units.len(), planned.chosen.len())
+                .into_iter()
+                .flat_map(|unit| pool_units[unit].iter().map(|index| pool[*index].clone()))
                 .collect();
             let value = design_log_det(&robot, chosen.as_ref(), &pool, &subset, &robot.priority())
                 .expect("D");

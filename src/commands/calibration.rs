@@ -448,7 +448,7 @@ fn print_identification(robot: &Robot, study: &Study, result: &Identification, d
     );
     println!(
         "{}",
-        crate::format::observability(&result.observability, "the data")
+        crate::format::observability(&result.observability(), "the data")
     );
     let mut iterations = table(&["iteration", "residual RMS", "step ‖Δη‖", "damping λ"], 1);
     for (index, record) in result.history.iter().enumerate() {

@@ -71,15 +71,9 @@ pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
     let planned = planned?;
     // A random choice of as many units from the same pool, for comparison.
     let pool_units = units(chosen.as_ref(), &pool);
-    let mut sampler = Sampler::new(args.seed);
-    let mut order: Vec<usize> = (0..pool_units.len()).collect();
-    for i in (1..order.len()).rev() {
-        let j = (sampler.uniform(0.0, (i + 1) as f64) as usize).min(i);
-        order.swap(i, j);
-    }
     let mut random = kept.clone();
-    for unit in order.iter().take(planned.chosen.len()) {
-        random.extend_from_slice(&pool[pool_units[*unit].clone()]);
+    for unit in Sampler::new(args.seed).subset(pool_units.len(), planned.chosen.len()) {
+        random.extend(pool_units[unit].iter().map(|index| pool[*index].clone()));
     }
     let random_log_det = design_log_det(robot, chosen.as_ref(), &pool, &random, &robot.priority())?;
     gecaro_io::write_atomically(

@@ -229,9 +229,10 @@ pub struct Identification {
     pub errors_after: Vec<(f64, f64)>,
     /// Condition number of W_b at the solution.
     pub condition_number: f64,
-    /// Observability indices O1–O5 of the data's W_b at the nominal robot
-    /// (see [`crate::Observability`]).
-    pub observability: Observability,
+    /// Appendix III on the data at the nominal robot (the excitation check):
+    /// the base set they excite, and their W_b's condition number and
+    /// observability indices, computed when first read.
+    pub excitation: RankReport,
     /// The identified base parameters, in column (priority) order.
     pub parameters: Vec<IdentifiedParameter>,
     /// The identified auxiliary unknowns (plane coefficients).
@@ -255,6 +256,12 @@ impl Identification {
     /// Number of parameter updates of the route taken.
     pub fn iterations(&self) -> usize {
         self.history.len() - 1
+    }
+
+    /// Observability indices O1–O5 of the data's W_b at the nominal robot
+    /// (see [`crate::Observability`]).
+    pub fn observability(&self) -> Observability {
+        self.excitation.observability()
     }
 
     /// RMS of the weighted residual before identification.
@@ -920,7 +927,7 @@ pub fn identify_with_progress(
         &moved,
     );
     Ok(Identification {
-        observability: excited.report.observability(),
+        excitation: excited.report,
         moved,
         warnings,
         condition_number,

@@ -27,7 +27,7 @@ use nalgebra::DMatrix;
 
 use crate::Error;
 use crate::identifiability::structural_parameters;
-use crate::methods::CalibrationMethod;
+use crate::methods::{CalibrationMethod, groups};
 use crate::observability::{AUXILIARY_UNIT, Observability, column_unit};
 use crate::observation::{ColumnLayout, ObservationSystem};
 use crate::sample::{DataColumn, Sample};
@@ -39,10 +39,10 @@ const REFRESH: usize = 32;
 /// A chosen design.
 #[derive(Clone, Debug)]
 pub struct Plan {
-    /// The chosen configurations, kept ones first, then the chosen units in
-    /// pool order (whole sets and pairs).
+    /// The chosen configurations, kept ones first, then the chosen units
+    /// (whole sets and pairs) in the order of [`units`] of the pool.
     pub samples: Vec<Sample>,
-    /// Indices of the chosen units in the pool, in pool order.
+    /// The chosen units: indices into [`units`] of the pool, ascending.
     pub chosen: Vec<usize>,
     /// D(S) = log det of the information of the design (scaled W_b).
     pub log_det: f64,
@@ -54,23 +54,34 @@ pub struct Plan {
     pub columns: Vec<String>,
 }
 
-/// The units of `samples` for `method`: consecutive samples with the same
-/// set or pair id for the link and distance methods, single samples otherwise.
-pub fn units(method: &dyn CalibrationMethod, samples: &[Sample]) -> Vec<Range<usize>> {
+/// The units of `samples` for `method`: the sample indices of each set or
+/// pair (link and distance methods, grouped as the methods group them, in
+/// order of first appearance), single samples otherwise.
+pub fn units(method: &dyn CalibrationMethod, samples: &[Sample]) -> Vec<Vec<usize>> {
     let grouped = method
         .data_columns()
         .iter()
         .any(|c| matches!(c, DataColumn::Set | DataColumn::Pair));
-    let mut units: Vec<Range<usize>> = Vec::new();
-    for (index, sample) in samples.iter().enumerate() {
-        match units.last_mut() {
-            Some(last) if grouped && samples[last.start].group == sample.group => {
-                last.end = index + 1;
-            }
-            _ => units.push(index..index + 1),
-        }
+    if grouped {
+        groups(samples)
+    } else {
+        (0..samples.len()).map(|index| vec![index]).collect()
     }
-    units
+}
+
+/// `samples` reordered unit by unit, and each unit's range in the result:
+/// the rows of W then come unit by unit too.
+fn contiguous(samples: &[Sample], units: &[Vec<usize>]) -> (Vec<Sample>, Vec<Range<usize>>) {
+    let mut ordered = Vec::with_capacity(samples.len());
+    let ranges = units
+        .iter()
+        .map(|unit| {
+            let start = ordered.len();
+            ordered.extend(unit.iter().map(|index| samples[*index].clone()));
+            start..ordered.len()
+        })
+        .collect();
+    (ordered, ranges)
 }
 
 /// The scaled rows of W_b of every unit, one matrix per unit.
@@ -85,72 +96,27 @@ impl Blocks {
     }
 }
 
-/// W_b of `samples` (their units in `units`) in `layout`, columns scaled.
-fn blocks(
-    robot: &Robot,
-    method: &dyn CalibrationMethod,
-    samples: &[Sample],
-    units: &[Range<usize>],
-    layout: &ColumnLayout,
-    scale: &[f64],
-) -> Result<Blocks, Error> {
-    let study = Study::single(method.clone_method(), samples.to_vec(), "candidates");
-    let mut states = StudyStates::default();
-    study.evaluate_poses(robot, &mut states)?;
-    let auxiliary = study.initial_auxiliary(&states)?;
-    let mut system = ObservationSystem::default();
-    study.linearise(robot, &auxiliary, layout, &mut states, &mut system)?;
-    let width = layout.columns();
-    let mut values = system.matrix().to_vec();
-    for row in values.chunks_exact_mut(width) {
-        for (value, unit) in row.iter_mut().zip(scale) {
-            *value *= unit;
-        }
-    }
-    let mut blocks = Vec::with_capacity(units.len());
-    let mut start = 0;
-    for unit in units {
-        let count = method.row_count(&samples[unit.clone()]);
-        if start + count > system.rows() {
-            break;
-        }
-        blocks.push(DMatrix::from_row_slice(
-            count,
-            width,
-            &values[start * width..(start + count) * width],
-        ));
-        start += count;
-    }
-    if start != system.rows() || blocks.len() != units.len() {
-        return Err(Error::Numerical {
-            message: format!(
-                "planning: the units give {start} rows, W has {}",
-                system.rows()
-            ),
-        });
-    }
-    Ok(Blocks {
-        units: blocks,
-        width,
-    })
-}
-
-/// The scaled base columns of a pool: the structural base set (Appendix III,
-/// on random data like the pool), its layout, each column's error unit and name.
-struct BaseColumns {
-    layout: ColumnLayout,
+/// The base columns of a set of configurations: the structural base set
+/// (Appendix III, on random data like them), its layout, and each column's
+/// name and error unit (auxiliary unknowns first).
+pub(crate) struct BaseColumns {
+    pub(crate) layout: ColumnLayout,
+    /// Vocabulary indices of the base robot parameters, in column order.
+    pub(crate) parameters: Vec<usize>,
+    /// Number of base auxiliary unknowns (the first columns).
+    pub(crate) auxiliary: usize,
+    pub(crate) names: Vec<String>,
     scale: Vec<f64>,
-    names: Vec<String>,
 }
 
 impl BaseColumns {
-    fn of(
+    pub(crate) fn of(
         robot: &Robot,
         method: &dyn CalibrationMethod,
-        pool: &[Sample],
+        samples: &[Sample],
         priority: &PriorityMatrix,
     ) -> Result<Self, Error> {
-        let study = Study::single(method.clone_method(), pool.to_vec(), "candidates");
+        let study = Study::single(method.clone_method(), samples.to_vec(), "candidates");
         let report = structural_parameters(robot, &study, priority, 1)?;
         let layout = ColumnLayout::with_auxiliary(
             robot.parameters().len(),
@@ -180,20 +146,65 @@ impl BaseColumns {
             .collect();
         Ok(BaseColumns {
             layout,
-            scale,
+            auxiliary: report.base_auxiliary.len(),
+            parameters: report.base_parameters,
             names,
+            scale,
         })
     }
 
-    /// W_b of `samples` (their units in `units`), columns scaled.
+    /// W_b of `samples` at the nominal robot (parameter units, rows as eq. 10).
+    pub(crate) fn system(
+        &self,
+        robot: &Robot,
+        method: &dyn CalibrationMethod,
+        samples: &[Sample],
+    ) -> Result<ObservationSystem, Error> {
+        let study = Study::single(method.clone_method(), samples.to_vec(), "candidates");
+        let mut states = StudyStates::default();
+        study.evaluate_poses(robot, &mut states)?;
+        let auxiliary = study.initial_auxiliary(&states)?;
+        let mut system = ObservationSystem::default();
+        study.linearise(robot, &auxiliary, &self.layout, &mut states, &mut system)?;
+        Ok(system)
+    }
+
+    /// The scaled W_b of `samples`, whose units are the contiguous `ranges`,
+    /// one block per unit.
     fn blocks(
         &self,
         robot: &Robot,
         method: &dyn CalibrationMethod,
         samples: &[Sample],
-        units: &[Range<usize>],
+        ranges: &[Range<usize>],
     ) -> Result<Blocks, Error> {
-        blocks(robot, method, samples, units, &self.layout, &self.scale)
+        let system = self.system(robot, method, samples)?;
+        let width = self.layout.columns();
+        let mut blocks = Vec::with_capacity(ranges.len());
+        let mut start = 0;
+        for range in ranges {
+            let count = method.row_count(&samples[range.clone()]);
+            if start + count > system.rows() {
+                break;
+            }
+            let rows = &system.matrix()[start * width..(start + count) * width];
+            blocks.push(DMatrix::from_fn(count, width, |row, column| {
+                rows[row * width + column] * self.scale[column]
+            }));
+            start += count;
+        }
+        if start != system.rows() || blocks.len() != ranges.len() {
+            return Err(Error::Numerical {
+                message: format!(
+                    "planning: the units give {start} rows, W has {}",
+                    system.rows()
+                ),
+            });
+        }
+        Ok(Blocks {
+            units: blocks,
+            width,
+        })
     }
 }
 
@@ -255,23 +266,27 @@ impl Exchange<'_> {
         Ok(())
     }
 
-    /// The unit maximising `score` among those for which `eligible` holds.
-    fn best(
-        &self,
-        eligible: impl Fn(usize) -> bool,
-        score: impl Fn(usize) -> f64,
-    ) -> Option<usize> {
+    /// The unit whose addition raises det M most (among the admissible ones
+    /// not chosen), with that factor.
+    fn best_addition(&self, admissible: &[bool]) -> Option<(usize, f64)> {
+        self.best(|u| admissible[u] && !self.chosen[u], 1.0)
+    }
+
+    /// The chosen unit whose removal lowers det M least, with that factor.
+    fn best_removal(&self) -> Option<(usize, f64)> {
+        self.best(|u| self.chosen[u], -1.0)
+    }
+
+    /// The eligible unit with the largest det(I ± G_u), and that value.
+    fn best(&self, eligible: impl Fn(usize) -> bool, sign: f64) -> Option<(usize, f64)> {
         let mut best: Option<(usize, f64)> = None;
-        for unit in 0..self.gram.len() {
-            if !eligible(unit) {
-                continue;
-            }
-            let value = score(unit);
+        for unit in (0..self.gram.len()).filter(|u| eligible(*u)) {
+            let value = self.factor(unit, sign);
             if value.is_finite() && best.is_none_or(|(_, b)| value > b) {
                 best = Some((unit, value));
             }
         }
-        best.map(|(unit, _)| unit)
+        best
     }
 }
 
@@ -293,8 +308,8 @@ pub fn plan_d_optimal(
     priority: &PriorityMatrix,
     mut progress: impl FnMut(usize, usize) -> ControlFlow<()>,
 ) -> Result<Plan, Error> {
-    let pool_units = units(method, pool);
-    let kept_units = units(method, kept);
+    let (pool, pool_units) = contiguous(pool, &units(method, pool));
+    let (kept_ordered, kept_units) = contiguous(kept, &units(method, kept));
     // Only units whose every configuration is within the joint limits.
     let admissible: Vec<bool> = pool_units
         .iter()
@@ -319,12 +334,12 @@ pub fn plan_d_optimal(
             ),
         });
     }
-    let base_columns = BaseColumns::of(robot, method, pool, priority)?;
+    let base_columns = BaseColumns::of(robot, method, &pool, priority)?;
     let width = base_columns.layout.columns();
-    let candidates = base_columns.blocks(robot, method, pool, &pool_units)?;
+    let candidates = base_columns.blocks(robot, method, &pool, &pool_units)?;
     let mut base = DMatrix::<f64>::zeros(width, width);
     if !kept.is_empty() {
-        let kept_blocks = base_columns.blocks(robot, method, kept, &kept_units)?;
+        let kept_blocks = base_columns.blocks(robot, method, &kept_ordered, &kept_units)?;
         for unit in 0..kept_units.len() {
             let block = kept_blocks.of(unit);
             base += block.transpose() * block;
@@ -360,10 +375,7 @@ pub fn plan_d_optimal(
     };
     // Greedy pass.
     for _ in 0..wanted {
-        let chosen = &exchange.chosen;
-        let Some(unit) =
-            exchange.best(|u| admissible[u] && !chosen[u], |u| exchange.factor(u, 1.0))
-        else {
+        let Some((unit, _)) = exchange.best_addition(&admissible) else {
             break;
         };
         exchange.update(unit, 1.0)?;
@@ -374,19 +386,11 @@ pub fn plan_d_optimal(
     exchange.refresh()?;
     let mut exchanges = 0;
     for _ in 0..20 * wanted.max(1) {
-        let chosen = exchange.chosen.clone();
-        let Some(added) =
-            exchange.best(|u| admissible[u] && !chosen[u], |u| exchange.factor(u, 1.0))
-        else {
+        let Some((added, gain)) = exchange.best_addition(&admissible) else {
             break;
         };
-        let gain = exchange.factor(added, 1.0);
         exchange.update(added, 1.0)?;
-        let chosen = exchange.chosen.clone();
-        let removed = exchange
-            .best(|u| chosen[u], |u| exchange.factor(u, -1.0))
-            .unwrap_or(added);
-        let loss = exchange.factor(removed, -1.0);
+        let (removed, loss) = exchange.best_removal().unwrap_or((added, 1.0 / gain));
         exchange.update(removed, -1.0)?;
         step(&mut exchange)?;
         if removed == added || gain * loss <= 1.0 + 1e-10 {
@@ -460,8 +464,8 @@ pub fn design_log_det(
     priority: &PriorityMatrix,
 ) -> Result<f64, Error> {
     let base_columns = BaseColumns::of(robot, method, pool, priority)?;
-    let design_units = units(method, design);
-    let blocks = base_columns.blocks(robot, method, design, &design_units)?;
+    let (design, design_units) = contiguous(design, &units(method, design));
+    let blocks = base_columns.blocks(robot, method, &design, &design_units)?;
     let all: Vec<usize> = (0..design_units.len()).collect();
     let width = base_columns.layout.columns();
     design_quality(

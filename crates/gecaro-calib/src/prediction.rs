@@ -32,15 +32,14 @@ use gecaro_core::{ChainBuffer, JacobianRows, KinematicModel, PriorityMatrix, Rob
 use nalgebra::DMatrix;
 
 use crate::Error;
-use crate::identifiability::structural_parameters;
 use crate::identification::{IdentificationOptions, identify};
 use crate::methods::CalibrationMethod;
-use crate::observation::{ColumnLayout, ObservationSystem};
 use crate::parallel::run_parts;
+use crate::planning::BaseColumns;
 use crate::sample::Sample;
 use crate::sampler::Sampler;
 use crate::simulation::{perturbed_robot, simulate_at};
-use crate::study::{Study, StudyStates};
+use crate::study::Study;
 
 /// Errors of a calibrated robot at test poses (metres; radians).
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -97,22 +96,9 @@ pub fn predict(
     test_poses: &[Vec<f64>],
     priority: &PriorityMatrix,
 ) -> Result<Prediction, Error> {
-    let study = Study::single(method.clone_method(), planned.to_vec(), "planned");
-    let report = structural_parameters(robot, &study, priority, 1)?;
-    let auxiliary_count = method.auxiliary_names().len();
-    let layout = ColumnLayout::with_auxiliary(
-        robot.parameters().len(),
-        &report.base_parameters,
-        auxiliary_count,
-        &report.base_auxiliary,
-    );
-    let mut states = StudyStates::default();
-    study.evaluate_poses(robot, &mut states)?;
-    let auxiliary = study.initial_auxiliary(&states)?;
-    let mut system = ObservationSystem::default();
-    study.linearise(robot, &auxiliary, &layout, &mut states, &mut system)?;
-    let width = layout.columns();
-    let w = DMatrix::from_row_slice(system.rows(), width, system.matrix());
+    let base = BaseColumns::of(robot, method, planned, priority)?;
+    let system = base.system(robot, method, planned)?;
+    let w = DMatrix::from_row_slice(system.rows(), base.layout.columns(), system.matrix());
     let covariance = (w.transpose() * &w)
         .cholesky()
         .ok_or_else(|| Error::Numerical {
@@ -122,25 +108,16 @@ pub fn predict(
         })?
         .inverse()
         * (noise * noise);
-    let names: Vec<String> = report
-        .base_auxiliary
+    let parameters = base
+        .names
         .iter()
-        .map(|index| report.auxiliary[*index].name.clone())
-        .chain(
-            report
-                .base_parameters
-                .iter()
-                .map(|index| report.parameters[*index].name.clone()),
-        )
-        .collect();
-    let parameters = names
-        .into_iter()
+        .cloned()
         .enumerate()
         .map(|(column, name)| (name, covariance[(column, column)].max(0.0).sqrt()))
         .collect();
     // The robot parameters' block of C, and their Jacobian columns.
-    let offset = report.base_auxiliary.len();
-    let robot_columns = report.base_parameters.len();
+    let offset = base.auxiliary;
+    let robot_columns = base.parameters.len();
     let block = covariance.view((offset, offset), (robot_columns, robot_columns));
     let model = KinematicModel::new(robot);
     let mut chain = ChainBuffer::default();
@@ -153,7 +130,7 @@ pub fn predict(
         model.forward(pose, &mut chain)?;
         model.jacobian_rows(&chain, &mut rows, JacobianRows::Full);
         let jacobian = DMatrix::from_fn(6, robot_columns, |axis, column| {
-            rows[axis * count + report.base_parameters[column]]
+            rows[axis * count + base.parameters[column]]
         });
         let propagated = &jacobian * block * jacobian.transpose();
         position.push((0..3).map(|i| propagated[(i, i)]).sum::<f64>());

@@ -79,6 +79,12 @@ impl Sampler {
         }
     }
 
+    /// `amount` distinct indices below `length` (all when `amount` is
+    /// larger), drawn uniformly, in random order.
+    pub fn subset(&mut self, length: usize, amount: usize) -> Vec<usize> {
+        rand::seq::index::sample(&mut self.rng, length, amount.min(length)).into_vec()
+    }
+
     /// A Gaussian number of mean 0 and standard deviation `sigma` (0 draws nothing).
     pub fn gaussian(&mut self, sigma: f64) -> f64 {
         if sigma == 0.0 {

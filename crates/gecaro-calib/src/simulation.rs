@@ -96,12 +96,7 @@ pub fn simulate_measurements(
     noise: f64,
     sampler: &mut Sampler,
 ) -> Result<Vec<Sample>, Error> {
-    if !(noise.is_finite() && noise >= 0.0) {
-        return Err(Error::InvalidOption {
-            option: "--noise",
-            message: format!("must be a standard deviation ≥ 0, not {noise}"),
-        });
-    }
+    check_noise(noise)?;
     if count == 0 {
         return Err(Error::InvalidOption {
             option: "--count",
@@ -123,12 +118,7 @@ pub fn simulate_at(
     noise: f64,
     sampler: &mut Sampler,
 ) -> Result<Vec<Sample>, Error> {
-    if !(noise.is_finite() && noise >= 0.0) {
-        return Err(Error::InvalidOption {
-            option: "--noise",
-            message: format!("must be a standard deviation ≥ 0, not {noise}"),
-        });
-    }
+    check_noise(noise)?;
     if planned.is_empty() {
         return Err(Error::InvalidData {
             line: None,
@@ -139,4 +129,16 @@ pub fn simulate_at(
         real.check_configuration(&sample.motor_positions)?;
     }
     method.measure_at(real, planned, noise, sampler)
+}
+
+/// A sensor's standard deviation must be a number ≥ 0.
+fn check_noise(noise: f64) -> Result<(), Error> {
+    if noise.is_finite() && noise >= 0.0 {
+        Ok(())
+    } else {
+        Err(Error::InvalidOption {
+            option: "--noise",
+            message: format!("must be a standard deviation ≥ 0, not {noise}"),
+        })
+    }
 }

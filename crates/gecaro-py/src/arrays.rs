@@ -8,7 +8,7 @@
 //! changing them underneath. Outputs are new C-ordered float64 arrays.
 
 use numpy::ndarray::{ArrayD, IxDyn};
-use numpy::{IntoPyArray, PyArrayDyn, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{Element, IntoPyArray, PyArrayDyn, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -151,23 +151,12 @@ pub(crate) fn identifiers(value: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<
         .collect()
 }
 
-/// A new float64 array of this shape.
-pub(crate) fn array<'py>(
+/// A new array of this shape (float64 or int64).
+pub(crate) fn array<'py, T: Element>(
     py: Python<'py>,
     shape: &[usize],
-    values: Vec<f64>,
-) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-    Ok(ArrayD::from_shape_vec(IxDyn(shape), values)
-        .map_err(|error| pyo3::exceptions::PyRuntimeError::new_err(error.to_string()))?
-        .into_pyarray(py))
-}
-
-/// A new int64 array of this shape.
-pub(crate) fn integer_array<'py>(
-    py: Python<'py>,
-    shape: &[usize],
-    values: Vec<i64>,
-) -> PyResult<Bound<'py, PyArrayDyn<i64>>> {
+    values: Vec<T>,
+) -> PyResult<Bound<'py, PyArrayDyn<T>>> {
     Ok(ArrayD::from_shape_vec(IxDyn(shape), values)
         .map_err(|error| pyo3::exceptions::PyRuntimeError::new_err(error.to_string()))?
         .into_pyarray(py))
@@ -198,5 +187,5 @@ pub(crate) fn priority_array<'py>(
     rows: &[[u32; 6]],
 ) -> PyResult<Bound<'py, PyArrayDyn<i64>>> {
     let values = rows.iter().flatten().map(|v| i64::from(*v)).collect();
-    integer_array(py, &[rows.len(), 6], values)
+    array(py, &[rows.len(), 6], values)
 }

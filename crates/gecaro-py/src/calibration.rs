@@ -601,7 +601,7 @@ impl PyIdentification {
         json_to_python(
             py,
             &to_json(&gecaro_report::json::ObservabilityJson::from(
-                self.result.observability,
+                self.result.observability(),
             ))?,
         )
     }

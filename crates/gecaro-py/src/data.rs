@@ -15,7 +15,7 @@ use numpy::PyArrayDyn;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::{Real, array, identifiers, integer_array};
+use crate::arrays::{Real, array, identifiers};
 use crate::errors::{IntoPyResult, input};
 use crate::robot::{PyRobot, angle_unit, length_unit, output_policy};
 
@@ -266,7 +266,7 @@ impl PyData {
             .iter()
             .map(|sample| sample.group.map_or(-1, |id| id as i64))
             .collect();
-        integer_array(py, &[self.samples.len()], ids).map(Some)
+        array(py, &[self.samples.len()], ids).map(Some)
     }
 
     /// Measured distances (m,), or None.

@@ -22,23 +22,6 @@ pub(crate) fn input(message: impl Into<String>) -> PyErr {
     InputError::new_err(message.into())
 }
 
-/// What became of an interrupted call: the `KeyboardInterrupt` (or the
-/// exception of a progress callback) that stopped it.
-#[derive(Default)]
-pub(crate) struct Stopped(Option<PyErr>);
-
-impl Stopped {
-    /// Remembers why the work stops.
-    pub(crate) fn set(&mut self, error: PyErr) {
-        self.0 = Some(error);
-    }
-
-    /// The exception that stopped the work, if something did.
-    pub(crate) fn take(&mut self) -> Option<PyErr> {
-        self.0.take()
-    }
-}
-
 /// Conversion of the library's errors.
 pub(crate) trait ToPyErr {
     /// The Python exception of this error.

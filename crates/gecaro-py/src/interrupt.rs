@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 
 use pyo3::prelude::*;
 
-use crate::errors::{IntoPyResult, Stopped, ToPyErr};
+use crate::errors::{IntoPyResult, ToPyErr};
 
 /// How often a long call looks for a pending signal.
 const POLL_PERIOD: Duration = Duration::from_millis(20);
@@ -19,7 +19,8 @@ const POLL_PERIOD: Duration = Duration::from_millis(20);
 /// The signal check of one long call, and why it stopped.
 pub(crate) struct Watch {
     last: Instant,
-    stopped: Stopped,
+    /// The exception that stopped the work (Ctrl-C, or a progress callback's).
+    stopped: Option<PyErr>,
 }
 
 impl Watch {
@@ -27,7 +28,7 @@ impl Watch {
     pub(crate) fn new() -> Self {
         Watch {
             last: Instant::now(),
-            stopped: Stopped::default(),
+            stopped: None,
         }
     }
 
@@ -46,14 +47,14 @@ impl Watch {
 
     /// Stops the work with `error` (raised when the call returns).
     pub(crate) fn stop(&mut self, error: PyErr) -> ControlFlow<()> {
-        self.stopped.set(error);
+        self.stopped = Some(error);
         ControlFlow::Break(())
     }
 
     /// The result of the work: the exception that stopped it, if any,
     /// otherwise `result` with the library's error converted.
-    pub(crate) fn finish<T, E: ToPyErr>(mut self, result: Result<T, E>) -> PyResult<T> {
-        match self.stopped.take() {
+    pub(crate) fn finish<T, E: ToPyErr>(self, result: Result<T, E>) -> PyResult<T> {
+        match self.stopped {
             Some(error) => Err(error),
             None => result.py(),
         }

@@ -22,7 +22,7 @@ use numpy::PyArrayDyn;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::{Real, array, columns, integer_array, priority_array};
+use crate::arrays::{Real, array, columns, priority_array};
 use crate::errors::{IntoPyResult, input};
 use crate::interrupt::Watch;
 
@@ -127,8 +127,14 @@ fn homogeneous_rows(pose: &IsometryMatrix3<f64>, out: &mut [f64]) {
 /// A rigid transform from a 4×4 homogeneous matrix or the seven numbers
 /// `[x, y, z, qw, qx, qy, qz]` of gecaro's files and command line.
 pub(crate) fn pose(value: &Bound<'_, PyAny>, what: &str) -> PyResult<IsometryMatrix3<f64>> {
-    let expected = "a 4×4 homogeneous matrix or [x, y, z, qw, qx, qy, qz]";
-    let array = Real::new(value, what, expected)?;
+    pose_of(&Real::new(value, what, POSE)?, what)
+}
+
+/// What [`pose`] takes.
+const POSE: &str = "a 4×4 homogeneous matrix or [x, y, z, qw, qx, qy, qz]";
+
+/// [`pose`] of values already read.
+fn pose_of(array: &Real, what: &str) -> PyResult<IsometryMatrix3<f64>> {
     match array.shape[..] {
         [7] => pose_from_seven(&array.values).map_err(|message| input(format!("{what} {message}"))),
         [4, 4] => {
@@ -165,7 +171,7 @@ pub(crate) fn pose(value: &Bound<'_, PyAny>, what: &str) -> PyResult<IsometryMat
                 rotation,
             ))
         }
-        _ => Err(array.wrong_shape(what, expected)),
+        _ => Err(array.wrong_shape(what, POSE)),
     }
 }
 
@@ -511,7 +517,7 @@ impl PyRobot {
             .iter()
             .map(|f| i64::from(f.frame_type.sigma()))
             .collect();
-        table.set_item("sigma", integer_array(py, &[frames.len()], sigma)?)?;
+        table.set_item("sigma", array(py, &[frames.len()], sigma)?)?;
         let table = columns(
             py,
             frames,
@@ -527,7 +533,7 @@ impl PyRobot {
             .iter()
             .map(|f| i64::from(f.frame_type.sigma()))
             .collect();
-        table.set_item("sigma", integer_array(py, &[frames.len()], sigma)?)?;
+        table.set_item("sigma", array(py, &[frames.len()], sigma)?)?;
         Ok(table)
     }
 
@@ -698,10 +704,10 @@ impl PyRobot {
         tolerance: f64,
         max_iterations: usize,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-        let point = Real::new(target, "target", "a pose or a point")?;
-        let target = match point.shape[..] {
-            [3] => Target::Position(Vector3::from_column_slice(&point.values)),
-            _ => Target::Frame(pose(target, "target")?),
+        let values = Real::new(target, "target", "a pose or a point")?;
+        let target = match values.shape[..] {
+            [3] => Target::Position(Vector3::from_column_slice(&values.values)),
+            _ => Target::Frame(pose_of(&values, "target")?),
         };
         let start = start
             .map(|start| Real::shaped(start, "start", &[Some(self.robot().joint_count())]))

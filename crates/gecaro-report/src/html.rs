@@ -132,7 +132,7 @@ pub fn html_report(input: &ReportInput<'_>) -> Result<String, Error> {
         },
         condition = number(result.condition_number),
         observability = {
-            let o = &result.observability;
+            let o = result.observability();
             [o.o1, o.o2, o.o3, o.o4, o.o5].map(number).join(" · ")
         },
         sigma = number(result.residual_sigma),

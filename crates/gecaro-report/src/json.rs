@@ -293,7 +293,7 @@ impl IdentificationJson {
             rms_before: result.rms_before(),
             rms_after: result.rms_after(),
             condition_number: result.condition_number,
-            observability: result.observability.into(),
+            observability: result.observability().into(),
             parameters: parameters(&result.parameters),
             auxiliary: parameters(&result.auxiliary),
             stop_reason: result.stop_reason.as_str(),

@@ -4,7 +4,7 @@
 
 use gecaro_core::{OrientationDifference, Robot, orientation_difference};
 
-use super::sensor::Sensor;
+use super::sensor::{Reading, random_readings, readings_at};
 use super::{CalibrationMethod, MethodInfo};
 use crate::Error;
 use crate::observation::{RowKind, RowWriter, TerminalState};
@@ -79,13 +79,7 @@ impl CalibrationMethod for FrameMeasure {
         noise: f64,
         sampler: &mut Sampler,
     ) -> Result<Vec<Sample>, Error> {
-        let mut sensor = Sensor::new(robot);
-        (0..count)
-            .map(|_| {
-                let motor_positions = sampler.configuration(robot);
-                sensor.frame(motor_positions, noise, sampler)
-            })
-            .collect()
+        random_readings(robot, Reading::Frame, count, noise, sampler)
     }
 
     fn measure_at(
@@ -95,10 +89,6 @@ impl CalibrationMethod for FrameMeasure {
         noise: f64,
         sampler: &mut Sampler,
     ) -> Result<Vec<Sample>, Error> {
-        let mut sensor = Sensor::new(real);
-        planned
-            .iter()
-            .map(|sample| sensor.frame(sample.motor_positions.clone(), noise, sampler))
-            .collect()
+        readings_at(real, Reading::Frame, planned, noise, sampler)
     }
 }

@@ -4,7 +4,7 @@
 
 use gecaro_core::{JacobianRows, Robot};
 
-use super::sensor::Sensor;
+use super::sensor::{Reading, random_readings, readings_at};
 use super::{CalibrationMethod, MethodInfo};
 use crate::Error;
 use crate::observation::{RowKind, RowWriter, TerminalState};
@@ -76,13 +76,7 @@ impl CalibrationMethod for PositionMeasure {
         noise: f64,
         sampler: &mut Sampler,
     ) -> Result<Vec<Sample>, Error> {
-        let mut sensor = Sensor::new(robot);
-        (0..count)
-            .map(|_| {
-                let motor_positions = sampler.configuration(robot);
-                sensor.point(motor_positions, noise, sampler)
-            })
-            .collect()
+        random_readings(robot, Reading::Point, count, noise, sampler)
     }
 
     fn measure_at(
@@ -92,10 +86,6 @@ impl CalibrationMethod for PositionMeasure {
         noise: f64,
         sampler: &mut Sampler,
     ) -> Result<Vec<Sample>, Error> {
-        let mut sensor = Sensor::new(real);
-        planned
-            .iter()
-            .map(|sample| sensor.point(sample.motor_positions.clone(), noise, sampler))
-            .collect()
+        readings_at(real, Reading::Point, planned, noise, sampler)
     }
 }

@@ -1,6 +1,7 @@
 //! Sensors of the simulation: what a position or frame sensor reads on a
-//! robot, with Gaussian noise (points generation and measurements at planned
-//! configurations share them, so both draw the noise in the same order).
+//! robot, with Gaussian noise. Points generation (random configurations) and
+//! measurements at planned configurations read through the same
+//! [`Sensor`], so both draw the noise in the same order.
 
 use gecaro_core::{ChainBuffer, KinematicModel, Robot};
 use nalgebra::UnitQuaternion;
@@ -9,22 +10,34 @@ use crate::Error;
 use crate::sample::Sample;
 use crate::sampler::Sampler;
 
-/// A robot's terminal frame, read with noise.
-pub(super) struct Sensor {
+/// What a sensor reads of frame n+1.
+#[derive(Copy, Clone, Debug)]
+pub(super) enum Reading {
+    /// Its origin, each coordinate with noise σ.
+    Point,
+    /// Its pose: the orientation turned by a random rotation of σ rad, then
+    /// the origin with σ m per coordinate.
+    Frame,
+}
+
+/// A sensor on a robot.
+struct Sensor {
     model: KinematicModel,
     chain: ChainBuffer,
+    reading: Reading,
 }
 
 impl Sensor {
-    pub(super) fn new(robot: &Robot) -> Self {
+    fn new(robot: &Robot, reading: Reading) -> Self {
         Sensor {
             model: KinematicModel::new(robot),
             chain: ChainBuffer::default(),
+            reading,
         }
     }
 
-    /// The origin of frame n+1, each coordinate with noise σ = `noise`.
-    pub(super) fn point(
+    /// The sample at `motor_positions` with what the sensor reads there.
+    fn read(
         &mut self,
         motor_positions: Vec<f64>,
         noise: f64,
@@ -33,28 +46,49 @@ impl Sensor {
         let pose = self
             .model
             .terminal_pose(&motor_positions, &mut self.chain)?;
+        let orientation = match self.reading {
+            Reading::Point => None,
+            Reading::Frame => Some(UnitQuaternion::from_rotation_matrix(
+                &(sampler.gaussian_rotation(noise) * pose.rotation),
+            )),
+        };
         Ok(Sample {
             position: Some(pose.translation.vector + sampler.gaussian_vector(noise)),
+            orientation,
             ..Sample::new(motor_positions)
         })
     }
+}
 
-    /// The pose of frame n+1: orientation with a random rotation of σ =
-    /// `noise` rad, then the position with σ = `noise` m per coordinate.
-    pub(super) fn frame(
-        &mut self,
-        motor_positions: Vec<f64>,
-        noise: f64,
-        sampler: &mut Sampler,
-    ) -> Result<Sample, Error> {
-        let pose = self
-            .model
-            .terminal_pose(&motor_positions, &mut self.chain)?;
-        let rotation = sampler.gaussian_rotation(noise) * pose.rotation;
-        Ok(Sample {
-            position: Some(pose.translation.vector + sampler.gaussian_vector(noise)),
-            orientation: Some(UnitQuaternion::from_rotation_matrix(&rotation)),
-            ..Sample::new(motor_positions)
+/// `count` random configurations of `robot` (within the joint limits), read
+/// by the sensor: points generation of the position and frame methods.
+pub(super) fn random_readings(
+    robot: &Robot,
+    reading: Reading,
+    count: usize,
+    noise: f64,
+    sampler: &mut Sampler,
+) -> Result<Vec<Sample>, Error> {
+    let mut sensor = Sensor::new(robot, reading);
+    (0..count)
+        .map(|_| {
+            let motor_positions = sampler.configuration(robot);
+            sensor.read(motor_positions, noise, sampler)
         })
-    }
+        .collect()
+}
+
+/// The planned configurations, read by the sensor on `real`.
+pub(super) fn readings_at(
+    real: &Robot,
+    reading: Reading,
+    planned: &[Sample],
+    noise: f64,
+    sampler: &mut Sampler,
+) -> Result<Vec<Sample>, Error> {
+    let mut sensor = Sensor::new(real, reading);
+    planned
+        .iter()
+        .map(|sample| sensor.read(sample.motor_positions.clone(), noise, sampler))
+        .collect()
 }
