@@ -750,6 +750,13 @@ mod tests {
     }
 
     proptest::proptest! {
+        // Seeded, so that a run is repeatable (cases that once failed are
+        // replayed first from proptest-regressions/).
+        #![proptest_config(proptest::test_runner::Config {
+            rng_seed: proptest::test_runner::RngSeed::Fixed(1),
+            ..proptest::test_runner::Config::default()
+        })]
+
         #[test]
         fn tridiagonal_extremes_agree_with_the_qr_iteration(
             entries in proptest::collection::vec((-1e3..1e3_f64, -1e3..1e3_f64), 1..40),
@@ -796,16 +803,19 @@ mod tests {
             let regrouped = select_columns(matrix.as_ref(), &second);
             let expected = kept.qr().solve_lstsq(&regrouped);
             let misfit = &kept * &expected - &regrouped;
+            // Two backward-stable solutions agree to about ε·κ(kept), and κ
+            // grows as 10^-scale with the shrunk column.
+            let agreement = 1e-9_f64.max(1e-13 * 10_f64.powf(-scale));
             for j in 0..second.len() {
                 for k in 0..first.len() {
                     let size = expected.col(j).norm_l2();
                     proptest::prop_assert!(
-                        (beta[(k, j)] - expected[(k, j)]).abs() <= 1e-9 * size,
+                        (beta[(k, j)] - expected[(k, j)]).abs() <= agreement * size,
                         "β[{k}, {j}]: {} vs {}", beta[(k, j)], expected[(k, j)]
                     );
                 }
                 let relative = misfit.col(j).norm_l2() / regrouped.col(j).norm_l2();
-                proptest::prop_assert!((misfits[j] - relative).abs() <= 1e-9 * relative);
+                proptest::prop_assert!((misfits[j] - relative).abs() <= agreement * relative);
             }
         }
     }
