@@ -154,15 +154,43 @@ fn plan_d_optimal_50(bencher: divan::Bencher, pool: usize) {
         gecaro_calib::random_samples(&robot, position.as_ref(), Some(pool), 1).expect("candidates");
     let priority = robot.priority();
     bencher.bench_local(|| {
-        gecaro_calib::plan_d_optimal(
+        gecaro_calib::plan_configurations(
             &robot,
             position.as_ref(),
             &candidates,
-            50,
-            &[],
+            &gecaro_calib::PlanRequest::new(50),
             &priority,
             |_, _| ControlFlow::Continue(()),
         )
         .expect("plan")
+    });
+}
+
+/// 1 000 simulated calibrations (`gecaro predict --monte-carlo 1000`,
+/// docs/planning.md): the Stanford arm, position method, 100 configurations,
+/// error level 0.1, σ 0.1 mm, errors at 200 test poses; on all cores.
+#[divan::bench(sample_count = 10)]
+fn monte_carlo_1000_at_100(bencher: divan::Bencher) {
+    let robot = stanford();
+    let position = method("position", &MethodOptions::default()).expect("method");
+    let planned =
+        gecaro_calib::random_samples(&robot, position.as_ref(), Some(100), 1).expect("planned");
+    let mut sampler = gecaro_calib::Sampler::new(2);
+    let poses: Vec<Vec<f64>> = (0..200).map(|_| sampler.configuration(&robot)).collect();
+    let options = gecaro_calib::IdentificationOptions::default();
+    bencher.bench_local(|| {
+        gecaro_calib::monte_carlo(
+            &robot,
+            position.as_ref(),
+            &planned,
+            1e-4,
+            0.1,
+            &poses,
+            1000,
+            3,
+            &options,
+            |_| ControlFlow::Continue(()),
+        )
+        .expect("simulated calibrations")
     });
 }

@@ -32,8 +32,12 @@ pub(crate) enum Command {
     Table2(Table2Args),
     /// Points generation: simulated measurements of a "real" robot for a method.
     Generate(GenerateArgs),
-    /// Plan a calibration: the D-optimal configurations to measure, chosen from a pool.
+    /// Plan a calibration: the configurations to measure, chosen from a pool
+    /// (D-, A-, E-optimal, O4, O5 or test-pose accuracy), or how many are enough (--curve).
     Plan(PlanArgs),
+    /// Predict, before measuring, the precision of every identifiable
+    /// parameter and the calibrated robot's error at test poses.
+    Predict(PredictArgs),
     /// Identification: the robot's parameters from measurements (eq. 10, iterated).
     Identify(IdentifyArgs),
     /// Identify and write a self-contained HTML report with plots.
@@ -446,27 +450,120 @@ pub(crate) struct PlanArgs {
     pub(crate) method: MethodArgs,
     /// Number of configurations to measure (rows of the output; link sets and
     /// distance pairs come whole, so the count is rounded to whole units).
-    #[arg(long)]
-    pub(crate) count: usize,
+    #[arg(long, required_unless_present = "curve", conflicts_with = "curve")]
+    pub(crate) count: Option<usize>,
+    /// What the choice optimises: D-, A-, E-optimal, the observability
+    /// indices O4 or O5, or the predicted position error at the test poses.
+    #[arg(long, value_enum, default_value = "d")]
+    pub(crate) criterion: CriterionArg,
     /// Candidates: a data file's configurations (e.g. the poses a cell can reach).
     #[arg(long, value_name = "FILE", conflicts_with = "pool")]
     pub(crate) candidates: Option<PathBuf>,
     /// Or generate this many candidate configurations, as points generation
-    /// does (within the joint limits; default 20 × --count).
+    /// does (within the joint limits; default 20 × --count, or 20 × the
+    /// largest count of --curve).
     #[arg(long, value_name = "K")]
     pub(crate) pool: Option<usize>,
-    /// Seed of the generated pool.
+    /// Seed of the generated pool (and of the test poses and random designs).
     #[arg(long, default_value_t = 1)]
     pub(crate) seed: u64,
     /// Configurations measured already: part of the design, never dropped.
     #[arg(long, value_name = "FILE")]
     pub(crate) keep: Option<PathBuf>,
+    /// The smallest joint-space distance between two chosen configurations
+    /// (Euclidean over the joint variables, radians and metres).
+    #[arg(long, value_name = "D", default_value_t = 0.0)]
+    pub(crate) min_distance: f64,
+    #[command(flatten)]
+    pub(crate) test_poses: TestPoseArgs,
+    /// Instead of one plan: the predicted error against the number of
+    /// configurations, planned versus random (e.g. 10,20,40,80,160).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "N,N,...",
+        requires = "noise"
+    )]
+    pub(crate) curve: Option<Vec<usize>>,
+    /// For --curve: the sensor's standard deviation (metres).
+    #[arg(long, value_name = "SIGMA")]
+    pub(crate) noise: Option<f64>,
+    /// For --curve: write the curve as an SVG plot.
+    #[arg(long, value_name = "CURVE.svg", requires = "curve")]
+    pub(crate) plot: Option<PathBuf>,
     /// Output: the chosen configurations (qm1..qmn, and set or pair ids).
-    #[arg(short, long, value_name = "PLANNED.csv")]
-    pub(crate) output: PathBuf,
-    /// Overwrite the output file if it exists.
+    #[arg(
+        short,
+        long,
+        value_name = "PLANNED.csv",
+        required_unless_present = "curve"
+    )]
+    pub(crate) output: Option<PathBuf>,
+    /// Overwrite the output files if they exist.
     #[arg(long)]
     pub(crate) force: bool,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub(crate) json: bool,
+}
+
+/// Where the calibrated robot will work: the poses its accuracy is judged at.
+#[derive(Debug, Args)]
+pub(crate) struct TestPoseArgs {
+    /// Test poses: a data file's configurations (default: random
+    /// configurations within the joint limits, seeded by --seed).
+    #[arg(long, value_name = "FILE")]
+    pub(crate) test_poses: Option<PathBuf>,
+    /// Number of random test poses when no file is given.
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = 200,
+        conflicts_with = "test_poses"
+    )]
+    pub(crate) test_pose_count: usize,
+}
+
+/// A design criterion (`gecaro plan --criterion`).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum CriterionArg {
+    /// D-optimal: the largest log det(W_bᵀW_b).
+    D,
+    /// A-optimal: the smallest sum of the parameters' variances.
+    A,
+    /// E-optimal: the largest smallest singular value (O3).
+    E,
+    /// The largest noise amplification index O4 = σL²/σ1.
+    O4,
+    /// The largest O5 = 1/Σ(1/σi).
+    O5,
+    /// The smallest predicted position error at the test poses.
+    Test,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct PredictArgs {
+    /// Nominal robot (file or ready robot name).
+    pub(crate) robot: String,
+    #[command(flatten)]
+    pub(crate) method: MethodArgs,
+    /// The configurations to be measured (e.g. the output of `gecaro plan`).
+    #[arg(long, value_name = "PLANNED.csv")]
+    pub(crate) data: PathBuf,
+    /// The sensor's standard deviation (metres; radians for orientation rows).
+    #[arg(long, value_name = "SIGMA")]
+    pub(crate) noise: f64,
+    #[command(flatten)]
+    pub(crate) test_poses: TestPoseArgs,
+    /// Also run K simulated calibrations and report the errors measured.
+    #[arg(long, value_name = "K")]
+    pub(crate) monte_carlo: Option<usize>,
+    /// For --monte-carlo: the simulated real robots' error level (1 = ±1 cm, ±1°).
+    #[arg(long, default_value_t = 0.1)]
+    pub(crate) error_level: f64,
+    /// Seed of the test poses and the simulations.
+    #[arg(long, default_value_t = 1)]
+    pub(crate) seed: u64,
     /// Print JSON instead of text.
     #[arg(long)]
     pub(crate) json: bool,

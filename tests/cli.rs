@@ -917,3 +917,216 @@ fn plan_writes_the_chosen_configurations_and_beats_a_random_choice() {
         .code(2)
         .stderr(predicate::str::contains("--count"));
 }
+
+#[test]
+fn plan_by_other_criteria_with_a_minimum_distance_and_test_poses() {
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let path = |name: &str| folder.path().join(name).to_str().expect("utf-8").to_owned();
+    let common = [
+        "plan", "stanford", "--method", "position", "--count", "24", "--pool", "240", "--json",
+    ];
+    for criterion in ["a", "e", "o4", "o5"] {
+        let output = path(&format!("{criterion}.csv"));
+        let mut args = common.to_vec();
+        args.extend([
+            "--criterion",
+            criterion,
+            "--min-distance",
+            "1",
+            "-o",
+            &output,
+        ]);
+        let report = json_output(&args);
+        assert_eq!(report["criterion"], criterion);
+        let (mine, random) = (
+            report["value"].as_f64().expect("value"),
+            report["random_value"].as_f64().expect("random"),
+        );
+        // A is minimised, the others maximised.
+        assert!(
+            if criterion == "a" {
+                mine < random
+            } else {
+                mine > random
+            },
+            "{criterion}: {mine} vs {random}"
+        );
+        assert_eq!(
+            std::fs::read_to_string(&output)
+                .expect("plan")
+                .lines()
+                .count(),
+            25
+        );
+    }
+    // Test poses from a file (the A plan's configurations, as a stand-in for
+    // where the robot works): the value is the predicted error per unit σ,
+    // which `gecaro predict` gives on another route.
+    let output = path("test.csv");
+    let mut args = common.to_vec();
+    let poses = path("a.csv");
+    args.extend(["--criterion", "test", "--test-poses", &poses, "-o", &output]);
+    let report = json_output(&args);
+    let per_sigma = report["value"].as_f64().expect("value");
+    let predicted = json_output(&[
+        "predict",
+        "stanford",
+        "--method",
+        "position",
+        "--data",
+        &output,
+        "--noise",
+        "1e-4",
+        "--test-poses",
+        &poses,
+        "--json",
+    ]);
+    assert_eq!(predicted["test_poses"], 24);
+    let rms = predicted["predicted"]["position_rms"]
+        .as_f64()
+        .expect("rms");
+    assert!(
+        (rms / (per_sigma * 1e-4) - 1.0).abs() < 1e-6,
+        "{rms} vs {per_sigma}"
+    );
+    // An impossible distance names the option.
+    gecaro()
+        .args(&common[..common.len() - 1])
+        .args(["--min-distance", "40", "-o"])
+        .arg(path("far.csv"))
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("--min-distance"));
+    assert!(!folder.path().join("far.csv").exists());
+}
+
+#[test]
+fn predict_agrees_with_its_monte_carlo_and_refuses_bad_input() {
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let planned = folder.path().join("planned.csv");
+    gecaro()
+        .args(["plan", "panda", "--method", "frame", "--count", "30", "-o"])
+        .arg(&planned)
+        .assert()
+        .success();
+    let planned_text = planned.to_str().expect("utf-8");
+    let report = json_output(&[
+        "predict",
+        "panda",
+        "--method",
+        "frame",
+        "--data",
+        planned_text,
+        "--noise",
+        "5e-5",
+        "--monte-carlo",
+        "300",
+        "--json",
+    ]);
+    let parameters = report["parameters"].as_array().expect("parameters");
+    assert!(parameters.len() > 30);
+    assert!(
+        parameters
+            .iter()
+            .all(|p| p["sigma"].as_f64().is_some_and(|s| s > 0.0 && s < 1e-2))
+    );
+    let ratio = report["monte_carlo"]["position_ratio"]
+        .as_f64()
+        .expect("ratio");
+    assert!((ratio - 1.0).abs() < 0.15, "measured / predicted {ratio}");
+    assert!(report["predicted"]["rotation_rms"].as_f64().is_some());
+    // Text output names both rows.
+    gecaro()
+        .args([
+            "predict",
+            "panda",
+            "--method",
+            "frame",
+            "--data",
+            planned_text,
+        ])
+        .args(["--noise", "5e-5", "--monte-carlo", "20"])
+        .assert()
+        .success()
+        .stdout(
+            predicate::str::contains("predicted")
+                .and(predicate::str::contains("Monte Carlo (20 runs)")),
+        );
+    // Too few configurations; a bad σ.
+    let few = folder.path().join("few.csv");
+    std::fs::write(
+        &few,
+        std::fs::read_to_string(&planned)
+            .expect("planned")
+            .lines()
+            .take(4)
+            .collect::<Vec<_>>()
+            .join("\n"),
+    )
+    .expect("written");
+    gecaro()
+        .args([
+            "predict", "panda", "--method", "frame", "--noise", "1e-4", "--data",
+        ])
+        .arg(&few)
+        .assert()
+        .failure()
+        .stderr(
+            predicate::str::contains("equations").or(predicate::str::contains("do not determine")),
+        );
+    gecaro()
+        .args([
+            "predict", "panda", "--method", "frame", "--noise", "-1", "--data",
+        ])
+        .arg(&planned)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("--noise"));
+}
+
+#[test]
+fn the_curve_shows_planned_below_random_as_a_table_json_and_svg() {
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let plot = folder.path().join("curve.svg");
+    let report = json_output(&[
+        "plan",
+        "stanford",
+        "--method",
+        "position",
+        "--curve",
+        "8,12,24,48",
+        "--noise",
+        "1e-4",
+        "--pool",
+        "600",
+        "--json",
+        "--plot",
+        plot.to_str().expect("utf-8"),
+    ]);
+    let points = report["points"].as_array().expect("points");
+    assert_eq!(points.len(), 4);
+    // 8 configurations (24 equations) cannot determine 31 parameters.
+    assert!(points[0]["planned"].is_null());
+    let planned: Vec<f64> = points[1..]
+        .iter()
+        .map(|p| p["planned"].as_f64().expect("planned"))
+        .collect();
+    let random: Vec<f64> = points[1..]
+        .iter()
+        .map(|p| p["random"].as_f64().expect("random"))
+        .collect();
+    assert!(planned.windows(2).all(|w| w[1] < w[0]), "{planned:?}");
+    assert!(
+        planned.iter().zip(&random).all(|(p, r)| p < r),
+        "{planned:?} {random:?}"
+    );
+    let svg = std::fs::read_to_string(&plot).expect("svg");
+    assert!(svg.starts_with("<svg") && svg.contains("planned") && svg.contains("random"));
+    gecaro()
+        .args([
+            "plan", "stanford", "--method", "position", "--curve", "10,20", "--pool", "300",
+        ])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("--noise"));
+}

@@ -25,6 +25,7 @@ pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
         Command::Table2(args) => identifiability::table2(&args),
         Command::Generate(args) => calibration::generate(&args),
         Command::Plan(args) => planning::plan(&args),
+        Command::Predict(args) => planning::predict_accuracy(&args),
         Command::Identify(args) => calibration::identify(&args),
         Command::Report(args) => calibration::report(&args),
         Command::Evaluate(args) => calibration::evaluate(&args),

@@ -1,22 +1,70 @@
-//! `gecaro plan`: the configurations to measure, chosen before measuring
-//! (docs/planning.md).
+//! `gecaro plan` and `gecaro predict`: the configurations to measure, and how
+//! accurate their calibration will be, before measuring (docs/planning.md).
 
 use std::ops::ControlFlow;
+use std::path::Path;
 
-use gecaro_calib::{DataColumn, Sample, Sampler, design_log_det, method, plan_d_optimal, units};
+use gecaro_calib::{
+    CalibrationMethod, Criterion, CurvePoint, DataColumn, IdentificationOptions, PlanRequest,
+    PoseErrors, Sample, Sampler, accuracy_curve, assess_design, method, monte_carlo,
+    plan_configurations, predict, units,
+};
+use gecaro_core::Robot;
 use gecaro_io::{DataFormat, format_samples, joint_types, load_robot, read_samples};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 
 use super::calibration::{check_output, grouping_columns};
 use super::options::{method_options, output_policy};
-use crate::cli::PlanArgs;
+use crate::cli::{CriterionArg, PlanArgs, PredictArgs, TestPoseArgs};
 use crate::failure::Failure;
-use crate::format::number;
+use crate::format::{number, table};
+
+/// Test poses are drawn from their own stream, apart from the pool's.
+const TEST_POSE_STREAM: u64 = 0x7e57_7e57;
+
+/// A progress bar on stderr (hidden when stderr is not a terminal).
+fn progress_bar(what: &str) -> ProgressBar {
+    let bar = ProgressBar::new(1);
+    bar.set_style(
+        ProgressStyle::with_template(&format!("{what} {{bar:30}} {{pos}}/{{len}} [{{elapsed}}]"))
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar
+}
+
+/// The configurations of a data file (measurement columns, if any, ignored).
+fn configurations(
+    robot: &Robot,
+    path: &Path,
+    columns: &[DataColumn],
+) -> Result<Vec<Sample>, Failure> {
+    Ok(read_samples(path, &joint_types(robot), columns, &DataFormat::default())?.samples)
+}
+
+/// The test poses: a file's configurations, or random ones within the limits.
+fn test_poses(robot: &Robot, args: &TestPoseArgs, seed: u64) -> Result<Vec<Vec<f64>>, Failure> {
+    match &args.test_poses {
+        Some(path) => Ok(configurations(robot, path, &[])?
+            .into_iter()
+            .map(|sample| sample.motor_positions)
+            .collect()),
+        None => {
+            let mut sampler = Sampler::new(seed ^ TEST_POSE_STREAM);
+            Ok((0..args.test_pose_count)
+                .map(|_| sampler.configuration(robot))
+                .collect())
+        }
+    }
+}
 
 #[derive(Serialize)]
 struct PlanJson<'a> {
     method: &'static str,
+    criterion: &'static str,
+    criterion_meaning: &'static str,
+    value: f64,
+    random_value: f64,
     configurations: usize,
     units: usize,
     pool: usize,
@@ -29,37 +77,90 @@ struct PlanJson<'a> {
     output: String,
 }
 
+#[derive(Serialize)]
+struct CurveJson {
+    method: &'static str,
+    criterion: &'static str,
+    noise: f64,
+    pool: usize,
+    test_poses: usize,
+    random_draws: usize,
+    /// Predicted RMS position error (metres) per count.
+    points: Vec<CurvePointJson>,
+}
+
+#[derive(Serialize)]
+struct CurvePointJson {
+    configurations: usize,
+    planned: Option<f64>,
+    random: Option<f64>,
+}
+
 pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
     let file = load_robot(&args.robot)?;
     let robot = &file.robot;
-    check_output(&args.output, args.force)?;
+    if let Some(output) = &args.output {
+        check_output(output, args.force)?;
+    }
+    if let Some(plot) = &args.plot {
+        check_output(plot, args.force)?;
+    }
     let chosen = method(&args.method.method, &method_options(&args.method.options)?)?;
     let columns = grouping_columns(chosen.data_columns());
-    let read = |path: &std::path::Path| -> Result<Vec<Sample>, Failure> {
-        Ok(read_samples(path, &joint_types(robot), &columns, &DataFormat::default())?.samples)
+    let largest = match (&args.curve, args.count) {
+        (Some(counts), _) => counts.iter().copied().max().unwrap_or(0),
+        (None, count) => count.unwrap_or(0),
     };
     let pool = match &args.candidates {
-        Some(path) => read(path)?,
+        Some(path) => configurations(robot, path, &columns)?,
         None => {
-            let count = args.pool.unwrap_or(20 * args.count);
+            let count = args.pool.unwrap_or(20 * largest);
             chosen.generate(robot, count, 0.0, &mut Sampler::new(args.seed))?
         }
     };
     let kept = match &args.keep {
-        Some(path) => read(path)?,
+        Some(path) => configurations(robot, path, &columns)?,
         None => Vec::new(),
     };
-    let bar = ProgressBar::new(1);
-    bar.set_style(
-        ProgressStyle::with_template("planning {bar:30} {pos}/{len} [{elapsed}]")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    let planned = plan_d_optimal(
+    let needs_poses = args.criterion == CriterionArg::Test || args.curve.is_some();
+    let poses = if needs_poses {
+        test_poses(robot, &args.test_poses, args.seed)?
+    } else {
+        Vec::new()
+    };
+    let criterion = match args.criterion {
+        CriterionArg::D => Criterion::D,
+        CriterionArg::A => Criterion::A,
+        CriterionArg::E => Criterion::E,
+        CriterionArg::O4 => Criterion::O4,
+        CriterionArg::O5 => Criterion::O5,
+        CriterionArg::Test => Criterion::TestPoses(poses.clone()),
+    };
+    let request = PlanRequest {
+        count: largest,
+        kept: &kept,
+        criterion,
+        min_distance: args.min_distance,
+    };
+    if let Some(counts) = &args.curve {
+        let noise = args.noise.unwrap_or_default();
+        return curve(
+            args,
+            robot,
+            chosen.as_ref(),
+            &pool,
+            counts,
+            &request,
+            noise,
+            &poses,
+        );
+    }
+    let bar = progress_bar("planning");
+    let planned = plan_configurations(
         robot,
         chosen.as_ref(),
         &pool,
-        args.count,
-        &kept,
+        &request,
         &robot.priority(),
         |done, total| {
             bar.set_length(total as u64);
@@ -75,58 +176,383 @@ pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
     for unit in Sampler::new(args.seed).subset(pool_units.len(), planned.chosen.len()) {
         random.extend(pool_units[unit].iter().map(|index| pool[*index].clone()));
     }
-    let random_log_det = design_log_det(robot, chosen.as_ref(), &pool, &random, &robot.priority())?;
+    let random_quality = assess_design(
+        robot,
+        chosen.as_ref(),
+        &pool,
+        &random,
+        &request.criterion,
+        &robot.priority(),
+    )?;
+    let output = args
+        .output
+        .as_deref()
+        .ok_or_else(|| Failure::usage("give the output file: -o PLANNED.csv", None))?;
     gecaro_io::write_atomically(
-        &args.output,
+        output,
         format_samples(robot.joint_count(), &columns, &planned.samples).as_bytes(),
         output_policy(args.force),
     )?;
+    let quality = &planned.quality;
     if args.json {
         return super::print_json(&PlanJson {
             method: chosen.name(),
+            criterion: request.criterion.name(),
+            criterion_meaning: request.criterion.meaning(),
+            value: quality.value,
+            random_value: random_quality.value,
             configurations: planned.samples.len(),
             units: planned.chosen.len(),
             pool: pool.len(),
             kept: kept.len(),
-            log_det: planned.log_det,
-            random_log_det,
-            observability: planned.observability.into(),
+            log_det: quality.log_det,
+            random_log_det: random_quality.log_det,
+            observability: quality.observability.into(),
             exchanges: planned.exchanges,
             columns: &planned.columns,
-            output: args.output.display().to_string(),
+            output: output.display().to_string(),
         });
     }
-    let width = planned.columns.len().max(1) as f64;
-    let o1 = |log_det: f64| (log_det / (2.0 * width)).exp() / (planned.samples.len() as f64).sqrt();
     let grouping = match columns.first() {
         Some(DataColumn::Set) => format!(" ({} sets)", planned.chosen.len()),
         Some(DataColumn::Pair) => format!(" ({} pairs)", planned.chosen.len()),
         _ => String::new(),
     };
     println!(
-        "Planned {} configurations{grouping} of {} for {} ({} method), D-optimal over {} base \
+        "Planned {} configurations{grouping} of {} for {} ({} method), criterion {} over {} base \
          parameters; {} exchanges after the greedy pass",
         planned.samples.len(),
         pool.len(),
         robot.name(),
         chosen.name(),
+        request.criterion.name().to_uppercase(),
         planned.columns.len(),
         planned.exchanges
     );
     println!(
-        "D = log det(W_bᵀW_b) {} (O1 {:.3e}); a random choice from the same pool: {} (O1 {:.3e})",
-        number(planned.log_det, 2),
-        o1(planned.log_det),
-        number(random_log_det, 2),
-        o1(random_log_det)
+        "{}: the plan {:.4e}, a random choice from the same pool {:.4e}",
+        request.criterion.meaning(),
+        quality.value,
+        random_quality.value
     );
+    if request.criterion != Criterion::D {
+        println!(
+            "D = log det(W_bᵀW_b): the plan {}, random {}",
+            number(quality.log_det, 2),
+            number(random_quality.log_det, 2)
+        );
+    }
     println!(
         "{}",
-        crate::format::observability(&planned.observability, "the plan")
+        crate::format::observability(&quality.observability, "the plan")
     );
     if !kept.is_empty() {
         println!("kept {} configurations measured already", kept.len());
     }
-    println!("wrote {}", args.output.display());
+    println!("wrote {}", output.display());
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn curve(
+    args: &PlanArgs,
+    robot: &Robot,
+    chosen: &dyn CalibrationMethod,
+    pool: &[Sample],
+    counts: &[usize],
+    request: &PlanRequest<'_>,
+    noise: f64,
+    poses: &[Vec<f64>],
+) -> Result<(), Failure> {
+    if !(noise > 0.0 && noise.is_finite()) {
+        return Err(Failure::usage(
+            format!("--noise: {noise} is not a standard deviation (> 0 metres)"),
+            None,
+        ));
+    }
+    if counts.is_empty() || counts.contains(&0) {
+        return Err(Failure::usage(
+            "--curve: give positive counts, e.g. 10,20,40,80",
+            None,
+        ));
+    }
+    let bar = progress_bar("curve");
+    let points = accuracy_curve(
+        robot,
+        chosen,
+        pool,
+        counts,
+        request,
+        noise,
+        poses,
+        &robot.priority(),
+        args.seed,
+        |done, total| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+            ControlFlow::Continue(())
+        },
+    );
+    bar.finish_and_clear();
+    let points = points?;
+    if let Some(plot) = &args.plot {
+        let svg = gecaro_report::accuracy_curve_svg(&points)?;
+        gecaro_io::write_atomically(plot, svg.as_bytes(), output_policy(args.force))?;
+    }
+    if args.json {
+        return super::print_json(&CurveJson {
+            method: chosen.name(),
+            criterion: request.criterion.name(),
+            noise,
+            pool: pool.len(),
+            test_poses: poses.len(),
+            random_draws: gecaro_calib::RANDOM_DRAWS,
+            points: points
+                .iter()
+                .map(|point| CurvePointJson {
+                    configurations: point.count,
+                    planned: point.planned,
+                    random: point.random,
+                })
+                .collect(),
+        });
+    }
+    println!(
+        "Predicted RMS position error of the calibrated {} at {} test poses ({} method, σ {} mm; \
+         plans by criterion {} from a pool of {}, random: mean of {} draws)",
+        robot.name(),
+        poses.len(),
+        chosen.name(),
+        number(noise * 1e3, 6),
+        request.criterion.name().to_uppercase(),
+        pool.len(),
+        gecaro_calib::RANDOM_DRAWS
+    );
+    println!("{}", curve_table(&points));
+    if let Some(plot) = &args.plot {
+        println!("wrote {}", plot.display());
+    }
+    Ok(())
+}
+
+fn curve_table(points: &[CurvePoint]) -> comfy_table::Table {
+    let millimetres = |value: Option<f64>| match value {
+        Some(value) => format!("{:.4}", value * 1e3),
+        None => "not determined".into(),
+    };
+    let mut rows = table(
+        &[
+            "configurations",
+            "planned (mm)",
+            "random (mm)",
+            "random / planned",
+        ],
+        0,
+    );
+    for point in points {
+        let ratio = match (point.planned, point.random) {
+            (Some(planned), Some(random)) if planned > 0.0 => format!("{:.2}", random / planned),
+            _ => "—".into(),
+        };
+        rows.add_row(vec![
+            point.count.to_string(),
+            millimetres(point.planned),
+            millimetres(point.random),
+            ratio,
+        ]);
+    }
+    rows
+}
+
+#[derive(Serialize)]
+struct PoseErrorsJson {
+    position_rms: f64,
+    position_max: f64,
+    rotation_rms: Option<f64>,
+    rotation_max: Option<f64>,
+}
+
+impl From<PoseErrors> for PoseErrorsJson {
+    fn from(errors: PoseErrors) -> Self {
+        PoseErrorsJson {
+            position_rms: errors.position_rms,
+            position_max: errors.position_max,
+            rotation_rms: errors.rotation_rms,
+            rotation_max: errors.rotation_max,
+        }
+    }
+}
+
+#[derive(Serialize)]
+struct ParameterJson<'a> {
+    name: &'a str,
+    sigma: f64,
+}
+
+#[derive(Serialize)]
+struct MonteCarloJson {
+    runs: usize,
+    not_converged: usize,
+    error_level: f64,
+    measured: PoseErrorsJson,
+    /// measured / predicted RMS position error.
+    position_ratio: f64,
+}
+
+#[derive(Serialize)]
+struct PredictJson<'a> {
+    method: &'static str,
+    configurations: usize,
+    noise: f64,
+    test_poses: usize,
+    parameters: Vec<ParameterJson<'a>>,
+    predicted: PoseErrorsJson,
+    monte_carlo: Option<MonteCarloJson>,
+}
+
+pub(crate) fn predict_accuracy(args: &PredictArgs) -> Result<(), Failure> {
+    let file = load_robot(&args.robot)?;
+    let robot = &file.robot;
+    let chosen = method(&args.method.method, &method_options(&args.method.options)?)?;
+    if !(args.noise > 0.0 && args.noise.is_finite()) {
+        return Err(Failure::usage(
+            format!(
+                "--noise: {} is not a standard deviation (> 0 metres)",
+                args.noise
+            ),
+            None,
+        ));
+    }
+    let columns = grouping_columns(chosen.data_columns());
+    let planned = configurations(robot, &args.data, &columns)?;
+    let poses = test_poses(robot, &args.test_poses, args.seed)?;
+    let prediction = predict(
+        robot,
+        chosen.as_ref(),
+        &planned,
+        args.noise,
+        &poses,
+        &robot.priority(),
+    )?;
+    let measured = match args.monte_carlo {
+        Some(runs) => {
+            let bar = progress_bar("simulated calibrations");
+            bar.set_length(runs as u64);
+            let result = monte_carlo(
+                robot,
+                chosen.as_ref(),
+                &planned,
+                args.noise,
+                args.error_level,
+                &poses,
+                runs,
+                args.seed,
+                &IdentificationOptions::default(),
+                |_| {
+                    bar.inc(1);
+                    ControlFlow::Continue(())
+                },
+            );
+            bar.finish_and_clear();
+            Some(result?)
+        }
+        None => None,
+    };
+    let predicted = prediction.errors;
+    if args.json {
+        return super::print_json(&PredictJson {
+            method: chosen.name(),
+            configurations: planned.len(),
+            noise: args.noise,
+            test_poses: poses.len(),
+            parameters: prediction
+                .parameters
+                .iter()
+                .map(|(name, sigma)| ParameterJson {
+                    name,
+                    sigma: *sigma,
+                })
+                .collect(),
+            predicted: predicted.into(),
+            monte_carlo: measured.map(|measured| MonteCarloJson {
+                runs: measured.runs,
+                not_converged: measured.not_converged,
+                error_level: args.error_level,
+                measured: measured.errors.into(),
+                position_ratio: measured.errors.position_rms / predicted.position_rms,
+            }),
+        });
+    }
+    println!(
+        "Predicted precision of {} ({} method) from {} configurations of {}, sensor σ {} mm \
+         (eq. 11; first order, before measuring):",
+        robot.name(),
+        chosen.name(),
+        planned.len(),
+        args.data.display(),
+        number(args.noise * 1e3, 6)
+    );
+    let mut parameters = table(&["parameter", "predicted σ"], 1);
+    for (name, sigma) in &prediction.parameters {
+        parameters.add_row(vec![name.clone(), format!("{sigma:.3e}")]);
+    }
+    println!("{parameters}");
+    println!("(metres for lengths, radians for angles, relative for gains)");
+    let mut errors = table(
+        &[
+            "at test poses",
+            "RMS position (mm)",
+            "max position (mm)",
+            "RMS orientation (mrad)",
+            "max orientation (mrad)",
+        ],
+        1,
+    );
+    let mut row = |label: &str, errors_at: &PoseErrors| {
+        let milli = |value: Option<f64>| value.map_or("—".into(), |v| format!("{:.4}", v * 1e3));
+        errors.add_row(vec![
+            label.to_owned(),
+            format!("{:.4}", errors_at.position_rms * 1e3),
+            format!("{:.4}", errors_at.position_max * 1e3),
+            milli(errors_at.rotation_rms),
+            milli(errors_at.rotation_max),
+        ]);
+    };
+    row("predicted", &predicted);
+    if let Some(measured) = &measured {
+        row(
+            &format!("Monte Carlo ({} runs)", measured.runs),
+            &measured.errors,
+        );
+    }
+    println!("{errors}");
+    println!(
+        "{} test poses ({})",
+        poses.len(),
+        args.test_poses.test_poses.as_ref().map_or_else(
+            || "random within the joint limits".into(),
+            |path| path.display().to_string()
+        )
+    );
+    if let Some(measured) = &measured {
+        println!(
+            "Monte Carlo: real robots drawn at error level {}, measured / predicted RMS position \
+             error {:.3}{}",
+            args.error_level,
+            measured.errors.position_rms / predicted.position_rms,
+            if measured.not_converged > 0 {
+                format!("; {} calibrations did not converge", measured.not_converged)
+            } else {
+                String::new()
+            }
+        );
+    }
+    if !matches!(chosen.name(), "position" | "frame") {
+        println!(
+            "note: {} data do not see the robot's world frame; the test-pose errors concern what \
+             the data identify (docs/planning.md)",
+            chosen.name()
+        );
+    }
     Ok(())
 }

@@ -12,6 +12,10 @@
 //!   condition number ([`RankReport`]).
 //! - [`compensate`]: what a calibration is for — the joint values for which
 //!   the calibrated robot reaches the targets of a nominal program.
+//! - Before measuring: [`plan_configurations`] (optimal configurations from a
+//!   pool, by a [`Criterion`]), [`predict`] (the calibrated robot's accuracy
+//!   from a plan and the sensor's σ, checked by [`monte_carlo`]) and
+//!   [`accuracy_curve`] (how many configurations are enough).
 //!
 //! ## Example
 //!
@@ -40,6 +44,7 @@
 #![warn(missing_docs)]
 
 mod compensation;
+mod curve;
 mod error;
 mod identifiability;
 mod identification;
@@ -59,6 +64,7 @@ mod table2;
 pub use compensation::{
     CompensatedPoint, CompensationStatus, Match, ProgramPoint, ProgramTarget, compensate,
 };
+pub use curve::{CurvePoint, RANDOM_DRAWS, accuracy_curve};
 pub use error::Error;
 pub use identifiability::{
     Classified, Excitation, Identifiability, ParameterStatus, RELATIVE_ZERO_FLOOR, RankReport,
@@ -77,7 +83,9 @@ pub use observation::{
     ColumnLayout, ObservationSystem, RowKind, RowWriter, TerminalState, evaluate_poses,
     evaluate_states,
 };
-pub use planning::{Plan, design_log_det, plan_d_optimal, units};
+pub use planning::{
+    Criterion, DesignQuality, Plan, PlanRequest, assess_design, plan_configurations, units,
+};
 pub use prediction::{MonteCarlo, PoseErrors, Prediction, monte_carlo, predict};
 pub use sample::{DataColumn, Sample};
 pub use sampler::{RANDOM_STARTS, Sampler, solve_from_starts};

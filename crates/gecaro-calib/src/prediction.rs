@@ -99,15 +99,23 @@ pub fn predict(
     let base = BaseColumns::of(robot, method, planned, priority)?;
     let system = base.system(robot, method, planned)?;
     let w = DMatrix::from_row_slice(system.rows(), base.layout.columns(), system.matrix());
-    let covariance = (w.transpose() * &w)
-        .cholesky()
-        .ok_or_else(|| Error::Numerical {
-            message: "the planned configurations do not determine the identifiable parameters \
-                      (W_bᵀW_b is singular): plan more or other configurations"
-                .into(),
-        })?
-        .inverse()
-        * (noise * noise);
+    let information = w.transpose() * &w;
+    // Conditioning judged in the error units, where a well-posed W_b has a
+    // condition number of 10²–10⁴: beyond 10⁸ it determines nothing.
+    let scaled = DMatrix::from_fn(information.nrows(), information.ncols(), |i, j| {
+        information[(i, j)] * base.scale[i] * base.scale[j]
+    })
+    .symmetric_eigenvalues();
+    let singular = || Error::Numerical {
+        message: "the planned configurations do not determine the identifiable parameters \
+                  (W_bᵀW_b is singular): plan more or other configurations"
+            .into(),
+    };
+    let (smallest, largest) = (scaled.min(), scaled.max());
+    if smallest.is_nan() || smallest <= 1e-16 * largest {
+        return Err(singular());
+    }
+    let covariance = information.cholesky().ok_or_else(singular)?.inverse() * (noise * noise);
     let parameters = base
         .names
         .iter()
@@ -115,24 +123,11 @@ pub fn predict(
         .enumerate()
         .map(|(column, name)| (name, covariance[(column, column)].max(0.0).sqrt()))
         .collect();
-    // The robot parameters' block of C, and their Jacobian columns.
-    let offset = base.auxiliary;
-    let robot_columns = base.parameters.len();
-    let block = covariance.view((offset, offset), (robot_columns, robot_columns));
-    let model = KinematicModel::new(robot);
-    let mut chain = ChainBuffer::default();
-    let mut rows = Vec::new();
-    let count = model.parameter_count();
     let full = method.jacobian_rows() == JacobianRows::Full;
     let mut position = Vec::with_capacity(test_poses.len());
     let mut rotation = Vec::with_capacity(test_poses.len());
-    for pose in test_poses {
-        model.forward(pose, &mut chain)?;
-        model.jacobian_rows(&chain, &mut rows, JacobianRows::Full);
-        let jacobian = DMatrix::from_fn(6, robot_columns, |axis, column| {
-            rows[axis * count + base.parameters[column]]
-        });
-        let propagated = &jacobian * block * jacobian.transpose();
+    for jacobian in base.pose_jacobians(robot, test_poses, false)? {
+        let propagated = &jacobian * &covariance * jacobian.transpose();
         position.push((0..3).map(|i| propagated[(i, i)]).sum::<f64>());
         rotation.push((3..6).map(|i| propagated[(i, i)]).sum::<f64>());
     }

@@ -15,7 +15,8 @@ mod plots;
 
 pub use html::{ReportInput, html_report};
 pub use plots::{
-    convergence_svg, error_histograms_svg, errors_per_configuration_svg, robot_projections_svg,
+    accuracy_curve_svg, convergence_svg, error_histograms_svg, errors_per_configuration_svg,
+    robot_projections_svg,
 };
 
 /// Errors of report making.

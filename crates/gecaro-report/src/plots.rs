@@ -4,7 +4,7 @@
 
 use std::sync::Once;
 
-use gecaro_calib::IterationRecord;
+use gecaro_calib::{CurvePoint, IterationRecord};
 use gecaro_core::{Robot, forward_kinematics};
 use plotters::prelude::*;
 
@@ -284,6 +284,76 @@ pub fn robot_projections_svg(robot: &Robot, motor_positions: &[f64]) -> Result<S
                 )
                 .map_err(plot_error)?;
         }
+        Ok(())
+    })
+}
+
+/// How many configurations are enough: the predicted RMS position error of
+/// the calibrated robot (millimetres, log scale) against the number of
+/// configurations (log scale), planned and random ([`gecaro_calib::accuracy_curve`]).
+/// Counts without a value (designs that determine nothing) are left out.
+///
+/// # Errors
+/// [`Error::Plot`] if drawing fails.
+pub fn accuracy_curve_svg(curve: &[CurvePoint]) -> Result<String, Error> {
+    let millimetres = |value: Option<f64>| value.map(|v| (v * 1e3).max(1e-12));
+    let series = |pick: fn(&CurvePoint) -> Option<f64>| -> Vec<(f64, f64)> {
+        curve
+            .iter()
+            .filter_map(|point| millimetres(pick(point)).map(|v| (point.count.max(1) as f64, v)))
+            .collect()
+    };
+    let planned = series(|point| point.planned);
+    let random = series(|point| point.random);
+    let values = planned.iter().chain(&random).map(|(_, v)| *v);
+    let top = values.clone().fold(f64::MIN_POSITIVE, f64::max) * 1.5;
+    let bottom = values.fold(f64::INFINITY, f64::min).min(top / 10.0) / 1.5;
+    let counts = curve.iter().map(|point| point.count.max(1) as f64);
+    let left = counts.clone().fold(f64::INFINITY, f64::min).min(1e9) / 1.2;
+    let right = counts.fold(1.0, f64::max).max(left * 2.0) * 1.2;
+    svg(WIDTH, HEIGHT, |root| {
+        let mut chart = ChartBuilder::on(&root)
+            .caption(
+                "Predicted position error of the calibrated robot",
+                (FONT, 18),
+            )
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(70)
+            .build_cartesian_2d((left..right).log_scale(), (bottom..top).log_scale())
+            .map_err(plot_error)?;
+        chart
+            .configure_mesh()
+            .x_desc("configurations measured")
+            .y_desc("RMS position error (mm)")
+            .x_label_formatter(&|v| short(*v))
+            .y_label_formatter(&|v| short(*v))
+            .label_style((FONT, 13))
+            .draw()
+            .map_err(plot_error)?;
+        for (points, color, label) in [(&planned, AFTER, "planned"), (&random, BEFORE, "random")] {
+            chart
+                .draw_series(LineSeries::new(
+                    points.iter().copied(),
+                    color.stroke_width(2),
+                ))
+                .map_err(plot_error)?
+                .label(label)
+                .legend(move |(x, y)| {
+                    PathElement::new([(x, y), (x + 18, y)], color.stroke_width(2))
+                });
+            chart
+                .draw_series(points.iter().map(|p| Circle::new(*p, 4, color.filled())))
+                .map_err(plot_error)?;
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.9))
+            .border_style(BLACK.mix(0.3))
+            .label_font((FONT, 13))
+            .draw()
+            .map_err(plot_error)?;
         Ok(())
     })
 }

@@ -1,0 +1,347 @@
+//! Choosing the configurations to measure before measuring: an optimal
+//! subset of a candidate pool.
+//!
+//! The pool is cut into *units*, what a measurement session takes whole: a
+//! configuration (position, frame and plane methods), a set (point and frame
+//! link) or a pair (distance). Unit u contributes the rows X_u of the base
+//! columns W_b at the nominal robot (Appendix III), its columns scaled by the
+//! error units as for the observability indices ([`crate::Observability`]),
+//! and so the information X_uᵀX_u. A design S is judged on its information
+//! M = Σ_{u∈S} X_uᵀX_u by a [`Criterion`]: D(S) = log det M by default (the
+//! smallest confidence ellipsoid of the parameters; O1 is exp(D/2L)/√m), or
+//! A, E, O4, O5, or the predicted error at test poses (`planning::criteria`).
+//!
+//! Units with a configuration outside the joint limits are never chosen, nor
+//! (with a minimum distance) units closer than it in joint space to a chosen
+//! or kept one. The D-optimal design is built by a deterministic greedy pass
+//! then improved by Mitchell's DETMAX exchange with rank-r updates
+//! (`planning::detmax`); the other criteria continue from it by a shortlisted
+//! exchange of pairs (`planning::criteria`). A ridge of 1e-9 of the mean diagonal of
+//! a unit's information keeps M invertible while the design is short.
+
+use std::ops::ControlFlow;
+
+use gecaro_core::{PriorityMatrix, Robot};
+use nalgebra::{DMatrix, DVector};
+
+use crate::Error;
+use crate::methods::{CalibrationMethod, groups};
+use crate::observability::Observability;
+use crate::sample::{DataColumn, Sample};
+
+mod columns;
+mod criteria;
+mod detmax;
+mod spacing;
+
+pub(crate) use columns::BaseColumns;
+use columns::{Blocks, contiguous};
+pub use criteria::Criterion;
+use criteria::Objective;
+use spacing::Spacing;
+
+/// What to plan: how many configurations, by which criterion, around which
+/// measured ones.
+#[derive(Clone, Debug)]
+pub struct PlanRequest<'a> {
+    /// Configurations wanted in all (rows of the data file, kept ones
+    /// included); rounded to whole sets and pairs.
+    pub count: usize,
+    /// Configurations measured already: part of the design, never dropped.
+    pub kept: &'a [Sample],
+    /// What the design optimises.
+    pub criterion: Criterion,
+    /// The smallest joint-space distance (Euclidean, radians and metres)
+    /// between two chosen units, and between a chosen and a kept one; 0 for
+    /// none.
+    pub min_distance: f64,
+}
+
+impl<'a> PlanRequest<'a> {
+    /// `count` configurations, D-optimal, nothing kept, no minimum distance.
+    pub fn new(count: usize) -> Self {
+        PlanRequest {
+            count,
+            kept: &[],
+            criterion: Criterion::D,
+            min_distance: 0.0,
+        }
+    }
+}
+
+/// How good a design is, in the scaled base columns of its pool.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DesignQuality {
+    /// D = log det M.
+    pub log_det: f64,
+    /// The observability indices of the design's scaled W_b.
+    pub observability: Observability,
+    /// The value of the criterion asked (see [`Criterion::meaning`]).
+    pub value: f64,
+}
+
+/// A chosen design.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    /// The chosen configurations, kept ones first, then the chosen units
+    /// (whole sets and pairs) in the order of [`units`] of the pool.
+    pub samples: Vec<Sample>,
+    /// The chosen units: indices into [`units`] of the pool, ascending.
+    pub chosen: Vec<usize>,
+    /// The design's quality (kept units included).
+    pub quality: DesignQuality,
+    /// Exchanges made after the greedy pass.
+    pub exchanges: usize,
+    /// Names of the base parameters (columns), auxiliary unknowns first.
+    pub columns: Vec<String>,
+}
+
+/// The units of `samples` for `method`: the sample indices of each set or
+/// pair (link and distance methods, grouped as the methods group them, in
+/// order of first appearance), single samples otherwise.
+pub fn units(method: &dyn CalibrationMethod, samples: &[Sample]) -> Vec<Vec<usize>> {
+    let grouped = method
+        .data_columns()
+        .iter()
+        .any(|c| matches!(c, DataColumn::Set | DataColumn::Pair));
+    if grouped {
+        groups(samples)
+    } else {
+        (0..samples.len()).map(|index| vec![index]).collect()
+    }
+}
+
+/// The pool's units with the rows they contribute, and how to judge them.
+struct Pool {
+    samples: Vec<Sample>,
+    ranges: Vec<std::ops::Range<usize>>,
+    columns: BaseColumns,
+    candidates: Blocks,
+}
+
+impl Pool {
+    fn new(
+        robot: &Robot,
+        method: &dyn CalibrationMethod,
+        pool: &[Sample],
+        priority: &PriorityMatrix,
+    ) -> Result<Self, Error> {
+        let (samples, ranges) = contiguous(pool, &units(method, pool));
+        let columns = BaseColumns::of(robot, method, &samples, priority)?;
+        let candidates = columns.blocks(robot, method, &samples, &ranges)?;
+        Ok(Pool {
+            samples,
+            ranges,
+            columns,
+            candidates,
+        })
+    }
+
+    /// Σ X_uᵀX_u of `design` (any samples, whole units) in these columns.
+    fn information_of(
+        &self,
+        robot: &Robot,
+        method: &dyn CalibrationMethod,
+        design: &[Sample],
+    ) -> Result<DMatrix<f64>, Error> {
+        let width = self.columns.layout.columns();
+        let zero = DMatrix::zeros(width, width);
+        if design.is_empty() {
+            return Ok(zero);
+        }
+        let (design, ranges) = contiguous(design, &units(method, design));
+        let blocks = self.columns.blocks(robot, method, &design, &ranges)?;
+        Ok(blocks.information(&zero, 0..ranges.len()))
+    }
+
+    /// The criterion made concrete in these columns.
+    fn objective(&self, robot: &Robot, criterion: &Criterion) -> Result<Objective, Error> {
+        Ok(match criterion {
+            Criterion::D => Objective::D,
+            Criterion::A => Objective::A,
+            Criterion::E => Objective::E,
+            Criterion::O4 => Objective::O4,
+            Criterion::O5 => Objective::O5,
+            Criterion::TestPoses(poses) => {
+                if poses.is_empty() {
+                    return Err(Error::InvalidOption {
+                        option: "--test-poses",
+                        message: "no test poses".into(),
+                    });
+                }
+                let width = self.columns.layout.columns();
+                let mut weight = DMatrix::zeros(width, width);
+                for jacobian in self.columns.pose_jacobians(robot, poses, true)? {
+                    let position = jacobian.rows(0, 3);
+                    weight += position.transpose() * position;
+                }
+                Objective::Test(weight, poses.len())
+            }
+        })
+    }
+}
+
+/// The quality of information `information` (kept units included, no ridge)
+/// of a design of `configurations` configurations.
+fn quality(
+    information: &DMatrix<f64>,
+    objective: &Objective,
+    configurations: usize,
+) -> DesignQuality {
+    let eigenvalues = information.symmetric_eigenvalues();
+    let values: Vec<f64> = eigenvalues.iter().map(|v| v.max(0.0).sqrt()).collect();
+    DesignQuality {
+        log_det: eigenvalues.iter().map(|v| v.max(0.0).ln()).sum(),
+        observability: Observability::from_singular_values(&values, configurations),
+        value: objective.reported(objective.value(information)),
+    }
+}
+
+/// Chooses about `request.count` configurations from `pool` for `method` on
+/// `robot` (whole units), optimising `request.criterion` (see the module
+/// docs). `progress(done, total)` reports the steps and stops the work with
+/// [`Error::Interrupted`] on [`ControlFlow::Break`].
+///
+/// # Errors
+/// Invalid samples, a pool with fewer admissible units than asked (or than
+/// lie `min_distance` apart), too few equations for the base set, no test
+/// poses for the test criterion, or [`Error::Interrupted`].
+pub fn plan_configurations(
+    robot: &Robot,
+    method: &dyn CalibrationMethod,
+    pool: &[Sample],
+    request: &PlanRequest<'_>,
+    priority: &PriorityMatrix,
+    mut progress: impl FnMut(usize, usize) -> ControlFlow<()>,
+) -> Result<Plan, Error> {
+    let kept = request.kept;
+    let joint_positions = |sample: &Sample| {
+        robot
+            .joint_positions(&sample.motor_positions)
+            .ok()
+            .filter(|q| robot.within_limits(q.as_slice()))
+    };
+    let pool_sorted = Pool::new(robot, method, pool, priority)?;
+    let Pool {
+        samples: ref pool,
+        ref ranges,
+        ..
+    } = pool_sorted;
+    // Joint variables of every unit; None when one is outside the limits.
+    let configurations: Vec<Option<Vec<DVector<f64>>>> = ranges
+        .iter()
+        .map(|range| pool[range.clone()].iter().map(joint_positions).collect())
+        .collect();
+    let admissible: Vec<bool> = configurations.iter().map(Option::is_some).collect();
+    let admissible_count = admissible.iter().filter(|a| **a).count();
+    let unit_size = pool.len().max(1) as f64 / ranges.len().max(1) as f64;
+    let wanted = ((request.count.saturating_sub(kept.len())) as f64 / unit_size).round() as usize;
+    if wanted > admissible_count {
+        return Err(Error::InvalidOption {
+            option: "--count",
+            message: format!(
+                "{} configurations asked; the pool has {} ({admissible_count} of its {} units within the joint limits)",
+                request.count,
+                pool.len(),
+                ranges.len()
+            ),
+        });
+    }
+    if !(request.min_distance >= 0.0 && request.min_distance.is_finite()) {
+        return Err(Error::InvalidOption {
+            option: "--min-distance",
+            message: format!("{} is not a distance (≥ 0)", request.min_distance),
+        });
+    }
+    let mut spacing = Spacing::new(
+        configurations
+            .into_iter()
+            .map(Option::unwrap_or_default)
+            .collect(),
+        request.min_distance,
+    );
+    for sample in kept {
+        if let Ok(q) = robot.joint_positions(&sample.motor_positions) {
+            spacing.keep(&[q]);
+        }
+    }
+    let objective = pool_sorted.objective(robot, &request.criterion)?;
+    let candidates = &pool_sorted.candidates;
+    let width = candidates.width;
+    let kept_information = pool_sorted.information_of(robot, method, kept)?;
+    // The ridge: 1e-9 of the mean diagonal of a unit's information.
+    let diagonal: f64 = candidates
+        .units
+        .iter()
+        .map(|block| block.norm_squared())
+        .sum();
+    let ridge =
+        (1e-9 * diagonal / (ranges.len().max(1) * width.max(1)) as f64).max(f64::MIN_POSITIVE);
+    let base = &kept_information + DMatrix::<f64>::identity(width, width) * ridge;
+    let phases = if objective_is_d(&objective) { 3 } else { 6 };
+    let total = phases * wanted.max(1);
+    let mut steps = 0;
+    let mut step = || {
+        steps += 1;
+        match progress(steps.min(total), total) {
+            ControlFlow::Continue(()) => Ok(()),
+            ControlFlow::Break(()) => Err(Error::Interrupted),
+        }
+    };
+    let (mut chosen, mut exchanges) = detmax::detmax(
+        candidates,
+        base.clone(),
+        wanted,
+        &admissible,
+        &mut spacing,
+        &mut step,
+    )?;
+    if !objective_is_d(&objective) {
+        exchanges += criteria::exchange(
+            candidates,
+            &base,
+            &mut chosen,
+            &admissible,
+            &mut spacing,
+            &objective,
+            &mut step,
+        )?;
+    }
+    let chosen: Vec<usize> = (0..ranges.len()).filter(|u| chosen[*u]).collect();
+    let mut samples = kept.to_vec();
+    for unit in &chosen {
+        samples.extend_from_slice(&pool[ranges[*unit].clone()]);
+    }
+    let information = candidates.information(&kept_information, chosen.iter().copied());
+    Ok(Plan {
+        quality: quality(&information, &objective, samples.len()),
+        samples,
+        chosen,
+        exchanges,
+        columns: pool_sorted.columns.names.clone(),
+    })
+}
+
+fn objective_is_d(objective: &Objective) -> bool {
+    matches!(objective, Objective::D)
+}
+
+/// The quality of any set of samples (whole units) for `criterion`, in the
+/// scaled base columns that [`plan_configurations`] uses for the same pool: for comparing
+/// designs (random subsets, a plan, measured data).
+///
+/// # Errors
+/// As [`plan_configurations`].
+pub fn assess_design(
+    robot: &Robot,
+    method: &dyn CalibrationMethod,
+    pool: &[Sample],
+    design: &[Sample],
+    criterion: &Criterion,
+    priority: &PriorityMatrix,
+) -> Result<DesignQuality, Error> {
+    let pool = Pool::new(robot, method, pool, priority)?;
+    let objective = pool.objective(robot, criterion)?;
+    let information = pool.information_of(robot, method, design)?;
+    Ok(quality(&information, &objective, design.len()))
+}
