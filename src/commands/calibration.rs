@@ -103,7 +103,7 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
             let planned = gecaro_io::read_samples(
                 path,
                 &gecaro_io::joint_types(robot),
-                &grouping_columns(chosen.data_columns()),
+                &gecaro_calib::DataColumn::grouping(chosen.data_columns()),
                 &gecaro_io::DataFormat::default(),
             )?
             .samples;
@@ -176,23 +176,6 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
         println!("wrote the real robot to {}", real_out.display());
     }
     Ok(())
-}
-
-/// The columns of a data file that say how its configurations group (set or
-/// pair ids), without the measurements.
-pub(crate) fn grouping_columns(
-    columns: &[gecaro_calib::DataColumn],
-) -> Vec<gecaro_calib::DataColumn> {
-    columns
-        .iter()
-        .copied()
-        .filter(|c| {
-            matches!(
-                c,
-                gecaro_calib::DataColumn::Set | gecaro_calib::DataColumn::Pair
-            )
-        })
-        .collect()
 }
 
 /// Reads a single-method study from the command line's method and data file.

@@ -7,21 +7,19 @@ use std::path::Path;
 use gecaro_calib::{
     CalibrationMethod, Criterion, CurvePoint, DataColumn, IdentificationOptions, PlanRequest,
     PoseErrors, Sample, Sampler, accuracy_curve, assess_design, method, monte_carlo,
-    plan_configurations, predict, units,
+    plan_configurations, predict, random_design, random_test_poses,
 };
 use gecaro_core::Robot;
 use gecaro_io::{DataFormat, format_samples, joint_types, load_robot, read_samples};
+use gecaro_report::json::{CurvePointJson, PlanJson};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 
-use super::calibration::{check_output, grouping_columns};
+use super::calibration::check_output;
 use super::options::{method_options, output_policy};
 use crate::cli::{CriterionArg, PlanArgs, PredictArgs, TestPoseArgs};
 use crate::failure::Failure;
 use crate::format::{number, table};
-
-/// Test poses are drawn from their own stream, apart from the pool's.
-const TEST_POSE_STREAM: u64 = 0x7e57_7e57;
 
 /// A progress bar on stderr (hidden when stderr is not a terminal).
 fn progress_bar(what: &str) -> ProgressBar {
@@ -49,31 +47,14 @@ fn test_poses(robot: &Robot, args: &TestPoseArgs, seed: u64) -> Result<Vec<Vec<f
             .into_iter()
             .map(|sample| sample.motor_positions)
             .collect()),
-        None => {
-            let mut sampler = Sampler::new(seed ^ TEST_POSE_STREAM);
-            Ok((0..args.test_pose_count)
-                .map(|_| sampler.configuration(robot))
-                .collect())
-        }
+        None => Ok(random_test_poses(robot, args.test_pose_count, seed)),
     }
 }
 
 #[derive(Serialize)]
-struct PlanJson<'a> {
-    method: &'static str,
-    criterion: &'static str,
-    criterion_meaning: &'static str,
-    value: f64,
-    random_value: f64,
-    configurations: usize,
-    units: usize,
-    pool: usize,
-    kept: usize,
-    log_det: f64,
-    random_log_det: f64,
-    observability: gecaro_report::json::ObservabilityJson,
-    exchanges: usize,
-    columns: &'a [String],
+struct PlanOutputJson {
+    #[serde(flatten)]
+    plan: PlanJson,
     output: String,
 }
 
@@ -89,13 +70,6 @@ struct CurveJson {
     points: Vec<CurvePointJson>,
 }
 
-#[derive(Serialize)]
-struct CurvePointJson {
-    configurations: usize,
-    planned: Option<f64>,
-    random: Option<f64>,
-}
-
 pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
     let file = load_robot(&args.robot)?;
     let robot = &file.robot;
@@ -106,7 +80,7 @@ pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
         check_output(plot, args.force)?;
     }
     let chosen = method(&args.method.method, &method_options(&args.method.options)?)?;
-    let columns = grouping_columns(chosen.data_columns());
+    let columns = DataColumn::grouping(chosen.data_columns());
     let largest = match (&args.curve, args.count) {
         (Some(counts), _) => counts.iter().copied().max().unwrap_or(0),
         (None, count) => count.unwrap_or(0),
@@ -171,11 +145,13 @@ pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
     bar.finish_and_clear();
     let planned = planned?;
     // A random choice of as many units from the same pool, for comparison.
-    let pool_units = units(chosen.as_ref(), &pool);
-    let mut random = kept.clone();
-    for unit in Sampler::new(args.seed).subset(pool_units.len(), planned.chosen.len()) {
-        random.extend(pool_units[unit].iter().map(|index| pool[*index].clone()));
-    }
+    let random = random_design(
+        chosen.as_ref(),
+        &pool,
+        &kept,
+        planned.chosen.len(),
+        &mut Sampler::new(args.seed),
+    );
     let random_quality = assess_design(
         robot,
         chosen.as_ref(),
@@ -195,21 +171,15 @@ pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
     )?;
     let quality = &planned.quality;
     if args.json {
-        return super::print_json(&PlanJson {
-            method: chosen.name(),
-            criterion: request.criterion.name(),
-            criterion_meaning: request.criterion.meaning(),
-            value: quality.value,
-            random_value: random_quality.value,
-            configurations: planned.samples.len(),
-            units: planned.chosen.len(),
-            pool: pool.len(),
-            kept: kept.len(),
-            log_det: quality.log_det,
-            random_log_det: random_quality.log_det,
-            observability: quality.observability.into(),
-            exchanges: planned.exchanges,
-            columns: &planned.columns,
+        return super::print_json(&PlanOutputJson {
+            plan: PlanJson::new(
+                chosen.name(),
+                &request.criterion,
+                &planned,
+                &random_quality,
+                pool.len(),
+                kept.len(),
+            ),
             output: output.display().to_string(),
         });
     }
@@ -307,14 +277,7 @@ fn curve(
             pool: pool.len(),
             test_poses: poses.len(),
             random_draws: gecaro_calib::RANDOM_DRAWS,
-            points: points
-                .iter()
-                .map(|point| CurvePointJson {
-                    configurations: point.count,
-                    planned: point.planned,
-                    random: point.random,
-                })
-                .collect(),
+            points: points.iter().map(CurvePointJson::from).collect(),
         });
     }
     println!(
@@ -423,7 +386,7 @@ pub(crate) fn predict_accuracy(args: &PredictArgs) -> Result<(), Failure> {
             None,
         ));
     }
-    let columns = grouping_columns(chosen.data_columns());
+    let columns = DataColumn::grouping(chosen.data_columns());
     let planned = configurations(robot, &args.data, &columns)?;
     let poses = test_poses(robot, &args.test_poses, args.seed)?;
     let prediction = predict(

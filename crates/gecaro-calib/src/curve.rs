@@ -14,7 +14,7 @@ use gecaro_core::{PriorityMatrix, Robot};
 
 use crate::Error;
 use crate::methods::CalibrationMethod;
-use crate::planning::{PlanRequest, plan_configurations, units};
+use crate::planning::{PlanRequest, plan_configurations, random_design, units};
 use crate::prediction::predict;
 use crate::sample::Sample;
 use crate::sampler::Sampler;
@@ -74,18 +74,25 @@ pub fn accuracy_curve(
             count: *count,
             ..request.clone()
         };
-        let plan = plan_configurations(robot, method, pool, &request, priority, |_, _| {
+        let plan = match plan_configurations(robot, method, pool, &request, priority, |_, _| {
             ControlFlow::Continue(())
-        })?;
+        }) {
+            Err(Error::TooFewEquations { .. }) => {
+                curve.push(CurvePoint {
+                    count: *count,
+                    planned: None,
+                    random: None,
+                });
+                continue;
+            }
+            other => other?,
+        };
         let planned = predicted(&plan.samples)?;
         let wanted =
             ((count.saturating_sub(request.kept.len())) as f64 / unit_size).round() as usize;
         let mut random = Some(0.0);
         for _ in 0..RANDOM_DRAWS {
-            let mut design = request.kept.to_vec();
-            for unit in sampler.subset(pool_units.len(), wanted.min(pool_units.len())) {
-                design.extend(pool_units[unit].iter().map(|index| pool[*index].clone()));
-            }
+            let design = random_design(method, pool, request.kept, wanted, &mut sampler);
             random = match (random, predicted(&design)?) {
                 (Some(sum), Some(value)) => Some(sum + value / RANDOM_DRAWS as f64),
                 _ => None,

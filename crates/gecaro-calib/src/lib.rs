@@ -84,9 +84,10 @@ pub use observation::{
     evaluate_states,
 };
 pub use planning::{
-    Criterion, DesignQuality, Plan, PlanRequest, assess_design, plan_configurations, units,
+    Criterion, DesignQuality, Plan, PlanRequest, assess_design, plan_configurations, random_design,
+    units,
 };
-pub use prediction::{MonteCarlo, PoseErrors, Prediction, monte_carlo, predict};
+pub use prediction::{MonteCarlo, PoseErrors, Prediction, monte_carlo, predict, random_test_poses};
 pub use sample::{DataColumn, Sample};
 pub use sampler::{RANDOM_STARTS, Sampler, solve_from_starts};
 pub use simulation::{

@@ -41,6 +41,17 @@ use crate::sampler::Sampler;
 use crate::simulation::{perturbed_robot, simulate_at};
 use crate::study::Study;
 
+/// Test poses are drawn from their own stream, apart from a pool's.
+const TEST_POSE_STREAM: u64 = 0x7e57_7e57;
+
+/// `count` test poses (motor variables) drawn uniformly within the joint
+/// limits, from a stream of their own for `seed` (so they are not the
+/// configurations of a pool generated with the same seed).
+pub fn random_test_poses(robot: &Robot, count: usize, seed: u64) -> Vec<Vec<f64>> {
+    let mut sampler = Sampler::new(seed ^ TEST_POSE_STREAM);
+    (0..count).map(|_| sampler.configuration(robot)).collect()
+}
+
 /// Errors of a calibrated robot at test poses (metres; radians).
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct PoseErrors {

@@ -86,6 +86,16 @@ pub enum DataColumn {
 }
 
 impl DataColumn {
+    /// The grouping columns (set, pair) among `columns`: the columns of a
+    /// data file of planned configurations, which carry no measurements.
+    pub fn grouping(columns: &[DataColumn]) -> Vec<DataColumn> {
+        columns
+            .iter()
+            .copied()
+            .filter(|column| matches!(column, DataColumn::Set | DataColumn::Pair))
+            .collect()
+    }
+
     /// The CSV header names of this group of columns.
     pub fn headers(self) -> &'static [&'static str] {
         match self {

@@ -5,8 +5,8 @@
 //! Units: metres and radians everywhere, as in the robot model.
 
 use gecaro_calib::{
-    Classified, ErrorSummary, Identifiability, Identification, IdentifiedParameter, Observability,
-    RankReport, StopReason, Study,
+    Classified, Criterion, CurvePoint, DesignQuality, ErrorSummary, Identifiability,
+    Identification, IdentifiedParameter, Observability, Plan, RankReport, StopReason, Study,
 };
 use gecaro_core::Robot;
 use serde::Serialize;
@@ -305,6 +305,91 @@ impl IdentificationJson {
             route: result.route.as_str(),
             moved: parameters(&result.moved),
             warnings: result.warnings.clone(),
+        }
+    }
+}
+
+/// The document of a plan (`gecaro plan --json`, the page's Plan function).
+#[derive(Clone, Debug, Serialize)]
+pub struct PlanJson {
+    /// The method's name.
+    pub method: &'static str,
+    /// The criterion's name (d, a, e, o4, o5, test).
+    pub criterion: &'static str,
+    /// What `value` is.
+    pub criterion_meaning: &'static str,
+    /// The criterion's value for the plan.
+    pub value: f64,
+    /// The same for a random choice of as many units from the same pool.
+    pub random_value: f64,
+    /// Configurations of the plan (kept ones included).
+    pub configurations: usize,
+    /// Units chosen (configurations, sets or pairs).
+    pub units: usize,
+    /// Configurations in the pool.
+    pub pool: usize,
+    /// Configurations kept.
+    pub kept: usize,
+    /// log det(W_bᵀW_b) of the plan (scaled columns).
+    pub log_det: f64,
+    /// The same for the random choice.
+    pub random_log_det: f64,
+    /// The plan's observability indices.
+    pub observability: ObservabilityJson,
+    /// Exchanges made after the greedy pass.
+    pub exchanges: usize,
+    /// The base parameters judged (auxiliary unknowns first).
+    pub columns: Vec<String>,
+}
+
+impl PlanJson {
+    /// The document of `plan` by `criterion` for `method`, against the
+    /// `random` choice, from a pool of `pool` configurations with `kept` kept.
+    pub fn new(
+        method: &'static str,
+        criterion: &Criterion,
+        plan: &Plan,
+        random: &DesignQuality,
+        pool: usize,
+        kept: usize,
+    ) -> Self {
+        PlanJson {
+            method,
+            criterion: criterion.name(),
+            criterion_meaning: criterion.meaning(),
+            value: plan.quality.value,
+            random_value: random.value,
+            configurations: plan.samples.len(),
+            units: plan.chosen.len(),
+            pool,
+            kept,
+            log_det: plan.quality.log_det,
+            random_log_det: random.log_det,
+            observability: plan.quality.observability.into(),
+            exchanges: plan.exchanges,
+            columns: plan.columns.clone(),
+        }
+    }
+}
+
+/// One count of an accuracy curve ([`gecaro_calib::accuracy_curve`]).
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct CurvePointJson {
+    /// Configurations measured.
+    pub configurations: usize,
+    /// Predicted RMS position error of the planned design (m); null when it
+    /// determines nothing.
+    pub planned: Option<f64>,
+    /// The mean over random designs (m); null likewise.
+    pub random: Option<f64>,
+}
+
+impl From<&CurvePoint> for CurvePointJson {
+    fn from(point: &CurvePoint) -> Self {
+        CurvePointJson {
+            configurations: point.count,
+            planned: point.planned,
+            random: point.random,
         }
     }
 }

@@ -509,6 +509,79 @@ async fn generation_is_reproducible_and_saves_into_the_folder() {
 }
 
 #[tokio::test]
+async fn plan_chooses_configurations_draws_the_curve_and_refuses_bad_requests() {
+    let api = Api::new();
+    let document = api.document("stanford").await;
+    let request = json!({
+        "robot": document,
+        "method": { "name": "distance" },
+        "count": 60,
+        "criterion": "o5",
+        "pool": 400,
+        "curve": [60, 120],
+        "save_as": "planned.csv",
+    });
+    let (status, planned) = api.post("/api/plan", &request).await;
+    assert_eq!(status, StatusCode::OK, "{planned}");
+    assert_eq!(planned["configurations"], 60);
+    assert_eq!(planned["units"], 30);
+    assert_eq!(planned["criterion"], "o5");
+    assert!(
+        planned["value"].as_f64().expect("value")
+            > planned["random_value"].as_f64().expect("random")
+    );
+    let csv = planned["csv"].as_str().expect("csv");
+    assert!(csv.starts_with("qm1,qm2,qm3,qm4,qm5,qm6,pair\n"), "{csv}");
+    assert_eq!(csv.lines().count(), 61);
+    assert_eq!(
+        std::fs::read_to_string(api.folder.path().join("planned.csv")).expect("saved"),
+        csv
+    );
+    let points = planned["curve"]["points"].as_array().expect("points");
+    assert_eq!(points.len(), 2);
+    let value = |point: &serde_json::Value, key: &str| point[key].as_f64().expect(key);
+    assert!(value(&points[1], "planned") < value(&points[0], "planned"));
+    assert!(
+        points
+            .iter()
+            .all(|p| value(p, "planned") < value(p, "random"))
+    );
+    assert!(
+        planned["curve"]["svg"]
+            .as_str()
+            .expect("svg")
+            .starts_with("<svg")
+    );
+    // The same request again would overwrite: refused.
+    let (status, _) = api.post("/api/plan", &request).await;
+    assert_eq!(status, StatusCode::CONFLICT);
+    for (field, value) in [
+        ("count", json!(0)),
+        ("pool", json!(10_000_000)),
+        ("criterion", json!("z")),
+        ("curve", json!([0, 10])),
+        ("noise", json!(-1.0)),
+    ] {
+        let mut bad = request.clone();
+        bad[field] = value.clone();
+        bad["save_as"] = json!(null);
+        let (got, body) = api.post("/api/plan", &bad).await;
+        assert_eq!(got, StatusCode::BAD_REQUEST, "{field} = {value}: {body}");
+    }
+    // More than the pool holds: the error says so.
+    let mut too_many = request.clone();
+    too_many["count"] = json!(1000);
+    too_many["curve"] = json!([]);
+    too_many["save_as"] = json!(null);
+    let (status, body) = api.post("/api/plan", &too_many).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST, "{body}");
+    assert!(
+        body["error"].as_str().is_some_and(|e| e.contains("pool")),
+        "{body}"
+    );
+}
+
+#[tokio::test]
 async fn identification_runs_as_a_job_with_progress_plots_and_report() {
     let api = Api::new();
     let document = api.document("stanford").await;

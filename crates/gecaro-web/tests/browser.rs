@@ -223,6 +223,27 @@ async fn the_page_works_as_a_person_uses_it() {
         "{observability}"
     );
 
+    // Plan: D-optimal configurations and the curve.
+    click(&client, "#function-plan").await;
+    client
+        .find(Locator::Css("#position-plan-curve"))
+        .await
+        .expect("curve field")
+        .send_keys("12, 24, 48")
+        .await
+        .expect("type");
+    click(&client, "#position-plan-run").await;
+    assert_eq!(
+        text_of(&client, "#position-plan-count-result", 60).await,
+        "25"
+    );
+    assert_eq!(
+        count(&client, "#position-plan-curve-table tbody tr").await,
+        3
+    );
+    assert_eq!(count(&client, "#position-plan-curve-plot svg").await, 1);
+    screenshot(&client, "03-plan.png").await;
+
     // Points generation, then identification of the generated data.
     click(&client, "#function-generate").await;
     click(&client, "#position-generate-run").await;

@@ -111,6 +111,23 @@ pub fn units(method: &dyn CalibrationMethod, samples: &[Sample]) -> Vec<Vec<usiz
     }
 }
 
+/// A random design to compare a plan with: `kept`, then `count` units of
+/// `pool` drawn at random (whole sets and pairs).
+pub fn random_design(
+    method: &dyn CalibrationMethod,
+    pool: &[Sample],
+    kept: &[Sample],
+    count: usize,
+    sampler: &mut crate::Sampler,
+) -> Vec<Sample> {
+    let pool_units = units(method, pool);
+    let mut design = kept.to_vec();
+    for unit in sampler.subset(pool_units.len(), count.min(pool_units.len())) {
+        design.extend(pool_units[unit].iter().map(|index| pool[*index].clone()));
+    }
+    design
+}
+
 /// The pool's units with the rows they contribute, and how to judge them.
 struct Pool {
     samples: Vec<Sample>,
@@ -204,7 +221,8 @@ fn quality(
 ///
 /// # Errors
 /// Invalid samples, a pool with fewer admissible units than asked (or than
-/// lie `min_distance` apart), too few equations for the base set, no test
+/// lie `min_distance` apart), [`Error::TooFewEquations`] when the design has
+/// fewer equations than base parameters, no test
 /// poses for the test criterion, or [`Error::Interrupted`].
 pub fn plan_configurations(
     robot: &Robot,
@@ -311,6 +329,13 @@ pub fn plan_configurations(
     let mut samples = kept.to_vec();
     for unit in &chosen {
         samples.extend_from_slice(&pool[ranges[*unit].clone()]);
+    }
+    let equations = method.row_count(&samples) - method.dependent_rows(&samples);
+    if equations < width {
+        return Err(Error::TooFewEquations {
+            equations,
+            unknowns: width,
+        });
     }
     let information = candidates.information(&kept_information, chosen.iter().copied());
     Ok(Plan {

@@ -7,6 +7,7 @@
 
 mod calibration;
 mod identification;
+mod planning;
 mod robot;
 
 use std::path::Path;
@@ -38,13 +39,14 @@ impl<T: serde::Serialize> axum::response::IntoResponse for Json<T> {
 /// Every POST route of the API (full paths), each taking a JSON body: for
 /// clients, tests and the fuzz targets. [`routes`] registers them (a test
 /// checks that each one answers).
-pub const POST_ROUTES: [&str; 7] = [
+pub const POST_ROUTES: [&str; 8] = [
     "/api/robots/check",
     "/api/robots/new",
     "/api/robots/save",
     "/api/robots/pose",
     "/api/identifiable",
     "/api/generate",
+    "/api/plan",
     "/api/identify",
 ];
 
@@ -61,6 +63,7 @@ pub(crate) fn routes() -> Router<AppState> {
         .route("/robots/pose", post(robot::pose))
         .route("/identifiable", post(calibration::identifiable))
         .route("/generate", post(calibration::generate))
+        .route("/plan", post(planning::plan))
         .route("/identify", post(identification::submit))
         .route("/jobs/{id}", get(identification::status))
         .route("/jobs/{id}/report", get(identification::report))
