@@ -5,9 +5,8 @@ use std::ops::ControlFlow;
 use std::path::Path;
 
 use gecaro_calib::{
-    CalibrationMethod, Criterion, CurvePoint, DataColumn, IdentificationOptions, PlanRequest,
-    PoseErrors, Sample, Sampler, accuracy_curve, assess_design, method, monte_carlo,
-    plan_configurations, predict, random_design, random_test_poses,
+    CandidatePool, Criterion, CurvePoint, DataColumn, IdentificationOptions, PlanRequest,
+    PoseErrors, Sample, Sampler, accuracy_curve, method, monte_carlo, predict, random_test_poses,
 };
 use gecaro_core::Robot;
 use gecaro_io::{DataFormat, format_samples, joint_types, load_robot, read_samples};
@@ -29,6 +28,15 @@ fn progress_bar(what: &str) -> ProgressBar {
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     bar
+}
+
+/// Shows `progress(done, total)` reports on `bar`.
+fn shown_on(bar: &ProgressBar) -> impl FnMut(usize, usize) -> ControlFlow<()> + '_ {
+    |done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+        ControlFlow::Continue(())
+    }
 }
 
 /// The configurations of a data file (measurement columns, if any, ignored).
@@ -81,6 +89,9 @@ pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
     }
     let chosen = method(&args.method.method, &method_options(&args.method.options)?)?;
     let columns = DataColumn::grouping(chosen.data_columns());
+    if let Some(counts) = &args.curve {
+        check_curve(counts, args.noise.unwrap_or_default())?;
+    }
     let largest = match (&args.curve, args.count) {
         (Some(counts), _) => counts.iter().copied().max().unwrap_or(0),
         (None, count) => count.unwrap_or(0),
@@ -116,50 +127,17 @@ pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
         criterion,
         min_distance: args.min_distance,
     };
+    let pool = CandidatePool::new(robot, chosen.as_ref(), &pool, &robot.priority())?;
     if let Some(counts) = &args.curve {
-        let noise = args.noise.unwrap_or_default();
-        return curve(
-            args,
-            robot,
-            chosen.as_ref(),
-            &pool,
-            counts,
-            &request,
-            noise,
-            &poses,
-        );
+        return curve(args, &pool, counts, &request, &poses);
     }
     let bar = progress_bar("planning");
-    let planned = plan_configurations(
-        robot,
-        chosen.as_ref(),
-        &pool,
-        &request,
-        &robot.priority(),
-        |done, total| {
-            bar.set_length(total as u64);
-            bar.set_position(done as u64);
-            ControlFlow::Continue(())
-        },
-    );
+    let planned = pool.plan(&request, shown_on(&bar));
     bar.finish_and_clear();
     let planned = planned?;
     // A random choice of as many units from the same pool, for comparison.
-    let random = random_design(
-        chosen.as_ref(),
-        &pool,
-        &kept,
-        planned.chosen.len(),
-        &mut Sampler::new(args.seed),
-    );
-    let random_quality = assess_design(
-        robot,
-        chosen.as_ref(),
-        &pool,
-        &random,
-        &request.criterion,
-        &robot.priority(),
-    )?;
+    let random = pool.random_design(&kept, planned.chosen.len(), &mut Sampler::new(args.seed));
+    let random_quality = pool.assess(&random, &request.criterion)?;
     let output = args
         .output
         .as_deref()
@@ -223,17 +201,8 @@ pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-#[allow(clippy::too_many_arguments)]
-fn curve(
-    args: &PlanArgs,
-    robot: &Robot,
-    chosen: &dyn CalibrationMethod,
-    pool: &[Sample],
-    counts: &[usize],
-    request: &PlanRequest<'_>,
-    noise: f64,
-    poses: &[Vec<f64>],
-) -> Result<(), Failure> {
+/// Refuses a curve's bad counts or σ before any work.
+fn check_curve(counts: &[usize], noise: f64) -> Result<(), Failure> {
     if !(noise > 0.0 && noise.is_finite()) {
         return Err(Failure::usage(
             format!("--noise: {noise} is not a standard deviation (> 0 metres)"),
@@ -246,22 +215,27 @@ fn curve(
             None,
         ));
     }
+    Ok(())
+}
+
+fn curve(
+    args: &PlanArgs,
+    pool: &CandidatePool<'_>,
+    counts: &[usize],
+    request: &PlanRequest<'_>,
+    poses: &[Vec<f64>],
+) -> Result<(), Failure> {
+    let (robot, chosen) = (pool.robot(), pool.method());
+    let noise = args.noise.unwrap_or_default();
     let bar = progress_bar("curve");
     let points = accuracy_curve(
-        robot,
-        chosen,
         pool,
         counts,
         request,
         noise,
         poses,
-        &robot.priority(),
         args.seed,
-        |done, total| {
-            bar.set_length(total as u64);
-            bar.set_position(done as u64);
-            ControlFlow::Continue(())
-        },
+        shown_on(&bar),
     );
     bar.finish_and_clear();
     let points = points?;

@@ -2,20 +2,18 @@
 //! robot against the number of configurations, planned versus random.
 //!
 //! For each count N, a plan of N configurations from the pool
-//! ([`crate::plan_configurations`]) and [`RANDOM_DRAWS`] random choices of as
-//! many units from the same pool are each given to [`crate::predict`]; the
+//! ([`CandidatePool::plan`]) and [`RANDOM_DRAWS`] random choices of as many
+//! units from the same pool are each given to [`crate::predict`] (in the
+//! pool's base columns, found once); the
 //! curve holds the planned design's predicted RMS position error at the test
 //! poses and the mean of the random ones'. A count whose design does not
 //! determine the identifiable parameters has no value.
 
 use std::ops::ControlFlow;
 
-use gecaro_core::{PriorityMatrix, Robot};
-
 use crate::Error;
-use crate::methods::CalibrationMethod;
-use crate::planning::{PlanRequest, plan_configurations, random_design, units};
-use crate::prediction::predict;
+use crate::planning::{CandidatePool, PlanRequest};
+use crate::prediction::predict_in;
 use crate::sample::Sample;
 use crate::sampler::Sampler;
 
@@ -43,24 +41,19 @@ pub struct CurvePoint {
 /// # Errors
 /// A pool too small for the largest count, invalid samples, or
 /// [`Error::Interrupted`].
-#[allow(clippy::too_many_arguments)]
 pub fn accuracy_curve(
-    robot: &Robot,
-    method: &dyn CalibrationMethod,
-    pool: &[Sample],
+    pool: &CandidatePool<'_>,
     counts: &[usize],
     request: &PlanRequest<'_>,
     noise: f64,
     test_poses: &[Vec<f64>],
-    priority: &PriorityMatrix,
     seed: u64,
     mut progress: impl FnMut(usize, usize) -> ControlFlow<()>,
 ) -> Result<Vec<CurvePoint>, Error> {
-    let pool_units = units(method, pool);
-    let unit_size = pool.len().max(1) as f64 / pool_units.len().max(1) as f64;
+    let (robot, method, columns) = pool.parts();
     let mut sampler = Sampler::new(seed);
     let predicted =
-        |design: &[Sample]| match predict(robot, method, design, noise, test_poses, priority) {
+        |design: &[Sample]| match predict_in(columns, robot, method, design, noise, test_poses) {
             Ok(prediction) => Ok(Some(prediction.errors.position_rms)),
             Err(Error::Numerical { .. } | Error::TooFewEquations { .. }) => Ok(None),
             Err(error) => Err(error),
@@ -74,9 +67,7 @@ pub fn accuracy_curve(
             count: *count,
             ..request.clone()
         };
-        let plan = match plan_configurations(robot, method, pool, &request, priority, |_, _| {
-            ControlFlow::Continue(())
-        }) {
+        let plan = match pool.plan(&request, |_, _| ControlFlow::Continue(())) {
             Err(Error::TooFewEquations { .. }) => {
                 curve.push(CurvePoint {
                     count: *count,
@@ -88,11 +79,9 @@ pub fn accuracy_curve(
             other => other?,
         };
         let planned = predicted(&plan.samples)?;
-        let wanted =
-            ((count.saturating_sub(request.kept.len())) as f64 / unit_size).round() as usize;
         let mut random = Some(0.0);
         for _ in 0..RANDOM_DRAWS {
-            let design = random_design(method, pool, request.kept, wanted, &mut sampler);
+            let design = pool.random_design(request.kept, plan.chosen.len(), &mut sampler);
             random = match (random, predicted(&design)?) {
                 (Some(sum), Some(value)) => Some(sum + value / RANDOM_DRAWS as f64),
                 _ => None,

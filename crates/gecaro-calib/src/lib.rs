@@ -12,8 +12,8 @@
 //!   condition number ([`RankReport`]).
 //! - [`compensate`]: what a calibration is for — the joint values for which
 //!   the calibrated robot reaches the targets of a nominal program.
-//! - Before measuring: [`plan_configurations`] (optimal configurations from a
-//!   pool, by a [`Criterion`]), [`predict`] (the calibrated robot's accuracy
+//! - Before measuring: [`CandidatePool`] and [`plan_configurations`] (optimal
+//!   configurations from a pool, by a [`Criterion`]), [`predict`] (the calibrated robot's accuracy
 //!   from a plan and the sensor's σ, checked by [`monte_carlo`]) and
 //!   [`accuracy_curve`] (how many configurations are enough).
 //!
@@ -84,7 +84,7 @@ pub use observation::{
     evaluate_states,
 };
 pub use planning::{
-    Criterion, DesignQuality, Plan, PlanRequest, assess_design, plan_configurations, random_design,
+    CandidatePool, Criterion, DesignQuality, Plan, PlanRequest, assess_design, plan_configurations,
     units,
 };
 pub use prediction::{MonteCarlo, PoseErrors, Prediction, monte_carlo, predict, random_test_poses};

@@ -108,6 +108,18 @@ pub fn predict(
     priority: &PriorityMatrix,
 ) -> Result<Prediction, Error> {
     let base = BaseColumns::of(robot, method, planned, priority)?;
+    predict_in(&base, robot, method, planned, noise, test_poses)
+}
+
+/// [`predict`] in base columns already known (a candidate pool's).
+pub(crate) fn predict_in(
+    base: &BaseColumns,
+    robot: &Robot,
+    method: &dyn CalibrationMethod,
+    planned: &[Sample],
+    noise: f64,
+    test_poses: &[Vec<f64>],
+) -> Result<Prediction, Error> {
     let system = base.system(robot, method, planned)?;
     let w = DMatrix::from_row_slice(system.rows(), base.layout.columns(), system.matrix());
     let information = w.transpose() * &w;

@@ -63,7 +63,7 @@ impl Criterion {
         }
     }
 
-    /// What [`crate::Plan::value`] holds for this criterion.
+    /// What [`crate::DesignQuality::value`] holds for this criterion.
     pub fn meaning(&self) -> &'static str {
         match self {
             Criterion::D => "log det(W_bᵀW_b)",

@@ -19,7 +19,7 @@
 //! exchange of pairs (`planning::criteria`). A ridge of 1e-9 of the mean diagonal of
 //! a unit's information keeps M invertible while the design is short.
 
-use std::ops::ControlFlow;
+use std::ops::{ControlFlow, Range};
 
 use gecaro_core::{PriorityMatrix, Robot};
 use nalgebra::{DMatrix, DVector};
@@ -28,6 +28,7 @@ use crate::Error;
 use crate::methods::{CalibrationMethod, groups};
 use crate::observability::Observability;
 use crate::sample::{DataColumn, Sample};
+use crate::sampler::Sampler;
 
 mod columns;
 mod criteria;
@@ -111,42 +112,37 @@ pub fn units(method: &dyn CalibrationMethod, samples: &[Sample]) -> Vec<Vec<usiz
     }
 }
 
-/// A random design to compare a plan with: `kept`, then `count` units of
-/// `pool` drawn at random (whole sets and pairs).
-pub fn random_design(
-    method: &dyn CalibrationMethod,
-    pool: &[Sample],
-    kept: &[Sample],
-    count: usize,
-    sampler: &mut crate::Sampler,
-) -> Vec<Sample> {
-    let pool_units = units(method, pool);
-    let mut design = kept.to_vec();
-    for unit in sampler.subset(pool_units.len(), count.min(pool_units.len())) {
-        design.extend(pool_units[unit].iter().map(|index| pool[*index].clone()));
-    }
-    design
-}
-
-/// The pool's units with the rows they contribute, and how to judge them.
-struct Pool {
+/// A candidate pool, cut into units, with the rows each contributes to the
+/// scaled base columns: built once (the structural base set and W_b of every
+/// candidate), then planned from and judged against as often as needed.
+pub struct CandidatePool<'a> {
+    robot: &'a Robot,
+    method: &'a dyn CalibrationMethod,
+    /// The pool's samples, unit by unit.
     samples: Vec<Sample>,
-    ranges: Vec<std::ops::Range<usize>>,
+    /// Each unit's range in `samples`, in the order of [`units`] of the pool.
+    ranges: Vec<Range<usize>>,
     columns: BaseColumns,
     candidates: Blocks,
 }
 
-impl Pool {
-    fn new(
-        robot: &Robot,
-        method: &dyn CalibrationMethod,
+impl<'a> CandidatePool<'a> {
+    /// The pool `pool` of `method` on `robot`, base columns as `priority` says.
+    ///
+    /// # Errors
+    /// Invalid samples, or too few equations for the base set.
+    pub fn new(
+        robot: &'a Robot,
+        method: &'a dyn CalibrationMethod,
         pool: &[Sample],
         priority: &PriorityMatrix,
     ) -> Result<Self, Error> {
         let (samples, ranges) = contiguous(pool, &units(method, pool));
         let columns = BaseColumns::of(robot, method, &samples, priority)?;
         let candidates = columns.blocks(robot, method, &samples, &ranges)?;
-        Ok(Pool {
+        Ok(CandidatePool {
+            robot,
+            method,
             samples,
             ranges,
             columns,
@@ -154,25 +150,67 @@ impl Pool {
         })
     }
 
-    /// Σ X_uᵀX_u of `design` (any samples, whole units) in these columns.
-    fn information_of(
+    /// The robot, the method and the base columns the pool is judged in.
+    pub(crate) fn parts(&self) -> (&'a Robot, &'a dyn CalibrationMethod, &BaseColumns) {
+        (self.robot, self.method, &self.columns)
+    }
+
+    /// The robot planned for.
+    pub fn robot(&self) -> &'a Robot {
+        self.robot
+    }
+
+    /// The method planned for.
+    pub fn method(&self) -> &'a dyn CalibrationMethod {
+        self.method
+    }
+
+    /// Configurations in the pool.
+    pub fn len(&self) -> usize {
+        self.samples.len()
+    }
+
+    /// Whether the pool has no configuration.
+    pub fn is_empty(&self) -> bool {
+        self.samples.is_empty()
+    }
+
+    /// Units (configurations, sets or pairs) in the pool.
+    pub fn unit_count(&self) -> usize {
+        self.ranges.len()
+    }
+
+    /// A random design to compare a plan with: `kept`, then `count` units of
+    /// the pool drawn at random (whole sets and pairs).
+    pub fn random_design(
         &self,
-        robot: &Robot,
-        method: &dyn CalibrationMethod,
-        design: &[Sample],
-    ) -> Result<DMatrix<f64>, Error> {
+        kept: &[Sample],
+        count: usize,
+        sampler: &mut Sampler,
+    ) -> Vec<Sample> {
+        let mut design = kept.to_vec();
+        for unit in sampler.subset(self.ranges.len(), count.min(self.ranges.len())) {
+            design.extend_from_slice(&self.samples[self.ranges[unit].clone()]);
+        }
+        design
+    }
+
+    /// Σ X_uᵀX_u of `design` (any samples, whole units) in these columns.
+    fn information_of(&self, design: &[Sample]) -> Result<DMatrix<f64>, Error> {
         let width = self.columns.layout.columns();
         let zero = DMatrix::zeros(width, width);
         if design.is_empty() {
             return Ok(zero);
         }
-        let (design, ranges) = contiguous(design, &units(method, design));
-        let blocks = self.columns.blocks(robot, method, &design, &ranges)?;
+        let (design, ranges) = contiguous(design, &units(self.method, design));
+        let blocks = self
+            .columns
+            .blocks(self.robot, self.method, &design, &ranges)?;
         Ok(blocks.information(&zero, 0..ranges.len()))
     }
 
     /// The criterion made concrete in these columns.
-    fn objective(&self, robot: &Robot, criterion: &Criterion) -> Result<Objective, Error> {
+    fn objective(&self, criterion: &Criterion) -> Result<Objective, Error> {
         Ok(match criterion {
             Criterion::D => Objective::D,
             Criterion::A => Objective::A,
@@ -188,12 +226,150 @@ impl Pool {
                 }
                 let width = self.columns.layout.columns();
                 let mut weight = DMatrix::zeros(width, width);
-                for jacobian in self.columns.pose_jacobians(robot, poses, true)? {
+                for jacobian in self.columns.pose_jacobians(self.robot, poses, true)? {
                     let position = jacobian.rows(0, 3);
                     weight += position.transpose() * position;
                 }
                 Objective::Test(weight, poses.len())
             }
+        })
+    }
+
+    /// The quality of any set of samples (whole units) for `criterion`, in
+    /// the pool's scaled base columns: for comparing designs (random subsets,
+    /// a plan, measured data).
+    ///
+    /// # Errors
+    /// Invalid samples, or no test poses for the test criterion.
+    pub fn assess(&self, design: &[Sample], criterion: &Criterion) -> Result<DesignQuality, Error> {
+        let objective = self.objective(criterion)?;
+        let information = self.information_of(design)?;
+        Ok(quality(&information, &objective, design.len()))
+    }
+
+    /// Chooses about `request.count` configurations from the pool (whole
+    /// units), optimising `request.criterion` (see the module docs).
+    /// `progress(done, total)` reports the steps and stops the work with
+    /// [`Error::Interrupted`] on [`ControlFlow::Break`].
+    ///
+    /// # Errors
+    /// Invalid kept samples, a pool with fewer admissible units than asked
+    /// (or than lie `min_distance` apart), [`Error::TooFewEquations`] when the
+    /// design has fewer equations than base parameters, no test poses for the
+    /// test criterion, or [`Error::Interrupted`].
+    pub fn plan(
+        &self,
+        request: &PlanRequest<'_>,
+        mut progress: impl FnMut(usize, usize) -> ControlFlow<()>,
+    ) -> Result<Plan, Error> {
+        let (robot, method, pool, ranges) = (self.robot, self.method, &self.samples, &self.ranges);
+        let kept = request.kept;
+        let joint_positions = |sample: &Sample| {
+            robot
+                .joint_positions(&sample.motor_positions)
+                .ok()
+                .filter(|q| robot.within_limits(q.as_slice()))
+        };
+        // Joint variables of every unit; None when one is outside the limits.
+        let configurations: Vec<Option<Vec<DVector<f64>>>> = ranges
+            .iter()
+            .map(|range| pool[range.clone()].iter().map(joint_positions).collect())
+            .collect();
+        let admissible: Vec<bool> = configurations.iter().map(Option::is_some).collect();
+        let admissible_count = admissible.iter().filter(|a| **a).count();
+        let unit_size = pool.len().max(1) as f64 / ranges.len().max(1) as f64;
+        let wanted =
+            ((request.count.saturating_sub(kept.len())) as f64 / unit_size).round() as usize;
+        if wanted > admissible_count {
+            return Err(Error::InvalidOption {
+                option: "--count",
+                message: format!(
+                    "{} configurations asked; the pool has {} ({admissible_count} of its {} units within the joint limits)",
+                    request.count,
+                    pool.len(),
+                    ranges.len()
+                ),
+            });
+        }
+        if !(request.min_distance >= 0.0 && request.min_distance.is_finite()) {
+            return Err(Error::InvalidOption {
+                option: "--min-distance",
+                message: format!("{} is not a distance (≥ 0)", request.min_distance),
+            });
+        }
+        let mut spacing = Spacing::new(
+            configurations
+                .into_iter()
+                .map(Option::unwrap_or_default)
+                .collect(),
+            request.min_distance,
+        );
+        for sample in kept {
+            if let Ok(q) = robot.joint_positions(&sample.motor_positions) {
+                spacing.keep(&[q]);
+            }
+        }
+        let objective = self.objective(&request.criterion)?;
+        let candidates = &self.candidates;
+        let width = candidates.width;
+        let kept_information = self.information_of(kept)?;
+        // The ridge: 1e-9 of the mean diagonal of a unit's information.
+        let diagonal: f64 = candidates
+            .units
+            .iter()
+            .map(|block| block.norm_squared())
+            .sum();
+        let ridge =
+            (1e-9 * diagonal / (ranges.len().max(1) * width.max(1)) as f64).max(f64::MIN_POSITIVE);
+        let base = &kept_information + DMatrix::<f64>::identity(width, width) * ridge;
+        let d_only = matches!(objective, Objective::D);
+        let total = if d_only { 3 } else { 6 } * wanted.max(1);
+        let mut steps = 0;
+        let mut step = || {
+            steps += 1;
+            match progress(steps.min(total), total) {
+                ControlFlow::Continue(()) => Ok(()),
+                ControlFlow::Break(()) => Err(Error::Interrupted),
+            }
+        };
+        let (mut chosen, mut exchanges) = detmax::detmax(
+            candidates,
+            base.clone(),
+            wanted,
+            &admissible,
+            &mut spacing,
+            &mut step,
+        )?;
+        if !d_only {
+            exchanges += criteria::exchange(
+                candidates,
+                &base,
+                &mut chosen,
+                &admissible,
+                &mut spacing,
+                &objective,
+                &mut step,
+            )?;
+        }
+        let chosen: Vec<usize> = (0..ranges.len()).filter(|u| chosen[*u]).collect();
+        let mut samples = kept.to_vec();
+        for unit in &chosen {
+            samples.extend_from_slice(&pool[ranges[*unit].clone()]);
+        }
+        let equations = method.row_count(&samples) - method.dependent_rows(&samples);
+        if equations < width {
+            return Err(Error::TooFewEquations {
+                equations,
+                unknowns: width,
+            });
+        }
+        let information = candidates.information(&kept_information, chosen.iter().copied());
+        Ok(Plan {
+            quality: quality(&information, &objective, samples.len()),
+            samples,
+            chosen,
+            exchanges,
+            columns: self.columns.names.clone(),
         })
     }
 }
@@ -214,149 +390,25 @@ fn quality(
     }
 }
 
-/// Chooses about `request.count` configurations from `pool` for `method` on
-/// `robot` (whole units), optimising `request.criterion` (see the module
-/// docs). `progress(done, total)` reports the steps and stops the work with
-/// [`Error::Interrupted`] on [`ControlFlow::Break`].
+/// [`CandidatePool::plan`] on a pool built for this one plan.
 ///
 /// # Errors
-/// Invalid samples, a pool with fewer admissible units than asked (or than
-/// lie `min_distance` apart), [`Error::TooFewEquations`] when the design has
-/// fewer equations than base parameters, no test
-/// poses for the test criterion, or [`Error::Interrupted`].
+/// As [`CandidatePool::new`] and [`CandidatePool::plan`].
 pub fn plan_configurations(
     robot: &Robot,
     method: &dyn CalibrationMethod,
     pool: &[Sample],
     request: &PlanRequest<'_>,
     priority: &PriorityMatrix,
-    mut progress: impl FnMut(usize, usize) -> ControlFlow<()>,
+    progress: impl FnMut(usize, usize) -> ControlFlow<()>,
 ) -> Result<Plan, Error> {
-    let kept = request.kept;
-    let joint_positions = |sample: &Sample| {
-        robot
-            .joint_positions(&sample.motor_positions)
-            .ok()
-            .filter(|q| robot.within_limits(q.as_slice()))
-    };
-    let pool_sorted = Pool::new(robot, method, pool, priority)?;
-    let Pool {
-        samples: ref pool,
-        ref ranges,
-        ..
-    } = pool_sorted;
-    // Joint variables of every unit; None when one is outside the limits.
-    let configurations: Vec<Option<Vec<DVector<f64>>>> = ranges
-        .iter()
-        .map(|range| pool[range.clone()].iter().map(joint_positions).collect())
-        .collect();
-    let admissible: Vec<bool> = configurations.iter().map(Option::is_some).collect();
-    let admissible_count = admissible.iter().filter(|a| **a).count();
-    let unit_size = pool.len().max(1) as f64 / ranges.len().max(1) as f64;
-    let wanted = ((request.count.saturating_sub(kept.len())) as f64 / unit_size).round() as usize;
-    if wanted > admissible_count {
-        return Err(Error::InvalidOption {
-            option: "--count",
-            message: format!(
-                "{} configurations asked; the pool has {} ({admissible_count} of its {} units within the joint limits)",
-                request.count,
-                pool.len(),
-                ranges.len()
-            ),
-        });
-    }
-    if !(request.min_distance >= 0.0 && request.min_distance.is_finite()) {
-        return Err(Error::InvalidOption {
-            option: "--min-distance",
-            message: format!("{} is not a distance (≥ 0)", request.min_distance),
-        });
-    }
-    let mut spacing = Spacing::new(
-        configurations
-            .into_iter()
-            .map(Option::unwrap_or_default)
-            .collect(),
-        request.min_distance,
-    );
-    for sample in kept {
-        if let Ok(q) = robot.joint_positions(&sample.motor_positions) {
-            spacing.keep(&[q]);
-        }
-    }
-    let objective = pool_sorted.objective(robot, &request.criterion)?;
-    let candidates = &pool_sorted.candidates;
-    let width = candidates.width;
-    let kept_information = pool_sorted.information_of(robot, method, kept)?;
-    // The ridge: 1e-9 of the mean diagonal of a unit's information.
-    let diagonal: f64 = candidates
-        .units
-        .iter()
-        .map(|block| block.norm_squared())
-        .sum();
-    let ridge =
-        (1e-9 * diagonal / (ranges.len().max(1) * width.max(1)) as f64).max(f64::MIN_POSITIVE);
-    let base = &kept_information + DMatrix::<f64>::identity(width, width) * ridge;
-    let phases = if objective_is_d(&objective) { 3 } else { 6 };
-    let total = phases * wanted.max(1);
-    let mut steps = 0;
-    let mut step = || {
-        steps += 1;
-        match progress(steps.min(total), total) {
-            ControlFlow::Continue(()) => Ok(()),
-            ControlFlow::Break(()) => Err(Error::Interrupted),
-        }
-    };
-    let (mut chosen, mut exchanges) = detmax::detmax(
-        candidates,
-        base.clone(),
-        wanted,
-        &admissible,
-        &mut spacing,
-        &mut step,
-    )?;
-    if !objective_is_d(&objective) {
-        exchanges += criteria::exchange(
-            candidates,
-            &base,
-            &mut chosen,
-            &admissible,
-            &mut spacing,
-            &objective,
-            &mut step,
-        )?;
-    }
-    let chosen: Vec<usize> = (0..ranges.len()).filter(|u| chosen[*u]).collect();
-    let mut samples = kept.to_vec();
-    for unit in &chosen {
-        samples.extend_from_slice(&pool[ranges[*unit].clone()]);
-    }
-    let equations = method.row_count(&samples) - method.dependent_rows(&samples);
-    if equations < width {
-        return Err(Error::TooFewEquations {
-            equations,
-            unknowns: width,
-        });
-    }
-    let information = candidates.information(&kept_information, chosen.iter().copied());
-    Ok(Plan {
-        quality: quality(&information, &objective, samples.len()),
-        samples,
-        chosen,
-        exchanges,
-        columns: pool_sorted.columns.names.clone(),
-    })
+    CandidatePool::new(robot, method, pool, priority)?.plan(request, progress)
 }
 
-fn objective_is_d(objective: &Objective) -> bool {
-    matches!(objective, Objective::D)
-}
-
-/// The quality of any set of samples (whole units) for `criterion`, in the
-/// scaled base columns that [`plan_configurations`] uses for the same pool: for comparing
-/// designs (random subsets, a plan, measured data).
+/// [`CandidatePool::assess`] on a pool built for this one assessment.
 ///
 /// # Errors
-/// As [`plan_configurations`].
+/// As [`CandidatePool::new`] and [`CandidatePool::assess`].
 pub fn assess_design(
     robot: &Robot,
     method: &dyn CalibrationMethod,
@@ -365,8 +417,5 @@ pub fn assess_design(
     criterion: &Criterion,
     priority: &PriorityMatrix,
 ) -> Result<DesignQuality, Error> {
-    let pool = Pool::new(robot, method, pool, priority)?;
-    let objective = pool.objective(robot, criterion)?;
-    let information = pool.information_of(robot, method, design)?;
-    Ok(quality(&information, &objective, design.len()))
+    CandidatePool::new(robot, method, pool, priority)?.assess(design, criterion)
 }

@@ -9,7 +9,7 @@ use gecaro_io::{RobotDocument, RobotFile, format_samples};
 use gecaro_report::json::IdentifiableJson;
 use serde::{Deserialize, Serialize};
 
-use super::{DataRequest, Json, MethodRequest, robot_file};
+use super::{DataRequest, Json, MethodRequest, data_file_name, robot_file, save_csv};
 use crate::error::ApiError;
 use crate::limits::{MAX_GENERATE, MAX_RANDOM};
 use crate::state::AppState;
@@ -161,15 +161,7 @@ pub(crate) async fn generate(
             let (displacement_rms, displacement_max) =
                 terminal_displacement(robot, &real, &samples)?;
             let csv = format_samples(robot.joint_count(), method.data_columns(), &samples);
-            let saved = match &request.save_as {
-                Some(name) => {
-                    state
-                        .workspace()
-                        .write(name, "csv", csv.as_bytes(), request.overwrite)?;
-                    Some(name.clone())
-                }
-                None => None,
-            };
+            let saved = save_csv(state, request.save_as.as_deref(), &csv, request.overwrite)?;
             let real_file = RobotFile {
                 robot: real,
                 description: Some(description),
@@ -178,15 +170,7 @@ pub(crate) async fn generate(
             };
             Ok(Json(Generated {
                 configurations: samples.len(),
-                file_name: format!(
-                    "{}-{}-{}.csv",
-                    robot
-                        .name()
-                        .to_lowercase()
-                        .replace(|c: char| !c.is_alphanumeric(), "-"),
-                    request.method.name,
-                    samples.len()
-                ),
+                file_name: data_file_name(robot, &request.method.name, samples.len()),
                 csv,
                 saved,
                 real: RobotDocument::from_robot_file(&real_file),

@@ -92,6 +92,37 @@ pub(crate) fn robot_file(document: &RobotDocument) -> Result<RobotFile, ApiError
         .map_err(|problem| ApiError::InvalidRobot(vec![problem]))
 }
 
+/// Writes `csv` into the folder as `save_as`, when one is given; the name
+/// written.
+///
+/// # Errors
+/// As the folder's `write` (a name outside the folder, an
+/// existing file without `overwrite`, ...).
+pub(crate) fn save_csv(
+    state: &AppState,
+    save_as: Option<&str>,
+    csv: &str,
+    overwrite: bool,
+) -> Result<Option<String>, ApiError> {
+    let Some(name) = save_as else {
+        return Ok(None);
+    };
+    state
+        .workspace()
+        .write(name, "csv", csv.as_bytes(), overwrite)?;
+    Ok(Some(name.to_owned()))
+}
+
+/// The name a data file of `robot` for `what` (a method name, ...) with
+/// `count` configurations downloads as: `stanford-position-50.csv`.
+pub(crate) fn data_file_name(robot: &gecaro_core::Robot, what: &str, count: usize) -> String {
+    let slug = robot
+        .name()
+        .to_lowercase()
+        .replace(|c: char| !c.is_alphanumeric(), "-");
+    format!("{slug}-{what}-{count}.csv")
+}
+
 /// How orientation differences are computed (Appendix I).
 #[derive(Copy, Clone, Debug, Default, Deserialize)]
 #[serde(rename_all = "kebab-case")]

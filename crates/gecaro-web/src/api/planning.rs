@@ -5,14 +5,13 @@ use std::ops::ControlFlow;
 
 use axum::extract::State;
 use gecaro_calib::{
-    Criterion, PlanRequest as Request, Sampler, accuracy_curve, assess_design, plan_configurations,
-    random_design, random_test_poses,
+    CandidatePool, Criterion, PlanRequest as Request, Sampler, accuracy_curve, random_test_poses,
 };
 use gecaro_io::{RobotDocument, format_samples};
 use gecaro_report::json::{CurvePointJson, PlanJson};
 use serde::{Deserialize, Serialize};
 
-use super::{Json, MethodRequest, robot_file};
+use super::{Json, MethodRequest, data_file_name, robot_file, save_csv};
 use crate::error::ApiError;
 use crate::limits::{MAX_CURVE_POINTS, MAX_GENERATE};
 use crate::state::AppState;
@@ -128,7 +127,6 @@ pub(crate) async fn plan(
     state
         .compute(move |state| {
             let robot = &file.robot;
-            let priority = robot.priority();
             let pool = method.generate(robot, pool_size, 0.0, &mut Sampler::new(request.seed))?;
             let poses = random_test_poses(robot, TEST_POSES, request.seed);
             let criterion = match request.criterion {
@@ -144,52 +142,20 @@ pub(crate) async fn plan(
                 min_distance: request.min_distance,
                 ..Request::new(request.count)
             };
-            let planned = plan_configurations(
-                robot,
-                method.as_ref(),
-                &pool,
-                &plan_request,
-                &priority,
-                |_, _| ControlFlow::Continue(()),
-            )?;
-            let random = random_design(
-                method.as_ref(),
-                &pool,
-                &[],
-                planned.chosen.len(),
-                &mut Sampler::new(request.seed),
-            );
-            let random_quality = assess_design(
-                robot,
-                method.as_ref(),
-                &pool,
-                &random,
-                &plan_request.criterion,
-                &priority,
-            )?;
-            let columns = gecaro_calib::DataColumn::grouping(method.data_columns());
-            let csv = format_samples(robot.joint_count(), &columns, &planned.samples);
-            let saved = match &request.save_as {
-                Some(name) => {
-                    state
-                        .workspace()
-                        .write(name, "csv", csv.as_bytes(), request.overwrite)?;
-                    Some(name.clone())
-                }
-                None => None,
-            };
+            let pool = CandidatePool::new(robot, method.as_ref(), &pool, &robot.priority())?;
+            let planned = pool.plan(&plan_request, |_, _| ControlFlow::Continue(()))?;
+            let random =
+                pool.random_design(&[], planned.chosen.len(), &mut Sampler::new(request.seed));
+            let random_quality = pool.assess(&random, &plan_request.criterion)?;
             let curve = if request.curve.is_empty() {
                 None
             } else {
                 let points = accuracy_curve(
-                    robot,
-                    method.as_ref(),
                     &pool,
                     &request.curve,
                     &plan_request,
                     request.noise,
                     &poses,
-                    &priority,
                     request.seed,
                     |_, _| ControlFlow::Continue(()),
                 )?;
@@ -199,6 +165,10 @@ pub(crate) async fn plan(
                     points: points.iter().map(CurvePointJson::from).collect(),
                 })
             };
+            let columns = gecaro_calib::DataColumn::grouping(method.data_columns());
+            let csv = format_samples(robot.joint_count(), &columns, &planned.samples);
+            // Saved last: a failed request leaves no file.
+            let saved = save_csv(state, request.save_as.as_deref(), &csv, request.overwrite)?;
             Ok(Json(Planned {
                 plan: PlanJson::new(
                     method.name(),
@@ -208,14 +178,10 @@ pub(crate) async fn plan(
                     pool.len(),
                     0,
                 ),
-                file_name: format!(
-                    "{}-{}-planned-{}.csv",
-                    robot
-                        .name()
-                        .to_lowercase()
-                        .replace(|c: char| !c.is_alphanumeric(), "-"),
-                    request.method.name,
-                    planned.samples.len()
+                file_name: data_file_name(
+                    robot,
+                    &format!("{}-planned", request.method.name),
+                    planned.samples.len(),
                 ),
                 csv,
                 saved,
