@@ -600,6 +600,38 @@ pub(crate) struct IdentificationRunArgs {
     /// Iteration limit.
     #[arg(long, default_value_t = 30)]
     pub(crate) max_iterations: usize,
+    /// Loss: l2 (least squares, the paper), or a robust loss that discounts
+    /// gross errors (iteratively reweighted least squares; docs/methods.md).
+    #[arg(long, value_enum, default_value = "l2")]
+    pub(crate) loss: LossArg,
+    /// Scale k of the robust loss, in robust σ (default: huber 1.345,
+    /// cauchy 2.385, tukey 4.685).
+    #[arg(long, value_name = "K")]
+    pub(crate) loss_scale: Option<f64>,
+    /// Report observations whose residual exceeds this many robust σ as outliers.
+    #[arg(long, value_name = "K", default_value_t = gecaro_calib::DEFAULT_OUTLIER_THRESHOLD)]
+    pub(crate) outlier_threshold: f64,
+    /// Drop the outliers and identify again, once.
+    #[arg(long)]
+    pub(crate) reject: bool,
+    /// Gaussian prior around the nominal values: σ of lengths, angles and
+    /// gains with their units, e.g. 5mm,0.5deg,1% (maximum a posteriori;
+    /// a study file's [prior] table gives per-parameter σ too).
+    #[arg(long, value_name = "σ,σ,σ")]
+    pub(crate) prior: Option<String>,
+}
+
+/// The loss of identification (docs/methods.md, "Robust identification").
+#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum LossArg {
+    /// Least squares (the paper's eq. 10).
+    L2,
+    /// Quadratic within k σ, linear beyond: convex, bounded influence.
+    Huber,
+    /// Logarithmic: large residuals count little.
+    Cauchy,
+    /// Tukey's biweight: residuals beyond k σ count not at all.
+    Tukey,
 }
 
 #[derive(Debug, Args)]

@@ -7,9 +7,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use gecaro_calib::{
-    CalibrationMethod, ErrorSummary, Identification, IdentificationOptions, MethodOptions, Plane,
-    Sampler, Solver, StopReason, Study, evaluate as evaluate_study, identify_with_progress, method,
-    perturbed_robot, simulate_measurements,
+    CalibrationMethod, ErrorSummary, Identification, IdentificationOptions, Loss, LossKind,
+    MethodOptions, Plane, Sampler, Solver, StopReason, Study, evaluate as evaluate_study,
+    identify_with_progress, method, perturbed_robot, simulate_measurements,
 };
 use gecaro_core::Robot;
 use gecaro_io::{
@@ -22,7 +22,7 @@ use nalgebra::Vector3;
 
 use super::options::{load_study, method_options, output_policy};
 use crate::cli::{
-    DemoArgs, EvaluateArgs, GenerateArgs, IdentificationRunArgs, IdentifyArgs, ReportArgs,
+    DemoArgs, EvaluateArgs, GenerateArgs, IdentificationRunArgs, IdentifyArgs, LossArg, ReportArgs,
     SolverArg,
 };
 use crate::failure::Failure;
@@ -206,7 +206,12 @@ fn run_identification(
     outputs: &[&Path],
     force: bool,
 ) -> Result<Run, Failure> {
-    let (file, study, study_priority) = load_study(&args.source, args.data.as_deref())?;
+    let super::options::LoadedStudy {
+        file,
+        study,
+        priority: study_priority,
+        prior: study_prior,
+    } = load_study(&args.source, args.data.as_deref())?;
     let robot = &file.robot;
     let priority = match &args.priority {
         Some(path) => Some(read_priority_file(path, robot)?),
@@ -227,7 +232,7 @@ fn run_identification(
         },
         max_iterations: args.max_iterations,
         priority,
-        ..IdentificationOptions::default()
+        ..robust_options(args, study_prior)?
     };
     let bar = spinner("identifying");
     let mut iteration = 0;
@@ -245,6 +250,50 @@ fn run_identification(
         file,
         study,
         data_label,
+    })
+}
+
+/// The loss, prior and outlier options of the command line (the study
+/// file's prior, if any, unless `--prior` replaces its σ per kind).
+fn robust_options(
+    args: &IdentificationRunArgs,
+    study_prior: Option<gecaro_calib::Prior>,
+) -> Result<IdentificationOptions, Failure> {
+    let kind = match args.loss {
+        LossArg::L2 => LossKind::L2,
+        LossArg::Huber => LossKind::Huber,
+        LossArg::Cauchy => LossKind::Cauchy,
+        LossArg::Tukey => LossKind::Tukey,
+    };
+    let loss = match args.loss_scale {
+        Some(_) if kind == LossKind::L2 => {
+            return Err(Failure::usage(
+                "--loss-scale is the scale of a robust loss",
+                Some("add --loss huber, cauchy or tukey".to_owned()),
+            ));
+        }
+        Some(scale) => Loss::with_scale(kind, scale)?,
+        None => Loss::new(kind),
+    };
+    let prior = match (&args.prior, study_prior) {
+        (Some(text), study) => {
+            let mut prior = gecaro_io::parse_prior(text).map_err(|message| {
+                Failure::usage(
+                    format!("--prior: {message}"),
+                    Some("for example: --prior 5mm,0.5deg,1%".to_owned()),
+                )
+            })?;
+            prior.overrides = study.map(|p| p.overrides).unwrap_or_default();
+            Some(prior)
+        }
+        (None, study) => study,
+    };
+    Ok(IdentificationOptions {
+        loss,
+        prior,
+        outlier_threshold: args.outlier_threshold,
+        reject: args.reject,
+        ..IdentificationOptions::default()
     })
 }
 
@@ -474,15 +523,29 @@ fn print_identification(robot: &Robot, study: &Study, result: &Identification, d
         "Residual standard deviation σ = {:.3e}",
         result.residual_sigma
     );
-    let mut parameters = table(&["parameter", "nominal", "identified", "deviation", "σ"], 1);
+    super::robustness::print_robustness(result);
+    let with_prior = result.prior.is_some();
+    let mut header = vec!["parameter", "nominal", "identified", "deviation", "σ"];
+    if with_prior {
+        header.push("prior σ");
+    }
+    let mut parameters = table(&header, 1);
     for parameter in result.parameters.iter().chain(&result.auxiliary) {
-        parameters.add_row(vec![
+        let mut row = vec![
             parameter.name.clone(),
             number(parameter.nominal, 9),
             number(parameter.identified, 9),
             format!("{:+.3e}", parameter.identified - parameter.nominal),
             format!("{:.2e}", parameter.std),
-        ]);
+        ];
+        if with_prior {
+            row.push(
+                parameter
+                    .prior_std
+                    .map_or("–".into(), |s| format!("{s:.2e}")),
+            );
+        }
+        parameters.add_row(row);
     }
     println!("Identified parameters (metres, radians):\n{parameters}");
     if !result.moved.is_empty() {

@@ -15,7 +15,12 @@ use crate::failure::Failure;
 use crate::format::{number, table};
 
 pub(crate) fn identifiable(args: &IdentifiableArgs) -> Result<(), Failure> {
-    let (file, study, study_priority) = load_study(&args.source, args.data.as_deref())?;
+    let super::options::LoadedStudy {
+        file,
+        study,
+        priority: study_priority,
+        ..
+    } = load_study(&args.source, args.data.as_deref())?;
     let robot = &file.robot;
     let priority = match (&args.priority, study_priority) {
         (Some(path), _) => read_priority_file(path, robot)?,

@@ -9,6 +9,7 @@ mod kinematics;
 mod options;
 mod planning;
 mod robot;
+mod robustness;
 mod serve;
 
 use crate::cli::{Cli, Command};

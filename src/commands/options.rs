@@ -110,14 +110,7 @@ pub(crate) fn method_options(args: &MethodOptionArgs) -> Result<MethodOptions, F
 pub(crate) fn load_study(
     source: &crate::cli::StudySource,
     data: Option<&std::path::Path>,
-) -> Result<
-    (
-        gecaro_io::RobotFile,
-        gecaro_calib::Study,
-        Option<gecaro_core::PriorityMatrix>,
-    ),
-    Failure,
-> {
+) -> Result<LoadedStudy, Failure> {
     if let Some(path) = &source.study {
         if source.format.units.angle_unit.is_some()
             || source.format.units.length_unit.is_some()
@@ -134,7 +127,12 @@ pub(crate) fn load_study(
             eprintln!("note: {note}");
         }
         check_limits(&file.robot.robot, &file.study, source.strict_limits)?;
-        return Ok((file.robot, file.study, file.priority));
+        return Ok(LoadedStudy {
+            file: file.robot,
+            study: file.study,
+            priority: file.priority,
+            prior: file.prior,
+        });
     }
     let (Some(robot), Some(method)) = (&source.robot, &source.method) else {
         return Err(Failure::usage("give ROBOT and --method, or --study", None));
@@ -151,7 +149,22 @@ pub(crate) fn load_study(
     );
     let study = gecaro_calib::Study::single(chosen, samples, label);
     check_limits(&robot.robot, &study, source.strict_limits)?;
-    Ok((robot, study, None))
+    Ok(LoadedStudy {
+        file: robot,
+        study,
+        priority: None,
+        prior: None,
+    })
+}
+
+/// A robot with a study, and what a study file adds.
+pub(crate) struct LoadedStudy {
+    pub(crate) file: gecaro_io::RobotFile,
+    pub(crate) study: gecaro_calib::Study,
+    /// The study file's priority matrix.
+    pub(crate) priority: Option<gecaro_core::PriorityMatrix>,
+    /// The study file's prior.
+    pub(crate) prior: Option<gecaro_calib::Prior>,
 }
 
 /// The format of a data file as the command line gives it.

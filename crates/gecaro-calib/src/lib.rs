@@ -55,6 +55,8 @@ mod observation;
 mod parallel;
 mod planning;
 mod prediction;
+mod prior;
+mod robust;
 mod sample;
 mod sampler;
 mod simulation;
@@ -72,8 +74,9 @@ pub use identifiability::{
     random_counterpart, random_samples, structural_parameters,
 };
 pub use identification::{
-    ErrorSummary, Identification, IdentificationOptions, IdentifiedParameter, IterationRecord,
-    POOR_CONDITIONING, Route, Solver, StopReason, evaluate, identify, identify_with_progress,
+    DEFAULT_OUTLIER_THRESHOLD, ErrorSummary, Identification, IdentificationOptions,
+    IdentifiedParameter, IterationRecord, MAX_REWEIGHTINGS, Outlier, POOR_CONDITIONING, Route,
+    Solver, StopReason, evaluate, identify, identify_with_progress,
 };
 pub use methods::{
     CalibrationMethod, CloneMethod, METHODS, MethodInfo, MethodOptions, Plane, method, method_info,
@@ -88,6 +91,8 @@ pub use planning::{
     units,
 };
 pub use prediction::{MonteCarlo, PoseErrors, Prediction, monte_carlo, predict, random_test_poses};
+pub use prior::Prior;
+pub use robust::{Loss, LossKind, robust_sigma};
 pub use sample::{DataColumn, Sample};
 pub use sampler::{RANDOM_STARTS, Sampler, solve_from_starts};
 pub use simulation::{

@@ -6,8 +6,18 @@
 //! the residual Δy (what the model misses; zero at the real parameters), the
 //! coefficients of the Np robot parameters (vocabulary order) and of its own
 //! auxiliary unknowns. The [`ObservationSystem`] keeps only the columns a
-//! [`ColumnLayout`] asks for, row by row (each row is written contiguously). Rows are multiplied by a per-set weight (1/σ of the sensor)
-//! when several measurement sets are stacked.
+//! [`ColumnLayout`] asks for, row by row (each row is written contiguously).
+//!
+//! ## Weights
+//!
+//! Rows are multiplied by their set's sensor weight (1/σ of the sensor) when
+//! several measurement sets are stacked, and by `√w_i` for the robust weight
+//! `w_i` of their observation ([`ObservationSystem::set_observation_weights`],
+//! iteratively reweighted least squares, see [`crate::Loss`]). Methods that
+//! centre a set on its mean centre it on the weighted mean
+//! ([`RowWriter::observation_weight`]), which makes the centred rows the
+//! weighted least-squares problem with the set's point eliminated. A prior adds
+//! rows that belong to no observation ([`ObservationSystem::append_rows`]).
 
 use gecaro_core::{ChainBuffer, Error as ModelError, JacobianRows, KinematicModel, Robot};
 use nalgebra::IsometryMatrix3;
@@ -286,11 +296,17 @@ pub struct ObservationSystem {
     matrix: Vec<f64>,
     /// Δy, not weighted (metres or radians).
     residuals: Vec<f64>,
+    /// Each row's whole weight: sensor weight × √(robust weight).
     weights: Vec<f64>,
+    /// Each row's sensor weight (1/σ).
+    sensor_weights: Vec<f64>,
+    /// What each measured row measures (appended rows have none).
     kinds: Vec<RowKind>,
     /// The observation (configuration, pair) each row belongs to, numbered across sets.
     observations: Vec<usize>,
     observation_count: usize,
+    /// Robust weight of each observation (empty: all 1); kept by `reset`.
+    observation_weights: Vec<f64>,
 }
 
 impl ObservationSystem {
@@ -300,7 +316,11 @@ impl ObservationSystem {
         self.columns = layout.columns();
         self.matrix.clear();
         self.matrix.resize(rows * self.columns, 0.0);
-        for buffer in [&mut self.residuals, &mut self.weights] {
+        for buffer in [
+            &mut self.residuals,
+            &mut self.weights,
+            &mut self.sensor_weights,
+        ] {
             buffer.clear();
             buffer.resize(rows, 0.0);
         }
@@ -311,9 +331,54 @@ impl ObservationSystem {
         self.observation_count = 0;
     }
 
-    /// Number of rows.
+    /// Number of rows: the measured rows, then any appended ones.
     pub fn rows(&self) -> usize {
         self.rows
+    }
+
+    /// Number of rows written by the measurement sets (before appended rows).
+    pub fn measured_rows(&self) -> usize {
+        self.kinds.len()
+    }
+
+    /// Number of observations (configurations, pairs) written.
+    pub fn observation_count(&self) -> usize {
+        self.observation_count
+    }
+
+    /// The observation each measured row belongs to.
+    pub fn row_observations(&self) -> &[usize] {
+        &self.observations
+    }
+
+    /// Sets the robust weight `w_i ≥ 0` of every observation (one per
+    /// observation, numbered across sets; empty for all 1), used by the next
+    /// writes: rows are multiplied by `√w_i`, sets centred on weighted means.
+    pub fn set_observation_weights(&mut self, weights: Vec<f64>) {
+        self.observation_weights = weights;
+    }
+
+    /// The measured rows' residuals multiplied by their sensor weights only
+    /// (not by robust weights): in units of the sensor's σ.
+    pub fn scaled_residuals(&self) -> Vec<f64> {
+        (0..self.measured_rows())
+            .map(|row| self.residuals[row] * self.sensor_weights[row])
+            .collect()
+    }
+
+    /// Appends rows `weight · Δη_column = weight · residual`, each with one
+    /// non-zero coefficient (a prior's pseudo-observations). They belong to no
+    /// observation and have no [`RowKind`].
+    pub fn append_rows(&mut self, rows: &[(usize, f64, f64)]) {
+        for &(column, weight, residual) in rows {
+            let start = self.matrix.len();
+            self.matrix.resize(start + self.columns, 0.0);
+            self.matrix[start + column] = weight;
+            self.residuals.push(residual);
+            self.weights.push(weight);
+            self.sensor_weights.push(weight);
+            self.rows += 1;
+        }
     }
 
     /// Number of columns.
@@ -377,7 +442,7 @@ impl ObservationSystem {
     /// (metres) and of its angle rows (radians).
     pub fn observation_errors(&self) -> Vec<(f64, f64)> {
         let mut errors = vec![(0.0, 0.0); self.observation_count];
-        for row in 0..self.rows {
+        for row in 0..self.measured_rows() {
             let squared = self.residuals[row] * self.residuals[row];
             let error = &mut errors[self.observations[row]];
             match self.kinds[row] {
@@ -407,6 +472,8 @@ impl ObservationSystem {
             matrix: &mut self.matrix[range.start * columns..range.end * columns],
             residuals: &mut self.residuals[range.clone()],
             weights: &mut self.weights[range.clone()],
+            sensor_weights: &mut self.sensor_weights[range.clone()],
+            observation_weights: &self.observation_weights,
             kinds: &mut self.kinds[range.clone()],
             observations: &mut self.observations[range],
             columns,
@@ -434,6 +501,9 @@ pub struct RowWriter<'a> {
     matrix: &'a mut [f64],
     residuals: &'a mut [f64],
     weights: &'a mut [f64],
+    sensor_weights: &'a mut [f64],
+    /// Robust weights of the whole system's observations (empty: all 1).
+    observation_weights: &'a [f64],
     kinds: &'a mut [RowKind],
     observations: &'a mut [usize],
     columns: usize,
@@ -449,6 +519,15 @@ pub struct RowWriter<'a> {
 }
 
 impl<'a> RowWriter<'a> {
+    /// The robust weight of `observation` (0-based within this set; 1 unless
+    /// the identification reweights, see the module docs).
+    pub fn observation_weight(&self, observation: usize) -> f64 {
+        self.observation_weights
+            .get(self.observation_base + observation)
+            .copied()
+            .unwrap_or(1.0)
+    }
+
     /// Appends one row: `Σ parameters[k]·Δη_k + Σ auxiliary[k]·Δaux_k = residual`.
     ///
     /// `observation` numbers the configuration or pair the row belongs to
@@ -470,10 +549,11 @@ impl<'a> RowWriter<'a> {
             row < self.residuals.len(),
             "a method wrote more rows than its row_count"
         );
-        let weight = match kind {
+        let sensor_weight = match kind {
             RowKind::Length => self.row_weights[0],
             RowKind::Angle => self.row_weights[1],
         };
+        let weight = sensor_weight * self.observation_weight(observation).sqrt();
         let target = &mut self.matrix[row * self.columns..(row + 1) * self.columns];
         for (index, column) in &self.layout.mapped {
             target[*column] = weight * parameters[*index];
@@ -485,6 +565,7 @@ impl<'a> RowWriter<'a> {
         }
         self.residuals[row] = residual;
         self.weights[row] = weight;
+        self.sensor_weights[row] = sensor_weight;
         self.kinds[row] = kind;
         let observation = self.observation_base + observation;
         self.observations[row] = observation;
@@ -527,6 +608,8 @@ impl<'a> RowWriter<'a> {
             matrix: take_front(&mut self.matrix, rows * self.columns),
             residuals: take_front(&mut self.residuals, rows),
             weights: take_front(&mut self.weights, rows),
+            sensor_weights: take_front(&mut self.sensor_weights, rows),
+            observation_weights: self.observation_weights,
             kinds: take_front(&mut self.kinds, rows),
             observations: take_front(&mut self.observations, rows),
             columns: self.columns,

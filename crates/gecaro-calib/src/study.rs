@@ -6,12 +6,12 @@
 use gecaro_core::{KinematicModel, Robot};
 
 use crate::Error;
-use crate::methods::CalibrationMethod;
+use crate::methods::{CalibrationMethod, groups};
 use crate::observation::{
     ColumnLayout, ObservationSystem, RowWriter, TerminalState, evaluate_poses, evaluate_states,
     linearise_independent,
 };
-use crate::sample::Sample;
+use crate::sample::{DataColumn, Sample};
 
 /// One measurement set of a study.
 #[derive(Debug)]
@@ -250,6 +250,47 @@ impl Study {
                     .map(move |name| format!("{prefix}{name}"))
             })
             .collect()
+    }
+
+    /// The study without some samples: `dropped[s]` lists sample indices of
+    /// set `s` (sets beyond `dropped` keep everything). A set or pair left
+    /// with a single configuration goes too: it constrains nothing (link and
+    /// distance methods compare configurations with each other).
+    pub fn without_samples(&self, dropped: &[Vec<usize>]) -> Study {
+        let sets = self
+            .sets
+            .iter()
+            .enumerate()
+            .map(|(index, set)| {
+                let drop = dropped.get(index).map_or(&[][..], Vec::as_slice);
+                let grouped = set
+                    .method
+                    .data_columns()
+                    .iter()
+                    .any(|c| matches!(c, DataColumn::Set | DataColumn::Pair));
+                let mut keep: Vec<bool> =
+                    (0..set.samples.len()).map(|i| !drop.contains(&i)).collect();
+                if grouped {
+                    for members in groups(&set.samples) {
+                        let kept: Vec<usize> = members.into_iter().filter(|i| keep[*i]).collect();
+                        if kept.len() < 2 {
+                            kept.into_iter().for_each(|i| keep[i] = false);
+                        }
+                    }
+                }
+                MeasurementSet {
+                    samples: set
+                        .samples
+                        .iter()
+                        .zip(&keep)
+                        .filter(|(_, kept)| **kept)
+                        .map(|(sample, _)| sample.clone())
+                        .collect(),
+                    ..set.clone()
+                }
+            })
+            .collect();
+        Study { sets }
     }
 
     /// Whether some set measures a length (position, frame, distance), so that

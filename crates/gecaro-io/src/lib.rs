@@ -18,6 +18,7 @@ mod input;
 mod interchange;
 mod output;
 mod pose;
+mod prior;
 mod program_file;
 mod ready;
 mod robot_file;
@@ -42,6 +43,7 @@ pub use interchange::{
 };
 pub use output::{OutputPolicy, write_atomically};
 pub use pose::{pose_from_seven, unit_quaternion};
+pub use prior::{parse_override, parse_prior};
 pub use program_file::{ProgramFile, ProgramKind, read_program};
 pub use ready::{ReadyRobot, load_robot, ready_robot, ready_robots};
 pub use robot_file::{

@@ -27,13 +27,17 @@
 //! ```
 //!
 //! `length_unit` and `angle_unit` may also stand at the top, for every set.
+//! An optional `[prior]` table puts a Gaussian prior on the parameters
+//! (`length = "5mm"`, `angle = "0.5deg"`, `gain = "1%"`, and
+//! `parameters = { d3 = "0.5mm" }` to override one parameter; see
+//! [`crate::parse_prior`]).
 //! Each set's rows are weighted by 1/σ, so that sets measured in different
 //! units and with different sensors count by their precision. Columns a set
 //! does not use are left alone and listed in [`StudyFile::notes`].
 
 use std::path::{Path, PathBuf};
 
-use gecaro_calib::{MeasurementSet, MethodOptions, Plane, Study};
+use gecaro_calib::{MeasurementSet, MethodOptions, Plane, Prior, Study};
 use gecaro_core::{OrientationDifference, PriorityMatrix};
 use nalgebra::Vector3;
 use serde::Deserialize;
@@ -56,6 +60,16 @@ struct RawStudy {
     length_unit: Option<Spanned<String>>,
     angle_unit: Option<Spanned<String>>,
     measurements: Spanned<Vec<Spanned<RawMeasurement>>>,
+    prior: Option<Spanned<RawPrior>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawPrior {
+    length: Spanned<String>,
+    angle: Spanned<String>,
+    gain: Spanned<String>,
+    parameters: Option<Spanned<std::collections::BTreeMap<String, String>>>,
 }
 
 #[derive(Deserialize)]
@@ -84,6 +98,8 @@ pub struct StudyFile {
     pub study: Study,
     /// The priority matrix given by the study, if any.
     pub priority: Option<PriorityMatrix>,
+    /// The prior of its `[prior]` table, if any.
+    pub prior: Option<Prior>,
     /// What the user should know: columns of data files left unused.
     pub notes: Vec<String>,
 }
@@ -120,6 +136,31 @@ pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
     let priority = match &raw.priority {
         Some(name) => Some(read_priority_file(&relative(name.get_ref()), &robot.robot)?),
         None => None,
+    };
+    let prior = match &raw.prior {
+        None => None,
+        Some(table) => {
+            let table = table.get_ref();
+            let text = format!(
+                "{},{},{}",
+                table.length.get_ref(),
+                table.angle.get_ref(),
+                table.gain.get_ref()
+            );
+            let mut prior = crate::parse_prior(&text)
+                .map_err(|message| fail(table.length.span(), "prior", message))?;
+            if let Some(parameters) = &table.parameters {
+                for (name, value) in parameters.get_ref() {
+                    let entry = crate::parse_override(name, value)
+                        .map_err(|message| fail(parameters.span(), "prior.parameters", message))?;
+                    prior.overrides.push(entry);
+                }
+                prior.check(&robot.robot).map_err(|error| {
+                    fail(parameters.span(), "prior.parameters", error.to_string())
+                })?;
+            }
+            Some(prior)
+        }
     };
     if raw.measurements.get_ref().is_empty() {
         return Err(fail(
@@ -302,6 +343,7 @@ pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
         robot,
         study: Study { sets },
         priority,
+        prior,
         notes,
     })
 }

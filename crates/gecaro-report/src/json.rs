@@ -223,8 +223,73 @@ pub struct ParameterJson {
     pub nominal: f64,
     /// Its identified value.
     pub identified: f64,
-    /// Its standard deviation (eq. 11).
+    /// Its standard deviation (eq. 11; posterior with a prior).
     pub std: f64,
+    /// Its prior standard deviation, with a prior (regrouping included).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub prior_std: Option<f64>,
+}
+
+/// The loss an identification minimised.
+#[derive(Clone, Debug, Serialize)]
+pub struct LossJson {
+    /// `l2`, `huber`, `cauchy` or `tukey`.
+    pub kind: &'static str,
+    /// Its scale k in robust σ̂ (none for l2).
+    pub scale: Option<f64>,
+}
+
+/// A prior's standard deviations per kind (metres, radians, fraction of the gain).
+#[derive(Clone, Debug, Serialize)]
+pub struct PriorJson {
+    /// σ of lengths (m).
+    pub length: f64,
+    /// σ of angles (rad).
+    pub angle: f64,
+    /// σ of gains (fraction).
+    pub gain: f64,
+    /// Per-parameter σ (units of the parameter's kind).
+    pub parameters: std::collections::BTreeMap<String, f64>,
+}
+
+/// An observation beyond the outlier threshold.
+#[derive(Clone, Debug, Serialize)]
+pub struct OutlierJson {
+    /// Index of its measurement set in the study (0-based).
+    pub set: usize,
+    /// The set's data file.
+    pub file: String,
+    /// `configuration` or `pair`.
+    pub kind: &'static str,
+    /// Its number in the set (1-based, as the text output says it).
+    pub observation: usize,
+    /// The data-file lines of its samples.
+    pub lines: Vec<usize>,
+    /// Its position-like error at the solution (m).
+    pub error: f64,
+    /// Its orientation error (rad), for data with orientations.
+    pub rotation_error: Option<f64>,
+    /// Its residual in robust σ̂.
+    pub residual_sigmas: f64,
+    /// Its weight in the final fit.
+    pub weight: f64,
+}
+
+fn outliers(outliers: &[gecaro_calib::Outlier]) -> Vec<OutlierJson> {
+    outliers
+        .iter()
+        .map(|o| OutlierJson {
+            set: o.set,
+            file: o.label.clone(),
+            kind: o.kind,
+            observation: o.observation + 1,
+            lines: o.lines.clone(),
+            error: o.error,
+            rotation_error: o.rotation_error,
+            residual_sigmas: o.standardized,
+            weight: o.weight,
+        })
+        .collect()
 }
 
 fn parameters(parameters: &[IdentifiedParameter]) -> Vec<ParameterJson> {
@@ -235,6 +300,7 @@ fn parameters(parameters: &[IdentifiedParameter]) -> Vec<ParameterJson> {
             nominal: p.nominal,
             identified: p.identified,
             std: p.std,
+            prior_std: p.prior_std,
         })
         .collect()
 }
@@ -280,6 +346,20 @@ pub struct IdentificationJson {
     pub moved: Vec<ParameterJson>,
     /// What the user should know about the result.
     pub warnings: Vec<String>,
+    /// The loss minimised.
+    pub loss: LossJson,
+    /// Outer iterations of the reweighted phase (0 for plain least squares).
+    pub reweightings: usize,
+    /// The robust σ̂ of the residuals (units of the sensor σ).
+    pub robust_sigma: f64,
+    /// The outlier threshold (robust σ̂).
+    pub outlier_threshold: f64,
+    /// Observations beyond the threshold at the solution, worst first.
+    pub outliers: Vec<OutlierJson>,
+    /// Observations rejected before this fit (`--reject`).
+    pub rejected: Vec<OutlierJson>,
+    /// The prior, if one was given.
+    pub prior: Option<PriorJson>,
 }
 
 impl IdentificationJson {
@@ -305,6 +385,25 @@ impl IdentificationJson {
             route: result.route.as_str(),
             moved: parameters(&result.moved),
             warnings: result.warnings.clone(),
+            loss: LossJson {
+                kind: result.loss.kind.as_str(),
+                scale: (!result.loss.is_l2()).then_some(result.loss.scale),
+            },
+            reweightings: result.reweightings,
+            robust_sigma: result.robust_sigma,
+            outlier_threshold: result.outlier_threshold,
+            outliers: outliers(&result.outliers),
+            rejected: outliers(&result.rejected),
+            prior: result.prior.as_ref().map(|prior| PriorJson {
+                length: prior.length,
+                angle: prior.angle,
+                gain: prior.gain,
+                parameters: prior
+                    .overrides
+                    .iter()
+                    .map(|(id, sigma)| (id.to_string(), *sigma))
+                    .collect(),
+            }),
         }
     }
 }

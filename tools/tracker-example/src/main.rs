@@ -78,6 +78,43 @@ fn tracker_file(
     Ok(text)
 }
 
+/// Points whose measurement went wrong in `tracker_corrupted.csv`, with the
+/// error (mm): the beam broken and the tracker re-locked on a reflector
+/// elsewhere, or a point taken while the arm still moved.
+const GROSS_ERRORS: [(&str, [f64; 3]); 4] = [
+    ("P009", [24.0, -11.5, 6.0]),
+    ("P027", [-3.5, 18.0, -9.0]),
+    ("P044", [0.8, -0.6, 31.0]),
+    ("P068", [-12.0, -7.5, -4.0]),
+];
+
+/// `tracker` with the [`GROSS_ERRORS`] added to their rows (other rows unchanged).
+fn corrupted(tracker: &str) -> String {
+    let mut text = String::new();
+    for line in tracker.lines() {
+        let fields: Vec<&str> = line.split(',').collect();
+        let error = fields
+            .get(1)
+            .and_then(|point| GROSS_ERRORS.iter().find(|(name, _)| name == point));
+        match error {
+            Some((_, offset)) if fields.len() == 11 => {
+                let moved: Vec<String> = fields[8..]
+                    .iter()
+                    .zip(offset)
+                    .map(|(value, offset)| {
+                        format!("{:.4}", value.parse::<f64>().unwrap_or(f64::NAN) + offset)
+                    })
+                    .collect();
+                let _ = writeln!(text, "{},{}", fields[..8].join(","), moved.join(","));
+            }
+            _ => {
+                let _ = writeln!(text, "{line}");
+            }
+        }
+    }
+    text
+}
+
 fn main() -> Result<()> {
     let arguments: Vec<String> = std::env::args().collect();
     let [_, source, output] = arguments.as_slice() else {
@@ -111,7 +148,9 @@ fn main() -> Result<()> {
             urdf: None,
         }),
     )?;
-    write("tracker.csv", &tracker_file(&real, 80, &mut sampler, 1)?)?;
+    let tracker = tracker_file(&real, 80, &mut sampler, 1)?;
+    write("tracker.csv", &tracker)?;
+    write("tracker_corrupted.csv", &corrupted(&tracker))?;
     write("check.csv", &tracker_file(&real, 40, &mut sampler, 101)?)?;
     let mut job = String::from(
         "# A job of joint targets (degrees), as taught on the nominal model\nPoint,A1,A2,A3,A4,A5,A6,Speed_pct\n",

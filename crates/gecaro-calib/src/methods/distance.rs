@@ -70,6 +70,11 @@ impl CalibrationMethod for DistanceMeasure {
         groups(samples).len()
     }
 
+    /// One observation per pair.
+    fn observation_samples(&self, samples: &[Sample]) -> Vec<Vec<usize>> {
+        groups(samples)
+    }
+
     fn equations_per_configuration(&self) -> f64 {
         0.5
     }

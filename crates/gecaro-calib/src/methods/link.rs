@@ -63,8 +63,12 @@ pub(super) fn linearise_sets(
                 state.add_jacobian_row(axis, 1.0, &mut coefficients[start..start + parameters]);
             }
         }
-        centre(&mut values, count);
-        centre(&mut coefficients, count);
+        let weights: Vec<f64> = members
+            .iter()
+            .map(|&index| rows.observation_weight(index))
+            .collect();
+        centre(&mut values, &weights);
+        centre(&mut coefficients, &weights);
         for (slot, &index) in members.iter().enumerate() {
             for axis in 0..dimension {
                 let row = slot * dimension + axis;

@@ -145,6 +145,14 @@ pub trait CalibrationMethod: CloneMethod + fmt::Debug + Send + Sync {
         false
     }
 
+    /// The samples of each observation, in the numbering `linearise` gives
+    /// its rows: one observation per configuration by default (position,
+    /// frame, plane, and the link methods, whose configurations are each
+    /// compared with their set's mean).
+    fn observation_samples(&self, samples: &[Sample]) -> Vec<Vec<usize>> {
+        (0..samples.len()).map(|index| vec![index]).collect()
+    }
+
     /// Writes the rows `Δy = W Δη` at the current parameters (whose poses and
     /// Jacobians are `states`, one per sample) and auxiliary values.
     fn linearise(
@@ -388,15 +396,25 @@ pub(crate) fn check_group_sizes(
 }
 
 /// Mean-centres, in place, the per-member blocks of one set: `buffer` holds
-/// `members` equal blocks (values, or rows of coefficients), and each entry
-/// of a block loses its mean over the members (see the module docs).
-pub(crate) fn centre(buffer: &mut [f64], members: usize) {
+/// one equal block per member (values, or rows of coefficients), and each
+/// entry of a block loses its mean over the members, weighted by `weights`
+/// (one per member: the robust weights of their observations, all 1 in plain
+/// least squares; the plain mean if they sum to 0). See the module docs.
+pub(crate) fn centre(buffer: &mut [f64], weights: &[f64]) {
+    let members = weights.len();
     let stride = buffer.len() / members.max(1);
+    let total: f64 = weights.iter().sum();
+    let weight = |m: usize| {
+        if total > 0.0 {
+            weights[m] / total
+        } else {
+            1.0 / members as f64
+        }
+    };
     for offset in 0..stride {
         let mean = (0..members)
-            .map(|m| buffer[m * stride + offset])
-            .sum::<f64>()
-            / members as f64;
+            .map(|m| weight(m) * buffer[m * stride + offset])
+            .sum::<f64>();
         for m in 0..members {
             buffer[m * stride + offset] -= mean;
         }
@@ -422,8 +440,12 @@ mod tests {
     #[test]
     fn centring_removes_the_mean() {
         let mut values = vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
-        centre(&mut values, 3);
+        centre(&mut values, &[1.0; 3]);
         assert_eq!(values, [-2.0, -2.0, 0.0, 0.0, 2.0, 2.0]);
+        // Weighted: the first member does not count in the mean (3, 4 → 4, 5).
+        let mut values = vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
+        centre(&mut values, &[0.0, 1.0, 1.0]);
+        assert_eq!(values, [-3.0, -3.0, -1.0, -1.0, 1.0, 1.0]);
     }
 
     #[test]

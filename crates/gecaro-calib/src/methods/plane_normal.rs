@@ -114,8 +114,11 @@ impl CalibrationMethod for PlaneNormal {
             let derivative = point / norm - normal * (values[index] / norm);
             derivatives[index * 3..(index + 1) * 3].copy_from_slice(derivative.as_slice());
         }
+        let weights: Vec<f64> = (0..count)
+            .map(|index| rows.observation_weight(index))
+            .collect();
         for buffer in [&mut values, &mut coefficients, &mut derivatives] {
-            centre(buffer, count);
+            centre(buffer, &weights);
         }
         for index in 0..count {
             let auxiliary_row: &[f64] = if unknown {

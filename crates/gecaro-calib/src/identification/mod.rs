@@ -47,6 +47,20 @@
 //!
 //! Precision: `σ² = ‖r‖²/(equations − b)`, `cov(Δη_b) = σ² (W_bᵀW_b)⁻¹` at the
 //! solution.
+//!
+//! ## Measurements as they are
+//!
+//! With a robust [`Loss`] or a [`Prior`] ([`IdentificationOptions`]), the
+//! least-squares solution is the start of a reweighted phase (see
+//! [`reweighting`]): iteratively reweighted least squares for the loss, and
+//! the prior as pseudo-observations, maximum a posteriori. Every
+//! identification reports the observations whose standardised residual
+//! exceeds [`IdentificationOptions::outlier_threshold`]
+//! ([`Identification::outliers`]); with [`IdentificationOptions::reject`] they
+//! are dropped and the identification runs again on the rest, once.
+
+mod outliers;
+mod reweighting;
 
 use std::ops::ControlFlow;
 
@@ -61,7 +75,13 @@ use crate::linalg::{
 };
 use crate::observability::Observability;
 use crate::observation::{ColumnLayout, ObservationSystem};
+use crate::prior::Prior;
+use crate::robust::Loss;
 use crate::study::{Study, StudyStates};
+
+pub use outliers::{DEFAULT_OUTLIER_THRESHOLD, Outlier};
+pub use reweighting::MAX_REWEIGHTINGS;
+use reweighting::{PriorRow, ResidualStatistics, Weighting};
 
 /// How steps are taken.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
@@ -106,6 +126,14 @@ pub struct IdentificationOptions {
     pub priority: Option<PriorityMatrix>,
     /// A step is negligible when `‖Δη_b‖ ≤ step_tolerance · (1 + ‖η_b‖)`.
     pub step_tolerance: f64,
+    /// The loss (plain least squares by default).
+    pub loss: Loss,
+    /// A Gaussian prior on the parameters (none by default).
+    pub prior: Option<Prior>,
+    /// Observations beyond this many robust σ̂ are reported as outliers.
+    pub outlier_threshold: f64,
+    /// Drop the outliers and identify again (once).
+    pub reject: bool,
 }
 
 impl Default for IdentificationOptions {
@@ -115,6 +143,10 @@ impl Default for IdentificationOptions {
             max_iterations: 30,
             priority: None,
             step_tolerance: 1e-8,
+            loss: Loss::default(),
+            prior: None,
+            outlier_threshold: DEFAULT_OUTLIER_THRESHOLD,
+            reject: false,
         }
     }
 }
@@ -203,8 +235,10 @@ pub struct IdentifiedParameter {
     pub nominal: f64,
     /// Identified value.
     pub identified: f64,
-    /// Standard deviation of the identified value.
+    /// Standard deviation of the identified value (posterior, with a prior).
     pub std: f64,
+    /// Its prior standard deviation, with a prior (regrouping included).
+    pub prior_std: Option<f64>,
 }
 
 /// The result of [`identify`].
@@ -250,6 +284,26 @@ pub struct Identification {
     pub moved: Vec<IdentifiedParameter>,
     /// Things a user should know about these results, in words.
     pub warnings: Vec<String>,
+    /// The loss minimised.
+    pub loss: Loss,
+    /// The prior, if one was given.
+    pub prior: Option<Prior>,
+    /// Outer iterations of the reweighted phase (0 in plain least squares).
+    pub reweightings: usize,
+    /// The robust σ̂ of the residuals at the solution, in units of the
+    /// sensors' σ (the rows' weights; metres for an unweighted set).
+    pub robust_sigma: f64,
+    /// Per observation: its standardised residual at the solution (units of σ̂).
+    pub standardized: Vec<f64>,
+    /// Per observation: its weight in the final fit (all 1 in least squares).
+    pub observation_weights: Vec<f64>,
+    /// The outlier threshold used (robust σ̂).
+    pub outlier_threshold: f64,
+    /// Observations beyond the outlier threshold at the solution, worst first.
+    pub outliers: Vec<Outlier>,
+    /// Observations dropped before this fit ([`IdentificationOptions::reject`]):
+    /// the outliers of the first fit, located in the original data.
+    pub rejected: Vec<Outlier>,
 }
 
 impl Identification {
@@ -352,9 +406,26 @@ struct Problem<'a> {
     rows: usize,
     /// Condition number of W_b on the data at nominal: chooses the solver (see `linalg::solve`).
     condition: f64,
+    /// Robust weights and prior rows of the reweighted phase (none in plain least squares).
+    weighting: Weighting,
 }
 
-impl Problem<'_> {
+impl<'a> Problem<'a> {
+    /// This problem with `weighting` (robust weights, prior rows).
+    fn with_weighting(&self, weighting: Weighting) -> Problem<'a> {
+        Problem {
+            study: self.study,
+            nominal: self.nominal,
+            options: self.options,
+            base: self.base.clone(),
+            base_auxiliary: self.base_auxiliary.clone(),
+            layout: self.layout.clone(),
+            rows: self.rows,
+            condition: self.condition,
+            weighting,
+        }
+    }
+
     fn assemble(
         &self,
         robot: &Robot,
@@ -380,8 +451,11 @@ impl Problem<'_> {
         states: &mut StudyStates,
         mut system: ObservationSystem,
     ) -> Result<Iterate, Error> {
+        system.set_observation_weights(self.weighting.observation_weights.clone());
         self.study
             .linearise(robot, auxiliary, layout, states, &mut system)?;
+        self.weighting
+            .append_prior_rows(&mut system, robot, self.nominal);
         Self::iterate_of(robot, auxiliary, system)
     }
 
@@ -414,7 +488,7 @@ impl Problem<'_> {
 
     fn record(&self, iterate: &Iterate, step: &[f64], damping: f64) -> IterationRecord {
         IterationRecord {
-            rms: (iterate.cost / self.rows.max(1) as f64).sqrt(),
+            rms: (iterate.cost / iterate.system.rows().max(1) as f64).sqrt(),
             step: norm(step),
             damping,
         }
@@ -517,7 +591,8 @@ impl Problem<'_> {
             let right = current.system.weighted_residuals();
             let mut fraction = 1.0;
             loop {
-                let matrix = view(current.system.matrix(), self.rows, self.layout.columns());
+                let system = &current.system;
+                let matrix = view(system.matrix(), system.rows(), system.columns());
                 let mut step = if damping == 0.0 {
                     step(matrix, &current.normal, &right, self.condition)
                 } else {
@@ -755,6 +830,62 @@ pub fn identify_with_progress(
         ControlFlow::Continue(()) => Ok(()),
         ControlFlow::Break(()) => Err(Error::Interrupted),
     };
+    check_options(robot, options)?;
+    let first = fit(robot, study, options, &mut progress)?;
+    if !options.reject || first.outliers.is_empty() {
+        return Ok(first);
+    }
+    let kept = study.without_samples(&outliers::outlier_samples(study, &first.outliers));
+    let mut refit =
+        fit(robot, &kept, options, &mut progress).map_err(|error| Error::Numerical {
+            message: format!(
+                "after rejecting {} outliers the rest cannot be identified: {error}",
+                first.outliers.len()
+            ),
+        })?;
+    refit.warnings.insert(
+        0,
+        format!(
+            "{} observations beyond {} σ̂ were rejected and the rest identified again",
+            first.outliers.len(),
+            options.outlier_threshold
+        ),
+    );
+    refit.rejected = first.outliers;
+    Ok(refit)
+}
+
+/// Checks the options a user gives beyond the robot and data.
+fn check_options(robot: &Robot, options: &IdentificationOptions) -> Result<(), Error> {
+    let threshold = options.outlier_threshold;
+    if !(threshold.is_finite() && threshold > 0.0) {
+        return Err(Error::InvalidOption {
+            option: "--outlier-threshold",
+            message: format!("must be a positive number of robust σ, not {threshold}"),
+        });
+    }
+    Loss::with_scale(options.loss.kind, options.loss.scale).or_else(|error| {
+        if options.loss.is_l2() {
+            Ok(options.loss)
+        } else {
+            Err(error)
+        }
+    })?;
+    if let Some(prior) = &options.prior {
+        Prior::new(prior.length, prior.angle, prior.gain)?;
+        prior.check(robot)?;
+    }
+    Ok(())
+}
+
+/// One identification of `study` (see the module docs).
+fn fit(
+    robot: &Robot,
+    study: &Study,
+    options: &IdentificationOptions,
+    progress: &mut dyn FnMut(&IterationRecord) -> Result<(), Error>,
+) -> Result<Identification, Error> {
+    let mut progress = |record: &IterationRecord| progress(record);
     study.check(robot)?;
     let priority = options.priority.clone().unwrap_or_else(|| robot.priority());
     priority.validate(robot.parameters())?;
@@ -797,6 +928,7 @@ pub fn identify_with_progress(
         layout,
         rows: study.row_count(),
         condition: excited.report.condition_number(),
+        weighting: Weighting::default(),
     };
     // The excitation check built W_b at the nominal parameters already: reuse
     // it when every structural base parameter is excited (same columns).
@@ -860,6 +992,48 @@ pub fn identify_with_progress(
             }
         }
     };
+    let prior_rows = options
+        .prior
+        .as_ref()
+        .map(|prior| prior_rows(prior, robot, &problem, excited.report.relations()))
+        .unwrap_or_default();
+    let prior_std = |column: usize| {
+        prior_rows
+            .iter()
+            .find(|row| row.column == column)
+            .map(|row| row.sigma)
+    };
+    let (run, weighting, statistics, reweightings) =
+        if options.loss.is_l2() && prior_rows.is_empty() {
+            let statistics =
+                ResidualStatistics::of(&run.best.system, &options.loss, equations, unknowns);
+            (run, Weighting::default(), statistics, 0)
+        } else {
+            let Run {
+                best,
+                history: mut updates,
+                ..
+            } = run;
+            let reweighted = problem.reweighted(
+                best,
+                options.loss,
+                prior_rows.clone(),
+                &mut states,
+                &mut progress,
+            )?;
+            updates.extend(reweighted.run.history);
+            let run = Run {
+                best: reweighted.run.best,
+                history: updates,
+                stop: reweighted.run.stop,
+            };
+            (
+                run,
+                reweighted.weighting,
+                reweighted.statistics,
+                reweighted.reweightings,
+            )
+        };
     let Run {
         best,
         history: updates,
@@ -868,10 +1042,24 @@ pub fn identify_with_progress(
     let mut history = vec![first];
     history.extend(updates);
 
-    // Precision at the solution: σ² (W_bᵀ W_b)⁻¹, and the condition number of W_b.
-    let matrix = view(best.system.matrix(), problem.rows, problem.layout.columns());
-    let (solved, condition_number) = precision(matrix, &best.normal, problem.condition)?;
-    let variance = best.cost / (equations - unknowns) as f64;
+    // Precision at the solution: σ² (W_bᵀ W_b)⁻¹, and the condition number of W_b
+    // (of the data's rows: prior rows would hide a poor excitation).
+    let system = &best.system;
+    let columns = problem.layout.columns();
+    let matrix = view(system.matrix(), system.rows(), columns);
+    let (solved, mut condition_number) = precision(matrix, &best.normal, problem.condition)?;
+    if !weighting.prior_rows.is_empty() {
+        let rows = system.measured_rows();
+        let data = view(&system.matrix()[..rows * columns], rows, columns);
+        let right = system.weighted_residuals();
+        let normal = crate::linalg::NormalEquations::of(data, &right[..rows]);
+        condition_number = precision(data, &normal, problem.condition)?.1;
+    }
+    let variance = if weighting.observation_weights.is_empty() && weighting.prior_rows.is_empty() {
+        best.cost / (equations - unknowns) as f64
+    } else {
+        statistics.variance
+    };
     let std = |column: usize| (variance * solved.inverse_normal_diagonal[column]).sqrt();
     let auxiliary_names = study.auxiliary_names();
     let auxiliary_columns = problem.base_auxiliary.len();
@@ -885,6 +1073,7 @@ pub fn identify_with_progress(
             nominal: initial_auxiliary[index],
             identified: best.auxiliary[index],
             std: std(column),
+            prior_std: None,
         })
         .collect();
     let parameters: Vec<IdentifiedParameter> = problem
@@ -899,6 +1088,7 @@ pub fn identify_with_progress(
                 nominal: robot.parameter(id),
                 identified: best.robot.parameter(id),
                 std: std(auxiliary_columns + position),
+                prior_std: prior_std(auxiliary_columns + position),
             }
         })
         .collect();
@@ -917,6 +1107,7 @@ pub fn identify_with_progress(
             nominal: robot.parameter(*id),
             identified: best.robot.parameter(*id),
             std: f64::NAN,
+            prior_std: None,
         })
         .collect();
     let warnings = warnings(
@@ -926,13 +1117,31 @@ pub fn identify_with_progress(
         &parameters,
         &moved,
     );
+    let errors_after = best.system.observation_errors();
+    let has_rotation = best.system.kinds().contains(&crate::RowKind::Angle);
+    let outliers = outliers::find_outliers(
+        study,
+        &statistics,
+        &errors_after,
+        has_rotation,
+        options.outlier_threshold,
+    );
     Ok(Identification {
+        loss: options.loss,
+        prior: options.prior.clone(),
+        reweightings,
+        robust_sigma: statistics.robust_sigma,
+        observation_weights: statistics.weights,
+        standardized: statistics.standardized,
+        outlier_threshold: options.outlier_threshold,
+        outliers,
+        rejected: Vec::new(),
         excitation: excited.report,
         moved,
         warnings,
         condition_number,
         after: ErrorSummary::of(&best.system),
-        errors_after: best.system.observation_errors(),
+        errors_after,
         errors_before,
         before,
         calibrated: best.robot,
@@ -945,6 +1154,28 @@ pub fn identify_with_progress(
         stop_reason: stop,
         not_excited: excited.not_excited,
     })
+}
+
+/// The prior's rows for the base parameters of `problem` (weights set by the
+/// reweighted phase), with the regrouped priors of [`Prior::base_sigma`].
+fn prior_rows(
+    prior: &Prior,
+    robot: &Robot,
+    problem: &Problem<'_>,
+    relations: &[crate::Relation],
+) -> Vec<PriorRow> {
+    let offset = problem.base_auxiliary.len();
+    problem
+        .base
+        .iter()
+        .enumerate()
+        .map(|(position, &index)| PriorRow {
+            column: offset + position,
+            sigma: prior.base_sigma(robot, robot.parameters().id(index), relations),
+            index,
+            weight: 0.0,
+        })
+        .collect()
 }
 
 /// The warnings of an identification (see [`Identification::warnings`]).

@@ -1,0 +1,257 @@
+//! The reweighted phase of an identification: a robust loss by iteratively
+//! reweighted least squares ([`crate::Loss`]), a Gaussian prior as
+//! pseudo-observation rows ([`crate::Prior`]), or both.
+//!
+//! It starts from the plain least-squares solution. Each outer iteration
+//! computes, at the current parameters, the robust σ̂ of the scaled
+//! residuals, the observations' standardised residuals `u_i` and their
+//! weights `w(u_i)`, and the data's a-posteriori variance under those weights
+//! `s² = Σ w_i e_i² / (n_eff − b)` (`e` the rows scaled by their sensor σ,
+//! `n_eff` the equations of observations with a non-zero weight, `b` the
+//! identified unknowns) which weighs the prior's rows against the data
+//! (row weight `s/σ_k`). It then re-converges the Gauss–Newton descent with
+//! these weights fixed. It stops when no weight moves by more than 1e-3 and
+//! `s²` by less than a relative 1e-3, or after [`MAX_REWEIGHTINGS`].
+//!
+//! Precision: `cov = s² (W̃ᵀW̃)⁻¹`, W̃ the weighted W_b with the prior rows:
+//! for a fixed-weight IRLS solution the usual sandwich-free approximation
+//! (the weights are treated as known), and with a prior the posterior
+//! covariance `(W_bᵀW_b/s² + Σ_p⁻¹)⁻¹`.
+
+use gecaro_core::Robot;
+
+use super::{Damping, Iterate, IterationRecord, Problem, Run, StopReason};
+use crate::Error;
+use crate::observation::ObservationSystem;
+use crate::robust::{Loss, LossKind, observation_rms, robust_sigma};
+use crate::study::StudyStates;
+
+/// Outer iterations (reweightings) allowed per loss stage.
+pub const MAX_REWEIGHTINGS: usize = 50;
+/// A weight change below this ends the reweighting.
+const WEIGHT_TOLERANCE: f64 = 1e-3;
+
+/// What the reweighted phase adds to the plain system.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Weighting {
+    /// Robust weight per observation (empty: all 1).
+    pub(super) observation_weights: Vec<f64>,
+    /// Prior rows: column of W_b, row weight `s/σ_k`, vocabulary index.
+    pub(super) prior_rows: Vec<PriorRow>,
+}
+
+/// One prior pseudo-observation: `weight · Δη = weight · (η_nominal − η)`.
+#[derive(Copy, Clone, Debug)]
+pub(super) struct PriorRow {
+    pub(super) column: usize,
+    /// The parameter's prior σ (regrouping included).
+    pub(super) sigma: f64,
+    /// Its vocabulary index.
+    pub(super) index: usize,
+    /// The row weight: data σ̂ over the prior σ.
+    pub(super) weight: f64,
+}
+
+impl Weighting {
+    /// Appends the prior rows at `robot` to a system written at `robot`.
+    pub(super) fn append_prior_rows(
+        &self,
+        system: &mut ObservationSystem,
+        robot: &Robot,
+        nominal: &Robot,
+    ) {
+        if self.prior_rows.is_empty() {
+            return;
+        }
+        let rows: Vec<(usize, f64, f64)> = self
+            .prior_rows
+            .iter()
+            .map(|row| {
+                let id = robot.parameters().id(row.index);
+                (
+                    row.column,
+                    row.weight,
+                    nominal.parameter(id) - robot.parameter(id),
+                )
+            })
+            .collect();
+        system.append_rows(&rows);
+    }
+}
+
+/// The statistics of the residuals of one iterate under a loss.
+#[derive(Clone, Debug)]
+pub(super) struct ResidualStatistics {
+    /// The robust σ̂ of the scaled measured rows.
+    pub(super) robust_sigma: f64,
+    /// Each observation's standardised residual u_i (units of σ̂).
+    pub(super) standardized: Vec<f64>,
+    /// Each observation's weight under the loss.
+    pub(super) weights: Vec<f64>,
+    /// The a-posteriori variance of the scaled rows under these weights.
+    pub(super) variance: f64,
+    /// Equations of the observations with a non-zero weight.
+    pub(super) effective_equations: usize,
+}
+
+impl ResidualStatistics {
+    /// The statistics of `system` under `loss`; `equations` counts the
+    /// study's independent equations, `unknowns` the identified unknowns.
+    pub(super) fn of(
+        system: &ObservationSystem,
+        loss: &Loss,
+        equations: usize,
+        unknowns: usize,
+    ) -> Self {
+        let scaled = system.scaled_residuals();
+        let observations = system.row_observations();
+        let robust_sigma = robust_sigma(&scaled);
+        let rms = observation_rms(&scaled, observations, system.observation_count());
+        let standardized: Vec<f64> = rms
+            .iter()
+            .map(|value| {
+                if robust_sigma > 0.0 {
+                    value / robust_sigma
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let weights: Vec<f64> = standardized.iter().map(|u| loss.weight(*u)).collect();
+        let discarded = observations.iter().filter(|o| weights[**o] == 0.0).count();
+        let effective_equations = equations.saturating_sub(discarded);
+        let weighted: f64 = scaled
+            .iter()
+            .zip(observations)
+            .map(|(e, o)| weights[*o] * e * e)
+            .sum();
+        ResidualStatistics {
+            robust_sigma,
+            standardized,
+            weights,
+            variance: weighted / effective_equations.saturating_sub(unknowns).max(1) as f64,
+            effective_equations,
+        }
+    }
+}
+
+/// What the reweighted phase produced.
+pub(super) struct Reweighted {
+    pub(super) run: Run,
+    /// The weighting of the final system.
+    pub(super) weighting: Weighting,
+    /// Statistics at the solution, under the final weights.
+    pub(super) statistics: ResidualStatistics,
+    /// Outer iterations taken.
+    pub(super) reweightings: usize,
+}
+
+impl Problem<'_> {
+    /// The reweighted phase from `start` (see the module docs); `prior`
+    /// holds the prior rows (weights to be set), empty without a prior.
+    pub(super) fn reweighted(
+        &self,
+        start: Iterate,
+        loss: Loss,
+        prior: Vec<PriorRow>,
+        states: &mut StudyStates,
+        progress: &mut dyn FnMut(&IterationRecord) -> Result<(), Error>,
+    ) -> Result<Reweighted, Error> {
+        let equations = self.study.equation_count();
+        let unknowns = self.layout.columns();
+        // Redescending losses start from Huber's unique minimum.
+        let stages = if loss.kind.redescending() {
+            vec![Loss::new(LossKind::Huber), loss]
+        } else {
+            vec![loss]
+        };
+        let mut current = start;
+        let mut history = Vec::new();
+        let mut stop = StopReason::Converged;
+        let mut weighting = Weighting {
+            observation_weights: Vec::new(),
+            prior_rows: prior,
+        };
+        let mut reweightings = 0;
+        let mut variance = f64::NAN;
+        for stage in &stages {
+            for _ in 0..MAX_REWEIGHTINGS {
+                let statistics =
+                    ResidualStatistics::of(&current.system, stage, equations, unknowns);
+                if statistics.effective_equations <= unknowns && weighting.prior_rows.is_empty() {
+                    return Err(Error::Numerical {
+                        message: format!(
+                            "the {} loss gives no weight to so many observations that {} equations are left for {unknowns} unknowns; \
+                             raise --loss-scale or use huber",
+                            stage.kind, statistics.effective_equations
+                        ),
+                    });
+                }
+                let previous = if weighting.observation_weights.is_empty() {
+                    vec![1.0; statistics.weights.len()]
+                } else {
+                    weighting.observation_weights.clone()
+                };
+                let moved = statistics
+                    .weights
+                    .iter()
+                    .zip(&previous)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+                let settled = moved <= WEIGHT_TOLERANCE
+                    && (statistics.variance - variance).abs() <= 1e-3 * variance;
+                if settled && reweightings > 0 {
+                    break;
+                }
+                variance = statistics.variance;
+                weighting.observation_weights = if stage.is_l2() {
+                    Vec::new()
+                } else {
+                    statistics.weights
+                };
+                for row in &mut weighting.prior_rows {
+                    row.weight = variance.sqrt() / row.sigma;
+                }
+                let problem = self.with_weighting(weighting.clone());
+                let (robot, auxiliary) = (current.robot, current.auxiliary);
+                let reweighted = problem.assemble_into(
+                    &robot,
+                    &auxiliary,
+                    &problem.layout,
+                    states,
+                    current.system,
+                )?;
+                let run = problem.descend(
+                    reweighted,
+                    Damping::WhenNeeded,
+                    self.options.max_iterations,
+                    states,
+                    progress,
+                )?;
+                history.extend(run.history);
+                current = run.best;
+                stop = run.stop;
+                reweightings += 1;
+            }
+        }
+        let last = stages.last().copied().unwrap_or_default();
+        let statistics = ResidualStatistics::of(&current.system, &last, equations, unknowns);
+        // The descent ran with the weights of the statistics before it: the
+        // reported weights are those of the final system.
+        let mut statistics = statistics;
+        if !weighting.observation_weights.is_empty() {
+            statistics.weights = weighting.observation_weights.clone();
+        }
+        statistics.variance = variance;
+        Ok(Reweighted {
+            run: Run {
+                best: current,
+                history,
+                stop,
+            },
+            weighting,
+            statistics,
+            reweightings,
+        })
+    }
+}

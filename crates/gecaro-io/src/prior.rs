@@ -1,0 +1,162 @@
+//! Priors as people write them: standard deviations with their units.
+//!
+//! On the command line, `--prior 5mm,0.5deg,1%`: one σ for lengths (`m`,
+//! `mm`, `um`), one for angles (`rad`, `deg`) and one for gains (`%`), in any
+//! order, each recognised by its unit. In a study file, a `[prior]` table with
+//! the same three and per-parameter overrides:
+//!
+//! ```toml
+//! [prior]
+//! length = "5mm"
+//! angle = "0.5deg"
+//! gain = "1%"
+//! parameters = { d3 = "0.5mm", theta2 = "2deg", K1 = "0.2%" }
+//! ```
+//!
+//! gecaro works in metres, radians and fractions of the gain
+//! ([`gecaro_calib::Prior`]).
+
+use gecaro_calib::Prior;
+use gecaro_core::{ParameterId, ParameterKind};
+
+/// What a σ with its unit measures.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+enum Kind {
+    Length,
+    Angle,
+    Gain,
+}
+
+/// A σ written with its unit, in gecaro's units (m, rad, fraction).
+fn quantity(text: &str) -> Result<(Kind, f64), String> {
+    let text = text.trim();
+    let split = text
+        .find(|c: char| c.is_ascii_alphabetic() || c == '%' || c == '°' || c == 'µ')
+        .unwrap_or(text.len());
+    let (number, unit) = text.split_at(split);
+    let value: f64 = number
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number with a unit (e.g. 5mm, 0.5deg, 1%)"))?;
+    let (kind, factor) = match unit.trim() {
+        "m" => (Kind::Length, 1.0),
+        "mm" => (Kind::Length, 1e-3),
+        "um" | "µm" => (Kind::Length, 1e-6),
+        "rad" => (Kind::Angle, 1.0),
+        "deg" | "°" => (Kind::Angle, std::f64::consts::PI / 180.0),
+        "%" => (Kind::Gain, 0.01),
+        "" => return Err(format!("'{text}' has no unit: write 5mm, 0.5deg or 1%")),
+        other => {
+            return Err(format!(
+                "unknown unit '{other}' in '{text}' (m, mm, um, rad, deg or %)"
+            ));
+        }
+    };
+    if !(value.is_finite() && value > 0.0) {
+        return Err(format!("'{text}': a standard deviation must be positive"));
+    }
+    Ok((kind, value * factor))
+}
+
+/// Parses `5mm,0.5deg,1%` (see the module docs).
+///
+/// # Errors
+/// A sentence saying what is wrong: a value without a unit, a kind given
+/// twice or missing.
+pub fn parse_prior(text: &str) -> Result<Prior, String> {
+    let mut sigmas: [Option<f64>; 3] = [None; 3];
+    for part in text.split(',').filter(|part| !part.trim().is_empty()) {
+        let (kind, value) = quantity(part)?;
+        let slot = &mut sigmas[kind as usize];
+        if slot.is_some() {
+            return Err(format!("'{text}' gives the {} σ twice", name(kind)));
+        }
+        *slot = Some(value);
+    }
+    let [Some(length), Some(angle), Some(gain)] = sigmas else {
+        let missing: Vec<&str> = [Kind::Length, Kind::Angle, Kind::Gain]
+            .into_iter()
+            .filter(|kind| sigmas[*kind as usize].is_none())
+            .map(name)
+            .collect();
+        return Err(format!(
+            "'{text}' lacks the {} σ: give lengths, angles and gains, e.g. 5mm,0.5deg,1%",
+            missing.join(" and ")
+        ));
+    };
+    Prior::new(length, angle, gain).map_err(|error| error.to_string())
+}
+
+/// The override of one parameter: `d3 = "0.5mm"`, in its kind's units.
+///
+/// # Errors
+/// An unknown parameter name, or a unit of another kind.
+pub fn parse_override(name_text: &str, value: &str) -> Result<(ParameterId, f64), String> {
+    let id: ParameterId = name_text
+        .parse()
+        .map_err(|_| format!("'{name_text}' is not a parameter name (d3, theta2, K1, …)"))?;
+    let (kind, sigma) = quantity(value)?;
+    let expected = match id.kind {
+        ParameterKind::D | ParameterKind::R => Kind::Length,
+        ParameterKind::Alpha | ParameterKind::Theta | ParameterKind::Beta => Kind::Angle,
+        ParameterKind::Gain => Kind::Gain,
+    };
+    if kind != expected {
+        return Err(format!(
+            "{name_text} is {} but '{value}' is {}",
+            article(expected),
+            article(kind)
+        ));
+    }
+    Ok((id, sigma))
+}
+
+fn name(kind: Kind) -> &'static str {
+    match kind {
+        Kind::Length => "length",
+        Kind::Angle => "angle",
+        Kind::Gain => "gain",
+    }
+}
+
+fn article(kind: Kind) -> &'static str {
+    match kind {
+        Kind::Length => "a length",
+        Kind::Angle => "an angle",
+        Kind::Gain => "a gain",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn priors_are_read_in_any_order() {
+        let prior = parse_prior("1%, 0.5deg ,5mm").expect("prior");
+        assert!((prior.length - 0.005).abs() < 1e-15);
+        assert!((prior.angle - 0.5_f64.to_radians()).abs() < 1e-15);
+        assert!((prior.gain - 0.01).abs() < 1e-15);
+        let (id, sigma) = parse_override("theta2", "2deg").expect("override");
+        assert_eq!(id.to_string(), "theta2");
+        assert!((sigma - 2_f64.to_radians()).abs() < 1e-15);
+    }
+
+    #[test]
+    fn bad_priors_say_why() {
+        for (text, expected) in [
+            ("5mm,0.5deg", "lacks the gain σ"),
+            ("5,0.5deg,1%", "has no unit"),
+            ("5mm,3mm,0.5deg,1%", "length σ twice"),
+            ("5ft,0.5deg,1%", "unknown unit 'ft'"),
+            ("-5mm,0.5deg,1%", "must be positive"),
+            ("abc", "not a number"),
+        ] {
+            let error = parse_prior(text).expect_err(text);
+            assert!(error.contains(expected), "{text}: {error}");
+        }
+        let error = parse_override("d3", "1deg").expect_err("kind");
+        assert!(error.contains("d3 is a length"), "{error}");
+        assert!(parse_override("x9", "1mm").is_err());
+    }
+}

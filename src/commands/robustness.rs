@@ -1,0 +1,96 @@
+//! Human output of what the identification did about measurements as they
+//! are: the loss and its reweightings, the prior, and the outlier report.
+
+use gecaro_calib::{Identification, Outlier};
+
+use crate::format::table;
+
+/// Outliers listed in the text output; `--json` lists them all.
+const LISTED: usize = 20;
+
+/// The loss, the prior and the outliers of `result`, after its errors.
+pub(super) fn print_robustness(result: &Identification) {
+    if !result.loss.is_l2() {
+        println!(
+            "Loss {} after {} reweightings; robust σ̂ of the residuals {:.3e} (units of the sensor σ)",
+            result.loss, result.reweightings, result.robust_sigma
+        );
+    }
+    if let Some(prior) = &result.prior {
+        println!(
+            "Prior around the nominal values: {} mm, {}°, {} % (maximum a posteriori; σ below is posterior){}",
+            prior.length * 1e3,
+            prior.angle.to_degrees(),
+            prior.gain * 1e2,
+            if prior.overrides.is_empty() {
+                String::new()
+            } else {
+                format!(", {} parameters with their own σ", prior.overrides.len())
+            }
+        );
+    }
+    if !result.rejected.is_empty() {
+        println!(
+            "Rejected before this fit ({} observations):\n{}",
+            result.rejected.len(),
+            outlier_table(&result.rejected)
+        );
+    }
+    if result.outliers.is_empty() {
+        println!(
+            "No outliers: every observation is within {} robust σ̂ ({:.3e}).",
+            threshold_of(result),
+            result.robust_sigma
+        );
+    } else {
+        println!(
+            "Outliers beyond {} robust σ̂ ({} of {} observations, worst first{}):\n{}",
+            threshold_of(result),
+            result.outliers.len(),
+            result.standardized.len(),
+            if result.outliers.len() > LISTED {
+                format!("; the first {LISTED}, --json lists all")
+            } else {
+                String::new()
+            },
+            outlier_table(&result.outliers[..result.outliers.len().min(LISTED)])
+        );
+        if result.rejected.is_empty() && result.loss.is_l2() {
+            println!(
+                "(--reject drops them and identifies again; --loss tukey discounts them in one fit)"
+            );
+        }
+    }
+}
+
+/// The threshold the outliers were found with (the smallest of their
+/// residuals is above it; read back from the options through the result).
+fn threshold_of(result: &Identification) -> String {
+    crate::format::number(result.outlier_threshold, 2)
+}
+
+fn outlier_table(outliers: &[Outlier]) -> comfy_table::Table {
+    let rotation = outliers.iter().any(|o| o.rotation_error.is_some());
+    let mut header = vec!["observation", "error (mm)"];
+    if rotation {
+        header.push("error (°)");
+    }
+    header.extend(["residual (σ̂)", "weight"]);
+    let mut rows = table(&header, 1);
+    for outlier in outliers {
+        let mut row = vec![outlier.location(), format!("{:.3}", outlier.error * 1e3)];
+        if rotation {
+            row.push(
+                outlier
+                    .rotation_error
+                    .map_or("–".into(), |r| format!("{:.3}", r.to_degrees())),
+            );
+        }
+        row.extend([
+            format!("{:.1}", outlier.standardized),
+            format!("{:.3}", outlier.weight),
+        ]);
+        rows.add_row(row);
+    }
+    rows
+}

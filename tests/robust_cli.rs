@@ -1,0 +1,245 @@
+//! End-to-end: the command line on measurements with gross errors
+//! (`examples/tracker/tracker_corrupted.csv`: four points whose tracker
+//! reading went wrong by 15–31 mm), with priors, and its clear refusals.
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+use predicates::prelude::*;
+use serde_json::Value;
+
+fn gecaro() -> Command {
+    Command::cargo_bin("gecaro").expect("the gecaro binary is built")
+}
+
+const COLUMNS: &str = "qm1=A1,qm2=A2,qm3=A3,qm4=A4,qm5=A5,qm6=A6,x=X,y=Y,z=Z";
+const TRACKER: &str = "examples/tracker";
+
+/// The KR 16-2 imported from its URDF into `folder`.
+fn kr16(folder: &Path) -> PathBuf {
+    let robot = folder.join("kr16.toml");
+    gecaro()
+        .args(["robot", "import", "examples/tracker/kr16_2.urdf", "-o"])
+        .arg(&robot)
+        .assert()
+        .success();
+    robot
+}
+
+/// `gecaro identify` on a tracker file with `extra` options; the JSON and
+/// the held-out RMS (m) on `check.csv` of the calibrated robot.
+fn identify(robot: &Path, data: &str, extra: &[&str]) -> (Value, f64) {
+    let calibrated = robot.with_file_name(format!("calibrated-{}.toml", extra.join("_")));
+    let output = gecaro()
+        .arg("identify")
+        .arg(robot)
+        .args([
+            "--method",
+            "position",
+            "--length-unit",
+            "mm",
+            "--angle-unit",
+            "deg",
+        ])
+        .args(["--columns", COLUMNS, "--json", "--force", "--data"])
+        .arg(Path::new(TRACKER).join(data))
+        .args(extra)
+        .arg("-o")
+        .arg(&calibrated)
+        .output()
+        .expect("runs");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let result: Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    let evaluation = gecaro()
+        .arg("evaluate")
+        .arg(&calibrated)
+        .args([
+            "--method",
+            "position",
+            "--length-unit",
+            "mm",
+            "--angle-unit",
+            "deg",
+        ])
+        .args(["--columns", COLUMNS, "--json", "--data"])
+        .arg(Path::new(TRACKER).join("check.csv"))
+        .output()
+        .expect("runs");
+    assert!(evaluation.status.success());
+    let evaluation: Value = serde_json::from_slice(&evaluation.stdout).expect("JSON");
+    (result, evaluation["rms"].as_f64().expect("rms"))
+}
+
+fn lines(outliers: &Value) -> Vec<u64> {
+    let mut lines: Vec<u64> = outliers
+        .as_array()
+        .expect("array")
+        .iter()
+        .flat_map(|o| o["lines"].as_array().expect("lines").clone())
+        .map(|line| line.as_u64().expect("line"))
+        .collect();
+    lines.sort_unstable();
+    lines
+}
+
+#[test]
+fn a_robust_loss_and_rejection_undo_four_bad_tracker_readings() {
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let robot = kr16(folder.path());
+    let (_, clean) = identify(&robot, "tracker.csv", &[]);
+    let (plain, plain_error) = identify(&robot, "tracker_corrupted.csv", &[]);
+    // Least squares is pulled off by the four readings, but reports them.
+    assert!(plain_error > 20.0 * clean, "{plain_error} vs {clean}");
+    assert_eq!(
+        lines(&plain["outliers"]),
+        [11, 29, 46, 70],
+        "{}",
+        plain["outliers"]
+    );
+    assert_eq!(plain["loss"]["kind"], "l2");
+    // Tukey's loss gives them no weight: the clean data's accuracy.
+    let (tukey, tukey_error) = identify(&robot, "tracker_corrupted.csv", &["--loss", "tukey"]);
+    assert!(tukey_error < 1.1 * clean, "{tukey_error} vs {clean}");
+    assert_eq!(lines(&tukey["outliers"]), [11, 29, 46, 70]);
+    for outlier in tukey["outliers"].as_array().expect("array") {
+        assert_eq!(outlier["weight"], 0.0);
+        assert!(outlier["residual_sigmas"].as_f64().expect("u") > 100.0);
+        assert!(outlier["error"].as_f64().expect("error") > 0.014);
+    }
+    assert_eq!(tukey["loss"]["scale"], 4.685);
+    assert!(tukey["reweightings"].as_u64().expect("count") >= 2);
+    // --reject drops them and fits the rest.
+    let (rejected, rejected_error) = identify(&robot, "tracker_corrupted.csv", &["--reject"]);
+    assert_eq!(lines(&rejected["rejected"]), [11, 29, 46, 70]);
+    assert_eq!(rejected["outliers"].as_array().expect("array").len(), 0);
+    assert_eq!(rejected["after"]["count"], 76);
+    assert!(rejected_error < 1.1 * clean, "{rejected_error} vs {clean}");
+    // The text output lists them with their lines.
+    gecaro()
+        .arg("identify")
+        .arg(&robot)
+        .args([
+            "--method",
+            "position",
+            "--length-unit",
+            "mm",
+            "--angle-unit",
+            "deg",
+        ])
+        .args(["--columns", COLUMNS, "--loss", "huber", "--data"])
+        .arg(Path::new(TRACKER).join("tracker_corrupted.csv"))
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("Loss huber (k = 1.345 σ̂)"))
+        .stdout(predicate::str::contains(
+            "Outliers beyond 3 robust σ̂ (4 of 80",
+        ))
+        .stdout(predicate::str::contains("configuration 44 (line 46)"));
+}
+
+#[test]
+fn priors_come_from_the_command_line_or_the_study_file() {
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let robot = kr16(folder.path());
+    let (result, _) = identify(&robot, "tracker.csv", &["--prior", "5mm,0.5deg,1%"]);
+    let parameters = result["parameters"].as_array().expect("parameters");
+    assert!(
+        parameters
+            .iter()
+            .all(|p| p["prior_std"].as_f64().is_some_and(|s| s > 0.0))
+    );
+    assert!((result["prior"]["length"].as_f64().expect("σ") - 0.005).abs() < 1e-15);
+    // A study file's [prior] table, with a per-parameter σ.
+    let study = folder.path().join("study.toml");
+    let data = std::fs::canonicalize(Path::new(TRACKER).join("tracker.csv")).expect("path");
+    let write_study = |prior: &str| {
+        std::fs::write(
+            &study,
+            format!(
+                "robot = \"kr16.toml\"\n{prior}\n[[measurements]]\nmethod = \"position\"\ndata = {:?}\n\
+                 sigma = 0.00002\nlength_unit = \"mm\"\nangle_unit = \"deg\"\n\
+                 columns = {{ qm1 = \"A1\", qm2 = \"A2\", qm3 = \"A3\", qm4 = \"A4\", qm5 = \"A5\", qm6 = \"A6\", x = \"X\", y = \"Y\", z = \"Z\" }}\n",
+                data.display()
+            ),
+        )
+        .expect("write");
+    };
+    write_study(
+        "[prior]\nlength = \"5mm\"\nangle = \"0.5deg\"\ngain = \"1%\"\nparameters = { d2 = \"0.1mm\" }\n",
+    );
+    let output = gecaro()
+        .args(["identify", "--json", "--study"])
+        .arg(&study)
+        .output()
+        .expect("runs");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let result: Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    assert_eq!(
+        result["prior"]["parameters"]["d2"], 0.0001,
+        "{}",
+        result["prior"]
+    );
+    // Mistakes in the table name the study file's line and field.
+    write_study(
+        "[prior]\nlength = \"5mm\"\nangle = \"0.5deg\"\ngain = \"1%\"\nparameters = { d2 = \"1deg\" }\n",
+    );
+    gecaro()
+        .args(["identify", "--study"])
+        .arg(&study)
+        .assert()
+        .code(3)
+        .stderr(predicate::str::contains("study.toml:6: prior.parameters"))
+        .stderr(predicate::str::contains("d2 is a length"));
+    write_study(
+        "[prior]\nlength = \"5mm\"\nangle = \"0.5deg\"\ngain = \"1%\"\nparameters = { d12 = \"1mm\" }\n",
+    );
+    gecaro()
+        .args(["identify", "--study"])
+        .arg(&study)
+        .assert()
+        .code(3)
+        .stderr(predicate::str::contains("d12"));
+}
+
+#[test]
+fn bad_robust_options_are_clear_errors() {
+    let cases: [(&[&str], &str); 5] = [
+        (&["--loss", "l1"], "invalid value 'l1'"),
+        (&["--loss", "huber", "--loss-scale=-1"], "--loss-scale"),
+        (
+            &["--loss-scale", "2"],
+            "--loss-scale is the scale of a robust loss",
+        ),
+        (
+            &["--prior", "5mm"],
+            "--prior: '5mm' lacks the angle and gain σ",
+        ),
+        (&["--outlier-threshold", "0"], "--outlier-threshold"),
+    ];
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let data = folder.path().join("position.csv");
+    gecaro()
+        .args([
+            "generate", "stanford", "--method", "position", "--count", "30", "-o",
+        ])
+        .arg(&data)
+        .assert()
+        .success();
+    for (extra, expected) in cases {
+        gecaro()
+            .args(["identify", "stanford", "--method", "position", "--data"])
+            .arg(&data)
+            .args(extra)
+            .assert()
+            .failure()
+            .stderr(predicate::str::contains(expected));
+    }
+}
