@@ -42,6 +42,9 @@ pub(crate) enum Command {
     Identify(IdentifyArgs),
     /// Identify and write a self-contained HTML report with plots.
     Report(ReportArgs),
+    /// Rank candidate models (which parameters may be identified) by their
+    /// cross-validated held-out error.
+    CompareModels(CompareModelsArgs),
     /// Error statistics of a (calibrated) robot on measurements.
     Evaluate(EvaluateArgs),
     /// Correct a robot program for the calibrated robot: the joint values
@@ -619,6 +622,11 @@ pub(crate) struct IdentificationRunArgs {
     /// a study file's [prior] table gives per-parameter σ too).
     #[arg(long, value_name = "σ,σ,σ")]
     pub(crate) prior: Option<String>,
+    /// Which parameters may be identified: full (the priority matrix),
+    /// no-gains, no-beta, kinematic (neither), offsets (joint offsets only),
+    /// or a priority-matrix file.
+    #[arg(long, value_name = "MODEL", default_value = "full")]
+    pub(crate) model: String,
 }
 
 /// The loss of identification (docs/methods.md, "Robust identification").
@@ -652,6 +660,36 @@ pub(crate) struct IdentifyArgs {
     #[arg(long)]
     pub(crate) write_unconverged: bool,
     /// Print JSON instead of tables.
+    #[arg(long)]
+    pub(crate) json: bool,
+    /// Also K-fold cross-validate (folds by configuration, set or pair): the
+    /// held-out error per fold and overall.
+    #[arg(long, value_name = "K")]
+    pub(crate) cv: Option<usize>,
+    /// Seed of the cross-validation folds.
+    #[arg(long, default_value_t = 1)]
+    pub(crate) seed: u64,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct CompareModelsArgs {
+    #[command(flatten)]
+    pub(crate) run: IdentificationRunArgs,
+    /// The candidate models, comma-separated: offsets, kinematic, no-gains,
+    /// no-beta, full, or priority-matrix files.
+    #[arg(
+        long,
+        value_name = "MODEL,MODEL",
+        default_value = "offsets,kinematic,no-gains,no-beta,full"
+    )]
+    pub(crate) models: String,
+    /// Folds of the cross-validation.
+    #[arg(long, value_name = "K", default_value_t = 5)]
+    pub(crate) cv: usize,
+    /// Seed of the folds (the same folds for every model).
+    #[arg(long, default_value_t = 1)]
+    pub(crate) seed: u64,
+    /// Print JSON instead of a table.
     #[arg(long)]
     pub(crate) json: bool,
 }

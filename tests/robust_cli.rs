@@ -243,3 +243,110 @@ fn bad_robust_options_are_clear_errors() {
             .stderr(predicate::str::contains(expected));
     }
 }
+
+#[test]
+fn cross_validation_and_model_choice_from_the_command_line() {
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let robot = kr16(folder.path());
+    let (result, _) = identify(&robot, "tracker.csv", &["--cv", "4", "--seed", "3"]);
+    let validation = &result["cross_validation"];
+    assert_eq!(validation["per_fold"].as_array().expect("folds").len(), 4);
+    let held_out: u64 = validation["per_fold"]
+        .as_array()
+        .expect("folds")
+        .iter()
+        .map(|fold| fold["held_out"].as_u64().expect("count"))
+        .sum();
+    assert_eq!(held_out, 80);
+    // Held out, the error is that of the sensor (0.02 mm per axis), a bit above the training residual.
+    let rms = validation["rms"].as_f64().expect("rms");
+    assert!(
+        rms > result["after"]["rms"].as_f64().expect("rms") && rms < 1e-4,
+        "{validation}"
+    );
+    // A model without gains identifies none.
+    let (no_gains, _) = identify(&robot, "tracker.csv", &["--model", "no-gains"]);
+    let names: Vec<&str> = no_gains["parameters"]
+        .as_array()
+        .expect("parameters")
+        .iter()
+        .map(|p| p["name"].as_str().expect("name"))
+        .collect();
+    assert!(names.iter().all(|name| !name.starts_with('K')), "{names:?}");
+    // compare-models ranks by held-out error and says what each adds.
+    let output = gecaro()
+        .arg("compare-models")
+        .arg(&robot)
+        .args([
+            "--method",
+            "position",
+            "--length-unit",
+            "mm",
+            "--angle-unit",
+            "deg",
+        ])
+        .args([
+            "--columns",
+            COLUMNS,
+            "--models",
+            "offsets,kinematic,full",
+            "--cv",
+            "3",
+        ])
+        .args(["--json", "--data"])
+        .arg(Path::new(TRACKER).join("tracker.csv"))
+        .output()
+        .expect("runs");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let scores: Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    let scores = scores.as_array().expect("array");
+    let order: Vec<&str> = scores
+        .iter()
+        .map(|s| s["model"].as_str().expect("name"))
+        .collect();
+    assert_eq!(order, ["full", "kinematic", "offsets"]);
+    let full_adds: Vec<&str> = scores[0]["adds"]
+        .as_array()
+        .expect("adds")
+        .iter()
+        .map(|name| name.as_str().expect("name"))
+        .collect();
+    // Beyond the kinematic model: the gains and Hayati angles.
+    assert!(
+        full_adds.iter().any(|name| name.starts_with('K')),
+        "{full_adds:?}"
+    );
+    assert!(
+        full_adds
+            .iter()
+            .all(|name| name.starts_with('K') || name.starts_with("beta")),
+        "{full_adds:?}"
+    );
+    // Clear refusals.
+    for (extra, expected) in [
+        (&["--cv", "1000"][..], "--cv"),
+        (&["--model", "tiny"][..], "unknown model 'tiny'"),
+    ] {
+        gecaro()
+            .arg("identify")
+            .arg(&robot)
+            .args([
+                "--method",
+                "position",
+                "--length-unit",
+                "mm",
+                "--angle-unit",
+                "deg",
+            ])
+            .args(["--columns", COLUMNS, "--data"])
+            .arg(Path::new(TRACKER).join("tracker.csv"))
+            .args(extra)
+            .assert()
+            .failure()
+            .stderr(predicate::str::contains(expected));
+    }
+}

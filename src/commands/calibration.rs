@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use gecaro_calib::{
     CalibrationMethod, ErrorSummary, Identification, IdentificationOptions, Loss, LossKind,
-    MethodOptions, Plane, Sampler, Solver, StopReason, Study, evaluate as evaluate_study,
+    MethodOptions, Model, Plane, Sampler, Solver, StopReason, Study, evaluate as evaluate_study,
     identify_with_progress, method, perturbed_robot, simulate_measurements,
 };
 use gecaro_core::Robot;
@@ -16,7 +16,7 @@ use gecaro_io::{
     RobotFile, format_robot_file, load_robot, read_priority_file, read_robot_file,
     write_atomically, write_samples,
 };
-use gecaro_report::json::{IdentificationJson, SummaryJson};
+use gecaro_report::json::{CrossValidationJson, IdentificationJson, SummaryJson};
 use indicatif::{ProgressBar, ProgressStyle};
 use nalgebra::Vector3;
 
@@ -197,15 +197,19 @@ struct Run {
     study: Study,
     result: Identification,
     data_label: PathBuf,
+    options: IdentificationOptions,
 }
 
-/// Loads the robot and data, identifies with a spinner showing the residual.
-/// `outputs` are checked before any work is done.
-fn run_identification(
-    args: &IdentificationRunArgs,
-    outputs: &[&Path],
-    force: bool,
-) -> Result<Run, Failure> {
+/// What an identification needs, read from the command line.
+pub(super) struct Prepared {
+    pub(super) file: RobotFile,
+    pub(super) study: Study,
+    pub(super) options: IdentificationOptions,
+    pub(super) data_label: PathBuf,
+}
+
+/// Loads the robot and data and reads the identification options.
+pub(super) fn prepare(args: &IdentificationRunArgs) -> Result<Prepared, Failure> {
     let super::options::LoadedStudy {
         file,
         study,
@@ -217,9 +221,10 @@ fn run_identification(
         Some(path) => Some(read_priority_file(path, robot)?),
         None => study_priority,
     };
-    for output in outputs {
-        check_output(output, force)?;
-    }
+    let priority = match model(&args.model, robot)? {
+        Model::Full => priority,
+        model => Some(model.priority(robot, &priority.unwrap_or_else(|| robot.priority()))),
+    };
     let data_label = args
         .data
         .clone()
@@ -234,6 +239,43 @@ fn run_identification(
         priority,
         ..robust_options(args, study_prior)?
     };
+    Ok(Prepared {
+        file,
+        study,
+        options,
+        data_label,
+    })
+}
+
+/// A model by name, or a priority-matrix file.
+pub(super) fn model(name: &str, robot: &Robot) -> Result<Model, Failure> {
+    let path = Path::new(name);
+    if path.extension().is_some_and(|e| e == "toml") || path.is_file() {
+        return Ok(Model::Matrix(
+            name.to_owned(),
+            read_priority_file(path, robot)?,
+        ));
+    }
+    Ok(name.parse::<Model>()?)
+}
+
+/// Loads the robot and data, identifies with a spinner showing the residual.
+/// `outputs` are checked before any work is done.
+fn run_identification(
+    args: &IdentificationRunArgs,
+    outputs: &[&Path],
+    force: bool,
+) -> Result<Run, Failure> {
+    let Prepared {
+        file,
+        study,
+        options,
+        data_label,
+    } = prepare(args)?;
+    let robot = &file.robot;
+    for output in outputs {
+        check_output(output, force)?;
+    }
     let bar = spinner("identifying");
     let mut iteration = 0;
     let result = identify_with_progress(robot, &study, &options, |record| {
@@ -250,6 +292,7 @@ fn run_identification(
         file,
         study,
         data_label,
+        options,
     })
 }
 
@@ -405,13 +448,27 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         study,
         result,
         data_label,
+        options,
     } = run_identification(&args.run, &outputs, args.force)?;
     let robot = &file.robot;
     let converged = result.stop_reason == StopReason::Converged;
+    let validation = match args.cv {
+        Some(folds) => Some(super::validation::cross_validation(
+            robot, &study, &options, folds, args.seed,
+        )?),
+        None => None,
+    };
     if args.json {
-        super::print_json(&IdentificationJson::new(&study, &result))?;
+        let mut document = IdentificationJson::new(&study, &result);
+        document.cross_validation = validation
+            .as_ref()
+            .map(|validation| CrossValidationJson::new(validation, args.seed));
+        super::print_json(&document)?;
     } else {
         print_identification(robot, &study, &result, &data_label);
+        if let Some(validation) = &validation {
+            super::validation::print_cross_validation(validation, args.seed);
+        }
     }
     if let Some(output) = &args.output
         && (converged || args.write_unconverged)

@@ -11,6 +11,7 @@ mod planning;
 mod robot;
 mod robustness;
 mod serve;
+mod validation;
 
 use crate::cli::{Cli, Command};
 use crate::failure::Failure;
@@ -29,6 +30,7 @@ pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
         Command::Predict(args) => planning::predict_accuracy(&args),
         Command::Identify(args) => calibration::identify(&args),
         Command::Report(args) => calibration::report(&args),
+        Command::CompareModels(args) => validation::compare(&args),
         Command::Evaluate(args) => calibration::evaluate(&args),
         Command::Compensate(args) => compensation::compensate(&args),
         Command::Demo(args) => calibration::demo(&args),

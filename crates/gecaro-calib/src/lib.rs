@@ -62,6 +62,7 @@ mod sampler;
 mod simulation;
 mod study;
 mod table2;
+mod validation;
 
 pub use compensation::{
     CompensatedPoint, CompensationStatus, Match, ProgramPoint, ProgramTarget, compensate,
@@ -101,4 +102,7 @@ pub use simulation::{
 pub use study::{LimitViolation, MeasurementSet, Study, StudyStates};
 pub use table2::{
     STANFORD_PLANE_POINT, TABLE2_COLUMNS, TABLE2_PLANE_NORMAL, Table2Column, default_plane, table2,
+};
+pub use validation::{
+    CrossValidation, Fold, Model, ModelScore, compare_models, cross_validate, cross_validate_with,
 };

@@ -360,6 +360,72 @@ pub struct IdentificationJson {
     pub rejected: Vec<OutlierJson>,
     /// The prior, if one was given.
     pub prior: Option<PriorJson>,
+    /// The K-fold cross-validation, when asked for (`--cv K`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cross_validation: Option<CrossValidationJson>,
+}
+
+/// One fold of a cross-validation.
+#[derive(Clone, Debug, Serialize)]
+pub struct FoldJson {
+    /// Observations held out.
+    pub held_out: usize,
+    /// RMS position-like error of the training observations (m).
+    pub training_rms: f64,
+    /// Held-out RMS position-like error (m).
+    pub rms: f64,
+    /// Held-out RMS orientation error (rad), for data with orientations.
+    pub rms_rotation: Option<f64>,
+}
+
+/// A K-fold cross-validation (docs/methods.md).
+#[derive(Clone, Debug, Serialize)]
+pub struct CrossValidationJson {
+    /// Number of folds.
+    pub folds: usize,
+    /// The seed of the folds.
+    pub seed: u64,
+    /// Held-out RMS over every held-out observation (m).
+    pub rms: f64,
+    /// Held-out RMS orientation error (rad), for data with orientations.
+    pub rms_rotation: Option<f64>,
+    /// Per fold.
+    pub per_fold: Vec<FoldJson>,
+}
+
+impl CrossValidationJson {
+    /// The document of `validation`, made with `seed`.
+    pub fn new(validation: &gecaro_calib::CrossValidation, seed: u64) -> Self {
+        CrossValidationJson {
+            folds: validation.folds.len(),
+            seed,
+            rms: validation.rms,
+            rms_rotation: validation.rms_rotation,
+            per_fold: validation
+                .folds
+                .iter()
+                .map(|fold| FoldJson {
+                    held_out: fold.held_out,
+                    training_rms: fold.training_rms,
+                    rms: fold.rms,
+                    rms_rotation: fold.rms_rotation,
+                })
+                .collect(),
+        }
+    }
+}
+
+/// One candidate of `compare-models`.
+#[derive(Clone, Debug, Serialize)]
+pub struct ModelScoreJson {
+    /// Its name (or priority-matrix file).
+    pub model: String,
+    /// Parameters it identifies (on the first fold's training data).
+    pub parameters: Vec<String>,
+    /// What it identifies beyond the next smaller candidate.
+    pub adds: Vec<String>,
+    /// Its cross-validation.
+    pub cross_validation: CrossValidationJson,
 }
 
 impl IdentificationJson {
@@ -404,6 +470,7 @@ impl IdentificationJson {
                     .map(|(id, sigma)| (id.to_string(), *sigma))
                     .collect(),
             }),
+            cross_validation: None,
         }
     }
 }
