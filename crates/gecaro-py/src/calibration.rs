@@ -43,15 +43,17 @@ pub(crate) fn method_of<'py>(value: &Bound<'py, PyAny>) -> PyResult<Bound<'py, P
 
 /// What a calibration function works on: the study, its priority matrix (if
 /// the study file has one) and its label.
-struct Source {
-    study: Study,
-    priority: Option<PriorityMatrix>,
-    label: String,
+pub(crate) struct Source {
+    pub(crate) study: Study,
+    pub(crate) priority: Option<PriorityMatrix>,
+    /// The study file's prior, if it has one.
+    pub(crate) prior: Option<gecaro_calib::Prior>,
+    pub(crate) label: String,
 }
 
 /// The study named by `(method, data)` or `(study, None)`; `data` may be
 /// missing only when `random_allowed` (identifiability on random data).
-fn source(
+pub(crate) fn source(
     method_or_study: &Bound<'_, PyAny>,
     data: Option<PyRef<'_, PyData>>,
     random_allowed: bool,
@@ -66,6 +68,7 @@ fn source(
         return Ok(Source {
             study: study.study.clone(),
             priority: study.priority.clone(),
+            prior: study.prior.clone(),
             label: study
                 .label
                 .clone()
@@ -78,11 +81,13 @@ fn source(
         Some(data) => Ok(Source {
             study: Study::single(method, data.samples.clone(), data.label.clone()),
             priority: None,
+            prior: None,
             label: data.label.clone(),
         }),
         None if random_allowed => Ok(Source {
             study: Study::single(method, Vec::new(), "random configurations"),
             priority: None,
+            prior: None,
             label: "random configurations".into(),
         }),
         None => Err(input(
@@ -93,7 +98,12 @@ fn source(
 
 /// Joint values outside the limits: a `LimitWarning`, or with `strict` an
 /// `InputError`, as the command line's `--strict-limits`.
-fn check_limits(py: Python<'_>, robot: &Robot, study: &Study, strict: bool) -> PyResult<()> {
+pub(crate) fn check_limits(
+    py: Python<'_>,
+    robot: &Robot,
+    study: &Study,
+    strict: bool,
+) -> PyResult<()> {
     let Some(message) = study.limit_summary(robot) else {
         return Ok(());
     };
@@ -122,11 +132,11 @@ fn chosen_priority(
 }
 
 /// A JSON document as Python objects.
-fn json_to_python<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyAny>> {
+pub(crate) fn json_to_python<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyAny>> {
     py.import("json")?.call_method1("loads", (text,))
 }
 
-fn to_json(value: &impl serde::Serialize) -> PyResult<String> {
+pub(crate) fn to_json(value: &impl serde::Serialize) -> PyResult<String> {
     serde_json::to_string_pretty(value).map_err(|error| input(error.to_string()))
 }
 
@@ -380,8 +390,10 @@ pub(crate) struct PyParameter {
     nominal: f64,
     /// Its identified value.
     identified: f64,
-    /// Its standard deviation (eq. 11).
+    /// Its standard deviation (eq. 11; posterior with a prior).
     std: f64,
+    /// Its prior standard deviation, with a prior.
+    prior_std: Option<f64>,
 }
 
 #[pymethods]
@@ -408,6 +420,7 @@ fn parameter_list(parameters: &[IdentifiedParameter]) -> Vec<PyParameter> {
             nominal: p.nominal,
             identified: p.identified,
             std: p.std,
+            prior_std: p.prior_std,
         })
         .collect()
 }
@@ -624,6 +637,34 @@ impl PyIdentification {
         self.result.warnings.clone()
     }
 
+    /// The loss minimised: "l2", "huber", "cauchy" or "tukey".
+    #[getter]
+    fn loss(&self) -> &'static str {
+        self.result.loss.kind.as_str()
+    }
+
+    /// The robust σ̂ of the residuals at the solution (units of the sensor σ).
+    #[getter]
+    fn robust_sigma(&self) -> f64 {
+        self.result.robust_sigma
+    }
+
+    /// Observations beyond the outlier threshold, worst first: dicts with
+    /// set, file, kind, observation (1-based), lines, error (m),
+    /// rotation_error, residual_sigmas and weight (as `--json`).
+    #[getter]
+    fn outliers<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let document = IdentificationJson::new(&self.study, &self.result);
+        json_to_python(py, &to_json(&document.outliers)?)
+    }
+
+    /// Observations dropped before this fit (`reject=True`), as `outliers`.
+    #[getter]
+    fn rejected<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let document = IdentificationJson::new(&self.study, &self.result);
+        json_to_python(py, &to_json(&document.rejected)?)
+    }
+
     /// The document `gecaro identify --json` prints, as a dict.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         json_to_python(py, &self.to_json()?)
@@ -682,7 +723,7 @@ impl PyIdentification {
 /// Raises NotConvergedError (with the best iterate in `.result`) when the
 /// iteration did not converge, NotIdentifiableError with too few equations.
 #[pyfunction]
-#[pyo3(signature = (robot, method, data = None, *, solver = "gauss-newton", max_iterations = 30, priority = None, strict_limits = false, progress = None))]
+#[pyo3(signature = (robot, method, data = None, *, solver = "gauss-newton", max_iterations = 30, priority = None, loss = "l2", loss_scale = None, prior = None, outlier_threshold = 3.0, reject = false, model = "full", strict_limits = false, progress = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn identify(
     py: Python<'_>,
@@ -692,26 +733,28 @@ pub(crate) fn identify(
     solver: &str,
     max_iterations: usize,
     priority: Option<&Bound<'_, PyAny>>,
+    loss: &str,
+    loss_scale: Option<f64>,
+    prior: Option<&str>,
+    outlier_threshold: f64,
+    reject: bool,
+    model: &str,
     strict_limits: bool,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<PyIdentification> {
     let nominal = robot.robot();
     let source = source(method, data, false)?;
     check_limits(py, nominal, &source.study, strict_limits)?;
-    let options = IdentificationOptions {
-        solver: match solver {
-            "gauss-newton" => Solver::GaussNewton,
-            "lm" => Solver::LevenbergMarquardt,
-            other => {
-                return Err(input(format!(
-                    "solver: `{other}` is neither \"gauss-newton\" nor \"lm\""
-                )));
-            }
-        },
-        max_iterations,
-        priority: chosen_priority(nominal, priority, source.priority)?,
-        ..IdentificationOptions::default()
+    let base = solver_options(nominal, solver, max_iterations, priority, source.priority)?;
+    let arguments = crate::robust::RobustArguments {
+        loss,
+        loss_scale,
+        prior,
+        outlier_threshold,
+        reject,
+        model,
     };
+    let options = arguments.options(nominal, base, source.prior)?;
     let study = &source.study;
     let result = py.detach(|| {
         let mut watch = Watch::new();
@@ -751,6 +794,30 @@ pub(crate) fn identify(
             Err(error)
         }
     }
+}
+
+/// The solver options of `identify` and `cross_validate`.
+pub(crate) fn solver_options(
+    robot: &Robot,
+    solver: &str,
+    max_iterations: usize,
+    priority: Option<&Bound<'_, PyAny>>,
+    study_priority: Option<PriorityMatrix>,
+) -> PyResult<IdentificationOptions> {
+    Ok(IdentificationOptions {
+        solver: match solver {
+            "gauss-newton" => Solver::GaussNewton,
+            "lm" => Solver::LevenbergMarquardt,
+            other => {
+                return Err(input(format!(
+                    "solver: `{other}` is neither \"gauss-newton\" nor \"lm\""
+                )));
+            }
+        },
+        max_iterations,
+        priority: chosen_priority(robot, priority, study_priority)?,
+        ..IdentificationOptions::default()
+    })
 }
 
 /// Errors of `robot` on measured data (a Method with Data, or a Study): the

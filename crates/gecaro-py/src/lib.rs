@@ -28,6 +28,7 @@ mod errors;
 mod interrupt;
 mod methods;
 mod robot;
+mod robust;
 mod study;
 
 #[pymodule]
@@ -50,6 +51,7 @@ fn _gecaro(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(calibration::identifiable, module)?)?;
     module.add_function(wrap_pyfunction!(calibration::identify, module)?)?;
     module.add_function(wrap_pyfunction!(calibration::evaluate, module)?)?;
+    module.add_function(wrap_pyfunction!(robust::cross_validate, module)?)?;
     module.add_function(wrap_pyfunction!(compensation::compensate, module)?)?;
     Ok(())
 }

@@ -24,6 +24,8 @@ pub(crate) struct PyStudy {
     robot: Option<Py<PyRobot>>,
     /// The study file's priority matrix, if it has one.
     pub(crate) priority: Option<PriorityMatrix>,
+    /// The study file's prior, if it has one.
+    pub(crate) prior: Option<gecaro_calib::Prior>,
     notes: Vec<String>,
     /// The study file, for messages and the calibrated robot's description.
     pub(crate) label: Option<String>,
@@ -38,6 +40,7 @@ impl PyStudy {
             study: Study::default(),
             robot: None,
             priority: None,
+            prior: None,
             notes: Vec::new(),
             label: None,
         }
@@ -75,6 +78,7 @@ impl PyStudy {
             study: file.study,
             robot: Some(Py::new(py, PyRobot::new(file.robot))?),
             priority: file.priority,
+            prior: file.prior,
             notes: file.notes,
             label: Some(path.display().to_string()),
         })

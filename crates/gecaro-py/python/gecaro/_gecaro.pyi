@@ -31,6 +31,7 @@ __all__ = [
     "identifiable",
     "identify",
     "evaluate",
+    "cross_validate",
     "compensate",
 ]
 
@@ -38,6 +39,8 @@ _ArrayLike = npt.ArrayLike
 _FloatArray = npt.NDArray[np.float64]
 _IntArray = npt.NDArray[np.int64]
 _PathLike = Union[str, os.PathLike[str]]
+_Loss = Literal["l2", "huber", "cauchy", "tukey"]
+_Model = Literal["full", "no-gains", "no-beta", "kinematic", "offsets"]
 _MethodName = Literal[
     "position", "frame", "point-link", "frame-link", "plane1", "plane2", "distance"
 ]
@@ -332,7 +335,10 @@ class Parameter:
     def identified(self) -> float: ...
     @property
     def std(self) -> float:
-        """Standard deviation (eq. 11)."""
+        """Standard deviation (eq. 11; posterior with a prior)."""
+    @property
+    def prior_std(self) -> Optional[float]:
+        """Prior standard deviation, with a prior (regrouping included)."""
     @property
     def deviation(self) -> float: ...
 
@@ -396,6 +402,17 @@ class Identification:
     def not_excited(self) -> list[str]: ...
     @property
     def warnings(self) -> list[str]: ...
+    @property
+    def loss(self) -> Literal["l2", "huber", "cauchy", "tukey"]: ...
+    @property
+    def robust_sigma(self) -> float:
+        """Robust σ̂ of the residuals (units of the sensor σ)."""
+    @property
+    def outliers(self) -> list[dict[str, object]]:
+        """Observations beyond the outlier threshold, worst first (as ``--json``)."""
+    @property
+    def rejected(self) -> list[dict[str, object]]:
+        """Observations dropped before this fit (``reject=True``)."""
     def to_dict(self) -> dict[str, object]: ...
     def to_json(self) -> str: ...
     def report(self, path: Optional[_PathLike] = None, *, overwrite: bool = False) -> str:
@@ -433,10 +450,34 @@ def identify(
     solver: Literal["gauss-newton", "lm"] = "gauss-newton",
     max_iterations: int = 30,
     priority: Union[_ArrayLike, _PathLike, None] = None,
+    loss: _Loss = "l2",
+    loss_scale: Optional[float] = None,
+    prior: Optional[str] = None,
+    outlier_threshold: float = 3.0,
+    reject: bool = False,
+    model: _Model = "full",
     strict_limits: bool = False,
     progress: Optional[Callable[[int, float], object]] = None,
 ) -> Identification:
     """Identification (eq. 10–11), as ``gecaro identify``."""
+
+def cross_validate(
+    robot: Robot,
+    method: Union[_MethodLike, Study],
+    data: Optional[Data] = None,
+    *,
+    folds: int = 5,
+    seed: int = 1,
+    solver: Literal["gauss-newton", "lm"] = "gauss-newton",
+    max_iterations: int = 30,
+    priority: Union[_ArrayLike, _PathLike, None] = None,
+    loss: _Loss = "l2",
+    loss_scale: Optional[float] = None,
+    prior: Optional[str] = None,
+    model: _Model = "full",
+    strict_limits: bool = False,
+) -> dict[str, object]:
+    """K-fold cross-validation, as ``gecaro identify --cv K``."""
 
 def evaluate(
     robot: Robot,
