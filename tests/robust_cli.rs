@@ -139,6 +139,38 @@ fn a_robust_loss_and_rejection_undo_four_bad_tracker_readings() {
             "Outliers beyond 3 robust σ̂ (4 of 80",
         ))
         .stdout(predicate::str::contains("configuration 44 (line 46)"));
+    // The HTML report lists them and rings them on the per-configuration plot.
+    let report = folder.path().join("report.html");
+    gecaro()
+        .arg("report")
+        .arg(&robot)
+        .args([
+            "--method",
+            "position",
+            "--length-unit",
+            "mm",
+            "--angle-unit",
+            "deg",
+        ])
+        .args(["--columns", COLUMNS, "--loss", "tukey", "-o"])
+        .arg(&report)
+        .arg("--data")
+        .arg(Path::new(TRACKER).join("tracker_corrupted.csv"))
+        .assert()
+        .success();
+    let html = std::fs::read_to_string(&report).expect("report");
+    assert!(
+        html.contains("Loss <strong>tukey (k = 4.685 σ̂)</strong>"),
+        "loss line"
+    );
+    assert!(html.contains("configuration 44 (line 46)"));
+    let legend = html.split("<text").skip(1).any(|rest| {
+        let text = rest.split_once('>').map_or("", |(_, text)| text);
+        text.split("</text>")
+            .next()
+            .is_some_and(|text| text.trim() == "outlier")
+    });
+    assert!(legend, "the plot's legend names the outliers");
 }
 
 #[test]

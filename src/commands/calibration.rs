@@ -378,7 +378,12 @@ fn write_plots(
         ),
         (
             "errors_per_configuration.svg",
-            gecaro_report::errors_per_configuration_svg(&before, &after, "mm")?,
+            gecaro_report::errors_per_configuration_svg(
+                &before,
+                &after,
+                &result.outlier_observations(),
+                "mm",
+            )?,
         ),
     ];
     let paths: Vec<PathBuf> = plots.iter().map(|(name, _)| folder.join(name)).collect();

@@ -10,8 +10,10 @@
 //! ## Units
 //!
 //! Residuals are first divided by their sensor's σ (the set's weight), so
-//! that rows of different sets and kinds compare. The robust σ̂ is the
-//! normalised median absolute deviation of those scaled row residuals,
+//! that rows of different sets compare. The robust σ̂ is the normalised
+//! median absolute deviation of those scaled row residuals, one for length
+//! rows and one for angle rows (a set without sensor σ has them in metres
+//! and radians),
 //! `σ̂ = 1.4826 · median |e − median e|`, which is the standard deviation
 //! for Gaussian noise and is not moved by up to half the rows being gross.
 //! An observation (a configuration of the position, frame, link and plane
@@ -20,6 +22,9 @@
 //! `u_i = √(Σ_rows e² / rows) / σ̂`: about 1 for a clean observation of any
 //! size, 20 for one whose rows are all 20 σ̂ off. Weights are per observation,
 //! so a bad measurement is discounted as a whole.
+//! Residuals are standardised by at least 1e-9 (metres for an unweighted set,
+//! sensor σ for a weighted one): noise-free simulated data leave only
+//! rounding, in which nothing is an outlier.
 //!
 //! ## Losses
 //!

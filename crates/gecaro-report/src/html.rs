@@ -145,6 +145,8 @@ pub fn html_report(input: &ReportInput<'_>) -> Result<String, Error> {
         html.push_str("</ul></div>\n");
     }
 
+    robustness(&mut html, result);
+
     // Plots.
     let lengths = |errors: &[(f64, f64)]| errors.iter().map(|e| e.0 * 1e3).collect::<Vec<f64>>();
     let (before, after) = (
@@ -157,24 +159,35 @@ pub fn html_report(input: &ReportInput<'_>) -> Result<String, Error> {
          measured point, to the mean point of its set, to the plane, or distance error of a pair (mm).</p>{}\n{}\n",
         convergence_svg(&result.history)?,
         error_histograms_svg(&before, &after, "mm")?,
-        errors_per_configuration_svg(&before, &after, "mm")?,
+        errors_per_configuration_svg(&before, &after, &result.outlier_observations(), "mm")?,
     );
 
     // Identified parameters.
     html.push_str(
         "<h2>Identified parameters</h2><table><tr><th>parameter</th><th>nominal</th><th>identified</th>\
-         <th>deviation</th><th>σ</th></tr>",
+         <th>deviation</th><th>σ</th>",
     );
+    if result.prior.is_some() {
+        html.push_str("<th>prior σ</th>");
+    }
+    html.push_str("</tr>");
     for parameter in result.parameters.iter().chain(&result.auxiliary) {
         let _ = write!(
             html,
-            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{:+.3e}</td><td>{:.2e}</td></tr>",
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{:+.3e}</td><td>{:.2e}</td>",
             escape(&parameter.name),
             number(parameter.nominal),
             number(parameter.identified),
             parameter.identified - parameter.nominal,
             parameter.std
         );
+        if result.prior.is_some() {
+            let prior = parameter
+                .prior_std
+                .map_or("–".into(), |s| format!("{s:.2e}"));
+            let _ = write!(html, "<td>{prior}</td>");
+        }
+        html.push_str("</tr>");
     }
     html.push_str("</table><p class=\"muted\">Metres and radians; gains without unit.</p>\n");
     if !result.moved.is_empty() {
@@ -279,4 +292,62 @@ pub fn html_report(input: &ReportInput<'_>) -> Result<String, Error> {
     }
     html.push_str("\n<p class=\"muted\">gecaro — geometric calibration of serial robots (GECARO, Khalil et al.).</p></body></html>\n");
     Ok(html)
+}
+
+/// The loss, the prior and the outlier report of `result`.
+fn robustness(html: &mut String, result: &Identification) {
+    html.push_str("<h2>Measurements as they are</h2><p>");
+    let _ = write!(
+        html,
+        "Loss <strong>{}</strong>{}; robust σ̂ of the residuals {:.3e} (units of the sensor σ).",
+        escape(&result.loss.to_string()),
+        if result.reweightings > 0 {
+            format!(" after {} reweightings", result.reweightings)
+        } else {
+            String::new()
+        },
+        result.robust_sigma
+    );
+    if let Some(prior) = &result.prior {
+        let _ = write!(
+            html,
+            " Prior around the nominal values: {} mm, {}°, {} % (maximum a posteriori; σ is posterior).",
+            prior.length * 1e3,
+            prior.angle.to_degrees(),
+            prior.gain * 1e2
+        );
+    }
+    html.push_str("</p>\n");
+    for (title, outliers) in [
+        ("Rejected before this fit", &result.rejected),
+        ("Outliers", &result.outliers),
+    ] {
+        if outliers.is_empty() {
+            continue;
+        }
+        let _ = write!(
+            html,
+            "<p><strong>{title}</strong> (beyond {} robust σ̂; ringed on the per-configuration plot):</p>\
+             <table><tr><th>observation</th><th>error (mm)</th><th>residual (σ̂)</th><th>weight</th></tr>",
+            result.outlier_threshold
+        );
+        for outlier in outliers {
+            let _ = write!(
+                html,
+                "<tr><td>{}</td><td>{:.3}</td><td>{:.1}</td><td>{:.3}</td></tr>",
+                escape(&outlier.location()),
+                outlier.error * 1e3,
+                outlier.standardized,
+                outlier.weight
+            );
+        }
+        html.push_str("</table>\n");
+    }
+    if result.outliers.is_empty() {
+        let _ = writeln!(
+            html,
+            "<p class=\"muted\">No outliers: every observation is within {} robust σ̂.</p>",
+            result.outlier_threshold
+        );
+    }
 }

@@ -174,13 +174,15 @@ pub fn error_histograms_svg(before: &[f64], after: &[f64], unit: &str) -> Result
     })
 }
 
-/// The error of every configuration before and after (log scale).
+/// The error of every configuration before and after (log scale); the
+/// observations listed in `outliers` (indices into `after`) are ringed.
 ///
 /// # Errors
 /// [`Error::Plot`] if drawing fails.
 pub fn errors_per_configuration_svg(
     before: &[f64],
     after: &[f64],
+    outliers: &[usize],
     unit: &str,
 ) -> Result<String, Error> {
     let all = before.iter().chain(after).copied().filter(|v| *v > 0.0);
@@ -215,6 +217,20 @@ pub fn errors_per_configuration_svg(
                 .map_err(plot_error)?
                 .label(label)
                 .legend(move |(x, y)| Circle::new((x, y), 4, color.filled()));
+        }
+        if !outliers.is_empty() {
+            let ring = BLACK.stroke_width(2);
+            chart
+                .draw_series(
+                    outliers
+                        .iter()
+                        .filter_map(|i| after.get(*i).map(|v| (*i, *v)))
+                        .filter(|(_, v)| *v > 0.0)
+                        .map(move |point| Circle::new(point, 7, ring)),
+                )
+                .map_err(plot_error)?
+                .label("outlier")
+                .legend(move |(x, y)| Circle::new((x, y), 6, ring));
         }
         chart
             .configure_series_labels()
@@ -377,7 +393,8 @@ mod tests {
         let histograms =
             error_histograms_svg(&[10.0, 20.0, 35.0], &[0.01, 0.02], "mm").expect("svg");
         assert!(histograms.contains("after (calibrated)"));
-        let points = errors_per_configuration_svg(&[10.0, 20.0], &[0.01, 0.02], "mm").expect("svg");
+        let points =
+            errors_per_configuration_svg(&[10.0, 20.0], &[0.01, 0.02], &[1], "mm").expect("svg");
         assert!(points.contains("<circle"));
     }
 

@@ -1179,6 +1179,14 @@ function identifyPanel(method) {
     h('option', { value: 'gauss-newton', text: 'Gauss–Newton (the paper)' }),
     h('option', { value: 'lm', text: 'Levenberg–Marquardt' }));
   const iterations = h('input', { type: 'number', min: 1, max: 500, value: 30, id: `${name}-identify-iterations` });
+  const loss = h('select', { id: `${name}-identify-loss` },
+    h('option', { value: 'l2', text: 'least squares (the paper)' }),
+    h('option', { value: 'huber', text: 'Huber (mild contamination)' }),
+    h('option', { value: 'cauchy', text: 'Cauchy (gross errors)' }),
+    h('option', { value: 'tukey', text: 'Tukey (gross errors ignored)' }));
+  const prior = h('input', { type: 'text', placeholder: 'none, or e.g. 5mm,0.5deg,1%', id: `${name}-identify-prior` });
+  const reject = h('input', { type: 'checkbox', id: `${name}-identify-reject` });
+  const folds = h('input', { type: 'number', min: 0, max: 20, value: 0, id: `${name}-identify-cv` });
   const run = runButton(`${name}-identify-run`, 'Identify', async () => {
     const progress = h('div', { class: 'progress', id: `${name}-identify-progress` }, h('div', { class: 'spinner' }), h('span', { text: 'Reading the data…' }));
     result.replaceChildren(progress);
@@ -1189,6 +1197,10 @@ function identifyPanel(method) {
         data: await dataRequest(name, 'identify'),
         solver: solver.value,
         max_iterations: Number(iterations.value || 30),
+        loss: loss.value,
+        prior: prior.value.trim() || null,
+        reject: reject.checked,
+        cv: Number(folds.value || 0) >= 2 ? Number(folds.value) : null,
       });
       const job = await followJob(submitted.job, progress.lastChild);
       if (job.state === 'failed') {
@@ -1206,9 +1218,13 @@ function identifyPanel(method) {
       upload,
       field('Step rule', solver),
       field('Iteration limit', iterations),
+      field('Loss', loss),
+      field('Prior σ (lengths, angles, gains)', prior),
+      field('Drop outliers and refit', reject),
+      field('Cross-validation folds (0: none)', folds),
       optionFields(method, 'identify'),
       run),
-    h('p', { class: 'hint', text: 'Iterated linearised least squares (eq. 10): W is rebuilt at every iterate; σ of each parameter from eq. 11.' }),
+    h('p', { class: 'hint', text: 'Iterated linearised least squares (eq. 10): W is rebuilt at every iterate; σ of each parameter from eq. 11. A robust loss discounts gross errors; a prior keeps poorly excited parameters near nominal; cross-validation judges the fit on held-out configurations.' }),
     result);
 }
 
@@ -1248,10 +1264,25 @@ function renderIdentification(container, name, job, result) {
     plot('Error of every configuration (mm)', result.plots.errors_per_configuration, `${name}-identify-per-configuration`));
   const rows = id.parameters.concat(id.auxiliary).map((p) => h('tr', {},
     h('td', { text: p.name }), h('td', { text: fmt(p.nominal) }), h('td', { text: fmt(p.identified) }),
-    h('td', { text: (p.identified - p.nominal).toExponential(3) }), h('td', { text: sci(p.std) })));
+    h('td', { text: (p.identified - p.nominal).toExponential(3) }), h('td', { text: sci(p.std) }),
+    id.prior ? h('td', { text: sci(p.prior_std) }) : null));
   const table = h('table', { class: 'values', id: `${name}-identify-parameters` },
-    h('thead', {}, h('tr', {}, ['parameter', 'nominal', 'identified', 'deviation', 'σ'].map((t) => h('th', { text: t })))),
+    h('thead', {}, h('tr', {}, ['parameter', 'nominal', 'identified', 'deviation', 'σ'].concat(id.prior ? ['prior σ'] : []).map((t) => h('th', { text: t })))),
     h('tbody', {}, rows));
+  const outlierTable = (title, list, tableId) => list.length ? h('div', {},
+    h('h3', { text: `${title} (beyond ${id.outlier_threshold} robust σ̂)` }),
+    h('table', { class: 'values', id: tableId },
+      h('thead', {}, h('tr', {}, ['observation', 'lines', 'error (mm)', 'residual (σ̂)', 'weight'].map((t) => h('th', { text: t })))),
+      h('tbody', {}, list.map((o) => h('tr', {},
+        h('td', { text: `${o.file}: ${o.kind} ${o.observation}` }), h('td', { text: o.lines.join(', ') }),
+        h('td', { text: fixed(o.error * 1e3, 3) }), h('td', { text: fixed(o.residual_sigmas, 1) }), h('td', { text: fixed(o.weight, 3) })))))) : null;
+  const robustness = h('p', { class: 'muted', id: `${name}-identify-robustness`, text:
+    `Loss ${id.loss.kind}${id.loss.scale ? ` (k = ${id.loss.scale} σ̂, ${id.reweightings} reweightings)` : ''}; robust σ̂ ${sci(id.robust_sigma)}; `
+    + (id.outliers.length ? `${id.outliers.length} outliers (ringed on the per-configuration plot)` : 'no outliers')
+    + (id.prior ? `; prior ${fixed(id.prior.length * 1e3, 3)} mm, ${fixed(id.prior.angle * 180 / Math.PI, 3)}°, ${fixed(id.prior.gain * 100, 2)} %` : '') });
+  const cv = id.cross_validation;
+  const validation = cv ? h('p', { id: `${name}-identify-cv-result`, text:
+    `Cross-validation, ${cv.folds} folds: held-out RMS ${mm(cv.rms)} mm${cv.rms_rotation !== null ? `, ${fixed(cv.rms_rotation * 180 / Math.PI, 4)}°` : ''} (per fold: ${cv.per_fold.map((f) => mm(f.rms)).join(', ')} mm)` }) : null;
   const moved = id.moved.length
     ? h('p', { class: 'muted', text: `Outside the base set, moved: ${id.moved.map((p) => `${p.name} ${(p.identified - p.nominal).toExponential(2)}`).join(', ')}` }) : null;
   const actions = h('div', { class: 'actions' },
@@ -1262,7 +1293,10 @@ function renderIdentification(container, name, job, result) {
       onclick: async () => setRobot(await api('/robots/check', { robot: result.calibrated }), null),
     }),
     h('a', { href: `/api/jobs/${job}/report`, download: `gecaro-report-${job}.html` }, h('button', { type: 'button', text: 'Download the report' })));
-  container.replaceChildren(...[cards, observabilityLine(id.observability, 'the data'), warnings, actions, plots, h('h3', { text: 'Identified parameters (m, rad)' }), table, moved].filter(Boolean));
+  container.replaceChildren(...[cards, observabilityLine(id.observability, 'the data'), robustness, validation, warnings, actions,
+    outlierTable('Rejected before this fit', id.rejected, `${name}-identify-rejected`),
+    outlierTable('Outliers', id.outliers, `${name}-identify-outliers`),
+    plots, h('h3', { text: 'Identified parameters (m, rad)' }), table, moved].filter(Boolean));
 }
 
 // ---------------------------------------------------------------- tabs

@@ -16,6 +16,8 @@ pub const MAX_CURVE_POINTS: usize = 12;
 pub const MAX_RANDOM: usize = 20_000;
 /// Most iterations of one identification.
 pub const MAX_ITERATIONS: usize = 500;
+/// Most cross-validation folds of one identification.
+pub const MAX_FOLDS: usize = 20;
 /// Most joints of a robot.
 pub const MAX_JOINTS: usize = 32;
 /// Identification jobs kept for their results (oldest finished ones go first).

@@ -912,3 +912,77 @@ async fn parallel_saves_of_one_file_never_corrupt_it() {
         .collect();
     assert_eq!(names, ["shared.toml"]);
 }
+
+#[tokio::test]
+async fn identification_takes_a_robust_loss_a_prior_and_cross_validation() {
+    let api = Api::new();
+    let document = api.document("stanford").await;
+    let (_, generated) = api
+        .post(
+            "/api/generate",
+            &json!({ "robot": document, "method": { "name": "position" }, "count": 60, "error_level": 1.0, "noise": 1e-4, "seed": 5 }),
+        )
+        .await;
+    // Two gross readings: 20 mm off in x (rows 4 and 31 of the data).
+    let mut lines: Vec<String> = generated["csv"]
+        .as_str()
+        .expect("csv")
+        .lines()
+        .map(str::to_owned)
+        .collect();
+    let header: Vec<&str> = lines[0].split(',').collect();
+    let x = header.iter().position(|h| *h == "x").expect("x column");
+    for row in [3, 30] {
+        let mut fields: Vec<String> = lines[row].split(',').map(str::to_owned).collect();
+        fields[x] = (fields[x].parse::<f64>().expect("x") + 0.02).to_string();
+        lines[row] = fields.join(",");
+    }
+    let csv = lines.join("\n");
+    let request = |extra: serde_json::Value| {
+        let mut request = json!({ "robot": document, "method": { "name": "position" }, "data": { "csv": { "text": csv, "name": "gross.csv" } } });
+        for (key, value) in extra.as_object().expect("object") {
+            request[key] = value.clone();
+        }
+        request
+    };
+    let (status, submitted) = api
+        .post(
+            "/api/identify",
+            &request(json!({ "loss": "tukey", "prior": "5mm,0.5deg,1%", "cv": 3, "seed": 2 })),
+        )
+        .await;
+    assert_eq!(status, StatusCode::ACCEPTED, "{submitted}");
+    let view = api.finished(submitted["job"].as_u64().expect("job")).await;
+    assert_eq!(view["state"], "done", "{view}");
+    let identification = &view["result"]["identification"];
+    assert_eq!(identification["loss"]["kind"], "tukey");
+    let outliers = identification["outliers"].as_array().expect("outliers");
+    let mut observations: Vec<u64> = outliers
+        .iter()
+        .filter(|o| o["weight"] == 0.0)
+        .map(|o| o["observation"].as_u64().expect("number"))
+        .collect();
+    observations.sort_unstable();
+    assert_eq!(observations, [3, 30], "{outliers:?}");
+    assert!(
+        identification["parameters"][0]["prior_std"]
+            .as_f64()
+            .is_some()
+    );
+    let validation = &identification["cross_validation"];
+    assert_eq!(validation["per_fold"].as_array().expect("folds").len(), 3);
+    // Bad options are answers, not failed jobs.
+    for (extra, expected) in [
+        (json!({ "loss": "l1" }), "unknown loss"),
+        (json!({ "prior": "5mm" }), "prior:"),
+        (json!({ "cv": 1 }), "cv 1"),
+        (json!({ "loss_scale": 2.0 }), "loss_scale"),
+    ] {
+        let (status, body) = api.post("/api/identify", &request(extra)).await;
+        assert_eq!(status, StatusCode::BAD_REQUEST, "{body}");
+        assert!(
+            body["error"].as_str().expect("message").contains(expected),
+            "{body}"
+        );
+    }
+}

@@ -288,6 +288,31 @@ async fn the_page_works_as_a_person_uses_it() {
     assert!(!first.is_empty());
     screenshot(&client, "04-identification.png").await;
 
+    // Again with a robust loss, a prior and a 3-fold cross-validation.
+    client
+        .execute(
+            "document.getElementById('position-identify-loss').value = 'tukey';\
+             document.getElementById('position-identify-prior').value = '5mm,0.5deg,1%';\
+             document.getElementById('position-identify-cv').value = '3';",
+            vec![],
+        )
+        .await
+        .expect("script");
+    click(&client, "#position-identify-run").await;
+    let validation = text_when(&client, "#position-identify-cv-result", 120, |text| {
+        text.contains("3 folds")
+    })
+    .await;
+    assert!(validation.contains("held-out RMS"), "{validation}");
+    let robustness = text_of(&client, "#position-identify-robustness", 5).await;
+    assert!(robustness.starts_with("Loss tukey"), "{robustness}");
+    assert!(robustness.contains("prior 5.000 mm"), "{robustness}");
+    assert_eq!(
+        count(&client, "#position-identify-parameters thead th").await,
+        6,
+        "the prior σ column"
+    );
+
     // Save the calibrated robot into the folder: a valid robot file.
     click(&client, "#position-identify-save").await;
     let name = client

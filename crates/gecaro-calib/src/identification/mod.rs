@@ -307,6 +307,17 @@ pub struct Identification {
 }
 
 impl Identification {
+    /// The observations beyond the outlier threshold, numbered across sets
+    /// as [`Identification::errors_after`] (for plots).
+    pub fn outlier_observations(&self) -> Vec<usize> {
+        self.standardized
+            .iter()
+            .enumerate()
+            .filter(|(_, u)| **u > self.outlier_threshold)
+            .map(|(index, _)| index)
+            .collect()
+    }
+
     /// Number of parameter updates of the route taken.
     pub fn iterations(&self) -> usize {
         self.history.len() - 1

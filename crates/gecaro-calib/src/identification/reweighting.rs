@@ -22,12 +22,16 @@ use gecaro_core::Robot;
 
 use super::{Damping, Iterate, IterationRecord, Problem, Run, StopReason};
 use crate::Error;
-use crate::observation::ObservationSystem;
+use crate::observation::{ObservationSystem, RowKind};
 use crate::robust::{Loss, LossKind, observation_rms, robust_sigma};
 use crate::study::StudyStates;
 
 /// Outer iterations (reweightings) allowed per loss stage.
 pub const MAX_REWEIGHTINGS: usize = 50;
+/// The smallest σ̂ residuals are standardised by (scaled units: metres of an
+/// unweighted set, σ of a weighted one): below it residuals are rounding,
+/// and none is an outlier.
+const RESIDUAL_FLOOR: f64 = 1e-9;
 /// A weight change below this ends the reweighting.
 const WEIGHT_TOLERANCE: f64 = 1e-3;
 
@@ -105,18 +109,33 @@ impl ResidualStatistics {
     ) -> Self {
         let scaled = system.scaled_residuals();
         let observations = system.row_observations();
-        let robust_sigma = robust_sigma(&scaled);
-        let rms = observation_rms(&scaled, observations, system.observation_count());
-        let standardized: Vec<f64> = rms
+        // σ̂ per kind of row: lengths and angles of a set without sensor σ
+        // are in metres and radians, which do not compare.
+        let kinds = system.kinds();
+        let sigma_of = |kind: RowKind| {
+            let rows: Vec<f64> = scaled
+                .iter()
+                .zip(kinds)
+                .filter(|(_, k)| **k == kind)
+                .map(|(e, _)| *e)
+                .collect();
+            robust_sigma(&rows)
+        };
+        let sigmas = [sigma_of(RowKind::Length), sigma_of(RowKind::Angle)];
+        // Noise-free (simulated) data leave rounding residuals: no outliers
+        // among them, and no weights from them.
+        let standardized_rows: Vec<f64> = scaled
             .iter()
-            .map(|value| {
-                if robust_sigma > 0.0 {
-                    value / robust_sigma
-                } else {
-                    0.0
-                }
-            })
+            .zip(kinds)
+            .map(|(e, kind)| e / sigmas[usize::from(*kind == RowKind::Angle)].max(RESIDUAL_FLOOR))
             .collect();
+        let robust_sigma = if kinds.contains(&RowKind::Length) {
+            sigmas[0]
+        } else {
+            sigmas[1]
+        };
+        let standardized =
+            observation_rms(&standardized_rows, observations, system.observation_count());
         let weights: Vec<f64> = standardized.iter().map(|u| loss.weight(*u)).collect();
         let discarded = observations.iter().filter(|o| weights[**o] == 0.0).count();
         let effective_equations = equations.saturating_sub(discarded);

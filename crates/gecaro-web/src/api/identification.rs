@@ -8,9 +8,12 @@ use std::sync::Arc;
 use axum::extract::{Path as UrlPath, State};
 use axum::http::header;
 use axum::response::IntoResponse;
-use gecaro_calib::{Identification, IdentificationOptions, Solver, Study, identify_with_progress};
+use gecaro_calib::{
+    Identification, IdentificationOptions, Loss, LossKind, Solver, Study, cross_validate,
+    identify_with_progress,
+};
 use gecaro_io::{RobotDocument, RobotFile};
-use gecaro_report::json::IdentificationJson;
+use gecaro_report::json::{CrossValidationJson, IdentificationJson};
 use gecaro_report::{
     ReportInput, calibrated_robot_file, convergence_svg, error_histograms_svg,
     errors_per_configuration_svg, html_report,
@@ -20,7 +23,7 @@ use serde::{Deserialize, Serialize};
 use super::{DataRequest, Json, MethodRequest, robot_file};
 use crate::error::ApiError;
 use crate::jobs::{Job, JobOutcome, JobView};
-use crate::limits::MAX_ITERATIONS;
+use crate::limits::{MAX_FOLDS, MAX_ITERATIONS};
 use crate::state::AppState;
 
 /// The step rule.
@@ -44,6 +47,66 @@ pub(crate) struct IdentifyRequest {
     solver: SolverChoice,
     #[serde(default)]
     max_iterations: Option<usize>,
+    /// `l2` (default), `huber`, `cauchy` or `tukey`.
+    #[serde(default)]
+    loss: Option<String>,
+    /// The robust loss's scale, in robust σ (default per loss).
+    #[serde(default)]
+    loss_scale: Option<f64>,
+    /// A Gaussian prior, `5mm,0.5deg,1%`.
+    #[serde(default)]
+    prior: Option<String>,
+    /// Outliers beyond this many robust σ (default 3).
+    #[serde(default)]
+    outlier_threshold: Option<f64>,
+    /// Drop the outliers and identify again.
+    #[serde(default)]
+    reject: bool,
+    /// K-fold cross-validation after the identification.
+    #[serde(default)]
+    cv: Option<usize>,
+    /// Seed of the folds (default 1).
+    #[serde(default)]
+    seed: Option<u64>,
+}
+
+impl IdentifyRequest {
+    /// The loss, prior and outlier options of the request.
+    fn robust_options(&self) -> Result<IdentificationOptions, ApiError> {
+        let kind: LossKind = self.loss.as_deref().unwrap_or("l2").parse()?;
+        let loss = match self.loss_scale {
+            Some(_) if kind == LossKind::L2 => {
+                return Err(ApiError::BadRequest(
+                    "loss_scale is the scale of a robust loss (huber, cauchy, tukey)".into(),
+                ));
+            }
+            Some(scale) => Loss::with_scale(kind, scale)?,
+            None => Loss::new(kind),
+        };
+        let prior = match self.prior.as_deref().map(str::trim) {
+            None | Some("") => None,
+            Some(text) => Some(
+                gecaro_io::parse_prior(text)
+                    .map_err(|message| ApiError::BadRequest(format!("prior: {message}")))?,
+            ),
+        };
+        if let Some(folds) = self.cv
+            && !(2..=MAX_FOLDS).contains(&folds)
+        {
+            return Err(ApiError::BadRequest(format!(
+                "cv {folds}: between 2 and {MAX_FOLDS} folds"
+            )));
+        }
+        Ok(IdentificationOptions {
+            loss,
+            prior,
+            outlier_threshold: self
+                .outlier_threshold
+                .unwrap_or(gecaro_calib::DEFAULT_OUTLIER_THRESHOLD),
+            reject: self.reject,
+            ..IdentificationOptions::default()
+        })
+    }
 }
 
 #[derive(Serialize)]
@@ -58,6 +121,8 @@ pub(crate) async fn submit(
 ) -> Result<(axum::http::StatusCode, Json<Submitted>), ApiError> {
     let file = robot_file(&request.robot)?;
     let method = request.method.build()?;
+    let robust = request.robust_options()?;
+    let (folds, seed) = (request.cv, request.seed.unwrap_or(1));
     let max_iterations = request.max_iterations.unwrap_or(30);
     if !(1..=MAX_ITERATIONS).contains(&max_iterations) {
         return Err(ApiError::BadRequest(format!(
@@ -82,7 +147,7 @@ pub(crate) async fn submit(
             SolverChoice::Lm => Solver::LevenbergMarquardt,
         },
         max_iterations,
-        ..IdentificationOptions::default()
+        ..robust
     };
     tokio::spawn(async move {
         let running = Arc::clone(&job);
@@ -93,7 +158,14 @@ pub(crate) async fn submit(
                     running.record(record.rms);
                     ControlFlow::Continue(())
                 })?;
-                outcome(&file, &study, &result, &label)
+                let validation = match folds {
+                    Some(folds) => Some(CrossValidationJson::new(
+                        &cross_validate(&file.robot, &study, &options, folds, seed)?,
+                        seed,
+                    )),
+                    None => None,
+                };
+                outcome(&file, &study, &result, &label, validation)
             })
             .await;
         match outcome {
@@ -130,6 +202,7 @@ fn outcome(
     study: &Study,
     result: &Identification,
     label: &str,
+    validation: Option<CrossValidationJson>,
 ) -> Result<JobOutcome, ApiError> {
     let millimetres =
         |errors: &[(f64, f64)]| errors.iter().map(|e| e.0 * 1e3).collect::<Vec<f64>>();
@@ -143,12 +216,19 @@ fn outcome(
         .name()
         .to_lowercase()
         .replace(|c: char| !c.is_alphanumeric(), "-");
+    let mut identification = IdentificationJson::new(study, result);
+    identification.cross_validation = validation;
     let value = IdentifyResult {
-        identification: IdentificationJson::new(study, result),
+        identification,
         plots: Plots {
             convergence: convergence_svg(&result.history)?,
             errors_histogram: error_histograms_svg(&before, &after, "mm")?,
-            errors_per_configuration: errors_per_configuration_svg(&before, &after, "mm")?,
+            errors_per_configuration: errors_per_configuration_svg(
+                &before,
+                &after,
+                &result.outlier_observations(),
+                "mm",
+            )?,
         },
         calibrated: RobotDocument::from_robot_file(&calibrated),
         calibrated_name: format!("{stem}-calibrated.toml"),
