@@ -194,3 +194,31 @@ fn monte_carlo_1000_at_100(bencher: divan::Bencher) {
         .expect("simulated calibrations")
     });
 }
+
+/// Robust identification (Tukey's loss, IRLS from the least-squares start,
+/// Huber first) of the Stanford arm's position measurements with 5 % gross
+/// errors (20 mm), against plain least squares on the same data.
+#[divan::bench(args = ["l2", "tukey"])]
+fn identify_position_500_with_gross_errors(bencher: divan::Bencher, loss: &str) {
+    let robot = stanford();
+    let mut study = simulated("position", 500);
+    for sample in study.sets[0].samples.iter_mut().step_by(20) {
+        sample.position = sample.position.map(|p| p + Vector3::new(0.02, 0.0, 0.0));
+    }
+    let options = IdentificationOptions {
+        loss: gecaro_calib::Loss::new(loss.parse().expect("loss")),
+        ..IdentificationOptions::default()
+    };
+    bencher.bench_local(|| identify(&robot, &study, &options).expect("identification"));
+}
+
+/// 5-fold cross-validation of a position identification at m = 500.
+#[divan::bench(sample_count = 10)]
+fn cross_validate_position_500_5_folds(bencher: divan::Bencher) {
+    let robot = stanford();
+    let study = simulated("position", 500);
+    bencher.bench_local(|| {
+        gecaro_calib::cross_validate(&robot, &study, &IdentificationOptions::default(), 5, 1)
+            .expect("cross-validation")
+    });
+}
