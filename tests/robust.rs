@@ -352,3 +352,43 @@ fn a_prior_bounds_poorly_excited_parameters_and_leaves_the_others() {
         "MAP {map_error:.2e} m vs L2 {plain_error:.2e} m"
     );
 }
+
+#[test]
+fn each_set_of_a_study_is_judged_by_its_own_noise() {
+    // A tracker whose σ was given 10× too small (its rows look noisy in units
+    // of σ) and a ball bar with 3 gross readings among 150 pairs.
+    let mut sampler = Sampler::new(91);
+    let real = perturbed_robot(&stanford(), 1.0, &mut sampler).expect("real robot");
+    let mut sets = Vec::new();
+    for (name, count, noise) in [("position", 60, 1e-3), ("distance", 300, 1e-4)] {
+        let chosen = method(name, &MethodOptions::default()).expect("method");
+        let samples = simulate_measurements(&real, chosen.as_ref(), count, noise, &mut sampler)
+            .expect("data");
+        sets.push(gecaro_calib::MeasurementSet {
+            method: chosen,
+            samples,
+            sigma: 1e-4,
+            sigma_rotation: None,
+            label: format!("{name}.csv"),
+        });
+    }
+    let pairs = &mut sets[1].samples;
+    for pair in [5_u64, 60, 120] {
+        for sample in pairs.iter_mut().filter(|s| s.group == Some(pair)) {
+            sample.distance = sample.distance.map(|d| d + GROSS);
+        }
+    }
+    let study = Study { sets };
+    let result = fit(&study, Loss::new(LossKind::Tukey));
+    let flagged: Vec<(usize, usize)> = result
+        .outliers
+        .iter()
+        .filter(|o| o.standardized > 20.0)
+        .map(|o| (o.set, o.observation))
+        .collect();
+    assert_eq!(flagged.len(), 3, "{:?}", result.outliers);
+    assert!(flagged.iter().all(|(set, _)| *set == 1));
+    // The tracker's rows, 10× their stated σ, are not outliers of their own set.
+    let tracker = result.outliers.iter().filter(|o| o.set == 0).count();
+    assert!(tracker <= 3, "{tracker} tracker observations flagged");
+}

@@ -307,6 +307,8 @@ pub struct ObservationSystem {
     observation_count: usize,
     /// Robust weight of each observation (empty: all 1); kept by `reset`.
     observation_weights: Vec<f64>,
+    /// The measured rows of each measurement set, in order.
+    set_rows: Vec<std::ops::Range<usize>>,
 }
 
 impl ObservationSystem {
@@ -328,6 +330,7 @@ impl ObservationSystem {
         self.kinds.resize(rows, RowKind::Length);
         self.observations.clear();
         self.observations.resize(rows, 0);
+        self.set_rows.clear();
         self.observation_count = 0;
     }
 
@@ -484,6 +487,16 @@ impl ObservationSystem {
             observation_base: self.observation_count,
             observation_end: 0,
         }
+    }
+
+    /// Records that rows `rows` belong to the next measurement set.
+    pub(crate) fn record_set(&mut self, rows: std::ops::Range<usize>) {
+        self.set_rows.push(rows);
+    }
+
+    /// The measured rows of each measurement set, in order.
+    pub fn set_rows(&self) -> &[std::ops::Range<usize>] {
+        &self.set_rows
     }
 
     /// Records that observations up to `end` (exclusive) were written

@@ -11,9 +11,10 @@
 //!
 //! Residuals are first divided by their sensor's σ (the set's weight), so
 //! that rows of different sets compare. The robust σ̂ is the normalised
-//! median absolute deviation of those scaled row residuals, one for length
-//! rows and one for angle rows (a set without sensor σ has them in metres
-//! and radians),
+//! median absolute deviation of those scaled row residuals, one per
+//! measurement set and kind of row (lengths, angles: a set without sensor σ
+//! has them in metres and radians, and a set's σ may be a rough guess; a
+//! set's kind with fewer than 10 rows takes the σ̂ of all sets),
 //! `σ̂ = 1.4826 · median |e − median e|`, which is the standard deviation
 //! for Gaussian noise and is not moved by up to half the rows being gross.
 //! An observation (a configuration of the position, frame, link and plane

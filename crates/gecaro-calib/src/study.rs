@@ -442,6 +442,7 @@ impl Study {
             );
             let end = write(index, set, own, writer)?;
             system.record_observations(end);
+            system.record_set(first_row..first_row + rows);
             first_row += rows;
             auxiliary_offset += count;
         }

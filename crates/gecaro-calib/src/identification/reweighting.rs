@@ -32,6 +32,8 @@ pub const MAX_REWEIGHTINGS: usize = 50;
 /// unweighted set, σ of a weighted one): below it residuals are rounding,
 /// and none is an outlier.
 const RESIDUAL_FLOOR: f64 = 1e-9;
+/// Rows of one kind a set needs for its own σ̂.
+const MINIMUM_ROWS: usize = 10;
 /// A weight change below this ends the reweighting.
 const WEIGHT_TOLERANCE: f64 = 1e-3;
 
@@ -109,30 +111,45 @@ impl ResidualStatistics {
     ) -> Self {
         let scaled = system.scaled_residuals();
         let observations = system.row_observations();
-        // σ̂ per kind of row: lengths and angles of a set without sensor σ
-        // are in metres and radians, which do not compare.
+        // σ̂ per set and kind of row: lengths and angles of a set without
+        // sensor σ are in metres and radians, which do not compare, and each
+        // set is judged by its own noise (its σ may be a rough guess). A set's
+        // kind with fewer than MINIMUM_ROWS rows takes the σ̂ of all sets.
         let kinds = system.kinds();
-        let sigma_of = |kind: RowKind| {
-            let rows: Vec<f64> = scaled
-                .iter()
-                .zip(kinds)
-                .filter(|(_, k)| **k == kind)
-                .map(|(e, _)| *e)
+        let sigma_over = |rows: std::ops::Range<usize>, kind: RowKind| {
+            let values: Vec<f64> = rows
+                .filter(|row| kinds[*row] == kind)
+                .map(|row| scaled[row])
                 .collect();
-            robust_sigma(&rows)
+            (values.len(), robust_sigma(&values))
         };
-        let sigmas = [sigma_of(RowKind::Length), sigma_of(RowKind::Angle)];
+        let pooled =
+            [RowKind::Length, RowKind::Angle].map(|kind| sigma_over(0..kinds.len(), kind).1);
+        let mut row_sigma = vec![0.0; kinds.len()];
+        for rows in system.set_rows() {
+            for (slot, kind) in [RowKind::Length, RowKind::Angle].into_iter().enumerate() {
+                let (count, sigma) = sigma_over(rows.clone(), kind);
+                let sigma = if count >= MINIMUM_ROWS {
+                    sigma
+                } else {
+                    pooled[slot]
+                };
+                for row in rows.clone().filter(|row| kinds[*row] == kind) {
+                    row_sigma[row] = sigma;
+                }
+            }
+        }
         // Noise-free (simulated) data leave rounding residuals: no outliers
         // among them, and no weights from them.
         let standardized_rows: Vec<f64> = scaled
             .iter()
-            .zip(kinds)
-            .map(|(e, kind)| e / sigmas[usize::from(*kind == RowKind::Angle)].max(RESIDUAL_FLOOR))
+            .zip(&row_sigma)
+            .map(|(e, sigma)| e / sigma.max(RESIDUAL_FLOOR))
             .collect();
         let robust_sigma = if kinds.contains(&RowKind::Length) {
-            sigmas[0]
+            pooled[0]
         } else {
-            sigmas[1]
+            pooled[1]
         };
         let standardized =
             observation_rms(&standardized_rows, observations, system.observation_count());
