@@ -26,51 +26,51 @@ fn kr16(folder: &Path) -> PathBuf {
     robot
 }
 
-/// `gecaro identify` on a tracker file with `extra` options; the JSON and
-/// the held-out RMS (m) on `check.csv` of the calibrated robot.
-fn identify(robot: &Path, data: &str, extra: &[&str]) -> (Value, f64) {
-    let calibrated = robot.with_file_name(format!("calibrated-{}.toml", extra.join("_")));
-    let output = gecaro()
-        .arg("identify")
-        .arg(robot)
-        .args([
-            "--method",
-            "position",
-            "--length-unit",
-            "mm",
-            "--angle-unit",
-            "deg",
-        ])
-        .args(["--columns", COLUMNS, "--json", "--force", "--data"])
-        .arg(Path::new(TRACKER).join(data))
-        .args(extra)
-        .arg("-o")
-        .arg(&calibrated)
-        .output()
-        .expect("runs");
+/// The JSON a successful command prints.
+fn json_of(command: &mut Command) -> Value {
+    let output = command.output().expect("runs");
     assert!(
         output.status.success(),
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );
-    let result: Value = serde_json::from_slice(&output.stdout).expect("JSON");
-    let evaluation = gecaro()
-        .arg("evaluate")
-        .arg(&calibrated)
-        .args([
-            "--method",
-            "position",
-            "--length-unit",
-            "mm",
-            "--angle-unit",
-            "deg",
-        ])
-        .args(["--columns", COLUMNS, "--json", "--data"])
-        .arg(Path::new(TRACKER).join("check.csv"))
-        .output()
-        .expect("runs");
-    assert!(evaluation.status.success());
-    let evaluation: Value = serde_json::from_slice(&evaluation.stdout).expect("JSON");
+    serde_json::from_slice(&output.stdout).expect("JSON")
+}
+
+/// `gecaro SUBCOMMAND ROBOT` for the tracker files: position measurements in
+/// mm and degrees under the tracker's column names.
+fn tracker_command(subcommand: &str, robot: &Path) -> Command {
+    let mut command = gecaro();
+    command.arg(subcommand).arg(robot).args([
+        "--method",
+        "position",
+        "--length-unit",
+        "mm",
+        "--angle-unit",
+        "deg",
+        "--columns",
+        COLUMNS,
+    ]);
+    command
+}
+
+/// `gecaro identify` on a tracker file with `extra` options; the JSON and
+/// the held-out RMS (m) on `check.csv` of the calibrated robot.
+fn identify(robot: &Path, data: &str, extra: &[&str]) -> (Value, f64) {
+    let calibrated = robot.with_file_name(format!("calibrated-{}.toml", extra.join("_")));
+    let result = json_of(
+        tracker_command("identify", robot)
+            .args(["--json", "--force", "--data"])
+            .arg(Path::new(TRACKER).join(data))
+            .args(extra)
+            .arg("-o")
+            .arg(&calibrated),
+    );
+    let evaluation = json_of(
+        tracker_command("evaluate", &calibrated)
+            .args(["--json", "--data"])
+            .arg(Path::new(TRACKER).join("check.csv")),
+    );
     (result, evaluation["rms"].as_f64().expect("rms"))
 }
 
@@ -119,18 +119,8 @@ fn a_robust_loss_and_rejection_undo_four_bad_tracker_readings() {
     assert_eq!(rejected["after"]["count"], 76);
     assert!(rejected_error < 1.1 * clean, "{rejected_error} vs {clean}");
     // The text output lists them with their lines.
-    gecaro()
-        .arg("identify")
-        .arg(&robot)
-        .args([
-            "--method",
-            "position",
-            "--length-unit",
-            "mm",
-            "--angle-unit",
-            "deg",
-        ])
-        .args(["--columns", COLUMNS, "--loss", "huber", "--data"])
+    tracker_command("identify", &robot)
+        .args(["--loss", "huber", "--data"])
         .arg(Path::new(TRACKER).join("tracker_corrupted.csv"))
         .assert()
         .success()
@@ -141,18 +131,8 @@ fn a_robust_loss_and_rejection_undo_four_bad_tracker_readings() {
         .stdout(predicate::str::contains("configuration 44 (line 46)"));
     // The HTML report lists them and rings them on the per-configuration plot.
     let report = folder.path().join("report.html");
-    gecaro()
-        .arg("report")
-        .arg(&robot)
-        .args([
-            "--method",
-            "position",
-            "--length-unit",
-            "mm",
-            "--angle-unit",
-            "deg",
-        ])
-        .args(["--columns", COLUMNS, "--loss", "tukey", "-o"])
+    tracker_command("report", &robot)
+        .args(["--loss", "tukey", "-o"])
         .arg(&report)
         .arg("--data")
         .arg(Path::new(TRACKER).join("tracker_corrupted.csv"))
@@ -203,17 +183,7 @@ fn priors_come_from_the_command_line_or_the_study_file() {
     write_study(
         "[prior]\nlength = \"5mm\"\nangle = \"0.5deg\"\ngain = \"1%\"\nparameters = { d2 = \"0.1mm\" }\n",
     );
-    let output = gecaro()
-        .args(["identify", "--json", "--study"])
-        .arg(&study)
-        .output()
-        .expect("runs");
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let result: Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    let result = json_of(gecaro().args(["identify", "--json", "--study"]).arg(&study));
     assert_eq!(
         result["prior"]["parameters"]["d2"], 0.0001,
         "{}",
@@ -246,10 +216,7 @@ fn bad_robust_options_are_clear_errors() {
     let cases: [(&[&str], &str); 5] = [
         (&["--loss", "l1"], "invalid value 'l1'"),
         (&["--loss", "huber", "--loss-scale=-1"], "--loss-scale"),
-        (
-            &["--loss-scale", "2"],
-            "--loss-scale is the scale of a robust loss",
-        ),
+        (&["--loss-scale", "2"], "--loss-scale: l2 has no scale"),
         (
             &["--prior", "5mm"],
             "--prior: '5mm' lacks the angle and gain σ",
@@ -306,35 +273,12 @@ fn cross_validation_and_model_choice_from_the_command_line() {
         .collect();
     assert!(names.iter().all(|name| !name.starts_with('K')), "{names:?}");
     // compare-models ranks by held-out error and says what each adds.
-    let output = gecaro()
-        .arg("compare-models")
-        .arg(&robot)
-        .args([
-            "--method",
-            "position",
-            "--length-unit",
-            "mm",
-            "--angle-unit",
-            "deg",
-        ])
-        .args([
-            "--columns",
-            COLUMNS,
-            "--models",
-            "offsets,kinematic,full",
-            "--cv",
-            "3",
-        ])
-        .args(["--json", "--data"])
-        .arg(Path::new(TRACKER).join("tracker.csv"))
-        .output()
-        .expect("runs");
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
+    let scores = json_of(
+        tracker_command("compare-models", &robot)
+            .args(["--models", "offsets,kinematic,full", "--cv", "3"])
+            .args(["--json", "--data"])
+            .arg(Path::new(TRACKER).join("tracker.csv")),
     );
-    let scores: Value = serde_json::from_slice(&output.stdout).expect("JSON");
     let scores = scores.as_array().expect("array");
     let order: Vec<&str> = scores
         .iter()
@@ -363,18 +307,8 @@ fn cross_validation_and_model_choice_from_the_command_line() {
         (&["--cv", "1000"][..], "--cv"),
         (&["--model", "tiny"][..], "unknown model 'tiny'"),
     ] {
-        gecaro()
-            .arg("identify")
-            .arg(&robot)
-            .args([
-                "--method",
-                "position",
-                "--length-unit",
-                "mm",
-                "--angle-unit",
-                "deg",
-            ])
-            .args(["--columns", COLUMNS, "--data"])
+        tracker_command("identify", &robot)
+            .args(["--data"])
             .arg(Path::new(TRACKER).join("tracker.csv"))
             .args(extra)
             .assert()

@@ -308,16 +308,7 @@ fn robust_options(
         LossArg::Cauchy => LossKind::Cauchy,
         LossArg::Tukey => LossKind::Tukey,
     };
-    let loss = match args.loss_scale {
-        Some(_) if kind == LossKind::L2 => {
-            return Err(Failure::usage(
-                "--loss-scale is the scale of a robust loss",
-                Some("add --loss huber, cauchy or tukey".to_owned()),
-            ));
-        }
-        Some(scale) => Loss::with_scale(kind, scale)?,
-        None => Loss::new(kind),
-    };
+    let loss = Loss::from_parts(kind, args.loss_scale)?;
     let prior = match (&args.prior, study_prior) {
         (Some(text), study) => {
             let mut prior = gecaro_io::parse_prior(text).map_err(|message| {

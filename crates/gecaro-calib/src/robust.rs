@@ -160,6 +160,24 @@ impl Loss {
         Ok(Loss { kind, scale })
     }
 
+    /// `kind` with `scale`, or its default scale: what a user asks for.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] (`--loss-scale`) for a scale with `l2` (it has
+    /// none) or a scale that is not finite and positive.
+    pub fn from_parts(kind: LossKind, scale: Option<f64>) -> Result<Self, Error> {
+        match scale {
+            Some(_) if kind == LossKind::L2 => Err(Error::InvalidOption {
+                option: "--loss-scale",
+                message:
+                    "l2 has no scale; a scale goes with a robust loss (huber, cauchy or tukey)"
+                        .into(),
+            }),
+            Some(scale) => Loss::with_scale(kind, scale),
+            None => Ok(Loss::new(kind)),
+        }
+    }
+
     /// Whether this is plain least squares.
     pub fn is_l2(&self) -> bool {
         self.kind == LossKind::L2
@@ -269,6 +287,11 @@ mod tests {
         assert!(
             unknown.to_string().contains("unknown loss 'l1'"),
             "{unknown}"
+        );
+        assert!(Loss::from_parts(LossKind::L2, Some(2.0)).is_err());
+        assert_eq!(
+            Loss::from_parts(LossKind::Tukey, None).ok(),
+            Some(Loss::new(LossKind::Tukey))
         );
         for scale in [0.0, -1.0, f64::NAN, f64::INFINITY] {
             let error = Loss::with_scale(LossKind::Huber, scale).expect_err("bad scale");

@@ -28,15 +28,7 @@ impl RobustArguments<'_> {
         study_prior: Option<Prior>,
     ) -> PyResult<IdentificationOptions> {
         let kind: LossKind = self.loss.parse().py()?;
-        let loss = match self.loss_scale {
-            Some(_) if kind == LossKind::L2 => {
-                return Err(input(
-                    "loss_scale is the scale of a robust loss: give loss=\"huber\", \"cauchy\" or \"tukey\"",
-                ));
-            }
-            Some(scale) => Loss::with_scale(kind, scale).py()?,
-            None => Loss::new(kind),
-        };
+        let loss = Loss::from_parts(kind, self.loss_scale).py()?;
         let prior = match self.prior {
             Some(text) => {
                 let mut prior = gecaro_io::parse_prior(text)

@@ -76,7 +76,7 @@ def test_bad_options_raise_input_errors() -> None:
     for options, message in [
         ({"loss": "l1"}, "unknown loss 'l1'"),
         ({"loss": "huber", "loss_scale": -1.0}, "--loss-scale"),
-        ({"loss_scale": 2.0}, "loss_scale is the scale of a robust loss"),
+        ({"loss_scale": 2.0}, "l2 has no scale"),
         ({"prior": "5mm"}, "lacks the angle and gain"),
         ({"model": "tiny"}, "unknown model 'tiny'"),
     ]:

@@ -976,7 +976,7 @@ async fn identification_takes_a_robust_loss_a_prior_and_cross_validation() {
         (json!({ "loss": "l1" }), "unknown loss"),
         (json!({ "prior": "5mm" }), "prior:"),
         (json!({ "cv": 1 }), "cv 1"),
-        (json!({ "loss_scale": 2.0 }), "loss_scale"),
+        (json!({ "loss_scale": 2.0 }), "l2 has no scale"),
     ] {
         let (status, body) = api.post("/api/identify", &request(extra)).await;
         assert_eq!(status, StatusCode::BAD_REQUEST, "{body}");

@@ -74,15 +74,7 @@ impl IdentifyRequest {
     /// The loss, prior and outlier options of the request.
     fn robust_options(&self) -> Result<IdentificationOptions, ApiError> {
         let kind: LossKind = self.loss.as_deref().unwrap_or("l2").parse()?;
-        let loss = match self.loss_scale {
-            Some(_) if kind == LossKind::L2 => {
-                return Err(ApiError::BadRequest(
-                    "loss_scale is the scale of a robust loss (huber, cauchy, tukey)".into(),
-                ));
-            }
-            Some(scale) => Loss::with_scale(kind, scale)?,
-            None => Loss::new(kind),
-        };
+        let loss = Loss::from_parts(kind, self.loss_scale)?;
         let prior = match self.prior.as_deref().map(str::trim) {
             None | Some("") => None,
             Some(text) => Some(
