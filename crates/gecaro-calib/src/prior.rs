@@ -66,12 +66,14 @@ impl Prior {
         Ok(prior)
     }
 
-    /// Checks the overrides against `robot`: each names a parameter of it,
-    /// once, with a finite positive σ.
+    /// Checks the prior against `robot`: finite positive σ per kind, and
+    /// overrides that each name a parameter of it, once, with a finite
+    /// positive σ.
     ///
     /// # Errors
-    /// [`Error::InvalidOption`] (`--prior`) naming the parameter.
+    /// [`Error::InvalidOption`] (`--prior`) naming the kind or parameter.
     pub fn check(&self, robot: &Robot) -> Result<(), Error> {
+        Prior::new(self.length, self.angle, self.gain)?;
         for (position, (id, sigma)) in self.overrides.iter().enumerate() {
             if robot.parameters().index_of(*id).is_none() {
                 return Err(Error::InvalidOption {

@@ -81,7 +81,7 @@ use crate::study::{Study, StudyStates};
 
 pub use outliers::{DEFAULT_OUTLIER_THRESHOLD, Outlier};
 pub use reweighting::MAX_REWEIGHTINGS;
-use reweighting::{PriorRow, ResidualStatistics, Weighting};
+use reweighting::{PriorRow, Reweighted, Weighting};
 
 /// How steps are taken.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
@@ -875,15 +875,10 @@ fn check_options(robot: &Robot, options: &IdentificationOptions) -> Result<(), E
             message: format!("must be a positive number of robust σ, not {threshold}"),
         });
     }
-    Loss::with_scale(options.loss.kind, options.loss.scale).or_else(|error| {
-        if options.loss.is_l2() {
-            Ok(options.loss)
-        } else {
-            Err(error)
-        }
-    })?;
+    if !options.loss.is_l2() {
+        Loss::with_scale(options.loss.kind, options.loss.scale)?;
+    }
     if let Some(prior) = &options.prior {
-        Prior::new(prior.length, prior.angle, prior.gain)?;
         prior.check(robot)?;
     }
     Ok(())
@@ -1008,48 +1003,23 @@ fn fit(
         .as_ref()
         .map(|prior| prior_rows(prior, robot, &problem, excited.report.relations()))
         .unwrap_or_default();
+    let Reweighted {
+        run: Run {
+            best,
+            history: updates,
+            stop,
+        },
+        weighting,
+        statistics,
+        reweightings,
+    } = problem.reweighted(run, options.loss, prior_rows, &mut states, &mut progress)?;
     let prior_std = |column: usize| {
-        prior_rows
+        weighting
+            .prior_rows
             .iter()
             .find(|row| row.column == column)
             .map(|row| row.sigma)
     };
-    let (run, weighting, statistics, reweightings) =
-        if options.loss.is_l2() && prior_rows.is_empty() {
-            let statistics =
-                ResidualStatistics::of(&run.best.system, &options.loss, equations, unknowns);
-            (run, Weighting::default(), statistics, 0)
-        } else {
-            let Run {
-                best,
-                history: mut updates,
-                ..
-            } = run;
-            let reweighted = problem.reweighted(
-                best,
-                options.loss,
-                prior_rows.clone(),
-                &mut states,
-                &mut progress,
-            )?;
-            updates.extend(reweighted.run.history);
-            let run = Run {
-                best: reweighted.run.best,
-                history: updates,
-                stop: reweighted.run.stop,
-            };
-            (
-                run,
-                reweighted.weighting,
-                reweighted.statistics,
-                reweighted.reweightings,
-            )
-        };
-    let Run {
-        best,
-        history: updates,
-        stop,
-    } = run;
     let mut history = vec![first];
     history.extend(updates);
 
@@ -1063,14 +1033,11 @@ fn fit(
         let rows = system.measured_rows();
         let data = view(&system.matrix()[..rows * columns], rows, columns);
         let right = system.weighted_residuals();
-        let normal = crate::linalg::NormalEquations::of(data, &right[..rows]);
+        let normal = NormalEquations::of(data, &right[..rows]);
         condition_number = precision(data, &normal, problem.condition)?.1;
     }
-    let variance = if weighting.observation_weights.is_empty() && weighting.prior_rows.is_empty() {
-        best.cost / (equations - unknowns) as f64
-    } else {
-        statistics.variance
-    };
+    // σ² = Σ w e²/(n_eff − b): ‖r‖²/(equations − b) in least squares.
+    let variance = statistics.variance;
     let std = |column: usize| (variance * solved.inverse_normal_diagonal[column]).sqrt();
     let auxiliary_names = study.auxiliary_names();
     let auxiliary_columns = problem.base_auxiliary.len();

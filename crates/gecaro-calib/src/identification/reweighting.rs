@@ -2,7 +2,9 @@
 //! reweighted least squares ([`crate::Loss`]), a Gaussian prior as
 //! pseudo-observation rows ([`crate::Prior`]), or both.
 //!
-//! It starts from the plain least-squares solution. Each outer iteration
+//! Without a robust loss or a prior it only takes the statistics of the
+//! least-squares solution (for the outlier report and σ). Otherwise it
+//! starts from that solution. Each outer iteration
 //! computes, at the current parameters, the robust σ̂ of the scaled
 //! residuals, the observations' standardised residuals `u_i` and their
 //! weights `w(u_i)`, and the data's a-posteriori variance under those weights
@@ -20,7 +22,7 @@
 
 use gecaro_core::Robot;
 
-use super::{Damping, Iterate, IterationRecord, Problem, Run, StopReason};
+use super::{Damping, IterationRecord, Problem, Run};
 use crate::Error;
 use crate::observation::{ObservationSystem, RowKind};
 use crate::robust::{Loss, LossKind, observation_rms, robust_sigma};
@@ -173,6 +175,8 @@ impl ResidualStatistics {
 
 /// What the reweighted phase produced.
 pub(super) struct Reweighted {
+    /// The run from the nominal robot: the least-squares updates, then those
+    /// of every reweighting.
     pub(super) run: Run,
     /// The weighting of the final system.
     pub(super) weighting: Weighting,
@@ -183,11 +187,12 @@ pub(super) struct Reweighted {
 }
 
 impl Problem<'_> {
-    /// The reweighted phase from `start` (see the module docs); `prior`
-    /// holds the prior rows (weights to be set), empty without a prior.
+    /// The reweighted phase after the least-squares `run` (see the module
+    /// docs); `prior` holds the prior rows (weights to be set), empty without
+    /// a prior.
     pub(super) fn reweighted(
         &self,
-        start: Iterate,
+        run: Run,
         loss: Loss,
         prior: Vec<PriorRow>,
         states: &mut StudyStates,
@@ -195,22 +200,37 @@ impl Problem<'_> {
     ) -> Result<Reweighted, Error> {
         let equations = self.study.equation_count();
         let unknowns = self.layout.columns();
+        if loss.is_l2() && prior.is_empty() {
+            let statistics = ResidualStatistics::of(&run.best.system, &loss, equations, unknowns);
+            return Ok(Reweighted {
+                run,
+                weighting: Weighting::default(),
+                statistics,
+                reweightings: 0,
+            });
+        }
         // Redescending losses start from Huber's unique minimum.
         let stages = if loss.kind.redescending() {
             vec![Loss::new(LossKind::Huber), loss]
         } else {
             vec![loss]
         };
-        let mut current = start;
-        let mut history = Vec::new();
-        let mut stop = StopReason::Converged;
+        let Run {
+            best: mut current,
+            mut history,
+            mut stop,
+        } = run;
         let mut weighting = Weighting {
             observation_weights: Vec::new(),
             prior_rows: prior,
         };
         let mut reweightings = 0;
         let mut variance = f64::NAN;
+        // The statistics of `current` under the last stage's loss, when the
+        // last stage settled (otherwise taken after the loop).
+        let mut settled_statistics = None;
         for stage in &stages {
+            settled_statistics = None;
             for _ in 0..MAX_REWEIGHTINGS {
                 let statistics =
                     ResidualStatistics::of(&current.system, stage, equations, unknowns);
@@ -223,20 +243,24 @@ impl Problem<'_> {
                         ),
                     });
                 }
-                let previous = if weighting.observation_weights.is_empty() {
-                    vec![1.0; statistics.weights.len()]
-                } else {
-                    weighting.observation_weights.clone()
+                let weight = |observation: usize| {
+                    weighting
+                        .observation_weights
+                        .get(observation)
+                        .copied()
+                        .unwrap_or(1.0)
                 };
                 let moved = statistics
                     .weights
                     .iter()
-                    .zip(&previous)
-                    .map(|(a, b)| (a - b).abs())
+                    .enumerate()
+                    .map(|(observation, w)| (w - weight(observation)).abs())
                     .fold(0.0, f64::max);
-                let settled = moved <= WEIGHT_TOLERANCE
-                    && (statistics.variance - variance).abs() <= 1e-3 * variance;
-                if settled && reweightings > 0 {
+                if reweightings > 0
+                    && moved <= WEIGHT_TOLERANCE
+                    && (statistics.variance - variance).abs() <= 1e-3 * variance
+                {
+                    settled_statistics = Some(statistics);
                     break;
                 }
                 variance = statistics.variance;
@@ -270,11 +294,12 @@ impl Problem<'_> {
                 reweightings += 1;
             }
         }
-        let last = stages.last().copied().unwrap_or_default();
-        let statistics = ResidualStatistics::of(&current.system, &last, equations, unknowns);
-        // The descent ran with the weights of the statistics before it: the
-        // reported weights are those of the final system.
-        let mut statistics = statistics;
+        let mut statistics = settled_statistics.unwrap_or_else(|| {
+            let last = stages.last().copied().unwrap_or_default();
+            ResidualStatistics::of(&current.system, &last, equations, unknowns)
+        });
+        // The final system was solved with the weights and the variance set
+        // before its descent: those are the ones to report.
         if !weighting.observation_weights.is_empty() {
             statistics.weights = weighting.observation_weights.clone();
         }
