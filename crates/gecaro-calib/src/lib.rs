@@ -81,6 +81,7 @@ pub use identification::{
 };
 pub use methods::{
     CalibrationMethod, CloneMethod, METHODS, MethodInfo, MethodOptions, Plane, method, method_info,
+    units,
 };
 pub use observability::{AUXILIARY_UNIT, Observability};
 pub use observation::{
@@ -89,7 +90,6 @@ pub use observation::{
 };
 pub use planning::{
     CandidatePool, Criterion, DesignQuality, Plan, PlanRequest, assess_design, plan_configurations,
-    units,
 };
 pub use prediction::{MonteCarlo, PoseErrors, Prediction, monte_carlo, predict, random_test_poses};
 pub use prior::Prior;

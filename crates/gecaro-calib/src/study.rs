@@ -6,12 +6,12 @@
 use gecaro_core::{KinematicModel, Robot};
 
 use crate::Error;
-use crate::methods::{CalibrationMethod, groups};
+use crate::methods::{CalibrationMethod, units};
 use crate::observation::{
     ColumnLayout, ObservationSystem, RowWriter, TerminalState, evaluate_poses, evaluate_states,
     linearise_independent,
 };
-use crate::sample::{DataColumn, Sample};
+use crate::sample::Sample;
 
 /// One measurement set of a study.
 #[derive(Debug)]
@@ -30,15 +30,22 @@ pub struct MeasurementSet {
     pub label: String,
 }
 
-impl Clone for MeasurementSet {
-    fn clone(&self) -> Self {
+impl MeasurementSet {
+    /// The same set (method, σ, label) with other samples.
+    pub fn with_samples(&self, samples: Vec<Sample>) -> MeasurementSet {
         MeasurementSet {
             method: self.method.clone_method(),
-            samples: self.samples.clone(),
+            samples,
             sigma: self.sigma,
             sigma_rotation: self.sigma_rotation,
             label: self.label.clone(),
         }
+    }
+}
+
+impl Clone for MeasurementSet {
+    fn clone(&self) -> Self {
+        self.with_samples(self.samples.clone())
     }
 }
 
@@ -262,32 +269,26 @@ impl Study {
             .iter()
             .enumerate()
             .map(|(index, set)| {
-                let drop = dropped.get(index).map_or(&[][..], Vec::as_slice);
-                let grouped = set
-                    .method
-                    .data_columns()
-                    .iter()
-                    .any(|c| matches!(c, DataColumn::Set | DataColumn::Pair));
-                let mut keep: Vec<bool> =
-                    (0..set.samples.len()).map(|i| !drop.contains(&i)).collect();
-                if grouped {
-                    for members in groups(&set.samples) {
-                        let kept: Vec<usize> = members.into_iter().filter(|i| keep[*i]).collect();
-                        if kept.len() < 2 {
-                            kept.into_iter().for_each(|i| keep[i] = false);
-                        }
+                let mut keep = vec![true; set.samples.len()];
+                for &sample in dropped.get(index).map_or(&[][..], Vec::as_slice) {
+                    if let Some(kept) = keep.get_mut(sample) {
+                        *kept = false;
                     }
                 }
-                MeasurementSet {
-                    samples: set
-                        .samples
+                for unit in units(set.method.as_ref(), &set.samples) {
+                    let kept: Vec<usize> = unit.iter().copied().filter(|i| keep[*i]).collect();
+                    if unit.len() > 1 && kept.len() < 2 {
+                        kept.into_iter().for_each(|i| keep[i] = false);
+                    }
+                }
+                set.with_samples(
+                    set.samples
                         .iter()
                         .zip(&keep)
                         .filter(|(_, kept)| **kept)
                         .map(|(sample, _)| sample.clone())
                         .collect(),
-                    ..set.clone()
-                }
+                )
             })
             .collect();
         Study { sets }

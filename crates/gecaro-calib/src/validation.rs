@@ -24,9 +24,9 @@ use gecaro_core::{ParameterKind, PriorityMatrix, Robot};
 
 use crate::Error;
 use crate::identification::{Identification, IdentificationOptions, evaluate, identify};
-use crate::planning::units;
+use crate::methods::units;
 use crate::sampler::Sampler;
-use crate::study::{MeasurementSet, Study};
+use crate::study::Study;
 
 /// The held-out errors of one fold.
 #[derive(Clone, Debug, PartialEq)]
@@ -105,12 +105,12 @@ pub fn cross_validate_with(
                 .iter()
                 .zip(&dropped)
                 .filter(|(_, kept)| !kept.is_empty())
-                .map(|(set, kept)| MeasurementSet {
-                    samples: kept
-                        .iter()
-                        .map(|index| set.samples[*index].clone())
-                        .collect(),
-                    ..set.clone()
+                .map(|(set, kept)| {
+                    set.with_samples(
+                        kept.iter()
+                            .map(|index| set.samples[*index].clone())
+                            .collect(),
+                    )
                 })
                 .collect(),
         };

@@ -367,6 +367,21 @@ pub(crate) fn groups(samples: &[Sample]) -> Vec<Vec<usize>> {
     members
 }
 
+/// The units of `samples` for `method`: the sample indices of each set or
+/// pair (link and distance methods, grouped as the methods group them, in
+/// order of first appearance), single samples otherwise.
+pub fn units(method: &dyn CalibrationMethod, samples: &[Sample]) -> Vec<Vec<usize>> {
+    let grouped = method
+        .data_columns()
+        .iter()
+        .any(|c| matches!(c, DataColumn::Set | DataColumn::Pair));
+    if grouped {
+        groups(samples)
+    } else {
+        (0..samples.len()).map(|index| vec![index]).collect()
+    }
+}
+
 /// Checks that every group has between `min` and `max` members.
 pub(crate) fn check_group_sizes(
     samples: &[Sample],

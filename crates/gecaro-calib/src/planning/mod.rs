@@ -25,9 +25,9 @@ use gecaro_core::{PriorityMatrix, Robot};
 use nalgebra::{DMatrix, DVector};
 
 use crate::Error;
-use crate::methods::{CalibrationMethod, groups};
+use crate::methods::{CalibrationMethod, units};
 use crate::observability::Observability;
-use crate::sample::{DataColumn, Sample};
+use crate::sample::Sample;
 use crate::sampler::Sampler;
 
 mod columns;
@@ -95,21 +95,6 @@ pub struct Plan {
     pub exchanges: usize,
     /// Names of the base parameters (columns), auxiliary unknowns first.
     pub columns: Vec<String>,
-}
-
-/// The units of `samples` for `method`: the sample indices of each set or
-/// pair (link and distance methods, grouped as the methods group them, in
-/// order of first appearance), single samples otherwise.
-pub fn units(method: &dyn CalibrationMethod, samples: &[Sample]) -> Vec<Vec<usize>> {
-    let grouped = method
-        .data_columns()
-        .iter()
-        .any(|c| matches!(c, DataColumn::Set | DataColumn::Pair));
-    if grouped {
-        groups(samples)
-    } else {
-        (0..samples.len()).map(|index| vec![index]).collect()
-    }
 }
 
 /// A candidate pool, cut into units, with the rows each contributes to the
