@@ -221,10 +221,7 @@ pub(super) fn prepare(args: &IdentificationRunArgs) -> Result<Prepared, Failure>
         Some(path) => Some(read_priority_file(path, robot)?),
         None => study_priority,
     };
-    let priority = match model(&args.model, robot)? {
-        Model::Full => priority,
-        model => Some(model.priority(robot, &priority.unwrap_or_else(|| robot.priority()))),
-    };
+    let priority = model(&args.model, robot)?.priority(robot, priority.as_ref());
     let data_label = args
         .data
         .clone()
@@ -236,7 +233,7 @@ pub(super) fn prepare(args: &IdentificationRunArgs) -> Result<Prepared, Failure>
             SolverArg::Lm => Solver::LevenbergMarquardt,
         },
         max_iterations: args.max_iterations,
-        priority,
+        priority: Some(priority),
         ..robust_options(args, study_prior)?
     };
     Ok(Prepared {

@@ -211,12 +211,12 @@ impl Model {
         }
     }
 
-    /// The priority matrix of this model for `robot`, from `priority` (the
-    /// full model's).
-    pub fn priority(&self, robot: &Robot, priority: &PriorityMatrix) -> PriorityMatrix {
+    /// The priority matrix of this model for `robot`, from `full` (the full
+    /// model's; the robot's own when `None`).
+    pub fn priority(&self, robot: &Robot, full: Option<&PriorityMatrix>) -> PriorityMatrix {
         let mut matrix = match self {
             Model::Matrix(_, matrix) => return matrix.clone(),
-            _ => priority.clone(),
+            _ => full.cloned().unwrap_or_else(|| robot.priority()),
         };
         for id in robot.parameters().ids() {
             let keep = match self {
@@ -293,11 +293,10 @@ pub fn compare_models(
     seed: u64,
     mut progress: impl FnMut(&Model, usize),
 ) -> Result<Vec<ModelScore>, Error> {
-    let full = options.priority.clone().unwrap_or_else(|| robot.priority());
     let mut scores = Vec::with_capacity(models.len());
     for model in models {
         let options = IdentificationOptions {
-            priority: Some(model.priority(robot, &full)),
+            priority: Some(model.priority(robot, options.priority.as_ref())),
             ..options.clone()
         };
         let validation = cross_validate_with(robot, study, &options, folds, seed, |fold| {
@@ -324,7 +323,7 @@ mod tests {
         let robot = Robot::template("arm", "RRPRRR").expect("template");
         let full = robot.priority();
         let count = |model: Model, kind: ParameterKind| {
-            let matrix = model.priority(&robot, &full);
+            let matrix = model.priority(&robot, Some(&full));
             robot
                 .parameters()
                 .ids()

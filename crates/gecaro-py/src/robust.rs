@@ -38,18 +38,17 @@ impl RobustArguments<'_> {
             }
             None => study_prior,
         };
-        let priority = match self.model.parse::<Model>().py()? {
-            Model::Full => base.priority,
-            model => {
-                Some(model.priority(robot, &base.priority.unwrap_or_else(|| robot.priority())))
-            }
-        };
+        let priority = self
+            .model
+            .parse::<Model>()
+            .py()?
+            .priority(robot, base.priority.as_ref());
         Ok(IdentificationOptions {
             loss,
             prior,
             outlier_threshold: self.outlier_threshold,
             reject: self.reject,
-            priority,
+            priority: Some(priority),
             ..base
         })
     }
