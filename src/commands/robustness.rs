@@ -3,7 +3,7 @@
 
 use gecaro_calib::{Identification, Outlier};
 
-use crate::format::table;
+use crate::format::{number, table};
 
 /// Outliers listed in the text output; `--json` lists them all.
 const LISTED: usize = 20;
@@ -18,15 +18,7 @@ pub(super) fn print_robustness(result: &Identification) {
     }
     if let Some(prior) = &result.prior {
         println!(
-            "Prior around the nominal values: {} mm, {}°, {} % (maximum a posteriori; σ below is posterior){}",
-            prior.length * 1e3,
-            prior.angle.to_degrees(),
-            prior.gain * 1e2,
-            if prior.overrides.is_empty() {
-                String::new()
-            } else {
-                format!(", {} parameters with their own σ", prior.overrides.len())
-            }
+            "Prior around the nominal values: {prior} (maximum a posteriori; σ below is posterior)"
         );
     }
     if !result.rejected.is_empty() {
@@ -39,13 +31,13 @@ pub(super) fn print_robustness(result: &Identification) {
     if result.outliers.is_empty() {
         println!(
             "No outliers: every observation is within {} robust σ̂ ({:.3e}).",
-            threshold_of(result),
+            number(result.outlier_threshold, 2),
             result.robust_sigma
         );
     } else {
         println!(
             "Outliers beyond {} robust σ̂ ({} of {} observations, worst first{}):\n{}",
-            threshold_of(result),
+            number(result.outlier_threshold, 2),
             result.outliers.len(),
             result.standardized.len(),
             if result.outliers.len() > LISTED {
@@ -61,12 +53,6 @@ pub(super) fn print_robustness(result: &Identification) {
             );
         }
     }
-}
-
-/// The threshold the outliers were found with (the smallest of their
-/// residuals is above it; read back from the options through the result).
-fn threshold_of(result: &Identification) -> String {
-    crate::format::number(result.outlier_threshold, 2)
 }
 
 fn outlier_table(outliers: &[Outlier]) -> comfy_table::Table {

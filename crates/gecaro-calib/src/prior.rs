@@ -132,6 +132,25 @@ impl Prior {
     }
 }
 
+/// `5 mm, 0.5°, 1 %` (and how many parameters have their own σ), as
+/// people write a prior.
+impl std::fmt::Display for Prior {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} mm, {}°, {} %",
+            self.length * 1e3,
+            self.angle.to_degrees(),
+            self.gain * 1e2
+        )?;
+        match self.overrides.len() {
+            0 => Ok(()),
+            1 => write!(f, ", 1 parameter with its own σ"),
+            count => write!(f, ", {count} parameters with their own σ"),
+        }
+    }
+}
+
 fn check_sigma(value: f64, what: impl FnOnce() -> String) -> Result<(), Error> {
     if value.is_finite() && value > 0.0 {
         Ok(())
@@ -158,6 +177,10 @@ mod tests {
         prior.overrides.push((id("d3"), 0.001));
         assert_eq!(prior.sigma(id("d3"), 0.0), 0.001);
         prior.check(&robot).expect("valid");
+        assert_eq!(
+            prior.to_string(),
+            "5 mm, 0.5729577951308232°, 2 %, 1 parameter with its own σ"
+        );
         // A regrouped base parameter carries its partners' prior.
         let relations = [Relation {
             base: "d3".into(),

@@ -14,7 +14,7 @@ use gecaro_calib::{
 };
 use gecaro_core::{PriorityMatrix, Robot};
 use gecaro_io::RobotFile;
-use gecaro_report::json::{IdentifiableJson, IdentificationJson, SummaryJson};
+use gecaro_report::json::{IdentifiableJson, IdentificationJson, OutlierJson, SummaryJson};
 use numpy::PyArrayDyn;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -654,15 +654,13 @@ impl PyIdentification {
     /// rotation_error, residual_sigmas and weight (as `--json`).
     #[getter]
     fn outliers<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let document = IdentificationJson::new(&self.study, &self.result);
-        json_to_python(py, &to_json(&document.outliers)?)
+        json_to_python(py, &to_json(&OutlierJson::list(&self.result.outliers))?)
     }
 
     /// Observations dropped before this fit (`reject=True`), as `outliers`.
     #[getter]
     fn rejected<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let document = IdentificationJson::new(&self.study, &self.result);
-        json_to_python(py, &to_json(&document.rejected)?)
+        json_to_python(py, &to_json(&OutlierJson::list(&self.result.rejected))?)
     }
 
     /// The document `gecaro identify --json` prints, as a dict.

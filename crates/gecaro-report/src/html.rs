@@ -311,10 +311,8 @@ fn robustness(html: &mut String, result: &Identification) {
     if let Some(prior) = &result.prior {
         let _ = write!(
             html,
-            " Prior around the nominal values: {} mm, {}°, {} % (maximum a posteriori; σ is posterior).",
-            prior.length * 1e3,
-            prior.angle.to_degrees(),
-            prior.gain * 1e2
+            " Prior around the nominal values: {} (maximum a posteriori; σ is posterior).",
+            escape(&prior.to_string())
         );
     }
     html.push_str("</p>\n");

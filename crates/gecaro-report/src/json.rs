@@ -275,21 +275,24 @@ pub struct OutlierJson {
     pub weight: f64,
 }
 
-fn outliers(outliers: &[gecaro_calib::Outlier]) -> Vec<OutlierJson> {
-    outliers
-        .iter()
-        .map(|o| OutlierJson {
-            set: o.set,
-            file: o.label.clone(),
-            kind: o.kind,
-            observation: o.observation + 1,
-            lines: o.lines.clone(),
-            error: o.error,
-            rotation_error: o.rotation_error,
-            residual_sigmas: o.standardized,
-            weight: o.weight,
-        })
-        .collect()
+impl OutlierJson {
+    /// The documents of `outliers`, in their order.
+    pub fn list(outliers: &[gecaro_calib::Outlier]) -> Vec<OutlierJson> {
+        outliers
+            .iter()
+            .map(|o| OutlierJson {
+                set: o.set,
+                file: o.label.clone(),
+                kind: o.kind,
+                observation: o.observation + 1,
+                lines: o.lines.clone(),
+                error: o.error,
+                rotation_error: o.rotation_error,
+                residual_sigmas: o.standardized,
+                weight: o.weight,
+            })
+            .collect()
+    }
 }
 
 fn parameters(parameters: &[IdentifiedParameter]) -> Vec<ParameterJson> {
@@ -458,8 +461,8 @@ impl IdentificationJson {
             reweightings: result.reweightings,
             robust_sigma: result.robust_sigma,
             outlier_threshold: result.outlier_threshold,
-            outliers: outliers(&result.outliers),
-            rejected: outliers(&result.rejected),
+            outliers: OutlierJson::list(&result.outliers),
+            rejected: OutlierJson::list(&result.rejected),
             prior: result.prior.as_ref().map(|prior| PriorJson {
                 length: prior.length,
                 angle: prior.angle,
