@@ -174,6 +174,26 @@ pub fn error_histograms_svg(before: &[f64], after: &[f64], unit: &str) -> Result
     })
 }
 
+/// The series labels of `chart` in gecaro's style, at `position`.
+fn legend<'a, DB, CT>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    position: SeriesLabelPosition,
+) -> Result<(), Error>
+where
+    DB: DrawingBackend + 'a,
+    DB::ErrorType: 'static,
+    CT: CoordTranslate,
+{
+    chart
+        .configure_series_labels()
+        .position(position)
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK.mix(0.3))
+        .label_font((FONT, 13))
+        .draw()
+        .map_err(plot_error)
+}
+
 /// The error of every configuration before and after (log scale); the
 /// observations listed in `outliers` (indices into `after`) are ringed.
 ///
@@ -232,14 +252,7 @@ pub fn errors_per_configuration_svg(
                 .label("outlier")
                 .legend(move |(x, y)| Circle::new((x, y), 6, ring));
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.9))
-            .border_style(BLACK.mix(0.3))
-            .label_font((FONT, 13))
-            .draw()
-            .map_err(plot_error)?;
-        Ok(())
+        legend(&mut chart, SeriesLabelPosition::MiddleRight)
     })
 }
 
@@ -362,15 +375,7 @@ pub fn accuracy_curve_svg(curve: &[CurvePoint]) -> Result<String, Error> {
                 .draw_series(points.iter().map(|p| Circle::new(*p, 4, color.filled())))
                 .map_err(plot_error)?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.9))
-            .border_style(BLACK.mix(0.3))
-            .label_font((FONT, 13))
-            .draw()
-            .map_err(plot_error)?;
-        Ok(())
+        legend(&mut chart, SeriesLabelPosition::UpperRight)
     })
 }
 
