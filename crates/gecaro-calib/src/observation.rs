@@ -566,7 +566,11 @@ impl<'a> RowWriter<'a> {
             RowKind::Length => self.row_weights[0],
             RowKind::Angle => self.row_weights[1],
         };
-        let weight = sensor_weight * self.observation_weight(observation).sqrt();
+        let weight = if self.observation_weights.is_empty() {
+            sensor_weight
+        } else {
+            sensor_weight * self.observation_weight(observation).sqrt()
+        };
         let target = &mut self.matrix[row * self.columns..(row + 1) * self.columns];
         for (index, column) in &self.layout.mapped {
             target[*column] = weight * parameters[*index];

@@ -227,13 +227,21 @@ pub fn robust_sigma(values: &[f64]) -> f64 {
     MAD_TO_SIGMA * median(values.iter().map(|v| (v - centre).abs()).collect())
 }
 
+/// The median of `values` (non-empty), by selection: O(n), no sort.
 fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    let middle = values.len() / 2;
-    if values.len() % 2 == 1 {
-        values[middle]
+    let length = values.len();
+    let (below, upper, _) = values.select_nth_unstable_by(length / 2, f64::total_cmp);
+    let upper = *upper;
+    if length % 2 == 1 {
+        upper
     } else {
-        0.5 * (values[middle - 1] + values[middle])
+        // The other middle value is the largest of the lower half.
+        let lower = below
+            .iter()
+            .copied()
+            .max_by(f64::total_cmp)
+            .unwrap_or(upper);
+        0.5 * (lower + upper)
     }
 }
 
@@ -311,6 +319,9 @@ mod tests {
         }
         assert!((robust_sigma(&dirty) - 2.0).abs() < 0.4);
         assert_eq!(robust_sigma(&[]), 0.0);
+        // Odd and even counts: the middle value, the mean of the two middle ones.
+        assert_eq!(median(vec![5.0, 1.0, 3.0]), 3.0);
+        assert_eq!(median(vec![4.0, 1.0, 3.0, 2.0]), 2.5);
     }
 
     #[test]

@@ -67,6 +67,9 @@ pub(super) fn find_outliers(
     threshold: f64,
 ) -> Vec<Outlier> {
     let mut outliers = Vec::new();
+    if !statistics.standardized.iter().any(|u| *u > threshold) {
+        return outliers;
+    }
     let mut base = 0;
     for (set_index, set) in study.sets.iter().enumerate() {
         let observations = set.method.observation_samples(&set.samples);

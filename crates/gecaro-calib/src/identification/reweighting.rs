@@ -125,16 +125,21 @@ impl ResidualStatistics {
                 .collect();
             (values.len(), robust_sigma(&values))
         };
-        let pooled =
-            [RowKind::Length, RowKind::Angle].map(|kind| sigma_over(0..kinds.len(), kind).1);
+        // All sets' σ̂ of a kind: a single set's own, otherwise computed
+        // only if a set needs it or to report it.
+        const KINDS: [RowKind; 2] = [RowKind::Length, RowKind::Angle];
+        let single = system.set_rows().len() == 1;
+        let mut pooled: [Option<f64>; 2] = [None; 2];
         let mut row_sigma = vec![0.0; kinds.len()];
         for rows in system.set_rows() {
-            for (slot, kind) in [RowKind::Length, RowKind::Angle].into_iter().enumerate() {
-                let (count, sigma) = sigma_over(rows.clone(), kind);
-                let sigma = if count >= MINIMUM_ROWS {
-                    sigma
+            for (slot, kind) in KINDS.into_iter().enumerate() {
+                let (count, own) = sigma_over(rows.clone(), kind);
+                let sigma = if single {
+                    *pooled[slot].insert(own)
+                } else if count >= MINIMUM_ROWS {
+                    own
                 } else {
-                    pooled[slot]
+                    *pooled[slot].get_or_insert_with(|| sigma_over(0..kinds.len(), kind).1)
                 };
                 for row in rows.clone().filter(|row| kinds[*row] == kind) {
                     row_sigma[row] = sigma;
@@ -148,11 +153,9 @@ impl ResidualStatistics {
             .zip(&row_sigma)
             .map(|(e, sigma)| e / sigma.max(RESIDUAL_FLOOR))
             .collect();
-        let robust_sigma = if kinds.contains(&RowKind::Length) {
-            pooled[0]
-        } else {
-            pooled[1]
-        };
+        let slot = usize::from(!kinds.contains(&RowKind::Length));
+        let robust_sigma =
+            pooled[slot].unwrap_or_else(|| sigma_over(0..kinds.len(), KINDS[slot]).1);
         let standardized =
             observation_rms(&standardized_rows, observations, system.observation_count());
         let weights: Vec<f64> = standardized.iter().map(|u| loss.weight(*u)).collect();

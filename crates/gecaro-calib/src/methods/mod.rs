@@ -419,17 +419,15 @@ pub(crate) fn centre(buffer: &mut [f64], weights: &[f64]) {
     let members = weights.len();
     let stride = buffer.len() / members.max(1);
     let total: f64 = weights.iter().sum();
-    let weight = |m: usize| {
-        if total > 0.0 {
-            weights[m] / total
-        } else {
-            1.0 / members as f64
-        }
-    };
+    // Equal weights (least squares): the plain mean, as without weights.
+    let uniform = total <= 0.0 || weights.iter().all(|w| *w == weights[0]);
     for offset in 0..stride {
-        let mean = (0..members)
-            .map(|m| weight(m) * buffer[m * stride + offset])
-            .sum::<f64>();
+        let values = (0..members).map(|m| (weights[m], buffer[m * stride + offset]));
+        let mean = if uniform {
+            values.map(|(_, value)| value).sum::<f64>() / members as f64
+        } else {
+            values.map(|(weight, value)| weight * value).sum::<f64>() / total
+        };
         for m in 0..members {
             buffer[m * stride + offset] -= mean;
         }
