@@ -4,7 +4,7 @@ use std::ops::ControlFlow;
 
 use gecaro_calib::{CompensatedPoint, CompensationStatus, Match, compensate as compensate_program};
 use gecaro_io::{ProgramKind, load_robot, read_program, write_atomically};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 use serde::Serialize;
 
 use super::options::output_policy;
@@ -53,11 +53,8 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
         );
     }
     let bar = if program.points.len() >= QUIET_BELOW {
-        let bar = ProgressBar::new(program.points.len() as u64);
-        bar.set_style(
-            ProgressStyle::with_template("compensating {bar:30} {pos}/{len} [{elapsed}]")
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
+        let bar = super::progress_bar("compensating");
+        bar.set_length(program.points.len() as u64);
         bar
     } else {
         ProgressBar::hidden()

@@ -11,24 +11,15 @@ use gecaro_calib::{
 use gecaro_core::Robot;
 use gecaro_io::{DataFormat, format_samples, joint_types, load_robot, read_samples};
 use gecaro_report::json::{CurvePointJson, PlanJson};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 use serde::Serialize;
 
 use super::calibration::check_output;
 use super::options::{method_options, output_policy};
+use super::progress_bar;
 use crate::cli::{CriterionArg, PlanArgs, PredictArgs, TestPoseArgs};
 use crate::failure::Failure;
 use crate::format::{number, table};
-
-/// A progress bar on stderr (hidden when stderr is not a terminal).
-fn progress_bar(what: &str) -> ProgressBar {
-    let bar = ProgressBar::new(1);
-    bar.set_style(
-        ProgressStyle::with_template(&format!("{what} {{bar:30}} {{pos}}/{{len}} [{{elapsed}}]"))
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    bar
-}
 
 /// Shows `progress(done, total)` reports on `bar`.
 fn shown_on(bar: &ProgressBar) -> impl FnMut(usize, usize) -> ControlFlow<()> + '_ {

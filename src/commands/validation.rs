@@ -7,7 +7,7 @@ use gecaro_calib::{
 };
 use gecaro_core::Robot;
 use gecaro_report::json::{CrossValidationJson, ModelScoreJson};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 
 use super::calibration::{Prepared, model, prepare};
 use crate::cli::CompareModelsArgs;
@@ -15,12 +15,9 @@ use crate::failure::Failure;
 use crate::format::table;
 
 /// A bar over `total` fold identifications.
-fn fold_bar(total: usize) -> ProgressBar {
-    let bar = ProgressBar::new(total as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} folds")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
+fn fold_bar(what: &str, total: usize) -> ProgressBar {
+    let bar = super::progress_bar(what);
+    bar.set_length(total as u64);
     bar
 }
 
@@ -32,8 +29,7 @@ pub(super) fn cross_validation(
     folds: usize,
     seed: u64,
 ) -> Result<CrossValidation, Failure> {
-    let bar = fold_bar(folds);
-    bar.set_message("cross-validating");
+    let bar = fold_bar("cross-validating", folds);
     let result = cross_validate_with(robot, study, options, folds, seed, |done| {
         bar.set_position(done as u64);
     });
@@ -138,7 +134,7 @@ pub(crate) fn compare(args: &CompareModelsArgs) -> Result<(), Failure> {
     if models.is_empty() {
         return Err(Failure::usage("--models lists no model", None));
     }
-    let bar = fold_bar(models.len() * args.cv);
+    let bar = fold_bar("comparing models (folds)", models.len() * args.cv);
     let mut done = 0;
     let scores = compare_models(
         robot,
@@ -147,9 +143,8 @@ pub(crate) fn compare(args: &CompareModelsArgs) -> Result<(), Failure> {
         &models,
         args.cv,
         args.seed,
-        |model, _| {
+        |_, _| {
             done += 1;
-            bar.set_message(model.to_string());
             bar.set_position(done as u64);
         },
     );
