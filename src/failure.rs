@@ -51,7 +51,10 @@ impl From<gecaro_calib::Error> for Failure {
         use gecaro_calib::Error as Calib;
         match error {
             Calib::Model(model) => model.into(),
-            Calib::InvalidOption { .. } => Failure::usage(error.to_string(), None),
+            Calib::InvalidOption { setting, message } => Failure::usage(
+                format!("--{}: {message}", setting.key().replace('_', "-")),
+                None,
+            ),
             Calib::Generation { .. } | Calib::Numerical { .. } | Calib::TooFewEquations { .. } => {
                 Failure::Numerical(error.to_string())
             }

@@ -289,7 +289,17 @@ fn chosen_configurations_keep_the_minimum_distance() {
         |_, _| ControlFlow::Continue(()),
     )
     .expect_err("too far apart");
-    assert!(error.to_string().contains("--min-distance"), "{error}");
+    assert!(
+        matches!(
+            error,
+            gecaro_calib::Error::InvalidOption {
+                setting: gecaro_calib::Setting::MinDistance,
+                ..
+            }
+        ),
+        "{error}"
+    );
+    assert!(error.to_string().contains("minimum distance"), "{error}");
 }
 
 /// Measuring sessions per design and seed.
@@ -307,10 +317,12 @@ fn planned_beats_random(robot: &str, name: &str, count: usize, pool_size: usize)
     let robot = ready(robot);
     let chosen = method(name, &MethodOptions::default()).expect("method");
     let pool = chosen
+        .sensor()
         .generate(&robot, pool_size, 0.0, &mut Sampler::new(11))
         .expect("pool");
     let planned = plan(&robot, name, &pool, count);
     let held_out = chosen
+        .sensor()
         .generate(&robot, 2 * count, 0.0, &mut Sampler::new(12))
         .expect("held out");
     let mut wins = 0;
@@ -387,6 +399,7 @@ fn every_method_measures_at_planned_configurations_and_identifies() {
     ] {
         let chosen = method(name, &options).expect("method");
         let pool = chosen
+            .sensor()
             .generate(&robot, 6 * count, 0.0, &mut Sampler::new(4))
             .expect("pool");
         let planned = plan_with(&robot, chosen.as_ref(), &pool, &PlanRequest::new(count));

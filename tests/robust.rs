@@ -249,7 +249,7 @@ fn bad_robust_options_are_named() {
                 outlier_threshold: -1.0,
                 ..IdentificationOptions::default()
             },
-            "--outlier-threshold",
+            "outlier threshold",
         ),
         (
             IdentificationOptions {
@@ -259,7 +259,7 @@ fn bad_robust_options_are_named() {
                 },
                 ..IdentificationOptions::default()
             },
-            "--loss-scale",
+            "loss scale",
         ),
         (
             IdentificationOptions {

@@ -91,7 +91,9 @@ pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
         Some(path) => configurations(robot, path, &columns)?,
         None => {
             let count = args.pool.unwrap_or(20 * largest);
-            chosen.generate(robot, count, 0.0, &mut Sampler::new(args.seed))?
+            chosen
+                .sensor()
+                .generate(robot, count, 0.0, &mut Sampler::new(args.seed))?
         }
     };
     let kept = match &args.keep {

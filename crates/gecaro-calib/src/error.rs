@@ -15,11 +15,12 @@ pub enum Error {
         /// The method names.
         available: Vec<&'static str>,
     },
-    /// A method option is missing or impossible (a zero plane normal, ...).
-    #[error("{option}: {message}")]
+    /// A setting is missing or impossible (a zero plane normal, a negative
+    /// noise, ...).
+    #[error("{setting}: {message}")]
     InvalidOption {
-        /// The option, as named on the command line (`--plane-normal`).
-        option: &'static str,
+        /// The setting at fault.
+        setting: Setting,
         /// What is wrong.
         message: String,
     },
@@ -65,5 +66,79 @@ fn line_prefix(line: &Option<usize>) -> String {
     match line {
         Some(line) => format!("line {line}: "),
         None => String::new(),
+    }
+}
+
+/// A setting of a calibration job, named in the library's terms; each front
+/// end words it its own way (`--error-level` on the command line,
+/// `error_level=` in Python) from its [`key`](Setting::key).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Setting {
+    /// The error level of a simulated real robot (1 = ±1 cm, ±1°, ±1 %).
+    ErrorLevel,
+    /// A number of configurations to generate or choose.
+    Count,
+    /// The standard deviation of simulated sensor noise.
+    Noise,
+    /// The smallest joint-space distance between planned configurations.
+    MinDistance,
+    /// The poses a calibrated robot is judged at.
+    TestPoses,
+    /// The loss of identification.
+    Loss,
+    /// The scale of a robust loss.
+    LossScale,
+    /// The folds of a cross-validation.
+    Folds,
+    /// Which parameters may be identified.
+    Model,
+    /// The outlier threshold.
+    OutlierThreshold,
+    /// The plane of the plane methods (known or not, given or not).
+    Plane,
+    /// The normal of that plane.
+    PlaneNormal,
+    /// A point of that plane.
+    PlanePoint,
+    /// The configurations per set of generated link data.
+    SetSize,
+    /// A Gaussian prior around the nominal values.
+    Prior,
+}
+
+impl Setting {
+    /// The setting's key, in snake case (`error_level`): what front ends
+    /// name it after.
+    pub fn key(self) -> &'static str {
+        match self {
+            Setting::ErrorLevel => "error_level",
+            Setting::Count => "count",
+            Setting::Noise => "noise",
+            Setting::MinDistance => "min_distance",
+            Setting::TestPoses => "test_poses",
+            Setting::Loss => "loss",
+            Setting::LossScale => "loss_scale",
+            Setting::Folds => "cv",
+            Setting::Model => "model",
+            Setting::OutlierThreshold => "outlier_threshold",
+            Setting::Plane => "plane",
+            Setting::PlaneNormal => "plane_normal",
+            Setting::PlanePoint => "plane_point",
+            Setting::SetSize => "set_size",
+            Setting::Prior => "prior",
+        }
+    }
+}
+
+impl std::fmt::Display for Setting {
+    /// The setting in words: `error level`, `plane normal`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let words = match self {
+            Setting::Folds => "folds",
+            Setting::MinDistance => "minimum distance",
+            other => return f.write_str(&other.key().replace('_', " ")),
+        };
+        f.write_str(words)
     }
 }

@@ -28,9 +28,10 @@ use crate::linalg::{
     column_geometry, condition_number, greedy_rank, largest_column_norm, regrouping_relations,
     select_columns, singular_values, view,
 };
-use crate::methods::{CalibrationMethod, MethodOptions};
+use crate::method::{CalibrationMethod, MethodOptions};
 use crate::observability::{AUXILIARY_UNIT, Observability, column_unit};
-use crate::observation::{ColumnLayout, ObservationSystem};
+use crate::observation::ObservationSystem;
+use crate::rows::ColumnLayout;
 use crate::sample::Sample;
 use crate::sampler::Sampler;
 use crate::study::{Study, StudyStates};
@@ -471,7 +472,7 @@ pub(crate) fn random_counterpart_at(
         let needed = (RANDOM_EQUATIONS_PER_UNKNOWN * unknowns as f64
             / set.method.equations_per_configuration())
         .ceil() as usize;
-        let samples = set.method.generate_like(
+        let samples = set.method.sensor().generate_like(
             robot,
             &set.samples,
             states.set(index),
@@ -605,7 +606,9 @@ pub fn random_samples(
             RANDOM_EQUATIONS_PER_UNKNOWN * unknowns as f64 / method.equations_per_configuration();
         needed.ceil() as usize + 2
     });
-    method.generate(robot, count, 0.0, &mut Sampler::new(seed))
+    method
+        .sensor()
+        .generate(robot, count, 0.0, &mut Sampler::new(seed))
 }
 
 /// The paper's "Identifiable parameters" function for a study, and what it

@@ -49,17 +49,21 @@ mod error;
 mod identifiability;
 mod identification;
 mod linalg;
+mod method;
 mod methods;
 mod observability;
 mod observation;
 mod parallel;
+mod plane;
 mod planning;
 mod prediction;
 mod prior;
 mod robust;
+mod rows;
 mod sample;
 mod sampler;
 mod simulation;
+mod states;
 mod study;
 mod table2;
 mod validation;
@@ -68,7 +72,7 @@ pub use compensation::{
     CompensatedPoint, CompensationStatus, Match, ProgramPoint, ProgramTarget, compensate,
 };
 pub use curve::{CurvePoint, RANDOM_DRAWS, accuracy_curve};
-pub use error::Error;
+pub use error::{Error, Setting};
 pub use identifiability::{
     Classified, Excitation, Identifiability, ParameterStatus, RELATIVE_ZERO_FLOOR, RankReport,
     Relation, excitation, identifiability, identifiable_parameters, identifiable_parameters_random,
@@ -79,26 +83,24 @@ pub use identification::{
     IdentifiedParameter, IterationRecord, MAX_REWEIGHTINGS, Outlier, POOR_CONDITIONING, Route,
     Solver, StopReason, evaluate, identify, identify_with_progress,
 };
-pub use methods::{
-    CalibrationMethod, CloneMethod, METHODS, MethodInfo, MethodOptions, Plane, method, method_info,
-    units,
-};
+pub use method::{CalibrationMethod, CloneMethod, MethodInfo, MethodOptions, Sensor};
+pub use methods::{METHODS, method, method_info, units};
 pub use observability::{AUXILIARY_UNIT, Observability};
-pub use observation::{
-    ColumnLayout, ObservationSystem, RowKind, RowWriter, TerminalState, evaluate_poses,
-    evaluate_states,
-};
+pub use observation::ObservationSystem;
+pub use plane::Plane;
 pub use planning::{
     CandidatePool, Criterion, DesignQuality, Plan, PlanRequest, assess_design, plan_configurations,
 };
 pub use prediction::{MonteCarlo, PoseErrors, Prediction, monte_carlo, predict, random_test_poses};
 pub use prior::Prior;
 pub use robust::{Loss, LossKind, robust_sigma};
+pub use rows::{ColumnLayout, RowKind, RowWriter};
 pub use sample::{DataColumn, Sample};
 pub use sampler::{RANDOM_STARTS, Sampler, solve_from_starts};
 pub use simulation::{
     error_unit, perturbed_robot, simulate_at, simulate_measurements, terminal_displacement,
 };
+pub use states::{TerminalState, evaluate_poses, evaluate_states};
 pub use study::{LimitViolation, MeasurementSet, Study, StudyStates};
 pub use table2::{
     STANFORD_PLANE_POINT, TABLE2_COLUMNS, TABLE2_PLANE_NORMAL, Table2Column, default_plane, table2,

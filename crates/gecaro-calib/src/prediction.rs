@@ -33,7 +33,7 @@ use nalgebra::DMatrix;
 
 use crate::Error;
 use crate::identification::{IdentificationOptions, identify};
-use crate::methods::CalibrationMethod;
+use crate::method::CalibrationMethod;
 use crate::parallel::run_parts;
 use crate::planning::BaseColumns;
 use crate::sample::Sample;

@@ -33,6 +33,7 @@
 use gecaro_core::{ParameterId, ParameterKind, Robot};
 
 use crate::Error;
+use crate::error::Setting;
 use crate::identifiability::Relation;
 
 /// A Gaussian prior; see the module docs.
@@ -77,7 +78,7 @@ impl Prior {
         for (position, (id, sigma)) in self.overrides.iter().enumerate() {
             if robot.parameters().index_of(*id).is_none() {
                 return Err(Error::InvalidOption {
-                    option: "--prior",
+                    setting: Setting::Prior,
                     message: format!("the prior names {id}, which {} does not have", robot.name()),
                 });
             }
@@ -86,7 +87,7 @@ impl Prior {
                 .any(|(other, _)| other == id)
             {
                 return Err(Error::InvalidOption {
-                    option: "--prior",
+                    setting: Setting::Prior,
                     message: format!("the prior gives {id} twice"),
                 });
             }
@@ -156,7 +157,7 @@ fn check_sigma(value: f64, what: impl FnOnce() -> String) -> Result<(), Error> {
         Ok(())
     } else {
         Err(Error::InvalidOption {
-            option: "--prior",
+            setting: Setting::Prior,
             message: format!("{} must be a positive number, not {value}", what()),
         })
     }

@@ -49,6 +49,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use crate::Error;
+use crate::error::Setting;
 
 /// Normalising constant of the median absolute deviation (1/Φ⁻¹(3/4)).
 const MAD_TO_SIGMA: f64 = 1.482_602_218_505_602;
@@ -116,7 +117,7 @@ impl FromStr for LossKind {
             .into_iter()
             .find(|kind| kind.as_str().eq_ignore_ascii_case(name.trim()))
             .ok_or_else(|| Error::InvalidOption {
-                option: "--loss",
+                setting: Setting::Loss,
                 message: format!("unknown loss '{name}' (expected l2, huber, cauchy or tukey)"),
             })
     }
@@ -153,7 +154,7 @@ impl Loss {
     pub fn with_scale(kind: LossKind, scale: f64) -> Result<Self, Error> {
         if !(scale.is_finite() && scale > 0.0) {
             return Err(Error::InvalidOption {
-                option: "--loss-scale",
+                setting: Setting::LossScale,
                 message: format!("must be a positive number (in robust σ), not {scale}"),
             });
         }
@@ -168,7 +169,7 @@ impl Loss {
     pub fn from_parts(kind: LossKind, scale: Option<f64>) -> Result<Self, Error> {
         match scale {
             Some(_) if kind == LossKind::L2 => Err(Error::InvalidOption {
-                option: "--loss-scale",
+                setting: Setting::LossScale,
                 message:
                     "l2 has no scale; a scale goes with a robust loss (huber, cauchy or tukey)"
                         .into(),
@@ -303,7 +304,7 @@ mod tests {
         );
         for scale in [0.0, -1.0, f64::NAN, f64::INFINITY] {
             let error = Loss::with_scale(LossKind::Huber, scale).expect_err("bad scale");
-            assert!(error.to_string().contains("--loss-scale"), "{error}");
+            assert!(error.to_string().contains("loss scale"), "{error}");
         }
     }
 

@@ -10,7 +10,8 @@
 use gecaro_core::{ParameterKind, Robot, terminal_pose};
 
 use crate::Error;
-use crate::methods::CalibrationMethod;
+use crate::error::Setting;
+use crate::method::CalibrationMethod;
 use crate::sample::Sample;
 use crate::sampler::Sampler;
 
@@ -32,7 +33,7 @@ pub fn error_unit(kind: ParameterKind) -> f64 {
 pub fn perturbed_robot(nominal: &Robot, level: f64, sampler: &mut Sampler) -> Result<Robot, Error> {
     if !(level.is_finite() && level >= 0.0) {
         return Err(Error::InvalidOption {
-            option: "--error-level",
+            setting: Setting::ErrorLevel,
             message: format!("must be a number ≥ 0, not {level}"),
         });
     }
@@ -99,11 +100,11 @@ pub fn simulate_measurements(
     check_noise(noise)?;
     if count == 0 {
         return Err(Error::InvalidOption {
-            option: "--count",
+            setting: Setting::Count,
             message: "must be at least 1".into(),
         });
     }
-    method.generate(real, count, noise, sampler)
+    method.sensor().generate(real, count, noise, sampler)
 }
 
 /// Simulated measurements of `real` at planned configurations (see
@@ -128,7 +129,7 @@ pub fn simulate_at(
     for sample in planned {
         real.check_configuration(&sample.motor_positions)?;
     }
-    method.measure_at(real, planned, noise, sampler)
+    method.sensor().measure_at(real, planned, noise, sampler)
 }
 
 /// A sensor's standard deviation must be a number ≥ 0.
@@ -137,7 +138,7 @@ fn check_noise(noise: f64) -> Result<(), Error> {
         Ok(())
     } else {
         Err(Error::InvalidOption {
-            option: "--noise",
+            setting: Setting::Noise,
             message: format!("must be a standard deviation ≥ 0, not {noise}"),
         })
     }

@@ -6,12 +6,12 @@
 use gecaro_core::{KinematicModel, Robot};
 
 use crate::Error;
-use crate::methods::{CalibrationMethod, units};
-use crate::observation::{
-    ColumnLayout, ObservationSystem, RowWriter, TerminalState, evaluate_poses, evaluate_states,
-    linearise_independent,
-};
+use crate::method::CalibrationMethod;
+use crate::methods::units;
+use crate::observation::{ObservationSystem, linearise_independent, write_rows};
+use crate::rows::{ColumnLayout, RowWriter};
 use crate::sample::Sample;
+use crate::states::{TerminalState, evaluate_poses, evaluate_states};
 
 /// One measurement set of a study.
 #[derive(Debug)]
@@ -375,7 +375,13 @@ impl Study {
         system: &mut ObservationSystem,
     ) {
         self.write_sets(auxiliary, layout, system, |index, set, own, writer| {
-            Ok(writer.write(set.method.as_ref(), &set.samples, states.set(index), own))
+            Ok(write_rows(
+                writer,
+                set.method.as_ref(),
+                &set.samples,
+                states.set(index),
+                own,
+            ))
         })
         .expect("writing evaluated states cannot fail");
     }
@@ -410,7 +416,13 @@ impl Study {
             }
             let buffer = &mut states.states[index];
             evaluate_states(robot, &set.samples, set.method.jacobian_rows(), buffer)?;
-            Ok(writer.write(set.method.as_ref(), &set.samples, buffer, own))
+            Ok(write_rows(
+                writer,
+                set.method.as_ref(),
+                &set.samples,
+                buffer,
+                own,
+            ))
         })
     }
 
@@ -454,7 +466,8 @@ impl Study {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::methods::{METHODS, MethodOptions};
+    use crate::method::MethodOptions;
+    use crate::methods::METHODS;
     use crate::{RowKind, Sampler, default_plane, perturbed_robot, simulate_measurements};
 
     /// Everything a system holds, as bits.

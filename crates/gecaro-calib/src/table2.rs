@@ -18,7 +18,9 @@ use nalgebra::Vector3;
 
 use crate::Error;
 use crate::identifiability::{RankReport, identifiable_parameters, random_samples};
-use crate::methods::{MethodOptions, Plane, method};
+use crate::method::MethodOptions;
+use crate::methods::method;
+use crate::plane::Plane;
 use crate::sampler::Sampler;
 use crate::study::Study;
 

@@ -23,6 +23,7 @@ use std::str::FromStr;
 use gecaro_core::{ParameterKind, PriorityMatrix, Robot};
 
 use crate::Error;
+use crate::error::Setting;
 use crate::identification::{Identification, IdentificationOptions, evaluate, identify};
 use crate::methods::units;
 use crate::sampler::Sampler;
@@ -153,7 +154,7 @@ fn fold_assignment(study: &Study, folds: usize, seed: u64) -> Result<Vec<Vec<usi
     let total: usize = unit_lists.iter().map(Vec::len).sum();
     if folds < 2 || folds > total {
         return Err(Error::InvalidOption {
-            option: "--cv",
+            setting: Setting::Folds,
             message: format!(
                 "{folds} folds: give between 2 and the number of configurations, sets and pairs ({total})"
             ),
@@ -259,7 +260,7 @@ impl FromStr for Model {
             "offsets" => Model::Offsets,
             other => {
                 return Err(Error::InvalidOption {
-                    option: "--model",
+                    setting: Setting::Model,
                     message: format!(
                         "unknown model '{other}' (expected {}, or a priority-matrix file)",
                         Model::NAMED.join(", ")

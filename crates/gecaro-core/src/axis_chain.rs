@@ -33,11 +33,11 @@
 
 use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Unit, Vector3};
 
+use crate::frame::{Frame, FrameType};
 use crate::kinematics::frame_transform;
 use crate::placement::{
     Line, Placed, decompose, nearly_parallel, place_facing, tidy, tidy_angle, turned_x, z_axis_of,
 };
-use crate::robot::{Frame, FrameType};
 use crate::{Error, Field};
 
 /// One joint of an [`AxisChain`].
@@ -271,8 +271,9 @@ impl AxisChain {
 mod tests {
     use super::*;
     use crate::NEARLY_PARALLEL_DEGREES;
+    use crate::frame::Joint;
     use crate::kinematics::{forward_kinematics, terminal_pose};
-    use crate::robot::{Joint, Robot, RobotSpec};
+    use crate::robot::{Robot, RobotSpec};
     use crate::test_robots::stanford;
     use rand::{Rng, RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;

@@ -61,6 +61,7 @@
 
 mod axis_chain;
 mod error;
+mod frame;
 mod kinematics;
 mod parameters;
 mod placement;
@@ -73,6 +74,7 @@ mod test_robots;
 
 pub use axis_chain::{AxisChain, ChainJoint};
 pub use error::{Error, Field};
+pub use frame::{Frame, FrameType, Joint};
 pub use kinematics::{
     ChainBuffer, FrameChain, InverseOptions, InverseSolution, JacobianRows, KinematicModel,
     OrientationDifference, Target, forward_kinematics, frame_transform, inverse_kinematics,
@@ -82,7 +84,7 @@ pub use kinematics::{
 pub use parameters::{ParameterId, ParameterKind, ParameterSpace};
 pub use placement::NEARLY_PARALLEL_DEGREES;
 pub use priority::PriorityMatrix;
-pub use robot::{Frame, FrameType, Joint, Robot, RobotSpec};
+pub use robot::{Robot, RobotSpec};
 
 #[cfg(test)]
 pub(crate) use test_robots::stanford as ready_robot_for_tests;

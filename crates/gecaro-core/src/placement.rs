@@ -19,7 +19,7 @@
 
 use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Unit, Vector3};
 
-use crate::robot::{Frame, FrameType};
+use crate::frame::{Frame, FrameType};
 
 /// Axes closer than this to parallel (as lines, in degrees) are placed with
 /// Hayati's β instead of a common normal. Nominally parallel axes (exactly, or

@@ -22,8 +22,8 @@
 //! MATLAB. This makes the base set a pure function of the matrix and of W,
 //! independent of threads or platform.
 
+use crate::frame::{Frame, FrameType};
 use crate::parameters::{ParameterId, ParameterKind, ParameterSpace};
-use crate::robot::{FrameType, Robot};
 use crate::{Error, Field};
 
 /// The (n+2)×6 priority matrix; see the module docs.
@@ -39,9 +39,9 @@ impl PriorityMatrix {
         PriorityMatrix { rows }
     }
 
-    /// The default priorities of paper §4 for `robot` (see the module docs).
-    pub fn default_for(robot: &Robot) -> Self {
-        let frames = robot.frames();
+    /// The default priorities of paper §4 for a robot of `frames` (0..=n+1;
+    /// see the module docs).
+    pub fn default_for(frames: &[Frame]) -> Self {
         let last = frames.len() - 1;
         let rows = frames
             .iter()
@@ -167,7 +167,7 @@ mod tests {
     #[test]
     fn stanford_defaults_follow_the_rules() {
         let robot = stanford();
-        let priority = PriorityMatrix::default_for(&robot);
+        let priority = PriorityMatrix::default_for(robot.frames());
         // Rows as derived by hand from Table 1 with the rules of NOTES.md.
         let expected: Vec<[u32; 6]> = vec![
             [0, 0, 2, 4, 0, 0], // frame 0: theta0 = π/2 → 2, r0 → 4
@@ -188,7 +188,8 @@ mod tests {
     #[test]
     fn candidates_are_sorted_by_priority_then_column_major() {
         let robot = stanford();
-        let order = PriorityMatrix::default_for(&robot).ordered_candidates(robot.parameters());
+        let order =
+            PriorityMatrix::default_for(robot.frames()).ordered_candidates(robot.parameters());
         assert_eq!(order.len(), 43);
         let names: Vec<String> = order.iter().map(ToString::to_string).collect();
         // Priority 5, column-major: θ of revolute joints, r3, then the gains.
@@ -206,7 +207,7 @@ mod tests {
     #[test]
     fn priority_for_a_non_parameter_is_rejected() {
         let robot = stanford();
-        let mut priority = PriorityMatrix::default_for(&robot);
+        let mut priority = PriorityMatrix::default_for(robot.frames());
         priority.rows[0][0] = 1; // alpha0
         assert!(priority.validate(robot.parameters()).is_err());
         let short = PriorityMatrix::from_rows(priority.rows[..7].to_vec());

@@ -23,9 +23,10 @@
 
 use nalgebra::{IsometryMatrix3, Vector3};
 
+use crate::frame::{Frame, FrameType};
 use crate::kinematics::frame_transform;
 use crate::placement::{Line, decompose, nearly_parallel, place_facing, z_axis_of};
-use crate::robot::{Frame, FrameType, Robot};
+use crate::robot::Robot;
 use crate::{Error, Field};
 
 /// The world poses of `frames` at q = 0.

@@ -10,10 +10,11 @@
 
 use std::f64::consts::TAU;
 
-use gecaro_core::{Field, Frame, FrameType, Joint, PriorityMatrix, Robot, RobotSpec};
+use gecaro_core::{Frame, FrameType, Joint, PriorityMatrix, Robot, RobotSpec};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
+use crate::problem::{DocumentError, Location, model_error};
 use crate::robot_file::{AngleUnit, RobotFile};
 use crate::urdf::names::UrdfDocument;
 
@@ -87,67 +88,6 @@ pub struct CouplingDocument {
 pub struct PriorityDocument {
     /// (n+2) rows of `[alpha, d, theta, r, beta, K]`.
     pub matrix: Vec<Vec<i64>>,
-}
-
-/// Where in a document a problem is.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
-pub enum Location {
-    /// The document as a whole (the list of frames).
-    Document,
-    /// A key of the top level (`angle_unit`).
-    Key {
-        /// The key.
-        key: String,
-    },
-    /// A key of frame `frame`.
-    Frame {
-        /// Frame number j.
-        frame: usize,
-        /// The key (`sigma`, `alpha`, ..., `K`).
-        key: String,
-    },
-    /// A coupling matrix (`Cm` or `Cj`).
-    Coupling {
-        /// The matrix.
-        matrix: String,
-    },
-    /// The priority matrix, or one of its rows.
-    Priority {
-        /// The row (frame), if one is at fault.
-        row: Option<usize>,
-    },
-}
-
-impl std::fmt::Display for Location {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Location::Document => f.write_str("frame"),
-            Location::Key { key } => f.write_str(key),
-            Location::Frame { frame, key } => write!(f, "frame {frame}, {key}"),
-            Location::Coupling { matrix } => write!(f, "coupling.{matrix}"),
-            Location::Priority { row: None } => f.write_str("priority.matrix"),
-            Location::Priority { row: Some(row) } => write!(f, "priority.matrix row {row}"),
-        }
-    }
-}
-
-/// A problem of a document, at a location.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
-pub struct DocumentError {
-    /// Where.
-    pub location: Location,
-    /// What is wrong.
-    pub message: String,
-}
-
-impl DocumentError {
-    pub(crate) fn new(location: Location, message: impl Into<String>) -> Self {
-        DocumentError {
-            location,
-            message: message.into(),
-        }
-    }
 }
 
 impl RobotDocument {
@@ -450,27 +390,6 @@ impl PriorityDocument {
             rows.push(cells);
         }
         Ok(PriorityMatrix::from_rows(rows))
-    }
-}
-
-/// A model error with its location.
-pub(crate) fn model_error(error: gecaro_core::Error) -> DocumentError {
-    match error {
-        gecaro_core::Error::Invalid { field, message } => {
-            let location = match field {
-                Field::Frame { index, key } => Location::Frame {
-                    frame: index,
-                    key: key.into(),
-                },
-                Field::Coupling(name) => Location::Coupling {
-                    matrix: name.into(),
-                },
-                Field::Priority { row } => Location::Priority { row },
-                _ => Location::Document,
-            };
-            DocumentError::new(location, message)
-        }
-        other => DocumentError::new(Location::Document, other.to_string()),
     }
 }
 

@@ -10,8 +10,9 @@
 #![warn(missing_docs)]
 
 mod columns;
+mod conversion;
 mod data_file;
-mod dh_table;
+mod dh;
 mod document;
 mod error;
 mod input;
@@ -19,36 +20,35 @@ mod interchange;
 mod output;
 mod pose;
 mod prior;
+mod problem;
 mod program_file;
 mod ready;
 mod robot_file;
+mod robot_toml;
 mod study_file;
 mod symoro;
 mod units;
 mod urdf;
 
 pub use columns::{ColumnMap, DataUnits, joint_types};
+pub use conversion::{ChainEnds, Exported, Imported};
 pub use data_file::{
     DataFile, DataFormat, MAX_CONFIGURATIONS, data_headers, format_samples, parse_samples,
     read_samples, write_samples,
 };
-pub use dh_table::{DhConvention, TableUnits};
-pub use document::{
-    CouplingDocument, DocumentError, FrameDocument, Location, PriorityDocument, RobotDocument,
-};
+pub use dh::{DhConvention, TableUnits};
+pub use document::{CouplingDocument, FrameDocument, PriorityDocument, RobotDocument};
 pub use error::Error;
-pub use interchange::{
-    ChainEnds, Exported, ImportOptions, Imported, RobotFormat, export_robot, import_robot,
-    import_robot_text,
-};
+pub use interchange::{ImportOptions, RobotFormat, export_robot, import_robot, import_robot_text};
 pub use output::{OutputPolicy, write_atomically};
 pub use pose::{pose_from_seven, unit_quaternion};
 pub use prior::{parse_override, parse_prior};
+pub use problem::{DocumentError, Location};
 pub use program_file::{ProgramFile, ProgramKind, read_program};
 pub use ready::{ReadyRobot, load_robot, ready_robot, ready_robots};
-pub use robot_file::{
-    AngleUnit, RobotFile, fallback_name, format_robot_file, parse_robot_document, parse_robot_file,
-    read_priority_file, read_robot_file,
+pub use robot_file::{AngleUnit, RobotFile, fallback_name};
+pub use robot_toml::{
+    format_robot_file, parse_robot_document, parse_robot_file, read_priority_file, read_robot_file,
 };
 pub use study_file::{StudyFile, read_study_file};
 pub use units::LengthUnit;

@@ -4,7 +4,8 @@
 use std::path::Path;
 
 use crate::Error;
-use crate::robot_file::{RobotFile, parse_robot_file, read_robot_file, virtual_path};
+use crate::robot_file::{RobotFile, virtual_path};
+use crate::robot_toml::{parse_robot_file, read_robot_file};
 
 /// A robot of the library.
 #[derive(Copy, Clone, Debug)]
@@ -84,7 +85,7 @@ pub fn load_robot(path_or_name: &str) -> Result<RobotFile, Error> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::robot_file::format_robot_file;
+    use crate::robot_toml::format_robot_file;
 
     #[test]
     fn every_ready_robot_loads_and_round_trips() {

@@ -49,7 +49,8 @@ use crate::data_file::{DataFormat, read_samples};
 use crate::input::{MAX_DESCRIPTION_BYTES, read_text};
 use crate::ready::load_robot;
 use crate::robot_file::AngleUnit;
-use crate::robot_file::{RobotFile, read_priority_file};
+use crate::robot_file::RobotFile;
+use crate::robot_toml::read_priority_file;
 use crate::units::LengthUnit;
 
 #[derive(Deserialize)]

@@ -25,7 +25,7 @@ use gecaro_core::{Frame, FrameType, Joint, Robot, RobotSpec};
 use nalgebra::{IsometryMatrix3, Matrix3, Rotation3, Translation3};
 
 use crate::Error;
-use crate::interchange::Imported;
+use crate::conversion::Imported;
 use crate::robot_file::{AngleUnit, RobotFile};
 
 /// Keys of SYMORO that are not symbol definitions.

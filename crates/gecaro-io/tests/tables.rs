@@ -260,7 +260,7 @@ fn bad_tables_name_the_file_and_line() {
     );
     let csv = "type,a,alpha,d,theta\nQ,0,0,0.3,0\n";
     assert!(table_error(csv, "t.csv", Some(RobotFormat::Mdh)).contains("t.csv:2: type"));
-    assert!(table_error(csv, "t.csv", None).contains("--from dh"));
+    assert!(table_error(csv, "t.csv", None).contains("name it (dh for standard"));
     let csv = "type,a_mm,alpha_deg,d_m,theta\nR,0,0,0.3,0\n";
     assert!(table_error(csv, "t.csv", Some(RobotFormat::Dh)).contains("different units"));
     let toml = "convention = \"dh\"\n[[joint]]\ntype = \"R\"\nalpha = nan\n";

@@ -67,6 +67,7 @@ use std::ops::ControlFlow;
 use gecaro_core::{ParameterId, PriorityMatrix, Robot};
 
 use crate::Error;
+use crate::error::Setting;
 use crate::identifiability::{
     ParameterStatus, RankReport, excitation_at, structural_parameters_at,
 };
@@ -74,9 +75,10 @@ use crate::linalg::{
     NormalEquations, damped_step, minimum_norm_step, precision, predicted_decrease, step, view,
 };
 use crate::observability::Observability;
-use crate::observation::{ColumnLayout, ObservationSystem};
+use crate::observation::ObservationSystem;
 use crate::prior::Prior;
 use crate::robust::Loss;
+use crate::rows::ColumnLayout;
 use crate::study::{Study, StudyStates};
 
 pub use outliers::{DEFAULT_OUTLIER_THRESHOLD, Outlier};
@@ -871,7 +873,7 @@ fn check_options(robot: &Robot, options: &IdentificationOptions) -> Result<(), E
     let threshold = options.outlier_threshold;
     if !(threshold.is_finite() && threshold > 0.0) {
         return Err(Error::InvalidOption {
-            option: "--outlier-threshold",
+            setting: Setting::OutlierThreshold,
             message: format!("must be a positive number of robust σ, not {threshold}"),
         });
     }

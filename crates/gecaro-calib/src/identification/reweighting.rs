@@ -24,8 +24,9 @@ use gecaro_core::Robot;
 
 use super::{Damping, IterationRecord, Problem, Run};
 use crate::Error;
-use crate::observation::{ObservationSystem, RowKind};
+use crate::observation::ObservationSystem;
 use crate::robust::{Loss, LossKind, observation_rms, robust_sigma};
+use crate::rows::RowKind;
 use crate::study::StudyStates;
 
 /// Outer iterations (reweightings) allowed per loss stage.
@@ -241,7 +242,7 @@ impl Problem<'_> {
                     return Err(Error::Numerical {
                         message: format!(
                             "the {} loss gives no weight to so many observations that {} equations are left for {unknowns} unknowns; \
-                             raise --loss-scale or use huber",
+                             raise the loss scale or use huber",
                             stage.kind, statistics.effective_equations
                         ),
                     });

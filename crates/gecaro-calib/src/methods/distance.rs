@@ -6,18 +6,17 @@
 
 use gecaro_core::{JacobianRows, Robot, terminal_pose};
 
-use super::{CalibrationMethod, MethodInfo, check_group_sizes, groups};
-use crate::Error;
-use crate::observation::{RowKind, RowWriter, TerminalState};
+use super::sets::{check_group_sizes, groups};
+use crate::error::Error;
+use crate::method::{CalibrationMethod, MethodInfo, Sensor};
+use crate::rows::{RowKind, RowWriter};
 use crate::sample::{DataColumn, Sample};
 use crate::sampler::Sampler;
+use crate::states::TerminalState;
 
-pub(super) const INFO: MethodInfo = MethodInfo {
-    name: "distance",
-    title: "Distance measure",
-    uses_plane: false,
-    build: |_| Ok(Box::new(DistanceMeasure)),
-};
+pub(super) const INFO: MethodInfo = MethodInfo::new("distance", "Distance measure", false, |_| {
+    Ok(Box::new(DistanceMeasure))
+});
 
 /// Distance measure; see the module docs.
 #[derive(Clone, Debug)]
@@ -26,6 +25,10 @@ pub(crate) struct DistanceMeasure;
 impl CalibrationMethod for DistanceMeasure {
     fn info(&self) -> &'static MethodInfo {
         &INFO
+    }
+
+    fn sensor(&self) -> &dyn Sensor {
+        self
     }
 
     fn jacobian_rows(&self) -> JacobianRows {
@@ -109,7 +112,11 @@ impl CalibrationMethod for DistanceMeasure {
             );
         }
     }
+}
 
+/// The simulated session: pairs of configurations and the distance a
+/// length bar or laser tracker measures between their terminal points.
+impl Sensor for DistanceMeasure {
     fn generate(
         &self,
         robot: &Robot,

@@ -2,25 +2,19 @@
 //! orientation of frame n+1. All six rows of eq. 7 per configuration:
 //! `J(q, η) Δη = Δx(measured, model)`, with Δx of Appendix I (method 2 by default).
 
-use gecaro_core::{OrientationDifference, Robot, orientation_difference};
+use gecaro_core::{OrientationDifference, orientation_difference};
 
-use super::sensor::{Reading, random_readings, readings_at};
-use super::{CalibrationMethod, MethodInfo};
-use crate::Error;
-use crate::observation::{RowKind, RowWriter, TerminalState};
+use super::readings::Reading;
+use crate::method::{CalibrationMethod, MethodInfo, Sensor};
+use crate::rows::{RowKind, RowWriter};
 use crate::sample::{DataColumn, Sample};
-use crate::sampler::Sampler;
+use crate::states::TerminalState;
 
-pub(super) const INFO: MethodInfo = MethodInfo {
-    name: "frame",
-    title: "Frame measure",
-    uses_plane: false,
-    build: |options| {
-        Ok(Box::new(FrameMeasure {
-            orientation: options.orientation,
-        }))
-    },
-};
+pub(super) const INFO: MethodInfo = MethodInfo::new("frame", "Frame measure", false, |options| {
+    Ok(Box::new(FrameMeasure {
+        orientation: options.orientation,
+    }))
+});
 
 /// Frame measure; see the module docs.
 #[derive(Clone, Debug)]
@@ -31,6 +25,10 @@ pub(crate) struct FrameMeasure {
 impl CalibrationMethod for FrameMeasure {
     fn info(&self) -> &'static MethodInfo {
         &INFO
+    }
+
+    fn sensor(&self) -> &dyn Sensor {
+        &Reading::Frame
     }
 
     fn independent_configurations(&self) -> bool {
@@ -70,25 +68,5 @@ impl CalibrationMethod for FrameMeasure {
                 rows.push(kind, index, residual, state.jacobian_row(axis), &[]);
             }
         }
-    }
-
-    fn generate(
-        &self,
-        robot: &Robot,
-        count: usize,
-        noise: f64,
-        sampler: &mut Sampler,
-    ) -> Result<Vec<Sample>, Error> {
-        random_readings(robot, Reading::Frame, count, noise, sampler)
-    }
-
-    fn measure_at(
-        &self,
-        real: &Robot,
-        planned: &[Sample],
-        noise: f64,
-        sampler: &mut Sampler,
-    ) -> Result<Vec<Sample>, Error> {
-        readings_at(real, Reading::Frame, planned, noise, sampler)
     }
 }

@@ -2,43 +2,36 @@
 //! n+1 (a tool locked in a fixture). Data: `set` ids. Eq. 12, six rows per
 //! configuration, mean-centred per set.
 
-use gecaro_core::{OrientationDifference, Robot};
-
-use super::link::{Linked, dependent_rows, generate_sets, linearise_sets, measure_sets};
-use super::{CalibrationMethod, MethodInfo, check_group_sizes};
-use crate::Error;
-use crate::observation::{RowWriter, TerminalState};
+use super::link::{LinkSets, Linked, dependent_rows, linearise_sets};
+use super::sets::check_group_sizes;
+use crate::error::Error;
+use crate::method::{CalibrationMethod, MethodInfo, Sensor};
+use crate::rows::RowWriter;
 use crate::sample::{DataColumn, Sample};
-use crate::sampler::Sampler;
+use crate::states::TerminalState;
 
-pub(super) const INFO: MethodInfo = MethodInfo {
-    name: "frame-link",
-    title: "Frame link",
-    uses_plane: false,
-    build: |options| {
-        Ok(Box::new(FrameLink {
+pub(super) const INFO: MethodInfo = MethodInfo::new("frame-link", "Frame link", false, |options| {
+    Ok(Box::new(FrameLink {
+        sensor: LinkSets {
+            linked: Linked::Frame(options.orientation),
             set_size: options.set_size.unwrap_or(2),
-            orientation: options.orientation,
-        }))
-    },
-};
+        },
+    }))
+});
 
 /// Frame link; see the module docs.
 #[derive(Clone, Debug)]
 pub(crate) struct FrameLink {
-    set_size: usize,
-    orientation: OrientationDifference,
-}
-
-impl FrameLink {
-    fn linked(&self) -> Linked {
-        Linked::Frame(self.orientation)
-    }
+    sensor: LinkSets,
 }
 
 impl CalibrationMethod for FrameLink {
     fn info(&self) -> &'static MethodInfo {
         &INFO
+    }
+
+    fn sensor(&self) -> &dyn Sensor {
+        &self.sensor
     }
 
     fn data_columns(&self) -> &'static [DataColumn] {
@@ -54,11 +47,11 @@ impl CalibrationMethod for FrameLink {
     }
 
     fn dependent_rows(&self, samples: &[Sample]) -> usize {
-        dependent_rows(self.linked(), samples)
+        dependent_rows(self.sensor.linked, samples)
     }
 
     fn equations_per_configuration(&self) -> f64 {
-        6.0 * (1.0 - 1.0 / self.set_size.max(2) as f64)
+        6.0 * (1.0 - 1.0 / self.sensor.set_size.max(2) as f64)
     }
 
     fn scale_invariant(&self) -> bool {
@@ -72,26 +65,6 @@ impl CalibrationMethod for FrameLink {
         _auxiliary: &[f64],
         rows: &mut RowWriter<'_>,
     ) {
-        linearise_sets(self.linked(), samples, states, rows);
-    }
-
-    fn generate(
-        &self,
-        robot: &Robot,
-        count: usize,
-        noise: f64,
-        sampler: &mut Sampler,
-    ) -> Result<Vec<Sample>, Error> {
-        generate_sets(self.linked(), robot, count, self.set_size, noise, sampler)
-    }
-
-    fn measure_at(
-        &self,
-        real: &Robot,
-        planned: &[Sample],
-        noise: f64,
-        sampler: &mut Sampler,
-    ) -> Result<Vec<Sample>, Error> {
-        measure_sets(self.linked(), real, planned, noise, sampler)
+        linearise_sets(self.sensor.linked, samples, states, rows);
     }
 }

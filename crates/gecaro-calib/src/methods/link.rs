@@ -9,11 +9,13 @@
 use gecaro_core::{OrientationDifference, Robot, Target, orientation_difference, terminal_pose};
 use nalgebra::IsometryMatrix3;
 
-use super::{centre, groups, set_sizes};
-use crate::Error;
-use crate::observation::{RowKind, RowWriter, TerminalState};
+use super::sets::{centre, groups, set_sizes};
+use crate::error::Error;
+use crate::method::Sensor;
+use crate::rows::{RowKind, RowWriter};
 use crate::sample::Sample;
 use crate::sampler::Sampler;
+use crate::states::TerminalState;
 
 /// Start configurations tried per set before generation gives up.
 const SET_ATTEMPTS: usize = 10;
@@ -33,6 +35,36 @@ impl Linked {
             Linked::Point => 3,
             Linked::Frame(_) => 6,
         }
+    }
+}
+
+/// The simulated session of a link method: sets of `set_size`
+/// configurations (about) that reach one point or frame.
+#[derive(Clone, Debug)]
+pub(super) struct LinkSets {
+    pub(super) linked: Linked,
+    pub(super) set_size: usize,
+}
+
+impl Sensor for LinkSets {
+    fn generate(
+        &self,
+        robot: &Robot,
+        count: usize,
+        noise: f64,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error> {
+        generate_sets(self.linked, robot, count, self.set_size, noise, sampler)
+    }
+
+    fn measure_at(
+        &self,
+        real: &Robot,
+        planned: &[Sample],
+        noise: f64,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error> {
+        measure_sets(self.linked, real, planned, noise, sampler)
     }
 }
 
@@ -91,7 +123,7 @@ pub(super) fn dependent_rows(linked: Linked, samples: &[Sample]) -> usize {
 
 /// Sets of `set_size` configurations that reach a common point or frame of
 /// `robot`, each perturbed by `noise` (the contact's own scatter).
-pub(super) fn generate_sets(
+fn generate_sets(
     linked: Linked,
     robot: &Robot,
     count: usize,
@@ -126,7 +158,7 @@ pub(super) fn generate_sets(
 /// gives the point or frame (the socket), every member (the first too, with
 /// the contact's scatter `noise`) is moved to reach it from its planned
 /// configuration.
-pub(super) fn measure_sets(
+fn measure_sets(
     linked: Linked,
     real: &Robot,
     planned: &[Sample],

@@ -1,117 +1,62 @@
-//! What the two plane methods share (paper §3.3): the plane, fitting a plane
-//! to terminal points (the initialisation of §3.3.1), and generating
-//! configurations whose terminal point lies in a plane.
+//! What the two plane methods share (paper §3.3): the plane they were given,
+//! and their sensor, which generates configurations whose terminal point lies
+//! in a plane (a touch probe on a surface).
 
 use gecaro_core::{InverseOptions, Robot, Target, inverse_kinematics};
-use nalgebra::{Matrix3, Vector3};
 
-use crate::Error;
-use crate::observation::TerminalState;
+use crate::error::{Error, Setting};
+use crate::method::Sensor;
+use crate::plane::Plane;
 use crate::sample::Sample;
 use crate::sampler::Sampler;
+use crate::states::TerminalState;
 
-/// A plane through `point` with unit `normal`, in the world frame (metres).
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub struct Plane {
-    normal: Vector3<f64>,
-    point: Vector3<f64>,
+/// The simulated session of a plane method: the terminal point touches
+/// `plane`. `method` names it in messages (`plane1`).
+#[derive(Clone, Debug)]
+pub(super) struct PlaneContact {
+    pub(super) plane: Option<Plane>,
+    pub(super) method: &'static str,
 }
 
-impl Plane {
-    /// The plane through `point` normal to `normal` (normalised here).
-    ///
-    /// # Errors
-    /// [`Error::InvalidOption`] for a zero or non-finite normal or point.
-    pub fn new(normal: Vector3<f64>, point: Vector3<f64>) -> Result<Self, Error> {
-        if !normal.iter().chain(point.iter()).all(|v| v.is_finite()) {
-            return Err(Error::InvalidOption {
-                option: "--plane-normal/--plane-point",
-                message: "the plane has a value that is not a finite number".into(),
-            });
-        }
-        let norm = normal.norm();
-        if norm < 1e-12 {
-            return Err(Error::InvalidOption {
-                option: "--plane-normal",
-                message: "the plane normal is zero; give a direction such as 0.3,0.5,0.81".into(),
-            });
-        }
-        Ok(Plane {
-            normal: normal / norm,
-            point,
-        })
+impl Sensor for PlaneContact {
+    fn generate(
+        &self,
+        robot: &Robot,
+        count: usize,
+        noise: f64,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error> {
+        let plane = required(self.plane, &format!("generating {} points", self.method))?;
+        generate_in_plane(robot, &plane, count, noise, sampler)
     }
 
-    /// The unit normal.
-    pub fn normal(&self) -> Vector3<f64> {
-        self.normal
+    fn measure_at(
+        &self,
+        real: &Robot,
+        planned: &[Sample],
+        noise: f64,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error> {
+        let plane = required(self.plane, &format!("measuring {} points", self.method))?;
+        measure_in_plane(real, &plane, planned, noise, sampler)
     }
 
-    /// The point the plane was given through.
-    pub fn point(&self) -> Vector3<f64> {
-        self.point
-    }
-
-    /// Signed distance of `point` from the plane, along the normal.
-    pub fn distance(&self, point: &Vector3<f64>) -> f64 {
-        self.normal.dot(&(point - self.point))
-    }
-
-    /// The plane coefficients (a, b, c) of eq. 13, `a x + b y + c z + 1 = 0`.
-    ///
-    /// # Errors
-    /// [`Error::InvalidOption`] when the plane passes through the world origin,
-    /// which that form cannot represent.
-    pub fn coefficients(&self) -> Result<Vector3<f64>, Error> {
-        let offset = self.normal.dot(&self.point);
-        if offset.abs() < 1e-9 {
-            return Err(Error::InvalidOption {
-                option: "--plane-point",
-                message: "the plane passes through the world origin, which the plane equation \
-                          a·x + b·y + c·z + 1 = 0 (eq. 13) cannot represent; move the world frame \
-                          or use plane2"
-                    .into(),
-            });
-        }
-        Ok(-self.normal / offset)
-    }
-
-    /// The least-squares plane through `points` (at least three, not collinear).
-    ///
-    /// # Errors
-    /// [`Error::InvalidData`] when the points do not define a plane.
-    pub fn fit(points: impl Iterator<Item = Vector3<f64>> + Clone) -> Result<Self, Error> {
-        let count = points.clone().count();
-        if count < 3 {
-            return Err(Error::InvalidData {
-                line: None,
-                message: format!("a plane needs at least 3 points, got {count}"),
-            });
-        }
-        let centroid = points.clone().sum::<Vector3<f64>>() / count as f64;
-        let scatter: Matrix3<f64> = points
-            .map(|p| (p - centroid) * (p - centroid).transpose())
-            .sum();
-        let eigen = scatter.symmetric_eigen();
-        let mut order = [0, 1, 2];
-        order.sort_by(|a, b| eigen.eigenvalues[*a].total_cmp(&eigen.eigenvalues[*b]));
-        let [smallest, middle, largest] = order;
-        // Collinear points: the two smallest spreads vanish together.
-        if eigen.eigenvalues[middle] <= 1e-12 * eigen.eigenvalues[largest].max(f64::MIN_POSITIVE) {
-            return Err(Error::InvalidData {
-                line: None,
-                message:
-                    "the terminal points are (nearly) on a line, so they do not define a plane"
-                        .into(),
-            });
-        }
-        Plane::new(eigen.eigenvectors.column(smallest).into_owned(), centroid)
+    fn generate_like(
+        &self,
+        robot: &Robot,
+        _samples: &[Sample],
+        states: &[TerminalState],
+        count: usize,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error> {
+        generate_in_plane(robot, &plane_like(self.plane, states)?, count, 0.0, sampler)
     }
 }
 
 /// The plane to generate data like `states` in: the given one, or the
 /// least-squares plane of the terminal points.
-pub(super) fn plane_like(plane: Option<Plane>, states: &[TerminalState]) -> Result<Plane, Error> {
+fn plane_like(plane: Option<Plane>, states: &[TerminalState]) -> Result<Plane, Error> {
     match plane {
         Some(plane) => Ok(plane),
         None => Plane::fit(states.iter().map(|state| state.pose.translation.vector)),
@@ -121,17 +66,14 @@ pub(super) fn plane_like(plane: Option<Plane>, states: &[TerminalState]) -> Resu
 /// The plane a method was given, or the error that says how to give one.
 pub(super) fn required(plane: Option<Plane>, method: &str) -> Result<Plane, Error> {
     plane.ok_or_else(|| Error::InvalidOption {
-        option: "--plane-normal/--plane-point",
-        message: format!(
-            "{method} needs a plane: give --plane-normal and --plane-point \
-             (e.g. --plane-normal 0.3,0.5,0.81 --plane-point 0.3,0.2,0.6)"
-        ),
+        setting: Setting::Plane,
+        message: format!("{method} needs a plane: its normal and a point of it"),
     })
 }
 
 /// Configurations of `robot` whose terminal point lies in `plane`, to within
 /// Gaussian `noise` along the normal (the contact's own scatter).
-pub(super) fn generate_in_plane(
+fn generate_in_plane(
     robot: &Robot,
     plane: &Plane,
     count: usize,
@@ -171,7 +113,7 @@ pub(super) fn generate_in_plane(
 /// Configurations of `planned` moved onto `plane` (shifted by Gaussian noise
 /// σ = `noise` along its normal) on `real`, each from its planned
 /// configuration: where the touch probe meets the plane.
-pub(super) fn measure_in_plane(
+fn measure_in_plane(
     real: &Robot,
     plane: &Plane,
     planned: &[Sample],
@@ -192,35 +134,4 @@ pub(super) fn measure_in_plane(
             })
         })
         .collect()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn plane_fit_and_coefficients() {
-        let plane =
-            Plane::new(Vector3::new(0.3, 0.5, 0.81), Vector3::new(0.3, 0.2, 0.6)).expect("valid");
-        let (u, v) = (
-            Vector3::new(0.5, -0.3, 0.0),
-            plane.normal().cross(&Vector3::new(0.5, -0.3, 0.0)),
-        );
-        let points: Vec<_> = (0..10)
-            .map(|i| plane.point() + u * (i as f64 * 0.1) + v * ((i * i) as f64 * 0.01))
-            .collect();
-        let fitted = Plane::fit(points.iter().copied()).expect("a plane");
-        assert!(fitted.normal().cross(&plane.normal()).norm() < 1e-12);
-        let abc = plane.coefficients().expect("not through the origin");
-        for p in points {
-            assert!((abc.dot(&p) + 1.0).abs() < 1e-12);
-        }
-        assert!(Plane::new(Vector3::zeros(), Vector3::zeros()).is_err());
-        assert!(
-            Plane::new(Vector3::z(), Vector3::x())
-                .expect("valid")
-                .coefficients()
-                .is_err()
-        );
-    }
 }

@@ -7,38 +7,37 @@
 //! of the terminal point from the plane, in metres:
 //! `f = (a·P + 1)/‖a‖`, `(a·J_P/‖a‖) Δη + ∂f/∂a Δa = −f`.
 
-use gecaro_core::{JacobianRows, Robot};
+use gecaro_core::JacobianRows;
 use nalgebra::Vector3;
 
-use super::plane::{Plane, generate_in_plane, measure_in_plane, plane_like, required};
-use super::{CalibrationMethod, MethodInfo};
-use crate::Error;
-use crate::observation::{RowKind, RowWriter, TerminalState};
+use super::plane::{PlaneContact, required};
+use crate::error::Error;
+use crate::method::{CalibrationMethod, MethodInfo, Sensor};
+use crate::plane::Plane;
+use crate::rows::{RowKind, RowWriter};
 use crate::sample::{DataColumn, Sample};
-use crate::sampler::Sampler;
+use crate::states::TerminalState;
 
-pub(super) const INFO: MethodInfo = MethodInfo {
-    name: "plane1",
-    title: "Plane link 1",
-    uses_plane: true,
-    build: |options| {
-        let known = if options.plane_unknown {
-            None
-        } else {
-            Some(required(options.plane, "plane1 with a known plane")?.coefficients()?)
-        };
-        Ok(Box::new(PlaneEquation {
+pub(super) const INFO: MethodInfo = MethodInfo::new("plane1", "Plane link 1", true, |options| {
+    let known = if options.plane_unknown {
+        None
+    } else {
+        Some(required(options.plane, "plane1 with a known plane")?.coefficients()?)
+    };
+    Ok(Box::new(PlaneEquation {
+        sensor: PlaneContact {
             plane: options.plane,
-            known,
-        }))
-    },
-};
+            method: "plane1",
+        },
+        known,
+    }))
+});
 
 /// Plane link 1; see the module docs.
 #[derive(Clone, Debug)]
 pub(crate) struct PlaneEquation {
     /// The plane to generate points in.
-    plane: Option<Plane>,
+    sensor: PlaneContact,
     /// The coefficients (a, b, c) when the plane is known.
     known: Option<Vector3<f64>>,
 }
@@ -46,6 +45,10 @@ pub(crate) struct PlaneEquation {
 impl CalibrationMethod for PlaneEquation {
     fn info(&self) -> &'static MethodInfo {
         &INFO
+    }
+
+    fn sensor(&self) -> &dyn Sensor {
+        &self.sensor
     }
 
     fn jacobian_rows(&self) -> JacobianRows {
@@ -117,38 +120,5 @@ impl CalibrationMethod for PlaneEquation {
                 auxiliary_row,
             );
         }
-    }
-
-    fn generate(
-        &self,
-        robot: &Robot,
-        count: usize,
-        noise: f64,
-        sampler: &mut Sampler,
-    ) -> Result<Vec<Sample>, Error> {
-        let plane = required(self.plane, "generating plane1 points")?;
-        generate_in_plane(robot, &plane, count, noise, sampler)
-    }
-
-    fn measure_at(
-        &self,
-        real: &Robot,
-        planned: &[Sample],
-        noise: f64,
-        sampler: &mut Sampler,
-    ) -> Result<Vec<Sample>, Error> {
-        let plane = required(self.plane, "measuring plane1 points")?;
-        measure_in_plane(real, &plane, planned, noise, sampler)
-    }
-
-    fn generate_like(
-        &self,
-        robot: &Robot,
-        _samples: &[Sample],
-        states: &[TerminalState],
-        count: usize,
-        sampler: &mut Sampler,
-    ) -> Result<Vec<Sample>, Error> {
-        generate_in_plane(robot, &plane_like(self.plane, states)?, count, 0.0, sampler)
     }
 }

@@ -9,43 +9,47 @@
 //! a, b, c comes out non-identifiable ('n') and stays fixed: "2 of a, b, c
 //! identified", as in Table 2.
 
-use gecaro_core::{JacobianRows, Robot};
+use gecaro_core::JacobianRows;
 use nalgebra::Vector3;
 
-use super::plane::{Plane, generate_in_plane, measure_in_plane, plane_like, required};
-use super::{CalibrationMethod, MethodInfo, centre};
-use crate::Error;
-use crate::observation::{RowKind, RowWriter, TerminalState};
+use super::plane::{PlaneContact, required};
+use super::sets::centre;
+use crate::error::Error;
+use crate::method::{CalibrationMethod, MethodInfo, Sensor};
+use crate::plane::Plane;
+use crate::rows::{RowKind, RowWriter};
 use crate::sample::{DataColumn, Sample};
-use crate::sampler::Sampler;
+use crate::states::TerminalState;
 
-pub(super) const INFO: MethodInfo = MethodInfo {
-    name: "plane2",
-    title: "Plane link 2",
-    uses_plane: true,
-    build: |options| {
-        let known = if options.plane_unknown {
-            None
-        } else {
-            Some(required(options.plane, "plane2 with a known normal")?.normal())
-        };
-        Ok(Box::new(PlaneNormal {
+pub(super) const INFO: MethodInfo = MethodInfo::new("plane2", "Plane link 2", true, |options| {
+    let known = if options.plane_unknown {
+        None
+    } else {
+        Some(required(options.plane, "plane2 with a known normal")?.normal())
+    };
+    Ok(Box::new(PlaneNormal {
+        sensor: PlaneContact {
             plane: options.plane,
-            known,
-        }))
-    },
-};
+            method: "plane2",
+        },
+        known,
+    }))
+});
 
 /// Plane link 2; see the module docs.
 #[derive(Clone, Debug)]
 pub(crate) struct PlaneNormal {
-    plane: Option<Plane>,
+    sensor: PlaneContact,
     known: Option<Vector3<f64>>,
 }
 
 impl CalibrationMethod for PlaneNormal {
     fn info(&self) -> &'static MethodInfo {
         &INFO
+    }
+
+    fn sensor(&self) -> &dyn Sensor {
+        &self.sensor
     }
 
     fn jacobian_rows(&self) -> JacobianRows {
@@ -129,38 +133,5 @@ impl CalibrationMethod for PlaneNormal {
             let row = &coefficients[index * parameters..(index + 1) * parameters];
             rows.push(RowKind::Length, index, -values[index], row, auxiliary_row);
         }
-    }
-
-    fn generate(
-        &self,
-        robot: &Robot,
-        count: usize,
-        noise: f64,
-        sampler: &mut Sampler,
-    ) -> Result<Vec<Sample>, Error> {
-        let plane = required(self.plane, "generating plane2 points")?;
-        generate_in_plane(robot, &plane, count, noise, sampler)
-    }
-
-    fn measure_at(
-        &self,
-        real: &Robot,
-        planned: &[Sample],
-        noise: f64,
-        sampler: &mut Sampler,
-    ) -> Result<Vec<Sample>, Error> {
-        let plane = required(self.plane, "measuring plane2 points")?;
-        measure_in_plane(real, &plane, planned, noise, sampler)
-    }
-
-    fn generate_like(
-        &self,
-        robot: &Robot,
-        _samples: &[Sample],
-        states: &[TerminalState],
-        count: usize,
-        sampler: &mut Sampler,
-    ) -> Result<Vec<Sample>, Error> {
-        generate_in_plane(robot, &plane_like(self.plane, states)?, count, 0.0, sampler)
     }
 }

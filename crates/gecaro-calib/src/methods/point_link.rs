@@ -2,35 +2,38 @@
 //! coincide (a ball in a socket, a tip on a fixed mark). Only joint sensors
 //! are needed. Data: `set` ids. Rows 1–3 of eq. 12, mean-centred per set.
 
-use gecaro_core::{JacobianRows, Robot};
+use gecaro_core::JacobianRows;
 
-use super::link::{Linked, dependent_rows, generate_sets, linearise_sets, measure_sets};
-use super::{CalibrationMethod, MethodInfo, check_group_sizes};
-use crate::Error;
-use crate::observation::{RowWriter, TerminalState};
+use super::link::{LinkSets, Linked, dependent_rows, linearise_sets};
+use super::sets::check_group_sizes;
+use crate::error::Error;
+use crate::method::{CalibrationMethod, MethodInfo, Sensor};
+use crate::rows::RowWriter;
 use crate::sample::{DataColumn, Sample};
-use crate::sampler::Sampler;
+use crate::states::TerminalState;
 
-pub(super) const INFO: MethodInfo = MethodInfo {
-    name: "point-link",
-    title: "Point link",
-    uses_plane: false,
-    build: |options| {
-        Ok(Box::new(PointLink {
+pub(super) const INFO: MethodInfo = MethodInfo::new("point-link", "Point link", false, |options| {
+    Ok(Box::new(PointLink {
+        sensor: LinkSets {
+            linked: Linked::Point,
             set_size: options.set_size.unwrap_or(4),
-        }))
-    },
-};
+        },
+    }))
+});
 
 /// Point link; see the module docs.
 #[derive(Clone, Debug)]
 pub(crate) struct PointLink {
-    set_size: usize,
+    sensor: LinkSets,
 }
 
 impl CalibrationMethod for PointLink {
     fn info(&self) -> &'static MethodInfo {
         &INFO
+    }
+
+    fn sensor(&self) -> &dyn Sensor {
+        &self.sensor
     }
 
     fn jacobian_rows(&self) -> JacobianRows {
@@ -54,7 +57,7 @@ impl CalibrationMethod for PointLink {
     }
 
     fn equations_per_configuration(&self) -> f64 {
-        3.0 * (1.0 - 1.0 / self.set_size.max(2) as f64)
+        3.0 * (1.0 - 1.0 / self.sensor.set_size.max(2) as f64)
     }
 
     fn scale_invariant(&self) -> bool {
@@ -69,25 +72,5 @@ impl CalibrationMethod for PointLink {
         rows: &mut RowWriter<'_>,
     ) {
         linearise_sets(Linked::Point, samples, states, rows);
-    }
-
-    fn generate(
-        &self,
-        robot: &Robot,
-        count: usize,
-        noise: f64,
-        sampler: &mut Sampler,
-    ) -> Result<Vec<Sample>, Error> {
-        generate_sets(Linked::Point, robot, count, self.set_size, noise, sampler)
-    }
-
-    fn measure_at(
-        &self,
-        real: &Robot,
-        planned: &[Sample],
-        noise: f64,
-        sampler: &mut Sampler,
-    ) -> Result<Vec<Sample>, Error> {
-        measure_sets(Linked::Point, real, planned, noise, sampler)
     }
 }

@@ -2,21 +2,17 @@
 //! origin of frame n+1 in the world frame. Rows 1–3 of eq. 7 per configuration:
 //! `J_P(q, η) Δη = P_measured − P(q, η)`.
 
-use gecaro_core::{JacobianRows, Robot};
+use gecaro_core::JacobianRows;
 
-use super::sensor::{Reading, random_readings, readings_at};
-use super::{CalibrationMethod, MethodInfo};
-use crate::Error;
-use crate::observation::{RowKind, RowWriter, TerminalState};
+use super::readings::Reading;
+use crate::method::{CalibrationMethod, MethodInfo, Sensor};
+use crate::rows::{RowKind, RowWriter};
 use crate::sample::{DataColumn, Sample};
-use crate::sampler::Sampler;
+use crate::states::TerminalState;
 
-pub(super) const INFO: MethodInfo = MethodInfo {
-    name: "position",
-    title: "Position measure",
-    uses_plane: false,
-    build: |_| Ok(Box::new(PositionMeasure)),
-};
+pub(super) const INFO: MethodInfo = MethodInfo::new("position", "Position measure", false, |_| {
+    Ok(Box::new(PositionMeasure))
+});
 
 /// Position measure; see the module docs.
 #[derive(Clone, Debug)]
@@ -25,6 +21,10 @@ pub(crate) struct PositionMeasure;
 impl CalibrationMethod for PositionMeasure {
     fn info(&self) -> &'static MethodInfo {
         &INFO
+    }
+
+    fn sensor(&self) -> &dyn Sensor {
+        &Reading::Point
     }
 
     fn jacobian_rows(&self) -> JacobianRows {
@@ -67,25 +67,5 @@ impl CalibrationMethod for PositionMeasure {
                 );
             }
         }
-    }
-
-    fn generate(
-        &self,
-        robot: &Robot,
-        count: usize,
-        noise: f64,
-        sampler: &mut Sampler,
-    ) -> Result<Vec<Sample>, Error> {
-        random_readings(robot, Reading::Point, count, noise, sampler)
-    }
-
-    fn measure_at(
-        &self,
-        real: &Robot,
-        planned: &[Sample],
-        noise: f64,
-        sampler: &mut Sampler,
-    ) -> Result<Vec<Sample>, Error> {
-        readings_at(real, Reading::Point, planned, noise, sampler)
     }
 }

@@ -8,9 +8,10 @@ use nalgebra::DMatrix;
 
 use crate::Error;
 use crate::identifiability::structural_parameters;
-use crate::methods::CalibrationMethod;
+use crate::method::CalibrationMethod;
 use crate::observability::{AUXILIARY_UNIT, column_unit};
-use crate::observation::{ColumnLayout, ObservationSystem};
+use crate::observation::ObservationSystem;
+use crate::rows::ColumnLayout;
 use crate::sample::{DataColumn, Sample};
 use crate::sampler::Sampler;
 use crate::study::{Study, StudyStates};
@@ -50,7 +51,9 @@ fn nominal_readings(
         )
     });
     if reads && !samples.is_empty() {
-        method.measure_at(robot, samples, 0.0, &mut Sampler::new(0))
+        method
+            .sensor()
+            .measure_at(robot, samples, 0.0, &mut Sampler::new(0))
     } else {
         Ok(samples.to_vec())
     }

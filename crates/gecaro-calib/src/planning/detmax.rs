@@ -12,6 +12,7 @@ use nalgebra::DMatrix;
 use super::columns::Blocks;
 use super::spacing::Spacing;
 use crate::Error;
+use crate::error::Setting;
 
 /// Steps between two recomputations of M⁻¹ and the G_u from scratch.
 const REFRESH: usize = 32;
@@ -135,7 +136,7 @@ pub(super) fn detmax(
     for placed in 0..wanted {
         let Some((unit, _)) = exchange.best_addition(admissible, spacing) else {
             return Err(Error::InvalidOption {
-                option: "--min-distance",
+                setting: Setting::MinDistance,
                 message: format!(
                     "only {placed} of the {wanted} units asked lie that far apart in the pool: \
                      lower the distance or give a larger pool"

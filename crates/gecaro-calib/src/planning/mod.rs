@@ -25,7 +25,9 @@ use gecaro_core::{PriorityMatrix, Robot};
 use nalgebra::{DMatrix, DVector};
 
 use crate::Error;
-use crate::methods::{CalibrationMethod, units};
+use crate::error::Setting;
+use crate::method::CalibrationMethod;
+use crate::methods::units;
 use crate::observability::Observability;
 use crate::sample::Sample;
 use crate::sampler::Sampler;
@@ -205,7 +207,7 @@ impl<'a> CandidatePool<'a> {
             Criterion::TestPoses(poses) => {
                 if poses.is_empty() {
                     return Err(Error::InvalidOption {
-                        option: "--test-poses",
+                        setting: Setting::TestPoses,
                         message: "no test poses".into(),
                     });
                 }
@@ -267,7 +269,7 @@ impl<'a> CandidatePool<'a> {
             ((request.count.saturating_sub(kept.len())) as f64 / unit_size).round() as usize;
         if wanted > admissible_count {
             return Err(Error::InvalidOption {
-                option: "--count",
+                setting: Setting::Count,
                 message: format!(
                     "{} configurations asked; the pool has {} ({admissible_count} of its {} units within the joint limits)",
                     request.count,
@@ -278,7 +280,7 @@ impl<'a> CandidatePool<'a> {
         }
         if !(request.min_distance >= 0.0 && request.min_distance.is_finite()) {
             return Err(Error::InvalidOption {
-                option: "--min-distance",
+                setting: Setting::MinDistance,
                 message: format!("{} is not a distance (≥ 0)", request.min_distance),
             });
         }

@@ -7,7 +7,8 @@
 use nalgebra::{IsometryMatrix3, Matrix3, Rotation3, Translation3, Vector3};
 
 use crate::Error;
-use crate::robot::{Frame, FrameType, Robot};
+use crate::frame::{Frame, FrameType};
+use crate::robot::Robot;
 
 /// The transform `(j−1)T(j)` of eq. 3 for a frame whose joint variable is `q`
 /// (q is ignored for a fixed frame):

@@ -26,8 +26,9 @@ use nalgebra::{Matrix6xX, Vector3};
 
 use super::direct::{FrameChain, forward_kinematics};
 use crate::Error;
+use crate::frame::FrameType;
 use crate::parameters::{ParameterId, ParameterKind};
-use crate::robot::{FrameType, Robot};
+use crate::robot::Robot;
 
 /// The 6×Np parameter Jacobian of eq. 7 at motor configuration `motor_positions`.
 ///

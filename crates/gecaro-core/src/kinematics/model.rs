@@ -13,8 +13,9 @@ use nalgebra::{IsometryMatrix3, Matrix3, Matrix6xX, Rotation3, Translation3, Vec
 
 use super::direct::frame_transform;
 use crate::Error;
+use crate::frame::FrameType;
 use crate::parameters::{ParameterId, ParameterKind};
-use crate::robot::{FrameType, Robot};
+use crate::robot::Robot;
 
 /// Per-frame constants of eq. 3.
 #[derive(Clone, Debug)]

@@ -26,7 +26,7 @@ use urdf_rs::JointType;
 
 use super::names::{UrdfJointNames, UrdfNames};
 use crate::Error;
-use crate::interchange::{ChainEnds, Imported};
+use crate::conversion::{ChainEnds, Imported};
 use crate::pose::from_xyz_rpy;
 use crate::robot_file::{AngleUnit, RobotFile};
 

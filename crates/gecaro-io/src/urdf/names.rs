@@ -27,8 +27,8 @@ use gecaro_core::Robot;
 use nalgebra::IsometryMatrix3;
 use serde::{Deserialize, Serialize};
 
-use crate::document::{DocumentError, Location};
 use crate::pose::{pose_from_seven, to_seven};
+use crate::problem::{DocumentError, Location};
 
 /// The names and link frames kept from an imported URDF (see the module docs).
 #[derive(Clone, Debug, PartialEq)]

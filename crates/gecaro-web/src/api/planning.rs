@@ -127,7 +127,10 @@ pub(crate) async fn plan(
     state
         .compute(move |state| {
             let robot = &file.robot;
-            let pool = method.generate(robot, pool_size, 0.0, &mut Sampler::new(request.seed))?;
+            let pool =
+                method
+                    .sensor()
+                    .generate(robot, pool_size, 0.0, &mut Sampler::new(request.seed))?;
             let poses = random_test_poses(robot, TEST_POSES, request.seed);
             let criterion = match request.criterion {
                 CriterionChoice::D => Criterion::D,

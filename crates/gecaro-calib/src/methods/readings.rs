@@ -1,16 +1,19 @@
-//! Sensors of the simulation: what a position or frame sensor reads on a
-//! robot, with Gaussian noise. Points generation (random configurations) and
-//! measurements at planned configurations read through the same
-//! [`Sensor`], so both draw the noise in the same order.
+//! The sensors of the measure methods, simulated: what a position or frame
+//! sensor reads of frame n+1 on a robot, with Gaussian noise. Points
+//! generation (random configurations) and measurements at planned
+//! configurations read through the same [`Reader`], so both draw the noise in
+//! the same order.
 
 use gecaro_core::{ChainBuffer, KinematicModel, Robot};
 use nalgebra::UnitQuaternion;
 
-use crate::Error;
+use crate::error::Error;
+use crate::method::Sensor;
 use crate::sample::Sample;
 use crate::sampler::Sampler;
 
-/// What a sensor reads of frame n+1.
+/// What a sensor reads of frame n+1; the simulated session of the position
+/// and frame measure methods.
 #[derive(Copy, Clone, Debug)]
 pub(super) enum Reading {
     /// Its origin, each coordinate with noise σ.
@@ -21,15 +24,15 @@ pub(super) enum Reading {
 }
 
 /// A sensor on a robot.
-struct Sensor {
+struct Reader {
     model: KinematicModel,
     chain: ChainBuffer,
     reading: Reading,
 }
 
-impl Sensor {
+impl Reader {
     fn new(robot: &Robot, reading: Reading) -> Self {
-        Sensor {
+        Reader {
             model: KinematicModel::new(robot),
             chain: ChainBuffer::default(),
             reading,
@@ -62,14 +65,14 @@ impl Sensor {
 
 /// `count` random configurations of `robot` (within the joint limits), read
 /// by the sensor: points generation of the position and frame methods.
-pub(super) fn random_readings(
+fn random_readings(
     robot: &Robot,
     reading: Reading,
     count: usize,
     noise: f64,
     sampler: &mut Sampler,
 ) -> Result<Vec<Sample>, Error> {
-    let mut sensor = Sensor::new(robot, reading);
+    let mut sensor = Reader::new(robot, reading);
     (0..count)
         .map(|_| {
             let motor_positions = sampler.configuration(robot);
@@ -79,16 +82,38 @@ pub(super) fn random_readings(
 }
 
 /// The planned configurations, read by the sensor on `real`.
-pub(super) fn readings_at(
+fn readings_at(
     real: &Robot,
     reading: Reading,
     planned: &[Sample],
     noise: f64,
     sampler: &mut Sampler,
 ) -> Result<Vec<Sample>, Error> {
-    let mut sensor = Sensor::new(real, reading);
+    let mut sensor = Reader::new(real, reading);
     planned
         .iter()
         .map(|sample| sensor.read(sample.motor_positions.clone(), noise, sampler))
         .collect()
+}
+
+impl Sensor for Reading {
+    fn generate(
+        &self,
+        robot: &Robot,
+        count: usize,
+        noise: f64,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error> {
+        random_readings(robot, *self, count, noise, sampler)
+    }
+
+    fn measure_at(
+        &self,
+        real: &Robot,
+        planned: &[Sample],
+        noise: f64,
+        sampler: &mut Sampler,
+    ) -> Result<Vec<Sample>, Error> {
+        readings_at(real, *self, planned, noise, sampler)
+    }
 }

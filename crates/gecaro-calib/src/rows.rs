@@ -1,0 +1,224 @@
+//! The rows of the linearised calibration equations `Δy = W Δη` (eq. 6, 8)
+//! as methods write them.
+//!
+//! A method sees the current end-effector pose and parameter Jacobian of every
+//! configuration ([`TerminalState`](crate::states::TerminalState)) and pushes
+//! rows through a [`RowWriter`]: the residual Δy (what the model misses; zero
+//! at the real parameters), the coefficients of the Np robot parameters
+//! (vocabulary order) and of its own auxiliary unknowns. Only the columns a
+//! [`ColumnLayout`] asks for are kept, row by row (each row is written
+//! contiguously).
+//!
+//! Rows are multiplied by their set's sensor weight (1/σ of the sensor) and by
+//! `√w_i` for the robust weight `w_i` of their observation (see
+//! [`crate::observation`]). Methods that centre a set on its mean centre it on
+//! the weighted mean ([`RowWriter::observation_weight`]).
+
+/// What a row measures, so that errors are reported in the right unit.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum RowKind {
+    /// A length (metres): positions, distances, distances to a plane.
+    Length,
+    /// An angle (radians): orientation differences.
+    Angle,
+}
+
+/// Which columns of W to build, in which order.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ColumnLayout {
+    /// For each robot parameter (vocabulary order), its column in W, if kept.
+    parameter_columns: Vec<Option<usize>>,
+    /// The kept (parameter, column) pairs.
+    mapped: Vec<(usize, usize)>,
+    /// For each auxiliary unknown (all sets, in order), its column in W, if kept.
+    auxiliary_columns: Vec<Option<usize>>,
+    columns: usize,
+}
+
+impl ColumnLayout {
+    /// Auxiliary unknowns first (in order), then the listed robot parameters in
+    /// the order given (`parameters` holds vocabulary indices).
+    pub fn new(parameter_count: usize, parameters: &[usize], auxiliary_count: usize) -> Self {
+        let mut parameter_columns = vec![None; parameter_count];
+        for (position, index) in parameters.iter().enumerate() {
+            parameter_columns[*index] = Some(auxiliary_count + position);
+        }
+        ColumnLayout {
+            mapped: parameters
+                .iter()
+                .enumerate()
+                .map(|(position, index)| (*index, auxiliary_count + position))
+                .collect(),
+            parameter_columns,
+            auxiliary_columns: (0..auxiliary_count).map(Some).collect(),
+            columns: auxiliary_count + parameters.len(),
+        }
+    }
+
+    /// Auxiliary unknowns first (only those listed in `auxiliary`, indices
+    /// into all auxiliary unknowns), then the listed robot parameters.
+    pub fn with_auxiliary(
+        parameter_count: usize,
+        parameters: &[usize],
+        auxiliary_count: usize,
+        auxiliary: &[usize],
+    ) -> Self {
+        let mut layout = ColumnLayout::new(parameter_count, parameters, auxiliary.len());
+        layout.auxiliary_columns = vec![None; auxiliary_count];
+        debug_assert!(
+            layout
+                .mapped
+                .iter()
+                .all(|(_, column)| *column >= auxiliary.len())
+        );
+        for (column, index) in auxiliary.iter().enumerate() {
+            layout.auxiliary_columns[*index] = Some(column);
+        }
+        layout
+    }
+
+    /// Number of columns of W.
+    pub fn columns(&self) -> usize {
+        self.columns
+    }
+
+    /// Number of auxiliary columns (they come first).
+    pub fn auxiliary_count(&self) -> usize {
+        self.auxiliary_columns.iter().flatten().count()
+    }
+}
+
+/// Writes rows of one measurement set into the rows of the system it was
+/// made for; see the module docs.
+#[derive(Debug)]
+pub struct RowWriter<'a> {
+    /// The writer's rows of W (row-major), Δy, weights, kinds and observations.
+    pub(crate) matrix: &'a mut [f64],
+    pub(crate) residuals: &'a mut [f64],
+    pub(crate) weights: &'a mut [f64],
+    pub(crate) sensor_weights: &'a mut [f64],
+    /// Robust weights of the whole system's observations (empty: all 1).
+    pub(crate) observation_weights: &'a [f64],
+    pub(crate) kinds: &'a mut [RowKind],
+    pub(crate) observations: &'a mut [usize],
+    pub(crate) columns: usize,
+    pub(crate) layout: &'a ColumnLayout,
+    pub(crate) next_row: usize,
+    pub(crate) auxiliary_offset: usize,
+    /// Row weights of length and angle rows (1/σ of the sensor).
+    pub(crate) row_weights: [f64; 2],
+    /// Number, in the whole system, of this writer's observation 0.
+    pub(crate) observation_base: usize,
+    /// One past the largest observation written (in the whole system's numbering).
+    pub(crate) observation_end: usize,
+}
+
+impl<'a> RowWriter<'a> {
+    /// The robust weight of `observation` (0-based within this set; 1 unless
+    /// the identification reweights, see the module docs).
+    pub fn observation_weight(&self, observation: usize) -> f64 {
+        self.observation_weights
+            .get(self.observation_base + observation)
+            .copied()
+            .unwrap_or(1.0)
+    }
+
+    /// Appends one row: `Σ parameters[k]·Δη_k + Σ auxiliary[k]·Δaux_k = residual`.
+    ///
+    /// `observation` numbers the configuration or pair the row belongs to
+    /// (0-based within this set); `parameters` has Np entries, `auxiliary` one
+    /// per auxiliary unknown of the method.
+    ///
+    /// # Panics
+    /// When the method pushes more rows than its `row_count` promised (a bug in the method).
+    pub fn push(
+        &mut self,
+        kind: RowKind,
+        observation: usize,
+        residual: f64,
+        parameters: &[f64],
+        auxiliary: &[f64],
+    ) {
+        let row = self.next_row;
+        assert!(
+            row < self.residuals.len(),
+            "a method wrote more rows than its row_count"
+        );
+        let sensor_weight = match kind {
+            RowKind::Length => self.row_weights[0],
+            RowKind::Angle => self.row_weights[1],
+        };
+        let weight = if self.observation_weights.is_empty() {
+            sensor_weight
+        } else {
+            sensor_weight * self.observation_weight(observation).sqrt()
+        };
+        let target = &mut self.matrix[row * self.columns..(row + 1) * self.columns];
+        for (index, column) in &self.layout.mapped {
+            target[*column] = weight * parameters[*index];
+        }
+        for (index, value) in auxiliary.iter().enumerate() {
+            if let Some(column) = self.layout.auxiliary_columns[self.auxiliary_offset + index] {
+                target[column] = weight * value;
+            }
+        }
+        self.residuals[row] = residual;
+        self.weights[row] = weight;
+        self.sensor_weights[row] = sensor_weight;
+        self.kinds[row] = kind;
+        let observation = self.observation_base + observation;
+        self.observations[row] = observation;
+        self.observation_end = self.observation_end.max(observation + 1);
+        self.next_row += 1;
+    }
+
+    /// Checks, after a method wrote its rows, that it wrote all it promised,
+    /// and returns one past the largest observation written, numbered in the
+    /// whole system (0 when nothing was written).
+    pub(crate) fn finish(self, method: &str) -> usize {
+        debug_assert!(
+            self.next_row == self.residuals.len(),
+            "{method} wrote fewer rows than promised"
+        );
+        self.observation_end
+    }
+
+    /// A writer for this writer's first `rows` rows, numbering observations
+    /// from this writer's; this writer keeps the remaining rows and numbers
+    /// its observations `observations` further on. Lets independent blocks of
+    /// a set be written separately (on separate threads).
+    ///
+    /// # Panics
+    /// When rows were written already, or fewer than `rows` remain.
+    pub(crate) fn split_front(&mut self, rows: usize, observations: usize) -> RowWriter<'a> {
+        assert!(
+            self.next_row == 0 && rows <= self.residuals.len(),
+            "a writer is split before it writes, within its rows"
+        );
+        let front = RowWriter {
+            matrix: take_front(&mut self.matrix, rows * self.columns),
+            residuals: take_front(&mut self.residuals, rows),
+            weights: take_front(&mut self.weights, rows),
+            sensor_weights: take_front(&mut self.sensor_weights, rows),
+            observation_weights: self.observation_weights,
+            kinds: take_front(&mut self.kinds, rows),
+            observations: take_front(&mut self.observations, rows),
+            columns: self.columns,
+            layout: self.layout,
+            next_row: 0,
+            auxiliary_offset: self.auxiliary_offset,
+            row_weights: self.row_weights,
+            observation_base: self.observation_base,
+            observation_end: 0,
+        };
+        self.observation_base += observations;
+        front
+    }
+}
+
+/// The first `count` entries of `slice`, which keeps the rest.
+fn take_front<'a, T>(slice: &mut &'a mut [T], count: usize) -> &'a mut [T] {
+    let (front, rest) = std::mem::take(slice).split_at_mut(count);
+    *slice = rest;
+    front
+}

@@ -1,0 +1,532 @@
+//! Robot files: TOML meant to be written and read by a person.
+//!
+//! ```toml
+//! name = "Stanford"
+//! angle_unit = "rad"         # optional: "rad" (default) or "deg"
+//! description = "Table 1"    # optional free text
+//!
+//! [[frame]]                  # frame 0, the base; frames in order 0..n+1
+//! sigma = 2
+//! theta = 1.5707963267948966
+//! r = 0.5
+//!
+//! [[frame]]                  # frame 1, a joint
+//! sigma = 0                  # 0 revolute, 1 prismatic, 2 fixed
+//! alpha = 0.1
+//! qmin = -3.14159
+//! qmax = 3.14159
+//! # omitted: alpha = d = theta = r = beta = 0, K = 1, offset = 0,
+//! # qmin/qmax = ±π (revolute) or 0..1 m (prismatic)
+//!
+//! [coupling]                 # optional, n×n each, identity by default (eq. 4)
+//! Cm = [[1.0, 0.0], [0.0, 1.0]]
+//! Cj = [[1.0, 0.0], [0.0, 1.0]]
+//!
+//! [priority]                 # optional: (n+2) rows of [alpha, d, theta, r, beta, K]
+//! matrix = [[0, 0, 2, 4, 0, 0], ...]
+//! ```
+//!
+//! With `angle_unit = "deg"`, α, θ, β and the limits and offset of revolute
+//! joints are in degrees. In radians, an angle larger than 2π in magnitude is
+//! refused as a likely degrees/radians mix-up. Unknown keys are refused with
+//! the closest known key. gecaro writes files in radians with every digit
+//! (Rust's shortest round-trip form), so load → save → load is the identity.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use gecaro_core::{FrameType, PriorityMatrix, Robot};
+use nalgebra::DMatrix;
+use serde::Deserialize;
+
+use crate::Error;
+use crate::document::{PriorityDocument, RobotDocument};
+use crate::input::{MAX_DESCRIPTION_BYTES, read_text};
+use crate::problem::{DocumentError, Location, model_error};
+use crate::robot_file::{AngleUnit, RobotFile, fallback_name};
+use crate::urdf::names::UrdfDocument;
+
+const TOP_KEYS: &[&str] = &[
+    "name",
+    "description",
+    "angle_unit",
+    "frame",
+    "coupling",
+    "priority",
+    "urdf",
+];
+const FRAME_KEYS: &[&str] = &[
+    "sigma", "alpha", "d", "theta", "r", "beta", "qmin", "qmax", "offset", "K",
+];
+const COUPLING_KEYS: &[&str] = &["Cm", "Cj"];
+const PRIORITY_KEYS: &[&str] = &["matrix", "priority"];
+
+/// Where a text came from, to name it in messages.
+struct Source<'a> {
+    path: &'a Path,
+    text: &'a str,
+}
+
+impl Source<'_> {
+    fn line_of(&self, offset: usize) -> usize {
+        let offset = offset.min(self.text.len());
+        self.text[..offset].bytes().filter(|b| *b == b'\n').count() + 1
+    }
+
+    /// The line of a document location: the key's line inside its table, or
+    /// the table's header (a text scan of the file as written).
+    fn line_of_location(&self, location: &Location) -> usize {
+        let lines: Vec<&str> = self.text.lines().collect();
+        let key_of = |line: &str| {
+            line.split('=')
+                .next()
+                .map(str::trim)
+                .unwrap_or_default()
+                .to_owned()
+        };
+        let is_header = |line: &str| line.trim_start().starts_with('[') && !line.contains('=');
+        // (start, end) of the table whose header satisfies `matches`.
+        let table = |matches: &dyn Fn(&str) -> bool, occurrence: usize| -> Option<(usize, usize)> {
+            let start = lines
+                .iter()
+                .enumerate()
+                .filter(|(_, line)| matches(line.trim()))
+                .nth(occurrence)
+                .map(|(index, _)| index)?;
+            let end = lines[start + 1..]
+                .iter()
+                .position(|line| is_header(line))
+                .map_or(lines.len(), |p| start + 1 + p);
+            Some((start, end))
+        };
+        let find = |range: (usize, usize), key: &str| -> usize {
+            (range.0..range.1)
+                .find(|i| key_of(lines[*i]) == key)
+                .unwrap_or(range.0)
+                + 1
+        };
+        match location {
+            Location::Frame { frame, key } => table(&|line| line.starts_with("[[frame]]"), *frame)
+                .map_or(1, |range| find(range, key)),
+            Location::Coupling { matrix } => table(&|line| line.starts_with("[coupling]"), 0)
+                .map_or(1, |range| find(range, matrix)),
+            Location::Priority { row } => {
+                table(&|line| line.starts_with("[priority]"), 0).map_or(1, |range| {
+                    let matrix_line = find(range, "matrix");
+                    match row {
+                        // One row per line after `matrix = [`, as gecaro writes it.
+                        Some(row) => (matrix_line..range.1)
+                            .filter(|i| lines[*i].trim_start().starts_with('['))
+                            .nth(*row)
+                            .map_or(matrix_line, |i| i + 1),
+                        None => matrix_line,
+                    }
+                })
+            }
+            Location::Key { key } => (0..lines.len())
+                .find(|i| key_of(lines[*i]) == *key || lines[*i].trim() == format!("[{key}]"))
+                .map_or(1, |i| i + 1),
+            Location::Document => {
+                table(&|line| line.starts_with("[[frame]]"), 0).map_or(1, |(start, _)| start + 1)
+            }
+        }
+    }
+
+    fn document_error(&self, error: DocumentError) -> Error {
+        Error::parse(
+            self.path,
+            self.line_of_location(&error.location),
+            Some(error.location.to_string()),
+            error.message,
+        )
+    }
+}
+
+/// Reads a robot file.
+///
+/// # Errors
+/// [`Error::Read`] if the file cannot be read, [`Error::Parse`] naming the
+/// line and key of the first problem otherwise.
+pub fn read_robot_file(path: &Path) -> Result<RobotFile, Error> {
+    let text = read_text(path, MAX_DESCRIPTION_BYTES)?;
+    parse_robot_file(&text, path)
+}
+
+/// Parses the text of a robot file; `path` only names it in messages.
+///
+/// # Errors
+/// [`Error::Parse`] naming the line and key of the first problem.
+pub fn parse_robot_file(text: &str, path: &Path) -> Result<RobotFile, Error> {
+    let source = Source { path, text };
+    let document = parse_robot_document(text, path)?;
+    document
+        .to_robot_file(&fallback_name(path))
+        .map_err(|error| source.document_error(error))
+}
+
+/// Parses the text of a robot file into its document, without checking the
+/// model's rules (the web page shows an invalid robot to be fixed); `path`
+/// only names it in messages.
+///
+/// # Errors
+/// [`Error::Parse`] for TOML syntax errors, unknown keys and values of the
+/// wrong type, naming the line.
+pub fn parse_robot_document(text: &str, path: &Path) -> Result<RobotDocument, Error> {
+    let source = Source { path, text };
+    toml::from_str(text).map_err(|error| toml_error(&source, &error))
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PriorityFileDocument {
+    matrix: Option<Vec<Vec<i64>>>,
+    priority: Option<PriorityDocument>,
+}
+
+/// Reads a priority matrix from a TOML file holding `matrix = [[...], ...]`,
+/// or a `[priority]` table with it (so a robot file's table can be reused),
+/// and checks it against `robot`.
+///
+/// # Errors
+/// [`Error::Read`], or [`Error::Parse`] with the line of the problem.
+pub fn read_priority_file(path: &Path, robot: &Robot) -> Result<PriorityMatrix, Error> {
+    let text = read_text(path, MAX_DESCRIPTION_BYTES)?;
+    let source = Source { path, text: &text };
+    let file: PriorityFileDocument =
+        toml::from_str(&text).map_err(|error| toml_error(&source, &error))?;
+    let document = match (file.matrix, file.priority) {
+        (Some(matrix), None) => PriorityDocument { matrix },
+        (None, Some(table)) => table,
+        _ => {
+            return Err(Error::parse(
+                path,
+                1,
+                Some("matrix".into()),
+                "a priority file holds `matrix = [[alpha, d, theta, r, beta, K], ...]` (one row per \
+                 frame), at the top or in a [priority] table",
+            ));
+        }
+    };
+    // Rows are located relative to the `matrix` key, wherever it is.
+    let matrix_line = text
+        .lines()
+        .position(|line| line.trim_start().starts_with("matrix"))
+        .map_or(1, |i| i + 1);
+    let row_line = |row: Option<usize>| {
+        row.and_then(|row| {
+            text.lines()
+                .enumerate()
+                .skip(matrix_line)
+                .filter(|(_, line)| line.trim_start().starts_with('['))
+                .nth(row)
+                .map(|(i, _)| i + 1)
+        })
+        .unwrap_or(matrix_line)
+    };
+    let fail = |error: DocumentError| {
+        let row = match &error.location {
+            Location::Priority { row } => *row,
+            _ => None,
+        };
+        Error::parse(
+            path,
+            row_line(row),
+            Some(error.location.to_string()),
+            error.message,
+        )
+    };
+    let priority = document.read().map_err(fail)?;
+    priority
+        .validate(robot.parameters())
+        .map_err(|error| fail(model_error(error)))?;
+    Ok(priority)
+}
+
+fn toml_error(source: &Source<'_>, error: &toml::de::Error) -> Error {
+    let message = error.message().trim().to_owned();
+    let message = match unknown_key(&message) {
+        Some(key) => {
+            let known = TOP_KEYS
+                .iter()
+                .chain(FRAME_KEYS)
+                .chain(COUPLING_KEYS)
+                .chain(PRIORITY_KEYS);
+            let closest = known
+                .map(|candidate| (strsim::levenshtein(&key, candidate), *candidate))
+                .filter(|(distance, _)| *distance <= 2.max(key.len() / 3))
+                .min_by_key(|(distance, _)| *distance);
+            match closest {
+                Some((_, candidate)) => {
+                    format!("unknown key `{key}` (did you mean `{candidate}`?)")
+                }
+                None => format!("unknown key `{key}`; {}", expected_list(&message)),
+            }
+        }
+        None => message,
+    };
+    Error::parse(
+        source.path,
+        error.span().map_or(1, |span| source.line_of(span.start)),
+        None,
+        message,
+    )
+}
+
+/// The key of serde's "unknown field `x`, expected ..." message.
+fn unknown_key(message: &str) -> Option<String> {
+    let rest = message.strip_prefix("unknown field `")?;
+    Some(rest[..rest.find('`')?].to_owned())
+}
+
+fn expected_list(message: &str) -> String {
+    message
+        .split_once(", ")
+        .map_or_else(String::new, |(_, expected)| {
+            expected.replace("expected", "known keys are")
+        })
+}
+
+/// Writes a robot file's text (see the module docs for the format).
+pub fn format_robot_file(file: &RobotFile) -> String {
+    let robot = &file.robot;
+    let unit = file.angle_unit;
+    let angle = |value: f64| match unit {
+        AngleUnit::Radians => value,
+        AngleUnit::Degrees => value.to_degrees(),
+    };
+    let mut text = String::new();
+    let unit_name = match unit {
+        AngleUnit::Radians => "radians",
+        AngleUnit::Degrees => "degrees",
+    };
+    let _ = writeln!(
+        text,
+        "# gecaro robot file: Khalil–Kleinfinger frames 0..n+1 (GECARO eq. 3).\n\
+         # Lengths in metres, angles in {unit_name}; sigma = 0 revolute, 1 prismatic, 2 fixed."
+    );
+    let _ = writeln!(text, "name = {}", toml_string(robot.name()));
+    if let Some(description) = &file.description {
+        let _ = writeln!(text, "description = {}", toml_string(description));
+    }
+    if unit == AngleUnit::Degrees {
+        let _ = writeln!(text, "angle_unit = \"deg\"");
+    }
+    let last = robot.frames().len() - 1;
+    for (j, frame) in robot.frames().iter().enumerate() {
+        let role = match (j, frame.frame_type) {
+            (0, _) => "base".to_owned(),
+            (j, _) if j == last => "end-effector".to_owned(),
+            (j, FrameType::Prismatic) => format!("joint {j}, prismatic"),
+            (j, _) => format!("joint {j}, revolute"),
+        };
+        let _ = writeln!(text, "\n[[frame]] # frame {j}: {role}");
+        let _ = writeln!(text, "sigma = {}", frame.frame_type.sigma());
+        if j != 0 {
+            let _ = writeln!(text, "alpha = {}", float(angle(frame.alpha)));
+            let _ = writeln!(text, "d = {}", float(frame.d));
+        }
+        let _ = writeln!(text, "theta = {}", float(angle(frame.theta)));
+        let _ = writeln!(text, "r = {}", float(frame.r));
+        if j != 0 {
+            let _ = writeln!(text, "beta = {}", float(angle(frame.beta)));
+        }
+        if j >= 1 && j <= robot.joint_count() {
+            let joint = &robot.joints()[j - 1];
+            let joint_angle = |value: f64| match frame.frame_type {
+                FrameType::Revolute => angle(value),
+                _ => value,
+            };
+            let _ = writeln!(text, "qmin = {}", float(joint_angle(joint.qmin)));
+            let _ = writeln!(text, "qmax = {}", float(joint_angle(joint.qmax)));
+            let _ = writeln!(text, "offset = {}", float(joint_angle(joint.offset)));
+            let _ = writeln!(text, "K = {}", float(joint.gain));
+        }
+    }
+    let n = robot.joint_count();
+    let identity = DMatrix::<f64>::identity(n, n);
+    let couplings = [
+        ("Cm", robot.motor_coupling()),
+        ("Cj", robot.joint_coupling()),
+    ];
+    if couplings.iter().any(|(_, matrix)| **matrix != identity) {
+        let _ = writeln!(text, "\n[coupling] # q = Cj·diag(K)·Cm·qm + offset (eq. 4)");
+        for (name, matrix) in couplings {
+            let rows: Vec<String> = matrix
+                .row_iter()
+                .map(|row| {
+                    format!(
+                        "[{}]",
+                        row.iter().map(|v| float(*v)).collect::<Vec<_>>().join(", ")
+                    )
+                })
+                .collect();
+            let _ = writeln!(text, "{name} = [{}]", rows.join(", "));
+        }
+    }
+    if let Some(priority) = robot.priority_override() {
+        let _ = writeln!(
+            text,
+            "\n[priority] # rows: frames 0..n+1; columns: alpha, d, theta, r, beta, K"
+        );
+        let _ = writeln!(text, "matrix = [");
+        for row in priority.rows() {
+            let cells: Vec<String> = row.iter().map(ToString::to_string).collect();
+            let _ = writeln!(text, "    [{}],", cells.join(", "));
+        }
+        let _ = writeln!(text, "]");
+    }
+    if let Some(names) = &file.urdf {
+        #[derive(serde::Serialize)]
+        struct Table<'a> {
+            urdf: &'a UrdfDocument,
+        }
+        let document = UrdfDocument::from_names(names);
+        if let Ok(table) = toml::to_string(&Table { urdf: &document }) {
+            let _ = writeln!(
+                text,
+                "\n# Names and link frames of the URDF this robot was imported from, for\n\
+                 # `gecaro robot export --to urdf` (link_frame: the link in frame j, x y z qw qx qy qz).\n{table}"
+            );
+        }
+    }
+    text
+}
+
+/// A float in TOML form that reads back to the same bits.
+fn float(value: f64) -> String {
+    // `{:?}` is Rust's shortest round-trip form and always has a '.' or an exponent.
+    let text = format!("{value:?}");
+    if value.is_finite() {
+        text
+    } else {
+        "nan".into()
+    }
+}
+
+fn toml_string(text: &str) -> String {
+    toml::Value::String(text.to_owned()).to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const STANFORD: &str = r#"
+name = "Stanford"
+[[frame]]
+sigma = 2
+theta = 1.5707963267948966
+r = 0.5
+[[frame]]
+sigma = 0
+alpha = 0.1
+qmin = -3.14159
+qmax = 3.14159
+[[frame]]
+sigma = 0
+alpha = -1.5707963267948966
+r = 0.2
+[[frame]]
+sigma = 1
+alpha = 1.5707963267948966
+[[frame]]
+sigma = 0
+[[frame]]
+sigma = 0
+alpha = -1.5707963267948966
+[[frame]]
+sigma = 0
+alpha = 1.5707963267948966
+[[frame]]
+sigma = 2
+alpha = 1.3
+d = 0.2
+theta = 1.5707963267948966
+r = 0.1
+"#;
+
+    fn parse(text: &str) -> Result<RobotFile, Error> {
+        parse_robot_file(text, Path::new("robot.toml"))
+    }
+
+    fn parse_error(text: &str) -> (usize, String) {
+        match parse(text) {
+            Err(Error::Parse {
+                line,
+                field,
+                message,
+                ..
+            }) => (
+                line,
+                format!("{}{message}", field.map(|f| f + ": ").unwrap_or_default()),
+            ),
+            other => panic!("expected a parse error, got {other:?}"),
+        }
+    }
+
+    #[test]
+    #[allow(clippy::approx_constant)] // the example file writes the limit as -3.14159
+    fn the_issue_example_loads() {
+        let file = parse(STANFORD).expect("valid");
+        assert_eq!(file.robot.joint_letters(), "RRPRRR");
+        assert_eq!(file.robot.joints()[0].qmin, -3.14159);
+        assert_eq!(file.robot.joints()[2].gain, 1.0);
+    }
+
+    #[test]
+    fn save_then_load_is_the_identity() {
+        let file = parse(STANFORD).expect("valid");
+        let again = parse(&format_robot_file(&file)).expect("valid");
+        assert_eq!(file, again);
+    }
+
+    #[test]
+    fn errors_name_line_and_key() {
+        let text = STANFORD.replace("sigma = 1\n", "sigma = 3\n");
+        let (line, message) = parse_error(&text);
+        assert_eq!(line, 17);
+        assert!(
+            message.contains("frame 3, sigma") && message.contains("sigma = 3"),
+            "{message}"
+        );
+
+        let text = STANFORD.replace("alpha = 0.1", "alpah = 0.1");
+        let (line, message) = parse_error(&text);
+        assert_eq!(line, 9);
+        assert!(message.contains("did you mean `alpha`"), "{message}");
+
+        let text = STANFORD.replace("alpha = 0.1", "alpha = 90");
+        let (_, message) = parse_error(&text);
+        assert!(message.contains("angle_unit"), "{message}");
+
+        let text = STANFORD.replace("alpha = 0.1", "alpha = nan");
+        let (line, message) = parse_error(&text);
+        assert_eq!(line, 9);
+        assert!(message.contains("not a finite number"), "{message}");
+
+        let text = STANFORD.replace("qmax = 3.14159", "qmax = -3.2");
+        let (line, message) = parse_error(&text);
+        assert_eq!(line, 10, "{message}");
+        assert!(
+            message.contains("qmin = -3.14159 is greater than qmax = -3.2"),
+            "{message}"
+        );
+    }
+
+    #[test]
+    fn degrees_are_converted() {
+        let text = STANFORD
+            .replace(
+                "name = \"Stanford\"",
+                "name = \"Stanford\"\nangle_unit = \"deg\"",
+            )
+            .replace("alpha = 0.1", "alpha = 90");
+        let file = parse(&text.replace("1.5707963267948966", "90")).expect("valid");
+        assert_eq!(file.robot.frames()[1].alpha, 90f64.to_radians());
+        assert!((file.robot.frames()[7].theta - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+        let again = parse(&format_robot_file(&file)).expect("valid");
+        for (a, b) in file.robot.frames().iter().zip(again.robot.frames()) {
+            assert!((a.alpha - b.alpha).abs() < 1e-15 && (a.theta - b.theta).abs() < 1e-15);
+        }
+    }
+}
