@@ -1,0 +1,72 @@
+//! The settings of an identification ([`IdentificationOptions`]).
+
+use gecaro_core::{PriorityMatrix, Robot};
+
+use super::outliers::DEFAULT_OUTLIER_THRESHOLD;
+use crate::error::{Error, Setting};
+use crate::prior::Prior;
+use crate::robust::Loss;
+
+/// How steps are taken.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum Solver {
+    /// The paper's plain Gauss–Newton steps, with the minimum-norm route when they fail.
+    #[default]
+    GaussNewton,
+    /// Levenberg–Marquardt damping from the first step.
+    LevenbergMarquardt,
+}
+
+/// Settings of [`identify`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct IdentificationOptions {
+    /// Step rule.
+    pub solver: Solver,
+    /// Iteration limit (parameter updates) of each route.
+    pub max_iterations: usize,
+    /// Priority matrix; the robot's when `None`.
+    pub priority: Option<PriorityMatrix>,
+    /// A step is negligible when `‖Δη_b‖ ≤ step_tolerance · (1 + ‖η_b‖)`.
+    pub step_tolerance: f64,
+    /// The loss (plain least squares by default).
+    pub loss: Loss,
+    /// A Gaussian prior on the parameters (none by default).
+    pub prior: Option<Prior>,
+    /// Observations beyond this many robust σ̂ are reported as outliers.
+    pub outlier_threshold: f64,
+    /// Drop the outliers and identify again (once).
+    pub reject: bool,
+}
+
+impl Default for IdentificationOptions {
+    fn default() -> Self {
+        IdentificationOptions {
+            solver: Solver::GaussNewton,
+            max_iterations: 30,
+            priority: None,
+            step_tolerance: 1e-8,
+            loss: Loss::default(),
+            prior: None,
+            outlier_threshold: DEFAULT_OUTLIER_THRESHOLD,
+            reject: false,
+        }
+    }
+}
+
+/// Checks the options a user gives beyond the robot and data.
+pub(super) fn check_options(robot: &Robot, options: &IdentificationOptions) -> Result<(), Error> {
+    let threshold = options.outlier_threshold;
+    if !(threshold.is_finite() && threshold > 0.0) {
+        return Err(Error::InvalidOption {
+            setting: Setting::OutlierThreshold,
+            message: format!("must be a positive number of robust σ, not {threshold}"),
+        });
+    }
+    if !options.loss.is_l2() {
+        Loss::with_scale(options.loss.kind, options.loss.scale)?;
+    }
+    if let Some(prior) = &options.prior {
+        prior.check(robot)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,239 @@
+//! What an identification gives: the identified parameters with their σ,
+//! the errors before and after, how it got there and why it stopped.
+
+use gecaro_core::{ParameterId, Robot};
+
+use super::outliers::Outlier;
+use crate::identifiability::RankReport;
+use crate::observability::Observability;
+use crate::observation::ObservationSystem;
+use crate::prior::Prior;
+use crate::robust::Loss;
+use crate::rows::RowKind;
+
+/// Which route produced the solution (see the module docs).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum Route {
+    /// Plain Gauss–Newton on the base parameters (the paper).
+    GaussNewton,
+    /// Minimum-norm steps on all parameters, then continuation to the base set.
+    MinimumNorm,
+    /// Levenberg–Marquardt on the base parameters.
+    LevenbergMarquardt,
+}
+
+impl Route {
+    /// `gauss-newton`, `minimum-norm` or `levenberg-marquardt`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Route::GaussNewton => "gauss-newton",
+            Route::MinimumNorm => "minimum-norm",
+            Route::LevenbergMarquardt => "levenberg-marquardt",
+        }
+    }
+}
+
+/// Why the iteration stopped.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum StopReason {
+    /// The last correction was negligible.
+    Converged,
+    /// The iteration limit was reached first.
+    IterationLimit,
+    /// No step lowered the residual: the linearisation does not hold from here.
+    Diverged,
+}
+
+impl StopReason {
+    /// `converged`, `iteration_limit` or `diverged`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            StopReason::Converged => "converged",
+            StopReason::IterationLimit => "iteration_limit",
+            StopReason::Diverged => "diverged",
+        }
+    }
+}
+
+/// One iteration: the residual after it and the step that led there.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct IterationRecord {
+    /// RMS of the (weighted) residual vector after the update.
+    pub rms: f64,
+    /// Norm of the update (0 for the starting point).
+    pub step: f64,
+    /// The damping λ of the update (0 for an undamped step).
+    pub damping: f64,
+}
+
+/// Statistics of the per-observation errors (configuration, or pair) of a study.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct ErrorSummary {
+    /// Number of observations.
+    pub count: usize,
+    /// RMS of the position-like errors (metres).
+    pub rms: f64,
+    /// Mean (metres).
+    pub mean: f64,
+    /// Largest (metres).
+    pub max: f64,
+    /// RMS of the orientation errors (radians), for data with orientations.
+    pub rms_rotation: Option<f64>,
+    /// Largest orientation error (radians).
+    pub max_rotation: Option<f64>,
+}
+
+impl ErrorSummary {
+    /// The summary of a system's observation errors.
+    pub fn of(system: &ObservationSystem) -> Self {
+        let errors = system.observation_errors();
+        let count = errors.len();
+        let lengths: Vec<f64> = errors.iter().map(|e| e.0).collect();
+        let angles: Vec<f64> = errors.iter().map(|e| e.1).collect();
+        let has_angles = system.kinds().contains(&RowKind::Angle);
+        let rms = |values: &[f64]| {
+            (values.iter().map(|v| v * v).sum::<f64>() / values.len().max(1) as f64).sqrt()
+        };
+        let max = |values: &[f64]| values.iter().copied().fold(0.0, f64::max);
+        ErrorSummary {
+            count,
+            rms: rms(&lengths),
+            mean: lengths.iter().sum::<f64>() / count.max(1) as f64,
+            max: max(&lengths),
+            rms_rotation: has_angles.then(|| rms(&angles)),
+            max_rotation: has_angles.then(|| max(&angles)),
+        }
+    }
+}
+
+/// An identified base parameter or auxiliary unknown.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IdentifiedParameter {
+    /// Its name (`theta2`, or an auxiliary name such as `a`).
+    pub name: String,
+    /// The robot parameter; `None` for an auxiliary unknown.
+    pub parameter: Option<ParameterId>,
+    /// Value before identification (nominal; initial for auxiliary unknowns).
+    pub nominal: f64,
+    /// Identified value.
+    pub identified: f64,
+    /// Standard deviation of the identified value (posterior, with a prior).
+    pub std: f64,
+    /// Its prior standard deviation, with a prior (regrouping included).
+    pub prior_std: Option<f64>,
+}
+
+/// The result of [`identify`].
+#[derive(Clone, Debug)]
+pub struct Identification {
+    /// The robot with the identified parameters (the best iterate).
+    pub calibrated: Robot,
+    /// The structural identifiable parameters (random data like these, Appendix III).
+    pub rank: RankReport,
+    /// Entry 0 is the starting point; then one entry per accepted update of the route taken.
+    pub history: Vec<IterationRecord>,
+    /// The route that produced the solution.
+    pub route: Route,
+    /// Errors of the observations at the nominal parameters.
+    pub before: ErrorSummary,
+    /// Errors of the observations at the identified parameters.
+    pub after: ErrorSummary,
+    /// Per observation (configuration or pair): the position-like error (m)
+    /// and the orientation error (rad) at the nominal parameters.
+    pub errors_before: Vec<(f64, f64)>,
+    /// The same at the identified parameters.
+    pub errors_after: Vec<(f64, f64)>,
+    /// Condition number of W_b at the solution.
+    pub condition_number: f64,
+    /// Appendix III on the data at the nominal robot (the excitation check):
+    /// the base set they excite, and their W_b's condition number and
+    /// observability indices, computed when first read.
+    pub excitation: RankReport,
+    /// The identified base parameters, in column (priority) order.
+    pub parameters: Vec<IdentifiedParameter>,
+    /// The identified auxiliary unknowns (plane coefficients).
+    pub auxiliary: Vec<IdentifiedParameter>,
+    /// The a-posteriori residual standard deviation σ (units of the weighted rows).
+    pub residual_sigma: f64,
+    /// Why the iteration stopped.
+    pub stop_reason: StopReason,
+    /// Structural base parameters the data do not excite: not identified, left at nominal.
+    pub not_excited: Vec<String>,
+    /// Parameters outside the base set that the minimum-norm route had to move
+    /// (their `std` is NaN): with them at nominal, the base set — chosen at the
+    /// nominal geometry, where its regroupings hold to first order — cannot
+    /// reproduce these data. Empty on the paper's route.
+    pub moved: Vec<IdentifiedParameter>,
+    /// Things a user should know about these results, in words.
+    pub warnings: Vec<String>,
+    /// The loss minimised.
+    pub loss: Loss,
+    /// The prior, if one was given.
+    pub prior: Option<Prior>,
+    /// Outer iterations of the reweighted phase (0 in plain least squares).
+    pub reweightings: usize,
+    /// The robust σ̂ of the residuals at the solution, in units of the
+    /// sensors' σ (the rows' weights; metres for an unweighted set).
+    pub robust_sigma: f64,
+    /// Per observation: its standardised residual at the solution (units of σ̂).
+    pub standardized: Vec<f64>,
+    /// Per observation: its weight in the final fit (all 1 in least squares).
+    pub observation_weights: Vec<f64>,
+    /// The outlier threshold used (robust σ̂).
+    pub outlier_threshold: f64,
+    /// Observations beyond the outlier threshold at the solution, worst first.
+    pub outliers: Vec<Outlier>,
+    /// Observations dropped before this fit ([`IdentificationOptions::reject`]):
+    /// the outliers of the first fit, located in the original data.
+    pub rejected: Vec<Outlier>,
+}
+
+impl Identification {
+    /// The observations beyond the outlier threshold, numbered across sets
+    /// as [`Identification::errors_after`] (for plots).
+    pub fn outlier_observations(&self) -> Vec<usize> {
+        self.standardized
+            .iter()
+            .enumerate()
+            .filter(|(_, u)| **u > self.outlier_threshold)
+            .map(|(index, _)| index)
+            .collect()
+    }
+
+    /// Number of parameter updates of the route taken.
+    pub fn iterations(&self) -> usize {
+        self.history.len() - 1
+    }
+
+    /// Observability indices O1–O5 of the data's W_b at the nominal robot
+    /// (see [`crate::Observability`]).
+    pub fn observability(&self) -> Observability {
+        self.excitation.observability()
+    }
+
+    /// RMS of the weighted residual before identification.
+    pub fn rms_before(&self) -> f64 {
+        self.history[0].rms
+    }
+
+    /// RMS of the weighted residual after identification.
+    pub fn rms_after(&self) -> f64 {
+        self.history
+            .iter()
+            .map(|h| h.rms)
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Why the result is not trustworthy, as a sentence, when the iteration
+    /// did not converge (`None` when it did).
+    pub fn failure(&self) -> Option<String> {
+        (self.stop_reason != StopReason::Converged).then(|| {
+            format!(
+                "the identification did not converge ({}) after {} iterations; best residual RMS {:.3e}",
+                self.stop_reason.as_str().replace('_', " "),
+                self.iterations(),
+                self.rms_after(),
+            )
+        })
+    }
+}

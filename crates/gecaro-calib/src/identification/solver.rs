@@ -1,0 +1,469 @@
+//! The descent of an identification: Gauss–Newton steps on the base
+//! parameters (the paper's scheme, with backtracking), Levenberg–Marquardt
+//! damping, and the minimum-norm route with its continuation back to the base
+//! set (see the parent module docs for when each is taken).
+
+use gecaro_core::Robot;
+
+use super::options::IdentificationOptions;
+use super::result::{IterationRecord, StopReason};
+use super::weighting::Weighting;
+use crate::Error;
+use crate::linalg::{
+    NormalEquations, damped_step, minimum_norm_step, predicted_decrease, step, view,
+};
+use crate::observation::ObservationSystem;
+use crate::rows::ColumnLayout;
+use crate::study::{Study, StudyStates};
+
+/// Largest damping tried before a step is declared impossible.
+const MAX_DAMPING: f64 = 1e12;
+const INITIAL_DAMPING: f64 = 1e-3;
+/// A step that cannot lower the cost by more than this fraction is negligible.
+const COST_TOLERANCE: f64 = 1e-12;
+/// Shortest fraction of a step tried when backtracking.
+const MIN_FRACTION: f64 = 1.0 / 64.0;
+/// Continuation stages tried (the first goes straight to nominal).
+const CONTINUATION_ATTEMPTS: usize = 8;
+/// Iterations allowed to re-converge the base parameters after a stage.
+const CONTINUATION_ITERATIONS: usize = 10;
+/// Parameters, auxiliary values and the system they give.
+#[derive(Clone)]
+pub(super) struct Iterate {
+    pub(super) robot: Robot,
+    pub(super) auxiliary: Vec<f64>,
+    pub(super) system: ObservationSystem,
+    /// The system's normal equations (its step, predicted decrease, precision).
+    pub(super) normal: NormalEquations,
+    pub(super) cost: f64,
+}
+
+/// How a descent treats a step that increases the residual.
+#[derive(Copy, Clone, PartialEq, Eq)]
+pub(super) enum Damping {
+    /// Plain steps only: stop (diverged) at the first increase.
+    Never,
+    /// Plain steps, damped when one increases the residual.
+    WhenNeeded,
+    /// Damped from the first step.
+    Always,
+}
+
+/// The result of one descent.
+pub(super) struct Run {
+    pub(super) best: Iterate,
+    pub(super) history: Vec<IterationRecord>,
+    pub(super) stop: StopReason,
+}
+
+/// Everything an identification iterates on.
+pub(super) struct Problem<'a> {
+    pub(super) study: &'a Study,
+    pub(super) nominal: &'a Robot,
+    pub(super) options: &'a IdentificationOptions,
+    /// Vocabulary indices of the base parameters (column order).
+    pub(super) base: Vec<usize>,
+    /// Indices of the identified auxiliary unknowns.
+    pub(super) base_auxiliary: Vec<usize>,
+    /// Columns: identified auxiliary unknowns, then base parameters.
+    pub(super) layout: ColumnLayout,
+    pub(super) rows: usize,
+    /// Condition number of W_b on the data at nominal: chooses the solver (see `linalg::solve`).
+    pub(super) condition: f64,
+    /// Robust weights and prior rows of the reweighted phase (none in plain least squares).
+    pub(super) weighting: Weighting,
+}
+
+impl<'a> Problem<'a> {
+    /// This problem with `weighting` (robust weights, prior rows).
+    pub(super) fn with_weighting(&self, weighting: Weighting) -> Problem<'a> {
+        Problem {
+            study: self.study,
+            nominal: self.nominal,
+            options: self.options,
+            base: self.base.clone(),
+            base_auxiliary: self.base_auxiliary.clone(),
+            layout: self.layout.clone(),
+            rows: self.rows,
+            condition: self.condition,
+            weighting,
+        }
+    }
+
+    pub(super) fn assemble(
+        &self,
+        robot: &Robot,
+        auxiliary: &[f64],
+        layout: &ColumnLayout,
+        states: &mut StudyStates,
+    ) -> Result<Iterate, Error> {
+        self.assemble_into(
+            robot,
+            auxiliary,
+            layout,
+            states,
+            ObservationSystem::default(),
+        )
+    }
+
+    /// [`assemble`](Self::assemble) reusing the storage of `system`.
+    pub(super) fn assemble_into(
+        &self,
+        robot: &Robot,
+        auxiliary: &[f64],
+        layout: &ColumnLayout,
+        states: &mut StudyStates,
+        mut system: ObservationSystem,
+    ) -> Result<Iterate, Error> {
+        system.set_observation_weights(self.weighting.observation_weights.clone());
+        self.study
+            .linearise(robot, auxiliary, layout, states, &mut system)?;
+        self.weighting
+            .append_prior_rows(&mut system, robot, self.nominal);
+        Self::iterate_of(robot, auxiliary, system)
+    }
+
+    /// The iterate of a system written at `robot` and `auxiliary`.
+    pub(super) fn iterate_of(
+        robot: &Robot,
+        auxiliary: &[f64],
+        system: ObservationSystem,
+    ) -> Result<Iterate, Error> {
+        let right = system.weighted_residuals();
+        let cost: f64 = right.iter().map(|r| r * r).sum();
+        let normal = NormalEquations::of(
+            view(system.matrix(), system.rows(), system.columns()),
+            &right,
+        );
+        // Non-finite entries of W or Δy reach the normal equations.
+        if !cost.is_finite() || !normal.is_finite() {
+            return Err(Error::Numerical {
+                message: "the residuals became non-finite".into(),
+            });
+        }
+        Ok(Iterate {
+            robot: robot.clone(),
+            auxiliary: auxiliary.to_vec(),
+            system,
+            normal,
+            cost,
+        })
+    }
+
+    pub(super) fn record(&self, iterate: &Iterate, step: &[f64], damping: f64) -> IterationRecord {
+        IterationRecord {
+            rms: (iterate.cost / iterate.system.rows().max(1) as f64).sqrt(),
+            step: norm(step),
+            damping,
+        }
+    }
+
+    /// Whether a step over `parameters` (vocabulary indices, after the
+    /// auxiliary columns) is negligible at `iterate`: small against the
+    /// parameters, or unable to lower the cost by more than a relative 1e-12
+    /// (a least-squares step lowers ‖r‖² by ‖W·Δ‖² at most). The second test
+    /// ends iterations on noisy, ill-conditioned data, where rounding keeps the
+    /// computed correction from vanishing at the minimum.
+    pub(super) fn negligible(&self, step: &[f64], iterate: &Iterate, parameters: &[usize]) -> bool {
+        let robot = &iterate.robot;
+        let scale = norm(
+            &parameters
+                .iter()
+                .map(|i| robot.parameter(robot.parameters().id(*i)))
+                .collect::<Vec<_>>(),
+        );
+        if norm(step) <= self.options.step_tolerance * (1.0 + scale) {
+            return true;
+        }
+        let system = &iterate.system;
+        let matrix = view(system.matrix(), system.rows(), system.columns());
+        predicted_decrease(matrix, &iterate.normal, step, self.condition)
+            <= COST_TOLERANCE * iterate.cost
+    }
+
+    /// Adds `step` (auxiliary columns first, then `parameters`) to an iterate.
+    pub(super) fn stepped(
+        &self,
+        iterate: &Iterate,
+        step: &[f64],
+        parameters: &[usize],
+    ) -> Result<(Robot, Vec<f64>), Error> {
+        let mut robot = iterate.robot.clone();
+        let mut auxiliary = iterate.auxiliary.clone();
+        for (column, index) in self.base_auxiliary.iter().enumerate() {
+            auxiliary[*index] += step[column];
+        }
+        let mut deltas = vec![0.0; robot.parameters().len()];
+        for (position, index) in parameters.iter().enumerate() {
+            deltas[*index] = step[self.base_auxiliary.len() + position];
+        }
+        robot.apply_deltas(&deltas)?;
+        Ok((robot, auxiliary))
+    }
+
+    /// Applies a final, negligible correction to the parameters, and to the
+    /// residuals through the linear model `r ← r − W Δ` (exact to O(‖Δ‖²),
+    /// below 1e-16 m for a negligible Δ) instead of re-evaluating the model.
+    pub(super) fn polish(
+        &self,
+        mut current: Iterate,
+        step: &[f64],
+        parameters: &[usize],
+    ) -> Iterate {
+        let Ok((robot, auxiliary)) = self.stepped(&current, step, parameters) else {
+            return current;
+        };
+        current.system.apply_linear_step(step);
+        current.normal.apply_step(step);
+        current.cost = current
+            .system
+            .weighted_residuals()
+            .iter()
+            .map(|r| r * r)
+            .sum();
+        current.robot = robot;
+        current.auxiliary = auxiliary;
+        current
+    }
+
+    /// Gauss–Newton on the base parameters from `start` (see [`Damping`]).
+    ///
+    /// A trial iterate is written into the storage of the current one (W is
+    /// the largest thing here: 3.7 MB at m = 5000, and fresh memory is slow
+    /// to touch); plain steps are nearly always accepted. After the first
+    /// refused trial the current system is rebuilt (bit for bit the same) and
+    /// a second storage is kept from then on.
+    ///
+    /// # Errors
+    /// Only if rebuilding the current iterate fails, which its first
+    /// evaluation did not.
+    pub(super) fn descend(
+        &self,
+        start: Iterate,
+        damping_rule: Damping,
+        max_iterations: usize,
+        states: &mut StudyStates,
+        progress: &mut dyn FnMut(&IterationRecord) -> Result<(), Error>,
+    ) -> Result<Run, Error> {
+        let mut current = start;
+        let mut history = Vec::new();
+        let mut damping = if damping_rule == Damping::Always {
+            INITIAL_DAMPING
+        } else {
+            0.0
+        };
+        let mut stop = StopReason::IterationLimit;
+        // The storage of a replaced or refused iterate, reused by the next
+        // trial; `None` while trials write into the current iterate's storage.
+        let mut spare: Option<ObservationSystem> = None;
+        'iterations: while history.len() < max_iterations {
+            let right = current.system.weighted_residuals();
+            let mut fraction = 1.0;
+            loop {
+                let system = &current.system;
+                let matrix = view(system.matrix(), system.rows(), system.columns());
+                let mut step = if damping == 0.0 {
+                    step(matrix, &current.normal, &right, self.condition)
+                } else {
+                    damped_step(matrix, &right, damping)
+                };
+                if damping <= INITIAL_DAMPING
+                    && fraction == 1.0
+                    && self.negligible(&step, &current, &self.base)
+                {
+                    current = self.polish(current, &step, &self.base);
+                    stop = StopReason::Converged;
+                    break 'iterations;
+                }
+                step.iter_mut().for_each(|value| *value *= fraction);
+                let (storage, shared) = match spare.take() {
+                    Some(storage) => (storage, false),
+                    None => (std::mem::take(&mut current.system), true),
+                };
+                let trial =
+                    self.stepped(&current, &step, &self.base)
+                        .and_then(|(robot, auxiliary)| {
+                            self.assemble_into(&robot, &auxiliary, &self.layout, states, storage)
+                        });
+                match trial {
+                    Ok(trial) if trial.cost <= current.cost => {
+                        let record = self.record(&trial, &step, damping);
+                        progress(&record)?;
+                        history.push(record);
+                        let previous = std::mem::replace(&mut current, trial).system;
+                        spare = (!shared).then_some(previous);
+                        damping = match damping_rule {
+                            Damping::Always => (damping / 10.0).max(1e-12),
+                            _ if damping <= INITIAL_DAMPING => 0.0,
+                            _ => damping / 10.0,
+                        };
+                        break;
+                    }
+                    refused => {
+                        let storage = refused.map(|trial| trial.system).unwrap_or_default();
+                        if shared {
+                            let (robot, auxiliary) = (current.robot, current.auxiliary);
+                            current = self.assemble_into(
+                                &robot,
+                                &auxiliary,
+                                &self.layout,
+                                states,
+                                storage,
+                            )?;
+                            spare = Some(ObservationSystem::default());
+                        } else {
+                            spare = Some(storage);
+                        }
+                    }
+                }
+                // A plain step that increases the residual: shorten it along
+                // its direction first (backtracking), then damp it.
+                if damping == 0.0 && fraction > MIN_FRACTION {
+                    fraction *= 0.5;
+                } else if damping_rule == Damping::Never || damping >= MAX_DAMPING {
+                    stop = StopReason::Diverged;
+                    break 'iterations;
+                } else {
+                    fraction = 1.0;
+                    damping = if damping == 0.0 {
+                        INITIAL_DAMPING
+                    } else {
+                        damping * 10.0
+                    };
+                }
+            }
+        }
+        Ok(Run {
+            best: current,
+            history,
+            stop,
+        })
+    }
+
+    /// The minimum-norm route from `start` (see the module docs).
+    pub(super) fn minimum_norm_route(
+        &self,
+        start: (&Robot, &[f64]),
+        effective: &[usize],
+        states: &mut StudyStates,
+        progress: &mut dyn FnMut(&IterationRecord) -> Result<(), Error>,
+    ) -> Result<Run, Error> {
+        let (start_robot, start_auxiliary) = start;
+        let auxiliary_count = start_auxiliary.len();
+        let layout = ColumnLayout::with_auxiliary(
+            self.nominal.parameters().len(),
+            effective,
+            auxiliary_count,
+            &self.base_auxiliary,
+        );
+        let rank = self.base.len() + self.base_auxiliary.len();
+        let mut current = self.assemble(start_robot, start_auxiliary, &layout, states)?;
+        let mut history = Vec::new();
+        // Phase 1: minimum-norm steps over every parameter with an effect.
+        let mut reached = false;
+        'iterations: while history.len() < self.options.max_iterations {
+            let matrix = view(current.system.matrix(), self.rows, layout.columns());
+            let step = minimum_norm_step(matrix, &current.system.weighted_residuals(), rank)?;
+            if self.negligible(&step, &current, effective) {
+                current = self.polish(current, &step, effective);
+                reached = true;
+                break;
+            }
+            let mut fraction = 1.0;
+            loop {
+                let scaled: Vec<f64> = step.iter().map(|v| v * fraction).collect();
+                let trial =
+                    self.stepped(&current, &scaled, effective)
+                        .and_then(|(robot, auxiliary)| {
+                            self.assemble(&robot, &auxiliary, &layout, states)
+                        });
+                match trial {
+                    Ok(trial) if trial.cost <= current.cost => {
+                        let record = self.record(&trial, &scaled, 0.0);
+                        progress(&record)?;
+                        history.push(record);
+                        current = trial;
+                        break;
+                    }
+                    _ if fraction > MIN_FRACTION => fraction *= 0.5,
+                    _ => break 'iterations,
+                }
+            }
+        }
+        let reached_cost = current.cost;
+        let mut current =
+            self.assemble(&current.robot, &current.auxiliary, &self.layout, states)?;
+        if !reached {
+            return Ok(Run {
+                best: current,
+                history,
+                stop: StopReason::Diverged,
+            });
+        }
+        // Phase 2: continuation of the non-base parameters back to nominal,
+        // as far as an exact solution exists: first straight to nominal, then
+        // by halves.
+        let free: Vec<usize> = effective
+            .iter()
+            .copied()
+            .filter(|i| !self.base.contains(i))
+            .collect();
+        let from: Vec<f64> = free
+            .iter()
+            .map(|i| current.robot.parameter(current.robot.parameters().id(*i)))
+            .collect();
+        let floor = self.rows as f64 * 1e-24;
+        let (mut done, mut stride) = (0.0_f64, 1.0_f64);
+        for _ in 0..CONTINUATION_ATTEMPTS {
+            if done >= 1.0 {
+                break;
+            }
+            let target = (done + stride).min(1.0);
+            let mut robot = current.robot.clone();
+            for (index, start_value) in free.iter().zip(&from) {
+                let id = robot.parameters().id(*index);
+                let nominal = self.nominal.parameter(id);
+                robot.set_parameter(id, start_value + target * (nominal - start_value))?;
+            }
+            let mut stage_records = Vec::new();
+            let run = self
+                .assemble(&robot, &current.auxiliary, &self.layout, states)
+                .and_then(|moved| {
+                    self.descend(
+                        moved,
+                        Damping::WhenNeeded,
+                        CONTINUATION_ITERATIONS,
+                        states,
+                        &mut |record| {
+                            stage_records.push(*record);
+                            Ok(())
+                        },
+                    )
+                });
+            match run {
+                Ok(run)
+                    if run.stop == StopReason::Converged
+                        && run.best.cost <= reached_cost * 1.001 + floor =>
+                {
+                    for record in &run.history {
+                        progress(record)?;
+                    }
+                    history.extend(run.history);
+                    current = run.best;
+                    done = target;
+                    stride = 1.0 - done;
+                }
+                _ => stride *= 0.5,
+            }
+        }
+        Ok(Run {
+            best: current,
+            history,
+            stop: StopReason::Converged,
+        })
+    }
+}
+
+pub(super) fn norm(values: &[f64]) -> f64 {
+    values.iter().map(|v| v * v).sum::<f64>().sqrt()
+}

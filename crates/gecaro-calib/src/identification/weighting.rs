@@ -1,0 +1,55 @@
+//! What the reweighted phase of an identification adds to the plain
+//! least-squares system: robust weights per observation and a prior's
+//! pseudo-observation rows (see [`super::reweighting`]).
+
+use gecaro_core::Robot;
+
+use crate::observation::ObservationSystem;
+
+/// What the reweighted phase adds to the plain system.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Weighting {
+    /// Robust weight per observation (empty: all 1).
+    pub(super) observation_weights: Vec<f64>,
+    /// Prior rows: column of W_b, row weight `s/σ_k`, vocabulary index.
+    pub(super) prior_rows: Vec<PriorRow>,
+}
+
+/// One prior pseudo-observation: `weight · Δη = weight · (η_nominal − η)`.
+#[derive(Copy, Clone, Debug)]
+pub(super) struct PriorRow {
+    pub(super) column: usize,
+    /// The parameter's prior σ (regrouping included).
+    pub(super) sigma: f64,
+    /// Its vocabulary index.
+    pub(super) index: usize,
+    /// The row weight: data σ̂ over the prior σ.
+    pub(super) weight: f64,
+}
+
+impl Weighting {
+    /// Appends the prior rows at `robot` to a system written at `robot`.
+    pub(super) fn append_prior_rows(
+        &self,
+        system: &mut ObservationSystem,
+        robot: &Robot,
+        nominal: &Robot,
+    ) {
+        if self.prior_rows.is_empty() {
+            return;
+        }
+        let rows: Vec<(usize, f64, f64)> = self
+            .prior_rows
+            .iter()
+            .map(|row| {
+                let id = robot.parameters().id(row.index);
+                (
+                    row.column,
+                    row.weight,
+                    nominal.parameter(id) - robot.parameter(id),
+                )
+            })
+            .collect();
+        system.append_rows(&rows);
+    }
+}
