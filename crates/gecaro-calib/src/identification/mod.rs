@@ -64,6 +64,7 @@ mod outliers;
 mod result;
 mod reweighting;
 mod solver;
+mod statistics;
 mod weighting;
 
 use std::ops::ControlFlow;

@@ -2,7 +2,7 @@
 //! solution exceeds a threshold (see [`crate::Loss`] for the units), located
 //! in their set and data file.
 
-use super::reweighting::ResidualStatistics;
+use super::statistics::ResidualStatistics;
 use crate::study::Study;
 
 /// The default outlier threshold, in robust σ̂.

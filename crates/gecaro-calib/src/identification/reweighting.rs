@@ -21,113 +21,17 @@
 //! covariance `(W_bᵀW_b/s² + Σ_p⁻¹)⁻¹`.
 
 use super::result::IterationRecord;
+use super::statistics::ResidualStatistics;
 use super::solver::{Damping, Problem, Run};
 use super::weighting::{PriorRow, Weighting};
 use crate::Error;
-use crate::observation::ObservationSystem;
-use crate::robust::{Loss, LossKind, observation_rms, robust_sigma};
-use crate::rows::RowKind;
+use crate::robust::{Loss, LossKind};
 use crate::study::StudyStates;
 
 /// Outer iterations (reweightings) allowed per loss stage.
 pub const MAX_REWEIGHTINGS: usize = 50;
-/// The smallest σ̂ residuals are standardised by (scaled units: metres of an
-/// unweighted set, σ of a weighted one): below it residuals are rounding,
-/// and none is an outlier.
-const RESIDUAL_FLOOR: f64 = 1e-9;
-/// Rows of one kind a set needs for its own σ̂.
-const MINIMUM_ROWS: usize = 10;
 /// A weight change below this ends the reweighting.
 const WEIGHT_TOLERANCE: f64 = 1e-3;
-
-/// The statistics of the residuals of one iterate under a loss.
-#[derive(Clone, Debug)]
-pub(super) struct ResidualStatistics {
-    /// The robust σ̂ of the scaled measured rows.
-    pub(super) robust_sigma: f64,
-    /// Each observation's standardised residual u_i (units of σ̂).
-    pub(super) standardized: Vec<f64>,
-    /// Each observation's weight under the loss.
-    pub(super) weights: Vec<f64>,
-    /// The a-posteriori variance of the scaled rows under these weights.
-    pub(super) variance: f64,
-    /// Equations of the observations with a non-zero weight.
-    pub(super) effective_equations: usize,
-}
-
-impl ResidualStatistics {
-    /// The statistics of `system` under `loss`; `equations` counts the
-    /// study's independent equations, `unknowns` the identified unknowns.
-    pub(super) fn of(
-        system: &ObservationSystem,
-        loss: &Loss,
-        equations: usize,
-        unknowns: usize,
-    ) -> Self {
-        let scaled = system.scaled_residuals();
-        let observations = system.row_observations();
-        // σ̂ per set and kind of row: lengths and angles of a set without
-        // sensor σ are in metres and radians, which do not compare, and each
-        // set is judged by its own noise (its σ may be a rough guess). A set's
-        // kind with fewer than MINIMUM_ROWS rows takes the σ̂ of all sets.
-        let kinds = system.kinds();
-        let sigma_over = |rows: std::ops::Range<usize>, kind: RowKind| {
-            let values: Vec<f64> = rows
-                .filter(|row| kinds[*row] == kind)
-                .map(|row| scaled[row])
-                .collect();
-            (values.len(), robust_sigma(&values))
-        };
-        // All sets' σ̂ of a kind: a single set's own, otherwise computed
-        // only if a set needs it or to report it.
-        const KINDS: [RowKind; 2] = [RowKind::Length, RowKind::Angle];
-        let single = system.set_rows().len() == 1;
-        let mut pooled: [Option<f64>; 2] = [None; 2];
-        let mut row_sigma = vec![0.0; kinds.len()];
-        for rows in system.set_rows() {
-            for (slot, kind) in KINDS.into_iter().enumerate() {
-                let (count, own) = sigma_over(rows.clone(), kind);
-                let sigma = if single {
-                    *pooled[slot].insert(own)
-                } else if count >= MINIMUM_ROWS {
-                    own
-                } else {
-                    *pooled[slot].get_or_insert_with(|| sigma_over(0..kinds.len(), kind).1)
-                };
-                for row in rows.clone().filter(|row| kinds[*row] == kind) {
-                    row_sigma[row] = sigma;
-                }
-            }
-        }
-        // Noise-free (simulated) data leave rounding residuals: no outliers
-        // among them, and no weights from them.
-        let standardized_rows: Vec<f64> = scaled
-            .iter()
-            .zip(&row_sigma)
-            .map(|(e, sigma)| e / sigma.max(RESIDUAL_FLOOR))
-            .collect();
-        let slot = usize::from(!kinds.contains(&RowKind::Length));
-        let robust_sigma =
-            pooled[slot].unwrap_or_else(|| sigma_over(0..kinds.len(), KINDS[slot]).1);
-        let standardized =
-            observation_rms(&standardized_rows, observations, system.observation_count());
-        let weights: Vec<f64> = standardized.iter().map(|u| loss.weight(*u)).collect();
-        let discarded = observations.iter().filter(|o| weights[**o] == 0.0).count();
-        let effective_equations = equations.saturating_sub(discarded);
-        let weighted: f64 = scaled
-            .iter()
-            .zip(observations)
-            .map(|(e, o)| weights[*o] * e * e)
-            .sum();
-        ResidualStatistics {
-            robust_sigma,
-            standardized,
-            weights,
-            variance: weighted / effective_equations.saturating_sub(unknowns).max(1) as f64,
-            effective_equations,
-        }
-    }
-}
 
 /// What the reweighted phase produced.
 pub(super) struct Reweighted {
