@@ -1,12 +1,14 @@
 //! Benchmarks of gecaro's calibration functions (`cargo bench`).
 //! Figures and how to read them: docs/performance.md.
 
-use std::ops::ControlFlow;
-
 use gecaro_calib::{
-    IdentificationOptions, Match, MethodOptions, Plane, ProgramPoint, ProgramTarget,
-    STANFORD_PLANE_POINT, Sampler, Study, TABLE2_PLANE_NORMAL, compensate, identify, method,
-    perturbed_robot, simulate_measurements, table2,
+    Quiet,
+    compensation::{Match, ProgramPoint, ProgramTarget, compensate},
+    identification::{IdentificationOptions, identify},
+    methods::{MethodOptions, Plane, method},
+    simulation::{Sampler, perturbed_robot, simulate_measurements},
+    study::Study,
+    table2::{STANFORD_PLANE_POINT, TABLE2_PLANE_NORMAL, table2},
 };
 use gecaro_core::Robot;
 use nalgebra::Vector3;
@@ -62,7 +64,13 @@ fn identify_position(bencher: divan::Bencher, count: usize) {
     let robot = stanford();
     let study = simulated("position", count);
     bencher.bench_local(|| {
-        identify(&robot, &study, &IdentificationOptions::default()).expect("identification")
+        identify(
+            &robot,
+            &study,
+            &IdentificationOptions::default(),
+            &mut Quiet,
+        )
+        .expect("identification")
     });
 }
 
@@ -76,9 +84,9 @@ fn iteration_floor_position_5000(bencher: divan::Bencher) {
     let robot = stanford();
     let study = simulated("position", 5000);
     let base: Vec<usize> = (0..31).collect();
-    let mut states = gecaro_calib::StudyStates::default();
-    let layout = gecaro_calib::ColumnLayout::new(robot.parameters().len(), &base, 0);
-    let mut system = gecaro_calib::ObservationSystem::default();
+    let mut states = gecaro_calib::study::StudyStates::default();
+    let layout = gecaro_calib::observation::ColumnLayout::new(robot.parameters().len(), &base, 0);
+    let mut system = gecaro_calib::observation::ObservationSystem::default();
     bencher.bench_local(|| {
         study
             .linearise(&robot, &[], &layout, &mut states, &mut system)
@@ -100,7 +108,13 @@ fn identify_500(bencher: divan::Bencher, name: &str) {
     let robot = stanford();
     let study = simulated(name, 500);
     bencher.bench_local(|| {
-        identify(&robot, &study, &IdentificationOptions::default()).expect("identification")
+        identify(
+            &robot,
+            &study,
+            &IdentificationOptions::default(),
+            &mut Quiet,
+        )
+        .expect("identification")
     });
 }
 
@@ -136,10 +150,7 @@ fn compensate_6r_1000_targets(bencher: divan::Bencher) {
         })
         .collect();
     bencher.bench_local(|| {
-        compensate(&nominal, &calibrated, &points, Match::Pose, |_| {
-            ControlFlow::Continue(())
-        })
-        .expect("compensates")
+        compensate(&nominal, &calibrated, &points, Match::Pose, &mut Quiet).expect("compensates")
     });
 }
 
@@ -151,16 +162,17 @@ fn plan_d_optimal_50(bencher: divan::Bencher, pool: usize) {
     let robot = stanford();
     let position = method("position", &MethodOptions::default()).expect("method");
     let candidates =
-        gecaro_calib::random_samples(&robot, position.as_ref(), Some(pool), 1).expect("candidates");
+        gecaro_calib::identifiability::random_samples(&robot, position.as_ref(), Some(pool), 1)
+            .expect("candidates");
     let priority = robot.priority();
     bencher.bench_local(|| {
-        gecaro_calib::plan_configurations(
+        gecaro_calib::planning::plan_configurations(
             &robot,
             position.as_ref(),
             &candidates,
-            &gecaro_calib::PlanRequest::new(50),
+            &gecaro_calib::planning::PlanRequest::new(50),
             &priority,
-            |_, _| ControlFlow::Continue(()),
+            &mut Quiet,
         )
         .expect("plan")
     });
@@ -174,12 +186,13 @@ fn monte_carlo_1000_at_100(bencher: divan::Bencher) {
     let robot = stanford();
     let position = method("position", &MethodOptions::default()).expect("method");
     let planned =
-        gecaro_calib::random_samples(&robot, position.as_ref(), Some(100), 1).expect("planned");
-    let mut sampler = gecaro_calib::Sampler::new(2);
+        gecaro_calib::identifiability::random_samples(&robot, position.as_ref(), Some(100), 1)
+            .expect("planned");
+    let mut sampler = gecaro_calib::simulation::Sampler::new(2);
     let poses: Vec<Vec<f64>> = (0..200).map(|_| sampler.configuration(&robot)).collect();
-    let options = gecaro_calib::IdentificationOptions::default();
+    let options = gecaro_calib::identification::IdentificationOptions::default();
     bencher.bench_local(|| {
-        gecaro_calib::monte_carlo(
+        gecaro_calib::prediction::monte_carlo(
             &robot,
             position.as_ref(),
             &planned,
@@ -189,7 +202,7 @@ fn monte_carlo_1000_at_100(bencher: divan::Bencher) {
             1000,
             3,
             &options,
-            |_| ControlFlow::Continue(()),
+            &mut Quiet,
         )
         .expect("simulated calibrations")
     });
@@ -206,10 +219,10 @@ fn identify_position_500_with_gross_errors(bencher: divan::Bencher, loss: &str) 
         sample.position = sample.position.map(|p| p + Vector3::new(0.02, 0.0, 0.0));
     }
     let options = IdentificationOptions {
-        loss: gecaro_calib::Loss::new(loss.parse().expect("loss")),
+        loss: gecaro_calib::identification::Loss::new(loss.parse().expect("loss")),
         ..IdentificationOptions::default()
     };
-    bencher.bench_local(|| identify(&robot, &study, &options).expect("identification"));
+    bencher.bench_local(|| identify(&robot, &study, &options, &mut Quiet).expect("identification"));
 }
 
 /// 5-fold cross-validation of a position identification at m = 500.
@@ -218,7 +231,14 @@ fn cross_validate_position_500_5_folds(bencher: divan::Bencher) {
     let robot = stanford();
     let study = simulated("position", 500);
     bencher.bench_local(|| {
-        gecaro_calib::cross_validate(&robot, &study, &IdentificationOptions::default(), 5, 1)
-            .expect("cross-validation")
+        gecaro_calib::validation::cross_validate(
+            &robot,
+            &study,
+            &IdentificationOptions::default(),
+            5,
+            1,
+            &mut Quiet,
+        )
+        .expect("cross-validation")
     });
 }

@@ -271,7 +271,9 @@ pub(crate) struct IkArgs {
 
 /// The method names of the registry, for clap's value list.
 fn method_names() -> clap::builder::PossibleValuesParser {
-    clap::builder::PossibleValuesParser::new(gecaro_calib::METHODS.iter().map(|info| info.name))
+    clap::builder::PossibleValuesParser::new(
+        gecaro_calib::methods::METHODS.iter().map(|info| info.name),
+    )
 }
 
 /// Whether the plane of a plane method is known or identified.
@@ -612,7 +614,7 @@ pub(crate) struct IdentificationRunArgs {
     #[arg(long, value_name = "K")]
     pub(crate) loss_scale: Option<f64>,
     /// Report observations whose residual exceeds this many robust σ as outliers.
-    #[arg(long, value_name = "K", default_value_t = gecaro_calib::DEFAULT_OUTLIER_THRESHOLD)]
+    #[arg(long, value_name = "K", default_value_t = gecaro_calib::identification::DEFAULT_OUTLIER_THRESHOLD)]
     pub(crate) outlier_threshold: f64,
     /// Drop the outliers and identify again, once.
     #[arg(long)]

@@ -48,7 +48,10 @@ pub(crate) fn list(values: &[f64]) -> String {
 }
 
 /// The observability indices as one line (see docs/planning.md).
-pub(crate) fn observability(indices: &gecaro_calib::Observability, of: &str) -> String {
+pub(crate) fn observability(
+    indices: &gecaro_calib::observability::Observability,
+    of: &str,
+) -> String {
     format!(
         "Observability of {of} (W_b scaled to 1 cm, 1°, 1 %; larger is better): \
          O1 {:.3e}, O2 {:.3e}, O3 {:.3e}, O4 {:.3e}, O5 {:.3e}",

@@ -369,9 +369,11 @@ fn identifiable_on_measured_data_checks_the_excitation() {
     let folder = tempfile::tempdir().expect("temporary folder");
     let robot = gecaro_io::load_robot("stanford").expect("stanford").robot;
     let method =
-        gecaro_calib::method("position", &gecaro_calib::MethodOptions::default()).expect("method");
+        gecaro_calib::methods::method("position", &gecaro_calib::methods::MethodOptions::default())
+            .expect("method");
     let samples =
-        gecaro_calib::random_samples(&robot, method.as_ref(), Some(40), 9).expect("samples");
+        gecaro_calib::identifiability::random_samples(&robot, method.as_ref(), Some(40), 9)
+            .expect("samples");
     let good = folder.path().join("good.csv");
     std::fs::write(
         &good,

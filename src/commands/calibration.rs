@@ -2,14 +2,16 @@
 //! generation" and "Identification" functions, and the evaluation of a
 //! calibrated robot.
 
-use std::ops::ControlFlow;
-use std::path::{Path, PathBuf};
-use std::time::Instant;
-
 use gecaro_calib::{
-    CalibrationMethod, ErrorSummary, Identification, IdentificationOptions, Loss, LossKind,
-    MethodOptions, Model, Plane, Sampler, Solver, StopReason, Study, evaluate as evaluate_study,
-    identify_with_progress, method, perturbed_robot, simulate_measurements,
+    Quiet, each_iteration,
+    identification::{
+        ErrorSummary, Identification, IdentificationOptions, Loss, LossKind, Solver, StopReason,
+        evaluate as evaluate_study,
+    },
+    methods::{CalibrationMethod, MethodOptions, Plane, method},
+    simulation::{Sampler, perturbed_robot, simulate_measurements},
+    study::Study,
+    validation::Model,
 };
 use gecaro_core::Robot;
 use gecaro_io::{
@@ -19,6 +21,8 @@ use gecaro_io::{
 use gecaro_report::json::{CrossValidationJson, IdentificationJson, SummaryJson};
 use indicatif::{ProgressBar, ProgressStyle};
 use nalgebra::Vector3;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 use super::options::{load_study, method_options, output_policy};
 use crate::cli::{
@@ -103,7 +107,7 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
             let planned = gecaro_io::read_samples(
                 path,
                 &gecaro_io::joint_types(robot),
-                &gecaro_calib::DataColumn::grouping(chosen.data_columns()),
+                &gecaro_calib::study::DataColumn::grouping(chosen.data_columns()),
                 &gecaro_io::DataFormat::default(),
             )?
             .samples;
@@ -112,7 +116,7 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
                 planned.len(),
                 chosen.title()
             ));
-            let samples = gecaro_calib::simulate_at(
+            let samples = gecaro_calib::simulation::simulate_at(
                 &real,
                 chosen.as_ref(),
                 &planned,
@@ -147,7 +151,7 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
         chosen.title(),
         args.output.display()
     );
-    let displacement = gecaro_calib::terminal_displacement(robot, &real, &samples)?;
+    let displacement = gecaro_calib::simulation::terminal_displacement(robot, &real, &samples)?;
     match &args.real {
         Some(path) => println!("real robot: {}", path.display()),
         None => println!(
@@ -275,14 +279,18 @@ fn run_identification(
     }
     let bar = spinner("identifying");
     let mut iteration = 0;
-    let result = identify_with_progress(robot, &study, &options, |record| {
-        bar.set_message(format!(
-            "iteration {iteration}: residual RMS {:.3e}",
-            record.rms
-        ));
-        iteration += 1;
-        ControlFlow::Continue(())
-    });
+    let result = gecaro_calib::identification::identify(
+        robot,
+        &study,
+        &options,
+        &mut each_iteration(|record| {
+            bar.set_message(format!(
+                "iteration {iteration}: residual RMS {:.3e}",
+                record.rms
+            ));
+            iteration += 1;
+        }),
+    );
     bar.finish_and_clear();
     Ok(Run {
         result: result?,
@@ -297,7 +305,7 @@ fn run_identification(
 /// file's prior, if any, unless `--prior` replaces its σ per kind).
 fn robust_options(
     args: &IdentificationRunArgs,
-    study_prior: Option<gecaro_calib::Prior>,
+    study_prior: Option<gecaro_calib::identification::Prior>,
 ) -> Result<IdentificationOptions, Failure> {
     let kind = match args.loss {
         LossArg::L2 => LossKind::L2,
@@ -555,10 +563,11 @@ fn print_identification(robot: &Robot, study: &Study, result: &Identification, d
             "Converged after {} iterations ({}).",
             result.iterations(),
             match result.route {
-                gecaro_calib::Route::GaussNewton => "plain Gauss–Newton, as in the paper",
-                gecaro_calib::Route::MinimumNorm =>
+                gecaro_calib::identification::Route::GaussNewton =>
+                    "plain Gauss–Newton, as in the paper",
+                gecaro_calib::identification::Route::MinimumNorm =>
                     "minimum-norm route: the plain steps did not converge",
-                gecaro_calib::Route::LevenbergMarquardt => "Levenberg–Marquardt",
+                gecaro_calib::identification::Route::LevenbergMarquardt => "Levenberg–Marquardt",
             }
         ),
         StopReason::IterationLimit => {
@@ -671,8 +680,8 @@ const DEMO_COUNTS: [(&str, usize); 7] = [
 pub(crate) fn demo(args: &DemoArgs) -> Result<(), Failure> {
     let robot = load_robot("stanford")?.robot;
     let plane = Plane::new(
-        Vector3::from(gecaro_calib::TABLE2_PLANE_NORMAL),
-        Vector3::from(gecaro_calib::STANFORD_PLANE_POINT),
+        Vector3::from(gecaro_calib::table2::TABLE2_PLANE_NORMAL),
+        Vector3::from(gecaro_calib::table2::STANFORD_PLANE_POINT),
     )?;
     let options = MethodOptions {
         plane: Some(plane),
@@ -712,10 +721,12 @@ pub(crate) fn demo(args: &DemoArgs) -> Result<(), Failure> {
             simulate_measurements(&real, chosen.as_ref(), count, args.noise, &mut sampler)?;
         let title = chosen.title();
         let study = Study::single(chosen, samples, name);
-        let result =
-            identify_with_progress(&robot, &study, &IdentificationOptions::default(), |_| {
-                ControlFlow::Continue(())
-            })?;
+        let result = gecaro_calib::identification::identify(
+            &robot,
+            &study,
+            &IdentificationOptions::default(),
+            &mut Quiet,
+        )?;
         let elapsed = started.elapsed();
         if result.stop_reason != StopReason::Converged {
             failures.push(format!("{title}: {}", result.stop_reason.as_str()));

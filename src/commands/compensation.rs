@@ -1,15 +1,14 @@
 //! `gecaro compensate`: a robot program corrected for the calibrated robot.
 
-use std::ops::ControlFlow;
-
-use gecaro_calib::{CompensatedPoint, CompensationStatus, Match, compensate as compensate_program};
-use gecaro_io::{ProgramKind, load_robot, read_program, write_atomically};
-use indicatif::ProgressBar;
-use serde::Serialize;
-
 use super::options::output_policy;
 use crate::cli::{CompensateArgs, MatchArg};
 use crate::failure::Failure;
+use gecaro_calib::compensation::{
+    CompensatedPoint, CompensationStatus, Match, compensate as compensate_program,
+};
+use gecaro_io::{ProgramKind, load_robot, read_program, write_atomically};
+use indicatif::ProgressBar;
+use serde::Serialize;
 
 /// Targets below which no progress bar is drawn.
 const QUIET_BELOW: usize = 2000;
@@ -63,12 +62,17 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
         MatchArg::Pose => Match::Pose,
         MatchArg::Position => Match::Position,
     };
-    let results = compensate_program(&nominal, &calibrated, &program.points, matching, |done| {
-        if done % 256 == 0 {
-            bar.set_position(done as u64);
-        }
-        ControlFlow::Continue(())
-    })?;
+    let results = compensate_program(
+        &nominal,
+        &calibrated,
+        &program.points,
+        matching,
+        &mut gecaro_calib::each_step(|done, _| {
+            if done % 256 == 0 {
+                bar.set_position(done as u64);
+            }
+        }),
+    )?;
     bar.finish_and_clear();
     write_atomically(
         &args.output,
@@ -90,7 +94,7 @@ fn largest_correction(
             continue;
         }
         let original = match &point.target {
-            gecaro_calib::ProgramTarget::Joints(qm) => Some(qm),
+            gecaro_calib::compensation::ProgramTarget::Joints(qm) => Some(qm),
             _ => point.joints.as_ref(),
         };
         for (j, (before, after)) in original

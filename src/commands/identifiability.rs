@@ -1,8 +1,7 @@
 //! `gecaro identifiable` and `gecaro table2` (Appendix III, Table 2).
-
 use gecaro_calib::{
-    Excitation, ParameterStatus, RankReport, TABLE2_COLUMNS, TABLE2_PLANE_NORMAL, default_plane,
-    identifiability, table2 as table2_reports,
+    identifiability::{Excitation, ParameterStatus, RankReport, identifiability},
+    table2::{TABLE2_COLUMNS, TABLE2_PLANE_NORMAL, default_plane, table2 as table2_reports},
 };
 use gecaro_core::{ParameterId, ParameterKind, Robot};
 use gecaro_io::{load_robot, read_priority_file};
@@ -175,7 +174,7 @@ pub(crate) fn table2(args: &Table2Args) -> Result<(), Failure> {
         Some(point) => plane(Some(&normal), Some(point))?.expect("both given"),
         None => {
             let middle = default_plane(&robot)?;
-            gecaro_calib::Plane::new(vector3(&normal, "--plane-normal")?, middle.point())?
+            gecaro_calib::methods::Plane::new(vector3(&normal, "--plane-normal")?, middle.point())?
         }
     };
     let reports = table2_reports(&robot, plane, &robot.priority(), args.seed)?;

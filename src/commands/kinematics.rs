@@ -141,11 +141,11 @@ fn solve_from_several_starts(
     target: &Target,
     options: &InverseOptions,
 ) -> Result<InverseSolution, Failure> {
-    gecaro_calib::solve_from_starts(robot, target, options, 1).map_err(|first_error| {
+    gecaro_calib::simulation::solve_from_starts(robot, target, options, 1).map_err(|first_error| {
         Failure::Numerical(format!(
             "{first_error} (tried the middle of the joint ranges and {} random starts; \
              --start chooses another)",
-            gecaro_calib::RANDOM_STARTS
+            gecaro_calib::simulation::RANDOM_STARTS
         ))
     })
 }

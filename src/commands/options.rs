@@ -1,6 +1,5 @@
 //! Turning command-line method options into library options.
-
-use gecaro_calib::{MethodOptions, Plane};
+use gecaro_calib::methods::{MethodOptions, Plane};
 use gecaro_core::OrientationDifference;
 use gecaro_io::OutputPolicy;
 use nalgebra::{IsometryMatrix3, Rotation3, Vector3};
@@ -138,7 +137,7 @@ pub(crate) fn load_study(
         return Err(Failure::usage("give ROBOT and --method, or --study", None));
     };
     let robot = gecaro_io::load_robot(robot)?;
-    let chosen = gecaro_calib::method(method, &method_options(&source.options)?)?;
+    let chosen = gecaro_calib::methods::method(method, &method_options(&source.options)?)?;
     let samples = match data {
         Some(path) => read_data(path, &robot.robot, chosen.as_ref(), &source.format)?,
         None => Vec::new(),
@@ -147,7 +146,7 @@ pub(crate) fn load_study(
         || "random configurations".to_owned(),
         |p| p.display().to_string(),
     );
-    let study = gecaro_calib::Study::single(chosen, samples, label);
+    let study = gecaro_calib::study::Study::single(chosen, samples, label);
     check_limits(&robot.robot, &study, source.strict_limits)?;
     Ok(LoadedStudy {
         file: robot,
@@ -160,11 +159,11 @@ pub(crate) fn load_study(
 /// A robot with a study, and what a study file adds.
 pub(crate) struct LoadedStudy {
     pub(crate) file: gecaro_io::RobotFile,
-    pub(crate) study: gecaro_calib::Study,
+    pub(crate) study: gecaro_calib::study::Study,
     /// The study file's priority matrix.
     pub(crate) priority: Option<gecaro_core::PriorityMatrix>,
     /// The study file's prior.
-    pub(crate) prior: Option<gecaro_calib::Prior>,
+    pub(crate) prior: Option<gecaro_calib::identification::Prior>,
 }
 
 /// The format of a data file as the command line gives it.
@@ -192,9 +191,9 @@ pub(crate) fn data_format(args: &DataFormatArgs) -> Result<gecaro_io::DataFormat
 pub(crate) fn read_data(
     path: &std::path::Path,
     robot: &gecaro_core::Robot,
-    method: &dyn gecaro_calib::CalibrationMethod,
+    method: &dyn gecaro_calib::methods::CalibrationMethod,
     format: &DataFormatArgs,
-) -> Result<Vec<gecaro_calib::Sample>, Failure> {
+) -> Result<Vec<gecaro_calib::study::Sample>, Failure> {
     let data = gecaro_io::read_samples(
         path,
         &gecaro_io::joint_types(robot),
@@ -216,7 +215,7 @@ pub(crate) fn read_data(
 /// `--strict-limits` an error.
 pub(crate) fn check_limits(
     robot: &gecaro_core::Robot,
-    study: &gecaro_calib::Study,
+    study: &gecaro_calib::study::Study,
     strict: bool,
 ) -> Result<(), Failure> {
     let Some(message) = study.limit_summary(robot) else {

@@ -1,18 +1,21 @@
 //! `gecaro plan` and `gecaro predict`: the configurations to measure, and how
 //! accurate their calibration will be, before measuring (docs/planning.md).
 
-use std::ops::ControlFlow;
-use std::path::Path;
-
 use gecaro_calib::{
-    CandidatePool, Criterion, CurvePoint, DataColumn, IdentificationOptions, PlanRequest,
-    PoseErrors, Sample, Sampler, accuracy_curve, method, monte_carlo, predict, random_test_poses,
+    curve::{CurvePoint, accuracy_curve},
+    identification::IdentificationOptions,
+    methods::method,
+    planning::{CandidatePool, Criterion, PlanRequest},
+    prediction::{PoseErrors, monte_carlo, predict, random_test_poses},
+    simulation::Sampler,
+    study::{DataColumn, Sample},
 };
 use gecaro_core::Robot;
 use gecaro_io::{DataFormat, format_samples, joint_types, load_robot, read_samples};
 use gecaro_report::json::{CurvePointJson, PlanJson};
 use indicatif::ProgressBar;
 use serde::Serialize;
+use std::path::Path;
 
 use super::calibration::check_output;
 use super::options::{method_options, output_policy};
@@ -21,13 +24,12 @@ use crate::cli::{CriterionArg, PlanArgs, PredictArgs, TestPoseArgs};
 use crate::failure::Failure;
 use crate::format::{number, table};
 
-/// Shows `progress(done, total)` reports on `bar`.
-fn shown_on(bar: &ProgressBar) -> impl FnMut(usize, usize) -> ControlFlow<()> + '_ {
-    |done, total| {
+/// Shows the steps of the work on `bar`.
+fn shown_on(bar: &ProgressBar) -> impl gecaro_calib::Observer + '_ {
+    gecaro_calib::each_step(|done, total| {
         bar.set_length(total as u64);
         bar.set_position(done as u64);
-        ControlFlow::Continue(())
-    }
+    })
 }
 
 /// The configurations of a data file (measurement columns, if any, ignored).
@@ -125,7 +127,7 @@ pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
         return curve(args, &pool, counts, &request, &poses);
     }
     let bar = progress_bar("planning");
-    let planned = pool.plan(&request, shown_on(&bar));
+    let planned = pool.plan(&request, &mut shown_on(&bar));
     bar.finish_and_clear();
     let planned = planned?;
     // A random choice of as many units from the same pool, for comparison.
@@ -228,7 +230,7 @@ fn curve(
         noise,
         poses,
         args.seed,
-        shown_on(&bar),
+        &mut shown_on(&bar),
     );
     bar.finish_and_clear();
     let points = points?;
@@ -243,7 +245,7 @@ fn curve(
             noise,
             pool: pool.len(),
             test_poses: poses.len(),
-            random_draws: gecaro_calib::RANDOM_DRAWS,
+            random_draws: gecaro_calib::curve::RANDOM_DRAWS,
             points: points.iter().map(CurvePointJson::from).collect(),
         });
     }
@@ -256,7 +258,7 @@ fn curve(
         number(noise * 1e3, 6),
         request.criterion.name().to_uppercase(),
         pool.len(),
-        gecaro_calib::RANDOM_DRAWS
+        gecaro_calib::curve::RANDOM_DRAWS
     );
     println!("{}", curve_table(&points));
     if let Some(plot) = &args.plot {
@@ -378,10 +380,7 @@ pub(crate) fn predict_accuracy(args: &PredictArgs) -> Result<(), Failure> {
                 runs,
                 args.seed,
                 &IdentificationOptions::default(),
-                |_| {
-                    bar.inc(1);
-                    ControlFlow::Continue(())
-                },
+                &mut gecaro_calib::each_step(|_, _| bar.inc(1)),
             );
             bar.finish_and_clear();
             Some(result?)

@@ -1,7 +1,6 @@
 //! Human output of what the identification did about measurements as they
 //! are: the loss and its reweightings, the prior, and the outlier report.
-
-use gecaro_calib::{Identification, Outlier};
+use gecaro_calib::identification::{Identification, Outlier};
 
 use crate::format::{number, table};
 

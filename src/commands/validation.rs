@@ -1,9 +1,10 @@
 //! `gecaro identify --cv K` and `gecaro compare-models`: held-out error as
 //! the judge of an identification and of the model (docs/methods.md).
-
 use gecaro_calib::{
-    CrossValidation, IdentificationOptions, Model, ModelScore, Study, compare_models,
-    cross_validate_with,
+    each_step,
+    identification::IdentificationOptions,
+    study::Study,
+    validation::{CrossValidation, Model, ModelScore, compare_models, cross_validate},
 };
 use gecaro_core::Robot;
 use gecaro_report::json::{CrossValidationJson, ModelScoreJson};
@@ -30,9 +31,14 @@ pub(super) fn cross_validation(
     seed: u64,
 ) -> Result<CrossValidation, Failure> {
     let bar = fold_bar("cross-validating", folds);
-    let result = cross_validate_with(robot, study, options, folds, seed, |done| {
-        bar.set_position(done as u64);
-    });
+    let result = cross_validate(
+        robot,
+        study,
+        options,
+        folds,
+        seed,
+        &mut each_step(|done, _| bar.set_position(done as u64)),
+    );
     bar.finish_and_clear();
     Ok(result?)
 }
@@ -135,7 +141,6 @@ pub(crate) fn compare(args: &CompareModelsArgs) -> Result<(), Failure> {
         return Err(Failure::usage("--models lists no model", None));
     }
     let bar = fold_bar("comparing models (folds)", models.len() * args.cv);
-    let mut done = 0;
     let scores = compare_models(
         robot,
         &study,
@@ -143,10 +148,7 @@ pub(crate) fn compare(args: &CompareModelsArgs) -> Result<(), Failure> {
         &models,
         args.cv,
         args.seed,
-        |_, _| {
-            done += 1;
-            bar.set_position(done as u64);
-        },
+        &mut each_step(|done, _| bar.set_position(done as u64)),
     );
     bar.finish_and_clear();
     let scores = scores?;

@@ -21,8 +21,6 @@
 //!   a status: reached, reached only beyond a joint limit, or not reached
 //!   (then the start joints are kept). Nothing is dropped or written silently.
 
-use std::ops::ControlFlow;
-
 use gecaro_core::{
     InverseOptions, OrientationDifference, Robot, Target, forward_kinematics, inverse_kinematics,
     joint_jacobian, orientation_difference, terminal_pose,
@@ -30,6 +28,7 @@ use gecaro_core::{
 use nalgebra::{DMatrix, DVector, IsometryMatrix3, Vector3};
 
 use crate::Error;
+use crate::progress::{Observer, Progress, report};
 use crate::sampler::solve_from_starts;
 
 /// One target of a program.
@@ -104,9 +103,10 @@ pub struct CompensatedPoint {
 /// Iterations of the move towards the closest solution.
 const CLOSEST_ITERATIONS: usize = 60;
 
-/// Compensates every point of a program (see the module docs); `progress`
-/// is called with the number of points done, and stops the work with
-/// [`Error::Interrupted`] when it answers [`ControlFlow::Break`].
+/// Compensates every point of a program (see the module docs); `observer`
+/// hears of the points done ([`Progress::Step`]) and stops the work with
+/// [`Error::Interrupted`] when it answers
+/// [`ControlFlow::Break`](std::ops::ControlFlow::Break).
 ///
 /// # Errors
 /// Robots with different joint counts, or a target of the wrong length or
@@ -116,7 +116,7 @@ pub fn compensate(
     calibrated: &Robot,
     points: &[ProgramPoint],
     matching: Match,
-    mut progress: impl FnMut(usize) -> ControlFlow<()>,
+    observer: &mut dyn Observer,
 ) -> Result<Vec<CompensatedPoint>, Error> {
     if nominal.joint_count() != calibrated.joint_count() {
         return Err(Error::InvalidData {
@@ -165,9 +165,13 @@ pub fn compensate(
             previous = Some(result.motor_positions.clone());
         }
         results.push(result);
-        if progress(index + 1).is_break() {
-            return Err(Error::Interrupted);
-        }
+        report(
+            observer,
+            Progress::Step {
+                done: index + 1,
+                total: points.len(),
+            },
+        )?;
     }
     Ok(results)
 }
@@ -370,10 +374,12 @@ fn closest_solution(
 #[cfg(test)]
 mod tests {
     use std::f64::consts::FRAC_PI_2;
+    use std::ops::ControlFlow;
 
     use gecaro_core::{Frame, FrameType, Joint, RobotSpec};
 
     use super::*;
+    use crate::progress::Quiet;
     use crate::sampler::Sampler;
     use crate::simulation::perturbed_robot;
 
@@ -516,10 +522,7 @@ mod tests {
                 &calibrated,
                 &joint_targets(&program),
                 Match::Pose,
-                |count| {
-                    done = count;
-                    ControlFlow::Continue(())
-                },
+                &mut crate::progress::each_step(|count, _| done = count),
             )
             .expect("compensates");
             assert_eq!(done, program.len());
@@ -578,7 +581,7 @@ mod tests {
                     joints: Some(qm.clone()),
                 }],
                 Match::Pose,
-                |_| ControlFlow::Continue(()),
+                &mut Quiet,
             )
             .expect("compensates");
             let result = &results[0];
@@ -613,28 +616,29 @@ mod tests {
                 joints: None,
             },
         ];
-        let results = compensate(&nominal, &calibrated, &points, Match::Pose, |_| {
-            ControlFlow::Continue(())
-        })
-        .expect("runs");
+        let results =
+            compensate(&nominal, &calibrated, &points, Match::Pose, &mut Quiet).expect("runs");
         assert_eq!(results[0].status, CompensationStatus::OutsideLimits);
         assert!(results[0].motor_positions[0] < nominal.joints()[0].qmin);
         assert!(results[0].position_error < 1e-10);
         assert_eq!(results[1].status, CompensationStatus::NotReached);
         assert!(results[1].position_error > 3.0);
         let other = panda();
-        assert!(
-            compensate(&nominal, &other, &points, Match::Pose, |_| {
-                ControlFlow::Continue(())
-            })
-            .is_err()
-        );
+        assert!(compensate(&nominal, &other, &points, Match::Pose, &mut Quiet).is_err());
         // A hook that answers Break stops the job after that point.
         let mut seen = Vec::new();
-        let stopped = compensate(&nominal, &calibrated, &points, Match::Pose, |done| {
-            seen.push(done);
-            ControlFlow::Break(())
-        });
+        let stopped = compensate(
+            &nominal,
+            &calibrated,
+            &points,
+            Match::Pose,
+            &mut |progress: Progress<'_>| {
+                if let Progress::Step { done, .. } = progress {
+                    seen.push(done);
+                }
+                ControlFlow::Break(())
+            },
+        );
         assert_eq!(stopped, Err(Error::Interrupted));
         assert_eq!(seen, [1]);
     }

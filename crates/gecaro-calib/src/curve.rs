@@ -3,17 +3,16 @@
 //!
 //! For each count N, a plan of N configurations from the pool
 //! ([`CandidatePool::plan`]) and [`RANDOM_DRAWS`] random choices of as many
-//! units from the same pool are each given to [`crate::predict`] (in the
+//! units from the same pool are each given to [`crate::prediction::predict`] (in the
 //! pool's base columns, found once); the
 //! curve holds the planned design's predicted RMS position error at the test
 //! poses and the mean of the random ones'. A count whose design does not
 //! determine the identifiable parameters has no value.
 
-use std::ops::ControlFlow;
-
 use crate::Error;
 use crate::planning::{CandidatePool, PlanRequest};
 use crate::prediction::predict_in;
+use crate::progress::{Observer, Progress, Quiet, report};
 use crate::sample::Sample;
 use crate::sampler::Sampler;
 
@@ -35,7 +34,7 @@ pub struct CurvePoint {
 
 /// The curve at `counts` (see the module docs), for a sensor of standard
 /// deviation `noise`, plans made as `request` says (its count replaced by
-/// each of `counts`). `progress(done, total)` counts the counts and may stop
+/// each of `counts`). `observer` hears of the counts done and may stop
 /// the work.
 ///
 /// # Errors
@@ -48,7 +47,7 @@ pub fn accuracy_curve(
     noise: f64,
     test_poses: &[Vec<f64>],
     seed: u64,
-    mut progress: impl FnMut(usize, usize) -> ControlFlow<()>,
+    observer: &mut dyn Observer,
 ) -> Result<Vec<CurvePoint>, Error> {
     let (robot, method, columns) = pool.parts();
     let mut sampler = Sampler::new(seed);
@@ -60,14 +59,18 @@ pub fn accuracy_curve(
         };
     let mut curve = Vec::with_capacity(counts.len());
     for (done, count) in counts.iter().enumerate() {
-        if progress(done, counts.len()).is_break() {
-            return Err(Error::Interrupted);
-        }
+        report(
+            observer,
+            Progress::Step {
+                done,
+                total: counts.len(),
+            },
+        )?;
         let request = PlanRequest {
             count: *count,
             ..request.clone()
         };
-        let plan = match pool.plan(&request, |_, _| ControlFlow::Continue(())) {
+        let plan = match pool.plan(&request, &mut Quiet) {
             Err(Error::TooFewEquations { .. }) => {
                 curve.push(CurvePoint {
                     count: *count,
@@ -93,6 +96,12 @@ pub fn accuracy_curve(
             random,
         });
     }
-    let _ = progress(counts.len(), counts.len());
+    report(
+        observer,
+        Progress::Step {
+            done: counts.len(),
+            total: counts.len(),
+        },
+    )?;
     Ok(curve)
 }

@@ -28,7 +28,7 @@ use crate::linalg::{
     column_geometry, condition_number, greedy_rank, largest_column_norm, regrouping_relations,
     select_columns, singular_values, view,
 };
-use crate::method::{CalibrationMethod, MethodOptions};
+use crate::method::CalibrationMethod;
 use crate::observability::{AUXILIARY_UNIT, Observability, column_unit};
 use crate::observation::ObservationSystem;
 use crate::rows::ColumnLayout;
@@ -146,7 +146,7 @@ struct Conditioning {
     columns: Vec<Column>,
     relations: OnceLock<(Vec<Relation>, f64)>,
     condition_number: OnceLock<f64>,
-    /// The error unit of each column (see [`crate::Observability`]) and the
+    /// The error unit of each column (see [`crate::observability::Observability`]) and the
     /// configurations of the data, for the observability indices.
     units: Vec<f64>,
     configurations: usize,
@@ -185,7 +185,7 @@ impl RankReport {
     }
 
     /// The observability indices O1–O5 of W_b, its columns scaled by their
-    /// error units (see [`crate::Observability`]).
+    /// error units (see [`crate::observability::Observability`]).
     pub fn observability(&self) -> Observability {
         let conditioning = &self.conditioning;
         *conditioning.observability.get_or_init(|| {
@@ -593,7 +593,7 @@ pub(crate) fn excitation_at(
 /// unknown unless `count` is given.
 ///
 /// # Errors
-/// When configurations cannot be generated (see [`CalibrationMethod::generate`]).
+/// When configurations cannot be generated (see [`Sensor::generate`](crate::methods::Sensor::generate)).
 pub fn random_samples(
     robot: &Robot,
     method: &dyn CalibrationMethod,
@@ -666,22 +666,4 @@ pub fn identifiability(
         configurations,
         excitation: None,
     })
-}
-
-/// Identifiable parameters of one method on random configurations (the
-/// paper's "Identifiable parameters" function).
-///
-/// # Errors
-/// As [`random_samples`] and [`identifiable_parameters`].
-pub fn identifiable_parameters_random(
-    robot: &Robot,
-    method_name: &str,
-    options: &MethodOptions,
-    count: Option<usize>,
-    seed: u64,
-) -> Result<RankReport, Error> {
-    let method = crate::methods::method(method_name, options)?;
-    let samples = random_samples(robot, method.as_ref(), count, seed)?;
-    let study = Study::single(method, samples, "random configurations");
-    identifiable_parameters(robot, &study, &robot.priority())
 }

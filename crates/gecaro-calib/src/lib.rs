@@ -5,26 +5,32 @@
 //! generation (simulation with a "real" robot and sensor noise) and
 //! identification (iterative linearised least squares, eq. 10).
 //!
-//! - [`CalibrationMethod`]: the shared trait (eq. 5–6), one implementation
-//!   per method of paper §3, listed in [`METHODS`].
-//! - [`Study`]: one or more measurement sets stacked into one system.
-//! - [`identifiable_parameters`]: the base parameters, regrouping relations,
-//!   condition number ([`RankReport`]).
-//! - [`compensate`]: what a calibration is for — the joint values for which
-//!   the calibrated robot reaches the targets of a nominal program.
-//! - Before measuring: [`CandidatePool`] and [`plan_configurations`] (optimal
-//!   configurations from a pool, by a [`Criterion`]), [`predict`] (the calibrated robot's accuracy
-//!   from a plan and the sensor's σ, checked by [`monte_carlo`]) and
-//!   [`accuracy_curve`] (how many configurations are enough).
+//! The API by topic:
+//!
+//! | module | what |
+//! |---|---|
+//! | [`methods`] | [`CalibrationMethod`](methods::CalibrationMethod), the shared trait (eq. 5–6), one implementation per method of paper §3 ([`METHODS`](methods::METHODS)), each with its simulated [`Sensor`](methods::Sensor) |
+//! | [`study`] | measurements: [`Sample`](study::Sample)s, and a [`Study`](study::Study) of one or more measurement sets stacked into one system |
+//! | [`observation`] | the linearised system `Δy = W Δη` (eq. 6, 8) as methods write it |
+//! | [`identifiability`] | the base parameters, regrouping relations and condition number (Appendix III, [`RankReport`](identifiability::RankReport)); [`table2`] the paper's Table 2 |
+//! | [`identification`] | [`identify`](identification::identify): iterative linearised least squares (eq. 10–11), robust losses and priors; [`evaluate`](identification::evaluate) |
+//! | [`validation`] | cross-validation and the choice of model |
+//! | [`simulation`] | points generation: a simulated "real" robot and noisy sensors |
+//! | [`planning`], [`prediction`], [`curve`] | before measuring: configurations chosen from a pool by a criterion, the predicted accuracy of a plan, how many configurations are enough |
+//! | [`compensation`] | what a calibration is for: the joint values for which the calibrated robot reaches a nominal program's targets |
+//! | [`progress`] | watching long work ([`Observer`]) and stopping it |
+//!
+//! [`prelude`] holds the names most calibrations use.
 //!
 //! ## Example
 //!
 //! The identifiable parameters of the position measure method for a
-//! two-joint planar arm: the link lengths and joint offsets, not everything.
+//! two-joint planar arm, on random configurations: the link lengths and joint
+//! offsets, not everything.
 //!
 //! ```
 //! use gecaro_core::{Frame, FrameType, Joint, Robot, RobotSpec};
-//! use gecaro_calib::{identifiable_parameters_random, MethodOptions, ParameterStatus};
+//! use gecaro_calib::prelude::*;
 //!
 //! let link = |d: f64| Frame { d, ..Frame::new(FrameType::Revolute) };
 //! let robot = Robot::new(RobotSpec {
@@ -35,7 +41,9 @@
 //!     joint_coupling: None,
 //!     priority: None,
 //! })?;
-//! let report = identifiable_parameters_random(&robot, "position", &MethodOptions::default(), None, 1)?;
+//! let position = method("position", &MethodOptions::default())?;
+//! let random = Study::single(position, Vec::new(), "random configurations");
+//! let report = identifiability(&robot, &random, &robot.priority(), None, 1)?.report;
 //! assert_eq!(report.status("d2"), Some(ParameterStatus::Identifiable));
 //! assert!(report.count() < robot.parameters().len());
 //! # Ok::<(), Box<dyn std::error::Error>>(())
@@ -43,68 +51,46 @@
 
 #![warn(missing_docs)]
 
-mod compensation;
-mod curve;
+pub mod compensation;
+pub mod curve;
 mod error;
-mod identifiability;
-mod identification;
+pub mod identifiability;
+pub mod identification;
 mod linalg;
 mod method;
-mod methods;
-mod observability;
-mod observation;
+pub mod methods;
+pub mod observability;
+pub mod observation;
 mod parallel;
 mod plane;
-mod planning;
-mod prediction;
+pub mod planning;
+pub mod prediction;
 mod prior;
+pub mod progress;
 mod robust;
 mod rows;
 mod sample;
 mod sampler;
-mod simulation;
+pub mod simulation;
 mod states;
-mod study;
-mod table2;
-mod validation;
+pub mod study;
+pub mod table2;
+pub mod validation;
 
-pub use compensation::{
-    CompensatedPoint, CompensationStatus, Match, ProgramPoint, ProgramTarget, compensate,
-};
-pub use curve::{CurvePoint, RANDOM_DRAWS, accuracy_curve};
 pub use error::{Error, Setting};
-pub use identifiability::{
-    Classified, Excitation, Identifiability, ParameterStatus, RELATIVE_ZERO_FLOOR, RankReport,
-    Relation, excitation, identifiability, identifiable_parameters, identifiable_parameters_random,
-    random_counterpart, random_samples, structural_parameters,
-};
-pub use identification::{
-    DEFAULT_OUTLIER_THRESHOLD, ErrorSummary, Identification, IdentificationOptions,
-    IdentifiedParameter, IterationRecord, MAX_REWEIGHTINGS, Outlier, POOR_CONDITIONING, Route,
-    Solver, StopReason, evaluate, identify, identify_with_progress,
-};
-pub use method::{CalibrationMethod, CloneMethod, MethodInfo, MethodOptions, Sensor};
-pub use methods::{METHODS, method, method_info, units};
-pub use observability::{AUXILIARY_UNIT, Observability};
-pub use observation::ObservationSystem;
-pub use plane::Plane;
-pub use planning::{
-    CandidatePool, Criterion, DesignQuality, Plan, PlanRequest, assess_design, plan_configurations,
-};
-pub use prediction::{MonteCarlo, PoseErrors, Prediction, monte_carlo, predict, random_test_poses};
-pub use prior::Prior;
-pub use robust::{Loss, LossKind, robust_sigma};
-pub use rows::{ColumnLayout, RowKind, RowWriter};
-pub use sample::{DataColumn, Sample};
-pub use sampler::{RANDOM_STARTS, Sampler, solve_from_starts};
-pub use simulation::{
-    error_unit, perturbed_robot, simulate_at, simulate_measurements, terminal_displacement,
-};
-pub use states::{TerminalState, evaluate_poses, evaluate_states};
-pub use study::{LimitViolation, MeasurementSet, Study, StudyStates};
-pub use table2::{
-    STANFORD_PLANE_POINT, TABLE2_COLUMNS, TABLE2_PLANE_NORMAL, Table2Column, default_plane, table2,
-};
-pub use validation::{
-    CrossValidation, Fold, Model, ModelScore, compare_models, cross_validate, cross_validate_with,
-};
+pub use progress::{Observer, Progress, Quiet, each_iteration, each_step};
+
+/// The names most calibrations use, to import at once:
+/// `use gecaro_calib::prelude::*;`.
+pub mod prelude {
+    pub use crate::identifiability::{ParameterStatus, RankReport, identifiability};
+    pub use crate::identification::{
+        ErrorSummary, Identification, IdentificationOptions, Loss, LossKind, Prior, Solver,
+        StopReason, evaluate, identify,
+    };
+    pub use crate::methods::{CalibrationMethod, METHODS, MethodOptions, Plane, Sensor, method};
+    pub use crate::progress::{Observer, Progress, Quiet, each_iteration, each_step};
+    pub use crate::simulation::{Sampler, perturbed_robot, simulate_at, simulate_measurements};
+    pub use crate::study::{DataColumn, Sample, Study};
+    pub use crate::{Error, Setting};
+}

@@ -21,7 +21,7 @@ use crate::states::TerminalState;
 
 /// One calibration method; see the module docs.
 pub trait CalibrationMethod: CloneMethod + fmt::Debug + Send + Sync {
-    /// The method's entry in [`METHODS`]: its names and how it is built.
+    /// The method's entry in [`METHODS`](crate::methods::METHODS): its names and how it is built.
     fn info(&self) -> &'static MethodInfo;
 
     /// The name used in files and on the command line (`point-link`).
@@ -72,7 +72,7 @@ pub trait CalibrationMethod: CloneMethod + fmt::Debug + Send + Sync {
 
     /// Initial values of the auxiliary unknowns, from the states at the
     /// starting parameters (e.g. the best-fit plane of the nominal points).
-    /// Only the poses of `states` are evaluated ([`crate::evaluate_poses`]).
+    /// Only the poses of `states` are evaluated ([`crate::observation::evaluate_poses`]).
     ///
     /// # Errors
     /// When they cannot be determined from these data.

@@ -13,7 +13,7 @@
 //! Rows are multiplied by their set's sensor weight (1/σ of the sensor) when
 //! several measurement sets are stacked, and by `√w_i` for the robust weight
 //! `w_i` of their observation ([`ObservationSystem::set_observation_weights`],
-//! iteratively reweighted least squares, see [`crate::Loss`]). Methods that
+//! iteratively reweighted least squares, see [`crate::identification::Loss`]). Methods that
 //! centre a set on its mean centre it on the weighted mean
 //! ([`RowWriter::observation_weight`]), which makes the centred rows the
 //! weighted least-squares problem with the set's point eliminated. A prior adds
@@ -23,9 +23,11 @@ use gecaro_core::{Error as ModelError, KinematicModel};
 
 use crate::method::CalibrationMethod;
 use crate::parallel::run_parts;
-use crate::rows::{ColumnLayout, RowKind, RowWriter};
 use crate::sample::Sample;
-use crate::states::{BLOCK, TerminalState, evaluate_chunk, part_size};
+use crate::states::{BLOCK, evaluate_chunk, part_size};
+
+pub use crate::rows::{ColumnLayout, RowKind, RowWriter};
+pub use crate::states::{TerminalState, evaluate_poses, evaluate_states};
 
 /// Has `method` write its rows for `samples` (whose states are `states`)
 /// into `writer` and returns one past the largest observation written,

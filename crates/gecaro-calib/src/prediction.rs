@@ -26,7 +26,8 @@
 //! centred, which correlates them: the prediction is then approximate), and
 //! an identification that converges.
 
-use std::ops::ControlFlow;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, PoisonError};
 
 use gecaro_core::{ChainBuffer, JacobianRows, KinematicModel, PriorityMatrix, Robot};
 use nalgebra::DMatrix;
@@ -36,6 +37,7 @@ use crate::identification::{IdentificationOptions, identify};
 use crate::method::CalibrationMethod;
 use crate::parallel::run_parts;
 use crate::planning::BaseColumns;
+use crate::progress::{Observer, Progress, Quiet, report};
 use crate::sample::Sample;
 use crate::sampler::Sampler;
 use crate::simulation::{perturbed_robot, simulate_at};
@@ -175,7 +177,8 @@ pub struct MonteCarlo {
 /// robot drawn at `error_level` (seeded by `seed` + run), measured at
 /// `planned` with noise σ = `noise` and identified; their errors at
 /// `test_poses` against the real robot. Runs on all cores; the result does
-/// not depend on their number. `progress(done)` may stop the work.
+/// not depend on their number. Each finished run is reported to `observer`,
+/// which may stop the work.
 ///
 /// # Errors
 /// The first failed simulation or identification, or [`Error::Interrupted`].
@@ -190,7 +193,7 @@ pub fn monte_carlo(
     runs: usize,
     seed: u64,
     options: &IdentificationOptions,
-    progress: impl Fn(usize) -> ControlFlow<()> + Sync,
+    observer: &mut dyn Observer,
 ) -> Result<MonteCarlo, Error> {
     let full = method.jacobian_rows() == JacobianRows::Full;
     let one = |run: usize| -> Result<(Vec<f64>, Vec<f64>, bool), Error> {
@@ -198,7 +201,7 @@ pub fn monte_carlo(
         let real = perturbed_robot(robot, error_level, &mut sampler)?;
         let data = simulate_at(&real, method, planned, noise, &mut sampler)?;
         let study = Study::single(method.clone_method(), data, "simulated");
-        let result = identify(robot, &study, options)?;
+        let result = identify(robot, &study, options, &mut Quiet)?;
         let (calibrated, real) = (
             KinematicModel::new(&result.calibrated),
             KinematicModel::new(&real),
@@ -216,11 +219,15 @@ pub fn monte_carlo(
         }
         Ok((position, rotation, result.failure().is_some()))
     };
-    let outcomes = run_parts((0..runs).collect(), |run| {
-        if progress(run + 1).is_break() {
-            return Err(Error::Interrupted);
-        }
-        one(run)
+    // Runs go in parallel; the observer hears of each finished one in turn.
+    let observer = Mutex::new(observer);
+    let finished = AtomicUsize::new(0);
+    let outcomes = run_parts((0..runs).collect(), |run| -> Result<_, Error> {
+        let outcome = one(run)?;
+        let done = finished.fetch_add(1, Ordering::Relaxed) + 1;
+        let mut observer = observer.lock().unwrap_or_else(PoisonError::into_inner);
+        report(&mut **observer, Progress::Step { done, total: runs })?;
+        Ok(outcome)
     });
     let mut position = vec![0.0; test_poses.len()];
     let mut rotation = vec![0.0; test_poses.len()];

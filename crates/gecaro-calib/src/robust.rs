@@ -310,7 +310,7 @@ mod tests {
 
     #[test]
     fn robust_sigma_ignores_gross_values() {
-        let mut sampler = crate::Sampler::new(5);
+        let mut sampler = crate::simulation::Sampler::new(5);
         let clean: Vec<f64> = (0..20_000).map(|_| sampler.gaussian(2.0)).collect();
         assert!((robust_sigma(&clean) - 2.0).abs() < 0.05);
         // 10 % gross values move it by less than a fifth.

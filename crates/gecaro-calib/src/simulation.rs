@@ -13,7 +13,8 @@ use crate::Error;
 use crate::error::Setting;
 use crate::method::CalibrationMethod;
 use crate::sample::Sample;
-use crate::sampler::Sampler;
+
+pub use crate::sampler::{RANDOM_STARTS, Sampler, solve_from_starts};
 
 /// Size of one error unit (the unit of `--error-level`): 0.01 m for lengths,
 /// 1° (in radians) for angles, and 1 % (a fraction of the value) for gains.
@@ -108,7 +109,7 @@ pub fn simulate_measurements(
 }
 
 /// Simulated measurements of `real` at planned configurations (see
-/// [`CalibrationMethod::measure_at`]).
+/// [`Sensor::measure_at`](crate::methods::Sensor::measure_at)).
 ///
 /// # Errors
 /// A negative or non-finite `noise`, no configurations, and the method's own.

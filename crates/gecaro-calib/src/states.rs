@@ -44,7 +44,7 @@ impl TerminalState {
     /// # Panics
     /// For a row that was not evaluated: a rotation row of a state evaluated
     /// with [`JacobianRows::Position`] (a method that reads rotation rows must
-    /// say so in [`CalibrationMethod::jacobian_rows`]), or any row of a state
+    /// say so in [`CalibrationMethod::jacobian_rows`](crate::methods::CalibrationMethod::jacobian_rows)), or any row of a state
     /// from [`evaluate_poses`].
     pub fn jacobian_row(&self, axis: usize) -> &[f64] {
         assert!(
@@ -159,7 +159,7 @@ pub(crate) fn evaluate_chunk(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Sampler;
+    use crate::simulation::Sampler;
 
     #[test]
     fn parallel_evaluation_is_bit_identical_to_serial() {

@@ -10,7 +10,8 @@ use crate::method::CalibrationMethod;
 use crate::methods::units;
 use crate::observation::{ObservationSystem, linearise_independent, write_rows};
 use crate::rows::{ColumnLayout, RowWriter};
-use crate::sample::Sample;
+
+pub use crate::sample::{DataColumn, Sample};
 use crate::states::{TerminalState, evaluate_poses, evaluate_states};
 
 /// One measurement set of a study.
@@ -468,7 +469,9 @@ mod tests {
     use super::*;
     use crate::method::MethodOptions;
     use crate::methods::METHODS;
-    use crate::{RowKind, Sampler, default_plane, perturbed_robot, simulate_measurements};
+    use crate::rows::RowKind;
+    use crate::simulation::{Sampler, perturbed_robot, simulate_measurements};
+    use crate::table2::default_plane;
 
     /// Everything a system holds, as bits.
     fn fingerprint(system: &ObservationSystem) -> (Vec<u64>, Vec<u64>, Vec<RowKind>, Vec<u64>) {

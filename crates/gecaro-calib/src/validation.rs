@@ -6,7 +6,7 @@
 //! shuffled (seeded) and dealt to K folds in turn, one set after the other,
 //! so that each fold holds about 1/K of every set. Fold k identifies on the
 //! other K − 1 folds and measures the calibrated robot's errors on fold k
-//! with [`crate::evaluate`] (the distance to the measured point, the scatter
+//! with [`crate::identification::evaluate`] (the distance to the measured point, the scatter
 //! of a held-out link set about its own mean, the distance to a held-out
 //! plane, the distance error of a pair). The overall held-out RMS pools every
 //! held-out observation.
@@ -18,6 +18,7 @@
 //! (joint play, compliance).
 
 use std::fmt;
+use std::ops::ControlFlow;
 use std::str::FromStr;
 
 use gecaro_core::{ParameterKind, PriorityMatrix, Robot};
@@ -26,6 +27,7 @@ use crate::Error;
 use crate::error::Setting;
 use crate::identification::{Identification, IdentificationOptions, evaluate, identify};
 use crate::methods::units;
+use crate::progress::{Observer, Progress, Quiet, report};
 use crate::sampler::Sampler;
 use crate::study::Study;
 
@@ -56,32 +58,20 @@ pub struct CrossValidation {
 }
 
 /// K-fold cross-validation of `identify(robot, study, options)`; see the
-/// module docs.
+/// module docs. Each finished fold is reported to `observer`
+/// ([`Progress::Step`]).
 ///
 /// # Errors
-/// [`Error::InvalidOption`] (`--cv`) for K < 2 or more folds than units; the
-/// errors of a fold's identification or evaluation, naming the fold.
+/// [`Error::InvalidOption`] for K < 2 or more folds than units; the errors of
+/// a fold's identification or evaluation, naming the fold;
+/// [`Error::Interrupted`] when the observer stops the work.
 pub fn cross_validate(
     robot: &Robot,
     study: &Study,
     options: &IdentificationOptions,
     folds: usize,
     seed: u64,
-) -> Result<CrossValidation, Error> {
-    cross_validate_with(robot, study, options, folds, seed, |_| {})
-}
-
-/// [`cross_validate`], calling `progress` after each fold with its number (1-based).
-///
-/// # Errors
-/// As [`cross_validate`].
-pub fn cross_validate_with(
-    robot: &Robot,
-    study: &Study,
-    options: &IdentificationOptions,
-    folds: usize,
-    seed: u64,
-    mut progress: impl FnMut(usize),
+    observer: &mut dyn Observer,
 ) -> Result<CrossValidation, Error> {
     let assignment = fold_assignment(study, folds, seed)?;
     let mut results = Vec::with_capacity(folds);
@@ -118,7 +108,8 @@ pub fn cross_validate_with(
         let context = |error: Error| Error::Numerical {
             message: format!("cross-validation fold {} of {folds}: {error}", fold + 1),
         };
-        let fitted: Identification = identify(robot, &training, options).map_err(context)?;
+        let fitted: Identification =
+            identify(robot, &training, options, &mut Quiet).map_err(context)?;
         let errors = evaluate(&fitted.calibrated, &held_out).map_err(context)?;
         if fold == 0 {
             parameters = fitted.parameters.iter().map(|p| p.name.clone()).collect();
@@ -132,7 +123,13 @@ pub fn cross_validate_with(
             rms: errors.rms,
             rms_rotation: errors.rms_rotation,
         });
-        progress(fold + 1);
+        report(
+            observer,
+            Progress::Step {
+                done: fold + 1,
+                total: folds,
+            },
+        )?;
     }
     let pooled = |sum: f64| (sum / count.max(1) as f64).sqrt();
     let has_rotation = results.iter().any(|fold| fold.rms_rotation.is_some());
@@ -281,7 +278,7 @@ pub struct ModelScore {
 }
 
 /// Cross-validates each model (same folds for all), best (lowest held-out
-/// RMS) first.
+/// RMS) first; every finished fold of every model is reported to `observer`.
 ///
 /// # Errors
 /// As [`cross_validate`], naming the model.
@@ -292,20 +289,29 @@ pub fn compare_models(
     models: &[Model],
     folds: usize,
     seed: u64,
-    mut progress: impl FnMut(&Model, usize),
+    observer: &mut dyn Observer,
 ) -> Result<Vec<ModelScore>, Error> {
     let mut scores = Vec::with_capacity(models.len());
-    for model in models {
+    let total = models.len() * folds;
+    for (index, model) in models.iter().enumerate() {
         let options = IdentificationOptions {
             priority: Some(model.priority(robot, options.priority.as_ref())),
             ..options.clone()
         };
-        let validation = cross_validate_with(robot, study, &options, folds, seed, |fold| {
-            progress(model, fold);
-        })
-        .map_err(|error| Error::Numerical {
-            message: format!("model {model}: {error}"),
-        })?;
+        let mut folds_of_all = |progress: Progress<'_>| match progress {
+            Progress::Step { done, .. } => observer.observe(Progress::Step {
+                done: index * folds + done,
+                total,
+            }),
+            Progress::Iteration(_) => ControlFlow::Continue(()),
+        };
+        let validation = cross_validate(robot, study, &options, folds, seed, &mut folds_of_all)
+            .map_err(|error| match error {
+                Error::Interrupted => Error::Interrupted,
+                error => Error::Numerical {
+                    message: format!("model {model}: {error}"),
+                },
+            })?;
         scores.push(ModelScore {
             model: model.clone(),
             validation,

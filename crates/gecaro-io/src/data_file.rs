@@ -18,12 +18,11 @@
 //!
 //! Every error names the file, the line and the column.
 
-use std::io::Read;
-use std::path::Path;
-
-use gecaro_calib::{DataColumn, Sample};
+use gecaro_calib::study::{DataColumn, Sample};
 use gecaro_core::FrameType;
 use nalgebra::Vector3;
+use std::io::Read;
+use std::path::Path;
 
 use crate::Error;
 use crate::columns::{ColumnMap, DataUnits, locate};

@@ -14,9 +14,9 @@
 //! ```
 //!
 //! gecaro works in metres, radians and fractions of the gain
-//! ([`gecaro_calib::Prior`]).
+//! ([`gecaro_calib::identification::Prior`]).
 
-use gecaro_calib::Prior;
+use gecaro_calib::identification::Prior;
 use gecaro_core::{ParameterId, ParameterKind};
 
 /// What a σ with its unit measures.

@@ -14,11 +14,10 @@
 //! unit), `residual_rotation` (the file's angle unit, when orientations are
 //! matched) and `status` (`ok`, `outside-limits`, `not-reached`).
 
-use std::path::Path;
-
-use gecaro_calib::{CompensatedPoint, ProgramPoint, ProgramTarget};
+use gecaro_calib::compensation::{CompensatedPoint, ProgramPoint, ProgramTarget};
 use gecaro_core::{FrameType, Robot};
 use nalgebra::{IsometryMatrix3, Quaternion, Translation3, UnitQuaternion, Vector3};
+use std::path::Path;
 
 use crate::Error;
 use crate::columns::{ColumnMap, DataUnits, joint_types, locate};

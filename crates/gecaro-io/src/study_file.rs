@@ -35,12 +35,15 @@
 //! units and with different sensors count by their precision. Columns a set
 //! does not use are left alone and listed in [`StudyFile::notes`].
 
-use std::path::{Path, PathBuf};
-
-use gecaro_calib::{MeasurementSet, MethodOptions, Plane, Prior, Study};
+use gecaro_calib::{
+    identification::Prior,
+    methods::{MethodOptions, Plane},
+    study::{MeasurementSet, Study},
+};
 use gecaro_core::{OrientationDifference, PriorityMatrix};
 use nalgebra::Vector3;
 use serde::Deserialize;
+use std::path::{Path, PathBuf};
 use toml::Spanned;
 
 use crate::Error;
@@ -307,7 +310,7 @@ pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
             orientation,
             set_size: table.set_size.as_ref().map(|s| *s.get_ref()),
         };
-        let method = gecaro_calib::method(table.method.get_ref(), &options)
+        let method = gecaro_calib::methods::method(table.method.get_ref(), &options)
             .map_err(|error| fail(table.method.span(), "method", error.to_string()))?;
         let data_path = relative(table.data.get_ref());
         let format = DataFormat {

@@ -5,12 +5,15 @@
 //! computes, with the same defaults and seeds, so the numbers are equal bit
 //! for bit; the results' `to_dict()` is the command's `--json` document.
 
-use std::ffi::CString;
-
 use gecaro_calib::{
-    ErrorSummary, Identification, IdentificationOptions, IdentifiedParameter, Sampler, Solver,
-    StopReason, Study, evaluate as evaluate_study, identifiability, identify_with_progress,
-    perturbed_robot, simulate_measurements, terminal_displacement,
+    Progress,
+    identifiability::identifiability,
+    identification::{
+        ErrorSummary, Identification, IdentificationOptions, IdentifiedParameter, Solver,
+        StopReason, evaluate as evaluate_study,
+    },
+    simulation::{Sampler, perturbed_robot, simulate_measurements, terminal_displacement},
+    study::Study,
 };
 use gecaro_core::{PriorityMatrix, Robot};
 use gecaro_io::RobotFile;
@@ -18,6 +21,7 @@ use gecaro_report::json::{IdentifiableJson, IdentificationJson, OutlierJson, Sum
 use numpy::PyArrayDyn;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::ffi::CString;
 
 use crate::arrays::{array, columns, priority_array};
 use crate::data::PyData;
@@ -47,7 +51,7 @@ pub(crate) struct Source {
     pub(crate) study: Study,
     pub(crate) priority: Option<PriorityMatrix>,
     /// The study file's prior, if it has one.
-    pub(crate) prior: Option<gecaro_calib::Prior>,
+    pub(crate) prior: Option<gecaro_calib::identification::Prior>,
     pub(crate) label: String,
 }
 
@@ -757,17 +761,23 @@ pub(crate) fn identify(
     let result = py.detach(|| {
         let mut watch = Watch::new();
         let mut iteration = 0;
-        let result = identify_with_progress(nominal, study, &options, |record| {
-            if let Some(callback) = &progress {
-                let called =
-                    Python::attach(|py| callback.call1(py, (iteration, record.rms)).map(|_| ()));
-                iteration += 1;
-                if let Err(error) = called {
-                    return watch.stop(error);
+        let result = gecaro_calib::identification::identify(
+            nominal,
+            study,
+            &options,
+            &mut |step: Progress<'_>| {
+                if let (Progress::Iteration(record), Some(callback)) = (step, &progress) {
+                    let called = Python::attach(|py| {
+                        callback.call1(py, (iteration, record.rms)).map(|_| ())
+                    });
+                    iteration += 1;
+                    if let Err(error) = called {
+                        return watch.stop(error);
+                    }
                 }
-            }
-            watch.poll()
-        });
+                watch.poll()
+            },
+        );
         watch.finish(result)
     })?;
     let calibrated =

@@ -1,8 +1,8 @@
 //! `gecaro.compensate`: a robot program corrected for the calibrated robot
 //! (`gecaro compensate`): the motor values with which the calibrated robot
 //! reaches what the nominal program meant.
-
-use gecaro_calib::{
+use gecaro_calib::Progress;
+use gecaro_calib::compensation::{
     CompensatedPoint, CompensationStatus, Match, ProgramPoint, ProgramTarget, compensate as correct,
 };
 use nalgebra::Vector3;
@@ -202,7 +202,13 @@ pub(crate) fn compensate(
     let (nominal, calibrated) = (nominal.robot(), calibrated.robot());
     let points = py.detach(|| {
         let mut watch = Watch::new();
-        let result = correct(nominal, calibrated, &points, matching, |_| watch.poll());
+        let result = correct(
+            nominal,
+            calibrated,
+            &points,
+            matching,
+            &mut |_: Progress<'_>| watch.poll(),
+        );
         watch.finish(result)
     })?;
     let result = PyCompensation {

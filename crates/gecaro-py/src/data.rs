@@ -6,14 +6,13 @@
 //! `(qw, qx, qy, qz)` of frame n+1 in the world frame; `set` (link methods)
 //! and `pair` (distance) are integer ids; `distance` is in metres.
 
-use std::path::PathBuf;
-
-use gecaro_calib::{DataColumn, Sample};
+use gecaro_calib::study::{DataColumn, Sample};
 use gecaro_io::{ColumnMap, DataFormat, DataUnits, format_samples, joint_types, read_samples};
 use nalgebra::Vector3;
 use numpy::PyArrayDyn;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::path::PathBuf;
 
 use crate::arrays::{Real, array, identifiers};
 use crate::errors::{IntoPyResult, input};

@@ -1,7 +1,6 @@
 //! `gecaro.Method`: one of the seven calibration methods of paper §3 with its
 //! options (the command line's `--method` and its options).
-
-use gecaro_calib::{CalibrationMethod, METHODS, MethodOptions, Plane, method};
+use gecaro_calib::methods::{CalibrationMethod, METHODS, MethodOptions, Plane, method};
 use gecaro_core::OrientationDifference;
 use nalgebra::Vector3;
 use pyo3::prelude::*;

@@ -720,14 +720,14 @@ impl PyRobot {
         let robot = self.robot();
         let solution = py.detach(|| match &start {
             Some(start) => inverse_kinematics(robot, &target, &start.values, &options),
-            None => gecaro_calib::solve_from_starts(robot, &target, &options, 1),
+            None => gecaro_calib::simulation::solve_from_starts(robot, &target, &options, 1),
         });
         let solution = solution.map_err(|error| match (&start, error) {
             (None, error @ gecaro_core::Error::Unreachable { .. }) => {
                 crate::errors::NotConvergedError::new_err(format!(
                     "{error} (tried the middle of the joint ranges and {} random starts; \
                      start= chooses another)",
-                    gecaro_calib::RANDOM_STARTS
+                    gecaro_calib::simulation::RANDOM_STARTS
                 ))
             }
             (_, error) => crate::errors::ToPyErr::to_py(error),

@@ -1,11 +1,14 @@
 //! The Python face of measurements as they are (docs/methods.md): the loss,
 //! prior, outlier and model options of `identify`, and `cross_validate`.
-
-use gecaro_calib::{IdentificationOptions, Loss, LossKind, Model, Prior};
+use gecaro_calib::{
+    identification::{IdentificationOptions, Loss, LossKind, Prior},
+    validation::Model,
+};
 use gecaro_core::Robot;
 use pyo3::prelude::*;
 
 use crate::errors::{IntoPyResult, input};
+use crate::interrupt::Watch;
 
 /// The keyword options shared by `identify` and `cross_validate` beyond the
 /// solver's.
@@ -91,15 +94,24 @@ pub(crate) fn cross_validate<'py>(
         loss,
         loss_scale,
         prior,
-        outlier_threshold: gecaro_calib::DEFAULT_OUTLIER_THRESHOLD,
+        outlier_threshold: gecaro_calib::identification::DEFAULT_OUTLIER_THRESHOLD,
         reject: false,
         model,
     };
     let options = arguments.options(nominal, base, source.prior)?;
     let study = &source.study;
-    let validation = py
-        .detach(|| gecaro_calib::cross_validate(nominal, study, &options, folds, seed))
-        .py()?;
+    let validation = py.detach(|| {
+        let mut watch = Watch::new();
+        let result = gecaro_calib::validation::cross_validate(
+            nominal,
+            study,
+            &options,
+            folds,
+            seed,
+            &mut |_: gecaro_calib::Progress<'_>| watch.poll(),
+        );
+        watch.finish(result)
+    })?;
     let document = gecaro_report::json::CrossValidationJson::new(&validation, seed);
     crate::calibration::json_to_python(py, &crate::calibration::to_json(&document)?)
 }

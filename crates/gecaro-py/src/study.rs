@@ -1,13 +1,12 @@
 //! `gecaro.Study`: several measurement sets calibrated together, each with its
 //! method, data and sensor σ (rows weighted by 1/σ), as a study file holds them.
 
-use std::path::PathBuf;
-
-use gecaro_calib::{MeasurementSet, Study};
+use gecaro_calib::study::{MeasurementSet, Study};
 use gecaro_core::PriorityMatrix;
 use numpy::PyArrayDyn;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::path::PathBuf;
 
 use crate::arrays::priority_array;
 use crate::calibration::method_of;
@@ -25,7 +24,7 @@ pub(crate) struct PyStudy {
     /// The study file's priority matrix, if it has one.
     pub(crate) priority: Option<PriorityMatrix>,
     /// The study file's prior, if it has one.
-    pub(crate) prior: Option<gecaro_calib::Prior>,
+    pub(crate) prior: Option<gecaro_calib::identification::Prior>,
     notes: Vec<String>,
     /// The study file, for messages and the calibrated robot's description.
     pub(crate) label: Option<String>,

@@ -1,11 +1,14 @@
 //! The HTML report: one file with everything inline (SVG plots, CSS), to
 //! archive with a calibration and to read without a network.
 
-use std::fmt::Write as _;
-
-use gecaro_calib::{Identification, ParameterStatus, Route, StopReason, Study};
+use gecaro_calib::{
+    identifiability::ParameterStatus,
+    identification::{Identification, Route, StopReason},
+    study::Study,
+};
 use gecaro_core::{FrameType, ParameterId, ParameterKind};
 use gecaro_io::RobotFile;
+use std::fmt::Write as _;
 
 use crate::Error;
 use crate::plots::{

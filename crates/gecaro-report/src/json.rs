@@ -3,10 +3,13 @@
 //! the same shapes (documented in `docs/api.md`).
 //!
 //! Units: metres and radians everywhere, as in the robot model.
-
 use gecaro_calib::{
-    Classified, Criterion, CurvePoint, DesignQuality, ErrorSummary, Identifiability,
-    Identification, IdentifiedParameter, Observability, Plan, RankReport, StopReason, Study,
+    curve::CurvePoint,
+    identifiability::{Classified, Identifiability, RankReport},
+    identification::{ErrorSummary, Identification, IdentifiedParameter, StopReason},
+    observability::Observability,
+    planning::{Criterion, DesignQuality, Plan},
+    study::Study,
 };
 use gecaro_core::Robot;
 use serde::Serialize;
@@ -51,7 +54,7 @@ pub struct RelationJson {
 }
 
 /// The observability indices of W_b, its columns scaled to 1 cm, 1°, 1 %
-/// (see [`gecaro_calib::Observability`]; larger is better for all five).
+/// (see [`gecaro_calib::observability::Observability`]; larger is better for all five).
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct ObservabilityJson {
     /// (σ1⋯σL)^(1/L)/√m (Borm & Menq).
@@ -277,7 +280,7 @@ pub struct OutlierJson {
 
 impl OutlierJson {
     /// The documents of `outliers`, in their order.
-    pub fn list(outliers: &[gecaro_calib::Outlier]) -> Vec<OutlierJson> {
+    pub fn list(outliers: &[gecaro_calib::identification::Outlier]) -> Vec<OutlierJson> {
         outliers
             .iter()
             .map(|o| OutlierJson {
@@ -398,7 +401,7 @@ pub struct CrossValidationJson {
 
 impl CrossValidationJson {
     /// The document of `validation`, made with `seed`.
-    pub fn new(validation: &gecaro_calib::CrossValidation, seed: u64) -> Self {
+    pub fn new(validation: &gecaro_calib::validation::CrossValidation, seed: u64) -> Self {
         CrossValidationJson {
             folds: validation.folds.len(),
             seed,
@@ -541,7 +544,7 @@ impl PlanJson {
     }
 }
 
-/// One count of an accuracy curve ([`gecaro_calib::accuracy_curve`]).
+/// One count of an accuracy curve ([`gecaro_calib::curve::accuracy_curve`]).
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct CurvePointJson {
     /// Configurations measured.

@@ -36,8 +36,8 @@ pub enum Error {
 /// data labelled `data`, in the nominal file's angle unit.
 pub fn calibrated_robot_file(
     nominal: &gecaro_io::RobotFile,
-    study: &gecaro_calib::Study,
-    result: &gecaro_calib::Identification,
+    study: &gecaro_calib::study::Study,
+    result: &gecaro_calib::identification::Identification,
     data: &str,
 ) -> gecaro_io::RobotFile {
     let mut robot = result.calibrated.clone();

@@ -2,11 +2,10 @@
 //! bundled DejaVu Sans, so no system font is needed and the SVG shows the same
 //! everywhere).
 
-use std::sync::Once;
-
-use gecaro_calib::{CurvePoint, IterationRecord};
+use gecaro_calib::{curve::CurvePoint, identification::IterationRecord};
 use gecaro_core::{Robot, forward_kinematics};
 use plotters::prelude::*;
+use std::sync::Once;
 
 use crate::Error;
 
@@ -319,7 +318,7 @@ pub fn robot_projections_svg(robot: &Robot, motor_positions: &[f64]) -> Result<S
 
 /// How many configurations are enough: the predicted RMS position error of
 /// the calibrated robot (millimetres, log scale) against the number of
-/// configurations (log scale), planned and random ([`gecaro_calib::accuracy_curve`]).
+/// configurations (log scale), planned and random ([`gecaro_calib::curve::accuracy_curve`]).
 /// Counts without a value (designs that determine nothing) are left out.
 ///
 /// # Errors

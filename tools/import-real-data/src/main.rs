@@ -20,16 +20,15 @@
 //! - Held-out data: whole tool placements for the ball datasets (every other
 //!   placement), every third pose for the camera datasets.
 
-use std::error::Error;
-use std::fmt::Write as _;
-use std::path::Path;
-
-use gecaro_calib::{DataColumn, Sample};
+use gecaro_calib::study::{DataColumn, Sample};
 use gecaro_core::{Frame, FrameType, Joint, Robot, RobotSpec};
 use gecaro_io::{
     AngleUnit, OutputPolicy, RobotFile, format_robot_file, format_samples, write_atomically,
 };
 use nalgebra::{IsometryMatrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
+use std::error::Error;
+use std::fmt::Write as _;
+use std::path::Path;
 
 type Result<T> = std::result::Result<T, Box<dyn Error>>;
 

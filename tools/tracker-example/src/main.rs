@@ -9,16 +9,15 @@
 //! cargo run -p tracker-example -- tests/data/urdf examples/tracker
 //! ```
 
-use std::error::Error;
-use std::fmt::Write as _;
-use std::path::Path;
-
-use gecaro_calib::{Sampler, perturbed_robot};
+use gecaro_calib::simulation::{Sampler, perturbed_robot};
 use gecaro_core::{Robot, terminal_pose};
 use gecaro_io::{
     AngleUnit, ImportOptions, OutputPolicy, RobotFile, format_robot_file, import_robot,
     write_atomically,
 };
+use std::error::Error;
+use std::fmt::Write as _;
+use std::path::Path;
 
 type Result<T> = std::result::Result<T, Box<dyn Error>>;
 

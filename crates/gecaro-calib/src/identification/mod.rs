@@ -2,7 +2,7 @@
 //!
 //! The identifiable parameters are the structural base set of the study
 //! (Appendix III on random data of the same kind) that these data excite
-//! ([`crate::structural_parameters`], [`crate::excitation`]). From the nominal
+//! ([`crate::identifiability::structural_parameters`], [`crate::identifiability::excitation`]). From the nominal
 //! parameters, each iteration rebuilds W_b and Δy at the updated parameters and
 //! solves `W_b Δη_b = Δy` in the least-squares sense (eq. 10, QR of W_b); the
 //! base parameters and the methods' auxiliary unknowns are updated. The
@@ -52,7 +52,7 @@
 //!
 //! With a robust [`Loss`] or a [`Prior`] ([`IdentificationOptions`]), the
 //! least-squares solution is the start of a reweighted phase (see
-//! [`reweighting`]): iteratively reweighted least squares for the loss, and
+//! the reweighted phase): iteratively reweighted least squares for the loss, and
 //! the prior as pseudo-observations, maximum a posteriori. Every
 //! identification reports the observations whose standardised residual
 //! exceeds [`IdentificationOptions::outlier_threshold`]
@@ -67,8 +67,6 @@ mod solver;
 mod statistics;
 mod weighting;
 
-use std::ops::ControlFlow;
-
 use gecaro_core::Robot;
 
 use crate::Error;
@@ -77,19 +75,21 @@ use crate::identifiability::{
 };
 use crate::linalg::{NormalEquations, precision, view};
 use crate::observation::ObservationSystem;
-use crate::prior::Prior;
+use crate::progress::{Observer, Progress, report};
 use crate::rows::{ColumnLayout, RowKind};
 use crate::study::{Study, StudyStates};
 
 pub use options::{IdentificationOptions, Solver};
 pub use outliers::{DEFAULT_OUTLIER_THRESHOLD, Outlier};
-pub use result::{
-    ErrorSummary, Identification, IdentifiedParameter, IterationRecord, Route, StopReason,
-};
+pub use result::{ErrorSummary, Identification, IdentifiedParameter, Route, StopReason};
 pub use reweighting::MAX_REWEIGHTINGS;
 use reweighting::Reweighted;
 use solver::{Damping, Iterate, Problem, Run};
 use weighting::{PriorRow, Weighting};
+
+pub use crate::prior::Prior;
+pub use crate::progress::IterationRecord;
+pub use crate::robust::{Loss, LossKind, robust_sigma};
 
 /// Above this condition number of W_b the data are called poorly exciting.
 pub const POOR_CONDITIONING: f64 = 1e4;
@@ -98,50 +98,34 @@ pub const POOR_CONDITIONING: f64 = 1e4;
 /// identification is a pure function of its inputs.
 const STRUCTURAL_SEED: u64 = 0x6ECA20;
 
-/// Identifies the base parameters of `robot` from `study` (see the module docs).
+/// Identifies the base parameters of `robot` from `study` (see the module
+/// docs), reporting the starting point and every accepted update to
+/// `observer` ([`Progress::Iteration`]); pass [`Quiet`](crate::Quiet) to
+/// watch nothing.
 ///
 /// # Errors
 /// Invalid data; [`Error::TooFewEquations`] when there are no more equations
 /// than identifiable unknowns; [`Error::Numerical`] when nothing is
-/// identifiable or the data produce non-finite values.
+/// identifiable or the data produce non-finite values;
+/// [`Error::Interrupted`] when the observer stops the work.
 pub fn identify(
     robot: &Robot,
     study: &Study,
     options: &IdentificationOptions,
+    observer: &mut dyn Observer,
 ) -> Result<Identification, Error> {
-    identify_with_progress(robot, study, options, |_| ControlFlow::Continue(()))
-}
-
-/// [`identify`], calling `progress` after the starting point and after every
-/// accepted update (to show progress on long identifications). When it
-/// answers [`ControlFlow::Break`] the identification stops there with
-/// [`Error::Interrupted`] (a user's Ctrl-C, a closed page).
-///
-/// # Errors
-/// As [`identify`], and [`Error::Interrupted`].
-pub fn identify_with_progress(
-    robot: &Robot,
-    study: &Study,
-    options: &IdentificationOptions,
-    mut progress: impl FnMut(&IterationRecord) -> ControlFlow<()>,
-) -> Result<Identification, Error> {
-    let mut progress = |record: &IterationRecord| match progress(record) {
-        ControlFlow::Continue(()) => Ok(()),
-        ControlFlow::Break(()) => Err(Error::Interrupted),
-    };
     options::check_options(robot, options)?;
-    let first = fit(robot, study, options, &mut progress)?;
+    let first = fit(robot, study, options, observer)?;
     if !options.reject || first.outliers.is_empty() {
         return Ok(first);
     }
     let kept = study.without_samples(&outliers::outlier_samples(study, &first.outliers));
-    let mut refit =
-        fit(robot, &kept, options, &mut progress).map_err(|error| Error::Numerical {
-            message: format!(
-                "after rejecting {} outliers the rest cannot be identified: {error}",
-                first.outliers.len()
-            ),
-        })?;
+    let mut refit = fit(robot, &kept, options, observer).map_err(|error| Error::Numerical {
+        message: format!(
+            "after rejecting {} outliers the rest cannot be identified: {error}",
+            first.outliers.len()
+        ),
+    })?;
     refit.warnings.insert(
         0,
         format!(
@@ -160,9 +144,8 @@ fn fit(
     robot: &Robot,
     study: &Study,
     options: &IdentificationOptions,
-    progress: &mut dyn FnMut(&IterationRecord) -> Result<(), Error>,
+    observer: &mut dyn Observer,
 ) -> Result<Identification, Error> {
-    let mut progress = |record: &IterationRecord| progress(record);
     let Setup {
         problem,
         rank,
@@ -176,7 +159,7 @@ fn fit(
         before: ErrorSummary::of(&start.system),
         errors_before: start.system.observation_errors(),
     };
-    progress(&begun.first)?;
+    report(observer, Progress::Iteration(&begun.first))?;
     let (run, route) = descend(
         &problem,
         start,
@@ -184,15 +167,14 @@ fn fit(
         &initial_auxiliary,
         &begun.first,
         &mut states,
-        &mut progress,
+        observer,
     )?;
     let prior_rows = options
         .prior
         .as_ref()
         .map(|prior| prior_rows(prior, robot, &problem, excited.report.relations()))
         .unwrap_or_default();
-    let reweighted =
-        problem.reweighted(run, options.loss, prior_rows, &mut states, &mut progress)?;
+    let reweighted = problem.reweighted(run, options.loss, prior_rows, &mut states, observer)?;
     summarise(
         &problem,
         begun,
@@ -300,7 +282,7 @@ fn descend(
     initial_auxiliary: &[f64],
     first: &IterationRecord,
     states: &mut StudyStates,
-    progress: &mut dyn FnMut(&IterationRecord) -> Result<(), Error>,
+    observer: &mut dyn Observer,
 ) -> Result<(Run, Route), Error> {
     let options = problem.options;
     if options.solver == Solver::LevenbergMarquardt {
@@ -309,7 +291,7 @@ fn descend(
             Damping::Always,
             options.max_iterations,
             states,
-            progress,
+            observer,
         )?;
         return Ok((run, Route::LevenbergMarquardt));
     }
@@ -318,7 +300,7 @@ fn descend(
         Damping::Never,
         options.max_iterations,
         states,
-        progress,
+        observer,
     )?;
     if plain.stop == StopReason::Converged {
         return Ok((plain, Route::GaussNewton));
@@ -335,12 +317,12 @@ fn descend(
         })
         .map(|(index, _)| index)
         .collect();
-    progress(first)?;
+    report(observer, Progress::Iteration(first))?;
     let robust = problem.minimum_norm_route(
         (problem.nominal, initial_auxiliary),
         &effective,
         states,
-        progress,
+        observer,
     )?;
     if robust.stop == StopReason::Converged || robust.best.cost < plain.best.cost {
         Ok((robust, Route::MinimumNorm))
@@ -506,7 +488,7 @@ fn prior_rows(
     prior: &Prior,
     robot: &Robot,
     problem: &Problem<'_>,
-    relations: &[crate::Relation],
+    relations: &[crate::identifiability::Relation],
 ) -> Vec<PriorRow> {
     let offset = problem.base_auxiliary.len();
     problem

@@ -17,7 +17,7 @@ pub enum Solver {
     LevenbergMarquardt,
 }
 
-/// Settings of [`identify`].
+/// Settings of [`identify`](super::identify).
 #[derive(Clone, Debug, PartialEq)]
 pub struct IdentificationOptions {
     /// Step rule.

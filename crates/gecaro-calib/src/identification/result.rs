@@ -8,6 +8,7 @@ use crate::identifiability::RankReport;
 use crate::observability::Observability;
 use crate::observation::ObservationSystem;
 use crate::prior::Prior;
+use crate::progress::IterationRecord;
 use crate::robust::Loss;
 use crate::rows::RowKind;
 
@@ -53,17 +54,6 @@ impl StopReason {
             StopReason::Diverged => "diverged",
         }
     }
-}
-
-/// One iteration: the residual after it and the step that led there.
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub struct IterationRecord {
-    /// RMS of the (weighted) residual vector after the update.
-    pub rms: f64,
-    /// Norm of the update (0 for the starting point).
-    pub step: f64,
-    /// The damping λ of the update (0 for an undamped step).
-    pub damping: f64,
 }
 
 /// Statistics of the per-observation errors (configuration, or pair) of a study.
@@ -123,7 +113,7 @@ pub struct IdentifiedParameter {
     pub prior_std: Option<f64>,
 }
 
-/// The result of [`identify`].
+/// The result of [`identify`](super::identify).
 #[derive(Clone, Debug)]
 pub struct Identification {
     /// The robot with the identified parameters (the best iterate).
@@ -183,7 +173,7 @@ pub struct Identification {
     pub outlier_threshold: f64,
     /// Observations beyond the outlier threshold at the solution, worst first.
     pub outliers: Vec<Outlier>,
-    /// Observations dropped before this fit ([`IdentificationOptions::reject`]):
+    /// Observations dropped before this fit ([`IdentificationOptions::reject`](super::IdentificationOptions::reject)):
     /// the outliers of the first fit, located in the original data.
     pub rejected: Vec<Outlier>,
 }
@@ -206,7 +196,7 @@ impl Identification {
     }
 
     /// Observability indices O1–O5 of the data's W_b at the nominal robot
-    /// (see [`crate::Observability`]).
+    /// (see [`crate::observability::Observability`]).
     pub fn observability(&self) -> Observability {
         self.excitation.observability()
     }

@@ -20,11 +20,11 @@
 //! (the weights are treated as known), and with a prior the posterior
 //! covariance `(W_bᵀW_b/s² + Σ_p⁻¹)⁻¹`.
 
-use super::result::IterationRecord;
-use super::statistics::ResidualStatistics;
 use super::solver::{Damping, Problem, Run};
+use super::statistics::ResidualStatistics;
 use super::weighting::{PriorRow, Weighting};
 use crate::Error;
+use crate::progress::Observer;
 use crate::robust::{Loss, LossKind};
 use crate::study::StudyStates;
 
@@ -56,7 +56,7 @@ impl Problem<'_> {
         loss: Loss,
         prior: Vec<PriorRow>,
         states: &mut StudyStates,
-        progress: &mut dyn FnMut(&IterationRecord) -> Result<(), Error>,
+        observer: &mut dyn Observer,
     ) -> Result<Reweighted, Error> {
         let equations = self.study.equation_count();
         let unknowns = self.layout.columns();
@@ -146,7 +146,7 @@ impl Problem<'_> {
                     Damping::WhenNeeded,
                     self.options.max_iterations,
                     states,
-                    progress,
+                    observer,
                 )?;
                 history.extend(run.history);
                 current = run.best;

@@ -6,13 +6,14 @@
 use gecaro_core::Robot;
 
 use super::options::IdentificationOptions;
-use super::result::{IterationRecord, StopReason};
+use super::result::StopReason;
 use super::weighting::Weighting;
 use crate::Error;
 use crate::linalg::{
     NormalEquations, damped_step, minimum_norm_step, predicted_decrease, step, view,
 };
 use crate::observation::ObservationSystem;
+use crate::progress::{IterationRecord, Observer, Progress, Quiet, report};
 use crate::rows::ColumnLayout;
 use crate::study::{Study, StudyStates};
 
@@ -243,7 +244,7 @@ impl<'a> Problem<'a> {
         damping_rule: Damping,
         max_iterations: usize,
         states: &mut StudyStates,
-        progress: &mut dyn FnMut(&IterationRecord) -> Result<(), Error>,
+        observer: &mut dyn Observer,
     ) -> Result<Run, Error> {
         let mut current = start;
         let mut history = Vec::new();
@@ -288,7 +289,7 @@ impl<'a> Problem<'a> {
                 match trial {
                     Ok(trial) if trial.cost <= current.cost => {
                         let record = self.record(&trial, &step, damping);
-                        progress(&record)?;
+                        report(observer, Progress::Iteration(&record))?;
                         history.push(record);
                         let previous = std::mem::replace(&mut current, trial).system;
                         spare = (!shared).then_some(previous);
@@ -346,7 +347,7 @@ impl<'a> Problem<'a> {
         start: (&Robot, &[f64]),
         effective: &[usize],
         states: &mut StudyStates,
-        progress: &mut dyn FnMut(&IterationRecord) -> Result<(), Error>,
+        observer: &mut dyn Observer,
     ) -> Result<Run, Error> {
         let (start_robot, start_auxiliary) = start;
         let auxiliary_count = start_auxiliary.len();
@@ -380,7 +381,7 @@ impl<'a> Problem<'a> {
                 match trial {
                     Ok(trial) if trial.cost <= current.cost => {
                         let record = self.record(&trial, &scaled, 0.0);
-                        progress(&record)?;
+                        report(observer, Progress::Iteration(&record))?;
                         history.push(record);
                         current = trial;
                         break;
@@ -425,7 +426,6 @@ impl<'a> Problem<'a> {
                 let nominal = self.nominal.parameter(id);
                 robot.set_parameter(id, start_value + target * (nominal - start_value))?;
             }
-            let mut stage_records = Vec::new();
             let run = self
                 .assemble(&robot, &current.auxiliary, &self.layout, states)
                 .and_then(|moved| {
@@ -434,10 +434,7 @@ impl<'a> Problem<'a> {
                         Damping::WhenNeeded,
                         CONTINUATION_ITERATIONS,
                         states,
-                        &mut |record| {
-                            stage_records.push(*record);
-                            Ok(())
-                        },
+                        &mut Quiet,
                     )
                 });
             match run {
@@ -446,7 +443,7 @@ impl<'a> Problem<'a> {
                         && run.best.cost <= reached_cost * 1.001 + floor =>
                 {
                     for record in &run.history {
-                        progress(record)?;
+                        report(observer, Progress::Iteration(record))?;
                     }
                     history.extend(run.history);
                     current = run.best;

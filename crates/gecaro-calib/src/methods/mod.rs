@@ -2,9 +2,9 @@
 //!
 //! Every method is the paper's eq. 5, `0 = f(q, X, η)`, linearised as eq. 6,
 //! `Δy = Ψ Δη`: given the current parameters it writes the residuals Δy and the
-//! rows of W for a data set ([`CalibrationMethod::linearise`](crate::CalibrationMethod::linearise)), and it can
+//! rows of W for a data set ([`CalibrationMethod::linearise`]), and it can
 //! generate configurations that satisfy its constraint
-//! ([`CalibrationMethod::generate`]). Identifiability, identification and
+//! ([`Sensor::generate`]). Identifiability, identification and
 //! points generation are written once against this trait.
 //!
 //! | name | method | rows | paper |
@@ -29,7 +29,7 @@
 //! [`CalibrationMethod`] and its [`MethodInfo`], and list it in [`METHODS`].
 //! Two provided methods only make it faster and are safe to leave alone:
 //! [`jacobian_rows`](CalibrationMethod::jacobian_rows) (say
-//! [`JacobianRows::Position`] when no orientation row is read) and
+//! [`JacobianRows::Position`](gecaro_core::JacobianRows::Position) when no orientation row is read) and
 //! [`independent_configurations`](CalibrationMethod::independent_configurations)
 //! (rows of one configuration depend on it alone: evaluated and written in
 //! parallel blocks). A method whose `generate_like` reads the data's poses
@@ -49,8 +49,10 @@ mod readings;
 mod sets;
 
 use crate::error::Error;
-use crate::method::{CalibrationMethod, MethodInfo, MethodOptions};
 use crate::sample::{DataColumn, Sample};
+
+pub use crate::method::{CalibrationMethod, CloneMethod, MethodInfo, MethodOptions, Sensor};
+pub use crate::plane::Plane;
 
 /// The seven methods, in the order of the paper's menus.
 pub const METHODS: &[MethodInfo] = &[

@@ -20,7 +20,7 @@ use crate::Error;
 /// Candidates evaluated exactly per exchange step.
 const SHORTLIST: usize = 8;
 
-/// What a plan optimises ([`crate::plan_configurations`]).
+/// What a plan optimises ([`crate::planning::plan_configurations`]).
 ///
 /// With M = Σ X_uᵀX_u the information of the design in scaled base columns
 /// and λ1 ≥ … ≥ λL its eigenvalues (λ = σ² of the scaled W_b):
@@ -63,7 +63,7 @@ impl Criterion {
         }
     }
 
-    /// What [`crate::DesignQuality::value`] holds for this criterion.
+    /// What [`crate::planning::DesignQuality::value`] holds for this criterion.
     pub fn meaning(&self) -> &'static str {
         match self {
             Criterion::D => "log det(W_bᵀW_b)",

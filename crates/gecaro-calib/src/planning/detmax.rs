@@ -179,7 +179,7 @@ pub(super) fn detmax(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Sampler;
+    use crate::simulation::Sampler;
 
     /// The rank-r updates of M⁻¹ and of every G_u equal a recomputation.
     #[test]

@@ -5,7 +5,7 @@
 //! configuration (position, frame and plane methods), a set (point and frame
 //! link) or a pair (distance). Unit u contributes the rows X_u of the base
 //! columns W_b at the nominal robot (Appendix III), its columns scaled by the
-//! error units as for the observability indices ([`crate::Observability`]),
+//! error units as for the observability indices ([`crate::observability::Observability`]),
 //! and so the information X_uᵀX_u. A design S is judged on its information
 //! M = Σ_{u∈S} X_uᵀX_u by a [`Criterion`]: D(S) = log det M by default (the
 //! smallest confidence ellipsoid of the parameters; O1 is exp(D/2L)/√m), or
@@ -19,7 +19,7 @@
 //! exchange of pairs (`planning::criteria`). A ridge of 1e-9 of the mean diagonal of
 //! a unit's information keeps M invertible while the design is short.
 
-use std::ops::{ControlFlow, Range};
+use std::ops::Range;
 
 use gecaro_core::{PriorityMatrix, Robot};
 use nalgebra::{DMatrix, DVector};
@@ -29,6 +29,7 @@ use crate::error::Setting;
 use crate::method::CalibrationMethod;
 use crate::methods::units;
 use crate::observability::Observability;
+use crate::progress::{Observer, Progress, report};
 use crate::sample::Sample;
 use crate::sampler::Sampler;
 
@@ -236,8 +237,8 @@ impl<'a> CandidatePool<'a> {
 
     /// Chooses about `request.count` configurations from the pool (whole
     /// units), optimising `request.criterion` (see the module docs).
-    /// `progress(done, total)` reports the steps and stops the work with
-    /// [`Error::Interrupted`] on [`ControlFlow::Break`].
+    /// `observer` hears of the steps ([`Progress::Step`]) and stops the work with
+    /// [`Error::Interrupted`] on [`ControlFlow::Break`](std::ops::ControlFlow::Break).
     ///
     /// # Errors
     /// Invalid kept samples, a pool with fewer admissible units than asked
@@ -247,7 +248,7 @@ impl<'a> CandidatePool<'a> {
     pub fn plan(
         &self,
         request: &PlanRequest<'_>,
-        mut progress: impl FnMut(usize, usize) -> ControlFlow<()>,
+        observer: &mut dyn Observer,
     ) -> Result<Plan, Error> {
         let (robot, method, pool, ranges) = (self.robot, self.method, &self.samples, &self.ranges);
         let kept = request.kept;
@@ -314,10 +315,13 @@ impl<'a> CandidatePool<'a> {
         let mut steps = 0;
         let mut step = || {
             steps += 1;
-            match progress(steps.min(total), total) {
-                ControlFlow::Continue(()) => Ok(()),
-                ControlFlow::Break(()) => Err(Error::Interrupted),
-            }
+            report(
+                observer,
+                Progress::Step {
+                    done: steps.min(total),
+                    total,
+                },
+            )
         };
         let (mut chosen, mut exchanges) = detmax::detmax(
             candidates,
@@ -387,9 +391,9 @@ pub fn plan_configurations(
     pool: &[Sample],
     request: &PlanRequest<'_>,
     priority: &PriorityMatrix,
-    progress: impl FnMut(usize, usize) -> ControlFlow<()>,
+    observer: &mut dyn Observer,
 ) -> Result<Plan, Error> {
-    CandidatePool::new(robot, method, pool, priority)?.plan(request, progress)
+    CandidatePool::new(robot, method, pool, priority)?.plan(request, observer)
 }
 
 /// [`CandidatePool::assess`] on a pool built for this one assessment.

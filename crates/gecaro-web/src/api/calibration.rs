@@ -3,7 +3,9 @@
 
 use axum::extract::State;
 use gecaro_calib::{
-    Sampler, Study, identifiability, perturbed_robot, simulate_measurements, terminal_displacement,
+    identifiability::identifiability,
+    simulation::{Sampler, perturbed_robot, simulate_measurements, terminal_displacement},
+    study::Study,
 };
 use gecaro_io::{RobotDocument, RobotFile, format_samples};
 use gecaro_report::json::IdentifiableJson;

@@ -2,15 +2,16 @@
 //! page submits, polls the residual of every iteration, then shows the
 //! result, its plots, and offers the calibrated robot and the report.
 
-use std::ops::ControlFlow;
 use std::sync::Arc;
 
 use axum::extract::{Path as UrlPath, State};
 use axum::http::header;
 use axum::response::IntoResponse;
 use gecaro_calib::{
-    Identification, IdentificationOptions, Loss, LossKind, Solver, Study, cross_validate,
-    identify_with_progress,
+    Quiet, each_iteration,
+    identification::{Identification, IdentificationOptions, Loss, LossKind, Solver, identify},
+    study::Study,
+    validation::cross_validate,
 };
 use gecaro_io::{RobotDocument, RobotFile};
 use gecaro_report::json::{CrossValidationJson, IdentificationJson};
@@ -94,7 +95,7 @@ impl IdentifyRequest {
             prior,
             outlier_threshold: self
                 .outlier_threshold
-                .unwrap_or(gecaro_calib::DEFAULT_OUTLIER_THRESHOLD),
+                .unwrap_or(gecaro_calib::identification::DEFAULT_OUTLIER_THRESHOLD),
             reject: self.reject,
             ..IdentificationOptions::default()
         })
@@ -146,13 +147,15 @@ pub(crate) async fn submit(
         let outcome = state
             .compute(move |_| {
                 running.start();
-                let result = identify_with_progress(&file.robot, &study, &options, |record| {
-                    running.record(record.rms);
-                    ControlFlow::Continue(())
-                })?;
+                let result = identify(
+                    &file.robot,
+                    &study,
+                    &options,
+                    &mut each_iteration(|record| running.record(record.rms)),
+                )?;
                 let validation = match folds {
                     Some(folds) => Some(CrossValidationJson::new(
-                        &cross_validate(&file.robot, &study, &options, folds, seed)?,
+                        &cross_validate(&file.robot, &study, &options, folds, seed, &mut Quiet)?,
                         seed,
                     )),
                     None => None,

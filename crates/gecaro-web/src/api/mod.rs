@@ -15,7 +15,10 @@ use std::path::Path;
 use axum::Router;
 use axum::extract::FromRequest;
 use axum::routing::{get, post};
-use gecaro_calib::{CalibrationMethod, MethodOptions, Plane, Sample};
+use gecaro_calib::{
+    methods::{CalibrationMethod, MethodOptions, Plane},
+    study::Sample,
+};
 use gecaro_core::OrientationDifference;
 use gecaro_io::{DocumentError, Location, RobotDocument, RobotFile};
 use nalgebra::Vector3;
@@ -184,7 +187,7 @@ impl MethodRequest {
             },
             set_size: MethodOptions::check_set_size(self.set_size)?,
         };
-        Ok(gecaro_calib::method(&self.name, &options)?)
+        Ok(gecaro_calib::methods::method(&self.name, &options)?)
     }
 }
 

@@ -1,11 +1,12 @@
 //! The "Plan" function of a method menu: the configurations to measure,
 //! chosen from a generated pool, and how many are enough (docs/planning.md).
 
-use std::ops::ControlFlow;
-
 use axum::extract::State;
 use gecaro_calib::{
-    CandidatePool, Criterion, PlanRequest as Request, Sampler, accuracy_curve, random_test_poses,
+    curve::accuracy_curve,
+    planning::{CandidatePool, Criterion, PlanRequest as Request},
+    prediction::random_test_poses,
+    simulation::Sampler,
 };
 use gecaro_io::{RobotDocument, format_samples};
 use gecaro_report::json::{CurvePointJson, PlanJson};
@@ -146,7 +147,7 @@ pub(crate) async fn plan(
                 ..Request::new(request.count)
             };
             let pool = CandidatePool::new(robot, method.as_ref(), &pool, &robot.priority())?;
-            let planned = pool.plan(&plan_request, |_, _| ControlFlow::Continue(()))?;
+            let planned = pool.plan(&plan_request, &mut gecaro_calib::Quiet)?;
             let random =
                 pool.random_design(&[], planned.chosen.len(), &mut Sampler::new(request.seed));
             let random_quality = pool.assess(&random, &plan_request.criterion)?;
@@ -160,7 +161,7 @@ pub(crate) async fn plan(
                     request.noise,
                     &poses,
                     request.seed,
-                    |_, _| ControlFlow::Continue(()),
+                    &mut gecaro_calib::Quiet,
                 )?;
                 Some(CurveJson {
                     noise: request.noise,
@@ -168,7 +169,7 @@ pub(crate) async fn plan(
                     points: points.iter().map(CurvePointJson::from).collect(),
                 })
             };
-            let columns = gecaro_calib::DataColumn::grouping(method.data_columns());
+            let columns = gecaro_calib::study::DataColumn::grouping(method.data_columns());
             let csv = format_samples(robot.joint_count(), &columns, &planned.samples);
             // Saved last: a failed request leaves no file.
             let saved = save_csv(state, request.save_as.as_deref(), &csv, request.overwrite)?;

@@ -2,7 +2,7 @@
 //! the check of an edited table, and the poses of the frames for the view.
 
 use axum::extract::{Path as UrlPath, Query, State};
-use gecaro_calib::{DataColumn, METHODS};
+use gecaro_calib::{methods::METHODS, study::DataColumn};
 use gecaro_core::{FrameType, Robot, forward_kinematics};
 use gecaro_io::{
     ChainEnds, DocumentError, ImportOptions, RobotDocument, RobotFile, RobotFormat, export_robot,
@@ -43,9 +43,12 @@ pub(crate) async fn info(State(state): State<AppState>) -> Json<Info> {
         .iter()
         .map(|info| {
             // Options do not change a method's columns: build with defaults.
-            let columns = gecaro_calib::method(info.name, &gecaro_calib::MethodOptions::default())
-                .map(|method| method.data_columns().to_vec())
-                .unwrap_or_default();
+            let columns = gecaro_calib::methods::method(
+                info.name,
+                &gecaro_calib::methods::MethodOptions::default(),
+            )
+            .map(|method| method.data_columns().to_vec())
+            .unwrap_or_default();
             MethodView {
                 name: info.name,
                 title: info.title,
@@ -115,8 +118,8 @@ fn summary(robot: &Robot) -> Summary {
         priority: robot.priority().rows().to_vec(),
         default_priority: robot.priority_override().is_none(),
         parameter_count: robot.parameters().len(),
-        plane_normal: gecaro_calib::TABLE2_PLANE_NORMAL,
-        plane_point: gecaro_calib::default_plane(robot)
+        plane_normal: gecaro_calib::table2::TABLE2_PLANE_NORMAL,
+        plane_point: gecaro_calib::table2::default_plane(robot)
             .ok()
             .map(|plane| plane.point().into()),
     }

@@ -1,11 +1,15 @@
 //! Identification on measurements as they really are: gross errors (robust
 //! losses, the outlier report, rejection) and poorly exciting data (priors),
 //! against known simulated truth.
-
 use gecaro_calib::{
-    Identification, IdentificationOptions, Loss, LossKind, MethodOptions, Plane, Prior,
-    STANFORD_PLANE_POINT, Sample, Sampler, Study, TABLE2_PLANE_NORMAL, evaluate, identify, method,
-    perturbed_robot, simulate_at, simulate_measurements,
+    Quiet,
+    identification::{
+        Identification, IdentificationOptions, Loss, LossKind, Prior, evaluate, identify,
+    },
+    methods::{MethodOptions, Plane, method},
+    simulation::{Sampler, perturbed_robot, simulate_at, simulate_measurements},
+    study::{Sample, Study},
+    table2::{STANFORD_PLANE_POINT, TABLE2_PLANE_NORMAL},
 };
 use gecaro_core::{Robot, forward_kinematics, joint_jacobian};
 use nalgebra::{DVector, Vector3};
@@ -117,6 +121,7 @@ fn fit(study: &Study, loss: Loss) -> Identification {
             loss,
             ..IdentificationOptions::default()
         },
+        &mut Quiet,
     )
     .expect("identification")
 }
@@ -221,7 +226,7 @@ fn rejecting_outliers_drops_them_and_refits() {
         reject: true,
         ..IdentificationOptions::default()
     };
-    let result = identify(&stanford(), &dirty, &options).expect("identification");
+    let result = identify(&stanford(), &dirty, &options, &mut Quiet).expect("identification");
     let rejected: Vec<usize> = result
         .rejected
         .iter()
@@ -273,7 +278,7 @@ fn bad_robust_options_are_named() {
         ),
     ];
     for (options, expected) in cases {
-        let error = identify(&stanford(), &study, &options).expect_err("bad option");
+        let error = identify(&stanford(), &study, &options, &mut Quiet).expect_err("bad option");
         assert!(error.to_string().contains(expected), "{error}");
     }
 }
@@ -308,6 +313,7 @@ fn a_prior_bounds_poorly_excited_parameters_and_leaves_the_others() {
             prior: Some(prior),
             ..IdentificationOptions::default()
         },
+        &mut Quiet,
     )
     .expect("identification");
     let mut ran_away = 0;
@@ -364,7 +370,7 @@ fn each_set_of_a_study_is_judged_by_its_own_noise() {
         let chosen = method(name, &MethodOptions::default()).expect("method");
         let samples = simulate_measurements(&real, chosen.as_ref(), count, noise, &mut sampler)
             .expect("data");
-        sets.push(gecaro_calib::MeasurementSet {
+        sets.push(gecaro_calib::study::MeasurementSet {
             method: chosen,
             samples,
             sigma: 1e-4,

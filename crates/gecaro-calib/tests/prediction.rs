@@ -2,10 +2,13 @@
 //! robot at test poses, predicted by propagating eq. 11's covariance, and
 //! measured over 1000 simulated calibrations, agree within 10 %.
 
-use std::ops::ControlFlow;
-
 use gecaro_calib::{
-    IdentificationOptions, MethodOptions, Sampler, method, monte_carlo, predict, random_samples,
+    Quiet,
+    identifiability::random_samples,
+    identification::IdentificationOptions,
+    methods::{MethodOptions, method},
+    prediction::{monte_carlo, predict},
+    simulation::Sampler,
 };
 use gecaro_io::load_robot;
 
@@ -47,7 +50,7 @@ fn the_prediction_agrees_with_a_thousand_simulated_calibrations() {
             1000,
             1,
             &IdentificationOptions::default(),
-            |_| ControlFlow::Continue(()),
+            &mut Quiet,
         )
         .expect("Monte Carlo");
         assert_eq!(measured.not_converged, 0, "{name}");

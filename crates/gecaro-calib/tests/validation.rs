@@ -1,9 +1,12 @@
 //! Held-out error as the judge: K-fold cross-validation and model choice,
 //! against known simulated truth.
-
 use gecaro_calib::{
-    IdentificationOptions, MethodOptions, Model, Sampler, Study, compare_models, cross_validate,
-    evaluate, identify, method, perturbed_robot, simulate_measurements,
+    Quiet,
+    identification::{IdentificationOptions, evaluate, identify},
+    methods::{MethodOptions, method},
+    simulation::{Sampler, perturbed_robot, simulate_measurements},
+    study::Study,
+    validation::{Model, compare_models, cross_validate},
 };
 use gecaro_core::Robot;
 
@@ -26,7 +29,8 @@ fn folds_keep_sets_whole_cover_every_observation_and_are_seeded() {
     let real = perturbed_robot(&stanford(), 0.5, &mut Sampler::new(3)).expect("real robot");
     let study = simulate(&real, "point-link", 120, 1e-4, 4);
     let options = IdentificationOptions::default();
-    let first = cross_validate(&stanford(), &study, &options, 5, 9).expect("cross-validation");
+    let first =
+        cross_validate(&stanford(), &study, &options, 5, 9, &mut Quiet).expect("cross-validation");
     assert_eq!(first.folds.len(), 5);
     // Every configuration is held out once; sets of 4 are never split, so
     // each fold holds whole sets.
@@ -36,13 +40,16 @@ fn folds_keep_sets_whole_cover_every_observation_and_are_seeded() {
         "{:?}",
         first.folds
     );
-    let again = cross_validate(&stanford(), &study, &options, 5, 9).expect("cross-validation");
+    let again =
+        cross_validate(&stanford(), &study, &options, 5, 9, &mut Quiet).expect("cross-validation");
     assert_eq!(first, again);
-    let other = cross_validate(&stanford(), &study, &options, 5, 10).expect("cross-validation");
+    let other =
+        cross_validate(&stanford(), &study, &options, 5, 10, &mut Quiet).expect("cross-validation");
     assert_ne!(first.folds, other.folds);
     // Too many or too few folds.
     for folds in [1, 31] {
-        let error = cross_validate(&stanford(), &study, &options, folds, 9).expect_err("folds");
+        let error =
+            cross_validate(&stanford(), &study, &options, folds, 9, &mut Quiet).expect_err("folds");
         assert!(error.to_string().starts_with("folds:"), "{error}");
     }
 }
@@ -53,9 +60,10 @@ fn the_cross_validated_error_predicts_the_error_on_new_data() {
     let noise = 2e-4;
     let study = simulate(&real, "position", 40, noise, 6);
     let options = IdentificationOptions::default();
-    let validation = cross_validate(&stanford(), &study, &options, 5, 1).expect("cross-validation");
+    let validation =
+        cross_validate(&stanford(), &study, &options, 5, 1, &mut Quiet).expect("cross-validation");
     // The error of the calibrated robot on fresh measurements of the real one.
-    let fitted = identify(&stanford(), &study, &options).expect("identification");
+    let fitted = identify(&stanford(), &study, &options, &mut Quiet).expect("identification");
     let fresh = simulate(&real, "position", 400, noise, 7);
     let new_data = evaluate(&fitted.calibrated, &fresh)
         .expect("evaluation")
@@ -85,7 +93,7 @@ fn models_are_ranked_by_held_out_error() {
         &models,
         4,
         1,
-        |_, _| {},
+        &mut Quiet,
     )
     .expect("comparison");
     let order: Vec<&str> = scores.iter().map(|s| s.model.name()).collect();

@@ -1,15 +1,18 @@
 //! Identification against known simulated truth (paper §3–§4): every method,
 //! noise-free and noisy data, large errors, and the reported precision.
 
-use std::ops::ControlFlow;
-
 use gecaro_calib::{
-    IdentificationOptions, MeasurementSet, MethodOptions, ParameterStatus, Plane, Route,
-    STANFORD_PLANE_POINT, Sample, Sampler, StopReason, Study, TABLE2_PLANE_NORMAL, evaluate,
-    identify, identify_with_progress, method, perturbed_robot, simulate_measurements,
+    Progress, Quiet,
+    identifiability::ParameterStatus,
+    identification::{IdentificationOptions, Route, StopReason, evaluate, identify},
+    methods::{MethodOptions, Plane, method},
+    simulation::{Sampler, perturbed_robot, simulate_measurements},
+    study::{MeasurementSet, Sample, Study},
+    table2::{STANFORD_PLANE_POINT, TABLE2_PLANE_NORMAL},
 };
 use gecaro_core::Robot;
 use nalgebra::Vector3;
+use std::ops::ControlFlow;
 
 fn stanford() -> Robot {
     gecaro_io::load_robot("stanford")
@@ -73,8 +76,13 @@ fn held_out(real: &Robot, name: &str, unknown: bool, count: usize, seed: u64) ->
 fn noise_free_data_are_reproduced_to_rounding_by_every_method() {
     for (name, unknown, count) in VARIANTS {
         let (real, study) = simulate(1.0, 0.0, 21, name, unknown, count);
-        let result = identify(&stanford(), &study, &IdentificationOptions::default())
-            .expect("identification");
+        let result = identify(
+            &stanford(),
+            &study,
+            &IdentificationOptions::default(),
+            &mut Quiet,
+        )
+        .expect("identification");
         assert_eq!(result.stop_reason, StopReason::Converged, "{name}");
         // The structural report (relations and conditioning computed on
         // first read): every regrouped parameter is absorbed by a relation
@@ -143,8 +151,13 @@ fn with_sensor_noise_the_residual_settles_at_the_noise_level() {
             });
             study.sets[0].sigma = sigma;
         }
-        let result = identify(&stanford(), &study, &IdentificationOptions::default())
-            .expect("identification");
+        let result = identify(
+            &stanford(),
+            &study,
+            &IdentificationOptions::default(),
+            &mut Quiet,
+        )
+        .expect("identification");
         assert_eq!(result.stop_reason, StopReason::Converged, "{name}");
         let ratio = if standalone {
             result.residual_sigma / sigma
@@ -168,16 +181,26 @@ fn with_sensor_noise_the_residual_settles_at_the_noise_level() {
 #[test]
 fn link_and_plane_methods_alone_warn_that_they_cannot_see_the_scale() {
     let (_, study) = simulate(1.0, 1e-4, 22, "point-link", false, 80);
-    let result =
-        identify(&stanford(), &study, &IdentificationOptions::default()).expect("identification");
+    let result = identify(
+        &stanford(),
+        &study,
+        &IdentificationOptions::default(),
+        &mut Quiet,
+    )
+    .expect("identification");
     assert!(
         result.warnings.iter().any(|w| w.contains("scale")),
         "{:?}",
         result.warnings
     );
     let (_, study) = simulate(1.0, 1e-4, 22, "position", false, 50);
-    let result =
-        identify(&stanford(), &study, &IdentificationOptions::default()).expect("identification");
+    let result = identify(
+        &stanford(),
+        &study,
+        &IdentificationOptions::default(),
+        &mut Quiet,
+    )
+    .expect("identification");
     assert!(result.warnings.is_empty(), "{:?}", result.warnings);
 }
 
@@ -186,8 +209,13 @@ fn position_and_frame_converge_from_half_metre_errors_in_at_most_six_plain_itera
     for seed in 1..=6 {
         for (name, count) in [("position", 60), ("frame", 40)] {
             let (_, study) = simulate(10.0, 0.0, seed, name, false, count);
-            let result = identify(&stanford(), &study, &IdentificationOptions::default())
-                .expect("identification");
+            let result = identify(
+                &stanford(),
+                &study,
+                &IdentificationOptions::default(),
+                &mut Quiet,
+            )
+            .expect("identification");
             assert!(
                 result.before.max > 0.3,
                 "level 10 moves the terminal point by 0.3–0.8 m: {}",
@@ -221,8 +249,13 @@ fn link_and_plane_methods_converge_from_level_three() {
             ("plane2", true, 120),
         ] {
             let (real, study) = simulate(3.0, 0.0, seed, name, unknown, count);
-            let result = identify(&stanford(), &study, &IdentificationOptions::default())
-                .expect("identification");
+            let result = identify(
+                &stanford(),
+                &study,
+                &IdentificationOptions::default(),
+                &mut Quiet,
+            )
+            .expect("identification");
             assert_eq!(
                 result.stop_reason,
                 StopReason::Converged,
@@ -265,8 +298,13 @@ fn reported_standard_deviations_match_a_monte_carlo_spread() {
             noisy,
             "run",
         );
-        let result = identify(&stanford(), &study, &IdentificationOptions::default())
-            .expect("identification");
+        let result = identify(
+            &stanford(),
+            &study,
+            &IdentificationOptions::default(),
+            &mut Quiet,
+        )
+        .expect("identification");
         if reported.is_empty() {
             reported = vec![0.0; result.parameters.len()];
             values = vec![Vec::new(); reported.len()];
@@ -306,14 +344,19 @@ fn failures_are_reported_not_hidden() {
         max_iterations: 2,
         ..IdentificationOptions::default()
     };
-    let result = identify(&stanford(), &study, &options).expect("identification");
+    let result = identify(&stanford(), &study, &options, &mut Quiet).expect("identification");
     assert_ne!(result.stop_reason, StopReason::Converged);
     assert!(result.rms_after() < result.rms_before());
     // Fewer equations than unknowns is an error.
     let (_, mut study) = simulate(1.0, 0.0, 3, "position", false, 60);
     study.sets[0].samples.truncate(8);
-    let error =
-        identify(&stanford(), &study, &IdentificationOptions::default()).expect_err("too few");
+    let error = identify(
+        &stanford(),
+        &study,
+        &IdentificationOptions::default(),
+        &mut Quiet,
+    )
+    .expect_err("too few");
     assert!(error.to_string().contains("too few equations"), "{error}");
 }
 
@@ -322,11 +365,11 @@ fn a_progress_hook_can_stop_an_identification() {
     // Level 10 takes several iterations: stop after the second record.
     let (_, study) = simulate(10.0, 0.0, 3, "position", false, 60);
     let mut records = 0;
-    let error = identify_with_progress(
+    let error = identify(
         &stanford(),
         &study,
         &IdentificationOptions::default(),
-        |_| {
+        &mut |_: Progress<'_>| {
             records += 1;
             if records == 2 {
                 ControlFlow::Break(())

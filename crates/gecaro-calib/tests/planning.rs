@@ -3,12 +3,15 @@
 //! (held-out error, 6- and 7-axis robots, four methods), the test-pose
 //! criterion agrees with the prediction, and the minimum distance holds.
 
-use std::ops::ControlFlow;
-
 use gecaro_calib::{
-    CalibrationMethod, Criterion, IdentificationOptions, MethodOptions, Plan, PlanRequest, Sample,
-    Sampler, Study, assess_design, evaluate, identify, method, perturbed_robot,
-    plan_configurations, predict, random_samples, simulate_at, units,
+    Quiet,
+    identifiability::random_samples,
+    identification::{IdentificationOptions, evaluate, identify},
+    methods::{CalibrationMethod, MethodOptions, method, units},
+    planning::{Criterion, Plan, PlanRequest, assess_design, plan_configurations},
+    prediction::predict,
+    simulation::{Sampler, perturbed_robot, simulate_at},
+    study::{Sample, Study},
 };
 use gecaro_core::Robot;
 use gecaro_io::load_robot;
@@ -23,10 +26,8 @@ fn plan_with(
     pool: &[Sample],
     request: &PlanRequest<'_>,
 ) -> Plan {
-    plan_configurations(robot, chosen, pool, request, &robot.priority(), |_, _| {
-        ControlFlow::Continue(())
-    })
-    .expect("a plan")
+    plan_configurations(robot, chosen, pool, request, &robot.priority(), &mut Quiet)
+        .expect("a plan")
 }
 
 fn plan(robot: &Robot, name: &str, pool: &[Sample], count: usize) -> Plan {
@@ -286,7 +287,7 @@ fn chosen_configurations_keep_the_minimum_distance() {
         &pool,
         &request,
         &robot.priority(),
-        |_, _| ControlFlow::Continue(()),
+        &mut Quiet,
     )
     .expect_err("too far apart");
     assert!(
@@ -341,8 +342,13 @@ fn planned_beats_random(robot: &str, name: &str, count: usize, pool_size: usize)
                 let data = simulate_at(&real, chosen.as_ref(), design, 1e-4, &mut sampler)
                     .expect("measured");
                 let study = Study::single(chosen.clone_method(), data, "design");
-                let result = identify(&robot, &study, &IdentificationOptions::default())
-                    .expect("identified");
+                let result = identify(
+                    &robot,
+                    &study,
+                    &IdentificationOptions::default(),
+                    &mut Quiet,
+                )
+                .expect("identified");
                 sum += evaluate(&result.calibrated, &check).expect("evaluated").rms;
             }
             sum / SESSIONS as f64
@@ -380,9 +386,9 @@ fn every_method_measures_at_planned_configurations_and_identifies() {
     let robot = ready("stanford");
     let options = MethodOptions {
         plane: Some(
-            gecaro_calib::Plane::new(
-                nalgebra::Vector3::from(gecaro_calib::TABLE2_PLANE_NORMAL),
-                nalgebra::Vector3::from(gecaro_calib::STANFORD_PLANE_POINT),
+            gecaro_calib::methods::Plane::new(
+                nalgebra::Vector3::from(gecaro_calib::table2::TABLE2_PLANE_NORMAL),
+                nalgebra::Vector3::from(gecaro_calib::table2::STANFORD_PLANE_POINT),
             )
             .expect("plane"),
         ),
@@ -437,8 +443,13 @@ fn every_method_measures_at_planned_configurations_and_identifies() {
             );
         }
         let study = Study::single(chosen.clone_method(), data, "planned");
-        let result =
-            identify(&robot, &study, &IdentificationOptions::default()).expect("identified");
+        let result = identify(
+            &robot,
+            &study,
+            &IdentificationOptions::default(),
+            &mut Quiet,
+        )
+        .expect("identified");
         assert!(
             result.after.rms < 0.05 * result.before.rms,
             "{name}: {} → {}",

@@ -1,17 +1,19 @@
 //! Calibrations of the real datasets in examples/real, judged on held-out data
 //! (docs/real-data.md). The thresholds are what these data support, with margin.
 
-use std::path::{Path, PathBuf};
-
 use gecaro_calib::{
-    IdentificationOptions, MethodOptions, StopReason, Study, evaluate, identify, method,
+    Quiet,
+    identification::{IdentificationOptions, StopReason, evaluate, identify},
+    methods::{MethodOptions, method},
+    study::Study,
 };
 use gecaro_core::Robot;
 use gecaro_io::{read_priority_file, read_samples, read_study_file};
+use std::path::{Path, PathBuf};
 
 fn example(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("examples/real")
+        .join("../../examples/real")
         .join(name)
 }
 
@@ -38,7 +40,8 @@ fn calibrate(study: &Path, priority: Option<&Path>) -> (Robot, Robot) {
             .or(file.priority),
         ..IdentificationOptions::default()
     };
-    let result = identify(&file.robot.robot, &file.study, &options).expect("identification");
+    let result =
+        identify(&file.robot.robot, &file.study, &options, &mut Quiet).expect("identification");
     assert_eq!(result.stop_reason, StopReason::Converged);
     (file.robot.robot, result.calibrated)
 }
