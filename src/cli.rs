@@ -122,46 +122,15 @@ pub(crate) enum RobotCommand {
     },
 }
 
-/// A robot file format other than gecaro's.
-#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub(crate) enum FormatArg {
-    /// ROS URDF.
-    Urdf,
-    /// Standard Denavit–Hartenberg table (TOML or CSV).
-    Dh,
-    /// Craig's modified Denavit–Hartenberg table (TOML or CSV).
-    Mdh,
-    /// SYMORO .par file (import only).
-    Symoro,
-}
-
-/// The unit of angles in a file that does not say.
-#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub(crate) enum AngleUnitArg {
-    /// Radians.
-    Rad,
-    /// Degrees.
-    Deg,
-}
-
-/// The unit of lengths in a file that does not say.
-#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub(crate) enum LengthUnitArg {
-    /// Metres.
-    M,
-    /// Millimetres.
-    Mm,
-}
-
 /// Units of a file's columns that do not state theirs.
 #[derive(Debug, Args)]
 pub(crate) struct UnitArgs {
     /// Unit of the angles (joint angles, α, θ) where the file does not say.
-    #[arg(long, value_enum, value_name = "rad|deg")]
-    pub(crate) angle_unit: Option<AngleUnitArg>,
+    #[arg(long, value_parser = ["rad", "deg"], value_name = "rad|deg")]
+    pub(crate) angle_unit: Option<String>,
     /// Unit of the lengths (positions, distances, a, d) where the file does not say.
-    #[arg(long, value_enum, value_name = "m|mm")]
-    pub(crate) length_unit: Option<LengthUnitArg>,
+    #[arg(long, value_parser = ["m", "mm"], value_name = "m|mm")]
+    pub(crate) length_unit: Option<String>,
 }
 
 /// How a data or program file is written: units and other column names.
@@ -180,8 +149,8 @@ pub(crate) struct ImportArgs {
     /// The file: .urdf, .par, or a table (.toml with `convention`, or .csv with --from).
     pub(crate) file: PathBuf,
     /// Its format (default: from the extension, or the table's `convention`).
-    #[arg(long, value_enum)]
-    pub(crate) from: Option<FormatArg>,
+    #[arg(long, value_parser = names(&gecaro_io::RobotFormat::NAMES))]
+    pub(crate) from: Option<String>,
     /// URDF: the link whose frame is the world frame (default: the root link).
     #[arg(long, value_name = "LINK")]
     pub(crate) base: Option<String>,
@@ -206,9 +175,9 @@ pub(crate) struct ImportArgs {
 pub(crate) struct ExportArgs {
     /// Robot file or ready robot name.
     pub(crate) robot: String,
-    /// The format to write.
-    #[arg(long, value_enum)]
-    pub(crate) to: FormatArg,
+    /// The format to write: urdf, dh or mdh.
+    #[arg(long, value_parser = names(&gecaro_io::RobotFormat::NAMES))]
+    pub(crate) to: String,
     /// Output file (.urdf, or .toml for a table).
     #[arg(short, long)]
     pub(crate) output: PathBuf,
@@ -276,30 +245,18 @@ fn method_names() -> clap::builder::PossibleValuesParser {
     )
 }
 
-/// Whether the plane of a plane method is known or identified.
-#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub(crate) enum PlaneKnowledge {
-    /// The plane (plane1) or its normal (plane2) is known.
-    Known,
-    /// It is identified with the robot parameters.
-    Unknown,
-}
-
-/// How orientation differences are computed (Appendix I).
-#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub(crate) enum OrientationMethod {
-    /// Method 2: axis–angle of Aⁱ·Aʲᵀ (exact).
-    AxisAngle,
-    /// Method 1: half the sum of the cross products of the axes (first order).
-    CrossProducts,
+/// A value list of a library's names (its `NAMES`), so that the command
+/// line offers and checks what the libraries parse.
+fn names(names: &'static [&'static str]) -> clap::builder::PossibleValuesParser {
+    clap::builder::PossibleValuesParser::new(names.iter().copied())
 }
 
 #[derive(Debug, Args)]
 pub(crate) struct PlaneArgs {
     /// For plane1/plane2: is the plane (its normal for plane2) known, or identified too?
     /// Default: known when --plane-normal is given.
-    #[arg(long, value_enum)]
-    pub(crate) plane: Option<PlaneKnowledge>,
+    #[arg(long, value_parser = ["known", "unknown"])]
+    pub(crate) plane: Option<String>,
     /// Normal of the plane, world frame (e.g. 0.3,0.5,0.81).
     #[arg(
         long,
@@ -353,9 +310,10 @@ pub(crate) struct StudySource {
 pub(crate) struct MethodOptionArgs {
     #[command(flatten)]
     pub(crate) plane: PlaneArgs,
-    /// Orientation difference for frame and frame-link (Appendix I).
-    #[arg(long, value_enum, default_value = "axis-angle")]
-    pub(crate) orientation: OrientationMethod,
+    /// Orientation difference for frame and frame-link (Appendix I): axis-angle
+    /// (method 2, exact) or cross-products (method 1, first order).
+    #[arg(long, value_parser = names(&gecaro_core::OrientationDifference::NAMES), default_value = "axis-angle")]
+    pub(crate) orientation: String,
     /// Configurations per set when generating link data (default 4 for point-link, 2 for frame-link).
     #[arg(long)]
     pub(crate) set_size: Option<usize>,
@@ -427,9 +385,10 @@ pub(crate) struct GenerateArgs {
     /// The "real" robot, as a robot file; default: the nominal one with errors at --error-level.
     #[arg(long, value_name = "REAL.toml", conflicts_with = "error_level")]
     pub(crate) real: Option<PathBuf>,
-    /// Errors of the simulated real robot: ±L cm on lengths, ±L° on angles, ±L % on gains.
-    #[arg(long, value_name = "L", default_value_t = 1.0)]
-    pub(crate) error_level: f64,
+    /// Errors of the simulated real robot: ±L cm on lengths, ±L° on angles, ±L % on gains
+    /// (default 1).
+    #[arg(long, value_name = "L")]
+    pub(crate) error_level: Option<f64>,
     /// Sensor noise, standard deviation (metres; radians for orientations).
     #[arg(long, value_name = "SIGMA", default_value_t = 0.0)]
     pub(crate) noise: f64,
@@ -459,8 +418,8 @@ pub(crate) struct PlanArgs {
     pub(crate) count: Option<usize>,
     /// What the choice optimises: D-, A-, E-optimal, the observability
     /// indices O4 or O5, or the predicted position error at the test poses.
-    #[arg(long, value_enum, default_value = "d")]
-    pub(crate) criterion: CriterionArg,
+    #[arg(long, value_parser = names(&gecaro_calib::planning::Criterion::NAMES), default_value = "d")]
+    pub(crate) criterion: String,
     /// Candidates: a data file's configurations (e.g. the poses a cell can reach).
     #[arg(long, value_name = "FILE", conflicts_with = "pool")]
     pub(crate) candidates: Option<PathBuf>,
@@ -529,23 +488,6 @@ pub(crate) struct TestPoseArgs {
     pub(crate) test_pose_count: usize,
 }
 
-/// A design criterion (`gecaro plan --criterion`).
-#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub(crate) enum CriterionArg {
-    /// D-optimal: the largest log det(W_bᵀW_b).
-    D,
-    /// A-optimal: the smallest sum of the parameters' variances.
-    A,
-    /// E-optimal: the largest smallest singular value (O3).
-    E,
-    /// The largest noise amplification index O4 = σL²/σ1.
-    O4,
-    /// The largest O5 = 1/Σ(1/σi).
-    O5,
-    /// The smallest predicted position error at the test poses.
-    Test,
-}
-
 #[derive(Debug, Args)]
 pub(crate) struct PredictArgs {
     /// Nominal robot (file or ready robot name).
@@ -574,15 +516,6 @@ pub(crate) struct PredictArgs {
     pub(crate) json: bool,
 }
 
-/// The step rule of identification.
-#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub(crate) enum SolverArg {
-    /// Plain Gauss–Newton (the paper), damped only when a step would increase the residual.
-    GaussNewton,
-    /// Levenberg–Marquardt from the first step.
-    Lm,
-}
-
 /// What an identification runs on and how: shared by `identify` and `report`.
 #[derive(Debug, Args)]
 pub(crate) struct IdentificationRunArgs {
@@ -599,16 +532,18 @@ pub(crate) struct IdentificationRunArgs {
     /// Priority matrix (TOML: matrix = [[alpha, d, theta, r, beta, K], ...]); default: the robot's.
     #[arg(long, value_name = "FILE")]
     pub(crate) priority: Option<PathBuf>,
-    /// Step rule.
-    #[arg(long, value_enum, default_value = "gauss-newton")]
-    pub(crate) solver: SolverArg,
+    /// Step rule: gauss-newton (the paper's plain steps, damped only when a
+    /// step would increase the residual) or lm (Levenberg–Marquardt from the
+    /// first step).
+    #[arg(long, value_parser = names(&gecaro_calib::identification::Solver::NAMES), default_value = "gauss-newton")]
+    pub(crate) solver: String,
     /// Iteration limit.
     #[arg(long, default_value_t = 30)]
     pub(crate) max_iterations: usize,
     /// Loss: l2 (least squares, the paper), or a robust loss that discounts
     /// gross errors (iteratively reweighted least squares; docs/methods.md).
-    #[arg(long, value_enum, default_value = "l2")]
-    pub(crate) loss: LossArg,
+    #[arg(long, value_parser = names(&gecaro_calib::identification::LossKind::NAMES), default_value = "l2")]
+    pub(crate) loss: String,
     /// Scale k of the robust loss, in robust σ (default: huber 1.345,
     /// cauchy 2.385, tukey 4.685).
     #[arg(long, value_name = "K")]
@@ -629,19 +564,6 @@ pub(crate) struct IdentificationRunArgs {
     /// or a priority-matrix file.
     #[arg(long, value_name = "MODEL", default_value = "full")]
     pub(crate) model: String,
-}
-
-/// The loss of identification (docs/methods.md, "Robust identification").
-#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub(crate) enum LossArg {
-    /// Least squares (the paper's eq. 10).
-    L2,
-    /// Quadratic within k σ, linear beyond: convex, bounded influence.
-    Huber,
-    /// Logarithmic: large residuals count little.
-    Cauchy,
-    /// Tukey's biweight: residuals beyond k σ count not at all.
-    Tukey,
 }
 
 #[derive(Debug, Args)]
@@ -728,15 +650,6 @@ pub(crate) struct EvaluateArgs {
     pub(crate) json: bool,
 }
 
-/// What a joint target of a program asks of the calibrated robot.
-#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub(crate) enum MatchArg {
-    /// Position and orientation of frame n+1.
-    Pose,
-    /// Position of the origin of frame n+1 only.
-    Position,
-}
-
 #[derive(Debug, Args)]
 pub(crate) struct CompensateArgs {
     /// The nominal robot the program was written with (file or ready robot name).
@@ -753,8 +666,8 @@ pub(crate) struct CompensateArgs {
     /// What a joint target asks: the whole pose of frame n+1, or only its
     /// position (robots calibrated from position measurements, whose tool
     /// orientation is not identified).
-    #[arg(long = "match", value_enum, default_value = "pose")]
-    pub(crate) matching: MatchArg,
+    #[arg(long = "match", value_parser = names(&gecaro_calib::compensation::Match::NAMES), default_value = "pose")]
+    pub(crate) matching: String,
     /// The corrected program (CSV): the program's columns with corrected
     /// joints, then residual, residual_rotation and status.
     #[arg(short, long, value_name = "CORRECTED.csv")]

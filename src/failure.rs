@@ -1,7 +1,8 @@
-//! Errors as the user sees them, with the exit codes of `docs/errors.md`:
-//! 2 usage, 3 bad input (files, values), 4 numerical failure.
+//! Errors as the user of the command line sees them, with the exit codes of
+//! `docs/errors.md`: 2 usage, 3 bad input (files, values), 4 numerical
+//! failure. Every error is an [`AppError`] worded for the command line.
 
-use miette::Diagnostic;
+use gecaro_app::{AppError, Dialect, ErrorKind};
 
 /// Exit code for a command line that cannot be understood (clap uses it too).
 pub(crate) const EXIT_USAGE: u8 = 2;
@@ -10,78 +11,89 @@ pub(crate) const EXIT_INPUT: u8 = 3;
 /// Exit code for well-formed input that cannot give a trustworthy answer:
 /// too few equations, divergence, an iteration limit, an unreachable target.
 pub(crate) const EXIT_NUMERICAL: u8 = 4;
+/// Exit code of a command stopped by Ctrl-C (128 + SIGINT).
+pub(crate) const EXIT_INTERRUPTED: u8 = 130;
 
 /// A failed command.
-#[derive(Debug, thiserror::Error, Diagnostic)]
-pub(crate) enum Failure {
-    /// A file could not be read, parsed or written.
-    #[error(transparent)]
-    File(#[from] gecaro_io::Error),
-    /// A value breaks a rule of the robot model.
-    #[error(transparent)]
-    Model(gecaro_core::Error),
-    /// Measurements that do not fit the method or the robot.
-    #[error("{0}")]
-    Input(String),
-    /// The inverse model or an identification did not converge.
-    #[error("{0}")]
-    Numerical(String),
-    /// The command line asks for something impossible.
-    #[error("{message}")]
-    Usage {
-        /// What is wrong.
-        message: String,
-        /// How to fix it.
-        #[help]
-        help: Option<String>,
-    },
+#[derive(Debug)]
+pub(crate) struct Failure(AppError);
+
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0.message(Dialect::CommandLine))
+    }
+}
+
+impl std::error::Error for Failure {}
+
+impl miette::Diagnostic for Failure {
+    fn help<'a>(&'a self) -> Option<Box<dyn std::fmt::Display + 'a>> {
+        self.0
+            .help(Dialect::CommandLine)
+            .map(|help| Box::new(help) as Box<dyn std::fmt::Display>)
+    }
+}
+
+impl From<AppError> for Failure {
+    fn from(error: AppError) -> Self {
+        Failure(error)
+    }
+}
+
+impl From<gecaro_io::Error> for Failure {
+    fn from(error: gecaro_io::Error) -> Self {
+        Failure(error.into())
+    }
 }
 
 impl From<gecaro_core::Error> for Failure {
     fn from(error: gecaro_core::Error) -> Self {
-        match error {
-            gecaro_core::Error::Unreachable { .. } => Failure::Numerical(error.to_string()),
-            other => Failure::Model(other),
-        }
+        Failure(error.into())
     }
 }
 
 impl From<gecaro_calib::Error> for Failure {
     fn from(error: gecaro_calib::Error) -> Self {
-        use gecaro_calib::Error as Calib;
-        match error {
-            Calib::Model(model) => model.into(),
-            Calib::InvalidOption { setting, message } => Failure::usage(
-                format!("--{}: {message}", setting.key().replace('_', "-")),
-                None,
-            ),
-            Calib::Generation { .. } | Calib::Numerical { .. } | Calib::TooFewEquations { .. } => {
-                Failure::Numerical(error.to_string())
-            }
-            _ => Failure::Input(error.to_string()),
-        }
+        Failure(error.into())
     }
 }
 
 impl From<gecaro_report::Error> for Failure {
     fn from(error: gecaro_report::Error) -> Self {
-        Failure::Numerical(error.to_string())
+        Failure(error.into())
     }
 }
 
 impl Failure {
+    /// A command line asking for something impossible, with advice.
     pub(crate) fn usage(message: impl Into<String>, help: impl Into<Option<String>>) -> Self {
-        Failure::Usage {
-            message: message.into(),
-            help: help.into(),
-        }
+        let error = AppError::plain(ErrorKind::Usage, message);
+        Failure(match help.into() {
+            Some(help) => error.with_advice(help),
+            None => error,
+        })
     }
 
+    /// Bad input.
+    pub(crate) fn input(message: impl Into<String>) -> Self {
+        Failure(AppError::plain(ErrorKind::Input, message))
+    }
+
+    /// Well-formed input without a trustworthy answer.
+    pub(crate) fn numerical(message: impl Into<String>) -> Self {
+        Failure(AppError::plain(ErrorKind::Numerical, message))
+    }
+
+    /// The exit code of `docs/errors.md`.
     pub(crate) fn exit_code(&self) -> u8 {
-        match self {
-            Failure::Usage { .. } => EXIT_USAGE,
-            Failure::File(_) | Failure::Model(_) | Failure::Input(_) => EXIT_INPUT,
-            Failure::Numerical(_) => EXIT_NUMERICAL,
+        match self.0.kind() {
+            ErrorKind::Usage => EXIT_USAGE,
+            ErrorKind::NotIdentifiable
+            | ErrorKind::NotConverged
+            | ErrorKind::Numerical
+            | ErrorKind::Internal => EXIT_NUMERICAL,
+            ErrorKind::Interrupted => EXIT_INTERRUPTED,
+            _ => EXIT_INPUT,
         }
     }
 }

@@ -1,160 +1,59 @@
 //! `gecaro compensate`: a robot program corrected for the calibrated robot.
 
-use super::options::output_policy;
-use crate::cli::{CompensateArgs, MatchArg};
-use crate::failure::Failure;
-use gecaro_calib::compensation::{
-    CompensatedPoint, CompensationStatus, Match, compensate as compensate_program,
-};
-use gecaro_io::{ProgramKind, load_robot, read_program, write_atomically};
+use gecaro_app::{CompensateRequest, LocalFiles, ProgramSource, RobotSource};
+use gecaro_calib::compensation::CompensationStatus;
+use gecaro_calib::each_step;
+use gecaro_io::ProgramKind;
 use indicatif::ProgressBar;
-use serde::Serialize;
+
+use super::options::{data_format, name};
+use crate::cli::CompensateArgs;
+use crate::failure::Failure;
 
 /// Targets below which no progress bar is drawn.
-const QUIET_BELOW: usize = 2000;
-
-#[derive(Serialize)]
-struct PointJson {
-    line: usize,
-    status: &'static str,
-    motor_positions: Vec<f64>,
-    position_error: f64,
-    rotation_error: Option<f64>,
-}
-
-#[derive(Serialize)]
-struct SummaryJson<'a> {
-    targets: usize,
-    reached: usize,
-    outside_limits: Vec<usize>,
-    not_reached: Vec<usize>,
-    largest_position_error: f64,
-    largest_correction: f64,
-    output: &'a str,
-    points: Vec<PointJson>,
-}
+const QUIET_BELOW: u64 = 2000;
 
 pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
-    let nominal = load_robot(&args.nominal)?.robot;
-    let calibrated = load_robot(&args.calibrated)?.robot;
-    if !args.force && args.output.exists() {
-        return Err(gecaro_io::Error::OutputExists {
-            path: args.output.clone(),
-        }
-        .into());
+    let mut request = CompensateRequest::new(
+        RobotSource::Named(args.nominal.clone()),
+        RobotSource::Named(args.calibrated.clone()),
+        ProgramSource::File(name(&args.program)),
+    );
+    request.format = data_format(&args.format);
+    request.matching = Some(args.matching.clone());
+    request.save_as = Some(name(&args.output));
+    request.overwrite = args.force;
+    let mut bar: Option<ProgressBar> = None;
+    let compensated = request.run(
+        &LocalFiles,
+        &mut each_step(|done, total| {
+            let total = total as u64;
+            if total >= QUIET_BELOW && done % 256 == 0 {
+                let bar = bar.get_or_insert_with(|| {
+                    let bar = super::progress_bar("compensating");
+                    bar.set_length(total);
+                    bar
+                });
+                bar.set_position(done as u64);
+            }
+        }),
+    );
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
     }
-    let format = super::options::data_format(&args.format)?;
-    let program = read_program(&args.program, &nominal, format.units, &format.columns)?;
+    let compensated = compensated?;
+    let program = compensated
+        .program
+        .as_ref()
+        .ok_or_else(|| Failure::input("no program file was read"))?;
     if !program.unused_columns.is_empty() && !args.json {
         eprintln!(
             "note: columns kept as they are (not read): {}",
             program.unused_columns.join(", ")
         );
     }
-    let bar = if program.points.len() >= QUIET_BELOW {
-        let bar = super::progress_bar("compensating");
-        bar.set_length(program.points.len() as u64);
-        bar
-    } else {
-        ProgressBar::hidden()
-    };
-    let matching = match args.matching {
-        MatchArg::Pose => Match::Pose,
-        MatchArg::Position => Match::Position,
-    };
-    let results = compensate_program(
-        &nominal,
-        &calibrated,
-        &program.points,
-        matching,
-        &mut gecaro_calib::each_step(|done, _| {
-            if done % 256 == 0 {
-                bar.set_position(done as u64);
-            }
-        }),
-    )?;
-    bar.finish_and_clear();
-    write_atomically(
-        &args.output,
-        program.format_corrected(&results).as_bytes(),
-        output_policy(args.force),
-    )?;
-    report(args, &program, &results)
-}
-
-/// The largest change of a joint between the program and the correction, in
-/// the program's unit: (value, unit, joint number, line).
-fn largest_correction(
-    program: &gecaro_io::ProgramFile,
-    results: &[CompensatedPoint],
-) -> Option<(f64, &'static str, usize, usize)> {
-    let mut largest: Option<(f64, &'static str, usize, usize)> = None;
-    for (index, (point, result)) in program.points.iter().zip(results).enumerate() {
-        if result.status != CompensationStatus::Reached {
-            continue;
-        }
-        let original = match &point.target {
-            gecaro_calib::compensation::ProgramTarget::Joints(qm) => Some(qm),
-            _ => point.joints.as_ref(),
-        };
-        for (j, (before, after)) in original
-            .into_iter()
-            .flatten()
-            .zip(&result.motor_positions)
-            .enumerate()
-        {
-            let (change, unit) = program.joint_in_file_unit(j, (after - before).abs());
-            if largest.is_none_or(|(value, ..)| change > value) {
-                largest = Some((change, unit, j + 1, program.line(index)));
-            }
-        }
-    }
-    largest
-}
-
-fn report(
-    args: &CompensateArgs,
-    program: &gecaro_io::ProgramFile,
-    results: &[CompensatedPoint],
-) -> Result<(), Failure> {
-    let lines_with = |status: CompensationStatus| -> Vec<usize> {
-        results
-            .iter()
-            .enumerate()
-            .filter(|(_, result)| result.status == status)
-            .map(|(index, _)| program.line(index))
-            .collect()
-    };
-    let outside = lines_with(CompensationStatus::OutsideLimits);
-    let unreached = lines_with(CompensationStatus::NotReached);
-    let reached = results.len() - outside.len() - unreached.len();
-    let largest_error = results
-        .iter()
-        .filter(|result| result.status != CompensationStatus::NotReached)
-        .map(|result| result.position_error)
-        .fold(0.0, f64::max);
-    let correction = largest_correction(program, results);
     if args.json {
-        super::print_json(&SummaryJson {
-            targets: results.len(),
-            reached,
-            outside_limits: outside.clone(),
-            not_reached: unreached.clone(),
-            largest_position_error: largest_error,
-            largest_correction: correction.map_or(0.0, |(value, ..)| value),
-            output: &args.output.display().to_string(),
-            points: results
-                .iter()
-                .enumerate()
-                .map(|(index, result)| PointJson {
-                    line: program.line(index),
-                    status: result.status.word(),
-                    motor_positions: result.motor_positions.clone(),
-                    position_error: result.position_error,
-                    rotation_error: result.rotation_error,
-                })
-                .collect(),
-        })?;
+        super::print_json(&compensated.document())?;
     } else {
         let units = program.units();
         let kind = match program.kind() {
@@ -162,13 +61,18 @@ fn report(
             ProgramKind::Position => "point targets",
             ProgramKind::Pose => "pose targets",
         };
+        let outside = compensated
+            .lines_with(CompensationStatus::OutsideLimits)
+            .len();
+        let unreached = compensated.lines_with(CompensationStatus::NotReached).len();
         println!(
-            "{} {kind}: {reached} reached by the calibrated robot (largest residual {:.1e} {})",
-            results.len(),
-            largest_error / units.length.to_metres(),
+            "{} {kind}: {} reached by the calibrated robot (largest residual {:.1e} {})",
+            compensated.results.len(),
+            compensated.results.len() - outside - unreached,
+            compensated.largest_position_error() / units.length.to_metres(),
             units.length.name()
         );
-        if let Some((value, unit, joint, line)) = correction {
+        if let Some((value, unit, joint, line)) = compensated.largest_correction() {
             println!("largest joint correction: {value:.4} {unit} (joint {joint}, line {line})");
         }
         println!("wrote {}", args.output.display());
@@ -181,6 +85,7 @@ fn report(
             if lines.len() > 10 { ", …" } else { "" }
         )
     };
+    let outside = compensated.lines_with(CompensationStatus::OutsideLimits);
     if !outside.is_empty() {
         eprintln!(
             "warning: {} target(s) reached only beyond a joint limit (status outside-limits), lines {}",
@@ -188,6 +93,7 @@ fn report(
             list(&outside)
         );
     }
+    let unreached = compensated.lines_with(CompensationStatus::NotReached);
     if !unreached.is_empty() {
         eprintln!(
             "warning: {} target(s) not reached: their joints are left as in the program (status not-reached), lines {}",
@@ -195,14 +101,8 @@ fn report(
             list(&unreached)
         );
     }
-    if outside.is_empty() && unreached.is_empty() {
-        Ok(())
-    } else {
-        Err(Failure::Numerical(format!(
-            "{} of {} targets are flagged in {}; check them before running the program",
-            outside.len() + unreached.len(),
-            results.len(),
-            args.output.display()
-        )))
+    match compensated.failure() {
+        Some(failure) => Err(failure.into()),
+        None => Ok(()),
     }
 }

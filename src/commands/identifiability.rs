@@ -1,34 +1,32 @@
 //! `gecaro identifiable` and `gecaro table2` (Appendix III, Table 2).
-use gecaro_calib::{
-    identifiability::{Excitation, ParameterStatus, RankReport, identifiability},
-    table2::{TABLE2_COLUMNS, TABLE2_PLANE_NORMAL, default_plane, table2 as table2_reports},
+
+use gecaro_app::{IdentifiableRequest, LocalFiles, PrioritySource};
+use gecaro_calib::identifiability::{Excitation, ParameterStatus, RankReport};
+use gecaro_calib::table2::{
+    TABLE2_COLUMNS, TABLE2_PLANE_NORMAL, default_plane, table2 as table2_reports,
 };
 use gecaro_core::{ParameterId, ParameterKind, Robot};
-use gecaro_io::{load_robot, read_priority_file};
-use gecaro_report::json::IdentifiableJson;
+use gecaro_io::load_robot;
 use serde::Serialize;
 
-use super::options::{load_study, plane, vector3};
+use super::options::{measurements, plane, print_notes, vector3};
 use crate::cli::{IdentifiableArgs, Table2Args};
 use crate::failure::Failure;
 use crate::format::{number, table};
 
 pub(crate) fn identifiable(args: &IdentifiableArgs) -> Result<(), Failure> {
-    let super::options::LoadedStudy {
-        file,
-        study,
-        priority: study_priority,
-        ..
-    } = load_study(&args.source, args.data.as_deref())?;
-    let robot = &file.robot;
-    let priority = match (&args.priority, study_priority) {
-        (Some(path), _) => read_priority_file(path, robot)?,
-        (None, Some(priority)) => priority,
-        (None, None) => robot.priority(),
-    };
-    let analysis = identifiability(robot, &study, &priority, args.count, args.seed)?;
+    let mut request = IdentifiableRequest::new(measurements(&args.source, args.data.as_deref())?);
+    request.priority = args
+        .priority
+        .as_deref()
+        .map(|path| PrioritySource::File(path.display().to_string()));
+    request.count = args.count;
+    request.seed = Some(args.seed);
+    let outcome = request.run(&LocalFiles)?;
+    print_notes(&outcome.loaded.notes);
+    let (robot, analysis) = (&outcome.loaded.robot.robot, &outcome.analysis);
     if args.json {
-        return super::print_json(&IdentifiableJson::new(robot, &analysis));
+        return super::print_json(&outcome.document());
     }
     print_report(robot, &analysis.report, &analysis.source);
     match &analysis.excitation {

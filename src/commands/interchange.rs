@@ -1,37 +1,12 @@
 //! `gecaro robot import` and `gecaro robot export`: robots from and to URDF,
 //! DH tables and SYMORO files (the rules are in `docs/interchange.md`).
 
-use gecaro_io::{
-    AngleUnit, ChainEnds, Exported, ImportOptions, LengthUnit, RobotFormat, TableUnits,
-    export_robot, format_robot_file, import_robot, load_robot, write_atomically,
-};
+use gecaro_app::{ExportRequest, ImportRequest, LocalFiles, RobotSource, format_name};
+use gecaro_io::RobotFormat;
 
-use super::options::output_policy;
-use crate::cli::{AngleUnitArg, ExportArgs, FormatArg, ImportArgs, LengthUnitArg, UnitArgs};
+use super::options::name;
+use crate::cli::{ExportArgs, ImportArgs};
 use crate::failure::Failure;
-
-fn format_of(argument: FormatArg) -> RobotFormat {
-    match argument {
-        FormatArg::Urdf => RobotFormat::Urdf,
-        FormatArg::Dh => RobotFormat::Dh,
-        FormatArg::Mdh => RobotFormat::Mdh,
-        FormatArg::Symoro => RobotFormat::Symoro,
-    }
-}
-
-/// The units the command line gives for files that do not state theirs.
-pub(crate) fn table_units(units: &UnitArgs) -> TableUnits {
-    TableUnits {
-        angle: units.angle_unit.map(|unit| match unit {
-            AngleUnitArg::Rad => AngleUnit::Radians,
-            AngleUnitArg::Deg => AngleUnit::Degrees,
-        }),
-        length: units.length_unit.map(|unit| match unit {
-            LengthUnitArg::M => LengthUnit::Metres,
-            LengthUnitArg::Mm => LengthUnit::Millimetres,
-        }),
-    }
-}
 
 fn print_notes(notes: &[String]) {
     for note in notes {
@@ -40,23 +15,16 @@ fn print_notes(notes: &[String]) {
 }
 
 pub(crate) fn import(args: &ImportArgs) -> Result<(), Failure> {
-    let imported = import_robot(
-        &args.file,
-        &ImportOptions {
-            format: args.from.map(format_of),
-            chain: ChainEnds {
-                base: args.base.clone(),
-                tip: args.tip.clone(),
-                name: args.name.clone(),
-            },
-            units: table_units(&args.units),
-        },
-    )?;
-    write_atomically(
-        &args.output,
-        format_robot_file(&imported.file).as_bytes(),
-        output_policy(args.force),
-    )?;
+    let mut request = ImportRequest::new(name(&args.file));
+    request.format = args.from.clone();
+    request.base = args.base.clone();
+    request.tip = args.tip.clone();
+    request.name = args.name.clone();
+    request.length_unit = args.units.length_unit.clone();
+    request.angle_unit = args.units.angle_unit.clone();
+    request.save_as = Some(name(&args.output));
+    request.overwrite = args.force;
+    let imported = request.run(&LocalFiles)?.imported;
     let robot = &imported.file.robot;
     print_notes(&imported.notes);
     println!(
@@ -74,52 +42,32 @@ pub(crate) fn import(args: &ImportArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-fn format_name(format: RobotFormat) -> &'static str {
-    match format {
-        RobotFormat::Urdf => "a URDF",
-        RobotFormat::Dh => "a standard DH table",
-        RobotFormat::Mdh => "a modified DH table",
-        RobotFormat::Symoro => "a SYMORO file",
-    }
-}
-
 pub(crate) fn export(args: &ExportArgs) -> Result<(), Failure> {
-    let file = load_robot(&args.robot)?;
-    let format = format_of(args.to);
-    let exported = export_robot(&file, format).map_err(|message| {
-        Failure::usage(
-            format!(
-                "{} cannot be written as {}: {message}",
-                file.robot.name(),
-                format_name(format)
-            ),
-            None,
-        )
-    })?;
-    let calibration_path = Exported::joint_calibration_path(&args.output);
-    exported.write(&args.output, output_policy(args.force))?;
-    print_notes(&exported.notes);
-    if exported.joint_calibration.is_some() {
+    let mut request = ExportRequest::new(RobotSource::Named(args.robot.clone()), args.to.clone());
+    request.save_as = Some(name(&args.output));
+    request.overwrite = args.force;
+    let calibration_path = gecaro_app::joint_calibration_name(&name(&args.output));
+    let exported = request.run(&LocalFiles)?;
+    print_notes(&exported.exported.notes);
+    if exported.exported.joint_calibration.is_some() {
         eprintln!(
-            "note: wrote the joint calibration to {}: the joint values of {} are not the motor values",
-            calibration_path.display(),
+            "note: wrote the joint calibration to {calibration_path}: the joint values of {} are not the motor values",
             args.output.display()
         );
-    } else if calibration_path.exists() {
+    } else if std::path::Path::new(&calibration_path).exists() {
         eprintln!(
-            "warning: {} is left from an earlier export and does not apply to this one: delete it",
-            calibration_path.display()
+            "warning: {calibration_path} is left from an earlier export and does not apply to this one: delete it",
         );
     }
-    let names = match (&file.urdf, format) {
+    let names = match (&exported.robot.urdf, exported.format) {
         (Some(names), RobotFormat::Urdf) => format!(", names of the URDF `{}`", names.robot),
         _ => String::new(),
     };
     println!(
         "wrote {} ({}, {} joints{names})",
         args.output.display(),
-        format_name(format),
-        file.robot.joint_count()
+        format_name(exported.format),
+        exported.robot.robot.joint_count()
     );
     Ok(())
 }

@@ -142,7 +142,7 @@ fn solve_from_several_starts(
     options: &InverseOptions,
 ) -> Result<InverseSolution, Failure> {
     gecaro_calib::simulation::solve_from_starts(robot, target, options, 1).map_err(|first_error| {
-        Failure::Numerical(format!(
+        Failure::numerical(format!(
             "{first_error} (tried the middle of the joint ranges and {} random starts; \
              --start chooses another)",
             gecaro_calib::simulation::RANDOM_STARTS

@@ -54,7 +54,7 @@ pub(crate) fn progress_bar(what: &str) -> indicatif::ProgressBar {
 /// Prints a value as pretty JSON on stdout.
 pub(crate) fn print_json(value: &impl serde::Serialize) -> Result<(), Failure> {
     let text = serde_json::to_string_pretty(value).map_err(|error| {
-        Failure::Numerical(format!("cannot encode the result as JSON: {error}"))
+        Failure::numerical(format!("cannot encode the result as JSON: {error}"))
     })?;
     println!("{text}");
     Ok(())

@@ -1,10 +1,17 @@
-//! Turning command-line method options into library options.
-use gecaro_calib::methods::{MethodOptions, Plane};
-use gecaro_core::OrientationDifference;
+//! Command-line arguments as the application layer's requests, and what
+//! several commands print of them.
+
+use std::path::Path;
+
+use gecaro_app::{
+    DataFormatSpec, DataSource, Dialect, FitSettings, Measurements, MethodSpec, Note,
+    PrioritySource, RobotSource, StudySource,
+};
+use gecaro_calib::methods::Plane;
 use gecaro_io::OutputPolicy;
 use nalgebra::{IsometryMatrix3, Rotation3, Vector3};
 
-use crate::cli::{DataFormatArgs, MethodOptionArgs, OrientationMethod, PlaneKnowledge};
+use crate::cli::{DataFormatArgs, IdentificationRunArgs, MethodOptionArgs, StudySource as Source};
 use crate::failure::Failure;
 
 /// What `--force` says of an existing output file.
@@ -82,153 +89,83 @@ pub(crate) fn plane(
     }
 }
 
-/// The library options of a method from its command-line arguments.
-pub(crate) fn method_options(args: &MethodOptionArgs) -> Result<MethodOptions, Failure> {
-    let given = plane(
-        args.plane.plane_normal.as_deref(),
-        args.plane.plane_point.as_deref(),
-    )?;
-    let unknown = args
-        .plane
-        .plane
-        .map(|knowledge| knowledge == PlaneKnowledge::Unknown);
-    let (plane, plane_unknown) = MethodOptions::plane_choice(given, unknown)?;
-    Ok(MethodOptions {
-        plane,
-        plane_unknown,
-        orientation: match args.orientation {
-            OrientationMethod::AxisAngle => OrientationDifference::AxisAngle,
-            OrientationMethod::CrossProducts => OrientationDifference::CrossProducts,
-        },
-        set_size: MethodOptions::check_set_size(args.set_size)?,
+/// Three numbers of an option, as an array.
+fn triple(values: Option<&[f64]>, option: &str) -> Result<Option<[f64; 3]>, Failure> {
+    values
+        .map(|values| vector3(values, option).map(Into::into))
+        .transpose()
+}
+
+/// The method `name` with the options of the command line.
+pub(crate) fn method_spec(name: &str, args: &MethodOptionArgs) -> Result<MethodSpec, Failure> {
+    Ok(MethodSpec {
+        name: name.to_owned(),
+        plane_normal: triple(args.plane.plane_normal.as_deref(), "--plane-normal")?,
+        plane_point: triple(args.plane.plane_point.as_deref(), "--plane-point")?,
+        plane_unknown: args.plane.plane.as_deref().map(|plane| plane == "unknown"),
+        orientation: Some(args.orientation.clone()),
+        set_size: args.set_size,
     })
 }
 
-/// The robot, the study and the study's priority matrix named by a command
-/// line: one method with its data file, or a study file.
-pub(crate) fn load_study(
-    source: &crate::cli::StudySource,
-    data: Option<&std::path::Path>,
-) -> Result<LoadedStudy, Failure> {
-    if let Some(path) = &source.study {
-        if source.format.units.angle_unit.is_some()
-            || source.format.units.length_unit.is_some()
-            || source.format.columns.is_some()
-        {
-            return Err(Failure::usage(
-                "--angle-unit, --length-unit and --columns are for a data file; a study file \
-                 gives them per set",
-                Some("add length_unit = \"mm\", angle_unit = \"deg\" or columns = { x = \"X\" } to its [[measurements]]".to_owned()),
-            ));
-        }
-        let file = gecaro_io::read_study_file(path)?;
-        for note in &file.notes {
-            eprintln!("note: {note}");
-        }
-        check_limits(&file.robot.robot, &file.study, source.strict_limits)?;
-        return Ok(LoadedStudy {
-            file: file.robot,
-            study: file.study,
-            priority: file.priority,
-            prior: file.prior,
-        });
+/// The format of a data or program file as the command line gives it.
+pub(crate) fn data_format(args: &DataFormatArgs) -> DataFormatSpec {
+    DataFormatSpec {
+        length_unit: args.units.length_unit.clone(),
+        angle_unit: args.units.angle_unit.clone(),
+        columns: args.columns.clone(),
     }
-    let (Some(robot), Some(method)) = (&source.robot, &source.method) else {
-        return Err(Failure::usage("give ROBOT and --method, or --study", None));
-    };
-    let robot = gecaro_io::load_robot(robot)?;
-    let chosen = gecaro_calib::methods::method(method, &method_options(&source.options)?)?;
-    let samples = match data {
-        Some(path) => read_data(path, &robot.robot, chosen.as_ref(), &source.format)?,
-        None => Vec::new(),
-    };
-    let label = data.map_or_else(
-        || "random configurations".to_owned(),
-        |p| p.display().to_string(),
-    );
-    let study = gecaro_calib::study::Study::single(chosen, samples, label);
-    check_limits(&robot.robot, &study, source.strict_limits)?;
-    Ok(LoadedStudy {
-        file: robot,
-        study,
-        priority: None,
-        prior: None,
+}
+
+/// A path as the application layer names files.
+pub(crate) fn name(path: &Path) -> String {
+    path.display().to_string()
+}
+
+/// What a command's measurements are: one method with its data file, or a study file.
+pub(crate) fn measurements(source: &Source, data: Option<&Path>) -> Result<Measurements, Failure> {
+    Ok(Measurements {
+        robot: source.robot.clone().map(RobotSource::Named),
+        method: source
+            .method
+            .as_deref()
+            .map(|method| method_spec(method, &source.options))
+            .transpose()?,
+        data: data.map(|path| DataSource::File(name(path))),
+        format: data_format(&source.format),
+        study: source
+            .study
+            .as_deref()
+            .map(|path| StudySource::File(name(path))),
+        strict_limits: source.strict_limits,
     })
 }
 
-/// A robot with a study, and what a study file adds.
-pub(crate) struct LoadedStudy {
-    pub(crate) file: gecaro_io::RobotFile,
-    pub(crate) study: gecaro_calib::study::Study,
-    /// The study file's priority matrix.
-    pub(crate) priority: Option<gecaro_core::PriorityMatrix>,
-    /// The study file's prior.
-    pub(crate) prior: Option<gecaro_calib::identification::Prior>,
-}
-
-/// The format of a data file as the command line gives it.
-pub(crate) fn data_format(args: &DataFormatArgs) -> Result<gecaro_io::DataFormat, Failure> {
-    let units = super::interchange::table_units(&args.units);
-    Ok(gecaro_io::DataFormat {
-        units: gecaro_io::DataUnits {
-            length: units.length.unwrap_or_default(),
-            angle: units.angle.unwrap_or_default(),
-        },
-        columns: match &args.columns {
-            Some(text) => gecaro_io::ColumnMap::parse(text).map_err(|message| {
-                Failure::usage(
-                    format!("--columns: {message}"),
-                    Some("for example: --columns x=X_mm,y=Y_mm,z=Z_mm".to_owned()),
-                )
-            })?,
-            None => gecaro_io::ColumnMap::default(),
-        },
-    })
-}
-
-/// The samples of a data file for a method, with a note on the columns
-/// the method does not use.
-pub(crate) fn read_data(
-    path: &std::path::Path,
-    robot: &gecaro_core::Robot,
-    method: &dyn gecaro_calib::methods::CalibrationMethod,
-    format: &DataFormatArgs,
-) -> Result<Vec<gecaro_calib::study::Sample>, Failure> {
-    let data = gecaro_io::read_samples(
-        path,
-        &gecaro_io::joint_types(robot),
-        method.data_columns(),
-        &data_format(format)?,
-    )?;
-    if !data.unused_columns.is_empty() {
-        eprintln!(
-            "note: {}: columns {} are not used by the {} method (left alone)",
-            path.display(),
-            data.unused_columns.join(", "),
-            method.name()
-        );
+/// The identification settings of the command line.
+pub(crate) fn fit_settings(args: &IdentificationRunArgs) -> FitSettings {
+    FitSettings {
+        priority: args
+            .priority
+            .as_deref()
+            .map(|path| PrioritySource::File(name(path))),
+        model: Some(args.model.clone()),
+        solver: Some(args.solver.clone()),
+        max_iterations: Some(args.max_iterations),
+        loss: Some(args.loss.clone()),
+        loss_scale: args.loss_scale,
+        prior: args.prior.clone(),
+        outlier_threshold: Some(args.outlier_threshold),
+        reject: args.reject,
     }
-    Ok(data.samples)
 }
 
-/// Joints outside their limits in the data: a warning on stderr, or with
-/// `--strict-limits` an error.
-pub(crate) fn check_limits(
-    robot: &gecaro_core::Robot,
-    study: &gecaro_calib::study::Study,
-    strict: bool,
-) -> Result<(), Failure> {
-    let Some(message) = study.limit_summary(robot) else {
-        return Ok(());
-    };
-    if strict {
-        Err(Failure::Input(format!(
-            "{message} (--strict-limits refuses such data)"
-        )))
-    } else {
+/// Prints notes and warnings on standard error.
+pub(crate) fn print_notes(notes: &[Note]) {
+    for note in notes {
         eprintln!(
-            "warning: {message} (the data are used as they are; --strict-limits refuses them)"
+            "{}: {}",
+            if note.warning { "warning" } else { "note" },
+            note.text(Dialect::CommandLine)
         );
-        Ok(())
     }
 }

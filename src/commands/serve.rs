@@ -7,14 +7,14 @@ pub(crate) fn serve(args: &ServeArgs) -> Result<(), Failure> {
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .build()
-        .map_err(|error| Failure::Numerical(format!("cannot start the server: {error}")))?;
+        .map_err(|error| Failure::numerical(format!("cannot start the server: {error}")))?;
     runtime.block_on(async {
         let server = gecaro_web::Server::bind(&gecaro_web::Config {
             folder: args.dir.clone(),
             port: args.port,
         })
         .await
-        .map_err(|error| Failure::Input(error.to_string()))?;
+        .map_err(|error| Failure::input(error.to_string()))?;
         println!(
             "gecaro {} serving {} at {} — listening on 127.0.0.1 only; Ctrl-C stops it",
             env!("CARGO_PKG_VERSION"),
@@ -34,6 +34,6 @@ pub(crate) fn serve(args: &ServeArgs) -> Result<(), Failure> {
                 let _ = tokio::signal::ctrl_c().await;
             })
             .await
-            .map_err(|error| Failure::Numerical(error.to_string()))
+            .map_err(|error| Failure::numerical(error.to_string()))
     })
 }

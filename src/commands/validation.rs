@@ -1,47 +1,14 @@
 //! `gecaro identify --cv K` and `gecaro compare-models`: held-out error as
 //! the judge of an identification and of the model (docs/methods.md).
-use gecaro_calib::{
-    each_step,
-    identification::IdentificationOptions,
-    study::Study,
-    validation::{CrossValidation, Model, ModelScore, compare_models, cross_validate},
-};
-use gecaro_core::Robot;
-use gecaro_report::json::{CrossValidationJson, ModelScoreJson};
-use indicatif::ProgressBar;
 
-use super::calibration::{Prepared, model, prepare};
+use gecaro_app::{CompareModelsRequest, LocalFiles};
+use gecaro_calib::each_step;
+use gecaro_calib::validation::CrossValidation;
+
+use super::options::{fit_settings, measurements, print_notes};
 use crate::cli::CompareModelsArgs;
 use crate::failure::Failure;
 use crate::format::table;
-
-/// A bar over `total` fold identifications.
-fn fold_bar(what: &str, total: usize) -> ProgressBar {
-    let bar = super::progress_bar(what);
-    bar.set_length(total as u64);
-    bar
-}
-
-/// K-fold cross-validation of an identification with a progress bar.
-pub(super) fn cross_validation(
-    robot: &Robot,
-    study: &Study,
-    options: &IdentificationOptions,
-    folds: usize,
-    seed: u64,
-) -> Result<CrossValidation, Failure> {
-    let bar = fold_bar("cross-validating", folds);
-    let result = cross_validate(
-        robot,
-        study,
-        options,
-        folds,
-        seed,
-        &mut each_step(|done, _| bar.set_position(done as u64)),
-    );
-    bar.finish_and_clear();
-    Ok(result?)
-}
 
 fn millimetres(metres: f64) -> String {
     format!("{:.3}", metres * 1e3)
@@ -86,37 +53,6 @@ pub(super) fn print_cross_validation(validation: &CrossValidation, seed: u64) {
     );
 }
 
-/// What each model identifies beyond the next smaller one (by parameter
-/// count), or which model it identifies the same parameters as.
-fn additions(scores: &[ModelScore]) -> Vec<Vec<String>> {
-    let parameters = |index: usize| &scores[index].validation.parameters;
-    let mut by_size: Vec<usize> = (0..scores.len()).collect();
-    by_size.sort_by_key(|index| parameters(*index).len());
-    let mut adds = vec![Vec::new(); scores.len()];
-    for (position, &index) in by_size.iter().enumerate() {
-        let earlier = &by_size[..position];
-        if let Some(same) = earlier.iter().find(|other| {
-            parameters(**other).len() == parameters(index).len()
-                && parameters(index)
-                    .iter()
-                    .all(|name| parameters(**other).contains(name))
-        }) {
-            adds[index] = vec![format!("(the same parameters as {})", scores[*same].model)];
-        } else if let Some(smaller) = earlier
-            .iter()
-            .rev()
-            .find(|other| parameters(**other).len() < parameters(index).len())
-        {
-            adds[index] = parameters(index)
-                .iter()
-                .filter(|name| !parameters(*smaller).contains(name))
-                .cloned()
-                .collect();
-        }
-    }
-    adds
-}
-
 pub(crate) fn compare(args: &CompareModelsArgs) -> Result<(), Failure> {
     if args.run.model != "full" {
         return Err(Failure::usage(
@@ -124,48 +60,29 @@ pub(crate) fn compare(args: &CompareModelsArgs) -> Result<(), Failure> {
             Some("for example: --models kinematic,no-gains,full".to_owned()),
         ));
     }
-    let Prepared {
-        file,
-        study,
-        options,
-        data_label,
-    } = prepare(&args.run)?;
-    let robot = &file.robot;
-    let models = args
-        .models
-        .split(',')
-        .filter(|name| !name.trim().is_empty())
-        .map(|name| model(name.trim(), robot))
-        .collect::<Result<Vec<Model>, Failure>>()?;
-    if models.is_empty() {
-        return Err(Failure::usage("--models lists no model", None));
-    }
-    let bar = fold_bar("comparing models (folds)", models.len() * args.cv);
-    let scores = compare_models(
-        robot,
-        &study,
-        &options,
-        &models,
+    let mut request = CompareModelsRequest::new(
+        measurements(&args.run.source, args.run.data.as_deref())?,
+        args.models.split(',').map(str::to_owned).collect(),
         args.cv,
-        args.seed,
-        &mut each_step(|done, _| bar.set_position(done as u64)),
+    );
+    request.settings = fit_settings(&args.run);
+    request.settings.model = None;
+    request.seed = Some(args.seed);
+    let bar = super::progress_bar("comparing models (folds)");
+    let comparison = request.run(
+        &LocalFiles,
+        &mut each_step(|done, total| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+        }),
     );
     bar.finish_and_clear();
-    let scores = scores?;
-    let adds = additions(&scores);
+    let comparison = comparison?;
+    print_notes(&comparison.loaded.notes);
     if args.json {
-        let documents: Vec<ModelScoreJson> = scores
-            .iter()
-            .zip(&adds)
-            .map(|(score, adds)| ModelScoreJson {
-                model: score.model.to_string(),
-                parameters: score.validation.parameters.clone(),
-                adds: adds.clone(),
-                cross_validation: CrossValidationJson::new(&score.validation, args.seed),
-            })
-            .collect();
-        return super::print_json(&documents);
+        return super::print_json(&comparison.documents());
     }
+    let scores = &comparison.scores;
     let rotation = scores.iter().any(|s| s.validation.rms_rotation.is_some());
     let mut header = vec![
         "rank",
@@ -179,7 +96,7 @@ pub(crate) fn compare(args: &CompareModelsArgs) -> Result<(), Failure> {
     }
     header.push("training RMS (mm)");
     let mut rows = table(&header, 3);
-    for (rank, (score, adds)) in scores.iter().zip(&adds).enumerate() {
+    for (rank, (score, adds)) in scores.iter().zip(&comparison.adds).enumerate() {
         let training = score
             .validation
             .folds
@@ -206,11 +123,11 @@ pub(crate) fn compare(args: &CompareModelsArgs) -> Result<(), Failure> {
     }
     println!(
         "Models of {} on {} ({} method), {}-fold cross-validation (seed {}), best first:\n{rows}",
-        robot.name(),
-        data_label.display(),
-        study.method_names(),
-        args.cv,
-        args.seed
+        comparison.loaded.robot.robot.name(),
+        comparison.loaded.label,
+        comparison.loaded.study.method_names(),
+        comparison.folds,
+        comparison.seed
     );
     if let Some(best) = scores.first() {
         println!(

@@ -63,6 +63,20 @@ pub enum Match {
     Position,
 }
 
+impl Match {
+    /// The names users give: `pose`, `position`.
+    pub const NAMES: [&'static str; 2] = ["pose", "position"];
+
+    /// The match of a name of [`NAMES`](Self::NAMES).
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "pose" => Some(Match::Pose),
+            "position" => Some(Match::Position),
+            _ => None,
+        }
+    }
+}
+
 /// What became of one target.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub enum CompensationStatus {

@@ -77,6 +77,9 @@ impl LossKind {
         LossKind::Tukey,
     ];
 
+    /// Their names, as users give them.
+    pub const NAMES: [&'static str; 4] = ["l2", "huber", "cauchy", "tukey"];
+
     /// `l2`, `huber`, `cauchy` or `tukey`.
     pub fn as_str(self) -> &'static str {
         match self {

@@ -23,6 +23,25 @@ fn refuse(path: &Path, message: impl Into<String>) -> Error {
     }
 }
 
+/// Opens a user's input file for reading: a regular file (see the module
+/// docs), to be read record by record.
+///
+/// # Errors
+/// [`Error::Read`] when it cannot be opened or is not a regular file.
+pub fn open_input(path: &Path) -> Result<std::fs::File, Error> {
+    open_regular(path).map(|(file, _)| file)
+}
+
+/// The whole text of a robot, study, table or URDF file: a regular UTF-8
+/// file of at most 64 MiB.
+///
+/// # Errors
+/// [`Error::Read`] for a file that cannot be read, is not a regular file or
+/// is too large; [`Error::Parse`] for text that is not UTF-8.
+pub fn read_description(path: &Path) -> Result<String, Error> {
+    read_text(path, MAX_DESCRIPTION_BYTES)
+}
+
 /// Opens a regular file for reading.
 pub(crate) fn open_regular(path: &Path) -> Result<(std::fs::File, u64), Error> {
     let file = std::fs::File::open(path).map_err(|cause| Error::Read {

@@ -39,16 +39,18 @@ pub use data_file::{
 pub use dh::{DhConvention, TableUnits};
 pub use document::{CouplingDocument, FrameDocument, PriorityDocument, RobotDocument};
 pub use error::Error;
+pub use input::{open_input, read_description};
 pub use interchange::{ImportOptions, RobotFormat, export_robot, import_robot, import_robot_text};
 pub use output::{OutputPolicy, write_atomically};
 pub use pose::{pose_from_seven, unit_quaternion};
 pub use prior::{parse_override, parse_prior};
 pub use problem::{DocumentError, Location};
-pub use program_file::{ProgramFile, ProgramKind, read_program};
+pub use program_file::{ProgramFile, ProgramKind, parse_program, read_program};
 pub use ready::{ReadyRobot, load_robot, ready_robot, ready_robots};
 pub use robot_file::{AngleUnit, RobotFile, fallback_name};
 pub use robot_toml::{
-    format_robot_file, parse_robot_document, parse_robot_file, read_priority_file, read_robot_file,
+    format_robot_file, parse_priority_file, parse_robot_document, parse_robot_file,
+    read_priority_file, read_robot_file,
 };
 pub use study_file::{StudyFile, read_study_file};
 pub use units::LengthUnit;

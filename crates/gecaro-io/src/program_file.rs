@@ -66,7 +66,21 @@ pub fn read_program(
     map: &ColumnMap,
 ) -> Result<ProgramFile, Error> {
     let (file, _) = open_regular(path)?;
-    let mut reader = csv_reader(std::io::BufReader::new(file));
+    parse_program(std::io::BufReader::new(file), path, robot, units, map)
+}
+
+/// [`read_program`] from a reader; `path` names the program in messages.
+///
+/// # Errors
+/// As [`read_program`].
+pub fn parse_program(
+    reader: impl std::io::Read,
+    path: &Path,
+    robot: &Robot,
+    units: DataUnits,
+    map: &ColumnMap,
+) -> Result<ProgramFile, Error> {
+    let mut reader = csv_reader(reader);
     let csv_error = |error: csv::Error| csv_error(path, &error);
     let mut records = reader.records();
     let n = robot.joint_count();

@@ -191,9 +191,21 @@ struct PriorityFileDocument {
 /// [`Error::Read`], or [`Error::Parse`] with the line of the problem.
 pub fn read_priority_file(path: &Path, robot: &Robot) -> Result<PriorityMatrix, Error> {
     let text = read_text(path, MAX_DESCRIPTION_BYTES)?;
-    let source = Source { path, text: &text };
+    parse_priority_file(&text, path, robot)
+}
+
+/// [`read_priority_file`] from the file's text; `path` names it in messages.
+///
+/// # Errors
+/// As [`read_priority_file`].
+pub fn parse_priority_file(
+    text: &str,
+    path: &Path,
+    robot: &Robot,
+) -> Result<PriorityMatrix, Error> {
+    let source = Source { path, text };
     let file: PriorityFileDocument =
-        toml::from_str(&text).map_err(|error| toml_error(&source, &error))?;
+        toml::from_str(text).map_err(|error| toml_error(&source, &error))?;
     let document = match (file.matrix, file.priority) {
         (Some(matrix), None) => PriorityDocument { matrix },
         (None, Some(table)) => table,

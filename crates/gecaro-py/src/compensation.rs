@@ -1,9 +1,9 @@
 //! `gecaro.compensate`: a robot program corrected for the calibrated robot
 //! (`gecaro compensate`): the motor values with which the calibrated robot
 //! reaches what the nominal program meant.
-use gecaro_calib::Progress;
+use gecaro_app::{CompensateRequest, LocalFiles, ProgramSource, RobotSource};
 use gecaro_calib::compensation::{
-    CompensatedPoint, CompensationStatus, Match, ProgramPoint, ProgramTarget, compensate as correct,
+    CompensatedPoint, CompensationStatus, ProgramPoint, ProgramTarget,
 };
 use nalgebra::Vector3;
 use numpy::PyArrayDyn;
@@ -188,31 +188,20 @@ pub(crate) fn compensate(
     poses: Option<&Bound<'_, PyAny>>,
     r#match: &str,
 ) -> PyResult<PyCompensation> {
-    let matching = match r#match {
-        "pose" => Match::Pose,
-        "position" => Match::Position,
-        other => {
-            return Err(input(format!(
-                "match: `{other}` is neither \"pose\" nor \"position\""
-            )));
-        }
-    };
     let joint_count = nominal.robot().joint_count();
-    let points = program(joint_count, joints, positions, poses)?;
-    let (nominal, calibrated) = (nominal.robot(), calibrated.robot());
-    let points = py.detach(|| {
+    let mut request = CompensateRequest::new(
+        RobotSource::Loaded(Box::new(nominal.file.clone())),
+        RobotSource::Loaded(Box::new(calibrated.file.clone())),
+        ProgramSource::Points(program(joint_count, joints, positions, poses)?),
+    );
+    request.matching = Some(r#match.to_owned());
+    let compensated = py.detach(|| {
         let mut watch = Watch::new();
-        let result = correct(
-            nominal,
-            calibrated,
-            &points,
-            matching,
-            &mut |_: Progress<'_>| watch.poll(),
-        );
+        let result = request.run(&LocalFiles, &mut watch);
         watch.finish(result)
     })?;
     let result = PyCompensation {
-        points,
+        points: compensated.results,
         joint_count,
     };
     let flagged = result.flagged();

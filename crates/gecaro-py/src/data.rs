@@ -6,8 +6,9 @@
 //! `(qw, qx, qy, qz)` of frame n+1 in the world frame; `set` (link methods)
 //! and `pair` (distance) are integer ids; `distance` is in metres.
 
+use gecaro_app::{DataSource, Files, LocalFiles, angle_unit, length_unit};
 use gecaro_calib::study::{DataColumn, Sample};
-use gecaro_io::{ColumnMap, DataFormat, DataUnits, format_samples, joint_types, read_samples};
+use gecaro_io::{ColumnMap, DataFormat, DataUnits, format_samples, joint_types};
 use nalgebra::Vector3;
 use numpy::PyArrayDyn;
 use pyo3::prelude::*;
@@ -16,14 +17,15 @@ use std::path::PathBuf;
 
 use crate::arrays::{Real, array, identifiers};
 use crate::errors::{IntoPyResult, input};
-use crate::robot::{PyRobot, angle_unit, length_unit, output_policy};
+use crate::methods::method_of;
+use crate::robot::PyRobot;
 
 /// The label of data built from arrays, in messages: `<arrays>:3: …` names
 /// row 3 (0-based, as numpy indexes it).
 const ARRAYS: &str = "<arrays>";
 
 /// A data set (see the module docs).
-#[pyclass(name = "Data", module = "gecaro")]
+#[pyclass(name = "Data", module = "gecaro", skip_from_py_object)]
 #[derive(Clone)]
 pub(crate) struct PyData {
     pub(crate) samples: Vec<Sample>,
@@ -187,21 +189,22 @@ impl PyData {
         angle_unit: Option<&str>,
         columns: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
-        let method = crate::calibration::method_of(method)?;
+        let method = method_of(method)?;
         let format = DataFormat {
             units: DataUnits {
-                length: self::length_unit(length_unit)?.unwrap_or_default(),
-                angle: self::angle_unit(angle_unit)?.unwrap_or_default(),
+                length: self::length_unit(length_unit).py()?.unwrap_or_default(),
+                angle: self::angle_unit(angle_unit).py()?.unwrap_or_default(),
             },
             columns: column_map(columns)?,
         };
-        let file = read_samples(
-            &path,
-            &joint_types(robot.robot()),
-            method.get().method.data_columns(),
-            &format,
-        )
-        .py()?;
+        let file = DataSource::File(path.display().to_string())
+            .read(
+                &LocalFiles,
+                &joint_types(robot.robot()),
+                method.get().method.data_columns(),
+                &format,
+            )
+            .py()?;
         Ok(PyData {
             samples: file.samples,
             joint_count: robot.robot().joint_count(),
@@ -213,7 +216,7 @@ impl PyData {
     /// The data file's text (CSV) for `method`, as `gecaro generate` writes it
     /// (values written to round trip exactly).
     fn to_csv(&self, method: &Bound<'_, PyAny>) -> PyResult<String> {
-        let method = crate::calibration::method_of(method)?;
+        let method = method_of(method)?;
         let columns = method.get().method.data_columns();
         self.check_columns(columns)?;
         Ok(format_samples(self.joint_count, columns, &self.samples))
@@ -224,7 +227,15 @@ impl PyData {
     #[pyo3(signature = (path, method, *, overwrite = false))]
     fn write(&self, path: PathBuf, method: &Bound<'_, PyAny>, overwrite: bool) -> PyResult<()> {
         let text = self.to_csv(method)?;
-        gecaro_io::write_atomically(&path, text.as_bytes(), output_policy(overwrite)).py()
+        LocalFiles
+            .write(
+                &path.display().to_string(),
+                "csv",
+                text.as_bytes(),
+                overwrite,
+            )
+            .map(|_| ())
+            .py()
     }
 
     /// Motor variables, shape (m, n).

@@ -1,14 +1,16 @@
-//! Library errors as Python exceptions (`gecaro.errors`): the same message as
-//! the command line prints, in the class that says what kind of failure it is.
+//! Errors as Python exceptions (`gecaro.errors`): the application layer's
+//! error in Python's words (`error_level=`, `overwrite=True`), in the class
+//! that says what kind of failure it is.
 //!
-//! | library error | Python exception |
+//! | kind | Python exception |
 //! |---|---|
-//! | files, robot model, data, options | `InputError` (a `ValueError`) |
+//! | files, robot model, data, settings | `InputError` (a `ValueError`) |
 //! | too few independent equations | `NotIdentifiableError` |
 //! | unreachable target, failed points generation, no convergence | `NotConvergedError` |
-//! | a failed factorisation or plot | `NumericalError` |
+//! | a numerical failure, a plot that cannot be drawn | `NumericalError` |
 //! | a progress hook stopped the work (Ctrl-C) | the `KeyboardInterrupt` raised by Python |
 
+use gecaro_app::{AppError, Dialect, ErrorKind};
 use pyo3::prelude::*;
 
 pyo3::import_exception!(gecaro.errors, InputError);
@@ -22,61 +24,30 @@ pub(crate) fn input(message: impl Into<String>) -> PyErr {
     InputError::new_err(message.into())
 }
 
-/// Conversion of the library's errors.
-pub(crate) trait ToPyErr {
-    /// The Python exception of this error.
-    fn to_py(self) -> PyErr;
-}
-
-impl ToPyErr for gecaro_io::Error {
-    fn to_py(self) -> PyErr {
-        match self {
-            gecaro_io::Error::OutputExists { path } => input(format!(
-                "{} already exists (pass overwrite=True to replace it)",
-                path.display()
-            )),
-            other => input(other.to_string()),
-        }
+/// The Python exception of an application error.
+pub(crate) fn to_py(error: AppError) -> PyErr {
+    let message = match error.help(Dialect::Python) {
+        Some(help) => format!("{} ({help})", error.message(Dialect::Python)),
+        None => error.message(Dialect::Python),
+    };
+    match error.kind() {
+        ErrorKind::NotIdentifiable => NotIdentifiableError::new_err(message),
+        ErrorKind::NotConverged => NotConvergedError::new_err(message),
+        ErrorKind::Numerical | ErrorKind::Internal => NumericalError::new_err(message),
+        ErrorKind::Interrupted => pyo3::exceptions::PyKeyboardInterrupt::new_err(message),
+        _ => InputError::new_err(message),
     }
 }
 
-impl ToPyErr for gecaro_core::Error {
-    fn to_py(self) -> PyErr {
-        match self {
-            gecaro_core::Error::Unreachable { .. } => NotConvergedError::new_err(self.to_string()),
-            other => input(other.to_string()),
-        }
-    }
-}
-
-impl ToPyErr for gecaro_calib::Error {
-    fn to_py(self) -> PyErr {
-        use gecaro_calib::Error as Calib;
-        match self {
-            Calib::Model(model) => model.to_py(),
-            Calib::TooFewEquations { .. } => NotIdentifiableError::new_err(self.to_string()),
-            Calib::Generation { .. } => NotConvergedError::new_err(self.to_string()),
-            Calib::Numerical { .. } => NumericalError::new_err(self.to_string()),
-            Calib::Interrupted => pyo3::exceptions::PyKeyboardInterrupt::new_err("interrupted"),
-            other => input(other.to_string()),
-        }
-    }
-}
-
-impl ToPyErr for gecaro_report::Error {
-    fn to_py(self) -> PyErr {
-        NumericalError::new_err(self.to_string())
-    }
-}
-
-/// `result.map_err(ToPyErr::to_py)`, shorter.
+/// `result.map_err(to_py)`, shorter, for every error the application layer
+/// words.
 pub(crate) trait IntoPyResult<T> {
     /// The result with a Python exception.
     fn py(self) -> PyResult<T>;
 }
 
-impl<T, E: ToPyErr> IntoPyResult<T> for Result<T, E> {
+impl<T, E: Into<AppError>> IntoPyResult<T> for Result<T, E> {
     fn py(self) -> PyResult<T> {
-        self.map_err(ToPyErr::to_py)
+        self.map_err(|error| to_py(error.into()))
     }
 }

@@ -1,17 +1,20 @@
 //! Long calls run without the GIL and stop on Ctrl-C.
 //!
-//! The work runs inside `Python::detach`, so other Python threads go on. Its
-//! progress hooks call [`Watch::poll`], which at most every
-//! [`POLL_PERIOD`] takes the GIL back for `PyErr_CheckSignals`: a pending
-//! Ctrl-C makes the hook answer `Break`, the library stops with
-//! `Error::Interrupted`, and the `KeyboardInterrupt` is raised in Python.
+//! The work runs inside `Python::detach`, so other Python threads go on. A
+//! [`Watch`] is the work's [`Observer`]: at most every [`POLL_PERIOD`] it
+//! takes the GIL back for `PyErr_CheckSignals`, and it calls the user's
+//! progress callback, if any, with every iterate of an identification. A
+//! pending Ctrl-C (or an exception in the callback) stops the work, the
+//! library returns `Error::Interrupted`, and that exception is raised in
+//! Python.
 
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
 
+use gecaro_calib::{Observer, Progress};
 use pyo3::prelude::*;
 
-use crate::errors::{IntoPyResult, ToPyErr};
+use crate::errors::IntoPyResult;
 
 /// How often a long call looks for a pending signal.
 const POLL_PERIOD: Duration = Duration::from_millis(20);
@@ -19,7 +22,10 @@ const POLL_PERIOD: Duration = Duration::from_millis(20);
 /// The signal check of one long call, and why it stopped.
 pub(crate) struct Watch {
     last: Instant,
-    /// The exception that stopped the work (Ctrl-C, or a progress callback's).
+    /// Called with (iteration, residual RMS) for every iterate.
+    callback: Option<Py<PyAny>>,
+    iteration: usize,
+    /// The exception that stopped the work (Ctrl-C, or the callback's).
     stopped: Option<PyErr>,
 }
 
@@ -28,7 +34,17 @@ impl Watch {
     pub(crate) fn new() -> Self {
         Watch {
             last: Instant::now(),
+            callback: None,
+            iteration: 0,
             stopped: None,
+        }
+    }
+
+    /// A watch that also calls `callback(iteration, rms)` for every iterate.
+    pub(crate) fn with_callback(callback: Option<Py<PyAny>>) -> Self {
+        Watch {
+            callback,
+            ..Watch::new()
         }
     }
 
@@ -46,17 +62,35 @@ impl Watch {
     }
 
     /// Stops the work with `error` (raised when the call returns).
-    pub(crate) fn stop(&mut self, error: PyErr) -> ControlFlow<()> {
+    fn stop(&mut self, error: PyErr) -> ControlFlow<()> {
         self.stopped = Some(error);
         ControlFlow::Break(())
     }
 
     /// The result of the work: the exception that stopped it, if any,
-    /// otherwise `result` with the library's error converted.
-    pub(crate) fn finish<T, E: ToPyErr>(self, result: Result<T, E>) -> PyResult<T> {
+    /// otherwise `result` with its error converted.
+    pub(crate) fn finish<T, E: Into<gecaro_app::AppError>>(
+        self,
+        result: Result<T, E>,
+    ) -> PyResult<T> {
         match self.stopped {
             Some(error) => Err(error),
             None => result.py(),
         }
+    }
+}
+
+impl Observer for Watch {
+    fn observe(&mut self, progress: Progress<'_>) -> ControlFlow<()> {
+        if let (Progress::Iteration(record), Some(callback)) = (progress, &self.callback) {
+            let iteration = self.iteration;
+            let called =
+                Python::attach(|py| callback.call1(py, (iteration, record.rms)).map(|_| ()));
+            self.iteration += 1;
+            if let Err(error) = called {
+                return self.stop(error);
+            }
+        }
+        self.poll()
     }
 }

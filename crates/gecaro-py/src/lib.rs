@@ -12,8 +12,16 @@
 //! | [`methods`] | `Method`, `methods()` |
 //! | [`data`] | `Data` (arrays ↔ data files) |
 //! | [`study`] | `Study` (several sets, study files) |
-//! | [`calibration`] | `generate`, `identifiable`, `identify`, `evaluate` and their results |
+//! | [`generation`] | `generate`, `Generation` |
+//! | [`identifiability`] | `identifiable`, `Identifiability` |
+//! | [`identification`] | `identify`, `evaluate`, `Identification`, `Parameter`, `ErrorSummary` |
+//! | [`validation`] | `cross_validate` |
 //! | [`compensation`] | `compensate`, `Compensation` |
+//!
+//! Every calibration function maps its arguments onto a request of the
+//! application layer (`gecaro-app`, through [`source`]) and its result onto
+//! Python objects: the same requests as the command line's and the web
+//! page's, so the same numbers and the same messages (in Python's words).
 //!
 //! Units everywhere: metres and radians (file readers convert from mm and
 //! degrees when told).
@@ -21,15 +29,20 @@
 use pyo3::prelude::*;
 
 mod arrays;
-mod calibration;
 mod compensation;
 mod data;
+mod documents;
 mod errors;
+mod generation;
+mod identifiability;
+mod identification;
 mod interrupt;
 mod methods;
 mod robot;
-mod robust;
+mod source;
 mod study;
+mod validation;
+mod warnings;
 
 #[pymodule]
 fn _gecaro(module: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -39,19 +52,19 @@ fn _gecaro(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_class::<methods::PyMethod>()?;
     module.add_class::<data::PyData>()?;
     module.add_class::<study::PyStudy>()?;
-    module.add_class::<calibration::Generation>()?;
-    module.add_class::<calibration::PyIdentifiability>()?;
-    module.add_class::<calibration::PyIdentification>()?;
-    module.add_class::<calibration::PyParameter>()?;
-    module.add_class::<calibration::PyErrorSummary>()?;
+    module.add_class::<generation::Generation>()?;
+    module.add_class::<identifiability::PyIdentifiability>()?;
+    module.add_class::<identification::PyIdentification>()?;
+    module.add_class::<identification::PyParameter>()?;
+    module.add_class::<identification::PyErrorSummary>()?;
     module.add_class::<compensation::PyCompensation>()?;
     module.add_function(wrap_pyfunction!(robot::ready_robots, module)?)?;
     module.add_function(wrap_pyfunction!(methods::methods, module)?)?;
-    module.add_function(wrap_pyfunction!(calibration::generate, module)?)?;
-    module.add_function(wrap_pyfunction!(calibration::identifiable, module)?)?;
-    module.add_function(wrap_pyfunction!(calibration::identify, module)?)?;
-    module.add_function(wrap_pyfunction!(calibration::evaluate, module)?)?;
-    module.add_function(wrap_pyfunction!(robust::cross_validate, module)?)?;
+    module.add_function(wrap_pyfunction!(generation::generate, module)?)?;
+    module.add_function(wrap_pyfunction!(identifiability::identifiable, module)?)?;
+    module.add_function(wrap_pyfunction!(identification::identify, module)?)?;
+    module.add_function(wrap_pyfunction!(identification::evaluate, module)?)?;
+    module.add_function(wrap_pyfunction!(validation::cross_validate, module)?)?;
     module.add_function(wrap_pyfunction!(compensation::compensate, module)?)?;
     Ok(())
 }

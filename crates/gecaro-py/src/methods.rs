@@ -1,8 +1,8 @@
 //! `gecaro.Method`: one of the seven calibration methods of paper §3 with its
 //! options (the command line's `--method` and its options).
-use gecaro_calib::methods::{CalibrationMethod, METHODS, MethodOptions, Plane, method};
-use gecaro_core::OrientationDifference;
-use nalgebra::Vector3;
+
+use gecaro_app::MethodSpec;
+use gecaro_calib::methods::{CalibrationMethod, METHODS};
 use pyo3::prelude::*;
 
 use crate::arrays::Real;
@@ -13,33 +13,46 @@ use crate::errors::{IntoPyResult, input};
 #[pyclass(name = "Method", module = "gecaro", frozen)]
 pub(crate) struct PyMethod {
     pub(crate) method: Box<dyn CalibrationMethod>,
-    /// The options it was built with (unknown for a study file's method).
-    options: Option<MethodOptions>,
+    /// What it was built from (none for a study file's method).
+    pub(crate) spec: Option<MethodSpec>,
 }
 
 impl PyMethod {
-    /// The method called `name` with default options.
-    pub(crate) fn named(name: &str) -> PyResult<Self> {
-        let options = MethodOptions::default();
+    /// The method of `spec`.
+    pub(crate) fn of(spec: MethodSpec) -> PyResult<Self> {
         Ok(PyMethod {
-            method: method(name, &options).py()?,
-            options: Some(options),
+            method: spec.build().py()?,
+            spec: Some(spec),
         })
     }
 
     /// A method as built elsewhere (a study file's).
     pub(crate) fn from_method(method: Box<dyn CalibrationMethod>) -> Self {
-        PyMethod {
-            method,
-            options: None,
-        }
+        PyMethod { method, spec: None }
     }
 }
 
-fn vector3(value: &Bound<'_, PyAny>, what: &str) -> PyResult<Vector3<f64>> {
-    Ok(Vector3::from_column_slice(
-        &Real::shaped(value, what, &[Some(3)])?.values,
-    ))
+/// A `Method`, or a method's name with default options.
+pub(crate) fn method_of<'py>(value: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyMethod>> {
+    if let Ok(method) = value.cast::<PyMethod>() {
+        return Ok(method.clone());
+    }
+    if let Ok(name) = value.extract::<String>() {
+        return Bound::new(value.py(), PyMethod::of(MethodSpec::named(name))?);
+    }
+    Err(input(format!(
+        "expected a gecaro.Method or a method's name, got {}",
+        value.get_type().name()?
+    )))
+}
+
+fn triple(value: Option<&Bound<'_, PyAny>>, what: &str) -> PyResult<Option<[f64; 3]>> {
+    value
+        .map(|value| {
+            let values = Real::shaped(value, what, &[Some(3)])?.values;
+            Ok([values[0], values[1], values[2]])
+        })
+        .transpose()
 }
 
 #[pymethods]
@@ -60,23 +73,7 @@ impl PyMethod {
         orientation: &str,
         set_size: Option<usize>,
     ) -> PyResult<Self> {
-        let given = match (plane_normal, plane_point) {
-            (None, None) => None,
-            (Some(normal), Some(point)) => Some(
-                Plane::new(
-                    vector3(normal, "plane_normal")?,
-                    vector3(point, "plane_point")?,
-                )
-                .py()?,
-            ),
-            _ => {
-                return Err(input(
-                    "a plane needs both plane_normal and plane_point (for example \
-                     plane_normal=[0.3, 0.5, 0.81], plane_point=[0.3, 0.2, 0.6])",
-                ));
-            }
-        };
-        let unknown = match plane {
+        let plane_unknown = match plane {
             None => None,
             Some("known") => Some(false),
             Some("unknown") => Some(true),
@@ -86,24 +83,13 @@ impl PyMethod {
                 )));
             }
         };
-        let (plane, plane_unknown) = MethodOptions::plane_choice(given, unknown).py()?;
-        let options = MethodOptions {
-            plane,
+        PyMethod::of(MethodSpec {
+            name: name.to_owned(),
+            plane_normal: triple(plane_normal, "plane_normal")?,
+            plane_point: triple(plane_point, "plane_point")?,
             plane_unknown,
-            orientation: match orientation {
-                "axis-angle" => OrientationDifference::AxisAngle,
-                "cross-products" => OrientationDifference::CrossProducts,
-                other => {
-                    return Err(input(format!(
-                        "orientation: `{other}` is neither \"axis-angle\" nor \"cross-products\""
-                    )));
-                }
-            },
-            set_size: MethodOptions::check_set_size(set_size).py()?,
-        };
-        Ok(PyMethod {
-            method: method(name, &options).py()?,
-            options: Some(options),
+            orientation: Some(orientation.to_owned()),
+            set_size,
         })
     }
 
@@ -137,18 +123,18 @@ impl PyMethod {
 
     fn __repr__(&self) -> String {
         let mut options = Vec::new();
-        let given = self.options.clone().unwrap_or_default();
-        if let Some(plane) = &given.plane {
+        let given = self.spec.clone().unwrap_or_default();
+        if let (Some(normal), Some(point)) = (given.plane_normal, given.plane_point) {
             options.push(format!(
                 "plane_normal={:?}, plane_point={:?}",
-                plane.normal().as_slice(),
-                plane.point().as_slice()
+                normal.as_slice(),
+                point.as_slice()
             ));
         }
-        if given.plane_unknown {
+        if given.plane_unknown == Some(true) {
             options.push("plane=\"unknown\"".into());
         }
-        if given.orientation == OrientationDifference::CrossProducts {
+        if given.orientation.as_deref() == Some("cross-products") {
             options.push("orientation=\"cross-products\"".into());
         }
         if let Some(size) = given.set_size {

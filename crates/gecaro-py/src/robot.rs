@@ -8,14 +8,13 @@
 
 use std::path::PathBuf;
 
+use gecaro_app::{Files, LocalFiles};
 use gecaro_core::{
     ChainBuffer, Frame, FrameType, InverseOptions, JacobianRows, Joint, KinematicModel,
     ParameterId, PriorityMatrix, Robot, RobotSpec, Target, inverse_kinematics,
 };
 use gecaro_io::{
-    AngleUnit, ChainEnds, ImportOptions, LengthUnit, OutputPolicy, RobotFile, RobotFormat,
-    TableUnits, export_robot, format_robot_file, import_robot, load_robot, parse_robot_file,
-    pose_from_seven, read_priority_file, write_atomically,
+    RobotFile, format_robot_file, parse_robot_file, pose_from_seven, read_priority_file,
 };
 use nalgebra::{DMatrix, IsometryMatrix3, Matrix3, Rotation3, Translation3, Vector3};
 use numpy::PyArrayDyn;
@@ -25,15 +24,6 @@ use pyo3::types::PyDict;
 use crate::arrays::{Real, array, columns, priority_array};
 use crate::errors::{IntoPyResult, input};
 use crate::interrupt::Watch;
-
-/// What `overwrite` says of an existing output file.
-pub(crate) fn output_policy(overwrite: bool) -> OutputPolicy {
-    if overwrite {
-        OutputPolicy::Overwrite
-    } else {
-        OutputPolicy::KeepExisting
-    }
-}
 
 /// A path or a ready robot's name as given (`str` or `os.PathLike`).
 pub(crate) fn path_text(path: &std::path::Path) -> String {
@@ -175,30 +165,6 @@ fn pose_of(array: &Real, what: &str) -> PyResult<IsometryMatrix3<f64>> {
     }
 }
 
-/// The unit of a name, or an `InputError` listing the names.
-pub(crate) fn length_unit(name: Option<&str>) -> PyResult<Option<LengthUnit>> {
-    name.map(|name| {
-        LengthUnit::from_name(name).ok_or_else(|| {
-            input(format!(
-                "length_unit: `{name}` is not a unit; use \"m\" or \"mm\""
-            ))
-        })
-    })
-    .transpose()
-}
-
-/// The unit of a name, or an `InputError` listing the names.
-pub(crate) fn angle_unit(name: Option<&str>) -> PyResult<Option<AngleUnit>> {
-    name.map(|name| {
-        AngleUnit::from_name(name).ok_or_else(|| {
-            input(format!(
-                "angle_unit: `{name}` is not a unit; use \"rad\" or \"deg\""
-            ))
-        })
-    })
-    .transpose()
-}
-
 /// A priority matrix from an array of shape (n+2, 6) or a priority file.
 pub(crate) fn priority_matrix(robot: &Robot, value: &Bound<'_, PyAny>) -> PyResult<PriorityMatrix> {
     if let Ok(path) = value.extract::<PathBuf>() {
@@ -256,7 +222,11 @@ impl PyRobot {
     /// robot's name (`gecaro.ready_robots()`), as the command line's ROBOT.
     #[staticmethod]
     fn load(source: PathBuf) -> PyResult<Self> {
-        Ok(PyRobot::new(load_robot(&path_text(&source)).py()?))
+        Ok(PyRobot::new(
+            gecaro_app::RobotSource::Named(path_text(&source))
+                .load(&LocalFiles)
+                .py()?,
+        ))
     }
 
     /// A robot from the text of a robot file; `name` labels it in messages.
@@ -282,27 +252,14 @@ impl PyRobot {
         length_unit: Option<&str>,
         angle_unit: Option<&str>,
     ) -> PyResult<Self> {
-        let format = format
-            .map(|text| {
-                RobotFormat::from_name(text).ok_or_else(|| {
-                    input(format!(
-                        "format: `{text}` is not a format; use \"urdf\", \"dh\", \"mdh\" or \"symoro\""
-                    ))
-                })
-            })
-            .transpose()?;
-        let imported = import_robot(
-            &path,
-            &ImportOptions {
-                format,
-                chain: ChainEnds { base, tip, name },
-                units: TableUnits {
-                    length: self::length_unit(length_unit)?,
-                    angle: self::angle_unit(angle_unit)?,
-                },
-            },
-        )
-        .py()?;
+        let mut request = gecaro_app::ImportRequest::new(path_text(&path));
+        request.format = format.map(str::to_owned);
+        request.base = base;
+        request.tip = tip;
+        request.name = name;
+        request.length_unit = length_unit.map(str::to_owned);
+        request.angle_unit = angle_unit.map(str::to_owned);
+        let imported = request.run(&LocalFiles).py()?.imported;
         let mut robot = PyRobot::new(imported.file);
         robot.notes = imported.notes;
         Ok(robot)
@@ -385,7 +342,7 @@ impl PyRobot {
         let mut robot = PyRobot::new(RobotFile {
             robot,
             description: None,
-            angle_unit: AngleUnit::Radians,
+            angle_unit: gecaro_io::AngleUnit::Radians,
             urdf: None,
         });
         if let Some(priority) = priority {
@@ -398,12 +355,15 @@ impl PyRobot {
     /// unless `overwrite`.
     #[pyo3(signature = (path, *, overwrite = false))]
     fn save(&self, path: PathBuf, overwrite: bool) -> PyResult<()> {
-        write_atomically(
-            &path,
-            format_robot_file(&self.file).as_bytes(),
-            output_policy(overwrite),
-        )
-        .py()
+        LocalFiles
+            .write(
+                &path_text(&path),
+                "toml",
+                format_robot_file(&self.file).as_bytes(),
+                overwrite,
+            )
+            .map(|_| ())
+            .py()
     }
 
     /// The robot file's text (TOML), as `save` writes it.
@@ -414,20 +374,16 @@ impl PyRobot {
     /// The robot in another format: "urdf", "dh" or "mdh", as
     /// `gecaro robot export` (docs/interchange.md).
     fn export(&self, to: &str) -> PyResult<Exported> {
-        let format = RobotFormat::from_name(to)
-            .filter(|format| *format != RobotFormat::Symoro)
-            .ok_or_else(|| {
-                input(format!(
-                    "to: `{to}` is not a format gecaro writes; use \"urdf\", \"dh\" or \"mdh\""
-                ))
-            })?;
-        let exported = export_robot(&self.file, format).map_err(|message| {
-            input(format!(
-                "{} cannot be written as {to}: {message}",
-                self.robot().name()
-            ))
-        })?;
-        Ok(Exported { exported })
+        let exported = gecaro_app::ExportRequest::new(
+            gecaro_app::RobotSource::Loaded(Box::new(self.file.clone())),
+            to,
+        )
+        .run(&LocalFiles)
+        .py()?;
+        Ok(Exported {
+            exported: exported.exported,
+            format: exported.format,
+        })
     }
 
     /// The robot's name.
@@ -730,7 +686,7 @@ impl PyRobot {
                     gecaro_calib::simulation::RANDOM_STARTS
                 ))
             }
-            (_, error) => crate::errors::ToPyErr::to_py(error),
+            (_, error) => crate::errors::to_py(error.into()),
         })?;
         array(
             py,
@@ -781,6 +737,7 @@ fn matrix<'py>(py: Python<'py>, matrix: &DMatrix<f64>) -> PyResult<Bound<'py, Py
 #[pyclass(name = "Exported", module = "gecaro", frozen)]
 pub(crate) struct Exported {
     exported: gecaro_io::Exported,
+    format: gecaro_io::RobotFormat,
 }
 
 #[pymethods]
@@ -808,7 +765,14 @@ impl Exported {
     /// (`FILE.joint_calibration.yaml`): both or neither. Returns the paths written.
     #[pyo3(signature = (path, *, overwrite = false))]
     fn save(&self, path: PathBuf, overwrite: bool) -> PyResult<Vec<PathBuf>> {
-        self.exported.write(&path, output_policy(overwrite)).py()
+        gecaro_app::write_export(
+            &self.exported,
+            self.format,
+            &path_text(&path),
+            overwrite,
+            &LocalFiles,
+        )
+        .py()
     }
 
     fn __repr__(&self) -> String {

@@ -9,10 +9,10 @@ use pyo3::types::PyDict;
 use std::path::PathBuf;
 
 use crate::arrays::priority_array;
-use crate::calibration::method_of;
 use crate::data::PyData;
 use crate::errors::IntoPyResult;
 use crate::methods::PyMethod;
+use crate::methods::method_of;
 use crate::robot::PyRobot;
 
 /// Measurement sets calibrated together (see the module docs).

@@ -75,12 +75,13 @@ def test_bad_options_raise_input_errors() -> None:
     run = gecaro.generate(robot, "position", 30, error_level=1.0, noise=1e-5, seed=1)
     for options, message in [
         ({"loss": "l1"}, "unknown loss 'l1'"),
-        ({"loss": "huber", "loss_scale": -1.0}, "--loss-scale"),
+        # In Python's words, not the command line's (`--loss-scale`).
+        ({"loss": "huber", "loss_scale": -1.0}, "^loss_scale: must be a positive number"),
         ({"loss_scale": 2.0}, "l2 has no scale"),
         ({"prior": "5mm"}, "lacks the angle and gain"),
         ({"model": "tiny"}, "unknown model 'tiny'"),
     ]:
         with pytest.raises(gecaro.InputError, match=message):
             gecaro.identify(robot, "position", run.data, **options)  # type: ignore[arg-type]
-    with pytest.raises(gecaro.InputError, match="--cv"):
+    with pytest.raises(gecaro.InputError, match="^folds=1: between 2 and 20 folds"):
         gecaro.cross_validate(robot, "position", run.data, folds=1)

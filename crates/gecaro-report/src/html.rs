@@ -7,7 +7,6 @@ use gecaro_calib::{
     study::Study,
 };
 use gecaro_core::{FrameType, ParameterId, ParameterKind};
-use gecaro_io::RobotFile;
 use std::fmt::Write as _;
 
 use crate::Error;
@@ -19,7 +18,7 @@ use crate::plots::{
 #[derive(Debug)]
 pub struct ReportInput<'a> {
     /// The nominal robot.
-    pub robot: &'a RobotFile,
+    pub robot: &'a gecaro_core::Robot,
     /// The measurements.
     pub study: &'a Study,
     /// The identification of the robot from them.
@@ -60,7 +59,7 @@ fn number(value: f64) -> String {
 /// # Errors
 /// [`Error::Plot`] if a plot cannot be drawn.
 pub fn html_report(input: &ReportInput<'_>) -> Result<String, Error> {
-    let robot = &input.robot.robot;
+    let robot = input.robot;
     let result = input.identification;
     let mut html = String::new();
     let methods = input.study.method_names();

@@ -107,40 +107,47 @@ impl From<QueryRejection> for ApiError {
     }
 }
 
+impl From<gecaro_app::AppError> for ApiError {
+    fn from(error: gecaro_app::AppError) -> Self {
+        use gecaro_app::ErrorKind;
+        let dialect = gecaro_app::Dialect::Web;
+        let message = match error.help(dialect) {
+            Some(help) => format!("{}; {help}", error.message(dialect)),
+            None => error.message(dialect),
+        };
+        match error.kind() {
+            ErrorKind::Usage => ApiError::BadRequest(message),
+            ErrorKind::InvalidRobot => ApiError::InvalidRobot(error.problems().to_vec()),
+            ErrorKind::NotFound => ApiError::NotFound(message),
+            ErrorKind::Exists => ApiError::Conflict(message),
+            ErrorKind::Forbidden => ApiError::Forbidden(message),
+            ErrorKind::TooLarge => ApiError::TooLarge(message),
+            ErrorKind::Output | ErrorKind::Internal => ApiError::Internal(message),
+            _ => ApiError::Unprocessable(message),
+        }
+    }
+}
+
 impl From<gecaro_calib::Error> for ApiError {
     fn from(error: gecaro_calib::Error) -> Self {
-        match error {
-            gecaro_calib::Error::UnknownMethod { .. }
-            | gecaro_calib::Error::InvalidOption { .. } => ApiError::BadRequest(error.to_string()),
-            _ => ApiError::Unprocessable(error.to_string()),
-        }
+        gecaro_app::AppError::from(error).into()
     }
 }
 
 impl From<gecaro_core::Error> for ApiError {
     fn from(error: gecaro_core::Error) -> Self {
-        ApiError::Unprocessable(error.to_string())
+        gecaro_app::AppError::from(error).into()
     }
 }
 
 impl From<gecaro_report::Error> for ApiError {
     fn from(error: gecaro_report::Error) -> Self {
-        ApiError::Internal(error.to_string())
+        gecaro_app::AppError::from(error).into()
     }
 }
 
 impl From<gecaro_io::Error> for ApiError {
     fn from(error: gecaro_io::Error) -> Self {
-        match &error {
-            gecaro_io::Error::OutputExists { .. } => ApiError::Conflict(error.to_string()),
-            gecaro_io::Error::Write { .. } => ApiError::Internal(error.to_string()),
-            gecaro_io::Error::Read { cause, .. }
-                if cause.kind() == std::io::ErrorKind::NotFound =>
-            {
-                ApiError::NotFound(error.to_string())
-            }
-            gecaro_io::Error::UnknownRobot { .. } => ApiError::NotFound(error.to_string()),
-            _ => ApiError::Unprocessable(error.to_string()),
-        }
+        gecaro_app::AppError::from(error).into()
     }
 }

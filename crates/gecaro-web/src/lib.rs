@@ -28,6 +28,7 @@
 
 mod api;
 mod error;
+mod folder_files;
 mod guard;
 mod jobs;
 pub mod limits;

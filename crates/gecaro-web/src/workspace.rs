@@ -201,6 +201,34 @@ impl Workspace {
         Ok((path, text))
     }
 
+    /// Refuses, before any work, to write the file `name` (extension
+    /// `extension`): a name outside the folder or of another kind, a missing
+    /// subfolder, an existing file without `overwrite`.
+    ///
+    /// # Errors
+    /// As [`write`](Self::write), but for the write itself.
+    pub fn check_writable(
+        &self,
+        name: &str,
+        extension: &str,
+        overwrite: bool,
+    ) -> Result<(), ApiError> {
+        let relative = Self::relative(name)?;
+        check_extensions(&relative, name, &[extension])?;
+        let target = self.root.join(&relative);
+        let parent = target
+            .parent()
+            .and_then(|parent| parent.canonicalize().ok())
+            .ok_or_else(|| ApiError::NotFound(format!("the folder of {name} does not exist")))?;
+        self.inside(&parent, name)?;
+        if !overwrite && std::fs::symlink_metadata(&target).is_ok() {
+            return Err(ApiError::Conflict(format!(
+                "{name} already exists; save with overwrite to replace it"
+            )));
+        }
+        Ok(())
+    }
+
     /// Writes `bytes` to the file `name` (extension `extension`) atomically;
     /// an existing file is replaced only when `overwrite` is set.
     ///

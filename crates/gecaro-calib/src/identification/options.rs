@@ -17,6 +17,20 @@ pub enum Solver {
     LevenbergMarquardt,
 }
 
+impl Solver {
+    /// The names users give: `gauss-newton`, `lm`.
+    pub const NAMES: [&'static str; 2] = ["gauss-newton", "lm"];
+
+    /// The solver of a name of [`NAMES`](Self::NAMES).
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "gauss-newton" => Some(Solver::GaussNewton),
+            "lm" | "levenberg-marquardt" => Some(Solver::LevenbergMarquardt),
+            _ => None,
+        }
+    }
+}
+
 /// Settings of [`identify`](super::identify).
 #[derive(Clone, Debug, PartialEq)]
 pub struct IdentificationOptions {

@@ -51,7 +51,24 @@ pub enum Criterion {
 }
 
 impl Criterion {
-    /// The criterion's name on the command line: d, a, e, o4, o5, test.
+    /// The names users give.
+    pub const NAMES: [&'static str; 6] = ["d", "a", "e", "o4", "o5", "test"];
+
+    /// The criterion of a name of [`NAMES`](Self::NAMES); `test_poses` gives
+    /// the poses of the `test` criterion.
+    pub fn from_name(name: &str, test_poses: impl FnOnce() -> Vec<Vec<f64>>) -> Option<Self> {
+        match name {
+            "d" => Some(Criterion::D),
+            "a" => Some(Criterion::A),
+            "e" => Some(Criterion::E),
+            "o4" => Some(Criterion::O4),
+            "o5" => Some(Criterion::O5),
+            "test" => Some(Criterion::TestPoses(test_poses())),
+            _ => None,
+        }
+    }
+
+    /// The criterion's name: d, a, e, o4, o5, test.
     pub fn name(&self) -> &'static str {
         match self {
             Criterion::D => "d",

@@ -19,6 +19,28 @@ pub enum OrientationDifference {
     AxisAngle,
 }
 
+impl OrientationDifference {
+    /// The names users give: `axis-angle` (method 2), `cross-products` (method 1).
+    pub const NAMES: [&'static str; 2] = ["axis-angle", "cross-products"];
+
+    /// The method of a name of [`NAMES`](Self::NAMES).
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "axis-angle" => Some(OrientationDifference::AxisAngle),
+            "cross-products" => Some(OrientationDifference::CrossProducts),
+            _ => None,
+        }
+    }
+
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        match self {
+            OrientationDifference::AxisAngle => "axis-angle",
+            OrientationDifference::CrossProducts => "cross-products",
+        }
+    }
+}
+
 /// δ_{i,j}, the rotation vector from orientation `rotation_j` to `rotation_i`
 /// (world axes, radians).
 pub fn orientation_difference(

@@ -423,12 +423,13 @@ def generate(
     method: _MethodLike,
     count: int,
     *,
-    error_level: float = 1.0,
+    error_level: Optional[float] = None,
     noise: float = 0.0,
     seed: int = 1,
     real: Optional[Robot] = None,
 ) -> Generation:
-    """Points generation on a simulated real robot, as ``gecaro generate``."""
+    """Points generation on a simulated real robot, as ``gecaro generate``:
+    ``real``, or the nominal robot with errors at ``error_level`` (default 1)."""
 
 def identifiable(
     robot: Robot,

@@ -5,9 +5,8 @@ use axum::extract::{Path as UrlPath, Query, State};
 use gecaro_calib::{methods::METHODS, study::DataColumn};
 use gecaro_core::{FrameType, Robot, forward_kinematics};
 use gecaro_io::{
-    ChainEnds, DocumentError, ImportOptions, RobotDocument, RobotFile, RobotFormat, export_robot,
-    fallback_name, format_robot_file, import_robot_text, parse_robot_document, ready_robot,
-    ready_robots,
+    DocumentError, RobotDocument, RobotFile, fallback_name, format_robot_file,
+    parse_robot_document, ready_robot, ready_robots,
 };
 use serde::{Deserialize, Serialize};
 
@@ -210,18 +209,10 @@ pub(crate) async fn open_file(
                 }
                 return Ok(Json(view("file", Some(name), document)));
             }
-            let imported = import_robot_text(
-                &text,
-                label,
-                &ImportOptions {
-                    chain: ChainEnds {
-                        base,
-                        tip,
-                        name: None,
-                    },
-                    ..ImportOptions::default()
-                },
-            )?;
+            let mut import = gecaro_app::ImportRequest::new(name.clone());
+            import.base = base;
+            import.tip = tip;
+            let imported = import.run(state.workspace())?.imported;
             let mut robot = view(
                 "imported",
                 Some(name),
@@ -326,44 +317,24 @@ pub(crate) async fn save(
                     notes: Vec::new(),
                 }));
             }
-            let exported =
-                export_robot(&file, RobotFormat::Urdf).map_err(ApiError::Unprocessable)?;
-            let calibration_name = exported.joint_calibration.as_ref().map(|_| {
-                std::path::Path::new(&request.name)
-                    .with_extension("joint_calibration.yaml")
-                    .to_string_lossy()
-                    .into_owned()
-            });
-            // Both files or neither: refuse before writing the first.
-            if !request.overwrite {
-                let taken = [
-                    Some((&request.name, "urdf")),
-                    calibration_name.as_ref().map(|n| (n, "yaml")),
-                ];
-                if let Some((name, _)) = taken
-                    .into_iter()
-                    .flatten()
-                    .find(|(name, extension)| workspace.existing(name, &[extension]).is_ok())
-                {
-                    return Err(ApiError::Conflict(format!(
-                        "{name} already exists (ask to replace it)"
-                    )));
-                }
-            }
-            if let (Some(name), Some(text)) = (&calibration_name, &exported.joint_calibration) {
-                workspace.write(name, "yaml", text.as_bytes(), request.overwrite)?;
-            }
-            let path = workspace.write(
-                &request.name,
+            let mut export = gecaro_app::ExportRequest::new(
+                gecaro_app::RobotSource::Loaded(Box::new(file)),
                 "urdf",
-                exported.text.as_bytes(),
-                request.overwrite,
-            )?;
+            );
+            export.save_as = Some(request.name.clone());
+            export.overwrite = request.overwrite;
+            let exported = export.run(workspace)?;
+            let calibration_name = exported
+                .exported
+                .joint_calibration
+                .as_ref()
+                .map(|_| gecaro_app::joint_calibration_name(&request.name));
+            let path = workspace.existing(&request.name, &["urdf"])?;
             Ok(Json(Saved {
                 name: request.name,
                 path: path.display().to_string(),
                 joint_calibration: calibration_name,
-                notes: exported.notes,
+                notes: exported.exported.notes,
             }))
         })
         .await

@@ -3,12 +3,14 @@
 //! the same shapes (documented in `docs/api.md`).
 //!
 //! Units: metres and radians everywhere, as in the robot model.
+
 use gecaro_calib::{
     curve::CurvePoint,
     identifiability::{Classified, Identifiability, RankReport},
     identification::{ErrorSummary, Identification, IdentifiedParameter, StopReason},
     observability::Observability,
     planning::{Criterion, DesignQuality, Plan},
+    prediction::{MonteCarlo, PoseErrors, Prediction},
     study::Study,
 };
 use gecaro_core::Robot;
@@ -33,6 +35,15 @@ impl From<&Classified> for StatusJson {
             status: classified.status.as_str(),
         }
     }
+}
+
+/// The rows of a matrix as lists (serde writes fixed-size arrays as tuples,
+/// which Python would see as tuples rather than the lists JSON gives).
+fn rows_as_lists<S: serde::Serializer>(
+    rows: &[[u32; 6]],
+    serializer: S,
+) -> Result<S::Ok, S::Error> {
+    serializer.collect_seq(rows.iter().map(|row| row.as_slice()))
 }
 
 /// A parameter absorbed by a base parameter, with its coefficient.
@@ -126,6 +137,7 @@ pub struct IdentifiableJson {
     /// Regrouping relations.
     pub regrouping: Vec<RelationJson>,
     /// The new priority matrix ((n+2) rows of α, d, θ, r, β, K; 0 = not identified).
+    #[serde(serialize_with = "rows_as_lists")]
     pub priority_matrix: Vec<[u32; 6]>,
     /// Observability indices of W_b: of the measured data when given, else of
     /// the random configurations.
@@ -564,4 +576,165 @@ impl From<&CurvePoint> for CurvePointJson {
             random: point.random,
         }
     }
+}
+
+/// An accuracy curve (`gecaro plan --curve --json`, the page's Plan function).
+#[derive(Clone, Debug, Serialize)]
+pub struct CurveJson {
+    /// The method's name.
+    pub method: &'static str,
+    /// The criterion of the plans.
+    pub criterion: &'static str,
+    /// The sensor's σ (m).
+    pub noise: f64,
+    /// Candidates in the pool.
+    pub pool: usize,
+    /// Test poses the errors are predicted at.
+    pub test_poses: usize,
+    /// Random designs averaged per count.
+    pub random_draws: usize,
+    /// Predicted RMS position error (metres) per count.
+    pub points: Vec<CurvePointJson>,
+}
+
+/// Errors at test poses (m, rad).
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct PoseErrorsJson {
+    /// RMS position error.
+    pub position_rms: f64,
+    /// Largest position error.
+    pub position_max: f64,
+    /// RMS orientation error, for methods that measure orientation.
+    pub rotation_rms: Option<f64>,
+    /// Largest orientation error.
+    pub rotation_max: Option<f64>,
+}
+
+impl From<PoseErrors> for PoseErrorsJson {
+    fn from(errors: PoseErrors) -> Self {
+        PoseErrorsJson {
+            position_rms: errors.position_rms,
+            position_max: errors.position_max,
+            rotation_rms: errors.rotation_rms,
+            rotation_max: errors.rotation_max,
+        }
+    }
+}
+
+/// A parameter's predicted σ.
+#[derive(Clone, Debug, Serialize)]
+pub struct SigmaJson {
+    /// Its name.
+    pub name: String,
+    /// Its predicted standard deviation.
+    pub sigma: f64,
+}
+
+/// Simulated calibrations.
+#[derive(Clone, Debug, Serialize)]
+pub struct MonteCarloJson {
+    /// Calibrations run.
+    pub runs: usize,
+    /// Those that did not converge.
+    pub not_converged: usize,
+    /// The real robots' error level.
+    pub error_level: f64,
+    /// The errors measured at the test poses.
+    pub measured: PoseErrorsJson,
+    /// Measured / predicted RMS position error.
+    pub position_ratio: f64,
+}
+
+/// A prediction (`gecaro predict --json`).
+#[derive(Clone, Debug, Serialize)]
+pub struct PredictJson {
+    /// The method's name.
+    pub method: &'static str,
+    /// Configurations of the plan.
+    pub configurations: usize,
+    /// The sensor's σ.
+    pub noise: f64,
+    /// Test poses.
+    pub test_poses: usize,
+    /// Every base parameter's predicted σ.
+    pub parameters: Vec<SigmaJson>,
+    /// The predicted errors at the test poses.
+    pub predicted: PoseErrorsJson,
+    /// The simulated calibrations, if run.
+    pub monte_carlo: Option<MonteCarloJson>,
+}
+
+impl PredictJson {
+    /// The document of a prediction for `method` from `configurations`
+    /// with σ `noise` at `test_poses` poses, and of the simulated
+    /// calibrations at their error level, if run.
+    pub fn new(
+        method: &'static str,
+        configurations: usize,
+        noise: f64,
+        test_poses: usize,
+        prediction: &Prediction,
+        measured: Option<(&MonteCarlo, f64)>,
+    ) -> Self {
+        let predicted = prediction.errors;
+        PredictJson {
+            method,
+            configurations,
+            noise,
+            test_poses,
+            parameters: prediction
+                .parameters
+                .iter()
+                .map(|(name, sigma)| SigmaJson {
+                    name: name.clone(),
+                    sigma: *sigma,
+                })
+                .collect(),
+            predicted: predicted.into(),
+            monte_carlo: measured.map(|(measured, error_level)| MonteCarloJson {
+                runs: measured.runs,
+                not_converged: measured.not_converged,
+                error_level,
+                measured: measured.errors.into(),
+                position_ratio: measured.errors.position_rms / predicted.position_rms,
+            }),
+        }
+    }
+}
+
+/// One corrected target.
+#[derive(Clone, Debug, Serialize)]
+pub struct CompensatedJson {
+    /// Its line in the program file (or its row, 0-based).
+    pub line: usize,
+    /// `reached`, `outside-limits` or `not-reached`.
+    pub status: &'static str,
+    /// The corrected motor variables.
+    pub motor_positions: Vec<f64>,
+    /// The calibrated robot's remaining position error there (m).
+    pub position_error: f64,
+    /// Its orientation error (rad), for pose targets.
+    pub rotation_error: Option<f64>,
+}
+
+/// A corrected program (`gecaro compensate --json`).
+#[derive(Clone, Debug, Serialize)]
+pub struct CompensationJson {
+    /// Targets in the program.
+    pub targets: usize,
+    /// Targets reached within the limits.
+    pub reached: usize,
+    /// Lines of the targets reached only beyond a joint limit.
+    pub outside_limits: Vec<usize>,
+    /// Lines of the targets not reached.
+    pub not_reached: Vec<usize>,
+    /// The largest residual of a reached target (m).
+    pub largest_position_error: f64,
+    /// The largest joint correction, in the program's unit.
+    pub largest_correction: f64,
+    /// The corrected program file, when written.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub output: Option<String>,
+    /// Every target.
+    pub points: Vec<CompensatedJson>,
 }

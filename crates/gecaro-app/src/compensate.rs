@@ -1,0 +1,257 @@
+//! Compensation as a job: a program written for the nominal robot, corrected
+//! for the calibrated one ("program filtering"); targets it cannot reach
+//! within the limits are flagged, never dropped.
+
+use gecaro_calib::Observer;
+use gecaro_calib::compensation::{
+    CompensatedPoint, CompensationStatus, Match, ProgramPoint, ProgramTarget, compensate,
+};
+use gecaro_io::{ProgramFile, RobotFile};
+use serde::Deserialize;
+
+use crate::documents::{CompensatedJson, CompensationJson};
+use crate::error::{AppError, ErrorKind};
+use crate::files::Files;
+use crate::measurements::Unknown;
+use crate::method::parse_name;
+use crate::sources::{DataFormatSpec, RobotSource};
+
+/// Where a program's targets come from.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(untagged)]
+pub enum ProgramSource {
+    /// A program file (CSV): joint targets `qm1..qmn`, or Cartesian targets
+    /// `x,y,z[,qw,qx,qy,qz]`, other columns kept.
+    File(String),
+    /// Targets given already (Python arrays).
+    #[serde(skip)]
+    Points(Vec<ProgramPoint>),
+}
+
+/// A program to correct; see the module docs.
+#[derive(Clone, Debug, Deserialize)]
+pub struct CompensateRequest {
+    /// The nominal robot the program was written with.
+    pub nominal: RobotSource,
+    /// The calibrated robot.
+    pub calibrated: RobotSource,
+    /// The program.
+    pub program: ProgramSource,
+    /// Units and column names of a program file.
+    #[serde(default)]
+    pub format: DataFormatSpec,
+    /// What a joint target asks: `pose` (default) or `position`.
+    #[serde(default, rename = "match")]
+    pub matching: Option<String>,
+    /// Write the corrected program (CSV) here.
+    #[serde(default)]
+    pub save_as: Option<String>,
+    /// Replace a file that exists.
+    #[serde(default)]
+    pub overwrite: bool,
+    #[serde(flatten)]
+    unknown: Unknown,
+}
+
+/// A corrected program.
+#[derive(Clone, Debug)]
+pub struct Compensated {
+    /// The program file, when the program came from one.
+    pub program: Option<ProgramFile>,
+    /// The targets.
+    pub points: Vec<ProgramPoint>,
+    /// Per target: the corrected joints, the residual and the status.
+    pub results: Vec<CompensatedPoint>,
+    /// Where the corrected program was written, if asked for.
+    pub saved: Option<std::path::PathBuf>,
+    /// The nominal robot.
+    pub nominal: RobotFile,
+}
+
+impl CompensateRequest {
+    /// A correction of `program` from `nominal` to `calibrated`.
+    pub fn new(nominal: RobotSource, calibrated: RobotSource, program: ProgramSource) -> Self {
+        CompensateRequest {
+            nominal,
+            calibrated,
+            program,
+            format: DataFormatSpec::default(),
+            matching: None,
+            save_as: None,
+            overwrite: false,
+            unknown: Unknown::default(),
+        }
+    }
+
+    /// Corrects every target, writes the corrected program if asked (checked
+    /// before any work); `observer` hears of the targets done.
+    ///
+    /// # Errors
+    /// Bad files or settings, robots of different joints, an interruption.
+    pub fn run(
+        &self,
+        files: &dyn Files,
+        observer: &mut dyn Observer,
+    ) -> Result<Compensated, AppError> {
+        self.unknown.check()?;
+        let matching = parse_name(
+            "match",
+            self.matching.as_deref(),
+            &Match::NAMES,
+            Match::from_name,
+        )?
+        .unwrap_or_default();
+        let nominal = self.nominal.load(files)?;
+        let calibrated = self.calibrated.load(files)?;
+        if let Some(name) = &self.save_as {
+            files.check_output(name, "csv", self.overwrite)?;
+        }
+        let (program, points) = match &self.program {
+            ProgramSource::File(name) => {
+                let format = self.format.format()?;
+                let mut opened = files.open(name, &["csv"])?;
+                let program = gecaro_io::parse_program(
+                    &mut opened.reader,
+                    &opened.path,
+                    &nominal.robot,
+                    format.units,
+                    &format.columns,
+                )?;
+                let points = program.points.clone();
+                (Some(program), points)
+            }
+            ProgramSource::Points(points) => (None, points.clone()),
+        };
+        let results = compensate(
+            &nominal.robot,
+            &calibrated.robot,
+            &points,
+            matching,
+            observer,
+        )?;
+        let saved = match (&self.save_as, &program) {
+            (Some(name), Some(program)) => Some(files.write(
+                name,
+                "csv",
+                program.format_corrected(&results).as_bytes(),
+                self.overwrite,
+            )?),
+            (Some(_), None) => {
+                return Err(AppError::setting(
+                    "save_as",
+                    "a corrected program is written for a program file",
+                ));
+            }
+            (None, _) => None,
+        };
+        Ok(Compensated {
+            program,
+            points,
+            results,
+            saved,
+            nominal,
+        })
+    }
+}
+
+impl Compensated {
+    /// The line (file) or row (0-based, arrays) of target `index`.
+    pub fn line(&self, index: usize) -> usize {
+        self.program
+            .as_ref()
+            .map_or(index, |program| program.line(index))
+    }
+
+    /// The lines of the targets with `status`.
+    pub fn lines_with(&self, status: CompensationStatus) -> Vec<usize> {
+        self.results
+            .iter()
+            .enumerate()
+            .filter(|(_, result)| result.status == status)
+            .map(|(index, _)| self.line(index))
+            .collect()
+    }
+
+    /// The largest residual of a reached target (m).
+    pub fn largest_position_error(&self) -> f64 {
+        self.results
+            .iter()
+            .filter(|result| result.status != CompensationStatus::NotReached)
+            .map(|result| result.position_error)
+            .fold(0.0, f64::max)
+    }
+
+    /// The largest change of a joint between the program and the correction,
+    /// in the program file's unit: (value, unit, joint number, line).
+    pub fn largest_correction(&self) -> Option<(f64, &'static str, usize, usize)> {
+        let program = self.program.as_ref()?;
+        let mut largest: Option<(f64, &'static str, usize, usize)> = None;
+        for (index, (point, result)) in self.points.iter().zip(&self.results).enumerate() {
+            if result.status != CompensationStatus::Reached {
+                continue;
+            }
+            let original = match &point.target {
+                ProgramTarget::Joints(qm) => Some(qm),
+                _ => point.joints.as_ref(),
+            };
+            for (j, (before, after)) in original
+                .into_iter()
+                .flatten()
+                .zip(&result.motor_positions)
+                .enumerate()
+            {
+                let (change, unit) = program.joint_in_file_unit(j, (after - before).abs());
+                if largest.is_none_or(|(value, ..)| change > value) {
+                    largest = Some((change, unit, j + 1, program.line(index)));
+                }
+            }
+        }
+        largest
+    }
+
+    /// Why the corrected program is not to be run as it is: targets beyond
+    /// a limit or not reached.
+    pub fn failure(&self) -> Option<AppError> {
+        let flagged = self.lines_with(CompensationStatus::OutsideLimits).len()
+            + self.lines_with(CompensationStatus::NotReached).len();
+        (flagged > 0).then(|| {
+            AppError::plain(
+                ErrorKind::NotConverged,
+                format!(
+                    "{flagged} of {} targets are flagged{}; check them before running the program",
+                    self.results.len(),
+                    self.saved
+                        .as_ref()
+                        .map_or_else(String::new, |path| format!(" in {}", path.display()))
+                ),
+            )
+        })
+    }
+
+    /// The JSON document (`gecaro compensate --json`).
+    pub fn document(&self) -> CompensationJson {
+        let outside = self.lines_with(CompensationStatus::OutsideLimits);
+        let not_reached = self.lines_with(CompensationStatus::NotReached);
+        CompensationJson {
+            targets: self.results.len(),
+            reached: self.results.len() - outside.len() - not_reached.len(),
+            outside_limits: outside,
+            not_reached,
+            largest_position_error: self.largest_position_error(),
+            largest_correction: self.largest_correction().map_or(0.0, |(value, ..)| value),
+            output: self.saved.as_ref().map(|path| path.display().to_string()),
+            points: self
+                .results
+                .iter()
+                .enumerate()
+                .map(|(index, result)| CompensatedJson {
+                    line: self.line(index),
+                    status: result.status.word(),
+                    motor_positions: result.motor_positions.clone(),
+                    position_error: result.position_error,
+                    rotation_error: result.rotation_error,
+                })
+                .collect(),
+        }
+    }
+}

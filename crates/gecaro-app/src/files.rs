@@ -1,0 +1,154 @@
+//! Where a front end's files are: the jobs read and write files only
+//! through [`Files`], so that the command line and Python work on the file
+//! system as it is ([`LocalFiles`]) while the web page stays inside its
+//! served folder.
+//!
+//! Names are what the user gave: a path on the command line and in Python,
+//! a name relative to the served folder on the web page. Every output is
+//! checked before any work ([`Files::check_output`]) and written atomically
+//! ([`gecaro_io::write_atomically`]).
+
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+use gecaro_io::OutputPolicy;
+
+use crate::error::{AppError, ErrorKind};
+
+/// An opened input: its path for messages, and its bytes.
+pub struct Opened {
+    /// The file as messages name it.
+    pub path: PathBuf,
+    /// Its content, to be read once.
+    pub reader: Box<dyn Read + Send>,
+}
+
+/// Reading and writing the files a request names; see the module docs.
+pub trait Files: Sync {
+    /// Opens `name` for reading, record by record (data and program files).
+    /// `extensions` are those the job expects; a front end may refuse others.
+    ///
+    /// # Errors
+    /// A file that cannot be opened, is not a regular file, or may not be used.
+    fn open(&self, name: &str, extensions: &[&str]) -> Result<Opened, AppError>;
+
+    /// The whole text of `name` (robot files, URDFs, tables), with its path
+    /// for messages.
+    ///
+    /// # Errors
+    /// As [`open`](Self::open), and text that is not UTF-8 or too large.
+    fn read_text(&self, name: &str, extensions: &[&str]) -> Result<(PathBuf, String), AppError>;
+
+    /// Whether `name` is a file this front end can read.
+    fn is_file(&self, name: &str) -> bool;
+
+    /// Refuses, before any work, an output `name` that exists (unless
+    /// `overwrite`) or cannot be written; `extension` is the one expected.
+    ///
+    /// # Errors
+    /// [`ErrorKind::Exists`], or a name or folder that cannot be used.
+    fn check_output(&self, name: &str, extension: &str, overwrite: bool) -> Result<(), AppError>;
+
+    /// Writes `bytes` to `name` atomically; returns the path written.
+    ///
+    /// # Errors
+    /// As [`check_output`](Self::check_output), and a failed write (which
+    /// leaves nothing behind).
+    fn write(
+        &self,
+        name: &str,
+        extension: &str,
+        bytes: &[u8],
+        overwrite: bool,
+    ) -> Result<PathBuf, AppError>;
+
+    /// Removes the file `name` written by this job (a half of a pair of
+    /// files whose other half could not be written); failures are ignored.
+    fn remove(&self, name: &str);
+
+    /// The local path of `name` when files it names can be read beside it
+    /// (a study file's data files); `None` where a front end does not allow
+    /// that.
+    fn local_path(&self, name: &str) -> Option<PathBuf>;
+
+    /// The most configurations a data set may hold here.
+    fn max_samples(&self) -> usize {
+        gecaro_io::MAX_CONFIGURATIONS
+    }
+}
+
+/// The file system as it is: the command line's and Python's files.
+#[derive(Copy, Clone, Debug, Default)]
+pub struct LocalFiles;
+
+/// What an overwrite flag says of an existing output.
+pub(crate) fn policy(overwrite: bool) -> OutputPolicy {
+    if overwrite {
+        OutputPolicy::Overwrite
+    } else {
+        OutputPolicy::KeepExisting
+    }
+}
+
+impl Files for LocalFiles {
+    fn open(&self, name: &str, _: &[&str]) -> Result<Opened, AppError> {
+        let path = PathBuf::from(name);
+        let file = gecaro_io::open_input(&path)?;
+        Ok(Opened {
+            path,
+            reader: Box::new(std::io::BufReader::with_capacity(1 << 16, file)),
+        })
+    }
+
+    fn read_text(&self, name: &str, _: &[&str]) -> Result<(PathBuf, String), AppError> {
+        let path = PathBuf::from(name);
+        let text = gecaro_io::read_description(&path)?;
+        Ok((path, text))
+    }
+
+    fn is_file(&self, name: &str) -> bool {
+        Path::new(name).is_file()
+    }
+
+    fn check_output(&self, name: &str, _: &str, overwrite: bool) -> Result<(), AppError> {
+        let path = Path::new(name);
+        if !overwrite && path.exists() {
+            return Err(AppError::exists(path));
+        }
+        let folder = path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        if !folder.is_dir() {
+            return Err(AppError::plain(
+                ErrorKind::Output,
+                format!(
+                    "cannot write {}: the folder {} does not exist",
+                    path.display(),
+                    folder.display()
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    fn write(
+        &self,
+        name: &str,
+        _: &str,
+        bytes: &[u8],
+        overwrite: bool,
+    ) -> Result<PathBuf, AppError> {
+        let path = PathBuf::from(name);
+        gecaro_io::write_atomically(&path, bytes, policy(overwrite))?;
+        Ok(path)
+    }
+
+    fn remove(&self, name: &str) {
+        let _ = std::fs::remove_file(name);
+    }
+
+    fn local_path(&self, name: &str) -> Option<PathBuf> {
+        Some(PathBuf::from(name))
+    }
+}

@@ -1,0 +1,251 @@
+//! The "Points generation" function (paper §4) as a job: a simulated "real"
+//! robot (the nominal one with random errors, or a given one) measured by
+//! the method's sensor with noise, at random configurations or at planned
+//! ones.
+
+use gecaro_calib::methods::CalibrationMethod;
+use gecaro_calib::simulation::{
+    Sampler, perturbed_robot, simulate_at, simulate_measurements, terminal_displacement,
+};
+use gecaro_calib::study::{DataColumn, Sample};
+use gecaro_io::RobotFile;
+use serde::Deserialize;
+
+use crate::error::{AppError, ErrorKind, Part};
+use crate::files::Files;
+use crate::limits::MAX_GENERATE;
+use crate::measurements::Unknown;
+use crate::method::MethodSpec;
+use crate::robot_files::simulated_robot_file;
+use crate::sources::{DataFormatSpec, DataSource, RobotSource};
+
+/// A points generation; see the module docs.
+#[derive(Clone, Debug, Deserialize)]
+pub struct GenerateRequest {
+    /// The nominal robot.
+    pub robot: RobotSource,
+    /// The method whose data are simulated.
+    pub method: MethodSpec,
+    /// Configurations to generate (1 to [`MAX_GENERATE`]); not with
+    /// `configurations`.
+    #[serde(default)]
+    pub count: Option<usize>,
+    /// Measure at these configurations instead (a planned file's qm, and
+    /// set or pair ids).
+    #[serde(default)]
+    pub configurations: Option<DataSource>,
+    /// Errors of the simulated real robot: ±L cm, ±L°, ±L % (default 1); not
+    /// with `real`.
+    #[serde(default)]
+    pub error_level: Option<f64>,
+    /// The real robot, instead of one with random errors.
+    #[serde(default)]
+    pub real: Option<RobotSource>,
+    /// Sensor noise, standard deviation (metres; radians for orientations).
+    #[serde(default)]
+    pub noise: f64,
+    /// Seed of every random draw (default 1).
+    #[serde(default)]
+    pub seed: Option<u64>,
+    /// Write the data file (CSV) here.
+    #[serde(default)]
+    pub save_as: Option<String>,
+    /// Write the simulated real robot here, so that the truth is known.
+    #[serde(default)]
+    pub real_save_as: Option<String>,
+    /// Replace files that exist.
+    #[serde(default)]
+    pub overwrite: bool,
+    #[serde(flatten)]
+    unknown: Unknown,
+}
+
+/// Simulated measurements and the robot they were measured on.
+#[derive(Debug)]
+pub struct Generated {
+    /// The nominal robot.
+    pub nominal: RobotFile,
+    /// The method.
+    pub method: Box<dyn CalibrationMethod>,
+    /// The simulated measurements.
+    pub samples: Vec<Sample>,
+    /// The real robot they were measured on.
+    pub real: RobotFile,
+    /// Whether the real robot was given (else drawn at `error_level`).
+    pub real_given: bool,
+    /// RMS and largest distance (m) between the nominal and the real
+    /// terminal points over the configurations.
+    pub displacement: (f64, f64),
+    /// The data file's text (CSV).
+    pub csv: String,
+    /// Where the data file was written, if asked for.
+    pub saved: Option<std::path::PathBuf>,
+    /// Where the real robot was written, if asked for.
+    pub real_saved: Option<std::path::PathBuf>,
+    /// The error level of a drawn real robot.
+    pub error_level: f64,
+    /// The seed.
+    pub seed: u64,
+}
+
+impl GenerateRequest {
+    /// A generation of `count` configurations of `method` on `robot`, with
+    /// the default settings.
+    pub fn new(robot: RobotSource, method: MethodSpec, count: usize) -> Self {
+        GenerateRequest {
+            robot,
+            method,
+            count: Some(count),
+            configurations: None,
+            error_level: None,
+            real: None,
+            noise: 0.0,
+            seed: None,
+            save_as: None,
+            real_save_as: None,
+            overwrite: false,
+            unknown: Unknown::default(),
+        }
+    }
+
+    /// Simulates the measurements and writes the files asked for (checked
+    /// before any work).
+    ///
+    /// # Errors
+    /// Bad settings, a real robot of other joints, configurations that
+    /// cannot be generated, files that cannot be written.
+    pub fn run(&self, files: &dyn Files) -> Result<Generated, AppError> {
+        self.unknown.check()?;
+        let nominal = self.robot.load(files)?;
+        let robot = &nominal.robot;
+        for (name, extension) in [(&self.save_as, "csv"), (&self.real_save_as, "toml")] {
+            if let Some(name) = name {
+                files.check_output(name, extension, self.overwrite)?;
+            }
+        }
+        let method = self.method.build()?;
+        let seed = self.seed.unwrap_or(1);
+        let error_level = self.error_level.unwrap_or(1.0);
+        let mut sampler = Sampler::new(seed);
+        let real = match &self.real {
+            Some(source) => {
+                if self.error_level.is_some() {
+                    return Err(AppError::new(
+                        ErrorKind::Usage,
+                        vec![
+                            Part::Setting("real".into()),
+                            Part::Text(" is the real robot; ".into()),
+                            Part::Setting("error_level".into()),
+                            Part::Text(" draws one: give one of them".into()),
+                        ],
+                    ));
+                }
+                let real = source.load(files)?;
+                if real.robot.joint_letters() != robot.joint_letters() {
+                    return Err(AppError::plain(
+                        ErrorKind::Input,
+                        format!(
+                            "the real robot has joints {}, the nominal one {}",
+                            real.robot.joint_letters(),
+                            robot.joint_letters()
+                        ),
+                    ));
+                }
+                real
+            }
+            None => simulated_robot_file(
+                &nominal,
+                perturbed_robot(robot, error_level, &mut sampler)?,
+                error_level,
+                seed,
+            ),
+        };
+        let samples = match (&self.configurations, self.count) {
+            (Some(_), Some(_)) => {
+                return Err(AppError::setting(
+                    "configurations",
+                    "give configurations to measure at, or a count of random ones, not both",
+                ));
+            }
+            (Some(source), None) => {
+                let planned = source.read(
+                    files,
+                    &gecaro_io::joint_types(robot),
+                    &DataColumn::grouping(method.data_columns()),
+                    &DataFormatSpec::default().format()?,
+                )?;
+                simulate_at(
+                    &real.robot,
+                    method.as_ref(),
+                    &planned.samples,
+                    self.noise,
+                    &mut sampler,
+                )?
+            }
+            (None, count) => {
+                let count = count.ok_or_else(|| {
+                    AppError::setting("count", "give the number of configurations")
+                })?;
+                if !(1..=MAX_GENERATE).contains(&count) {
+                    return Err(AppError::setting_value(
+                        "count",
+                        count,
+                        format!("between 1 and {MAX_GENERATE} configurations"),
+                    ));
+                }
+                simulate_measurements(
+                    &real.robot,
+                    method.as_ref(),
+                    count,
+                    self.noise,
+                    &mut sampler,
+                )?
+            }
+        };
+        let displacement = terminal_displacement(robot, &real.robot, &samples)?;
+        let csv = gecaro_io::format_samples(robot.joint_count(), method.data_columns(), &samples);
+        let saved = match &self.save_as {
+            Some(name) => Some(files.write(name, "csv", csv.as_bytes(), self.overwrite)?),
+            None => None,
+        };
+        let real_saved = match &self.real_save_as {
+            Some(name) => Some(files.write(
+                name,
+                "toml",
+                gecaro_io::format_robot_file(&real).as_bytes(),
+                self.overwrite,
+            )?),
+            None => None,
+        };
+        Ok(Generated {
+            nominal,
+            method,
+            samples,
+            real,
+            real_given: self.real.is_some(),
+            displacement,
+            csv,
+            saved,
+            real_saved,
+            error_level,
+            seed,
+        })
+    }
+}
+
+impl Generated {
+    /// A name to save the data as: `stanford-position-50.csv`.
+    pub fn file_name(&self) -> String {
+        data_file_name(&self.nominal.robot, self.method.name(), self.samples.len())
+    }
+}
+
+/// The name a data file of `robot` for `what` (a method name, ...) with
+/// `count` configurations is offered under: `stanford-position-50.csv`.
+pub fn data_file_name(robot: &gecaro_core::Robot, what: &str, count: usize) -> String {
+    let slug = robot
+        .name()
+        .to_lowercase()
+        .replace(|c: char| !c.is_alphanumeric(), "-");
+    format!("{slug}-{what}-{count}.csv")
+}

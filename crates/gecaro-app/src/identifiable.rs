@@ -1,0 +1,91 @@
+//! The "Identifiable parameters" function (paper §4, Appendix III) as a job:
+//! on random configurations of a method, or on measured data with the
+//! excitation check.
+
+use gecaro_calib::identifiability::{Identifiability, identifiability};
+use serde::Deserialize;
+
+use crate::documents::IdentifiableJson;
+use crate::error::AppError;
+use crate::files::Files;
+use crate::limits::MAX_RANDOM;
+use crate::measurements::{Data, Loaded, Measurements, Unknown};
+use crate::settings::PrioritySource;
+
+/// Which parameters a method can identify.
+#[derive(Clone, Debug, Default, Deserialize)]
+pub struct IdentifiableRequest {
+    /// The robot and method, with or without data.
+    #[serde(flatten)]
+    pub measurements: Measurements,
+    /// The priority matrix; default the study file's, else the robot's.
+    #[serde(default)]
+    pub priority: Option<PrioritySource>,
+    /// Random configurations when there are no data (default: about 2.5
+    /// equations per unknown, at most [`MAX_RANDOM`]).
+    #[serde(default)]
+    pub count: Option<usize>,
+    /// Seed of the random configurations (default 1).
+    #[serde(default)]
+    pub seed: Option<u64>,
+    #[serde(flatten)]
+    unknown: Unknown,
+}
+
+/// The identifiable parameters of a study.
+#[derive(Clone, Debug)]
+pub struct IdentifiabilityAnalysis {
+    /// The robot, study and notes.
+    pub loaded: Loaded,
+    /// The library's analysis.
+    pub analysis: Identifiability,
+}
+
+impl IdentifiableRequest {
+    /// A request on `measurements`.
+    pub fn new(measurements: Measurements) -> Self {
+        IdentifiableRequest {
+            measurements,
+            ..IdentifiableRequest::default()
+        }
+    }
+
+    /// Runs the analysis.
+    ///
+    /// # Errors
+    /// Bad input or settings, configurations that cannot be generated, too
+    /// few equations.
+    pub fn run(&self, files: &dyn Files) -> Result<IdentifiabilityAnalysis, AppError> {
+        self.unknown.check()?;
+        if let Some(count) = self.count
+            && !(1..=MAX_RANDOM).contains(&count)
+        {
+            return Err(AppError::setting_value(
+                "count",
+                count,
+                format!("between 1 and {MAX_RANDOM} random configurations"),
+            ));
+        }
+        let loaded = self.measurements.load(files, Data::Optional)?;
+        let robot = &loaded.robot.robot;
+        let priority = match &self.priority {
+            Some(source) => source.load(robot, files)?,
+            None => loaded.priority.clone().unwrap_or_else(|| robot.priority()),
+        };
+        let analysis = identifiability(
+            robot,
+            &loaded.study,
+            &priority,
+            self.count,
+            self.seed.unwrap_or(1),
+        )?;
+        Ok(IdentifiabilityAnalysis { loaded, analysis })
+    }
+}
+
+impl IdentifiabilityAnalysis {
+    /// The JSON document (`gecaro identifiable --json`, the web page's answer).
+    pub fn document(&self) -> IdentifiableJson {
+        IdentifiableJson::new(&self.loaded.robot.robot, &self.analysis)
+    }
+}

@@ -1,0 +1,436 @@
+//! The "Identification" function (paper §4, eq. 10–11) as a job, with the
+//! jobs that judge it on held-out data: K-fold cross-validation, the
+//! comparison of models, and the evaluation of a (calibrated) robot.
+//!
+//! A request is prepared first ([`IdentifyRequest::prepare`]: the robot and
+//! data are read and checked, the settings parsed), so that a front end can
+//! answer bad input at once and run the identification later, in the
+//! background, with progress ([`PreparedIdentification::run`]).
+
+use gecaro_calib::Observer;
+use gecaro_calib::identification::{
+    ErrorSummary, Identification, IdentificationOptions, StopReason, evaluate, identify,
+};
+use gecaro_calib::validation::{CrossValidation, ModelScore, compare_models, cross_validate};
+use gecaro_io::RobotFile;
+use gecaro_report::{
+    ReportInput, convergence_svg, error_histograms_svg, errors_per_configuration_svg, html_report,
+};
+use serde::{Deserialize, Serialize};
+
+use crate::documents::{CrossValidationJson, IdentificationJson, ModelScoreJson};
+use crate::error::{AppError, ErrorKind};
+use crate::files::Files;
+use crate::limits::MAX_FOLDS;
+use crate::measurements::{Data, Loaded, Measurements, Unknown};
+use crate::robot_files::calibrated_robot_file;
+use crate::settings::{FitSettings, model};
+
+/// An identification; see the module docs.
+#[derive(Clone, Debug, Default, Deserialize)]
+pub struct IdentifyRequest {
+    /// What is identified from what.
+    #[serde(flatten)]
+    pub measurements: Measurements,
+    /// How.
+    #[serde(flatten)]
+    pub settings: FitSettings,
+    /// Also cross-validate, with this many folds (2–20).
+    #[serde(default)]
+    pub cv: Option<usize>,
+    /// Seed of the folds (default 1).
+    #[serde(default)]
+    pub seed: Option<u64>,
+    #[serde(flatten)]
+    unknown: Unknown,
+}
+
+/// An identification ready to run: its input read and checked.
+#[derive(Clone, Debug)]
+pub struct PreparedIdentification {
+    /// The robot, study and notes.
+    pub loaded: Loaded,
+    /// The library's settings.
+    pub options: IdentificationOptions,
+    /// Folds and seed of the cross-validation, if asked for.
+    pub cross_validation: Option<(usize, u64)>,
+}
+
+/// Checks a number of folds.
+fn folds(folds: usize) -> Result<usize, AppError> {
+    if (2..=MAX_FOLDS).contains(&folds) {
+        Ok(folds)
+    } else {
+        Err(AppError::setting_value(
+            "cv",
+            folds,
+            format!("between 2 and {MAX_FOLDS} folds"),
+        ))
+    }
+}
+
+impl IdentifyRequest {
+    /// A request on `measurements` with default settings.
+    pub fn new(measurements: Measurements) -> Self {
+        IdentifyRequest {
+            measurements,
+            ..IdentifyRequest::default()
+        }
+    }
+
+    /// Reads the robot and data, checks them, and parses the settings.
+    ///
+    /// # Errors
+    /// Bad input or settings (see [`Measurements::load`], [`FitSettings::options`]).
+    pub fn prepare(&self, files: &dyn Files) -> Result<PreparedIdentification, AppError> {
+        self.unknown.check()?;
+        let cross_validation = match self.cv {
+            Some(count) => Some((folds(count)?, self.seed.unwrap_or(1))),
+            None => None,
+        };
+        let loaded = self.measurements.load(files, Data::Required)?;
+        loaded.study.check(&loaded.robot.robot)?;
+        let options = self.settings.options(&loaded, files)?;
+        Ok(PreparedIdentification {
+            loaded,
+            options,
+            cross_validation,
+        })
+    }
+
+    /// [`prepare`](Self::prepare) and [`run`](PreparedIdentification::run).
+    ///
+    /// # Errors
+    /// As both.
+    pub fn run(
+        &self,
+        files: &dyn Files,
+        observer: &mut dyn Observer,
+    ) -> Result<Identified, AppError> {
+        self.prepare(files)?.run(observer)
+    }
+}
+
+impl PreparedIdentification {
+    /// The K-fold cross-validation asked for (two folds when none was);
+    /// `observer` hears of every fold.
+    ///
+    /// # Errors
+    /// A fold that cannot be identified, an interruption.
+    pub fn cross_validate(&self, observer: &mut dyn Observer) -> Result<CrossValidation, AppError> {
+        let (folds, seed) = self.cross_validation.unwrap_or((2, 1));
+        Ok(cross_validate(
+            &self.loaded.robot.robot,
+            &self.loaded.study,
+            &self.options,
+            folds,
+            seed,
+            observer,
+        )?)
+    }
+
+    /// Identifies, then cross-validates if asked; `observer` hears of every
+    /// iterate of the identification.
+    ///
+    /// # Errors
+    /// Too few equations, numerical failures, an interruption.
+    pub fn run(self, observer: &mut dyn Observer) -> Result<Identified, AppError> {
+        let Loaded { robot, study, .. } = &self.loaded;
+        let result = identify(&robot.robot, study, &self.options, observer)?;
+        let cross_validation = match self.cross_validation {
+            Some((_, seed)) => Some((self.cross_validate(&mut gecaro_calib::Quiet)?, seed)),
+            None => None,
+        };
+        Ok(Identified {
+            loaded: self.loaded,
+            options: self.options,
+            result,
+            cross_validation,
+        })
+    }
+}
+
+/// A finished identification with what produced it.
+#[derive(Clone, Debug)]
+pub struct Identified {
+    /// The robot, study and notes it ran on.
+    pub loaded: Loaded,
+    /// Its settings.
+    pub options: IdentificationOptions,
+    /// The library's result.
+    pub result: Identification,
+    /// The cross-validation and its seed, if asked for.
+    pub cross_validation: Option<(CrossValidation, u64)>,
+}
+
+/// The plots of an identification, as SVG.
+#[derive(Clone, Debug, Serialize)]
+pub struct Plots {
+    /// Residual RMS per iteration.
+    pub convergence: String,
+    /// Errors before and after, as histograms.
+    pub errors_histogram: String,
+    /// Errors before and after, per configuration, outliers ringed.
+    pub errors_per_configuration: String,
+}
+
+impl Identified {
+    /// The JSON document (`gecaro identify --json`, the web page's result,
+    /// Python's `to_dict()`).
+    pub fn document(&self) -> IdentificationJson {
+        let mut document = IdentificationJson::new(&self.loaded.study, &self.result);
+        document.cross_validation = self
+            .cross_validation
+            .as_ref()
+            .map(|(validation, seed)| CrossValidationJson::new(validation, *seed));
+        document
+    }
+
+    /// The calibrated robot as a robot file.
+    pub fn calibrated(&self) -> RobotFile {
+        calibrated_robot_file(
+            &self.loaded.robot,
+            &self.loaded.study,
+            &self.result,
+            &self.loaded.label,
+        )
+    }
+
+    /// Whether the iteration converged.
+    pub fn converged(&self) -> bool {
+        self.result.stop_reason == StopReason::Converged
+    }
+
+    /// Why the result is not to be trusted, when the iteration did not converge.
+    pub fn failure(&self) -> Option<AppError> {
+        self.result
+            .failure()
+            .map(|message| AppError::plain(ErrorKind::NotConverged, message))
+    }
+
+    /// The three plots (lengths in millimetres).
+    ///
+    /// # Errors
+    /// A plot that cannot be drawn.
+    pub fn plots(&self) -> Result<Plots, AppError> {
+        let millimetres =
+            |errors: &[(f64, f64)]| errors.iter().map(|e| e.0 * 1e3).collect::<Vec<f64>>();
+        let (before, after) = (
+            millimetres(&self.result.errors_before),
+            millimetres(&self.result.errors_after),
+        );
+        Ok(Plots {
+            convergence: convergence_svg(&self.result.history)?,
+            errors_histogram: error_histograms_svg(&before, &after, "mm")?,
+            errors_per_configuration: errors_per_configuration_svg(
+                &before,
+                &after,
+                &self.result.outlier_observations(),
+                "mm",
+            )?,
+        })
+    }
+
+    /// The self-contained HTML report; `command` says what produced it.
+    ///
+    /// # Errors
+    /// A plot that cannot be drawn.
+    pub fn report(&self, command: &str) -> Result<String, AppError> {
+        Ok(html_report(&ReportInput {
+            robot: &self.loaded.robot.robot,
+            study: &self.loaded.study,
+            identification: &self.result,
+            command,
+        })?)
+    }
+}
+
+/// Candidate models ranked by their cross-validated held-out error.
+#[derive(Clone, Debug, Deserialize)]
+pub struct CompareModelsRequest {
+    /// The measurements.
+    #[serde(flatten)]
+    pub measurements: Measurements,
+    /// The settings of every fit (the model excepted).
+    #[serde(flatten)]
+    pub settings: FitSettings,
+    /// The candidates: `offsets`, `kinematic`, `no-gains`, `no-beta`, `full`
+    /// or priority files.
+    pub models: Vec<String>,
+    /// Folds of the cross-validation (2–20).
+    pub cv: usize,
+    /// Seed of the folds (the same for every model).
+    #[serde(default)]
+    pub seed: Option<u64>,
+    #[serde(flatten)]
+    unknown: Unknown,
+}
+
+/// The models, best first, with what each adds to the next smaller one.
+#[derive(Clone, Debug)]
+pub struct ModelComparison {
+    /// The robot, study and notes.
+    pub loaded: Loaded,
+    /// Each model's cross-validation, best first.
+    pub scores: Vec<ModelScore>,
+    /// For each score: what it identifies beyond the next smaller model, or
+    /// which model it identifies the same parameters as.
+    pub adds: Vec<Vec<String>>,
+    /// Folds and seed.
+    pub folds: usize,
+    /// The seed of the folds.
+    pub seed: u64,
+}
+
+impl CompareModelsRequest {
+    /// A comparison of `models` on `measurements` by `cv` folds.
+    pub fn new(measurements: Measurements, models: Vec<String>, cv: usize) -> Self {
+        CompareModelsRequest {
+            measurements,
+            settings: FitSettings::default(),
+            models,
+            cv,
+            seed: None,
+            unknown: Unknown::default(),
+        }
+    }
+
+    /// Cross-validates every model; `observer` hears of every fold.
+    ///
+    /// # Errors
+    /// A model given also as `model`, no model, bad input or settings, or a
+    /// fold that cannot be identified.
+    pub fn run(
+        &self,
+        files: &dyn Files,
+        observer: &mut dyn Observer,
+    ) -> Result<ModelComparison, AppError> {
+        self.unknown.check()?;
+        if self.settings.model.as_deref().is_some_and(|m| m != "full") {
+            return Err(AppError::setting(
+                "model",
+                "a comparison takes its candidates from the models, not the model",
+            ));
+        }
+        let folds = folds(self.cv)?;
+        let seed = self.seed.unwrap_or(1);
+        let loaded = self.measurements.load(files, Data::Required)?;
+        let options = self.settings.options(&loaded, files)?;
+        let robot = &loaded.robot.robot;
+        let models = self
+            .models
+            .iter()
+            .map(|name| name.trim())
+            .filter(|name| !name.is_empty())
+            .map(|name| model(name, robot, files))
+            .collect::<Result<Vec<_>, AppError>>()?;
+        if models.is_empty() {
+            return Err(AppError::setting("models", "no model given"));
+        }
+        let scores = compare_models(
+            robot,
+            &loaded.study,
+            &options,
+            &models,
+            folds,
+            seed,
+            observer,
+        )?;
+        let adds = additions(&scores);
+        Ok(ModelComparison {
+            loaded,
+            scores,
+            adds,
+            folds,
+            seed,
+        })
+    }
+}
+
+impl ModelComparison {
+    /// The JSON document, best model first.
+    pub fn documents(&self) -> Vec<ModelScoreJson> {
+        self.scores
+            .iter()
+            .zip(&self.adds)
+            .map(|(score, adds)| ModelScoreJson {
+                model: score.model.to_string(),
+                parameters: score.validation.parameters.clone(),
+                adds: adds.clone(),
+                cross_validation: CrossValidationJson::new(&score.validation, self.seed),
+            })
+            .collect()
+    }
+}
+
+/// What each model identifies beyond the next smaller one (by parameter
+/// count), or which model it identifies the same parameters as.
+fn additions(scores: &[ModelScore]) -> Vec<Vec<String>> {
+    let parameters = |index: usize| &scores[index].validation.parameters;
+    let mut by_size: Vec<usize> = (0..scores.len()).collect();
+    by_size.sort_by_key(|index| parameters(*index).len());
+    let mut adds = vec![Vec::new(); scores.len()];
+    for (position, &index) in by_size.iter().enumerate() {
+        let earlier = &by_size[..position];
+        if let Some(same) = earlier.iter().find(|other| {
+            parameters(**other).len() == parameters(index).len()
+                && parameters(index)
+                    .iter()
+                    .all(|name| parameters(**other).contains(name))
+        }) {
+            adds[index] = vec![format!("(the same parameters as {})", scores[*same].model)];
+        } else if let Some(smaller) = earlier
+            .iter()
+            .rev()
+            .find(|other| parameters(**other).len() < parameters(index).len())
+        {
+            adds[index] = parameters(index)
+                .iter()
+                .filter(|name| !parameters(*smaller).contains(name))
+                .cloned()
+                .collect();
+        }
+    }
+    adds
+}
+
+/// The errors of a (calibrated) robot on measurements, ideally not those it
+/// was identified from.
+#[derive(Clone, Debug, Default, Deserialize)]
+pub struct EvaluateRequest {
+    /// The robot and its measurements.
+    #[serde(flatten)]
+    pub measurements: Measurements,
+    #[serde(flatten)]
+    unknown: Unknown,
+}
+
+/// The errors of a robot on measurements.
+#[derive(Clone, Debug)]
+pub struct Evaluation {
+    /// The robot, study and notes.
+    pub loaded: Loaded,
+    /// Error statistics per configuration (or pair).
+    pub summary: ErrorSummary,
+}
+
+impl EvaluateRequest {
+    /// A request on `measurements`.
+    pub fn new(measurements: Measurements) -> Self {
+        EvaluateRequest {
+            measurements,
+            unknown: Unknown::default(),
+        }
+    }
+
+    /// Evaluates the robot on the data.
+    ///
+    /// # Errors
+    /// Bad input, or auxiliary unknowns that cannot be initialised.
+    pub fn run(&self, files: &dyn Files) -> Result<Evaluation, AppError> {
+        self.unknown.check()?;
+        let loaded = self.measurements.load(files, Data::Required)?;
+        let summary = evaluate(&loaded.robot.robot, &loaded.study)?;
+        Ok(Evaluation { loaded, summary })
+    }
+}

@@ -1,0 +1,254 @@
+//! Robots from and to other formats as jobs (`docs/interchange.md`): a
+//! URDF, a DH or modified-DH table or a SYMORO file read into a robot file
+//! ([`ImportRequest`]), a robot written as a URDF or a DH table, with its
+//! joint calibration beside it when the format cannot carry gains or
+//! couplings ([`ExportRequest`]).
+
+use std::path::{Path, PathBuf};
+
+use gecaro_io::{ChainEnds, Exported, ImportOptions, RobotFile, RobotFormat, TableUnits};
+use serde::Deserialize;
+
+use crate::error::{AppError, ErrorKind};
+use crate::files::Files;
+use crate::measurements::Unknown;
+use crate::method::parse_name;
+use crate::sources::{RobotSource, angle_unit, length_unit};
+
+/// The format of a name: `urdf`, `dh`, `mdh`, `symoro`.
+fn format(key: &str, name: Option<&str>) -> Result<Option<RobotFormat>, AppError> {
+    parse_name(key, name, &RobotFormat::NAMES, RobotFormat::from_name)
+}
+
+/// A robot read from another format; see the module docs.
+#[derive(Clone, Debug, Default, Deserialize)]
+pub struct ImportRequest {
+    /// The file: `.urdf`, `.par`, or a table (`.toml` with `convention`, `.csv`).
+    pub file: String,
+    /// Its format, when the file does not tell: `urdf`, `dh`, `mdh`, `symoro`.
+    #[serde(default)]
+    pub format: Option<String>,
+    /// URDF: the link whose frame is the world frame (default: the root).
+    #[serde(default)]
+    pub base: Option<String>,
+    /// URDF: the link whose frame is frame n+1 (default: the leaf with the
+    /// most moving joints).
+    #[serde(default)]
+    pub tip: Option<String>,
+    /// The robot's name (default: the file's).
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Tables: the unit of lengths that do not state theirs (`m`, `mm`).
+    #[serde(default)]
+    pub length_unit: Option<String>,
+    /// Tables: the unit of angles that do not state theirs (`rad`, `deg`).
+    #[serde(default)]
+    pub angle_unit: Option<String>,
+    /// Write the robot file here.
+    #[serde(default)]
+    pub save_as: Option<String>,
+    /// Replace a file that exists.
+    #[serde(default)]
+    pub overwrite: bool,
+    #[serde(flatten)]
+    unknown: Unknown,
+}
+
+/// A robot read from another format, and where it was written.
+#[derive(Clone, Debug)]
+pub struct Imported {
+    /// The robot file and what the conversion did.
+    pub imported: gecaro_io::Imported,
+    /// Where the robot file was written, if asked for.
+    pub saved: Option<PathBuf>,
+}
+
+impl ImportRequest {
+    /// An import of `file`, its format told by its name.
+    pub fn new(file: impl Into<String>) -> Self {
+        ImportRequest {
+            file: file.into(),
+            ..ImportRequest::default()
+        }
+    }
+
+    /// Reads the file and writes the robot file if asked (checked first).
+    ///
+    /// # Errors
+    /// A file that cannot be read or converted (naming the line), settings
+    /// that are not understood, an output that exists.
+    pub fn run(&self, files: &dyn Files) -> Result<Imported, AppError> {
+        self.unknown.check()?;
+        let options = ImportOptions {
+            format: format("format", self.format.as_deref())?,
+            chain: ChainEnds {
+                base: self.base.clone(),
+                tip: self.tip.clone(),
+                name: self.name.clone(),
+            },
+            units: TableUnits {
+                length: length_unit(self.length_unit.as_deref())?,
+                angle: angle_unit(self.angle_unit.as_deref())?,
+            },
+        };
+        if let Some(name) = &self.save_as {
+            files.check_output(name, "toml", self.overwrite)?;
+        }
+        let (path, text) = files.read_text(&self.file, &["urdf", "par", "toml", "csv", "xml"])?;
+        let imported = gecaro_io::import_robot_text(&text, &path, &options)?;
+        let saved = match &self.save_as {
+            Some(name) => Some(files.write(
+                name,
+                "toml",
+                gecaro_io::format_robot_file(&imported.file).as_bytes(),
+                self.overwrite,
+            )?),
+            None => None,
+        };
+        Ok(Imported { imported, saved })
+    }
+}
+
+/// A robot written in another format; see the module docs.
+#[derive(Clone, Debug, Deserialize)]
+pub struct ExportRequest {
+    /// The robot.
+    pub robot: RobotSource,
+    /// `urdf`, `dh` or `mdh`.
+    pub to: String,
+    /// Write the file here (and its joint calibration beside it, as
+    /// `FILE.joint_calibration.yaml`).
+    #[serde(default)]
+    pub save_as: Option<String>,
+    /// Replace files that exist.
+    #[serde(default)]
+    pub overwrite: bool,
+    #[serde(flatten)]
+    unknown: Unknown,
+}
+
+/// A robot in another format, and where it was written.
+#[derive(Clone, Debug)]
+pub struct ExportedRobot {
+    /// The robot.
+    pub robot: RobotFile,
+    /// The format.
+    pub format: RobotFormat,
+    /// The text, the joint calibration and the notes.
+    pub exported: Exported,
+    /// The files written: the export, then its joint calibration.
+    pub saved: Vec<PathBuf>,
+}
+
+/// The words of a format in messages.
+pub fn format_name(format: RobotFormat) -> &'static str {
+    match format {
+        RobotFormat::Urdf => "a URDF",
+        RobotFormat::Dh => "a standard DH table",
+        RobotFormat::Mdh => "a modified DH table",
+        RobotFormat::Symoro => "a SYMORO file",
+    }
+}
+
+impl ExportRequest {
+    /// An export of `robot` to the format `to`.
+    pub fn new(robot: RobotSource, to: impl Into<String>) -> Self {
+        ExportRequest {
+            robot,
+            to: to.into(),
+            save_as: None,
+            overwrite: false,
+            unknown: Unknown::default(),
+        }
+    }
+
+    /// Converts the robot and writes both files, or neither (every refusal
+    /// before the first write; the joint calibration removed when the export
+    /// itself cannot be written).
+    ///
+    /// # Errors
+    /// A format that cannot carry the robot, files that exist or cannot be
+    /// written.
+    pub fn run(&self, files: &dyn Files) -> Result<ExportedRobot, AppError> {
+        self.unknown.check()?;
+        let format = format("to", Some(&self.to))?.unwrap_or(RobotFormat::Urdf);
+        if format == RobotFormat::Symoro {
+            return Err(AppError::setting_value(
+                "to",
+                "symoro",
+                "not a format gecaro writes (it reads SYMORO .par files); export to urdf, dh or mdh",
+            ));
+        }
+        let robot = self.robot.load(files)?;
+        let exported = gecaro_io::export_robot(&robot, format).map_err(|message| {
+            AppError::plain(
+                ErrorKind::Usage,
+                format!(
+                    "{} cannot be written as {}: {message}",
+                    robot.robot.name(),
+                    format_name(format)
+                ),
+            )
+        })?;
+        let saved = match &self.save_as {
+            Some(name) => write_export(&exported, format, name, self.overwrite, files)?,
+            None => Vec::new(),
+        };
+        Ok(ExportedRobot {
+            robot,
+            format,
+            exported,
+            saved,
+        })
+    }
+}
+
+/// Writes an export in `format` to `name` and its joint calibration (if
+/// any) beside it: both files or neither (every refusal before the first
+/// write; the joint calibration removed when the export itself cannot be
+/// written). Returns the files written, the export first.
+///
+/// # Errors
+/// Files that exist (without `overwrite`) or cannot be written.
+pub fn write_export(
+    exported: &Exported,
+    format: RobotFormat,
+    name: &str,
+    overwrite: bool,
+    files: &dyn Files,
+) -> Result<Vec<PathBuf>, AppError> {
+    let extension = match format {
+        RobotFormat::Urdf => "urdf",
+        _ => "toml",
+    };
+    let calibration = joint_calibration_name(name);
+    files.check_output(name, extension, overwrite)?;
+    if exported.joint_calibration.is_some() {
+        files.check_output(&calibration, "yaml", overwrite)?;
+    }
+    let calibration_existed = files.is_file(&calibration);
+    let mut saved = Vec::new();
+    if let Some(text) = &exported.joint_calibration {
+        saved.push(files.write(&calibration, "yaml", text.as_bytes(), overwrite)?);
+    }
+    match files.write(name, extension, exported.text.as_bytes(), overwrite) {
+        Ok(path) => saved.insert(0, path),
+        Err(error) => {
+            // The two files go together: no calibration beside a file that failed.
+            if exported.joint_calibration.is_some() && !calibration_existed {
+                files.remove(&calibration);
+            }
+            return Err(error);
+        }
+    }
+    Ok(saved)
+}
+
+/// `FILE.joint_calibration.yaml`, where an export to `FILE.ext` puts its
+/// joint calibration.
+pub fn joint_calibration_name(output: &str) -> String {
+    Path::new(output)
+        .with_extension("joint_calibration.yaml")
+        .to_string_lossy()
+        .into_owned()
+}

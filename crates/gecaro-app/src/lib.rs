@@ -1,0 +1,70 @@
+//! # gecaro-app
+//!
+//! The jobs of gecaro as typed requests and results, beneath its three
+//! front ends: the command line (`gecaro`), the web page (`gecaro-web`) and
+//! the Python package (`gecaro-py`). A front end maps its input onto a
+//! request (from clap arguments, a JSON body, keyword arguments), runs it,
+//! and renders the result; reading files, parsing and checking settings, the
+//! bounds of a request, the prior merge, the limit checks and the wording of
+//! errors happen here, once, so that the three front ends compute and say
+//! the same.
+//!
+//! | job | request | result |
+//! |---|---|---|
+//! | identification (eq. 10–11) | [`IdentifyRequest`] | [`Identified`] |
+//! | cross-validated models | [`CompareModelsRequest`] | [`ModelComparison`] |
+//! | errors on held-out data | [`EvaluateRequest`] | [`Evaluation`] |
+//! | identifiable parameters (Appendix III) | [`IdentifiableRequest`] | [`IdentifiabilityAnalysis`] |
+//! | points generation | [`GenerateRequest`] | [`Generated`] |
+//! | a plan, an accuracy curve | [`PlanRequest`] | [`Planning`] |
+//! | predicted precision of a plan | [`PredictRequest`] | [`Predicted`] |
+//! | a program corrected for the calibrated robot | [`CompensateRequest`] | [`Compensated`] |
+//! | a robot from another format | [`ImportRequest`] | [`Imported`] |
+//! | a robot to another format | [`ExportRequest`] | [`ExportedRobot`] |
+//!
+//! Requests deserialise from the JSON of the web API (`docs/api.md`);
+//! results give the JSON documents of [`documents`]. Files are read and
+//! written through [`Files`]. Errors are [`AppError`]s, worded for each front
+//! end by its [`Dialect`].
+
+#![warn(missing_docs)]
+
+mod compensate;
+pub mod documents;
+mod error;
+mod files;
+mod generate;
+mod identifiable;
+mod identify;
+mod interchange;
+pub mod limits;
+mod measurements;
+mod method;
+mod plan;
+mod robot_files;
+mod settings;
+mod sources;
+
+pub use compensate::{CompensateRequest, Compensated, ProgramSource};
+pub use error::{AppError, Dialect, ErrorKind};
+pub use files::{Files, LocalFiles, Opened};
+pub use generate::{GenerateRequest, Generated, data_file_name};
+pub use identifiable::{IdentifiabilityAnalysis, IdentifiableRequest};
+pub use identify::{
+    CompareModelsRequest, EvaluateRequest, Evaluation, Identified, IdentifyRequest,
+    ModelComparison, Plots, PreparedIdentification,
+};
+pub use interchange::{
+    ExportRequest, ExportedRobot, ImportRequest, Imported, format_name, joint_calibration_name,
+    write_export,
+};
+pub use measurements::{Data, Loaded, LoadedStudy, Measurements, Note, StudySource};
+pub use method::{MethodSpec, parse_name};
+pub use plan::{
+    AccuracyCurve, PlanRequest, Planned, Planning, PredictRequest, Predicted, TestPoses,
+};
+pub use robot_files::{calibrated_robot_file, simulated_robot_file};
+pub use settings::{FitSettings, PrioritySource};
+pub use sources::{
+    DataFormatSpec, DataRead, DataSource, RobotSource, angle_unit, length_unit, robot_of_document,
+};

@@ -1,0 +1,292 @@
+//! The measurements a job works on: one method with its data file
+//! (`robot`, `method`, `data`, `format`), or a study file of several
+//! measurement sets (`study`); loaded into a [`Loaded`] with the notes a user
+//! should read (unused columns, joints outside their limits).
+
+use std::collections::BTreeMap;
+
+use gecaro_calib::identification::Prior;
+use gecaro_calib::study::Study;
+use gecaro_core::PriorityMatrix;
+use gecaro_io::RobotFile;
+use serde::Deserialize;
+use serde::de::IgnoredAny;
+
+use crate::error::{AppError, ErrorKind, Hint, Part};
+use crate::files::Files;
+use crate::method::MethodSpec;
+use crate::sources::{DataFormatSpec, DataSource, RobotSource};
+
+/// Where a job's measurements come from; see the module docs.
+#[derive(Clone, Debug, Default, Deserialize)]
+pub struct Measurements {
+    /// The robot (not with a study file, which names its own).
+    #[serde(default)]
+    pub robot: Option<RobotSource>,
+    /// The method of the data.
+    #[serde(default)]
+    pub method: Option<MethodSpec>,
+    /// The data; some jobs work on random configurations without.
+    #[serde(default)]
+    pub data: Option<DataSource>,
+    /// Units and column names of the data file.
+    #[serde(default)]
+    pub format: DataFormatSpec,
+    /// A study file: several measurement sets (method, data, σ each).
+    #[serde(default)]
+    pub study: Option<StudySource>,
+    /// Refuse data with joints outside their limits (by default a warning).
+    #[serde(default)]
+    pub strict_limits: bool,
+}
+
+/// A study of several measurement sets.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(untagged)]
+pub enum StudySource {
+    /// A study file (TOML; its data files are read beside it).
+    File(String),
+    /// A study built already (a Python `Study`).
+    #[serde(skip)]
+    Loaded(Box<LoadedStudy>),
+}
+
+/// A study with what a study file adds to its sets.
+#[derive(Clone, Debug)]
+pub struct LoadedStudy {
+    /// The nominal robot.
+    pub robot: RobotFile,
+    /// The measurement sets.
+    pub study: Study,
+    /// The study's priority matrix.
+    pub priority: Option<PriorityMatrix>,
+    /// The study's prior.
+    pub prior: Option<Prior>,
+    /// What names the study in messages and reports.
+    pub label: String,
+}
+
+/// What a job reads: the robot, the study, what the study file adds, and
+/// the notes on the data.
+#[derive(Clone, Debug)]
+pub struct Loaded {
+    /// The nominal robot.
+    pub robot: RobotFile,
+    /// The measurement sets (empty samples for random configurations).
+    pub study: Study,
+    /// The study file's priority matrix.
+    pub priority: Option<PriorityMatrix>,
+    /// The study file's prior.
+    pub prior: Option<Prior>,
+    /// The data file or study file, for messages and reports.
+    pub label: String,
+    /// What a user should know about the data.
+    pub notes: Vec<Note>,
+}
+
+/// Something a user should know about a job's input or result.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Note {
+    /// A warning (something may be wrong), or a note.
+    pub warning: bool,
+    message: Vec<Part>,
+}
+
+impl Note {
+    pub(crate) fn plain(message: impl Into<String>) -> Self {
+        Note {
+            warning: false,
+            message: vec![Part::Text(message.into())],
+        }
+    }
+
+    /// The note in a front end's words.
+    pub fn text(&self, dialect: crate::Dialect) -> String {
+        crate::error::render(&self.message, dialect)
+    }
+}
+
+/// Whether a job can work without measured data.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum Data {
+    /// Data are required.
+    Required,
+    /// Without data, the study has no samples: the job draws random
+    /// configurations (identifiable parameters).
+    Optional,
+}
+
+impl Measurements {
+    /// One method with its data file: what the command line's `ROBOT
+    /// --method M --data FILE` gives.
+    pub fn single(robot: RobotSource, method: MethodSpec, data: Option<DataSource>) -> Self {
+        Measurements {
+            robot: Some(robot),
+            method: Some(method),
+            data,
+            ..Measurements::default()
+        }
+    }
+
+    /// Loads the robot and the study, and checks the joint limits of the data.
+    ///
+    /// # Errors
+    /// Missing or conflicting parts (a study with a robot, method or data;
+    /// a method without robot), files that cannot be read, data that do not
+    /// fit, joints outside their limits with `strict_limits`.
+    pub fn load(&self, files: &dyn Files, data: Data) -> Result<Loaded, AppError> {
+        let mut loaded = match &self.study {
+            Some(study) => self.load_study(study, files)?,
+            None => self.load_single(files, data)?,
+        };
+        if let Some(message) = loaded.study.limit_summary(&loaded.robot.robot) {
+            if self.strict_limits {
+                return Err(AppError::new(
+                    ErrorKind::Input,
+                    vec![
+                        Part::Text(format!("{message} (")),
+                        Part::Hint(Hint::StrictLimits),
+                        Part::Text(" refuses such data)".into()),
+                    ],
+                ));
+            }
+            loaded.notes.push(Note {
+                warning: true,
+                message: vec![
+                    Part::Text(format!("{message} (the data are used as they are; ")),
+                    Part::Hint(Hint::StrictLimits),
+                    Part::Text(" refuses them)".into()),
+                ],
+            });
+        }
+        Ok(loaded)
+    }
+
+    fn load_study(&self, study: &StudySource, files: &dyn Files) -> Result<Loaded, AppError> {
+        if self.robot.is_some() || self.method.is_some() || self.data.is_some() {
+            return Err(AppError::setting(
+                "study",
+                "a study file names its robot, methods and data: give the study alone",
+            ));
+        }
+        if !self.format.is_default() {
+            return Err(AppError::new(
+                ErrorKind::Usage,
+                vec![
+                    Part::Setting("angle_unit".into()),
+                    Part::Text(", ".into()),
+                    Part::Setting("length_unit".into()),
+                    Part::Text(" and ".into()),
+                    Part::Setting("columns".into()),
+                    Part::Text(" are for a data file; a study file gives them per set".into()),
+                ],
+            )
+            .with_help(vec![Part::Text(
+                "add length_unit = \"mm\", angle_unit = \"deg\" or columns = { x = \"X\" } to \
+                 its [[measurements]]"
+                    .into(),
+            )]));
+        }
+        match study {
+            StudySource::File(name) => {
+                let path = files.local_path(name).ok_or_else(|| {
+                    AppError::setting("study", "study files are read from local folders only")
+                })?;
+                let file = gecaro_io::read_study_file(&path)?;
+                Ok(Loaded {
+                    robot: file.robot,
+                    study: file.study,
+                    priority: file.priority,
+                    prior: file.prior,
+                    label: name.clone(),
+                    notes: file.notes.into_iter().map(Note::plain).collect(),
+                })
+            }
+            StudySource::Loaded(study) => Ok(Loaded {
+                robot: study.robot.clone(),
+                study: study.study.clone(),
+                priority: study.priority.clone(),
+                prior: study.prior.clone(),
+                label: study.label.clone(),
+                notes: Vec::new(),
+            }),
+        }
+    }
+
+    fn load_single(&self, files: &dyn Files, data: Data) -> Result<Loaded, AppError> {
+        let (Some(robot), Some(method)) = (&self.robot, &self.method) else {
+            return Err(AppError::new(
+                ErrorKind::Usage,
+                vec![
+                    Part::Text("give a robot and a method (".into()),
+                    Part::Setting("method".into()),
+                    Part::Text("), or a study (".into()),
+                    Part::Setting("study".into()),
+                    Part::Text(")".into()),
+                ],
+            ));
+        };
+        let robot = robot.load(files)?;
+        let method = method.build()?;
+        let mut notes = Vec::new();
+        let (samples, label) = match (&self.data, data) {
+            (Some(source), _) => {
+                let read = source.read(
+                    files,
+                    &gecaro_io::joint_types(&robot.robot),
+                    method.data_columns(),
+                    &self.format.format()?,
+                )?;
+                if !read.unused_columns.is_empty() {
+                    notes.push(Note::plain(format!(
+                        "{}: columns {} are not used by the {} method (left alone)",
+                        read.label,
+                        read.unused_columns.join(", "),
+                        method.name()
+                    )));
+                }
+                (read.samples, read.label)
+            }
+            (None, Data::Optional) => (Vec::new(), "random configurations".to_owned()),
+            (None, Data::Required) => {
+                return Err(AppError::new(
+                    ErrorKind::Usage,
+                    vec![
+                        Part::Text("no data: give the measurements (".into()),
+                        Part::Setting("data".into()),
+                        Part::Text(")".into()),
+                    ],
+                ));
+            }
+        };
+        Ok(Loaded {
+            robot,
+            study: Study::single(method, samples, label.clone()),
+            priority: None,
+            prior: None,
+            label,
+            notes,
+        })
+    }
+}
+
+/// Fields of a request that no job knows: collected so that a typo is an
+/// error, not a setting silently ignored.
+#[derive(Clone, Debug, Default, Deserialize)]
+pub(crate) struct Unknown(BTreeMap<String, IgnoredAny>);
+
+impl Unknown {
+    /// Refuses unknown fields.
+    ///
+    /// # Errors
+    /// [`ErrorKind::Usage`] naming the first unknown field.
+    pub(crate) fn check(&self) -> Result<(), AppError> {
+        match self.0.keys().next() {
+            None => Ok(()),
+            Some(field) => Err(AppError::plain(
+                ErrorKind::Usage,
+                format!("unknown field `{field}`"),
+            )),
+        }
+    }
+}

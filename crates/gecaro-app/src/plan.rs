@@ -1,0 +1,557 @@
+//! Planning before measuring (docs/planning.md) as jobs: the configurations
+//! to measure, chosen from a pool by a criterion ([`PlanRequest`]); how many
+//! are enough (its accuracy curve); and the precision a plan will give
+//! ([`PredictRequest`]).
+
+use gecaro_calib::Observer;
+use gecaro_calib::curve::{CurvePoint, RANDOM_DRAWS, accuracy_curve};
+use gecaro_calib::identification::IdentificationOptions;
+use gecaro_calib::methods::CalibrationMethod;
+use gecaro_calib::planning::{
+    CandidatePool, Criterion, DesignQuality, Plan, PlanRequest as Design,
+};
+use gecaro_calib::prediction::{MonteCarlo, Prediction, monte_carlo, predict, random_test_poses};
+use gecaro_calib::simulation::Sampler;
+use gecaro_calib::study::{DataColumn, Sample};
+use gecaro_core::Robot;
+use gecaro_io::RobotFile;
+use serde::Deserialize;
+
+use crate::documents::{CurveJson, CurvePointJson, PlanJson, PredictJson};
+use crate::error::AppError;
+use crate::files::Files;
+use crate::limits::{MAX_CURVE_POINTS, MAX_GENERATE};
+use crate::measurements::Unknown;
+use crate::method::{MethodSpec, parse_name};
+use crate::sources::{DataFormatSpec, DataSource, RobotSource};
+
+/// The sensor's σ of an accuracy curve when none is given: 0.1 mm.
+const DEFAULT_CURVE_NOISE: f64 = 1e-4;
+
+/// Random test poses when no file gives them.
+const TEST_POSES: usize = 200;
+
+/// The poses a calibrated robot is judged at.
+#[derive(Clone, Debug, Default, Deserialize)]
+pub struct TestPoses {
+    /// A data file's configurations; else random ones within the limits.
+    #[serde(default)]
+    pub test_poses: Option<DataSource>,
+    /// Random test poses when no file is given (default 200).
+    #[serde(default)]
+    pub test_pose_count: Option<usize>,
+}
+
+impl TestPoses {
+    fn load(&self, robot: &Robot, seed: u64, files: &dyn Files) -> Result<Vec<Vec<f64>>, AppError> {
+        match &self.test_poses {
+            Some(source) => Ok(configurations(robot, source, &[], files)?
+                .into_iter()
+                .map(|sample| sample.motor_positions)
+                .collect()),
+            None => {
+                let count = self.test_pose_count.unwrap_or(TEST_POSES);
+                if !(1..=MAX_GENERATE).contains(&count) {
+                    return Err(AppError::setting_value(
+                        "test_pose_count",
+                        count,
+                        format!("between 1 and {MAX_GENERATE}"),
+                    ));
+                }
+                Ok(random_test_poses(robot, count, seed))
+            }
+        }
+    }
+}
+
+/// The configurations of a data file (measurement columns, if any, ignored).
+fn configurations(
+    robot: &Robot,
+    source: &DataSource,
+    columns: &[DataColumn],
+    files: &dyn Files,
+) -> Result<Vec<Sample>, AppError> {
+    Ok(source
+        .read(
+            files,
+            &gecaro_io::joint_types(robot),
+            columns,
+            &DataFormatSpec::default().format()?,
+        )?
+        .samples)
+}
+
+/// A plan and/or its accuracy curve; see the module docs.
+#[derive(Clone, Debug, Deserialize)]
+pub struct PlanRequest {
+    /// The nominal robot.
+    pub robot: RobotSource,
+    /// The method to plan for.
+    pub method: MethodSpec,
+    /// Configurations to choose (rows of the plan; sets and pairs whole).
+    #[serde(default)]
+    pub count: Option<usize>,
+    /// `d` (default), `a`, `e`, `o4`, `o5` or `test`.
+    #[serde(default)]
+    pub criterion: Option<String>,
+    /// Candidates: a data file's configurations.
+    #[serde(default)]
+    pub candidates: Option<DataSource>,
+    /// Or this many generated candidates (default 20 × the largest count).
+    #[serde(default)]
+    pub pool: Option<usize>,
+    /// Seed of the pool, the test poses and the random designs (default 1).
+    #[serde(default)]
+    pub seed: Option<u64>,
+    /// Configurations measured already: part of the design.
+    #[serde(default)]
+    pub keep: Option<DataSource>,
+    /// Smallest joint-space distance between chosen configurations.
+    #[serde(default)]
+    pub min_distance: f64,
+    /// Where the accuracy is judged (the `test` criterion and the curve).
+    #[serde(flatten)]
+    pub test_poses: TestPoses,
+    /// Counts of the accuracy curve (none: no curve).
+    #[serde(default)]
+    pub curve: Vec<usize>,
+    /// The sensor's σ for the curve (metres; default 0.1 mm).
+    #[serde(default)]
+    pub noise: Option<f64>,
+    /// Write the plan (CSV) here.
+    #[serde(default)]
+    pub save_as: Option<String>,
+    /// Write the curve's plot (SVG) here.
+    #[serde(default)]
+    pub plot_save_as: Option<String>,
+    /// Replace files that exist.
+    #[serde(default)]
+    pub overwrite: bool,
+    #[serde(flatten)]
+    unknown: Unknown,
+}
+
+/// A plan: the chosen configurations, and a random choice to compare with.
+#[derive(Clone, Debug)]
+pub struct Planned {
+    /// The plan.
+    pub plan: Plan,
+    /// The criterion it optimises.
+    pub criterion: Criterion,
+    /// A random choice of as many units from the same pool.
+    pub random: DesignQuality,
+    /// The plan as a data file (configurations, set or pair ids).
+    pub csv: String,
+    /// Where it was written, if asked for.
+    pub saved: Option<std::path::PathBuf>,
+}
+
+/// How the predicted accuracy falls with the number of configurations.
+#[derive(Clone, Debug)]
+pub struct AccuracyCurve {
+    /// Per count: planned and random designs' predicted RMS position error.
+    pub points: Vec<CurvePoint>,
+    /// The sensor's σ.
+    pub noise: f64,
+    /// The plot, as SVG.
+    pub svg: String,
+    /// Where the plot was written, if asked for.
+    pub saved: Option<std::path::PathBuf>,
+}
+
+/// What a planning request gave.
+#[derive(Debug)]
+pub struct Planning {
+    /// The nominal robot.
+    pub robot: RobotFile,
+    /// The method.
+    pub method: Box<dyn CalibrationMethod>,
+    /// The criterion's name.
+    pub criterion: &'static str,
+    /// Candidates in the pool.
+    pub pool: usize,
+    /// Configurations kept.
+    pub kept: usize,
+    /// Test poses used.
+    pub test_poses: usize,
+    /// The plan, when a count was given.
+    pub planned: Option<Planned>,
+    /// The curve, when counts were given.
+    pub curve: Option<AccuracyCurve>,
+}
+
+impl PlanRequest {
+    /// A D-optimal plan of `count` configurations of `method` on `robot`.
+    pub fn new(robot: RobotSource, method: MethodSpec, count: usize) -> Self {
+        PlanRequest {
+            robot,
+            method,
+            count: Some(count),
+            criterion: None,
+            candidates: None,
+            pool: None,
+            seed: None,
+            keep: None,
+            min_distance: 0.0,
+            test_poses: TestPoses::default(),
+            curve: Vec::new(),
+            noise: None,
+            save_as: None,
+            plot_save_as: None,
+            overwrite: false,
+            unknown: Unknown::default(),
+        }
+    }
+
+    /// Checks the settings before any work.
+    fn check(&self) -> Result<(), AppError> {
+        self.unknown.check()?;
+        if self.count.is_none() && self.curve.is_empty() {
+            return Err(AppError::setting(
+                "count",
+                "give the number of configurations to plan, or the counts of a curve",
+            ));
+        }
+        if self.count == Some(0) {
+            return Err(AppError::setting("count", "at least one configuration"));
+        }
+        if !self.curve.is_empty() {
+            if self.curve.len() > MAX_CURVE_POINTS || self.curve.contains(&0) {
+                return Err(AppError::setting(
+                    "curve",
+                    format!("up to {MAX_CURVE_POINTS} positive counts, e.g. 10,20,40,80"),
+                ));
+            }
+            match self.noise {
+                Some(noise) if noise > 0.0 && noise.is_finite() => {}
+                Some(noise) => {
+                    return Err(AppError::setting(
+                        "noise",
+                        format!("{noise} is not a standard deviation (> 0 metres)"),
+                    ));
+                }
+                None => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// Plans and/or draws the curve, and writes the files asked for
+    /// (checked before any work); `observer` hears of the steps.
+    ///
+    /// # Errors
+    /// Bad settings or files, a pool too small, too few equations.
+    pub fn run(
+        &self,
+        files: &dyn Files,
+        observer: &mut dyn Observer,
+    ) -> Result<Planning, AppError> {
+        self.check()?;
+        let file = self.robot.load(files)?;
+        for (name, extension) in [(&self.save_as, "csv"), (&self.plot_save_as, "svg")] {
+            if let Some(name) = name {
+                files.check_output(name, extension, self.overwrite)?;
+            }
+        }
+        let robot = &file.robot;
+        let method = self.method.build()?;
+        let seed = self.seed.unwrap_or(1);
+        let columns = DataColumn::grouping(method.data_columns());
+        let largest = self
+            .curve
+            .iter()
+            .copied()
+            .chain(self.count)
+            .max()
+            .unwrap_or(0);
+        let pool = match &self.candidates {
+            Some(source) => configurations(robot, source, &columns, files)?,
+            None => {
+                let size = self.pool.unwrap_or(20 * largest);
+                if !(1..=MAX_GENERATE).contains(&size) {
+                    return Err(AppError::setting_value(
+                        "pool",
+                        size,
+                        format!("between 1 and {MAX_GENERATE} candidates"),
+                    ));
+                }
+                method
+                    .sensor()
+                    .generate(robot, size, 0.0, &mut Sampler::new(seed))?
+            }
+        };
+        let kept = match &self.keep {
+            Some(source) => configurations(robot, source, &columns, files)?,
+            None => Vec::new(),
+        };
+        let name = self.criterion.as_deref().unwrap_or("d");
+        let needs_poses = name == "test" || !self.curve.is_empty();
+        let poses = if needs_poses {
+            self.test_poses.load(robot, seed, files)?
+        } else {
+            Vec::new()
+        };
+        let criterion = parse_name("criterion", Some(name), &Criterion::NAMES, |name| {
+            Criterion::from_name(name, || poses.clone())
+        })?
+        .unwrap_or(Criterion::D);
+        let design = Design {
+            count: largest,
+            kept: &kept,
+            criterion,
+            min_distance: self.min_distance,
+        };
+        let candidates = CandidatePool::new(robot, method.as_ref(), &pool, &robot.priority())?;
+        let curve = if self.curve.is_empty() {
+            None
+        } else {
+            let noise = self.noise.unwrap_or(DEFAULT_CURVE_NOISE);
+            let points = accuracy_curve(
+                &candidates,
+                &self.curve,
+                &design,
+                noise,
+                &poses,
+                seed,
+                observer,
+            )?;
+            Some(AccuracyCurve {
+                svg: gecaro_report::accuracy_curve_svg(&points)?,
+                points,
+                noise,
+                saved: None,
+            })
+        };
+        let planned = match self.count {
+            Some(count) => {
+                let design = Design {
+                    count,
+                    ..design.clone()
+                };
+                let plan = candidates.plan(&design, observer)?;
+                // A random choice of as many units from the same pool, for comparison.
+                let random =
+                    candidates.random_design(&kept, plan.chosen.len(), &mut Sampler::new(seed));
+                let random = candidates.assess(&random, &design.criterion)?;
+                let csv = gecaro_io::format_samples(robot.joint_count(), &columns, &plan.samples);
+                Some(Planned {
+                    plan,
+                    criterion: design.criterion.clone(),
+                    random,
+                    csv,
+                    saved: None,
+                })
+            }
+            None => None,
+        };
+        let mut planning = Planning {
+            criterion: design.criterion.name(),
+            pool: candidates.len(),
+            kept: kept.len(),
+            test_poses: poses.len(),
+            planned,
+            curve,
+            robot: file.clone(),
+            method: method.clone_method(),
+        };
+        // Written last: a failed request leaves no file.
+        if let (Some(name), Some(planned)) = (&self.save_as, &mut planning.planned) {
+            planned.saved =
+                Some(files.write(name, "csv", planned.csv.as_bytes(), self.overwrite)?);
+        }
+        if let (Some(name), Some(curve)) = (&self.plot_save_as, &mut planning.curve) {
+            curve.saved = Some(files.write(name, "svg", curve.svg.as_bytes(), self.overwrite)?);
+        }
+        Ok(planning)
+    }
+}
+
+impl Planning {
+    /// The plan's JSON document, when there is a plan.
+    pub fn plan_document(&self) -> Option<PlanJson> {
+        self.planned.as_ref().map(|planned| {
+            PlanJson::new(
+                self.method.name(),
+                &planned.criterion,
+                &planned.plan,
+                &planned.random,
+                self.pool,
+                self.kept,
+            )
+        })
+    }
+
+    /// The curve's JSON document, when there is a curve.
+    pub fn curve_document(&self) -> Option<CurveJson> {
+        self.curve.as_ref().map(|curve| CurveJson {
+            method: self.method.name(),
+            criterion: self.criterion,
+            noise: curve.noise,
+            pool: self.pool,
+            test_poses: self.test_poses,
+            random_draws: RANDOM_DRAWS,
+            points: curve.points.iter().map(CurvePointJson::from).collect(),
+        })
+    }
+
+    /// A name to save the plan as: `stanford-position-planned-30.csv`.
+    pub fn file_name(&self) -> Option<String> {
+        self.planned.as_ref().map(|planned| {
+            crate::generate::data_file_name(
+                &self.robot.robot,
+                &format!("{}-planned", self.method.name()),
+                planned.plan.samples.len(),
+            )
+        })
+    }
+}
+
+/// The precision a plan will give, before measuring (eq. 11), checked by
+/// simulated calibrations if asked.
+#[derive(Clone, Debug, Deserialize)]
+pub struct PredictRequest {
+    /// The nominal robot.
+    pub robot: RobotSource,
+    /// The method.
+    pub method: MethodSpec,
+    /// The configurations to be measured (a plan).
+    pub data: DataSource,
+    /// The sensor's standard deviation (metres; radians for orientation rows).
+    pub noise: f64,
+    /// Where the calibrated robot's accuracy is judged.
+    #[serde(flatten)]
+    pub test_poses: TestPoses,
+    /// Also run this many simulated calibrations (Monte Carlo).
+    #[serde(default)]
+    pub monte_carlo: Option<usize>,
+    /// The simulated real robots' error level (default 0.1).
+    #[serde(default)]
+    pub error_level: Option<f64>,
+    /// Seed of the test poses and the simulations (default 1).
+    #[serde(default)]
+    pub seed: Option<u64>,
+    #[serde(flatten)]
+    unknown: Unknown,
+}
+
+/// A prediction, and what simulated calibrations measured.
+#[derive(Debug)]
+pub struct Predicted {
+    /// The nominal robot.
+    pub robot: RobotFile,
+    /// The method.
+    pub method: Box<dyn CalibrationMethod>,
+    /// The plan's configurations.
+    pub configurations: usize,
+    /// The sensor's σ.
+    pub noise: f64,
+    /// Test poses used.
+    pub test_poses: usize,
+    /// The predicted precision.
+    pub prediction: Prediction,
+    /// The simulated calibrations, if asked.
+    pub measured: Option<MonteCarlo>,
+    /// Their error level.
+    pub error_level: f64,
+}
+
+impl PredictRequest {
+    /// A prediction for the plan `data` and a sensor of σ `noise`.
+    pub fn new(robot: RobotSource, method: MethodSpec, data: DataSource, noise: f64) -> Self {
+        PredictRequest {
+            robot,
+            method,
+            data,
+            noise,
+            test_poses: TestPoses::default(),
+            monte_carlo: None,
+            error_level: None,
+            seed: None,
+            unknown: Unknown::default(),
+        }
+    }
+
+    /// Predicts, then simulates if asked; `observer` hears of the runs.
+    ///
+    /// # Errors
+    /// Bad settings or files, too few equations, a failed simulation.
+    pub fn run(
+        &self,
+        files: &dyn Files,
+        observer: &mut dyn Observer,
+    ) -> Result<Predicted, AppError> {
+        self.unknown.check()?;
+        if !(self.noise > 0.0 && self.noise.is_finite()) {
+            return Err(AppError::setting(
+                "noise",
+                format!("{} is not a standard deviation (> 0 metres)", self.noise),
+            ));
+        }
+        if let Some(runs) = self.monte_carlo
+            && !(1..=MAX_GENERATE).contains(&runs)
+        {
+            return Err(AppError::setting_value(
+                "monte_carlo",
+                runs,
+                format!("between 1 and {MAX_GENERATE} simulated calibrations"),
+            ));
+        }
+        let file = self.robot.load(files)?;
+        let robot = &file.robot;
+        let method = self.method.build()?;
+        let seed = self.seed.unwrap_or(1);
+        let columns = DataColumn::grouping(method.data_columns());
+        let planned = configurations(robot, &self.data, &columns, files)?;
+        let poses = self.test_poses.load(robot, seed, files)?;
+        let prediction = predict(
+            robot,
+            method.as_ref(),
+            &planned,
+            self.noise,
+            &poses,
+            &robot.priority(),
+        )?;
+        let error_level = self.error_level.unwrap_or(0.1);
+        let measured = match self.monte_carlo {
+            Some(runs) => Some(monte_carlo(
+                robot,
+                method.as_ref(),
+                &planned,
+                self.noise,
+                error_level,
+                &poses,
+                runs,
+                seed,
+                &IdentificationOptions::default(),
+                observer,
+            )?),
+            None => None,
+        };
+        Ok(Predicted {
+            configurations: planned.len(),
+            noise: self.noise,
+            test_poses: poses.len(),
+            robot: file,
+            method,
+            prediction,
+            measured,
+            error_level,
+        })
+    }
+}
+
+impl Predicted {
+    /// The JSON document (`gecaro predict --json`).
+    pub fn document(&self) -> PredictJson {
+        PredictJson::new(
+            self.method.name(),
+            self.configurations,
+            self.noise,
+            self.test_poses,
+            &self.prediction,
+            self.measured
+                .as_ref()
+                .map(|measured| (measured, self.error_level)),
+        )
+    }
+}

@@ -1,0 +1,257 @@
+//! What a request works on: a robot ([`RobotSource`]) and measurements
+//! ([`DataSource`]) as each front end names them, and the format of a data
+//! file as an instrument wrote it ([`DataFormatSpec`]).
+
+use std::path::{Path, PathBuf};
+
+use gecaro_calib::study::{DataColumn, Sample};
+use gecaro_io::{
+    AngleUnit, ColumnMap, DataFormat, DataUnits, LengthUnit, RobotDocument, RobotFile,
+};
+use serde::Deserialize;
+
+use crate::error::{AppError, ErrorKind};
+use crate::files::Files;
+use crate::limits::MAX_JOINTS;
+
+/// The robot of a request.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(untagged)]
+pub enum RobotSource {
+    /// A robot file, or the name of a ready robot (`stanford`).
+    Named(String),
+    /// A robot document: a robot file's content as JSON (the web page's table).
+    Document(Box<RobotDocument>),
+    /// A robot loaded already (a Python `Robot`).
+    #[serde(skip)]
+    Loaded(Box<RobotFile>),
+}
+
+impl RobotSource {
+    /// The robot, loaded through `files` when it names a file.
+    ///
+    /// # Errors
+    /// A file that cannot be read or parsed, an unknown name, or a document
+    /// that breaks rules of the model ([`ErrorKind::InvalidRobot`], with
+    /// every problem).
+    pub fn load(&self, files: &dyn Files) -> Result<RobotFile, AppError> {
+        match self {
+            RobotSource::Named(name) => load_named(name, files),
+            RobotSource::Document(document) => robot_of_document(document),
+            RobotSource::Loaded(file) => Ok((**file).clone()),
+        }
+    }
+}
+
+/// A robot file of `files`, else a ready robot (as `gecaro_io::load_robot`
+/// does on the file system).
+fn load_named(name: &str, files: &dyn Files) -> Result<RobotFile, AppError> {
+    if files.is_file(name) {
+        let (path, text) = files.read_text(name, &["toml"])?;
+        return Ok(gecaro_io::parse_robot_file(&text, &path)?);
+    }
+    match gecaro_io::ready_robot(name) {
+        Some(robot) => Ok(robot?),
+        None => {
+            let path = Path::new(name);
+            if path.extension().is_some() || name.contains(['/', std::path::MAIN_SEPARATOR]) {
+                // Looks like a path: say the file is missing rather than list robots only.
+                files.read_text(name, &["toml"])?;
+            }
+            Err(gecaro_io::Error::UnknownRobot {
+                name: name.to_owned(),
+                available: gecaro_io::ready_robots()
+                    .iter()
+                    .map(|ready| ready.name.to_owned())
+                    .collect(),
+            }
+            .into())
+        }
+    }
+}
+
+/// The validated robot of a document, with at most [`MAX_JOINTS`] joints.
+///
+/// # Errors
+/// [`ErrorKind::InvalidRobot`] with every problem of the document.
+pub fn robot_of_document(document: &RobotDocument) -> Result<RobotFile, AppError> {
+    if document.frame.len() > MAX_JOINTS + 2 {
+        return Err(AppError::invalid_robot(vec![gecaro_io::DocumentError {
+            location: gecaro_io::Location::Document,
+            message: format!(
+                "{} frames: gecaro takes robot documents of up to {MAX_JOINTS} joints",
+                document.frame.len()
+            ),
+        }]));
+    }
+    let problems = document.problems();
+    if !problems.is_empty() {
+        return Err(AppError::invalid_robot(problems));
+    }
+    document
+        .to_robot_file("robot")
+        .map_err(|problem| AppError::invalid_robot(vec![problem]))
+}
+
+/// Where the measurements of a request come from.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum DataSource {
+    /// A data file (CSV): a path, or a name in the web page's folder.
+    File(String),
+    /// A data file's text (an upload), with a name for messages.
+    Csv {
+        /// The file's content.
+        text: String,
+        /// Its name (for messages).
+        #[serde(default)]
+        name: Option<String>,
+    },
+    /// Samples built already (Python arrays), with a label for messages.
+    #[serde(skip)]
+    Samples {
+        /// The samples.
+        samples: Vec<Sample>,
+        /// What names them in messages and reports.
+        label: String,
+    },
+}
+
+/// Samples read for a method, with what a user should know about the file.
+#[derive(Clone, Debug)]
+pub struct DataRead {
+    /// The samples, in the file's order.
+    pub samples: Vec<Sample>,
+    /// The file as messages name it.
+    pub label: String,
+    /// Columns of the file the method does not use (left alone).
+    pub unused_columns: Vec<String>,
+}
+
+impl DataSource {
+    /// The name of the data in messages.
+    pub fn label(&self) -> String {
+        match self {
+            DataSource::File(name) => name.clone(),
+            DataSource::Csv { name, .. } => name.clone().unwrap_or_else(|| "uploaded data".into()),
+            DataSource::Samples { label, .. } => label.clone(),
+        }
+    }
+
+    /// The samples for a robot with joints `joint_types`, with the
+    /// `columns` after `qm1..qmn`, in `format`.
+    ///
+    /// # Errors
+    /// A file that cannot be read, or content that does not fit (naming the
+    /// file, line and column).
+    pub fn read(
+        &self,
+        files: &dyn Files,
+        joint_types: &[gecaro_core::FrameType],
+        columns: &[DataColumn],
+        format: &DataFormat,
+    ) -> Result<DataRead, AppError> {
+        let parse = |reader: &mut dyn std::io::Read, path: &Path| {
+            gecaro_io::parse_samples(reader, path, joint_types, columns, format)
+        };
+        let (file, label) = match self {
+            DataSource::File(name) => {
+                let mut opened = files.open(name, &["csv"])?;
+                (parse(&mut opened.reader, &opened.path)?, name.clone())
+            }
+            DataSource::Csv { text, .. } => {
+                let label = self.label();
+                (parse(&mut text.as_bytes(), &PathBuf::from(&label))?, label)
+            }
+            DataSource::Samples { samples, label } => {
+                return Ok(DataRead {
+                    samples: samples.clone(),
+                    label: label.clone(),
+                    unused_columns: Vec::new(),
+                });
+            }
+        };
+        let most = files.max_samples();
+        if file.samples.len() > most {
+            return Err(AppError::plain(
+                ErrorKind::TooLarge,
+                format!(
+                    "{label} has {} configurations; up to {most} are taken here",
+                    file.samples.len()
+                ),
+            ));
+        }
+        Ok(DataRead {
+            samples: file.samples,
+            label,
+            unused_columns: file.unused_columns,
+        })
+    }
+}
+
+/// How a data file is written, as a user gives it: units of the columns that
+/// do not state theirs, and columns under other names.
+#[derive(Clone, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(deny_unknown_fields)]
+pub struct DataFormatSpec {
+    /// `m` (default) or `mm`: positions, distances, prismatic joints.
+    #[serde(default)]
+    pub length_unit: Option<String>,
+    /// `rad` (default) or `deg`: revolute joints.
+    #[serde(default)]
+    pub angle_unit: Option<String>,
+    /// Other column names: `x=X_mm,qm1=A1`.
+    #[serde(default)]
+    pub columns: Option<String>,
+}
+
+impl DataFormatSpec {
+    /// Whether nothing is said (the file is in gecaro's own columns and units).
+    pub fn is_default(&self) -> bool {
+        *self == DataFormatSpec::default()
+    }
+
+    /// The format of the file.
+    ///
+    /// # Errors
+    /// An unknown unit or a malformed column map, naming the setting.
+    pub fn format(&self) -> Result<DataFormat, AppError> {
+        Ok(DataFormat {
+            units: DataUnits {
+                length: length_unit(self.length_unit.as_deref())?.unwrap_or_default(),
+                angle: angle_unit(self.angle_unit.as_deref())?.unwrap_or_default(),
+            },
+            columns: match self.columns.as_deref().map(str::trim) {
+                None | Some("") => ColumnMap::default(),
+                Some(text) => ColumnMap::parse(text)
+                    .map_err(|message| AppError::setting("columns", message))?,
+            },
+        })
+    }
+}
+
+/// A length unit by name (`m`, `mm`).
+///
+/// # Errors
+/// An unknown name, naming the `length_unit` setting.
+pub fn length_unit(name: Option<&str>) -> Result<Option<LengthUnit>, AppError> {
+    name.map(|name| {
+        LengthUnit::from_name(name).ok_or_else(|| {
+            AppError::setting("length_unit", format!("`{name}` is neither m nor mm"))
+        })
+    })
+    .transpose()
+}
+
+/// An angle unit by name (`rad`, `deg`).
+///
+/// # Errors
+/// An unknown name, naming the `angle_unit` setting.
+pub fn angle_unit(name: Option<&str>) -> Result<Option<AngleUnit>, AppError> {
+    name.map(|name| {
+        AngleUnit::from_name(name).ok_or_else(|| {
+            AppError::setting("angle_unit", format!("`{name}` is neither rad nor deg"))
+        })
+    })
+    .transpose()
+}

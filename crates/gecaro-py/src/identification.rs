@@ -1,0 +1,437 @@
+//! Identification (paper §4, eq. 10–11) and evaluation: `gecaro.identify`,
+//! `gecaro.evaluate` and their results. Each computes what the command
+//! line's `gecaro identify` / `evaluate` computes, through the same
+//! application layer, so the numbers are equal bit for bit; the results'
+//! `to_dict()` is the command's `--json` document.
+
+use gecaro_app::documents::{ObservabilityJson, OutlierJson, SummaryJson};
+use gecaro_app::{EvaluateRequest, Files, FitSettings, Identified, IdentifyRequest, LocalFiles};
+use gecaro_calib::identification::{ErrorSummary, IdentifiedParameter, StopReason};
+use numpy::PyArrayDyn;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::arrays::{array, columns};
+use crate::data::PyData;
+use crate::documents::{to_json, to_python};
+use crate::errors::{IntoPyResult, NotConvergedError};
+use crate::interrupt::Watch;
+use crate::robot::PyRobot;
+use crate::source::{measurements, priority};
+use crate::warnings::warn_notes;
+
+/// One identified parameter.
+#[pyclass(name = "Parameter", module = "gecaro", frozen, get_all)]
+pub(crate) struct PyParameter {
+    /// Its name (`theta2`, `K1`, or an auxiliary unknown such as `a`).
+    name: String,
+    /// Its nominal value (metres, radians, or a gain).
+    nominal: f64,
+    /// Its identified value.
+    identified: f64,
+    /// Its standard deviation (eq. 11; posterior with a prior).
+    std: f64,
+    /// Its prior standard deviation, with a prior.
+    prior_std: Option<f64>,
+}
+
+#[pymethods]
+impl PyParameter {
+    /// identified − nominal.
+    #[getter]
+    fn deviation(&self) -> f64 {
+        self.identified - self.nominal
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Parameter({:?}, nominal={}, identified={}, std={:.3e})",
+            self.name, self.nominal, self.identified, self.std
+        )
+    }
+}
+
+fn parameter_list(parameters: &[IdentifiedParameter]) -> Vec<PyParameter> {
+    parameters
+        .iter()
+        .map(|p| PyParameter {
+            name: p.name.clone(),
+            nominal: p.nominal,
+            identified: p.identified,
+            std: p.std,
+            prior_std: p.prior_std,
+        })
+        .collect()
+}
+
+/// Error statistics over observations (metres; radians for orientations).
+#[pyclass(name = "ErrorSummary", module = "gecaro", frozen)]
+pub(crate) struct PyErrorSummary {
+    summary: ErrorSummary,
+}
+
+#[pymethods]
+impl PyErrorSummary {
+    /// Root mean square of the position errors.
+    #[getter]
+    fn rms(&self) -> f64 {
+        self.summary.rms
+    }
+
+    /// Mean of the position errors.
+    #[getter]
+    fn mean(&self) -> f64 {
+        self.summary.mean
+    }
+
+    /// Largest position error.
+    #[getter]
+    fn max(&self) -> f64 {
+        self.summary.max
+    }
+
+    /// Number of observations.
+    #[getter]
+    fn count(&self) -> usize {
+        self.summary.count
+    }
+
+    /// RMS of the orientation errors, for methods that measure orientation.
+    #[getter]
+    fn rms_rotation(&self) -> Option<f64> {
+        self.summary.rms_rotation
+    }
+
+    /// Largest orientation error, for methods that measure orientation.
+    #[getter]
+    fn max_rotation(&self) -> Option<f64> {
+        self.summary.max_rotation
+    }
+
+    /// The document `gecaro evaluate --json` prints, as a dict.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &SummaryJson::from(&self.summary))
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "ErrorSummary(rms={:.4} mm, max={:.4} mm over {})",
+            self.summary.rms * 1e3,
+            self.summary.max * 1e3,
+            self.summary.count
+        )
+    }
+}
+
+/// The result of an identification.
+#[pyclass(name = "Identification", module = "gecaro", frozen)]
+pub(crate) struct PyIdentification {
+    identified: Identified,
+    calibrated: Py<PyRobot>,
+}
+
+fn errors_array<'py>(
+    py: Python<'py>,
+    errors: &[(f64, f64)],
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let values = errors
+        .iter()
+        .flat_map(|(length, angle)| [*length, *angle])
+        .collect();
+    array(py, &[errors.len(), 2], values)
+}
+
+#[pymethods]
+impl PyIdentification {
+    /// The calibrated robot, named "<name> (calibrated)", as `identify -o`
+    /// writes it.
+    #[getter]
+    fn calibrated(&self, py: Python<'_>) -> Py<PyRobot> {
+        self.calibrated.clone_ref(py)
+    }
+
+    /// Whether the iteration converged.
+    #[getter]
+    fn converged(&self) -> bool {
+        self.identified.result.stop_reason == StopReason::Converged
+    }
+
+    /// "converged", "iteration_limit" or "diverged".
+    #[getter]
+    fn stop_reason(&self) -> &'static str {
+        self.identified.result.stop_reason.as_str()
+    }
+
+    /// The step rule that produced the result ("gauss_newton", "minimum_norm",
+    /// "levenberg_marquardt").
+    #[getter]
+    fn route(&self) -> &'static str {
+        self.identified.result.route.as_str()
+    }
+
+    /// Parameter updates done.
+    #[getter]
+    fn iterations(&self) -> usize {
+        self.identified.result.iterations()
+    }
+
+    /// Every iterate from the nominal robot on: {"rms": residual RMS, "step":
+    /// ‖Δη‖, "damping": λ (0 for Gauss–Newton)}, arrays of iterations + 1.
+    #[getter]
+    fn history<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        columns(
+            py,
+            &self.identified.result.history,
+            &[
+                ("rms", |r| r.rms),
+                ("step", |r| r.step),
+                ("damping", |r| r.damping),
+            ],
+        )
+    }
+
+    /// The identified base parameters (nominal, identified, σ).
+    #[getter]
+    fn parameters(&self) -> Vec<PyParameter> {
+        parameter_list(&self.identified.result.parameters)
+    }
+
+    /// The identified auxiliary unknowns (plane coefficients).
+    #[getter]
+    fn auxiliary(&self) -> Vec<PyParameter> {
+        parameter_list(&self.identified.result.auxiliary)
+    }
+
+    /// Parameters outside the base set that had to move.
+    #[getter]
+    fn moved(&self) -> Vec<PyParameter> {
+        parameter_list(&self.identified.result.moved)
+    }
+
+    /// Errors at the nominal robot.
+    #[getter]
+    fn before(&self) -> PyErrorSummary {
+        PyErrorSummary {
+            summary: self.identified.result.before,
+        }
+    }
+
+    /// Errors at the calibrated robot.
+    #[getter]
+    fn after(&self) -> PyErrorSummary {
+        PyErrorSummary {
+            summary: self.identified.result.after,
+        }
+    }
+
+    /// Per-observation errors at the nominal robot, (observations, 2):
+    /// position error (metres) and orientation error (radians, 0 when not
+    /// measured).
+    #[getter]
+    fn errors_before<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        errors_array(py, &self.identified.result.errors_before)
+    }
+
+    /// Per-observation errors at the calibrated robot, as `errors_before`.
+    #[getter]
+    fn errors_after<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        errors_array(py, &self.identified.result.errors_after)
+    }
+
+    /// Condition number of W_b at the solution.
+    #[getter]
+    fn condition_number(&self) -> f64 {
+        self.identified.result.condition_number
+    }
+
+    /// Observability indices {"o1", …, "o5"} of the data's W_b at the
+    /// nominal robot (docs/planning.md).
+    #[getter]
+    fn observability<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(
+            py,
+            &ObservabilityJson::from(self.identified.result.observability()),
+        )
+    }
+
+    /// Standard deviation of the residual (eq. 11).
+    #[getter]
+    fn residual_sigma(&self) -> f64 {
+        self.identified.result.residual_sigma
+    }
+
+    /// Structural base parameters that the data do not excite.
+    #[getter]
+    fn not_excited(&self) -> Vec<String> {
+        self.identified.result.not_excited.clone()
+    }
+
+    /// What the user should know about the result.
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.identified.result.warnings.clone()
+    }
+
+    /// The loss minimised: "l2", "huber", "cauchy" or "tukey".
+    #[getter]
+    fn loss(&self) -> &'static str {
+        self.identified.result.loss.kind.as_str()
+    }
+
+    /// The robust σ̂ of the residuals at the solution (units of the sensor σ).
+    #[getter]
+    fn robust_sigma(&self) -> f64 {
+        self.identified.result.robust_sigma
+    }
+
+    /// Observations beyond the outlier threshold, worst first: dicts with
+    /// set, file, kind, observation (1-based), lines, error (m),
+    /// rotation_error, residual_sigmas and weight (as `--json`).
+    #[getter]
+    fn outliers<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &OutlierJson::list(&self.identified.result.outliers))
+    }
+
+    /// Observations dropped before this fit (`reject=True`), as `outliers`.
+    #[getter]
+    fn rejected<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &OutlierJson::list(&self.identified.result.rejected))
+    }
+
+    /// The document `gecaro identify --json` prints, as a dict.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.identified.document())
+    }
+
+    /// The document `gecaro identify --json` prints.
+    fn to_json(&self) -> PyResult<String> {
+        to_json(&self.identified.document())
+    }
+
+    /// The self-contained HTML report (`gecaro report`); written atomically
+    /// to `path` too when given.
+    #[pyo3(signature = (path = None, *, overwrite = false))]
+    fn report(
+        &self,
+        py: Python<'_>,
+        path: Option<std::path::PathBuf>,
+        overwrite: bool,
+    ) -> PyResult<String> {
+        let html = py
+            .detach(|| self.identified.report("gecaro.identify (Python)"))
+            .py()?;
+        if let Some(path) = path {
+            LocalFiles
+                .write(
+                    &path.display().to_string(),
+                    "html",
+                    html.as_bytes(),
+                    overwrite,
+                )
+                .py()?;
+        }
+        Ok(html)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Identification({}, {} parameters, {} after {} iterations, RMS {:.4} → {:.4} mm)",
+            self.identified.loaded.study.method_names(),
+            self.identified.result.parameters.len(),
+            self.identified.result.stop_reason.as_str(),
+            self.identified.result.iterations(),
+            self.identified.result.before.rms * 1e3,
+            self.identified.result.after.rms * 1e3
+        )
+    }
+}
+
+/// Identification (paper §4, eq. 10–11): iterative linearised least squares
+/// on the identifiable parameters, W rebuilt at every iterate, until the step
+/// is negligible; `solver` "gauss-newton" (the paper's) or "lm". As
+/// `gecaro identify`: the same result for the same inputs. Runs without the
+/// GIL; Ctrl-C interrupts it. `progress(iteration, rms)` is called after
+/// every iterate (an exception from it stops the identification).
+///
+/// Raises NotConvergedError (with the best iterate in `.result`) when the
+/// iteration did not converge, NotIdentifiableError with too few equations.
+#[pyfunction]
+#[pyo3(signature = (robot, method, data = None, *, solver = "gauss-newton", max_iterations = 30, priority = None, loss = "l2", loss_scale = None, prior = None, outlier_threshold = 3.0, reject = false, model = "full", strict_limits = false, progress = None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn identify(
+    py: Python<'_>,
+    robot: PyRef<'_, PyRobot>,
+    method: &Bound<'_, PyAny>,
+    data: Option<PyRef<'_, PyData>>,
+    solver: &str,
+    max_iterations: usize,
+    priority: Option<&Bound<'_, PyAny>>,
+    loss: &str,
+    loss_scale: Option<f64>,
+    prior: Option<&str>,
+    outlier_threshold: f64,
+    reject: bool,
+    model: &str,
+    strict_limits: bool,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<PyIdentification> {
+    let mut request =
+        IdentifyRequest::new(measurements(&robot, method, data, false, strict_limits)?);
+    request.settings = FitSettings {
+        priority: self::priority(robot.robot(), priority)?,
+        model: Some(model.to_owned()),
+        solver: Some(solver.to_owned()),
+        max_iterations: Some(max_iterations),
+        loss: Some(loss.to_owned()),
+        loss_scale,
+        prior: prior.map(str::to_owned),
+        outlier_threshold: Some(outlier_threshold),
+        reject,
+    };
+    let prepared = request.prepare(&LocalFiles).py()?;
+    warn_notes(py, &prepared.loaded.notes)?;
+    let identified = py.detach(|| {
+        let mut watch = Watch::with_callback(progress);
+        let result = prepared.run(&mut watch);
+        watch.finish(result)
+    })?;
+    let failure = identified.failure();
+    let identification = PyIdentification {
+        calibrated: Py::new(py, PyRobot::new(identified.calibrated()))?,
+        identified,
+    };
+    match failure {
+        None => Ok(identification),
+        Some(failure) => {
+            let error = NotConvergedError::new_err(format!(
+                "{}. The exception's `result` holds the best iterate; try solver=\"lm\", \
+                 a larger max_iterations, or check the data.",
+                failure.message(gecaro_app::Dialect::Python)
+            ));
+            error
+                .value(py)
+                .setattr("result", Py::new(py, identification)?)?;
+            Err(error)
+        }
+    }
+}
+
+/// Errors of `robot` on measured data (a Method with Data, or a Study): the
+/// distance to the measured point (position, frame), to the set's mean point
+/// (links), to the plane, or the distance error (pairs). As `gecaro evaluate`.
+#[pyfunction]
+#[pyo3(signature = (robot, method, data = None, *, strict_limits = false))]
+pub(crate) fn evaluate(
+    py: Python<'_>,
+    robot: PyRef<'_, PyRobot>,
+    method: &Bound<'_, PyAny>,
+    data: Option<PyRef<'_, PyData>>,
+    strict_limits: bool,
+) -> PyResult<PyErrorSummary> {
+    let request = EvaluateRequest::new(measurements(&robot, method, data, false, strict_limits)?);
+    let evaluation = py.detach(|| request.run(&LocalFiles)).py()?;
+    warn_notes(py, &evaluation.loaded.notes)?;
+    Ok(PyErrorSummary {
+        summary: evaluation.summary,
+    })
+}

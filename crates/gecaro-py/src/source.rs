@@ -1,0 +1,101 @@
+//! The arguments of the calibration functions as the application layer's
+//! measurements and settings: a robot with a `Method` and `Data`, or a
+//! `Study`; a priority matrix as an array or a file.
+
+use gecaro_app::{DataSource, LoadedStudy, Measurements, PrioritySource, RobotSource, StudySource};
+use gecaro_calib::study::Study;
+use gecaro_core::Robot;
+use pyo3::prelude::*;
+
+use crate::data::PyData;
+use crate::errors::input;
+use crate::methods::method_of;
+use crate::robot::{PyRobot, priority_matrix};
+use crate::study::PyStudy;
+
+/// The measurements named by `(robot, method, data)` or `(robot, study,
+/// None)`; without data only when `random_allowed` (identifiability on
+/// random configurations).
+pub(crate) fn measurements(
+    robot: &PyRobot,
+    method_or_study: &Bound<'_, PyAny>,
+    data: Option<PyRef<'_, PyData>>,
+    random_allowed: bool,
+    strict_limits: bool,
+) -> PyResult<Measurements> {
+    let loaded = RobotSource::Loaded(Box::new(robot.file.clone()));
+    if let Ok(study) = method_or_study.cast::<PyStudy>() {
+        if data.is_some() {
+            return Err(input(
+                "a Study holds its data: give `data` only with a Method",
+            ));
+        }
+        let study = study.borrow();
+        return Ok(Measurements {
+            study: Some(StudySource::Loaded(Box::new(LoadedStudy {
+                robot: robot.file.clone(),
+                study: study.study.clone(),
+                priority: study.priority.clone(),
+                prior: study.prior.clone(),
+                label: study
+                    .label
+                    .clone()
+                    .unwrap_or_else(|| study.study.method_names()),
+            }))),
+            strict_limits,
+            ..Measurements::default()
+        });
+    }
+    let method = method_of(method_or_study)?;
+    let method = method.get();
+    let data = match data {
+        Some(data) => Some(DataSource::Samples {
+            samples: data.samples.clone(),
+            label: data.label.clone(),
+        }),
+        None if random_allowed => None,
+        None => {
+            return Err(input(
+                "no data: give `data` (a gecaro.Data) with the method, or a Study",
+            ));
+        }
+    };
+    let measurements = match &method.spec {
+        Some(spec) => Measurements::single(loaded, spec.clone(), data),
+        // A study file's method: its options are not known, only the method.
+        None => {
+            let (samples, label) = match data {
+                Some(DataSource::Samples { samples, label }) => (samples, label),
+                _ => (Vec::new(), "random configurations".to_owned()),
+            };
+            Measurements {
+                study: Some(StudySource::Loaded(Box::new(LoadedStudy {
+                    robot: robot.file.clone(),
+                    study: Study::single(method.method.clone_method(), samples, label.clone()),
+                    priority: None,
+                    prior: None,
+                    label,
+                }))),
+                ..Measurements::default()
+            }
+        }
+    };
+    Ok(Measurements {
+        strict_limits,
+        ..measurements
+    })
+}
+
+/// A priority matrix given as an (n+2)×6 array or a priority file.
+pub(crate) fn priority(
+    robot: &Robot,
+    value: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Option<PrioritySource>> {
+    let Some(value) = value else {
+        return Ok(None);
+    };
+    if let Ok(path) = value.extract::<std::path::PathBuf>() {
+        return Ok(Some(PrioritySource::File(path.display().to_string())));
+    }
+    Ok(Some(PrioritySource::Matrix(priority_matrix(robot, value)?)))
+}

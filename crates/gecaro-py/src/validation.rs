@@ -1,0 +1,62 @@
+//! Held-out error as the judge (docs/methods.md): `gecaro.cross_validate`.
+
+use gecaro_app::{FitSettings, IdentifyRequest, LocalFiles};
+use pyo3::prelude::*;
+
+use crate::data::PyData;
+use crate::documents::to_python;
+use crate::errors::IntoPyResult;
+use crate::interrupt::Watch;
+use crate::robot::PyRobot;
+use crate::source::{measurements, priority};
+use crate::warnings::warn_notes;
+
+/// K-fold cross-validation of an identification (folds by configuration,
+/// set or pair, seeded), as `gecaro identify --cv K`: the document of
+/// `"cross_validation"` (held-out RMS per fold and overall, metres and
+/// radians). Options as `identify`.
+#[pyfunction]
+#[pyo3(signature = (robot, method, data = None, *, folds = 5, seed = 1, solver = "gauss-newton", max_iterations = 30, priority = None, loss = "l2", loss_scale = None, prior = None, model = "full", strict_limits = false))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn cross_validate<'py>(
+    py: Python<'py>,
+    robot: PyRef<'_, PyRobot>,
+    method: &Bound<'py, PyAny>,
+    data: Option<PyRef<'_, PyData>>,
+    folds: usize,
+    seed: u64,
+    solver: &str,
+    max_iterations: usize,
+    priority: Option<&Bound<'py, PyAny>>,
+    loss: &str,
+    loss_scale: Option<f64>,
+    prior: Option<&str>,
+    model: &str,
+    strict_limits: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let mut request =
+        IdentifyRequest::new(measurements(&robot, method, data, false, strict_limits)?);
+    request.settings = FitSettings {
+        priority: self::priority(robot.robot(), priority)?,
+        model: Some(model.to_owned()),
+        solver: Some(solver.to_owned()),
+        max_iterations: Some(max_iterations),
+        loss: Some(loss.to_owned()),
+        loss_scale,
+        prior: prior.map(str::to_owned),
+        ..FitSettings::default()
+    };
+    request.cv = Some(folds);
+    request.seed = Some(seed);
+    let prepared = request.prepare(&LocalFiles).py()?;
+    warn_notes(py, &prepared.loaded.notes)?;
+    let validation = py.detach(|| {
+        let mut watch = Watch::new();
+        let result = prepared.cross_validate(&mut watch);
+        watch.finish(result)
+    })?;
+    to_python(
+        py,
+        &gecaro_app::documents::CrossValidationJson::new(&validation, seed),
+    )
+}
