@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use gecaro_io::{ChainEnds, Exported, ImportOptions, RobotFile, RobotFormat, TableUnits};
 use serde::Deserialize;
 
-use crate::error::{AppError, ErrorKind};
+use crate::error::{AppError, ErrorKind, Part};
 use crate::files::Files;
 use crate::measurements::Unknown;
 use crate::method::parse_name;
@@ -95,7 +95,20 @@ impl ImportRequest {
             files.check_output(name, "toml", self.overwrite)?;
         }
         let (path, text) = files.read_text(&self.file, &["urdf", "par", "toml", "csv", "xml"])?;
-        let imported = gecaro_io::import_robot_text(&text, &path, &options)?;
+        let imported = gecaro_io::import_robot_text(&text, &path, &options).map_err(|error| {
+            AppError::from(error).with_help(vec![
+                Part::Text("an import is told its format with ".into()),
+                Part::Setting("format".into()),
+                Part::Text(" (urdf, dh, mdh, symoro), a URDF's chain with ".into()),
+                Part::Setting("base".into()),
+                Part::Text(" and ".into()),
+                Part::Setting("tip".into()),
+                Part::Text(" (link names), a table's units with ".into()),
+                Part::Setting("length_unit".into()),
+                Part::Text(" and ".into()),
+                Part::Setting("angle_unit".into()),
+            ])
+        })?;
         let saved = match &self.save_as {
             Some(name) => Some(files.write(
                 name,

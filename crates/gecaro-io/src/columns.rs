@@ -67,12 +67,12 @@ impl ColumnMap {
         self.pairs.iter().find_map(|(ours, theirs)| {
             if !known.contains(ours) {
                 Some(format!(
-                    "--columns maps `{ours}`, which is not a column of this file's kind ({})",
+                    "columns: `{ours}` is not a column of this file's kind ({})",
                     known.join(",")
                 ))
             } else if !header.contains(theirs) {
                 Some(format!(
-                    "--columns maps `{ours}` to `{theirs}`, which is not in the header"
+                    "columns: `{ours}` maps to `{theirs}`, which is not in the header"
                 ))
             } else {
                 None

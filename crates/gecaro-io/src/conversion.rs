@@ -3,13 +3,9 @@
 //! joint calibration it cannot carry ([`Exported`]). Shared by every format
 //! ([`crate::interchange`] dispatches to them).
 
-use std::path::{Path, PathBuf};
-
 use gecaro_core::Robot;
 use nalgebra::DMatrix;
 
-use crate::Error;
-use crate::output::{OutputPolicy, write_atomically};
 use crate::robot_file::RobotFile;
 
 /// Which chain to take from a URDF, and what to call the robot.
@@ -44,49 +40,6 @@ pub struct Exported {
     pub joint_calibration: Option<String>,
     /// What the conversion changed or moved elsewhere, for the user.
     pub notes: Vec<String>,
-}
-
-impl Exported {
-    /// `FILE.joint_calibration.yaml`, where [`write`](Self::write) puts the
-    /// joint calibration of the export to `FILE.ext`.
-    pub fn joint_calibration_path(output: &Path) -> PathBuf {
-        output.with_extension("joint_calibration.yaml")
-    }
-
-    /// Writes the export to `output`, and its joint calibration (if any) beside
-    /// it: both files or neither. Every refusal happens before anything is
-    /// written; when the second write fails, the first file (if new) is removed.
-    /// Returns the files written, the export first.
-    ///
-    /// # Errors
-    /// As [`write_atomically`] for either file.
-    pub fn write(&self, output: &Path, policy: OutputPolicy) -> Result<Vec<PathBuf>, Error> {
-        let calibration_path = Self::joint_calibration_path(output);
-        for (path, needed) in [
-            (output, true),
-            (calibration_path.as_path(), self.joint_calibration.is_some()),
-        ] {
-            if needed && policy == OutputPolicy::KeepExisting && path.exists() {
-                return Err(Error::OutputExists {
-                    path: path.to_owned(),
-                });
-            }
-        }
-        let Some(calibration) = &self.joint_calibration else {
-            write_atomically(output, self.text.as_bytes(), policy)?;
-            return Ok(vec![output.to_owned()]);
-        };
-        let calibration_existed = calibration_path.exists();
-        write_atomically(&calibration_path, calibration.as_bytes(), policy)?;
-        if let Err(error) = write_atomically(output, self.text.as_bytes(), policy) {
-            // The two files go together: no calibration beside a file that failed.
-            if !calibration_existed {
-                let _ = std::fs::remove_file(&calibration_path);
-            }
-            return Err(error);
-        }
-        Ok(vec![output.to_owned(), calibration_path])
-    }
 }
 
 /// The joint calibration of a robot whose map `M = Cj·diag(K)·Cm` (eq. 4)

@@ -479,7 +479,7 @@ mod tests {
         .expect_err("missing")
         .to_string();
         assert!(
-            missing.contains("t.csv:1: --columns maps `z` to `Z_mm`, which is not in the header"),
+            missing.contains("t.csv:1: columns: `z` maps to `Z_mm`, which is not in the header"),
             "{missing}"
         );
         let wrong = DataFormat {
@@ -496,7 +496,7 @@ mod tests {
         .expect_err("unknown")
         .to_string();
         assert!(
-            error.contains("maps `x` to `X`, which is not in the header"),
+            error.contains("columns: `x` maps to `X`, which is not in the header"),
             "{error}"
         );
     }

@@ -24,7 +24,7 @@ pub enum Error {
         message: String,
     },
     /// The output file exists and overwriting was not asked for.
-    #[error("{} already exists (use --force to overwrite it)", .path.display())]
+    #[error("{} already exists", .path.display())]
     OutputExists {
         /// The file.
         path: PathBuf,

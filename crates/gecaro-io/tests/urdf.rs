@@ -337,7 +337,7 @@ fn branches_and_bad_chains_are_clear_errors() {
     assert!(
         message.contains("panda_leftfinger")
             && message.contains("panda_rightfinger")
-            && message.contains("--tip"),
+            && message.contains("choose the tip link"),
         "{message}"
     );
     // The right finger mimics the left one, which is not in its chain.
@@ -449,7 +449,7 @@ fn malformed_files_name_the_line_and_element() {
         (ARM.replace("type=\"revolute\">\n    <parent link=\"l2\"", "type=\"revolut\">\n    <parent link=\"l2\""), "arm.urdf:19:", "revolut"),
         (ARM.replace("<axis xyz=\"0 0 1\"/>\n    <limit lower=\"-2\" upper=\"2\" effort=\"1\" velocity=\"1\"/>\n    <mimic", "<axis xyz=\"0 0 0\"/>\n    <limit lower=\"-2\" upper=\"2\" effort=\"1\" velocity=\"1\"/>\n    <mimic"), "arm.urdf:19: joint \"j3\":", "has no direction"),
         (ARM.replace("xyz=\"0.4 0 0\"", "xyz=\"0.4 nan 0\""), "joint \"j3\"", "not a finite number"),
-        (ARM.replace("type=\"revolute\">\n    <parent link=\"l1\"", "type=\"floating\">\n    <parent link=\"l1\""), "joint \"j2\"", "choose --base below it"),
+        (ARM.replace("type=\"revolute\">\n    <parent link=\"l1\"", "type=\"floating\">\n    <parent link=\"l1\""), "joint \"j2\"", "choose a base link below it"),
         (ARM.replace("<child link=\"l3\"/>", "<child link=\"l1\"/>"), "joint \"j3\"", "closed loop"),
         (ARM.replace("<parent link=\"l2\"/>", "<parent link=\"l9\"/>"), "joint \"j3\"", "`l9` is not a <link>"),
         (ARM.replace("<mimic joint=\"j2\"", "<mimic joint=\"j7\""), "joint \"j3\"", "mimics joint `j7`"),

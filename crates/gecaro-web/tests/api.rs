@@ -332,7 +332,10 @@ async fn urdf_dh_and_symoro_files_open_converted_and_robots_save_as_urdf() {
     // A branching URDF: the error names the leaves; a tip resolves it.
     let (status, branching) = api.get("/api/robots/file?name=panda.urdf").await;
     assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
-    assert!(error_text(&branching).contains("--tip"), "{branching}");
+    assert!(
+        error_text(&branching).contains("choose the tip link"),
+        "{branching}"
+    );
     let (status, panda) = api
         .get("/api/robots/file?name=panda.urdf&tip=ball_link")
         .await;

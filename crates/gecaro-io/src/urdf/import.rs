@@ -278,7 +278,10 @@ impl<'a> Tree<'a> {
     ) -> Result<&'a str, Error> {
         if let Some(tip) = given {
             if !self.links.contains(tip) {
-                return Err(source.error(1, format!("no link `{tip}` (--tip) in the file")));
+                return Err(source.error(
+                    1,
+                    format!("no link `{tip}` in the file (the tip asked for)"),
+                ));
             }
             return Ok(tip);
         }
@@ -291,7 +294,7 @@ impl<'a> Tree<'a> {
                 1,
                 format!(
                     "the chain branches below `{base}`: leaves {} have {most} moving joints \
-                     each; choose one with --tip (leaves: {})",
+                     each; choose the tip link (leaves: {})",
                     best.join(", "),
                     leaves
                         .iter()
@@ -402,7 +405,10 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
     let root = tree.root(&source)?;
     let base = match ends.base.as_deref() {
         Some(base) if !tree.links.contains(base) => {
-            return Err(source.error(1, format!("no link `{base}` (--base) in the file")));
+            return Err(source.error(
+                1,
+                format!("no link `{base}` in the file (the base asked for)"),
+            ));
         }
         Some(base) => base,
         None => root,
@@ -441,7 +447,7 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
                     &joint.name,
                     format!(
                         "a {} joint moves in more than one direction: it is not a joint of a \
-                         serial robot; choose --base below it or --tip above it",
+                         serial robot; choose a base link below it or a tip link above it",
                         format!("{other:?}").to_lowercase()
                     ),
                 ));

@@ -63,6 +63,10 @@ struct IdentifyResult {
     calibrated: RobotDocument,
     /// A file name to save it as.
     calibrated_name: String,
+    /// What the user should know about the data (unused columns, joints
+    /// outside their limits).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    notes: Vec<String>,
 }
 
 /// The result and the report of a finished identification.
@@ -79,6 +83,12 @@ fn outcome(identified: &Identified) -> Result<JobOutcome, ApiError> {
         plots: identified.plots()?,
         calibrated: RobotDocument::from_robot_file(&identified.calibrated()),
         calibrated_name: format!("{stem}-calibrated.toml"),
+        notes: identified
+            .loaded
+            .notes
+            .iter()
+            .map(|note| note.text(gecaro_app::Dialect::Web))
+            .collect(),
     };
     let report = identified.report(&format!(
         "gecaro serve: {} method on {}",
