@@ -10,11 +10,14 @@ rm -rf "$venv"
 python3 -m venv "$venv"
 "$venv/bin/python" -m pip install --quiet --upgrade pip
 "$venv/bin/python" -m pip install --quiet -r crates/gecaro-py/requirements-test.txt
-"$venv/bin/python" -m pip install --quiet ./crates/gecaro-py
+# Built in the dev profile, on the artifacts `cargo test --workspace` left in
+# the shared target folder (a release build would compile everything again).
+MATURIN_PEP517_ARGS="--profile dev" CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}" \
+    "$venv/bin/python" -m pip install --quiet ./crates/gecaro-py
 
 # The command line the results are compared with, in the profile `cargo test`
 # builds it (after the README's test command this rebuilds nothing).
-cargo build --locked --bin gecaro --profile test
+cargo build --locked --bin gecaro
 export GECARO_CLI="$PWD/target/debug/gecaro"
 
 (cd crates/gecaro-py && "$venv/bin/python" -m pytest -q)
