@@ -11,7 +11,10 @@ use std::sync::OnceLock;
 use axum::Router;
 use axum::body::Body;
 use axum::http::{Request, StatusCode, header};
-use gecaro_calib::{methods::{METHODS, MethodOptions}, study::Study};
+use gecaro_calib::{
+    methods::{METHODS, MethodOptions},
+    study::Study,
+};
 use gecaro_web::{AppState, POST_ROUTES, Workspace, router};
 use http_body_util::BodyExt;
 use tower::ServiceExt;

@@ -26,6 +26,39 @@
 //! results give the JSON documents of [`documents`]. Files are read and
 //! written through [`Files`]. Errors are [`AppError`]s, worded for each front
 //! end by its [`Dialect`].
+//!
+//! ## Example
+//!
+//! Points generation and identification as the web page asks for them:
+//!
+//! ```
+//! use gecaro_app::{DataSource, Dialect, GenerateRequest, IdentifyRequest, LocalFiles};
+//!
+//! let generate: GenerateRequest = serde_json::from_str(
+//!     r#"{"robot": "stanford", "method": {"name": "position"}, "count": 40,
+//!         "error_level": 0.5, "noise": 1e-5, "seed": 3}"#,
+//! )?;
+//! let generated = generate.run(&LocalFiles)?;
+//!
+//! let mut identify: IdentifyRequest = serde_json::from_str(
+//!     r#"{"robot": "stanford", "method": {"name": "position"}, "loss": "huber"}"#,
+//! )?;
+//! identify.measurements.data = Some(DataSource::Samples {
+//!     samples: generated.samples,
+//!     label: "generated".into(),
+//! });
+//! let identified = identify.run(&LocalFiles, &mut gecaro_calib::Quiet)?;
+//! assert!(identified.converged());
+//! assert_eq!(identified.document().loss.kind, "huber");
+//!
+//! // A bad setting, in each front end's words.
+//! let bad: IdentifyRequest = serde_json::from_str(r#"{"robot": "stanford", "cv": 1}"#)?;
+//! let error = bad.prepare(&LocalFiles).expect_err("one fold");
+//! assert_eq!(error.message(Dialect::CommandLine), "--cv 1: between 2 and 20 folds");
+//! assert_eq!(error.message(Dialect::Python), "folds=1: between 2 and 20 folds");
+//! assert_eq!(error.message(Dialect::Web), "cv 1: between 2 and 20 folds");
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 #![warn(missing_docs)]
 

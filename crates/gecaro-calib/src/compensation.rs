@@ -125,6 +125,28 @@ const CLOSEST_ITERATIONS: usize = 60;
 /// # Errors
 /// Robots with different joint counts, or a target of the wrong length or
 /// not finite.
+///
+/// # Example
+///
+/// A joint target of a PUMA 560 program, corrected for a robot whose first
+/// joint's offset is 0.01 rad off:
+///
+/// ```
+/// use gecaro_calib::Quiet;
+/// use gecaro_calib::compensation::{CompensationStatus, Match, ProgramPoint, ProgramTarget, compensate};
+///
+/// let nominal = gecaro_io::load_robot("puma560")?.robot;
+/// let mut spec = nominal.to_spec();
+/// spec.frames[1].theta += 0.01;
+/// let calibrated = gecaro_core::Robot::new(spec)?;
+/// let taught = vec![0.3, -0.5, 0.4, 0.2, 0.6, -0.1];
+/// let program = [ProgramPoint { target: ProgramTarget::Joints(taught.clone()), joints: None }];
+///
+/// let corrected = compensate(&nominal, &calibrated, &program, Match::Pose, &mut Quiet)?;
+/// assert_eq!(corrected[0].status, CompensationStatus::Reached);
+/// assert!((corrected[0].motor_positions[0] - (taught[0] - 0.01)).abs() < 1e-9);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn compensate(
     nominal: &Robot,
     calibrated: &Robot,
