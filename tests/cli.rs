@@ -100,6 +100,18 @@ fn robot_show_prints_the_table_and_priorities() {
 }
 
 #[test]
+fn robot_show_of_the_stanford_arm_is_table_1() {
+    // The whole text, column widths and all: a change of layout shows up here
+    // as a diff to review (`cargo insta review`), not as a silent change.
+    let output = gecaro()
+        .args(["robot", "show", "stanford"])
+        .output()
+        .expect("runs");
+    assert!(output.status.success());
+    insta::assert_snapshot!(String::from_utf8(output.stdout).expect("utf-8"));
+}
+
+#[test]
 fn every_ready_robot_checks_out() {
     for name in [
         "stanford",
@@ -783,6 +795,34 @@ fn report_and_plots_show_the_identification() {
         "the command line is recorded"
     );
     assert!(html.contains("converged after"));
+    // Text from the user's files and command line is escaped, quotes included.
+    let hostile = folder.path().join("hostile.toml");
+    let scara = std::fs::read_to_string("robots/scara.toml").expect("scara");
+    let renamed: String = scara
+        .lines()
+        .map(|line| {
+            if line.starts_with("name =") {
+                r#"name = "<b>x</b> & 'y' \"z\"""#.to_owned()
+            } else {
+                line.to_owned()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    std::fs::write(&hostile, renamed).expect("write");
+    let escaped = folder.path().join("escaped.html");
+    gecaro()
+        .arg("report")
+        .arg(&hostile)
+        .args(["--method", "frame", "--data"])
+        .arg(&data)
+        .arg("-o")
+        .arg(&escaped)
+        .assert()
+        .success();
+    let page = std::fs::read_to_string(&escaped).expect("report");
+    assert!(!page.contains("<b>x</b>"), "markup from a robot name");
+    assert!(page.contains("&lt;b&gt;x&lt;/b&gt; &amp; 'y' &quot;z&quot;"));
     // Every identified parameter has a row with its σ.
     let identified = json_output(&[
         "identify",

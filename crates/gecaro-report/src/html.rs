@@ -1,13 +1,13 @@
 //! The HTML report: one file with everything inline (SVG plots, CSS), to
-//! archive with a calibration and to read without a network.
+//! archive with a calibration and to read without a network. Written with
+//! maud's templates, which escape every text they are given; the plots,
+//! SVG made here, go in as markup.
 
-use gecaro_calib::{
-    identifiability::ParameterStatus,
-    identification::{Identification, Route, StopReason},
-    study::Study,
-};
-use gecaro_core::{FrameType, ParameterId, ParameterKind};
-use std::fmt::Write as _;
+use gecaro_calib::identifiability::{ParameterStatus, RankReport};
+use gecaro_calib::identification::{Identification, Outlier, Route, StopReason};
+use gecaro_calib::study::Study;
+use gecaro_core::{FrameType, ParameterId, ParameterKind, Robot};
+use maud::{DOCTYPE, Markup, PreEscaped, html};
 
 use crate::Error;
 use crate::plots::{
@@ -18,7 +18,7 @@ use crate::plots::{
 #[derive(Debug)]
 pub struct ReportInput<'a> {
     /// The nominal robot.
-    pub robot: &'a gecaro_core::Robot,
+    pub robot: &'a Robot,
     /// The measurements.
     pub study: &'a Study,
     /// The identification of the robot from them.
@@ -34,14 +34,6 @@ padding:.25rem .6rem;text-align:right}th{background:#f2f5f8}td:first-child,th:fi
 .muted{color:#5b6775}.ok{color:#1a7f37}.bad{color:#b42318}code{background:#f2f5f8;padding:.1rem .3rem;border-radius:3px}\
 .warn{background:#fff6e5;border:1px solid #f0c36d;padding:.5rem .8rem;border-radius:4px}.id{background:#e8f3ec}\
 .n{background:#fbeeee}.z{background:#f2f2f2}svg{max-width:100%;height:auto}";
-
-/// Escapes text for HTML.
-fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
 
 fn number(value: f64) -> String {
     if value == 0.0 {
@@ -59,295 +51,298 @@ fn number(value: f64) -> String {
 /// # Errors
 /// [`Error::Plot`] if a plot cannot be drawn.
 pub fn html_report(input: &ReportInput<'_>) -> Result<String, Error> {
-    let robot = input.robot;
-    let result = input.identification;
-    let mut html = String::new();
+    let (robot, result) = (input.robot, input.identification);
     let methods = input.study.method_names();
-    let _ = write!(
-        html,
-        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
-         <title>gecaro report — {name}, {methods}</title><style>{STYLE}</style></head><body>\n\
-         <h1>Calibration report</h1><p class=\"muted\">{name} ({joints} joints, {letters}) — {methods} — made by \
-         <code>{command}</code></p>\n",
-        name = escape(robot.name()),
-        joints = robot.joint_count(),
-        letters = robot.joint_letters(),
-        methods = escape(&methods),
-        command = escape(input.command),
+    let lengths = |errors: &[(f64, f64)]| errors.iter().map(|e| e.0 * 1e3).collect::<Vec<f64>>();
+    let (before, after) = (
+        lengths(&result.errors_before),
+        lengths(&result.errors_after),
     );
+    let convergence = convergence_svg(&result.history)?;
+    let histograms = error_histograms_svg(&before, &after, "mm")?;
+    let per_configuration =
+        errors_per_configuration_svg(&before, &after, &result.outlier_observations(), "mm")?;
+    let middle: Vec<f64> = robot
+        .joints()
+        .iter()
+        .map(|joint| 0.5 * (joint.qmin + joint.qmax))
+        .collect();
+    let view = match robot.motor_positions(&middle) {
+        Ok(motor) => Some(robot_projections_svg(&result.calibrated, motor.as_slice())?),
+        Err(_) => None,
+    };
+    let page = html! {
+        (DOCTYPE)
+        html lang="en" {
+            head {
+                meta charset="utf-8";
+                title { "gecaro report — " (robot.name()) ", " (methods) }
+                style { (PreEscaped(STYLE)) }
+            }
+            body {
+                h1 { "Calibration report" }
+                p.muted {
+                    (robot.name()) " (" (robot.joint_count()) " joints, " (robot.joint_letters())
+                    ") — " (methods) " — made by " code { (input.command) }
+                }
+                (summary(input))
+                (robustness(result))
+                h2 { "Convergence" }
+                (PreEscaped(convergence))
+                h2 { "Errors before and after" }
+                p.muted {
+                    "Per configuration: distance to the measured point, to the mean point of its set, \
+                     to the plane, or distance error of a pair (mm)."
+                }
+                (PreEscaped(histograms))
+                (PreEscaped(per_configuration))
+                (parameters(result))
+                (identifiable(robot, &result.rank))
+                h2 { "Robot (nominal)" }
+                (robot_table(robot))
+                @if let Some(view) = view {
+                    p.muted {
+                        "Calibrated robot at the middle of its "
+                        (robot.frames().iter().filter(|f| f.frame_type != FrameType::Fixed).count())
+                        " joint ranges (origins of frames 0..n+1, m):"
+                    }
+                    (PreEscaped(view))
+                }
+                p.muted { "gecaro — geometric calibration of serial robots (GECARO, Khalil et al.)." }
+            }
+        }
+    };
+    Ok(page.into_string() + "\n")
+}
 
-    // Summary.
+/// The summary table and the warnings.
+fn summary(input: &ReportInput<'_>) -> Markup {
+    let result = input.identification;
     let converged = result.stop_reason == StopReason::Converged;
     let route = match result.route {
         Route::GaussNewton => "plain Gauss–Newton (the paper's scheme)",
         Route::MinimumNorm => "minimum-norm steps, then continuation to the base set",
         Route::LevenbergMarquardt => "Levenberg–Marquardt",
     };
-    let _ = write!(
-        html,
-        "<h2>Summary</h2><table>\
-         <tr><td>result</td><td class=\"{class}\">{status} after {iterations} iterations ({route})</td></tr>\
-         <tr><td>data</td><td>{data}</td></tr>\
-         <tr><td>identified parameters</td><td>{count}{aux}</td></tr>\
-         <tr><td>error RMS (observations)</td><td>{before} → {after} mm</td></tr>\
-         <tr><td>largest error</td><td>{before_max} → {after_max} mm</td></tr>{rotation}\
-         <tr><td>condition number of W<sub>b</sub></td><td>{condition}</td></tr>\
-         <tr><td>observability O1 · O2 · O3 · O4 · O5 (W<sub>b</sub> of the data scaled to 1 cm, 1°, 1 %)</td><td>{observability}</td></tr>\
-         <tr><td>residual standard deviation σ</td><td>{sigma}</td></tr></table>",
-        class = if converged { "ok" } else { "bad" },
-        status = if converged {
-            "converged"
-        } else {
-            "NOT converged"
-        },
-        iterations = result.iterations(),
-        data = input
-            .study
-            .sets
-            .iter()
-            .map(|set| format!(
-                "{} ({}, {} configurations, σ {})",
-                escape(&set.label),
-                set.method.title(),
-                set.samples.len(),
-                set.sigma
-            ))
-            .collect::<Vec<_>>()
-            .join("<br>"),
-        count = result.parameters.len(),
-        aux = if result.auxiliary.is_empty() {
-            String::new()
-        } else {
-            format!(" + {} auxiliary", result.auxiliary.len())
-        },
-        before = number(result.before.rms * 1e3),
-        after = number(result.after.rms * 1e3),
-        before_max = number(result.before.max * 1e3),
-        after_max = number(result.after.max * 1e3),
-        rotation = match (result.before.rms_rotation, result.after.rms_rotation) {
-            (Some(before), Some(after)) => format!(
-                "<tr><td>orientation error RMS</td><td>{} → {}°</td></tr>",
-                number(before.to_degrees()),
-                number(after.to_degrees())
-            ),
-            _ => String::new(),
-        },
-        condition = number(result.condition_number),
-        observability = {
-            let o = result.observability();
-            [o.o1, o.o2, o.o3, o.o4, o.o5].map(number).join(" · ")
-        },
-        sigma = number(result.residual_sigma),
-    );
-    if !result.warnings.is_empty() {
-        html.push_str("<div class=\"warn\"><strong>Warnings</strong><ul>");
-        for warning in &result.warnings {
-            let _ = write!(html, "<li>{}</li>", escape(warning));
+    let observability = {
+        let o = result.observability();
+        [o.o1, o.o2, o.o3, o.o4, o.o5].map(number).join(" · ")
+    };
+    html! {
+        h2 { "Summary" }
+        table {
+            tr {
+                td { "result" }
+                td class=(if converged { "ok" } else { "bad" }) {
+                    (if converged { "converged" } else { "NOT converged" })
+                    " after " (result.iterations()) " iterations (" (route) ")"
+                }
+            }
+            tr {
+                td { "data" }
+                td {
+                    @for (index, set) in input.study.sets.iter().enumerate() {
+                        @if index > 0 { br; }
+                        (set.label) " (" (set.method.title()) ", " (set.samples.len())
+                        " configurations, σ " (set.sigma) ")"
+                    }
+                }
+            }
+            tr {
+                td { "identified parameters" }
+                td {
+                    (result.parameters.len())
+                    @if !result.auxiliary.is_empty() { " + " (result.auxiliary.len()) " auxiliary" }
+                }
+            }
+            tr {
+                td { "error RMS (observations)" }
+                td { (number(result.before.rms * 1e3)) " → " (number(result.after.rms * 1e3)) " mm" }
+            }
+            tr {
+                td { "largest error" }
+                td { (number(result.before.max * 1e3)) " → " (number(result.after.max * 1e3)) " mm" }
+            }
+            @if let (Some(before), Some(after)) = (result.before.rms_rotation, result.after.rms_rotation) {
+                tr {
+                    td { "orientation error RMS" }
+                    td { (number(before.to_degrees())) " → " (number(after.to_degrees())) "°" }
+                }
+            }
+            tr { td { "condition number of W" sub { "b" } } td { (number(result.condition_number)) } }
+            tr {
+                td { "observability O1 · O2 · O3 · O4 · O5 (W" sub { "b" } " of the data scaled to 1 cm, 1°, 1 %)" }
+                td { (observability) }
+            }
+            tr { td { "residual standard deviation σ" } td { (number(result.residual_sigma)) } }
         }
-        html.push_str("</ul></div>\n");
-    }
-
-    robustness(&mut html, result);
-
-    // Plots.
-    let lengths = |errors: &[(f64, f64)]| errors.iter().map(|e| e.0 * 1e3).collect::<Vec<f64>>();
-    let (before, after) = (
-        lengths(&result.errors_before),
-        lengths(&result.errors_after),
-    );
-    let _ = write!(
-        html,
-        "<h2>Convergence</h2>{}\n<h2>Errors before and after</h2><p class=\"muted\">Per configuration: distance to the \
-         measured point, to the mean point of its set, to the plane, or distance error of a pair (mm).</p>{}\n{}\n",
-        convergence_svg(&result.history)?,
-        error_histograms_svg(&before, &after, "mm")?,
-        errors_per_configuration_svg(&before, &after, &result.outlier_observations(), "mm")?,
-    );
-
-    // Identified parameters.
-    html.push_str(
-        "<h2>Identified parameters</h2><table><tr><th>parameter</th><th>nominal</th><th>identified</th>\
-         <th>deviation</th><th>σ</th>",
-    );
-    if result.prior.is_some() {
-        html.push_str("<th>prior σ</th>");
-    }
-    html.push_str("</tr>");
-    for parameter in result.parameters.iter().chain(&result.auxiliary) {
-        let _ = write!(
-            html,
-            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{:+.3e}</td><td>{:.2e}</td>",
-            escape(&parameter.name),
-            number(parameter.nominal),
-            number(parameter.identified),
-            parameter.identified - parameter.nominal,
-            parameter.std
-        );
-        if result.prior.is_some() {
-            let prior = parameter
-                .prior_std
-                .map_or("–".into(), |s| format!("{s:.2e}"));
-            let _ = write!(html, "<td>{prior}</td>");
+        @if !result.warnings.is_empty() {
+            div.warn {
+                strong { "Warnings" }
+                ul { @for warning in &result.warnings { li { (warning) } } }
+            }
         }
-        html.push_str("</tr>");
     }
-    html.push_str("</table><p class=\"muted\">Metres and radians; gains without unit.</p>\n");
-    if !result.moved.is_empty() {
-        html.push_str("<p>Parameters outside the base set that had to move: ");
-        let moved: Vec<String> = result
-            .moved
-            .iter()
-            .map(|p| format!("{} {:+.3e}", escape(&p.name), p.identified - p.nominal))
-            .collect();
-        let _ = writeln!(html, "{}</p>", moved.join(", "));
-    }
-
-    // Identifiable parameters.
-    let rank = &result.rank;
-    html.push_str(
-        "<h2>Identifiable parameters</h2><p class=\"muted\">id = identified, n = regrouped on others, 0 = no effect, \
-         – = excluded (priority 0); structural analysis on random configurations like the data (Appendix III).</p>\
-         <table><tr><th>j</th><th>α</th><th>d</th><th>θ</th><th>r</th><th>β</th><th>K</th></tr>",
-    );
-    for frame in 0..robot.frames().len() {
-        let _ = write!(html, "<tr><td>{frame}</td>");
-        for kind in ParameterKind::ALL {
-            let id = ParameterId::new(kind, frame);
-            let cell = rank
-                .parameters
-                .iter()
-                .find(|p| p.parameter == Some(id))
-                .map(|p| p.status);
-            let (class, text) = match cell {
-                Some(ParameterStatus::Identifiable) => ("id", "id"),
-                Some(ParameterStatus::Regrouped) => ("n", "n"),
-                Some(ParameterStatus::NoEffect) => ("z", "0"),
-                Some(ParameterStatus::Excluded) => ("z", "–"),
-                None => ("", ""),
-            };
-            let _ = write!(html, "<td class=\"{class}\">{text}</td>");
-        }
-        html.push_str("</tr>");
-    }
-    let _ = write!(
-        html,
-        "</table><p>{} identifiable parameters; condition number of W<sub>b</sub> on random configurations {}.</p>",
-        rank.count(),
-        number(rank.condition_number())
-    );
-    if !rank.relations().is_empty() {
-        html.push_str("<details><summary>Regrouping relations (eq. 32)</summary><ul>");
-        for relation in rank.relations() {
-            let terms: Vec<String> = relation
-                .absorbed
-                .iter()
-                .map(|(name, coefficient)| format!("{coefficient:+.4}·{}", escape(name)))
-                .collect();
-            let _ = write!(
-                html,
-                "<li><code>{0}_b = {0} {1}</code></li>",
-                escape(&relation.base),
-                terms.join(" ")
-            );
-        }
-        html.push_str("</ul></details>\n");
-    }
-
-    // The robot.
-    html.push_str(
-        "<h2>Robot (nominal)</h2><table><tr><th>j</th><th>σ</th><th>α</th><th>d</th><th>θ</th><th>r</th><th>β</th>\
-         <th>K</th><th>qmin</th><th>qmax</th></tr>",
-    );
-    for (j, frame) in robot.frames().iter().enumerate() {
-        let joint = (j >= 1 && j <= robot.joint_count()).then(|| robot.joints()[j - 1]);
-        let _ = write!(
-            html,
-            "<tr><td>{j}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
-            frame.frame_type.sigma(),
-            number(frame.alpha),
-            number(frame.d),
-            number(frame.theta),
-            number(frame.r),
-            number(frame.beta),
-            joint.map_or_else(|| "–".into(), |joint| number(joint.gain)),
-            joint.map_or_else(|| "–".into(), |joint| number(joint.qmin)),
-            joint.map_or_else(|| "–".into(), |joint| number(joint.qmax)),
-        );
-    }
-    html.push_str("</table>");
-    let middle: Vec<f64> = robot
-        .joints()
-        .iter()
-        .map(|joint| 0.5 * (joint.qmin + joint.qmax))
-        .collect();
-    if let Ok(motor) = robot.motor_positions(&middle) {
-        let frames = robot
-            .frames()
-            .iter()
-            .filter(|f| f.frame_type != FrameType::Fixed)
-            .count();
-        let _ = write!(
-            html,
-            "<p class=\"muted\">Calibrated robot at the middle of its {frames} joint ranges (origins of frames 0..n+1, m):</p>{}",
-            robot_projections_svg(&result.calibrated, motor.as_slice())?
-        );
-    }
-    html.push_str("\n<p class=\"muted\">gecaro — geometric calibration of serial robots (GECARO, Khalil et al.).</p></body></html>\n");
-    Ok(html)
 }
 
 /// The loss, the prior and the outlier report of `result`.
-fn robustness(html: &mut String, result: &Identification) {
-    html.push_str("<h2>Measurements as they are</h2><p>");
-    let _ = write!(
-        html,
-        "Loss <strong>{}</strong>{}; robust σ̂ of the residuals {:.3e} (units of the sensor σ).",
-        escape(&result.loss.to_string()),
-        if result.reweightings > 0 {
-            format!(" after {} reweightings", result.reweightings)
-        } else {
-            String::new()
-        },
-        result.robust_sigma
-    );
-    if let Some(prior) = &result.prior {
-        let _ = write!(
-            html,
-            " Prior around the nominal values: {} (maximum a posteriori; σ is posterior).",
-            escape(&prior.to_string())
-        );
-    }
-    html.push_str("</p>\n");
-    for (title, outliers) in [
-        ("Rejected before this fit", &result.rejected),
-        ("Outliers", &result.outliers),
-    ] {
-        if outliers.is_empty() {
-            continue;
+fn robustness(result: &Identification) -> Markup {
+    html! {
+        h2 { "Measurements as they are" }
+        p {
+            "Loss " strong { (result.loss) }
+            @if result.reweightings > 0 { " after " (result.reweightings) " reweightings" }
+            "; robust σ̂ of the residuals " (format!("{:.3e}", result.robust_sigma)) " (units of the sensor σ)."
+            @if let Some(prior) = &result.prior {
+                " Prior around the nominal values: " (prior) " (maximum a posteriori; σ is posterior)."
+            }
         }
-        let _ = write!(
-            html,
-            "<p><strong>{title}</strong> (beyond {} robust σ̂; ringed on the per-configuration plot):</p>\
-             <table><tr><th>observation</th><th>error (mm)</th><th>residual (σ̂)</th><th>weight</th></tr>",
-            result.outlier_threshold
-        );
-        for outlier in outliers {
-            let _ = write!(
-                html,
-                "<tr><td>{}</td><td>{:.3}</td><td>{:.1}</td><td>{:.3}</td></tr>",
-                escape(&outlier.location()),
-                outlier.error * 1e3,
-                outlier.standardized,
-                outlier.weight
-            );
+        (outlier_table("Rejected before this fit", &result.rejected, result.outlier_threshold))
+        (outlier_table("Outliers", &result.outliers, result.outlier_threshold))
+        @if result.outliers.is_empty() {
+            p.muted {
+                "No outliers: every observation is within " (result.outlier_threshold) " robust σ̂."
+            }
         }
-        html.push_str("</table>\n");
     }
-    if result.outliers.is_empty() {
-        let _ = writeln!(
-            html,
-            "<p class=\"muted\">No outliers: every observation is within {} robust σ̂.</p>",
-            result.outlier_threshold
-        );
+}
+
+fn outlier_table(title: &str, outliers: &[Outlier], threshold: f64) -> Markup {
+    html! {
+        @if !outliers.is_empty() {
+            p {
+                strong { (title) }
+                " (beyond " (threshold) " robust σ̂; ringed on the per-configuration plot):"
+            }
+            table {
+                tr { th { "observation" } th { "error (mm)" } th { "residual (σ̂)" } th { "weight" } }
+                @for outlier in outliers {
+                    tr {
+                        td { (outlier.location()) }
+                        td { (format!("{:.3}", outlier.error * 1e3)) }
+                        td { (format!("{:.1}", outlier.standardized)) }
+                        td { (format!("{:.3}", outlier.weight)) }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The identified parameters, and those outside the base set that moved.
+fn parameters(result: &Identification) -> Markup {
+    let with_prior = result.prior.is_some();
+    html! {
+        h2 { "Identified parameters" }
+        table {
+            tr {
+                th { "parameter" } th { "nominal" } th { "identified" } th { "deviation" } th { "σ" }
+                @if with_prior { th { "prior σ" } }
+            }
+            @for parameter in result.parameters.iter().chain(&result.auxiliary) {
+                tr {
+                    td { (parameter.name) }
+                    td { (number(parameter.nominal)) }
+                    td { (number(parameter.identified)) }
+                    td { (format!("{:+.3e}", parameter.identified - parameter.nominal)) }
+                    td { (format!("{:.2e}", parameter.std)) }
+                    @if with_prior {
+                        td { (parameter.prior_std.map_or("–".into(), |s| format!("{s:.2e}"))) }
+                    }
+                }
+            }
+        }
+        p.muted { "Metres and radians; gains without unit." }
+        @if !result.moved.is_empty() {
+            p {
+                "Parameters outside the base set that had to move: "
+                (result.moved.iter().map(|p| format!("{} {:+.3e}", p.name, p.identified - p.nominal)).collect::<Vec<_>>().join(", "))
+            }
+        }
+    }
+}
+
+/// The status of every parameter in the frame × kind grid, and the
+/// regrouping relations.
+fn identifiable(robot: &Robot, rank: &RankReport) -> Markup {
+    let cell = |frame: usize, kind: ParameterKind| {
+        let id = ParameterId::new(kind, frame);
+        match rank
+            .parameters
+            .iter()
+            .find(|p| p.parameter == Some(id))
+            .map(|p| p.status)
+        {
+            Some(ParameterStatus::Identifiable) => ("id", "id"),
+            Some(ParameterStatus::Regrouped) => ("n", "n"),
+            Some(ParameterStatus::NoEffect) => ("z", "0"),
+            Some(ParameterStatus::Excluded) => ("z", "–"),
+            None => ("", ""),
+        }
+    };
+    html! {
+        h2 { "Identifiable parameters" }
+        p.muted {
+            "id = identified, n = regrouped on others, 0 = no effect, – = excluded (priority 0); \
+             structural analysis on random configurations like the data (Appendix III)."
+        }
+        table {
+            tr { th { "j" } th { "α" } th { "d" } th { "θ" } th { "r" } th { "β" } th { "K" } }
+            @for frame in 0..robot.frames().len() {
+                tr {
+                    td { (frame) }
+                    @for kind in ParameterKind::ALL {
+                        @let (class, text) = cell(frame, kind);
+                        td class=(class) { (text) }
+                    }
+                }
+            }
+        }
+        p {
+            (rank.count()) " identifiable parameters; condition number of W" sub { "b" }
+            " on random configurations " (number(rank.condition_number())) "."
+        }
+        @if !rank.relations().is_empty() {
+            details {
+                summary { "Regrouping relations (eq. 32)" }
+                ul {
+                    @for relation in rank.relations() {
+                        li {
+                            code {
+                                (relation.base) "_b = " (relation.base) " "
+                                (relation.absorbed.iter().map(|(name, coefficient)| format!("{coefficient:+.4}·{name}")).collect::<Vec<_>>().join(" "))
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The robot's table.
+fn robot_table(robot: &Robot) -> Markup {
+    html! {
+        table {
+            tr {
+                th { "j" } th { "σ" } th { "α" } th { "d" } th { "θ" } th { "r" } th { "β" }
+                th { "K" } th { "qmin" } th { "qmax" }
+            }
+            @for (j, frame) in robot.frames().iter().enumerate() {
+                @let joint = (j >= 1 && j <= robot.joint_count()).then(|| robot.joints()[j - 1]);
+                tr {
+                    td { (j) }
+                    td { (frame.frame_type.sigma()) }
+                    td { (number(frame.alpha)) }
+                    td { (number(frame.d)) }
+                    td { (number(frame.theta)) }
+                    td { (number(frame.r)) }
+                    td { (number(frame.beta)) }
+                    td { (joint.map_or_else(|| "–".into(), |joint| number(joint.gain))) }
+                    td { (joint.map_or_else(|| "–".into(), |joint| number(joint.qmin))) }
+                    td { (joint.map_or_else(|| "–".into(), |joint| number(joint.qmax))) }
+                }
+            }
+        }
     }
 }
