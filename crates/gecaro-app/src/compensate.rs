@@ -44,7 +44,6 @@ pub struct CompensateRequest {
     #[serde(default, rename = "match")]
     pub matching: Option<String>,
     /// Write the corrected program (CSV) here.
-    #[serde(default)]
     pub save_as: Option<String>,
     /// Replace a file that exists.
     #[serde(default)]

@@ -28,30 +28,23 @@ pub struct GenerateRequest {
     pub method: MethodSpec,
     /// Configurations to generate (1 to [`MAX_GENERATE`]); not with
     /// `configurations`.
-    #[serde(default)]
     pub count: Option<usize>,
     /// Measure at these configurations instead (a planned file's qm, and
     /// set or pair ids).
-    #[serde(default)]
     pub configurations: Option<DataSource>,
     /// Errors of the simulated real robot: ±L cm, ±L°, ±L % (default 1); not
     /// with `real`.
-    #[serde(default)]
     pub error_level: Option<f64>,
     /// The real robot, instead of one with random errors.
-    #[serde(default)]
     pub real: Option<RobotSource>,
     /// Sensor noise, standard deviation (metres; radians for orientations).
     #[serde(default)]
     pub noise: f64,
     /// Seed of every random draw (default 1).
-    #[serde(default)]
     pub seed: Option<u64>,
     /// Write the data file (CSV) here.
-    #[serde(default)]
     pub save_as: Option<String>,
     /// Write the simulated real robot here, so that the truth is known.
-    #[serde(default)]
     pub real_save_as: Option<String>,
     /// Replace files that exist.
     #[serde(default)]

@@ -19,14 +19,11 @@ pub struct IdentifiableRequest {
     #[serde(flatten)]
     pub measurements: Measurements,
     /// The priority matrix; default the study file's, else the robot's.
-    #[serde(default)]
     pub priority: Option<PrioritySource>,
     /// Random configurations when there are no data (default: about 2.5
     /// equations per unknown, at most [`MAX_RANDOM`]).
-    #[serde(default)]
     pub count: Option<usize>,
     /// Seed of the random configurations (default 1).
-    #[serde(default)]
     pub seed: Option<u64>,
     #[serde(flatten)]
     unknown: Unknown,

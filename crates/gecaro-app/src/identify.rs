@@ -36,10 +36,8 @@ pub struct IdentifyRequest {
     #[serde(flatten)]
     pub settings: FitSettings,
     /// Also cross-validate, with this many folds (2–20).
-    #[serde(default)]
     pub cv: Option<usize>,
     /// Seed of the folds (default 1).
-    #[serde(default)]
     pub seed: Option<u64>,
     #[serde(flatten)]
     unknown: Unknown,
@@ -260,7 +258,6 @@ pub struct CompareModelsRequest {
     /// Folds of the cross-validation (2–20).
     pub cv: usize,
     /// Seed of the folds (the same for every model).
-    #[serde(default)]
     pub seed: Option<u64>,
     #[serde(flatten)]
     unknown: Unknown,

@@ -26,26 +26,19 @@ pub struct ImportRequest {
     /// The file: `.urdf`, `.par`, or a table (`.toml` with `convention`, `.csv`).
     pub file: String,
     /// Its format, when the file does not tell: `urdf`, `dh`, `mdh`, `symoro`.
-    #[serde(default)]
     pub format: Option<String>,
     /// URDF: the link whose frame is the world frame (default: the root).
-    #[serde(default)]
     pub base: Option<String>,
     /// URDF: the link whose frame is frame n+1 (default: the leaf with the
     /// most moving joints).
-    #[serde(default)]
     pub tip: Option<String>,
     /// The robot's name (default: the file's).
-    #[serde(default)]
     pub name: Option<String>,
     /// Tables: the unit of lengths that do not state theirs (`m`, `mm`).
-    #[serde(default)]
     pub length_unit: Option<String>,
     /// Tables: the unit of angles that do not state theirs (`rad`, `deg`).
-    #[serde(default)]
     pub angle_unit: Option<String>,
     /// Write the robot file here.
-    #[serde(default)]
     pub save_as: Option<String>,
     /// Replace a file that exists.
     #[serde(default)]
@@ -131,7 +124,6 @@ pub struct ExportRequest {
     pub to: String,
     /// Write the file here (and its joint calibration beside it, as
     /// `FILE.joint_calibration.yaml`).
-    #[serde(default)]
     pub save_as: Option<String>,
     /// Replace files that exist.
     #[serde(default)]

@@ -21,19 +21,15 @@ use crate::sources::{DataFormatSpec, DataSource, RobotSource};
 #[derive(Clone, Debug, Default, Deserialize)]
 pub struct Measurements {
     /// The robot (not with a study file, which names its own).
-    #[serde(default)]
     pub robot: Option<RobotSource>,
     /// The method of the data.
-    #[serde(default)]
     pub method: Option<MethodSpec>,
     /// The data; some jobs work on random configurations without.
-    #[serde(default)]
     pub data: Option<DataSource>,
     /// Units and column names of the data file.
     #[serde(default)]
     pub format: DataFormatSpec,
     /// A study file: several measurement sets (method, data, σ each).
-    #[serde(default)]
     pub study: Option<StudySource>,
     /// Refuse data with joints outside their limits (by default a warning).
     #[serde(default)]

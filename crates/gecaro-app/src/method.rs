@@ -15,21 +15,16 @@ pub struct MethodSpec {
     /// `position`, `frame`, `point-link`, `frame-link`, `plane1`, `plane2`, `distance`.
     pub name: String,
     /// Normal of the plane of a plane method, world frame.
-    #[serde(default)]
     pub plane_normal: Option<[f64; 3]>,
     /// A point of that plane, world frame, metres.
-    #[serde(default)]
     pub plane_point: Option<[f64; 3]>,
     /// Whether the plane (plane1) or its normal (plane2) is identified too;
     /// by default known when given.
-    #[serde(default)]
     pub plane_unknown: Option<bool>,
     /// Orientation difference of the frame methods (Appendix I):
     /// `axis-angle` (default) or `cross-products`.
-    #[serde(default)]
     pub orientation: Option<String>,
     /// Configurations per set when generating link data.
-    #[serde(default)]
     pub set_size: Option<usize>,
 }
 

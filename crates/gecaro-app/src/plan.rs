@@ -35,10 +35,8 @@ const TEST_POSES: usize = 200;
 #[derive(Clone, Debug, Default, Deserialize)]
 pub struct TestPoses {
     /// A data file's configurations; else random ones within the limits.
-    #[serde(default)]
     pub test_poses: Option<DataSource>,
     /// Random test poses when no file is given (default 200).
-    #[serde(default)]
     pub test_pose_count: Option<usize>,
 }
 
@@ -89,22 +87,16 @@ pub struct PlanRequest {
     /// The method to plan for.
     pub method: MethodSpec,
     /// Configurations to choose (rows of the plan; sets and pairs whole).
-    #[serde(default)]
     pub count: Option<usize>,
     /// `d` (default), `a`, `e`, `o4`, `o5` or `test`.
-    #[serde(default)]
     pub criterion: Option<String>,
     /// Candidates: a data file's configurations.
-    #[serde(default)]
     pub candidates: Option<DataSource>,
     /// Or this many generated candidates (default 20 × the largest count).
-    #[serde(default)]
     pub pool: Option<usize>,
     /// Seed of the pool, the test poses and the random designs (default 1).
-    #[serde(default)]
     pub seed: Option<u64>,
     /// Configurations measured already: part of the design.
-    #[serde(default)]
     pub keep: Option<DataSource>,
     /// Smallest joint-space distance between chosen configurations.
     #[serde(default)]
@@ -116,13 +108,10 @@ pub struct PlanRequest {
     #[serde(default)]
     pub curve: Vec<usize>,
     /// The sensor's σ for the curve (metres; default 0.1 mm).
-    #[serde(default)]
     pub noise: Option<f64>,
     /// Write the plan (CSV) here.
-    #[serde(default)]
     pub save_as: Option<String>,
     /// Write the curve's plot (SVG) here.
-    #[serde(default)]
     pub plot_save_as: Option<String>,
     /// Replace files that exist.
     #[serde(default)]
@@ -422,13 +411,10 @@ pub struct PredictRequest {
     #[serde(flatten)]
     pub test_poses: TestPoses,
     /// Also run this many simulated calibrations (Monte Carlo).
-    #[serde(default)]
     pub monte_carlo: Option<usize>,
     /// The simulated real robots' error level (default 0.1).
-    #[serde(default)]
     pub error_level: Option<f64>,
     /// Seed of the test poses and the simulations (default 1).
-    #[serde(default)]
     pub seed: Option<u64>,
     #[serde(flatten)]
     unknown: Unknown,

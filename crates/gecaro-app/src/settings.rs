@@ -51,29 +51,21 @@ impl PrioritySource {
 #[derive(Clone, Debug, Default, Deserialize)]
 pub struct FitSettings {
     /// The priority matrix; default the study file's, else the robot's.
-    #[serde(default)]
     pub priority: Option<PrioritySource>,
     /// Which parameters may be identified: `full` (default), `no-gains`,
     /// `no-beta`, `kinematic`, `offsets`, or a priority file.
-    #[serde(default)]
     pub model: Option<String>,
     /// `gauss-newton` (default, the paper) or `lm`.
-    #[serde(default)]
     pub solver: Option<String>,
     /// Iteration limit (default 30, at most [`MAX_ITERATIONS`]).
-    #[serde(default)]
     pub max_iterations: Option<usize>,
     /// `l2` (default), `huber`, `cauchy` or `tukey`.
-    #[serde(default)]
     pub loss: Option<String>,
     /// Scale of a robust loss, in robust σ.
-    #[serde(default)]
     pub loss_scale: Option<f64>,
     /// A Gaussian prior: `5mm,0.5deg,1%` (σ of lengths, angles, gains).
-    #[serde(default)]
     pub prior: Option<String>,
     /// Observations beyond this many robust σ are outliers (default 3).
-    #[serde(default)]
     pub outlier_threshold: Option<f64>,
     /// Drop the outliers and identify again, once.
     #[serde(default)]

@@ -104,7 +104,6 @@ pub enum DataSource {
         /// The file's content.
         text: String,
         /// Its name (for messages).
-        #[serde(default)]
         name: Option<String>,
     },
     /// Samples built already (Python arrays), with a label for messages.
@@ -195,13 +194,10 @@ impl DataSource {
 #[serde(deny_unknown_fields)]
 pub struct DataFormatSpec {
     /// `m` (default) or `mm`: positions, distances, prismatic joints.
-    #[serde(default)]
     pub length_unit: Option<String>,
     /// `rad` (default) or `deg`: revolute joints.
-    #[serde(default)]
     pub angle_unit: Option<String>,
     /// Other column names: `x=X_mm,qm1=A1`.
-    #[serde(default)]
     pub columns: Option<String>,
 }
 

@@ -34,8 +34,10 @@ pub trait CalibrationMethod: CloneMethod + fmt::Debug + Send + Sync {
         self.info().title
     }
 
-    /// The data columns beyond `qm1..qmn`.
-    fn data_columns(&self) -> &'static [DataColumn];
+    /// The data columns beyond `qm1..qmn` ([`MethodInfo::columns`]).
+    fn data_columns(&self) -> &'static [DataColumn] {
+        self.info().columns
+    }
 
     /// Checks the structure of a data set (set and pair sizes). The presence
     /// of the [`data_columns`](Self::data_columns) fields is checked by the caller.
@@ -46,8 +48,11 @@ pub trait CalibrationMethod: CloneMethod + fmt::Debug + Send + Sync {
         Ok(())
     }
 
-    /// Number of rows of W that `samples` give.
-    fn row_count(&self, samples: &[Sample]) -> usize;
+    /// Number of rows of W that `samples` give: by default
+    /// [`MethodInfo::rows_per_configuration`] per sample.
+    fn row_count(&self, samples: &[Sample]) -> usize {
+        self.info().rows_per_configuration * samples.len()
+    }
 
     /// Rows that carry no independent information (one per set and dimension
     /// for mean-centred sets): independent equations = rows − dependent rows.
@@ -55,14 +60,17 @@ pub trait CalibrationMethod: CloneMethod + fmt::Debug + Send + Sync {
         0
     }
 
-    /// Independent equations per configuration, roughly (to size random data).
-    fn equations_per_configuration(&self) -> f64;
+    /// Independent equations per configuration, roughly (to size random
+    /// data): by default the rows per configuration.
+    fn equations_per_configuration(&self) -> f64 {
+        self.info().rows_per_configuration as f64
+    }
 
     /// Whether the method's constraint still holds for the robot scaled about
     /// any point, i.e. it measures no length (link and plane methods): such
     /// data cannot observe the robot's scale (Table 2 loses it).
     fn scale_invariant(&self) -> bool {
-        false
+        self.info().scale_invariant
     }
 
     /// Names of the method's own unknowns, identified with η (plane coefficients).
@@ -90,19 +98,21 @@ pub trait CalibrationMethod: CloneMethod + fmt::Debug + Send + Sync {
     }
 
     /// The rows of the parameter Jacobian that [`linearise`](Self::linearise)
-    /// reads: all six by default; methods that measure no orientation say
-    /// [`JacobianRows::Position`] and the model skips the rotation rows.
+    /// reads ([`MethodInfo::jacobian_rows`]); methods that measure no
+    /// orientation say [`JacobianRows::Position`] and the model skips the
+    /// rotation rows.
     fn jacobian_rows(&self) -> JacobianRows {
-        JacobianRows::Full
+        self.info().jacobian_rows
     }
 
     /// Whether the rows of configuration i depend on nothing but its state,
     /// its sample and the auxiliary values, and belong to observation i
     /// (position, frame, plane-equation rows; not sets or pairs). Such a set
     /// is evaluated and linearised block by block, in parallel: `linearise`
-    /// is then called on consecutive blocks of the samples.
+    /// is then called on consecutive blocks of the samples
+    /// ([`MethodInfo::independent`]).
     fn independent_configurations(&self) -> bool {
-        false
+        self.info().independent
     }
 
     /// The samples of each observation, in the numbering `linearise` gives
@@ -251,7 +261,19 @@ impl<T: CalibrationMethod + Clone + 'static> CloneMethod for T {
     }
 }
 
-/// A method in the registry: its names and how to build it from options.
+/// A method in the registry: its names, the shape of its equations and how
+/// to build it from options. The provided methods of [`CalibrationMethod`]
+/// read the shape from here, so that a method states it once:
+///
+/// ```
+/// use gecaro_calib::methods::method_info;
+/// use gecaro_core::JacobianRows;
+///
+/// let position = method_info("position").unwrap();
+/// assert_eq!(position.rows_per_configuration, 3);
+/// assert_eq!(position.jacobian_rows, JacobianRows::Position);
+/// assert!(position.independent && !position.scale_invariant);
+/// ```
 #[derive(Copy, Clone)]
 pub struct MethodInfo {
     /// Command-line name.
@@ -260,6 +282,19 @@ pub struct MethodInfo {
     pub title: &'static str,
     /// Whether the method uses a plane.
     pub uses_plane: bool,
+    /// The data columns beyond `qm1..qmn`.
+    pub columns: &'static [DataColumn],
+    /// The rows of the parameter Jacobian the equations read.
+    pub jacobian_rows: JacobianRows,
+    /// Rows of W per configuration (a pair's one row counts for none here:
+    /// the distance method counts its rows itself).
+    pub rows_per_configuration: usize,
+    /// Whether configurations give rows of their own (see
+    /// [`CalibrationMethod::independent_configurations`]).
+    pub independent: bool,
+    /// Whether the data measure no length (see
+    /// [`CalibrationMethod::scale_invariant`]).
+    pub scale_invariant: bool,
     build: fn(&MethodOptions) -> Result<Box<dyn CalibrationMethod>, Error>,
 }
 
@@ -272,18 +307,53 @@ impl fmt::Debug for MethodInfo {
 }
 
 impl MethodInfo {
-    /// A registry entry: names, whether the method uses a plane, and its builder.
+    /// A registry entry: names and builder, and the shape of the equations:
+    /// `rows_per_configuration` rows that read `jacobian_rows`, from data
+    /// with `columns`. Configurations share rows and the data measure
+    /// lengths unless said otherwise ([`independent`](Self::independent),
+    /// [`scale_invariant`](Self::scale_invariant)).
     pub const fn new(
         name: &'static str,
         title: &'static str,
-        uses_plane: bool,
+        columns: &'static [DataColumn],
+        jacobian_rows: JacobianRows,
+        rows_per_configuration: usize,
         build: fn(&MethodOptions) -> Result<Box<dyn CalibrationMethod>, Error>,
     ) -> Self {
         MethodInfo {
             name,
             title,
-            uses_plane,
+            uses_plane: false,
+            columns,
+            jacobian_rows,
+            rows_per_configuration,
+            independent: false,
+            scale_invariant: false,
             build,
+        }
+    }
+
+    /// The rows of each configuration depend on it alone.
+    pub const fn independent(self) -> Self {
+        MethodInfo {
+            independent: true,
+            ..self
+        }
+    }
+
+    /// The data measure no length (links and planes).
+    pub const fn scale_invariant(self) -> Self {
+        MethodInfo {
+            scale_invariant: true,
+            ..self
+        }
+    }
+
+    /// The method uses a plane (given, or its start when unknown).
+    pub const fn with_plane(self) -> Self {
+        MethodInfo {
+            uses_plane: true,
+            ..self
         }
     }
 

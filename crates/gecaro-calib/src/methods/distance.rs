@@ -14,9 +14,14 @@ use crate::sample::{DataColumn, Sample};
 use crate::sampler::Sampler;
 use crate::states::TerminalState;
 
-pub(super) const INFO: MethodInfo = MethodInfo::new("distance", "Distance measure", false, |_| {
-    Ok(Box::new(DistanceMeasure))
-});
+pub(super) const INFO: MethodInfo = MethodInfo::new(
+    "distance",
+    "Distance measure",
+    &[DataColumn::Pair, DataColumn::Distance],
+    JacobianRows::Position,
+    0,
+    |_| Ok(Box::new(DistanceMeasure)),
+);
 
 /// Distance measure; see the module docs.
 #[derive(Clone, Debug)]
@@ -29,14 +34,6 @@ impl CalibrationMethod for DistanceMeasure {
 
     fn sensor(&self) -> &dyn Sensor {
         self
-    }
-
-    fn jacobian_rows(&self) -> JacobianRows {
-        JacobianRows::Position
-    }
-
-    fn data_columns(&self) -> &'static [DataColumn] {
-        &[DataColumn::Pair, DataColumn::Distance]
     }
 
     fn check_samples(&self, samples: &[Sample]) -> Result<(), Error> {

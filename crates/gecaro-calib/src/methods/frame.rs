@@ -2,7 +2,7 @@
 //! orientation of frame n+1. All six rows of eq. 7 per configuration:
 //! `J(q, η) Δη = Δx(measured, model)`, with Δx of Appendix I (method 2 by default).
 
-use gecaro_core::{OrientationDifference, orientation_difference};
+use gecaro_core::{JacobianRows, OrientationDifference, orientation_difference};
 
 use super::readings::Reading;
 use crate::method::{CalibrationMethod, MethodInfo, Sensor};
@@ -10,11 +10,19 @@ use crate::rows::{RowKind, RowWriter};
 use crate::sample::{DataColumn, Sample};
 use crate::states::TerminalState;
 
-pub(super) const INFO: MethodInfo = MethodInfo::new("frame", "Frame measure", false, |options| {
-    Ok(Box::new(FrameMeasure {
-        orientation: options.orientation,
-    }))
-});
+pub(super) const INFO: MethodInfo = MethodInfo::new(
+    "frame",
+    "Frame measure",
+    &[DataColumn::Position, DataColumn::Orientation],
+    JacobianRows::Full,
+    6,
+    |options| {
+        Ok(Box::new(FrameMeasure {
+            orientation: options.orientation,
+        }))
+    },
+)
+.independent();
 
 /// Frame measure; see the module docs.
 #[derive(Clone, Debug)]
@@ -29,22 +37,6 @@ impl CalibrationMethod for FrameMeasure {
 
     fn sensor(&self) -> &dyn Sensor {
         &Reading::Frame
-    }
-
-    fn independent_configurations(&self) -> bool {
-        true
-    }
-
-    fn data_columns(&self) -> &'static [DataColumn] {
-        &[DataColumn::Position, DataColumn::Orientation]
-    }
-
-    fn row_count(&self, samples: &[Sample]) -> usize {
-        6 * samples.len()
-    }
-
-    fn equations_per_configuration(&self) -> f64 {
-        6.0
     }
 
     fn linearise(

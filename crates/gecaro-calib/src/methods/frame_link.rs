@@ -2,6 +2,8 @@
 //! n+1 (a tool locked in a fixture). Data: `set` ids. Eq. 12, six rows per
 //! configuration, mean-centred per set.
 
+use gecaro_core::JacobianRows;
+
 use super::link::{LinkSets, Linked, dependent_rows, linearise_sets};
 use super::sets::check_group_sizes;
 use crate::error::Error;
@@ -10,14 +12,22 @@ use crate::rows::RowWriter;
 use crate::sample::{DataColumn, Sample};
 use crate::states::TerminalState;
 
-pub(super) const INFO: MethodInfo = MethodInfo::new("frame-link", "Frame link", false, |options| {
-    Ok(Box::new(FrameLink {
-        sensor: LinkSets {
-            linked: Linked::Frame(options.orientation),
-            set_size: options.set_size.unwrap_or(2),
-        },
-    }))
-});
+pub(super) const INFO: MethodInfo = MethodInfo::new(
+    "frame-link",
+    "Frame link",
+    &[DataColumn::Set],
+    JacobianRows::Full,
+    6,
+    |options| {
+        Ok(Box::new(FrameLink {
+            sensor: LinkSets {
+                linked: Linked::Frame(options.orientation),
+                set_size: options.set_size.unwrap_or(2),
+            },
+        }))
+    },
+)
+.scale_invariant();
 
 /// Frame link; see the module docs.
 #[derive(Clone, Debug)]
@@ -34,16 +44,8 @@ impl CalibrationMethod for FrameLink {
         &self.sensor
     }
 
-    fn data_columns(&self) -> &'static [DataColumn] {
-        &[DataColumn::Set]
-    }
-
     fn check_samples(&self, samples: &[Sample]) -> Result<(), Error> {
         check_group_sizes(samples, 2, usize::MAX, "set")
-    }
-
-    fn row_count(&self, samples: &[Sample]) -> usize {
-        6 * samples.len()
     }
 
     fn dependent_rows(&self, samples: &[Sample]) -> usize {
@@ -51,11 +53,7 @@ impl CalibrationMethod for FrameLink {
     }
 
     fn equations_per_configuration(&self) -> f64 {
-        6.0 * (1.0 - 1.0 / self.sensor.set_size.max(2) as f64)
-    }
-
-    fn scale_invariant(&self) -> bool {
-        true
+        self.sensor.equations_per_configuration()
     }
 
     fn linearise(

@@ -46,6 +46,14 @@ pub(super) struct LinkSets {
     pub(super) set_size: usize,
 }
 
+impl LinkSets {
+    /// Independent equations per configuration of sets of `set_size`: each
+    /// set's mean uses up one configuration's worth.
+    pub(super) fn equations_per_configuration(&self) -> f64 {
+        self.linked.dimension() as f64 * (1.0 - 1.0 / self.set_size.max(2) as f64)
+    }
+}
+
 impl Sensor for LinkSets {
     fn generate(
         &self,

@@ -3,6 +3,7 @@
 //! in a plane (a touch probe on a surface).
 
 use gecaro_core::{InverseOptions, Robot, Target, inverse_kinematics};
+use nalgebra::Vector3;
 
 use crate::error::{Error, Setting};
 use crate::method::Sensor;
@@ -61,6 +62,31 @@ fn plane_like(plane: Option<Plane>, states: &[TerminalState]) -> Result<Plane, E
         Some(plane) => Ok(plane),
         None => Plane::fit(states.iter().map(|state| state.pose.translation.vector)),
     }
+}
+
+/// The names of a plane method's unknowns: a, b, c when the plane is
+/// `unknown`, none when it is known.
+pub(super) fn plane_unknowns(unknown: bool) -> Vec<String> {
+    if unknown {
+        ["a", "b", "c"].map(String::from).to_vec()
+    } else {
+        Vec::new()
+    }
+}
+
+/// The starting values of a plane method's unknowns: `of` the least-squares
+/// plane of the terminal points at the starting parameters (its equation's
+/// coefficients or its normal), none when the plane is known.
+pub(super) fn fitted_unknowns(
+    unknown: bool,
+    states: &[TerminalState],
+    of: impl Fn(&Plane) -> Result<Vector3<f64>, Error>,
+) -> Result<Vec<f64>, Error> {
+    if !unknown {
+        return Ok(Vec::new());
+    }
+    let fitted = Plane::fit(states.iter().map(|state| state.pose.translation.vector))?;
+    Ok(of(&fitted)?.as_slice().to_vec())
 }
 
 /// The plane a method was given, or the error that says how to give one.

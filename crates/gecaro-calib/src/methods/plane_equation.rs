@@ -10,28 +10,38 @@
 use gecaro_core::JacobianRows;
 use nalgebra::Vector3;
 
-use super::plane::{PlaneContact, required};
+use super::plane::{PlaneContact, fitted_unknowns, plane_unknowns, required};
 use crate::error::Error;
 use crate::method::{CalibrationMethod, MethodInfo, Sensor};
 use crate::plane::Plane;
 use crate::rows::{RowKind, RowWriter};
-use crate::sample::{DataColumn, Sample};
+use crate::sample::Sample;
 use crate::states::TerminalState;
 
-pub(super) const INFO: MethodInfo = MethodInfo::new("plane1", "Plane link 1", true, |options| {
-    let known = if options.plane_unknown {
-        None
-    } else {
-        Some(required(options.plane, "plane1 with a known plane")?.coefficients()?)
-    };
-    Ok(Box::new(PlaneEquation {
-        sensor: PlaneContact {
-            plane: options.plane,
-            method: "plane1",
-        },
-        known,
-    }))
-});
+pub(super) const INFO: MethodInfo = MethodInfo::new(
+    "plane1",
+    "Plane link 1",
+    &[],
+    JacobianRows::Position,
+    1,
+    |options| {
+        let known = if options.plane_unknown {
+            None
+        } else {
+            Some(required(options.plane, "plane1 with a known plane")?.coefficients()?)
+        };
+        Ok(Box::new(PlaneEquation {
+            sensor: PlaneContact {
+                plane: options.plane,
+                method: "plane1",
+            },
+            known,
+        }))
+    },
+)
+.independent()
+.scale_invariant()
+.with_plane();
 
 /// Plane link 1; see the module docs.
 #[derive(Clone, Debug)]
@@ -51,43 +61,12 @@ impl CalibrationMethod for PlaneEquation {
         &self.sensor
     }
 
-    fn jacobian_rows(&self) -> JacobianRows {
-        JacobianRows::Position
-    }
-
-    fn independent_configurations(&self) -> bool {
-        true
-    }
-
-    fn data_columns(&self) -> &'static [DataColumn] {
-        &[]
-    }
-
-    fn row_count(&self, samples: &[Sample]) -> usize {
-        samples.len()
-    }
-
-    fn equations_per_configuration(&self) -> f64 {
-        1.0
-    }
-
     fn auxiliary_names(&self) -> Vec<String> {
-        match self.known {
-            Some(_) => Vec::new(),
-            None => ["a", "b", "c"].map(String::from).to_vec(),
-        }
+        plane_unknowns(self.known.is_none())
     }
 
     fn initial_auxiliary(&self, states: &[TerminalState]) -> Result<Vec<f64>, Error> {
-        if self.known.is_some() {
-            return Ok(Vec::new());
-        }
-        let fitted = Plane::fit(states.iter().map(|state| state.pose.translation.vector))?;
-        Ok(fitted.coefficients()?.as_slice().to_vec())
-    }
-
-    fn scale_invariant(&self) -> bool {
-        true
+        fitted_unknowns(self.known.is_none(), states, Plane::coefficients)
     }
 
     fn linearise(

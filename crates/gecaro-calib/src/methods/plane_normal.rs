@@ -12,29 +12,37 @@
 use gecaro_core::JacobianRows;
 use nalgebra::Vector3;
 
-use super::plane::{PlaneContact, required};
+use super::plane::{PlaneContact, fitted_unknowns, plane_unknowns, required};
 use super::sets::centre;
 use crate::error::Error;
 use crate::method::{CalibrationMethod, MethodInfo, Sensor};
-use crate::plane::Plane;
 use crate::rows::{RowKind, RowWriter};
-use crate::sample::{DataColumn, Sample};
+use crate::sample::Sample;
 use crate::states::TerminalState;
 
-pub(super) const INFO: MethodInfo = MethodInfo::new("plane2", "Plane link 2", true, |options| {
-    let known = if options.plane_unknown {
-        None
-    } else {
-        Some(required(options.plane, "plane2 with a known normal")?.normal())
-    };
-    Ok(Box::new(PlaneNormal {
-        sensor: PlaneContact {
-            plane: options.plane,
-            method: "plane2",
-        },
-        known,
-    }))
-});
+pub(super) const INFO: MethodInfo = MethodInfo::new(
+    "plane2",
+    "Plane link 2",
+    &[],
+    JacobianRows::Position,
+    1,
+    |options| {
+        let known = if options.plane_unknown {
+            None
+        } else {
+            Some(required(options.plane, "plane2 with a known normal")?.normal())
+        };
+        Ok(Box::new(PlaneNormal {
+            sensor: PlaneContact {
+                plane: options.plane,
+                method: "plane2",
+            },
+            known,
+        }))
+    },
+)
+.scale_invariant()
+.with_plane();
 
 /// Plane link 2; see the module docs.
 #[derive(Clone, Debug)]
@@ -52,43 +60,16 @@ impl CalibrationMethod for PlaneNormal {
         &self.sensor
     }
 
-    fn jacobian_rows(&self) -> JacobianRows {
-        JacobianRows::Position
-    }
-
-    fn data_columns(&self) -> &'static [DataColumn] {
-        &[]
-    }
-
-    fn row_count(&self, samples: &[Sample]) -> usize {
-        samples.len()
-    }
-
     fn dependent_rows(&self, _samples: &[Sample]) -> usize {
         1
     }
 
-    fn equations_per_configuration(&self) -> f64 {
-        1.0
-    }
-
     fn auxiliary_names(&self) -> Vec<String> {
-        match self.known {
-            Some(_) => Vec::new(),
-            None => ["a", "b", "c"].map(String::from).to_vec(),
-        }
+        plane_unknowns(self.known.is_none())
     }
 
     fn initial_auxiliary(&self, states: &[TerminalState]) -> Result<Vec<f64>, Error> {
-        if self.known.is_some() {
-            return Ok(Vec::new());
-        }
-        let fitted = Plane::fit(states.iter().map(|state| state.pose.translation.vector))?;
-        Ok(fitted.normal().as_slice().to_vec())
-    }
-
-    fn scale_invariant(&self) -> bool {
-        true
+        fitted_unknowns(self.known.is_none(), states, |plane| Ok(plane.normal()))
     }
 
     fn linearise(

@@ -12,14 +12,22 @@ use crate::rows::RowWriter;
 use crate::sample::{DataColumn, Sample};
 use crate::states::TerminalState;
 
-pub(super) const INFO: MethodInfo = MethodInfo::new("point-link", "Point link", false, |options| {
-    Ok(Box::new(PointLink {
-        sensor: LinkSets {
-            linked: Linked::Point,
-            set_size: options.set_size.unwrap_or(4),
-        },
-    }))
-});
+pub(super) const INFO: MethodInfo = MethodInfo::new(
+    "point-link",
+    "Point link",
+    &[DataColumn::Set],
+    JacobianRows::Position,
+    3,
+    |options| {
+        Ok(Box::new(PointLink {
+            sensor: LinkSets {
+                linked: Linked::Point,
+                set_size: options.set_size.unwrap_or(4),
+            },
+        }))
+    },
+)
+.scale_invariant();
 
 /// Point link; see the module docs.
 #[derive(Clone, Debug)]
@@ -36,20 +44,8 @@ impl CalibrationMethod for PointLink {
         &self.sensor
     }
 
-    fn jacobian_rows(&self) -> JacobianRows {
-        JacobianRows::Position
-    }
-
-    fn data_columns(&self) -> &'static [DataColumn] {
-        &[DataColumn::Set]
-    }
-
     fn check_samples(&self, samples: &[Sample]) -> Result<(), Error> {
         check_group_sizes(samples, 2, usize::MAX, "set")
-    }
-
-    fn row_count(&self, samples: &[Sample]) -> usize {
-        3 * samples.len()
     }
 
     fn dependent_rows(&self, samples: &[Sample]) -> usize {
@@ -57,11 +53,7 @@ impl CalibrationMethod for PointLink {
     }
 
     fn equations_per_configuration(&self) -> f64 {
-        3.0 * (1.0 - 1.0 / self.sensor.set_size.max(2) as f64)
-    }
-
-    fn scale_invariant(&self) -> bool {
-        true
+        self.sensor.equations_per_configuration()
     }
 
     fn linearise(

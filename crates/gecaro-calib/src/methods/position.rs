@@ -10,9 +10,15 @@ use crate::rows::{RowKind, RowWriter};
 use crate::sample::{DataColumn, Sample};
 use crate::states::TerminalState;
 
-pub(super) const INFO: MethodInfo = MethodInfo::new("position", "Position measure", false, |_| {
-    Ok(Box::new(PositionMeasure))
-});
+pub(super) const INFO: MethodInfo = MethodInfo::new(
+    "position",
+    "Position measure",
+    &[DataColumn::Position],
+    JacobianRows::Position,
+    3,
+    |_| Ok(Box::new(PositionMeasure)),
+)
+.independent();
 
 /// Position measure; see the module docs.
 #[derive(Clone, Debug)]
@@ -25,26 +31,6 @@ impl CalibrationMethod for PositionMeasure {
 
     fn sensor(&self) -> &dyn Sensor {
         &Reading::Point
-    }
-
-    fn jacobian_rows(&self) -> JacobianRows {
-        JacobianRows::Position
-    }
-
-    fn independent_configurations(&self) -> bool {
-        true
-    }
-
-    fn data_columns(&self) -> &'static [DataColumn] {
-        &[DataColumn::Position]
-    }
-
-    fn row_count(&self, samples: &[Sample]) -> usize {
-        3 * samples.len()
-    }
-
-    fn equations_per_configuration(&self) -> f64 {
-        3.0
     }
 
     fn linearise(

@@ -180,10 +180,8 @@ pub(crate) async fn ready(UrlPath(name): UrlPath<String>) -> Result<Json<RobotVi
 pub(crate) struct FileQuery {
     name: String,
     /// URDF: the base link (default: the root).
-    #[serde(default)]
     base: Option<String>,
     /// URDF: the tip link (default: the leaf with the most moving joints).
-    #[serde(default)]
     tip: Option<String>,
 }
 
@@ -240,7 +238,6 @@ pub(crate) async fn check(Json(request): Json<RobotRequest>) -> Json<RobotView> 
 pub(crate) struct NewRequest {
     /// Joint letters, R and P (`RRPRRR`).
     joints: String,
-    #[serde(default)]
     name: Option<String>,
 }
 
