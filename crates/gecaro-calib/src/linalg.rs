@@ -672,6 +672,36 @@ pub(crate) fn minimum_norm_step(
     Ok(step)
 }
 
+/// The part of ‖r‖² that `W x ≈ r` can explain, ‖P_W r‖² with P_W the
+/// projection onto W's numerical column space (singular values above
+/// `relative_tolerance` times the largest), and that space's dimension: the
+/// decrease a least-squares step over W's columns gives, for a W that may
+/// be rank-deficient.
+///
+/// # Errors
+/// [`Error::Numerical`] if the SVD does not converge.
+pub(crate) fn explained_sum_of_squares(
+    matrix: MatRef<'_, f64>,
+    right: &[f64],
+    relative_tolerance: f64,
+) -> Result<(f64, usize), Error> {
+    let svd = matrix.thin_svd().map_err(|error| Error::Numerical {
+        message: format!("singular value decomposition failed: {error:?}"),
+    })?;
+    let (u, s) = (svd.U(), svd.S().column_vector());
+    let largest = (0..s.nrows()).map(|k| s[k]).fold(0.0, f64::max);
+    let mut explained = 0.0;
+    let mut rank = 0;
+    for k in 0..s.nrows() {
+        if s[k] > relative_tolerance * largest {
+            let projection: f64 = (0..right.len()).map(|i| u[(i, k)] * right[i]).sum();
+            explained += projection * projection;
+            rank += 1;
+        }
+    }
+    Ok((explained, rank))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

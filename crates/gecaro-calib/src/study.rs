@@ -22,9 +22,10 @@ pub struct MeasurementSet {
     /// The configurations and what was measured there.
     pub samples: Vec<Sample>,
     /// The sensor's standard deviation (metres, and radians for orientations
-    /// unless `sigma_rotation` is given); the rows are weighted by 1/σ. Use 1
-    /// for an unweighted single-set study.
-    pub sigma: f64,
+    /// unless `sigma_rotation` is given), when it is known: the rows are
+    /// weighted by 1/σ, and the identification's verdict tests the residuals
+    /// against it. `None`: unweighted rows (σ = 1), no test.
+    pub sigma: Option<f64>,
     /// A separate standard deviation for the orientation rows (radians).
     pub sigma_rotation: Option<f64>,
     /// A name for messages (usually the data file).
@@ -41,6 +42,15 @@ impl MeasurementSet {
             sigma_rotation: self.sigma_rotation,
             label: self.label.clone(),
         }
+    }
+}
+
+impl MeasurementSet {
+    /// The weights of the set's length and angle rows: 1/σ (1 when no σ is
+    /// stated; the angle rows' σ is `sigma_rotation` when given).
+    pub fn row_weights(&self) -> [f64; 2] {
+        let length = self.sigma.unwrap_or(1.0);
+        [1.0 / length, 1.0 / self.sigma_rotation.unwrap_or(length)]
     }
 }
 
@@ -124,7 +134,7 @@ impl Study {
             sets: vec![MeasurementSet {
                 method,
                 samples,
-                sigma: 1.0,
+                sigma: None,
                 sigma_rotation: None,
                 label: label.into(),
             }],
@@ -196,10 +206,12 @@ impl Study {
                     format!("sigma_rotation must be a positive number, not {sigma}"),
                 ));
             }
-            if !(set.sigma.is_finite() && set.sigma > 0.0) {
+            if let Some(sigma) = set.sigma
+                && !(sigma.is_finite() && sigma > 0.0)
+            {
                 return Err(invalid(
                     None,
-                    format!("sigma must be a positive number, not {}", set.sigma),
+                    format!("sigma must be a positive number, not {sigma}"),
                 ));
             }
             if set.samples.is_empty() {
@@ -444,16 +456,8 @@ impl Study {
             let rows = set.method.row_count(&set.samples);
             let count = set.method.auxiliary_names().len();
             let own = &auxiliary[auxiliary_offset..auxiliary_offset + count];
-            let writer = system.writer(
-                layout,
-                first_row,
-                rows,
-                auxiliary_offset,
-                [
-                    1.0 / set.sigma,
-                    1.0 / set.sigma_rotation.unwrap_or(set.sigma),
-                ],
-            );
+            let writer =
+                system.writer(layout, first_row, rows, auxiliary_offset, set.row_weights());
             let end = write(index, set, own, writer)?;
             system.record_observations(end);
             system.record_set(first_row..first_row + rows);
@@ -543,14 +547,14 @@ mod tests {
                             &mut sampler,
                         )
                         .expect("data"),
-                        sigma: 1e-3,
+                        sigma: Some(1e-3),
                         sigma_rotation: None,
                         label: "first".into(),
                     },
                     MeasurementSet {
                         method,
                         samples,
-                        sigma: 2e-4,
+                        sigma: Some(2e-4),
                         sigma_rotation: Some(1e-3),
                         label: info.name.into(),
                     },

@@ -145,11 +145,11 @@ fn with_sensor_noise_the_residual_settles_at_the_noise_level() {
             study.sets.push(MeasurementSet {
                 method: distance,
                 samples: pairs,
-                sigma,
+                sigma: Some(sigma),
                 sigma_rotation: None,
                 label: "pairs".into(),
             });
-            study.sets[0].sigma = sigma;
+            study.sets[0].sigma = Some(sigma);
         }
         let result = identify(
             &stanford(),
@@ -381,4 +381,59 @@ fn a_progress_hook_can_stop_an_identification() {
     .expect_err("interrupted");
     assert_eq!(error, gecaro_calib::Error::Interrupted);
     assert_eq!(records, 2, "no record after the stop");
+}
+
+/// Held-out RMS of the identified robot over that of the real robot itself
+/// (the noise floor), for position data of a ready robot with errors at
+/// `level` (200 configurations to identify from, 200 to check on, σ 0.01 mm),
+/// and the parameters the second pass added.
+fn held_out_over_floor(robot: &str, level: f64, seed: u64) -> (f64, Vec<String>) {
+    let nominal = gecaro_io::load_robot(robot).expect("ready robot").robot;
+    let position = method("position", &MethodOptions::default()).expect("method");
+    let mut sampler = Sampler::new(seed);
+    let real = perturbed_robot(&nominal, level, &mut sampler).expect("real robot");
+    let mut measure = || {
+        let samples =
+            simulate_measurements(&real, position.as_ref(), 200, 1e-5, &mut sampler).expect("data");
+        Study::single(position.clone_method(), samples, "simulated")
+    };
+    let (train, check) = (measure(), measure());
+    let result = identify(
+        &nominal,
+        &train,
+        &IdentificationOptions::default(),
+        &mut Quiet,
+    )
+    .expect("fit");
+    assert_eq!(result.stop_reason, StopReason::Converged);
+    let floor = evaluate(&real, &check).expect("floor").rms;
+    let held_out = evaluate(&result.calibrated, &check).expect("held out").rms;
+    (held_out / floor, result.second_pass)
+}
+
+#[test]
+fn errors_of_a_centimetre_are_identified_to_the_noise_floor() {
+    // Parallel axes (PUMA 2–3) and a tool point on the last axis (Panda):
+    // the nominal structure's base set holds only to first order, and the
+    // paper's pass alone stops at 2.5× (Panda) and 18× (PUMA) the floor on
+    // these data. The second pass identifies what the structure at the
+    // calibrated robot adds.
+    for (robot, bound) in [("panda", 1.2), ("puma560", 1.5)] {
+        let (ratio, added) = held_out_over_floor(robot, 1.0, 7);
+        assert!(!added.is_empty(), "{robot}: no second pass");
+        assert!(ratio < bound, "{robot}: held-out RMS {ratio:.2}× the floor");
+    }
+    // Small errors: the floor either way (at 0.1 the F test may still find
+    // the second-order terms, ~2e-6 m, among 600 equations); at 0.01 they
+    // are far below the noise and the paper's pass stays alone.
+    let (ratio, _) = held_out_over_floor("puma560", 0.1, 7);
+    assert!(ratio < 1.1, "level 0.1: {ratio:.2}× the floor");
+    for seed in 1..4 {
+        let (ratio, added) = held_out_over_floor("puma560", 0.01, seed);
+        assert!(ratio < 1.1, "level 0.01: {ratio:.2}× the floor");
+        assert!(
+            added.is_empty(),
+            "level 0.01: a second pass added {added:?}"
+        );
+    }
 }

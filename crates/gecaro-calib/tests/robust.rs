@@ -373,7 +373,7 @@ fn each_set_of_a_study_is_judged_by_its_own_noise() {
         sets.push(gecaro_calib::study::MeasurementSet {
             method: chosen,
             samples,
-            sigma: 1e-4,
+            sigma: Some(1e-4),
             sigma_rotation: None,
             label: format!("{name}.csv"),
         });

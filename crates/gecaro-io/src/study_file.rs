@@ -338,7 +338,7 @@ pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
         sets.push(MeasurementSet {
             method,
             samples,
-            sigma,
+            sigma: Some(sigma),
             sigma_rotation,
             label: data_path.display().to_string(),
         });

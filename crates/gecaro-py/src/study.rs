@@ -48,12 +48,12 @@ impl PyStudy {
     /// Adds a measurement set: `data` measured by `method` (a Method or its
     /// name) with a sensor of standard deviation `sigma` (metres; also
     /// radians for orientations unless `sigma_rotation` is given).
-    #[pyo3(signature = (method, data, *, sigma = 1.0, sigma_rotation = None, label = None))]
+    #[pyo3(signature = (method, data, *, sigma = None, sigma_rotation = None, label = None))]
     fn add(
         &mut self,
         method: &Bound<'_, PyAny>,
         data: PyRef<'_, PyData>,
-        sigma: f64,
+        sigma: Option<f64>,
         sigma_rotation: Option<f64>,
         label: Option<String>,
     ) -> PyResult<()> {

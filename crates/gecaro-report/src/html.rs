@@ -144,7 +144,12 @@ fn summary(input: &ReportInput<'_>) -> Markup {
                     @for (index, set) in input.study.sets.iter().enumerate() {
                         @if index > 0 { br; }
                         (set.label) " (" (set.method.title()) ", " (set.samples.len())
-                        " configurations, σ " (set.sigma) ")"
+                        " configurations, "
+                        @match set.sigma {
+                            Some(sigma) => { "σ " (number(sigma * 1e3)) " mm" }
+                            None => { "no σ stated" }
+                        }
+                        ")"
                     }
                 }
             }

@@ -4,6 +4,7 @@
 use gecaro_core::{ParameterId, Robot};
 
 use super::outliers::Outlier;
+use super::verdict::{Outcome, Verdict};
 use crate::identifiability::RankReport;
 use crate::observability::Observability;
 use crate::observation::ObservationSystem;
@@ -173,6 +174,18 @@ pub struct Identification {
     pub outlier_threshold: f64,
     /// Observations beyond the outlier threshold at the solution, worst first.
     pub outliers: Vec<Outlier>,
+    /// Whether the result can be trusted ([`Verdict`]).
+    pub verdict: Verdict,
+    /// Parameters outside the base set chosen at the nominal robot that the
+    /// second pass identified (identifiable at the calibrated robot; see the
+    /// module docs): empty when the paper's base set sufficed.
+    pub second_pass: Vec<String>,
+    /// The data's residual sum of squares at the solution (rows scaled by
+    /// their sensor σ and robust weights; prior rows excluded).
+    pub data_cost: f64,
+    /// Degrees of freedom of the residuals: independent equations of the
+    /// observations with a weight, minus the identified unknowns.
+    pub degrees_of_freedom: usize,
     /// Observations dropped before this fit ([`IdentificationOptions::reject`](super::IdentificationOptions::reject)):
     /// the outliers of the first fit, located in the original data.
     pub rejected: Vec<Outlier>,
@@ -214,15 +227,22 @@ impl Identification {
             .fold(f64::INFINITY, f64::min)
     }
 
-    /// Why the result is not trustworthy, as a sentence, when the iteration
-    /// did not converge (`None` when it did).
+    /// Why the result is no solution, as a sentence, when the iteration did
+    /// not converge or the data are degenerate (`None` otherwise; a fit that
+    /// exceeds the stated noise is a solution, and says so in its verdict).
     pub fn failure(&self) -> Option<String> {
-        (self.stop_reason != StopReason::Converged).then(|| {
-            format!(
+        if self.stop_reason != StopReason::Converged {
+            return Some(format!(
                 "the identification did not converge ({}) after {} iterations; best residual RMS {:.3e}",
                 self.stop_reason.as_str().replace('_', " "),
                 self.iterations(),
                 self.rms_after(),
+            ));
+        }
+        (self.verdict.outcome == Outcome::Degenerate).then(|| {
+            format!(
+                "the identification is not determined: {}",
+                self.verdict.summary
             )
         })
     }

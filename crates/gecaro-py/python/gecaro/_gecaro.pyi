@@ -267,7 +267,7 @@ class Study:
         method: _MethodLike,
         data: Data,
         *,
-        sigma: float = 1.0,
+        sigma: Optional[float] = None,
         sigma_rotation: Optional[float] = None,
         label: Optional[str] = None,
     ) -> Data: ...

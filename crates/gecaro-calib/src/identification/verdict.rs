@@ -1,0 +1,278 @@
+//! The verdict of an identification: whether its result can be trusted, in
+//! one word and one sentence, computed once here and shown alike by every
+//! front end.
+//!
+//! In order of precedence:
+//!
+//! 1. **Diverged** or **not converged** (the iteration limit came first): the
+//!    best iterate is no solution.
+//! 2. **Degenerate data**: fewer distinct configurations than the unknowns
+//!    need (distinct configurations × equations per configuration ≤ unknowns);
+//!    200 copies of one configuration make one configuration, whatever the
+//!    residual says.
+//! 3. **Exceeds the noise**: every measurement set states its sensor σ and
+//!    the global test of adjustment theory (Baarda) fails: the weighted sum of
+//!    squares `χ² = Σ (r_i/σ_i)²` exceeds the χ²(ν) quantile at
+//!    [`NOISE_TEST_LEVEL`] (ν = equations − unknowns). The model, the data or
+//!    the stated σ is wrong; the ratio σ̂/σ = √(χ²/ν) says by how much.
+//! 4. **Fits the noise**: the same test passes.
+//! 5. **Converged, untested**: no σ was stated; the residual σ is reported in
+//!    metres and radians instead.
+//!
+//! With a robust loss the test takes the weighted residuals of the final fit
+//! (outliers weigh little or nothing) and ν counts the equations of the
+//! observations with a weight.
+
+use std::collections::HashSet;
+
+use super::result::StopReason;
+use crate::observation::ObservationSystem;
+use crate::rows::RowKind;
+use crate::study::Study;
+
+/// Significance level of the global test: a fit that explains the data to
+/// the stated noise fails it once in a hundred.
+pub const NOISE_TEST_LEVEL: f64 = 0.01;
+
+/// What the verdict says, from worst to best.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum Outcome {
+    /// No step lowered the residual.
+    Diverged,
+    /// The iteration limit came before convergence.
+    NotConverged,
+    /// The data hold too few distinct configurations for the unknowns.
+    Degenerate,
+    /// Converged, but the residuals exceed the stated noise (global test failed).
+    ExceedsNoise,
+    /// Converged, and the residuals agree with the stated noise.
+    FitsNoise,
+    /// Converged; no σ was stated, so the fit is not tested.
+    Untested,
+}
+
+impl Outcome {
+    /// `diverged`, `not_converged`, `degenerate`, `exceeds_noise`,
+    /// `fits_noise` or `untested`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Outcome::Diverged => "diverged",
+            Outcome::NotConverged => "not_converged",
+            Outcome::Degenerate => "degenerate",
+            Outcome::ExceedsNoise => "exceeds_noise",
+            Outcome::FitsNoise => "fits_noise",
+            Outcome::Untested => "untested",
+        }
+    }
+
+    /// Whether the result may be used: it converged on data that determine
+    /// it, and does not contradict a stated σ.
+    pub fn trusted(self) -> bool {
+        matches!(self, Outcome::FitsNoise | Outcome::Untested)
+    }
+}
+
+/// The global test of the residuals against the stated σ.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct NoiseTest {
+    /// `χ² = Σ (r_i/σ_i)²` over the weighted data rows.
+    pub chi_square: f64,
+    /// Its degrees of freedom ν (equations − unknowns).
+    pub degrees_of_freedom: usize,
+    /// The χ²(ν) quantile at 1 − [`NOISE_TEST_LEVEL`].
+    pub critical: f64,
+    /// σ̂/σ = √(χ²/ν): how many times the stated noise the residuals are.
+    pub sigma_ratio: f64,
+    /// χ² ≤ critical.
+    pub passed: bool,
+}
+
+/// The verdict of an identification; see the module docs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Verdict {
+    /// What it says.
+    pub outcome: Outcome,
+    /// The global test, when every measurement set states its σ.
+    pub noise_test: Option<NoiseTest>,
+    /// The residual standard deviation of the length rows (metres), `None`
+    /// without length rows.
+    pub residual_length: Option<f64>,
+    /// The same of the angle rows (radians), `None` without angle rows.
+    pub residual_angle: Option<f64>,
+    /// Configurations in the data.
+    pub configurations: usize,
+    /// Distinct configurations among them (per measurement set).
+    pub distinct_configurations: usize,
+    /// The verdict in one sentence.
+    pub summary: String,
+}
+
+/// What the verdict is made of, beside the study.
+pub(super) struct Evidence<'a> {
+    pub(super) stop: StopReason,
+    pub(super) iterations: usize,
+    /// The system at the solution.
+    pub(super) system: &'a ObservationSystem,
+    /// Σ w (r/σ)² over the data rows.
+    pub(super) data_cost: f64,
+    pub(super) degrees_of_freedom: usize,
+    /// Identified unknowns.
+    pub(super) unknowns: usize,
+}
+
+impl Verdict {
+    /// The verdict on `evidence` from `study` (see the module docs).
+    pub(super) fn of(study: &Study, evidence: &Evidence<'_>) -> Verdict {
+        let configurations: usize = study.sets.iter().map(|set| set.samples.len()).sum();
+        let (distinct_configurations, distinct_equations) = distinct(study);
+        let (residual_length, residual_angle) = residual_sigmas(evidence);
+        let noise_test = study
+            .sets
+            .iter()
+            .all(|set| set.sigma.is_some())
+            .then(|| noise_test(evidence.data_cost, evidence.degrees_of_freedom));
+        let outcome = match evidence.stop {
+            StopReason::Diverged => Outcome::Diverged,
+            StopReason::IterationLimit => Outcome::NotConverged,
+            StopReason::Converged if distinct_equations <= evidence.unknowns as f64 => {
+                Outcome::Degenerate
+            }
+            StopReason::Converged => match noise_test {
+                Some(test) if !test.passed => Outcome::ExceedsNoise,
+                Some(_) => Outcome::FitsNoise,
+                None => Outcome::Untested,
+            },
+        };
+        let mut verdict = Verdict {
+            outcome,
+            noise_test,
+            residual_length,
+            residual_angle,
+            configurations,
+            distinct_configurations,
+            summary: String::new(),
+        };
+        verdict.summary = verdict.sentence(evidence.iterations, evidence.unknowns);
+        verdict
+    }
+
+    /// The summary sentence after `iterations` updates, for `unknowns`.
+    pub(super) fn sentence(&self, iterations: usize, unknowns: usize) -> String {
+        let converged = format!(
+            "converged after {iterations} iteration{}",
+            if iterations == 1 { "" } else { "s" }
+        );
+        let residual = self.residual_words();
+        match (self.outcome, self.noise_test) {
+            (Outcome::Diverged, _) => format!(
+                "diverged after {iterations} iterations: no step lowered the residual; the \
+                 result is the best iterate, not a solution"
+            ),
+            (Outcome::NotConverged, _) => format!(
+                "not converged: the iteration limit ({iterations}) came first; the result is \
+                 the best iterate, not a solution"
+            ),
+            (Outcome::Degenerate, _) => format!(
+                "degenerate data: {} distinct configurations of {} cannot determine {unknowns} \
+                 unknowns, whatever the residual",
+                self.distinct_configurations, self.configurations
+            ),
+            (Outcome::ExceedsNoise, Some(test)) => format!(
+                "{converged}, but the residuals are {:.1}× the stated noise (global test at \
+                 {:.0} %: χ² {:.4} > {:.4} for {} degrees of freedom): the model, the data or \
+                 the stated σ is wrong{residual}",
+                test.sigma_ratio,
+                NOISE_TEST_LEVEL * 100.0,
+                test.chi_square,
+                test.critical,
+                test.degrees_of_freedom
+            ),
+            (Outcome::FitsNoise, Some(test)) => format!(
+                "{converged}; the residuals fit the stated noise (σ̂/σ = {:.2}, global test at \
+                 {:.0} %){residual}",
+                test.sigma_ratio,
+                NOISE_TEST_LEVEL * 100.0
+            ),
+            _ => format!(
+                "{converged}; no σ was stated, so the fit is not tested against the noise{residual}"
+            ),
+        }
+    }
+
+    /// `: residual σ 0.012 mm, 0.004°`, or nothing.
+    fn residual_words(&self) -> String {
+        let mut parts = Vec::new();
+        if let Some(length) = self.residual_length {
+            parts.push(format!("{:.4} mm", length * 1e3));
+        }
+        if let Some(angle) = self.residual_angle {
+            parts.push(format!("{:.4}°", angle.to_degrees()));
+        }
+        if parts.is_empty() {
+            String::new()
+        } else {
+            format!(": residual σ {}", parts.join(", "))
+        }
+    }
+}
+
+/// The global test of `Σ (r/σ)² = data_cost` with ν = `freedom`.
+fn noise_test(data_cost: f64, freedom: usize) -> NoiseTest {
+    use statrs::distribution::{ChiSquared, ContinuousCDF};
+    let nu = freedom.max(1) as f64;
+    let critical = ChiSquared::new(nu)
+        .map(|chi| chi.inverse_cdf(1.0 - NOISE_TEST_LEVEL))
+        .unwrap_or(f64::INFINITY);
+    NoiseTest {
+        chi_square: data_cost,
+        degrees_of_freedom: freedom,
+        critical,
+        sigma_ratio: (data_cost / nu).sqrt(),
+        passed: data_cost <= critical,
+    }
+}
+
+/// Distinct configurations (per set, summed), and the independent equations
+/// they can give at most.
+fn distinct(study: &Study) -> (usize, f64) {
+    let mut count = 0;
+    let mut equations = 0.0;
+    for set in &study.sets {
+        let unique: HashSet<Vec<u64>> = set
+            .samples
+            .iter()
+            .map(|sample| {
+                sample
+                    .motor_positions
+                    .iter()
+                    .map(|q| (q + 0.0).to_bits())
+                    .collect()
+            })
+            .collect();
+        count += unique.len();
+        equations += unique.len() as f64 * set.method.equations_per_configuration();
+    }
+    (count, equations)
+}
+
+/// The residual standard deviations of the length and angle rows, in
+/// metres and radians: `√(Σ r²/(n_k (1 − b/n)))` per kind, the degrees of
+/// freedom shared out in proportion to the rows.
+fn residual_sigmas(evidence: &Evidence<'_>) -> (Option<f64>, Option<f64>) {
+    let system = evidence.system;
+    let rows = system.measured_rows();
+    let residuals = system.residuals();
+    let kinds = system.kinds();
+    let share = evidence.degrees_of_freedom as f64 / rows.max(1) as f64;
+    let sigma_of = |kind: RowKind| {
+        let values: Vec<f64> = (0..rows)
+            .filter(|row| kinds[*row] == kind)
+            .map(|row| residuals[row])
+            .collect();
+        (!values.is_empty()).then(|| {
+            let squares: f64 = values.iter().map(|r| r * r).sum();
+            (squares / (values.len() as f64 * share).max(f64::MIN_POSITIVE)).sqrt()
+        })
+    };
+    (sigma_of(RowKind::Length), sigma_of(RowKind::Angle))
+}

@@ -1,0 +1,125 @@
+//! The verdict of an identification against simulated truth: a fit that
+//! explains the data to the stated noise says so, one that does not says by
+//! how much, and data or iterations that cannot give a solution are named.
+
+use gecaro_calib::{
+    Quiet,
+    identification::{IdentificationOptions, Outcome, Solver, identify},
+    methods::{MethodOptions, method},
+    simulation::{Sampler, perturbed_robot, simulate_measurements},
+    study::Study,
+};
+use gecaro_core::Robot;
+
+fn stanford() -> Robot {
+    gecaro_io::load_robot("stanford")
+        .expect("ready robot")
+        .robot
+}
+
+/// Position data of a Stanford arm with level-0.5 errors, noise σ = 0.02 mm.
+fn study(method_name: &str, count: usize, stated: Option<f64>, seed: u64) -> Study {
+    const NOISE: f64 = 2e-5;
+    let chosen = method(method_name, &MethodOptions::default()).expect("method");
+    let mut sampler = Sampler::new(seed);
+    let real = perturbed_robot(&stanford(), 0.5, &mut sampler).expect("real");
+    let samples =
+        simulate_measurements(&real, chosen.as_ref(), count, NOISE, &mut sampler).expect("data");
+    let mut study = Study::single(chosen, samples, "simulated");
+    study.sets[0].sigma = stated;
+    study
+}
+
+fn fit(
+    study: &Study,
+    options: &IdentificationOptions,
+) -> gecaro_calib::identification::Identification {
+    identify(&stanford(), study, options, &mut Quiet).expect("identification")
+}
+
+#[test]
+fn the_stated_noise_is_tested() {
+    // The true σ: the test passes, σ̂/σ near 1, in 95 of 100 seeds at least
+    // (the level is 1 %).
+    let mut passed = 0;
+    for seed in 0..20 {
+        let result = fit(
+            &study("position", 60, Some(2e-5), seed),
+            &Default::default(),
+        );
+        let test = result.verdict.noise_test.expect("σ stated");
+        assert!(
+            (test.sigma_ratio - 1.0).abs() < 0.2,
+            "σ̂/σ {}",
+            test.sigma_ratio
+        );
+        if result.verdict.outcome == Outcome::FitsNoise {
+            passed += 1;
+            assert!(result.verdict.summary.contains("fit the stated noise"));
+        }
+    }
+    assert!(passed >= 18, "the true σ passed {passed} of 20 times");
+    // A σ five times too small: the test fails and says by how much.
+    let result = fit(&study("frame", 40, Some(4e-6), 3), &Default::default());
+    assert_eq!(result.verdict.outcome, Outcome::ExceedsNoise);
+    let ratio = result.verdict.noise_test.expect("σ stated").sigma_ratio;
+    assert!((ratio - 5.0).abs() < 1.0, "σ̂/σ {ratio}");
+    assert!(!result.verdict.outcome.trusted());
+    assert!(result.verdict.summary.contains("× the stated noise"));
+    assert!(result.failure().is_none(), "a misfit is still a solution");
+}
+
+#[test]
+fn without_a_sigma_the_residual_is_reported_in_units() {
+    let result = fit(&study("frame", 40, None, 4), &Default::default());
+    let verdict = &result.verdict;
+    assert_eq!(verdict.outcome, Outcome::Untested);
+    assert!(verdict.noise_test.is_none());
+    // Lengths and angles both carry the simulated noise (2e-5 m and rad).
+    for sigma in [verdict.residual_length, verdict.residual_angle] {
+        let sigma = sigma.expect("both kinds of rows");
+        assert!((sigma / 2e-5 - 1.0).abs() < 0.25, "residual σ {sigma}");
+    }
+    assert!(
+        verdict.summary.contains("no σ was stated"),
+        "{}",
+        verdict.summary
+    );
+    assert!(verdict.summary.contains(" mm") && verdict.summary.contains('°'));
+}
+
+#[test]
+fn copies_of_one_configuration_are_degenerate_data() {
+    let mut copies = study("position", 1, None, 5);
+    let one = copies.sets[0].samples[0].clone();
+    copies.sets[0].samples = vec![one; 200];
+    // The excitation check keeps the 3 unknowns one point determines, and
+    // the residual goes to 0: the verdict names the data, not a "0 mm" fit.
+    let result = fit(&copies, &Default::default());
+    assert_eq!(result.verdict.outcome, Outcome::Degenerate);
+    assert_eq!(result.verdict.distinct_configurations, 1);
+    assert_eq!(result.verdict.configurations, 200);
+    assert!(result.failure().is_some());
+    assert!(
+        result
+            .verdict
+            .summary
+            .contains("1 distinct configurations of 200"),
+        "{}",
+        result.verdict.summary
+    );
+}
+
+#[test]
+fn an_iteration_limit_is_not_convergence() {
+    // Levenberg–Marquardt has no second route to take after the limit.
+    let options = IdentificationOptions {
+        max_iterations: 1,
+        solver: Solver::LevenbergMarquardt,
+        ..Default::default()
+    };
+    let result = fit(&study("position", 60, Some(2e-5), 6), &options);
+    assert_eq!(result.verdict.outcome, Outcome::NotConverged);
+    assert!(result.verdict.summary.starts_with("not converged"));
+    assert!(result.failure().is_some());
+}
