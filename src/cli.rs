@@ -529,6 +529,15 @@ pub(crate) struct IdentificationRunArgs {
         conflicts_with = "study"
     )]
     pub(crate) data: Option<PathBuf>,
+    /// The sensor's standard deviation (metres; radians for orientations
+    /// unless --sigma-rotation): the rows are weighted by 1/σ and the verdict
+    /// tests the residuals against it (exit 5 when they exceed it). A study
+    /// file states σ per set.
+    #[arg(long, value_name = "METRES", conflicts_with = "study")]
+    pub(crate) sigma: Option<f64>,
+    /// The σ of the orientation rows (radians).
+    #[arg(long, value_name = "RADIANS", requires = "sigma")]
+    pub(crate) sigma_rotation: Option<f64>,
     /// Priority matrix (TOML: matrix = [[alpha, d, theta, r, beta, K], ...]); default: the robot's.
     #[arg(long, value_name = "FILE")]
     pub(crate) priority: Option<PathBuf>,

@@ -183,12 +183,23 @@ fn priors_come_from_the_command_line_or_the_study_file() {
     write_study(
         "[prior]\nlength = \"5mm\"\nangle = \"0.5deg\"\ngain = \"1%\"\nparameters = { d2 = \"0.1mm\" }\n",
     );
-    let result = json_of(gecaro().args(["identify", "--json", "--study"]).arg(&study));
+    // d2 held to 0.1 mm of nominal, where the real robot is a few tenths of
+    // a millimetre off: the fit cannot reach the tracker's stated σ, the
+    // verdict says so and the exit code is 5 (the document is printed).
+    let output = gecaro()
+        .args(["identify", "--json", "--study"])
+        .arg(&study)
+        .output()
+        .expect("runs");
+    assert_eq!(output.status.code(), Some(5));
+    let result: Value = serde_json::from_slice(&output.stdout).expect("JSON");
     assert_eq!(
         result["prior"]["parameters"]["d2"], 0.0001,
         "{}",
         result["prior"]
     );
+    assert_eq!(result["verdict"]["outcome"], "exceeds_noise");
+    assert!(String::from_utf8_lossy(&output.stderr).contains("× the stated noise"));
     // Mistakes in the table name the study file's line and field.
     write_study(
         "[prior]\nlength = \"5mm\"\nangle = \"0.5deg\"\ngain = \"1%\"\nparameters = { d2 = \"1deg\" }\n",

@@ -112,6 +112,8 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
 /// The identification request of a command line.
 fn request(args: &IdentificationRunArgs) -> Result<IdentifyRequest, Failure> {
     let mut request = IdentifyRequest::new(measurements(&args.source, args.data.as_deref())?);
+    request.measurements.sigma = args.sigma;
+    request.measurements.sigma_rotation = args.sigma_rotation;
     request.settings = fit_settings(args);
     Ok(request)
 }
@@ -218,14 +220,15 @@ pub(crate) fn report(args: &ReportArgs) -> Result<(), Failure> {
         identified.loaded.label,
         args.output.display()
     );
-    if identified.converged() {
-        Ok(())
-    } else {
-        Err(not_converged(
+    if !identified.converged() {
+        return Err(not_converged(
             &identified,
             "The report shows the best iterate.",
-        ))
+        ));
     }
+    identified
+        .misfit()
+        .map_or(Ok(()), |misfit| Err(misfit.into()))
 }
 
 pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
@@ -260,18 +263,19 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
             println!("wrote the plots to {}", display_list(&paths));
         }
     }
-    if identified.converged() {
-        Ok(())
-    } else {
-        Err(not_converged(
+    if !identified.converged() {
+        return Err(not_converged(
             &identified,
             if args.output.is_some() && !args.write_unconverged {
                 "Nothing was written (--write-unconverged saves the best iterate)."
             } else {
                 "Try --solver lm, more --max-iterations, or check the data."
             },
-        ))
+        ));
     }
+    identified
+        .misfit()
+        .map_or(Ok(()), |misfit| Err(misfit.into()))
 }
 
 fn display_list(paths: &[PathBuf]) -> String {
@@ -360,6 +364,7 @@ fn print_iterations(result: &Identification) {
             "NOT converged: no step lowers the residual any more; showing the best iterate."
         ),
     }
+    println!("Verdict: {}.", result.verdict.summary);
 }
 
 fn print_parameters(result: &Identification) {

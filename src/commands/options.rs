@@ -138,6 +138,8 @@ pub(crate) fn measurements(source: &Source, data: Option<&Path>) -> Result<Measu
             .as_deref()
             .map(|path| StudySource::File(name(path))),
         strict_limits: source.strict_limits,
+        sigma: None,
+        sigma_rotation: None,
     })
 }
 

@@ -7,7 +7,9 @@
 use gecaro_calib::{
     curve::CurvePoint,
     identifiability::{Classified, Identifiability, RankReport},
-    identification::{ErrorSummary, Identification, IdentifiedParameter, StopReason},
+    identification::{
+        ErrorSummary, Identification, IdentifiedParameter, NOISE_TEST_LEVEL, StopReason, Verdict,
+    },
     observability::Observability,
     planning::{Criterion, DesignQuality, Plan},
     prediction::{MonteCarlo, PoseErrors, Prediction},
@@ -328,6 +330,10 @@ fn parameters(parameters: &[IdentifiedParameter]) -> Vec<ParameterJson> {
 pub struct IdentificationJson {
     /// The study's methods, joined with `+`.
     pub method: String,
+    /// Whether the result can be trusted, and why.
+    pub verdict: VerdictJson,
+    /// Parameters the second pass added to the nominal base set.
+    pub second_pass: Vec<String>,
     /// Whether the iteration converged.
     pub converged: bool,
     /// Iterations done.
@@ -446,11 +452,76 @@ pub struct ModelScoreJson {
     pub cross_validation: CrossValidationJson,
 }
 
+/// The verdict of an identification (see
+/// [`gecaro_calib::identification::Verdict`]); lengths in metres, angles in
+/// radians.
+#[derive(Clone, Debug, Serialize)]
+pub struct VerdictJson {
+    /// `fits_noise`, `untested`, `exceeds_noise`, `degenerate`,
+    /// `not_converged` or `diverged`.
+    pub outcome: &'static str,
+    /// Whether the result may be used (`fits_noise` or `untested`).
+    pub trusted: bool,
+    /// The verdict in one sentence.
+    pub summary: String,
+    /// The global test, when every measurement set states its σ.
+    pub noise_test: Option<NoiseTestJson>,
+    /// Residual standard deviation of the length rows (m).
+    pub residual_length: Option<f64>,
+    /// Residual standard deviation of the angle rows (rad).
+    pub residual_angle: Option<f64>,
+    /// Configurations in the data.
+    pub configurations: usize,
+    /// Distinct configurations among them.
+    pub distinct_configurations: usize,
+}
+
+/// The global test of the residuals against the stated σ.
+#[derive(Clone, Debug, Serialize)]
+pub struct NoiseTestJson {
+    /// `Σ (r/σ)²`.
+    pub chi_square: f64,
+    /// Its degrees of freedom.
+    pub degrees_of_freedom: usize,
+    /// The χ² quantile it is compared with.
+    pub critical: f64,
+    /// The test's significance level.
+    pub level: f64,
+    /// σ̂/σ.
+    pub sigma_ratio: f64,
+    /// Whether the residuals fit the stated noise.
+    pub passed: bool,
+}
+
+impl From<&Verdict> for VerdictJson {
+    fn from(verdict: &Verdict) -> Self {
+        VerdictJson {
+            outcome: verdict.outcome.as_str(),
+            trusted: verdict.outcome.trusted(),
+            summary: verdict.summary.clone(),
+            noise_test: verdict.noise_test.map(|test| NoiseTestJson {
+                chi_square: test.chi_square,
+                degrees_of_freedom: test.degrees_of_freedom,
+                critical: test.critical,
+                level: NOISE_TEST_LEVEL,
+                sigma_ratio: test.sigma_ratio,
+                passed: test.passed,
+            }),
+            residual_length: verdict.residual_length,
+            residual_angle: verdict.residual_angle,
+            configurations: verdict.configurations,
+            distinct_configurations: verdict.distinct_configurations,
+        }
+    }
+}
+
 impl IdentificationJson {
     /// The document of an identification on `study`.
     pub fn new(study: &Study, result: &Identification) -> Self {
         IdentificationJson {
             method: study.method_names(),
+            verdict: (&result.verdict).into(),
+            second_pass: result.second_pass.clone(),
             converged: result.stop_reason == StopReason::Converged,
             iterations: result.iterations(),
             rms_history: result.history.iter().map(|h| h.rms).collect(),

@@ -43,6 +43,10 @@ pub enum ErrorKind {
     NotConverged,
     /// A numerical failure on well-formed input (4, HTTP 422).
     Numerical,
+    /// A solution whose residuals exceed the stated noise (the verdict's
+    /// global test failed): written, but not to be trusted blindly
+    /// (command line 5; the web page and Python show it in the verdict).
+    ExceedsNoise,
     /// Stopped by the user (Ctrl-C, a cancelled job).
     Interrupted,
     /// A failure of gecaro itself, such as a plot that cannot be drawn (4, HTTP 500).

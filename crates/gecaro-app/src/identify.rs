@@ -9,7 +9,7 @@
 
 use gecaro_calib::Observer;
 use gecaro_calib::identification::{
-    ErrorSummary, Identification, IdentificationOptions, StopReason, evaluate, identify,
+    ErrorSummary, Identification, IdentificationOptions, Outcome, evaluate, identify,
 };
 use gecaro_calib::validation::{CrossValidation, ModelScore, compare_models, cross_validate};
 use gecaro_io::RobotFile;
@@ -194,16 +194,29 @@ impl Identified {
         )
     }
 
-    /// Whether the iteration converged.
+    /// Whether the result is a solution: the iteration converged, on data
+    /// that determine it (see the verdict).
     pub fn converged(&self) -> bool {
-        self.result.stop_reason == StopReason::Converged
+        self.result.failure().is_none()
     }
 
-    /// Why the result is not to be trusted, when the iteration did not converge.
+    /// Why the result is no solution: the iteration did not converge, or
+    /// the data are degenerate.
     pub fn failure(&self) -> Option<AppError> {
         self.result
             .failure()
             .map(|message| AppError::plain(ErrorKind::NotConverged, message))
+    }
+
+    /// The verdict's objection to a solution: its residuals exceed the
+    /// stated noise (the global test failed).
+    pub fn misfit(&self) -> Option<AppError> {
+        (self.result.verdict.outcome == Outcome::ExceedsNoise).then(|| {
+            AppError::plain(
+                ErrorKind::ExceedsNoise,
+                format!("the identification {}", self.result.verdict.summary),
+            )
+        })
     }
 
     /// The three plots (lengths in millimetres).

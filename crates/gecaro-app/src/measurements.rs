@@ -29,6 +29,13 @@ pub struct Measurements {
     /// Units and column names of the data file.
     #[serde(default)]
     pub format: DataFormatSpec,
+    /// The sensor's standard deviation for the data (metres; radians for
+    /// orientations unless `sigma_rotation` is given): the identification's
+    /// verdict tests the residuals against it. Not with a study, whose sets
+    /// state their own.
+    pub sigma: Option<f64>,
+    /// A separate σ for the orientation rows (radians).
+    pub sigma_rotation: Option<f64>,
     /// A study file: several measurement sets (method, data, σ each).
     pub study: Option<StudySource>,
     /// Refuse data with joints outside their limits (by default a warning).
@@ -165,6 +172,12 @@ impl Measurements {
                 "a study file names its robot, methods and data: give the study alone",
             ));
         }
+        if self.sigma.is_some() || self.sigma_rotation.is_some() {
+            return Err(AppError::setting(
+                "sigma",
+                "a study states the σ of each measurement set (sigma = … in its [[measurements]])",
+            ));
+        }
         if !self.format.is_default() {
             return Err(AppError::new(
                 ErrorKind::Usage,
@@ -255,9 +268,25 @@ impl Measurements {
                 ));
             }
         };
+        let mut study = Study::single(method, samples, label.clone());
+        for (setting, value) in [
+            ("sigma", self.sigma),
+            ("sigma_rotation", self.sigma_rotation),
+        ] {
+            if let Some(value) = value
+                && !(value.is_finite() && value > 0.0)
+            {
+                return Err(AppError::setting(
+                    setting,
+                    format!("{value} is not a standard deviation (> 0; metres, radians)"),
+                ));
+            }
+        }
+        study.sets[0].sigma = self.sigma;
+        study.sets[0].sigma_rotation = self.sigma_rotation;
         Ok(Loaded {
             robot,
-            study: Study::single(method, samples, label.clone()),
+            study,
             priority: None,
             prior: None,
             label,

@@ -104,7 +104,7 @@ fn copies_of_one_configuration_are_degenerate_data() {
         result
             .verdict
             .summary
-            .contains("1 distinct configurations of 200"),
+            .contains("1 distinct configuration of 200"),
         "{}",
         result.verdict.summary
     );

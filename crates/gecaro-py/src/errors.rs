@@ -33,7 +33,9 @@ pub(crate) fn to_py(error: AppError) -> PyErr {
     match error.kind() {
         ErrorKind::NotIdentifiable => NotIdentifiableError::new_err(message),
         ErrorKind::NotConverged => NotConvergedError::new_err(message),
-        ErrorKind::Numerical | ErrorKind::Internal => NumericalError::new_err(message),
+        ErrorKind::Numerical | ErrorKind::Internal | ErrorKind::ExceedsNoise => {
+            NumericalError::new_err(message)
+        }
         ErrorKind::Interrupted => pyo3::exceptions::PyKeyboardInterrupt::new_err(message),
         _ => InputError::new_err(message),
     }

@@ -4,7 +4,7 @@
 //! application layer, so the numbers are equal bit for bit; the results'
 //! `to_dict()` is the command's `--json` document.
 
-use gecaro_app::documents::{ObservabilityJson, OutlierJson, SummaryJson};
+use gecaro_app::documents::{ObservabilityJson, OutlierJson, SummaryJson, VerdictJson};
 use gecaro_app::{EvaluateRequest, Files, FitSettings, Identified, IdentifyRequest, LocalFiles};
 use gecaro_calib::identification::{ErrorSummary, IdentifiedParameter, StopReason};
 use numpy::PyArrayDyn;
@@ -254,6 +254,24 @@ impl PyIdentification {
         )
     }
 
+    /// Whether the result can be trusted: a dict with outcome ("fits_noise",
+    /// "untested", "exceeds_noise", "degenerate", "not_converged",
+    /// "diverged"), trusted, summary, noise_test (chi_square,
+    /// degrees_of_freedom, critical, level, sigma_ratio, passed; None without
+    /// a stated sigma), residual_length (m), residual_angle (rad),
+    /// configurations and distinct_configurations (as `--json`).
+    #[getter]
+    fn verdict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &VerdictJson::from(&self.identified.result.verdict))
+    }
+
+    /// Parameters the second pass added to the base set chosen at the
+    /// nominal robot (docs/methods.md).
+    #[getter]
+    fn second_pass(&self) -> Vec<String> {
+        self.identified.result.second_pass.clone()
+    }
+
     /// Standard deviation of the residual (eq. 11).
     #[getter]
     fn residual_sigma(&self) -> f64 {
@@ -356,7 +374,7 @@ impl PyIdentification {
 /// Raises NotConvergedError (with the best iterate in `.result`) when the
 /// iteration did not converge, NotIdentifiableError with too few equations.
 #[pyfunction]
-#[pyo3(signature = (robot, method, data = None, *, solver = "gauss-newton", max_iterations = 30, priority = None, loss = "l2", loss_scale = None, prior = None, outlier_threshold = 3.0, reject = false, model = "full", strict_limits = false, progress = None))]
+#[pyo3(signature = (robot, method, data = None, *, solver = "gauss-newton", max_iterations = 30, priority = None, loss = "l2", loss_scale = None, prior = None, outlier_threshold = 3.0, reject = false, model = "full", strict_limits = false, sigma = None, sigma_rotation = None, progress = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn identify(
     py: Python<'_>,
@@ -373,10 +391,14 @@ pub(crate) fn identify(
     reject: bool,
     model: &str,
     strict_limits: bool,
+    sigma: Option<f64>,
+    sigma_rotation: Option<f64>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<PyIdentification> {
     let mut request =
         IdentifyRequest::new(measurements(&robot, method, data, false, strict_limits)?);
+    request.measurements.sigma = sigma;
+    request.measurements.sigma_rotation = sigma_rotation;
     request.settings = FitSettings {
         priority: self::priority(robot.robot(), priority)?,
         model: Some(model.to_owned()),

@@ -31,7 +31,7 @@ const STYLE: &str = "body{font-family:system-ui,-apple-system,'Segoe UI',sans-se
 padding:0 1rem;color:#1d2630;line-height:1.45}h1{margin-bottom:.2rem}h2{margin-top:2rem;border-bottom:1px solid #d8dee6;\
 padding-bottom:.2rem}table{border-collapse:collapse;margin:.6rem 0;font-size:.92rem}td,th{border:1px solid #d8dee6;\
 padding:.25rem .6rem;text-align:right}th{background:#f2f5f8}td:first-child,th:first-child{text-align:left}\
-.muted{color:#5b6775}.ok{color:#1a7f37}.bad{color:#b42318}code{background:#f2f5f8;padding:.1rem .3rem;border-radius:3px}\
+.muted{color:#5b6775}.verdict{padding:.6rem .9rem;border-radius:4px;border:1px solid}.verdict.ok{background:#e8f3ec;border-color:#1a7f37}.verdict.bad{background:#fbeeee;border-color:#b42318}.ok{color:#1a7f37}.bad{color:#b42318}code{background:#f2f5f8;padding:.1rem .3rem;border-radius:3px}\
 .warn{background:#fff6e5;border:1px solid #f0c36d;padding:.5rem .8rem;border-radius:4px}.id{background:#e8f3ec}\
 .n{background:#fbeeee}.z{background:#f2f2f2}svg{max-width:100%;height:auto}";
 
@@ -128,7 +128,11 @@ fn summary(input: &ReportInput<'_>) -> Markup {
         let o = result.observability();
         [o.o1, o.o2, o.o3, o.o4, o.o5].map(number).join(" · ")
     };
+    let verdict = &result.verdict;
     html! {
+        p class=(if verdict.outcome.trusted() { "verdict ok" } else { "verdict bad" }) {
+            strong { "Verdict: " } (verdict.summary) "."
+        }
         h2 { "Summary" }
         table {
             tr {
@@ -179,7 +183,17 @@ fn summary(input: &ReportInput<'_>) -> Markup {
                 td { "observability O1 · O2 · O3 · O4 · O5 (W" sub { "b" } " of the data scaled to 1 cm, 1°, 1 %)" }
                 td { (observability) }
             }
-            tr { td { "residual standard deviation σ" } td { (number(result.residual_sigma)) } }
+            tr {
+                td { "residual standard deviation" }
+                td {
+                    @if let Some(length) = verdict.residual_length { (number(length * 1e3)) " mm" }
+                    @if verdict.residual_length.is_some() && verdict.residual_angle.is_some() { ", " }
+                    @if let Some(angle) = verdict.residual_angle { (number(angle.to_degrees())) "°" }
+                    @if let Some(test) = verdict.noise_test {
+                        " (" (number(test.sigma_ratio)) "× the stated σ)"
+                    }
+                }
+            }
         }
         @if !result.warnings.is_empty() {
             div.warn {

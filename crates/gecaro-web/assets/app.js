@@ -1186,6 +1186,7 @@ function identifyPanel(method) {
     h('option', { value: 'tukey', text: 'Tukey (gross errors ignored)' }));
   const prior = h('input', { type: 'text', placeholder: 'none, or e.g. 5mm,0.5deg,1%', id: `${name}-identify-prior` });
   const reject = h('input', { type: 'checkbox', id: `${name}-identify-reject` });
+  const sigma = h('input', { type: 'number', min: 0, step: 'any', placeholder: 'not stated', id: `${name}-identify-sigma` });
   const folds = h('input', { type: 'number', min: 0, max: 20, value: 0, id: `${name}-identify-cv` });
   const run = runButton(`${name}-identify-run`, 'Identify', async () => {
     const progress = h('div', { class: 'progress', id: `${name}-identify-progress` }, h('div', { class: 'spinner' }), h('span', { text: 'Reading the data…' }));
@@ -1200,6 +1201,7 @@ function identifyPanel(method) {
         loss: loss.value,
         prior: prior.value.trim() || null,
         reject: reject.checked,
+        sigma: Number(sigma.value) > 0 ? Number(sigma.value) / 1e3 : null,
         cv: Number(folds.value || 0) >= 2 ? Number(folds.value) : null,
       });
       const job = await followJob(submitted.job, progress.lastChild);
@@ -1218,6 +1220,7 @@ function identifyPanel(method) {
       upload,
       field('Step rule', solver),
       field('Iteration limit', iterations),
+      field('Sensor σ (mm; the verdict tests the fit against it)', sigma),
       field('Loss', loss),
       field('Prior σ (lengths, angles, gains)', prior),
       field('Drop outliers and refit', reject),
@@ -1242,8 +1245,15 @@ async function followJob(id, label) {
 function renderIdentification(container, name, job, result) {
   const id = result.identification;
   const mm = (v) => fixed(v * 1e3, v * 1e3 < 0.1 ? 4 : 3);
+  const verdict = id.verdict;
+  const outcomes = {
+    fits_noise: 'Fits the noise', untested: 'Converged (σ not stated)', exceeds_noise: 'Exceeds the noise',
+    degenerate: 'Degenerate data', not_converged: 'Not converged', diverged: 'Diverged',
+  };
+  const headline = h('p', { class: `verdict ${verdict.trusted ? 'ok' : 'bad'}`, id: `${name}-identify-verdict` },
+    h('strong', { text: 'Verdict: ' }), document.createTextNode(`${verdict.summary}.`));
   const cards = h('div', { class: 'cards' },
-    stat(`after ${id.iterations} iterations (${id.route.replace(/_/g, ' ')})`, id.converged ? 'Converged' : 'Not converged', { id: `${name}-identify-status`, class: id.converged ? 'ok' : 'bad' }),
+    stat(`after ${id.iterations} iterations (${id.route.replace(/_/g, ' ')})`, outcomes[verdict.outcome] || verdict.outcome, { id: `${name}-identify-status`, class: verdict.trusted ? 'ok' : 'bad' }),
     stat('error RMS before → after (mm)', `${mm(id.before.rms)} → ${mm(id.after.rms)}`),
     stat('largest error (mm)', `${mm(id.before.max)} → ${mm(id.after.max)}`),
     id.before.rms_rotation !== undefined
@@ -1293,7 +1303,7 @@ function renderIdentification(container, name, job, result) {
       onclick: async () => setRobot(await api('/robots/check', { robot: result.calibrated }), null),
     }),
     h('a', { href: `/api/jobs/${job}/report`, download: `gecaro-report-${job}.html` }, h('button', { type: 'button', text: 'Download the report' })));
-  container.replaceChildren(...[cards, observabilityLine(id.observability, 'the data'), robustness, validation, warnings, actions,
+  container.replaceChildren(...[headline, cards, observabilityLine(id.observability, 'the data'), robustness, validation, warnings, actions,
     outlierTable('Rejected before this fit', id.rejected, `${name}-identify-rejected`),
     outlierTable('Outliers', id.outliers, `${name}-identify-outliers`),
     plots, h('h3', { text: 'Identified parameters (m, rad)' }), table, moved].filter(Boolean));

@@ -265,7 +265,12 @@ async fn the_page_works_as_a_person_uses_it() {
     click(&client, "#position-identify-run").await;
     assert_eq!(
         text_of(&client, "#position-identify-status", 120).await,
-        "Converged"
+        "Converged (σ not stated)"
+    );
+    let verdict = text_of(&client, "#position-identify-verdict", 5).await;
+    assert!(
+        verdict.starts_with("Verdict: converged after") && verdict.contains("no σ was stated"),
+        "{verdict}"
     );
     assert_eq!(
         count(&client, "#position-identify-convergence svg").await,

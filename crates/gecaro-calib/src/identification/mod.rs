@@ -104,7 +104,7 @@ const POOR_EXCITATION: &str = "the data excite the robot poorly";
 /// The prior σ of the parameters the second pass adds: 1 cm, 1°, 1 % (the
 /// deviations a calibration meets; the data determine these parameters only
 /// weakly, through the real robot's deviations from the nominal structure).
-pub const SECOND_PASS_PRIOR: [f64; 3] = [0.05, 5.0 * std::f64::consts::PI / 180.0, 0.05];
+pub const SECOND_PASS_PRIOR: [f64; 3] = [0.01, std::f64::consts::PI / 180.0, 0.01];
 
 /// Passes at most: the paper's, and the second pass repeated while the
 /// structure at the calibrated robot keeps adding parameters.

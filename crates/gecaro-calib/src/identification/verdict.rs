@@ -173,13 +173,19 @@ impl Verdict {
                  the best iterate, not a solution"
             ),
             (Outcome::Degenerate, _) => format!(
-                "degenerate data: {} distinct configurations of {} cannot determine {unknowns} \
+                "degenerate data: {} distinct configuration{} of {} cannot determine {unknowns} \
                  unknowns, whatever the residual",
-                self.distinct_configurations, self.configurations
+                self.distinct_configurations,
+                if self.distinct_configurations == 1 {
+                    ""
+                } else {
+                    "s"
+                },
+                self.configurations
             ),
             (Outcome::ExceedsNoise, Some(test)) => format!(
                 "{converged}, but the residuals are {:.1}× the stated noise (global test at \
-                 {:.0} %: χ² {:.4} > {:.4} for {} degrees of freedom): the model, the data or \
+                 {:.0} %: χ² {:.1} > {:.1} for {} degrees of freedom): the model, the data or \
                  the stated σ is wrong{residual}",
                 test.sigma_ratio,
                 NOISE_TEST_LEVEL * 100.0,

@@ -397,6 +397,11 @@ class Identification:
     def observability(self) -> dict[str, float]:
         """O1–O5 of the data's W_b at the nominal robot (docs/planning.md)."""
     @property
+    def verdict(self) -> dict[str, Any]:
+        """Whether the result can be trusted (outcome, trusted, summary, noise_test, …)."""
+    @property
+    def second_pass(self) -> list[str]: ...
+    @property
     def residual_sigma(self) -> float: ...
     @property
     def not_excited(self) -> list[str]: ...
@@ -458,6 +463,8 @@ def identify(
     reject: bool = False,
     model: _Model = "full",
     strict_limits: bool = False,
+    sigma: Optional[float] = None,
+    sigma_rotation: Optional[float] = None,
     progress: Optional[Callable[[int, float], object]] = None,
 ) -> Identification:
     """Identification (eq. 10–11), as ``gecaro identify``."""

@@ -1,0 +1,46 @@
+"""The verdict of an identification: the same as the command line's, with
+the stated sigma tested (exit code 5 there, a verdict to read here)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+import gecaro
+
+from conftest import Cli
+
+
+def test_the_verdict_equals_the_command_line(cli: Cli, tmp_path: Path) -> None:
+    robot = gecaro.Robot.load("stanford")
+    run = gecaro.generate(robot, "frame", 40, error_level=0.5, noise=2e-5, seed=4)
+    data = tmp_path / "frame.csv"
+    run.data.write(data, "frame")
+    # No sigma: converged, untested, the residual in metres and radians.
+    result = gecaro.identify(robot, "frame", run.data)
+    verdict = result.verdict
+    assert verdict["outcome"] == "untested" and verdict["trusted"]
+    assert verdict["noise_test"] is None
+    assert abs(verdict["residual_length"] / 2e-5 - 1) < 0.25
+    # The file's quaternions are normalised when read: equal to ~1e-13.
+    document = cli.json("identify", "stanford", "--method", "frame", "--data", data)["verdict"]
+    numbers = ["residual_length", "residual_angle"]
+    assert {k: v for k, v in verdict.items() if k not in numbers} == {
+        k: v for k, v in document.items() if k not in numbers
+    }
+    for key in numbers:
+        assert verdict[key] == pytest.approx(document[key], rel=1e-9)
+    assert result.to_dict()["verdict"] == verdict
+    # The true sigma passes the global test; one five times too small fails it.
+    fits = gecaro.identify(robot, "frame", run.data, sigma=2e-5).verdict
+    assert fits["outcome"] == "fits_noise" and fits["noise_test"]["passed"]
+    too_small = gecaro.identify(robot, "frame", run.data, sigma=4e-6).verdict
+    assert too_small["outcome"] == "exceeds_noise" and not too_small["trusted"]
+    assert 4 < too_small["noise_test"]["sigma_ratio"] < 6
+    refused = cli.json(
+        "identify", "stanford", "--method", "frame", "--data", data, "--sigma", 4e-6, expect=5
+    )["verdict"]
+    assert refused["outcome"] == "exceeds_noise"
+    ratio = too_small["noise_test"]["sigma_ratio"]
+    assert refused["noise_test"]["sigma_ratio"] == pytest.approx(ratio, rel=1e-9)
