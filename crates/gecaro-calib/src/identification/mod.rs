@@ -72,10 +72,9 @@ use gecaro_core::Robot;
 
 use crate::Error;
 use crate::identifiability::{
-    Excitation, ParameterStatus, RELATIVE_ZERO_FLOOR, RankReport, excitation_at,
-    structural_parameters_at,
+    Excitation, ParameterStatus, RankReport, excitation_at, structural_parameters_at,
 };
-use crate::linalg::{NormalEquations, explained_sum_of_squares, precision, select_columns, view};
+use crate::linalg::{NormalEquations, precision, view};
 use crate::observation::ObservationSystem;
 use crate::progress::{Observer, Progress, Quiet, report};
 use crate::rows::{ColumnLayout, RowKind};
@@ -210,8 +209,10 @@ fn fit(
 /// at [`SECOND_PASS_LEVEL`]; it runs only where a score test at the first
 /// pass's solution ([`promising`]) says it can, and only after a converged
 /// first pass without outliers (the tests assume Gaussian residuals: gross
-/// errors would pass for structure) and without a prior (centred on the
-/// nominal values of the paper's base set).
+/// errors would pass for structure), without a prior (centred on the
+/// nominal values of the paper's base set), on measure methods only
+/// (position, frame, distance; see the code for why links and planes keep
+/// the paper's set).
 fn second_pass(
     robot: &Robot,
     study: &Study,
@@ -220,9 +221,15 @@ fn second_pass(
     first: Identification,
     observer: &mut dyn Observer,
 ) -> Result<Identification, Error> {
+    // Constraint methods (links, planes) keep the paper's set: at parameters
+    // where their constraints hold only to the noise, a parameter without
+    // effect has a column made of the residuals themselves, which the score
+    // test would take for structure, and their scale is not observed.
+    let constrained = study.sets.iter().any(|set| set.method.scale_invariant());
     if first.stop_reason != StopReason::Converged
         || options.prior.is_some()
         || !first.outliers.is_empty()
+        || constrained
     {
         return Ok(first);
     }
@@ -232,18 +239,27 @@ fn second_pass(
         let calibrated = &current.calibrated;
         let mut states = StudyStates::default();
         study.evaluate_poses(calibrated, &mut states)?;
-        let at_estimate =
-            structural_parameters_at(calibrated, study, &states, priority, STRUCTURAL_SEED)?;
-        let new: Vec<usize> = at_estimate
-            .base_parameters
-            .iter()
-            .copied()
-            .filter(|index| !current.rank.base_parameters.contains(index) && !added.contains(index))
+        let outside =
+            |index: &usize| !current.rank.base_parameters.contains(index) && !added.contains(index);
+        // The score test first, over every parameter the priority matrix
+        // lets be identified (cheap, on the data); the structural analysis at
+        // the calibrated robot (random data) only when it passes.
+        let candidates: Vec<usize> = priority
+            .ordered_candidates(robot.parameters())
+            .into_iter()
+            .filter_map(|id| robot.parameters().index_of(id))
+            .filter(|index| outside(index))
             .collect();
-        if new.is_empty() {
+        if candidates.is_empty() || !promising(&current, study, &mut states, &candidates)? {
             break;
         }
-        if !promising(&current, study, &mut states, &new)? {
+        let new: Vec<usize> =
+            structural_parameters_at(calibrated, study, &states, priority, STRUCTURAL_SEED)?
+                .base_parameters
+                .into_iter()
+                .filter(|index| outside(index))
+                .collect();
+        if new.is_empty() {
             break;
         }
         let extras: Vec<usize> = added.iter().chain(&new).copied().collect();
@@ -266,43 +282,42 @@ fn second_pass(
     Ok(current)
 }
 
-/// Whether a second pass adding `new` (vocabulary indices) to the base set
-/// of `current` can explain the data significantly better: the score test
-/// of the added columns at `current`'s solution, before any iteration. One
-/// system over the auxiliary unknowns, the base set and `new`, written at
-/// the calibrated robot (`states` hold its poses); the decrease of the sum
-/// of squares that a least-squares step over all these columns predicts,
-/// beyond the one over the base set alone, is tested as in
-/// [`significantly_better`]. Cheap beside a pass (one system, two QRs), it
-/// keeps the second pass from running where the first pass's residual is
-/// noise.
+/// Whether adding `candidates` (vocabulary indices) to the base set of
+/// `current` can explain the data significantly better: the score test of
+/// these columns at `current`'s solution, before any iteration. One system
+/// over the auxiliary unknowns, the base set and the candidates, written at
+/// the calibrated robot (`states` hold its poses); the part of the sum of
+/// squares that a least-squares step over all these columns explains, beyond
+/// the one over the base set alone, is tested as in [`significantly_better`]
+/// (k the rank the candidates add). It costs one system and its normal
+/// equations, and keeps the structural analysis and the second pass from
+/// running where the first pass's residual is noise.
 fn promising(
     current: &Identification,
     study: &Study,
     states: &mut StudyStates,
-    new: &[usize],
+    candidates: &[usize],
 ) -> Result<bool, Error> {
+    const EIGENVALUE_FLOOR: f64 = 1e-12;
     let robot = &current.calibrated;
     let auxiliary = study.initial_auxiliary(states)?;
     let base = &current.rank.base_parameters;
-    let wide: Vec<usize> = base.iter().chain(new).copied().collect();
+    let wide: Vec<usize> = base.iter().chain(candidates).copied().collect();
     let layout = ColumnLayout::new(robot.parameters().len(), &wide, auxiliary.len());
     let mut system = ObservationSystem::default();
     study.linearise(robot, &auxiliary, &layout, states, &mut system)?;
     let rows = system.measured_rows();
+    let columns = layout.columns();
     let right = &system.weighted_residuals()[..rows];
-    let matrix = view(
-        &system.matrix()[..rows * layout.columns()],
-        rows,
-        layout.columns(),
-    );
-    let narrow: Vec<usize> = (0..auxiliary.len() + base.len()).collect();
-    let (wide_explained, wide_rank) = explained_sum_of_squares(matrix, right, RELATIVE_ZERO_FLOOR)?;
-    let (narrow_explained, narrow_rank) = explained_sum_of_squares(
-        select_columns(matrix, &narrow).as_ref(),
-        right,
-        RELATIVE_ZERO_FLOOR,
-    )?;
+    let matrix = view(&system.matrix()[..rows * columns], rows, columns);
+    let normal = NormalEquations::of(matrix, right);
+    if !normal.is_finite() {
+        return Ok(false);
+    }
+    let all: Vec<usize> = (0..columns).collect();
+    let (wide_explained, wide_rank) = normal.explained(&all, EIGENVALUE_FLOOR);
+    let (narrow_explained, narrow_rank) =
+        normal.explained(&all[..auxiliary.len() + base.len()], EIGENVALUE_FLOOR);
     let total: f64 = right.iter().map(|r| r * r).sum();
     let added = wide_rank.saturating_sub(narrow_rank);
     let freedom = rows.saturating_sub(wide_rank).max(1) as f64;
