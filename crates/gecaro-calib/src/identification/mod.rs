@@ -82,12 +82,12 @@ use crate::study::{Study, StudyStates};
 
 pub use options::{IdentificationOptions, Solver};
 pub use outliers::{DEFAULT_OUTLIER_THRESHOLD, Outlier};
-pub use result::{ErrorSummary, Identification, IdentifiedParameter, Route, StopReason};
+pub use result::{ErrorSummary, Identification, IdentifiedParameter, Route};
 pub use reweighting::MAX_REWEIGHTINGS;
 use reweighting::Reweighted;
 use solver::{Damping, Iterate, Problem, Run};
 use verdict::Evidence;
-pub use verdict::{NOISE_TEST_LEVEL, NoiseTest, Outcome, Verdict};
+pub use verdict::{NOISE_TEST_LEVEL, NoiseTest, Outcome, StopReason, Verdict};
 use weighting::{PriorRow, Weighting};
 
 pub use crate::prior::Prior;

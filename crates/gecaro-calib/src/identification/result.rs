@@ -4,7 +4,7 @@
 use gecaro_core::{ParameterId, Robot};
 
 use super::outliers::Outlier;
-use super::verdict::{Outcome, Verdict};
+use super::verdict::{Outcome, StopReason, Verdict};
 use crate::identifiability::RankReport;
 use crate::observability::Observability;
 use crate::observation::ObservationSystem;
@@ -31,28 +31,6 @@ impl Route {
             Route::GaussNewton => "gauss-newton",
             Route::MinimumNorm => "minimum-norm",
             Route::LevenbergMarquardt => "levenberg-marquardt",
-        }
-    }
-}
-
-/// Why the iteration stopped.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-pub enum StopReason {
-    /// The last correction was negligible.
-    Converged,
-    /// The iteration limit was reached first.
-    IterationLimit,
-    /// No step lowered the residual: the linearisation does not hold from here.
-    Diverged,
-}
-
-impl StopReason {
-    /// `converged`, `iteration_limit` or `diverged`.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            StopReason::Converged => "converged",
-            StopReason::IterationLimit => "iteration_limit",
-            StopReason::Diverged => "diverged",
         }
     }
 }

@@ -6,7 +6,7 @@
 use gecaro_core::Robot;
 
 use super::options::IdentificationOptions;
-use super::result::StopReason;
+use super::verdict::StopReason;
 use super::weighting::Weighting;
 use crate::Error;
 use crate::linalg::{

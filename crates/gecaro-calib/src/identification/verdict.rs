@@ -1,6 +1,7 @@
 //! The verdict of an identification: whether its result can be trusted, in
 //! one word and one sentence, computed once here and shown alike by every
-//! front end.
+//! front end. It also holds [`StopReason`], the iteration's own account of why it
+//! stopped, which the verdict reads.
 //!
 //! In order of precedence:
 //!
@@ -25,10 +26,31 @@
 
 use std::collections::HashSet;
 
-use super::result::StopReason;
 use crate::observation::ObservationSystem;
 use crate::rows::RowKind;
 use crate::study::Study;
+
+/// Why the iteration stopped.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum StopReason {
+    /// The last correction was negligible.
+    Converged,
+    /// The iteration limit was reached first.
+    IterationLimit,
+    /// No step lowered the residual: the linearisation does not hold from here.
+    Diverged,
+}
+
+impl StopReason {
+    /// `converged`, `iteration_limit` or `diverged`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            StopReason::Converged => "converged",
+            StopReason::IterationLimit => "iteration_limit",
+            StopReason::Diverged => "diverged",
+        }
+    }
+}
 
 /// Significance level of the global test: a fit that explains the data to
 /// the stated noise fails it once in a hundred.
