@@ -835,7 +835,7 @@ fn report_and_plots_show_the_identification() {
     ]);
     for parameter in identified["parameters"].as_array().expect("parameters") {
         let name = parameter["name"].as_str().expect("name");
-        assert!(html.contains(&format!("<tr><td>{name}</td>")), "{name}");
+        assert!(html.contains(&format!("<td>{name}</td>")), "{name}");
     }
     // The same report again needs --force, and leaves the first intact without it.
     gecaro()
@@ -1171,4 +1171,33 @@ fn the_curve_shows_planned_below_random_as_a_table_json_and_svg() {
         .assert()
         .code(2)
         .stderr(predicate::str::contains("--noise"));
+}
+
+#[test]
+fn joint_limits_may_span_several_turns() {
+    // ABB IRB 120 axis 6 turns ±400°: limits beyond a turn are real; other
+    // angles beyond a turn still say that the file looks like degrees.
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let robot = folder.path().join("turns.toml");
+    let text = "name = \"turns\"\n[[frame]]\nsigma = 2\n[[frame]]\nsigma = 0\nqmin = -6.981317\nqmax = 6.981317\n\
+                [[frame]]\nsigma = 0\nd = 0.3\n[[frame]]\nsigma = 2\nd = 0.2\n";
+    std::fs::write(&robot, text).expect("write");
+    gecaro()
+        .args(["robot", "check"])
+        .arg(&robot)
+        .assert()
+        .success();
+    gecaro()
+        .args(["robot", "show"])
+        .arg(&robot)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("6.981317"));
+    std::fs::write(&robot, text.replace("d = 0.3", "d = 0.3\nalpha = 90")).expect("write");
+    gecaro()
+        .args(["robot", "check"])
+        .arg(&robot)
+        .assert()
+        .code(3)
+        .stderr(predicate::str::contains("more than a full turn"));
 }

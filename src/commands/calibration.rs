@@ -376,7 +376,11 @@ fn print_parameters(result: &Identification) {
     let mut parameters = table(&header, 1);
     for parameter in result.parameters.iter().chain(&result.auxiliary) {
         let mut row = vec![
-            parameter.name.clone(),
+            if parameter.is_regrouped() {
+                format!("{} (regrouped)", parameter.name)
+            } else {
+                parameter.name.clone()
+            },
             number(parameter.nominal, 9),
             number(parameter.identified, 9),
             format!("{:+.3e}", parameter.identified - parameter.nominal),
@@ -392,6 +396,18 @@ fn print_parameters(result: &Identification) {
         parameters.add_row(row);
     }
     println!("Identified parameters (metres, radians):\n{parameters}");
+    let combinations: Vec<String> = result
+        .parameters
+        .iter()
+        .filter_map(|p| p.combination())
+        .collect();
+    if !combinations.is_empty() {
+        println!(
+            "Regrouped: each of these deviations stands for a combination, not for the \
+             parameter alone: {}",
+            combinations.join("; ")
+        );
+    }
     if !result.moved.is_empty() {
         let moved: Vec<String> = result
             .moved

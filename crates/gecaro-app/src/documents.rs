@@ -245,6 +245,12 @@ pub struct ParameterJson {
     /// Its prior standard deviation, with a prior (regrouping included).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub prior_std: Option<f64>,
+    /// The parameters it absorbs with their coefficients (a regrouped base
+    /// parameter: its deviation is that combination, not a physical value);
+    /// empty for a physical parameter.
+    pub absorbs: Vec<AbsorbedJson>,
+    /// The combination its deviation stands for (`theta2 + theta3`), when regrouped.
+    pub combination: Option<String>,
 }
 
 /// The loss an identification minimised.
@@ -321,6 +327,15 @@ fn parameters(parameters: &[IdentifiedParameter]) -> Vec<ParameterJson> {
             identified: p.identified,
             std: p.std,
             prior_std: p.prior_std,
+            absorbs: p
+                .absorbs
+                .iter()
+                .map(|(name, coefficient)| AbsorbedJson {
+                    name: name.clone(),
+                    coefficient: *coefficient,
+                })
+                .collect(),
+            combination: p.combination(),
         })
         .collect()
 }

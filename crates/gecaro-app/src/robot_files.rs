@@ -18,6 +18,8 @@ pub fn calibrated_robot_file(
 ) -> RobotFile {
     let mut robot = result.calibrated.clone();
     robot.set_name(format!("{} (calibrated)", nominal.robot.name()));
+    // A file states its angles within a turn (and is read back).
+    robot.wrap_angles();
     RobotFile {
         robot,
         description: Some(format!(

@@ -123,3 +123,34 @@ fn an_iteration_limit_is_not_convergence() {
     assert!(result.verdict.summary.starts_with("not converged"));
     assert!(result.failure().is_some());
 }
+
+#[test]
+fn regrouped_parameters_say_what_they_stand_for() {
+    let result = fit(&study("point-link", 80, None, 7), &Default::default());
+    let relations = result.rank.relations();
+    let mut regrouped = 0;
+    for parameter in &result.parameters {
+        match relations.iter().find(|r| r.base == parameter.name) {
+            Some(relation) if !relation.absorbed.is_empty() => {
+                regrouped += 1;
+                assert!(parameter.is_regrouped());
+                let combination = parameter.combination().expect("a combination");
+                assert!(combination.starts_with(&parameter.name), "{combination}");
+                for (name, _) in &relation.absorbed {
+                    assert!(
+                        combination.contains(name.as_str()),
+                        "{combination} lacks {name}"
+                    );
+                }
+            }
+            _ => {
+                assert!(!parameter.is_regrouped(), "{}", parameter.name);
+                assert!(parameter.combination().is_none());
+            }
+        }
+    }
+    assert!(
+        regrouped > 0,
+        "the Stanford's point link regroups parameters"
+    );
+}

@@ -297,6 +297,50 @@ impl Robot {
         Ok(())
     }
 
+    /// Wraps every constant angle (α, θ, β of every frame) into (−π, π]:
+    /// the geometry is unchanged (rotations are 2π-periodic; joint offsets
+    /// and limits, which a turn would move, are left alone). An
+    /// identification can leave θ or α several turns away on a nearly
+    /// flat direction; a robot file states them within a turn.
+    ///
+    /// ```
+    /// use gecaro_core::{ParameterId, ParameterKind, Robot};
+    ///
+    /// let mut robot = Robot::template("arm", "RR").unwrap();
+    /// let theta = ParameterId::new(ParameterKind::Theta, 1);
+    /// robot.set_parameter(theta, 0.5 + 4.0 * std::f64::consts::PI).unwrap();
+    /// robot.wrap_angles();
+    /// assert!((robot.parameter(theta) - 0.5).abs() < 1e-12);
+    /// ```
+    pub fn wrap_angles(&mut self) {
+        use std::f64::consts::{PI, TAU};
+        let angles: Vec<ParameterId> = self
+            .parameters
+            .ids()
+            .iter()
+            .copied()
+            .filter(|id| {
+                matches!(
+                    id.kind,
+                    ParameterKind::Alpha | ParameterKind::Theta | ParameterKind::Beta
+                )
+            })
+            .collect();
+        for id in angles {
+            let value = self.parameter(id);
+            let wrapped = value - TAU * ((value + PI) / TAU).ceil() + TAU;
+            let wrapped = if wrapped <= -PI {
+                wrapped + TAU
+            } else {
+                wrapped
+            };
+            if wrapped != value {
+                // An angle is never a gain: assigning it cannot fail.
+                let _ = self.assign(id, wrapped);
+            }
+        }
+    }
+
     /// Adds `deltas` (vocabulary order) to the parameters: η ← η + Δη.
     ///
     /// # Errors

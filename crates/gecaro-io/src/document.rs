@@ -281,6 +281,10 @@ impl FrameDocument {
                 format!("sigma = {sigma} is not a frame type: 0 revolute, 1 prismatic, 2 fixed"),
             )
         })?;
+        // `is_angle`: converted from the file's angle unit; angles other than
+        // joint limits (which may span several turns: ABB axis 6 turns
+        // ±400°) are also held within a turn, which catches degrees written
+        // in a radians file.
         let value = |key: &str,
                      given: Option<f64>,
                      default: f64,
@@ -297,13 +301,17 @@ impl FrameDocument {
             }
             match unit {
                 AngleUnit::Degrees => Ok(given.to_radians()),
-                AngleUnit::Radians if given.abs() > TAU + 1e-9 => Err(at(
-                    key,
-                    format!(
-                        "{given} rad is more than a full turn; the file's angles are in radians \
+                AngleUnit::Radians
+                    if given.abs() > TAU + 1e-9 && !matches!(key, "qmin" | "qmax") =>
+                {
+                    Err(at(
+                        key,
+                        format!(
+                            "{given} rad is more than a full turn; the file's angles are in radians \
                          — if it is written in degrees, add angle_unit = \"deg\" at the top"
-                    ),
-                )),
+                        ),
+                    ))
+                }
                 AngleUnit::Radians => Ok(given),
             }
         };

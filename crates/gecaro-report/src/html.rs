@@ -257,9 +257,10 @@ fn parameters(result: &Identification) -> Markup {
             tr {
                 th { "parameter" } th { "nominal" } th { "identified" } th { "deviation" } th { "σ" }
                 @if with_prior { th { "prior σ" } }
+                th { "the deviation stands for" }
             }
             @for parameter in result.parameters.iter().chain(&result.auxiliary) {
-                tr {
+                tr class=[parameter.is_regrouped().then_some("z")] {
                     td { (parameter.name) }
                     td { (number(parameter.nominal)) }
                     td { (number(parameter.identified)) }
@@ -268,10 +269,19 @@ fn parameters(result: &Identification) -> Markup {
                     @if with_prior {
                         td { (parameter.prior_std.map_or("–".into(), |s| format!("{s:.2e}"))) }
                     }
+                    td {
+                        @match parameter.combination() {
+                            Some(combination) => { "regrouped: " (combination) }
+                            None => { "itself" }
+                        }
+                    }
                 }
             }
         }
-        p.muted { "Metres and radians; gains without unit." }
+        p.muted {
+            "Metres and radians; gains without unit. A regrouped parameter (grey) absorbs others \
+             (Appendix III): its deviation is the combination shown, not a physical value."
+        }
         @if !result.moved.is_empty() {
             p {
                 "Parameters outside the base set that had to move: "

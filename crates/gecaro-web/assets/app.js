@@ -1272,8 +1272,8 @@ function renderIdentification(container, name, job, result) {
     plot('Residual RMS per iteration', result.plots.convergence, `${name}-identify-convergence`),
     plot('Errors before and after (mm)', result.plots.errors_histogram, `${name}-identify-histogram`),
     plot('Error of every configuration (mm)', result.plots.errors_per_configuration, `${name}-identify-per-configuration`));
-  const rows = id.parameters.concat(id.auxiliary).map((p) => h('tr', {},
-    h('td', { text: p.name }), h('td', { text: fmt(p.nominal) }), h('td', { text: fmt(p.identified) }),
+  const rows = id.parameters.concat(id.auxiliary).map((p) => h('tr', p.combination ? { class: 'regrouped', title: `regrouped: the deviation stands for ${p.combination}, not for ${p.name} alone` } : {},
+    h('td', { text: p.combination ? `${p.name} (regrouped)` : p.name }), h('td', { text: fmt(p.nominal) }), h('td', { text: fmt(p.identified) }),
     h('td', { text: (p.identified - p.nominal).toExponential(3) }), h('td', { text: sci(p.std) }),
     id.prior ? h('td', { text: sci(p.prior_std) }) : null));
   const table = h('table', { class: 'values', id: `${name}-identify-parameters` },

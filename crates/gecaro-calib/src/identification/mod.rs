@@ -432,7 +432,7 @@ fn fit_pass(
         options
             .prior
             .as_ref()
-            .map(|prior| prior_rows(prior, problem.nominal, &problem, excited.report.relations()))
+            .map(|prior| prior_rows(prior, problem.nominal, &problem, rank.relations()))
             .unwrap_or_default()
     } else {
         extra_prior_rows(&second_pass_prior(), &problem, extras)
@@ -647,6 +647,14 @@ fn summarise(
     let variance = statistics.variance;
     let std = |column: usize| (variance * solved.inverse_normal_diagonal[column]).sqrt();
     let auxiliary_names = study.auxiliary_names();
+    let relations = rank.relations();
+    let absorbed = |name: &str| -> Vec<(String, f64)> {
+        relations
+            .iter()
+            .find(|relation| relation.base == name)
+            .map(|relation| relation.absorbed.clone())
+            .unwrap_or_default()
+    };
     let auxiliary_columns = problem.base_auxiliary.len();
     let auxiliary: Vec<IdentifiedParameter> = problem
         .base_auxiliary
@@ -659,6 +667,7 @@ fn summarise(
             identified: best.auxiliary[index],
             std: std(column),
             prior_std: None,
+            absorbs: absorbed(&auxiliary_names[index]),
         })
         .collect();
     let parameters: Vec<IdentifiedParameter> = problem
@@ -674,6 +683,7 @@ fn summarise(
                 identified: best.robot.parameter(id),
                 std: std(auxiliary_columns + position),
                 prior_std: prior_std(auxiliary_columns + position),
+                absorbs: absorbed(&id.to_string()),
             }
         })
         .collect();
@@ -768,6 +778,7 @@ fn moved_outside_base(
             identified: identified.parameter(*id),
             std: f64::NAN,
             prior_std: None,
+            absorbs: Vec::new(),
         })
         .collect()
 }
