@@ -183,9 +183,10 @@ fn priors_come_from_the_command_line_or_the_study_file() {
     write_study(
         "[prior]\nlength = \"5mm\"\nangle = \"0.5deg\"\ngain = \"1%\"\nparameters = { d2 = \"0.1mm\" }\n",
     );
-    // d2 held to 0.1 mm of nominal, where the real robot is a few tenths of
-    // a millimetre off: the fit cannot reach the tracker's stated σ, the
-    // verdict says so and the exit code is 5 (the document is printed).
+    // d2 held to 0.1 mm of nominal, where the real robot is millimetres
+    // off: the data contradict the prior (d2 ends 28 prior σ away) and the
+    // fit cannot reach the tracker's stated σ; the verdict names d2 and the
+    // exit code is 5 (the document is printed).
     let output = gecaro()
         .args(["identify", "--json", "--study"])
         .arg(&study)
@@ -198,8 +199,14 @@ fn priors_come_from_the_command_line_or_the_study_file() {
         "{}",
         result["prior"]
     );
-    assert_eq!(result["verdict"]["outcome"], "exceeds_noise");
-    assert!(String::from_utf8_lossy(&output.stderr).contains("× the stated noise"));
+    assert_eq!(result["verdict"]["outcome"], "implausible");
+    assert_eq!(result["verdict"]["implausible"][0]["name"], "d2");
+    assert!(
+        !result["verdict"]["noise_test"]["passed"]
+            .as_bool()
+            .expect("tested")
+    );
+    assert!(String::from_utf8_lossy(&output.stderr).contains("the data contradict the prior"));
     // Mistakes in the table name the study file's line and field.
     write_study(
         "[prior]\nlength = \"5mm\"\nangle = \"0.5deg\"\ngain = \"1%\"\nparameters = { d2 = \"1deg\" }\n",

@@ -472,8 +472,8 @@ pub struct ModelScoreJson {
 /// radians.
 #[derive(Clone, Debug, Serialize)]
 pub struct VerdictJson {
-    /// `fits_noise`, `untested`, `exceeds_noise`, `degenerate`,
-    /// `not_converged` or `diverged`.
+    /// `fits_noise`, `untested`, `exceeds_noise`, `implausible`,
+    /// `degenerate`, `not_converged` or `diverged`.
     pub outcome: &'static str,
     /// Whether the result may be used (`fits_noise` or `untested`).
     pub trusted: bool,
@@ -489,6 +489,19 @@ pub struct VerdictJson {
     pub configurations: usize,
     /// Distinct configurations among them.
     pub distinct_configurations: usize,
+    /// Parameters with values no real robot has: `name`, `why`, `cause`.
+    pub implausible: Vec<ImplausibleJson>,
+}
+
+/// A parameter whose identified value no real robot has.
+#[derive(Clone, Debug, Serialize)]
+pub struct ImplausibleJson {
+    /// Its name.
+    pub name: String,
+    /// Why it is implausible.
+    pub why: String,
+    /// Its likely cause.
+    pub cause: String,
 }
 
 /// The global test of the residuals against the stated σ.
@@ -526,6 +539,15 @@ impl From<&Verdict> for VerdictJson {
             residual_angle: verdict.residual_angle,
             configurations: verdict.configurations,
             distinct_configurations: verdict.distinct_configurations,
+            implausible: verdict
+                .implausible
+                .iter()
+                .map(|p| ImplausibleJson {
+                    name: p.name.clone(),
+                    why: p.why.clone(),
+                    cause: p.cause.clone(),
+                })
+                .collect(),
         }
     }
 }

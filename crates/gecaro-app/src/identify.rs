@@ -209,9 +209,14 @@ impl Identified {
     }
 
     /// The verdict's objection to a solution: its residuals exceed the
-    /// stated noise (the global test failed).
+    /// stated noise (the global test failed), or parameters took values no
+    /// real robot has.
     pub fn misfit(&self) -> Option<AppError> {
-        (self.result.verdict.outcome == Outcome::ExceedsNoise).then(|| {
+        matches!(
+            self.result.verdict.outcome,
+            Outcome::ExceedsNoise | Outcome::Implausible
+        )
+        .then(|| {
             AppError::plain(
                 ErrorKind::ExceedsNoise,
                 format!("the identification {}", self.result.verdict.summary),

@@ -154,3 +154,37 @@ fn regrouped_parameters_say_what_they_stand_for() {
         "the Stanford's point link regroups parameters"
     );
 }
+
+#[test]
+fn a_measurement_frame_two_metres_away_is_named() {
+    // The tracker stands 2 m from where the nominal robot file says, turned
+    // 90° about z: the fit may explain the data, but a d1 or θ0 two metres
+    // or a quarter turn off is no calibration; the verdict names it and says
+    // where the cause lies.
+    let nominal = stanford();
+    let moved = nalgebra::IsometryMatrix3::from_parts(
+        nalgebra::Translation3::new(2.0, 0.0, 0.4),
+        nalgebra::Rotation3::from_euler_angles(0.0, 0.0, std::f64::consts::FRAC_PI_2),
+    );
+    let far = nominal
+        .reframed(&moved, &nalgebra::IsometryMatrix3::identity())
+        .expect("reframed");
+    let position = method("position", &MethodOptions::default()).expect("method");
+    let samples = simulate_measurements(&far, position.as_ref(), 100, 1e-5, &mut Sampler::new(2))
+        .expect("data");
+    let result = fit(
+        &Study::single(position, samples, "far"),
+        &Default::default(),
+    );
+    assert_eq!(
+        result.verdict.outcome,
+        Outcome::Implausible,
+        "{}",
+        result.verdict.summary
+    );
+    let named = &result.verdict.implausible;
+    assert!(
+        named.iter().any(|p| p.cause.contains("measurement frame")),
+        "{named:?}"
+    );
+}

@@ -1247,7 +1247,7 @@ function renderIdentification(container, name, job, result) {
   const mm = (v) => fixed(v * 1e3, v * 1e3 < 0.1 ? 4 : 3);
   const verdict = id.verdict;
   const outcomes = {
-    fits_noise: 'Fits the noise', untested: 'Converged (σ not stated)', exceeds_noise: 'Exceeds the noise',
+    fits_noise: 'Fits the noise', untested: 'Converged (σ not stated)', exceeds_noise: 'Exceeds the noise', implausible: 'Implausible values',
     degenerate: 'Degenerate data', not_converged: 'Not converged', diverged: 'Diverged',
   };
   const headline = h('p', { class: `verdict ${verdict.trusted ? 'ok' : 'bad'}`, id: `${name}-identify-verdict` },

@@ -87,7 +87,7 @@ pub use reweighting::MAX_REWEIGHTINGS;
 use reweighting::Reweighted;
 use solver::{Damping, Iterate, Problem, Run};
 use verdict::Evidence;
-pub use verdict::{NOISE_TEST_LEVEL, NoiseTest, Outcome, StopReason, Verdict};
+pub use verdict::{Implausible, NOISE_TEST_LEVEL, NoiseTest, Outcome, StopReason, Verdict};
 use weighting::{PriorRow, Weighting};
 
 pub use crate::prior::Prior;
@@ -713,6 +713,9 @@ fn summarise(
     let verdict = Verdict::of(
         study,
         &Evidence {
+            nominal: robot,
+            parameters: &parameters,
+            prior: options.prior.as_ref(),
             stop,
             iterations: history.len() - 1,
             system: &best.system,

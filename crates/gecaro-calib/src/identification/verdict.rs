@@ -11,13 +11,22 @@
 //!    need (distinct configurations × equations per configuration ≤ unknowns);
 //!    200 copies of one configuration make one configuration, whatever the
 //!    residual says.
-//! 3. **Exceeds the noise**: every measurement set states its sensor σ and
+//! 3. **Implausible parameters**: a physical (not regrouped) parameter whose
+//!    deviation no real robot has ([`Implausible`]): a length moved by more
+//!    than the robot's size (the sum of its |d| and |r|, at least 0.1 m), an
+//!    angle turned by more than 45°, a gain off by more than 20 %, or a
+//!    deviation beyond 5 σ of a stated prior. Each is named with its likely
+//!    cause: not determined by the data (deviation within 3 σ), a
+//!    measurement frame far from the nominal (frames 0 and 1, which place the
+//!    robot in the world) or a tool far from it (frame n+1), or a model error
+//!    elsewhere that the parameter absorbs.
+//! 4. **Exceeds the noise**: every measurement set states its sensor σ and
 //!    the global test of adjustment theory (Baarda) fails: the weighted sum of
 //!    squares `χ² = Σ (r_i/σ_i)²` exceeds the χ²(ν) quantile at
 //!    [`NOISE_TEST_LEVEL`] (ν = equations − unknowns). The model, the data or
 //!    the stated σ is wrong; the ratio σ̂/σ = √(χ²/ν) says by how much.
-//! 4. **Fits the noise**: the same test passes.
-//! 5. **Converged, untested**: no σ was stated; the residual σ is reported in
+//! 5. **Fits the noise**: the same test passes.
+//! 6. **Converged, untested**: no σ was stated; the residual σ is reported in
 //!    metres and radians instead.
 //!
 //! With a robust loss the test takes the weighted residuals of the final fit
@@ -26,7 +35,11 @@
 
 use std::collections::HashSet;
 
+use gecaro_core::{ParameterKind, Robot};
+
+use super::result::IdentifiedParameter;
 use crate::observation::ObservationSystem;
+use crate::prior::Prior;
 use crate::rows::RowKind;
 use crate::study::Study;
 
@@ -65,6 +78,8 @@ pub enum Outcome {
     NotConverged,
     /// The data hold too few distinct configurations for the unknowns.
     Degenerate,
+    /// Converged, but some parameter took a value no real robot has.
+    Implausible,
     /// Converged, but the residuals exceed the stated noise (global test failed).
     ExceedsNoise,
     /// Converged, and the residuals agree with the stated noise.
@@ -81,6 +96,7 @@ impl Outcome {
             Outcome::Diverged => "diverged",
             Outcome::NotConverged => "not_converged",
             Outcome::Degenerate => "degenerate",
+            Outcome::Implausible => "implausible",
             Outcome::ExceedsNoise => "exceeds_noise",
             Outcome::FitsNoise => "fits_noise",
             Outcome::Untested => "untested",
@@ -125,12 +141,31 @@ pub struct Verdict {
     pub configurations: usize,
     /// Distinct configurations among them (per measurement set).
     pub distinct_configurations: usize,
+    /// Parameters with values no real robot has (see the module docs).
+    pub implausible: Vec<Implausible>,
     /// The verdict in one sentence.
     pub summary: String,
 }
 
+/// A parameter whose identified value no real robot has.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Implausible {
+    /// Its name.
+    pub name: String,
+    /// Why it is implausible (`moved by 3.2 m, more than the robot's size 1.8 m`).
+    pub why: String,
+    /// Its likely cause, in words.
+    pub cause: String,
+}
+
 /// What the verdict is made of, beside the study.
 pub(super) struct Evidence<'a> {
+    /// The nominal robot (its size bounds the lengths).
+    pub(super) nominal: &'a Robot,
+    /// The identified parameters.
+    pub(super) parameters: &'a [IdentifiedParameter],
+    /// The prior, if one was given.
+    pub(super) prior: Option<&'a Prior>,
     pub(super) stop: StopReason,
     pub(super) iterations: usize,
     /// The system at the solution.
@@ -153,12 +188,14 @@ impl Verdict {
             .iter()
             .all(|set| set.sigma.is_some())
             .then(|| noise_test(evidence.data_cost, evidence.degrees_of_freedom));
+        let implausible = implausible(evidence);
         let outcome = match evidence.stop {
             StopReason::Diverged => Outcome::Diverged,
             StopReason::IterationLimit => Outcome::NotConverged,
             StopReason::Converged if distinct_equations <= evidence.unknowns as f64 => {
                 Outcome::Degenerate
             }
+            StopReason::Converged if !implausible.is_empty() => Outcome::Implausible,
             StopReason::Converged => match noise_test {
                 Some(test) if !test.passed => Outcome::ExceedsNoise,
                 Some(_) => Outcome::FitsNoise,
@@ -172,6 +209,7 @@ impl Verdict {
             residual_angle,
             configurations,
             distinct_configurations,
+            implausible,
             summary: String::new(),
         };
         verdict.summary = verdict.sentence(evidence.iterations, evidence.unknowns);
@@ -204,6 +242,21 @@ impl Verdict {
                     "s"
                 },
                 self.configurations
+            ),
+            (Outcome::Implausible, test) => format!(
+                "{converged}, but {}{}",
+                self.implausible
+                    .iter()
+                    .map(|p| format!("{} {} ({})", p.name, p.why, p.cause))
+                    .collect::<Vec<_>>()
+                    .join("; "),
+                match test {
+                    Some(test) if !test.passed => format!(
+                        "; and the residuals are {:.1}× the stated noise",
+                        test.sigma_ratio
+                    ),
+                    _ => String::new(),
+                }
             ),
             (Outcome::ExceedsNoise, Some(test)) => format!(
                 "{converged}, but the residuals are {:.1}× the stated noise (global test at \
@@ -303,4 +356,84 @@ fn residual_sigmas(evidence: &Evidence<'_>) -> (Option<f64>, Option<f64>) {
         })
     };
     (sigma_of(RowKind::Length), sigma_of(RowKind::Angle))
+}
+
+/// The robot's size: the sum of its frames' |d| and |r|, at least 0.1 m.
+fn robot_size(robot: &Robot) -> f64 {
+    robot
+        .frames()
+        .iter()
+        .map(|frame| frame.d.abs() + frame.r.abs())
+        .sum::<f64>()
+        .max(0.1)
+}
+
+/// The physical parameters with values no real robot has (module docs).
+fn implausible(evidence: &Evidence<'_>) -> Vec<Implausible> {
+    use std::f64::consts::{PI, TAU};
+    const ANGLE_LIMIT: f64 = PI / 4.0;
+    const GAIN_LIMIT: f64 = 0.2;
+    const PRIOR_LIMIT: f64 = 5.0;
+    let size = robot_size(evidence.nominal);
+    let last = evidence.nominal.frames().len() - 1;
+    evidence
+        .parameters
+        .iter()
+        .filter(|p| !p.is_regrouped())
+        .filter_map(|p| {
+            let id = p.parameter?;
+            let mut deviation = p.identified - p.nominal;
+            let why = match id.kind {
+                ParameterKind::D | ParameterKind::R if deviation.abs() > size => {
+                    format!("moved by {deviation:.3} m, more than the robot's size ({size:.2} m)")
+                }
+                ParameterKind::Alpha | ParameterKind::Theta | ParameterKind::Beta
+                    if (deviation - TAU * (deviation / TAU).round()).abs() > ANGLE_LIMIT =>
+                {
+                    deviation -= TAU * (deviation / TAU).round();
+                    format!("turned by {:.1}°", deviation.to_degrees())
+                }
+                ParameterKind::Gain if deviation.abs() > GAIN_LIMIT * p.nominal.abs() => format!(
+                    "off by {:+.1} %",
+                    100.0 * deviation / p.nominal.abs().max(f64::MIN_POSITIVE)
+                ),
+                _ => match (evidence.prior, p.prior_std) {
+                    (Some(_), Some(prior)) if deviation.abs() > PRIOR_LIMIT * prior => {
+                        format!("moved {:.1} times its prior σ", deviation.abs() / prior)
+                    }
+                    _ => return None,
+                },
+            };
+            let against_prior = why.contains("prior σ");
+            let cause = if against_prior {
+                "the data contradict the prior: widen it, or look for a model error that this \
+                 parameter absorbs"
+                    .to_owned()
+            } else if deviation.abs() < 3.0 * p.std || !p.std.is_finite() {
+                format!(
+                    "not determined by these data, σ {:.2e}: add configurations that move it, \
+                     or a prior",
+                    p.std
+                )
+            } else if id.frame <= 1 {
+                "the measurement frame (world frame) is far from the nominal one, or the base \
+                 is tilted: state it in the robot file (robot reframe, world frame) and \
+                 identify again"
+                    .to_owned()
+            } else if id.frame == last {
+                "the tool is far from the nominal one: state it in the robot file (robot \
+                 reframe, tool frame) and identify again"
+                    .to_owned()
+            } else {
+                "determined by the data: a model error elsewhere (an unmodelled tilt, \
+                 coupling or compliance, a wrong nominal) is absorbed here"
+                    .to_owned()
+            };
+            Some(Implausible {
+                name: p.name.clone(),
+                why,
+                cause,
+            })
+        })
+        .collect()
 }
