@@ -334,3 +334,28 @@ fn cross_validation_and_model_choice_from_the_command_line() {
             .stderr(predicate::str::contains(expected));
     }
 }
+
+#[test]
+fn a_robust_fit_reports_its_inliers_beside_all_observations() {
+    // Tukey on the corrupted tracker file: all 80 observations keep the four
+    // bad readings (RMS 5.4 mm); the 76 it believes fit to the tracker's
+    // noise, and the verdict's residual σ is theirs.
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let robot = kr16(folder.path());
+    let output = tracker_command("identify", &robot)
+        .args(["--data", "examples/tracker/tracker_corrupted.csv"])
+        .args(["--loss", "tukey", "--json"])
+        .output()
+        .expect("runs");
+    assert!(output.status.success());
+    let result: Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    let all = result["after"]["rms"].as_f64().expect("rms");
+    let inliers = result["after_inliers"]["rms"].as_f64().expect("inlier rms");
+    assert_eq!(result["after_inliers"]["count"], 76);
+    assert!(all > 1e-3 && inliers < 5e-5, "{all} vs {inliers}");
+    let residual = result["verdict"]["residual_length"].as_f64().expect("σ");
+    assert!(
+        residual < 5e-5,
+        "the verdict's σ {residual} is the inliers'"
+    );
+}

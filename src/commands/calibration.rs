@@ -316,6 +316,16 @@ fn print_identification(identified: &Identified) {
     );
     print_iterations(result);
     print_errors("Errors", &result.before, Some(&result.after));
+    if let Some(inliers) = result.after_inliers() {
+        print_errors(
+            &format!(
+                "Without the {} outliers, errors after",
+                result.outliers.len()
+            ),
+            &inliers,
+            None,
+        );
+    }
     println!(
         "Residual standard deviation σ = {:.3e}",
         result.residual_sigma

@@ -11,8 +11,10 @@ const LISTED: usize = 20;
 pub(super) fn print_robustness(result: &Identification) {
     if !result.loss.is_l2() {
         println!(
-            "Loss {} after {} reweightings; robust σ̂ of the residuals {:.3e} (units of the sensor σ)",
-            result.loss, result.reweightings, result.robust_sigma
+            "Loss {} after {} reweightings; robust σ̂ of the residuals {}",
+            result.loss,
+            result.reweightings,
+            result.robust_sigma_words()
         );
     }
     if let Some(prior) = &result.prior {

@@ -375,6 +375,8 @@ pub struct IdentificationJson {
     pub before: SummaryJson,
     /// Errors at the identified robot.
     pub after: SummaryJson,
+    /// The same without the outliers (none when nothing is an outlier).
+    pub after_inliers: Option<SummaryJson>,
     /// Structural base parameters that the data do not excite.
     pub not_excited: Vec<String>,
     /// Number of structurally identifiable parameters.
@@ -572,6 +574,7 @@ impl IdentificationJson {
             residual_sigma: result.residual_sigma,
             before: (&result.before).into(),
             after: (&result.after).into(),
+            after_inliers: result.after_inliers().as_ref().map(Into::into),
             not_excited: result.not_excited.clone(),
             identifiable: result.rank.count(),
             route: result.route.as_str(),

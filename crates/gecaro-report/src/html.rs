@@ -168,6 +168,12 @@ fn summary(input: &ReportInput<'_>) -> Markup {
                 td { "error RMS (observations)" }
                 td { (number(result.before.rms * 1e3)) " → " (number(result.after.rms * 1e3)) " mm" }
             }
+            @if let Some(inliers) = result.after_inliers() {
+                tr {
+                    td { "error RMS without the " (result.outliers.len()) " outliers" }
+                    td { (number(inliers.rms * 1e3)) " mm (largest " (number(inliers.max * 1e3)) " mm)" }
+                }
+            }
             tr {
                 td { "largest error" }
                 td { (number(result.before.max * 1e3)) " → " (number(result.after.max * 1e3)) " mm" }
@@ -211,7 +217,7 @@ fn robustness(result: &Identification) -> Markup {
         p {
             "Loss " strong { (result.loss) }
             @if result.reweightings > 0 { " after " (result.reweightings) " reweightings" }
-            "; robust σ̂ of the residuals " (format!("{:.3e}", result.robust_sigma)) " (units of the sensor σ)."
+            "; robust σ̂ of the residuals " (result.robust_sigma_words()) "."
             @if let Some(prior) = &result.prior {
                 " Prior around the nominal values: " (prior) " (maximum a posteriori; σ is posterior)."
             }

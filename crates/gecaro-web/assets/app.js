@@ -1256,6 +1256,7 @@ function renderIdentification(container, name, job, result) {
     stat(`after ${id.iterations} iterations (${id.route.replace(/_/g, ' ')})`, outcomes[verdict.outcome] || verdict.outcome, { id: `${name}-identify-status`, class: verdict.trusted ? 'ok' : 'bad' }),
     stat('error RMS before → after (mm)', `${mm(id.before.rms)} → ${mm(id.after.rms)}`),
     stat('largest error (mm)', `${mm(id.before.max)} → ${mm(id.after.max)}`),
+    id.after_inliers ? stat(`after, without the ${id.outliers.length} outliers (mm)`, `RMS ${mm(id.after_inliers.rms)}, max ${mm(id.after_inliers.max)}`, { id: `${name}-identify-inliers` }) : null,
     id.before.rms_rotation !== undefined
       ? stat('orientation RMS (°)', `${fixed(id.before.rms_rotation * 180 / Math.PI, 3)} → ${fixed(id.after.rms_rotation * 180 / Math.PI, 4)}`) : null,
     stat('identified parameters', String(id.parameters.length + id.auxiliary.length)),

@@ -719,6 +719,7 @@ fn summarise(
             stop,
             iterations: history.len() - 1,
             system: &best.system,
+            observation_weights: &statistics.weights,
             data_cost,
             degrees_of_freedom,
             unknowns: columns,

@@ -55,11 +55,17 @@ pub struct ErrorSummary {
 impl ErrorSummary {
     /// The summary of a system's observation errors.
     pub fn of(system: &ObservationSystem) -> Self {
-        let errors = system.observation_errors();
+        let has_angles = system.kinds().contains(&RowKind::Angle);
+        Self::of_errors(&system.observation_errors(), has_angles)
+    }
+
+    /// The summary of per-observation errors (position-like in metres,
+    /// orientation in radians), with orientation statistics when
+    /// `has_angles`.
+    pub fn of_errors(errors: &[(f64, f64)], has_angles: bool) -> Self {
         let count = errors.len();
         let lengths: Vec<f64> = errors.iter().map(|e| e.0).collect();
         let angles: Vec<f64> = errors.iter().map(|e| e.1).collect();
-        let has_angles = system.kinds().contains(&RowKind::Angle);
         let rms = |values: &[f64]| {
             (values.iter().map(|v| v * v).sum::<f64>() / values.len().max(1) as f64).sqrt()
         };
@@ -221,6 +227,38 @@ impl Identification {
             .filter(|(_, u)| **u > self.outlier_threshold)
             .map(|(index, _)| index)
             .collect()
+    }
+
+    /// The errors at the solution of the observations that are not
+    /// outliers: what a robust fit achieves on the data it believes (`None`
+    /// when nothing is an outlier; then [`Identification::after`] says it).
+    pub fn after_inliers(&self) -> Option<ErrorSummary> {
+        if self.outliers.is_empty() {
+            return None;
+        }
+        let outliers = self.outlier_observations();
+        let kept: Vec<(f64, f64)> = self
+            .errors_after
+            .iter()
+            .enumerate()
+            .filter(|(index, _)| !outliers.contains(index))
+            .map(|(_, error)| *error)
+            .collect();
+        Some(ErrorSummary::of_errors(
+            &kept,
+            self.after.rms_rotation.is_some(),
+        ))
+    }
+
+    /// The robust σ̂ of the residuals in words: in units of the stated σ
+    /// when every set states one (`1.04× the stated σ`), else in
+    /// millimetres (the rows are then metres).
+    pub fn robust_sigma_words(&self) -> String {
+        if self.verdict.noise_test.is_some() {
+            format!("{:.3}× the stated σ", self.robust_sigma)
+        } else {
+            format!("{:.4} mm", self.robust_sigma * 1e3)
+        }
     }
 
     /// Number of parameter updates of the route taken.

@@ -170,6 +170,8 @@ pub(super) struct Evidence<'a> {
     pub(super) iterations: usize,
     /// The system at the solution.
     pub(super) system: &'a ObservationSystem,
+    /// Each observation's weight in the final fit (empty: all 1).
+    pub(super) observation_weights: &'a [f64],
     /// Σ w (r/σ)² over the data rows.
     pub(super) data_cost: f64,
     pub(super) degrees_of_freedom: usize,
@@ -337,22 +339,35 @@ fn distinct(study: &Study) -> (usize, f64) {
 }
 
 /// The residual standard deviations of the length and angle rows, in
-/// metres and radians: `√(Σ r²/(n_k (1 − b/n)))` per kind, the degrees of
-/// freedom shared out in proportion to the rows.
+/// metres and radians: `√(Σ w r²/(n_k (1 − b/n)))` per kind (w the robust
+/// weight of the row's observation, rows of weight 0 left out), the degrees
+/// of freedom shared out in proportion to the rows.
 fn residual_sigmas(evidence: &Evidence<'_>) -> (Option<f64>, Option<f64>) {
     let system = evidence.system;
     let rows = system.measured_rows();
     let residuals = system.residuals();
     let kinds = system.kinds();
-    let share = evidence.degrees_of_freedom as f64 / rows.max(1) as f64;
+    let observations = system.row_observations();
+    let weight = |row: usize| {
+        evidence
+            .observation_weights
+            .get(observations[row])
+            .copied()
+            .unwrap_or(1.0)
+    };
+    // Rows of observations a robust loss ignores do not count.
+    let counted = (0..rows).filter(|row| weight(*row) > 0.0).count();
+    let share = evidence.degrees_of_freedom as f64 / counted.max(1) as f64;
     let sigma_of = |kind: RowKind| {
-        let values: Vec<f64> = (0..rows)
-            .filter(|row| kinds[*row] == kind)
-            .map(|row| residuals[row])
+        let rows: Vec<usize> = (0..rows)
+            .filter(|row| kinds[*row] == kind && weight(*row) > 0.0)
             .collect();
-        (!values.is_empty()).then(|| {
-            let squares: f64 = values.iter().map(|r| r * r).sum();
-            (squares / (values.len() as f64 * share).max(f64::MIN_POSITIVE)).sqrt()
+        (!rows.is_empty()).then(|| {
+            let squares: f64 = rows
+                .iter()
+                .map(|row| weight(*row) * residuals[*row] * residuals[*row])
+                .sum();
+            (squares / (rows.len() as f64 * share).max(f64::MIN_POSITIVE)).sqrt()
         })
     };
     (sigma_of(RowKind::Length), sigma_of(RowKind::Angle))
