@@ -1201,3 +1201,27 @@ fn joint_limits_may_span_several_turns() {
         .code(3)
         .stderr(predicate::str::contains("more than a full turn"));
 }
+
+#[test]
+fn a_measured_point_on_a_joint_axis_is_named_before_any_data() {
+    // The ready Panda's and UR10e's tool points lie on their last axis: a
+    // position sensor cannot see the last joint turn.
+    for (robot, joint) in [("panda", 7), ("ur10e", 6)] {
+        let analysis = json_output(&["identifiable", robot, "--method", "position", "--json"]);
+        let warnings = analysis["warnings"].as_array().expect("warnings");
+        assert_eq!(warnings.len(), 1, "{robot}: {warnings:?}");
+        let warning = warnings[0].as_str().expect("text");
+        assert!(
+            warning.starts_with(&format!("joint {joint} turns about the measured point")),
+            "{warning}"
+        );
+        // A frame sensor sees it turn.
+        let frames = json_output(&["identifiable", robot, "--method", "frame", "--json"]);
+        assert_eq!(frames["warnings"].as_array().expect("warnings").len(), 0);
+    }
+    gecaro()
+        .args(["identifiable", "stanford", "--method", "position"])
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("warning:").not());
+}

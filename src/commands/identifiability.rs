@@ -45,6 +45,9 @@ pub(crate) fn identifiable(args: &IdentifiableArgs) -> Result<(), Failure> {
             )
         ),
     }
+    for warning in analysis.report.set_up_warnings(robot) {
+        println!("warning: {warning}");
+    }
     Ok(())
 }
 

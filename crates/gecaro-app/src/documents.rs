@@ -147,6 +147,9 @@ pub struct IdentifiableJson {
     /// For measured data: the excitation check.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub excitation: Option<ExcitationJson>,
+    /// What the set-up keeps from being identified (a measured point on a
+    /// joint's axis), before any data are taken.
+    pub warnings: Vec<String>,
 }
 
 impl IdentifiableJson {
@@ -195,6 +198,7 @@ impl IdentifiableJson {
                 not_excited: checked.not_excited.clone(),
                 condition_number: checked.report.condition_number(),
             }),
+            warnings: report.set_up_warnings(robot),
         }
     }
 }

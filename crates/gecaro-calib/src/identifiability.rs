@@ -247,6 +247,33 @@ impl RankReport {
             .find(|classified| classified.name == name)
             .map(|classified| classified.status)
     }
+
+    /// What the set-up itself keeps from being identified, before any data
+    /// are taken: a revolute joint whose gain has no effect turns about the
+    /// measured point (at the nominal geometry the point lies on its axis:
+    /// a reflector on the flange axis, a base frame on axis 1), so neither
+    /// its angle nor its gain is observed, and at the real robot, a little
+    /// off that axis, they matter to second order. In words, one warning per
+    /// such joint.
+    pub fn set_up_warnings(&self, robot: &Robot) -> Vec<String> {
+        robot
+            .joints()
+            .iter()
+            .enumerate()
+            .filter(|(index, _)| {
+                robot.frames()[index + 1].frame_type == gecaro_core::FrameType::Revolute
+            })
+            .filter(|(index, _)| self.status(&format!("K{}", index + 1)) == Some(ParameterStatus::NoEffect))
+            .map(|(index, _)| {
+                let joint = index + 1;
+                format!(
+                    "joint {joint} turns about the measured point (at the nominal geometry the point \
+                     lies on its axis): θ{joint} and K{joint} are not observed by these measurements; \
+                     put the tool point (reflector) off that axis, or measure frames"
+                )
+            })
+            .collect()
+    }
 }
 
 /// The identifiable parameters of `study` on `robot` with `priority` (Appendix III).

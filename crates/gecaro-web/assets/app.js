@@ -959,6 +959,10 @@ function renderIdentifiable(container, name, report) {
       ? h('p', { class: 'stat ok', text: `The data excite every identifiable parameter (condition number on the data ${fmt(Number(report.excitation.condition_number.toPrecision(4)))}).` })
       : h('div', { class: 'warnings', text: `The data do not excite ${report.excitation.not_excited.join(', ')}: they would stay at their nominal values.` }));
   }
+  if (report.warnings.length) {
+    parts.push(h('div', { class: 'warnings', id: `${name}-identifiable-warnings` }, h('strong', { text: 'The set-up' }),
+      h('ul', {}, report.warnings.map((w) => h('li', { text: w })))));
+  }
   parts.push(h('p', { class: 'muted', text: 'id = identifiable · n = regrouped on other parameters · 0 = no effect · – = excluded (priority 0)' }));
   parts.push(h('table', { class: 'grid', id: `${name}-identifiable-grid` }, h('thead', {}, head), h('tbody', {}, rows)));
   if (report.auxiliary.length) {

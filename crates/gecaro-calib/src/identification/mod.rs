@@ -97,6 +97,9 @@ pub use crate::robust::{Loss, LossKind, robust_sigma};
 /// Above this condition number of W_b the data are called poorly exciting.
 pub const POOR_CONDITIONING: f64 = 1e4;
 
+/// A set-up warning ([`RankReport::set_up_warnings`]) holds these words.
+const SET_UP_WARNING: &str = "turns about the measured point";
+
 /// The warning that the data's W_b is poorly conditioned starts so.
 const POOR_EXCITATION: &str = "the data excite the robot poorly";
 
@@ -363,13 +366,17 @@ fn merge_passes(first: Identification, mut second: Identification) -> Identifica
     second.before = first.before;
     second.errors_before = first.errors_before;
     second.condition_number = first.condition_number;
-    second.warnings.retain(|w| !w.starts_with(POOR_EXCITATION));
-    second.warnings.extend(
-        first
-            .warnings
-            .into_iter()
-            .filter(|w| w.starts_with(POOR_EXCITATION)),
-    );
+    // The first pass's excitation and set-up are the nominal structure's.
+    let nominal_structure =
+        |w: &String| w.starts_with(POOR_EXCITATION) || w.contains(SET_UP_WARNING);
+    second.warnings.retain(|w| !nominal_structure(w));
+    let mut warnings: Vec<String> = first
+        .warnings
+        .into_iter()
+        .filter(|w| nominal_structure(w))
+        .collect();
+    warnings.append(&mut second.warnings);
+    second.warnings = warnings;
     second
         .warnings
         .retain(|w| !w.contains("identified in a second pass"));
@@ -688,13 +695,14 @@ fn summarise(
         })
         .collect();
     let moved = moved_outside_base(robot, &best.robot, &problem.base);
-    let warnings = warnings(
+    let mut warnings = rank.set_up_warnings(robot);
+    warnings.extend(warnings_of(
         study,
         &excited.not_excited,
         condition_number,
         &parameters,
         &moved,
-    );
+    ));
     let errors_after = best.system.observation_errors();
     let has_rotation = best.system.kinds().contains(&RowKind::Angle);
     let outliers = outliers::find_outliers(
@@ -828,8 +836,9 @@ fn extra_prior_rows(prior: &Prior, problem: &Problem<'_>, extras: &[usize]) -> V
         .collect()
 }
 
-/// The warnings of an identification (see [`Identification::warnings`]).
-fn warnings(
+/// The warnings of an identification (see [`Identification::warnings`])
+/// beyond the set-up's ([`RankReport::set_up_warnings`]).
+fn warnings_of(
     study: &Study,
     not_excited: &[String],
     condition_number: f64,
