@@ -353,6 +353,8 @@ pub struct IdentificationJson {
     pub verdict: VerdictJson,
     /// Parameters the second pass added to the nominal base set.
     pub second_pass: Vec<String>,
+    /// Strongly correlated pairs of identified parameters, strongest first.
+    pub correlated: Vec<CorrelatedJson>,
     /// Whether the iteration converged.
     pub converged: bool,
     /// Iterations done.
@@ -510,6 +512,17 @@ pub struct ImplausibleJson {
     pub cause: String,
 }
 
+/// Two identified parameters whose estimates are strongly correlated.
+#[derive(Clone, Debug, Serialize)]
+pub struct CorrelatedJson {
+    /// One parameter.
+    pub a: String,
+    /// The other.
+    pub b: String,
+    /// Their correlation coefficient ρ.
+    pub rho: f64,
+}
+
 /// The global test of the residuals against the stated σ.
 #[derive(Clone, Debug, Serialize)]
 pub struct NoiseTestJson {
@@ -565,6 +578,15 @@ impl IdentificationJson {
             method: study.method_names(),
             verdict: (&result.verdict).into(),
             second_pass: result.second_pass.clone(),
+            correlated: result
+                .correlated
+                .iter()
+                .map(|(a, b, rho)| CorrelatedJson {
+                    a: a.clone(),
+                    b: b.clone(),
+                    rho: *rho,
+                })
+                .collect(),
             converged: result.stop_reason == StopReason::Converged,
             iterations: result.iterations(),
             rms_history: result.history.iter().map(|h| h.rms).collect(),

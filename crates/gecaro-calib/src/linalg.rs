@@ -305,6 +305,29 @@ impl NormalEquations {
         (explained, rank)
     }
 
+    /// The correlation matrix of the least-squares estimate, from
+    /// (WᵀW)⁻¹ = L⁻ᵀL⁻¹ (Cholesky): `ρ_ij = C_ij / √(C_ii C_jj)`, as a
+    /// row-major n×n vector; `None` when WᵀW is not positive definite.
+    pub(crate) fn correlations(&self) -> Option<Vec<f64>> {
+        let n = self.gram.nrows();
+        let cholesky = self.gram.llt(faer::Side::Lower).ok()?;
+        let mut inverse_factor = Mat::<f64>::zeros(n, n);
+        invert_lower_triangular(inverse_factor.as_mut(), cholesky.L(), Par::Seq);
+        // C = L⁻ᵀ L⁻¹: C_ij = Σ_k (L⁻¹)_ki (L⁻¹)_kj.
+        let covariance = inverse_factor.transpose() * &inverse_factor;
+        let mut correlations = vec![0.0; n * n];
+        for i in 0..n {
+            for j in 0..n {
+                correlations[i * n + j] =
+                    covariance[(i, j)] / (covariance[(i, i)] * covariance[(j, j)]).sqrt();
+            }
+        }
+        correlations
+            .iter()
+            .all(|v| v.is_finite())
+            .then_some(correlations)
+    }
+
     /// After the residuals moved by the linear model, `r ← r − W·step`:
     /// `Wᵀr ← Wᵀr − WᵀW·step`.
     pub(crate) fn apply_step(&mut self, step: &[f64]) {

@@ -188,3 +188,62 @@ fn a_measurement_frame_two_metres_away_is_named() {
         "{named:?}"
     );
 }
+
+#[test]
+fn strongly_correlated_pairs_are_named_and_agree_with_repeated_measurements() {
+    // The Stanford's z0 and z1 are 0.1 rad apart: r0 and r1 slide along
+    // nearly the same line. The reported ρ(r0, r1) is checked against the
+    // spread of 40 identifications from fresh noise at the same
+    // configurations (an independent route to the same number).
+    use gecaro_calib::simulation::simulate_at;
+    let nominal = stanford();
+    let position = method("position", &MethodOptions::default()).expect("method");
+    let mut sampler = Sampler::new(11);
+    let real = perturbed_robot(&nominal, 0.3, &mut sampler).expect("real");
+    let planned = simulate_measurements(&nominal, position.as_ref(), 60, 0.0, &mut sampler)
+        .expect("configurations");
+    let identify_once = |sampler: &mut Sampler| {
+        let samples = simulate_at(&real, position.as_ref(), &planned, 1e-5, sampler).expect("data");
+        fit(
+            &Study::single(position.clone_method(), samples, "repeated"),
+            &Default::default(),
+        )
+    };
+    let reported = identify_once(&mut sampler);
+    let rho = reported
+        .correlated
+        .iter()
+        .find(|(a, b, _)| (a == "r0" && b == "r1") || (a == "r1" && b == "r0"))
+        .map(|(_, _, rho)| *rho)
+        .expect("r0 and r1 named as correlated");
+    assert!(rho < -0.95, "ρ {rho}");
+    assert!(
+        reported
+            .warnings
+            .iter()
+            .any(|w| w.contains("strongly correlated"))
+    );
+    let value = |result: &gecaro_calib::identification::Identification, name: &str| {
+        result
+            .parameters
+            .iter()
+            .find(|p| p.name == name)
+            .expect("identified")
+            .identified
+    };
+    let runs: Vec<(f64, f64)> = (0..40)
+        .map(|_| {
+            let result = identify_once(&mut sampler);
+            (value(&result, "r0"), value(&result, "r1"))
+        })
+        .collect();
+    let mean = |f: &dyn Fn(&(f64, f64)) -> f64| runs.iter().map(f).sum::<f64>() / runs.len() as f64;
+    let (m0, m1) = (mean(&|r| r.0), mean(&|r| r.1));
+    let covariance = mean(&|r| (r.0 - m0) * (r.1 - m1));
+    let (v0, v1) = (mean(&|r| (r.0 - m0).powi(2)), mean(&|r| (r.1 - m1).powi(2)));
+    let sampled = covariance / (v0 * v1).sqrt();
+    assert!(
+        (sampled - rho).abs() < 0.03,
+        "reported {rho}, sampled {sampled}"
+    );
+}

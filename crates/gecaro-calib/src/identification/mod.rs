@@ -97,6 +97,13 @@ pub use crate::robust::{Loss, LossKind, robust_sigma};
 /// Above this condition number of W_b the data are called poorly exciting.
 pub const POOR_CONDITIONING: f64 = 1e4;
 
+/// Above this |ρ| two identified parameters are named as strongly
+/// correlated ([`Identification::correlated`]; FIGAROH lists such pairs too).
+pub const STRONG_CORRELATION: f64 = 0.95;
+
+/// The correlation warning holds these words.
+const CORRELATED_WARNING: &str = "strongly correlated";
+
 /// A set-up warning ([`RankReport::set_up_warnings`]) holds these words.
 const SET_UP_WARNING: &str = "turns about the measured point";
 
@@ -458,6 +465,18 @@ fn fit_pass(
         .iter()
         .map(|index| nominal.parameters().id(*index).to_string())
         .collect();
+    if !extras.is_empty() {
+        // The added parameters are held by their prior, and correlate with
+        // the base parameters they nearly regroup with by construction.
+        let added = &result.second_pass;
+        result
+            .correlated
+            .retain(|(a, b, _)| !added.contains(a) && !added.contains(b));
+        result.warnings.retain(|w| !w.contains(CORRELATED_WARNING));
+        result
+            .warnings
+            .extend(correlation_warning(&result.correlated));
+    }
     Ok(result)
 }
 
@@ -695,7 +714,14 @@ fn summarise(
         })
         .collect();
     let moved = moved_outside_base(robot, &best.robot, &problem.base);
+    let names: Vec<&str> = auxiliary
+        .iter()
+        .chain(&parameters)
+        .map(|p| p.name.as_str())
+        .collect();
+    let correlated = strongly_correlated(&best.normal, &names);
     let mut warnings = rank.set_up_warnings(robot);
+    warnings.extend(correlation_warning(&correlated));
     warnings.extend(warnings_of(
         study,
         &excited.not_excited,
@@ -734,6 +760,7 @@ fn summarise(
         },
     );
     Ok(Identification {
+        correlated,
         verdict,
         second_pass: Vec::new(),
         data_cost,
@@ -765,6 +792,47 @@ fn summarise(
         stop_reason: stop,
         not_excited: excited.not_excited,
     })
+}
+
+/// The warning that names strongly correlated pairs (none without them).
+fn correlation_warning(correlated: &[(String, String, f64)]) -> Option<String> {
+    if correlated.is_empty() {
+        return None;
+    }
+    let listed: Vec<String> = correlated
+        .iter()
+        .take(5)
+        .map(|(a, b, rho)| format!("{a}–{b} ({rho:+.3})"))
+        .collect();
+    Some(format!(
+        "{} pair{} of parameters {} {CORRELATED_WARNING} (|ρ| > {STRONG_CORRELATION}): {}{}; \
+         the data tell each pair apart poorly, and their errors compensate each other",
+        correlated.len(),
+        if correlated.len() == 1 { "" } else { "s" },
+        if correlated.len() == 1 { "is" } else { "are" },
+        listed.join(", "),
+        if correlated.len() > 5 { ", …" } else { "" }
+    ))
+}
+
+/// The pairs of columns (named `names`, in column order) whose estimates
+/// correlate beyond [`STRONG_CORRELATION`], strongest first (none when the
+/// normal equations are not positive definite).
+fn strongly_correlated(normal: &NormalEquations, names: &[&str]) -> Vec<(String, String, f64)> {
+    let Some(correlations) = normal.correlations() else {
+        return Vec::new();
+    };
+    let n = names.len();
+    let mut pairs: Vec<(String, String, f64)> = (0..n)
+        .flat_map(|i| ((i + 1)..n).map(move |j| (i, j)))
+        .filter_map(|(i, j)| {
+            let rho = correlations.get(i * n + j).copied()?;
+            (rho.abs() > STRONG_CORRELATION)
+                .then(|| (names[i].to_owned(), names[j].to_owned(), rho))
+        })
+        .collect();
+    pairs.sort_by(|a, b| b.2.abs().total_cmp(&a.2.abs()));
+    pairs
 }
 
 /// The parameters outside the base set (`base`: vocabulary indices) that

@@ -202,6 +202,11 @@ pub struct Identification {
     pub outliers: Vec<Outlier>,
     /// Whether the result can be trusted ([`Verdict`]).
     pub verdict: Verdict,
+    /// Pairs of identified parameters whose estimates are strongly
+    /// correlated, `(a, b, ρ)` with |ρ| above
+    /// [`STRONG_CORRELATION`](super::STRONG_CORRELATION), strongest first:
+    /// the data tell them apart poorly.
+    pub correlated: Vec<(String, String, f64)>,
     /// Parameters outside the base set chosen at the nominal robot that the
     /// second pass identified (identifiable at the calibrated robot; see the
     /// module docs): empty when the paper's base set sufficed.
