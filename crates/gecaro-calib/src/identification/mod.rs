@@ -64,6 +64,7 @@ mod outliers;
 mod result;
 mod reweighting;
 mod solver;
+mod start;
 mod statistics;
 mod verdict;
 mod weighting;
@@ -198,8 +199,70 @@ fn fit(
 ) -> Result<Identification, Error> {
     let priority = options.priority.clone().unwrap_or_else(|| robot.priority());
     priority.validate(robot.parameters())?;
-    let first = fit_pass(robot, robot, study, options, &priority, &[], observer)?;
+    let first = match start::closed_form_start(robot, study)? {
+        Some(start) => first_from(robot, &start, study, options, &priority, observer)?,
+        None => fit_pass(robot, robot, study, options, &priority, &[], observer)?,
+    };
     second_pass(robot, study, options, &priority, first, observer)
+}
+
+/// The paper's pass from the closed-form start (see [`start`]), reported
+/// against `nominal`: the errors before and iteration 0 are the nominal
+/// robot's, iteration 1 is the start.
+fn first_from(
+    nominal: &Robot,
+    start: &Robot,
+    study: &Study,
+    options: &IdentificationOptions,
+    priority: &gecaro_core::PriorityMatrix,
+    observer: &mut dyn Observer,
+) -> Result<Identification, Error> {
+    let (before, errors_before, rms) = errors_at(nominal, study)?;
+    let first = IterationRecord {
+        rms,
+        step: 0.0,
+        damping: 0.0,
+    };
+    report(observer, Progress::Iteration(&first))?;
+    let mut result = fit_pass(nominal, start, study, options, priority, &[], observer)?;
+    result.before = before;
+    result.errors_before = errors_before;
+    // Iteration 1 is the jump to the start: its step, the parameters' change.
+    let jump: f64 = nominal
+        .parameters()
+        .ids()
+        .iter()
+        .map(|id| (start.parameter(*id) - nominal.parameter(*id)).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    if let Some(record) = result.history.first_mut() {
+        record.step = jump;
+    }
+    result.history.insert(0, first);
+    let unknowns = result.parameters.len() + result.auxiliary.len();
+    result.verdict.summary = result.verdict.sentence(result.iterations(), unknowns);
+    result.warnings.push(
+        "the nominal robot was far from the measurements: the measurement frame and the tool \
+         point were first fitted in closed form (Horn/Kabsch), and the iterations started \
+         there (iteration 1)"
+            .into(),
+    );
+    Ok(result)
+}
+
+/// The errors of `robot` on `study`: their summary, per observation, and
+/// the RMS of the weighted residual rows (an iteration record's).
+#[allow(clippy::type_complexity)]
+fn errors_at(robot: &Robot, study: &Study) -> Result<(ErrorSummary, Vec<(f64, f64)>, f64), Error> {
+    let mut states = StudyStates::default();
+    study.evaluate_poses(robot, &mut states)?;
+    let auxiliary = study.initial_auxiliary(&states)?;
+    let layout = ColumnLayout::new(robot.parameters().len(), &[], auxiliary.len());
+    let mut system = ObservationSystem::default();
+    study.linearise(robot, &auxiliary, &layout, &mut states, &mut system)?;
+    let cost: f64 = system.weighted_residuals().iter().map(|r| r * r).sum();
+    let rms = (cost / system.rows().max(1) as f64).sqrt();
+    Ok((ErrorSummary::of(&system), system.observation_errors(), rms))
 }
 
 /// The second pass: the base set chosen at the nominal robot is exact only

@@ -362,6 +362,7 @@ impl<'a> Problem<'a> {
         let mut history = Vec::new();
         // Phase 1: minimum-norm steps over every parameter with an effect.
         let mut reached = false;
+        let mut stuck = false;
         'iterations: while history.len() < self.options.max_iterations {
             let matrix = view(current.system.matrix(), self.rows, layout.columns());
             let step = minimum_norm_step(matrix, &current.system.weighted_residuals(), rank)?;
@@ -387,7 +388,10 @@ impl<'a> Problem<'a> {
                         break;
                     }
                     _ if fraction > MIN_FRACTION => fraction *= 0.5,
-                    _ => break 'iterations,
+                    _ => {
+                        stuck = true;
+                        break 'iterations;
+                    }
                 }
             }
         }
@@ -398,7 +402,11 @@ impl<'a> Problem<'a> {
             return Ok(Run {
                 best: current,
                 history,
-                stop: StopReason::Diverged,
+                stop: if stuck {
+                    StopReason::Diverged
+                } else {
+                    StopReason::IterationLimit
+                },
             });
         }
         // Phase 2: continuation of the non-base parameters back to nominal,

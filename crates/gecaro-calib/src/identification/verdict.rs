@@ -13,8 +13,10 @@
 //!    residual says.
 //! 3. **Implausible parameters**: a physical (not regrouped) parameter whose
 //!    deviation no real robot has ([`Implausible`]): a length moved by more
-//!    than the robot's size (the sum of its |d| and |r|, at least 0.1 m), an
-//!    angle turned by more than 45°, a gain off by more than 20 %, or a
+//!    than the robot's size (the sum of its |d| and |r|, at least 0.1 m; ten
+//!    times that for frames 0 and 1, which place the robot in a measurement
+//!    frame that may stand anywhere in the cell), an angle turned by more than
+//!    45° (beyond frames 0 and 1), a gain off by more than 20 %, or a
 //!    deviation beyond 5 σ of a stated prior. Each is named with its likely
 //!    cause: not determined by the data (deviation within 3 σ), a
 //!    measurement frame far from the nominal (frames 0 and 1, which place the
@@ -231,8 +233,8 @@ impl Verdict {
                  result is the best iterate, not a solution"
             ),
             (Outcome::NotConverged, _) => format!(
-                "not converged: the iteration limit ({iterations}) came first; the result is \
-                 the best iterate, not a solution"
+                "not converged: the iteration limit came first, after {iterations} \
+                 iterations; the result is the best iterate, not a solution"
             ),
             (Outcome::Degenerate, _) => format!(
                 "degenerate data: {} distinct configuration{} of {} cannot determine {unknowns} \
@@ -389,6 +391,7 @@ fn implausible(evidence: &Evidence<'_>) -> Vec<Implausible> {
     const ANGLE_LIMIT: f64 = PI / 4.0;
     const GAIN_LIMIT: f64 = 0.2;
     const PRIOR_LIMIT: f64 = 5.0;
+    const CELL: f64 = 10.0;
     let size = robot_size(evidence.nominal);
     let last = evidence.nominal.frames().len() - 1;
     evidence
@@ -398,12 +401,23 @@ fn implausible(evidence: &Evidence<'_>) -> Vec<Implausible> {
         .filter_map(|p| {
             let id = p.parameter?;
             let mut deviation = p.identified - p.nominal;
+            // Frames 0 and 1 place the robot in the measurement frame, which
+            // may stand anywhere in the cell (a tracker metres away, turned
+            // any way): only lengths beyond the cell are implausible there.
+            let placement = id.frame <= 1;
+            let reach = if placement { CELL * size } else { size };
             let why = match id.kind {
-                ParameterKind::D | ParameterKind::R if deviation.abs() > size => {
-                    format!("moved by {deviation:.3} m, more than the robot's size ({size:.2} m)")
-                }
+                ParameterKind::D | ParameterKind::R if deviation.abs() > reach => format!(
+                    "moved by {deviation:.3} m, more than {} ({reach:.2} m)",
+                    if placement {
+                        "a robot cell"
+                    } else {
+                        "the robot's size"
+                    }
+                ),
                 ParameterKind::Alpha | ParameterKind::Theta | ParameterKind::Beta
-                    if (deviation - TAU * (deviation / TAU).round()).abs() > ANGLE_LIMIT =>
+                    if !placement
+                        && (deviation - TAU * (deviation / TAU).round()).abs() > ANGLE_LIMIT =>
                 {
                     deviation -= TAU * (deviation / TAU).round();
                     format!("turned by {:.1}°", deviation.to_degrees())

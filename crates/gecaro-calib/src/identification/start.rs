@@ -1,0 +1,137 @@
+//! A start that converges from anywhere: a closed-form guess of the
+//! measurement frame and of the tool point before the iterations.
+//!
+//! The identification linearises around the nominal robot (eq. 6). A laser
+//! tracker stands wherever it was put, and a robot file rarely says where:
+//! 2 m away and turned 90°, the nominal is far outside the linearisation,
+//! and Gauss–Newton stops in a wrong minimum. So, for the sets that measure
+//! points in the world frame (position and frame measure), with the nominal
+//! flange poses `(R_i, t_i)` and the measured points `P_i`, the model
+//! `P_i = R_b (R_i p + t_i) + t_b` is fitted for the measurement frame
+//! `(R_b, t_b)` and the tool point `p` (in the nominal frame n+1) by
+//! alternating two exact steps: Horn/Kabsch for `(R_b, t_b)` given `p` (the
+//! SVD of the 3×3 cross-covariance of the centred points), then least squares
+//! for `p` given `(R_b, t_b)`, which is the mean of `R_iᵀ R_bᵀ (P_i − R_b t_i
+//! − t_b)` since the `R_b R_i` are rotations. The robot re-framed by them
+//! ([`Robot::reframed`]: frames 0, 1, n and n+1) is the start when the
+//! nominal misplaces the measurement frame or the tool point by more than
+//! 10 cm or 10° and the start at least halves the nominal's RMS error on
+//! these points; otherwise the nominal is (a near nominal converges as the
+//! paper's scheme does, to the same numbers as before).
+
+use gecaro_core::{Robot, terminal_pose};
+use nalgebra::{IsometryMatrix3, Matrix3, Rotation3, Translation3, Vector3};
+
+use crate::Error;
+use crate::study::Study;
+
+/// Alternations at most.
+const ROUNDS: usize = 30;
+/// The start must at least divide the nominal's RMS error by this.
+const IMPROVEMENT: f64 = 2.0;
+/// The start is for a measurement frame or tool point that the nominal
+/// misplaces by more than this (metres)…
+const FAR_LENGTH: f64 = 0.1;
+/// …or turns by more than this (radians, 10°); nearer ones are within the
+/// paper's linearisation, and start from the nominal as before.
+const FAR_ANGLE: f64 = 10.0 * std::f64::consts::PI / 180.0;
+/// Points needed (three non-collinear ones fix a rigid transform).
+const MINIMUM_POINTS: usize = 4;
+
+/// The re-framed robot to start from, or `None` when the nominal is as
+/// good (see the module docs).
+///
+/// # Errors
+/// A configuration that does not fit the robot.
+pub(super) fn closed_form_start(robot: &Robot, study: &Study) -> Result<Option<Robot>, Error> {
+    let mut flanges = Vec::new();
+    let mut measured = Vec::new();
+    for set in &study.sets {
+        for sample in &set.samples {
+            if let Some(point) = sample.position {
+                flanges.push(terminal_pose(robot, &sample.motor_positions)?);
+                measured.push(point);
+            }
+        }
+    }
+    if measured.len() < MINIMUM_POINTS {
+        return Ok(None);
+    }
+    let nominal_rms = rms(
+        &flanges,
+        &measured,
+        &IsometryMatrix3::identity(),
+        &Vector3::zeros(),
+    );
+    let mut tool = Vector3::zeros();
+    let mut base = IsometryMatrix3::identity();
+    for _ in 0..ROUNDS {
+        let model: Vec<Vector3<f64>> = flanges
+            .iter()
+            .map(|flange| flange.rotation * tool + flange.translation.vector)
+            .collect();
+        base = rigid_fit(&model, &measured);
+        let next = flanges
+            .iter()
+            .zip(&measured)
+            .map(|(flange, point)| {
+                flange.rotation.inverse()
+                    * (base.rotation.inverse() * (point - base.translation.vector)
+                        - flange.translation.vector)
+            })
+            .sum::<Vector3<f64>>()
+            / measured.len() as f64;
+        let moved = (next - tool).norm();
+        tool = next;
+        if moved < 1e-12 {
+            break;
+        }
+    }
+    let start_rms = rms(&flanges, &measured, &base, &tool);
+    let far = base.translation.vector.norm() > FAR_LENGTH
+        || base.rotation.angle() > FAR_ANGLE
+        || tool.norm() > FAR_LENGTH;
+    if !(far && start_rms.is_finite() && start_rms * IMPROVEMENT <= nominal_rms) {
+        return Ok(None);
+    }
+    let new_tool = IsometryMatrix3::from_parts(Translation3::from(tool), Rotation3::identity());
+    Ok(robot.reframed(&base, &new_tool).ok())
+}
+
+/// The rigid transform `T` minimising `Σ ‖T x_i − y_i‖²` (Horn/Kabsch).
+fn rigid_fit(from: &[Vector3<f64>], to: &[Vector3<f64>]) -> IsometryMatrix3<f64> {
+    let count = from.len() as f64;
+    let from_mean = from.iter().sum::<Vector3<f64>>() / count;
+    let to_mean = to.iter().sum::<Vector3<f64>>() / count;
+    let covariance: Matrix3<f64> = from
+        .iter()
+        .zip(to)
+        .map(|(x, y)| (x - from_mean) * (y - to_mean).transpose())
+        .sum();
+    let svd = covariance.svd(true, true);
+    let (Some(u), Some(v_t)) = (svd.u, svd.v_t) else {
+        return IsometryMatrix3::identity();
+    };
+    let v = v_t.transpose();
+    let mut correction = Matrix3::identity();
+    correction[(2, 2)] = (v * u.transpose()).determinant().signum();
+    let rotation = Rotation3::from_matrix_unchecked(v * correction * u.transpose());
+    let translation = to_mean - rotation * from_mean;
+    IsometryMatrix3::from_parts(Translation3::from(translation), rotation)
+}
+
+/// RMS distance between the measured points and the model's.
+fn rms(
+    flanges: &[IsometryMatrix3<f64>],
+    measured: &[Vector3<f64>],
+    base: &IsometryMatrix3<f64>,
+    tool: &Vector3<f64>,
+) -> f64 {
+    let squares: f64 = flanges
+        .iter()
+        .zip(measured)
+        .map(|(flange, point)| (base * (flange * nalgebra::Point3::from(*tool))).coords - point)
+        .map(|error| error.norm_squared())
+        .sum();
+    (squares / measured.len() as f64).sqrt()
+}
