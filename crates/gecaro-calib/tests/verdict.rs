@@ -175,35 +175,38 @@ fn a_measurement_frame_two_metres_away_converges_to_the_noise_floor() {
         .expect("real")
         .reframed(&moved, &reflector)
         .expect("reframed");
-    let position = method("position", &MethodOptions::default()).expect("method");
-    let mut measure = |count| {
-        let samples = simulate_measurements(&far, position.as_ref(), count, 1e-5, &mut sampler)
-            .expect("data");
-        Study::single(position.clone_method(), samples, "far")
-    };
-    let (train, check) = (measure(100), measure(100));
-    let floor = gecaro_calib::identification::evaluate(&far, &check)
-        .expect("floor")
-        .rms;
-    for solver in [Solver::GaussNewton, Solver::LevenbergMarquardt] {
-        let options = IdentificationOptions {
-            solver,
-            ..Default::default()
+    // Every method that identifies the base: position and frame measure.
+    for name in ["position", "frame"] {
+        let measured = method(name, &MethodOptions::default()).expect("method");
+        let mut measure = |count| {
+            let samples = simulate_measurements(&far, measured.as_ref(), count, 1e-5, &mut sampler)
+                .expect("data");
+            Study::single(measured.clone_method(), samples, "far")
         };
-        let result = fit(&train, &options);
-        assert!(
-            result.verdict.outcome.trusted(),
-            "{}",
-            result.verdict.summary
-        );
-        assert!(result.warnings.iter().any(|w| w.contains("Horn/Kabsch")));
-        let held_out = gecaro_calib::identification::evaluate(&result.calibrated, &check)
-            .expect("held out")
+        let (train, check) = (measure(100), measure(100));
+        let floor = gecaro_calib::identification::evaluate(&far, &check)
+            .expect("floor")
             .rms;
-        assert!(
-            held_out < 1.2 * floor,
-            "{solver:?}: {held_out} vs floor {floor}"
-        );
+        for solver in [Solver::GaussNewton, Solver::LevenbergMarquardt] {
+            let options = IdentificationOptions {
+                solver,
+                ..Default::default()
+            };
+            let result = fit(&train, &options);
+            assert!(
+                result.verdict.outcome.trusted(),
+                "{}",
+                result.verdict.summary
+            );
+            assert!(result.warnings.iter().any(|w| w.contains("Horn/Kabsch")));
+            let held_out = gecaro_calib::identification::evaluate(&result.calibrated, &check)
+                .expect("held out")
+                .rms;
+            assert!(
+                held_out < 1.2 * floor,
+                "{name}, {solver:?}: {held_out} vs floor {floor}"
+            );
+        }
     }
 }
 

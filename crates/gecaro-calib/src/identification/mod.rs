@@ -61,6 +61,7 @@
 
 mod options;
 mod outliers;
+mod parameter;
 mod result;
 mod reweighting;
 mod solver;
@@ -83,7 +84,8 @@ use crate::study::{Study, StudyStates};
 
 pub use options::{IdentificationOptions, Solver};
 pub use outliers::{DEFAULT_OUTLIER_THRESHOLD, Outlier};
-pub use result::{ErrorSummary, Identification, IdentifiedParameter, Route};
+pub use parameter::IdentifiedParameter;
+pub use result::{ErrorSummary, Identification, Route};
 pub use reweighting::MAX_REWEIGHTINGS;
 use reweighting::Reweighted;
 use solver::{Damping, Iterate, Problem, Run};

@@ -39,7 +39,7 @@ use std::collections::HashSet;
 
 use gecaro_core::{ParameterKind, Robot};
 
-use super::result::IdentifiedParameter;
+use super::parameter::IdentifiedParameter;
 use crate::observation::ObservationSystem;
 use crate::prior::Prior;
 use crate::rows::RowKind;
