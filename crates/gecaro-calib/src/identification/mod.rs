@@ -312,8 +312,6 @@ fn second_pass(
     let mut added: Vec<usize> = Vec::new();
     for _ in 0..MAX_PASSES - 1 {
         let calibrated = &current.calibrated;
-        let mut states = StudyStates::default();
-        study.evaluate_poses(calibrated, &mut states)?;
         let outside =
             |index: &usize| !current.rank.base_parameters.contains(index) && !added.contains(index);
         // The score test first, over every parameter the priority matrix
@@ -325,9 +323,11 @@ fn second_pass(
             .filter_map(|id| robot.parameters().index_of(id))
             .filter(|index| outside(index))
             .collect();
-        if candidates.is_empty() || !promising(&current, study, &mut states, &candidates)? {
+        if candidates.is_empty() || !promising(&current, study, &candidates)? {
             break;
         }
+        let mut states = StudyStates::default();
+        study.evaluate_poses(calibrated, &mut states)?;
         let new: Vec<usize> =
             structural_parameters_at(calibrated, study, &states, priority, STRUCTURAL_SEED)?
                 .base_parameters
@@ -367,14 +367,14 @@ fn second_pass(
 /// (k the rank the candidates add). It costs one system and its normal
 /// equations, and keeps the structural analysis and the second pass from
 /// running where the first pass's residual is noise.
-fn promising(
-    current: &Identification,
-    study: &Study,
-    states: &mut StudyStates,
-    candidates: &[usize],
-) -> Result<bool, Error> {
+fn promising(current: &Identification, study: &Study, candidates: &[usize]) -> Result<bool, Error> {
     const EIGENVALUE_FLOOR: f64 = 1e-12;
     let robot = &current.calibrated;
+    let thinned = thinned(study, SCORE_TEST_OBSERVATIONS);
+    let study = thinned.as_ref().unwrap_or(study);
+    let mut states = StudyStates::default();
+    study.evaluate_poses(robot, &mut states)?;
+    let states = &mut states;
     let auxiliary = study.initial_auxiliary(states)?;
     let base = &current.rank.base_parameters;
     let wide: Vec<usize> = base.iter().chain(candidates).copied().collect();
@@ -401,6 +401,42 @@ fn promising(
         return Ok(false);
     }
     Ok(f_test(gain / added as f64, rest / freedom, added, freedom))
+}
+
+/// The score test reads at most this many observations (configurations,
+/// pairs), evenly spread over the data: enough to see structure that
+/// matters, and a bounded cost on large data sets (the test is valid on any
+/// subset, since it compares the base set and the wider one on the same rows).
+const SCORE_TEST_OBSERVATIONS: usize = 500;
+
+/// `study` with every k-th unit (configuration, set, pair) of each set, so
+/// that about `limit` units remain; `None` when it has no more than `limit`.
+fn thinned(study: &Study, limit: usize) -> Option<Study> {
+    let units: Vec<Vec<Vec<usize>>> = study
+        .sets
+        .iter()
+        .map(|set| crate::methods::units(set.method.as_ref(), &set.samples))
+        .collect();
+    let total: usize = units.iter().map(Vec::len).sum();
+    if total <= limit {
+        return None;
+    }
+    let stride = total.div_ceil(limit);
+    Some(Study {
+        sets: study
+            .sets
+            .iter()
+            .zip(&units)
+            .map(|(set, units)| {
+                let samples = units
+                    .iter()
+                    .step_by(stride)
+                    .flat_map(|unit| unit.iter().map(|index| set.samples[*index].clone()))
+                    .collect();
+                set.with_samples(samples)
+            })
+            .collect(),
+    })
 }
 
 /// Whether the variance ratio `explained / residual` exceeds the F(k, ν)
