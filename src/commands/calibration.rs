@@ -515,6 +515,7 @@ pub(crate) fn demo(args: &DemoArgs) -> Result<(), Failure> {
             "parameters",
             "iterations",
             "error RMS before → after (mm)",
+            "verdict (σ̂/σ)",
             "time",
         ],
         1,
@@ -542,15 +543,17 @@ pub(crate) fn demo(args: &DemoArgs) -> Result<(), Failure> {
             args.noise,
             &mut sampler,
         )?;
-        let identified = IdentifyRequest::new(Measurements::single(
+        // The sensor's σ is known here: the verdict tests the fit against it.
+        let mut measurements = Measurements::single(
             RobotSource::Loaded(Box::new(stanford.clone())),
             method,
             Some(DataSource::Samples {
                 samples,
                 label: method_name.to_owned(),
             }),
-        ))
-        .run(&LocalFiles, &mut Quiet)?;
+        );
+        measurements.sigma = (args.noise > 0.0).then_some(args.noise);
+        let identified = IdentifyRequest::new(measurements).run(&LocalFiles, &mut Quiet)?;
         let elapsed = started.elapsed();
         let result = &identified.result;
         if result.stop_reason != StopReason::Converged {
@@ -562,6 +565,14 @@ pub(crate) fn demo(args: &DemoArgs) -> Result<(), Failure> {
             result.parameters.len().to_string(),
             result.iterations().to_string(),
             format!("{} → {}", mm(result.before.rms), mm(result.after.rms)),
+            match result.verdict.noise_test {
+                Some(test) => format!(
+                    "{} ({:.2})",
+                    result.verdict.outcome.as_str().replace('_', " "),
+                    test.sigma_ratio
+                ),
+                None => result.verdict.outcome.as_str().replace('_', " "),
+            },
             format!("{:.0} ms", elapsed.as_secs_f64() * 1000.0),
         ]);
         bar.inc(1);
