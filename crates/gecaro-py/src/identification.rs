@@ -17,7 +17,7 @@ use crate::documents::{to_json, to_python};
 use crate::errors::{IntoPyResult, NotConvergedError};
 use crate::interrupt::Watch;
 use crate::robot::PyRobot;
-use crate::source::{measurements, priority};
+use crate::source::{Fit, fit_settings, measurements};
 use crate::warnings::warn_notes;
 
 /// One identified parameter.
@@ -400,15 +400,20 @@ pub(crate) fn identify(
     request.measurements.sigma = sigma;
     request.measurements.sigma_rotation = sigma_rotation;
     request.settings = FitSettings {
-        priority: self::priority(robot.robot(), priority)?,
-        model: Some(model.to_owned()),
-        solver: Some(solver.to_owned()),
-        max_iterations: Some(max_iterations),
-        loss: Some(loss.to_owned()),
-        loss_scale,
-        prior: prior.map(str::to_owned),
         outlier_threshold: Some(outlier_threshold),
         reject,
+        ..fit_settings(
+            &robot,
+            Fit {
+                priority,
+                model,
+                solver,
+                max_iterations,
+                loss,
+                loss_scale,
+                prior,
+            },
+        )?
     };
     let prepared = request.prepare(&LocalFiles).py()?;
     warn_notes(py, &prepared.loaded.notes)?;

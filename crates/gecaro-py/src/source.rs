@@ -2,7 +2,9 @@
 //! measurements and settings: a robot with a `Method` and `Data`, or a
 //! `Study`; a priority matrix as an array or a file.
 
-use gecaro_app::{DataSource, LoadedStudy, Measurements, PrioritySource, RobotSource, StudySource};
+use gecaro_app::{
+    DataSource, FitSettings, LoadedStudy, Measurements, PrioritySource, RobotSource, StudySource,
+};
 use gecaro_calib::study::Study;
 use gecaro_core::Robot;
 use pyo3::prelude::*;
@@ -98,4 +100,29 @@ pub(crate) fn priority(
         return Ok(Some(PrioritySource::File(path.display().to_string())));
     }
     Ok(Some(PrioritySource::Matrix(priority_matrix(robot, value)?)))
+}
+
+/// The settings that `identify` and `cross_validate` take alike.
+pub(crate) struct Fit<'a, 'py> {
+    pub(crate) priority: Option<&'a Bound<'py, PyAny>>,
+    pub(crate) model: &'a str,
+    pub(crate) solver: &'a str,
+    pub(crate) max_iterations: usize,
+    pub(crate) loss: &'a str,
+    pub(crate) loss_scale: Option<f64>,
+    pub(crate) prior: Option<&'a str>,
+}
+
+/// The application layer's fit settings from Python's keywords.
+pub(crate) fn fit_settings(robot: &PyRobot, fit: Fit<'_, '_>) -> PyResult<FitSettings> {
+    Ok(FitSettings {
+        priority: priority(robot.robot(), fit.priority)?,
+        model: Some(fit.model.to_owned()),
+        solver: Some(fit.solver.to_owned()),
+        max_iterations: Some(fit.max_iterations),
+        loss: Some(fit.loss.to_owned()),
+        loss_scale: fit.loss_scale,
+        prior: fit.prior.map(str::to_owned),
+        ..FitSettings::default()
+    })
 }

@@ -1,6 +1,6 @@
 //! Held-out error as the judge (docs/methods.md): `gecaro.cross_validate`.
 
-use gecaro_app::{FitSettings, IdentifyRequest, LocalFiles};
+use gecaro_app::{IdentifyRequest, LocalFiles};
 use pyo3::prelude::*;
 
 use crate::data::PyData;
@@ -8,7 +8,7 @@ use crate::documents::to_python;
 use crate::errors::IntoPyResult;
 use crate::interrupt::Watch;
 use crate::robot::PyRobot;
-use crate::source::{measurements, priority};
+use crate::source::{Fit, fit_settings, measurements};
 use crate::warnings::warn_notes;
 
 /// K-fold cross-validation of an identification (folds by configuration,
@@ -36,16 +36,18 @@ pub(crate) fn cross_validate<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let mut request =
         IdentifyRequest::new(measurements(&robot, method, data, false, strict_limits)?);
-    request.settings = FitSettings {
-        priority: self::priority(robot.robot(), priority)?,
-        model: Some(model.to_owned()),
-        solver: Some(solver.to_owned()),
-        max_iterations: Some(max_iterations),
-        loss: Some(loss.to_owned()),
-        loss_scale,
-        prior: prior.map(str::to_owned),
-        ..FitSettings::default()
-    };
+    request.settings = fit_settings(
+        &robot,
+        Fit {
+            priority,
+            model,
+            solver,
+            max_iterations,
+            loss,
+            loss_scale,
+            prior,
+        },
+    )?;
     request.cv = Some(folds);
     request.seed = Some(seed);
     let prepared = request.prepare(&LocalFiles).py()?;

@@ -201,6 +201,25 @@ impl Workspace {
         Ok((path, text))
     }
 
+    /// Where an output `name` (extension `extension`) goes: its path
+    /// relative to the folder, its target, and its folder (resolved, and
+    /// inside the served folder).
+    fn output_place(
+        &self,
+        name: &str,
+        extension: &str,
+    ) -> Result<(PathBuf, PathBuf, PathBuf), ApiError> {
+        let relative = Self::relative(name)?;
+        check_extensions(&relative, name, &[extension])?;
+        let target = self.root.join(&relative);
+        let parent = target
+            .parent()
+            .and_then(|parent| parent.canonicalize().ok())
+            .ok_or_else(|| ApiError::NotFound(format!("the folder of {name} does not exist")))?;
+        self.inside(&parent, name)?;
+        Ok((relative, target, parent))
+    }
+
     /// Refuses, before any work, to write the file `name` (extension
     /// `extension`): a name outside the folder or of another kind, a missing
     /// subfolder, an existing file without `overwrite`.
@@ -213,14 +232,7 @@ impl Workspace {
         extension: &str,
         overwrite: bool,
     ) -> Result<(), ApiError> {
-        let relative = Self::relative(name)?;
-        check_extensions(&relative, name, &[extension])?;
-        let target = self.root.join(&relative);
-        let parent = target
-            .parent()
-            .and_then(|parent| parent.canonicalize().ok())
-            .ok_or_else(|| ApiError::NotFound(format!("the folder of {name} does not exist")))?;
-        self.inside(&parent, name)?;
+        let (_, target, _) = self.output_place(name, extension)?;
         if !overwrite && std::fs::symlink_metadata(&target).is_ok() {
             return Err(ApiError::Conflict(format!(
                 "{name} already exists; save with overwrite to replace it"
@@ -243,14 +255,7 @@ impl Workspace {
         bytes: &[u8],
         overwrite: bool,
     ) -> Result<PathBuf, ApiError> {
-        let relative = Self::relative(name)?;
-        check_extensions(&relative, name, &[extension])?;
-        let target = self.root.join(&relative);
-        let parent = target
-            .parent()
-            .and_then(|parent| parent.canonicalize().ok())
-            .ok_or_else(|| ApiError::NotFound(format!("the folder of {name} does not exist")))?;
-        self.inside(&parent, name)?;
+        let (relative, _, parent) = self.output_place(name, extension)?;
         let file_name = relative
             .file_name()
             .ok_or_else(|| ApiError::Forbidden(format!("file name {name:?}: not a file name")))?;
