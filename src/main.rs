@@ -28,7 +28,9 @@ fn main() -> ExitCode {
     // server, whose sockets must not raise the signal.
     if !matches!(cli.command, cli::Command::Serve(_)) {
         sigpipe::reset();
+        remove_temporaries_on_signals();
     }
+    gecaro_io::roles::protect_inputs();
     match commands::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(failure) => {
@@ -37,4 +39,20 @@ fn main() -> ExitCode {
             ExitCode::from(code)
         }
     }
+}
+
+/// On SIGINT, SIGTERM or SIGHUP, removes the temporary files of outputs
+/// being written and exits as the signal would (128 + its number). The web
+/// server stops on its own terms (it finishes the requests under way).
+fn remove_temporaries_on_signals() {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else {
+        return;
+    };
+    std::thread::spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            gecaro_io::remove_temporary_files();
+            std::process::exit(128 + signal);
+        }
+    });
 }

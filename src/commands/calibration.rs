@@ -33,10 +33,11 @@ fn degrees(radians: f64) -> String {
 /// Refuses early, before any work or any file is written, an output that
 /// exists (without --force) or whose folder is missing.
 pub(crate) fn check_output(path: &Path, force: bool) -> Result<(), Failure> {
+    let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
     Ok(gecaro_app::Files::check_output(
         &LocalFiles,
         &name(path),
-        "",
+        extension,
         force,
     )?)
 }

@@ -43,7 +43,9 @@ pub trait Files: Sync {
     fn is_file(&self, name: &str) -> bool;
 
     /// Refuses, before any work, an output `name` that exists (unless
-    /// `overwrite`) or cannot be written; `extension` is the one expected.
+    /// `overwrite`), cannot be written, or is an input or another output of
+    /// the same command; `extension` is the one expected, and tells the job's
+    /// outputs apart.
     ///
     /// # Errors
     /// [`ErrorKind::Exists`], or a name or folder that cannot be used.
@@ -110,9 +112,15 @@ impl Files for LocalFiles {
         Path::new(name).is_file()
     }
 
-    fn check_output(&self, name: &str, _: &str, overwrite: bool) -> Result<(), AppError> {
+    fn check_output(&self, name: &str, extension: &str, overwrite: bool) -> Result<(), AppError> {
         let path = Path::new(name);
-        if !overwrite && path.exists() {
+        gecaro_io::roles::claim_output(path, extension)?;
+        // A FIFO or a device is written to, not replaced: no --force needed.
+        let replaced = std::fs::metadata(path).map_or_else(
+            |_| std::fs::symlink_metadata(path).is_ok(),
+            |metadata| metadata.is_file() || metadata.is_dir(),
+        );
+        if !overwrite && replaced {
             return Err(AppError::exists(path));
         }
         let folder = path

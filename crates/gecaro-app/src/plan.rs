@@ -11,7 +11,7 @@ use gecaro_calib::planning::{
     CandidatePool, Criterion, DesignQuality, Plan, PlanRequest as Design,
 };
 use gecaro_calib::prediction::{MonteCarlo, Prediction, monte_carlo, predict, random_test_poses};
-use gecaro_calib::simulation::Sampler;
+use gecaro_calib::simulation::{MAX_NOISE, Sampler};
 use gecaro_calib::study::{DataColumn, Sample};
 use gecaro_core::Robot;
 use gecaro_io::RobotFile;
@@ -212,11 +212,14 @@ impl PlanRequest {
                 ));
             }
             match self.noise {
-                Some(noise) if noise > 0.0 && noise.is_finite() => {}
+                Some(noise) if noise > 0.0 && noise <= MAX_NOISE => {}
                 Some(noise) => {
                     return Err(AppError::setting(
                         "noise",
-                        format!("{noise} is not a standard deviation (> 0 metres)"),
+                        format!(
+                            "{noise:e} is not a standard deviation (> 0 and at most \
+                             {MAX_NOISE} metres)"
+                        ),
                     ));
                 }
                 None => {}
@@ -467,10 +470,13 @@ impl PredictRequest {
         observer: &mut dyn Observer,
     ) -> Result<Predicted, AppError> {
         self.unknown.check()?;
-        if !(self.noise > 0.0 && self.noise.is_finite()) {
+        if !(self.noise > 0.0 && self.noise <= MAX_NOISE) {
             return Err(AppError::setting(
                 "noise",
-                format!("{} is not a standard deviation (> 0 metres)", self.noise),
+                format!(
+                    "{:e} is not a standard deviation (> 0 and at most {MAX_NOISE} metres)",
+                    self.noise
+                ),
             ));
         }
         if let Some(runs) = self.monte_carlo

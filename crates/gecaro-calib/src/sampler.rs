@@ -71,11 +71,16 @@ impl Sampler {
     }
 
     /// A uniform number in `[low, high)`; `low` when the range is empty.
+    /// Bounds whose difference overflows (±1e308) are mixed rather than
+    /// subtracted, so that any two finite bounds give a finite number.
     pub fn uniform(&mut self, low: f64, high: f64) -> f64 {
-        if high > low {
+        if high.partial_cmp(&low) != Some(std::cmp::Ordering::Greater) {
+            low
+        } else if (high - low).is_finite() {
             self.rng.random_range(low..high)
         } else {
-            low
+            let fraction: f64 = self.rng.random();
+            low * (1.0 - fraction) + high * fraction
         }
     }
 

@@ -16,6 +16,15 @@ use crate::sample::Sample;
 
 pub use crate::sampler::{RANDOM_STARTS, Sampler, solve_from_starts};
 
+/// Largest error level: ±50 cm on lengths, ±50° on angles, ±50 % on gains.
+/// Beyond it a simulated robot is no longer a perturbation of the nominal one
+/// (gains could reach zero, lengths overflow).
+pub const MAX_ERROR_LEVEL: f64 = 50.0;
+
+/// Largest sensor noise: 1 m (1 rad for orientations). Beyond it no
+/// measurement carries information, and simulated values lose their digits.
+pub const MAX_NOISE: f64 = 1.0;
+
 /// Size of one error unit (the unit of `--error-level`): 0.01 m for lengths,
 /// 1° (in radians) for angles, and 1 % (a fraction of the value) for gains.
 pub fn error_unit(kind: ParameterKind) -> f64 {
@@ -30,12 +39,16 @@ pub fn error_unit(kind: ParameterKind) -> f64 {
 /// of non-zero priority (see the module docs).
 ///
 /// # Errors
-/// [`Error::InvalidOption`] for a negative or non-finite level.
+/// [`Error::InvalidOption`] for a level that is not a number in
+/// 0..=[`MAX_ERROR_LEVEL`].
 pub fn perturbed_robot(nominal: &Robot, level: f64, sampler: &mut Sampler) -> Result<Robot, Error> {
-    if !(level.is_finite() && level >= 0.0) {
+    if !(0.0..=MAX_ERROR_LEVEL).contains(&level) {
         return Err(Error::InvalidOption {
             setting: Setting::ErrorLevel,
-            message: format!("must be a number ≥ 0, not {level}"),
+            message: format!(
+                "must be a number from 0 to {MAX_ERROR_LEVEL} (±{MAX_ERROR_LEVEL} cm, °, %), \
+                 not {level:e}"
+            ),
         });
     }
     let priority = nominal.priority();
@@ -56,7 +69,45 @@ pub fn perturbed_robot(nominal: &Robot, level: f64, sampler: &mut Sampler) -> Re
         "{} (simulated real, error level {level})",
         nominal.name()
     ));
-    Ok(real)
+    readable_limits(nominal, real)
+}
+
+/// `real` with its joint limits narrowed to the configurations whose motor
+/// readings the nominal robot places within its own limits: the gains of the
+/// real robot differ, so the same motor reading is another joint value for
+/// each robot, and configurations drawn near a limit of the real robot would
+/// read as beyond the nominal limit (every `identify` would warn of them).
+///
+/// With `M` the motor-to-joint map (eq. 4) of each robot and the offsets
+/// shared, `q_nominal − Offset = T · (q_real − Offset)`, `T = M_nominal ·
+/// M_real⁻¹`. Each limit moves inwards by `δ_j = Σ_k |T − I|_jk · max|q_k −
+/// Offset_k|`, the largest change of row j over the joint box (at most a
+/// quarter of the range on each side).
+fn readable_limits(nominal: &Robot, real: Robot) -> Result<Robot, Error> {
+    let Some(inverse) = real.motor_to_joint().clone().try_inverse() else {
+        return Ok(real);
+    };
+    let change = nominal.motor_to_joint() * inverse
+        - nalgebra::DMatrix::identity(real.joint_count(), real.joint_count());
+    let reach: Vec<f64> = real
+        .joints()
+        .iter()
+        .map(|joint| {
+            (joint.qmin - joint.offset)
+                .abs()
+                .max((joint.qmax - joint.offset).abs())
+        })
+        .collect();
+    let mut spec = real.to_spec();
+    for (row, joint) in spec.joints.iter_mut().enumerate() {
+        let shift: f64 = (0..reach.len())
+            .map(|k| change[(row, k)].abs() * reach[k])
+            .sum();
+        let shift = shift.min(0.25 * (joint.qmax - joint.qmin));
+        joint.qmin += shift;
+        joint.qmax -= shift;
+    }
+    Ok(Robot::new(spec)?)
 }
 
 /// How far the terminal point of `real` is from that of `nominal` over the
@@ -133,14 +184,17 @@ pub fn simulate_at(
     method.sensor().measure_at(real, planned, noise, sampler)
 }
 
-/// A sensor's standard deviation must be a number ≥ 0.
+/// A sensor's standard deviation must be a number in 0..=[`MAX_NOISE`].
 fn check_noise(noise: f64) -> Result<(), Error> {
-    if noise.is_finite() && noise >= 0.0 {
+    if (0.0..=MAX_NOISE).contains(&noise) {
         Ok(())
     } else {
         Err(Error::InvalidOption {
             setting: Setting::Noise,
-            message: format!("must be a standard deviation ≥ 0, not {noise}"),
+            message: format!(
+                "must be a standard deviation from 0 to {MAX_NOISE} (metres; radians for \
+                 orientations), not {noise:e}"
+            ),
         })
     }
 }

@@ -84,7 +84,7 @@ pub use kinematics::{
 pub use parameters::{ParameterId, ParameterKind, ParameterSpace};
 pub use placement::NEARLY_PARALLEL_DEGREES;
 pub use priority::PriorityMatrix;
-pub use robot::{Robot, RobotSpec};
+pub use robot::{MAX_JOINTS, MAX_MAGNITUDE, Robot, RobotSpec};
 
 #[cfg(test)]
 pub(crate) use test_robots::stanford as ready_robot_for_tests;

@@ -27,6 +27,16 @@ use crate::parameters::{ParameterId, ParameterKind, ParameterSpace};
 use crate::priority::PriorityMatrix;
 use crate::{Error, Field};
 
+/// Most joints of a robot. Serial arms have up to ~10; the bound keeps a
+/// malformed or hostile file from making every matrix of the model huge.
+pub const MAX_JOINTS: usize = 64;
+
+/// Largest magnitude of a stated value: lengths (d, r, prismatic joint
+/// limits and offsets) up to 1 km, angles (α, θ, β, revolute joint limits and
+/// offsets) up to 1,000 rad (159 turns). Beyond that a value is a typo or a
+/// stand-in for "unlimited", and would make the model's arithmetic overflow.
+pub const MAX_MAGNITUDE: f64 = 1e3;
+
 /// Everything needed to build a [`Robot`]; plain data, not yet validated.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RobotSpec {
@@ -493,7 +503,37 @@ impl Robot {
     }
 }
 
+/// A stated value: finite, and within [`MAX_MAGNITUDE`].
+fn check_magnitude(field: Field, value: f64) -> Result<(), Error> {
+    if !value.is_finite() {
+        return Err(Error::invalid(
+            field,
+            format!("{value} is not a finite number"),
+        ));
+    }
+    if value.abs() > MAX_MAGNITUDE {
+        return Err(Error::invalid(
+            field,
+            format!(
+                "{value:e} is beyond ±{MAX_MAGNITUDE} (1 km for lengths, 1,000 rad for angles): \
+                 a typo, or a stand-in for \"unlimited\"; give the real value"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 fn validate_frames(frames: &[Frame]) -> Result<(), Error> {
+    if frames.len() > MAX_JOINTS + 2 {
+        return Err(Error::invalid(
+            Field::Frames,
+            format!(
+                "{} frames: gecaro takes robots of up to {MAX_JOINTS} joints ({} frames)",
+                frames.len(),
+                MAX_JOINTS + 2
+            ),
+        ));
+    }
     if frames.len() < 3 {
         return Err(Error::invalid(
             Field::Frames,
@@ -542,12 +582,7 @@ fn validate_frames(frames: &[Frame]) -> Result<(), Error> {
             ("r", frame.r),
             ("beta", frame.beta),
         ] {
-            if !value.is_finite() {
-                return Err(Error::invalid(
-                    field(key),
-                    format!("{value} is not a finite number"),
-                ));
-            }
+            check_magnitude(field(key), value)?;
         }
         if index == 0 {
             for (key, value) in [("alpha", frame.alpha), ("d", frame.d), ("beta", frame.beta)] {
@@ -572,14 +607,14 @@ fn validate_joint(index: usize, joint: &Joint) -> Result<(), Error> {
         ("qmin", joint.qmin),
         ("qmax", joint.qmax),
         ("offset", joint.offset),
-        ("K", joint.gain),
     ] {
-        if !value.is_finite() {
-            return Err(Error::invalid(
-                field(key),
-                format!("{value} is not a finite number"),
-            ));
-        }
+        check_magnitude(field(key), value)?;
+    }
+    if !joint.gain.is_finite() {
+        return Err(Error::invalid(
+            field("K"),
+            format!("{} is not a finite number", joint.gain),
+        ));
     }
     if joint.qmin > joint.qmax {
         return Err(Error::invalid(

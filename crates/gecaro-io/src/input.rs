@@ -44,6 +44,13 @@ pub fn read_description(path: &Path) -> Result<String, Error> {
 
 /// Opens a regular file for reading.
 pub(crate) fn open_regular(path: &Path) -> Result<(std::fs::File, u64), Error> {
+    // Checked before opening too: opening a FIFO waits for a writer.
+    if std::fs::metadata(path).is_ok_and(|metadata| !metadata.is_file()) {
+        return Err(refuse(
+            path,
+            "not a regular file (a folder, FIFO or device); give a file",
+        ));
+    }
     let file = std::fs::File::open(path).map_err(|cause| Error::Read {
         path: path.to_owned(),
         cause,
@@ -58,6 +65,7 @@ pub(crate) fn open_regular(path: &Path) -> Result<(std::fs::File, u64), Error> {
             "not a regular file (a folder, FIFO or device); give a file",
         ));
     }
+    crate::roles::note_input(path, &file);
     Ok((file, metadata.len()))
 }
 

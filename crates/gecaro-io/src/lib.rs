@@ -25,6 +25,7 @@ mod program_file;
 mod ready;
 mod robot_file;
 mod robot_toml;
+pub mod roles;
 mod study_file;
 mod symoro;
 mod units;
@@ -41,7 +42,7 @@ pub use document::{CouplingDocument, FrameDocument, PriorityDocument, RobotDocum
 pub use error::Error;
 pub use input::{open_input, read_description};
 pub use interchange::{ImportOptions, RobotFormat, export_robot, import_robot, import_robot_text};
-pub use output::{OutputPolicy, write_atomically};
+pub use output::{OutputPolicy, remove_temporary_files, write_atomically, write_in_folder};
 pub use pose::{pose_from_seven, unit_quaternion};
 pub use prior::{parse_override, parse_prior};
 pub use problem::{DocumentError, Location};

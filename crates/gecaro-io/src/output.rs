@@ -4,11 +4,28 @@
 //! disk, and the temporary file is renamed over the destination: readers see
 //! the old file or the new one, never a half-written one. An error at any step
 //! removes the temporary file and leaves an existing destination untouched.
+//!
+//! Temporary files are named `.gecaro-<pid>-<n>.tmp`. A process stopped by a
+//! signal removes its own ([`remove_temporary_files`], called by the
+//! `gecaro` binary's signal handler); one killed outright leaves them, and
+//! the next write into that folder removes those of processes that no
+//! longer run (Linux).
+//!
+//! An output that exists and is a FIFO or a character device (`/dev/null`,
+//! a terminal) is written to, not replaced; a folder, a socket or a block
+//! device is refused. An output that is an input of the same command is
+//! refused ([`crate::roles`]).
 
+use std::ffi::OsString;
 use std::io::Write;
 use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Mutex, PoisonError};
 
-use crate::Error;
+use cap_std::ambient_authority;
+use cap_std::fs::{Dir, OpenOptions};
+
+use crate::{Error, roles};
 
 /// What to do when the destination already exists.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -23,9 +40,27 @@ pub enum OutputPolicy {
 ///
 /// # Errors
 /// [`Error::OutputExists`] when `path` exists and the policy keeps it;
-/// [`Error::Write`] when the folder is missing or not writable.
+/// [`Error::Write`] when the folder is missing or not writable, when `path`
+/// is an input of this command, a folder, a socket or a block device.
 pub fn write_atomically(path: &Path, bytes: &[u8], policy: OutputPolicy) -> Result<(), Error> {
     write_with(path, policy, |file| file.write_all(bytes))
+}
+
+/// Writes `bytes` to the file `name` of the folder `folder` atomically, the
+/// folder given by its handle, so that nothing a path could be swapped for
+/// (a link, a renamed folder) moves the write elsewhere; `shown` names the
+/// file in messages. An existing `name` must be a regular file.
+///
+/// # Errors
+/// As [`write_atomically`].
+pub fn write_in_folder(
+    folder: &Dir,
+    name: &Path,
+    shown: &Path,
+    bytes: &[u8],
+    policy: OutputPolicy,
+) -> Result<(), Error> {
+    write_in(folder, name, shown, policy, |file| file.write_all(bytes))
 }
 
 /// Like [`write_atomically`], with the content produced by a writer callback;
@@ -39,63 +74,223 @@ pub(crate) fn write_with(
         path: path.to_owned(),
         message,
     };
-    if policy == OutputPolicy::KeepExisting && path.exists() {
-        return Err(Error::OutputExists {
-            path: path.to_owned(),
-        });
+    roles::check_not_input(path)?;
+    if let Ok(metadata) = std::fs::metadata(path) {
+        if metadata.is_dir() {
+            return Err(failure("it is a folder".into()));
+        }
+        if is_stream(&metadata) {
+            let mut file = std::fs::OpenOptions::new()
+                .write(true)
+                .open(path)
+                .map_err(|error| failure(error.to_string()))?;
+            return produce(&mut file).map_err(|error| failure(error.to_string()));
+        }
+        if !metadata.is_file() {
+            return Err(failure(
+                "not a regular file, FIFO or terminal (a socket or a block device); give a file"
+                    .into(),
+            ));
+        }
     }
     let folder = match path.parent() {
         Some(parent) if !parent.as_os_str().is_empty() => parent,
         _ => Path::new("."),
     };
-    if !folder.is_dir() {
-        return Err(failure(format!(
-            "the folder {} does not exist",
-            folder.display()
-        )));
-    }
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(".gecaro-").suffix(".tmp");
-    if let Some(permissions) = permissions_for(path) {
-        builder.permissions(permissions);
-    }
-    let mut temporary = builder
-        .tempfile_in(folder)
-        .map_err(|error| failure(error.to_string()))?;
-    produce(temporary.as_file_mut()).map_err(|error| failure(error.to_string()))?;
-    temporary
-        .as_file()
-        .sync_all()
-        .map_err(|error| failure(error.to_string()))?;
-    let persisted = match policy {
-        OutputPolicy::Overwrite => temporary.persist(path).map(|_| ()),
-        OutputPolicy::KeepExisting => temporary.persist_noclobber(path).map(|_| ()),
-    };
-    persisted.map_err(|error| {
-        if error.error.kind() == std::io::ErrorKind::AlreadyExists {
-            Error::OutputExists {
-                path: path.to_owned(),
-            }
-        } else {
-            failure(error.error.to_string())
-        }
-    })
+    let name = path
+        .file_name()
+        .ok_or_else(|| failure("not a file name".into()))?;
+    let dir = Dir::open_ambient_dir(folder, ambient_authority()).map_err(|error| {
+        failure(
+            if error.kind() == std::io::ErrorKind::NotFound || !folder.is_dir() {
+                format!("the folder {} does not exist", folder.display())
+            } else {
+                error.to_string()
+            },
+        )
+    })?;
+    write_in(&dir, Path::new(name), path, policy, produce)
 }
 
-/// The permissions of the written file: those of the file it replaces, or
-/// read-write for the owner and readable by others (0644 on Unix) for a new
-/// one. Temporary files are created private; an output must not stay so.
-fn permissions_for(path: &Path) -> Option<std::fs::Permissions> {
-    if let Ok(metadata) = std::fs::metadata(path) {
-        return Some(metadata.permissions());
+/// The atomic write itself, in a folder given by its handle.
+fn write_in(
+    folder: &Dir,
+    name: &Path,
+    shown: &Path,
+    policy: OutputPolicy,
+    produce: impl FnOnce(&mut std::fs::File) -> std::io::Result<()>,
+) -> Result<(), Error> {
+    let failure = |message: String| Error::Write {
+        path: shown.to_owned(),
+        message,
+    };
+    let existing = folder.symlink_metadata(name).ok();
+    if policy == OutputPolicy::KeepExisting && existing.is_some() {
+        return Err(Error::OutputExists {
+            path: shown.to_owned(),
+        });
     }
+    remove_stale_temporaries(folder);
+    let temporary = Temporary::create(folder, permissions_for(folder, name))
+        .map_err(|error| failure(error.to_string()))?;
+    let mut file = folder
+        .open_with(&temporary.name, &temporary.options)
+        .map(cap_std::fs::File::into_std)
+        .map_err(|error| failure(error.to_string()))?;
+    produce(&mut file).map_err(|error| failure(error.to_string()))?;
+    file.sync_all()
+        .map_err(|error| failure(error.to_string()))?;
+    drop(file);
+    let placed = match policy {
+        OutputPolicy::Overwrite => folder.rename(&temporary.name, folder, name),
+        // A hard link fails when the name exists: no check-then-write race.
+        OutputPolicy::KeepExisting => folder.hard_link(&temporary.name, folder, name),
+    };
+    placed.map_err(|error| {
+        if error.kind() == std::io::ErrorKind::AlreadyExists {
+            Error::OutputExists {
+                path: shown.to_owned(),
+            }
+        } else {
+            failure(error.to_string())
+        }
+    })?;
+    Ok(())
+}
+
+/// A FIFO or a character device: written to, never replaced.
+fn is_stream(metadata: &std::fs::Metadata) -> bool {
     #[cfg(unix)]
     {
-        use std::os::unix::fs::PermissionsExt as _;
-        Some(std::fs::Permissions::from_mode(0o644))
+        use std::os::unix::fs::FileTypeExt as _;
+        let kind = metadata.file_type();
+        kind.is_fifo() || kind.is_char_device()
     }
     #[cfg(not(unix))]
     {
+        let _ = metadata;
+        false
+    }
+}
+
+/// Temporary files being written, to remove on a signal.
+static TEMPORARIES: Mutex<Vec<(u64, Dir, OsString)>> = Mutex::new(Vec::new());
+static NEXT_TEMPORARY: AtomicU64 = AtomicU64::new(0);
+
+/// One temporary file, removed when dropped (renamed away or not).
+struct Temporary<'a> {
+    folder: &'a Dir,
+    name: OsString,
+    id: u64,
+    options: OpenOptions,
+}
+
+impl<'a> Temporary<'a> {
+    /// Reserves a fresh name (the file is created by opening it with `options`).
+    fn create(folder: &'a Dir, mode: Option<u32>) -> std::io::Result<Self> {
+        let mut options = OpenOptions::new();
+        options.write(true).create_new(true);
+        #[cfg(unix)]
+        if let Some(mode) = mode {
+            use cap_std::fs::OpenOptionsExt as _;
+            options.mode(mode);
+        }
+        #[cfg(not(unix))]
+        let _ = mode;
+        let id = NEXT_TEMPORARY.fetch_add(1, Ordering::Relaxed);
+        let name = OsString::from(format!(".gecaro-{}-{id}.tmp", std::process::id()));
+        TEMPORARIES
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .push((id, folder.try_clone()?, name.clone()));
+        Ok(Temporary {
+            folder,
+            name,
+            id,
+            options,
+        })
+    }
+}
+
+impl Drop for Temporary<'_> {
+    fn drop(&mut self) {
+        let _ = self.folder.remove_file(&self.name);
+        TEMPORARIES
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .retain(|(id, _, _)| *id != self.id);
+    }
+}
+
+/// Removes the temporary files this process is writing: for a signal
+/// handler, just before the process exits (the writes are abandoned).
+pub fn remove_temporary_files() {
+    let temporaries = TEMPORARIES.lock().unwrap_or_else(PoisonError::into_inner);
+    for (_, folder, name) in temporaries.iter() {
+        let _ = folder.remove_file(name);
+    }
+}
+
+/// Removes, once per folder and process, the temporary files of gecaro
+/// processes that no longer run (killed while writing).
+fn remove_stale_temporaries(folder: &Dir) {
+    #[cfg(target_os = "linux")]
+    {
+        static CLEANED: Mutex<Vec<(u64, u64)>> = Mutex::new(Vec::new());
+        let Ok(metadata) = folder.dir_metadata() else {
+            return;
+        };
+        let key = (
+            cap_std::fs::MetadataExt::dev(&metadata),
+            cap_std::fs::MetadataExt::ino(&metadata),
+        );
+        {
+            let mut cleaned = CLEANED.lock().unwrap_or_else(PoisonError::into_inner);
+            if cleaned.contains(&key) {
+                return;
+            }
+            cleaned.push(key);
+        }
+        let Ok(entries) = folder.entries() else {
+            return;
+        };
+        let own = std::process::id();
+        for entry in entries.flatten() {
+            let name = entry.file_name();
+            let Some(pid) = name
+                .to_str()
+                .and_then(|name| name.strip_prefix(".gecaro-"))
+                .and_then(|rest| rest.strip_suffix(".tmp"))
+                .and_then(|rest| rest.split_once('-'))
+                .and_then(|(pid, _)| pid.parse::<u32>().ok())
+            else {
+                continue;
+            };
+            let alive = pid == own || Path::new(&format!("/proc/{pid}")).exists();
+            if !alive {
+                let _ = folder.remove_file(&name);
+            }
+        }
+    }
+    #[cfg(not(target_os = "linux"))]
+    let _ = folder;
+}
+
+/// The mode of the written file: that of the file it replaces, or read-write
+/// for the owner and readable by others (0644) for a new one (Unix).
+fn permissions_for(folder: &Dir, name: &Path) -> Option<u32> {
+    #[cfg(unix)]
+    {
+        use cap_std::fs::PermissionsExt as _;
+        Some(
+            folder
+                .metadata(name)
+                .map_or(0o644, |metadata| metadata.permissions().mode() & 0o7777),
+        )
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (folder, name);
         None
     }
 }

@@ -41,7 +41,7 @@ impl Files for Workspace {
     }
 
     fn is_file(&self, name: &str) -> bool {
-        self.existing(name, &["toml", "csv", "urdf", "par"]).is_ok()
+        Workspace::is_file(self, name, &["toml", "csv", "urdf", "par"])
     }
 
     fn check_output(&self, name: &str, extension: &str, overwrite: bool) -> Result<(), AppError> {
@@ -60,9 +60,7 @@ impl Files for Workspace {
     }
 
     fn remove(&self, name: &str) {
-        if let Ok(path) = self.existing(name, &["yaml", "toml", "urdf", "csv", "svg"]) {
-            let _ = std::fs::remove_file(path);
-        }
+        Workspace::remove(self, name, &["yaml", "toml", "urdf", "csv", "svg"]);
     }
 
     fn local_path(&self, _: &str) -> Option<PathBuf> {

@@ -1,5 +1,5 @@
 //! What keeps a local server local: requests must be addressed to the
-//! server's own host name (a page of another site that rebinds a DNS name to
+//! server's own host name, in one `Host` header (any letter case) (a page of another site that rebinds a DNS name to
 //! 127.0.0.1 is refused), state-changing requests from another origin are
 //! refused (no cross-site saves into the folder), and every answer carries
 //! headers that keep browsers from sniffing, framing or leaking it. A request
@@ -22,12 +22,17 @@ const CONTENT_SECURITY_POLICY: &str = "default-src 'self'; img-src 'self' data: 
 pub(crate) async fn guard(State(state): State<AppState>, request: Request, next: Next) -> Response {
     let allowed = state.allowed_hosts();
     if !allowed.is_empty() {
-        let host = request
-            .headers()
-            .get(header::HOST)
-            .and_then(|value| value.to_str().ok())
-            .unwrap_or("");
-        if !allowed.iter().any(|name| name == host) {
+        let mut hosts = request.headers().get_all(header::HOST).iter();
+        let (first, second) = (hosts.next(), hosts.next());
+        if second.is_some() {
+            return ApiError::BadRequest(
+                "a request carries one Host header; this one has several".into(),
+            )
+            .into_response();
+        }
+        let host = first.and_then(|value| value.to_str().ok()).unwrap_or("");
+        // Host names are case-insensitive (RFC 9110 §4.2.3).
+        if !allowed.iter().any(|name| name.eq_ignore_ascii_case(host)) {
             return ApiError::Forbidden(format!(
                 "this server answers requests addressed to {}, not {host:?}",
                 allowed.join(" or ")
@@ -37,9 +42,12 @@ pub(crate) async fn guard(State(state): State<AppState>, request: Request, next:
         let changes_state = !matches!(*request.method(), Method::GET | Method::HEAD);
         if changes_state && let Some(origin) = request.headers().get(header::ORIGIN) {
             let origin = origin.to_str().unwrap_or("");
-            let same = allowed
-                .iter()
-                .any(|name| origin.strip_prefix("http://") == Some(name.as_str()));
+            let same = allowed.iter().any(|name| {
+                origin
+                    .get(..7)
+                    .is_some_and(|scheme| scheme.eq_ignore_ascii_case("http://"))
+                    && origin[7..].eq_ignore_ascii_case(name)
+            });
             if !same {
                 return ApiError::Forbidden(format!(
                     "requests from the page {origin:?} are refused; use the page this server serves"

@@ -39,10 +39,12 @@ pub mod workspace;
 use std::future::Future;
 use std::net::{Ipv4Addr, SocketAddr};
 use std::path::PathBuf;
+use std::sync::Arc;
 
 use axum::Router;
 use axum::extract::DefaultBodyLimit;
 use axum::routing::get;
+use tokio::sync::Semaphore;
 
 pub use api::POST_ROUTES;
 pub use error::ApiError;
@@ -105,6 +107,8 @@ pub struct Server {
     listener: tokio::net::TcpListener,
     state: AppState,
     url: String,
+    connections: usize,
+    header_timeout: std::time::Duration,
 }
 
 impl Server {
@@ -136,7 +140,22 @@ impl Server {
             listener,
             state: AppState::new(workspace, allowed),
             url: format!("http://127.0.0.1:{port}/"),
+            connections: connection_limit(),
+            header_timeout: limits::HEADER_TIMEOUT,
         })
+    }
+
+    /// The same server with other connection bounds (the defaults are
+    /// [`connection_limit`] and [`limits::HEADER_TIMEOUT`]): for tests.
+    #[must_use]
+    pub fn with_connection_bounds(
+        mut self,
+        connections: usize,
+        header_timeout: std::time::Duration,
+    ) -> Self {
+        self.connections = connections.max(1);
+        self.header_timeout = header_timeout;
+        self
     }
 
     /// The page's address.
@@ -149,17 +168,77 @@ impl Server {
         self.state.workspace().root()
     }
 
-    /// Serves until `shutdown` completes.
+    /// Serves until `shutdown` completes, then lets the requests under way
+    /// finish (for up to the header timeout).
+    ///
+    /// Connections are served by hyper's HTTP/1 server: one whose headers
+    /// have not arrived within [`limits::HEADER_TIMEOUT`], or that stays idle
+    /// as long between requests, is closed; at most [`connection_limit`]
+    /// are open at once (the others wait in the listener's queue), so that
+    /// sockets held open cannot exhaust the process's descriptors. A failed
+    /// accept (no descriptor left, a connection reset) is retried.
     ///
     /// # Errors
-    /// [`Error::Serve`] when the listener fails.
+    /// None today; [`Error::Serve`] is kept for listeners that can fail.
     pub async fn run(
         self,
         shutdown: impl Future<Output = ()> + Send + 'static,
     ) -> Result<(), Error> {
-        axum::serve(self.listener, router(self.state))
-            .with_graceful_shutdown(shutdown)
-            .await
-            .map_err(Error::Serve)
+        let app = router(self.state);
+        let slots = Arc::new(Semaphore::new(self.connections));
+        let graceful = hyper_util::server::graceful::GracefulShutdown::new();
+        let mut http = hyper::server::conn::http1::Builder::new();
+        http.timer(hyper_util::rt::TokioTimer::new())
+            .header_read_timeout(self.header_timeout);
+        let mut shutdown = std::pin::pin!(shutdown);
+        loop {
+            let slot = tokio::select! {
+                slot = Arc::clone(&slots).acquire_owned() => slot,
+                () = &mut shutdown => break,
+            };
+            let Ok(slot) = slot else { break };
+            let accepted = tokio::select! {
+                accepted = self.listener.accept() => accepted,
+                () = &mut shutdown => break,
+            };
+            let stream = match accepted {
+                Ok((stream, _)) => stream,
+                // Out of descriptors, or a connection reset before it was
+                // accepted: wait a little and go on.
+                Err(_) => {
+                    tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+                    continue;
+                }
+            };
+            let _ = stream.set_nodelay(true);
+            let service = hyper_util::service::TowerToHyperService::new(app.clone());
+            let connection = graceful
+                .watch(http.serve_connection(hyper_util::rt::TokioIo::new(stream), service));
+            tokio::spawn(async move {
+                let _ = connection.await;
+                drop(slot);
+            });
+        }
+        tokio::select! {
+            () = graceful.shutdown() => {}
+            () = tokio::time::sleep(self.header_timeout) => {}
+        }
+        Ok(())
     }
+}
+
+/// Most connections served at once: [`limits::MAX_CONNECTIONS`], or fewer
+/// when the process's descriptor limit (`ulimit -n`) minus
+/// [`limits::RESERVED_DESCRIPTORS`] is lower.
+pub fn connection_limit() -> usize {
+    #[cfg(unix)]
+    let descriptors = rustix::process::getrlimit(rustix::process::Resource::Nofile)
+        .current
+        .and_then(|limit| usize::try_from(limit).ok())
+        .unwrap_or(usize::MAX);
+    #[cfg(not(unix))]
+    let descriptors = usize::MAX;
+    limits::MAX_CONNECTIONS
+        .min(descriptors.saturating_sub(limits::RESERVED_DESCRIPTORS))
+        .max(8)
 }

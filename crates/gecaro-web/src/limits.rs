@@ -22,3 +22,11 @@ pub const MAX_JOBS_ACTIVE: usize = 8;
 pub const MAX_LISTED: usize = 2_000;
 /// The longest one request may take (identification jobs excepted).
 pub const REQUEST_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(300);
+/// The longest a connection may take to send a request's headers, and the
+/// longest an idle (keep-alive) connection stays open: a browser reconnects
+/// at once; a client that holds sockets without sending is let go.
+pub const HEADER_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(5);
+/// Most connections open at once, whatever the descriptor limit allows.
+pub const MAX_CONNECTIONS: usize = 512;
+/// Descriptors kept free of connections: for files, jobs and the listener.
+pub const RESERVED_DESCRIPTORS: usize = 64;

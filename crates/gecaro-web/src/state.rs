@@ -1,4 +1,11 @@
 //! What every request shares: the folder, the jobs, and the right to compute.
+//!
+//! Work never runs on the request path: file work (listing, saving) runs on
+//! blocking threads at once ([`AppState::files`]); computations a request
+//! waits for (generation, planning, identifiability) take one of a slot per
+//! core ([`AppState::compute`]); identification jobs take one of their own
+//! slots ([`AppState::run_job`]), so that jobs running or queued never delay
+//! a listing or a table check.
 
 use std::sync::Arc;
 
@@ -18,8 +25,11 @@ pub struct AppState {
 struct Inner {
     workspace: Workspace,
     jobs: Jobs,
-    /// Computations at once: one per core, so the page stays responsive.
+    /// Computations of requests at once: one per core.
     computing: Arc<Semaphore>,
+    /// Identification jobs running at once: one per core, apart from the
+    /// requests' computations.
+    jobs_running: Arc<Semaphore>,
     /// `Host` headers accepted (`127.0.0.1:8080`, `localhost:8080`); empty = any.
     allowed_hosts: Vec<String>,
     /// The longest a request may take.
@@ -36,6 +46,7 @@ impl AppState {
                 workspace,
                 jobs: Jobs::default(),
                 computing: Arc::new(Semaphore::new(cores.max(1))),
+                jobs_running: Arc::new(Semaphore::new(cores.max(1))),
                 allowed_hosts,
                 request_timeout: crate::limits::REQUEST_TIMEOUT,
             }),
@@ -83,10 +94,42 @@ impl AppState {
         T: Send + 'static,
         F: FnOnce(&AppState) -> Result<T, ApiError> + Send + 'static,
     {
-        let permit = Arc::clone(&self.inner.computing)
-            .acquire_owned()
-            .await
-            .map_err(|_| ApiError::Internal("the server is shutting down".into()))?;
+        self.blocking(Some(&self.inner.computing), work).await
+    }
+
+    /// Runs an identification job's `work` once one of the jobs' slots is
+    /// free; as [`compute`](Self::compute) otherwise.
+    pub async fn run_job<T, F>(&self, work: F) -> Result<T, ApiError>
+    where
+        T: Send + 'static,
+        F: FnOnce(&AppState) -> Result<T, ApiError> + Send + 'static,
+    {
+        self.blocking(Some(&self.inner.jobs_running), work).await
+    }
+
+    /// Runs quick file work (a listing, a save) on a blocking thread at once.
+    pub async fn files<T, F>(&self, work: F) -> Result<T, ApiError>
+    where
+        T: Send + 'static,
+        F: FnOnce(&AppState) -> Result<T, ApiError> + Send + 'static,
+    {
+        self.blocking(None, work).await
+    }
+
+    async fn blocking<T, F>(&self, slots: Option<&Arc<Semaphore>>, work: F) -> Result<T, ApiError>
+    where
+        T: Send + 'static,
+        F: FnOnce(&AppState) -> Result<T, ApiError> + Send + 'static,
+    {
+        let permit = match slots {
+            Some(slots) => Some(
+                Arc::clone(slots)
+                    .acquire_owned()
+                    .await
+                    .map_err(|_| ApiError::Internal("the server is shutting down".into()))?,
+            ),
+            None => None,
+        };
         let state = self.clone();
         let result = tokio::task::spawn_blocking(move || {
             let _permit = permit;

@@ -2,16 +2,27 @@
 //! and data files from and writes them to.
 //!
 //! Names in requests are relative paths with `/` separators (`robots/arm.toml`).
-//! A name is refused unless every component is a plain name: no `..`, no
-//! absolute paths or drive letters, no hidden components (`.git`), no
-//! backslashes. Files are resolved through symbolic links and refused when
-//! the target lies outside the folder, so a link cannot lead out of it either.
-//! Writes are atomic ([`gecaro_io::write_atomically`]) and serialised, so a
-//! failed or concurrent save never leaves a broken file.
+//! A name is refused unless every component is a plain name of at most 255
+//! bytes: no `..`, no absolute paths or drive letters, no hidden components
+//! (`.git`), no backslashes, no control or bidirectional-override characters
+//! (a newline or U+202E in a name would forge what a listing or a message
+//! shows).
+//!
+//! Every file is reached from the folder's open handle
+//! ([`cap_std::fs::Dir`]): each component is resolved beneath it (with
+//! `openat2(RESOLVE_BENEATH)` on Linux), so no name, link or concurrent
+//! rename of a subfolder can lead a read or a write out of the folder; a
+//! link that would is refused. Writes are atomic
+//! ([`gecaro_io::write_in_folder`], into the handle of the file's own
+//! folder) and serialised, so a failed or concurrent save never leaves a
+//! broken file, and never writes through a link.
 
+use std::io::Read;
 use std::path::{Component, Path, PathBuf};
 use std::sync::Mutex;
 
+use cap_std::ambient_authority;
+use cap_std::fs::Dir;
 use gecaro_io::OutputPolicy;
 use serde::Serialize;
 
@@ -22,11 +33,14 @@ use crate::limits::{MAX_FILE_BYTES, MAX_LISTED};
 const SKIPPED_FOLDERS: &[&str] = &["target", "node_modules"];
 /// How deep the listing goes below the folder.
 const LISTING_DEPTH: usize = 4;
+/// Longest component of a name, in bytes (the usual file-system limit).
+const MAX_COMPONENT_BYTES: usize = 255;
 
 /// The sandboxed folder.
 #[derive(Debug)]
 pub struct Workspace {
     root: PathBuf,
+    folder: Dir,
     writing: Mutex<()>,
 }
 
@@ -45,6 +59,13 @@ pub struct Listing {
     pub truncated: bool,
 }
 
+/// Whether `c` must not appear in a name: controls (newline, tab, ESC, …)
+/// and the bidirectional marks and overrides that reorder displayed text.
+fn is_forbidden_character(c: char) -> bool {
+    c.is_control()
+        || matches!(c, '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
+}
+
 impl Workspace {
     /// The workspace of `folder`, which must exist.
     ///
@@ -58,8 +79,10 @@ impl Workspace {
                 format!("{} is not a folder", root.display()),
             ));
         }
+        let handle = Dir::open_ambient_dir(&root, ambient_authority())?;
         Ok(Workspace {
             root,
+            folder: handle,
             writing: Mutex::new(()),
         })
     }
@@ -69,55 +92,25 @@ impl Workspace {
         &self.root
     }
 
+    /// Where the file `name` is, for display (nothing is resolved).
+    ///
+    /// # Errors
+    /// [`ApiError::Forbidden`] for a name that is not one (see the module docs).
+    pub fn display_path(&self, name: &str) -> Result<PathBuf, ApiError> {
+        Ok(self.root.join(Self::relative(name)?))
+    }
+
     /// The robot and data files, sorted, at most [`MAX_LISTED`] of each.
     pub fn list(&self) -> Listing {
         let mut listing = Listing {
             folder: self.root.display().to_string(),
             ..Listing::default()
         };
-        self.walk(&self.root, "", 0, &mut listing);
+        walk(&self.folder, "", 0, &mut listing);
         listing.robots.sort();
         listing.data.sort();
         listing.imports.sort();
         listing
-    }
-
-    fn walk(&self, folder: &Path, prefix: &str, depth: usize, listing: &mut Listing) {
-        let Ok(entries) = std::fs::read_dir(folder) else {
-            return;
-        };
-        let mut entries: Vec<_> = entries.filter_map(Result::ok).collect();
-        entries.sort_by_key(std::fs::DirEntry::file_name);
-        for entry in entries {
-            let Some(name) = entry.file_name().to_str().map(str::to_owned) else {
-                continue;
-            };
-            // Links are not followed when listing; hidden entries are skipped.
-            let Ok(kind) = entry.file_type() else {
-                continue;
-            };
-            if name.starts_with('.') || kind.is_symlink() {
-                continue;
-            }
-            let relative = format!("{prefix}{name}");
-            if kind.is_dir() {
-                if depth + 1 < LISTING_DEPTH && !SKIPPED_FOLDERS.contains(&name.as_str()) {
-                    self.walk(&entry.path(), &format!("{relative}/"), depth + 1, listing);
-                }
-                continue;
-            }
-            let bucket = match Path::new(&name).extension().and_then(|e| e.to_str()) {
-                Some("toml") => &mut listing.robots,
-                Some("csv") => &mut listing.data,
-                Some("urdf" | "par") => &mut listing.imports,
-                _ => continue,
-            };
-            if bucket.len() >= MAX_LISTED {
-                listing.truncated = true;
-            } else {
-                bucket.push(relative);
-            }
-        }
     }
 
     /// `name` checked as a relative path of plain components.
@@ -127,10 +120,15 @@ impl Workspace {
             return refuse("empty");
         }
         if name.len() > 1024 {
-            return refuse("too long");
+            return refuse("too long (more than 1024 bytes)");
         }
-        if name.contains('\\') || name.contains('\0') || name.contains(':') {
-            return refuse("use / between folders; no \\, : or NUL characters");
+        if name.contains('\\') || name.contains(':') {
+            return refuse("use / between folders; no \\ or : characters");
+        }
+        if name.chars().any(is_forbidden_character) {
+            return refuse(
+                "control characters (newline, tab, escape) and text-direction marks are not allowed in names",
+            );
         }
         let path = PathBuf::from(name);
         for component in path.components() {
@@ -138,6 +136,9 @@ impl Workspace {
                 Component::Normal(part) => {
                     if part.to_string_lossy().starts_with('.') {
                         return refuse("hidden files and folders are not served");
+                    }
+                    if part.len() > MAX_COMPONENT_BYTES {
+                        return refuse("a folder or file name longer than 255 bytes");
                     }
                 }
                 Component::ParentDir => return refuse("`..` would leave the folder"),
@@ -150,74 +151,106 @@ impl Workspace {
         Ok(path)
     }
 
-    fn inside(&self, resolved: &Path, name: &str) -> Result<(), ApiError> {
-        if resolved.starts_with(&self.root) {
-            Ok(())
-        } else {
-            Err(ApiError::Forbidden(format!(
-                "{name} leads outside the folder {} (through a link)",
+    /// The error of a file-system operation on `name` beneath the folder.
+    fn io_error(&self, name: &str, error: &std::io::Error) -> ApiError {
+        match error.kind() {
+            std::io::ErrorKind::NotFound => {
+                ApiError::NotFound(format!("no file {name} in {}", self.root.display()))
+            }
+            std::io::ErrorKind::PermissionDenied => ApiError::Forbidden(format!(
+                "{name} leads outside the folder {} (through a link), or may not be read",
                 self.root.display()
-            )))
+            )),
+            _ => ApiError::Unprocessable(format!("cannot use {name}: {error}")),
         }
     }
 
-    /// The path of the existing file `name`, with one of `extensions`.
+    /// Whether `name` (with one of `extensions`) is an existing regular file.
+    pub fn is_file(&self, name: &str, extensions: &[&str]) -> bool {
+        Self::relative(name)
+            .and_then(|relative| check_extensions(&relative, name, extensions).map(|()| relative))
+            .is_ok_and(|relative| {
+                self.folder
+                    .metadata(relative)
+                    .is_ok_and(|metadata| metadata.is_file())
+            })
+    }
+
+    /// Removes the file `name` (one of `extensions`); failures are ignored.
+    pub fn remove(&self, name: &str, extensions: &[&str]) {
+        if let Ok(relative) = Self::relative(name)
+            && check_extensions(&relative, name, extensions).is_ok()
+        {
+            let _ = self.folder.remove_file(relative);
+        }
+    }
+
+    /// The text of the existing file `name` (at most [`MAX_FILE_BYTES`]),
+    /// with its name as a path.
     ///
     /// # Errors
     /// [`ApiError::Forbidden`] for names outside the folder or of another
-    /// kind, [`ApiError::NotFound`] when there is no such file.
-    pub fn existing(&self, name: &str, extensions: &[&str]) -> Result<PathBuf, ApiError> {
-        let relative = Self::relative(name)?;
-        check_extensions(&relative, name, extensions)?;
-        let resolved = self.root.join(&relative).canonicalize().map_err(|_| {
-            ApiError::NotFound(format!("no file {name} in {}", self.root.display()))
-        })?;
-        self.inside(&resolved, name)?;
-        if !resolved.is_file() {
-            return Err(ApiError::NotFound(format!("{name} is not a file")));
-        }
-        Ok(resolved)
-    }
-
-    /// The text of the existing file `name` (at most [`MAX_FILE_BYTES`]).
-    ///
-    /// # Errors
-    /// As [`existing`](Self::existing); [`ApiError::TooLarge`] for big files.
+    /// kind, [`ApiError::NotFound`] when there is no such file,
+    /// [`ApiError::TooLarge`] for big files.
     pub fn read_text(
         &self,
         name: &str,
         extensions: &[&str],
     ) -> Result<(PathBuf, String), ApiError> {
-        let path = self.existing(name, extensions)?;
-        let size = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
+        let relative = Self::relative(name)?;
+        check_extensions(&relative, name, extensions)?;
+        // Not opened unless it is a regular file: a FIFO would block the open.
+        let metadata = self
+            .folder
+            .metadata(&relative)
+            .map_err(|error| self.io_error(name, &error))?;
+        if !metadata.is_file() {
+            return Err(ApiError::NotFound(format!("{name} is not a file")));
+        }
+        let file = self
+            .folder
+            .open(&relative)
+            .map_err(|error| self.io_error(name, &error))?;
+        let size = file.metadata().map(|m| m.len()).unwrap_or(0);
         if size > MAX_FILE_BYTES {
             return Err(ApiError::TooLarge(format!(
                 "{name} has {size} bytes; the server reads files up to {} MiB",
                 MAX_FILE_BYTES >> 20
             )));
         }
-        let text = std::fs::read_to_string(&path)
+        let mut text = String::new();
+        file.into_std()
+            .take(MAX_FILE_BYTES)
+            .read_to_string(&mut text)
             .map_err(|error| ApiError::Unprocessable(format!("cannot read {name}: {error}")))?;
-        Ok((path, text))
+        Ok((relative, text))
     }
 
-    /// Where an output `name` (extension `extension`) goes: its path
-    /// relative to the folder, its target, and its folder (resolved, and
-    /// inside the served folder).
-    fn output_place(
-        &self,
-        name: &str,
-        extension: &str,
-    ) -> Result<(PathBuf, PathBuf, PathBuf), ApiError> {
+    /// The handle of the folder holding the output `name` (extension
+    /// `extension`), and the file's own name in it.
+    fn output_place(&self, name: &str, extension: &str) -> Result<(Dir, PathBuf), ApiError> {
         let relative = Self::relative(name)?;
         check_extensions(&relative, name, &[extension])?;
-        let target = self.root.join(&relative);
-        let parent = target
-            .parent()
-            .and_then(|parent| parent.canonicalize().ok())
-            .ok_or_else(|| ApiError::NotFound(format!("the folder of {name} does not exist")))?;
-        self.inside(&parent, name)?;
-        Ok((relative, target, parent))
+        let file_name = relative
+            .file_name()
+            .map(PathBuf::from)
+            .ok_or_else(|| ApiError::Forbidden(format!("file name {name:?}: not a file name")))?;
+        let folder = match relative.parent() {
+            Some(parent) if !parent.as_os_str().is_empty() => self
+                .folder
+                .open_dir(parent)
+                .map_err(|error| match error.kind() {
+                    std::io::ErrorKind::NotFound | std::io::ErrorKind::NotADirectory => {
+                        ApiError::NotFound(format!("the folder of {name} does not exist"))
+                    }
+                    _ => self.io_error(name, &error),
+                })?,
+            _ => self
+                .folder
+                .try_clone()
+                .map_err(|error| ApiError::Internal(error.to_string()))?,
+        };
+        Ok((folder, file_name))
     }
 
     /// Refuses, before any work, to write the file `name` (extension
@@ -232,8 +265,8 @@ impl Workspace {
         extension: &str,
         overwrite: bool,
     ) -> Result<(), ApiError> {
-        let (_, target, _) = self.output_place(name, extension)?;
-        if !overwrite && std::fs::symlink_metadata(&target).is_ok() {
+        let (folder, file_name) = self.output_place(name, extension)?;
+        if !overwrite && folder.symlink_metadata(&file_name).is_ok() {
             return Err(ApiError::Conflict(format!(
                 "{name} already exists; save with overwrite to replace it"
             )));
@@ -242,12 +275,14 @@ impl Workspace {
     }
 
     /// Writes `bytes` to the file `name` (extension `extension`) atomically;
-    /// an existing file is replaced only when `overwrite` is set.
+    /// an existing file is replaced only when `overwrite` is set. Returns
+    /// where it is, for display.
     ///
     /// # Errors
-    /// [`ApiError::Forbidden`] outside the folder, [`ApiError::NotFound`] when
-    /// the subfolder does not exist, [`ApiError::Conflict`] when the file
-    /// exists, [`ApiError::Internal`] when writing fails (nothing is left behind).
+    /// [`ApiError::Forbidden`] outside the folder or onto a link,
+    /// [`ApiError::NotFound`] when the subfolder does not exist,
+    /// [`ApiError::Conflict`] when the file exists, [`ApiError::Internal`]
+    /// when writing fails (nothing is left behind).
     pub fn write(
         &self,
         name: &str,
@@ -255,17 +290,13 @@ impl Workspace {
         bytes: &[u8],
         overwrite: bool,
     ) -> Result<PathBuf, ApiError> {
-        let (relative, _, parent) = self.output_place(name, extension)?;
-        let file_name = relative
-            .file_name()
-            .ok_or_else(|| ApiError::Forbidden(format!("file name {name:?}: not a file name")))?;
-        let destination = parent.join(file_name);
+        let (folder, file_name) = self.output_place(name, extension)?;
         // Held across the check and the rename: saves do not interleave.
         let _guard = self
             .writing
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
-        if let Ok(metadata) = std::fs::symlink_metadata(&destination) {
+        if let Ok(metadata) = folder.symlink_metadata(&file_name) {
             if metadata.file_type().is_symlink() {
                 return Err(ApiError::Forbidden(format!(
                     "{name} is a link; the server does not write through links"
@@ -282,13 +313,60 @@ impl Workspace {
         } else {
             OutputPolicy::KeepExisting
         };
-        gecaro_io::write_atomically(&destination, bytes, policy).map_err(|error| match error {
-            gecaro_io::Error::OutputExists { .. } => ApiError::Conflict(format!(
-                "{name} already exists; save with overwrite to replace it"
-            )),
-            other => ApiError::Internal(other.to_string()),
-        })?;
-        Ok(destination)
+        gecaro_io::write_in_folder(&folder, &file_name, Path::new(name), bytes, policy).map_err(
+            |error| match error {
+                gecaro_io::Error::OutputExists { .. } => ApiError::Conflict(format!(
+                    "{name} already exists; save with overwrite to replace it"
+                )),
+                other => ApiError::Internal(other.to_string()),
+            },
+        )?;
+        self.display_path(name)
+    }
+}
+
+/// Lists `folder` into `listing` (names prefixed by `prefix`), through
+/// subfolder handles: links are neither listed nor followed.
+fn walk(folder: &Dir, prefix: &str, depth: usize, listing: &mut Listing) {
+    let Ok(entries) = folder.entries() else {
+        return;
+    };
+    let mut entries: Vec<_> = entries.filter_map(Result::ok).collect();
+    entries.sort_by_key(cap_std::fs::DirEntry::file_name);
+    for entry in entries {
+        let Some(name) = entry.file_name().to_str().map(str::to_owned) else {
+            continue;
+        };
+        let Ok(kind) = entry.file_type() else {
+            continue;
+        };
+        if name.starts_with('.') || kind.is_symlink() || name.chars().any(is_forbidden_character) {
+            continue;
+        }
+        let relative = format!("{prefix}{name}");
+        if kind.is_dir() {
+            if depth + 1 < LISTING_DEPTH
+                && !SKIPPED_FOLDERS.contains(&name.as_str())
+                && let Ok(subfolder) = entry.open_dir()
+            {
+                walk(&subfolder, &format!("{relative}/"), depth + 1, listing);
+            }
+            continue;
+        }
+        if !kind.is_file() {
+            continue;
+        }
+        let bucket = match Path::new(&name).extension().and_then(|e| e.to_str()) {
+            Some("toml") => &mut listing.robots,
+            Some("csv") => &mut listing.data,
+            Some("urdf" | "par") => &mut listing.imports,
+            _ => continue,
+        };
+        if bucket.len() >= MAX_LISTED {
+            listing.truncated = true;
+        } else {
+            bucket.push(relative);
+        }
     }
 }
 
@@ -336,7 +414,7 @@ mod tests {
             );
             assert!(
                 matches!(
-                    workspace.existing(name, &["toml"]),
+                    workspace.read_text(name, &["toml"]),
                     Err(ApiError::Forbidden(_))
                 ),
                 "{name}"
@@ -360,11 +438,11 @@ mod tests {
         std::os::unix::fs::symlink(outside.path(), folder.path().join("out")).expect("link");
         let workspace = Workspace::new(folder.path()).expect("workspace");
         assert!(matches!(
-            workspace.existing("link.toml", &["toml"]),
+            workspace.read_text("link.toml", &["toml"]),
             Err(ApiError::Forbidden(_))
         ));
         assert!(matches!(
-            workspace.existing("out/secret.toml", &["toml"]),
+            workspace.read_text("out/secret.toml", &["toml"]),
             Err(ApiError::Forbidden(_))
         ));
         assert!(matches!(
@@ -382,6 +460,109 @@ mod tests {
         assert!(!outside.path().join("new.toml").exists());
         // Links are not listed.
         assert!(workspace.list().robots.is_empty());
+    }
+
+    #[test]
+    fn names_with_controls_or_overlong_components_are_refused() {
+        let folder = tempfile::tempdir().expect("folder");
+        let workspace = Workspace::new(folder.path()).expect("workspace");
+        let long = format!("{}.toml", "a".repeat(300));
+        for name in [
+            "new\nline.toml",
+            "tab\t.toml",
+            "cr\r.toml",
+            "esc\u{1b}[31m.toml",
+            "evil\u{202e}lmot.toml",
+            "nul\0.toml",
+            long.as_str(),
+        ] {
+            assert!(
+                matches!(
+                    workspace.write(name, "toml", b"x", true),
+                    Err(ApiError::Forbidden(_))
+                ),
+                "{name:?}"
+            );
+            assert!(
+                matches!(
+                    workspace.check_writable(name, "toml", true),
+                    Err(ApiError::Forbidden(_))
+                ),
+                "{name:?}"
+            );
+        }
+        assert_eq!(std::fs::read_dir(folder.path()).expect("list").count(), 0);
+    }
+
+    /// A subfolder swapped for a link to another folder while saves and
+    /// reads go on: no write lands outside, no read returns an outside
+    /// file, no temporary file stays anywhere.
+    #[cfg(unix)]
+    #[test]
+    fn a_subfolder_swapped_for_a_link_never_leads_out() {
+        use std::sync::atomic::{AtomicBool, Ordering};
+        let outside = tempfile::tempdir().expect("outside");
+        std::fs::write(outside.path().join("secret.toml"), "outside").expect("write");
+        let folder = tempfile::tempdir().expect("folder");
+        let sub = folder.path().join("sub");
+        let parked = folder.path().join("parked");
+        std::fs::create_dir(&sub).expect("mkdir");
+        std::fs::write(sub.join("secret.toml"), "inside").expect("write");
+        let workspace = Workspace::new(folder.path()).expect("workspace");
+        let stop = AtomicBool::new(false);
+        std::thread::scope(|scope| {
+            scope.spawn(|| {
+                // sub ⇄ link to outside, 2,000 times.
+                for _ in 0..2_000 {
+                    let _ = std::fs::rename(&sub, &parked);
+                    let _ = std::os::unix::fs::symlink(outside.path(), &sub);
+                    std::thread::yield_now();
+                    let _ = std::fs::remove_file(&sub);
+                    let _ = std::fs::rename(&parked, &sub);
+                }
+                stop.store(true, Ordering::Relaxed);
+            });
+            let writer = scope.spawn(|| {
+                let mut attempts = 0;
+                while !stop.load(Ordering::Relaxed) {
+                    let _ = workspace.write("sub/w1.toml", "toml", b"x", true);
+                    attempts += 1;
+                }
+                attempts
+            });
+            let reader = scope.spawn(|| {
+                let mut leaks = 0;
+                while !stop.load(Ordering::Relaxed) {
+                    if let Ok((_, text)) = workspace.read_text("sub/secret.toml", &["toml"])
+                        && text == "outside"
+                    {
+                        leaks += 1;
+                    }
+                }
+                leaks
+            });
+            assert!(writer.join().expect("writer") > 0);
+            assert_eq!(
+                reader.join().expect("reader"),
+                0,
+                "reads outside the folder"
+            );
+        });
+        let outside_files: Vec<_> = std::fs::read_dir(outside.path())
+            .expect("list")
+            .map(|entry| entry.expect("entry").file_name())
+            .collect();
+        assert_eq!(outside_files, ["secret.toml"], "writes outside the folder");
+        let mut pending = vec![folder.path().to_owned()];
+        while let Some(current) = pending.pop() {
+            for entry in std::fs::read_dir(&current).expect("list").flatten() {
+                let name = entry.file_name().to_string_lossy().into_owned();
+                assert!(!name.ends_with(".tmp"), "temporary file {name} left behind");
+                if entry.file_type().expect("type").is_dir() {
+                    pending.push(entry.path());
+                }
+            }
+        }
     }
 
     #[test]
@@ -417,7 +598,7 @@ mod tests {
         assert_eq!(listing.robots, ["robots/arm.toml"]);
         assert_eq!(listing.data, ["data.csv"]);
         assert!(matches!(
-            workspace.existing("nothing.csv", &["csv"]),
+            workspace.read_text("nothing.csv", &["csv"]),
             Err(ApiError::NotFound(_))
         ));
     }

@@ -829,6 +829,15 @@ async fn requests_for_other_hosts_and_cross_site_writes_are_refused() {
         api.send(get("attacker.example:8080")).await.0,
         StatusCode::FORBIDDEN
     );
+    // Host names are case-insensitive.
+    assert_eq!(api.send(get("LOCALHOST:8080")).await.0, StatusCode::OK);
+    // A second Host header is not a way in.
+    let doubled = Request::get("/api/info")
+        .header(header::HOST, "127.0.0.1:8080")
+        .header(header::HOST, "evil.example")
+        .body(Body::empty())
+        .expect("request");
+    assert_eq!(api.send(doubled).await.0, StatusCode::BAD_REQUEST);
     let new = |origin: &str| {
         Request::post("/api/robots/new")
             .header(header::HOST, "127.0.0.1:8080")
@@ -987,5 +996,47 @@ async fn identification_takes_a_robust_loss_a_prior_and_cross_validation() {
             body["error"].as_str().expect("message").contains(expected),
             "{body}"
         );
+    }
+}
+
+/// Identification jobs never hold up the page's quick requests: with eight
+/// jobs queued or running, the folder's listing answers while some are still
+/// at work (before, it waited behind all of them for a computing slot).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_listing_answers_while_jobs_run() {
+    let api = Api::new();
+    let document = api.document("industrial6").await;
+    let (status, generated) = api
+        .post(
+            "/api/generate",
+            &json!({ "robot": document, "method": { "name": "frame" }, "count": 3000, "error_level": 1.0, "seed": 5 }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{generated}");
+    let csv = generated["csv"].as_str().expect("csv");
+    let request = json!({ "robot": document, "method": { "name": "frame" }, "data": { "csv": { "text": csv, "name": "gen.csv" } } });
+    let mut jobs = Vec::new();
+    for _ in 0..8 {
+        let (status, submitted) = api.post("/api/identify", &request).await;
+        assert_eq!(status, StatusCode::ACCEPTED, "{submitted}");
+        jobs.push(submitted["job"].as_u64().expect("job number"));
+    }
+    let (status, listing) = api.get("/api/files").await;
+    assert_eq!(status, StatusCode::OK, "{listing}");
+    let mut active = 0;
+    for job in &jobs {
+        let (_, view) = api.get(&format!("/api/jobs/{job}")).await;
+        if view["state"] == "queued" || view["state"] == "running" {
+            active += 1;
+        }
+    }
+    // Before, the listing waited for a computing slot behind the queued jobs
+    // and answered when at most one was left.
+    assert!(
+        active >= 4,
+        "only {active} of 8 jobs were at work when the listing answered"
+    );
+    for job in jobs {
+        assert_eq!(api.finished(job).await["state"], "done");
     }
 }

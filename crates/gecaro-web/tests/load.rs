@@ -100,3 +100,67 @@ async fn two_thousand_requests_all_succeed() {
     let _ = stop.send(());
     serving.await.expect("server task").expect("server");
 }
+
+/// Sockets held open without a request, and requests whose headers never
+/// finish, are closed after the header timeout; while more of them than the
+/// server takes at once are held, a normal request is still answered.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn idle_and_slow_connections_are_closed_and_a_client_is_still_served() {
+    use tokio::io::{AsyncReadExt, AsyncWriteExt};
+    let folder = tempfile::tempdir().expect("folder");
+    let server = gecaro_web::Server::bind(&gecaro_web::Config {
+        folder: folder.path().to_owned(),
+        port: 0,
+    })
+    .await
+    .expect("server")
+    .with_connection_bounds(16, std::time::Duration::from_millis(500));
+    let url = server.url().trim_end_matches('/').to_owned();
+    let address = url.trim_start_matches("http://").to_owned();
+    let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
+    let serving = tokio::spawn(server.run(async {
+        let _ = stopped.await;
+    }));
+    // 40 idle sockets and 10 with half-sent headers: more than the 16 taken at once.
+    let mut held = Vec::new();
+    for index in 0..50 {
+        let mut socket = tokio::net::TcpStream::connect(&address)
+            .await
+            .expect("connect");
+        if index % 5 == 0 {
+            socket
+                .write_all(b"GET /api/info HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: ")
+                .await
+                .expect("send");
+        }
+        held.push(socket);
+    }
+    // A normal client is answered once the held sockets time out.
+    let client: Client<_, Full<Bytes>> = Client::builder(TokioExecutor::new()).build_http();
+    let request = hyper::Request::get(format!("{url}/api/info"))
+        .body(Full::new(Bytes::new()))
+        .expect("request");
+    let response =
+        tokio::time::timeout(std::time::Duration::from_secs(20), client.request(request))
+            .await
+            .expect("answered within 20 s")
+            .expect("answer");
+    assert!(response.status().is_success());
+    // Every held socket has been closed by the server (end of stream, or a
+    // reset), none is left hanging.
+    for (index, mut socket) in held.into_iter().enumerate() {
+        let mut buffer = [0u8; 512];
+        let read = tokio::time::timeout(std::time::Duration::from_secs(20), async {
+            loop {
+                match socket.read(&mut buffer).await {
+                    Ok(0) | Err(_) => break,
+                    Ok(_) => {}
+                }
+            }
+        })
+        .await;
+        assert!(read.is_ok(), "socket {index} is still open after 20 s");
+    }
+    let _ = stop.send(());
+    serving.await.expect("server task").expect("server");
+}

@@ -352,7 +352,8 @@ fn resolve_mimic(
 /// The limits of a moving joint, and a note when the defaults stand in.
 fn limits(joint: &urdf_rs::Joint, frame_type: FrameType) -> (f64, f64, Option<String>) {
     let (lower, upper) = (joint.limit.lower, joint.limit.upper);
-    let given = lower.is_finite() && upper.is_finite() && lower < upper;
+    let bounded = |value: f64| value.abs() <= gecaro_core::MAX_MAGNITUDE;
+    let given = bounded(lower) && bounded(upper) && lower < upper;
     let defaults = Joint::default_for(frame_type);
     if given {
         return (lower, upper, None);
@@ -361,6 +362,8 @@ fn limits(joint: &urdf_rs::Joint, frame_type: FrameType) -> (f64, f64, Option<St
         return (defaults.qmin, defaults.qmax, None);
     } else if lower.is_finite() && upper.is_finite() && lower == upper {
         "no range in <limit>"
+    } else if lower.is_finite() && upper.is_finite() && lower < upper {
+        "a <limit> beyond ±1000 stands for no limit"
     } else {
         "no finite <limit>"
     };

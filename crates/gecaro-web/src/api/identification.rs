@@ -37,7 +37,7 @@ pub(crate) async fn submit(
     tokio::spawn(async move {
         let running = Arc::clone(&job);
         let outcome = state
-            .compute(move |_| {
+            .run_job(move |_| {
                 running.start();
                 let identified =
                     prepared.run(&mut each_iteration(|record| running.record(record.rms)))?;

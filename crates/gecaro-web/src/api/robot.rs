@@ -71,7 +71,7 @@ pub(crate) async fn info(State(state): State<AppState>) -> Json<Info> {
 
 pub(crate) async fn files(State(state): State<AppState>) -> Result<Json<Listing>, ApiError> {
     state
-        .compute(|state| Ok(Json(state.workspace().list())))
+        .files(|state| Ok(Json(state.workspace().list())))
         .await
 }
 
@@ -301,7 +301,7 @@ pub(crate) async fn save(
         .extension()
         .is_some_and(|extension| extension == "urdf");
     state
-        .compute(move |state| {
+        .files(move |state| {
             let workspace = state.workspace();
             if !as_urdf {
                 let text = format_robot_file(&file);
@@ -326,7 +326,7 @@ pub(crate) async fn save(
                 .joint_calibration
                 .as_ref()
                 .map(|_| gecaro_app::joint_calibration_name(&request.name));
-            let path = workspace.existing(&request.name, &["urdf"])?;
+            let path = workspace.display_path(&request.name)?;
             Ok(Json(Saved {
                 name: request.name,
                 path: path.display().to_string(),
