@@ -94,11 +94,44 @@ def web_seeds():
         write("web_api", f"get-{number}", bytes([7 + number % 5]) + tail.encode())
 
 
+def urdf_seeds():
+    """URDFs: the bad inputs of docs/errors.md, hostile shapes the importer
+    bounds (depth, counts), and the third-party URDFs of the tests (into the
+    corpus only: the replay test reads them where they are kept with their
+    licences)."""
+    for path in sorted(ROOT.glob("tests/errors/*.urdf")):
+        write("urdf_file", f"tests-errors-{path.name}", path.read_bytes())
+    chain = "".join(
+        f'<link name="l{i}"/><joint name="j{i}" type="fixed"><parent link="l{i - 1}"/>'
+        f'<child link="l{i}"/></joint>\n' for i in range(1, 2101))
+    crafted = {
+        "deep": '<robot name="d">' + '<link name="a">' * 5000 + "</link>" * 5000 + "</robot>",
+        "many-links": f'<robot name="big">\n<link name="l0"/>\n{chain}</robot>',
+        "unconnected": '<robot name="u">' + "".join(f'<link name="l{i}"/>' for i in range(1500)) + "</robot>",
+        "no-links": '<robot name="n"></robot>',
+        "entities": '<?xml version="1.0"?><!DOCTYPE r [<!ENTITY a "aaaaaaaaaa"><!ENTITY b "&a;&a;&a;&a;">]>'
+                    '<robot name="&b;"><link name="&b;"/></robot>',
+        "two-joints": '<robot name="t"><link name="a"/><link name="b"/><link name="c"/>'
+                      '<joint name="j1" type="revolute"><parent link="a"/><child link="b"/>'
+                      '<origin xyz="0 0 0.3" rpy="0 0 0"/><axis xyz="0 0 1"/>'
+                      '<limit lower="-2" upper="2" effort="1" velocity="1"/></joint>'
+                      '<joint name="j2" type="continuous"><parent link="b"/><child link="c"/>'
+                      '<origin xyz="0.4 0 0" rpy="1.5708 0 0"/><axis xyz="0 0 1"/>'
+                      '<mimic joint="j1" multiplier="2" offset="0.1"/></joint></robot>',
+        "huge-limit": '<robot name="h"><link name="a"/><link name="b"/><joint name="j" type="revolute">'
+                      '<parent link="a"/><child link="b"/><axis xyz="0 0 1"/>'
+                      '<limit lower="-1e308" upper="1e308" effort="1" velocity="1"/></joint></robot>',
+    }
+    for name, text in crafted.items():
+        write("urdf_file", f"crafted-{name}.urdf", text.encode())
+
+
 def main():
     for path in robot_files() + sorted(ROOT.glob("tests/errors/*.toml")):
         write("robot_file", f"{path.parent.name}-{path.name}", path.read_bytes())
     data_seeds()
     web_seeds()
+    urdf_seeds()
 
 
 if __name__ == "__main__":

@@ -40,7 +40,7 @@ fn rows() -> Vec<Row> {
             let cells: Vec<&str> = line.trim().trim_matches('|').split(" | ").collect();
             let id = cells.first()?.trim();
             let is_row = id.len() == 3
-                && "RDPCI".contains(&id[..1])
+                && "RDPCIH".contains(&id[..1])
                 && id[1..].chars().all(|c| c.is_ascii_digit());
             if !is_row {
                 return None;
@@ -247,4 +247,18 @@ rows! {
     c05_configuration_length => "C05",
     c06_not_a_number_option => "C06",
     c07_unknown_joint_type => "C07",
+    h01_error_level_beyond_the_bound => "H01",
+    h02_noise_beyond_the_bound => "H02",
+    h03_count_beyond_the_cap => "H03",
+    h04_pool_beyond_the_cap => "H04",
+    h05_curve_count_beyond_the_cap => "H05",
+    h06_monte_carlo_beyond_the_cap => "H06",
+    h07_joint_limit_standing_for_unlimited => "H07",
+    h08_robot_of_a_hundred_joints => "H08",
+    h09_urdf_nested_too_deep => "H09",
+    h10_urdf_of_too_many_links => "H10",
+    h11_urdf_without_links => "H11",
+    h12_output_that_is_an_input => "H12",
+    h13_report_over_its_data => "H13",
+    h14_two_outputs_in_one_file => "H14",
 }

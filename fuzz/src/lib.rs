@@ -58,6 +58,36 @@ pub fn robot_file(bytes: &[u8]) {
     }
 }
 
+/// The URDF importer: any text either imports into a robot that saves and
+/// loads back, or gives a short error naming the file (the importer bounds
+/// depth and element counts before parsing: no stack overflow, no endless
+/// allocation, no megabyte-long message).
+pub fn urdf_file(bytes: &[u8]) {
+    let Ok(text) = std::str::from_utf8(bytes) else {
+        return;
+    };
+    let path = Path::new("fuzz.urdf");
+    match gecaro_io::import_robot_text(text, path, &gecaro_io::ImportOptions::default()) {
+        Ok(imported) => {
+            let saved = gecaro_io::format_robot_file(&imported.file);
+            let reloaded = gecaro_io::parse_robot_file(&saved, Path::new("fuzz.toml"))
+                .unwrap_or_else(|error| {
+                    panic!("an imported robot does not load: {error}\n{saved}")
+                });
+            assert_eq!(reloaded.robot.frames(), imported.file.robot.frames());
+        }
+        Err(error) => {
+            let message = error.to_string();
+            assert_names(&message, "fuzz.urdf");
+            assert!(
+                message.len() < 4096,
+                "a {}-byte error message",
+                message.len()
+            );
+        }
+    }
+}
+
 /// The data-file parser and the checks of a study. The first byte picks the
 /// method, the second the number of joints (1 to 8), the rest is the file:
 /// it loads into a study that passes or fails its checks with an error

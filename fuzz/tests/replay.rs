@@ -38,3 +38,21 @@ fn data_file_inputs() {
 fn web_api_inputs() {
     replay("web_api", gecaro_fuzz::web_api);
 }
+
+#[test]
+fn urdf_file_inputs() {
+    replay("urdf_file", gecaro_fuzz::urdf_file);
+    // The third-party URDFs of the tests, kept once with their licences
+    // (make-seeds.py copies them into the fuzzer's corpus).
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    for folder in ["tests/data/urdf", "examples/tracker"] {
+        for entry in std::fs::read_dir(root.join(folder)).expect("folder") {
+            let path = entry.expect("entry").path();
+            if path.extension().is_some_and(|e| e == "urdf") {
+                let input = std::fs::read(&path).expect("input");
+                let outcome = std::panic::catch_unwind(|| gecaro_fuzz::urdf_file(&input));
+                assert!(outcome.is_ok(), "{} fails its check", path.display());
+            }
+        }
+    }
+}

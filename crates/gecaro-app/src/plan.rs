@@ -204,6 +204,22 @@ impl PlanRequest {
         if self.count == Some(0) {
             return Err(AppError::setting("count", "at least one configuration"));
         }
+        if let Some(count) = self.count
+            && count > MAX_GENERATE
+        {
+            return Err(AppError::setting_value(
+                "count",
+                count,
+                format!("at most {MAX_GENERATE} configurations"),
+            ));
+        }
+        if let Some(too_many) = self.curve.iter().find(|count| **count > MAX_GENERATE) {
+            return Err(AppError::setting_value(
+                "curve",
+                too_many,
+                format!("counts of at most {MAX_GENERATE} configurations"),
+            ));
+        }
         if !self.curve.is_empty() {
             if self.curve.len() > MAX_CURVE_POINTS || self.curve.contains(&0) {
                 return Err(AppError::setting(
@@ -259,7 +275,7 @@ impl PlanRequest {
         let pool = match &self.candidates {
             Some(source) => configurations(robot, source, &columns, files)?,
             None => {
-                let size = self.pool.unwrap_or(20 * largest);
+                let size = self.pool.unwrap_or(largest.saturating_mul(20));
                 if !(1..=MAX_GENERATE).contains(&size) {
                     return Err(AppError::setting_value(
                         "pool",

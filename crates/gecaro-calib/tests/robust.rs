@@ -403,4 +403,3 @@ fn each_set_of_a_study_is_judged_by_its_own_noise() {
     let tracker = result.outliers.iter().filter(|o| o.set == 0).count();
     assert!(tracker <= 3, "{tracker} tracker observations flagged");
 }
-

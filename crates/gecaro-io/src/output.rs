@@ -222,13 +222,17 @@ impl Drop for Temporary<'_> {
     }
 }
 
-/// Removes the temporary files this process is writing: for a signal
-/// handler, just before the process exits (the writes are abandoned).
+/// Removes the temporary files this process is writing, and keeps any
+/// other from being created (writes that start afterwards wait forever):
+/// for a signal handler, just before the process exits.
 pub fn remove_temporary_files() {
     let temporaries = TEMPORARIES.lock().unwrap_or_else(PoisonError::into_inner);
     for (_, folder, name) in temporaries.iter() {
         let _ = folder.remove_file(name);
     }
+    // Held until the process ends: a write racing the exit cannot create a
+    // temporary file behind the removal.
+    std::mem::forget(temporaries);
 }
 
 /// Removes, once per folder and process, the temporary files of gecaro

@@ -140,6 +140,20 @@ impl Source<'_> {
     }
 }
 
+/// At most the first 10 of `names`, and how many more there are.
+fn shortened(names: &[&str]) -> String {
+    const SHOWN: usize = 10;
+    if names.len() <= SHOWN {
+        names.join(", ")
+    } else {
+        format!(
+            "{}, … and {} more",
+            names[..SHOWN].join(", "),
+            names.len() - SHOWN
+        )
+    }
+}
+
 /// The tree of a URDF: which joint carries each link, and which joints
 /// hang from each link.
 struct Tree<'a> {
@@ -205,6 +219,9 @@ impl<'a> Tree<'a> {
             .collect();
         match roots.as_slice() {
             [root] => Ok(root),
+            [] if self.robot.links.is_empty() => {
+                Err(source.error(1, "no <link>: a URDF describes its robot's links"))
+            }
             [] => Err(source.error(
                 1,
                 "every link is the child of a joint: the joints form a closed loop",
@@ -214,7 +231,7 @@ impl<'a> Tree<'a> {
                 format!(
                     "the links form {} separate trees (roots {}); a URDF has one root",
                     many.len(),
-                    many.join(", ")
+                    shortened(many)
                 ),
             )),
         }
@@ -295,12 +312,16 @@ impl<'a> Tree<'a> {
                 format!(
                     "the chain branches below `{base}`: leaves {} have {most} moving joints \
                      each; choose the tip link (leaves: {})",
-                    best.join(", "),
-                    leaves
-                        .iter()
-                        .map(|(leaf, moving)| format!("{leaf} ({moving})"))
-                        .collect::<Vec<_>>()
-                        .join(", ")
+                    shortened(&best),
+                    shortened(
+                        &leaves
+                            .iter()
+                            .map(|(leaf, moving)| format!("{leaf} ({moving})"))
+                            .collect::<Vec<_>>()
+                            .iter()
+                            .map(String::as_str)
+                            .collect::<Vec<_>>()
+                    )
                 ),
             )),
         }
@@ -390,6 +411,9 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
             "this is a xacro file (`<xacro:` macros), not a URDF: expand it first, e.g. \
              `xacro robot.urdf.xacro > robot.urdf`, then import robot.urdf",
         ));
+    }
+    if let Err((offset, message)) = super::bounds::check(text) {
+        return Err(source.error(source.line_at(offset), message));
     }
     let robot = urdf_rs::read_from_string(text).map_err(|error| match source.xml_error() {
         Some((line, message)) => source.error(line, format!("not well-formed XML: {message}")),
@@ -539,7 +563,7 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
         notes.push(format!(
             "{} fixed joint(s) folded into the frames: {}",
             folded.len(),
-            folded.join(", ")
+            shortened(&folded.iter().map(String::as_str).collect::<Vec<_>>())
         ));
     }
     let name = ends.name.clone().unwrap_or_else(|| {

@@ -7,6 +7,7 @@
 //!   for the driver where gains or couplings are not expressible.
 //! - [`names`]: what a robot keeps of the URDF it came from.
 
+pub(crate) mod bounds;
 pub(crate) mod export;
 pub(crate) mod import;
 pub(crate) mod names;

@@ -1,0 +1,247 @@
+//! The command line under a careless user and a hostile file system: outputs
+//! onto devices and FIFOs, FIFOs as inputs, signals in the middle of a write,
+//! the temporary files of a killed process, robots whose limits stand for
+//! "unlimited", and simulated data that stay within the joint limits. (The
+//! bad inputs with a message of their own are rows of docs/errors.md, run by
+//! tests/errors.rs.)
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::Duration;
+
+use assert_cmd::cargo::cargo_bin;
+
+fn gecaro() -> Command {
+    Command::new(cargo_bin("gecaro"))
+}
+
+fn temporaries(folder: &Path) -> Vec<String> {
+    std::fs::read_dir(folder)
+        .expect("list")
+        .map(|entry| {
+            entry
+                .expect("entry")
+                .file_name()
+                .to_string_lossy()
+                .into_owned()
+        })
+        .filter(|name| name.starts_with(".gecaro-"))
+        .collect()
+}
+
+#[cfg(unix)]
+fn mkfifo(path: &Path) {
+    let status = Command::new("mkfifo")
+        .arg(path)
+        .status()
+        .expect("mkfifo runs");
+    assert!(status.success());
+}
+
+/// Waits for `child` at most `limit`; kills it and fails when it hangs.
+fn wait_bounded(mut child: std::process::Child, limit: Duration) -> std::process::Output {
+    let start = std::time::Instant::now();
+    while child.try_wait().expect("wait").is_none() {
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            panic!("gecaro hung for {limit:?}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().expect("output")
+}
+
+#[cfg(unix)]
+#[test]
+fn a_device_output_is_written_to_not_replaced() {
+    use std::os::unix::fs::FileTypeExt as _;
+    let output = gecaro()
+        .args(["robot", "new", "--joints", "RR", "-o", "/dev/null"])
+        .output()
+        .expect("runs");
+    assert!(output.status.success(), "{output:?}");
+    let kind = std::fs::metadata("/dev/null").expect("exists").file_type();
+    assert!(kind.is_char_device(), "/dev/null is no longer a device");
+}
+
+#[cfg(unix)]
+#[test]
+fn a_fifo_output_receives_the_file() {
+    let folder = tempfile::tempdir().expect("folder");
+    let fifo = folder.path().join("robot.toml");
+    mkfifo(&fifo);
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read_to_string(fifo).expect("read the FIFO"))
+    };
+    let child = gecaro()
+        .args(["robot", "new", "--joints", "RR", "-o"])
+        .arg(&fifo)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("runs");
+    let output = wait_bounded(child, Duration::from_secs(30));
+    assert!(output.status.success(), "{output:?}");
+    assert!(reader.join().expect("reader").contains("[[frame]]"));
+    use std::os::unix::fs::FileTypeExt as _;
+    assert!(
+        std::fs::symlink_metadata(&fifo)
+            .expect("still there")
+            .file_type()
+            .is_fifo()
+    );
+}
+
+#[cfg(unix)]
+#[test]
+fn a_fifo_input_is_refused_without_waiting_for_a_writer() {
+    let folder = tempfile::tempdir().expect("folder");
+    let fifo = folder.path().join("data.csv");
+    mkfifo(&fifo);
+    let child = gecaro()
+        .args(["evaluate", "stanford", "--method", "position", "--data"])
+        .arg(&fifo)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("runs");
+    let output = wait_bounded(child, Duration::from_secs(30));
+    assert_eq!(output.status.code(), Some(3));
+    assert!(
+        String::from_utf8_lossy(&output.stderr).contains("not a regular file"),
+        "{output:?}"
+    );
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn the_temporary_files_of_a_dead_process_are_removed_by_the_next_write() {
+    let folder = tempfile::tempdir().expect("folder");
+    // No process has this number (above the kernel's largest pid).
+    let stale = folder.path().join(".gecaro-4194399-0.tmp");
+    std::fs::write(&stale, "half a file").expect("plant");
+    let live = folder
+        .path()
+        .join(format!(".gecaro-{}-0.tmp", std::process::id()));
+    std::fs::write(&live, "a living process's file").expect("plant");
+    let output = gecaro()
+        .args(["robot", "new", "--joints", "RR", "-o"])
+        .arg(folder.path().join("arm.toml"))
+        .output()
+        .expect("runs");
+    assert!(output.status.success(), "{output:?}");
+    assert!(!stale.exists(), "a dead process's temporary file stayed");
+    assert!(
+        live.exists(),
+        "a running process's temporary file was removed"
+    );
+}
+
+/// Writes interrupted by SIGINT and SIGTERM at moments spread over their
+/// length leave no temporary file.
+#[cfg(unix)]
+#[test]
+fn signals_during_writes_leave_no_temporary_file() {
+    let folder = tempfile::tempdir().expect("folder");
+    // The run takes ~0.2 s (debug build), the write of its 5 MB the last
+    // part of it: signals land from 10 ms to 0.4 s after the start.
+    let mut interrupted = 0;
+    for attempt in 0..40u64 {
+        let child = gecaro()
+            .args([
+                "generate", "panda", "--method", "frame", "--count", "20000", "--force", "-o",
+            ])
+            .arg(folder.path().join("data.csv"))
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("runs");
+        std::thread::sleep(Duration::from_millis(10 + 10 * attempt));
+        let signal = if attempt % 2 == 0 { "-INT" } else { "-TERM" };
+        let _ = Command::new("kill")
+            .args([signal, &child.id().to_string()])
+            .status();
+        let output = wait_bounded(child, Duration::from_secs(60));
+        if !output.status.success() {
+            interrupted += 1;
+        }
+        assert_eq!(
+            temporaries(folder.path()),
+            Vec::<String>::new(),
+            "attempt {attempt} ({signal})"
+        );
+    }
+    assert!(interrupted > 0, "no run was interrupted");
+}
+
+#[test]
+fn an_imported_urdf_whose_limits_stand_for_unlimited_generates() {
+    let folder = tempfile::tempdir().expect("folder");
+    let urdf = folder.path().join("arm.urdf");
+    std::fs::write(
+        &urdf,
+        r#"<robot name="arm"><link name="a"/><link name="b"/><link name="c"/>
+<joint name="j1" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>
+<limit lower="-1e308" upper="1e308" effort="1" velocity="1"/></joint>
+<joint name="j2" type="revolute"><parent link="b"/><child link="c"/><origin xyz="0.4 0 0"/>
+<axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint></robot>"#,
+    )
+    .expect("write");
+    let robot = folder.path().join("arm.toml");
+    let output = gecaro()
+        .args(["robot", "import"])
+        .arg(&urdf)
+        .arg("-o")
+        .arg(&robot)
+        .output()
+        .expect("runs");
+    assert!(output.status.success(), "{output:?}");
+    assert!(
+        String::from_utf8_lossy(&output.stderr).contains("stands for no limit"),
+        "{output:?}"
+    );
+    let output = gecaro()
+        .arg("generate")
+        .arg(&robot)
+        .args(["--method", "position", "--count", "50", "-o"])
+        .arg(folder.path().join("data.csv"))
+        .output()
+        .expect("runs");
+    assert!(output.status.success(), "{output:?}");
+}
+
+/// Simulated measurements are taken where the nominal robot reads joint
+/// values within its limits: identifying them warns of nothing.
+#[test]
+fn generated_configurations_lie_within_the_nominal_limits() {
+    let folder = tempfile::tempdir().expect("folder");
+    let data = folder.path().join("data.csv");
+    for robot in [
+        "stanford",
+        "puma560",
+        "industrial6",
+        "scara",
+        "panda",
+        "ur10e",
+    ] {
+        let output = gecaro()
+            .args(["generate", robot, "--method", "frame", "--count", "5000"])
+            .args(["--error-level", "2", "--noise", "1e-5", "--force", "-o"])
+            .arg(&data)
+            .output()
+            .expect("runs");
+        assert!(output.status.success(), "{robot}: {output:?}");
+        let output = gecaro()
+            .args(["evaluate", robot, "--method", "frame", "--data"])
+            .arg(&data)
+            .output()
+            .expect("runs");
+        let printed = String::from_utf8_lossy(&output.stderr);
+        assert!(output.status.success(), "{robot}: {printed}");
+        assert!(
+            !printed.contains("outside the joint limits"),
+            "{robot}: {printed}"
+        );
+    }
+}
