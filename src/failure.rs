@@ -22,7 +22,10 @@ pub(crate) struct Failure(AppError);
 
 impl std::fmt::Display for Failure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0.message(Dialect::CommandLine))
+        // Names from files reach the terminal escaped, never raw.
+        f.write_str(&crate::format::shown_lines(
+            &self.0.message(Dialect::CommandLine),
+        ))
     }
 }
 
@@ -30,9 +33,10 @@ impl std::error::Error for Failure {}
 
 impl miette::Diagnostic for Failure {
     fn help<'a>(&'a self) -> Option<Box<dyn std::fmt::Display + 'a>> {
-        self.0
-            .help(Dialect::CommandLine)
-            .map(|help| Box::new(help) as Box<dyn std::fmt::Display>)
+        self.0.help(Dialect::CommandLine).map(|help| {
+            Box::new(crate::format::shown_lines(&help.to_string()).into_owned())
+                as Box<dyn std::fmt::Display>
+        })
     }
 }
 

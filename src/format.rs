@@ -19,11 +19,53 @@ pub(crate) fn table(header: &[&str], left: usize) -> Table {
     table
 }
 
+/// Whether `c` must not reach a terminal raw: control characters (escape
+/// sequences, BEL, CR, newlines) and the bidirectional marks and overrides
+/// that reorder what is displayed (U+202E turns `cod.exe` into `exe.doc`).
+fn is_hidden(c: char) -> bool {
+    c.is_control()
+        || matches!(c, '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
+}
+
+/// `text` from a file (a robot's, a joint's or a file's name) as it may be
+/// printed: every hidden character escaped as `\u{1b}`.
+pub(crate) fn shown(text: &str) -> std::borrow::Cow<'_, str> {
+    shown_keeping(text, false)
+}
+
+/// A message as it may be printed: hidden characters escaped, its own line
+/// breaks kept.
+pub(crate) fn shown_lines(text: &str) -> std::borrow::Cow<'_, str> {
+    shown_keeping(text, true)
+}
+
+fn shown_keeping(text: &str, newlines: bool) -> std::borrow::Cow<'_, str> {
+    let hidden = |c: char| is_hidden(c) && !(newlines && c == '\n');
+    if !text.chars().any(hidden) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    std::borrow::Cow::Owned(
+        text.chars()
+            .map(|c| {
+                if hidden(c) {
+                    c.escape_unicode().to_string()
+                } else {
+                    c.to_string()
+                }
+            })
+            .collect(),
+    )
+}
+
 /// A number with up to `decimals` decimals and no trailing zeros ("0.1", "-1.570796", "0").
 pub(crate) fn number(value: f64, decimals: usize) -> String {
     // Below this, a value is rounding noise (a rotation entry of 1e-17), not information.
     if value.abs() < 1e-12 {
         return "0".into();
+    }
+    // Beyond this, fixed notation is a wall of digits.
+    if value.abs() >= 1e15 || !value.is_finite() {
+        return gecaro_core::Compact(value).to_string();
     }
     let text = format!("{value:.decimals$}");
     let text = if text.contains('.') {
@@ -61,7 +103,7 @@ pub(crate) fn observability(
 
 #[cfg(test)]
 mod tests {
-    use super::number;
+    use super::*;
 
     #[test]
     fn numbers_are_short_and_honest() {
@@ -71,5 +113,14 @@ mod tests {
         assert_eq!(number(1e-9, 6), "1.0e-9");
         assert_eq!(number(12.0, 6), "12");
         assert_eq!(number(7e-17, 6), "0");
+        assert_eq!(number(1e308, 6), "1e308");
+    }
+
+    #[test]
+    fn hidden_characters_are_escaped() {
+        assert_eq!(shown("arm"), "arm");
+        assert_eq!(shown("a\u{1b}[31mb\u{7}"), "a\\u{1b}[31mb\\u{7}");
+        assert_eq!(shown("x\u{202e}y\nz"), "x\\u{202e}y\\u{a}z");
+        assert_eq!(shown_lines("one\ntwo\r"), "one\ntwo\\u{d}");
     }
 }

@@ -245,3 +245,79 @@ fn generated_configurations_lie_within_the_nominal_limits() {
         );
     }
 }
+
+/// Names from files reach the terminal escaped: a robot named with an
+/// escape sequence and a right-to-left override, and a URDF joint with a
+/// newline and a tab in its name.
+#[test]
+fn hidden_characters_in_names_are_printed_escaped() {
+    let folder = tempfile::tempdir().expect("folder");
+    let robot = folder.path().join("robot.toml");
+    std::fs::write(
+        &robot,
+        "name = \"arm\\u001b[2J\\u0007\\u202e\"\n[[frame]]\nsigma = 2\n[[frame]]\nsigma = 0\n\
+         [[frame]]\nsigma = 2\nd = 0.4\n",
+    )
+    .expect("write");
+    let output = gecaro()
+        .args(["robot", "show"])
+        .arg(&robot)
+        .output()
+        .expect("runs");
+    let printed = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{output:?}");
+    assert!(printed.contains(r"arm\u{1b}[2J\u{7}\u{202e}"), "{printed}");
+    assert!(
+        !printed.contains(['\u{1b}', '\u{7}', '\u{202e}']),
+        "{printed}"
+    );
+
+    let urdf = folder.path().join("arm.urdf");
+    std::fs::write(
+        &urdf,
+        "<robot name=\"r&#xA;x\"><link name=\"a\"/><link name=\"b\"/>\
+         <joint name=\"j&#xA;&#x9;&#x202E;\" type=\"revolute\"><parent link=\"a\"/>\
+         <child link=\"b\"/><axis xyz=\"0 0 1\"/></joint></robot>",
+    )
+    .expect("write");
+    let output = gecaro()
+        .args(["robot", "import"])
+        .arg(&urdf)
+        .arg("-o")
+        .arg(folder.path().join("imported.toml"))
+        .output()
+        .expect("runs");
+    assert!(output.status.success(), "{output:?}");
+    let printed = format!(
+        "{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(printed.contains(r"j\u{a}\u{9}\u{202e}"), "{printed}");
+    assert!(printed.contains(r"r\u{a}x"), "{printed}");
+    assert!(!printed.contains(['\t', '\u{202e}']), "{printed}");
+}
+
+/// Numbers in messages are short whatever their size.
+#[test]
+fn tiny_and_huge_numbers_are_printed_in_scientific_notation() {
+    let folder = tempfile::tempdir().expect("folder");
+    let robot = folder.path().join("robot.toml");
+    std::fs::write(
+        &robot,
+        "name = \"arm\"\n[[frame]]\nsigma = 2\n[[frame]]\nsigma = 0\nqmin = 2e-320\n\
+         qmax = 1e-320\n[[frame]]\nsigma = 2\nd = 0.4\n",
+    )
+    .expect("write");
+    let output = gecaro()
+        .args(["robot", "check"])
+        .arg(&robot)
+        .output()
+        .expect("runs");
+    let printed = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        printed.contains("qmin = 2e-320 is greater than qmax = 1e-320"),
+        "{printed}"
+    );
+    assert!(printed.len() < 400, "{printed}");
+}

@@ -7,10 +7,11 @@ use gecaro_io::RobotFormat;
 use super::options::name;
 use crate::cli::{ExportArgs, ImportArgs};
 use crate::failure::Failure;
+use crate::format::shown;
 
 fn print_notes(notes: &[String]) {
     for note in notes {
-        eprintln!("note: {note}");
+        eprintln!("note: {}", shown(note));
     }
 }
 
@@ -29,11 +30,11 @@ pub(crate) fn import(args: &ImportArgs) -> Result<(), Failure> {
     print_notes(&imported.notes);
     println!(
         "wrote {}: {} — {} joints ({}), {}",
-        args.output.display(),
-        robot.name(),
+        shown(&args.output.display().to_string()),
+        shown(robot.name()),
         robot.joint_count(),
         robot.joint_letters(),
-        imported.file.description.as_deref().unwrap_or("imported")
+        shown(imported.file.description.as_deref().unwrap_or("imported"))
     );
     println!(
         "see its table with: gecaro robot show {}",

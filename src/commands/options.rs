@@ -167,7 +167,7 @@ pub(crate) fn print_notes(notes: &[Note]) {
         eprintln!(
             "{}: {}",
             if note.warning { "warning" } else { "note" },
-            note.text(Dialect::CommandLine)
+            crate::format::shown(&note.text(Dialect::CommandLine))
         );
     }
 }

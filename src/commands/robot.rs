@@ -9,7 +9,7 @@ use super::options::output_policy;
 
 use crate::cli::RobotCommand;
 use crate::failure::Failure;
-use crate::format::{number, table};
+use crate::format::{number, shown, table};
 
 pub(crate) fn run(command: RobotCommand) -> Result<(), Failure> {
     match command {
@@ -45,13 +45,13 @@ fn show(name: &str, degrees: bool) -> Result<(), Failure> {
     let unit = if degrees { "m, deg" } else { "m, rad" };
     println!(
         "{} — {} joints ({}), {} parameters ({unit})",
-        robot.name(),
+        shown(robot.name()),
         robot.joint_count(),
         robot.joint_letters(),
         robot.parameters().len()
     );
     if let Some(description) = &file.description {
-        println!("{description}");
+        println!("{}", shown(description));
     }
     let mut frames = table(
         &[
@@ -121,7 +121,7 @@ fn check(name: &str) -> Result<(), Failure> {
     let robot = &file.robot;
     println!(
         "ok: {} — {} joints ({}), {} frames, {} parameters",
-        robot.name(),
+        shown(robot.name()),
         robot.joint_count(),
         robot.joint_letters(),
         robot.frames().len(),

@@ -254,6 +254,7 @@ impl Measurements {
                         method.name()
                     )));
                 }
+                notes.extend(read.notes.iter().map(Note::plain));
                 (read.samples, read.label)
             }
             (None, Data::Optional) => (Vec::new(), "random configurations".to_owned()),

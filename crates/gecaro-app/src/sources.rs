@@ -125,6 +125,8 @@ pub struct DataRead {
     pub label: String,
     /// Columns of the file the method does not use (left alone).
     pub unused_columns: Vec<String>,
+    /// What the reader changed that a user should know.
+    pub notes: Vec<String>,
 }
 
 impl DataSource {
@@ -167,6 +169,7 @@ impl DataSource {
                     samples: samples.clone(),
                     label: label.clone(),
                     unused_columns: Vec::new(),
+                    notes: Vec::new(),
                 });
             }
         };
@@ -184,6 +187,7 @@ impl DataSource {
             samples: file.samples,
             label,
             unused_columns: file.unused_columns,
+            notes: file.notes,
         })
     }
 }

@@ -28,6 +28,7 @@ use gecaro_core::{
 use nalgebra::{DMatrix, DVector, IsometryMatrix3, Vector3};
 
 use crate::Error;
+use crate::parallel::run_parts;
 use crate::progress::{Observer, Progress, report};
 use crate::sampler::solve_from_starts;
 
@@ -165,37 +166,46 @@ pub fn compensate(
         });
     }
     let options = InverseOptions::default();
-    let mut previous: Option<Vec<f64>> = None;
     let mut results = Vec::with_capacity(points.len());
-    for (index, point) in points.iter().enumerate() {
-        let (target, joints) = match &point.target {
-            ProgramTarget::Joints(qm) => {
-                let pose = terminal_pose(nominal, qm)?;
-                let target = match matching {
-                    Match::Pose => Target::Frame(pose),
-                    Match::Position => Target::Position(pose.translation.vector),
-                };
-                (target, Some(qm))
+    // Targets with their joints start from them: each is solved on its own,
+    // over the cores, a block at a time (progress between blocks). Targets
+    // without joints start from the previous solution, in order.
+    let independent = points
+        .iter()
+        .all(|point| matches!(point.target, ProgramTarget::Joints(_)) || point.joints.is_some());
+    if independent {
+        for (block, chunk) in points.chunks(PARALLEL_BLOCK).enumerate() {
+            let parts: Vec<(usize, &ProgramPoint)> = chunk
+                .iter()
+                .enumerate()
+                .map(|(offset, point)| (block * PARALLEL_BLOCK + offset, point))
+                .collect();
+            let solved = run_parts(parts, |(index, point)| {
+                compensate_point(nominal, calibrated, point, matching, None, &options, index)
+            });
+            for result in solved {
+                results.push(result?);
             }
-            ProgramTarget::Position(position) => {
-                (Target::Position(*position), point.joints.as_ref())
-            }
-            ProgramTarget::Pose(pose) => (Target::Frame(*pose), point.joints.as_ref()),
-        };
-        if let Some(joints) = joints {
-            calibrated.check_configuration(joints)?;
+            report(
+                observer,
+                Progress::Step {
+                    done: results.len(),
+                    total: points.len(),
+                },
+            )?;
         }
-        let start = joints.or(previous.as_ref()).cloned();
-        // Without the program's joints the configuration is free: other starts
-        // may reach the target within the limits where the previous one does not.
-        let free = joints.is_none();
-        let result = compensate_one(
+        return Ok(results);
+    }
+    let mut previous: Option<Vec<f64>> = None;
+    for (index, point) in points.iter().enumerate() {
+        let result = compensate_point(
+            nominal,
             calibrated,
-            &target,
-            start.as_deref(),
-            free,
+            point,
+            matching,
+            previous.as_deref(),
             &options,
-            index as u64,
+            index,
         )?;
         if result.status != CompensationStatus::NotReached {
             previous = Some(result.motor_positions.clone());
@@ -210,6 +220,43 @@ pub fn compensate(
         )?;
     }
     Ok(results)
+}
+
+/// Targets solved at once between two progress reports.
+const PARALLEL_BLOCK: usize = 1024;
+
+/// One program point: its target (the nominal robot's pose for joint
+/// targets), solved on the calibrated robot from the program's joints, or
+/// else from `previous` (the solution of the point before).
+fn compensate_point(
+    nominal: &Robot,
+    calibrated: &Robot,
+    point: &ProgramPoint,
+    matching: Match,
+    previous: Option<&[f64]>,
+    options: &InverseOptions,
+    index: usize,
+) -> Result<CompensatedPoint, Error> {
+    let (target, joints) = match &point.target {
+        ProgramTarget::Joints(qm) => {
+            let pose = terminal_pose(nominal, qm)?;
+            let target = match matching {
+                Match::Pose => Target::Frame(pose),
+                Match::Position => Target::Position(pose.translation.vector),
+            };
+            (target, Some(qm))
+        }
+        ProgramTarget::Position(position) => (Target::Position(*position), point.joints.as_ref()),
+        ProgramTarget::Pose(pose) => (Target::Frame(*pose), point.joints.as_ref()),
+    };
+    if let Some(joints) = joints {
+        calibrated.check_configuration(joints)?;
+    }
+    let start = joints.map(Vec::as_slice).or(previous);
+    // Without the program's joints the configuration is free: other starts
+    // may reach the target within the limits where the previous one does not.
+    let free = joints.is_none();
+    compensate_one(calibrated, &target, start, free, options, index as u64)
 }
 
 fn compensate_one(

@@ -91,14 +91,15 @@ impl std::fmt::Display for LimitViolation {
         };
         write!(
             f,
-            "q{} = {} is {} {name} = {bound}",
+            "q{} = {} is {} {name} = {}",
             self.joint,
-            self.value,
+            gecaro_core::Compact(self.value),
             if self.value < self.qmin {
                 "below"
             } else {
                 "above"
-            }
+            },
+            gecaro_core::Compact(bound)
         )
     }
 }

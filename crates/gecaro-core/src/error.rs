@@ -113,3 +113,30 @@ impl Error {
         }
     }
 }
+
+/// A number as messages show it: the shortest decimal that reads back the
+/// same, in scientific notation when that would be long (beyond 10¹⁵, or
+/// below 10⁻⁴ but not zero): `1e308` is not printed as 309 digits, nor
+/// `1e-320` as 320.
+///
+/// ```
+/// use gecaro_core::Compact;
+///
+/// assert_eq!(Compact(3.5).to_string(), "3.5");
+/// assert_eq!(Compact(1e308).to_string(), "1e308");
+/// assert_eq!(Compact(-2.5e-320).to_string(), "-2.5e-320");
+/// assert_eq!(Compact(0.0).to_string(), "0");
+/// ```
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Compact(pub f64);
+
+impl fmt::Display for Compact {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let magnitude = self.0.abs();
+        if magnitude != 0.0 && magnitude.is_finite() && !(1e-4..1e15).contains(&magnitude) {
+            write!(f, "{:e}", self.0)
+        } else {
+            write!(f, "{}", self.0)
+        }
+    }
+}

@@ -73,7 +73,7 @@ mod robot;
 mod test_robots;
 
 pub use axis_chain::{AxisChain, ChainJoint};
-pub use error::{Error, Field};
+pub use error::{Compact, Error, Field};
 pub use frame::{Frame, FrameType, Joint};
 pub use kinematics::{
     ChainBuffer, FrameChain, InverseOptions, InverseSolution, JacobianRows, KinematicModel,

@@ -25,7 +25,7 @@ use nalgebra::{DMatrix, DVector};
 use crate::frame::{Frame, FrameType, Joint};
 use crate::parameters::{ParameterId, ParameterKind, ParameterSpace};
 use crate::priority::PriorityMatrix;
-use crate::{Error, Field};
+use crate::{Compact, Error, Field};
 
 /// Most joints of a robot. Serial arms have up to ~10; the bound keeps a
 /// malformed or hostile file from making every matrix of the model huge.
@@ -621,7 +621,8 @@ fn validate_joint(index: usize, joint: &Joint) -> Result<(), Error> {
             field("qmin"),
             format!(
                 "qmin = {} is greater than qmax = {}",
-                joint.qmin, joint.qmax
+                Compact(joint.qmin),
+                Compact(joint.qmax)
             ),
         ));
     }

@@ -28,7 +28,7 @@ use crate::Error;
 use crate::columns::{ColumnMap, DataUnits, locate};
 use crate::input::{csv_error, csv_reader, open_regular};
 use crate::output::{OutputPolicy, write_with};
-use crate::pose::unit_quaternion;
+use crate::pose::{NORMALISED_TOLERANCE, SILENT_TOLERANCE, quaternion_deviation, unit_quaternion};
 
 /// Most configurations a data file may hold. Files are streamed, so a larger
 /// one (or an endless stream) stops here with an error naming the line,
@@ -53,6 +53,9 @@ pub struct DataFile {
     pub samples: Vec<Sample>,
     /// Columns of the file that the method does not use (left alone).
     pub unused_columns: Vec<String>,
+    /// What the reader changed that a user should know (quaternions
+    /// normalised).
+    pub notes: Vec<String>,
 }
 
 /// The header a data file for `joint_count` joints and these columns must have.
@@ -170,6 +173,8 @@ pub fn parse_samples(
             .then(|| at("distance")),
     };
     let mut samples = Vec::new();
+    // Quaternions normalised with a note: how many, the largest deviation, its line.
+    let mut normalised = (0usize, 0.0f64, 0usize);
     while csv
         .read_record(&mut record)
         .map_err(|error| csv_error(path, &error))?
@@ -226,8 +231,15 @@ pub fn parse_samples(
             sample.position = Some(Vector3::new(value(x)?, value(y)?, value(z)?) * length);
         }
         if let Some([w, i, j, k]) = fields.orientation {
-            let orientation = unit_quaternion(value(w)?, value(i)?, value(j)?, value(k)?)
+            let (qw, qx, qy, qz) = (value(w)?, value(i)?, value(j)?, value(k)?);
+            let orientation = unit_quaternion(qw, qx, qy, qz)
                 .map_err(|message| fail(line, Some(&names[w]), message))?;
+            if let Some(deviation) = quaternion_deviation(qw, qx, qy, qz) {
+                normalised.0 += 1;
+                if deviation > normalised.1 {
+                    normalised = (normalised.0, deviation, line);
+                }
+            }
             sample.orientation = Some(orientation);
         }
         if let Some((column, _)) = fields.group {
@@ -252,10 +264,46 @@ pub fn parse_samples(
             "the file has a header but no configurations".into(),
         ));
     }
+    let mut notes = Vec::new();
+    if normalised.0 > 0 {
+        notes.push(format!(
+            "{}: {} quaternion(s) with a norm off 1 by more than {SILENT_TOLERANCE:e} were \
+             normalised (largest: {:.1e}, line {}; up to {NORMALISED_TOLERANCE:e} is taken \
+             as rounding)",
+            path.display(),
+            normalised.0,
+            normalised.1,
+            normalised.2
+        ));
+    }
     Ok(DataFile {
         samples,
         unused_columns: layout.unused,
+        notes,
     })
+}
+
+/// What a header was read as, for a message about a missing column: the
+/// names (the first 200 characters), and the separator when the header is
+/// one column that another separator would split.
+fn header_read(names: &[String]) -> String {
+    let mut read = names.join(",");
+    if read.chars().count() > 200 {
+        read = format!("{}…", read.chars().take(200).collect::<String>());
+    }
+    let read = read.escape_debug();
+    let separator = match names {
+        [one] if one.contains(';') => Some("`;`"),
+        [one] if one.contains('\t') => Some("tabs"),
+        _ => None,
+    };
+    match separator {
+        Some(separator) => format!(
+            " (the header read is one column, `{read}`: this file is separated by {separator}, \
+             gecaro reads commas)"
+        ),
+        None => format!(" (the header read: `{read}`)"),
+    }
 }
 
 /// The positions of the expected columns in a header; every one must be
@@ -266,15 +314,16 @@ fn resolve_header(
     map: &ColumnMap,
 ) -> Result<crate::columns::Layout, String> {
     if let Some(message) = map.unused(names, expected) {
-        return Err(message);
+        return Err(format!("{message}{}", header_read(names)));
     }
     let layout = locate(names, expected, map);
     // A renamed column that is missing is caught above, by its map entry.
     for (wanted, position) in expected.iter().zip(&layout.positions) {
         let Some(position) = position else {
             return Err(format!(
-                "missing column `{wanted}`; this method's data need the columns {}",
-                expected.join(",")
+                "missing column `{wanted}`; this method's data need the columns {}{}",
+                expected.join(","),
+                header_read(names)
             ));
         };
         if names

@@ -307,8 +307,9 @@ impl FrameDocument {
                     Err(at(
                         key,
                         format!(
-                            "{given} rad is more than a full turn; the file's angles are in radians \
-                         — if it is written in degrees, add angle_unit = \"deg\" at the top"
+                            "{} rad is more than a full turn; the file's angles are in radians \
+                         — if it is written in degrees, add angle_unit = \"deg\" at the top",
+                            gecaro_core::Compact(given)
                         ),
                     ))
                 }

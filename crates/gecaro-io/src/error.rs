@@ -84,3 +84,18 @@ impl Error {
         }
     }
 }
+
+/// The message of a TOML error, naming the key where the parser does not
+/// ("duplicate key" says which from the text its span covers).
+pub(crate) fn toml_message(error: &toml::de::Error, text: &str) -> String {
+    let message = error.message().trim();
+    if message == "duplicate key"
+        && let Some(key) = error.span().and_then(|span| text.get(span))
+    {
+        let key = key.trim().trim_matches('"');
+        if !key.is_empty() && key.len() <= 100 && !key.contains('\n') {
+            return format!("duplicate key `{key}`: each key is given once per table");
+        }
+    }
+    message.to_owned()
+}

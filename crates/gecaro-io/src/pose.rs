@@ -43,8 +43,9 @@ pub(crate) fn to_seven(pose: &IsometryMatrix3<f64>) -> [f64; 7] {
 }
 
 /// The orientation of a unit quaternion `(qw, qx, qy, qz)`, or why not: a
-/// norm further than 1e-6 from 1 is refused (it is not an orientation, or its
-/// components are mixed up); within that, it is normalised.
+/// norm further than [`NORMALISED_TOLERANCE`] from 1 is refused (it is not an
+/// orientation, or its components are mixed up); within that, it is
+/// normalised (see [`quaternion_deviation`] to tell the user).
 ///
 /// # Errors
 /// The message says what is wrong (non-finite values, the norm).
@@ -54,7 +55,7 @@ pub fn unit_quaternion(w: f64, x: f64, y: f64, z: f64) -> Result<UnitQuaternion<
     if !norm.is_finite() {
         return Err("(qw, qx, qy, qz) holds a value that is not a finite number".into());
     }
-    if (norm - 1.0).abs() > UNIT_TOLERANCE {
+    if (norm - 1.0).abs() > NORMALISED_TOLERANCE {
         return Err(format!(
             "(qw, qx, qy, qz) has norm {norm:.6}, not 1: it is not a unit quaternion"
         ));
@@ -62,8 +63,20 @@ pub fn unit_quaternion(w: f64, x: f64, y: f64, z: f64) -> Result<UnitQuaternion<
     Ok(UnitQuaternion::from_quaternion(quaternion))
 }
 
-/// How far from 1 the norm of a unit quaternion may be.
-const UNIT_TOLERANCE: f64 = 1e-6;
+/// How far from 1 the norm of a quaternion may be and still be taken as a
+/// unit quaternion written with few digits (normalised, with a note):
+/// four decimals leave norms within ~2·10⁻⁴ of 1.
+pub(crate) const NORMALISED_TOLERANCE: f64 = 1e-3;
+
+/// Below this, a norm's distance from 1 is rounding, normalised silently.
+pub(crate) const SILENT_TOLERANCE: f64 = 1e-6;
+
+/// How far the norm of `(qw, qx, qy, qz)` is from 1 when it is worth a note
+/// (above [`SILENT_TOLERANCE`]), `None` otherwise.
+pub(crate) fn quaternion_deviation(w: f64, x: f64, y: f64, z: f64) -> Option<f64> {
+    let deviation = (Quaternion::new(w, x, y, z).norm() - 1.0).abs();
+    (deviation > SILENT_TOLERANCE).then_some(deviation)
+}
 
 /// The transform of `[x, y, z, qw, qx, qy, qz]` (metres, then a unit
 /// quaternion), or why not.

@@ -30,10 +30,7 @@ enum Kind {
 /// A σ written with its unit, in gecaro's units (m, rad, fraction).
 fn quantity(text: &str) -> Result<(Kind, f64), String> {
     let text = text.trim();
-    let split = text
-        .find(|c: char| c.is_ascii_alphabetic() || c == '%' || c == '°' || c == 'µ')
-        .unwrap_or(text.len());
-    let (number, unit) = text.split_at(split);
+    let (number, unit) = text.split_at(number_length(text));
     let value: f64 = number
         .trim()
         .parse()
@@ -52,10 +49,47 @@ fn quantity(text: &str) -> Result<(Kind, f64), String> {
             ));
         }
     };
-    if !(value.is_finite() && value > 0.0) {
+    if !value.is_finite() {
+        return Err(format!("'{text}' is not a finite number"));
+    }
+    if value <= 0.0 {
         return Err(format!("'{text}': a standard deviation must be positive"));
     }
-    Ok((kind, value * factor))
+    let value = value * factor;
+    if value > gecaro_core::MAX_MAGNITUDE {
+        return Err(format!(
+            "'{text}' is no prior (beyond 1000 m, rad or gain): leave the prior out instead"
+        ));
+    }
+    Ok((kind, value))
+}
+
+/// The length of the number that starts `text`: sign, digits, decimals and
+/// an exponent (`1e-3mm` is 1e-3 millimetres, not 1 of the unit `e-3mm`).
+fn number_length(text: &str) -> usize {
+    let bytes = text.as_bytes();
+    let digits = |mut at: usize| {
+        while at < bytes.len() && bytes[at].is_ascii_digit() {
+            at += 1;
+        }
+        at
+    };
+    let mut end = usize::from(matches!(bytes.first(), Some(b'+' | b'-')));
+    end = digits(end);
+    if bytes.get(end) == Some(&b'.') {
+        end = digits(end + 1);
+    }
+    if matches!(bytes.get(end), Some(b'e' | b'E')) {
+        let mut exponent = end + 1;
+        if matches!(bytes.get(exponent), Some(b'+' | b'-')) {
+            exponent += 1;
+        }
+        let after = digits(exponent);
+        if after > exponent {
+            end = after;
+        }
+    }
+    end
 }
 
 /// Parses `5mm,0.5deg,1%` (see the module docs).
@@ -137,6 +171,11 @@ mod tests {
         assert!((prior.length - 0.005).abs() < 1e-15);
         assert!((prior.angle - 0.5_f64.to_radians()).abs() < 1e-15);
         assert!((prior.gain - 0.01).abs() < 1e-15);
+        // Exponents belong to the number, not the unit.
+        let prior = parse_prior("5e-1mm,1E-2deg,2.5e+0%").expect("prior");
+        assert!((prior.length - 5e-4).abs() < 1e-18);
+        assert!((prior.angle - 0.01_f64.to_radians()).abs() < 1e-18);
+        assert!((prior.gain - 0.025).abs() < 1e-15);
         let (id, sigma) = parse_override("theta2", "2deg").expect("override");
         assert_eq!(id.to_string(), "theta2");
         assert!((sigma - 2_f64.to_radians()).abs() < 1e-15);
@@ -151,6 +190,8 @@ mod tests {
             ("5ft,0.5deg,1%", "unknown unit 'ft'"),
             ("-5mm,0.5deg,1%", "must be positive"),
             ("abc", "not a number"),
+            ("1e308mm,0.5deg,1%", "is no prior"),
+            ("1e400mm,0.5deg,1%", "not a finite number"),
         ] {
             let error = parse_prior(text).expect_err(text);
             assert!(error.contains(expected), "{text}: {error}");

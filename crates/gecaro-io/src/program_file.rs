@@ -16,7 +16,7 @@
 
 use gecaro_calib::compensation::{CompensatedPoint, ProgramPoint, ProgramTarget};
 use gecaro_core::{FrameType, Robot};
-use nalgebra::{IsometryMatrix3, Quaternion, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{IsometryMatrix3, Translation3, Vector3};
 use std::path::Path;
 
 use crate::Error;
@@ -234,26 +234,18 @@ pub fn parse_program(
             (ProgramKind::Position, Some(position)) => ProgramTarget::Position(position),
             (ProgramKind::Pose, Some(position)) => {
                 let columns = orientation_columns.as_ref().map_or(&[][..], Vec::as_slice);
-                let quaternion = Quaternion::new(
+                let orientation = crate::pose::unit_quaternion(
                     number(columns[0])?,
                     number(columns[1])?,
                     number(columns[2])?,
                     number(columns[3])?,
-                );
-                if (quaternion.norm() - 1.0).abs() > 1e-6 {
-                    return Err(Error::parse(
-                        path,
-                        line,
-                        Some(header[columns[0]].clone()),
-                        format!(
-                            "(qw, qx, qy, qz) has norm {:.6}, not 1: it is not a unit quaternion",
-                            quaternion.norm()
-                        ),
-                    ));
-                }
+                )
+                .map_err(|message| {
+                    Error::parse(path, line, Some(header[columns[0]].clone()), message)
+                })?;
                 ProgramTarget::Pose(IsometryMatrix3::from_parts(
                     Translation3::from(position),
-                    UnitQuaternion::from_quaternion(quaternion).to_rotation_matrix(),
+                    orientation.to_rotation_matrix(),
                 ))
             }
         };

@@ -255,7 +255,7 @@ pub fn parse_priority_file(
 }
 
 fn toml_error(source: &Source<'_>, error: &toml::de::Error) -> Error {
-    let message = error.message().trim().to_owned();
+    let message = crate::error::toml_message(error, source.text);
     let message = match unknown_key(&message) {
         Some(key) => {
             let known = TOP_KEYS

@@ -127,7 +127,7 @@ pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
     };
     let raw: RawStudy = toml::from_str(&text).map_err(|error| {
         let line = error.span().map_or(1, |span| line_of(span.start));
-        Error::parse(path, line, None, error.message().trim().to_owned())
+        Error::parse(path, line, None, crate::error::toml_message(&error, &text))
     })?;
     let folder = path.parent().unwrap_or(Path::new("."));
     let relative = |name: &str| -> PathBuf { folder.join(name) };
@@ -334,6 +334,7 @@ pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
                 method.name()
             ));
         }
+        notes.extend(data.notes);
         let samples = data.samples;
         sets.push(MeasurementSet {
             method,

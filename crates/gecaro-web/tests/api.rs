@@ -563,7 +563,9 @@ async fn plan_chooses_configurations_draws_the_curve_and_refuses_bad_requests() 
         ("pool", json!(10_000_000)),
         ("criterion", json!("z")),
         ("curve", json!([0, 10])),
+        ("curve", json!([10, 1_000_000_000])),
         ("noise", json!(-1.0)),
+        ("noise", json!(1e308)),
     ] {
         let mut bad = request.clone();
         bad[field] = value.clone();
@@ -1039,4 +1041,63 @@ async fn a_listing_answers_while_jobs_run() {
     for job in jobs {
         assert_eq!(api.finished(job).await["state"], "done");
     }
+}
+
+/// Values that cannot give finite output, hostile robot files in the folder:
+/// each is a 4xx with a message, and the server lives on.
+#[tokio::test]
+async fn hostile_values_and_files_are_answers_not_crashes() {
+    let api = Api::new();
+    let document = api.document("stanford").await;
+    for (field, value) in [
+        ("error_level", json!(1e308)),
+        ("noise", json!(1e308)),
+        ("count", json!(1_000_000_000_000u64)),
+    ] {
+        let mut request =
+            json!({ "robot": document, "method": { "name": "position" }, "count": 10 });
+        request[field] = value.clone();
+        let (status, body) = api.post("/api/generate", &request).await;
+        assert_eq!(status, StatusCode::BAD_REQUEST, "{field} = {value}: {body}");
+    }
+    let mut unlimited = document.clone();
+    unlimited["frame"][1]["qmax"] = json!(1e308);
+    let (status, body) = api
+        .post(
+            "/api/generate",
+            &json!({ "robot": unlimited, "method": { "name": "position" }, "count": 10 }),
+        )
+        .await;
+    assert!(status.is_client_error(), "{status}: {body}");
+    // A URDF nested 5,000 deep and one of 100,000 joints, opened from the folder.
+    std::fs::write(
+        api.folder.path().join("deep.urdf"),
+        format!(
+            "<robot name=\"d\">{}{}</robot>",
+            "<a>".repeat(5000),
+            "</a>".repeat(5000)
+        ),
+    )
+    .expect("write");
+    let joints: String = (1..=100_000)
+        .map(|i| {
+            format!(
+                "<link name=\"l{i}\"/><joint name=\"j{i}\" type=\"revolute\"><parent link=\"l{}\"/>\
+                 <child link=\"l{i}\"/><axis xyz=\"0 0 1\"/></joint>",
+                i - 1
+            )
+        })
+        .collect();
+    std::fs::write(
+        api.folder.path().join("huge.urdf"),
+        format!("<robot name=\"h\"><link name=\"l0\"/>{joints}</robot>"),
+    )
+    .expect("write");
+    for name in ["deep.urdf", "huge.urdf"] {
+        let (status, body) = api.get(&format!("/api/robots/file?name={name}")).await;
+        assert!(status.is_client_error(), "{name}: {status} {body}");
+        assert!(error_text(&body).contains(name), "{body}");
+    }
+    let (status, _) = api.get("/api/info").await;
+    assert_eq!(status, StatusCode::OK);
 }

@@ -56,7 +56,7 @@ pub(super) fn parse_toml(text: &str, path: &Path, defaults: TableUnits) -> Resul
     };
     let document: TableDocument = toml::from_str(text).map_err(|error| {
         let line = error.span().map_or(1, |span| line_of(span.start));
-        Error::parse(path, line, None, error.message().trim().to_owned())
+        Error::parse(path, line, None, crate::error::toml_message(&error, text))
     })?;
     let angle = match &document.angle_unit {
         None => defaults.angle.unwrap_or_default(),

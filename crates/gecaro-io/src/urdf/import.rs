@@ -70,7 +70,7 @@ impl Source<'_> {
         Error::parse(
             self.path,
             self.element_line("joint", joint),
-            Some(format!("joint \"{joint}\"")),
+            Some(format!("joint \"{}\"", joint.escape_debug())),
             message,
         )
     }
@@ -79,7 +79,7 @@ impl Source<'_> {
         Error::parse(
             self.path,
             self.element_line("link", link),
-            Some(format!("link \"{link}\"")),
+            Some(format!("link \"{}\"", link.escape_debug())),
             message,
         )
     }
