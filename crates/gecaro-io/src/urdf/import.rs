@@ -114,7 +114,7 @@ impl Source<'_> {
             match reader.read_event() {
                 Err(error) => {
                     let offset = usize::try_from(reader.error_position()).unwrap_or(0);
-                    return Some((self.line_at(offset), error.to_string()));
+                    return Some((self.line_at(offset), brief(&error.to_string())));
                 }
                 Ok(quick_xml::events::Event::Eof) => return None,
                 Ok(_) => {}
@@ -137,6 +137,18 @@ impl Source<'_> {
         quoted
             .and_then(|value| self.text.find(&format!("\"{value}\"")))
             .map_or(1, |offset| self.line_at(offset))
+    }
+}
+
+/// A parser's message as one short line: its first line, at most 200
+/// characters (a malformed tag can make the parser quote pages of the file).
+fn brief(message: &str) -> String {
+    const LONGEST: usize = 200;
+    let first = message.lines().next().unwrap_or("");
+    if first.chars().count() > LONGEST || first.len() < message.trim_end().len() {
+        format!("{}…", first.chars().take(LONGEST).collect::<String>())
+    } else {
+        first.to_owned()
     }
 }
 
@@ -423,7 +435,7 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
                 source.locate(&message),
                 format!(
                     "not a valid URDF: {}",
-                    message.trim_start_matches("custom: ")
+                    brief(message.trim_start_matches("custom: "))
                 ),
             )
         }
