@@ -38,6 +38,16 @@ fn mkfifo(path: &Path) {
     assert!(status.success());
 }
 
+/// Runs `command` with its output captured, for at most 30 s.
+fn run_bounded(command: &mut Command) -> std::process::Output {
+    let child = command
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("runs");
+    wait_bounded(child, Duration::from_secs(30))
+}
+
 /// Waits for `child` at most `limit`; kills it and fails when it hangs.
 fn wait_bounded(mut child: std::process::Child, limit: Duration) -> std::process::Output {
     let start = std::time::Instant::now();
@@ -74,14 +84,11 @@ fn a_fifo_output_receives_the_file() {
         let fifo = fifo.clone();
         std::thread::spawn(move || std::fs::read_to_string(fifo).expect("read the FIFO"))
     };
-    let child = gecaro()
-        .args(["robot", "new", "--joints", "RR", "-o"])
-        .arg(&fifo)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("runs");
-    let output = wait_bounded(child, Duration::from_secs(30));
+    let output = run_bounded(
+        gecaro()
+            .args(["robot", "new", "--joints", "RR", "-o"])
+            .arg(&fifo),
+    );
     assert!(output.status.success(), "{output:?}");
     assert!(reader.join().expect("reader").contains("[[frame]]"));
     use std::os::unix::fs::FileTypeExt as _;
@@ -99,14 +106,11 @@ fn a_fifo_input_is_refused_without_waiting_for_a_writer() {
     let folder = tempfile::tempdir().expect("folder");
     let fifo = folder.path().join("data.csv");
     mkfifo(&fifo);
-    let child = gecaro()
-        .args(["evaluate", "stanford", "--method", "position", "--data"])
-        .arg(&fifo)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("runs");
-    let output = wait_bounded(child, Duration::from_secs(30));
+    let output = run_bounded(
+        gecaro()
+            .args(["evaluate", "stanford", "--method", "position", "--data"])
+            .arg(&fifo),
+    );
     assert_eq!(output.status.code(), Some(3));
     assert!(
         String::from_utf8_lossy(&output.stderr).contains("not a regular file"),
