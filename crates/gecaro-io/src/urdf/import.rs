@@ -179,6 +179,12 @@ impl<'a> Tree<'a> {
     fn new(robot: &'a urdf_rs::Robot, source: &Source<'_>) -> Result<Self, Error> {
         let mut links = HashSet::new();
         for link in &robot.links {
+            if link.name.trim().is_empty() {
+                return Err(source.error(
+                    source.element_line("link", ""),
+                    "a <link> without a name: every link of a URDF is named",
+                ));
+            }
             if !links.insert(link.name.as_str()) {
                 return Err(source.link_error(&link.name, "a second link of this name"));
             }
@@ -626,13 +632,19 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
             format!(", {} fixed folded", folded.len())
         }
     );
+    let urdf_robot_name = if robot.name.trim().is_empty() {
+        robot_model.name().to_owned()
+    } else {
+        robot.name.clone()
+    };
     Ok(Imported {
         file: RobotFile {
             robot: robot_model,
             description: Some(description),
             angle_unit: AngleUnit::Radians,
             urdf: Some(UrdfNames {
-                robot: robot.name.clone(),
+                // A URDF without a robot name gets the robot's (written back, it must have one).
+                robot: urdf_robot_name,
                 base_link: base.to_owned(),
                 world_from_base_link: IsometryMatrix3::identity(),
                 joints: names,
