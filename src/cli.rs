@@ -142,6 +142,13 @@ pub(crate) struct DataFormatArgs {
     /// columns not used are left alone.
     #[arg(long, value_name = "NAME=COLUMN,..")]
     pub(crate) columns: Option<String>,
+    /// The field separator (default: found from the header line).
+    #[arg(long, value_parser = names(&gecaro_io::Delimiter::NAMES))]
+    pub(crate) delimiter: Option<String>,
+    /// Numbers are written with a decimal comma (`0,25`). Without it, a
+    /// decimal comma is read where fields are separated by `;` or tabs.
+    #[arg(long)]
+    pub(crate) decimal_comma: bool,
 }
 
 #[derive(Debug, Args)]

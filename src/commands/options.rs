@@ -114,6 +114,8 @@ pub(crate) fn data_format(args: &DataFormatArgs) -> DataFormatSpec {
         length_unit: args.units.length_unit.clone(),
         angle_unit: args.units.angle_unit.clone(),
         columns: args.columns.clone(),
+        delimiter: args.delimiter.clone(),
+        decimal_comma: args.decimal_comma.then_some(true),
     }
 }
 

@@ -113,8 +113,7 @@ impl CompensateRequest {
                     &mut opened.reader,
                     &opened.path,
                     &nominal.robot,
-                    format.units,
-                    &format.columns,
+                    &format,
                 )?;
                 let points = program.points.clone();
                 (Some(program), points)

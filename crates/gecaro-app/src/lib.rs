@@ -99,5 +99,6 @@ pub use plan::{
 pub use robot_files::{calibrated_robot_file, simulated_robot_file};
 pub use settings::{FitSettings, PrioritySource};
 pub use sources::{
-    DataFormatSpec, DataRead, DataSource, RobotSource, angle_unit, length_unit, robot_of_document,
+    DataFormatSpec, DataRead, DataSource, RobotSource, angle_unit, delimiter, length_unit,
+    robot_of_document,
 };

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use gecaro_calib::study::{DataColumn, Sample};
 use gecaro_io::{
-    AngleUnit, ColumnMap, DataFormat, DataUnits, LengthUnit, RobotDocument, RobotFile,
+    AngleUnit, ColumnMap, DataFormat, DataUnits, Delimiter, LengthUnit, RobotDocument, RobotFile,
 };
 use serde::Deserialize;
 
@@ -203,6 +203,12 @@ pub struct DataFormatSpec {
     pub angle_unit: Option<String>,
     /// Other column names: `x=X_mm,qm1=A1`.
     pub columns: Option<String>,
+    /// The field separator: `auto` (default: found from the header),
+    /// `comma`, `semicolon`, `tab`.
+    pub delimiter: Option<String>,
+    /// Numbers with a decimal comma: allowed by default where fields are not
+    /// separated by commas; `true` requires, `false` refuses them.
+    pub decimal_comma: Option<bool>,
 }
 
 impl DataFormatSpec {
@@ -226,7 +232,29 @@ impl DataFormatSpec {
                 Some(text) => ColumnMap::parse(text)
                     .map_err(|message| AppError::setting("columns", message))?,
             },
+            delimiter: delimiter(self.delimiter.as_deref())?,
+            decimal_comma: self.decimal_comma,
         })
+    }
+}
+
+/// A field separator by name (`auto`, `comma`, `semicolon`, `tab`; `;` and
+/// the like too); none: found from the header.
+///
+/// # Errors
+/// An unknown name, naming the `delimiter` setting.
+pub fn delimiter(name: Option<&str>) -> Result<Delimiter, AppError> {
+    match name {
+        None => Ok(Delimiter::Detect),
+        Some(name) => Delimiter::from_name(name).ok_or_else(|| {
+            AppError::setting(
+                "delimiter",
+                format!(
+                    "{name:?} is not a separator: {}",
+                    Delimiter::NAMES.join(", ")
+                ),
+            )
+        }),
     }
 }
 

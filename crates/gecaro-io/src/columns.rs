@@ -1,12 +1,88 @@
 //! Columns of CSV files as other programs write them: found by name in any
 //! order, renamed by the user (`--columns x=X_mm,y=Y_mm`), in millimetres
 //! and degrees, next to columns gecaro does not use (time stamps, point
-//! names) which are left alone.
+//! names) which are left alone; separated by commas, semicolons or tabs
+//! ([`Delimiter`], found from the header line), with decimal points or, where
+//! the separator is not a comma, decimal commas.
 
 use gecaro_core::{FrameType, Robot};
 
 use crate::robot_file::AngleUnit;
 use crate::units::LengthUnit;
+
+/// The field separator of a CSV file.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum Delimiter {
+    /// Found from the header line: the most frequent of `,`, `;` and tab
+    /// (a comma on a tie).
+    #[default]
+    Detect,
+    /// `,`
+    Comma,
+    /// `;` (spreadsheets in locales whose decimal mark is a comma)
+    Semicolon,
+    /// a tab
+    Tab,
+}
+
+impl Delimiter {
+    /// Names a user may give: `auto`, `comma` or `,`, `semicolon` or `;`,
+    /// `tab` or `\t`.
+    pub const NAMES: [&'static str; 4] = ["auto", "comma", "semicolon", "tab"];
+
+    /// The separator of a name (see [`NAMES`](Self::NAMES)).
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name.trim() {
+            "auto" | "detect" => Some(Delimiter::Detect),
+            "comma" | "," => Some(Delimiter::Comma),
+            "semicolon" | ";" => Some(Delimiter::Semicolon),
+            "tab" | "\\t" | "\t" => Some(Delimiter::Tab),
+            _ => None,
+        }
+    }
+
+    /// The byte separating the fields of a file whose header line is `header`.
+    pub(crate) fn byte(self, header: &[u8]) -> u8 {
+        match self {
+            Delimiter::Comma => b',',
+            Delimiter::Semicolon => b';',
+            Delimiter::Tab => b'\t',
+            Delimiter::Detect => {
+                let count = |byte: u8| header.iter().filter(|b| **b == byte).count();
+                let (comma, semicolon, tab) = (count(b','), count(b';'), count(b'\t'));
+                if semicolon > comma && semicolon >= tab {
+                    b';'
+                } else if tab > comma && tab > semicolon {
+                    b'\t'
+                } else {
+                    b','
+                }
+            }
+        }
+    }
+}
+
+/// Reads a number of a CSV field: a decimal point, or a decimal comma
+/// where `decimal_comma` says so.
+pub(crate) fn parse_number(text: &str, decimal_comma: bool) -> Option<f64> {
+    if decimal_comma && text.contains(',') {
+        text.replacen(',', ".", 1).parse().ok()
+    } else {
+        text.parse().ok()
+    }
+}
+
+/// The words of a message about a field that is not a number.
+pub(crate) fn not_a_number(text: &str, decimal_comma: bool) -> String {
+    if !decimal_comma && text.contains(',') && parse_number(text, true).is_some() {
+        format!(
+            "`{text}` is not a number: a decimal comma needs fields separated by `;` or tabs \
+             (the file's fields are separated by commas)"
+        )
+    } else {
+        format!("`{text}` is not a number")
+    }
+}
 
 /// gecaro's column names mapped to a file's (`x=X_mm`): the file's name is
 /// looked up instead of gecaro's.

@@ -25,7 +25,7 @@ use std::io::Read;
 use std::path::Path;
 
 use crate::Error;
-use crate::columns::{ColumnMap, DataUnits, locate};
+use crate::columns::{ColumnMap, DataUnits, Delimiter, locate, not_a_number, parse_number};
 use crate::input::{csv_error, csv_reader, open_regular};
 use crate::output::{OutputPolicy, write_with};
 use crate::pose::{NORMALISED_TOLERANCE, SILENT_TOLERANCE, quaternion_deviation, unit_quaternion};
@@ -44,6 +44,31 @@ pub struct DataFormat {
     pub units: DataUnits,
     /// Columns under other names.
     pub columns: ColumnMap,
+    /// The field separator (found from the header line by default).
+    pub delimiter: Delimiter,
+    /// Whether numbers have a decimal comma: `None` (default) allows it
+    /// where fields are not separated by commas, `Some(true)` requires such
+    /// a separator, `Some(false)` refuses decimal commas.
+    pub decimal_comma: Option<bool>,
+}
+
+impl DataFormat {
+    /// Whether numbers are read with a decimal comma in a file whose fields
+    /// are separated by `separator`.
+    ///
+    /// # Errors
+    /// A decimal comma asked for in a comma-separated file.
+    pub(crate) fn decimal_comma(&self, separator: u8) -> Result<bool, String> {
+        match (self.decimal_comma, separator) {
+            (Some(true), b',') => Err(
+                "a decimal comma needs fields separated by `;` or tabs, and this file's are \
+                 separated by commas (give the separator)"
+                    .into(),
+            ),
+            (Some(wanted), _) => Ok(wanted),
+            (None, separator) => Ok(separator != b','),
+        }
+    }
 }
 
 /// A data file read.
@@ -112,7 +137,10 @@ pub fn parse_samples(
     format: &DataFormat,
 ) -> Result<DataFile, Error> {
     let expected = data_headers(joint_types.len(), columns);
-    let mut csv = csv_reader(reader);
+    let (mut csv, separator) = csv_reader(reader, format.delimiter);
+    let decimal_comma = format
+        .decimal_comma(separator)
+        .map_err(|message| Error::parse(path, 1, None, message))?;
     let fail = |line: usize, field: Option<&str>, message: String| {
         Error::parse(path, line, field.map(str::to_owned), message)
     };
@@ -204,17 +232,17 @@ pub fn parse_samples(
         }
         let value = |column: usize| -> Result<f64, Error> {
             let text = record[column].trim();
-            match text.parse::<f64>() {
-                Ok(number) if number.is_finite() => Ok(number),
-                Ok(_) => Err(fail(
+            match parse_number(text, decimal_comma) {
+                Some(number) if number.is_finite() => Ok(number),
+                Some(_) => Err(fail(
                     line,
                     Some(&names[column]),
                     format!("`{text}` is not a finite number"),
                 )),
-                Err(_) => Err(fail(
+                None => Err(fail(
                     line,
                     Some(&names[column]),
-                    format!("`{text}` is not a number"),
+                    not_a_number(text, decimal_comma),
                 )),
             }
         };
@@ -299,8 +327,8 @@ fn header_read(names: &[String]) -> String {
     };
     match separator {
         Some(separator) => format!(
-            " (the header read is one column, `{read}`: this file is separated by {separator}, \
-             gecaro reads commas)"
+            " (the header read is one column, `{read}`: its fields seem separated by \
+             {separator}; give that separator, or let it be found)"
         ),
         None => format!(" (the header read: `{read}`)"),
     }
@@ -490,6 +518,55 @@ mod tests {
     }
 
     #[test]
+    fn separators_are_found_and_decimal_commas_read() {
+        let read = |text: &str, format: &DataFormat| {
+            parse_samples(
+                text.as_bytes(),
+                Path::new("t.csv"),
+                &TWO_REVOLUTE,
+                &[DataColumn::Position],
+                format,
+            )
+        };
+        let plain =
+            read("qm1,qm2,x,y,z\n0.5,1,2.25,3,4\n", &DataFormat::default()).expect("commas");
+        for text in [
+            "qm1;qm2;x;y;z\n0,5;1;2,25;3;4\n",
+            "# exported by a spreadsheet\nqm1\tqm2\tx\ty\tz\n0,5\t1\t2.25\t3\t4\n",
+            "qm1;qm2;x;y;z\n0.5;1;2.25;3;4\n",
+        ] {
+            let found =
+                read(text, &DataFormat::default()).unwrap_or_else(|e| panic!("{text}: {e}"));
+            let values = |file: &DataFile| {
+                file.samples
+                    .iter()
+                    .map(|sample| (sample.motor_positions.clone(), sample.position))
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(values(&found), values(&plain), "{text}");
+        }
+        let refused = DataFormat {
+            decimal_comma: Some(false),
+            ..DataFormat::default()
+        };
+        let error = read("qm1;qm2;x;y;z\n0,5;1;2;3;4\n", &refused).expect_err("refused");
+        assert!(
+            error.to_string().contains("`0,5` is not a number"),
+            "{error}"
+        );
+        let contradiction = DataFormat {
+            delimiter: Delimiter::Comma,
+            decimal_comma: Some(true),
+            ..DataFormat::default()
+        };
+        let error = read("qm1,qm2,x,y,z\n0,1,2,3,4\n", &contradiction).expect_err("no");
+        assert!(
+            error.to_string().contains("needs fields separated by"),
+            "{error}"
+        );
+    }
+
+    #[test]
     fn instruments_files_in_millimetres_and_degrees_with_their_own_columns() {
         // A tracker export: time stamps and point names around the values,
         // positions in mm, a revolute joint in degrees and a prismatic one in mm.
@@ -501,6 +578,7 @@ mod tests {
                 angle: crate::AngleUnit::Degrees,
             },
             columns: ColumnMap::parse("qm1=A1,qm2=A2,x=X_mm,y=Y_mm,z=Z_mm").expect("valid"),
+            ..DataFormat::default()
         };
         let joints = [FrameType::Revolute, FrameType::Prismatic];
         let file = parse_samples(

@@ -9,6 +9,7 @@ use std::io::Read;
 use std::path::Path;
 
 use crate::Error;
+use crate::columns::Delimiter;
 
 /// Largest robot, study or priority file (TOML, URDF, tables).
 pub(crate) const MAX_DESCRIPTION_BYTES: u64 = 64 << 20;
@@ -107,13 +108,30 @@ pub(crate) fn read_text(path: &Path, limit: u64) -> Result<String, Error> {
 /// record (so that its line is known), `#` starts a comment, rows may have
 /// any length (callers check it and name the line), fields are not trimmed
 /// (callers trim the slices they read), and lines are capped at
-/// [`MAX_LINE_BYTES`].
-pub(crate) fn csv_reader<R: Read>(reader: R) -> csv::Reader<LineLimit<R>> {
-    csv::ReaderBuilder::new()
+/// [`MAX_LINE_BYTES`]. The separator is `delimiter`, or found from the first
+/// line that is not a comment; the byte chosen is returned too.
+pub(crate) fn csv_reader<R: Read>(
+    reader: R,
+    delimiter: Delimiter,
+) -> (csv::Reader<LineLimit<std::io::BufReader<R>>>, u8) {
+    let mut buffered = std::io::BufReader::with_capacity(1 << 16, reader);
+    let header = std::io::BufRead::fill_buf(&mut buffered)
+        .ok()
+        .and_then(|bytes| {
+            bytes
+                .split(|byte| *byte == b'\n')
+                .find(|line| !line.starts_with(b"#") && !line.iter().all(u8::is_ascii_whitespace))
+                .map(<[u8]>::to_vec)
+        })
+        .unwrap_or_default();
+    let byte = delimiter.byte(&header);
+    let reader = csv::ReaderBuilder::new()
         .has_headers(false)
+        .delimiter(byte)
         .comment(Some(b'#'))
         .flexible(true)
-        .from_reader(LineLimit::new(reader, MAX_LINE_BYTES))
+        .from_reader(LineLimit::new(buffered, MAX_LINE_BYTES));
+    (reader, byte)
 }
 
 /// A CSV error as a parse error naming the file and the line.

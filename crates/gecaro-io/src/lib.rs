@@ -31,7 +31,7 @@ mod symoro;
 mod units;
 mod urdf;
 
-pub use columns::{ColumnMap, DataUnits, joint_types};
+pub use columns::{ColumnMap, DataUnits, Delimiter, joint_types};
 pub use conversion::{ChainEnds, Exported, Imported};
 pub use data_file::{
     DataFile, DataFormat, MAX_CONFIGURATIONS, data_headers, format_samples, parse_samples,

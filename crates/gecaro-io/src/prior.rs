@@ -21,14 +21,14 @@ use gecaro_core::{ParameterId, ParameterKind};
 
 /// What a σ with its unit measures.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
-enum Kind {
+pub(crate) enum Kind {
     Length,
     Angle,
     Gain,
 }
 
 /// A σ written with its unit, in gecaro's units (m, rad, fraction).
-fn quantity(text: &str) -> Result<(Kind, f64), String> {
+pub(crate) fn quantity(text: &str) -> Result<(Kind, f64), String> {
     let text = text.trim();
     let (number, unit) = text.split_at(number_length(text));
     let value: f64 = number

@@ -20,7 +20,8 @@ use nalgebra::{IsometryMatrix3, Translation3, Vector3};
 use std::path::Path;
 
 use crate::Error;
-use crate::columns::{ColumnMap, DataUnits, joint_types, locate};
+use crate::columns::{DataUnits, joint_types, locate, not_a_number, parse_number};
+use crate::data_file::DataFormat;
 use crate::input::{csv_error, csv_reader, open_regular};
 
 /// What a program's targets are.
@@ -54,19 +55,15 @@ pub struct ProgramFile {
 /// Most targets a program may hold (as many as a data file's configurations).
 const MAX_TARGETS: usize = crate::data_file::MAX_CONFIGURATIONS;
 
-/// Reads a program for `robot` in `units`, columns renamed by `map`.
+/// Reads a program for `robot` written as `format` says (units, column
+/// names, separator, decimal mark).
 ///
 /// # Errors
 /// [`Error::Read`] when it cannot be opened (or is not a regular file),
 /// [`Error::Parse`] with line and column for any problem of content.
-pub fn read_program(
-    path: &Path,
-    robot: &Robot,
-    units: DataUnits,
-    map: &ColumnMap,
-) -> Result<ProgramFile, Error> {
+pub fn read_program(path: &Path, robot: &Robot, format: &DataFormat) -> Result<ProgramFile, Error> {
     let (file, _) = open_regular(path)?;
-    parse_program(std::io::BufReader::new(file), path, robot, units, map)
+    parse_program(file, path, robot, format)
 }
 
 /// [`read_program`] from a reader; `path` names the program in messages.
@@ -77,10 +74,13 @@ pub fn parse_program(
     reader: impl std::io::Read,
     path: &Path,
     robot: &Robot,
-    units: DataUnits,
-    map: &ColumnMap,
+    format: &DataFormat,
 ) -> Result<ProgramFile, Error> {
-    let mut reader = csv_reader(reader);
+    let (units, map) = (format.units, &format.columns);
+    let (mut reader, separator) = csv_reader(reader, format.delimiter);
+    let decimal_comma = format
+        .decimal_comma(separator)
+        .map_err(|message| Error::parse(path, 1, None, message))?;
     let csv_error = |error: csv::Error| csv_error(path, &error);
     let mut records = reader.records();
     let n = robot.joint_count();
@@ -188,19 +188,19 @@ pub fn parse_program(
         }
         let number = |column: usize| -> Result<f64, Error> {
             let text = record[column].trim();
-            match text.parse::<f64>() {
-                Ok(value) if value.is_finite() => Ok(value),
-                Ok(_) => Err(Error::parse(
+            match parse_number(text, decimal_comma) {
+                Some(value) if value.is_finite() => Ok(value),
+                Some(_) => Err(Error::parse(
                     path,
                     line,
                     Some(header[column].clone()),
                     format!("`{text}` is not a finite number"),
                 )),
-                Err(_) => Err(Error::parse(
+                None => Err(Error::parse(
                     path,
                     line,
                     Some(header[column].clone()),
-                    format!("`{text}` is not a number"),
+                    not_a_number(text, decimal_comma),
                 )),
             }
         };

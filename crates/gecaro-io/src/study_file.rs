@@ -23,8 +23,15 @@
 //! length_unit = "mm"            # positions (and prismatic joints) in mm
 //! angle_unit = "deg"            # joint angles in degrees
 //! columns = { x = "X", y = "Y", z = "Z", qm1 = "A1" }   # other column names
-//! sigma = 0.00002               # σ stays in metres (radians)
+//! delimiter = ";"               # optional: found from the header by default
+//! decimal_comma = true          # optional: allowed by default where fields are not comma-separated
+//! sigma = 0.02                  # in the set's length unit (here mm): 20 µm
+//! # sigma_rotation = 0.01       # in the set's angle unit (here degrees)
 //! ```
+//!
+//! A σ is a number in its set's units (`length_unit`, `angle_unit`: metres and
+//! radians unless said), or a text with its own unit: `sigma = "0.02mm"`,
+//! `sigma_rotation = "0.01deg"`.
 //!
 //! `length_unit` and `angle_unit` may also stand at the top, for every set.
 //! An optional `[prior]` table puts a Gaussian prior on the parameters
@@ -47,9 +54,10 @@ use std::path::{Path, PathBuf};
 use toml::Spanned;
 
 use crate::Error;
-use crate::columns::{ColumnMap, DataUnits, joint_types};
+use crate::columns::{ColumnMap, DataUnits, Delimiter, joint_types};
 use crate::data_file::{DataFormat, read_samples};
 use crate::input::{MAX_DESCRIPTION_BYTES, read_text};
+use crate::prior::{Kind, quantity};
 use crate::ready::load_robot;
 use crate::robot_file::AngleUnit;
 use crate::robot_file::RobotFile;
@@ -81,8 +89,8 @@ struct RawPrior {
 struct RawMeasurement {
     method: Spanned<String>,
     data: Spanned<String>,
-    sigma: Spanned<f64>,
-    sigma_rotation: Option<Spanned<f64>>,
+    sigma: Spanned<Sigma>,
+    sigma_rotation: Option<Spanned<Sigma>>,
     plane: Option<Spanned<String>>,
     plane_normal: Option<Spanned<Vec<f64>>>,
     plane_point: Option<Spanned<Vec<f64>>>,
@@ -91,6 +99,17 @@ struct RawMeasurement {
     length_unit: Option<Spanned<String>>,
     angle_unit: Option<Spanned<String>>,
     columns: Option<Spanned<std::collections::BTreeMap<String, String>>>,
+    delimiter: Option<Spanned<String>>,
+    decimal_comma: Option<bool>,
+}
+
+/// A standard deviation as a study writes it: a number in the set's own
+/// unit, or a text with its unit (`"0.02mm"`, `"0.01deg"`).
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum Sigma {
+    Number(f64),
+    WithUnit(String),
 }
 
 /// A study read from a file, with its robot.
@@ -202,29 +221,18 @@ pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
     let mut notes = Vec::new();
     for measurement in raw.measurements.get_ref() {
         let table = measurement.get_ref();
-        let sigma = *table.sigma.get_ref();
-        if !(sigma.is_finite() && sigma > 0.0) {
-            return Err(fail(
-                table.sigma.span(),
-                "sigma",
-                format!("must be a positive standard deviation, not {sigma}"),
-            ));
-        }
+        let units = DataUnits {
+            length: length_unit(&table.length_unit, study_units.length)?,
+            angle: angle_unit(&table.angle_unit, study_units.angle)?,
+        };
+        let sigma = standard_deviation(&table.sigma, "sigma", Kind::Length, units)
+            .map_err(|(span, message)| fail(span, "sigma", message))?;
         let sigma_rotation = match &table.sigma_rotation {
             None => None,
-            Some(value) if value.get_ref().is_finite() && *value.get_ref() > 0.0 => {
-                Some(*value.get_ref())
-            }
-            Some(value) => {
-                return Err(fail(
-                    value.span(),
-                    "sigma_rotation",
-                    format!(
-                        "must be a positive standard deviation, not {}",
-                        value.get_ref()
-                    ),
-                ));
-            }
+            Some(value) => Some(
+                standard_deviation(value, "sigma_rotation", Kind::Angle, units)
+                    .map_err(|(span, message)| fail(span, "sigma_rotation", message))?,
+            ),
         };
         let vector = |field: &Option<Spanned<Vec<f64>>>,
                       name: &str|
@@ -313,17 +321,30 @@ pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
         let method = gecaro_calib::methods::method(table.method.get_ref(), &options)
             .map_err(|error| fail(table.method.span(), "method", error.to_string()))?;
         let data_path = relative(table.data.get_ref());
+        let delimiter = match &table.delimiter {
+            None => Delimiter::Detect,
+            Some(name) => Delimiter::from_name(name.get_ref()).ok_or_else(|| {
+                fail(
+                    name.span(),
+                    "delimiter",
+                    format!(
+                        "must be one of {}, not {:?}",
+                        Delimiter::NAMES.join(", "),
+                        name.get_ref()
+                    ),
+                )
+            })?,
+        };
         let format = DataFormat {
-            units: DataUnits {
-                length: length_unit(&table.length_unit, study_units.length)?,
-                angle: angle_unit(&table.angle_unit, study_units.angle)?,
-            },
+            units,
             columns: table
                 .columns
                 .as_ref()
                 .map_or_else(ColumnMap::default, |columns| {
                     ColumnMap::from_pairs(columns.get_ref().clone())
                 }),
+            delimiter,
+            decimal_comma: table.decimal_comma,
         };
         let data = read_samples(&data_path, &types, method.data_columns(), &format)?;
         if !data.unused_columns.is_empty() {
@@ -351,4 +372,97 @@ pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
         prior,
         notes,
     })
+}
+
+/// A set's σ in metres (`Kind::Length`) or radians (`Kind::Angle`): a number
+/// is in the set's length or angle unit, a text carries its own unit.
+fn standard_deviation(
+    value: &Spanned<Sigma>,
+    key: &str,
+    kind: Kind,
+    units: DataUnits,
+) -> Result<f64, (std::ops::Range<usize>, String)> {
+    let (sigma, shown) = match value.get_ref() {
+        Sigma::Number(number) => {
+            let scale = match kind {
+                Kind::Length => units.length.to_metres(),
+                _ => match units.angle {
+                    AngleUnit::Degrees => std::f64::consts::PI / 180.0,
+                    AngleUnit::Radians => 1.0,
+                },
+            };
+            (number * scale, gecaro_core::Compact(*number).to_string())
+        }
+        Sigma::WithUnit(text) => {
+            let (found, sigma) = quantity(text).map_err(|message| (value.span(), message))?;
+            if found != kind {
+                let wanted = if kind == Kind::Length {
+                    "a length (m, mm, um)"
+                } else {
+                    "an angle (rad, deg)"
+                };
+                return Err((value.span(), format!("{key} = {text:?} must be {wanted}")));
+            }
+            (sigma, text.clone())
+        }
+    };
+    if sigma.is_finite() && sigma > 0.0 {
+        Ok(sigma)
+    } else {
+        Err((
+            value.span(),
+            format!("must be a positive standard deviation, not {shown}"),
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A study of one position set in `folder`, with `sigma_line` in its table.
+    fn study(folder: &Path, sigma_line: &str) -> Result<StudyFile, Error> {
+        std::fs::write(
+            folder.join("data.csv"),
+            "qm1;qm2;qm3;qm4;qm5;qm6;X;Y;Z\n\
+             0,1;0,2;0,3;0,1;0,2;0,3;100,5;200,25;300\n",
+        )
+        .expect("data");
+        let path = folder.join("study.toml");
+        std::fs::write(
+            &path,
+            format!(
+                "robot = \"stanford\"\n[[measurements]]\nmethod = \"position\"\n\
+                 data = \"data.csv\"\nlength_unit = \"mm\"\n\
+                 columns = {{ x = \"X\", y = \"Y\", z = \"Z\" }}\n{sigma_line}\n"
+            ),
+        )
+        .expect("study");
+        read_study_file(&path)
+    }
+
+    #[test]
+    fn sigmas_are_in_the_sets_units_or_their_own() {
+        let folder = tempfile::tempdir().expect("folder");
+        for line in [
+            "sigma = 0.02",
+            "sigma = \"0.02mm\"",
+            "sigma = \"20um\"",
+            "sigma = \"2e-5m\"",
+        ] {
+            let file = study(folder.path(), line).unwrap_or_else(|error| panic!("{line}: {error}"));
+            let sigma = file.study.sets[0].sigma.expect("sigma");
+            assert!((sigma - 2e-5).abs() < 1e-15, "{line}: {sigma}");
+            // Fields separated by `;` with decimal commas, in millimetres.
+            let position = file.study.sets[0].samples[0].position.expect("position");
+            assert!((position.x - 0.1005).abs() < 1e-12, "{position}");
+        }
+        let error = study(folder.path(), "sigma = \"0.02deg\"").expect_err("an angle");
+        assert!(error.to_string().contains("must be a length"), "{error}");
+        let error = study(folder.path(), "sigma = -1").expect_err("negative");
+        assert!(
+            error.to_string().contains("positive standard deviation"),
+            "{error}"
+        );
+    }
 }

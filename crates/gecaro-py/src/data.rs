@@ -6,7 +6,7 @@
 //! `(qw, qx, qy, qz)` of frame n+1 in the world frame; `set` (link methods)
 //! and `pair` (distance) are integer ids; `distance` is in metres.
 
-use gecaro_app::{DataSource, Files, LocalFiles, angle_unit, length_unit};
+use gecaro_app::{DataSource, Files, LocalFiles, angle_unit, delimiter, length_unit};
 use gecaro_calib::study::{DataColumn, Sample};
 use gecaro_io::{ColumnMap, DataFormat, DataUnits, format_samples, joint_types};
 use nalgebra::Vector3;
@@ -179,8 +179,13 @@ impl PyData {
     /// `columns` ({"x": "X_mm"} or "x=X_mm,…"), lengths in `length_unit`
     /// ("m", "mm"), revolute joint values in `angle_unit` ("rad", "deg").
     /// Columns the method does not use are listed in `unused_columns`.
+    /// Fields are separated by `delimiter` ("comma", "semicolon", "tab";
+    /// by default found from the header), and numbers may have a decimal
+    /// comma where fields are not comma-separated (`decimal_comma` True
+    /// requires, False refuses it).
     #[staticmethod]
-    #[pyo3(signature = (path, robot, method, *, length_unit = None, angle_unit = None, columns = None))]
+    #[pyo3(signature = (path, robot, method, *, length_unit = None, angle_unit = None, columns = None, delimiter = None, decimal_comma = None))]
+    #[allow(clippy::too_many_arguments)]
     fn read(
         path: PathBuf,
         robot: PyRef<'_, PyRobot>,
@@ -188,6 +193,8 @@ impl PyData {
         length_unit: Option<&str>,
         angle_unit: Option<&str>,
         columns: Option<&Bound<'_, PyAny>>,
+        delimiter: Option<&str>,
+        decimal_comma: Option<bool>,
     ) -> PyResult<Self> {
         let method = method_of(method)?;
         let format = DataFormat {
@@ -196,6 +203,8 @@ impl PyData {
                 angle: self::angle_unit(angle_unit).py()?.unwrap_or_default(),
             },
             columns: column_map(columns)?,
+            delimiter: self::delimiter(delimiter).py()?,
+            decimal_comma,
         };
         let file = DataSource::File(path.display().to_string())
             .read(

@@ -162,6 +162,45 @@ def test_tracker_units_and_columns(repository, cli):
     ).qm.tolist() == data.qm.tolist()
 
 
+def test_files_separated_by_semicolons_with_decimal_commas(repository, cli, tmp_path):
+    folder = repository / "examples" / "tracker"
+    robot = gecaro.Robot.import_file(folder / "kr16_2.urdf")
+    columns = {f"qm{j}": f"A{j}" for j in range(1, 7)} | {"x": "X", "y": "Y", "z": "Z"}
+    original = gecaro.Data.read(
+        folder / "tracker.csv", robot, "position", length_unit="mm", angle_unit="deg", columns=columns
+    )
+    european = tmp_path / "tracker_eu.csv"
+    lines = (folder / "tracker.csv").read_text().splitlines()
+    european.write_text(
+        "\n".join(line.replace(",", ";") if line.startswith("#") else line.replace(",", ";").replace(".", ",")
+                  for line in lines) + "\n"
+    )
+    found = gecaro.Data.read(
+        european, robot, "position", length_unit="mm", angle_unit="deg", columns=columns
+    )
+    assert found.qm.tolist() == original.qm.tolist()
+    assert found.position.tolist() == original.position.tolist()
+    told = gecaro.Data.read(
+        european, robot, "position", length_unit="mm", angle_unit="deg", columns=columns,
+        delimiter="semicolon", decimal_comma=True,
+    )
+    assert told.qm.tolist() == original.qm.tolist()
+    with pytest.raises(gecaro.InputError, match="decimal comma"):
+        gecaro.Data.read(
+            european, robot, "position", length_unit="mm", angle_unit="deg", columns=columns,
+            decimal_comma=False,
+        )
+    # The command line reads it the same way.
+    robot.save(tmp_path / "kr16.toml")
+    text = ",".join(f"{k}={v}" for k, v in columns.items())
+    from_cli = cli.json(
+        "identify", tmp_path / "kr16.toml", "--method", "position", "--data", european,
+        "--length-unit", "mm", "--angle-unit", "deg", "--columns", text, "--delimiter", "semicolon",
+    )
+    from_python = gecaro.identify(robot, "position", found)
+    assert from_cli["after"]["rms"] == pytest.approx(from_python.after.rms, rel=1e-9)
+
+
 def test_progress_is_reported_and_a_callback_can_stop_the_identification():
     robot = gecaro.Robot.load("stanford")
     data = gecaro.generate(robot, "position", 50, noise=1e-5, seed=2).data

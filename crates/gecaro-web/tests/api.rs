@@ -1101,3 +1101,45 @@ async fn hostile_values_and_files_are_answers_not_crashes() {
     let (status, _) = api.get("/api/info").await;
     assert_eq!(status, StatusCode::OK);
 }
+
+/// Data as a European spreadsheet writes them (`;` between fields, decimal
+/// commas): the separator is found, and the identification is the same.
+#[tokio::test]
+async fn semicolon_files_with_decimal_commas_identify_alike() {
+    let api = Api::new();
+    let document = api.document("stanford").await;
+    let (_, generated) = api
+        .post(
+            "/api/generate",
+            &json!({ "robot": document, "method": { "name": "position" }, "count": 40, "error_level": 1.0, "noise": 1e-5, "seed": 4 }),
+        )
+        .await;
+    let csv = generated["csv"].as_str().expect("csv").to_owned();
+    let european = csv.replace(',', ";").replace('.', ",");
+    let mut rms = Vec::new();
+    for (text, format) in [
+        (csv.clone(), json!({})),
+        (european.clone(), json!({})),
+        (
+            european,
+            json!({ "delimiter": "semicolon", "decimal_comma": true }),
+        ),
+    ] {
+        let (status, submitted) = api
+            .post(
+                "/api/identify",
+                &json!({ "robot": document, "method": { "name": "position" }, "data": { "csv": { "text": text, "name": "gen.csv" } }, "format": format }),
+            )
+            .await;
+        assert_eq!(status, StatusCode::ACCEPTED, "{submitted}");
+        let view = api.finished(submitted["job"].as_u64().expect("job")).await;
+        assert_eq!(view["state"], "done", "{view}");
+        rms.push(
+            view["result"]["identification"]["rms_after"]
+                .as_f64()
+                .expect("rms"),
+        );
+    }
+    assert_eq!(rms[0], rms[1]);
+    assert_eq!(rms[0], rms[2]);
+}

@@ -46,7 +46,7 @@ pub(super) fn parse_csv(
     defaults: TableUnits,
     convention: DhConvention,
 ) -> Result<Table, Error> {
-    let mut reader = csv_reader(text.as_bytes());
+    let (mut reader, _) = csv_reader(text.as_bytes(), crate::Delimiter::Comma);
     let mut records = reader.records();
     let csv_error = |error: csv::Error| csv_error(path, &error);
     let Some(header) = records.next().transpose().map_err(csv_error)? else {

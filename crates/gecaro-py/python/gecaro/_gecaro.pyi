@@ -230,8 +230,12 @@ class Data:
         length_unit: Optional[Literal["m", "mm"]] = None,
         angle_unit: Optional[Literal["rad", "deg"]] = None,
         columns: Union[Mapping[str, str], str, None] = None,
+        delimiter: Optional[Literal["auto", "comma", "semicolon", "tab"]] = None,
+        decimal_comma: Optional[bool] = None,
     ) -> Data:
-        """Reads a data file (CSV), as the command line's ``--data``."""
+        """Reads a data file (CSV), as the command line's ``--data``: fields
+        separated by ``delimiter`` (found from the header by default), decimal
+        commas allowed where fields are not comma-separated."""
     def to_csv(self, method: _MethodLike) -> str: ...
     def write(self, path: _PathLike, method: _MethodLike, *, overwrite: bool = False) -> None: ...
     @property
