@@ -135,9 +135,9 @@ pub struct StudyFile {
 pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
     let text = read_text(path, MAX_DESCRIPTION_BYTES)?;
     let line_of = |offset: usize| {
-        text[..offset.min(text.len())]
-            .bytes()
-            .filter(|b| *b == b'\n')
+        text.as_bytes()[..offset.min(text.len())]
+            .iter()
+            .filter(|b| **b == b'\n')
             .count()
             + 1
     };

@@ -38,9 +38,10 @@ struct Source<'a> {
 
 impl Source<'_> {
     fn line_at(&self, offset: usize) -> usize {
-        self.text[..offset.min(self.text.len())]
-            .bytes()
-            .filter(|b| *b == b'\n')
+        // Offsets are the XML parser's, in bytes: not always at a character.
+        self.text.as_bytes()[..offset.min(self.text.len())]
+            .iter()
+            .filter(|b| **b == b'\n')
             .count()
             + 1
     }
