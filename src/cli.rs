@@ -376,6 +376,31 @@ pub(crate) struct Table2Args {
     pub(crate) json: bool,
 }
 
+/// The measuring cell: which random configurations can be measured.
+#[derive(Debug, Args)]
+pub(crate) struct CellArgs {
+    /// Every joint origin and the tool stay at or above z = Z of the world
+    /// frame (metres): an arm on a floor or a table.
+    #[arg(long, value_name = "Z", allow_hyphen_values = true)]
+    pub(crate) floor: Option<f64>,
+    /// A laser tracker at X,Y,Z (world frame, metres): the tool point must
+    /// see it, the arm (at the level of its joint origins) out of the way.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        value_name = "X,Y,Z"
+    )]
+    pub(crate) station: Option<Vec<f64>>,
+    /// The reflector's acceptance half-angle: the angle between the tool's
+    /// z axis and the direction to the station (e.g. 30deg).
+    #[arg(long, value_name = "ANGLE", requires = "station")]
+    pub(crate) max_incidence: Option<String>,
+    /// The smallest distance of the line of sight from the arm (metres).
+    #[arg(long, value_name = "M", requires = "station")]
+    pub(crate) clearance: Option<f64>,
+}
+
 #[derive(Debug, Args)]
 pub(crate) struct GenerateArgs {
     /// Nominal robot (file or ready robot name).
@@ -399,6 +424,8 @@ pub(crate) struct GenerateArgs {
     /// Sensor noise, standard deviation (metres; radians for orientations).
     #[arg(long, value_name = "SIGMA", default_value_t = 0.0)]
     pub(crate) noise: f64,
+    #[command(flatten)]
+    pub(crate) cell: CellArgs,
     /// Seed of every random draw (errors, configurations, noise).
     #[arg(long, default_value_t = 1)]
     pub(crate) seed: u64,
@@ -435,6 +462,8 @@ pub(crate) struct PlanArgs {
     /// largest count of --curve).
     #[arg(long, value_name = "K")]
     pub(crate) pool: Option<usize>,
+    #[command(flatten)]
+    pub(crate) cell: CellArgs,
     /// Seed of the generated pool (and of the test poses and random designs).
     #[arg(long, default_value_t = 1)]
     pub(crate) seed: u64,

@@ -68,6 +68,7 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
         .as_deref()
         .map(|path| RobotSource::Named(name(path)));
     request.noise = args.noise;
+    request.cell = super::options::cell_spec(&args.cell)?;
     request.seed = Some(args.seed);
     request.save_as = Some(name(&args.output));
     request.real_save_as = args.real_out.as_deref().map(name);

@@ -11,7 +11,9 @@ use gecaro_calib::methods::Plane;
 use gecaro_io::OutputPolicy;
 use nalgebra::{IsometryMatrix3, Rotation3, Vector3};
 
-use crate::cli::{DataFormatArgs, IdentificationRunArgs, MethodOptionArgs, StudySource as Source};
+use crate::cli::{
+    CellArgs, DataFormatArgs, IdentificationRunArgs, MethodOptionArgs, StudySource as Source,
+};
 use crate::failure::Failure;
 
 /// What `--force` says of an existing output file.
@@ -172,4 +174,14 @@ pub(crate) fn print_notes(notes: &[Note]) {
             crate::format::shown(&note.text(Dialect::CommandLine))
         );
     }
+}
+
+/// The measuring cell as the command line gives it.
+pub(crate) fn cell_spec(args: &CellArgs) -> Result<gecaro_app::CellSpec, Failure> {
+    Ok(gecaro_app::CellSpec {
+        floor: args.floor,
+        station: triple(args.station.as_deref(), "--station")?,
+        max_incidence: args.max_incidence.clone(),
+        clearance: args.clearance,
+    })
 }

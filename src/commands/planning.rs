@@ -46,6 +46,7 @@ pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
         .as_deref()
         .map(|path| DataSource::File(name(path)));
     request.pool = args.pool;
+    request.cell = super::options::cell_spec(&args.cell)?;
     request.seed = Some(args.seed);
     request.keep = args
         .keep

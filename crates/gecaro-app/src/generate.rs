@@ -11,6 +11,7 @@ use gecaro_calib::study::{DataColumn, Sample};
 use gecaro_io::RobotFile;
 use serde::Deserialize;
 
+use crate::cell::{CellSpec, refuse_misses};
 use crate::error::{AppError, ErrorKind, Part};
 use crate::files::Files;
 use crate::limits::MAX_GENERATE;
@@ -40,6 +41,9 @@ pub struct GenerateRequest {
     /// Sensor noise, standard deviation (metres; radians for orientations).
     #[serde(default)]
     pub noise: f64,
+    /// The cell: only configurations it can measure are drawn.
+    #[serde(default)]
+    pub cell: CellSpec,
     /// Seed of every random draw (default 1).
     pub seed: Option<u64>,
     /// Write the data file (CSV) here.
@@ -93,6 +97,7 @@ impl GenerateRequest {
             error_level: None,
             real: None,
             noise: 0.0,
+            cell: CellSpec::default(),
             seed: None,
             save_as: None,
             real_save_as: None,
@@ -119,6 +124,7 @@ impl GenerateRequest {
         let method = self.method.build()?;
         let seed = self.seed.unwrap_or(1);
         let error_level = self.error_level.unwrap_or(1.0);
+        let cell = self.cell.cell()?;
         let mut sampler = Sampler::new(seed);
         let real = match &self.real {
             Some(source) => {
@@ -186,13 +192,17 @@ impl GenerateRequest {
                         format!("between 1 and {MAX_GENERATE} configurations"),
                     ));
                 }
-                simulate_measurements(
+                // The real robot stands in the cell: its configurations are the measurable ones.
+                let mut measuring = sampler.clone().with_cell(cell.clone());
+                let samples = simulate_measurements(
                     &real.robot,
                     method.as_ref(),
                     count,
                     self.noise,
-                    &mut sampler,
-                )?
+                    &mut measuring,
+                )?;
+                refuse_misses(measuring.cell_misses(), "configuration(s)")?;
+                samples
             }
         };
         let displacement = terminal_displacement(robot, &real.robot, &samples)?;

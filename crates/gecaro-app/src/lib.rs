@@ -62,6 +62,7 @@
 
 #![warn(missing_docs)]
 
+mod cell;
 mod compensate;
 pub mod documents;
 mod error;
@@ -78,6 +79,7 @@ mod robot_files;
 mod settings;
 mod sources;
 
+pub use cell::CellSpec;
 pub use compensate::{CompensateRequest, Compensated, ProgramSource};
 pub use error::{AppError, Dialect, ErrorKind};
 pub use files::{Files, LocalFiles, Opened};

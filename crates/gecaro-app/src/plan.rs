@@ -17,6 +17,7 @@ use gecaro_core::Robot;
 use gecaro_io::RobotFile;
 use serde::Deserialize;
 
+use crate::cell::{CellSpec, refuse_misses};
 use crate::documents::{CurveJson, CurvePointJson, PlanJson, PredictJson};
 use crate::error::AppError;
 use crate::files::Files;
@@ -94,6 +95,9 @@ pub struct PlanRequest {
     pub candidates: Option<DataSource>,
     /// Or this many generated candidates (default 20 × the largest count).
     pub pool: Option<usize>,
+    /// The cell: generated candidates are configurations it can measure.
+    #[serde(default)]
+    pub cell: CellSpec,
     /// Seed of the pool, the test poses and the random designs (default 1).
     pub seed: Option<u64>,
     /// Configurations measured already: part of the design.
@@ -179,6 +183,7 @@ impl PlanRequest {
             criterion: None,
             candidates: None,
             pool: None,
+            cell: CellSpec::default(),
             seed: None,
             keep: None,
             min_distance: 0.0,
@@ -283,9 +288,10 @@ impl PlanRequest {
                         format!("between 1 and {MAX_GENERATE} candidates"),
                     ));
                 }
-                method
-                    .sensor()
-                    .generate(robot, size, 0.0, &mut Sampler::new(seed))?
+                let mut sampler = Sampler::new(seed).with_cell(self.cell.cell()?);
+                let pool = method.sensor().generate(robot, size, 0.0, &mut sampler)?;
+                refuse_misses(sampler.cell_misses(), "candidate(s)")?;
+                pool
             }
         };
         let kept = match &self.keep {

@@ -105,6 +105,12 @@ pub enum Setting {
     SetSize,
     /// A Gaussian prior around the nominal values.
     Prior,
+    /// The floor of the measuring cell.
+    Floor,
+    /// The tracker station of the measuring cell.
+    Station,
+    /// The reflector's acceptance half-angle.
+    MaxIncidence,
 }
 
 impl Setting {
@@ -127,6 +133,9 @@ impl Setting {
             Setting::PlanePoint => "plane_point",
             Setting::SetSize => "set_size",
             Setting::Prior => "prior",
+            Setting::Floor => "floor",
+            Setting::Station => "station",
+            Setting::MaxIncidence => "max_incidence",
         }
     }
 }

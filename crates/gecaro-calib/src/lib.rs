@@ -15,7 +15,7 @@
 //! | [`identifiability`] | the base parameters, regrouping relations and condition number (Appendix III, [`RankReport`](identifiability::RankReport)); [`table2`] the paper's Table 2 |
 //! | [`identification`] | [`identify`](identification::identify): iterative linearised least squares (eq. 10–11), robust losses and priors; [`evaluate`](identification::evaluate) |
 //! | [`validation`] | cross-validation and the choice of model |
-//! | [`simulation`] | points generation: a simulated "real" robot and noisy sensors |
+//! | [`simulation`] | points generation: a simulated "real" robot and noisy sensors; [`cell`] the configurations a cell can measure (floor, tracker station) |
 //! | [`planning`], [`prediction`], [`curve`] | before measuring: configurations chosen from a pool by a criterion, the predicted accuracy of a plan, how many configurations are enough |
 //! | [`compensation`] | what a calibration is for: the joint values for which the calibrated robot reaches a nominal program's targets |
 //! | [`progress`] | watching long work ([`Observer`]) and stopping it |
@@ -51,6 +51,7 @@
 
 #![warn(missing_docs)]
 
+pub mod cell;
 pub mod compensation;
 pub mod curve;
 mod error;

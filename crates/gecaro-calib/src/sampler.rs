@@ -13,6 +13,7 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 
 use crate::Error;
+use crate::cell::Cell;
 
 /// Start configurations tried before a target is declared out of reach.
 const REACH_ATTEMPTS: usize = 30;
@@ -56,10 +57,15 @@ pub fn solve_from_starts(
     Err(first_error)
 }
 
+/// Draws of a configuration before one the cell admits is given up on.
+pub const CELL_DRAWS: usize = 10_000;
+
 /// The source of randomness of points generation; see the module docs.
 #[derive(Clone, Debug)]
 pub struct Sampler {
     rng: ChaCha8Rng,
+    cell: Cell,
+    cell_misses: usize,
 }
 
 impl Sampler {
@@ -67,7 +73,24 @@ impl Sampler {
     pub fn new(seed: u64) -> Self {
         Sampler {
             rng: ChaCha8Rng::seed_from_u64(seed),
+            cell: Cell::default(),
+            cell_misses: 0,
         }
+    }
+
+    /// The same sampler drawing only configurations that `cell` admits
+    /// (in [`configuration`](Self::configuration) and [`reach`](Self::reach)).
+    #[must_use]
+    pub fn with_cell(mut self, cell: Cell) -> Self {
+        self.cell = cell;
+        self
+    }
+
+    /// How many times [`configuration`](Self::configuration) found no
+    /// configuration the cell admits in [`CELL_DRAWS`] draws (and gave one
+    /// it does not): a cell that leaves next to nothing to measure.
+    pub fn cell_misses(&self) -> usize {
+        self.cell_misses
     }
 
     /// A uniform number in `[low, high)`; `low` when the range is empty.
@@ -113,11 +136,31 @@ impl Sampler {
         Rotation3::new(self.gaussian_vector(sigma))
     }
 
-    /// Motor variables of a configuration drawn uniformly within the joint limits.
+    /// Motor variables of a configuration drawn uniformly within the joint
+    /// limits, and admitted by the sampler's cell (redrawn up to
+    /// [`CELL_DRAWS`] times; see [`cell_misses`](Self::cell_misses)).
     ///
     /// # Panics
     /// Never for a valid robot (its coupling is invertible).
     pub fn configuration(&mut self, robot: &Robot) -> Vec<f64> {
+        let mut candidate = self.draw(robot);
+        if self.cell.is_open() {
+            return candidate;
+        }
+        for _ in 1..CELL_DRAWS {
+            if self.cell.admits(robot, &candidate) {
+                return candidate;
+            }
+            candidate = self.draw(robot);
+        }
+        if !self.cell.admits(robot, &candidate) {
+            self.cell_misses += 1;
+        }
+        candidate
+    }
+
+    /// Motor variables of joint values drawn uniformly within the limits.
+    fn draw(&mut self, robot: &Robot) -> Vec<f64> {
         let joint_positions: Vec<f64> = robot
             .joints()
             .iter()
@@ -152,6 +195,9 @@ impl Sampler {
             let Ok(solution) = inverse_kinematics(robot, target, &start, &options) else {
                 continue;
             };
+            if !self.cell.admits(robot, &solution.motor_positions) {
+                continue;
+            }
             if distinct_from
                 .iter()
                 .all(|other| distinct(robot, &solution.motor_positions, other))

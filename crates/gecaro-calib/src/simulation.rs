@@ -14,7 +14,7 @@ use crate::error::Setting;
 use crate::method::CalibrationMethod;
 use crate::sample::Sample;
 
-pub use crate::sampler::{RANDOM_STARTS, Sampler, solve_from_starts};
+pub use crate::sampler::{CELL_DRAWS, RANDOM_STARTS, Sampler, solve_from_starts};
 
 /// Largest error level: ±50 cm on lengths, ±50° on angles, ±50 % on gains.
 /// Beyond it a simulated robot is no longer a perturbation of the nominal one

@@ -92,6 +92,17 @@ fn number_length(text: &str) -> usize {
     end
 }
 
+/// An angle written with its unit (`30deg`, `0.5rad`), in radians.
+///
+/// # Errors
+/// A sentence saying what is wrong: no unit, not an angle, not positive.
+pub fn parse_angle(text: &str) -> Result<f64, String> {
+    match quantity(text)? {
+        (Kind::Angle, radians) => Ok(radians),
+        _ => Err(format!("'{text}' is not an angle: write 30deg or 0.5rad")),
+    }
+}
+
 /// Parses `5mm,0.5deg,1%` (see the module docs).
 ///
 /// # Errors

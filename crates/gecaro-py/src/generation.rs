@@ -51,9 +51,11 @@ impl Generation {
 /// robot with every parameter of non-zero priority moved uniformly within
 /// ±`error_level` units (1 cm, 1°, 1 %; default 1) — measured with Gaussian noise of σ =
 /// `noise` (metres; radians for orientations). Seeded: equal to
-/// `gecaro generate` with the same arguments.
+/// `gecaro generate` with the same arguments. The cell — `floor` (z in
+/// metres), a tracker `station` (x, y, z), its `max_incidence` ("30deg")
+/// and `clearance` (metres) — keeps only configurations it can measure.
 #[pyfunction]
-#[pyo3(signature = (robot, method, count, *, error_level = None, noise = 0.0, seed = 1, real = None))]
+#[pyo3(signature = (robot, method, count, *, error_level = None, noise = 0.0, seed = 1, real = None, floor = None, station = None, max_incidence = None, clearance = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn generate(
     py: Python<'_>,
@@ -64,6 +66,10 @@ pub(crate) fn generate(
     noise: f64,
     seed: u64,
     real: Option<PyRef<'_, PyRobot>>,
+    floor: Option<f64>,
+    station: Option<[f64; 3]>,
+    max_incidence: Option<String>,
+    clearance: Option<f64>,
 ) -> PyResult<Generation> {
     let method = method_of(method)?;
     let spec = method
@@ -80,6 +86,12 @@ pub(crate) fn generate(
     request.noise = noise;
     request.seed = Some(seed);
     request.real = real.map(|real| RobotSource::Loaded(Box::new(real.file.clone())));
+    request.cell = gecaro_app::CellSpec {
+        floor,
+        station,
+        max_incidence,
+        clearance,
+    };
     let generated = py.detach(|| request.run(&LocalFiles)).py()?;
     Ok(Generation {
         data: Py::new(

@@ -235,3 +235,22 @@ def test_the_html_report(tmp_path):
     with pytest.raises(gecaro.InputError, match="already exists"):
         result.report(tmp_path / "report.html")
     assert json.loads(result.to_json()) == result.to_dict()
+
+
+def test_generation_in_a_cell_equals_the_command_line(cli, tmp_path):
+    robot = gecaro.Robot.load("ur10e")
+    generated = gecaro.generate(
+        robot, "frame", 60, noise=1e-5, seed=3, floor=0.0, station=(2.3, 0.0, 0.4),
+        max_incidence="30deg",
+    )
+    cli.run(
+        "generate", "ur10e", "--method", "frame", "--count", 60, "--noise", "1e-5", "--seed", 3,
+        "--floor", "0", "--station", "2.3,0,0.4", "--max-incidence", "30deg",
+        "-o", tmp_path / "cell.csv",
+    )
+    from_cli = gecaro.Data.read(tmp_path / "cell.csv", robot, "frame")
+    assert from_cli.qm.tolist() == generated.data.qm.tolist()
+    with pytest.raises(gecaro.NumericalError, match="leaves next to nothing"):
+        gecaro.generate(robot, "position", 5, floor=5.0)
+    with pytest.raises(gecaro.InputError, match="max_incidence"):
+        gecaro.generate(robot, "position", 5, station=(2.0, 0.0, 0.0), max_incidence="30")

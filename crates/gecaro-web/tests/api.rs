@@ -1143,3 +1143,44 @@ async fn semicolon_files_with_decimal_commas_identify_alike() {
     assert_eq!(rms[0], rms[1]);
     assert_eq!(rms[0], rms[2]);
 }
+
+/// Points generation and planning in a cell, as the command line's `--floor`
+/// and `--station`: a cell that leaves nothing is an answer, not a hang.
+#[tokio::test]
+async fn generation_and_plans_stay_in_the_cell() {
+    let api = Api::new();
+    let document = api.document("ur10e").await;
+    let cell = json!({ "floor": 0.0, "station": [2.3, 0.0, 0.4], "max_incidence": "30deg" });
+    let (status, generated) = api
+        .post(
+            "/api/generate",
+            &json!({ "robot": document, "method": { "name": "frame" }, "count": 30, "cell": cell }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{generated}");
+    let (status, planned) = api
+        .post(
+            "/api/plan",
+            &json!({ "robot": document, "method": { "name": "position" }, "count": 10, "cell": { "floor": 0.0 } }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{planned}");
+    let (status, body) = api
+        .post(
+            "/api/generate",
+            &json!({ "robot": document, "method": { "name": "position" }, "count": 5, "cell": { "floor": 5.0 } }),
+        )
+        .await;
+    assert!(status.is_client_error(), "{status}: {body}");
+    assert!(
+        error_text(&body).contains("leaves next to nothing"),
+        "{body}"
+    );
+    let (status, body) = api
+        .post(
+            "/api/generate",
+            &json!({ "robot": document, "method": { "name": "position" }, "count": 5, "cell": { "max_incidence": "30deg" } }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST, "{body}");
+}

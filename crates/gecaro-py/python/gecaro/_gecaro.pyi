@@ -436,9 +436,15 @@ def generate(
     noise: float = 0.0,
     seed: int = 1,
     real: Optional[Robot] = None,
+    floor: Optional[float] = None,
+    station: Optional[tuple[float, float, float]] = None,
+    max_incidence: Optional[str] = None,
+    clearance: Optional[float] = None,
 ) -> Generation:
     """Points generation on a simulated real robot, as ``gecaro generate``:
-    ``real``, or the nominal robot with errors at ``error_level`` (default 1)."""
+    ``real``, or the nominal robot with errors at ``error_level`` (default 1);
+    only configurations the cell can measure (``floor``, a tracker ``station``
+    with its ``max_incidence`` such as ``"30deg"`` and ``clearance``)."""
 
 def identifiable(
     robot: Robot,
