@@ -282,9 +282,10 @@ impl FrameDocument {
             )
         })?;
         // `is_angle`: converted from the file's angle unit; angles other than
-        // joint limits (which may span several turns: ABB axis 6 turns
-        // ±400°) are also held within a turn, which catches degrees written
-        // in a radians file.
+        // joint limits and offsets (values of the joint variable, which may
+        // span several turns: ABB axis 6 turns ±400°, a mimic's offset) are
+        // also held within a turn, which catches degrees written in a
+        // radians file.
         let value = |key: &str,
                      given: Option<f64>,
                      default: f64,
@@ -302,7 +303,7 @@ impl FrameDocument {
             match unit {
                 AngleUnit::Degrees => Ok(given.to_radians()),
                 AngleUnit::Radians
-                    if given.abs() > TAU + 1e-9 && !matches!(key, "qmin" | "qmax") =>
+                    if given.abs() > TAU + 1e-9 && !matches!(key, "qmin" | "qmax" | "offset") =>
                 {
                     Err(at(
                         key,
