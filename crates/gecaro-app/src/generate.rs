@@ -6,6 +6,7 @@
 use gecaro_calib::methods::CalibrationMethod;
 use gecaro_calib::simulation::{
     Sampler, perturbed_robot, simulate_at, simulate_measurements, terminal_displacement,
+    within_nominal_limits,
 };
 use gecaro_calib::study::{DataColumn, Sample};
 use gecaro_io::RobotFile;
@@ -192,10 +193,13 @@ impl GenerateRequest {
                         format!("between 1 and {MAX_GENERATE} configurations"),
                     ));
                 }
-                // The real robot stands in the cell: its configurations are the measurable ones.
+                // The real robot stands in the cell, and its controller keeps
+                // the nominal model's joint values within their limits: the
+                // configurations drawn are those it can measure.
+                let measured = within_nominal_limits(robot, &real.robot)?;
                 let mut measuring = sampler.clone().with_cell(cell.clone());
                 let samples = simulate_measurements(
-                    &real.robot,
+                    &measured,
                     method.as_ref(),
                     count,
                     self.noise,

@@ -69,21 +69,31 @@ pub fn perturbed_robot(nominal: &Robot, level: f64, sampler: &mut Sampler) -> Re
         "{} (simulated real, error level {level})",
         nominal.name()
     ));
-    readable_limits(nominal, real)
+    Ok(real)
 }
 
 /// `real` with its joint limits narrowed to the configurations whose motor
-/// readings the nominal robot places within its own limits: the gains of the
-/// real robot differ, so the same motor reading is another joint value for
-/// each robot, and configurations drawn near a limit of the real robot would
-/// read as beyond the nominal limit (every `identify` would warn of them).
+/// readings the nominal robot places within its own limits, as a controller
+/// holds them (its software limits are in the nominal model's joint values):
+/// the robot to draw simulated measurements on. The gains of the real robot
+/// differ, so the same motor reading is another joint value for each robot,
+/// and configurations drawn near a limit of the real robot would read as
+/// beyond the nominal limit (every `identify` would warn of them). The
+/// geometry is the real robot's; only the limits differ.
 ///
 /// With `M` the motor-to-joint map (eq. 4) of each robot and the offsets
 /// shared, `q_nominal − Offset = T · (q_real − Offset)`, `T = M_nominal ·
 /// M_real⁻¹`. Each limit moves inwards by `δ_j = Σ_k |T − I|_jk · max|q_k −
 /// Offset_k|`, the largest change of row j over the joint box (at most a
 /// quarter of the range on each side).
-fn readable_limits(nominal: &Robot, real: Robot) -> Result<Robot, Error> {
+///
+/// # Errors
+/// Never for robots of the same joints (the narrowed limits stay ordered).
+pub fn within_nominal_limits(nominal: &Robot, real: &Robot) -> Result<Robot, Error> {
+    let real = real.clone();
+    if real.joint_count() != nominal.joint_count() {
+        return Ok(real);
+    }
     let Some(inverse) = real.motor_to_joint().clone().try_inverse() else {
         return Ok(real);
     };
