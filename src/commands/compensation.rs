@@ -65,10 +65,13 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
             .lines_with(CompensationStatus::OutsideLimits)
             .len();
         let unreached = compensated.lines_with(CompensationStatus::NotReached).len();
+        let reconfigured = compensated
+            .lines_with(CompensationStatus::Reconfigured)
+            .len();
         println!(
             "{} {kind}: {} reached by the calibrated robot (largest residual {:.1e} {})",
             compensated.results.len(),
-            compensated.results.len() - outside - unreached,
+            compensated.results.len() - outside - unreached - reconfigured,
             compensated.largest_position_error() / units.length.to_metres(),
             units.length.name()
         );
@@ -85,6 +88,15 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
             if lines.len() > 10 { ", …" } else { "" }
         )
     };
+    let reconfigured = compensated.lines_with(CompensationStatus::Reconfigured);
+    if !reconfigured.is_empty() {
+        eprintln!(
+            "warning: {} target(s) reached only in another configuration, a joint moving by more than {} rad (status reconfigured: another branch, or a wrist turned about a singularity), lines {}",
+            reconfigured.len(),
+            gecaro_calib::compensation::RECONFIGURATION,
+            list(&reconfigured)
+        );
+    }
     let outside = compensated.lines_with(CompensationStatus::OutsideLimits);
     if !outside.is_empty() {
         eprintln!(

@@ -207,11 +207,14 @@ impl Compensated {
         largest
     }
 
-    /// Why the corrected program is not to be run as it is: targets beyond
-    /// a limit or not reached.
+    /// Why the corrected program is not to be run as it is: targets
+    /// reconfigured, beyond a limit or not reached.
     pub fn failure(&self) -> Option<AppError> {
-        let flagged = self.lines_with(CompensationStatus::OutsideLimits).len()
-            + self.lines_with(CompensationStatus::NotReached).len();
+        let flagged = self
+            .results
+            .iter()
+            .filter(|result| result.status != CompensationStatus::Reached)
+            .count();
         (flagged > 0).then(|| {
             AppError::plain(
                 ErrorKind::NotConverged,
@@ -228,11 +231,13 @@ impl Compensated {
 
     /// The JSON document (`gecaro compensate --json`).
     pub fn document(&self) -> CompensationJson {
+        let reconfigured = self.lines_with(CompensationStatus::Reconfigured);
         let outside = self.lines_with(CompensationStatus::OutsideLimits);
         let not_reached = self.lines_with(CompensationStatus::NotReached);
         CompensationJson {
             targets: self.results.len(),
-            reached: self.results.len() - outside.len() - not_reached.len(),
+            reached: self.results.len() - reconfigured.len() - outside.len() - not_reached.len(),
+            reconfigured,
             outside_limits: outside,
             not_reached,
             largest_position_error: self.largest_position_error(),

@@ -859,8 +859,11 @@ pub struct CompensatedJson {
 pub struct CompensationJson {
     /// Targets in the program.
     pub targets: usize,
-    /// Targets reached within the limits.
+    /// Targets reached within the limits in the program's configuration.
     pub reached: usize,
+    /// Lines of the targets reached within the limits in another
+    /// configuration (a joint moved by more than a radian).
+    pub reconfigured: Vec<usize>,
     /// Lines of the targets reached only beyond a joint limit.
     pub outside_limits: Vec<usize>,
     /// Lines of the targets not reached.

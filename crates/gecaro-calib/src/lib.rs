@@ -53,6 +53,7 @@
 
 pub mod cell;
 pub mod compensation;
+mod continuation;
 pub mod curve;
 mod error;
 pub mod identifiability;

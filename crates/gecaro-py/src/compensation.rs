@@ -69,7 +69,8 @@ impl PyCompensation {
             .collect()
     }
 
-    /// Rows (0-based) whose target is flagged (outside-limits or not-reached).
+    /// Rows (0-based) whose target is flagged (reconfigured, outside-limits
+    /// or not-reached).
     #[getter]
     fn flagged(&self) -> Vec<usize> {
         self.points

@@ -521,10 +521,10 @@ class Compensation:
         """(m,) angle (rad); NaN for point targets."""
     @property
     def status(self) -> list[str]:
-        """Per target: "ok", "outside-limits" or "not-reached"."""
+        """Per target: "ok", "reconfigured", "outside-limits" or "not-reached"."""
     @property
     def flagged(self) -> list[int]:
-        """Rows whose target is outside-limits or not-reached."""
+        """Rows whose target is reconfigured, outside-limits or not-reached."""
     def __len__(self) -> int: ...
 
 def compensate(

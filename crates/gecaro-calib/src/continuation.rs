@@ -1,0 +1,163 @@
+//! The calibrated robot's inverse model where the direct solve from a
+//! program's joints stalls: near a singularity a small change of pose asks a
+//! large change of the joints, and damped least squares crawls. Two ways
+//! keep the program's branch, tried in this order:
+//!
+//! 1. **Continuation** ([`continue_from_nominal`]): the robot is moved from
+//!    the nominal parameters to the calibrated ones in small steps, the
+//!    target held, and each step solved from the solution of the one before.
+//! 2. **Nearby starts** ([`closest_from_nearby_starts`]): where the path is
+//!    cut (a wrist that must pass through q5 = 0 turns q4 and q6 by up to π
+//!    at once), starts drawn around the program's joints at growing
+//!    distances; of the solutions found, the one closest to the program's
+//!    joints.
+//!
+//! With η₀ the nominal and η₁ the calibrated parameters (angles compared
+//! modulo 2π), the robot of step t ∈ [0, 1] has η(t) = η₁ − (1 − t)(η₁ − η₀)
+//! and the calibrated robot's couplings. At t = 0 the program's joints
+//! solve the target (it is the nominal model's pose of them); the solution
+//! follows t continuously, so the program's branch (elbow, wrist, shoulder)
+//! is kept, and a step that fails is halved. The path may cross a joint
+//! limit: limits are left to the caller.
+
+use gecaro_core::{
+    InverseOptions, InverseSolution, ParameterKind, Robot, Target, inverse_kinematics,
+};
+
+use crate::Error;
+use crate::sampler::Sampler;
+
+/// Starts drawn around the program's joints, per spread.
+const STARTS_PER_SPREAD: usize = 10;
+/// The spreads (standard deviations, in the joint variables' units) of
+/// the nearby starts.
+const SPREADS: [f64; 4] = [0.1, 0.5, 1.5, 3.0];
+
+/// Steps of the first pass from the nominal to the calibrated robot.
+const FIRST_STEPS: usize = 8;
+/// How many times a failed step may be halved.
+const MAX_HALVINGS: u32 = 8;
+
+/// The calibrated robot's solution for `target`, continued from
+/// `start_motor_positions` (which solve it on `nominal`); `None` when the
+/// path cannot be followed (the target leaves the calibrated robot's reach
+/// on the way).
+///
+/// # Errors
+/// Configuration errors of the robots (never for robots of the same joints).
+pub(crate) fn continue_from_nominal(
+    nominal: &Robot,
+    calibrated: &Robot,
+    target: &Target,
+    start_motor_positions: &[f64],
+    options: &InverseOptions,
+) -> Result<Option<InverseSolution>, Error> {
+    if nominal.parameters() != calibrated.parameters() {
+        return Ok(None);
+    }
+    let change: Vec<f64> = calibrated
+        .parameters()
+        .ids()
+        .iter()
+        .map(|id| {
+            let delta = calibrated.parameter(*id) - nominal.parameter(*id);
+            match id.kind {
+                ParameterKind::Alpha | ParameterKind::Theta | ParameterKind::Beta => {
+                    // The shortest way round: a wrapped angle is not a turn of change.
+                    delta - std::f64::consts::TAU * (delta / std::f64::consts::TAU).round()
+                }
+                _ => delta,
+            }
+        })
+        .collect();
+    let robot_at = |t: f64| -> Result<Robot, Error> {
+        let mut robot = calibrated.clone();
+        let back: Vec<f64> = change.iter().map(|delta| -(1.0 - t) * delta).collect();
+        robot.apply_deltas(&back)?;
+        Ok(robot)
+    };
+    let unlimited = InverseOptions {
+        respect_limits: false,
+        ..*options
+    };
+    let mut current = start_motor_positions.to_vec();
+    let mut reached = 0.0;
+    let mut step = 1.0 / FIRST_STEPS as f64;
+    let mut halvings = 0;
+    let mut last = None;
+    while reached < 1.0 {
+        let next = (reached + step).min(1.0);
+        let robot = robot_at(next)?;
+        match inverse_kinematics(&robot, target, &current, &unlimited) {
+            Ok(solution) => {
+                current.clone_from(&solution.motor_positions);
+                reached = next;
+                last = Some(solution);
+                // A step that went through may grow again.
+                step = (step * 2.0).min(1.0 / FIRST_STEPS as f64);
+            }
+            Err(gecaro_core::Error::Unreachable { .. }) => {
+                halvings += 1;
+                if halvings > MAX_HALVINGS * FIRST_STEPS as u32 {
+                    return Ok(None);
+                }
+                step /= 2.0;
+                if step < 1.0 / (FIRST_STEPS as f64 * 2f64.powi(MAX_HALVINGS as i32)) {
+                    return Ok(None);
+                }
+            }
+            Err(other) => return Err(other.into()),
+        }
+    }
+    Ok(last)
+}
+
+/// Of the solutions found from starts around `start_motor_positions`
+/// ([`SPREADS`], seeded by `seed`), the one closest to it (largest joint
+/// difference); `None` when no start reaches the target.
+///
+/// # Errors
+/// Configuration errors of the robot.
+pub(crate) fn closest_from_nearby_starts(
+    robot: &Robot,
+    target: &Target,
+    start_motor_positions: &[f64],
+    options: &InverseOptions,
+    seed: u64,
+) -> Result<Option<InverseSolution>, Error> {
+    let mut sampler = Sampler::new(seed);
+    let distance = |solution: &InverseSolution| {
+        solution
+            .motor_positions
+            .iter()
+            .zip(start_motor_positions)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max)
+    };
+    let mut best: Option<InverseSolution> = None;
+    for spread in SPREADS {
+        for _ in 0..STARTS_PER_SPREAD {
+            let start: Vec<f64> = start_motor_positions
+                .iter()
+                .map(|value| value + sampler.gaussian(spread))
+                .collect();
+            match inverse_kinematics(robot, target, &start, options) {
+                Ok(solution) => {
+                    if best
+                        .as_ref()
+                        .is_none_or(|kept| distance(&solution) < distance(kept))
+                    {
+                        best = Some(solution);
+                    }
+                }
+                Err(gecaro_core::Error::Unreachable { .. }) => {}
+                Err(other) => return Err(other.into()),
+            }
+        }
+        // The nearest spread that finds a solution keeps the branch best.
+        if best.is_some() {
+            break;
+        }
+    }
+    Ok(best)
+}
