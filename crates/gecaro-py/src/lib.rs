@@ -17,6 +17,7 @@
 //! | [`identification`] | `identify`, `evaluate`, `Identification`, `Parameter`, `ErrorSummary` |
 //! | [`validation`] | `cross_validate` |
 //! | [`compensation`] | `compensate`, `Compensation` |
+//! | [`planning`] | `plan`, `Plan`, `predict`, `accuracy_curve` |
 //!
 //! Every calibration function maps its arguments onto a request of the
 //! application layer (`gecaro-app`, through [`source`]) and its result onto
@@ -38,6 +39,7 @@ mod identifiability;
 mod identification;
 mod interrupt;
 mod methods;
+mod planning;
 mod robot;
 mod source;
 mod study;
@@ -58,6 +60,7 @@ fn _gecaro(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_class::<identification::PyParameter>()?;
     module.add_class::<identification::PyErrorSummary>()?;
     module.add_class::<compensation::PyCompensation>()?;
+    module.add_class::<planning::PyPlan>()?;
     module.add_function(wrap_pyfunction!(robot::ready_robots, module)?)?;
     module.add_function(wrap_pyfunction!(methods::methods, module)?)?;
     module.add_function(wrap_pyfunction!(generation::generate, module)?)?;
@@ -66,5 +69,8 @@ fn _gecaro(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(identification::evaluate, module)?)?;
     module.add_function(wrap_pyfunction!(validation::cross_validate, module)?)?;
     module.add_function(wrap_pyfunction!(compensation::compensate, module)?)?;
+    module.add_function(wrap_pyfunction!(planning::plan, module)?)?;
+    module.add_function(wrap_pyfunction!(planning::predict, module)?)?;
+    module.add_function(wrap_pyfunction!(planning::accuracy_curve, module)?)?;
     Ok(())
 }

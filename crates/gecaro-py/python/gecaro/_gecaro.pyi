@@ -25,6 +25,7 @@ __all__ = [
     "Parameter",
     "ErrorSummary",
     "Compensation",
+    "Plan",
     "ready_robots",
     "methods",
     "generate",
@@ -33,6 +34,9 @@ __all__ = [
     "evaluate",
     "cross_validate",
     "compensate",
+    "plan",
+    "predict",
+    "accuracy_curve",
 ]
 
 _ArrayLike = npt.ArrayLike
@@ -538,3 +542,63 @@ def compensate(
 ) -> Compensation:
     """Program compensation, as ``gecaro compensate``; NotConvergedError (with
     ``.result``) when targets are flagged."""
+
+@final
+class Plan:
+    """A plan, as ``gecaro plan``: the configurations to measure and what they give."""
+
+    @property
+    def data(self) -> Data:
+        """The planned configurations (qm, and set or pair ids), to measure."""
+    def to_dict(self) -> dict[str, Any]:
+        """The plan as ``gecaro plan --json`` prints it."""
+    def to_json(self) -> str: ...
+
+def plan(
+    robot: Robot,
+    method: _MethodLike,
+    count: int,
+    *,
+    criterion: Literal["d", "a", "e", "o4", "o5", "test"] = "d",
+    candidates: Optional[Data] = None,
+    pool: Optional[int] = None,
+    keep: Optional[Data] = None,
+    min_distance: float = 0.0,
+    seed: int = 1,
+    test_pose_count: Optional[int] = None,
+    floor: Optional[float] = None,
+    station: Optional[tuple[float, float, float]] = None,
+    max_incidence: Optional[str] = None,
+    clearance: Optional[float] = None,
+) -> Plan:
+    """The configurations to measure, chosen from a pool by a criterion, as ``gecaro plan``."""
+
+def predict(
+    robot: Robot,
+    method: _MethodLike,
+    data: Data,
+    noise: float,
+    *,
+    monte_carlo: Optional[int] = None,
+    error_level: float = 0.1,
+    seed: int = 1,
+    test_pose_count: Optional[int] = None,
+) -> dict[str, Any]:
+    """The precision a plan gives, as ``gecaro predict --json`` prints it."""
+
+def accuracy_curve(
+    robot: Robot,
+    method: _MethodLike,
+    counts: list[int],
+    noise: float,
+    *,
+    criterion: Literal["d", "a", "e", "o4", "o5", "test"] = "d",
+    pool: Optional[int] = None,
+    seed: int = 1,
+    test_pose_count: Optional[int] = None,
+    floor: Optional[float] = None,
+    station: Optional[tuple[float, float, float]] = None,
+    max_incidence: Optional[str] = None,
+    clearance: Optional[float] = None,
+) -> dict[str, Any]:
+    """Predicted error against the number of configurations, as ``gecaro plan --curve --json``."""

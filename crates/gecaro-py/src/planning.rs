@@ -1,0 +1,213 @@
+//! Before measuring: `plan` (the configurations to measure, chosen from a
+//! pool by a criterion), `predict` (the precision a plan gives) and
+//! `accuracy_curve` (how many configurations are enough), as `gecaro plan`,
+//! `gecaro predict` and `gecaro plan --curve`: the same requests of the
+//! application layer, the same numbers; results as the documents their
+//! `--json` prints.
+
+use gecaro_app::{
+    CellSpec, DataSource, MethodSpec, PlanRequest, PredictRequest, RobotSource, TestPoses,
+};
+use pyo3::prelude::*;
+
+use crate::data::PyData;
+use crate::documents::{to_json, to_python};
+use crate::errors::{IntoPyResult, input};
+use crate::methods::method_of;
+use crate::robot::PyRobot;
+
+/// The method of a call, with its options.
+fn spec(method: &Bound<'_, PyAny>) -> PyResult<MethodSpec> {
+    let method = method_of(method)?;
+    let method = method.get();
+    Ok(method
+        .spec
+        .clone()
+        .unwrap_or_else(|| MethodSpec::named(method.method.name())))
+}
+
+/// Samples of a `Data` as a request's data.
+fn samples(data: &PyData) -> DataSource {
+    DataSource::Samples {
+        samples: data.samples.clone(),
+        label: data.label.clone(),
+    }
+}
+
+/// Random test poses (`count`, default 200) for the accuracy at test poses.
+fn test_poses(count: Option<usize>) -> TestPoses {
+    TestPoses {
+        test_poses: None,
+        test_pose_count: count,
+    }
+}
+
+/// A plan: the configurations to measure (`data`) and the document of
+/// `gecaro plan --json` (`to_dict()`).
+#[pyclass(name = "Plan", module = "gecaro", frozen)]
+pub(crate) struct PyPlan {
+    data: Py<PyData>,
+    document: gecaro_app::documents::PlanJson,
+}
+
+#[pymethods]
+impl PyPlan {
+    /// The planned configurations (qm, and set or pair ids), to measure.
+    #[getter]
+    fn data(&self, py: Python<'_>) -> Py<PyData> {
+        self.data.clone_ref(py)
+    }
+
+    /// The plan as `gecaro plan --json` prints it (criterion, value, the
+    /// random choice's value, log det, observability indices, columns, …).
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.document)
+    }
+
+    /// The same as JSON text.
+    fn to_json(&self) -> PyResult<String> {
+        to_json(&self.document)
+    }
+}
+
+/// Plans `count` configurations of `method` on `robot`, as `gecaro plan`:
+/// chosen from `candidates` (a Data) or a pool of `pool` generated ones
+/// (default 20 × count; in the cell of `floor`, `station`, `max_incidence`,
+/// `clearance`), by `criterion` ("d", "a", "e", "o4", "o5", "test"), keeping
+/// `keep` (configurations measured already).
+#[pyfunction]
+#[pyo3(signature = (robot, method, count, *, criterion = "d", candidates = None, pool = None, keep = None, min_distance = 0.0, seed = 1, test_pose_count = None, floor = None, station = None, max_incidence = None, clearance = None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn plan(
+    py: Python<'_>,
+    robot: PyRef<'_, PyRobot>,
+    method: &Bound<'_, PyAny>,
+    count: usize,
+    criterion: &str,
+    candidates: Option<PyRef<'_, PyData>>,
+    pool: Option<usize>,
+    keep: Option<PyRef<'_, PyData>>,
+    min_distance: f64,
+    seed: u64,
+    test_pose_count: Option<usize>,
+    floor: Option<f64>,
+    station: Option<[f64; 3]>,
+    max_incidence: Option<String>,
+    clearance: Option<f64>,
+) -> PyResult<PyPlan> {
+    let joint_count = robot.file.robot.joint_count();
+    let mut request = PlanRequest::new(
+        RobotSource::Loaded(Box::new(robot.file.clone())),
+        spec(method)?,
+        count,
+    );
+    request.criterion = Some(criterion.to_owned());
+    request.candidates = candidates.as_deref().map(samples);
+    request.pool = pool;
+    request.keep = keep.as_deref().map(samples);
+    request.min_distance = min_distance;
+    request.seed = Some(seed);
+    request.test_poses = test_poses(test_pose_count);
+    request.cell = CellSpec {
+        floor,
+        station,
+        max_incidence,
+        clearance,
+    };
+    let planning = py
+        .detach(|| request.run(&gecaro_app::LocalFiles, &mut gecaro_calib::Quiet))
+        .py()?;
+    let (Some(planned), Some(document)) = (&planning.planned, planning.plan_document()) else {
+        return Err(input("no plan was made"));
+    };
+    Ok(PyPlan {
+        data: Py::new(
+            py,
+            PyData::from_samples(planned.plan.samples.clone(), joint_count, "<plan>".into()),
+        )?,
+        document,
+    })
+}
+
+/// The precision of every identifiable parameter and the calibrated robot's
+/// error at test poses that measuring `data` with a sensor of σ = `noise`
+/// would give, as `gecaro predict --json` prints it; `monte_carlo` simulated
+/// calibrations (robots at `error_level`) check the prediction.
+#[pyfunction]
+#[pyo3(signature = (robot, method, data, noise, *, monte_carlo = None, error_level = 0.1, seed = 1, test_pose_count = None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn predict<'py>(
+    py: Python<'py>,
+    robot: PyRef<'_, PyRobot>,
+    method: &Bound<'_, PyAny>,
+    data: PyRef<'_, PyData>,
+    noise: f64,
+    monte_carlo: Option<usize>,
+    error_level: f64,
+    seed: u64,
+    test_pose_count: Option<usize>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let mut request = PredictRequest::new(
+        RobotSource::Loaded(Box::new(robot.file.clone())),
+        spec(method)?,
+        samples(&data),
+        noise,
+    );
+    request.monte_carlo = monte_carlo;
+    request.error_level = Some(error_level);
+    request.seed = Some(seed);
+    request.test_poses = test_poses(test_pose_count);
+    let predicted = py
+        .detach(|| request.run(&gecaro_app::LocalFiles, &mut gecaro_calib::Quiet))
+        .py()?;
+    to_python(py, &predicted.document())
+}
+
+/// The predicted RMS position error of the calibrated robot against the
+/// number of configurations (`counts`), planned by `criterion` and drawn at
+/// random, for a sensor of σ = `noise`, as `gecaro plan --curve --json`
+/// prints it (without the plot).
+#[pyfunction]
+#[pyo3(signature = (robot, method, counts, noise, *, criterion = "d", pool = None, seed = 1, test_pose_count = None, floor = None, station = None, max_incidence = None, clearance = None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn accuracy_curve<'py>(
+    py: Python<'py>,
+    robot: PyRef<'_, PyRobot>,
+    method: &Bound<'_, PyAny>,
+    counts: Vec<usize>,
+    noise: f64,
+    criterion: &str,
+    pool: Option<usize>,
+    seed: u64,
+    test_pose_count: Option<usize>,
+    floor: Option<f64>,
+    station: Option<[f64; 3]>,
+    max_incidence: Option<String>,
+    clearance: Option<f64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let mut request = PlanRequest::new(
+        RobotSource::Loaded(Box::new(robot.file.clone())),
+        spec(method)?,
+        0,
+    );
+    request.count = None;
+    request.curve = counts;
+    request.noise = Some(noise);
+    request.criterion = Some(criterion.to_owned());
+    request.pool = pool;
+    request.seed = Some(seed);
+    request.test_poses = test_poses(test_pose_count);
+    request.cell = CellSpec {
+        floor,
+        station,
+        max_incidence,
+        clearance,
+    };
+    let planning = py
+        .detach(|| request.run(&gecaro_app::LocalFiles, &mut gecaro_calib::Quiet))
+        .py()?;
+    let document = planning
+        .curve_document()
+        .ok_or_else(|| input("no curve was drawn"))?;
+    to_python(py, &document)
+}
