@@ -99,3 +99,13 @@ pub(crate) fn toml_message(error: &toml::de::Error, text: &str) -> String {
     }
     message.to_owned()
 }
+
+/// The 1-based line of the byte `offset` of `text` (offsets past the end
+/// count as the last line; an offset inside a character is fine).
+pub(crate) fn line_at(text: &str, offset: usize) -> usize {
+    text.as_bytes()[..offset.min(text.len())]
+        .iter()
+        .filter(|byte| **byte == b'\n')
+        .count()
+        + 1
+}

@@ -70,11 +70,7 @@ struct Source<'a> {
 impl Source<'_> {
     fn line_of(&self, offset: usize) -> usize {
         let offset = offset.min(self.text.len());
-        self.text.as_bytes()[..offset.min(self.text.len())]
-            .iter()
-            .filter(|b| **b == b'\n')
-            .count()
-            + 1
+        crate::error::line_at(self.text, offset)
     }
 
     /// The line of a document location: the key's line inside its table, or

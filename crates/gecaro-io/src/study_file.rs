@@ -134,13 +134,7 @@ pub struct StudyFile {
 /// of the robot and data files it names.
 pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
     let text = read_text(path, MAX_DESCRIPTION_BYTES)?;
-    let line_of = |offset: usize| {
-        text.as_bytes()[..offset.min(text.len())]
-            .iter()
-            .filter(|b| **b == b'\n')
-            .count()
-            + 1
-    };
+    let line_of = |offset: usize| crate::error::line_at(&text, offset);
     let fail = |span: std::ops::Range<usize>, field: &str, message: String| {
         Error::parse(path, line_of(span.start), Some(field.to_owned()), message)
     };

@@ -42,6 +42,30 @@ fn test_poses(count: Option<usize>) -> TestPoses {
     }
 }
 
+/// The request of a plan or a curve: the shared settings.
+#[allow(clippy::too_many_arguments)]
+fn plan_request(
+    robot: &PyRobot,
+    method: &Bound<'_, PyAny>,
+    criterion: &str,
+    pool: Option<usize>,
+    seed: u64,
+    test_pose_count: Option<usize>,
+    cell: CellSpec,
+) -> PyResult<PlanRequest> {
+    let mut request = PlanRequest::new(
+        RobotSource::Loaded(Box::new(robot.file.clone())),
+        spec(method)?,
+        0,
+    );
+    request.criterion = Some(criterion.to_owned());
+    request.pool = pool;
+    request.seed = Some(seed);
+    request.test_poses = test_poses(test_pose_count);
+    request.cell = cell;
+    Ok(request)
+}
+
 /// A plan: the configurations to measure (`data`) and the document of
 /// `gecaro plan --json` (`to_dict()`).
 #[pyclass(name = "Plan", module = "gecaro", frozen)]
@@ -96,24 +120,17 @@ pub(crate) fn plan(
     clearance: Option<f64>,
 ) -> PyResult<PyPlan> {
     let joint_count = robot.file.robot.joint_count();
-    let mut request = PlanRequest::new(
-        RobotSource::Loaded(Box::new(robot.file.clone())),
-        spec(method)?,
-        count,
-    );
-    request.criterion = Some(criterion.to_owned());
-    request.candidates = candidates.as_deref().map(samples);
-    request.pool = pool;
-    request.keep = keep.as_deref().map(samples);
-    request.min_distance = min_distance;
-    request.seed = Some(seed);
-    request.test_poses = test_poses(test_pose_count);
-    request.cell = CellSpec {
+    let cell = CellSpec {
         floor,
         station,
         max_incidence,
         clearance,
     };
+    let mut request = plan_request(&robot, method, criterion, pool, seed, test_pose_count, cell)?;
+    request.count = Some(count);
+    request.candidates = candidates.as_deref().map(samples);
+    request.keep = keep.as_deref().map(samples);
+    request.min_distance = min_distance;
     let planning = py
         .detach(|| request.run(&gecaro_app::LocalFiles, &mut gecaro_calib::Quiet))
         .py()?;
@@ -185,24 +202,16 @@ pub(crate) fn accuracy_curve<'py>(
     max_incidence: Option<String>,
     clearance: Option<f64>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let mut request = PlanRequest::new(
-        RobotSource::Loaded(Box::new(robot.file.clone())),
-        spec(method)?,
-        0,
-    );
-    request.count = None;
-    request.curve = counts;
-    request.noise = Some(noise);
-    request.criterion = Some(criterion.to_owned());
-    request.pool = pool;
-    request.seed = Some(seed);
-    request.test_poses = test_poses(test_pose_count);
-    request.cell = CellSpec {
+    let cell = CellSpec {
         floor,
         station,
         max_incidence,
         clearance,
     };
+    let mut request = plan_request(&robot, method, criterion, pool, seed, test_pose_count, cell)?;
+    request.count = None;
+    request.curve = counts;
+    request.noise = Some(noise);
     let planning = py
         .detach(|| request.run(&gecaro_app::LocalFiles, &mut gecaro_calib::Quiet))
         .py()?;

@@ -28,13 +28,7 @@ struct TableDocument {
 }
 
 pub(super) fn parse_toml(text: &str, path: &Path, defaults: TableUnits) -> Result<Table, Error> {
-    let line_of = |offset: usize| {
-        text.as_bytes()[..offset.min(text.len())]
-            .iter()
-            .filter(|b| **b == b'\n')
-            .count()
-            + 1
-    };
+    let line_of = |offset: usize| crate::error::line_at(text, offset);
     // The line of `field` in the table whose header is at `span` (its keys
     // run to the next header), else the header's line.
     let fail = |span: std::ops::Range<usize>, field: &str, message: String| {

@@ -39,11 +39,7 @@ struct Source<'a> {
 impl Source<'_> {
     fn line_at(&self, offset: usize) -> usize {
         // Offsets are the XML parser's, in bytes: not always at a character.
-        self.text.as_bytes()[..offset.min(self.text.len())]
-            .iter()
-            .filter(|b| **b == b'\n')
-            .count()
-            + 1
+        crate::error::line_at(self.text, offset)
     }
 
     /// The line of the element `<tag … name="name"`, or 1.
