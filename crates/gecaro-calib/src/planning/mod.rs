@@ -34,6 +34,7 @@ use crate::sample::Sample;
 use crate::sampler::Sampler;
 
 mod columns;
+mod continuous;
 mod criteria;
 mod detmax;
 mod spacing;
@@ -323,15 +324,22 @@ impl<'a> CandidatePool<'a> {
                 },
             )
         };
-        let (mut chosen, mut exchanges) = detmax::detmax(
+        let mut designs = detmax::detmax(
             candidates,
             base.clone(),
+            ridge,
             wanted,
             &admissible,
             &mut spacing,
             &mut step,
-        )?;
+        )?
+        .into_iter();
+        let (mut chosen, mut exchanges) = designs.next().ok_or_else(|| Error::Numerical {
+            message: "planning: no design".into(),
+        })?;
         if !d_only {
+            // The other criteria continue from each D-optimal design; the
+            // better result is kept (the exchange stops in local optima).
             exchanges += criteria::exchange(
                 candidates,
                 &base,
@@ -341,6 +349,26 @@ impl<'a> CandidatePool<'a> {
                 &objective,
                 &mut step,
             )?;
+            for (mut other, other_exchanges) in designs {
+                let more = criteria::exchange(
+                    candidates,
+                    &base,
+                    &mut other,
+                    &admissible,
+                    &mut spacing,
+                    &objective,
+                    &mut step,
+                )?;
+                let value = |flags: &[bool]| {
+                    objective.value(
+                        &candidates.information(&base, (0..flags.len()).filter(|u| flags[*u])),
+                    )
+                };
+                if value(&other) > value(&chosen) {
+                    chosen = other;
+                    exchanges = other_exchanges + more;
+                }
+            }
         }
         let chosen: Vec<usize> = (0..ranges.len()).filter(|u| chosen[*u]).collect();
         let mut samples = kept.to_vec();

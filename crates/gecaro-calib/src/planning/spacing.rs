@@ -33,6 +33,11 @@ impl Spacing {
         self.distance > 0.0
     }
 
+    /// Whether a minimum distance is asked.
+    pub(super) fn is_active(&self) -> bool {
+        self.active()
+    }
+
     fn near(&self, a: &[DVector<f64>], b: &[DVector<f64>]) -> bool {
         a.iter()
             .any(|p| b.iter().any(|q| (p - q).norm() < self.distance))
