@@ -177,7 +177,11 @@ def test_ctrl_c_interrupts_a_long_call(tmp_path):
     script.write_text(
         textwrap.dedent(
             """
-            import sys, time, numpy as np, gecaro
+            import signal, sys, time, numpy as np, gecaro
+            # Python leaves SIGINT ignored when it inherits it so (a test
+            # run started in the background by a non-interactive shell):
+            # Ctrl-C is what this test is about, so its handler is set.
+            signal.signal(signal.SIGINT, signal.default_int_handler)
             robot = gecaro.Robot.load("stanford")
             qm = np.zeros((3_000_000, 6))
             print("ready", flush=True)
