@@ -22,8 +22,8 @@
 //!   (then the start joints are kept). Nothing is dropped or written silently.
 
 use gecaro_core::{
-    InverseOptions, OrientationDifference, Robot, Target, forward_kinematics, inverse_kinematics,
-    joint_jacobian, orientation_difference, terminal_pose,
+    InverseOptions, InverseSolution, OrientationDifference, Robot, Target, forward_kinematics,
+    inverse_kinematics, joint_jacobian, orientation_difference, terminal_pose,
 };
 use nalgebra::{DMatrix, DVector, IsometryMatrix3, Vector3};
 
@@ -310,41 +310,18 @@ fn compensate_one(
             )
         }
         Err(gecaro_core::Error::Unreachable { .. }) => {
-            // Near a singularity the direct solve crawls. The program's
-            // branch first, followed from the nominal robot (within the
-            // limits or not); else starts around the program's joints within
-            // the limits; else anywhere beyond them.
             // (Only the program's own joints solve the nominal robot; a
             // previous target's solution does not.)
             let program_joints = start.filter(|_| !free);
-            let continued = match program_joints {
-                Some(start) => continue_from_nominal(nominal, robot, target, start, options)?,
-                None => None,
-            };
-            let unlimited = InverseOptions {
-                respect_limits: false,
-                ..*options
-            };
-            let solution = match (continued, program_joints) {
-                (Some(solution), _) => Some(solution),
-                (None, Some(start)) => {
-                    match closest_from_nearby_starts(robot, target, start, options, seed)? {
-                        Some(solution) => Some(solution),
-                        None => match solve(&unlimited) {
-                            Ok(solution) => Some(solution),
-                            Err(gecaro_core::Error::Unreachable { .. }) => {
-                                closest_from_nearby_starts(robot, target, start, &unlimited, seed)?
-                            }
-                            Err(other) => return Err(other.into()),
-                        },
-                    }
-                }
-                (None, None) => match solve(&unlimited) {
-                    Ok(solution) => Some(solution),
-                    Err(gecaro_core::Error::Unreachable { .. }) => None,
-                    Err(other) => return Err(other.into()),
-                },
-            };
+            let solution = fallback(
+                nominal,
+                robot,
+                target,
+                program_joints,
+                &solve,
+                options,
+                seed,
+            )?;
             match solution {
                 Some(solution) if robot.within_limits(&solution.joint_positions) => {
                     let reference = start.unwrap_or(&solution.motor_positions).to_vec();
@@ -400,6 +377,43 @@ fn compensate_one(
         rotation_error,
         status,
     })
+}
+
+/// A solution where the direct solve stalled (near a singularity it crawls):
+/// the program's branch first, followed from the nominal robot (within the
+/// limits or not); else starts around the program's joints within the
+/// limits; else anywhere beyond them. `None` when none reaches the target.
+fn fallback(
+    nominal: &Robot,
+    robot: &Robot,
+    target: &Target,
+    program_joints: Option<&[f64]>,
+    solve: &dyn Fn(&InverseOptions) -> Result<InverseSolution, gecaro_core::Error>,
+    options: &InverseOptions,
+    seed: u64,
+) -> Result<Option<InverseSolution>, Error> {
+    let unlimited = InverseOptions {
+        respect_limits: false,
+        ..*options
+    };
+    let reached = |result: Result<InverseSolution, gecaro_core::Error>| match result {
+        Ok(solution) => Ok(Some(solution)),
+        Err(gecaro_core::Error::Unreachable { .. }) => Ok(None),
+        Err(other) => Err(Error::from(other)),
+    };
+    let Some(start) = program_joints else {
+        return reached(solve(&unlimited));
+    };
+    if let Some(solution) = continue_from_nominal(nominal, robot, target, start, options)? {
+        return Ok(Some(solution));
+    }
+    if let Some(solution) = closest_from_nearby_starts(robot, target, start, options, seed)? {
+        return Ok(Some(solution));
+    }
+    if let Some(solution) = reached(solve(&unlimited))? {
+        return Ok(Some(solution));
+    }
+    closest_from_nearby_starts(robot, target, start, &unlimited, seed)
 }
 
 /// How far the robot at `motor_positions` is from `target`.

@@ -33,10 +33,13 @@ const STARTS_PER_SPREAD: usize = 10;
 /// the nearby starts.
 const SPREADS: [f64; 4] = [0.1, 0.5, 1.5, 3.0];
 
-/// Steps of the first pass from the nominal to the calibrated robot.
-const FIRST_STEPS: usize = 8;
-/// How many times a failed step may be halved.
-const MAX_HALVINGS: u32 = 8;
+/// The longest step from the nominal to the calibrated robot (in t).
+const LONGEST_STEP: f64 = 1.0 / 8.0;
+/// The shortest step: a path that needs less is cut (the target leaves the
+/// calibrated robot's reach on the way).
+const SHORTEST_STEP: f64 = LONGEST_STEP / 256.0;
+/// Failed steps before the path is given up, whatever their length.
+const MAX_FAILED_STEPS: usize = 64;
 
 /// The calibrated robot's solution for `target`, continued from
 /// `start_motor_positions` (which solve it on `nominal`); `None` when the
@@ -82,27 +85,23 @@ pub(crate) fn continue_from_nominal(
     };
     let mut current = start_motor_positions.to_vec();
     let mut reached = 0.0;
-    let mut step = 1.0 / FIRST_STEPS as f64;
-    let mut halvings = 0;
+    let mut step = LONGEST_STEP;
+    let mut failures = 0;
     let mut last = None;
     while reached < 1.0 {
         let next = (reached + step).min(1.0);
-        let robot = robot_at(next)?;
-        match inverse_kinematics(&robot, target, &current, &unlimited) {
+        match inverse_kinematics(&robot_at(next)?, target, &current, &unlimited) {
             Ok(solution) => {
                 current.clone_from(&solution.motor_positions);
                 reached = next;
                 last = Some(solution);
                 // A step that went through may grow again.
-                step = (step * 2.0).min(1.0 / FIRST_STEPS as f64);
+                step = (step * 2.0).min(LONGEST_STEP);
             }
             Err(gecaro_core::Error::Unreachable { .. }) => {
-                halvings += 1;
-                if halvings > MAX_HALVINGS * FIRST_STEPS as u32 {
-                    return Ok(None);
-                }
+                failures += 1;
                 step /= 2.0;
-                if step < 1.0 / (FIRST_STEPS as f64 * 2f64.powi(MAX_HALVINGS as i32)) {
+                if step < SHORTEST_STEP || failures > MAX_FAILED_STEPS {
                     return Ok(None);
                 }
             }
