@@ -207,11 +207,26 @@ impl Workspace {
         if !metadata.is_file() {
             return Err(ApiError::NotFound(format!("{name} is not a file")));
         }
+        // Non-blocking, and checked again once open: a FIFO swapped in after
+        // the check above must not hold a worker thread in `open`.
+        let mut options = cap_std::fs::OpenOptions::new();
+        options.read(true);
+        #[cfg(unix)]
+        {
+            use cap_std::fs::OpenOptionsExt as _;
+            options.custom_flags(rustix::fs::OFlags::NONBLOCK.bits() as i32);
+        }
         let file = self
             .folder
-            .open(&relative)
+            .open_with(&relative, &options)
             .map_err(|error| self.io_error(name, &error))?;
-        let size = file.metadata().map(|m| m.len()).unwrap_or(0);
+        let opened = file
+            .metadata()
+            .map_err(|error| self.io_error(name, &error))?;
+        if !opened.is_file() {
+            return Err(ApiError::NotFound(format!("{name} is not a file")));
+        }
+        let size = opened.len();
         if size > MAX_FILE_BYTES {
             return Err(ApiError::TooLarge(format!(
                 "{name} has {size} bytes; the server reads files up to {} MiB",
