@@ -426,10 +426,11 @@ fn analyse(
             .filter(|c| **c >= auxiliary_count)
             .map(|c| candidate_indices[c - auxiliary_count])
             .collect(),
+        // Columns of the auxiliary candidates, as indices into all auxiliary unknowns.
         base_auxiliary: kept
             .iter()
-            .copied()
-            .filter(|c| *c < auxiliary_count)
+            .filter(|c| **c < auxiliary_count)
+            .map(|c| auxiliary_indices[*c])
             .collect(),
         parameters,
         auxiliary,
@@ -506,15 +507,14 @@ pub(crate) fn random_counterpart_at(
             needed,
             &mut sampler,
         )?;
-        sets.push(crate::study::MeasurementSet {
-            method: set.method.clone_method(),
-            samples,
-            sigma: set.sigma,
-            sigma_rotation: set.sigma_rotation,
-            label: format!("random configurations like {}", set.label),
-        });
+        let mut random = set.with_samples(samples);
+        random.label = format!("random configurations like {}", set.label);
+        sets.push(random);
     }
-    Ok(Study { sets })
+    Ok(Study {
+        sets,
+        frames: study.frames.clone(),
+    })
 }
 
 /// The structural identifiable parameters of a study: Appendix III on

@@ -56,6 +56,7 @@ pub mod compensation;
 mod continuation;
 pub mod curve;
 mod error;
+pub mod frames;
 pub mod identifiability;
 pub mod identification;
 mod linalg;

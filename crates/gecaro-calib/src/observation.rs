@@ -19,7 +19,9 @@
 //! weighted least-squares problem with the set's point eliminated. A prior adds
 //! rows that belong to no observation ([`ObservationSystem::append_rows`]).
 
-use gecaro_core::{Error as ModelError, KinematicModel};
+use gecaro_core::{Error as ModelError, JacobianRows, KinematicModel};
+
+use crate::frames::SetFrames;
 
 use crate::method::CalibrationMethod;
 use crate::parallel::run_parts;
@@ -48,7 +50,8 @@ pub(crate) fn write_rows(
 /// `writer`: block by block, so that each block's states are still in cache
 /// when the method reads them, and large sets over all cores. The rows are
 /// those of [`evaluate_states`](crate::states::evaluate_states) followed by [`CalibrationMethod::linearise`]
-/// on the whole set, bit for bit. Returns the end of the observations
+/// on the whole set, bit for bit; with the set's named `frames`, each state
+/// is that of the measured pose ([`crate::frames`]). Returns the end of the observations
 /// written (see [`RowWriter::observation_end`]).
 ///
 /// # Errors
@@ -58,9 +61,16 @@ pub(crate) fn linearise_independent(
     method: &dyn CalibrationMethod,
     samples: &[Sample],
     auxiliary: &[f64],
+    frames: Option<&SetFrames<'_>>,
     mut writer: RowWriter<'_>,
 ) -> Result<usize, ModelError> {
     let rows = method.jacobian_rows();
+    // A named tool moves the point with the flange's rotation: all six rows.
+    let evaluated = if frames.is_some() {
+        JacobianRows::Full
+    } else {
+        rows
+    };
     let parts: Vec<(&[Sample], RowWriter<'_>)> = samples
         .chunks(part_size(samples.len()))
         .map(|chunk| {
@@ -75,7 +85,12 @@ pub(crate) fn linearise_independent(
         let mut end = 0;
         for block in chunk.chunks(BLOCK) {
             states.resize_with(block.len(), || TerminalState::empty(model));
-            evaluate_chunk(model, block, Some(rows), &mut states[..block.len()])?;
+            evaluate_chunk(model, block, Some(evaluated), &mut states[..block.len()])?;
+            if let Some(frames) = frames {
+                for state in &mut states[..block.len()] {
+                    frames.apply(state, rows.count());
+                }
+            }
             let block_rows = part.split_front(method.row_count(block), block.len());
             end = end.max(write_rows(
                 block_rows,

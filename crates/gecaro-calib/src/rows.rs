@@ -126,8 +126,9 @@ impl<'a> RowWriter<'a> {
     /// Appends one row: `Σ parameters[k]·Δη_k + Σ auxiliary[k]·Δaux_k = residual`.
     ///
     /// `observation` numbers the configuration or pair the row belongs to
-    /// (0-based within this set); `parameters` has Np entries, `auxiliary` one
-    /// per auxiliary unknown of the method.
+    /// (0-based within this set); `parameters` has Np entries (the length of
+    /// a state's Jacobian row: more for a set with named frames, whose
+    /// unknowns follow), `auxiliary` one per auxiliary unknown of the method.
     ///
     /// # Panics
     /// When the method pushes more rows than its `row_count` promised (a bug in the method).
@@ -156,6 +157,16 @@ impl<'a> RowWriter<'a> {
         let target = &mut self.matrix[row * self.columns..(row + 1) * self.columns];
         for (index, column) in &self.layout.mapped {
             target[*column] = weight * parameters[*index];
+        }
+        // Columns beyond the robot's parameters: the study's named frames,
+        // its first auxiliary unknowns (crate::frames).
+        let robot_parameters = self.layout.parameter_columns.len();
+        if let Some(frames) = parameters.get(robot_parameters..) {
+            for (index, value) in frames.iter().enumerate() {
+                if let Some(column) = self.layout.auxiliary_columns[index] {
+                    target[column] = weight * value;
+                }
+            }
         }
         for (index, value) in auxiliary.iter().enumerate() {
             if let Some(column) = self.layout.auxiliary_columns[self.auxiliary_offset + index] {

@@ -34,6 +34,23 @@ impl TerminalState {
         }
     }
 
+    /// A state from its pose and its row-major Jacobian of `rows` rows and
+    /// `parameters` columns (a named frame's state, see [`crate::frames`]).
+    pub(crate) fn from_parts(
+        pose: IsometryMatrix3<f64>,
+        jacobian: Vec<f64>,
+        parameters: usize,
+        rows: usize,
+    ) -> Self {
+        debug_assert_eq!(jacobian.len(), rows * parameters);
+        TerminalState {
+            pose,
+            jacobian,
+            parameters,
+            rows,
+        }
+    }
+
     /// Number of parameters Np (length of a Jacobian row).
     pub fn parameter_count(&self) -> usize {
         self.parameters

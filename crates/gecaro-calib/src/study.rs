@@ -3,9 +3,10 @@
 //! observation matrix (rows of a set weighted by 1/σ). A single-method
 //! calibration is a study of one set.
 
-use gecaro_core::{KinematicModel, Robot};
+use gecaro_core::{JacobianRows, KinematicModel, Robot};
 
 use crate::Error;
+use crate::frames::{FRAME_UNKNOWNS, FrameRole, NamedFrame, SetFrames, UNKNOWN_NAMES};
 use crate::method::CalibrationMethod;
 use crate::methods::units;
 use crate::observation::{ObservationSystem, linearise_independent, write_rows};
@@ -30,6 +31,12 @@ pub struct MeasurementSet {
     pub sigma_rotation: Option<f64>,
     /// A name for messages (usually the data file).
     pub label: String,
+    /// The named tool the set measures (index into [`Study::frames`]);
+    /// `None`: the robot's own frame n+1.
+    pub tool: Option<usize>,
+    /// The station the set measures from (index into [`Study::frames`]);
+    /// `None`: the world frame.
+    pub station: Option<usize>,
 }
 
 impl MeasurementSet {
@@ -41,7 +48,14 @@ impl MeasurementSet {
             sigma: self.sigma,
             sigma_rotation: self.sigma_rotation,
             label: self.label.clone(),
+            tool: self.tool,
+            station: self.station,
         }
+    }
+
+    /// Whether the set names a tool or a station.
+    pub fn uses_named_frames(&self) -> bool {
+        self.tool.is_some() || self.station.is_some()
     }
 }
 
@@ -109,6 +123,10 @@ impl std::fmt::Display for LimitViolation {
 pub struct Study {
     /// The measurement sets.
     pub sets: Vec<MeasurementSet>,
+    /// The named tools and stations the sets measure with, identified with
+    /// the robot (see [`crate::frames`]); their unknowns are the first
+    /// auxiliary unknowns.
+    pub frames: Vec<NamedFrame>,
 }
 
 /// Poses and Jacobians of every sample of a study, reused between iterations.
@@ -138,8 +156,49 @@ impl Study {
                 sigma: None,
                 sigma_rotation: None,
                 label: label.into(),
+                tool: None,
+                station: None,
             }],
+            frames: Vec::new(),
         }
+    }
+
+    /// The same study with its named frames stated at other poses (e.g.
+    /// those an identification found, [`crate::identification::Identification::frames`]).
+    ///
+    /// # Panics
+    /// When `frames` does not hold as many frames as the study.
+    pub fn with_frames(&self, frames: Vec<NamedFrame>) -> Study {
+        assert_eq!(frames.len(), self.frames.len(), "one pose per named frame");
+        Study {
+            sets: self.sets.clone(),
+            frames,
+        }
+    }
+
+    /// Unknowns of the named frames ([`FRAME_UNKNOWNS`] each), the first
+    /// auxiliary unknowns.
+    pub fn frame_unknowns(&self) -> usize {
+        self.frames.len() * FRAME_UNKNOWNS
+    }
+
+    /// The named frames of set `set` at the auxiliary values `auxiliary`,
+    /// or `None` when it names none.
+    fn set_frames<'a>(
+        &'a self,
+        robot: &Robot,
+        set: &MeasurementSet,
+        auxiliary: &'a [f64],
+    ) -> Option<SetFrames<'a>> {
+        set.uses_named_frames().then(|| {
+            SetFrames::new(
+                robot,
+                &self.frames,
+                &auxiliary[..self.frame_unknowns()],
+                set.tool,
+                set.station,
+            )
+        })
     }
 
     /// Configurations whose joint variables lie outside the joint limits, in
@@ -191,6 +250,7 @@ impl Study {
                 message: "the study has no measurement sets".into(),
             });
         }
+        self.check_frames()?;
         for set in &self.sets {
             let invalid = |line: Option<usize>, message: String| Error::InvalidData {
                 line: None,
@@ -238,6 +298,65 @@ impl Study {
         Ok(())
     }
 
+    /// The named frames: distinct names, finite poses, tools and stations
+    /// where they belong, on methods that measure the
+    /// tool in a measurement frame (position and frame measure).
+    fn check_frames(&self) -> Result<(), Error> {
+        let invalid = |message: String| Error::InvalidData {
+            line: None,
+            message,
+        };
+        for (index, frame) in self.frames.iter().enumerate() {
+            if self.frames[..index].iter().any(|f| f.name == frame.name) {
+                return Err(invalid(format!(
+                    "two tools or stations are named `{}`",
+                    frame.name
+                )));
+            }
+            if !frame.pose.to_homogeneous().iter().all(|v| v.is_finite()) {
+                return Err(invalid(format!(
+                    "{} `{}` has a non-finite pose",
+                    frame.role.as_str(),
+                    frame.name
+                )));
+            }
+        }
+        for set in &self.sets {
+            for (used, role) in [
+                (set.tool, FrameRole::Tool),
+                (set.station, FrameRole::Station),
+            ] {
+                let Some(index) = used else { continue };
+                let Some(frame) = self.frames.get(index) else {
+                    return Err(invalid(format!(
+                        "{}: names {} {index}, and the study has {} named frames",
+                        set.label,
+                        role.as_str(),
+                        self.frames.len()
+                    )));
+                };
+                if frame.role != role {
+                    return Err(invalid(format!(
+                        "{}: `{}` is a {}, not a {}",
+                        set.label,
+                        frame.name,
+                        frame.role.as_str(),
+                        role.as_str()
+                    )));
+                }
+                if !set.method.data_columns().contains(&DataColumn::Position) {
+                    return Err(invalid(format!(
+                        "{}: the {} method measures no pose in a measurement frame; tools and \
+                         stations go with position and frame measures",
+                        set.label,
+                        set.method.name()
+                    )));
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// One sentence on the data's joint values outside the joint limits
     /// (how many, and the first), or `None` when all are within them.
     pub fn limit_summary(&self, robot: &Robot) -> Option<String> {
@@ -255,11 +374,15 @@ impl Study {
     }
 
     /// Names of all auxiliary unknowns, prefixed by the set's method when the study has several sets.
+    /// The named frames' unknowns come first, as `name.x` … `name.rz`.
     pub fn auxiliary_names(&self) -> Vec<String> {
-        self.sets
-            .iter()
-            .enumerate()
-            .flat_map(|(index, set)| {
+        let frames = self.frames.iter().flat_map(|frame| {
+            UNKNOWN_NAMES
+                .iter()
+                .map(move |unknown| format!("{}.{unknown}", frame.name))
+        });
+        frames
+            .chain(self.sets.iter().enumerate().flat_map(|(index, set)| {
                 let prefix = if self.sets.len() > 1 {
                     format!("{}[{}].", set.method.name(), index + 1)
                 } else {
@@ -269,7 +392,7 @@ impl Study {
                     .auxiliary_names()
                     .into_iter()
                     .map(move |name| format!("{prefix}{name}"))
-            })
+            }))
             .collect()
     }
 
@@ -305,7 +428,10 @@ impl Study {
                 )
             })
             .collect();
-        Study { sets }
+        Study {
+            sets,
+            frames: self.frames.clone(),
+        }
     }
 
     /// Whether some set measures a length (position, frame, distance), so that
@@ -335,14 +461,43 @@ impl Study {
     }
 
     /// Evaluates the pose and Jacobian (the rows its method reads) of every
-    /// sample at the robot's parameters.
+    /// sample at the robot's parameters, and at the named frames' unknowns
+    /// in `auxiliary` (their states are those of the measured poses,
+    /// [`crate::frames`]).
     ///
     /// # Errors
     /// When a configuration does not fit the robot.
-    pub fn evaluate(&self, robot: &Robot, states: &mut StudyStates) -> Result<(), Error> {
+    pub fn evaluate(
+        &self,
+        robot: &Robot,
+        auxiliary: &[f64],
+        states: &mut StudyStates,
+    ) -> Result<(), Error> {
         states.states.resize_with(self.sets.len(), Vec::new);
         for (set, buffer) in self.sets.iter().zip(&mut states.states) {
-            evaluate_states(robot, &set.samples, set.method.jacobian_rows(), buffer)?;
+            self.evaluate_set(robot, set, auxiliary, buffer)?;
+        }
+        Ok(())
+    }
+
+    /// The states of one set (see [`evaluate`](Self::evaluate)).
+    fn evaluate_set(
+        &self,
+        robot: &Robot,
+        set: &MeasurementSet,
+        auxiliary: &[f64],
+        buffer: &mut Vec<TerminalState>,
+    ) -> Result<(), Error> {
+        let rows = set.method.jacobian_rows();
+        match self.set_frames(robot, set, auxiliary) {
+            None => evaluate_states(robot, &set.samples, rows, buffer)?,
+            Some(frames) => {
+                // A tool moves the point with the flange's rotation: all six rows.
+                evaluate_states(robot, &set.samples, JacobianRows::Full, buffer)?;
+                for state in buffer.iter_mut() {
+                    frames.apply(state, rows.count());
+                }
+            }
         }
         Ok(())
     }
@@ -373,7 +528,11 @@ impl Study {
     /// # Errors
     /// When a method cannot initialise its unknowns from these data.
     pub fn initial_auxiliary(&self, states: &StudyStates) -> Result<Vec<f64>, Error> {
-        let mut values = Vec::new();
+        let mut values: Vec<f64> = self
+            .frames
+            .iter()
+            .flat_map(NamedFrame::initial_values)
+            .collect();
         for (index, set) in self.sets.iter().enumerate() {
             values.extend(set.method.initial_auxiliary(states.set(index))?);
         }
@@ -425,11 +584,12 @@ impl Study {
                     set.method.as_ref(),
                     &set.samples,
                     own,
+                    self.set_frames(robot, set, auxiliary).as_ref(),
                     writer,
                 )?);
             }
             let buffer = &mut states.states[index];
-            evaluate_states(robot, &set.samples, set.method.jacobian_rows(), buffer)?;
+            self.evaluate_set(robot, set, auxiliary, buffer)?;
             Ok(write_rows(
                 writer,
                 set.method.as_ref(),
@@ -452,7 +612,7 @@ impl Study {
     ) -> Result<(), Error> {
         system.reset(self.row_count(), layout);
         let mut first_row = 0;
-        let mut auxiliary_offset = 0;
+        let mut auxiliary_offset = self.frame_unknowns();
         for (index, set) in self.sets.iter().enumerate() {
             let rows = set.method.row_count(&set.samples);
             let count = set.method.auxiliary_names().len();
@@ -501,7 +661,9 @@ mod tests {
         layout: &ColumnLayout,
     ) -> ObservationSystem {
         let mut states = StudyStates::default();
-        study.evaluate(robot, &mut states).expect("states");
+        study
+            .evaluate(robot, auxiliary, &mut states)
+            .expect("states");
         let mut system = ObservationSystem::default();
         study.assemble(&states, auxiliary, layout, &mut system);
         system
@@ -551,6 +713,10 @@ mod tests {
                         sigma: Some(1e-3),
                         sigma_rotation: None,
                         label: "first".into(),
+                        // A reflector seen from a station: states with
+                        // the frames' columns, on the fused route too.
+                        tool: Some(0),
+                        station: Some(1),
                     },
                     MeasurementSet {
                         method,
@@ -558,11 +724,28 @@ mod tests {
                         sigma: Some(2e-4),
                         sigma_rotation: Some(1e-3),
                         label: info.name.into(),
+                        tool: None,
+                        station: None,
+                    },
+                ],
+                frames: vec![
+                    NamedFrame {
+                        name: "smr".into(),
+                        role: FrameRole::Tool,
+                        pose: nalgebra::IsometryMatrix3::translation(0.03, -0.02, 0.08),
+                    },
+                    NamedFrame {
+                        name: "tracker".into(),
+                        role: FrameRole::Station,
+                        pose: nalgebra::IsometryMatrix3::new(
+                            nalgebra::Vector3::new(2.0, 0.5, 0.3),
+                            nalgebra::Vector3::new(0.0, 0.1, 0.7),
+                        ),
                     },
                 ],
             };
             let mut states = StudyStates::default();
-            study.evaluate(&nominal, &mut states).expect("states");
+            study.evaluate_poses(&nominal, &mut states).expect("states");
             let auxiliary = study.initial_auxiliary(&states).expect("auxiliary");
             let layout =
                 ColumnLayout::new(nominal.parameters().len(), &parameters, auxiliary.len());

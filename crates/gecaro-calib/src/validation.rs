@@ -104,13 +104,18 @@ pub fn cross_validate(
                     )
                 })
                 .collect(),
+            frames: study.frames.clone(),
         };
         let context = |error: Error| Error::Numerical {
             message: format!("cross-validation fold {} of {folds}: {error}", fold + 1),
         };
         let fitted: Identification =
             identify(robot, &training, options, &mut Quiet).map_err(context)?;
-        let errors = evaluate(&fitted.calibrated, &held_out).map_err(context)?;
+        let errors = evaluate(
+            &fitted.calibrated,
+            &held_out.with_frames(fitted.frames.clone()),
+        )
+        .map_err(context)?;
         if fold == 0 {
             parameters = fitted.parameters.iter().map(|p| p.name.clone()).collect();
         }

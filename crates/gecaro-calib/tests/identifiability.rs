@@ -221,7 +221,7 @@ fn regrouping_relations_hold_on_fresh_data() {
         let samples = random_samples(&robot, fresh.as_ref(), None, 11).expect("samples");
         let study = Study::single(fresh, samples, "second");
         let mut states = StudyStates::default();
-        study.evaluate(&robot, &mut states).expect("states");
+        study.evaluate(&robot, &[], &mut states).expect("states");
         let all: Vec<usize> = (0..robot.parameters().len()).collect();
         let layout = ColumnLayout::new(all.len(), &all, 0);
         let mut system = ObservationSystem::default();
@@ -299,7 +299,7 @@ fn observability_indices_equal_a_direct_svd_of_the_scaled_base_columns() {
         let indices = report.observability();
 
         let mut states = StudyStates::default();
-        study.evaluate(&robot, &mut states).expect("states");
+        study.evaluate(&robot, &[], &mut states).expect("states");
         let auxiliary = study.initial_auxiliary(&states).expect("auxiliary");
         let layout = ColumnLayout::with_auxiliary(
             robot.parameters().len(),

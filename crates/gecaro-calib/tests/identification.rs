@@ -148,6 +148,8 @@ fn with_sensor_noise_the_residual_settles_at_the_noise_level() {
                 sigma: Some(sigma),
                 sigma_rotation: None,
                 label: "pairs".into(),
+                tool: None,
+                station: None,
             });
             study.sets[0].sigma = Some(sigma);
         }

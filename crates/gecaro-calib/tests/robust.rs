@@ -381,6 +381,8 @@ fn each_set_of_a_study_is_judged_by_its_own_noise() {
             sigma: Some(1e-4),
             sigma_rotation: None,
             label: format!("{name}.csv"),
+            tool: None,
+            station: None,
         });
     }
     let pairs = &mut sets[1].samples;
@@ -389,7 +391,10 @@ fn each_set_of_a_study_is_judged_by_its_own_noise() {
             sample.distance = sample.distance.map(|d| d + GROSS);
         }
     }
-    let study = Study { sets };
+    let study = Study {
+        sets,
+        frames: Vec::new(),
+    };
     let result = fit(&study, Loss::new(LossKind::Tukey));
     let flagged: Vec<(usize, usize)> = result
         .outliers

@@ -43,12 +43,13 @@
 //! does not use are left alone and listed in [`StudyFile::notes`].
 
 use gecaro_calib::{
+    frames::{FrameRole, NamedFrame},
     identification::Prior,
     methods::{MethodOptions, Plane},
-    study::{MeasurementSet, Study},
+    study::{DataColumn, MeasurementSet, Study},
 };
 use gecaro_core::{OrientationDifference, PriorityMatrix};
-use nalgebra::Vector3;
+use nalgebra::{IsometryMatrix3, Quaternion, Rotation3, Translation3, UnitQuaternion, Vector3};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
@@ -73,6 +74,21 @@ struct RawStudy {
     angle_unit: Option<Spanned<String>>,
     measurements: Spanned<Vec<Spanned<RawMeasurement>>>,
     prior: Option<Spanned<RawPrior>>,
+    #[serde(default)]
+    tools: std::collections::BTreeMap<String, Spanned<RawFrame>>,
+    #[serde(default)]
+    stations: std::collections::BTreeMap<String, Spanned<RawFrame>>,
+}
+
+/// A `[tools.NAME]` or `[stations.NAME]` table: the stated pose.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawFrame {
+    position: Spanned<Vec<f64>>,
+    rpy: Option<Spanned<Vec<f64>>>,
+    quaternion: Option<Spanned<Vec<f64>>>,
+    length_unit: Option<Spanned<String>>,
+    angle_unit: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -101,6 +117,8 @@ struct RawMeasurement {
     columns: Option<Spanned<std::collections::BTreeMap<String, String>>>,
     delimiter: Option<Spanned<String>>,
     decimal_comma: Option<bool>,
+    tool: Option<Spanned<String>>,
+    station: Option<Spanned<String>>,
 }
 
 /// A standard deviation as a study writes it: a number in the set's own
@@ -210,6 +228,52 @@ pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
         length: length_unit(&raw.length_unit, LengthUnit::Metres)?,
         angle: angle_unit(&raw.angle_unit, AngleUnit::Radians)?,
     };
+    let mut frames = Vec::new();
+    for (tables, role) in [
+        (&raw.tools, FrameRole::Tool),
+        (&raw.stations, FrameRole::Station),
+    ] {
+        for (name, table) in tables {
+            let field = format!("{}s.{name}", role.as_str());
+            let units = DataUnits {
+                length: length_unit(&table.get_ref().length_unit, study_units.length)?,
+                angle: angle_unit(&table.get_ref().angle_unit, study_units.angle)?,
+            };
+            let pose = frame_pose(table.get_ref(), units)
+                .map_err(|(span, key, message)| fail(span, &format!("{field}.{key}"), message))?;
+            if frames.iter().any(|frame: &NamedFrame| frame.name == *name) {
+                return Err(fail(
+                    table.span(),
+                    &field,
+                    format!("`{name}` names both a tool and a station; give them different names"),
+                ));
+            }
+            frames.push(NamedFrame {
+                name: name.clone(),
+                role,
+                pose,
+            });
+        }
+    }
+    let find_frame =
+        |name: &Option<Spanned<String>>, role: FrameRole| -> Result<Option<usize>, Error> {
+            let Some(name) = name else { return Ok(None) };
+            match frames
+                .iter()
+                .position(|frame| frame.name == *name.get_ref() && frame.role == role)
+            {
+                Some(index) => Ok(Some(index)),
+                None => Err(fail(
+                    name.span(),
+                    role.as_str(),
+                    format!(
+                        "no [{}s.{}] table in this study",
+                        role.as_str(),
+                        name.get_ref()
+                    ),
+                )),
+            }
+        };
     let types = joint_types(&robot.robot);
     let mut sets = Vec::new();
     let mut notes = Vec::new();
@@ -351,21 +415,134 @@ pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
         }
         notes.extend(data.notes);
         let samples = data.samples;
+        let tool = find_frame(&table.tool, FrameRole::Tool)?;
+        let station = find_frame(&table.station, FrameRole::Station)?;
+        if (tool.is_some() || station.is_some())
+            && !method.data_columns().contains(&DataColumn::Position)
+        {
+            let span = table
+                .tool
+                .as_ref()
+                .or(table.station.as_ref())
+                .map_or(measurement.span(), Spanned::span);
+            return Err(fail(
+                span,
+                if tool.is_some() { "tool" } else { "station" },
+                format!(
+                    "the {} method measures no pose in a measurement frame; tools and stations \
+                     go with position and frame measures",
+                    method.name()
+                ),
+            ));
+        }
         sets.push(MeasurementSet {
             method,
             samples,
             sigma: Some(sigma),
             sigma_rotation,
             label: data_path.display().to_string(),
+            tool,
+            station,
         });
+    }
+    let all_frames = raw.tools.iter().chain(&raw.stations);
+    for ((name, table), index) in all_frames.zip(0..) {
+        if !sets
+            .iter()
+            .any(|set| set.tool == Some(index) || set.station == Some(index))
+        {
+            return Err(fail(
+                table.span(),
+                name,
+                format!(
+                    "{} `{name}` is measured by no [[measurements]] set (name it with {} = {name:?})",
+                    frames[index].role.as_str(),
+                    frames[index].role.as_str()
+                ),
+            ));
+        }
     }
     Ok(StudyFile {
         robot,
-        study: Study { sets },
+        study: Study { sets, frames },
         priority,
         prior,
         notes,
     })
+}
+
+/// The pose a `[tools.NAME]` or `[stations.NAME]` table states: `position`
+/// in its length unit, `rpy` (roll, pitch, yaw about the fixed x, y, z
+/// axes, as URDF writes them) in its angle unit, or a unit `quaternion`
+/// `[w, x, y, z]`; neither: the parent frame's orientation.
+fn frame_pose(
+    table: &RawFrame,
+    units: DataUnits,
+) -> Result<IsometryMatrix3<f64>, (std::ops::Range<usize>, &'static str, String)> {
+    let three = |values: &Spanned<Vec<f64>>, key: &'static str| match values.get_ref().as_slice() {
+        [x, y, z] if [x, y, z].iter().all(|v| v.is_finite()) => Ok(Vector3::new(*x, *y, *z)),
+        [_, _, _] => Err((values.span(), key, "needs finite numbers".to_owned())),
+        other => Err((
+            values.span(),
+            key,
+            format!("needs three numbers, got {}", other.len()),
+        )),
+    };
+    let position = three(&table.position, "position")? * units.length.to_metres();
+    let rotation = match (&table.rpy, &table.quaternion) {
+        (Some(_), Some(quaternion)) => {
+            return Err((
+                quaternion.span(),
+                "quaternion",
+                "give the orientation as rpy or as a quaternion, not both".into(),
+            ));
+        }
+        (Some(rpy), None) => {
+            let scale = match units.angle {
+                AngleUnit::Degrees => std::f64::consts::PI / 180.0,
+                AngleUnit::Radians => 1.0,
+            };
+            let angles = three(rpy, "rpy")? * scale;
+            Rotation3::from_euler_angles(angles.x, angles.y, angles.z)
+        }
+        (None, Some(quaternion)) => match quaternion.get_ref().as_slice() {
+            [w, x, y, z] => {
+                let q = Quaternion::new(*w, *x, *y, *z);
+                let norm = q.norm();
+                if !norm.is_finite() || (norm - 1.0).abs() > 1e-3 {
+                    return Err((
+                        quaternion.span(),
+                        "quaternion",
+                        format!("must be a unit quaternion [w, x, y, z] (its norm is {norm})"),
+                    ));
+                }
+                UnitQuaternion::from_quaternion(q).to_rotation_matrix()
+            }
+            other => {
+                return Err((
+                    quaternion.span(),
+                    "quaternion",
+                    format!("needs four numbers [w, x, y, z], got {}", other.len()),
+                ));
+            }
+        },
+        (None, None) => Rotation3::identity(),
+    };
+    if position.norm() > gecaro_core::MAX_MAGNITUDE {
+        return Err((
+            table.position.span(),
+            "position",
+            format!(
+                "is {} m from its parent frame (at most {} m)",
+                gecaro_core::Compact(position.norm()),
+                gecaro_core::MAX_MAGNITUDE
+            ),
+        ));
+    }
+    Ok(IsometryMatrix3::from_parts(
+        Translation3::from(position),
+        rotation,
+    ))
 }
 
 /// A set's σ in metres (`Kind::Length`) or radians (`Kind::Angle`): a number

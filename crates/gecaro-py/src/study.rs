@@ -64,6 +64,8 @@ impl PyStudy {
             sigma,
             sigma_rotation,
             label: label.unwrap_or_else(|| data.label.clone()),
+            tool: None,
+            station: None,
         });
         Ok(())
     }

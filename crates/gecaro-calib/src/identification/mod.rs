@@ -74,6 +74,7 @@ mod weighting;
 use gecaro_core::Robot;
 
 use crate::Error;
+use crate::frames::FRAME_UNKNOWNS;
 use crate::identifiability::{
     Excitation, ParameterStatus, RankReport, excitation_at, structural_parameters_at,
 };
@@ -785,6 +786,15 @@ fn summarise(
         route,
         parameters,
         auxiliary,
+        frames: study
+            .frames
+            .iter()
+            .enumerate()
+            .map(|(index, frame)| {
+                let first = index * FRAME_UNKNOWNS;
+                frame.at(&best.auxiliary[first..first + FRAME_UNKNOWNS])
+            })
+            .collect(),
         residual_sigma: variance.sqrt(),
         stop_reason: stop,
         not_excited: excited.not_excited,

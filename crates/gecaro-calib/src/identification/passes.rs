@@ -98,6 +98,7 @@ fn thinned(study: &Study, limit: usize) -> Option<Study> {
                 set.with_samples(samples)
             })
             .collect(),
+        frames: study.frames.clone(),
     })
 }
 

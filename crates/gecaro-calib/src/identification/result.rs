@@ -6,6 +6,7 @@ use gecaro_core::Robot;
 use super::outliers::Outlier;
 use super::parameter::IdentifiedParameter;
 use super::verdict::{Outcome, StopReason, Verdict};
+use crate::frames::NamedFrame;
 use crate::identifiability::RankReport;
 use crate::observability::Observability;
 use crate::observation::ObservationSystem;
@@ -110,8 +111,14 @@ pub struct Identification {
     pub excitation: RankReport,
     /// The identified base parameters, in column (priority) order.
     pub parameters: Vec<IdentifiedParameter>,
-    /// The identified auxiliary unknowns (plane coefficients).
+    /// The identified auxiliary unknowns (named frames' unknowns, plane
+    /// coefficients).
     pub auxiliary: Vec<IdentifiedParameter>,
+    /// The study's named tools and stations at their identified poses (an
+    /// unknown the data do not determine keeps its stated value): with
+    /// [`Study::with_frames`](crate::study::Study::with_frames), what a
+    /// held-out evaluation of the calibrated robot needs.
+    pub frames: Vec<NamedFrame>,
     /// The a-posteriori residual standard deviation σ (units of the weighted rows).
     pub residual_sigma: f64,
     /// Why the iteration stopped.

@@ -17,7 +17,9 @@
 //! nominal misplaces the measurement frame or the tool point by more than
 //! 10 cm or 10° and the start at least halves the nominal's RMS error on
 //! these points; otherwise the nominal is (a near nominal converges as the
-//! paper's scheme does, to the same numbers as before).
+//! paper's scheme does, to the same numbers as before). Sets that name a
+//! tool or a station ([`crate::frames`]) take no part: their frames start
+//! from the poses the study states.
 
 use gecaro_core::{Robot, terminal_pose};
 use nalgebra::{IsometryMatrix3, Matrix3, Rotation3, Translation3, Vector3};
@@ -46,7 +48,9 @@ const MINIMUM_POINTS: usize = 4;
 pub(super) fn closed_form_start(robot: &Robot, study: &Study) -> Result<Option<Robot>, Error> {
     let mut flanges = Vec::new();
     let mut measured = Vec::new();
-    for set in &study.sets {
+    // Sets with a named tool or station measure another point or in another
+    // frame; their frames start from their stated poses.
+    for set in study.sets.iter().filter(|set| !set.uses_named_frames()) {
         for sample in &set.samples {
             if let Some(point) = sample.position {
                 flanges.push(terminal_pose(robot, &sample.motor_positions)?);
