@@ -379,6 +379,30 @@ fn print_iterations(result: &Identification) {
     println!("Verdict: {}.", result.verdict.summary);
 }
 
+/// The named tools and stations at their identified poses, as a study
+/// file states them (ready to be pasted into the next study).
+fn print_frames(result: &Identification) {
+    if result.frames.is_empty() {
+        return;
+    }
+    println!("Tools and stations identified (as a study file states them, in mm and degrees):");
+    for frame in &result.frames {
+        let t = frame.pose.translation.vector * 1e3;
+        let (roll, pitch, yaw) = frame.pose.rotation.euler_angles();
+        println!(
+            "  [{}s.{}]\n  position = [{:.4}, {:.4}, {:.4}]\n  rpy = [{:.5}, {:.5}, {:.5}]\n  length_unit = \"mm\"\n  angle_unit = \"deg\"",
+            frame.role.as_str(),
+            crate::format::shown(&frame.name),
+            t.x,
+            t.y,
+            t.z,
+            roll.to_degrees(),
+            pitch.to_degrees(),
+            yaw.to_degrees()
+        );
+    }
+}
+
 fn print_parameters(result: &Identification) {
     let with_prior = result.prior.is_some();
     let mut header = vec!["parameter", "nominal", "identified", "deviation", "σ"];
@@ -408,6 +432,7 @@ fn print_parameters(result: &Identification) {
         parameters.add_row(row);
     }
     println!("Identified parameters (metres, radians):\n{parameters}");
+    print_frames(result);
     let combinations: Vec<String> = result
         .parameters
         .iter()

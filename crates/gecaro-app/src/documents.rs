@@ -6,6 +6,7 @@
 
 use gecaro_calib::{
     curve::CurvePoint,
+    frames::NamedFrame,
     identifiability::{Classified, Identifiability, RankReport},
     identification::{
         ErrorSummary, Identification, IdentifiedParameter, NOISE_TEST_LEVEL, StopReason, Verdict,
@@ -344,6 +345,37 @@ fn parameters(parameters: &[IdentifiedParameter]) -> Vec<ParameterJson> {
         .collect()
 }
 
+/// A named tool or station's pose, as a study file states it (metres and
+/// radians; `rpy` about the fixed x, y, z axes, as URDF).
+#[derive(Clone, Debug, Serialize)]
+pub struct FrameJson {
+    /// Its name in the study.
+    pub name: String,
+    /// `tool` (in the flange frame n) or `station` (in the world frame).
+    pub role: &'static str,
+    /// Its origin (m).
+    pub position: [f64; 3],
+    /// Roll, pitch, yaw (rad).
+    pub rpy: [f64; 3],
+    /// The same orientation as a unit quaternion `[w, x, y, z]`.
+    pub quaternion: [f64; 4],
+}
+
+impl From<&NamedFrame> for FrameJson {
+    fn from(frame: &NamedFrame) -> Self {
+        let t = frame.pose.translation.vector;
+        let (roll, pitch, yaw) = frame.pose.rotation.euler_angles();
+        let q = nalgebra::UnitQuaternion::from_rotation_matrix(&frame.pose.rotation);
+        FrameJson {
+            name: frame.name.clone(),
+            role: frame.role.as_str(),
+            position: [t.x, t.y, t.z],
+            rpy: [roll, pitch, yaw],
+            quaternion: [q.w, q.i, q.j, q.k],
+        }
+    }
+}
+
 /// The "Identification" function's result.
 #[derive(Clone, Debug, Serialize)]
 pub struct IdentificationJson {
@@ -371,8 +403,10 @@ pub struct IdentificationJson {
     pub observability: ObservabilityJson,
     /// The identified base parameters.
     pub parameters: Vec<ParameterJson>,
-    /// The identified auxiliary unknowns.
+    /// The identified auxiliary unknowns (named frames' first).
     pub auxiliary: Vec<ParameterJson>,
+    /// The study's named tools and stations at their identified poses.
+    pub frames: Vec<FrameJson>,
     /// `converged`, `iteration_limit` or `diverged`.
     pub stop_reason: &'static str,
     /// Standard deviation of the residual (eq. 11).
@@ -596,6 +630,7 @@ impl IdentificationJson {
             observability: result.observability().into(),
             parameters: parameters(&result.parameters),
             auxiliary: parameters(&result.auxiliary),
+            frames: result.frames.iter().map(FrameJson::from).collect(),
             stop_reason: result.stop_reason.as_str(),
             residual_sigma: result.residual_sigma,
             before: (&result.before).into(),

@@ -378,6 +378,26 @@ pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
         };
         let method = gecaro_calib::methods::method(table.method.get_ref(), &options)
             .map_err(|error| fail(table.method.span(), "method", error.to_string()))?;
+        let tool = find_frame(&table.tool, FrameRole::Tool)?;
+        let station = find_frame(&table.station, FrameRole::Station)?;
+        if (tool.is_some() || station.is_some())
+            && !method.data_columns().contains(&DataColumn::Position)
+        {
+            let span = table
+                .tool
+                .as_ref()
+                .or(table.station.as_ref())
+                .map_or(measurement.span(), Spanned::span);
+            return Err(fail(
+                span,
+                if tool.is_some() { "tool" } else { "station" },
+                format!(
+                    "the {} method measures no pose in a measurement frame; tools and stations \
+                     go with position and frame measures",
+                    method.name()
+                ),
+            ));
+        }
         let data_path = relative(table.data.get_ref());
         let delimiter = match &table.delimiter {
             None => Delimiter::Detect,
@@ -415,26 +435,6 @@ pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
         }
         notes.extend(data.notes);
         let samples = data.samples;
-        let tool = find_frame(&table.tool, FrameRole::Tool)?;
-        let station = find_frame(&table.station, FrameRole::Station)?;
-        if (tool.is_some() || station.is_some())
-            && !method.data_columns().contains(&DataColumn::Position)
-        {
-            let span = table
-                .tool
-                .as_ref()
-                .or(table.station.as_ref())
-                .map_or(measurement.span(), Spanned::span);
-            return Err(fail(
-                span,
-                if tool.is_some() { "tool" } else { "station" },
-                format!(
-                    "the {} method measures no pose in a measurement frame; tools and stations \
-                     go with position and frame measures",
-                    method.name()
-                ),
-            ));
-        }
         sets.push(MeasurementSet {
             method,
             samples,

@@ -1,0 +1,261 @@
+//! End-to-end: a study of three reflectors seen from two tracker stations
+//! (issue 24 §1), written as a tracker writes it (mm, degrees), identified
+//! by the command line; simulated truth, so the right answer is known.
+
+use std::path::Path;
+
+use assert_cmd::Command;
+use gecaro_calib::{
+    frames::{FrameRole, NamedFrame, measuring_robot},
+    methods::{MethodOptions, method},
+    simulation::{Sampler, perturbed_robot, simulate_measurements},
+    study::DataColumn,
+};
+use gecaro_io::OutputPolicy;
+use nalgebra::{IsometryMatrix3, Rotation3, Translation3};
+use serde_json::Value;
+
+fn gecaro() -> Command {
+    Command::cargo_bin("gecaro").expect("the gecaro binary is built")
+}
+
+fn frame(name: &str, role: FrameRole, position: [f64; 3], rpy_deg: [f64; 3]) -> NamedFrame {
+    let [r, p, y] = rpy_deg.map(f64::to_radians);
+    NamedFrame {
+        name: name.into(),
+        role,
+        pose: IsometryMatrix3::from_parts(
+            Translation3::new(position[0], position[1], position[2]),
+            Rotation3::from_euler_angles(r, p, y),
+        ),
+    }
+}
+
+/// The study's text: reflectors and the second station stated roughly (mm,
+/// degrees); tracker 1 is the world frame (its sets name no station).
+const STUDY: &str = r#"
+robot = "industrial6"
+length_unit = "mm"
+angle_unit = "deg"
+
+[tools.smr_a]
+position = [42, 24, 91.5]
+[tools.smr_b]
+position = [-51.5, 32, 69]
+[tools.smr_c]
+position = [11, -58.5, 112]
+
+[stations.tracker_2]
+position = [-1150, 1700, -250]
+rpy = [0, 0, -130]
+
+[[measurements]]
+method = "position"
+data = "smr_a_1.csv"
+tool = "smr_a"
+sigma = 0.02
+[[measurements]]
+method = "position"
+data = "smr_b_1.csv"
+tool = "smr_b"
+sigma = 0.02
+[[measurements]]
+method = "position"
+data = "smr_c_1.csv"
+tool = "smr_c"
+sigma = 0.02
+[[measurements]]
+method = "position"
+data = "smr_a_2.csv"
+tool = "smr_a"
+station = "tracker_2"
+sigma = 0.02
+[[measurements]]
+method = "position"
+data = "smr_b_2.csv"
+tool = "smr_b"
+station = "tracker_2"
+sigma = 0.02
+[[measurements]]
+method = "position"
+data = "smr_c_2.csv"
+tool = "smr_c"
+station = "tracker_2"
+sigma = 0.02
+"#;
+
+/// Writes the cell's data and study into `folder` (the bundled
+/// `examples/tracker-cell`) and returns tracker 2's true pose in tracker
+/// 1's frame: x −1200, y 1750, z −200 mm, rpy 0.4°, −0.3°, −128°.
+fn write_cell(folder: &Path) -> NamedFrame {
+    let nominal = gecaro_io::load_robot("industrial6").expect("robot").robot;
+    let mut sampler = Sampler::new(5);
+    let real = perturbed_robot(&nominal, 0.5, &mut sampler).expect("real");
+    let tools = [
+        frame("smr_a", FrameRole::Tool, [0.04, 0.025, 0.09], [0.0; 3]),
+        frame("smr_b", FrameRole::Tool, [-0.05, 0.03, 0.07], [0.0; 3]),
+        frame("smr_c", FrameRole::Tool, [0.01, -0.06, 0.11], [0.0; 3]),
+    ];
+    let tracker_2 = frame(
+        "tracker_2",
+        FrameRole::Station,
+        [-1.2, 1.75, -0.2],
+        [0.4, -0.3, -128.0],
+    );
+    let position = method("position", &MethodOptions::default()).expect("method");
+    for tool in &tools {
+        for (station, suffix) in [(None, "1"), (Some(&tracker_2), "2")] {
+            let robot = measuring_robot(&real, Some(tool), station).expect("robot");
+            let mut samples =
+                simulate_measurements(&robot, position.as_ref(), 25, 2e-5, &mut sampler)
+                    .expect("data");
+            // As the tracker writes them: millimetres, joint angles in degrees.
+            for sample in &mut samples {
+                sample.position = sample.position.map(|p| p * 1e3);
+                for q in &mut sample.motor_positions {
+                    *q = q.to_degrees();
+                }
+            }
+            gecaro_io::write_samples(
+                &folder.join(format!("{}_{suffix}.csv", tool.name)),
+                6,
+                &[DataColumn::Position],
+                &samples,
+                OutputPolicy::KeepExisting,
+            )
+            .expect("written");
+        }
+    }
+    std::fs::write(folder.join("study.toml"), STUDY).expect("study");
+    tracker_2
+}
+
+/// The bundled example (`examples/tracker-cell`) is what [`write_cell`]
+/// writes, byte for byte; `GECARO_REGENERATE=1` rewrites it.
+#[test]
+fn the_bundled_cell_example_is_what_its_generator_writes() {
+    let bundled = Path::new("examples/tracker-cell");
+    let folder = tempfile::tempdir().expect("folder");
+    write_cell(folder.path());
+    let mut names: Vec<String> = std::fs::read_dir(folder.path())
+        .expect("listing")
+        .map(|entry| {
+            entry
+                .expect("entry")
+                .file_name()
+                .to_string_lossy()
+                .into_owned()
+        })
+        .collect();
+    names.sort();
+    for name in names {
+        let written = std::fs::read(folder.path().join(&name)).expect("written");
+        if std::env::var_os("GECARO_REGENERATE").is_some() {
+            std::fs::write(bundled.join(&name), &written).expect("regenerated");
+        }
+        let kept = std::fs::read(bundled.join(&name)).unwrap_or_default();
+        assert!(
+            kept == written,
+            "examples/tracker-cell/{name} differs from what its generator writes; \
+             GECARO_REGENERATE=1 cargo test --test named_frames rewrites it"
+        );
+    }
+}
+
+#[test]
+fn a_cell_of_three_reflectors_and_two_stations_is_identified_from_its_study_file() {
+    let folder = tempfile::tempdir().expect("folder");
+    let truth = write_cell(folder.path());
+    let study = folder.path().join("study.toml");
+    let output = gecaro()
+        .args(["identify", "--study"])
+        .arg(&study)
+        .arg("--json")
+        .output()
+        .expect("runs");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let json: Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    assert_eq!(
+        json["verdict"]["outcome"], "fits_noise",
+        "{}",
+        json["verdict"]
+    );
+    let frames = json["frames"].as_array().expect("frames");
+    assert_eq!(frames.len(), 4);
+    let station = frames
+        .iter()
+        .find(|f| f["name"] == "tracker_2")
+        .expect("tracker_2");
+    assert_eq!(station["role"], "station");
+    for axis in 0..3 {
+        let found = station["position"][axis].as_f64().expect("number");
+        let expected = truth.pose.translation.vector[axis];
+        // σ of the station's position here is about 10 µm.
+        assert!(
+            (found - expected).abs() < 1e-4,
+            "tracker_2 axis {axis}: {found} vs {expected}"
+        );
+    }
+    // The text output states the identified frames as a study states them.
+    let text = gecaro()
+        .args(["identify", "--study"])
+        .arg(&study)
+        .output()
+        .expect("runs");
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(text.contains("[stations.tracker_2]"), "{text}");
+    assert!(text.contains("tracker_2.rz"), "{text}");
+    // Appendix III covers the frames: a reflector's orientation has no effect.
+    let report = gecaro()
+        .args(["identifiable", "--study"])
+        .arg(&study)
+        .output()
+        .expect("runs");
+    let report = String::from_utf8_lossy(&report.stdout);
+    assert!(report.contains("tracker_2.x: identifiable"), "{report}");
+    assert!(report.contains("smr_a.rx: no"), "{report}");
+}
+
+#[test]
+fn a_study_naming_an_unknown_station_is_refused_at_its_line() {
+    let folder = tempfile::tempdir().expect("folder");
+    write_cell(folder.path());
+    let study = folder.path().join("study.toml");
+    let text = STUDY.replace("station = \"tracker_2\"\nsigma = 0.02\n[[measurements]]\nmethod = \"position\"\ndata = \"smr_b_2.csv\"", "station = \"tracker_3\"\nsigma = 0.02\n[[measurements]]\nmethod = \"position\"\ndata = \"smr_b_2.csv\"");
+    std::fs::write(&study, &text).expect("study");
+    let output = gecaro()
+        .args(["identify", "--study"])
+        .arg(&study)
+        .output()
+        .expect("runs");
+    assert!(!output.status.success());
+    let message = String::from_utf8_lossy(&output.stderr);
+    let line = text
+        .lines()
+        .position(|l| l.contains("tracker_3"))
+        .expect("line")
+        + 1;
+    assert!(
+        message.contains("no [stations.tracker_3] table"),
+        "{message}"
+    );
+    assert!(message.contains(&format!(":{line}")), "{message}");
+    // A station on a method that measures no pose in a frame.
+    let text = STUDY.replace(
+        "method = \"position\"\ndata = \"smr_a_2.csv\"",
+        "method = \"distance\"\ndata = \"smr_a_2.csv\"",
+    );
+    std::fs::write(&study, &text).expect("study");
+    let output = gecaro()
+        .args(["identify", "--study"])
+        .arg(&study)
+        .output()
+        .expect("runs");
+    assert!(!output.status.success());
+    let message = String::from_utf8_lossy(&output.stderr);
+    assert!(message.contains("tools and stations go with"), "{message}");
+}
