@@ -353,12 +353,12 @@ pub struct FrameJson {
     pub name: String,
     /// `tool` (in the flange frame n) or `station` (in the world frame).
     pub role: &'static str,
-    /// Its origin (m).
-    pub position: [f64; 3],
+    /// Its origin (m), three numbers (a list, not a tuple, in Python).
+    pub position: Vec<f64>,
     /// Roll, pitch, yaw (rad).
-    pub rpy: [f64; 3],
+    pub rpy: Vec<f64>,
     /// The same orientation as a unit quaternion `[w, x, y, z]`.
-    pub quaternion: [f64; 4],
+    pub quaternion: Vec<f64>,
 }
 
 impl From<&NamedFrame> for FrameJson {
@@ -369,9 +369,9 @@ impl From<&NamedFrame> for FrameJson {
         FrameJson {
             name: frame.name.clone(),
             role: frame.role.as_str(),
-            position: [t.x, t.y, t.z],
-            rpy: [roll, pitch, yaw],
-            quaternion: [q.w, q.i, q.j, q.k],
+            position: vec![t.x, t.y, t.z],
+            rpy: vec![roll, pitch, yaw],
+            quaternion: vec![q.w, q.i, q.j, q.k],
         }
     }
 }

@@ -49,7 +49,7 @@ use gecaro_calib::{
     study::{DataColumn, MeasurementSet, Study},
 };
 use gecaro_core::{OrientationDifference, PriorityMatrix};
-use nalgebra::{IsometryMatrix3, Quaternion, Rotation3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Vector3};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
@@ -506,18 +506,9 @@ fn frame_pose(
             Rotation3::from_euler_angles(angles.x, angles.y, angles.z)
         }
         (None, Some(quaternion)) => match quaternion.get_ref().as_slice() {
-            [w, x, y, z] => {
-                let q = Quaternion::new(*w, *x, *y, *z);
-                let norm = q.norm();
-                if !norm.is_finite() || (norm - 1.0).abs() > 1e-3 {
-                    return Err((
-                        quaternion.span(),
-                        "quaternion",
-                        format!("must be a unit quaternion [w, x, y, z] (its norm is {norm})"),
-                    ));
-                }
-                UnitQuaternion::from_quaternion(q).to_rotation_matrix()
-            }
+            [w, x, y, z] => crate::pose::unit_quaternion(*w, *x, *y, *z)
+                .map_err(|message| (quaternion.span(), "quaternion", message))?
+                .to_rotation_matrix(),
             other => {
                 return Err((
                     quaternion.span(),

@@ -4,7 +4,7 @@
 //! application layer, so the numbers are equal bit for bit; the results'
 //! `to_dict()` is the command's `--json` document.
 
-use gecaro_app::documents::{ObservabilityJson, OutlierJson, SummaryJson, VerdictJson};
+use gecaro_app::documents::{FrameJson, ObservabilityJson, OutlierJson, SummaryJson, VerdictJson};
 use gecaro_app::{EvaluateRequest, Files, FitSettings, Identified, IdentifyRequest, LocalFiles};
 use gecaro_calib::identification::{ErrorSummary, IdentifiedParameter, StopReason};
 use numpy::PyArrayDyn;
@@ -263,6 +263,22 @@ impl PyIdentification {
     #[getter]
     fn verdict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         to_python(py, &VerdictJson::from(&self.identified.result.verdict))
+    }
+
+    /// The study's named tools and stations at their identified poses: a
+    /// list of dicts with name, role ("tool" or "station"), position (m),
+    /// rpy (rad, about the fixed x, y, z axes) and quaternion [w, x, y, z],
+    /// as `--json`'s `frames`.
+    #[getter]
+    fn frames<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let frames: Vec<FrameJson> = self
+            .identified
+            .result
+            .frames
+            .iter()
+            .map(FrameJson::from)
+            .collect();
+        to_python(py, &frames)
     }
 
     /// Parameters the second pass added to the base set chosen at the

@@ -1,9 +1,13 @@
 //! `gecaro.Study`: several measurement sets calibrated together, each with its
 //! method, data and sensor σ (rows weighted by 1/σ), as a study file holds them.
 
+use gecaro_app::documents::FrameJson;
+use gecaro_calib::frames::{FrameRole, NamedFrame};
 use gecaro_calib::study::{MeasurementSet, Study};
 use gecaro_core::PriorityMatrix;
+use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Vector3};
 use numpy::PyArrayDyn;
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
@@ -30,6 +34,73 @@ pub(crate) struct PyStudy {
     pub(crate) label: Option<String>,
 }
 
+impl PyStudy {
+    /// The index of the named frame `name` of `role`, or `None`.
+    fn frame_index(&self, name: Option<&str>, role: FrameRole) -> PyResult<Option<usize>> {
+        let Some(name) = name else { return Ok(None) };
+        self.study
+            .frames
+            .iter()
+            .position(|frame| frame.name == name && frame.role == role)
+            .map(Some)
+            .ok_or_else(|| {
+                PyValueError::new_err(format!(
+                    "no {} named {name:?}: add it with add_{}",
+                    role.as_str(),
+                    role.as_str()
+                ))
+            })
+    }
+
+    fn add_frame(
+        &mut self,
+        name: String,
+        role: FrameRole,
+        position: [f64; 3],
+        rpy: Option<[f64; 3]>,
+        quaternion: Option<[f64; 4]>,
+    ) -> PyResult<()> {
+        if self.study.frames.iter().any(|frame| frame.name == name) {
+            return Err(PyValueError::new_err(format!(
+                "a tool or station is already named {name:?}"
+            )));
+        }
+        if !position.iter().all(|v| v.is_finite()) {
+            return Err(PyValueError::new_err(format!(
+                "position of {name:?} must be finite, not {position:?}"
+            )));
+        }
+        let rotation = match (rpy, quaternion) {
+            (Some(_), Some(_)) => {
+                return Err(PyValueError::new_err(
+                    "give the orientation as rpy or as a quaternion, not both",
+                ));
+            }
+            (Some([roll, pitch, yaw]), None) => {
+                if ![roll, pitch, yaw].iter().all(|v| v.is_finite()) {
+                    return Err(PyValueError::new_err(format!(
+                        "rpy of {name:?} must be finite"
+                    )));
+                }
+                Rotation3::from_euler_angles(roll, pitch, yaw)
+            }
+            (None, Some([w, x, y, z])) => gecaro_io::unit_quaternion(w, x, y, z)
+                .map_err(PyValueError::new_err)?
+                .to_rotation_matrix(),
+            (None, None) => Rotation3::identity(),
+        };
+        self.study.frames.push(NamedFrame {
+            name,
+            role,
+            pose: IsometryMatrix3::from_parts(
+                Translation3::from(Vector3::from(position)),
+                rotation,
+            ),
+        });
+        Ok(())
+    }
+}
+
 #[pymethods]
 impl PyStudy {
     /// An empty study; fill it with `add`.
@@ -48,7 +119,12 @@ impl PyStudy {
     /// Adds a measurement set: `data` measured by `method` (a Method or its
     /// name) with a sensor of standard deviation `sigma` (metres; also
     /// radians for orientations unless `sigma_rotation` is given).
-    #[pyo3(signature = (method, data, *, sigma = None, sigma_rotation = None, label = None))]
+    ///
+    /// `tool` and `station` name a tool or station added with `add_tool` or
+    /// `add_station`: the set measures that reflector, from that station
+    /// (docs/studies.md).
+    #[pyo3(signature = (method, data, *, sigma = None, sigma_rotation = None, label = None, tool = None, station = None))]
+    #[allow(clippy::too_many_arguments)]
     fn add(
         &mut self,
         method: &Bound<'_, PyAny>,
@@ -56,18 +132,70 @@ impl PyStudy {
         sigma: Option<f64>,
         sigma_rotation: Option<f64>,
         label: Option<String>,
+        tool: Option<String>,
+        station: Option<String>,
     ) -> PyResult<()> {
         let method = method_of(method)?;
+        let tool = self.frame_index(tool.as_deref(), FrameRole::Tool)?;
+        let station = self.frame_index(station.as_deref(), FrameRole::Station)?;
+        if (tool.is_some() || station.is_some())
+            && !method
+                .get()
+                .method
+                .data_columns()
+                .contains(&gecaro_calib::study::DataColumn::Position)
+        {
+            return Err(PyValueError::new_err(format!(
+                "the {} method measures no pose in a measurement frame; tools and stations go \
+                 with position and frame measures",
+                method.get().method.name()
+            )));
+        }
         self.study.sets.push(MeasurementSet {
             method: method.get().method.clone_method(),
             samples: data.samples.clone(),
             sigma,
             sigma_rotation,
             label: label.unwrap_or_else(|| data.label.clone()),
-            tool: None,
-            station: None,
+            tool,
+            station,
         });
         Ok(())
+    }
+
+    /// Names a tool (a reflector): its pose in the flange frame n, `position`
+    /// in metres, `rpy` (radians, about the fixed x, y, z axes) or a unit
+    /// `quaternion` [w, x, y, z]. Its pose is identified with the robot.
+    #[pyo3(signature = (name, position, *, rpy = None, quaternion = None))]
+    fn add_tool(
+        &mut self,
+        name: String,
+        position: [f64; 3],
+        rpy: Option<[f64; 3]>,
+        quaternion: Option<[f64; 4]>,
+    ) -> PyResult<()> {
+        self.add_frame(name, FrameRole::Tool, position, rpy, quaternion)
+    }
+
+    /// Names a station (a measurement frame): its pose in the world frame, as
+    /// `add_tool`. Sets measured from it give poses in its frame.
+    #[pyo3(signature = (name, position, *, rpy = None, quaternion = None))]
+    fn add_station(
+        &mut self,
+        name: String,
+        position: [f64; 3],
+        rpy: Option<[f64; 3]>,
+        quaternion: Option<[f64; 4]>,
+    ) -> PyResult<()> {
+        self.add_frame(name, FrameRole::Station, position, rpy, quaternion)
+    }
+
+    /// The named tools and stations: a list of dicts with name, role,
+    /// position (m), rpy (rad) and quaternion, as stated.
+    #[getter]
+    fn frames<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let frames: Vec<FrameJson> = self.study.frames.iter().map(FrameJson::from).collect();
+        pythonize::pythonize(py, &frames).map_err(|error| PyValueError::new_err(error.to_string()))
     }
 
     /// Reads a study file (TOML: the robot, a priority matrix, and

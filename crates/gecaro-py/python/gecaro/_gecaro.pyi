@@ -6,7 +6,7 @@ poses are 4×4 homogeneous matrices of frame n+1 in the world frame.
 
 import os
 import pathlib
-from typing import Any, Callable, Literal, Mapping, Optional, Union, final
+from typing import Any, Callable, Literal, Mapping, Optional, Sequence, Union, final
 
 import numpy as np
 import numpy.typing as npt
@@ -278,7 +278,30 @@ class Study:
         sigma: Optional[float] = None,
         sigma_rotation: Optional[float] = None,
         label: Optional[str] = None,
-    ) -> Data: ...
+        tool: Optional[str] = None,
+        station: Optional[str] = None,
+    ) -> None: ...
+    def add_tool(
+        self,
+        name: str,
+        position: Sequence[float],
+        *,
+        rpy: Optional[Sequence[float]] = None,
+        quaternion: Optional[Sequence[float]] = None,
+    ) -> None:
+        """Names a reflector: its pose in the flange frame (m, rad), identified with the robot."""
+    def add_station(
+        self,
+        name: str,
+        position: Sequence[float],
+        *,
+        rpy: Optional[Sequence[float]] = None,
+        quaternion: Optional[Sequence[float]] = None,
+    ) -> None:
+        """Names a measurement frame: its pose in the world frame (m, rad)."""
+    @property
+    def frames(self) -> list[dict[str, Any]]:
+        """The named tools and stations as stated: name, role, position, rpy, quaternion."""
     @staticmethod
     def read(path: _PathLike) -> Study:
         """Reads a study file, as ``--study``."""
@@ -407,6 +430,9 @@ class Identification:
     @property
     def verdict(self) -> dict[str, Any]:
         """Whether the result can be trusted (outcome, trusted, summary, noise_test, …)."""
+    @property
+    def frames(self) -> list[dict[str, Any]]:
+        """The study's tools and stations at their identified poses (name, role, position, rpy, quaternion)."""
     @property
     def second_pass(self) -> list[str]: ...
     @property

@@ -1,0 +1,82 @@
+"""Several reflectors and stations in one identification (docs/studies.md):
+the bundled cell of three reflectors seen from two tracker stations, read
+from its study file and built set by set, against the command line."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+import gecaro
+
+# examples/tracker-cell: tracker 2's true pose in tracker 1's frame (the
+# generator in tests/named_frames.rs).
+TRACKER_2 = (-1.2, 1.75, -0.2)
+
+
+def test_the_cell_study_equals_the_command_line(cli, repository):
+    path = repository / "examples" / "tracker-cell" / "study.toml"
+    study = gecaro.Study.read(path)
+    assert [f["name"] for f in study.frames] == ["smr_a", "smr_b", "smr_c", "tracker_2"]
+    assert study.robot is not None
+    result = gecaro.identify(study.robot, study)
+    assert result.to_dict() == cli.json("identify", "--study", path)
+    assert result.verdict["outcome"] == "fits_noise"
+    station = next(f for f in result.frames if f["name"] == "tracker_2")
+    assert station["role"] == "station"
+    for found, expected in zip(station["position"], TRACKER_2):
+        assert abs(found - expected) < 1e-4
+    # Its six unknowns carry their precision.
+    unknowns = {p.name: p for p in result.auxiliary}
+    assert all(unknowns[f"tracker_2.{u}"].std > 0 for u in ("x", "y", "z", "rx", "ry", "rz"))
+
+
+def test_a_cell_built_set_by_set_equals_its_study_file(repository):
+    folder = repository / "examples" / "tracker-cell"
+    robot = gecaro.Robot.load("industrial6")
+    study = gecaro.Study()
+    study.add_tool("smr_a", [0.042, 0.024, 0.0915])
+    study.add_tool("smr_b", [-0.0515, 0.032, 0.069])
+    study.add_tool("smr_c", [0.011, -0.0585, 0.112])
+    study.add_station("tracker_2", [-1.15, 1.7, -0.25], rpy=[0.0, 0.0, math.radians(-130)])
+    for tool in ("smr_a", "smr_b", "smr_c"):
+        for station in (None, "tracker_2"):
+            suffix = "1" if station is None else "2"
+            data = gecaro.Data.read(
+                folder / f"{tool}_{suffix}.csv",
+                robot,
+                "position",
+                length_unit="mm",
+                angle_unit="deg",
+            )
+            study.add("position", data, sigma=2e-5, tool=tool, station=station)
+    built = gecaro.identify(robot, study)
+    read = gecaro.identify(robot, gecaro.Study.read(folder / "study.toml"))
+    assert built.after.rms == pytest.approx(read.after.rms, rel=1e-9)
+    for a, b in zip(built.frames, read.frames):
+        assert a["name"] == b["name"]
+        assert a["position"] == pytest.approx(b["position"], abs=1e-12)
+
+
+def test_named_frames_are_checked_where_they_are_named(repository):
+    study = gecaro.Study()
+    study.add_tool("smr", [0.0, 0.0, 0.1])
+    with pytest.raises(ValueError, match="already named"):
+        study.add_station("smr", [1.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match="rpy or as a quaternion"):
+        study.add_station("t", [1.0, 0.0, 0.0], rpy=[0, 0, 0], quaternion=[1, 0, 0, 0])
+    with pytest.raises(ValueError, match="norm"):
+        study.add_station("t", [1.0, 0.0, 0.0], quaternion=[2, 0, 0, 0])
+    robot = gecaro.Robot.load("industrial6")
+    data = gecaro.Data.read(
+        repository / "examples" / "tracker-cell" / "smr_a_1.csv",
+        robot,
+        "position",
+        length_unit="mm",
+        angle_unit="deg",
+    )
+    with pytest.raises(ValueError, match="no station named"):
+        study.add("position", data, station="tracker_9")
+    with pytest.raises(ValueError, match="tools and stations go"):
+        study.add("distance", data, tool="smr")
