@@ -127,8 +127,20 @@ fn cell_study(
     count: usize,
     seed: u64,
 ) -> Study {
+    cell_study_of("position", real, stated, reference, count, seed)
+}
+
+/// [`cell_study`] measured by `method_name` (position or frame).
+fn cell_study_of(
+    method_name: &str,
+    real: &Robot,
+    stated: Vec<NamedFrame>,
+    reference: bool,
+    count: usize,
+    seed: u64,
+) -> Study {
     let truth = true_frames();
-    let position = method("position", &MethodOptions::default()).expect("method");
+    let position = method(method_name, &MethodOptions::default()).expect("method");
     let mut sampler = Sampler::new(seed);
     let mut sets = Vec::new();
     for station in 3..5 {
@@ -159,7 +171,7 @@ fn cell_study(
                 method: position.clone_method(),
                 samples,
                 sigma: Some(NOISE),
-                sigma_rotation: None,
+                sigma_rotation: (method_name == "frame").then_some(NOISE),
                 label: format!("{}_{}.csv", truth[tool].name, truth[station].name),
                 tool: Some(tool),
                 station: named_station,
@@ -278,4 +290,58 @@ fn with_every_set_from_a_named_station_the_cell_still_reaches_the_floor() {
         let (_, std) = identified(&result, name);
         assert!(std.is_finite() && std > 0.0, "{name} σ {std}");
     }
+}
+
+/// Frame measures (a 6-D target on each tool) through the same frames: the
+/// reflectors' orientations now count and are identified (regrouped with the
+/// last joint's), and the cell is predicted to the noise floor.
+#[test]
+fn frame_measures_identify_the_tools_orientations_too() {
+    let nominal = nominal();
+    let real = real_robot(&nominal, &mut Sampler::new(12));
+    let mut stated = stated_frames();
+    // Tools turned by a few degrees from what is stated.
+    for frame in stated.iter_mut().take(3) {
+        frame.pose.rotation = frame.pose.rotation * Rotation3::from_euler_angles(0.03, -0.02, 0.05);
+    }
+    let study = cell_study_of("frame", &real, stated.clone(), true, 20, 3);
+    let result = identify(
+        &nominal,
+        &study,
+        &IdentificationOptions::default(),
+        &mut Quiet,
+    )
+    .expect("identification");
+    assert_eq!(
+        result.verdict.outcome,
+        Outcome::FitsNoise,
+        "{}",
+        result.verdict.summary
+    );
+    assert!(result.auxiliary.iter().any(|p| p.name == "smr_b.rz"));
+    let held_out = cell_study_of("frame", &real, stated, true, 20, 4);
+    let floor = evaluate(
+        &real,
+        &held_out.with_frames(in_world_of(true_frames(), true)),
+    )
+    .expect("floor");
+    let calibrated = evaluate(
+        &result.calibrated,
+        &held_out.with_frames(result.frames.clone()),
+    )
+    .expect("held out");
+    assert!(
+        calibrated.rms <= 1.2 * floor.rms,
+        "held-out {:.3e} m, floor {:.3e} m",
+        calibrated.rms,
+        floor.rms
+    );
+    let (angle, angle_floor) = (
+        calibrated.rms_rotation.expect("angles"),
+        floor.rms_rotation.expect("angles"),
+    );
+    assert!(
+        angle <= 1.2 * angle_floor,
+        "held-out {angle:.3e} rad, floor {angle_floor:.3e} rad"
+    );
 }
