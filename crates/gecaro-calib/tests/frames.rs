@@ -302,7 +302,7 @@ fn frame_measures_identify_the_tools_orientations_too() {
     let mut stated = stated_frames();
     // Tools turned by a few degrees from what is stated.
     for frame in stated.iter_mut().take(3) {
-        frame.pose.rotation = frame.pose.rotation * Rotation3::from_euler_angles(0.03, -0.02, 0.05);
+        frame.pose.rotation *= Rotation3::from_euler_angles(0.03, -0.02, 0.05);
     }
     let study = cell_study_of("frame", &real, stated.clone(), true, 20, 3);
     let result = identify(
