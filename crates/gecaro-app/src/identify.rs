@@ -9,7 +9,7 @@
 
 use gecaro_calib::Observer;
 use gecaro_calib::identification::{
-    ErrorSummary, Identification, IdentificationOptions, Outcome, evaluate, identify,
+    ErrorSummary, Identification, IdentificationOptions, Outcome, evaluate_errors, identify,
 };
 use gecaro_calib::validation::{CrossValidation, ModelScore, compare_models, cross_validate};
 use gecaro_io::RobotFile;
@@ -25,6 +25,7 @@ use crate::limits::MAX_FOLDS;
 use crate::measurements::{Data, Loaded, Measurements, Unknown};
 use crate::robot_files::calibrated_robot_file;
 use crate::settings::{FitSettings, model};
+use crate::sources::RobotSource;
 
 /// An identification; see the module docs.
 #[derive(Clone, Debug, Default, Deserialize)]
@@ -416,6 +417,9 @@ pub struct EvaluateRequest {
     /// The robot and its measurements.
     #[serde(flatten)]
     pub measurements: Measurements,
+    /// A second robot evaluated on the same data (the page's calibrated
+    /// robot beside the table's): "before" is the first, "after" this one.
+    pub compared: Option<RobotSource>,
     #[serde(flatten)]
     unknown: Unknown,
 }
@@ -427,6 +431,10 @@ pub struct Evaluation {
     pub loaded: Loaded,
     /// Error statistics per configuration (or pair).
     pub summary: ErrorSummary,
+    /// The error of every observation: position-like (m), orientation (rad).
+    pub errors: Vec<(f64, f64)>,
+    /// The compared robot's statistics and errors, when one was given.
+    pub compared: Option<(ErrorSummary, Vec<(f64, f64)>)>,
 }
 
 impl EvaluateRequest {
@@ -434,18 +442,63 @@ impl EvaluateRequest {
     pub fn new(measurements: Measurements) -> Self {
         EvaluateRequest {
             measurements,
+            compared: None,
             unknown: Unknown::default(),
         }
     }
 
-    /// Evaluates the robot on the data.
+    /// Evaluates the robot (and the compared one) on the data.
     ///
     /// # Errors
     /// Bad input, or auxiliary unknowns that cannot be initialised.
     pub fn run(&self, files: &dyn Files) -> Result<Evaluation, AppError> {
         self.unknown.check()?;
         let loaded = self.measurements.load(files, Data::Required)?;
-        let summary = evaluate(&loaded.robot.robot, &loaded.study)?;
-        Ok(Evaluation { loaded, summary })
+        let (summary, errors) = evaluate_errors(&loaded.robot.robot, &loaded.study)?;
+        let compared = match &self.compared {
+            None => None,
+            Some(source) => {
+                let robot = source.load(files)?;
+                Some(evaluate_errors(&robot.robot, &loaded.study)?)
+            }
+        };
+        Ok(Evaluation {
+            loaded,
+            summary,
+            errors,
+            compared,
+        })
     }
+}
+
+impl Evaluation {
+    /// The errors as plots (mm): histograms and per configuration, the
+    /// robot's as "before" and the compared robot's as "after" (the robot's
+    /// own on both sides without one).
+    ///
+    /// # Errors
+    /// When a plot cannot be drawn.
+    pub fn plots(&self) -> Result<EvaluationPlots, AppError> {
+        let millimetres = |errors: &[(f64, f64)]| -> Vec<f64> {
+            errors.iter().map(|(length, _)| length * 1e3).collect()
+        };
+        let before = millimetres(&self.errors);
+        let after = self
+            .compared
+            .as_ref()
+            .map_or_else(|| before.clone(), |(_, errors)| millimetres(errors));
+        Ok(EvaluationPlots {
+            errors_histogram: error_histograms_svg(&before, &after, "mm")?,
+            errors_per_configuration: errors_per_configuration_svg(&before, &after, &[], "mm")?,
+        })
+    }
+}
+
+/// The plots of an evaluation, as SVG.
+#[derive(Clone, Debug, Serialize)]
+pub struct EvaluationPlots {
+    /// Errors of both robots, as histograms.
+    pub errors_histogram: String,
+    /// Errors of both robots, per configuration.
+    pub errors_per_configuration: String,
 }

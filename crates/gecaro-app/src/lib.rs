@@ -86,8 +86,8 @@ pub use files::{Files, LocalFiles, Opened};
 pub use generate::{GenerateRequest, Generated, data_file_name};
 pub use identifiable::{IdentifiabilityAnalysis, IdentifiableRequest};
 pub use identify::{
-    CompareModelsRequest, EvaluateRequest, Evaluation, Identified, IdentifyRequest,
-    ModelComparison, Plots, PreparedIdentification,
+    CompareModelsRequest, EvaluateRequest, Evaluation, EvaluationPlots, Identified,
+    IdentifyRequest, ModelComparison, Plots, PreparedIdentification,
 };
 pub use interchange::{
     ExportRequest, ExportedRobot, ImportRequest, Imported, format_name, joint_calibration_name,

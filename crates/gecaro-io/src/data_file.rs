@@ -172,6 +172,23 @@ pub fn parse_samples(
     }
     let layout = resolve_header(&names, &expected, &format.columns)
         .map_err(|message| fail(header_line, None, message))?;
+    // A motor column beyond the robot's joints: data of another robot (a
+    // 7-joint arm's file opened with a 6-joint robot), not a column to ignore.
+    if let Some(extra) = layout.unused.iter().find(|name| {
+        name.strip_prefix("qm")
+            .and_then(|index| index.parse::<usize>().ok())
+            .is_some_and(|index| index > joint_types.len())
+    }) {
+        return Err(fail(
+            header_line,
+            None,
+            format!(
+                "the file has a column `{extra}`, and the robot has {} joints: these data are \
+                 not of this robot (or map its columns with --columns)",
+                joint_types.len()
+            ),
+        ));
+    }
     let at = |name: &str| {
         expected
             .iter()
@@ -506,6 +523,12 @@ mod tests {
                 .contains("x: `NaN` is not a finite number")
         );
         assert!(error_of("qm1,qm2,x,y,z\n", &position).contains("no configurations"));
+        // A third motor column for a two-joint robot: another robot's data.
+        let error = error_of("qm1,qm2,qm3,x,y,z\n0,0,0,1,2,3\n", &position);
+        assert!(
+            error.contains("data.csv:1") && error.contains("`qm3`, and the robot has 2 joints"),
+            "{error}"
+        );
         let frame = [DataColumn::Position, DataColumn::Orientation];
         assert!(
             error_of("qm1,qm2,x,y,z,qw,qx,qy,qz\n0,0,0,0,0,1,1,0,0\n", &frame)

@@ -23,6 +23,8 @@ pub enum JobState {
     Done,
     /// Stopped by an error (bad data, too few equations, …).
     Failed,
+    /// Stopped at the user's request (`POST /api/jobs/{id}/cancel`).
+    Cancelled,
 }
 
 /// What a finished job produced.
@@ -48,6 +50,9 @@ struct Progress {
 pub struct Job {
     id: u64,
     progress: Mutex<Progress>,
+    /// Set by [`Job::cancel`]; the job's observer stops the work at its next
+    /// iteration or step.
+    cancelled: std::sync::atomic::AtomicBool,
 }
 
 /// A job as the API shows it.
@@ -97,8 +102,29 @@ impl Job {
     /// Ends the job with an error.
     pub fn fail(&self, error: String) {
         let mut progress = self.progress();
-        progress.state = JobState::Failed;
-        progress.error = Some(error);
+        if self.is_cancelled() {
+            progress.state = JobState::Cancelled;
+            progress.error = Some("cancelled".into());
+        } else {
+            progress.state = JobState::Failed;
+            progress.error = Some(error);
+        }
+    }
+
+    /// Asks the job to stop (its observer breaks off at the next iteration
+    /// or step); a finished job is left as it is. Returns whether the job
+    /// was still active.
+    pub fn cancel(&self) -> bool {
+        let active = self.active();
+        if active {
+            self.cancelled.store(true, Ordering::Relaxed);
+        }
+        active
+    }
+
+    /// Whether [`cancel`](Self::cancel) was called on the active job.
+    pub fn is_cancelled(&self) -> bool {
+        self.cancelled.load(Ordering::Relaxed)
     }
 
     /// The job as the API shows it.
@@ -162,6 +188,7 @@ impl Jobs {
                 outcome: None,
                 error: None,
             }),
+            cancelled: std::sync::atomic::AtomicBool::new(false),
         });
         jobs.push_back(Arc::clone(&job));
         Ok(job)

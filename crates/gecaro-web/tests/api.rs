@@ -78,7 +78,8 @@ impl Api {
         for _ in 0..600 {
             let (status, view) = self.get(&format!("/api/jobs/{job}")).await;
             assert_eq!(status, StatusCode::OK, "{view}");
-            if view["state"] == "done" || view["state"] == "failed" {
+            if view["state"] == "done" || view["state"] == "failed" || view["state"] == "cancelled"
+            {
                 return view;
             }
             tokio::time::sleep(Duration::from_millis(50)).await;
@@ -670,6 +671,150 @@ async fn identification_runs_as_a_job_with_progress_plots_and_report() {
     assert_eq!(status, StatusCode::NOT_FOUND);
     let (status, _) = api.get("/api/jobs/abc").await;
     assert_eq!(status, StatusCode::BAD_REQUEST);
+}
+
+/// The Evaluate function: the table's robot and the calibrated one on the
+/// same held-out file, in the tracker's own units and column names.
+#[tokio::test]
+async fn evaluation_compares_two_robots_on_held_out_data() {
+    let api = Api::new();
+    let document = api.document("stanford").await;
+    let generate = |seed: u64| json!({ "robot": document, "method": { "name": "position" }, "count": 40, "error_level": 1.0, "seed": seed });
+    let (_, training) = api.post("/api/generate", &generate(3)).await;
+    let (_, held_out) = api.post("/api/generate", &generate(3)).await;
+    let (_, submitted) = api
+        .post(
+            "/api/identify",
+            &json!({ "robot": document, "method": { "name": "position" }, "data": { "csv": { "text": training["csv"], "name": "train.csv" } } }),
+        )
+        .await;
+    let view = api.finished(submitted["job"].as_u64().expect("job")).await;
+    let calibrated = view["result"]["calibrated"].clone();
+    // The held-out file as a tracker writes it: millimetres, other names, `;`.
+    let csv = held_out["csv"].as_str().expect("csv");
+    let mut lines = csv.lines();
+    let header = lines
+        .next()
+        .expect("header")
+        .replace("x", "X_mm")
+        .replace("y", "Y_mm")
+        .replace("z", "Z_mm");
+    let mut text = header.replace(',', ";") + "\n";
+    for line in lines {
+        let fields: Vec<String> = line
+            .split(',')
+            .enumerate()
+            .map(|(index, field)| {
+                let value: f64 = field.parse().expect("number");
+                // Positions and the prismatic joint 3 in millimetres.
+                if index >= 6 || index == 2 {
+                    (value * 1e3).to_string()
+                } else {
+                    value.to_string()
+                }
+            })
+            .collect();
+        text += &(fields.join(";") + "\n");
+    }
+    let request = json!({
+        "robot": document,
+        "compared": calibrated,
+        "method": { "name": "position" },
+        "data": { "csv": { "text": text, "name": "check.csv" } },
+        "format": { "length_unit": "mm", "columns": "x=X_mm,y=Y_mm,z=Z_mm" },
+    });
+    let (status, evaluated) = api.post("/api/evaluate", &request).await;
+    assert_eq!(status, StatusCode::OK, "{evaluated}");
+    let nominal = evaluated["errors"]["rms"].as_f64().expect("rms");
+    let after = evaluated["compared"]["rms"].as_f64().expect("rms");
+    assert!(
+        nominal > 1e-3 && after < 1e-9,
+        "nominal {nominal}, calibrated {after}"
+    );
+    for plot in ["errors_histogram", "errors_per_configuration"] {
+        assert!(
+            evaluated["plots"][plot]
+                .as_str()
+                .expect("svg")
+                .starts_with("<svg")
+        );
+    }
+    // Without the column names, the file is refused with its own words.
+    let mut bad = request.clone();
+    bad["format"] = json!({ "length_unit": "mm" });
+    let (status, body) = api.post("/api/evaluate", &bad).await;
+    assert!(status.is_client_error(), "{body}");
+    assert!(error_text(&body).contains("missing column `x`"), "{body}");
+}
+
+/// A 7-joint arm's data with a 6-joint robot: refused, not run with the
+/// seventh joint ignored.
+#[tokio::test]
+async fn another_robots_data_are_refused() {
+    let api = Api::new();
+    let panda = api.document("panda").await;
+    let (_, generated) = api
+        .post(
+            "/api/generate",
+            &json!({ "robot": panda, "method": { "name": "position" }, "count": 20, "seed": 1 }),
+        )
+        .await;
+    let stanford = api.document("stanford").await;
+    let (status, body) = api
+        .post(
+            "/api/identify",
+            &json!({ "robot": stanford, "method": { "name": "position" }, "data": { "csv": { "text": generated["csv"], "name": "panda.csv" } } }),
+        )
+        .await;
+    assert!(status.is_client_error(), "{body}");
+    assert!(
+        error_text(&body).contains("`qm7`, and the robot has 6 joints"),
+        "{body}"
+    );
+}
+
+/// A cancelled job stops and says so; cancelling a finished one changes nothing.
+#[tokio::test]
+async fn jobs_can_be_cancelled() {
+    let api = Api::new();
+    let document = api.document("stanford").await;
+    let (_, generated) = api
+        .post(
+            "/api/generate",
+            &json!({ "robot": document, "method": { "name": "position" }, "count": 3000, "error_level": 1.0, "seed": 2 }),
+        )
+        .await;
+    // Twenty folds of cross-validation on 3000 configurations: long enough.
+    let (_, submitted) = api
+        .post(
+            "/api/identify",
+            &json!({ "robot": document, "method": { "name": "position" }, "cv": 20, "data": { "csv": { "text": generated["csv"], "name": "long.csv" } } }),
+        )
+        .await;
+    let job = submitted["job"].as_u64().expect("job");
+    let (status, view) = api
+        .post(&format!("/api/jobs/{job}/cancel"), &json!({}))
+        .await;
+    assert_eq!(status, StatusCode::OK, "{view}");
+    let view = api.finished(job).await;
+    assert_eq!(view["state"], "cancelled", "{view}");
+    let (status, _) = api.get(&format!("/api/jobs/{job}/report")).await;
+    assert_eq!(status, StatusCode::CONFLICT);
+    // A finished job stays finished.
+    let (_, small) = api
+        .post(
+            "/api/identify",
+            &json!({ "robot": document, "method": { "name": "position" }, "data": { "csv": { "text": generated["csv"], "name": "long.csv" } } }),
+        )
+        .await;
+    let small = small["job"].as_u64().expect("job");
+    assert_eq!(api.finished(small).await["state"], "done");
+    let (_, view) = api
+        .post(&format!("/api/jobs/{small}/cancel"), &json!({}))
+        .await;
+    assert_eq!(view["state"], "done");
+    let (status, _) = api.post("/api/jobs/999999/cancel", &json!({})).await;
+    assert_eq!(status, StatusCode::NOT_FOUND);
 }
 
 #[tokio::test]

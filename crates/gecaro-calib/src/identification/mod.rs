@@ -978,3 +978,18 @@ pub fn evaluate(robot: &Robot, study: &Study) -> Result<ErrorSummary, Error> {
     study.check(robot)?;
     Ok(errors_at(robot, study)?.0)
 }
+
+/// [`evaluate`], with the errors of every observation (configuration or
+/// pair, in data order): the position-like error (m) and the orientation
+/// error (rad), for plots.
+///
+/// # Errors
+/// As [`evaluate`].
+pub fn evaluate_errors(
+    robot: &Robot,
+    study: &Study,
+) -> Result<(ErrorSummary, Vec<(f64, f64)>), Error> {
+    study.check(robot)?;
+    let (summary, errors, _) = errors_at(robot, study)?;
+    Ok((summary, errors))
+}

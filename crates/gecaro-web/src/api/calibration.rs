@@ -2,8 +2,8 @@
 //! method menu.
 
 use axum::extract::State;
-use gecaro_app::documents::IdentifiableJson;
-use gecaro_app::{GenerateRequest, IdentifiableRequest};
+use gecaro_app::documents::{IdentifiableJson, SummaryJson};
+use gecaro_app::{EvaluateRequest, EvaluationPlots, GenerateRequest, IdentifiableRequest};
 use gecaro_io::RobotDocument;
 use serde::Serialize;
 
@@ -55,6 +55,46 @@ pub(crate) async fn generate(
                 displacement_rms: generated.displacement.0,
                 displacement_max: generated.displacement.1,
                 csv: generated.csv,
+            }))
+        })
+        .await
+}
+
+#[derive(Serialize)]
+pub(crate) struct EvaluatedJson {
+    /// The robot's errors on the data.
+    errors: SummaryJson,
+    /// The compared robot's, when one was sent.
+    compared: Option<SummaryJson>,
+    plots: EvaluationPlots,
+    /// What the user should know about the data (unused columns, joints
+    /// outside their limits).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    notes: Vec<String>,
+}
+
+/// The "Evaluate" function: the errors of the table's robot (and of a
+/// compared one, the calibrated robot) on held-out measurements.
+pub(crate) async fn evaluate(
+    State(state): State<AppState>,
+    Json(request): Json<EvaluateRequest>,
+) -> Result<Json<EvaluatedJson>, ApiError> {
+    state
+        .compute(move |state| {
+            let evaluation = request.run(state.workspace())?;
+            Ok(Json(EvaluatedJson {
+                errors: (&evaluation.summary).into(),
+                compared: evaluation
+                    .compared
+                    .as_ref()
+                    .map(|(summary, _)| summary.into()),
+                plots: evaluation.plots()?,
+                notes: evaluation
+                    .loaded
+                    .notes
+                    .iter()
+                    .map(|note| note.text(gecaro_app::Dialect::Web))
+                    .collect(),
             }))
         })
         .await

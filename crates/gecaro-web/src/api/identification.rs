@@ -9,9 +9,10 @@ use axum::http::header;
 use axum::response::IntoResponse;
 use gecaro_app::documents::IdentificationJson;
 use gecaro_app::{Identified, IdentifyRequest, Plots};
-use gecaro_calib::each_iteration;
+use gecaro_calib::Progress;
 use gecaro_io::RobotDocument;
 use serde::Serialize;
+use std::ops::ControlFlow;
 
 use super::Json;
 use crate::error::ApiError;
@@ -39,8 +40,18 @@ pub(crate) async fn submit(
         let outcome = state
             .run_job(move |_| {
                 running.start();
-                let identified =
-                    prepared.run(&mut each_iteration(|record| running.record(record.rms)))?;
+                // Records every iteration; stops the work once cancelled.
+                let mut observer = |progress: Progress<'_>| {
+                    if let Progress::Iteration(record) = progress {
+                        running.record(record.rms);
+                    }
+                    if running.is_cancelled() {
+                        ControlFlow::Break(())
+                    } else {
+                        ControlFlow::Continue(())
+                    }
+                };
+                let identified = prepared.run(&mut observer)?;
                 outcome(&identified)
             })
             .await;
@@ -117,6 +128,17 @@ pub(crate) async fn status(
     UrlPath(id): UrlPath<String>,
 ) -> Result<Json<JobView>, ApiError> {
     Ok(Json(find(&state, &id)?.view()))
+}
+
+/// Stops a queued or running job: 200 with its state (a finished job is
+/// left as it is).
+pub(crate) async fn cancel(
+    State(state): State<AppState>,
+    UrlPath(id): UrlPath<String>,
+) -> Result<Json<JobView>, ApiError> {
+    let job = find(&state, &id)?;
+    job.cancel();
+    Ok(Json(job.view()))
 }
 
 /// The HTML report of a finished job.

@@ -32,7 +32,7 @@ impl<T: serde::Serialize> axum::response::IntoResponse for Json<T> {
 /// Every POST route of the API (full paths), each taking a JSON body: for
 /// clients, tests and the fuzz targets. [`routes`] registers them (a test
 /// checks that each one answers).
-pub const POST_ROUTES: [&str; 8] = [
+pub const POST_ROUTES: [&str; 9] = [
     "/api/robots/check",
     "/api/robots/new",
     "/api/robots/save",
@@ -41,6 +41,7 @@ pub const POST_ROUTES: [&str; 8] = [
     "/api/generate",
     "/api/plan",
     "/api/identify",
+    "/api/evaluate",
 ];
 
 /// The routes under `/api`.
@@ -58,7 +59,9 @@ pub(crate) fn routes() -> Router<AppState> {
         .route("/generate", post(calibration::generate))
         .route("/plan", post(planning::plan))
         .route("/identify", post(identification::submit))
+        .route("/evaluate", post(calibration::evaluate))
         .route("/jobs/{id}", get(identification::status))
+        .route("/jobs/{id}/cancel", post(identification::cancel))
         .route("/jobs/{id}/report", get(identification::report))
 }
 
