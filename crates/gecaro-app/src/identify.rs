@@ -129,7 +129,8 @@ impl PreparedIdentification {
     }
 
     /// Identifies, then cross-validates if asked; `observer` hears of every
-    /// iterate of the identification.
+    /// iterate of the identification and of every fold (so that it can stop
+    /// the cross-validation too).
     ///
     /// # Errors
     /// Too few equations, numerical failures, an interruption.
@@ -137,7 +138,7 @@ impl PreparedIdentification {
         let Loaded { robot, study, .. } = &self.loaded;
         let result = identify(&robot.robot, study, &self.options, observer)?;
         let cross_validation = match self.cross_validation {
-            Some((_, seed)) => Some((self.cross_validate(&mut gecaro_calib::Quiet)?, seed)),
+            Some((_, seed)) => Some((self.cross_validate(observer)?, seed)),
             None => None,
         };
         Ok(Identified {

@@ -17,7 +17,7 @@ const JOINT_ANGLES = new Set(['offset', 'qmin', 'qmax']);
 const DEFAULT_COUNTS = {
   position: 50, frame: 30, 'point-link': 80, 'frame-link': 60, plane1: 120, plane2: 120, distance: 200,
 };
-const FUNCTIONS = ['identifiable', 'plan', 'generate', 'identify'];
+const FUNCTIONS = ['identifiable', 'plan', 'generate', 'identify', 'evaluate'];
 
 const state = {
   info: null,
@@ -29,6 +29,11 @@ const state = {
   localProblems: new Map(),
   files: { robots: [], data: [] },
   generated: {}, // method -> {csv, file_name, real}
+  results: {}, // method -> the last identification {job, result}, shown again after a reload
+  calibrated: {}, // method -> the calibrated robot's document, for Evaluate
+  undo: [], // earlier table documents (JSON), for Undo
+  redo: [],
+  units: 'mm', // results in 'mm' (mm, degrees) or 'm' (m, radians)
   method: 'position',
   function: 'identifiable',
   robotSerial: 0, // changes with every robot loaded, so late answers about the last one are dropped
@@ -161,10 +166,18 @@ function document_() {
   return state.robot.document;
 }
 
-function setRobot(view, file) {
+/**
+ * Shows `view` in the table. Another robot clears the previous robot's
+ * results and data choices; `keep` (the calibrated robot of the same arm)
+ * keeps them.
+ */
+function setRobot(view, file, { keep = false } = {}) {
+  if (!keep && state.robot) clearResults();
   state.robot = view;
   state.file = file || null;
   state.dirty = false;
+  state.undo = [];
+  state.redo = [];
   state.localProblems.clear();
   const joints = view.document.frame.length - 2;
   state.q = new Array(Math.max(joints, 0)).fill(0);
@@ -174,6 +187,90 @@ function setRobot(view, file) {
   state.view.bounds = null;
   renderRobot();
   refreshPose();
+}
+
+/** Empties every function's result and forgets generated data and results. */
+function clearResults() {
+  for (const container of document.querySelectorAll('#method-panels .result')) container.replaceChildren();
+  state.generated = {};
+  state.results = {};
+  state.calibrated = {};
+  if (state.info) {
+    for (const method of state.info.methods) {
+      for (const select of document.querySelectorAll(`select.data-choice[data-method="${method.name}"]`)) select.value = '';
+      refreshDataChoices(method.name);
+    }
+  }
+}
+
+/** Runs `then` at once, or after the user agrees to lose the table's unsaved edits. */
+function confirmDiscard(then, what) {
+  if (!state.dirty) return then();
+  openDialog({
+    title: 'Discard the unsaved edits?',
+    body: h('p', { id: 'discard-text', text: `The table of ${document_().name || 'this robot'} has edits that are not saved. ${what} replaces them; Save first to keep them.` }),
+    ok: 'Discard edits',
+    onOk: () => { setTimeout(then, 0); },
+  });
+  return undefined;
+}
+
+/** Keeps the table's document before an edit, for Undo. */
+function remember() {
+  state.undo.push(JSON.stringify(document_()));
+  if (state.undo.length > 200) state.undo.shift();
+  state.redo = [];
+  renderUndo();
+}
+
+function renderUndo() {
+  $('table-undo').disabled = state.undo.length === 0;
+  $('table-redo').disabled = state.redo.length === 0;
+}
+
+/** Undo (`back`) or redo one table edit. */
+function undoEdit(back) {
+  const from = back ? state.undo : state.redo;
+  const to = back ? state.redo : state.undo;
+  if (!from.length) return;
+  to.push(JSON.stringify(document_()));
+  state.robot.document = JSON.parse(from.pop());
+  state.localProblems.clear();
+  state.dirty = true;
+  renderRobot();
+  renderUndo();
+  scheduleCheck();
+}
+
+// ---------------------------------------------------------------- the page across reloads
+
+const STORAGE_KEY = 'gecaro.page';
+
+/** Keeps the robot, the settings and the last results in the browser. */
+function persist() {
+  if (!state.robot) return;
+  const page = {
+    robot: state.robot, file: state.file, dirty: state.dirty, method: state.method,
+    function: state.function, units: state.units, results: state.results,
+  };
+  try {
+    localStorage.setItem(STORAGE_KEY, JSON.stringify(page));
+  } catch (error) {
+    // Over the browser's quota: keep the robot and the settings only.
+    try {
+      localStorage.setItem(STORAGE_KEY, JSON.stringify({ ...page, results: {} }));
+    } catch (ignored) { /* storage unavailable: nothing to restore */ }
+  }
+}
+
+/** The page as it was before a reload, or null. */
+function stored() {
+  try {
+    const page = JSON.parse(localStorage.getItem(STORAGE_KEY) || 'null');
+    return page && page.robot && page.robot.document ? page : null;
+  } catch (error) {
+    return null;
+  }
 }
 
 function renderRobot() {
@@ -191,6 +288,7 @@ function renderRobot() {
   renderPriority();
   renderSliders();
   prefillPlanes();
+  persist();
 }
 
 function applicable(frame, last, key) {
@@ -224,6 +322,7 @@ function renderFrames() {
 }
 
 function editCell(frame, key, input) {
+  remember();
   const text = input.value.trim();
   const slot = `${frame}/${key}`;
   const target = document_().frame[frame];
@@ -236,6 +335,8 @@ function editCell(frame, key, input) {
       state.localProblems.set(slot, { frame, key, message: `“${text}” is not a number` });
     } else if (key === 'sigma' && !Number.isInteger(value)) {
       state.localProblems.set(slot, { frame, key, message: 'sigma is 0 (revolute), 1 (prismatic) or 2 (fixed)' });
+    } else if (key !== 'sigma' && Math.abs(value) > 1000) {
+      state.localProblems.set(slot, { frame, key, message: `${text} is beyond ±1000 (metres or radians): no robot has such a value` });
     } else {
       target[key] = value;
     }
@@ -250,6 +351,7 @@ function markModified() {
     state.dirty = true;
     $('robot-origin').textContent = `• modified · ${$('robot-origin').textContent}`;
   }
+  persist();
 }
 
 let checkTimer = null;
@@ -353,13 +455,27 @@ function renderPriority() {
   $('priority-table').replaceChildren(h('thead', {}, head), h('tbody', {}, rows));
 }
 
-function editPriority() {
+function editPriority(event) {
+  const edited = event && event.target;
+  if (edited) {
+    const text = edited.value.trim();
+    const value = Number(text);
+    const name = `${KINDS[Number(edited.dataset.column)]}${edited.dataset.row}`;
+    if (text === '' || !Number.isInteger(value) || value < 0) {
+      edited.classList.add('invalid');
+      $('priority-problem').textContent = `Priority of ${name}: “${text}” is not a priority (0 = not identified, or a positive whole number)`;
+      return;
+    }
+    edited.classList.remove('invalid');
+    $('priority-problem').textContent = '';
+  }
+  remember();
   const rows = [];
   for (const input of document.querySelectorAll('#priority-table input')) {
     const row = Number(input.dataset.row);
     rows[row] = rows[row] || [];
     const value = Number(input.value.trim());
-    rows[row][Number(input.dataset.column)] = Number.isInteger(value) ? value : -1;
+    rows[row][Number(input.dataset.column)] = Number.isInteger(value) && value >= 0 ? value : 0;
   }
   document_().priority = { matrix: rows };
   $('priority-origin').textContent = '(set for this robot)';
@@ -372,6 +488,7 @@ function changeAngleUnit(event) {
   const toDegrees = event.target.value === 'deg';
   const wasDegrees = doc.angle_unit === 'deg';
   if (toDegrees === wasDegrees) return;
+  remember();
   const factor = toDegrees ? 180 / Math.PI : Math.PI / 180;
   for (const frame of doc.frame) {
     for (const key of Object.keys(frame)) {
@@ -714,10 +831,13 @@ function saveAsDialog(documentToSave, suggested, after) {
   format.addEventListener('change', () => {
     name.value = name.value.replace(/\.(toml|urdf)$/i, '') + `.${format.value}`;
   });
+  const carried = h('p', { class: 'muted', id: 'save-urdf-note', hidden: true, text: 'A URDF carries the kinematics, joint limits and names; gains, couplings and offsets go to a joint-calibration file beside it when they are not the defaults. Meshes, inertia and collision geometry are not carried: gecaro’s robots have none, so merge the result into your original URDF for those.' });
+  format.addEventListener('change', () => { carried.hidden = format.value !== 'urdf'; });
   openDialog({
     title: 'Save robot as',
     body: h('div', {},
       h('label', { class: 'dialog-field' }, 'Format', format),
+      carried,
       h('label', { class: 'dialog-field' }, `File name in ${state.info.folder}`, name),
       h('label', {}, overwrite, ' Replace the file if it exists')),
     ok: 'Save',
@@ -1173,6 +1293,53 @@ function renderGenerated(container, name, generated) {
 
 // Identification --------------------------------------------------------------
 
+/**
+ * The data file's format as an instrument writes it: units, column names,
+ * separator (the command line's --length-unit, --angle-unit, --columns,
+ * --delimiter).
+ */
+function formatFields(name, fn) {
+  const id = (what) => `${name}-${fn}-${what}`;
+  return h('details', { class: 'format', id: id('format') },
+    h('summary', { text: 'File format: units, column names, separator' }),
+    h('div', { class: 'form' },
+      field('Lengths in the file', h('select', { id: id('length-unit') },
+        h('option', { value: 'm', text: 'metres' }), h('option', { value: 'mm', text: 'millimetres' }))),
+      field('Joint angles in the file', h('select', { id: id('angle-unit') },
+        h('option', { value: 'rad', text: 'radians' }), h('option', { value: 'deg', text: 'degrees' }))),
+      field('Column names (gecaro=file, …)', h('input', { type: 'text', class: 'vector', id: id('columns'), placeholder: 'x=X_mm,qm1=A1' })),
+      field('Separator', h('select', { id: id('delimiter') },
+        ['auto', 'comma', 'semicolon', 'tab'].map((d) => h('option', { value: d, text: d === 'auto' ? 'found from the header' : d }))))));
+}
+
+function formatRequest(name, fn) {
+  const value = (what) => $(`${name}-${fn}-${what}`).value.trim();
+  return {
+    length_unit: value('length-unit'),
+    angle_unit: value('angle-unit'),
+    columns: value('columns') || null,
+    delimiter: value('delimiter'),
+  };
+}
+
+/** A mm/deg or m/rad value of a parameter or unknown named `name`. */
+function unitOf(name) {
+  const base = name.includes('.') ? name.split('.').pop() : name;
+  if (/^(alpha|theta|beta|gamma|rx|ry|rz)/.test(base)) return 'angle';
+  if (/^(d|r|b|x|y|z)\d*$/.test(base)) return 'length';
+  return 'none';
+}
+
+function inUnits(value, kind) {
+  if (state.units === 'mm' && kind === 'length') return value * 1e3;
+  if (state.units === 'mm' && kind === 'angle') return value * 180 / Math.PI;
+  return value;
+}
+
+function unitsLabel() {
+  return state.units === 'mm' ? 'mm, °' : 'm, rad';
+}
+
 function identifyPanel(method) {
   const name = method.name;
   const result = h('div', { class: 'result', id: `${name}-identify-result` });
@@ -1193,13 +1360,15 @@ function identifyPanel(method) {
   const sigma = h('input', { type: 'number', min: 0, step: 'any', placeholder: 'not stated', id: `${name}-identify-sigma` });
   const folds = h('input', { type: 'number', min: 0, max: 20, value: 0, id: `${name}-identify-cv` });
   const run = runButton(`${name}-identify-run`, 'Identify', async () => {
-    const progress = h('div', { class: 'progress', id: `${name}-identify-progress` }, h('div', { class: 'spinner' }), h('span', { text: 'Reading the data…' }));
+    const cancel = h('button', { type: 'button', id: `${name}-identify-cancel`, text: 'Cancel', disabled: true });
+    const progress = h('div', { class: 'progress', id: `${name}-identify-progress` }, h('div', { class: 'spinner' }), h('span', { text: 'Reading the data…' }), cancel);
     result.replaceChildren(progress);
     try {
       const submitted = await api('/identify', {
         robot: document_(),
         method: methodRequest(name, 'identify'),
         data: await dataRequest(name, 'identify'),
+        format: formatRequest(name, 'identify'),
         solver: solver.value,
         max_iterations: Number(iterations.value || 30),
         loss: loss.value,
@@ -1208,11 +1377,21 @@ function identifyPanel(method) {
         sigma: Number(sigma.value) > 0 ? Number(sigma.value) / 1e3 : null,
         cv: Number(folds.value || 0) >= 2 ? Number(folds.value) : null,
       });
-      const job = await followJob(submitted.job, progress.lastChild);
-      if (job.state === 'failed') {
+      cancel.disabled = false;
+      cancel.onclick = async () => {
+        cancel.disabled = true;
+        cancel.textContent = 'Cancelling…';
+        await api(`/jobs/${submitted.job}/cancel`, {});
+      };
+      const job = await followJob(submitted.job, progress.children[1]);
+      if (job.state === 'cancelled') {
+        result.replaceChildren(h('div', { class: 'warnings', id: `${name}-identify-cancelled`, text: 'Cancelled: the server stopped the identification. Nothing was changed.' }));
+      } else if (job.state === 'failed') {
         result.replaceChildren(errorBox(new Error(job.error)));
       } else {
+        state.results[name] = { job: submitted.job, result: job.result };
         renderIdentification(result, name, submitted.job, job.result);
+        persist();
       }
     } catch (error) {
       result.replaceChildren(errorBox(error));
@@ -1231,6 +1410,7 @@ function identifyPanel(method) {
       field('Cross-validation folds (0: none)', folds),
       optionFields(method, 'identify'),
       run),
+    formatFields(name, 'identify'),
     h('p', { class: 'hint', text: 'Iterated linearised least squares (eq. 10): W is rebuilt at every iterate; σ of each parameter from eq. 11. A robust loss discounts gross errors; a prior keeps poorly excited parameters near nominal; cross-validation judges the fit on held-out configurations.' }),
     result);
 }
@@ -1238,7 +1418,7 @@ function identifyPanel(method) {
 async function followJob(id, label) {
   for (;;) {
     const job = await api(`/jobs/${id}`);
-    if (job.state === 'done' || job.state === 'failed') return job;
+    if (job.state === 'done' || job.state === 'failed' || job.state === 'cancelled') return job;
     const history = job.history;
     label.textContent = job.state === 'queued' ? 'Waiting for a free core…'
       : history.length ? `Iteration ${history.length - 1}: residual RMS ${sci(history[history.length - 1])}` : 'Starting…';
@@ -1248,6 +1428,7 @@ async function followJob(id, label) {
 
 function renderIdentification(container, name, job, result) {
   const id = result.identification;
+  state.calibrated[name] = result.calibrated;
   const mm = (v) => fixed(v * 1e3, v * 1e3 < 0.1 ? 4 : 3);
   const verdict = id.verdict;
   const outcomes = {
@@ -1265,7 +1446,10 @@ function renderIdentification(container, name, job, result) {
       ? stat('orientation RMS (°)', `${fixed(id.before.rms_rotation * 180 / Math.PI, 3)} → ${fixed(id.after.rms_rotation * 180 / Math.PI, 4)}`) : null,
     stat('identified parameters', String(id.parameters.length + id.auxiliary.length)),
     stat('condition number of W_b', fmt(Number(id.condition_number.toPrecision(4)))),
-    stat('residual σ', sci(id.residual_sigma)));
+    verdict.residual_length !== null && verdict.residual_length !== undefined
+      ? stat(`residual σ (${state.units === 'mm' ? 'mm' : 'm'})`, sci(inUnits(verdict.residual_length, 'length')), { id: `${name}-identify-residual` }) : null,
+    verdict.residual_angle !== null && verdict.residual_angle !== undefined
+      ? stat(`residual σ (${state.units === 'mm' ? '°' : 'rad'})`, sci(inUnits(verdict.residual_angle, 'angle'))) : null);
   const warnings = id.warnings.length
     ? h('div', { class: 'warnings' }, h('strong', { text: 'Warnings' }), h('ul', {}, id.warnings.map((w) => h('li', { text: w })))) : null;
   const plot = (title, svg, plotId) => {
@@ -1277,10 +1461,21 @@ function renderIdentification(container, name, job, result) {
     plot('Residual RMS per iteration', result.plots.convergence, `${name}-identify-convergence`),
     plot('Errors before and after (mm)', result.plots.errors_histogram, `${name}-identify-histogram`),
     plot('Error of every configuration (mm)', result.plots.errors_per_configuration, `${name}-identify-per-configuration`));
-  const rows = id.parameters.concat(id.auxiliary).map((p) => h('tr', p.combination ? { class: 'regrouped', title: `regrouped: the deviation stands for ${p.combination}, not for ${p.name} alone` } : {},
-    h('td', { text: p.combination ? `${p.name} (regrouped)` : p.name }), h('td', { text: fmt(p.nominal) }), h('td', { text: fmt(p.identified) }),
-    h('td', { text: (p.identified - p.nominal).toExponential(3) }), h('td', { text: sci(p.std) }),
-    id.prior ? h('td', { text: sci(p.prior_std) }) : null));
+  // Values in the page's units; a deviation beyond 3σ is marked, a
+  // regrouped parameter is a combination, not the physical value.
+  const rows = id.parameters.concat(id.auxiliary).map((p) => {
+    const kind = unitOf(p.name);
+    const value = (v) => inUnits(v, kind);
+    const deviation = p.identified - p.nominal;
+    const significant = Number.isFinite(p.std) && Math.abs(deviation) > 3 * p.std;
+    const classes = [p.combination ? 'regrouped' : '', significant ? 'significant' : ''].join(' ').trim();
+    const title = p.combination ? `regrouped: the deviation stands for ${p.combination}, not for ${p.name} alone`
+      : significant ? 'the deviation is beyond 3σ: the data moved this parameter' : '';
+    return h('tr', classes ? { class: classes, title } : {},
+      h('td', { text: p.combination ? `${p.name} (regrouped)` : p.name }), h('td', { text: fmt(value(p.nominal)) }), h('td', { text: fmt(value(p.identified)) }),
+      h('td', { class: 'deviation', text: value(deviation).toExponential(3) }), h('td', { text: sci(value(p.std)) }),
+      id.prior ? h('td', { text: sci(value(p.prior_std)) }) : null);
+  });
   const table = h('table', { class: 'values', id: `${name}-identify-parameters` },
     h('thead', {}, h('tr', {}, ['parameter', 'nominal', 'identified', 'deviation', 'σ'].concat(id.prior ? ['prior σ'] : []).map((t) => h('th', { text: t })))),
     h('tbody', {}, rows));
@@ -1300,18 +1495,74 @@ function renderIdentification(container, name, job, result) {
     `Cross-validation, ${cv.folds} folds: held-out RMS ${mm(cv.rms)} mm${cv.rms_rotation !== null ? `, ${fixed(cv.rms_rotation * 180 / Math.PI, 4)}°` : ''} (per fold: ${cv.per_fold.map((f) => mm(f.rms)).join(', ')} mm)` }) : null;
   const moved = id.moved.length
     ? h('p', { class: 'muted', text: `Outside the base set, moved: ${id.moved.map((p) => `${p.name} ${(p.identified - p.nominal).toExponential(2)}`).join(', ')}` }) : null;
+  // Saving is the next step only for a result the verdict trusts.
   const actions = h('div', { class: 'actions' },
-    h('button', { type: 'button', class: 'primary', id: `${name}-identify-save`, text: 'Save calibrated robot…', onclick: () => saveAsDialog(result.calibrated, result.calibrated_name) }),
+    h('button', { type: 'button', class: verdict.trusted ? 'primary' : '', id: `${name}-identify-save`, text: verdict.trusted ? 'Save calibrated robot…' : 'Save calibrated robot anyway…', onclick: () => saveAsDialog(result.calibrated, result.calibrated_name) }),
     h('button', {
       type: 'button',
+      id: `${name}-identify-open`,
       text: 'Open the calibrated robot in the table',
-      onclick: async () => setRobot(await api('/robots/check', { robot: result.calibrated }), null),
+      onclick: () => confirmDiscard(async () => setRobot(await api('/robots/check', { robot: result.calibrated }), null, { keep: true }), 'Opening the calibrated robot'),
     }),
     h('a', { href: `/api/jobs/${job}/report`, download: `gecaro-report-${job}.html` }, h('button', { type: 'button', text: 'Download the report' })));
   container.replaceChildren(...[headline, cards, observabilityLine(id.observability, 'the data'), robustness, validation, warnings, actions,
     outlierTable('Rejected before this fit', id.rejected, `${name}-identify-rejected`),
     outlierTable('Outliers', id.outliers, `${name}-identify-outliers`),
-    plots, h('h3', { text: 'Identified parameters (m, rad)' }), table, moved].filter(Boolean));
+    plots, h('h3', { text: `Identified parameters (${unitsLabel()}; gains without unit; beyond 3σ in bold, regrouped in italics)` }), table, moved].filter(Boolean));
+}
+
+// ---------------------------------------------------------------- evaluate
+
+/** The Evaluate function: the table's robot, and the calibrated one, on held-out data. */
+function evaluatePanel(method) {
+  const name = method.name;
+  const result = h('div', { class: 'result', id: `${name}-evaluate-result` });
+  const data = dataSelect(name, 'evaluate', false);
+  const upload = h('input', { type: 'file', accept: '.csv,text/csv', id: `${name}-evaluate-upload`, hidden: true });
+  data.addEventListener('change', () => { upload.hidden = data.value !== 'upload'; });
+  const run = runButton(`${name}-evaluate-run`, 'Evaluate', async () => {
+    result.replaceChildren(h('div', { class: 'progress' }, h('div', { class: 'spinner' }), h('span', { text: 'Evaluating…' })));
+    try {
+      const compared = state.calibrated[name];
+      const evaluated = await api('/evaluate', {
+        robot: document_(),
+        compared: compared || null,
+        method: methodRequest(name, 'evaluate'),
+        data: await dataRequest(name, 'evaluate'),
+        format: formatRequest(name, 'evaluate'),
+      });
+      renderEvaluation(result, name, evaluated, Boolean(compared));
+    } catch (error) {
+      result.replaceChildren(errorBox(error));
+    }
+  });
+  return h('div', { class: 'panel', id: `${name}-evaluate` },
+    h('div', { class: 'form' }, field('Held-out data', data), upload, optionFields(method, 'evaluate'), run),
+    formatFields(name, 'evaluate'),
+    h('p', { class: 'hint', text: 'The errors of the robot in the table on measurements the identification has not seen, beside those of the last calibrated robot of this method (the Identification function’s). This is the honest measure of a calibration: the training residual always looks better.' }),
+    result);
+}
+
+function renderEvaluation(container, name, evaluated, compared) {
+  const length = (v) => fmt(Number(inUnits(v, 'length').toPrecision(4)));
+  const unit = state.units === 'mm' ? 'mm' : 'm';
+  const summary = (label, errors, id) => stat(`${label}: RMS, max (${unit}) over ${errors.count}`, `${length(errors.rms)}, ${length(errors.max)}`, { id });
+  const plot = (title, svg, plotId) => {
+    const holder = h('div', { class: 'plot', id: plotId });
+    holder.innerHTML = svg; // SVG made by the server (plotters), not user text.
+    return h('figure', {}, holder, h('figcaption', { class: 'muted', text: title }));
+  };
+  const notes = (evaluated.notes || []).length ? h('ul', { class: 'notes' }, evaluated.notes.map((n) => h('li', { text: n }))) : null;
+  container.replaceChildren(...[
+    h('div', { class: 'cards' },
+      summary('the table’s robot', evaluated.errors, `${name}-evaluate-table`),
+      evaluated.compared ? summary('calibrated', evaluated.compared, `${name}-evaluate-calibrated`) : null),
+    compared ? null : h('p', { class: 'muted', text: 'No calibrated robot yet: identify first to compare it here.' }),
+    notes,
+    h('div', { class: 'plots' },
+      plot(compared ? 'Held-out errors: the table’s robot (before) and the calibrated one (after), mm' : 'Held-out errors of the table’s robot, mm', evaluated.plots.errors_histogram, `${name}-evaluate-histogram`),
+      plot('Held-out error of every configuration (mm)', evaluated.plots.errors_per_configuration, `${name}-evaluate-per-configuration`)),
+  ].filter(Boolean));
 }
 
 // ---------------------------------------------------------------- tabs
@@ -1329,7 +1580,7 @@ function buildMethodPanels() {
       onclick: () => selectMethod(method.name),
     }));
     panels.append(h('div', { class: 'method', id: `method-${method.name}`, hidden: true },
-      identifiablePanel(method), planPanel(method), generatePanel(method), identifyPanel(method)));
+      identifiablePanel(method), planPanel(method), generatePanel(method), identifyPanel(method), evaluatePanel(method)));
   }
   for (const button of $('function-tabs').querySelectorAll('button')) {
     button.addEventListener('click', () => selectFunction(button.dataset.function));
@@ -1352,6 +1603,7 @@ function selectFunction(fn) {
     button.classList.toggle('active', button.dataset.function === fn);
   }
   for (const f of FUNCTIONS) $(`${state.method}-${f}`).classList.toggle('active', f === fn);
+  persist();
 }
 
 // ---------------------------------------------------------------- start
@@ -1362,12 +1614,25 @@ async function start() {
   buildMethodPanels();
   installViewControls();
   $('angle-unit').addEventListener('change', changeAngleUnit);
-  $('robot-new').addEventListener('click', newRobotDialog);
-  $('robot-open').addEventListener('click', openRobotDialog);
+  $('robot-new').addEventListener('click', () => confirmDiscard(newRobotDialog, 'A new robot'));
+  $('robot-open').addEventListener('click', () => confirmDiscard(openRobotDialog, 'Opening another robot'));
+  $('help-open').addEventListener('click', helpDialog);
+  $('table-undo').addEventListener('click', () => undoEdit(true));
+  $('table-redo').addEventListener('click', () => undoEdit(false));
+  document.addEventListener('keydown', (event) => {
+    if (!(event.ctrlKey || event.metaKey) || $('dialog').open) return;
+    const key = event.key.toLowerCase();
+    // In a field being typed in, the browser's own undo of the text comes first.
+    if (event.target.matches && event.target.matches('input, textarea, select')) return;
+    if (key === 'z' && !event.shiftKey) { event.preventDefault(); undoEdit(true); }
+    if (key === 'y' || (key === 'z' && event.shiftKey)) { event.preventDefault(); undoEdit(false); }
+  });
+  $('units').addEventListener('change', changeUnits);
   $('robot-save').addEventListener('click', saveRobot);
   $('robot-save-as').addEventListener('click', saveRobotAs);
   $('dialog-cancel').addEventListener('click', () => $('dialog').close());
   $('priority-reset').addEventListener('click', () => {
+    remember();
     delete document_().priority;
     markModified();
     renderPriority();
@@ -1383,7 +1648,69 @@ async function start() {
     if (state.dirty) event.preventDefault();
   });
   await refreshFiles();
-  await loadReady('stanford');
+  const before = stored();
+  if (before) {
+    await restore(before);
+  } else {
+    await loadReady('stanford');
+  }
+}
+
+/** The page as it was before a reload: the robot (with its unsaved edits), the method, function and units, and the last results. */
+async function restore(before) {
+  try {
+    const view = await api('/robots/check', { robot: before.robot.document });
+    setRobot({ ...view, origin: before.robot.origin, name: before.robot.name }, before.file);
+  } catch (error) {
+    await loadReady('stanford');
+    return;
+  }
+  state.dirty = Boolean(before.dirty);
+  state.units = before.units === 'm' ? 'm' : 'mm';
+  $('units').value = state.units;
+  renderRobot();
+  if (before.method && $(`method-${before.method}`)) selectMethod(before.method);
+  if (before.function && FUNCTIONS.includes(before.function)) selectFunction(before.function);
+  for (const [name, last] of Object.entries(before.results || {})) {
+    const container = $(`${name}-identify-result`);
+    if (!container || !last.result) continue;
+    state.results[name] = last;
+    renderIdentification(container, name, last.job, last.result);
+  }
+  toast('Restored the page as it was before the reload');
+}
+
+/** One choice of units for the page: mm and degrees, or metres and radians. */
+function changeUnits() {
+  state.units = $('units').value === 'm' ? 'm' : 'mm';
+  // The table's angles follow; its lengths stay in metres, as robot files keep them.
+  const angle = $('angle-unit');
+  const wanted = state.units === 'mm' ? 'deg' : 'rad';
+  if (angle.value !== wanted) {
+    angle.value = wanted;
+    angle.dispatchEvent(new Event('change'));
+  }
+  for (const [name, last] of Object.entries(state.results)) {
+    renderIdentification($(`${name}-identify-result`), name, last.job, last.result);
+  }
+  persist();
+}
+
+/** What each function does, with the paper's equations and the docs. */
+function helpDialog() {
+  const item = (title, text) => h('div', { class: 'help-item' }, h('h3', { text: title }), h('p', { text }));
+  openDialog({
+    title: 'Help',
+    body: h('div', { id: 'help-body' },
+      item('The robot table', 'Khalil–Kleinfinger parameters of frames 0…n+1 (eq. 2–3): σ (0 revolute, 1 prismatic, 2 fixed), α, d, θ, r, Hayati β for parallel axes, the gain K and offset of every joint (eq. 4) and its limits. Edits are checked as you type; Ctrl+Z and Ctrl+Y undo and redo them. The page keeps the table in this browser across reloads; Save writes it to the folder.'),
+      item('Identifiable parameters', 'The QR decomposition of the observation matrix W on random configurations (Appendix III, eq. 34): which parameters the method can identify, which are regrouped with others (and how), which have no effect. The priority matrix decides which of a regrouped set is kept: by decreasing priority.'),
+      item('Plan', 'Chooses the configurations to measure from a pool (D-, A-, E-optimal or the test-pose error): the fewer measurements for the same precision, and the accuracy curve against their number (docs/planning.md).'),
+      item('Points generation', 'Simulates a real robot (the nominal one with random errors) and what a sensor with the given noise would measure: data with a known answer, to try a method before measuring.'),
+      item('Identification', 'Iterated linearised least squares (eq. 10) with the precision of every parameter (eq. 11), robust losses, priors, cross-validation. The verdict says whether the result can be trusted: converged, and whether the residuals fit the stated sensor noise (a χ² test). Read the files as the instrument wrote them: units, column names and separator under “File format”.'),
+      item('Evaluate', 'The errors of the table’s robot and of the calibrated one on held-out measurements: the honest measure of a calibration.'),
+      item('Units', 'The Units menu sets results in mm and degrees, or metres and radians, for the whole page; the table’s lengths stay in metres, as robot files keep them.'),
+      h('p', { class: 'muted', text: 'More in the docs folder of gecaro: docs/methods.md (methods and verdict), docs/planning.md, docs/tracker.md (a laser-tracker cell from end to end), docs/web.md (this page), docs/api.md (its JSON API).' })),
+  });
 }
 
 start().catch((error) => {

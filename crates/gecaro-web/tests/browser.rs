@@ -124,107 +124,142 @@ async fn count(client: &Client, selector: &str) -> usize {
         .len()
 }
 
+/// A served folder, chromedriver and a headless Chromium on the page.
+struct Session {
+    client: Client,
+    folder: tempfile::TempDir,
+    url: String,
+    stop: tokio::sync::oneshot::Sender<()>,
+    serving: tokio::task::JoinHandle<Result<(), gecaro_web::Error>>,
+    _driver: Driver,
+    _profile: tempfile::TempDir,
+}
+
+impl Session {
+    /// The page in a window of `width` × `height`, or `None` (the test then
+    /// passes) without a browser, unless CI requires one.
+    async fn start(width: u32, height: u32) -> Option<Session> {
+        let Some((chromium, chromedriver)) = browser() else {
+            assert!(
+                std::env::var("GECARO_REQUIRE_E2E").as_deref() != Ok("1"),
+                "GECARO_REQUIRE_E2E=1 but chromium/chromedriver are not installed \
+                 (apt-get install chromium chromium-driver)"
+            );
+            eprintln!("skipped: chromium and chromedriver are not installed");
+            return None;
+        };
+        let folder = tempfile::tempdir().expect("folder");
+        let server = gecaro_web::Server::bind(&gecaro_web::Config {
+            folder: folder.path().to_owned(),
+            port: 0,
+        })
+        .await
+        .expect("server");
+        let url = server.url().to_owned();
+        let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
+        let serving = tokio::spawn(server.run(async {
+            let _ = stopped.await;
+        }));
+        let port = free_port();
+        let driver = Driver(
+            Command::new(&chromedriver)
+                .arg(format!("--port={port}"))
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .spawn()
+                .expect("chromedriver starts"),
+        );
+        let profile = tempfile::tempdir().expect("profile");
+        let mut capabilities = serde_json::Map::new();
+        capabilities.insert(
+            "goog:chromeOptions".into(),
+            json!({
+                "binary": chromium,
+                "args": [
+                    "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+                    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                    format!("--user-data-dir={}", profile.path().display()),
+                    format!("--window-size={width},{height}"),
+                ],
+            }),
+        );
+        let mut client = None;
+        for _ in 0..100 {
+            match ClientBuilder::new(hyper_util::client::legacy::connect::HttpConnector::new())
+                .capabilities(capabilities.clone())
+                .connect(&format!("http://127.0.0.1:{port}"))
+                .await
+            {
+                Ok(connected) => {
+                    client = Some(connected);
+                    break;
+                }
+                Err(_) => tokio::time::sleep(Duration::from_millis(100)).await,
+            }
+        }
+        let client = client.expect("chromedriver answers within 10 s");
+        Some(Session {
+            client,
+            folder,
+            url,
+            stop,
+            serving,
+            _driver: driver,
+            _profile: profile,
+        })
+    }
+
+    async fn close(self) {
+        self.client.close().await.expect("close the browser");
+        let _ = self.stop.send(());
+        self.serving.await.expect("server task").expect("server");
+    }
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_page_works_as_a_person_uses_it() {
-    let Some((chromium, chromedriver)) = browser() else {
-        assert!(
-            std::env::var("GECARO_REQUIRE_E2E").as_deref() != Ok("1"),
-            "GECARO_REQUIRE_E2E=1 but chromium/chromedriver are not installed \
-             (apt-get install chromium chromium-driver)"
-        );
-        eprintln!("skipped: chromium and chromedriver are not installed");
+    let Some(session) = Session::start(1400, 1900).await else {
         return;
     };
-    let folder = tempfile::tempdir().expect("folder");
-    let server = gecaro_web::Server::bind(&gecaro_web::Config {
-        folder: folder.path().to_owned(),
-        port: 0,
-    })
-    .await
-    .expect("server");
-    let url = server.url().to_owned();
-    let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
-    let serving = tokio::spawn(server.run(async {
-        let _ = stopped.await;
-    }));
-
-    let port = free_port();
-    let _driver = Driver(
-        Command::new(&chromedriver)
-            .arg(format!("--port={port}"))
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("chromedriver starts"),
-    );
-    let profile = tempfile::tempdir().expect("profile");
-    let mut capabilities = serde_json::Map::new();
-    capabilities.insert(
-        "goog:chromeOptions".into(),
-        json!({
-            "binary": chromium,
-            "args": [
-                "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
-                "--disable-background-networking", "--disable-component-update", "--disable-sync",
-                format!("--user-data-dir={}", profile.path().display()),
-                "--window-size=1400,1900",
-            ],
-        }),
-    );
-    let mut client = None;
-    for _ in 0..100 {
-        match ClientBuilder::new(hyper_util::client::legacy::connect::HttpConnector::new())
-            .capabilities(capabilities.clone())
-            .connect(&format!("http://127.0.0.1:{port}"))
-            .await
-        {
-            Ok(connected) => {
-                client = Some(connected);
-                break;
-            }
-            Err(_) => tokio::time::sleep(Duration::from_millis(100)).await,
-        }
-    }
-    let client = client.expect("chromedriver answers within 10 s");
-
+    let (client, folder, url) = (&session.client, &session.folder, session.url.clone());
     client.goto(&url).await.expect("page");
-    text_when(&client, "#robot-name", 30, |name| name == "Stanford").await;
+    text_when(client, "#robot-name", 30, |name| name == "Stanford").await;
 
     // Robot ▸ Open…: another ready robot, then the Stanford again.
-    click(&client, "#robot-open").await;
-    click(&client, "#open-ready-puma560").await;
-    text_when(&client, "#robot-name", 10, |name| name.contains("PUMA")).await;
-    click(&client, "#robot-open").await;
-    click(&client, "#open-ready-stanford").await;
-    text_when(&client, "#robot-name", 10, |name| name == "Stanford").await;
+    click(client, "#robot-open").await;
+    click(client, "#open-ready-puma560").await;
+    text_when(client, "#robot-name", 10, |name| name.contains("PUMA")).await;
+    click(client, "#robot-open").await;
+    click(client, "#open-ready-stanford").await;
+    text_when(client, "#robot-name", 10, |name| name == "Stanford").await;
     assert!(
-        text_of(&client, "#robot-status", 10)
+        text_of(client, "#robot-status", 10)
             .await
             .starts_with("valid")
     );
-    screenshot(&client, "01-stanford.png").await;
+    screenshot(client, "01-stanford.png").await;
 
     // Position measure ▸ Identifiable parameters.
-    click(&client, "#tab-position").await;
-    click(&client, "#function-identifiable").await;
-    click(&client, "#position-identifiable-run").await;
+    click(client, "#tab-position").await;
+    click(client, "#function-identifiable").await;
+    click(client, "#position-identifiable-run").await;
     assert_eq!(
-        text_of(&client, "#position-identifiable-count", 60).await,
+        text_of(client, "#position-identifiable-count", 60).await,
         "31"
     );
     assert_eq!(
-        count(&client, "#position-identifiable-grid td.s-identifiable").await,
+        count(client, "#position-identifiable-grid td.s-identifiable").await,
         31
     );
-    screenshot(&client, "02-identifiable-position.png").await;
-    let observability = text_of(&client, "#position-identifiable-result p.observability", 5).await;
+    screenshot(client, "02-identifiable-position.png").await;
+    let observability = text_of(client, "#position-identifiable-result p.observability", 5).await;
     assert!(
         observability.contains("random configurations") && observability.contains("O5 "),
         "{observability}"
     );
 
     // Plan: D-optimal configurations and the curve.
-    click(&client, "#function-plan").await;
+    click(client, "#function-plan").await;
     client
         .find(Locator::Css("#position-plan-curve"))
         .await
@@ -232,26 +267,26 @@ async fn the_page_works_as_a_person_uses_it() {
         .send_keys("12, 24, 48")
         .await
         .expect("type");
-    click(&client, "#position-plan-run").await;
+    click(client, "#position-plan-run").await;
     assert_eq!(
-        text_of(&client, "#position-plan-count-result", 60).await,
+        text_of(client, "#position-plan-count-result", 60).await,
         "25"
     );
     assert_eq!(
-        count(&client, "#position-plan-curve-table tbody tr").await,
+        count(client, "#position-plan-curve-table tbody tr").await,
         3
     );
-    assert_eq!(count(&client, "#position-plan-curve-plot svg").await, 1);
-    screenshot(&client, "03-plan.png").await;
+    assert_eq!(count(client, "#position-plan-curve-plot svg").await, 1);
+    screenshot(client, "03-plan.png").await;
 
     // Points generation, then identification of the generated data.
-    click(&client, "#function-generate").await;
-    click(&client, "#position-generate-run").await;
+    click(client, "#function-generate").await;
+    click(client, "#position-generate-run").await;
     assert_eq!(
-        text_of(&client, "#position-generate-count-result", 60).await,
+        text_of(client, "#position-generate-count-result", 60).await,
         "50"
     );
-    screenshot(&client, "03-generation.png").await;
+    screenshot(client, "03-generation.png").await;
     // The Identification function now offers the data just generated first.
     let selected = client
         .execute(
@@ -261,37 +296,34 @@ async fn the_page_works_as_a_person_uses_it() {
         .await
         .expect("script");
     assert_eq!(selected.as_str(), Some("generated"));
-    click(&client, "#position-generate-identify").await;
-    click(&client, "#position-identify-run").await;
+    click(client, "#position-generate-identify").await;
+    click(client, "#position-identify-run").await;
     assert_eq!(
-        text_of(&client, "#position-identify-status", 120).await,
+        text_of(client, "#position-identify-status", 120).await,
         "Converged (σ not stated)"
     );
-    let verdict = text_of(&client, "#position-identify-verdict", 5).await;
+    let verdict = text_of(client, "#position-identify-verdict", 5).await;
     assert!(
         verdict.starts_with("Verdict: converged after") && verdict.contains("no σ was stated"),
         "{verdict}"
     );
+    assert_eq!(count(client, "#position-identify-convergence svg").await, 1);
+    assert!(count(client, "#position-identify-convergence svg circle").await >= 2);
     assert_eq!(
-        count(&client, "#position-identify-convergence svg").await,
-        1
-    );
-    assert!(count(&client, "#position-identify-convergence svg circle").await >= 2);
-    assert_eq!(
-        count(&client, "#position-identify-parameters tbody tr").await,
+        count(client, "#position-identify-parameters tbody tr").await,
         31
     );
     let observability = text_when(
-        &client,
+        client,
         "#position-identify-result p.observability",
         5,
         |text| text.contains("of the data"),
     )
     .await;
     assert!(observability.contains("O1 "), "{observability}");
-    let first = text_of(&client, "#position-identify-parameters tbody tr td", 5).await;
+    let first = text_of(client, "#position-identify-parameters tbody tr td", 5).await;
     assert!(!first.is_empty());
-    screenshot(&client, "04-identification.png").await;
+    screenshot(client, "04-identification.png").await;
 
     // Again with a robust loss, a prior and a 3-fold cross-validation.
     client
@@ -303,23 +335,23 @@ async fn the_page_works_as_a_person_uses_it() {
         )
         .await
         .expect("script");
-    click(&client, "#position-identify-run").await;
-    let validation = text_when(&client, "#position-identify-cv-result", 120, |text| {
+    click(client, "#position-identify-run").await;
+    let validation = text_when(client, "#position-identify-cv-result", 120, |text| {
         text.contains("3 folds")
     })
     .await;
     assert!(validation.contains("held-out RMS"), "{validation}");
-    let robustness = text_of(&client, "#position-identify-robustness", 5).await;
+    let robustness = text_of(client, "#position-identify-robustness", 5).await;
     assert!(robustness.starts_with("Loss tukey"), "{robustness}");
     assert!(robustness.contains("prior 5.000 mm"), "{robustness}");
     assert_eq!(
-        count(&client, "#position-identify-parameters thead th").await,
+        count(client, "#position-identify-parameters thead th").await,
         6,
         "the prior σ column"
     );
 
     // Save the calibrated robot into the folder: a valid robot file.
-    click(&client, "#position-identify-save").await;
+    click(client, "#position-identify-save").await;
     let name = client
         .wait()
         .for_element(Locator::Css("#save-name"))
@@ -327,7 +359,7 @@ async fn the_page_works_as_a_person_uses_it() {
         .expect("save dialog");
     name.clear().await.expect("clear");
     name.send_keys("calibrated.toml").await.expect("type");
-    click(&client, "#dialog-ok").await;
+    click(client, "#dialog-ok").await;
     let saved = folder.path().join("calibrated.toml");
     for _ in 0..100 {
         if saved.exists() {
@@ -345,7 +377,7 @@ async fn the_page_works_as_a_person_uses_it() {
         folder.path().join("kr16.urdf"),
     )
     .expect("copy the URDF");
-    click(&client, "#robot-open").await;
+    click(client, "#robot-open").await;
     let urdf = client
         .wait()
         .for_element(Locator::XPath(
@@ -354,16 +386,16 @@ async fn the_page_works_as_a_person_uses_it() {
         .await
         .expect("the URDF is listed");
     urdf.click().await.expect("open it");
-    text_when(&client, "#robot-name", 30, |name| name == "kuka_kr16_2").await;
+    text_when(client, "#robot-name", 30, |name| name == "kuka_kr16_2").await;
     assert!(
-        text_of(&client, "#robot-origin", 5)
+        text_of(client, "#robot-origin", 5)
             .await
             .contains("converted from kr16.urdf")
     );
-    assert!(text_of(&client, "#notes li", 5).await.contains("folded"));
-    screenshot(&client, "05-urdf-opened.png").await;
+    assert!(text_of(client, "#notes li", 5).await.contains("folded"));
+    screenshot(client, "05-urdf-opened.png").await;
     // Save as… URDF: the original names come back in the folder.
-    click(&client, "#robot-save-as").await;
+    click(client, "#robot-save-as").await;
     client
         .find(Locator::Css("#save-format"))
         .await
@@ -381,7 +413,7 @@ async fn the_page_works_as_a_person_uses_it() {
     );
     name.clear().await.expect("clear");
     name.send_keys("kr16-out.urdf").await.expect("type");
-    click(&client, "#dialog-ok").await;
+    click(client, "#dialog-ok").await;
     let exported = folder.path().join("kr16-out.urdf");
     for _ in 0..100 {
         if exported.exists() {
@@ -390,7 +422,7 @@ async fn the_page_works_as_a_person_uses_it() {
         tokio::time::sleep(Duration::from_millis(50)).await;
     }
     // Wait for the page to finish the save (its dialog closes, a toast says so).
-    text_when(&client, "#toast", 10, |text| {
+    text_when(client, "#toast", 10, |text| {
         text.contains("Saved kr16-out.urdf")
     })
     .await;
@@ -412,7 +444,7 @@ async fn the_page_works_as_a_person_uses_it() {
         .send_keys(&format!("7{}", Key::Tab))
         .await
         .expect("type");
-    let message = text_of(&client, "#problems li", 30).await;
+    let message = text_of(client, "#problems li", 30).await;
     assert!(
         message.contains("Frame 2, sigma") && message.contains("not a frame type"),
         "{message}"
@@ -424,7 +456,7 @@ async fn the_page_works_as_a_person_uses_it() {
         .unwrap_or_default();
     assert!(class.contains("invalid"), "{class}");
     assert!(
-        text_of(&client, "#robot-status", 5)
+        text_of(client, "#robot-status", 5)
             .await
             .contains("problem")
     );
@@ -466,9 +498,330 @@ async fn the_page_works_as_a_person_uses_it() {
         .execute("window.scrollTo(0, 0)", Vec::new())
         .await
         .expect("scroll");
-    screenshot(&client, "06-validation.png").await;
+    screenshot(client, "06-validation.png").await;
 
-    client.close().await.expect("close the browser");
-    let _ = stop.send(());
-    serving.await.expect("server task").expect("server");
+    session.close().await;
+}
+
+/// Position data of the Stanford arm with level-1 errors (the same real
+/// robot for every `seed`), written as a tracker exports them: `;`-separated,
+/// millimetres (positions and the prismatic joint 3), columns `X_mm`…
+fn write_tracker_file(folder: &Path, name: &str, count: usize, seed: u64) {
+    use gecaro_calib::methods::{MethodOptions, method};
+    use gecaro_calib::simulation::{Sampler, perturbed_robot, simulate_measurements};
+    let nominal = gecaro_io::load_robot("stanford").expect("robot").robot;
+    let real = perturbed_robot(&nominal, 1.0, &mut Sampler::new(7)).expect("real");
+    let position = method("position", &MethodOptions::default()).expect("method");
+    let samples = simulate_measurements(
+        &real,
+        position.as_ref(),
+        count,
+        2e-5,
+        &mut Sampler::new(seed),
+    )
+    .expect("data");
+    let mut text = String::from("qm1;qm2;qm3;qm4;qm5;qm6;X_mm;Y_mm;Z_mm\n");
+    for sample in samples {
+        let mut fields: Vec<f64> = sample.motor_positions.clone();
+        fields[2] *= 1e3;
+        let p = sample.position.expect("position") * 1e3;
+        fields.extend([p.x, p.y, p.z]);
+        let line: Vec<String> = fields.iter().map(f64::to_string).collect();
+        text += &(line.join(";") + "\n");
+    }
+    std::fs::write(folder.join(name), text).expect("data file");
+}
+
+/// Sets form values by element id (the page's own fields).
+async fn set_values(client: &Client, values: &[(&str, &str)]) {
+    for (id, value) in values {
+        client
+            .execute(
+                "const e = document.getElementById(arguments[0]); e.value = arguments[1]; \
+                 e.dispatchEvent(new Event('change'));",
+                vec![json!(id), json!(value)],
+            )
+            .await
+            .unwrap_or_else(|error| panic!("{id}: {error}"));
+    }
+}
+
+async fn number(client: &Client, script: &str) -> f64 {
+    client
+        .execute(script, vec![])
+        .await
+        .expect("script")
+        .as_f64()
+        .unwrap_or_else(|| panic!("{script}: not a number"))
+}
+
+/// Issue 25: the page as an engineer's tool — a tracker's own files, the
+/// verdict at a glance, held-out checks, work that survives a reload and
+/// an unsaved edit that is not lost by accident, cancel, help, and a layout
+/// that holds at 800 px. Screenshots go to target/screenshots/ (docs/web.md).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_page_is_an_engineers_tool() {
+    let Some(session) = Session::start(1400, 1900).await else {
+        return;
+    };
+    let (client, folder, url) = (&session.client, session.folder.path(), session.url.clone());
+    write_tracker_file(folder, "tracker.csv", 60, 1);
+    write_tracker_file(folder, "check.csv", 40, 2);
+    write_tracker_file(folder, "long.csv", 10000, 3);
+    client.goto(&url).await.expect("page");
+    text_when(client, "#robot-name", 30, |name| name == "Stanford").await;
+    assert_eq!(count(client, "link[rel='icon']").await, 1, "a favicon");
+
+    // The tracker's own file, read through the File format fields.
+    click(client, "#tab-position").await;
+    click(client, "#function-identify").await;
+    set_values(
+        client,
+        &[
+            ("position-identify-data", "file:tracker.csv"),
+            ("position-identify-length-unit", "mm"),
+            ("position-identify-columns", "x=X_mm,y=Y_mm,z=Z_mm"),
+            ("position-identify-sigma", "0.02"),
+        ],
+    )
+    .await;
+    click(client, "#position-identify-run").await;
+    let status = text_of(client, "#position-identify-status", 120).await;
+    assert_eq!(status, "Fits the noise");
+    let verdict = client
+        .find(Locator::Css("#position-identify-verdict"))
+        .await
+        .expect("verdict");
+    assert!(
+        verdict
+            .attr("class")
+            .await
+            .expect("class")
+            .unwrap_or_default()
+            .contains("ok")
+    );
+    // One choice of units: the identified table in mm and degrees by default.
+    let heading = text_of(client, "#position-identify-result h3:last-of-type", 5).await;
+    assert!(heading.contains("mm, °"), "{heading}");
+    assert!(count(client, "#position-identify-parameters tr.significant").await > 0);
+    assert!(
+        text_of(client, "#position-identify-residual", 5)
+            .await
+            .contains("e-2"),
+        "residual σ ≈ 0.02 mm"
+    );
+    let save = client
+        .find(Locator::Css("#position-identify-save"))
+        .await
+        .expect("save");
+    assert!(
+        save.attr("class")
+            .await
+            .expect("class")
+            .unwrap_or_default()
+            .contains("primary")
+    );
+    screenshot(client, "10-verdict-1400.png").await;
+
+    // Evaluate: the table's robot and the calibrated one on held-out data.
+    click(client, "#function-evaluate").await;
+    set_values(
+        client,
+        &[
+            ("position-evaluate-data", "file:check.csv"),
+            ("position-evaluate-length-unit", "mm"),
+            ("position-evaluate-columns", "x=X_mm,y=Y_mm,z=Z_mm"),
+        ],
+    )
+    .await;
+    click(client, "#position-evaluate-run").await;
+    let calibrated = text_of(client, "#position-evaluate-calibrated", 60).await;
+    let table = text_of(client, "#position-evaluate-table", 5).await;
+    let rms = |text: &str| -> f64 {
+        text.split(',')
+            .next()
+            .expect("rms")
+            .trim()
+            .parse()
+            .expect("number")
+    };
+    assert!(
+        rms(&table) > 5.0 && rms(&calibrated) < 0.1,
+        "table {table}, calibrated {calibrated}"
+    );
+    assert_eq!(count(client, "#position-evaluate-histogram svg").await, 1);
+    screenshot(client, "11-evaluate-1400.png").await;
+
+    // An unsaved edit: Open asks first; Undo and Redo restore the table.
+    let alpha = r#"#frames-table input[data-frame="3"][data-key="alpha"]"#;
+    let cell = client.find(Locator::Css(alpha)).await.expect("cell");
+    let original = cell.prop("value").await.expect("value").unwrap_or_default();
+    // One edit, as a person selects the cell's text and types over it.
+    client
+        .execute(
+            "const e = document.querySelector(arguments[0]); e.value = '0.5'; \
+             e.dispatchEvent(new Event('change'));",
+            vec![json!(alpha)],
+        )
+        .await
+        .expect("edit");
+    click(client, "#robot-open").await;
+    let asked = text_of(client, "#discard-text", 10).await;
+    assert!(asked.contains("not saved"), "{asked}");
+    click(client, "#dialog-cancel").await;
+    click(client, "#table-undo").await;
+    let value = |client: &Client| {
+        let client = client.clone();
+        async move {
+            client
+                .find(Locator::Css(alpha))
+                .await
+                .expect("cell")
+                .prop("value")
+                .await
+                .expect("value")
+                .unwrap_or_default()
+        }
+    };
+    assert_eq!(value(client).await, original);
+    click(client, "#table-redo").await;
+    assert_eq!(value(client).await, "0.5");
+
+    // A reload restores the edited table, the function and the last result.
+    client.refresh().await.expect("reload");
+    text_when(client, "#robot-origin", 30, |origin| {
+        origin.contains("modified")
+    })
+    .await;
+    assert_eq!(value(client).await, "0.5");
+    // The function shown before the reload (Evaluate) is shown again.
+    let active = client
+        .find(Locator::Css("#function-evaluate"))
+        .await
+        .expect("tab")
+        .attr("class")
+        .await
+        .expect("class")
+        .unwrap_or_default();
+    assert!(active.contains("active"), "{active}");
+    click(client, "#function-identify").await;
+    assert_eq!(
+        text_of(client, "#position-identify-status", 10).await,
+        "Fits the noise"
+    );
+    click(client, "#table-undo").await; // nothing to undo after a reload: disabled
+    // Back to the ready Stanford (discarding the edit) for what follows.
+    click(client, "#robot-open").await;
+    click(client, "#dialog-ok").await;
+    click(client, "#open-ready-stanford").await;
+    text_when(client, "#robot-origin", 10, |origin| {
+        !origin.contains("modified")
+    })
+    .await;
+    // Switching robot cleared the previous results.
+    assert_eq!(count(client, "#position-identify-result *").await, 0);
+
+    // A long run (10 000 configurations, a robust loss, 20 folds: seconds)
+    // cancelled from the page stops on the server.
+    click(client, "#function-identify").await;
+    set_values(
+        client,
+        &[
+            ("position-identify-data", "file:long.csv"),
+            ("position-identify-length-unit", "mm"),
+            ("position-identify-columns", "x=X_mm,y=Y_mm,z=Z_mm"),
+            ("position-identify-cv", "20"),
+            ("position-identify-loss", "tukey"),
+        ],
+    )
+    .await;
+    click(client, "#position-identify-run").await;
+    client
+        .wait()
+        .at_most(Duration::from_secs(30))
+        .for_element(Locator::Css("#position-identify-cancel:not([disabled])"))
+        .await
+        .expect("cancel enabled")
+        .click()
+        .await
+        .expect("cancel");
+    let cancelled = text_of(client, "#position-identify-cancelled", 60).await;
+    assert!(cancelled.starts_with("Cancelled"), "{cancelled}");
+
+    // A priority cell in the cell's own words.
+    click(client, "#priority-details summary").await;
+    let priority = client
+        .find(Locator::Css("#priority-table input"))
+        .await
+        .expect("priority cell");
+    priority.clear().await.expect("clear");
+    priority
+        .send_keys(&format!("x{}", Key::Tab))
+        .await
+        .expect("type");
+    let problem = text_of(client, "#priority-problem", 5).await;
+    assert!(problem.contains("“x” is not a priority"), "{problem}");
+
+    // Help, and what a URDF does not carry.
+    click(client, "#help-open").await;
+    assert!(
+        text_of(client, "#help-body", 5)
+            .await
+            .contains("Appendix III")
+    );
+    click(client, "#dialog-cancel").await;
+    click(client, "#robot-save-as").await;
+    client
+        .find(Locator::Css("#save-format"))
+        .await
+        .expect("format")
+        .select_by_value("urdf")
+        .await
+        .expect("URDF");
+    assert!(
+        text_of(client, "#save-urdf-note", 5)
+            .await
+            .contains("Meshes, inertia")
+    );
+    click(client, "#dialog-cancel").await;
+
+    // At 800 px nothing scrolls sideways and the Identify button is on screen.
+    client.set_window_size(800, 1400).await.expect("resize");
+    click(client, "#function-identify").await;
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    let overflow = number(
+        client,
+        "return document.documentElement.scrollWidth - window.innerWidth",
+    )
+    .await;
+    if overflow > 0.0 {
+        let wide = client
+            .execute(
+                "return [...document.querySelectorAll('body *')].filter(e => e.getBoundingClientRect().right > window.innerWidth + 1 && e.offsetParent !== null).slice(0, 12).map(e => e.tagName + '#' + e.id + '.' + e.className + ' ' + Math.round(e.getBoundingClientRect().right)).join(' | ')",
+                vec![],
+            )
+            .await
+            .expect("script");
+        panic!("the page is {overflow} px wider than the window: {wide}");
+    }
+    let right = number(
+        client,
+        "return document.getElementById('position-identify-run').getBoundingClientRect().right - window.innerWidth",
+    )
+    .await;
+    assert!(
+        right <= 0.0,
+        "the Identify button ends {right} px off screen"
+    );
+    client
+        .execute("window.scrollTo(0, 0)", vec![])
+        .await
+        .expect("scroll");
+    screenshot(client, "12-page-800.png").await;
+    client
+        .execute("document.getElementById('methods-card').scrollIntoView()", vec![])
+        .await
+        .expect("scroll");
+    screenshot(client, "13-identification-800.png").await;
+    session.close().await;
 }
