@@ -184,7 +184,7 @@ pub fn parse_samples(
             None,
             format!(
                 "the file has a column `{extra}`, and the robot has {} joints: these data are \
-                 not of this robot (or map its columns with --columns)",
+                 not of this robot (or map its columns to the robot's)",
                 joint_types.len()
             ),
         ));

@@ -374,6 +374,8 @@ async function checkRobot() {
       renderPriority();
       if (view.summary.joints.length !== jointsBefore) renderSliders();
       else updateSliderRanges();
+      // An edit may move the frames anywhere: frame them again.
+      state.view.bounds = null;
       refreshPose();
     }
   } catch (error) {
@@ -1184,7 +1186,17 @@ function renderPlanned(container, name, planned) {
     observabilityLine(planned.observability, 'the plan'),
     planned.saved ? h('p', { text: `Saved to ${planned.saved}.` }) : null,
     h('div', { class: 'actions' },
-      h('button', { type: 'button', id: `${name}-plan-download`, text: `Download ${planned.file_name}`, onclick: () => download(planned.file_name, planned.csv, 'text/csv') })),
+      h('button', { type: 'button', id: `${name}-plan-download`, text: `Download ${planned.file_name}`, onclick: () => download(planned.file_name, planned.csv, 'text/csv') }),
+      h('button', {
+        type: 'button',
+        id: `${name}-plan-measure`,
+        text: 'Measure them (simulated)',
+        title: 'Points generation at these configurations, with the settings of the Points generation function',
+        onclick: async () => {
+          selectFunction('generate');
+          await generateInto(name, { csv: { text: planned.csv, name: planned.file_name } });
+        },
+      })),
   ];
   if (planned.curve) {
     const mm = (v) => (v === null ? 'not determined' : fixed(v * 1e3, 4));
@@ -1205,6 +1217,44 @@ function renderPlanned(container, name, planned) {
 
 // Points generation -----------------------------------------------------------
 
+/**
+ * Points generation with the settings of method `name`'s panel: at
+ * `configurations` (a CSV of planned configurations) when given, else at as
+ * many random ones as the panel says. The result shows in that panel.
+ */
+async function generateInto(name, configurations) {
+  const result = $(`${name}-generate-result`);
+  const value = (what) => $(`${name}-generate-${what}`).value;
+  result.replaceChildren(h('div', { class: 'progress' }, h('div', { class: 'spinner' }), 'Generating configurations…'));
+  try {
+    const request = {
+      robot: document_(),
+      method: methodRequest(name, 'generate'),
+      noise: Number(value('noise') || 0) * 1e-3,
+      seed: Number(value('seed') || 1),
+    };
+    if (configurations) request.configurations = configurations;
+    else request.count = Number(value('count'));
+    const real = value('real');
+    if (real.startsWith('file:')) {
+      request.real = (await api(`/robots/file?name=${encodeURIComponent(real.slice(5))}`)).document;
+    } else {
+      request.error_level = Number(value('level') || 0);
+    }
+    if (value('save').trim()) {
+      request.save_as = value('save').trim();
+      request.overwrite = $(`${name}-generate-overwrite`).checked;
+    }
+    const generated = await api('/generate', request);
+    state.generated[name] = generated;
+    refreshDataChoices(name, 'generated');
+    if (generated.saved) refreshFiles();
+    renderGenerated(result, name, generated);
+  } catch (error) {
+    result.replaceChildren(errorBox(error));
+  }
+}
+
 function generatePanel(method) {
   const name = method.name;
   const result = h('div', { class: 'result', id: `${name}-generate-result` });
@@ -1217,34 +1267,7 @@ function generatePanel(method) {
   const overwrite = h('input', { type: 'checkbox', id: `${name}-generate-overwrite` });
   real.addEventListener('focus', () => refreshRealChoices(real));
   refreshRealChoices(real);
-  const run = runButton(`${name}-generate-run`, 'Generate', async () => {
-    result.replaceChildren(h('div', { class: 'progress' }, h('div', { class: 'spinner' }), 'Generating configurations…'));
-    try {
-      const request = {
-        robot: document_(),
-        method: methodRequest(name, 'generate'),
-        count: Number(count.value),
-        noise: Number(noise.value || 0) * 1e-3,
-        seed: Number(seed.value || 1),
-      };
-      if (real.value.startsWith('file:')) {
-        request.real = (await api(`/robots/file?name=${encodeURIComponent(real.value.slice(5))}`)).document;
-      } else {
-        request.error_level = Number(level.value || 0);
-      }
-      if (saveAs.value.trim()) {
-        request.save_as = saveAs.value.trim();
-        request.overwrite = overwrite.checked;
-      }
-      const generated = await api('/generate', request);
-      state.generated[name] = generated;
-      refreshDataChoices(name, 'generated');
-      if (generated.saved) refreshFiles();
-      renderGenerated(result, name, generated);
-    } catch (error) {
-      result.replaceChildren(errorBox(error));
-    }
-  });
+  const run = runButton(`${name}-generate-run`, 'Generate', () => generateInto(name, null));
   return h('div', { class: 'panel', id: `${name}-generate` },
     h('div', { class: 'form' },
       field('Configurations', count),

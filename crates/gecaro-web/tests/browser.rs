@@ -278,6 +278,12 @@ async fn the_page_works_as_a_person_uses_it() {
     );
     assert_eq!(count(client, "#position-plan-curve-plot svg").await, 1);
     screenshot(client, "03-plan.png").await;
+    // The planned configurations measured (simulated) from the Plan function.
+    click(client, "#position-plan-measure").await;
+    assert_eq!(
+        text_of(client, "#position-generate-count-result", 60).await,
+        "25"
+    );
 
     // Points generation, then identification of the generated data.
     click(client, "#function-generate").await;
@@ -819,7 +825,10 @@ async fn the_page_is_an_engineers_tool() {
         .expect("scroll");
     screenshot(client, "12-page-800.png").await;
     client
-        .execute("document.getElementById('methods-card').scrollIntoView()", vec![])
+        .execute(
+            "document.getElementById('methods-card').scrollIntoView()",
+            vec![],
+        )
         .await
         .expect("scroll");
     screenshot(client, "13-identification-800.png").await;
