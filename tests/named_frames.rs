@@ -19,6 +19,16 @@ fn gecaro() -> Command {
     Command::cargo_bin("gecaro").expect("the gecaro binary is built")
 }
 
+/// `gecaro SUBCOMMAND --study STUDY [extra…]`, run to its end.
+fn on_study(subcommand: &str, study: &Path, extra: &[&str]) -> std::process::Output {
+    gecaro()
+        .args([subcommand, "--study"])
+        .arg(study)
+        .args(extra)
+        .output()
+        .expect("runs")
+}
+
 fn frame(name: &str, role: FrameRole, position: [f64; 3], rpy_deg: [f64; 3]) -> NamedFrame {
     let [r, p, y] = rpy_deg.map(f64::to_radians);
     NamedFrame {
@@ -167,12 +177,7 @@ fn a_cell_of_three_reflectors_and_two_stations_is_identified_from_its_study_file
     let folder = tempfile::tempdir().expect("folder");
     let truth = write_cell(folder.path());
     let study = folder.path().join("study.toml");
-    let output = gecaro()
-        .args(["identify", "--study"])
-        .arg(&study)
-        .arg("--json")
-        .output()
-        .expect("runs");
+    let output = on_study("identify", &study, &["--json"]);
     assert!(
         output.status.success(),
         "{}",
@@ -201,20 +206,12 @@ fn a_cell_of_three_reflectors_and_two_stations_is_identified_from_its_study_file
         );
     }
     // The text output states the identified frames as a study states them.
-    let text = gecaro()
-        .args(["identify", "--study"])
-        .arg(&study)
-        .output()
-        .expect("runs");
+    let text = on_study("identify", &study, &[]);
     let text = String::from_utf8_lossy(&text.stdout);
     assert!(text.contains("[stations.tracker_2]"), "{text}");
     assert!(text.contains("tracker_2.rz"), "{text}");
     // Appendix III covers the frames: a reflector's orientation has no effect.
-    let report = gecaro()
-        .args(["identifiable", "--study"])
-        .arg(&study)
-        .output()
-        .expect("runs");
+    let report = on_study("identifiable", &study, &[]);
     let report = String::from_utf8_lossy(&report.stdout);
     assert!(report.contains("tracker_2.x: identifiable"), "{report}");
     assert!(report.contains("smr_a.rx: no"), "{report}");
@@ -227,11 +224,7 @@ fn a_study_naming_an_unknown_station_is_refused_at_its_line() {
     let study = folder.path().join("study.toml");
     let text = STUDY.replace("station = \"tracker_2\"\nsigma = 0.02\n[[measurements]]\nmethod = \"position\"\ndata = \"smr_b_2.csv\"", "station = \"tracker_3\"\nsigma = 0.02\n[[measurements]]\nmethod = \"position\"\ndata = \"smr_b_2.csv\"");
     std::fs::write(&study, &text).expect("study");
-    let output = gecaro()
-        .args(["identify", "--study"])
-        .arg(&study)
-        .output()
-        .expect("runs");
+    let output = on_study("identify", &study, &[]);
     assert!(!output.status.success());
     let message = String::from_utf8_lossy(&output.stderr);
     let line = text
@@ -250,11 +243,7 @@ fn a_study_naming_an_unknown_station_is_refused_at_its_line() {
         "method = \"distance\"\ndata = \"smr_a_2.csv\"",
     );
     std::fs::write(&study, &text).expect("study");
-    let output = gecaro()
-        .args(["identify", "--study"])
-        .arg(&study)
-        .output()
-        .expect("runs");
+    let output = on_study("identify", &study, &[]);
     assert!(!output.status.success());
     let message = String::from_utf8_lossy(&output.stderr);
     assert!(message.contains("tools and stations go with"), "{message}");

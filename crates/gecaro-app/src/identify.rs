@@ -14,7 +14,8 @@ use gecaro_calib::identification::{
 use gecaro_calib::validation::{CrossValidation, ModelScore, compare_models, cross_validate};
 use gecaro_io::RobotFile;
 use gecaro_report::{
-    ReportInput, convergence_svg, error_histograms_svg, errors_per_configuration_svg, html_report,
+    ReportInput, error_histograms_svg, errors_per_configuration_svg, html_report,
+    identification_svgs,
 };
 use serde::{Deserialize, Serialize};
 
@@ -231,21 +232,11 @@ impl Identified {
     /// # Errors
     /// A plot that cannot be drawn.
     pub fn plots(&self) -> Result<Plots, AppError> {
-        let millimetres =
-            |errors: &[(f64, f64)]| errors.iter().map(|e| e.0 * 1e3).collect::<Vec<f64>>();
-        let (before, after) = (
-            millimetres(&self.result.errors_before),
-            millimetres(&self.result.errors_after),
-        );
+        let svgs = identification_svgs(&self.loaded.study, &self.result)?;
         Ok(Plots {
-            convergence: convergence_svg(&self.result.history)?,
-            errors_histogram: error_histograms_svg(&before, &after, "mm")?,
-            errors_per_configuration: errors_per_configuration_svg(
-                &before,
-                &after,
-                &self.result.outlier_observations(),
-                "mm",
-            )?,
+            convergence: svgs.convergence,
+            errors_histogram: svgs.errors_histogram,
+            errors_per_configuration: svgs.errors_per_configuration,
         })
     }
 

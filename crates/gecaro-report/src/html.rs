@@ -10,9 +10,7 @@ use gecaro_core::{FrameType, ParameterId, ParameterKind, Robot};
 use maud::{DOCTYPE, Markup, PreEscaped, html};
 
 use crate::Error;
-use crate::plots::{
-    convergence_svg, error_histograms_svg, errors_per_configuration_svg, robot_projections_svg,
-};
+use crate::plots::{IdentificationSvgs, identification_svgs, robot_projections_svg};
 
 /// What a report is made of.
 #[derive(Debug)]
@@ -53,15 +51,11 @@ fn number(value: f64) -> String {
 pub fn html_report(input: &ReportInput<'_>) -> Result<String, Error> {
     let (robot, result) = (input.robot, input.identification);
     let methods = input.study.method_names();
-    let lengths = |errors: &[(f64, f64)]| errors.iter().map(|e| e.0 * 1e3).collect::<Vec<f64>>();
-    let (before, after) = (
-        lengths(&result.errors_before),
-        lengths(&result.errors_after),
-    );
-    let convergence = convergence_svg(&result.history)?;
-    let histograms = error_histograms_svg(&before, &after, "mm")?;
-    let per_configuration =
-        errors_per_configuration_svg(&before, &after, &result.outlier_observations(), "mm")?;
+    let IdentificationSvgs {
+        convergence,
+        errors_histogram: histograms,
+        errors_per_configuration: per_configuration,
+    } = identification_svgs(input.study, result)?;
     let middle: Vec<f64> = robot
         .joints()
         .iter()
@@ -92,7 +86,8 @@ pub fn html_report(input: &ReportInput<'_>) -> Result<String, Error> {
                 h2 { "Errors before and after" }
                 p.muted {
                     "Per configuration: distance to the measured point, to the mean point of its set, \
-                     to the plane, or distance error of a pair (mm)."
+                     to the plane, or distance error of a pair (mm). With outliers, the \
+                     histogram after holds the inliers only."
                 }
                 (PreEscaped(histograms))
                 (PreEscaped(per_configuration))

@@ -13,8 +13,8 @@ mod plots;
 
 pub use html::{ReportInput, html_report};
 pub use plots::{
-    accuracy_curve_svg, convergence_svg, error_histograms_svg, errors_per_configuration_svg,
-    robot_projections_svg,
+    IdentificationSvgs, accuracy_curve_svg, convergence_svg, error_histograms_svg,
+    errors_per_configuration_svg, identification_svgs, robot_projections_svg,
 };
 
 /// Errors of report making.

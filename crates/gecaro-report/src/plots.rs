@@ -2,7 +2,11 @@
 //! bundled DejaVu Sans, so no system font is needed and the SVG shows the same
 //! everywhere).
 
-use gecaro_calib::{curve::CurvePoint, identification::IterationRecord};
+use gecaro_calib::{
+    curve::CurvePoint,
+    identification::{Identification, IterationRecord},
+    study::Study,
+};
 use gecaro_core::{Robot, forward_kinematics};
 use plotters::prelude::*;
 use std::sync::Once;
@@ -51,7 +55,13 @@ fn svg(
 /// # Errors
 /// [`Error::Plot`] if drawing fails.
 pub fn convergence_svg(history: &[IterationRecord]) -> Result<String, Error> {
-    let values: Vec<f64> = history.iter().map(|h| h.rms.max(1e-18)).collect();
+    convergence_in(history, 1.0, "residual RMS")
+}
+
+/// [`convergence_svg`] with the RMS multiplied by `scale` and the y axis
+/// labelled `label`.
+fn convergence_in(history: &[IterationRecord], scale: f64, label: &str) -> Result<String, Error> {
+    let values: Vec<f64> = history.iter().map(|h| (h.rms * scale).max(1e-18)).collect();
     let largest = values.iter().copied().fold(f64::MIN_POSITIVE, f64::max) * 2.0;
     let smallest = values
         .iter()
@@ -71,7 +81,7 @@ pub fn convergence_svg(history: &[IterationRecord]) -> Result<String, Error> {
         chart
             .configure_mesh()
             .x_desc("iteration")
-            .y_desc("residual RMS")
+            .y_desc(label)
             .x_labels(last.min(12) + 1)
             .y_label_formatter(&|v| format!("{v:.0e}"))
             .label_style((FONT, 13))
@@ -156,6 +166,63 @@ pub(crate) fn short(value: f64) -> String {
     } else {
         text
     }
+}
+
+/// The plots of an identification, as SVG.
+#[derive(Clone, Debug)]
+pub struct IdentificationSvgs {
+    /// Residual RMS per iteration, in the units the rows are in: multiples
+    /// of the stated σ when every set states one (1 = the noise), else
+    /// millimetres (angle rows in mrad).
+    pub convergence: String,
+    /// Errors before and after (mm); with outliers, "after" holds the
+    /// inliers only, so that a few gross errors do not swamp it.
+    pub errors_histogram: String,
+    /// Every observation's error before and after (mm), outliers ringed.
+    pub errors_per_configuration: String,
+}
+
+/// The plots of `result`, identified from `study` (the command's report,
+/// the web page and Python show the same).
+///
+/// # Errors
+/// [`Error::Plot`] if drawing fails.
+pub fn identification_svgs(
+    study: &Study,
+    result: &Identification,
+) -> Result<IdentificationSvgs, Error> {
+    let millimetres =
+        |errors: &[(f64, f64)]| errors.iter().map(|e| e.0 * 1e3).collect::<Vec<f64>>();
+    let (before, after) = (
+        millimetres(&result.errors_before),
+        millimetres(&result.errors_after),
+    );
+    let outliers = result.outlier_observations();
+    let inliers: Vec<f64> = after
+        .iter()
+        .enumerate()
+        .filter(|(index, _)| !outliers.contains(index))
+        .map(|(_, error)| *error)
+        .collect();
+    let stated = study.sets.iter().all(|set| set.sigma.is_some());
+    let convergence = if stated {
+        convergence_in(
+            &result.history,
+            1.0,
+            "residual RMS / stated σ (1 = the noise)",
+        )?
+    } else {
+        convergence_in(
+            &result.history,
+            1e3,
+            "residual RMS (mm; angle rows in mrad)",
+        )?
+    };
+    Ok(IdentificationSvgs {
+        convergence,
+        errors_histogram: error_histograms_svg(&before, &inliers, "mm")?,
+        errors_per_configuration: errors_per_configuration_svg(&before, &after, &outliers, "mm")?,
+    })
 }
 
 /// Histograms of the per-configuration errors before and after (side by

@@ -664,6 +664,55 @@ function drawView(message) {
     line([gx + v, gy - extent, 0], [gx + v, gy + extent, 0], '#e3e8ee', 1);
     line([gx - extent, gy + v, 0], [gx + extent, gy + v, 0], '#e3e8ee', 1);
   }
+  // The current method's plane (plane methods) and the points of its
+  // generated data (methods that measure a point), in the world frame.
+  state.view.drawn = { plane: false, points: 0 };
+  const method = state.info && methodInfo(state.method);
+  if (method && method.uses_plane) {
+    try {
+      const normal = parseVector($(`${state.method}-identify-normal`).value, 'normal');
+      const point = parseVector($(`${state.method}-identify-point`).value, 'point');
+      const length = Math.hypot(...normal);
+      const n = normal.map((v) => v / length);
+      const helper = Math.abs(n[2]) < 0.9 ? [0, 0, 1] : [1, 0, 0];
+      const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+      const u = cross(n, helper);
+      const ul = Math.hypot(...u);
+      const e1 = u.map((v) => v / ul);
+      const e2 = cross(n, e1);
+      const half = radius * 0.6;
+      const corner = (a, b) => point.map((p, k) => p + (a * e1[k] + b * e2[k]) * half);
+      const corners = [corner(-1, -1), corner(1, -1), corner(1, 1), corner(-1, 1)].map(toScreen);
+      context.fillStyle = 'rgba(31, 111, 235, 0.10)';
+      context.strokeStyle = 'rgba(31, 111, 235, 0.6)';
+      context.lineWidth = 1.5;
+      context.beginPath();
+      corners.forEach(([x, y], i) => (i ? context.lineTo(x, y) : context.moveTo(x, y)));
+      context.closePath();
+      context.fill();
+      context.stroke();
+      state.view.drawn.plane = true;
+    } catch (error) {
+      // No valid plane in the fields yet: nothing to draw.
+    }
+  }
+  const generated = state.generated[state.method];
+  if (generated && generated.csv) {
+    const lines = generated.csv.trim().split('\n');
+    const head = lines[0].split(',');
+    const [ix, iy, iz] = ['x', 'y', 'z'].map((c) => head.indexOf(c));
+    if (ix >= 0 && iy >= 0 && iz >= 0) {
+      context.fillStyle = 'rgba(214, 39, 40, 0.75)';
+      for (const row of lines.slice(1)) {
+        const fields = row.split(',').map(Number);
+        const [x, y] = toScreen([fields[ix], fields[iy], fields[iz]]);
+        context.beginPath();
+        context.arc(x, y, 2.5, 0, 2 * Math.PI);
+        context.fill();
+        state.view.drawn.points += 1;
+      }
+    }
+  }
   // World axes.
   const axis = radius * 0.12;
   line([0, 0, 0], [axis, 0, 0], '#e8a3a3', 1.5);
@@ -1207,9 +1256,11 @@ function renderPlanned(container, name, planned) {
     parts.push(h('table', { class: 'grid', id: `${name}-plan-curve-table` },
       h('thead', {}, h('tr', {}, ['configurations', 'planned (mm)', 'random (mm)', 'random / planned'].map((t) => h('th', { text: t })))),
       h('tbody', {}, rows)));
+    // In the same grid, size and caption style as every other plot of the page.
     const figure = h('div', { class: 'plot', id: `${name}-plan-curve-plot` });
     figure.innerHTML = planned.curve.svg; // SVG made by the server (plotters), not user text.
-    parts.push(figure);
+    parts.push(h('div', { class: 'plots' }, h('figure', {}, figure,
+      h('figcaption', { class: 'muted', text: 'Predicted RMS position error against the number of configurations (mm)' }))));
   }
   parts.push(h('pre', { class: 'preview', text: `${preview}\n…` }));
   container.replaceChildren(...parts.filter(Boolean));
@@ -1250,6 +1301,7 @@ async function generateInto(name, configurations) {
     refreshDataChoices(name, 'generated');
     if (generated.saved) refreshFiles();
     renderGenerated(result, name, generated);
+    drawView();
   } catch (error) {
     result.replaceChildren(errorBox(error));
   }
@@ -1378,7 +1430,7 @@ function identifyPanel(method) {
     h('option', { value: 'huber', text: 'Huber (mild contamination)' }),
     h('option', { value: 'cauchy', text: 'Cauchy (gross errors)' }),
     h('option', { value: 'tukey', text: 'Tukey (gross errors ignored)' }));
-  const prior = h('input', { type: 'text', placeholder: 'none, or e.g. 5mm,0.5deg,1%', id: `${name}-identify-prior` });
+  const prior = h('input', { type: 'text', class: 'vector', placeholder: 'none, or e.g. 5mm,0.5deg,1%', id: `${name}-identify-prior` });
   const reject = h('input', { type: 'checkbox', id: `${name}-identify-reject` });
   const sigma = h('input', { type: 'number', min: 0, step: 'any', placeholder: 'not stated', id: `${name}-identify-sigma` });
   const folds = h('input', { type: 'number', min: 0, max: 20, value: 0, id: `${name}-identify-cv` });
@@ -1482,7 +1534,7 @@ function renderIdentification(container, name, job, result) {
   };
   const plots = h('div', { class: 'plots' },
     plot('Residual RMS per iteration', result.plots.convergence, `${name}-identify-convergence`),
-    plot('Errors before and after (mm)', result.plots.errors_histogram, `${name}-identify-histogram`),
+    plot(id.outliers.length ? `Errors before and after (mm; after: the inliers, without the ${id.outliers.length} outliers)` : 'Errors before and after (mm)', result.plots.errors_histogram, `${name}-identify-histogram`),
     plot('Error of every configuration (mm)', result.plots.errors_per_configuration, `${name}-identify-per-configuration`));
   // Values in the page's units; a deviation beyond 3σ is marked, a
   // regrouped parameter is a combination, not the physical value.
@@ -1618,6 +1670,7 @@ function selectMethod(name) {
   }
   for (const method of state.info.methods) $(`method-${method.name}`).hidden = method.name !== name;
   selectFunction(state.function);
+  drawView();
 }
 
 function selectFunction(fn) {

@@ -639,6 +639,13 @@ async fn identification_runs_as_a_job_with_progress_plots_and_report() {
             "{plot}"
         );
     }
+    // No σ stated: the convergence plot's axis is in millimetres.
+    assert!(
+        result["plots"]["convergence"]
+            .as_str()
+            .expect("svg")
+            .contains("residual RMS (mm"),
+    );
     // The calibrated robot is a valid document that predicts the data.
     let (status, checked) = api
         .post(

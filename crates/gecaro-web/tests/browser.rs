@@ -278,12 +278,27 @@ async fn the_page_works_as_a_person_uses_it() {
     );
     assert_eq!(count(client, "#position-plan-curve-plot svg").await, 1);
     screenshot(client, "03-plan.png").await;
-    // The planned configurations measured (simulated) from the Plan function.
+    // The planned configurations measured (simulated) from the Plan function;
+    // the 3D view shows the measured points.
     click(client, "#position-plan-measure").await;
     assert_eq!(
         text_of(client, "#position-generate-count-result", 60).await,
         "25"
     );
+    let drawn = client
+        .execute("return state.view.drawn.points", vec![])
+        .await
+        .expect("script");
+    assert_eq!(drawn.as_u64(), Some(25), "measured points drawn");
+    // A plane method draws its plane in the 3D view.
+    click(client, "#tab-plane1").await;
+    let plane = client
+        .execute("drawView(); return state.view.drawn.plane", vec![])
+        .await
+        .expect("script");
+    assert_eq!(plane.as_bool(), Some(true), "the plane is drawn");
+    screenshot(client, "03-plane-view.png").await;
+    click(client, "#tab-position").await;
 
     // Points generation, then identification of the generated data.
     click(client, "#function-generate").await;
@@ -594,6 +609,12 @@ async fn the_page_is_an_engineers_tool() {
     click(client, "#position-identify-run").await;
     let status = text_of(client, "#position-identify-status", 120).await;
     assert_eq!(status, "Fits the noise");
+    // A stated σ: the convergence plot is in multiples of it.
+    assert!(
+        text_of(client, "#position-identify-convergence", 5)
+            .await
+            .contains("stated σ")
+    );
     let verdict = client
         .find(Locator::Css("#position-identify-verdict"))
         .await
