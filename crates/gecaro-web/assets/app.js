@@ -273,6 +273,14 @@ function stored() {
   }
 }
 
+/** The table's caption: its units, and those the robot file keeps. */
+function renderTableUnits() {
+  const file = document_().angle_unit === 'deg' ? 'degrees' : 'radians';
+  $('table-units').textContent = state.units === 'mm'
+    ? `table in mm and degrees (the robot file keeps metres and ${file})`
+    : `table in metres and radians (the robot file keeps metres and ${file})`;
+}
+
 function renderRobot() {
   const view = state.robot;
   const doc = view.document;
@@ -283,6 +291,7 @@ function renderRobot() {
         : 'not saved yet';
   $('robot-origin').textContent = (state.dirty ? '• modified · ' : '') + origin;
   $('angle-unit').value = doc.angle_unit === 'deg' ? 'deg' : 'rad';
+  renderTableUnits();
   renderFrames();
   renderProblems();
   renderPriority();
@@ -297,6 +306,33 @@ function applicable(frame, last, key) {
   return true;
 }
 
+/**
+ * The factor from the document's value of `key` in `frame` to what the
+ * table shows in the page's units: lengths in mm or m (documents hold
+ * metres), angles in degrees or radians (documents hold their own
+ * angle_unit). Only the display changes: the document keeps its units.
+ */
+function displayScale(frame, key) {
+  const revolute = (frame.sigma || 0) === 0;
+  const prismatic = frame.sigma === 1;
+  const angle = ANGLES.has(key) || (JOINT_ANGLES.has(key) && revolute);
+  const length = key === 'd' || key === 'r' || (JOINT_ANGLES.has(key) && prismatic);
+  if (angle) {
+    const documentDegrees = document_().angle_unit === 'deg';
+    const shownDegrees = state.units === 'mm';
+    if (documentDegrees === shownDegrees) return 1;
+    return shownDegrees ? 180 / Math.PI : Math.PI / 180;
+  }
+  if (length && state.units === 'mm') return 1e3;
+  return 1;
+}
+
+/** A document value as the table shows it (8 significant digits). */
+function shown(frame, key) {
+  const value = frame[key];
+  return typeof value === 'number' ? fmt(Number((value * displayScale(frame, key)).toPrecision(12))) : fmt(value);
+}
+
 function renderFrames() {
   const doc = document_();
   const last = doc.frame.length - 1;
@@ -309,7 +345,7 @@ function renderFrames() {
         type: 'text',
         inputmode: 'decimal',
         class: column.key === 'sigma' ? 'sigma' : '',
-        value: fmt(frame[column.key]),
+        value: shown(frame, column.key),
         placeholder: column.key === 'K' ? '1' : column.key === 'sigma' ? '' : '0',
         'data-frame': j,
         'data-key': column.key,
@@ -335,10 +371,11 @@ function editCell(frame, key, input) {
       state.localProblems.set(slot, { frame, key, message: `“${text}” is not a number` });
     } else if (key === 'sigma' && !Number.isInteger(value)) {
       state.localProblems.set(slot, { frame, key, message: 'sigma is 0 (revolute), 1 (prismatic) or 2 (fixed)' });
-    } else if (key !== 'sigma' && Math.abs(value) > 1000) {
-      state.localProblems.set(slot, { frame, key, message: `${text} is beyond ±1000 (metres or radians): no robot has such a value` });
+    } else if (key !== 'sigma' && Math.abs(value / displayScale(target, key)) > 1000) {
+      state.localProblems.set(slot, { frame, key, message: `${text} is beyond ±1000 m or rad: no robot has such a value` });
     } else {
-      target[key] = value;
+      // What is typed is in the page's units; the document keeps its own.
+      target[key] = key === 'sigma' ? value : value / displayScale(target, key);
     }
   }
   markModified();
@@ -500,6 +537,7 @@ function changeAngleUnit(event) {
   }
   if (toDegrees) doc.angle_unit = 'deg'; else delete doc.angle_unit;
   markModified();
+  renderTableUnits();
   renderFrames();
   scheduleCheck();
 }
@@ -1562,7 +1600,7 @@ function renderIdentification(container, name, job, result) {
         h('td', { text: `${o.file}: ${o.kind} ${o.observation}` }), h('td', { text: o.lines.join(', ') }),
         h('td', { text: fixed(o.error * 1e3, 3) }), h('td', { text: fixed(o.residual_sigmas, 1) }), h('td', { text: fixed(o.weight, 3) })))))) : null;
   const robustness = h('p', { class: 'muted', id: `${name}-identify-robustness`, text:
-    `Loss ${id.loss.kind}${id.loss.scale ? ` (k = ${id.loss.scale} σ̂, ${id.reweightings} reweightings)` : ''}; robust σ̂ ${sci(id.robust_sigma)}; `
+    `Loss ${id.loss.kind}${id.loss.scale ? ` (k = ${id.loss.scale} σ̂, ${id.reweightings} reweightings)` : ''}; robust σ̂ ${verdict.noise_test ? `${fixed(id.robust_sigma, 2)} × the stated σ` : `${sci(inUnits(id.robust_sigma, 'length'))} ${state.units === 'mm' ? 'mm' : 'm'} (length rows)`}; `
     + (id.outliers.length ? `${id.outliers.length} outliers (ringed on the per-configuration plot)` : 'no outliers')
     + (id.prior ? `; prior ${fixed(id.prior.length * 1e3, 3)} mm, ${fixed(id.prior.angle * 180 / Math.PI, 3)}°, ${fixed(id.prior.gain * 100, 2)} %` : '') });
   const cv = id.cross_validation;
@@ -1759,13 +1797,9 @@ async function restore(before) {
 /** One choice of units for the page: mm and degrees, or metres and radians. */
 function changeUnits() {
   state.units = $('units').value === 'm' ? 'm' : 'mm';
-  // The table's angles follow; its lengths stay in metres, as robot files keep them.
-  const angle = $('angle-unit');
-  const wanted = state.units === 'mm' ? 'deg' : 'rad';
-  if (angle.value !== wanted) {
-    angle.value = wanted;
-    angle.dispatchEvent(new Event('change'));
-  }
+  // The table shows the same values in the new units; the document is unchanged.
+  renderFrames();
+  renderTableUnits();
   for (const [name, last] of Object.entries(state.results)) {
     renderIdentification($(`${name}-identify-result`), name, last.job, last.result);
   }
@@ -1784,7 +1818,7 @@ function helpDialog() {
       item('Points generation', 'Simulates a real robot (the nominal one with random errors) and what a sensor with the given noise would measure: data with a known answer, to try a method before measuring.'),
       item('Identification', 'Iterated linearised least squares (eq. 10) with the precision of every parameter (eq. 11), robust losses, priors, cross-validation. The verdict says whether the result can be trusted: converged, and whether the residuals fit the stated sensor noise (a χ² test). Read the files as the instrument wrote them: units, column names and separator under “File format”.'),
       item('Evaluate', 'The errors of the table’s robot and of the calibrated one on held-out measurements: the honest measure of a calibration.'),
-      item('Units', 'The Units menu sets results in mm and degrees, or metres and radians, for the whole page; the table’s lengths stay in metres, as robot files keep them.'),
+      item('Units', 'The Units menu shows the whole page in mm and degrees, or in metres and radians: the robot table, the identified parameters, the residual σ and the evaluation. It changes what is shown and typed, not the robot file, which keeps metres and its own angle unit.'),
       h('p', { class: 'muted', text: 'More in the docs folder of gecaro: docs/methods.md (methods and verdict), docs/planning.md, docs/tracker.md (a laser-tracker cell from end to end), docs/web.md (this page), docs/api.md (its JSON API).' })),
   });
 }

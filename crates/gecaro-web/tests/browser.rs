@@ -592,6 +592,34 @@ async fn the_page_is_an_engineers_tool() {
     client.goto(&url).await.expect("page");
     text_when(client, "#robot-name", 30, |name| name == "Stanford").await;
     assert_eq!(count(client, "link[rel='icon']").await, 1, "a favicon");
+    // One choice of units: the table shows mm and degrees, or m and radians,
+    // and switching does not touch the robot.
+    let cell_value = |selector: &'static str| {
+        let client = client.clone();
+        async move {
+            client
+                .find(Locator::Css(selector))
+                .await
+                .expect("cell")
+                .prop("value")
+                .await
+                .expect("value")
+                .unwrap_or_default()
+        }
+    };
+    let r2 = r#"#frames-table input[data-frame="2"][data-key="r"]"#;
+    let alpha2 = r#"#frames-table input[data-frame="2"][data-key="alpha"]"#;
+    assert_eq!(cell_value(r2).await, "200");
+    assert_eq!(cell_value(alpha2).await, "-90");
+    set_values(client, &[("units", "m")]).await;
+    assert_eq!(cell_value(r2).await, "0.2");
+    assert_eq!(cell_value(alpha2).await, "-1.5707963");
+    assert!(
+        !text_of(client, "#robot-origin", 5)
+            .await
+            .contains("modified")
+    );
+    set_values(client, &[("units", "mm")]).await;
 
     // The tracker's own file, read through the File format fields.
     click(client, "#tab-position").await;
