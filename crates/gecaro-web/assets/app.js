@@ -68,12 +68,14 @@ class ApiFailure extends Error {
   }
 }
 
-async function api(path, body) {
+/** A call of the JSON API; `signal` (an AbortController's) lets the page abandon it. */
+async function api(path, body, signal) {
   const request = body === undefined ? {} : {
     method: 'POST',
     headers: { 'Content-Type': 'application/json' },
     body: JSON.stringify(body),
   };
+  if (signal) request.signal = signal;
   const response = await fetch(`/api${path}`, request);
   const text = await response.text();
   let data;
@@ -1213,7 +1215,10 @@ function planPanel(method) {
   const saveAs = h('input', { type: 'text', id: `${name}-plan-save`, placeholder: 'optional, e.g. planned.csv', class: 'vector' });
   const overwrite = h('input', { type: 'checkbox', id: `${name}-plan-overwrite` });
   const run = runButton(`${name}-plan-run`, 'Plan', async () => {
-    result.replaceChildren(h('div', { class: 'progress' }, h('div', { class: 'spinner' }), 'Choosing configurations…'));
+    // Cancel aborts the request; the server then stops the plan at its next step.
+    const abort = new AbortController();
+    const cancel = h('button', { type: 'button', id: `${name}-plan-cancel`, text: 'Cancel', onclick: () => abort.abort() });
+    result.replaceChildren(h('div', { class: 'progress' }, h('div', { class: 'spinner' }), h('span', { text: 'Choosing configurations…' }), cancel));
     try {
       const request = {
         robot: document_(),
@@ -1236,11 +1241,15 @@ function planPanel(method) {
         request.save_as = saveAs.value.trim();
         request.overwrite = overwrite.checked;
       }
-      const planned = await api('/plan', request);
+      const planned = await api('/plan', request, abort.signal);
       if (planned.saved) refreshFiles();
       renderPlanned(result, name, planned);
     } catch (error) {
-      result.replaceChildren(errorBox(error));
+      if (abort.signal.aborted) {
+        result.replaceChildren(h('div', { class: 'warnings', id: `${name}-plan-cancelled`, text: 'Cancelled: the server stopped planning.' }));
+      } else {
+        result.replaceChildren(errorBox(error));
+      }
     }
   });
   return h('div', { class: 'panel', id: `${name}-plan` },

@@ -6,8 +6,14 @@
 //! core ([`AppState::compute`]); identification jobs take one of their own
 //! slots ([`AppState::run_job`]), so that jobs running or queued never delay
 //! a listing or a table check.
+//!
+//! A computation can be abandoned: [`AppState::compute_abandonable`] hands
+//! its work a test that turns true once the request is dropped (the page
+//! aborted it, the client went away), so that a long plan stops instead of
+//! holding its core.
 
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use tokio::sync::Semaphore;
 
@@ -97,6 +103,32 @@ impl AppState {
         self.blocking(Some(&self.inner.computing), work).await
     }
 
+    /// As [`compute`](Self::compute), and `work` gets `abandoned()`, true
+    /// once the request has been dropped: an observer that stops the work
+    /// then ends it at its next step.
+    pub async fn compute_abandonable<T, F>(&self, work: F) -> Result<T, ApiError>
+    where
+        T: Send + 'static,
+        F: FnOnce(&AppState, &(dyn Fn() -> bool + Sync)) -> Result<T, ApiError> + Send + 'static,
+    {
+        /// Marks the computation abandoned when the request's future is
+        /// dropped before the computation ended.
+        struct Abandon(Arc<AtomicBool>);
+        impl Drop for Abandon {
+            fn drop(&mut self) {
+                self.0.store(true, Ordering::Relaxed);
+            }
+        }
+        let abandoned = Arc::new(AtomicBool::new(false));
+        let guard = Abandon(Arc::clone(&abandoned));
+        let result = self
+            .compute(move |state| work(state, &|| abandoned.load(Ordering::Relaxed)))
+            .await;
+        // Ended (with an answer): nothing to abandon.
+        std::mem::forget(guard);
+        result
+    }
+
     /// Runs an identification job's `work` once one of the jobs' slots is
     /// free; as [`compute`](Self::compute) otherwise.
     pub async fn run_job<T, F>(&self, work: F) -> Result<T, ApiError>
@@ -142,5 +174,51 @@ impl AppState {
                 "the computation failed unexpectedly ({error}); please report this with the request"
             ))),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Duration;
+
+    /// A computation whose request is dropped sees `abandoned()` turn true
+    /// and ends; without that it would spin until the test's timeout.
+    #[tokio::test]
+    async fn a_dropped_request_abandons_its_computation() {
+        let folder = tempfile::tempdir().expect("folder");
+        let state = AppState::new(
+            Workspace::new(folder.path()).expect("workspace"),
+            Vec::new(),
+        );
+        let (ended, ending) = tokio::sync::oneshot::channel();
+        let request = state.compute_abandonable(move |_, abandoned| {
+            let started = std::time::Instant::now();
+            while !abandoned() {
+                assert!(
+                    started.elapsed() < Duration::from_secs(20),
+                    "never abandoned"
+                );
+                std::thread::sleep(Duration::from_millis(5));
+            }
+            let _ = ended.send(());
+            Ok(())
+        });
+        // The client goes away after 100 ms: the request's future is dropped.
+        assert!(
+            tokio::time::timeout(Duration::from_millis(100), request)
+                .await
+                .is_err()
+        );
+        tokio::time::timeout(Duration::from_secs(10), ending)
+            .await
+            .expect("the computation ended")
+            .expect("it said so");
+        // A request that ends normally is not abandoned.
+        let answer = state
+            .compute_abandonable(|_, abandoned| Ok(abandoned()))
+            .await
+            .expect("answer");
+        assert!(!answer);
     }
 }

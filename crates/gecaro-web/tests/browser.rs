@@ -803,6 +803,21 @@ async fn the_page_is_an_engineers_tool() {
     let cancelled = text_of(client, "#position-identify-cancelled", 60).await;
     assert!(cancelled.starts_with("Cancelled"), "{cancelled}");
 
+    // A long plan (a large pool and its accuracy curve) cancelled from the page.
+    click(client, "#function-plan").await;
+    set_values(
+        client,
+        &[
+            ("position-plan-pool", "20000"),
+            ("position-plan-curve", "10, 20, 40, 80, 160"),
+        ],
+    )
+    .await;
+    click(client, "#position-plan-run").await;
+    click(client, "#position-plan-cancel").await;
+    let cancelled = text_of(client, "#position-plan-cancelled", 30).await;
+    assert!(cancelled.starts_with("Cancelled"), "{cancelled}");
+
     // A priority cell in the cell's own words.
     click(client, "#priority-details summary").await;
     let priority = client

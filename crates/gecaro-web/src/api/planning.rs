@@ -4,8 +4,9 @@
 use axum::extract::State;
 use gecaro_app::PlanRequest;
 use gecaro_app::documents::{CurveJson, PlanJson};
-use gecaro_calib::Quiet;
+use gecaro_calib::Progress;
 use serde::Serialize;
+use std::ops::ControlFlow;
 
 use super::Json;
 use crate::error::ApiError;
@@ -43,9 +44,18 @@ pub(crate) async fn plan(
         ));
     }
     let saved = request.save_as.clone();
+    // A plan with its curve can take a while: the page's Cancel aborts the
+    // request, and the plan stops at its next step.
     state
-        .compute(move |state| {
-            let planning = request.run(state.workspace(), &mut Quiet)?;
+        .compute_abandonable(move |state, abandoned| {
+            let mut observer = |_: Progress<'_>| {
+                if abandoned() {
+                    ControlFlow::Break(())
+                } else {
+                    ControlFlow::Continue(())
+                }
+            };
+            let planning = request.run(state.workspace(), &mut observer)?;
             let (plan, file_name) = planning
                 .plan_document()
                 .zip(planning.file_name())
