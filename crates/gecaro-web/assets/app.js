@@ -736,21 +736,17 @@ function drawView(message) {
       // No valid plane in the fields yet: nothing to draw.
     }
   }
+  // The real robot's terminal points where the generated data were measured
+  // (on the plane for the plane methods, on the fixed points for the links).
   const generated = state.generated[state.method];
-  if (generated && generated.csv) {
-    const lines = generated.csv.trim().split('\n');
-    const head = lines[0].split(',');
-    const [ix, iy, iz] = ['x', 'y', 'z'].map((c) => head.indexOf(c));
-    if (ix >= 0 && iy >= 0 && iz >= 0) {
-      context.fillStyle = 'rgba(214, 39, 40, 0.75)';
-      for (const row of lines.slice(1)) {
-        const fields = row.split(',').map(Number);
-        const [x, y] = toScreen([fields[ix], fields[iy], fields[iz]]);
-        context.beginPath();
-        context.arc(x, y, 2.5, 0, 2 * Math.PI);
-        context.fill();
-        state.view.drawn.points += 1;
-      }
+  if (generated && generated.points) {
+    context.fillStyle = 'rgba(214, 39, 40, 0.75)';
+    for (const point of generated.points) {
+      const [x, y] = toScreen(point);
+      context.beginPath();
+      context.arc(x, y, 2.5, 0, 2 * Math.PI);
+      context.fill();
+      state.view.drawn.points += 1;
     }
   }
   // World axes.

@@ -290,13 +290,24 @@ async fn the_page_works_as_a_person_uses_it() {
         .await
         .expect("script");
     assert_eq!(drawn.as_u64(), Some(25), "measured points drawn");
-    // A plane method draws its plane in the 3D view.
+    // A plane method draws its plane and the generated data's points (on it).
     click(client, "#tab-plane1").await;
-    let plane = client
-        .execute("drawView(); return state.view.drawn.plane", vec![])
+    click(client, "#function-generate").await;
+    click(client, "#plane1-generate-run").await;
+    let generated = text_of(client, "#plane1-generate-count-result", 60).await;
+    let drawn = client
+        .execute(
+            "drawView(); return [state.view.drawn.plane, state.view.drawn.points]",
+            vec![],
+        )
         .await
         .expect("script");
-    assert_eq!(plane.as_bool(), Some(true), "the plane is drawn");
+    assert_eq!(drawn[0].as_bool(), Some(true), "the plane is drawn");
+    assert_eq!(
+        drawn[1].as_u64().map(|n| n.to_string()),
+        Some(generated),
+        "its points are drawn"
+    );
     screenshot(client, "03-plane-view.png").await;
     click(client, "#tab-position").await;
 

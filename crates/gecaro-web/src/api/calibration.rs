@@ -21,8 +21,14 @@ pub(crate) async fn identifiable(
         .await
 }
 
+/// Points sent for the 3D view, at most.
+const MAX_VIEW_POINTS: usize = 5_000;
+
 #[derive(Serialize)]
 pub(crate) struct GeneratedJson {
+    /// The measured (terminal) points of the real robot, world frame (m),
+    /// for the 3D view; the first [`MAX_VIEW_POINTS`].
+    points: Vec<[f64; 3]>,
     /// The data file's text.
     csv: String,
     configurations: usize,
@@ -47,7 +53,20 @@ pub(crate) async fn generate(
     state
         .compute(move |state| {
             let generated = request.run(state.workspace())?;
+            // The terminal points of the simulated real robot, for the 3D view
+            // (plane and link data hold configurations only).
+            let points = generated
+                .samples
+                .iter()
+                .take(MAX_VIEW_POINTS)
+                .filter_map(|sample| {
+                    gecaro_core::terminal_pose(&generated.real.robot, &sample.motor_positions)
+                        .ok()
+                        .map(|pose| pose.translation.vector.into())
+                })
+                .collect();
             Ok(Json(GeneratedJson {
+                points,
                 configurations: generated.samples.len(),
                 file_name: generated.file_name(),
                 saved: generated.saved.as_ref().and(saved),
