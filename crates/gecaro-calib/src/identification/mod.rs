@@ -59,6 +59,8 @@
 //! ([`Identification::outliers`]); with [`IdentificationOptions::reject`] they
 //! are dropped and the identification runs again on the rest, once.
 
+mod evaluation;
+mod full_model;
 mod options;
 mod outliers;
 mod parameter;
@@ -79,16 +81,17 @@ use crate::identifiability::{
     Excitation, ParameterStatus, RankReport, excitation_at, structural_parameters_at,
 };
 use crate::linalg::{NormalEquations, precision, view};
-use crate::observation::ObservationSystem;
 use crate::progress::{Observer, Progress, Quiet, report};
 use crate::rows::{ColumnLayout, RowKind};
 use crate::study::{Study, StudyStates};
 
+use evaluation::errors_at;
+pub use evaluation::{evaluate, evaluate_errors};
 pub use options::{IdentificationOptions, Solver};
 pub use outliers::{DEFAULT_OUTLIER_THRESHOLD, Outlier};
 pub use parameter::IdentifiedParameter;
 pub use passes::SECOND_PASS_LEVEL;
-use passes::{promising, significantly_better};
+use passes::{ScoreTests, score_tests, significantly_better};
 pub use result::{ErrorSummary, Identification, Route};
 pub use reweighting::MAX_REWEIGHTINGS;
 use reweighting::Reweighted;
@@ -253,21 +256,6 @@ fn first_from(
     Ok(result)
 }
 
-/// The errors of `robot` on `study`: their summary, per observation, and
-/// the RMS of the weighted residual rows (an iteration record's).
-#[allow(clippy::type_complexity)]
-fn errors_at(robot: &Robot, study: &Study) -> Result<(ErrorSummary, Vec<(f64, f64)>, f64), Error> {
-    let mut states = StudyStates::default();
-    study.evaluate_poses(robot, &mut states)?;
-    let auxiliary = study.initial_auxiliary(&states)?;
-    let layout = ColumnLayout::new(robot.parameters().len(), &[], auxiliary.len());
-    let mut system = ObservationSystem::default();
-    study.linearise(robot, &auxiliary, &layout, &mut states, &mut system)?;
-    let cost: f64 = system.weighted_residuals().iter().map(|r| r * r).sum();
-    let rms = (cost / system.rows().max(1) as f64).sqrt();
-    Ok((ErrorSummary::of(&system), system.observation_errors(), rms))
-}
-
 /// The second pass: the base set chosen at the nominal robot is exact only
 /// to first order, because the regrouping relations and the parameters
 /// without effect of the nominal structure (parallel axes, a tool point on
@@ -283,12 +271,14 @@ fn errors_at(robot: &Robot, study: &Study) -> Result<(ErrorSummary, Vec<(f64, f6
 /// deviations of the real robot. The second pass is kept when it explains
 /// the data significantly better: an F test of the residual sums of squares
 /// at [`SECOND_PASS_LEVEL`]; it runs only where a score test at the first
-/// pass's solution ([`promising`]) says it can, and only after a converged
-/// first pass without outliers (the tests assume Gaussian residuals: gross
-/// errors would pass for structure), without a prior (centred on the
+/// pass's solution ([`score_tests`], on the observations that are not
+/// outliers: gross errors would pass for structure) says it can, and only
+/// after a converged first pass without a prior (centred on the
 /// nominal values of the paper's base set), on measure methods only
 /// (position, frame, distance; see the code for why links and planes keep
-/// the paper's set).
+/// the paper's set). Where parameters outside the base set still matter
+/// after the passes, the damped descent over every parameter follows
+/// ([`full_model_phase`]).
 fn second_pass(
     robot: &Robot,
     study: &Study,
@@ -302,16 +292,14 @@ fn second_pass(
     // effect has a column made of the residuals themselves, which the score
     // test would take for structure, and their scale is not observed.
     let constrained = study.sets.iter().any(|set| set.method.scale_invariant());
-    if first.stop_reason != StopReason::Converged
-        || options.prior.is_some()
-        || !first.outliers.is_empty()
-        || constrained
-    {
+    if first.stop_reason != StopReason::Converged || options.prior.is_some() || constrained {
         return Ok(first);
     }
     let mut current = first;
     let mut added: Vec<usize> = Vec::new();
-    for _ in 0..MAX_PASSES - 1 {
+    // What a step from the current solution could still explain.
+    let mut score = ScoreTests::default();
+    for pass in 0..MAX_PASSES {
         let calibrated = &current.calibrated;
         let outside =
             |index: &usize| !current.rank.base_parameters.contains(index) && !added.contains(index);
@@ -324,7 +312,18 @@ fn second_pass(
             .filter_map(|id| robot.parameters().index_of(id))
             .filter(|index| outside(index))
             .collect();
-        if candidates.is_empty() || !promising(&current, study, &candidates)? {
+        if candidates.is_empty() {
+            score = ScoreTests::default();
+            break;
+        }
+        // The tests assume Gaussian residuals, and gross errors would pass
+        // for structure: they read the observations within the outlier
+        // threshold. (A model that misses structure makes outliers of its
+        // own; the inliers show that structure still.)
+        let inliers = (!current.outliers.is_empty())
+            .then(|| study.without_samples(&outliers::outlier_samples(study, &current.outliers)));
+        score = score_tests(&current, inliers.as_ref().unwrap_or(study), &candidates)?;
+        if score.outside.is_none() || pass == MAX_PASSES - 1 {
             break;
         }
         let mut states = StudyStates::default();
@@ -355,7 +354,75 @@ fn second_pass(
         added = extras;
         current = merge_passes(current, next);
     }
-    Ok(current)
+    match score.whole {
+        Some(rank) => full_model_phase(
+            robot, study, options, priority, current, &added, rank, observer,
+        ),
+        None => Ok(current),
+    }
+}
+
+/// The last phase, when parameters outside the base set still matter after
+/// the passes (the score test says they add `rank`): the damped descent over
+/// every parameter the priority matrix allows ([`full_model`]), then a pass
+/// on the base set from there (its parameters' precision; the others stay
+/// where the descent put them and are listed as moved). Kept when an F test
+/// says it explains the data better.
+#[allow(clippy::too_many_arguments)]
+fn full_model_phase(
+    robot: &Robot,
+    study: &Study,
+    options: &IdentificationOptions,
+    priority: &gecaro_core::PriorityMatrix,
+    mut current: Identification,
+    added: &[usize],
+    rank: usize,
+    observer: &mut dyn Observer,
+) -> Result<Identification, Error> {
+    let every: Vec<usize> = priority
+        .ordered_candidates(robot.parameters())
+        .into_iter()
+        .filter_map(|id| robot.parameters().index_of(id))
+        .collect();
+    let Some(descent) =
+        full_model::damped_descent(robot, study, options, &every, &current.calibrated)?
+    else {
+        return Ok(current);
+    };
+    let Ok(next) = fit_pass(
+        robot,
+        &descent.best.robot,
+        study,
+        options,
+        priority,
+        added,
+        &mut Quiet,
+    ) else {
+        return Ok(current);
+    };
+    if next.stop_reason != StopReason::Converged || !significantly_better(&current, &next, rank) {
+        return Ok(current);
+    }
+    for record in descent.history.iter().chain(&next.history[1..]) {
+        report(observer, Progress::Iteration(record))?;
+    }
+    let from = current.after.rms;
+    current.history.extend(descent.history);
+    let mut result = merge_passes(current, next);
+    result.warnings.push(format!(
+        "parameters outside the base set still mattered: a damped descent over all {} parameters \
+         the priority matrix allows (Levenberg–Marquardt) took the RMS error from {} to {} mm; \
+         what it moved outside the base set is listed as moved",
+        every.len(),
+        format_millimetres(from),
+        format_millimetres(result.after.rms),
+    ));
+    Ok(result)
+}
+
+/// A length in metres as millimetres with four significant digits.
+fn format_millimetres(metres: f64) -> String {
+    format!("{:.4}", metres * 1e3)
 }
 
 /// The second pass as the identification: its parameters and errors, with
@@ -385,6 +452,9 @@ fn merge_passes(first: Identification, mut second: Identification) -> Identifica
     second
         .warnings
         .retain(|w| !w.contains("identified in a second pass"));
+    if second.second_pass.is_empty() {
+        return second;
+    }
     second.warnings.push(format!(
         "{} identifiable at the calibrated robot but not at the nominal one (its structure holds \
          there only): identified in a second pass, held by a prior of {}",
@@ -965,31 +1035,4 @@ fn warnings_of(
         ));
     }
     warnings
-}
-
-/// Error statistics of a (calibrated) robot on a study: per configuration (or
-/// pair), the norm of its position-like residuals — distance to the measured
-/// point, to the mean point of its set, to the plane, or the distance error —
-/// and of its orientation residuals.
-///
-/// # Errors
-/// Invalid data, or auxiliary unknowns that cannot be initialised.
-pub fn evaluate(robot: &Robot, study: &Study) -> Result<ErrorSummary, Error> {
-    study.check(robot)?;
-    Ok(errors_at(robot, study)?.0)
-}
-
-/// [`evaluate`], with the errors of every observation (configuration or
-/// pair, in data order): the position-like error (m) and the orientation
-/// error (rad), for plots.
-///
-/// # Errors
-/// As [`evaluate`].
-pub fn evaluate_errors(
-    robot: &Robot,
-    study: &Study,
-) -> Result<(ErrorSummary, Vec<(f64, f64)>), Error> {
-    study.check(robot)?;
-    let (summary, errors, _) = errors_at(robot, study)?;
-    Ok((summary, errors))
 }

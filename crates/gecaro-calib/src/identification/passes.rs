@@ -1,6 +1,6 @@
-//! The tests behind the second pass of an identification (see
-//! [`super::second_pass`]): the score test of the parameters outside the base
-//! set at the first pass's solution, and the F test that keeps a second pass.
+//! The tests behind the second pass and the damped descent of an
+//! identification (see [`super::second_pass`]): the score tests at a pass's
+//! solution, and the F test that keeps a pass.
 //! Both compare residual sums of squares of nested least-squares models:
 //! `F = (gain/k) / (rest/ν)` against the F(k, ν) quantile at
 //! [`SECOND_PASS_LEVEL`].
@@ -15,21 +15,35 @@ use crate::study::{Study, StudyStates};
 /// Significance level of the F test that keeps a second pass.
 pub const SECOND_PASS_LEVEL: f64 = 0.01;
 
-/// Whether adding `candidates` (vocabulary indices) to the base set of
-/// `current` can explain the data significantly better: the score test of
-/// these columns at `current`'s solution, before any iteration. One system
+/// What a least-squares step from `current`'s solution could still explain
+/// ([`score_tests`]): the rank that a test finds significant, or `None`.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct ScoreTests {
+    /// Adding the candidates to the base set: the part of the sum of squares
+    /// a step over the base set and the candidates explains beyond the one
+    /// over the base set alone (k the rank the candidates add).
+    pub(super) outside: Option<usize>,
+    /// A step over all of them: the part of the sum of squares it explains
+    /// (k its rank). Where the base set was fitted by plain least squares its
+    /// own step explains nothing, and this test is the weaker of the two;
+    /// after a second pass, whose added parameters a prior holds, it also
+    /// sees what the prior keeps from the data.
+    pub(super) whole: Option<usize>,
+}
+
+/// The score tests of `candidates` (vocabulary indices, outside the base set
+/// of `current`) at `current`'s solution, before any iteration: one system
 /// over the auxiliary unknowns, the base set and the candidates, written at
-/// the calibrated robot (`states` hold its poses); the part of the sum of
-/// squares that a least-squares step over all these columns explains, beyond
-/// the one over the base set alone, is tested as in [`significantly_better`]
-/// (k the rank the candidates add). It costs one system and its normal
-/// equations, and keeps the structural analysis and the second pass from
-/// running where the first pass's residual is noise.
-pub(super) fn promising(
+/// the calibrated robot, and the parts of its sum of squares that
+/// least-squares steps would explain, tested as in [`significantly_better`].
+/// It costs one system and its normal equations, and keeps the structural
+/// analysis, the second pass and the damped descent from running where the
+/// residual is noise.
+pub(super) fn score_tests(
     current: &Identification,
     study: &Study,
     candidates: &[usize],
-) -> Result<bool, Error> {
+) -> Result<ScoreTests, Error> {
     const EIGENVALUE_FLOOR: f64 = 1e-12;
     let robot = &current.calibrated;
     let thinned = thinned(study, SCORE_TEST_OBSERVATIONS);
@@ -49,20 +63,26 @@ pub(super) fn promising(
     let matrix = view(&system.matrix()[..rows * columns], rows, columns);
     let normal = NormalEquations::of(matrix, right);
     if !normal.is_finite() {
-        return Ok(false);
+        return Ok(ScoreTests::default());
     }
     let all: Vec<usize> = (0..columns).collect();
     let (wide_explained, wide_rank) = normal.explained(&all, EIGENVALUE_FLOOR);
     let (narrow_explained, narrow_rank) =
         normal.explained(&all[..auxiliary.len() + base.len()], EIGENVALUE_FLOOR);
     let total: f64 = right.iter().map(|r| r * r).sum();
-    let added = wide_rank.saturating_sub(narrow_rank);
     let freedom = rows.saturating_sub(wide_rank).max(1) as f64;
-    let (gain, rest) = (wide_explained - narrow_explained, total - wide_explained);
-    if added == 0 || !(gain.is_finite() && rest.is_finite()) || gain <= 0.0 {
-        return Ok(false);
-    }
-    Ok(f_test(gain / added as f64, rest / freedom, added, freedom))
+    let rest = total - wide_explained;
+    let test = |gain: f64, k: usize| {
+        let valid = k > 0 && gain.is_finite() && rest.is_finite() && gain > 0.0;
+        (valid && f_test(gain / k as f64, rest / freedom, k, freedom)).then_some(k)
+    };
+    Ok(ScoreTests {
+        outside: test(
+            wide_explained - narrow_explained,
+            wide_rank.saturating_sub(narrow_rank),
+        ),
+        whole: test(wide_explained, wide_rank),
+    })
 }
 
 /// The score test reads at most this many observations (configurations,
