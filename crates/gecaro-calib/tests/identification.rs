@@ -448,7 +448,10 @@ fn errors_of_a_centimetre_are_identified_to_the_noise_floor() {
     // inliers, which still show the structure (18× the floor when outliers
     // stopped the passes).
     let (ratio, added) = held_out_over_floor_of("industrial6", "frame", 3.0, 7);
-    assert!(!added.is_empty() && ratio < 1.2, "level 3: {ratio:.2}× the floor");
+    assert!(
+        !added.is_empty() && ratio < 1.2,
+        "level 3: {ratio:.2}× the floor"
+    );
     // Small errors: the floor either way (at 0.1 the F test may still find
     // the second-order terms, ~2e-6 m, among 600 equations); at 0.01 they
     // are far below the noise and the paper's pass stays alone.

@@ -35,8 +35,6 @@
 //! (outliers weigh little or nothing) and ν counts the equations of the
 //! observations with a weight.
 
-use std::collections::HashSet;
-
 use gecaro_core::{ParameterKind, Robot};
 
 use super::parameter::IdentifiedParameter;
@@ -323,21 +321,24 @@ fn distinct(study: &Study) -> (usize, f64) {
     let mut count = 0;
     let mut equations = 0.0;
     for set in &study.sets {
-        let unique: HashSet<Vec<u64>> = set
+        // Sorted by their bits (−0 as 0), equal neighbours dropped: exact,
+        // and no allocation per configuration.
+        let mut unique: Vec<&[f64]> = set
             .samples
             .iter()
-            .map(|sample| {
-                sample
-                    .motor_positions
-                    .iter()
-                    .map(|q| (q + 0.0).to_bits())
-                    .collect()
-            })
+            .map(|sample| sample.motor_positions.as_slice())
             .collect();
+        unique.sort_unstable_by(|a, b| bits(a).cmp(bits(b)));
+        unique.dedup_by(|a, b| bits(a).eq(bits(b)));
         count += unique.len();
         equations += unique.len() as f64 * set.method.equations_per_configuration();
     }
     (count, equations)
+}
+
+/// The bits of a configuration's values, −0 as 0.
+fn bits(configuration: &[f64]) -> impl Iterator<Item = u64> + '_ {
+    configuration.iter().map(|value| (value + 0.0).to_bits())
 }
 
 /// The residual standard deviations of the length and angle rows, in
