@@ -91,7 +91,7 @@ pub use options::{IdentificationOptions, Solver};
 pub use outliers::{DEFAULT_OUTLIER_THRESHOLD, Outlier};
 pub use parameter::IdentifiedParameter;
 pub use passes::SECOND_PASS_LEVEL;
-use passes::{ScoreTests, score_tests, significantly_better};
+use passes::{ScoreTests, score_tests, significantly_better, significantly_lower};
 pub use result::{ErrorSummary, Identification, Route};
 pub use reweighting::MAX_REWEIGHTINGS;
 use reweighting::Reweighted;
@@ -358,7 +358,7 @@ fn second_pass(
         Some(rank) => full_model_phase(
             robot, study, options, priority, current, &added, rank, observer,
         ),
-        None => Ok(current),
+        _ => Ok(current),
     }
 }
 
@@ -402,6 +402,26 @@ fn full_model_phase(
     };
     if next.stop_reason != StopReason::Converged || !significantly_better(&current, &next, rank) {
         return Ok(current);
+    }
+    // After a fit with outliers the gain must show on the inliers too: more
+    // parameters could chase gross errors (a model that misses structure
+    // makes outliers of its own, and there the inliers gain most).
+    if !current.outliers.is_empty() {
+        let inliers = study.without_samples(&outliers::outlier_samples(study, &current.outliers));
+        let sum_of_squares = |robot: &Robot| -> Result<f64, Error> {
+            let rms = errors_at(robot, &inliers)?.2;
+            Ok(rms * rms * inliers.row_count() as f64)
+        };
+        let freedom = inliers
+            .row_count()
+            .saturating_sub(next.parameters.len() + next.auxiliary.len() + rank);
+        let (before, after) = (
+            sum_of_squares(&current.calibrated)?,
+            sum_of_squares(&next.calibrated)?,
+        );
+        if !significantly_lower(before, after, rank, freedom) {
+            return Ok(current);
+        }
     }
     for record in descent.history.iter().chain(&next.history[1..]) {
         report(observer, Progress::Iteration(record))?;

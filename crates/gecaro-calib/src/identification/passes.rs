@@ -143,7 +143,24 @@ pub(super) fn significantly_better(
     second: &Identification,
     added: usize,
 ) -> bool {
-    let (s1, s2) = (first.data_cost, second.data_cost);
-    let freedom = second.degrees_of_freedom.max(1) as f64;
-    s2 < s1 && f_test((s1 - s2) / added as f64, s2 / freedom, added, freedom)
+    significantly_lower(
+        first.data_cost,
+        second.data_cost,
+        added,
+        second.degrees_of_freedom,
+    )
+}
+
+/// Whether a sum of squares `s2`, with `added` more unknowns and `freedom`
+/// degrees of freedom left, is significantly lower than `s1`: the F test of
+/// [`significantly_better`].
+pub(super) fn significantly_lower(s1: f64, s2: f64, added: usize, freedom: usize) -> bool {
+    let freedom = freedom.max(1) as f64;
+    s2 < s1
+        && f_test(
+            (s1 - s2) / added.max(1) as f64,
+            s2 / freedom,
+            added,
+            freedom,
+        )
 }
