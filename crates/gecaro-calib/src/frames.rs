@@ -132,7 +132,7 @@ impl NamedFrame {
 /// `tool` from `station` (either `None`: the robot's own): `robot`
 /// re-framed ([`Robot::reframed`]). Data simulated on it are data of that
 /// reflector measured from that station; the identification computes the
-/// same poses by another route ([`SetFrames`]).
+/// same poses by another route (`SetFrames`).
 ///
 /// # Errors
 /// As [`Robot::reframed`] (a one-joint robot with both a tool and a station).
