@@ -402,13 +402,13 @@ fn held_out_over_floor(robot: &str, level: f64, seed: u64) -> (f64, Vec<String>)
 /// [`held_out_over_floor`] for the measure method `name`.
 fn held_out_over_floor_of(robot: &str, name: &str, level: f64, seed: u64) -> (f64, Vec<String>) {
     let nominal = gecaro_io::load_robot(robot).expect("ready robot").robot;
-    let position = method(name, &MethodOptions::default()).expect("method");
+    let measure = method(name, &MethodOptions::default()).expect("method");
     let mut sampler = Sampler::new(seed);
     let real = perturbed_robot(&nominal, level, &mut sampler).expect("real robot");
     let mut measure = || {
         let samples =
-            simulate_measurements(&real, position.as_ref(), 200, 1e-5, &mut sampler).expect("data");
-        Study::single(position.clone_method(), samples, "simulated")
+            simulate_measurements(&real, measure.as_ref(), 200, 1e-5, &mut sampler).expect("data");
+        Study::single(measure.clone_method(), samples, "simulated")
     };
     let (train, check) = (measure(), measure());
     let result = identify(

@@ -165,7 +165,7 @@ pub fn identify(
     if !options.reject || first.outliers.is_empty() {
         return Ok(first);
     }
-    let kept = study.without_samples(&outliers::outlier_samples(study, &first.outliers));
+    let kept = outliers::inliers(study, &first.outliers);
     let mut refit = fit(robot, &kept, options, observer).map_err(|error| Error::Numerical {
         message: format!(
             "after rejecting {} outliers the rest cannot be identified: {error}",
@@ -285,6 +285,12 @@ fn second_pass(
     if first.stop_reason != StopReason::Converged || options.prior.is_some() || constrained {
         return Ok(first);
     }
+    // Every parameter the priority matrix lets be identified.
+    let every: Vec<usize> = priority
+        .ordered_candidates(robot.parameters())
+        .into_iter()
+        .filter_map(|id| robot.parameters().index_of(id))
+        .collect();
     let mut current = first;
     let mut added: Vec<usize> = Vec::new();
     // What a step from the current solution could still explain.
@@ -296,12 +302,7 @@ fn second_pass(
         // The score test first, over every parameter the priority matrix
         // lets be identified (cheap, on the data); the structural analysis at
         // the calibrated robot (random data) only when it passes.
-        let candidates: Vec<usize> = priority
-            .ordered_candidates(robot.parameters())
-            .into_iter()
-            .filter_map(|id| robot.parameters().index_of(id))
-            .filter(|index| outside(index))
-            .collect();
+        let candidates: Vec<usize> = every.iter().copied().filter(outside).collect();
         if candidates.is_empty() {
             score = ScoreTests::default();
             break;
@@ -310,8 +311,8 @@ fn second_pass(
         // for structure: they read the observations within the outlier
         // threshold. (A model that misses structure makes outliers of its
         // own; the inliers show that structure still.)
-        let inliers = (!current.outliers.is_empty())
-            .then(|| study.without_samples(&outliers::outlier_samples(study, &current.outliers)));
+        let inliers =
+            (!current.outliers.is_empty()).then(|| outliers::inliers(study, &current.outliers));
         score = score_tests(&current, inliers.as_ref().unwrap_or(study), &candidates)?;
         if score.outside.is_none() || pass == MAX_PASSES - 1 {
             break;
@@ -346,7 +347,7 @@ fn second_pass(
     }
     match score.whole {
         Some(rank) => full_model_phase(
-            robot, study, options, priority, current, &added, rank, observer,
+            robot, study, options, priority, current, &added, &every, rank, observer,
         ),
         _ => Ok(current),
     }
@@ -354,7 +355,7 @@ fn second_pass(
 
 /// The last phase, when parameters outside the base set still matter after
 /// the passes (the score test says they add `rank`): the damped descent over
-/// every parameter the priority matrix allows ([`full_model`]), then a pass
+/// every parameter the priority matrix allows (`every`; [`full_model`]), then a pass
 /// on the base set from there (its parameters' precision; the others stay
 /// where the descent put them and are listed as moved). Kept when an F test
 /// says it explains the data better.
@@ -366,16 +367,12 @@ fn full_model_phase(
     priority: &gecaro_core::PriorityMatrix,
     mut current: Identification,
     added: &[usize],
+    every: &[usize],
     rank: usize,
     observer: &mut dyn Observer,
 ) -> Result<Identification, Error> {
-    let every: Vec<usize> = priority
-        .ordered_candidates(robot.parameters())
-        .into_iter()
-        .filter_map(|id| robot.parameters().index_of(id))
-        .collect();
     let Some(descent) =
-        full_model::damped_descent(robot, study, options, &every, &current.calibrated)?
+        full_model::damped_descent(robot, study, options, every, &current.calibrated)?
     else {
         return Ok(current);
     };
@@ -397,7 +394,7 @@ fn full_model_phase(
     // parameters could chase gross errors (a model that misses structure
     // makes outliers of its own, and there the inliers gain most).
     if !current.outliers.is_empty() {
-        let inliers = study.without_samples(&outliers::outlier_samples(study, &current.outliers));
+        let inliers = outliers::inliers(study, &current.outliers);
         let sum_of_squares = |robot: &Robot| -> Result<f64, Error> {
             let rms = errors_at(robot, &inliers)?.2;
             Ok(rms * rms * inliers.row_count() as f64)
@@ -421,18 +418,13 @@ fn full_model_phase(
     let mut result = merge_passes(current, next);
     result.warnings.push(format!(
         "parameters outside the base set still mattered: a damped descent over all {} parameters \
-         the priority matrix allows (Levenberg–Marquardt) took the RMS error from {} to {} mm; \
-         what it moved outside the base set is listed as moved",
+         the priority matrix allows (Levenberg–Marquardt) took the RMS error from {:.4} to \
+         {:.4} mm; what it moved outside the base set is listed as moved",
         every.len(),
-        format_millimetres(from),
-        format_millimetres(result.after.rms),
+        from * 1e3,
+        result.after.rms * 1e3,
     ));
     Ok(result)
-}
-
-/// A length in metres as millimetres with four significant digits.
-fn format_millimetres(metres: f64) -> String {
-    format!("{:.4}", metres * 1e3)
 }
 
 /// The second pass as the identification: its parameters and errors, with

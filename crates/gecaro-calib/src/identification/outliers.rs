@@ -109,8 +109,13 @@ pub(super) fn find_outliers(
     outliers
 }
 
+/// `study` without the samples of `outliers`.
+pub(super) fn inliers(study: &Study, outliers: &[Outlier]) -> Study {
+    study.without_samples(&outlier_samples(study, outliers))
+}
+
 /// The samples of `outliers`, per set of `study` (for [`Study::without_samples`]).
-pub(super) fn outlier_samples(study: &Study, outliers: &[Outlier]) -> Vec<Vec<usize>> {
+fn outlier_samples(study: &Study, outliers: &[Outlier]) -> Vec<Vec<usize>> {
     let mut dropped = vec![Vec::new(); study.sets.len()];
     for outlier in outliers {
         dropped[outlier.set].extend(&outlier.samples);

@@ -156,11 +156,5 @@ pub(super) fn significantly_better(
 /// [`significantly_better`].
 pub(super) fn significantly_lower(s1: f64, s2: f64, added: usize, freedom: usize) -> bool {
     let freedom = freedom.max(1) as f64;
-    s2 < s1
-        && f_test(
-            (s1 - s2) / added.max(1) as f64,
-            s2 / freedom,
-            added,
-            freedom,
-        )
+    added > 0 && s2 < s1 && f_test((s1 - s2) / added as f64, s2 / freedom, added, freedom)
 }
