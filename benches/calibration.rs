@@ -7,7 +7,7 @@ use gecaro_calib::{
     identification::{IdentificationOptions, identify},
     methods::{MethodOptions, Plane, method},
     simulation::{Sampler, perturbed_robot, simulate_measurements},
-    study::Study,
+    study::{DataColumn, Study},
     table2::{STANFORD_PLANE_POINT, TABLE2_PLANE_NORMAL, table2},
 };
 use gecaro_core::Robot;
@@ -240,5 +240,26 @@ fn cross_validate_position_500_5_folds(bencher: divan::Bencher) {
             &mut Quiet,
         )
         .expect("cross-validation")
+    });
+}
+
+/// Reading a data file of m = 5000 position measurements (the CSV text that
+/// `gecaro generate` writes, 0.9 MB, held in memory): what `gecaro
+/// identify` does before it identifies.
+#[divan::bench]
+fn read_data_5000(bencher: divan::Bencher) {
+    let study = simulated("position", 5000);
+    let columns = [DataColumn::Position];
+    let text = gecaro_io::format_samples(6, &columns, &study.sets[0].samples);
+    let joint_types = gecaro_io::joint_types(&stanford());
+    bencher.bench_local(|| {
+        gecaro_io::parse_samples(
+            text.as_bytes(),
+            std::path::Path::new("d5000.csv"),
+            &joint_types,
+            &columns,
+            &gecaro_io::DataFormat::default(),
+        )
+        .expect("data")
     });
 }

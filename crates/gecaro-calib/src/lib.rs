@@ -64,7 +64,7 @@ mod method;
 pub mod methods;
 pub mod observability;
 pub mod observation;
-mod parallel;
+pub mod parallel;
 mod plane;
 pub mod planning;
 pub mod prediction;

@@ -135,8 +135,16 @@ impl ObservationSystem {
     pub(crate) fn reset(&mut self, rows: usize, layout: &ColumnLayout) {
         self.rows = rows;
         self.columns = layout.columns();
-        self.matrix.clear();
-        self.matrix.resize(rows * self.columns, 0.0);
+        let size = rows * self.columns;
+        if self.matrix.capacity() < size {
+            // Fresh zeroed memory from the allocator (calloc): its pages are
+            // touched first by the threads that write the rows, on all cores,
+            // instead of by a serial fill here.
+            self.matrix = vec![0.0; size];
+        } else {
+            self.matrix.clear();
+            self.matrix.resize(size, 0.0);
+        }
         for buffer in [
             &mut self.residuals,
             &mut self.weights,

@@ -8,7 +8,7 @@ use std::sync::OnceLock;
 /// The cores this process may use, asked once: the standard library reads
 /// the cgroup quota files on every call, which costs more than evaluating
 /// a hundred configurations.
-pub(crate) fn available_threads() -> usize {
+pub fn available_threads() -> usize {
     static THREADS: OnceLock<usize> = OnceLock::new();
     *THREADS.get_or_init(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get))
 }
@@ -16,7 +16,7 @@ pub(crate) fn available_threads() -> usize {
 /// `work` applied to every part, in part order: the parts are dealt in
 /// contiguous runs to at most [`available_threads`] threads, this one
 /// included. A panic in a part is resumed here.
-pub(crate) fn run_parts<T: Send, R: Send>(parts: Vec<T>, work: impl Fn(T) -> R + Sync) -> Vec<R> {
+pub fn run_parts<T: Send, R: Send>(parts: Vec<T>, work: impl Fn(T) -> R + Sync) -> Vec<R> {
     let threads = available_threads().min(parts.len());
     if threads < 2 {
         return parts.into_iter().map(work).collect();

@@ -12,28 +12,28 @@
 //! prismatic joints) may be in millimetres and joint angles in degrees;
 //! columns gecaro does not use (time stamps, point names) are left alone and
 //! reported in [`DataFile::unused_columns`]. Lines starting with `#` are
-//! comments. Files are read record by record, never whole, with a limit on
-//! the length of a line and on the number of rows, so memory stays bounded
-//! whatever the input.
+//! comments. Files up to 16 MiB are read whole and their rows in parts on
+//! all cores; longer ones record by record, with a limit on the length of a
+//! line and on the number of rows, so memory stays bounded whatever the
+//! input.
 //!
 //! Every error names the file, the line and the column.
 
 use gecaro_calib::study::{DataColumn, Sample};
 use gecaro_core::FrameType;
-use nalgebra::Vector3;
 use std::io::Read;
 use std::path::Path;
 
 use crate::Error;
-use crate::columns::{ColumnMap, DataUnits, Delimiter, locate, not_a_number, parse_number};
-use crate::input::{csv_error, csv_reader, open_regular};
+use crate::columns::{ColumnMap, DataUnits, Delimiter, locate};
+use crate::data_rows::{Fields, RowReader, Rows};
+use crate::input::{csv_error, csv_reader, open_regular, record_line};
 use crate::output::{OutputPolicy, write_with};
-use crate::pose::{NORMALISED_TOLERANCE, SILENT_TOLERANCE, quaternion_deviation, unit_quaternion};
+use crate::pose::{NORMALISED_TOLERANCE, SILENT_TOLERANCE};
 
-/// Most configurations a data file may hold. Files are streamed, so a larger
-/// one (or an endless stream) stops here with an error naming the line,
-/// instead of exhausting memory; no calibration needs this many.
-pub const MAX_CONFIGURATIONS: usize = 1_000_000;
+/// Files up to this size are read whole, and their rows in parts on all
+/// cores; longer ones (or endless streams) record by record.
+const IN_MEMORY_BYTES: usize = 16 << 20;
 
 /// How a data file is written: the units of its lengths and angles, and
 /// other names of its columns. The default is gecaro's own (metres,
@@ -116,28 +116,45 @@ pub fn read_samples(
     )
 }
 
-/// Where each field of a sample comes from in a record, and its scale.
-struct Fields {
-    joints: Vec<(usize, f64)>,
-    position: Option<[usize; 3]>,
-    orientation: Option<[usize; 4]>,
-    group: Option<(usize, &'static str)>,
-    distance: Option<usize>,
-}
-
 /// Parses data from any reader; `path` only names it in messages.
 ///
 /// # Errors
 /// [`Error::Parse`] with line and column.
 pub fn parse_samples(
-    reader: impl Read,
+    mut reader: impl Read,
+    path: &Path,
+    joint_types: &[FrameType],
+    columns: &[DataColumn],
+    format: &DataFormat,
+) -> Result<DataFile, Error> {
+    let mut head = Vec::new();
+    (&mut reader)
+        .take(IN_MEMORY_BYTES as u64 + 1)
+        .read_to_end(&mut head)
+        .map_err(|cause| Error::Read {
+            path: path.to_owned(),
+            cause,
+        })?;
+    let read = |source, whole| parse_from(source, whole, path, joint_types, columns, format);
+    if head.len() <= IN_MEMORY_BYTES {
+        read(Box::new(head.as_slice()), Some(&head))
+    } else {
+        read(Box::new(head.as_slice().chain(reader)), None)
+    }
+}
+
+/// [`parse_samples`] from `source`, which is the bytes `whole` when they are
+/// in memory (its rows are then read in parts on all cores).
+fn parse_from(
+    source: Box<dyn Read + '_>,
+    whole: Option<&[u8]>,
     path: &Path,
     joint_types: &[FrameType],
     columns: &[DataColumn],
     format: &DataFormat,
 ) -> Result<DataFile, Error> {
     let expected = data_headers(joint_types.len(), columns);
-    let (mut csv, separator) = csv_reader(reader, format.delimiter);
+    let (mut csv, separator) = csv_reader(source, format.delimiter);
     let decimal_comma = format
         .decimal_comma(separator)
         .map_err(|message| Error::parse(path, 1, None, message))?;
@@ -158,7 +175,7 @@ pub fn parse_samples(
             ),
         ));
     }
-    let header_line = line_of(&record);
+    let header_line = record_line(&mut csv);
     let names: Vec<String> = record.iter().map(|name| name.trim().to_owned()).collect();
     if names.iter().all(|name| name.parse::<f64>().is_ok()) {
         return Err(fail(
@@ -209,98 +226,36 @@ pub fn parse_samples(
             .contains(&DataColumn::Orientation)
             .then(|| [at("qw"), at("qx"), at("qy"), at("qz")]),
         group: columns.iter().find_map(|column| match column {
-            DataColumn::Set => Some((at("set"), "set")),
-            DataColumn::Pair => Some((at("pair"), "pair")),
+            DataColumn::Set => Some(at("set")),
+            DataColumn::Pair => Some(at("pair")),
             _ => None,
         }),
         distance: columns
             .contains(&DataColumn::Distance)
             .then(|| at("distance")),
     };
-    let mut samples = Vec::new();
-    // Quaternions normalised with a note: how many, the largest deviation, its line.
-    let mut normalised = (0usize, 0.0f64, 0usize);
-    while csv
-        .read_record(&mut record)
-        .map_err(|error| csv_error(path, &error))?
-    {
-        let line = line_of(&record);
-        if samples.len() == MAX_CONFIGURATIONS {
-            return Err(fail(
-                line,
-                None,
-                format!(
-                    "more than {MAX_CONFIGURATIONS} configurations; reading stopped here \
-                     (calibration needs far fewer: split or subsample the file)"
-                ),
-            ));
-        }
-        if record.len() != names.len() {
-            return Err(fail(
-                line,
-                None,
-                format!(
-                    "{} values for {} columns ({})",
-                    record.len(),
-                    names.len(),
-                    names.join(",")
-                ),
-            ));
-        }
-        let value = |column: usize| -> Result<f64, Error> {
-            let text = record[column].trim();
-            match parse_number(text, decimal_comma) {
-                Some(number) if number.is_finite() => Ok(number),
-                Some(_) => Err(fail(
-                    line,
-                    Some(&names[column]),
-                    format!("`{text}` is not a finite number"),
-                )),
-                None => Err(fail(
-                    line,
-                    Some(&names[column]),
-                    not_a_number(text, decimal_comma),
-                )),
-            }
-        };
-        let motor_positions = fields
-            .joints
-            .iter()
-            .map(|(column, scale)| Ok(value(*column)? * scale))
-            .collect::<Result<Vec<f64>, Error>>()?;
-        let mut sample = Sample {
-            line: Some(line),
-            ..Sample::new(motor_positions)
-        };
-        if let Some([x, y, z]) = fields.position {
-            sample.position = Some(Vector3::new(value(x)?, value(y)?, value(z)?) * length);
-        }
-        if let Some([w, i, j, k]) = fields.orientation {
-            let (qw, qx, qy, qz) = (value(w)?, value(i)?, value(j)?, value(k)?);
-            let orientation = unit_quaternion(qw, qx, qy, qz)
-                .map_err(|message| fail(line, Some(&names[w]), message))?;
-            if let Some(deviation) = quaternion_deviation(qw, qx, qy, qz) {
-                normalised.0 += 1;
-                if deviation > normalised.1 {
-                    normalised = (normalised.0, deviation, line);
-                }
-            }
-            sample.orientation = Some(orientation);
-        }
-        if let Some((column, _)) = fields.group {
-            let text = record[column].trim();
-            sample.group = Some(text.parse().map_err(|_| {
-                fail(
-                    line,
-                    Some(&names[column]),
-                    format!("`{text}` is not an id (a whole number ≥ 0)"),
-                )
-            })?);
-        }
-        if let Some(column) = fields.distance {
-            sample.distance = Some(value(column)? * length);
-        }
-        samples.push(sample);
+    let rows = RowReader {
+        path,
+        names: &names,
+        fields,
+        decimal_comma,
+        length,
+    };
+    // The rows start after the header's last byte, with the lines before.
+    let start = csv.position().byte() as usize;
+    let Rows {
+        samples,
+        normalised,
+        error,
+    } = whole
+        .filter(|bytes| start <= bytes.len())
+        .and_then(|bytes| {
+            let lines_before = memchr::memchr_iter(b'\n', &bytes[..start]).count();
+            rows.read_in_parts(&bytes[start..], lines_before, separator)
+        })
+        .unwrap_or_else(|| rows.read(&mut csv, 0));
+    if let Some(error) = error {
+        return Err(error);
     }
     if samples.is_empty() {
         return Err(fail(
@@ -310,15 +265,15 @@ pub fn parse_samples(
         ));
     }
     let mut notes = Vec::new();
-    if normalised.0 > 0 {
+    if normalised.count > 0 {
         notes.push(format!(
             "{}: {} quaternion(s) with a norm off 1 by more than {SILENT_TOLERANCE:e} were \
              normalised (largest: {:.1e}, line {}; up to {NORMALISED_TOLERANCE:e} is taken \
              as rounding)",
             path.display(),
-            normalised.0,
-            normalised.1,
-            normalised.2
+            normalised.count,
+            normalised.largest,
+            normalised.line
         ));
     }
     Ok(DataFile {
@@ -383,12 +338,6 @@ fn resolve_header(
     Ok(layout)
 }
 
-fn line_of(record: &csv::StringRecord) -> usize {
-    record
-        .position()
-        .map_or(1, |position| position.line() as usize)
-}
-
 /// The CSV text of a data set.
 pub fn format_samples(joint_count: usize, columns: &[DataColumn], samples: &[Sample]) -> String {
     let mut text = data_headers(joint_count, columns).join(",");
@@ -443,7 +392,7 @@ pub fn write_samples(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::UnitQuaternion;
+    use nalgebra::{UnitQuaternion, Vector3};
 
     const TWO_REVOLUTE: [FrameType; 2] = [FrameType::Revolute; 2];
 
@@ -649,6 +598,76 @@ mod tests {
             error.contains("columns: `x` maps to `X`, which is not in the header"),
             "{error}"
         );
+    }
+
+    /// A long file is read in parts on all cores (no quote in it), the same
+    /// text with a quote in a comment in one pass: the same samples, lines,
+    /// notes and errors.
+    #[test]
+    fn a_long_file_read_in_parts_reads_as_in_one_pass() {
+        let columns = [DataColumn::Position, DataColumn::Orientation];
+        let mut text = String::from("# from a tracker\r\nqm1,qm2,x,y,z,qw,qx,qy,qz\r\n");
+        for row in 0..4000 {
+            if row % 700 == 0 {
+                text.push_str("# a comment between rows\r\n\r\n");
+            }
+            // Every 500th quaternion is off unit norm by a growing amount.
+            let qw = if row % 500 == 7 {
+                1.0 + 1e-7 * row as f64
+            } else {
+                1.0
+            };
+            text.push_str(&format!(
+                "{},{},{},{},{},{qw},0,0,0\r\n",
+                row as f64 * 1e-3,
+                -(row as f64) * 2e-3,
+                0.1 + row as f64 * 1e-4,
+                0.2,
+                0.3
+            ));
+        }
+        assert!(text.len() > crate::data_rows::PART_MIN_BYTES);
+        let read = |text: &str| {
+            parse_samples(
+                text.as_bytes(),
+                Path::new("long.csv"),
+                &TWO_REVOLUTE,
+                &columns,
+                &DataFormat::default(),
+            )
+        };
+        let in_parts = read(&text).expect("in parts");
+        let one_pass = read(&format!("{text}# a \"quoted\" comment\n")).expect("one pass");
+        assert_eq!(in_parts.samples.len(), 4000);
+        assert_eq!(in_parts.samples, one_pass.samples);
+        assert_eq!(in_parts.notes, one_pass.notes);
+        assert_eq!(in_parts.samples[0].line, Some(5));
+        assert_eq!(in_parts.samples[3999].line, Some(4000 + 4 + 2 * 5));
+        // Row r is on line r + 3 + 2 (r / 700 + 1): a comment, the header, and
+        // a comment and a blank line before every 700 rows.
+        let line_of_row = |row: usize| row + 3 + 2 * (row / 700 + 1);
+        assert_eq!(in_parts.samples[3507].line, Some(line_of_row(3507)));
+        assert!(
+            in_parts.notes[0].contains("line 3522"),
+            "{:?}",
+            in_parts.notes
+        );
+        // The first error in the file, wherever the parts are cut.
+        for (first, second) in [(100, 3900), (2100, 2101), (3998, 3999)] {
+            let mut lines: Vec<&str> = text.split("\r\n").collect();
+            let (a, b) = (line_of_row(first), line_of_row(second));
+            lines[a - 1] = "1,2,3,4,5,1,0,0,oops";
+            lines[b - 1] = "1,2,3";
+            let broken = lines.join("\r\n");
+            let expected = format!("long.csv:{a}: qz: `oops` is not a number");
+            for variant in [broken.clone(), format!("{broken}\"")] {
+                let error = read(&variant).expect_err("broken").to_string();
+                assert!(
+                    error.starts_with(&expected),
+                    "{error} (expected {expected})"
+                );
+            }
+        }
     }
 
     #[test]

@@ -5,6 +5,7 @@
 //! files read into memory have a size limit, and streamed files a limit on
 //! the length of one line, so that no input can exhaust memory.
 
+use std::collections::VecDeque;
 use std::io::Read;
 use std::path::Path;
 
@@ -125,20 +126,55 @@ pub(crate) fn csv_reader<R: Read>(
         })
         .unwrap_or_default();
     let byte = delimiter.byte(&header);
-    let reader = csv::ReaderBuilder::new()
+    (
+        csv_reader_with(LineLimit::new(buffered, MAX_LINE_BYTES), byte),
+        byte,
+    )
+}
+
+/// A CSV reader as [`csv_reader`] makes them, with the separator `byte`.
+pub(crate) fn csv_reader_with<R: Read>(reader: R, byte: u8) -> csv::Reader<R> {
+    csv::ReaderBuilder::new()
         .has_headers(false)
         .delimiter(byte)
         .comment(Some(b'#'))
         .flexible(true)
-        .from_reader(LineLimit::new(buffered, MAX_LINE_BYTES));
-    (reader, byte)
+        .from_reader(reader)
+}
+
+/// The next record of `csv` with its line ([`record_line`]); `None` at the
+/// end.
+///
+/// # Errors
+/// The reader's error, naming the file and the line.
+pub(crate) fn next_record<R: Read>(
+    csv: &mut csv::Reader<LineLimit<R>>,
+    path: &Path,
+) -> Result<Option<(csv::StringRecord, usize)>, Error> {
+    let mut record = csv::StringRecord::new();
+    if csv
+        .read_record(&mut record)
+        .map_err(|error| csv_error(path, &error))?
+    {
+        let line = record_line(csv);
+        Ok(Some((record, line)))
+    } else {
+        Ok(None)
+    }
 }
 
 /// A CSV error as a parse error naming the file and the line.
 pub(crate) fn csv_error(path: &Path, error: &csv::Error) -> Error {
-    let line = error
-        .position()
-        .map_or(1, |position| position.line() as usize);
+    csv_error_after(path, error, 0)
+}
+
+/// [`csv_error`] of a reader that started after `lines_before` lines of the
+/// file.
+pub(crate) fn csv_error_after(path: &Path, error: &csv::Error, lines_before: usize) -> Error {
+    let line = lines_before
+        + error
+            .position()
+            .map_or(1, |position| position.line() as usize);
     let message = match error.kind() {
         csv::ErrorKind::Utf8 { .. } => "the file is not UTF-8 text".to_owned(),
         csv::ErrorKind::Io(cause) => cause.to_string(),
@@ -147,12 +183,19 @@ pub(crate) fn csv_error(path: &Path, error: &csv::Error) -> Error {
     Error::parse(path, line, None, message)
 }
 
-/// A reader that fails once a line grows longer than `limit` bytes: a CSV
-/// reader keeps a whole record in memory.
+/// A reader that fails once a line grows longer than `limit` bytes (a CSV
+/// reader keeps a whole record in memory), and knows the line of any byte
+/// it has passed on ([`record_line`]).
 pub(crate) struct LineLimit<R> {
     inner: R,
     limit: usize,
     current: usize,
+    /// Bytes passed on so far.
+    read: u64,
+    /// Offsets of the line breaks passed on and not yet asked about.
+    breaks: VecDeque<u64>,
+    /// Line breaks before the first of `breaks`.
+    lines_passed: usize,
 }
 
 impl<R> LineLimit<R> {
@@ -161,7 +204,20 @@ impl<R> LineLimit<R> {
             inner,
             limit,
             current: 0,
+            read: 0,
+            breaks: VecDeque::new(),
+            lines_passed: 0,
         }
+    }
+
+    /// The 1-based line of the byte at `offset`; offsets asked about never
+    /// decrease (a reader's records come in order).
+    fn line_of(&mut self, offset: u64) -> usize {
+        while self.breaks.front().is_some_and(|at| *at < offset) {
+            self.breaks.pop_front();
+            self.lines_passed += 1;
+        }
+        self.lines_passed + 1
     }
 }
 
@@ -171,8 +227,12 @@ impl<R: Read> Read for LineLimit<R> {
     fn read(&mut self, buffer: &mut [u8]) -> std::io::Result<usize> {
         let count = self.inner.read(buffer)?;
         let chunk = &buffer[..count];
-        self.current = match chunk.iter().rposition(|byte| *byte == b'\n') {
-            Some(last) => count - last - 1,
+        let start = self.read;
+        self.breaks
+            .extend(memchr::memchr_iter(b'\n', chunk).map(|at| start + at as u64));
+        self.read += count as u64;
+        self.current = match self.breaks.back().filter(|at| **at >= start) {
+            Some(last) => (start + count as u64 - last - 1) as usize,
             None => self.current + count,
         };
         if self.current > self.limit {
@@ -183,6 +243,17 @@ impl<R: Read> Read for LineLimit<R> {
         }
         Ok(count)
     }
+}
+
+/// The 1-based line of the record `csv` has just read: the line of its last
+/// byte (its terminator, or the end of the file). A record's own position in
+/// the `csv` crate is where reading began, before the comment and blank
+/// lines it skipped and before the `\n` of a `\r\n` it had stopped at, so
+/// it names an earlier line. A record spans one line unless a quoted field
+/// holds a line break; such a record is named by its last line.
+pub(crate) fn record_line<R: Read>(csv: &mut csv::Reader<LineLimit<R>>) -> usize {
+    let end = csv.position().byte();
+    csv.get_mut().line_of(end.saturating_sub(1))
 }
 
 #[cfg(test)]

@@ -12,6 +12,7 @@
 mod columns;
 mod conversion;
 mod data_file;
+mod data_rows;
 mod dh;
 mod document;
 mod error;
@@ -34,9 +35,9 @@ mod urdf;
 pub use columns::{ColumnMap, DataUnits, Delimiter, joint_types};
 pub use conversion::{ChainEnds, Exported, Imported};
 pub use data_file::{
-    DataFile, DataFormat, MAX_CONFIGURATIONS, data_headers, format_samples, parse_samples,
-    read_samples, write_samples,
+    DataFile, DataFormat, data_headers, format_samples, parse_samples, read_samples, write_samples,
 };
+pub use data_rows::MAX_CONFIGURATIONS;
 pub use dh::{DhConvention, TableUnits};
 pub use document::{CouplingDocument, FrameDocument, PriorityDocument, RobotDocument};
 pub use error::Error;

@@ -22,7 +22,7 @@ use std::path::Path;
 use crate::Error;
 use crate::columns::{DataUnits, joint_types, locate, not_a_number, parse_number};
 use crate::data_file::DataFormat;
-use crate::input::{csv_error, csv_reader, open_regular};
+use crate::input::{csv_reader, next_record, open_regular};
 
 /// What a program's targets are.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -53,7 +53,7 @@ pub struct ProgramFile {
 }
 
 /// Most targets a program may hold (as many as a data file's configurations).
-const MAX_TARGETS: usize = crate::data_file::MAX_CONFIGURATIONS;
+const MAX_TARGETS: usize = crate::data_rows::MAX_CONFIGURATIONS;
 
 /// Reads a program for `robot` written as `format` says (units, column
 /// names, separator, decimal mark).
@@ -81,12 +81,10 @@ pub fn parse_program(
     let decimal_comma = format
         .decimal_comma(separator)
         .map_err(|message| Error::parse(path, 1, None, message))?;
-    let csv_error = |error: csv::Error| csv_error(path, &error);
-    let mut records = reader.records();
     let n = robot.joint_count();
     let joint_names: Vec<String> = (1..=n).map(|j| format!("qm{j}")).collect();
     let expected = format!("{} and/or x,y,z[,qw,qx,qy,qz]", joint_names.join(","));
-    let Some(header) = records.next().transpose().map_err(csv_error)? else {
+    let Some((header, header_line)) = next_record(&mut reader, path)? else {
         return Err(Error::parse(
             path,
             1,
@@ -94,7 +92,6 @@ pub fn parse_program(
             format!("the file is empty; a program's header names {expected}"),
         ));
     };
-    let header_line = header.position().map_or(1, |p| p.line() as usize);
     let header: Vec<String> = header.iter().map(|name| name.trim().to_owned()).collect();
     let fail_header = |message: String| Error::parse(path, header_line, None, message);
     let cartesian: Vec<String> = ["x", "y", "z", "qw", "qx", "qy", "qz"]
@@ -160,9 +157,7 @@ pub fn parse_program(
         points: Vec::new(),
         unused_columns: layout.unused.clone(),
     };
-    for record in records {
-        let record = record.map_err(csv_error)?;
-        let line = record.position().map_or(1, |p| p.line() as usize);
+    while let Some((record, line)) = next_record(&mut reader, path)? {
         if program.records.len() == MAX_TARGETS {
             return Err(Error::parse(
                 path,

@@ -253,6 +253,11 @@ fn bad_tables_name_the_file_and_line() {
         table_error(csv, "t.csv", Some(RobotFormat::Dh))
             .contains("t.csv:3: 4 values for 5 columns")
     );
+    // Windows line ends, comments and blank lines before a record: the
+    // record's own line.
+    let csv = "# from a spreadsheet\r\ntype,a,alpha,d,theta\r\nR,0,0,0.3,0\r\n\r\n# next\r\nR,0.4,0,0\r\n";
+    let error = table_error(csv, "t.csv", Some(RobotFormat::Dh));
+    assert!(error.contains("t.csv:6: 4 values for 5 columns"), "{error}");
     let csv = "type,a,alpha,d,theta\nR,0,NaN,0.3,0\n";
     assert!(
         table_error(csv, "t.csv", Some(RobotFormat::Dh))

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use super::table::{DhConvention, Row, Table, TableUnits, Units, joint_type};
 use crate::Error;
-use crate::input::{csv_error, csv_reader};
+use crate::input::{csv_reader, next_record};
 use crate::robot_file::AngleUnit;
 use crate::units::LengthUnit;
 
@@ -47,9 +47,7 @@ pub(super) fn parse_csv(
     convention: DhConvention,
 ) -> Result<Table, Error> {
     let (mut reader, _) = csv_reader(text.as_bytes(), crate::Delimiter::Comma);
-    let mut records = reader.records();
-    let csv_error = |error: csv::Error| csv_error(path, &error);
-    let Some(header) = records.next().transpose().map_err(csv_error)? else {
+    let Some((header, header_line)) = next_record(&mut reader, path)? else {
         return Err(Error::parse(
             path,
             1,
@@ -57,7 +55,6 @@ pub(super) fn parse_csv(
             "the file is empty; it needs a header line: type,a,alpha,d,theta",
         ));
     };
-    let header_line = header.position().map_or(1, |p| p.line() as usize);
     let header_error = |column: Option<&str>, message: String| {
         Error::parse(path, header_line, column.map(str::to_owned), message)
     };
@@ -119,9 +116,7 @@ pub(super) fn parse_csv(
         last_from_tool: None,
         rows: Vec::new(),
     };
-    for record in records {
-        let record = record.map_err(csv_error)?;
-        let line = record.position().map_or(1, |p| p.line() as usize);
+    while let Some((record, line)) = next_record(&mut reader, path)? {
         let fail = |column: Option<&str>, message: String| {
             Error::parse(path, line, column.map(str::to_owned), message)
         };

@@ -1,0 +1,277 @@
+//! The rows of a data file after its header: each record read into a
+//! [`Sample`] (joint values scaled to the robot's units, position, unit
+//! quaternion, group id, distance), and a file held in memory read in parts
+//! on all cores.
+//!
+//! A part starts at a line break, so records, comments and line numbers are
+//! those of the whole file: the parts' samples joined in part order are the
+//! samples a single pass reads, and the first error in part order is the
+//! first error in the file. Parts are used only where that holds without
+//! further care: no quoted field (a quote may hold a line break) and fewer
+//! lines than [`MAX_CONFIGURATIONS`] (the limit cannot fall inside a part).
+
+use gecaro_calib::parallel::{available_threads, run_parts};
+use gecaro_calib::study::Sample;
+use nalgebra::Vector3;
+use std::io::Read;
+use std::path::Path;
+
+use crate::Error;
+use crate::columns::{not_a_number, parse_number};
+use crate::input::{LineLimit, MAX_LINE_BYTES, csv_error_after, csv_reader_with, record_line};
+use crate::pose::{quaternion_deviation, unit_quaternion};
+
+/// Most configurations a data file may hold. Longer files are streamed, so
+/// a larger one (or an endless stream) stops here with an error naming the
+/// line, instead of exhausting memory; no calibration needs this many.
+pub const MAX_CONFIGURATIONS: usize = 1_000_000;
+
+/// Bodies shorter than this are read in one part: a thread costs more.
+pub(crate) const PART_MIN_BYTES: usize = 1 << 17;
+
+/// Where each field of a sample comes from in a record, and its scale.
+pub(crate) struct Fields {
+    /// Column and scale of each joint's motor variable.
+    pub(crate) joints: Vec<(usize, f64)>,
+    /// Columns of x, y, z.
+    pub(crate) position: Option<[usize; 3]>,
+    /// Columns of qw, qx, qy, qz.
+    pub(crate) orientation: Option<[usize; 4]>,
+    /// Column of the set or pair id.
+    pub(crate) group: Option<usize>,
+    /// Column of the distance.
+    pub(crate) distance: Option<usize>,
+}
+
+/// Quaternions normalised on reading, for a note: how many, the largest
+/// deviation of their norm from 1, and the line of the first with it.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Normalised {
+    pub(crate) count: usize,
+    pub(crate) largest: f64,
+    pub(crate) line: usize,
+}
+
+impl Normalised {
+    fn add(&mut self, deviation: f64, line: usize) {
+        self.count += 1;
+        if deviation > self.largest {
+            self.largest = deviation;
+            self.line = line;
+        }
+    }
+
+    /// This and a later part's counts (the first line with the largest
+    /// deviation stays).
+    fn then(self, later: Normalised) -> Normalised {
+        let mut joined = if later.largest > self.largest {
+            later
+        } else {
+            self
+        };
+        joined.count = self.count + later.count;
+        joined
+    }
+}
+
+/// What a part of the rows gave: its samples up to its first error.
+pub(crate) struct Rows {
+    pub(crate) samples: Vec<Sample>,
+    pub(crate) normalised: Normalised,
+    pub(crate) error: Option<Error>,
+}
+
+/// How the records of one file are read.
+pub(crate) struct RowReader<'a> {
+    pub(crate) path: &'a Path,
+    /// The header's names (for messages and the field count).
+    pub(crate) names: &'a [String],
+    pub(crate) fields: Fields,
+    pub(crate) decimal_comma: bool,
+    /// Metres per length unit of the file.
+    pub(crate) length: f64,
+}
+
+impl RowReader<'_> {
+    /// Reads the records of `csv` to its end or its first error;
+    /// `lines_before` is the number of lines of the file before the reader's
+    /// first byte. At most [`MAX_CONFIGURATIONS`] samples: one more record
+    /// is an error.
+    pub(crate) fn read<R: Read>(
+        &self,
+        csv: &mut csv::Reader<LineLimit<R>>,
+        lines_before: usize,
+    ) -> Rows {
+        let mut rows = Rows {
+            samples: Vec::new(),
+            normalised: Normalised::default(),
+            error: None,
+        };
+        let mut record = csv::StringRecord::new();
+        loop {
+            match csv.read_record(&mut record) {
+                Ok(true) => {}
+                Ok(false) => break,
+                Err(error) => {
+                    rows.error = Some(csv_error_after(self.path, &error, lines_before));
+                    break;
+                }
+            }
+            let line = lines_before + record_line(csv);
+            let sample = if rows.samples.len() == MAX_CONFIGURATIONS {
+                Err(self.fail(
+                    line,
+                    None,
+                    format!(
+                        "more than {MAX_CONFIGURATIONS} configurations; reading stopped here \
+                         (calibration needs far fewer: split or subsample the file)"
+                    ),
+                ))
+            } else {
+                self.sample(&record, line, &mut rows.normalised)
+            };
+            match sample {
+                Ok(sample) => rows.samples.push(sample),
+                Err(error) => {
+                    rows.error = Some(error);
+                    break;
+                }
+            }
+        }
+        rows
+    }
+
+    /// Reads `body` (whole lines of the file after its header, the first
+    /// being line `lines_before + 1`) in parts on all cores when it is
+    /// long and holds no quote; `None` when it is to be read in one pass.
+    pub(crate) fn read_in_parts(
+        &self,
+        body: &[u8],
+        lines_before: usize,
+        separator: u8,
+    ) -> Option<Rows> {
+        let threads = available_threads();
+        if threads < 2 || body.len() < PART_MIN_BYTES || body.contains(&b'"') {
+            return None;
+        }
+        let breaks = memchr::memchr_iter(b'\n', body).count();
+        if breaks >= MAX_CONFIGURATIONS {
+            return None;
+        }
+        // Parts of about equal length, each from a line start to the next
+        // part's start, with the lines before it.
+        let mut parts: Vec<(&[u8], usize)> = Vec::with_capacity(threads);
+        let (mut start, mut lines) = (0, lines_before);
+        for part in 1..=threads {
+            let target = (body.len() * part / threads).max(start);
+            let end = if part == threads {
+                body.len()
+            } else {
+                memchr::memchr(b'\n', &body[target..])
+                    .map_or(body.len(), |offset| target + offset + 1)
+            };
+            if end > start {
+                parts.push((&body[start..end], lines));
+                lines += memchr::memchr_iter(b'\n', &body[start..end]).count();
+                start = end;
+            }
+        }
+        let read = run_parts(parts, |(bytes, lines_before)| {
+            let mut csv = csv_reader_with(LineLimit::new(bytes, MAX_LINE_BYTES), separator);
+            self.read(&mut csv, lines_before)
+        });
+        let mut joined = Rows {
+            samples: Vec::with_capacity(read.iter().map(|rows| rows.samples.len()).sum()),
+            normalised: Normalised::default(),
+            error: None,
+        };
+        for rows in read {
+            joined.samples.extend(rows.samples);
+            joined.normalised = joined.normalised.then(rows.normalised);
+            if rows.error.is_some() {
+                joined.error = rows.error;
+                break;
+            }
+        }
+        Some(joined)
+    }
+
+    fn fail(&self, line: usize, column: Option<usize>, message: String) -> Error {
+        Error::parse(
+            self.path,
+            line,
+            column.map(|column| self.names[column].clone()),
+            message,
+        )
+    }
+
+    /// One record as a sample.
+    fn sample(
+        &self,
+        record: &csv::StringRecord,
+        line: usize,
+        normalised: &mut Normalised,
+    ) -> Result<Sample, Error> {
+        let names = self.names;
+        if record.len() != names.len() {
+            return Err(self.fail(
+                line,
+                None,
+                format!(
+                    "{} values for {} columns ({})",
+                    record.len(),
+                    names.len(),
+                    names.join(",")
+                ),
+            ));
+        }
+        let value = |column: usize| -> Result<f64, Error> {
+            let text = record[column].trim();
+            match parse_number(text, self.decimal_comma) {
+                Some(number) if number.is_finite() => Ok(number),
+                Some(_) => Err(self.fail(
+                    line,
+                    Some(column),
+                    format!("`{text}` is not a finite number"),
+                )),
+                None => Err(self.fail(line, Some(column), not_a_number(text, self.decimal_comma))),
+            }
+        };
+        let fields = &self.fields;
+        let motor_positions = fields
+            .joints
+            .iter()
+            .map(|(column, scale)| Ok(value(*column)? * scale))
+            .collect::<Result<Vec<f64>, Error>>()?;
+        let mut sample = Sample {
+            line: Some(line),
+            ..Sample::new(motor_positions)
+        };
+        if let Some([x, y, z]) = fields.position {
+            sample.position = Some(Vector3::new(value(x)?, value(y)?, value(z)?) * self.length);
+        }
+        if let Some([w, i, j, k]) = fields.orientation {
+            let (qw, qx, qy, qz) = (value(w)?, value(i)?, value(j)?, value(k)?);
+            let orientation = unit_quaternion(qw, qx, qy, qz)
+                .map_err(|message| self.fail(line, Some(w), message))?;
+            if let Some(deviation) = quaternion_deviation(qw, qx, qy, qz) {
+                normalised.add(deviation, line);
+            }
+            sample.orientation = Some(orientation);
+        }
+        if let Some(column) = fields.group {
+            let text = record[column].trim();
+            sample.group = Some(text.parse().map_err(|_| {
+                self.fail(
+                    line,
+                    Some(column),
+                    format!("`{text}` is not an id (a whole number ≥ 0)"),
+                )
+            })?);
+        }
+        if let Some(column) = fields.distance {
+            sample.distance = Some(value(column)? * self.length);
+        }
+        Ok(sample)
+    }
+}
