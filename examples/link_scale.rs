@@ -19,31 +19,28 @@
 //!
 //! Arguments (all optional, in order): robots, methods, levels, seeds.
 
+mod common;
+
+use common::{Case, Cases, Failure};
 use gecaro_calib::prelude::*;
 use gecaro_core::{Robot, terminal_pose};
 
-type Failure = Box<dyn std::error::Error>;
-
 fn main() -> Result<(), Failure> {
-    let arguments: Vec<String> = std::env::args().skip(1).collect();
-    let list = |index: usize, default: &str| -> Vec<String> {
-        arguments
-            .get(index)
-            .map_or(default, String::as_str)
-            .split(',')
-            .map(str::to_owned)
-            .collect()
-    };
+    let cases = Cases::from_arguments([
+        "panda,puma560,industrial6",
+        "point-link,position",
+        "0.3,1,2",
+        "7",
+    ])?;
     println!(
         "robot        method       level  seed  distance RMS (mm): nominal  calibrated   \
          scale    shape"
     );
-    for robot in list(0, "panda,puma560,industrial6") {
-        for name in list(1, "point-link,position") {
-            for level in list(2, "0.3,1,2") {
-                for seed in list(3, "7") {
-                    let (level, seed): (f64, u64) = (level.parse()?, seed.parse()?);
-                    let check = distances(&robot, &name, level, seed)?;
+    for robot in &cases.robots {
+        for name in &cases.methods {
+            for level in &cases.levels {
+                for seed in &cases.seeds {
+                    let check = distances(robot, name, *level, *seed)?;
                     println!(
                         "{robot:<12} {name:<11} {level:>6} {seed:>5}  {:>26.3}  {:>10.3}  \
                          {:>7.4}  {:>7.3}",
@@ -68,20 +65,12 @@ struct Distances {
 }
 
 fn distances(robot: &str, name: &str, level: f64, seed: u64) -> Result<Distances, Failure> {
-    let nominal = gecaro_io::load_robot(robot)?.robot;
-    let chosen = method(name, &MethodOptions::default())?;
-    let mut sampler = Sampler::new(seed);
-    let real = perturbed_robot(&nominal, level, &mut sampler)?;
-    let samples = simulate_measurements(&real, chosen.as_ref(), 200, 1e-5, &mut sampler)?;
-    let study = Study::single(chosen.clone_method(), samples, "simulated");
-    let result = identify(
-        &nominal,
-        &study,
-        &IdentificationOptions::default(),
-        &mut Quiet,
-    )?;
+    let mut case = Case::new(robot, name, level, seed)?;
+    let study = case.measure(200)?;
+    let result = case.identify(&study)?;
     let position = method("position", &MethodOptions::default())?;
-    let held_out = simulate_measurements(&real, position.as_ref(), 400, 0.0, &mut sampler)?;
+    let held_out =
+        simulate_measurements(&case.real, position.as_ref(), 400, 0.0, &mut case.sampler)?;
     let pairs = |robot: &Robot| -> Result<Vec<f64>, Failure> {
         held_out
             .chunks_exact(2)
@@ -96,7 +85,7 @@ fn distances(robot: &str, name: &str, level: f64, seed: u64) -> Result<Distances
             })
             .collect()
     };
-    let truth = pairs(&real)?;
+    let truth = pairs(&case.real)?;
     let rms = |predicted: &[f64], scale: f64| {
         let sum: f64 = predicted
             .iter()
@@ -113,7 +102,7 @@ fn distances(robot: &str, name: &str, level: f64, seed: u64) -> Result<Distances
         .sum::<f64>()
         / calibrated.iter().map(|c| c * c).sum::<f64>();
     Ok(Distances {
-        nominal: rms(&pairs(&nominal)?, 1.0),
+        nominal: rms(&pairs(&case.nominal)?, 1.0),
         calibrated: rms(&calibrated, 1.0),
         scale,
         shape: rms(&calibrated, scale),

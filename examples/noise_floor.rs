@@ -13,34 +13,23 @@
 //! Arguments (all optional, in order): robots (comma-separated), methods,
 //! levels, seeds.
 
+mod common;
+
+use common::{Case, Cases, Failure};
 use gecaro_calib::prelude::*;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let arguments: Vec<String> = std::env::args().skip(1).collect();
-    let list = |index: usize, default: &str| -> Vec<String> {
-        arguments
-            .get(index)
-            .map_or(default, String::as_str)
-            .split(',')
-            .map(str::to_owned)
-            .collect()
-    };
-    let robots = list(0, "panda,puma560,industrial6");
-    let methods = list(1, "position,frame");
-    let levels: Vec<f64> = list(2, "0.1,0.3,1,2")
-        .iter()
-        .map(|level| level.parse())
-        .collect::<Result<_, _>>()?;
-    let seeds: Vec<u64> = list(3, "7")
-        .iter()
-        .map(|seed| seed.parse())
-        .collect::<Result<_, _>>()?;
-
+fn main() -> Result<(), Failure> {
+    let cases = Cases::from_arguments([
+        "panda,puma560,industrial6",
+        "position,frame",
+        "0.1,0.3,1,2",
+        "7",
+    ])?;
     println!("robot        method    level  seed  held-out/floor  phases  verdict");
-    for robot in &robots {
-        for name in &methods {
-            for level in &levels {
-                for seed in &seeds {
+    for robot in &cases.robots {
+        for name in &cases.methods {
+            for level in &cases.levels {
+                for seed in &cases.seeds {
                     let (ratio, result) = held_out_over_floor(robot, name, *level, *seed)?;
                     println!(
                         "{robot:<12} {name:<9} {level:>5} {seed:>5}  {ratio:>14.3}  {:>6}  {}",
@@ -74,23 +63,11 @@ fn held_out_over_floor(
     name: &str,
     level: f64,
     seed: u64,
-) -> Result<(f64, Identification), Box<dyn std::error::Error>> {
-    let nominal = gecaro_io::load_robot(robot)?.robot;
-    let method = method(name, &MethodOptions::default())?;
-    let mut sampler = Sampler::new(seed);
-    let real = perturbed_robot(&nominal, level, &mut sampler)?;
-    let mut measure = || -> Result<Study, Error> {
-        let samples = simulate_measurements(&real, method.as_ref(), 200, 1e-5, &mut sampler)?;
-        Ok(Study::single(method.clone_method(), samples, "simulated"))
-    };
-    let (train, check) = (measure()?, measure()?);
-    let result = identify(
-        &nominal,
-        &train,
-        &IdentificationOptions::default(),
-        &mut Quiet,
-    )?;
-    let floor = evaluate(&real, &check)?.rms;
+) -> Result<(f64, Identification), Failure> {
+    let mut case = Case::new(robot, name, level, seed)?;
+    let (train, check) = (case.measure(200)?, case.measure(200)?);
+    let result = case.identify(&train)?;
+    let floor = evaluate(&case.real, &check)?.rms;
     let held_out = evaluate(&result.calibrated, &check)?.rms;
     Ok((held_out / floor, result))
 }

@@ -151,7 +151,7 @@ impl RowReader<'_> {
         separator: u8,
     ) -> Option<Rows> {
         let threads = available_threads();
-        if threads < 2 || body.len() < PART_MIN_BYTES || body.contains(&b'"') {
+        if threads < 2 || body.len() < PART_MIN_BYTES || memchr::memchr(b'"', body).is_some() {
             return None;
         }
         let breaks = memchr::memchr_iter(b'\n', body).count();

@@ -231,8 +231,8 @@ impl<R: Read> Read for LineLimit<R> {
         self.breaks
             .extend(memchr::memchr_iter(b'\n', chunk).map(|at| start + at as u64));
         self.read += count as u64;
-        self.current = match self.breaks.back().filter(|at| **at >= start) {
-            Some(last) => (start + count as u64 - last - 1) as usize,
+        self.current = match memchr::memrchr(b'\n', chunk) {
+            Some(last) => count - last - 1,
             None => self.current + count,
         };
         if self.current > self.limit {

@@ -1,0 +1,102 @@
+//! What the simulation examples (`noise_floor`, `link_scale`) share: their
+//! arguments (robots, methods, levels of error, seeds) and one simulated
+//! case (a ready robot, a real robot drawn at a level of error, a method and
+//! the sampler that draws its measurements).
+
+use gecaro_calib::prelude::*;
+use gecaro_core::Robot;
+
+/// Any error of an example.
+pub(crate) type Failure = Box<dyn std::error::Error>;
+
+/// The examples' arguments, all optional, in order: robots, methods,
+/// levels, seeds (each comma-separated).
+pub(crate) struct Cases {
+    pub(crate) robots: Vec<String>,
+    pub(crate) methods: Vec<String>,
+    pub(crate) levels: Vec<f64>,
+    pub(crate) seeds: Vec<u64>,
+}
+
+impl Cases {
+    /// The command line's, each list defaulting to the one given here.
+    pub(crate) fn from_arguments(defaults: [&str; 4]) -> Result<Cases, Failure> {
+        let arguments: Vec<String> = std::env::args().skip(1).collect();
+        let list = |index: usize| -> Vec<String> {
+            arguments
+                .get(index)
+                .map_or(defaults[index], String::as_str)
+                .split(',')
+                .map(str::to_owned)
+                .collect()
+        };
+        Ok(Cases {
+            robots: list(0),
+            methods: list(1),
+            levels: list(2)
+                .iter()
+                .map(|l| l.parse())
+                .collect::<Result<_, _>>()?,
+            seeds: list(3)
+                .iter()
+                .map(|s| s.parse())
+                .collect::<Result<_, _>>()?,
+        })
+    }
+}
+
+/// A ready robot, the real robot drawn from it at a level of error, a
+/// method, and the sampler that drew the robot and draws the measurements.
+pub(crate) struct Case {
+    pub(crate) nominal: Robot,
+    pub(crate) real: Robot,
+    pub(crate) method: Box<dyn CalibrationMethod>,
+    pub(crate) sampler: Sampler,
+}
+
+impl Case {
+    pub(crate) fn new(
+        robot: &str,
+        method_name: &str,
+        level: f64,
+        seed: u64,
+    ) -> Result<Case, Failure> {
+        let nominal = gecaro_io::load_robot(robot)?.robot;
+        let method = method(method_name, &MethodOptions::default())?;
+        let mut sampler = Sampler::new(seed);
+        let real = perturbed_robot(&nominal, level, &mut sampler)?;
+        Ok(Case {
+            nominal,
+            real,
+            method,
+            sampler,
+        })
+    }
+
+    /// `count` configurations of the method measured on the real robot
+    /// (σ 0.01 mm, 0.01 mrad).
+    pub(crate) fn measure(&mut self, count: usize) -> Result<Study, Failure> {
+        let samples = simulate_measurements(
+            &self.real,
+            self.method.as_ref(),
+            count,
+            1e-5,
+            &mut self.sampler,
+        )?;
+        Ok(Study::single(
+            self.method.clone_method(),
+            samples,
+            "simulated",
+        ))
+    }
+
+    /// The nominal robot identified from `study` with the default options.
+    pub(crate) fn identify(&self, study: &Study) -> Result<Identification, Failure> {
+        Ok(identify(
+            &self.nominal,
+            study,
+            &IdentificationOptions::default(),
+            &mut Quiet,
+        )?)
+    }
+}
