@@ -65,7 +65,7 @@ fn held_out_over_floor(
     seed: u64,
 ) -> Result<(f64, Identification), Failure> {
     let mut case = Case::new(robot, name, level, seed)?;
-    let (train, check) = (case.measure(200)?, case.measure(200)?);
+    let (train, check) = (case.measure_with_sigma(200)?, case.measure(200)?);
     let result = case.identify(&train)?;
     let floor = evaluate(&case.real, &check)?.rms;
     let held_out = evaluate(&result.calibrated, &check)?.rms;

@@ -565,15 +565,17 @@ pub(crate) struct IdentificationRunArgs {
         conflicts_with = "study"
     )]
     pub(crate) data: Option<PathBuf>,
-    /// The sensor's standard deviation (metres; radians for orientations
-    /// unless --sigma-rotation): the rows are weighted by 1/σ and the verdict
-    /// tests the residuals against it (exit 5 when they exceed it). A study
-    /// file states σ per set.
-    #[arg(long, value_name = "METRES", conflicts_with = "study")]
-    pub(crate) sigma: Option<f64>,
-    /// The σ of the orientation rows (radians).
-    #[arg(long, value_name = "RADIANS", requires = "sigma")]
-    pub(crate) sigma_rotation: Option<f64>,
+    /// The sensor's standard deviation: with its unit (20um, 0.02mm), or a
+    /// number in the data's length unit (--length-unit; metres by default).
+    /// Also the orientations' unless --sigma-rotation. The rows are weighted
+    /// by 1/σ and the verdict tests the residuals against it (exit 5 when
+    /// they are beyond or far below it). A study file states σ per set.
+    #[arg(long, value_name = "σ", conflicts_with = "study")]
+    pub(crate) sigma: Option<gecaro_io::StandardDeviation>,
+    /// The σ of the orientation rows: with its unit (0.01deg), or a number in
+    /// the data's angle unit (--angle-unit; radians by default).
+    #[arg(long, value_name = "σ", requires = "sigma")]
+    pub(crate) sigma_rotation: Option<gecaro_io::StandardDeviation>,
     /// Priority matrix (TOML: matrix = [[alpha, d, theta, r, beta, K], ...]); default: the robot's.
     #[arg(long, value_name = "FILE")]
     pub(crate) priority: Option<PathBuf>,

@@ -11,8 +11,10 @@ pub(crate) const EXIT_INPUT: u8 = 3;
 /// Exit code for well-formed input that cannot give a trustworthy answer:
 /// too few equations, divergence, an iteration limit, an unreachable target.
 pub(crate) const EXIT_NUMERICAL: u8 = 4;
-/// A result whose residuals exceed the stated noise (the verdict's global test).
-pub(crate) const EXIT_EXCEEDS_NOISE: u8 = 5;
+/// A result written but not trusted by the verdict (residuals beyond or far
+/// below the stated noise, implausible values, data that do not determine the
+/// robot, a scale or tool not measured).
+pub(crate) const EXIT_UNTRUSTED: u8 = 5;
 /// Exit code of a command stopped by Ctrl-C (128 + SIGINT).
 pub(crate) const EXIT_INTERRUPTED: u8 = 130;
 
@@ -99,7 +101,7 @@ impl Failure {
             | ErrorKind::Numerical
             | ErrorKind::Internal => EXIT_NUMERICAL,
             ErrorKind::Interrupted => EXIT_INTERRUPTED,
-            ErrorKind::ExceedsNoise => EXIT_EXCEEDS_NOISE,
+            ErrorKind::Untrusted => EXIT_UNTRUSTED,
             _ => EXIT_INPUT,
         }
     }

@@ -1,4 +1,4 @@
-//! What the simulation examples (`noise_floor`, `link_scale`) share: their
+//! What the simulation examples (`noise_floor`, `judge`) share: their
 //! arguments (robots, methods, levels of error, seeds) and one simulated
 //! case (a ready robot, a real robot drawn at a level of error, a method and
 //! the sampler that draws its measurements).
@@ -62,7 +62,16 @@ impl Case {
         seed: u64,
     ) -> Result<Case, Failure> {
         let nominal = gecaro_io::load_robot(robot)?.robot;
-        let method = method(method_name, &MethodOptions::default())?;
+        // Plane methods: the Table 2 normal through the middle of the
+        // workspace, known (the paper's plane link 1 and 2).
+        let options = MethodOptions {
+            plane: method_name
+                .starts_with("plane")
+                .then(|| gecaro_calib::table2::default_plane(&nominal))
+                .transpose()?,
+            ..MethodOptions::default()
+        };
+        let method = method(method_name, &options)?;
         let mut sampler = Sampler::new(seed);
         let real = perturbed_robot(&nominal, level, &mut sampler)?;
         Ok(Case {
@@ -88,6 +97,16 @@ impl Case {
             samples,
             "simulated",
         ))
+    }
+
+    /// The same with the sensor's σ stated, as a user who knows it would:
+    /// the verdict then tests the residuals against it.
+    pub(crate) fn measure_with_sigma(&mut self, count: usize) -> Result<Study, Failure> {
+        let mut study = self.measure(count)?;
+        for set in &mut study.sets {
+            set.sigma = Some(1e-5);
+        }
+        Ok(study)
     }
 
     /// The nominal robot identified from `study` with the default options.

@@ -245,8 +245,9 @@ pub struct ParameterJson {
     pub nominal: f64,
     /// Its identified value.
     pub identified: f64,
-    /// Its standard deviation (eq. 11; posterior with a prior).
-    pub std: f64,
+    /// Its standard deviation (eq. 11; posterior with a prior); `null` for a
+    /// parameter moved outside the base set, which has none.
+    pub std: Option<f64>,
     /// Its prior standard deviation, with a prior (regrouping included).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub prior_std: Option<f64>,
@@ -330,7 +331,7 @@ fn parameters(parameters: &[IdentifiedParameter]) -> Vec<ParameterJson> {
             name: p.name.clone(),
             nominal: p.nominal,
             identified: p.identified,
-            std: p.std,
+            std: p.std.is_finite().then_some(p.std),
             prior_std: p.prior_std,
             absorbs: p
                 .absorbs
@@ -514,8 +515,9 @@ pub struct ModelScoreJson {
 /// radians.
 #[derive(Clone, Debug, Serialize)]
 pub struct VerdictJson {
-    /// `fits_noise`, `untested`, `exceeds_noise`, `implausible`,
-    /// `degenerate`, `not_converged` or `diverged`.
+    /// `fits_noise`, `untested`, `incomplete`, `below_noise`,
+    /// `exceeds_noise`, `implausible`, `underdetermined`, `degenerate`,
+    /// `not_converged` or `diverged`.
     pub outcome: &'static str,
     /// Whether the result may be used (`fits_noise` or `untested`).
     pub trusted: bool,
@@ -533,6 +535,40 @@ pub struct VerdictJson {
     pub distinct_configurations: usize,
     /// Parameters with values no real robot has: `name`, `why`, `cause`.
     pub implausible: Vec<ImplausibleJson>,
+    /// What the data determine and the methods observe.
+    pub coverage: CoverageJson,
+}
+
+/// What the data of an identification determine and its methods observe
+/// (see [`gecaro_calib::identification::Coverage`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct CoverageJson {
+    /// Joints (1-based) that never moved in the data.
+    pub still_joints: Vec<usize>,
+    /// Base parameters the data do not excite.
+    pub not_excited: Vec<String>,
+    /// Independent equations of the data.
+    pub equations: usize,
+    /// Identified unknowns.
+    pub unknowns: usize,
+    /// Whether the equations are too few for the unknowns.
+    pub low_redundancy: bool,
+    /// The robot's scale when no set observes it: its relative σ and the
+    /// size the paper's base set alone gave; `null` when measured.
+    pub scale: Option<UnobservedScaleJson>,
+    /// Whether the methods observe the tool (frame n+1).
+    pub tool_observed: bool,
+    /// Whether the methods observe the base (frame 0).
+    pub base_observed: bool,
+}
+
+/// The robot's scale when no measurement set observes it.
+#[derive(Clone, Debug, Serialize)]
+pub struct UnobservedScaleJson {
+    /// Relative standard deviation of the scale kept (0.009: ±0.9 %).
+    pub std: f64,
+    /// Size of the base-set solution relative to the robot kept.
+    pub base_set_scale: f64,
 }
 
 /// A parameter whose identified value no real robot has.
@@ -564,8 +600,10 @@ pub struct NoiseTestJson {
     pub chi_square: f64,
     /// Its degrees of freedom.
     pub degrees_of_freedom: usize,
-    /// The χ² quantile it is compared with.
+    /// The χ² quantile at 1 − level: above it the residuals exceed the noise.
     pub critical: f64,
+    /// The χ² quantile at the level: below it they are too small for it.
+    pub critical_low: f64,
     /// The test's significance level.
     pub level: f64,
     /// σ̂/σ.
@@ -584,6 +622,7 @@ impl From<&Verdict> for VerdictJson {
                 chi_square: test.chi_square,
                 degrees_of_freedom: test.degrees_of_freedom,
                 critical: test.critical,
+                critical_low: test.critical_low,
                 level: NOISE_TEST_LEVEL,
                 sigma_ratio: test.sigma_ratio,
                 passed: test.passed,
@@ -601,6 +640,19 @@ impl From<&Verdict> for VerdictJson {
                     cause: p.cause.clone(),
                 })
                 .collect(),
+            coverage: CoverageJson {
+                still_joints: verdict.coverage.still_joints.clone(),
+                not_excited: verdict.coverage.not_excited.clone(),
+                equations: verdict.coverage.equations,
+                unknowns: verdict.coverage.unknowns,
+                low_redundancy: verdict.coverage.low_redundancy(),
+                scale: verdict.coverage.scale.map(|scale| UnobservedScaleJson {
+                    std: scale.std,
+                    base_set_scale: scale.base_set_scale,
+                }),
+                tool_observed: verdict.coverage.tool_observed,
+                base_observed: verdict.coverage.base_observed,
+            },
         }
     }
 }

@@ -43,10 +43,12 @@ pub enum ErrorKind {
     NotConverged,
     /// A numerical failure on well-formed input (4, HTTP 422).
     Numerical,
-    /// A solution whose residuals exceed the stated noise (the verdict's
-    /// global test failed): written, but not to be trusted blindly
-    /// (command line 5; the web page and Python show it in the verdict).
-    ExceedsNoise,
+    /// A solution the verdict does not trust (residuals beyond or far below
+    /// the stated noise, implausible values, data that do not determine the
+    /// robot, a scale or tool not measured): written, but not to be used
+    /// blindly (command line 5; the web page and Python show it in the
+    /// verdict).
+    Untrusted,
     /// Stopped by the user (Ctrl-C, a cancelled job).
     Interrupted,
     /// A failure of gecaro itself, such as a plot that cannot be drawn (4, HTTP 500).

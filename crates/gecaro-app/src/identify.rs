@@ -9,7 +9,7 @@
 
 use gecaro_calib::Observer;
 use gecaro_calib::identification::{
-    ErrorSummary, Identification, IdentificationOptions, Outcome, evaluate_errors, identify,
+    ErrorSummary, Identification, IdentificationOptions, evaluate_errors, identify,
 };
 use gecaro_calib::validation::{CrossValidation, ModelScore, compare_models, cross_validate};
 use gecaro_io::RobotFile;
@@ -211,17 +211,14 @@ impl Identified {
             .map(|message| AppError::plain(ErrorKind::NotConverged, message))
     }
 
-    /// The verdict's objection to a solution: its residuals exceed the
-    /// stated noise (the global test failed), or parameters took values no
-    /// real robot has.
+    /// The verdict's objection to a solution it does not trust: residuals
+    /// beyond or far below the stated noise, implausible values, data that
+    /// do not determine the robot, a scale or tool not measured.
     pub fn misfit(&self) -> Option<AppError> {
-        matches!(
-            self.result.verdict.outcome,
-            Outcome::ExceedsNoise | Outcome::Implausible
-        )
-        .then(|| {
+        let outcome = self.result.verdict.outcome;
+        (outcome.solved() && !outcome.trusted()).then(|| {
             AppError::plain(
-                ErrorKind::ExceedsNoise,
+                ErrorKind::Untrusted,
                 format!("the identification {}", self.result.verdict.summary),
             )
         })

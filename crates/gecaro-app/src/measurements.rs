@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 use gecaro_calib::identification::Prior;
 use gecaro_calib::study::Study;
 use gecaro_core::PriorityMatrix;
-use gecaro_io::RobotFile;
+use gecaro_io::{RobotFile, StandardDeviation};
 use serde::Deserialize;
 use serde::de::IgnoredAny;
 
@@ -29,13 +29,15 @@ pub struct Measurements {
     /// Units and column names of the data file.
     #[serde(default)]
     pub format: DataFormatSpec,
-    /// The sensor's standard deviation for the data (metres; radians for
-    /// orientations unless `sigma_rotation` is given): the identification's
-    /// verdict tests the residuals against it. Not with a study, whose sets
-    /// state their own.
-    pub sigma: Option<f64>,
-    /// A separate σ for the orientation rows (radians).
-    pub sigma_rotation: Option<f64>,
+    /// The sensor's standard deviation for the data: a number in the data's
+    /// length unit (`format`'s, metres by default), or a text with its unit
+    /// (`"20um"`); also the orientations' unless `sigma_rotation` is given.
+    /// The identification's verdict tests the residuals against it. Not
+    /// with a study, whose sets state their own.
+    pub sigma: Option<StandardDeviation>,
+    /// A separate σ for the orientation rows: a number in the data's angle
+    /// unit, or a text with its unit (`"0.01deg"`).
+    pub sigma_rotation: Option<StandardDeviation>,
     /// A study file: several measurement sets (method, data, σ each).
     pub study: Option<StudySource>,
     /// Refuse data with joints outside their limits (by default a warning).
@@ -270,21 +272,16 @@ impl Measurements {
             }
         };
         let mut study = Study::single(method, samples, label.clone());
-        for (setting, value) in [
-            ("sigma", self.sigma),
-            ("sigma_rotation", self.sigma_rotation),
-        ] {
-            if let Some(value) = value
-                && !(value.is_finite() && value > 0.0)
-            {
-                return Err(AppError::setting(
-                    setting,
-                    format!("{value} is not a standard deviation (> 0; metres, radians)"),
-                ));
-            }
-        }
-        study.sets[0].sigma = self.sigma;
-        study.sets[0].sigma_rotation = self.sigma_rotation;
+        let units = self.format.format()?.units;
+        let value = |setting: &str, sigma: &Option<StandardDeviation>, rotation: bool| {
+            sigma
+                .as_ref()
+                .map(|sigma| sigma.value(rotation, units))
+                .transpose()
+                .map_err(|message| AppError::setting(setting, message))
+        };
+        study.sets[0].sigma = value("sigma", &self.sigma, false)?;
+        study.sets[0].sigma_rotation = value("sigma_rotation", &self.sigma_rotation, true)?;
         Ok(Loaded {
             robot,
             study,

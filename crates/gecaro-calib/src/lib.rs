@@ -70,6 +70,7 @@ pub mod planning;
 pub mod prediction;
 mod prior;
 pub mod progress;
+pub mod registration;
 mod robust;
 mod rows;
 mod sample;

@@ -211,6 +211,22 @@ impl ObservationSystem {
         }
     }
 
+    /// Appends one row `weight · Σ c_k Δη_k = weight · residual` with the
+    /// coefficients `c_k` of `entries` (column, coefficient): a constraint
+    /// held by a heavy weight (the gauge of an unobserved scale). It belongs
+    /// to no observation and has no [`RowKind`].
+    pub(crate) fn append_row(&mut self, entries: &[(usize, f64)], weight: f64, residual: f64) {
+        let start = self.matrix.len();
+        self.matrix.resize(start + self.columns, 0.0);
+        for &(column, coefficient) in entries {
+            self.matrix[start + column] += weight * coefficient;
+        }
+        self.residuals.push(residual);
+        self.weights.push(weight);
+        self.sensor_weights.push(weight);
+        self.rows += 1;
+    }
+
     /// Number of columns.
     pub fn columns(&self) -> usize {
         self.columns

@@ -82,6 +82,11 @@ impl ColumnLayout {
         self.columns
     }
 
+    /// The kept robot parameters: (vocabulary index, column of W).
+    pub(crate) fn parameter_columns(&self) -> &[(usize, usize)] {
+        &self.mapped
+    }
+
     /// Number of auxiliary columns (they come first).
     pub fn auxiliary_count(&self) -> usize {
         self.auxiliary_columns.iter().flatten().count()

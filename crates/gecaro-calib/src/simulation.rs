@@ -208,3 +208,67 @@ fn check_noise(noise: f64) -> Result<(), Error> {
         })
     }
 }
+
+/// A robot judged against the real one where its user will: on held-out
+/// configurations, by the tool points it predicts, after the rigid
+/// registration that best maps them onto the real robot's ([`judge`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Judgement {
+    /// RMS distance (metres) between the registered predicted tool points
+    /// and the real ones: what is left once the base frame, which link and
+    /// plane methods do not observe, is fitted.
+    pub rms: f64,
+    /// The largest of those distances (metres).
+    pub max: f64,
+    /// The scale of the similarity that best maps the predicted points onto
+    /// the real ones: above 1, the robot is too small (1.0 for a robot of
+    /// the right size).
+    pub scale: f64,
+}
+
+/// `robot` judged against `real` at `configurations` (motor positions; see
+/// [`Judgement`]). The registration is rigid, so a robot of the wrong size
+/// shows its error here however well it fits its own data.
+///
+/// # Errors
+/// A configuration that does not fit the robots, or fewer than three.
+pub fn judge(robot: &Robot, real: &Robot, configurations: &[Vec<f64>]) -> Result<Judgement, Error> {
+    use crate::registration::{rigid_fit, similarity_fit};
+    if configurations.len() < 3 {
+        return Err(Error::InvalidData {
+            line: None,
+            message: format!(
+                "a judgement needs three configurations at least, not {}",
+                configurations.len()
+            ),
+        });
+    }
+    let points = |robot: &Robot| -> Result<Vec<nalgebra::Vector3<f64>>, Error> {
+        configurations
+            .iter()
+            .map(|motors| Ok(terminal_pose(robot, motors)?.translation.vector))
+            .collect()
+    };
+    let (predicted, truth) = (points(robot)?, points(real)?);
+    let registration = rigid_fit(&predicted, &truth);
+    let distances: Vec<f64> = predicted
+        .iter()
+        .zip(&truth)
+        .map(|(p, t)| ((registration * nalgebra::Point3::from(*p)).coords - t).norm())
+        .collect();
+    Ok(Judgement {
+        rms: (distances.iter().map(|d| d * d).sum::<f64>() / distances.len() as f64).sqrt(),
+        max: distances.iter().copied().fold(0.0, f64::max),
+        scale: similarity_fit(&predicted, &truth).scale,
+    })
+}
+
+/// `count` configurations of `robot` drawn at random within its joint
+/// limits: held-out configurations for [`judge`].
+pub fn held_out_configurations(
+    robot: &Robot,
+    count: usize,
+    sampler: &mut Sampler,
+) -> Vec<Vec<f64>> {
+    (0..count).map(|_| sampler.configuration(robot)).collect()
+}

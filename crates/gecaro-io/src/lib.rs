@@ -45,7 +45,7 @@ pub use input::{open_input, read_description};
 pub use interchange::{ImportOptions, RobotFormat, export_robot, import_robot, import_robot_text};
 pub use output::{OutputPolicy, remove_temporary_files, write_atomically, write_in_folder};
 pub use pose::{pose_from_seven, unit_quaternion};
-pub use prior::{parse_angle, parse_override, parse_prior};
+pub use prior::{StandardDeviation, parse_angle, parse_override, parse_prior};
 pub use problem::{DocumentError, Location};
 pub use program_file::{ProgramFile, ProgramKind, parse_program, read_program};
 pub use ready::{ReadyRobot, load_robot, ready_robot, ready_robots};

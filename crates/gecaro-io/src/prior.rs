@@ -18,6 +18,10 @@
 
 use gecaro_calib::identification::Prior;
 use gecaro_core::{ParameterId, ParameterKind};
+use serde::Deserialize;
+
+use crate::columns::DataUnits;
+use crate::robot_file::AngleUnit;
 
 /// What a σ with its unit measures.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -90,6 +94,77 @@ fn number_length(text: &str) -> usize {
         }
     }
     end
+}
+
+/// A sensor's standard deviation as people write it: a number in the data's
+/// own unit (their length unit for lengths, their angle unit for
+/// orientations), or a text with its unit (`"20um"`, `"0.02mm"`,
+/// `"0.01deg"`). The command line's `--sigma`, a request's `sigma`, a study
+/// file's `sigma` and Python's `sigma=` read it alike.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(untagged)]
+pub enum StandardDeviation {
+    /// A number in the data's unit.
+    Number(f64),
+    /// A number with its unit.
+    WithUnit(String),
+}
+
+impl std::str::FromStr for StandardDeviation {
+    type Err = std::convert::Infallible;
+
+    /// A number (`0.02`) or a number with its unit (`20um`).
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        Ok(match text.trim().parse::<f64>() {
+            Ok(number) => StandardDeviation::Number(number),
+            Err(_) => StandardDeviation::WithUnit(text.trim().to_owned()),
+        })
+    }
+}
+
+impl StandardDeviation {
+    /// In metres (of a length, `rotation` false) or radians (of an
+    /// orientation), with the data's `units` for a bare number.
+    ///
+    /// # Errors
+    /// A sentence: not positive, not finite, a unit of the other kind.
+    pub fn value(&self, rotation: bool, units: DataUnits) -> Result<f64, String> {
+        let (sigma, shown) = match self {
+            StandardDeviation::Number(number) => {
+                let scale = if rotation {
+                    match units.angle {
+                        AngleUnit::Degrees => std::f64::consts::PI / 180.0,
+                        AngleUnit::Radians => 1.0,
+                    }
+                } else {
+                    units.length.to_metres()
+                };
+                (number * scale, gecaro_core::Compact(*number).to_string())
+            }
+            StandardDeviation::WithUnit(text) => {
+                let (found, sigma) = quantity(text)?;
+                let wanted = if rotation { Kind::Angle } else { Kind::Length };
+                if found != wanted {
+                    return Err(format!(
+                        "{text:?} must be {}",
+                        if rotation {
+                            "an angle (rad, deg)"
+                        } else {
+                            "a length (m, mm, um)"
+                        }
+                    ));
+                }
+                (sigma, text.clone())
+            }
+        };
+        if sigma.is_finite() && sigma > 0.0 {
+            Ok(sigma)
+        } else {
+            Err(format!(
+                "must be a positive standard deviation, not {shown}"
+            ))
+        }
+    }
 }
 
 /// An angle written with its unit (`30deg`, `0.5rad`), in radians.

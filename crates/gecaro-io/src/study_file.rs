@@ -58,7 +58,7 @@ use crate::Error;
 use crate::columns::{ColumnMap, DataUnits, Delimiter, joint_types};
 use crate::data_file::{DataFormat, read_samples};
 use crate::input::{MAX_DESCRIPTION_BYTES, read_text};
-use crate::prior::{Kind, quantity};
+use crate::prior::{Kind, StandardDeviation};
 use crate::ready::load_robot;
 use crate::robot_file::AngleUnit;
 use crate::robot_file::RobotFile;
@@ -105,8 +105,8 @@ struct RawPrior {
 struct RawMeasurement {
     method: Spanned<String>,
     data: Spanned<String>,
-    sigma: Spanned<Sigma>,
-    sigma_rotation: Option<Spanned<Sigma>>,
+    sigma: Spanned<StandardDeviation>,
+    sigma_rotation: Option<Spanned<StandardDeviation>>,
     plane: Option<Spanned<String>>,
     plane_normal: Option<Spanned<Vec<f64>>>,
     plane_point: Option<Spanned<Vec<f64>>>,
@@ -119,15 +119,6 @@ struct RawMeasurement {
     decimal_comma: Option<bool>,
     tool: Option<Spanned<String>>,
     station: Option<Spanned<String>>,
-}
-
-/// A standard deviation as a study writes it: a number in the set's own
-/// unit, or a text with its unit (`"0.02mm"`, `"0.01deg"`).
-#[derive(Deserialize)]
-#[serde(untagged)]
-enum Sigma {
-    Number(f64),
-    WithUnit(String),
 }
 
 /// A study read from a file, with its robot.
@@ -539,43 +530,22 @@ fn frame_pose(
 /// A set's σ in metres (`Kind::Length`) or radians (`Kind::Angle`): a number
 /// is in the set's length or angle unit, a text carries its own unit.
 fn standard_deviation(
-    value: &Spanned<Sigma>,
+    value: &Spanned<StandardDeviation>,
     key: &str,
     kind: Kind,
     units: DataUnits,
 ) -> Result<f64, (std::ops::Range<usize>, String)> {
-    let (sigma, shown) = match value.get_ref() {
-        Sigma::Number(number) => {
-            let scale = match kind {
-                Kind::Length => units.length.to_metres(),
-                _ => match units.angle {
-                    AngleUnit::Degrees => std::f64::consts::PI / 180.0,
-                    AngleUnit::Radians => 1.0,
-                },
+    value
+        .get_ref()
+        .value(kind == Kind::Angle, units)
+        .map_err(|message| {
+            let message = if message.starts_with('"') {
+                format!("{key} = {message}")
+            } else {
+                message
             };
-            (number * scale, gecaro_core::Compact(*number).to_string())
-        }
-        Sigma::WithUnit(text) => {
-            let (found, sigma) = quantity(text).map_err(|message| (value.span(), message))?;
-            if found != kind {
-                let wanted = if kind == Kind::Length {
-                    "a length (m, mm, um)"
-                } else {
-                    "an angle (rad, deg)"
-                };
-                return Err((value.span(), format!("{key} = {text:?} must be {wanted}")));
-            }
-            (sigma, text.clone())
-        }
-    };
-    if sigma.is_finite() && sigma > 0.0 {
-        Ok(sigma)
-    } else {
-        Err((
-            value.span(),
-            format!("must be a positive standard deviation, not {shown}"),
-        ))
-    }
+            (value.span(), message)
+        })
 }
 
 #[cfg(test)]

@@ -33,7 +33,7 @@ pub(crate) fn to_py(error: AppError) -> PyErr {
     match error.kind() {
         ErrorKind::NotIdentifiable => NotIdentifiableError::new_err(message),
         ErrorKind::NotConverged => NotConvergedError::new_err(message),
-        ErrorKind::Numerical | ErrorKind::Internal | ErrorKind::ExceedsNoise => {
+        ErrorKind::Numerical | ErrorKind::Internal | ErrorKind::Untrusted => {
             NumericalError::new_err(message)
         }
         ErrorKind::Interrupted => pyo3::exceptions::PyKeyboardInterrupt::new_err(message),

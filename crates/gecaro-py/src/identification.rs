@@ -407,14 +407,14 @@ pub(crate) fn identify(
     reject: bool,
     model: &str,
     strict_limits: bool,
-    sigma: Option<f64>,
-    sigma_rotation: Option<f64>,
+    sigma: Option<Sigma>,
+    sigma_rotation: Option<Sigma>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<PyIdentification> {
     let mut request =
         IdentifyRequest::new(measurements(&robot, method, data, false, strict_limits)?);
-    request.measurements.sigma = sigma;
-    request.measurements.sigma_rotation = sigma_rotation;
+    request.measurements.sigma = sigma.map(Into::into);
+    request.measurements.sigma_rotation = sigma_rotation.map(Into::into);
     request.settings = FitSettings {
         outlier_threshold: Some(outlier_threshold),
         reject,
@@ -477,4 +477,21 @@ pub(crate) fn evaluate(
     Ok(PyErrorSummary {
         summary: evaluation.summary,
     })
+}
+
+/// A sensor's σ from Python: a number (metres; radians for orientations) or
+/// a text with its unit (`"20um"`, `"0.01deg"`).
+#[derive(FromPyObject)]
+pub(crate) enum Sigma {
+    Number(f64),
+    Text(String),
+}
+
+impl From<Sigma> for gecaro_io::StandardDeviation {
+    fn from(sigma: Sigma) -> Self {
+        match sigma {
+            Sigma::Number(number) => gecaro_io::StandardDeviation::Number(number),
+            Sigma::Text(text) => gecaro_io::StandardDeviation::WithUnit(text),
+        }
+    }
 }

@@ -44,3 +44,29 @@ def test_the_verdict_equals_the_command_line(cli: Cli, tmp_path: Path) -> None:
     assert refused["outcome"] == "exceeds_noise"
     ratio = too_small["noise_test"]["sigma_ratio"]
     assert refused["noise_test"]["sigma_ratio"] == pytest.approx(ratio, rel=1e-9)
+
+
+def test_sigma_with_its_unit_and_the_two_sided_test(cli: Cli) -> None:
+    robot = gecaro.Robot.load("stanford")
+    run = gecaro.generate(robot, "position", 60, error_level=0.5, noise=2e-5, seed=5)
+    in_metres = gecaro.identify(robot, "position", run.data, sigma=2e-5).verdict
+    with_unit = gecaro.identify(robot, "position", run.data, sigma="20um").verdict
+    assert with_unit["outcome"] == in_metres["outcome"] == "fits_noise"
+    ratio = in_metres["noise_test"]["sigma_ratio"]
+    assert with_unit["noise_test"]["sigma_ratio"] == pytest.approx(ratio, rel=1e-9)
+    # A σ stated a hundred times too large hides any model error: not trusted.
+    overstated = gecaro.identify(robot, "position", run.data, sigma="2mm").verdict
+    assert overstated["outcome"] == "below_noise" and not overstated["trusted"]
+    assert overstated["noise_test"]["sigma_ratio"] < 0.05
+    with pytest.raises(gecaro.InputError, match="length"):
+        gecaro.identify(robot, "position", run.data, sigma="2deg")
+
+
+def test_a_link_method_alone_is_incomplete_at_the_nominal_size() -> None:
+    robot = gecaro.Robot.load("stanford")
+    run = gecaro.generate(robot, "point-link", 80, error_level=1, noise=1e-5, seed=3)
+    verdict = gecaro.identify(robot, "point-link", run.data, sigma=1e-5).verdict
+    assert verdict["outcome"] == "incomplete" and not verdict["trusted"]
+    scale = verdict["coverage"]["scale"]
+    assert 0 < scale["std"] < 0.05
+    assert "add a distance set" in verdict["summary"]

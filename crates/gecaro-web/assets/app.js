@@ -1492,7 +1492,8 @@ function identifyPanel(method) {
         loss: loss.value,
         prior: prior.value.trim() || null,
         reject: reject.checked,
-        sigma: Number(sigma.value) > 0 ? Number(sigma.value) / 1e3 : null,
+        // With its unit: a bare number would be in the data file's length unit.
+        sigma: Number(sigma.value) > 0 ? `${Number(sigma.value)}mm` : null,
         cv: Number(folds.value || 0) >= 2 ? Number(folds.value) : null,
       });
       cancel.disabled = false;
@@ -1550,8 +1551,9 @@ function renderIdentification(container, name, job, result) {
   const mm = (v) => fixed(v * 1e3, v * 1e3 < 0.1 ? 4 : 3);
   const verdict = id.verdict;
   const outcomes = {
-    fits_noise: 'Fits the noise', untested: 'Converged (σ not stated)', exceeds_noise: 'Exceeds the noise', implausible: 'Implausible values',
-    degenerate: 'Degenerate data', not_converged: 'Not converged', diverged: 'Diverged',
+    fits_noise: 'Fits the noise', untested: 'Converged (σ not stated)', incomplete: 'Incomplete (not all measured)',
+    below_noise: 'Far below the stated noise', exceeds_noise: 'Exceeds the noise', implausible: 'Implausible values',
+    underdetermined: 'Data do not determine it', degenerate: 'Degenerate data', not_converged: 'Not converged', diverged: 'Diverged',
   };
   const headline = h('p', { class: `verdict ${verdict.trusted ? 'ok' : 'bad'}`, id: `${name}-identify-verdict` },
     h('strong', { text: 'Verdict: ' }), document.createTextNode(`${verdict.summary}.`));

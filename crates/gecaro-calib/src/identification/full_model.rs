@@ -18,10 +18,12 @@
 use gecaro_core::Robot;
 
 use super::options::IdentificationOptions;
+use super::scale::Gauge;
 use super::solver::{Damping, Problem, Run};
 use super::verdict::StopReason;
 use super::weighting::Weighting;
 use crate::Error;
+use crate::prior::Prior;
 use crate::progress::Quiet;
 use crate::rows::ColumnLayout;
 use crate::study::{Study, StudyStates};
@@ -32,7 +34,8 @@ const ITERATIONS: usize = 20;
 /// The damped descent over `parameters` (vocabulary indices) and every
 /// auxiliary unknown of `study`, from `start`; `None` when it does not
 /// converge or lowers nothing. Plain least squares: this phase runs only
-/// without a prior or robust weights.
+/// without a prior or robust weights. A study that does not observe the
+/// scale has it held by a [`Gauge`] row (with the σ of `gauge`).
 ///
 /// # Errors
 /// Only if the data cannot be evaluated at `start`.
@@ -42,6 +45,7 @@ pub(super) fn damped_descent(
     options: &IdentificationOptions,
     parameters: &[usize],
     start: &Robot,
+    gauge: Option<&Prior>,
 ) -> Result<Option<Run>, Error> {
     let mut states = StudyStates::default();
     study.evaluate_poses(start, &mut states)?;
@@ -53,6 +57,7 @@ pub(super) fn damped_descent(
         auxiliary.len(),
         &every_auxiliary,
     );
+    let layout_for_gauge = layout.clone();
     let problem = Problem {
         study,
         nominal,
@@ -63,7 +68,11 @@ pub(super) fn damped_descent(
         rows: study.row_count(),
         // W is rank deficient by design: steps and decreases row by row.
         condition: f64::INFINITY,
-        weighting: Weighting::default(),
+        weighting: Weighting {
+            gauge: gauge
+                .map(|prior| Gauge::new(start, &layout_for_gauge, prior, study.row_count())),
+            ..Weighting::default()
+        },
     };
     let first = problem.assemble(start, &auxiliary, &problem.layout, &mut states)?;
     let before = first.cost;

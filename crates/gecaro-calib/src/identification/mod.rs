@@ -59,14 +59,17 @@
 //! ([`Identification::outliers`]); with [`IdentificationOptions::reject`] they
 //! are dropped and the identification runs again on the rest, once.
 
+mod coverage;
 mod evaluation;
 mod full_model;
 mod options;
 mod outliers;
 mod parameter;
 mod passes;
+mod plausibility;
 mod result;
 mod reweighting;
+mod scale;
 mod solver;
 mod start;
 mod statistics;
@@ -86,6 +89,7 @@ use crate::progress::{Observer, Progress, Quiet, report};
 use crate::rows::{ColumnLayout, RowKind};
 use crate::study::{Study, StudyStates};
 
+pub use coverage::{Coverage, MIN_REDUNDANCY, STILL_RANGE, UnobservedScale};
 use evaluation::errors_at;
 pub use evaluation::{evaluate, evaluate_errors};
 pub use options::{IdentificationOptions, Solver};
@@ -277,19 +281,31 @@ fn second_pass(
     first: Identification,
     observer: &mut dyn Observer,
 ) -> Result<Identification, Error> {
-    // Constraint methods (links, planes) keep the paper's set: at parameters
-    // where their constraints hold only to the noise, a parameter without
-    // effect has a column made of the residuals themselves, which the score
-    // test would take for structure, and their scale is not observed.
-    let constrained = study.sets.iter().any(|set| set.method.scale_invariant());
-    if first.stop_reason != StopReason::Converged || options.prior.is_some() || constrained {
+    if first.stop_reason != StopReason::Converged || options.prior.is_some() {
         return Ok(first);
     }
-    // Every parameter the priority matrix lets be identified.
+    // A study that does not observe the scale: the steps over every
+    // parameter hold it with a gauge row (the step that shrinks the robot
+    // has the residuals themselves for its column).
+    let expansion = second_pass_prior();
+    let gauge = (!study.observes_scale()).then_some(&expansion);
+    // Every parameter the priority matrix lets be identified, of those
+    // with an effect on these data: a column without one (the base frame of
+    // a link method, a tool angle about the measured point) is zero only to
+    // rounding, and a step over it would be rounding too.
+    let has_effect = |index: &usize| {
+        first.rank.parameters.get(*index).is_some_and(|p| {
+            matches!(
+                p.status,
+                ParameterStatus::Identifiable | ParameterStatus::Regrouped
+            )
+        })
+    };
     let every: Vec<usize> = priority
         .ordered_candidates(robot.parameters())
         .into_iter()
         .filter_map(|id| robot.parameters().index_of(id))
+        .filter(has_effect)
         .collect();
     let mut current = first;
     let mut added: Vec<usize> = Vec::new();
@@ -313,7 +329,12 @@ fn second_pass(
         // own; the inliers show that structure still.)
         let inliers =
             (!current.outliers.is_empty()).then(|| outliers::inliers(study, &current.outliers));
-        score = score_tests(&current, inliers.as_ref().unwrap_or(study), &candidates)?;
+        score = score_tests(
+            &current,
+            inliers.as_ref().unwrap_or(study),
+            &candidates,
+            gauge,
+        )?;
         if score.outside.is_none() || pass == MAX_PASSES - 1 {
             break;
         }
@@ -347,7 +368,14 @@ fn second_pass(
     }
     match score.whole {
         Some(rank) => full_model_phase(
-            robot, study, options, priority, current, &added, &every, rank, observer,
+            robot,
+            study,
+            options,
+            priority,
+            current,
+            (&added, &every, gauge),
+            rank,
+            observer,
         ),
         _ => Ok(current),
     }
@@ -366,13 +394,12 @@ fn full_model_phase(
     options: &IdentificationOptions,
     priority: &gecaro_core::PriorityMatrix,
     mut current: Identification,
-    added: &[usize],
-    every: &[usize],
+    (added, every, gauge): (&[usize], &[usize], Option<&Prior>),
     rank: usize,
     observer: &mut dyn Observer,
 ) -> Result<Identification, Error> {
     let Some(descent) =
-        full_model::damped_descent(robot, study, options, every, &current.calibrated)?
+        full_model::damped_descent(robot, study, options, every, &current.calibrated, gauge)?
     else {
         return Ok(current);
     };
@@ -497,6 +524,30 @@ fn fit_pass(
         mut states,
         start,
     } = set_up(start, study, options, priority)?;
+    // A study that does not observe the scale: the second pass's added
+    // parameters are held by their prior from the first step. Nearly
+    // regrouped with the length that pins the scale, they would let plain
+    // steps shrink the robot, along which its residuals in metres shrink.
+    let (problem, start) = if extras.is_empty() || study.observes_scale() {
+        (problem, start)
+    } else {
+        let statistics = statistics::ResidualStatistics::of(
+            &start.system,
+            &Loss::default(),
+            study.equation_count(),
+            problem.layout.columns(),
+        );
+        let mut rows = extra_prior_rows(&second_pass_prior(), &problem, extras);
+        for row in &mut rows {
+            row.weight = statistics.variance.sqrt() / row.sigma;
+        }
+        let held = problem.with_weighting(Weighting {
+            prior_rows: rows,
+            ..Weighting::default()
+        });
+        let start = held.assemble(&start.robot, &start.auxiliary, &held.layout, &mut states)?;
+        (held, start)
+    };
     let begun = Begun {
         first: problem.record(&start, &[], 0.0),
         before: ErrorSummary::of(&start.system),
@@ -521,12 +572,32 @@ fn fit_pass(
     } else {
         extra_prior_rows(&second_pass_prior(), &problem, extras)
     };
-    let reweighted = problem.reweighted(run, options.loss, prior_rows, &mut states, observer)?;
+    let mut reweighted =
+        problem.reweighted(run, options.loss, prior_rows, &mut states, observer)?;
+    let scale = if study.observes_scale() {
+        None
+    } else {
+        // The final weights and prior rows, at the scaled robot: its
+        // residuals are the same multiplied by the factor.
+        let weighted = problem.with_weighting(reweighted.weighting.clone());
+        let (moved, scale) =
+            scale::rescaled(&weighted, nominal, &rank, &reweighted.run.best, &mut states)?;
+        if let Some(moved) = moved {
+            reweighted.statistics = statistics::ResidualStatistics::of(
+                &moved.system,
+                &options.loss,
+                study.equation_count(),
+                problem.layout.columns(),
+            );
+            reweighted.run.best = moved;
+        }
+        Some(scale)
+    };
     let mut result = summarise(
         &problem,
         nominal,
         begun,
-        (reweighted, route),
+        (reweighted, route, scale),
         rank,
         excited,
         &initial_auxiliary,
@@ -701,7 +772,7 @@ fn summarise(
     problem: &Problem<'_>,
     nominal: &Robot,
     begun: Begun,
-    (reweighted, route): (Reweighted, Route),
+    (reweighted, route, scale): (Reweighted, Route, Option<UnobservedScale>),
     rank: RankReport,
     excited: Excitation,
     initial_auxiliary: &[f64],
@@ -783,6 +854,16 @@ fn summarise(
             }
         })
         .collect();
+    // A scale the data do not measure is uncertain to its own σ: every
+    // length carries it (the σ of the data hold it at one length).
+    let mut parameters = parameters;
+    if let Some(relative) = scale.map(|scale| scale.std).filter(|std| std.is_finite()) {
+        for p in &mut parameters {
+            if p.parameter.is_some_and(|id| scale::scales(robot, id)) {
+                p.std = p.std.hypot(p.identified * relative);
+            }
+        }
+    }
     let moved = moved_outside_base(robot, &best.robot, &problem.base);
     let names: Vec<&str> = auxiliary
         .iter()
@@ -793,7 +874,6 @@ fn summarise(
     let mut warnings = rank.set_up_warnings(robot);
     warnings.extend(correlation_warning(&correlated));
     warnings.extend(warnings_of(
-        study,
         &excited.not_excited,
         condition_number,
         &parameters,
@@ -814,12 +894,27 @@ fn summarise(
         .map(|r| r * r)
         .sum();
     let degrees_of_freedom = statistics.effective_equations.saturating_sub(columns);
+    let implausible = plausibility::implausible(&plausibility::Written {
+        nominal: robot,
+        calibrated: &best.robot,
+        parameters: &parameters,
+        moved: &moved,
+        prior: options.prior.as_ref(),
+        expansion: options.prior.as_ref().unwrap_or(&second_pass_prior()),
+    });
+    if let Some(scale) = scale.filter(|scale| scale.std.is_finite()) {
+        warnings.push(format!(
+            "the robot's scale is not measured (no set measures a length): the paper's base set \
+             alone gave a robot {:.3}× the size kept; its lengths were scaled to be closest to \
+             the nominal ones (scale known to ±{:.2} %)",
+            scale.base_set_scale,
+            100.0 * scale.std
+        ));
+    }
+    let coverage = Coverage::of(robot, study, &rank, &excited.not_excited, columns, scale);
     let verdict = Verdict::of(
         study,
-        &Evidence {
-            nominal: robot,
-            parameters: &parameters,
-            prior: options.prior.as_ref(),
+        Evidence {
             stop,
             iterations: history.len() - 1,
             system: &best.system,
@@ -827,6 +922,8 @@ fn summarise(
             data_cost,
             degrees_of_freedom,
             unknowns: columns,
+            implausible,
+            coverage,
         },
     );
     Ok(Identification {

@@ -6,6 +6,7 @@
 //! [`SECOND_PASS_LEVEL`].
 
 use super::result::Identification;
+use super::scale::Gauge;
 use crate::Error;
 use crate::linalg::{NormalEquations, view};
 use crate::observation::ObservationSystem;
@@ -38,11 +39,14 @@ pub(super) struct ScoreTests {
 /// least-squares steps would explain, tested as in [`significantly_better`].
 /// It costs one system and its normal equations, and keeps the structural
 /// analysis, the second pass and the damped descent from running where the
-/// residual is noise.
+/// residual is noise. For a study that does not observe the scale, a
+/// [`Gauge`] row (with the σ of `gauge`) holds it: the step that shrinks
+/// the robot would explain residuals in metres too.
 pub(super) fn score_tests(
     current: &Identification,
     study: &Study,
     candidates: &[usize],
+    gauge: Option<&crate::prior::Prior>,
 ) -> Result<ScoreTests, Error> {
     const EIGENVALUE_FLOOR: f64 = 1e-12;
     let robot = &current.calibrated;
@@ -58,10 +62,14 @@ pub(super) fn score_tests(
     let mut system = ObservationSystem::default();
     study.linearise(robot, &auxiliary, &layout, states, &mut system)?;
     let rows = system.measured_rows();
+    if let Some(prior) = gauge {
+        Gauge::new(robot, &layout, prior, rows).append_to(&mut system, robot);
+    }
     let columns = layout.columns();
-    let right = &system.weighted_residuals()[..rows];
-    let matrix = view(&system.matrix()[..rows * columns], rows, columns);
-    let normal = NormalEquations::of(matrix, right);
+    let weighted = system.weighted_residuals();
+    let right = &weighted[..rows];
+    let matrix = view(system.matrix(), system.rows(), columns);
+    let normal = NormalEquations::of(matrix, &weighted);
     if !normal.is_finite() {
         return Ok(ScoreTests::default());
     }

@@ -83,6 +83,7 @@ impl Problem<'_> {
         let mut weighting = Weighting {
             observation_weights: Vec::new(),
             prior_rows: prior,
+            gauge: self.weighting.gauge.clone(),
         };
         let mut reweightings = 0;
         let mut variance = f64::NAN;

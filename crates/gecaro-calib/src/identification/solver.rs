@@ -119,8 +119,7 @@ impl<'a> Problem<'a> {
         system.set_observation_weights(self.weighting.observation_weights.clone());
         self.study
             .linearise(robot, auxiliary, layout, states, &mut system)?;
-        self.weighting
-            .append_prior_rows(&mut system, robot, self.nominal);
+        self.weighting.append_rows(&mut system, robot, self.nominal);
         Self::iterate_of(robot, auxiliary, system)
     }
 
@@ -364,7 +363,9 @@ impl<'a> Problem<'a> {
         let mut reached = false;
         let mut stuck = false;
         'iterations: while history.len() < self.options.max_iterations {
-            let matrix = view(current.system.matrix(), self.rows, layout.columns());
+            // Data rows, and any a prior or gauge appends.
+            let rows = current.system.rows();
+            let matrix = view(current.system.matrix(), rows, layout.columns());
             let step = minimum_norm_step(matrix, &current.system.weighted_residuals(), rank)?;
             if self.negligible(&step, &current, effective) {
                 current = self.polish(current, &step, effective);

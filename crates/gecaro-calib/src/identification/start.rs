@@ -23,9 +23,10 @@
 //! evenly spread over the data, take part.
 
 use gecaro_core::{Robot, terminal_pose};
-use nalgebra::{IsometryMatrix3, Matrix3, Rotation3, Translation3, Vector3};
+use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Vector3};
 
 use crate::Error;
+use crate::registration::rigid_fit;
 use crate::study::Study;
 
 /// Alternations at most.
@@ -109,28 +110,6 @@ pub(super) fn closed_form_start(robot: &Robot, study: &Study) -> Result<Option<R
     }
     let new_tool = IsometryMatrix3::from_parts(Translation3::from(tool), Rotation3::identity());
     Ok(robot.reframed(&base, &new_tool).ok())
-}
-
-/// The rigid transform `T` minimising `Σ ‖T x_i − y_i‖²` (Horn/Kabsch).
-fn rigid_fit(from: &[Vector3<f64>], to: &[Vector3<f64>]) -> IsometryMatrix3<f64> {
-    let count = from.len() as f64;
-    let from_mean = from.iter().sum::<Vector3<f64>>() / count;
-    let to_mean = to.iter().sum::<Vector3<f64>>() / count;
-    let covariance: Matrix3<f64> = from
-        .iter()
-        .zip(to)
-        .map(|(x, y)| (x - from_mean) * (y - to_mean).transpose())
-        .sum();
-    let svd = covariance.svd(true, true);
-    let (Some(u), Some(v_t)) = (svd.u, svd.v_t) else {
-        return IsometryMatrix3::identity();
-    };
-    let v = v_t.transpose();
-    let mut correction = Matrix3::identity();
-    correction[(2, 2)] = (v * u.transpose()).determinant().signum();
-    let rotation = Rotation3::from_matrix_unchecked(v * correction * u.transpose());
-    let translation = to_mean - rotation * from_mean;
-    IsometryMatrix3::from_parts(Translation3::from(translation), rotation)
 }
 
 /// RMS distance between the measured points and the model's.

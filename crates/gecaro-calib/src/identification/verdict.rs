@@ -3,7 +3,9 @@
 //! front end. It also holds [`StopReason`], the iteration's own account of why it
 //! stopped, which the verdict reads.
 //!
-//! In order of precedence:
+//! A result is judged where its user will meet it, not only by its own
+//! residuals, which cannot see what the data do not observe. In order of
+//! precedence:
 //!
 //! 1. **Diverged** or **not converged** (the iteration limit came first): the
 //!    best iterate is no solution.
@@ -11,35 +13,37 @@
 //!    need (distinct configurations × equations per configuration ≤ unknowns);
 //!    200 copies of one configuration make one configuration, whatever the
 //!    residual says.
-//! 3. **Implausible parameters**: a physical (not regrouped) parameter whose
-//!    deviation no real robot has ([`Implausible`]): a length moved by more
-//!    than the robot's size (the sum of its |d| and |r|, at least 0.1 m; ten
-//!    times that for frames 0 and 1, which place the robot in a measurement
-//!    frame that may stand anywhere in the cell), an angle turned by more than
-//!    45° (beyond frames 0 and 1), a gain off by more than 20 %, or a
-//!    deviation beyond 5 σ of a stated prior. Each is named with its likely
-//!    cause: not determined by the data (deviation within 3 σ), a
-//!    measurement frame far from the nominal (frames 0 and 1, which place the
-//!    robot in the world) or a tool far from it (frame n+1), or a model error
-//!    elsewhere that the parameter absorbs.
-//! 4. **Exceeds the noise**: every measurement set states its sensor σ and
+//! 3. **Underdetermined**: the data leave part of the robot undetermined
+//!    ([`Coverage`]): a joint that never moved, a base parameter they do not
+//!    excite, or fewer than [`MIN_REDUNDANCY`](super::coverage::MIN_REDUNDANCY)
+//!    equations per unknown. The result holds near the measured poses only.
+//! 4. **Implausible parameters**: the written robot holds a value no real
+//!    robot has ([`super::plausibility`]), each named with its likely cause.
+//! 5. **Exceeds the noise**: every measurement set states its sensor σ and
 //!    the global test of adjustment theory (Baarda) fails: the weighted sum of
 //!    squares `χ² = Σ (r_i/σ_i)²` exceeds the χ²(ν) quantile at
-//!    [`NOISE_TEST_LEVEL`] (ν = equations − unknowns). The model, the data or
+//!    1 − [`NOISE_TEST_LEVEL`] (ν = equations − unknowns). The model, the data or
 //!    the stated σ is wrong; the ratio σ̂/σ = √(χ²/ν) says by how much.
-//! 5. **Fits the noise**: the same test passes.
-//! 6. **Converged, untested**: no σ was stated; the residual σ is reported in
+//! 6. **Below the noise**: the same test, two-sided: χ² below the χ²(ν)
+//!    quantile at [`NOISE_TEST_LEVEL`]. The stated σ is too large (then the
+//!    test cannot see a model error), or the robot shrank (residuals in
+//!    metres shrink with it).
+//! 7. **Incomplete**: the fit is sound but the methods do not observe the
+//!    robot's scale (link and plane methods measure no length) or its tool
+//!    (frame link): shape calibrated, the rest not measured.
+//! 8. **Fits the noise**: the test passes.
+//! 9. **Converged, untested**: no σ was stated; the residual σ is reported in
 //!    metres and radians instead.
+//!
+//! Only the last two are trusted. The sentence names every problem found,
+//! the outcome the first of them.
 //!
 //! With a robust loss the test takes the weighted residuals of the final fit
 //! (outliers weigh little or nothing) and ν counts the equations of the
 //! observations with a weight.
 
-use gecaro_core::{ParameterKind, Robot};
-
-use super::parameter::IdentifiedParameter;
+use super::coverage::Coverage;
 use crate::observation::ObservationSystem;
-use crate::prior::Prior;
 use crate::rows::RowKind;
 use crate::study::Study;
 
@@ -65,8 +69,9 @@ impl StopReason {
     }
 }
 
-/// Significance level of the global test: a fit that explains the data to
-/// the stated noise fails it once in a hundred.
+/// Significance level of each tail of the global test: a fit that explains
+/// the data to the stated noise fails it once in fifty (once in a hundred
+/// on each side).
 pub const NOISE_TEST_LEVEL: f64 = 0.01;
 
 /// What the verdict says, from worst to best.
@@ -78,10 +83,19 @@ pub enum Outcome {
     NotConverged,
     /// The data hold too few distinct configurations for the unknowns.
     Degenerate,
+    /// Converged, but the data leave part of the robot undetermined (a
+    /// joint that never moved, parameters not excited, too few equations).
+    Underdetermined,
     /// Converged, but some parameter took a value no real robot has.
     Implausible,
     /// Converged, but the residuals exceed the stated noise (global test failed).
     ExceedsNoise,
+    /// Converged, but the residuals are far below the stated noise: σ
+    /// overstated, or the robot shrank.
+    BelowNoise,
+    /// Converged and consistent, but the methods do not observe the robot's
+    /// scale or its tool.
+    Incomplete,
     /// Converged, and the residuals agree with the stated noise.
     FitsNoise,
     /// Converged; no σ was stated, so the fit is not tested.
@@ -89,28 +103,42 @@ pub enum Outcome {
 }
 
 impl Outcome {
-    /// `diverged`, `not_converged`, `degenerate`, `exceeds_noise`,
+    /// `diverged`, `not_converged`, `degenerate`, `underdetermined`,
+    /// `implausible`, `exceeds_noise`, `below_noise`, `incomplete`,
     /// `fits_noise` or `untested`.
     pub fn as_str(self) -> &'static str {
         match self {
             Outcome::Diverged => "diverged",
             Outcome::NotConverged => "not_converged",
             Outcome::Degenerate => "degenerate",
+            Outcome::Underdetermined => "underdetermined",
             Outcome::Implausible => "implausible",
             Outcome::ExceedsNoise => "exceeds_noise",
+            Outcome::BelowNoise => "below_noise",
+            Outcome::Incomplete => "incomplete",
             Outcome::FitsNoise => "fits_noise",
             Outcome::Untested => "untested",
         }
     }
 
     /// Whether the result may be used: it converged on data that determine
-    /// it, and does not contradict a stated σ.
+    /// it, observes everything it calibrates, and does not contradict a
+    /// stated σ.
     pub fn trusted(self) -> bool {
         matches!(self, Outcome::FitsNoise | Outcome::Untested)
     }
+
+    /// Whether the result is a solution (converged on data that are not
+    /// degenerate), trusted or not.
+    pub fn solved(self) -> bool {
+        !matches!(
+            self,
+            Outcome::Diverged | Outcome::NotConverged | Outcome::Degenerate
+        )
+    }
 }
 
-/// The global test of the residuals against the stated σ.
+/// The global test of the residuals against the stated σ (two-sided).
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct NoiseTest {
     /// `χ² = Σ (r_i/σ_i)²` over the weighted data rows.
@@ -119,10 +147,25 @@ pub struct NoiseTest {
     pub degrees_of_freedom: usize,
     /// The χ²(ν) quantile at 1 − [`NOISE_TEST_LEVEL`].
     pub critical: f64,
+    /// The χ²(ν) quantile at [`NOISE_TEST_LEVEL`]: below it the residuals
+    /// are too small for the stated noise.
+    pub critical_low: f64,
     /// σ̂/σ = √(χ²/ν): how many times the stated noise the residuals are.
     pub sigma_ratio: f64,
-    /// χ² ≤ critical.
+    /// critical_low ≤ χ² ≤ critical.
     pub passed: bool,
+}
+
+impl NoiseTest {
+    /// Whether the residuals exceed the stated noise.
+    pub fn exceeded(&self) -> bool {
+        self.chi_square > self.critical
+    }
+
+    /// Whether the residuals are too small for the stated noise.
+    pub fn below(&self) -> bool {
+        self.chi_square < self.critical_low
+    }
 }
 
 /// The verdict of an identification; see the module docs.
@@ -141,8 +184,10 @@ pub struct Verdict {
     pub configurations: usize,
     /// Distinct configurations among them (per measurement set).
     pub distinct_configurations: usize,
-    /// Parameters with values no real robot has (see the module docs).
+    /// Values of the written robot that no real robot has.
     pub implausible: Vec<Implausible>,
+    /// What the data determine and the methods observe.
+    pub coverage: Coverage,
     /// The verdict in one sentence.
     pub summary: String,
 }
@@ -150,7 +195,7 @@ pub struct Verdict {
 /// A parameter whose identified value no real robot has.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Implausible {
-    /// Its name.
+    /// Its name (`size` for the robot's size as a whole).
     pub name: String,
     /// Why it is implausible (`moved by 3.2 m, more than the robot's size 1.8 m`).
     pub why: String,
@@ -160,12 +205,6 @@ pub struct Implausible {
 
 /// What the verdict is made of, beside the study.
 pub(super) struct Evidence<'a> {
-    /// The nominal robot (its size bounds the lengths).
-    pub(super) nominal: &'a Robot,
-    /// The identified parameters.
-    pub(super) parameters: &'a [IdentifiedParameter],
-    /// The prior, if one was given.
-    pub(super) prior: Option<&'a Prior>,
     pub(super) stop: StopReason,
     pub(super) iterations: usize,
     /// The system at the solution.
@@ -177,45 +216,118 @@ pub(super) struct Evidence<'a> {
     pub(super) degrees_of_freedom: usize,
     /// Identified unknowns.
     pub(super) unknowns: usize,
+    /// Values of the written robot that no real robot has.
+    pub(super) implausible: Vec<Implausible>,
+    /// What the data determine and the methods observe.
+    pub(super) coverage: Coverage,
 }
 
 impl Verdict {
     /// The verdict on `evidence` from `study` (see the module docs).
-    pub(super) fn of(study: &Study, evidence: &Evidence<'_>) -> Verdict {
+    pub(super) fn of(study: &Study, evidence: Evidence<'_>) -> Verdict {
         let configurations: usize = study.sets.iter().map(|set| set.samples.len()).sum();
         let (distinct_configurations, distinct_equations) = distinct(study);
-        let (residual_length, residual_angle) = residual_sigmas(evidence);
+        let (residual_length, residual_angle) = residual_sigmas(&evidence);
         let noise_test = study
             .sets
             .iter()
             .all(|set| set.sigma.is_some())
             .then(|| noise_test(evidence.data_cost, evidence.degrees_of_freedom));
-        let implausible = implausible(evidence);
-        let outcome = match evidence.stop {
-            StopReason::Diverged => Outcome::Diverged,
-            StopReason::IterationLimit => Outcome::NotConverged,
-            StopReason::Converged if distinct_equations <= evidence.unknowns as f64 => {
-                Outcome::Degenerate
-            }
-            StopReason::Converged if !implausible.is_empty() => Outcome::Implausible,
-            StopReason::Converged => match noise_test {
-                Some(test) if !test.passed => Outcome::ExceedsNoise,
-                Some(_) => Outcome::FitsNoise,
-                None => Outcome::Untested,
-            },
-        };
         let mut verdict = Verdict {
-            outcome,
+            outcome: Outcome::Untested,
             noise_test,
             residual_length,
             residual_angle,
             configurations,
             distinct_configurations,
-            implausible,
+            implausible: evidence.implausible,
+            coverage: evidence.coverage,
             summary: String::new(),
         };
-        verdict.summary = verdict.sentence(evidence.iterations, evidence.unknowns);
+        verdict.outcome = match evidence.stop {
+            StopReason::Diverged => Outcome::Diverged,
+            StopReason::IterationLimit => Outcome::NotConverged,
+            StopReason::Converged if distinct_equations <= evidence.unknowns as f64 => {
+                Outcome::Degenerate
+            }
+            StopReason::Converged => Outcome::Untested,
+        };
+        verdict.reconsider(evidence.iterations, evidence.unknowns);
         verdict
+    }
+
+    /// The outcome of a solution from its problems (module docs), and the
+    /// sentence after `iterations` updates for `unknowns`: after a change
+    /// of what the verdict is made of.
+    pub(super) fn reconsider(&mut self, iterations: usize, unknowns: usize) {
+        if self.outcome.solved() {
+            self.outcome = self.problems().first().map_or(
+                if self.noise_test.is_some() {
+                    Outcome::FitsNoise
+                } else {
+                    Outcome::Untested
+                },
+                |(outcome, _)| *outcome,
+            );
+        }
+        self.summary = self.sentence(iterations, unknowns);
+    }
+
+    /// The problems of a converged result, in order of precedence (module
+    /// docs), each with its clause.
+    fn problems(&self) -> Vec<(Outcome, String)> {
+        let mut problems = Vec::new();
+        if self.coverage.underdetermined() {
+            problems.push((
+                Outcome::Underdetermined,
+                self.coverage.underdetermined_words(),
+            ));
+        }
+        if !self.implausible.is_empty() {
+            problems.push((
+                Outcome::Implausible,
+                self.implausible
+                    .iter()
+                    .map(|p| format!("{}: {} ({})", p.name, p.why, p.cause))
+                    .collect::<Vec<_>>()
+                    .join("; "),
+            ));
+        }
+        if let Some(test) = self.noise_test {
+            if test.exceeded() {
+                problems.push((
+                    Outcome::ExceedsNoise,
+                    format!(
+                        "the residuals are {:.1}× the stated noise (global test at {:.0} %: χ² \
+                         {:.1} > {:.1} for {} degrees of freedom): the model, the data or the \
+                         stated σ is wrong",
+                        test.sigma_ratio,
+                        NOISE_TEST_LEVEL * 100.0,
+                        test.chi_square,
+                        test.critical,
+                        test.degrees_of_freedom
+                    ),
+                ));
+            } else if test.below() {
+                problems.push((
+                    Outcome::BelowNoise,
+                    format!(
+                        "the residuals are far below the stated noise (σ̂/σ = {:.2}, global test \
+                         at {:.0} %: χ² {:.1} < {:.1} for {} degrees of freedom): the stated σ is \
+                         too large, so the test cannot see a model error, or the robot shrank",
+                        test.sigma_ratio,
+                        NOISE_TEST_LEVEL * 100.0,
+                        test.chi_square,
+                        test.critical_low,
+                        test.degrees_of_freedom
+                    ),
+                ));
+            }
+        }
+        if self.coverage.incomplete() {
+            problems.push((Outcome::Incomplete, self.coverage.incomplete_words()));
+        }
+        problems
     }
 
     /// The summary sentence after `iterations` updates, for `unknowns`.
@@ -225,16 +337,16 @@ impl Verdict {
             if iterations == 1 { "" } else { "s" }
         );
         let residual = self.residual_words();
-        match (self.outcome, self.noise_test) {
-            (Outcome::Diverged, _) => format!(
+        match self.outcome {
+            Outcome::Diverged => format!(
                 "diverged after {iterations} iterations: no step lowered the residual; the \
                  result is the best iterate, not a solution"
             ),
-            (Outcome::NotConverged, _) => format!(
+            Outcome::NotConverged => format!(
                 "not converged: the iteration limit came first, after {iterations} \
                  iterations; the result is the best iterate, not a solution"
             ),
-            (Outcome::Degenerate, _) => format!(
+            Outcome::Degenerate => format!(
                 "degenerate data: {} distinct configuration{} of {} cannot determine {unknowns} \
                  unknowns, whatever the residual",
                 self.distinct_configurations,
@@ -245,40 +357,33 @@ impl Verdict {
                 },
                 self.configurations
             ),
-            (Outcome::Implausible, test) => format!(
-                "{converged}, but {}{}",
-                self.implausible
-                    .iter()
-                    .map(|p| format!("{} {} ({})", p.name, p.why, p.cause))
-                    .collect::<Vec<_>>()
-                    .join("; "),
-                match test {
-                    Some(test) if !test.passed => format!(
-                        "; and the residuals are {:.1}× the stated noise",
-                        test.sigma_ratio
+            _ => {
+                let fit = match self.noise_test {
+                    Some(test) if test.passed => format!(
+                        "the residuals fit the stated noise (σ̂/σ = {:.2}, global test at {:.0} %)",
+                        test.sigma_ratio,
+                        NOISE_TEST_LEVEL * 100.0
                     ),
-                    _ => String::new(),
+                    Some(_) => String::new(),
+                    None => "no σ was stated, so the fit is not tested against the noise".into(),
+                };
+                let problems: Vec<String> = self
+                    .problems()
+                    .into_iter()
+                    .map(|(_, clause)| clause)
+                    .collect();
+                let mut sentence = converged;
+                if !fit.is_empty() {
+                    sentence.push_str("; ");
+                    sentence.push_str(&fit);
                 }
-            ),
-            (Outcome::ExceedsNoise, Some(test)) => format!(
-                "{converged}, but the residuals are {:.1}× the stated noise (global test at \
-                 {:.0} %: χ² {:.1} > {:.1} for {} degrees of freedom): the model, the data or \
-                 the stated σ is wrong{residual}",
-                test.sigma_ratio,
-                NOISE_TEST_LEVEL * 100.0,
-                test.chi_square,
-                test.critical,
-                test.degrees_of_freedom
-            ),
-            (Outcome::FitsNoise, Some(test)) => format!(
-                "{converged}; the residuals fit the stated noise (σ̂/σ = {:.2}, global test at \
-                 {:.0} %){residual}",
-                test.sigma_ratio,
-                NOISE_TEST_LEVEL * 100.0
-            ),
-            _ => format!(
-                "{converged}; no σ was stated, so the fit is not tested against the noise{residual}"
-            ),
+                if !problems.is_empty() {
+                    sentence.push_str(", but ");
+                    sentence.push_str(&problems.join("; and "));
+                }
+                sentence.push_str(&residual);
+                sentence
+            }
         }
     }
 
@@ -303,15 +408,21 @@ impl Verdict {
 fn noise_test(data_cost: f64, freedom: usize) -> NoiseTest {
     use statrs::distribution::{ChiSquared, ContinuousCDF};
     let nu = freedom.max(1) as f64;
-    let critical = ChiSquared::new(nu)
-        .map(|chi| chi.inverse_cdf(1.0 - NOISE_TEST_LEVEL))
-        .unwrap_or(f64::INFINITY);
+    let (critical_low, critical) = ChiSquared::new(nu)
+        .map(|chi| {
+            (
+                chi.inverse_cdf(NOISE_TEST_LEVEL),
+                chi.inverse_cdf(1.0 - NOISE_TEST_LEVEL),
+            )
+        })
+        .unwrap_or((0.0, f64::INFINITY));
     NoiseTest {
         chi_square: data_cost,
         degrees_of_freedom: freedom,
         critical,
+        critical_low,
         sigma_ratio: (data_cost / nu).sqrt(),
-        passed: data_cost <= critical,
+        passed: (critical_low..=critical).contains(&data_cost),
     }
 }
 
@@ -374,96 +485,4 @@ fn residual_sigmas(evidence: &Evidence<'_>) -> (Option<f64>, Option<f64>) {
         })
     };
     (sigma_of(RowKind::Length), sigma_of(RowKind::Angle))
-}
-
-/// The robot's size: the sum of its frames' |d| and |r|, at least 0.1 m.
-fn robot_size(robot: &Robot) -> f64 {
-    robot
-        .frames()
-        .iter()
-        .map(|frame| frame.d.abs() + frame.r.abs())
-        .sum::<f64>()
-        .max(0.1)
-}
-
-/// The physical parameters with values no real robot has (module docs).
-fn implausible(evidence: &Evidence<'_>) -> Vec<Implausible> {
-    use std::f64::consts::{PI, TAU};
-    const ANGLE_LIMIT: f64 = PI / 4.0;
-    const GAIN_LIMIT: f64 = 0.2;
-    const PRIOR_LIMIT: f64 = 5.0;
-    const CELL: f64 = 10.0;
-    let size = robot_size(evidence.nominal);
-    let last = evidence.nominal.frames().len() - 1;
-    evidence
-        .parameters
-        .iter()
-        .filter(|p| !p.is_regrouped())
-        .filter_map(|p| {
-            let id = p.parameter?;
-            let mut deviation = p.identified - p.nominal;
-            // Frames 0 and 1 place the robot in the measurement frame, which
-            // may stand anywhere in the cell (a tracker metres away, turned
-            // any way): only lengths beyond the cell are implausible there.
-            let placement = id.frame <= 1;
-            let reach = if placement { CELL * size } else { size };
-            let why = match id.kind {
-                ParameterKind::D | ParameterKind::R if deviation.abs() > reach => format!(
-                    "moved by {deviation:.3} m, more than {} ({reach:.2} m)",
-                    if placement {
-                        "a robot cell"
-                    } else {
-                        "the robot's size"
-                    }
-                ),
-                ParameterKind::Alpha | ParameterKind::Theta | ParameterKind::Beta
-                    if !placement
-                        && (deviation - TAU * (deviation / TAU).round()).abs() > ANGLE_LIMIT =>
-                {
-                    deviation -= TAU * (deviation / TAU).round();
-                    format!("turned by {:.1}°", deviation.to_degrees())
-                }
-                ParameterKind::Gain if deviation.abs() > GAIN_LIMIT * p.nominal.abs() => format!(
-                    "off by {:+.1} %",
-                    100.0 * deviation / p.nominal.abs().max(f64::MIN_POSITIVE)
-                ),
-                _ => match (evidence.prior, p.prior_std) {
-                    (Some(_), Some(prior)) if deviation.abs() > PRIOR_LIMIT * prior => {
-                        format!("moved {:.1} times its prior σ", deviation.abs() / prior)
-                    }
-                    _ => return None,
-                },
-            };
-            let against_prior = why.contains("prior σ");
-            let cause = if against_prior {
-                "the data contradict the prior: widen it, or look for a model error that this \
-                 parameter absorbs"
-                    .to_owned()
-            } else if deviation.abs() < 3.0 * p.std || !p.std.is_finite() {
-                format!(
-                    "not determined by these data, σ {:.2e}: add configurations that move it, \
-                     or a prior",
-                    p.std
-                )
-            } else if id.frame <= 1 {
-                "the measurement frame (world frame) is far from the nominal one, or the base \
-                 is tilted: state it in the robot file (robot reframe, world frame) and \
-                 identify again"
-                    .to_owned()
-            } else if id.frame == last {
-                "the tool is far from the nominal one: state it in the robot file (robot \
-                 reframe, tool frame) and identify again"
-                    .to_owned()
-            } else {
-                "determined by the data: a model error elsewhere (an unmodelled tilt, \
-                 coupling or compliance, a wrong nominal) is absorbed here"
-                    .to_owned()
-            };
-            Some(Implausible {
-                name: p.name.clone(),
-                why,
-                cause,
-            })
-        })
-        .collect()
 }

@@ -4,7 +4,6 @@
 
 use super::parameter::IdentifiedParameter;
 use crate::linalg::NormalEquations;
-use crate::study::Study;
 
 /// Above this condition number of W_b the data are called poorly exciting.
 pub const POOR_CONDITIONING: f64 = 1e4;
@@ -69,7 +68,6 @@ pub(super) fn strongly_correlated(
 /// The warnings of an identification (see [`Identification::warnings`](super::Identification::warnings))
 /// beyond the set-up's ([`RankReport::set_up_warnings`](crate::identifiability::RankReport::set_up_warnings)).
 pub(super) fn warnings_of(
-    study: &Study,
     not_excited: &[String],
     condition_number: f64,
     parameters: &[IdentifiedParameter],
@@ -103,14 +101,6 @@ pub(super) fn warnings_of(
              the least determined parameters are {}; add configurations that move these joints more",
             worst.join(", ")
         ));
-    }
-    if !study.observes_scale() {
-        warnings.push(
-            "no measurement here observes the robot's scale (link and plane methods measure no length): \
-             it is pinned by lengths outside the base set held at nominal, and noise can move it far; \
-             add a distance measurement to the study to fix it"
-                .into(),
-        );
     }
     if !moved.is_empty() {
         warnings.push(format!(

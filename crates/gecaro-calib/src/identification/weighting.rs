@@ -1,9 +1,11 @@
-//! What the reweighted phase of an identification adds to the plain
-//! least-squares system: robust weights per observation and a prior's
-//! pseudo-observation rows (see [`super::reweighting`]).
+//! What an identification adds to the plain least-squares system: robust
+//! weights per observation and a prior's pseudo-observation rows (the
+//! reweighted phase, [`super::reweighting`]), and the gauge row that holds
+//! the scale of a study that does not observe it ([`super::scale`]).
 
 use gecaro_core::Robot;
 
+use super::scale::Gauge;
 use crate::observation::ObservationSystem;
 
 /// What the reweighted phase adds to the plain system.
@@ -13,6 +15,9 @@ pub(super) struct Weighting {
     pub(super) observation_weights: Vec<f64>,
     /// Prior rows: column of W_b, row weight `s/σ_k`, vocabulary index.
     pub(super) prior_rows: Vec<PriorRow>,
+    /// The row that holds the robot's scale in a step over every
+    /// parameter, when the data do not observe it.
+    pub(super) gauge: Option<Gauge>,
 }
 
 /// One prior pseudo-observation: `weight · Δη = weight · (η_nominal − η)`.
@@ -28,13 +33,17 @@ pub(super) struct PriorRow {
 }
 
 impl Weighting {
-    /// Appends the prior rows at `robot` to a system written at `robot`.
-    pub(super) fn append_prior_rows(
+    /// Appends the gauge row and the prior rows at `robot` to a system
+    /// written at `robot`.
+    pub(super) fn append_rows(
         &self,
         system: &mut ObservationSystem,
         robot: &Robot,
         nominal: &Robot,
     ) {
+        if let Some(gauge) = &self.gauge {
+            gauge.append_to(system, robot);
+        }
         if self.prior_rows.is_empty() {
             return;
         }

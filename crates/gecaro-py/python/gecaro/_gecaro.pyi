@@ -503,11 +503,13 @@ def identify(
     reject: bool = False,
     model: _Model = "full",
     strict_limits: bool = False,
-    sigma: Optional[float] = None,
-    sigma_rotation: Optional[float] = None,
+    sigma: Union[float, str, None] = None,
+    sigma_rotation: Union[float, str, None] = None,
     progress: Optional[Callable[[int, float], object]] = None,
 ) -> Identification:
-    """Identification (eq. 10–11), as ``gecaro identify``."""
+    """Identification (eq. 10–11), as ``gecaro identify``. ``sigma``: the
+    sensor's σ in metres, or with its unit (``"20um"``); ``sigma_rotation``
+    in radians, or with its unit (``"0.01deg"``)."""
 
 def cross_validate(
     robot: Robot,

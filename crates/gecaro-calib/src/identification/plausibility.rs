@@ -1,0 +1,267 @@
+//! Plausibility of the robot an identification writes: values no real
+//! robot has, each named with its likely cause (see [`super::Verdict`]).
+//!
+//! Every parameter that the written robot changes is judged — the base
+//! parameters, and those outside the base set that a later phase moved —
+//! as a physical value against its nominal one:
+//!
+//! - a length moved by more than the robot's size (the sum of its |d| and
+//!   |r|, at least 0.1 m; ten times that for frames 0 and 1, which place the
+//!   robot in a measurement frame that may stand anywhere in the cell);
+//! - an angle turned by more than 45° (beyond frames 0 and 1);
+//! - a gain off by more than 20 %;
+//! - a deviation beyond 5 σ of a stated prior;
+//! - a value that is not finite or beyond what a robot file holds
+//!   ([`gecaro_core::MAX_MAGNITUDE`]): the iteration ran away along a
+//!   direction the data do not determine.
+//!
+//! A regrouped base parameter carries the combination of Appendix III,
+//! `Δη_b + Σ β_j Δη_j`, not a physical deviation: it is judged expanded,
+//! its deviation shared among the parameters of the combination in the way
+//! the prior finds most likely (`Δη_j = σ_j² β_j Δ / Σ_k σ_k² β_k²`, the
+//! minimum-norm split in units of each σ; 1 cm, 1°, 1 % without a prior),
+//! so `θ6 − 525.8·r7` moved by 5 rad is r7 moved by 1 cm, which is
+//! plausible, while a combination that needs metres everywhere is not.
+//!
+//! The robot's size is judged too: the inner links' lengths (d and r of
+//! frames 2..n) against their nominal values by the scale that maps one
+//! onto the other. A robot that comes out at less than half or more than
+//! twice its nominal size was fitted to data in the wrong unit (metres
+//! read as millimetres shrink it 1000×), whatever its residuals say.
+
+use gecaro_core::{MAX_MAGNITUDE, ParameterId, ParameterKind, Robot};
+
+use super::parameter::IdentifiedParameter;
+use super::verdict::Implausible;
+use crate::prior::Prior;
+
+/// Angles beyond frames 0 and 1 turned by more than this are implausible.
+const ANGLE_LIMIT: f64 = std::f64::consts::FRAC_PI_4;
+/// Gains off by more than this fraction are implausible.
+const GAIN_LIMIT: f64 = 0.2;
+/// Deviations beyond this many prior σ are implausible.
+const PRIOR_LIMIT: f64 = 5.0;
+/// Frames 0 and 1 may move this many robot sizes (a robot cell).
+const CELL: f64 = 10.0;
+/// The robot's size may change by at most this factor either way.
+const SIZE_LIMIT: f64 = 2.0;
+
+/// What plausibility is judged on.
+pub(super) struct Written<'a> {
+    /// The nominal robot.
+    pub(super) nominal: &'a Robot,
+    /// The robot written.
+    pub(super) calibrated: &'a Robot,
+    /// The identified base parameters.
+    pub(super) parameters: &'a [IdentifiedParameter],
+    /// Parameters outside the base set that the written robot moved.
+    pub(super) moved: &'a [IdentifiedParameter],
+    /// The prior, if one was given.
+    pub(super) prior: Option<&'a Prior>,
+    /// The σ that expands regrouped deviations: the prior's, or 1 cm, 1°, 1 %.
+    pub(super) expansion: &'a Prior,
+}
+
+/// The values of the written robot that no real robot has (module docs).
+pub(super) fn implausible(written: &Written<'_>) -> Vec<Implausible> {
+    let size = robot_size(written.nominal);
+    let last = written.nominal.frames().len() - 1;
+    let mut found: Vec<Implausible> = written
+        .parameters
+        .iter()
+        .chain(written.moved)
+        .filter_map(|p| judge_parameter(written, p, size, last))
+        .collect();
+    if let Some(size) = size_change(written.nominal, written.calibrated) {
+        found.push(size);
+    }
+    found
+}
+
+/// The robot's size: the sum of its frames' |d| and |r|, at least 0.1 m.
+fn robot_size(robot: &Robot) -> f64 {
+    robot
+        .frames()
+        .iter()
+        .map(|frame| frame.d.abs() + frame.r.abs())
+        .sum::<f64>()
+        .max(0.1)
+}
+
+/// Why the deviation `deviation` of parameter `id` (nominal `nominal`) is
+/// one no robot has, if it is (`size`: the robot's).
+fn beyond_limits(id: ParameterId, nominal: f64, deviation: f64, size: f64) -> Option<String> {
+    use std::f64::consts::TAU;
+    // Frames 0 and 1 place the robot in the measurement frame, which may
+    // stand anywhere in the cell (a tracker metres away, turned any way):
+    // only lengths beyond the cell are implausible there.
+    let placement = id.frame <= 1;
+    let reach = if placement { CELL * size } else { size };
+    match id.kind {
+        ParameterKind::D | ParameterKind::R if deviation.abs() > reach => Some(format!(
+            "moved by {deviation:.3} m, more than {} ({reach:.2} m)",
+            if placement {
+                "a robot cell"
+            } else {
+                "the robot's size"
+            }
+        )),
+        ParameterKind::Alpha | ParameterKind::Theta | ParameterKind::Beta if !placement => {
+            let turned = deviation - TAU * (deviation / TAU).round();
+            (turned.abs() > ANGLE_LIMIT).then(|| format!("turned by {:.1}°", turned.to_degrees()))
+        }
+        ParameterKind::Gain if deviation.abs() > GAIN_LIMIT * nominal.abs() => Some(format!(
+            "off by {:+.1} %",
+            100.0 * deviation / nominal.abs().max(f64::MIN_POSITIVE)
+        )),
+        _ => None,
+    }
+}
+
+/// The judgement of one written parameter (see the module docs).
+fn judge_parameter(
+    written: &Written<'_>,
+    p: &IdentifiedParameter,
+    size: f64,
+    last: usize,
+) -> Option<Implausible> {
+    let id = p.parameter?;
+    let deviation = p.identified - p.nominal;
+    if !p.identified.is_finite() || p.identified.abs() > MAX_MAGNITUDE {
+        return Some(Implausible {
+            name: p.name.clone(),
+            why: format!(
+                "is {:.3e}, beyond what a robot file holds (±{MAX_MAGNITUDE})",
+                p.identified
+            ),
+            cause: "the iteration ran away along a direction these data do not determine: \
+                    identify with a prior, or add configurations that move it"
+                .to_owned(),
+        });
+    }
+    if p.is_regrouped() {
+        return judge_expanded(written, p, id, size);
+    }
+    let why = beyond_limits(id, p.nominal, deviation, size).or_else(|| {
+        let prior = p.prior_std.filter(|_| written.prior.is_some())?;
+        (deviation.abs() > PRIOR_LIMIT * prior)
+            .then(|| format!("moved {:.1} times its prior σ", deviation.abs() / prior))
+    })?;
+    let cause = if why.contains("prior σ") {
+        "the data contradict the prior: widen it, or look for a model error that this \
+         parameter absorbs"
+            .to_owned()
+    } else if p.std.is_nan() {
+        "moved outside the base set to reproduce these data: the nominal structure does not \
+         hold at this robot, or the data are in another unit or frame"
+            .to_owned()
+    } else if deviation.abs() < 3.0 * p.std || !p.std.is_finite() {
+        format!(
+            "not determined by these data, σ {:.2e}: add configurations that move it, or a prior",
+            p.std
+        )
+    } else if id.frame <= 1 {
+        "the measurement frame (world frame) is far from the nominal one, or the base is \
+         tilted: state it in the robot file (robot reframe, world frame) and identify again"
+            .to_owned()
+    } else if id.frame == last {
+        "the tool is far from the nominal one: state it in the robot file (robot reframe, tool \
+         frame) and identify again"
+            .to_owned()
+    } else {
+        "determined by the data: a model error elsewhere (an unmodelled tilt, coupling or \
+         compliance, a wrong nominal) is absorbed here"
+            .to_owned()
+    };
+    Some(Implausible {
+        name: p.name.clone(),
+        why,
+        cause,
+    })
+}
+
+/// A regrouped base parameter judged expanded: its deviation shared among
+/// the parameters of its combination as the prior finds most likely.
+fn judge_expanded(
+    written: &Written<'_>,
+    p: &IdentifiedParameter,
+    id: ParameterId,
+    size: f64,
+) -> Option<Implausible> {
+    let nominal = written.nominal;
+    let deviation = p.identified - p.nominal;
+    let members: Vec<(ParameterId, f64)> = std::iter::once((id, 1.0))
+        .chain(
+            p.absorbs
+                .iter()
+                .filter_map(|(name, coefficient)| Some((name.parse().ok()?, *coefficient))),
+        )
+        .collect();
+    let sigma = |member: ParameterId| written.expansion.sigma(member, nominal.parameter(member));
+    let total: f64 = members
+        .iter()
+        .map(|(member, coefficient)| (sigma(*member) * coefficient).powi(2))
+        .sum();
+    if total <= 0.0 || !total.is_finite() {
+        return None;
+    }
+    let shares: Vec<String> = members
+        .iter()
+        .filter_map(|(member, coefficient)| {
+            let share = sigma(*member).powi(2) * coefficient * deviation / total;
+            beyond_limits(*member, nominal.parameter(*member), share, size)
+                .map(|why| format!("{member} {why}"))
+        })
+        .collect();
+    if shares.is_empty() {
+        return None;
+    }
+    Some(Implausible {
+        name: p.name.clone(),
+        why: format!(
+            "stands for {} moved by {deviation:.3e}, which even shared out as the prior finds \
+             most likely needs {}",
+            p.combination().unwrap_or_default(),
+            shares.join(", ")
+        ),
+        cause: "these data do not tell the parameters of the combination apart, and push it \
+                beyond any real robot: a nearly singular measurement frame (a levelled tracker \
+                seen through nearly parallel axes) or too little excitation"
+            .to_owned(),
+    })
+}
+
+/// The robot's size change when beyond [`SIZE_LIMIT`] (module docs).
+fn size_change(nominal: &Robot, calibrated: &Robot) -> Option<Implausible> {
+    let last = nominal.frames().len() - 1;
+    let pairs: Vec<(f64, f64)> = nominal
+        .frames()
+        .iter()
+        .zip(calibrated.frames())
+        .take(last)
+        .skip(2)
+        .flat_map(|(n, c)| [(n.d, c.d), (n.r, c.r)])
+        .collect();
+    let nominal_square: f64 = pairs.iter().map(|(n, _)| n * n).sum();
+    if nominal_square <= 0.0 {
+        return None;
+    }
+    let scale = pairs.iter().map(|(n, c)| n * c).sum::<f64>() / nominal_square;
+    let plausible = scale.is_finite() && (1.0 / SIZE_LIMIT..=SIZE_LIMIT).contains(&scale);
+    (!plausible).then(|| Implausible {
+        name: "size".to_owned(),
+        why: format!("its links came out at {scale:.3}× their nominal lengths"),
+        cause: if (scale - 1e-3).abs() < 0.5e-3 {
+            "the data's lengths are likely in metres read as millimetres: state the data's \
+             length unit"
+                .to_owned()
+        } else if (scale - 1e3).abs() < 0.5e3 {
+            "the data's lengths are likely in millimetres read as metres: state the data's \
+             length unit"
+                .to_owned()
+        } else {
+            "the data are in another unit than the robot file, or belong to another robot"
+                .to_owned()
+        },
+    })
+}
