@@ -9,6 +9,9 @@ use gecaro_core::Robot;
 /// Any error of an example.
 pub(crate) type Failure = Box<dyn std::error::Error>;
 
+/// The simulated sensors' σ: 0.01 mm (0.01 mrad for orientations).
+pub(crate) const NOISE: f64 = 1e-5;
+
 /// The examples' arguments, all optional, in order: robots, methods,
 /// levels, seeds (each comma-separated).
 pub(crate) struct Cases {
@@ -89,7 +92,7 @@ impl Case {
             &self.real,
             self.method.as_ref(),
             count,
-            1e-5,
+            NOISE,
             &mut self.sampler,
         )?;
         Ok(Study::single(
@@ -104,7 +107,7 @@ impl Case {
     pub(crate) fn measure_with_sigma(&mut self, count: usize) -> Result<Study, Failure> {
         let mut study = self.measure(count)?;
         for set in &mut study.sets {
-            set.sigma = Some(1e-5);
+            set.sigma = Some(NOISE);
         }
         Ok(study)
     }

@@ -32,8 +32,8 @@ use crate::study::{Study, StudyStates};
 const ITERATIONS: usize = 20;
 
 /// The damped descent over `parameters` (vocabulary indices) and every
-/// auxiliary unknown of `study`, from `start`; `None` when it does not
-/// converge or lowers nothing. Plain least squares: this phase runs only
+/// auxiliary unknown of `study`, from `start`; `None` when it diverges or
+/// lowers nothing. Plain least squares: this phase runs only
 /// without a prior or robust weights. A study that does not observe the
 /// scale has it held by a [`Gauge`] row (with the σ of `gauge`).
 ///
@@ -77,5 +77,10 @@ pub(super) fn damped_descent(
     let first = problem.assemble(start, &auxiliary, &problem.layout, &mut states)?;
     let before = first.cost;
     let run = problem.descend(first, Damping::Always, ITERATIONS, &mut states, &mut Quiet)?;
-    Ok((run.stop == StopReason::Converged && run.best.cost < before).then_some(run))
+    // Over a rank-deficient W the last steps crawl along directions the data
+    // barely see: a descent that lowered the cost at its iteration limit is
+    // kept too (the pass on the base set after it converges, and an F test
+    // keeps it or not).
+    let lowered = run.best.cost < before && run.stop != StopReason::Diverged;
+    Ok(lowered.then_some(run))
 }
