@@ -21,7 +21,7 @@ use super::options::IdentificationOptions;
 use super::scale::Gauge;
 use super::solver::{Damping, Problem, Run};
 use super::verdict::StopReason;
-use super::weighting::Weighting;
+use super::weighting::{PriorRow, Weighting};
 use crate::Error;
 use crate::prior::Prior;
 use crate::progress::Quiet;
@@ -33,9 +33,10 @@ const ITERATIONS: usize = 20;
 
 /// The damped descent over `parameters` (vocabulary indices) and every
 /// auxiliary unknown of `study`, from `start`; `None` when it diverges or
-/// lowers nothing. Plain least squares: this phase runs only
-/// without a prior or robust weights. A study that does not observe the
-/// scale has it held by a [`Gauge`] row (with the σ of `gauge`).
+/// lowers nothing. Least squares with a weak prior about the nominal
+/// values (this phase runs only without a user's prior or robust weights).
+/// A study that does not observe the scale has it held by a [`Gauge`] row
+/// (with the σ of `gauge`).
 ///
 /// # Errors
 /// Only if the data cannot be evaluated at `start`.
@@ -74,6 +75,37 @@ pub(super) fn damped_descent(
             ..Weighting::default()
         },
     };
+    // A weak prior (1 cm, 1°, 1 % about the nominal values) holds what the
+    // data do not determine where it is, instead of wherever the path of the
+    // damping leaves it (a tool angle the measured point barely sees turned
+    // by 60°); parameters the data determine do not feel it.
+    let plain = problem.assemble(start, &auxiliary, &problem.layout, &mut states)?;
+    let statistics = super::statistics::ResidualStatistics::of(
+        &plain.system,
+        &crate::robust::Loss::default(),
+        study.equation_count(),
+        problem.layout.columns(),
+    );
+    let prior = super::second_pass_prior();
+    let offset = problem.base_auxiliary.len();
+    let prior_rows = parameters
+        .iter()
+        .enumerate()
+        .map(|(position, &index)| {
+            let id = nominal.parameters().id(index);
+            let sigma = prior.sigma(id, nominal.parameter(id));
+            PriorRow {
+                column: offset + position,
+                sigma,
+                index,
+                weight: statistics.variance.sqrt() / sigma,
+            }
+        })
+        .collect();
+    let problem = problem.with_weighting(Weighting {
+        prior_rows,
+        ..problem.weighting.clone()
+    });
     let first = problem.assemble(start, &auxiliary, &problem.layout, &mut states)?;
     let before = first.cost;
     let run = problem.descend(first, Damping::Always, ITERATIONS, &mut states, &mut Quiet)?;

@@ -709,7 +709,9 @@ fn set_up<'a>(
 }
 
 /// The descent from `start` by the options' solver: the paper's plain steps,
-/// and the minimum-norm route when they do not converge (module docs).
+/// the minimum-norm route when they do not converge, and Levenberg–Marquardt
+/// from the start when neither does (module docs); the converged run, else
+/// the one with the lowest cost.
 fn descend(
     problem: &Problem<'_>,
     start: Iterate,
@@ -731,7 +733,7 @@ fn descend(
         return Ok((run, Route::LevenbergMarquardt));
     }
     let plain = problem.descend(
-        start,
+        start.clone(),
         Damping::Never,
         options.max_iterations,
         states,
@@ -759,11 +761,33 @@ fn descend(
         states,
         observer,
     )?;
-    if robust.stop == StopReason::Converged || robust.best.cost < plain.best.cost {
-        Ok((robust, Route::MinimumNorm))
-    } else {
-        Ok((plain, Route::GaussNewton))
+    if robust.stop == StopReason::Converged {
+        return Ok((robust, Route::MinimumNorm));
     }
+    // Neither converged: Levenberg–Marquardt from the start, the damping
+    // holding the steps where the linearisation does not (a far start).
+    report(observer, Progress::Iteration(first))?;
+    let damped = problem.descend(
+        start,
+        Damping::Always,
+        options.max_iterations,
+        states,
+        observer,
+    )?;
+    // The converged run first, then the lowest cost.
+    let rank = |run: &Run| (run.stop != StopReason::Converged, run.best.cost);
+    let better = |a: (Run, Route), b: (Run, Route)| {
+        let (ra, rb) = (rank(&a.0), rank(&b.0));
+        if ra.0.cmp(&rb.0).then(ra.1.total_cmp(&rb.1)).is_le() {
+            a
+        } else {
+            b
+        }
+    };
+    Ok(better(
+        better((plain, Route::GaussNewton), (robust, Route::MinimumNorm)),
+        (damped, Route::LevenbergMarquardt),
+    ))
 }
 
 /// The identification at the end of the reweighted phase (reached by

@@ -8,7 +8,8 @@
 //! - a length moved by more than the robot's size (the sum of its |d| and
 //!   |r|, at least 0.1 m; ten times that for frames 0 and 1, which place the
 //!   robot in a measurement frame that may stand anywhere in the cell);
-//! - an angle turned by more than 45° (beyond frames 0 and 1);
+//! - an angle turned by more than 45° (beyond frames 0, 1 and n+1, which
+//!   place the robot and its tool, turned any way);
 //! - a gain off by more than 20 %;
 //! - a deviation beyond 5 σ of a stated prior;
 //! - a value that is not finite or beyond what a robot file holds
@@ -25,8 +26,8 @@
 //!
 //! The robot's size is judged too: the inner links' lengths (d and r of
 //! frames 2..n) against their nominal values by the scale that maps one
-//! onto the other. A robot that comes out at less than half or more than
-//! twice its nominal size was fitted to data in the wrong unit (metres
+//! onto the other. A robot that comes out at less than a fifth or more than
+//! five times its nominal size was fitted to data in the wrong unit (metres
 //! read as millimetres shrink it 1000×), whatever its residuals say.
 
 use gecaro_core::{MAX_MAGNITUDE, ParameterId, ParameterKind, Robot};
@@ -43,8 +44,11 @@ const GAIN_LIMIT: f64 = 0.2;
 const PRIOR_LIMIT: f64 = 5.0;
 /// Frames 0 and 1 may move this many robot sizes (a robot cell).
 const CELL: f64 = 10.0;
-/// The robot's size may change by at most this factor either way.
-const SIZE_LIMIT: f64 = 2.0;
+/// The robot's size may change by at most this factor either way: a
+/// length unit mixed up changes it 1000× (or 25.4× for inches), while the
+/// inner links of a robot with few of them (the Stanford's r2 of 0.2 m)
+/// may double at errors of 20 cm.
+const SIZE_LIMIT: f64 = 5.0;
 
 /// What plausibility is judged on.
 pub(super) struct Written<'a> {
@@ -89,13 +93,24 @@ fn robot_size(robot: &Robot) -> f64 {
 }
 
 /// Why the deviation `deviation` of parameter `id` (nominal `nominal`) is
-/// one no robot has, if it is (`size`: the robot's).
-fn beyond_limits(id: ParameterId, nominal: f64, deviation: f64, size: f64) -> Option<String> {
+/// one no robot has, if it is (`size`: the robot's; `tool`: the index of
+/// frame n+1).
+fn beyond_limits(
+    id: ParameterId,
+    nominal: f64,
+    deviation: f64,
+    size: f64,
+    tool: usize,
+) -> Option<String> {
     use std::f64::consts::TAU;
     // Frames 0 and 1 place the robot in the measurement frame, which may
     // stand anywhere in the cell (a tracker metres away, turned any way):
-    // only lengths beyond the cell are implausible there.
-    let placement = id.frame <= 1;
+    // only lengths beyond the cell are implausible there. The tool may be
+    // turned any way too (a point tool's direction is written with α and θ
+    // of frame n+1), and reach as far as the robot.
+    let geometric = id.kind != ParameterKind::Gain;
+    let placement = geometric && id.frame <= 1;
+    let turned_freely = placement || (geometric && id.frame == tool);
     let reach = if placement { CELL * size } else { size };
     match id.kind {
         ParameterKind::D | ParameterKind::R if deviation.abs() > reach => Some(format!(
@@ -106,7 +121,7 @@ fn beyond_limits(id: ParameterId, nominal: f64, deviation: f64, size: f64) -> Op
                 "the robot's size"
             }
         )),
-        ParameterKind::Alpha | ParameterKind::Theta | ParameterKind::Beta if !placement => {
+        ParameterKind::Alpha | ParameterKind::Theta | ParameterKind::Beta if !turned_freely => {
             let turned = deviation - TAU * (deviation / TAU).round();
             (turned.abs() > ANGLE_LIMIT).then(|| format!("turned by {:.1}°", turned.to_degrees()))
         }
@@ -142,7 +157,7 @@ fn judge_parameter(
     if p.is_regrouped() {
         return judge_expanded(written, p, id, size);
     }
-    let why = beyond_limits(id, p.nominal, deviation, size).or_else(|| {
+    let why = beyond_limits(id, p.nominal, deviation, size, last).or_else(|| {
         let prior = p.prior_std.filter(|_| written.prior.is_some())?;
         (deviation.abs() > PRIOR_LIMIT * prior)
             .then(|| format!("moved {:.1} times its prior σ", deviation.abs() / prior))
@@ -160,11 +175,11 @@ fn judge_parameter(
             "not determined by these data, σ {:.2e}: add configurations that move it, or a prior",
             p.std
         )
-    } else if id.frame <= 1 {
+    } else if id.kind != ParameterKind::Gain && id.frame <= 1 {
         "the measurement frame (world frame) is far from the nominal one, or the base is \
          tilted: state it in the robot file (robot reframe, world frame) and identify again"
             .to_owned()
-    } else if id.frame == last {
+    } else if id.kind != ParameterKind::Gain && id.frame == last {
         "the tool is far from the nominal one: state it in the robot file (robot reframe, tool \
          frame) and identify again"
             .to_owned()
@@ -209,8 +224,14 @@ fn judge_expanded(
         .iter()
         .filter_map(|(member, coefficient)| {
             let share = sigma(*member).powi(2) * coefficient * deviation / total;
-            beyond_limits(*member, nominal.parameter(*member), share, size)
-                .map(|why| format!("{member} {why}"))
+            beyond_limits(
+                *member,
+                nominal.parameter(*member),
+                share,
+                size,
+                nominal.frames().len() - 1,
+            )
+            .map(|why| format!("{member} {why}"))
         })
         .collect();
     if shares.is_empty() {
