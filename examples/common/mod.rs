@@ -3,6 +3,9 @@
 //! case (a ready robot, a real robot drawn at a level of error, a method and
 //! the sampler that draws its measurements).
 
+// Each example compiles this module and uses part of it.
+#![allow(dead_code)]
+
 use gecaro_calib::prelude::*;
 use gecaro_core::Robot;
 

@@ -446,3 +446,67 @@ fn point_link_with_ten_distance_pairs_reaches_the_noise_floor() {
     assert!(ratios[ratios.len() / 2] < 1.3, "{ratios:?}");
     assert!(ratios[ratios.len() - 1] < 2.0, "{ratios:?}");
 }
+
+#[test]
+fn a_levelled_tracker_is_not_a_singular_measurement_frame() {
+    // A tracker 3.8 m away whose z axis is 0.033° from the Panda's axis 1:
+    // before, r0 = +821 m and r1 = −821 m (condition number 1e9) with
+    // Gauss–Newton, the iteration limit with Levenberg–Marquardt, both
+    // "fitting the noise".
+    use gecaro_calib::identification::StopReason;
+    use gecaro_calib::simulation::{held_out_configurations, judge};
+    use gecaro_core::{ParameterId, ParameterKind};
+    use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Vector3};
+    const NOISE: f64 = 1e-5;
+    let nominal = gecaro_io::load_robot("panda").expect("panda").robot;
+    let tracker = IsometryMatrix3::from_parts(
+        Translation3::new(3.84, 0.3, -0.5),
+        Rotation3::from_axis_angle(&Vector3::z_axis(), 40_f64.to_radians())
+            * Rotation3::from_axis_angle(&Vector3::x_axis(), 0.033_f64.to_radians()),
+    );
+    let in_tracker = nominal
+        .reframed(&tracker, &IsometryMatrix3::identity())
+        .expect("reframed");
+    let position = method("position", &MethodOptions::default()).expect("method");
+    for seed in 1..=3 {
+        let mut sampler = Sampler::new(seed);
+        let real = perturbed_robot(&in_tracker, 1.0, &mut sampler).expect("real");
+        let samples =
+            simulate_measurements(&real, position.as_ref(), 60, NOISE, &mut sampler).expect("data");
+        let mut study = Study::single(position.clone_method(), samples, "tracker");
+        study.sets[0].sigma = Some(NOISE);
+        let held_out = held_out_configurations(&real, 300, &mut sampler);
+        for solver in [Solver::GaussNewton, Solver::LevenbergMarquardt] {
+            let options = IdentificationOptions {
+                solver,
+                ..IdentificationOptions::default()
+            };
+            let result = identify(&nominal, &study, &options, &mut Quiet).expect("identify");
+            let case = format!("seed {seed}, {solver:?}");
+            assert_eq!(result.stop_reason, StopReason::Converged, "{case}");
+            assert!(
+                result.condition_number < 1e5,
+                "{case}: κ {}",
+                result.condition_number
+            );
+            for frame in [0, 1] {
+                let r = result.calibrated.parameter(ParameterId {
+                    frame,
+                    kind: ParameterKind::R,
+                });
+                assert!(r.abs() < 1.0, "{case}: r{frame} = {r} m");
+            }
+            assert!(
+                result.verdict.outcome.trusted(),
+                "{case}: {}",
+                result.verdict.summary
+            );
+            let error = judge(&result.calibrated, &real, &held_out).expect("judge");
+            assert!(
+                error.rms < 3.0 * NOISE,
+                "{case}: {} mm held out",
+                error.rms * 1e3
+            );
+        }
+    }
+}

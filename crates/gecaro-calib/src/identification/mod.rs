@@ -62,6 +62,7 @@
 mod coverage;
 mod evaluation;
 mod full_model;
+mod hayati;
 mod options;
 mod outliers;
 mod parameter;
@@ -340,8 +341,9 @@ fn second_pass(
         }
         let mut states = StudyStates::default();
         study.evaluate_poses(calibrated, &mut states)?;
+        let held = hayati::hayati_priority(calibrated, priority);
         let new: Vec<usize> =
-            structural_parameters_at(calibrated, study, &states, priority, STRUCTURAL_SEED)?
+            structural_parameters_at(calibrated, study, &states, &held, STRUCTURAL_SEED)?
                 .base_parameters
                 .into_iter()
                 .filter(|index| outside(index))
@@ -654,6 +656,8 @@ fn set_up<'a>(
     let mut states = StudyStates::default();
     study.evaluate_poses(robot, &mut states)?;
     let initial_auxiliary = study.initial_auxiliary(&states)?;
+    // Nearly parallel axes hold their offset (Hayati; see `hayati`).
+    let priority = &hayati::hayati_priority(robot, priority);
     let rank = structural_parameters_at(robot, study, &states, priority, STRUCTURAL_SEED)?;
     let mut excited = excitation_at(robot, study, &mut states, &initial_auxiliary, &rank)?;
     let base = excited.report.base_parameters.clone();
@@ -732,8 +736,11 @@ fn descend(
         )?;
         return Ok((run, Route::LevenbergMarquardt));
     }
+    // The start's parameters (its system, megabytes for large data, is
+    // written again only if the last resort needs it).
+    let (start_robot, start_auxiliary) = (start.robot.clone(), start.auxiliary.clone());
     let plain = problem.descend(
-        start.clone(),
+        start,
         Damping::Never,
         options.max_iterations,
         states,
@@ -767,6 +774,7 @@ fn descend(
     // Neither converged: Levenberg–Marquardt from the start, the damping
     // holding the steps where the linearisation does not (a far start).
     report(observer, Progress::Iteration(first))?;
+    let start = problem.assemble(&start_robot, &start_auxiliary, &problem.layout, states)?;
     let damped = problem.descend(
         start,
         Damping::Always,

@@ -16,7 +16,9 @@
 //!   ([`gecaro_core::MAX_MAGNITUDE`]): the iteration ran away along a
 //!   direction the data do not determine.
 //!
-//! A regrouped base parameter carries the combination of Appendix III,
+//! A regrouped base parameter carries the combination of Appendix III
+//! (though a base length of frame 0 or 1 beyond the cell is implausible
+//! whatever it carries: a nearly singular measurement frame wrote it),
 //! `Δη_b + Σ β_j Δη_j`, not a physical deviation: it is judged expanded,
 //! its deviation shared among the parameters of the combination in the way
 //! the prior finds most likely (`Δη_j = σ_j² β_j Δ / Σ_k σ_k² β_k²`, the
@@ -151,6 +153,24 @@ fn judge_parameter(
             ),
             cause: "the iteration ran away along a direction these data do not determine: \
                     identify with a prior, or add configurations that move it"
+                .to_owned(),
+        });
+    }
+    // Whatever the combination a regrouped value carries, a robot file that
+    // puts the base farther than a robot cell from the measurement frame's
+    // origin was written by a nearly singular frame.
+    let length = matches!(id.kind, ParameterKind::D | ParameterKind::R);
+    if p.is_regrouped() && length && id.frame <= 1 && p.identified.abs() > CELL * size {
+        return Some(Implausible {
+            name: p.name.clone(),
+            why: format!(
+                "is {:.3} m, farther than a robot cell ({:.2} m)",
+                p.identified,
+                CELL * size
+            ),
+            cause: "a nearly singular measurement frame: its z axis nearly parallel to axis 1 \
+                    and far from it; state the frame in the robot file (robot reframe, world \
+                    frame) and identify again"
                 .to_owned(),
         });
     }
