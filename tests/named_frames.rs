@@ -218,6 +218,66 @@ fn a_cell_of_three_reflectors_and_two_stations_is_identified_from_its_study_file
 }
 
 #[test]
+fn a_station_stated_at_the_tracker_origin_is_registered_in_closed_form() {
+    // The second tracker stated at the world's origin, turned as the world
+    // is, though it stands 2 m away and turned 130°: before, no closed-form
+    // start for named frames and no convergence (exit 4).
+    let folder = tempfile::tempdir().expect("folder");
+    let truth = write_cell(folder.path());
+    let study = folder.path().join("study.toml");
+    let text = std::fs::read_to_string(&study).expect("study");
+    let stated = text
+        .lines()
+        .map(|line| {
+            if line.starts_with("position = [-") || line.starts_with("rpy") {
+                if line.starts_with("rpy") {
+                    "rpy = [0, 0, 0]".to_owned()
+                } else {
+                    "position = [0, 0, 0]".to_owned()
+                }
+            } else {
+                line.to_owned()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert_ne!(stated, text, "the station's stated pose was replaced");
+    std::fs::write(&study, stated).expect("study");
+    let output = on_study("identify", &study, &["--json"]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let json: Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    assert_eq!(
+        json["verdict"]["outcome"], "fits_noise",
+        "{}",
+        json["verdict"]
+    );
+    let station = json["frames"]
+        .as_array()
+        .expect("frames")
+        .iter()
+        .find(|f| f["name"] == "tracker_2")
+        .expect("tracker_2")
+        .clone();
+    for axis in 0..3 {
+        let found = station["position"][axis].as_f64().expect("number");
+        let expected = truth.pose.translation.vector[axis];
+        assert!(
+            (found - expected).abs() < 1e-4,
+            "tracker_2 axis {axis}: {found} vs {expected}"
+        );
+    }
+    let warnings = json["warnings"].to_string();
+    assert!(
+        warnings.contains("first fitted in closed form"),
+        "{warnings}"
+    );
+}
+
+#[test]
 fn a_study_naming_an_unknown_station_is_refused_at_its_line() {
     let folder = tempfile::tempdir().expect("folder");
     write_cell(folder.path());

@@ -200,25 +200,32 @@ fn fit(
 ) -> Result<Identification, Error> {
     let priority = options.priority.clone().unwrap_or_else(|| robot.priority());
     priority.validate(robot.parameters())?;
-    let first = match start::closed_form_start(robot, study)? {
-        Some(start) => first_from(robot, &start, study, options, &priority, observer)?,
-        None => fit_pass(robot, robot, study, options, &priority, &[], observer)?,
+    // Stations and tools stated far from where the data put them start
+    // where a closed-form fit does (the errors before are the stated ones).
+    let registered = start::registered_frames(robot, study)?;
+    let fitted = registered.as_ref().unwrap_or(study);
+    let first = match (start::closed_form_start(robot, fitted)?, &registered) {
+        (Some(start), _) => first_from(robot, &start, fitted, study, options, &priority, observer)?,
+        (None, Some(_)) => first_from(robot, robot, fitted, study, options, &priority, observer)?,
+        (None, None) => fit_pass(robot, robot, study, options, &priority, &[], observer)?,
     };
-    second_pass(robot, study, options, &priority, first, observer)
+    second_pass(robot, fitted, options, &priority, first, observer)
 }
 
-/// The paper's pass from the closed-form start (see [`start`]), reported
-/// against `nominal`: the errors before and iteration 0 are the nominal
-/// robot's, iteration 1 is the start.
+/// The paper's pass from the closed-form start (see [`start`]) on `study`
+/// (its named frames perhaps re-stated there), reported against `nominal`
+/// and `stated`, the study as given: the errors before and iteration 0 are
+/// the nominal robot's with the stated frames, iteration 1 is the start.
 fn first_from(
     nominal: &Robot,
     start: &Robot,
     study: &Study,
+    stated: &Study,
     options: &IdentificationOptions,
     priority: &gecaro_core::PriorityMatrix,
     observer: &mut dyn Observer,
 ) -> Result<Identification, Error> {
-    let (before, errors_before, rms) = errors_at(nominal, study)?;
+    let (before, errors_before, rms) = errors_at(nominal, stated)?;
     let first = IterationRecord {
         rms,
         step: 0.0,
@@ -242,12 +249,17 @@ fn first_from(
     result.history.insert(0, first);
     let unknowns = result.parameters.len() + result.auxiliary.len();
     result.verdict.summary = result.verdict.sentence(result.iterations(), unknowns);
-    result.warnings.push(
+    result.warnings.push(if study.frames == stated.frames {
         "the nominal robot was far from the measurements: the measurement frame and the tool \
          point were first fitted in closed form (Horn/Kabsch), and the iterations started \
          there (iteration 1)"
-            .into(),
-    );
+            .into()
+    } else {
+        "the stated stations and tools were far from the measurements: they were first fitted \
+         in closed form (Horn/Kabsch for each station, least squares for each tool point), and \
+         the iterations started there (iteration 1)"
+            .into()
+    });
     Ok(result)
 }
 

@@ -127,3 +127,162 @@ fn rms(
         .sum();
     (squares / measured.len() as f64).sqrt()
 }
+
+/// A measured point of a set with named frames: its station and tool
+/// (indices into the study's frames), the nominal flange pose, and the point
+/// measured (in the station's frame).
+type FramedPoint = (
+    Option<usize>,
+    Option<usize>,
+    IsometryMatrix3<f64>,
+    Vector3<f64>,
+);
+
+/// The study with its named stations and tools stated where a closed-form
+/// fit puts them, or `None` when they are stated near enough (see the
+/// module docs for the conditions) or none is named.
+///
+/// A set that names a station measures points `Y_i = S⁻¹ F_i p` in the
+/// station's frame, `F_i` the nominal flange pose, `p` the measured point in
+/// the flange frame (the set's tool, or the robot's own frame n+1). By
+/// alternation, as for the world frame above: Horn/Kabsch for every station
+/// `S⁻¹` given the points, then least squares for every tool's point given
+/// the stations (the mean of `R_Fᵢᵀ (S Y_i − t_Fᵢ)` over its samples). Sets
+/// without a station measure in the world frame (`S` the identity). The
+/// stated orientations of the tools are kept (a point measure does not see
+/// them).
+///
+/// # Errors
+/// A configuration that does not fit the robot.
+pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<Study>, Error> {
+    use crate::frames::FrameRole;
+    if !study.sets.iter().any(|set| set.station.is_some()) {
+        return Ok(None);
+    }
+    let last = robot.frames().len() - 1;
+    let own_tool = gecaro_core::frame_transform(&robot.frames()[last], 0.0);
+    // (station, tool, flange pose, measured point) of every point, evenly
+    // spread up to MAXIMUM_POINTS per set.
+    let mut points: Vec<FramedPoint> = Vec::new();
+    for set in &study.sets {
+        let measured: Vec<(&[f64], Vector3<f64>)> = set
+            .samples
+            .iter()
+            .filter_map(|s| Some((s.motor_positions.as_slice(), s.position?)))
+            .collect();
+        for (motors, point) in measured
+            .iter()
+            .step_by(measured.len().div_ceil(MAXIMUM_POINTS).max(1))
+        {
+            let flange = terminal_pose(robot, motors)? * own_tool.inverse();
+            points.push((set.station, set.tool, flange, *point));
+        }
+    }
+    if points.len() < MINIMUM_POINTS {
+        return Ok(None);
+    }
+    let stated = |index: Option<usize>| index.map(|i| study.frames[i].pose);
+    let mut stations: Vec<IsometryMatrix3<f64>> = study.frames.iter().map(|f| f.pose).collect();
+    let mut tools: Vec<Vector3<f64>> = study
+        .frames
+        .iter()
+        .map(|f| f.pose.translation.vector)
+        .collect();
+    let point_of = |tools: &[Vector3<f64>], tool: Option<usize>| {
+        tool.map_or(own_tool.translation.vector, |t| tools[t])
+    };
+    let rms = |stations: &[IsometryMatrix3<f64>], tools: &[Vector3<f64>]| {
+        let squares: f64 = points
+            .iter()
+            .map(|(station, tool, flange, measured)| {
+                let world = flange * nalgebra::Point3::from(point_of(tools, *tool));
+                let seen = station.map_or(world, |s| stations[s].inverse() * world);
+                (seen.coords - measured).norm_squared()
+            })
+            .sum();
+        (squares / points.len() as f64).sqrt()
+    };
+    let before = rms(&stations, &tools);
+    for _ in 0..ROUNDS {
+        // Every station's pose, given the tools' points.
+        for (index, frame) in study.frames.iter().enumerate() {
+            if frame.role != FrameRole::Station {
+                continue;
+            }
+            let (world, seen): (Vec<Vector3<f64>>, Vec<Vector3<f64>>) = points
+                .iter()
+                .filter(|(station, ..)| *station == Some(index))
+                .map(|(_, tool, flange, measured)| {
+                    (
+                        (flange * nalgebra::Point3::from(point_of(&tools, *tool))).coords,
+                        *measured,
+                    )
+                })
+                .unzip();
+            if world.len() >= MINIMUM_POINTS {
+                stations[index] = rigid_fit(&world, &seen).inverse();
+            }
+        }
+        // Every tool's point, given the stations.
+        let mut moved: f64 = 0.0;
+        for (index, frame) in study.frames.iter().enumerate() {
+            if frame.role != FrameRole::Tool {
+                continue;
+            }
+            let estimates: Vec<Vector3<f64>> = points
+                .iter()
+                .filter(|(_, tool, ..)| *tool == Some(index))
+                .map(|(station, _, flange, measured)| {
+                    let world = station.map_or(*measured, |s| {
+                        (stations[s] * nalgebra::Point3::from(*measured)).coords
+                    });
+                    flange.rotation.inverse() * (world - flange.translation.vector)
+                })
+                .collect();
+            if !estimates.is_empty() {
+                let next = estimates.iter().sum::<Vector3<f64>>() / estimates.len() as f64;
+                moved = moved.max((next - tools[index]).norm());
+                tools[index] = next;
+            }
+        }
+        if moved < 1e-12 && study.frames.iter().all(|f| f.role == FrameRole::Station) {
+            break;
+        }
+    }
+    let after = rms(&stations, &tools);
+    let far = study.frames.iter().enumerate().any(|(index, frame)| {
+        let (stated_pose, fitted) = match frame.role {
+            FrameRole::Station => (stated(Some(index)), stations[index]),
+            FrameRole::Tool => (
+                stated(Some(index)),
+                IsometryMatrix3::from_parts(Translation3::from(tools[index]), frame.pose.rotation),
+            ),
+        };
+        stated_pose.is_some_and(|pose| {
+            let change = pose.inverse() * fitted;
+            change.translation.vector.norm() > FAR_LENGTH || change.rotation.angle() > FAR_ANGLE
+        })
+    });
+    if !(far && after.is_finite() && after * IMPROVEMENT <= before) {
+        return Ok(None);
+    }
+    let frames = study
+        .frames
+        .iter()
+        .enumerate()
+        .map(|(index, frame)| {
+            let pose = match frame.role {
+                FrameRole::Station => stations[index],
+                FrameRole::Tool => IsometryMatrix3::from_parts(
+                    Translation3::from(tools[index]),
+                    frame.pose.rotation,
+                ),
+            };
+            crate::frames::NamedFrame {
+                pose,
+                ..frame.clone()
+            }
+        })
+        .collect();
+    Ok(Some(study.with_frames(frames)))
+}
