@@ -956,6 +956,14 @@ fn summarise(
         ));
     }
     let coverage = Coverage::of(robot, study, &rank, &excited.not_excited, columns, scale);
+    if !coverage.base_observed {
+        warnings.push(
+            "these methods do not observe where the robot stands in the measurement frame \
+             (frame 0 has no effect on them): its base is the nominal one; register it in the \
+             cell before using the calibrated robot in world coordinates"
+                .to_owned(),
+        );
+    }
     let verdict = Verdict::of(
         study,
         Evidence {
