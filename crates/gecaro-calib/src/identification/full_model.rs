@@ -17,11 +17,12 @@
 
 use gecaro_core::Robot;
 
+use super::gauge::Gauge;
 use super::options::IdentificationOptions;
-use super::scale::Gauge;
 use super::solver::{Damping, Problem, Run};
+use super::statistics::ResidualStatistics;
 use super::verdict::StopReason;
-use super::weighting::{PriorRow, Weighting};
+use super::weighting::{PriorRow, Weighting, second_pass_prior};
 use crate::Error;
 use crate::prior::Prior;
 use crate::progress::Quiet;
@@ -80,13 +81,13 @@ pub(super) fn damped_descent(
     // damping leaves it (a tool angle the measured point barely sees turned
     // by 60°); parameters the data determine do not feel it.
     let plain = problem.assemble(start, &auxiliary, &problem.layout, &mut states)?;
-    let statistics = super::statistics::ResidualStatistics::of(
+    let statistics = ResidualStatistics::of(
         &plain.system,
         &crate::robust::Loss::default(),
         study.equation_count(),
         problem.layout.columns(),
     );
-    let prior = super::second_pass_prior();
+    let prior = second_pass_prior();
     let offset = problem.base_auxiliary.len();
     let prior_rows = parameters
         .iter()

@@ -36,7 +36,12 @@
 //!    ([`Identification::moved`]) rather than leaving a residual of model error.
 //! 3. **Levenberg–Marquardt** (`Solver::LevenbergMarquardt`): damped steps on
 //!    the base set from the start, `min ‖W Δ − Δy‖² + λ‖D Δ‖²` with D the
-//!    column norms of W; also the fallback of the continuation steps.
+//!    column norms of W; also the fallback of the continuation steps, and
+//!    the last resort of the default when neither route above converges.
+//!
+//! Joints placed by Hayati's rule within 10° of their previous axis hold
+//! their offset r_j; a study that does not observe the robot's scale keeps
+//! the most likely one (docs/methods.md, "Scale").
 //!
 //! An iteration stops when the correction the data ask for is negligible,
 //! `‖Δη_b‖ ≤ tol·(1 + ‖η_b‖)` with tol = 1e-8 (converged; that last
@@ -62,14 +67,17 @@
 mod coverage;
 mod evaluation;
 mod full_model;
+mod gauge;
 mod hayati;
 mod options;
 mod outliers;
 mod parameter;
 mod passes;
 mod plausibility;
+mod prior_rows;
 mod result;
 mod reweighting;
+mod routes;
 mod scale;
 mod solver;
 mod start;
@@ -98,10 +106,12 @@ pub use outliers::{DEFAULT_OUTLIER_THRESHOLD, Outlier};
 pub use parameter::IdentifiedParameter;
 pub use passes::SECOND_PASS_LEVEL;
 use passes::{ScoreTests, score_tests, significantly_better, significantly_lower};
+use prior_rows::{extra_prior_rows, prior_rows};
 pub use result::{ErrorSummary, Identification, Route};
 pub use reweighting::MAX_REWEIGHTINGS;
 use reweighting::Reweighted;
-use solver::{Damping, Iterate, Problem, Run};
+use routes::descend;
+use solver::{Iterate, Problem, Run};
 use verdict::Evidence;
 pub use verdict::{Implausible, NOISE_TEST_LEVEL, NoiseTest, Outcome, StopReason, Verdict};
 use warnings::{
@@ -109,16 +119,12 @@ use warnings::{
     warnings_of,
 };
 pub use warnings::{POOR_CONDITIONING, STRONG_CORRELATION};
-use weighting::{PriorRow, Weighting};
+pub use weighting::SECOND_PASS_PRIOR;
+use weighting::{Weighting, second_pass_prior};
 
 pub use crate::prior::Prior;
 pub use crate::progress::IterationRecord;
 pub use crate::robust::{Loss, LossKind, robust_sigma};
-
-/// The prior σ of the parameters the second pass adds: 1 cm, 1°, 1 % (the
-/// deviations a calibration meets; the data determine these parameters only
-/// weakly, through the real robot's deviations from the nominal structure).
-pub const SECOND_PASS_PRIOR: [f64; 3] = [0.01, std::f64::consts::PI / 180.0, 0.01];
 
 /// Passes at most: the paper's, and the second pass repeated while the
 /// structure at the calibrated robot keeps adding parameters.
@@ -281,11 +287,11 @@ fn first_from(
 /// pass's solution ([`score_tests`], on the observations that are not
 /// outliers: gross errors would pass for structure) says it can, and only
 /// after a converged first pass without a prior (centred on the
-/// nominal values of the paper's base set), on measure methods only
-/// (position, frame, distance; see the code for why links and planes keep
-/// the paper's set). Where parameters outside the base set still matter
-/// after the passes, the damped descent over every parameter follows
-/// ([`full_model_phase`]).
+/// nominal values of the paper's base set). A study that does not observe
+/// the scale (links, planes) has it held by a gauge row in the score tests
+/// and the descent, and chosen after each pass ([`scale`]). Where
+/// parameters outside the base set still matter after the passes, the
+/// damped descent over every parameter follows ([`full_model_phase`]).
 fn second_pass(
     robot: &Robot,
     study: &Study,
@@ -507,16 +513,6 @@ fn merge_passes(first: Identification, mut second: Identification) -> Identifica
     second
 }
 
-/// The prior σ of the parameters added by the second pass.
-fn second_pass_prior() -> Prior {
-    Prior {
-        length: SECOND_PASS_PRIOR[0],
-        angle: SECOND_PASS_PRIOR[1],
-        gain: SECOND_PASS_PRIOR[2],
-        overrides: Vec::new(),
-    }
-}
-
 /// One pass of an identification of `study`: the base set at `start` and
 /// the start, the descent, then the reweighted phase and the summary
 /// (values reported against `nominal`). `extras` (vocabulary indices) are
@@ -724,92 +720,6 @@ fn set_up<'a>(
     })
 }
 
-/// The descent from `start` by the options' solver: the paper's plain steps,
-/// the minimum-norm route when they do not converge, and Levenberg–Marquardt
-/// from the start when neither does (module docs); the converged run, else
-/// the one with the lowest cost.
-fn descend(
-    problem: &Problem<'_>,
-    start: Iterate,
-    rank: &RankReport,
-    initial_auxiliary: &[f64],
-    first: &IterationRecord,
-    states: &mut StudyStates,
-    observer: &mut dyn Observer,
-) -> Result<(Run, Route), Error> {
-    let options = problem.options;
-    if options.solver == Solver::LevenbergMarquardt {
-        let run = problem.descend(
-            start,
-            Damping::Always,
-            options.max_iterations,
-            states,
-            observer,
-        )?;
-        return Ok((run, Route::LevenbergMarquardt));
-    }
-    // The start's parameters (its system, megabytes for large data, is
-    // written again only if the last resort needs it).
-    let (start_robot, start_auxiliary) = (start.robot.clone(), start.auxiliary.clone());
-    let plain = problem.descend(
-        start,
-        Damping::Never,
-        options.max_iterations,
-        states,
-        observer,
-    )?;
-    if plain.stop == StopReason::Converged {
-        return Ok((plain, Route::GaussNewton));
-    }
-    let effective: Vec<usize> = rank
-        .parameters
-        .iter()
-        .enumerate()
-        .filter(|(_, p)| {
-            matches!(
-                p.status,
-                ParameterStatus::Identifiable | ParameterStatus::Regrouped
-            )
-        })
-        .map(|(index, _)| index)
-        .collect();
-    report(observer, Progress::Iteration(first))?;
-    let robust = problem.minimum_norm_route(
-        (problem.nominal, initial_auxiliary),
-        &effective,
-        states,
-        observer,
-    )?;
-    if robust.stop == StopReason::Converged {
-        return Ok((robust, Route::MinimumNorm));
-    }
-    // Neither converged: Levenberg–Marquardt from the start, the damping
-    // holding the steps where the linearisation does not (a far start).
-    report(observer, Progress::Iteration(first))?;
-    let start = problem.assemble(&start_robot, &start_auxiliary, &problem.layout, states)?;
-    let damped = problem.descend(
-        start,
-        Damping::Always,
-        options.max_iterations,
-        states,
-        observer,
-    )?;
-    // The converged run first, then the lowest cost.
-    let rank = |run: &Run| (run.stop != StopReason::Converged, run.best.cost);
-    let better = |a: (Run, Route), b: (Run, Route)| {
-        let (ra, rb) = (rank(&a.0), rank(&b.0));
-        if ra.0.cmp(&rb.0).then(ra.1.total_cmp(&rb.1)).is_le() {
-            a
-        } else {
-            b
-        }
-    };
-    Ok(better(
-        better((plain, Route::GaussNewton), (robust, Route::MinimumNorm)),
-        (damped, Route::LevenbergMarquardt),
-    ))
-}
-
 /// The identification at the end of the reweighted phase (reached by
 /// `route`): parameters with their precision, errors, outliers and warnings.
 fn summarise(
@@ -903,7 +813,7 @@ fn summarise(
     let mut parameters = parameters;
     if let Some(relative) = scale.map(|scale| scale.std).filter(|std| std.is_finite()) {
         for p in &mut parameters {
-            if p.parameter.is_some_and(|id| scale::scales(robot, id)) {
+            if p.parameter.is_some_and(|id| gauge::scales(robot, id)) {
                 p.std = p.std.hypot(p.identified * relative);
             }
         }
@@ -1046,47 +956,6 @@ fn moved_outside_base(
             std: f64::NAN,
             prior_std: None,
             absorbs: Vec::new(),
-        })
-        .collect()
-}
-
-/// The prior's rows for the base parameters of `problem` (weights set by the
-/// reweighted phase), with the regrouped priors of [`Prior::base_sigma`].
-fn prior_rows(
-    prior: &Prior,
-    robot: &Robot,
-    problem: &Problem<'_>,
-    relations: &[crate::identifiability::Relation],
-) -> Vec<PriorRow> {
-    let offset = problem.base_auxiliary.len();
-    problem
-        .base
-        .iter()
-        .enumerate()
-        .map(|(position, &index)| PriorRow {
-            column: offset + position,
-            sigma: prior.base_sigma(robot, robot.parameters().id(index), relations),
-            index,
-            weight: 0.0,
-        })
-        .collect()
-}
-
-/// Prior rows for the second pass's added parameters (`extras`, vocabulary
-/// indices) that the data excite, centred on the pass's start.
-fn extra_prior_rows(prior: &Prior, problem: &Problem<'_>, extras: &[usize]) -> Vec<PriorRow> {
-    let offset = problem.base_auxiliary.len();
-    extras
-        .iter()
-        .filter_map(|index| {
-            let position = problem.base.iter().position(|base| base == index)?;
-            let id = problem.nominal.parameters().id(*index);
-            Some(PriorRow {
-                column: offset + position,
-                sigma: prior.sigma(id, problem.nominal.parameter(id)),
-                index: *index,
-                weight: 0.0,
-            })
         })
         .collect()
 }

@@ -5,8 +5,8 @@
 //! `F = (gain/k) / (rest/ν)` against the F(k, ν) quantile at
 //! [`SECOND_PASS_LEVEL`].
 
+use super::gauge::Gauge;
 use super::result::Identification;
-use super::scale::Gauge;
 use crate::Error;
 use crate::linalg::{NormalEquations, view};
 use crate::observation::ObservationSystem;

@@ -5,8 +5,26 @@
 
 use gecaro_core::Robot;
 
-use super::scale::Gauge;
+use super::gauge::Gauge;
 use crate::observation::ObservationSystem;
+use crate::prior::Prior;
+
+/// The prior σ of the parameters the second pass adds: 1 cm, 1°, 1 % (the
+/// deviations a calibration meets; the data determine these parameters only
+/// weakly, through the real robot's deviations from the nominal structure).
+/// Also the weak prior of the damped descent, the σ that expands a
+/// regrouped value and chooses an unobserved scale, without a user's prior.
+pub const SECOND_PASS_PRIOR: [f64; 3] = [0.01, std::f64::consts::PI / 180.0, 0.01];
+
+/// [`SECOND_PASS_PRIOR`] as a prior.
+pub(super) fn second_pass_prior() -> Prior {
+    Prior {
+        length: SECOND_PASS_PRIOR[0],
+        angle: SECOND_PASS_PRIOR[1],
+        gain: SECOND_PASS_PRIOR[2],
+        overrides: Vec::new(),
+    }
+}
 
 /// What the reweighted phase adds to the plain system.
 #[derive(Clone, Debug, Default)]
