@@ -252,7 +252,7 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
     {
         gecaro_io::write_atomically(
             output,
-            gecaro_io::format_robot_file(&identified.calibrated()).as_bytes(),
+            identified.calibrated_text()?.as_bytes(),
             output_policy(args.force),
         )?;
         if !args.json {

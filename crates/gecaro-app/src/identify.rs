@@ -197,6 +197,28 @@ impl Identified {
         )
     }
 
+    /// The calibrated robot's file text, read back before it is written:
+    /// an iteration that ran away (a value beyond what a robot file holds,
+    /// which the verdict names implausible) writes no file gecaro could not
+    /// read.
+    ///
+    /// # Errors
+    /// [`ErrorKind::Untrusted`] naming the value the file would refuse.
+    pub fn calibrated_text(&self) -> Result<String, AppError> {
+        let text = gecaro_io::format_robot_file(&self.calibrated());
+        gecaro_io::parse_robot_file(&text, std::path::Path::new("calibrated robot")).map_err(
+            |error| {
+                AppError::plain(
+                    ErrorKind::Untrusted,
+                    format!(
+                        "the calibrated robot was not written, no robot file holds it: {error}"
+                    ),
+                )
+            },
+        )?;
+        Ok(text)
+    }
+
     /// Whether the result is a solution: the iteration converged, on data
     /// that determine it (see the verdict).
     pub fn converged(&self) -> bool {

@@ -15,6 +15,7 @@ use std::path::PathBuf;
 use crate::arrays::priority_array;
 use crate::data::PyData;
 use crate::errors::IntoPyResult;
+use crate::identification::Sigma;
 use crate::methods::PyMethod;
 use crate::methods::method_of;
 use crate::robot::PyRobot;
@@ -117,8 +118,9 @@ impl PyStudy {
     }
 
     /// Adds a measurement set: `data` measured by `method` (a Method or its
-    /// name) with a sensor of standard deviation `sigma` (metres; also
-    /// radians for orientations unless `sigma_rotation` is given).
+    /// name) with a sensor of standard deviation `sigma` (metres, or a text
+    /// with its unit, `"20um"`; also the orientations' unless
+    /// `sigma_rotation` is given: radians, or `"0.01deg"`).
     ///
     /// `tool` and `station` name a tool or station added with `add_tool` or
     /// `add_station`: the set measures that reflector, from that station
@@ -129,8 +131,8 @@ impl PyStudy {
         &mut self,
         method: &Bound<'_, PyAny>,
         data: PyRef<'_, PyData>,
-        sigma: Option<f64>,
-        sigma_rotation: Option<f64>,
+        sigma: Option<Sigma>,
+        sigma_rotation: Option<Sigma>,
         label: Option<String>,
         tool: Option<String>,
         station: Option<String>,
@@ -151,6 +153,18 @@ impl PyStudy {
                 method.get().method.name()
             )));
         }
+        // The rule of every front end (a Data holds metres and radians).
+        let value = |name: &str, sigma: Option<Sigma>, rotation: bool| {
+            sigma
+                .map(|sigma| {
+                    gecaro_io::StandardDeviation::from(sigma)
+                        .value(rotation, gecaro_io::DataUnits::default())
+                        .map_err(|message| crate::errors::input(format!("{name}: {message}")))
+                })
+                .transpose()
+        };
+        let sigma = value("sigma", sigma, false)?;
+        let sigma_rotation = value("sigma_rotation", sigma_rotation, true)?;
         self.study.sets.push(MeasurementSet {
             method: method.get().method.clone_method(),
             samples: data.samples.clone(),

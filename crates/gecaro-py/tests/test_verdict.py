@@ -60,6 +60,14 @@ def test_sigma_with_its_unit_and_the_two_sided_test(cli: Cli) -> None:
     assert overstated["noise_test"]["sigma_ratio"] < 0.05
     with pytest.raises(gecaro.InputError, match="length"):
         gecaro.identify(robot, "position", run.data, sigma="2deg")
+    # A study's set reads σ by the same rule.
+    study = gecaro.Study()
+    study.add("position", run.data, sigma="20um")
+    assert gecaro.identify(robot, study).verdict["noise_test"]["sigma_ratio"] == pytest.approx(
+        in_metres["noise_test"]["sigma_ratio"], rel=1e-9
+    )
+    with pytest.raises(gecaro.InputError, match="positive"):
+        study.add("position", run.data, sigma=-1.0)
 
 
 def test_a_link_method_alone_is_incomplete_at_the_nominal_size() -> None:

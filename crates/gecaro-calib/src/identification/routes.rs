@@ -26,13 +26,7 @@ pub(super) fn descend(
 ) -> Result<(Run, Route), Error> {
     let options = problem.options;
     if options.solver == Solver::LevenbergMarquardt {
-        let run = problem.descend(
-            start,
-            Damping::Always,
-            options.max_iterations,
-            states,
-            observer,
-        )?;
+        let run = levenberg_marquardt(problem, start, states, observer)?;
         return Ok((run, Route::LevenbergMarquardt));
     }
     // The start's parameters (its system, megabytes for large data, is
@@ -74,25 +68,33 @@ pub(super) fn descend(
     // holding the steps where the linearisation does not (a far start).
     report(observer, Progress::Iteration(first))?;
     let start = problem.assemble(&start_robot, &start_auxiliary, &problem.layout, states)?;
-    let damped = problem.descend(
-        start,
-        Damping::Always,
-        options.max_iterations,
-        states,
-        observer,
-    )?;
-    // The converged run first, then the lowest cost.
-    let rank = |run: &Run| (run.stop != StopReason::Converged, run.best.cost);
-    let better = |a: (Run, Route), b: (Run, Route)| {
-        let (ra, rb) = (rank(&a.0), rank(&b.0));
-        if ra.0.cmp(&rb.0).then(ra.1.total_cmp(&rb.1)).is_le() {
-            a
-        } else {
-            b
-        }
+    let damped = levenberg_marquardt(problem, start, states, observer)?;
+    if damped.stop == StopReason::Converged {
+        return Ok((damped, Route::LevenbergMarquardt));
+    }
+    // None converged: the lowest cost, named by its own stop.
+    let lowest = |a: (Run, Route), b: (Run, Route)| {
+        if b.0.best.cost < a.0.best.cost { b } else { a }
     };
-    Ok(better(
-        better((plain, Route::GaussNewton), (robust, Route::MinimumNorm)),
+    Ok(lowest(
+        lowest((plain, Route::GaussNewton), (robust, Route::MinimumNorm)),
         (damped, Route::LevenbergMarquardt),
     ))
+}
+
+/// Levenberg–Marquardt on the base set from `start`, up to the options'
+/// iteration limit.
+fn levenberg_marquardt(
+    problem: &Problem<'_>,
+    start: Iterate,
+    states: &mut StudyStates,
+    observer: &mut dyn Observer,
+) -> Result<Run, Error> {
+    problem.descend(
+        start,
+        Damping::Always,
+        problem.options.max_iterations,
+        states,
+        observer,
+    )
 }

@@ -320,7 +320,11 @@ pub(super) fn rescaled(
     };
     if !invariant(&moved.system) {
         let back = translated_back(problem, &moved, states)?;
-        if data_costs(&back.system) < data_costs(&moved.system) {
+        let total = |system: &ObservationSystem| {
+            let (lengths, angles) = data_costs(system);
+            lengths + angles
+        };
+        if total(&back.system) < total(&moved.system) {
             moved = back;
         }
     }

@@ -204,6 +204,8 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<S
     };
     let before = rms(&stations, &tools);
     for _ in 0..ROUNDS {
+        // How far this round moved a frame (metres, radians).
+        let mut moved: f64 = 0.0;
         // Every station's pose, given the tools' points.
         for (index, frame) in study.frames.iter().enumerate() {
             if frame.role != FrameRole::Station {
@@ -220,11 +222,15 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<S
                 })
                 .unzip();
             if world.len() >= MINIMUM_POINTS {
-                stations[index] = rigid_fit(&world, &seen).inverse();
+                let next = rigid_fit(&world, &seen).inverse();
+                let change = stations[index].inverse() * next;
+                moved = moved
+                    .max(change.translation.vector.norm())
+                    .max(change.rotation.angle());
+                stations[index] = next;
             }
         }
         // Every tool's point, given the stations.
-        let mut moved: f64 = 0.0;
         for (index, frame) in study.frames.iter().enumerate() {
             if frame.role != FrameRole::Tool {
                 continue;
@@ -245,7 +251,7 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<S
                 tools[index] = next;
             }
         }
-        if moved < 1e-12 && study.frames.iter().all(|f| f.role == FrameRole::Station) {
+        if moved < 1e-12 {
             break;
         }
     }
