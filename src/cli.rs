@@ -142,8 +142,9 @@ pub(crate) struct DataFormatArgs {
     /// columns not used are left alone.
     #[arg(long, value_name = "NAME=COLUMN,..")]
     pub(crate) columns: Option<String>,
-    /// The field separator (default: found from the header line).
-    #[arg(long, value_parser = names(&gecaro_io::Delimiter::NAMES))]
+    /// The field separator: `,` `;` tab, or their names comma, semicolon, tab
+    /// (default: found from the header line).
+    #[arg(long, value_parser = delimiter_name, value_name = "auto|,|;|tab")]
     pub(crate) delimiter: Option<String>,
     /// Numbers are written with a decimal comma (`0,25`). Without it, a
     /// decimal comma is read where fields are separated by `;` or tabs.
@@ -197,7 +198,8 @@ pub(crate) struct ExportArgs {
 pub(crate) struct ConfigurationArgs {
     /// Robot file or ready robot name.
     pub(crate) robot: String,
-    /// Motor variables qm1..qmn, comma separated (radians or metres).
+    /// Motor variables qm1..qmn, comma separated (radians and metres, or
+    /// the units of --angle-unit and --length-unit).
     #[arg(
         long,
         value_delimiter = ',',
@@ -205,6 +207,9 @@ pub(crate) struct ConfigurationArgs {
         required = true
     )]
     pub(crate) qm: Vec<f64>,
+    /// Units of --qm (and of the printed position; JSON stays in metres).
+    #[command(flatten)]
+    pub(crate) units: UnitArgs,
     /// Print JSON instead of a table.
     #[arg(long)]
     pub(crate) json: bool,
@@ -254,6 +259,17 @@ fn method_names() -> clap::builder::PossibleValuesParser {
 
 /// A value list of a library's names (its `NAMES`), so that the command
 /// line offers and checks what the libraries parse.
+/// A field separator by its character or its name (`;` or `semicolon`).
+fn delimiter_name(text: &str) -> Result<String, String> {
+    match gecaro_io::Delimiter::from_name(text) {
+        Some(_) => Ok(text.to_owned()),
+        None => Err(format!(
+            "not a separator: give `,`, `;`, `tab` (or {})",
+            gecaro_io::Delimiter::NAMES.join(", ")
+        )),
+    }
+}
+
 fn names(names: &'static [&'static str]) -> clap::builder::PossibleValuesParser {
     clap::builder::PossibleValuesParser::new(names.iter().copied())
 }
@@ -681,11 +697,23 @@ pub(crate) struct ReportArgs {
 pub(crate) struct EvaluateArgs {
     /// The (calibrated) robot (file or ready robot name).
     pub(crate) robot: String,
+    /// The method of the data (not with --study).
+    #[arg(long, value_parser = method_names(), required_unless_present = "study")]
+    pub(crate) method: Option<String>,
     #[command(flatten)]
-    pub(crate) method: MethodArgs,
+    pub(crate) options: MethodOptionArgs,
     /// Measurements (CSV), ideally not those used for identification.
-    #[arg(long, value_name = "DATA.csv")]
-    pub(crate) data: PathBuf,
+    #[arg(
+        long,
+        value_name = "DATA.csv",
+        required_unless_present = "study",
+        conflicts_with = "study"
+    )]
+    pub(crate) data: Option<PathBuf>,
+    /// A study file whose measurement sets the robot is evaluated on (its
+    /// robot is replaced by ROBOT; its named tools and stations as stated).
+    #[arg(long, value_name = "STUDY.toml", conflicts_with = "method")]
+    pub(crate) study: Option<PathBuf>,
     /// Units and column names of the data file.
     #[command(flatten)]
     pub(crate) format: DataFormatArgs,

@@ -53,6 +53,72 @@ fn fk_of_the_stanford_reference_configuration() {
 }
 
 #[test]
+fn fk_and_jacobian_read_the_configuration_in_the_stated_units() {
+    let si = json_output(&[
+        "fk",
+        "stanford",
+        "--qm",
+        "0.1,-0.4,0.5,0.2,0.9,-1.1",
+        "--json",
+    ]);
+    let qm = [0.1_f64, -0.4, 0.5, 0.2, 0.9, -1.1];
+    // Joint 3 of the Stanford arm is prismatic: millimetres; the others degrees.
+    let stated: Vec<String> = qm
+        .iter()
+        .enumerate()
+        .map(|(j, q)| {
+            if j == 2 {
+                (q * 1e3).to_string()
+            } else {
+                q.to_degrees().to_string()
+            }
+        })
+        .collect();
+    let stated = stated.join(",");
+    let args = ["--angle-unit", "deg", "--length-unit", "mm", "--json"];
+    for command in ["fk", "jacobian"] {
+        let expected = if command == "fk" {
+            si.clone()
+        } else {
+            json_output(&[
+                "jacobian",
+                "stanford",
+                "--qm",
+                "0.1,-0.4,0.5,0.2,0.9,-1.1",
+                "--json",
+            ])
+        };
+        let mut line = vec![command, "stanford", "--qm", &stated];
+        line.extend(args);
+        let got = json_output(&line);
+        let (got, expected) = (got.to_string(), expected.to_string());
+        let numbers = |text: &str| -> Vec<f64> {
+            text.split(|c: char| !(c.is_ascii_digit() || "-.e".contains(c)))
+                .filter_map(|word| word.parse().ok())
+                .collect()
+        };
+        for (a, b) in numbers(&got).iter().zip(numbers(&expected)) {
+            assert!((a - b).abs() < 1e-12, "{command}: {a} vs {b}");
+        }
+    }
+    // The text gives the position in the stated length unit.
+    gecaro()
+        .args([
+            "fk",
+            "stanford",
+            "--qm",
+            &stated,
+            "--length-unit",
+            "mm",
+            "--angle-unit",
+            "deg",
+        ])
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("position (mm)"));
+}
+
+#[test]
 fn jacobian_matches_finite_differences_of_fk() {
     let qm = [0.3, -0.4, 0.6, 0.2, 0.9, -1.1];
     let qm_text = qm.map(|v| v.to_string()).join(",");
@@ -562,6 +628,25 @@ fn generate_identify_evaluate_round_trip() {
     assert_eq!(after["count"], 30);
     assert!(before["rms"].as_f64().expect("rms") > 1e-3);
     assert!(after["rms"].as_f64().expect("rms") < 1e-9, "{after}");
+    // The same file as a spreadsheet exports it: `;` and decimal commas,
+    // with the separator named by its character.
+    let text = std::fs::read_to_string(&held_out).expect("held out");
+    let semicolons = folder.path().join("held_out_semicolons.csv");
+    std::fs::write(&semicolons, text.replace(',', ";").replace('.', ",")).expect("written");
+    for delimiter in [";", "semicolon"] {
+        let again = json_output(&[
+            "evaluate",
+            calibrated.to_str().expect("utf-8"),
+            "--method",
+            "position",
+            "--json",
+            "--delimiter",
+            delimiter,
+            "--data",
+            semicolons.to_str().expect("utf-8"),
+        ]);
+        assert_eq!(again, after, "--delimiter {delimiter}");
+    }
 }
 
 #[test]

@@ -290,3 +290,67 @@ fn a_study_naming_an_unknown_station_is_refused_at_its_line() {
     let message = String::from_utf8_lossy(&output.stderr);
     assert!(message.contains("tools and stations go with"), "{message}");
 }
+
+/// `gecaro evaluate ROBOT --study STUDY`: the robot on every set of the
+/// study, frames as stated. The nominal robot gives the identification's
+/// errors before; the calibrated robot, with the identified frames stated in
+/// the study, its errors after.
+#[test]
+fn a_robot_is_evaluated_on_a_study() {
+    let folder = tempfile::tempdir().expect("folder");
+    write_cell(folder.path());
+    let study = folder.path().join("study.toml");
+    let calibrated = folder.path().join("calibrated.toml");
+    let output = gecaro()
+        .args(["identify", "--study"])
+        .arg(&study)
+        .arg("--json")
+        .arg("-o")
+        .arg(&calibrated)
+        .output()
+        .expect("runs");
+    assert!(output.status.success(), "{output:?}");
+    let identified: Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    assert!(
+        identified["frames"][3]["name"] == "tracker_2",
+        "{identified}"
+    );
+    let evaluate = |robot: &Path, study: &Path| -> Value {
+        let output = gecaro()
+            .arg("evaluate")
+            .arg(robot)
+            .arg("--study")
+            .arg(study)
+            .arg("--json")
+            .output()
+            .expect("runs");
+        assert!(output.status.success(), "{output:?}");
+        serde_json::from_slice(&output.stdout).expect("JSON")
+    };
+    let close = |a: &Value, b: &Value| {
+        let (a, b) = (a.as_f64().expect("a"), b.as_f64().expect("b"));
+        assert!((a - b).abs() <= 1e-9 + 1e-6 * b.abs(), "{a} vs {b}");
+    };
+    let before = evaluate(Path::new("industrial6"), &study);
+    assert_eq!(before["count"], 150);
+    close(&before["rms"], &identified["before"]["rms"]);
+    // The identified frames stated in the study (metres and radians).
+    let mut text =
+        String::from("robot = \"industrial6\"\nlength_unit = \"mm\"\nangle_unit = \"deg\"\n");
+    for frame in identified["frames"].as_array().expect("frames") {
+        text += &format!(
+            "[{}s.{}]\nlength_unit = \"m\"\nangle_unit = \"rad\"\nposition = {}\nrpy = {}\n",
+            frame["role"].as_str().expect("role"),
+            frame["name"].as_str().expect("name"),
+            frame["position"],
+            frame["rpy"]
+        );
+    }
+    let original = std::fs::read_to_string(&study).expect("study");
+    let sets = &original[original.find("[[measurements]]").expect("sets")..];
+    let restated = folder.path().join("identified.toml");
+    std::fs::write(&restated, text + sets).expect("written");
+    let after = evaluate(&calibrated, &restated);
+    close(&after["rms"], &identified["after"]["rms"]);
+    assert!(after["rms"].as_f64().expect("rms") < 5e-5, "{after}");
+}

@@ -487,13 +487,25 @@ fn print_errors(title: &str, before: &ErrorSummary, after: Option<&ErrorSummary>
 }
 
 pub(crate) fn evaluate(args: &EvaluateArgs) -> Result<(), Failure> {
-    let mut measurements = Measurements::single(
-        RobotSource::Named(args.robot.clone()),
-        method_spec(&args.method.method, &args.method.options)?,
-        Some(DataSource::File(name(&args.data))),
-    );
-    measurements.format = super::options::data_format(&args.format);
-    measurements.strict_limits = args.strict_limits;
+    let measurements = Measurements {
+        robot: Some(RobotSource::Named(args.robot.clone())),
+        method: args
+            .method
+            .as_deref()
+            .map(|method| method_spec(method, &args.options))
+            .transpose()?,
+        data: args
+            .data
+            .as_deref()
+            .map(|path| DataSource::File(name(path))),
+        format: super::options::data_format(&args.format),
+        study: args
+            .study
+            .as_deref()
+            .map(|path| gecaro_app::StudySource::File(name(path))),
+        strict_limits: args.strict_limits,
+        ..Measurements::default()
+    };
     let evaluation = EvaluateRequest::new(measurements).run(&LocalFiles)?;
     print_notes(&evaluation.loaded.notes);
     if args.json {
@@ -504,7 +516,7 @@ pub(crate) fn evaluate(args: &EvaluateArgs) -> Result<(), Failure> {
     println!(
         "{} on {} ({} method):",
         evaluation.loaded.robot.robot.name(),
-        args.data.display(),
+        evaluation.loaded.label,
         evaluation.loaded.study.method_names()
     );
     print_errors("Errors", &evaluation.summary, None);

@@ -18,9 +18,19 @@ struct PoseJson {
     rotation: [[f64; 3]; 3],
 }
 
-pub(crate) fn forward(args: &ConfigurationArgs) -> Result<(), Failure> {
+/// The robot and `--qm` in gecaro's units (radians, metres).
+fn configuration(
+    args: &ConfigurationArgs,
+) -> Result<(gecaro_core::Robot, Vec<f64>, gecaro_io::DataUnits), Failure> {
     let robot = load_robot(&args.robot)?.robot;
-    let chain = forward_kinematics(&robot, &args.qm)?;
+    let units = super::options::data_units(&args.units)?;
+    let qm = units.configuration_to_si(&gecaro_io::joint_types(&robot), &args.qm);
+    Ok((robot, qm, units))
+}
+
+pub(crate) fn forward(args: &ConfigurationArgs) -> Result<(), Failure> {
+    let (robot, qm, units) = configuration(args)?;
+    let chain = forward_kinematics(&robot, &qm)?;
     let tool = chain.world_from_tool();
     let position = tool.translation.vector;
     let rotation = tool.rotation.matrix();
@@ -36,11 +46,13 @@ pub(crate) fn forward(args: &ConfigurationArgs) -> Result<(), Failure> {
         robot.name(),
         crate::format::list(&args.qm)
     );
+    let scale = 1.0 / units.length.to_metres();
     println!(
-        "position (m):  x = {}  y = {}  z = {}",
-        number(position.x, 7),
-        number(position.y, 7),
-        number(position.z, 7)
+        "position ({}):  x = {}  y = {}  z = {}",
+        units.length.name(),
+        number(position.x * scale, 7),
+        number(position.y * scale, 7),
+        number(position.z * scale, 7)
     );
     println!(
         "rotation (columns s, n, a of frame {}):",
@@ -64,8 +76,8 @@ struct JacobianJson {
 }
 
 pub(crate) fn jacobian(args: &ConfigurationArgs) -> Result<(), Failure> {
-    let robot = load_robot(&args.robot)?.robot;
-    let jacobian = parameter_jacobian(&robot, &args.qm)?;
+    let (robot, qm, _) = configuration(args)?;
+    let jacobian = parameter_jacobian(&robot, &qm)?;
     let names = robot.parameters().names();
     if args.json {
         return super::print_json(&JacobianJson {

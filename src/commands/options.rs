@@ -121,6 +121,16 @@ pub(crate) fn data_format(args: &DataFormatArgs) -> DataFormatSpec {
     }
 }
 
+/// The units the command line states (`--length-unit`, `--angle-unit`).
+pub(crate) fn data_units(args: &crate::cli::UnitArgs) -> Result<gecaro_io::DataUnits, Failure> {
+    let spec = DataFormatSpec {
+        length_unit: args.length_unit.clone(),
+        angle_unit: args.angle_unit.clone(),
+        ..DataFormatSpec::default()
+    };
+    Ok(spec.format()?.units)
+}
+
 /// A path as the application layer names files.
 pub(crate) fn name(path: &Path) -> String {
     path.display().to_string()

@@ -352,7 +352,7 @@ fn parameters(parameters: &[IdentifiedParameter]) -> Vec<ParameterJson> {
 pub struct FrameJson {
     /// Its name in the study.
     pub name: String,
-    /// `tool` (in the flange frame n) or `station` (in the world frame).
+    /// `tool` (in the robot's tool frame n+1) or `station` (in the world frame).
     pub role: &'static str,
     /// Its origin (m), three numbers (a list, not a tuple, in Python).
     pub position: Vec<f64>,

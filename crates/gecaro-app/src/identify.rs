@@ -23,7 +23,7 @@ use crate::documents::{CrossValidationJson, IdentificationJson, ModelScoreJson};
 use crate::error::{AppError, ErrorKind};
 use crate::files::Files;
 use crate::limits::MAX_FOLDS;
-use crate::measurements::{Data, Loaded, Measurements, Unknown};
+use crate::measurements::{Data, Loaded, Measurements, Note, Unknown};
 use crate::robot_files::calibrated_robot_file;
 use crate::settings::{FitSettings, model};
 use crate::sources::RobotSource;
@@ -464,7 +464,14 @@ impl EvaluateRequest {
     /// Bad input, or auxiliary unknowns that cannot be initialised.
     pub fn run(&self, files: &dyn Files) -> Result<Evaluation, AppError> {
         self.unknown.check()?;
-        let loaded = self.measurements.load(files, Data::Required)?;
+        let mut loaded = self.measurements.load_evaluated(files)?;
+        if !loaded.study.frames.is_empty() {
+            loaded.notes.push(Note::plain(
+                "the study's tools and stations are taken where it states them: to judge the \
+                 robot alone, state the identified ones (identify prints them as a study states \
+                 them)",
+            ));
+        }
         let (summary, errors) = evaluate_errors(&loaded.robot.robot, &loaded.study)?;
         let compared = match &self.compared {
             None => None,

@@ -167,6 +167,28 @@ impl Measurements {
         Ok(loaded)
     }
 
+    /// Loads the measurements a robot is evaluated on: with a study and a
+    /// robot, the robot replaces the study's own (a calibrated robot on a
+    /// held-out study of its cell); otherwise as [`load`](Self::load), data
+    /// required.
+    ///
+    /// # Errors
+    /// As [`load`](Self::load), and a robot the study's sets do not fit.
+    pub fn load_evaluated(&self, files: &dyn Files) -> Result<Loaded, AppError> {
+        let (Some(_), Some(robot)) = (&self.study, &self.robot) else {
+            return self.load(files, Data::Required);
+        };
+        let robot = robot.load(files)?;
+        let study = Measurements {
+            robot: None,
+            ..self.clone()
+        };
+        let mut loaded = study.load(files, Data::Required)?;
+        loaded.study.check(&robot.robot)?;
+        loaded.robot = robot;
+        Ok(loaded)
+    }
+
     fn load_study(&self, study: &StudySource, files: &dyn Files) -> Result<Loaded, AppError> {
         if self.robot.is_some() || self.method.is_some() || self.data.is_some() {
             return Err(AppError::setting(

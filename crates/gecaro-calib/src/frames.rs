@@ -2,38 +2,53 @@
 //!
 //! A laser tracker measures one or several reflectors on the tool, sometimes
 //! from several stations. A study's measurement set can then name its
-//! **tool** (the pose of the measured point or frame in the flange frame n,
-//! replacing the robot's frame n+1 for that set) and its **station** (the
-//! pose of the measurement frame in the robot's world frame −1: the set's
-//! data are poses in the station frame). Sets that name neither measure the
-//! robot's own frame n+1 in the world frame, as a single-method study does.
+//! **tool** (the pose of the measured point or frame in the robot's tool
+//! frame n+1 — the robot file's last frame, a URDF's `tool0` — replacing
+//! that frame's origin as the measured point for that set) and its
+//! **station** (the pose of the measurement frame in the robot's world frame
+//! −1: the set's data are poses in the station frame). Sets that name
+//! neither measure the robot's own frame n+1 in the world frame, as a
+//! single-method study does.
+//!
+//! One convention everywhere: a reflector stated as (40, 25, 90) mm is at
+//! those coordinates in the frame the user knows as the flange or `tool0`
+//! (`robot reframe --tool` moves the same frame), whatever Khalil–Kleinfinger
+//! frame n the import chose.
 //!
 //! ## Unknowns
 //!
 //! Each named frame brings six unknowns, identified with η as a method's
 //! auxiliary unknowns are (they come first among them):
-//! `x, y, z` (metres) the frame's origin in its parent frame (flange frame n
-//! for a tool, world frame for a station), and `rx, ry, rz` (radians) a
+//! `x, y, z` (metres) the frame's origin in its parent frame (tool frame
+//! n+1 for a tool, world frame for a station), and `rx, ry, rz` (radians) a
 //! rotation after the stated orientation `R₀`:
 //! `R = R₀ · Rot(x, rx) · Rot(y, ry) · Rot(z, rz)`, so that the angles start
 //! at 0 and stay far from the representation's singularity (ry = ±90°).
 //! A point measure does not see a tool's orientation: those three columns
 //! have no effect and Appendix III reports them so.
 //!
+//! ## Frame n+1 under a named tool
+//!
+//! Where every set of a study names a tool, nothing measures the robot's own
+//! frame n+1 apart from the tools: its parameters would only duplicate the
+//! tools' unknowns, so their columns are zero in the named tools' sets (no
+//! effect; they keep their nominal values) and the tools are identified in
+//! the nominal frame n+1. Where some set measures the robot's own frame n+1
+//! (no tool named), that set determines frame n+1 and the tools ride on it:
+//! their columns are the rigid-body ones below.
+//!
 //! ## The state of a set with a tool and a station
 //!
-//! With `P` the pose of the robot's own frame n+1 in the world, `T₀` that
-//! frame in the flange frame, the flange is `F = P·T₀⁻¹`, the tool's pose
-//! in the world `X = F·T` and the measured pose `Y = S⁻¹·X` for a station
+//! With `P` the pose of the robot's frame n+1 in the world, the tool's pose
+//! in the world is `X = P·T` and the measured pose `Y = S⁻¹·X` for a station
 //! `S`. Their Jacobians follow from Appendix II's, column by column
 //! (`d = X_p − P_p` in the world, `δ` the small rotation):
 //!
 //! | unknown | position rows (world) | rotation rows (world) |
 //! |---|---|---|
-//! | robot parameter, frame n+1 | 0 (the named tool replaces it) | 0 |
-//! | other robot parameter k | `J_p,k − d × J_δ,k` | `J_δ,k` |
-//! | tool x, y, z | `R_F e_i` | 0 |
-//! | tool rx, ry, rz | 0 | `R_F R₀ (e_x, Rot(x, rx) e_y, Rot(x, rx) Rot(y, ry) e_z)` |
+//! | robot parameter k (frame n+1: 0 when every set names a tool) | `J_p,k − d × J_δ,k` | `J_δ,k` |
+//! | tool x, y, z | `R_P e_i` | 0 |
+//! | tool rx, ry, rz | 0 | `R_P R₀ (e_x, Rot(x, rx) e_y, Rot(x, rx) Rot(y, ry) e_z)` |
 //!
 //! then, in the station frame, every column is rotated by `R_Sᵀ`, and the
 //! station's own columns are, with `y` the measured position in the station
@@ -46,7 +61,7 @@
 //! frame is then that of the robot's nominal base, whose parameters the
 //! stations absorb (Appendix III reports them without effect or regrouped).
 
-use gecaro_core::{Robot, frame_transform};
+use gecaro_core::Robot;
 use nalgebra::{IsometryMatrix3, Matrix3, Rotation3, Translation3, Vector3};
 
 use crate::states::TerminalState;
@@ -61,7 +76,7 @@ pub const UNKNOWN_NAMES: [&str; FRAME_UNKNOWNS] = ["x", "y", "z", "rx", "ry", "r
 /// (a station).
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub enum FrameRole {
-    /// A reflector or tool frame, stated in the flange frame n.
+    /// A reflector or tool frame, stated in the robot's tool frame n+1.
     Tool,
     /// A measurement frame (an instrument's), stated in the world frame.
     Station,
@@ -84,8 +99,8 @@ pub struct NamedFrame {
     pub name: String,
     /// Tool or station.
     pub role: FrameRole,
-    /// The stated pose: a tool's in the flange frame n, a station's in the
-    /// world frame (metres).
+    /// The stated pose: a tool's in the robot's tool frame n+1, a station's
+    /// in the world frame (metres).
     pub pose: IsometryMatrix3<f64>,
 }
 
@@ -141,11 +156,7 @@ pub fn measuring_robot(
     tool: Option<&NamedFrame>,
     station: Option<&NamedFrame>,
 ) -> Result<Robot, gecaro_core::Error> {
-    let last = robot.frames().len() - 1;
-    let own_tool = frame_transform(&robot.frames()[last], 0.0);
-    let new_tool = tool.map_or(IsometryMatrix3::identity(), |tool| {
-        own_tool.inverse() * tool.pose
-    });
+    let new_tool = tool.map_or(IsometryMatrix3::identity(), |tool| tool.pose);
     let new_world = station.map_or(IsometryMatrix3::identity(), |station| {
         station.pose.inverse()
     });
@@ -159,23 +170,26 @@ pub(crate) struct SetFrames<'a> {
     pub tool: Option<(&'a NamedFrame, &'a [f64], usize)>,
     /// The station, likewise.
     pub station: Option<(&'a NamedFrame, &'a [f64], usize)>,
-    /// The robot's own frame n+1 in the flange frame (`T₀`).
-    pub own_tool: IsometryMatrix3<f64>,
-    /// The vocabulary indices of the robot's frame n+1 parameters.
-    pub own_tool_parameters: Vec<usize>,
+    /// The vocabulary indices of the robot's frame n+1 parameters whose
+    /// columns are held at zero under a named tool (none where another set
+    /// measures frame n+1; see the module docs).
+    pub held_tool_parameters: Vec<usize>,
     /// All unknowns of all named frames (the extra Jacobian columns).
     pub unknowns: usize,
 }
 
 impl<'a> SetFrames<'a> {
     /// The frames of a set measuring with `tool` and `station` (indices into
-    /// `frames`, whose unknowns' values are `values`) on `robot`.
+    /// `frames`, whose unknowns' values are `values`) on `robot`;
+    /// `tool_frame_measured`: some set of the study measures the robot's own
+    /// frame n+1 (names no tool).
     pub(crate) fn new(
         robot: &Robot,
         frames: &'a [NamedFrame],
         values: &'a [f64],
         tool: Option<usize>,
         station: Option<usize>,
+        tool_frame_measured: bool,
     ) -> Self {
         let entry = |index: usize| {
             let first = index * FRAME_UNKNOWNS;
@@ -189,15 +203,18 @@ impl<'a> SetFrames<'a> {
         SetFrames {
             tool: tool.map(entry),
             station: station.map(entry),
-            own_tool: frame_transform(&robot.frames()[last], 0.0),
-            own_tool_parameters: robot
-                .parameters()
-                .ids()
-                .iter()
-                .enumerate()
-                .filter(|(_, id)| id.frame == last)
-                .map(|(index, _)| index)
-                .collect(),
+            held_tool_parameters: if tool_frame_measured {
+                Vec::new()
+            } else {
+                robot
+                    .parameters()
+                    .ids()
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, id)| id.frame == last)
+                    .map(|(index, _)| index)
+                    .collect()
+            },
             unknowns: frames.len() * FRAME_UNKNOWNS,
         }
     }
@@ -209,9 +226,8 @@ impl<'a> SetFrames<'a> {
         let parameters = state.parameter_count();
         let columns = parameters + self.unknowns;
         let own = state.pose;
-        let flange = own * self.own_tool.inverse();
         let world_pose = match self.tool {
-            Some((frame, values, _)) => flange * frame.pose_at(values),
+            Some((frame, values, _)) => own * frame.pose_at(values),
             None => own,
         };
         // Columns in the world frame: 3 position rows, 3 rotation rows.
@@ -225,11 +241,11 @@ impl<'a> SetFrames<'a> {
             rotation[k] = j_d;
         }
         if let Some((frame, values, first)) = self.tool {
-            for k in &self.own_tool_parameters {
+            for k in &self.held_tool_parameters {
                 position[*k] = Vector3::zeros();
                 rotation[*k] = Vector3::zeros();
             }
-            let to_world: Matrix3<f64> = *flange.rotation.matrix();
+            let to_world: Matrix3<f64> = *own.rotation.matrix();
             for axis in 0..3 {
                 position[parameters + first + axis] = to_world.column(axis).into_owned();
             }
@@ -311,6 +327,7 @@ mod tests {
         q: &[f64],
         tool: Option<usize>,
         station: Option<usize>,
+        tool_frame_measured: bool,
     ) -> TerminalState {
         let mut states = Vec::new();
         evaluate_states(
@@ -321,12 +338,16 @@ mod tests {
         )
         .expect("state");
         let mut state = states.pop().expect("one");
-        SetFrames::new(robot, frames, values, tool, station).apply(&mut state, 6);
+        SetFrames::new(robot, frames, values, tool, station, tool_frame_measured)
+            .apply(&mut state, 6);
         state
     }
 
     /// Every column of the measured pose's Jacobian (robot parameters and
-    /// frame unknowns) equals central finite differences of the pose.
+    /// frame unknowns) equals central finite differences of the pose, the
+    /// tool riding on the robot's frame n+1; where no set measures that
+    /// frame, its columns are held at zero under a named tool and the others
+    /// are unchanged.
     #[test]
     fn jacobian_columns_match_finite_differences() {
         let robot = Robot::template("arm", "RRPRRR").expect("template");
@@ -344,7 +365,20 @@ mod tests {
         let q = Sampler::new(8).configuration(&robot);
         let step = 1e-6;
         for (tool, station) in [(Some(0), Some(1)), (Some(0), None), (None, Some(1))] {
-            let state = measured(&robot, &frames, &values, &q, tool, station);
+            let state = measured(&robot, &frames, &values, &q, tool, station, true);
+            let held = measured(&robot, &frames, &values, &q, tool, station, false);
+            for column in 0..state.parameter_count() {
+                let in_tool_frame = column < robot.parameters().len()
+                    && robot.parameters().id(column).frame == last;
+                for axis in 0..6 {
+                    let expected = if in_tool_frame && tool.is_some() {
+                        0.0
+                    } else {
+                        state.jacobian_row(axis)[column]
+                    };
+                    assert_eq!(held.jacobian_row(axis)[column], expected, "column {column}");
+                }
+            }
             let parameters = robot.parameters().len();
             let columns = parameters + values.len();
             assert_eq!(state.parameter_count(), columns);
@@ -359,7 +393,7 @@ mod tests {
                     } else {
                         values[column - parameters] += sign * step;
                     }
-                    measured(&robot, &frames, &values, &q, tool, station).pose
+                    measured(&robot, &frames, &values, &q, tool, station, true).pose
                 };
                 let (plus, minus) = (shifted(1.0), shifted(-1.0));
                 // dp, and δ with plus ≈ Rot(δ)·minus (Appendix I's difference).

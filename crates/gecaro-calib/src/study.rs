@@ -197,6 +197,7 @@ impl Study {
                 &auxiliary[..self.frame_unknowns()],
                 set.tool,
                 set.station,
+                self.sets.iter().any(|set| set.tool.is_none()),
             )
         })
     }

@@ -175,6 +175,25 @@ impl DataUnits {
         }
     }
 
+    /// A configuration `qm` given in these units, in gecaro's (radians for
+    /// revolute joints, metres for prismatic ones); `robot_types` from
+    /// [`joint_types`].
+    pub fn configuration_to_si(&self, robot_types: &[FrameType], qm: &[f64]) -> Vec<f64> {
+        qm.iter()
+            .enumerate()
+            .map(|(j, q)| q * self.joint_scale(robot_types, j))
+            .collect()
+    }
+
+    /// A configuration in gecaro's units, in these (the inverse of
+    /// [`configuration_to_si`](Self::configuration_to_si)).
+    pub fn configuration_from_si(&self, robot_types: &[FrameType], qm: &[f64]) -> Vec<f64> {
+        qm.iter()
+            .enumerate()
+            .map(|(j, q)| q / self.joint_scale(robot_types, j))
+            .collect()
+    }
+
     /// Whether both units are gecaro's own (metres, radians).
     pub fn is_si(&self) -> bool {
         *self == DataUnits::default()

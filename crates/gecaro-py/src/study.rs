@@ -177,9 +177,10 @@ impl PyStudy {
         Ok(())
     }
 
-    /// Names a tool (a reflector): its pose in the flange frame n, `position`
-    /// in metres, `rpy` (radians, about the fixed x, y, z axes) or a unit
-    /// `quaternion` [w, x, y, z]. Its pose is identified with the robot.
+    /// Names a tool (a reflector): its pose in the robot's tool frame n+1 (a
+    /// URDF's `tool0`), `position` in metres, `rpy` (radians, about the
+    /// fixed x, y, z axes) or a unit `quaternion` [w, x, y, z]. Its pose is
+    /// identified with the robot.
     #[pyo3(signature = (name, position, *, rpy = None, quaternion = None))]
     fn add_tool(
         &mut self,

@@ -129,8 +129,8 @@ fn rms(
 }
 
 /// A measured point of a set with named frames: its station and tool
-/// (indices into the study's frames), the nominal flange pose, and the point
-/// measured (in the station's frame).
+/// (indices into the study's frames), the nominal pose of the tool frame
+/// n+1, and the point measured (in the station's frame).
 type FramedPoint = (
     Option<usize>,
     Option<usize>,
@@ -143,8 +143,8 @@ type FramedPoint = (
 /// module docs for the conditions) or none is named.
 ///
 /// A set that names a station measures points `Y_i = S⁻¹ F_i p` in the
-/// station's frame, `F_i` the nominal flange pose, `p` the measured point in
-/// the flange frame (the set's tool, or the robot's own frame n+1). By
+/// station's frame, `F_i` the nominal pose of the tool frame n+1, `p` the
+/// measured point in that frame (the set's tool, or its origin). By
 /// alternation, as for the world frame above: Horn/Kabsch for every station
 /// `S⁻¹` given the points, then least squares for every tool's point given
 /// the stations (the mean of `R_Fᵢᵀ (S Y_i − t_Fᵢ)` over its samples). Sets
@@ -159,9 +159,7 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<S
     if !study.sets.iter().any(|set| set.station.is_some()) {
         return Ok(None);
     }
-    let last = robot.frames().len() - 1;
-    let own_tool = gecaro_core::frame_transform(&robot.frames()[last], 0.0);
-    // (station, tool, flange pose, measured point) of every point, evenly
+    // (station, tool, tool_frame pose, measured point) of every point, evenly
     // spread up to MAXIMUM_POINTS per set.
     let mut points: Vec<FramedPoint> = Vec::new();
     for set in &study.sets {
@@ -174,8 +172,8 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<S
             .iter()
             .step_by(measured.len().div_ceil(MAXIMUM_POINTS).max(1))
         {
-            let flange = terminal_pose(robot, motors)? * own_tool.inverse();
-            points.push((set.station, set.tool, flange, *point));
+            let tool_frame = terminal_pose(robot, motors)?;
+            points.push((set.station, set.tool, tool_frame, *point));
         }
     }
     if points.len() < MINIMUM_POINTS {
@@ -188,14 +186,13 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<S
         .iter()
         .map(|f| f.pose.translation.vector)
         .collect();
-    let point_of = |tools: &[Vector3<f64>], tool: Option<usize>| {
-        tool.map_or(own_tool.translation.vector, |t| tools[t])
-    };
+    let point_of =
+        |tools: &[Vector3<f64>], tool: Option<usize>| tool.map_or(Vector3::zeros(), |t| tools[t]);
     let rms = |stations: &[IsometryMatrix3<f64>], tools: &[Vector3<f64>]| {
         let squares: f64 = points
             .iter()
-            .map(|(station, tool, flange, measured)| {
-                let world = flange * nalgebra::Point3::from(point_of(tools, *tool));
+            .map(|(station, tool, tool_frame, measured)| {
+                let world = tool_frame * nalgebra::Point3::from(point_of(tools, *tool));
                 let seen = station.map_or(world, |s| stations[s].inverse() * world);
                 (seen.coords - measured).norm_squared()
             })
@@ -214,9 +211,9 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<S
             let (world, seen): (Vec<Vector3<f64>>, Vec<Vector3<f64>>) = points
                 .iter()
                 .filter(|(station, ..)| *station == Some(index))
-                .map(|(_, tool, flange, measured)| {
+                .map(|(_, tool, tool_frame, measured)| {
                     (
-                        (flange * nalgebra::Point3::from(point_of(&tools, *tool))).coords,
+                        (tool_frame * nalgebra::Point3::from(point_of(&tools, *tool))).coords,
                         *measured,
                     )
                 })
@@ -238,11 +235,11 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<S
             let estimates: Vec<Vector3<f64>> = points
                 .iter()
                 .filter(|(_, tool, ..)| *tool == Some(index))
-                .map(|(station, _, flange, measured)| {
+                .map(|(station, _, tool_frame, measured)| {
                     let world = station.map_or(*measured, |s| {
                         (stations[s] * nalgebra::Point3::from(*measured)).coords
                     });
-                    flange.rotation.inverse() * (world - flange.translation.vector)
+                    tool_frame.rotation.inverse() * (world - tool_frame.translation.vector)
                 })
                 .collect();
             if !estimates.is_empty() {

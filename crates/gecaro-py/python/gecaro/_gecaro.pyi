@@ -289,7 +289,7 @@ class Study:
         rpy: Optional[Sequence[float]] = None,
         quaternion: Optional[Sequence[float]] = None,
     ) -> None:
-        """Names a reflector: its pose in the flange frame (m, rad), identified with the robot."""
+        """Names a reflector: its pose in the robot's tool frame n+1 (a URDF's tool0; m, rad), identified with the robot."""
     def add_station(
         self,
         name: str,
