@@ -101,6 +101,10 @@ pub(crate) enum RobotCommand {
         #[arg(long)]
         force: bool,
     },
+    /// Re-express a robot calibrated in a measurement frame (a tracker's) in
+    /// its own base frame, the nominal robot's: prints the measurement
+    /// frame's pose in the robot's frame, writes the robot.
+    Rebase(RebaseArgs),
     /// Convert a URDF, a DH / modified-DH table or a SYMORO .par file into a
     /// robot file (same joint variables: sign and zero).
     Import(ImportArgs),
@@ -189,9 +193,31 @@ pub(crate) struct ExportArgs {
     /// Output file (.urdf, or .toml for a table).
     #[arg(short, long)]
     pub(crate) output: PathBuf,
+    /// Export the robot re-expressed in this nominal robot's base frame (a
+    /// robot calibrated in a tracker's frame; see `robot rebase`).
+    #[arg(long, value_name = "NOMINAL")]
+    pub(crate) rebase: Option<String>,
     /// Overwrite the output files if they exist.
     #[arg(long)]
     pub(crate) force: bool,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct RebaseArgs {
+    /// The calibrated robot (file), in the calibration's measurement frame.
+    pub(crate) robot: String,
+    /// The nominal robot (file or ready robot name), in the robot's own base frame.
+    #[arg(long)]
+    pub(crate) nominal: String,
+    /// Output robot file: the calibrated robot in its own base frame.
+    #[arg(short, long)]
+    pub(crate) output: PathBuf,
+    /// Overwrite the output file if it exists.
+    #[arg(long)]
+    pub(crate) force: bool,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub(crate) json: bool,
 }
 
 #[derive(Debug, Args)]
@@ -743,6 +769,12 @@ pub(crate) struct CompensateArgs {
     /// orientation is not identified).
     #[arg(long = "match", value_parser = names(&gecaro_calib::compensation::Match::NAMES), default_value = "pose")]
     pub(crate) matching: String,
+    /// The calibrated robot stands in a measurement frame (a tracker's) and
+    /// the program in robot coordinates: re-express the robot in the
+    /// nominal's base frame first (`robot rebase`). Without it, robots in
+    /// different frames are refused.
+    #[arg(long)]
+    pub(crate) rebase: bool,
     /// The corrected program (CSV): the program's columns with corrected
     /// joints, then residual, residual_rotation and status.
     #[arg(short, long, value_name = "CORRECTED.csv")]

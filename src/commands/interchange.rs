@@ -1,12 +1,17 @@
-//! `gecaro robot import` and `gecaro robot export`: robots from and to URDF,
-//! DH tables and SYMORO files (the rules are in `docs/interchange.md`).
+//! `gecaro robot import`, `gecaro robot export` and `gecaro robot rebase`:
+//! robots from and to URDF, DH tables and SYMORO files (the rules are in
+//! `docs/interchange.md`), and a calibrated robot in its own base frame.
 
-use gecaro_app::{ExportRequest, ImportRequest, LocalFiles, RobotSource, format_name};
+use gecaro_app::{
+    ExportRequest, ImportRequest, LocalFiles, RebaseRequest, RobotSource, format_name,
+};
 use gecaro_io::RobotFormat;
+use serde::Serialize;
 
 use super::options::name;
-use crate::cli::{ExportArgs, ImportArgs};
+use crate::cli::{ExportArgs, ImportArgs, RebaseArgs};
 use crate::failure::Failure;
+use crate::format::number;
 use crate::format::shown;
 
 fn print_notes(notes: &[String]) {
@@ -47,6 +52,7 @@ pub(crate) fn export(args: &ExportArgs) -> Result<(), Failure> {
     let mut request = ExportRequest::new(RobotSource::Named(args.robot.clone()), args.to.clone());
     request.save_as = Some(name(&args.output));
     request.overwrite = args.force;
+    request.rebase = args.rebase.clone().map(RobotSource::Named);
     let calibration_path = gecaro_app::joint_calibration_name(&name(&args.output));
     let exported = request.run(&LocalFiles)?;
     print_notes(&exported.exported.notes);
@@ -69,6 +75,71 @@ pub(crate) fn export(args: &ExportArgs) -> Result<(), Failure> {
         args.output.display(),
         format_name(exported.format),
         exported.robot.robot.joint_count()
+    );
+    Ok(())
+}
+
+/// `gecaro robot rebase --json`: the measurement frame in the robot's base
+/// frame (metres, radians) and the file written.
+#[derive(Serialize)]
+struct RebasedJson {
+    /// The measurement frame's origin in the robot's base frame (m).
+    position: [f64; 3],
+    /// Its roll, pitch, yaw (rad, about the fixed x, y, z axes).
+    rpy: [f64; 3],
+    /// Its orientation as a unit quaternion `[w, x, y, z]`.
+    quaternion: [f64; 4],
+    /// The robot file written.
+    output: String,
+}
+
+pub(crate) fn rebase(args: &RebaseArgs) -> Result<(), Failure> {
+    let mut request = RebaseRequest::new(
+        RobotSource::Named(args.robot.clone()),
+        RobotSource::Named(args.nominal.clone()),
+    );
+    request.save_as = Some(name(&args.output));
+    request.overwrite = args.force;
+    let rebased = request.run(&LocalFiles)?;
+    let frame = rebased.measurement_frame;
+    let t = frame.translation.vector;
+    let (roll, pitch, yaw) = frame.rotation.euler_angles();
+    let q = nalgebra::UnitQuaternion::from_rotation_matrix(&frame.rotation);
+    if args.json {
+        return super::print_json(&RebasedJson {
+            position: [t.x, t.y, t.z],
+            rpy: [roll, pitch, yaw],
+            quaternion: [q.w, q.i, q.j, q.k],
+            output: args.output.display().to_string(),
+        });
+    }
+    println!(
+        "the measurement frame in {}'s base frame: x {} y {} z {} mm, rpy {} {} {}°",
+        shown(&args.nominal),
+        number(t.x * 1e3, 3),
+        number(t.y * 1e3, 3),
+        number(t.z * 1e3, 3),
+        number(roll.to_degrees(), 4),
+        number(pitch.to_degrees(), 4),
+        number(yaw.to_degrees(), 4)
+    );
+    let back = frame.inverse();
+    let (b, r) = (
+        back.translation.vector,
+        nalgebra::UnitQuaternion::from_rotation_matrix(&back.rotation),
+    );
+    println!(
+        "wrote {}: the calibrated robot in its own base frame (`gecaro robot reframe {} --world \
+         {},{},{},{},{},{},{}` gives the measured one back)",
+        shown(&args.output.display().to_string()),
+        args.output.display(),
+        b.x,
+        b.y,
+        b.z,
+        r.w,
+        r.i,
+        r.j,
+        r.k
     );
     Ok(())
 }

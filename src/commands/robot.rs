@@ -27,6 +27,7 @@ pub(crate) fn run(command: RobotCommand) -> Result<(), Failure> {
             output,
             force,
         } => new(&joints, &output, force),
+        RobotCommand::Rebase(args) => super::interchange::rebase(&args),
         RobotCommand::Import(args) => super::interchange::import(&args),
         RobotCommand::Export(args) => super::interchange::export(&args),
     }

@@ -14,6 +14,7 @@ use crate::error::{AppError, ErrorKind};
 use crate::files::Files;
 use crate::measurements::Unknown;
 use crate::method::parse_name;
+use crate::rebase::{check_same_frame, rebased_file};
 use crate::sources::{DataFormatSpec, RobotSource};
 
 /// Where a program's targets come from.
@@ -43,6 +44,12 @@ pub struct CompensateRequest {
     /// What a joint target asks: `pose` (default) or `position`.
     #[serde(default, rename = "match")]
     pub matching: Option<String>,
+    /// Re-express the calibrated robot in the nominal's base frame first (a
+    /// robot calibrated in a tracker's frame, a program in robot
+    /// coordinates; [`crate::rebase`]). Without it, robots in different
+    /// frames are refused.
+    #[serde(default)]
+    pub rebase: bool,
     /// Write the corrected program (CSV) here.
     pub save_as: Option<String>,
     /// Replace a file that exists.
@@ -76,6 +83,7 @@ impl CompensateRequest {
             program,
             format: DataFormatSpec::default(),
             matching: None,
+            rebase: false,
             save_as: None,
             overwrite: false,
             unknown: Unknown::default(),
@@ -101,7 +109,12 @@ impl CompensateRequest {
         )?
         .unwrap_or_default();
         let nominal = self.nominal.load(files)?;
-        let calibrated = self.calibrated.load(files)?;
+        let mut calibrated = self.calibrated.load(files)?;
+        if self.rebase {
+            calibrated = rebased_file(&calibrated, &nominal.robot)?.1;
+        } else {
+            check_same_frame(&nominal.robot, &calibrated.robot)?;
+        }
         if let Some(name) = &self.save_as {
             files.check_output(name, "csv", self.overwrite)?;
         }

@@ -110,6 +110,9 @@ impl Dialect {
             (Hint::StrictLimits, Dialect::CommandLine) => "--strict-limits",
             (Hint::StrictLimits, Dialect::Python) => "strict_limits=True",
             (Hint::StrictLimits, Dialect::Web) => "\"strict_limits\": true",
+            (Hint::Rebase, Dialect::CommandLine) => "--rebase",
+            (Hint::Rebase, Dialect::Python) => "rebase=True",
+            (Hint::Rebase, Dialect::Web) => "\"rebase\": true",
         }
     }
 }
@@ -123,6 +126,8 @@ pub(crate) enum Hint {
     PlaneExample,
     /// The option that refuses joint values outside the limits.
     StrictLimits,
+    /// The option that re-expresses a calibrated robot in its nominal's frame.
+    Rebase,
 }
 
 /// One part of a message.

@@ -1,8 +1,9 @@
 //! Robots from and to other formats as jobs (`docs/interchange.md`): a
-//! URDF, a DH or modified-DH table or a SYMORO file read into a robot file
+//! URDF, a DH or modified-DH table or a SYMORO file read into a robot file,
+//! with the joint calibration beside it when there is one
 //! ([`ImportRequest`]), a robot written as a URDF or a DH table, with its
 //! joint calibration beside it when the format cannot carry gains or
-//! couplings ([`ExportRequest`]).
+//! couplings ([`ExportRequest`]): an export imports to the same motion.
 
 use std::path::{Path, PathBuf};
 
@@ -102,6 +103,20 @@ impl ImportRequest {
                 Part::Setting("angle_unit".into()),
             ])
         })?;
+        let mut imported = imported;
+        let calibration = joint_calibration_name(&self.file);
+        if !path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("par"))
+            && files.is_file(&calibration)
+        {
+            let (calibration_path, text) = files.read_text(&calibration, &["yaml"])?;
+            gecaro_io::apply_joint_calibration(&mut imported.file, &text, &calibration_path)?;
+            imported.notes.push(format!(
+                "read the joint calibration beside it ({calibration}): the gains and couplings \
+                 the export could not carry"
+            ));
+        }
         let saved = match &self.save_as {
             Some(name) => Some(files.write(
                 name,
@@ -122,6 +137,10 @@ pub struct ExportRequest {
     pub robot: RobotSource,
     /// `urdf`, `dh` or `mdh`.
     pub to: String,
+    /// Re-express the robot in this nominal robot's base frame first (a
+    /// robot calibrated in a tracker's frame, exported in its own;
+    /// [`crate::rebase`]).
+    pub rebase: Option<RobotSource>,
     /// Write the file here (and its joint calibration beside it, as
     /// `FILE.joint_calibration.yaml`).
     pub save_as: Option<String>,
@@ -161,6 +180,7 @@ impl ExportRequest {
         ExportRequest {
             robot,
             to: to.into(),
+            rebase: None,
             save_as: None,
             overwrite: false,
             unknown: Unknown::default(),
@@ -184,7 +204,10 @@ impl ExportRequest {
                 "not a format gecaro writes (it reads SYMORO .par files); export to urdf, dh or mdh",
             ));
         }
-        let robot = self.robot.load(files)?;
+        let mut robot = self.robot.load(files)?;
+        if let Some(nominal) = &self.rebase {
+            robot = crate::rebase::rebased_file(&robot, &nominal.load(files)?.robot)?.1;
+        }
         let exported = gecaro_io::export_robot(&robot, format).map_err(|message| {
             AppError::plain(
                 ErrorKind::Usage,

@@ -21,6 +21,7 @@
 //! | a program corrected for the calibrated robot | [`CompensateRequest`] | [`Compensated`] |
 //! | a robot from another format | [`ImportRequest`] | [`Imported`] |
 //! | a robot to another format | [`ExportRequest`] | [`ExportedRobot`] |
+//! | a calibrated robot in its own base frame | [`RebaseRequest`] | [`Rebased`] |
 //!
 //! Requests deserialise from the JSON of the web API (`docs/api.md`);
 //! results give the JSON documents of [`documents`]. Files are read and
@@ -75,6 +76,7 @@ pub mod limits;
 mod measurements;
 mod method;
 mod plan;
+mod rebase;
 mod robot_files;
 mod settings;
 mod sources;
@@ -98,6 +100,7 @@ pub use method::{MethodSpec, parse_name};
 pub use plan::{
     AccuracyCurve, PlanRequest, Planned, Planning, PredictRequest, Predicted, TestPoses,
 };
+pub use rebase::{RebaseRequest, Rebased, check_same_frame, rebased_file};
 pub use robot_files::{calibrated_robot_file, simulated_robot_file};
 pub use settings::{FitSettings, PrioritySource};
 pub use sources::{

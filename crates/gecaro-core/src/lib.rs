@@ -66,6 +66,7 @@ mod kinematics;
 mod parameters;
 mod placement;
 mod priority;
+mod rebase;
 mod reframe;
 mod robot;
 
@@ -84,6 +85,7 @@ pub use kinematics::{
 pub use parameters::{ParameterId, ParameterKind, ParameterSpace};
 pub use placement::NEARLY_PARALLEL_DEGREES;
 pub use priority::PriorityMatrix;
+pub use rebase::{SAME_FRAME_ANGLE, SAME_FRAME_DISTANCE};
 pub use robot::{MAX_JOINTS, MAX_MAGNITUDE, Robot, RobotSpec};
 
 #[cfg(test)]

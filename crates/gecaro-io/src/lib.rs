@@ -18,6 +18,7 @@ mod document;
 mod error;
 mod input;
 mod interchange;
+mod joint_calibration;
 mod output;
 mod pose;
 mod prior;
@@ -43,6 +44,7 @@ pub use document::{CouplingDocument, FrameDocument, PriorityDocument, RobotDocum
 pub use error::Error;
 pub use input::{open_input, read_description};
 pub use interchange::{ImportOptions, RobotFormat, export_robot, import_robot, import_robot_text};
+pub use joint_calibration::apply_joint_calibration;
 pub use output::{OutputPolicy, remove_temporary_files, write_atomically, write_in_folder};
 pub use pose::{pose_from_seven, unit_quaternion};
 pub use prior::{StandardDeviation, parse_angle, parse_override, parse_prior};

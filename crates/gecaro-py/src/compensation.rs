@@ -174,12 +174,16 @@ fn targets_with_starts(
 /// values (`joints`, (m, n): the pose the nominal model gives them, matched
 /// whole or, with `match="position"`, by its point), or Cartesian targets —
 /// `positions` (m, 3) or `poses` (m, 4, 4) / (m, 7) — with the program's
-/// `joints` as starts when it has them. Runs without the GIL; Ctrl-C stops it.
+/// `joints` as starts when it has them. With `rebase=True` the calibrated
+/// robot, calibrated in a measurement frame (a tracker's), is first
+/// re-expressed in the nominal's base frame (`Robot.rebased`); without it,
+/// robots in different frames are refused. Runs without the GIL; Ctrl-C
+/// stops it.
 ///
 /// Raises NotConvergedError, with the whole result in `.result`, when some
 /// targets are reached only beyond a joint limit or not at all.
 #[pyfunction]
-#[pyo3(signature = (nominal, calibrated, *, joints = None, positions = None, poses = None, r#match = "pose"))]
+#[pyo3(signature = (nominal, calibrated, *, joints = None, positions = None, poses = None, r#match = "pose", rebase = false))]
 pub(crate) fn compensate(
     py: Python<'_>,
     nominal: PyRef<'_, PyRobot>,
@@ -188,6 +192,7 @@ pub(crate) fn compensate(
     positions: Option<&Bound<'_, PyAny>>,
     poses: Option<&Bound<'_, PyAny>>,
     r#match: &str,
+    rebase: bool,
 ) -> PyResult<PyCompensation> {
     let joint_count = nominal.robot().joint_count();
     let mut request = CompensateRequest::new(
@@ -196,6 +201,7 @@ pub(crate) fn compensate(
         ProgramSource::Points(program(joint_count, joints, positions, poses)?),
     );
     request.matching = Some(r#match.to_owned());
+    request.rebase = rebase;
     let compensated = py.detach(|| {
         let mut watch = Watch::new();
         let result = request.run(&LocalFiles, &mut watch);

@@ -560,6 +560,24 @@ impl PyRobot {
         Ok(PyRobot::new(file))
     }
 
+    /// This robot, calibrated in a measurement frame (a tracker's), in the
+    /// base frame of its `nominal` robot: `(frame, robot)`, `frame` the 4×4
+    /// pose of the measurement frame in the robot's base frame (maps
+    /// measurement coordinates to robot coordinates), `robot` this one with
+    /// the nominal's frames 0 and 1 (joint 1 where the nominal puts it), as
+    /// `gecaro robot rebase`. `robot.reframe(world=inv(frame))` gives this
+    /// one back.
+    fn rebased<'py>(
+        &self,
+        py: Python<'py>,
+        nominal: PyRef<'_, PyRobot>,
+    ) -> PyResult<(Bound<'py, PyArrayDyn<f64>>, Self)> {
+        let (frame, file) = gecaro_app::rebased_file(&self.file, nominal.robot()).py()?;
+        let mut values = vec![0.0; 16];
+        homogeneous_rows(&frame, &mut values);
+        Ok((array(py, &[4, 4], values)?, PyRobot::new(file)))
+    }
+
     /// A copy (changes to it leave this robot alone).
     fn copy(&self) -> Self {
         let mut copy = PyRobot::new(self.file.clone());

@@ -74,3 +74,30 @@ def test_flagged_targets_and_bad_arguments(cell):
         gecaro.compensate(nominal, calibrated, joints=joints[:, :3])
     with pytest.raises(gecaro.InputError, match="not the same robot"):
         gecaro.compensate(gecaro.Robot.load("panda"), calibrated, joints=np.zeros((1, 7)))
+
+
+def test_a_robot_calibrated_in_a_tracker_s_frame_is_rebased(cli, cell, tmp_path):
+    """The calibrated robot moved into a tracker's frame 2.5 m away: refused
+    with a program in robot coordinates, corrected as in its own frame after
+    `rebased` (or `rebase=True`), and the split equals the command line's."""
+    nominal, calibrated, joints = cell
+    tracker = np.eye(4)
+    tracker[:3, :3] = [[0.5, -0.866025403784, 0.0], [0.866025403784, 0.5, 0.0], [0.0, 0.0, 1.0]]
+    tracker[:3, 3] = [2.5, 0.3, -0.6]
+    seen = calibrated.reframe(world=tracker)
+    with pytest.raises(gecaro.InputError, match="not described in the same frame.*rebase=True"):
+        gecaro.compensate(nominal, seen, joints=joints, match="position")
+    frame, own = seen.rebased(nominal)
+    assert frame.shape == (4, 4)
+    # The measurement frame is the tracker's pose seen from the robot's joint-1 frame.
+    back = own.reframe(world=np.linalg.inv(frame))
+    assert np.abs(back.fk(joints) - seen.fk(joints)).max() < 1e-9
+    assert np.abs(own.fk(joints) - calibrated.rebased(nominal)[1].fk(joints)).max() < 1e-9
+    direct = gecaro.compensate(nominal, calibrated.rebased(nominal)[1], joints=joints, match="position")
+    rebased = gecaro.compensate(nominal, seen, joints=joints, match="position", rebase=True)
+    assert np.abs(rebased.qm - direct.qm).max() < 1e-9
+    # The command line gives the same split.
+    seen_path = tmp_path / "seen.toml"
+    seen_path.write_text(seen.to_toml())
+    document = cli.json("robot", "rebase", seen_path, "--nominal", "kr16.toml", "-o", "own.toml")
+    assert np.allclose(document["position"], frame[:3, 3], atol=1e-12)

@@ -41,7 +41,7 @@ impl Files for Workspace {
     }
 
     fn is_file(&self, name: &str) -> bool {
-        Workspace::is_file(self, name, &["toml", "csv", "urdf", "par"])
+        Workspace::is_file(self, name, &["toml", "csv", "urdf", "par", "yaml"])
     }
 
     fn check_output(&self, name: &str, extension: &str, overwrite: bool) -> Result<(), AppError> {

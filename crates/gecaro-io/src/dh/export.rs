@@ -7,7 +7,8 @@ use nalgebra::IsometryMatrix3;
 use serde::Serialize;
 
 use super::table::{DhConvention, RowDocument, TransformDocument};
-use crate::conversion::{Exported, joint_calibration};
+use crate::conversion::Exported;
+use crate::joint_calibration::joint_calibration;
 use crate::pose::rpy;
 use crate::robot_file::RobotFile;
 

@@ -19,7 +19,8 @@ use gecaro_core::{FrameType, Robot, frame_transform};
 use nalgebra::{IsometryMatrix3, Vector3};
 
 use super::names::{UrdfJointNames, UrdfNames};
-use crate::conversion::{Exported, joint_calibration};
+use crate::conversion::Exported;
+use crate::joint_calibration::joint_calibration;
 use crate::pose::rpy;
 use crate::robot_file::RobotFile;
 

@@ -145,6 +145,10 @@ class Robot:
     ) -> Robot:
         """The robot in another world frame and with another tool frame
         (4×4 matrices or ``[x, y, z, qw, qx, qy, qz]``)."""
+    def rebased(self, nominal: Robot) -> tuple[_FloatArray, Robot]:
+        """This robot, calibrated in a measurement frame, in its nominal's base
+        frame: (the 4×4 pose of the measurement frame in the robot's base
+        frame, the robot), as ``gecaro robot rebase``."""
     def copy(self) -> Robot: ...
     def __copy__(self) -> Robot: ...
     def __deepcopy__(self, memo: object) -> Robot: ...
@@ -567,9 +571,12 @@ def compensate(
     positions: Optional[_ArrayLike] = None,
     poses: Optional[_ArrayLike] = None,
     match: Literal["pose", "position"] = "pose",
+    rebase: bool = False,
 ) -> Compensation:
     """Program compensation, as ``gecaro compensate``; NotConvergedError (with
-    ``.result``) when targets are flagged."""
+    ``.result``) when targets are flagged. ``rebase``: the calibrated robot
+    stands in a measurement frame and the program in robot coordinates
+    (robots in different frames are refused without it)."""
 
 @final
 class Plan:

@@ -1,0 +1,160 @@
+//! A calibrated robot re-expressed in its own base frame as a job
+//! ([`RebaseRequest`]): split into the measurement frame's pose and the
+//! robot seen from its nominal's base frame
+//! ([`Robot::rebased`](gecaro_core::Robot::rebased)), so that programs
+//! taught in robot coordinates can be corrected and URDFs exported in the
+//! robot's frame. Compensation and export use the same split
+//! ([`rebased_file`]), and compensation refuses two robots that are not in
+//! one frame ([`check_same_frame`]).
+
+use std::path::PathBuf;
+
+use gecaro_core::{Compact, Robot};
+use gecaro_io::RobotFile;
+use nalgebra::IsometryMatrix3;
+use serde::Deserialize;
+
+use crate::error::{AppError, ErrorKind, Hint, Part};
+use crate::files::Files;
+use crate::measurements::Unknown;
+use crate::sources::RobotSource;
+
+/// A calibrated robot to re-express in its nominal's base frame.
+#[derive(Clone, Debug, Deserialize)]
+pub struct RebaseRequest {
+    /// The calibrated robot (in a measurement frame).
+    pub robot: RobotSource,
+    /// The nominal robot, whose base frame is the robot's own.
+    pub nominal: RobotSource,
+    /// Write the robot in its own frame here.
+    pub save_as: Option<String>,
+    /// Replace a file that exists.
+    #[serde(default)]
+    pub overwrite: bool,
+    #[serde(flatten)]
+    unknown: Unknown,
+}
+
+/// A calibrated robot split into the measurement frame and the robot in its
+/// own frame.
+#[derive(Clone, Debug)]
+pub struct Rebased {
+    /// The pose of the measurement frame in the robot's base frame (maps
+    /// measurement coordinates to robot coordinates).
+    pub measurement_frame: IsometryMatrix3<f64>,
+    /// The robot in its own base frame.
+    pub robot: RobotFile,
+    /// Where it was written, if asked for.
+    pub saved: Option<PathBuf>,
+}
+
+impl RebaseRequest {
+    /// `robot` re-expressed in `nominal`'s base frame.
+    pub fn new(robot: RobotSource, nominal: RobotSource) -> Self {
+        RebaseRequest {
+            robot,
+            nominal,
+            save_as: None,
+            overwrite: false,
+            unknown: Unknown::default(),
+        }
+    }
+
+    /// Splits the robot and writes it if asked (checked before any work).
+    ///
+    /// # Errors
+    /// Files that cannot be read or written, robots of other joints.
+    pub fn run(&self, files: &dyn Files) -> Result<Rebased, AppError> {
+        self.unknown.check()?;
+        if let Some(name) = &self.save_as {
+            files.check_output(name, "toml", self.overwrite)?;
+        }
+        let robot = self.robot.load(files)?;
+        let nominal = self.nominal.load(files)?;
+        let (measurement_frame, robot) = rebased_file(&robot, &nominal.robot)?;
+        let saved = match &self.save_as {
+            Some(name) => Some(files.write(
+                name,
+                "toml",
+                gecaro_io::format_robot_file(&robot).as_bytes(),
+                self.overwrite,
+            )?),
+            None => None,
+        };
+        Ok(Rebased {
+            measurement_frame,
+            robot,
+            saved,
+        })
+    }
+}
+
+/// `calibrated` in `nominal`'s base frame, as a robot file that says so,
+/// and the pose of the measurement frame in that base frame.
+///
+/// # Errors
+/// Robots of other joints.
+pub fn rebased_file(
+    calibrated: &RobotFile,
+    nominal: &Robot,
+) -> Result<(IsometryMatrix3<f64>, RobotFile), AppError> {
+    let (measurement_frame, robot) = calibrated.robot.rebased(nominal)?;
+    let t = measurement_frame.translation.vector;
+    let (roll, pitch, yaw) = measurement_frame.rotation.euler_angles();
+    let note = format!(
+        "re-expressed in {}'s base frame (the measurement frame stood at x {} y {} z {} m, \
+         rpy {} {} {} rad in it)",
+        nominal.name(),
+        Compact(t.x),
+        Compact(t.y),
+        Compact(t.z),
+        Compact(roll),
+        Compact(pitch),
+        Compact(yaw)
+    );
+    let description = match &calibrated.description {
+        Some(text) => format!("{text}; {note}"),
+        None => note,
+    };
+    Ok((
+        measurement_frame,
+        RobotFile {
+            robot,
+            description: Some(description),
+            ..calibrated.clone()
+        },
+    ))
+}
+
+/// Refuses a calibrated robot that is not described in the nominal's frame
+/// (its joint 1 farther than a calibration moves a base, e.g. identified in
+/// a tracker's frame): a program in one frame is not corrected with a robot
+/// in another.
+///
+/// # Errors
+/// [`ErrorKind::Input`] naming the offset and the `rebase` setting.
+pub fn check_same_frame(nominal: &Robot, calibrated: &Robot) -> Result<(), AppError> {
+    // Robots of other joints are refused as such by the compensation.
+    if nominal.same_frame_as(calibrated) || nominal.joint_count() != calibrated.joint_count() {
+        return Ok(());
+    }
+    let (distance, angle) = nominal.base_offset(calibrated);
+    Err(AppError::new(
+        ErrorKind::Input,
+        vec![Part::Text(format!(
+            "the calibrated robot's joint 1 stands {distance:.3} m and {:.1}° from the \
+             nominal's: the two robots are not described in the same frame (a robot \
+             calibrated in a tracker's frame stands where the tracker saw it)",
+            angle.to_degrees()
+        ))],
+    )
+    .with_help(vec![
+        Part::Text("re-express the calibrated robot in the robot's base frame with ".into()),
+        Part::Hint(Hint::Rebase),
+        Part::Text(
+            " (a program in robot coordinates), or give the nominal robot in the \
+                    calibration's measurement frame"
+                .into(),
+        ),
+    ]))
+}
