@@ -512,6 +512,11 @@ pub(crate) struct PlanArgs {
     /// Configurations measured already: part of the design, never dropped.
     #[arg(long, value_name = "FILE")]
     pub(crate) keep: Option<PathBuf>,
+    /// Units, column names and separator of the configuration files read
+    /// (--candidates, --keep, --test-poses) and of the plan written
+    /// (--angle-unit deg for a teach pendant).
+    #[command(flatten)]
+    pub(crate) format: DataFormatArgs,
     /// The smallest joint-space distance between two chosen configurations
     /// (Euclidean over the joint variables, radians and metres).
     #[arg(long, value_name = "D", default_value_t = 0.0)]
@@ -575,6 +580,9 @@ pub(crate) struct PredictArgs {
     /// The configurations to be measured (e.g. the output of `gecaro plan`).
     #[arg(long, value_name = "PLANNED.csv")]
     pub(crate) data: PathBuf,
+    /// Units, column names and separator of the plan and test-pose files.
+    #[command(flatten)]
+    pub(crate) format: DataFormatArgs,
     /// The sensor's standard deviation (metres; radians for orientation rows).
     #[arg(long, value_name = "SIGMA")]
     pub(crate) noise: f64,

@@ -1045,6 +1045,82 @@ fn plan_writes_the_chosen_configurations_and_beats_a_random_choice() {
         .stderr(predicate::str::contains("--count"));
 }
 
+/// A plan written for a teach pendant (degrees, its own joint names, `;`
+/// and decimal commas) holds the same configurations as in radians, and
+/// `predict` reads it back in those units to the same prediction.
+#[test]
+fn a_plan_is_written_in_the_robot_s_own_units_and_read_back() {
+    let folder = tempfile::tempdir().expect("folder");
+    let file = |name: &str| folder.path().join(name).display().to_string();
+    let plan = |output: &str, extra: &[&str]| {
+        let mut args = vec![
+            "plan",
+            "industrial6",
+            "--method",
+            "position",
+            "--count",
+            "12",
+            "--pool",
+            "300",
+            "-o",
+            output,
+        ];
+        args.extend(extra);
+        gecaro().args(&args).assert().success();
+    };
+    let pendant = [
+        "--angle-unit",
+        "deg",
+        "--delimiter",
+        ";",
+        "--decimal-comma",
+        "--columns",
+        "qm1=A1,qm2=A2,qm3=A3,qm4=A4,qm5=A5,qm6=A6",
+    ];
+    plan(&file("si.csv"), &[]);
+    plan(&file("pendant.csv"), &pendant);
+    let si = std::fs::read_to_string(file("si.csv")).expect("si");
+    let pendant_text = std::fs::read_to_string(file("pendant.csv")).expect("pendant");
+    assert!(
+        pendant_text.starts_with("A1;A2;A3;A4;A5;A6\n"),
+        "{pendant_text}"
+    );
+    for (a, b) in si.lines().skip(1).zip(pendant_text.lines().skip(1)) {
+        for (radians, degrees) in a.split(',').zip(b.split(';')) {
+            let radians: f64 = radians.parse().expect("number");
+            let degrees: f64 = degrees.replace(',', ".").parse().expect("number");
+            assert!((radians.to_degrees() - degrees).abs() < 1e-9, "{a} / {b}");
+        }
+    }
+    let predict = |data: &str, extra: &[&str]| {
+        let mut args = vec![
+            "predict",
+            "industrial6",
+            "--method",
+            "position",
+            "--noise",
+            "2e-5",
+            "--json",
+            "--data",
+            data,
+        ];
+        args.extend(extra);
+        json_output(&args)
+    };
+    let mut read_back = pendant.to_vec();
+    read_back.retain(|arg| *arg != "--decimal-comma");
+    let (a, b) = (
+        predict(&file("si.csv"), &[]),
+        predict(&file("pendant.csv"), &read_back),
+    );
+    assert_eq!(a["configurations"], b["configurations"]);
+    let (a, b) = (
+        a["predicted"]["position_rms"].as_f64().expect("rms"),
+        b["predicted"]["position_rms"].as_f64().expect("rms"),
+    );
+    assert!((a - b).abs() < 1e-9 * a, "{a} vs {b}");
+}
+
 #[test]
 fn plan_by_other_criteria_with_a_minimum_distance_and_test_poses() {
     let folder = tempfile::tempdir().expect("temporary folder");

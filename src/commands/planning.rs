@@ -41,6 +41,7 @@ pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
     let mut request = PlanRequest::new(RobotSource::Named(args.robot.clone()), method, 0);
     request.count = args.count;
     request.criterion = Some(args.criterion.clone());
+    request.format = super::options::data_format(&args.format);
     request.candidates = args
         .candidates
         .as_deref()
@@ -200,6 +201,7 @@ pub(crate) fn predict_accuracy(args: &PredictArgs) -> Result<(), Failure> {
         args.noise,
     );
     request.test_poses = test_poses(&args.test_poses);
+    request.format = super::options::data_format(&args.format);
     request.monte_carlo = args.monte_carlo;
     request.error_level = Some(args.error_level);
     request.seed = Some(args.seed);

@@ -14,7 +14,7 @@ use gecaro_calib::prediction::{MonteCarlo, Prediction, monte_carlo, predict, ran
 use gecaro_calib::simulation::{MAX_NOISE, Sampler};
 use gecaro_calib::study::{DataColumn, Sample};
 use gecaro_core::Robot;
-use gecaro_io::RobotFile;
+use gecaro_io::{DataFormat, RobotFile};
 use serde::Deserialize;
 
 use crate::cell::{CellSpec, refuse_misses};
@@ -42,9 +42,15 @@ pub struct TestPoses {
 }
 
 impl TestPoses {
-    fn load(&self, robot: &Robot, seed: u64, files: &dyn Files) -> Result<Vec<Vec<f64>>, AppError> {
+    fn load(
+        &self,
+        robot: &Robot,
+        seed: u64,
+        format: &DataFormat,
+        files: &dyn Files,
+    ) -> Result<Vec<Vec<f64>>, AppError> {
         match &self.test_poses {
-            Some(source) => Ok(configurations(robot, source, &[], files)?
+            Some(source) => Ok(configurations(robot, source, &[], format, files)?
                 .into_iter()
                 .map(|sample| sample.motor_positions)
                 .collect()),
@@ -63,20 +69,17 @@ impl TestPoses {
     }
 }
 
-/// The configurations of a data file (measurement columns, if any, ignored).
+/// The configurations of a data file in `format` (measurement columns, if
+/// any, ignored).
 fn configurations(
     robot: &Robot,
     source: &DataSource,
     columns: &[DataColumn],
+    format: &DataFormat,
     files: &dyn Files,
 ) -> Result<Vec<Sample>, AppError> {
     Ok(source
-        .read(
-            files,
-            &gecaro_io::joint_types(robot),
-            columns,
-            &DataFormatSpec::default().format()?,
-        )?
+        .read(files, &gecaro_io::joint_types(robot), columns, format)?
         .samples)
 }
 
@@ -102,6 +105,11 @@ pub struct PlanRequest {
     pub seed: Option<u64>,
     /// Configurations measured already: part of the design.
     pub keep: Option<DataSource>,
+    /// Units, column names and separator of the configuration files read
+    /// (candidates, kept, test poses) and of the plan written (degrees for a
+    /// teach pendant).
+    #[serde(default)]
+    pub format: DataFormatSpec,
     /// Smallest joint-space distance between chosen configurations.
     #[serde(default)]
     pub min_distance: f64,
@@ -186,6 +194,7 @@ impl PlanRequest {
             cell: CellSpec::default(),
             seed: None,
             keep: None,
+            format: DataFormatSpec::default(),
             min_distance: 0.0,
             test_poses: TestPoses::default(),
             curve: Vec::new(),
@@ -277,8 +286,9 @@ impl PlanRequest {
             .chain(self.count)
             .max()
             .unwrap_or(0);
+        let format = self.format.format()?;
         let pool = match &self.candidates {
-            Some(source) => configurations(robot, source, &columns, files)?,
+            Some(source) => configurations(robot, source, &columns, &format, files)?,
             None => {
                 let size = self.pool.unwrap_or(largest.saturating_mul(20));
                 if !(1..=MAX_GENERATE).contains(&size) {
@@ -295,13 +305,13 @@ impl PlanRequest {
             }
         };
         let kept = match &self.keep {
-            Some(source) => configurations(robot, source, &columns, files)?,
+            Some(source) => configurations(robot, source, &columns, &format, files)?,
             None => Vec::new(),
         };
         let name = self.criterion.as_deref().unwrap_or("d");
         let needs_poses = name == "test" || !self.curve.is_empty();
         let poses = if needs_poses {
-            self.test_poses.load(robot, seed, files)?
+            self.test_poses.load(robot, seed, &format, files)?
         } else {
             Vec::new()
         };
@@ -347,7 +357,12 @@ impl PlanRequest {
                 let random =
                     candidates.random_design(&kept, plan.chosen.len(), &mut Sampler::new(seed));
                 let random = candidates.assess(&random, &design.criterion)?;
-                let csv = gecaro_io::format_samples(robot.joint_count(), &columns, &plan.samples);
+                let csv = gecaro_io::format_configurations(
+                    &gecaro_io::joint_types(robot),
+                    &columns,
+                    &plan.samples,
+                    &format,
+                );
                 Some(Planned {
                     plan,
                     criterion: design.criterion.clone(),
@@ -430,6 +445,9 @@ pub struct PredictRequest {
     pub method: MethodSpec,
     /// The configurations to be measured (a plan).
     pub data: DataSource,
+    /// Units, column names and separator of the plan and test-pose files.
+    #[serde(default)]
+    pub format: DataFormatSpec,
     /// The sensor's standard deviation (metres; radians for orientation rows).
     pub noise: f64,
     /// Where the calibrated robot's accuracy is judged.
@@ -473,6 +491,7 @@ impl PredictRequest {
             robot,
             method,
             data,
+            format: DataFormatSpec::default(),
             noise,
             test_poses: TestPoses::default(),
             monte_carlo: None,
@@ -515,8 +534,9 @@ impl PredictRequest {
         let method = self.method.build()?;
         let seed = self.seed.unwrap_or(1);
         let columns = DataColumn::grouping(method.data_columns());
-        let planned = configurations(robot, &self.data, &columns, files)?;
-        let poses = self.test_poses.load(robot, seed, files)?;
+        let format = self.format.format()?;
+        let planned = configurations(robot, &self.data, &columns, &format, files)?;
+        let poses = self.test_poses.load(robot, seed, &format, files)?;
         let prediction = predict(
             robot,
             method.as_ref(),

@@ -338,6 +338,54 @@ fn resolve_header(
     Ok(layout)
 }
 
+/// The CSV text of configurations (and their set or pair ids: `columns` of
+/// [`DataColumn::grouping`](gecaro_calib::study::DataColumn::grouping)) as
+/// `format` reads them back: joint values in its units (`joint_types` from
+/// [`crate::joint_types`]), columns under its names, its separator (`;` or
+/// a tab when it names one) and, when it asks for one, a decimal comma. A
+/// plan for a teach pendant in degrees, say.
+pub fn format_configurations(
+    joint_types: &[FrameType],
+    columns: &[DataColumn],
+    samples: &[Sample],
+    format: &DataFormat,
+) -> String {
+    let separator = match format.delimiter {
+        Delimiter::Semicolon => ';',
+        Delimiter::Tab => '\t',
+        Delimiter::Comma | Delimiter::Detect => ',',
+    };
+    let decimal_comma = format.decimal_comma == Some(true) && separator != ',';
+    let number = |value: f64| {
+        let text = format!("{value:?}");
+        if decimal_comma {
+            text.replacen('.', ",", 1)
+        } else {
+            text
+        }
+    };
+    let header: Vec<String> = data_headers(joint_types.len(), columns)
+        .iter()
+        .map(|name| format.columns.file_name(name).to_owned())
+        .collect();
+    let mut text = header.join(&separator.to_string());
+    text.push('\n');
+    for sample in samples {
+        let motors = format
+            .units
+            .configuration_from_si(joint_types, &sample.motor_positions);
+        let mut fields: Vec<String> = motors.into_iter().map(number).collect();
+        for column in columns {
+            if matches!(column, DataColumn::Set | DataColumn::Pair) {
+                fields.push(sample.group.unwrap_or(0).to_string());
+            }
+        }
+        text.push_str(&fields.join(&separator.to_string()));
+        text.push('\n');
+    }
+    text
+}
+
 /// The CSV text of a data set.
 pub fn format_samples(joint_count: usize, columns: &[DataColumn], samples: &[Sample]) -> String {
     let mut text = data_headers(joint_count, columns).join(",");

@@ -36,7 +36,8 @@ mod urdf;
 pub use columns::{ColumnMap, DataUnits, Delimiter, joint_types};
 pub use conversion::{ChainEnds, Exported, Imported};
 pub use data_file::{
-    DataFile, DataFormat, data_headers, format_samples, parse_samples, read_samples, write_samples,
+    DataFile, DataFormat, data_headers, format_configurations, format_samples, parse_samples,
+    read_samples, write_samples,
 };
 pub use data_rows::MAX_CONFIGURATIONS;
 pub use dh::{DhConvention, TableUnits};

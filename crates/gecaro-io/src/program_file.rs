@@ -9,10 +9,13 @@
 //! (time stamps, point names, speeds) is kept as written.
 //!
 //! The corrected program is the same file with the corrected joint values
-//! in the program's own `qm` columns, order and units (added at the end when
-//! the program had none), then `residual` (position, the file's length
-//! unit), `residual_rotation` (the file's angle unit, when orientations are
-//! matched) and `status` (`ok`, `outside-limits`, `not-reached`).
+//! in the program's own `qm` columns (under its own names), order and units
+//! (added at the end when the program had none), then `residual` (position,
+//! the file's length unit), `residual_rotation` (the file's angle unit, when
+//! orientations are matched) and `status` (`ok`, `reconfigured`,
+//! `outside-limits`, `not-reached`) — written with the program's own field
+//! separator and decimal mark, so that the controller reads it as it wrote
+//! it (and gecaro reads it back).
 
 use gecaro_calib::compensation::{CompensatedPoint, ProgramPoint, ProgramTarget};
 use gecaro_core::{FrameType, Robot};
@@ -46,6 +49,10 @@ pub struct ProgramFile {
     kind: ProgramKind,
     units: DataUnits,
     joint_types: Vec<FrameType>,
+    /// The field separator of the file.
+    separator: u8,
+    /// Whether the file writes its numbers with a decimal comma.
+    decimal_comma: bool,
     /// The targets, in gecaro's units.
     pub points: Vec<ProgramPoint>,
     /// Columns kept as they are (not read by gecaro).
@@ -154,9 +161,14 @@ pub fn parse_program(
         kind,
         units,
         joint_types: types,
+        separator,
+        decimal_comma: false,
         points: Vec::new(),
         unused_columns: layout.unused.clone(),
     };
+    // Whether a number read had a decimal comma: the corrected program is
+    // written with the same mark.
+    let comma_seen = std::cell::Cell::new(false);
     while let Some((record, line)) = next_record(&mut reader, path)? {
         if program.records.len() == MAX_TARGETS {
             return Err(Error::parse(
@@ -183,6 +195,9 @@ pub fn parse_program(
         }
         let number = |column: usize| -> Result<f64, Error> {
             let text = record[column].trim();
+            if decimal_comma && text.contains(',') {
+                comma_seen.set(true);
+            }
             match parse_number(text, decimal_comma) {
                 Some(value) if value.is_finite() => Ok(value),
                 Some(_) => Err(Error::parse(
@@ -262,6 +277,7 @@ pub fn parse_program(
             "the program has a header but no targets",
         ));
     }
+    program.decimal_comma = comma_seen.get();
     Ok(program)
 }
 
@@ -320,7 +336,17 @@ impl ProgramFile {
         let residual = column("residual", &mut header);
         let rotation = oriented.then(|| column("residual_rotation", &mut header));
         let status = column("status", &mut header);
-        let mut writer = csv::WriterBuilder::new().from_writer(Vec::new());
+        // The program's own separator and decimal mark, as it was read.
+        let mark = |text: String| {
+            if self.decimal_comma {
+                text.replacen('.', ",", 1)
+            } else {
+                text
+            }
+        };
+        let mut writer = csv::WriterBuilder::new()
+            .delimiter(self.separator)
+            .from_writer(Vec::new());
         let write = |writer: &mut csv::Writer<Vec<u8>>, record: &[String]| {
             // Writing into memory does not fail.
             let _ = writer.write_record(record);
@@ -334,22 +360,100 @@ impl ProgramFile {
                 .zip(&result.motor_positions)
                 .enumerate()
             {
-                fields[*column] =
-                    format!("{:?}", value / self.units.joint_scale(&self.joint_types, j));
+                fields[*column] = mark(format!(
+                    "{:?}",
+                    value / self.units.joint_scale(&self.joint_types, j)
+                ));
             }
-            fields[residual] = format!(
+            fields[residual] = mark(format!(
                 "{:.3e}",
                 result.position_error / self.units.length.to_metres()
-            );
+            ));
             if let Some(rotation) = rotation {
-                fields[rotation] = format!(
+                fields[rotation] = mark(format!(
                     "{:.3e}",
                     result.rotation_error.unwrap_or(0.0) / self.units.angle.to_radians()
-                );
+                ));
             }
             fields[status] = result.status.word().to_owned();
             write(&mut writer, &fields);
         }
         String::from_utf8(writer.into_inner().unwrap_or_default()).unwrap_or_default()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::columns::{ColumnMap, Delimiter};
+    use crate::robot_file::AngleUnit;
+    use gecaro_calib::compensation::CompensationStatus;
+
+    /// A controller's export: `;`, decimal commas, degrees, its own joint
+    /// names, a point name and a speed.
+    const EXPORT: &str = "Point;A1;A2;A3;A4;A5;A6;Speed\n\
+                          P1;10,5;-20,25;30;40,125;-50;60;0,5\n\
+                          P2;-10;20,5;-30;4;5,75;-6;1\n";
+
+    fn format() -> DataFormat {
+        DataFormat {
+            units: DataUnits {
+                angle: AngleUnit::Degrees,
+                ..DataUnits::default()
+            },
+            columns: ColumnMap::parse("qm1=A1,qm2=A2,qm3=A3,qm4=A4,qm5=A5,qm6=A6")
+                .expect("columns"),
+            delimiter: Delimiter::Detect,
+            decimal_comma: None,
+        }
+    }
+
+    #[test]
+    fn the_corrected_program_is_written_as_the_program_was() {
+        let robot = Robot::template("arm", "RRRRRR").expect("robot");
+        let program = parse_program(EXPORT.as_bytes(), Path::new("job.csv"), &robot, &format())
+            .expect("read");
+        let corrected: Vec<Vec<f64>> = program
+            .points
+            .iter()
+            .map(|point| match &point.target {
+                ProgramTarget::Joints(qm) => qm.iter().map(|q| q + 1e-3).collect(),
+                _ => unreachable!("joint targets"),
+            })
+            .collect();
+        let results: Vec<CompensatedPoint> = corrected
+            .iter()
+            .map(|qm| CompensatedPoint {
+                motor_positions: qm.clone(),
+                position_error: 2.5e-11,
+                rotation_error: None,
+                status: CompensationStatus::Reached,
+            })
+            .collect();
+        let text = program.format_corrected(&results);
+        let mut lines = text.lines();
+        assert_eq!(
+            lines.next(),
+            Some("Point;A1;A2;A3;A4;A5;A6;Speed;residual;status")
+        );
+        let first = lines.next().expect("a row");
+        assert!(first.starts_with("P1;10,5572"), "{first}");
+        assert!(first.ends_with(";0,5;2,500e-11;ok"), "{first}");
+        // Read back as it was read: the corrected joints.
+        let again = parse_program(
+            text.as_bytes(),
+            Path::new("corrected.csv"),
+            &robot,
+            &format(),
+        )
+        .expect("read back");
+        for (point, expected) in again.points.iter().zip(&corrected) {
+            let ProgramTarget::Joints(qm) = &point.target else {
+                unreachable!("joint targets")
+            };
+            for (a, b) in qm.iter().zip(expected) {
+                assert!((a - b).abs() < 1e-12, "{a} vs {b}");
+            }
+        }
     }
 }
