@@ -11,7 +11,9 @@
 //! start builds a design one unit at a time and can leave the exchange in a
 //! local optimum that the continuous optimum avoids.
 
-use nalgebra::DMatrix;
+use faer::linalg::matmul::matmul;
+use faer::linalg::solvers::DenseSolveCore;
+use faer::{Accum, Mat, Par};
 
 use super::columns::Blocks;
 use crate::Error;
@@ -44,47 +46,83 @@ pub(super) fn d_optimal_weights(
         .iter()
         .map(|a| if *a { 1.0 / count as f64 } else { 0.0 })
         .collect();
-    // Every unit's rows stacked once: M(w) = Xᵀ diag(w) X and the
-    // variances tr(M⁻¹X_uᵀX_u) = Σ_rows (X M⁻¹) ∘ X are then two products
-    // of the tall matrix per iteration.
-    let rows: Vec<usize> = candidates.units.iter().map(DMatrix::nrows).collect();
-    let total_rows: usize = rows.iter().sum();
-    let mut stacked = DMatrix::<f64>::zeros(total_rows, width);
-    let mut first_row = Vec::with_capacity(rows.len());
+    // Every unit's rows stacked once (column-major, as faer holds them):
+    // M(w) = Xᵀ diag(w) X and the variances tr(M⁻¹X_uᵀX_u) = Σ_rows
+    // (X M⁻¹) ∘ X are then two products of the tall matrix per iteration,
+    // each a blocked multiplication.
+    let unit_of_row: Vec<usize> = candidates
+        .units
+        .iter()
+        .enumerate()
+        .flat_map(|(unit, block)| std::iter::repeat_n(unit, block.nrows()))
+        .collect();
+    let total_rows = unit_of_row.len();
+    let mut stacked = Mat::<f64>::zeros(total_rows, width);
     let mut row = 0;
     for block in &candidates.units {
-        first_row.push(row);
-        stacked.rows_mut(row, block.nrows()).copy_from(block);
-        row += block.nrows();
-    }
-    let mut scaled = stacked.clone();
-    for _ in 0..ITERATIONS {
-        for (unit, weight) in weights.iter().enumerate() {
-            let root = weight.sqrt();
-            for r in first_row[unit]..first_row[unit] + rows[unit] {
-                for c in 0..width {
-                    scaled[(r, c)] = stacked[(r, c)] * root;
-                }
+        for c in 0..width {
+            for r in 0..block.nrows() {
+                stacked[(row + r, c)] = block[(r, c)];
             }
         }
-        let moment = scaled.tr_mul(&scaled) + DMatrix::<f64>::identity(width, width) * ridge;
+        row += block.nrows();
+    }
+    let mut scaled = Mat::<f64>::zeros(total_rows, width);
+    let mut moment = Mat::<f64>::zeros(width, width);
+    let mut products = Mat::<f64>::zeros(total_rows, width);
+    let mut row_roots = vec![0.0; total_rows];
+    let mut row_variances = vec![0.0; total_rows];
+    let mut variances = vec![0.0; weights.len()];
+    for _ in 0..ITERATIONS {
+        for (root, unit) in row_roots.iter_mut().zip(&unit_of_row) {
+            *root = weights[*unit].sqrt();
+        }
+        for c in 0..width {
+            let (from, to) = (stacked.col(c), scaled.col_mut(c));
+            for ((out, value), root) in to.iter_mut().zip(from.iter()).zip(&row_roots) {
+                *out = value * root;
+            }
+        }
+        matmul(
+            moment.as_mut(),
+            Accum::Replace,
+            scaled.transpose(),
+            scaled.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        for d in 0..width {
+            moment[(d, d)] += ridge;
+        }
         let inverse = moment
-            .cholesky()
-            .ok_or_else(|| Error::Numerical {
+            .llt(faer::Side::Lower)
+            .map_err(|_| Error::Numerical {
                 message: "planning: the continuous design's information is not positive definite"
                     .into(),
             })?
             .inverse();
-        let products = &stacked * &inverse;
-        let variances: Vec<f64> = (0..weights.len())
-            .map(|unit| {
-                let (from, count) = (first_row[unit], rows[unit]);
-                products
-                    .rows(from, count)
-                    .component_mul(&stacked.rows(from, count))
-                    .sum()
-            })
-            .collect();
+        matmul(
+            products.as_mut(),
+            Accum::Replace,
+            stacked.as_ref(),
+            inverse.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        row_variances.iter_mut().for_each(|v| *v = 0.0);
+        for c in 0..width {
+            for ((variance, p), x) in row_variances
+                .iter_mut()
+                .zip(products.col(c).iter())
+                .zip(stacked.col(c).iter())
+            {
+                *variance += p * x;
+            }
+        }
+        variances.iter_mut().for_each(|v| *v = 0.0);
+        for (variance, unit) in row_variances.iter().zip(&unit_of_row) {
+            variances[*unit] += variance;
+        }
         let largest = variances
             .iter()
             .zip(admissible)

@@ -7,6 +7,8 @@
 //! M⁻¹ ← M⁻¹ ∓ U C Uᵀ and G_u ← G_u ∓ (X_u U) C (X_u U)ᵀ: O(K·r²·L) for
 //! K candidates of r rows, no refactorisation per trial.
 
+use faer::linalg::matmul::matmul;
+use faer::{Accum, Mat, Par};
 use nalgebra::DMatrix;
 
 use super::columns::Blocks;
@@ -17,19 +19,118 @@ use crate::error::Setting;
 /// Steps between two recomputations of M⁻¹ and the G_u from scratch.
 const REFRESH: usize = 32;
 
+/// Every candidate's rows stacked once (column-major), so that the products
+/// with all of them are one blocked multiplication, and where each unit's
+/// rows and G_u sit.
+struct Stacked {
+    matrix: Mat<f64>,
+    /// First row of each unit in `matrix`.
+    first_row: Vec<usize>,
+    /// Rows of each unit.
+    rows: Vec<usize>,
+    /// Where each unit's G_u (rows², row-major) starts in a flat buffer.
+    gram_offset: Vec<usize>,
+    /// The length of that buffer.
+    gram_len: usize,
+}
+
+impl Stacked {
+    fn of(candidates: &Blocks) -> Self {
+        let rows: Vec<usize> = candidates.units.iter().map(DMatrix::nrows).collect();
+        let total: usize = rows.iter().sum();
+        let mut matrix = Mat::<f64>::zeros(total, candidates.width);
+        let (mut first_row, mut gram_offset) = (Vec::new(), Vec::new());
+        let (mut row, mut offset) = (0, 0);
+        for block in &candidates.units {
+            first_row.push(row);
+            gram_offset.push(offset);
+            for c in 0..candidates.width {
+                for r in 0..block.nrows() {
+                    matrix[(row + r, c)] = block[(r, c)];
+                }
+            }
+            row += block.nrows();
+            offset += block.nrows() * block.nrows();
+        }
+        Stacked {
+            matrix,
+            first_row,
+            rows,
+            gram_offset,
+            gram_len: offset,
+        }
+    }
+
+    /// `matrix · right` (every unit's rows times a small matrix).
+    fn times(&self, right: &DMatrix<f64>) -> Mat<f64> {
+        let right = Mat::<f64>::from_fn(right.nrows(), right.ncols(), |i, j| right[(i, j)]);
+        let mut product = Mat::<f64>::zeros(self.matrix.nrows(), right.ncols());
+        matmul(
+            product.as_mut(),
+            Accum::Replace,
+            self.matrix.as_ref(),
+            right.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        product
+    }
+}
+
+/// det(I + sign·G) of the r×r matrix G (row-major).
+fn determinant_of_identity_plus(gram: &[f64], r: usize, sign: f64) -> f64 {
+    let a = |i: usize, j: usize| f64::from(u8::from(i == j)) + sign * gram[i * r + j];
+    match r {
+        0 => 1.0,
+        1 => a(0, 0),
+        2 => a(0, 0) * a(1, 1) - a(0, 1) * a(1, 0),
+        3 => {
+            a(0, 0) * (a(1, 1) * a(2, 2) - a(1, 2) * a(2, 1))
+                - a(0, 1) * (a(1, 0) * a(2, 2) - a(1, 2) * a(2, 0))
+                + a(0, 2) * (a(1, 0) * a(2, 1) - a(1, 1) * a(2, 0))
+        }
+        _ => DMatrix::from_fn(r, r, a).determinant(),
+    }
+}
+
 /// The exchange state: M⁻¹, and G_u = X_u M⁻¹ X_uᵀ of every candidate.
 struct Exchange<'a> {
     candidates: &'a Blocks,
+    stacked: &'a Stacked,
     inverse: DMatrix<f64>,
-    gram: Vec<DMatrix<f64>>,
+    /// Every G_u, flat (see [`Stacked::gram_offset`]).
+    gram: Vec<f64>,
     chosen: Vec<bool>,
     /// Information of the kept units plus the ridge, the base of every refresh.
     base: DMatrix<f64>,
 }
 
-impl Exchange<'_> {
-    /// Recomputes M⁻¹ and every G_u from the chosen units.
-    fn refresh(&mut self) -> Result<(), Error> {
+impl<'a> Exchange<'a> {
+    fn new(
+        candidates: &'a Blocks,
+        stacked: &'a Stacked,
+        chosen: Vec<bool>,
+        base: DMatrix<f64>,
+    ) -> Self {
+        let width = candidates.width;
+        Exchange {
+            candidates,
+            stacked,
+            inverse: DMatrix::zeros(width, width),
+            gram: vec![0.0; stacked.gram_len],
+            chosen,
+            base,
+        }
+    }
+
+    /// G_u of unit `unit` (rows², row-major).
+    fn gram_of(&self, unit: usize) -> &[f64] {
+        let (offset, r) = (self.stacked.gram_offset[unit], self.stacked.rows[unit]);
+        &self.gram[offset..offset + r * r]
+    }
+
+    /// The information of the chosen units (with the base).
+    fn information(&self) -> DMatrix<f64> {
         let mut information = self.base.clone();
         for (unit, chosen) in self.chosen.iter().enumerate() {
             if *chosen {
@@ -37,39 +138,52 @@ impl Exchange<'_> {
                 information += block.transpose() * block;
             }
         }
-        self.inverse = information
+        information
+    }
+
+    /// Recomputes M⁻¹ and every G_u from the chosen units.
+    fn refresh(&mut self) -> Result<(), Error> {
+        self.inverse = self
+            .information()
             .cholesky()
             .ok_or_else(|| Error::Numerical {
                 message: "planning: the information matrix is not positive definite".into(),
             })?
             .inverse();
-        for (unit, gram) in self.gram.iter_mut().enumerate() {
-            let block = self.candidates.of(unit);
-            *gram = block * &self.inverse * block.transpose();
+        // G_u = (X_u M⁻¹) X_uᵀ, every X_u M⁻¹ in one product.
+        let products = self.stacked.times(&self.inverse);
+        let matrix = &self.stacked.matrix;
+        for unit in 0..self.stacked.rows.len() {
+            let (first, r) = (self.stacked.first_row[unit], self.stacked.rows[unit]);
+            let offset = self.stacked.gram_offset[unit];
+            for i in 0..r {
+                for j in 0..r {
+                    let mut value = 0.0;
+                    for c in 0..matrix.ncols() {
+                        value += products[(first + i, c)] * matrix[(first + j, c)];
+                    }
+                    self.gram[offset + i * r + j] = value;
+                }
+            }
         }
         Ok(())
     }
 
     /// log det M of the chosen units (with the base).
     fn log_det(&self) -> Result<f64, Error> {
-        let mut information = self.base.clone();
-        for (unit, chosen) in self.chosen.iter().enumerate() {
-            if *chosen {
-                let block = self.candidates.of(unit);
-                information += block.transpose() * block;
-            }
-        }
-        let factor = information.cholesky().ok_or_else(|| Error::Numerical {
-            message: "planning: the information matrix is not positive definite".into(),
-        })?;
+        let factor = self
+            .information()
+            .cholesky()
+            .ok_or_else(|| Error::Numerical {
+                message: "planning: the information matrix is not positive definite".into(),
+            })?;
         Ok(2.0 * factor.l().diagonal().iter().map(|v| v.ln()).sum::<f64>())
     }
 
     /// det(I ± G_u): the factor by which adding (+) or removing (−) unit u
     /// multiplies det M.
     fn factor(&self, unit: usize, sign: f64) -> f64 {
-        let gram = &self.gram[unit];
-        (DMatrix::identity(gram.nrows(), gram.ncols()) + gram * sign).determinant()
+        determinant_of_identity_plus(self.gram_of(unit), self.stacked.rows[unit], sign)
     }
 
     /// Adds (sign +1) or removes (−1) unit `s`: a rank-r update of M⁻¹ and
@@ -82,9 +196,25 @@ impl Exchange<'_> {
             message: "planning: a singular exchange step".into(),
         })?;
         self.inverse -= &u * &core_inverse * u.transpose() * sign;
-        for (unit, gram) in self.gram.iter_mut().enumerate() {
-            let v = self.candidates.of(unit) * &u;
-            *gram -= &v * &core_inverse * v.transpose() * sign;
+        // G_u ← G_u ∓ V_u C V_uᵀ with V = X U, every V_u in one product.
+        let v = self.stacked.times(&u);
+        let rank = u.ncols();
+        let mut vc = vec![0.0; rank];
+        for unit in 0..self.stacked.rows.len() {
+            let (first, r) = (self.stacked.first_row[unit], self.stacked.rows[unit]);
+            let offset = self.stacked.gram_offset[unit];
+            for i in 0..r {
+                // Row i of V_u C.
+                for (k, entry) in vc.iter_mut().enumerate() {
+                    *entry = (0..rank)
+                        .map(|l| v[(first + i, l)] * core_inverse[(l, k)])
+                        .sum();
+                }
+                for j in 0..r {
+                    let value: f64 = (0..rank).map(|k| vc[k] * v[(first + j, k)]).sum();
+                    self.gram[offset + i * r + j] -= value * sign;
+                }
+            }
         }
         self.chosen[s] = sign > 0.0;
         Ok(())
@@ -104,7 +234,7 @@ impl Exchange<'_> {
     /// The eligible unit with the largest det(I ± G_u), and that value.
     fn best(&self, eligible: impl Fn(usize) -> bool, sign: f64) -> Option<(usize, f64)> {
         let mut best: Option<(usize, f64)> = None;
-        for unit in (0..self.gram.len()).filter(|u| eligible(*u)) {
+        for unit in (0..self.stacked.rows.len()).filter(|u| eligible(*u)) {
             let value = self.factor(unit, sign);
             if value.is_finite() && best.is_none_or(|(_, b)| value > b) {
                 best = Some((unit, value));
@@ -133,15 +263,9 @@ pub(super) fn detmax(
     spacing: &mut Spacing,
     mut step: impl FnMut() -> Result<(), Error>,
 ) -> Result<Vec<(Vec<bool>, usize)>, Error> {
-    let width = candidates.width;
     let count = candidates.units.len();
-    let mut exchange = Exchange {
-        candidates,
-        inverse: DMatrix::zeros(width, width),
-        gram: vec![DMatrix::zeros(0, 0); count],
-        chosen: vec![false; count],
-        base: base.clone(),
-    };
+    let stacked = Stacked::of(candidates);
+    let mut exchange = Exchange::new(candidates, &stacked, vec![false; count], base.clone());
     exchange.refresh()?;
     let mut steps = 0;
     let mut advance = |exchange: &mut Exchange<'_>| -> Result<(), Error> {
@@ -172,13 +296,12 @@ pub(super) fn detmax(
     }
     // The continuous optimum's heaviest units, exchanged the same way.
     let weights = super::continuous::d_optimal_weights(candidates, admissible, ridge)?;
-    let mut rounded = Exchange {
+    let mut rounded = Exchange::new(
         candidates,
-        inverse: DMatrix::zeros(width, width),
-        gram: vec![DMatrix::zeros(0, 0); count],
-        chosen: super::continuous::heaviest(&weights, wanted),
+        &stacked,
+        super::continuous::heaviest(&weights, wanted),
         base,
-    };
+    );
     if rounded.chosen.iter().filter(|c| **c).count() < wanted {
         return Ok(vec![(exchange.chosen, greedy)]);
     }
@@ -247,13 +370,13 @@ mod tests {
                 .collect(),
             width: 5,
         };
-        let mut exchange = Exchange {
-            candidates: &candidates,
-            inverse: DMatrix::zeros(5, 5),
-            gram: vec![DMatrix::zeros(0, 0); 12],
-            chosen: vec![false; 12],
-            base: DMatrix::identity(5, 5) * 0.1,
-        };
+        let stacked = Stacked::of(&candidates);
+        let mut exchange = Exchange::new(
+            &candidates,
+            &stacked,
+            vec![false; 12],
+            DMatrix::identity(5, 5) * 0.1,
+        );
         exchange.refresh().expect("positive definite");
         for (unit, sign) in [
             (0, 1.0),
@@ -268,8 +391,9 @@ mod tests {
         let (inverse, gram) = (exchange.inverse.clone(), exchange.gram.clone());
         exchange.refresh().expect("positive definite");
         assert!((&inverse - &exchange.inverse).abs().max() < 1e-12 * exchange.inverse.abs().max());
+        let largest = exchange.gram.iter().fold(1.0_f64, |a, b| a.max(b.abs()));
         for (updated, fresh) in gram.iter().zip(&exchange.gram) {
-            assert!((updated - fresh).abs().max() < 1e-12 * fresh.abs().max().max(1.0));
+            assert!((updated - fresh).abs() < 1e-12 * largest);
         }
         assert_eq!(
             exchange.chosen,
