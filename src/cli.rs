@@ -573,19 +573,32 @@ pub(crate) struct TestPoseArgs {
 
 #[derive(Debug, Args)]
 pub(crate) struct PredictArgs {
-    /// Nominal robot (file or ready robot name).
-    pub(crate) robot: String,
+    /// Nominal robot (file or ready robot name; not with --study).
+    #[arg(required_unless_present = "study")]
+    pub(crate) robot: Option<String>,
+    /// The calibration method (not with --study).
+    #[arg(long, value_parser = method_names(), required_unless_present = "study")]
+    pub(crate) method: Option<String>,
     #[command(flatten)]
-    pub(crate) method: MethodArgs,
+    pub(crate) options: MethodOptionArgs,
     /// The configurations to be measured (e.g. the output of `gecaro plan`).
-    #[arg(long, value_name = "PLANNED.csv")]
-    pub(crate) data: PathBuf,
+    #[arg(long, value_name = "PLANNED.csv", required_unless_present = "study")]
+    pub(crate) data: Option<PathBuf>,
+    /// A whole cell: a study file whose sets (method, σ, reflector, station
+    /// each) are predicted together; their data files need only their
+    /// configurations.
+    #[arg(
+        long,
+        value_name = "STUDY.toml",
+        conflicts_with_all = ["robot", "method", "data", "noise", "monte_carlo"]
+    )]
+    pub(crate) study: Option<PathBuf>,
     /// Units, column names and separator of the plan and test-pose files.
     #[command(flatten)]
     pub(crate) format: DataFormatArgs,
     /// The sensor's standard deviation (metres; radians for orientation rows).
-    #[arg(long, value_name = "SIGMA")]
-    pub(crate) noise: f64,
+    #[arg(long, value_name = "SIGMA", required_unless_present = "study")]
+    pub(crate) noise: Option<f64>,
     #[command(flatten)]
     pub(crate) test_poses: TestPoseArgs,
     /// Also run K simulated calibrations and report the errors measured.

@@ -354,3 +354,69 @@ fn a_robot_is_evaluated_on_a_study() {
     close(&after["rms"], &identified["after"]["rms"]);
     assert!(after["rms"].as_f64().expect("rms") < 5e-5, "{after}");
 }
+
+/// `gecaro predict --study`: the whole cell's predicted precision from its
+/// sets' configurations alone — a plan per reflector and station before it
+/// is measured gives what the measured files give — every set weighted by
+/// its σ; the second station's predicted σ is the identification's.
+#[test]
+fn a_cell_is_predicted_before_it_is_measured() {
+    let folder = tempfile::tempdir().expect("folder");
+    write_cell(folder.path());
+    let study = folder.path().join("study.toml");
+    let predict = |study: &Path| -> Value {
+        let output = on_study("predict", study, &["--json"]);
+        assert!(output.status.success(), "{output:?}");
+        serde_json::from_slice(&output.stdout).expect("JSON")
+    };
+    let measured = predict(&study);
+    assert_eq!(measured["sets"].as_array().expect("sets").len(), 6);
+    assert_eq!(measured["sets"][3]["station"], "tracker_2");
+    // The same cell planned, not measured: joint values only.
+    let planned_folder = folder.path().join("planned");
+    std::fs::create_dir(&planned_folder).expect("folder");
+    for entry in std::fs::read_dir(folder.path()).expect("listing") {
+        let path = entry.expect("entry").path();
+        let name = path
+            .file_name()
+            .expect("name")
+            .to_string_lossy()
+            .into_owned();
+        if name.ends_with(".csv") {
+            let text = std::fs::read_to_string(&path).expect("data");
+            let planned: Vec<String> = text
+                .lines()
+                .map(|line| line.split(',').take(6).collect::<Vec<_>>().join(","))
+                .collect();
+            std::fs::write(planned_folder.join(&name), planned.join("\n") + "\n").expect("plan");
+        } else if name == "study.toml" {
+            std::fs::copy(&path, planned_folder.join(&name)).expect("study");
+        }
+    }
+    let planned = predict(&planned_folder.join("study.toml"));
+    assert_eq!(planned["parameters"], measured["parameters"]);
+    assert_eq!(planned["predicted"], measured["predicted"]);
+    // The identification's σ of the second station agrees (eq. 11 at the
+    // identified robot rather than the nominal).
+    let identified = on_study("identify", &study, &["--json"]);
+    let identified: Value = serde_json::from_slice(&identified.stdout).expect("JSON");
+    for unknown in ["x", "y", "z", "rx", "ry", "rz"] {
+        let name = format!("tracker_2.{unknown}");
+        let find = |list: &Value, key: &str| -> f64 {
+            list.as_array()
+                .expect("list")
+                .iter()
+                .find(|p| p["name"] == name.as_str())
+                .and_then(|p| p[key].as_f64())
+                .unwrap_or_else(|| panic!("{name} in {list}"))
+        };
+        let (before, after) = (
+            find(&measured["parameters"], "sigma"),
+            find(&identified["auxiliary"], "std"),
+        );
+        assert!(
+            (0.7..1.4).contains(&(before / after)),
+            "{name}: predicted {before:e}, identified {after:e}"
+        );
+    }
+}

@@ -194,11 +194,19 @@ fn curve_table(points: &[CurvePoint]) -> comfy_table::Table {
 }
 
 pub(crate) fn predict_accuracy(args: &PredictArgs) -> Result<(), Failure> {
+    if let Some(study) = &args.study {
+        return predict_study(args, study);
+    }
+    let (Some(robot), Some(method), Some(data), Some(noise)) =
+        (&args.robot, &args.method, &args.data, args.noise)
+    else {
+        unreachable!("clap requires them without --study");
+    };
     let mut request = PredictRequest::new(
-        RobotSource::Named(args.robot.clone()),
-        method_spec(&args.method.method, &args.method.options)?,
-        DataSource::File(name(&args.data)),
-        args.noise,
+        RobotSource::Named(robot.clone()),
+        method_spec(method, &args.options)?,
+        DataSource::File(name(data)),
+        noise,
     );
     request.test_poses = test_poses(&args.test_poses);
     request.format = super::options::data_format(&args.format);
@@ -222,17 +230,65 @@ pub(crate) fn predict_accuracy(args: &PredictArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-fn print_prediction(args: &PredictArgs, predicted: &Predicted) {
-    let (prediction, chosen) = (&predicted.prediction, &predicted.method);
+/// `predict --study`: the whole cell's predicted precision.
+fn predict_study(args: &PredictArgs, study: &std::path::Path) -> Result<(), Failure> {
+    let mut request =
+        gecaro_app::PredictStudyRequest::new(gecaro_app::StudySource::File(name(study)));
+    request.test_poses = test_poses(&args.test_poses);
+    request.seed = Some(args.seed);
+    let predicted = request.run(&LocalFiles)?;
+    super::options::print_notes(&predicted.loaded.notes);
+    if args.json {
+        return super::print_json(&predicted.document());
+    }
+    let document = predicted.document();
     println!(
-        "Predicted precision of {} ({} method) from {} configurations of {}, sensor σ {} mm \
-         (eq. 11; first order, before measuring):",
-        predicted.robot.robot.name(),
-        chosen.name(),
-        predicted.configurations,
-        args.data.display(),
-        number(args.noise * 1e3, 6)
+        "Predicted precision of {} from the cell of {} ({} sets; eq. 11, first order, each set \
+         weighted by its σ):",
+        predicted.loaded.robot.robot.name(),
+        study.display(),
+        document.sets.len()
     );
+    let mut sets = table(
+        &[
+            "set",
+            "method",
+            "configurations",
+            "σ (mm)",
+            "tool",
+            "station",
+        ],
+        2,
+    );
+    for set in &document.sets {
+        sets.add_row(vec![
+            set.data.clone(),
+            set.method.to_owned(),
+            set.configurations.to_string(),
+            set.sigma.map_or("—".into(), |s| number(s * 1e3, 6)),
+            set.tool.clone().unwrap_or_else(|| "frame n+1".into()),
+            set.station.clone().unwrap_or_else(|| "world".into()),
+        ]);
+    }
+    println!("{sets}");
+    print_parameters_and_errors(&predicted.prediction, None);
+    println!(
+        "{} test poses ({}); errors of the robot's own frame n+1",
+        predicted.test_poses,
+        args.test_poses.test_poses.as_ref().map_or_else(
+            || "random within the joint limits".into(),
+            |path| path.display().to_string()
+        )
+    );
+    Ok(())
+}
+
+/// The parameters' predicted σ and the errors at the test poses (and the
+/// Monte Carlo's, when run), as tables.
+fn print_parameters_and_errors(
+    prediction: &gecaro_calib::prediction::Prediction,
+    measured: Option<&gecaro_calib::prediction::MonteCarlo>,
+) {
     let mut parameters = table(&["parameter", "predicted σ"], 1);
     for (name, sigma) in &prediction.parameters {
         parameters.add_row(vec![name.clone(), format!("{sigma:.3e}")]);
@@ -259,15 +315,32 @@ fn print_prediction(args: &PredictArgs, predicted: &Predicted) {
             milli(errors_at.rotation_max),
         ]);
     };
-    let predicted_errors = prediction.errors;
-    row("predicted", &predicted_errors);
-    if let Some(measured) = &predicted.measured {
+    row("predicted", &prediction.errors);
+    if let Some(measured) = measured {
         row(
             &format!("Monte Carlo ({} runs)", measured.runs),
             &measured.errors,
         );
     }
     println!("{errors}");
+}
+
+fn print_prediction(args: &PredictArgs, predicted: &Predicted) {
+    let (prediction, chosen) = (&predicted.prediction, &predicted.method);
+    println!(
+        "Predicted precision of {} ({} method) from {} configurations of {}, sensor σ {} mm \
+         (eq. 11; first order, before measuring):",
+        predicted.robot.robot.name(),
+        chosen.name(),
+        predicted.configurations,
+        args.data
+            .as_deref()
+            .unwrap_or(std::path::Path::new(""))
+            .display(),
+        number(predicted.noise * 1e3, 6)
+    );
+    print_parameters_and_errors(prediction, predicted.measured.as_ref());
+    let predicted_errors = prediction.errors;
     println!(
         "{} test poses ({})",
         predicted.test_poses,

@@ -18,6 +18,7 @@
 //! | points generation | [`GenerateRequest`] | [`Generated`] |
 //! | a plan, an accuracy curve | [`PlanRequest`] | [`Planning`] |
 //! | predicted precision of a plan | [`PredictRequest`] | [`Predicted`] |
+//! | predicted precision of a whole cell (a study) | [`PredictStudyRequest`] | [`PredictedStudy`] |
 //! | a program corrected for the calibrated robot | [`CompensateRequest`] | [`Compensated`] |
 //! | a robot from another format | [`ImportRequest`] | [`Imported`] |
 //! | a robot to another format | [`ExportRequest`] | [`ExportedRobot`] |
@@ -80,6 +81,7 @@ mod rebase;
 mod robot_files;
 mod settings;
 mod sources;
+mod study_prediction;
 
 pub use cell::CellSpec;
 pub use compensate::{CompensateRequest, Compensated, ProgramSource};
@@ -106,4 +108,7 @@ pub use settings::{FitSettings, PrioritySource};
 pub use sources::{
     DataFormatSpec, DataRead, DataSource, RobotSource, angle_unit, delimiter, length_unit,
     robot_of_document,
+};
+pub use study_prediction::{
+    PredictStudyJson, PredictStudyRequest, PredictedSetJson, PredictedStudy,
 };

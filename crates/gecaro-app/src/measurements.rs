@@ -119,6 +119,9 @@ pub enum Data {
     /// Without data, the study has no samples: the job draws random
     /// configurations (identifiable parameters).
     Optional,
+    /// The configurations of the data are what counts (a plan before it is
+    /// measured): measurement columns need not be there.
+    Configurations,
 }
 
 impl Measurements {
@@ -141,7 +144,7 @@ impl Measurements {
     /// fit, joints outside their limits with `strict_limits`.
     pub fn load(&self, files: &dyn Files, data: Data) -> Result<Loaded, AppError> {
         let mut loaded = match &self.study {
-            Some(study) => self.load_study(study, files)?,
+            Some(study) => self.load_study(study, files, data)?,
             None => self.load_single(files, data)?,
         };
         if let Some(message) = loaded.study.limit_summary(&loaded.robot.robot) {
@@ -189,7 +192,12 @@ impl Measurements {
         Ok(loaded)
     }
 
-    fn load_study(&self, study: &StudySource, files: &dyn Files) -> Result<Loaded, AppError> {
+    fn load_study(
+        &self,
+        study: &StudySource,
+        files: &dyn Files,
+        data: Data,
+    ) -> Result<Loaded, AppError> {
         if self.robot.is_some() || self.method.is_some() || self.data.is_some() {
             return Err(AppError::setting(
                 "study",
@@ -225,7 +233,12 @@ impl Measurements {
                 let path = files.local_path(name).ok_or_else(|| {
                     AppError::setting("study", "study files are read from local folders only")
                 })?;
-                let file = gecaro_io::read_study_file(&path)?;
+                let read_for = if data == Data::Configurations {
+                    gecaro_io::StudyData::Configurations
+                } else {
+                    gecaro_io::StudyData::Measured
+                };
+                let file = gecaro_io::read_study_file_for(&path, read_for)?;
                 Ok(Loaded {
                     robot: file.robot,
                     study: file.study,
@@ -264,13 +277,18 @@ impl Measurements {
         let mut notes = Vec::new();
         let (samples, label) = match (&self.data, data) {
             (Some(source), _) => {
+                let columns = if data == Data::Configurations {
+                    gecaro_calib::study::DataColumn::grouping(method.data_columns())
+                } else {
+                    method.data_columns().to_vec()
+                };
                 let read = source.read(
                     files,
                     &gecaro_io::joint_types(&robot.robot),
-                    method.data_columns(),
+                    &columns,
                     &self.format.format()?,
                 )?;
-                if !read.unused_columns.is_empty() {
+                if !read.unused_columns.is_empty() && data != Data::Configurations {
                     notes.push(Note::plain(format!(
                         "{}: columns {} are not used by the {} method (left alone)",
                         read.label,
@@ -282,7 +300,7 @@ impl Measurements {
                 (read.samples, read.label)
             }
             (None, Data::Optional) => (Vec::new(), "random configurations".to_owned()),
-            (None, Data::Required) => {
+            (None, Data::Required | Data::Configurations) => {
                 return Err(AppError::new(
                     ErrorKind::Usage,
                     vec![

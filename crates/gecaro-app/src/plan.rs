@@ -42,7 +42,7 @@ pub struct TestPoses {
 }
 
 impl TestPoses {
-    fn load(
+    pub(crate) fn load(
         &self,
         robot: &Robot,
         seed: u64,

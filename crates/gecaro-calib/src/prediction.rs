@@ -35,8 +35,9 @@ use nalgebra::DMatrix;
 use crate::Error;
 use crate::identification::{IdentificationOptions, identify};
 use crate::method::CalibrationMethod;
+use crate::observation::ObservationSystem;
 use crate::parallel::run_parts;
-use crate::planning::BaseColumns;
+use crate::planning::{BaseColumns, nominal_study};
 use crate::progress::{Observer, Progress, Quiet, report};
 use crate::sample::Sample;
 use crate::sampler::Sampler;
@@ -123,6 +124,58 @@ pub(crate) fn predict_in(
     test_poses: &[Vec<f64>],
 ) -> Result<Prediction, Error> {
     let system = base.system(robot, method, planned)?;
+    let full = method.jacobian_rows() == JacobianRows::Full;
+    predicted(base, robot, &system, noise, full, test_poses)
+}
+
+/// Predicts the precision of a study — several sets, each with its method,
+/// sensor σ, tool and station ([`crate::frames`]), measured at the
+/// configurations of its samples — and the calibrated robot's errors at
+/// `test_poses`: as [`predict`], every set's rows weighted by 1/σ of its
+/// sensor (eq. 11 for a weighted W_b: C = (W_bᵀW_b)⁻¹), the named frames'
+/// unknowns among the columns. The configurations are what counts: the
+/// samples' readings, if any, are replaced by the nominal robot's.
+///
+/// # Errors
+/// A set without σ, invalid configurations, too few equations for the base
+/// set, or a singular W_b.
+pub fn predict_study(
+    robot: &Robot,
+    study: &Study,
+    test_poses: &[Vec<f64>],
+    priority: &PriorityMatrix,
+) -> Result<Prediction, Error> {
+    if let Some(set) = study.sets.iter().find(|set| set.sigma.is_none()) {
+        return Err(Error::InvalidData {
+            line: None,
+            message: format!(
+                "{}: a prediction needs the sensor's σ of every measurement set",
+                set.label
+            ),
+        });
+    }
+    let study = nominal_study(robot, study)?;
+    study.check(robot)?;
+    let base = BaseColumns::of_study(robot, &study, priority)?;
+    let system = base.system_of_study(robot, &study)?;
+    let full = study
+        .sets
+        .iter()
+        .any(|set| set.method.jacobian_rows() == JacobianRows::Full);
+    predicted(&base, robot, &system, 1.0, full, test_poses)
+}
+
+/// The prediction from W_b (`system`, rows weighted or not) and the σ of
+/// its rows (`noise`; 1 for rows weighted by 1/σ); orientation errors when
+/// `full`.
+fn predicted(
+    base: &BaseColumns,
+    robot: &Robot,
+    system: &ObservationSystem,
+    noise: f64,
+    full: bool,
+    test_poses: &[Vec<f64>],
+) -> Result<Prediction, Error> {
     let w = DMatrix::from_row_slice(system.rows(), base.layout.columns(), system.matrix());
     let information = w.transpose() * &w;
     // Conditioning judged in the error units, where a well-posed W_b has a
@@ -148,7 +201,6 @@ pub(crate) fn predict_in(
         .enumerate()
         .map(|(column, name)| (name, covariance[(column, column)].max(0.0).sqrt()))
         .collect();
-    let full = method.jacobian_rows() == JacobianRows::Full;
     let mut position = Vec::with_capacity(test_poses.len());
     let mut rotation = Vec::with_capacity(test_poses.len());
     for jacobian in base.pose_jacobians(robot, test_poses, false)? {

@@ -343,3 +343,66 @@ fn frame_measures_identify_the_tools_orientations_too() {
         "held-out {angle:.3e} rad, floor {angle_floor:.3e} rad"
     );
 }
+
+/// `predict_study`: a study of one unweighted-equivalent set predicts what
+/// `predict` does with that set's σ; and on the cell (3 reflectors × 2
+/// stations) the predicted σ of tracker 2's pose, before measuring, agrees
+/// with the σ the identification reports after (eq. 11 at the nominal
+/// robot and at the identified one).
+#[test]
+fn a_study_s_prediction_is_the_cell_s_precision() {
+    use gecaro_calib::prediction::{predict, predict_study, random_test_poses};
+    let nominal = nominal();
+    let poses = random_test_poses(&nominal, 50, 3);
+    let position = method("position", &MethodOptions::default()).expect("method");
+    let mut sampler = Sampler::new(4);
+    let samples = simulate_measurements(&nominal, position.as_ref(), 40, 0.0, &mut sampler)
+        .expect("configurations");
+    let single = predict(
+        &nominal,
+        position.as_ref(),
+        &samples,
+        NOISE,
+        &poses,
+        &nominal.priority(),
+    )
+    .expect("prediction");
+    let mut study = Study::single(position.clone_method(), samples, "planned");
+    study.sets[0].sigma = Some(NOISE);
+    let as_study = predict_study(&nominal, &study, &poses, &nominal.priority()).expect("study");
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs().max(1e-12);
+    assert!(close(
+        as_study.errors.position_rms,
+        single.errors.position_rms
+    ));
+    for ((name, a), (other, b)) in as_study.parameters.iter().zip(&single.parameters) {
+        assert_eq!(name, other);
+        assert!(close(*a, *b), "{name}: {a} vs {b}");
+    }
+    // No σ, no prediction.
+    study.sets[0].sigma = None;
+    assert!(predict_study(&nominal, &study, &poses, &nominal.priority()).is_err());
+
+    // The cell.
+    let (study, result) = identify_cell(true);
+    let predicted = predict_study(&nominal, &study, &poses, &nominal.priority()).expect("cell");
+    for unknown in ["x", "y", "z", "rx", "ry", "rz"] {
+        let name = format!("tracker_2.{unknown}");
+        let (_, reported) = identified(&result, &name);
+        let (_, before) = predicted
+            .parameters
+            .iter()
+            .find(|(n, _)| *n == name)
+            .unwrap_or_else(|| panic!("{name} predicted"));
+        let ratio = before / reported;
+        assert!(
+            (0.7..1.4).contains(&ratio),
+            "{name}: {before:e} vs {reported:e}"
+        );
+    }
+    assert!(
+        predicted.errors.position_rms < 5.0 * NOISE,
+        "{:?}",
+        predicted.errors
+    );
+}

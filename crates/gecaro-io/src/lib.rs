@@ -57,6 +57,6 @@ pub use robot_toml::{
     format_robot_file, parse_priority_file, parse_robot_document, parse_robot_file,
     read_priority_file, read_robot_file,
 };
-pub use study_file::{StudyFile, read_study_file};
+pub use study_file::{StudyData, StudyFile, read_study_file, read_study_file_for};
 pub use units::LengthUnit;
 pub use urdf::names::{UrdfDocument, UrdfJointDocument, UrdfJointNames, UrdfNames};

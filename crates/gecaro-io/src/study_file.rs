@@ -136,12 +136,32 @@ pub struct StudyFile {
     pub notes: Vec<String>,
 }
 
+/// What a study's data files are read for.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum StudyData {
+    /// The measurements: every column of each set's method.
+    #[default]
+    Measured,
+    /// The configurations only (joint values, and set or pair ids): a plan
+    /// before it is measured, for a prediction. Measurement columns, if
+    /// present, are left alone.
+    Configurations,
+}
+
 /// Reads a study file and everything it refers to.
 ///
 /// # Errors
 /// [`Error::Parse`] with the line of the study file at fault, or the errors
 /// of the robot and data files it names.
 pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
+    read_study_file_for(path, StudyData::Measured)
+}
+
+/// [`read_study_file`], its data files read for `data`.
+///
+/// # Errors
+/// As [`read_study_file`].
+pub fn read_study_file_for(path: &Path, data: StudyData) -> Result<StudyFile, Error> {
     let text = read_text(path, MAX_DESCRIPTION_BYTES)?;
     let line_of = |offset: usize| crate::error::line_at(&text, offset);
     let fail = |span: std::ops::Range<usize>, field: &str, message: String| {
@@ -415,17 +435,21 @@ pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
             delimiter,
             decimal_comma: table.decimal_comma,
         };
-        let data = read_samples(&data_path, &types, method.data_columns(), &format)?;
-        if !data.unused_columns.is_empty() {
+        let columns = match data {
+            StudyData::Measured => method.data_columns().to_vec(),
+            StudyData::Configurations => DataColumn::grouping(method.data_columns()),
+        };
+        let read = read_samples(&data_path, &types, &columns, &format)?;
+        if !read.unused_columns.is_empty() && data == StudyData::Measured {
             notes.push(format!(
                 "{}: columns {} are not used by the {} method (left alone)",
                 data_path.display(),
-                data.unused_columns.join(", "),
+                read.unused_columns.join(", "),
                 method.name()
             ));
         }
-        notes.extend(data.notes);
-        let samples = data.samples;
+        notes.extend(read.notes);
+        let samples = read.samples;
         sets.push(MeasurementSet {
             method,
             samples,

@@ -149,21 +149,45 @@ pub(crate) fn plan(
 /// The precision of every identifiable parameter and the calibrated robot's
 /// error at test poses that measuring `data` with a sensor of σ = `noise`
 /// would give, as `gecaro predict --json` prints it; `monte_carlo` simulated
-/// calibrations (robots at `error_level`) check the prediction.
+/// calibrations (robots at `error_level`) check the prediction. With a
+/// Study as `method` (no `data`, no `noise`: its sets state them), the whole
+/// cell's prediction, as `gecaro predict --study --json`: every set weighted
+/// by its σ, through its tool and station, from its configurations.
 #[pyfunction]
-#[pyo3(signature = (robot, method, data, noise, *, monte_carlo = None, error_level = 0.1, seed = 1, test_pose_count = None))]
+#[pyo3(signature = (robot, method, data = None, noise = None, *, monte_carlo = None, error_level = 0.1, seed = 1, test_pose_count = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn predict<'py>(
     py: Python<'py>,
     robot: PyRef<'_, PyRobot>,
     method: &Bound<'_, PyAny>,
-    data: PyRef<'_, PyData>,
-    noise: f64,
+    data: Option<PyRef<'_, PyData>>,
+    noise: Option<f64>,
     monte_carlo: Option<usize>,
     error_level: f64,
     seed: u64,
     test_pose_count: Option<usize>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    if method.cast::<crate::study::PyStudy>().is_ok() {
+        if data.is_some() || noise.is_some() || monte_carlo.is_some() {
+            return Err(input(
+                "a Study states its data and σ per set: give neither data, noise nor monte_carlo",
+            ));
+        }
+        let measurements = crate::source::measurements(&robot, method, None, false, false)?;
+        let Some(study) = measurements.study else {
+            return Err(input("a Study is needed"));
+        };
+        let mut request = gecaro_app::PredictStudyRequest::new(study);
+        request.seed = Some(seed);
+        request.test_poses = test_poses(test_pose_count);
+        let predicted = py.detach(|| request.run(&gecaro_app::LocalFiles)).py()?;
+        return to_python(py, &predicted.document());
+    }
+    let (Some(data), Some(noise)) = (data, noise) else {
+        return Err(input(
+            "give the planned configurations (data) and the sensor's σ (noise), or a Study",
+        ));
+    };
     let mut request = PredictRequest::new(
         RobotSource::Loaded(Box::new(robot.file.clone())),
         spec(method)?,

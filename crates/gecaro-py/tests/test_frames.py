@@ -80,3 +80,16 @@ def test_named_frames_are_checked_where_they_are_named(repository):
         study.add("position", data, station="tracker_9")
     with pytest.raises(ValueError, match="tools and stations go"):
         study.add("distance", data, tool="smr")
+
+
+def test_a_cell_is_predicted_as_the_command_line_does(cli, repository):
+    path = repository / "examples" / "tracker-cell" / "study.toml"
+    study = gecaro.Study.read(path)
+    assert study.robot is not None
+    predicted = gecaro.predict(study.robot, study)
+    expected = cli.json("predict", "--study", path)
+    assert predicted["parameters"] == expected["parameters"]
+    assert predicted["predicted"] == expected["predicted"]
+    assert [s["station"] for s in predicted["sets"]] == [None] * 3 + ["tracker_2"] * 3
+    with pytest.raises(gecaro.InputError, match="neither data, noise"):
+        gecaro.predict(study.robot, study, noise=1e-5)

@@ -7,6 +7,7 @@ use gecaro_core::{ChainBuffer, JacobianRows, KinematicModel, PriorityMatrix, Rob
 use nalgebra::DMatrix;
 
 use crate::Error;
+use crate::frames::measuring_robot;
 use crate::identifiability::structural_parameters;
 use crate::method::CalibrationMethod;
 use crate::observability::{AUXILIARY_UNIT, column_unit};
@@ -59,6 +60,19 @@ fn nominal_readings(
     }
 }
 
+/// `study` with what every set's sensor would read on the nominal robot
+/// (through the set's tool and station, [`crate::frames::measuring_robot`]):
+/// as [`nominal_readings`], for every set.
+pub(crate) fn nominal_study(robot: &Robot, study: &Study) -> Result<Study, Error> {
+    let mut nominal = study.clone();
+    for set in &mut nominal.sets {
+        let frame = |index: Option<usize>| index.map(|i| &study.frames[i]);
+        let measuring = measuring_robot(robot, frame(set.tool), frame(set.station))?;
+        set.samples = nominal_readings(&measuring, set.method.as_ref(), &set.samples)?;
+    }
+    Ok(nominal)
+}
+
 /// The scaled rows of W_b of every unit, one matrix X_u per unit.
 pub(super) struct Blocks {
     pub(super) units: Vec<DMatrix<f64>>,
@@ -108,11 +122,21 @@ impl BaseColumns {
     ) -> Result<Self, Error> {
         let samples = nominal_readings(robot, method, samples)?;
         let study = Study::single(method.clone_method(), samples, "candidates");
-        let report = structural_parameters(robot, &study, priority, 1)?;
+        Self::of_study(robot, &study, priority)
+    }
+
+    /// The base columns of a study whose readings are the nominal robot's
+    /// ([`nominal_study`]).
+    pub(crate) fn of_study(
+        robot: &Robot,
+        study: &Study,
+        priority: &PriorityMatrix,
+    ) -> Result<Self, Error> {
+        let report = structural_parameters(robot, study, priority, 1)?;
         let layout = ColumnLayout::with_auxiliary(
             robot.parameters().len(),
             &report.base_parameters,
-            method.auxiliary_names().len(),
+            study.auxiliary_names().len(),
             &report.base_auxiliary,
         );
         let scale = report
@@ -153,6 +177,16 @@ impl BaseColumns {
     ) -> Result<ObservationSystem, Error> {
         let samples = nominal_readings(robot, method, samples)?;
         let study = Study::single(method.clone_method(), samples, "candidates");
+        self.system_of_study(robot, &study)
+    }
+
+    /// W_b of a study at the nominal robot, its rows weighted by 1/σ of
+    /// their set (readings as [`nominal_study`] gives them).
+    pub(crate) fn system_of_study(
+        &self,
+        robot: &Robot,
+        study: &Study,
+    ) -> Result<ObservationSystem, Error> {
         let mut states = StudyStates::default();
         study.evaluate_poses(robot, &mut states)?;
         let auxiliary = study.initial_auxiliary(&states)?;

@@ -39,7 +39,7 @@ mod criteria;
 mod detmax;
 mod spacing;
 
-pub(crate) use columns::BaseColumns;
+pub(crate) use columns::{BaseColumns, nominal_study};
 use columns::{Blocks, contiguous};
 pub use criteria::Criterion;
 use criteria::Objective;

@@ -610,16 +610,17 @@ def plan(
 
 def predict(
     robot: Robot,
-    method: _MethodLike,
-    data: Data,
-    noise: float,
+    method: Union[_MethodLike, Study],
+    data: Optional[Data] = None,
+    noise: Optional[float] = None,
     *,
     monte_carlo: Optional[int] = None,
     error_level: float = 0.1,
     seed: int = 1,
     test_pose_count: Optional[int] = None,
 ) -> dict[str, Any]:
-    """The precision a plan gives, as ``gecaro predict --json`` prints it."""
+    """The precision a plan gives, as ``gecaro predict --json`` prints it; with a
+    Study (no data, no noise), the whole cell's, as ``gecaro predict --study``."""
 
 def accuracy_curve(
     robot: Robot,
