@@ -98,9 +98,27 @@ sigma = 0.02
 /// `examples/tracker-cell`) and returns tracker 2's true pose in tracker
 /// 1's frame: x −1200, y 1750, z −200 mm, rpy 0.4°, −0.3°, −128°.
 fn write_cell(folder: &Path) -> NamedFrame {
+    write_cell_seen_from(folder, &tracker_1())
+}
+
+/// Where tracker 1 stands in the robot's base frame, as in a real cell:
+/// 2.5 m away, turned 126°.
+fn tracker_1() -> IsometryMatrix3<f64> {
+    IsometryMatrix3::from_parts(
+        Translation3::new(2.5, 0.4, -0.3),
+        Rotation3::from_euler_angles(0.0, 0.0, 2.2),
+    )
+}
+
+/// [`write_cell`], tracker 1 standing at `tracker_1` in the robot's base
+/// frame (its frame is the world frame of the data).
+fn write_cell_seen_from(folder: &Path, tracker_1: &IsometryMatrix3<f64>) -> NamedFrame {
     let nominal = gecaro_io::load_robot("industrial6").expect("robot").robot;
     let mut sampler = Sampler::new(5);
-    let real = perturbed_robot(&nominal, 0.5, &mut sampler).expect("real");
+    let real = perturbed_robot(&nominal, 0.5, &mut sampler)
+        .expect("real")
+        .reframed(&tracker_1.inverse(), &IsometryMatrix3::identity())
+        .expect("seen from tracker 1");
     let tools = [
         frame("smr_a", FrameRole::Tool, [0.04, 0.025, 0.09], [0.0; 3]),
         frame("smr_b", FrameRole::Tool, [-0.05, 0.03, 0.07], [0.0; 3]),
@@ -358,12 +376,37 @@ fn a_robot_is_evaluated_on_a_study() {
 /// `gecaro predict --study`: the whole cell's predicted precision from its
 /// sets' configurations alone — a plan per reflector and station before it
 /// is measured gives what the measured files give — every set weighted by
-/// its σ; the second station's predicted σ is the identification's.
+/// its σ; the second station's predicted σ is the identification's. The
+/// prediction is for the robot where the study's robot file puts it: here
+/// the nominal robot stated where it stands in tracker 1's frame
+/// (`robot reframe --world`), as the stations are stated.
 #[test]
 fn a_cell_is_predicted_before_it_is_measured() {
     let folder = tempfile::tempdir().expect("folder");
     write_cell(folder.path());
     let study = folder.path().join("study.toml");
+    let robot_seen = tracker_1().inverse();
+    let (t, q) = (
+        robot_seen.translation.vector,
+        nalgebra::UnitQuaternion::from_rotation_matrix(&robot_seen.rotation),
+    );
+    let world = format!("{},{},{},{},{},{},{}", t.x, t.y, t.z, q.w, q.i, q.j, q.k);
+    let placed = folder.path().join("industrial6_in_tracker_1.toml");
+    let output = gecaro()
+        .args(["robot", "reframe", "industrial6", "--world", &world, "-o"])
+        .arg(&placed)
+        .output()
+        .expect("runs");
+    assert!(output.status.success(), "{output:?}");
+    let text = std::fs::read_to_string(&study).expect("study");
+    std::fs::write(
+        &study,
+        text.replace(
+            "robot = \"industrial6\"",
+            "robot = \"industrial6_in_tracker_1.toml\"",
+        ),
+    )
+    .expect("study");
     let predict = |study: &Path| -> Value {
         let output = on_study("predict", study, &["--json"]);
         assert!(output.status.success(), "{output:?}");
@@ -389,7 +432,7 @@ fn a_cell_is_predicted_before_it_is_measured() {
                 .map(|line| line.split(',').take(6).collect::<Vec<_>>().join(","))
                 .collect();
             std::fs::write(planned_folder.join(&name), planned.join("\n") + "\n").expect("plan");
-        } else if name == "study.toml" {
+        } else if name.ends_with(".toml") {
             std::fs::copy(&path, planned_folder.join(&name)).expect("study");
         }
     }
@@ -419,4 +462,56 @@ fn a_cell_is_predicted_before_it_is_measured() {
             "{name}: predicted {before:e}, identified {after:e}"
         );
     }
+}
+
+/// Tracker 1 (the world frame of the data) stands 2.5 m from the robot's
+/// base, turned 126°, as in a real cell: the robot's base in it is
+/// registered in closed form with the stations and reflectors (before: the
+/// iteration limit at 30 mm RMS), the calibration fits the noise, and
+/// `robot rebase` finds where tracker 1 stood.
+#[test]
+fn a_cell_whose_reference_tracker_stands_far_from_the_base_is_registered() {
+    let folder = tempfile::tempdir().expect("folder");
+    let truth = write_cell(folder.path());
+    let study = folder.path().join("study.toml");
+    let calibrated = folder.path().join("calibrated.toml");
+    let json = identified_cell(&study, &truth);
+    assert!(
+        json["iterations"].as_u64().expect("iterations") <= 10,
+        "{}",
+        json["iterations"]
+    );
+    let warnings = json["warnings"].to_string();
+    assert!(
+        warnings.contains("first fitted in closed form"),
+        "{warnings}"
+    );
+    let output = on_study(
+        "identify",
+        &study,
+        &["-o", calibrated.to_str().expect("utf-8")],
+    );
+    assert!(output.status.success(), "{output:?}");
+    let output = gecaro()
+        .args(["robot", "rebase"])
+        .arg(&calibrated)
+        .args(["--nominal", "industrial6", "--json", "-o"])
+        .arg(folder.path().join("own.toml"))
+        .output()
+        .expect("runs");
+    assert!(output.status.success(), "{output:?}");
+    let rebased: Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    // The measurement frame (tracker 1) in the robot's base frame, against
+    // the truth: the real robot's own base errors (level 0.5) are in it.
+    let expected = tracker_1().translation.vector;
+    for axis in 0..3 {
+        let found = rebased["position"][axis].as_f64().expect("number");
+        assert!(
+            (found - expected[axis]).abs() < 0.02,
+            "axis {axis}: {found} vs {}",
+            expected[axis]
+        );
+    }
+    let yaw = rebased["rpy"][2].as_f64().expect("yaw");
+    assert!((yaw - 2.2).abs() < 0.02, "yaw {yaw}");
 }

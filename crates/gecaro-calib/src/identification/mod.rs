@@ -209,8 +209,14 @@ fn fit(
     // Stations and tools stated far from where the data put them start
     // where a closed-form fit does (the errors before are the stated ones).
     let registered = start::registered_frames(robot, study)?;
-    let fitted = registered.as_ref().unwrap_or(study);
-    let first = match (start::closed_form_start(robot, fitted)?, &registered) {
+    let fitted = registered.as_ref().map_or(study, |found| &found.study);
+    // The robot where the registration puts it in the data's world frame,
+    // else where the closed-form start of the sets without named frames does.
+    let start = match registered.as_ref().and_then(|found| found.base) {
+        Some(base) => Some(robot.reframed(&base, &nalgebra::IsometryMatrix3::identity())?),
+        None => start::closed_form_start(robot, fitted)?,
+    };
+    let first = match (start, &registered) {
         (Some(start), _) => first_from(robot, &start, fitted, study, options, &priority, observer)?,
         (None, Some(_)) => first_from(robot, robot, fitted, study, options, &priority, observer)?,
         (None, None) => fit_pass(robot, robot, study, options, &priority, &[], observer)?,
@@ -261,9 +267,10 @@ fn first_from(
          there (iteration 1)"
             .into()
     } else {
-        "the stated stations and tools were far from the measurements: they were first fitted \
-         in closed form (Horn/Kabsch for each station, least squares for each tool point), and \
-         the iterations started there (iteration 1)"
+        "the robot's base in the data's frame, or the stated stations and tools, were far \
+         from the measurements: they were first fitted in closed form (Horn/Kabsch for the \
+         world frame and each station, least squares for each tool point), and the \
+         iterations started there (iteration 1)"
             .into()
     });
     Ok(result)

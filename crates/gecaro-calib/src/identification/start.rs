@@ -138,27 +138,44 @@ type FramedPoint = (
     Vector3<f64>,
 );
 
+/// What the closed-form registration of a study's named frames found: the
+/// study with its stations and tools re-stated there, and, when the data's
+/// world frame stands far from the nominal robot's base, the robot's base in
+/// it (`new_world_from_old_world` of [`Robot::reframed`]).
+pub(super) struct Registered {
+    /// The study, its named frames at the fitted poses.
+    pub(super) study: Study,
+    /// Where the robot stands in the world frame of the data, when the
+    /// nominal's base is far from it.
+    pub(super) base: Option<IsometryMatrix3<f64>>,
+}
+
 /// The study with its named stations and tools stated where a closed-form
-/// fit puts them, or `None` when they are stated near enough (see the
-/// module docs for the conditions) or none is named.
+/// fit puts them, and the robot's base in the data's world frame, or `None`
+/// when all are stated near enough (see the module docs for the
+/// conditions) or no frame is named.
 ///
 /// A set that names a station measures points `Y_i = S⁻¹ F_i p` in the
 /// station's frame, `F_i` the nominal pose of the tool frame n+1, `p` the
-/// measured point in that frame (the set's tool, or its origin). By
-/// alternation, as for the world frame above: Horn/Kabsch for every station
-/// `S⁻¹` given the points, then least squares for every tool's point given
-/// the stations (the mean of `R_Fᵢᵀ (S Y_i − t_Fᵢ)` over its samples). Sets
-/// without a station measure in the world frame (`S` the identity). The
-/// stated orientations of the tools are kept (a point measure does not see
-/// them).
+/// measured point in that frame (the set's tool, or its origin); a set
+/// without one measures in the world frame, `Y_i = W⁻¹ F_i p`, `W` the world
+/// frame (the reference tracker) seen from the robot's nominal base — one
+/// more station. By alternation, as for the world frame above: Horn/Kabsch
+/// for every station `S⁻¹` (and `W⁻¹`) given the points, then least
+/// squares for every tool's point given the stations (the mean of
+/// `R_Fᵢᵀ (S Y_i − t_Fᵢ)` over its samples). The robot then stands at
+/// `W⁻¹` in the world frame and the stations at `W⁻¹ S`. The stated
+/// orientations of the tools are kept (a point measure does not see them).
 ///
 /// # Errors
 /// A configuration that does not fit the robot.
-pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<Study>, Error> {
+pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<Registered>, Error> {
     use crate::frames::FrameRole;
-    if !study.sets.iter().any(|set| set.station.is_some()) {
+    if !study.sets.iter().any(|set| set.uses_named_frames()) {
         return Ok(None);
     }
+    // The world frame is station `world`, after the named frames.
+    let world = study.frames.len();
     // (station, tool, tool_frame pose, measured point) of every point, evenly
     // spread up to MAXIMUM_POINTS per set.
     let mut points: Vec<FramedPoint> = Vec::new();
@@ -173,7 +190,12 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<S
             .step_by(measured.len().div_ceil(MAXIMUM_POINTS).max(1))
         {
             let tool_frame = terminal_pose(robot, motors)?;
-            points.push((set.station, set.tool, tool_frame, *point));
+            points.push((
+                Some(set.station.unwrap_or(world)),
+                set.tool,
+                tool_frame,
+                *point,
+            ));
         }
     }
     if points.len() < MINIMUM_POINTS {
@@ -181,6 +203,7 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<S
     }
     let stated = |index: Option<usize>| index.map(|i| study.frames[i].pose);
     let mut stations: Vec<IsometryMatrix3<f64>> = study.frames.iter().map(|f| f.pose).collect();
+    stations.push(IsometryMatrix3::identity());
     let mut tools: Vec<Vector3<f64>> = study
         .frames
         .iter()
@@ -200,15 +223,14 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<S
         (squares / points.len() as f64).sqrt()
     };
     let before = rms(&stations, &tools);
+    let is_station =
+        |index: usize| index == world || study.frames[index].role == FrameRole::Station;
     for _ in 0..ROUNDS {
         // How far this round moved a frame (metres, radians).
         let mut moved: f64 = 0.0;
-        // Every station's pose, given the tools' points.
-        for (index, frame) in study.frames.iter().enumerate() {
-            if frame.role != FrameRole::Station {
-                continue;
-            }
-            let (world, seen): (Vec<Vector3<f64>>, Vec<Vector3<f64>>) = points
+        // Every station's pose (the world's too), given the tools' points.
+        for index in (0..=world).filter(|index| is_station(*index)) {
+            let (seen_from, seen): (Vec<Vector3<f64>>, Vec<Vector3<f64>>) = points
                 .iter()
                 .filter(|(station, ..)| *station == Some(index))
                 .map(|(_, tool, tool_frame, measured)| {
@@ -218,8 +240,8 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<S
                     )
                 })
                 .unzip();
-            if world.len() >= MINIMUM_POINTS {
-                let next = rigid_fit(&world, &seen).inverse();
+            if seen_from.len() >= MINIMUM_POINTS {
+                let next = rigid_fit(&seen_from, &seen).inverse();
                 let change = stations[index].inverse() * next;
                 moved = moved
                     .max(change.translation.vector.norm())
@@ -236,10 +258,10 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<S
                 .iter()
                 .filter(|(_, tool, ..)| *tool == Some(index))
                 .map(|(station, _, tool_frame, measured)| {
-                    let world = station.map_or(*measured, |s| {
+                    let seen_from = station.map_or(*measured, |s| {
                         (stations[s] * nalgebra::Point3::from(*measured)).coords
                     });
-                    tool_frame.rotation.inverse() * (world - tool_frame.translation.vector)
+                    tool_frame.rotation.inverse() * (seen_from - tool_frame.translation.vector)
                 })
                 .collect();
             if !estimates.is_empty() {
@@ -253,19 +275,27 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<S
         }
     }
     let after = rms(&stations, &tools);
-    let far = study.frames.iter().enumerate().any(|(index, frame)| {
-        let (stated_pose, fitted) = match frame.role {
-            FrameRole::Station => (stated(Some(index)), stations[index]),
-            FrameRole::Tool => (
-                stated(Some(index)),
-                IsometryMatrix3::from_parts(Translation3::from(tools[index]), frame.pose.rotation),
-            ),
-        };
-        stated_pose.is_some_and(|pose| {
-            let change = pose.inverse() * fitted;
-            change.translation.vector.norm() > FAR_LENGTH || change.rotation.angle() > FAR_ANGLE
-        })
-    });
+    // The world frame seen from the robot's base; the robot seen from it.
+    let world_pose = stations[world];
+    let world_far = world_pose.translation.vector.norm() > FAR_LENGTH
+        || world_pose.rotation.angle() > FAR_ANGLE;
+    let far = world_far
+        || study.frames.iter().enumerate().any(|(index, frame)| {
+            let (stated_pose, fitted) = match frame.role {
+                FrameRole::Station => (stated(Some(index)), world_pose.inverse() * stations[index]),
+                FrameRole::Tool => (
+                    stated(Some(index)),
+                    IsometryMatrix3::from_parts(
+                        Translation3::from(tools[index]),
+                        frame.pose.rotation,
+                    ),
+                ),
+            };
+            stated_pose.is_some_and(|pose| {
+                let change = pose.inverse() * fitted;
+                change.translation.vector.norm() > FAR_LENGTH || change.rotation.angle() > FAR_ANGLE
+            })
+        });
     if !(far && after.is_finite() && after * IMPROVEMENT <= before) {
         return Ok(None);
     }
@@ -275,7 +305,7 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<S
         .enumerate()
         .map(|(index, frame)| {
             let pose = match frame.role {
-                FrameRole::Station => stations[index],
+                FrameRole::Station => world_pose.inverse() * stations[index],
                 FrameRole::Tool => IsometryMatrix3::from_parts(
                     Translation3::from(tools[index]),
                     frame.pose.rotation,
@@ -287,5 +317,8 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<S
             }
         })
         .collect();
-    Ok(Some(study.with_frames(frames)))
+    Ok(Some(Registered {
+        study: study.with_frames(frames),
+        base: world_far.then(|| world_pose.inverse()),
+    }))
 }
