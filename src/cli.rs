@@ -597,7 +597,12 @@ pub(crate) struct PredictArgs {
     #[command(flatten)]
     pub(crate) format: DataFormatArgs,
     /// The sensor's standard deviation (metres; radians for orientation rows).
-    #[arg(long, value_name = "SIGMA", required_unless_present = "study")]
+    #[arg(
+        long,
+        value_name = "SIGMA",
+        required_unless_present = "study",
+        allow_negative_numbers = true
+    )]
     pub(crate) noise: Option<f64>,
     #[command(flatten)]
     pub(crate) test_poses: TestPoseArgs,

@@ -265,7 +265,7 @@ impl Study {
             {
                 return Err(invalid(
                     None,
-                    format!("sigma_rotation must be a positive number, not {sigma}"),
+                    format!("sigma_rotation must be a positive standard deviation, not {sigma}"),
                 ));
             }
             if let Some(sigma) = set.sigma
@@ -273,7 +273,7 @@ impl Study {
             {
                 return Err(invalid(
                     None,
-                    format!("sigma must be a positive number, not {sigma}"),
+                    format!("sigma must be a positive standard deviation, not {sigma}"),
                 ));
             }
             if set.samples.is_empty() {
@@ -299,9 +299,12 @@ impl Study {
         Ok(())
     }
 
-    /// The named frames: distinct names, finite poses, tools and stations
-    /// where they belong, on methods that measure the
-    /// tool in a measurement frame (position and frame measure).
+    /// The named frames: distinct names, finite poses within
+    /// [`gecaro_core::MAX_MAGNITUDE`] of their parent frame, each measured by
+    /// some set, tools and stations where they belong, on methods that
+    /// measure the tool in a measurement frame (position and frame measure).
+    /// Every front end's study (a file, Python's, a request) meets these
+    /// rules here; a file reader may name the line first.
     fn check_frames(&self) -> Result<(), Error> {
         let invalid = |message: String| Error::InvalidData {
             line: None,
@@ -317,6 +320,27 @@ impl Study {
             if !frame.pose.to_homogeneous().iter().all(|v| v.is_finite()) {
                 return Err(invalid(format!(
                     "{} `{}` has a non-finite pose",
+                    frame.role.as_str(),
+                    frame.name
+                )));
+            }
+            let distance = frame.pose.translation.vector.norm();
+            if distance > gecaro_core::MAX_MAGNITUDE {
+                return Err(invalid(format!(
+                    "{} `{}` is stated {} m from its parent frame (at most {} m)",
+                    frame.role.as_str(),
+                    frame.name,
+                    gecaro_core::Compact(distance),
+                    gecaro_core::MAX_MAGNITUDE
+                )));
+            }
+            if !self
+                .sets
+                .iter()
+                .any(|set| set.tool == Some(index) || set.station == Some(index))
+            {
+                return Err(invalid(format!(
+                    "{} `{}` is measured by no measurement set (name it in one)",
                     frame.role.as_str(),
                     frame.name
                 )));

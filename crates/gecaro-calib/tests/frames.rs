@@ -406,3 +406,24 @@ fn a_study_s_prediction_is_the_cell_s_precision() {
         predicted.errors
     );
 }
+
+/// Issue 33 §3: at level 1 (±1 cm, ±1°, ±1 %) the second station's z-scores
+/// (error over reported σ) stay within ±4, for several real robots.
+#[test]
+fn the_second_station_s_z_scores_stay_within_four_at_level_1() {
+    let nominal = nominal();
+    let truth = in_world_of(true_frames(), true);
+    let mut worst: f64 = 0.0;
+    for seed in [11, 12, 13] {
+        let real = perturbed_robot(&nominal, 1.0, &mut Sampler::new(seed)).expect("real");
+        let study = cell_study(&real, stated_frames(), true, 30, seed);
+        let result = identify_fitting(&nominal, &study);
+        for (axis, unknown) in ["x", "y", "z"].iter().enumerate() {
+            let (value, std) = identified(&result, &format!("tracker_2.{unknown}"));
+            let z = (value - truth[3].pose.translation.vector[axis]) / std;
+            assert!(z.abs() < 4.0, "seed {seed}: tracker_2.{unknown} z = {z:.2}");
+            worst = worst.max(z.abs());
+        }
+    }
+    eprintln!("largest |z| of tracker 2's position over 3 real robots at level 1: {worst:.2}");
+}

@@ -80,6 +80,18 @@ def test_named_frames_are_checked_where_they_are_named(repository):
         study.add("position", data, station="tracker_9")
     with pytest.raises(ValueError, match="tools and stations go"):
         study.add("distance", data, tool="smr")
+    # The rules of every study (calib's), as for a study file: a station
+    # beyond 10 m, a frame that no set measures.
+    study.add("position", data, sigma="20um", tool="smr")
+    study.add_station("far", [25.0, 0.0, 0.0])
+    with pytest.raises(gecaro.InputError, match="at most 10 m"):
+        gecaro.identify(robot, study)
+    unmeasured = gecaro.Study()
+    unmeasured.add_tool("smr", [0.0, 0.0, 0.1])
+    unmeasured.add_tool("spare", [0.0, 0.05, 0.1])
+    unmeasured.add("position", data, sigma="20um", tool="smr")
+    with pytest.raises(gecaro.InputError, match="`spare` is measured by no measurement set"):
+        gecaro.identify(robot, unmeasured)
 
 
 def test_a_cell_is_predicted_as_the_command_line_does(cli, repository):
