@@ -81,10 +81,10 @@ def test_named_frames_are_checked_where_they_are_named(repository):
     with pytest.raises(ValueError, match="tools and stations go"):
         study.add("distance", data, tool="smr")
     # The rules of every study (calib's), as for a study file: a station
-    # beyond 10 m, a frame that no set measures.
+    # beyond a robot file's 1 km, a frame that no set measures.
     study.add("position", data, sigma="20um", tool="smr")
-    study.add_station("far", [25.0, 0.0, 0.0])
-    with pytest.raises(gecaro.InputError, match="at most 10 m"):
+    study.add_station("far", [2000.0, 0.0, 0.0])
+    with pytest.raises(gecaro.InputError, match="at most 1000 m"):
         gecaro.identify(robot, study)
     unmeasured = gecaro.Study()
     unmeasured.add_tool("smr", [0.0, 0.0, 0.1])

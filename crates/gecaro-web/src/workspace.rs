@@ -281,10 +281,25 @@ impl Workspace {
         overwrite: bool,
     ) -> Result<(), ApiError> {
         let (folder, file_name) = self.output_place(name, extension)?;
-        if !overwrite && folder.symlink_metadata(&file_name).is_ok() {
-            return Err(ApiError::Conflict(format!(
-                "{name} already exists; save with overwrite to replace it"
-            )));
+        if let Ok(metadata) = folder.symlink_metadata(&file_name) {
+            // Refused here, before any file of a save is written, as the
+            // write itself would refuse it (a URDF and its joint calibration
+            // are both written or neither).
+            if metadata.file_type().is_symlink() {
+                return Err(ApiError::Forbidden(format!(
+                    "{name} is a link; the server does not write through links"
+                )));
+            }
+            if !metadata.is_file() {
+                return Err(ApiError::Conflict(format!(
+                    "{name} exists and is not a file"
+                )));
+            }
+            if !overwrite {
+                return Err(ApiError::Conflict(format!(
+                    "{name} already exists; save with overwrite to replace it"
+                )));
+            }
         }
         Ok(())
     }

@@ -399,6 +399,39 @@ async fn urdf_dh_and_symoro_files_open_converted_and_robots_save_as_urdf() {
             .join("geared.joint_calibration.yaml")
             .exists()
     );
+    // Issue 35 §1: a URDF that is a link or a folder, saved over with
+    // overwrite, is refused before anything is written: the joint
+    // calibration that was there stays as it was.
+    let kept = "joints: [\"kept\"]\n";
+    for (target, expected) in [
+        ("linked", StatusCode::FORBIDDEN),
+        ("folder", StatusCode::CONFLICT),
+    ] {
+        let urdf = api.folder.path().join(format!("{target}.urdf"));
+        if target == "linked" {
+            #[cfg(unix)]
+            std::os::unix::fs::symlink(api.folder.path().join("out.urdf"), &urdf).expect("link");
+        } else {
+            std::fs::create_dir(&urdf).expect("folder");
+        }
+        let calibration = api
+            .folder
+            .path()
+            .join(format!("{target}.joint_calibration.yaml"));
+        std::fs::write(&calibration, kept).expect("calibration");
+        let (status, body) = api
+            .post(
+                "/api/robots/save",
+                &json!({ "robot": document, "name": format!("{target}.urdf"), "overwrite": true }),
+            )
+            .await;
+        assert_eq!(status, expected, "{target}: {body}");
+        assert_eq!(
+            std::fs::read_to_string(&calibration).expect("still there"),
+            kept,
+            "{target}: the calibration beside it is untouched"
+        );
+    }
 }
 
 #[tokio::test]
