@@ -267,6 +267,28 @@ fn working_program(count: usize) -> Vec<[f64; 6]> {
         .collect()
 }
 
+/// [`working_program`] as a controller exports it: degrees to 4 decimals.
+fn exported_program(count: usize) -> Vec<Vec<f64>> {
+    working_program(count)
+        .iter()
+        .map(|q| q.iter().map(|v| (v * 1e4).round() / 1e4).collect())
+        .collect()
+}
+
+/// `gecaro identify industrial6 --method position --data TRAIN -o CALIBRATED`.
+fn identify_position(train: &str, calibrated: &str) {
+    run(&[
+        "identify",
+        "industrial6",
+        "--method",
+        "position",
+        "--data",
+        train,
+        "-o",
+        calibrated,
+    ]);
+}
+
 /// Rows of a CSV written by gecaro (no quoted fields here), by column name.
 fn csv_rows(path: &Path) -> Vec<std::collections::HashMap<String, String>> {
     let text = std::fs::read_to_string(path).expect("written");
@@ -311,21 +333,9 @@ fn a_compensated_program_brings_the_real_robot_from_millimetres_to_the_noise() {
         "--real-out",
         &file("real.toml"),
     ]);
-    run(&[
-        "identify",
-        "industrial6",
-        "--method",
-        "position",
-        "--data",
-        &file("train.csv"),
-        "-o",
-        &file("calibrated.toml"),
-    ]);
+    identify_position(&file("train.csv"), &file("calibrated.toml"));
     // The program as a controller exports it: degrees (4 decimals), point names, speeds.
-    let program: Vec<Vec<f64>> = working_program(40)
-        .iter()
-        .map(|q| q.iter().map(|v| (v * 1e4).round() / 1e4).collect())
-        .collect();
+    let program = exported_program(40);
     let mut text = String::from("point,qm1,qm2,qm3,qm4,qm5,qm6,speed\n");
     for (i, q) in program.iter().enumerate() {
         let values: Vec<String> = q.iter().map(|v| format!("{v:.4}")).collect();
@@ -654,20 +664,8 @@ fn a_robot_calibrated_in_a_far_tracker_s_frame_corrects_programs_in_its_own() {
         "-o",
         &file("train.csv"),
     ]);
-    run(&[
-        "identify",
-        "industrial6",
-        "--method",
-        "position",
-        "--data",
-        &file("train.csv"),
-        "-o",
-        &file("calibrated.toml"),
-    ]);
-    let program: Vec<Vec<f64>> = working_program(30)
-        .iter()
-        .map(|q| q.iter().map(|v| (v * 1e4).round() / 1e4).collect())
-        .collect();
+    identify_position(&file("train.csv"), &file("calibrated.toml"));
+    let program = exported_program(30);
     let mut text = String::from("qm1,qm2,qm3,qm4,qm5,qm6\n");
     for q in &program {
         let values: Vec<String> = q.iter().map(|v| format!("{v:.4}")).collect();

@@ -854,6 +854,19 @@ pub struct SigmaJson {
     pub sigma: f64,
 }
 
+impl SigmaJson {
+    /// Every (name, σ) of a prediction.
+    pub fn list(parameters: &[(String, f64)]) -> Vec<SigmaJson> {
+        parameters
+            .iter()
+            .map(|(name, sigma)| SigmaJson {
+                name: name.clone(),
+                sigma: *sigma,
+            })
+            .collect()
+    }
+}
+
 /// Simulated calibrations.
 #[derive(Clone, Debug, Serialize)]
 pub struct MonteCarloJson {
@@ -906,14 +919,7 @@ impl PredictJson {
             configurations,
             noise,
             test_poses,
-            parameters: prediction
-                .parameters
-                .iter()
-                .map(|(name, sigma)| SigmaJson {
-                    name: name.clone(),
-                    sigma: *sigma,
-                })
-                .collect(),
+            parameters: SigmaJson::list(&prediction.parameters),
             predicted: predicted.into(),
             monte_carlo: measured.map(|(measured, error_level)| MonteCarloJson {
                 runs: measured.runs,

@@ -128,15 +128,7 @@ impl PredictedStudy {
                 })
                 .collect(),
             test_poses: self.test_poses,
-            parameters: self
-                .prediction
-                .parameters
-                .iter()
-                .map(|(name, sigma)| SigmaJson {
-                    name: name.clone(),
-                    sigma: *sigma,
-                })
-                .collect(),
+            parameters: SigmaJson::list(&self.prediction.parameters),
             predicted: self.prediction.errors.into(),
         }
     }

@@ -17,6 +17,7 @@ use crate::documents::{to_json, to_python};
 use crate::errors::{IntoPyResult, NotConvergedError};
 use crate::interrupt::Watch;
 use crate::robot::PyRobot;
+use crate::sigma::Sigma;
 use crate::source::{Fit, fit_settings, measurements};
 use crate::warnings::warn_notes;
 
@@ -477,21 +478,4 @@ pub(crate) fn evaluate(
     Ok(PyErrorSummary {
         summary: evaluation.summary,
     })
-}
-
-/// A sensor's σ from Python: a number (metres; radians for orientations) or
-/// a text with its unit (`"20um"`, `"0.01deg"`).
-#[derive(FromPyObject)]
-pub(crate) enum Sigma {
-    Number(f64),
-    Text(String),
-}
-
-impl From<Sigma> for gecaro_io::StandardDeviation {
-    fn from(sigma: Sigma) -> Self {
-        match sigma {
-            Sigma::Number(number) => gecaro_io::StandardDeviation::Number(number),
-            Sigma::Text(text) => gecaro_io::StandardDeviation::WithUnit(text),
-        }
-    }
 }

@@ -25,7 +25,7 @@
 //! page's, so the same numbers and the same messages (in Python's words).
 //!
 //! Units everywhere: metres and radians (file readers convert from mm and
-//! degrees when told).
+//! degrees when told); a sensor's σ may carry its own unit ([`sigma`]).
 
 use pyo3::prelude::*;
 
@@ -41,6 +41,7 @@ mod interrupt;
 mod methods;
 mod planning;
 mod robot;
+mod sigma;
 mod source;
 mod study;
 mod validation;

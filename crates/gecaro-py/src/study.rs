@@ -15,10 +15,10 @@ use std::path::PathBuf;
 use crate::arrays::priority_array;
 use crate::data::PyData;
 use crate::errors::IntoPyResult;
-use crate::identification::Sigma;
 use crate::methods::PyMethod;
 use crate::methods::method_of;
 use crate::robot::PyRobot;
+use crate::sigma::Sigma;
 
 /// Measurement sets calibrated together (see the module docs).
 #[pyclass(name = "Study", module = "gecaro")]

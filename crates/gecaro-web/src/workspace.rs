@@ -285,16 +285,7 @@ impl Workspace {
             // Refused here, before any file of a save is written, as the
             // write itself would refuse it (a URDF and its joint calibration
             // are both written or neither).
-            if metadata.file_type().is_symlink() {
-                return Err(ApiError::Forbidden(format!(
-                    "{name} is a link; the server does not write through links"
-                )));
-            }
-            if !metadata.is_file() {
-                return Err(ApiError::Conflict(format!(
-                    "{name} exists and is not a file"
-                )));
-            }
+            refuse_unwritable(name, &metadata)?;
             if !overwrite {
                 return Err(ApiError::Conflict(format!(
                     "{name} already exists; save with overwrite to replace it"
@@ -327,16 +318,7 @@ impl Workspace {
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
         if let Ok(metadata) = folder.symlink_metadata(&file_name) {
-            if metadata.file_type().is_symlink() {
-                return Err(ApiError::Forbidden(format!(
-                    "{name} is a link; the server does not write through links"
-                )));
-            }
-            if !metadata.is_file() {
-                return Err(ApiError::Conflict(format!(
-                    "{name} exists and is not a file"
-                )));
-            }
+            refuse_unwritable(name, &metadata)?;
         }
         let policy = if overwrite {
             OutputPolicy::Overwrite
@@ -414,6 +396,22 @@ fn check_extensions(relative: &Path, name: &str, extensions: &[&str]) -> Result<
                 .join(", ")
         )))
     }
+}
+
+/// Refuses an existing output `name` that is a link (the server never
+/// writes through one) or not a regular file.
+fn refuse_unwritable(name: &str, metadata: &cap_std::fs::Metadata) -> Result<(), ApiError> {
+    if metadata.file_type().is_symlink() {
+        return Err(ApiError::Forbidden(format!(
+            "{name} is a link; the server does not write through links"
+        )));
+    }
+    if !metadata.is_file() {
+        return Err(ApiError::Conflict(format!(
+            "{name} exists and is not a file"
+        )));
+    }
+    Ok(())
 }
 
 #[cfg(test)]
