@@ -484,10 +484,24 @@ pub(crate) struct GenerateArgs {
 
 #[derive(Debug, Args)]
 pub(crate) struct PlanArgs {
-    /// Nominal robot (file or ready robot name).
-    pub(crate) robot: String,
+    /// Nominal robot (file or ready robot name; not with --study).
+    #[arg(required_unless_present = "study")]
+    pub(crate) robot: Option<String>,
+    /// The calibration method (not with --study).
+    #[arg(long, value_parser = method_names(), required_unless_present = "study")]
+    pub(crate) method: Option<String>,
     #[command(flatten)]
-    pub(crate) method: MethodArgs,
+    pub(crate) options: MethodOptionArgs,
+    /// A whole cell: a study file whose sets (method, σ, reflector, station
+    /// each) are planned as one D-optimal design; -o PLANNED.toml writes the
+    /// planned study and each set's configurations beside it
+    /// (PLANNED_1.csv, …), for `predict --study` and, measured, `identify --study`.
+    #[arg(
+        long,
+        value_name = "STUDY.toml",
+        conflicts_with_all = ["robot", "method", "candidates", "keep", "curve", "test_poses"]
+    )]
+    pub(crate) study: Option<PathBuf>,
     /// Number of configurations to measure (rows of the output; link sets and
     /// distance pairs come whole, so the count is rounded to whole units).
     #[arg(long, required_unless_present = "curve", conflicts_with = "curve")]

@@ -515,3 +515,63 @@ fn a_cell_whose_reference_tracker_stands_far_from_the_base_is_registered() {
     let yaw = rebased["rpy"][2].as_f64().expect("yaw");
     assert!((yaw - 2.2).abs() < 0.02, "yaw {yaw}");
 }
+
+/// `gecaro plan --study`: the cell's configurations chosen as one D-optimal
+/// design over every set (each through its reflector and station), written
+/// as a planned study that `predict --study` reads before it is measured.
+#[test]
+fn a_cell_is_planned_as_one_design() {
+    let folder = tempfile::tempdir().expect("folder");
+    write_cell(folder.path());
+    let study = folder.path().join("study.toml");
+    let planned = folder.path().join("planned.toml");
+    let output = gecaro()
+        .args(["plan", "--study"])
+        .arg(&study)
+        .args(["--count", "48", "--json", "-o"])
+        .arg(&planned)
+        .output()
+        .expect("runs");
+    assert!(output.status.success(), "{output:?}");
+    let plan: Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    let sets = plan["sets"].as_array().expect("sets");
+    assert_eq!(sets.len(), 6);
+    let total: u64 = sets
+        .iter()
+        .map(|set| set["configurations"].as_u64().expect("count"))
+        .sum();
+    assert_eq!(total, 48);
+    // Better than as many configurations drawn at random from the same pools.
+    let (planned_det, random_det) = (
+        plan["log_det"].as_f64().expect("log det"),
+        plan["random_log_det"].as_f64().expect("log det"),
+    );
+    assert!(
+        planned_det > random_det + 1.0,
+        "{planned_det} vs {random_det}"
+    );
+    // Seven files: the planned study and one per set, read back by predict.
+    assert_eq!(plan["output"].as_array().expect("files").len(), 7);
+    assert!(folder.path().join("planned_6.csv").is_file());
+    let output = on_study("predict", &planned, &["--json"]);
+    assert!(output.status.success(), "{output:?}");
+    let predicted: Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    assert_eq!(
+        predicted["sets"][5]["configurations"],
+        sets[5]["configurations"]
+    );
+    assert_eq!(predicted["sets"][5]["station"], "tracker_2");
+    let rms = predicted["predicted"]["position_rms"]
+        .as_f64()
+        .expect("rms");
+    assert!(rms > 0.0 && rms < 1e-4, "{rms}");
+    // The study file planned from is never replaced.
+    let again = gecaro()
+        .args(["plan", "--study"])
+        .arg(&study)
+        .args(["--count", "48", "-o"])
+        .arg(&study)
+        .output()
+        .expect("runs");
+    assert!(!again.status.success());
+}

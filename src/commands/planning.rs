@@ -37,8 +37,14 @@ struct PlanOutputJson {
 }
 
 pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
-    let method = method_spec(&args.method.method, &args.method.options)?;
-    let mut request = PlanRequest::new(RobotSource::Named(args.robot.clone()), method, 0);
+    if let Some(study) = &args.study {
+        return plan_study(args, study);
+    }
+    let (Some(robot), Some(method)) = (&args.robot, &args.method) else {
+        unreachable!("clap requires them without --study");
+    };
+    let method = method_spec(method, &args.options)?;
+    let mut request = PlanRequest::new(RobotSource::Named(robot.clone()), method, 0);
     request.count = args.count;
     request.criterion = Some(args.criterion.clone());
     request.format = super::options::data_format(&args.format);
@@ -84,6 +90,113 @@ pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
         return print_curve(args, &planning);
     }
     print_plan(args, &planning)
+}
+
+/// `plan --study`: the whole cell as one design, written as a planned study.
+fn plan_study(args: &PlanArgs, study: &std::path::Path) -> Result<(), Failure> {
+    let Some(count) = args.count else {
+        return Err(Failure::usage(
+            "give the number of configurations: --count N",
+            None,
+        ));
+    };
+    let output = args
+        .output
+        .as_deref()
+        .ok_or_else(|| Failure::usage("give the planned study: -o PLANNED.toml", None))?;
+    let mut request =
+        gecaro_app::PlanStudyRequest::new(gecaro_app::StudySource::File(name(study)), count);
+    request.pool = args.pool;
+    request.seed = Some(args.seed);
+    request.save_as = Some(name(output));
+    request.overwrite = args.force;
+    let bar = progress_bar("planning");
+    let planned = request.run(
+        &LocalFiles,
+        &mut each_step(|done, total| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+        }),
+    );
+    bar.finish_and_clear();
+    let planned = planned?;
+    super::options::print_notes(&planned.loaded.notes);
+    let plan = &planned.plan;
+    if args.json {
+        #[derive(serde::Serialize)]
+        struct SetJson<'a> {
+            data: &'a str,
+            configurations: usize,
+        }
+        #[derive(serde::Serialize)]
+        struct PlanStudyJson<'a> {
+            sets: Vec<SetJson<'a>>,
+            pool: usize,
+            log_det: f64,
+            random_log_det: f64,
+            exchanges: usize,
+            output: Vec<String>,
+        }
+        return super::print_json(&PlanStudyJson {
+            sets: planned
+                .loaded
+                .study
+                .sets
+                .iter()
+                .zip(&plan.sets)
+                .map(|(set, samples)| SetJson {
+                    data: &set.label,
+                    configurations: samples.len(),
+                })
+                .collect(),
+            pool: planned.pool,
+            log_det: plan.quality.log_det,
+            random_log_det: plan.random.log_det,
+            exchanges: plan.exchanges,
+            output: planned
+                .saved
+                .iter()
+                .map(|path| path.display().to_string())
+                .collect(),
+        });
+    }
+    println!(
+        "Planned {} configurations of {} for the cell of {} ({} sets, D-optimal over {} base \
+         parameters and frame unknowns, {} candidates per set; {} exchanges after the greedy pass):",
+        plan.sets.iter().map(Vec::len).sum::<usize>(),
+        planned.loaded.robot.robot.name(),
+        study.display(),
+        plan.sets.len(),
+        plan.columns.len(),
+        planned.pool,
+        plan.exchanges
+    );
+    let mut rows = table(&["set", "configurations", "file written"], 1);
+    for ((set, samples), path) in planned
+        .loaded
+        .study
+        .sets
+        .iter()
+        .zip(&plan.sets)
+        .zip(planned.saved.iter().skip(1))
+    {
+        rows.add_row(vec![
+            set.label.clone(),
+            samples.len().to_string(),
+            path.display().to_string(),
+        ]);
+    }
+    println!("{rows}");
+    println!(
+        "log det(W_bᵀW_b): the plan {:.4e}, a random choice from the same pools {:.4e}",
+        plan.quality.log_det, plan.random.log_det
+    );
+    println!(
+        "wrote {}: `gecaro predict --study {}` predicts it; measured, `identify --study` calibrates from it",
+        output.display(),
+        output.display()
+    );
+    Ok(())
 }
 
 fn print_plan(args: &PlanArgs, planning: &Planning) -> Result<(), Failure> {

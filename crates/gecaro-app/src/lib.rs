@@ -17,6 +17,7 @@
 //! | identifiable parameters (Appendix III) | [`IdentifiableRequest`] | [`IdentifiabilityAnalysis`] |
 //! | points generation | [`GenerateRequest`] | [`Generated`] |
 //! | a plan, an accuracy curve | [`PlanRequest`] | [`Planning`] |
+//! | a plan for a whole cell (a study) | [`PlanStudyRequest`] | [`PlannedStudy`] |
 //! | predicted precision of a plan | [`PredictRequest`] | [`Predicted`] |
 //! | predicted precision of a whole cell (a study) | [`PredictStudyRequest`] | [`PredictedStudy`] |
 //! | a program corrected for the calibrated robot | [`CompensateRequest`] | [`Compensated`] |
@@ -81,6 +82,7 @@ mod rebase;
 mod robot_files;
 mod settings;
 mod sources;
+mod study_plan;
 mod study_prediction;
 
 pub use cell::CellSpec;
@@ -109,6 +111,7 @@ pub use sources::{
     DataFormatSpec, DataRead, DataSource, RobotSource, angle_unit, delimiter, length_unit,
     robot_of_document,
 };
+pub use study_plan::{PlanStudyRequest, PlannedStudy};
 pub use study_prediction::{
     PredictStudyJson, PredictStudyRequest, PredictedSetJson, PredictedStudy,
 };

@@ -17,7 +17,7 @@
 //! | [`identification`] | `identify`, `evaluate`, `Identification`, `Parameter`, `ErrorSummary` |
 //! | [`validation`] | `cross_validate` |
 //! | [`compensation`] | `compensate`, `Compensation` |
-//! | [`planning`] | `plan`, `Plan`, `predict`, `accuracy_curve` |
+//! | [`planning`] | `plan`, `Plan`, `plan_study`, `predict`, `accuracy_curve` |
 //!
 //! Every calibration function maps its arguments onto a request of the
 //! application layer (`gecaro-app`, through [`source`]) and its result onto
@@ -71,6 +71,7 @@ fn _gecaro(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(validation::cross_validate, module)?)?;
     module.add_function(wrap_pyfunction!(compensation::compensate, module)?)?;
     module.add_function(wrap_pyfunction!(planning::plan, module)?)?;
+    module.add_function(wrap_pyfunction!(planning::plan_study, module)?)?;
     module.add_function(wrap_pyfunction!(planning::predict, module)?)?;
     module.add_function(wrap_pyfunction!(planning::accuracy_curve, module)?)?;
     Ok(())

@@ -1,5 +1,6 @@
 //! Before measuring: `plan` (the configurations to measure, chosen from a
-//! pool by a criterion), `predict` (the precision a plan gives) and
+//! pool by a criterion), `plan_study` (a whole cell as one design),
+//! `predict` (the precision a plan gives) and
 //! `accuracy_curve` (how many configurations are enough), as `gecaro plan`,
 //! `gecaro predict` and `gecaro plan --curve`: the same requests of the
 //! application layer, the same numbers; results as the documents their
@@ -144,6 +145,57 @@ pub(crate) fn plan(
         )?,
         document,
     })
+}
+
+/// Plans a whole cell, as `gecaro plan --study`: `count` configurations in
+/// all, chosen as one D-optimal design over every set of `study` (each set
+/// read through its tool and station, weighted by its σ) from `pool`
+/// candidates drawn per set (default 20 × count ÷ sets, at least 200).
+/// Returns a dict: `sets` (one Data of configurations per set, in the
+/// study's order), `log_det` and `random_log_det` (a random choice of as
+/// many from the same pools), `exchanges`, `pool`.
+#[pyfunction]
+#[pyo3(signature = (robot, study, count, *, pool = None, seed = 1))]
+pub(crate) fn plan_study<'py>(
+    py: Python<'py>,
+    robot: PyRef<'_, PyRobot>,
+    study: &Bound<'_, PyAny>,
+    count: usize,
+    pool: Option<usize>,
+    seed: u64,
+) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+    if study.cast::<crate::study::PyStudy>().is_err() {
+        return Err(input("plan_study plans a Study"));
+    }
+    let measurements = crate::source::measurements(&robot, study, None, false, false)?;
+    let Some(source) = measurements.study else {
+        return Err(input("a Study is needed"));
+    };
+    let mut request = gecaro_app::PlanStudyRequest::new(source, count);
+    request.pool = pool;
+    request.seed = Some(seed);
+    let planned = py
+        .detach(|| request.run(&gecaro_app::LocalFiles, &mut gecaro_calib::Quiet))
+        .py()?;
+    let joint_count = robot.file.robot.joint_count();
+    let sets = pyo3::types::PyList::empty(py);
+    for (set, samples) in planned.loaded.study.sets.iter().zip(&planned.plan.sets) {
+        sets.append(Py::new(
+            py,
+            PyData::from_samples(
+                samples.clone(),
+                joint_count,
+                format!("plan of {}", set.label),
+            ),
+        )?)?;
+    }
+    let result = pyo3::types::PyDict::new(py);
+    result.set_item("sets", sets)?;
+    result.set_item("log_det", planned.plan.quality.log_det)?;
+    result.set_item("random_log_det", planned.plan.random.log_det)?;
+    result.set_item("exchanges", planned.plan.exchanges)?;
+    result.set_item("pool", planned.pool)?;
+    Ok(result)
 }
 
 /// The precision of every identifiable parameter and the calibrated robot's

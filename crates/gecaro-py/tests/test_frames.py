@@ -105,3 +105,17 @@ def test_a_cell_is_predicted_as_the_command_line_does(cli, repository):
     assert [s["station"] for s in predicted["sets"]] == [None] * 3 + ["tracker_2"] * 3
     with pytest.raises(gecaro.InputError, match="neither data, noise"):
         gecaro.predict(study.robot, study, noise=1e-5)
+
+
+def test_a_cell_is_planned_as_the_command_line_does(cli, repository):
+    path = repository / "examples" / "tracker-cell" / "study.toml"
+    study = gecaro.Study.read(path)
+    assert study.robot is not None
+    planned = gecaro.plan_study(study.robot, study, 48)
+    assert [len(data) for data in planned["sets"]] and sum(len(d) for d in planned["sets"]) == 48
+    assert planned["log_det"] > planned["random_log_det"]
+    expected = cli.json("plan", "--study", path, "--count", "48", "-o", "planned.toml")
+    assert [s["configurations"] for s in expected["sets"]] == [len(d) for d in planned["sets"]]
+    assert planned["log_det"] == pytest.approx(expected["log_det"], rel=1e-12)
+    with pytest.raises(gecaro.InputError, match="plans a Study"):
+        gecaro.plan_study(study.robot, "position", 10)

@@ -39,6 +39,7 @@ mod criteria;
 mod detmax;
 mod spacing;
 
+use crate::study::Study;
 pub(crate) use columns::{BaseColumns, nominal_study};
 use columns::{Blocks, contiguous};
 pub use criteria::Criterion;
@@ -422,6 +423,181 @@ pub fn plan_configurations(
     observer: &mut dyn Observer,
 ) -> Result<Plan, Error> {
     CandidatePool::new(robot, method, pool, priority)?.plan(request, observer)
+}
+
+/// A D-optimal plan for a whole cell ([`plan_study`]): the configurations
+/// of every measurement set, chosen as one design.
+#[derive(Clone, Debug)]
+pub struct StudyPlan {
+    /// The chosen configurations of each set (joint values and set or pair
+    /// ids; no readings), in the study's order of sets.
+    pub sets: Vec<Vec<Sample>>,
+    /// The design's quality in the study's scaled base columns.
+    pub quality: DesignQuality,
+    /// A random choice of as many units from the same pools, for comparison.
+    pub random: DesignQuality,
+    /// Exchanges made after the greedy pass.
+    pub exchanges: usize,
+    /// Names of the base parameters (columns), the named frames' unknowns
+    /// first.
+    pub columns: Vec<String>,
+}
+
+/// Chooses about `count` configurations in all from the candidate pools of
+/// a study's sets (`candidates`: each set's samples are its pool) as one
+/// D-optimal design: the units of every set (configurations, link sets,
+/// pairs) are candidates of one information matrix, each set's rows read
+/// through its tool and station and weighted by 1/σ of its sensor, the named
+/// frames' unknowns among the columns — so a reflector or a station gets the
+/// configurations the whole cell needs, not those it would need alone
+/// (DETMAX from a greedy and a continuous start, as [`CandidatePool::plan`];
+/// no minimum distance, no kept configurations). `seed` draws the random
+/// comparison design.
+///
+/// # Errors
+/// Invalid samples, too few equations for the base set, more units asked
+/// than the pools hold within the joint limits, or [`Error::Interrupted`].
+pub fn plan_study(
+    robot: &Robot,
+    candidates: &Study,
+    count: usize,
+    priority: &PriorityMatrix,
+    seed: u64,
+    observer: &mut dyn Observer,
+) -> Result<StudyPlan, Error> {
+    // Every set's pool unit by unit; the units of all sets in one list.
+    let mut ordered = nominal_study(robot, candidates)?;
+    let mut ranges: Vec<(usize, Range<usize>)> = Vec::new();
+    for (index, set) in ordered.sets.iter_mut().enumerate() {
+        let (samples, set_ranges) =
+            contiguous(&set.samples, &units(set.method.as_ref(), &set.samples));
+        set.samples = samples;
+        ranges.extend(set_ranges.into_iter().map(|range| (index, range)));
+    }
+    ordered.check(robot)?;
+    let columns = BaseColumns::of_study(robot, &ordered, priority)?;
+    let system = columns.system_of_study(robot, &ordered)?;
+    let width = columns.layout.columns();
+    let mut blocks = Vec::with_capacity(ranges.len());
+    let mut start = 0;
+    for (set, range) in &ranges {
+        let set = &ordered.sets[*set];
+        let rows = set.method.row_count(&set.samples[range.clone()]);
+        let matrix = &system.matrix()[start * width..(start + rows) * width];
+        blocks.push(DMatrix::from_fn(rows, width, |row, column| {
+            matrix[row * width + column] * columns.scale[column]
+        }));
+        start += rows;
+    }
+    if start != system.rows() {
+        return Err(Error::Numerical {
+            message: format!(
+                "planning: the units give {start} rows, W has {}",
+                system.rows()
+            ),
+        });
+    }
+    let candidates_rows = Blocks {
+        units: blocks,
+        width,
+    };
+    let within_limits = |sample: &Sample| {
+        robot
+            .joint_positions(&sample.motor_positions)
+            .is_ok_and(|q| robot.within_limits(q.as_slice()))
+    };
+    let admissible: Vec<bool> = ranges
+        .iter()
+        .map(|(set, range)| {
+            ordered.sets[*set].samples[range.clone()]
+                .iter()
+                .all(within_limits)
+        })
+        .collect();
+    let total: usize = ordered.sets.iter().map(|set| set.samples.len()).sum();
+    let unit_size = total.max(1) as f64 / ranges.len().max(1) as f64;
+    let wanted = (count as f64 / unit_size).round() as usize;
+    let admissible_count = admissible.iter().filter(|a| **a).count();
+    if wanted > admissible_count || wanted == 0 {
+        return Err(Error::InvalidOption {
+            setting: Setting::Count,
+            message: format!(
+                "{count} configurations asked; the pools hold {admissible_count} units within \
+                 the joint limits (at least one is needed)"
+            ),
+        });
+    }
+    let diagonal: f64 = candidates_rows
+        .units
+        .iter()
+        .map(|block| block.norm_squared())
+        .sum();
+    let ridge =
+        (1e-9 * diagonal / (ranges.len().max(1) * width.max(1)) as f64).max(f64::MIN_POSITIVE);
+    let base = DMatrix::<f64>::identity(width, width) * ridge;
+    let mut spacing = Spacing::new(vec![Vec::new(); ranges.len()], 0.0);
+    let mut steps = 0;
+    let total_steps = 3 * wanted;
+    let mut step = || {
+        steps += 1;
+        report(
+            observer,
+            Progress::Step {
+                done: steps.min(total_steps),
+                total: total_steps,
+            },
+        )
+    };
+    let (chosen, exchanges) = detmax::detmax(
+        &candidates_rows,
+        base,
+        ridge,
+        wanted,
+        &admissible,
+        &mut spacing,
+        &mut step,
+    )?
+    .swap_remove(0);
+    let mut sets: Vec<Vec<Sample>> = vec![Vec::new(); ordered.sets.len()];
+    let mut equations = 0;
+    for (unit, (set, range)) in ranges.iter().enumerate() {
+        if chosen[unit] {
+            sets[*set].extend(
+                ordered.sets[*set].samples[range.clone()]
+                    .iter()
+                    .map(|sample| Sample {
+                        position: None,
+                        orientation: None,
+                        distance: None,
+                        line: None,
+                        ..sample.clone()
+                    }),
+            );
+        }
+    }
+    for (set, samples) in ordered.sets.iter().zip(&sets) {
+        equations += set.method.row_count(samples) - set.method.dependent_rows(samples);
+    }
+    if equations < width {
+        return Err(Error::TooFewEquations {
+            equations,
+            unknowns: width,
+        });
+    }
+    let zero = DMatrix::zeros(width, width);
+    let chosen_units = (0..ranges.len()).filter(|u| chosen[*u]);
+    let information = candidates_rows.information(&zero, chosen_units);
+    let mut sampler = Sampler::new(seed);
+    let random_units = sampler.subset(ranges.len(), wanted);
+    let random_information = candidates_rows.information(&zero, random_units.into_iter());
+    let configurations = sets.iter().map(Vec::len).sum();
+    Ok(StudyPlan {
+        sets,
+        quality: quality(&information, &Objective::D, configurations),
+        random: quality(&random_information, &Objective::D, configurations),
+        exchanges,
+        columns: columns.names.clone(),
+    })
 }
 
 /// [`CandidatePool::assess`] on a pool built for this one assessment.

@@ -37,6 +37,7 @@ from ._gecaro import (
     identify,
     methods,
     plan,
+    plan_study,
     predict,
     ready_robots,
 )
@@ -79,6 +80,7 @@ __all__ = [
     "identify",
     "methods",
     "plan",
+    "plan_study",
     "predict",
     "ready_robots",
 ]

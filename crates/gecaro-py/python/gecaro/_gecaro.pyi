@@ -608,6 +608,12 @@ def plan(
 ) -> Plan:
     """The configurations to measure, chosen from a pool by a criterion, as ``gecaro plan``."""
 
+def plan_study(
+    robot: Robot, study: Study, count: int, *, pool: Optional[int] = None, seed: int = 1
+) -> dict[str, Any]:
+    """A whole cell planned as one D-optimal design, as ``gecaro plan --study``:
+    ``sets`` (one Data per set), ``log_det``, ``random_log_det``, ``exchanges``, ``pool``."""
+
 def predict(
     robot: Robot,
     method: Union[_MethodLike, Study],

@@ -1,0 +1,238 @@
+//! A whole cell planned as one design ([`PlanStudyRequest`]): a candidate
+//! pool drawn for every set of a study (through its reflector and station),
+//! the configurations of all sets chosen together, D-optimal
+//! ([`gecaro_calib::planning::plan_study`]), and written as a planned study:
+//! one configuration file per set beside a copy of the study file whose sets
+//! name them. `predict --study` reads it before it is measured; filled with
+//! the measurements, `identify --study` calibrates from it.
+
+use std::path::{Path, PathBuf};
+
+use gecaro_calib::Observer;
+use gecaro_calib::frames::measuring_robot;
+use gecaro_calib::planning::{StudyPlan, plan_study};
+use gecaro_calib::simulation::Sampler;
+use gecaro_calib::study::DataColumn;
+use gecaro_io::DataFormat;
+use serde::Deserialize;
+
+use crate::error::{AppError, ErrorKind};
+use crate::files::Files;
+use crate::limits::MAX_GENERATE;
+use crate::measurements::{Data, Loaded, Measurements, StudySource, Unknown};
+
+/// A cell to plan; see the module docs.
+#[derive(Clone, Debug, Deserialize)]
+pub struct PlanStudyRequest {
+    /// The study file (its robot, sets, σ, named frames).
+    pub study: StudySource,
+    /// Configurations to choose in all.
+    pub count: usize,
+    /// Candidates drawn per set (default 20 × count ÷ sets, at least 200).
+    pub pool: Option<usize>,
+    /// Seed of the pools and of the random comparison (default 1).
+    pub seed: Option<u64>,
+    /// Write the planned study here (TOML), its sets' files beside it.
+    pub save_as: Option<String>,
+    /// Replace files that exist.
+    #[serde(default)]
+    pub overwrite: bool,
+    #[serde(flatten)]
+    unknown: Unknown,
+}
+
+/// A planned cell.
+#[derive(Clone, Debug)]
+pub struct PlannedStudy {
+    /// The study planned for.
+    pub loaded: Loaded,
+    /// The plan: each set's configurations.
+    pub plan: StudyPlan,
+    /// Candidates drawn per set.
+    pub pool: usize,
+    /// The files written: the planned study, then each set's file.
+    pub saved: Vec<PathBuf>,
+}
+
+impl PlanStudyRequest {
+    /// A plan of `count` configurations for `study`.
+    pub fn new(study: StudySource, count: usize) -> Self {
+        PlanStudyRequest {
+            study,
+            count,
+            pool: None,
+            seed: None,
+            save_as: None,
+            overwrite: false,
+            unknown: Unknown::default(),
+        }
+    }
+
+    /// Draws the pools, plans, and writes the planned study if asked (every
+    /// output checked before any work, written after it).
+    ///
+    /// # Errors
+    /// Files that cannot be read or written, bad counts, a plan that does
+    /// not determine the cell, an interruption.
+    pub fn run(
+        &self,
+        files: &dyn Files,
+        observer: &mut dyn Observer,
+    ) -> Result<PlannedStudy, AppError> {
+        self.unknown.check()?;
+        let loaded = Measurements {
+            study: Some(self.study.clone()),
+            ..Measurements::default()
+        }
+        .load(files, Data::Configurations)?;
+        let sets = loaded.study.sets.len();
+        let pool = self
+            .pool
+            .unwrap_or_else(|| (20 * self.count / sets.max(1)).max(200));
+        if !(1..=MAX_GENERATE).contains(&pool) {
+            return Err(AppError::setting_value(
+                "pool",
+                pool,
+                format!("between 1 and {MAX_GENERATE} candidates per set"),
+            ));
+        }
+        let outputs = match &self.save_as {
+            Some(name) => {
+                let StudySource::File(study_name) = &self.study else {
+                    return Err(AppError::setting(
+                        "save_as",
+                        "a planned study is written for a study file",
+                    ));
+                };
+                let outputs = set_file_names(name, sets);
+                files.check_output(name, "toml", self.overwrite)?;
+                for output in &outputs {
+                    files.check_output(output, "csv", self.overwrite)?;
+                }
+                Some((study_name.clone(), name.clone(), outputs))
+            }
+            None => None,
+        };
+        let robot = &loaded.robot.robot;
+        let seed = self.seed.unwrap_or(1);
+        let mut sampler = Sampler::new(seed);
+        let mut candidates = loaded.study.clone();
+        for set in &mut candidates.sets {
+            let frame = |index: Option<usize>| index.map(|i| &loaded.study.frames[i]);
+            let measuring = measuring_robot(robot, frame(set.tool), frame(set.station))?;
+            set.samples = set
+                .method
+                .sensor()
+                .generate(&measuring, pool, 0.0, &mut sampler)?;
+        }
+        let priority = loaded.priority.clone().unwrap_or_else(|| robot.priority());
+        let plan = plan_study(robot, &candidates, self.count, &priority, seed, observer)?;
+        let mut saved = Vec::new();
+        if let Some((study_name, name, outputs)) = outputs {
+            let types = gecaro_io::joint_types(robot);
+            for ((set, samples), output) in loaded.study.sets.iter().zip(&plan.sets).zip(&outputs) {
+                let columns = DataColumn::grouping(set.method.data_columns());
+                let text = gecaro_io::format_configurations(
+                    &types,
+                    &columns,
+                    samples,
+                    &DataFormat::default(),
+                );
+                saved.push(files.write(output, "csv", text.as_bytes(), self.overwrite)?);
+            }
+            let text = planned_study_text(files, &study_name, &name, &loaded, &outputs)?;
+            saved.insert(
+                0,
+                files.write(&name, "toml", text.as_bytes(), self.overwrite)?,
+            );
+        }
+        Ok(PlannedStudy {
+            loaded,
+            plan,
+            pool,
+            saved,
+        })
+    }
+}
+
+/// `PLANNED_1.csv` … beside `PLANNED.toml`.
+fn set_file_names(study: &str, sets: usize) -> Vec<String> {
+    let path = Path::new(study);
+    let stem = path
+        .file_stem()
+        .map_or_else(|| "planned".into(), |s| s.to_string_lossy().into_owned());
+    (1..=sets)
+        .map(|k| {
+            path.with_file_name(format!("{stem}_{k}.csv"))
+                .to_string_lossy()
+                .into_owned()
+        })
+        .collect()
+}
+
+/// The study file `study` rewritten for the planned files: every set names
+/// its file (by its name beside the planned study), read in metres and
+/// radians with gecaro's column names, its σ stated with its unit; the
+/// robot and the priority matrix named so that they are found from the
+/// planned study's folder. Everything else (named frames, the prior, method
+/// options) is kept as the study states it.
+fn planned_study_text(
+    files: &dyn Files,
+    study: &str,
+    planned: &str,
+    loaded: &Loaded,
+    outputs: &[String],
+) -> Result<String, AppError> {
+    let (_, text) = files.read_text(study, &["toml"])?;
+    let mut table: toml::Table = toml::from_str(&text)
+        .map_err(|error| AppError::plain(ErrorKind::Input, format!("{study}: {error}")))?;
+    let from = Path::new(study).parent().unwrap_or(Path::new(""));
+    let to = Path::new(planned).parent().unwrap_or(Path::new(""));
+    for key in ["robot", "priority"] {
+        if let Some(toml::Value::String(name)) = table.get(key) {
+            let beside = from.join(name);
+            if from != to && beside.is_file() {
+                let absolute = std::fs::canonicalize(&beside).unwrap_or(beside);
+                table.insert(
+                    key.into(),
+                    toml::Value::String(absolute.to_string_lossy().into_owned()),
+                );
+            }
+        }
+    }
+    let Some(toml::Value::Array(sets)) = table.get_mut("measurements") else {
+        return Err(AppError::plain(
+            ErrorKind::Input,
+            format!("{study}: no [[measurements]]"),
+        ));
+    };
+    for ((entry, set), output) in sets.iter_mut().zip(&loaded.study.sets).zip(outputs) {
+        let Some(entry) = entry.as_table_mut() else {
+            continue;
+        };
+        let file_name = Path::new(output)
+            .file_name()
+            .map_or_else(|| output.clone(), |n| n.to_string_lossy().into_owned());
+        entry.insert("data".into(), toml::Value::String(file_name));
+        for key in ["columns", "delimiter", "decimal_comma"] {
+            entry.remove(key);
+        }
+        entry.insert("length_unit".into(), toml::Value::String("m".into()));
+        entry.insert("angle_unit".into(), toml::Value::String("rad".into()));
+        if let Some(sigma) = set.sigma {
+            entry.insert("sigma".into(), toml::Value::String(format!("{sigma:e}m")));
+        }
+        if let Some(sigma) = set.sigma_rotation {
+            entry.insert(
+                "sigma_rotation".into(),
+                toml::Value::String(format!("{sigma:e}rad")),
+            );
+        }
+    }
+    let body = toml::to_string(&table)
+        .map_err(|error| AppError::plain(ErrorKind::Internal, error.to_string()))?;
+    Ok(format!(
+        "# planned by gecaro plan --study from {study}: each set's configurations in its file\n\
+         # (qm in radians and metres); add the measurements to identify from it.\n{body}"
+    ))
+}
