@@ -35,6 +35,7 @@ __all__ = [
     "cross_validate",
     "compensate",
     "plan",
+    "plan_study",
     "predict",
     "accuracy_curve",
 ]
