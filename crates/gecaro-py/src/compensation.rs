@@ -184,6 +184,7 @@ fn targets_with_starts(
 /// targets are reached only beyond a joint limit or not at all.
 #[pyfunction]
 #[pyo3(signature = (nominal, calibrated, *, joints = None, positions = None, poses = None, r#match = "pose", rebase = false))]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn compensate(
     py: Python<'_>,
     nominal: PyRef<'_, PyRobot>,
