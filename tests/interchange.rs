@@ -289,6 +289,47 @@ fn identify_position(train: &str, calibrated: &str) {
     ]);
 }
 
+/// The origin of frame n+1 of `robot` at motor values `qm`.
+fn terminal_point(robot: &gecaro_core::Robot, qm: &[f64]) -> nalgebra::Vector3<f64> {
+    gecaro_core::terminal_pose(robot, qm)
+        .expect("valid")
+        .translation
+        .vector
+}
+
+/// How far `real` misses the targets of `program` (joints in degrees, the
+/// points the nominal `industrial6` puts them at) at the program's joints
+/// and at the corrected ones of `rows` (a corrected program in degrees,
+/// every row `ok`): the largest of each (metres). `check` sees every
+/// corrected configuration (radians) with its target.
+fn misses(
+    real: &gecaro_core::Robot,
+    program: &[Vec<f64>],
+    rows: &[std::collections::HashMap<String, String>],
+    mut check: impl FnMut(&[f64], nalgebra::Vector3<f64>),
+) -> (f64, f64) {
+    let nominal = gecaro_io::load_robot("industrial6").expect("robot").robot;
+    let (mut before, mut after) = (0.0_f64, 0.0_f64);
+    assert_eq!(rows.len(), program.len(), "one corrected row per target");
+    for (row, q) in rows.iter().zip(program) {
+        assert_eq!(row["status"], "ok");
+        let corrected: Vec<f64> = (1..=6)
+            .map(|j| {
+                row[&format!("qm{j}")]
+                    .parse::<f64>()
+                    .expect("number")
+                    .to_radians()
+            })
+            .collect();
+        let original: Vec<f64> = q.iter().map(|v| v.to_radians()).collect();
+        let wanted = terminal_point(&nominal, &original);
+        check(&corrected, wanted);
+        before = before.max((terminal_point(real, &original) - wanted).norm());
+        after = after.max((terminal_point(real, &corrected) - wanted).norm());
+    }
+    (before, after)
+}
+
 /// Rows of a CSV written by gecaro (no quoted fields here), by column name.
 fn csv_rows(path: &Path) -> Vec<std::collections::HashMap<String, String>> {
     let text = std::fs::read_to_string(path).expect("written");
@@ -362,40 +403,20 @@ fn a_compensated_program_brings_the_real_robot_from_millimetres_to_the_noise() {
     );
 
     let load = |name: &str| gecaro_io::load_robot(name).expect("robot").robot;
-    let (nominal, real, calibrated) = (
-        load("industrial6"),
-        load(&file("real.toml")),
-        load(&file("calibrated.toml")),
-    );
-    let radians = |q: &[f64]| q.iter().map(|v| v.to_radians()).collect::<Vec<f64>>();
-    let point = |robot: &gecaro_core::Robot, qm: &[f64]| {
-        gecaro_core::terminal_pose(robot, qm)
-            .expect("valid")
-            .translation
-            .vector
-    };
-    let (mut before, mut after) = (0.0_f64, 0.0_f64);
-    for (row, q) in csv_rows(Path::new(&file("corrected.csv")))
-        .iter()
-        .zip(&program)
-    {
-        assert_eq!(row["status"], "ok");
+    let calibrated = load(&file("calibrated.toml"));
+    let rows = csv_rows(Path::new(&file("corrected.csv")));
+    for row in &rows {
         assert_eq!(row["speed"], "250", "other columns are kept");
-        let corrected: Vec<f64> = (1..=6)
-            .map(|j| {
-                row[&format!("qm{j}")]
-                    .parse::<f64>()
-                    .expect("number")
-                    .to_radians()
-            })
-            .collect();
-        let original = radians(q);
-        let wanted = point(&nominal, &original);
-        // The calibrated model reaches what the nominal one meant, to rounding.
-        assert!((point(&calibrated, &corrected) - wanted).norm() < 1e-10);
-        before = before.max((point(&real, &original) - wanted).norm());
-        after = after.max((point(&real, &corrected) - wanted).norm());
     }
+    let (before, after) = misses(
+        &load(&file("real.toml")),
+        &program,
+        &rows,
+        // The calibrated model reaches what the nominal one meant, to rounding.
+        |corrected, wanted| {
+            assert!((terminal_point(&calibrated, corrected) - wanted).norm() < 1e-10);
+        },
+    );
     assert!(
         before > 2e-3,
         "the real robot misses by millimetres: {before}"
@@ -739,33 +760,11 @@ fn a_robot_calibrated_in_a_far_tracker_s_frame_corrects_programs_in_its_own() {
     assert_close(&f, &t, 3e-4);
     assert_close(&numbers(&found["rpy"]), &numbers(&truth["rpy"]), 1e-4);
 
-    let load = |name: &str| gecaro_io::load_robot(name).expect("robot").robot;
-    let (nominal, real) = (load("industrial6"), load(&file("real_own.toml")));
-    let point = |robot: &gecaro_core::Robot, qm: &[f64]| {
-        gecaro_core::terminal_pose(robot, qm)
-            .expect("valid")
-            .translation
-            .vector
-    };
-    let (mut before, mut after) = (0.0_f64, 0.0_f64);
-    for (row, q) in csv_rows(Path::new(&file("corrected.csv")))
-        .iter()
-        .zip(&program)
-    {
-        assert_eq!(row["status"], "ok");
-        let corrected: Vec<f64> = (1..=6)
-            .map(|j| {
-                row[&format!("qm{j}")]
-                    .parse::<f64>()
-                    .expect("number")
-                    .to_radians()
-            })
-            .collect();
-        let original: Vec<f64> = q.iter().map(|v| v.to_radians()).collect();
-        let wanted = point(&nominal, &original);
-        before = before.max((point(&real, &original) - wanted).norm());
-        after = after.max((point(&real, &corrected) - wanted).norm());
-    }
+    let real = gecaro_io::load_robot(&file("real_own.toml"))
+        .expect("robot")
+        .robot;
+    let rows = csv_rows(Path::new(&file("corrected.csv")));
+    let (before, after) = misses(&real, &program, &rows, |_, _| {});
     assert!(
         before > 2e-3,
         "the real robot misses by millimetres: {before}"

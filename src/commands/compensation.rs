@@ -31,7 +31,7 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
             let total = total as u64;
             if total >= QUIET_BELOW && done % 256 == 0 {
                 let bar = bar.get_or_insert_with(|| {
-                    let bar = super::progress_bar("compensating");
+                    let bar = super::progress::progress_bar("compensating");
                     bar.set_length(total);
                     bar
                 });

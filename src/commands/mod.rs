@@ -8,6 +8,7 @@ mod interchange;
 mod kinematics;
 mod options;
 mod planning;
+mod progress;
 mod robot;
 mod robustness;
 mod serve;
@@ -36,19 +37,6 @@ pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
         Command::Demo(args) => calibration::demo(&args),
         Command::Serve(args) => serve::serve(&args),
     }
-}
-
-/// A progress bar on stderr labelled `what` (hidden when stderr is not a
-/// terminal); its length is set by its user.
-pub(crate) fn progress_bar(what: &str) -> indicatif::ProgressBar {
-    let bar = indicatif::ProgressBar::new(1);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(&format!(
-            "{what} {{bar:30}} {{pos}}/{{len}} [{{elapsed}}]"
-        ))
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    bar
 }
 
 /// Prints a value as pretty JSON on stdout.

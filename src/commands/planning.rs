@@ -6,14 +6,13 @@ use gecaro_app::{
     TestPoses,
 };
 use gecaro_calib::curve::{CurvePoint, RANDOM_DRAWS};
-use gecaro_calib::each_step;
 use gecaro_calib::planning::Criterion;
 use gecaro_calib::prediction::PoseErrors;
 use gecaro_calib::study::DataColumn;
 use serde::Serialize;
 
 use super::options::{method_spec, name};
-use super::progress_bar;
+use super::progress::with_steps;
 use crate::cli::{PlanArgs, PredictArgs, TestPoseArgs};
 use crate::failure::Failure;
 use crate::format::{number, table};
@@ -72,19 +71,14 @@ pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
             .ok_or_else(|| Failure::usage("give the output file: -o PLANNED.csv", None))?;
         request.save_as = Some(name(output));
     }
-    let bar = progress_bar(if args.curve.is_some() {
-        "curve"
-    } else {
-        "planning"
-    });
-    let planning = request.run(
-        &LocalFiles,
-        &mut each_step(|done, total| {
-            bar.set_length(total as u64);
-            bar.set_position(done as u64);
-        }),
+    let planning = with_steps(
+        if args.curve.is_some() {
+            "curve"
+        } else {
+            "planning"
+        },
+        |observer| request.run(&LocalFiles, observer),
     );
-    bar.finish_and_clear();
     let planning = planning?;
     if planning.curve.is_some() {
         return print_curve(args, &planning);
@@ -110,15 +104,7 @@ fn plan_study(args: &PlanArgs, study: &std::path::Path) -> Result<(), Failure> {
     request.seed = Some(args.seed);
     request.save_as = Some(name(output));
     request.overwrite = args.force;
-    let bar = progress_bar("planning");
-    let planned = request.run(
-        &LocalFiles,
-        &mut each_step(|done, total| {
-            bar.set_length(total as u64);
-            bar.set_position(done as u64);
-        }),
-    );
-    bar.finish_and_clear();
+    let planned = with_steps("planning", |observer| request.run(&LocalFiles, observer));
     let planned = planned?;
     super::options::print_notes(&planned.loaded.notes);
     let plan = &planned.plan;
@@ -326,15 +312,9 @@ pub(crate) fn predict_accuracy(args: &PredictArgs) -> Result<(), Failure> {
     request.monte_carlo = args.monte_carlo;
     request.error_level = Some(args.error_level);
     request.seed = Some(args.seed);
-    let bar = progress_bar("simulated calibrations");
-    let predicted = request.run(
-        &LocalFiles,
-        &mut each_step(|done, total| {
-            bar.set_length(total as u64);
-            bar.set_position(done as u64);
-        }),
-    );
-    bar.finish_and_clear();
+    let predicted = with_steps("simulated calibrations", |observer| {
+        request.run(&LocalFiles, observer)
+    });
     let predicted = predicted?;
     if args.json {
         return super::print_json(&predicted.document());

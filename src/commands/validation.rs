@@ -2,10 +2,10 @@
 //! the judge of an identification and of the model (docs/methods.md).
 
 use gecaro_app::{CompareModelsRequest, LocalFiles};
-use gecaro_calib::each_step;
 use gecaro_calib::validation::CrossValidation;
 
 use super::options::{fit_settings, measurements, print_notes};
+use super::progress::with_steps;
 use crate::cli::CompareModelsArgs;
 use crate::failure::Failure;
 use crate::format::table;
@@ -68,15 +68,9 @@ pub(crate) fn compare(args: &CompareModelsArgs) -> Result<(), Failure> {
     request.settings = fit_settings(&args.run);
     request.settings.model = None;
     request.seed = Some(args.seed);
-    let bar = super::progress_bar("comparing models (folds)");
-    let comparison = request.run(
-        &LocalFiles,
-        &mut each_step(|done, total| {
-            bar.set_length(total as u64);
-            bar.set_position(done as u64);
-        }),
-    );
-    bar.finish_and_clear();
+    let comparison = with_steps("comparing models (folds)", |observer| {
+        request.run(&LocalFiles, observer)
+    });
     let comparison = comparison?;
     print_notes(&comparison.loaded.notes);
     if args.json {

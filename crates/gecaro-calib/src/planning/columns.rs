@@ -84,6 +84,14 @@ impl Blocks {
         &self.units[unit]
     }
 
+    /// The ridge that keeps M invertible while a design is short: 1e-9 of
+    /// the mean diagonal of a unit's information.
+    pub(super) fn ridge(&self) -> f64 {
+        let diagonal: f64 = self.units.iter().map(|block| block.norm_squared()).sum();
+        (1e-9 * diagonal / (self.units.len().max(1) * self.width.max(1)) as f64)
+            .max(f64::MIN_POSITIVE)
+    }
+
     /// Σ X_uᵀX_u over `chosen`, added to `base`.
     pub(super) fn information(
         &self,
@@ -236,11 +244,29 @@ impl BaseColumns {
         ranges: &[Range<usize>],
     ) -> Result<Blocks, Error> {
         let system = self.system(robot, method, samples)?;
+        self.slice(
+            &system,
+            ranges
+                .iter()
+                .map(|range| method.row_count(&samples[range.clone()])),
+        )
+    }
+
+    /// `system` (W_b of units whose rows come one unit after the other,
+    /// `rows` of them each) cut into one scaled block per unit.
+    ///
+    /// # Errors
+    /// When the units' rows are not those of `system`.
+    pub(super) fn slice(
+        &self,
+        system: &ObservationSystem,
+        rows: impl ExactSizeIterator<Item = usize>,
+    ) -> Result<Blocks, Error> {
         let width = self.layout.columns();
-        let mut blocks = Vec::with_capacity(ranges.len());
+        let units = rows.len();
+        let mut blocks = Vec::with_capacity(units);
         let mut start = 0;
-        for range in ranges {
-            let count = method.row_count(&samples[range.clone()]);
+        for count in rows {
             if start + count > system.rows() {
                 break;
             }
@@ -250,7 +276,7 @@ impl BaseColumns {
             }));
             start += count;
         }
-        if start != system.rows() || blocks.len() != ranges.len() {
+        if start != system.rows() || blocks.len() != units {
             return Err(Error::Numerical {
                 message: format!(
                     "planning: the units give {start} rows, W has {}",

@@ -303,14 +303,7 @@ impl<'a> CandidatePool<'a> {
         let candidates = &self.candidates;
         let width = candidates.width;
         let kept_information = self.information_of(kept)?;
-        // The ridge: 1e-9 of the mean diagonal of a unit's information.
-        let diagonal: f64 = candidates
-            .units
-            .iter()
-            .map(|block| block.norm_squared())
-            .sum();
-        let ridge =
-            (1e-9 * diagonal / (ranges.len().max(1) * width.max(1)) as f64).max(f64::MIN_POSITIVE);
+        let ridge = candidates.ridge();
         let base = &kept_information + DMatrix::<f64>::identity(width, width) * ridge;
         let d_only = matches!(objective, Objective::D);
         let total = if d_only { 3 } else { 6 } * wanted.max(1);
@@ -478,29 +471,13 @@ pub fn plan_study(
     let columns = BaseColumns::of_study(robot, &ordered, priority)?;
     let system = columns.system_of_study(robot, &ordered)?;
     let width = columns.layout.columns();
-    let mut blocks = Vec::with_capacity(ranges.len());
-    let mut start = 0;
-    for (set, range) in &ranges {
-        let set = &ordered.sets[*set];
-        let rows = set.method.row_count(&set.samples[range.clone()]);
-        let matrix = &system.matrix()[start * width..(start + rows) * width];
-        blocks.push(DMatrix::from_fn(rows, width, |row, column| {
-            matrix[row * width + column] * columns.scale[column]
-        }));
-        start += rows;
-    }
-    if start != system.rows() {
-        return Err(Error::Numerical {
-            message: format!(
-                "planning: the units give {start} rows, W has {}",
-                system.rows()
-            ),
-        });
-    }
-    let candidates_rows = Blocks {
-        units: blocks,
-        width,
-    };
+    let candidates_rows = columns.slice(
+        &system,
+        ranges.iter().map(|(set, range)| {
+            let set = &ordered.sets[*set];
+            set.method.row_count(&set.samples[range.clone()])
+        }),
+    )?;
     let within_limits = |sample: &Sample| {
         robot
             .joint_positions(&sample.motor_positions)
@@ -527,13 +504,7 @@ pub fn plan_study(
             ),
         });
     }
-    let diagonal: f64 = candidates_rows
-        .units
-        .iter()
-        .map(|block| block.norm_squared())
-        .sum();
-    let ridge =
-        (1e-9 * diagonal / (ranges.len().max(1) * width.max(1)) as f64).max(f64::MIN_POSITIVE);
+    let ridge = candidates_rows.ridge();
     let base = DMatrix::<f64>::identity(width, width) * ridge;
     let mut spacing = Spacing::new(vec![Vec::new(); ranges.len()], 0.0);
     let mut steps = 0;

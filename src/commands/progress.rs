@@ -1,0 +1,27 @@
+//! Progress of long work on stderr (hidden when stderr is not a terminal).
+
+use gecaro_calib::{Observer, each_step};
+
+/// A progress bar labelled `what`; its length is set by its user.
+pub(crate) fn progress_bar(what: &str) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(1);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(&format!(
+            "{what} {{bar:30}} {{pos}}/{{len}} [{{elapsed}}]"
+        ))
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar
+}
+
+/// Runs `work` with an observer that shows its steps on a progress bar
+/// labelled `what`, cleared when the work ends.
+pub(crate) fn with_steps<T>(what: &str, work: impl FnOnce(&mut dyn Observer) -> T) -> T {
+    let bar = progress_bar(what);
+    let result = work(&mut each_step(|done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    }));
+    bar.finish_and_clear();
+    result
+}
