@@ -19,14 +19,6 @@ pub(crate) fn table(header: &[&str], left: usize) -> Table {
     table
 }
 
-/// Whether `c` must not reach a terminal raw: control characters (escape
-/// sequences, BEL, CR, newlines) and the bidirectional marks and overrides
-/// that reorder what is displayed (U+202E turns `cod.exe` into `exe.doc`).
-fn is_hidden(c: char) -> bool {
-    c.is_control()
-        || matches!(c, '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
-}
-
 /// `text` from a file (a robot's, a joint's or a file's name) as it may be
 /// printed: every hidden character escaped as `\u{1b}`.
 pub(crate) fn shown(text: &str) -> std::borrow::Cow<'_, str> {
@@ -40,7 +32,7 @@ pub(crate) fn shown_lines(text: &str) -> std::borrow::Cow<'_, str> {
 }
 
 fn shown_keeping(text: &str, newlines: bool) -> std::borrow::Cow<'_, str> {
-    let hidden = |c: char| is_hidden(c) && !(newlines && c == '\n');
+    let hidden = |c: char| gecaro_io::is_hidden_character(c) && !(newlines && c == '\n');
     if !text.chars().any(hidden) {
         return std::borrow::Cow::Borrowed(text);
     }
@@ -121,6 +113,7 @@ mod tests {
         assert_eq!(shown("arm"), "arm");
         assert_eq!(shown("a\u{1b}[31mb\u{7}"), "a\\u{1b}[31mb\\u{7}");
         assert_eq!(shown("x\u{202e}y\nz"), "x\\u{202e}y\\u{a}z");
+        assert_eq!(shown("a\u{61c}b\u{feff}"), "a\\u{61c}b\\u{feff}");
         assert_eq!(shown_lines("one\ntwo\r"), "one\ntwo\\u{d}");
     }
 }

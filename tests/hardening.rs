@@ -325,3 +325,162 @@ fn tiny_and_huge_numbers_are_printed_in_scientific_notation() {
     );
     assert!(printed.len() < 400, "{printed}");
 }
+
+/// A 24 KB study naming 200 reflectors over one small file is refused with
+/// a message, before any matrix is allocated (it aborted allocating 6 GB).
+#[test]
+fn a_study_of_two_hundred_tools_is_refused_with_a_message() {
+    let folder = tempfile::tempdir().expect("folder");
+    let data = folder.path().join("smr.csv");
+    let generated = gecaro()
+        .args([
+            "generate",
+            "industrial6",
+            "--method",
+            "position",
+            "--count",
+            "40",
+            "-o",
+        ])
+        .arg(&data)
+        .output()
+        .expect("runs");
+    assert!(generated.status.success(), "{generated:?}");
+    let mut study = String::from("robot = \"industrial6\"\n");
+    for k in 0..200 {
+        study += &format!(
+            "[tools.t{k}]\nposition = [0, 0, {}]\n",
+            0.05 + 1e-4 * f64::from(k)
+        );
+    }
+    for k in 0..200 {
+        study += &format!(
+            "[[measurements]]\nmethod = \"position\"\ndata = \"smr.csv\"\ntool = \"t{k}\"\nsigma = 2e-5\n"
+        );
+    }
+    let path = folder.path().join("study.toml");
+    std::fs::write(&path, study).expect("study");
+    for command in ["identify", "identifiable"] {
+        let output = run_bounded(gecaro().args([command, "--study"]).arg(&path));
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(3), "{command}: {stderr}");
+        assert!(
+            stderr.contains("200 tools and stations: a study names at most 64"),
+            "{command}: {stderr}"
+        );
+    }
+}
+
+/// A 64-joint robot asked for 100 positions: 300 equations for 319 base
+/// parameters is known before the search (it searched 66–112 s).
+#[test]
+fn too_few_equations_for_a_plan_are_said_before_the_search() {
+    let folder = tempfile::tempdir().expect("folder");
+    let robot = folder.path().join("r64.toml");
+    let made = gecaro()
+        .args(["robot", "new", "--joints", &"R".repeat(64), "-o"])
+        .arg(&robot)
+        .output()
+        .expect("runs");
+    assert!(made.status.success(), "{made:?}");
+    let output = run_bounded(
+        gecaro()
+            .arg("plan")
+            .arg(&robot)
+            .args([
+                "--method", "position", "--count", "100", "--pool", "2000", "-o",
+            ])
+            .arg(folder.path().join("plan.csv")),
+    );
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(4), "{stderr}");
+    assert!(
+        stderr.contains("300 independent equations for 319 unknowns"),
+        "{stderr}"
+    );
+}
+
+/// A cell that admits nothing (a floor 100 m up): the first configuration's
+/// search fails and the rest are not searched (20,000 of them ran 18
+/// minutes); nothing is written.
+#[test]
+fn a_cell_that_admits_nothing_fails_fast() {
+    let folder = tempfile::tempdir().expect("folder");
+    let output_file = folder.path().join("data.csv");
+    let output = run_bounded(
+        gecaro()
+            .args([
+                "generate",
+                "industrial6",
+                "--method",
+                "position",
+                "--count",
+                "20000",
+            ])
+            .args(["--floor", "100", "-o"])
+            .arg(&output_file),
+    );
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(4), "{stderr}");
+    assert!(
+        stderr.contains("the cell leaves next to nothing to measure: 20000 configuration(s)"),
+        "{stderr}"
+    );
+    assert!(!output_file.exists());
+}
+
+/// `gecaro serve` stopped by SIGINT while a request computes for tens of
+/// seconds: it stops within the grace for requests under way (5 s), not
+/// when the computation ends (it lived 151 s); SIGTERM likewise.
+#[cfg(unix)]
+#[test]
+fn the_server_stops_on_a_signal_while_work_runs() {
+    use std::io::{BufRead, BufReader, Write};
+    for signal in ["-INT", "-TERM"] {
+        let folder = tempfile::tempdir().expect("folder");
+        let mut server = gecaro()
+            .args(["serve", "--port", "0", "--dir"])
+            .arg(folder.path())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("serves");
+        let mut line = String::new();
+        BufReader::new(server.stdout.take().expect("stdout"))
+            .read_line(&mut line)
+            .expect("banner");
+        let address = line
+            .split("http://")
+            .nth(1)
+            .and_then(|rest| rest.split(['/', ' ']).next())
+            .unwrap_or_else(|| panic!("no address in {line:?}"))
+            .to_owned();
+        // A plan of 1,500 configurations from 20,000: long in a debug build.
+        let body = r#"{"robot": "stanford", "method": {"name": "position"}, "count": 1500}"#;
+        let mut stream = std::net::TcpStream::connect(&address).expect("connects");
+        write!(
+            stream,
+            "POST /api/plan HTTP/1.1\r\nHost: {address}\r\nContent-Type: application/json\r\n\
+             Content-Length: {}\r\n\r\n{body}",
+            body.len()
+        )
+        .expect("request");
+        std::thread::sleep(Duration::from_millis(1500));
+        let stopped = std::time::Instant::now();
+        let status = Command::new("kill")
+            .arg(signal)
+            .arg(server.id().to_string())
+            .status()
+            .expect("kill");
+        assert!(status.success());
+        let output = wait_bounded(server, Duration::from_secs(15));
+        assert!(
+            stopped.elapsed() < Duration::from_secs(10),
+            "{signal}: stopped after {:?}",
+            stopped.elapsed()
+        );
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(stderr.contains("stopping"), "{signal}: {stderr}");
+        assert!(temporaries(folder.path()).is_empty());
+    }
+}

@@ -293,7 +293,7 @@ fn a_study_naming_an_unknown_station_is_refused_at_its_line() {
         .expect("line")
         + 1;
     assert!(
-        message.contains("no [stations.tracker_3] table"),
+        message.contains("no station named `tracker_3` in this study"),
         "{message}"
     );
     assert!(message.contains(&format!(":{line}")), "{message}");

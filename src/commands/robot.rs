@@ -234,7 +234,7 @@ fn reframe(
     };
     write_atomically(
         output,
-        format_robot_file(&file).as_bytes(),
+        gecaro_io::robot_file_text(&file, output)?.as_bytes(),
         output_policy(force),
     )?;
     println!(

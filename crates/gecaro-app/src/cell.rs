@@ -80,9 +80,8 @@ pub(crate) fn refuse_misses(misses: usize, what: &str) -> Result<(), AppError> {
     Err(AppError::plain(
         ErrorKind::Numerical,
         format!(
-            "the cell leaves next to nothing to measure: {misses} {what} could not be drawn \
-             within it in {} tries each; lower the floor, move the station or widen the \
-             incidence",
+            "the cell leaves next to nothing to measure: {misses} {what} fell outside it (the \
+             first after {} tries); lower the floor, move the station or widen the incidence",
             gecaro_calib::simulation::CELL_DRAWS
         ),
     ))

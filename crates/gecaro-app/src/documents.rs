@@ -533,6 +533,9 @@ pub struct VerdictJson {
     pub configurations: usize,
     /// Distinct configurations among them.
     pub distinct_configurations: usize,
+    /// Measurements that are exact copies of others (the same file twice,
+    /// rows pasted again).
+    pub copies: usize,
     /// Parameters with values no real robot has: `name`, `why`, `cause`.
     pub implausible: Vec<ImplausibleJson>,
     /// What the data determine and the methods observe.
@@ -631,6 +634,7 @@ impl From<&Verdict> for VerdictJson {
             residual_angle: verdict.residual_angle,
             configurations: verdict.configurations,
             distinct_configurations: verdict.distinct_configurations,
+            copies: verdict.copies,
             implausible: verdict
                 .implausible
                 .iter()

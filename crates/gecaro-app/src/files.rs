@@ -68,11 +68,6 @@ pub trait Files: Sync {
     /// files whose other half could not be written); failures are ignored.
     fn remove(&self, name: &str);
 
-    /// The local path of `name` when files it names can be read beside it
-    /// (a study file's data files); `None` where a front end does not allow
-    /// that.
-    fn local_path(&self, name: &str) -> Option<PathBuf>;
-
     /// The most configurations a data set may hold here.
     fn max_samples(&self) -> usize {
         gecaro_io::MAX_CONFIGURATIONS
@@ -154,9 +149,5 @@ impl Files for LocalFiles {
 
     fn remove(&self, name: &str) {
         let _ = std::fs::remove_file(name);
-    }
-
-    fn local_path(&self, name: &str) -> Option<PathBuf> {
-        Some(PathBuf::from(name))
     }
 }

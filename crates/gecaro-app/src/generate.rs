@@ -219,7 +219,7 @@ impl GenerateRequest {
             Some(name) => Some(files.write(
                 name,
                 "toml",
-                gecaro_io::format_robot_file(&real).as_bytes(),
+                gecaro_io::robot_file_text(&real, std::path::Path::new(name))?.as_bytes(),
                 self.overwrite,
             )?),
             None => None,

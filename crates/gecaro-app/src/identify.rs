@@ -205,17 +205,16 @@ impl Identified {
     /// # Errors
     /// [`ErrorKind::Untrusted`] naming the value the file would refuse.
     pub fn calibrated_text(&self) -> Result<String, AppError> {
-        let text = gecaro_io::format_robot_file(&self.calibrated());
-        gecaro_io::parse_robot_file(&text, std::path::Path::new("calibrated robot")).map_err(
-            |error| {
-                AppError::plain(
-                    ErrorKind::Untrusted,
-                    format!(
-                        "the calibrated robot was not written, no robot file holds it: {error}"
-                    ),
-                )
-            },
-        )?;
+        let text = gecaro_io::robot_file_text(
+            &self.calibrated(),
+            std::path::Path::new("calibrated robot"),
+        )
+        .map_err(|error| {
+            AppError::plain(
+                ErrorKind::Untrusted,
+                format!("the calibrated robot was not written, no robot file holds it: {error}"),
+            )
+        })?;
         Ok(text)
     }
 

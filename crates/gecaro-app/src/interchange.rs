@@ -121,7 +121,7 @@ impl ImportRequest {
             Some(name) => Some(files.write(
                 name,
                 "toml",
-                gecaro_io::format_robot_file(&imported.file).as_bytes(),
+                gecaro_io::robot_file_text(&imported.file, std::path::Path::new(name))?.as_bytes(),
                 self.overwrite,
             )?),
             None => None,

@@ -82,6 +82,7 @@ mod rebase;
 mod robot_files;
 mod settings;
 mod sources;
+mod study_files;
 mod study_plan;
 mod study_prediction;
 

@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 use gecaro_calib::identification::Prior;
 use gecaro_calib::study::Study;
 use gecaro_core::PriorityMatrix;
-use gecaro_io::{RobotFile, StandardDeviation};
+use gecaro_io::{RobotFile, StandardDeviation, StudySpec};
 use serde::Deserialize;
 use serde::de::IgnoredAny;
 
@@ -45,15 +45,43 @@ pub struct Measurements {
     pub strict_limits: bool,
 }
 
-/// A study of several measurement sets.
-#[derive(Clone, Debug, Deserialize)]
-#[serde(untagged)]
+/// A study of several measurement sets: a request gives a study file's name
+/// (a string) or the study itself (an object, a study file's keys in JSON:
+/// [`StudySpec`]).
+#[derive(Clone, Debug)]
 pub enum StudySource {
     /// A study file (TOML; its data files are read beside it).
     File(String),
+    /// A study as stated in a request (the web API's JSON); its files are
+    /// names of the front end's ([`Files`]).
+    Spec(Box<StudySpec>),
     /// A study built already (a Python `Study`).
-    #[serde(skip)]
     Loaded(Box<LoadedStudy>),
+}
+
+impl<'de> Deserialize<'de> for StudySource {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Source;
+        impl<'de> serde::de::Visitor<'de> for Source {
+            type Value = StudySource;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(
+                    "a study file's name or a study (an object with its robot and measurements)",
+                )
+            }
+            fn visit_str<E: serde::de::Error>(self, name: &str) -> Result<StudySource, E> {
+                Ok(StudySource::File(name.to_owned()))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> Result<StudySource, A::Error> {
+                StudySpec::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+                    .map(|spec| StudySource::Spec(Box::new(spec)))
+            }
+        }
+        deserializer.deserialize_any(Source)
+    }
 }
 
 /// A study with what a study file adds to its sets.
@@ -228,35 +256,39 @@ impl Measurements {
                     .into(),
             )]));
         }
-        match study {
-            StudySource::File(name) => {
-                let path = files.local_path(name).ok_or_else(|| {
-                    AppError::setting("study", "study files are read from local folders only")
-                })?;
-                let read_for = if data == Data::Configurations {
-                    gecaro_io::StudyData::Configurations
-                } else {
-                    gecaro_io::StudyData::Measured
-                };
-                let file = gecaro_io::read_study_file_for(&path, read_for)?;
-                Ok(Loaded {
-                    robot: file.robot,
-                    study: file.study,
-                    priority: file.priority,
-                    prior: file.prior,
-                    label: name.clone(),
-                    notes: file.notes.into_iter().map(Note::plain).collect(),
-                })
+        let read_for = if data == Data::Configurations {
+            gecaro_io::StudyData::Configurations
+        } else {
+            gecaro_io::StudyData::Measured
+        };
+        let (file, label) = match study {
+            StudySource::File(name) => (
+                crate::study_files::read_study(files, name, read_for)?,
+                name.clone(),
+            ),
+            StudySource::Spec(spec) => (
+                crate::study_files::build_study(files, spec, read_for)?,
+                "study".to_owned(),
+            ),
+            StudySource::Loaded(study) => {
+                return Ok(Loaded {
+                    robot: study.robot.clone(),
+                    study: study.study.clone(),
+                    priority: study.priority.clone(),
+                    prior: study.prior.clone(),
+                    label: study.label.clone(),
+                    notes: Vec::new(),
+                });
             }
-            StudySource::Loaded(study) => Ok(Loaded {
-                robot: study.robot.clone(),
-                study: study.study.clone(),
-                priority: study.priority.clone(),
-                prior: study.prior.clone(),
-                label: study.label.clone(),
-                notes: Vec::new(),
-            }),
-        }
+        };
+        Ok(Loaded {
+            robot: file.robot,
+            study: file.study,
+            priority: file.priority,
+            prior: file.prior,
+            label,
+            notes: file.notes.into_iter().map(Note::plain).collect(),
+        })
     }
 
     fn load_single(&self, files: &dyn Files, data: Data) -> Result<Loaded, AppError> {

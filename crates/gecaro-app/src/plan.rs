@@ -290,7 +290,7 @@ impl PlanRequest {
         let pool = match &self.candidates {
             Some(source) => configurations(robot, source, &columns, &format, files)?,
             None => {
-                let size = self.pool.unwrap_or(largest.saturating_mul(20));
+                let size = self.pool.unwrap_or_else(|| default_pool(largest));
                 if !(1..=MAX_GENERATE).contains(&size) {
                     return Err(AppError::setting_value(
                         "pool",
@@ -587,5 +587,24 @@ impl Predicted {
                 .as_ref()
                 .map(|measured| (measured, self.error_level)),
         )
+    }
+}
+
+/// The pool generated when none is given: 20 candidates per configuration
+/// asked, within the bound on generated configurations (docs/api.md), and
+/// never fewer than asked.
+fn default_pool(largest: usize) -> usize {
+    largest.saturating_mul(20).min(MAX_GENERATE).max(largest)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_pool_stays_within_its_bound() {
+        assert_eq!(default_pool(50), 1000);
+        assert_eq!(default_pool(5000), MAX_GENERATE);
+        assert_eq!(default_pool(MAX_GENERATE + 1), MAX_GENERATE + 1);
     }
 }

@@ -7,7 +7,7 @@
 //! ([`rebased_file`]), and compensation refuses two robots that are not in
 //! one frame ([`check_same_frame`]).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use gecaro_core::{Compact, Robot};
 use gecaro_io::RobotFile;
@@ -76,7 +76,7 @@ impl RebaseRequest {
             Some(name) => Some(files.write(
                 name,
                 "toml",
-                gecaro_io::format_robot_file(&robot).as_bytes(),
+                gecaro_io::robot_file_text(&robot, Path::new(name))?.as_bytes(),
                 self.overwrite,
             )?),
             None => None,

@@ -13,7 +13,7 @@ use gecaro_calib::frames::measuring_robot;
 use gecaro_calib::planning::{StudyPlan, plan_study};
 use gecaro_calib::simulation::Sampler;
 use gecaro_calib::study::DataColumn;
-use gecaro_io::DataFormat;
+use gecaro_io::{DataFormat, StandardDeviation};
 use serde::Deserialize;
 
 use crate::error::{AppError, ErrorKind};
@@ -98,18 +98,18 @@ impl PlanStudyRequest {
         }
         let outputs = match &self.save_as {
             Some(name) => {
-                let StudySource::File(study_name) = &self.study else {
+                if let StudySource::Loaded(_) = &self.study {
                     return Err(AppError::setting(
                         "save_as",
-                        "a planned study is written for a study file",
+                        "a planned study is written for a study file or a stated study",
                     ));
-                };
+                }
                 let outputs = set_file_names(name, sets);
                 files.check_output(name, "toml", self.overwrite)?;
                 for output in &outputs {
                     files.check_output(output, "csv", self.overwrite)?;
                 }
-                Some((study_name.clone(), name.clone(), outputs))
+                Some((name.clone(), outputs))
             }
             None => None,
         };
@@ -128,7 +128,7 @@ impl PlanStudyRequest {
         let priority = loaded.priority.clone().unwrap_or_else(|| robot.priority());
         let plan = plan_study(robot, &candidates, self.count, &priority, seed, observer)?;
         let mut saved = Vec::new();
-        if let Some((study_name, name, outputs)) = outputs {
+        if let Some((name, outputs)) = outputs {
             let types = gecaro_io::joint_types(robot);
             for ((set, samples), output) in loaded.study.sets.iter().zip(&plan.sets).zip(&outputs) {
                 let columns = DataColumn::grouping(set.method.data_columns());
@@ -140,7 +140,7 @@ impl PlanStudyRequest {
                 );
                 saved.push(files.write(output, "csv", text.as_bytes(), self.overwrite)?);
             }
-            let text = planned_study_text(files, &study_name, &name, &loaded, &outputs)?;
+            let text = planned_study_text(files, &self.study, &name, &loaded, &outputs)?;
             saved.insert(
                 0,
                 files.write(&name, "toml", text.as_bytes(), self.overwrite)?,
@@ -178,58 +178,64 @@ fn set_file_names(study: &str, sets: usize) -> Vec<String> {
 /// options) is kept as the study states it.
 fn planned_study_text(
     files: &dyn Files,
-    study: &str,
+    source: &StudySource,
     planned: &str,
     loaded: &Loaded,
     outputs: &[String],
 ) -> Result<String, AppError> {
-    let (_, text) = files.read_text(study, &["toml"])?;
-    let mut table: toml::Table = toml::from_str(&text)
-        .map_err(|error| AppError::plain(ErrorKind::Input, format!("{study}: {error}")))?;
-    let from = Path::new(study).parent().unwrap_or(Path::new(""));
+    let (study, mut spec) = match source {
+        StudySource::File(study) => {
+            let (path, text) = files.read_text(study, &["toml"])?;
+            (
+                study.as_str(),
+                gecaro_io::StudyText::parse(text, &path)?.spec,
+            )
+        }
+        StudySource::Spec(spec) => ("the stated study", (**spec).clone()),
+        StudySource::Loaded(_) => {
+            return Err(AppError::setting(
+                "save_as",
+                "a planned study is written for a study file or a stated study",
+            ));
+        }
+    };
+    let from = match source {
+        StudySource::File(study) => Path::new(study).parent().unwrap_or(Path::new("")),
+        _ => Path::new(""),
+    };
     let to = Path::new(planned).parent().unwrap_or(Path::new(""));
-    for key in ["robot", "priority"] {
-        if let Some(toml::Value::String(name)) = table.get(key) {
-            let beside = from.join(name);
-            if from != to && beside.is_file() {
+    if from != to {
+        for name in [&mut spec.robot, &mut spec.priority].into_iter().flatten() {
+            let beside = from.join(&*name);
+            if beside.is_file() {
                 let absolute = std::fs::canonicalize(&beside).unwrap_or(beside);
-                table.insert(
-                    key.into(),
-                    toml::Value::String(absolute.to_string_lossy().into_owned()),
-                );
+                *name = absolute.to_string_lossy().into_owned();
             }
         }
     }
-    let Some(toml::Value::Array(sets)) = table.get_mut("measurements") else {
-        return Err(AppError::plain(
-            ErrorKind::Input,
-            format!("{study}: no [[measurements]]"),
-        ));
-    };
-    for ((entry, set), output) in sets.iter_mut().zip(&loaded.study.sets).zip(outputs) {
-        let Some(entry) = entry.as_table_mut() else {
-            continue;
-        };
+    for ((entry, set), output) in spec
+        .measurements
+        .iter_mut()
+        .zip(&loaded.study.sets)
+        .zip(outputs)
+    {
         let file_name = Path::new(output)
             .file_name()
             .map_or_else(|| output.clone(), |n| n.to_string_lossy().into_owned());
-        entry.insert("data".into(), toml::Value::String(file_name));
-        for key in ["columns", "delimiter", "decimal_comma"] {
-            entry.remove(key);
-        }
-        entry.insert("length_unit".into(), toml::Value::String("m".into()));
-        entry.insert("angle_unit".into(), toml::Value::String("rad".into()));
-        if let Some(sigma) = set.sigma {
-            entry.insert("sigma".into(), toml::Value::String(format!("{sigma:e}m")));
-        }
-        if let Some(sigma) = set.sigma_rotation {
-            entry.insert(
-                "sigma_rotation".into(),
-                toml::Value::String(format!("{sigma:e}rad")),
-            );
-        }
+        entry.data = gecaro_io::SetData::File(file_name);
+        entry.columns = None;
+        entry.delimiter = None;
+        entry.decimal_comma = None;
+        entry.length_unit = Some("m".into());
+        entry.angle_unit = Some("rad".into());
+        entry.sigma = set
+            .sigma
+            .map(|sigma| StandardDeviation::WithUnit(format!("{sigma:e}m")));
+        entry.sigma_rotation = set
+            .sigma_rotation
+            .map(|sigma| StandardDeviation::WithUnit(format!("{sigma:e}rad")));
     }
-    let body = toml::to_string(&table)
+    let body = toml::to_string(&spec)
         .map_err(|error| AppError::plain(ErrorKind::Internal, error.to_string()))?;
     Ok(format!(
         "# planned by gecaro plan --study from {study}: each set's configurations in its file\n\

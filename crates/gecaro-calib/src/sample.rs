@@ -42,17 +42,23 @@ impl Sample {
     /// What is missing or not finite, as a sentence.
     pub fn check_column(&self, column: DataColumn) -> Result<(), String> {
         let missing = || format!("missing {}", column.headers().join(", "));
+        // Finite, and within what a robot cell holds (±1 km, as a robot
+        // file's lengths; orientations are unit quaternions).
         let finite = |finite: bool, what: &str| {
             if finite {
                 Ok(())
             } else {
-                Err(format!("the measured {what} is not finite"))
+                Err(format!(
+                    "the measured {what} is not finite, or beyond ±{} m",
+                    gecaro_core::MAX_MAGNITUDE
+                ))
             }
         };
+        let bounded = |v: &f64| v.is_finite() && v.abs() <= gecaro_core::MAX_MAGNITUDE;
         match column {
             DataColumn::Position => {
                 let position = self.position.ok_or_else(missing)?;
-                finite(position.iter().all(|v| v.is_finite()), "position")
+                finite(position.iter().all(bounded), "position")
             }
             DataColumn::Orientation => {
                 let orientation = self.orientation.ok_or_else(missing)?;
@@ -64,7 +70,7 @@ impl Sample {
             DataColumn::Set | DataColumn::Pair => self.group.map(|_| ()).ok_or_else(missing),
             DataColumn::Distance => {
                 let distance = self.distance.ok_or_else(missing)?;
-                finite(distance.is_finite(), "distance")
+                finite(bounded(&distance), "distance")
             }
         }
     }

@@ -118,6 +118,44 @@ impl std::fmt::Display for LimitViolation {
     }
 }
 
+/// The most measurement sets a study holds.
+pub const MAX_SETS: usize = 256;
+
+/// The most tools and stations a study names (six unknowns each).
+pub const MAX_NAMED_FRAMES: usize = 64;
+
+/// Where a study's statement breaks a rule ([`Study::statement_problem`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StudySite {
+    /// The named frame [`Study::frames`]`[i]`.
+    Frame(usize),
+    /// A field of set [`Study::sets`]`[i]`: `sigma`, `sigma_rotation`,
+    /// `tool` or `station`.
+    Set(usize, &'static str),
+}
+
+/// A rule of a study's statement broken, and where.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct StudyProblem {
+    /// Where.
+    pub site: StudySite,
+    /// What is wrong, as a sentence without the place.
+    pub message: String,
+}
+
+impl StudyProblem {
+    /// The message with its place in `study` (a set's label and field).
+    pub fn describe(&self, study: &Study) -> String {
+        match self.site {
+            StudySite::Frame(_) => self.message.clone(),
+            StudySite::Set(index, field) => match study.sets.get(index) {
+                Some(set) => format!("{}: {field}: {}", set.label, self.message),
+                None => self.message.clone(),
+            },
+        }
+    }
+}
+
 /// One or more measurement sets calibrated together.
 #[derive(Clone, Debug, Default)]
 pub struct Study {
@@ -251,7 +289,12 @@ impl Study {
                 message: "the study has no measurement sets".into(),
             });
         }
-        self.check_frames()?;
+        if let Some(problem) = self.statement_problem(true) {
+            return Err(Error::InvalidData {
+                line: None,
+                message: problem.describe(self),
+            });
+        }
         for set in &self.sets {
             let invalid = |line: Option<usize>, message: String| Error::InvalidData {
                 line: None,
@@ -260,22 +303,6 @@ impl Study {
                     None => format!("{}: {message}", set.label),
                 },
             };
-            if let Some(sigma) = set.sigma_rotation
-                && !(sigma.is_finite() && sigma > 0.0)
-            {
-                return Err(invalid(
-                    None,
-                    format!("sigma_rotation must be a positive standard deviation, not {sigma}"),
-                ));
-            }
-            if let Some(sigma) = set.sigma
-                && !(sigma.is_finite() && sigma > 0.0)
-            {
-                return Err(invalid(
-                    None,
-                    format!("sigma must be a positive standard deviation, not {sigma}"),
-                ));
-            }
             if set.samples.is_empty() {
                 return Err(invalid(None, "no configurations".into()));
             }
@@ -299,87 +326,149 @@ impl Study {
         Ok(())
     }
 
-    /// The named frames: distinct names, finite poses within
-    /// [`gecaro_core::MAX_MAGNITUDE`] of their parent frame, each measured by
-    /// some set, tools and stations where they belong, on methods that
-    /// measure the tool in a measurement frame (position and frame measure).
-    /// Every front end's study (a file, Python's, a request) meets these
-    /// rules here; a file reader may name the line first.
-    fn check_frames(&self) -> Result<(), Error> {
-        let invalid = |message: String| Error::InvalidData {
-            line: None,
-            message,
-        };
+    /// The first rule of a study's statement it breaks, or `None`: a
+    /// positive finite σ per set; named frames with distinct names and
+    /// finite poses within [`gecaro_core::MAX_MAGNITUDE`] of their parent
+    /// frame; tools and stations named where they belong, on methods that
+    /// measure the tool in a measurement frame (position and frame measure);
+    /// and, when the study is `complete`, every named frame measured by some
+    /// set. Every front end's study (a study file, a request's
+    /// [`StudySpec`](https://docs.rs/gecaro-io), Python's `Study`) meets
+    /// these rules here; a front end names the place from
+    /// [`StudyProblem::site`].
+    pub fn statement_problem(&self, complete: bool) -> Option<StudyProblem> {
+        let problem = |site: StudySite, message: String| Some(StudyProblem { site, message });
+        if self.sets.len() > MAX_SETS {
+            return problem(
+                StudySite::Set(MAX_SETS, "method"),
+                format!(
+                    "{} measurement sets: a study holds at most {MAX_SETS}",
+                    self.sets.len()
+                ),
+            );
+        }
+        if self.frames.len() > MAX_NAMED_FRAMES {
+            return problem(
+                StudySite::Frame(MAX_NAMED_FRAMES),
+                format!(
+                    "{} tools and stations: a study names at most {MAX_NAMED_FRAMES} ({} unknowns)",
+                    self.frames.len(),
+                    MAX_NAMED_FRAMES * FRAME_UNKNOWNS
+                ),
+            );
+        }
+        for (index, set) in self.sets.iter().enumerate() {
+            for (field, sigma) in [("sigma", set.sigma), ("sigma_rotation", set.sigma_rotation)] {
+                if let Some(sigma) = sigma
+                    && !(sigma.is_finite() && sigma > 0.0)
+                {
+                    return problem(
+                        StudySite::Set(index, field),
+                        format!("must be a positive standard deviation, not {sigma}"),
+                    );
+                }
+            }
+        }
         for (index, frame) in self.frames.iter().enumerate() {
+            let site = StudySite::Frame(index);
+            let what = format!("{} `{}`", frame.role.as_str(), frame.name);
             if self.frames[..index].iter().any(|f| f.name == frame.name) {
-                return Err(invalid(format!(
-                    "two tools or stations are named `{}`",
-                    frame.name
-                )));
+                return problem(
+                    site,
+                    format!("two tools or stations are named `{}`", frame.name),
+                );
             }
             if !frame.pose.to_homogeneous().iter().all(|v| v.is_finite()) {
-                return Err(invalid(format!(
-                    "{} `{}` has a non-finite pose",
-                    frame.role.as_str(),
-                    frame.name
-                )));
+                return problem(site, format!("{what} has a non-finite pose"));
             }
             let distance = frame.pose.translation.vector.norm();
             if distance > gecaro_core::MAX_MAGNITUDE {
-                return Err(invalid(format!(
-                    "{} `{}` is stated {} m from its parent frame (at most {} m)",
-                    frame.role.as_str(),
-                    frame.name,
-                    gecaro_core::Compact(distance),
-                    gecaro_core::MAX_MAGNITUDE
-                )));
+                return problem(
+                    site,
+                    format!(
+                        "{what} is stated {} m from its parent frame (at most {} m)",
+                        gecaro_core::Compact(distance),
+                        gecaro_core::MAX_MAGNITUDE
+                    ),
+                );
             }
-            if !self
-                .sets
-                .iter()
-                .any(|set| set.tool == Some(index) || set.station == Some(index))
+            if complete
+                && !self
+                    .sets
+                    .iter()
+                    .any(|set| set.tool == Some(index) || set.station == Some(index))
             {
-                return Err(invalid(format!(
-                    "{} `{}` is measured by no measurement set (name it in one)",
-                    frame.role.as_str(),
-                    frame.name
-                )));
+                return problem(
+                    site,
+                    format!(
+                        "{what} is measured by no measurement set (name it with {} = {:?})",
+                        frame.role.as_str(),
+                        frame.name
+                    ),
+                );
             }
         }
-        for set in &self.sets {
+        for (set_index, set) in self.sets.iter().enumerate() {
             for (used, role) in [
                 (set.tool, FrameRole::Tool),
                 (set.station, FrameRole::Station),
             ] {
                 let Some(index) = used else { continue };
+                let site = StudySite::Set(set_index, role.as_str());
                 let Some(frame) = self.frames.get(index) else {
-                    return Err(invalid(format!(
-                        "{}: names {} {index}, and the study has {} named frames",
-                        set.label,
-                        role.as_str(),
-                        self.frames.len()
-                    )));
+                    return problem(
+                        site,
+                        format!(
+                            "names {} {index}, and the study has {} named frames",
+                            role.as_str(),
+                            self.frames.len()
+                        ),
+                    );
                 };
                 if frame.role != role {
-                    return Err(invalid(format!(
-                        "{}: `{}` is a {}, not a {}",
-                        set.label,
-                        frame.name,
-                        frame.role.as_str(),
-                        role.as_str()
-                    )));
+                    return problem(
+                        site,
+                        format!(
+                            "`{}` is a {}, not a {}",
+                            frame.name,
+                            frame.role.as_str(),
+                            role.as_str()
+                        ),
+                    );
                 }
                 if !set.method.data_columns().contains(&DataColumn::Position) {
-                    return Err(invalid(format!(
-                        "{}: the {} method measures no pose in a measurement frame; tools and \
-                         stations go with position and frame measures",
-                        set.label,
-                        set.method.name()
-                    )));
+                    return problem(
+                        site,
+                        format!(
+                            "the {} method measures no pose in a measurement frame; tools and \
+                             stations go with position and frame measures",
+                            set.method.name()
+                        ),
+                    );
                 }
             }
         }
-        Ok(())
+        None
+    }
+
+    /// The index of the named frame `name` of `role`.
+    ///
+    /// # Errors
+    /// A sentence naming what is missing.
+    pub fn frame_index(&self, name: &str, role: FrameRole) -> Result<usize, String> {
+        self.frames
+            .iter()
+            .position(|frame| frame.name == name && frame.role == role)
+            .ok_or_else(
+                || match self.frames.iter().find(|frame| frame.name == name) {
+                    Some(frame) => format!(
+                        "`{name}` is a {}, not a {}",
+                        frame.role.as_str(),
+                        role.as_str()
+                    ),
+                    None => format!("no {} named `{name}` in this study", role.as_str()),
+                },
+            )
     }
 
     /// One sentence on the data's joint values outside the joint limits

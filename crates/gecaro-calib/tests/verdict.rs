@@ -510,3 +510,39 @@ fn a_levelled_tracker_is_not_a_singular_measurement_frame() {
         }
     }
 }
+
+/// Rows pasted again and a file named twice in a study: the copies are
+/// named and the result is not trusted, although the fit "fits the noise"
+/// (40 rows pasted 100 times gave σ 11.6× too small, trusted).
+#[test]
+fn exact_copies_are_named_and_not_trusted() {
+    let honest = fit(&study("position", 40, Some(2e-5), 6), &Default::default());
+    assert_eq!(honest.verdict.copies, 0);
+    assert!(
+        honest.verdict.outcome.trusted(),
+        "{}",
+        honest.verdict.summary
+    );
+    let mut pasted = study("position", 40, Some(2e-5), 6);
+    let rows = pasted.sets[0].samples.clone();
+    pasted.sets[0].samples = rows.iter().cycle().take(40 * 100).cloned().collect();
+    let result = fit(&pasted, &Default::default());
+    assert_eq!(result.verdict.outcome, Outcome::Repeated);
+    assert_eq!(result.verdict.copies, 3960);
+    assert!(!result.verdict.outcome.trusted());
+    assert!(
+        result
+            .verdict
+            .summary
+            .contains("3960 of the 4000 measurements are exact copies"),
+        "{}",
+        result.verdict.summary
+    );
+    // The same file twice in a study.
+    let mut twice = study("position", 40, Some(2e-5), 6);
+    let again = twice.sets[0].clone();
+    twice.sets.push(again);
+    let result = fit(&twice, &Default::default());
+    assert_eq!(result.verdict.outcome, Outcome::Repeated);
+    assert_eq!(result.verdict.copies, 40);
+}

@@ -37,6 +37,10 @@ pub const MAX_JOINTS: usize = 64;
 /// stand-in for "unlimited", and would make the model's arithmetic overflow.
 pub const MAX_MAGNITUDE: f64 = 1e3;
 
+/// The smallest transmission gain |K| a robot holds (eq. 4): below it, a
+/// value is a typo or an underflow, and motor values would overflow.
+pub const MIN_GAIN: f64 = 1e-12;
+
 /// Everything needed to build a [`Robot`]; plain data, not yet validated.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RobotSpec {
@@ -409,9 +413,7 @@ impl Robot {
         }
         match id.kind {
             ParameterKind::Gain => {
-                if value == 0.0 {
-                    return Err(Error::invalid(field, "a transmission gain cannot be zero"));
-                }
+                check_gain(field, value)?;
                 self.joints[id.frame - 1].gain = value;
                 Ok(true)
             }
@@ -492,6 +494,22 @@ impl Robot {
                 joint: index + 1,
                 value: *value,
             });
+        }
+        Ok(())
+    }
+
+    /// Checks the robot against the rules a robot file is loaded by
+    /// ([`Robot::new`]): values set one by one (`set_parameter`, an
+    /// identification's steps) may leave them, e.g. a length beyond
+    /// [`MAX_MAGNITUDE`]. A front end checks before it writes or hands a
+    /// robot on, so that every robot gecaro writes loads again.
+    ///
+    /// # Errors
+    /// The first value that breaks a rule, with its field.
+    pub fn check_stated(&self) -> Result<(), Error> {
+        validate_frames(&self.frames)?;
+        for (index, joint) in self.joints.iter().enumerate() {
+            validate_joint(index + 1, joint)?;
         }
         Ok(())
     }
@@ -610,12 +628,6 @@ fn validate_joint(index: usize, joint: &Joint) -> Result<(), Error> {
     ] {
         check_magnitude(field(key), value)?;
     }
-    if !joint.gain.is_finite() {
-        return Err(Error::invalid(
-            field("K"),
-            format!("{} is not a finite number", joint.gain),
-        ));
-    }
     if joint.qmin > joint.qmax {
         return Err(Error::invalid(
             field("qmin"),
@@ -626,10 +638,28 @@ fn validate_joint(index: usize, joint: &Joint) -> Result<(), Error> {
             ),
         ));
     }
-    if joint.gain == 0.0 {
+    check_gain(field("K"), joint.gain)
+}
+
+/// A transmission gain K (eq. 4): finite, not zero, and within
+/// [`MIN_GAIN`]..[`MAX_MAGNITUDE`] in magnitude.
+fn check_gain(field: Field, gain: f64) -> Result<(), Error> {
+    if !gain.is_finite() {
         return Err(Error::invalid(
-            field("K"),
-            "a transmission gain cannot be zero",
+            field,
+            format!("{gain} is not a finite number"),
+        ));
+    }
+    if gain == 0.0 {
+        return Err(Error::invalid(field, "a transmission gain cannot be zero"));
+    }
+    if !(MIN_GAIN..=MAX_MAGNITUDE).contains(&gain.abs()) {
+        return Err(Error::invalid(
+            field,
+            format!(
+                "{gain:e} is not a transmission gain: |K| lies between {MIN_GAIN:e} (a \
+                 24-bit encoder's count behind a 1:1000 gear is 4e-10) and {MAX_MAGNITUDE}"
+            ),
         ));
     }
     Ok(())
@@ -658,6 +688,14 @@ fn validate_coupling(
         return Err(Error::invalid(
             field,
             format!("{name} holds a value that is not a finite number"),
+        ));
+    }
+    if let Some(value) = matrix.iter().find(|v| v.abs() > MAX_MAGNITUDE) {
+        return Err(Error::invalid(
+            field,
+            format!(
+                "{name} holds {value:e}, beyond ±{MAX_MAGNITUDE}: a coupling ratio is a small number"
+            ),
         ));
     }
     let singular_values = matrix.clone().svd(false, false).singular_values;

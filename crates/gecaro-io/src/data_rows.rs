@@ -21,6 +21,10 @@ use crate::columns::{not_a_number, parse_number};
 use crate::input::{LineLimit, MAX_LINE_BYTES, csv_error_after, csv_reader_with, record_line};
 use crate::pose::{quaternion_deviation, unit_quaternion};
 
+/// The largest motor value a data file holds: 2⁵³, beyond which a double
+/// no longer tells one encoder count from the next.
+const MAX_MOTOR_VALUE: f64 = 9.007_199_254_740_992e15;
+
 /// Most configurations a data file may hold. Longer files are streamed, so
 /// a larger one (or an endless stream) stops here with an error naming the
 /// line, instead of exhausting memory; no calibration needs this many.
@@ -237,18 +241,51 @@ impl RowReader<'_> {
                 None => Err(self.fail(line, Some(column), not_a_number(text, self.decimal_comma))),
             }
         };
+        // A measured length beyond what a cell holds (1 km, as a robot
+        // file's lengths) is a typo or a corrupted field, refused at its line
+        // as NaN is.
+        let length = |column: usize| -> Result<f64, Error> {
+            let metres = value(column)? * self.length;
+            if metres.abs() > gecaro_core::MAX_MAGNITUDE {
+                return Err(self.fail(
+                    line,
+                    Some(column),
+                    format!(
+                        "`{}` is {} m: beyond ±{} m, no measurement in a robot cell",
+                        record[column].trim(),
+                        gecaro_core::Compact(metres),
+                        gecaro_core::MAX_MAGNITUDE
+                    ),
+                ));
+            }
+            Ok(metres)
+        };
         let fields = &self.fields;
         let motor_positions = fields
             .joints
             .iter()
-            .map(|(column, scale)| Ok(value(*column)? * scale))
+            .map(|(column, scale)| {
+                let motor = value(*column)? * scale;
+                if motor.abs() > MAX_MOTOR_VALUE {
+                    return Err(self.fail(
+                        line,
+                        Some(*column),
+                        format!(
+                            "`{}` is beyond ±{MAX_MOTOR_VALUE:e}, where a double no longer \
+                             counts an encoder's steps",
+                            record[*column].trim()
+                        ),
+                    ));
+                }
+                Ok(motor)
+            })
             .collect::<Result<Vec<f64>, Error>>()?;
         let mut sample = Sample {
             line: Some(line),
             ..Sample::new(motor_positions)
         };
         if let Some([x, y, z]) = fields.position {
-            sample.position = Some(Vector3::new(value(x)?, value(y)?, value(z)?) * self.length);
+            sample.position = Some(Vector3::new(length(x)?, length(y)?, length(z)?));
         }
         if let Some([w, i, j, k]) = fields.orientation {
             let (qw, qx, qy, qz) = (value(w)?, value(i)?, value(j)?, value(k)?);
@@ -270,7 +307,7 @@ impl RowReader<'_> {
             })?);
         }
         if let Some(column) = fields.distance {
-            sample.distance = Some(value(column)? * self.length);
+            sample.distance = Some(length(column)?);
         }
         Ok(sample)
     }

@@ -256,6 +256,26 @@ pub(crate) fn record_line<R: Read>(csv: &mut csv::Reader<LineLimit<R>>) -> usize
     csv.get_mut().line_of(end.saturating_sub(1))
 }
 
+/// Whether `c` hides or rearranges what is displayed, so that a name or a
+/// message holding it would not read as it is: control characters (escape
+/// sequences, BEL, CR, newlines), bidirectional marks, embeddings, overrides
+/// and isolates (U+202E turns `cod.exe` into `exe.doc`, U+061C is Arabic's
+/// mark), invisible separators and joiners (U+200B–U+200D, U+2060–U+2064,
+/// U+FEFF, U+180E), and the line and paragraph separators U+2028/U+2029.
+/// The web page refuses such names; the command line prints them escaped.
+pub fn is_hidden_character(c: char) -> bool {
+    c.is_control()
+        || matches!(
+            c,
+            '\u{061c}'
+                | '\u{180e}'
+                | '\u{200b}'..='\u{200f}'
+                | '\u{2028}'..='\u{202e}'
+                | '\u{2060}'..='\u{2069}'
+                | '\u{feff}'
+        )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -29,6 +29,7 @@ mod robot_file;
 mod robot_toml;
 pub mod roles;
 mod study_file;
+mod study_spec;
 mod symoro;
 mod units;
 mod urdf;
@@ -43,7 +44,7 @@ pub use data_rows::MAX_CONFIGURATIONS;
 pub use dh::{DhConvention, TableUnits};
 pub use document::{CouplingDocument, FrameDocument, PriorityDocument, RobotDocument};
 pub use error::Error;
-pub use input::{open_input, read_description};
+pub use input::{is_hidden_character, open_input, read_description};
 pub use interchange::{ImportOptions, RobotFormat, export_robot, import_robot, import_robot_text};
 pub use joint_calibration::apply_joint_calibration;
 pub use output::{OutputPolicy, remove_temporary_files, write_atomically, write_in_folder};
@@ -55,8 +56,12 @@ pub use ready::{ReadyRobot, load_robot, ready_robot, ready_robots};
 pub use robot_file::{AngleUnit, RobotFile, fallback_name};
 pub use robot_toml::{
     format_robot_file, parse_priority_file, parse_robot_document, parse_robot_file,
-    read_priority_file, read_robot_file,
+    read_priority_file, read_robot_file, robot_file_text,
 };
-pub use study_file::{StudyData, StudyFile, read_study_file, read_study_file_for};
+pub use study_file::{StudyText, read_study_file, read_study_file_for};
+pub use study_spec::{
+    FrameSpec, MethodChoice, PriorSpec, SetData, SetSpec, SpecField, StudyData, StudyFile,
+    StudyFiles, StudySpec,
+};
 pub use units::LengthUnit;
 pub use urdf::names::{UrdfDocument, UrdfJointDocument, UrdfJointNames, UrdfNames};

@@ -101,7 +101,7 @@ fn number_length(text: &str) -> usize {
 /// orientations), or a text with its unit (`"20um"`, `"0.02mm"`,
 /// `"0.01deg"`). The command line's `--sigma`, a request's `sigma`, a study
 /// file's `sigma` and Python's `sigma=` read it alike.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, serde::Serialize)]
 #[serde(untagged)]
 pub enum StandardDeviation {
     /// A number in the data's unit.

@@ -298,6 +298,26 @@ fn expected_list(message: &str) -> String {
         })
 }
 
+/// The text of the robot file `path` is to hold, read back first: a robot
+/// that would not load (a length beyond ±1 km left by a runaway
+/// identification, a gain set to 1e300) is refused before anything is
+/// written, so every robot file gecaro writes loads again.
+///
+/// # Errors
+/// [`Error::Format`] naming `path` and the value at fault.
+pub fn robot_file_text(file: &RobotFile, path: &Path) -> Result<String, Error> {
+    let refuse = |message: String| Error::Format {
+        path: path.to_owned(),
+        message: format!("not written: the robot would not load again ({message})"),
+    };
+    file.robot
+        .check_stated()
+        .map_err(|error| refuse(error.to_string()))?;
+    let text = format_robot_file(file);
+    parse_robot_file(&text, path).map_err(|error| refuse(error.to_string()))?;
+    Ok(text)
+}
+
 /// Writes a robot file's text (see the module docs for the format).
 pub fn format_robot_file(file: &RobotFile) -> String {
     let robot = &file.robot;

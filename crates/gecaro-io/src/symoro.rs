@@ -193,8 +193,11 @@ impl Evaluator<'_> {
         allow_variable: bool,
     ) -> Result<f64, Error> {
         let fail = |message: String| Error::parse(self.path, line, Some(field.to_owned()), message);
-        let expression = exmex::parse::<f64>(text)
-            .map_err(|error| fail(format!("`{text}` is not an expression: {error}")))?;
+        let expression = parse_expression(text).map_err(fail)?;
+        let expression = match expression {
+            Parsed::Number(value) => return Ok(value),
+            Parsed::Expression(expression) => expression,
+        };
         let mut unknown = Vec::new();
         let values: Vec<f64> = expression
             .var_names()
@@ -229,6 +232,118 @@ impl Evaluator<'_> {
     }
 }
 
+/// The longest expression a value may be: SYMORO values are short formulas
+/// (`-pi/2`, `RL2 + 0.1`); the parser's time grows faster than the length.
+const MAX_EXPRESSION_BYTES: usize = 4096;
+
+/// A value as written: a plain number, or an expression to evaluate.
+enum Parsed {
+    Number(f64),
+    Expression(Box<exmex::FlatEx<f64>>),
+}
+
+/// `text` read as a number, else parsed as an expression (at most
+/// [`MAX_EXPRESSION_BYTES`]); the error in a sentence.
+fn parse_expression(text: &str) -> Result<Parsed, String> {
+    if let Ok(value) = text.parse::<f64>() {
+        return if value.is_finite() {
+            Ok(Parsed::Number(value))
+        } else {
+            Err(format!("`{text}` is not a finite number"))
+        };
+    }
+    if text.len() > MAX_EXPRESSION_BYTES {
+        return Err(format!(
+            "an expression of {} characters: a SYMORO value is a short formula (at most \
+             {MAX_EXPRESSION_BYTES} characters)",
+            text.len()
+        ));
+    }
+    exmex::parse::<f64>(text)
+        .map(|expression| Parsed::Expression(Box::new(expression)))
+        .map_err(|error| format!("`{text}` is not an expression: {error}"))
+}
+
+/// The symbol definitions in an order where each comes after the symbols it
+/// uses (a depth-first walk with an explicit stack: a chain of 50,000
+/// definitions is fine); a definition that uses itself, through others or
+/// not, is an error at its line.
+fn definition_order<'a>(
+    definitions: &HashMap<&'a str, &'a Statement>,
+    path: &Path,
+) -> Result<Vec<&'a str>, Error> {
+    let mut uses: HashMap<&str, Vec<&'a str>> = HashMap::with_capacity(definitions.len());
+    for (name, statement) in definitions {
+        let used = match parse_expression(&statement.items[0]) {
+            Ok(Parsed::Expression(expression)) => expression
+                .var_names()
+                .iter()
+                .filter_map(|used| {
+                    definitions
+                        .get_key_value(used.as_str())
+                        .map(|(key, _)| *key)
+                })
+                .collect(),
+            Ok(Parsed::Number(_)) => Vec::new(),
+            Err(message) => {
+                return Err(Error::parse(
+                    path,
+                    statement.line,
+                    Some((*name).to_owned()),
+                    message,
+                ));
+            }
+        };
+        uses.insert(name, used);
+    }
+    #[derive(Clone, Copy, PartialEq)]
+    enum Mark {
+        Active,
+        Done,
+    }
+    let mut marks: HashMap<&str, Mark> = HashMap::with_capacity(definitions.len());
+    let mut order = Vec::with_capacity(definitions.len());
+    let mut names: Vec<&'a str> = definitions.keys().copied().collect();
+    names.sort_by_key(|name| definitions[name].line);
+    for root in names {
+        if marks.contains_key(root) {
+            continue;
+        }
+        let mut stack: Vec<(&'a str, usize)> = vec![(root, 0)];
+        marks.insert(root, Mark::Active);
+        while let Some((name, next)) = stack.last_mut() {
+            let used = &uses[*name];
+            if let Some(dependency) = used.get(*next).copied() {
+                *next += 1;
+                match marks.get(dependency) {
+                    Some(Mark::Done) => {}
+                    Some(Mark::Active) => {
+                        let statement = definitions[name];
+                        return Err(Error::parse(
+                            path,
+                            statement.line,
+                            Some((*name).to_owned()),
+                            format!(
+                                "`{name}` is defined through itself (via `{dependency}`): give \
+                                 one of them a value"
+                            ),
+                        ));
+                    }
+                    None => {
+                        marks.insert(dependency, Mark::Active);
+                        stack.push((dependency, 0));
+                    }
+                }
+            } else {
+                marks.insert(name, Mark::Done);
+                order.push(*name);
+                stack.pop();
+            }
+        }
+    }
+    Ok(order)
+}
+
 /// Imports a serial robot from the text of a `.par` file.
 pub(crate) fn import_symoro(text: &str, path: &Path) -> Result<Imported, Error> {
     let (text, robot_name) = strip_comments(text);
@@ -247,12 +362,17 @@ pub(crate) fn import_symoro(text: &str, path: &Path) -> Result<Imported, Error> 
         symbols: HashMap::new(),
         path,
     };
-    // Symbol definitions: scalar statements that are not SYMORO keys.
-    for (name, definition) in &statements {
-        if !KEYWORDS.contains(&name.as_str()) && !definition.is_list {
-            let value = evaluator.value(&definition.items[0], definition.line, name, false)?;
-            evaluator.symbols.insert(name.clone(), value);
-        }
+    // Symbol definitions: scalar statements that are not SYMORO keys, each
+    // evaluated after the symbols it uses.
+    let definitions: HashMap<&str, &Statement> = statements
+        .iter()
+        .filter(|(name, definition)| !KEYWORDS.contains(&name.as_str()) && !definition.is_list)
+        .map(|(name, definition)| (name.as_str(), definition))
+        .collect();
+    for name in definition_order(&definitions, path)? {
+        let definition = definitions[name];
+        let value = evaluator.value(&definition.items[0], definition.line, name, false)?;
+        evaluator.symbols.insert(name.to_owned(), value);
     }
     let integer = |name: &str| -> Result<i64, Error> {
         let found = statement(name)?;

@@ -317,3 +317,49 @@ fn bad_symoro_files_are_clear_errors() {
         - terminal_pose(&ready, &qm).expect("v").translation.vector;
     assert!((difference - Vector3::new(0.0, 0.0, 0.25)).norm() < 1e-12);
 }
+
+/// Hostile SYMORO values (the second hardening round): a value written as a
+/// 60,000-term sum is refused at once (it parsed in quadratic time, ~100 s),
+/// `1e999` is "not a finite number" (the parser's internal message before),
+/// and a chain of 50,000 symbol definitions is resolved in dependency order
+/// (it said `A19384 without a value`); a definition through itself is an
+/// error at its line.
+#[test]
+fn hostile_symoro_values_are_bounded_and_resolved_in_order() {
+    let stanford = std::fs::read_to_string(data("stanford.par")).expect("test file");
+    let long_sum = format!("RL2 = {}\n", vec!["0.00001"; 60_000].join("+"));
+    let message = table_error(&stanford.replace("RL2 = 0.2\n", &long_sum), "s.par", None);
+    assert!(
+        message.contains("a SYMORO value is a short formula"),
+        "{message}"
+    );
+    let message = table_error(
+        &stanford.replace("RL2 = 0.2\n", "RL2 = 1e999\n"),
+        "s.par",
+        None,
+    );
+    assert!(
+        message.contains("`1e999` is not a finite number"),
+        "{message}"
+    );
+    // RL2 = A49999 + 0.1, A_k = A_(k-1) + 0.000002, A0 = 0.000002: RL2 = 0.2. The
+    // definitions come in reverse, each before the one it uses.
+    let mut chain = String::from("RL2 = A49999 + 0.1\n");
+    for k in (1..50_000).rev() {
+        chain += &format!("A{k} = A{} + 0.000002\n", k - 1);
+    }
+    chain += "A0 = 0.000002\n";
+    let chained = stanford.replace("RL2 = 0.2\n", &chain);
+    let robot = import_robot_text(&chained, Path::new("s.par"), &ImportOptions::default())
+        .expect("a chain of definitions")
+        .file
+        .robot;
+    let ready = load_robot("stanford").expect("ready").robot;
+    let qm = [0.3, -0.5, 0.6, 0.2, 1.0, -0.4];
+    let difference = terminal_pose(&robot, &qm).expect("v").translation.vector
+        - terminal_pose(&ready, &qm).expect("v").translation.vector;
+    assert!(difference.norm() < 1e-9, "{difference}");
+    let cycle = stanford.replace("RL2 = 0.2\n", "RL2 = B + 0.1\nB = RL2 - 0.1\n");
+    let message = table_error(&cycle, "s.par", None);
+    assert!(message.contains("is defined through itself"), "{message}");
+}

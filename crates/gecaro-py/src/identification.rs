@@ -256,11 +256,13 @@ impl PyIdentification {
     }
 
     /// Whether the result can be trusted: a dict with outcome ("fits_noise",
-    /// "untested", "exceeds_noise", "degenerate", "not_converged",
-    /// "diverged"), trusted, summary, noise_test (chi_square,
-    /// degrees_of_freedom, critical, level, sigma_ratio, passed; None without
-    /// a stated sigma), residual_length (m), residual_angle (rad),
-    /// configurations and distinct_configurations (as `--json`).
+    /// "untested", "exceeds_noise", "below_noise", "incomplete",
+    /// "implausible", "underdetermined", "repeated", "degenerate",
+    /// "not_converged", "diverged"), trusted, summary, noise_test
+    /// (chi_square, degrees_of_freedom, critical, level, sigma_ratio, passed;
+    /// None without a stated sigma), residual_length (m), residual_angle
+    /// (rad), configurations, distinct_configurations and copies (as
+    /// `--json`).
     #[getter]
     fn verdict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         to_python(py, &VerdictJson::from(&self.identified.result.verdict))

@@ -355,13 +355,9 @@ impl PyRobot {
     /// unless `overwrite`.
     #[pyo3(signature = (path, *, overwrite = false))]
     fn save(&self, path: PathBuf, overwrite: bool) -> PyResult<()> {
+        let text = gecaro_io::robot_file_text(&self.file, &path).py()?;
         LocalFiles
-            .write(
-                &path_text(&path),
-                "toml",
-                format_robot_file(&self.file).as_bytes(),
-                overwrite,
-            )
+            .write(&path_text(&path), "toml", text.as_bytes(), overwrite)
             .map(|_| ())
             .py()
     }
@@ -444,6 +440,7 @@ impl PyRobot {
             let id = robot.parameters().id(index);
             robot.set_parameter(id, *value).py()?;
         }
+        robot.check_stated().py()?;
         self.replace(robot);
         Ok(())
     }
@@ -459,6 +456,9 @@ impl PyRobot {
         let id = self.parameter_id(name)?;
         let mut robot = self.robot().clone();
         robot.set_parameter(id, value).py()?;
+        // The rules a robot file is loaded by: a robot that could not be
+        // saved and read back is refused here, not when it is saved.
+        robot.check_stated().py()?;
         self.replace(robot);
         Ok(())
     }

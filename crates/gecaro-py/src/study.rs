@@ -2,10 +2,13 @@
 //! method, data and sensor σ (rows weighted by 1/σ), as a study file holds them.
 
 use gecaro_app::documents::FrameJson;
-use gecaro_calib::frames::{FrameRole, NamedFrame};
-use gecaro_calib::study::{MeasurementSet, Study};
+use gecaro_calib::frames::FrameRole;
+use gecaro_calib::study::Study;
 use gecaro_core::PriorityMatrix;
-use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Vector3};
+use gecaro_io::{
+    FrameSpec, MethodChoice, SetData, SetSpec, SpecField, StandardDeviation, StudyData, StudyFiles,
+    StudySpec,
+};
 use numpy::PyArrayDyn;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -23,6 +26,10 @@ use crate::sigma::Sigma;
 /// Measurement sets calibrated together (see the module docs).
 #[pyclass(name = "Study", module = "gecaro")]
 pub(crate) struct PyStudy {
+    /// The study as stated: what `add`, `add_tool` and `add_station` fill,
+    /// built by the rules of every front end ([`StudySpec`]).
+    spec: StudySpec,
+    /// The study built from `spec`.
     pub(crate) study: Study,
     /// The robot of the study file, when read from one.
     robot: Option<Py<PyRobot>>,
@@ -35,22 +42,65 @@ pub(crate) struct PyStudy {
     pub(crate) label: Option<String>,
 }
 
+/// A study's sets given as arrays: no file to read; a field at fault is
+/// named by its argument.
+struct InMemory;
+
+/// A problem of a study filled from Python.
+struct Problem(String);
+
+impl From<gecaro_io::Error> for Problem {
+    fn from(error: gecaro_io::Error) -> Self {
+        Problem(error.to_string())
+    }
+}
+
+impl StudyFiles for InMemory {
+    type Error = Problem;
+
+    fn robot(&self, name: &str) -> Result<gecaro_io::RobotFile, Problem> {
+        Err(Problem(format!(
+            "a Study built in Python takes no robot file ({name})"
+        )))
+    }
+
+    fn priority(&self, name: &str, _: &gecaro_core::Robot) -> Result<PriorityMatrix, Problem> {
+        Err(Problem(format!(
+            "a Study built in Python takes no priority file ({name})"
+        )))
+    }
+
+    fn samples(
+        &self,
+        name: &str,
+        _: &[gecaro_core::FrameType],
+        _: &[gecaro_calib::study::DataColumn],
+        _: &gecaro_io::DataFormat,
+    ) -> Result<(gecaro_io::DataFile, String), Problem> {
+        Err(Problem(format!(
+            "a Study built in Python takes Data, not files ({name})"
+        )))
+    }
+
+    fn misplaced(&self, field: &SpecField, message: String) -> Problem {
+        Problem(match field {
+            SpecField::Set(_, key) | SpecField::Frame(_, _, key) | SpecField::Top(key) => {
+                format!("{key}: {message}")
+            }
+        })
+    }
+}
+
 impl PyStudy {
-    /// The index of the named frame `name` of `role`, or `None`.
-    fn frame_index(&self, name: Option<&str>, role: FrameRole) -> PyResult<Option<usize>> {
-        let Some(name) = name else { return Ok(None) };
-        self.study
-            .frames
-            .iter()
-            .position(|frame| frame.name == name && frame.role == role)
-            .map(Some)
-            .ok_or_else(|| {
-                PyValueError::new_err(format!(
-                    "no {} named {name:?}: add it with add_{}",
-                    role.as_str(),
-                    role.as_str()
-                ))
-            })
+    /// Takes `spec` when its study can be built (every named frame need not
+    /// be measured yet: `identify` checks that).
+    fn restate(&mut self, spec: StudySpec) -> PyResult<()> {
+        let (study, _) = spec
+            .build_study(&InMemory, None, StudyData::Measured, false)
+            .map_err(|Problem(message)| crate::errors::input(message))?;
+        self.spec = spec;
+        self.study = study;
+        Ok(())
     }
 
     fn add_frame(
@@ -61,44 +111,26 @@ impl PyStudy {
         rpy: Option<[f64; 3]>,
         quaternion: Option<[f64; 4]>,
     ) -> PyResult<()> {
-        if self.study.frames.iter().any(|frame| frame.name == name) {
-            return Err(PyValueError::new_err(format!(
+        if self.spec.tools.contains_key(&name) || self.spec.stations.contains_key(&name) {
+            return Err(crate::errors::input(format!(
                 "a tool or station is already named {name:?}"
             )));
         }
-        if !position.iter().all(|v| v.is_finite()) {
-            return Err(PyValueError::new_err(format!(
-                "position of {name:?} must be finite, not {position:?}"
-            )));
-        }
-        let rotation = match (rpy, quaternion) {
-            (Some(_), Some(_)) => {
-                return Err(PyValueError::new_err(
-                    "give the orientation as rpy or as a quaternion, not both",
-                ));
-            }
-            (Some([roll, pitch, yaw]), None) => {
-                if ![roll, pitch, yaw].iter().all(|v| v.is_finite()) {
-                    return Err(PyValueError::new_err(format!(
-                        "rpy of {name:?} must be finite"
-                    )));
-                }
-                Rotation3::from_euler_angles(roll, pitch, yaw)
-            }
-            (None, Some([w, x, y, z])) => gecaro_io::unit_quaternion(w, x, y, z)
-                .map_err(PyValueError::new_err)?
-                .to_rotation_matrix(),
-            (None, None) => Rotation3::identity(),
+        let mut spec = self.spec.clone();
+        let frames = match role {
+            FrameRole::Tool => &mut spec.tools,
+            FrameRole::Station => &mut spec.stations,
         };
-        self.study.frames.push(NamedFrame {
+        frames.insert(
             name,
-            role,
-            pose: IsometryMatrix3::from_parts(
-                Translation3::from(Vector3::from(position)),
-                rotation,
-            ),
-        });
-        Ok(())
+            FrameSpec {
+                position: position.to_vec(),
+                rpy: rpy.map(|rpy| rpy.to_vec()),
+                quaternion: quaternion.map(|quaternion| quaternion.to_vec()),
+                ..FrameSpec::default()
+            },
+        );
+        self.restate(spec)
     }
 }
 
@@ -108,6 +140,7 @@ impl PyStudy {
     #[new]
     fn new() -> Self {
         PyStudy {
+            spec: StudySpec::default(),
             study: Study::default(),
             robot: None,
             priority: None,
@@ -138,43 +171,21 @@ impl PyStudy {
         station: Option<String>,
     ) -> PyResult<()> {
         let method = method_of(method)?;
-        let tool = self.frame_index(tool.as_deref(), FrameRole::Tool)?;
-        let station = self.frame_index(station.as_deref(), FrameRole::Station)?;
-        if (tool.is_some() || station.is_some())
-            && !method
-                .get()
-                .method
-                .data_columns()
-                .contains(&gecaro_calib::study::DataColumn::Position)
-        {
-            return Err(PyValueError::new_err(format!(
-                "the {} method measures no pose in a measurement frame; tools and stations go \
-                 with position and frame measures",
-                method.get().method.name()
-            )));
-        }
-        // The rule of every front end (a Data holds metres and radians).
-        let value = |name: &str, sigma: Option<Sigma>, rotation: bool| {
-            sigma
-                .map(|sigma| {
-                    gecaro_io::StandardDeviation::from(sigma)
-                        .value(rotation, gecaro_io::DataUnits::default())
-                        .map_err(|message| crate::errors::input(format!("{name}: {message}")))
-                })
-                .transpose()
-        };
-        let sigma = value("sigma", sigma, false)?;
-        let sigma_rotation = value("sigma_rotation", sigma_rotation, true)?;
-        self.study.sets.push(MeasurementSet {
-            method: method.get().method.clone_method(),
-            samples: data.samples.clone(),
-            sigma,
-            sigma_rotation,
-            label: label.unwrap_or_else(|| data.label.clone()),
+        let mut spec = self.spec.clone();
+        spec.measurements.push(SetSpec {
+            method: MethodChoice::Built(method.get().method.clone_method()),
+            data: SetData::Samples {
+                samples: data.samples.clone(),
+                label: data.label.clone(),
+            },
+            sigma: sigma.map(StandardDeviation::from),
+            sigma_rotation: sigma_rotation.map(StandardDeviation::from),
+            label,
             tool,
             station,
+            ..SetSpec::default()
         });
-        Ok(())
+        self.restate(spec)
     }
 
     /// Names a tool (a reflector): its pose in the robot's tool frame n+1 (a
@@ -217,8 +228,34 @@ impl PyStudy {
     /// `[[measurements]]` with method, data file, σ, units), as `--study`.
     #[staticmethod]
     fn read(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
+        let text = gecaro_io::read_description(&path).py()?;
+        let mut spec = gecaro_io::StudyText::parse(text, &path).py()?.spec;
         let file = gecaro_io::read_study_file(&path).py()?;
+        // The sets' data are read: later sets added in Python need no files.
+        for (entry, set) in spec.measurements.iter_mut().zip(&file.study.sets) {
+            entry.data = SetData::Samples {
+                samples: set.samples.clone(),
+                label: set.label.clone(),
+            };
+            entry.sigma = set.sigma.map(StandardDeviation::Number);
+            entry.sigma_rotation = set.sigma_rotation.map(StandardDeviation::Number);
+            entry.length_unit = None;
+            entry.angle_unit = None;
+            entry.label = Some(set.label.clone());
+        }
+        // The frames keep the units they were stated in.
+        let length_unit = spec.length_unit.take();
+        let angle_unit = spec.angle_unit.take();
+        for frame in spec.tools.values_mut().chain(spec.stations.values_mut()) {
+            if frame.length_unit.is_none() {
+                frame.length_unit.clone_from(&length_unit);
+            }
+            if frame.angle_unit.is_none() {
+                frame.angle_unit.clone_from(&angle_unit);
+            }
+        }
         Ok(PyStudy {
+            spec,
             study: file.study,
             robot: Some(Py::new(py, PyRobot::new(file.robot))?),
             priority: file.priority,

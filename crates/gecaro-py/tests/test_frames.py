@@ -83,9 +83,11 @@ def test_named_frames_are_checked_where_they_are_named(repository):
     # The rules of every study (calib's), as for a study file: a station
     # beyond a robot file's 1 km, a frame that no set measures.
     study.add("position", data, sigma="20um", tool="smr")
-    study.add_station("far", [2000.0, 0.0, 0.0])
     with pytest.raises(gecaro.InputError, match="at most 1000 m"):
-        gecaro.identify(robot, study)
+        study.add_station("far", [2000.0, 0.0, 0.0])
+    with pytest.raises(gecaro.InputError, match="sigma: must be a positive standard deviation"):
+        study.add("position", data, sigma=-1.0, tool="smr")
+    assert len(study) == 1
     unmeasured = gecaro.Study()
     unmeasured.add_tool("smr", [0.0, 0.0, 0.1])
     unmeasured.add_tool("spare", [0.0, 0.05, 0.1])

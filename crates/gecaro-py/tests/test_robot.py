@@ -73,6 +73,12 @@ def test_parameters_by_name_and_as_an_array():
         robot["gamma9"]
     with pytest.raises(gecaro.InputError, match=r"expected an array of shape \(43,\)"):
         changed.parameters = np.zeros(3)
+    # A robot that could not be saved and loaded again is refused when set.
+    with pytest.raises(gecaro.InputError, match="beyond ±1000"):
+        changed["d3"] = 1e300
+    with pytest.raises(gecaro.InputError, match="not a transmission gain"):
+        changed["K1"] = 1e-300
+    assert changed["d3"] == robot["d3"], "a refused value leaves the robot as it was"
 
 
 def test_priority_is_settable_and_checked(tmp_path):

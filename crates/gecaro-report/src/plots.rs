@@ -198,11 +198,17 @@ pub fn identification_svgs(
         millimetres(&result.errors_after),
     );
     let outliers = result.outlier_observations();
+    let mut is_outlier = vec![false; after.len()];
+    for index in &outliers {
+        if let Some(flag) = is_outlier.get_mut(*index) {
+            *flag = true;
+        }
+    }
     let inliers: Vec<f64> = after
         .iter()
-        .enumerate()
-        .filter(|(index, _)| !outliers.contains(index))
-        .map(|(_, error)| *error)
+        .zip(&is_outlier)
+        .filter(|(_, outlier)| !**outlier)
+        .map(|(error, _)| *error)
         .collect();
     let stated = study.sets.iter().all(|set| set.sigma.is_some());
     let convergence = if stated {
@@ -260,8 +266,16 @@ where
         .map_err(plot_error)
 }
 
+/// The most points a per-configuration plot draws per series: beyond, the
+/// configurations are taken in consecutive groups and each group's largest
+/// error is drawn (200,000 dots are unreadable, and made a 37 MB SVG).
+pub(crate) const MAX_PLOTTED_POINTS: usize = 2000;
+
 /// The error of every configuration before and after (log scale); the
 /// observations listed in `outliers` (indices into `after`) are ringed.
+/// Past [`MAX_PLOTTED_POINTS`] configurations, each dot is the largest error
+/// of a group of consecutive configurations (the caption says how many), and
+/// a group holding an outlier is ringed.
 ///
 /// # Errors
 /// [`Error::Plot`] if drawing fails.
@@ -275,9 +289,41 @@ pub fn errors_per_configuration_svg(
     let largest = all.clone().fold(f64::MIN_POSITIVE, f64::max) * 2.0;
     let smallest = all.fold(f64::INFINITY, f64::min).min(largest / 10.0) / 2.0;
     let count = before.len().max(after.len()).max(1);
+    let group = count.div_ceil(MAX_PLOTTED_POINTS);
+    // (first configuration of the group, its largest positive error).
+    let grouped = |values: &[f64]| -> Vec<(usize, f64)> {
+        values
+            .chunks(group)
+            .enumerate()
+            .filter_map(|(k, chunk)| {
+                let most = chunk
+                    .iter()
+                    .copied()
+                    .filter(|v| *v > 0.0)
+                    .fold(0.0, f64::max);
+                (most > 0.0).then_some((k * group, most))
+            })
+            .collect()
+    };
+    let mut ringed: Vec<usize> = outliers.iter().map(|i| i / group).collect();
+    ringed.sort_unstable();
+    ringed.dedup();
+    let ringed: Vec<(usize, f64)> = ringed
+        .into_iter()
+        .filter_map(|k| {
+            let chunk = after.get(k * group..((k + 1) * group).min(after.len()))?;
+            let most = chunk.iter().copied().fold(0.0, f64::max);
+            (most > 0.0).then_some((k * group, most))
+        })
+        .collect();
+    let caption = if group == 1 {
+        "Error of every configuration".to_owned()
+    } else {
+        format!("Largest error of every {group} configurations ({count} in all)")
+    };
     svg(WIDTH, HEIGHT, |root| {
         let mut chart = ChartBuilder::on(&root)
-            .caption("Error of every configuration", (FONT, 18))
+            .caption(caption, (FONT, 18))
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(70)
@@ -294,26 +340,18 @@ pub fn errors_per_configuration_svg(
         for (values, color, label) in [(before, BEFORE, "before"), (after, AFTER, "after")] {
             chart
                 .draw_series(
-                    values
-                        .iter()
-                        .enumerate()
-                        .filter(|(_, v)| **v > 0.0)
-                        .map(|(i, v)| Circle::new((i, *v), 3, color.filled())),
+                    grouped(values)
+                        .into_iter()
+                        .map(|point| Circle::new(point, 3, color.filled())),
                 )
                 .map_err(plot_error)?
                 .label(label)
                 .legend(move |(x, y)| Circle::new((x, y), 4, color.filled()));
         }
-        if !outliers.is_empty() {
+        if !ringed.is_empty() {
             let ring = BLACK.stroke_width(2);
             chart
-                .draw_series(
-                    outliers
-                        .iter()
-                        .filter_map(|i| after.get(*i).map(|v| (*i, *v)))
-                        .filter(|(_, v)| *v > 0.0)
-                        .map(move |point| Circle::new(point, 7, ring)),
-                )
+                .draw_series(ringed.iter().map(move |point| Circle::new(*point, 7, ring)))
                 .map_err(plot_error)?
                 .label("outlier")
                 .legend(move |(x, y)| Circle::new((x, y), 6, ring));
@@ -448,6 +486,20 @@ pub fn accuracy_curve_svg(curve: &[CurvePoint]) -> Result<String, Error> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_per_configuration_plot_of_many_configurations_stays_small() {
+        let before: Vec<f64> = (0..200_000).map(|i| 1.0 + f64::from(i % 97)).collect();
+        let after: Vec<f64> = (0..200_000)
+            .map(|i| 0.01 + f64::from(i % 89) * 1e-4)
+            .collect();
+        let outliers: Vec<usize> = (0..200_000).step_by(1000).collect();
+        let svg = errors_per_configuration_svg(&before, &after, &outliers, "mm").expect("svg");
+        assert!(svg.len() < 1_500_000, "{} bytes", svg.len());
+        assert!(svg.contains("Largest error of every 100 configurations (200000 in all)"));
+        // Each series draws at most MAX_PLOTTED_POINTS dots.
+        assert!(svg.matches("<circle").count() <= 3 * MAX_PLOTTED_POINTS + 10);
+    }
 
     #[test]
     fn plots_are_svg_with_text() {

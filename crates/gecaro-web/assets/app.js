@@ -938,7 +938,7 @@ function saveAsDialog(documentToSave, suggested, after) {
       }
       const beside = saved.joint_calibration ? ` and ${saved.joint_calibration} (gains and couplings)` : '';
       toast(`Saved ${saved.name}${beside}`);
-      if (after) after(saved.name);
+      if (after) after(saved.name, saved.version);
       refreshFiles();
     },
   });
@@ -946,11 +946,12 @@ function saveAsDialog(documentToSave, suggested, after) {
 
 function saveRobotAs() {
   const suggested = state.file || `${slug(document_().name || 'robot')}.toml`;
-  saveAsDialog(document_(), suggested, (name) => {
+  saveAsDialog(document_(), suggested, (name, version) => {
     // A URDF is an export: the table stays tied to its robot file, if any.
     if (!name.toLowerCase().endsWith('.urdf')) {
       state.file = name;
       state.dirty = false;
+      if (version) state.robot.version = version;
     }
     renderRobot();
   });
@@ -961,8 +962,23 @@ async function saveRobot() {
     saveRobotAs();
     return;
   }
+  const save = (expected) => api('/robots/save', {
+    robot: document_(), name: state.file, overwrite: true, expected_version: expected,
+  });
   try {
-    await api('/robots/save', { robot: document_(), name: state.file, overwrite: true });
+    let saved;
+    try {
+      saved = await save(state.robot.version);
+    } catch (error) {
+      // Saved from elsewhere since it was opened: the user chooses.
+      if (error.status !== 409) throw error;
+      if (!window.confirm(`${error.message}\n\nReplace that change with this table?`)) {
+        toast(`Not saved: ${state.file} changed since it was opened; reopen it to see the change`);
+        return;
+      }
+      saved = await save(undefined);
+    }
+    state.robot.version = saved.version;
     state.dirty = false;
     renderRobot();
     toast(`Saved ${state.file}`);
@@ -1553,7 +1569,7 @@ function renderIdentification(container, name, job, result) {
   const outcomes = {
     fits_noise: 'Fits the noise', untested: 'Converged (σ not stated)', incomplete: 'Incomplete (not all measured)',
     below_noise: 'Far below the stated noise', exceeds_noise: 'Exceeds the noise', implausible: 'Implausible values',
-    underdetermined: 'Data do not determine it', degenerate: 'Degenerate data', not_converged: 'Not converged', diverged: 'Diverged',
+    underdetermined: 'Data do not determine it', repeated: 'Repeated data', degenerate: 'Degenerate data', not_converged: 'Not converged', diverged: 'Diverged',
   };
   const headline = h('p', { class: `verdict ${verdict.trusted ? 'ok' : 'bad'}`, id: `${name}-identify-verdict` },
     h('strong', { text: 'Verdict: ' }), document.createTextNode(`${verdict.summary}.`));

@@ -63,10 +63,6 @@ impl Files for Workspace {
         Workspace::remove(self, name, &["yaml", "toml", "urdf", "csv", "svg"]);
     }
 
-    fn local_path(&self, _: &str) -> Option<PathBuf> {
-        None
-    }
-
     fn max_samples(&self) -> usize {
         MAX_SAMPLES
     }

@@ -26,6 +26,11 @@ pub const REQUEST_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(
 /// longest an idle (keep-alive) connection stays open: a browser reconnects
 /// at once; a client that holds sockets without sending is let go.
 pub const HEADER_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(5);
+/// The longest a request's body may take to arrive after its headers: 5 s,
+/// and one more per MB it declares (a local upload runs at hundreds of
+/// MB/s). A client that sends part of a body and stops is answered 408 and
+/// its connection freed, rather than holding a slot for the request timeout.
+pub const BODY_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(5);
 /// Most connections open at once, whatever the descriptor limit allows.
 pub const MAX_CONNECTIONS: usize = 512;
 /// Descriptors kept free of connections: for files, jobs and the listener.

@@ -42,6 +42,9 @@ pub struct Workspace {
     root: PathBuf,
     folder: Dir,
     writing: Mutex<()>,
+    /// Held across the writes of a pair of files (a URDF and its joint
+    /// calibration): both from one save, or neither.
+    pairs: Mutex<()>,
 }
 
 /// The robot and data files of the folder, as names relative to it.
@@ -57,13 +60,6 @@ pub struct Listing {
     pub imports: Vec<String>,
     /// Whether the listing stopped at its limit.
     pub truncated: bool,
-}
-
-/// Whether `c` must not appear in a name: controls (newline, tab, ESC, …)
-/// and the bidirectional marks and overrides that reorder displayed text.
-fn is_forbidden_character(c: char) -> bool {
-    c.is_control()
-        || matches!(c, '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
 }
 
 impl Workspace {
@@ -84,6 +80,7 @@ impl Workspace {
             root,
             folder: handle,
             writing: Mutex::new(()),
+            pairs: Mutex::new(()),
         })
     }
 
@@ -125,10 +122,21 @@ impl Workspace {
         if name.contains('\\') || name.contains(':') {
             return refuse("use / between folders; no \\ or : characters");
         }
-        if name.chars().any(is_forbidden_character) {
+        if name.chars().any(gecaro_io::is_hidden_character) {
             return refuse(
                 "control characters (newline, tab, escape) and text-direction marks are not allowed in names",
             );
+        }
+        // The name as written: `Path::components` would skip a `.` inside
+        // (`a/./b.toml`) and a trailing `/` (`x.toml/`), and the name saved
+        // would not be the name given.
+        for part in name.split('/') {
+            if part.is_empty() {
+                return refuse("no empty folder names (`//`, a leading or trailing `/`)");
+            }
+            if part == "." {
+                return refuse("no `.` components");
+            }
         }
         let path = PathBuf::from(name);
         for component in path.components() {
@@ -295,6 +303,17 @@ impl Workspace {
         Ok(())
     }
 
+    /// Runs `write` (the writes of a pair of files) while no other pair is
+    /// written: two saves of one URDF never leave the URDF of one and the
+    /// joint calibration of the other.
+    pub fn writing_pair<T>(&self, write: impl FnOnce() -> T) -> T {
+        let _guard = self
+            .pairs
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        write()
+    }
+
     /// Writes `bytes` to the file `name` (extension `extension`) atomically;
     /// an existing file is replaced only when `overwrite` is set. Returns
     /// where it is, for display.
@@ -352,7 +371,10 @@ fn walk(folder: &Dir, prefix: &str, depth: usize, listing: &mut Listing) {
         let Ok(kind) = entry.file_type() else {
             continue;
         };
-        if name.starts_with('.') || kind.is_symlink() || name.chars().any(is_forbidden_character) {
+        if name.starts_with('.')
+            || kind.is_symlink()
+            || name.chars().any(gecaro_io::is_hidden_character)
+        {
             continue;
         }
         let relative = format!("{prefix}{name}");
@@ -502,6 +524,14 @@ mod tests {
             "esc\u{1b}[31m.toml",
             "evil\u{202e}lmot.toml",
             "nul\0.toml",
+            "arabic\u{061c}mark.toml",
+            "line\u{2028}sep.toml",
+            "para\u{2029}sep.toml",
+            "zero\u{200b}width.toml",
+            "bom\u{feff}.toml",
+            "x.toml/",
+            "a/./b.toml",
+            "a//b.toml",
             long.as_str(),
         ] {
             assert!(

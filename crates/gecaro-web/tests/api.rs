@@ -6,6 +6,7 @@ use std::time::Duration;
 use axum::Router;
 use axum::body::Body;
 use axum::http::{Request, StatusCode, header};
+use futures_util::StreamExt;
 use gecaro_web::{AppState, POST_ROUTES, Workspace, router};
 use http_body_util::BodyExt;
 use serde_json::{Value, json};
@@ -1041,6 +1042,15 @@ async fn requests_for_other_hosts_and_cross_site_writes_are_refused() {
         api.send(new("https://attacker.example")).await.0,
         StatusCode::FORBIDDEN
     );
+    // Nor a second Origin header behind an allowed one.
+    let doubled = Request::post("/api/robots/new")
+        .header(header::HOST, "127.0.0.1:8080")
+        .header(header::ORIGIN, "http://127.0.0.1:8080")
+        .header(header::ORIGIN, "https://attacker.example")
+        .header(header::CONTENT_TYPE, "application/json")
+        .body(Body::from(r#"{"joints": "RR"}"#))
+        .expect("request");
+    assert_eq!(api.send(doubled).await.0, StatusCode::BAD_REQUEST);
 }
 
 #[tokio::test]
@@ -1368,4 +1378,233 @@ async fn generation_and_plans_stay_in_the_cell() {
         )
         .await;
     assert_eq!(status, StatusCode::BAD_REQUEST, "{body}");
+}
+
+/// The tracker cell of docs/tracker.md as a study file in the served folder
+/// and as the same study stated in the request's JSON: one construction
+/// path, one result; a field at fault is named by its path, and a study's
+/// files stay inside the folder.
+#[tokio::test]
+async fn a_study_runs_from_its_file_or_its_json_alike() {
+    let api = Api::new();
+    let cell = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/tracker-cell");
+    for entry in std::fs::read_dir(&cell).expect("cell") {
+        let path = entry.expect("entry").path();
+        std::fs::copy(
+            &path,
+            api.folder.path().join(path.file_name().expect("name")),
+        )
+        .expect("copy");
+    }
+    let text = std::fs::read_to_string(cell.join("study.toml")).expect("study");
+    let stated: Value = toml::from_str::<toml::Value>(&text)
+        .map(|value| serde_json::to_value(value).expect("json"))
+        .expect("toml");
+    let mut results = Vec::new();
+    for study in [json!("study.toml"), stated.clone()] {
+        let (status, submitted) = api.post("/api/identify", &json!({ "study": study })).await;
+        assert_eq!(status, StatusCode::ACCEPTED, "{submitted}");
+        let view = api.finished(submitted["job"].as_u64().expect("job")).await;
+        assert_eq!(view["state"], "done", "{view}");
+        let identification = view["result"]["identification"].clone();
+        assert_eq!(identification["converged"], true, "{identification}");
+        results.push(identification);
+    }
+    assert_eq!(results[0]["frames"], results[1]["frames"]);
+    assert_eq!(results[0]["rms_after"], results[1]["rms_after"]);
+    let station = &results[0]["frames"]
+        .as_array()
+        .expect("frames")
+        .iter()
+        .find(|frame| frame["name"] == "tracker_2")
+        .expect("tracker_2")["position"];
+    // The simulated tracker 2 stands at (−1200, 1750, −200) mm; the study
+    // states (−1150, 1700, −250).
+    let truth = [-1.2, 1.75, -0.2];
+    for (found, truth) in station.as_array().expect("position").iter().zip(truth) {
+        assert!(
+            (found.as_f64().expect("m") - truth).abs() < 1e-3,
+            "{station}"
+        );
+    }
+    let mut bad = stated.clone();
+    bad["measurements"][2]["sigma"] = json!(-1);
+    let (status, body) = api.post("/api/identify", &json!({ "study": bad })).await;
+    assert!(status.is_client_error(), "{body}");
+    assert!(
+        error_text(&body)
+            .contains("study.measurements[2].sigma: must be a positive standard deviation"),
+        "{body}"
+    );
+    let mut outside = stated;
+    outside["measurements"][0]["data"] = json!("../smr_a_1.csv");
+    let (status, body) = api
+        .post("/api/identify", &json!({ "study": outside }))
+        .await;
+    assert!(status.is_client_error(), "{body}");
+    std::fs::write(
+        api.folder.path().join("bad.toml"),
+        text.replace("sigma = 0.02\n[[", "sigma = -0.02\n[["),
+    )
+    .expect("bad study");
+    let (status, body) = api
+        .post("/api/identify", &json!({ "study": "bad.toml" }))
+        .await;
+    assert!(status.is_client_error(), "{body}");
+    let line = text
+        .lines()
+        .position(|line| line == "sigma = 0.02")
+        .expect("a sigma")
+        + 1;
+    assert!(
+        error_text(&body).contains(&format!("bad.toml:{line}: sigma: must be a positive")),
+        "{body}"
+    );
+}
+
+/// Eight clients saving one URDF at once, each robot needing its joint
+/// calibration beside it: the URDF and the yaml left are always one
+/// client's (they were written under separate locks: 5–8 of 20 trials
+/// mixed them).
+#[tokio::test]
+async fn parallel_saves_of_a_urdf_and_its_calibration_stay_a_pair() {
+    let api = Api::new();
+    let stanford = api.document("stanford").await;
+    let robots: Vec<Value> = (0..8)
+        .map(|k| {
+            let mut robot = stanford.clone();
+            // A gain the URDF cannot carry (the yaml does), and a tool the
+            // URDF does: both say which client wrote them.
+            robot["frame"][1]["K"] = json!(1.01 + 0.01 * f64::from(k));
+            robot["frame"][7]["r"] = json!(0.1 + 0.01 * f64::from(k));
+            robot
+        })
+        .collect();
+    for trial in 0..5 {
+        let mut saves = Vec::new();
+        for robot in &robots {
+            let app = api.app.clone();
+            let body = json!({ "robot": robot, "name": "pair.urdf", "overwrite": true });
+            saves.push(tokio::spawn(async move {
+                let request = Request::post("/api/robots/save")
+                    .header(header::CONTENT_TYPE, "application/json")
+                    .body(Body::from(body.to_string()))
+                    .expect("request");
+                app.oneshot(request).await.expect("infallible").status()
+            }));
+        }
+        for save in saves {
+            assert_eq!(save.await.expect("task"), StatusCode::OK);
+        }
+        let mut imported = gecaro_io::import_robot(
+            &api.folder.path().join("pair.urdf"),
+            &gecaro_io::ImportOptions::default(),
+        )
+        .expect("the pair imports");
+        let yaml = api.folder.path().join("pair.joint_calibration.yaml");
+        let text = std::fs::read_to_string(&yaml).expect("a joint calibration");
+        gecaro_io::apply_joint_calibration(&mut imported.file, &text, &yaml).expect("applies");
+        let robot = &imported.file.robot;
+        // The yaml's map q = M·qm (imported as a coupling): M₁₁ is K1.
+        let m11 = robot
+            .joint_positions(&[1.0, 0.0, 0.0, 0.0, 0.0, 0.0])
+            .expect("q")[0];
+        let by_gain = ((m11 - 1.01) / 0.01).round();
+        let qm = [0.3, -0.5, 0.6, 0.2, 1.0, -0.4];
+        let reach = |robot: &gecaro_core::Robot| {
+            gecaro_core::terminal_pose(robot, &qm)
+                .expect("pose")
+                .translation
+                .vector
+        };
+        let by_tool = robots
+            .iter()
+            .position(|document| {
+                let file: gecaro_io::RobotDocument =
+                    serde_json::from_value(document.clone()).expect("document");
+                let candidate = file.to_robot_file("k").expect("robot").robot;
+                // Same joint values: the gain is undone through qm/K.
+                let mut same_gain = candidate.clone();
+                let parameters = same_gain.parameters();
+                let id = parameters.id(parameters.index_of_name("K1").expect("K1"));
+                same_gain.set_parameter(id, m11).expect("gain");
+                (reach(&same_gain) - reach(robot)).norm() < 1e-6
+            })
+            .expect("the URDF is one client's");
+        assert_eq!(
+            by_gain as usize, by_tool,
+            "trial {trial}: URDF and yaml of two clients"
+        );
+    }
+}
+
+/// Two people editing one file: the second save of the one who opened it
+/// first is refused (409) with the choice, not silently lost; the version a
+/// save answers lets the next save through.
+#[tokio::test]
+async fn a_file_changed_since_it_was_opened_is_not_overwritten_silently() {
+    let api = Api::new();
+    let stanford = api.document("stanford").await;
+    let save = |robot: &Value, expected: Option<&str>| json!({ "robot": robot, "name": "arm.toml", "overwrite": true, "expected_version": expected });
+    let (status, _) = api.post("/api/robots/save", &save(&stanford, None)).await;
+    assert_eq!(status, StatusCode::OK);
+    // Alice and Bob open it.
+    let (status, alice) = api.get("/api/robots/file?name=arm.toml").await;
+    assert_eq!(status, StatusCode::OK, "{alice}");
+    let (_, bob) = api.get("/api/robots/file?name=arm.toml").await;
+    let opened = alice["version"].as_str().expect("a version").to_owned();
+    assert_eq!(bob["version"], alice["version"]);
+    // Bob saves his edit.
+    let mut edited = bob["document"].clone();
+    edited["frame"][3]["d"] = json!(0.05);
+    let (status, saved) = api
+        .post("/api/robots/save", &save(&edited, Some(&opened)))
+        .await;
+    assert_eq!(status, StatusCode::OK, "{saved}");
+    assert_ne!(saved["version"].as_str(), Some(opened.as_str()));
+    // Alice's save from the version she opened is refused, Bob's edit kept.
+    let mut hers = alice["document"].clone();
+    hers["frame"][2]["alpha"] = json!(0.5);
+    let (status, body) = api
+        .post("/api/robots/save", &save(&hers, Some(&opened)))
+        .await;
+    assert_eq!(status, StatusCode::CONFLICT, "{body}");
+    assert!(
+        error_text(&body).contains("arm.toml changed since it was opened"),
+        "{body}"
+    );
+    let kept = gecaro_io::read_robot_file(&api.folder.path().join("arm.toml")).expect("kept");
+    assert!((kept.robot.frames()[3].d - 0.05).abs() < 1e-12);
+    // Saving from the version the last save answered goes through.
+    let current = saved["version"].as_str().expect("version");
+    let (status, _) = api
+        .post("/api/robots/save", &save(&edited, Some(current)))
+        .await;
+    assert_eq!(status, StatusCode::OK);
+}
+
+/// A client that sends its headers and part of a body, then stops: answered
+/// 408 once the body is overdue (5 s), not after the request timeout
+/// (300 s), so that such clients cannot hold every connection.
+#[tokio::test]
+async fn a_body_that_stops_arriving_is_let_go() {
+    let api = Api::new();
+    let part = futures_util::stream::once(async {
+        Ok::<_, std::io::Error>(bytes::Bytes::from_static(b"{\"joints\": "))
+    })
+    .chain(futures_util::stream::pending());
+    let request = Request::post("/api/robots/new")
+        .header(header::CONTENT_TYPE, "application/json")
+        .header(header::CONTENT_LENGTH, "40")
+        .body(Body::from_stream(part))
+        .expect("request");
+    let started = std::time::Instant::now();
+    let (status, bytes, _) = api.send(request).await;
+    assert_eq!(status, StatusCode::REQUEST_TIMEOUT);
+    assert!(started.elapsed() < Duration::from_secs(20));
+    let body: Value = serde_json::from_slice(&bytes).expect("JSON");
+    assert!(
+        error_text(&body).contains("body stopped arriving"),
+        "{body}"
+    );
 }

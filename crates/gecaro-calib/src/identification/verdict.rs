@@ -13,27 +13,32 @@
 //!    need (distinct configurations × equations per configuration ≤ unknowns);
 //!    200 copies of one configuration make one configuration, whatever the
 //!    residual says.
-//! 3. **Underdetermined**: the data leave part of the robot undetermined
+//! 3. **Repeated data**: measurements that are exact copies of others (the
+//!    same file twice in a study, rows pasted again: every value equal to
+//!    the last bit, which two readings of a sensor never are). Copies are no
+//!    new information, yet each counts as an observation: the σ shrink and
+//!    the global test passes what it should not.
+//! 4. **Underdetermined**: the data leave part of the robot undetermined
 //!    ([`Coverage`]): a joint that never moved, a base parameter they do not
 //!    excite, or fewer than [`MIN_REDUNDANCY`](super::coverage::MIN_REDUNDANCY)
 //!    equations per unknown. The result holds near the measured poses only.
-//! 4. **Implausible parameters**: the written robot holds a value no real
+//! 5. **Implausible parameters**: the written robot holds a value no real
 //!    robot has ([`super::plausibility`]), each named with its likely cause.
-//! 5. **Exceeds the noise**: every measurement set states its sensor σ and
+//! 6. **Exceeds the noise**: every measurement set states its sensor σ and
 //!    the global test of adjustment theory (Baarda) fails: the weighted sum of
 //!    squares `χ² = Σ (r_i/σ_i)²` exceeds the χ²(ν) quantile at
 //!    1 − [`NOISE_TEST_LEVEL`] (ν = equations − unknowns). The model, the data or
 //!    the stated σ is wrong; the ratio σ̂/σ = √(χ²/ν) says by how much.
-//! 6. **Below the noise**: the same test, two-sided: χ² below the χ²(ν)
+//! 7. **Below the noise**: the same test, two-sided: χ² below the χ²(ν)
 //!    quantile at [`NOISE_TEST_LEVEL`]. The stated σ is too large (then the
 //!    test cannot see a model error), or the robot shrank (residuals in
 //!    metres shrink with it).
-//! 7. **Incomplete**: the fit is sound but the methods do not observe the
+//! 8. **Incomplete**: the fit is sound but the methods do not observe the
 //!    robot's scale (link and plane methods measure no length) or its tool
 //!    (frame link): shape calibrated, the rest not measured.
-//! 8. **Fits the noise**: the test passes.
-//! 9. **Converged, untested**: no σ was stated; the residual σ is reported in
-//!    metres and radians instead.
+//! 9. **Fits the noise**: the test passes.
+//! 10. **Converged, untested**: no σ was stated; the residual σ is reported in
+//!     metres and radians instead.
 //!
 //! Only the last two are trusted. The sentence names every problem found,
 //! the outcome the first of them.
@@ -83,6 +88,8 @@ pub enum Outcome {
     NotConverged,
     /// The data hold too few distinct configurations for the unknowns.
     Degenerate,
+    /// Converged, but some measurements are exact copies of others.
+    Repeated,
     /// Converged, but the data leave part of the robot undetermined (a
     /// joint that never moved, parameters not excited, too few equations).
     Underdetermined,
@@ -103,7 +110,7 @@ pub enum Outcome {
 }
 
 impl Outcome {
-    /// `diverged`, `not_converged`, `degenerate`, `underdetermined`,
+    /// `diverged`, `not_converged`, `degenerate`, `repeated`, `underdetermined`,
     /// `implausible`, `exceeds_noise`, `below_noise`, `incomplete`,
     /// `fits_noise` or `untested`.
     pub fn as_str(self) -> &'static str {
@@ -111,6 +118,7 @@ impl Outcome {
             Outcome::Diverged => "diverged",
             Outcome::NotConverged => "not_converged",
             Outcome::Degenerate => "degenerate",
+            Outcome::Repeated => "repeated",
             Outcome::Underdetermined => "underdetermined",
             Outcome::Implausible => "implausible",
             Outcome::ExceedsNoise => "exceeds_noise",
@@ -184,6 +192,10 @@ pub struct Verdict {
     pub configurations: usize,
     /// Distinct configurations among them (per measurement set).
     pub distinct_configurations: usize,
+    /// Measurements that are exact copies of another of the same method
+    /// (configuration and measured values equal to the last bit), over the
+    /// whole study.
+    pub copies: usize,
     /// Values of the written robot that no real robot has.
     pub implausible: Vec<Implausible>,
     /// What the data determine and the methods observe.
@@ -240,6 +252,7 @@ impl Verdict {
             residual_angle,
             configurations,
             distinct_configurations,
+            copies: copies(study),
             implausible: evidence.implausible,
             coverage: evidence.coverage,
             summary: String::new(),
@@ -277,6 +290,17 @@ impl Verdict {
     /// docs), each with its clause.
     fn problems(&self) -> Vec<(Outcome, String)> {
         let mut problems = Vec::new();
+        if self.copies > 0 {
+            problems.push((
+                Outcome::Repeated,
+                format!(
+                    "{} of the {} measurements are exact copies of others (the same file twice, \
+                     rows pasted again): copies are no new information, so the σ are too small \
+                     and the global test too lenient; remove them",
+                    self.copies, self.configurations
+                ),
+            ));
+        }
         if self.coverage.underdetermined() {
             problems.push((
                 Outcome::Underdetermined,
@@ -445,6 +469,42 @@ fn distinct(study: &Study) -> (usize, f64) {
         equations += unique.len() as f64 * set.method.equations_per_configuration();
     }
     (count, equations)
+}
+
+/// Measurements that repeat an earlier one of the same method exactly:
+/// configuration, group and measured values equal to the last bit (−0 as
+/// 0), over every set. Each is kept as a 64-bit fingerprint (8 bytes a
+/// measurement; two different measurements share one with probability
+/// ~n²/2⁶⁵, 3·10⁻⁸ for a million).
+fn copies(study: &Study) -> usize {
+    use std::hash::{Hash, Hasher};
+    let total: usize = study.sets.iter().map(|set| set.samples.len()).sum();
+    let mut seen = std::collections::HashSet::with_capacity(total);
+    let mut copies = 0;
+    for set in &study.sets {
+        for sample in &set.samples {
+            let mut hasher = std::hash::DefaultHasher::new();
+            set.method.name().hash(&mut hasher);
+            bits(&sample.motor_positions).for_each(|b| b.hash(&mut hasher));
+            sample.group.hash(&mut hasher);
+            let measured = sample
+                .position
+                .iter()
+                .flat_map(|p| p.iter().copied())
+                .chain(
+                    sample
+                        .orientation
+                        .iter()
+                        .flat_map(|q| q.coords.iter().copied()),
+                )
+                .chain(sample.distance);
+            measured.for_each(|value| (value + 0.0).to_bits().hash(&mut hasher));
+            if !seen.insert(hasher.finish()) {
+                copies += 1;
+            }
+        }
+    }
+    copies
 }
 
 /// The bits of a configuration's values, −0 as 0.

@@ -302,6 +302,23 @@ impl<'a> CandidatePool<'a> {
         let objective = self.objective(&request.criterion)?;
         let candidates = &self.candidates;
         let width = candidates.width;
+        // Too few equations is known before any search: the pool's
+        // equations per unit times the units asked, with the kept ones.
+        let equations_of = |samples: &[Sample]| {
+            method
+                .row_count(samples)
+                .saturating_sub(method.dependent_rows(samples))
+        };
+        let pool_equations = equations_of(pool);
+        let expected = (pool_equations as f64 / ranges.len().max(1) as f64 * wanted as f64).floor()
+            as usize
+            + equations_of(kept);
+        if expected < width {
+            return Err(Error::TooFewEquations {
+                equations: expected,
+                unknowns: width,
+            });
+        }
         let kept_information = self.information_of(kept)?;
         let ridge = candidates.ridge();
         let base = &kept_information + DMatrix::<f64>::identity(width, width) * ridge;

@@ -5,8 +5,8 @@ use axum::extract::{Path as UrlPath, Query, State};
 use gecaro_calib::{methods::METHODS, study::DataColumn};
 use gecaro_core::{FrameType, Robot, forward_kinematics};
 use gecaro_io::{
-    DocumentError, RobotDocument, RobotFile, fallback_name, format_robot_file,
-    parse_robot_document, ready_robot, ready_robots,
+    DocumentError, RobotDocument, RobotFile, fallback_name, parse_robot_document, ready_robot,
+    ready_robots,
 };
 use serde::{Deserialize, Serialize};
 
@@ -141,6 +141,20 @@ pub(crate) struct RobotView {
     /// What a conversion did (folded joints, couplings, default limits).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     notes: Vec<String>,
+    /// The opened file's version (a fingerprint of its bytes): a save that
+    /// sends it back is refused (409) when the file changed since.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    version: Option<String>,
+}
+
+/// The version of a file's text: a 64-bit fingerprint of its bytes, in hex.
+/// It only tells two contents apart (SipHash with fixed keys); a change of
+/// the hash between server versions costs one needless question.
+fn version_of(text: &str) -> String {
+    use std::hash::{Hash, Hasher};
+    let mut hasher = std::hash::DefaultHasher::new();
+    text.hash(&mut hasher);
+    format!("{:016x}", hasher.finish())
 }
 
 fn view(origin: &'static str, name: Option<String>, document: RobotDocument) -> RobotView {
@@ -157,6 +171,7 @@ fn view(origin: &'static str, name: Option<String>, document: RobotDocument) -> 
         problems,
         summary,
         notes: Vec::new(),
+        version: None,
     }
 }
 
@@ -205,7 +220,9 @@ pub(crate) async fn open_file(
                 if document.name.is_none() {
                     document.name = Some(fallback_name(&path));
                 }
-                return Ok(Json(view("file", Some(name), document)));
+                let mut robot = view("file", Some(name), document);
+                robot.version = Some(version_of(&text));
+                return Ok(Json(robot));
             }
             let mut import = gecaro_app::ImportRequest::new(name.clone());
             import.base = base;
@@ -217,6 +234,7 @@ pub(crate) async fn open_file(
                 RobotDocument::from_robot_file(&imported.file),
             );
             robot.notes = imported.notes;
+            robot.version = Some(version_of(&text));
             Ok(Json(robot))
         })
         .await
@@ -275,12 +293,17 @@ pub(crate) struct SaveRequest {
     name: String,
     #[serde(default)]
     overwrite: bool,
+    /// The version of the file when it was opened (`version` of the open):
+    /// the save is refused (409) if the file changed since.
+    expected_version: Option<String>,
 }
 
 #[derive(Serialize)]
 pub(crate) struct Saved {
     name: String,
     path: String,
+    /// The saved file's version, for the next save.
+    version: String,
     /// The joint calibration written beside a URDF, when gains or couplings
     /// are not expressible in it.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -297,44 +320,72 @@ pub(crate) async fn save(
     Json(request): Json<SaveRequest>,
 ) -> Result<Json<Saved>, ApiError> {
     let file = robot_file(&request.robot)?;
-    let as_urdf = std::path::Path::new(&request.name)
-        .extension()
-        .is_some_and(|extension| extension == "urdf");
     state
         .files(move |state| {
             let workspace = state.workspace();
-            if !as_urdf {
-                let text = format_robot_file(&file);
-                let path =
-                    workspace.write(&request.name, "toml", text.as_bytes(), request.overwrite)?;
-                return Ok(Json(Saved {
-                    name: request.name,
-                    path: path.display().to_string(),
-                    joint_calibration: None,
-                    notes: Vec::new(),
-                }));
-            }
-            let mut export = gecaro_app::ExportRequest::new(
-                gecaro_app::RobotSource::Loaded(Box::new(file)),
-                "urdf",
-            );
-            export.save_as = Some(request.name.clone());
-            export.overwrite = request.overwrite;
-            let exported = export.run(workspace)?;
-            let calibration_name = exported
-                .exported
-                .joint_calibration
-                .as_ref()
-                .map(|_| gecaro_app::joint_calibration_name(&request.name));
-            let path = workspace.display_path(&request.name)?;
-            Ok(Json(Saved {
-                name: request.name,
-                path: path.display().to_string(),
-                joint_calibration: calibration_name,
-                notes: exported.exported.notes,
-            }))
+            // One save at a time from the check of the version to the last
+            // file written (a URDF and its joint calibration).
+            workspace.writing_pair(|| {
+                if let Some(expected) = &request.expected_version {
+                    match workspace.read_text(&request.name, &["toml", "urdf"]) {
+                        Ok((_, current)) if version_of(&current) != *expected => {
+                            return Err(ApiError::Conflict(format!(
+                                "{} changed since it was opened (saved from elsewhere): reload \
+                                 it to see that change, or save again to replace it with yours",
+                                request.name
+                            )));
+                        }
+                        // Unchanged, or removed since: saved as asked.
+                        _ => {}
+                    }
+                }
+                let mut saved = save_file(workspace, &request, file)?;
+                let (_, written) = workspace.read_text(&request.name, &["toml", "urdf"])?;
+                saved.version = version_of(&written);
+                Ok(Json(saved))
+            })
         })
         .await
+}
+
+/// Writes the robot file or the URDF (and its joint calibration) of `request`.
+fn save_file(
+    workspace: &crate::workspace::Workspace,
+    request: &SaveRequest,
+    file: RobotFile,
+) -> Result<Saved, ApiError> {
+    let as_urdf = std::path::Path::new(&request.name)
+        .extension()
+        .is_some_and(|extension| extension == "urdf");
+    if !as_urdf {
+        let text = gecaro_io::robot_file_text(&file, std::path::Path::new(&request.name))?;
+        let path = workspace.write(&request.name, "toml", text.as_bytes(), request.overwrite)?;
+        return Ok(Saved {
+            name: request.name.clone(),
+            path: path.display().to_string(),
+            version: String::new(),
+            joint_calibration: None,
+            notes: Vec::new(),
+        });
+    }
+    let mut export =
+        gecaro_app::ExportRequest::new(gecaro_app::RobotSource::Loaded(Box::new(file)), "urdf");
+    export.save_as = Some(request.name.clone());
+    export.overwrite = request.overwrite;
+    let exported = export.run(workspace)?;
+    let calibration_name = exported
+        .exported
+        .joint_calibration
+        .as_ref()
+        .map(|_| gecaro_app::joint_calibration_name(&request.name));
+    let path = workspace.display_path(&request.name)?;
+    Ok(Saved {
+        name: request.name.clone(),
+        path: path.display().to_string(),
+        version: String::new(),
+        joint_calibration: calibration_name,
+        notes: exported.exported.notes,
+    })
 }
 
 #[derive(Deserialize)]
