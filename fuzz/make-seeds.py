@@ -126,12 +126,62 @@ def urdf_seeds():
         write("urdf_file", f"crafted-{name}.urdf", text.encode())
 
 
+def symoro_seeds():
+    """SYMORO files: the Stanford arm of the tests, and the hostile values of
+    the second hardening round (a long sum, an overflow, chains, cycles)."""
+    stanford = (ROOT / "tests/data/robots/stanford.par").read_text()
+    write("symoro_file", "stanford.par", stanford.encode())
+    crafted = {
+        "long-sum": stanford.replace("RL2 = 0.2\n", "RL2 = " + "+".join(["0.00001"] * 3000) + "\n"),
+        "overflow": stanford.replace("RL2 = 0.2\n", "RL2 = 1e999\n"),
+        "chain": stanford.replace("RL2 = 0.2\n", "RL2 = A99 + 0.1\n" + "".join(
+            f"A{k} = A{k - 1} + 0.001\n" for k in range(99, 0, -1)) + "A0 = 0.001\n"),
+        "cycle": stanford.replace("RL2 = 0.2\n", "RL2 = B + 0.1\nB = RL2 - 0.1\n"),
+        "unknown": stanford.replace("RL2 = 0.2\n", ""),
+        "tree": stanford.replace("ant = {0,1,2,3,4,5,6}", "ant = {0,1,2,3,4,3,6}"),
+        "short": stanford.replace("d = {0,0,0,0,0,0,0.2}", "d = {0,0,0,0.2}"),
+        "closed": stanford.replace("Type = 0", "Type = 2"),
+        "bad-z": stanford.replace("Z = {1,0,0,0,", "Z = {2,0,0,0,"),
+        "empty": "",
+        "comment": "(* only a comment *)",
+        "division": stanford.replace("RL2 = 0.2\n", "RL2 = 1/0\n"),
+    }
+    for name, text in crafted.items():
+        write("symoro_file", f"crafted-{name}.par", text.encode())
+
+
+def study_seeds():
+    """Study files: the examples', and the mistakes a study file can hold."""
+    for path in sorted(ROOT.glob("examples/**/study*.toml")):
+        write("study_file", f"{path.parent.name}-{path.name}", path.read_bytes())
+    cell = (ROOT / "examples/tracker-cell/study.toml").read_text()
+    crafted = {
+        "negative-sigma": cell.replace("sigma = 0.02", "sigma = -0.02", 1),
+        "unknown-station": cell.replace('station = "tracker_2"', 'station = "tracker_9"', 1),
+        "far-station": cell.replace("position = [-1150, 1700, -250]", "position = [2e6, 0, 0]"),
+        "no-sets": 'robot = "stanford"\n',
+        "distance-tool": cell.replace('method = "position"', 'method = "distance"', 1),
+        "units": cell.replace('length_unit = "mm"', 'length_unit = "furlong"'),
+        "prior": 'robot = "stanford"\n[prior]\nlength = "5mm"\nangle = "0.5deg"\ngain = "1%"\n'
+                 'parameters = { d3 = "1deg" }\n[[measurements]]\nmethod = "position"\n'
+                 'data = "a.csv"\nsigma = "20um"\n',
+        "plane": 'robot = "stanford"\n[[measurements]]\nmethod = "plane1"\ndata = "a.csv"\n'
+                 'sigma = 1e-5\nplane = "known"\nplane_normal = [0, 0, 1]\nplane_point = [0, 0, 0.2]\n',
+        "quaternion": cell.replace("rpy = [0, 0, -130]", "quaternion = [2, 0, 0, 0]"),
+        "both-names": cell.replace("[stations.tracker_2]", "[stations.smr_a]"),
+    }
+    for name, text in crafted.items():
+        write("study_file", f"crafted-{name}.toml", text.encode())
+
+
 def main():
     for path in robot_files() + sorted(ROOT.glob("tests/errors/*.toml")):
         write("robot_file", f"{path.parent.name}-{path.name}", path.read_bytes())
     data_seeds()
     web_seeds()
     urdf_seeds()
+    symoro_seeds()
+    study_seeds()
 
 
 if __name__ == "__main__":

@@ -120,6 +120,137 @@ pub fn data_file(input: &[u8]) {
     }
 }
 
+/// The most time one input of a text reader may take (SYMORO values once
+/// parsed in quadratic time: 100 s for a 540 KB sum). Generous for a slow
+/// machine; libFuzzer's inputs are a few kilobytes.
+const MAX_SECONDS_PER_INPUT: f64 = 5.0;
+
+/// The SYMORO `.par` importer: any text either imports into a robot that
+/// saves and loads back, or gives a short error naming the file, in bounded
+/// time.
+pub fn symoro_file(bytes: &[u8]) {
+    let Ok(text) = std::str::from_utf8(bytes) else {
+        return;
+    };
+    let started = std::time::Instant::now();
+    let path = Path::new("fuzz.par");
+    let options = gecaro_io::ImportOptions {
+        format: Some(gecaro_io::RobotFormat::Symoro),
+        ..gecaro_io::ImportOptions::default()
+    };
+    match gecaro_io::import_robot_text(text, path, &options) {
+        Ok(imported) => {
+            let saved = gecaro_io::format_robot_file(&imported.file);
+            let reloaded = gecaro_io::parse_robot_file(&saved, Path::new("fuzz.toml"))
+                .unwrap_or_else(|error| {
+                    panic!("an imported robot does not load: {error}\n{saved}")
+                });
+            assert_eq!(reloaded.robot.frames(), imported.file.robot.frames());
+        }
+        Err(error) => {
+            let message = error.to_string();
+            assert_names(&message, "fuzz.par");
+            assert!(
+                message.len() < 4096,
+                "a {}-byte error message",
+                message.len()
+            );
+        }
+    }
+    let seconds = started.elapsed().as_secs_f64();
+    assert!(
+        seconds < MAX_SECONDS_PER_INPUT,
+        "{seconds:.1} s for one input"
+    );
+}
+
+/// A study's files in memory: any robot name is the Stanford arm, any
+/// priority file its default matrix, any data file two configurations with
+/// every column a method may read.
+struct FuzzStudyFiles<'a>(&'a gecaro_io::StudyText);
+
+impl gecaro_io::StudyFiles for FuzzStudyFiles<'_> {
+    type Error = gecaro_io::Error;
+
+    fn robot(&self, _: &str) -> Result<gecaro_io::RobotFile, gecaro_io::Error> {
+        gecaro_io::load_robot("stanford")
+    }
+
+    fn priority(
+        &self,
+        _: &str,
+        robot: &gecaro_core::Robot,
+    ) -> Result<gecaro_core::PriorityMatrix, gecaro_io::Error> {
+        Ok(robot.priority())
+    }
+
+    fn samples(
+        &self,
+        _: &str,
+        joint_types: &[gecaro_core::FrameType],
+        columns: &[gecaro_calib::study::DataColumn],
+        format: &gecaro_io::DataFormat,
+    ) -> Result<(gecaro_io::DataFile, String), gecaro_io::Error> {
+        let csv = "qm1,qm2,qm3,qm4,qm5,qm6,x,y,z,set,pair,distance,qw,qx,qy,qz\n\
+                   0.1,0.2,0.3,0.1,0.2,0.3,0.5,0.2,0.4,1,1,0.3,1,0,0,0\n\
+                   0.3,-0.2,0.5,0.4,-0.1,0.2,0.4,0.3,0.5,1,1,0.4,1,0,0,0\n";
+        let data = gecaro_io::parse_samples(
+            csv.as_bytes(),
+            Path::new("fuzz.csv"),
+            joint_types,
+            columns,
+            format,
+        )?;
+        Ok((data, "fuzz.csv".into()))
+    }
+
+    fn misplaced(&self, field: &gecaro_io::SpecField, message: String) -> gecaro_io::Error {
+        self.0.misplaced(field, message)
+    }
+}
+
+/// The study-file reader: any text either builds a study (which then passes
+/// or fails its checks with a message) or gives an error naming the study
+/// file, in bounded time; a study that reads writes back to the same
+/// statement.
+pub fn study_file(bytes: &[u8]) {
+    let Ok(text) = std::str::from_utf8(bytes) else {
+        return;
+    };
+    let started = std::time::Instant::now();
+    let path = Path::new("fuzz.toml");
+    match gecaro_io::StudyText::parse(text.to_owned(), path) {
+        Ok(study) => {
+            let written = toml::to_string(&study.spec).expect("a stated study writes");
+            let again: gecaro_io::StudySpec = toml::from_str(&written).unwrap_or_else(|error| {
+                panic!("a written study does not read: {error}\n{written}")
+            });
+            assert_eq!(format!("{again:?}"), format!("{:?}", study.spec));
+            match study
+                .spec
+                .build(&FuzzStudyFiles(&study), gecaro_io::StudyData::Measured)
+            {
+                Ok(file) => {
+                    let _ = file.study.check(&file.robot.robot);
+                }
+                Err(error) => {
+                    let message = error.to_string();
+                    assert!(
+                        message.contains("fuzz.toml") || message.contains("fuzz.csv"),
+                        "the error names no file: {message}"
+                    );
+                }
+            }
+        }
+        Err(error) => assert_names(&error.to_string(), "fuzz.toml"),
+    }
+    let seconds = started.elapsed().as_secs_f64();
+    assert!(
+        seconds < MAX_SECONDS_PER_INPUT,
+        "{seconds:.1} s for one input"
+    );
+}
+
 /// The GET routes, picked by the first byte from 7 on (0–6 pick one of
 /// [`POST_ROUTES`]); the rest of the input is appended to the path.
 pub const GET_ROUTES: &[&str] = &[

@@ -35,6 +35,16 @@ fn data_file_inputs() {
 }
 
 #[test]
+fn symoro_file_inputs() {
+    replay("symoro_file", gecaro_fuzz::symoro_file);
+}
+
+#[test]
+fn study_file_inputs() {
+    replay("study_file", gecaro_fuzz::study_file);
+}
+
+#[test]
 fn web_api_inputs() {
     replay("web_api", gecaro_fuzz::web_api);
 }

@@ -112,6 +112,34 @@ impl IdentifyRequest {
 }
 
 impl PreparedIdentification {
+    /// About how many bytes the identification holds at its peak: five
+    /// observation matrices (W, its QR, the weighted copies and the second
+    /// pass's), `rows × unknowns` numbers each (all the robot's parameters,
+    /// an upper bound of the base set), and the samples: on the safe side (a
+    /// 200,000-configuration position identification of the Stanford arm
+    /// peaked at 720 MB; this says 1.0 GB). A server admits jobs by it.
+    pub fn memory_need(&self) -> usize {
+        let study = &self.loaded.study;
+        let rows: usize = study
+            .sets
+            .iter()
+            .map(|set| set.method.row_count(&set.samples))
+            .sum();
+        let unknowns = self.loaded.robot.robot.parameters().len()
+            + study.frame_unknowns()
+            + study
+                .sets
+                .iter()
+                .map(|set| set.method.auxiliary_names().len())
+                .sum::<usize>();
+        let samples: usize = study.sets.iter().map(|set| set.samples.len()).sum();
+        rows.saturating_mul(unknowns)
+            .saturating_mul(5 * std::mem::size_of::<f64>())
+            .saturating_add(
+                samples.saturating_mul(std::mem::size_of::<gecaro_calib::study::Sample>() + 64),
+            )
+    }
+
     /// The K-fold cross-validation asked for (two folds when none was);
     /// `observer` hears of every fold.
     ///

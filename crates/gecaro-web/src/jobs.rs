@@ -9,7 +9,7 @@ use std::sync::{Arc, Mutex, PoisonError};
 use serde::Serialize;
 
 use crate::error::ApiError;
-use crate::limits::{MAX_JOBS_ACTIVE, MAX_JOBS_KEPT};
+use crate::limits::{MAX_JOBS_ACTIVE, MAX_JOBS_KEPT, MAX_JOBS_MEMORY};
 
 /// Where a job is.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize)]
@@ -30,8 +30,10 @@ pub enum JobState {
 /// What a finished job produced.
 #[derive(Debug)]
 pub struct JobOutcome {
-    /// The result as the API answers it.
-    pub result: serde_json::Value,
+    /// The result as the API answers it, encoded once: every poll of the
+    /// job sends these bytes (64 polls at once each cloned a JSON tree of
+    /// tens of MB before).
+    pub result: Box<serde_json::value::RawValue>,
     /// The HTML report of the identification.
     pub report: String,
 }
@@ -53,6 +55,8 @@ pub struct Job {
     /// Set by [`Job::cancel`]; the job's observer stops the work at its next
     /// iteration or step.
     cancelled: std::sync::atomic::AtomicBool,
+    /// The bytes it needs while active.
+    need: usize,
 }
 
 /// A job as the API shows it.
@@ -67,9 +71,25 @@ pub struct JobView {
     /// The error of a failed job.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
-    /// The result of a finished job.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub result: Option<serde_json::Value>,
+    /// The result of a finished job (shared with the job, written as it was
+    /// encoded).
+    #[serde(
+        rename = "result",
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "encoded_result"
+    )]
+    pub outcome: Option<Arc<JobOutcome>>,
+}
+
+/// A finished job's result, as it was encoded.
+fn encoded_result<S: serde::Serializer>(
+    outcome: &Option<Arc<JobOutcome>>,
+    serializer: S,
+) -> Result<S::Ok, S::Error> {
+    match outcome {
+        Some(outcome) => outcome.result.serialize(serializer),
+        None => serializer.serialize_none(),
+    }
 }
 
 impl Job {
@@ -135,10 +155,7 @@ impl Job {
             state: progress.state,
             history: progress.history.clone(),
             error: progress.error.clone(),
-            result: progress
-                .outcome
-                .as_ref()
-                .map(|outcome| outcome.result.clone()),
+            outcome: progress.outcome.clone(),
         }
     }
 
@@ -161,15 +178,40 @@ pub struct Jobs {
 }
 
 impl Jobs {
-    /// A new queued job.
+    /// A new queued job that needs `need` bytes while it runs.
     ///
     /// # Errors
-    /// [`ApiError::Busy`] when [`MAX_JOBS_ACTIVE`] jobs are queued or running.
-    pub fn create(&self) -> Result<Arc<Job>, ApiError> {
+    /// [`ApiError::Busy`] when [`MAX_JOBS_ACTIVE`] jobs are queued or
+    /// running, or when they and this one would need more than
+    /// [`MAX_JOBS_MEMORY`]; [`ApiError::TooLarge`] when this one alone would.
+    pub fn create(&self, need: usize) -> Result<Arc<Job>, ApiError> {
+        let megabytes = |bytes: usize| bytes >> 20;
+        if need > MAX_JOBS_MEMORY {
+            return Err(ApiError::TooLarge(format!(
+                "this identification needs about {} MB, more than the {} MB the server gives \
+                 its jobs: use fewer configurations, or the command line",
+                megabytes(need),
+                megabytes(MAX_JOBS_MEMORY)
+            )));
+        }
         let mut jobs = self.jobs.lock().unwrap_or_else(PoisonError::into_inner);
         if jobs.iter().filter(|job| job.active()).count() >= MAX_JOBS_ACTIVE {
             return Err(ApiError::Busy(format!(
                 "{MAX_JOBS_ACTIVE} identifications are already queued or running; try again when one has finished"
+            )));
+        }
+        let held: usize = jobs
+            .iter()
+            .filter(|job| job.active())
+            .map(|job| job.need)
+            .sum();
+        if held + need > MAX_JOBS_MEMORY {
+            return Err(ApiError::Busy(format!(
+                "this identification needs about {} MB and the jobs under way hold {} of the \
+                 server's {} MB; try again when one has finished",
+                megabytes(need),
+                megabytes(held),
+                megabytes(MAX_JOBS_MEMORY)
             )));
         }
         while jobs.len() >= MAX_JOBS_KEPT {
@@ -189,6 +231,7 @@ impl Jobs {
                 error: None,
             }),
             cancelled: std::sync::atomic::AtomicBool::new(false),
+            need,
         });
         jobs.push_back(Arc::clone(&job));
         Ok(job)
@@ -221,22 +264,54 @@ mod tests {
     fn active_jobs_are_bounded_and_old_results_forgotten() {
         let jobs = Jobs::default();
         let active: Vec<_> = (0..MAX_JOBS_ACTIVE)
-            .map(|_| jobs.create().expect("room"))
+            .map(|_| jobs.create(0).expect("room"))
             .collect();
-        assert!(matches!(jobs.create(), Err(ApiError::Busy(_))));
+        assert!(matches!(jobs.create(0), Err(ApiError::Busy(_))));
         for job in &active {
             job.fail("stopped".into());
         }
         let first = active[0].id();
         for _ in 0..MAX_JOBS_KEPT {
-            jobs.create().expect("room").fail("stopped".into());
+            jobs.create(0).expect("room").fail("stopped".into());
         }
         assert!(matches!(jobs.get(first), Err(ApiError::NotFound(_))));
-        let last = jobs.create().expect("room");
+        let last = jobs.create(0).expect("room");
         last.start();
         last.record(1e-3);
         let view = jobs.get(last.id()).expect("kept").view();
         assert_eq!(view.state, JobState::Running);
         assert_eq!(view.history, [1e-3]);
+    }
+
+    #[test]
+    fn jobs_are_admitted_by_the_memory_they_need() {
+        let jobs = Jobs::default();
+        let alone = jobs.create(MAX_JOBS_MEMORY + 1);
+        assert!(matches!(alone, Err(ApiError::TooLarge(ref m)) if m.contains("more than the")));
+        let big = jobs.create(MAX_JOBS_MEMORY / 3 * 2).expect("room");
+        let waiting = jobs.create(MAX_JOBS_MEMORY / 2);
+        assert!(matches!(waiting, Err(ApiError::Busy(ref m)) if m.contains("hold")));
+        big.fail("done".into());
+        jobs.create(MAX_JOBS_MEMORY / 2)
+            .expect("room once the first ended");
+    }
+
+    #[test]
+    fn a_finished_result_is_encoded_once_and_shared() {
+        let jobs = Jobs::default();
+        let job = jobs.create(0).expect("room");
+        job.finish(JobOutcome {
+            result: serde_json::value::to_raw_value(&serde_json::json!({"rms": 1e-5}))
+                .expect("encoded"),
+            report: String::new(),
+        });
+        let first = job.view();
+        let second = job.view();
+        let (Some(a), Some(b)) = (&first.outcome, &second.outcome) else {
+            panic!("finished");
+        };
+        assert!(Arc::ptr_eq(a, b), "every view shares the one encoding");
+        let text = serde_json::to_string(&first).expect("json");
+        assert!(text.contains(r#""result":{"rms":0.00001}"#), "{text}");
     }
 }

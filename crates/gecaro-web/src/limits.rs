@@ -18,6 +18,11 @@ pub const MAX_SAMPLES: usize = 200_000;
 pub const MAX_JOBS_KEPT: usize = 32;
 /// Identification jobs queued or running at once.
 pub const MAX_JOBS_ACTIVE: usize = 8;
+/// Memory the queued and running identifications may need together
+/// (`PreparedIdentification::memory_need`): a job that would pass it waits
+/// for others to finish (503), one that needs more alone is refused (413),
+/// rather than the server aborting on a failed allocation.
+pub const MAX_JOBS_MEMORY: usize = 2 << 30;
 /// Entries listed from the folder, per kind.
 pub const MAX_LISTED: usize = 2_000;
 /// The longest one request may take (identification jobs excepted).

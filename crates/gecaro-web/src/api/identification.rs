@@ -33,7 +33,7 @@ pub(crate) async fn submit(
     let prepared = state
         .compute(move |state| Ok(request.prepare(state.workspace())?))
         .await?;
-    let job = state.jobs().create()?;
+    let job = state.jobs().create(prepared.memory_need())?;
     let id = job.id();
     tokio::spawn(async move {
         let running = Arc::clone(&job);
@@ -107,7 +107,7 @@ fn outcome(identified: &Identified) -> Result<JobOutcome, ApiError> {
         identified.loaded.label
     ))?;
     Ok(JobOutcome {
-        result: serde_json::to_value(value)
+        result: serde_json::value::to_raw_value(&value)
             .map_err(|error| ApiError::Internal(format!("cannot encode the result: {error}")))?,
         report,
     })
