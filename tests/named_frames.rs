@@ -575,3 +575,75 @@ fn a_cell_is_planned_as_one_design() {
         .expect("runs");
     assert!(!again.status.success());
 }
+
+/// `plan --study` in a cell: every candidate, hence every planned
+/// configuration, keeps the arm above the floor and shows its set's
+/// reflector to its set's station (the named one, or `--station` for the
+/// sets that name none) within the incidence, the sight line clear of the
+/// arm.
+#[test]
+fn a_cell_is_planned_within_its_floor_and_lines_of_sight() {
+    use gecaro_calib::cell::{Cell, Station};
+    let folder = tempfile::tempdir().expect("folder");
+    write_cell(folder.path());
+    let study = folder.path().join("study.toml");
+    let planned = folder.path().join("planned.toml");
+    let output = gecaro()
+        .args(["plan", "--study"])
+        .arg(&study)
+        .args([
+            "--count",
+            "48",
+            "--floor",
+            "-0.3",
+            "--station",
+            "2.5,0.4,-0.3",
+        ])
+        .args(["--max-incidence", "60deg", "--clearance", "0.05", "-o"])
+        .arg(&planned)
+        .output()
+        .expect("runs");
+    assert!(output.status.success(), "{output:?}");
+    let file = gecaro_io::read_study_file_for(&planned, gecaro_io::StudyData::Configurations)
+        .expect("the planned study reads");
+    let robot = &file.robot.robot;
+    let mut checked = 0;
+    for set in &file.study.sets {
+        let frame = |index: Option<usize>| index.map(|i| &file.study.frames[i]);
+        let with_tool = measuring_robot(robot, frame(set.tool), None).expect("tool");
+        let position = frame(set.station).map_or_else(
+            || nalgebra::Vector3::new(2.5, 0.4, -0.3),
+            |station| station.pose.translation.vector,
+        );
+        let cell = Cell {
+            floor: Some(-0.3),
+            station: Some(Station {
+                position,
+                max_incidence: Some(60f64.to_radians()),
+                clearance: 0.05,
+            }),
+        };
+        for sample in &set.samples {
+            assert!(
+                cell.admits(&with_tool, &sample.motor_positions),
+                "{}: {:?} is not measurable",
+                set.label,
+                sample.motor_positions
+            );
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 48);
+    // A cell that admits nothing is named, nothing written.
+    let blocked = folder.path().join("blocked.toml");
+    let output = gecaro()
+        .args(["plan", "--study"])
+        .arg(&study)
+        .args(["--count", "48", "--floor", "100", "-o"])
+        .arg(&blocked)
+        .output()
+        .expect("runs");
+    assert_eq!(output.status.code(), Some(4), "{output:?}");
+    assert!(String::from_utf8_lossy(&output.stderr).contains("next to nothing to measure"));
+    assert!(!blocked.exists());
+}

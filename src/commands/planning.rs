@@ -102,6 +102,7 @@ fn plan_study(args: &PlanArgs, study: &std::path::Path) -> Result<(), Failure> {
         gecaro_app::PlanStudyRequest::new(gecaro_app::StudySource::File(name(study)), count);
     request.pool = args.pool;
     request.seed = Some(args.seed);
+    request.cell = super::options::cell_spec(&args.cell)?;
     request.save_as = Some(name(output));
     request.overwrite = args.force;
     let planned = with_steps("planning", |observer| request.run(&LocalFiles, observer));

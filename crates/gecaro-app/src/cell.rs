@@ -35,6 +35,17 @@ impl CellSpec {
     /// An angle without its unit, settings that need a station without one,
     /// and the cell's own checks ([`Cell::check`]).
     pub fn cell(&self) -> Result<Cell, AppError> {
+        self.cell_seen_from(None)
+    }
+
+    /// The cell of a measurement set whose instrument stands at `station`
+    /// (a study's named station, in the world frame) when given, else at
+    /// the spec's station: the floor, incidence and clearance are the cell's,
+    /// the line of sight that station's.
+    ///
+    /// # Errors
+    /// As [`cell`](Self::cell).
+    pub fn cell_seen_from(&self, station: Option<Vector3<f64>>) -> Result<Cell, AppError> {
         let max_incidence = self
             .max_incidence
             .as_deref()
@@ -43,9 +54,10 @@ impl CellSpec {
                     .map_err(|message| AppError::setting("max_incidence", message))
             })
             .transpose()?;
-        let station = match self.station {
-            Some([x, y, z]) => Some(Station {
-                position: Vector3::new(x, y, z),
+        let position = station.or(self.station.map(Vector3::from));
+        let station = match position {
+            Some(position) => Some(Station {
+                position,
                 max_incidence,
                 clearance: self.clearance.unwrap_or(DEFAULT_CLEARANCE),
             }),

@@ -16,6 +16,7 @@ use gecaro_calib::study::DataColumn;
 use gecaro_io::{DataFormat, StandardDeviation};
 use serde::Deserialize;
 
+use crate::cell::{CellSpec, refuse_misses};
 use crate::error::{AppError, ErrorKind};
 use crate::files::Files;
 use crate::limits::MAX_GENERATE;
@@ -32,6 +33,11 @@ pub struct PlanStudyRequest {
     pub pool: Option<usize>,
     /// Seed of the pools and of the random comparison (default 1).
     pub seed: Option<u64>,
+    /// The cell: floor, and the incidence and clearance of each set's
+    /// reflector seen from its station (a set's named station, else the
+    /// cell's `station`: the tracker that measures in the world frame).
+    #[serde(default)]
+    pub cell: CellSpec,
     /// Write the planned study here (TOML), its sets' files beside it.
     pub save_as: Option<String>,
     /// Replace files that exist.
@@ -62,6 +68,7 @@ impl PlanStudyRequest {
             count,
             pool: None,
             seed: None,
+            cell: CellSpec::default(),
             save_as: None,
             overwrite: false,
             unknown: Unknown::default(),
@@ -119,11 +126,23 @@ impl PlanStudyRequest {
         let mut candidates = loaded.study.clone();
         for set in &mut candidates.sets {
             let frame = |index: Option<usize>| index.map(|i| &loaded.study.frames[i]);
-            let measuring = measuring_robot(robot, frame(set.tool), frame(set.station))?;
+            // The reflector on the robot, in the world frame: the cell
+            // (floor, and the line of sight to the set's station) is judged
+            // there; configurations are what the pool holds.
+            let with_tool = measuring_robot(robot, frame(set.tool), None)?;
+            let station = frame(set.station).map(|station| station.pose.translation.vector);
+            let mut drawing = sampler
+                .clone()
+                .with_cell(self.cell.cell_seen_from(station)?);
             set.samples = set
                 .method
                 .sensor()
-                .generate(&measuring, pool, 0.0, &mut sampler)?;
+                .generate(&with_tool, pool, 0.0, &mut drawing)?;
+            refuse_misses(
+                drawing.cell_misses(),
+                &format!("candidate(s) of {}", set.label),
+            )?;
+            sampler = drawing;
         }
         let priority = loaded.priority.clone().unwrap_or_else(|| robot.priority());
         let plan = plan_study(robot, &candidates, self.count, &priority, seed, observer)?;

@@ -132,9 +132,12 @@ pub(crate) fn plan(
     request.candidates = candidates.as_deref().map(samples);
     request.keep = keep.as_deref().map(samples);
     request.min_distance = min_distance;
-    let planning = py
-        .detach(|| request.run(&gecaro_app::LocalFiles, &mut gecaro_calib::Quiet))
-        .py()?;
+    let planning = py.detach(|| {
+        // Ctrl-C stops the search (as identify's).
+        let mut watch = crate::interrupt::Watch::new();
+        let result = request.run(&gecaro_app::LocalFiles, &mut watch);
+        watch.finish(result)
+    })?;
     let (Some(planned), Some(document)) = (&planning.planned, planning.plan_document()) else {
         return Err(input("no plan was made"));
     };
@@ -151,11 +154,15 @@ pub(crate) fn plan(
 /// all, chosen as one D-optimal design over every set of `study` (each set
 /// read through its tool and station, weighted by its σ) from `pool`
 /// candidates drawn per set (default 20 × count ÷ sets, at least 200).
+/// The cell as `plan`'s: `floor` (m), and the incidence (`"30deg"`) and
+/// `clearance` (m) of each set's reflector seen from its named station, or
+/// from `station` (world frame, m) for the sets that name none.
 /// Returns a dict: `sets` (one Data of configurations per set, in the
 /// study's order), `log_det` and `random_log_det` (a random choice of as
 /// many from the same pools), `exchanges`, `pool`.
 #[pyfunction]
-#[pyo3(signature = (robot, study, count, *, pool = None, seed = 1))]
+#[pyo3(signature = (robot, study, count, *, pool = None, seed = 1, floor = None, station = None, max_incidence = None, clearance = None))]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn plan_study<'py>(
     py: Python<'py>,
     robot: PyRef<'_, PyRobot>,
@@ -163,6 +170,10 @@ pub(crate) fn plan_study<'py>(
     count: usize,
     pool: Option<usize>,
     seed: u64,
+    floor: Option<f64>,
+    station: Option<[f64; 3]>,
+    max_incidence: Option<String>,
+    clearance: Option<f64>,
 ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
     if study.cast::<crate::study::PyStudy>().is_err() {
         return Err(input("plan_study plans a Study"));
@@ -174,9 +185,18 @@ pub(crate) fn plan_study<'py>(
     let mut request = gecaro_app::PlanStudyRequest::new(source, count);
     request.pool = pool;
     request.seed = Some(seed);
-    let planned = py
-        .detach(|| request.run(&gecaro_app::LocalFiles, &mut gecaro_calib::Quiet))
-        .py()?;
+    request.cell = CellSpec {
+        floor,
+        station,
+        max_incidence,
+        clearance,
+    };
+    let planned = py.detach(|| {
+        // Ctrl-C stops the search (as identify's).
+        let mut watch = crate::interrupt::Watch::new();
+        let result = request.run(&gecaro_app::LocalFiles, &mut watch);
+        watch.finish(result)
+    })?;
     let joint_count = robot.file.robot.joint_count();
     let sets = pyo3::types::PyList::empty(py);
     for (set, samples) in planned.loaded.study.sets.iter().zip(&planned.plan.sets) {
@@ -250,9 +270,12 @@ pub(crate) fn predict<'py>(
     request.error_level = Some(error_level);
     request.seed = Some(seed);
     request.test_poses = test_poses(test_pose_count);
-    let predicted = py
-        .detach(|| request.run(&gecaro_app::LocalFiles, &mut gecaro_calib::Quiet))
-        .py()?;
+    let predicted = py.detach(|| {
+        // Ctrl-C stops the search (as identify's).
+        let mut watch = crate::interrupt::Watch::new();
+        let result = request.run(&gecaro_app::LocalFiles, &mut watch);
+        watch.finish(result)
+    })?;
     to_python(py, &predicted.document())
 }
 
@@ -288,9 +311,12 @@ pub(crate) fn accuracy_curve<'py>(
     request.count = None;
     request.curve = counts;
     request.noise = Some(noise);
-    let planning = py
-        .detach(|| request.run(&gecaro_app::LocalFiles, &mut gecaro_calib::Quiet))
-        .py()?;
+    let planning = py.detach(|| {
+        // Ctrl-C stops the search (as identify's).
+        let mut watch = crate::interrupt::Watch::new();
+        let result = request.run(&gecaro_app::LocalFiles, &mut watch);
+        watch.finish(result)
+    })?;
     let document = planning
         .curve_document()
         .ok_or_else(|| input("no curve was drawn"))?;

@@ -610,10 +610,21 @@ def plan(
     """The configurations to measure, chosen from a pool by a criterion, as ``gecaro plan``."""
 
 def plan_study(
-    robot: Robot, study: Study, count: int, *, pool: Optional[int] = None, seed: int = 1
+    robot: Robot,
+    study: Study,
+    count: int,
+    *,
+    pool: Optional[int] = None,
+    seed: int = 1,
+    floor: Optional[float] = None,
+    station: Optional[Sequence[float]] = None,
+    max_incidence: Optional[str] = None,
+    clearance: Optional[float] = None,
 ) -> dict[str, Any]:
     """A whole cell planned as one D-optimal design, as ``gecaro plan --study``:
-    ``sets`` (one Data per set), ``log_det``, ``random_log_det``, ``exchanges``, ``pool``."""
+    ``sets`` (one Data per set), ``log_det``, ``random_log_det``, ``exchanges``, ``pool``.
+    The cell: ``floor``, and each set's reflector seen from its named station (or from
+    ``station`` for the sets that name none) within ``max_incidence`` and ``clearance``."""
 
 def predict(
     robot: Robot,
