@@ -125,7 +125,7 @@ fn parse_statements(text: &str, path: &Path) -> Result<HashMap<String, Statement
                 path,
                 line,
                 None,
-                format!("`{}`: expected NAME = value", first_line(rest)),
+                format!("`{}`: expected NAME = value", short(first_line(rest))),
             ));
         };
         let name = rest[..equals].trim().to_owned();
@@ -134,7 +134,7 @@ fn parse_statements(text: &str, path: &Path) -> Result<HashMap<String, Statement
                 path,
                 line,
                 None,
-                format!("`{}`: expected NAME = value", first_line(rest)),
+                format!("`{}`: expected NAME = value", short(first_line(rest))),
             ));
         }
         let value_start = &rest[equals + 1..];
@@ -173,6 +173,15 @@ fn parse_statements(text: &str, path: &Path) -> Result<HashMap<String, Statement
     Ok(statements)
 }
 
+/// `text` as a message quotes it: at most 60 characters, the rest cut with `…`.
+fn short(text: &str) -> std::borrow::Cow<'_, str> {
+    const MOST: usize = 60;
+    match text.char_indices().nth(MOST) {
+        Some((end, _)) => format!("{}…", &text[..end]).into(),
+        None => text.into(),
+    }
+}
+
 fn first_line(text: &str) -> &str {
     text.lines().next().unwrap_or_default().trim()
 }
@@ -192,7 +201,9 @@ impl Evaluator<'_> {
         field: &str,
         allow_variable: bool,
     ) -> Result<f64, Error> {
-        let fail = |message: String| Error::parse(self.path, line, Some(field.to_owned()), message);
+        let fail = |message: String| {
+            Error::parse(self.path, line, Some(short(field).into_owned()), message)
+        };
         let expression = parse_expression(text).map_err(fail)?;
         let expression = match expression {
             Parsed::Number(value) => return Ok(value),
@@ -215,19 +226,20 @@ impl Evaluator<'_> {
             [_] if allow_variable => {}
             _ => {
                 return Err(fail(format!(
-                    "`{text}`: {} without a value; add a line `{} = <value>` to the file (metres, radians)",
-                    unknown.join(", "),
-                    unknown[0]
+                    "`{}`: {} without a value; add a line `{} = <value>` to the file (metres, radians)",
+                    short(text),
+                    short(&unknown.join(", ")),
+                    short(&unknown[0])
                 )));
             }
         }
         let value = expression
             .eval(&values)
-            .map_err(|error| fail(format!("`{text}`: {error}")))?;
+            .map_err(|error| fail(format!("`{}`: {}", short(text), short(&error.to_string()))))?;
         if value.is_finite() {
             Ok(value)
         } else {
-            Err(fail(format!("`{text}` is not a finite number")))
+            Err(fail(format!("`{}` is not a finite number", short(text))))
         }
     }
 }
@@ -249,7 +261,7 @@ fn parse_expression(text: &str) -> Result<Parsed, String> {
         return if value.is_finite() {
             Ok(Parsed::Number(value))
         } else {
-            Err(format!("`{text}` is not a finite number"))
+            Err(format!("`{}` is not a finite number", short(text)))
         };
     }
     if text.len() > MAX_EXPRESSION_BYTES {
@@ -261,7 +273,13 @@ fn parse_expression(text: &str) -> Result<Parsed, String> {
     }
     exmex::parse::<f64>(text)
         .map(|expression| Parsed::Expression(Box::new(expression)))
-        .map_err(|error| format!("`{text}` is not an expression: {error}"))
+        .map_err(|error| {
+            format!(
+                "`{}` is not an expression: {}",
+                short(text),
+                short(&error.to_string())
+            )
+        })
 }
 
 /// The symbol definitions in an order where each comes after the symbols it
@@ -289,7 +307,7 @@ fn definition_order<'a>(
                 return Err(Error::parse(
                     path,
                     statement.line,
-                    Some((*name).to_owned()),
+                    Some(short(name).into_owned()),
                     message,
                 ));
             }
@@ -322,10 +340,12 @@ fn definition_order<'a>(
                         return Err(Error::parse(
                             path,
                             statement.line,
-                            Some((*name).to_owned()),
+                            Some(short(name).into_owned()),
                             format!(
-                                "`{name}` is defined through itself (via `{dependency}`): give \
-                                 one of them a value"
+                                "`{}` is defined through itself (via `{}`): give one of them a \
+                                 value",
+                                short(name),
+                                short(dependency)
                             ),
                         ));
                     }
@@ -381,7 +401,7 @@ pub(crate) fn import_symoro(text: &str, path: &Path) -> Result<Imported, Error> 
                 path,
                 found.line,
                 Some(name.to_owned()),
-                format!("`{}` is not a whole number", found.items[0]),
+                format!("`{}` is not a whole number", short(&found.items[0])),
             )
         })
     };
@@ -454,7 +474,7 @@ pub(crate) fn import_symoro(text: &str, path: &Path) -> Result<Imported, Error> 
         let parent: i64 = ant.items[j - 1].parse().map_err(|_| {
             at(
                 "ant",
-                format!("`{}` is not a frame number", ant.items[j - 1]),
+                format!("`{}` is not a frame number", short(&ant.items[j - 1])),
             )
         })?;
         if parent != j as i64 - 1 {
@@ -530,7 +550,7 @@ pub(crate) fn import_symoro(text: &str, path: &Path) -> Result<Imported, Error> 
         path: path.to_owned(),
         message: error.to_string(),
     })?;
-    let robot = match statements.get("Z") {
+    let mut robot = match statements.get("Z") {
         None => robot,
         Some(z) => {
             let values = z
@@ -548,6 +568,9 @@ pub(crate) fn import_symoro(text: &str, path: &Path) -> Result<Imported, Error> 
                 })?
         }
     };
+    // Angles within a turn, as a robot file states them (θ = 8 rad is the
+    // geometry of 8 − 2π).
+    robot.wrap_angles();
     Ok(Imported {
         file: RobotFile {
             robot,
