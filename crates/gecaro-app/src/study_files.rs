@@ -8,7 +8,6 @@
 //! ([`Files::max_samples`]): four sets naming one large file hold four times
 //! its rows.
 
-use std::cell::Cell;
 use std::path::Path;
 
 use gecaro_calib::study::DataColumn;
@@ -35,8 +34,6 @@ struct StudyThroughFiles<'a> {
     /// The study file's folder (names are relative to it), or "".
     folder: &'a Path,
     statement: Statement<'a>,
-    /// Configurations read so far, over every set.
-    configurations: Cell<usize>,
 }
 
 impl StudyThroughFiles<'_> {
@@ -72,19 +69,6 @@ impl StudyFiles for StudyThroughFiles<'_> {
     ) -> Result<(DataFile, String), AppError> {
         let read =
             DataSource::File(self.name(name)).read(self.files, joint_types, columns, format)?;
-        let total = self.configurations.get() + read.samples.len();
-        let most = self.files.max_samples();
-        if total > most {
-            return Err(AppError::plain(
-                ErrorKind::TooLarge,
-                format!(
-                    "the study's sets hold {total} configurations together (counting {}); up \
-                     to {most} are taken here",
-                    read.label
-                ),
-            ));
-        }
-        self.configurations.set(total);
         let label = read.label.clone();
         Ok((
             DataFile {
@@ -94,6 +78,14 @@ impl StudyFiles for StudyThroughFiles<'_> {
             },
             label,
         ))
+    }
+
+    fn max_configurations(&self) -> usize {
+        self.files.max_samples()
+    }
+
+    fn too_large(&self, _: &str, message: String) -> AppError {
+        AppError::plain(ErrorKind::TooLarge, message)
     }
 
     fn misplaced(&self, field: &SpecField, message: String) -> AppError {
@@ -122,7 +114,6 @@ pub(crate) fn read_study(
             files,
             folder: Path::new(name).parent().unwrap_or(Path::new("")),
             statement: Statement::File(&text),
-            configurations: Cell::new(0),
         },
         data,
     )
@@ -143,7 +134,6 @@ pub(crate) fn build_study(
             files,
             folder: Path::new(""),
             statement: Statement::Request,
-            configurations: Cell::new(0),
         },
         data,
     )

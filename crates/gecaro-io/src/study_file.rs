@@ -162,8 +162,6 @@ impl StudyText {
 struct BesideStudyFile<'a> {
     text: &'a StudyText,
     folder: &'a Path,
-    /// Configurations read so far, over every set.
-    configurations: std::cell::Cell<usize>,
 }
 
 impl StudyFiles for BesideStudyFile<'_> {
@@ -191,17 +189,6 @@ impl StudyFiles for BesideStudyFile<'_> {
     ) -> Result<(DataFile, String), Error> {
         let path = self.folder.join(name);
         let read = read_samples(&path, joint_types, columns, format)?;
-        let total = self.configurations.get() + read.samples.len();
-        if total > crate::MAX_CONFIGURATIONS {
-            return Err(Error::Format {
-                path,
-                message: format!(
-                    "the study's sets hold {total} configurations together; at most {} are read",
-                    crate::MAX_CONFIGURATIONS
-                ),
-            });
-        }
-        self.configurations.set(total);
         Ok((read, path.display().to_string()))
     }
 
@@ -230,7 +217,6 @@ pub fn read_study_file_for(path: &Path, data: StudyData) -> Result<StudyFile, Er
         &BesideStudyFile {
             text: &text,
             folder,
-            configurations: std::cell::Cell::new(0),
         },
         data,
     )

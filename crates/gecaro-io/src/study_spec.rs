@@ -303,6 +303,23 @@ pub trait StudyFiles {
 
     /// The error for `field`, which is wrong as `message` says.
     fn misplaced(&self, field: &SpecField, message: String) -> Self::Error;
+
+    /// The most configurations a study's sets may hold together (four sets
+    /// naming one large file hold four times its rows).
+    fn max_configurations(&self) -> usize {
+        crate::MAX_CONFIGURATIONS
+    }
+
+    /// The error for sets holding more than
+    /// [`max_configurations`](Self::max_configurations) together; `label`
+    /// names the set that passed the bound.
+    fn too_large(&self, label: &str, message: String) -> Self::Error {
+        Error::Format {
+            path: label.into(),
+            message,
+        }
+        .into()
+    }
 }
 
 /// What a study's data files are read for.
@@ -330,6 +347,8 @@ pub struct StudyFile {
     pub prior: Option<Prior>,
     /// What the user should know: columns of data files left unused.
     pub notes: Vec<String>,
+    /// The statement it was built from.
+    pub spec: StudySpec,
 }
 
 impl StudySpec {
@@ -371,6 +390,7 @@ impl StudySpec {
             priority,
             prior,
             notes,
+            spec: self.clone(),
         })
     }
 
@@ -445,6 +465,21 @@ impl StudySpec {
             };
             let set = &mut study.sets[index];
             notes.extend(spec.read(set, format.as_ref(), files, joint_types, data, &misplaced)?);
+            let total: usize = study.sets[..=index]
+                .iter()
+                .map(|set| set.samples.len())
+                .sum();
+            let most = files.max_configurations();
+            if total > most {
+                let label = &study.sets[index].label;
+                return Err(files.too_large(
+                    label,
+                    format!(
+                        "the study's sets hold {total} configurations together (counting \
+                         {label}); up to {most} are taken here"
+                    ),
+                ));
+            }
         }
         Ok((study, notes))
     }

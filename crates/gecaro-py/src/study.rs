@@ -228,9 +228,8 @@ impl PyStudy {
     /// `[[measurements]]` with method, data file, σ, units), as `--study`.
     #[staticmethod]
     fn read(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
-        let text = gecaro_io::read_description(&path).py()?;
-        let mut spec = gecaro_io::StudyText::parse(text, &path).py()?.spec;
-        let file = gecaro_io::read_study_file(&path).py()?;
+        let mut file = gecaro_io::read_study_file(&path).py()?;
+        let mut spec = std::mem::take(&mut file.spec);
         // The sets' data are read: later sets added in Python need no files.
         for (entry, set) in spec.measurements.iter_mut().zip(&file.study.sets) {
             entry.data = SetData::Samples {
