@@ -41,8 +41,15 @@ fn simulated(name: &str, count: usize) -> Study {
     let mut sampler = Sampler::new(1);
     let real = perturbed_robot(&stanford(), 1.0, &mut sampler).expect("real robot");
     let chosen = method(name, &options).expect("method");
-    let samples =
-        simulate_measurements(&real, chosen.as_ref(), count, 1e-5, &mut sampler).expect("data");
+    let samples = simulate_measurements(
+        &real,
+        chosen.as_ref(),
+        count,
+        1e-5,
+        &mut sampler,
+        &mut Quiet,
+    )
+    .expect("data");
     Study::single(chosen, samples, name)
 }
 
@@ -161,9 +168,14 @@ fn compensate_6r_1000_targets(bencher: divan::Bencher) {
 fn plan_d_optimal_50(bencher: divan::Bencher, pool: usize) {
     let robot = stanford();
     let position = method("position", &MethodOptions::default()).expect("method");
-    let candidates =
-        gecaro_calib::identifiability::random_samples(&robot, position.as_ref(), Some(pool), 1)
-            .expect("candidates");
+    let candidates = gecaro_calib::identifiability::random_samples(
+        &robot,
+        position.as_ref(),
+        Some(pool),
+        1,
+        &mut Quiet,
+    )
+    .expect("candidates");
     let priority = robot.priority();
     bencher.bench_local(|| {
         gecaro_calib::planning::plan_configurations(
@@ -185,9 +197,14 @@ fn plan_d_optimal_50(bencher: divan::Bencher, pool: usize) {
 fn monte_carlo_1000_at_100(bencher: divan::Bencher) {
     let robot = stanford();
     let position = method("position", &MethodOptions::default()).expect("method");
-    let planned =
-        gecaro_calib::identifiability::random_samples(&robot, position.as_ref(), Some(100), 1)
-            .expect("planned");
+    let planned = gecaro_calib::identifiability::random_samples(
+        &robot,
+        position.as_ref(),
+        Some(100),
+        1,
+        &mut Quiet,
+    )
+    .expect("planned");
     let mut sampler = gecaro_calib::simulation::Sampler::new(2);
     let poses: Vec<Vec<f64>> = (0..200).map(|_| sampler.configuration(&robot)).collect();
     let options = gecaro_calib::identification::IdentificationOptions::default();

@@ -17,8 +17,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // The robot as it really is, and what a laser tracker measures of it.
     let mut sampler = Sampler::new(7);
     let real = perturbed_robot(&nominal, 0.3, &mut sampler)?;
-    let training = simulate_measurements(&real, position.as_ref(), 60, 2e-5, &mut sampler)?;
-    let held_out = simulate_measurements(&real, position.as_ref(), 40, 2e-5, &mut sampler)?;
+    let training =
+        simulate_measurements(&real, position.as_ref(), 60, 2e-5, &mut sampler, &mut Quiet)?;
+    let held_out =
+        simulate_measurements(&real, position.as_ref(), 40, 2e-5, &mut sampler, &mut Quiet)?;
 
     let study = Study::single(position.clone_method(), training, "training");
     let mut iterations = 0;

@@ -58,6 +58,7 @@ fn main() -> Result<(), Failure> {
                             20,
                             NOISE,
                             &mut case.sampler,
+                            &mut Quiet,
                         )?;
                         let mut pairs = Study::single(distance, samples, "pairs");
                         pairs.sets[0].sigma = Some(NOISE);

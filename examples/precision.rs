@@ -34,6 +34,7 @@ fn main() -> Result<(), Failure> {
                         if name == "frame" { 40 } else { 60 },
                         0.0,
                         &mut case.sampler,
+                        &mut Quiet,
                     )?;
                     let mut noise = Sampler::new(seed + 1000);
                     let mut values: Vec<Vec<f64>> = Vec::new();

@@ -449,9 +449,14 @@ fn identifiable_on_measured_data_checks_the_excitation() {
     let method =
         gecaro_calib::methods::method("position", &gecaro_calib::methods::MethodOptions::default())
             .expect("method");
-    let samples =
-        gecaro_calib::identifiability::random_samples(&robot, method.as_ref(), Some(40), 9)
-            .expect("samples");
+    let samples = gecaro_calib::identifiability::random_samples(
+        &robot,
+        method.as_ref(),
+        Some(40),
+        9,
+        &mut gecaro_calib::Quiet,
+    )
+    .expect("samples");
     let good = folder.path().join("good.csv");
     std::fs::write(
         &good,

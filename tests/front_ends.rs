@@ -23,7 +23,9 @@ fn tracker_file(folder: &std::path::Path) -> String {
     );
     request.noise = 2e-5;
     request.seed = Some(7);
-    let generated = request.run(&LocalFiles).expect("generated");
+    let generated = request
+        .run(&LocalFiles, &mut gecaro_calib::Quiet)
+        .expect("generated");
     let mut text = String::from("A1,A2,A3,A4,A5,A6,X,Y,Z,stamp\n");
     for (row, sample) in generated.samples.iter().enumerate() {
         let q = &sample.motor_positions;

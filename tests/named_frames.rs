@@ -134,9 +134,15 @@ fn write_cell_seen_from(folder: &Path, tracker_1: &IsometryMatrix3<f64>) -> Name
     for tool in &tools {
         for (station, suffix) in [(None, "1"), (Some(&tracker_2), "2")] {
             let robot = measuring_robot(&real, Some(tool), station).expect("robot");
-            let mut samples =
-                simulate_measurements(&robot, position.as_ref(), 25, 2e-5, &mut sampler)
-                    .expect("data");
+            let mut samples = simulate_measurements(
+                &robot,
+                position.as_ref(),
+                25,
+                2e-5,
+                &mut sampler,
+                &mut gecaro_calib::Quiet,
+            )
+            .expect("data");
             // As the tracker writes them: millimetres, joint angles in degrees.
             for sample in &mut samples {
                 sample.position = sample.position.map(|p| p * 1e3);

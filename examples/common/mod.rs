@@ -97,6 +97,7 @@ impl Case {
             count,
             NOISE,
             &mut self.sampler,
+            &mut Quiet,
         )?;
         Ok(Study::single(
             self.method.clone_method(),

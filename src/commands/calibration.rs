@@ -14,6 +14,7 @@ use gecaro_calib::{Quiet, each_iteration};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::options::{fit_settings, measurements, method_spec, name, output_policy, print_notes};
+use super::progress::with_steps;
 use crate::cli::{
     DemoArgs, EvaluateArgs, GenerateArgs, IdentificationRunArgs, IdentifyArgs, ReportArgs,
 };
@@ -73,13 +74,11 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
     request.save_as = Some(name(&args.output));
     request.real_save_as = args.real_out.as_deref().map(name);
     request.overwrite = args.force;
-    let bar = spinner(match &args.configurations {
-        Some(path) => format!("measuring at the configurations of {}", path.display()),
-        None => format!("generating {} configurations", args.count.unwrap_or(0)),
-    });
-    let generated = request.run(&LocalFiles);
-    bar.finish_and_clear();
-    let generated = generated?;
+    let what = match &args.configurations {
+        Some(_) => "measuring",
+        None => "generating",
+    };
+    let generated = with_steps(what, |observer| request.run(&LocalFiles, observer))?;
     println!(
         "wrote {} configurations ({}) to {}",
         generated.samples.len(),
@@ -593,6 +592,7 @@ pub(crate) fn demo(args: &DemoArgs) -> Result<(), Failure> {
             count,
             args.noise,
             &mut sampler,
+            &mut Quiet,
         )?;
         // The sensor's σ is known here: the verdict tests the fit against it.
         let mut measurements = Measurements::single(

@@ -10,6 +10,7 @@ use gecaro_io::load_robot;
 use serde::Serialize;
 
 use super::options::{measurements, plane, print_notes, vector3};
+use super::progress::with_steps;
 use crate::cli::{IdentifiableArgs, Table2Args};
 use crate::failure::Failure;
 use crate::format::{number, table};
@@ -22,7 +23,9 @@ pub(crate) fn identifiable(args: &IdentifiableArgs) -> Result<(), Failure> {
         .map(|path| PrioritySource::File(path.display().to_string()));
     request.count = args.count;
     request.seed = Some(args.seed);
-    let outcome = request.run(&LocalFiles)?;
+    let outcome = with_steps("drawing configurations", |observer| {
+        request.run(&LocalFiles, observer)
+    })?;
     print_notes(&outcome.loaded.notes);
     let (robot, analysis) = (&outcome.loaded.robot.robot, &outcome.analysis);
     if args.json {

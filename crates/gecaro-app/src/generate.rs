@@ -9,6 +9,7 @@ use gecaro_calib::simulation::{
     within_nominal_limits,
 };
 use gecaro_calib::study::{DataColumn, Sample};
+use gecaro_calib::{Observer, Progress};
 use gecaro_io::RobotFile;
 use serde::Deserialize;
 
@@ -108,12 +109,17 @@ impl GenerateRequest {
     }
 
     /// Simulates the measurements and writes the files asked for (checked
-    /// before any work).
+    /// before any work); `observer` hears of the configurations done and
+    /// may stop the work, before anything is written.
     ///
     /// # Errors
     /// Bad settings, a real robot of other joints, configurations that
-    /// cannot be generated, files that cannot be written.
-    pub fn run(&self, files: &dyn Files) -> Result<Generated, AppError> {
+    /// cannot be generated, files that cannot be written, an interruption.
+    pub fn run(
+        &self,
+        files: &dyn Files,
+        observer: &mut dyn Observer,
+    ) -> Result<Generated, AppError> {
         self.unknown.check()?;
         let nominal = self.robot.load(files)?;
         let robot = &nominal.robot;
@@ -180,6 +186,7 @@ impl GenerateRequest {
                     &planned.samples,
                     self.noise,
                     &mut sampler,
+                    observer,
                 )?
             }
             (None, count) => {
@@ -204,11 +211,21 @@ impl GenerateRequest {
                     count,
                     self.noise,
                     &mut measuring,
+                    observer,
                 )?;
                 refuse_misses(measuring.cell_misses(), "configuration(s)")?;
                 samples
             }
         };
+        // Whoever asked may have gone while the data were drawn (a closed
+        // page, Ctrl-C): then nothing is written.
+        let done = samples.len();
+        if observer
+            .observe(Progress::Step { done, total: done })
+            .is_break()
+        {
+            return Err(gecaro_calib::Error::Interrupted.into());
+        }
         let displacement = terminal_displacement(robot, &real.robot, &samples)?;
         let csv = gecaro_io::format_samples(robot.joint_count(), method.data_columns(), &samples);
         let saved = match &self.save_as {

@@ -2,6 +2,7 @@
 //! on random configurations of a method, or on measured data with the
 //! excitation check.
 
+use gecaro_calib::Observer;
 use gecaro_calib::identifiability::{Identifiability, identifiability};
 use serde::Deserialize;
 
@@ -47,12 +48,17 @@ impl IdentifiableRequest {
         }
     }
 
-    /// Runs the analysis.
+    /// Runs the analysis; `observer` hears of the random configurations
+    /// drawn and may stop the work.
     ///
     /// # Errors
     /// Bad input or settings, configurations that cannot be generated, too
-    /// few equations.
-    pub fn run(&self, files: &dyn Files) -> Result<IdentifiabilityAnalysis, AppError> {
+    /// few equations, an interruption.
+    pub fn run(
+        &self,
+        files: &dyn Files,
+        observer: &mut dyn Observer,
+    ) -> Result<IdentifiabilityAnalysis, AppError> {
         self.unknown.check()?;
         if let Some(count) = self.count
             && !(1..=MAX_RANDOM).contains(&count)
@@ -75,6 +81,7 @@ impl IdentifiableRequest {
             &priority,
             self.count,
             self.seed.unwrap_or(1),
+            observer,
         )?;
         Ok(IdentifiabilityAnalysis { loaded, analysis })
     }

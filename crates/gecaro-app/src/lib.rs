@@ -41,7 +41,7 @@
 //!     r#"{"robot": "stanford", "method": {"name": "position"}, "count": 40,
 //!         "error_level": 0.5, "noise": 1e-5, "seed": 3}"#,
 //! )?;
-//! let generated = generate.run(&LocalFiles)?;
+//! let generated = generate.run(&LocalFiles, &mut gecaro_calib::Quiet)?;
 //!
 //! let mut identify: IdentifyRequest = serde_json::from_str(
 //!     r#"{"robot": "stanford", "method": {"name": "position"}, "loss": "huber"}"#,

@@ -299,7 +299,9 @@ impl PlanRequest {
                     ));
                 }
                 let mut sampler = Sampler::new(seed).with_cell(self.cell.cell()?);
-                let pool = method.sensor().generate(robot, size, 0.0, &mut sampler)?;
+                let pool = method
+                    .sensor()
+                    .generate(robot, size, 0.0, &mut sampler, observer)?;
                 refuse_misses(sampler.cell_misses(), "candidate(s)")?;
                 pool
             }

@@ -134,10 +134,10 @@ impl PlanStudyRequest {
             let mut drawing = sampler
                 .clone()
                 .with_cell(self.cell.cell_seen_from(station)?);
-            set.samples = set
-                .method
-                .sensor()
-                .generate(&with_tool, pool, 0.0, &mut drawing)?;
+            set.samples =
+                set.method
+                    .sensor()
+                    .generate(&with_tool, pool, 0.0, &mut drawing, observer)?;
             refuse_misses(
                 drawing.cell_misses(),
                 &format!("candidate(s) of {}", set.label),

@@ -13,7 +13,9 @@ fn generate(robot: &str, method: &str, cell: CellSpec) -> gecaro_app::Generated 
     );
     request.cell = cell;
     request.noise = 1e-5;
-    request.run(&LocalFiles).expect("generated")
+    request
+        .run(&LocalFiles, &mut gecaro_calib::Quiet)
+        .expect("generated")
 }
 
 /// The lowest origin of frames 1..=n+1 of the real robot over the samples.
@@ -82,7 +84,9 @@ fn a_station_sees_every_reflector_within_its_cone() {
         10,
     );
     request.cell.floor = Some(5.0);
-    let error = request.run(&LocalFiles).expect_err("nothing above 5 m");
+    let error = request
+        .run(&LocalFiles, &mut gecaro_calib::Quiet)
+        .expect_err("nothing above 5 m");
     assert!(
         error.to_string().contains("leaves next to nothing"),
         "{error}"

@@ -31,6 +31,7 @@ use crate::linalg::{
 use crate::method::CalibrationMethod;
 use crate::observability::{AUXILIARY_UNIT, Observability, column_unit};
 use crate::observation::ObservationSystem;
+use crate::progress::{Observer, Quiet};
 use crate::rows::ColumnLayout;
 use crate::sample::Sample;
 use crate::sampler::Sampler;
@@ -506,6 +507,8 @@ pub(crate) fn random_counterpart_at(
             states.set(index),
             needed,
             &mut sampler,
+            // About 2.5 equations per unknown: quick, whatever the data.
+            &mut Quiet,
         )?;
         let mut random = set.with_samples(samples);
         random.label = format!("random configurations like {}", set.label);
@@ -617,15 +620,18 @@ pub(crate) fn excitation_at(
 
 /// Noise-free random data for `method` on `robot`: configurations satisfying
 /// the method's constraint, enough for about 2.5 independent equations per
-/// unknown unless `count` is given.
+/// unknown unless `count` is given. `observer` hears of the configurations
+/// drawn and may stop the work.
 ///
 /// # Errors
-/// When configurations cannot be generated (see [`Sensor::generate`](crate::methods::Sensor::generate)).
+/// When configurations cannot be generated (see [`Sensor::generate`](crate::methods::Sensor::generate)),
+/// [`Error::Interrupted`] when the observer stops the work.
 pub fn random_samples(
     robot: &Robot,
     method: &dyn CalibrationMethod,
     count: Option<usize>,
     seed: u64,
+    observer: &mut dyn Observer,
 ) -> Result<Vec<Sample>, Error> {
     let unknowns = robot.parameters().len() + method.auxiliary_names().len();
     let count = count.unwrap_or_else(|| {
@@ -635,7 +641,7 @@ pub fn random_samples(
     });
     method
         .sensor()
-        .generate(robot, count, 0.0, &mut Sampler::new(seed))
+        .generate(robot, count, 0.0, &mut Sampler::new(seed), observer)
 }
 
 /// The paper's "Identifiable parameters" function for a study, and what it
@@ -657,16 +663,19 @@ pub struct Identifiability {
 /// equations per unknown) drawn with `seed`. A study with measured samples is
 /// analysed structurally, on random configurations like the data (their
 /// constraints exactly satisfied), followed by the excitation check of §4 on
-/// the data themselves.
+/// the data themselves. `observer` hears of the random configurations drawn
+/// (the long part of an analysis of many) and may stop the work.
 ///
 /// # Errors
-/// Invalid data, configurations that cannot be generated, or too few equations.
+/// Invalid data, configurations that cannot be generated, or too few
+/// equations; [`Error::Interrupted`] when the observer stops the work.
 pub fn identifiability(
     robot: &Robot,
     study: &Study,
     priority: &PriorityMatrix,
     count: Option<usize>,
     seed: u64,
+    observer: &mut dyn Observer,
 ) -> Result<Identifiability, Error> {
     let has_data = !study.sets.is_empty() && study.sets.iter().all(|set| !set.samples.is_empty());
     if has_data {
@@ -684,7 +693,7 @@ pub fn identifiability(
         line: None,
         message: "the study has no measurement set".into(),
     })?;
-    let samples = random_samples(robot, set.method.as_ref(), count, seed)?;
+    let samples = random_samples(robot, set.method.as_ref(), count, seed, observer)?;
     let configurations = samples.len();
     let random = Study::single(set.method.clone_method(), samples, "random configurations");
     Ok(Identifiability {

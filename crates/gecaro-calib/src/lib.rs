@@ -43,7 +43,7 @@
 //! })?;
 //! let position = method("position", &MethodOptions::default())?;
 //! let random = Study::single(position, Vec::new(), "random configurations");
-//! let report = identifiability(&robot, &random, &robot.priority(), None, 1)?.report;
+//! let report = identifiability(&robot, &random, &robot.priority(), None, 1, &mut Quiet)?.report;
 //! assert_eq!(report.status("d2"), Some(ParameterStatus::Identifiable));
 //! assert!(report.count() < robot.parameters().len());
 //! # Ok::<(), Box<dyn std::error::Error>>(())

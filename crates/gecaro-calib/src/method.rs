@@ -14,6 +14,7 @@ use gecaro_core::{JacobianRows, OrientationDifference, Robot};
 
 use crate::error::{Error, Setting};
 use crate::plane::Plane;
+use crate::progress::Observer;
 use crate::rows::RowWriter;
 use crate::sample::{DataColumn, Sample};
 use crate::sampler::Sampler;
@@ -145,16 +146,19 @@ pub trait Sensor: fmt::Debug + Send + Sync {
     /// Generates about `count` configurations of `robot` that satisfy the
     /// method's constraint, with what a sensor would measure there, perturbed
     /// by Gaussian noise of standard deviation `noise` (metres; radians for
-    /// orientations).
+    /// orientations). `observer` hears of the configurations done
+    /// ([`Progress::Step`](crate::Progress::Step)) and may stop the work.
     ///
     /// # Errors
-    /// [`Error::Generation`] when configurations cannot be found.
+    /// [`Error::Generation`] when configurations cannot be found,
+    /// [`Error::Interrupted`] when the observer stops the work.
     fn generate(
         &self,
         robot: &Robot,
         count: usize,
         noise: f64,
         sampler: &mut Sampler,
+        observer: &mut dyn Observer,
     ) -> Result<Vec<Sample>, Error>;
 
     /// Simulated measurements of `real` at planned configurations (`planned`:
@@ -169,13 +173,14 @@ pub trait Sensor: fmt::Debug + Send + Sync {
     /// # Errors
     /// [`Error::InvalidData`] for sets or pairs that do not fit the method,
     /// [`Error::Generation`] when a configuration cannot be brought to the
-    /// constraint.
+    /// constraint, [`Error::Interrupted`] when `observer` stops the work.
     fn measure_at(
         &self,
         real: &Robot,
         planned: &[Sample],
         noise: f64,
         sampler: &mut Sampler,
+        observer: &mut dyn Observer,
     ) -> Result<Vec<Sample>, Error>;
 
     /// Noise-free random data of the same kind as `samples` (whose states at
@@ -192,8 +197,9 @@ pub trait Sensor: fmt::Debug + Send + Sync {
         _states: &[TerminalState],
         count: usize,
         sampler: &mut Sampler,
+        observer: &mut dyn Observer,
     ) -> Result<Vec<Sample>, Error> {
-        self.generate(robot, count, 0.0, sampler)
+        self.generate(robot, count, 0.0, sampler, observer)
     }
 }
 

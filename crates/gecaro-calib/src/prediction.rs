@@ -251,7 +251,7 @@ pub fn monte_carlo(
     let one = |run: usize| -> Result<(Vec<f64>, Vec<f64>, bool), Error> {
         let mut sampler = Sampler::new(seed.wrapping_add(run as u64));
         let real = perturbed_robot(robot, error_level, &mut sampler)?;
-        let data = simulate_at(&real, method, planned, noise, &mut sampler)?;
+        let data = simulate_at(&real, method, planned, noise, &mut sampler, &mut Quiet)?;
         let study = Study::single(method.clone_method(), data, "simulated");
         let result = identify(robot, &study, options, &mut Quiet)?;
         let (calibrated, real) = (

@@ -12,6 +12,7 @@ use gecaro_core::{ParameterKind, Robot, terminal_pose};
 use crate::Error;
 use crate::error::Setting;
 use crate::method::CalibrationMethod;
+use crate::progress::Observer;
 use crate::sample::Sample;
 
 pub use crate::sampler::{CELL_DRAWS, RANDOM_STARTS, Sampler, solve_from_starts};
@@ -149,15 +150,18 @@ pub fn terminal_displacement(
 
 /// Data a method's sensor would give on `real`: `count` configurations that
 /// satisfy its constraint, with Gaussian noise of `noise` (metres, radians).
+/// `observer` hears of the configurations done and may stop the work.
 ///
 /// # Errors
-/// [`Error::Generation`] when the constraint cannot be met.
+/// [`Error::Generation`] when the constraint cannot be met,
+/// [`Error::Interrupted`] when the observer stops the work.
 pub fn simulate_measurements(
     real: &Robot,
     method: &dyn CalibrationMethod,
     count: usize,
     noise: f64,
     sampler: &mut Sampler,
+    observer: &mut dyn Observer,
 ) -> Result<Vec<Sample>, Error> {
     check_noise(noise)?;
     if count == 0 {
@@ -166,20 +170,26 @@ pub fn simulate_measurements(
             message: "must be at least 1".into(),
         });
     }
-    method.sensor().generate(real, count, noise, sampler)
+    method
+        .sensor()
+        .generate(real, count, noise, sampler, observer)
 }
 
 /// Simulated measurements of `real` at planned configurations (see
 /// [`Sensor::measure_at`](crate::methods::Sensor::measure_at)).
 ///
+/// `observer` hears of the configurations done and may stop the work.
+///
 /// # Errors
-/// A negative or non-finite `noise`, no configurations, and the method's own.
+/// A negative or non-finite `noise`, no configurations, and the method's
+/// own; [`Error::Interrupted`] when the observer stops the work.
 pub fn simulate_at(
     real: &Robot,
     method: &dyn CalibrationMethod,
     planned: &[Sample],
     noise: f64,
     sampler: &mut Sampler,
+    observer: &mut dyn Observer,
 ) -> Result<Vec<Sample>, Error> {
     check_noise(noise)?;
     if planned.is_empty() {
@@ -191,7 +201,9 @@ pub fn simulate_at(
     for sample in planned {
         real.check_configuration(&sample.motor_positions)?;
     }
-    method.sensor().measure_at(real, planned, noise, sampler)
+    method
+        .sensor()
+        .measure_at(real, planned, noise, sampler, observer)
 }
 
 /// A sensor's standard deviation must be a number in 0..=[`MAX_NOISE`].

@@ -748,6 +748,7 @@ mod tests {
     use super::*;
     use crate::method::MethodOptions;
     use crate::methods::METHODS;
+    use crate::progress::Quiet;
     use crate::rows::RowKind;
     use crate::simulation::{Sampler, perturbed_robot, simulate_measurements};
     use crate::table2::default_plane;
@@ -808,8 +809,15 @@ mod tests {
                     .map(|_| Sample::new(sampler.configuration(&nominal)))
                     .collect()
             } else {
-                simulate_measurements(&real, method.as_ref(), count, 1e-4, &mut sampler)
-                    .expect("data")
+                simulate_measurements(
+                    &real,
+                    method.as_ref(),
+                    count,
+                    1e-4,
+                    &mut sampler,
+                    &mut Quiet,
+                )
+                .expect("data")
             };
             let position = crate::methods::method("position", &options).expect("position");
             let study = Study {
@@ -822,6 +830,7 @@ mod tests {
                             3,
                             0.0,
                             &mut sampler,
+                            &mut Quiet,
                         )
                         .expect("data"),
                         sigma: Some(1e-3),

@@ -21,6 +21,7 @@ use crate::identifiability::{RankReport, identifiable_parameters, random_samples
 use crate::method::MethodOptions;
 use crate::methods::method;
 use crate::plane::Plane;
+use crate::progress::Quiet;
 use crate::sampler::Sampler;
 use crate::study::Study;
 
@@ -135,6 +136,7 @@ pub fn table2(
                 method.as_ref(),
                 None,
                 seed.wrapping_add(index as u64),
+                &mut Quiet,
             )?;
             let study = Study::single(method, samples, column.heading);
             identifiable_parameters(robot, &study, priority)

@@ -166,9 +166,15 @@ fn cell_study_of(
             });
             let measuring =
                 measuring_robot(real, Some(&truth[tool]), measuring_from.as_ref()).expect("robot");
-            let samples =
-                simulate_measurements(&measuring, position.as_ref(), count, NOISE, &mut sampler)
-                    .expect("data");
+            let samples = simulate_measurements(
+                &measuring,
+                position.as_ref(),
+                count,
+                NOISE,
+                &mut sampler,
+                &mut Quiet,
+            )
+            .expect("data");
             sets.push(MeasurementSet {
                 method: position.clone_method(),
                 samples,
@@ -356,8 +362,15 @@ fn a_study_s_prediction_is_the_cell_s_precision() {
     let poses = random_test_poses(&nominal, 50, 3);
     let position = method("position", &MethodOptions::default()).expect("method");
     let mut sampler = Sampler::new(4);
-    let samples = simulate_measurements(&nominal, position.as_ref(), 40, 0.0, &mut sampler)
-        .expect("configurations");
+    let samples = simulate_measurements(
+        &nominal,
+        position.as_ref(),
+        40,
+        0.0,
+        &mut sampler,
+        &mut Quiet,
+    )
+    .expect("configurations");
     let single = predict(
         &nominal,
         position.as_ref(),

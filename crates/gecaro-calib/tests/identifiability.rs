@@ -2,6 +2,7 @@
 //! closed-form counts, and the regrouping relations on fresh data; the
 //! observability indices against a direct SVD of W_b.
 use gecaro_calib::{
+    Quiet,
     identifiability::{
         ParameterStatus, RankReport, identifiability, identifiable_parameters, random_samples,
     },
@@ -26,7 +27,7 @@ fn on_random_configurations(
     seed: u64,
 ) -> Result<RankReport, gecaro_calib::Error> {
     let study = Study::single(method(name, options)?, Vec::new(), "random configurations");
-    Ok(identifiability(robot, &study, &robot.priority(), count, seed)?.report)
+    Ok(identifiability(robot, &study, &robot.priority(), count, seed, &mut Quiet)?.report)
 }
 
 fn ready(name: &str) -> Robot {
@@ -212,13 +213,15 @@ fn regrouping_relations_hold_on_fresh_data() {
         "distance",
     ] {
         let chosen = method(name, &options).expect("a method");
-        let samples = random_samples(&robot, chosen.as_ref(), None, 10).expect("samples");
+        let samples =
+            random_samples(&robot, chosen.as_ref(), None, 10, &mut Quiet).expect("samples");
         let study = Study::single(chosen, samples, "first");
         let report = identifiable_parameters(&robot, &study, &robot.priority()).expect("report");
 
         // A fresh W from other configurations, all parameter columns in vocabulary order.
         let fresh = method(name, &options).expect("a method");
-        let samples = random_samples(&robot, fresh.as_ref(), None, 11).expect("samples");
+        let samples =
+            random_samples(&robot, fresh.as_ref(), None, 11, &mut Quiet).expect("samples");
         let study = Study::single(fresh, samples, "second");
         let mut states = StudyStates::default();
         study.evaluate(&robot, &[], &mut states).expect("states");
@@ -267,7 +270,7 @@ fn regrouping_relations_hold_on_fresh_data() {
 fn too_few_configurations_is_an_error_not_a_wrong_answer() {
     let robot = ready("stanford");
     let chosen = method("position", &MethodOptions::default()).expect("a method");
-    let samples = random_samples(&robot, chosen.as_ref(), Some(5), 1).expect("samples");
+    let samples = random_samples(&robot, chosen.as_ref(), Some(5), 1, &mut Quiet).expect("samples");
     let study = Study::single(chosen, samples, "five.csv");
     let error = identifiable_parameters(&robot, &study, &robot.priority())
         .expect_err("15 equations for 43 unknowns");
@@ -292,7 +295,8 @@ fn observability_indices_equal_a_direct_svd_of_the_scaled_base_columns() {
     };
     for name in ["position", "frame", "point-link", "plane1", "distance"] {
         let chosen = method(name, &options).expect("a method");
-        let samples = random_samples(&robot, chosen.as_ref(), None, 3).expect("samples");
+        let samples =
+            random_samples(&robot, chosen.as_ref(), None, 3, &mut Quiet).expect("samples");
         let configurations = samples.len();
         let study = Study::single(chosen, samples, "data");
         let report = identifiable_parameters(&robot, &study, &robot.priority()).expect("report");

@@ -59,16 +59,30 @@ fn simulate(
     let mut sampler = Sampler::new(seed);
     let real = perturbed_robot(&stanford(), level, &mut sampler).expect("real robot");
     let chosen = method(name, &options(unknown)).expect("method");
-    let samples =
-        simulate_measurements(&real, chosen.as_ref(), count, noise, &mut sampler).expect("data");
+    let samples = simulate_measurements(
+        &real,
+        chosen.as_ref(),
+        count,
+        noise,
+        &mut sampler,
+        &mut Quiet,
+    )
+    .expect("data");
     (real, Study::single(chosen, samples, name))
 }
 
 /// Fresh data of the same method on the same real robot (other configurations).
 fn held_out(real: &Robot, name: &str, unknown: bool, count: usize, seed: u64) -> Study {
     let chosen = method(name, &options(unknown)).expect("method");
-    let samples = simulate_measurements(real, chosen.as_ref(), count, 0.0, &mut Sampler::new(seed))
-        .expect("data");
+    let samples = simulate_measurements(
+        real,
+        chosen.as_ref(),
+        count,
+        0.0,
+        &mut Sampler::new(seed),
+        &mut Quiet,
+    )
+    .expect("data");
     Study::single(chosen, samples, "held out")
 }
 
@@ -139,9 +153,15 @@ fn with_sensor_noise_the_residual_settles_at_the_noise_level() {
         let standalone = study.observes_scale();
         if !standalone {
             let distance = method("distance", &MethodOptions::default()).expect("method");
-            let pairs =
-                simulate_measurements(&real, distance.as_ref(), 120, sigma, &mut Sampler::new(5))
-                    .expect("data");
+            let pairs = simulate_measurements(
+                &real,
+                distance.as_ref(),
+                120,
+                sigma,
+                &mut Sampler::new(5),
+                &mut Quiet,
+            )
+            .expect("data");
             study.sets.push(MeasurementSet {
                 method: distance,
                 samples: pairs,
@@ -391,6 +411,69 @@ fn a_progress_hook_can_stop_an_identification() {
     assert_eq!(records, 2, "no record after the stop");
 }
 
+/// Points generation and measurements at planned configurations report their
+/// progress for every method, up to the count asked for, and stop when the
+/// observer says so (a closed page, Ctrl-C) with nothing returned.
+#[test]
+fn every_sensor_reports_its_progress_and_can_be_stopped() {
+    let robot = stanford();
+    for info in gecaro_calib::methods::METHODS {
+        let chosen = method(info.name, &options(false)).expect("method");
+        let sensor = chosen.sensor();
+        let mut seen = Vec::new();
+        let samples = sensor
+            .generate(
+                &robot,
+                12,
+                0.0,
+                &mut Sampler::new(3),
+                &mut |progress: Progress<'_>| {
+                    if let Progress::Step { done, total } = progress {
+                        seen.push((done, total));
+                    }
+                    ControlFlow::Continue(())
+                },
+            )
+            .expect("generated");
+        assert_eq!(samples.len(), 12, "{}", info.name);
+        assert!(
+            seen.len() >= 2
+                && seen.windows(2).all(|pair| pair[0].0 < pair[1].0)
+                && seen.iter().all(|&(done, total)| total == 12 && done < 12),
+            "{}: {seen:?}",
+            info.name
+        );
+        for planned in [None, Some(samples.as_slice())] {
+            let mut calls = 0;
+            let mut stop_at_second = |_: Progress<'_>| {
+                calls += 1;
+                if calls == 2 {
+                    ControlFlow::Break(())
+                } else {
+                    ControlFlow::Continue(())
+                }
+            };
+            let stopped = match planned {
+                None => sensor.generate(&robot, 12, 0.0, &mut Sampler::new(3), &mut stop_at_second),
+                Some(planned) => sensor.measure_at(
+                    &robot,
+                    planned,
+                    0.0,
+                    &mut Sampler::new(3),
+                    &mut stop_at_second,
+                ),
+            };
+            assert_eq!(
+                stopped.expect_err("stopped"),
+                gecaro_calib::Error::Interrupted,
+                "{}",
+                info.name
+            );
+            assert_eq!(calls, 2, "{}: no step after the stop", info.name);
+        }
+    }
+}
+
 /// Held-out RMS of the identified robot over that of the real robot itself
 /// (the noise floor), for position data of a ready robot with errors at
 /// `level` (200 configurations to identify from, 200 to check on, σ 0.01 mm),
@@ -407,7 +490,8 @@ fn held_out_over_floor_of(robot: &str, name: &str, level: f64, seed: u64) -> (f6
     let real = perturbed_robot(&nominal, level, &mut sampler).expect("real robot");
     let mut measure = || {
         let samples =
-            simulate_measurements(&real, measure.as_ref(), 200, 1e-5, &mut sampler).expect("data");
+            simulate_measurements(&real, measure.as_ref(), 200, 1e-5, &mut sampler, &mut Quiet)
+                .expect("data");
         Study::single(measure.clone_method(), samples, "simulated")
     };
     let (train, check) = (measure(), measure());

@@ -59,7 +59,7 @@ fn the_plan_beats_the_best_of_a_hundred_random_subsets_and_is_deterministic() {
     ] {
         let robot = ready(robot);
         let chosen = method(name, &MethodOptions::default()).expect("method");
-        let pool = random_samples(&robot, chosen.as_ref(), Some(400), 7).expect("pool");
+        let pool = random_samples(&robot, chosen.as_ref(), Some(400), 7, &mut Quiet).expect("pool");
         let planned = plan(&robot, name, &pool, count);
         assert_eq!(planned.samples.len(), count, "{name}");
         let again = plan(&robot, name, &pool, count);
@@ -105,7 +105,7 @@ fn the_plan_beats_the_best_of_a_hundred_random_subsets_and_is_deterministic() {
 fn every_criterion_beats_the_best_of_a_hundred_random_subsets() {
     let robot = ready("stanford");
     let position = method("position", &MethodOptions::default()).expect("method");
-    let pool = random_samples(&robot, position.as_ref(), Some(240), 17).expect("pool");
+    let pool = random_samples(&robot, position.as_ref(), Some(240), 17, &mut Quiet).expect("pool");
     let mut sampler = Sampler::new(8);
     let test_poses: Vec<Vec<f64>> = (0..50).map(|_| sampler.configuration(&robot)).collect();
     let criteria = [
@@ -197,7 +197,7 @@ fn every_criterion_beats_the_best_of_a_hundred_random_subsets() {
 fn the_test_pose_criterion_is_the_predicted_error_and_lowers_it() {
     let robot = ready("panda");
     let frame = method("frame", &MethodOptions::default()).expect("method");
-    let pool = random_samples(&robot, frame.as_ref(), Some(200), 5).expect("pool");
+    let pool = random_samples(&robot, frame.as_ref(), Some(200), 5, &mut Quiet).expect("pool");
     let mut sampler = Sampler::new(6);
     // Where the robot will work: a small region around one configuration.
     let centre = sampler.configuration(&robot);
@@ -244,8 +244,8 @@ fn the_test_pose_criterion_is_the_predicted_error_and_lowers_it() {
 fn chosen_configurations_keep_the_minimum_distance() {
     let robot = ready("stanford");
     let position = method("position", &MethodOptions::default()).expect("method");
-    let pool = random_samples(&robot, position.as_ref(), Some(300), 3).expect("pool");
-    let kept = random_samples(&robot, position.as_ref(), Some(5), 4).expect("kept");
+    let pool = random_samples(&robot, position.as_ref(), Some(300), 3, &mut Quiet).expect("pool");
+    let kept = random_samples(&robot, position.as_ref(), Some(5), 4, &mut Quiet).expect("kept");
     let joints = |sample: &Sample| robot.joint_positions(&sample.motor_positions).expect("q");
     let closest = |samples: &[Sample]| {
         let mut closest = f64::INFINITY;
@@ -323,12 +323,12 @@ fn planned_beats_random(robot: &str, name: &str, count: usize, pool_size: usize)
     let chosen = method(name, &MethodOptions::default()).expect("method");
     let pool = chosen
         .sensor()
-        .generate(&robot, pool_size, 0.0, &mut Sampler::new(11))
+        .generate(&robot, pool_size, 0.0, &mut Sampler::new(11), &mut Quiet)
         .expect("pool");
     let planned = plan(&robot, name, &pool, count);
     let held_out = chosen
         .sensor()
-        .generate(&robot, 2 * count, 0.0, &mut Sampler::new(12))
+        .generate(&robot, 2 * count, 0.0, &mut Sampler::new(12), &mut Quiet)
         .expect("held out");
     let mut wins = 0;
     for seed in 0..10 {
@@ -337,14 +337,29 @@ fn planned_beats_random(robot: &str, name: &str, count: usize, pool_size: usize)
         let random = random_units(chosen.as_ref(), &pool, planned.chosen.len(), &mut sampler);
         let check = Study::single(
             chosen.clone_method(),
-            simulate_at(&real, chosen.as_ref(), &held_out, 0.0, &mut sampler).expect("held out"),
+            simulate_at(
+                &real,
+                chosen.as_ref(),
+                &held_out,
+                0.0,
+                &mut sampler,
+                &mut Quiet,
+            )
+            .expect("held out"),
             "held out",
         );
         let mut error = |design: &[Sample]| {
             let mut sum = 0.0;
             for _ in 0..SESSIONS {
-                let data = simulate_at(&real, chosen.as_ref(), design, 1e-4, &mut sampler)
-                    .expect("measured");
+                let data = simulate_at(
+                    &real,
+                    chosen.as_ref(),
+                    design,
+                    1e-4,
+                    &mut sampler,
+                    &mut Quiet,
+                )
+                .expect("measured");
                 let study = Study::single(chosen.clone_method(), data, "design");
                 let result = identify(
                     &robot,
@@ -410,13 +425,20 @@ fn every_method_measures_at_planned_configurations_and_identifies() {
         let chosen = method(name, &options).expect("method");
         let pool = chosen
             .sensor()
-            .generate(&robot, 6 * count, 0.0, &mut Sampler::new(4))
+            .generate(&robot, 6 * count, 0.0, &mut Sampler::new(4), &mut Quiet)
             .expect("pool");
         let planned = plan_with(&robot, chosen.as_ref(), &pool, &PlanRequest::new(count));
         let mut sampler = Sampler::new(9);
         let real = perturbed_robot(&robot, 0.1, &mut sampler).expect("real");
-        let data = simulate_at(&real, chosen.as_ref(), &planned.samples, 1e-5, &mut sampler)
-            .expect("measured");
+        let data = simulate_at(
+            &real,
+            chosen.as_ref(),
+            &planned.samples,
+            1e-5,
+            &mut sampler,
+            &mut Quiet,
+        )
+        .expect("measured");
         assert_eq!(data.len(), planned.samples.len(), "{name}");
         // How far each configuration moved (largest joint change).
         let moves: Vec<f64> = data

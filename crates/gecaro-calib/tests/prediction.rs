@@ -21,7 +21,8 @@ fn the_prediction_agrees_with_a_thousand_simulated_calibrations() {
     for name in ["position", "frame"] {
         let chosen = method(name, &MethodOptions::default()).expect("method");
         let count = 40;
-        let planned = random_samples(&robot, chosen.as_ref(), Some(count), 21).expect("planned");
+        let planned =
+            random_samples(&robot, chosen.as_ref(), Some(count), 21, &mut Quiet).expect("planned");
         let mut sampler = Sampler::new(5);
         let test_poses: Vec<Vec<f64>> = (0..100).map(|_| sampler.configuration(&robot)).collect();
         let noise = 1e-4;

@@ -52,8 +52,15 @@ fn simulate(name: &str, count: usize, seed: u64) -> (Robot, Study) {
         ..MethodOptions::default()
     };
     let chosen = method(name, &options).expect("method");
-    let samples =
-        simulate_measurements(&real, chosen.as_ref(), count, NOISE, &mut sampler).expect("data");
+    let samples = simulate_measurements(
+        &real,
+        chosen.as_ref(),
+        count,
+        NOISE,
+        &mut sampler,
+        &mut Quiet,
+    )
+    .expect("data");
     (real, Study::single(chosen, samples, format!("{name}.csv")))
 }
 
@@ -299,7 +306,15 @@ fn near_singularity(count: usize, spread: f64, seed: u64) -> (Robot, Study) {
         })
         .collect();
     let chosen = method("position", &MethodOptions::default()).expect("method");
-    let samples = simulate_at(&real, chosen.as_ref(), &planned, NOISE, &mut sampler).expect("data");
+    let samples = simulate_at(
+        &real,
+        chosen.as_ref(),
+        &planned,
+        NOISE,
+        &mut sampler,
+        &mut Quiet,
+    )
+    .expect("data");
     (real, Study::single(chosen, samples, "wrist.csv"))
 }
 
@@ -349,8 +364,15 @@ fn a_prior_bounds_poorly_excited_parameters_and_leaves_the_others() {
     );
     // Where the robot will work (anywhere), the prior's robot is the better one.
     let chosen = method("position", &MethodOptions::default()).expect("method");
-    let anywhere = simulate_measurements(&real, chosen.as_ref(), 200, 0.0, &mut Sampler::new(82))
-        .expect("data");
+    let anywhere = simulate_measurements(
+        &real,
+        chosen.as_ref(),
+        200,
+        0.0,
+        &mut Sampler::new(82),
+        &mut Quiet,
+    )
+    .expect("data");
     let anywhere = Study::single(chosen, anywhere, "anywhere");
     let plain_error = evaluate(&plain.calibrated, &anywhere)
         .expect("evaluation")
@@ -373,8 +395,15 @@ fn each_set_of_a_study_is_judged_by_its_own_noise() {
     let mut sets = Vec::new();
     for (name, count, noise) in [("position", 60, 1e-3), ("distance", 300, 1e-4)] {
         let chosen = method(name, &MethodOptions::default()).expect("method");
-        let samples = simulate_measurements(&real, chosen.as_ref(), count, noise, &mut sampler)
-            .expect("data");
+        let samples = simulate_measurements(
+            &real,
+            chosen.as_ref(),
+            count,
+            noise,
+            &mut sampler,
+            &mut Quiet,
+        )
+        .expect("data");
         sets.push(gecaro_calib::study::MeasurementSet {
             method: chosen,
             samples,

@@ -18,9 +18,15 @@ fn stanford() -> Robot {
 
 fn simulate(real: &Robot, name: &str, count: usize, noise: f64, seed: u64) -> Study {
     let chosen = method(name, &MethodOptions::default()).expect("method");
-    let samples =
-        simulate_measurements(real, chosen.as_ref(), count, noise, &mut Sampler::new(seed))
-            .expect("data");
+    let samples = simulate_measurements(
+        real,
+        chosen.as_ref(),
+        count,
+        noise,
+        &mut Sampler::new(seed),
+        &mut Quiet,
+    )
+    .expect("data");
     Study::single(chosen, samples, format!("{name}.csv"))
 }
 

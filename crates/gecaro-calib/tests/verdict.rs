@@ -23,8 +23,15 @@ fn study(method_name: &str, count: usize, stated: Option<f64>, seed: u64) -> Stu
     let chosen = method(method_name, &MethodOptions::default()).expect("method");
     let mut sampler = Sampler::new(seed);
     let real = perturbed_robot(&stanford(), 0.5, &mut sampler).expect("real");
-    let samples =
-        simulate_measurements(&real, chosen.as_ref(), count, NOISE, &mut sampler).expect("data");
+    let samples = simulate_measurements(
+        &real,
+        chosen.as_ref(),
+        count,
+        NOISE,
+        &mut sampler,
+        &mut Quiet,
+    )
+    .expect("data");
     let mut study = Study::single(chosen, samples, "simulated");
     study.sets[0].sigma = stated;
     study
@@ -179,8 +186,15 @@ fn a_measurement_frame_two_metres_away_converges_to_the_noise_floor() {
     for name in ["position", "frame"] {
         let measured = method(name, &MethodOptions::default()).expect("method");
         let mut measure = |count| {
-            let samples = simulate_measurements(&far, measured.as_ref(), count, 1e-5, &mut sampler)
-                .expect("data");
+            let samples = simulate_measurements(
+                &far,
+                measured.as_ref(),
+                count,
+                1e-5,
+                &mut sampler,
+                &mut Quiet,
+            )
+            .expect("data");
             Study::single(measured.clone_method(), samples, "far")
         };
         let (train, check) = (measure(100), measure(100));
@@ -219,8 +233,15 @@ fn a_gain_thirty_percent_off_is_implausible() {
     let k3 = gecaro_core::ParameterId::new(gecaro_core::ParameterKind::Gain, 3);
     real.set_parameter(k3, 1.3).expect("gain");
     let position = method("position", &MethodOptions::default()).expect("method");
-    let samples = simulate_measurements(&real, position.as_ref(), 60, 1e-5, &mut Sampler::new(3))
-        .expect("data");
+    let samples = simulate_measurements(
+        &real,
+        position.as_ref(),
+        60,
+        1e-5,
+        &mut Sampler::new(3),
+        &mut Quiet,
+    )
+    .expect("data");
     let result = fit(
         &Study::single(position, samples, "gears"),
         &Default::default(),
@@ -251,10 +272,25 @@ fn strongly_correlated_pairs_are_named_and_agree_with_repeated_measurements() {
     let position = method("position", &MethodOptions::default()).expect("method");
     let mut sampler = Sampler::new(11);
     let real = perturbed_robot(&nominal, 0.3, &mut sampler).expect("real");
-    let planned = simulate_measurements(&nominal, position.as_ref(), 60, 0.0, &mut sampler)
-        .expect("configurations");
+    let planned = simulate_measurements(
+        &nominal,
+        position.as_ref(),
+        60,
+        0.0,
+        &mut sampler,
+        &mut Quiet,
+    )
+    .expect("configurations");
     let identify_once = |sampler: &mut Sampler| {
-        let samples = simulate_at(&real, position.as_ref(), &planned, 1e-5, sampler).expect("data");
+        let samples = simulate_at(
+            &real,
+            position.as_ref(),
+            &planned,
+            1e-5,
+            sampler,
+            &mut Quiet,
+        )
+        .expect("data");
         fit(
             &Study::single(position.clone_method(), samples, "repeated"),
             &Default::default(),
@@ -327,14 +363,27 @@ fn judged(
     let mut sampler = Sampler::new(seed);
     let real = perturbed_robot(&nominal, level, &mut sampler).expect("real");
     let count = if name.starts_with("plane") { 120 } else { 80 };
-    let samples =
-        simulate_measurements(&real, chosen.as_ref(), count, NOISE, &mut sampler).expect("data");
+    let samples = simulate_measurements(
+        &real,
+        chosen.as_ref(),
+        count,
+        NOISE,
+        &mut sampler,
+        &mut Quiet,
+    )
+    .expect("data");
     let mut study = Study::single(chosen, samples, "simulated");
     if pairs > 0 {
         let distance = method("distance", &MethodOptions::default()).expect("method");
-        let samples =
-            simulate_measurements(&real, distance.as_ref(), 2 * pairs, NOISE, &mut sampler)
-                .expect("pairs");
+        let samples = simulate_measurements(
+            &real,
+            distance.as_ref(),
+            2 * pairs,
+            NOISE,
+            &mut sampler,
+            &mut Quiet,
+        )
+        .expect("pairs");
         study
             .sets
             .append(&mut Study::single(distance, samples, "pairs").sets);
@@ -471,8 +520,15 @@ fn a_levelled_tracker_is_not_a_singular_measurement_frame() {
     for seed in 1..=3 {
         let mut sampler = Sampler::new(seed);
         let real = perturbed_robot(&in_tracker, 1.0, &mut sampler).expect("real");
-        let samples =
-            simulate_measurements(&real, position.as_ref(), 60, NOISE, &mut sampler).expect("data");
+        let samples = simulate_measurements(
+            &real,
+            position.as_ref(),
+            60,
+            NOISE,
+            &mut sampler,
+            &mut Quiet,
+        )
+        .expect("data");
         let mut study = Study::single(position.clone_method(), samples, "tracker");
         study.sets[0].sigma = Some(NOISE);
         let held_out = held_out_configurations(&real, 300, &mut sampler);

@@ -813,7 +813,7 @@ mod tests {
             gecaro_calib::methods::method("position", &MethodOptions::default()).expect("position");
         let samples = method
             .sensor()
-            .generate(&robot, samples, 0.0, &mut sampler)
+            .generate(&robot, samples, 0.0, &mut sampler, &mut gecaro_calib::Quiet)
             .expect("samples");
         SetSpec {
             method: MethodChoice::Named("position".into()),

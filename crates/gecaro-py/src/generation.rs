@@ -4,7 +4,6 @@ use gecaro_app::{GenerateRequest, LocalFiles, RobotSource};
 use pyo3::prelude::*;
 
 use crate::data::PyData;
-use crate::errors::IntoPyResult;
 use crate::methods::method_of;
 use crate::robot::PyRobot;
 
@@ -92,7 +91,12 @@ pub(crate) fn generate(
         max_incidence,
         clearance,
     };
-    let generated = py.detach(|| request.run(&LocalFiles)).py()?;
+    let generated = py.detach(|| {
+        // Ctrl-C stops the generation (a cell that admits little can take long).
+        let mut watch = crate::interrupt::Watch::new();
+        let result = request.run(&LocalFiles, &mut watch);
+        watch.finish(result)
+    })?;
     Ok(Generation {
         data: Py::new(
             py,

@@ -171,8 +171,21 @@ def test_files_are_never_overwritten_unless_asked(tmp_path):
         robot.save(tmp_path / "missing" / "robot.toml")
 
 
-def test_ctrl_c_interrupts_a_long_call(tmp_path):
-    """A real SIGINT while a long batched call runs without the GIL."""
+# Long calls: a batched Jacobian, and the points generation and
+# identifiability analysis of 20,000 frame-link configurations (every set
+# drawn by the inverse model).
+LONG_CALLS = {
+    "jacobian": "robot.jacobian(qm)",
+    "generate": "gecaro.generate(robot, 'frame-link', 20000)",
+    "identifiable": "gecaro.identifiable(robot, 'frame-link', count=20000)",
+}
+
+
+@pytest.mark.parametrize("call", sorted(LONG_CALLS))
+def test_ctrl_c_interrupts_a_long_call(tmp_path, call):
+    """A real SIGINT while a long call runs without the GIL stops the call
+    itself, not the loop after it: the script times one whole call first,
+    and is interrupted well before a call would have ended."""
     script = tmp_path / "long.py"
     script.write_text(
         textwrap.dedent(
@@ -184,28 +197,40 @@ def test_ctrl_c_interrupts_a_long_call(tmp_path):
             signal.signal(signal.SIGINT, signal.default_int_handler)
             robot = gecaro.Robot.load("stanford")
             qm = np.zeros((3_000_000, 6))
-            print("ready", flush=True)
+            started = time.perf_counter()
+            CALL
+            print(f"ready {time.perf_counter() - started:.3f}", flush=True)
             started = time.perf_counter()
             try:
                 for _ in range(100):
-                    robot.jacobian(qm)
+                    CALL
             except KeyboardInterrupt:
-                print(f"interrupted after {time.perf_counter() - started:.2f} s", flush=True)
+                print(f"interrupted after {time.perf_counter() - started:.3f}", flush=True)
                 sys.exit(0)
             print("not interrupted", flush=True)
             sys.exit(1)
             """
-        )
+        ).replace("CALL", LONG_CALLS[call])
     )
     process = subprocess.Popen(
         [sys.executable, str(script)], stdout=subprocess.PIPE, text=True
     )
-    assert process.stdout.readline().strip() == "ready"
+    ready = process.stdout.readline().split()
+    assert ready[0] == "ready", ready
+    one_call = float(ready[1])
     import signal
     import time
 
     time.sleep(0.5)
     process.send_signal(signal.SIGINT)
-    output, _ = process.communicate(timeout=60)
+    output, _ = process.communicate(timeout=120)
     assert process.returncode == 0, output
-    assert output.startswith("interrupted after")
+    assert output.startswith("interrupted after"), output
+    # Unwatched, the call would run to its end (0.5 s + a whole call); a
+    # watched one stops within its poll period (20 ms), plus this machine's
+    # latency.
+    interrupted_after = float(output.split()[-1])
+    assert interrupted_after < 0.5 + max(1.0, 0.5 * one_call), (
+        interrupted_after,
+        one_call,
+    )

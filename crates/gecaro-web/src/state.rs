@@ -8,12 +8,15 @@
 //! a listing or a table check.
 //!
 //! A computation can be abandoned: [`AppState::compute_abandonable`] hands
-//! its work a test that turns true once the request is dropped (the page
-//! aborted it, the client went away), so that a long plan stops instead of
-//! holding its core.
+//! its work an [`Observer`] that stops it once the request is dropped (the
+//! page aborted it, the client went away), so that a long plan or generation
+//! stops instead of holding its core, and writes nothing.
 
+use std::ops::ControlFlow;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+
+use gecaro_calib::{Observer, Progress};
 
 use tokio::sync::Semaphore;
 
@@ -103,13 +106,12 @@ impl AppState {
         self.blocking(Some(&self.inner.computing), work).await
     }
 
-    /// As [`compute`](Self::compute), and `work` gets `abandoned()`, true
-    /// once the request has been dropped: an observer that stops the work
-    /// then ends it at its next step.
+    /// As [`compute`](Self::compute), and `work` gets an observer that
+    /// stops it at its next step once the request has been dropped.
     pub async fn compute_abandonable<T, F>(&self, work: F) -> Result<T, ApiError>
     where
         T: Send + 'static,
-        F: FnOnce(&AppState, &(dyn Fn() -> bool + Sync)) -> Result<T, ApiError> + Send + 'static,
+        F: FnOnce(&AppState, &mut dyn Observer) -> Result<T, ApiError> + Send + 'static,
     {
         /// Marks the computation abandoned when the request's future is
         /// dropped before the computation ended.
@@ -122,7 +124,16 @@ impl AppState {
         let abandoned = Arc::new(AtomicBool::new(false));
         let guard = Abandon(Arc::clone(&abandoned));
         let result = self
-            .compute(move |state| work(state, &|| abandoned.load(Ordering::Relaxed)))
+            .compute(move |state| {
+                let mut until_abandoned = |_: Progress<'_>| {
+                    if abandoned.load(Ordering::Relaxed) {
+                        ControlFlow::Break(())
+                    } else {
+                        ControlFlow::Continue(())
+                    }
+                };
+                work(state, &mut until_abandoned)
+            })
             .await;
         // Ended (with an answer): nothing to abandon.
         std::mem::forget(guard);
@@ -182,8 +193,8 @@ mod tests {
     use super::*;
     use std::time::Duration;
 
-    /// A computation whose request is dropped sees `abandoned()` turn true
-    /// and ends; without that it would spin until the test's timeout.
+    /// A computation whose request is dropped is stopped by its observer;
+    /// without that it would spin until the test's timeout.
     #[tokio::test]
     async fn a_dropped_request_abandons_its_computation() {
         let folder = tempfile::tempdir().expect("folder");
@@ -192,9 +203,10 @@ mod tests {
             Vec::new(),
         );
         let (ended, ending) = tokio::sync::oneshot::channel();
-        let request = state.compute_abandonable(move |_, abandoned| {
+        let step = Progress::Step { done: 0, total: 1 };
+        let request = state.compute_abandonable(move |_, observer| {
             let started = std::time::Instant::now();
-            while !abandoned() {
+            while observer.observe(step).is_continue() {
                 assert!(
                     started.elapsed() < Duration::from_secs(20),
                     "never abandoned"
@@ -216,7 +228,7 @@ mod tests {
             .expect("it said so");
         // A request that ends normally is not abandoned.
         let answer = state
-            .compute_abandonable(|_, abandoned| Ok(abandoned()))
+            .compute_abandonable(move |_, observer| Ok(observer.observe(step).is_break()))
             .await
             .expect("answer");
         assert!(!answer);

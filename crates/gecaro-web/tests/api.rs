@@ -1608,3 +1608,47 @@ async fn a_body_that_stops_arriving_is_let_go() {
         "{body}"
     );
 }
+
+/// A generation whose client went away stops at its next configuration: it
+/// frees its computing slot at once and writes nothing (before, every slot
+/// stayed taken until the generations ended, and their files appeared after).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_abandoned_generation_frees_its_slot_and_writes_nothing() {
+    let api = Api::new();
+    let document = api.document("stanford").await;
+    let slots = std::thread::available_parallelism().map_or(2, std::num::NonZero::get);
+    for index in 0..slots {
+        // Frame-link sets are drawn by the inverse model: 20,000 rows take
+        // seconds in release, minutes in a test build.
+        let body = json!({
+            "robot": document, "method": { "name": "frame-link" }, "count": 20000,
+            "seed": index, "save_as": format!("abandoned-{index}.csv"),
+        });
+        let request = Request::post("/api/generate")
+            .header(header::CONTENT_TYPE, "application/json")
+            .body(Body::from(body.to_string()))
+            .expect("request");
+        let leaving =
+            tokio::time::timeout(Duration::from_millis(300), api.app.clone().oneshot(request))
+                .await;
+        assert!(leaving.is_err(), "the generation ended within 300 ms");
+    }
+    // Every computing slot was taken by a generation; this one needs a slot.
+    let quick = json!({ "robot": document, "method": { "name": "position" }, "count": 30 });
+    let (status, answer) =
+        tokio::time::timeout(Duration::from_secs(60), api.post("/api/generate", &quick))
+            .await
+            .expect("a slot was freed by the abandoned generations");
+    assert_eq!(status, StatusCode::OK, "{answer}");
+    let names: Vec<String> = std::fs::read_dir(api.folder.path())
+        .expect("list")
+        .map(|entry| {
+            entry
+                .expect("entry")
+                .file_name()
+                .to_string_lossy()
+                .into_owned()
+        })
+        .collect();
+    assert!(names.is_empty(), "written after the client left: {names:?}");
+}

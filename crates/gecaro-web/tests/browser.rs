@@ -9,6 +9,7 @@
 //! (set by CI), where their absence is a failure. Screenshots go to
 //! `target/screenshots/`.
 
+use gecaro_calib::Quiet;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
@@ -550,6 +551,7 @@ fn write_tracker_file(folder: &Path, name: &str, count: usize, seed: u64) {
         count,
         2e-5,
         &mut Sampler::new(seed),
+        &mut Quiet,
     )
     .expect("data");
     let mut text = String::from("qm1;qm2;qm3;qm4;qm5;qm6;X_mm;Y_mm;Z_mm\n");

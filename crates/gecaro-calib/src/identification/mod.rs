@@ -157,7 +157,7 @@ const STRUCTURAL_SEED: u64 = 0x6ECA20;
 /// let position = method("position", &MethodOptions::default())?;
 /// let mut sampler = Sampler::new(1);
 /// let real = perturbed_robot(&nominal, 0.3, &mut sampler)?;
-/// let samples = simulate_measurements(&real, position.as_ref(), 50, 1e-5, &mut sampler)?;
+/// let samples = simulate_measurements(&real, position.as_ref(), 50, 1e-5, &mut sampler, &mut Quiet)?;
 /// let study = Study::single(position, samples, "simulated");
 ///
 /// let result = identify(&nominal, &study, &IdentificationOptions::default(), &mut Quiet)?;

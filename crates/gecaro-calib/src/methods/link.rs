@@ -12,6 +12,7 @@ use nalgebra::IsometryMatrix3;
 use super::sets::{centre, groups, set_sizes};
 use crate::error::Error;
 use crate::method::Sensor;
+use crate::progress::{Observer, step};
 use crate::rows::{RowKind, RowWriter};
 use crate::sample::Sample;
 use crate::sampler::Sampler;
@@ -61,8 +62,17 @@ impl Sensor for LinkSets {
         count: usize,
         noise: f64,
         sampler: &mut Sampler,
+        observer: &mut dyn Observer,
     ) -> Result<Vec<Sample>, Error> {
-        generate_sets(self.linked, robot, count, self.set_size, noise, sampler)
+        generate_sets(
+            self.linked,
+            robot,
+            count,
+            self.set_size,
+            noise,
+            sampler,
+            observer,
+        )
     }
 
     fn measure_at(
@@ -71,8 +81,9 @@ impl Sensor for LinkSets {
         planned: &[Sample],
         noise: f64,
         sampler: &mut Sampler,
+        observer: &mut dyn Observer,
     ) -> Result<Vec<Sample>, Error> {
-        measure_sets(self.linked, real, planned, noise, sampler)
+        measure_sets(self.linked, real, planned, noise, sampler, observer)
     }
 }
 
@@ -138,9 +149,11 @@ fn generate_sets(
     set_size: usize,
     noise: f64,
     sampler: &mut Sampler,
+    observer: &mut dyn Observer,
 ) -> Result<Vec<Sample>, Error> {
     let mut samples = Vec::with_capacity(count);
     for (set, size) in set_sizes(count, set_size).into_iter().enumerate() {
+        step(observer, samples.len(), count)?;
         let mut last_error = None;
         for _ in 0..SET_ATTEMPTS {
             match generate_set(linked, robot, size, noise, sampler) {
@@ -172,9 +185,13 @@ fn measure_sets(
     planned: &[Sample],
     noise: f64,
     sampler: &mut Sampler,
+    observer: &mut dyn Observer,
 ) -> Result<Vec<Sample>, Error> {
     let mut measured = planned.to_vec();
+    let mut done = 0;
     for set in groups(planned) {
+        step(observer, done, planned.len())?;
+        done += set.len();
         if set.len() < 2 {
             return Err(Error::InvalidData {
                 line: planned[set[0]].line,

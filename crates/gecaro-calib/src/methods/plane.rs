@@ -8,6 +8,7 @@ use nalgebra::Vector3;
 use crate::error::{Error, Setting};
 use crate::method::Sensor;
 use crate::plane::Plane;
+use crate::progress::{Observer, step};
 use crate::sample::Sample;
 use crate::sampler::Sampler;
 use crate::states::TerminalState;
@@ -27,9 +28,10 @@ impl Sensor for PlaneContact {
         count: usize,
         noise: f64,
         sampler: &mut Sampler,
+        observer: &mut dyn Observer,
     ) -> Result<Vec<Sample>, Error> {
         let plane = required(self.plane, &format!("generating {} points", self.method))?;
-        generate_in_plane(robot, &plane, count, noise, sampler)
+        generate_in_plane(robot, &plane, count, noise, sampler, observer)
     }
 
     fn measure_at(
@@ -38,9 +40,10 @@ impl Sensor for PlaneContact {
         planned: &[Sample],
         noise: f64,
         sampler: &mut Sampler,
+        observer: &mut dyn Observer,
     ) -> Result<Vec<Sample>, Error> {
         let plane = required(self.plane, &format!("measuring {} points", self.method))?;
-        measure_in_plane(real, &plane, planned, noise, sampler)
+        measure_in_plane(real, &plane, planned, noise, sampler, observer)
     }
 
     fn generate_like(
@@ -50,8 +53,10 @@ impl Sensor for PlaneContact {
         states: &[TerminalState],
         count: usize,
         sampler: &mut Sampler,
+        observer: &mut dyn Observer,
     ) -> Result<Vec<Sample>, Error> {
-        generate_in_plane(robot, &plane_like(self.plane, states)?, count, 0.0, sampler)
+        let plane = plane_like(self.plane, states)?;
+        generate_in_plane(robot, &plane, count, 0.0, sampler, observer)
     }
 }
 
@@ -105,10 +110,12 @@ fn generate_in_plane(
     count: usize,
     noise: f64,
     sampler: &mut Sampler,
+    observer: &mut dyn Observer,
 ) -> Result<Vec<Sample>, Error> {
     const STARTS_PER_POINT: usize = 20;
     let mut samples = Vec::with_capacity(count);
-    for _ in 0..count {
+    for done in 0..count {
+        step(observer, done, count)?;
         let mut reached = None;
         for _ in 0..STARTS_PER_POINT {
             // From a random configuration, slide to the nearest point of the
@@ -145,10 +152,13 @@ fn measure_in_plane(
     planned: &[Sample],
     noise: f64,
     sampler: &mut Sampler,
+    observer: &mut dyn Observer,
 ) -> Result<Vec<Sample>, Error> {
     planned
         .iter()
-        .map(|sample| {
+        .enumerate()
+        .map(|(done, sample)| {
+            step(observer, done, planned.len())?;
             let target = Target::Plane {
                 normal: plane.normal(),
                 offset: plane.normal().dot(&plane.point()) + sampler.gaussian(noise),

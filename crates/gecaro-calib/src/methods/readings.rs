@@ -9,6 +9,7 @@ use nalgebra::UnitQuaternion;
 
 use crate::error::Error;
 use crate::method::Sensor;
+use crate::progress::{Observer, step};
 use crate::sample::Sample;
 use crate::sampler::Sampler;
 
@@ -71,14 +72,16 @@ fn random_readings(
     count: usize,
     noise: f64,
     sampler: &mut Sampler,
+    observer: &mut dyn Observer,
 ) -> Result<Vec<Sample>, Error> {
     let mut sensor = Reader::new(robot, reading);
-    (0..count)
-        .map(|_| {
-            let motor_positions = sampler.configuration(robot);
-            sensor.read(motor_positions, noise, sampler)
-        })
-        .collect()
+    let mut samples = Vec::with_capacity(count);
+    for done in 0..count {
+        step(observer, done, count)?;
+        let motor_positions = sampler.configuration(robot);
+        samples.push(sensor.read(motor_positions, noise, sampler)?);
+    }
+    Ok(samples)
 }
 
 /// The planned configurations, read by the sensor on `real`.
@@ -88,12 +91,15 @@ fn readings_at(
     planned: &[Sample],
     noise: f64,
     sampler: &mut Sampler,
+    observer: &mut dyn Observer,
 ) -> Result<Vec<Sample>, Error> {
     let mut sensor = Reader::new(real, reading);
-    planned
-        .iter()
-        .map(|sample| sensor.read(sample.motor_positions.clone(), noise, sampler))
-        .collect()
+    let mut samples = Vec::with_capacity(planned.len());
+    for (done, sample) in planned.iter().enumerate() {
+        step(observer, done, planned.len())?;
+        samples.push(sensor.read(sample.motor_positions.clone(), noise, sampler)?);
+    }
+    Ok(samples)
 }
 
 impl Sensor for Reading {
@@ -103,8 +109,9 @@ impl Sensor for Reading {
         count: usize,
         noise: f64,
         sampler: &mut Sampler,
+        observer: &mut dyn Observer,
     ) -> Result<Vec<Sample>, Error> {
-        random_readings(robot, *self, count, noise, sampler)
+        random_readings(robot, *self, count, noise, sampler, observer)
     }
 
     fn measure_at(
@@ -113,7 +120,8 @@ impl Sensor for Reading {
         planned: &[Sample],
         noise: f64,
         sampler: &mut Sampler,
+        observer: &mut dyn Observer,
     ) -> Result<Vec<Sample>, Error> {
-        readings_at(real, *self, planned, noise, sampler)
+        readings_at(real, *self, planned, noise, sampler, observer)
     }
 }

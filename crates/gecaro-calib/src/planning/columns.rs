@@ -12,6 +12,7 @@ use crate::identifiability::structural_parameters;
 use crate::method::CalibrationMethod;
 use crate::observability::{AUXILIARY_UNIT, column_unit};
 use crate::observation::ObservationSystem;
+use crate::progress::Quiet;
 use crate::rows::ColumnLayout;
 use crate::sample::{DataColumn, Sample};
 use crate::sampler::Sampler;
@@ -54,7 +55,8 @@ fn nominal_readings(
     if reads && !samples.is_empty() {
         method
             .sensor()
-            .measure_at(robot, samples, 0.0, &mut Sampler::new(0))
+            // Forward models only: quick.
+            .measure_at(robot, samples, 0.0, &mut Sampler::new(0), &mut Quiet)
     } else {
         Ok(samples.to_vec())
     }

@@ -17,7 +17,9 @@ pub(crate) async fn identifiable(
     Json(request): Json<IdentifiableRequest>,
 ) -> Result<Json<IdentifiableJson>, ApiError> {
     state
-        .compute(move |state| Ok(Json(request.run(state.workspace())?.document())))
+        .compute_abandonable(move |state, observer| {
+            Ok(Json(request.run(state.workspace(), observer)?.document()))
+        })
         .await
 }
 
@@ -51,8 +53,9 @@ pub(crate) async fn generate(
 ) -> Result<Json<GeneratedJson>, ApiError> {
     let saved = request.save_as.clone();
     state
-        .compute(move |state| {
-            let generated = request.run(state.workspace())?;
+        .compute_abandonable(move |state, observer| {
+            // A client that leaves stops the generation: nothing is written.
+            let generated = request.run(state.workspace(), observer)?;
             // The terminal points of the simulated real robot, for the 3D view
             // (plane and link data hold configurations only).
             let points = generated

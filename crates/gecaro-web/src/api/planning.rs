@@ -4,9 +4,7 @@
 use axum::extract::State;
 use gecaro_app::PlanRequest;
 use gecaro_app::documents::{CurveJson, PlanJson};
-use gecaro_calib::Progress;
 use serde::Serialize;
-use std::ops::ControlFlow;
 
 use super::Json;
 use crate::error::ApiError;
@@ -47,15 +45,8 @@ pub(crate) async fn plan(
     // A plan with its curve can take a while: the page's Cancel aborts the
     // request, and the plan stops at its next step.
     state
-        .compute_abandonable(move |state, abandoned| {
-            let mut observer = |_: Progress<'_>| {
-                if abandoned() {
-                    ControlFlow::Break(())
-                } else {
-                    ControlFlow::Continue(())
-                }
-            };
-            let planning = request.run(state.workspace(), &mut observer)?;
+        .compute_abandonable(move |state, observer| {
+            let planning = request.run(state.workspace(), observer)?;
             let (plan, file_name) = planning
                 .plan_document()
                 .zip(planning.file_name())
