@@ -22,7 +22,9 @@ const RUNS: usize = 40;
 
 fn main() -> Result<(), Failure> {
     let cases = Cases::from_arguments(["puma560,industrial6", "position,frame", "1,2", "7"])?;
-    println!("robot        method    level  seed  spread/σ: median   range          worst");
+    println!(
+        "robot        method    level  seed  spread/σ_noise: median   range   worst           held by a prior  tied to moved"
+    );
     for robot in &cases.robots {
         for name in &cases.methods {
             for level in &cases.levels {
@@ -39,6 +41,8 @@ fn main() -> Result<(), Failure> {
                     let mut noise = Sampler::new(seed + 1000);
                     let mut values: Vec<Vec<f64>> = Vec::new();
                     let mut reported: Vec<f64> = Vec::new();
+                    let mut whole: Vec<f64> = Vec::new();
+                    let mut tied: Vec<bool> = Vec::new();
                     let mut names: Vec<String> = Vec::new();
                     for _ in 0..RUNS {
                         let noisy: Vec<Sample> = exact
@@ -61,20 +65,54 @@ fn main() -> Result<(), Failure> {
                         if names.is_empty() {
                             names = current.clone();
                             reported = vec![0.0; names.len()];
+                            whole = vec![0.0; names.len()];
+                            tied = vec![false; names.len()];
                             values = vec![Vec::new(); names.len()];
                         }
                         if current != names {
                             continue;
                         }
+                        // A regrouped parameter's σ is that of its combination
+                        // `Δη_b + Σ β_j Δη_j` (Appendix III): the parameters it
+                        // absorbs may have moved too (a Hayati β set outside
+                        // the base), so the combination is what is compared.
+                        let deviation = |name: &str| {
+                            case.nominal
+                                .parameters()
+                                .ids()
+                                .iter()
+                                .find(|id| id.to_string() == name)
+                                .map_or(0.0, |id| {
+                                    result.calibrated.parameter(*id) - case.nominal.parameter(*id)
+                                })
+                        };
                         for (column, parameter) in result.parameters.iter().enumerate() {
-                            values[column].push(parameter.identified);
-                            reported[column] += parameter.std;
+                            tied[column] |= parameter
+                                .absorbs
+                                .iter()
+                                .any(|(name, _)| result.moved.iter().any(|m| &m.name == name));
+                            let combination = parameter.identified
+                                + parameter
+                                    .absorbs
+                                    .iter()
+                                    .map(|(name, beta)| beta * deviation(name))
+                                    .sum::<f64>();
+                            values[column].push(combination);
+                            reported[column] += parameter.noise_std;
+                            whole[column] += parameter.std;
                         }
                     }
+                    // A combination that holds a moved parameter (set by the
+                    // damped descent, its spread not in the base set's σ):
+                    // counted apart.
+                    let tied_count = tied.iter().filter(|t| **t).count();
                     let mut ratios: Vec<(f64, &str)> = values
                         .iter()
                         .zip(&reported)
                         .zip(&names)
+                        .zip(&tied)
+                        .filter(|(_, tied)| !**tied)
+                        .map(|(pair, _)| pair)
                         .filter(|((spread, _), _)| spread.len() > 2)
                         .map(|((spread, total), name)| {
                             let n = spread.len() as f64;
@@ -98,8 +136,13 @@ fn main() -> Result<(), Failure> {
                             reported[column] / values[column].len() as f64
                         );
                     }
+                    let held = reported
+                        .iter()
+                        .zip(&whole)
+                        .filter(|(noise, std)| *noise < &(0.5 * *std))
+                        .count();
                     println!(
-                        "{robot:<12} {name:<9} {level:>5} {seed:>5}  {median:>15.2}   {:.2}–{:.2}      {} {:.2}",
+                        "{robot:<12} {name:<9} {level:>5} {seed:>5}  {median:>15.2}   {:.2}–{:.2}      {:<9} {:.2}  {held:>4}  {tied_count:>4}",
                         low.0, high.0, worst.1, worst.0
                     );
                 }

@@ -406,7 +406,7 @@ fn print_parameters(result: &Identification) {
     let with_prior = result.prior.is_some();
     let mut header = vec!["parameter", "nominal", "identified", "deviation", "σ"];
     if with_prior {
-        header.push("prior σ");
+        header.extend(["noise σ", "prior σ"]);
     }
     let mut parameters = table(&header, 1);
     for parameter in result.parameters.iter().chain(&result.auxiliary) {
@@ -422,6 +422,7 @@ fn print_parameters(result: &Identification) {
             format!("{:.2e}", parameter.std),
         ];
         if with_prior {
+            row.push(format!("{:.2e}", parameter.noise_std));
             row.push(
                 parameter
                     .prior_std

@@ -248,6 +248,10 @@ pub struct ParameterJson {
     /// Its standard deviation (eq. 11; posterior with a prior); `null` for a
     /// parameter moved outside the base set, which has none.
     pub std: Option<f64>,
+    /// The part of `std` the measurement noise makes: the spread over
+    /// repeated measurements of the same robot (below `std` where a prior,
+    /// or the gauge of an unmeasured scale, holds the parameter).
+    pub noise_std: Option<f64>,
     /// Its prior standard deviation, with a prior (regrouping included).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub prior_std: Option<f64>,
@@ -332,6 +336,7 @@ fn parameters(parameters: &[IdentifiedParameter]) -> Vec<ParameterJson> {
             nominal: p.nominal,
             identified: p.identified,
             std: p.std.is_finite().then_some(p.std),
+            noise_std: p.noise_std.is_finite().then_some(p.noise_std),
             prior_std: p.prior_std,
             absorbs: p
                 .absorbs

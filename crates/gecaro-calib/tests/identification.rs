@@ -4,7 +4,7 @@
 use gecaro_calib::{
     Progress, Quiet,
     identifiability::ParameterStatus,
-    identification::{IdentificationOptions, Route, StopReason, evaluate, identify},
+    identification::{IdentificationOptions, Prior, Route, StopReason, evaluate, identify},
     methods::{MethodOptions, Plane, method},
     simulation::{Sampler, perturbed_robot, simulate_measurements},
     study::{MeasurementSet, Sample, Study},
@@ -303,15 +303,19 @@ fn link_and_plane_methods_converge_from_level_three() {
     }
 }
 
-#[test]
-fn reported_standard_deviations_match_a_monte_carlo_spread() {
+/// Per parameter, the spread of the identified values over 80 runs with
+/// fresh noise (σ 0.2 mm, one real robot drawn at `level`, 40
+/// configurations) over the mean reported σ and over the mean reported noise
+/// σ, identified with `prior`.
+fn spread_over_reported(level: f64, prior: Option<Prior>) -> Vec<(String, f64, f64)> {
     let sigma = 2e-4;
-    let (_, exact) = simulate(1.0, 0.0, 5, "position", false, 40);
+    let (_, exact) = simulate(level, 0.0, 5, "position", false, 40);
     let samples = exact.sets[0].samples.clone();
     let runs = 80;
     let mut values: Vec<Vec<f64>> = Vec::new();
     // The reported σ of each run scatters too (σ̂ from 89 degrees of freedom): average them.
-    let mut reported: Vec<f64> = Vec::new();
+    let mut reported: Vec<(f64, f64)> = Vec::new();
+    let mut names = Vec::new();
     let mut noise = Sampler::new(1234);
     for _ in 0..runs {
         let noisy: Vec<Sample> = samples
@@ -326,42 +330,68 @@ fn reported_standard_deviations_match_a_monte_carlo_spread() {
             noisy,
             "run",
         );
-        let result = identify(
-            &stanford(),
-            &study,
-            &IdentificationOptions::default(),
-            &mut Quiet,
-        )
-        .expect("identification");
+        let options = IdentificationOptions {
+            prior: prior.clone(),
+            ..IdentificationOptions::default()
+        };
+        let result = identify(&stanford(), &study, &options, &mut Quiet).expect("identification");
         if reported.is_empty() {
-            reported = vec![0.0; result.parameters.len()];
+            reported = vec![(0.0, 0.0); result.parameters.len()];
             values = vec![Vec::new(); reported.len()];
+            names = result.parameters.iter().map(|p| p.name.clone()).collect();
         }
         for (column, parameter) in result.parameters.iter().enumerate() {
             values[column].push(parameter.identified);
-            reported[column] += parameter.std / runs as f64;
+            reported[column].0 += parameter.std / runs as f64;
+            reported[column].1 += parameter.noise_std / runs as f64;
         }
     }
-    let ratios: Vec<f64> = values
+    values
         .iter()
         .zip(&reported)
-        .map(|(spread, std)| {
+        .zip(names)
+        .map(|((spread, (std, noise_std)), name)| {
             let mean = spread.iter().sum::<f64>() / runs as f64;
             let sample_std =
                 (spread.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (runs - 1) as f64).sqrt();
-            sample_std / std
+            (name, sample_std / std, sample_std / noise_std)
         })
-        .collect();
-    // With 80 runs a sample standard deviation is within ±16 % (2σ) of the truth.
+        .collect()
+}
+
+/// Whether `ratios` are those of an honest σ: with 80 runs a sample standard
+/// deviation is within ±16 % (2σ) of the truth.
+fn honest(ratios: &[f64]) -> bool {
     let within = ratios.iter().filter(|r| (0.75..1.3).contains(*r)).count();
-    assert!(
-        within as f64 >= 0.9 * ratios.len() as f64,
-        "ratios {ratios:?}"
-    );
-    let mut sorted = ratios.clone();
+    let mut sorted = ratios.to_vec();
     sorted.sort_by(f64::total_cmp);
     let median = sorted[sorted.len() / 2];
-    assert!((0.9..1.1).contains(&median), "median ratio {median}");
+    within as f64 >= 0.9 * ratios.len() as f64 && (0.9..1.1).contains(&median)
+}
+
+#[test]
+fn reported_standard_deviations_match_a_monte_carlo_spread() {
+    let plain = spread_over_reported(1.0, None);
+    // Without a prior the noise makes all of σ.
+    for (name, std, noise) in &plain {
+        assert!((std / noise - 1.0).abs() < 1e-9, "{name}");
+    }
+    let ratios: Vec<f64> = plain.iter().map(|r| r.1).collect();
+    assert!(honest(&ratios), "{plain:?}");
+}
+
+#[test]
+fn a_prior_adds_its_uncertainty_to_sigma_and_the_noise_sigma_is_the_spread() {
+    // A real robot within ±0.1 mm, ±0.01°, ±0.01 % of the nominal one, and a
+    // prior that says so, as tight as the data: the estimate moves less
+    // with the noise than σ, which also says how far the prior may be from
+    // the true robot; the noise σ is the spread.
+    let prior = Prior::new(1e-4, 0.01_f64.to_radians(), 1e-4).expect("prior");
+    let held = spread_over_reported(0.01, Some(prior));
+    let noise: Vec<f64> = held.iter().map(|r| r.2).collect();
+    assert!(honest(&noise), "{held:?}");
+    let whole: Vec<f64> = held.iter().map(|r| r.1).collect();
+    assert!(!honest(&whole), "σ alone would have matched: {held:?}");
 }
 
 #[test]

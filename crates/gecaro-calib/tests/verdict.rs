@@ -491,9 +491,11 @@ fn point_link_with_ten_distance_pairs_reaches_the_noise_floor() {
             ratios.push(ratio);
         }
     }
+    // The target is 1.5; over 20 seeds the median is 1.14 and one run
+    // in 20 is at 1.56 (the estimate's variance: docs/methods.md).
     ratios.sort_by(f64::total_cmp);
-    assert!(ratios[ratios.len() / 2] < 1.3, "{ratios:?}");
-    assert!(ratios[ratios.len() - 1] < 2.0, "{ratios:?}");
+    assert!(ratios[ratios.len() / 2] < 1.25, "{ratios:?}");
+    assert!(ratios[ratios.len() - 1] < 1.5, "{ratios:?}");
 }
 
 #[test]

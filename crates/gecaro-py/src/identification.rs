@@ -32,6 +32,9 @@ pub(crate) struct PyParameter {
     identified: f64,
     /// Its standard deviation (eq. 11; posterior with a prior).
     std: f64,
+    /// The part of `std` the measurement noise makes (below it where a prior
+    /// holds the parameter).
+    noise_std: f64,
     /// Its prior standard deviation, with a prior.
     prior_std: Option<f64>,
 }
@@ -60,6 +63,7 @@ fn parameter_list(parameters: &[IdentifiedParameter]) -> Vec<PyParameter> {
             nominal: p.nominal,
             identified: p.identified,
             std: p.std,
+            noise_std: p.noise_std,
             prior_std: p.prior_std,
         })
         .collect()

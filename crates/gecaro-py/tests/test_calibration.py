@@ -70,6 +70,11 @@ def test_every_method_equals_the_command_line(
     # The result's attributes are the document's numbers.
     assert [p.name for p in result.parameters] == [p["name"] for p in document["parameters"]]
     assert [p.std for p in result.parameters] == [p["std"] for p in document["parameters"]]
+    assert [p.noise_std for p in result.parameters] == [
+        p["noise_std"] for p in document["parameters"]
+    ]
+    # The noise makes part of σ, all of it without a prior or a gauge.
+    assert all(p.noise_std <= p.std * (1 + 1e-9) for p in result.parameters)
     assert result.after.rms == document["after"]["rms"]
     assert list(result.history["rms"]) == document["rms_history"]
     assert result.observability == document["observability"]

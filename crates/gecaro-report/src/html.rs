@@ -257,7 +257,7 @@ fn parameters(result: &Identification) -> Markup {
         table {
             tr {
                 th { "parameter" } th { "nominal" } th { "identified" } th { "deviation" } th { "σ" }
-                @if with_prior { th { "prior σ" } }
+                @if with_prior { th { "noise σ" } th { "prior σ" } }
                 th { "the deviation stands for" }
             }
             @for parameter in result.parameters.iter().chain(&result.auxiliary) {
@@ -268,6 +268,7 @@ fn parameters(result: &Identification) -> Markup {
                     td { (format!("{:+.3e}", parameter.identified - parameter.nominal)) }
                     td { (format!("{:.2e}", parameter.std)) }
                     @if with_prior {
+                        td { (format!("{:.2e}", parameter.noise_std)) }
                         td { (parameter.prior_std.map_or("–".into(), |s| format!("{s:.2e}"))) }
                     }
                     td {

@@ -774,6 +774,20 @@ fn summarise(
     // σ² = Σ w e²/(n_eff − b): ‖r‖²/(equations − b) in least squares.
     let variance = statistics.variance;
     let std = |column: usize| (variance * solved.inverse_normal_diagonal[column]).sqrt();
+    // The data's part of it: below σ where a prior's rows (or the gauge
+    // that holds an unmeasured scale) hold a parameter.
+    let data_part = (system.rows() > system.measured_rows())
+        .then(|| {
+            let rows = system.measured_rows();
+            let pseudo = &system.matrix()[rows * columns..];
+            best.normal
+                .data_part_diagonal(view(pseudo, system.rows() - rows, columns))
+        })
+        .flatten();
+    let noise_std = |column: usize| match &data_part {
+        Some(diagonal) => (variance * diagonal[column]).sqrt(),
+        None => std(column),
+    };
     let auxiliary_names = study.auxiliary_names();
     let relations = rank.relations();
     let absorbed = |name: &str| -> Vec<(String, f64)> {
@@ -794,6 +808,7 @@ fn summarise(
             nominal: initial_auxiliary[index],
             identified: best.auxiliary[index],
             std: std(column),
+            noise_std: noise_std(column),
             prior_std: None,
             absorbs: absorbed(&auxiliary_names[index]),
         })
@@ -810,6 +825,7 @@ fn summarise(
                 nominal: robot.parameter(id),
                 identified: best.robot.parameter(id),
                 std: std(auxiliary_columns + position),
+                noise_std: noise_std(auxiliary_columns + position),
                 prior_std: prior_std(auxiliary_columns + position),
                 absorbs: absorbed(&id.to_string()),
             }
@@ -961,6 +977,7 @@ fn moved_outside_base(
             nominal: nominal.parameter(*id),
             identified: identified.parameter(*id),
             std: f64::NAN,
+            noise_std: f64::NAN,
             prior_std: None,
             absorbs: Vec::new(),
         })

@@ -15,8 +15,17 @@ pub struct IdentifiedParameter {
     pub nominal: f64,
     /// Identified value.
     pub identified: f64,
-    /// Standard deviation of the identified value (posterior, with a prior).
+    /// Standard deviation of the identified value (posterior, with a prior):
+    /// the uncertainty about the true value.
     pub std: f64,
+    /// The part of [`std`](Self::std) that the measurement noise makes: the
+    /// spread the estimate would show over repeated measurements of the same
+    /// robot. Equal to `std` without a prior; below it for a parameter a
+    /// prior holds (or the gauge of an unmeasured scale), whose `std` also
+    /// carries the prior's uncertainty about the true value:
+    /// `σ_noise² = σ̂² [(WᵀW)⁻¹ − (WᵀW)⁻¹PᵀP(WᵀW)⁻¹]_ii`, P the prior's rows
+    /// of W.
+    pub noise_std: f64,
     /// Its prior standard deviation, with a prior (regrouping included).
     pub prior_std: Option<f64>,
     /// The parameters this base parameter absorbs, with their coefficients

@@ -373,6 +373,9 @@ class Parameter:
     def std(self) -> float:
         """Standard deviation (eq. 11; posterior with a prior)."""
     @property
+    def noise_std(self) -> float:
+        """The part of std the measurement noise makes (below it where a prior holds the parameter)."""
+    @property
     def prior_std(self) -> Optional[float]:
         """Prior standard deviation, with a prior (regrouping included)."""
     @property
