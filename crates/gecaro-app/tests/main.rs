@@ -1,0 +1,7 @@
+//! The application layer's requests as the front ends send them.
+//!
+//! One test binary per crate (as ripgrep has): each file below was its own
+//! binary, and linking them dominated the build of the tests.
+
+mod cell;
+mod wording;

@@ -1,0 +1,14 @@
+//! The calibration library against simulated truth, real data and Table 2.
+//!
+//! One test binary per crate (as ripgrep has): each file below was its own
+//! binary, and linking them dominated the build of the tests.
+
+mod frames;
+mod identifiability;
+mod identification;
+mod planning;
+mod prediction;
+mod real_data;
+mod robust;
+mod validation;
+mod verdict;

@@ -1,0 +1,13 @@
+//! The command line's integration tests: the binary run as a user runs it.
+//!
+//! One test binary per crate (as ripgrep has): each file below was its own
+//! binary, and linking them dominated the build of the tests.
+
+mod cli;
+mod determinism;
+mod errors;
+mod front_ends;
+mod hardening;
+mod interchange;
+mod named_frames;
+mod robust_cli;
