@@ -81,6 +81,14 @@ fn identify_position(bencher: divan::Bencher, count: usize) {
     });
 }
 
+/// The same at tracker rates (issue 36): a laser tracker in continuous mode
+/// records 10⁶ points in a quarter of an hour. Three samples each (a
+/// sample at 10⁶ takes seconds).
+#[divan::bench(args = [100_000, 1_000_000], sample_count = 3, sample_size = 1)]
+fn identify_position_large(bencher: divan::Bencher, count: usize) {
+    identify_position(bencher, count);
+}
+
 /// A textbook reference for one identification iteration at m = 5000: the
 /// direct model and Jacobian of every configuration written into the
 /// 15 000 × 31 W_b (gecaro's fused evaluation, on all cores) and one

@@ -15,9 +15,11 @@ python3 -m venv "$venv"
 MATURIN_PEP517_ARGS="--profile dev" CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}" \
     "$venv/bin/python" -m pip install --quiet ./crates/gecaro-py
 
-# The command line the results are compared with, in the profile `cargo test`
-# builds it (after the README's test command this rebuilds nothing).
-cargo build --locked --bin gecaro
+# The command line the results are compared with, as the README's test
+# command builds it: `cargo build --bin gecaro` alone would unify other
+# features than the whole workspace's tests do and compile nalgebra, faer,
+# tokio … again (3 minutes of CI); after that command this rebuilds nothing.
+cargo test --workspace --locked --no-run
 export GECARO_CLI="$PWD/target/debug/gecaro"
 
 (cd crates/gecaro-py && "$venv/bin/python" -m pytest -q)

@@ -4,7 +4,7 @@ use gecaro_calib::identification::{Identification, Outlier};
 
 use crate::format::{number, table};
 
-/// Outliers listed in the text output; `--json` lists them all.
+/// Outliers listed in the text output; `--json` lists the worst 1000.
 const LISTED: usize = 20;
 
 /// The loss, the prior and the outliers of `result`, after its errors.
@@ -42,7 +42,10 @@ pub(super) fn print_robustness(result: &Identification) {
             result.outliers.len(),
             result.standardized.len(),
             if result.outliers.len() > LISTED {
-                format!("; the first {LISTED}, --json lists all")
+                format!(
+                    "; the first {LISTED}, --json lists the worst {}",
+                    gecaro_app::limits::MAX_LISTED_OUTLIERS
+                )
             } else {
                 String::new()
             },

@@ -309,6 +309,12 @@ pub struct OutlierJson {
 }
 
 impl OutlierJson {
+    /// The documents of the first [`MAX_LISTED_OUTLIERS`](crate::limits::MAX_LISTED_OUTLIERS)
+    /// of `outliers` (worst first, as the identification sorts them).
+    pub fn worst(outliers: &[gecaro_calib::identification::Outlier]) -> Vec<OutlierJson> {
+        Self::list(&outliers[..outliers.len().min(crate::limits::MAX_LISTED_OUTLIERS)])
+    }
+
     /// The documents of `outliers`, in their order.
     pub fn list(outliers: &[gecaro_calib::identification::Outlier]) -> Vec<OutlierJson> {
         outliers
@@ -441,10 +447,16 @@ pub struct IdentificationJson {
     pub robust_sigma: f64,
     /// The outlier threshold (robust σ̂).
     pub outlier_threshold: f64,
-    /// Observations beyond the threshold at the solution, worst first.
+    /// Observations beyond the threshold at the solution, worst first: the
+    /// worst [`MAX_LISTED_OUTLIERS`](crate::limits::MAX_LISTED_OUTLIERS).
     pub outliers: Vec<OutlierJson>,
-    /// Observations rejected before this fit (`--reject`).
+    /// How many observations are beyond the threshold (listed or not).
+    pub outlier_count: usize,
+    /// Observations rejected before this fit (`--reject`), worst first, as
+    /// many as `outliers` lists.
     pub rejected: Vec<OutlierJson>,
+    /// How many observations were rejected before this fit.
+    pub rejected_count: usize,
     /// The prior, if one was given.
     pub prior: Option<PriorJson>,
     /// The K-fold cross-validation, when asked for (`--cv K`).
@@ -709,8 +721,10 @@ impl IdentificationJson {
             reweightings: result.reweightings,
             robust_sigma: result.robust_sigma,
             outlier_threshold: result.outlier_threshold,
-            outliers: OutlierJson::list(&result.outliers),
-            rejected: OutlierJson::list(&result.rejected),
+            outliers: OutlierJson::worst(&result.outliers),
+            outlier_count: result.outliers.len(),
+            rejected: OutlierJson::worst(&result.rejected),
+            rejected_count: result.rejected.len(),
             prior: result.prior.as_ref().map(|prior| PriorJson {
                 length: prior.length,
                 angle: prior.angle,

@@ -15,3 +15,7 @@ pub const MAX_RANDOM: usize = 20_000;
 pub const MAX_ITERATIONS: usize = 500;
 /// Most cross-validation folds of one identification.
 pub const MAX_FOLDS: usize = 20;
+/// Most outliers (and rejected observations) a result's document lists,
+/// worst first; it counts them all. With 10⁶ measurements, 0.3 % of them
+/// are beyond 3 σ̂ by chance alone: the document stays bounded.
+pub const MAX_LISTED_OUTLIERS: usize = 1000;

@@ -4,4 +4,5 @@
 //! binary, and linking them dominated the build of the tests.
 
 mod cell;
+mod documents;
 mod wording;

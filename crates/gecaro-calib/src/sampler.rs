@@ -57,6 +57,29 @@ pub fn solve_from_starts(
     Err(first_error)
 }
 
+/// Seed of [`spread_indices`]: a subsample is the same on every run.
+const SPREAD_SEED: u64 = 0x5eed_5bb1;
+
+/// Indices of at most `limit` of `len` items, in increasing order, for the
+/// parts of an identification that read a bounded subsample of large data:
+/// one index drawn at random in each of `limit` equal stretches (seeded, so
+/// the same on every run). All `len` when `len <= limit`. Spread over the
+/// whole data as evenly spaced indices are, but no cycle of the data aligns
+/// with them: every 50th of 500 repeats of 50 poses is one pose 500 times,
+/// and an identification that read those started from nowhere.
+pub(crate) fn spread_indices(len: usize, limit: usize) -> Vec<usize> {
+    if len <= limit {
+        return (0..len).collect();
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(SPREAD_SEED);
+    (0..limit)
+        .map(|stretch| {
+            let (start, end) = (stretch * len / limit, (stretch + 1) * len / limit);
+            rng.random_range(start..end.max(start + 1))
+        })
+        .collect()
+}
+
 /// Draws of a configuration before one the cell admits is given up on.
 pub const CELL_DRAWS: usize = 10_000;
 
@@ -247,4 +270,28 @@ fn distinct(robot: &Robot, first: &[f64], second: &[f64]) -> bool {
         .any(|(joint, (a, b))| {
             (a - b).abs() > DISTINCT_FRACTION * (joint.qmax - joint.qmin).max(1e-9)
         })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::spread_indices;
+
+    #[test]
+    fn spread_indices_cover_the_data_and_no_cycle_of_it() {
+        assert_eq!(spread_indices(5, 10), vec![0, 1, 2, 3, 4]);
+        // 500 repeats of 50 poses, 500 read: evenly spaced indices would all
+        // be one pose.
+        let (len, limit, period) = (25_000, 500, 50);
+        let indices = spread_indices(len, limit);
+        assert_eq!(indices.len(), limit);
+        assert!(indices.windows(2).all(|pair| pair[0] < pair[1]));
+        for (stretch, index) in indices.iter().enumerate() {
+            assert!((stretch * len / limit..(stretch + 1) * len / limit).contains(index));
+        }
+        let mut poses: Vec<usize> = indices.iter().map(|index| index % period).collect();
+        poses.sort_unstable();
+        poses.dedup();
+        assert_eq!(poses.len(), period, "every pose read");
+        assert_eq!(indices, spread_indices(len, limit), "the same every run");
+    }
 }

@@ -227,16 +227,22 @@ fn robustness(result: &Identification) -> Markup {
     }
 }
 
+/// Outliers a report lists (worst first); it counts them all.
+const LISTED_OUTLIERS: usize = 100;
+
 fn outlier_table(title: &str, outliers: &[Outlier], threshold: f64) -> Markup {
+    let listed = &outliers[..outliers.len().min(LISTED_OUTLIERS)];
     html! {
         @if !outliers.is_empty() {
             p {
                 strong { (title) }
-                " (beyond " (threshold) " robust σ̂; ringed on the per-configuration plot):"
+                " (" (outliers.len()) " beyond " (threshold) " robust σ̂; ringed on the per-configuration plot"
+                @if listed.len() < outliers.len() { "; the worst " (listed.len()) " listed" }
+                "):"
             }
             table {
                 tr { th { "observation" } th { "error (mm)" } th { "residual (σ̂)" } th { "weight" } }
-                @for outlier in outliers {
+                @for outlier in listed {
                     tr {
                         td { (outlier.location()) }
                         td { (format!("{:.3}", outlier.error * 1e3)) }

@@ -1577,7 +1577,7 @@ function renderIdentification(container, name, job, result) {
     stat(`after ${id.iterations} iterations (${id.route.replace(/_/g, ' ')})`, outcomes[verdict.outcome] || verdict.outcome, { id: `${name}-identify-status`, class: verdict.trusted ? 'ok' : 'bad' }),
     stat('error RMS before → after (mm)', `${mm(id.before.rms)} → ${mm(id.after.rms)}`),
     stat('largest error (mm)', `${mm(id.before.max)} → ${mm(id.after.max)}`),
-    id.after_inliers ? stat(`after, without the ${id.outliers.length} outliers (mm)`, `RMS ${mm(id.after_inliers.rms)}, max ${mm(id.after_inliers.max)}`, { id: `${name}-identify-inliers` }) : null,
+    id.after_inliers ? stat(`after, without the ${id.outlier_count} outliers (mm)`, `RMS ${mm(id.after_inliers.rms)}, max ${mm(id.after_inliers.max)}`, { id: `${name}-identify-inliers` }) : null,
     id.before.rms_rotation !== undefined
       ? stat('orientation RMS (°)', `${fixed(id.before.rms_rotation * 180 / Math.PI, 3)} → ${fixed(id.after.rms_rotation * 180 / Math.PI, 4)}`) : null,
     stat('identified parameters', String(id.parameters.length + id.auxiliary.length)),
@@ -1595,7 +1595,7 @@ function renderIdentification(container, name, job, result) {
   };
   const plots = h('div', { class: 'plots' },
     plot('Residual RMS per iteration', result.plots.convergence, `${name}-identify-convergence`),
-    plot(id.outliers.length ? `Errors before and after (mm; after: the inliers, without the ${id.outliers.length} outliers)` : 'Errors before and after (mm)', result.plots.errors_histogram, `${name}-identify-histogram`),
+    plot(id.outlier_count ? `Errors before and after (mm; after: the inliers, without the ${id.outlier_count} outliers)` : 'Errors before and after (mm)', result.plots.errors_histogram, `${name}-identify-histogram`),
     plot('Error of every configuration (mm)', result.plots.errors_per_configuration, `${name}-identify-per-configuration`));
   // Values in the page's units; a deviation beyond 3σ is marked, a
   // regrouped parameter is a combination, not the physical value.
@@ -1615,8 +1615,8 @@ function renderIdentification(container, name, job, result) {
   const table = h('table', { class: 'values', id: `${name}-identify-parameters` },
     h('thead', {}, h('tr', {}, ['parameter', 'nominal', 'identified', 'deviation', 'σ'].concat(id.prior ? ['prior σ'] : []).map((t) => h('th', { text: t })))),
     h('tbody', {}, rows));
-  const outlierTable = (title, list, tableId) => list.length ? h('div', {},
-    h('h3', { text: `${title} (beyond ${id.outlier_threshold} robust σ̂)` }),
+  const outlierTable = (title, list, count, tableId) => list.length ? h('div', {},
+    h('h3', { text: `${title} (${count} beyond ${id.outlier_threshold} robust σ̂${count > list.length ? `; the worst ${list.length} listed` : ''})` }),
     h('table', { class: 'values', id: tableId },
       h('thead', {}, h('tr', {}, ['observation', 'lines', 'error (mm)', 'residual (σ̂)', 'weight'].map((t) => h('th', { text: t })))),
       h('tbody', {}, list.map((o) => h('tr', {},
@@ -1624,7 +1624,7 @@ function renderIdentification(container, name, job, result) {
         h('td', { text: fixed(o.error * 1e3, 3) }), h('td', { text: fixed(o.residual_sigmas, 1) }), h('td', { text: fixed(o.weight, 3) })))))) : null;
   const robustness = h('p', { class: 'muted', id: `${name}-identify-robustness`, text:
     `Loss ${id.loss.kind}${id.loss.scale ? ` (k = ${id.loss.scale} σ̂, ${id.reweightings} reweightings)` : ''}; robust σ̂ ${verdict.noise_test ? `${fixed(id.robust_sigma, 2)} × the stated σ` : `${sci(inUnits(id.robust_sigma, 'length'))} ${state.units === 'mm' ? 'mm' : 'm'} (length rows)`}; `
-    + (id.outliers.length ? `${id.outliers.length} outliers (ringed on the per-configuration plot)` : 'no outliers')
+    + (id.outlier_count ? `${id.outlier_count} outliers (ringed on the per-configuration plot)` : 'no outliers')
     + (id.prior ? `; prior ${fixed(id.prior.length * 1e3, 3)} mm, ${fixed(id.prior.angle * 180 / Math.PI, 3)}°, ${fixed(id.prior.gain * 100, 2)} %` : '') });
   const cv = id.cross_validation;
   const validation = cv ? h('p', { id: `${name}-identify-cv-result`, text:
@@ -1642,8 +1642,8 @@ function renderIdentification(container, name, job, result) {
     }),
     h('a', { href: `/api/jobs/${job}/report`, download: `gecaro-report-${job}.html` }, h('button', { type: 'button', text: 'Download the report' })));
   container.replaceChildren(...[headline, cards, observabilityLine(id.observability, 'the data'), robustness, validation, warnings, actions,
-    outlierTable('Rejected before this fit', id.rejected, `${name}-identify-rejected`),
-    outlierTable('Outliers', id.outliers, `${name}-identify-outliers`),
+    outlierTable('Rejected before this fit', id.rejected, id.rejected_count, `${name}-identify-rejected`),
+    outlierTable('Outliers', id.outliers, id.outlier_count, `${name}-identify-outliers`),
     plots, h('h3', { text: `Identified parameters (${unitsLabel()}; gains without unit; beyond 3σ in bold, regrouped in italics)` }), table, moved].filter(Boolean));
 }
 

@@ -11,6 +11,7 @@ use crate::Error;
 use crate::linalg::{NormalEquations, view};
 use crate::observation::ObservationSystem;
 use crate::rows::ColumnLayout;
+use crate::sampler::spread_indices;
 use crate::study::{Study, StudyStates};
 
 /// Significance level of the F test that keeps a second pass.
@@ -94,13 +95,14 @@ pub(super) fn score_tests(
 }
 
 /// The score test reads at most this many observations (configurations,
-/// pairs), evenly spread over the data: enough to see structure that
+/// pairs), spread over the data ([`spread_indices`]): enough to see structure that
 /// matters, and a bounded cost on large data sets (the test is valid on any
 /// subset, since it compares the base set and the wider one on the same rows).
 const SCORE_TEST_OBSERVATIONS: usize = 500;
 
-/// `study` with every k-th unit (configuration, set, pair) of each set, so
-/// that about `limit` units remain; `None` when it has no more than `limit`.
+/// `study` with about `limit` of its units (configurations, sets, pairs),
+/// spread over its sets in proportion to their sizes ([`spread_indices`]);
+/// `None` when it has no more than `limit`.
 fn thinned(study: &Study, limit: usize) -> Option<Study> {
     let units: Vec<Vec<Vec<usize>>> = study
         .sets
@@ -111,17 +113,16 @@ fn thinned(study: &Study, limit: usize) -> Option<Study> {
     if total <= limit {
         return None;
     }
-    let stride = total.div_ceil(limit);
     Some(Study {
         sets: study
             .sets
             .iter()
             .zip(&units)
             .map(|(set, units)| {
-                let samples = units
-                    .iter()
-                    .step_by(stride)
-                    .flat_map(|unit| unit.iter().map(|index| set.samples[*index].clone()))
+                let kept = (units.len() * limit).div_ceil(total);
+                let samples = spread_indices(units.len(), kept)
+                    .into_iter()
+                    .flat_map(|unit| units[unit].iter().map(|index| set.samples[*index].clone()))
                     .collect();
                 set.with_samples(samples)
             })

@@ -193,10 +193,9 @@ fn centre(robot: &Robot, study: &Study) -> Vector3<f64> {
         .flat_map(|set| &set.samples)
         .map(|sample| sample.motor_positions.as_slice())
         .collect();
-    let stride = samples.len().div_ceil(POINTS).max(1);
-    let points: Vec<Vector3<f64>> = samples
-        .iter()
-        .step_by(stride)
+    let points: Vec<Vector3<f64>> = crate::sampler::spread_indices(samples.len(), POINTS)
+        .into_iter()
+        .map(|index| samples[index])
         .filter_map(|motors| gecaro_core::terminal_pose(robot, motors).ok())
         .map(|pose| pose.translation.vector)
         .collect();

@@ -27,6 +27,7 @@ use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Vector3};
 
 use crate::Error;
 use crate::registration::rigid_fit;
+use crate::sampler::spread_indices;
 use crate::study::Study;
 
 /// Alternations at most.
@@ -67,9 +68,12 @@ pub(super) fn closed_form_start(robot: &Robot, study: &Study) -> Result<Option<R
     }
     let mut flanges = Vec::new();
     let mut measured = Vec::new();
-    for (motors, point) in points.iter().step_by(points.len().div_ceil(MAXIMUM_POINTS)) {
+    for (motors, point) in spread_indices(points.len(), MAXIMUM_POINTS)
+        .into_iter()
+        .map(|index| points[index])
+    {
         flanges.push(terminal_pose(robot, motors)?);
-        measured.push(*point);
+        measured.push(point);
     }
     let nominal_rms = rms(
         &flanges,
@@ -176,8 +180,8 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<R
     }
     // The world frame is station `world`, after the named frames.
     let world = study.frames.len();
-    // (station, tool, tool_frame pose, measured point) of every point, evenly
-    // spread up to MAXIMUM_POINTS per set.
+    // (station, tool, tool_frame pose, measured point) of every point, spread
+    // up to MAXIMUM_POINTS per set.
     let mut points: Vec<FramedPoint> = Vec::new();
     for set in &study.sets {
         let measured: Vec<(&[f64], Vector3<f64>)> = set
@@ -185,9 +189,9 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<R
             .iter()
             .filter_map(|s| Some((s.motor_positions.as_slice(), s.position?)))
             .collect();
-        for (motors, point) in measured
-            .iter()
-            .step_by(measured.len().div_ceil(MAXIMUM_POINTS).max(1))
+        for (motors, point) in spread_indices(measured.len(), MAXIMUM_POINTS)
+            .into_iter()
+            .map(|index| &measured[index])
         {
             let tool_frame = terminal_pose(robot, motors)?;
             points.push((

@@ -1,0 +1,51 @@
+//! Result documents stay bounded whatever the data: a million measurements
+//! have thousands beyond 3 σ̂ by chance, and the JSON lists the worst.
+
+use gecaro_app::limits::MAX_LISTED_OUTLIERS;
+use gecaro_app::{DataSource, GenerateRequest, IdentifyRequest, LocalFiles};
+use gecaro_calib::Quiet;
+
+#[test]
+fn a_document_lists_the_worst_outliers_and_counts_them_all() {
+    let generate: GenerateRequest = serde_json::from_str(
+        r#"{"robot": "stanford", "method": {"name": "position"}, "count": 4000,
+            "error_level": 0.5, "noise": 1e-5, "seed": 3}"#,
+    )
+    .expect("request");
+    let mut samples = generate.run(&LocalFiles, &mut Quiet).expect("data").samples;
+    // 1500 readings off by 1–3 cm (a reflector knocked, a wrong target):
+    // beyond the bound on listed outliers, well within what a robust loss
+    // sets aside.
+    let corrupted = 1500;
+    for (index, sample) in samples.iter_mut().enumerate().take(corrupted) {
+        if let Some(position) = sample.position.as_mut() {
+            position.x += 0.01 + 0.02 * index as f64 / corrupted as f64;
+        }
+    }
+    let mut identify: IdentifyRequest = serde_json::from_str(
+        r#"{"robot": "stanford", "method": {"name": "position"}, "loss": "tukey"}"#,
+    )
+    .expect("request");
+    identify.measurements.data = Some(DataSource::Samples {
+        samples,
+        label: "corrupted".into(),
+    });
+    let identified = identify.run(&LocalFiles, &mut Quiet).expect("identified");
+    let document = identified.document();
+    assert_eq!(document.outlier_count, corrupted, "every gross error found");
+    assert_eq!(document.outliers.len(), MAX_LISTED_OUTLIERS);
+    assert!(
+        document
+            .outliers
+            .windows(2)
+            .all(|pair| pair[0].residual_sigmas >= pair[1].residual_sigmas),
+        "worst first"
+    );
+    // The largest errors are the last rows corrupted (3 cm).
+    assert!(
+        document.outliers[0].error > 0.025,
+        "{}",
+        document.outliers[0].error
+    );
+    assert!(document.rejected.is_empty() && document.rejected_count == 0);
+}
