@@ -71,6 +71,9 @@ pub(crate) fn linearise_independent(
     } else {
         rows
     };
+    // No column reads the Jacobian (the errors alone, as `evaluate` asks):
+    // its rows are empty, the kinematics poses only.
+    let jacobian = (frames.is_some() || writer.layout.maps_parameters()).then_some(evaluated);
     let parts: Vec<(&[Sample], RowWriter<'_>)> = samples
         .chunks(part_size(samples.len()))
         .map(|chunk| {
@@ -85,7 +88,12 @@ pub(crate) fn linearise_independent(
         let mut end = 0;
         for block in chunk.chunks(BLOCK) {
             states.resize_with(block.len(), || TerminalState::empty(model));
-            evaluate_chunk(model, block, Some(evaluated), &mut states[..block.len()])?;
+            evaluate_chunk(model, block, jacobian, &mut states[..block.len()])?;
+            if jacobian.is_none() {
+                for state in &mut states[..block.len()] {
+                    state.with_empty_jacobian(evaluated);
+                }
+            }
             if let Some(frames) = frames {
                 for state in &mut states[..block.len()] {
                     frames.apply(state, rows.count());

@@ -36,6 +36,12 @@ pub struct ColumnLayout {
 }
 
 impl ColumnLayout {
+    /// Whether some column holds a robot parameter (else the rows need no
+    /// parameter Jacobian: an evaluation of the errors alone).
+    pub(crate) fn maps_parameters(&self) -> bool {
+        !self.mapped.is_empty()
+    }
+
     /// Auxiliary unknowns first (in order), then the listed robot parameters in
     /// the order given (`parameters` holds vocabulary indices).
     pub fn new(parameter_count: usize, parameters: &[usize], auxiliary_count: usize) -> Self {

@@ -51,6 +51,15 @@ impl TerminalState {
         }
     }
 
+    /// The state as one whose `rows` Jacobian rows have no columns: for rows
+    /// of which no column reads a coefficient (the errors alone), so that
+    /// the Jacobian need not be computed.
+    pub(crate) fn with_empty_jacobian(&mut self, rows: JacobianRows) {
+        self.jacobian.clear();
+        self.parameters = 0;
+        self.rows = rows.count();
+    }
+
     /// Number of parameters Np (length of a Jacobian row).
     pub fn parameter_count(&self) -> usize {
         self.parameters
