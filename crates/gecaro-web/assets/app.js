@@ -1640,7 +1640,9 @@ function renderIdentification(container, name, job, result) {
       text: 'Open the calibrated robot in the table',
       onclick: () => confirmDiscard(async () => setRobot(await api('/robots/check', { robot: result.calibrated }), null, { keep: true }), 'Opening the calibrated robot'),
     }),
-    h('a', { href: `/api/jobs/${job}/report`, download: `gecaro-report-${job}.html` }, h('button', { type: 'button', text: 'Download the report' })));
+    job === null
+      ? h('span', { class: 'muted', id: `${name}-identify-no-report`, text: 'The server was restarted since: identify again for its report.' })
+      : h('a', { href: `/api/jobs/${job}/report`, download: `gecaro-report-${job}.html` }, h('button', { type: 'button', text: 'Download the report' })));
   container.replaceChildren(...[headline, cards, observabilityLine(id.observability, 'the data'), robustness, validation, warnings, actions,
     outlierTable('Rejected before this fit', id.rejected, id.rejected_count, `${name}-identify-rejected`),
     outlierTable('Outliers', id.outliers, id.outlier_count, `${name}-identify-outliers`),
@@ -1811,8 +1813,13 @@ async function restore(before) {
   for (const [name, last] of Object.entries(before.results || {})) {
     const container = $(`${name}-identify-result`);
     if (!container || !last.result) continue;
-    state.results[name] = last;
-    renderIdentification(container, name, last.job, last.result);
+    // A server restarted since keeps no report of the old job (and never
+    // serves another job's under its number): the result stays, its report
+    // link goes.
+    let job = last.job;
+    try { await api(`/jobs/${job}`); } catch (ignored) { job = null; }
+    state.results[name] = { ...last, job };
+    renderIdentification(container, name, job, last.result);
   }
   toast('Restored the page as it was before the reload');
 }

@@ -171,10 +171,37 @@ impl Job {
 
 /// The jobs of the server: at most [`MAX_JOBS_ACTIVE`] queued or running, and
 /// the [`MAX_JOBS_KEPT`] most recent kept for their results.
-#[derive(Debug, Default)]
+///
+/// Job numbers are unique across the server's restarts: a page reloaded
+/// after a restart still holds the numbers of the last server's jobs, and
+/// must not get another job's report under one. They count on from the
+/// server's start time in milliseconds × 1000 (below 2⁵³ until the year
+/// 2255, so exact as JavaScript numbers), and from past the last server's
+/// numbers for servers started in one process.
+#[derive(Debug)]
 pub struct Jobs {
     next: AtomicU64,
     jobs: Mutex<VecDeque<Arc<Job>>>,
+}
+
+impl Default for Jobs {
+    fn default() -> Self {
+        /// Where the last `Jobs` of this process started numbering.
+        static LAST_START: AtomicU64 = AtomicU64::new(0);
+        let now = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |since| since.as_millis() as u64);
+        let clock = now.saturating_mul(1000);
+        let start = LAST_START
+            .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |last| {
+                Some(clock.max(last.saturating_add(1_000_000)))
+            })
+            .map_or(clock, |last| clock.max(last.saturating_add(1_000_000)));
+        Jobs {
+            next: AtomicU64::new(start),
+            jobs: Mutex::new(VecDeque::new()),
+        }
+    }
 }
 
 impl Jobs {
@@ -281,6 +308,20 @@ mod tests {
         let view = jobs.get(last.id()).expect("kept").view();
         assert_eq!(view.state, JobState::Running);
         assert_eq!(view.history, [1e-3]);
+    }
+
+    #[test]
+    fn job_numbers_of_two_servers_never_meet() {
+        // A page restored after a restart asks the new server for the old
+        // numbers: before, both servers counted from 1 and the new one
+        // served another job's report under the old number.
+        let (first, second) = (Jobs::default(), Jobs::default());
+        let old = first.create(0).expect("room").id();
+        let new = second.create(0).expect("room").id();
+        assert!(new > old, "{new} after {old}");
+        assert!(matches!(second.get(old), Err(ApiError::NotFound(_))));
+        // Exact as JavaScript numbers.
+        assert!(new < 1 << 53);
     }
 
     #[test]
