@@ -241,6 +241,7 @@ function undoEdit(back) {
   state.dirty = true;
   renderRobot();
   renderUndo();
+  refreshStale();
   scheduleCheck();
 }
 
@@ -390,7 +391,47 @@ function markModified() {
     state.dirty = true;
     $('robot-origin').textContent = `• modified · ${$('robot-origin').textContent}`;
   }
+  refreshStale();
   persist();
+}
+
+/** What an identification of method `name` is of: the table and the data chosen. */
+function identificationBasis(name) {
+  const data = $(`${name}-identify-data`);
+  const choice = data ? data.value : '';
+  const generated = choice === 'generated' && state.generated[name] ? `#${state.generated[name].serial || 0}` : '';
+  return { table: JSON.stringify(document_()), data: choice + generated };
+}
+
+/**
+ * Marks each identification whose table or data changed since as stale: its
+ * verdict, its calibrated robot (Save) and Evaluate's comparison are of the
+ * table as it was. Undoing back to that table clears the mark.
+ */
+function refreshStale() {
+  for (const [name, last] of Object.entries(state.results)) {
+    const container = $(`${name}-identify-result`);
+    if (!container || !last.basis) continue;
+    const now = identificationBasis(name);
+    const changed = [
+      now.table !== last.basis.table ? 'the table' : null,
+      now.data !== last.basis.data ? 'the data chosen' : null,
+    ].filter(Boolean);
+    last.stale = changed.length > 0;
+    const banner = $(`${name}-identify-stale`);
+    if (!last.stale) {
+      if (banner) banner.remove();
+      container.classList.remove('stale');
+      continue;
+    }
+    const text = `Stale: ${changed.join(' and ')} changed after this identification. Its verdict, its calibrated robot (Save) and Evaluate’s comparison are of the table and data as they were; identify again.`;
+    if (banner) {
+      banner.textContent = text;
+    } else {
+      container.prepend(h('div', { class: 'warnings', id: `${name}-identify-stale`, text }));
+    }
+    container.classList.add('stale');
+  }
 }
 
 let checkTimer = null;
@@ -1356,8 +1397,11 @@ async function generateInto(name, configurations) {
       request.overwrite = $(`${name}-generate-overwrite`).checked;
     }
     const generated = await api('/generate', request);
+    // Each generation is new data, under the same choice 'generated'.
+    generated.serial = (state.generated[name] ? state.generated[name].serial || 0 : 0) + 1;
     state.generated[name] = generated;
     refreshDataChoices(name, 'generated');
+    refreshStale();
     if (generated.saved) refreshFiles();
     renderGenerated(result, name, generated);
     drawView();
@@ -1479,7 +1523,7 @@ function identifyPanel(method) {
   const result = h('div', { class: 'result', id: `${name}-identify-result` });
   const data = dataSelect(name, 'identify', false);
   const upload = h('input', { type: 'file', accept: '.csv,text/csv', id: `${name}-identify-upload`, hidden: true });
-  data.addEventListener('change', () => { upload.hidden = data.value !== 'upload'; });
+  data.addEventListener('change', () => { upload.hidden = data.value !== 'upload'; refreshStale(); });
   const solver = h('select', { id: `${name}-identify-solver` },
     h('option', { value: 'gauss-newton', text: 'Gauss–Newton (the paper)' }),
     h('option', { value: 'lm', text: 'Levenberg–Marquardt' }));
@@ -1497,6 +1541,8 @@ function identifyPanel(method) {
     const cancel = h('button', { type: 'button', id: `${name}-identify-cancel`, text: 'Cancel', disabled: true });
     const progress = h('div', { class: 'progress', id: `${name}-identify-progress` }, h('div', { class: 'spinner' }), h('span', { text: 'Reading the data…' }), cancel);
     result.replaceChildren(progress);
+    // What this result is of: the table and the data chosen now.
+    const basis = identificationBasis(name);
     try {
       const submitted = await api('/identify', {
         robot: document_(),
@@ -1524,8 +1570,9 @@ function identifyPanel(method) {
       } else if (job.state === 'failed') {
         result.replaceChildren(errorBox(new Error(job.error)));
       } else {
-        state.results[name] = { job: submitted.job, result: job.result };
+        state.results[name] = { job: submitted.job, result: job.result, basis };
         renderIdentification(result, name, submitted.job, job.result);
+        refreshStale();
         persist();
       }
     } catch (error) {
@@ -1670,6 +1717,9 @@ function evaluatePanel(method) {
         format: formatRequest(name, 'evaluate'),
       });
       renderEvaluation(result, name, evaluated, Boolean(compared));
+      if (compared && state.results[name] && state.results[name].stale) {
+        result.prepend(h('div', { class: 'warnings', id: `${name}-evaluate-stale`, text: 'The calibrated robot compared here is stale: the table or the data changed after its identification.' }));
+      }
     } catch (error) {
       result.replaceChildren(errorBox(error));
     }
@@ -1818,9 +1868,13 @@ async function restore(before) {
     // link goes.
     let job = last.job;
     try { await api(`/jobs/${job}`); } catch (ignored) { job = null; }
-    state.results[name] = { ...last, job };
+    // Generated data are not kept across a reload: the data chosen now are
+    // taken as the result's, and the table alone is compared.
+    const basis = last.basis ? { ...last.basis, data: identificationBasis(name).data } : undefined;
+    state.results[name] = { ...last, job, basis };
     renderIdentification(container, name, job, last.result);
   }
+  refreshStale();
   toast('Restored the page as it was before the reload');
 }
 
@@ -1833,6 +1887,7 @@ function changeUnits() {
   for (const [name, last] of Object.entries(state.results)) {
     renderIdentification($(`${name}-identify-result`), name, last.job, last.result);
   }
+  refreshStale();
   persist();
 }
 

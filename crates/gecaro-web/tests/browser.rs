@@ -737,7 +737,26 @@ async fn the_page_is_an_engineers_tool() {
     let asked = text_of(client, "#discard-text", 10).await;
     assert!(asked.contains("not saved"), "{asked}");
     click(client, "#dialog-cancel").await;
+    // The identification before the edit is marked stale, its Save and
+    // Evaluate's comparison with it; undoing the edit clears the mark.
+    // (The Identification function is hidden behind Evaluate: its text is
+    // read from the document.)
+    let stale = client
+        .execute(
+            "const e = document.getElementById('position-identify-stale'); \
+             return e ? e.textContent : '';",
+            vec![],
+        )
+        .await
+        .expect("stale banner");
+    assert!(
+        stale
+            .as_str()
+            .is_some_and(|text| text.contains("the table changed")),
+        "{stale}"
+    );
     click(client, "#table-undo").await;
+    assert_eq!(count(client, "#position-identify-stale").await, 0);
     let value = |client: &Client| {
         let client = client.clone();
         async move {
@@ -754,6 +773,7 @@ async fn the_page_is_an_engineers_tool() {
     assert_eq!(value(client).await, original);
     click(client, "#table-redo").await;
     assert_eq!(value(client).await, "0.5");
+    assert_eq!(count(client, "#position-identify-stale").await, 1);
 
     // A reload restores the edited table, the function and the last result.
     client.refresh().await.expect("reload");
@@ -777,6 +797,8 @@ async fn the_page_is_an_engineers_tool() {
         text_of(client, "#position-identify-status", 10).await,
         "Fits the noise"
     );
+    // Still of the table before the edit, which the reload kept.
+    assert_eq!(count(client, "#position-identify-stale").await, 1);
     click(client, "#table-undo").await; // nothing to undo after a reload: disabled
     // Back to the ready Stanford (discarding the edit) for what follows.
     click(client, "#robot-open").await;
