@@ -517,6 +517,13 @@ impl EvaluateRequest {
 }
 
 impl Evaluation {
+    /// How the compared robot fares against the robot, when one was given.
+    pub fn comparison(&self) -> Option<crate::documents::ComparisonJson> {
+        self.compared
+            .as_ref()
+            .map(|(compared, _)| crate::documents::ComparisonJson::of(&self.summary, compared))
+    }
+
     /// The errors as plots (mm): histograms and per configuration, the
     /// robot's as "before" and the compared robot's as "after" (the robot's
     /// own on both sides without one).

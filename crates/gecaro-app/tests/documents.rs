@@ -49,3 +49,36 @@ fn a_document_lists_the_worst_outliers_and_counts_them_all() {
     );
     assert!(document.rejected.is_empty() && document.rejected_count == 0);
 }
+
+#[test]
+fn an_evaluation_says_which_robot_is_better_and_by_how_much() {
+    use gecaro_app::documents::ComparisonJson;
+    use gecaro_calib::identification::ErrorSummary;
+    let rms = |rms: f64| ErrorSummary {
+        count: 10,
+        rms,
+        mean: rms,
+        max: rms,
+        rms_rotation: None,
+        max_rotation: None,
+    };
+    let better = ComparisonJson::of(&rms(2.5e-3), &rms(1.7e-5));
+    assert_eq!(better.outcome, "better");
+    assert!(
+        better.summary.starts_with("147× smaller errors"),
+        "{}",
+        better.summary
+    );
+    assert!(better.summary.contains("RMS 0.0170 mm against 2.5000 mm"));
+    let worse = ComparisonJson::of(&rms(9.6e-3), &rms(98.8e-3));
+    assert_eq!(worse.outcome, "worse");
+    assert!(
+        worse.summary.starts_with("WORSE: 10.3× larger"),
+        "{}",
+        worse.summary
+    );
+    assert_eq!(
+        ComparisonJson::of(&rms(1e-3), &rms(1.04e-3)).outcome,
+        "same"
+    );
+}

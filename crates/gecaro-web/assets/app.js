@@ -395,12 +395,17 @@ function markModified() {
   persist();
 }
 
-/** What an identification of method `name` is of: the table and the data chosen. */
-function identificationBasis(name) {
-  const data = $(`${name}-identify-data`);
+/** The data chosen in function `fn` of method `name` (a generation counted as new data). */
+function dataKey(name, fn) {
+  const data = $(`${name}-${fn}-data`);
   const choice = data ? data.value : '';
   const generated = choice === 'generated' && state.generated[name] ? `#${state.generated[name].serial || 0}` : '';
-  return { table: JSON.stringify(document_()), data: choice + generated };
+  return choice + generated;
+}
+
+/** What an identification of method `name` is of: the table and the data chosen. */
+function identificationBasis(name) {
+  return { table: JSON.stringify(document_()), data: dataKey(name, 'identify') };
 }
 
 /**
@@ -1741,7 +1746,25 @@ function renderEvaluation(container, name, evaluated, compared) {
     return h('figure', {}, holder, h('figcaption', { class: 'muted', text: title }));
   };
   const notes = (evaluated.notes || []).length ? h('ul', { class: 'notes' }, evaluated.notes.map((n) => h('li', { text: n }))) : null;
+  // The verdict: better or worse than the table's robot, against the
+  // training error, and whether these are the training data at all.
+  const last = state.results[name];
+  const comparison = evaluated.comparison;
+  let verdict = null;
+  if (comparison) {
+    const lines = [`The calibrated robot against the table’s robot on these data: ${comparison.summary}.`];
+    const training = last && last.result ? last.result.identification.after.rms : null;
+    if (training > 0 && evaluated.compared) {
+      lines.push(`Its error here is ${fixed(evaluated.compared.rms / training, 2)}× its training error (${length(training)} ${unit}).`);
+    }
+    if (last && last.basis && dataKey(name, 'evaluate') === last.basis.data) {
+      lines.push('These are the data it was identified from: this is its training residual, not a held-out check. Evaluate it on other measurements.');
+    }
+    verdict = h('div', { class: `verdict ${comparison.outcome === 'worse' ? 'bad' : comparison.outcome === 'better' ? 'ok' : ''}`, id: `${name}-evaluate-verdict` },
+      lines.map((line) => h('p', { text: line })));
+  }
   container.replaceChildren(...[
+    verdict,
     h('div', { class: 'cards' },
       summary('the table’s robot', evaluated.errors, `${name}-evaluate-table`),
       evaluated.compared ? summary('calibrated', evaluated.compared, `${name}-evaluate-calibrated`) : null),

@@ -718,7 +718,25 @@ async fn the_page_is_an_engineers_tool() {
         "table {table}, calibrated {calibrated}"
     );
     assert_eq!(count(client, "#position-evaluate-histogram svg").await, 1);
+    // The verdict says which robot is better and by how much, against the
+    // training error; these are not the training data.
+    let verdict = text_of(client, "#position-evaluate-verdict", 5).await;
+    assert!(
+        verdict.contains("against the table’s robot on these data")
+            && verdict.contains("× smaller errors")
+            && verdict.contains("its training error")
+            && !verdict.contains("identified from"),
+        "{verdict}"
+    );
     screenshot(client, "11-evaluate-1400.png").await;
+    // The training file itself is named as such, not passed off as a check.
+    set_values(client, &[("position-evaluate-data", "file:tracker.csv")]).await;
+    click(client, "#position-evaluate-run").await;
+    let training = text_when(client, "#position-evaluate-verdict", 60, |text| {
+        text.contains("identified from")
+    })
+    .await;
+    assert!(training.contains("not a held-out check"), "{training}");
 
     // An unsaved edit: Open asks first; Undo and Redo restore the table.
     let alpha = r#"#frames-table input[data-frame="3"][data-key="alpha"]"#;

@@ -2,7 +2,7 @@
 //! method menu.
 
 use axum::extract::State;
-use gecaro_app::documents::{IdentifiableJson, SummaryJson};
+use gecaro_app::documents::{ComparisonJson, IdentifiableJson, SummaryJson};
 use gecaro_app::{EvaluateRequest, EvaluationPlots, GenerateRequest, IdentifiableRequest};
 use gecaro_io::RobotDocument;
 use serde::Serialize;
@@ -88,6 +88,8 @@ pub(crate) struct EvaluatedJson {
     errors: SummaryJson,
     /// The compared robot's, when one was sent.
     compared: Option<SummaryJson>,
+    /// The compared robot against the robot: better, worse or the same.
+    comparison: Option<ComparisonJson>,
     plots: EvaluationPlots,
     /// What the user should know about the data (unused columns, joints
     /// outside their limits).
@@ -110,6 +112,7 @@ pub(crate) async fn evaluate(
                     .compared
                     .as_ref()
                     .map(|(summary, _)| summary.into()),
+                comparison: evaluation.comparison(),
                 plots: evaluation.plots()?,
                 notes: evaluation
                     .loaded
