@@ -68,6 +68,37 @@ class ApiFailure extends Error {
   }
 }
 
+/** The server did not answer at all (stopped, restarted, the network gone): not the robot's fault. */
+class ServerUnreachable extends Error {
+  constructor() {
+    super('The server is unreachable: your table is kept in this page. Start gecaro serve again, then Retry.');
+    this.unreachable = true;
+    this.problems = [];
+  }
+}
+
+/**
+ * One state for a lost server: a banner that says the table is kept, with
+ * Retry (it asks the server for its info and goes once it answers).
+ */
+function serverLost() {
+  if ($('server-lost')) return;
+  const retry = h('button', { type: 'button', id: 'server-retry', text: 'Retry' });
+  const banner = h('div', { class: 'server-lost', id: 'server-lost', role: 'alert' },
+    h('span', { text: 'Server unreachable — your table is kept in this page.' }), retry);
+  retry.addEventListener('click', async () => {
+    retry.disabled = true;
+    try {
+      await api('/info');
+      toast('The server answers again');
+      scheduleCheck();
+    } catch (ignored) { /* still lost: the banner stays */ } finally {
+      retry.disabled = false;
+    }
+  });
+  document.body.prepend(banner);
+}
+
 /** A call of the JSON API; `signal` (an AbortController's) lets the page abandon it. */
 async function api(path, body, signal) {
   const request = body === undefined ? {} : {
@@ -76,7 +107,17 @@ async function api(path, body, signal) {
     body: JSON.stringify(body),
   };
   if (signal) request.signal = signal;
-  const response = await fetch(`/api${path}`, request);
+  let response;
+  try {
+    response = await fetch(`/api${path}`, request);
+  } catch (error) {
+    // A request the page abandoned is not a lost server.
+    if (signal && signal.aborted) throw error;
+    serverLost();
+    throw new ServerUnreachable();
+  }
+  const lost = $('server-lost');
+  if (lost) lost.remove();
   const text = await response.text();
   let data;
   try { data = JSON.parse(text); } catch { data = { error: text || response.statusText }; }
@@ -465,6 +506,8 @@ async function checkRobot() {
     }
   } catch (error) {
     if (serial !== checkSerial) return;
+    // A lost server says so once (its banner); the table is not to blame.
+    if (error.unreachable) return;
     state.robot.problems = [{ location: { kind: 'document' }, message: error.message }];
     state.robot.summary = null;
     renderProblems();
@@ -665,7 +708,7 @@ async function refreshPose() {
       posePending = true;
     }
   } catch (error) {
-    if (serial === state.robotSerial) {
+    if (serial === state.robotSerial && !error.unreachable) {
       state.pose = null;
       drawView(error.message);
     }
@@ -979,7 +1022,7 @@ function saveAsDialog(documentToSave, suggested, after) {
       try {
         saved = await api('/robots/save', { robot: documentToSave, name: name.value.trim(), overwrite: overwrite.checked });
       } catch (error) {
-        if (error.problems.length) throw new Error(`${error.message} — fix the table first.`);
+        if ((error.problems || []).length) throw new Error(`${error.message} — fix the table first.`);
         throw error;
       }
       const beside = saved.joint_calibration ? ` and ${saved.joint_calibration} (gains and couplings)` : '';

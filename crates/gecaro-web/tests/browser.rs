@@ -949,5 +949,48 @@ async fn the_page_is_an_engineers_tool() {
         .await
         .expect("scroll");
     screenshot(client, "13-identification-800.png").await;
+
+    // A lost server: one banner that says the table is kept, with Retry; the
+    // table is not blamed ("Robot: Failed to fetch" before).
+    client
+        .execute(
+            "window.realFetch = window.fetch; \
+             window.fetch = () => Promise.reject(new TypeError('Failed to fetch'));",
+            vec![],
+        )
+        .await
+        .expect("server gone");
+    let cell = r#"#frames-table input[data-frame="3"][data-key="alpha"]"#;
+    client
+        .execute(
+            "const e = document.querySelector(arguments[0]); e.value = '0.25'; \
+             e.dispatchEvent(new Event('change'));",
+            vec![json!(cell)],
+        )
+        .await
+        .expect("edit");
+    let lost = text_of(client, "#server-lost", 10).await;
+    assert!(lost.contains("your table is kept"), "{lost}");
+    let problems = client
+        .execute(
+            "return document.getElementById('problems').textContent",
+            vec![],
+        )
+        .await
+        .expect("problems");
+    assert!(
+        !problems.as_str().unwrap_or_default().contains("fetch"),
+        "{problems}"
+    );
+    client
+        .execute("window.fetch = window.realFetch;", vec![])
+        .await
+        .expect("server back");
+    click(client, "#server-retry").await;
+    let deadline = std::time::Instant::now() + Duration::from_secs(10);
+    while count(client, "#server-lost").await > 0 {
+        assert!(std::time::Instant::now() < deadline, "the banner stayed");
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
     session.close().await;
 }
