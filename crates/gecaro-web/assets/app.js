@@ -980,7 +980,8 @@ function openRobotDialog() {
 }
 
 function newRobotDialog() {
-  const joints = h('input', { type: 'text', id: 'new-joints', value: 'RRRRRR', pattern: '[RrPp]+', required: true });
+  // Checked by the page, in its words (not the browser's generic pattern tooltip).
+  const joints = h('input', { type: 'text', id: 'new-joints', value: 'RRRRRR' });
   const name = h('input', { type: 'text', id: 'new-name', placeholder: 'e.g. My arm' });
   openDialog({
     title: 'New robot',
@@ -990,7 +991,12 @@ function newRobotDialog() {
       h('p', { class: 'muted', text: 'A template arm to edit: α alternates ±90°, the tool 0.1 m along the last z axis.' })),
     ok: 'Create',
     onOk: async () => {
-      const view = await api('/robots/new', { joints: joints.value.trim(), name: name.value.trim() || undefined });
+      const letters = joints.value.trim();
+      const bad = [...letters].find((letter) => !'RPrp'.includes(letter));
+      joints.classList.toggle('invalid', !letters || bad !== undefined);
+      if (!letters) throw new FieldError('Joint types: give one letter per joint, R (revolute) or P (prismatic).');
+      if (bad !== undefined) throw new FieldError(`Joint types: “${bad}” is not R (revolute) or P (prismatic).`);
+      const view = await api('/robots/new', { joints: letters, name: name.value.trim() || undefined });
       setRobot(view, null);
       state.dirty = true;
       renderRobot();
@@ -1179,6 +1185,61 @@ async function dataRequest(name, fn) {
   return { csv: { text: await file.text(), name: file.name } };
 }
 
+/** A field the page refuses before asking the server, in the field's own words. */
+class FieldError extends Error {
+  constructor(message) {
+    super(message);
+    this.problems = [];
+  }
+}
+
+/**
+ * The number in `input` (its label `label`, as the page shows it), checked
+ * in the page: the field is marked and a FieldError says what it takes when
+ * it is not one. `whole` asks for a whole number; an empty field gives
+ * `empty` when one is allowed (`undefined` = the field is required).
+ */
+function fieldNumber(input, label, { min = -Infinity, max = Infinity, whole = false, above = false, empty } = {}) {
+  input.classList.remove('invalid');
+  const text = input.value.trim();
+  const kind = whole ? 'a whole number' : 'a number';
+  const range = [
+    Number.isFinite(min) ? `${above ? 'above' : 'at least'} ${min}` : null,
+    Number.isFinite(max) ? `at most ${max}` : null,
+  ].filter(Boolean).join(' and ');
+  const fail = (what) => {
+    input.classList.add('invalid');
+    input.focus();
+    throw new FieldError(`${label}: ${what}; it takes ${kind}${range ? ` ${range}` : ''}.`);
+  };
+  // A number field holds '' for text that is no number ("abc"): the browser says which.
+  if (input.validity && input.validity.badInput) fail('that is not a number');
+  if (text === '') {
+    if (empty !== undefined) return empty;
+    fail('it is empty');
+  }
+  const value = Number(text);
+  if (!Number.isFinite(value)) fail(`“${text}” is not a number`);
+  if (whole && !Number.isInteger(value)) fail(`${text} is not a whole number`);
+  if (value < min || (above && value === min) || value > max) fail(`${text} is out of range`);
+  return value;
+}
+
+/** A stated σ (mm) as the API takes it, with its unit; none when not stated. */
+function sigmaText(millimetres) {
+  return millimetres === null ? null : `${millimetres}mm`;
+}
+
+/** Cross-validation folds: empty or 0 for none, else 2 to 20 (1 fold holds nothing out). */
+function foldsOf(input) {
+  const folds = fieldNumber(input, 'Cross-validation folds', { min: 0, max: 20, whole: true, empty: 0 });
+  if (folds === 1) {
+    input.classList.add('invalid');
+    throw new FieldError('Cross-validation folds: 1 fold holds nothing out; 0 for none, or 2 to 20.');
+  }
+  return folds >= 2 ? folds : null;
+}
+
 function errorBox(error) {
   const lines = [error.message];
   for (const problem of error.problems || []) lines.push(`${locationText(problem.location)}: ${problem.message}`);
@@ -1224,9 +1285,10 @@ function identifiablePanel(method) {
         robot: document_(),
         method: methodRequest(name, 'identifiable'),
         data: await dataRequest(name, 'identifiable'),
-        seed: Number(seed.value || 1),
+        seed: fieldNumber(seed, 'Seed', { min: 0, whole: true, empty: 1 }),
       };
-      if (count.value) request.count = Number(count.value);
+      const configurations = fieldNumber(count, 'Random configurations', { min: 1, max: 20000, whole: true, empty: null });
+      if (configurations !== null) request.count = configurations;
       const report = await api('/identifiable', request);
       renderIdentifiable(result, name, report);
     } catch (error) {
@@ -1324,13 +1386,14 @@ function planPanel(method) {
       const request = {
         robot: document_(),
         method: methodRequest(name, 'plan'),
-        count: Number(count.value),
+        count: fieldNumber(count, 'Configurations', { min: 1, max: 20000, whole: true }),
         criterion: criterion.value,
-        min_distance: Number(distance.value || 0),
-        seed: Number(seed.value || 1),
-        noise: Number(noise.value || 0.1) * 1e-3,
+        min_distance: fieldNumber(distance, 'Smallest distance', { min: 0, empty: 0 }),
+        seed: fieldNumber(seed, 'Seed', { min: 0, whole: true, empty: 1 }),
+        noise: fieldNumber(noise, 'Sensor σ', { min: 0, above: true, empty: 0.1 }) * 1e-3,
       };
-      if (pool.value) request.pool = Number(pool.value);
+      const candidates = fieldNumber(pool, 'Candidates', { min: 1, max: 20000, whole: true, empty: null });
+      if (candidates !== null) request.pool = candidates;
       if (curve.value.trim()) {
         request.curve = curve.value.split(/[\s,;]+/).filter(Boolean).map((v) => {
           const n = Number(v);
@@ -1429,16 +1492,16 @@ async function generateInto(name, configurations) {
     const request = {
       robot: document_(),
       method: methodRequest(name, 'generate'),
-      noise: Number(value('noise') || 0) * 1e-3,
-      seed: Number(value('seed') || 1),
+      noise: fieldNumber($(`${name}-generate-noise`), 'Sensor noise σ', { min: 0, empty: 0 }) * 1e-3,
+      seed: fieldNumber($(`${name}-generate-seed`), 'Seed', { min: 0, whole: true, empty: 1 }),
     };
     if (configurations) request.configurations = configurations;
-    else request.count = Number(value('count'));
+    else request.count = fieldNumber($(`${name}-generate-count`), 'Configurations', { min: 1, max: 20000, whole: true });
     const real = value('real');
     if (real.startsWith('file:')) {
       request.real = (await api(`/robots/file?name=${encodeURIComponent(real.slice(5))}`)).document;
     } else {
-      request.error_level = Number(value('level') || 0);
+      request.error_level = fieldNumber($(`${name}-generate-level`), 'Error level', { min: 0, empty: 0 });
     }
     if (value('save').trim()) {
       request.save_as = value('save').trim();
@@ -1598,13 +1661,13 @@ function identifyPanel(method) {
         data: await dataRequest(name, 'identify'),
         format: formatRequest(name, 'identify'),
         solver: solver.value,
-        max_iterations: Number(iterations.value || 30),
+        max_iterations: fieldNumber(iterations, 'Iteration limit', { min: 1, max: 500, whole: true, empty: 30 }),
         loss: loss.value,
         prior: prior.value.trim() || null,
         reject: reject.checked,
         // With its unit: a bare number would be in the data file's length unit.
-        sigma: Number(sigma.value) > 0 ? `${Number(sigma.value)}mm` : null,
-        cv: Number(folds.value || 0) >= 2 ? Number(folds.value) : null,
+        sigma: sigmaText(fieldNumber(sigma, 'Sensor σ', { min: 0, above: true, empty: null })),
+        cv: foldsOf(folds),
       });
       cancel.disabled = false;
       cancel.onclick = async () => {

@@ -312,8 +312,18 @@ async fn the_page_works_as_a_person_uses_it() {
     screenshot(client, "03-plane-view.png").await;
     click(client, "#tab-position").await;
 
-    // Points generation, then identification of the generated data.
+    // Points generation, then identification of the generated data. A count
+    // the page cannot take is refused in its words (before: a message of the
+    // JSON decoder, with a column number).
     click(client, "#function-generate").await;
+    set_values(client, &[("position-generate-count", "2.5")]).await;
+    click(client, "#position-generate-run").await;
+    assert_eq!(
+        text_of(client, "#position-generate-result .error-box", 10).await,
+        "Configurations: 2.5 is not a whole number; it takes a whole number at least 1 \
+         and at most 20000."
+    );
+    set_values(client, &[("position-generate-count", "50")]).await;
     click(client, "#position-generate-run").await;
     assert_eq!(
         text_of(client, "#position-generate-count-result", 60).await,
@@ -477,11 +487,13 @@ async fn the_page_works_as_a_person_uses_it() {
         .send_keys(&format!("7{}", Key::Tab))
         .await
         .expect("type");
-    let message = text_of(client, "#problems li", 30).await;
-    assert!(
-        message.contains("Frame 2, sigma") && message.contains("not a frame type"),
-        "{message}"
-    );
+    // (Clearing the cell is an edit too: its message, "every frame needs
+    // sigma", may show first.)
+    let message = text_when(client, "#problems li", 30, |text| {
+        text.contains("not a frame type")
+    })
+    .await;
+    assert!(message.contains("Frame 2, sigma"), "{message}");
     let class = sigma
         .attr("class")
         .await
@@ -643,10 +655,33 @@ async fn the_page_is_an_engineers_tool() {
             ("position-identify-data", "file:tracker.csv"),
             ("position-identify-length-unit", "mm"),
             ("position-identify-columns", "x=X_mm,y=Y_mm,z=Z_mm"),
-            ("position-identify-sigma", "0.02"),
+            ("position-identify-sigma", "-1"),
         ],
     )
     .await;
+    // Fields are checked in the page, in their own words (before: a σ of −1
+    // was silently "not stated", 1 fold silently none).
+    click(client, "#position-identify-run").await;
+    let refused = text_of(client, "#position-identify-result .error-box", 10).await;
+    assert_eq!(
+        refused,
+        "Sensor σ: -1 is out of range; it takes a number above 0."
+    );
+    set_values(
+        client,
+        &[
+            ("position-identify-sigma", "0.02"),
+            ("position-identify-cv", "1"),
+        ],
+    )
+    .await;
+    click(client, "#position-identify-run").await;
+    let refused = text_when(client, "#position-identify-result .error-box", 10, |text| {
+        text.contains("fold")
+    })
+    .await;
+    assert!(refused.contains("1 fold holds nothing out"), "{refused}");
+    set_values(client, &[("position-identify-cv", "0")]).await;
     click(client, "#position-identify-run").await;
     let status = text_of(client, "#position-identify-status", 120).await;
     assert_eq!(status, "Fits the noise");
@@ -949,6 +984,16 @@ async fn the_page_is_an_engineers_tool() {
         .await
         .expect("scroll");
     screenshot(client, "13-identification-800.png").await;
+
+    // A new robot's joint types are checked in the dialog, in its words.
+    click(client, "#robot-new").await;
+    set_values(client, &[("new-joints", "RRX")]).await;
+    click(client, "#dialog-ok").await;
+    assert_eq!(
+        text_of(client, "#dialog-error", 10).await,
+        "Joint types: “X” is not R (revolute) or P (prismatic)."
+    );
+    click(client, "#dialog-cancel").await;
 
     // A lost server: one banner that says the table is kept, with Retry; the
     // table is not blamed ("Robot: Failed to fetch" before).
