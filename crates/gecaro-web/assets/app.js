@@ -28,7 +28,8 @@ const state = {
   pose: null,
   localProblems: new Map(),
   files: { robots: [], data: [] },
-  generated: {}, // method -> {csv, file_name, real}
+  generated: {}, // method -> {csv, file_name, real, origin, serial}
+  heldOut: {}, // method -> held-out data of the generated data's real robot
   results: {}, // method -> the last identification {job, result}, shown again after a reload
   calibrated: {}, // method -> the calibrated robot's document, for Evaluate
   undo: [], // earlier table documents (JSON), for Undo
@@ -236,6 +237,7 @@ function setRobot(view, file, { keep = false } = {}) {
 function clearResults() {
   for (const container of document.querySelectorAll('#method-panels .result')) container.replaceChildren();
   state.generated = {};
+  state.heldOut = {};
   state.results = {};
   state.calibrated = {};
   if (state.info) {
@@ -440,8 +442,8 @@ function markModified() {
 function dataKey(name, fn) {
   const data = $(`${name}-${fn}-data`);
   const choice = data ? data.value : '';
-  const generated = choice === 'generated' && state.generated[name] ? `#${state.generated[name].serial || 0}` : '';
-  return choice + generated;
+  const kept = { generated: state.generated[name], 'held-out': state.heldOut[name] }[choice];
+  return choice + (kept ? `#${kept.serial || 0}` : '');
 }
 
 /** What an identification of method `name` is of: the table and the data chosen. */
@@ -1163,6 +1165,8 @@ function refreshDataChoices(name, prefer) {
     if (select.dataset.random) options.push(h('option', { value: 'random', text: 'Random configurations' }));
     const generated = state.generated[name];
     if (generated) options.push(h('option', { value: 'generated', text: `Generated here: ${generated.file_name}` }));
+    const heldOut = state.heldOut[name];
+    if (heldOut) options.push(h('option', { value: 'held-out', text: `Held out, the same real robot: ${heldOut.file_name}` }));
     for (const file of state.files.data) options.push(h('option', { value: `file:${file}`, text: file }));
     if (!select.dataset.random) options.push(h('option', { value: 'upload', text: 'Upload a CSV file…' }));
     select.replaceChildren(...options);
@@ -1174,8 +1178,8 @@ function refreshDataChoices(name, prefer) {
 async function dataRequest(name, fn) {
   const choice = $(`${name}-${fn}-data`).value;
   if (choice === 'random' || choice === '') return undefined;
-  if (choice === 'generated') {
-    const generated = state.generated[name];
+  if (choice === 'generated' || choice === 'held-out') {
+    const generated = (choice === 'generated' ? state.generated : state.heldOut)[name];
     return { csv: { text: generated.csv, name: generated.file_name } };
   }
   if (choice.startsWith('file:')) return { file: choice.slice(5) };
@@ -1508,9 +1512,17 @@ async function generateInto(name, configurations) {
       request.overwrite = $(`${name}-generate-overwrite`).checked;
     }
     const generated = await api('/generate', request);
-    // Each generation is new data, under the same choice 'generated'.
+    // Each generation is new data, under the same choice 'generated'; it
+    // keeps where it came from (the real robot, the seed, the noise).
     generated.serial = (state.generated[name] ? state.generated[name].serial || 0 : 0) + 1;
+    generated.origin = {
+      real: real.startsWith('file:') ? real.slice(5) : null,
+      level: request.error_level,
+      seed: request.seed,
+      noise: request.noise,
+    };
     state.generated[name] = generated;
+    delete state.heldOut[name];
     refreshDataChoices(name, 'generated');
     refreshStale();
     if (generated.saved) refreshFiles();
@@ -1576,8 +1588,61 @@ function renderGenerated(container, name, generated) {
           $(`${name}-identify-data`).dispatchEvent(new Event('change'));
         },
       }),
+      h('button', {
+        type: 'button',
+        id: `${name}-generate-held-out`,
+        text: 'Held-out data: the same real robot, new configurations',
+        onclick: () => generateHeldOut(name),
+      }),
       h('button', { type: 'button', text: 'Save the real robot as…', onclick: () => saveAsDialog(generated.real, `${slug(document_().name || 'robot')}-real.toml`) })),
+    h('p', { class: 'muted', id: `${name}-generate-origin`, text: originText(generated.origin) }),
+    h('p', { class: 'muted', id: `${name}-generate-held-out-status` }),
     h('pre', { class: 'preview', text: `${preview}\n…` })].filter(Boolean));
+}
+
+/** Where generated data came from, in words. */
+function originText(origin) {
+  if (!origin) return '';
+  const real = origin.real
+    ? `the real robot of ${origin.real}`
+    : `a real robot drawn from the table's at error level ${origin.level} (seed ${origin.seed})`;
+  const noise = `sensor noise σ ${fixed(origin.noise * 1e3, 3)} mm`;
+  return origin.heldOutOf
+    ? `Held out: the same real robot as ${origin.heldOutOf}, new configurations (seed ${origin.seed}), ${noise}.`
+    : `Measured on ${real}, configurations seed ${origin.seed}, ${noise}.`;
+}
+
+/**
+ * Held-out data for the data generated last: the same real robot (not one
+ * drawn again with another seed), new configurations, the same noise; they
+ * are chosen in Evaluate.
+ */
+async function generateHeldOut(name) {
+  const source = state.generated[name];
+  const status = $(`${name}-generate-held-out-status`);
+  status.textContent = 'Generating held-out data…';
+  try {
+    const request = {
+      robot: document_(),
+      method: methodRequest(name, 'generate'),
+      count: source.configurations,
+      noise: source.origin.noise,
+      seed: source.origin.seed + 1000 * ((state.heldOut[name] ? state.heldOut[name].serial : 0) + 1),
+      real: source.real,
+    };
+    const heldOut = await api('/generate', request);
+    heldOut.serial = (state.heldOut[name] ? state.heldOut[name].serial || 0 : 0) + 1;
+    heldOut.file_name = heldOut.file_name.replace(/\.csv$/, '-held-out.csv');
+    heldOut.origin = { ...source.origin, seed: request.seed, heldOutOf: source.file_name };
+    state.heldOut[name] = heldOut;
+    refreshDataChoices(name);
+    const evaluate = $(`${name}-evaluate-data`);
+    evaluate.value = 'held-out';
+    evaluate.dispatchEvent(new Event('change'));
+    status.textContent = `${originText(heldOut.origin)} ${heldOut.configurations} configurations, chosen in Evaluate.`;
+  } catch (error) {
+    status.textContent = error.message;
+  }
 }
 
 // Identification --------------------------------------------------------------

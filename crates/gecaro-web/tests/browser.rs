@@ -368,6 +368,37 @@ async fn the_page_works_as_a_person_uses_it() {
     assert!(!first.is_empty());
     screenshot(client, "04-identification.png").await;
 
+    // Held-out data of the same real robot (before: a new seed drew another
+    // real robot, and the calibrated robot looked worse in neutral cards).
+    click(client, "#function-generate").await;
+    let origin = text_of(client, "#position-generate-origin", 5).await;
+    assert!(
+        origin.contains("error level 1 (seed 1)") && origin.contains("0.050 mm"),
+        "{origin}"
+    );
+    click(client, "#position-generate-held-out").await;
+    let held_out = text_when(client, "#position-generate-held-out-status", 60, |text| {
+        text.contains("chosen in Evaluate")
+    })
+    .await;
+    assert!(held_out.contains("the same real robot as"), "{held_out}");
+    click(client, "#function-evaluate").await;
+    let chosen = client
+        .execute(
+            "return document.getElementById('position-evaluate-data').value",
+            vec![],
+        )
+        .await
+        .expect("script");
+    assert_eq!(chosen.as_str(), Some("held-out"));
+    click(client, "#position-evaluate-run").await;
+    let judged = text_of(client, "#position-evaluate-verdict", 60).await;
+    assert!(
+        judged.contains("× smaller errors") && !judged.contains("identified from"),
+        "{judged}"
+    );
+    click(client, "#function-identify").await;
+
     // Again with a robust loss, a prior and a 3-fold cross-validation.
     client
         .execute(
