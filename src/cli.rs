@@ -456,6 +456,10 @@ pub(crate) struct GenerateArgs {
     /// file (`gecaro plan`) or any data file's qm (and set or pair) columns.
     #[arg(long, value_name = "PLANNED.csv", conflicts_with = "count")]
     pub(crate) configurations: Option<PathBuf>,
+    /// Units, columns and separator of the --configurations file (a plan
+    /// written with --angle-unit deg is read with --angle-unit deg).
+    #[command(flatten)]
+    pub(crate) format: DataFormatArgs,
     /// The "real" robot, as a robot file; default: the nominal one with errors at --error-level.
     #[arg(long, value_name = "REAL.toml", conflicts_with = "error_level")]
     pub(crate) real: Option<PathBuf>,

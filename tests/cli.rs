@@ -1391,3 +1391,59 @@ fn a_measured_point_on_a_joint_axis_is_named_before_any_data() {
         .success()
         .stdout(predicate::str::contains("warning:").not());
 }
+
+#[test]
+fn a_plan_in_degrees_is_measured_in_degrees() {
+    // A plan for a teach pendant (degrees) measured at with the same units:
+    // before, `generate --configurations` read every plan in radians.
+    let folder = tempfile::tempdir().expect("folder");
+    let plan = folder.path().join("plan.csv");
+    let data = folder.path().join("data.csv");
+    gecaro()
+        .args(["plan", "stanford", "--method", "position", "--count", "15"])
+        .args(["--angle-unit", "deg", "-o"])
+        .arg(&plan)
+        .assert()
+        .success();
+    gecaro()
+        .args([
+            "generate",
+            "stanford",
+            "--method",
+            "position",
+            "--error-level",
+            "0",
+        ])
+        .arg("--configurations")
+        .arg(&plan)
+        .args(["--angle-unit", "deg", "-o"])
+        .arg(&data)
+        .assert()
+        .success();
+    let rows = |path: &Path| -> Vec<Vec<f64>> {
+        std::fs::read_to_string(path)
+            .expect("file")
+            .lines()
+            .skip(1)
+            .map(|line| {
+                line.split(',')
+                    .take(6)
+                    .map(|value| value.parse().expect("number"))
+                    .collect()
+            })
+            .collect()
+    };
+    let (planned, measured) = (rows(&plan), rows(&data));
+    assert_eq!(planned.len(), measured.len());
+    for (degrees, radians) in planned.iter().zip(&measured) {
+        for (joint, (a, b)) in degrees.iter().zip(radians).enumerate() {
+            // Joint 3 of the Stanford arm is prismatic: metres either way.
+            let expected = if joint == 2 { *a } else { a.to_radians() };
+            assert!(
+                (expected - b).abs() < 1e-12,
+                "joint {}: {a} → {b}",
+                joint + 1
+            );
+        }
+    }
+}

@@ -63,6 +63,7 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
         .configurations
         .as_deref()
         .map(|path| DataSource::File(name(path)));
+    request.format = super::options::data_format(&args.format);
     request.error_level = args.error_level;
     request.real = args
         .real

@@ -35,6 +35,10 @@ pub struct GenerateRequest {
     /// Measure at these configurations instead (a planned file's qm, and
     /// set or pair ids).
     pub configurations: Option<DataSource>,
+    /// Units, column names and separator of the configurations file (a plan
+    /// written in degrees for a teach pendant is read in degrees).
+    #[serde(default)]
+    pub format: DataFormatSpec,
     /// Errors of the simulated real robot: ±L cm, ±L°, ±L % (default 1); not
     /// with `real`.
     pub error_level: Option<f64>,
@@ -96,6 +100,7 @@ impl GenerateRequest {
             method,
             count: Some(count),
             configurations: None,
+            format: DataFormatSpec::default(),
             error_level: None,
             real: None,
             noise: 0.0,
@@ -178,7 +183,7 @@ impl GenerateRequest {
                     files,
                     &gecaro_io::joint_types(robot),
                     &DataColumn::grouping(method.data_columns()),
-                    &DataFormatSpec::default().format()?,
+                    &self.format.format()?,
                 )?;
                 simulate_at(
                     &real.robot,

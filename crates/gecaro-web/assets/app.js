@@ -1369,6 +1369,54 @@ const CRITERIA = [
   ['test', 'predicted error at 200 random test poses'],
 ];
 
+/**
+ * The cell fields of function `fn` of method `name` (as the command line's
+ * --floor, --station, --max-incidence, --clearance; millimetres and
+ * degrees): where only configurations the cell can measure are drawn.
+ */
+function cellInputs(name, fn) {
+  const input = (key, placeholder) => h('input', { type: 'text', class: 'vector', id: `${name}-${fn}-${key}`, placeholder });
+  const floor = input('floor', 'none, e.g. 0');
+  const station = input('station', 'none, e.g. 2500, 0, 400');
+  const incidence = input('incidence', 'any, e.g. 30');
+  const clearance = input('clearance', '50');
+  const fields = [
+    field('Floor: z ≥ (mm, world frame)', floor),
+    field('Laser tracker at x, y, z (mm)', station),
+    field('Reflector acceptance half-angle (°)', incidence),
+    field('Line of sight clear of the arm by (mm)', clearance),
+  ];
+  const request = () => {
+    const millimetres = (element, label) => {
+      const value = fieldNumber(element, label, { empty: null });
+      return value === null ? null : value * 1e-3;
+    };
+    const cell = {};
+    const z = millimetres(floor, 'Floor');
+    if (z !== null) cell.floor = z;
+    const text = station.value.trim();
+    station.classList.remove('invalid');
+    if (text) {
+      const parts = text.split(/[\s,;]+/).filter(Boolean).map(Number);
+      if (parts.length !== 3 || !parts.every(Number.isFinite)) {
+        station.classList.add('invalid');
+        throw new FieldError(`Laser tracker: “${text}” is not three numbers x, y, z (mm).`);
+      }
+      cell.station = parts.map((v) => v * 1e-3);
+    }
+    const angle = fieldNumber(incidence, 'Reflector acceptance half-angle', { min: 0, max: 90, above: true, empty: null });
+    if (angle !== null) cell.max_incidence = `${angle}deg`;
+    const gap = millimetres(clearance, 'Clearance');
+    if (gap !== null) cell.clearance = gap;
+    if (!cell.station && (cell.max_incidence || cell.clearance !== undefined)) {
+      incidence.classList.add('invalid');
+      throw new FieldError('The acceptance angle and the clearance are of a laser tracker: give its position too.');
+    }
+    return cell;
+  };
+  return { fields, request };
+}
+
 function planPanel(method) {
   const name = method.name;
   const result = h('div', { class: 'result', id: `${name}-plan-result` });
@@ -1381,6 +1429,10 @@ function planPanel(method) {
   const noise = h('input', { type: 'number', min: 0, step: 0.01, value: 0.1, id: `${name}-plan-noise` });
   const saveAs = h('input', { type: 'text', id: `${name}-plan-save`, placeholder: 'optional, e.g. planned.csv', class: 'vector' });
   const overwrite = h('input', { type: 'checkbox', id: `${name}-plan-overwrite` });
+  const cell = cellInputs(name, 'plan');
+  // The plan in the robot's own units: degrees for a teach pendant.
+  const angles = h('select', { id: `${name}-plan-angle-unit` },
+    h('option', { value: 'rad', text: 'radians' }), h('option', { value: 'deg', text: 'degrees (a teach pendant)' }));
   const run = runButton(`${name}-plan-run`, 'Plan', async () => {
     // Cancel aborts the request; the server then stops the plan at its next step.
     const abort = new AbortController();
@@ -1398,6 +1450,8 @@ function planPanel(method) {
       };
       const candidates = fieldNumber(pool, 'Candidates', { min: 1, max: 20000, whole: true, empty: null });
       if (candidates !== null) request.pool = candidates;
+      request.cell = cell.request();
+      request.format = { angle_unit: angles.value };
       if (curve.value.trim()) {
         request.curve = curve.value.split(/[\s,;]+/).filter(Boolean).map((v) => {
           const n = Number(v);
@@ -1410,6 +1464,7 @@ function planPanel(method) {
         request.overwrite = overwrite.checked;
       }
       const planned = await api('/plan', request, abort.signal);
+      planned.format = request.format;
       if (planned.saved) refreshFiles();
       renderPlanned(result, name, planned);
     } catch (error) {
@@ -1430,6 +1485,8 @@ function planPanel(method) {
       optionFields(method, 'plan'),
       field('Curve: counts', curve),
       field('Sensor noise σ for the curve (mm)', noise),
+      ...cell.fields,
+      field('Joint angles of the plan in', angles),
       field('Save to the folder as', saveAs),
       h('label', {}, overwrite, ' replace'),
       run),
@@ -1458,7 +1515,7 @@ function renderPlanned(container, name, planned) {
         title: 'Points generation at these configurations, with the settings of the Points generation function',
         onclick: async () => {
           selectFunction('generate');
-          await generateInto(name, { csv: { text: planned.csv, name: planned.file_name } });
+          await generateInto(name, { csv: { text: planned.csv, name: planned.file_name } }, planned.format);
         },
       })),
   ];
@@ -1488,7 +1545,7 @@ function renderPlanned(container, name, planned) {
  * `configurations` (a CSV of planned configurations) when given, else at as
  * many random ones as the panel says. The result shows in that panel.
  */
-async function generateInto(name, configurations) {
+async function generateInto(name, configurations, format) {
   const result = $(`${name}-generate-result`);
   const value = (what) => $(`${name}-generate-${what}`).value;
   result.replaceChildren(h('div', { class: 'progress' }, h('div', { class: 'spinner' }), 'Generating configurations…'));
@@ -1499,8 +1556,11 @@ async function generateInto(name, configurations) {
       noise: fieldNumber($(`${name}-generate-noise`), 'Sensor noise σ', { min: 0, empty: 0 }) * 1e-3,
       seed: fieldNumber($(`${name}-generate-seed`), 'Seed', { min: 0, whole: true, empty: 1 }),
     };
-    if (configurations) request.configurations = configurations;
-    else request.count = fieldNumber($(`${name}-generate-count`), 'Configurations', { min: 1, max: 20000, whole: true });
+    if (configurations) {
+      request.configurations = configurations;
+      if (format) request.format = format;
+    } else request.count = fieldNumber($(`${name}-generate-count`), 'Configurations', { min: 1, max: 20000, whole: true });
+    request.cell = generationCells[name]();
     const real = value('real');
     if (real.startsWith('file:')) {
       request.real = (await api(`/robots/file?name=${encodeURIComponent(real.slice(5))}`)).document;
@@ -1533,6 +1593,9 @@ async function generateInto(name, configurations) {
   }
 }
 
+/** Each method's generation cell, read when it generates. */
+const generationCells = {};
+
 function generatePanel(method) {
   const name = method.name;
   const result = h('div', { class: 'result', id: `${name}-generate-result` });
@@ -1545,6 +1608,8 @@ function generatePanel(method) {
   const overwrite = h('input', { type: 'checkbox', id: `${name}-generate-overwrite` });
   real.addEventListener('focus', () => refreshRealChoices(real));
   refreshRealChoices(real);
+  const cell = cellInputs(name, 'generate');
+  generationCells[name] = cell.request;
   const run = runButton(`${name}-generate-run`, 'Generate', () => generateInto(name, null));
   return h('div', { class: 'panel', id: `${name}-generate` },
     h('div', { class: 'form' },
@@ -1554,6 +1619,7 @@ function generatePanel(method) {
       field('Sensor noise σ (mm; mrad)', noise),
       field('Seed', seed),
       optionFields(method, 'generate'),
+      ...cell.fields,
       field('Save to the folder as', saveAs),
       h('label', {}, overwrite, ' replace'),
       run),
@@ -1629,6 +1695,7 @@ async function generateHeldOut(name) {
       noise: source.origin.noise,
       seed: source.origin.seed + 1000 * ((state.heldOut[name] ? state.heldOut[name].serial : 0) + 1),
       real: source.real,
+      cell: generationCells[name](),
     };
     const heldOut = await api('/generate', request);
     heldOut.serial = (state.heldOut[name] ? state.heldOut[name].serial || 0 : 0) + 1;

@@ -268,11 +268,27 @@ async fn the_page_works_as_a_person_uses_it() {
         .send_keys("12, 24, 48")
         .await
         .expect("type");
+    // In a cell (a floor well below the arm), in degrees for a teach pendant.
+    set_values(
+        client,
+        &[
+            ("position-plan-floor", "-2000"),
+            ("position-plan-angle-unit", "deg"),
+        ],
+    )
+    .await;
     click(client, "#position-plan-run").await;
     assert_eq!(
         text_of(client, "#position-plan-count-result", 60).await,
         "25"
     );
+    let in_degrees = number(
+        client,
+        "return Math.max(...document.querySelector('#position-plan-result pre').textContent \
+         .split('\\n').slice(1, 6).map((row) => Math.abs(Number(row.split(',')[0]))))",
+    )
+    .await;
+    assert!(in_degrees > 2.0 * std::f64::consts::PI, "{in_degrees}");
     assert_eq!(
         count(client, "#position-plan-curve-table tbody tr").await,
         3
