@@ -26,6 +26,10 @@ fn format(key: &str, name: Option<&str>) -> Result<Option<RobotFormat>, AppError
 pub struct ImportRequest {
     /// The file: `.urdf`, `.par`, or a table (`.toml` with `convention`, `.csv`).
     pub file: String,
+    /// The file's content, uploaded: `file` is then only its name (for its
+    /// extension and messages), and no file beside it (a URDF's joint
+    /// calibration) is read.
+    pub text: Option<String>,
     /// Its format, when the file does not tell: `urdf`, `dh`, `mdh`, `symoro`.
     pub format: Option<String>,
     /// URDF: the link whose frame is the world frame (default: the root).
@@ -88,7 +92,10 @@ impl ImportRequest {
         if let Some(name) = &self.save_as {
             files.check_output(name, "toml", self.overwrite)?;
         }
-        let (path, text) = files.read_text(&self.file, &["urdf", "par", "toml", "csv", "xml"])?;
+        let (path, text) = match &self.text {
+            Some(text) => (PathBuf::from(&self.file), text.clone()),
+            None => files.read_text(&self.file, &["urdf", "par", "toml", "csv", "xml"])?,
+        };
         let imported = gecaro_io::import_robot_text(&text, &path, &options).map_err(|error| {
             AppError::from(error).with_help(vec![
                 Part::Text("an import is told its format with ".into()),
@@ -105,9 +112,10 @@ impl ImportRequest {
         })?;
         let mut imported = imported;
         let calibration = joint_calibration_name(&self.file);
-        if !path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("par"))
+        if self.text.is_none()
+            && !path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("par"))
             && files.is_file(&calibration)
         {
             let (calibration_path, text) = files.read_text(&calibration, &["yaml"])?;

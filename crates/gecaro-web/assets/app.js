@@ -334,7 +334,8 @@ function renderRobot() {
   const origin = state.file ? `file ${state.file}`
     : view.origin === 'ready' ? `ready robot “${view.name}” (Save as… to keep a copy)`
       : view.origin === 'imported' ? `converted from ${view.name} (Save as… to keep it as a robot file or a URDF)`
-        : 'not saved yet';
+        : view.origin === 'uploaded' ? `uploaded ${view.uploaded || ''} (not a file of the folder: Save as… to keep it there)`
+          : 'not saved yet';
   $('robot-origin').textContent = (state.dirty ? '• modified · ' : '') + origin;
   $('angle-unit').value = doc.angle_unit === 'deg' ? 'deg' : 'rad';
   renderTableUnits();
@@ -947,6 +948,26 @@ function openRobotDialog() {
   const imports = h('div', { class: 'file-list', id: 'open-imports' }, h('div', { class: 'empty', text: 'Loading…' }));
   const base = h('input', { type: 'text', id: 'open-base', placeholder: 'root link' });
   const tip = h('input', { type: 'text', id: 'open-tip', placeholder: 'leaf with the most joints' });
+  // A robot file from this computer (not the served folder): read here, sent
+  // to the server to be checked or converted; nothing is written.
+  const upload = h('input', { type: 'file', id: 'open-upload', accept: '.toml,.urdf,.par' });
+  upload.addEventListener('change', async () => {
+    const file = upload.files[0];
+    if (!file) return;
+    try {
+      const view = await api('/robots/upload', {
+        name: file.name,
+        text: await file.text(),
+        base: base.value.trim() || undefined,
+        tip: tip.value.trim() || undefined,
+      });
+      view.uploaded = file.name;
+      setRobot(view, null);
+      $('dialog').close();
+    } catch (error) {
+      dialogError(error.message);
+    }
+  });
   openDialog({
     title: 'Open a robot',
     body: h('div', {},
@@ -958,7 +979,9 @@ function openRobotDialog() {
       h('div', { class: 'chain-fields' },
         h('label', { class: 'dialog-field' }, 'URDF base link', base),
         h('label', { class: 'dialog-field' }, 'URDF tip link', tip)),
-      imports),
+      imports,
+      h('h3', { text: 'From this computer' }),
+      h('label', { class: 'dialog-field' }, 'Upload a robot file (.toml, .urdf, .par)', upload)),
   });
   const button = (name) => h('button', {
     type: 'button',

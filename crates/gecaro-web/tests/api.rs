@@ -1652,3 +1652,58 @@ async fn an_abandoned_generation_frees_its_slot_and_writes_nothing() {
         .collect();
     assert!(names.is_empty(), "written after the client left: {names:?}");
 }
+
+/// A robot file uploaded from the page opens as one of the folder would,
+/// and nothing is written into the folder.
+#[tokio::test]
+async fn an_uploaded_robot_file_opens_without_touching_the_folder() {
+    let api = Api::new();
+    let urdf = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/urdf/panda.urdf"),
+    )
+    .expect("panda.urdf");
+    let (status, opened) = api
+        .post(
+            "/api/robots/upload",
+            &json!({ "name": "panda.urdf", "text": urdf, "tip": "panda_link8" }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{opened}");
+    assert_eq!(opened["origin"], "uploaded");
+    assert!(opened["name"].is_null(), "no file of the folder: {opened}");
+    assert_eq!(opened["summary"]["letters"], "RRRRRRR");
+    // A gecaro robot file, and its mistakes named at their line.
+    let puma = gecaro_io::robot_file_text(
+        &gecaro_io::load_robot("puma560").expect("ready robot"),
+        std::path::Path::new("puma.toml"),
+    )
+    .expect("text");
+    let (status, opened) = api
+        .post(
+            "/api/robots/upload",
+            &json!({ "name": "puma.toml", "text": puma }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{opened}");
+    assert_eq!(opened["summary"]["letters"], "RRRRRR");
+    let (status, bad) = api
+        .post(
+            "/api/robots/upload",
+            &json!({ "name": "bad.toml", "text": "name = \"x\"\n[[frame]]\nsigma = \n" }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert!(error_text(&bad).contains("bad.toml:3"), "{bad}");
+    let (status, _) = api
+        .post(
+            "/api/robots/upload",
+            &json!({ "name": "robot.exe", "text": "x" }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert_eq!(
+        std::fs::read_dir(api.folder.path()).expect("list").count(),
+        0,
+        "nothing written"
+    );
+}

@@ -1032,6 +1032,40 @@ async fn the_page_is_an_engineers_tool() {
         .expect("scroll");
     screenshot(client, "13-identification-800.png").await;
 
+    // A robot file from this computer, not the served folder: a URDF with
+    // its tip link, converted; nothing written into the folder.
+    let panda = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data/urdf/panda.urdf")
+        .canonicalize()
+        .expect("panda.urdf");
+    let files_before = std::fs::read_dir(session.folder.path())
+        .expect("list")
+        .count();
+    click(client, "#robot-open").await;
+    if count(client, "#discard-text").await > 0 {
+        click(client, "#dialog-ok").await;
+        click(client, "#robot-open").await;
+    }
+    set_values(client, &[("open-tip", "panda_link8")]).await;
+    client
+        .find(Locator::Css("#open-upload"))
+        .await
+        .expect("upload field")
+        .send_keys(&panda.display().to_string())
+        .await
+        .expect("choose the file");
+    let origin = text_when(client, "#robot-origin", 20, |text| {
+        text.contains("uploaded")
+    })
+    .await;
+    assert!(origin.contains("uploaded panda.urdf"), "{origin}");
+    assert_eq!(
+        std::fs::read_dir(session.folder.path())
+            .expect("list")
+            .count(),
+        files_before
+    );
+
     // A new robot's joint types are checked in the dialog, in its words.
     click(client, "#robot-new").await;
     set_values(client, &[("new-joints", "RRX")]).await;

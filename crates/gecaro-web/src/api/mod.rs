@@ -32,9 +32,10 @@ impl<T: serde::Serialize> axum::response::IntoResponse for Json<T> {
 /// Every POST route of the API (full paths), each taking a JSON body: for
 /// clients, tests and the fuzz targets. [`routes`] registers them (a test
 /// checks that each one answers).
-pub const POST_ROUTES: [&str; 9] = [
+pub const POST_ROUTES: [&str; 10] = [
     "/api/robots/check",
     "/api/robots/new",
+    "/api/robots/upload",
     "/api/robots/save",
     "/api/robots/pose",
     "/api/identifiable",
@@ -53,6 +54,7 @@ pub(crate) fn routes() -> Router<AppState> {
         .route("/robots/file", get(robot::open_file))
         .route("/robots/check", post(robot::check))
         .route("/robots/new", post(robot::new))
+        .route("/robots/upload", post(robot::upload))
         .route("/robots/save", post(robot::save))
         .route("/robots/pose", post(robot::pose))
         .route("/identifiable", post(calibration::identifiable))

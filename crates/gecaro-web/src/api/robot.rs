@@ -129,7 +129,8 @@ fn summary(robot: &Robot) -> Summary {
 #[derive(Serialize)]
 pub(crate) struct RobotView {
     /// `ready`, `file`, `imported` (converted from another format: saving
-    /// writes a new robot file) or `new`.
+    /// writes a new robot file), `uploaded` (from the page, not a file of
+    /// the folder: saving asks for a name) or `new`.
     origin: &'static str,
     /// The ready robot's or file's name.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -210,34 +211,92 @@ pub(crate) async fn open_file(
     let Query(FileQuery { name, base, tip }) = query?;
     state
         .compute(move |state| {
-            let (path, text) = state
+            let (_, text) = state
                 .workspace()
                 .read_text(&name, &["toml", "urdf", "par"])?;
-            let label = std::path::Path::new(&name);
-            let is_table = |text: &str| text.contains("[[joint]]") && !text.contains("[[frame]]");
-            if path.extension().is_some_and(|e| e == "toml") && !is_table(&text) {
-                let mut document = parse_robot_document(&text, label)?;
-                if document.name.is_none() {
-                    document.name = Some(fallback_name(&path));
-                }
-                let mut robot = view("file", Some(name), document);
-                robot.version = Some(version_of(&text));
-                return Ok(Json(robot));
-            }
-            let mut import = gecaro_app::ImportRequest::new(name.clone());
-            import.base = base;
-            import.tip = tip;
-            let imported = import.run(state.workspace())?.imported;
-            let mut robot = view(
-                "imported",
-                Some(name),
-                RobotDocument::from_robot_file(&imported.file),
-            );
-            robot.notes = imported.notes;
+            let mut robot = robot_of_text(state, &name, &text, false, (base, tip))?;
+            robot.name = Some(name);
             robot.version = Some(version_of(&text));
             Ok(Json(robot))
         })
         .await
+}
+
+/// A robot file uploaded from the page (not in the served folder).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct UploadRequest {
+    /// The file's name as the browser gives it (`my-arm.urdf`): its
+    /// extension tells the format.
+    name: String,
+    /// Its content.
+    text: String,
+    base: Option<String>,
+    tip: Option<String>,
+}
+
+/// Opens an uploaded robot file as [`open_file`] opens one of the folder;
+/// nothing is written, and the robot belongs to no file of the folder
+/// (Save asks for a name).
+pub(crate) async fn upload(
+    State(state): State<AppState>,
+    Json(request): Json<UploadRequest>,
+) -> Result<Json<RobotView>, ApiError> {
+    let UploadRequest {
+        name,
+        text,
+        base,
+        tip,
+    } = request;
+    let extension = std::path::Path::new(&name)
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if !matches!(extension.as_deref(), Some("toml" | "urdf" | "par")) {
+        return Err(ApiError::BadRequest(format!(
+            "{name}: a robot file ends in .toml (a gecaro robot file or a DH table), .urdf or .par (SYMORO)"
+        )));
+    }
+    state
+        .compute(move |state| Ok(Json(robot_of_text(state, &name, &text, true, (base, tip))?)))
+        .await
+}
+
+/// The robot of a file's `text` (named `name`): a gecaro robot file as it
+/// is; a URDF, a SYMORO `.par` file or a DH table (TOML with `convention`)
+/// converted (origin `imported`, with the conversion's notes). `uploaded`:
+/// the text came from the page, not from the folder.
+fn robot_of_text(
+    state: &AppState,
+    name: &str,
+    text: &str,
+    uploaded: bool,
+    (base, tip): (Option<String>, Option<String>),
+) -> Result<RobotView, ApiError> {
+    let label = std::path::Path::new(name);
+    let is_table = |text: &str| text.contains("[[joint]]") && !text.contains("[[frame]]");
+    let origin = if uploaded { "uploaded" } else { "file" };
+    if label.extension().is_some_and(|e| e == "toml") && !is_table(text) {
+        let mut document = parse_robot_document(text, label)?;
+        if document.name.is_none() {
+            document.name = Some(fallback_name(label));
+        }
+        return Ok(view(origin, None, document));
+    }
+    let mut import = gecaro_app::ImportRequest::new(name.to_owned());
+    import.base = base;
+    import.tip = tip;
+    if uploaded {
+        import.text = Some(text.to_owned());
+    }
+    let imported = import.run(state.workspace())?.imported;
+    let mut robot = view(
+        if uploaded { "uploaded" } else { "imported" },
+        None,
+        RobotDocument::from_robot_file(&imported.file),
+    );
+    robot.notes = imported.notes;
+    Ok(robot)
 }
 
 #[derive(Deserialize)]
