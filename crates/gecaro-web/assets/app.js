@@ -1257,6 +1257,11 @@ function sigmaText(millimetres) {
   return millimetres === null ? null : `${millimetres}mm`;
 }
 
+/** A stated rotation σ (degrees) as the API takes it, with its unit. */
+function degreesText(degrees) {
+  return degrees === null ? null : `${degrees}deg`;
+}
+
 /** Cross-validation folds: empty or 0 for none, else 2 to 20 (1 fold holds nothing out). */
 function foldsOf(input) {
   const folds = fieldNumber(input, 'Cross-validation folds', { min: 0, max: 20, whole: true, empty: 0 });
@@ -1802,6 +1807,8 @@ function identifyPanel(method) {
   const prior = h('input', { type: 'text', class: 'vector', placeholder: 'none, or e.g. 5mm,0.5deg,1%', id: `${name}-identify-prior` });
   const reject = h('input', { type: 'checkbox', id: `${name}-identify-reject` });
   const sigma = h('input', { type: 'number', min: 0, step: 'any', placeholder: 'not stated', id: `${name}-identify-sigma` });
+  // Frames carry their own σ for rotations (a tracker's 6D probe: 0.01 mm, 0.005°).
+  const sigmaRotation = h('input', { type: 'number', min: 0, step: 'any', placeholder: 'not stated', id: `${name}-identify-sigma-rotation` });
   const folds = h('input', { type: 'number', min: 0, max: 20, value: 0, id: `${name}-identify-cv` });
   const run = runButton(`${name}-identify-run`, 'Identify', async () => {
     const cancel = h('button', { type: 'button', id: `${name}-identify-cancel`, text: 'Cancel', disabled: true });
@@ -1822,6 +1829,9 @@ function identifyPanel(method) {
         reject: reject.checked,
         // With its unit: a bare number would be in the data file's length unit.
         sigma: sigmaText(fieldNumber(sigma, 'Sensor σ', { min: 0, above: true, empty: null })),
+        sigma_rotation: method.uses_orientation
+          ? degreesText(fieldNumber(sigmaRotation, 'Sensor σ of rotations', { min: 0, above: true, empty: null }))
+          : null,
         cv: foldsOf(folds),
       });
       cancel.disabled = false;
@@ -1852,6 +1862,7 @@ function identifyPanel(method) {
       field('Step rule', solver),
       field('Iteration limit', iterations),
       field('Sensor σ (mm; the verdict tests the fit against it)', sigma),
+      method.uses_orientation ? field('Sensor σ of rotations (°)', sigmaRotation) : null,
       field('Loss', loss),
       field('Prior σ (lengths, angles, gains)', prior),
       field('Drop outliers and refit', reject),

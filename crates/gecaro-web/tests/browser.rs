@@ -1032,6 +1032,10 @@ async fn the_page_is_an_engineers_tool() {
         .expect("scroll");
     screenshot(client, "13-identification-800.png").await;
 
+    // Frames state their own σ for rotations; positions have none to state.
+    assert_eq!(count(client, "#frame-identify-sigma-rotation").await, 1);
+    assert_eq!(count(client, "#position-identify-sigma-rotation").await, 0);
+
     // A robot file from this computer, not the served folder: a URDF with
     // its tip link, converted; nothing written into the folder.
     let panda = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
