@@ -68,6 +68,20 @@ impl Api {
         (status, value)
     }
 
+    /// The names of the files in the served folder.
+    fn names(&self) -> Vec<String> {
+        std::fs::read_dir(self.folder.path())
+            .expect("list")
+            .map(|entry| {
+                entry
+                    .expect("entry")
+                    .file_name()
+                    .to_string_lossy()
+                    .into_owned()
+            })
+            .collect()
+    }
+
     async fn document(&self, robot: &str) -> Value {
         let (status, view) = self.get(&format!("/api/robots/ready/{robot}")).await;
         assert_eq!(status, StatusCode::OK, "{view}");
@@ -1109,16 +1123,7 @@ async fn parallel_saves_of_one_file_never_corrupt_it() {
     let path = api.folder.path().join("shared.toml");
     let saved = gecaro_io::read_robot_file(&path).expect("a valid robot file");
     assert!(["RRPRRR", "RRRRRR"].contains(&saved.robot.joint_letters().as_str()));
-    let names: Vec<String> = std::fs::read_dir(api.folder.path())
-        .expect("list")
-        .map(|entry| {
-            entry
-                .expect("entry")
-                .file_name()
-                .to_string_lossy()
-                .into_owned()
-        })
-        .collect();
+    let names = api.names();
     assert_eq!(names, ["shared.toml"]);
 }
 
@@ -1640,16 +1645,7 @@ async fn an_abandoned_generation_frees_its_slot_and_writes_nothing() {
             .await
             .expect("a slot was freed by the abandoned generations");
     assert_eq!(status, StatusCode::OK, "{answer}");
-    let names: Vec<String> = std::fs::read_dir(api.folder.path())
-        .expect("list")
-        .map(|entry| {
-            entry
-                .expect("entry")
-                .file_name()
-                .to_string_lossy()
-                .into_owned()
-        })
-        .collect();
+    let names = api.names();
     assert!(names.is_empty(), "written after the client left: {names:?}");
 }
 
@@ -1701,9 +1697,5 @@ async fn an_uploaded_robot_file_opens_without_touching_the_folder() {
         )
         .await;
     assert_eq!(status, StatusCode::BAD_REQUEST);
-    assert_eq!(
-        std::fs::read_dir(api.folder.path()).expect("list").count(),
-        0,
-        "nothing written"
-    );
+    assert!(api.names().is_empty(), "nothing written");
 }
