@@ -11,7 +11,7 @@ use pyo3::prelude::*;
 
 use crate::arrays::{Real, array};
 use crate::errors::{NotConvergedError, input};
-use crate::interrupt::Watch;
+use crate::interrupt::watched;
 use crate::robot::{PyRobot, pose};
 
 /// A corrected program.
@@ -203,11 +203,7 @@ pub(crate) fn compensate(
     );
     request.matching = Some(r#match.to_owned());
     request.rebase = rebase;
-    let compensated = py.detach(|| {
-        let mut watch = Watch::new();
-        let result = request.run(&LocalFiles, &mut watch);
-        watch.finish(result)
-    })?;
+    let compensated = watched(py, |observer| request.run(&LocalFiles, observer))?;
     let result = PyCompensation {
         points: compensated.results,
         joint_count,

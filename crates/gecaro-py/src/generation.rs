@@ -4,6 +4,7 @@ use gecaro_app::{GenerateRequest, LocalFiles, RobotSource};
 use pyo3::prelude::*;
 
 use crate::data::PyData;
+use crate::interrupt::watched;
 use crate::methods::method_of;
 use crate::robot::PyRobot;
 
@@ -91,12 +92,7 @@ pub(crate) fn generate(
         max_incidence,
         clearance,
     };
-    let generated = py.detach(|| {
-        // Ctrl-C stops the generation (a cell that admits little can take long).
-        let mut watch = crate::interrupt::Watch::new();
-        let result = request.run(&LocalFiles, &mut watch);
-        watch.finish(result)
-    })?;
+    let generated = watched(py, |observer| request.run(&LocalFiles, observer))?;
     Ok(Generation {
         data: Py::new(
             py,

@@ -10,6 +10,7 @@ use pyo3::types::PyDict;
 use crate::arrays::priority_array;
 use crate::data::PyData;
 use crate::documents::{to_json, to_python};
+use crate::interrupt::watched;
 use crate::robot::PyRobot;
 use crate::source::{measurements, priority};
 use crate::warnings::warn_notes;
@@ -142,12 +143,7 @@ pub(crate) fn identifiable(
     request.priority = self::priority(robot.robot(), priority)?;
     request.count = count;
     request.seed = Some(seed);
-    let analysis = py.detach(|| {
-        // Ctrl-C stops the drawing of many random configurations.
-        let mut watch = crate::interrupt::Watch::new();
-        let result = request.run(&LocalFiles, &mut watch);
-        watch.finish(result)
-    })?;
+    let analysis = watched(py, |observer| request.run(&LocalFiles, observer))?;
     warn_notes(py, &analysis.loaded.notes)?;
     Ok(PyIdentifiability {
         json: analysis.document(),

@@ -80,6 +80,23 @@ impl Watch {
     }
 }
 
+/// Runs `work` without the GIL, watched by a [`Watch`]: Ctrl-C stops it,
+/// and its error (or the signal's exception) is raised in Python.
+pub(crate) fn watched<T, E>(
+    py: Python<'_>,
+    work: impl FnOnce(&mut dyn Observer) -> Result<T, E> + Send,
+) -> PyResult<T>
+where
+    T: Send,
+    E: Into<gecaro_app::AppError> + Send,
+{
+    py.detach(|| {
+        let mut watch = Watch::new();
+        let result = work(&mut watch);
+        watch.finish(result)
+    })
+}
+
 impl Observer for Watch {
     fn observe(&mut self, progress: Progress<'_>) -> ControlFlow<()> {
         if let (Progress::Iteration(record), Some(callback)) = (progress, &self.callback) {

@@ -14,6 +14,7 @@ use pyo3::prelude::*;
 use crate::data::PyData;
 use crate::documents::{to_json, to_python};
 use crate::errors::{IntoPyResult, input};
+use crate::interrupt::watched;
 use crate::methods::method_of;
 use crate::robot::PyRobot;
 
@@ -132,11 +133,8 @@ pub(crate) fn plan(
     request.candidates = candidates.as_deref().map(samples);
     request.keep = keep.as_deref().map(samples);
     request.min_distance = min_distance;
-    let planning = py.detach(|| {
-        // Ctrl-C stops the search (as identify's).
-        let mut watch = crate::interrupt::Watch::new();
-        let result = request.run(&gecaro_app::LocalFiles, &mut watch);
-        watch.finish(result)
+    let planning = watched(py, |observer| {
+        request.run(&gecaro_app::LocalFiles, observer)
     })?;
     let (Some(planned), Some(document)) = (&planning.planned, planning.plan_document()) else {
         return Err(input("no plan was made"));
@@ -191,11 +189,8 @@ pub(crate) fn plan_study<'py>(
         max_incidence,
         clearance,
     };
-    let planned = py.detach(|| {
-        // Ctrl-C stops the search (as identify's).
-        let mut watch = crate::interrupt::Watch::new();
-        let result = request.run(&gecaro_app::LocalFiles, &mut watch);
-        watch.finish(result)
+    let planned = watched(py, |observer| {
+        request.run(&gecaro_app::LocalFiles, observer)
     })?;
     let joint_count = robot.file.robot.joint_count();
     let sets = pyo3::types::PyList::empty(py);
@@ -270,11 +265,8 @@ pub(crate) fn predict<'py>(
     request.error_level = Some(error_level);
     request.seed = Some(seed);
     request.test_poses = test_poses(test_pose_count);
-    let predicted = py.detach(|| {
-        // Ctrl-C stops the search (as identify's).
-        let mut watch = crate::interrupt::Watch::new();
-        let result = request.run(&gecaro_app::LocalFiles, &mut watch);
-        watch.finish(result)
+    let predicted = watched(py, |observer| {
+        request.run(&gecaro_app::LocalFiles, observer)
     })?;
     to_python(py, &predicted.document())
 }
@@ -311,11 +303,8 @@ pub(crate) fn accuracy_curve<'py>(
     request.count = None;
     request.curve = counts;
     request.noise = Some(noise);
-    let planning = py.detach(|| {
-        // Ctrl-C stops the search (as identify's).
-        let mut watch = crate::interrupt::Watch::new();
-        let result = request.run(&gecaro_app::LocalFiles, &mut watch);
-        watch.finish(result)
+    let planning = watched(py, |observer| {
+        request.run(&gecaro_app::LocalFiles, observer)
     })?;
     let document = planning
         .curve_document()

@@ -6,7 +6,7 @@ use pyo3::prelude::*;
 use crate::data::PyData;
 use crate::documents::to_python;
 use crate::errors::IntoPyResult;
-use crate::interrupt::Watch;
+use crate::interrupt::watched;
 use crate::robot::PyRobot;
 use crate::source::{Fit, fit_settings, measurements};
 use crate::warnings::warn_notes;
@@ -52,11 +52,7 @@ pub(crate) fn cross_validate<'py>(
     request.seed = Some(seed);
     let prepared = request.prepare(&LocalFiles).py()?;
     warn_notes(py, &prepared.loaded.notes)?;
-    let validation = py.detach(|| {
-        let mut watch = Watch::new();
-        let result = prepared.cross_validate(&mut watch);
-        watch.finish(result)
-    })?;
+    let validation = watched(py, |observer| prepared.cross_validate(observer))?;
     to_python(
         py,
         &gecaro_app::documents::CrossValidationJson::new(&validation, seed),
