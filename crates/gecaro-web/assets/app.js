@@ -1264,10 +1264,10 @@ function degreesText(degrees) {
 
 /** Cross-validation folds: empty or 0 for none, else 2 to 20 (1 fold holds nothing out). */
 function foldsOf(input) {
-  const folds = fieldNumber(input, 'Cross-validation folds', { min: 0, max: 20, whole: true, empty: 0 });
+  const folds = fieldNumber(input, 'Cross-validation folds', { min: 0, max: state.info.limits.folds, whole: true, empty: 0 });
   if (folds === 1) {
     input.classList.add('invalid');
-    throw new FieldError('Cross-validation folds: 1 fold holds nothing out; 0 for none, or 2 to 20.');
+    throw new FieldError(`Cross-validation folds: 1 fold holds nothing out; 0 for none, or 2 to ${state.info.limits.folds}.`);
   }
   return folds >= 2 ? folds : null;
 }
@@ -1319,7 +1319,7 @@ function identifiablePanel(method) {
         data: await dataRequest(name, 'identifiable'),
         seed: fieldNumber(seed, 'Seed', { min: 0, whole: true, empty: 1 }),
       };
-      const configurations = fieldNumber(count, 'Random configurations', { min: 1, max: 20000, whole: true, empty: null });
+      const configurations = fieldNumber(count, 'Random configurations', { min: 1, max: state.info.limits.random, whole: true, empty: null });
       if (configurations !== null) request.count = configurations;
       const report = await api('/identifiable', request);
       renderIdentifiable(result, name, report);
@@ -1470,13 +1470,13 @@ function planPanel(method) {
       const request = {
         robot: document_(),
         method: methodRequest(name, 'plan'),
-        count: fieldNumber(count, 'Configurations', { min: 1, max: 20000, whole: true }),
+        count: fieldNumber(count, 'Configurations', { min: 1, max: state.info.limits.generate, whole: true }),
         criterion: criterion.value,
         min_distance: fieldNumber(distance, 'Smallest distance', { min: 0, empty: 0 }),
         seed: fieldNumber(seed, 'Seed', { min: 0, whole: true, empty: 1 }),
         noise: fieldNumber(noise, 'Sensor σ', { min: 0, above: true, empty: 0.1 }) * 1e-3,
       };
-      const candidates = fieldNumber(pool, 'Candidates', { min: 1, max: 20000, whole: true, empty: null });
+      const candidates = fieldNumber(pool, 'Candidates', { min: 1, max: state.info.limits.generate, whole: true, empty: null });
       if (candidates !== null) request.pool = candidates;
       request.cell = cell.request();
       request.format = { angle_unit: angles.value };
@@ -1587,7 +1587,7 @@ async function generateInto(name, configurations, format) {
     if (configurations) {
       request.configurations = configurations;
       if (format) request.format = format;
-    } else request.count = fieldNumber($(`${name}-generate-count`), 'Configurations', { min: 1, max: 20000, whole: true });
+    } else request.count = fieldNumber($(`${name}-generate-count`), 'Configurations', { min: 1, max: state.info.limits.generate, whole: true });
     request.cell = generationCells[name]();
     const real = value('real');
     if (real.startsWith('file:')) {
@@ -1798,7 +1798,7 @@ function identifyPanel(method) {
   const solver = h('select', { id: `${name}-identify-solver` },
     h('option', { value: 'gauss-newton', text: 'Gauss–Newton (the paper)' }),
     h('option', { value: 'lm', text: 'Levenberg–Marquardt' }));
-  const iterations = h('input', { type: 'number', min: 1, max: 500, value: 30, id: `${name}-identify-iterations` });
+  const iterations = h('input', { type: 'number', min: 1, max: state.info.limits.iterations, value: 30, id: `${name}-identify-iterations` });
   const loss = h('select', { id: `${name}-identify-loss` },
     h('option', { value: 'l2', text: 'least squares (the paper)' }),
     h('option', { value: 'huber', text: 'Huber (mild contamination)' }),
@@ -1809,7 +1809,7 @@ function identifyPanel(method) {
   const sigma = h('input', { type: 'number', min: 0, step: 'any', placeholder: 'not stated', id: `${name}-identify-sigma` });
   // Frames carry their own σ for rotations (a tracker's 6D probe: 0.01 mm, 0.005°).
   const sigmaRotation = h('input', { type: 'number', min: 0, step: 'any', placeholder: 'not stated', id: `${name}-identify-sigma-rotation` });
-  const folds = h('input', { type: 'number', min: 0, max: 20, value: 0, id: `${name}-identify-cv` });
+  const folds = h('input', { type: 'number', min: 0, max: state.info.limits.folds, value: 0, id: `${name}-identify-cv` });
   const run = runButton(`${name}-identify-run`, 'Identify', async () => {
     const cancel = h('button', { type: 'button', id: `${name}-identify-cancel`, text: 'Cancel', disabled: true });
     const progress = h('div', { class: 'progress', id: `${name}-identify-progress` }, h('div', { class: 'spinner' }), h('span', { text: 'Reading the data…' }), cancel);
@@ -1823,7 +1823,7 @@ function identifyPanel(method) {
         data: await dataRequest(name, 'identify'),
         format: formatRequest(name, 'identify'),
         solver: solver.value,
-        max_iterations: fieldNumber(iterations, 'Iteration limit', { min: 1, max: 500, whole: true, empty: 30 }),
+        max_iterations: fieldNumber(iterations, 'Iteration limit', { min: 1, max: state.info.limits.iterations, whole: true, empty: 30 }),
         loss: loss.value,
         prior: prior.value.trim() || null,
         reject: reject.checked,

@@ -137,6 +137,15 @@ async fn info_lists_the_ready_robots_and_the_seven_methods() {
         json!(["x", "y", "z", "qw", "qx", "qy", "qz"])
     );
     assert_eq!(info["methods"][4]["uses_plane"], true);
+    // The page checks its fields against the application layer's bounds.
+    assert_eq!(
+        info["limits"]["generate"],
+        json!(gecaro_app::limits::MAX_GENERATE)
+    );
+    assert_eq!(
+        info["limits"]["folds"],
+        json!(gecaro_app::limits::MAX_FOLDS)
+    );
     assert!(
         info["ready"]
             .as_array()

@@ -35,6 +35,22 @@ pub(crate) struct Info {
     folder: String,
     ready: Vec<&'static str>,
     methods: Vec<MethodView>,
+    /// What one request may ask for (the application layer's bounds), so
+    /// that the page checks its fields against the same numbers.
+    limits: Limits,
+}
+
+/// The bounds of [`gecaro_app::limits`] the page's fields are checked against.
+#[derive(Serialize)]
+struct Limits {
+    /// Configurations generated or planned, and candidates of a pool.
+    generate: usize,
+    /// Random configurations of an identifiability analysis.
+    random: usize,
+    /// Iterations of one identification.
+    iterations: usize,
+    /// Cross-validation folds.
+    folds: usize,
 }
 
 pub(crate) async fn info(State(state): State<AppState>) -> Json<Info> {
@@ -66,6 +82,12 @@ pub(crate) async fn info(State(state): State<AppState>) -> Json<Info> {
         folder: state.workspace().root().display().to_string(),
         ready: ready_robots().iter().map(|ready| ready.name).collect(),
         methods,
+        limits: Limits {
+            generate: gecaro_app::limits::MAX_GENERATE,
+            random: gecaro_app::limits::MAX_RANDOM,
+            iterations: gecaro_app::limits::MAX_ITERATIONS,
+            folds: gecaro_app::limits::MAX_FOLDS,
+        },
     })
 }
 
