@@ -9,7 +9,7 @@ use gecaro_calib::simulation::{
     within_nominal_limits,
 };
 use gecaro_calib::study::{DataColumn, Sample};
-use gecaro_calib::{Observer, Progress};
+use gecaro_calib::{Observer, report_step};
 use gecaro_io::RobotFile;
 use serde::Deserialize;
 
@@ -224,13 +224,7 @@ impl GenerateRequest {
         };
         // Whoever asked may have gone while the data were drawn (a closed
         // page, Ctrl-C): then nothing is written.
-        let done = samples.len();
-        if observer
-            .observe(Progress::Step { done, total: done })
-            .is_break()
-        {
-            return Err(gecaro_calib::Error::Interrupted.into());
-        }
+        report_step(observer, samples.len(), samples.len())?;
         let displacement = terminal_displacement(robot, &real.robot, &samples)?;
         let csv = gecaro_io::format_samples(robot.joint_count(), method.data_columns(), &samples);
         let saved = match &self.save_as {

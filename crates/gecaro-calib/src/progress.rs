@@ -106,6 +106,9 @@ pub(crate) fn report(observer: &mut dyn Observer, progress: Progress<'_>) -> Res
 
 /// Reports `done` of `total` units of work ([`Progress::Step`]);
 /// [`Error::Interrupted`] when the observer stops the work.
-pub(crate) fn step(observer: &mut dyn Observer, done: usize, total: usize) -> Result<(), Error> {
+///
+/// # Errors
+/// [`Error::Interrupted`], as said.
+pub fn report_step(observer: &mut dyn Observer, done: usize, total: usize) -> Result<(), Error> {
     report(observer, Progress::Step { done, total })
 }

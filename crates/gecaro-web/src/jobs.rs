@@ -192,11 +192,14 @@ impl Default for Jobs {
             .duration_since(std::time::UNIX_EPOCH)
             .map_or(0, |since| since.as_millis() as u64);
         let clock = now.saturating_mul(1000);
-        let start = LAST_START
+        let after = |last: u64| clock.max(last.saturating_add(1_000_000));
+        // The update always succeeds: `Ok` and `Err` both hold the last start.
+        let last = LAST_START
             .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |last| {
-                Some(clock.max(last.saturating_add(1_000_000)))
+                Some(after(last))
             })
-            .map_or(clock, |last| clock.max(last.saturating_add(1_000_000)));
+            .unwrap_or_else(|last| last);
+        let start = after(last);
         Jobs {
             next: AtomicU64::new(start),
             jobs: Mutex::new(VecDeque::new()),

@@ -9,7 +9,7 @@ use gecaro_core::{JacobianRows, Robot, terminal_pose};
 use super::sets::{check_group_sizes, groups};
 use crate::error::Error;
 use crate::method::{CalibrationMethod, MethodInfo, Sensor};
-use crate::progress::{Observer, step};
+use crate::progress::{Observer, report_step};
 use crate::rows::{RowKind, RowWriter};
 use crate::sample::{DataColumn, Sample};
 use crate::sampler::Sampler;
@@ -126,7 +126,7 @@ impl Sensor for DistanceMeasure {
         let pairs = (count / 2).max(1);
         let mut samples = Vec::with_capacity(2 * pairs);
         for pair in 0..pairs {
-            step(observer, 2 * pair, 2 * pairs)?;
+            report_step(observer, 2 * pair, 2 * pairs)?;
             let first = sampler.configuration(robot);
             let second = sampler.configuration(robot);
             let distance = (terminal_pose(robot, &second)?.translation.vector
@@ -155,7 +155,7 @@ impl Sensor for DistanceMeasure {
         check_group_sizes(planned, 2, 2, "pair")?;
         let mut measured = planned.to_vec();
         for (done, pair) in groups(planned).into_iter().enumerate() {
-            step(observer, 2 * done, planned.len())?;
+            report_step(observer, 2 * done, planned.len())?;
             let point = |index: usize| -> Result<_, Error> {
                 Ok(terminal_pose(real, &planned[index].motor_positions)?
                     .translation

@@ -12,7 +12,7 @@ use nalgebra::IsometryMatrix3;
 use super::sets::{centre, groups, set_sizes};
 use crate::error::Error;
 use crate::method::Sensor;
-use crate::progress::{Observer, step};
+use crate::progress::{Observer, report_step};
 use crate::rows::{RowKind, RowWriter};
 use crate::sample::Sample;
 use crate::sampler::Sampler;
@@ -153,7 +153,7 @@ fn generate_sets(
 ) -> Result<Vec<Sample>, Error> {
     let mut samples = Vec::with_capacity(count);
     for (set, size) in set_sizes(count, set_size).into_iter().enumerate() {
-        step(observer, samples.len(), count)?;
+        report_step(observer, samples.len(), count)?;
         let mut last_error = None;
         for _ in 0..SET_ATTEMPTS {
             match generate_set(linked, robot, size, noise, sampler) {
@@ -190,7 +190,7 @@ fn measure_sets(
     let mut measured = planned.to_vec();
     let mut done = 0;
     for set in groups(planned) {
-        step(observer, done, planned.len())?;
+        report_step(observer, done, planned.len())?;
         done += set.len();
         if set.len() < 2 {
             return Err(Error::InvalidData {

@@ -8,7 +8,7 @@ use nalgebra::Vector3;
 use crate::error::{Error, Setting};
 use crate::method::Sensor;
 use crate::plane::Plane;
-use crate::progress::{Observer, step};
+use crate::progress::{Observer, report_step};
 use crate::sample::Sample;
 use crate::sampler::Sampler;
 use crate::states::TerminalState;
@@ -115,7 +115,7 @@ fn generate_in_plane(
     const STARTS_PER_POINT: usize = 20;
     let mut samples = Vec::with_capacity(count);
     for done in 0..count {
-        step(observer, done, count)?;
+        report_step(observer, done, count)?;
         let mut reached = None;
         for _ in 0..STARTS_PER_POINT {
             // From a random configuration, slide to the nearest point of the
@@ -158,7 +158,7 @@ fn measure_in_plane(
         .iter()
         .enumerate()
         .map(|(done, sample)| {
-            step(observer, done, planned.len())?;
+            report_step(observer, done, planned.len())?;
             let target = Target::Plane {
                 normal: plane.normal(),
                 offset: plane.normal().dot(&plane.point()) + sampler.gaussian(noise),

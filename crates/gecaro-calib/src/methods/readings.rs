@@ -9,7 +9,7 @@ use nalgebra::UnitQuaternion;
 
 use crate::error::Error;
 use crate::method::Sensor;
-use crate::progress::{Observer, step};
+use crate::progress::{Observer, report_step};
 use crate::sample::Sample;
 use crate::sampler::Sampler;
 
@@ -77,7 +77,7 @@ fn random_readings(
     let mut sensor = Reader::new(robot, reading);
     let mut samples = Vec::with_capacity(count);
     for done in 0..count {
-        step(observer, done, count)?;
+        report_step(observer, done, count)?;
         let motor_positions = sampler.configuration(robot);
         samples.push(sensor.read(motor_positions, noise, sampler)?);
     }
@@ -96,7 +96,7 @@ fn readings_at(
     let mut sensor = Reader::new(real, reading);
     let mut samples = Vec::with_capacity(planned.len());
     for (done, sample) in planned.iter().enumerate() {
-        step(observer, done, planned.len())?;
+        report_step(observer, done, planned.len())?;
         samples.push(sensor.read(sample.motor_positions.clone(), noise, sampler)?);
     }
     Ok(samples)
