@@ -1602,7 +1602,7 @@ async function generateInto(name, configurations, format) {
     const generated = await api('/generate', request);
     // Each generation is new data, under the same choice 'generated'; it
     // keeps where it came from (the real robot, the seed, the noise).
-    generated.serial = (state.generated[name] ? state.generated[name].serial || 0 : 0) + 1;
+    generated.serial = nextSerial(state.generated[name]);
     generated.origin = {
       real: real.startsWith('file:') ? real.slice(5) : null,
       level: request.error_level,
@@ -1619,6 +1619,11 @@ async function generateInto(name, configurations, format) {
   } catch (error) {
     result.replaceChildren(errorBox(error));
   }
+}
+
+/** The number of the next data kept in a slot whose data are `kept` now: a new generation is new data. */
+function nextSerial(kept) {
+  return (kept ? kept.serial || 0 : 0) + 1;
 }
 
 /** Each method's generation cell, read when it generates. */
@@ -1715,18 +1720,19 @@ async function generateHeldOut(name) {
   const source = state.generated[name];
   const status = $(`${name}-generate-held-out-status`);
   status.textContent = 'Generating held-out data…';
+  const serial = nextSerial(state.heldOut[name]);
   try {
     const request = {
       robot: document_(),
       method: methodRequest(name, 'generate'),
       count: source.configurations,
       noise: source.origin.noise,
-      seed: source.origin.seed + 1000 * ((state.heldOut[name] ? state.heldOut[name].serial : 0) + 1),
+      seed: source.origin.seed + 1000 * serial,
       real: source.real,
       cell: generationCells[name](),
     };
     const heldOut = await api('/generate', request);
-    heldOut.serial = (state.heldOut[name] ? state.heldOut[name].serial || 0 : 0) + 1;
+    heldOut.serial = serial;
     heldOut.file_name = heldOut.file_name.replace(/\.csv$/, '-held-out.csv');
     heldOut.origin = { ...source.origin, seed: request.seed, heldOutOf: source.file_name };
     state.heldOut[name] = heldOut;

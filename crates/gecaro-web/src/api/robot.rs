@@ -233,9 +233,7 @@ pub(crate) async fn open_file(
     let Query(FileQuery { name, base, tip }) = query?;
     state
         .compute(move |state| {
-            let (_, text) = state
-                .workspace()
-                .read_text(&name, &["toml", "urdf", "par"])?;
+            let (_, text) = state.workspace().read_text(&name, &ROBOT_EXTENSIONS)?;
             let mut robot = robot_of_text(state, &name, &text, false, (base, tip))?;
             robot.name = Some(name);
             robot.version = Some(version_of(&text));
@@ -243,6 +241,10 @@ pub(crate) async fn open_file(
         })
         .await
 }
+
+/// What a robot file opened from the page ends in: a gecaro robot file or a
+/// DH table (`.toml`), a URDF, a SYMORO `.par` file.
+const ROBOT_EXTENSIONS: [&str; 3] = ["toml", "urdf", "par"];
 
 /// A robot file uploaded from the page (not in the served folder).
 #[derive(Deserialize)]
@@ -270,11 +272,11 @@ pub(crate) async fn upload(
         base,
         tip,
     } = request;
-    let extension = std::path::Path::new(&name)
+    let robot_file = std::path::Path::new(&name)
         .extension()
         .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    if !matches!(extension.as_deref(), Some("toml" | "urdf" | "par")) {
+        .is_some_and(|e| ROBOT_EXTENSIONS.iter().any(|r| r.eq_ignore_ascii_case(e)));
+    if !robot_file {
         return Err(ApiError::BadRequest(format!(
             "{name}: a robot file ends in .toml (a gecaro robot file or a DH table), .urdf or .par (SYMORO)"
         )));
