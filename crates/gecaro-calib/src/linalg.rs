@@ -328,24 +328,16 @@ impl NormalEquations {
             .then_some(correlations)
     }
 
-    /// The diagonal of `G⁻¹ (G − PᵀP) G⁻¹`, for G = WᵀW and P the rows of
-    /// W that are a prior's pseudo-observations (`prior`, the rows below the
-    /// measured ones): the part of the covariance `G⁻¹` that the data's
-    /// noise makes, the rest being the prior's uncertainty about the true
-    /// value. `G⁻¹ PᵀP G⁻¹ = YYᵀ` with `Y = G⁻¹Pᵀ` (Cholesky), so the
-    /// diagonal is `(G⁻¹)_ii − ‖Y_i‖²`. `None` when G is not positive
-    /// definite.
-    pub(crate) fn data_part_diagonal(&self, prior: MatRef<'_, f64>) -> Option<Vec<f64>> {
-        let n = self.gram.nrows();
+    /// The diagonal of `G⁻¹ PᵀP G⁻¹`, for G = WᵀW and P the rows of W that
+    /// are a prior's pseudo-observations (`prior`, the rows below the
+    /// measured ones): the prior's part of the covariance `G⁻¹`, whose rest,
+    /// `G⁻¹ (G − PᵀP) G⁻¹`, the data's noise makes. It is `‖Y_i‖²` with
+    /// `Y = G⁻¹Pᵀ` (Cholesky). `None` when G is not positive definite.
+    pub(crate) fn prior_part_diagonal(&self, prior: MatRef<'_, f64>) -> Option<Vec<f64>> {
         let cholesky = self.gram.llt(faer::Side::Lower).ok()?;
-        let mut inverse_factor = Mat::<f64>::zeros(n, n);
-        invert_lower_triangular(inverse_factor.as_mut(), cholesky.L(), Par::Seq);
         let spread = cholesky.solve(prior.transpose());
-        let diagonal: Vec<f64> = (0..n)
-            .map(|i| {
-                let whole = inverse_factor.col(i).get(i..).squared_norm_l2();
-                (whole - spread.row(i).squared_norm_l2()).max(0.0)
-            })
+        let diagonal: Vec<f64> = (0..spread.nrows())
+            .map(|i| spread.row(i).squared_norm_l2())
             .collect();
         diagonal.iter().all(|v| v.is_finite()).then_some(diagonal)
     }

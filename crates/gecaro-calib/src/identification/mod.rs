@@ -774,19 +774,19 @@ fn summarise(
     // σ² = Σ w e²/(n_eff − b): ‖r‖²/(equations − b) in least squares.
     let variance = statistics.variance;
     let std = |column: usize| (variance * solved.inverse_normal_diagonal[column]).sqrt();
-    // The data's part of it: below σ where a prior's rows (or the gauge
-    // that holds an unmeasured scale) hold a parameter.
-    let data_part = (system.rows() > system.measured_rows())
+    // The noise's part of it: σ less the prior's part, where a prior's
+    // rows (or the gauge that holds an unmeasured scale) hold a parameter.
+    let prior_part = (system.rows() > system.measured_rows())
         .then(|| {
             let rows = system.measured_rows();
             let pseudo = &system.matrix()[rows * columns..];
             best.normal
-                .data_part_diagonal(view(pseudo, system.rows() - rows, columns))
+                .prior_part_diagonal(view(pseudo, system.rows() - rows, columns))
         })
         .flatten();
-    let noise_std = |column: usize| match &data_part {
-        Some(diagonal) => (variance * diagonal[column]).sqrt(),
-        None => std(column),
+    let noise_std = |column: usize| {
+        let prior = prior_part.as_ref().map_or(0.0, |diagonal| diagonal[column]);
+        (variance * (solved.inverse_normal_diagonal[column] - prior).max(0.0)).sqrt()
     };
     let auxiliary_names = study.auxiliary_names();
     let relations = rank.relations();
