@@ -102,9 +102,10 @@ fn main() -> Result<(), Failure> {
                             whole[column] += parameter.std;
                         }
                     }
-                    // A combination that holds a moved parameter (set by the
-                    // damped descent, its spread not in the base set's σ):
-                    // counted apart.
+                    // A combination that holds a parameter left moved by the
+                    // route (its spread not in the base set's σ) is counted
+                    // apart; since moved parameters a base parameter absorbs
+                    // are joined to the base set, there are none.
                     let tied_count = tied.iter().filter(|t| **t).count();
                     let mut ratios: Vec<(f64, &str)> = values
                         .iter()

@@ -461,6 +461,9 @@ pub struct IdentificationJson {
     pub verdict: VerdictJson,
     /// Parameters the second pass added to the nominal base set.
     pub second_pass: Vec<String>,
+    /// Parameters outside the base set that the data set and base
+    /// parameters absorb, identified beside it under a weak prior.
+    pub joined: Vec<String>,
     /// Strongly correlated pairs of identified parameters, strongest first.
     pub correlated: Vec<CorrelatedJson>,
     /// Whether the iteration converged.
@@ -749,6 +752,7 @@ impl IdentificationJson {
             method: study.method_names(),
             verdict: (&result.verdict).into(),
             second_pass: result.second_pass.clone(),
+            joined: result.joined.clone(),
             correlated: result
                 .correlated
                 .iter()

@@ -295,6 +295,15 @@ impl PyIdentification {
         self.identified.result.second_pass.clone()
     }
 
+    /// Parameters outside the base set that the data set (the closed-form
+    /// start, the continuation or the damped descent moved them) and that
+    /// base parameters absorb: identified beside the base set under the
+    /// second pass's weak prior (docs/methods.md, "Precision").
+    #[getter]
+    fn joined(&self) -> Vec<String> {
+        self.identified.result.joined.clone()
+    }
+
     /// Standard deviation of the residual (eq. 11).
     #[getter]
     fn residual_sigma(&self) -> f64 {

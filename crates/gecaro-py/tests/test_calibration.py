@@ -75,6 +75,8 @@ def test_every_method_equals_the_command_line(
     ]
     # The noise makes part of σ, all of it without a prior or a gauge.
     assert all(p.noise_std <= p.std * (1 + 1e-9) for p in result.parameters)
+    assert result.second_pass == document["second_pass"]
+    assert result.joined == document["joined"]
     assert result.after.rms == document["after"]["rms"]
     assert list(result.history["rms"]) == document["rms_history"]
     assert result.observability == document["observability"]

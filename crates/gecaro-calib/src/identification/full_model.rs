@@ -19,10 +19,11 @@ use gecaro_core::Robot;
 
 use super::gauge::Gauge;
 use super::options::IdentificationOptions;
+use super::prior_rows::weak_prior_rows;
 use super::solver::{Damping, Problem, Run};
 use super::statistics::ResidualStatistics;
 use super::verdict::StopReason;
-use super::weighting::{PriorRow, Weighting, second_pass_prior};
+use super::weighting::Weighting;
 use crate::Error;
 use crate::prior::Prior;
 use crate::progress::Quiet;
@@ -75,6 +76,7 @@ pub(super) fn damped_descent(
                 .map(|prior| Gauge::new(start, &layout_for_gauge, prior, study.row_count())),
             ..Weighting::default()
         },
+        joined: 0,
     };
     // A weak prior (1 cm, 1°, 1 % about the nominal values) holds what the
     // data do not determine where it is, instead of wherever the path of the
@@ -87,22 +89,12 @@ pub(super) fn damped_descent(
         study.equation_count(),
         problem.layout.columns(),
     );
-    let prior = second_pass_prior();
-    let offset = problem.base_auxiliary.len();
-    let prior_rows = parameters
-        .iter()
-        .enumerate()
-        .map(|(position, &index)| {
-            let id = nominal.parameters().id(index);
-            let sigma = prior.sigma(id, nominal.parameter(id));
-            PriorRow {
-                column: offset + position,
-                sigma,
-                index,
-                weight: statistics.variance.sqrt() / sigma,
-            }
-        })
-        .collect();
+    let prior_rows = weak_prior_rows(
+        nominal,
+        parameters,
+        problem.base_auxiliary.len(),
+        statistics.variance.sqrt(),
+    );
     let problem = problem.with_weighting(Weighting {
         prior_rows,
         ..problem.weighting.clone()

@@ -82,6 +82,7 @@ mod scale;
 mod solver;
 mod start;
 mod statistics;
+mod tied;
 mod verdict;
 mod warnings;
 mod weighting;
@@ -259,8 +260,9 @@ fn first_from(
         record.step = jump;
     }
     result.history.insert(0, first);
-    let unknowns = result.parameters.len() + result.auxiliary.len();
-    result.verdict.summary = result.verdict.sentence(result.iterations(), unknowns);
+    result.verdict.summary = result
+        .verdict
+        .sentence(result.iterations(), result.unknowns());
     result.warnings.push(if study.frames == stated.frames {
         "the nominal robot was far from the measurements: the measurement frame and the tool \
          point were first fitted in closed form (Horn/Kabsch), and the iterations started \
@@ -489,8 +491,9 @@ fn merge_passes(first: Identification, mut second: Identification) -> Identifica
     let mut history = first.history;
     history.extend(second.history.drain(1..));
     second.history = history;
-    let unknowns = second.parameters.len() + second.auxiliary.len();
-    second.verdict.summary = second.verdict.sentence(second.iterations(), unknowns);
+    second.verdict.summary = second
+        .verdict
+        .sentence(second.iterations(), second.unknowns());
     second.before = first.before;
     second.errors_before = first.errors_before;
     second.condition_number = first.condition_number;
@@ -589,8 +592,25 @@ fn fit_pass(
     } else {
         extra_prior_rows(&second_pass_prior(), &problem, extras)
     };
-    let mut reweighted =
-        problem.reweighted(run, options.loss, prior_rows, &mut states, observer)?;
+    let reweighted = problem.reweighted(run, options.loss, prior_rows, &mut states, observer)?;
+    // Moved parameters a base parameter absorbs join the base set ([`tied`]).
+    let joint = if study.observes_scale() {
+        tied::joined(
+            &problem,
+            nominal,
+            &rank,
+            &reweighted,
+            study.equation_count(),
+            &mut states,
+        )?
+    } else {
+        None
+    };
+    let joined: Vec<usize> = joint
+        .as_ref()
+        .map(|(joint, _)| joint.base[joint.base.len() - joint.joined..].to_vec())
+        .unwrap_or_default();
+    let (problem, mut reweighted) = joint.unwrap_or((problem, reweighted));
     let scale = if study.observes_scale() {
         None
     } else {
@@ -619,14 +639,23 @@ fn fit_pass(
         excited,
         &initial_auxiliary,
     )?;
-    result.second_pass = extras
-        .iter()
-        .map(|index| nominal.parameters().id(*index).to_string())
-        .collect();
-    if !extras.is_empty() {
-        // The added parameters are held by their prior, and correlate with
-        // the base parameters they nearly regroup with by construction.
-        let added = &result.second_pass;
+    let name = |index: &usize| nominal.parameters().id(*index).to_string();
+    result.second_pass = extras.iter().map(name).collect();
+    result.joined = joined.iter().map(name).collect();
+    if !result.joined.is_empty() {
+        result.warnings.push(format!(
+            "{} set by the data outside the base set (the closed-form start, the continuation or \
+             the damped descent moved them) and regrouped with base parameters: identified beside \
+             the base set, held by a prior of {}",
+            result.joined.join(", "),
+            second_pass_prior()
+        ));
+    }
+    if !extras.is_empty() || !joined.is_empty() {
+        // The added and joined parameters are held by their prior, and
+        // correlate with the base parameters they nearly regroup with by
+        // construction.
+        let added: Vec<String> = extras.iter().chain(&joined).map(name).collect();
         result
             .correlated
             .retain(|(a, b, _)| !added.contains(a) && !added.contains(b));
@@ -708,6 +737,7 @@ fn set_up<'a>(
         rows: study.row_count(),
         condition: excited.report.condition_number(),
         weighting: Weighting::default(),
+        joined: 0,
     };
     // The excitation check built W_b at the nominal parameters already: reuse
     // it when every structural base parameter is excited (same columns).
@@ -765,8 +795,11 @@ fn summarise(
     let matrix = view(system.matrix(), system.rows(), columns);
     let (solved, mut condition_number) = precision(matrix, &best.normal, problem.condition)?;
     if !weighting.prior_rows.is_empty() {
+        // The data's rows over the columns the data must determine (the
+        // joined ones last, held by their prior).
         let rows = system.measured_rows();
         let data = view(&system.matrix()[..rows * columns], rows, columns);
+        let data = data.subcols(0, columns - problem.joined);
         let right = system.weighted_residuals();
         let normal = NormalEquations::of(data, &right[..rows]);
         condition_number = precision(data, &normal, problem.condition)?.1;
@@ -774,27 +807,43 @@ fn summarise(
     // σ² = Σ w e²/(n_eff − b): ‖r‖²/(equations − b) in least squares.
     let variance = statistics.variance;
     let std = |column: usize| (variance * solved.inverse_normal_diagonal[column]).sqrt();
-    // The noise's part of it: σ less the prior's part, where a prior's
-    // rows (or the gauge that holds an unmeasured scale) hold a parameter.
-    let prior_part = (system.rows() > system.measured_rows())
+    // The noise's part of it, where a prior's rows (or the gauge that holds
+    // an unmeasured scale) hold a parameter: σ² diag(G⁻¹ DᵀD G⁻¹), D the
+    // measured rows.
+    let data_part = (system.rows() > system.measured_rows())
         .then(|| {
             let rows = system.measured_rows();
-            let pseudo = &system.matrix()[rows * columns..];
             best.normal
-                .prior_part_diagonal(view(pseudo, system.rows() - rows, columns))
+                .data_part_diagonal(view(&system.matrix()[..rows * columns], rows, columns))
         })
         .flatten();
     let noise_std = |column: usize| {
-        let prior = prior_part.as_ref().map_or(0.0, |diagonal| diagonal[column]);
-        (variance * (solved.inverse_normal_diagonal[column] - prior).max(0.0)).sqrt()
+        let part = data_part
+            .as_ref()
+            .map_or(solved.inverse_normal_diagonal[column], |diagonal| {
+                diagonal[column]
+            });
+        (variance * part).sqrt()
     };
     let auxiliary_names = study.auxiliary_names();
     let relations = rank.relations();
+    // What a base parameter stands for, less the parameters estimated
+    // beside it (those joined to the structural base set, [`tied`]).
+    let estimated = |name: &str| {
+        problem
+            .base
+            .iter()
+            .any(|index| robot.parameters().id(*index).to_string() == name)
+    };
     let absorbed = |name: &str| -> Vec<(String, f64)> {
         relations
             .iter()
             .find(|relation| relation.base == name)
-            .map(|relation| relation.absorbed.clone())
+            .map(|relation| {
+                let mut absorbed = relation.absorbed.clone();
+                absorbed.retain(|(other, _)| !estimated(other));
+                absorbed
+            })
             .unwrap_or_default()
     };
     let auxiliary_columns = problem.base_auxiliary.len();
@@ -888,7 +937,14 @@ fn summarise(
             100.0 * scale.std
         ));
     }
-    let coverage = Coverage::of(robot, study, &rank, &excited.not_excited, columns, scale);
+    let coverage = Coverage::of(
+        robot,
+        study,
+        &rank,
+        &excited.not_excited,
+        columns - problem.joined,
+        scale,
+    );
     if !coverage.base_observed {
         warnings.push(
             "these methods do not observe where the robot stands in the measurement frame \
@@ -906,7 +962,7 @@ fn summarise(
             observation_weights: &statistics.weights,
             data_cost,
             degrees_of_freedom,
-            unknowns: columns,
+            unknowns: columns - problem.joined,
             implausible,
             coverage,
         },
@@ -915,6 +971,7 @@ fn summarise(
         correlated,
         verdict,
         second_pass: Vec::new(),
+        joined: Vec::new(),
         data_cost,
         degrees_of_freedom,
         loss: options.loss,
@@ -969,7 +1026,8 @@ fn moved_outside_base(
         .filter(|id| {
             let index = nominal.parameters().index_of(**id).unwrap_or(usize::MAX);
             !base.contains(&index)
-                && (identified.parameter(**id) - nominal.parameter(**id)).abs() > 1e-12
+                && (identified.parameter(**id) - nominal.parameter(**id)).abs()
+                    > tied::MOVED_TOLERANCE
         })
         .map(|id| IdentifiedParameter {
             name: id.to_string(),

@@ -5,7 +5,7 @@
 use gecaro_core::Robot;
 
 use super::solver::Problem;
-use super::weighting::PriorRow;
+use super::weighting::{PriorRow, second_pass_prior};
 use crate::identifiability::Relation;
 use crate::prior::Prior;
 
@@ -24,6 +24,7 @@ pub(super) fn prior_rows(
         .enumerate()
         .map(|(position, &index)| PriorRow {
             column: offset + position,
+            centre: robot.parameter(robot.parameters().id(index)),
             sigma: prior.base_sigma(robot, robot.parameters().id(index), relations),
             index,
             weight: 0.0,
@@ -46,10 +47,39 @@ pub(super) fn extra_prior_rows(
             let id = problem.nominal.parameters().id(*index);
             Some(PriorRow {
                 column: offset + position,
+                centre: problem.nominal.parameter(id),
                 sigma: prior.sigma(id, problem.nominal.parameter(id)),
                 index: *index,
                 weight: 0.0,
             })
+        })
+        .collect()
+}
+
+/// Rows of the second pass's weak prior ([`second_pass_prior`], centred on
+/// their values in `nominal`) for `parameters` (vocabulary indices) in the
+/// columns from `first_column` on, weighted for data of standard deviation
+/// `data_sigma` (the damped descent's parameters, the joined ones).
+pub(super) fn weak_prior_rows(
+    nominal: &Robot,
+    parameters: &[usize],
+    first_column: usize,
+    data_sigma: f64,
+) -> Vec<PriorRow> {
+    let prior = second_pass_prior();
+    parameters
+        .iter()
+        .enumerate()
+        .map(|(position, &index)| {
+            let id = nominal.parameters().id(index);
+            let sigma = prior.sigma(id, nominal.parameter(id));
+            PriorRow {
+                column: first_column + position,
+                centre: nominal.parameter(id),
+                sigma,
+                index,
+                weight: data_sigma / sigma,
+            }
         })
         .collect()
 }

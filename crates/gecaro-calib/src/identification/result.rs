@@ -160,6 +160,13 @@ pub struct Identification {
     /// second pass identified (identifiable at the calibrated robot; see the
     /// module docs): empty when the paper's base set sufficed.
     pub second_pass: Vec<String>,
+    /// Parameters outside the base set that the data set (the closed-form
+    /// start, the continuation or the damped descent moved them) and a
+    /// base parameter absorbs: identified beside the base set, held by the
+    /// second pass's weak prior, so that their values and σ, and those of
+    /// the base parameters they regroup with, are the data's rather than
+    /// the route's (see the module docs of `tied`).
+    pub joined: Vec<String>,
     /// The data's residual sum of squares at the solution (rows scaled by
     /// their sensor σ and robust weights; prior rows excluded).
     pub data_cost: f64,
@@ -218,6 +225,12 @@ impl Identification {
     /// Number of parameter updates of the route taken.
     pub fn iterations(&self) -> usize {
         self.history.len() - 1
+    }
+
+    /// The unknowns the data must determine: the identified parameters and
+    /// auxiliary unknowns, less the joined ones (held by their prior).
+    pub fn unknowns(&self) -> usize {
+        self.parameters.len() + self.auxiliary.len() - self.joined.len()
     }
 
     /// Observability indices O1–O5 of the data's W_b at the nominal robot

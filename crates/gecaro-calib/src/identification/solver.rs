@@ -73,6 +73,11 @@ pub(super) struct Problem<'a> {
     pub(super) condition: f64,
     /// Robust weights and prior rows of the reweighted phase (none in plain least squares).
     pub(super) weighting: Weighting,
+    /// Base parameters at the end of `base` that a pass joined to the
+    /// structural base set ([`super::tied`]): held by a prior, they are left
+    /// out of the excitation's condition number and of the unknowns the
+    /// data must determine.
+    pub(super) joined: usize,
 }
 
 impl<'a> Problem<'a> {
@@ -88,6 +93,7 @@ impl<'a> Problem<'a> {
             rows: self.rows,
             condition: self.condition,
             weighting,
+            joined: self.joined,
         }
     }
 
@@ -119,7 +125,7 @@ impl<'a> Problem<'a> {
         system.set_observation_weights(self.weighting.observation_weights.clone());
         self.study
             .linearise(robot, auxiliary, layout, states, &mut system)?;
-        self.weighting.append_rows(&mut system, robot, self.nominal);
+        self.weighting.append_rows(&mut system, robot);
         Self::iterate_of(robot, auxiliary, system)
     }
 

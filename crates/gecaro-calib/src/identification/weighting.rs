@@ -38,10 +38,12 @@ pub(super) struct Weighting {
     pub(super) gauge: Option<Gauge>,
 }
 
-/// One prior pseudo-observation: `weight · Δη = weight · (η_nominal − η)`.
+/// One prior pseudo-observation: `weight · Δη = weight · (η_centre − η)`.
 #[derive(Copy, Clone, Debug)]
 pub(super) struct PriorRow {
     pub(super) column: usize,
+    /// The value the prior is centred on.
+    pub(super) centre: f64,
     /// The parameter's prior σ (regrouping included).
     pub(super) sigma: f64,
     /// Its vocabulary index.
@@ -53,12 +55,7 @@ pub(super) struct PriorRow {
 impl Weighting {
     /// Appends the gauge row and the prior rows at `robot` to a system
     /// written at `robot`.
-    pub(super) fn append_rows(
-        &self,
-        system: &mut ObservationSystem,
-        robot: &Robot,
-        nominal: &Robot,
-    ) {
+    pub(super) fn append_rows(&self, system: &mut ObservationSystem, robot: &Robot) {
         if let Some(gauge) = &self.gauge {
             gauge.append_to(system, robot);
         }
@@ -70,11 +67,7 @@ impl Weighting {
             .iter()
             .map(|row| {
                 let id = robot.parameters().id(row.index);
-                (
-                    row.column,
-                    row.weight,
-                    nominal.parameter(id) - robot.parameter(id),
-                )
+                (row.column, row.weight, row.centre - robot.parameter(id))
             })
             .collect();
         system.append_rows(&rows);
