@@ -17,13 +17,21 @@ use crate::method::parse_name;
 use crate::rebase::{check_same_frame, rebased_file};
 use crate::sources::{DataFormatSpec, RobotSource};
 
-/// Where a program's targets come from.
+/// Where a program's targets come from (JSON: `{"file": name}` or
+/// `{"csv": {"text": …, "name": …}}`, as a request's data).
 #[derive(Clone, Debug, Deserialize)]
-#[serde(untagged)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum ProgramSource {
     /// A program file (CSV): joint targets `qm1..qmn`, or Cartesian targets
     /// `x,y,z[,qw,qx,qy,qz]`, other columns kept.
     File(String),
+    /// A program file's text (an upload), with a name for messages.
+    Csv {
+        /// The file's content.
+        text: String,
+        /// Its name (for messages).
+        name: Option<String>,
+    },
     /// Targets given already (Python arrays).
     #[serde(skip)]
     Points(Vec<ProgramPoint>),
@@ -118,20 +126,37 @@ impl CompensateRequest {
         if let Some(name) = &self.save_as {
             files.check_output(name, "csv", self.overwrite)?;
         }
-        let (program, points) = match &self.program {
-            ProgramSource::File(name) => {
-                let format = self.format.format()?;
-                let mut opened = files.open(name, &["csv"])?;
-                let program = gecaro_io::parse_program(
-                    &mut opened.reader,
-                    &opened.path,
-                    &nominal.robot,
-                    &format,
-                )?;
-                let points = program.points.clone();
-                (Some(program), points)
+        let parse = |reader: &mut dyn std::io::Read, path: &std::path::Path| {
+            let format = self.format.format()?;
+            let program = gecaro_io::parse_program(reader, path, &nominal.robot, &format)?;
+            if program.points.len() > files.max_samples() {
+                return Err(AppError::plain(
+                    ErrorKind::TooLarge,
+                    format!(
+                        "{} has {} targets; up to {} are taken here",
+                        path.display(),
+                        program.points.len(),
+                        files.max_samples()
+                    ),
+                ));
             }
-            ProgramSource::Points(points) => (None, points.clone()),
+            Ok::<_, AppError>(program)
+        };
+        let program = match &self.program {
+            ProgramSource::File(name) => {
+                let mut opened = files.open(name, &["csv"])?;
+                Some(parse(&mut opened.reader, &opened.path)?)
+            }
+            ProgramSource::Csv { text, name } => {
+                let label = name.as_deref().unwrap_or("uploaded program");
+                Some(parse(&mut text.as_bytes(), std::path::Path::new(label))?)
+            }
+            ProgramSource::Points(_) => None,
+        };
+        let points = match (&program, &self.program) {
+            (Some(program), _) => program.points.clone(),
+            (None, ProgramSource::Points(points)) => points.clone(),
+            (None, _) => Vec::new(),
         };
         let results = compensate(
             &nominal.robot,

@@ -101,6 +101,25 @@ impl Api {
         }
         panic!("job {job} did not finish within 30 s");
     }
+
+    /// Position data of `document`'s real robot (40 configurations, level-1
+    /// errors, seed 3) and the robot identified from them (its document).
+    async fn calibrated(&self, document: &Value) -> (Value, Value) {
+        let (_, training) = self
+            .post(
+                "/api/generate",
+                &json!({ "robot": document, "method": { "name": "position" }, "count": 40, "error_level": 1.0, "seed": 3 }),
+            )
+            .await;
+        let (_, submitted) = self
+            .post(
+                "/api/identify",
+                &json!({ "robot": document, "method": { "name": "position" }, "data": { "csv": { "text": training["csv"], "name": "train.csv" } } }),
+            )
+            .await;
+        let view = self.finished(submitted["job"].as_u64().expect("job")).await;
+        (training, view["result"]["calibrated"].clone())
+    }
 }
 
 fn error_text(value: &Value) -> &str {
@@ -743,17 +762,15 @@ async fn identification_runs_as_a_job_with_progress_plots_and_report() {
 async fn evaluation_compares_two_robots_on_held_out_data() {
     let api = Api::new();
     let document = api.document("stanford").await;
-    let generate = |seed: u64| json!({ "robot": document, "method": { "name": "position" }, "count": 40, "error_level": 1.0, "seed": seed });
-    let (_, training) = api.post("/api/generate", &generate(3)).await;
-    let (_, held_out) = api.post("/api/generate", &generate(3)).await;
-    let (_, submitted) = api
+    let (training, calibrated) = api.calibrated(&document).await;
+    // The same real robot, the same configurations (seed 3 again).
+    let (_, held_out) = api
         .post(
-            "/api/identify",
-            &json!({ "robot": document, "method": { "name": "position" }, "data": { "csv": { "text": training["csv"], "name": "train.csv" } } }),
+            "/api/generate",
+            &json!({ "robot": document, "method": { "name": "position" }, "count": 40, "error_level": 1.0, "seed": 3 }),
         )
         .await;
-    let view = api.finished(submitted["job"].as_u64().expect("job")).await;
-    let calibrated = view["result"]["calibrated"].clone();
+    assert_eq!(held_out["csv"], training["csv"]);
     // The held-out file as a tracker writes it: millimetres, other names, `;`.
     let csv = held_out["csv"].as_str().expect("csv");
     let mut lines = csv.lines();
@@ -809,6 +826,104 @@ async fn evaluation_compares_two_robots_on_held_out_data() {
     let (status, body) = api.post("/api/evaluate", &bad).await;
     assert!(status.is_client_error(), "{body}");
     assert!(error_text(&body).contains("missing column `x`"), "{body}");
+}
+
+#[tokio::test]
+async fn a_program_is_compensated_target_by_target_and_saved_beside_it() {
+    let api = Api::new();
+    let document = api.document("stanford").await;
+    let (training, calibrated) = api.calibrated(&document).await;
+    // A controller's program: named points, joints in degrees (the
+    // prismatic joint 3 in metres), a speed column, from the training poses.
+    let csv = training["csv"].as_str().expect("csv");
+    let mut text = String::from("point,qm1,qm2,qm3,qm4,qm5,qm6,speed\n");
+    for (i, line) in csv.lines().skip(1).take(12).enumerate() {
+        let q: Vec<f64> = line
+            .split(',')
+            .take(6)
+            .map(|v| v.parse().expect("number"))
+            .collect();
+        let degrees: Vec<String> = q
+            .iter()
+            .enumerate()
+            .map(|(j, v)| {
+                if j == 2 {
+                    v.to_string()
+                } else {
+                    v.to_degrees().to_string()
+                }
+            })
+            .collect();
+        text += &format!("P{i},{},250\n", degrees.join(","));
+    }
+    let request = json!({
+        "nominal": document,
+        "calibrated": calibrated,
+        "program": { "csv": { "text": text, "name": "weld.csv" } },
+        "format": { "angle_unit": "deg" },
+        "match": "position",
+        "save_as": "weld-compensated.csv",
+    });
+    let (status, compensated) = api.post("/api/compensate", &request).await;
+    assert_eq!(status, StatusCode::OK, "{compensated}");
+    assert_eq!(compensated["targets"], 12);
+    assert_eq!(compensated["reached"], 12, "{compensated}");
+    assert_eq!(compensated["points"].as_array().expect("points").len(), 12);
+    assert_eq!(compensated["points"][0]["line"], 2, "lines of the file");
+    assert_eq!(compensated["file_name"], "weld-compensated.csv");
+    assert_eq!(
+        compensated["output"], "weld-compensated.csv",
+        "the name in the folder"
+    );
+    // The corrected file keeps the program's columns and units, corrected.
+    let corrected = compensated["csv"].as_str().expect("csv");
+    assert_eq!(corrected.lines().count(), 13);
+    assert!(
+        corrected
+            .lines()
+            .next()
+            .expect("header")
+            .starts_with("point,")
+    );
+    let row = corrected.lines().nth(1).expect("row");
+    assert!(
+        row.starts_with("P0,") && row.contains(",250"),
+        "{corrected}"
+    );
+    assert!(
+        compensated["largest_correction"]
+            .as_f64()
+            .expect("correction")
+            > 0.0
+    );
+    assert!(api.names().contains(&"weld-compensated.csv".to_owned()));
+    assert_eq!(
+        std::fs::read_to_string(api.folder.path().join("weld-compensated.csv")).expect("saved"),
+        corrected
+    );
+    // Saved once: the same name again is refused, nothing overwritten.
+    let (status, body) = api.post("/api/compensate", &request).await;
+    assert!(status.is_client_error(), "{body}");
+    // A Cartesian target 5 m away is flagged, never dropped.
+    let cartesian = json!({
+        "nominal": document,
+        "calibrated": calibrated,
+        "program": { "csv": { "text": "x,y,z\n0.5,0.2,0.3\n5,0,0\n", "name": "points.csv" } },
+    });
+    let (status, flagged) = api.post("/api/compensate", &cartesian).await;
+    assert_eq!(status, StatusCode::OK, "{flagged}");
+    // (The Stanford's prismatic joint reaches it, 4.9 m out: beyond its limit.)
+    assert_eq!(flagged["reached"], 1, "{flagged}");
+    assert_eq!(flagged["outside_limits"], json!([3]), "{flagged}");
+    // Without a calibrated robot the request is refused by its field.
+    let (status, body) = api
+        .post(
+            "/api/compensate",
+            &json!({ "nominal": document, "program": { "csv": { "text": text } } }),
+        )
+        .await;
+    assert!(status.is_client_error(), "{body}");
+    assert!(error_text(&body).contains("calibrated"), "{body}");
 }
 
 /// A 7-joint arm's data with a 6-joint robot: refused, not run with the

@@ -820,6 +820,76 @@ async fn the_page_is_an_engineers_tool() {
     .await;
     assert!(training.contains("not a held-out check"), "{training}");
 
+    // Compensate: a program of the folder (the check file's joints, its
+    // prismatic joint in mm) corrected for the calibrated robot, target by
+    // target, and saved beside it.
+    click(client, "#function-compensate").await;
+    set_values(
+        client,
+        &[
+            ("position-compensate-data", "file:check.csv"),
+            ("position-compensate-length-unit", "mm"),
+            ("position-compensate-match", "pose"),
+            ("position-compensate-save-as", "check-compensated.csv"),
+        ],
+    )
+    .await;
+    click(client, "#position-compensate-run").await;
+    let verdict = text_of(client, "#position-compensate-verdict", 60).await;
+    assert_eq!(
+        text_of(client, "#position-compensate-targets", 5).await,
+        "40"
+    );
+    // Random configurations: one may sit where the calibrated robot needs
+    // another configuration or passes a limit; it is flagged, listed first.
+    let reached: usize = text_of(client, "#position-compensate-reached", 5)
+        .await
+        .parse()
+        .expect("a count");
+    let flagged = 40 - reached;
+    assert!(flagged <= 2, "{verdict}");
+    if flagged == 0 {
+        assert!(verdict.contains("All 40 targets are reached"), "{verdict}");
+    } else {
+        assert!(
+            verdict.contains(&format!("{flagged} of 40 targets are flagged")),
+            "{verdict}"
+        );
+        assert_eq!(
+            count(
+                client,
+                "#position-compensate-table tbody tr:first-child.flagged"
+            )
+            .await,
+            1
+        );
+    }
+    assert_eq!(
+        count(client, "#position-compensate-table tbody tr").await,
+        40
+    );
+    assert_eq!(
+        count(client, "#position-compensate-table tbody tr.flagged").await,
+        flagged
+    );
+    assert!(
+        text_of(client, "#position-compensate-saved", 5)
+            .await
+            .contains("check-compensated.csv")
+    );
+    let saved = std::fs::read_to_string(folder.join("check-compensated.csv")).expect("saved");
+    assert_eq!(saved.lines().count(), 41, "the program's 40 targets");
+    assert!(
+        saved.starts_with("qm1;"),
+        "the program's own columns and separator"
+    );
+    screenshot(client, "12-compensate-1400.png").await;
+    // Saving over it again is refused with the file's name.
+    click(client, "#position-compensate-run").await;
+    let refused = text_of(client, "#position-compensate-result .error-box", 30).await;
+    assert!(refused.contains("check-compensated.csv"), "{refused}");
+    click(client, "#function-evaluate").await;
+
     // An unsaved edit: Open asks first; Undo and Redo restore the table.
     let alpha = r#"#frames-table input[data-frame="3"][data-key="alpha"]"#;
     let cell = client.find(Locator::Css(alpha)).await.expect("cell");

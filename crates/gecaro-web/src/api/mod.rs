@@ -6,6 +6,7 @@
 //! everything the server computes is in metres and radians.
 
 mod calibration;
+mod compensation;
 mod identification;
 mod planning;
 mod robot;
@@ -32,7 +33,7 @@ impl<T: serde::Serialize> axum::response::IntoResponse for Json<T> {
 /// Every POST route of the API (full paths), each taking a JSON body: for
 /// clients, tests and the fuzz targets. [`routes`] registers them (a test
 /// checks that each one answers).
-pub const POST_ROUTES: [&str; 10] = [
+pub const POST_ROUTES: [&str; 11] = [
     "/api/robots/check",
     "/api/robots/new",
     "/api/robots/upload",
@@ -43,6 +44,7 @@ pub const POST_ROUTES: [&str; 10] = [
     "/api/plan",
     "/api/identify",
     "/api/evaluate",
+    "/api/compensate",
 ];
 
 /// The routes under `/api`.
@@ -62,6 +64,7 @@ pub(crate) fn routes() -> Router<AppState> {
         .route("/plan", post(planning::plan))
         .route("/identify", post(identification::submit))
         .route("/evaluate", post(calibration::evaluate))
+        .route("/compensate", post(compensation::compensate))
         .route("/jobs/{id}", get(identification::status))
         .route("/jobs/{id}/cancel", post(identification::cancel))
         .route("/jobs/{id}/report", get(identification::report))
