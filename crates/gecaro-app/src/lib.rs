@@ -82,6 +82,7 @@ mod rebase;
 mod robot_files;
 mod settings;
 mod sources;
+mod study_editing;
 mod study_files;
 mod study_plan;
 mod study_prediction;
@@ -112,6 +113,7 @@ pub use sources::{
     DataFormatSpec, DataRead, DataSource, RobotSource, angle_unit, delimiter, length_unit,
     robot_of_document,
 };
+pub use study_editing::{SaveStudyRequest, open_study};
 pub use study_plan::{PlanStudyRequest, PlannedStudy};
 pub use study_prediction::{
     PredictStudyJson, PredictStudyRequest, PredictedSetJson, PredictedStudy,

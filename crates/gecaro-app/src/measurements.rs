@@ -206,12 +206,17 @@ impl Measurements {
     /// # Errors
     /// As [`load`](Self::load), and a robot the study's sets do not fit.
     pub fn load_evaluated(&self, files: &dyn Files) -> Result<Loaded, AppError> {
-        let (Some(_), Some(robot)) = (&self.study, &self.robot) else {
+        let (Some(source), Some(robot)) = (&self.study, &self.robot) else {
             return self.load(files, Data::Required);
         };
         let robot = robot.load(files)?;
+        // A study stated in the request without a robot reads its data for
+        // the evaluated one.
         let study = Measurements {
-            robot: None,
+            robot: match source {
+                StudySource::Spec(spec) if spec.robot.is_none() => self.robot.clone(),
+                _ => None,
+            },
             ..self.clone()
         };
         let mut loaded = study.load(files, Data::Required)?;
@@ -226,7 +231,13 @@ impl Measurements {
         files: &dyn Files,
         data: Data,
     ) -> Result<Loaded, AppError> {
-        if self.robot.is_some() || self.method.is_some() || self.data.is_some() {
+        // A study stated in the request may take the request's robot (the
+        // page's table); a study file names its own.
+        let robot_with_spec = self.robot.is_some() && matches!(study, StudySource::Spec(_));
+        if (self.robot.is_some() && !robot_with_spec)
+            || self.method.is_some()
+            || self.data.is_some()
+        {
             return Err(AppError::setting(
                 "study",
                 "a study file names its robot, methods and data: give the study alone",
@@ -266,10 +277,17 @@ impl Measurements {
                 crate::study_files::read_study(files, name, read_for)?,
                 name.clone(),
             ),
-            StudySource::Spec(spec) => (
-                crate::study_files::build_study(files, spec, read_for)?,
-                "study".to_owned(),
-            ),
+            StudySource::Spec(spec) => {
+                let given = self
+                    .robot
+                    .as_ref()
+                    .map(|robot| robot.load(files))
+                    .transpose()?;
+                (
+                    crate::study_files::build_study(files, spec, read_for, given.as_ref())?,
+                    "study".to_owned(),
+                )
+            }
             StudySource::Loaded(study) => {
                 return Ok(Loaded {
                     robot: study.robot.clone(),

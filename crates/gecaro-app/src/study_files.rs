@@ -34,6 +34,8 @@ struct StudyThroughFiles<'a> {
     /// The study file's folder (names are relative to it), or "".
     folder: &'a Path,
     statement: Statement<'a>,
+    /// The robot of a request's study that does not name one.
+    given: Option<&'a RobotFile>,
 }
 
 impl StudyThroughFiles<'_> {
@@ -44,6 +46,10 @@ impl StudyThroughFiles<'_> {
 
 impl StudyFiles for StudyThroughFiles<'_> {
     type Error = AppError;
+
+    fn given_robot(&self) -> Option<RobotFile> {
+        self.given.cloned()
+    }
 
     fn robot(&self, name: &str) -> Result<RobotFile, AppError> {
         let beside = self.name(name);
@@ -114,13 +120,15 @@ pub(crate) fn read_study(
             files,
             folder: Path::new(name).parent().unwrap_or(Path::new("")),
             statement: Statement::File(&text),
+            given: None,
         },
         data,
     )
 }
 
 /// A request's study, its files read through `files` (in the served folder
-/// for the web page).
+/// for the web page), with `given` as its robot when it names none (the
+/// page's table).
 ///
 /// # Errors
 /// The field at fault, or the errors of the files it names.
@@ -128,12 +136,14 @@ pub(crate) fn build_study(
     files: &dyn Files,
     spec: &StudySpec,
     data: StudyData,
+    given: Option<&RobotFile>,
 ) -> Result<StudyFile, AppError> {
     spec.build(
         &StudyThroughFiles {
             files,
             folder: Path::new(""),
             statement: Statement::Request,
+            given,
         },
         data,
     )

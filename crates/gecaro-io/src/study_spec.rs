@@ -304,6 +304,12 @@ pub trait StudyFiles {
     /// The error for `field`, which is wrong as `message` says.
     fn misplaced(&self, field: &SpecField, message: String) -> Self::Error;
 
+    /// The robot the front end gives a study that does not name one (the
+    /// web page's table); none by default.
+    fn given_robot(&self) -> Option<RobotFile> {
+        None
+    }
+
     /// The most configurations a study's sets may hold together (four sets
     /// naming one large file hold four times its rows).
     fn max_configurations(&self) -> usize {
@@ -359,13 +365,23 @@ impl StudySpec {
     /// The field at fault ([`StudyFiles::misplaced`]), or the errors of the
     /// files it names.
     pub fn build<F: StudyFiles>(&self, files: &F, data: StudyData) -> Result<StudyFile, F::Error> {
-        let Some(name) = &self.robot else {
-            return Err(files.misplaced(
-                &SpecField::Top("robot"),
-                "a study names its robot (robot = \"panda.toml\" or a ready robot's name)".into(),
-            ));
+        let robot = match (&self.robot, files.given_robot()) {
+            (Some(name), None) => files.robot(name)?,
+            (None, Some(robot)) => robot,
+            (Some(_), Some(_)) => {
+                return Err(files.misplaced(
+                    &SpecField::Top("robot"),
+                    "the study names its robot and the request gives one: give one of them".into(),
+                ));
+            }
+            (None, None) => {
+                return Err(files.misplaced(
+                    &SpecField::Top("robot"),
+                    "a study names its robot (robot = \"panda.toml\" or a ready robot's name)"
+                        .into(),
+                ));
+            }
         };
-        let robot = files.robot(name)?;
         let priority = match &self.priority {
             Some(name) => Some(files.priority(name, &robot.robot)?),
             None => None,

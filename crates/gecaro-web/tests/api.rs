@@ -88,6 +88,22 @@ impl Api {
         view["document"].clone()
     }
 
+    /// Copies the tracker cell of `examples/tracker-cell` (its study file
+    /// and six data files) into the folder; the cell's folder.
+    fn with_tracker_cell(&self) -> std::path::PathBuf {
+        let cell =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/tracker-cell");
+        for entry in std::fs::read_dir(&cell).expect("cell") {
+            let path = entry.expect("entry").path();
+            std::fs::copy(
+                &path,
+                self.folder.path().join(path.file_name().expect("name")),
+            )
+            .expect("copy");
+        }
+        cell
+    }
+
     /// Waits for an identification job to end.
     async fn finished(&self, job: u64) -> Value {
         for _ in 0..600 {
@@ -1516,15 +1532,7 @@ async fn generation_and_plans_stay_in_the_cell() {
 #[tokio::test]
 async fn a_study_runs_from_its_file_or_its_json_alike() {
     let api = Api::new();
-    let cell = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/tracker-cell");
-    for entry in std::fs::read_dir(&cell).expect("cell") {
-        let path = entry.expect("entry").path();
-        std::fs::copy(
-            &path,
-            api.folder.path().join(path.file_name().expect("name")),
-        )
-        .expect("copy");
-    }
+    let cell = api.with_tracker_cell();
     let text = std::fs::read_to_string(cell.join("study.toml")).expect("study");
     let stated: Value = toml::from_str::<toml::Value>(&text)
         .map(|value| serde_json::to_value(value).expect("json"))
@@ -1589,6 +1597,69 @@ async fn a_study_runs_from_its_file_or_its_json_alike() {
         error_text(&body).contains(&format!("bad.toml:{line}: sigma: must be a positive")),
         "{body}"
     );
+}
+
+#[tokio::test]
+async fn the_study_editor_opens_saves_and_identifies_with_the_tables_robot() {
+    let api = Api::new();
+    api.with_tracker_cell();
+    let (status, opened) = api.get("/api/studies/file?name=study.toml").await;
+    assert_eq!(status, StatusCode::OK, "{opened}");
+    let mut study = opened["study"].clone();
+    assert_eq!(study["robot"], "industrial6");
+    assert_eq!(study["measurements"].as_array().expect("sets").len(), 6);
+    assert_eq!(
+        study["stations"]["tracker_2"]["rpy"],
+        json!([0.0, 0.0, -130.0])
+    );
+    // Saved under another name, it opens to the same statement; an existing
+    // file is not replaced.
+    let (status, saved) = api
+        .post(
+            "/api/studies/save",
+            &json!({ "name": "copy.toml", "study": study }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{saved}");
+    let (_, again) = api.get("/api/studies/file?name=copy.toml").await;
+    assert_eq!(again["study"], study);
+    let (status, body) = api
+        .post(
+            "/api/studies/save",
+            &json!({ "name": "copy.toml", "study": study }),
+        )
+        .await;
+    assert!(status.is_client_error(), "{body}");
+    // The page's table as the study's robot: the statement names none.
+    let document = api.document("industrial6").await;
+    study.as_object_mut().expect("object").remove("robot");
+    let (status, submitted) = api
+        .post(
+            "/api/identify",
+            &json!({ "robot": document, "study": study }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::ACCEPTED, "{submitted}");
+    let view = api.finished(submitted["job"].as_u64().expect("job")).await;
+    assert_eq!(view["state"], "done", "{view}");
+    let frames = view["result"]["identification"]["frames"]
+        .as_array()
+        .expect("frames")
+        .clone();
+    assert_eq!(frames.len(), 4, "3 reflectors, 1 station: {frames:?}");
+    // Both a named robot and the table's: refused, by the field.
+    study["robot"] = json!("industrial6");
+    let (status, body) = api
+        .post(
+            "/api/identify",
+            &json!({ "robot": document, "study": study }),
+        )
+        .await;
+    assert!(status.is_client_error(), "{body}");
+    assert!(error_text(&body).contains("study.robot"), "{body}");
+    // Not a study file: its line and key.
+    let (status, body) = api.get("/api/studies/file?name=copy.csv").await;
+    assert!(status.is_client_error(), "{body}");
 }
 
 /// Eight clients saving one URDF at once, each robot needing its joint

@@ -1194,3 +1194,106 @@ async fn the_page_is_an_engineers_tool() {
     }
     session.close().await;
 }
+
+/// Issue 37 §1: the tracker cell of docs/tracker.md run from the page as a
+/// study — opened from its file, checked in the page, identified with the
+/// robot in the table, its reflectors and stations shown with their σ, and
+/// saved as a study file that opens again.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_tracker_cell_runs_from_the_page_as_a_study() {
+    let Some(session) = Session::start(1400, 2600).await else {
+        return;
+    };
+    let (client, folder, url) = (&session.client, session.folder.path(), session.url.clone());
+    let cell = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/tracker-cell");
+    for entry in std::fs::read_dir(&cell).expect("cell") {
+        let path = entry.expect("entry").path();
+        std::fs::copy(&path, folder.join(path.file_name().expect("name"))).expect("copy");
+    }
+    client.goto(&url).await.expect("page");
+    text_when(client, "#robot-name", 30, |name| name == "Stanford").await;
+    click(client, "#robot-open").await;
+    click(client, "#open-ready-industrial6").await;
+    text_when(client, "#robot-name", 30, |name| name != "Stanford").await;
+    set_values(client, &[("study-file", "study.toml")]).await;
+    click(client, "#study-open").await;
+    text_when(client, "#study-robot-note", 10, |note| {
+        note.contains("industrial6")
+    })
+    .await;
+    assert_eq!(count(client, "#study-sets tbody tr").await, 6);
+    assert_eq!(count(client, "#study-tools tbody tr").await, 3);
+    assert_eq!(count(client, "#study-stations tbody tr").await, 1);
+    // A σ that is not a number is refused in the page, in the field's words.
+    let sigma = r#"input[aria-label="set 2 sigma"]"#;
+    client
+        .execute(
+            "const e = document.querySelector(arguments[0]); e.value = 'abc'; \
+             e.dispatchEvent(new Event('change'));",
+            vec![json!(sigma)],
+        )
+        .await
+        .expect("edit");
+    click(client, "#study-run").await;
+    let refused = text_of(client, "#study-result .error-box", 10).await;
+    assert_eq!(refused, "Set 2 σ: “abc” is not a number.");
+    client
+        .execute(
+            "const e = document.querySelector(arguments[0]); e.value = '0.02'; \
+             e.dispatchEvent(new Event('change'));",
+            vec![json!(sigma)],
+        )
+        .await
+        .expect("edit");
+    click(client, "#study-run").await;
+    let verdict = text_of(client, "#study-verdict", 120).await;
+    assert!(verdict.contains("converged"), "{verdict}");
+    assert_eq!(count(client, "#study-frames tbody tr").await, 4);
+    // Errors in mm: before (the stated cell) and after, at the noise.
+    let rms = text_of(client, "#study-rms", 5).await;
+    let after: f64 = rms
+        .split(',')
+        .nth(1)
+        .expect("after")
+        .trim()
+        .parse()
+        .expect("mm");
+    assert!(after < 0.05, "{rms}");
+    // The second station, stated at (−1150, 1700, −250) mm, stands at
+    // (−1200, 1750, −200) mm in the simulation: found to a tenth of a mm.
+    let station = client
+        .execute(
+            "const row = [...document.querySelectorAll('#study-frames tbody tr')] \
+               .find((r) => r.cells[0].textContent === 'tracker_2'); \
+             return [row.cells[2].textContent, row.cells[3].textContent];",
+            vec![],
+        )
+        .await
+        .expect("station row");
+    let position: Vec<f64> = station[0]
+        .as_str()
+        .expect("text")
+        .split(',')
+        .map(|v| v.trim().parse().expect("mm"))
+        .collect();
+    for (found, truth) in position.iter().zip([-1200.0, 1750.0, -200.0]) {
+        assert!((found - truth).abs() < 0.1, "{station}");
+    }
+    assert!(
+        station[1].as_str().expect("σ").starts_with("± "),
+        "{station}"
+    );
+    screenshot(client, "14-study-1400.png").await;
+    // Saved as a study file of the folder; it names the table's robot and
+    // opens again to the same six sets.
+    set_values(client, &[("study-save-as", "cell-copy.toml")]).await;
+    click(client, "#study-save").await;
+    text_when(client, "#toast", 10, |toast| {
+        toast.contains("cell-copy.toml")
+    })
+    .await;
+    let saved = std::fs::read_to_string(folder.join("cell-copy.toml")).expect("saved study");
+    assert!(saved.contains("robot = \"industrial6\""), "{saved}");
+    assert_eq!(saved.matches("[[measurements]]").count(), 6, "{saved}");
+    session.close().await;
+}

@@ -10,6 +10,7 @@ mod compensation;
 mod identification;
 mod planning;
 mod robot;
+mod study;
 
 use axum::Router;
 use axum::extract::FromRequest;
@@ -33,7 +34,7 @@ impl<T: serde::Serialize> axum::response::IntoResponse for Json<T> {
 /// Every POST route of the API (full paths), each taking a JSON body: for
 /// clients, tests and the fuzz targets. [`routes`] registers them (a test
 /// checks that each one answers).
-pub const POST_ROUTES: [&str; 11] = [
+pub const POST_ROUTES: [&str; 12] = [
     "/api/robots/check",
     "/api/robots/new",
     "/api/robots/upload",
@@ -45,6 +46,7 @@ pub const POST_ROUTES: [&str; 11] = [
     "/api/identify",
     "/api/evaluate",
     "/api/compensate",
+    "/api/studies/save",
 ];
 
 /// The routes under `/api`.
@@ -65,6 +67,8 @@ pub(crate) fn routes() -> Router<AppState> {
         .route("/identify", post(identification::submit))
         .route("/evaluate", post(calibration::evaluate))
         .route("/compensate", post(compensation::compensate))
+        .route("/studies/file", get(study::open))
+        .route("/studies/save", post(study::save))
         .route("/jobs/{id}", get(identification::status))
         .route("/jobs/{id}/cancel", post(identification::cancel))
         .route("/jobs/{id}/report", get(identification::report))
