@@ -226,7 +226,13 @@ impl GenerateRequest {
         // page, Ctrl-C): then nothing is written.
         report_step(observer, samples.len(), samples.len())?;
         let displacement = terminal_displacement(robot, &real.robot, &samples)?;
-        let csv = gecaro_io::format_samples(robot.joint_count(), method.data_columns(), &samples);
+        // The file says where its data came from (a comment line, which the
+        // data reader skips).
+        let csv = format!(
+            "{}\n{}",
+            self.origin_line(robot, method.name(), samples.len(), (seed, error_level)),
+            gecaro_io::format_samples(robot.joint_count(), method.data_columns(), &samples)
+        );
         let saved = match &self.save_as {
             Some(name) => Some(files.write(name, "csv", csv.as_bytes(), self.overwrite)?),
             None => None,
@@ -253,6 +259,36 @@ impl GenerateRequest {
             error_level,
             seed,
         })
+    }
+}
+
+impl GenerateRequest {
+    /// The first line of a generated data file: a comment naming the
+    /// method, the real robot (drawn: the nominal one, its error level and
+    /// seed; given: its file), the configurations and the sensor noise.
+    fn origin_line(
+        &self,
+        robot: &gecaro_core::Robot,
+        method: &str,
+        count: usize,
+        (seed, error_level): (u64, f64),
+    ) -> String {
+        let real = match &self.real {
+            Some(RobotSource::Named(name)) => format!("the real robot {name}"),
+            Some(_) => "a real robot given with the request".to_owned(),
+            None => format!(
+                "a real robot drawn from {} at error level {error_level} (seed {seed})",
+                robot.name()
+            ),
+        };
+        let at = match &self.configurations {
+            Some(source) => format!(" at the configurations of {}", source.label()),
+            None => format!(", configurations drawn with seed {seed}"),
+        };
+        format!(
+            "# gecaro generate: {count} {method} measurements of {real}{at}; sensor noise sigma {} m (rad for orientations)",
+            self.noise
+        )
     }
 }
 

@@ -14,6 +14,7 @@ pub(crate) struct Generation {
     data: Py<PyData>,
     real: Py<PyRobot>,
     displacement: (f64, f64),
+    csv: String,
 }
 
 #[pymethods]
@@ -35,6 +36,14 @@ impl Generation {
     #[getter]
     fn displacement(&self) -> (f64, f64) {
         self.displacement
+    }
+
+    /// The data file `gecaro generate -o` writes: a comment line saying
+    /// where the data came from (method, real robot, seed, noise), then the
+    /// measurements.
+    #[getter]
+    fn csv(&self) -> &str {
+        &self.csv
     }
 
     fn __repr__(&self, py: Python<'_>) -> String {
@@ -104,5 +113,6 @@ pub(crate) fn generate(
         )?,
         real: Py::new(py, PyRobot::new(generated.real))?,
         displacement: generated.displacement,
+        csv: generated.csv,
     })
 }

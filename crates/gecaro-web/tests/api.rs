@@ -138,6 +138,11 @@ impl Api {
     }
 }
 
+/// The lines of a data file, its comments (a generated file's origin) left out.
+fn data_lines(csv: &str) -> impl Iterator<Item = &str> {
+    csv.lines().filter(|line| !line.starts_with('#'))
+}
+
 fn error_text(value: &Value) -> &str {
     value["error"]
         .as_str()
@@ -574,8 +579,13 @@ async fn generation_is_reproducible_and_saves_into_the_folder() {
     let (_, second) = api.post("/api/generate", &request).await;
     assert_eq!(first["csv"], second["csv"], "same seed, same data");
     let csv = first["csv"].as_str().expect("csv");
-    assert_eq!(csv.lines().count(), 13);
-    assert!(csv.starts_with("qm1,qm2,qm3,qm4,x,y,z\n"));
+    // The file says where its data came from, then the header and the rows.
+    assert!(
+        csv.starts_with("# gecaro generate: 12 position measurements of a real robot drawn from"),
+        "{csv}"
+    );
+    assert_eq!(data_lines(csv).count(), 13);
+    assert!(csv.contains("\nqm1,qm2,qm3,qm4,x,y,z\n"));
     assert!(first["displacement_rms"].as_f64().expect("rms") > 1e-3);
     assert_eq!(first["real"]["frame"].as_array().expect("frames").len(), 6);
 
@@ -789,7 +799,7 @@ async fn evaluation_compares_two_robots_on_held_out_data() {
     assert_eq!(held_out["csv"], training["csv"]);
     // The held-out file as a tracker writes it: millimetres, other names, `;`.
     let csv = held_out["csv"].as_str().expect("csv");
-    let mut lines = csv.lines();
+    let mut lines = data_lines(csv);
     let header = lines
         .next()
         .expect("header")
@@ -853,7 +863,7 @@ async fn a_program_is_compensated_target_by_target_and_saved_beside_it() {
     // prismatic joint 3 in metres), a speed column, from the training poses.
     let csv = training["csv"].as_str().expect("csv");
     let mut text = String::from("point,qm1,qm2,qm3,qm4,qm5,qm6,speed\n");
-    for (i, line) in csv.lines().skip(1).take(12).enumerate() {
+    for (i, line) in data_lines(csv).skip(1).take(12).enumerate() {
         let q: Vec<f64> = line
             .split(',')
             .take(6)
@@ -1278,10 +1288,7 @@ async fn identification_takes_a_robust_loss_a_prior_and_cross_validation() {
         )
         .await;
     // Two gross readings: 20 mm off in x (rows 4 and 31 of the data).
-    let mut lines: Vec<String> = generated["csv"]
-        .as_str()
-        .expect("csv")
-        .lines()
+    let mut lines: Vec<String> = data_lines(generated["csv"].as_str().expect("csv"))
         .map(str::to_owned)
         .collect();
     let header: Vec<&str> = lines[0].split(',').collect();

@@ -334,6 +334,9 @@ class Generation:
     @property
     def displacement(self) -> tuple[float, float]:
         """RMS and max distance (m) between nominal and real terminal points."""
+    @property
+    def csv(self) -> str:
+        """The data file ``gecaro generate -o`` writes: a comment line with the data's origin, then the measurements."""
 
 @final
 class Identifiability:
