@@ -334,6 +334,7 @@ fn print_identification(identified: &Identified) {
     );
     super::robustness::print_robustness(result);
     print_parameters(result);
+    print_registration(identified);
 }
 
 fn print_iterations(result: &Identification) {
@@ -457,6 +458,34 @@ fn print_parameters(result: &Identification) {
     for warning in &result.warnings {
         println!("warning: {warning}");
     }
+}
+
+/// Where the calibrated robot puts its base and its tool, against the
+/// robot file: the registration a cell's user reads first.
+fn print_registration(identified: &Identified) {
+    let Some(registration) = identified.document().registration else {
+        return;
+    };
+    let pose = |pose: &gecaro_app::documents::PoseJson| {
+        let position: Vec<String> = pose.position.iter().map(|v| mm(*v)).collect();
+        let rpy: Vec<String> = pose.rpy.iter().map(|v| degrees(*v)).collect();
+        format!("({}) mm, rpy ({})°", position.join(", "), rpy.join(", "))
+    };
+    let moved = |change: &[f64]| {
+        format!(
+            "{} mm, {}° from the robot file's",
+            mm(change[0]),
+            degrees(change[1])
+        )
+    };
+    println!(
+        "Registration: the base in the measurement frame at {} ({}); the tool in the flange \
+         frame at {} ({})",
+        pose(&registration.base),
+        moved(&registration.base_moved),
+        pose(&registration.tool),
+        moved(&registration.tool_moved)
+    );
 }
 
 /// Prints RMS/mean/max errors, before → after when both are given.

@@ -529,6 +529,82 @@ pub struct IdentificationJson {
     /// The K-fold cross-validation, when asked for (`--cv K`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cross_validation: Option<CrossValidationJson>,
+    /// Where the calibrated robot puts the measurement frame and the tool,
+    /// against the robot file (the registration a cell's user reads first).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub registration: Option<RegistrationJson>,
+}
+
+/// A pose: origin (m) and roll, pitch, yaw (rad).
+#[derive(Clone, Debug, Serialize)]
+pub struct PoseJson {
+    /// Origin (m).
+    pub position: Vec<f64>,
+    /// Roll, pitch, yaw (rad), `R = Rz(yaw) Ry(pitch) Rx(roll)`.
+    pub rpy: Vec<f64>,
+}
+
+impl From<&nalgebra::IsometryMatrix3<f64>> for PoseJson {
+    fn from(pose: &nalgebra::IsometryMatrix3<f64>) -> Self {
+        let t = pose.translation.vector;
+        let (roll, pitch, yaw) = pose.rotation.euler_angles();
+        PoseJson {
+            position: vec![t.x, t.y, t.z],
+            rpy: vec![roll, pitch, yaw],
+        }
+    }
+}
+
+/// The registration of the base and the tool that an identification found
+/// (frames 0 and n+1 of the calibrated robot, read against the nominal).
+#[derive(Clone, Debug, Serialize)]
+pub struct RegistrationJson {
+    /// The robot's base (frame 1 with joint 1 at zero) in the measurement
+    /// frame, as calibrated.
+    pub base: PoseJson,
+    /// How far it is from where the robot file puts it: distance (m) and
+    /// angle (rad) (a list, not a tuple, in Python).
+    pub base_moved: Vec<f64>,
+    /// The tool frame n+1 in the flange (joint n's frame at the robot
+    /// file's θn and rn: a change of those is the tool's, as `robot
+    /// reframe` writes a new tool), as calibrated.
+    pub tool: PoseJson,
+    /// How far it is from the robot file's: distance (m) and angle (rad).
+    pub tool_moved: Vec<f64>,
+}
+
+impl RegistrationJson {
+    /// The registration of `calibrated` against `nominal` (robots of the
+    /// same joints).
+    pub fn of(nominal: &gecaro_core::Robot, calibrated: &gecaro_core::Robot) -> Self {
+        use gecaro_core::{ParameterId, ParameterKind};
+        let (distance, angle) = nominal.base_offset(calibrated);
+        let last = nominal.frames().len() - 2;
+        let along_z = |robot: &gecaro_core::Robot, kind| {
+            let id = ParameterId::new(kind, last);
+            robot.parameter(id) - nominal.parameter(id)
+        };
+        let tool_of = |robot: &gecaro_core::Robot| {
+            // θn and rn beyond the robot file's: a turn and a shift along
+            // z_n, which commute with joint n's own.
+            let beyond = nalgebra::IsometryMatrix3::from_parts(
+                nalgebra::Translation3::new(0.0, 0.0, along_z(robot, ParameterKind::R)),
+                nalgebra::Rotation3::from_axis_angle(
+                    &nalgebra::Vector3::z_axis(),
+                    along_z(robot, ParameterKind::Theta),
+                ),
+            );
+            beyond * gecaro_core::frame_transform(&robot.frames()[last + 1], 0.0)
+        };
+        let (nominal_tool, tool) = (tool_of(nominal), tool_of(calibrated));
+        let change = nominal_tool.inverse() * tool;
+        RegistrationJson {
+            base: (&calibrated.base_pose()).into(),
+            base_moved: vec![distance, angle],
+            tool: (&tool).into(),
+            tool_moved: vec![change.translation.vector.norm(), change.rotation.angle()],
+        }
+    }
 }
 
 /// One fold of a cross-validation.
@@ -804,6 +880,7 @@ impl IdentificationJson {
                     .collect(),
             }),
             cross_validation: None,
+            registration: None,
         }
     }
 }
@@ -1061,4 +1138,40 @@ pub struct CompensationJson {
     pub output: Option<String>,
     /// Every target.
     pub points: Vec<CompensatedJson>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::RegistrationJson;
+    use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Vector3};
+
+    #[test]
+    fn the_registration_is_the_robot_moved_in_the_world_and_its_tool_in_the_flange() {
+        let nominal = gecaro_io::load_robot("stanford").expect("ready").robot;
+        // The same robot seen from a frame 100 mm and 10° away, its tool
+        // frame moved 20 mm along the flange's z and turned 5° about x.
+        let world = IsometryMatrix3::from_parts(
+            Translation3::new(0.06, 0.08, 0.0),
+            Rotation3::from_axis_angle(&Vector3::z_axis(), 10f64.to_radians()),
+        );
+        let tool = IsometryMatrix3::from_parts(
+            Translation3::new(0.0, 0.0, 0.02),
+            Rotation3::from_axis_angle(&Vector3::x_axis(), 5f64.to_radians()),
+        );
+        let moved = nominal.reframed(&world, &tool).expect("reframed");
+        let registration = RegistrationJson::of(&nominal, &moved);
+        let [distance, angle] = registration.base_moved[..] else {
+            panic!("two numbers");
+        };
+        // Joint 1's frame stands on the z axis of the world (500 mm up): the
+        // new world moved it by the translation's 100 mm (its rotation is
+        // about that axis).
+        assert!((angle - 10f64.to_radians()).abs() < 1e-9, "{angle}");
+        assert!((distance - 0.1).abs() < 1e-9, "{distance}");
+        assert!((registration.tool_moved[0] - 0.02).abs() < 1e-9);
+        assert!((registration.tool_moved[1] - 5f64.to_radians()).abs() < 1e-9);
+        let same = RegistrationJson::of(&nominal, &nominal);
+        assert_eq!(same.base_moved, vec![0.0, 0.0]);
+        assert_eq!(same.tool_moved, vec![0.0, 0.0]);
+    }
 }

@@ -19,7 +19,7 @@ use gecaro_report::{
 };
 use serde::{Deserialize, Serialize};
 
-use crate::documents::{CrossValidationJson, IdentificationJson, ModelScoreJson};
+use crate::documents::{CrossValidationJson, IdentificationJson, ModelScoreJson, RegistrationJson};
 use crate::error::{AppError, ErrorKind};
 use crate::files::Files;
 use crate::limits::MAX_FOLDS;
@@ -212,6 +212,10 @@ impl Identified {
             .cross_validation
             .as_ref()
             .map(|(validation, seed)| CrossValidationJson::new(validation, *seed));
+        document.registration = Some(RegistrationJson::of(
+            &self.loaded.robot.robot,
+            &self.result.calibrated,
+        ));
         document
     }
 

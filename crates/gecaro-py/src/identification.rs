@@ -288,6 +288,16 @@ impl PyIdentification {
         to_python(py, &frames)
     }
 
+    /// Where the calibrated robot puts its base and its tool against the
+    /// robot file: `base` (the base in the measurement frame: position m,
+    /// rpy rad), `base_moved` ([distance m, angle rad] from the file's),
+    /// `tool` (frame n+1 in the flange frame) and `tool_moved`, as
+    /// `--json`'s `registration`.
+    #[getter]
+    fn registration<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.identified.document().registration)
+    }
+
     /// Parameters the second pass added to the base set chosen at the
     /// nominal robot (docs/methods.md).
     #[getter]

@@ -81,6 +81,8 @@ def test_every_method_equals_the_command_line(
     assert all(p.noise_std <= p.std * (1 + 1e-9) for p in result.parameters)
     assert result.second_pass == document["second_pass"]
     assert result.joined == document["joined"]
+    assert result.registration == document["registration"]
+    assert len(result.registration["base"]["position"]) == 3
     assert result.after.rms == document["after"]["rms"]
     assert list(result.history["rms"]) == document["rms_history"]
     assert result.observability == document["observability"]

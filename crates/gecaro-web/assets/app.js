@@ -1894,6 +1894,24 @@ async function followJob(id, label) {
   }
 }
 
+/**
+ * The registration an identification found: the robot's base in the
+ * measurement frame and the tool in the flange frame, as calibrated, and how
+ * far each is from the robot file's (the first thing a cell's user reads).
+ */
+function registrationBlock(registration, id) {
+  if (!registration) return null;
+  const length = (v) => fmt(Number(inUnits(v, 'length').toPrecision(6)));
+  const angle = (v) => fmt(Number(inUnits(v, 'angle').toPrecision(5)));
+  const unit = state.units === 'mm' ? 'mm' : 'm';
+  const degrees = state.units === 'mm' ? '°' : 'rad';
+  const pose = (p) => `(${p.position.map(length).join(', ')}) ${unit}, roll-pitch-yaw (${p.rpy.map(angle).join(', ')}) ${degrees}`;
+  const moved = ([distance, turned]) => `${length(distance)} ${unit} and ${angle(turned)} ${degrees} from the robot file’s`;
+  return h('div', { class: 'registration', id },
+    h('p', {}, h('strong', { text: 'Registration. ' }), `The robot’s base in the measurement frame: ${pose(registration.base)} — ${moved(registration.base_moved)}.`),
+    h('p', { text: `The tool in the flange frame: ${pose(registration.tool)} — ${moved(registration.tool_moved)}.` }));
+}
+
 function renderIdentification(container, name, job, result) {
   const id = result.identification;
   state.calibrated[name] = result.calibrated;
@@ -1977,6 +1995,7 @@ function renderIdentification(container, name, job, result) {
       ? h('span', { class: 'muted', id: `${name}-identify-no-report`, text: 'The server was restarted since: identify again for its report.' })
       : h('a', { href: `/api/jobs/${job}/report`, download: `gecaro-report-${job}.html` }, h('button', { type: 'button', text: 'Download the report' })));
   container.replaceChildren(...[headline, cards, observabilityLine(id.observability, 'the data'), robustness, validation, warnings, actions,
+    registrationBlock(id.registration, `${name}-identify-registration`),
     outlierTable('Rejected before this fit', id.rejected, id.rejected_count, `${name}-identify-rejected`),
     outlierTable('Outliers', id.outliers, id.outlier_count, `${name}-identify-outliers`),
     plots, h('h3', { text: `Identified parameters (${unitsLabel()}; gains without unit; beyond 3σ in bold, regrouped in italics)` }), table, moved].filter(Boolean));
@@ -2379,6 +2398,7 @@ function renderStudyResult(container, result, job) {
     h('table', { class: 'values', id: 'study-frames' },
       h('thead', {}, h('tr', {}, ['frame', 'role', 'position', 'σ', 'roll, pitch, yaw', 'σ'].map((t) => h('th', { text: t })))),
       h('tbody', {}, rows)),
+    registrationBlock(id.registration, 'study-registration'),
     h('div', { class: 'actions' },
       h('button', { type: 'button', class: id.verdict.trusted ? 'primary' : '', id: 'study-save-calibrated', text: id.verdict.trusted ? 'Save calibrated robot…' : 'Save calibrated robot anyway…', onclick: () => saveAsDialog(result.calibrated, result.calibrated_name) }),
       h('button', {

@@ -1283,6 +1283,13 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
         station[1].as_str().expect("σ").starts_with("± "),
         "{station}"
     );
+    // The registration, shown as such: the base 2.5 m from the tracker.
+    let registration = text_of(client, "#study-registration", 5).await;
+    assert!(
+        registration.contains("The robot’s base in the measurement frame")
+            && registration.contains("from the robot file’s"),
+        "{registration}"
+    );
     screenshot(client, "14-study-1400.png").await;
     // Saved as a study file of the folder; it names the table's robot and
     // opens again to the same six sets.

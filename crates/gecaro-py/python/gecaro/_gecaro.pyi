@@ -445,6 +445,9 @@ class Identification:
     def frames(self) -> list[dict[str, Any]]:
         """The study's tools and stations at their identified poses (name, role, position, rpy, quaternion)."""
     @property
+    def registration(self) -> dict[str, Any]:
+        """The base in the measurement frame and the tool in the flange frame, as calibrated, and how far each moved from the robot file's."""
+    @property
     def second_pass(self) -> list[str]: ...
     @property
     def joined(self) -> list[str]: ...
