@@ -50,7 +50,11 @@ fn phases(result: &Identification) -> String {
     if !result.second_pass.is_empty() {
         phases.push('2');
     }
-    if result.warnings.iter().any(|w| w.contains("damped descent")) {
+    if result
+        .warnings
+        .iter()
+        .any(|w| w.contains("a damped descent over all"))
+    {
         phases.push('D');
     }
     phases

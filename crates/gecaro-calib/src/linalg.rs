@@ -235,9 +235,6 @@ fn triangular_factor(matrix: MatRef<'_, f64>) -> Mat<f64> {
     reduced
 }
 
-/// Rows of D per block in [`NormalEquations::data_part_diagonal`].
-const DATA_PART_ROWS: usize = 4096;
-
 /// The normal equations of a weighted system `W x ≈ r`: WᵀW (its lower
 /// triangle, the strict upper one zero: what a Cholesky factorisation or an
 /// eigensolver with `Side::Lower` reads) and Wᵀr, summed over the parts of
@@ -334,8 +331,8 @@ impl NormalEquations {
     /// The diagonal of `G⁻¹ DᵀD G⁻¹`, for G = WᵀW and D the rows of W that
     /// are measurements (`data`; the others are a prior's pseudo-observations):
     /// the part of the covariance `G⁻¹` the data's noise makes. Computed as
-    /// the squared column norms of `D G⁻¹`, row block by row block (memory
-    /// bounded by the block), a sum of squares — not as `G⁻¹` less the
+    /// the squared column norms of `D G⁻¹`, over the parts of [`row_parts`]
+    /// (memory bounded by a part), a sum of squares — not as `G⁻¹` less the
     /// prior's part, a difference of nearly equal numbers wherever the prior
     /// dominates (a parameter held to 1 cm whose noise σ is a micrometre:
     /// their squares differ in the eighth digit, within the rounding of an
@@ -345,14 +342,11 @@ impl NormalEquations {
         let cholesky = self.gram.llt(faer::Side::Lower).ok()?;
         let inverse = cholesky.solve(Mat::<f64>::identity(n, n));
         let mut diagonal = vec![0.0; n];
-        let mut start = 0;
-        while start < data.nrows() {
-            let count = DATA_PART_ROWS.min(data.nrows() - start);
-            let product = data.subrows(start, count) * &inverse;
+        for part in row_parts(data) {
+            let product = part * &inverse;
             for (j, sum) in diagonal.iter_mut().enumerate() {
                 *sum += product.col(j).squared_norm_l2();
             }
-            start += count;
         }
         diagonal.iter().all(|v| v.is_finite()).then_some(diagonal)
     }

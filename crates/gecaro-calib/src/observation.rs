@@ -179,6 +179,17 @@ impl ObservationSystem {
         self.kinds.len()
     }
 
+    /// The measured rows' weighted sum of squares `Σ (w r)²` (the appended
+    /// prior and gauge rows left out).
+    pub fn measured_cost(&self) -> f64 {
+        let rows = self.measured_rows();
+        self.residuals[..rows]
+            .iter()
+            .zip(&self.weights[..rows])
+            .map(|(r, w)| (r * w).powi(2))
+            .sum()
+    }
+
     /// Number of observations (configurations, pairs) written.
     pub fn observation_count(&self) -> usize {
         self.observation_count

@@ -594,23 +594,11 @@ fn fit_pass(
     };
     let reweighted = problem.reweighted(run, options.loss, prior_rows, &mut states, observer)?;
     // Moved parameters a base parameter absorbs join the base set ([`tied`]).
-    let joint = if study.observes_scale() {
-        tied::joined(
-            &problem,
-            nominal,
-            &rank,
-            &reweighted,
-            study.equation_count(),
-            &mut states,
-        )?
+    let (problem, mut reweighted) = if study.observes_scale() {
+        tied::joined(problem, nominal, &rank, reweighted, &mut states)?
     } else {
-        None
+        (problem, reweighted)
     };
-    let joined: Vec<usize> = joint
-        .as_ref()
-        .map(|(joint, _)| joint.base[joint.base.len() - joint.joined..].to_vec())
-        .unwrap_or_default();
-    let (problem, mut reweighted) = joint.unwrap_or((problem, reweighted));
     let scale = if study.observes_scale() {
         None
     } else {
@@ -639,9 +627,10 @@ fn fit_pass(
         excited,
         &initial_auxiliary,
     )?;
-    let name = |index: &usize| nominal.parameters().id(*index).to_string();
-    result.second_pass = extras.iter().map(name).collect();
-    result.joined = joined.iter().map(name).collect();
+    result.second_pass = extras
+        .iter()
+        .map(|index| nominal.parameters().id(*index).to_string())
+        .collect();
     if !result.joined.is_empty() {
         result.warnings.push(format!(
             "{} set by the data outside the base set (the closed-form start, the continuation or \
@@ -651,11 +640,16 @@ fn fit_pass(
             second_pass_prior()
         ));
     }
-    if !extras.is_empty() || !joined.is_empty() {
+    if !extras.is_empty() || !result.joined.is_empty() {
         // The added and joined parameters are held by their prior, and
         // correlate with the base parameters they nearly regroup with by
         // construction.
-        let added: Vec<String> = extras.iter().chain(&joined).map(name).collect();
+        let added: Vec<String> = result
+            .second_pass
+            .iter()
+            .chain(&result.joined)
+            .cloned()
+            .collect();
         result
             .correlated
             .retain(|(a, b, _)| !added.contains(a) && !added.contains(b));
@@ -827,21 +821,20 @@ fn summarise(
     };
     let auxiliary_names = study.auxiliary_names();
     let relations = rank.relations();
-    // What a base parameter stands for, less the parameters estimated
-    // beside it (those joined to the structural base set, [`tied`]).
-    let estimated = |name: &str| {
-        problem
-            .base
-            .iter()
-            .any(|index| robot.parameters().id(*index).to_string() == name)
-    };
+    // The parameters joined to the structural base set ([`tied`]), the last
+    // columns: what a base parameter stands for leaves them out, since they
+    // are estimated beside it.
+    let joined: Vec<String> = problem.base[problem.base.len() - problem.joined..]
+        .iter()
+        .map(|index| robot.parameters().id(*index).to_string())
+        .collect();
     let absorbed = |name: &str| -> Vec<(String, f64)> {
         relations
             .iter()
             .find(|relation| relation.base == name)
             .map(|relation| {
                 let mut absorbed = relation.absorbed.clone();
-                absorbed.retain(|(other, _)| !estimated(other));
+                absorbed.retain(|(other, _)| !joined.contains(other));
                 absorbed
             })
             .unwrap_or_default()
@@ -914,11 +907,7 @@ fn summarise(
         has_rotation,
         options.outlier_threshold,
     );
-    let data_rows = best.system.measured_rows();
-    let data_cost: f64 = best.system.weighted_residuals()[..data_rows]
-        .iter()
-        .map(|r| r * r)
-        .sum();
+    let data_cost = best.system.measured_cost();
     let degrees_of_freedom = statistics.effective_equations.saturating_sub(columns);
     let implausible = plausibility::implausible(&plausibility::Written {
         nominal: robot,
@@ -971,7 +960,7 @@ fn summarise(
         correlated,
         verdict,
         second_pass: Vec::new(),
-        joined: Vec::new(),
+        joined,
         data_cost,
         degrees_of_freedom,
         loss: options.loss,
@@ -1019,21 +1008,13 @@ fn moved_outside_base(
     identified: &Robot,
     base: &[usize],
 ) -> Vec<IdentifiedParameter> {
-    nominal
-        .parameters()
-        .ids()
-        .iter()
-        .filter(|id| {
-            let index = nominal.parameters().index_of(**id).unwrap_or(usize::MAX);
-            !base.contains(&index)
-                && (identified.parameter(**id) - nominal.parameter(**id)).abs()
-                    > tied::MOVED_TOLERANCE
-        })
+    tied::moved_outside(nominal, identified, base)
+        .map(|index| nominal.parameters().id(index))
         .map(|id| IdentifiedParameter {
             name: id.to_string(),
-            parameter: Some(*id),
-            nominal: nominal.parameter(*id),
-            identified: identified.parameter(*id),
+            parameter: Some(id),
+            nominal: nominal.parameter(id),
+            identified: identified.parameter(id),
             std: f64::NAN,
             noise_std: f64::NAN,
             prior_std: None,

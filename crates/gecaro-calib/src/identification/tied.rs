@@ -41,52 +41,63 @@ const JOINT_ITERATIONS: usize = 10;
 
 /// How much the data's sum of squares may grow when the joined parameters
 /// are pulled towards their prior (relative).
-pub(super) const COST_SLACK: f64 = 1e-3;
+const COST_SLACK: f64 = 1e-3;
 
 /// A parameter differs from its nominal value by more than rounding.
-pub(super) const MOVED_TOLERANCE: f64 = 1e-12;
+const MOVED_TOLERANCE: f64 = 1e-12;
 
-/// The moved parameters (vocabulary indices) that a base parameter of
-/// `rank` absorbs: outside `base`, away from `nominal` at `robot`.
-fn tied_to_base(nominal: &Robot, robot: &Robot, base: &[usize], rank: &RankReport) -> Vec<usize> {
-    let absorbed = |name: &str| {
-        rank.relations()
-            .iter()
-            .any(|relation| relation.absorbed.iter().any(|(other, _)| other == name))
-    };
+/// The parameters (vocabulary indices) outside `base` that `robot` moved
+/// away from `nominal`.
+pub(super) fn moved_outside<'a>(
+    nominal: &'a Robot,
+    robot: &'a Robot,
+    base: &'a [usize],
+) -> impl Iterator<Item = usize> + 'a {
     nominal
         .parameters()
         .ids()
         .iter()
         .enumerate()
-        .filter(|(index, id)| {
+        .filter(move |(index, id)| {
             !base.contains(index)
                 && (robot.parameter(**id) - nominal.parameter(**id)).abs() > MOVED_TOLERANCE
-                && absorbed(&id.to_string())
         })
         .map(|(index, _)| index)
+}
+
+/// The moved parameters (vocabulary indices) that a base parameter of
+/// `rank` absorbs: outside `base`, away from `nominal` at `robot`.
+fn tied_to_base(nominal: &Robot, robot: &Robot, base: &[usize], rank: &RankReport) -> Vec<usize> {
+    let absorbed = |index: &usize| {
+        let name = nominal.parameters().id(*index).to_string();
+        rank.relations()
+            .iter()
+            .any(|relation| relation.absorbed.iter().any(|(other, _)| *other == name))
+    };
+    moved_outside(nominal, robot, base)
+        .filter(absorbed)
         .collect()
 }
 
-/// The pass `problem` reached `reweighted` on (its values reported
-/// against `nominal`), with the tied moved
-/// parameters joined (module docs): the joint problem and its solution, or
-/// `None` when nothing is tied or the joint estimate is not kept.
+/// The pass `problem` reached `reweighted` on (its values reported against
+/// `nominal`), with the tied moved parameters joined (module docs): the
+/// joint problem and its solution ([`Problem::joined`] counts the joined
+/// columns, the last ones), or the pass as it was when nothing is tied or
+/// the joint estimate is not kept.
 ///
 /// # Errors
 /// Errors of the model at the pass's solution (which it evaluated before).
 pub(super) fn joined<'a>(
-    problem: &Problem<'a>,
+    problem: Problem<'a>,
     nominal: &Robot,
     rank: &RankReport,
-    reweighted: &Reweighted,
-    equations: usize,
+    reweighted: Reweighted,
     states: &mut StudyStates,
-) -> Result<Option<(Problem<'a>, Reweighted)>, Error> {
+) -> Result<(Problem<'a>, Reweighted), Error> {
     let best = &reweighted.run.best;
     let tied = tied_to_base(nominal, &best.robot, &problem.base, rank);
     if tied.is_empty() {
-        return Ok(None);
+        return Ok((problem, reweighted));
     }
     let mut base = problem.base.clone();
     base.extend(&tied);
@@ -118,38 +129,36 @@ pub(super) fn joined<'a>(
         states,
         &mut Quiet,
     )?;
-    let data_cost = |system: &crate::observation::ObservationSystem| -> f64 {
-        system.weighted_residuals()[..system.measured_rows()]
-            .iter()
-            .map(|r| r * r)
-            .sum()
-    };
-    let before = data_cost(&best.system);
     if run.stop != StopReason::Converged
-        || data_cost(&run.best.system) > before * (1.0 + COST_SLACK)
+        || run.best.system.measured_cost() > best.system.measured_cost() * (1.0 + COST_SLACK)
     {
-        return Ok(None);
+        return Ok((problem, reweighted));
     }
     let statistics = ResidualStatistics::of(
         &run.best.system,
         &problem.options.loss,
-        equations,
+        problem.study.equation_count(),
         joint.layout.columns(),
     );
-    let mut history = reweighted.run.history.clone();
+    let Reweighted {
+        run: pass,
+        reweightings,
+        ..
+    } = reweighted;
+    let mut history = pass.history;
     history.extend(run.history);
     let weighting = joint.weighting.clone();
-    Ok(Some((
+    Ok((
         joint,
         Reweighted {
             run: Run {
                 best: run.best,
                 history,
-                stop: reweighted.run.stop,
+                stop: pass.stop,
             },
             weighting,
             statistics,
-            reweightings: reweighted.reweightings,
+            reweightings,
         },
-    )))
+    ))
 }
