@@ -463,9 +463,7 @@ fn print_parameters(result: &Identification) {
 /// Where the calibrated robot puts its base and its tool, against the
 /// robot file: the registration a cell's user reads first.
 fn print_registration(identified: &Identified) {
-    let Some(registration) = identified.document().registration else {
-        return;
-    };
+    let registration = identified.registration();
     let pose = |pose: &gecaro_app::documents::PoseJson| {
         let position: Vec<String> = pose.position.iter().map(|v| mm(*v)).collect();
         let rpy: Vec<String> = pose.rpy.iter().map(|v| degrees(*v)).collect();

@@ -15,7 +15,7 @@ use crate::files::Files;
 use crate::measurements::Unknown;
 use crate::method::parse_name;
 use crate::rebase::{check_same_frame, rebased_file};
-use crate::sources::{DataFormatSpec, RobotSource};
+use crate::sources::{CsvInput, DataFormatSpec, RobotSource, check_row_count};
 
 /// Where a program's targets come from (JSON: `{"file": name}` or
 /// `{"csv": {"text": …, "name": …}}`, as a request's data).
@@ -76,10 +76,39 @@ pub struct Compensated {
     pub points: Vec<ProgramPoint>,
     /// Per target: the corrected joints, the residual and the status.
     pub results: Vec<CompensatedPoint>,
+    /// The corrected program file's text (the program's columns, units and
+    /// separator; the joints corrected), when the program came from a file.
+    pub corrected: Option<String>,
+    /// A name to offer it under: `weld.csv` → `weld-compensated.csv`.
+    pub corrected_name: Option<String>,
     /// Where the corrected program was written, if asked for.
     pub saved: Option<std::path::PathBuf>,
     /// The nominal robot.
     pub nominal: RobotFile,
+}
+
+/// The name a corrected copy of the program `label` (a file name or an
+/// upload's) is offered under: `weld.csv` → `weld-compensated.csv`.
+fn corrected_name(label: &str) -> String {
+    let file = std::path::Path::new(label)
+        .file_stem()
+        .and_then(|stem| stem.to_str())
+        .filter(|stem| !stem.is_empty())
+        .unwrap_or("program");
+    format!("{file}-compensated.csv")
+}
+
+impl ProgramSource {
+    /// The name of the program in messages.
+    pub fn label(&self) -> String {
+        match self {
+            ProgramSource::File(name) => name.clone(),
+            ProgramSource::Csv { name, .. } => {
+                name.clone().unwrap_or_else(|| "uploaded program".into())
+            }
+            ProgramSource::Points(_) => "the targets given".into(),
+        }
+    }
 }
 
 impl CompensateRequest {
@@ -126,33 +155,30 @@ impl CompensateRequest {
         if let Some(name) = &self.save_as {
             files.check_output(name, "csv", self.overwrite)?;
         }
-        let parse = |reader: &mut dyn std::io::Read, path: &std::path::Path| {
-            let format = self.format.format()?;
-            let program = gecaro_io::parse_program(reader, path, &nominal.robot, &format)?;
-            if program.points.len() > files.max_samples() {
-                return Err(AppError::plain(
-                    ErrorKind::TooLarge,
-                    format!(
-                        "{} has {} targets; up to {} are taken here",
-                        path.display(),
-                        program.points.len(),
-                        files.max_samples()
-                    ),
-                ));
-            }
-            Ok::<_, AppError>(program)
-        };
-        let program = match &self.program {
-            ProgramSource::File(name) => {
-                let mut opened = files.open(name, &["csv"])?;
-                Some(parse(&mut opened.reader, &opened.path)?)
-            }
-            ProgramSource::Csv { text, name } => {
-                let label = name.as_deref().unwrap_or("uploaded program");
-                Some(parse(&mut text.as_bytes(), std::path::Path::new(label))?)
-            }
+        let label = self.program.label();
+        let input = match &self.program {
+            ProgramSource::File(name) => Some(CsvInput::File(name)),
+            ProgramSource::Csv { text, .. } => Some(CsvInput::Text {
+                text,
+                label: &label,
+            }),
             ProgramSource::Points(_) => None,
         };
+        let program = input
+            .map(|input| {
+                let format = self.format.format()?;
+                let program = input.parse(files, |reader, path| {
+                    Ok(gecaro_io::parse_program(
+                        reader,
+                        path,
+                        &nominal.robot,
+                        &format,
+                    )?)
+                })?;
+                check_row_count(files, &label, program.points.len(), "targets")?;
+                Ok::<_, AppError>(program)
+            })
+            .transpose()?;
         let points = match (&program, &self.program) {
             (Some(program), _) => program.points.clone(),
             (None, ProgramSource::Points(points)) => points.clone(),
@@ -165,13 +191,13 @@ impl CompensateRequest {
             matching,
             observer,
         )?;
-        let saved = match (&self.save_as, &program) {
-            (Some(name), Some(program)) => Some(files.write(
-                name,
-                "csv",
-                program.format_corrected(&results).as_bytes(),
-                self.overwrite,
-            )?),
+        let corrected = program
+            .as_ref()
+            .map(|program| program.format_corrected(&results));
+        let saved = match (&self.save_as, &corrected) {
+            (Some(name), Some(corrected)) => {
+                Some(files.write(name, "csv", corrected.as_bytes(), self.overwrite)?)
+            }
             (Some(_), None) => {
                 return Err(AppError::setting(
                     "save_as",
@@ -181,6 +207,8 @@ impl CompensateRequest {
             (None, _) => None,
         };
         Ok(Compensated {
+            corrected_name: corrected.as_ref().map(|_| corrected_name(&label)),
+            corrected,
             program,
             points,
             results,
@@ -294,5 +322,17 @@ impl Compensated {
                 })
                 .collect(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::corrected_name;
+
+    #[test]
+    fn a_corrected_program_is_named_after_the_program() {
+        assert_eq!(corrected_name("weld.csv"), "weld-compensated.csv");
+        assert_eq!(corrected_name("cell/path.csv"), "path-compensated.csv");
+        assert_eq!(corrected_name(""), "program-compensated.csv");
     }
 }

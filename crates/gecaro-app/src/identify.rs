@@ -212,11 +212,14 @@ impl Identified {
             .cross_validation
             .as_ref()
             .map(|(validation, seed)| CrossValidationJson::new(validation, *seed));
-        document.registration = Some(RegistrationJson::of(
-            &self.loaded.robot.robot,
-            &self.result.calibrated,
-        ));
+        document.registration = Some(self.registration());
         document
+    }
+
+    /// Where the calibrated robot puts its base and its tool, against the
+    /// robot file (the document's `registration`).
+    pub fn registration(&self) -> RegistrationJson {
+        RegistrationJson::of(&self.loaded.robot.robot, &self.result.calibrated)
     }
 
     /// The calibrated robot as a robot file.

@@ -209,14 +209,14 @@ impl Measurements {
         let (Some(source), Some(robot)) = (&self.study, &self.robot) else {
             return self.load(files, Data::Required);
         };
+        // A study stated in the request without a robot is read for the
+        // request's robot already.
+        if matches!(source, StudySource::Spec(spec) if spec.robot.is_none()) {
+            return self.load(files, Data::Required);
+        }
         let robot = robot.load(files)?;
-        // A study stated in the request without a robot reads its data for
-        // the evaluated one.
         let study = Measurements {
-            robot: match source {
-                StudySource::Spec(spec) if spec.robot.is_none() => self.robot.clone(),
-                _ => None,
-            },
+            robot: None,
             ..self.clone()
         };
         let mut loaded = study.load(files, Data::Required)?;

@@ -2,7 +2,7 @@
 //! ([`DataSource`]) as each front end names them, and the format of a data
 //! file as an instrument wrote it ([`DataFormatSpec`]).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use gecaro_calib::study::{DataColumn, Sample};
 use gecaro_io::{
@@ -129,6 +129,61 @@ pub struct DataRead {
     pub notes: Vec<String>,
 }
 
+/// A request's CSV file: a name opened through a front end's [`Files`], or
+/// an upload's text with the name messages give it.
+pub(crate) enum CsvInput<'a> {
+    /// A file of the front end's.
+    File(&'a str),
+    /// An upload's text.
+    Text {
+        /// The file's content.
+        text: &'a str,
+        /// Its name in messages.
+        label: &'a str,
+    },
+}
+
+impl CsvInput<'_> {
+    /// The file read by `parse` (its reader, and the path its messages name).
+    ///
+    /// # Errors
+    /// A file that cannot be opened, and `parse`'s.
+    pub(crate) fn parse<T>(
+        &self,
+        files: &dyn Files,
+        parse: impl FnOnce(&mut dyn std::io::Read, &Path) -> Result<T, AppError>,
+    ) -> Result<T, AppError> {
+        match self {
+            CsvInput::File(name) => {
+                let mut opened = files.open(name, &["csv"])?;
+                parse(&mut opened.reader, &opened.path)
+            }
+            CsvInput::Text { text, label } => parse(&mut text.as_bytes(), Path::new(label)),
+        }
+    }
+}
+
+/// Refuses a file of more rows (`what`: configurations, targets) than the
+/// front end takes ([`Files::max_samples`]).
+///
+/// # Errors
+/// [`ErrorKind::TooLarge`], naming the file.
+pub(crate) fn check_row_count(
+    files: &dyn Files,
+    label: &str,
+    count: usize,
+    what: &str,
+) -> Result<(), AppError> {
+    let most = files.max_samples();
+    if count > most {
+        return Err(AppError::plain(
+            ErrorKind::TooLarge,
+            format!("{label} has {count} {what}; up to {most} are taken here"),
+        ));
+    }
+    Ok(())
+}
+
 impl DataSource {
     /// The name of the data in messages.
     pub fn label(&self) -> String {
@@ -152,18 +207,13 @@ impl DataSource {
         columns: &[DataColumn],
         format: &DataFormat,
     ) -> Result<DataRead, AppError> {
-        let parse = |reader: &mut dyn std::io::Read, path: &Path| {
-            gecaro_io::parse_samples(reader, path, joint_types, columns, format)
-        };
-        let (file, label) = match self {
-            DataSource::File(name) => {
-                let mut opened = files.open(name, &["csv"])?;
-                (parse(&mut opened.reader, &opened.path)?, name.clone())
-            }
-            DataSource::Csv { text, .. } => {
-                let label = self.label();
-                (parse(&mut text.as_bytes(), &PathBuf::from(&label))?, label)
-            }
+        let label = self.label();
+        let input = match self {
+            DataSource::File(name) => CsvInput::File(name),
+            DataSource::Csv { text, .. } => CsvInput::Text {
+                text,
+                label: &label,
+            },
             DataSource::Samples { samples, label } => {
                 return Ok(DataRead {
                     samples: samples.clone(),
@@ -173,16 +223,16 @@ impl DataSource {
                 });
             }
         };
-        let most = files.max_samples();
-        if file.samples.len() > most {
-            return Err(AppError::plain(
-                ErrorKind::TooLarge,
-                format!(
-                    "{label} has {} configurations; up to {most} are taken here",
-                    file.samples.len()
-                ),
-            ));
-        }
+        let file = input.parse(files, |reader, path| {
+            Ok(gecaro_io::parse_samples(
+                reader,
+                path,
+                joint_types,
+                columns,
+                format,
+            )?)
+        })?;
+        check_row_count(files, &label, file.samples.len(), "configurations")?;
         Ok(DataRead {
             samples: file.samples,
             label,

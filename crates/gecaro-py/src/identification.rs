@@ -295,7 +295,7 @@ impl PyIdentification {
     /// `--json`'s `registration`.
     #[getter]
     fn registration<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        to_python(py, &self.identified.document().registration)
+        to_python(py, &self.identified.registration())
     }
 
     /// Parameters the second pass added to the base set chosen at the

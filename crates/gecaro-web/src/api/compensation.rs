@@ -26,29 +26,12 @@ pub(crate) struct CompensatedProgramJson {
     file_name: Option<String>,
 }
 
-/// The name a corrected copy of `program` (a file name or an upload's) goes
-/// by: `weld.csv` → `weld-compensated.csv`.
-fn corrected_name(program: &str) -> String {
-    let file = std::path::Path::new(program)
-        .file_stem()
-        .and_then(|stem| stem.to_str())
-        .unwrap_or("program");
-    format!("{file}-compensated.csv")
-}
-
 /// Compensation of a program (see the module docs); a client that leaves
 /// stops it at its next target, and nothing is written.
 pub(crate) async fn compensate(
     State(state): State<AppState>,
     Json(request): Json<CompensateRequest>,
 ) -> Result<Json<CompensatedProgramJson>, ApiError> {
-    let name = match &request.program {
-        gecaro_app::ProgramSource::File(name) => Some(name.clone()),
-        gecaro_app::ProgramSource::Csv { name, .. } => {
-            Some(name.clone().unwrap_or_else(|| "program.csv".into()))
-        }
-        gecaro_app::ProgramSource::Points(_) => None,
-    };
     let save_as = request.save_as.clone();
     state
         .compute_abandonable(move |state, observer| {
@@ -58,27 +41,11 @@ pub(crate) async fn compensate(
             if document.output.is_some() {
                 document.output = save_as;
             }
-            let csv = compensated
-                .program
-                .as_ref()
-                .map(|program| program.format_corrected(&compensated.results));
             Ok(Json(CompensatedProgramJson {
                 document,
-                file_name: csv.as_ref().and(name.as_deref()).map(corrected_name),
-                csv,
+                csv: compensated.corrected,
+                file_name: compensated.corrected_name,
             }))
         })
         .await
-}
-
-#[cfg(test)]
-mod tests {
-    use super::corrected_name;
-
-    #[test]
-    fn a_corrected_program_is_named_after_the_program() {
-        assert_eq!(corrected_name("weld.csv"), "weld-compensated.csv");
-        assert_eq!(corrected_name("cell/path.csv"), "path-compensated.csv");
-        assert_eq!(corrected_name(""), "program-compensated.csv");
-    }
 }
