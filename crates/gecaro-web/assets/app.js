@@ -1794,6 +1794,17 @@ function inUnits(value, kind) {
   return value;
 }
 
+/** A value of `kind` ('length' or 'angle') in the page's units, to `digits` significant digits, as text. */
+function inPageUnits(value, kind, digits = 6) {
+  return fmt(Number(inUnits(value, kind).toPrecision(digits)));
+}
+
+/** The page's unit of `kind` ('length' or 'angle'). */
+function unitName(kind) {
+  if (kind === 'length') return state.units === 'mm' ? 'mm' : 'm';
+  return state.units === 'mm' ? '°' : 'rad';
+}
+
 function unitsLabel() {
   return state.units === 'mm' ? 'mm, °' : 'm, rad';
 }
@@ -1901,12 +1912,9 @@ async function followJob(id, label) {
  */
 function registrationBlock(registration, id) {
   if (!registration) return null;
-  const length = (v) => fmt(Number(inUnits(v, 'length').toPrecision(6)));
-  const angle = (v) => fmt(Number(inUnits(v, 'angle').toPrecision(5)));
-  const unit = state.units === 'mm' ? 'mm' : 'm';
-  const degrees = state.units === 'mm' ? '°' : 'rad';
-  const pose = (p) => `(${p.position.map(length).join(', ')}) ${unit}, roll-pitch-yaw (${p.rpy.map(angle).join(', ')}) ${degrees}`;
-  const moved = ([distance, turned]) => `${length(distance)} ${unit} and ${angle(turned)} ${degrees} from the robot file’s`;
+  const [unit, degrees] = [unitName('length'), unitName('angle')];
+  const pose = (p) => `(${p.position.map((v) => inPageUnits(v, 'length')).join(', ')}) ${unit}, roll-pitch-yaw (${p.rpy.map((v) => inPageUnits(v, 'angle', 5)).join(', ')}) ${degrees}`;
+  const moved = ([distance, turned]) => `${inPageUnits(distance, 'length')} ${unit} and ${inPageUnits(turned, 'angle', 5)} ${degrees} from the robot file’s`;
   return h('div', { class: 'registration', id },
     h('p', {}, h('strong', { text: 'Registration. ' }), `The robot’s base in the measurement frame: ${pose(registration.base)} — ${moved(registration.base_moved)}.`),
     h('p', { text: `The tool in the flange frame: ${pose(registration.tool)} — ${moved(registration.tool_moved)}.` }));
@@ -1934,9 +1942,9 @@ function renderIdentification(container, name, job, result) {
     stat('identified parameters', String(id.parameters.length + id.auxiliary.length)),
     stat('condition number of W_b', fmt(Number(id.condition_number.toPrecision(4)))),
     verdict.residual_length !== null && verdict.residual_length !== undefined
-      ? stat(`residual σ (${state.units === 'mm' ? 'mm' : 'm'})`, sci(inUnits(verdict.residual_length, 'length')), { id: `${name}-identify-residual` }) : null,
+      ? stat(`residual σ (${unitName('length')})`, sci(inUnits(verdict.residual_length, 'length')), { id: `${name}-identify-residual` }) : null,
     verdict.residual_angle !== null && verdict.residual_angle !== undefined
-      ? stat(`residual σ (${state.units === 'mm' ? '°' : 'rad'})`, sci(inUnits(verdict.residual_angle, 'angle'))) : null);
+      ? stat(`residual σ (${unitName('angle')})`, sci(inUnits(verdict.residual_angle, 'angle'))) : null);
   const warnings = id.warnings.length
     ? h('div', { class: 'warnings' }, h('strong', { text: 'Warnings' }), h('ul', {}, id.warnings.map((w) => h('li', { text: w })))) : null;
   const plot = (title, svg, plotId) => {
@@ -1974,7 +1982,7 @@ function renderIdentification(container, name, job, result) {
         h('td', { text: `${o.file}: ${o.kind} ${o.observation}` }), h('td', { text: o.lines.join(', ') }),
         h('td', { text: fixed(o.error * 1e3, 3) }), h('td', { text: fixed(o.residual_sigmas, 1) }), h('td', { text: fixed(o.weight, 3) })))))) : null;
   const robustness = h('p', { class: 'muted', id: `${name}-identify-robustness`, text:
-    `Loss ${id.loss.kind}${id.loss.scale ? ` (k = ${id.loss.scale} σ̂, ${id.reweightings} reweightings)` : ''}; robust σ̂ ${verdict.noise_test ? `${fixed(id.robust_sigma, 2)} × the stated σ` : `${sci(inUnits(id.robust_sigma, 'length'))} ${state.units === 'mm' ? 'mm' : 'm'} (length rows)`}; `
+    `Loss ${id.loss.kind}${id.loss.scale ? ` (k = ${id.loss.scale} σ̂, ${id.reweightings} reweightings)` : ''}; robust σ̂ ${verdict.noise_test ? `${fixed(id.robust_sigma, 2)} × the stated σ` : `${sci(inUnits(id.robust_sigma, 'length'))} ${unitName('length')} (length rows)`}; `
     + (id.outlier_count ? `${id.outlier_count} outliers (ringed on the per-configuration plot)` : 'no outliers')
     + (id.prior ? `; prior ${fixed(id.prior.length * 1e3, 3)} mm, ${fixed(id.prior.angle * 180 / Math.PI, 3)}°, ${fixed(id.prior.gain * 100, 2)} %` : '') });
   const cv = id.cross_validation;
@@ -2037,8 +2045,8 @@ function evaluatePanel(method) {
 }
 
 function renderEvaluation(container, name, evaluated, compared) {
-  const length = (v) => fmt(Number(inUnits(v, 'length').toPrecision(4)));
-  const unit = state.units === 'mm' ? 'mm' : 'm';
+  const length = (v) => inPageUnits(v, 'length', 4);
+  const unit = unitName('length');
   const summary = (label, errors, id) => stat(`${label}: RMS, max (${unit}) over ${errors.count}`, `${length(errors.rms)}, ${length(errors.max)}`, { id });
   const plot = (title, svg, plotId) => {
     const holder = h('div', { class: 'plot', id: plotId });
@@ -2139,7 +2147,7 @@ const COMPENSATION_ROWS = 200;
 
 function renderCompensation(container, name, compensated) {
   const id = (what) => `${name}-compensate-${what}`;
-  const unit = state.units === 'mm' ? 'mm' : 'm';
+  const unit = unitName('length');
   const length = (v) => sci(inUnits(v, 'length'));
   const flagged = compensated.targets - compensated.reached;
   const verdict = h('div', { class: `verdict ${flagged ? 'bad' : 'ok'}`, id: id('verdict') },
@@ -2370,10 +2378,9 @@ async function identifyStudy() {
 /** The study's verdict, errors and identified frames (with σ); job `job`'s. */
 function renderStudyResult(container, result, job) {
   const id = result.identification;
-  const length = (v) => fmt(Number(inUnits(v, 'length').toPrecision(6)));
-  const angle = (v) => fmt(Number(inUnits(v, 'angle').toPrecision(6)));
-  const unit = state.units === 'mm' ? 'mm' : 'm';
-  const degrees = state.units === 'mm' ? '°' : 'rad';
+  const length = (v) => inPageUnits(v, 'length');
+  const angle = (v) => inPageUnits(v, 'angle');
+  const [unit, degrees] = [unitName('length'), unitName('angle')];
   const sigmaOf = (name) => {
     const found = (id.auxiliary || []).find((p) => p.name === name);
     return found ? found.std : null;
@@ -2392,7 +2399,7 @@ function renderStudyResult(container, result, job) {
   container.replaceChildren(
     h('div', { class: `verdict ${id.verdict.trusted ? 'ok' : 'bad'}`, id: 'study-verdict' }, h('p', { text: id.verdict.summary })),
     h('div', { class: 'cards' },
-      stat(`RMS error before, after (${unit})`, `${fmt(Number(inUnits(id.before.rms, 'length').toPrecision(4)))}, ${fmt(Number(inUnits(id.after.rms, 'length').toPrecision(4)))}`, { id: 'study-rms' }),
+      stat(`RMS error before, after (${unit})`, `${inPageUnits(id.before.rms, 'length', 4)}, ${inPageUnits(id.after.rms, 'length', 4)}`, { id: 'study-rms' }),
       stat('parameters identified', String(id.parameters.length), { id: 'study-parameters' })),
     h('h3', { text: `Identified tools and stations (${unit}, ${degrees})` }),
     h('table', { class: 'values', id: 'study-frames' },
