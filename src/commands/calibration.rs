@@ -240,7 +240,7 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
     let outputs: Vec<&Path> = args.output.iter().map(PathBuf::as_path).collect();
     let identified = run_identification(&request, &outputs, args.force)?;
     if args.json {
-        super::print_json(&identified.document())?;
+        super::output::print_json(&identified.document())?;
     } else {
         print_identification(&identified);
         if let Some((validation, seed)) = &identified.cross_validation {
@@ -537,7 +537,7 @@ pub(crate) fn evaluate(args: &EvaluateArgs) -> Result<(), Failure> {
     let evaluation = EvaluateRequest::new(measurements).run(&LocalFiles)?;
     print_notes(&evaluation.loaded.notes);
     if args.json {
-        return super::print_json(&gecaro_app::documents::SummaryJson::from(
+        return super::output::print_json(&gecaro_app::documents::SummaryJson::from(
             &evaluation.summary,
         ));
     }

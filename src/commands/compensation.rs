@@ -54,7 +54,7 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
         );
     }
     if args.json {
-        super::print_json(&compensated.document())?;
+        super::output::print_json(&compensated.document())?;
     } else {
         let units = program.units();
         let kind = match program.kind() {

@@ -29,7 +29,7 @@ pub(crate) fn identifiable(args: &IdentifiableArgs) -> Result<(), Failure> {
     print_notes(&outcome.loaded.notes);
     let (robot, analysis) = (&outcome.loaded.robot.robot, &outcome.analysis);
     if args.json {
-        return super::print_json(&outcome.document());
+        return super::output::print_json(&outcome.document());
     }
     print_report(robot, &analysis.report, &analysis.source);
     match &analysis.excitation {
@@ -184,7 +184,7 @@ pub(crate) fn table2(args: &Table2Args) -> Result<(), Failure> {
     let reports = table2_reports(&robot, plane, &robot.priority(), args.seed)?;
     let totals: Vec<usize> = reports.iter().map(RankReport::count).collect();
     if args.json {
-        return super::print_json(&Table2Json {
+        return super::output::print_json(&Table2Json {
             robot: robot.name().to_owned(),
             plane_normal: plane.normal().into(),
             plane_point: plane.point().into(),

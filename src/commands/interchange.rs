@@ -106,7 +106,7 @@ pub(crate) fn rebase(args: &RebaseArgs) -> Result<(), Failure> {
     let (roll, pitch, yaw) = frame.rotation.euler_angles();
     let q = nalgebra::UnitQuaternion::from_rotation_matrix(&frame.rotation);
     if args.json {
-        return super::print_json(&RebasedJson {
+        return super::output::print_json(&RebasedJson {
             position: [t.x, t.y, t.z],
             rpy: [roll, pitch, yaw],
             quaternion: [q.w, q.i, q.j, q.k],

@@ -39,7 +39,7 @@ pub(crate) fn forward(args: &ConfigurationArgs) -> Result<(), Failure> {
         rotation: std::array::from_fn(|i| std::array::from_fn(|j| rotation[(i, j)])),
     };
     if args.json {
-        return super::print_json(&pose);
+        return super::output::print_json(&pose);
     }
     println!(
         "{} at qm = ({})",
@@ -80,7 +80,7 @@ pub(crate) fn jacobian(args: &ConfigurationArgs) -> Result<(), Failure> {
     let jacobian = parameter_jacobian(&robot, &qm)?;
     let names = robot.parameters().names();
     if args.json {
-        return super::print_json(&JacobianJson {
+        return super::output::print_json(&JacobianJson {
             parameters: names,
             rows: jacobian
                 .row_iter()
@@ -128,7 +128,7 @@ pub(crate) fn inverse(args: &IkArgs) -> Result<(), Failure> {
         None => solve_from_several_starts(&robot, &target, &options)?,
     };
     if args.json {
-        return super::print_json(&InverseJson {
+        return super::output::print_json(&InverseJson {
             motor_positions: solution.motor_positions.clone(),
             joint_positions: solution.joint_positions.clone(),
             iterations: solution.iterations,

@@ -7,6 +7,7 @@ mod identifiability;
 mod interchange;
 mod kinematics;
 mod options;
+mod output;
 mod planning;
 mod progress;
 mod robot;
@@ -37,13 +38,4 @@ pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
         Command::Demo(args) => calibration::demo(&args),
         Command::Serve(args) => serve::serve(&args),
     }
-}
-
-/// Prints a value as pretty JSON on stdout.
-pub(crate) fn print_json(value: &impl serde::Serialize) -> Result<(), Failure> {
-    let text = serde_json::to_string_pretty(value).map_err(|error| {
-        Failure::numerical(format!("cannot encode the result as JSON: {error}"))
-    })?;
-    println!("{text}");
-    Ok(())
 }

@@ -124,7 +124,7 @@ fn plan_study(args: &PlanArgs, study: &std::path::Path) -> Result<(), Failure> {
             exchanges: usize,
             output: Vec<String>,
         }
-        return super::print_json(&PlanStudyJson {
+        return super::output::print_json(&PlanStudyJson {
             sets: planned
                 .loaded
                 .study
@@ -193,7 +193,7 @@ fn print_plan(args: &PlanArgs, planning: &Planning) -> Result<(), Failure> {
         return Err(Failure::input("no plan was made"));
     };
     if args.json {
-        return super::print_json(&PlanOutputJson {
+        return super::output::print_json(&PlanOutputJson {
             plan: document,
             output: output.display().to_string(),
         });
@@ -244,7 +244,7 @@ fn print_curve(args: &PlanArgs, planning: &Planning) -> Result<(), Failure> {
         return Err(Failure::input("no curve was drawn"));
     };
     if args.json {
-        return super::print_json(&document);
+        return super::output::print_json(&document);
     }
     println!(
         "Predicted RMS position error of the calibrated {} at {} test poses ({} method, σ {} mm; \
@@ -318,7 +318,7 @@ pub(crate) fn predict_accuracy(args: &PredictArgs) -> Result<(), Failure> {
     });
     let predicted = predicted?;
     if args.json {
-        return super::print_json(&predicted.document());
+        return super::output::print_json(&predicted.document());
     }
     print_prediction(args, &predicted);
     Ok(())
@@ -333,7 +333,7 @@ fn predict_study(args: &PredictArgs, study: &std::path::Path) -> Result<(), Fail
     let predicted = request.run(&LocalFiles)?;
     super::options::print_notes(&predicted.loaded.notes);
     if args.json {
-        return super::print_json(&predicted.document());
+        return super::output::print_json(&predicted.document());
     }
     let document = predicted.document();
     println!(

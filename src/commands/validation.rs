@@ -74,7 +74,7 @@ pub(crate) fn compare(args: &CompareModelsArgs) -> Result<(), Failure> {
     let comparison = comparison?;
     print_notes(&comparison.loaded.notes);
     if args.json {
-        return super::print_json(&comparison.documents());
+        return super::output::print_json(&comparison.documents());
     }
     let scores = &comparison.scores;
     let rotation = scores.iter().any(|s| s.validation.rms_rotation.is_some());

@@ -89,7 +89,7 @@ pub struct Config {
 pub fn router(state: AppState) -> Router {
     Router::new()
         .route("/", get(page::index))
-        .route("/app.js", get(page::script))
+        .route("/js/{*path}", get(page::module))
         .route("/style.css", get(page::style))
         .nest("/api", api::routes())
         .fallback(|| async { ApiError::NotFound("no such page or API route".into()) })

@@ -194,12 +194,61 @@ async fn info_lists_the_ready_robots_and_the_seven_methods() {
     );
 }
 
+/// The page's modules as the browser loads them: from `/js/main.js`, every
+/// relative import is served (as JavaScript), so no module is missing from
+/// the binary.
+#[tokio::test]
+async fn every_module_the_page_imports_is_served() {
+    let api = Api::new();
+    let mut pending = vec!["main.js".to_string()];
+    let mut seen = std::collections::BTreeSet::new();
+    while let Some(path) = pending.pop() {
+        if !seen.insert(path.clone()) {
+            continue;
+        }
+        let (status, bytes, headers) = api
+            .send(
+                Request::get(format!("/js/{path}"))
+                    .body(Body::empty())
+                    .expect("request"),
+            )
+            .await;
+        assert_eq!(status, StatusCode::OK, "/js/{path}");
+        let content_type = headers[header::CONTENT_TYPE].to_str().expect("ascii");
+        assert!(content_type.starts_with("text/javascript"), "{path}");
+        let text = String::from_utf8(bytes.to_vec()).expect("utf-8");
+        let folder = path.rsplit_once('/').map_or("", |(folder, _)| folder);
+        for line in text.lines().filter(|l| l.starts_with("import ")) {
+            let target = line
+                .rsplit(" from '")
+                .next()
+                .expect("from")
+                .trim_end_matches("';");
+            let mut parts: Vec<&str> = folder.split('/').filter(|p| !p.is_empty()).collect();
+            for part in target.split('/') {
+                match part {
+                    "." => {}
+                    ".." => {
+                        parts.pop();
+                    }
+                    name => parts.push(name),
+                }
+            }
+            pending.push(parts.join("/"));
+        }
+    }
+    assert!(seen.len() > 20, "{seen:?}");
+    let (status, _) = api.get("/js/no-such-module.js").await;
+    assert_eq!(status, StatusCode::NOT_FOUND);
+}
+
 #[tokio::test]
 async fn the_page_and_its_assets_are_served_with_safe_headers() {
     let api = Api::new();
     for (path, kind) in [
         ("/", "text/html"),
-        ("/app.js", "text/javascript"),
+        ("/js/main.js", "text/javascript"),
+        ("/js/panels/identify.js", "text/javascript"),
         ("/style.css", "text/css"),
     ] {
         let (status, bytes, headers) = api

@@ -303,7 +303,10 @@ async fn the_page_works_as_a_person_uses_it() {
         "25"
     );
     let drawn = client
-        .execute("return state.view.drawn.points", vec![])
+        .execute(
+            "return Number(document.getElementById('robot-view').dataset.points)",
+            vec![],
+        )
         .await
         .expect("script");
     assert_eq!(drawn.as_u64(), Some(25), "measured points drawn");
@@ -314,7 +317,8 @@ async fn the_page_works_as_a_person_uses_it() {
     let generated = text_of(client, "#plane1-generate-count-result", 60).await;
     let drawn = client
         .execute(
-            "drawView(); return [state.view.drawn.plane, state.view.drawn.points]",
+            "const view = document.getElementById('robot-view').dataset; \
+             return [view.plane === 'true', Number(view.points)]",
             vec![],
         )
         .await

@@ -7,7 +7,7 @@ use gecaro_app::{EvaluateRequest, EvaluationPlots, GenerateRequest, Identifiable
 use gecaro_io::RobotDocument;
 use serde::Serialize;
 
-use super::Json;
+use super::json::Json;
 use crate::error::ApiError;
 use crate::state::AppState;
 

@@ -6,7 +6,7 @@ use gecaro_app::CompensateRequest;
 use gecaro_app::documents::CompensationJson;
 use serde::Serialize;
 
-use super::Json;
+use super::json::Json;
 use crate::error::ApiError;
 use crate::state::AppState;
 

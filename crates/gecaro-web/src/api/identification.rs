@@ -14,7 +14,7 @@ use gecaro_io::RobotDocument;
 use serde::Serialize;
 use std::ops::ControlFlow;
 
-use super::Json;
+use super::json::Json;
 use crate::error::ApiError;
 use crate::jobs::{Job, JobOutcome, JobView};
 use crate::state::AppState;

@@ -8,28 +8,15 @@
 mod calibration;
 mod compensation;
 mod identification;
+mod json;
 mod planning;
 mod robot;
 mod study;
 
 use axum::Router;
-use axum::extract::FromRequest;
 use axum::routing::{get, post};
-use gecaro_io::{RobotDocument, RobotFile};
 
-use crate::error::ApiError;
 use crate::state::AppState;
-
-/// A JSON body whose rejections are [`ApiError`]s (JSON bodies of their own).
-#[derive(FromRequest)]
-#[from_request(via(axum::Json), rejection(ApiError))]
-pub(crate) struct Json<T>(pub(crate) T);
-
-impl<T: serde::Serialize> axum::response::IntoResponse for Json<T> {
-    fn into_response(self) -> axum::response::Response {
-        axum::Json(self.0).into_response()
-    }
-}
 
 /// Every POST route of the API (full paths), each taking a JSON body: for
 /// clients, tests and the fuzz targets. [`routes`] registers them (a test
@@ -72,12 +59,4 @@ pub(crate) fn routes() -> Router<AppState> {
         .route("/jobs/{id}", get(identification::status))
         .route("/jobs/{id}/cancel", post(identification::cancel))
         .route("/jobs/{id}/report", get(identification::report))
-}
-
-/// The validated robot of a document.
-///
-/// # Errors
-/// [`ApiError::InvalidRobot`] with every problem of the document.
-pub(crate) fn robot_file(document: &RobotDocument) -> Result<RobotFile, ApiError> {
-    Ok(gecaro_app::robot_of_document(document)?)
 }

@@ -10,7 +10,7 @@ use gecaro_io::{
 };
 use serde::{Deserialize, Serialize};
 
-use super::{Json, robot_file};
+use super::json::Json;
 use crate::error::ApiError;
 use crate::limits::MAX_JOINTS;
 use crate::state::AppState;
@@ -522,4 +522,12 @@ pub(crate) async fn pose(Json(request): Json<PoseRequest>) -> Result<Json<Pose>,
         frames,
         motor: motor.iter().copied().collect(),
     }))
+}
+
+/// The validated robot of a document.
+///
+/// # Errors
+/// [`ApiError::InvalidRobot`] with every problem of the document.
+pub(crate) fn robot_file(document: &RobotDocument) -> Result<RobotFile, ApiError> {
+    Ok(gecaro_app::robot_of_document(document)?)
 }

@@ -7,7 +7,7 @@ use gecaro_app::{SaveStudyRequest, open_study};
 use gecaro_io::StudySpec;
 use serde::{Deserialize, Serialize};
 
-use super::Json;
+use super::json::Json;
 use crate::error::ApiError;
 use crate::state::AppState;
 

@@ -1,0 +1,59 @@
+// The data menus of each method: generated, held-out, files of the folder
+// and uploads, and the request's data (`dataRequest`).
+import { h, $ } from './dom.js';
+import { state } from './state.js';
+
+/** The data chosen in function `fn` of method `name` (a generation counted as new data). */
+export function dataKey(name, fn) {
+  const data = $(`${name}-${fn}-data`);
+  const choice = data ? data.value : '';
+  const kept = { generated: state.generated[name], 'held-out': state.heldOut[name] }[choice];
+  return choice + (kept ? `#${kept.serial || 0}` : '');
+}
+
+export function dataSelect(name, fn, withRandom) {
+  const select = h('select', { id: `${name}-${fn}-data`, class: 'data-choice', 'data-method': name, 'data-random': withRandom ? '1' : '' });
+  return select;
+}
+
+/**
+ * Rebuilds the data choices of method `name`. `prefer` (an option value, such
+ * as 'generated' right after a generation) is selected in the Identification
+ * function's selector; the others keep their choice when it still exists.
+ */
+export function refreshDataChoices(name, prefer) {
+  for (const select of document.querySelectorAll(`select.data-choice[data-method="${name}"]`)) {
+    const previous = prefer && !select.dataset.random ? prefer : select.value;
+    const options = [];
+    if (select.dataset.random) options.push(h('option', { value: 'random', text: 'Random configurations' }));
+    // A program is a file of the folder or an upload, never measurements.
+    const generated = select.dataset.program ? null : state.generated[name];
+    if (generated) options.push(h('option', { value: 'generated', text: `Generated here: ${generated.file_name}` }));
+    const heldOut = select.dataset.program ? null : state.heldOut[name];
+    if (heldOut) options.push(h('option', { value: 'held-out', text: `Held out, the same real robot: ${heldOut.file_name}` }));
+    for (const file of state.files.data) options.push(h('option', { value: `file:${file}`, text: file }));
+    if (!select.dataset.random) options.push(h('option', { value: 'upload', text: 'Upload a CSV file…' }));
+    select.replaceChildren(...options);
+    if ([...select.options].some((o) => o.value === previous)) select.value = previous;
+    select.dispatchEvent(new Event('change'));
+  }
+}
+
+export async function dataRequest(name, fn) {
+  const choice = $(`${name}-${fn}-data`).value;
+  if (choice === 'random' || choice === '') return undefined;
+  if (choice === 'generated' || choice === 'held-out') {
+    const generated = (choice === 'generated' ? state.generated : state.heldOut)[name];
+    return { csv: { text: generated.csv, name: generated.file_name } };
+  }
+  if (choice.startsWith('file:')) return { file: choice.slice(5) };
+  const upload = $(`${name}-${fn}-upload`);
+  if (!upload.files.length) throw new Error('Choose a CSV file to upload.');
+  const file = upload.files[0];
+  return { csv: { text: await file.text(), name: file.name } };
+}
+
+/** The number of the next data kept in a slot whose data are `kept` now: a new generation is new data. */
+export function nextSerial(kept) {
+  return (kept ? kept.serial || 0 : 0) + 1;
+}

@@ -1,0 +1,112 @@
+// Form fields and what they say: numbers checked in the page in the
+// field's own words (`fieldNumber`, `FieldError`), error boxes, stat
+// cards, run buttons.
+import { h } from './dom.js';
+import { sci } from './format.js';
+import { state } from './state.js';
+
+export function field(label, input) {
+  return h('label', { class: 'field' }, h('span', { text: label }), input);
+}
+
+/** A field the page refuses before asking the server, in the field's own words. */
+export class FieldError extends Error {
+  constructor(message) {
+    super(message);
+    this.problems = [];
+  }
+}
+
+/**
+ * The number in `input` (its label `label`, as the page shows it), checked
+ * in the page: the field is marked and a FieldError says what it takes when
+ * it is not one. `whole` asks for a whole number; an empty field gives
+ * `empty` when one is allowed (`undefined` = the field is required).
+ */
+export function fieldNumber(input, label, { min = -Infinity, max = Infinity, whole = false, above = false, empty } = {}) {
+  input.classList.remove('invalid');
+  const text = input.value.trim();
+  const kind = whole ? 'a whole number' : 'a number';
+  const range = [
+    Number.isFinite(min) ? `${above ? 'above' : 'at least'} ${min}` : null,
+    Number.isFinite(max) ? `at most ${max}` : null,
+  ].filter(Boolean).join(' and ');
+  const fail = (what) => {
+    input.classList.add('invalid');
+    input.focus();
+    throw new FieldError(`${label}: ${what}; it takes ${kind}${range ? ` ${range}` : ''}.`);
+  };
+  // A number field holds '' for text that is no number ("abc"): the browser says which.
+  if (input.validity && input.validity.badInput) fail('that is not a number');
+  if (text === '') {
+    if (empty !== undefined) return empty;
+    fail('it is empty');
+  }
+  const value = Number(text);
+  if (!Number.isFinite(value)) fail(`“${text}” is not a number`);
+  if (whole && !Number.isInteger(value)) fail(`${text} is not a whole number`);
+  if (value < min || (above && value === min) || value > max) fail(`${text} is out of range`);
+  return value;
+}
+
+/** A stated σ (mm) as the API takes it, with its unit; none when not stated. */
+export function sigmaText(millimetres) {
+  return millimetres === null ? null : `${millimetres}mm`;
+}
+
+/** A stated rotation σ (degrees) as the API takes it, with its unit. */
+export function degreesText(degrees) {
+  return degrees === null ? null : `${degrees}deg`;
+}
+
+/** Cross-validation folds: empty or 0 for none, else 2 to 20 (1 fold holds nothing out). */
+export function foldsOf(input) {
+  const folds = fieldNumber(input, 'Cross-validation folds', { min: 0, max: state.info.limits.folds, whole: true, empty: 0 });
+  if (folds === 1) {
+    input.classList.add('invalid');
+    throw new FieldError(`Cross-validation folds: 1 fold holds nothing out; 0 for none, or 2 to ${state.info.limits.folds}.`);
+  }
+  return folds >= 2 ? folds : null;
+}
+
+export function locationText(location) {
+  switch (location.kind) {
+    case 'frame': return `Frame ${location.frame}, ${location.key}`;
+    case 'key': return location.key;
+    case 'coupling': return `Coupling matrix ${location.matrix}`;
+    case 'priority': return location.row === null || location.row === undefined
+      ? 'Priority matrix' : `Priority matrix, row ${location.row}`;
+    default: return 'Robot';
+  }
+}
+
+export function errorBox(error) {
+  const lines = [error.message];
+  for (const problem of error.problems || []) lines.push(`${locationText(problem.location)}: ${problem.message}`);
+  return h('div', { class: 'error-box', text: lines.join('\n') });
+}
+
+export function runButton(id, text, action) {
+  const button = h('button', { type: 'button', class: 'primary run', id, text });
+  button.addEventListener('click', async () => {
+    button.disabled = true;
+    try {
+      await action();
+    } finally {
+      button.disabled = (state.robot.problems || []).length > 0 || state.localProblems.size > 0;
+    }
+  });
+  return button;
+}
+
+/** The observability indices O1–O5 (docs/planning.md) as one muted line. */
+export function observabilityLine(indices, of) {
+  const values = ['o1', 'o2', 'o3', 'o4', 'o5'].map((key) => `${key.toUpperCase()} ${sci(indices[key])}`);
+  return h('p', { class: 'muted observability', text: `Observability of ${of} (W_b scaled to 1 cm, 1°, 1 %; larger is better): ${values.join(' · ')}` });
+}
+
+export function stat(label, value, extra) {
+  return h('div', { class: `stat ${extra && extra.class ? extra.class : ''}` },
+    h('div', { class: 'value', id: extra && extra.id, text: value }),
+    h('div', { class: 'label', text: label }));
+}

@@ -1,0 +1,113 @@
+// The Compensate function: a program corrected for the calibrated robot,
+// target by target.
+import { api } from '../api.js';
+import { dataRequest } from '../data-choices.js';
+import { h, download } from '../dom.js';
+import { field, FieldError, errorBox, runButton, stat } from '../fields.js';
+import { fmt, sci } from '../format.js';
+import { formatFields, formatRequest } from '../method-options.js';
+import { refreshFiles } from '../robot-menu.js';
+import { state, tableDocument } from '../state.js';
+import { inUnits, unitName } from '../units.js';
+
+/**
+ * The Compensate function: a program written for the table's robot (joint
+ * or Cartesian targets, a file of the folder or an upload), corrected for
+ * the last calibrated robot of this method, target by target.
+ */
+export function compensatePanel(method) {
+  const name = method.name;
+  const id = (what) => `${name}-compensate-${what}`;
+  const result = h('div', { class: 'result', id: id('result') });
+  const program = h('select', { id: id('data'), class: 'data-choice', 'data-method': name, 'data-program': '1' });
+  const upload = h('input', { type: 'file', accept: '.csv,text/csv', id: id('upload'), hidden: true });
+  program.addEventListener('change', () => { upload.hidden = program.value !== 'upload'; });
+  const matching = h('select', { id: id('match') },
+    h('option', { value: 'pose', text: 'the whole pose (position and orientation)' }),
+    h('option', { value: 'position', text: 'the position only (a tool point)' }));
+  const rebase = h('input', { type: 'checkbox', id: id('rebase') });
+  const saveAs = h('input', { type: 'text', id: id('save-as'), placeholder: 'e.g. program-compensated.csv (optional)' });
+  const run = runButton(id('run'), 'Compensate', async () => {
+    result.replaceChildren(h('div', { class: 'progress' }, h('div', { class: 'spinner' }), h('span', { text: 'Compensating…' })));
+    try {
+      const calibrated = state.calibrated[name];
+      if (!calibrated) throw new FieldError('No calibrated robot for this method yet: identify first (Identification), then compensate a program for it.');
+      const compensated = await api('/compensate', {
+        nominal: tableDocument(),
+        calibrated,
+        program: await dataRequest(name, 'compensate'),
+        format: formatRequest(name, 'compensate'),
+        match: matching.value,
+        rebase: rebase.checked,
+        save_as: saveAs.value.trim() || null,
+      });
+      renderCompensation(result, name, compensated);
+      if (compensated.output) refreshFiles();
+    } catch (error) {
+      result.replaceChildren(errorBox(error));
+    }
+  });
+  return h('div', { class: 'panel', id: `${name}-compensate` },
+    h('div', { class: 'form' },
+      field('Program', program), upload,
+      field('A joint target asks for', matching),
+      field('Save in the folder as', saveAs),
+      h('label', { class: 'field checkbox' }, rebase, h('span', { text: 'Calibrated in another frame (a tracker’s): re-express it in the table’s base frame' })),
+      run),
+    formatFields(name, 'compensate'),
+    h('p', { class: 'hint', text: 'A program written for the robot in the table — joint targets qm1…qmn, or Cartesian targets x, y, z [, qw, qx, qy, qz] — corrected for the last calibrated robot of this method: the joints with which it reaches what the table’s robot would have. Other columns are kept. Targets reconfigured, beyond a joint limit or not reached are flagged, never dropped.' }),
+    result);
+}
+
+const COMPENSATION_STATUS = {
+  ok: 'reached',
+  reconfigured: 'reached in another configuration',
+  'outside-limits': 'beyond a joint limit',
+  'not-reached': 'not reached',
+};
+
+/** Rows of the per-target table, at most (flagged targets first). */
+const COMPENSATION_ROWS = 200;
+
+function renderCompensation(container, name, compensated) {
+  const id = (what) => `${name}-compensate-${what}`;
+  const unit = unitName('length');
+  const length = (v) => sci(inUnits(v, 'length'));
+  const flagged = compensated.targets - compensated.reached;
+  const verdict = h('div', { class: `verdict ${flagged ? 'bad' : 'ok'}`, id: id('verdict') },
+    h('p', {
+      text: flagged
+        ? `${flagged} of ${compensated.targets} targets are flagged: check them before running the program.`
+        : `All ${compensated.targets} targets are reached within the joint limits, in the program’s configuration.`,
+    }),
+    h('p', { text: `Largest joint correction ${fmt(Number(compensated.largest_correction.toPrecision(3)))} (in the program’s units); largest residual ${length(compensated.largest_position_error)} ${unit}.` }));
+  const cards = h('div', { class: 'cards' },
+    stat('targets', String(compensated.targets), { id: id('targets') }),
+    stat('reached', String(compensated.reached), { id: id('reached') }),
+    stat('reconfigured', String(compensated.reconfigured.length), { id: id('reconfigured') }),
+    stat('beyond a limit', String(compensated.outside_limits.length), { id: id('outside') }),
+    stat('not reached', String(compensated.not_reached.length), { id: id('not-reached') }));
+  const rows = [...compensated.points]
+    .sort((a, b) => Number(a.status === 'ok') - Number(b.status === 'ok') || a.line - b.line)
+    .slice(0, COMPENSATION_ROWS);
+  const table = h('table', { class: 'values', id: id('table') },
+    h('thead', {}, h('tr', {}, ['line', 'status', `residual (${unit})`, 'corrected motor values (rad, m)'].map((t) => h('th', { text: t })))),
+    h('tbody', {}, rows.map((point) => h('tr', { class: point.status === 'ok' ? '' : 'flagged' },
+      h('td', { text: String(point.line) }),
+      h('td', { text: COMPENSATION_STATUS[point.status] || point.status }),
+      h('td', { text: length(point.position_error) }),
+      h('td', { text: point.motor_positions.map((q) => fmt(Number(q.toPrecision(6)))).join(', ') })))));
+  const more = compensated.points.length > rows.length
+    ? h('p', { class: 'muted', text: `${rows.length} of ${compensated.points.length} targets shown, flagged first; the file holds them all.` }) : null;
+  const last = state.results[name];
+  container.replaceChildren(...[
+    last && last.stale ? h('div', { class: 'warnings', id: id('stale'), text: 'The calibrated robot used here is stale: the table or the data changed after its identification.' }) : null,
+    verdict,
+    cards,
+    compensated.csv ? h('div', { class: 'actions' },
+      h('button', { type: 'button', id: id('download'), text: `Download ${compensated.file_name}`, onclick: () => download(compensated.file_name, compensated.csv, 'text/csv') }),
+      compensated.output ? h('span', { class: 'muted', id: id('saved'), text: `Saved in the folder as ${compensated.output}.` }) : null) : null,
+    table,
+    more,
+  ].filter(Boolean));
+}

@@ -1,0 +1,83 @@
+// The Evaluate function: the table's robot, and the calibrated one, on
+// held-out data, with a verdict.
+import { api } from '../api.js';
+import { dataKey, dataSelect, dataRequest } from '../data-choices.js';
+import { h } from '../dom.js';
+import { field, errorBox, runButton, stat } from '../fields.js';
+import { fixed } from '../format.js';
+import { optionFields, methodRequest, formatFields, formatRequest } from '../method-options.js';
+import { state, tableDocument } from '../state.js';
+import { inPageUnits, unitName } from '../units.js';
+
+/** The Evaluate function: the table's robot, and the calibrated one, on held-out data. */
+export function evaluatePanel(method) {
+  const name = method.name;
+  const result = h('div', { class: 'result', id: `${name}-evaluate-result` });
+  const data = dataSelect(name, 'evaluate', false);
+  const upload = h('input', { type: 'file', accept: '.csv,text/csv', id: `${name}-evaluate-upload`, hidden: true });
+  data.addEventListener('change', () => { upload.hidden = data.value !== 'upload'; });
+  const run = runButton(`${name}-evaluate-run`, 'Evaluate', async () => {
+    result.replaceChildren(h('div', { class: 'progress' }, h('div', { class: 'spinner' }), h('span', { text: 'Evaluating…' })));
+    try {
+      const compared = state.calibrated[name];
+      const evaluated = await api('/evaluate', {
+        robot: tableDocument(),
+        compared: compared || null,
+        method: methodRequest(name, 'evaluate'),
+        data: await dataRequest(name, 'evaluate'),
+        format: formatRequest(name, 'evaluate'),
+      });
+      renderEvaluation(result, name, evaluated, Boolean(compared));
+      if (compared && state.results[name] && state.results[name].stale) {
+        result.prepend(h('div', { class: 'warnings', id: `${name}-evaluate-stale`, text: 'The calibrated robot compared here is stale: the table or the data changed after its identification.' }));
+      }
+    } catch (error) {
+      result.replaceChildren(errorBox(error));
+    }
+  });
+  return h('div', { class: 'panel', id: `${name}-evaluate` },
+    h('div', { class: 'form' }, field('Held-out data', data), upload, optionFields(method, 'evaluate'), run),
+    formatFields(name, 'evaluate'),
+    h('p', { class: 'hint', text: 'The errors of the robot in the table on measurements the identification has not seen, beside those of the last calibrated robot of this method (the Identification function’s). This is the honest measure of a calibration: the training residual always looks better.' }),
+    result);
+}
+
+function renderEvaluation(container, name, evaluated, compared) {
+  const length = (v) => inPageUnits(v, 'length', 4);
+  const unit = unitName('length');
+  const summary = (label, errors, id) => stat(`${label}: RMS, max (${unit}) over ${errors.count}`, `${length(errors.rms)}, ${length(errors.max)}`, { id });
+  const plot = (title, svg, plotId) => {
+    const holder = h('div', { class: 'plot', id: plotId });
+    holder.innerHTML = svg; // SVG made by the server (plotters), not user text.
+    return h('figure', {}, holder, h('figcaption', { class: 'muted', text: title }));
+  };
+  const notes = (evaluated.notes || []).length ? h('ul', { class: 'notes' }, evaluated.notes.map((n) => h('li', { text: n }))) : null;
+  // The verdict: better or worse than the table's robot, against the
+  // training error, and whether these are the training data at all.
+  const last = state.results[name];
+  const comparison = evaluated.comparison;
+  let verdict = null;
+  if (comparison) {
+    const lines = [`The calibrated robot against the table’s robot on these data: ${comparison.summary}.`];
+    const training = last && last.result ? last.result.identification.after.rms : null;
+    if (training > 0 && evaluated.compared) {
+      lines.push(`Its error here is ${fixed(evaluated.compared.rms / training, 2)}× its training error (${length(training)} ${unit}).`);
+    }
+    if (last && last.basis && dataKey(name, 'evaluate') === last.basis.data) {
+      lines.push('These are the data it was identified from: this is its training residual, not a held-out check. Evaluate it on other measurements.');
+    }
+    verdict = h('div', { class: `verdict ${comparison.outcome === 'worse' ? 'bad' : comparison.outcome === 'better' ? 'ok' : ''}`, id: `${name}-evaluate-verdict` },
+      lines.map((line) => h('p', { text: line })));
+  }
+  container.replaceChildren(...[
+    verdict,
+    h('div', { class: 'cards' },
+      summary('the table’s robot', evaluated.errors, `${name}-evaluate-table`),
+      evaluated.compared ? summary('calibrated', evaluated.compared, `${name}-evaluate-calibrated`) : null),
+    compared ? null : h('p', { class: 'muted', text: 'No calibrated robot yet: identify first to compare it here.' }),
+    notes,
+    h('div', { class: 'plots' },
+      plot(compared ? 'Held-out errors: the table’s robot (before) and the calibrated one (after), mm' : 'Held-out errors of the table’s robot, mm', evaluated.plots.errors_histogram, `${name}-evaluate-histogram`),
+      plot('Held-out error of every configuration (mm)', evaluated.plots.errors_per_configuration, `${name}-evaluate-per-configuration`)),
+  ].filter(Boolean));
+}

@@ -1,0 +1,189 @@
+// The Identification function: iterated linearised least squares (eq. 10)
+// as a server job, its verdict, errors, plots and parameters with σ.
+import { api } from '../api.js';
+import { dataSelect, dataRequest } from '../data-choices.js';
+import { h } from '../dom.js';
+import { field, fieldNumber, sigmaText, degreesText, foldsOf, errorBox, runButton, observabilityLine, stat } from '../fields.js';
+import { fmt, fixed, sci } from '../format.js';
+import { followJob } from '../jobs.js';
+import { optionFields, methodRequest, formatFields, formatRequest } from '../method-options.js';
+import { registrationBlock } from '../results.js';
+import { saveAsDialog } from '../robot-menu.js';
+import { setRobot, confirmDiscard } from '../robot-table.js';
+import { identificationBasis, refreshStale } from '../stale.js';
+import { state, tableDocument, persist } from '../state.js';
+import { unitOf, inUnits, unitName, unitsLabel } from '../units.js';
+
+export function identifyPanel(method) {
+  const name = method.name;
+  const result = h('div', { class: 'result', id: `${name}-identify-result` });
+  const data = dataSelect(name, 'identify', false);
+  const upload = h('input', { type: 'file', accept: '.csv,text/csv', id: `${name}-identify-upload`, hidden: true });
+  data.addEventListener('change', () => { upload.hidden = data.value !== 'upload'; refreshStale(); });
+  const solver = h('select', { id: `${name}-identify-solver` },
+    h('option', { value: 'gauss-newton', text: 'Gauss–Newton (the paper)' }),
+    h('option', { value: 'lm', text: 'Levenberg–Marquardt' }));
+  const iterations = h('input', { type: 'number', min: 1, max: state.info.limits.iterations, value: 30, id: `${name}-identify-iterations` });
+  const loss = h('select', { id: `${name}-identify-loss` },
+    h('option', { value: 'l2', text: 'least squares (the paper)' }),
+    h('option', { value: 'huber', text: 'Huber (mild contamination)' }),
+    h('option', { value: 'cauchy', text: 'Cauchy (gross errors)' }),
+    h('option', { value: 'tukey', text: 'Tukey (gross errors ignored)' }));
+  const prior = h('input', { type: 'text', class: 'vector', placeholder: 'none, or e.g. 5mm,0.5deg,1%', id: `${name}-identify-prior` });
+  const reject = h('input', { type: 'checkbox', id: `${name}-identify-reject` });
+  const sigma = h('input', { type: 'number', min: 0, step: 'any', placeholder: 'not stated', id: `${name}-identify-sigma` });
+  // Frames carry their own σ for rotations (a tracker's 6D probe: 0.01 mm, 0.005°).
+  const sigmaRotation = h('input', { type: 'number', min: 0, step: 'any', placeholder: 'not stated', id: `${name}-identify-sigma-rotation` });
+  const folds = h('input', { type: 'number', min: 0, max: state.info.limits.folds, value: 0, id: `${name}-identify-cv` });
+  const run = runButton(`${name}-identify-run`, 'Identify', async () => {
+    const cancel = h('button', { type: 'button', id: `${name}-identify-cancel`, text: 'Cancel', disabled: true });
+    const progress = h('div', { class: 'progress', id: `${name}-identify-progress` }, h('div', { class: 'spinner' }), h('span', { text: 'Reading the data…' }), cancel);
+    result.replaceChildren(progress);
+    // What this result is of: the table and the data chosen now.
+    const basis = identificationBasis(name);
+    try {
+      const submitted = await api('/identify', {
+        robot: tableDocument(),
+        method: methodRequest(name, 'identify'),
+        data: await dataRequest(name, 'identify'),
+        format: formatRequest(name, 'identify'),
+        solver: solver.value,
+        max_iterations: fieldNumber(iterations, 'Iteration limit', { min: 1, max: state.info.limits.iterations, whole: true, empty: 30 }),
+        loss: loss.value,
+        prior: prior.value.trim() || null,
+        reject: reject.checked,
+        // With its unit: a bare number would be in the data file's length unit.
+        sigma: sigmaText(fieldNumber(sigma, 'Sensor σ', { min: 0, above: true, empty: null })),
+        sigma_rotation: method.uses_orientation
+          ? degreesText(fieldNumber(sigmaRotation, 'Sensor σ of rotations', { min: 0, above: true, empty: null }))
+          : null,
+        cv: foldsOf(folds),
+      });
+      cancel.disabled = false;
+      cancel.onclick = async () => {
+        cancel.disabled = true;
+        cancel.textContent = 'Cancelling…';
+        await api(`/jobs/${submitted.job}/cancel`, {});
+      };
+      const job = await followJob(submitted.job, progress.children[1]);
+      if (job.state === 'cancelled') {
+        result.replaceChildren(h('div', { class: 'warnings', id: `${name}-identify-cancelled`, text: 'Cancelled: the server stopped the identification. Nothing was changed.' }));
+      } else if (job.state === 'failed') {
+        result.replaceChildren(errorBox(new Error(job.error)));
+      } else {
+        state.results[name] = { job: submitted.job, result: job.result, basis };
+        renderIdentification(result, name, submitted.job, job.result);
+        refreshStale();
+        persist();
+      }
+    } catch (error) {
+      result.replaceChildren(errorBox(error));
+    }
+  });
+  return h('div', { class: 'panel', id: `${name}-identify` },
+    h('div', { class: 'form' },
+      field('Data', data),
+      upload,
+      field('Step rule', solver),
+      field('Iteration limit', iterations),
+      field('Sensor σ (mm; the verdict tests the fit against it)', sigma),
+      method.uses_orientation ? field('Sensor σ of rotations (°)', sigmaRotation) : null,
+      field('Loss', loss),
+      field('Prior σ (lengths, angles, gains)', prior),
+      field('Drop outliers and refit', reject),
+      field('Cross-validation folds (0: none)', folds),
+      optionFields(method, 'identify'),
+      run),
+    formatFields(name, 'identify'),
+    h('p', { class: 'hint', text: 'Iterated linearised least squares (eq. 10): W is rebuilt at every iterate; σ of each parameter from eq. 11. A robust loss discounts gross errors; a prior keeps poorly excited parameters near nominal; cross-validation judges the fit on held-out configurations.' }),
+    result);
+}
+
+export function renderIdentification(container, name, job, result) {
+  const id = result.identification;
+  state.calibrated[name] = result.calibrated;
+  const mm = (v) => fixed(v * 1e3, v * 1e3 < 0.1 ? 4 : 3);
+  const verdict = id.verdict;
+  const outcomes = {
+    fits_noise: 'Fits the noise', untested: 'Converged (σ not stated)', incomplete: 'Incomplete (not all measured)',
+    below_noise: 'Far below the stated noise', exceeds_noise: 'Exceeds the noise', implausible: 'Implausible values',
+    underdetermined: 'Data do not determine it', repeated: 'Repeated data', degenerate: 'Degenerate data', not_converged: 'Not converged', diverged: 'Diverged',
+  };
+  const headline = h('p', { class: `verdict ${verdict.trusted ? 'ok' : 'bad'}`, id: `${name}-identify-verdict` },
+    h('strong', { text: 'Verdict: ' }), document.createTextNode(`${verdict.summary}.`));
+  const cards = h('div', { class: 'cards' },
+    stat(`after ${id.iterations} iterations (${id.route.replace(/_/g, ' ')})`, outcomes[verdict.outcome] || verdict.outcome, { id: `${name}-identify-status`, class: verdict.trusted ? 'ok' : 'bad' }),
+    stat('error RMS before → after (mm)', `${mm(id.before.rms)} → ${mm(id.after.rms)}`),
+    stat('largest error (mm)', `${mm(id.before.max)} → ${mm(id.after.max)}`),
+    id.after_inliers ? stat(`after, without the ${id.outlier_count} outliers (mm)`, `RMS ${mm(id.after_inliers.rms)}, max ${mm(id.after_inliers.max)}`, { id: `${name}-identify-inliers` }) : null,
+    id.before.rms_rotation !== undefined
+      ? stat('orientation RMS (°)', `${fixed(id.before.rms_rotation * 180 / Math.PI, 3)} → ${fixed(id.after.rms_rotation * 180 / Math.PI, 4)}`) : null,
+    stat('identified parameters', String(id.parameters.length + id.auxiliary.length)),
+    stat('condition number of W_b', fmt(Number(id.condition_number.toPrecision(4)))),
+    verdict.residual_length !== null && verdict.residual_length !== undefined
+      ? stat(`residual σ (${unitName('length')})`, sci(inUnits(verdict.residual_length, 'length')), { id: `${name}-identify-residual` }) : null,
+    verdict.residual_angle !== null && verdict.residual_angle !== undefined
+      ? stat(`residual σ (${unitName('angle')})`, sci(inUnits(verdict.residual_angle, 'angle'))) : null);
+  const warnings = id.warnings.length
+    ? h('div', { class: 'warnings' }, h('strong', { text: 'Warnings' }), h('ul', {}, id.warnings.map((w) => h('li', { text: w })))) : null;
+  const plot = (title, svg, plotId) => {
+    const holder = h('div', { class: 'plot', id: plotId });
+    holder.innerHTML = svg; // SVG made by the server (plotters), not user text.
+    return h('figure', {}, holder, h('figcaption', { class: 'muted', text: title }));
+  };
+  const plots = h('div', { class: 'plots' },
+    plot('Residual RMS per iteration', result.plots.convergence, `${name}-identify-convergence`),
+    plot(id.outlier_count ? `Errors before and after (mm; after: the inliers, without the ${id.outlier_count} outliers)` : 'Errors before and after (mm)', result.plots.errors_histogram, `${name}-identify-histogram`),
+    plot('Error of every configuration (mm)', result.plots.errors_per_configuration, `${name}-identify-per-configuration`));
+  // Values in the page's units; a deviation beyond 3σ is marked, a
+  // regrouped parameter is a combination, not the physical value.
+  const rows = id.parameters.concat(id.auxiliary).map((p) => {
+    const kind = unitOf(p.name);
+    const value = (v) => inUnits(v, kind);
+    const deviation = p.identified - p.nominal;
+    const significant = Number.isFinite(p.std) && Math.abs(deviation) > 3 * p.std;
+    const classes = [p.combination ? 'regrouped' : '', significant ? 'significant' : ''].join(' ').trim();
+    const title = p.combination ? `regrouped: the deviation stands for ${p.combination}, not for ${p.name} alone`
+      : significant ? 'the deviation is beyond 3σ: the data moved this parameter' : '';
+    return h('tr', classes ? { class: classes, title } : {},
+      h('td', { text: p.combination ? `${p.name} (regrouped)` : p.name }), h('td', { text: fmt(value(p.nominal)) }), h('td', { text: fmt(value(p.identified)) }),
+      h('td', { class: 'deviation', text: value(deviation).toExponential(3) }), h('td', { text: sci(value(p.std)) }),
+      id.prior ? h('td', { text: sci(value(p.prior_std)) }) : null);
+  });
+  const table = h('table', { class: 'values', id: `${name}-identify-parameters` },
+    h('thead', {}, h('tr', {}, ['parameter', 'nominal', 'identified', 'deviation', 'σ'].concat(id.prior ? ['prior σ'] : []).map((t) => h('th', { text: t })))),
+    h('tbody', {}, rows));
+  const outlierTable = (title, list, count, tableId) => list.length ? h('div', {},
+    h('h3', { text: `${title} (${count} beyond ${id.outlier_threshold} robust σ̂${count > list.length ? `; the worst ${list.length} listed` : ''})` }),
+    h('table', { class: 'values', id: tableId },
+      h('thead', {}, h('tr', {}, ['observation', 'lines', 'error (mm)', 'residual (σ̂)', 'weight'].map((t) => h('th', { text: t })))),
+      h('tbody', {}, list.map((o) => h('tr', {},
+        h('td', { text: `${o.file}: ${o.kind} ${o.observation}` }), h('td', { text: o.lines.join(', ') }),
+        h('td', { text: fixed(o.error * 1e3, 3) }), h('td', { text: fixed(o.residual_sigmas, 1) }), h('td', { text: fixed(o.weight, 3) })))))) : null;
+  const robustness = h('p', { class: 'muted', id: `${name}-identify-robustness`, text:
+    `Loss ${id.loss.kind}${id.loss.scale ? ` (k = ${id.loss.scale} σ̂, ${id.reweightings} reweightings)` : ''}; robust σ̂ ${verdict.noise_test ? `${fixed(id.robust_sigma, 2)} × the stated σ` : `${sci(inUnits(id.robust_sigma, 'length'))} ${unitName('length')} (length rows)`}; `
+    + (id.outlier_count ? `${id.outlier_count} outliers (ringed on the per-configuration plot)` : 'no outliers')
+    + (id.prior ? `; prior ${fixed(id.prior.length * 1e3, 3)} mm, ${fixed(id.prior.angle * 180 / Math.PI, 3)}°, ${fixed(id.prior.gain * 100, 2)} %` : '') });
+  const cv = id.cross_validation;
+  const validation = cv ? h('p', { id: `${name}-identify-cv-result`, text:
+    `Cross-validation, ${cv.folds} folds: held-out RMS ${mm(cv.rms)} mm${cv.rms_rotation !== null ? `, ${fixed(cv.rms_rotation * 180 / Math.PI, 4)}°` : ''} (per fold: ${cv.per_fold.map((f) => mm(f.rms)).join(', ')} mm)` }) : null;
+  const moved = id.moved.length
+    ? h('p', { class: 'muted', text: `Outside the base set, moved: ${id.moved.map((p) => `${p.name} ${(p.identified - p.nominal).toExponential(2)}`).join(', ')}` }) : null;
+  // Saving is the next step only for a result the verdict trusts.
+  const actions = h('div', { class: 'actions' },
+    h('button', { type: 'button', class: verdict.trusted ? 'primary' : '', id: `${name}-identify-save`, text: verdict.trusted ? 'Save calibrated robot…' : 'Save calibrated robot anyway…', onclick: () => saveAsDialog(result.calibrated, result.calibrated_name) }),
+    h('button', {
+      type: 'button',
+      id: `${name}-identify-open`,
+      text: 'Open the calibrated robot in the table',
+      onclick: () => confirmDiscard(async () => setRobot(await api('/robots/check', { robot: result.calibrated }), null, { keep: true }), 'Opening the calibrated robot'),
+    }),
+    job === null
+      ? h('span', { class: 'muted', id: `${name}-identify-no-report`, text: 'The server was restarted since: identify again for its report.' })
+      : h('a', { href: `/api/jobs/${job}/report`, download: `gecaro-report-${job}.html` }, h('button', { type: 'button', text: 'Download the report' })));
+  container.replaceChildren(...[headline, cards, observabilityLine(id.observability, 'the data'), robustness, validation, warnings, actions,
+    registrationBlock(id.registration, `${name}-identify-registration`),
+    outlierTable('Rejected before this fit', id.rejected, id.rejected_count, `${name}-identify-rejected`),
+    outlierTable('Outliers', id.outliers, id.outlier_count, `${name}-identify-outliers`),
+    plots, h('h3', { text: `Identified parameters (${unitsLabel()}; gains without unit; beyond 3σ in bold, regrouped in italics)` }), table, moved].filter(Boolean));
+}

@@ -1,0 +1,83 @@
+// A study's statement (what a study file, Python and `/api/identify`'s
+// `study` hold: docs/studies.md) and the editor's form of it (tools and
+// stations as rows of text, unknown keys kept), one into the other. No DOM
+// (tested under node in assets/tests).
+import { FieldError } from './fields.js';
+
+/** A new study: no frames, no sets, lengths in mm and angles in degrees. */
+export function emptyStudy() {
+  return { name: null, robot: null, length_unit: 'mm', angle_unit: 'deg', tools: [], stations: [], measurements: [], extra: {} };
+}
+
+/** The editor's form of a study statement (tools and stations as rows, unknown keys kept). */
+export function studyOf(spec, name) {
+  const frames = (map) => Object.entries(map || {}).map(([frame, stated]) => ({
+    name: frame,
+    position: (stated.position || [0, 0, 0]).map(String),
+    rpy: stated.quaternion ? null : (stated.rpy || [0, 0, 0]).map(String),
+    rest: Object.fromEntries(Object.entries(stated).filter(([key]) => key !== 'position' && key !== 'rpy')),
+  }));
+  const { robot, length_unit: lengthUnit, angle_unit: angleUnit, tools, stations, measurements, ...extra } = spec;
+  return {
+    name,
+    robot: robot || null,
+    length_unit: lengthUnit || 'm',
+    angle_unit: angleUnit || 'rad',
+    tools: frames(tools),
+    stations: frames(stations),
+    measurements: (measurements || []).map((set) => ({ ...set, sigma: set.sigma === undefined ? '' : String(set.sigma) })),
+    extra,
+  };
+}
+
+/**
+ * The statement of the editor's study, its numbers checked in the page.
+ * `robot` (the robot's file or ready name, or null when it has none) is
+ * named in the statement when given: a study file names its robot.
+ */
+export function studySpec(study, { robot } = {}) {
+  const number = (text, what) => {
+    const value = Number(String(text).trim());
+    if (String(text).trim() === '' || !Number.isFinite(value)) throw new FieldError(`${what}: “${text}” is not a number.`);
+    return value;
+  };
+  const frames = (rows, kind) => {
+    const map = {};
+    for (const row of rows) {
+      const name = row.name.trim();
+      if (!/^[A-Za-z_][A-Za-z0-9_-]*$/.test(name)) throw new FieldError(`A ${kind}'s name “${row.name}” is not a name (letters, digits, _ and -).`);
+      if (map[name]) throw new FieldError(`Two ${kind}s are named ${name}.`);
+      map[name] = {
+        ...row.rest,
+        position: row.position.map((v, k) => number(v, `${name} ${'xyz'[k]}`)),
+        ...(row.rpy ? { rpy: row.rpy.map((v, k) => number(v, `${name} ${['roll', 'pitch', 'yaw'][k]}`)) } : {}),
+      };
+    }
+    return map;
+  };
+  if (!study.measurements.length) throw new FieldError('The study has no measurement set: add one.');
+  const measurements = study.measurements.map((set, index) => {
+    const out = { ...set };
+    if (!set.data) throw new FieldError(`Set ${index + 1}: choose its data file.`);
+    if (String(set.sigma).trim() === '') delete out.sigma;
+    else {
+      out.sigma = number(set.sigma, `Set ${index + 1} σ`);
+      if (!(out.sigma > 0)) throw new FieldError(`Set ${index + 1} σ: ${set.sigma} is out of range; it takes a number above 0.`);
+    }
+    for (const key of ['tool', 'station']) if (!out[key]) delete out[key];
+    return out;
+  });
+  const spec = {
+    ...study.extra,
+    length_unit: study.length_unit,
+    angle_unit: study.angle_unit,
+    tools: frames(study.tools, 'tool'),
+    stations: frames(study.stations, 'station'),
+    measurements,
+  };
+  if (robot !== undefined) {
+    spec.robot = study.robot || robot;
+    if (!spec.robot) throw new FieldError('A study file names its robot: save the robot in the folder first.');
+  }
+  return spec;
+}

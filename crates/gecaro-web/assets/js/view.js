@@ -1,0 +1,280 @@
+// The joint sliders and the 3D view of the robot (a projection on a
+// canvas, dragged to turn and wheeled to zoom), with the method's plane
+// and the generated data's points.
+import { api } from './api.js';
+import { h, $ } from './dom.js';
+import { fmt, parseVector } from './format.js';
+import { state, tableDocument, methodInfo } from './state.js';
+
+function sliderValue(index) {
+  const joint = state.robot.summary.joints[index];
+  return Math.min(Math.max(state.q[index] || 0, joint.qmin), joint.qmax);
+}
+
+function sliderText(index) {
+  const joint = state.robot.summary.joints[index];
+  const value = state.q[index];
+  return joint.revolute ? `${(value * 180 / Math.PI).toFixed(1)}°` : `${value.toFixed(3)} m`;
+}
+
+export function renderSliders() {
+  const summary = state.robot.summary;
+  const container = $('sliders');
+  if (!summary) {
+    container.replaceChildren(h('span', { class: 'muted', text: 'Fix the table to move the robot.' }));
+    return;
+  }
+  state.q = summary.joints.map((_, i) => state.q[i] || 0);
+  const cells = summary.joints.flatMap((joint, i) => {
+    state.q[i] = sliderValue(i);
+    const output = h('output', { id: `slider-value-${i + 1}`, text: sliderText(i) });
+    const input = h('input', {
+      type: 'range',
+      id: `slider-${i + 1}`,
+      min: joint.qmin,
+      max: joint.qmax,
+      step: (joint.qmax - joint.qmin) / 2000,
+      value: state.q[i],
+      'aria-label': `joint ${i + 1}`,
+      oninput: (event) => {
+        state.q[i] = Number(event.target.value);
+        output.textContent = sliderText(i);
+        refreshPose();
+      },
+    });
+    return [h('label', { for: `slider-${i + 1}`, text: `q${i + 1}` }), input, output];
+  });
+  container.replaceChildren(...cells);
+}
+
+export function updateSliderRanges() {
+  state.robot.summary.joints.forEach((joint, i) => {
+    const input = $(`slider-${i + 1}`);
+    if (!input) return;
+    input.min = joint.qmin;
+    input.max = joint.qmax;
+    input.step = (joint.qmax - joint.qmin) / 2000;
+    state.q[i] = sliderValue(i);
+    input.value = state.q[i];
+    $(`slider-value-${i + 1}`).textContent = sliderText(i);
+  });
+}
+
+let poseBusy = false;
+
+let posePending = false;
+
+export async function refreshPose() {
+  if (!state.robot.summary) return;
+  if (poseBusy) {
+    posePending = true;
+    return;
+  }
+  poseBusy = true;
+  const serial = state.robotSerial;
+  try {
+    const pose = await api('/robots/pose', { robot: tableDocument(), q: state.q });
+    if (serial === state.robotSerial) {
+      state.pose = pose.frames;
+      drawView();
+    } else {
+      posePending = true;
+    }
+  } catch (error) {
+    if (serial === state.robotSerial && !error.unreachable) {
+      state.pose = null;
+      drawView(error.message);
+    }
+  } finally {
+    poseBusy = false;
+    if (posePending) {
+      posePending = false;
+      refreshPose();
+    }
+  }
+}
+
+function project(point) {
+  const { azimuth, elevation } = state.view;
+  const right = [-Math.sin(azimuth), Math.cos(azimuth), 0];
+  const up = [-Math.sin(elevation) * Math.cos(azimuth), -Math.sin(elevation) * Math.sin(azimuth), Math.cos(elevation)];
+  const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  return [dot(point, right), dot(point, up)];
+}
+
+/** A round grid step: 1, 2 or 5 × 10^k, about `target`. */
+function niceStep(target) {
+  const power = Math.pow(10, Math.floor(Math.log10(target)));
+  const mantissa = target / power;
+  return (mantissa < 1.5 ? 1 : mantissa < 3.5 ? 2 : 5) * power;
+}
+
+/** Centre and radius of what is drawn: the world origin and every frame. */
+function viewBounds(origins) {
+  const points = [[0, 0, 0], ...origins];
+  const low = [0, 1, 2].map((k) => Math.min(...points.map((p) => p[k])));
+  const high = [0, 1, 2].map((k) => Math.max(...points.map((p) => p[k])));
+  const centre = low.map((l, k) => (l + high[k]) / 2);
+  const radius = Math.max(0.1, Math.hypot(...high.map((h_, k) => h_ - low[k])) / 2);
+  return { centre, radius };
+}
+
+export function drawView(message) {
+  const canvas = $('robot-view');
+  const ratio = window.devicePixelRatio || 1;
+  const width = canvas.clientWidth;
+  const height = canvas.clientHeight;
+  if (canvas.width !== width * ratio) {
+    canvas.width = width * ratio;
+    canvas.height = height * ratio;
+  }
+  const context = canvas.getContext('2d');
+  context.setTransform(ratio, 0, 0, ratio, 0, 0);
+  context.clearRect(0, 0, width, height);
+  if (!state.pose) {
+    context.fillStyle = '#5b6775';
+    context.font = '14px system-ui, sans-serif';
+    context.fillText(message || 'No valid robot to draw.', 16, 28);
+    return;
+  }
+  const origins = state.pose.map((f) => f.origin);
+  if (!state.view.bounds) state.view.bounds = viewBounds(origins);
+  const { centre, radius } = state.view.bounds;
+  const scale = (Math.min(width, height) * 0.46 * state.view.zoom) / radius;
+  const [cx, cy] = project(centre);
+  const toScreen = (point) => {
+    const [x, y] = project(point);
+    return [width / 2 + (x - cx) * scale, height / 2 - (y - cy) * scale];
+  };
+  const line = (a, b, color, widthPx, dash) => {
+    const [ax, ay] = toScreen(a);
+    const [bx, by] = toScreen(b);
+    context.strokeStyle = color;
+    context.lineWidth = widthPx;
+    context.setLineDash(dash || []);
+    context.beginPath();
+    context.moveTo(ax, ay);
+    context.lineTo(bx, by);
+    context.stroke();
+    context.setLineDash([]);
+  };
+  // Floor grid (the world's xy plane) around the robot.
+  const step = niceStep(radius / 4);
+  const extent = Math.ceil((radius * 1.2) / step) * step;
+  const [gx, gy] = [Math.round(centre[0] / step) * step, Math.round(centre[1] / step) * step];
+  for (let v = -extent; v <= extent + 1e-9; v += step) {
+    line([gx + v, gy - extent, 0], [gx + v, gy + extent, 0], '#e3e8ee', 1);
+    line([gx - extent, gy + v, 0], [gx + extent, gy + v, 0], '#e3e8ee', 1);
+  }
+  // The current method's plane (plane methods) and the points of its
+  // generated data (methods that measure a point), in the world frame.
+  // What is drawn, on the canvas for whoever checks it (the browser tests).
+  const drawn = { plane: false, points: 0 };
+  const method = state.info && methodInfo(state.method);
+  if (method && method.uses_plane) {
+    try {
+      const normal = parseVector($(`${state.method}-identify-normal`).value, 'normal');
+      const point = parseVector($(`${state.method}-identify-point`).value, 'point');
+      const length = Math.hypot(...normal);
+      const n = normal.map((v) => v / length);
+      const helper = Math.abs(n[2]) < 0.9 ? [0, 0, 1] : [1, 0, 0];
+      const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+      const u = cross(n, helper);
+      const ul = Math.hypot(...u);
+      const e1 = u.map((v) => v / ul);
+      const e2 = cross(n, e1);
+      const half = radius * 0.6;
+      const corner = (a, b) => point.map((p, k) => p + (a * e1[k] + b * e2[k]) * half);
+      const corners = [corner(-1, -1), corner(1, -1), corner(1, 1), corner(-1, 1)].map(toScreen);
+      context.fillStyle = 'rgba(31, 111, 235, 0.10)';
+      context.strokeStyle = 'rgba(31, 111, 235, 0.6)';
+      context.lineWidth = 1.5;
+      context.beginPath();
+      corners.forEach(([x, y], i) => (i ? context.lineTo(x, y) : context.moveTo(x, y)));
+      context.closePath();
+      context.fill();
+      context.stroke();
+      drawn.plane = true;
+    } catch (error) {
+      // No valid plane in the fields yet: nothing to draw.
+    }
+  }
+  // The real robot's terminal points where the generated data were measured
+  // (on the plane for the plane methods, on the fixed points for the links).
+  const generated = state.generated[state.method];
+  if (generated && generated.points) {
+    context.fillStyle = 'rgba(214, 39, 40, 0.75)';
+    for (const point of generated.points) {
+      const [x, y] = toScreen(point);
+      context.beginPath();
+      context.arc(x, y, 2.5, 0, 2 * Math.PI);
+      context.fill();
+      drawn.points += 1;
+    }
+  }
+  // World axes.
+  const axis = radius * 0.12;
+  line([0, 0, 0], [axis, 0, 0], '#e8a3a3', 1.5);
+  line([0, 0, 0], [0, axis, 0], '#9fd09f', 1.5);
+  line([0, 0, 0], [0, 0, axis], '#9dbfe0', 1.5);
+  line([0, 0, 0], origins[0], '#9aa6b2', 2, [5, 4]);
+  // Links between successive frame origins.
+  context.lineCap = 'round';
+  for (let i = 0; i + 1 < origins.length; i += 1) line(origins[i], origins[i + 1], '#3b4a5a', 7);
+  context.lineCap = 'butt';
+  // Frame axes: x red, y green, z blue; the tool's larger.
+  state.pose.forEach((frame, j) => {
+    const size = j === state.pose.length - 1 ? axis * 1.6 : axis;
+    const tip = (v) => frame.origin.map((o, k) => o + v[k] * size);
+    line(frame.origin, tip(frame.x), '#d62728', 2);
+    line(frame.origin, tip(frame.y), '#2ca02c', 2);
+    line(frame.origin, tip(frame.z), '#1f77b4', 2.5);
+  });
+  // Origins, with the numbers of the frames that share a point.
+  const spots = [];
+  state.pose.forEach((frame, j) => {
+    const [x, y] = toScreen(frame.origin);
+    const spot = spots.find((s) => Math.hypot(s.x - x, s.y - y) < 4);
+    if (spot) spot.frames.push(j); else spots.push({ x, y, frames: [j] });
+  });
+  context.font = '12px system-ui, sans-serif';
+  const last = state.pose.length - 1;
+  for (const spot of spots) {
+    const joint = spot.frames.some((j) => j !== 0 && j !== last);
+    context.fillStyle = '#ffffff';
+    context.strokeStyle = '#14202e';
+    context.lineWidth = 2;
+    context.beginPath();
+    context.arc(spot.x, spot.y, joint ? 6 : 4, 0, 2 * Math.PI);
+    context.fill();
+    context.stroke();
+    context.fillStyle = '#14202e';
+    context.fillText(spot.frames.join(','), spot.x + 9, spot.y - 8);
+  }
+  context.fillStyle = '#5b6775';
+  context.fillText(`floor grid ${fmt(step)} m`, 10, height - 10);
+  canvas.dataset.plane = String(drawn.plane);
+  canvas.dataset.points = String(drawn.points);
+}
+
+export function installViewControls() {
+  const canvas = $('robot-view');
+  let dragging = null;
+  canvas.addEventListener('pointerdown', (event) => {
+    dragging = { x: event.clientX, y: event.clientY };
+    canvas.setPointerCapture(event.pointerId);
+  });
+  canvas.addEventListener('pointermove', (event) => {
+    if (!dragging) return;
+    state.view.azimuth -= (event.clientX - dragging.x) * 0.01;
+    state.view.elevation = Math.max(-1.5, Math.min(1.5, state.view.elevation + (event.clientY - dragging.y) * 0.01));
+    dragging = { x: event.clientX, y: event.clientY };
+    drawView();
+  });
+  canvas.addEventListener('pointerup', () => { dragging = null; });
+  canvas.addEventListener('wheel', (event) => {
+    event.preventDefault();
+    state.view.zoom = Math.max(0.2, Math.min(8, state.view.zoom * Math.exp(-event.deltaY * 0.001)));
+    drawView();
+  }, { passive: false });
+}

@@ -1,0 +1,32 @@
+// The page's number formats and parsers (js/format.js), under node.
+import assert from 'node:assert/strict';
+import { test } from 'node:test';
+import { fixed, fmt, parseVector, sci, slug } from '../js/format.js';
+
+test('numbers keep 8 significant digits, and go exponential outside 1e-4..1e7', () => {
+  assert.equal(fmt(0.1 + 0.2), '0.3');
+  assert.equal(fmt(1.23456789), '1.2345679');
+  assert.equal(fmt(0), '0');
+  assert.equal(fmt(null), '');
+  assert.equal(fmt(2.5e-5), '2.5000e-5');
+  assert.equal(fmt(-3e8), '-3.0000e+8');
+});
+
+test('a value that is not finite shows as a dash, not NaN', () => {
+  assert.equal(fixed(Number.NaN, 2), '–');
+  assert.equal(sci(Number.POSITIVE_INFINITY), '–');
+  assert.equal(fixed(1.005, 1), '1.0');
+  assert.equal(sci(0.000123), '1.23e-4');
+});
+
+test('file names from robot names', () => {
+  assert.equal(slug('Stanford arm (calibrated)'), 'stanford-arm-calibrated');
+  assert.equal(slug('***'), 'robot');
+});
+
+test('a vector takes three numbers, separated by commas, semicolons or spaces', () => {
+  assert.deepEqual(parseVector(' 0.3, 0.5;0.81 ', 'normal'), [0.3, 0.5, 0.81]);
+  assert.deepEqual(parseVector('1 2 3', 'point'), [1, 2, 3]);
+  assert.throws(() => parseVector('1, 2', 'The plane normal'), /The plane normal needs three numbers/);
+  assert.throws(() => parseVector('1, x, 3', 'point'), /point needs three numbers/);
+});
