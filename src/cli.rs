@@ -710,6 +710,11 @@ pub(crate) struct IdentifyArgs {
     /// errors_histogram.svg, errors_per_configuration.svg.
     #[arg(long, value_name = "DIR")]
     pub(crate) plot: Option<PathBuf>,
+    /// Write every observation's error before and after, with its file and
+    /// lines, to this CSV file (columns in docs/methods.md); written whether
+    /// or not the identification converged, to find what went wrong.
+    #[arg(long, value_name = "RESIDUALS.csv")]
+    pub(crate) residuals: Option<PathBuf>,
     /// Overwrite output files that exist.
     #[arg(long)]
     pub(crate) force: bool,

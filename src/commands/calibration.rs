@@ -237,7 +237,12 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
     let mut request = request(&args.run)?;
     request.cv = args.cv;
     request.seed = Some(args.seed);
-    let outputs: Vec<&Path> = args.output.iter().map(PathBuf::as_path).collect();
+    let outputs: Vec<&Path> = args
+        .output
+        .iter()
+        .chain(&args.residuals)
+        .map(PathBuf::as_path)
+        .collect();
     let identified = run_identification(&request, &outputs, args.force)?;
     if args.json {
         super::output::print_json(&identified.document())?;
@@ -257,6 +262,16 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         )?;
         if !args.json {
             println!("wrote the calibrated robot to {}", output.display());
+        }
+    }
+    if let Some(path) = &args.residuals {
+        gecaro_io::write_atomically(
+            path,
+            identified.residuals_csv()?.as_bytes(),
+            output_policy(args.force),
+        )?;
+        if !args.json {
+            println!("wrote the residuals to {}", path.display());
         }
     }
     if let Some(folder) = &args.plot {

@@ -384,11 +384,11 @@ impl OutlierJson {
         outliers
             .iter()
             .map(|o| OutlierJson {
-                set: o.set,
-                file: o.label.clone(),
-                kind: o.kind,
-                observation: o.observation + 1,
-                lines: o.lines.clone(),
+                set: o.location.set,
+                file: o.location.label.clone(),
+                kind: o.location.kind,
+                observation: o.location.observation + 1,
+                lines: o.location.lines.clone(),
                 error: o.error,
                 rotation_error: o.rotation_error,
                 residual_sigmas: o.standardized,

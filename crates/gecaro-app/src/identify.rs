@@ -15,7 +15,7 @@ use gecaro_calib::validation::{CrossValidation, ModelScore, compare_models, cros
 use gecaro_io::RobotFile;
 use gecaro_report::{
     ReportInput, error_histograms_svg, errors_per_configuration_svg, html_report,
-    identification_svgs,
+    identification_svgs, observation_names,
 };
 use serde::{Deserialize, Serialize};
 
@@ -278,6 +278,15 @@ impl Identified {
                 format!("the identification {}", self.result.verdict.summary),
             )
         })
+    }
+
+    /// Every observation's error before and after, located in its file, as
+    /// CSV text (columns in [`residuals_csv`](crate::residuals_csv)).
+    ///
+    /// # Errors
+    /// Only if the text cannot be written.
+    pub fn residuals_csv(&self) -> Result<String, AppError> {
+        crate::residuals::residuals_csv(&self.loaded.study, &self.result)
     }
 
     /// The three plots (lengths in millimetres).
@@ -548,7 +557,13 @@ impl Evaluation {
             .map_or_else(|| before.clone(), |(_, errors)| millimetres(errors));
         Ok(EvaluationPlots {
             errors_histogram: error_histograms_svg(&before, &after, "mm")?,
-            errors_per_configuration: errors_per_configuration_svg(&before, &after, &[], "mm")?,
+            errors_per_configuration: errors_per_configuration_svg(
+                &before,
+                &after,
+                &[],
+                &observation_names(&self.loaded.study),
+                "mm",
+            )?,
         })
     }
 }

@@ -79,6 +79,7 @@ mod measurements;
 mod method;
 mod plan;
 mod rebase;
+mod residuals;
 mod robot_files;
 mod settings;
 mod sources;
@@ -107,6 +108,7 @@ pub use plan::{
     AccuracyCurve, PlanRequest, Planned, Planning, PredictRequest, Predicted, TestPoses,
 };
 pub use rebase::{RebaseRequest, Rebased, check_same_frame, rebased_file};
+pub use residuals::residuals_csv;
 pub use robot_files::{calibrated_robot_file, simulated_robot_file};
 pub use settings::{FitSettings, PrioritySource};
 pub use sources::{

@@ -176,7 +176,10 @@ fn robust_losses_resist_gross_errors_by_every_method() {
             // far below the gross ones (a fitted residual's spread varies
             // with its leverage, and a robust fit trades tails for the bulk).
             for sample in &corrupted {
-                let outlier = robust.outliers.iter().find(|o| o.samples.contains(sample));
+                let outlier = robust
+                    .outliers
+                    .iter()
+                    .find(|o| o.location.samples.contains(sample));
                 assert!(
                     outlier.is_some_and(|o| o.weight < 0.2 && o.standardized > 20.0),
                     "{name}, {kind}: sample {sample}: {outlier:?}"
@@ -189,8 +192,8 @@ fn robust_losses_resist_gross_errors_by_every_method() {
                 .outliers
                 .iter()
                 .filter(|o| {
-                    let sample = o.samples[0];
-                    let corrupted_here = o.samples.iter().any(|s| corrupted.contains(s));
+                    let sample = o.location.samples[0];
+                    let corrupted_here = o.location.samples.iter().any(|s| corrupted.contains(s));
                     let partner = name == "frame-link"
                         && corrupted.iter().any(|c| set_of(*c) == set_of(sample));
                     !(corrupted_here || partner)
@@ -239,7 +242,7 @@ fn rejecting_outliers_drops_them_and_refits() {
     let rejected: Vec<usize> = result
         .rejected
         .iter()
-        .flat_map(|o| o.samples.clone())
+        .flat_map(|o| o.location.samples.clone())
         .collect();
     assert_eq!(rejected.len(), corrupted.len(), "{:?}", result.rejected);
     assert!(corrupted.iter().all(|s| rejected.contains(s)));
@@ -429,11 +432,15 @@ fn each_set_of_a_study_is_judged_by_its_own_noise() {
         .outliers
         .iter()
         .filter(|o| o.standardized > 20.0)
-        .map(|o| (o.set, o.observation))
+        .map(|o| (o.location.set, o.location.observation))
         .collect();
     assert_eq!(flagged.len(), 3, "{:?}", result.outliers);
     assert!(flagged.iter().all(|(set, _)| *set == 1));
     // The tracker's rows, 10× their stated σ, are not outliers of their own set.
-    let tracker = result.outliers.iter().filter(|o| o.set == 0).count();
+    let tracker = result
+        .outliers
+        .iter()
+        .filter(|o| o.location.set == 0)
+        .count();
     assert!(tracker <= 3, "{tracker} tracker observations flagged");
 }

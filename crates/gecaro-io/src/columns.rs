@@ -62,6 +62,40 @@ impl Delimiter {
     }
 }
 
+/// The column names of a CSV file that begins with `head` (its first bytes;
+/// `whole` when they are the whole file): its first line that is neither
+/// blank nor a `#` comment, split at the separator [`Delimiter::Detect`]
+/// finds, each name trimmed of spaces and quotes. `None` when `head` ends
+/// before that line does.
+///
+/// ```
+/// use gecaro_io::header_names;
+/// let head = b"# gecaro generate: ...\nqm1;qm2;X_mm;Y_mm;Z_mm\n0.1;0.2;1;2;3\n";
+/// assert_eq!(header_names(head, true).unwrap(), ["qm1", "qm2", "X_mm", "Y_mm", "Z_mm"]);
+/// assert_eq!(header_names(b"qm1,qm2,x", false), None);
+/// ```
+pub fn header_names(head: &[u8], whole: bool) -> Option<Vec<String>> {
+    let mut rest = head;
+    loop {
+        let (line, after) = match rest.iter().position(|b| *b == b'\n') {
+            Some(end) => (&rest[..end], Some(&rest[end + 1..])),
+            None if whole => (rest, None),
+            None => return None,
+        };
+        let text = String::from_utf8_lossy(line);
+        let text = text.trim_start_matches('\u{feff}').trim();
+        if !text.is_empty() && !text.starts_with('#') {
+            let separator = char::from(Delimiter::Detect.byte(text.as_bytes()));
+            return Some(
+                text.split(separator)
+                    .map(|name| name.trim().trim_matches('"').trim().to_owned())
+                    .collect(),
+            );
+        }
+        rest = after?;
+    }
+}
+
 /// Reads a number of a CSV field: a decimal point, or a decimal comma
 /// where `decimal_comma` says so.
 pub(crate) fn parse_number(text: &str, decimal_comma: bool) -> Option<f64> {

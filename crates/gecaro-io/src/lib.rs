@@ -34,7 +34,7 @@ mod symoro;
 mod units;
 mod urdf;
 
-pub use columns::{ColumnMap, DataUnits, Delimiter, joint_types};
+pub use columns::{ColumnMap, DataUnits, Delimiter, header_names, joint_types};
 pub use conversion::{ChainEnds, Exported, Imported};
 pub use data_file::{
     DataFile, DataFormat, data_headers, format_configurations, format_samples, parse_samples,

@@ -393,6 +393,25 @@ impl PyIdentification {
         Ok(html)
     }
 
+    /// Every observation's error before and after, with its file and lines,
+    /// as CSV text (`gecaro identify --residuals`; columns in
+    /// docs/methods.md); written atomically to `path` too when given.
+    #[pyo3(signature = (path = None, *, overwrite = false))]
+    fn residuals_csv(&self, path: Option<std::path::PathBuf>, overwrite: bool) -> PyResult<String> {
+        let text = self.identified.residuals_csv().py()?;
+        if let Some(path) = path {
+            LocalFiles
+                .write(
+                    &path.display().to_string(),
+                    "csv",
+                    text.as_bytes(),
+                    overwrite,
+                )
+                .py()?;
+        }
+        Ok(text)
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "Identification({}, {} parameters, {} after {} iterations, RMS {:.4} → {:.4} mm)",

@@ -3,6 +3,8 @@ the same numbers as the command line on the same inputs and seeds, bit for bit."
 
 from __future__ import annotations
 
+import csv
+import io
 import json
 
 import numpy as np
@@ -256,6 +258,38 @@ def test_the_html_report(tmp_path):
     with pytest.raises(gecaro.InputError, match="already exists"):
         result.report(tmp_path / "report.html")
     assert json.loads(result.to_json()) == result.to_dict()
+
+
+def test_the_residuals_equal_the_command_line(cli, tmp_path):
+    robot = gecaro.Robot.load("puma560")
+    gecaro.generate(robot, "frame", 30, noise=5e-5, error_level=1.0, seed=3).data.write(
+        tmp_path / "data.csv", "frame"
+    )
+    data = gecaro.Data.read(tmp_path / "data.csv", robot, "frame")
+    result = gecaro.identify(robot, "frame", data, sigma="0.05mm")
+    cli.run(
+        "identify", "puma560", "--method", "frame", "--data", "data.csv", "--sigma", "0.05mm",
+        "--residuals", "residuals.csv",
+    )
+    text = result.residuals_csv(tmp_path / "mine.csv")
+    assert text == (tmp_path / "mine.csv").read_text()
+    rows = list(csv.DictReader(io.StringIO(text)))
+    # The same numbers as the command line; the file as each was given it.
+    command_line = list(csv.DictReader(io.StringIO((tmp_path / "residuals.csv").read_text())))
+    assert [row["file"] for row in command_line] == ["data.csv"] * 30
+    assert all(row["file"].endswith("data.csv") for row in rows)
+
+    def without_file(table):
+        return [{key: value for key, value in row.items() if key != "file"} for row in table]
+
+    assert without_file(rows) == without_file(command_line)
+    assert len(rows) == 30
+    # Every configuration on its own line of the file, in order; its "after"
+    # error is the identification's.
+    lines = [int(row["lines"]) for row in rows]
+    assert lines == list(range(lines[0], lines[0] + 30))
+    assert max(float(row["error_after_mm"]) for row in rows) == pytest.approx(result.after.max * 1e3, rel=1e-9)
+    assert {"rotation_before_deg", "rotation_after_deg", "outlier"} <= set(rows[0])
 
 
 def test_generation_in_a_cell_equals_the_command_line(cli, tmp_path):

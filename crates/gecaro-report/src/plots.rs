@@ -4,7 +4,7 @@
 
 use gecaro_calib::{
     curve::CurvePoint,
-    identification::{Identification, IterationRecord},
+    identification::{Identification, IterationRecord, ObservationLocation, locate_observations},
     study::Study,
 };
 use gecaro_core::{Robot, forward_kinematics};
@@ -227,8 +227,23 @@ pub fn identification_svgs(
     Ok(IdentificationSvgs {
         convergence,
         errors_histogram: error_histograms_svg(&before, &inliers, "mm")?,
-        errors_per_configuration: errors_per_configuration_svg(&before, &after, &outliers, "mm")?,
+        errors_per_configuration: errors_per_configuration_svg(
+            &before,
+            &after,
+            &outliers,
+            &observation_names(study),
+            "mm",
+        )?,
     })
+}
+
+/// Where each observation of `study` comes from, as the per-configuration
+/// plot's titles name it (`data.csv: configuration 17 (line 19)`).
+pub fn observation_names(study: &Study) -> Vec<String> {
+    locate_observations(study)
+        .iter()
+        .map(ObservationLocation::describe)
+        .collect()
 }
 
 /// Histograms of the per-configuration errors before and after (side by
@@ -273,6 +288,9 @@ pub(crate) const MAX_PLOTTED_POINTS: usize = 2000;
 
 /// The error of every configuration before and after (log scale); the
 /// observations listed in `outliers` (indices into `after`) are ringed.
+/// Every dot carries an SVG `<title>` (a browser shows it on hover): where
+/// the configuration comes from, `names[k]` (e.g. `data.csv: configuration
+/// 17 (line 19)`; "configuration k" where `names` has none), and its error.
 /// Past [`MAX_PLOTTED_POINTS`] configurations, each dot is the largest error
 /// of a group of consecutive configurations (the caption says how many), and
 /// a group holding an outlier is ringed.
@@ -283,6 +301,7 @@ pub fn errors_per_configuration_svg(
     before: &[f64],
     after: &[f64],
     outliers: &[usize],
+    names: &[String],
     unit: &str,
 ) -> Result<String, Error> {
     let all = before.iter().chain(after).copied().filter(|v| *v > 0.0);
@@ -316,6 +335,31 @@ pub fn errors_per_configuration_svg(
             (most > 0.0).then_some((k * group, most))
         })
         .collect();
+    // The dots' titles, in the order they are drawn: before, then after.
+    let name = |k: usize| {
+        names
+            .get(k)
+            .cloned()
+            .unwrap_or_else(|| format!("configuration {}", k + 1))
+    };
+    let titles: Vec<String> = [(before, "before"), (after, "after")]
+        .iter()
+        .flat_map(|(values, when)| {
+            grouped(values).into_iter().map(move |(first, most)| {
+                if group == 1 {
+                    format!("{}: {when} {} {unit}", name(first), short_value(most))
+                } else {
+                    let last = (first + group).min(count);
+                    format!(
+                        "configurations {}–{last}: largest {when} {} {unit} (from {})",
+                        first + 1,
+                        short_value(most),
+                        name(first)
+                    )
+                }
+            })
+        })
+        .collect();
     let caption = if group == 1 {
         "Error of every configuration".to_owned()
     } else {
@@ -327,7 +371,9 @@ pub fn errors_per_configuration_svg(
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(70)
-            .build_cartesian_2d(0..count, (smallest..largest).log_scale())
+            // A band on the right with no configurations, where the legend
+            // sits off the data.
+            .build_cartesian_2d(0..count + count / 5 + 1, (smallest..largest).log_scale())
             .map_err(plot_error)?;
         chart
             .configure_mesh()
@@ -358,6 +404,47 @@ pub fn errors_per_configuration_svg(
         }
         legend(&mut chart, SeriesLabelPosition::MiddleRight)
     })
+    .map(|text| titled_circles(&text, &titles))
+}
+
+/// A value to 4 significant digits, as a dot's title shows it.
+fn short_value(value: f64) -> String {
+    if value == 0.0 || !value.is_finite() {
+        return format!("{value}");
+    }
+    let decimals = (3 - value.abs().log10().floor() as i32).max(0) as usize;
+    format!("{value:.decimals$}")
+}
+
+/// `svg` with its first `titles.len()` `<circle …/>` elements given the
+/// titles, in order (`<circle …><title>…</title></circle>`).
+fn titled_circles(svg: &str, titles: &[String]) -> String {
+    let mut out =
+        String::with_capacity(svg.len() + titles.iter().map(|t| t.len() + 24).sum::<usize>());
+    let mut rest = svg;
+    for title in titles {
+        let Some(start) = rest.find("<circle") else {
+            break;
+        };
+        let Some(end) = rest[start..].find("/>").map(|end| start + end) else {
+            break;
+        };
+        out.push_str(&rest[..end]);
+        out.push_str("><title>");
+        out.push_str(&escape_xml(title));
+        out.push_str("</title></circle>");
+        rest = &rest[end + 2..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// `text` with XML's special characters escaped.
+fn escape_xml(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
 }
 
 /// Three projections (top, front, side) of the robot's frames 0..n+1 at a
@@ -494,7 +581,7 @@ mod tests {
             .map(|i| 0.01 + f64::from(i % 89) * 1e-4)
             .collect();
         let outliers: Vec<usize> = (0..200_000).step_by(1000).collect();
-        let svg = errors_per_configuration_svg(&before, &after, &outliers, "mm").expect("svg");
+        let svg = errors_per_configuration_svg(&before, &after, &outliers, &[], "mm").expect("svg");
         assert!(svg.len() < 1_500_000, "{} bytes", svg.len());
         assert!(svg.contains("Largest error of every 100 configurations (200000 in all)"));
         // Each series draws at most MAX_PLOTTED_POINTS dots.
@@ -516,9 +603,24 @@ mod tests {
         let histograms =
             error_histograms_svg(&[10.0, 20.0, 35.0], &[0.01, 0.02], "mm").expect("svg");
         assert!(histograms.contains("after (calibrated)"));
-        let points =
-            errors_per_configuration_svg(&[10.0, 20.0], &[0.01, 0.02], &[1], "mm").expect("svg");
+        let points = errors_per_configuration_svg(
+            &[10.0, 20.0],
+            &[0.01, 0.02],
+            &[1],
+            &["a.csv: configuration 1 (line 3)".into()],
+            "mm",
+        )
+        .expect("svg");
         assert!(points.contains("<circle"));
+        // Each dot says where it comes from and its error (a title shows on hover).
+        assert!(
+            points.contains(
+                "<title>a.csv: configuration 1 (line 3): before 10.00 mm</title></circle>"
+            ),
+            "{points}"
+        );
+        assert!(points.contains("<title>configuration 2: after 0.02000 mm</title></circle>"));
+        assert_eq!(points.matches("<title>").count(), 4);
     }
 
     #[test]

@@ -36,6 +36,8 @@ pub struct JobOutcome {
     pub result: Box<serde_json::value::RawValue>,
     /// The HTML report of the identification.
     pub report: String,
+    /// Every observation's error before and after, located in its file (CSV).
+    pub residuals: String,
 }
 
 /// One job's progress.
@@ -348,6 +350,7 @@ mod tests {
             result: serde_json::value::to_raw_value(&serde_json::json!({"rms": 1e-5}))
                 .expect("encoded"),
             report: String::new(),
+            residuals: String::new(),
         });
         let first = job.view();
         let second = job.view();

@@ -33,6 +33,8 @@ use crate::limits::{MAX_FILE_BYTES, MAX_LISTED};
 const SKIPPED_FOLDERS: &[&str] = &["target", "node_modules"];
 /// How deep the listing goes below the folder.
 const LISTING_DEPTH: usize = 4;
+/// The bytes of a data file read for its header when the folder is listed.
+const HEADER_BYTES: u64 = 8192;
 /// Longest component of a name, in bytes (the usual file-system limit).
 const MAX_COMPONENT_BYTES: usize = 255;
 
@@ -58,6 +60,10 @@ pub struct Listing {
     pub data: Vec<String>,
     /// Robots in other formats, converted when opened: `*.urdf`, `*.par`.
     pub imports: Vec<String>,
+    /// The column names of each data file's header (read from its first
+    /// [`HEADER_BYTES`] bytes), for menus that list only the files a method
+    /// can read; a file whose header could not be read has none here.
+    pub data_columns: std::collections::BTreeMap<String, Vec<String>>,
     /// Whether the listing stopped at its limit.
     pub truncated: bool,
 }
@@ -398,10 +404,27 @@ fn walk(folder: &Dir, prefix: &str, depth: usize, listing: &mut Listing) {
         };
         if bucket.len() >= MAX_LISTED {
             listing.truncated = true;
-        } else {
-            bucket.push(relative);
+            continue;
+        }
+        bucket.push(relative.clone());
+        if name.ends_with(".csv")
+            && let Some(columns) = header_of(folder, &name)
+        {
+            listing.data_columns.insert(relative, columns);
         }
     }
+}
+
+/// The column names of data file `name` of `folder` (see [`Listing::data_columns`]).
+fn header_of(folder: &Dir, name: &str) -> Option<Vec<String>> {
+    let mut head = Vec::new();
+    folder
+        .open(name)
+        .ok()?
+        .take(HEADER_BYTES)
+        .read_to_end(&mut head)
+        .ok()?;
+    gecaro_io::header_names(&head, (head.len() as u64) < HEADER_BYTES)
 }
 
 fn check_extensions(relative: &Path, name: &str, extensions: &[&str]) -> Result<(), ApiError> {

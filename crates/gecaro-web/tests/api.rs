@@ -410,6 +410,39 @@ async fn saves_stay_inside_the_folder_and_never_break_a_file() {
     assert!(error_text(&bad).contains("bad.toml:3"), "{bad}");
 }
 
+/// The listing names each data file's columns (from its header, past its
+/// comment lines and in its own separator), so that a method's menu lists
+/// the files it can read; a file with no complete header line has none.
+#[tokio::test]
+async fn data_files_are_listed_with_their_columns() {
+    let api = Api::new();
+    let folder = api.folder.path();
+    std::fs::write(
+        folder.join("positions.csv"),
+        "# gecaro generate: stanford\nqm1,qm2,qm3,qm4,qm5,qm6,x,y,z\n0,0,0,0,0,0,1,2,3\n",
+    )
+    .expect("write");
+    std::fs::write(
+        folder.join("tracker.csv"),
+        "\u{feff}\"time\";\"A1\";\"X_mm\"\n0;0,1;12,5\n",
+    )
+    .expect("write");
+    std::fs::write(folder.join("empty.csv"), "# nothing but a comment\n").expect("write");
+    let (status, files) = api.get("/api/files").await;
+    assert_eq!(status, StatusCode::OK, "{files}");
+    assert_eq!(
+        files["data"],
+        json!(["empty.csv", "positions.csv", "tracker.csv"])
+    );
+    assert_eq!(
+        files["data_columns"],
+        json!({
+            "positions.csv": ["qm1", "qm2", "qm3", "qm4", "qm5", "qm6", "x", "y", "z"],
+            "tracker.csv": ["time", "A1", "X_mm"],
+        })
+    );
+}
+
 #[tokio::test]
 async fn urdf_dh_and_symoro_files_open_converted_and_robots_save_as_urdf() {
     let api = Api::new();
@@ -824,6 +857,49 @@ async fn identification_runs_as_a_job_with_progress_plots_and_report() {
     );
     let html = String::from_utf8(bytes).expect("utf-8");
     assert!(html.contains("<h2>Convergence</h2>") && html.contains("gen.csv"));
+    // Each dot of the per-configuration plot names its file line (on hover).
+    let per_configuration = result["plots"]["errors_per_configuration"]
+        .as_str()
+        .expect("svg");
+    assert!(
+        per_configuration.contains("<title>gen.csv: configuration 1 (line 3): before "),
+        "{}",
+        &per_configuration[..per_configuration.len().min(3000)]
+    );
+
+    // The residuals, one row per configuration with its line, as a CSV file
+    // whose "after" errors are the identification's.
+    let (status, bytes, headers) = api
+        .send(
+            Request::get(format!("/api/jobs/{job}/residuals.csv"))
+                .body(Body::empty())
+                .expect("request"),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK);
+    assert!(
+        headers[header::CONTENT_TYPE]
+            .to_str()
+            .expect("ascii")
+            .starts_with("text/csv")
+    );
+    let text = String::from_utf8(bytes).expect("utf-8");
+    let mut rows = csv::Reader::from_reader(text.as_bytes());
+    let header = rows.headers().expect("header").clone();
+    assert_eq!(&header[4], "lines");
+    let records: Vec<csv::StringRecord> = rows.records().map(|r| r.expect("row")).collect();
+    assert_eq!(records.len(), 40);
+    assert_eq!(&records[0][1], "gen.csv");
+    assert_eq!(&records[0][4], "3", "the first configuration is on line 3");
+    let largest_after = records
+        .iter()
+        .map(|r| r[6].parse::<f64>().expect("number"))
+        .fold(0.0, f64::max);
+    let reported = identification["after"]["max"].as_f64().expect("max") * 1e3;
+    assert!(
+        (largest_after - reported).abs() <= 1e-9 * reported.max(1e-12),
+        "{largest_after} vs {reported}"
+    );
 
     let (status, _) = api.get("/api/jobs/999999").await;
     assert_eq!(status, StatusCode::NOT_FOUND);

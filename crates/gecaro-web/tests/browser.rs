@@ -294,6 +294,13 @@ async fn the_page_works_as_a_person_uses_it() {
         3
     );
     assert_eq!(count(client, "#position-plan-curve-plot svg").await, 1);
+    assert_eq!(
+        text_of(client, "#step-plan .step-status", 5).await,
+        format!(
+            "{} poses",
+            text_of(client, "#position-plan-count-result", 5).await
+        )
+    );
     screenshot(client, "03-plan.png").await;
     // The planned configurations measured (simulated) from the Plan function;
     // the 3D view shows the measured points.
@@ -372,6 +379,42 @@ async fn the_page_works_as_a_person_uses_it() {
     );
     assert_eq!(count(client, "#position-identify-convergence svg").await, 1);
     assert!(count(client, "#position-identify-convergence svg circle").await >= 2);
+    // Every dot of the per-configuration plot says, on hover, where it comes
+    // from: the generated file and its line.
+    let first_dot = client
+        .execute(
+            "const t = document.querySelector('#position-identify-per-configuration svg circle title'); \
+             return t ? t.textContent : null",
+            vec![],
+        )
+        .await
+        .expect("script");
+    let first_dot = first_dot.as_str().unwrap_or_default().to_owned();
+    assert!(
+        first_dot.contains(": configuration 1 (line 3): before "),
+        "{first_dot}"
+    );
+    assert_eq!(
+        count(
+            client,
+            "#position-identify-per-configuration svg circle title"
+        )
+        .await,
+        100,
+        "50 configurations, before and after"
+    );
+    // The residuals download is the job's CSV.
+    let href = client
+        .execute(
+            "return document.getElementById('position-identify-residuals').getAttribute('href')",
+            vec![],
+        )
+        .await
+        .expect("script");
+    assert!(
+        href.as_str().is_some_and(|h| h.ends_with("/residuals.csv")),
+        "{href}"
+    );
     assert_eq!(
         count(client, "#position-identify-parameters tbody tr").await,
         31
@@ -697,9 +740,20 @@ async fn the_page_is_an_engineers_tool() {
     );
     set_values(client, &[("units", "mm")]).await;
 
-    // The tracker's own file, read through the File format fields.
+    // The tracker's own file, read through the File format fields. Until
+    // its columns are mapped, it is listed apart: its header (X_mm…) is not
+    // what the position method reads.
     click(client, "#tab-position").await;
     click(client, "#function-identify").await;
+    assert_eq!(
+        count(
+            client,
+            "#position-identify-data optgroup option[value='file:tracker.csv']"
+        )
+        .await,
+        1,
+        "a file whose columns do not fit is listed apart"
+    );
     set_values(
         client,
         &[
@@ -732,10 +786,37 @@ async fn the_page_is_an_engineers_tool() {
     })
     .await;
     assert!(refused.contains("1 fold holds nothing out"), "{refused}");
+    // Mapped, it fits: listed with the files the method reads.
+    assert_eq!(
+        count(
+            client,
+            "#position-identify-data > option[value='file:tracker.csv']"
+        )
+        .await,
+        1,
+        "mapped columns fit the method"
+    );
     set_values(client, &[("position-identify-cv", "0")]).await;
     click(client, "#position-identify-run").await;
     let status = text_of(client, "#position-identify-status", 120).await;
     assert_eq!(status, "Fits the noise");
+    // The step bar follows: the file measured, a trusted identification, and
+    // the verdict on screen without scrolling for it.
+    assert_eq!(
+        text_of(client, "#step-measure .step-status", 5).await,
+        "tracker.csv"
+    );
+    assert_eq!(
+        text_of(client, "#step-identify .step-status", 5).await,
+        "trusted"
+    );
+    let top = number(
+        client,
+        "const r = document.getElementById('position-identify-verdict').getBoundingClientRect(); \
+         return r.top >= 0 && r.bottom <= window.innerHeight ? 1 : -r.top",
+    )
+    .await;
+    assert_eq!(top, 1.0, "the verdict is on screen after Identify");
     // A stated σ: the convergence plot is in multiples of it.
     assert!(
         text_of(client, "#position-identify-convergence", 5)
@@ -1106,6 +1187,36 @@ async fn the_page_is_an_engineers_tool() {
         .expect("scroll");
     screenshot(client, "13-identification-800.png").await;
 
+    // At 1920 px the width is used: the robot beside the methods, nothing
+    // sideways.
+    client.set_window_size(1920, 1200).await.expect("resize");
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    let overflow = number(
+        client,
+        "return document.documentElement.scrollWidth - window.innerWidth",
+    )
+    .await;
+    assert!(
+        overflow <= 0.0,
+        "the page is {overflow} px wider than the window"
+    );
+    let beside = number(
+        client,
+        "return document.getElementById('methods-card').getBoundingClientRect().left - \
+         document.getElementById('robot-card').getBoundingClientRect().right",
+    )
+    .await;
+    assert!(
+        beside > 0.0,
+        "the methods are beside the robot at 1920 px ({beside})"
+    );
+    client
+        .execute("window.scrollTo(0, 0)", vec![])
+        .await
+        .expect("scroll");
+    screenshot(client, "15-page-1920.png").await;
+    client.set_window_size(1400, 1900).await.expect("resize");
+
     // Frames state their own σ for rotations; positions have none to state.
     assert_eq!(count(client, "#frame-identify-sigma-rotation").await, 1);
     assert_eq!(count(client, "#position-identify-sigma-rotation").await, 0);
@@ -1293,6 +1404,11 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
         registration.contains("The robot’s base in the measurement frame")
             && registration.contains("from the robot file’s"),
         "{registration}"
+    );
+    let card = text_of(client, "#study-card", 5).await;
+    assert!(
+        !card.contains("null") && !card.contains("undefined"),
+        "no empty part shows as text: {card}"
     );
     screenshot(client, "14-study-1400.png").await;
     // Saved as a study file of the folder; it names the table's robot and

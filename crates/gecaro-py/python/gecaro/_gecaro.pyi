@@ -472,6 +472,8 @@ class Identification:
     def to_json(self) -> str: ...
     def report(self, path: Optional[_PathLike] = None, *, overwrite: bool = False) -> str:
         """The self-contained HTML report (written to ``path`` too when given)."""
+    def residuals_csv(self, path: Optional[_PathLike] = None, *, overwrite: bool = False) -> str:
+        """Every observation's error before and after, with its file and lines, as CSV (written to ``path`` too when given)."""
 
 def generate(
     robot: Robot,

@@ -1,7 +1,8 @@
 // The data menus of each method: generated, held-out, files of the folder
 // and uploads, and the request's data (`dataRequest`).
 import { h, $ } from './dom.js';
-import { state } from './state.js';
+import { columnMap, dataColumns, fits, isProgram } from './file-fit.js';
+import { methodInfo, state } from './state.js';
 
 /** The data chosen in function `fn` of method `name` (a generation counted as new data). */
 export function dataKey(name, fn) {
@@ -12,7 +13,7 @@ export function dataKey(name, fn) {
 }
 
 export function dataSelect(name, fn, withRandom) {
-  const select = h('select', { id: `${name}-${fn}-data`, class: 'data-choice', 'data-method': name, 'data-random': withRandom ? '1' : '' });
+  const select = h('select', { id: `${name}-${fn}-data`, class: 'data-choice', 'data-method': name, 'data-function': fn, 'data-random': withRandom ? '1' : '' });
   return select;
 }
 
@@ -31,7 +32,22 @@ export function refreshDataChoices(name, prefer) {
     if (generated) options.push(h('option', { value: 'generated', text: `Generated here: ${generated.file_name}` }));
     const heldOut = select.dataset.program ? null : state.heldOut[name];
     if (heldOut) options.push(h('option', { value: 'held-out', text: `Held out, the same real robot: ${heldOut.file_name}` }));
-    for (const file of state.files.data) options.push(h('option', { value: `file:${file}`, text: file }));
+    // The folder's files whose columns this method (or a program) reads
+    // first; the others after, to map under File format.
+    const format = $(`${name}-${select.dataset.function}-columns`);
+    const map = columnMap(format ? format.value : '');
+    const method = methodInfo(name);
+    const readable = (file) => {
+      const columns = (state.files.data_columns || {})[file];
+      return select.dataset.program ? isProgram(columns, map) : fits(columns, dataColumns(method), map);
+    };
+    const files = state.files.data.filter(readable);
+    const others = state.files.data.filter((file) => !readable(file));
+    for (const file of files) options.push(h('option', { value: `file:${file}`, text: file }));
+    if (others.length) {
+      options.push(h('optgroup', { label: `Other CSV files: columns that do not fit ${select.dataset.program ? 'a program' : method.title} (map them under File format)` },
+        others.map((file) => h('option', { value: `file:${file}`, text: file }))));
+    }
     if (!select.dataset.random) options.push(h('option', { value: 'upload', text: 'Upload a CSV file…' }));
     select.replaceChildren(...options);
     if ([...select.options].some((o) => o.value === previous)) select.value = previous;

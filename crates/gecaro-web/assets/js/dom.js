@@ -16,6 +16,11 @@ export function h(tag, attributes, ...children) {
   return element;
 }
 
+/** Replaces the children of `element` with `children`, skipping null, undefined and false as `h` does. */
+export function fill(element, ...children) {
+  element.replaceChildren(...children.flat().filter((child) => child !== null && child !== undefined && child !== false));
+}
+
 export const $ = (id) => document.getElementById(id);
 
 export function toast(text) {

@@ -18,6 +18,7 @@ import { loadReady, refreshFiles, openRobotDialog, newRobotDialog, saveRobotAs, 
 import { setRobot, confirmDiscard, remember, undoEdit, renderTableUnits, renderRobot, renderFrames, markModified, scheduleCheck, renderPriority, changeAngleUnit } from './robot-table.js';
 import { identificationBasis, refreshStale } from './stale.js';
 import { FUNCTIONS, state, tableDocument, persist, stored } from './state.js';
+import { renderSteps } from './steps.js';
 import { emptyStudy } from './study-spec.js';
 import { renderStudy } from './study.js';
 import { renderSliders, refreshPose, drawView, installViewControls } from './view.js';
@@ -48,6 +49,7 @@ async function start() {
   // What the lower modules tell (events.js), done here where every module is in reach.
   on('server-back', scheduleCheck);
   on('files-changed', () => { if (state.study) renderStudy(); });
+  on('changed', renderSteps);
   state.info = await api('/info');
   $('folder').textContent = `folder: ${state.info.folder}`;
   buildMethodPanels();

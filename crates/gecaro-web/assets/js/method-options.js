@@ -1,6 +1,7 @@
 // The options a method's functions share: its plane, orientation
 // difference and set size, and the data file's format (units, columns,
 // separator), as fields and as the request's parts.
+import { refreshDataChoices } from './data-choices.js';
 import { h, $ } from './dom.js';
 import { field } from './fields.js';
 import { parseVector } from './format.js';
@@ -74,7 +75,7 @@ export function formatFields(name, fn) {
         h('option', { value: 'm', text: 'metres' }), h('option', { value: 'mm', text: 'millimetres' }))),
       field('Joint angles in the file', h('select', { id: id('angle-unit') },
         h('option', { value: 'rad', text: 'radians' }), h('option', { value: 'deg', text: 'degrees' }))),
-      field('Column names (gecaro=file, …)', h('input', { type: 'text', class: 'vector', id: id('columns'), placeholder: 'x=X_mm,qm1=A1' })),
+      field('Column names (gecaro=file, …)', h('input', { type: 'text', class: 'vector', id: id('columns'), placeholder: 'x=X_mm,qm1=A1', onchange: () => refreshDataChoices(name) })),
       field('Separator', h('select', { id: id('delimiter') },
         ['auto', 'comma', 'semicolon', 'tab'].map((d) => h('option', { value: d, text: d === 'auto' ? 'found from the header' : d }))))));
 }

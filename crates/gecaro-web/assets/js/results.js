@@ -1,6 +1,41 @@
-// Parts shared by the results of single methods and studies.
+// Parts shared by the results of single methods and studies: plots, the
+// registration, and what to do with a calibrated robot.
+import { api } from './api.js';
 import { h } from './dom.js';
+import { saveAsDialog } from './robot-menu.js';
+import { setRobot, confirmDiscard } from './robot-table.js';
 import { inPageUnits, unitName } from './units.js';
+
+/** A plot the server drew (plotters' SVG), captioned, in the page's plot grid. */
+export function plotFigure(caption, svg, id) {
+  const holder = h('div', { class: 'plot', id });
+  holder.innerHTML = svg; // SVG made by the server (plotters), not user text.
+  return h('figure', {}, holder, h('figcaption', { class: 'muted', text: caption }));
+}
+
+/**
+ * What to do with identification `result` of job `job` (null: the server
+ * was restarted since, and keeps none of its files): save or open the
+ * calibrated robot — saving is the primary step only for a result the
+ * verdict trusts — and download the report and the residuals. Element ids
+ * start with `prefix`; `onSaved(name)` is called once the robot is saved.
+ */
+export function calibratedActions(result, trusted, job, prefix, onSaved) {
+  const link = (what, file, text) => h('a', { href: `/api/jobs/${job}/${what}`, download: file, id: `${prefix}-${what.replace(/\..*/, '')}` },
+    h('button', { type: 'button', text }));
+  return h('div', { class: 'actions' },
+    h('button', { type: 'button', class: trusted ? 'primary' : '', id: `${prefix}-save`, text: trusted ? 'Save calibrated robot…' : 'Save calibrated robot anyway…', onclick: () => saveAsDialog(result.calibrated, result.calibrated_name, onSaved) }),
+    h('button', {
+      type: 'button',
+      id: `${prefix}-open`,
+      text: 'Open the calibrated robot in the table',
+      onclick: () => confirmDiscard(async () => setRobot(await api('/robots/check', { robot: result.calibrated }), null, { keep: true }), 'Opening the calibrated robot'),
+    }),
+    job === null
+      ? h('span', { class: 'muted', id: `${prefix}-no-report`, text: 'The server was restarted since: identify again for its report and residuals.' })
+      : [link('report', `gecaro-report-${job}.html`, 'Download the report'),
+        link('residuals.csv', `gecaro-residuals-${job}.csv`, 'Download the residuals (CSV)')]);
+}
 
 /**
  * The registration an identification found: the robot's base in the

@@ -5,11 +5,11 @@ import { api } from './api.js';
 import { refreshDataChoices } from './data-choices.js';
 import { openDialog, dialogError } from './dialogs.js';
 import { h, $, toast } from './dom.js';
+import { emit } from './events.js';
 import { FieldError } from './fields.js';
 import { slug } from './format.js';
 import { setRobot, renderRobot } from './robot-table.js';
 import { state, tableDocument } from './state.js';
-import { emit } from './events.js';
 
 export async function loadReady(name) {
   setRobot(await api(`/robots/ready/${encodeURIComponent(name)}`), null);

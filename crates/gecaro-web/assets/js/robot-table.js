@@ -5,6 +5,7 @@ import { api } from './api.js';
 import { refreshDataChoices } from './data-choices.js';
 import { openDialog } from './dialogs.js';
 import { h, $ } from './dom.js';
+import { emit } from './events.js';
 import { locationText } from './fields.js';
 import { fmt } from './format.js';
 import { prefillPlanes } from './method-options.js';
@@ -42,6 +43,9 @@ function clearResults() {
   state.heldOut = {};
   state.results = {};
   state.calibrated = {};
+  state.planned = {};
+  state.evaluated = {};
+  state.exported = {};
   if (state.info) {
     for (const method of state.info.methods) {
       for (const select of document.querySelectorAll(`select.data-choice[data-method="${method.name}"]`)) select.value = '';
@@ -281,6 +285,7 @@ function renderProblems() {
   for (const button of document.querySelectorAll('button.run')) {
     button.disabled = items.length > 0;
   }
+  emit('changed');
 }
 
 export function renderPriority() {

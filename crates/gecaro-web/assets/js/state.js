@@ -1,5 +1,7 @@
 // The page's state (one object, read and written by the modules above),
 // its constants, and its keeping across reloads (localStorage).
+import { emit } from './events.js';
+
 export const KINDS = ['alpha', 'd', 'theta', 'r', 'beta', 'K'];
 
 export const KIND_HEADS = ['α', 'd', 'θ', 'r', 'β', 'K'];
@@ -36,6 +38,9 @@ export const state = {
   heldOut: {}, // method -> held-out data of the generated data's real robot
   results: {}, // method -> the last identification {job, result}, shown again after a reload
   calibrated: {}, // method -> the calibrated robot's document, for Evaluate
+  planned: {}, // method -> the last plan's configuration count
+  evaluated: {}, // method -> the last evaluation's comparison outcome ('better', 'worse', …, or 'table')
+  exported: {}, // method -> what was done with the calibrated robot ('saved', 'compensated')
   study: null, // the study editor's study (see emptyStudy)
   undo: [], // earlier table documents (JSON), for Undo
   redo: [],
@@ -56,8 +61,12 @@ export function methodInfo(name) {
 
 const STORAGE_KEY = 'gecaro.page';
 
-/** Keeps the robot, the settings and the last results in the browser. */
+/**
+ * Keeps the robot, the settings and the last results in the browser, and
+ * tells the page (`changed`: the step bar follows).
+ */
 export function persist() {
+  emit('changed');
   if (!state.robot) return;
   const page = {
     robot: state.robot, file: state.file, dirty: state.dirty, method: state.method,

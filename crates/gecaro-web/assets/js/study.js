@@ -2,13 +2,12 @@
 // tracker cell: reflectors on the flange, stations the tracker measured
 // from), as a study file states them (docs/studies.md).
 import { api } from './api.js';
-import { h, $, toast } from './dom.js';
+import { fill, h, $, toast } from './dom.js';
 import { field, FieldError, errorBox, runButton, stat } from './fields.js';
 import { sci } from './format.js';
 import { followJob } from './jobs.js';
-import { registrationBlock } from './results.js';
-import { refreshFiles, saveAsDialog } from './robot-menu.js';
-import { setRobot, confirmDiscard } from './robot-table.js';
+import { calibratedActions, registrationBlock } from './results.js';
+import { refreshFiles } from './robot-menu.js';
 import { state, tableDocument, persist } from './state.js';
 import { emptyStudy, studyOf, studySpec } from './study-spec.js';
 import { inUnits, inPageUnits, unitName } from './units.js';
@@ -55,7 +54,7 @@ export function renderStudy() {
   const unit = (id, value, options, onchange) => h('select', { id, onchange }, options.map(([v, t]) => h('option', { value: v, text: t, selected: v === value })));
   const studies = state.files.robots.map((f) => h('option', { value: f, text: f }));
   const opened = h('select', { id: 'study-file' }, h('option', { value: '', text: 'a study file of the folder…' }), studies);
-  $('study-editor').replaceChildren(
+  fill($('study-editor'),
     h('div', { class: 'form' },
       field('Open', opened),
       h('button', { type: 'button', id: 'study-open', text: 'Open', onclick: () => openStudy(opened.value) }),
@@ -147,7 +146,7 @@ function renderStudyResult(container, result, job) {
     h('td', { text: plusMinus(frame.name, ['x', 'y', 'z'], 'length') }),
     h('td', { text: frame.rpy.map(angle).join(', ') }),
     h('td', { text: plusMinus(frame.name, ['rx', 'ry', 'rz'], 'angle') })));
-  container.replaceChildren(
+  fill(container,
     h('div', { class: `verdict ${id.verdict.trusted ? 'ok' : 'bad'}`, id: 'study-verdict' }, h('p', { text: id.verdict.summary })),
     h('div', { class: 'cards' },
       stat(`RMS error before, after (${unit})`, `${inPageUnits(id.before.rms, 'length', 4)}, ${inPageUnits(id.after.rms, 'length', 4)}`, { id: 'study-rms' }),
@@ -157,14 +156,6 @@ function renderStudyResult(container, result, job) {
       h('thead', {}, h('tr', {}, ['frame', 'role', 'position', 'σ', 'roll, pitch, yaw', 'σ'].map((t) => h('th', { text: t })))),
       h('tbody', {}, rows)),
     registrationBlock(id.registration, 'study-registration'),
-    h('div', { class: 'actions' },
-      h('button', { type: 'button', class: id.verdict.trusted ? 'primary' : '', id: 'study-save-calibrated', text: id.verdict.trusted ? 'Save calibrated robot…' : 'Save calibrated robot anyway…', onclick: () => saveAsDialog(result.calibrated, result.calibrated_name) }),
-      h('button', {
-        type: 'button',
-        id: 'study-open-calibrated',
-        text: 'Open the calibrated robot in the table',
-        onclick: () => confirmDiscard(async () => setRobot(await api('/robots/check', { robot: result.calibrated }), null, { keep: true }), 'Opening the calibrated robot'),
-      }),
-      job === null ? null : h('a', { href: `/api/jobs/${job}/report`, download: `gecaro-report-${job}.html` }, h('button', { type: 'button', text: 'Download the report' }))),
+    calibratedActions(result, id.verdict.trusted, job, 'study-calibrated'),
     (id.warnings || []).length ? h('ul', { class: 'notes' }, id.warnings.map((w) => h('li', { text: w }))) : null);
 }

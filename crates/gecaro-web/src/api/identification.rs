@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use axum::extract::{Path as UrlPath, State};
 use axum::http::header;
-use axum::response::IntoResponse;
+use axum::response::{IntoResponse, Response};
 use gecaro_app::documents::IdentificationJson;
 use gecaro_app::{Identified, IdentifyRequest, Plots};
 use gecaro_calib::Progress;
@@ -110,6 +110,7 @@ fn outcome(identified: &Identified) -> Result<JobOutcome, ApiError> {
         result: serde_json::value::to_raw_value(&value)
             .map_err(|error| ApiError::Internal(format!("cannot encode the result: {error}")))?,
         report,
+        residuals: identified.residuals_csv()?,
     })
 }
 
@@ -141,25 +142,58 @@ pub(crate) async fn cancel(
     Ok(Json(job.view()))
 }
 
-/// The HTML report of a finished job.
+/// A finished job's HTML report.
 pub(crate) async fn report(
     State(state): State<AppState>,
     UrlPath(id): UrlPath<String>,
-) -> Result<impl IntoResponse, ApiError> {
-    let job = find(&state, &id)?;
+) -> Result<Response, ApiError> {
+    download(&state, &id, "report", |outcome| {
+        (
+            "text/html; charset=utf-8",
+            format!("gecaro-report-{id}.html"),
+            outcome.report.clone(),
+        )
+    })
+}
+
+/// A finished job's residuals, observation by observation (CSV).
+pub(crate) async fn residuals(
+    State(state): State<AppState>,
+    UrlPath(id): UrlPath<String>,
+) -> Result<Response, ApiError> {
+    download(&state, &id, "residuals", |outcome| {
+        (
+            "text/csv; charset=utf-8",
+            format!("gecaro-residuals-{id}.csv"),
+            outcome.residuals.clone(),
+        )
+    })
+}
+
+/// A file of finished job `id`'s outcome (`what` it is, for the error),
+/// as an attachment: its type, file name and text from `file`.
+fn download(
+    state: &AppState,
+    id: &str,
+    what: &str,
+    file: impl FnOnce(&JobOutcome) -> (&'static str, String, String),
+) -> Result<Response, ApiError> {
+    let job = find(state, id)?;
     let outcome = job.outcome().ok_or_else(|| {
         ApiError::Conflict(format!(
-            "job {id} has no report: it has not finished, or failed"
+            "job {id} has no {what}: it has not finished, or failed"
         ))
     })?;
+    let (kind, name, text) = file(&outcome);
     Ok((
         [
-            (header::CONTENT_TYPE, "text/html; charset=utf-8".to_owned()),
+            (header::CONTENT_TYPE, kind.to_owned()),
             (
                 header::CONTENT_DISPOSITION,
-                format!("attachment; filename=\"gecaro-report-{id}.html\""),
+                format!("attachment; filename=\"{name}\""),
             ),
         ],
-        outcome.report.clone(),
-    ))
+        text,
+    )
+        .into_response())
 }

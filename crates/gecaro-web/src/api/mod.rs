@@ -59,4 +59,5 @@ pub(crate) fn routes() -> Router<AppState> {
         .route("/jobs/{id}", get(identification::status))
         .route("/jobs/{id}/cancel", post(identification::cancel))
         .route("/jobs/{id}/report", get(identification::report))
+        .route("/jobs/{id}/residuals.csv", get(identification::residuals))
 }

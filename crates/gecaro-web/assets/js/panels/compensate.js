@@ -7,7 +7,7 @@ import { field, FieldError, errorBox, runButton, stat } from '../fields.js';
 import { fmt, sci } from '../format.js';
 import { formatFields, formatRequest } from '../method-options.js';
 import { refreshFiles } from '../robot-menu.js';
-import { state, tableDocument } from '../state.js';
+import { state, tableDocument, persist } from '../state.js';
 import { inUnits, unitName } from '../units.js';
 
 /**
@@ -19,7 +19,7 @@ export function compensatePanel(method) {
   const name = method.name;
   const id = (what) => `${name}-compensate-${what}`;
   const result = h('div', { class: 'result', id: id('result') });
-  const program = h('select', { id: id('data'), class: 'data-choice', 'data-method': name, 'data-program': '1' });
+  const program = h('select', { id: id('data'), class: 'data-choice', 'data-method': name, 'data-function': 'compensate', 'data-program': '1' });
   const upload = h('input', { type: 'file', accept: '.csv,text/csv', id: id('upload'), hidden: true });
   program.addEventListener('change', () => { upload.hidden = program.value !== 'upload'; });
   const matching = h('select', { id: id('match') },
@@ -42,6 +42,8 @@ export function compensatePanel(method) {
         save_as: saveAs.value.trim() || null,
       });
       renderCompensation(result, name, compensated);
+      state.exported[name] = compensated.output ? `program saved as ${compensated.output}` : 'program compensated';
+      persist();
       if (compensated.output) refreshFiles();
     } catch (error) {
       result.replaceChildren(errorBox(error));

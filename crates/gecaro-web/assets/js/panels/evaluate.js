@@ -6,7 +6,8 @@ import { h } from '../dom.js';
 import { field, errorBox, runButton, stat } from '../fields.js';
 import { fixed } from '../format.js';
 import { optionFields, methodRequest, formatFields, formatRequest } from '../method-options.js';
-import { state, tableDocument } from '../state.js';
+import { plotFigure } from '../results.js';
+import { state, tableDocument, persist } from '../state.js';
 import { inPageUnits, unitName } from '../units.js';
 
 /** The Evaluate function: the table's robot, and the calibrated one, on held-out data. */
@@ -28,6 +29,8 @@ export function evaluatePanel(method) {
         format: formatRequest(name, 'evaluate'),
       });
       renderEvaluation(result, name, evaluated, Boolean(compared));
+      state.evaluated[name] = evaluated.comparison ? evaluated.comparison.outcome : 'table';
+      persist();
       if (compared && state.results[name] && state.results[name].stale) {
         result.prepend(h('div', { class: 'warnings', id: `${name}-evaluate-stale`, text: 'The calibrated robot compared here is stale: the table or the data changed after its identification.' }));
       }
@@ -46,11 +49,6 @@ function renderEvaluation(container, name, evaluated, compared) {
   const length = (v) => inPageUnits(v, 'length', 4);
   const unit = unitName('length');
   const summary = (label, errors, id) => stat(`${label}: RMS, max (${unit}) over ${errors.count}`, `${length(errors.rms)}, ${length(errors.max)}`, { id });
-  const plot = (title, svg, plotId) => {
-    const holder = h('div', { class: 'plot', id: plotId });
-    holder.innerHTML = svg; // SVG made by the server (plotters), not user text.
-    return h('figure', {}, holder, h('figcaption', { class: 'muted', text: title }));
-  };
   const notes = (evaluated.notes || []).length ? h('ul', { class: 'notes' }, evaluated.notes.map((n) => h('li', { text: n }))) : null;
   // The verdict: better or worse than the table's robot, against the
   // training error, and whether these are the training data at all.
@@ -77,7 +75,7 @@ function renderEvaluation(container, name, evaluated, compared) {
     compared ? null : h('p', { class: 'muted', text: 'No calibrated robot yet: identify first to compare it here.' }),
     notes,
     h('div', { class: 'plots' },
-      plot(compared ? 'Held-out errors: the table’s robot (before) and the calibrated one (after), mm' : 'Held-out errors of the table’s robot, mm', evaluated.plots.errors_histogram, `${name}-evaluate-histogram`),
-      plot('Held-out error of every configuration (mm)', evaluated.plots.errors_per_configuration, `${name}-evaluate-per-configuration`)),
+      plotFigure(compared ? 'Held-out errors: the table’s robot (before) and the calibrated one (after), mm' : 'Held-out errors of the table’s robot, mm', evaluated.plots.errors_histogram, `${name}-evaluate-histogram`),
+      plotFigure('Held-out error of every configuration (mm; hover a dot for its file and line)', evaluated.plots.errors_per_configuration, `${name}-evaluate-per-configuration`)),
   ].filter(Boolean));
 }

@@ -7,9 +7,7 @@ import { field, fieldNumber, sigmaText, degreesText, foldsOf, errorBox, runButto
 import { fmt, fixed, sci } from '../format.js';
 import { followJob } from '../jobs.js';
 import { optionFields, methodRequest, formatFields, formatRequest } from '../method-options.js';
-import { registrationBlock } from '../results.js';
-import { saveAsDialog } from '../robot-menu.js';
-import { setRobot, confirmDiscard } from '../robot-table.js';
+import { calibratedActions, plotFigure, registrationBlock } from '../results.js';
 import { identificationBasis, refreshStale } from '../stale.js';
 import { state, tableDocument, persist } from '../state.js';
 import { unitOf, inUnits, unitName, unitsLabel } from '../units.js';
@@ -19,7 +17,7 @@ export function identifyPanel(method) {
   const result = h('div', { class: 'result', id: `${name}-identify-result` });
   const data = dataSelect(name, 'identify', false);
   const upload = h('input', { type: 'file', accept: '.csv,text/csv', id: `${name}-identify-upload`, hidden: true });
-  data.addEventListener('change', () => { upload.hidden = data.value !== 'upload'; refreshStale(); });
+  data.addEventListener('change', () => { upload.hidden = data.value !== 'upload'; refreshStale(); persist(); });
   const solver = h('select', { id: `${name}-identify-solver` },
     h('option', { value: 'gauss-newton', text: 'Gauss–Newton (the paper)' }),
     h('option', { value: 'lm', text: 'Levenberg–Marquardt' }));
@@ -73,6 +71,8 @@ export function identifyPanel(method) {
       } else {
         state.results[name] = { job: submitted.job, result: job.result, basis };
         renderIdentification(result, name, submitted.job, job.result);
+        // The verdict first, without scrolling for it.
+        result.scrollIntoView({ block: 'start' });
         refreshStale();
         persist();
       }
@@ -126,15 +126,10 @@ export function renderIdentification(container, name, job, result) {
       ? stat(`residual σ (${unitName('angle')})`, sci(inUnits(verdict.residual_angle, 'angle'))) : null);
   const warnings = id.warnings.length
     ? h('div', { class: 'warnings' }, h('strong', { text: 'Warnings' }), h('ul', {}, id.warnings.map((w) => h('li', { text: w })))) : null;
-  const plot = (title, svg, plotId) => {
-    const holder = h('div', { class: 'plot', id: plotId });
-    holder.innerHTML = svg; // SVG made by the server (plotters), not user text.
-    return h('figure', {}, holder, h('figcaption', { class: 'muted', text: title }));
-  };
   const plots = h('div', { class: 'plots' },
-    plot('Residual RMS per iteration', result.plots.convergence, `${name}-identify-convergence`),
-    plot(id.outlier_count ? `Errors before and after (mm; after: the inliers, without the ${id.outlier_count} outliers)` : 'Errors before and after (mm)', result.plots.errors_histogram, `${name}-identify-histogram`),
-    plot('Error of every configuration (mm)', result.plots.errors_per_configuration, `${name}-identify-per-configuration`));
+    plotFigure('Residual RMS per iteration', result.plots.convergence, `${name}-identify-convergence`),
+    plotFigure(id.outlier_count ? `Errors before and after (mm; after: the inliers, without the ${id.outlier_count} outliers)` : 'Errors before and after (mm)', result.plots.errors_histogram, `${name}-identify-histogram`),
+    plotFigure('Error of every configuration (mm; hover a dot for its file and line)', result.plots.errors_per_configuration, `${name}-identify-per-configuration`));
   // Values in the page's units; a deviation beyond 3σ is marked, a
   // regrouped parameter is a combination, not the physical value.
   const rows = id.parameters.concat(id.auxiliary).map((p) => {
@@ -169,18 +164,10 @@ export function renderIdentification(container, name, job, result) {
     `Cross-validation, ${cv.folds} folds: held-out RMS ${mm(cv.rms)} mm${cv.rms_rotation !== null ? `, ${fixed(cv.rms_rotation * 180 / Math.PI, 4)}°` : ''} (per fold: ${cv.per_fold.map((f) => mm(f.rms)).join(', ')} mm)` }) : null;
   const moved = id.moved.length
     ? h('p', { class: 'muted', text: `Outside the base set, moved: ${id.moved.map((p) => `${p.name} ${(p.identified - p.nominal).toExponential(2)}`).join(', ')}` }) : null;
-  // Saving is the next step only for a result the verdict trusts.
-  const actions = h('div', { class: 'actions' },
-    h('button', { type: 'button', class: verdict.trusted ? 'primary' : '', id: `${name}-identify-save`, text: verdict.trusted ? 'Save calibrated robot…' : 'Save calibrated robot anyway…', onclick: () => saveAsDialog(result.calibrated, result.calibrated_name) }),
-    h('button', {
-      type: 'button',
-      id: `${name}-identify-open`,
-      text: 'Open the calibrated robot in the table',
-      onclick: () => confirmDiscard(async () => setRobot(await api('/robots/check', { robot: result.calibrated }), null, { keep: true }), 'Opening the calibrated robot'),
-    }),
-    job === null
-      ? h('span', { class: 'muted', id: `${name}-identify-no-report`, text: 'The server was restarted since: identify again for its report.' })
-      : h('a', { href: `/api/jobs/${job}/report`, download: `gecaro-report-${job}.html` }, h('button', { type: 'button', text: 'Download the report' })));
+  const actions = calibratedActions(result, verdict.trusted, job, `${name}-identify`, (file) => {
+    state.exported[name] = `saved as ${file}`;
+    persist();
+  });
   container.replaceChildren(...[headline, cards, observabilityLine(id.observability, 'the data'), robustness, validation, warnings, actions,
     registrationBlock(id.registration, `${name}-identify-registration`),
     outlierTable('Rejected before this fit', id.rejected, id.rejected_count, `${name}-identify-rejected`),

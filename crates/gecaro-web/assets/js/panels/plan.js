@@ -7,9 +7,10 @@ import { field, fieldNumber, errorBox, runButton, observabilityLine, stat } from
 import { fmt, fixed, sci } from '../format.js';
 import { optionFields, methodRequest } from '../method-options.js';
 import { selectFunction } from '../navigation.js';
-import { generateInto } from '../panels/generate.js';
+import { plotFigure } from '../results.js';
 import { refreshFiles } from '../robot-menu.js';
-import { DEFAULT_COUNTS, state, tableDocument } from '../state.js';
+import { DEFAULT_COUNTS, state, tableDocument, persist } from '../state.js';
+import { generateInto } from './generate.js';
 
 const CRITERIA = [
   ['d', 'D-optimal (largest det W_bᵀW_b)'],
@@ -40,7 +41,12 @@ export function planPanel(method) {
     // Cancel aborts the request; the server then stops the plan at its next step.
     const abort = new AbortController();
     const cancel = h('button', { type: 'button', id: `${name}-plan-cancel`, text: 'Cancel', onclick: () => abort.abort() });
-    result.replaceChildren(h('div', { class: 'progress' }, h('div', { class: 'spinner' }), h('span', { text: 'Choosing configurations…' }), cancel));
+    // What is being done and for how long (planning is one request: no fraction done to show).
+    const label = h('span', { id: `${name}-plan-progress`, text: 'Choosing configurations…' });
+    result.replaceChildren(h('div', { class: 'progress' }, h('div', { class: 'spinner' }), label, cancel));
+    const started = Date.now();
+    let what = 'Choosing configurations';
+    const ticker = setInterval(() => { label.textContent = `${what}… ${Math.round((Date.now() - started) / 1000)} s`; }, 1000);
     try {
       const request = {
         robot: tableDocument(),
@@ -66,6 +72,8 @@ export function planPanel(method) {
         request.save_as = saveAs.value.trim();
         request.overwrite = overwrite.checked;
       }
+      what = `Choosing ${request.count} of ${request.pool || 20 * request.count} candidates (${criterion.options[criterion.selectedIndex].text})${request.curve ? ', then the accuracy curve' : ''}`;
+      label.textContent = `${what}…`;
       const planned = await api('/plan', request, abort.signal);
       planned.format = request.format;
       if (planned.saved) refreshFiles();
@@ -76,6 +84,8 @@ export function planPanel(method) {
       } else {
         result.replaceChildren(errorBox(error));
       }
+    } finally {
+      clearInterval(ticker);
     }
   });
   return h('div', { class: 'panel', id: `${name}-plan` },
@@ -98,6 +108,8 @@ export function planPanel(method) {
 }
 
 function renderPlanned(container, name, planned) {
+  state.planned[name] = planned.configurations;
+  persist();
   const better = planned.criterion === 'a' || planned.criterion === 'test'
     ? planned.value < planned.random_value : planned.value > planned.random_value;
   const preview = planned.csv.split('\n').slice(0, 6).join('\n');
@@ -132,10 +144,7 @@ function renderPlanned(container, name, planned) {
       h('thead', {}, h('tr', {}, ['configurations', 'planned (mm)', 'random (mm)', 'random / planned'].map((t) => h('th', { text: t })))),
       h('tbody', {}, rows)));
     // In the same grid, size and caption style as every other plot of the page.
-    const figure = h('div', { class: 'plot', id: `${name}-plan-curve-plot` });
-    figure.innerHTML = planned.curve.svg; // SVG made by the server (plotters), not user text.
-    parts.push(h('div', { class: 'plots' }, h('figure', {}, figure,
-      h('figcaption', { class: 'muted', text: 'Predicted RMS position error against the number of configurations (mm)' }))));
+    parts.push(h('div', { class: 'plots' }, plotFigure('Predicted RMS position error against the number of configurations (mm)', planned.curve.svg, `${name}-plan-curve-plot`)));
   }
   parts.push(h('pre', { class: 'preview', text: `${preview}\n…` }));
   container.replaceChildren(...parts.filter(Boolean));
