@@ -68,7 +68,10 @@ fn outlier_table(outliers: &[Outlier]) -> comfy_table::Table {
     header.extend(["residual (σ̂)", "weight"]);
     let mut rows = table(&header, 1);
     for outlier in outliers {
-        let mut row = vec![outlier.location(), format!("{:.3}", outlier.error * 1e3)];
+        let mut row = vec![
+            outlier.location.describe(),
+            format!("{:.3}", outlier.error * 1e3),
+        ];
         if rotation {
             row.push(
                 outlier

@@ -6,7 +6,7 @@
 //! `(qw, qx, qy, qz)` of frame n+1 in the world frame; `set` (link methods)
 //! and `pair` (distance) are integer ids; `distance` is in metres.
 
-use gecaro_app::{DataSource, Files, LocalFiles, angle_unit, delimiter, length_unit};
+use gecaro_app::{DataSource, LocalFiles, angle_unit, delimiter, length_unit};
 use gecaro_calib::study::{DataColumn, Sample};
 use gecaro_io::{ColumnMap, DataFormat, DataUnits, format_samples, joint_types};
 use nalgebra::Vector3;
@@ -17,6 +17,7 @@ use std::path::PathBuf;
 
 use crate::arrays::{Real, array, identifiers};
 use crate::errors::{IntoPyResult, input};
+use crate::files::write_text;
 use crate::methods::method_of;
 use crate::robot::PyRobot;
 
@@ -236,15 +237,7 @@ impl PyData {
     #[pyo3(signature = (path, method, *, overwrite = false))]
     fn write(&self, path: PathBuf, method: &Bound<'_, PyAny>, overwrite: bool) -> PyResult<()> {
         let text = self.to_csv(method)?;
-        LocalFiles
-            .write(
-                &path.display().to_string(),
-                "csv",
-                text.as_bytes(),
-                overwrite,
-            )
-            .map(|_| ())
-            .py()
+        write_text(&path, "csv", &text, overwrite)
     }
 
     /// Motor variables, shape (m, n).

@@ -5,7 +5,7 @@
 //! `to_dict()` is the command's `--json` document.
 
 use gecaro_app::documents::{FrameJson, ObservabilityJson, OutlierJson, SummaryJson, VerdictJson};
-use gecaro_app::{EvaluateRequest, Files, FitSettings, Identified, IdentifyRequest, LocalFiles};
+use gecaro_app::{EvaluateRequest, FitSettings, Identified, IdentifyRequest, LocalFiles};
 use gecaro_calib::identification::{ErrorSummary, IdentifiedParameter, StopReason};
 use numpy::PyArrayDyn;
 use pyo3::prelude::*;
@@ -15,6 +15,7 @@ use crate::arrays::{array, columns};
 use crate::data::PyData;
 use crate::documents::{to_json, to_python};
 use crate::errors::{IntoPyResult, NotConvergedError};
+use crate::files::write_text;
 use crate::interrupt::Watch;
 use crate::robot::PyRobot;
 use crate::sigma::Sigma;
@@ -381,14 +382,7 @@ impl PyIdentification {
             .detach(|| self.identified.report("gecaro.identify (Python)"))
             .py()?;
         if let Some(path) = path {
-            LocalFiles
-                .write(
-                    &path.display().to_string(),
-                    "html",
-                    html.as_bytes(),
-                    overwrite,
-                )
-                .py()?;
+            write_text(&path, "html", &html, overwrite)?;
         }
         Ok(html)
     }
@@ -400,14 +394,7 @@ impl PyIdentification {
     fn residuals_csv(&self, path: Option<std::path::PathBuf>, overwrite: bool) -> PyResult<String> {
         let text = self.identified.residuals_csv().py()?;
         if let Some(path) = path {
-            LocalFiles
-                .write(
-                    &path.display().to_string(),
-                    "csv",
-                    text.as_bytes(),
-                    overwrite,
-                )
-                .py()?;
+            write_text(&path, "csv", &text, overwrite)?;
         }
         Ok(text)
     }

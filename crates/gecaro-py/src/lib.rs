@@ -34,6 +34,7 @@ mod compensation;
 mod data;
 mod documents;
 mod errors;
+mod files;
 mod generation;
 mod identifiability;
 mod identification;

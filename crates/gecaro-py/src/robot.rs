@@ -8,7 +8,7 @@
 
 use std::path::PathBuf;
 
-use gecaro_app::{Files, LocalFiles};
+use gecaro_app::LocalFiles;
 use gecaro_core::{
     ChainBuffer, Frame, FrameType, InverseOptions, JacobianRows, Joint, KinematicModel,
     ParameterId, PriorityMatrix, Robot, RobotSpec, Target, inverse_kinematics,
@@ -23,12 +23,8 @@ use pyo3::types::PyDict;
 
 use crate::arrays::{Real, array, columns, priority_array};
 use crate::errors::{IntoPyResult, input};
+use crate::files::{path_text, write_text};
 use crate::interrupt::Watch;
-
-/// A path or a ready robot's name as given (`str` or `os.PathLike`).
-pub(crate) fn path_text(path: &std::path::Path) -> String {
-    path.to_string_lossy().into_owned()
-}
 
 /// A serial robot (see the module docs). Load one with `Robot.load`, build one
 /// with `Robot.from_table`, convert one with `Robot.import_file`.
@@ -356,10 +352,7 @@ impl PyRobot {
     #[pyo3(signature = (path, *, overwrite = false))]
     fn save(&self, path: PathBuf, overwrite: bool) -> PyResult<()> {
         let text = gecaro_io::robot_file_text(&self.file, &path).py()?;
-        LocalFiles
-            .write(&path_text(&path), "toml", text.as_bytes(), overwrite)
-            .map(|_| ())
-            .py()
+        write_text(&path, "toml", &text, overwrite)
     }
 
     /// The robot file's text (TOML), as `save` writes it.

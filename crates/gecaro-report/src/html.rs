@@ -244,7 +244,7 @@ fn outlier_table(title: &str, outliers: &[Outlier], threshold: f64) -> Markup {
                 tr { th { "observation" } th { "error (mm)" } th { "residual (σ̂)" } th { "weight" } }
                 @for outlier in listed {
                     tr {
-                        td { (outlier.location()) }
+                        td { (outlier.location.describe()) }
                         td { (format!("{:.3}", outlier.error * 1e3)) }
                         td { (format!("{:.1}", outlier.standardized)) }
                         td { (format!("{:.3}", outlier.weight)) }

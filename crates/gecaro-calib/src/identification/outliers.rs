@@ -24,13 +24,6 @@ pub struct Outlier {
     pub weight: f64,
 }
 
-impl Outlier {
-    /// `file.csv: configuration 17 (line 19)` and the like.
-    pub fn location(&self) -> String {
-        self.location.describe()
-    }
-}
-
 /// The outliers of `study` at a solution with `statistics` and per-observation
 /// errors `errors` (numbered across sets, as the system numbers them), worst first.
 pub(super) fn find_outliers(

@@ -21,7 +21,7 @@ export function plotFigure(caption, svg, id) {
  * start with `prefix`; `onSaved(name)` is called once the robot is saved.
  */
 export function calibratedActions(result, trusted, job, prefix, onSaved) {
-  const link = (what, file, text) => h('a', { href: `/api/jobs/${job}/${what}`, download: file, id: `${prefix}-${what.replace(/\..*/, '')}` },
+  const link = (what, route, file, text) => h('a', { href: `/api/jobs/${job}/${route}`, download: file, id: `${prefix}-${what}` },
     h('button', { type: 'button', text }));
   return h('div', { class: 'actions' },
     h('button', { type: 'button', class: trusted ? 'primary' : '', id: `${prefix}-save`, text: trusted ? 'Save calibrated robot…' : 'Save calibrated robot anyway…', onclick: () => saveAsDialog(result.calibrated, result.calibrated_name, onSaved) }),
@@ -33,8 +33,8 @@ export function calibratedActions(result, trusted, job, prefix, onSaved) {
     }),
     job === null
       ? h('span', { class: 'muted', id: `${prefix}-no-report`, text: 'The server was restarted since: identify again for its report and residuals.' })
-      : [link('report', `gecaro-report-${job}.html`, 'Download the report'),
-        link('residuals.csv', `gecaro-residuals-${job}.csv`, 'Download the residuals (CSV)')]);
+      : [link('report', 'report', `gecaro-report-${job}.html`, 'Download the report'),
+        link('residuals', 'residuals.csv', `gecaro-residuals-${job}.csv`, 'Download the residuals (CSV)')]);
 }
 
 /**
