@@ -110,42 +110,7 @@ fn plan_study(args: &PlanArgs, study: &std::path::Path) -> Result<(), Failure> {
     super::options::print_notes(&planned.loaded.notes);
     let plan = &planned.plan;
     if args.json {
-        #[derive(serde::Serialize)]
-        struct SetJson<'a> {
-            data: &'a str,
-            configurations: usize,
-        }
-        #[derive(serde::Serialize)]
-        struct PlanStudyJson<'a> {
-            sets: Vec<SetJson<'a>>,
-            pool: usize,
-            log_det: f64,
-            random_log_det: f64,
-            exchanges: usize,
-            output: Vec<String>,
-        }
-        return super::output::print_json(&PlanStudyJson {
-            sets: planned
-                .loaded
-                .study
-                .sets
-                .iter()
-                .zip(&plan.sets)
-                .map(|(set, samples)| SetJson {
-                    data: &set.label,
-                    configurations: samples.len(),
-                })
-                .collect(),
-            pool: planned.pool,
-            log_det: plan.quality.log_det,
-            random_log_det: plan.random.log_det,
-            exchanges: plan.exchanges,
-            output: planned
-                .saved
-                .iter()
-                .map(|path| path.display().to_string())
-                .collect(),
-        });
+        return super::output::print_json(&planned.document());
     }
     println!(
         "Planned {} configurations of {} for the cell of {} ({} sets, D-optimal over {} base \

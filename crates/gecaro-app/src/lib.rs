@@ -116,7 +116,7 @@ pub use sources::{
     robot_of_document,
 };
 pub use study_editing::{SaveStudyRequest, open_study};
-pub use study_plan::{PlanStudyRequest, PlannedStudy};
+pub use study_plan::{PlanStudyJson, PlanStudyRequest, PlannedSetJson, PlannedStudy};
 pub use study_prediction::{
     PredictStudyJson, PredictStudyRequest, PredictedSetJson, PredictedStudy,
 };

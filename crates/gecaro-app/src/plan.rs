@@ -3,7 +3,6 @@
 //! are enough (its accuracy curve); and the precision a plan will give
 //! ([`PredictRequest`]).
 
-use gecaro_calib::Observer;
 use gecaro_calib::curve::{CurvePoint, RANDOM_DRAWS, accuracy_curve};
 use gecaro_calib::identification::IdentificationOptions;
 use gecaro_calib::methods::CalibrationMethod;
@@ -13,6 +12,7 @@ use gecaro_calib::planning::{
 use gecaro_calib::prediction::{MonteCarlo, Prediction, monte_carlo, predict, random_test_poses};
 use gecaro_calib::simulation::{MAX_NOISE, Sampler};
 use gecaro_calib::study::{DataColumn, Sample};
+use gecaro_calib::{Observer, report_phase};
 use gecaro_core::Robot;
 use gecaro_io::{DataFormat, RobotFile};
 use serde::Deserialize;
@@ -206,8 +206,58 @@ impl PlanRequest {
         }
     }
 
-    /// Checks the settings before any work.
-    fn check(&self) -> Result<(), AppError> {
+    /// Checks the request before any work, as [`run`](Self::run) does
+    /// first: its settings, the robot, the method, the data format and the
+    /// files it would write (a front end answers these at once, before it
+    /// starts the work as a job). What only the work finds (a pool with too
+    /// few admissible candidates, too few equations) is
+    /// [`run`](Self::run)'s.
+    ///
+    /// # Errors
+    /// Bad settings, a robot that cannot be read, outputs that exist.
+    pub fn check(&self, files: &dyn Files) -> Result<(), AppError> {
+        self.check_settings()?;
+        self.robot.load(files)?;
+        self.method.build()?;
+        self.format.format()?;
+        for (name, extension) in [(&self.save_as, "csv"), (&self.plot_save_as, "svg")] {
+            if let Some(name) = name {
+                files.check_output(name, extension, self.overwrite)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The largest count planned: the plan's or the curve's.
+    fn largest_count(&self) -> usize {
+        self.curve
+            .iter()
+            .copied()
+            .chain(self.count)
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// The candidates drawn when the request names no candidates file.
+    fn pool_size(&self) -> usize {
+        self.pool
+            .unwrap_or_else(|| default_pool(self.largest_count()))
+    }
+
+    /// About the bytes the work holds at its largest: the candidates'
+    /// observation rows (six per configuration at most, about sixty
+    /// unknowns, twice over) for the pool drawn, or the most a candidates
+    /// file may hold.
+    pub fn memory_need(&self) -> usize {
+        let pool = match &self.candidates {
+            Some(_) => MAX_GENERATE,
+            None => self.pool_size(),
+        };
+        pool.saturating_mul(6 * 60 * 2 * std::mem::size_of::<f64>())
+    }
+
+    /// Checks the settings alone.
+    fn check_settings(&self) -> Result<(), AppError> {
         self.unknown.check()?;
         if self.count.is_none() && self.curve.is_empty() {
             return Err(AppError::setting(
@@ -232,6 +282,22 @@ impl PlanRequest {
                 "curve",
                 too_many,
                 format!("counts of at most {MAX_GENERATE} configurations"),
+            ));
+        }
+        if self.candidates.is_none() && !(1..=MAX_GENERATE).contains(&self.pool_size()) {
+            return Err(AppError::setting_value(
+                "pool",
+                self.pool_size(),
+                format!("between 1 and {MAX_GENERATE} candidates"),
+            ));
+        }
+        let criterion = self.criterion.as_deref().map(str::trim);
+        if let Some(name) = criterion
+            && !Criterion::NAMES.contains(&name)
+        {
+            return Err(AppError::setting(
+                "criterion",
+                format!("`{name}` is not one of {}", Criterion::NAMES.join(", ")),
             ));
         }
         if !self.curve.is_empty() {
@@ -268,7 +334,7 @@ impl PlanRequest {
         files: &dyn Files,
         observer: &mut dyn Observer,
     ) -> Result<Planning, AppError> {
-        self.check()?;
+        self.check_settings()?;
         let file = self.robot.load(files)?;
         for (name, extension) in [(&self.save_as, "csv"), (&self.plot_save_as, "svg")] {
             if let Some(name) = name {
@@ -279,26 +345,14 @@ impl PlanRequest {
         let method = self.method.build()?;
         let seed = self.seed.unwrap_or(1);
         let columns = DataColumn::grouping(method.data_columns());
-        let largest = self
-            .curve
-            .iter()
-            .copied()
-            .chain(self.count)
-            .max()
-            .unwrap_or(0);
+        let largest = self.largest_count();
         let format = self.format.format()?;
         let pool = match &self.candidates {
             Some(source) => configurations(robot, source, &columns, &format, files)?,
             None => {
-                let size = self.pool.unwrap_or_else(|| default_pool(largest));
-                if !(1..=MAX_GENERATE).contains(&size) {
-                    return Err(AppError::setting_value(
-                        "pool",
-                        size,
-                        format!("between 1 and {MAX_GENERATE} candidates"),
-                    ));
-                }
+                let size = self.pool_size();
                 let mut sampler = Sampler::new(seed).with_cell(self.cell.cell()?);
+                report_phase(observer, "drawing the candidates")?;
                 let pool = method
                     .sensor()
                     .generate(robot, size, 0.0, &mut sampler, observer)?;
@@ -332,6 +386,7 @@ impl PlanRequest {
             None
         } else {
             let noise = self.noise.unwrap_or(DEFAULT_CURVE_NOISE);
+            report_phase(observer, "predicting the accuracy curve")?;
             let points = accuracy_curve(
                 &candidates,
                 &self.curve,
@@ -354,6 +409,7 @@ impl PlanRequest {
                     count,
                     ..design.clone()
                 };
+                report_phase(observer, "choosing the configurations")?;
                 let plan = candidates.plan(&design, observer)?;
                 // A random choice of as many units from the same pool, for comparison.
                 let random =

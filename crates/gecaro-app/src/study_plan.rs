@@ -8,25 +8,30 @@
 
 use std::path::{Path, PathBuf};
 
-use gecaro_calib::Observer;
 use gecaro_calib::frames::measuring_robot;
 use gecaro_calib::planning::{StudyPlan, plan_study};
 use gecaro_calib::simulation::Sampler;
 use gecaro_calib::study::DataColumn;
+use gecaro_calib::{Observer, report_phase};
 use gecaro_io::{DataFormat, StandardDeviation};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use crate::cell::{CellSpec, refuse_misses};
 use crate::error::{AppError, ErrorKind};
 use crate::files::Files;
 use crate::limits::MAX_GENERATE;
 use crate::measurements::{Data, Loaded, Measurements, StudySource, Unknown};
+use crate::sources::RobotSource;
 
 /// A cell to plan; see the module docs.
 #[derive(Clone, Debug, Deserialize)]
 pub struct PlanStudyRequest {
     /// The study file (its robot, sets, σ, named frames).
     pub study: StudySource,
+    /// The robot of a stated study that names none (the web page's table).
+    /// A planned study written for it names it, so it must be a name then
+    /// (a robot file of the folder, or a ready robot).
+    pub robot: Option<RobotSource>,
     /// Configurations to choose in all.
     pub count: usize,
     /// Candidates drawn per set (default 20 × count ÷ sets, at least 200).
@@ -47,6 +52,14 @@ pub struct PlanStudyRequest {
     unknown: Unknown,
 }
 
+/// A request checked: the study loaded, the candidates per set, the
+/// planned study's name and its sets' file names when it is saved.
+struct Checked {
+    loaded: Loaded,
+    pool: usize,
+    outputs: Option<(String, Vec<String>)>,
+}
+
 /// A planned cell.
 #[derive(Clone, Debug)]
 pub struct PlannedStudy {
@@ -65,6 +78,7 @@ impl PlanStudyRequest {
     pub fn new(study: StudySource, count: usize) -> Self {
         PlanStudyRequest {
             study,
+            robot: None,
             count,
             pool: None,
             seed: None,
@@ -75,19 +89,34 @@ impl PlanStudyRequest {
         }
     }
 
-    /// Draws the pools, plans, and writes the planned study if asked (every
-    /// output checked before any work, written after it).
+    /// Checks the request before any work, as [`run`](Self::run) does
+    /// first: the settings, the study and the files it names, the files it
+    /// would write (a front end answers these at once, before it starts the
+    /// work as a job). Returns about the bytes the work holds at its
+    /// largest: every set's candidates' observation rows (six per
+    /// configuration at most, about sixty unknowns, twice over).
     ///
     /// # Errors
-    /// Files that cannot be read or written, bad counts, a plan that does
-    /// not determine the cell, an interruption.
-    pub fn run(
-        &self,
-        files: &dyn Files,
-        observer: &mut dyn Observer,
-    ) -> Result<PlannedStudy, AppError> {
+    /// As [`run`](Self::run)'s, but those only the work finds.
+    pub fn check(&self, files: &dyn Files) -> Result<usize, AppError> {
+        let checked = self.checked(files)?;
+        Ok(checked
+            .pool
+            .saturating_mul(checked.loaded.study.sets.len())
+            .saturating_mul(6 * 60 * 2 * std::mem::size_of::<f64>()))
+    }
+
+    fn checked(&self, files: &dyn Files) -> Result<Checked, AppError> {
         self.unknown.check()?;
+        if !(1..=MAX_GENERATE).contains(&self.count) {
+            return Err(AppError::setting_value(
+                "count",
+                self.count,
+                format!("between 1 and {MAX_GENERATE} configurations"),
+            ));
+        }
         let loaded = Measurements {
+            robot: self.robot.clone(),
             study: Some(self.study.clone()),
             ..Measurements::default()
         }
@@ -111,6 +140,13 @@ impl PlanStudyRequest {
                         "a planned study is written for a study file or a stated study",
                     ));
                 }
+                if self.named_robot().is_none() {
+                    return Err(AppError::setting(
+                        "save_as",
+                        "a planned study names its robot: give the robot by its file in the \
+                         folder or a ready robot's name, not as a table",
+                    ));
+                }
                 let outputs = set_file_names(name, sets);
                 files.check_output(name, "toml", self.overwrite)?;
                 for output in &outputs {
@@ -120,6 +156,29 @@ impl PlanStudyRequest {
             }
             None => None,
         };
+        Ok(Checked {
+            loaded,
+            pool,
+            outputs,
+        })
+    }
+
+    /// Draws the pools, plans, and writes the planned study if asked (every
+    /// output checked before any work, written after it).
+    ///
+    /// # Errors
+    /// Files that cannot be read or written, bad counts, a plan that does
+    /// not determine the cell, an interruption.
+    pub fn run(
+        &self,
+        files: &dyn Files,
+        observer: &mut dyn Observer,
+    ) -> Result<PlannedStudy, AppError> {
+        let Checked {
+            loaded,
+            pool,
+            outputs,
+        } = self.checked(files)?;
         let robot = &loaded.robot.robot;
         let seed = self.seed.unwrap_or(1);
         let mut sampler = Sampler::new(seed);
@@ -131,6 +190,10 @@ impl PlanStudyRequest {
             // there; configurations are what the pool holds.
             let with_tool = measuring_robot(robot, frame(set.tool), None)?;
             let station = frame(set.station).map(|station| station.pose.translation.vector);
+            report_phase(
+                observer,
+                &format!("drawing the candidates of {}", set.label),
+            )?;
             let mut drawing = sampler
                 .clone()
                 .with_cell(self.cell.cell_seen_from(station)?);
@@ -145,33 +208,136 @@ impl PlanStudyRequest {
             sampler = drawing;
         }
         let priority = loaded.priority.clone().unwrap_or_else(|| robot.priority());
+        report_phase(observer, "choosing the configurations")?;
         let plan = plan_study(robot, &candidates, self.count, &priority, seed, observer)?;
-        let mut saved = Vec::new();
-        if let Some((name, outputs)) = outputs {
-            let types = gecaro_io::joint_types(robot);
-            for ((set, samples), output) in loaded.study.sets.iter().zip(&plan.sets).zip(&outputs) {
-                let columns = DataColumn::grouping(set.method.data_columns());
-                let text = gecaro_io::format_configurations(
-                    &types,
-                    &columns,
-                    samples,
-                    &DataFormat::default(),
-                );
-                saved.push(files.write(output, "csv", text.as_bytes(), self.overwrite)?);
-            }
-            let text = planned_study_text(files, &self.study, &name, &loaded, &outputs)?;
-            saved.insert(
-                0,
-                files.write(&name, "toml", text.as_bytes(), self.overwrite)?,
-            );
-        }
-        Ok(PlannedStudy {
+        let mut planned = PlannedStudy {
             loaded,
             plan,
             pool,
-            saved,
-        })
+            saved: Vec::new(),
+        };
+        // Written last: a failed request leaves no file.
+        if let Some((name, outputs)) = outputs {
+            let text = planned_study_text(
+                files,
+                &self.study,
+                self.named_robot(),
+                &name,
+                &planned.loaded,
+                &outputs,
+            )?;
+            let mut saved = vec![files.write(&name, "toml", text.as_bytes(), self.overwrite)?];
+            for (text, output) in planned.set_files().iter().zip(&outputs) {
+                saved.push(files.write(output, "csv", text.as_bytes(), self.overwrite)?);
+            }
+            planned.saved = saved;
+        }
+        Ok(planned)
     }
+}
+
+impl PlanStudyRequest {
+    /// The name of the robot a planned study names: the study's own, or the
+    /// request's when it is a name; `None` for a stated study given a
+    /// robot's contents (a planned study cannot name those).
+    fn named_robot(&self) -> Option<Option<&str>> {
+        match (&self.study, &self.robot) {
+            (StudySource::Spec(spec), Some(RobotSource::Named(name))) if spec.robot.is_none() => {
+                Some(Some(name))
+            }
+            (StudySource::Spec(spec), Some(_)) if spec.robot.is_none() => None,
+            _ => Some(None),
+        }
+    }
+}
+
+impl PlannedStudy {
+    /// Every set's planned configurations as a data file's text (metres,
+    /// radians, gecaro's column names), in the study's order.
+    pub fn set_files(&self) -> Vec<String> {
+        let types = gecaro_io::joint_types(&self.loaded.robot.robot);
+        self.loaded
+            .study
+            .sets
+            .iter()
+            .zip(&self.plan.sets)
+            .map(|(set, samples)| {
+                let columns = DataColumn::grouping(set.method.data_columns());
+                gecaro_io::format_configurations(&types, &columns, samples, &DataFormat::default())
+            })
+            .collect()
+    }
+
+    /// The JSON document (`gecaro plan --study --json`).
+    pub fn document(&self) -> PlanStudyJson {
+        let plan = &self.plan;
+        PlanStudyJson {
+            sets: self
+                .loaded
+                .study
+                .sets
+                .iter()
+                .zip(&plan.sets)
+                .enumerate()
+                .map(|(index, (set, samples))| PlannedSetJson {
+                    data: set.label.clone(),
+                    method: set.method.name(),
+                    configurations: samples.len(),
+                    file: self
+                        .saved
+                        .get(index + 1)
+                        .map(|path| path.display().to_string()),
+                })
+                .collect(),
+            configurations: plan.sets.iter().map(Vec::len).sum(),
+            unknowns: plan.columns.len(),
+            pool: self.pool,
+            log_det: plan.quality.log_det,
+            random_log_det: plan.random.log_det,
+            exchanges: plan.exchanges,
+            output: self
+                .saved
+                .iter()
+                .map(|path| path.display().to_string())
+                .collect(),
+        }
+    }
+}
+
+/// One set of a planned study.
+#[derive(Clone, Debug, Serialize)]
+pub struct PlannedSetJson {
+    /// The set's data file as the study names it.
+    pub data: String,
+    /// Its method.
+    pub method: &'static str,
+    /// Configurations planned for it.
+    pub configurations: usize,
+    /// The file its configurations were written to, if saved.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
+}
+
+/// `gecaro plan --study --json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct PlanStudyJson {
+    /// Every set, in the study's order.
+    pub sets: Vec<PlannedSetJson>,
+    /// Configurations planned in all.
+    pub configurations: usize,
+    /// The unknowns the design determines (base parameters and named
+    /// frames' unknowns).
+    pub unknowns: usize,
+    /// Candidates drawn per set.
+    pub pool: usize,
+    /// log det(W_bᵀW_b) of the plan (D-optimal criterion).
+    pub log_det: f64,
+    /// The same of a random choice of as many from the same pools.
+    pub random_log_det: f64,
+    /// Exchanges after the greedy pass.
+    pub exchanges: usize,
+    /// The files written: the planned study, then each set's.
+    pub output: Vec<String>,
 }
 
 /// `PLANNED_1.csv` … beside `PLANNED.toml`.
@@ -198,6 +364,7 @@ fn set_file_names(study: &str, sets: usize) -> Vec<String> {
 fn planned_study_text(
     files: &dyn Files,
     source: &StudySource,
+    robot: Option<Option<&str>>,
     planned: &str,
     loaded: &Loaded,
     outputs: &[String],
@@ -210,7 +377,13 @@ fn planned_study_text(
                 gecaro_io::StudyText::parse(text, &path)?.spec,
             )
         }
-        StudySource::Spec(spec) => ("the stated study", (**spec).clone()),
+        StudySource::Spec(spec) => {
+            let mut spec = (**spec).clone();
+            if let Some(Some(robot)) = robot {
+                spec.robot = Some(robot.to_owned());
+            }
+            ("the stated study", spec)
+        }
         StudySource::Loaded(_) => {
             return Err(AppError::setting(
                 "save_as",

@@ -12,12 +12,15 @@ use crate::error::AppError;
 use crate::files::Files;
 use crate::measurements::{Data, Loaded, Measurements, StudySource, Unknown};
 use crate::plan::TestPoses;
+use crate::sources::RobotSource;
 
 /// A cell's prediction; see the module docs.
 #[derive(Clone, Debug, Deserialize)]
 pub struct PredictStudyRequest {
     /// The study (its robot, sets, σ, named frames).
     pub study: StudySource,
+    /// The robot of a stated study that names none (the web page's table).
+    pub robot: Option<RobotSource>,
     /// Where the calibrated robot's accuracy is judged.
     #[serde(flatten)]
     pub test_poses: TestPoses,
@@ -75,6 +78,7 @@ impl PredictStudyRequest {
     pub fn new(study: StudySource) -> Self {
         PredictStudyRequest {
             study,
+            robot: None,
             test_poses: TestPoses::default(),
             seed: None,
             unknown: Unknown::default(),
@@ -89,6 +93,7 @@ impl PredictStudyRequest {
     pub fn run(&self, files: &dyn Files) -> Result<PredictedStudy, AppError> {
         self.unknown.check()?;
         let measurements = Measurements {
+            robot: self.robot.clone(),
             study: Some(self.study.clone()),
             ..Measurements::default()
         };

@@ -82,7 +82,9 @@ pub mod table2;
 pub mod validation;
 
 pub use error::{Error, Setting};
-pub use progress::{Observer, Progress, Quiet, each_iteration, each_step, report_step};
+pub use progress::{
+    Observer, Progress, Quiet, each_iteration, each_step, report_phase, report_step,
+};
 
 /// The names most calibrations use, to import at once:
 /// `use gecaro_calib::prelude::*;`.

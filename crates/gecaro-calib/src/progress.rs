@@ -49,6 +49,10 @@ pub enum Progress<'a> {
         /// Units in all (may grow as the work learns how much remains).
         total: usize,
     },
+    /// The work enters a part of its own (`"drawing the candidates"`,
+    /// `"choosing the configurations"`): the [`Step`](Progress::Step)s that
+    /// follow count that part's units, from zero.
+    Phase(&'a str),
 }
 
 /// Watches long work and may stop it; see the module docs. Any
@@ -102,6 +106,15 @@ pub(crate) fn report(observer: &mut dyn Observer, progress: Progress<'_>) -> Res
         ControlFlow::Continue(()) => Ok(()),
         ControlFlow::Break(()) => Err(Error::Interrupted),
     }
+}
+
+/// Reports that the work enters the part `name` ([`Progress::Phase`]);
+/// [`Error::Interrupted`] when the observer stops the work.
+///
+/// # Errors
+/// [`Error::Interrupted`], as said.
+pub fn report_phase(observer: &mut dyn Observer, name: &str) -> Result<(), Error> {
+    report(observer, Progress::Phase(name))
 }
 
 /// Reports `done` of `total` units of work ([`Progress::Step`]);

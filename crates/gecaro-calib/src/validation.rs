@@ -308,7 +308,8 @@ pub fn compare_models(
                 done: index * folds + done,
                 total,
             }),
-            Progress::Iteration(_) => ControlFlow::Continue(()),
+            // Each model's folds are one count of all models' folds.
+            Progress::Iteration(_) | Progress::Phase(_) => ControlFlow::Continue(()),
         };
         let validation = cross_validate(robot, study, &options, folds, seed, &mut folds_of_all)
             .map_err(|error| match error {

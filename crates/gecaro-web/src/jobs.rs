@@ -1,11 +1,15 @@
-//! Identification jobs: an identification runs in the background while the
-//! page polls its progress (the residual RMS of every iteration so far) and
+//! Background jobs: an identification or a plan runs in the background
+//! while the page polls its progress (the residual RMS of every iteration
+//! so far; the part of the work under way and its steps done of all) and
 //! finally its result.
 
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 
+use std::ops::ControlFlow;
+
+use gecaro_calib::Progress as WorkProgress;
 use serde::Serialize;
 
 use crate::error::ApiError;
@@ -17,7 +21,7 @@ use crate::limits::{MAX_JOBS_ACTIVE, MAX_JOBS_KEPT, MAX_JOBS_MEMORY};
 pub enum JobState {
     /// Waiting for a computing slot.
     Queued,
-    /// Iterating.
+    /// Working (iterating, planning).
     Running,
     /// Finished with a result (converged or not: see the result).
     Done,
@@ -34,10 +38,20 @@ pub struct JobOutcome {
     /// job sends these bytes (64 polls at once each cloned a JSON tree of
     /// tens of MB before).
     pub result: Box<serde_json::value::RawValue>,
-    /// The HTML report of the identification.
-    pub report: String,
-    /// Every observation's error before and after, located in its file (CSV).
-    pub residuals: String,
+    /// The HTML report of an identification.
+    pub report: Option<String>,
+    /// An identification's every observation's error before and after,
+    /// located in its file (CSV).
+    pub residuals: Option<String>,
+}
+
+/// `done` of `total` units of the part of the work under way.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Steps {
+    /// Units done.
+    pub done: usize,
+    /// Units in all.
+    pub total: usize,
 }
 
 /// One job's progress.
@@ -45,11 +59,13 @@ pub struct JobOutcome {
 struct Progress {
     state: JobState,
     history: Vec<f64>,
+    phase: Option<String>,
+    steps: Option<Steps>,
     outcome: Option<Arc<JobOutcome>>,
     error: Option<String>,
 }
 
-/// One identification job.
+/// One job.
 #[derive(Debug)]
 pub struct Job {
     id: u64,
@@ -70,6 +86,12 @@ pub struct JobView {
     pub state: JobState,
     /// Residual RMS of every iterate so far, from the nominal robot on.
     pub history: Vec<f64>,
+    /// The part of the work under way (`"choosing the configurations"`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub phase: Option<String>,
+    /// How far that part is.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub steps: Option<Steps>,
     /// The error of a failed job.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
@@ -114,6 +136,28 @@ impl Job {
         self.progress().history.push(rms);
     }
 
+    /// Records what the work reports (an iterate's residual, a part
+    /// begun, a step done) and answers whether it goes on: it stops at its
+    /// next iteration or step once the job is cancelled.
+    pub fn observe(&self, progress: WorkProgress<'_>) -> ControlFlow<()> {
+        match progress {
+            WorkProgress::Iteration(record) => self.record(record.rms),
+            WorkProgress::Step { done, total } => {
+                self.progress().steps = Some(Steps { done, total });
+            }
+            WorkProgress::Phase(part) => {
+                let mut progress = self.progress();
+                progress.phase = Some(part.to_owned());
+                progress.steps = None;
+            }
+        }
+        if self.is_cancelled() {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    }
+
     /// Finishes the job with its outcome.
     pub fn finish(&self, outcome: JobOutcome) {
         let mut progress = self.progress();
@@ -156,6 +200,8 @@ impl Job {
             id: self.id,
             state: progress.state,
             history: progress.history.clone(),
+            phase: progress.phase.clone(),
+            steps: progress.steps,
             error: progress.error.clone(),
             outcome: progress.outcome.clone(),
         }
@@ -220,8 +266,8 @@ impl Jobs {
         let megabytes = |bytes: usize| bytes >> 20;
         if need > MAX_JOBS_MEMORY {
             return Err(ApiError::TooLarge(format!(
-                "this identification needs about {} MB, more than the {} MB the server gives \
-                 its jobs: use fewer configurations, or the command line",
+                "this job needs about {} MB, more than the {} MB the server gives its jobs: use \
+                 fewer configurations, or the command line",
                 megabytes(need),
                 megabytes(MAX_JOBS_MEMORY)
             )));
@@ -229,7 +275,8 @@ impl Jobs {
         let mut jobs = self.jobs.lock().unwrap_or_else(PoisonError::into_inner);
         if jobs.iter().filter(|job| job.active()).count() >= MAX_JOBS_ACTIVE {
             return Err(ApiError::Busy(format!(
-                "{MAX_JOBS_ACTIVE} identifications are already queued or running; try again when one has finished"
+                "{MAX_JOBS_ACTIVE} jobs (identifications, plans) are already queued or running; try \
+                 again when one has finished"
             )));
         }
         let held: usize = jobs
@@ -239,8 +286,8 @@ impl Jobs {
             .sum();
         if held + need > MAX_JOBS_MEMORY {
             return Err(ApiError::Busy(format!(
-                "this identification needs about {} MB and the jobs under way hold {} of the \
-                 server's {} MB; try again when one has finished",
+                "this job needs about {} MB and the jobs under way hold {} of the server's {} \
+                 MB; try again when one has finished",
                 megabytes(need),
                 megabytes(held),
                 megabytes(MAX_JOBS_MEMORY)
@@ -259,6 +306,8 @@ impl Jobs {
             progress: Mutex::new(Progress {
                 state: JobState::Queued,
                 history: Vec::new(),
+                phase: None,
+                steps: None,
                 outcome: None,
                 error: None,
             }),
@@ -316,6 +365,42 @@ mod tests {
     }
 
     #[test]
+    fn a_job_hears_its_parts_and_steps_and_stops_once_cancelled() {
+        let jobs = Jobs::default();
+        let job = jobs.create(0).expect("room");
+        job.start();
+        let step = |done, total| WorkProgress::Step { done, total };
+        assert!(
+            job.observe(WorkProgress::Phase("drawing the candidates"))
+                .is_continue()
+        );
+        assert!(job.observe(step(150, 150)).is_continue());
+        assert_eq!(
+            job.view().steps,
+            Some(Steps {
+                done: 150,
+                total: 150
+            })
+        );
+        // A new part counts its own steps, from none.
+        assert!(
+            job.observe(WorkProgress::Phase("choosing the configurations"))
+                .is_continue()
+        );
+        let view = job.view();
+        assert_eq!(view.phase.as_deref(), Some("choosing the configurations"));
+        assert_eq!(view.steps, None);
+        assert!(job.observe(step(3, 90)).is_continue());
+        job.cancel();
+        assert!(
+            job.observe(step(4, 90)).is_break(),
+            "cancelled: the work stops"
+        );
+        let text = serde_json::to_string(&job.view()).expect("json");
+        assert!(text.contains(r#""steps":{"done":4,"total":90}"#), "{text}");
+    }
+
+    #[test]
     fn job_numbers_of_two_servers_never_meet() {
         // A page restored after a restart asks the new server for the old
         // numbers: before, both servers counted from 1 and the new one
@@ -349,8 +434,8 @@ mod tests {
         job.finish(JobOutcome {
             result: serde_json::value::to_raw_value(&serde_json::json!({"rms": 1e-5}))
                 .expect("encoded"),
-            report: String::new(),
-            residuals: String::new(),
+            report: None,
+            residuals: None,
         });
         let first = job.view();
         let second = job.view();

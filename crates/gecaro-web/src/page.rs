@@ -45,6 +45,7 @@ const MODULES: &[(&str, &str)] = &[
     ("state.js", include_str!("../assets/js/state.js")),
     ("steps.js", include_str!("../assets/js/steps.js")),
     ("study.js", include_str!("../assets/js/study.js")),
+    ("study-plan.js", include_str!("../assets/js/study-plan.js")),
     ("study-spec.js", include_str!("../assets/js/study-spec.js")),
     ("units.js", include_str!("../assets/js/units.js")),
     ("view.js", include_str!("../assets/js/view.js")),

@@ -104,7 +104,21 @@ impl Api {
         cell
     }
 
-    /// Waits for an identification job to end.
+    /// Posts work that runs as a job (`202` with its number) and waits for
+    /// it: the job's view once it ended (`state` "done" with its `result`,
+    /// or "failed" with its `error`); the status and body of a request
+    /// refused before it started.
+    async fn job(&self, uri: &str, body: &Value) -> Result<Value, (StatusCode, Value)> {
+        let (status, submitted) = self.post(uri, body).await;
+        if status != StatusCode::ACCEPTED {
+            return Err((status, submitted));
+        }
+        Ok(self
+            .finished(submitted["job"].as_u64().expect("job number"))
+            .await)
+    }
+
+    /// Waits for a job to end.
     async fn finished(&self, job: u64) -> Value {
         for _ in 0..600 {
             let (status, view) = self.get(&format!("/api/jobs/{job}")).await;
@@ -709,8 +723,12 @@ async fn plan_chooses_configurations_draws_the_curve_and_refuses_bad_requests() 
         "curve": [60, 120],
         "save_as": "planned.csv",
     });
-    let (status, planned) = api.post("/api/plan", &request).await;
-    assert_eq!(status, StatusCode::OK, "{planned}");
+    let job = api.job("/api/plan", &request).await.expect("started");
+    assert_eq!(job["state"], "done", "{job}");
+    // Its progress named the last part and its steps, all done.
+    assert_eq!(job["phase"], "choosing the configurations", "{job}");
+    assert_eq!(job["steps"]["done"], job["steps"]["total"], "{job}");
+    let planned = &job["result"];
     assert_eq!(planned["configurations"], 60);
     assert_eq!(planned["units"], 30);
     assert_eq!(planned["criterion"], "o5");
@@ -758,17 +776,20 @@ async fn plan_chooses_configurations_draws_the_curve_and_refuses_bad_requests() 
         let (got, body) = api.post("/api/plan", &bad).await;
         assert_eq!(got, StatusCode::BAD_REQUEST, "{field} = {value}: {body}");
     }
-    // More than the pool holds: the error says so.
+    // More than the pool holds: found by the work, the failed job says so.
     let mut too_many = request.clone();
     too_many["count"] = json!(1000);
     too_many["curve"] = json!([]);
     too_many["save_as"] = json!(null);
-    let (status, body) = api.post("/api/plan", &too_many).await;
-    assert_eq!(status, StatusCode::BAD_REQUEST, "{body}");
+    let job = api.job("/api/plan", &too_many).await.expect("started");
+    assert_eq!(job["state"], "failed", "{job}");
     assert!(
-        body["error"].as_str().is_some_and(|e| e.contains("pool")),
-        "{body}"
+        job["error"].as_str().is_some_and(|e| e.contains("pool")),
+        "{job}"
     );
+    // A plan has no report.
+    let (status, body) = api.get(&format!("/api/jobs/{}/report", job["id"])).await;
+    assert!(status.is_client_error(), "{status}: {body}");
 }
 
 #[tokio::test]
@@ -1630,13 +1651,14 @@ async fn generation_and_plans_stay_in_the_cell() {
         )
         .await;
     assert_eq!(status, StatusCode::OK, "{generated}");
-    let (status, planned) = api
-        .post(
+    let planned = api
+        .job(
             "/api/plan",
             &json!({ "robot": document, "method": { "name": "position" }, "count": 10, "cell": { "floor": 0.0 } }),
         )
-        .await;
-    assert_eq!(status, StatusCode::OK, "{planned}");
+        .await
+        .expect("started");
+    assert_eq!(planned["state"], "done", "{planned}");
     let (status, body) = api
         .post(
             "/api/generate",
@@ -1792,6 +1814,104 @@ async fn the_study_editor_opens_saves_and_identifies_with_the_tables_robot() {
     // Not a study file: its line and key.
     let (status, body) = api.get("/api/studies/file?name=copy.csv").await;
     assert!(status.is_client_error(), "{body}");
+}
+
+/// Issue 37 §1: a cell planned and predicted from the study editor — the
+/// table's robot for a stated study, a planned study saved only when it can
+/// name its robot, its sets' files beside it, and its precision predicted
+/// before anything is measured.
+#[tokio::test]
+async fn a_study_is_planned_as_a_job_and_predicted_from_the_editor() {
+    let api = Api::new();
+    api.with_tracker_cell();
+    let (_, opened) = api.get("/api/studies/file?name=study.toml").await;
+    let mut study = opened["study"].clone();
+    study.as_object_mut().expect("object").remove("robot");
+    let document = api.document("industrial6").await;
+    // Planned with the table's robot, not saved: the sets' files to download.
+    let request = json!({ "robot": document, "study": study, "count": 36, "pool": 150 });
+    let job = api
+        .job("/api/studies/plan", &request)
+        .await
+        .expect("started");
+    assert_eq!(job["state"], "done", "{job}");
+    assert_eq!(job["phase"], "choosing the configurations", "{job}");
+    let planned = &job["result"];
+    let sets = planned["sets"].as_array().expect("sets");
+    assert_eq!(sets.len(), 6);
+    let counts: Vec<u64> = sets
+        .iter()
+        .map(|set| set["configurations"].as_u64().expect("count"))
+        .collect();
+    assert_eq!(counts.iter().sum::<u64>(), 36, "{counts:?}");
+    assert_eq!(planned["configurations"], 36);
+    assert!(
+        planned["log_det"].as_f64().expect("plan")
+            > planned["random_log_det"].as_f64().expect("random"),
+        "{planned}"
+    );
+    let files = planned["files"].as_array().expect("files");
+    assert_eq!(files[0]["file_name"], "planned_1.csv");
+    let first = files[0]["csv"].as_str().expect("csv");
+    assert!(first.starts_with("qm1,"), "{first}");
+    assert_eq!(first.lines().count() as u64, counts[0] + 1);
+    assert!(planned["output"].as_array().expect("output").is_empty());
+    // Saving needs a robot the planned study can name: a table is refused at
+    // once, by the field; the ready robot's name is written.
+    let mut saving = request.clone();
+    saving["save_as"] = json!("planned.toml");
+    let Err((status, body)) = api.job("/api/studies/plan", &saving).await else {
+        panic!("a table's robot cannot be named in a planned study");
+    };
+    assert_eq!(status, StatusCode::BAD_REQUEST, "{body}");
+    assert!(error_text(&body).contains("save_as"), "{body}");
+    saving["robot"] = json!("industrial6");
+    let job = api
+        .job("/api/studies/plan", &saving)
+        .await
+        .expect("started");
+    assert_eq!(job["state"], "done", "{job}");
+    let written = std::fs::read_to_string(api.folder.path().join("planned.toml")).expect("study");
+    assert!(written.contains("robot = \"industrial6\""), "{written}");
+    assert!(written.contains("data = \"planned_6.csv\""), "{written}");
+    for set in 1..=6 {
+        assert!(
+            api.folder
+                .path()
+                .join(format!("planned_{set}.csv"))
+                .is_file()
+        );
+    }
+    // Again: the files exist, refused before any work.
+    let Err((status, _)) = api.job("/api/studies/plan", &saving).await else {
+        panic!("the planned study exists");
+    };
+    assert_eq!(status, StatusCode::CONFLICT);
+    // Predicted before it is measured: every unknown's σ, and the error.
+    let (status, predicted) = api
+        .post("/api/studies/predict", &json!({ "study": "planned.toml" }))
+        .await;
+    assert_eq!(status, StatusCode::OK, "{predicted}");
+    assert_eq!(predicted["sets"].as_array().expect("sets").len(), 6);
+    let parameters = predicted["parameters"].as_array().expect("parameters");
+    assert!(
+        parameters.iter().any(|p| p["name"] == "tracker_2.x"),
+        "{predicted}"
+    );
+    let rms = predicted["predicted"]["position_rms"]
+        .as_f64()
+        .expect("rms");
+    // σ 0.02 mm per reflector: the calibrated robot within a few σ.
+    assert!(rms > 1e-6 && rms < 1e-4, "{rms}");
+    // The same prediction from the stated study with the table's robot.
+    let (status, again) = api
+        .post(
+            "/api/studies/predict",
+            &json!({ "robot": document, "study": study }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{again}");
+    assert!(again["predicted"]["position_rms"].as_f64().expect("rms") > 0.0);
 }
 
 /// Eight clients saving one URDF at once, each robot needing its joint

@@ -1104,7 +1104,12 @@ async fn the_page_is_an_engineers_tool() {
     )
     .await;
     click(client, "#position-plan-run").await;
-    click(client, "#position-plan-cancel").await;
+    // Its progress: the part under way and its steps done of all.
+    text_when(client, "#position-plan-progress", 60, |progress| {
+        progress.contains(" steps (") && progress.contains('%')
+    })
+    .await;
+    click(client, "#position-plan-cancel:not([disabled])").await;
     let cancelled = text_of(client, "#position-plan-cancelled", 30).await;
     assert!(cancelled.starts_with("Cancelled"), "{cancelled}");
 
@@ -1351,7 +1356,10 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
         .expect("edit");
     click(client, "#study-run").await;
     let refused = text_of(client, "#study-result .error-box", 10).await;
-    assert_eq!(refused, "Set 2 σ: “abc” is not a number.");
+    assert_eq!(
+        refused,
+        "Set 2 σ: “abc” is not a number, or a length with its unit (20um)."
+    );
     client
         .execute(
             "const e = document.querySelector(arguments[0]); e.value = '0.02'; \
@@ -1422,5 +1430,39 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
     let saved = std::fs::read_to_string(folder.join("cell-copy.toml")).expect("saved study");
     assert!(saved.contains("robot = \"industrial6\""), "{saved}");
     assert_eq!(saved.matches("[[measurements]]").count(), 6, "{saved}");
+
+    // The cell planned from the page: its six sets chosen together, as a
+    // job with its progress; saved as a planned study that names the
+    // table's ready robot and one file per set, which opens in the editor.
+    set_values(
+        client,
+        &[
+            ("study-plan-count", "36"),
+            ("study-plan-pool", "150"),
+            ("study-plan-save", "planned.toml"),
+        ],
+    )
+    .await;
+    click(client, "#study-plan-run").await;
+    let planned = text_of(client, "#study-plan-configurations", 120).await;
+    assert!(planned.contains("36"), "{planned}");
+    assert_eq!(count(client, "#study-plan-sets tbody tr").await, 6);
+    let written = std::fs::read_to_string(folder.join("planned.toml")).expect("planned study");
+    assert!(written.contains("robot = \"industrial6\""), "{written}");
+    assert!(folder.join("planned_6.csv").is_file());
+    click(client, "#study-plan-open").await;
+    text_when(client, "#study-sets", 10, |sets| {
+        sets.contains("planned_1.csv")
+    })
+    .await;
+    // Its precision predicted before measuring: every unknown's σ, the
+    // second station's among them, and the calibrated robot's error.
+    click(client, "#study-predict-run").await;
+    let rms = text_of(client, "#study-predicted-rms", 30).await;
+    let predicted: f64 = rms.trim().parse().unwrap_or_else(|_| panic!("mm: {rms}"));
+    assert!(predicted > 0.0 && predicted < 0.1, "{rms}");
+    let unknowns = text_of(client, "#study-predicted", 5).await;
+    assert!(unknowns.contains("tracker_2.x"), "{unknowns}");
+    screenshot(client, "15-study-plan-1400.png").await;
     session.close().await;
 }

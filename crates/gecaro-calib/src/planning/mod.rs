@@ -381,6 +381,9 @@ impl<'a> CandidatePool<'a> {
                 }
             }
         }
+        // The exchanges stop once nothing improves, mostly well before the
+        // steps allowed: the part is done.
+        report(observer, Progress::Step { done: total, total })?;
         let chosen: Vec<usize> = (0..ranges.len()).filter(|u| chosen[*u]).collect();
         let mut samples = kept.to_vec();
         for unit in &chosen {
@@ -546,6 +549,13 @@ pub fn plan_study(
         &mut step,
     )?
     .swap_remove(0);
+    report(
+        observer,
+        Progress::Step {
+            done: total_steps,
+            total: total_steps,
+        },
+    )?;
     let mut sets: Vec<Vec<Sample>> = vec![Vec::new(); ordered.sets.len()];
     let mut equations = 0;
     for (unit, (set, range)) in ranges.iter().enumerate() {

@@ -20,7 +20,7 @@ import { identificationBasis, refreshStale } from './stale.js';
 import { FUNCTIONS, state, tableDocument, persist, stored } from './state.js';
 import { renderSteps } from './steps.js';
 import { emptyStudy } from './study-spec.js';
-import { renderStudy } from './study.js';
+import { renderStudy, renderStudyPlan } from './study.js';
 import { renderSliders, refreshPose, drawView, installViewControls } from './view.js';
 
 function buildMethodPanels() {
@@ -54,6 +54,7 @@ async function start() {
   $('folder').textContent = `folder: ${state.info.folder}`;
   buildMethodPanels();
   state.study = emptyStudy();
+  renderStudyPlan();
   installViewControls();
   $('angle-unit').addEventListener('change', changeAngleUnit);
   $('robot-new').addEventListener('click', () => confirmDiscard(newRobotDialog, 'A new robot'));

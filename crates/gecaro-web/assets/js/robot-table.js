@@ -38,7 +38,7 @@ export function setRobot(view, file, { keep = false } = {}) {
 
 /** Empties every function's result and forgets generated data and results. */
 function clearResults() {
-  for (const container of document.querySelectorAll('#method-panels .result, #study-result')) container.replaceChildren();
+  for (const container of document.querySelectorAll('#method-panels .result, #study-result, #study-plan-result')) container.replaceChildren();
   state.generated = {};
   state.heldOut = {};
   state.results = {};

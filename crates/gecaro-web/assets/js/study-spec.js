@@ -59,10 +59,16 @@ export function studySpec(study, { robot } = {}) {
   const measurements = study.measurements.map((set, index) => {
     const out = { ...set };
     if (!set.data) throw new FieldError(`Set ${index + 1}: choose its data file.`);
-    if (String(set.sigma).trim() === '') delete out.sigma;
+    const sigma = String(set.sigma).trim();
+    if (sigma === '') delete out.sigma;
     else {
-      out.sigma = number(set.sigma, `Set ${index + 1} σ`);
-      if (!(out.sigma > 0)) throw new FieldError(`Set ${index + 1} σ: ${set.sigma} is out of range; it takes a number above 0.`);
+      // A number in the study's length unit, or a length with its own unit
+      // ("20um", "2e-5m": as a planned study writes it).
+      const withUnit = /^([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(m|mm|um|µm)$/.exec(sigma);
+      const value = withUnit ? Number(withUnit[1]) : Number(sigma);
+      if (!Number.isFinite(value)) throw new FieldError(`Set ${index + 1} σ: “${set.sigma}” is not a number, or a length with its unit (20um).`);
+      if (!(value > 0)) throw new FieldError(`Set ${index + 1} σ: ${set.sigma} is out of range; it takes a number above 0.`);
+      out.sigma = withUnit ? sigma.replace(/\s+/, '') : value;
     }
     for (const key of ['tool', 'station']) if (!out[key]) delete out[key];
     return out;

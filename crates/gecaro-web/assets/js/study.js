@@ -9,6 +9,7 @@ import { followJob } from './jobs.js';
 import { calibratedActions, registrationBlock } from './results.js';
 import { refreshFiles } from './robot-menu.js';
 import { state, tableDocument, persist } from './state.js';
+import { studyPlanSection } from './study-plan.js';
 import { emptyStudy, studyOf, studySpec } from './study-spec.js';
 import { inUnits, inPageUnits, unitName } from './units.js';
 
@@ -76,6 +77,11 @@ export function renderStudy() {
       h('input', { type: 'text', id: 'study-save-as', placeholder: 'study.toml', value: study.name || '' }),
       h('button', { type: 'button', id: 'study-save', text: 'Save the study', onclick: saveStudy })));
   persist();
+}
+
+/** The study card's Plan and Predict part (drawn once; it reads the editor's study when run). */
+export function renderStudyPlan() {
+  fill($('study-plan'), ...studyPlanSection({ studyRobot, openStudy }));
 }
 
 async function openStudy(name) {

@@ -40,6 +40,16 @@ test('the page refuses what a study cannot hold, in the field\'s words', () => {
   form.stations[0].position[1] = '-800';
   form.measurements[0].sigma = '-1';
   assert.throws(() => studySpec(form), /Set 1 σ: -1 is out of range/);
+  form.measurements[0].sigma = 'abc';
+  assert.throws(() => studySpec(form), /Set 1 σ: “abc” is not a number, or a length with its unit/);
+  form.measurements[0].sigma = '2e-5 m';
+  assert.equal(studySpec(form).measurements[0].sigma, '2e-5m', 'a length with its unit, as a planned study writes it');
+  form.measurements[0].sigma = '20um';
+  assert.equal(studySpec(form).measurements[0].sigma, '20um');
+  form.measurements[0].sigma = '20 parsecs';
+  assert.throws(() => studySpec(form), /is not a number, or a length/);
+  form.measurements[0].sigma = '-3um';
+  assert.throws(() => studySpec(form), /out of range/);
   form.measurements[0].sigma = '';
   assert.equal(studySpec(form).measurements[0].sigma, undefined, 'an empty σ is not stated');
   form.tools[1].name = 'smr_a';

@@ -5,6 +5,7 @@
 //! requests. Values are in the document's own units (its `angle_unit`);
 //! everything the server computes is in metres and radians.
 
+mod background;
 mod calibration;
 mod compensation;
 mod identification;
@@ -21,7 +22,7 @@ use crate::state::AppState;
 /// Every POST route of the API (full paths), each taking a JSON body: for
 /// clients, tests and the fuzz targets. [`routes`] registers them (a test
 /// checks that each one answers).
-pub const POST_ROUTES: [&str; 12] = [
+pub const POST_ROUTES: [&str; 14] = [
     "/api/robots/check",
     "/api/robots/new",
     "/api/robots/upload",
@@ -34,6 +35,8 @@ pub const POST_ROUTES: [&str; 12] = [
     "/api/evaluate",
     "/api/compensate",
     "/api/studies/save",
+    "/api/studies/plan",
+    "/api/studies/predict",
 ];
 
 /// The routes under `/api`.
@@ -56,8 +59,10 @@ pub(crate) fn routes() -> Router<AppState> {
         .route("/compensate", post(compensation::compensate))
         .route("/studies/file", get(study::open))
         .route("/studies/save", post(study::save))
-        .route("/jobs/{id}", get(identification::status))
-        .route("/jobs/{id}/cancel", post(identification::cancel))
-        .route("/jobs/{id}/report", get(identification::report))
-        .route("/jobs/{id}/residuals.csv", get(identification::residuals))
+        .route("/studies/plan", post(planning::plan_study))
+        .route("/studies/predict", post(planning::predict_study))
+        .route("/jobs/{id}", get(background::status))
+        .route("/jobs/{id}/cancel", post(background::cancel))
+        .route("/jobs/{id}/report", get(background::report))
+        .route("/jobs/{id}/residuals.csv", get(background::residuals))
 }

@@ -57,13 +57,7 @@ export function identifyPanel(method) {
           : null,
         cv: foldsOf(folds),
       });
-      cancel.disabled = false;
-      cancel.onclick = async () => {
-        cancel.disabled = true;
-        cancel.textContent = 'Cancelling…';
-        await api(`/jobs/${submitted.job}/cancel`, {});
-      };
-      const job = await followJob(submitted.job, progress.children[1]);
+      const job = await followJob(submitted.job, progress.children[1], { cancel });
       if (job.state === 'cancelled') {
         result.replaceChildren(h('div', { class: 'warnings', id: `${name}-identify-cancelled`, text: 'Cancelled: the server stopped the identification. Nothing was changed.' }));
       } else if (job.state === 'failed') {

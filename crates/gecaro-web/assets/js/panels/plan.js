@@ -10,6 +10,7 @@ import { selectFunction } from '../navigation.js';
 import { plotFigure } from '../results.js';
 import { refreshFiles } from '../robot-menu.js';
 import { DEFAULT_COUNTS, state, tableDocument, persist } from '../state.js';
+import { followJob } from '../jobs.js';
 import { generateInto } from './generate.js';
 
 const CRITERIA = [
@@ -38,15 +39,12 @@ export function planPanel(method) {
   const angles = h('select', { id: `${name}-plan-angle-unit` },
     h('option', { value: 'rad', text: 'radians' }), h('option', { value: 'deg', text: 'degrees (a teach pendant)' }));
   const run = runButton(`${name}-plan-run`, 'Plan', async () => {
-    // Cancel aborts the request; the server then stops the plan at its next step.
-    const abort = new AbortController();
-    const cancel = h('button', { type: 'button', id: `${name}-plan-cancel`, text: 'Cancel', onclick: () => abort.abort() });
-    // What is being done and for how long (planning is one request: no fraction done to show).
-    const label = h('span', { id: `${name}-plan-progress`, text: 'Choosing configurations…' });
-    result.replaceChildren(h('div', { class: 'progress' }, h('div', { class: 'spinner' }), label, cancel));
-    const started = Date.now();
-    let what = 'Choosing configurations';
-    const ticker = setInterval(() => { label.textContent = `${what}… ${Math.round((Date.now() - started) / 1000)} s`; }, 1000);
+    // A plan is a server job: its progress names the part under way (the
+    // candidates, the choice, the curve) and its steps; Cancel stops it.
+    const cancel = h('button', { type: 'button', id: `${name}-plan-cancel`, text: 'Cancel', disabled: true });
+    const label = h('span', { id: `${name}-plan-progress`, text: 'Checking the request…' });
+    const bar = h('progress', { id: `${name}-plan-bar`, max: 1, value: 0 });
+    result.replaceChildren(h('div', { class: 'progress' }, h('div', { class: 'spinner' }), label, bar, cancel));
     try {
       const request = {
         robot: tableDocument(),
@@ -72,20 +70,19 @@ export function planPanel(method) {
         request.save_as = saveAs.value.trim();
         request.overwrite = overwrite.checked;
       }
-      what = `Choosing ${request.count} of ${request.pool || 20 * request.count} candidates (${criterion.options[criterion.selectedIndex].text})${request.curve ? ', then the accuracy curve' : ''}`;
-      label.textContent = `${what}…`;
-      const planned = await api('/plan', request, abort.signal);
+      const submitted = await api('/plan', request);
+      const job = await followJob(submitted.job, label, { bar, cancel });
+      if (job.state === 'cancelled') {
+        result.replaceChildren(h('div', { class: 'warnings', id: `${name}-plan-cancelled`, text: 'Cancelled: the server stopped planning.' }));
+        return;
+      }
+      if (job.state === 'failed') throw new Error(job.error);
+      const planned = job.result;
       planned.format = request.format;
       if (planned.saved) refreshFiles();
       renderPlanned(result, name, planned);
     } catch (error) {
-      if (abort.signal.aborted) {
-        result.replaceChildren(h('div', { class: 'warnings', id: `${name}-plan-cancelled`, text: 'Cancelled: the server stopped planning.' }));
-      } else {
-        result.replaceChildren(errorBox(error));
-      }
-    } finally {
-      clearInterval(ticker);
+      result.replaceChildren(errorBox(error));
     }
   });
   return h('div', { class: 'panel', id: `${name}-plan` },
