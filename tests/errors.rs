@@ -251,6 +251,7 @@ rows! {
     p09_sigma_far_too_large => "P09",
     p10_a_joint_that_never_moved => "P10",
     p11_barely_more_equations_than_unknowns => "P11",
+    p12_millimetres_read_as_metres => "P12",
     c01_unknown_method => "C01",
     c02_unknown_ready_robot => "C02",
     c03_output_in_missing_folder => "C03",

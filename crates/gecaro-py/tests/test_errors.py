@@ -126,6 +126,19 @@ def test_too_few_configurations_is_not_identifiable(cli, tmp_path):
     assert one_line(str(raised.value)) in one_line(stderr)
 
 
+def test_a_length_unit_mistaken_is_named_before_fitting(cli, tmp_path):
+    robot = gecaro.Robot.load("stanford")
+    gecaro.generate(robot, "position", 30, seed=4).data.write(tmp_path / "metres.csv", "position")
+    data = gecaro.Data.read(tmp_path / "metres.csv", robot, "position", length_unit="mm")
+    with pytest.raises(gecaro.InputError, match="Metres read as millimetres") as raised:
+        gecaro.identify(robot, "position", data)
+    stderr = cli.run(
+        "identify", "stanford", "--method", "position", "--data", "metres.csv",
+        "--length-unit", "mm", expect=3,
+    ).stderr
+    assert one_line(str(raised.value)).split(": ", 1)[1] in one_line(stderr)
+
+
 def test_an_unconverged_identification_carries_its_best_iterate(cli, tmp_path):
     robot = gecaro.Robot.load("stanford")
     data = gecaro.generate(robot, "position", 50, error_level=3.0, noise=1e-5, seed=1).data

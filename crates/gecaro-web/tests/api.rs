@@ -792,6 +792,41 @@ async fn plan_chooses_configurations_draws_the_curve_and_refuses_bad_requests() 
     assert!(status.is_client_error(), "{status}: {body}");
 }
 
+/// Issue 37 §3: a length unit mistaken is named before any fitting, on the
+/// page as on the command line — not a fit that diverges.
+#[tokio::test]
+async fn a_unit_mistake_is_named_before_fitting() {
+    let api = Api::new();
+    let document = api.document("stanford").await;
+    let (_, generated) = api
+        .post(
+            "/api/generate",
+            &json!({ "robot": document, "method": { "name": "position" }, "count": 30, "seed": 4 }),
+        )
+        .await;
+    let csv = generated["csv"].as_str().expect("csv");
+    // Metre data declared in millimetres.
+    let view = api
+        .job(
+            "/api/identify",
+            &json!({ "robot": document, "method": { "name": "position" },
+                     "data": { "csv": { "text": csv, "name": "gen.csv" } },
+                     "format": { "length_unit": "mm" } }),
+        )
+        .await
+        .expect("started");
+    assert_eq!(view["state"], "failed", "{view}");
+    let error = view["error"].as_str().expect("error");
+    assert!(
+        error.contains("gen.csv") && error.contains("Metres read as millimetres?"),
+        "{error}"
+    );
+    assert!(
+        view["history"].as_array().expect("history").is_empty(),
+        "no iteration ran"
+    );
+}
+
 #[tokio::test]
 async fn identification_runs_as_a_job_with_progress_plots_and_report() {
     let api = Api::new();

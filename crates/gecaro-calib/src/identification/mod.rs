@@ -65,6 +65,7 @@
 //! are dropped and the identification runs again on the rest, once.
 
 mod coverage;
+mod data_scale;
 mod evaluation;
 mod full_model;
 mod gauge;
@@ -143,8 +144,9 @@ const STRUCTURAL_SEED: u64 = 0x6ECA20;
 /// watch nothing.
 ///
 /// # Errors
-/// Invalid data; [`Error::TooFewEquations`] when there are no more equations
-/// than identifiable unknowns; [`Error::Numerical`] when nothing is
+/// Invalid data (points that cannot be this robot's in their stated length
+/// unit among them, named before any fitting); [`Error::TooFewEquations`] when there
+/// are no more equations than identifiable unknowns; [`Error::Numerical`] when nothing is
 /// identifiable or the data produce non-finite values;
 /// [`Error::Interrupted`] when the observer stops the work.
 ///
@@ -175,6 +177,7 @@ pub fn identify(
     observer: &mut dyn Observer,
 ) -> Result<Identification, Error> {
     options::check_options(robot, options)?;
+    data_scale::check_data_scale(robot, study)?;
     let first = fit(robot, study, options, observer)?;
     if !options.reject || first.outliers.is_empty() {
         return Ok(first);
