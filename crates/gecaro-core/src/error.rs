@@ -21,6 +21,8 @@ pub enum Field {
     },
     /// A coupling matrix, `Cm` or `Cj` (eq. 4).
     Coupling(&'static str),
+    /// A key of the robot as a whole, such as `gravity` or a `payload`.
+    Key(&'static str),
     /// The priority matrix, optionally one row (frame) of it.
     Priority {
         /// The row (frame number) at fault, if one is.
@@ -34,6 +36,7 @@ impl fmt::Display for Field {
             Field::Frames => f.write_str("frames"),
             Field::Frame { index, key } => write!(f, "frame {index}, `{key}`"),
             Field::Coupling(name) => write!(f, "coupling matrix `{name}`"),
+            Field::Key(key) => write!(f, "`{key}`"),
             Field::Priority { row: None } => f.write_str("priority matrix"),
             Field::Priority { row: Some(row) } => write!(f, "priority matrix, row {row}"),
         }

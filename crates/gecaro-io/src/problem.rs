@@ -78,6 +78,7 @@ pub(crate) fn model_error(error: gecaro_core::Error) -> DocumentError {
                     matrix: name.into(),
                 },
                 Field::Priority { row } => Location::Priority { row },
+                Field::Key(key) => Location::Key { key: key.into() },
                 _ => Location::Document,
             };
             DocumentError::new(location, message)

@@ -1,0 +1,376 @@
+//! Gravity loads on the joints: the masses a robot carries (its links'
+//! own, where known, and a payload) and the torque gravity exerts about
+//! each joint axis at a configuration — the loads under which elastic joints
+//! deflect (the paper's closing "next step": joints of non-negligible
+//! elasticity).
+//!
+//! # Conventions
+//! - A link's mass is stated in the frame that moves with it: frame j
+//!   (1..=n) carries link j, the body joint j moves; frame 0 the base (which
+//!   no joint moves, so it loads none); frame n+1 the tool, which moves with
+//!   link n. Its centre of mass is in that frame's coordinates (metres).
+//! - A payload's centre of mass is in the tool frame n+1.
+//! - Gravity is an acceleration vector in the world frame (frame 0's
+//!   reference, the measurement frame of a robot file), `(0, 0, −9.80665)`
+//!   m/s² by default: the robot standing upright on a level floor.
+//! - The torque of joint j is the generalised force gravity exerts on it,
+//!   `τ_j = Σ_k m_k gᵀ ∂p_k/∂q_j = −∂V/∂q_j` with the potential energy
+//!   `V(q) = −Σ_k m_k gᵀ p_k(q)` over every mass k that joint j moves (those
+//!   of frames j..n+1 and the payload): for a revolute joint
+//!   `m gᵀ (z_j × (p − o_j))` (N·m), for a prismatic one `m gᵀ z_j` (N), with
+//!   `z_j` and `o_j` the joint's axis and frame origin. A joint yields in the
+//!   direction of this torque; its motor holds `−τ_j`.
+//!
+//! # Example
+//! A pendulum: 2 kg, 0.5 m out along x of its link, its axis horizontal
+//! (α = 90°), under standard gravity along −z. At q = 0 the arm is level and
+//! the mass pulls with m·g·L:
+//!
+//! ```
+//! use gecaro_core::{Frame, FrameType, Joint, LinkMass, MassModel, Robot, RobotSpec, gravity_torques};
+//! use nalgebra::Vector3;
+//!
+//! let horizontal_axis = Frame { alpha: std::f64::consts::FRAC_PI_2, ..Frame::new(FrameType::Revolute) };
+//! let robot = Robot::new(RobotSpec {
+//!     name: "pendulum".into(),
+//!     frames: vec![Frame::new(FrameType::Fixed), horizontal_axis, Frame::new(FrameType::Fixed)],
+//!     joints: vec![Joint::default_for(FrameType::Revolute)],
+//!     motor_coupling: None,
+//!     joint_coupling: None,
+//!     priority: None,
+//! })?;
+//! let mut masses = MassModel::new(robot.frames().len());
+//! masses.set_link(1, LinkMass { mass: 2.0, com: Vector3::new(0.5, 0.0, 0.0) })?;
+//! let torques = gravity_torques(&robot, &masses, None, &[0.0])?;
+//! assert!((torques[0].abs() - 2.0 * 9.80665 * 0.5).abs() < 1e-12);
+//! # Ok::<(), gecaro_core::Error>(())
+//! ```
+
+use nalgebra::{DVector, Point3, Vector3};
+
+use crate::error::{Error, Field};
+use crate::frame::FrameType;
+use crate::kinematics::forward_kinematics;
+use crate::robot::Robot;
+
+/// Standard gravity (m/s²).
+pub const STANDARD_GRAVITY: f64 = 9.806_65;
+
+/// A mass and its centre, in the coordinates of the frame it moves with.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct LinkMass {
+    /// Mass (kg), ≥ 0.
+    pub mass: f64,
+    /// Centre of mass in the frame's coordinates (m).
+    pub com: Vector3<f64>,
+}
+
+impl LinkMass {
+    fn check(&self, field: Field) -> Result<(), Error> {
+        if !(self.mass.is_finite() && self.mass >= 0.0) {
+            return Err(Error::Invalid {
+                field,
+                message: format!("mass {} is not a mass in kg (≥ 0)", self.mass),
+            });
+        }
+        if !self.com.iter().all(|v| v.is_finite()) {
+            return Err(Error::Invalid {
+                field,
+                message: "the centre of mass holds a value that is not finite".into(),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// What a robot's links weigh and where gravity points (see the module
+/// docs): one optional mass per frame 0..=n+1.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MassModel {
+    links: Vec<Option<LinkMass>>,
+    gravity: Vector3<f64>,
+}
+
+impl MassModel {
+    /// No mass on any of `frames` frames, standard gravity along −z.
+    pub fn new(frames: usize) -> Self {
+        MassModel {
+            links: vec![None; frames],
+            gravity: Vector3::new(0.0, 0.0, -STANDARD_GRAVITY),
+        }
+    }
+
+    /// States the mass carried by frame `frame`.
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] for a frame beyond the model's, a negative or
+    /// non-finite mass, or a centre that is not finite.
+    pub fn set_link(&mut self, frame: usize, link: LinkMass) -> Result<(), Error> {
+        let field = Field::Frame {
+            index: frame,
+            key: "mass",
+        };
+        link.check(field.clone())?;
+        let slot = self.links.get_mut(frame).ok_or_else(|| Error::Invalid {
+            field,
+            message: "there is no such frame".into(),
+        })?;
+        *slot = Some(link);
+        Ok(())
+    }
+
+    /// The mass carried by frame `frame`, if stated.
+    pub fn link(&self, frame: usize) -> Option<&LinkMass> {
+        self.links.get(frame).and_then(Option::as_ref)
+    }
+
+    /// Gravity in the world frame (m/s²).
+    pub fn gravity(&self) -> Vector3<f64> {
+        self.gravity
+    }
+
+    /// States gravity in the world frame (a base frame that is not
+    /// levelled, or another planet).
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] for a vector that is not finite.
+    pub fn set_gravity(&mut self, gravity: Vector3<f64>) -> Result<(), Error> {
+        if !gravity.iter().all(|v| v.is_finite()) {
+            return Err(Error::Invalid {
+                field: Field::Key("gravity"),
+                message: "gravity holds a value that is not finite".into(),
+            });
+        }
+        self.gravity = gravity;
+        Ok(())
+    }
+
+    /// Whether any mass is stated.
+    pub fn is_empty(&self) -> bool {
+        self.links.iter().all(Option::is_none)
+    }
+}
+
+/// The torque (N·m; N for a prismatic joint) gravity exerts about each
+/// joint at motor configuration `motor_positions`, from the links' masses
+/// and an optional `payload` (its centre in frame n+1); see the module docs
+/// for the conventions.
+///
+/// # Errors
+/// A configuration that is not n finite values; a mass model of another
+/// number of frames than `robot`'s; an invalid payload.
+pub fn gravity_torques(
+    robot: &Robot,
+    masses: &MassModel,
+    payload: Option<&LinkMass>,
+    motor_positions: &[f64],
+) -> Result<DVector<f64>, Error> {
+    let frames = robot.frames();
+    if masses.links.len() != frames.len() {
+        return Err(Error::Invalid {
+            field: Field::Key("mass"),
+            message: format!(
+                "the masses are stated for {} frames, the robot has {}",
+                masses.links.len(),
+                frames.len()
+            ),
+        });
+    }
+    if let Some(payload) = payload {
+        payload.check(Field::Key("payload"))?;
+    }
+    let chain = forward_kinematics(robot, motor_positions)?;
+    let tool = frames.len() - 1;
+    // Every mass in the world frame: (frame it moves with, m, world centre).
+    let mut loads: Vec<(usize, f64, Vector3<f64>)> = masses
+        .links
+        .iter()
+        .enumerate()
+        .filter_map(|(frame, link)| {
+            let link = link.as_ref()?;
+            let point = chain.world_from_frame(frame) * Point3::from(link.com);
+            Some((frame, link.mass, point.coords))
+        })
+        .collect();
+    if let Some(payload) = payload {
+        let point = chain.world_from_frame(tool) * Point3::from(payload.com);
+        loads.push((tool, payload.mass, point.coords));
+    }
+    let gravity = masses.gravity;
+    let joints = robot.joint_count();
+    let mut torques = DVector::zeros(joints);
+    for joint in 1..=joints {
+        let pose = chain.world_from_frame(joint);
+        let axis = pose.rotation * Vector3::z();
+        let origin = pose.translation.vector;
+        torques[joint - 1] = loads
+            .iter()
+            .filter(|(frame, _, _)| *frame >= joint)
+            .map(|(_, mass, point)| {
+                let velocity = match frames[joint].frame_type {
+                    FrameType::Prismatic => axis,
+                    _ => axis.cross(&(point - origin)),
+                };
+                mass * gravity.dot(&velocity)
+            })
+            .sum();
+    }
+    Ok(torques)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ready_robot_for_tests;
+
+    /// Potential energy `V = −Σ m gᵀ p` at joint variables `q` (the test
+    /// robot's gains are 1 and its couplings identity, so motor = joint).
+    fn potential(robot: &Robot, masses: &MassModel, payload: &LinkMass, q: &[f64]) -> f64 {
+        let chain = forward_kinematics(robot, q).expect("configuration");
+        let tool = robot.frames().len() - 1;
+        let mut energy = 0.0;
+        for frame in 0..robot.frames().len() {
+            if let Some(link) = masses.link(frame) {
+                let point = chain.world_from_frame(frame) * nalgebra::Point3::from(link.com);
+                energy -= link.mass * masses.gravity().dot(&point.coords);
+            }
+        }
+        let point = chain.world_from_frame(tool) * nalgebra::Point3::from(payload.com);
+        energy - payload.mass * masses.gravity().dot(&point.coords)
+    }
+
+    /// The Stanford arm (RRPRRR) with a mass on every moving frame, a
+    /// payload and a tilted gravity.
+    fn loaded() -> (Robot, MassModel, LinkMass) {
+        let robot = ready_robot_for_tests();
+        let mut masses = MassModel::new(robot.frames().len());
+        for frame in 0..robot.frames().len() {
+            let k = frame as f64;
+            masses
+                .set_link(
+                    frame,
+                    LinkMass {
+                        mass: 1.0 + k,
+                        com: Vector3::new(0.03 * k, -0.02 * k, 0.05),
+                    },
+                )
+                .expect("mass");
+        }
+        masses
+            .set_gravity(Vector3::new(0.4, -0.3, -9.8))
+            .expect("gravity");
+        let payload = LinkMass {
+            mass: 12.0,
+            com: Vector3::new(0.0, 0.01, 0.12),
+        };
+        (robot, masses, payload)
+    }
+
+    #[test]
+    fn torques_are_minus_the_gradient_of_the_potential_energy() {
+        // An independent route: central differences of V(q).
+        let (robot, masses, payload) = loaded();
+        for q in [
+            [0.3, -0.7, 0.4, 1.1, -0.5, 2.0],
+            [-2.0, 0.9, 0.25, -0.3, 1.4, -1.0],
+        ] {
+            let torques = gravity_torques(&robot, &masses, Some(&payload), &q).expect("torques");
+            for j in 0..q.len() {
+                let h = 1e-6;
+                let (mut up, mut down) = (q, q);
+                up[j] += h;
+                down[j] -= h;
+                let gradient = (potential(&robot, &masses, &payload, &up)
+                    - potential(&robot, &masses, &payload, &down))
+                    / (2.0 * h);
+                assert!(
+                    (torques[j] + gradient).abs() < 1e-6 * (1.0 + gradient.abs()),
+                    "joint {}: {} vs −∂V/∂q = {}",
+                    j + 1,
+                    torques[j],
+                    -gradient
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_base_loads_no_joint_and_gravity_along_an_axis_loads_it_not() {
+        let (robot, _, _) = loaded();
+        let mut base_only = MassModel::new(robot.frames().len());
+        base_only
+            .set_link(
+                0,
+                LinkMass {
+                    mass: 100.0,
+                    com: Vector3::new(0.2, 0.0, 0.1),
+                },
+            )
+            .expect("mass");
+        let q = [0.3, -0.7, 0.4, 1.1, -0.5, 2.0];
+        let torques = gravity_torques(&robot, &base_only, None, &q).expect("torques");
+        assert!(torques.iter().all(|t| *t == 0.0), "{torques}");
+        // Gravity along joint 1's axis (fixed in the world): joint 1 carries
+        // nothing, whatever the arm holds; the shoulder carries the arm.
+        let axis = forward_kinematics(&robot, &q)
+            .expect("chain")
+            .world_from_frame(1)
+            .rotation
+            * Vector3::z();
+        let (_, mut upright, payload) = loaded();
+        upright
+            .set_gravity(-STANDARD_GRAVITY * axis)
+            .expect("gravity");
+        let torques = gravity_torques(&robot, &upright, Some(&payload), &q).expect("torques");
+        assert!(torques[0].abs() < 1e-12, "{torques}");
+        assert!(
+            torques[1].abs() > 1.0,
+            "the shoulder carries the arm: {torques}"
+        );
+    }
+
+    #[test]
+    fn a_payload_at_the_tool_adds_its_moment_linearly() {
+        let (robot, masses, payload) = loaded();
+        let q = [0.3, -0.7, 0.4, 1.1, -0.5, 2.0];
+        let without = gravity_torques(&robot, &masses, None, &q).expect("torques");
+        let with = gravity_torques(&robot, &masses, Some(&payload), &q).expect("torques");
+        let doubled = LinkMass {
+            mass: 2.0 * payload.mass,
+            ..payload
+        };
+        let twice = gravity_torques(&robot, &masses, Some(&doubled), &q).expect("torques");
+        let difference = (&twice - &with) - (&with - &without);
+        assert!(difference.norm() < 1e-9, "{difference}");
+    }
+
+    #[test]
+    fn bad_masses_name_their_frame() {
+        let robot = ready_robot_for_tests();
+        let mut masses = MassModel::new(robot.frames().len());
+        let negative = LinkMass {
+            mass: -1.0,
+            com: Vector3::zeros(),
+        };
+        let error = masses.set_link(2, negative).expect_err("negative");
+        assert!(error.to_string().contains("frame 2"), "{error}");
+        assert!(
+            masses
+                .set_link(
+                    99,
+                    LinkMass {
+                        mass: 1.0,
+                        com: Vector3::zeros()
+                    }
+                )
+                .is_err()
+        );
+        let short = MassModel::new(3);
+        assert!(gravity_torques(&robot, &short, None, &[0.0; 6]).is_err());
+        let payload = LinkMass {
+            mass: f64::NAN,
+            com: Vector3::zeros(),
+        };
+        assert!(gravity_torques(&robot, &masses, Some(&payload), &[0.0; 6]).is_err());
+    }
+}
