@@ -30,6 +30,7 @@ use crate::data_rows::{Fields, RowReader, Rows};
 use crate::input::{csv_error, csv_reader, open_regular, record_line};
 use crate::output::{OutputPolicy, write_with};
 use crate::pose::{NORMALISED_TOLERANCE, SILENT_TOLERANCE};
+use crate::stated_units::{stated_units, units_line, units_to_read};
 
 /// Files up to this size are read whole, and their rows in parts on all
 /// cores; longer ones (or endless streams) record by record.
@@ -135,6 +136,18 @@ pub fn parse_samples(
             path: path.to_owned(),
             cause,
         })?;
+    // A file that states its units (`gecaro plan --angle-unit deg`) is read
+    // in them where the request leaves gecaro's own.
+    let format = &match stated_units(&head)
+        .map_err(|(line, message)| Error::parse(path, line, None, message))?
+    {
+        Some((line, stated)) => DataFormat {
+            units: units_to_read(format.units, stated)
+                .map_err(|message| Error::parse(path, line, None, message))?,
+            ..format.clone()
+        },
+        None => format.clone(),
+    };
     let read = |source, whole| parse_from(source, whole, path, joint_types, columns, format);
     if head.len() <= IN_MEMORY_BYTES {
         read(Box::new(head.as_slice()), Some(&head))
@@ -368,7 +381,10 @@ pub fn format_configurations(
         .iter()
         .map(|name| format.columns.file_name(name).to_owned())
         .collect();
-    let mut text = header.join(&separator.to_string());
+    // Written in other units than gecaro's own, the file says so, and reads
+    // back in them.
+    let mut text = units_line(&format.units).unwrap_or_default();
+    text.push_str(&header.join(&separator.to_string()));
     text.push('\n');
     for sample in samples {
         let motors = format

@@ -28,6 +28,7 @@ mod ready;
 mod robot_file;
 mod robot_toml;
 pub mod roles;
+mod stated_units;
 mod study_file;
 mod study_spec;
 mod symoro;

@@ -282,10 +282,16 @@ async fn the_page_works_as_a_person_uses_it() {
         text_of(client, "#position-plan-count-result", 60).await,
         "25"
     );
+    // The plan in degrees says so in its first line, and reads back in them.
+    let preview = text_of(client, "#position-plan-result pre", 5).await;
+    assert!(
+        preview.starts_with("# units: angle_unit = deg, length_unit = m\nqm1,"),
+        "{preview}"
+    );
     let in_degrees = number(
         client,
         "return Math.max(...document.querySelector('#position-plan-result pre').textContent \
-         .split('\\n').slice(1, 6).map((row) => Math.abs(Number(row.split(',')[0]))))",
+         .split('\\n').slice(2, 6).map((row) => Math.abs(Number(row.split(',')[0]))))",
     )
     .await;
     assert!(in_degrees > 2.0 * std::f64::consts::PI, "{in_degrees}");
