@@ -97,29 +97,29 @@ fn parse(statement: &str) -> Result<DataUnits, String> {
 /// A request that states another unit than the file (the message names
 /// both).
 pub(crate) fn units_to_read(requested: DataUnits, stated: DataUnits) -> Result<DataUnits, String> {
-    let angle = match (requested.angle, stated.angle) {
-        (AngleUnit::Radians, stated) => stated,
-        (requested, stated) if requested == stated => requested,
-        (requested, stated) => {
-            return Err(format!(
-                "the file states its angles in {}, and it is read in {}: read it as it states",
-                stated.name(),
-                requested.name()
-            ));
-        }
-    };
-    let length = match (requested.length, stated.length) {
-        (LengthUnit::Metres, stated) => stated,
-        (requested, stated) if requested == stated => requested,
-        (requested, stated) => {
-            return Err(format!(
-                "the file states its lengths in {}, and it is read in {}: read it as it states",
-                stated.name(),
-                requested.name()
-            ));
-        }
-    };
-    Ok(DataUnits { length, angle })
+    Ok(DataUnits {
+        angle: unit_to_read(requested.angle, stated.angle, "angles", AngleUnit::name)?,
+        length: unit_to_read(requested.length, stated.length, "lengths", LengthUnit::name)?,
+    })
+}
+
+/// One unit to read `what` in: the `requested` one, or where it is gecaro's
+/// own (the default), the `stated` one.
+fn unit_to_read<U: Copy + Default + PartialEq>(
+    requested: U,
+    stated: U,
+    what: &str,
+    name: fn(U) -> &'static str,
+) -> Result<U, String> {
+    if requested == U::default() || requested == stated {
+        Ok(stated)
+    } else {
+        Err(format!(
+            "the file states its {what} in {}, and it is read in {}: read it as it states",
+            name(stated),
+            name(requested)
+        ))
+    }
 }
 
 #[cfg(test)]
