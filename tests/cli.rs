@@ -251,6 +251,62 @@ fn robot_new_writes_a_loadable_template_and_refuses_to_overwrite() {
 }
 
 #[test]
+fn robot_reframe_keeps_every_link_s_mass_on_its_body() {
+    // Masses on links 2 and 6 and on the tool, and a tilted gravity: after a
+    // new world and a new tool, gravity loads every joint as before.
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let stanford = gecaro_io::load_robot("stanford").expect("stanford");
+    let mut file = gecaro_io::RobotFile::of(stanford.robot.clone());
+    for (frame, mass, com) in [
+        (2, 5.0, [0.1, 0.0, 0.02]),
+        (6, 1.5, [0.0, 0.01, 0.04]),
+        (7, 8.0, [0.0, 0.0, 0.1]),
+    ] {
+        file.masses
+            .set_link(
+                frame,
+                gecaro_core::LinkMass {
+                    mass,
+                    com: com.into(),
+                },
+            )
+            .expect("mass");
+    }
+    file.masses
+        .set_gravity(nalgebra::Vector3::new(0.2, 0.0, -9.8))
+        .expect("gravity");
+    let original = folder.path().join("loaded.toml");
+    std::fs::write(&original, gecaro_io::format_robot_file(&file)).expect("written");
+    let moved = folder.path().join("moved.toml");
+    gecaro()
+        .args(["robot", "reframe"])
+        .arg(&original)
+        .args([
+            "--world",
+            "0.1,0.2,-0.5,0.9238795325112867,0,0.3826834323650898,0",
+            "--tool",
+            "0,0.05,0.1,0.7071067811865476,0.7071067811865476,0,0",
+            "-o",
+        ])
+        .arg(&moved)
+        .assert()
+        .success();
+    let before = gecaro_io::load_robot(original.to_str().expect("path")).expect("before");
+    let after = gecaro_io::load_robot(moved.to_str().expect("path")).expect("after");
+    assert!(!after.masses.is_empty());
+    for q in [
+        [0.3, -0.4, 0.6, 0.2, 0.9, -1.1],
+        [-2.0, 1.0, 0.2, 3.0, -1.0, 0.5],
+    ] {
+        let torques = |file: &gecaro_io::RobotFile| {
+            gecaro_core::gravity_torques(&file.robot, &file.masses, None, &q).expect("torques")
+        };
+        let (a, b) = (torques(&before), torques(&after));
+        assert!((&a - &b).norm() < 1e-9 * a.norm(), "{a} vs {b}");
+    }
+}
+
+#[test]
 fn robot_reframe_moves_the_world_and_tool_frames_and_nothing_else() {
     use nalgebra::{IsometryMatrix3, Matrix3, Quaternion, Translation3, UnitQuaternion};
     let folder = tempfile::tempdir().expect("temporary folder");

@@ -2,7 +2,7 @@
 //! in [`super::interchange`]).
 
 use gecaro_core::{FrameType, Joint, Robot};
-use gecaro_io::{AngleUnit, RobotFile, format_robot_file, load_robot, write_atomically};
+use gecaro_io::{RobotFile, format_robot_file, load_robot, write_atomically};
 use nalgebra::IsometryMatrix3;
 
 use super::options::output_policy;
@@ -229,6 +229,11 @@ fn reframe(
                 &old_tool_from_new_tool,
             )
         }),
+        // Each link keeps its body: the centres of mass move into the new
+        // frames' coordinates, gravity into the new world's.
+        masses: original
+            .masses
+            .reframed(&original.robot, &robot, &new_world_from_old_world)?,
         robot,
         angle_unit: original.angle_unit,
     };
@@ -265,10 +270,8 @@ fn new(letters: &str, output: &std::path::Path, force: bool) -> Result<(), Failu
          # and qmin, qmax, offset, K (joints). q_j is added to theta_j (R) or r_j (P).\n\
          # Optional tables: [coupling] Cm, Cj (n×n) and [priority] matrix ((n+2)×6).\n{}",
         format_robot_file(&RobotFile {
-            robot,
             description: Some(format!("{letters} arm (template)")),
-            angle_unit: AngleUnit::Radians,
-            urdf: None,
+            ..RobotFile::of(robot)
         })
     );
     write_atomically(output, text.as_bytes(), output_policy(force))?;

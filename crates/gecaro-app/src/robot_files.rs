@@ -32,6 +32,9 @@ pub fn calibrated_robot_file(
         )),
         angle_unit: nominal.angle_unit,
         urdf: nominal.urdf.clone(),
+        // The masses are the nominal's: a geometric calibration does not
+        // weigh the links.
+        masses: nominal.masses.clone(),
     }
 }
 
@@ -51,5 +54,6 @@ pub fn simulated_robot_file(
         robot: real,
         angle_unit: nominal.angle_unit,
         urdf: nominal.urdf.clone(),
+        masses: nominal.masses.clone(),
     }
 }

@@ -56,6 +56,12 @@ use crate::robot::Robot;
 /// Standard gravity (m/s²).
 pub const STANDARD_GRAVITY: f64 = 9.806_65;
 
+/// Gravity when none is stated: standard gravity along −z of the world
+/// frame (a robot upright on a level floor).
+pub fn upright_gravity() -> Vector3<f64> {
+    Vector3::new(0.0, 0.0, -STANDARD_GRAVITY)
+}
+
 /// A mass and its centre, in the coordinates of the frame it moves with.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct LinkMass {
@@ -96,7 +102,7 @@ impl MassModel {
     pub fn new(frames: usize) -> Self {
         MassModel {
             links: vec![None; frames],
-            gravity: Vector3::new(0.0, 0.0, -STANDARD_GRAVITY),
+            gravity: upright_gravity(),
         }
     }
 
@@ -148,6 +154,54 @@ impl MassModel {
     /// Whether any mass is stated.
     pub fn is_empty(&self) -> bool {
         self.links.iter().all(Option::is_none)
+    }
+
+    /// The same masses stated for `new`, the robot `old` re-framed
+    /// ([`Robot::reframed`] with `new_world_from_old_world`): a link keeps its
+    /// body, so each centre is moved into its frame's new coordinates (the
+    /// frames of one link keep their relative pose at every configuration;
+    /// it is taken at zero), and gravity into the new world's.
+    ///
+    /// # Errors
+    /// Robots of another number of frames than the masses'.
+    pub fn reframed(
+        &self,
+        old: &Robot,
+        new: &Robot,
+        new_world_from_old_world: &nalgebra::IsometryMatrix3<f64>,
+    ) -> Result<MassModel, Error> {
+        let frames = self.links.len();
+        if old.frames().len() != frames || new.frames().len() != frames {
+            return Err(Error::Invalid {
+                field: Field::Key("mass"),
+                message: format!("the masses are stated for {frames} frames"),
+            });
+        }
+        let zero = vec![0.0; old.joint_count()];
+        let (before, after) = (
+            forward_kinematics(old, &zero)?,
+            forward_kinematics(new, &zero)?,
+        );
+        let links = self
+            .links
+            .iter()
+            .enumerate()
+            .map(|(frame, link)| {
+                link.map(|link| {
+                    let new_from_old = after.world_from_frame(frame).inverse()
+                        * new_world_from_old_world
+                        * before.world_from_frame(frame);
+                    LinkMass {
+                        com: (new_from_old * Point3::from(link.com)).coords,
+                        ..link
+                    }
+                })
+            })
+            .collect();
+        Ok(MassModel {
+            links,
+            gravity: new_world_from_old_world.rotation * self.gravity,
+        })
     }
 }
 
@@ -342,6 +396,40 @@ mod tests {
         let twice = gravity_torques(&robot, &masses, Some(&doubled), &q).expect("torques");
         let difference = (&twice - &with) - (&with - &without);
         assert!(difference.norm() < 1e-9, "{difference}");
+    }
+
+    #[test]
+    fn a_reframed_robot_carries_the_same_loads() {
+        // The same arm in a world 1 m away and turned, with a new tool: every
+        // joint carries the same torque at every configuration.
+        let (robot, masses, payload) = loaded();
+        let world = nalgebra::IsometryMatrix3::new(
+            Vector3::new(1.0, -0.4, 0.2),
+            Vector3::new(0.1, -0.2, 0.7),
+        );
+        let tool = nalgebra::IsometryMatrix3::new(
+            Vector3::new(0.02, 0.0, 0.15),
+            Vector3::new(0.0, 0.3, 0.0),
+        );
+        let reframed = robot.reframed(&world, &tool).expect("reframed");
+        let moved = masses.reframed(&robot, &reframed, &world).expect("masses");
+        // The payload's centre is stated in the tool frame, which moved.
+        let payload_after = LinkMass {
+            com: (tool.inverse() * Point3::from(payload.com)).coords,
+            ..payload
+        };
+        for q in [
+            [0.3, -0.7, 0.4, 1.1, -0.5, 2.0],
+            [-2.0, 0.9, 0.25, -0.3, 1.4, -1.0],
+        ] {
+            let before = gravity_torques(&robot, &masses, Some(&payload), &q).expect("before");
+            let after =
+                gravity_torques(&reframed, &moved, Some(&payload_after), &q).expect("after");
+            assert!(
+                (&before - &after).norm() < 1e-9 * before.norm(),
+                "{before} vs {after}"
+            );
+        }
     }
 
     #[test]

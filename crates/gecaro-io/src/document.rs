@@ -10,8 +10,10 @@
 
 use std::f64::consts::TAU;
 
-use gecaro_core::{Frame, FrameType, Joint, PriorityMatrix, Robot, RobotSpec};
-use nalgebra::DMatrix;
+use gecaro_core::{
+    Frame, FrameType, Joint, LinkMass, MassModel, PriorityMatrix, Robot, RobotSpec, upright_gravity,
+};
+use nalgebra::{DMatrix, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::problem::{DocumentError, Location, model_error};
@@ -43,6 +45,10 @@ pub struct RobotDocument {
     /// Names kept from an imported URDF.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub urdf: Option<UrdfDocument>,
+    /// Gravity in the world frame (m/s²); standard gravity along −z when
+    /// omitted (the loads of elastic joints: [`MassModel`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gravity: Option<[f64; 3]>,
 }
 
 /// One frame as written; omitted keys take their defaults.
@@ -69,6 +75,14 @@ pub struct FrameDocument {
     pub offset: Option<f64>,
     #[serde(rename = "K", default, skip_serializing_if = "Option::is_none")]
     pub gain: Option<f64>,
+    /// The mass (kg) of the body that moves with this frame: link j, the
+    /// base (frame 0) or the tool (frame n+1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass: Option<f64>,
+    /// Its centre of mass in this frame's coordinates (m); the frame's origin
+    /// when omitted.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub com: Option<[f64; 3]>,
 }
 
 /// The `[coupling]` table.
@@ -124,6 +138,8 @@ impl RobotDocument {
                     qmax: joint.map(|joint| joint_angle(joint.qmax)),
                     offset: joint.map(|joint| joint_angle(joint.offset)),
                     gain: joint.map(|joint| joint.gain),
+                    mass: file.masses.link(j).map(|link| link.mass),
+                    com: file.masses.link(j).map(|link| link.com.into()),
                 }
             })
             .collect();
@@ -155,6 +171,8 @@ impl RobotDocument {
             coupling,
             priority,
             urdf: file.urdf.as_ref().map(UrdfDocument::from_names),
+            gravity: (file.masses.gravity() != upright_gravity())
+                .then(|| file.masses.gravity().into()),
         }
     }
 
@@ -244,12 +262,39 @@ impl RobotDocument {
             .as_ref()
             .map(|urdf| urdf.read(robot.joint_count()))
             .transpose()?;
+        let masses = self.masses()?;
         Ok(RobotFile {
             robot,
             description: self.description.clone(),
             angle_unit,
             urdf,
+            masses,
         })
+    }
+
+    /// The masses the frames state, and gravity.
+    fn masses(&self) -> Result<MassModel, DocumentError> {
+        let mut masses = MassModel::new(self.frame.len());
+        for (index, frame) in self.frame.iter().enumerate() {
+            let at = |key: &str, message: String| frame_error(index, key, message);
+            let mass = match (frame.mass, frame.com) {
+                (None, None) => continue,
+                (None, Some(_)) => {
+                    return Err(at("com", "a centre of mass without its `mass` (kg)".into()));
+                }
+                (Some(mass), com) => LinkMass {
+                    mass,
+                    com: com.map_or_else(Vector3::zeros, Vector3::from),
+                },
+            };
+            masses.set_link(index, mass).map_err(model_error)?;
+        }
+        if let Some(gravity) = self.gravity {
+            masses
+                .set_gravity(Vector3::from(gravity))
+                .map_err(model_error)?;
+        }
+        Ok(masses)
     }
 }
 
@@ -260,15 +305,7 @@ impl FrameDocument {
         last: usize,
         unit: AngleUnit,
     ) -> Result<(Frame, Option<Joint>), DocumentError> {
-        let at = |key: &str, message: String| {
-            DocumentError::new(
-                Location::Frame {
-                    frame: index,
-                    key: key.into(),
-                },
-                message,
-            )
-        };
+        let at = |key: &str, message: String| frame_error(index, key, message);
         let sigma = self.sigma.ok_or_else(|| {
             at(
                 "sigma",
@@ -350,6 +387,17 @@ impl FrameDocument {
         };
         Ok((frame, Some(joint)))
     }
+}
+
+/// A problem of key `key` of frame `index`.
+fn frame_error(index: usize, key: &str, message: String) -> DocumentError {
+    DocumentError::new(
+        Location::Frame {
+            frame: index,
+            key: key.into(),
+        },
+        message,
+    )
 }
 
 fn read_matrix(

@@ -176,12 +176,7 @@ mod tests {
         let robot = Robot::new(spec).expect("robot");
         let names: Vec<String> = ["a", "b", "c"].map(str::to_owned).to_vec();
         let text = joint_calibration(&robot, &names, "URDF").expect("not the identity");
-        let mut file = RobotFile {
-            robot: Robot::template("arm", "RRR").expect("template"),
-            description: None,
-            angle_unit: crate::AngleUnit::Radians,
-            urdf: None,
-        };
+        let mut file = RobotFile::of(Robot::template("arm", "RRR").expect("template"));
         apply_joint_calibration(&mut file, &text, Path::new("x.yaml")).expect("read");
         assert!((file.robot.motor_to_joint() - robot.motor_to_joint()).amax() < 1e-15);
         let bad = text.replace("gains: [", "gains: [0.0, ");

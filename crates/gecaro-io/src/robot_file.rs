@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use gecaro_core::Robot;
+use gecaro_core::{MassModel, Robot};
 
 use crate::urdf::names::UrdfNames;
 
@@ -30,6 +30,24 @@ pub struct RobotFile {
     /// The names and link frames of the URDF the robot was imported from
     /// (the `[urdf]` table), for writing it back.
     pub urdf: Option<UrdfNames>,
+    /// The masses its frames carry and gravity (`mass`, `com` of a frame,
+    /// `gravity`): the loads of elastic joints. None stated by default.
+    pub masses: MassModel,
+}
+
+impl RobotFile {
+    /// The file of `robot` alone: no description, angles in radians, no
+    /// URDF names, no masses (for the other fields, `..RobotFile::of(robot)`).
+    pub fn of(robot: Robot) -> Self {
+        let masses = MassModel::new(robot.frames().len());
+        RobotFile {
+            robot,
+            description: None,
+            angle_unit: AngleUnit::Radians,
+            urdf: None,
+            masses,
+        }
+    }
 }
 
 /// The robot's name for a file without `name`: the file's stem.

@@ -4,6 +4,7 @@
 //! name = "Stanford"
 //! angle_unit = "rad"         # optional: "rad" (default) or "deg"
 //! description = "Table 1"    # optional free text
+//! gravity = [0, 0, -9.80665] # optional: m/s² in the world frame (this default)
 //!
 //! [[frame]]                  # frame 0, the base; frames in order 0..n+1
 //! sigma = 2
@@ -17,6 +18,11 @@
 //! qmax = 3.14159
 //! # omitted: alpha = d = theta = r = beta = 0, K = 1, offset = 0,
 //! # qmin/qmax = ±π (revolute) or 0..1 m (prismatic)
+//!
+//! [[frame]]                  # frame 2, with the mass of link 2 (optional:
+//! sigma = 0                  # the loads of elastic joints)
+//! mass = 4.2                 # kg
+//! com = [0.12, 0.0, 0.03]    # its centre in frame 2 (m); the origin if omitted
 //!
 //! [coupling]                 # optional, n×n each, identity by default (eq. 4)
 //! Cm = [[1.0, 0.0], [0.0, 1.0]]
@@ -54,9 +60,10 @@ const TOP_KEYS: &[&str] = &[
     "coupling",
     "priority",
     "urdf",
+    "gravity",
 ];
 const FRAME_KEYS: &[&str] = &[
-    "sigma", "alpha", "d", "theta", "r", "beta", "qmin", "qmax", "offset", "K",
+    "sigma", "alpha", "d", "theta", "r", "beta", "qmin", "qmax", "offset", "K", "mass", "com",
 ];
 const COUPLING_KEYS: &[&str] = &["Cm", "Cj"];
 const PRIORITY_KEYS: &[&str] = &["matrix", "priority"];
@@ -343,6 +350,16 @@ pub fn format_robot_file(file: &RobotFile) -> String {
     if unit == AngleUnit::Degrees {
         let _ = writeln!(text, "angle_unit = \"deg\"");
     }
+    let gravity = file.masses.gravity();
+    if gravity != gecaro_core::upright_gravity() {
+        let _ = writeln!(
+            text,
+            "gravity = [{}, {}, {}] # m/s², world frame",
+            float(gravity.x),
+            float(gravity.y),
+            float(gravity.z)
+        );
+    }
     let last = robot.frames().len() - 1;
     for (j, frame) in robot.frames().iter().enumerate() {
         let role = match (j, frame.frame_type) {
@@ -372,6 +389,16 @@ pub fn format_robot_file(file: &RobotFile) -> String {
             let _ = writeln!(text, "qmax = {}", float(joint_angle(joint.qmax)));
             let _ = writeln!(text, "offset = {}", float(joint_angle(joint.offset)));
             let _ = writeln!(text, "K = {}", float(joint.gain));
+        }
+        if let Some(link) = file.masses.link(j) {
+            let _ = writeln!(text, "mass = {} # kg", float(link.mass));
+            let _ = writeln!(
+                text,
+                "com = [{}, {}, {}] # centre of mass in frame {j} (m)",
+                float(link.com.x),
+                float(link.com.y),
+                float(link.com.z)
+            );
         }
     }
     let n = robot.joint_count();
@@ -510,6 +537,42 @@ r = 0.1
         let file = parse(STANFORD).expect("valid");
         let again = parse(&format_robot_file(&file)).expect("valid");
         assert_eq!(file, again);
+    }
+
+    #[test]
+    fn masses_and_gravity_read_back_and_bad_ones_name_their_line() {
+        // Link 2's mass with its centre, the tool's at its origin, a tilted
+        // gravity: written, read back to the same file.
+        let text = STANFORD
+            .replacen(
+                "[[frame]]\nsigma = 0\nalpha = -1.5707963267948966\nr = 0.2",
+                "[[frame]]\nsigma = 0\nalpha = -1.5707963267948966\nr = 0.2\nmass = 4.5\ncom = [0.1, 0, -0.02]",
+                1,
+            )
+            .replacen("r = 0.1\n", "r = 0.1\nmass = 12\n", 1);
+        let text = format!("gravity = [0.1, 0.0, -9.8]\n{text}");
+        let file = parse(&text).expect("valid");
+        let link = file.masses.link(2).expect("link 2");
+        assert_eq!((link.mass, link.com.x, link.com.z), (4.5, 0.1, -0.02));
+        let tool = file.masses.link(7).expect("the tool");
+        assert_eq!((tool.mass, tool.com.norm()), (12.0, 0.0));
+        assert_eq!(file.masses.gravity().x, 0.1);
+        let written = format_robot_file(&file);
+        assert!(written.contains("mass = 4.5 # kg"), "{written}");
+        assert_eq!(parse(&written).expect("valid"), file);
+        // Without masses, nothing is written.
+        assert!(!format_robot_file(&parse(STANFORD).expect("valid")).contains("mass"));
+        // A negative mass, a centre without its mass, a centre of two values.
+        let (line, message) = parse_error(&text.replace("mass = 4.5", "mass = -4.5"));
+        assert!(
+            message.contains("frame 2") && message.contains("not a mass"),
+            "{line}: {message}"
+        );
+        assert_eq!(line, 17, "{message}");
+        let (_, message) = parse_error(&text.replace("mass = 4.5\n", ""));
+        assert!(message.contains("without its `mass`"), "{message}");
+        let (line, message) = parse_error(&text.replace("[0.1, 0, -0.02]", "[0.1, 0]"));
+        assert_eq!(line, 18, "{message}");
     }
 
     #[test]

@@ -21,7 +21,7 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use exmex::Express;
-use gecaro_core::{Frame, FrameType, Joint, Robot, RobotSpec};
+use gecaro_core::{Frame, FrameType, Joint, MassModel, Robot, RobotSpec};
 use nalgebra::{IsometryMatrix3, Matrix3, Rotation3, Translation3};
 
 use crate::Error;
@@ -573,6 +573,7 @@ pub(crate) fn import_symoro(text: &str, path: &Path) -> Result<Imported, Error> 
     robot.wrap_angles();
     Ok(Imported {
         file: RobotFile {
+            masses: MassModel::new(robot.frames().len()),
             robot,
             description: Some(format!(
                 "imported from {} (SYMORO, {joint_count} joints)",

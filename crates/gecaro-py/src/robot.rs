@@ -335,12 +335,7 @@ impl PyRobot {
             priority: None,
         })
         .py()?;
-        let mut robot = PyRobot::new(RobotFile {
-            robot,
-            description: None,
-            angle_unit: gecaro_io::AngleUnit::Radians,
-            urdf: None,
-        });
+        let mut robot = PyRobot::new(RobotFile::of(robot));
         if let Some(priority) = priority {
             robot.set_priority(Some(priority))?;
         }

@@ -22,9 +22,7 @@
 
 use gecaro_calib::study::{DataColumn, Sample};
 use gecaro_core::{Frame, FrameType, Joint, Robot, RobotSpec};
-use gecaro_io::{
-    AngleUnit, OutputPolicy, RobotFile, format_robot_file, format_samples, write_atomically,
-};
+use gecaro_io::{OutputPolicy, RobotFile, format_robot_file, format_samples, write_atomically};
 use nalgebra::{IsometryMatrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
 use std::error::Error;
 use std::fmt::Write as _;
@@ -295,7 +293,6 @@ fn import_mukca(
     write(
         &out.join("robot.toml"),
         &format_robot_file(&RobotFile {
-            robot,
             description: Some(format!(
                 "{robot_name} with the MUKCa ball, nominal URDF table ({}), ball frame tilted {BALL_TILT_DEGREES}° about x",
                 table
@@ -303,8 +300,7 @@ fn import_mukca(
                     .map(|f| f.to_string_lossy().into_owned())
                     .unwrap_or_default()
             )),
-            angle_unit: AngleUnit::Radians,
-            urdf: None,
+            ..RobotFile::of(robot)
         }),
     )?;
     write(
@@ -434,10 +430,8 @@ fn write_camera_example(
     write(
         &out.join("robot.toml"),
         &format_robot_file(&RobotFile {
-            robot,
             description: Some(description.to_owned()),
-            angle_unit: AngleUnit::Radians,
-            urdf: None,
+            ..RobotFile::of(robot)
         }),
     )?;
     write(

@@ -12,8 +12,7 @@
 use gecaro_calib::simulation::{Sampler, perturbed_robot};
 use gecaro_core::{Robot, terminal_pose};
 use gecaro_io::{
-    AngleUnit, ImportOptions, OutputPolicy, RobotFile, format_robot_file, import_robot,
-    write_atomically,
+    ImportOptions, OutputPolicy, RobotFile, format_robot_file, import_robot, write_atomically,
 };
 use std::error::Error;
 use std::fmt::Write as _;
@@ -139,12 +138,10 @@ fn main() -> Result<()> {
     write(
         "real.toml",
         &format_robot_file(&RobotFile {
-            robot: real.clone(),
             description: Some(format!(
                 "the simulated real KR 16-2 behind tracker.csv (error level {ERROR_LEVEL}, seed 11): the truth, for checking"
             )),
-            angle_unit: AngleUnit::Radians,
-            urdf: None,
+            ..RobotFile::of(real.clone())
         }),
     )?;
     let tracker = tracker_file(&real, 80, &mut sampler, 1)?;

@@ -6,7 +6,7 @@
 
 use std::path::Path;
 
-use gecaro_core::{Frame, FrameType, Joint, Robot, RobotSpec};
+use gecaro_core::{Frame, FrameType, Joint, MassModel, Robot, RobotSpec};
 use nalgebra::IsometryMatrix3;
 
 use super::table::{DhConvention, Row, Table};
@@ -120,6 +120,7 @@ pub(super) fn robot_of_table(
     });
     Ok(Imported {
         file: RobotFile {
+            masses: MassModel::new(robot.frames().len()),
             robot,
             description: Some(description),
             angle_unit: AngleUnit::Radians,

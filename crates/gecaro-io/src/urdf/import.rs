@@ -20,7 +20,7 @@
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
 
-use gecaro_core::{AxisChain, ChainJoint, FrameType, Joint, Robot, RobotSpec};
+use gecaro_core::{AxisChain, ChainJoint, FrameType, Joint, MassModel, Robot, RobotSpec};
 use nalgebra::{DMatrix, IsometryMatrix3, Unit, Vector3};
 use urdf_rs::JointType;
 
@@ -636,6 +636,7 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
     };
     Ok(Imported {
         file: RobotFile {
+            masses: MassModel::new(robot_model.frames().len()),
             robot: robot_model,
             description: Some(description),
             angle_unit: AngleUnit::Radians,

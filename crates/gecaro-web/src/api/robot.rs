@@ -355,10 +355,8 @@ pub(crate) async fn new(Json(request): Json<NewRequest>) -> Result<Json<RobotVie
     let robot = Robot::template(name, &request.joints)
         .map_err(|error| ApiError::BadRequest(error.to_string()))?;
     let file = RobotFile {
-        robot,
         description: Some(format!("{} arm (template)", request.joints.to_uppercase())),
-        angle_unit: gecaro_io::AngleUnit::Radians,
-        urdf: None,
+        ..RobotFile::of(robot)
     };
     Ok(Json(view(
         "new",
