@@ -126,6 +126,76 @@ fn industrial_arm_with_negative_and_x_axes_and_a_base_leaf() {
     assert_eq!(imported.file.robot.joints()[1].qmin, -2.70526034059);
 }
 
+/// Issue 38: the chain's masses from the links' `<inertial>`. Gravity loads
+/// every joint of the imported robot as the URDF itself says: −∂V/∂q by
+/// central differences, V summed over every link of the file with k's
+/// forward model and urdf-rs's inertials (an independent route).
+#[test]
+fn the_chain_s_masses_load_the_joints_as_the_urdf_says() {
+    for (file, tip) in [("kuka_kr16_2.urdf", None), ("ur10e.urdf", Some("tool0"))] {
+        let imported = import(file, None, tip).unwrap_or_else(|error| panic!("{file}: {error}"));
+        let robot = &imported.file.robot;
+        let masses = &imported.file.masses;
+        assert!(!masses.is_empty(), "{file}");
+        assert!(
+            imported
+                .notes
+                .iter()
+                .any(|note| note.contains("<inertial>")),
+            "{file}: {:?}",
+            imported.notes
+        );
+        let names = imported.file.urdf.as_ref().expect("names");
+        let urdf = urdf_rs::read_file(data(file)).expect("urdf-rs reads it");
+        let chain = k::Chain::<f64>::from_urdf_file(data(file)).expect("k reads it");
+        let potential = |q: &[f64]| -> f64 {
+            for node in chain.iter() {
+                let name = node.joint().name.clone();
+                if let Some(index) = names.joints.iter().position(|joint| joint.name == name) {
+                    node.set_joint_position_unchecked(q[index]);
+                }
+            }
+            chain.update_transforms();
+            urdf.links
+                .iter()
+                .filter(|link| link.inertial.mass.value > 0.0)
+                .map(|link| {
+                    let world = chain
+                        .find_link(&link.name)
+                        .map(|node| from_k(&node.world_transform().expect("updated")))
+                        .unwrap_or_else(IsometryMatrix3::identity);
+                    let centre = world
+                        * nalgebra::Point3::from(nalgebra::Vector3::from(
+                            link.inertial.origin.xyz.0,
+                        ));
+                    link.inertial.mass.value * gecaro_core::STANDARD_GRAVITY * centre.z
+                })
+                .sum()
+        };
+        for qm in [
+            [0.3, -0.7, 0.4, 1.1, -0.5, 2.0],
+            [-1.0, -1.2, 0.9, -0.3, 1.4, -1.0],
+        ] {
+            let q = robot.joint_positions(&qm).expect("valid");
+            let torques = gecaro_core::gravity_torques(robot, masses, None, &qm).expect("torques");
+            for j in 0..q.len() {
+                let h = 1e-6;
+                let (mut up, mut down) = (q.clone(), q.clone());
+                up[j] += h;
+                down[j] -= h;
+                let gradient = (potential(up.as_slice()) - potential(down.as_slice())) / (2.0 * h);
+                assert!(
+                    (torques[j] + gradient).abs() < 1e-5 * (1.0 + gradient.abs()),
+                    "{file} joint {}: {} vs −∂V/∂q = {}",
+                    j + 1,
+                    torques[j],
+                    -gradient
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn seven_axis_arms() {
     check(

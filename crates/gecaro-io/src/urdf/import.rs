@@ -20,7 +20,7 @@
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
 
-use gecaro_core::{AxisChain, ChainJoint, FrameType, Joint, MassModel, Robot, RobotSpec};
+use gecaro_core::{AxisChain, ChainJoint, FrameType, Joint, LinkMass, MassModel, Robot, RobotSpec};
 use nalgebra::{DMatrix, IsometryMatrix3, Unit, Vector3};
 use urdf_rs::JointType;
 
@@ -467,6 +467,10 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
     let mut moving: Vec<&urdf_rs::Joint> = Vec::new();
     let mut child_poses = Vec::new();
     let mut folded = Vec::new();
+    // Every link of the chain at q = 0 with the frame it moves with: the
+    // base link frame 0, a link after k moving joints frame k.
+    let mut placed: Vec<(&str, IsometryMatrix3<f64>, usize)> =
+        vec![(base, IsometryMatrix3::identity(), 0)];
     for joint in &path_joints {
         let origin = from_xyz_rpy(joint.origin.xyz.0, joint.origin.rpy.0);
         if !origin.to_homogeneous().iter().all(|v| v.is_finite()) {
@@ -480,6 +484,7 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
         let frame_type = match &joint.joint_type {
             JointType::Fixed => {
                 folded.push(joint.name.clone());
+                placed.push((joint.child.link.as_str(), world_from_link, moving.len()));
                 continue;
             }
             JointType::Revolute | JointType::Continuous => FrameType::Revolute,
@@ -515,6 +520,7 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
         });
         child_poses.push(world_from_link);
         moving.push(joint);
+        placed.push((joint.child.link.as_str(), world_from_link, moving.len()));
     }
     let n = moving.len();
     if n == 0 {
@@ -601,6 +607,7 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
 
     // Where each link sits on its frame (q = 0).
     let frame_poses = super::frame_poses(&robot_model);
+    let masses = chain_masses(&robot, &placed, &frame_poses, &mut notes);
     let finite_or_zero = |value: f64| if value.is_finite() { value } else { 0.0 };
     let names = moving
         .iter()
@@ -636,7 +643,7 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
     };
     Ok(Imported {
         file: RobotFile {
-            masses: MassModel::new(robot_model.frames().len()),
+            masses,
             robot: robot_model,
             description: Some(description),
             angle_unit: AngleUnit::Radians,
@@ -653,4 +660,100 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
         },
         notes,
     })
+}
+
+/// The masses of the chain's links from their `<inertial>`: each link's
+/// centre of mass moved into the frame it moves with (`placed`: link, its
+/// pose at q = 0 in the base link's frame, its frame), the links of one
+/// frame (folded fixed joints, and links fixed to a chain link off the
+/// path: a camera on the flange) summed with their mass-weighted centre. A
+/// note says how many links weigh something and what is left out: links
+/// that other joints move (a gripper's fingers) or on another branch.
+fn chain_masses(
+    robot: &urdf_rs::Robot,
+    placed: &[(&str, IsometryMatrix3<f64>, usize)],
+    frame_poses: &[IsometryMatrix3<f64>],
+    notes: &mut Vec<String>,
+) -> MassModel {
+    let mut masses = MassModel::new(frame_poses.len());
+    let mut sums = vec![(0.0, Vector3::zeros()); frame_poses.len()];
+    let mut weighed = 0;
+    // Links fixed to a link of the chain move with its frame (a camera on
+    // the flange, a tool's mount): placed with it.
+    let mut placed: Vec<(&str, IsometryMatrix3<f64>, usize)> = placed.to_vec();
+    let mut grown = true;
+    while grown {
+        grown = false;
+        for joint in &robot.joints {
+            let known = |name: &str| placed.iter().any(|(link, _, _)| *link == name);
+            if joint.joint_type != JointType::Fixed || known(&joint.child.link) {
+                continue;
+            }
+            let Some(&(_, world_from_parent, frame)) = placed
+                .iter()
+                .find(|(link, _, _)| *link == joint.parent.link)
+            else {
+                continue;
+            };
+            let origin = from_xyz_rpy(joint.origin.xyz.0, joint.origin.rpy.0);
+            placed.push((joint.child.link.as_str(), world_from_parent * origin, frame));
+            grown = true;
+        }
+    }
+    for (name, world_from_link, frame) in &placed {
+        let Some(link) = robot.links.iter().find(|link| link.name == *name) else {
+            continue;
+        };
+        let mass = link.inertial.mass.value;
+        if !(mass.is_finite() && mass > 0.0) {
+            continue;
+        }
+        let centre =
+            world_from_link * nalgebra::Point3::from(Vector3::from(link.inertial.origin.xyz.0));
+        let in_frame = frame_poses[*frame].inverse() * centre;
+        if !in_frame.coords.iter().all(|v| v.is_finite()) {
+            continue;
+        }
+        weighed += 1;
+        sums[*frame].0 += mass;
+        sums[*frame].1 += mass * in_frame.coords;
+    }
+    for (frame, (mass, moment)) in sums.into_iter().enumerate() {
+        if mass > 0.0 {
+            // A mass and a finite centre: always accepted.
+            let _ = masses.set_link(
+                frame,
+                LinkMass {
+                    mass,
+                    com: moment / mass,
+                },
+            );
+        }
+    }
+    if weighed > 0 {
+        let total: f64 = robot
+            .links
+            .iter()
+            .map(|link| link.inertial.mass.value)
+            .filter(|m| m.is_finite() && *m > 0.0)
+            .sum();
+        let chain: f64 = (0..frame_poses.len())
+            .filter_map(|j| masses.link(j))
+            .map(|link| link.mass)
+            .sum();
+        let off = total - chain;
+        notes.push(format!(
+            "masses of {weighed} links read from their <inertial> ({} kg on the chain{})",
+            gecaro_core::Compact(chain),
+            if off > 1e-9 {
+                format!(
+                    "; {} kg on links off the chain not counted",
+                    gecaro_core::Compact(off)
+                )
+            } else {
+                String::new()
+            }
+        ));
+    }
+    masses
 }
