@@ -97,7 +97,50 @@ mod tests {
                 .unwrap_or_else(|error| panic!("{}: {error}", ready.name));
             assert_eq!(file.robot.frames(), again.robot.frames(), "{}", ready.name);
             assert_eq!(file.robot.joints().len(), again.robot.joints().len());
+            assert_eq!(file.masses, again.masses, "{}", ready.name);
         }
+    }
+
+    /// The industrial6's masses (a KR 6 class arm of about 52 kg) load its
+    /// joints as such an arm's are: stretched out level, the shoulder holds
+    /// 108 N·m, a 6 kg payload adds its m·g·L (56 N·m), and nothing turns
+    /// about the vertical axis 1 (docs/elastic.md).
+    #[test]
+    fn the_industrial6_weighs_what_its_class_weighs() {
+        let file = ready_robot("industrial6").expect("listed").expect("loads");
+        let total: f64 = (0..file.robot.frames().len())
+            .filter_map(|frame| file.masses.link(frame))
+            .map(|link| link.mass)
+            .sum();
+        assert!((total - 51.3).abs() < 1e-9, "{total}");
+        // Stretched out level: the upper arm along x at q2 = 0, the forearm
+        // along it at q3 = −90° (the flange 0.98 m out, 35 mm above axis 2).
+        let level = [0.0, 0.0, -std::f64::consts::FRAC_PI_2, 0.0, 0.0, 0.0];
+        let arm =
+            gecaro_core::gravity_torques(&file.robot, &file.masses, None, &level).expect("torques");
+        let payload = gecaro_core::LinkMass {
+            mass: 6.0,
+            com: nalgebra::Vector3::zeros(),
+        };
+        let loaded =
+            gecaro_core::gravity_torques(&file.robot, &file.masses, Some(&payload), &level)
+                .expect("torques");
+        assert!(arm[0].abs() < 1e-9, "axis 1 is vertical: {arm}");
+        assert!((100.0..120.0).contains(&arm[1].abs()), "shoulder: {arm}");
+        // A payload at the flange: m·g times its lever, the flange's x less
+        // axis 2's (horizontal along y, 25 mm out).
+        let flange = gecaro_core::forward_kinematics(&file.robot, &level)
+            .expect("pose")
+            .world_from_tool()
+            .translation
+            .vector;
+        let lever = flange.x - 0.025;
+        let added = (loaded[1] - arm[1]).abs();
+        assert!(
+            (added - 6.0 * gecaro_core::STANDARD_GRAVITY * lever).abs() < 1e-6,
+            "{added} vs m·g·L = {}",
+            6.0 * gecaro_core::STANDARD_GRAVITY * lever
+        );
     }
 
     #[test]
