@@ -116,11 +116,17 @@ pub fn rebased_file(
         Some(text) => format!("{text}; {note}"),
         None => note,
     };
+    // Each link keeps its body: its centre moves into the new frames, gravity
+    // into the base frame.
+    let masses = calibrated
+        .masses
+        .reframed(&calibrated.robot, &robot, &measurement_frame)?;
     Ok((
         measurement_frame,
         RobotFile {
             robot,
             description: Some(description),
+            masses,
             ..calibrated.clone()
         },
     ))

@@ -544,6 +544,8 @@ impl PyRobot {
             .unwrap_or(identity);
         let robot = self.robot().reframed(&world, &tool).py()?;
         let mut file = self.file.clone();
+        // Each link keeps its body: its centre moves into the new frames.
+        file.masses = file.masses.reframed(self.robot(), &robot, &world).py()?;
         file.robot = robot;
         Ok(PyRobot::new(file))
     }

@@ -110,6 +110,23 @@ def test_reframe_moves_the_world_and_the_tool():
         robot.reframe(world=np.diag([2.0, 1.0, 1.0, 1.0]))
 
 
+def test_reframe_keeps_the_masses_on_their_links(cli, tmp_path):
+    # The industrial6 states its links' masses: reframed in Python as on the
+    # command line, each centre moves into its frame's new coordinates and
+    # gravity into the new world (a turned world states it).
+    robot = gecaro.Robot.load("industrial6")
+    assert "mass = 12.0" in robot.to_toml()
+    world = "0.5,0.2,-0.1,0.9238795325112867,0,0.3826834323650898,0"
+    cli.run("robot", "reframe", "industrial6", "--world", world, "-o", "cli.toml")
+    x, y, z, qw, qx, qy, qz = (float(v) for v in world.split(","))
+    moved = robot.reframe(world=[x, y, z, qw, qx, qy, qz])
+    text = moved.to_toml()
+    assert "gravity = [" in text
+    cli_text = (tmp_path / "cli.toml").read_text()
+    masses = lambda t: [line for line in t.splitlines() if line.startswith(("mass", "com", "gravity"))]
+    assert masses(text) == masses(cli_text)
+
+
 def test_urdf_import_and_export_equal_the_command_line(cli, repository, tmp_path):
     urdf = repository / "examples" / "tracker" / "kr16_2.urdf"
     cli.run("robot", "import", urdf, "-o", "kr16.toml")
