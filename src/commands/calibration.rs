@@ -252,27 +252,25 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
             super::validation::print_cross_validation(validation, *seed);
         }
     }
+    // Written atomically, never over a file without --force; said unless --json.
+    let write = |path: &Path, text: String, what: &str| -> Result<(), Failure> {
+        gecaro_io::write_atomically(path, text.as_bytes(), output_policy(args.force))?;
+        if !args.json {
+            println!("wrote {what} to {}", path.display());
+        }
+        Ok(())
+    };
     if let Some(output) = &args.output
         && (identified.converged() || args.write_unconverged)
     {
-        gecaro_io::write_atomically(
+        write(
             output,
-            identified.calibrated_text()?.as_bytes(),
-            output_policy(args.force),
+            identified.calibrated_text()?,
+            "the calibrated robot",
         )?;
-        if !args.json {
-            println!("wrote the calibrated robot to {}", output.display());
-        }
     }
     if let Some(path) = &args.residuals {
-        gecaro_io::write_atomically(
-            path,
-            identified.residuals_csv()?.as_bytes(),
-            output_policy(args.force),
-        )?;
-        if !args.json {
-            println!("wrote the residuals to {}", path.display());
-        }
+        write(path, identified.residuals_csv()?, "the residuals")?;
     }
     if let Some(folder) = &args.plot {
         let paths = write_plots(folder, &identified, args.force)?;

@@ -116,7 +116,9 @@ pub use sources::{
     robot_of_document,
 };
 pub use study_editing::{SaveStudyRequest, open_study};
-pub use study_plan::{PlanStudyJson, PlanStudyRequest, PlannedSetJson, PlannedStudy};
+pub use study_plan::{
+    PlanStudyJson, PlanStudyRequest, PlannedSetJson, PlannedStudy, PreparedStudyPlan,
+};
 pub use study_prediction::{
     PredictStudyJson, PredictStudyRequest, PredictedSetJson, PredictedStudy,
 };

@@ -52,9 +52,12 @@ pub struct PlanStudyRequest {
     unknown: Unknown,
 }
 
-/// A request checked: the study loaded, the candidates per set, the
-/// planned study's name and its sets' file names when it is saved.
-struct Checked {
+/// A request checked and its study read ([`PlanStudyRequest::prepare`]):
+/// the study loaded, the candidates per set, the planned study's name and
+/// its sets' file names when it is saved. [`run`](Self::run) plans it.
+#[derive(Debug)]
+pub struct PreparedStudyPlan {
+    request: PlanStudyRequest,
     loaded: Loaded,
     pool: usize,
     outputs: Option<(String, Vec<String>)>,
@@ -89,24 +92,13 @@ impl PlanStudyRequest {
         }
     }
 
-    /// Checks the request before any work, as [`run`](Self::run) does
-    /// first: the settings, the study and the files it names, the files it
-    /// would write (a front end answers these at once, before it starts the
-    /// work as a job). Returns about the bytes the work holds at its
-    /// largest: every set's candidates' observation rows (six per
-    /// configuration at most, about sixty unknowns, twice over).
+    /// Checks the request and reads the study and the files it names, before
+    /// any work: the settings, the files it would write (a front end answers
+    /// these at once, then runs the plan as a job).
     ///
     /// # Errors
     /// As [`run`](Self::run)'s, but those only the work finds.
-    pub fn check(&self, files: &dyn Files) -> Result<usize, AppError> {
-        let checked = self.checked(files)?;
-        Ok(checked
-            .pool
-            .saturating_mul(checked.loaded.study.sets.len())
-            .saturating_mul(6 * 60 * 2 * std::mem::size_of::<f64>()))
-    }
-
-    fn checked(&self, files: &dyn Files) -> Result<Checked, AppError> {
+    pub fn prepare(&self, files: &dyn Files) -> Result<PreparedStudyPlan, AppError> {
         self.unknown.check()?;
         if !(1..=MAX_GENERATE).contains(&self.count) {
             return Err(AppError::setting_value(
@@ -156,7 +148,8 @@ impl PlanStudyRequest {
             }
             None => None,
         };
-        Ok(Checked {
+        Ok(PreparedStudyPlan {
+            request: self.clone(),
             loaded,
             pool,
             outputs,
@@ -174,13 +167,43 @@ impl PlanStudyRequest {
         files: &dyn Files,
         observer: &mut dyn Observer,
     ) -> Result<PlannedStudy, AppError> {
-        let Checked {
+        self.prepare(files)?.run(files, observer)
+    }
+}
+
+impl PreparedStudyPlan {
+    /// Where the planned study is written, if it is.
+    pub fn save_as(&self) -> Option<&str> {
+        self.request.save_as.as_deref()
+    }
+
+    /// About the bytes the work holds at its largest: every set's
+    /// candidates' observation rows (six per configuration at most, about
+    /// sixty unknowns, twice over).
+    pub fn memory_need(&self) -> usize {
+        self.pool
+            .saturating_mul(self.loaded.study.sets.len())
+            .saturating_mul(6 * 60 * 2 * std::mem::size_of::<f64>())
+    }
+
+    /// Draws the pools, plans, and writes the planned study if asked.
+    ///
+    /// # Errors
+    /// Files that cannot be written, a plan that does not determine the
+    /// cell, an interruption.
+    pub fn run(
+        self,
+        files: &dyn Files,
+        observer: &mut dyn Observer,
+    ) -> Result<PlannedStudy, AppError> {
+        let PreparedStudyPlan {
+            request,
             loaded,
             pool,
             outputs,
-        } = self.checked(files)?;
+        } = self;
         let robot = &loaded.robot.robot;
-        let seed = self.seed.unwrap_or(1);
+        let seed = request.seed.unwrap_or(1);
         let mut sampler = Sampler::new(seed);
         let mut candidates = loaded.study.clone();
         for set in &mut candidates.sets {
@@ -196,7 +219,7 @@ impl PlanStudyRequest {
             )?;
             let mut drawing = sampler
                 .clone()
-                .with_cell(self.cell.cell_seen_from(station)?);
+                .with_cell(request.cell.cell_seen_from(station)?);
             set.samples =
                 set.method
                     .sensor()
@@ -209,7 +232,7 @@ impl PlanStudyRequest {
         }
         let priority = loaded.priority.clone().unwrap_or_else(|| robot.priority());
         report_phase(observer, "choosing the configurations")?;
-        let plan = plan_study(robot, &candidates, self.count, &priority, seed, observer)?;
+        let plan = plan_study(robot, &candidates, request.count, &priority, seed, observer)?;
         let mut planned = PlannedStudy {
             loaded,
             plan,
@@ -220,15 +243,15 @@ impl PlanStudyRequest {
         if let Some((name, outputs)) = outputs {
             let text = planned_study_text(
                 files,
-                &self.study,
-                self.named_robot(),
+                &request.study,
+                request.named_robot(),
                 &name,
                 &planned.loaded,
                 &outputs,
             )?;
-            let mut saved = vec![files.write(&name, "toml", text.as_bytes(), self.overwrite)?];
+            let mut saved = vec![files.write(&name, "toml", text.as_bytes(), request.overwrite)?];
             for (text, output) in planned.set_files().iter().zip(&outputs) {
-                saved.push(files.write(output, "csv", text.as_bytes(), self.overwrite)?);
+                saved.push(files.write(output, "csv", text.as_bytes(), request.overwrite)?);
             }
             planned.saved = saved;
         }

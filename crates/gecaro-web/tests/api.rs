@@ -68,6 +68,17 @@ impl Api {
         (status, value)
     }
 
+    /// The text of a download at `uri`, checked to be `kind`
+    /// (`text/html`, …).
+    async fn download(&self, uri: &str, kind: &str) -> String {
+        let request = Request::get(uri).body(Body::empty()).expect("request");
+        let (status, bytes, headers) = self.send(request).await;
+        assert_eq!(status, StatusCode::OK, "{uri}");
+        let given = headers[header::CONTENT_TYPE].to_str().expect("ascii");
+        assert!(given.starts_with(kind), "{uri}: {given}");
+        String::from_utf8(bytes).expect("utf-8")
+    }
+
     /// The names of the files in the served folder.
     fn names(&self) -> Vec<String> {
         std::fs::read_dir(self.folder.path())
@@ -897,21 +908,9 @@ async fn identification_runs_as_a_job_with_progress_plots_and_report() {
     assert_eq!(checked["problems"], json!([]));
     assert_eq!(result["calibrated_name"], "stanford-calibrated.toml");
 
-    let (status, bytes, headers) = api
-        .send(
-            Request::get(format!("/api/jobs/{job}/report"))
-                .body(Body::empty())
-                .expect("request"),
-        )
+    let html = api
+        .download(&format!("/api/jobs/{job}/report"), "text/html")
         .await;
-    assert_eq!(status, StatusCode::OK);
-    assert!(
-        headers[header::CONTENT_TYPE]
-            .to_str()
-            .expect("ascii")
-            .starts_with("text/html")
-    );
-    let html = String::from_utf8(bytes).expect("utf-8");
     assert!(html.contains("<h2>Convergence</h2>") && html.contains("gen.csv"));
     // Each dot of the per-configuration plot names its file line (on hover).
     let per_configuration = result["plots"]["errors_per_configuration"]
@@ -925,21 +924,9 @@ async fn identification_runs_as_a_job_with_progress_plots_and_report() {
 
     // The residuals, one row per configuration with its line, as a CSV file
     // whose "after" errors are the identification's.
-    let (status, bytes, headers) = api
-        .send(
-            Request::get(format!("/api/jobs/{job}/residuals.csv"))
-                .body(Body::empty())
-                .expect("request"),
-        )
+    let text = api
+        .download(&format!("/api/jobs/{job}/residuals.csv"), "text/csv")
         .await;
-    assert_eq!(status, StatusCode::OK);
-    assert!(
-        headers[header::CONTENT_TYPE]
-            .to_str()
-            .expect("ascii")
-            .starts_with("text/csv")
-    );
-    let text = String::from_utf8(bytes).expect("utf-8");
     let mut rows = csv::Reader::from_reader(text.as_bytes());
     let header = rows.headers().expect("header").clone();
     assert_eq!(&header[4], "lines");

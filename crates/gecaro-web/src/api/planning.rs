@@ -113,16 +113,15 @@ pub(crate) async fn plan_study(
     State(state): State<AppState>,
     Json(request): Json<PlanStudyRequest>,
 ) -> Result<(StatusCode, Json<Submitted>), ApiError> {
-    let (request, need) = state
-        .files(move |state| {
-            let need = request.check(state.workspace())?;
-            Ok((request, need))
-        })
+    // The study and its files read once, before the answer.
+    let prepared = state
+        .files(move |state| Ok(request.prepare(state.workspace())?))
         .await?;
+    let need = prepared.memory_need();
+    let save_as = prepared.save_as().map(str::to_owned);
     background::start(state, need, move |state, observer| {
-        let planned = request.run(state.workspace(), observer)?;
-        let stem = request
-            .save_as
+        let planned = prepared.run(state.workspace(), observer)?;
+        let stem = save_as
             .as_deref()
             .and_then(|name| std::path::Path::new(name).file_stem())
             .map_or_else(
