@@ -467,6 +467,14 @@ pub(crate) struct GenerateArgs {
     /// (default 1).
     #[arg(long, value_name = "L")]
     pub(crate) error_level: Option<f64>,
+    /// Elastic joints: the drawn real robot's compliances, L·[2e-6, 1e-5] rad/(N·m) per joint,
+    /// loaded by the robot file's masses (docs/elastic.md).
+    #[arg(long, value_name = "L", conflicts_with = "real")]
+    pub(crate) compliance_level: Option<f64>,
+    /// The payload carried at every configuration: 20kg, or 20kg,0,0,120mm with its centre in
+    /// the tool frame; written to the data file's payload columns.
+    #[arg(long, value_name = "MASS[,X,Y,Z]")]
+    pub(crate) payload: Option<String>,
     /// Sensor noise, standard deviation (metres; radians for orientations).
     #[arg(long, value_name = "SIGMA", default_value_t = 0.0)]
     pub(crate) noise: f64,
@@ -694,7 +702,8 @@ pub(crate) struct IdentificationRunArgs {
     pub(crate) prior: Option<String>,
     /// Which parameters may be identified: full (the priority matrix),
     /// no-gains, no-beta, kinematic (neither), offsets (joint offsets only),
-    /// or a priority-matrix file.
+    /// elastic (full and every joint's compliance, loaded by the robot's
+    /// masses and the data's payload; docs/elastic.md), or a priority-matrix file.
     #[arg(long, value_name = "MODEL", default_value = "full")]
     pub(crate) model: String,
 }

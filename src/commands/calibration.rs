@@ -65,6 +65,8 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
         .map(|path| DataSource::File(name(path)));
     request.format = super::options::data_format(&args.format);
     request.error_level = args.error_level;
+    request.compliance_level = args.compliance_level;
+    request.payload = args.payload.clone();
     request.real = args
         .real
         .as_deref()

@@ -2,7 +2,19 @@
 //! robot (the nominal one with random errors, or a given one) measured by
 //! the method's sensor with noise, at random configurations or at planned
 //! ones.
+//!
+//! ## Elastic joints (issue 38)
+//!
+//! `compliance_level` L gives the drawn real robot a compliance on every
+//! joint, uniform in L·[2e-6, 1e-5] rad/(N·m) (L·[2e-7, 1e-6] m/N for a
+//! prismatic joint), the range of industrial arms; `payload` (`20kg`,
+//! `20kg,0,0,120mm`) is carried at every configuration and written to the
+//! data file's payload columns. An elastic real robot is measured where it
+//! settles under the gravity of its links (the robot file's masses) and of
+//! the payload ([`gecaro_calib::elastic::settled_torques`]). The measure
+//! methods (position, frame) simulate it; the others' sensors are rigid.
 
+use gecaro_calib::elastic::settled_torques;
 use gecaro_calib::methods::CalibrationMethod;
 use gecaro_calib::simulation::{
     Sampler, perturbed_robot, simulate_at, simulate_measurements, terminal_displacement,
@@ -44,6 +56,12 @@ pub struct GenerateRequest {
     pub error_level: Option<f64>,
     /// The real robot, instead of one with random errors.
     pub real: Option<RobotSource>,
+    /// Compliances of the drawn real robot: L·[2e-6, 1e-5] rad/(N·m) per
+    /// joint (module docs); not with `real`, whose own are used.
+    pub compliance_level: Option<f64>,
+    /// The payload carried at every configuration: `20kg`, or
+    /// `20kg,0,0,120mm` with its centre in the tool frame.
+    pub payload: Option<String>,
     /// Sensor noise, standard deviation (metres; radians for orientations).
     #[serde(default)]
     pub noise: f64,
@@ -103,6 +121,8 @@ impl GenerateRequest {
             format: DataFormatSpec::default(),
             error_level: None,
             real: None,
+            compliance_level: None,
+            payload: None,
             noise: 0.0,
             cell: CellSpec::default(),
             seed: None,
@@ -137,8 +157,14 @@ impl GenerateRequest {
         let seed = self.seed.unwrap_or(1);
         let error_level = self.error_level.unwrap_or(1.0);
         let cell = self.cell.cell()?;
+        let payload = self
+            .payload
+            .as_deref()
+            .map(gecaro_io::parse_payload)
+            .transpose()
+            .map_err(|message| AppError::setting("payload", message))?;
         let mut sampler = Sampler::new(seed);
-        let real = match &self.real {
+        let mut real = match &self.real {
             Some(source) => {
                 if self.error_level.is_some() {
                     return Err(AppError::new(
@@ -171,6 +197,26 @@ impl GenerateRequest {
                 seed,
             ),
         };
+        if let Some(level) = self.compliance_level {
+            let payload_given = payload.is_some();
+            draw_compliances(
+                &mut real,
+                level,
+                (self.real.is_some(), payload_given),
+                &mut sampler,
+            )?;
+        }
+        let loaded = real.robot.is_elastic() || payload.is_some();
+        if real.robot.is_elastic() && !matches!(method.name(), "position" | "frame") {
+            return Err(AppError::setting(
+                "compliance_level",
+                format!(
+                    "an elastic robot is simulated for the measure methods (position, frame); \
+                     the {} method's sensor is rigid",
+                    method.name()
+                ),
+            ));
+        }
         let samples = match (&self.configurations, self.count) {
             (Some(_), Some(_)) => {
                 return Err(AppError::setting(
@@ -222,6 +268,40 @@ impl GenerateRequest {
                 samples
             }
         };
+        // Loaded, the configurations are measured again where the real
+        // robot settles under its weight and the payload's.
+        let samples = if loaded {
+            let planned = samples
+                .into_iter()
+                .map(|sample| {
+                    let torques = if real.robot.is_elastic() {
+                        Some(settled_torques(
+                            &real.robot,
+                            &real.masses,
+                            payload.as_ref(),
+                            &sample.motor_positions,
+                        )?)
+                    } else {
+                        None
+                    };
+                    Ok(Sample {
+                        payload,
+                        torques,
+                        ..sample
+                    })
+                })
+                .collect::<Result<Vec<Sample>, AppError>>()?;
+            simulate_at(
+                &real.robot,
+                method.as_ref(),
+                &planned,
+                self.noise,
+                &mut sampler,
+                observer,
+            )?
+        } else {
+            samples
+        };
         // Whoever asked may have gone while the data were drawn (a closed
         // page, Ctrl-C): then nothing is written.
         report_step(observer, samples.len(), samples.len())?;
@@ -262,6 +342,59 @@ impl GenerateRequest {
     }
 }
 
+/// The compliance range of industrial arms' joints at level 1 (rad/(N·m)).
+const COMPLIANCE_RANGE: (f64, f64) = (2e-6, 1e-5);
+
+/// The largest compliance level: 100 × a soft joint is 1e-3 rad/(N·m).
+const MAX_COMPLIANCE_LEVEL: f64 = 100.0;
+
+/// Gives the drawn real robot compliances at `level` (module docs).
+fn draw_compliances(
+    real: &mut RobotFile,
+    level: f64,
+    (real_given, payload_given): (bool, bool),
+    sampler: &mut Sampler,
+) -> Result<(), AppError> {
+    if real_given {
+        return Err(AppError::setting(
+            "compliance_level",
+            "draws the compliances of a drawn real robot; a given real robot states its own",
+        ));
+    }
+    if !(0.0..=MAX_COMPLIANCE_LEVEL).contains(&level) {
+        return Err(AppError::setting_value(
+            "compliance_level",
+            level,
+            format!("from 0 to {MAX_COMPLIANCE_LEVEL}"),
+        ));
+    }
+    if real.masses.is_empty() && !payload_given {
+        return Err(AppError::setting(
+            "compliance_level",
+            format!(
+                "{} states no masses, so gravity loads no joint: give the robot file the \
+                 masses of its links (mass, com per frame; robot import reads them from URDF), \
+                 or a payload",
+                real.robot.name()
+            ),
+        ));
+    }
+    let compliances = real.robot.frames()[1..=real.robot.joint_count()]
+        .iter()
+        .map(|frame| {
+            let scale = match frame.frame_type {
+                gecaro_core::FrameType::Prismatic => 0.1,
+                _ => 1.0,
+            };
+            scale * level * sampler.uniform(COMPLIANCE_RANGE.0, COMPLIANCE_RANGE.1)
+        })
+        .collect();
+    real.robot
+        .set_compliances(Some(compliances))
+        .map_err(|error| AppError::setting("compliance_level", error.to_string()))?;
+    Ok(())
+}
+
 impl GenerateRequest {
     /// The first line of a generated data file: a comment naming the
     /// method, the real robot (drawn: the nominal one, its error level and
@@ -285,10 +418,17 @@ impl GenerateRequest {
             Some(source) => format!(" at the configurations of {}", source.label()),
             None => format!(", configurations drawn with seed {seed}"),
         };
-        format!(
+        let mut line = format!(
             "# gecaro generate: {count} {method} measurements of {real}{at}; sensor noise sigma {} m (rad for orientations)",
             self.noise
-        )
+        );
+        if let Some(level) = self.compliance_level {
+            line.push_str(&format!("; compliance level {level}"));
+        }
+        if let Some(payload) = &self.payload {
+            line.push_str(&format!("; payload {}", payload.trim()));
+        }
+        line
     }
 }
 

@@ -88,7 +88,10 @@ impl IdentifyRequest {
             Some(count) => Some((folds(count)?, self.seed.unwrap_or(1))),
             None => None,
         };
-        let loaded = self.measurements.load(files, Data::Required)?;
+        let mut loaded = self.measurements.load(files, Data::Required)?;
+        if self.settings.model.as_deref().map(str::trim) == Some("elastic") {
+            loaded.make_elastic()?;
+        }
         loaded.study.check(&loaded.robot.robot)?;
         let options = self.settings.options(&loaded, files)?;
         Ok(PreparedIdentification {
@@ -163,9 +166,28 @@ impl PreparedIdentification {
     ///
     /// # Errors
     /// Too few equations, numerical failures, an interruption.
-    pub fn run(self, observer: &mut dyn Observer) -> Result<Identified, AppError> {
+    pub fn run(mut self, observer: &mut dyn Observer) -> Result<Identified, AppError> {
         let Loaded { robot, study, .. } = &self.loaded;
-        let result = identify(&robot.robot, study, &self.options, observer)?;
+        let mut result = identify(&robot.robot, study, &self.options, observer)?;
+        if robot.robot.is_elastic() && result.verdict.outcome.solved() {
+            // The loads at the calibrated geometry rather than the nominal
+            // one: identified again when they move the model by more than a
+            // tenth of the noise (docs/elastic.md).
+            let (weighed, moved) = self.loaded.weighed_at(&result.calibrated)?;
+            let noise = weighed
+                .sets
+                .iter()
+                .filter_map(|set| set.sigma)
+                .fold(f64::INFINITY, f64::min);
+            if moved > 0.1 * noise.min(1e-4) {
+                gecaro_calib::report_phase(
+                    observer,
+                    "identifying with the calibrated robot's loads",
+                )?;
+                result = identify(&self.loaded.robot.robot, &weighed, &self.options, observer)?;
+                self.loaded.study = weighed;
+            }
+        }
         let cross_validation = match self.cross_validation {
             Some((_, seed)) => Some((self.cross_validate(observer)?, seed)),
             None => None,
@@ -519,8 +541,11 @@ impl EvaluateRequest {
         let compared = match &self.compared {
             None => None,
             Some(source) => {
-                let robot = source.load(files)?;
-                Some(evaluate_errors(&robot.robot, &loaded.study)?)
+                // An elastic robot yields to the loads of its own masses.
+                let mut compared = loaded.clone();
+                compared.robot = source.load(files)?;
+                compared.weigh()?;
+                Some(evaluate_errors(&compared.robot.robot, &compared.study)?)
             }
         };
         Ok(Evaluation {

@@ -117,6 +117,96 @@ pub struct Loaded {
     pub notes: Vec<Note>,
 }
 
+impl Loaded {
+    /// Makes the nominal robot elastic, every compliance 0, unless it is
+    /// already (issue 38: `model = "elastic"`), and loads its samples.
+    ///
+    /// # Errors
+    /// As [`weigh`](Self::weigh).
+    pub fn make_elastic(&mut self) -> Result<(), AppError> {
+        let robot = &mut self.robot.robot;
+        if !robot.is_elastic() {
+            let zeros = vec![0.0; robot.joint_count()];
+            robot
+                .set_compliances(Some(zeros))
+                .map_err(|error| AppError::setting("model", error.to_string()))?;
+        }
+        self.weigh()
+    }
+
+    /// Gives every sample the gravity torques of its configuration when the
+    /// robot is elastic: from the robot file's masses and the sample's
+    /// payload ([`gecaro_calib::elastic::load_samples`]). A rigid robot's
+    /// samples are left alone.
+    ///
+    /// # Errors
+    /// An elastic robot whose joints nothing loads (no masses in its file,
+    /// no payload in the data), or a configuration that does not fit it.
+    pub fn weigh(&mut self) -> Result<(), AppError> {
+        let robot = &self.robot.robot;
+        if !robot.is_elastic() {
+            return Ok(());
+        }
+        let payloads = self
+            .study
+            .sets
+            .iter()
+            .flat_map(|set| &set.samples)
+            .any(|sample| sample.payload.is_some());
+        if self.robot.masses.is_empty() && !payloads {
+            return Err(AppError::setting(
+                "model",
+                format!(
+                    "an elastic model needs loads on the joints: {} states no masses (mass, com \
+                     per frame of the robot file) and the data carry no payload (payload_mass)",
+                    robot.name()
+                ),
+            ));
+        }
+        for set in &mut self.study.sets {
+            gecaro_calib::elastic::load_samples(robot, &self.robot.masses, &mut set.samples)?;
+        }
+        Ok(())
+    }
+}
+
+impl Loaded {
+    /// The study with its loads evaluated at `calibrated` instead of the
+    /// nominal robot, and how far that moves the model: the largest joint
+    /// deflection change `|c_j·Δτ_j|` (rad, with the compliances of
+    /// `calibrated`) times the arm's length (m). The nominal's geometry is
+    /// off by centimetres, which moves the torques by a few per cent: tens
+    /// of micrometres of deflection at the flange (docs/elastic.md).
+    ///
+    /// # Errors
+    /// A configuration that does not fit the calibrated robot.
+    pub(crate) fn weighed_at(
+        &self,
+        calibrated: &gecaro_core::Robot,
+    ) -> Result<(Study, f64), AppError> {
+        let masses = crate::robot_files::carried_masses(&self.robot, calibrated);
+        let compliances = calibrated.compliances().unwrap_or_default();
+        let length: f64 = calibrated
+            .frames()
+            .iter()
+            .map(|frame| frame.d.abs() + frame.r.abs())
+            .sum();
+        let mut study = self.study.clone();
+        let mut largest: f64 = 0.0;
+        for (set, before) in study.sets.iter_mut().zip(&self.study.sets) {
+            gecaro_calib::elastic::load_samples(calibrated, &masses, &mut set.samples)?;
+            for (after, before) in set.samples.iter().zip(&before.samples) {
+                if let (Some(after), Some(before)) = (&after.torques, &before.torques) {
+                    for ((a, b), c) in after.iter().zip(before).zip(compliances) {
+                        largest = largest.max((c * (a - b)).abs());
+                    }
+                }
+            }
+        }
+        Ok((study, largest * length))
+    }
+}
+
 /// Something a user should know about a job's input or result.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Note {
@@ -195,6 +285,7 @@ impl Measurements {
                 ],
             });
         }
+        loaded.weigh()?;
         Ok(loaded)
     }
 
@@ -222,6 +313,7 @@ impl Measurements {
         let mut loaded = study.load(files, Data::Required)?;
         loaded.study.check(&robot.robot)?;
         loaded.robot = robot;
+        loaded.weigh()?;
         Ok(loaded)
     }
 

@@ -43,7 +43,7 @@ pub fn calibrated_robot_file(
 /// centre moved into its calibrated frame and gravity into that world, the
 /// worlds related by frame 1 (joint 1's axis) at zero. A nominal that states
 /// no masses and the default gravity carries nothing to move.
-fn carried_masses(nominal: &RobotFile, calibrated: &Robot) -> gecaro_core::MassModel {
+pub(crate) fn carried_masses(nominal: &RobotFile, calibrated: &Robot) -> gecaro_core::MassModel {
     let masses = &nominal.masses;
     if masses.is_empty() && masses.gravity() == gecaro_core::upright_gravity() {
         return masses.clone();

@@ -5,4 +5,5 @@
 
 mod cell;
 mod documents;
+mod elastic;
 mod wording;

@@ -584,6 +584,7 @@ mod tests {
             motor_coupling: None,
             joint_coupling: None,
             priority: None,
+            compliances: None,
         })
         .expect("valid")
     }

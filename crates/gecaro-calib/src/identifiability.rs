@@ -501,7 +501,7 @@ pub(crate) fn random_counterpart_at(
         let needed = (RANDOM_EQUATIONS_PER_UNKNOWN * unknowns as f64
             / set.method.equations_per_configuration())
         .ceil() as usize;
-        let samples = set.method.sensor().generate_like(
+        let mut samples = set.method.sensor().generate_like(
             robot,
             &set.samples,
             states.set(index),
@@ -510,6 +510,7 @@ pub(crate) fn random_counterpart_at(
             // About 2.5 equations per unknown: quick, whatever the data.
             &mut Quiet,
         )?;
+        lend_loads(&set.samples, &mut samples, &mut sampler);
         let mut random = set.with_samples(samples);
         random.label = format!("random configurations like {}", set.label);
         sets.push(random);
@@ -518,6 +519,24 @@ pub(crate) fn random_counterpart_at(
         sets,
         frames: study.frames.clone(),
     })
+}
+
+/// Gives each random sample the joint torques of a data sample drawn at
+/// random, when the data carry loads (an elastic robot, issue 38): loads of
+/// the data's size and pattern (a joint no load reaches, such as a vertical
+/// first axis, gets none), independent of the configuration. On them a
+/// compliance's column `J_j·τ_j` is generic, so the structure says which
+/// compliances any loads could reveal; whether the data's own loads tell
+/// them from the geometry is the excitation check's question.
+fn lend_loads(data: &[Sample], random: &mut [Sample], sampler: &mut Sampler) {
+    let loaded: Vec<&Vec<f64>> = data.iter().filter_map(|s| s.torques.as_ref()).collect();
+    if loaded.is_empty() {
+        return;
+    }
+    for sample in random {
+        let drawn = (sampler.uniform(0.0, loaded.len() as f64) as usize).min(loaded.len() - 1);
+        sample.torques = Some(loaded[drawn].clone());
+    }
 }
 
 /// The structural identifiable parameters of a study: Appendix III on

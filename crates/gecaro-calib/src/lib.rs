@@ -40,6 +40,7 @@
 //!     motor_coupling: None,
 //!     joint_coupling: None,
 //!     priority: None,
+//!     compliances: None,
 //! })?;
 //! let position = method("position", &MethodOptions::default())?;
 //! let random = Study::single(position, Vec::new(), "random configurations");
@@ -55,6 +56,7 @@ pub mod cell;
 pub mod compensation;
 mod continuation;
 pub mod curve;
+pub mod elastic;
 mod error;
 pub mod frames;
 pub mod identifiability;

@@ -2,7 +2,8 @@
 //!
 //! Each parameter η_k is believed to lie near its nominal value with standard
 //! deviation σ_k: one σ per kind (lengths d and r in metres, angles α, θ and
-//! β in radians, gains K as a fraction of their nominal value), with
+//! β in radians, gains K as a fraction of their nominal value, compliances
+//! c absolutely, [`COMPLIANCE_PRIOR`] unless overridden), with
 //! per-parameter overrides. The identification then maximises the posterior
 //! instead of the likelihood (maximum a posteriori): it minimises
 //! `Σ (r_i/σ_s)² + Σ_k ((η_k − η_k,nominal)/σ_k)²`, that is eq. 10 with one
@@ -35,6 +36,12 @@ use gecaro_core::{ParameterId, ParameterKind, Robot};
 use crate::Error;
 use crate::error::Setting;
 use crate::identifiability::Relation;
+
+/// The prior σ of a joint's compliance c_j (rad/(N·m), or m/N for a
+/// prismatic joint) about its nominal value: ten times the softest joint
+/// of an industrial arm (1e-5 rad/(N·m)), so that it holds back only a
+/// compliance the data barely see (issue 38).
+pub const COMPLIANCE_PRIOR: f64 = 1e-4;
 
 /// A Gaussian prior; see the module docs.
 #[derive(Clone, Debug, PartialEq)]
@@ -112,6 +119,7 @@ impl Prior {
             ParameterKind::Gain => {
                 relative.unwrap_or(self.gain) * nominal.abs().max(f64::MIN_POSITIVE)
             }
+            ParameterKind::Compliance => relative.unwrap_or(COMPLIANCE_PRIOR),
         }
     }
 

@@ -4,6 +4,7 @@
 //! qm1..qmn of one configuration; which other fields a method needs is given by
 //! its [`DataColumn`]s (and so are the columns of its CSV files).
 
+use gecaro_core::LinkMass;
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// One configuration with what was measured there.
@@ -21,6 +22,13 @@ pub struct Sample {
     pub distance: Option<f64>,
     /// Line of the data file this sample came from, for messages.
     pub line: Option<usize>,
+    /// The payload carried at this configuration (its centre in frame
+    /// n+1), when the data state one (issue 38).
+    pub payload: Option<LinkMass>,
+    /// The gravity torque of every joint (N·m, or N), the load an elastic
+    /// robot's joints yield to; `None`: no load. Filled from the masses and
+    /// the payload by [`crate::elastic::load_samples`].
+    pub torques: Option<Vec<f64>>,
 }
 
 impl Sample {
@@ -33,6 +41,8 @@ impl Sample {
             group: None,
             distance: None,
             line: None,
+            payload: None,
+            torques: None,
         }
     }
 

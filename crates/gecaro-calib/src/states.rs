@@ -165,7 +165,11 @@ pub(crate) fn evaluate_chunk(
 ) -> Result<(), ModelError> {
     let mut chain = ChainBuffer::default();
     for (sample, state) in samples.iter().zip(states) {
-        model.forward(&sample.motor_positions, &mut chain)?;
+        model.forward_loaded(
+            &sample.motor_positions,
+            sample.torques.as_deref(),
+            &mut chain,
+        )?;
         state.pose = *chain.world_from_tool();
         state.parameters = model.parameter_count();
         match rows {

@@ -194,13 +194,25 @@ pub enum Model {
     Kinematic,
     /// The joint offsets only (θ of revolute, r of prismatic joints).
     Offsets,
+    /// The full model and every joint's compliance (issue 38), after the
+    /// geometry in the priority order: the robot must be elastic
+    /// ([`gecaro_core::Robot::set_compliances`]) and its samples loaded
+    /// ([`crate::elastic::load_samples`]).
+    Elastic,
     /// A priority matrix read from a file (named by it).
     Matrix(String, PriorityMatrix),
 }
 
 impl Model {
     /// The models that need no file, smallest first.
-    pub const NAMED: [&'static str; 5] = ["offsets", "kinematic", "no-gains", "no-beta", "full"];
+    pub const NAMED: [&'static str; 6] = [
+        "offsets",
+        "kinematic",
+        "no-gains",
+        "no-beta",
+        "full",
+        "elastic",
+    ];
 
     /// Its name: `full`, `no-gains`, …, or the file's.
     pub fn name(&self) -> &str {
@@ -210,6 +222,7 @@ impl Model {
             Model::NoBeta => "no-beta",
             Model::Kinematic => "kinematic",
             Model::Offsets => "offsets",
+            Model::Elastic => "elastic",
             Model::Matrix(name, _) => name,
         }
     }
@@ -219,11 +232,18 @@ impl Model {
     pub fn priority(&self, robot: &Robot, full: Option<&PriorityMatrix>) -> PriorityMatrix {
         let mut matrix = match self {
             Model::Matrix(_, matrix) => return matrix.clone(),
+            // The compliances come last: geometry first in the base set.
+            Model::Elastic => {
+                return full
+                    .cloned()
+                    .unwrap_or_else(|| robot.priority())
+                    .with_compliances(1);
+            }
             _ => full.cloned().unwrap_or_else(|| robot.priority()),
         };
         for id in robot.parameters().ids() {
             let keep = match self {
-                Model::Full | Model::Matrix(..) => true,
+                Model::Full | Model::Matrix(..) | Model::Elastic => true,
                 Model::NoGains => id.kind != ParameterKind::Gain,
                 Model::NoBeta => id.kind != ParameterKind::Beta,
                 Model::Kinematic => !matches!(id.kind, ParameterKind::Gain | ParameterKind::Beta),
@@ -260,6 +280,7 @@ impl FromStr for Model {
             "no-beta" => Model::NoBeta,
             "kinematic" => Model::Kinematic,
             "offsets" => Model::Offsets,
+            "elastic" => Model::Elastic,
             other => {
                 return Err(Error::InvalidOption {
                     setting: Setting::Model,

@@ -86,7 +86,7 @@ impl Frame {
             ParameterKind::Theta => self.theta,
             ParameterKind::R => self.r,
             ParameterKind::Beta => self.beta,
-            ParameterKind::Gain => f64::NAN,
+            ParameterKind::Gain | ParameterKind::Compliance => f64::NAN,
         }
     }
 
@@ -97,7 +97,7 @@ impl Frame {
             ParameterKind::Theta => Some(&mut self.theta),
             ParameterKind::R => Some(&mut self.r),
             ParameterKind::Beta => Some(&mut self.beta),
-            ParameterKind::Gain => None,
+            ParameterKind::Gain | ParameterKind::Compliance => None,
         }
     }
 }

@@ -38,6 +38,7 @@
 //!     motor_coupling: None,
 //!     joint_coupling: None,
 //!     priority: None,
+//!     compliances: None,
 //! })?;
 //! let mut masses = MassModel::new(robot.frames().len());
 //! masses.set_link(1, LinkMass { mass: 2.0, com: Vector3::new(0.5, 0.0, 0.0) })?;

@@ -46,6 +46,7 @@
 //!     motor_coupling: None,
 //!     joint_coupling: None,
 //!     priority: None,
+//!     compliances: None,
 //! })?;
 //!
 //! let qm = [0.0, 0.0, 0.5, 0.0, 0.0, 0.0];

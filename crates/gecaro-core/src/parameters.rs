@@ -9,6 +9,9 @@
 //! ```
 //!
 //! that is Np = 2 + 5(n+1) + n parameters: 43 for the six-joint Stanford arm.
+//! An elastic robot (issue 38, `docs/elastic.md`) appends the compliance of
+//! every joint, `c1 ... cn` (rad/(N·m) for a revolute joint, m/N for a
+//! prismatic one): Np + n parameters, the geometric ones first and unmoved.
 //! Frame 0 carries only θ0 and r0 (α0 = d0 = β0 = 0 by definition of the
 //! base frame, eq. 1–2). These names are used in every file, table and JSON
 //! output of gecaro. Lengths are in metres, angles in radians, gains have no
@@ -34,6 +37,9 @@ pub enum ParameterKind {
     Beta,
     /// K_j: transmission gain of joint j (eq. 4).
     Gain,
+    /// c_j: compliance of joint j, `q_j = K_j·qm_j + offset_j + c_j·τ_j`
+    /// (rad/(N·m) or m/N; issue 38). Only elastic robots have it.
+    Compliance,
 }
 
 impl ParameterKind {
@@ -47,12 +53,14 @@ impl ParameterKind {
         ParameterKind::Gain,
     ];
 
-    /// Column of this kind in the (n+2)×6 priority matrix.
+    /// Column of this kind in the (n+2)×6 priority matrix; the compliance's
+    /// priorities are a seventh column beside it (see [`crate::PriorityMatrix`]).
     pub fn column(self) -> usize {
         self as usize
     }
 
-    /// The name stem used in parameter names: `alpha`, `d`, `theta`, `r`, `beta`, `K`.
+    /// The name stem used in parameter names: `alpha`, `d`, `theta`, `r`,
+    /// `beta`, `K`, `c`.
     pub fn symbol(self) -> &'static str {
         match self {
             ParameterKind::Alpha => "alpha",
@@ -61,6 +69,7 @@ impl ParameterKind {
             ParameterKind::R => "r",
             ParameterKind::Beta => "beta",
             ParameterKind::Gain => "K",
+            ParameterKind::Compliance => "c",
         }
     }
 
@@ -113,6 +122,7 @@ impl FromStr for ParameterId {
             let (stem, number) = name.split_at(at);
             let kind = ParameterKind::ALL
                 .into_iter()
+                .chain([ParameterKind::Compliance])
                 .find(|kind| kind.symbol() == stem)?;
             let frame = number.parse::<usize>().ok()?;
             Some(ParameterId { frame, kind })
@@ -128,6 +138,8 @@ impl FromStr for ParameterId {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ParameterSpace {
     joint_count: usize,
+    /// Whether the compliances c1..cn follow the gains.
+    elastic: bool,
     ids: Vec<ParameterId>,
 }
 
@@ -148,15 +160,32 @@ impl ParameterSpace {
         }
         ParameterSpace {
             joint_count: n,
+            elastic: false,
             ids,
         }
+    }
+
+    /// The vocabulary of an elastic robot: [`ParameterSpace::new`]'s, then
+    /// the compliances `c1 … cn`.
+    pub fn elastic(joint_count: usize) -> Self {
+        let mut space = Self::new(joint_count);
+        space.elastic = true;
+        space.ids.extend(
+            (1..=joint_count).map(|joint| ParameterId::new(ParameterKind::Compliance, joint)),
+        );
+        space
     }
 
     fn len_for(joint_count: usize) -> usize {
         2 + 5 * (joint_count + 1) + joint_count
     }
 
-    /// Number of parameters Np = 2 + 5(n+1) + n.
+    /// Whether the vocabulary holds the compliances (an elastic robot).
+    pub fn is_elastic(&self) -> bool {
+        self.elastic
+    }
+
+    /// Number of parameters Np = 2 + 5(n+1) + n (+ n compliances when elastic).
     pub fn len(&self) -> usize {
         self.ids.len()
     }
@@ -191,6 +220,10 @@ impl ParameterSpace {
             (_, 0) => None,
             (ParameterKind::Gain, joint) if joint <= n => Some(2 + 5 * (n + 1) + joint - 1),
             (ParameterKind::Gain, _) => None,
+            (ParameterKind::Compliance, joint) if self.elastic && joint <= n => {
+                Some(Self::len_for(n) + joint - 1)
+            }
+            (ParameterKind::Compliance, _) => None,
             (kind, frame) if frame <= n + 1 => Some(2 + 5 * (frame - 1) + kind.column()),
             _ => None,
         }
@@ -256,6 +289,22 @@ mod tests {
                 assert_eq!(space.index_of_name(&id.to_string()), Ok(index));
             }
         }
+    }
+
+    #[test]
+    fn an_elastic_space_appends_the_compliances() {
+        let space = ParameterSpace::elastic(6);
+        assert_eq!(space.len(), 49);
+        assert!(space.is_elastic() && !ParameterSpace::new(6).is_elastic());
+        assert_eq!(&space.names()[..43], &ParameterSpace::new(6).names()[..]);
+        assert_eq!(&space.names()[43..], ["c1", "c2", "c3", "c4", "c5", "c6"]);
+        for (index, id) in space.ids().iter().enumerate() {
+            assert_eq!(space.index_of_name(&id.to_string()), Ok(index));
+        }
+        for name in ["c0", "c7"] {
+            assert!(space.index_of_name(name).is_err(), "{name}");
+        }
+        assert!(ParameterSpace::new(6).index_of_name("c1").is_err());
     }
 
     #[test]

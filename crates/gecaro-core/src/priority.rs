@@ -21,6 +21,12 @@
 //! then all d, θ, r, β, K — what a stable sort of `P(:)` gives in the paper's
 //! MATLAB. This makes the base set a pure function of the matrix and of W,
 //! independent of threads or platform.
+//!
+//! The compliances of an elastic robot (issue 38) have their own column
+//! beside the six, read and set through the same [`PriorityMatrix::get`] and
+//! [`PriorityMatrix::set`]. It is 0 by default: a compliance is identified
+//! only when asked for (`--model elastic`, see [`PriorityMatrix::with_compliances`]),
+//! so no existing file changes. Its candidates come after all six columns.
 
 use crate::frame::{Frame, FrameType};
 use crate::parameters::{ParameterId, ParameterKind, ParameterSpace};
@@ -30,13 +36,37 @@ use crate::{Error, Field};
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct PriorityMatrix {
     rows: Vec<[u32; 6]>,
+    /// The priority of c_j in row j (frames 0 and n+1 have none).
+    compliance: Vec<u32>,
 }
 
 impl PriorityMatrix {
     /// A matrix from its rows (frame 0 first). Check it against a robot with
     /// [`Robot::set_priority_override`] or [`Robot::new`].
     pub fn from_rows(rows: Vec<[u32; 6]>) -> Self {
-        PriorityMatrix { rows }
+        PriorityMatrix {
+            compliance: vec![0; rows.len()],
+            rows,
+        }
+    }
+
+    /// This matrix with the compliance of every joint at `priority` (an
+    /// elastic identification; 0 identifies none).
+    pub fn with_compliances(mut self, priority: u32) -> Self {
+        let last = self.compliance.len().saturating_sub(1);
+        for (frame, cell) in self.compliance.iter_mut().enumerate() {
+            *cell = if frame == 0 || frame == last {
+                0
+            } else {
+                priority
+            };
+        }
+        self
+    }
+
+    /// Whether any compliance has a non-zero priority.
+    pub fn identifies_compliances(&self) -> bool {
+        self.compliance.iter().any(|priority| *priority > 0)
     }
 
     /// The default priorities of paper §4 for a robot of `frames` (0..=n+1;
@@ -77,7 +107,7 @@ impl PriorityMatrix {
                 [alpha, d, theta, r, beta, gain]
             })
             .collect();
-        PriorityMatrix { rows }
+        Self::from_rows(rows)
     }
 
     /// The rows, frame 0 first; columns α, d, θ, r, β, K.
@@ -90,7 +120,10 @@ impl PriorityMatrix {
     /// # Panics
     /// If the frame is outside the matrix.
     pub fn get(&self, id: ParameterId) -> u32 {
-        self.rows[id.frame][id.kind.column()]
+        match id.kind {
+            ParameterKind::Compliance => self.compliance[id.frame],
+            kind => self.rows[id.frame][kind.column()],
+        }
     }
 
     /// Sets the priority of one parameter.
@@ -98,7 +131,10 @@ impl PriorityMatrix {
     /// # Panics
     /// If the frame is outside the matrix.
     pub fn set(&mut self, id: ParameterId, priority: u32) {
-        self.rows[id.frame][id.kind.column()] = priority;
+        match id.kind {
+            ParameterKind::Compliance => self.compliance[id.frame] = priority,
+            kind => self.rows[id.frame][kind.column()] = priority,
+        }
     }
 
     /// The parameters with a non-zero priority, in the order the columns of W
@@ -106,6 +142,7 @@ impl PriorityMatrix {
     pub fn ordered_candidates(&self, parameters: &ParameterSpace) -> Vec<ParameterId> {
         let mut candidates: Vec<(u32, ParameterId)> = ParameterKind::ALL
             .into_iter()
+            .chain([ParameterKind::Compliance])
             .flat_map(|kind| (0..self.rows.len()).map(move |frame| ParameterId::new(kind, frame)))
             .filter(|id| parameters.contains(*id))
             .map(|id| (self.get(id), id))
@@ -132,10 +169,10 @@ impl PriorityMatrix {
                 ),
             ));
         }
-        for (frame, row) in self.rows.iter().enumerate() {
+        for frame in 0..self.rows.len() {
             for kind in ParameterKind::ALL {
                 let id = ParameterId::new(kind, frame);
-                let priority = row[kind.column()];
+                let priority = self.get(id);
                 if priority != 0 && !parameters.contains(id) {
                     return Err(Error::invalid(
                         Field::Priority { row: Some(frame) },
@@ -145,6 +182,17 @@ impl PriorityMatrix {
                         ),
                     ));
                 }
+            }
+            let id = ParameterId::new(ParameterKind::Compliance, frame);
+            let priority = self.get(id);
+            if priority != 0 && !parameters.contains(id) {
+                return Err(Error::invalid(
+                    Field::Priority { row: Some(frame) },
+                    format!(
+                        "{id} is not a parameter (only the joints of an elastic robot have a \
+                         compliance), so its priority must be 0, not {priority}"
+                    ),
+                ));
             }
         }
         Ok(())
@@ -202,6 +250,25 @@ mod tests {
         );
         // Priority 4: d7 first (d column before r column), then r0, r1, ...
         assert_eq!(&names[12..15], ["d7", "r0", "r1"]);
+    }
+
+    #[test]
+    fn compliances_are_candidates_of_an_elastic_robot_only_when_asked_for() {
+        let robot = stanford();
+        let rigid = PriorityMatrix::default_for(robot.frames());
+        let elastic = crate::ParameterSpace::elastic(6);
+        assert_eq!(rigid.ordered_candidates(&elastic).len(), 43);
+        let asked = rigid.clone().with_compliances(1);
+        assert!(asked.identifies_compliances() && !rigid.identifies_compliances());
+        let names: Vec<String> = asked
+            .ordered_candidates(&elastic)
+            .iter()
+            .map(ToString::to_string)
+            .collect();
+        assert_eq!(&names[43..], ["c1", "c2", "c3", "c4", "c5", "c6"]);
+        asked.validate(&elastic).expect("elastic");
+        // A rigid robot has no compliance to give a priority to.
+        assert!(asked.validate(robot.parameters()).is_err());
     }
 
     #[test]

@@ -17,6 +17,11 @@
 //! `q = Cj · diag(K) · Cm · qm + Offset`, and the joint limits `qmin ≤ q ≤ qmax`
 //! apply to q (metres or radians, before θ_j / r_j are added).
 //!
+//! An elastic robot (issue 38) also has a compliance c_j per joint, which
+//! adds `c_j·τ_j` to the joint variable under the gravity torque τ_j (see
+//! [`crate::KinematicModel::forward_loaded`]); its parameter vector ends
+//! with `c1 … cn` ([`ParameterSpace::elastic`]).
+//!
 //! A [`Robot`] is always valid: [`Robot::new`] checks every rule and names the
 //! [`Field`] at fault.
 
@@ -56,6 +61,9 @@ pub struct RobotSpec {
     pub joint_coupling: Option<DMatrix<f64>>,
     /// A priority matrix overriding the defaults of paper §4.
     pub priority: Option<PriorityMatrix>,
+    /// The compliance of every joint (rad/(N·m) or m/N) of an elastic
+    /// robot; `None` for a rigid one.
+    pub compliances: Option<Vec<f64>>,
 }
 
 /// A valid serial robot (see the module docs for the conventions).
@@ -67,6 +75,7 @@ pub struct Robot {
     motor_coupling: DMatrix<f64>,
     joint_coupling: DMatrix<f64>,
     priority_override: Option<PriorityMatrix>,
+    compliances: Option<Vec<f64>>,
     parameters: ParameterSpace,
     /// Cj · diag(K) · Cm, kept in step with the gains.
     motor_to_joint: DMatrix<f64>,
@@ -90,6 +99,7 @@ impl Robot {
             motor_coupling,
             joint_coupling,
             priority,
+            compliances,
         } = spec;
         validate_frames(&frames)?;
         let n = frames.len() - 2;
@@ -109,7 +119,13 @@ impl Robot {
         }
         let motor_coupling = validate_coupling("Cm", motor_coupling, n)?;
         let joint_coupling = validate_coupling("Cj", joint_coupling, n)?;
-        let parameters = ParameterSpace::new(n);
+        if let Some(compliances) = &compliances {
+            validate_compliances(compliances, n)?;
+        }
+        let parameters = match compliances {
+            Some(_) => ParameterSpace::elastic(n),
+            None => ParameterSpace::new(n),
+        };
         if let Some(priority) = &priority {
             priority.validate(&parameters)?;
         }
@@ -120,6 +136,7 @@ impl Robot {
             motor_coupling,
             joint_coupling,
             priority_override: priority,
+            compliances,
             parameters,
             motor_to_joint: DMatrix::zeros(n, n),
         };
@@ -189,6 +206,7 @@ impl Robot {
             motor_coupling: None,
             joint_coupling: None,
             priority: None,
+            compliances: None,
         })
     }
 
@@ -201,7 +219,42 @@ impl Robot {
             motor_coupling: Some(self.motor_coupling.clone()),
             joint_coupling: Some(self.joint_coupling.clone()),
             priority: self.priority_override.clone(),
+            compliances: self.compliances.clone(),
         }
+    }
+
+    /// The compliances c_1..c_n of an elastic robot (rad/(N·m) for a
+    /// revolute joint, m/N for a prismatic one); `None` for a rigid robot.
+    pub fn compliances(&self) -> Option<&[f64]> {
+        self.compliances.as_deref()
+    }
+
+    /// Makes the robot elastic with these compliances (`None`: rigid again).
+    /// The parameter vector gains (or loses) `c1 … cn` at its end.
+    ///
+    /// # Errors
+    /// When there are not n finite compliances, or the priority override
+    /// gives a priority to a compliance the robot would no longer have.
+    pub fn set_compliances(&mut self, compliances: Option<Vec<f64>>) -> Result<(), Error> {
+        let n = self.joint_count();
+        if let Some(compliances) = &compliances {
+            validate_compliances(compliances, n)?;
+        }
+        let parameters = match compliances {
+            Some(_) => ParameterSpace::elastic(n),
+            None => ParameterSpace::new(n),
+        };
+        if let Some(priority) = &self.priority_override {
+            priority.validate(&parameters)?;
+        }
+        self.parameters = parameters;
+        self.compliances = compliances;
+        Ok(())
+    }
+
+    /// Whether the robot is elastic (has compliances, even all zero).
+    pub fn is_elastic(&self) -> bool {
+        self.compliances.is_some()
     }
 
     /// The robot's name.
@@ -285,9 +338,10 @@ impl Robot {
             self.parameters.contains(id),
             "{id} is not a parameter of this robot"
         );
-        match id.kind {
-            ParameterKind::Gain => self.joints[id.frame - 1].gain,
-            kind => self.frames[id.frame].get(kind),
+        match (id.kind, &self.compliances) {
+            (ParameterKind::Gain, _) => self.joints[id.frame - 1].gain,
+            (ParameterKind::Compliance, Some(compliances)) => compliances[id.frame - 1],
+            (kind, _) => self.frames[id.frame].get(kind),
         }
     }
 
@@ -399,10 +453,10 @@ impl Robot {
         }
         let field = Field::Frame {
             index: id.frame,
-            key: if id.kind == ParameterKind::Gain {
-                "K"
-            } else {
-                id.kind.symbol()
+            key: match id.kind {
+                ParameterKind::Gain => "K",
+                ParameterKind::Compliance => "compliance",
+                kind => kind.symbol(),
             },
         };
         if !value.is_finite() {
@@ -416,6 +470,13 @@ impl Robot {
                 check_gain(field, value)?;
                 self.joints[id.frame - 1].gain = value;
                 Ok(true)
+            }
+            ParameterKind::Compliance => {
+                check_magnitude(field, value)?;
+                if let Some(compliances) = &mut self.compliances {
+                    compliances[id.frame - 1] = value;
+                }
+                Ok(false)
             }
             kind => {
                 if let Some(slot) = self.frames[id.frame].get_mut(kind) {
@@ -510,6 +571,9 @@ impl Robot {
         validate_frames(&self.frames)?;
         for (index, joint) in self.joints.iter().enumerate() {
             validate_joint(index + 1, joint)?;
+        }
+        if let Some(compliances) = &self.compliances {
+            validate_compliances(compliances, self.joint_count())?;
         }
         Ok(())
     }
@@ -615,6 +679,31 @@ fn validate_frames(frames: &[Frame]) -> Result<(), Error> {
                 }
             }
         }
+    }
+    Ok(())
+}
+
+/// n compliances, each finite and within [`MAX_MAGNITUDE`] (a negative one
+/// is a modelling question the identification's plausibility check names,
+/// not a malformed file).
+fn validate_compliances(compliances: &[f64], n: usize) -> Result<(), Error> {
+    if compliances.len() != n {
+        return Err(Error::invalid(
+            Field::Frames,
+            format!(
+                "an elastic robot of {n} joints needs {n} compliances, got {}",
+                compliances.len()
+            ),
+        ));
+    }
+    for (index, value) in compliances.iter().enumerate() {
+        check_magnitude(
+            Field::Frame {
+                index: index + 1,
+                key: "compliance",
+            },
+            *value,
+        )?;
     }
     Ok(())
 }

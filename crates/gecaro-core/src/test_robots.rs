@@ -48,6 +48,7 @@ pub(crate) fn stanford() -> Robot {
         motor_coupling: None,
         joint_coupling: None,
         priority: None,
+        compliances: None,
     })
     .expect("Table 1 is a valid robot")
 }
@@ -100,6 +101,7 @@ pub(crate) fn random_robot(rng: &mut impl Rng, n: usize) -> Robot {
         motor_coupling,
         joint_coupling,
         priority: None,
+        compliances: None,
     })
     .expect("random robots are valid")
 }

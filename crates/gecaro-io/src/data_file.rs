@@ -6,6 +6,11 @@
 //! reach the same point/frame), `pair` and `distance` (distance method: two
 //! rows per pair, the measured distance on both).
 //!
+//! Any file may also state the payload the robot carried at each row, for
+//! elastic joints (issue 38): `payload_mass` (kg) and, optionally,
+//! `payload_x,payload_y,payload_z`, its centre in frame n+1 (a length, in
+//! the file's length unit; frame n+1's origin when omitted).
+//!
 //! Files are read as instruments and controllers write them ([`DataFormat`]):
 //! columns come in any order and are found by name, or under other names
 //! given by a [`ColumnMap`] (`x=X_mm`); lengths (positions, distances,
@@ -20,13 +25,13 @@
 //! Every error names the file, the line and the column.
 
 use gecaro_calib::study::{DataColumn, Sample};
-use gecaro_core::FrameType;
+use gecaro_core::{FrameType, LinkMass};
 use std::io::Read;
 use std::path::Path;
 
 use crate::Error;
 use crate::columns::{ColumnMap, DataUnits, Delimiter, locate};
-use crate::data_rows::{Fields, RowReader, Rows};
+use crate::data_rows::{Fields, PayloadColumns, RowReader, Rows};
 use crate::input::{csv_error, csv_reader, open_regular, record_line};
 use crate::output::{OutputPolicy, write_with};
 use crate::pose::{NORMALISED_TOLERANCE, SILENT_TOLERANCE};
@@ -226,6 +231,9 @@ fn parse_from(
             .and_then(|i| layout.positions[i])
             .unwrap_or(0)
     };
+    let mut unused = layout.unused;
+    let payload = payload_columns(&names, &mut unused, &format.columns)
+        .map_err(|message| fail(header_line, None, message))?;
     let units = format.units;
     let length = units.length.to_metres();
     let fields = Fields {
@@ -246,6 +254,7 @@ fn parse_from(
         distance: columns
             .contains(&DataColumn::Distance)
             .then(|| at("distance")),
+        payload,
     };
     let rows = RowReader {
         path,
@@ -291,9 +300,57 @@ fn parse_from(
     }
     Ok(DataFile {
         samples,
-        unused_columns: layout.unused,
+        unused_columns: unused,
         notes,
     })
+}
+
+/// gecaro's names of the payload columns (see the module docs).
+const PAYLOAD_COLUMNS: [&str; 4] = ["payload_mass", "payload_x", "payload_y", "payload_z"];
+
+/// The payload's columns among the header's `names` (taken out of
+/// `unused`): the mass's, and the centre's when all three are there.
+///
+/// # Errors
+/// A centre without its mass, or only part of the centre.
+fn payload_columns(
+    names: &[String],
+    unused: &mut Vec<String>,
+    map: &ColumnMap,
+) -> Result<Option<PayloadColumns>, String> {
+    let found: Vec<Option<usize>> = PAYLOAD_COLUMNS
+        .iter()
+        .map(|name| {
+            let file_name = map.file_name(name);
+            names.iter().position(|column| column == file_name)
+        })
+        .collect();
+    if found.iter().all(Option::is_none) {
+        return Ok(None);
+    }
+    let Some(mass) = found[0] else {
+        return Err(
+            "the file gives a payload's centre (payload_x, payload_y, payload_z) without its \
+             mass: add a column payload_mass (kg)"
+                .into(),
+        );
+    };
+    let centre = match (found[1], found[2], found[3]) {
+        (Some(x), Some(y), Some(z)) => Some([x, y, z]),
+        (None, None, None) => None,
+        _ => {
+            return Err(
+                "the payload's centre needs the three columns payload_x, payload_y, payload_z"
+                    .into(),
+            );
+        }
+    };
+    unused.retain(|name| {
+        !PAYLOAD_COLUMNS
+            .iter()
+            .any(|column| map.file_name(column) == name)
+    });
+    Ok(Some(PayloadColumns { mass, centre }))
 }
 
 /// What a header was read as, for a message about a missing column: the
@@ -403,8 +460,16 @@ pub fn format_configurations(
 }
 
 /// The CSV text of a data set.
+///
+/// When a sample carries a payload, every row states one (0 kg where none
+/// was carried), in the payload columns of the module docs.
 pub fn format_samples(joint_count: usize, columns: &[DataColumn], samples: &[Sample]) -> String {
-    let mut text = data_headers(joint_count, columns).join(",");
+    let carries_payload = samples.iter().any(|sample| sample.payload.is_some());
+    let mut header = data_headers(joint_count, columns);
+    if carries_payload {
+        header.extend(PAYLOAD_COLUMNS.iter().map(|name| (*name).to_owned()));
+    }
+    let mut text = header.join(",");
     text.push('\n');
     for sample in samples {
         let mut fields: Vec<String> = sample
@@ -429,6 +494,14 @@ pub fn format_samples(joint_count: usize, columns: &[DataColumn], samples: &[Sam
                     fields.push(format!("{:?}", sample.distance.unwrap_or(0.0)))
                 }
             }
+        }
+        if carries_payload {
+            let payload = sample.payload.unwrap_or(LinkMass {
+                mass: 0.0,
+                com: nalgebra::Vector3::zeros(),
+            });
+            fields.push(format!("{:?}", payload.mass));
+            fields.extend(payload.com.iter().map(|v| format!("{v:?}")));
         }
         text.push_str(&fields.join(","));
         text.push('\n');
@@ -473,6 +546,58 @@ mod tests {
 
     fn error_of(text: &str, columns: &[DataColumn]) -> String {
         parse(text, columns).expect_err("invalid").to_string()
+    }
+
+    /// The payload columns: read in the file's length unit, written back
+    /// and read again; a centre without its mass, part of a centre and a
+    /// negative mass are refused, naming the line and column.
+    #[test]
+    fn payloads_read_in_the_file_s_units_and_round_trip() {
+        let text = "qm1,qm2,x,y,z,payload_mass,payload_x,payload_y,payload_z\n\
+                    0.1,0.2,100,200,300,10,0,0,120\n\
+                    0.3,0.4,100,200,300,0,0,0,0\n";
+        let format = DataFormat {
+            units: DataUnits {
+                length: crate::LengthUnit::Millimetres,
+                angle: crate::AngleUnit::Radians,
+            },
+            ..DataFormat::default()
+        };
+        let file = parse_samples(
+            text.as_bytes(),
+            Path::new("data.csv"),
+            &TWO_REVOLUTE,
+            &[DataColumn::Position],
+            &format,
+        )
+        .expect("valid");
+        assert!(file.unused_columns.is_empty(), "{:?}", file.unused_columns);
+        let payload = file.samples[0].payload.expect("payload");
+        assert_eq!(payload.mass, 10.0);
+        assert!((payload.com - Vector3::new(0.0, 0.0, 0.12)).norm() < 1e-15);
+        let written = format_samples(2, &[DataColumn::Position], &file.samples);
+        assert!(written.starts_with("qm1,qm2,x,y,z,payload_mass,payload_x,payload_y,payload_z\n"));
+        let again = parse(&written, &[DataColumn::Position]).expect("reads back");
+        assert_eq!(again, file.samples);
+        // The mass alone: the centre at frame n+1's origin.
+        let alone = parse(
+            "qm1,qm2,x,y,z,payload_mass\n0,0,1,2,3,5\n",
+            &[DataColumn::Position],
+        )
+        .expect("valid");
+        assert_eq!(alone[0].payload.expect("payload").com, Vector3::zeros());
+        // Without a payload, nothing is written.
+        let none = format_samples(2, &[DataColumn::Position], &alone[..0]);
+        assert_eq!(none, "qm1,qm2,x,y,z\n");
+        let message = error_of("qm1,qm2,payload_x,payload_y,payload_z\n0,0,0,0,0\n", &[]);
+        assert!(message.contains("without its mass"), "{message}");
+        let message = error_of("qm1,qm2,payload_mass,payload_z\n0,0,1,0\n", &[]);
+        assert!(message.contains("three columns"), "{message}");
+        let message = error_of("qm1,qm2,payload_mass\n0,0,1\n0,0,-2\n", &[]);
+        assert!(
+            message.contains("data.csv:3") && message.contains("payload_mass"),
+            "{message}"
+        );
     }
 
     #[test]

@@ -12,6 +12,7 @@
 
 use gecaro_calib::parallel::{available_threads, run_parts};
 use gecaro_calib::study::Sample;
+use gecaro_core::LinkMass;
 use nalgebra::Vector3;
 use std::io::Read;
 use std::path::Path;
@@ -45,6 +46,16 @@ pub(crate) struct Fields {
     pub(crate) group: Option<usize>,
     /// Column of the distance.
     pub(crate) distance: Option<usize>,
+    /// Columns of the payload, when the file states one.
+    pub(crate) payload: Option<PayloadColumns>,
+}
+
+/// Columns of the payload's mass (kg) and, when given, of its centre in
+/// frame n+1 (a length each).
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct PayloadColumns {
+    pub(crate) mass: usize,
+    pub(crate) centre: Option<[usize; 3]>,
 }
 
 /// Quaternions normalised on reading, for a note: how many, the largest
@@ -308,6 +319,24 @@ impl RowReader<'_> {
         }
         if let Some(column) = fields.distance {
             sample.distance = Some(length(column)?);
+        }
+        if let Some(PayloadColumns { mass, centre }) = fields.payload {
+            let kilograms = value(mass)?;
+            if kilograms < 0.0 {
+                return Err(self.fail(
+                    line,
+                    Some(mass),
+                    format!("`{}` is not a mass in kg (≥ 0)", record[mass].trim()),
+                ));
+            }
+            let com = match centre {
+                Some([x, y, z]) => Vector3::new(length(x)?, length(y)?, length(z)?),
+                None => Vector3::zeros(),
+            };
+            sample.payload = Some(LinkMass {
+                mass: kilograms,
+                com,
+            });
         }
         Ok(sample)
     }

@@ -83,6 +83,11 @@ pub struct FrameDocument {
     /// when omitted.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub com: Option<[f64; 3]>,
+    /// The joint's compliance (rad/(N·m), or m/N for a prismatic joint,
+    /// whatever the file's angle unit): stated on any joint, it makes the
+    /// robot elastic, the other joints at 0 (issue 38).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compliance: Option<f64>,
 }
 
 /// The `[coupling]` table.
@@ -140,6 +145,10 @@ impl RobotDocument {
                     gain: joint.map(|joint| joint.gain),
                     mass: file.masses.link(j).map(|link| link.mass),
                     com: file.masses.link(j).map(|link| link.com.into()),
+                    compliance: robot
+                        .compliances()
+                        .filter(|_| joint.is_some())
+                        .map(|compliances| compliances[j - 1]),
                 }
             })
             .collect();
@@ -255,6 +264,7 @@ impl RobotDocument {
             motor_coupling,
             joint_coupling,
             priority,
+            compliances: self.compliances()?,
         })
         .map_err(model_error)?;
         let urdf = self
@@ -270,6 +280,34 @@ impl RobotDocument {
             urdf,
             masses,
         })
+    }
+
+    /// The joints' compliances when any frame states one (then the robot is
+    /// elastic; the others are 0).
+    fn compliances(&self) -> Result<Option<Vec<f64>>, DocumentError> {
+        let last = self.frame.len().saturating_sub(1);
+        if let Some(index) = self
+            .frame
+            .iter()
+            .enumerate()
+            .find(|(index, frame)| (*index == 0 || *index == last) && frame.compliance.is_some())
+            .map(|(index, _)| index)
+        {
+            return Err(frame_error(
+                index,
+                "compliance",
+                "a fixed frame has no joint to be compliant".into(),
+            ));
+        }
+        if self.frame.iter().all(|frame| frame.compliance.is_none()) {
+            return Ok(None);
+        }
+        Ok(Some(
+            self.frame[1..last]
+                .iter()
+                .map(|frame| frame.compliance.unwrap_or(0.0))
+                .collect(),
+        ))
     }
 
     /// The masses the frames state, and gravity.

@@ -70,7 +70,7 @@ pub(crate) fn quantity(text: &str) -> Result<(Kind, f64), String> {
 
 /// The length of the number that starts `text`: sign, digits, decimals and
 /// an exponent (`1e-3mm` is 1e-3 millimetres, not 1 of the unit `e-3mm`).
-fn number_length(text: &str) -> usize {
+pub(crate) fn number_length(text: &str) -> usize {
     let bytes = text.as_bytes();
     let digits = |mut at: usize| {
         while at < bytes.len() && bytes[at].is_ascii_digit() {
@@ -215,11 +215,21 @@ pub fn parse_override(name_text: &str, value: &str) -> Result<(ParameterId, f64)
     let id: ParameterId = name_text
         .parse()
         .map_err(|_| format!("'{name_text}' is not a parameter name (d3, theta2, K1, …)"))?;
+    if id.kind == ParameterKind::Compliance {
+        // A compliance's σ is a bare number in rad/(N·m), or m/N (issue 38).
+        return match value.trim().parse::<f64>() {
+            Ok(sigma) if sigma.is_finite() && sigma > 0.0 => Ok((id, sigma)),
+            _ => Err(format!(
+                "{name_text} is a compliance: its σ is a positive number in rad/(N·m) \
+                 (m/N for a prismatic joint), e.g. 1e-5, not '{value}'"
+            )),
+        };
+    }
     let (kind, sigma) = quantity(value)?;
     let expected = match id.kind {
         ParameterKind::D | ParameterKind::R => Kind::Length,
         ParameterKind::Alpha | ParameterKind::Theta | ParameterKind::Beta => Kind::Angle,
-        ParameterKind::Gain => Kind::Gain,
+        ParameterKind::Gain | ParameterKind::Compliance => Kind::Gain,
     };
     if kind != expected {
         return Err(format!(

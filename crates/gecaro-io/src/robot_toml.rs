@@ -23,6 +23,9 @@
 //! sigma = 0                  # the loads of elastic joints)
 //! mass = 4.2                 # kg
 //! com = [0.12, 0.0, 0.03]    # its centre in frame 2 (m); the origin if omitted
+//! compliance = 4e-6          # optional: rad/(N·m) (m/N if prismatic), in any
+//!                            # angle unit; on any joint it makes the robot
+//!                            # elastic, the other joints at 0 (issue 38)
 //!
 //! [coupling]                 # optional, n×n each, identity by default (eq. 4)
 //! Cm = [[1.0, 0.0], [0.0, 1.0]]
@@ -63,7 +66,19 @@ const TOP_KEYS: &[&str] = &[
     "gravity",
 ];
 const FRAME_KEYS: &[&str] = &[
-    "sigma", "alpha", "d", "theta", "r", "beta", "qmin", "qmax", "offset", "K", "mass", "com",
+    "sigma",
+    "alpha",
+    "d",
+    "theta",
+    "r",
+    "beta",
+    "qmin",
+    "qmax",
+    "offset",
+    "K",
+    "mass",
+    "com",
+    "compliance",
 ];
 const COUPLING_KEYS: &[&str] = &["Cm", "Cj"];
 const PRIORITY_KEYS: &[&str] = &["matrix", "priority"];
@@ -389,6 +404,13 @@ pub fn format_robot_file(file: &RobotFile) -> String {
             let _ = writeln!(text, "qmax = {}", float(joint_angle(joint.qmax)));
             let _ = writeln!(text, "offset = {}", float(joint_angle(joint.offset)));
             let _ = writeln!(text, "K = {}", float(joint.gain));
+            if let Some(compliances) = robot.compliances() {
+                let unit = match frame.frame_type {
+                    FrameType::Prismatic => "m/N",
+                    _ => "rad/(N·m)",
+                };
+                let _ = writeln!(text, "compliance = {} # {unit}", float(compliances[j - 1]));
+            }
         }
         if let Some(link) = file.masses.link(j) {
             let _ = writeln!(text, "mass = {} # kg", float(link.mass));
@@ -561,6 +583,7 @@ r = 0.1
         assert!(written.contains("mass = 4.5 # kg"), "{written}");
         assert_eq!(parse(&written).expect("valid"), file);
         // Without masses, nothing is written.
+        assert!(!format_robot_file(&parse(STANFORD).expect("valid")).contains("compliance"));
         assert!(!format_robot_file(&parse(STANFORD).expect("valid")).contains("mass"));
         // A negative mass, a centre without its mass, a centre of two values.
         let (line, message) = parse_error(&text.replace("mass = 4.5", "mass = -4.5"));
@@ -573,6 +596,41 @@ r = 0.1
         assert!(message.contains("without its `mass`"), "{message}");
         let (line, message) = parse_error(&text.replace("[0.1, 0, -0.02]", "[0.1, 0]"));
         assert_eq!(line, 18, "{message}");
+    }
+
+    /// A compliance on one joint makes the robot elastic (the others at 0);
+    /// written back on every joint and read to the same robot; on a fixed
+    /// frame, or not a number, it is refused at its line.
+    #[test]
+    fn compliances_make_an_elastic_robot_and_read_back() {
+        let text = STANFORD.replacen(
+            "[[frame]]\nsigma = 0\nalpha = -1.5707963267948966\nr = 0.2",
+            "[[frame]]\nsigma = 0\nalpha = -1.5707963267948966\nr = 0.2\ncompliance = 4e-6",
+            1,
+        );
+        let file = parse(&text).expect("valid");
+        assert_eq!(
+            file.robot.compliances(),
+            Some(&[0.0, 4e-6, 0.0, 0.0, 0.0, 0.0][..])
+        );
+        assert_eq!(file.robot.parameters().len(), 49);
+        let written = format_robot_file(&file);
+        assert_eq!(written.matches("compliance = ").count(), 6, "{written}");
+        assert!(
+            written.contains("compliance = 4e-6 # rad/(N·m)"),
+            "{written}"
+        );
+        assert!(written.contains("# m/N"), "{written}");
+        assert_eq!(parse(&written).expect("valid"), file);
+        let (line, message) =
+            parse_error(&text.replacen("r = 0.1\n", "r = 0.1\ncompliance = 1\n", 1));
+        assert!(
+            message.contains("no joint to be compliant"),
+            "{line}: {message}"
+        );
+        let (line, message) =
+            parse_error(&text.replace("compliance = 4e-6", "compliance = \"soft\""));
+        assert_eq!(line, 16, "{message}");
     }
 
     #[test]

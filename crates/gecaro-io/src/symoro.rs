@@ -545,6 +545,7 @@ pub(crate) fn import_symoro(text: &str, path: &Path) -> Result<Imported, Error> 
         motor_coupling: None,
         joint_coupling: None,
         priority: None,
+        compliances: None,
     })
     .map_err(|error| Error::Format {
         path: path.to_owned(),

@@ -333,6 +333,7 @@ impl PyRobot {
             motor_coupling: square(motor_coupling, "motor_coupling", n)?,
             joint_coupling: square(joint_coupling, "joint_coupling", n)?,
             priority: None,
+            compliances: None,
         })
         .py()?;
         let mut robot = PyRobot::new(RobotFile::of(robot));

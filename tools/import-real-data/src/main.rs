@@ -114,6 +114,7 @@ fn table_robot(path: &Path, name: &str, limits: &[(f64, f64)]) -> Result<Robot> 
         motor_coupling: None,
         joint_coupling: None,
         priority: None,
+        compliances: None,
     })?)
 }
 

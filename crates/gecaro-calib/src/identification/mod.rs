@@ -126,7 +126,7 @@ pub use warnings::{POOR_CONDITIONING, STRONG_CORRELATION};
 pub use weighting::SECOND_PASS_PRIOR;
 use weighting::{Weighting, second_pass_prior};
 
-pub use crate::prior::Prior;
+pub use crate::prior::{COMPLIANCE_PRIOR, Prior};
 pub use crate::progress::IterationRecord;
 pub use crate::robust::{Loss, LossKind, robust_sigma};
 

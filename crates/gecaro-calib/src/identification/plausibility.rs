@@ -110,7 +110,7 @@ fn beyond_limits(
     // only lengths beyond the cell are implausible there. The tool may be
     // turned any way too (a point tool's direction is written with α and θ
     // of frame n+1), and reach as far as the robot.
-    let geometric = id.kind != ParameterKind::Gain;
+    let geometric = !matches!(id.kind, ParameterKind::Gain | ParameterKind::Compliance);
     let placement = geometric && id.frame <= 1;
     let turned_freely = placement || (geometric && id.frame == tool);
     let reach = if placement { CELL * size } else { size };
@@ -133,6 +133,46 @@ fn beyond_limits(
         )),
         _ => None,
     }
+}
+
+/// The softest joint a serial robot has (rad/(N·m), or m/N): 100 N·m would
+/// turn it by 0.1 rad. Beyond, a compliance is not a joint's (issue 38).
+const COMPLIANCE_LIMIT: f64 = 1e-3;
+
+/// A compliance is implausible below zero (beyond 3σ: a joint stiffer than
+/// rigid) or beyond [`COMPLIANCE_LIMIT`].
+fn judge_compliance(p: &IdentifiedParameter) -> Option<Implausible> {
+    let significant = p.std.is_finite() && p.identified < -3.0 * p.std;
+    let (why, cause) = if significant {
+        (
+            format!(
+                "is negative, {:.3e} (σ {:.1e}): a joint that straightens against its load",
+                p.identified, p.std
+            ),
+            "the loads are wrong (the masses, the payload or the gravity direction), or the \
+             compliance absorbs a geometric error these data do not separate from it: measure \
+             with two payloads"
+                .to_owned(),
+        )
+    } else if p.identified.abs() > COMPLIANCE_LIMIT {
+        (
+            format!(
+                "is {:.3e}, softer than any joint ({COMPLIANCE_LIMIT:e} turns 0.1 rad under \
+                 100 N·m)",
+                p.identified
+            ),
+            "the masses or the payload are in another unit, or the compliance absorbs an \
+             error that is not elastic"
+                .to_owned(),
+        )
+    } else {
+        return None;
+    };
+    Some(Implausible {
+        name: p.name.clone(),
+        why,
+        cause,
+    })
 }
 
 /// The judgement of one written parameter (see the module docs).
@@ -176,6 +216,9 @@ fn judge_parameter(
     }
     if p.is_regrouped() {
         return judge_expanded(written, p, id, size);
+    }
+    if id.kind == ParameterKind::Compliance {
+        return judge_compliance(p);
     }
     let why = beyond_limits(id, p.nominal, deviation, size, last).or_else(|| {
         let prior = p.prior_std.filter(|_| written.prior.is_some())?;

@@ -40,16 +40,20 @@ impl Reader {
         }
     }
 
-    /// The sample at `motor_positions` with what the sensor reads there.
+    /// The sample `planned` (its configuration, and the payload and joint
+    /// torques an elastic robot yields to) with what the sensor reads there.
     fn read(
         &mut self,
-        motor_positions: Vec<f64>,
+        planned: Sample,
         noise: f64,
         sampler: &mut Sampler,
     ) -> Result<Sample, Error> {
-        let pose = self
-            .model
-            .terminal_pose(&motor_positions, &mut self.chain)?;
+        self.model.forward_loaded(
+            &planned.motor_positions,
+            planned.torques.as_deref(),
+            &mut self.chain,
+        )?;
+        let pose = *self.chain.world_from_tool();
         let orientation = match self.reading {
             Reading::Point => None,
             Reading::Frame => Some(UnitQuaternion::from_rotation_matrix(
@@ -59,7 +63,8 @@ impl Reader {
         Ok(Sample {
             position: Some(pose.translation.vector + sampler.gaussian_vector(noise)),
             orientation,
-            ..Sample::new(motor_positions)
+            payload: planned.payload,
+            ..Sample::new(planned.motor_positions)
         })
     }
 }
@@ -79,7 +84,7 @@ fn random_readings(
     for done in 0..count {
         report_step(observer, done, count)?;
         let motor_positions = sampler.configuration(robot);
-        samples.push(sensor.read(motor_positions, noise, sampler)?);
+        samples.push(sensor.read(Sample::new(motor_positions), noise, sampler)?);
     }
     Ok(samples)
 }
@@ -97,7 +102,12 @@ fn readings_at(
     let mut samples = Vec::with_capacity(planned.len());
     for (done, sample) in planned.iter().enumerate() {
         report_step(observer, done, planned.len())?;
-        samples.push(sensor.read(sample.motor_positions.clone(), noise, sampler)?);
+        let planned = Sample {
+            payload: sample.payload,
+            torques: sample.torques.clone(),
+            ..Sample::new(sample.motor_positions.clone())
+        };
+        samples.push(sensor.read(planned, noise, sampler)?);
     }
     Ok(samples)
 }

@@ -102,6 +102,7 @@ impl FrameChain {
 ///     motor_coupling: None,
 ///     joint_coupling: None,
 ///     priority: None,
+///     compliances: None,
 /// })?;
 /// let chain = forward_kinematics(&robot, &[std::f64::consts::FRAC_PI_2])?;
 /// let tip = chain.world_from_tool().translation.vector;

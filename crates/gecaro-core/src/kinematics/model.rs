@@ -8,6 +8,18 @@
 //! per configuration only sin/cos(θ_j + q_j) of revolute joints remain. The
 //! results are identical to [`forward_kinematics`](super::forward_kinematics)
 //! and [`parameter_jacobian`](super::parameter_jacobian) (tested).
+//!
+//! ## Elastic joints (issue 38)
+//!
+//! An elastic robot's joint j yields to the gravity torque τ_j it carries:
+//! `q_j = (Cj·diag(K)·Cm·qm)_j + offset_j + c_j·τ_j`. The torques of a
+//! configuration are given with it ([`KinematicModel::forward_loaded`]);
+//! gecaro evaluates them once, at the commanded configuration
+//! (`gecaro_core::gravity_torques`), and holds them fixed: the deflection
+//! moves the arm by c·τ ≈ 1e-3 rad, which changes τ by about that fraction,
+//! so the model is exact to ~1e-3 of the deflection (micrometres). The
+//! Jacobian column of c_j is the joint variable's column times τ_j (the
+//! joint variable enters θ_j or r_j), and no other column changes.
 
 use nalgebra::{IsometryMatrix3, Matrix3, Matrix6xX, Rotation3, Translation3, Vector3};
 
@@ -50,6 +62,9 @@ pub struct KinematicModel {
     /// Column of K_j in η, and of the joint variable's parameter (θ or r).
     gain_columns: Vec<Option<usize>>,
     joint_columns: Vec<usize>,
+    /// c_j of an elastic robot (empty for a rigid one) and its column in η.
+    compliances: Vec<f64>,
+    compliance_columns: Vec<Option<usize>>,
     parameter_count: usize,
     /// Whether the Jacobian writes every column (then a buffer of the right
     /// size needs no zeroing first).
@@ -83,6 +98,8 @@ pub struct ChainBuffer {
     world_from_frame: Vec<IsometryMatrix3<f64>>,
     joint_positions: Vec<f64>,
     coupled_motor_positions: Vec<f64>,
+    /// The gravity torque of every joint (zeros when none was given).
+    torques: Vec<f64>,
 }
 
 impl ChainBuffer {
@@ -156,11 +173,15 @@ impl KinematicModel {
         let gain_columns: Vec<Option<usize>> = (1..=n)
             .map(|joint| column(ParameterKind::Gain, joint))
             .collect();
+        let compliance_columns: Vec<Option<usize>> = (1..=n)
+            .map(|joint| column(ParameterKind::Compliance, joint))
+            .collect();
         let mut written = vec![false; parameters.len()];
         for index in frames
             .iter()
             .flat_map(|frame| frame.columns)
             .chain(gain_columns.iter().copied())
+            .chain(compliance_columns.iter().copied())
             .flatten()
         {
             written[index] = true;
@@ -175,6 +196,8 @@ impl KinematicModel {
             joint_coupling: row_major(robot.joint_coupling()),
             gain_columns,
             joint_columns,
+            compliances: robot.compliances().map(<[f64]>::to_vec).unwrap_or_default(),
+            compliance_columns,
             parameter_count: parameters.len(),
         }
     }
@@ -189,12 +212,51 @@ impl KinematicModel {
         self.parameter_count
     }
 
-    /// Direct model (eq. 1) at motor variables `motor_positions`, into `chain`.
+    /// Direct model (eq. 1) at motor variables `motor_positions`, into `chain`
+    /// (no load: an elastic robot's joints are not deflected).
     ///
     /// # Errors
     /// When `motor_positions` does not hold n finite values.
     pub fn forward(&self, motor_positions: &[f64], chain: &mut ChainBuffer) -> Result<(), Error> {
+        self.forward_loaded(motor_positions, None, chain)
+    }
+
+    /// Direct model at `motor_positions` with the joints carrying `torques`
+    /// (N·m, or N for a prismatic joint; `None`: no load): an elastic
+    /// robot's joint j is deflected by `c_j·τ_j` (see the module docs); a
+    /// rigid robot ignores them.
+    ///
+    /// # Errors
+    /// When `motor_positions` does not hold n finite values, or `torques`
+    /// not n finite values.
+    pub fn forward_loaded(
+        &self,
+        motor_positions: &[f64],
+        torques: Option<&[f64]>,
+        chain: &mut ChainBuffer,
+    ) -> Result<(), Error> {
         let n = self.joint_count();
+        chain.torques.clear();
+        match torques {
+            Some(torques) => {
+                if torques.len() != n {
+                    return Err(Error::ConfigurationLength {
+                        expected: n,
+                        found: torques.len(),
+                    });
+                }
+                if let Some((index, value)) =
+                    torques.iter().enumerate().find(|(_, v)| !v.is_finite())
+                {
+                    return Err(Error::NonFiniteConfiguration {
+                        joint: index + 1,
+                        value: *value,
+                    });
+                }
+                chain.torques.extend_from_slice(torques);
+            }
+            None => chain.torques.resize(n, 0.0),
+        }
         if motor_positions.len() != n {
             return Err(Error::ConfigurationLength {
                 expected: n,
@@ -234,6 +296,14 @@ impl KinematicModel {
             chain
                 .coupled_motor_positions
                 .extend((0..n).map(|i| matrix_vector(&self.motor_coupling, i)));
+        }
+        for ((q, compliance), torque) in chain
+            .joint_positions
+            .iter_mut()
+            .zip(&self.compliances)
+            .zip(&chain.torques)
+        {
+            *q += compliance * torque;
         }
         chain.world_from_frame.clear();
         let mut pose = IsometryMatrix3::identity();
@@ -337,6 +407,18 @@ impl KinematicModel {
             }
             jacobian.set(
                 Some(gain_column),
+                column.fixed_rows::<3>(0).into_owned(),
+                column.fixed_rows::<3>(3).into_owned(),
+            );
+        }
+        // c_j: the joint variable's column times τ_j (module docs).
+        for (joint, compliance_column) in self.compliance_columns.iter().enumerate() {
+            let Some(compliance_column) = *compliance_column else {
+                continue;
+            };
+            let column = jacobian.column(self.joint_columns[joint]) * chain.torques[joint];
+            jacobian.set(
+                Some(compliance_column),
                 column.fixed_rows::<3>(0).into_owned(),
                 column.fixed_rows::<3>(3).into_owned(),
             );
@@ -456,6 +538,80 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// An elastic robot under load: the pose is the rigid model's at the
+    /// deflected joints (motor positions moved by M⁻¹·c∘τ), and each
+    /// compliance column equals central differences of that pose in c_j.
+    #[test]
+    fn a_loaded_elastic_robot_deflects_and_its_compliance_columns_are_derivatives() {
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let mut robot = stanford();
+        let compliances = vec![2e-3, 5e-3, 1e-4, 3e-3, 4e-3, 6e-3];
+        robot
+            .set_compliances(Some(compliances.clone()))
+            .expect("elastic");
+        let model = KinematicModel::new(&robot);
+        let qm = random_configuration(&robot, &mut rng);
+        let torques = [1.5, -20.0, 3.0, 0.7, -2.5, 0.4];
+        let mut chain = ChainBuffer::default();
+        model
+            .forward_loaded(&qm, Some(&torques), &mut chain)
+            .expect("valid");
+        let deflection: Vec<f64> = compliances
+            .iter()
+            .zip(&torques)
+            .map(|(c, t)| c * t)
+            .collect();
+        let joint = robot.joint_positions(&qm).expect("q");
+        let deflected: Vec<f64> = joint.iter().zip(&deflection).map(|(q, d)| q + d).collect();
+        let moved = robot.motor_positions(&deflected).expect("qm");
+        let reference = forward_kinematics(&robot, moved.as_slice()).expect("valid");
+        let difference =
+            reference.world_from_tool().to_homogeneous() - chain.world_from_tool().to_homogeneous();
+        assert!(difference.abs().max() < 1e-12, "{difference}");
+        // Without torques the elastic robot is the rigid one.
+        model.forward(&qm, &mut chain).expect("valid");
+        let rigid = forward_kinematics(&robot, &qm).expect("valid");
+        assert_eq!(rigid.world_from_tool(), chain.world_from_tool());
+
+        model
+            .forward_loaded(&qm, Some(&torques), &mut chain)
+            .expect("valid");
+        let mut jacobian = Matrix6xX::zeros(0);
+        model.jacobian(&chain, &mut jacobian);
+        assert_eq!(jacobian.ncols(), 49);
+        // Steps of ~1e-4 rad: smaller ones lose the rotation's digits in
+        // the axis-angle of a nearly identity rotation.
+        let step = 1e-4;
+        for joint in 1..=6 {
+            let id = ParameterId::new(ParameterKind::Compliance, joint);
+            let column = robot.parameters().index_of(id).expect("c_j");
+            let pose_at = |delta: f64| {
+                let mut moved = robot.clone();
+                moved
+                    .set_parameter(id, compliances[joint - 1] + delta)
+                    .expect("set");
+                let mut chain = ChainBuffer::default();
+                KinematicModel::new(&moved)
+                    .forward_loaded(&qm, Some(&torques), &mut chain)
+                    .expect("valid");
+                *chain.world_from_tool()
+            };
+            let (plus, minus) = (pose_at(step), pose_at(-step));
+            let position = (plus.translation.vector - minus.translation.vector) / (2.0 * step);
+            let rotation = (plus.rotation * minus.rotation.inverse()).scaled_axis() / (2.0 * step);
+            let analytic = jacobian.column(column);
+            let scale = analytic.norm().max(1.0);
+            assert!(
+                (analytic.fixed_rows::<3>(0) - position).norm() < 1e-6 * scale,
+                "c{joint}"
+            );
+            assert!(
+                (analytic.fixed_rows::<3>(3) - rotation).norm() < 1e-6 * scale,
+                "c{joint}"
+            );
         }
     }
 }

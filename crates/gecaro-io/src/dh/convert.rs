@@ -98,6 +98,7 @@ pub(super) fn robot_of_table(
         motor_coupling: None,
         joint_coupling: None,
         priority: None,
+        compliances: None,
     })
     .map_err(|error| format_error(error.to_string()))?;
     let identity = IsometryMatrix3::identity();

@@ -602,6 +602,7 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
         motor_coupling: None,
         joint_coupling: has_coupling.then_some(coupling),
         priority: None,
+        compliances: None,
     })
     .map_err(|error| source.error(1, error.to_string()))?;
 

@@ -1,0 +1,203 @@
+//! Elastic joints (issue 38): the gravity loads every configuration puts on
+//! the joints, and the deflection they cause.
+//!
+//! An elastic robot's joint j yields to the gravity torque τ_j it carries,
+//! `q_j = K_j·qm_j + offset_j + c_j·τ_j` (eq. 4 with the compliance c_j; see
+//! [`gecaro_core::KinematicModel::forward_loaded`]). The torques come from
+//! the links' masses ([`MassModel`]) and the payload a sample states
+//! ([`Sample::payload`], its centre in frame n+1), by
+//! [`gecaro_core::gravity_torques`].
+//!
+//! Two evaluations, for two uses:
+//! - [`load_samples`] takes τ at the commanded configuration. Identification
+//!   and evaluation use it, as a controller's gravity compensation does: the
+//!   deflection turns the arm by c·τ ≈ 1e-3 rad, which changes τ by about
+//!   that fraction, a micrometre at the flange.
+//! - [`settled_torques`] solves the fixed point τ = τ(q + c∘τ), the arm at
+//!   rest where it settles. Simulated robots use it, so that the "real"
+//!   robot is not the identification's own approximation.
+
+use gecaro_core::{LinkMass, MassModel, Robot, gravity_torques};
+
+use crate::error::Error;
+use crate::sample::Sample;
+
+/// Most fixed-point iterations of [`settled_torques`]: each one shrinks the
+/// error by c·∂τ/∂q, ≈ 1e-3 for an industrial arm (three reach rounding),
+/// 0.05 for an arm a hundred times softer.
+const SETTLING_ITERATIONS: usize = 50;
+
+/// Fills every sample's [`Sample::torques`] with the gravity torques at its
+/// commanded configuration (see the module docs), from `masses` and the
+/// sample's payload.
+///
+/// # Errors
+/// A configuration that does not fit the robot, masses of another robot,
+/// an invalid payload; the sample's line is named.
+pub fn load_samples(
+    robot: &Robot,
+    masses: &MassModel,
+    samples: &mut [Sample],
+) -> Result<(), Error> {
+    for sample in samples {
+        let torques = gravity_torques(
+            robot,
+            masses,
+            sample.payload.as_ref(),
+            &sample.motor_positions,
+        )
+        .map_err(|error| Error::InvalidData {
+            line: sample.line,
+            message: format!("the gravity torques of this configuration: {error}"),
+        })?;
+        sample.torques = Some(torques.as_slice().to_vec());
+    }
+    Ok(())
+}
+
+/// The gravity torques of `robot` at rest at `motor_positions` with its
+/// joints deflected by them: the fixed point τ = τ(q + c∘τ) (module docs).
+/// A rigid robot's are [`gravity_torques`]'s.
+///
+/// # Errors
+/// As [`gravity_torques`].
+pub fn settled_torques(
+    robot: &Robot,
+    masses: &MassModel,
+    payload: Option<&LinkMass>,
+    motor_positions: &[f64],
+) -> Result<Vec<f64>, Error> {
+    let mut torques = gravity_torques(robot, masses, payload, motor_positions)?;
+    let Some(compliances) = robot.compliances() else {
+        return Ok(torques.as_slice().to_vec());
+    };
+    let commanded = robot.joint_positions(motor_positions)?;
+    for _ in 0..SETTLING_ITERATIONS {
+        let previous = torques.clone();
+        let deflected: Vec<f64> = commanded
+            .iter()
+            .zip(compliances)
+            .zip(torques.iter())
+            .map(|((q, c), tau)| q + c * tau)
+            .collect();
+        let motors = robot.motor_positions(&deflected)?;
+        torques = gravity_torques(robot, masses, payload, motors.as_slice())?;
+        if (&torques - &previous).amax() <= 1e-13 * previous.amax().max(1.0) {
+            break;
+        }
+    }
+    Ok(torques.as_slice().to_vec())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use gecaro_core::{ChainBuffer, KinematicModel};
+    use nalgebra::Vector3;
+
+    /// A planar arm of two 1 m links held out level, a 10 kg mass at its
+    /// tip: the shoulder carries 98 N·m and droops by c·τ; settled, the
+    /// torque is m·g·cos(droop) of the drooped arm.
+    fn level_arm() -> (Robot, MassModel) {
+        use gecaro_core::{Frame, FrameType, Joint, RobotSpec};
+        let revolute = |d: f64| Frame {
+            d,
+            ..Frame::new(FrameType::Revolute)
+        };
+        // Joint axes along y of the world (α1 = −90°), so gravity (−z) bends them.
+        let robot = Robot::new(RobotSpec {
+            name: "level arm".into(),
+            frames: vec![
+                Frame::new(FrameType::Fixed),
+                Frame {
+                    alpha: -std::f64::consts::FRAC_PI_2,
+                    ..revolute(0.0)
+                },
+                revolute(1.0),
+                Frame {
+                    d: 1.0,
+                    ..Frame::new(FrameType::Fixed)
+                },
+            ],
+            joints: vec![Joint::default_for(FrameType::Revolute); 2],
+            motor_coupling: None,
+            joint_coupling: None,
+            priority: None,
+            compliances: Some(vec![1e-3, 0.0]),
+        })
+        .expect("robot");
+        let mut masses = MassModel::new(4);
+        masses
+            .set_link(
+                3,
+                LinkMass {
+                    mass: 10.0,
+                    com: Vector3::zeros(),
+                },
+            )
+            .expect("mass");
+        (robot, masses)
+    }
+
+    #[test]
+    fn torques_settle_at_the_drooped_pose() {
+        let (robot, masses) = level_arm();
+        let qm = [0.0, 0.0];
+        let commanded = gravity_torques(&robot, &masses, None, &qm).expect("τ");
+        let weight = 10.0 * gecaro_core::STANDARD_GRAVITY;
+        // Stretched out level: the shoulder holds the weight at 2 m.
+        assert!(
+            (commanded[0].abs() - 2.0 * weight).abs() < 1e-9,
+            "{commanded}"
+        );
+        let settled = settled_torques(&robot, &masses, None, &qm).expect("τ");
+        // The arm droops by φ = c·τ and the lever shrinks to 2·cos φ: the
+        // fixed point of τ = 2·m·g·cos(c·τ), by bisection on its own.
+        let c = 1e-3;
+        let (mut low, mut high) = (0.0, 2.0 * weight);
+        for _ in 0..200 {
+            let mid = 0.5 * (low + high);
+            if mid < 2.0 * weight * (c * mid).cos() {
+                low = mid;
+            } else {
+                high = mid;
+            }
+        }
+        assert!(
+            (settled[0].abs() - low).abs() < 1e-9,
+            "{} vs {low}",
+            settled[0]
+        );
+        assert!(settled[0].abs() < commanded[0].abs());
+        // And the settled pose is the model's under those torques: the tip
+        // 2·sin φ below the level line.
+        let mut chain = ChainBuffer::default();
+        KinematicModel::new(&robot)
+            .forward_loaded(&qm, Some(&settled), &mut chain)
+            .expect("pose");
+        let drop = chain.world_from_tool().translation.vector.z;
+        assert!((drop.abs() - 2.0 * (c * low).sin()).abs() < 1e-12, "{drop}");
+        assert!(drop < 0.0, "the arm droops under gravity: {drop}");
+    }
+
+    #[test]
+    fn samples_are_loaded_with_their_payload_and_lines_are_named() {
+        let (robot, masses) = level_arm();
+        let mut samples = vec![Sample::new(vec![0.0, 0.0]), Sample::new(vec![0.0, 0.0])];
+        samples[1].payload = Some(LinkMass {
+            mass: 5.0,
+            com: Vector3::zeros(),
+        });
+        load_samples(&robot, &masses, &mut samples).expect("loads");
+        let first = samples[0].torques.clone().expect("τ");
+        let second = samples[1].torques.clone().expect("τ");
+        let weight = 5.0 * gecaro_core::STANDARD_GRAVITY;
+        assert!((second[0].abs() - first[0].abs() - 2.0 * weight).abs() < 1e-9);
+        samples[0].motor_positions = vec![f64::NAN, 0.0];
+        samples[0].line = Some(12);
+        match load_samples(&robot, &masses, &mut samples) {
+            Err(Error::InvalidData { line, .. }) => assert_eq!(line, Some(12)),
+            other => panic!("unexpected {other:?}"),
+        }
+    }
+}

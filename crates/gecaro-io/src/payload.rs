@@ -1,0 +1,124 @@
+//! Payloads as people write them (issue 38): `20kg`, or `20kg,0,0,120mm`
+//! with its centre of mass in the tool frame n+1.
+//!
+//! The mass takes `kg` or `g`; each coordinate of the centre takes `m`,
+//! `mm` or `um`, and a bare number is in metres. gecaro works in kilograms
+//! and metres ([`LinkMass`]).
+
+use gecaro_core::LinkMass;
+use nalgebra::Vector3;
+
+use crate::prior::number_length;
+
+/// The heaviest payload gecaro takes: 10 t, beyond any serial arm's.
+const MAX_PAYLOAD_KG: f64 = 1e4;
+
+/// A payload from its text (see the module docs).
+///
+/// # Errors
+/// A sentence naming what is wrong: no unit on the mass, a unit of another
+/// kind, a negative or absurd mass, a centre of other than three values.
+///
+/// ```
+/// let payload = gecaro_io::parse_payload("20kg,0,0,120mm").unwrap();
+/// assert_eq!(payload.mass, 20.0);
+/// assert!((payload.com.z - 0.12).abs() < 1e-15);
+/// assert_eq!(gecaro_io::parse_payload("500g").unwrap().mass, 0.5);
+/// assert!(gecaro_io::parse_payload("20").is_err());
+/// ```
+pub fn parse_payload(text: &str) -> Result<LinkMass, String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let (mass_text, centre) = match parts.as_slice() {
+        [mass] => (*mass, None),
+        [mass, x, y, z] => (*mass, Some([*x, *y, *z])),
+        _ => {
+            return Err(format!(
+                "'{text}' is not a payload: give its mass, and optionally its centre in the \
+                 tool frame: 20kg or 20kg,0,0,120mm"
+            ));
+        }
+    };
+    let (number, unit) = mass_text.split_at(number_length(mass_text));
+    let factor = match unit.trim() {
+        "kg" => 1.0,
+        "g" => 1e-3,
+        "" => {
+            return Err(format!(
+                "the payload's mass '{mass_text}' needs its unit: kg or g"
+            ));
+        }
+        other => {
+            return Err(format!(
+                "unknown mass unit '{other}' in '{mass_text}' (kg or g)"
+            ));
+        }
+    };
+    let mass = number
+        .parse::<f64>()
+        .map_err(|_| format!("the payload's mass '{mass_text}' is not a number"))?
+        * factor;
+    if !(mass.is_finite() && (0.0..=MAX_PAYLOAD_KG).contains(&mass)) {
+        return Err(format!(
+            "the payload's mass '{mass_text}' is not a mass from 0 to {MAX_PAYLOAD_KG} kg"
+        ));
+    }
+    let com = match centre {
+        None => Vector3::zeros(),
+        Some(coordinates) => {
+            let mut com = Vector3::zeros();
+            for (axis, coordinate) in coordinates.iter().enumerate() {
+                com[axis] = length(coordinate)?;
+            }
+            com
+        }
+    };
+    Ok(LinkMass { mass, com })
+}
+
+/// A coordinate of the centre: a length, metres when bare.
+fn length(text: &str) -> Result<f64, String> {
+    let (number, unit) = text.split_at(number_length(text));
+    let factor = match unit.trim() {
+        "" | "m" => 1.0,
+        "mm" => 1e-3,
+        "um" | "µm" => 1e-6,
+        other => {
+            return Err(format!(
+                "unknown length unit '{other}' in the payload's centre '{text}' (m, mm, um)"
+            ));
+        }
+    };
+    let value = number
+        .parse::<f64>()
+        .map_err(|_| format!("the payload's centre holds '{text}', not a length"))?
+        * factor;
+    if !value.is_finite() || value.abs() > gecaro_core::MAX_MAGNITUDE {
+        return Err(format!(
+            "the payload's centre holds '{text}', not a length in a cell"
+        ));
+    }
+    Ok(value)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bad_payloads_say_what_is_wrong() {
+        for (text, expected) in [
+            ("20", "needs its unit"),
+            ("20lb", "unknown mass unit"),
+            ("-1kg", "not a mass"),
+            ("20kg,0,0", "not a payload"),
+            ("20kg,0,0,1deg", "unknown length unit"),
+            ("abckg", "unknown mass unit"),
+            ("1e999kg", "not a mass"),
+        ] {
+            let message = parse_payload(text).expect_err(text);
+            assert!(message.contains(expected), "{text}: {message}");
+        }
+        let payload = parse_payload(" 6kg , 0.1 , -20mm , 0 ").expect("valid");
+        assert_eq!(payload.com, Vector3::new(0.1, -0.02, 0.0));
+    }
+}
