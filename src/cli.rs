@@ -833,6 +833,11 @@ pub(crate) struct CompensateArgs {
     /// different frames are refused.
     #[arg(long)]
     pub(crate) rebase: bool,
+    /// The payload the robot will carry: 12kg, or 12kg,0,0,80mm with its centre in the tool
+    /// frame. An elastic calibrated robot (identify --model elastic) is commanded where it
+    /// comes to rest on the targets under this load and its links' weight.
+    #[arg(long, value_name = "MASS[,X,Y,Z]")]
+    pub(crate) payload: Option<String>,
     /// The corrected program (CSV): the program's columns with corrected
     /// joints, then residual, residual_rotation and status.
     #[arg(short, long, value_name = "CORRECTED.csv")]

@@ -22,6 +22,7 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
     request.format = data_format(&args.format);
     request.matching = Some(args.matching.clone());
     request.rebase = args.rebase;
+    request.payload = args.payload.clone();
     request.save_as = Some(name(&args.output));
     request.overwrite = args.force;
     let mut bar: Option<ProgressBar> = None;

@@ -6,6 +6,7 @@ use gecaro_calib::Observer;
 use gecaro_calib::compensation::{
     CompensatedPoint, CompensationStatus, Match, ProgramPoint, ProgramTarget, compensate,
 };
+use gecaro_calib::elastic::commanded_under_load;
 use gecaro_io::{ProgramFile, RobotFile};
 use serde::Deserialize;
 
@@ -58,6 +59,10 @@ pub struct CompensateRequest {
     /// frames are refused.
     #[serde(default)]
     pub rebase: bool,
+    /// The payload the robot will carry (`12kg`, `12kg,0,0,80mm`): an
+    /// elastic calibrated robot's joints are commanded where they come to
+    /// rest on the targets under its weight and the links' (docs/elastic.md).
+    pub payload: Option<String>,
     /// Write the corrected program (CSV) here.
     pub save_as: Option<String>,
     /// Replace a file that exists.
@@ -85,6 +90,43 @@ pub struct Compensated {
     pub saved: Option<std::path::PathBuf>,
     /// The nominal robot.
     pub nominal: RobotFile,
+}
+
+/// An elastic calibrated robot's solutions moved to where its joints are
+/// commanded so that, yielding to gravity with `payload`, they come to rest
+/// on them ([`commanded_under_load`]).
+///
+/// # Errors
+/// A payload that is not one, or given for a rigid robot (it would change
+/// nothing: calibrate with the elastic model).
+fn unload(
+    calibrated: &RobotFile,
+    payload: Option<&str>,
+    results: &mut [CompensatedPoint],
+) -> Result<(), AppError> {
+    let payload = payload
+        .map(gecaro_io::parse_payload)
+        .transpose()
+        .map_err(|message| AppError::setting("payload", message))?;
+    if !calibrated.robot.is_elastic() {
+        return match payload {
+            Some(_) => Err(AppError::setting(
+                "payload",
+                "the calibrated robot is rigid, so a payload changes none of its poses: \
+                 calibrate with the elastic model (model elastic) to compensate its weight",
+            )),
+            None => Ok(()),
+        };
+    }
+    for result in results {
+        result.motor_positions = commanded_under_load(
+            &calibrated.robot,
+            &calibrated.masses,
+            payload.as_ref(),
+            &result.motor_positions,
+        )?;
+    }
+    Ok(())
 }
 
 /// The name a corrected copy of the program `label` (a file name or an
@@ -121,6 +163,7 @@ impl CompensateRequest {
             format: DataFormatSpec::default(),
             matching: None,
             rebase: false,
+            payload: None,
             save_as: None,
             overwrite: false,
             unknown: Unknown::default(),
@@ -184,13 +227,14 @@ impl CompensateRequest {
             (None, ProgramSource::Points(points)) => points.clone(),
             (None, _) => Vec::new(),
         };
-        let results = compensate(
+        let mut results = compensate(
             &nominal.robot,
             &calibrated.robot,
             &points,
             matching,
             observer,
         )?;
+        unload(&calibrated, self.payload.as_deref(), &mut results)?;
         let corrected = program
             .as_ref()
             .map(|program| program.format_corrected(&results));

@@ -139,3 +139,230 @@ fn compliances_identified_with_three_payloads_hold_a_fourth_at_the_noise_floor()
         floor * 1e3
     );
 }
+
+/// The σ reported for the compliances is their spread: 24 noise draws of
+/// the same experiment (same real robot, new configurations and noise).
+#[test]
+fn the_compliances_sigma_is_their_monte_carlo_spread() {
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let real_path = folder.path().join("real.toml");
+    let real = real_path.to_str().expect("UTF-8 path");
+    measured(real, true, "0kg", 1, 100);
+    let draws = 24;
+    let mut estimates: Vec<Vec<(f64, f64)>> = vec![Vec::new(); 6];
+    for draw in 0..draws {
+        let seed = 200 + 3 * draw;
+        let training = joined(&[
+            measured(real, false, "0kg", 40, seed),
+            measured(real, false, "10kg,0,0,100mm", 40, seed + 1),
+            measured(real, false, "20kg,0,0,100mm", 40, seed + 2),
+        ]);
+        let mut request = IdentifyRequest::new(measurements(
+            RobotSource::Named("industrial6".into()),
+            &training,
+        ));
+        request.settings.model = Some("elastic".into());
+        let identified = request.run(&LocalFiles, &mut Quiet).expect("identified");
+        for p in &identified.result.parameters {
+            if let Some(ParameterId {
+                kind: ParameterKind::Compliance,
+                frame,
+            }) = p.parameter
+            {
+                estimates[frame - 1].push((p.identified, p.std));
+            }
+        }
+    }
+    // The shoulder and elbow carry the large torques: their compliances are
+    // identified in every draw, and the reported σ is their spread (within
+    // the ±30 % that 24 draws allow).
+    for joint in [2, 3] {
+        let values = &estimates[joint - 1];
+        assert_eq!(values.len(), draws as usize, "c{joint}");
+        let mean = values.iter().map(|(v, _)| v).sum::<f64>() / values.len() as f64;
+        let spread = (values.iter().map(|(v, _)| (v - mean).powi(2)).sum::<f64>()
+            / (values.len() - 1) as f64)
+            .sqrt();
+        let reported = values.iter().map(|(_, s)| s).sum::<f64>() / values.len() as f64;
+        let ratio = spread / reported;
+        assert!(
+            (0.7..1.4).contains(&ratio),
+            "c{joint}: spread {spread:.2e}, reported σ {reported:.2e} (ratio {ratio:.2})"
+        );
+    }
+}
+
+/// The classic experiment as a study: the same poses' sets, each stating
+/// its payload once (`payload = "10kg,0,0,100mm"`), identify as the rows
+/// stating it; a set that states it twice (and its rows) is refused.
+#[test]
+fn a_study_states_each_set_s_payload_once() {
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let real_path = folder.path().join("real.toml");
+    let real = real_path.to_str().expect("UTF-8 path");
+    let payloads = ["0kg", "10kg,0,0,100mm", "20kg,0,0,100mm"];
+    let files: Vec<String> = payloads
+        .iter()
+        .enumerate()
+        .map(|(index, payload)| measured(real, index == 0, payload, 40, 7 + index as u64))
+        .collect();
+    // Each set's file without its payload columns (the last four).
+    let mut study = String::from("robot = \"industrial6\"\n");
+    for (index, (file, payload)) in files.iter().zip(payloads).enumerate() {
+        let stripped: String = file
+            .lines()
+            .filter(|line| !line.starts_with('#'))
+            .map(|line| {
+                let fields: Vec<&str> = line.split(',').collect();
+                format!("{}\n", fields[..fields.len() - 4].join(","))
+            })
+            .collect();
+        let name = format!("set{index}.csv");
+        std::fs::write(folder.path().join(&name), stripped).expect("written");
+        study.push_str(&format!(
+            "\n[[measurements]]\nmethod = \"position\"\ndata = \"{name}\"\nsigma = \"20um\"\npayload = \"{payload}\"\n"
+        ));
+    }
+    let study_path = folder.path().join("payloads.toml");
+    std::fs::write(&study_path, &study).expect("written");
+    let identify = |measurements: Measurements| {
+        let mut request = IdentifyRequest::new(measurements);
+        request.settings.model = Some("elastic".into());
+        request.run(&LocalFiles, &mut Quiet)
+    };
+    let as_study = identify(Measurements {
+        study: Some(gecaro_app::StudySource::File(
+            study_path.to_str().expect("UTF-8").into(),
+        )),
+        ..Measurements::default()
+    })
+    .expect("identified");
+    let as_rows = identify(measurements(
+        RobotSource::Named("industrial6".into()),
+        &joined(&files),
+    ))
+    .expect("identified");
+    let compliance = |result: &gecaro_app::Identified, name: &str| {
+        result
+            .result
+            .parameters
+            .iter()
+            .find(|p| p.name == name)
+            .map(|p| p.identified)
+            .expect("identified")
+    };
+    for name in ["c2", "c3"] {
+        let (a, b) = (compliance(&as_study, name), compliance(&as_rows, name));
+        assert!((a - b).abs() < 1e-6 * b.abs(), "{name}: {a:e} vs {b:e}");
+    }
+    // A payload stated by the set and by its rows is one too many.
+    let twice = study.replacen("set0.csv", "rows.csv", 1);
+    std::fs::write(folder.path().join("rows.csv"), &files[0]).expect("written");
+    std::fs::write(&study_path, twice).expect("written");
+    let error = identify(Measurements {
+        study: Some(gecaro_app::StudySource::File(
+            study_path.to_str().expect("UTF-8").into(),
+        )),
+        ..Measurements::default()
+    })
+    .expect_err("refused")
+    .to_string();
+    assert!(
+        error.contains("payload") && error.contains("give one of them"),
+        "{error}"
+    );
+}
+
+/// Compensation for the payload the robot will carry: the real robot,
+/// commanded with the corrected joints and settling under 15 kg, puts the
+/// tool where the nominal program meant it, to the calibration's accuracy;
+/// corrected for no payload, it droops by the payload's deflection.
+#[test]
+fn a_program_compensated_for_its_payload_lands_on_its_targets() {
+    use gecaro_app::{CompensateRequest, ProgramSource};
+    use gecaro_calib::compensation::{ProgramPoint, ProgramTarget};
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let real_path = folder.path().join("real.toml");
+    let real = real_path.to_str().expect("UTF-8 path");
+    let training = joined(&[
+        measured(real, true, "0kg", 60, 31),
+        measured(real, false, "10kg,0,0,100mm", 60, 32),
+        measured(real, false, "20kg,0,0,100mm", 60, 33),
+    ]);
+    let mut request = IdentifyRequest::new(measurements(
+        RobotSource::Named("industrial6".into()),
+        &training,
+    ));
+    request.settings.model = Some("elastic".into());
+    let calibrated = request
+        .run(&LocalFiles, &mut Quiet)
+        .expect("identified")
+        .calibrated();
+    let truth = gecaro_io::load_robot(real).expect("the real robot");
+    let nominal = gecaro_io::load_robot("industrial6").expect("nominal");
+    // A program taught on the nominal robot: 40 joint targets of the data's kind.
+    let taught: Vec<Vec<f64>> = gecaro_io::parse_samples(
+        measured(real, false, "0kg", 40, 34).as_bytes(),
+        std::path::Path::new("program.csv"),
+        &gecaro_io::joint_types(&nominal.robot),
+        &[],
+        &gecaro_io::DataFormat::default(),
+    )
+    .expect("read")
+    .samples
+    .into_iter()
+    .map(|sample| sample.motor_positions)
+    .collect();
+    let points: Vec<ProgramPoint> = taught
+        .iter()
+        .map(|qm| ProgramPoint {
+            target: ProgramTarget::Joints(qm.clone()),
+            joints: None,
+        })
+        .collect();
+    let payload = gecaro_io::parse_payload("15kg,0,0,100mm").expect("payload");
+    // RMS distance from the nominal targets of the real robot settled at
+    // the corrected joints with 15 kg.
+    let landed = |payload_text: Option<&str>| -> f64 {
+        let mut request = CompensateRequest::new(
+            RobotSource::Named("industrial6".into()),
+            RobotSource::Loaded(Box::new(calibrated.clone())),
+            ProgramSource::Points(points.clone()),
+        );
+        request.payload = payload_text.map(str::to_owned);
+        let results = request
+            .run(&LocalFiles, &mut Quiet)
+            .expect("compensated")
+            .results;
+        let squares: f64 = results
+            .iter()
+            .zip(&taught)
+            .map(|(result, qm)| {
+                let torques = gecaro_calib::elastic::settled_torques(
+                    &truth.robot,
+                    &truth.masses,
+                    Some(&payload),
+                    &result.motor_positions,
+                )
+                .expect("τ");
+                let mut chain = gecaro_core::ChainBuffer::default();
+                gecaro_core::KinematicModel::new(&truth.robot)
+                    .forward_loaded(&result.motor_positions, Some(&torques), &mut chain)
+                    .expect("pose");
+                let target = gecaro_core::terminal_pose(&nominal.robot, qm).expect("target");
+                (chain.world_from_tool().translation.vector - target.translation.vector)
+                    .norm_squared()
+            })
+            .sum();
+        (squares / taught.len() as f64).sqrt()
+    };
+    let with_payload = landed(Some("15kg,0,0,100mm"));
+    let without = landed(None);
+    assert!(with_payload < 3.0 * NOISE, "{:.4} mm", with_payload * 1e3);
+    assert!(
+        without > 4.0 * with_payload,
+        "{:.4} mm without the payload, {:.4} mm with",
+        without * 1e3,
+        with_payload * 1e3
+    );
+}

@@ -89,6 +89,35 @@ pub fn settled_torques(
     Ok(torques.as_slice().to_vec())
 }
 
+/// The motor values to command so that `robot`, yielding to gravity, comes
+/// to rest at `settled` (motor values of the pose wanted): the joints
+/// `q_c = q* − c∘τ(q*)`, with τ the torques at the pose wanted. Exact: at
+/// rest at q* the arm carries τ(q*), and q_c + c∘τ(q*) = q*. What
+/// compensation sends an elastic robot for the payload it will carry. A
+/// rigid robot's are `settled`.
+///
+/// # Errors
+/// As [`gravity_torques`].
+pub fn commanded_under_load(
+    robot: &Robot,
+    masses: &MassModel,
+    payload: Option<&LinkMass>,
+    settled: &[f64],
+) -> Result<Vec<f64>, Error> {
+    let Some(compliances) = robot.compliances() else {
+        return Ok(settled.to_vec());
+    };
+    let torques = gravity_torques(robot, masses, payload, settled)?;
+    let wanted = robot.joint_positions(settled)?;
+    let commanded: Vec<f64> = wanted
+        .iter()
+        .zip(compliances)
+        .zip(torques.iter())
+        .map(|((q, c), tau)| q - c * tau)
+        .collect();
+    Ok(robot.motor_positions(&commanded)?.as_slice().to_vec())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -178,6 +207,34 @@ mod tests {
         let drop = chain.world_from_tool().translation.vector.z;
         assert!((drop.abs() - 2.0 * (c * low).sin()).abs() < 1e-12, "{drop}");
         assert!(drop < 0.0, "the arm droops under gravity: {drop}");
+    }
+
+    /// Commanded where it says, the arm settles at the pose wanted.
+    #[test]
+    fn the_commanded_joints_settle_at_the_pose_wanted() {
+        let (robot, masses) = level_arm();
+        let payload = LinkMass {
+            mass: 3.0,
+            com: Vector3::new(0.1, 0.0, 0.05),
+        };
+        let wanted = [0.3, -0.4];
+        let commanded =
+            commanded_under_load(&robot, &masses, Some(&payload), &wanted).expect("commanded");
+        assert!(
+            (commanded[0] - wanted[0]).abs() > 1e-3,
+            "the shoulder is loaded"
+        );
+        let settled = settled_torques(&robot, &masses, Some(&payload), &commanded).expect("τ");
+        let mut chain = ChainBuffer::default();
+        let model = KinematicModel::new(&robot);
+        model
+            .forward_loaded(&commanded, Some(&settled), &mut chain)
+            .expect("pose");
+        let reached = *chain.world_from_tool();
+        model.forward(&wanted, &mut chain).expect("pose");
+        let difference =
+            (reached.translation.vector - chain.world_from_tool().translation.vector).norm();
+        assert!(difference < 1e-12, "{difference:e} m");
     }
 
     #[test]

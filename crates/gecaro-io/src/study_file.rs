@@ -27,6 +27,8 @@
 //! decimal_comma = true          # optional: allowed by default where fields are not comma-separated
 //! sigma = 0.02                  # in the set's length unit (here mm): 20 µm
 //! # sigma_rotation = 0.01       # in the set's angle unit (here degrees)
+//! # payload = "20kg,0,0,120mm"  # optional: what the robot carried for the whole set
+//!                               # (mass, and its centre in the tool frame; elastic joints)
 //! ```
 //!
 //! A σ is a number in its set's units (`length_unit`, `angle_unit`: metres and

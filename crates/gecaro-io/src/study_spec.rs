@@ -247,6 +247,12 @@ pub struct SetSpec {
     /// A name for messages (the data file's by default).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub label: Option<String>,
+    /// The payload the robot carried for the whole set, as on the command
+    /// line: `"20kg"`, or `"20kg,0,0,120mm"` with its centre in the tool
+    /// frame (elastic joints, issue 38); not with a data file's payload
+    /// columns.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub payload: Option<String>,
 }
 
 /// The field of a [`StudySpec`] at fault.
@@ -597,6 +603,7 @@ impl SetSpec {
             (SetData::File(name), Some(format)) => (name, format),
             (SetData::Samples { samples, .. }, _) => {
                 set.samples = samples.clone();
+                self.carried(set, misplaced)?;
                 return Ok(Vec::new());
             }
             (SetData::File(_), None) => return Ok(Vec::new()),
@@ -625,7 +632,41 @@ impl SetSpec {
         if self.label.is_none() {
             set.label = label;
         }
+        self.carried(set, misplaced)?;
         Ok(notes)
+    }
+
+    /// Gives every sample the set's `payload`, when it states one.
+    fn carried<E>(
+        &self,
+        set: &mut MeasurementSet,
+        misplaced: &dyn Fn(&'static str, String) -> E,
+    ) -> Result<(), E> {
+        let Some(text) = &self.payload else {
+            return Ok(());
+        };
+        let payload =
+            crate::payload::parse_payload(text).map_err(|message| misplaced("payload", message))?;
+        if let Some(line) = set
+            .samples
+            .iter()
+            .find(|sample| sample.payload.is_some())
+            .map(|sample| sample.line)
+        {
+            return Err(misplaced(
+                "payload",
+                format!(
+                    "the set states a payload and its data state one per row too{}: give one \
+                     of them",
+                    line.map(|line| format!(" (line {line})"))
+                        .unwrap_or_default()
+                ),
+            ));
+        }
+        for sample in &mut set.samples {
+            sample.payload = Some(payload);
+        }
+        Ok(())
     }
 
     /// The set's method with its options.
