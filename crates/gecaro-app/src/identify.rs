@@ -406,7 +406,12 @@ impl CompareModelsRequest {
         }
         let folds = folds(self.cv)?;
         let seed = self.seed.unwrap_or(1);
-        let loaded = self.measurements.load(files, Data::Required)?;
+        let mut loaded = self.measurements.load(files, Data::Required)?;
+        // An elastic candidate needs the robot elastic; the others leave its
+        // compliances (0) alone.
+        if self.models.iter().any(|name| name.trim() == "elastic") {
+            loaded.make_elastic()?;
+        }
         let options = self.settings.options(&loaded, files)?;
         let robot = &loaded.robot.robot;
         let models = self

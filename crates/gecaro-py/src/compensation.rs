@@ -177,13 +177,15 @@ fn targets_with_starts(
 /// `joints` as starts when it has them. With `rebase=True` the calibrated
 /// robot, calibrated in a measurement frame (a tracker's), is first
 /// re-expressed in the nominal's base frame (`Robot.rebased`); without it,
-/// robots in different frames are refused. Runs without the GIL; Ctrl-C
-/// stops it.
+/// robots in different frames are refused. An elastic calibrated robot is
+/// commanded where it comes to rest on the targets with `payload`
+/// (`"12kg"`, `"12kg,0,0,80mm"`) and its links' weight. Runs without the
+/// GIL; Ctrl-C stops it.
 ///
 /// Raises NotConvergedError, with the whole result in `.result`, when some
 /// targets are reached only beyond a joint limit or not at all.
 #[pyfunction]
-#[pyo3(signature = (nominal, calibrated, *, joints = None, positions = None, poses = None, r#match = "pose", rebase = false))]
+#[pyo3(signature = (nominal, calibrated, *, joints = None, positions = None, poses = None, r#match = "pose", rebase = false, payload = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn compensate(
     py: Python<'_>,
@@ -194,6 +196,7 @@ pub(crate) fn compensate(
     poses: Option<&Bound<'_, PyAny>>,
     r#match: &str,
     rebase: bool,
+    payload: Option<String>,
 ) -> PyResult<PyCompensation> {
     let joint_count = nominal.robot().joint_count();
     let mut request = CompensateRequest::new(
@@ -203,6 +206,7 @@ pub(crate) fn compensate(
     );
     request.matching = Some(r#match.to_owned());
     request.rebase = rebase;
+    request.payload = payload;
     let compensated = watched(py, |observer| request.run(&LocalFiles, observer))?;
     let result = PyCompensation {
         points: compensated.results,

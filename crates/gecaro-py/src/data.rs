@@ -93,9 +93,11 @@ fn column_map(columns: Option<&Bound<'_, PyAny>>) -> PyResult<ColumnMap> {
 impl PyData {
     /// Data from arrays: `qm` of shape (m, n), and what the method measures:
     /// `position` (m, 3), `orientation` (m, 4) unit quaternions qw, qx, qy, qz,
-    /// `set` or `pair` (m,) integer ids, `distance` (m,).
+    /// `set` or `pair` (m,) integer ids, `distance` (m,); and the payload
+    /// carried at each row for elastic joints, `payload` (m,) masses in kg
+    /// or (m, 4) mass and centre x, y, z in the tool frame (metres).
     #[new]
-    #[pyo3(signature = (qm, *, position = None, orientation = None, set = None, pair = None, distance = None, label = None))]
+    #[pyo3(signature = (qm, *, position = None, orientation = None, set = None, pair = None, distance = None, payload = None, label = None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         qm: &Bound<'_, PyAny>,
@@ -104,6 +106,7 @@ impl PyData {
         set: Option<&Bound<'_, PyAny>>,
         pair: Option<&Bound<'_, PyAny>>,
         distance: Option<&Bound<'_, PyAny>>,
+        payload: Option<&Bound<'_, PyAny>>,
         label: Option<String>,
     ) -> PyResult<Self> {
         let qm = Real::shaped(qm, "qm", &[None, None])?;
@@ -166,6 +169,35 @@ impl PyData {
             let distance = Real::shaped(distance, "distance", &[Some(m)])?;
             for (sample, value) in samples.iter_mut().zip(distance.values) {
                 sample.distance = Some(value);
+            }
+        }
+        if let Some(payload) = payload {
+            let payloads = Real::shaped(payload, "payload", &[Some(m)])
+                .map(|masses| {
+                    masses
+                        .values
+                        .into_iter()
+                        .map(|mass| [mass, 0.0, 0.0, 0.0])
+                        .collect()
+                })
+                .or_else(|_| {
+                    Real::shaped(payload, "payload", &[Some(m), Some(4)]).map(|rows| {
+                        rows.values
+                            .chunks_exact(4)
+                            .map(|row| [row[0], row[1], row[2], row[3]])
+                            .collect::<Vec<[f64; 4]>>()
+                    })
+                })?;
+            for (row, (sample, [mass, x, y, z])) in samples.iter_mut().zip(payloads).enumerate() {
+                if !(mass.is_finite() && mass >= 0.0) {
+                    return Err(input(format!(
+                        "payload: row {row}: {mass} is not a mass in kg (≥ 0)"
+                    )));
+                }
+                sample.payload = Some(gecaro_core::LinkMass {
+                    mass,
+                    com: Vector3::new(x, y, z),
+                });
             }
         }
         Ok(PyData::from_samples(
@@ -285,6 +317,17 @@ impl PyData {
     #[getter]
     fn distance<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArrayDyn<f64>>>> {
         self.field(py, 1, |sample| sample.distance.map(|d| vec![d]))
+    }
+
+    /// The payload of each row (m, 4): mass (kg) and centre x, y, z in the
+    /// tool frame (m), or None when the data state none.
+    #[getter]
+    fn payload<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArrayDyn<f64>>>> {
+        self.field(py, 4, |sample| {
+            sample
+                .payload
+                .map(|p| vec![p.mass, p.com.x, p.com.y, p.com.z])
+        })
     }
 
     /// The file it was read from, or "<arrays>".

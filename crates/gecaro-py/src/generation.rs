@@ -63,8 +63,11 @@ impl Generation {
 /// `gecaro generate` with the same arguments. The cell — `floor` (z in
 /// metres), a tracker `station` (x, y, z), its `max_incidence` ("30deg")
 /// and `clearance` (metres) — keeps only configurations it can measure.
+/// Elastic joints: `compliance_level` gives the drawn real robot compliances
+/// of L·[2e-6, 1e-5] rad/(N·m), loaded by the robot's masses and `payload`
+/// (`"20kg"`, `"20kg,0,0,120mm"`), carried at every configuration.
 #[pyfunction]
-#[pyo3(signature = (robot, method, count, *, error_level = None, noise = 0.0, seed = 1, real = None, floor = None, station = None, max_incidence = None, clearance = None))]
+#[pyo3(signature = (robot, method, count, *, error_level = None, noise = 0.0, seed = 1, real = None, floor = None, station = None, max_incidence = None, clearance = None, compliance_level = None, payload = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn generate(
     py: Python<'_>,
@@ -79,6 +82,8 @@ pub(crate) fn generate(
     station: Option<[f64; 3]>,
     max_incidence: Option<String>,
     clearance: Option<f64>,
+    compliance_level: Option<f64>,
+    payload: Option<String>,
 ) -> PyResult<Generation> {
     let method = method_of(method)?;
     let spec = method
@@ -92,6 +97,8 @@ pub(crate) fn generate(
         count,
     );
     request.error_level = error_level;
+    request.compliance_level = compliance_level;
+    request.payload = payload;
     request.noise = noise;
     request.seed = Some(seed);
     request.real = real.map(|real| RobotSource::Loaded(Box::new(real.file.clone())));

@@ -400,6 +400,29 @@ impl PyRobot {
         self.robot().joint_count()
     }
 
+    /// The joints' compliances c1..cn of an elastic robot (rad/(N·m), m/N
+    /// for a prismatic joint), or None for a rigid one.
+    #[getter]
+    fn compliances(&self) -> Option<Vec<f64>> {
+        self.robot().compliances().map(<[f64]>::to_vec)
+    }
+
+    /// The torque gravity exerts about each joint at motor values `qm`
+    /// (N·m; N for a prismatic joint), from the masses the robot file states
+    /// and an optional `payload` (`"6kg"`, `"6kg,0,0,80mm"`), as the elastic
+    /// model loads its joints.
+    #[pyo3(signature = (qm, *, payload = None))]
+    fn gravity_torques(&self, qm: Vec<f64>, payload: Option<&str>) -> PyResult<Vec<f64>> {
+        let payload = payload
+            .map(gecaro_io::parse_payload)
+            .transpose()
+            .map_err(|message| crate::errors::input(format!("payload: {message}")))?;
+        let torques =
+            gecaro_core::gravity_torques(self.robot(), &self.file.masses, payload.as_ref(), &qm)
+                .py()?;
+        Ok(torques.as_slice().to_vec())
+    }
+
     /// The joint types 1..n as letters: `R` revolute, `P` prismatic.
     #[getter]
     fn joint_types(&self) -> String {

@@ -2168,3 +2168,90 @@ async fn an_uploaded_robot_file_opens_without_touching_the_folder() {
     assert_eq!(status, StatusCode::BAD_REQUEST);
     assert!(api.names().is_empty(), "nothing written");
 }
+
+/// Elastic joints from the page: a real robot with compliances measured
+/// with three payloads, identified with the elastic model; the calibrated
+/// document states the compliances, and the table's compliance reads back.
+#[tokio::test]
+async fn an_elastic_robot_is_simulated_and_identified_through_the_api() {
+    let api = Api::new();
+    let document = api.document("industrial6").await;
+    let generate = |payload: &str, seed: u64, real: Option<&Value>| {
+        let mut request = json!({ "robot": document, "method": { "name": "position" },
+                                  "count": 40, "noise": 2e-5, "seed": seed, "payload": payload });
+        match real {
+            Some(real) => request["real"] = real.clone(),
+            None => request["compliance_level"] = json!(1.0),
+        }
+        request
+    };
+    let (status, first) = api.post("/api/generate", &generate("0kg", 1, None)).await;
+    assert_eq!(status, StatusCode::OK, "{first}");
+    let real = first["real"].clone();
+    let compliances: Vec<f64> = real["frame"]
+        .as_array()
+        .expect("frames")
+        .iter()
+        .filter_map(|frame| frame["compliance"].as_f64())
+        .collect();
+    assert_eq!(compliances.len(), 6, "{real}");
+    let mut rows: Vec<String> = data_lines(first["csv"].as_str().expect("csv"))
+        .map(str::to_owned)
+        .collect();
+    assert!(rows[0].ends_with("payload_mass,payload_x,payload_y,payload_z"));
+    for (payload, seed) in [("10kg,0,0,100mm", 2), ("20kg,0,0,100mm", 3)] {
+        let (status, more) = api
+            .post("/api/generate", &generate(payload, seed, Some(&real)))
+            .await;
+        assert_eq!(status, StatusCode::OK, "{more}");
+        rows.extend(
+            data_lines(more["csv"].as_str().expect("csv"))
+                .skip(1)
+                .map(str::to_owned),
+        );
+    }
+    let view = api
+        .job(
+            "/api/identify",
+            &json!({ "robot": document, "method": { "name": "position" }, "model": "elastic",
+                     "sigma": "20um",
+                     "data": { "csv": { "text": rows.join("\n"), "name": "payloads.csv" } } }),
+        )
+        .await
+        .expect("started");
+    assert_eq!(view["state"], "done", "{view}");
+    let identification = &view["result"]["identification"];
+    assert_eq!(
+        identification["verdict"]["outcome"], "fits_noise",
+        "{identification}"
+    );
+    let c2 = identification["parameters"]
+        .as_array()
+        .expect("parameters")
+        .iter()
+        .find(|p| p["name"] == "c2")
+        .expect("c2 identified");
+    let (value, std) = (
+        c2["identified"].as_f64().expect("value"),
+        c2["std"].as_f64().expect("σ"),
+    );
+    assert!(
+        (value - compliances[1]).abs() < 3.0 * std,
+        "{c2} vs {}",
+        compliances[1]
+    );
+    let calibrated = &view["result"]["calibrated"];
+    assert_eq!(
+        calibrated["frame"][2]["compliance"], c2["identified"],
+        "{calibrated}"
+    );
+    // The calibrated document, compliances and all, is a robot the table takes.
+    let (status, checked) = api
+        .post("/api/robots/check", &json!({ "robot": calibrated }))
+        .await;
+    assert_eq!(status, StatusCode::OK, "{checked}");
+    assert!(
+        checked["problems"].as_array().expect("problems").is_empty(),
+        "{checked}"
+    );
+}

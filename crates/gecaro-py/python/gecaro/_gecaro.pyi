@@ -45,7 +45,7 @@ _FloatArray = npt.NDArray[np.float64]
 _IntArray = npt.NDArray[np.int64]
 _PathLike = Union[str, os.PathLike[str]]
 _Loss = Literal["l2", "huber", "cauchy", "tukey"]
-_Model = Literal["full", "no-gains", "no-beta", "kinematic", "offsets"]
+_Model = Literal["full", "no-gains", "no-beta", "kinematic", "offsets", "elastic"]
 _MethodName = Literal[
     "position", "frame", "point-link", "frame-link", "plane1", "plane2", "distance"
 ]
@@ -114,6 +114,11 @@ class Robot:
         """What an import changed or could not carry."""
     @property
     def joint_count(self) -> int: ...
+    @property
+    def compliances(self) -> Optional[list[float]]:
+        """Compliances c1..cn of an elastic robot (rad/(N·m), m/N if prismatic), or None."""
+    def gravity_torques(self, qm: Sequence[float], *, payload: Optional[str] = None) -> list[float]:
+        """Gravity torques at ``qm`` (N·m; N if prismatic) from the robot's masses and a payload."""
     @property
     def joint_types(self) -> str:
         """Joint types 1..n as letters, e.g. ``"RRPRRR"``."""
@@ -228,6 +233,7 @@ class Data:
         set: Optional[_ArrayLike] = None,
         pair: Optional[_ArrayLike] = None,
         distance: Optional[_ArrayLike] = None,
+        payload: Optional[_ArrayLike] = None,
         label: Optional[str] = None,
     ) -> Data: ...
     @staticmethod
@@ -262,6 +268,9 @@ class Data:
     @property
     def distance(self) -> Optional[_FloatArray]:
         """(m,) measured distances."""
+    @property
+    def payload(self) -> Optional[_FloatArray]:
+        """(m, 4) payload per row: mass (kg), centre x, y, z in the tool frame (m)."""
     @property
     def label(self) -> str: ...
     @property
@@ -488,6 +497,8 @@ def generate(
     station: Optional[tuple[float, float, float]] = None,
     max_incidence: Optional[str] = None,
     clearance: Optional[float] = None,
+    compliance_level: Optional[float] = None,
+    payload: Optional[str] = None,
 ) -> Generation:
     """Points generation on a simulated real robot, as ``gecaro generate``:
     ``real``, or the nominal robot with errors at ``error_level`` (default 1);
@@ -586,6 +597,7 @@ def compensate(
     poses: Optional[_ArrayLike] = None,
     match: Literal["pose", "position"] = "pose",
     rebase: bool = False,
+    payload: Optional[str] = None,
 ) -> Compensation:
     """Program compensation, as ``gecaro compensate``; NotConvergedError (with
     ``.result``) when targets are flagged. ``rebase``: the calibrated robot

@@ -11,11 +11,14 @@ export const COLUMNS = [
   { key: 'theta', head: 'θ' }, { key: 'r', head: 'r' }, { key: 'beta', head: 'β' },
   { key: 'K', head: 'K' }, { key: 'offset', head: 'offset' }, { key: 'qmin', head: 'qmin' },
   { key: 'qmax', head: 'qmax' },
+  // Elastic joints: a compliance on any joint makes the robot elastic
+  // (rad/(N·m), m/N if prismatic); the masses load them (kg).
+  { key: 'compliance', head: 'c (rad/N·m)' }, { key: 'mass', head: 'mass (kg)' },
 ];
 
 export const ANGLES = new Set(['alpha', 'theta', 'beta']);
 
-export const JOINT_KEYS = new Set(['K', 'offset', 'qmin', 'qmax']);
+export const JOINT_KEYS = new Set(['K', 'offset', 'qmin', 'qmax', 'compliance']);
 
 export const JOINT_ANGLES = new Set(['offset', 'qmin', 'qmax']);
 

@@ -39,7 +39,11 @@ export async function generateInto(name, configurations, format) {
       request.real = (await api(`/robots/file?name=${encodeURIComponent(real.slice(5))}`)).document;
     } else {
       request.error_level = fieldNumber($(`${name}-generate-level`), 'Error level', { min: 0, empty: 0 });
+      if (ELASTIC_METHODS.has(name)) {
+        request.compliance_level = fieldNumber($(`${name}-generate-compliance`), 'Compliance level', { min: 0, empty: null });
+      }
     }
+    if (ELASTIC_METHODS.has(name) && value('payload').trim()) request.payload = value('payload').trim();
     if (value('save').trim()) {
       request.save_as = value('save').trim();
       request.overwrite = $(`${name}-generate-overwrite`).checked;
@@ -66,6 +70,9 @@ export async function generateInto(name, configurations, format) {
   }
 }
 
+/** The methods whose simulated sensors see an elastic robot's sag. */
+const ELASTIC_METHODS = new Set(['position', 'frame']);
+
 /** Each method's generation cell, read when it generates. */
 const generationCells = {};
 
@@ -77,6 +84,9 @@ export function generatePanel(method) {
   const level = h('input', { type: 'number', min: 0, step: 0.5, value: 1, id: `${name}-generate-level` });
   const noise = h('input', { type: 'number', min: 0, step: 0.01, value: 0.05, id: `${name}-generate-noise` });
   const seed = h('input', { type: 'number', min: 0, value: 1, id: `${name}-generate-seed` });
+  // Elastic joints (docs/elastic.md): compliances drawn at level L, a payload carried.
+  const compliance = h('input', { type: 'number', min: 0, step: 0.5, placeholder: 'rigid', id: `${name}-generate-compliance` });
+  const payload = h('input', { type: 'text', class: 'vector', placeholder: 'none, or e.g. 10kg,0,0,100mm', id: `${name}-generate-payload` });
   const saveAs = h('input', { type: 'text', id: `${name}-generate-save`, placeholder: 'optional, e.g. data.csv', class: 'vector' });
   const overwrite = h('input', { type: 'checkbox', id: `${name}-generate-overwrite` });
   real.addEventListener('focus', () => refreshRealChoices(real));
@@ -91,6 +101,8 @@ export function generatePanel(method) {
       field('Error level L (±L cm, ±L°, ±L %)', level),
       field('Sensor noise σ (mm; mrad)', noise),
       field('Seed', seed),
+      ELASTIC_METHODS.has(name) ? field('Compliance level L (L·2e-6…1e-5 rad/N·m)', compliance) : null,
+      ELASTIC_METHODS.has(name) ? field('Payload (mass[,x,y,z] in the tool frame)', payload) : null,
       optionFields(method, 'generate'),
       ...cell.fields,
       field('Save to the folder as', saveAs),

@@ -28,6 +28,9 @@ export function identifyPanel(method) {
     h('option', { value: 'cauchy', text: 'Cauchy (gross errors)' }),
     h('option', { value: 'tukey', text: 'Tukey (gross errors ignored)' }));
   const prior = h('input', { type: 'text', class: 'vector', placeholder: 'none, or e.g. 5mm,0.5deg,1%', id: `${name}-identify-prior` });
+  const model = h('select', { id: `${name}-identify-model` },
+    h('option', { value: 'full', text: 'geometric (the priority matrix)' }),
+    h('option', { value: 'elastic', text: 'elastic: and every joint’s compliance' }));
   const reject = h('input', { type: 'checkbox', id: `${name}-identify-reject` });
   const sigma = h('input', { type: 'number', min: 0, step: 'any', placeholder: 'not stated', id: `${name}-identify-sigma` });
   // Frames carry their own σ for rotations (a tracker's 6D probe: 0.01 mm, 0.005°).
@@ -48,6 +51,7 @@ export function identifyPanel(method) {
         solver: solver.value,
         max_iterations: fieldNumber(iterations, 'Iteration limit', { min: 1, max: state.info.limits.iterations, whole: true, empty: 30 }),
         loss: loss.value,
+        model: model.value,
         prior: prior.value.trim() || null,
         reject: reject.checked,
         // With its unit: a bare number would be in the data file's length unit.
@@ -83,6 +87,7 @@ export function identifyPanel(method) {
       field('Sensor σ (mm; the verdict tests the fit against it)', sigma),
       method.uses_orientation ? field('Sensor σ of rotations (°)', sigmaRotation) : null,
       field('Loss', loss),
+      field('Model', model),
       field('Prior σ (lengths, angles, gains)', prior),
       field('Drop outliers and refit', reject),
       field('Cross-validation folds (0: none)', folds),

@@ -1,0 +1,63 @@
+"""Elastic joints (issue 38) from Python: the same numbers as the command
+line, the payload as numpy columns, and compensation for a payload."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import gecaro
+
+
+def test_elastic_calibration_from_arrays_matches_the_command_line(cli, tmp_path):
+    robot = gecaro.Robot.load("industrial6")
+    first = gecaro.generate(
+        robot, "position", 40, noise=2e-5, seed=1, compliance_level=1.0, payload="0kg"
+    )
+    real = first.real
+    assert real.compliances is not None and len(real.compliances) == 6
+    sets = [first] + [
+        gecaro.generate(robot, "position", 40, noise=2e-5, seed=seed, real=real, payload=payload)
+        for seed, payload in [(2, "10kg,0,0,100mm"), (3, "20kg,0,0,100mm")]
+    ]
+    payload = np.concatenate([s.data.payload for s in sets])
+    assert payload.shape == (120, 4) and payload[-1, 0] == 20.0
+    data = gecaro.Data(
+        np.concatenate([s.data.qm for s in sets]),
+        position=np.concatenate([s.data.position for s in sets]),
+        payload=payload,
+    )
+    result = gecaro.identify(robot, "position", data, sigma="20um", model="elastic")
+    assert result.verdict["outcome"] == "fits_noise"
+    compliances = {p.name: p for p in result.parameters if p.name.startswith("c")}
+    for name in ["c2", "c3"]:
+        truth = real.compliances[int(name[1:]) - 1]
+        assert abs(compliances[name].identified - truth) < 3 * compliances[name].std, name
+    assert result.calibrated.compliances is not None
+
+    # The command line on the same rows gives the same result.
+    path = tmp_path / "payloads.csv"
+    data.write(path, "position")
+    assert "payload_mass" in path.read_text().splitlines()[0]
+    document = cli.json(
+        "identify", "industrial6", "--method", "position", "--data", path,
+        "--sigma", "20um", "--model", "elastic",
+    )
+    assert [p["identified"] for p in document["parameters"]] == [
+        p.identified for p in result.parameters
+    ]
+
+    # Torques as the model loads them: 20 kg stretched out level adds m·g·L.
+    level = [0.0, 0.0, -np.pi / 2, 0.0, 0.0, 0.0]
+    empty = robot.gravity_torques(level)
+    loaded = robot.gravity_torques(level, payload="20kg")
+    # (the flange 0.955 m out, docs/elastic.md)
+    assert abs(loaded[1] - empty[1]) == pytest.approx(20 * 9.80665 * 0.955, rel=0.01)
+
+    # Compensated for 15 kg, the commands differ from the rigid ones by the sag.
+    joints = first.data.qm[:5]
+    rigid = gecaro.compensate(robot, result.calibrated, joints=joints)
+    carried = gecaro.compensate(robot, result.calibrated, joints=joints, payload="15kg")
+    assert 1e-5 < np.abs(carried.qm - rigid.qm).max() < 1e-2
+    with pytest.raises(gecaro.InputError, match="payload"):
+        gecaro.compensate(robot, robot, joints=joints, payload="15kg")
