@@ -31,32 +31,13 @@ pub fn calibrated_robot_file(
         )),
         angle_unit: nominal.angle_unit,
         urdf: nominal.urdf.clone(),
-        // The masses are the nominal's (a geometric calibration does not weigh
-        // the links), moved into the calibrated robot's world.
-        masses: carried_masses(nominal, &robot),
+        // The masses are the nominal's (a calibration does not weigh the
+        // links): each centre in its link's frame, and gravity as stated in
+        // the measurement frame, which is the calibrated robot's world
+        // (docs/elastic.md). A tilt the calibration finds at frame 1 is the
+        // robot's, not gravity's.
+        masses: nominal.masses.clone(),
         robot,
-    }
-}
-
-/// The nominal's masses on `calibrated`, which may stand in another world
-/// (a tracker's, where the closed-form start registered it): each link's
-/// centre moved into its calibrated frame and gravity into that world, the
-/// worlds related by frame 1 (joint 1's axis) at zero. A nominal that states
-/// no masses and the default gravity carries nothing to move.
-pub(crate) fn carried_masses(nominal: &RobotFile, calibrated: &Robot) -> gecaro_core::MassModel {
-    let masses = &nominal.masses;
-    if masses.is_empty() && masses.gravity() == gecaro_core::upright_gravity() {
-        return masses.clone();
-    }
-    let zero = vec![0.0; calibrated.joint_count()];
-    let frame_one = |robot: &Robot| {
-        gecaro_core::forward_kinematics(robot, &zero).map(|chain| *chain.world_from_frame(1))
-    };
-    match (frame_one(&nominal.robot), frame_one(calibrated)) {
-        (Ok(before), Ok(after)) => masses
-            .reframed(&nominal.robot, calibrated, &(after * before.inverse()))
-            .unwrap_or_else(|_| masses.clone()),
-        _ => masses.clone(),
     }
 }
 
@@ -83,43 +64,42 @@ pub fn simulated_robot_file(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::{IsometryMatrix3, Vector3};
+    use gecaro_calib::identification::IdentificationOptions;
 
-    /// A calibrated robot in a tracker's world (3 m away, turned, tilted)
-    /// carries the nominal's masses there: every joint holds the same load.
+    /// A calibrated robot keeps the nominal's masses and gravity as stated:
+    /// the measurement frame's, whatever tilt the calibration finds.
     #[test]
-    fn masses_follow_the_calibrated_robot_into_the_tracker_s_world() {
-        let nominal = gecaro_io::load_robot("industrial6").expect("ready");
-        assert!(!nominal.masses.is_empty());
-        let tracker_from_base =
-            IsometryMatrix3::new(Vector3::new(3.0, -1.2, 0.4), Vector3::new(0.02, -0.01, 2.1));
-        let calibrated = nominal
-            .robot
-            .reframed(&tracker_from_base, &IsometryMatrix3::identity())
-            .expect("reframed");
-        let carried = carried_masses(&nominal, &calibrated);
-        assert!(
-            (carried.gravity() - tracker_from_base.rotation * nominal.masses.gravity()).norm()
-                < 1e-12
-        );
-        for qm in [
-            [0.3, -0.7, 0.4, 1.1, -0.5, 2.0],
-            [-1.0, -1.2, 0.9, -0.3, 1.4, -1.0],
-        ] {
-            let before = gecaro_core::gravity_torques(&nominal.robot, &nominal.masses, None, &qm)
-                .expect("τ");
-            let after = gecaro_core::gravity_torques(&calibrated, &carried, None, &qm).expect("τ");
-            assert!(
-                (&before - &after).norm() < 1e-9 * before.norm(),
-                "{before} vs {after}"
-            );
-        }
-        // Nothing stated: nothing carried, no gravity line written.
-        let stanford = gecaro_io::load_robot("stanford").expect("ready");
-        let moved = stanford
-            .robot
-            .reframed(&tracker_from_base, &IsometryMatrix3::identity())
-            .expect("reframed");
-        assert_eq!(carried_masses(&stanford, &moved), stanford.masses);
+    fn a_calibrated_robot_keeps_the_stated_masses_and_gravity() {
+        let mut nominal = gecaro_io::load_robot("industrial6").expect("ready");
+        nominal
+            .masses
+            .set_gravity(nalgebra::Vector3::new(0.1, 0.0, -9.8))
+            .expect("gravity");
+        let mut real = nominal.robot.clone();
+        let alpha1 = gecaro_core::ParameterId::new(gecaro_core::ParameterKind::Alpha, 1);
+        real.set_parameter(alpha1, 0.02).expect("tilted");
+        let mut sampler = gecaro_calib::simulation::Sampler::new(3);
+        let method =
+            gecaro_calib::methods::method("position", &Default::default()).expect("method");
+        let samples = gecaro_calib::simulation::simulate_measurements(
+            &real,
+            method.as_ref(),
+            60,
+            0.0,
+            &mut sampler,
+            &mut gecaro_calib::Quiet,
+        )
+        .expect("data");
+        let study = Study::single(method, samples, "tilted");
+        let result = gecaro_calib::identification::identify(
+            &nominal.robot,
+            &study,
+            &IdentificationOptions::default(),
+            &mut gecaro_calib::Quiet,
+        )
+        .expect("identified");
+        let calibrated = calibrated_robot_file(&nominal, &study, &result, "tilted");
+        assert!((calibrated.robot.parameter(alpha1) - 0.02).abs() < 1e-6);
+        assert_eq!(calibrated.masses, nominal.masses);
     }
 }

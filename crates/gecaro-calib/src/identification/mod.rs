@@ -227,6 +227,9 @@ fn fit(
         (None, Some(_)) => first_from(robot, robot, fitted, study, options, &priority, observer)?,
         (None, None) => fit_pass(robot, robot, study, options, &priority, &[], observer)?,
     };
+    if options.paper_pass_only {
+        return Ok(first);
+    }
     second_pass(robot, fitted, options, &priority, first, observer)
 }
 

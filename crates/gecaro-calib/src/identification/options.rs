@@ -50,6 +50,11 @@ pub struct IdentificationOptions {
     pub outlier_threshold: f64,
     /// Drop the outliers and identify again (once).
     pub reject: bool,
+    /// The paper's pass alone: the base set at the nominal robot, without
+    /// the second pass or the damped descent. A quick geometry, good to a
+    /// fraction of a millimetre: what an elastic robot's loads are first
+    /// evaluated at (the application layer). Not a result to report.
+    pub paper_pass_only: bool,
 }
 
 impl Default for IdentificationOptions {
@@ -63,6 +68,7 @@ impl Default for IdentificationOptions {
             prior: None,
             outlier_threshold: DEFAULT_OUTLIER_THRESHOLD,
             reject: false,
+            paper_pass_only: false,
         }
     }
 }

@@ -140,7 +140,8 @@ fn beyond_limits(
 const COMPLIANCE_LIMIT: f64 = 1e-3;
 
 /// A compliance is implausible below zero (beyond 3σ: a joint stiffer than
-/// rigid) or beyond [`COMPLIANCE_LIMIT`].
+/// rigid) or beyond [`COMPLIANCE_LIMIT`] (beyond 3σ too: a value the data
+/// barely determine is named by the excitation check instead).
 fn judge_compliance(p: &IdentifiedParameter) -> Option<Implausible> {
     let significant = p.std.is_finite() && p.identified < -3.0 * p.std;
     let (why, cause) = if significant {
@@ -149,12 +150,14 @@ fn judge_compliance(p: &IdentifiedParameter) -> Option<Implausible> {
                 "is negative, {:.3e} (σ {:.1e}): a joint that straightens against its load",
                 p.identified, p.std
             ),
-            "the loads are wrong (the masses, the payload or the gravity direction), or the \
+            "the loads are wrong: the masses, the payloads or the gravity direction; or the \
              compliance absorbs a geometric error these data do not separate from it: measure \
-             with two payloads"
+             with two payloads or more"
                 .to_owned(),
         )
-    } else if p.identified.abs() > COMPLIANCE_LIMIT {
+    } else if p.identified.abs() > COMPLIANCE_LIMIT
+        && (!p.std.is_finite() || p.identified.abs() - 3.0 * p.std > COMPLIANCE_LIMIT)
+    {
         (
             format!(
                 "is {:.3e}, softer than any joint ({COMPLIANCE_LIMIT:e} turns 0.1 rad under \
