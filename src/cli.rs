@@ -535,6 +535,15 @@ pub(crate) struct PlanArgs {
     /// Seed of the generated pool (and of the test poses and random designs).
     #[arg(long, default_value_t = 1)]
     pub(crate) seed: u64,
+    /// Elastic joints: a payload each candidate may be measured with (repeat it: --payload 0kg
+    /// --payload 20kg,0,0,100mm); the compliances join the design and the plan states each
+    /// row's payload (docs/elastic.md).
+    #[arg(
+        long = "payload",
+        value_name = "MASS[,X,Y,Z]",
+        conflicts_with = "study"
+    )]
+    pub(crate) payloads: Vec<String>,
     /// Configurations measured already: part of the design, never dropped.
     #[arg(long, value_name = "FILE")]
     pub(crate) keep: Option<PathBuf>,
@@ -641,6 +650,10 @@ pub(crate) struct PredictArgs {
     /// Seed of the test poses and the simulations.
     #[arg(long, default_value_t = 1)]
     pub(crate) seed: u64,
+    /// full (geometric), or elastic: the compliances predicted too, loaded by the robot's
+    /// masses and the plan's payload columns (docs/elastic.md).
+    #[arg(long, value_name = "MODEL", conflicts_with = "study")]
+    pub(crate) model: Option<String>,
     /// Print JSON instead of text.
     #[arg(long)]
     pub(crate) json: bool,

@@ -54,6 +54,7 @@ pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
     request.pool = args.pool;
     request.cell = super::options::cell_spec(&args.cell)?;
     request.seed = Some(args.seed);
+    request.payloads = args.payloads.clone();
     request.keep = args
         .keep
         .as_deref()
@@ -278,6 +279,7 @@ pub(crate) fn predict_accuracy(args: &PredictArgs) -> Result<(), Failure> {
     request.monte_carlo = args.monte_carlo;
     request.error_level = Some(args.error_level);
     request.seed = Some(args.seed);
+    request.model = args.model.clone();
     let predicted = with_steps("simulated calibrations", |observer| {
         request.run(&LocalFiles, observer)
     });

@@ -207,6 +207,7 @@ impl GenerateRequest {
             )?;
         }
         let loaded = real.robot.is_elastic() || payload.is_some();
+        // (Planned configurations may state their payloads: see below.)
         if real.robot.is_elastic() && !matches!(method.name(), "position" | "frame") {
             return Err(AppError::setting(
                 "compliance_level",
@@ -274,6 +275,8 @@ impl GenerateRequest {
             let planned = samples
                 .into_iter()
                 .map(|sample| {
+                    // The request's payload, else the planned row's.
+                    let payload = payload.or(sample.payload);
                     let torques = if real.robot.is_elastic() {
                         Some(settled_torques(
                             &real.robot,

@@ -75,6 +75,7 @@ mod identifiable;
 mod identify;
 mod interchange;
 pub mod limits;
+mod loads;
 mod measurements;
 mod method;
 mod plan;

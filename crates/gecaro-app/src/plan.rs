@@ -92,6 +92,12 @@ pub struct PlanRequest {
     pub method: MethodSpec,
     /// Configurations to choose (rows of the plan; sets and pairs whole).
     pub count: Option<usize>,
+    /// Elastic joints: the payloads a configuration may be measured with
+    /// (`"0kg"`, `"20kg,0,0,100mm"`). Each candidate is offered with each,
+    /// the compliances join the columns, and the plan states the payload of
+    /// each row (docs/elastic.md). Empty: a geometric plan.
+    #[serde(default)]
+    pub payloads: Vec<String>,
     /// `d` (default), `a`, `e`, `o4`, `o5` or `test`.
     pub criterion: Option<String>,
     /// Candidates: a data file's configurations.
@@ -188,6 +194,7 @@ impl PlanRequest {
             robot,
             method,
             count: Some(count),
+            payloads: Vec::new(),
             criterion: None,
             candidates: None,
             pool: None,
@@ -375,13 +382,34 @@ impl PlanRequest {
             Criterion::from_name(name, || poses.clone())
         })?
         .unwrap_or(Criterion::D);
+        // Elastic: each candidate with each payload, loaded, and the
+        // compliances among the columns.
+        let (elastic, pool, kept, priority) = if self.payloads.is_empty() {
+            (None, pool, kept, robot.priority())
+        } else {
+            if !matches!(method.name(), "position" | "frame") {
+                return Err(AppError::setting(
+                    "payloads",
+                    format!(
+                        "payloads are planned for the measure methods (position, frame), not {}",
+                        method.name()
+                    ),
+                ));
+            }
+            let payloads = crate::loads::payloads(&self.payloads, "payloads")?;
+            let (elastic, priority) = crate::loads::elastic(&file, true, "payloads")?;
+            let pool = crate::loads::loaded(&elastic, &pool, &payloads)?;
+            let kept = crate::loads::loaded(&elastic, &kept, &[])?;
+            (Some(elastic), pool, kept, priority)
+        };
+        let robot = elastic.as_ref().map_or(robot, |file| &file.robot);
         let design = Design {
             count: largest,
             kept: &kept,
             criterion,
             min_distance: self.min_distance,
         };
-        let candidates = CandidatePool::new(robot, method.as_ref(), &pool, &robot.priority())?;
+        let candidates = CandidatePool::new(robot, method.as_ref(), &pool, &priority)?;
         let curve = if self.curve.is_empty() {
             None
         } else {
@@ -517,6 +545,10 @@ pub struct PredictRequest {
     pub error_level: Option<f64>,
     /// Seed of the test poses and the simulations (default 1).
     pub seed: Option<u64>,
+    /// `"elastic"`: the compliances among the parameters predicted, loaded
+    /// by the robot's masses and the plan's payloads (docs/elastic.md);
+    /// `"full"` or none: the geometric model.
+    pub model: Option<String>,
     #[serde(flatten)]
     unknown: Unknown,
 }
@@ -555,6 +587,7 @@ impl PredictRequest {
             monte_carlo: None,
             error_level: None,
             seed: None,
+            model: None,
             unknown: Unknown::default(),
         }
     }
@@ -595,13 +628,36 @@ impl PredictRequest {
         let format = self.format.format()?;
         let planned = configurations(robot, &self.data, &columns, &format, files)?;
         let poses = self.test_poses.load(robot, seed, &format, files)?;
+        let (elastic, planned, priority) = match self.model.as_deref().map(str::trim) {
+            None | Some("full") => (None, planned, robot.priority()),
+            Some("elastic") => {
+                if self.monte_carlo.is_some() {
+                    return Err(AppError::setting(
+                        "monte_carlo",
+                        "simulated calibrations of an elastic robot are not run yet: predict \
+                         without them, or simulate with generate --compliance-level",
+                    ));
+                }
+                let payloads = planned.iter().any(|sample| sample.payload.is_some());
+                let (elastic, priority) = crate::loads::elastic(&file, payloads, "model")?;
+                let planned = crate::loads::loaded(&elastic, &planned, &[])?;
+                (Some(elastic), planned, priority)
+            }
+            Some(other) => {
+                return Err(AppError::setting(
+                    "model",
+                    format!("a prediction is of the full or the elastic model, not {other:?}"),
+                ));
+            }
+        };
+        let robot = elastic.as_ref().map_or(robot, |file| &file.robot);
         let prediction = predict(
             robot,
             method.as_ref(),
             &planned,
             self.noise,
             &poses,
-            &robot.priority(),
+            &priority,
         )?;
         let error_level = self.error_level.unwrap_or(0.1);
         let measured = match self.monte_carlo {

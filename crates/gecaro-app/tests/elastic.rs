@@ -416,3 +416,101 @@ fn swapped_payloads_are_named_by_the_verdict() {
         verdict.summary
     );
 }
+
+/// A plan chooses poses and payloads for the compliances, the prediction of
+/// its precision includes them, and measuring the plan gives that precision.
+#[test]
+fn a_plan_with_payloads_predicts_the_compliances_precision() {
+    use gecaro_app::{PlanRequest, PredictRequest};
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let real_path = folder.path().join("real.toml");
+    let real = real_path.to_str().expect("UTF-8 path");
+    measured(real, true, "0kg", 1, 51);
+    let mut request = PlanRequest::new(
+        RobotSource::Named("industrial6".into()),
+        MethodSpec::named("position"),
+        60,
+    );
+    request.payloads = vec!["0kg".into(), "20kg,0,0,100mm".into()];
+    request.pool = Some(400);
+    let planned = request
+        .run(&LocalFiles, &mut Quiet)
+        .expect("planned")
+        .planned
+        .expect("a plan");
+    let csv = planned.csv.clone();
+    assert!(
+        csv.lines().any(|line| line.contains("payload_mass")),
+        "{csv}"
+    );
+    let masses: Vec<f64> = planned
+        .plan
+        .samples
+        .iter()
+        .map(|sample| sample.payload.expect("payload").mass)
+        .collect();
+    assert!(
+        masses.contains(&0.0) && masses.contains(&20.0),
+        "both payloads chosen: {masses:?}"
+    );
+    let plan_path = folder.path().join("planned.csv");
+    std::fs::write(&plan_path, &csv).expect("written");
+    let plan_name = plan_path.to_str().expect("UTF-8").to_owned();
+
+    // Predicted, then measured at the plan on the elastic real robot.
+    let mut predict = PredictRequest::new(
+        RobotSource::Named("industrial6".into()),
+        MethodSpec::named("position"),
+        DataSource::File(plan_name.clone()),
+        NOISE,
+    );
+    predict.model = Some("elastic".into());
+    let predicted = predict.run(&LocalFiles, &mut Quiet).expect("predicted");
+    let sigma_of = |name: &str| {
+        predicted
+            .prediction
+            .parameters
+            .iter()
+            .find(|(parameter, _)| parameter == name)
+            .map(|(_, sigma)| *sigma)
+            .unwrap_or_else(|| panic!("{name} predicted"))
+    };
+    let mut generate = GenerateRequest::new(
+        RobotSource::Named("industrial6".into()),
+        MethodSpec::named("position"),
+        0,
+    );
+    generate.count = None;
+    generate.configurations = Some(DataSource::File(plan_name));
+    generate.real = Some(RobotSource::Named(real.into()));
+    generate.noise = NOISE;
+    let data = generate.run(&LocalFiles, &mut Quiet).expect("measured").csv;
+    let mut identify = IdentifyRequest::new(measurements(
+        RobotSource::Named("industrial6".into()),
+        &data,
+    ));
+    identify.settings.model = Some("elastic".into());
+    let identified = identify.run(&LocalFiles, &mut Quiet).expect("identified");
+    for name in ["c2", "c3"] {
+        let reported = identified
+            .result
+            .parameters
+            .iter()
+            .find(|p| p.name == name)
+            .map(|p| p.std)
+            .expect("identified");
+        let ratio = reported / sigma_of(name);
+        assert!(
+            (0.8..1.25).contains(&ratio),
+            "{name}: σ {reported:.2e} identified, {:.2e} predicted",
+            sigma_of(name)
+        );
+    }
+    // Simulated calibrations of an elastic robot are not run yet: said so.
+    predict.monte_carlo = Some(5);
+    let error = predict
+        .run(&LocalFiles, &mut Quiet)
+        .expect_err("refused")
+        .to_string();
+    assert!(error.contains("elastic"), "{error}");
+}

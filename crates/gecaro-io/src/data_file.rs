@@ -434,7 +434,13 @@ pub fn format_configurations(
             text
         }
     };
-    let header: Vec<String> = data_headers(joint_types.len(), columns)
+    // A plan for an elastic robot states each row's payload.
+    let carries_payload = samples.iter().any(|sample| sample.payload.is_some());
+    let mut names = data_headers(joint_types.len(), columns);
+    if carries_payload {
+        names.extend(PAYLOAD_COLUMNS.iter().map(|name| (*name).to_owned()));
+    }
+    let header: Vec<String> = names
         .iter()
         .map(|name| format.columns.file_name(name).to_owned())
         .collect();
@@ -443,6 +449,7 @@ pub fn format_configurations(
     let mut text = units_line(&format.units).unwrap_or_default();
     text.push_str(&header.join(&separator.to_string()));
     text.push('\n');
+    let length = format.units.length.to_metres();
     for sample in samples {
         let motors = format
             .units
@@ -452,6 +459,14 @@ pub fn format_configurations(
             if matches!(column, DataColumn::Set | DataColumn::Pair) {
                 fields.push(sample.group.unwrap_or(0).to_string());
             }
+        }
+        if carries_payload {
+            let payload = sample.payload.unwrap_or(LinkMass {
+                mass: 0.0,
+                com: nalgebra::Vector3::zeros(),
+            });
+            fields.push(number(payload.mass));
+            fields.extend(payload.com.iter().map(|v| number(v / length)));
         }
         text.push_str(&fields.join(&separator.to_string()));
         text.push('\n');

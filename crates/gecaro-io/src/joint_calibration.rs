@@ -13,7 +13,11 @@
 //!   - [1.001, 0.0]
 //!   - [0.0, 0.998]
 //! gains: [1.001, 0.998]
+//! compliances: [0.0, 4.2e-6]   # an elastic robot's c_j, rad/(N·m) (m/N if prismatic)
 //! ```
+//!
+//! An elastic robot writes the file even when its map is the identity:
+//! the compliances are what the URDF or the table cannot carry.
 
 use std::path::Path;
 
@@ -33,7 +37,7 @@ pub(crate) fn joint_calibration(
     format: &str,
 ) -> Option<String> {
     let map: &DMatrix<f64> = robot.motor_to_joint();
-    if *map == DMatrix::identity(map.nrows(), map.ncols()) {
+    if *map == DMatrix::identity(map.nrows(), map.ncols()) && !robot.is_elastic() {
         return None;
     }
     let list = |values: Vec<String>| format!("[{}]", values.join(", "));
@@ -68,6 +72,12 @@ pub(crate) fn joint_calibration(
                 .collect()
         )
     ));
+    if let Some(compliances) = robot.compliances() {
+        text.push_str(&format!(
+            "compliances: {} # rad/(N·m), m/N for a prismatic joint (elastic joints)\n",
+            list(compliances.iter().map(|c| format!("{c:?}")).collect())
+        ));
+    }
     Some(text)
 }
 
@@ -77,6 +87,8 @@ struct RawCalibration {
     joints: Vec<String>,
     matrix: Vec<Vec<f64>>,
     gains: Vec<f64>,
+    #[serde(default)]
+    compliances: Option<Vec<f64>>,
 }
 
 /// Applies the joint calibration `text` (the file `path`) to an imported
@@ -88,7 +100,8 @@ struct RawCalibration {
 /// # Errors
 /// [`Error::Parse`] naming the file and the key at fault: malformed YAML,
 /// another number of joints or other joint names, a map that is not n×n,
-/// gains that are zero or not finite.
+/// gains that are zero or not finite, compliances of another count or not
+/// finite.
 pub fn apply_joint_calibration(file: &mut RobotFile, text: &str, path: &Path) -> Result<(), Error> {
     let fail = |key: &str, message: String| Error::parse(path, 1, Some(key.to_owned()), message);
     let raw: RawCalibration = serde_yaml_ng::from_str(text).map_err(|error| {
@@ -150,7 +163,23 @@ pub fn apply_joint_calibration(file: &mut RobotFile, text: &str, path: &Path) ->
     if (coupling.clone() - DMatrix::identity(n, n)).amax() > 1e-12 {
         spec.joint_coupling = Some(coupling);
     }
-    let robot = Robot::new(spec).map_err(|error| fail("matrix", error.to_string()))?;
+    if let Some(compliances) = &raw.compliances
+        && compliances.len() != n
+    {
+        return Err(fail(
+            "compliances",
+            format!("gives {} compliances for {n} joints", compliances.len()),
+        ));
+    }
+    spec.compliances = raw.compliances.clone();
+    let robot = Robot::new(spec).map_err(|error| {
+        let key = if error.to_string().contains("compliance") {
+            "compliances"
+        } else {
+            "matrix"
+        };
+        fail(key, error.to_string())
+    })?;
     if (robot.motor_to_joint() - &map).amax() > 1e-9 * map.amax().max(1.0) {
         return Err(fail(
             "gains",
@@ -187,5 +216,28 @@ mod tests {
             error.to_string().contains("4 gains for 3 joints"),
             "{error}"
         );
+    }
+
+    /// An elastic robot's compliances go to the file, even with the identity
+    /// map, and come back.
+    #[test]
+    fn compliances_are_written_and_read_back() {
+        let mut robot = Robot::template("arm", "RRP").expect("template");
+        robot
+            .set_compliances(Some(vec![0.0, 4.2e-6, 3e-7]))
+            .expect("elastic");
+        let names: Vec<String> = ["a", "b", "c"].map(str::to_owned).to_vec();
+        let text = joint_calibration(&robot, &names, "URDF").expect("elastic");
+        assert!(text.contains("compliances: [0.0, 4.2e-6, 3e-7]"), "{text}");
+        let mut file = RobotFile::of(Robot::template("arm", "RRP").expect("template"));
+        apply_joint_calibration(&mut file, &text, Path::new("x.yaml")).expect("read");
+        assert_eq!(file.robot.compliances(), robot.compliances());
+        let bad = text.replace("compliances: [", "compliances: [1.0, ");
+        let error = apply_joint_calibration(&mut file, &bad, Path::new("x.yaml"))
+            .expect_err("four compliances");
+        assert!(error.to_string().contains("compliances"), "{error}");
+        // A rigid robot with the identity map writes none.
+        let rigid = Robot::template("arm", "RRP").expect("template");
+        assert!(joint_calibration(&rigid, &names, "URDF").is_none());
     }
 }

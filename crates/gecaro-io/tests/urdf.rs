@@ -959,3 +959,48 @@ fn a_reflector_is_stated_in_the_urdf_s_tool0() {
     let errors = evaluate(robot, &in_frame_n).expect("evaluated");
     assert!(errors.rms > 0.05, "stated in frame n: {} m", errors.rms);
 }
+
+/// An elastic robot with masses exported to URDF comes back whole: the
+/// masses through each link's `<inertial>`, the compliances through the
+/// joint calibration file; every joint carries the same gravity torque.
+#[test]
+fn an_elastic_robot_with_masses_round_trips_through_urdf() {
+    let mut file = gecaro_io::load_robot("industrial6").expect("ready");
+    file.robot
+        .set_compliances(Some(vec![0.0, 6e-6, 9e-6, 4e-6, 7e-6, 3e-6]))
+        .expect("elastic");
+    let exported = gecaro_io::export_robot(&file, RobotFormat::Urdf).expect("exports");
+    assert!(
+        exported.text.contains("<mass value=\"12\""),
+        "{}",
+        exported.text
+    );
+    let calibration = exported.joint_calibration.expect("the compliances");
+    let (_folder, path) = temporary_urdf(&exported.text);
+    let mut back = import_robot(&path, &ImportOptions::default())
+        .expect("imports")
+        .file;
+    gecaro_io::apply_joint_calibration(&mut back, &calibration, &path).expect("applies");
+    assert_eq!(back.robot.compliances(), file.robot.compliances());
+    let mut rng = ChaCha8Rng::seed_from_u64(8);
+    let payload = gecaro_core::LinkMass {
+        mass: 6.0,
+        com: nalgebra::Vector3::new(0.0, 0.02, 0.08),
+    };
+    for _ in 0..20 {
+        let qm: Vec<f64> = file
+            .robot
+            .joints()
+            .iter()
+            .map(|j| rng.random_range(j.qmin..=j.qmax))
+            .collect();
+        let torques = |file: &gecaro_io::RobotFile| {
+            gecaro_core::gravity_torques(&file.robot, &file.masses, Some(&payload), &qm).expect("τ")
+        };
+        let (before, after) = (torques(&file), torques(&back));
+        assert!(
+            (&before - &after).amax() < 1e-9 * before.amax(),
+            "{before} vs {after}"
+        );
+    }
+}

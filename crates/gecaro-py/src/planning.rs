@@ -100,9 +100,12 @@ impl PyPlan {
 /// chosen from `candidates` (a Data) or a pool of `pool` generated ones
 /// (default 20 × count; in the cell of `floor`, `station`, `max_incidence`,
 /// `clearance`), by `criterion` ("d", "a", "e", "o4", "o5", "test"), keeping
-/// `keep` (configurations measured already).
+/// `keep` (configurations measured already). Elastic joints: `payloads`
+/// (`["0kg", "20kg,0,0,100mm"]`) offers each candidate with each, the
+/// compliances join the design, and the plan's Data states each row's
+/// payload.
 #[pyfunction]
-#[pyo3(signature = (robot, method, count, *, criterion = "d", candidates = None, pool = None, keep = None, min_distance = 0.0, seed = 1, test_pose_count = None, floor = None, station = None, max_incidence = None, clearance = None))]
+#[pyo3(signature = (robot, method, count, *, criterion = "d", candidates = None, pool = None, keep = None, min_distance = 0.0, seed = 1, test_pose_count = None, floor = None, station = None, max_incidence = None, clearance = None, payloads = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn plan(
     py: Python<'_>,
@@ -120,6 +123,7 @@ pub(crate) fn plan(
     station: Option<[f64; 3]>,
     max_incidence: Option<String>,
     clearance: Option<f64>,
+    payloads: Option<Vec<String>>,
 ) -> PyResult<PyPlan> {
     let joint_count = robot.file.robot.joint_count();
     let cell = CellSpec {
@@ -133,6 +137,7 @@ pub(crate) fn plan(
     request.candidates = candidates.as_deref().map(samples);
     request.keep = keep.as_deref().map(samples);
     request.min_distance = min_distance;
+    request.payloads = payloads.unwrap_or_default();
     let planning = watched(py, |observer| {
         request.run(&gecaro_app::LocalFiles, observer)
     })?;
@@ -220,8 +225,10 @@ pub(crate) fn plan_study<'py>(
 /// Study as `method` (no `data`, no `noise`: its sets state them), the whole
 /// cell's prediction, as `gecaro predict --study --json`: every set weighted
 /// by its σ, through its tool and station, from its configurations.
+/// `model="elastic"` predicts the compliances too, loaded by the robot's
+/// masses and the data's payloads.
 #[pyfunction]
-#[pyo3(signature = (robot, method, data = None, noise = None, *, monte_carlo = None, error_level = 0.1, seed = 1, test_pose_count = None))]
+#[pyo3(signature = (robot, method, data = None, noise = None, *, monte_carlo = None, error_level = 0.1, seed = 1, test_pose_count = None, model = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn predict<'py>(
     py: Python<'py>,
@@ -233,6 +240,7 @@ pub(crate) fn predict<'py>(
     error_level: f64,
     seed: u64,
     test_pose_count: Option<usize>,
+    model: Option<String>,
 ) -> PyResult<Bound<'py, PyAny>> {
     if method.cast::<crate::study::PyStudy>().is_ok() {
         if data.is_some() || noise.is_some() || monte_carlo.is_some() {
@@ -265,6 +273,7 @@ pub(crate) fn predict<'py>(
     request.error_level = Some(error_level);
     request.seed = Some(seed);
     request.test_poses = test_poses(test_pose_count);
+    request.model = model;
     let predicted = watched(py, |observer| {
         request.run(&gecaro_app::LocalFiles, observer)
     })?;

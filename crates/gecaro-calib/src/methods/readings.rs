@@ -64,6 +64,9 @@ impl Reader {
             position: Some(pose.translation.vector + sampler.gaussian_vector(noise)),
             orientation,
             payload: planned.payload,
+            // The loads go on with the reading: a plan's nominal readings
+            // keep the compliances' columns (planning::columns).
+            torques: planned.torques,
             ..Sample::new(planned.motor_positions)
         })
     }

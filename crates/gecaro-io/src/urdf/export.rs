@@ -92,6 +92,26 @@ fn link(name: &str) -> urdf_rs::Link {
     }
 }
 
+/// A link carrying the mass the robot file states for its frame: its
+/// centre moved from the frame's coordinates (`world_from_frame`) into the
+/// link's (`world_from_link`). The inertia tensor stays zero: gecaro
+/// models the masses' gravity, not their inertia.
+fn weighed_link(
+    name: &str,
+    mass: Option<&gecaro_core::LinkMass>,
+    world_from_frame: &IsometryMatrix3<f64>,
+    world_from_link: &IsometryMatrix3<f64>,
+) -> urdf_rs::Link {
+    let mut link = link(name);
+    if let Some(mass) = mass {
+        let centre =
+            world_from_link.inverse() * (world_from_frame * nalgebra::Point3::from(mass.com));
+        link.inertial.mass.value = mass.mass;
+        link.inertial.origin.xyz = urdf_rs::Vec3([centre.x, centre.y, centre.z]);
+    }
+    link
+}
+
 fn fixed_joint(
     name: String,
     parent: &str,
@@ -126,7 +146,13 @@ pub(crate) fn export_urdf(file: &RobotFile) -> Result<Exported, String> {
     let robot = &file.robot;
     let n = robot.joint_count();
     let names = file.urdf.clone().unwrap_or_else(|| generated_names(robot));
-    let relations = mimics(robot);
+    // An elastic robot's compliances go to the joint calibration file, and
+    // its whole map with them (mimic tags too would apply it twice).
+    let relations = if robot.is_elastic() {
+        None
+    } else {
+        mimics(robot)
+    };
     let mut notes = Vec::new();
     // The offset folded into each joint's origin (all but mimic joints').
     let folded: Vec<f64> = robot
@@ -184,7 +210,12 @@ pub(crate) fn export_urdf(file: &RobotFile) -> Result<Exported, String> {
             names.base_link
         ));
     }
-    links.push(link(&names.base_link));
+    links.push(weighed_link(
+        &names.base_link,
+        file.masses.link(0),
+        &world_from_frame[0],
+        &names.world_from_base_link,
+    ));
     let mut parent_link = names.base_link.clone();
     let mut world_from_parent = names.world_from_base_link;
     for (j, joint_names) in names.joints.iter().enumerate() {
@@ -229,7 +260,12 @@ pub(crate) fn export_urdf(file: &RobotFile) -> Result<Exported, String> {
             mimic,
             safety_controller: None,
         });
-        links.push(link(&joint_names.link));
+        links.push(weighed_link(
+            &joint_names.link,
+            file.masses.link(j + 1),
+            &world_from_frame[j + 1],
+            &world_from_link,
+        ));
         parent_link = joint_names.link.clone();
         world_from_parent = world_from_link;
     }
@@ -250,7 +286,12 @@ pub(crate) fn export_urdf(file: &RobotFile) -> Result<Exported, String> {
         &tip,
         &(world_from_parent.inverse() * world_from_tip),
     ));
-    links.push(link(&tip));
+    links.push(weighed_link(
+        &tip,
+        file.masses.link(n + 1),
+        &world_from_frame[n + 1],
+        &world_from_tip,
+    ));
 
     let joint_calibration = if relations.is_some() {
         None
@@ -277,8 +318,13 @@ pub(crate) fn export_urdf(file: &RobotFile) -> Result<Exported, String> {
     let text = urdf_rs::write_to_string(&document).map_err(|error| error.to_string())?;
     Ok(Exported {
         text: format!(
-            "<?xml version=\"1.0\"?>\n<!-- written by gecaro robot export from `{}`: kinematic chain only (no meshes, no inertia) -->\n{text}\n",
-            robot.name().replace("--", "- -")
+            "<?xml version=\"1.0\"?>\n<!-- written by gecaro robot export from `{}`: {} -->\n{text}\n",
+            robot.name().replace("--", "- -"),
+            if file.masses.is_empty() {
+                "kinematic chain only (no meshes, no inertia)"
+            } else {
+                "kinematic chain and the links' masses (no meshes, no inertia tensors)"
+            }
         ),
         joint_calibration,
         notes,

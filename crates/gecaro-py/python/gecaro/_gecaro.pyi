@@ -631,6 +631,7 @@ def plan(
     station: Optional[tuple[float, float, float]] = None,
     max_incidence: Optional[str] = None,
     clearance: Optional[float] = None,
+    payloads: Optional[Sequence[str]] = None,
 ) -> Plan:
     """The configurations to measure, chosen from a pool by a criterion, as ``gecaro plan``."""
 
@@ -661,6 +662,7 @@ def predict(
     error_level: float = 0.1,
     seed: int = 1,
     test_pose_count: Optional[int] = None,
+    model: Optional[Literal["full", "elastic"]] = None,
 ) -> dict[str, Any]:
     """The precision a plan gives, as ``gecaro predict --json`` prints it; with a
     Study (no data, no noise), the whole cell's, as ``gecaro predict --study``."""
