@@ -61,3 +61,15 @@ def test_elastic_calibration_from_arrays_matches_the_command_line(cli, tmp_path)
     assert 1e-5 < np.abs(carried.qm - rigid.qm).max() < 1e-2
     with pytest.raises(gecaro.InputError, match="payload"):
         gecaro.compensate(robot, robot, joints=joints, payload="15kg")
+
+
+def test_a_plan_with_payloads_and_its_elastic_prediction():
+    robot = gecaro.Robot.load("industrial6")
+    plan = gecaro.plan(robot, "position", 40, pool=200, payloads=["0kg", "20kg,0,0,100mm"])
+    masses = set(plan.data.payload[:, 0])
+    assert masses == {0.0, 20.0}
+    predicted = gecaro.predict(robot, "position", plan.data, 2e-5, model="elastic")
+    names = [p["name"] for p in predicted["parameters"]]
+    assert "c2" in names and "c3" in names
+    geometric = gecaro.predict(robot, "position", plan.data, 2e-5)
+    assert not any(p["name"].startswith("c") for p in geometric["parameters"])

@@ -2255,3 +2255,42 @@ async fn an_elastic_robot_is_simulated_and_identified_through_the_api() {
         "{checked}"
     );
 }
+
+/// The page's plan offers each candidate with each payload: the plan states
+/// each row's payload; a payload for a link method is refused by its field.
+#[tokio::test]
+async fn a_plan_chooses_payloads_for_an_elastic_robot() {
+    let api = Api::new();
+    let document = api.document("industrial6").await;
+    let view = api
+        .job(
+            "/api/plan",
+            &json!({ "robot": document, "method": { "name": "position" }, "count": 30,
+                     "pool": 150, "payloads": ["0kg", "20kg,0,0,100mm"] }),
+        )
+        .await
+        .expect("started");
+    assert_eq!(view["state"], "done", "{view}");
+    let csv = view["result"]["csv"].as_str().expect("csv");
+    let mut lines = data_lines(csv);
+    assert!(
+        lines.next().expect("header").ends_with("payload_z"),
+        "{csv}"
+    );
+    assert!(lines.any(|line| line.contains(",20.0,")), "{csv}");
+    let refused = api
+        .job(
+            "/api/plan",
+            &json!({ "robot": document, "method": { "name": "distance" }, "count": 30,
+                     "payloads": ["5kg"] }),
+        )
+        .await;
+    let message = match refused {
+        Err((status, body)) => {
+            assert_eq!(status, StatusCode::BAD_REQUEST, "{body}");
+            error_text(&body).to_owned()
+        }
+        Ok(view) => view["error"].as_str().expect("failed job").to_owned(),
+    };
+    assert!(message.contains("payloads"), "{message}");
+}

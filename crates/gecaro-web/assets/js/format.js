@@ -28,3 +28,12 @@ export function parseVector(text, what) {
   }
   return parts;
 }
+
+/**
+ * The payloads of a plan's field, separated by semicolons (a payload's
+ * centre has commas of its own): "0kg; 20kg,0,0,100mm" → ["0kg",
+ * "20kg,0,0,100mm"]. The server checks each one.
+ */
+export function payloadList(text) {
+  return text.split(';').map((part) => part.trim()).filter(Boolean);
+}

@@ -1,7 +1,7 @@
 // The page's number formats and parsers (js/format.js), under node.
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { fixed, fmt, parseVector, sci, slug } from '../js/format.js';
+import { fixed, fmt, parseVector, payloadList, sci, slug } from '../js/format.js';
 
 test('numbers keep 8 significant digits, and go exponential outside 1e-4..1e7', () => {
   assert.equal(fmt(0.1 + 0.2), '0.3');
@@ -29,4 +29,9 @@ test('a vector takes three numbers, separated by commas, semicolons or spaces', 
   assert.deepEqual(parseVector('1 2 3', 'point'), [1, 2, 3]);
   assert.throws(() => parseVector('1, 2', 'The plane normal'), /The plane normal needs three numbers/);
   assert.throws(() => parseVector('1, x, 3', 'point'), /point needs three numbers/);
+});
+
+test('a plan\'s payloads are separated by semicolons, their centres keep their commas', () => {
+  assert.deepEqual(payloadList('0kg; 20kg,0,0,100mm ;'), ['0kg', '20kg,0,0,100mm']);
+  assert.deepEqual(payloadList('  '), []);
 });

@@ -4,7 +4,7 @@ import { api } from '../api.js';
 import { cellInputs } from '../cell.js';
 import { h, download } from '../dom.js';
 import { field, fieldNumber, errorBox, runButton, observabilityLine, stat } from '../fields.js';
-import { fmt, fixed, sci } from '../format.js';
+import { fmt, fixed, payloadList, sci } from '../format.js';
 import { optionFields, methodRequest } from '../method-options.js';
 import { selectFunction } from '../navigation.js';
 import { plotFigure } from '../results.js';
@@ -30,6 +30,9 @@ export function planPanel(method) {
   const pool = h('input', { type: 'number', min: 1, id: `${name}-plan-pool`, placeholder: '20 × count' });
   const distance = h('input', { type: 'number', min: 0, step: 0.1, value: 0, id: `${name}-plan-distance` });
   const seed = h('input', { type: 'number', min: 0, value: 1, id: `${name}-plan-seed` });
+  // Elastic joints: the payloads each candidate may be measured with.
+  const payloads = h('input', { type: 'text', class: 'vector', id: `${name}-plan-payloads`, placeholder: 'none, or e.g. 0kg; 20kg,0,0,100mm' });
+  const elastic = name === 'position' || name === 'frame';
   const curve = h('input', { type: 'text', class: 'vector', id: `${name}-plan-curve`, placeholder: 'optional, e.g. 10, 20, 40, 80' });
   const noise = h('input', { type: 'number', min: 0, step: 0.01, value: 0.1, id: `${name}-plan-noise` });
   const saveAs = h('input', { type: 'text', id: `${name}-plan-save`, placeholder: 'optional, e.g. planned.csv', class: 'vector' });
@@ -57,6 +60,7 @@ export function planPanel(method) {
       };
       const candidates = fieldNumber(pool, 'Candidates', { min: 1, max: state.info.limits.generate, whole: true, empty: null });
       if (candidates !== null) request.pool = candidates;
+      if (elastic && payloadList(payloads.value).length) request.payloads = payloadList(payloads.value);
       request.cell = cell.request();
       request.format = { angle_unit: angles.value };
       if (curve.value.trim()) {
@@ -92,6 +96,7 @@ export function planPanel(method) {
       field('Candidate pool', pool),
       field('Minimum joint distance (rad, m)', distance),
       field('Seed', seed),
+      elastic ? field('Payloads (elastic joints; “;” between them)', payloads) : null,
       optionFields(method, 'plan'),
       field('Curve: counts', curve),
       field('Sensor noise σ for the curve (mm)', noise),
