@@ -165,6 +165,50 @@ fn robot_show_prints_the_table_and_priorities() {
         .stdout(predicate::str::contains("1.570796"));
 }
 
+/// The loads of elastic joints: a robot with masses lists them; one that
+/// states a compliance lists every joint's; a rigid robot without masses
+/// prints neither (its table unchanged).
+#[test]
+fn robot_show_prints_masses_and_compliances() {
+    gecaro()
+        .args(["robot", "show", "industrial6"])
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("Masses (51.3 kg;"))
+        .stdout(predicate::str::contains("Compliances").not());
+    let folder = tempfile::tempdir().expect("folder");
+    let rigid = folder.path().join("arm.toml");
+    gecaro()
+        .args([
+            "robot",
+            "new",
+            "--joints",
+            "RR",
+            "-o",
+            rigid.to_str().expect("UTF-8"),
+        ])
+        .assert()
+        .success();
+    let text = std::fs::read_to_string(&rigid).expect("written");
+    // After joint 1's gain line.
+    let at = text.find("\nK = ").expect("a gain line") + 1;
+    let end = at + text[at..].find('\n').expect("its end") + 1;
+    let stated = format!("{}compliance = 5e-6\n{}", &text[..end], &text[end..]);
+    assert_ne!(stated, text, "{text}");
+    let elastic = folder.path().join("elastic.toml");
+    std::fs::write(&elastic, stated).expect("written");
+    gecaro()
+        .args(["robot", "show", elastic.to_str().expect("UTF-8")])
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("c1 = 5.0e-6, c2 = 0"));
+    gecaro()
+        .args(["robot", "show", "stanford"])
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("Masses").not());
+}
+
 #[test]
 fn robot_show_of_the_stanford_arm_is_table_1() {
     // The whole text, column widths and all: a change of layout shows up here

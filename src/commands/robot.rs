@@ -92,6 +92,7 @@ fn show(name: &str, degrees: bool) -> Result<(), Failure> {
         frames.add_row(row);
     }
     println!("{frames}");
+    print_loads(&file);
     let n = robot.joint_count();
     for (name, matrix) in [
         ("Cm", robot.motor_coupling()),
@@ -115,6 +116,49 @@ fn show(name: &str, degrees: bool) -> Result<(), Failure> {
     }
     println!("{priority}");
     Ok(())
+}
+
+/// An elastic robot's compliances, and the masses that load its joints
+/// (docs/elastic.md); nothing for a robot that states neither.
+fn print_loads(file: &gecaro_io::RobotFile) {
+    let robot = &file.robot;
+    if let Some(compliances) = robot.compliances() {
+        let listed: Vec<String> = compliances
+            .iter()
+            .enumerate()
+            .map(|(index, c)| format!("c{} = {}", index + 1, number(*c, 4)))
+            .collect();
+        println!(
+            "Compliances (rad/(N·m); m/N for a prismatic joint): {}",
+            listed.join(", ")
+        );
+    }
+    if file.masses.is_empty() {
+        return;
+    }
+    let mut total = 0.0;
+    let listed: Vec<String> = (0..robot.frames().len())
+        .filter_map(|frame| file.masses.link(frame).map(|link| (frame, link)))
+        .map(|(frame, link)| {
+            total += link.mass;
+            format!(
+                "frame {frame} {} kg at ({}, {}, {}) m",
+                number(link.mass, 4),
+                number(link.com.x, 4),
+                number(link.com.y, 4),
+                number(link.com.z, 4)
+            )
+        })
+        .collect();
+    let g = file.masses.gravity();
+    println!(
+        "Masses ({} kg; gravity ({}, {}, {}) m/s² in the world frame): {}",
+        number(total, 4),
+        number(g.x, 5),
+        number(g.y, 5),
+        number(g.z, 5),
+        listed.join("; ")
+    );
 }
 
 fn check(name: &str) -> Result<(), Failure> {
