@@ -384,6 +384,10 @@ pub(crate) struct IdentifiableArgs {
     /// Seed of the random configurations.
     #[arg(long, default_value_t = 1)]
     pub(crate) seed: u64,
+    /// full (the priority matrix), or elastic: every joint's compliance too, on the data's
+    /// loads (the robot's masses, their payload columns; docs/elastic.md).
+    #[arg(long, value_name = "MODEL")]
+    pub(crate) model: Option<String>,
     /// Print JSON instead of tables.
     #[arg(long)]
     pub(crate) json: bool,

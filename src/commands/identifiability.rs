@@ -23,6 +23,7 @@ pub(crate) fn identifiable(args: &IdentifiableArgs) -> Result<(), Failure> {
         .map(|path| PrioritySource::File(path.display().to_string()));
     request.count = args.count;
     request.seed = Some(args.seed);
+    request.model = args.model.clone();
     let outcome = with_steps("drawing configurations", |observer| {
         request.run(&LocalFiles, observer)
     })?;

@@ -26,6 +26,10 @@ pub struct IdentifiableRequest {
     pub count: Option<usize>,
     /// Seed of the random configurations (default 1).
     pub seed: Option<u64>,
+    /// `"elastic"`: every joint's compliance is a candidate too, after the
+    /// geometry, on the data's loads (docs/elastic.md); `"full"` or none:
+    /// the priority matrix as it is.
+    pub model: Option<String>,
     #[serde(flatten)]
     unknown: Unknown,
 }
@@ -69,11 +73,41 @@ impl IdentifiableRequest {
                 format!("between 1 and {MAX_RANDOM} random configurations"),
             ));
         }
-        let loaded = self.measurements.load(files, Data::Optional)?;
+        let mut loaded = self.measurements.load(files, Data::Optional)?;
+        let elastic = match self.model.as_deref().map(str::trim) {
+            None | Some("full") => false,
+            Some("elastic") => true,
+            Some(other) => {
+                return Err(AppError::setting(
+                    "model",
+                    format!(
+                        "identifiable parameters of the full or the elastic model, not {other:?}"
+                    ),
+                ));
+            }
+        };
+        if elastic {
+            // Random configurations carry no loads: the data's are what
+            // tells a compliance from the geometry.
+            if loaded.study.sets.iter().any(|set| set.samples.is_empty()) {
+                return Err(AppError::setting(
+                    "model",
+                    "the elastic model's identifiable parameters are analysed on measured (or \
+                     planned) configurations and their loads: give the data (plan with \
+                     payloads first)",
+                ));
+            }
+            loaded.make_elastic()?;
+        }
         let robot = &loaded.robot.robot;
         let priority = match &self.priority {
             Some(source) => source.load(robot, files)?,
             None => loaded.priority.clone().unwrap_or_else(|| robot.priority()),
+        };
+        let priority = if elastic {
+            priority.with_compliances(1)
+        } else {
+            priority
         };
         let analysis = identifiability(
             robot,

@@ -514,3 +514,51 @@ fn a_plan_with_payloads_predicts_the_compliances_precision() {
         .to_string();
     assert!(error.contains("elastic"), "{error}");
 }
+
+/// The identifiable parameters of the elastic model on data with loads: the
+/// compliances gravity loads are identifiable, the vertical first axis's
+/// and the tool's (its payload on the axis) have no effect; on random
+/// configurations, which carry no loads, the analysis is refused.
+#[test]
+fn identifiable_compliances_are_those_the_data_load() {
+    use gecaro_app::IdentifiableRequest;
+    use gecaro_calib::identifiability::ParameterStatus;
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let real_path = folder.path().join("real.toml");
+    let real = real_path.to_str().expect("UTF-8 path");
+    let data = joined(&[
+        measured(real, true, "0kg", 40, 61),
+        measured(real, false, "20kg,0,0,100mm", 40, 62),
+    ]);
+    let mut request = IdentifiableRequest::new(measurements(
+        RobotSource::Named("industrial6".into()),
+        &data,
+    ));
+    request.model = Some("elastic".into());
+    let analysis = request.run(&LocalFiles, &mut Quiet).expect("analysed");
+    let status = |name: &str| {
+        analysis
+            .analysis
+            .report
+            .status(name)
+            .unwrap_or_else(|| panic!("{name}"))
+    };
+    for name in ["c2", "c3", "c4", "c5"] {
+        assert_eq!(status(name), ParameterStatus::Identifiable, "{name}");
+    }
+    for name in ["c1", "c6"] {
+        assert_eq!(status(name), ParameterStatus::NoEffect, "{name}");
+    }
+    let random = Measurements {
+        data: None,
+        sigma: None,
+        ..measurements(RobotSource::Named("industrial6".into()), "")
+    };
+    let mut request = IdentifiableRequest::new(random);
+    request.model = Some("elastic".into());
+    let error = request
+        .run(&LocalFiles, &mut Quiet)
+        .expect_err("refused")
+        .to_string();
+    assert!(error.contains("give the data"), "{error}");
+}

@@ -124,9 +124,10 @@ impl PyIdentifiability {
 /// order, eq. 33–37): on `data` (or a Study) with the excitation check, or on
 /// `count` random configurations (seeded) when no data are given. `priority`:
 /// an (n+2)×6 array or a priority file; default the study file's, else the
-/// robot's. As `gecaro identifiable`.
+/// robot's. `model="elastic"`: the compliances too, on the data's loads.
+/// As `gecaro identifiable`.
 #[pyfunction]
-#[pyo3(signature = (robot, method, data = None, *, count = None, seed = 1, priority = None, strict_limits = false))]
+#[pyo3(signature = (robot, method, data = None, *, count = None, seed = 1, priority = None, strict_limits = false, model = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn identifiable(
     py: Python<'_>,
@@ -137,12 +138,14 @@ pub(crate) fn identifiable(
     seed: u64,
     priority: Option<&Bound<'_, PyAny>>,
     strict_limits: bool,
+    model: Option<String>,
 ) -> PyResult<PyIdentifiability> {
     let mut request =
         IdentifiableRequest::new(measurements(&robot, method, data, true, strict_limits)?);
     request.priority = self::priority(robot.robot(), priority)?;
     request.count = count;
     request.seed = Some(seed);
+    request.model = model;
     let analysis = watched(py, |observer| request.run(&LocalFiles, observer))?;
     warn_notes(py, &analysis.loaded.notes)?;
     Ok(PyIdentifiability {

@@ -73,3 +73,5 @@ def test_a_plan_with_payloads_and_its_elastic_prediction():
     assert "c2" in names and "c3" in names
     geometric = gecaro.predict(robot, "position", plan.data, 2e-5)
     assert not any(p["name"].startswith("c") for p in geometric["parameters"])
+    analysis = gecaro.identifiable(robot, "position", plan.data, model="elastic")
+    assert "c2" in analysis.identifiable and "c1" not in analysis.identifiable

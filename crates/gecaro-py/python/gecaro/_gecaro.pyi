@@ -514,6 +514,7 @@ def identifiable(
     seed: int = 1,
     priority: Union[_ArrayLike, _PathLike, None] = None,
     strict_limits: bool = False,
+    model: Optional[Literal["full", "elastic"]] = None,
 ) -> Identifiability:
     """Identifiable parameters (Appendix III), as ``gecaro identifiable``."""
 
