@@ -57,6 +57,24 @@ fn measurements(robot: RobotSource, csv: &str) -> Measurements {
     }
 }
 
+/// A temporary folder and the path of the real robot's file in it (drawn
+/// by the first [`measured`] call with `first`).
+fn real_robot_place() -> (tempfile::TempDir, String) {
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let path = folder.path().join("real.toml");
+    let path = path.to_str().expect("UTF-8 path").to_owned();
+    (folder, path)
+}
+
+/// The elastic identification of the position rows `csv` (σ = [`NOISE`])
+/// with the ready industrial6 as the nominal robot.
+fn identify_elastic(csv: &str) -> gecaro_app::Identified {
+    let mut request =
+        IdentifyRequest::new(measurements(RobotSource::Named("industrial6".into()), csv));
+    request.settings.model = Some("elastic".into());
+    request.run(&LocalFiles, &mut Quiet).expect("identified")
+}
+
 /// RMS error (m) of `robot` on the held-out data.
 fn held_out(robot: RobotSource, csv: &str) -> f64 {
     EvaluateRequest::new(measurements(robot, csv))
@@ -68,9 +86,8 @@ fn held_out(robot: RobotSource, csv: &str) -> f64 {
 
 #[test]
 fn compliances_identified_with_three_payloads_hold_a_fourth_at_the_noise_floor() {
-    let folder = tempfile::tempdir().expect("temporary folder");
-    let real_path = folder.path().join("real.toml");
-    let real = real_path.to_str().expect("UTF-8 path");
+    let (_folder, real) = real_robot_place();
+    let real = real.as_str();
     let training = joined(&[
         measured(real, true, "0kg", 60, 1),
         measured(real, false, "10kg,0,0,100mm", 60, 2),
@@ -147,9 +164,8 @@ fn compliances_identified_with_three_payloads_hold_a_fourth_at_the_noise_floor()
 /// the same experiment (same real robot, new configurations and noise).
 #[test]
 fn the_compliances_sigma_is_their_monte_carlo_spread() {
-    let folder = tempfile::tempdir().expect("temporary folder");
-    let real_path = folder.path().join("real.toml");
-    let real = real_path.to_str().expect("UTF-8 path");
+    let (_folder, real) = real_robot_place();
+    let real = real.as_str();
     measured(real, true, "0kg", 1, 100);
     let draws = 24;
     let mut estimates: Vec<Vec<(f64, f64)>> = vec![Vec::new(); 6];
@@ -160,12 +176,7 @@ fn the_compliances_sigma_is_their_monte_carlo_spread() {
             measured(real, false, "10kg,0,0,100mm", 40, seed + 1),
             measured(real, false, "20kg,0,0,100mm", 40, seed + 2),
         ]);
-        let mut request = IdentifyRequest::new(measurements(
-            RobotSource::Named("industrial6".into()),
-            &training,
-        ));
-        request.settings.model = Some("elastic".into());
-        let identified = request.run(&LocalFiles, &mut Quiet).expect("identified");
+        let identified = identify_elastic(&training);
         for p in &identified.result.parameters {
             if let Some(ParameterId {
                 kind: ParameterKind::Compliance,
@@ -200,9 +211,8 @@ fn the_compliances_sigma_is_their_monte_carlo_spread() {
 /// stating it; a set that states it twice (and its rows) is refused.
 #[test]
 fn a_study_states_each_set_s_payload_once() {
-    let folder = tempfile::tempdir().expect("temporary folder");
-    let real_path = folder.path().join("real.toml");
-    let real = real_path.to_str().expect("UTF-8 path");
+    let (folder, real) = real_robot_place();
+    let real = real.as_str();
     let payloads = ["0kg", "10kg,0,0,100mm", "20kg,0,0,100mm"];
     let files: Vec<String> = payloads
         .iter()
@@ -284,23 +294,14 @@ fn a_study_states_each_set_s_payload_once() {
 fn a_program_compensated_for_its_payload_lands_on_its_targets() {
     use gecaro_app::{CompensateRequest, ProgramSource};
     use gecaro_calib::compensation::{ProgramPoint, ProgramTarget};
-    let folder = tempfile::tempdir().expect("temporary folder");
-    let real_path = folder.path().join("real.toml");
-    let real = real_path.to_str().expect("UTF-8 path");
+    let (_folder, real) = real_robot_place();
+    let real = real.as_str();
     let training = joined(&[
         measured(real, true, "0kg", 60, 31),
         measured(real, false, "10kg,0,0,100mm", 60, 32),
         measured(real, false, "20kg,0,0,100mm", 60, 33),
     ]);
-    let mut request = IdentifyRequest::new(measurements(
-        RobotSource::Named("industrial6".into()),
-        &training,
-    ));
-    request.settings.model = Some("elastic".into());
-    let calibrated = request
-        .run(&LocalFiles, &mut Quiet)
-        .expect("identified")
-        .calibrated();
+    let calibrated = identify_elastic(&training).calibrated();
     let truth = gecaro_io::load_robot(real).expect("the real robot");
     let nominal = gecaro_io::load_robot("industrial6").expect("nominal");
     // A program taught on the nominal robot: 40 joint targets of the data's kind.
@@ -375,9 +376,8 @@ fn a_program_compensated_for_its_payload_lands_on_its_targets() {
 /// its load: named implausible, not trusted.
 #[test]
 fn swapped_payloads_are_named_by_the_verdict() {
-    let folder = tempfile::tempdir().expect("temporary folder");
-    let real_path = folder.path().join("real.toml");
-    let real = real_path.to_str().expect("UTF-8 path");
+    let (_folder, real) = real_robot_place();
+    let real = real.as_str();
     let empty = measured(real, true, "0kg", 60, 41);
     let heavy = measured(real, false, "20kg,0,0,100mm", 60, 42);
     let relabel = |csv: &str, mass: &str| -> String {
@@ -393,12 +393,7 @@ fn swapped_payloads_are_named_by_the_verdict() {
             .collect()
     };
     let training = joined(&[relabel(&empty, "20"), relabel(&heavy, "0")]);
-    let mut request = IdentifyRequest::new(measurements(
-        RobotSource::Named("industrial6".into()),
-        &training,
-    ));
-    request.settings.model = Some("elastic".into());
-    let identified = request.run(&LocalFiles, &mut Quiet).expect("identified");
+    let identified = identify_elastic(&training);
     let verdict = &identified.result.verdict;
     assert!(!verdict.outcome.trusted(), "{}", verdict.summary);
     let negative: Vec<&str> = verdict
@@ -422,9 +417,8 @@ fn swapped_payloads_are_named_by_the_verdict() {
 #[test]
 fn a_plan_with_payloads_predicts_the_compliances_precision() {
     use gecaro_app::{PlanRequest, PredictRequest};
-    let folder = tempfile::tempdir().expect("temporary folder");
-    let real_path = folder.path().join("real.toml");
-    let real = real_path.to_str().expect("UTF-8 path");
+    let (folder, real) = real_robot_place();
+    let real = real.as_str();
     measured(real, true, "0kg", 1, 51);
     let mut request = PlanRequest::new(
         RobotSource::Named("industrial6".into()),
@@ -485,12 +479,7 @@ fn a_plan_with_payloads_predicts_the_compliances_precision() {
     generate.real = Some(RobotSource::Named(real.into()));
     generate.noise = NOISE;
     let data = generate.run(&LocalFiles, &mut Quiet).expect("measured").csv;
-    let mut identify = IdentifyRequest::new(measurements(
-        RobotSource::Named("industrial6".into()),
-        &data,
-    ));
-    identify.settings.model = Some("elastic".into());
-    let identified = identify.run(&LocalFiles, &mut Quiet).expect("identified");
+    let identified = identify_elastic(&data);
     for name in ["c2", "c3"] {
         let reported = identified
             .result
@@ -523,9 +512,8 @@ fn a_plan_with_payloads_predicts_the_compliances_precision() {
 fn identifiable_compliances_are_those_the_data_load() {
     use gecaro_app::IdentifiableRequest;
     use gecaro_calib::identifiability::ParameterStatus;
-    let folder = tempfile::tempdir().expect("temporary folder");
-    let real_path = folder.path().join("real.toml");
-    let real = real_path.to_str().expect("UTF-8 path");
+    let (_folder, real) = real_robot_place();
+    let real = real.as_str();
     let data = joined(&[
         measured(real, true, "0kg", 40, 61),
         measured(real, false, "20kg,0,0,100mm", 40, 62),
