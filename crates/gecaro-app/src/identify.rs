@@ -118,17 +118,18 @@ impl PreparedIdentification {
     /// An elastic robot's loads evaluated at a first geometry rather than
     /// the nominal: the nominal's is off by centimetres, which moves the
     /// torques by a few per cent, tens of micrometres of deflection at the
-    /// flange. The paper's pass alone gives the geometry to a fraction of a
-    /// millimetre; the loads are evaluated there when they move the model
-    /// by more than a tenth of the noise (docs/elastic.md).
+    /// flange. The identification through its second pass (without the
+    /// damped descent: `extent`) gives the geometry to micrometres; the
+    /// loads are evaluated there when they move the model by more than a
+    /// tenth of the noise (docs/elastic.md).
     ///
     /// # Errors
-    /// An interruption; a first pass that fails leaves the loads as they are.
+    /// An interruption; a first fit that fails leaves the loads as they are.
     fn weigh_at_a_first_geometry(&mut self, observer: &mut dyn Observer) -> Result<(), AppError> {
         const PHASE: &str = "evaluating the loads at a first geometry";
         gecaro_calib::report_phase(observer, PHASE)?;
         let quick = IdentificationOptions {
-            paper_pass_only: true,
+            extent: gecaro_calib::identification::Extent::SecondPass,
             ..self.options.clone()
         };
         // Its iterates are not the identification's: they are heard as the

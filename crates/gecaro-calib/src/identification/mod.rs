@@ -105,7 +105,7 @@ pub use coverage::{Coverage, MIN_REDUNDANCY, STILL_RANGE, UnobservedScale};
 use evaluation::errors_at;
 pub use evaluation::{evaluate, evaluate_errors};
 pub use observations::{ObservationLocation, locate_observations};
-pub use options::{IdentificationOptions, Solver};
+pub use options::{Extent, IdentificationOptions, Solver};
 pub use outliers::{DEFAULT_OUTLIER_THRESHOLD, Outlier};
 pub use parameter::IdentifiedParameter;
 pub use passes::SECOND_PASS_LEVEL;
@@ -227,7 +227,7 @@ fn fit(
         (None, Some(_)) => first_from(robot, robot, fitted, study, options, &priority, observer)?,
         (None, None) => fit_pass(robot, robot, study, options, &priority, &[], observer)?,
     };
-    if options.paper_pass_only {
+    if options.extent == Extent::PaperPass {
         return Ok(first);
     }
     second_pass(robot, fitted, options, &priority, first, observer)
@@ -404,7 +404,7 @@ fn second_pass(
         current = merge_passes(current, next);
     }
     match score.whole {
-        Some(rank) => full_model_phase(
+        Some(rank) if options.extent == Extent::Whole => full_model_phase(
             robot,
             study,
             options,

@@ -31,6 +31,21 @@ impl Solver {
     }
 }
 
+/// How far an identification goes. Anything short of [`Extent::Whole`] is
+/// a quick geometry for the application layer (an elastic robot's loads
+/// are evaluated at it, docs/elastic.md), not a result to report.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum Extent {
+    /// The paper's pass alone: the base set at the nominal robot.
+    PaperPass,
+    /// Also the second pass (the base set at the calibrated robot), without
+    /// the damped descent over every parameter.
+    SecondPass,
+    /// Everything: the paper's pass, the second pass and the damped descent.
+    #[default]
+    Whole,
+}
+
 /// Settings of [`identify`](super::identify).
 #[derive(Clone, Debug, PartialEq)]
 pub struct IdentificationOptions {
@@ -50,11 +65,8 @@ pub struct IdentificationOptions {
     pub outlier_threshold: f64,
     /// Drop the outliers and identify again (once).
     pub reject: bool,
-    /// The paper's pass alone: the base set at the nominal robot, without
-    /// the second pass or the damped descent. A quick geometry, good to a
-    /// fraction of a millimetre: what an elastic robot's loads are first
-    /// evaluated at (the application layer). Not a result to report.
-    pub paper_pass_only: bool,
+    /// How far the identification goes ([`Extent::Whole`] by default).
+    pub extent: Extent,
 }
 
 impl Default for IdentificationOptions {
@@ -68,7 +80,7 @@ impl Default for IdentificationOptions {
             prior: None,
             outlier_threshold: DEFAULT_OUTLIER_THRESHOLD,
             reject: false,
-            paper_pass_only: false,
+            extent: Extent::Whole,
         }
     }
 }
