@@ -384,8 +384,9 @@ pub(crate) struct IdentifiableArgs {
     /// Seed of the random configurations.
     #[arg(long, default_value_t = 1)]
     pub(crate) seed: u64,
-    /// full (the priority matrix), or elastic: every joint's compliance too, on the data's
-    /// loads (the robot's masses, their payload columns; docs/elastic.md).
+    /// The model whose parameters are candidates, as identify --model takes it (full, no-gains,
+    /// …, a priority file); elastic: every joint's compliance too, on the data's loads (the
+    /// robot's masses, their payload columns; docs/elastic.md).
     #[arg(long, value_name = "MODEL")]
     pub(crate) model: Option<String>,
     /// Print JSON instead of tables.
@@ -654,8 +655,9 @@ pub(crate) struct PredictArgs {
     /// Seed of the test poses and the simulations.
     #[arg(long, default_value_t = 1)]
     pub(crate) seed: u64,
-    /// full (geometric), or elastic: the compliances predicted too, loaded by the robot's
-    /// masses and the plan's payload columns (docs/elastic.md).
+    /// The model predicted, as identify --model takes it (full, no-gains, …, a priority file);
+    /// elastic: the compliances too, loaded by the robot's masses and the plan's payload columns
+    /// (docs/elastic.md).
     #[arg(long, value_name = "MODEL", conflicts_with = "study")]
     pub(crate) model: Option<String>,
     /// Print JSON instead of text.

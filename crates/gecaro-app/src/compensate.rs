@@ -105,9 +105,8 @@ fn unload(
     results: &mut [CompensatedPoint],
 ) -> Result<(), AppError> {
     let payload = payload
-        .map(gecaro_io::parse_payload)
-        .transpose()
-        .map_err(|message| AppError::setting("payload", message))?;
+        .map(|text| crate::loads::payload(text, "payload"))
+        .transpose()?;
     if !calibrated.robot.is_elastic() {
         return match payload {
             Some(_) => Err(AppError::setting(

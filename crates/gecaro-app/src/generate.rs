@@ -11,8 +11,9 @@
 //! `20kg,0,0,120mm`) is carried at every configuration and written to the
 //! data file's payload columns. An elastic real robot is measured where it
 //! settles under the gravity of its links (the robot file's masses) and of
-//! the payload ([`gecaro_calib::elastic::settled_torques`]). The measure
-//! methods (position, frame) simulate it; the others' sensors are rigid.
+//! the payload ([`gecaro_calib::elastic::settled_torques`]). The methods
+//! whose sensors see the sag ([`gecaro_calib::methods::Sensor::yields_to_loads`]:
+//! position, frame) simulate it; the others are refused.
 
 use gecaro_calib::elastic::settled_torques;
 use gecaro_calib::methods::CalibrationMethod;
@@ -60,7 +61,8 @@ pub struct GenerateRequest {
     /// joint (module docs); not with `real`, whose own are used.
     pub compliance_level: Option<f64>,
     /// The payload carried at every configuration: `20kg`, or
-    /// `20kg,0,0,120mm` with its centre in the tool frame.
+    /// `20kg,0,0,120mm` with its centre in the tool frame (else each planned
+    /// row's own).
     pub payload: Option<String>,
     /// Sensor noise, standard deviation (metres; radians for orientations).
     #[serde(default)]
@@ -160,9 +162,8 @@ impl GenerateRequest {
         let payload = self
             .payload
             .as_deref()
-            .map(gecaro_io::parse_payload)
-            .transpose()
-            .map_err(|message| AppError::setting("payload", message))?;
+            .map(|text| crate::loads::payload(text, "payload"))
+            .transpose()?;
         let mut sampler = Sampler::new(seed);
         let mut real = match &self.real {
             Some(source) => {
@@ -206,17 +207,8 @@ impl GenerateRequest {
                 &mut sampler,
             )?;
         }
-        let loaded = real.robot.is_elastic() || payload.is_some();
-        // (Planned configurations may state their payloads: see below.)
-        if real.robot.is_elastic() && !matches!(method.name(), "position" | "frame") {
-            return Err(AppError::setting(
-                "compliance_level",
-                format!(
-                    "an elastic robot is simulated for the measure methods (position, frame); \
-                     the {} method's sensor is rigid",
-                    method.name()
-                ),
-            ));
+        if real.robot.is_elastic() {
+            crate::loads::require_loading_sensor(method.as_ref(), "compliance_level")?;
         }
         let samples = match (&self.configurations, self.count) {
             (Some(_), Some(_)) => {
@@ -269,27 +261,24 @@ impl GenerateRequest {
                 samples
             }
         };
-        // Loaded, the configurations are measured again where the real
-        // robot settles under its weight and the payload's.
-        let samples = if loaded {
+        // Each row carries the request's payload, else the planned row's.
+        let samples = samples.into_iter().map(|sample| Sample {
+            payload: payload.or(sample.payload),
+            ..sample
+        });
+        // An elastic robot is measured again where it settles under its
+        // weight and the payload's; a rigid one's readings stand.
+        let samples = if real.robot.is_elastic() {
             let planned = samples
-                .into_iter()
                 .map(|sample| {
-                    // The request's payload, else the planned row's.
-                    let payload = payload.or(sample.payload);
-                    let torques = if real.robot.is_elastic() {
-                        Some(settled_torques(
-                            &real.robot,
-                            &real.masses,
-                            payload.as_ref(),
-                            &sample.motor_positions,
-                        )?)
-                    } else {
-                        None
-                    };
+                    let torques = settled_torques(
+                        &real.robot,
+                        &real.masses,
+                        sample.payload.as_ref(),
+                        &sample.motor_positions,
+                    )?;
                     Ok(Sample {
-                        payload,
-                        torques,
+                        torques: Some(torques),
                         ..sample
                     })
                 })
@@ -303,7 +292,7 @@ impl GenerateRequest {
                 observer,
             )?
         } else {
-            samples
+            samples.collect()
         };
         // Whoever asked may have gone while the data were drawn (a closed
         // page, Ctrl-C): then nothing is written.
@@ -371,17 +360,7 @@ fn draw_compliances(
             format!("from 0 to {MAX_COMPLIANCE_LEVEL}"),
         ));
     }
-    if real.masses.is_empty() && !payload_given {
-        return Err(AppError::setting(
-            "compliance_level",
-            format!(
-                "{} states no masses, so gravity loads no joint: give the robot file the \
-                 masses of its links (mass, com per frame; robot import reads them from URDF), \
-                 or a payload",
-                real.robot.name()
-            ),
-        ));
-    }
+    crate::loads::require_loads(real, payload_given, "compliance_level")?;
     let compliances = real.robot.frames()[1..=real.robot.joint_count()]
         .iter()
         .map(|frame| {

@@ -4,6 +4,7 @@
 
 use gecaro_calib::Observer;
 use gecaro_calib::identifiability::{Identifiability, identifiability};
+use gecaro_calib::validation::Model;
 use serde::Deserialize;
 
 use crate::documents::IdentifiableJson;
@@ -26,9 +27,10 @@ pub struct IdentifiableRequest {
     pub count: Option<usize>,
     /// Seed of the random configurations (default 1).
     pub seed: Option<u64>,
-    /// `"elastic"`: every joint's compliance is a candidate too, after the
-    /// geometry, on the data's loads (docs/elastic.md); `"full"` or none:
-    /// the priority matrix as it is.
+    /// Which parameters are candidates: a model as `identify --model` takes
+    /// it, restricting the priority matrix; `"elastic"` adds every joint's
+    /// compliance after the geometry, on the data's loads (docs/elastic.md).
+    /// None: the priority matrix as it is.
     pub model: Option<String>,
     #[serde(flatten)]
     unknown: Unknown,
@@ -74,19 +76,12 @@ impl IdentifiableRequest {
             ));
         }
         let mut loaded = self.measurements.load(files, Data::Optional)?;
-        let elastic = match self.model.as_deref().map(str::trim) {
-            None | Some("full") => false,
-            Some("elastic") => true,
-            Some(other) => {
-                return Err(AppError::setting(
-                    "model",
-                    format!(
-                        "identifiable parameters of the full or the elastic model, not {other:?}"
-                    ),
-                ));
-            }
-        };
-        if elastic {
+        let model = self
+            .model
+            .as_deref()
+            .map(|name| crate::settings::model(name, &loaded.robot.robot, files))
+            .transpose()?;
+        if model == Some(Model::Elastic) {
             // Random configurations carry no loads: the data's are what
             // tells a compliance from the geometry.
             if loaded.study.sets.iter().any(|set| set.samples.is_empty()) {
@@ -104,10 +99,9 @@ impl IdentifiableRequest {
             Some(source) => source.load(robot, files)?,
             None => loaded.priority.clone().unwrap_or_else(|| robot.priority()),
         };
-        let priority = if elastic {
-            priority.with_compliances(1)
-        } else {
-            priority
+        let priority = match &model {
+            Some(model) => model.priority(robot, Some(&priority)),
+            None => priority,
         };
         let analysis = identifiability(
             robot,

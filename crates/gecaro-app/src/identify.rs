@@ -89,7 +89,7 @@ impl IdentifyRequest {
             None => None,
         };
         let mut loaded = self.measurements.load(files, Data::Required)?;
-        if self.settings.model.as_deref().map(str::trim) == Some("elastic") {
+        if crate::settings::names_elastic(self.settings.model.as_deref()) {
             loaded.make_elastic()?;
         }
         loaded.study.check(&loaded.robot.robot)?;
@@ -450,7 +450,11 @@ impl CompareModelsRequest {
         let mut loaded = self.measurements.load(files, Data::Required)?;
         // An elastic candidate needs the robot elastic; the others leave its
         // compliances (0) alone.
-        if self.models.iter().any(|name| name.trim() == "elastic") {
+        if self
+            .models
+            .iter()
+            .any(|name| crate::settings::names_elastic(Some(name)))
+        {
             loaded.make_elastic()?;
         }
         let options = self.settings.options(&loaded, files)?;

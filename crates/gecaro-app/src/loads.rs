@@ -1,58 +1,108 @@
-//! The loads of an elastic robot's joints for the jobs that plan and
-//! predict (issue 38, docs/elastic.md): the robot made elastic, candidate
-//! configurations crossed with the payloads a plan may choose, and every
-//! configuration's gravity torques from the robot file's masses.
+//! The loads of an elastic robot's joints (issue 38, docs/elastic.md), for
+//! every job: payloads as a request states them, the robot made elastic,
+//! the rules an elastic job obeys (something must load the joints; the
+//! method's sensor must see the sag), candidate configurations crossed with
+//! the payloads a plan may choose, and every configuration's gravity
+//! torques from the robot file's masses.
 
 use gecaro_calib::elastic::load_samples;
+use gecaro_calib::methods::CalibrationMethod;
 use gecaro_calib::study::Sample;
-use gecaro_core::{LinkMass, PriorityMatrix};
+use gecaro_core::{LinkMass, Robot};
 use gecaro_io::RobotFile;
 
 use crate::error::AppError;
 
-/// The payloads of `texts` (`"0kg"`, `"20kg,0,0,100mm"`), naming `setting`.
+/// The payload of `text` (`"20kg"`, `"20kg,0,0,100mm"`), naming `setting`.
+///
+/// # Errors
+/// A text that is not a payload.
+pub(crate) fn payload(text: &str, setting: &str) -> Result<LinkMass, AppError> {
+    gecaro_io::parse_payload(text).map_err(|message| AppError::setting(setting, message))
+}
+
+/// The payloads of `texts`, naming `setting`.
 ///
 /// # Errors
 /// A text that is not a payload.
 pub(crate) fn payloads(texts: &[String], setting: &str) -> Result<Vec<LinkMass>, AppError> {
-    texts
-        .iter()
-        .map(|text| {
-            gecaro_io::parse_payload(text).map_err(|message| AppError::setting(setting, message))
-        })
-        .collect()
+    texts.iter().map(|text| payload(text, setting)).collect()
 }
 
-/// `file`'s robot made elastic (every compliance 0 unless it states them)
-/// and the priority matrix that identifies the compliances after the
-/// geometry, as `--model elastic` does.
+/// Makes `robot` elastic, every compliance 0, unless it is already.
 ///
 /// # Errors
-/// A robot whose joints nothing would load: no masses, and no payload.
-pub(crate) fn elastic(
+/// Never for a valid robot (the compliances are n finite values).
+pub(crate) fn make_elastic(robot: &mut Robot, setting: &str) -> Result<(), AppError> {
+    if !robot.is_elastic() {
+        let zeros = vec![0.0; robot.joint_count()];
+        robot
+            .set_compliances(Some(zeros))
+            .map_err(|error| AppError::setting(setting, error.to_string()))?;
+    }
+    Ok(())
+}
+
+/// Refuses an elastic job whose joints nothing loads: `file` states no
+/// masses, and there is no payload.
+///
+/// # Errors
+/// That case, naming `setting`.
+pub(crate) fn require_loads(
     file: &RobotFile,
     payloads: bool,
     setting: &str,
-) -> Result<(RobotFile, PriorityMatrix), AppError> {
+) -> Result<(), AppError> {
     if file.masses.is_empty() && !payloads {
         return Err(AppError::setting(
             setting,
             format!(
                 "an elastic model needs loads on the joints: {} states no masses (mass, com per \
-                 frame of the robot file) and no payload is given",
+                 frame of the robot file; robot import reads them from URDF) and there is no \
+                 payload",
                 file.robot.name()
             ),
         ));
     }
-    let mut file = file.clone();
-    if !file.robot.is_elastic() {
-        let zeros = vec![0.0; file.robot.joint_count()];
-        file.robot
-            .set_compliances(Some(zeros))
-            .map_err(|error| AppError::setting(setting, error.to_string()))?;
+    Ok(())
+}
+
+/// Refuses to simulate or plan loads for a method whose sensor measures
+/// the robot rigid ([`gecaro_calib::methods::Sensor::yields_to_loads`]).
+///
+/// # Errors
+/// That case, naming `setting`.
+pub(crate) fn require_loading_sensor(
+    method: &dyn CalibrationMethod,
+    setting: &str,
+) -> Result<(), AppError> {
+    if method.sensor().yields_to_loads() {
+        return Ok(());
     }
-    let priority = file.robot.priority().with_compliances(1);
-    Ok((file, priority))
+    Err(AppError::setting(
+        setting,
+        format!(
+            "the {} method's simulated sensor measures the robot rigid: loads are simulated \
+             and planned for the measure methods (position, frame)",
+            method.name()
+        ),
+    ))
+}
+
+/// `file` with its robot made elastic (every compliance 0 unless it states
+/// them), for a job whose loads are `payloads` and the file's masses.
+///
+/// # Errors
+/// A robot whose joints nothing would load: no masses, and no payload.
+pub(crate) fn elastic_file(
+    file: &RobotFile,
+    payloads: bool,
+    setting: &str,
+) -> Result<RobotFile, AppError> {
+    require_loads(file, payloads, setting)?;
+    let mut file = file.clone();
+    make_elastic(&mut file.robot, setting)?;
+    Ok(file)
 }
 
 /// Every configuration of `samples` once with each payload (configuration

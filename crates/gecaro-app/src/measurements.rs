@@ -124,13 +124,7 @@ impl Loaded {
     /// # Errors
     /// As [`weigh`](Self::weigh).
     pub fn make_elastic(&mut self) -> Result<(), AppError> {
-        let robot = &mut self.robot.robot;
-        if !robot.is_elastic() {
-            let zeros = vec![0.0; robot.joint_count()];
-            robot
-                .set_compliances(Some(zeros))
-                .map_err(|error| AppError::setting("model", error.to_string()))?;
-        }
+        crate::loads::make_elastic(&mut self.robot.robot, "model")?;
         self.weigh()
     }
 
@@ -153,24 +147,13 @@ impl Loaded {
             .iter()
             .flat_map(|set| &set.samples)
             .any(|sample| sample.payload.is_some());
-        if self.robot.masses.is_empty() && !payloads {
-            return Err(AppError::setting(
-                "model",
-                format!(
-                    "an elastic model needs loads on the joints: {} states no masses (mass, com \
-                     per frame of the robot file) and the data carry no payload (payload_mass)",
-                    robot.name()
-                ),
-            ));
-        }
+        crate::loads::require_loads(&self.robot, payloads, "model")?;
         for set in &mut self.study.sets {
             gecaro_calib::elastic::load_samples(robot, &self.robot.masses, &mut set.samples)?;
         }
         Ok(())
     }
-}
 
-impl Loaded {
     /// The study with its loads evaluated at `calibrated` instead of the
     /// nominal robot, and how far that moves the model: the largest joint
     /// deflection change `|c_j·Δτ_j|` (rad, with the compliances of

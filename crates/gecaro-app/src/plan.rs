@@ -12,6 +12,7 @@ use gecaro_calib::planning::{
 use gecaro_calib::prediction::{MonteCarlo, Prediction, monte_carlo, predict, random_test_poses};
 use gecaro_calib::simulation::{MAX_NOISE, Sampler};
 use gecaro_calib::study::{DataColumn, Sample};
+use gecaro_calib::validation::Model;
 use gecaro_calib::{Observer, report_phase};
 use gecaro_core::Robot;
 use gecaro_io::{DataFormat, RobotFile};
@@ -387,17 +388,10 @@ impl PlanRequest {
         let (elastic, pool, kept, priority) = if self.payloads.is_empty() {
             (None, pool, kept, robot.priority())
         } else {
-            if !matches!(method.name(), "position" | "frame") {
-                return Err(AppError::setting(
-                    "payloads",
-                    format!(
-                        "payloads are planned for the measure methods (position, frame), not {}",
-                        method.name()
-                    ),
-                ));
-            }
+            crate::loads::require_loading_sensor(method.as_ref(), "payloads")?;
             let payloads = crate::loads::payloads(&self.payloads, "payloads")?;
-            let (elastic, priority) = crate::loads::elastic(&file, true, "payloads")?;
+            let elastic = crate::loads::elastic_file(&file, true, "payloads")?;
+            let priority = Model::Elastic.priority(&elastic.robot, None);
             let pool = crate::loads::loaded(&elastic, &pool, &payloads)?;
             let kept = crate::loads::loaded(&elastic, &kept, &[])?;
             (Some(elastic), pool, kept, priority)
@@ -545,9 +539,10 @@ pub struct PredictRequest {
     pub error_level: Option<f64>,
     /// Seed of the test poses and the simulations (default 1).
     pub seed: Option<u64>,
-    /// `"elastic"`: the compliances among the parameters predicted, loaded
-    /// by the robot's masses and the plan's payloads (docs/elastic.md);
-    /// `"full"` or none: the geometric model.
+    /// Which parameters are predicted: a model as `identify --model` takes
+    /// it (`full`, `kinematic`, …, a priority file); `"elastic"` adds the
+    /// compliances, loaded by the robot's masses and the plan's payloads
+    /// (docs/elastic.md). None: the robot's priority matrix.
     pub model: Option<String>,
     #[serde(flatten)]
     unknown: Unknown,
@@ -628,9 +623,14 @@ impl PredictRequest {
         let format = self.format.format()?;
         let planned = configurations(robot, &self.data, &columns, &format, files)?;
         let poses = self.test_poses.load(robot, seed, &format, files)?;
-        let (elastic, planned, priority) = match self.model.as_deref().map(str::trim) {
-            None | Some("full") => (None, planned, robot.priority()),
-            Some("elastic") => {
+        let model = self
+            .model
+            .as_deref()
+            .map(|name| crate::settings::model(name, robot, files))
+            .transpose()?;
+        let (elastic, planned, priority) = match model {
+            None => (None, planned, robot.priority()),
+            Some(Model::Elastic) => {
                 if self.monte_carlo.is_some() {
                     return Err(AppError::setting(
                         "monte_carlo",
@@ -639,16 +639,12 @@ impl PredictRequest {
                     ));
                 }
                 let payloads = planned.iter().any(|sample| sample.payload.is_some());
-                let (elastic, priority) = crate::loads::elastic(&file, payloads, "model")?;
+                let elastic = crate::loads::elastic_file(&file, payloads, "model")?;
                 let planned = crate::loads::loaded(&elastic, &planned, &[])?;
+                let priority = Model::Elastic.priority(&elastic.robot, None);
                 (Some(elastic), planned, priority)
             }
-            Some(other) => {
-                return Err(AppError::setting(
-                    "model",
-                    format!("a prediction is of the full or the elastic model, not {other:?}"),
-                ));
-            }
+            Some(model) => (None, planned, model.priority(robot, None)),
         };
         let robot = elastic.as_ref().map_or(robot, |file| &file.robot);
         let prediction = predict(

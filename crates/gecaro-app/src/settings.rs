@@ -119,6 +119,12 @@ impl FitSettings {
     }
 }
 
+/// Whether `name` names the elastic model, whose robot is made elastic
+/// (and its samples loaded) before the model's priorities are drawn.
+pub(crate) fn names_elastic(name: Option<&str>) -> bool {
+    name.is_some_and(|name| name.trim() == Model::Elastic.name())
+}
+
 /// A model by name, or a priority-matrix file.
 ///
 /// # Errors

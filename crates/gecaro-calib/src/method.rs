@@ -183,6 +183,14 @@ pub trait Sensor: fmt::Debug + Send + Sync {
         observer: &mut dyn Observer,
     ) -> Result<Vec<Sample>, Error>;
 
+    /// Whether [`measure_at`](Self::measure_at) reads an elastic robot where
+    /// it settles under each planned sample's loads ([`Sample::torques`]):
+    /// sensors that read the terminal frame do; those that first move the
+    /// robot onto a constraint measure it rigid (docs/elastic.md).
+    fn yields_to_loads(&self) -> bool {
+        false
+    }
+
     /// Noise-free random data of the same kind as `samples` (whose states at
     /// `robot` are `states`, poses only), for the structural identifiability
     /// of a data set. By default [`generate`](Self::generate); the plane methods use the

@@ -119,13 +119,7 @@ impl Robot {
         }
         let motor_coupling = validate_coupling("Cm", motor_coupling, n)?;
         let joint_coupling = validate_coupling("Cj", joint_coupling, n)?;
-        if let Some(compliances) = &compliances {
-            validate_compliances(compliances, n)?;
-        }
-        let parameters = match compliances {
-            Some(_) => ParameterSpace::elastic(n),
-            None => ParameterSpace::new(n),
-        };
+        let parameters = parameters_with(compliances.as_deref(), n)?;
         if let Some(priority) = &priority {
             priority.validate(&parameters)?;
         }
@@ -237,13 +231,7 @@ impl Robot {
     /// gives a priority to a compliance the robot would no longer have.
     pub fn set_compliances(&mut self, compliances: Option<Vec<f64>>) -> Result<(), Error> {
         let n = self.joint_count();
-        if let Some(compliances) = &compliances {
-            validate_compliances(compliances, n)?;
-        }
-        let parameters = match compliances {
-            Some(_) => ParameterSpace::elastic(n),
-            None => ParameterSpace::new(n),
-        };
+        let parameters = parameters_with(compliances.as_deref(), n)?;
         if let Some(priority) = &self.priority_override {
             priority.validate(&parameters)?;
         }
@@ -681,6 +669,18 @@ fn validate_frames(frames: &[Frame]) -> Result<(), Error> {
         }
     }
     Ok(())
+}
+
+/// The vocabulary of a robot of `n` joints with these compliances (checked
+/// by [`validate_compliances`]): elastic with them, rigid without.
+fn parameters_with(compliances: Option<&[f64]>, n: usize) -> Result<ParameterSpace, Error> {
+    match compliances {
+        Some(compliances) => {
+            validate_compliances(compliances, n)?;
+            Ok(ParameterSpace::elastic(n))
+        }
+        None => Ok(ParameterSpace::new(n)),
+    }
 }
 
 /// n compliances, each finite and within [`MAX_MAGNITUDE`] (a negative one

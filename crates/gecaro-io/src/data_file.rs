@@ -308,6 +308,31 @@ fn parse_from(
 /// gecaro's names of the payload columns (see the module docs).
 const PAYLOAD_COLUMNS: [&str; 4] = ["payload_mass", "payload_x", "payload_y", "payload_z"];
 
+/// The payload columns a file of `samples` has: all of them when any sample
+/// carries a payload, none otherwise.
+fn payload_columns_of(samples: &[Sample]) -> &'static [&'static str] {
+    if samples.iter().any(|sample| sample.payload.is_some()) {
+        &PAYLOAD_COLUMNS
+    } else {
+        &[]
+    }
+}
+
+/// A row's payload columns: its mass (kg) and centre in units of `length`
+/// metres; 0 kg at the origin for a row that carried none.
+fn payload_values(sample: &Sample, length: f64) -> [f64; 4] {
+    let payload = sample.payload.unwrap_or(LinkMass {
+        mass: 0.0,
+        com: nalgebra::Vector3::zeros(),
+    });
+    [
+        payload.mass,
+        payload.com.x / length,
+        payload.com.y / length,
+        payload.com.z / length,
+    ]
+}
+
 /// The payload's columns among the header's `names` (taken out of
 /// `unused`): the mass's, and the centre's when all three are there.
 ///
@@ -435,11 +460,9 @@ pub fn format_configurations(
         }
     };
     // A plan for an elastic robot states each row's payload.
-    let carries_payload = samples.iter().any(|sample| sample.payload.is_some());
+    let payload_columns = payload_columns_of(samples);
     let mut names = data_headers(joint_types.len(), columns);
-    if carries_payload {
-        names.extend(PAYLOAD_COLUMNS.iter().map(|name| (*name).to_owned()));
-    }
+    names.extend(payload_columns.iter().map(|name| (*name).to_owned()));
     let header: Vec<String> = names
         .iter()
         .map(|name| format.columns.file_name(name).to_owned())
@@ -460,13 +483,8 @@ pub fn format_configurations(
                 fields.push(sample.group.unwrap_or(0).to_string());
             }
         }
-        if carries_payload {
-            let payload = sample.payload.unwrap_or(LinkMass {
-                mass: 0.0,
-                com: nalgebra::Vector3::zeros(),
-            });
-            fields.push(number(payload.mass));
-            fields.extend(payload.com.iter().map(|v| number(v / length)));
+        if !payload_columns.is_empty() {
+            fields.extend(payload_values(sample, length).map(number));
         }
         text.push_str(&fields.join(&separator.to_string()));
         text.push('\n');
@@ -479,11 +497,9 @@ pub fn format_configurations(
 /// When a sample carries a payload, every row states one (0 kg where none
 /// was carried), in the payload columns of the module docs.
 pub fn format_samples(joint_count: usize, columns: &[DataColumn], samples: &[Sample]) -> String {
-    let carries_payload = samples.iter().any(|sample| sample.payload.is_some());
+    let payload_columns = payload_columns_of(samples);
     let mut header = data_headers(joint_count, columns);
-    if carries_payload {
-        header.extend(PAYLOAD_COLUMNS.iter().map(|name| (*name).to_owned()));
-    }
+    header.extend(payload_columns.iter().map(|name| (*name).to_owned()));
     let mut text = header.join(",");
     text.push('\n');
     for sample in samples {
@@ -510,13 +526,8 @@ pub fn format_samples(joint_count: usize, columns: &[DataColumn], samples: &[Sam
                 }
             }
         }
-        if carries_payload {
-            let payload = sample.payload.unwrap_or(LinkMass {
-                mass: 0.0,
-                com: nalgebra::Vector3::zeros(),
-            });
-            fields.push(format!("{:?}", payload.mass));
-            fields.extend(payload.com.iter().map(|v| format!("{v:?}")));
+        if !payload_columns.is_empty() {
+            fields.extend(payload_values(sample, 1.0).map(|v| format!("{v:?}")));
         }
         text.push_str(&fields.join(","));
         text.push('\n');

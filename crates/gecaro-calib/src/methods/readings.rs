@@ -137,4 +137,8 @@ impl Sensor for Reading {
     ) -> Result<Vec<Sample>, Error> {
         readings_at(real, *self, planned, noise, sampler, observer)
     }
+
+    fn yields_to_loads(&self) -> bool {
+        true
+    }
 }

@@ -237,7 +237,8 @@ impl KinematicModel {
     ) -> Result<(), Error> {
         let n = self.joint_count();
         chain.torques.clear();
-        match torques {
+        // A rigid robot reads no torque: its forward model stays as it was.
+        match torques.filter(|_| !self.compliances.is_empty()) {
             Some(torques) => {
                 if torques.len() != n {
                     return Err(Error::ConfigurationLength {
@@ -255,6 +256,7 @@ impl KinematicModel {
                 }
                 chain.torques.extend_from_slice(torques);
             }
+            None if self.compliances.is_empty() => {}
             None => chain.torques.resize(n, 0.0),
         }
         if motor_positions.len() != n {

@@ -514,7 +514,7 @@ def identifiable(
     seed: int = 1,
     priority: Union[_ArrayLike, _PathLike, None] = None,
     strict_limits: bool = False,
-    model: Optional[Literal["full", "elastic"]] = None,
+    model: Optional[_Model] = None,
 ) -> Identifiability:
     """Identifiable parameters (Appendix III), as ``gecaro identifiable``."""
 
@@ -663,7 +663,7 @@ def predict(
     error_level: float = 0.1,
     seed: int = 1,
     test_pose_count: Optional[int] = None,
-    model: Optional[Literal["full", "elastic"]] = None,
+    model: Optional[_Model] = None,
 ) -> dict[str, Any]:
     """The precision a plan gives, as ``gecaro predict --json`` prints it; with a
     Study (no data, no noise), the whole cell's, as ``gecaro predict --study``."""
