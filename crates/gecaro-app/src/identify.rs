@@ -115,50 +115,6 @@ impl IdentifyRequest {
 }
 
 impl PreparedIdentification {
-    /// An elastic robot's loads evaluated at a first geometry rather than
-    /// the nominal: the nominal's is off by centimetres, which moves the
-    /// torques by a few per cent, tens of micrometres of deflection at the
-    /// flange. The identification through its second pass (without the
-    /// damped descent: `extent`) gives the geometry to micrometres; the
-    /// loads are evaluated there when they move the model by more than a
-    /// tenth of the noise (docs/elastic.md).
-    ///
-    /// # Errors
-    /// An interruption; a first fit that fails leaves the loads as they are.
-    fn weigh_at_a_first_geometry(&mut self, observer: &mut dyn Observer) -> Result<(), AppError> {
-        const PHASE: &str = "evaluating the loads at a first geometry";
-        gecaro_calib::report_phase(observer, PHASE)?;
-        let quick = IdentificationOptions {
-            extent: gecaro_calib::identification::Extent::SecondPass,
-            ..self.options.clone()
-        };
-        // Its iterates are not the identification's: they are heard as the
-        // phase (which may still stop the work), not recorded.
-        let mut heard = |progress: gecaro_calib::Progress<'_>| match progress {
-            gecaro_calib::Progress::Iteration(_) => {
-                observer.observe(gecaro_calib::Progress::Phase(PHASE))
-            }
-            other => observer.observe(other),
-        };
-        let first = match identify(
-            &self.loaded.robot.robot,
-            &self.loaded.study,
-            &quick,
-            &mut heard,
-        ) {
-            Err(gecaro_calib::Error::Interrupted) => {
-                return Err(gecaro_calib::Error::Interrupted.into());
-            }
-            Ok(first) if first.verdict.outcome.solved() => first,
-            _ => return Ok(()),
-        };
-        if let Some(weighed) = self.loaded.reweighed(&first.calibrated)? {
-            self.loaded.study = weighed;
-        }
-        gecaro_calib::report_phase(observer, "identifying")?;
-        Ok(())
-    }
-
     /// About how many bytes the identification holds at its peak: five
     /// observation matrices (W, its QR, the weighted copies and the second
     /// pass's), `rows × unknowns` numbers each (all the robot's parameters,
@@ -211,23 +167,16 @@ impl PreparedIdentification {
     /// # Errors
     /// Too few equations, numerical failures, an interruption.
     pub fn run(mut self, observer: &mut dyn Observer) -> Result<Identified, AppError> {
-        let elastic = self.loaded.robot.robot.is_elastic();
-        if elastic {
-            self.weigh_at_a_first_geometry(observer)?;
-        }
         let Loaded { robot, study, .. } = &self.loaded;
-        let mut result = identify(&robot.robot, study, &self.options, observer)?;
-        if elastic && result.verdict.outcome.solved() {
-            // The loads at the calibrated geometry: the first one misses
-            // what the second pass finds (docs/elastic.md).
-            if let Some(weighed) = self.loaded.reweighed(&result.calibrated)? {
-                gecaro_calib::report_phase(
-                    observer,
-                    "identifying with the calibrated robot's loads",
-                )?;
-                result = identify(&self.loaded.robot.robot, &weighed, &self.options, observer)?;
-                self.loaded.study = weighed;
-            }
+        let result = identify(&robot.robot, study, &self.options, observer)?;
+        if let Some(masses) = &self.options.masses
+            && result.verdict.outcome.solved()
+        {
+            // The data with the calibrated robot's loads, as the
+            // identification followed them there (docs/elastic.md).
+            self.loaded.study =
+                gecaro_calib::elastic::weighed_at(&self.loaded.study, &result.calibrated, masses)?
+                    .0;
         }
         let cross_validation = match self.cross_validation {
             Some((_, seed)) => Some((self.cross_validate(observer)?, seed)),

@@ -153,60 +153,6 @@ impl Loaded {
         }
         Ok(())
     }
-
-    /// The study with its loads evaluated at `calibrated` instead of the
-    /// nominal robot, and how far that moves the model: the largest joint
-    /// deflection change `|c_j·Δτ_j|` (rad, with the compliances of
-    /// `calibrated`) times the arm's length (m). The nominal's geometry is
-    /// off by centimetres, which moves the torques by a few per cent: tens
-    /// of micrometres of deflection at the flange (docs/elastic.md).
-    ///
-    /// # Errors
-    /// A configuration that does not fit the calibrated robot.
-    fn weighed_at(&self, calibrated: &gecaro_core::Robot) -> Result<(Study, f64), AppError> {
-        // The masses and gravity as stated: each centre in its link's
-        // frame, gravity in the measurement frame (docs/elastic.md).
-        let masses = &self.robot.masses;
-        let compliances = calibrated.compliances().unwrap_or_default();
-        let length: f64 = calibrated
-            .frames()
-            .iter()
-            .map(|frame| frame.d.abs() + frame.r.abs())
-            .sum();
-        let mut study = self.study.clone();
-        let mut largest: f64 = 0.0;
-        for (set, before) in study.sets.iter_mut().zip(&self.study.sets) {
-            gecaro_calib::elastic::load_samples(calibrated, masses, &mut set.samples)?;
-            for (after, before) in set.samples.iter().zip(&before.samples) {
-                if let (Some(after), Some(before)) = (&after.torques, &before.torques) {
-                    for ((a, b), c) in after.iter().zip(before).zip(compliances) {
-                        largest = largest.max((c * (a - b)).abs());
-                    }
-                }
-            }
-        }
-        Ok((study, largest * length))
-    }
-
-    /// The study with its loads at `calibrated` ([`Self::weighed_at`]) when
-    /// they move the model by more than a tenth of the sets' smallest σ
-    /// (of 0.1 mm without one); `None` when they do not.
-    ///
-    /// # Errors
-    /// As [`Self::weighed_at`].
-    pub(crate) fn reweighed(
-        &self,
-        calibrated: &gecaro_core::Robot,
-    ) -> Result<Option<Study>, AppError> {
-        let (weighed, moved) = self.weighed_at(calibrated)?;
-        let noise = weighed
-            .sets
-            .iter()
-            .filter_map(|set| set.sigma)
-            .fold(f64::INFINITY, f64::min)
-            .min(1e-4);
-        Ok((moved > 0.1 * noise).then_some(weighed))
-    }
 }
 
 /// Something a user should know about a job's input or result.

@@ -114,6 +114,8 @@ impl FitSettings {
             prior: prior(self.prior.as_deref(), loaded.prior.clone())?,
             outlier_threshold: self.outlier_threshold.unwrap_or(DEFAULT_OUTLIER_THRESHOLD),
             reject: self.reject,
+            // An elastic robot's loads follow the calibrated geometry.
+            masses: robot.is_elastic().then(|| loaded.robot.masses.clone()),
             ..IdentificationOptions::default()
         })
     }

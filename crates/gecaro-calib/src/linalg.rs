@@ -259,6 +259,33 @@ impl NormalEquations {
         self.gram.is_all_finite() && self.projected.is_all_finite()
     }
 
+    /// The condition number of W with its columns scaled to unit norm,
+    /// `κ(W·D)` with `D = diag(1/‖w_j‖)`, from the lower triangle of WᵀW
+    /// (∞ when a column is zero or the eigenvalues are not finite). What the
+    /// accuracy of a Cholesky factorisation of WᵀW depends on (van der
+    /// Sluis): a column's unit (a compliance in rad/(N·m) against lengths in
+    /// metres) changes W's own condition number, not this one.
+    pub(crate) fn equilibrated_condition(&self) -> f64 {
+        let size = self.gram.nrows();
+        let scale: Vec<f64> = (0..size)
+            .map(|j| self.gram[(j, j)].sqrt().recip())
+            .collect();
+        if !scale.iter().all(|s| s.is_finite()) {
+            return f64::INFINITY;
+        }
+        let scaled = Mat::<f64>::from_fn(size, size, |i, j| {
+            if i >= j {
+                self.gram[(i, j)] * scale[i] * scale[j]
+            } else {
+                0.0
+            }
+        });
+        match eigenvalue_range(scaled.as_ref()) {
+            Some((smallest, largest)) if smallest > 0.0 => (largest / smallest).sqrt(),
+            _ => f64::INFINITY,
+        }
+    }
+
     /// `WᵀW · x`, from the lower triangle.
     fn gram_times(&self, x: &[f64]) -> Vec<f64> {
         let n = x.len();
@@ -920,20 +947,31 @@ mod tests {
         assert!((plain[0] - expected[0]).abs() < 1e-12 && (plain[1] - expected[1]).abs() < 1e-12);
     }
 
+    /// The `kept` columns of the row-major `data`, column `scaled` times `scale`.
+    fn with_column_scaled(
+        data: &[f64],
+        (rows, columns): (usize, usize),
+        kept: &[usize],
+        scaled: usize,
+        scale: f64,
+    ) -> Mat<f64> {
+        Mat::from_fn(rows, kept.len(), |i, j| {
+            let value = data[i * columns + kept[j]];
+            if kept[j] == scaled {
+                value * scale
+            } else {
+                value
+            }
+        })
+    }
+
     #[test]
     fn condition_numbers_agree_with_the_singular_values_on_both_routes() {
         let (data, rows, columns) = tall_dependent_matrix(200);
         // Drop the dependent column 3, then scale column 5 to set the conditioning.
         let independent: Vec<usize> = (0..columns).filter(|c| *c != 3).collect();
         for scale in [1.0, 1e-2, 1e-5, 1e-9] {
-            let matrix = Mat::from_fn(rows, independent.len(), |i, j| {
-                let value = data[i * columns + independent[j]];
-                if independent[j] == 5 {
-                    value * scale
-                } else {
-                    value
-                }
-            });
+            let matrix = with_column_scaled(&data, (rows, columns), &independent, 5, scale);
             let values = singular_values(matrix.as_ref()).expect("svd");
             let expected = values[0] / values[values.len() - 1];
             let computed = condition_number(matrix.as_ref()).expect("finite");
@@ -942,6 +980,41 @@ mod tests {
                 "scale {scale}: {computed} vs {expected}"
             );
         }
+    }
+
+    #[test]
+    fn the_equilibrated_condition_ignores_the_columns_units() {
+        let (data, rows, columns) = tall_dependent_matrix(200);
+        let independent: Vec<usize> = (0..columns).filter(|c| *c != 3).collect();
+        // The reference: the singular values of W with unit columns.
+        let unit = Mat::from_fn(rows, independent.len(), |i, j| {
+            let norm = (0..rows)
+                .map(|r| data[r * columns + independent[j]].powi(2))
+                .sum::<f64>()
+                .sqrt();
+            data[i * columns + independent[j]] / norm
+        });
+        let values = singular_values(unit.as_ref()).expect("svd");
+        let expected = values[0] / values[values.len() - 1];
+        // A column in other units (a compliance in rad/(N·m) against
+        // metres) moves W's own condition number, not this one.
+        for scale in [1.0, 1e-3, 1e4] {
+            let matrix = with_column_scaled(&data, (rows, columns), &independent, 5, scale);
+            let normal = NormalEquations::of(matrix.as_ref(), &vec![0.0; rows]);
+            let computed = normal.equilibrated_condition();
+            assert!(
+                (computed - expected).abs() < 1e-8 * expected,
+                "scale {scale}: {computed} vs {expected}"
+            );
+            let own = condition_number(matrix.as_ref()).expect("finite");
+            if scale != 1.0 {
+                assert!(own > 10.0 * computed, "scale {scale}: {own} vs {computed}");
+            }
+        }
+        // A zero column: no condition.
+        let zero = Mat::from_fn(rows, 2, |i, j| if j == 0 { i as f64 } else { 0.0 });
+        let normal = NormalEquations::of(zero.as_ref(), &vec![0.0; rows]);
+        assert_eq!(normal.equilibrated_condition(), f64::INFINITY);
     }
 
     #[test]

@@ -89,6 +89,8 @@ mod verdict;
 mod warnings;
 mod weighting;
 
+use std::borrow::Cow;
+
 use gecaro_core::Robot;
 
 use crate::Error;
@@ -105,7 +107,7 @@ pub use coverage::{Coverage, MIN_REDUNDANCY, STILL_RANGE, UnobservedScale};
 use evaluation::errors_at;
 pub use evaluation::{evaluate, evaluate_errors};
 pub use observations::{ObservationLocation, locate_observations};
-pub use options::{Extent, IdentificationOptions, Solver};
+pub use options::{IdentificationOptions, Solver};
 pub use outliers::{DEFAULT_OUTLIER_THRESHOLD, Outlier};
 pub use parameter::IdentifiedParameter;
 pub use passes::SECOND_PASS_LEVEL;
@@ -119,8 +121,8 @@ use solver::{Iterate, Problem, Run};
 use verdict::Evidence;
 pub use verdict::{Implausible, NOISE_TEST_LEVEL, NoiseTest, Outcome, StopReason, Verdict};
 use warnings::{
-    CORRELATED_WARNING, POOR_EXCITATION, SET_UP_WARNING, correlation_warning, strongly_correlated,
-    warnings_of,
+    CORRELATED_WARNING, DAMPED_DESCENT, POOR_EXCITATION, SET_UP_WARNING, correlation_warning,
+    describes_the_process, strongly_correlated, warnings_of,
 };
 pub use warnings::{POOR_CONDITIONING, STRONG_CORRELATION};
 pub use weighting::SECOND_PASS_PRIOR;
@@ -225,12 +227,98 @@ fn fit(
     let first = match (start, &registered) {
         (Some(start), _) => first_from(robot, &start, fitted, study, options, &priority, observer)?,
         (None, Some(_)) => first_from(robot, robot, fitted, study, options, &priority, observer)?,
-        (None, None) => fit_pass(robot, robot, study, options, &priority, &[], observer)?,
+        (None, None) => fit_pass(
+            robot,
+            robot,
+            study,
+            options,
+            &priority,
+            Pass::PAPER,
+            observer,
+        )?,
     };
-    if options.extent == Extent::PaperPass {
-        return Ok(first);
+    // An elastic robot's loads at the paper pass's geometry before the
+    // second pass looks for structure (the nominal loads' error would pass
+    // for some), and at the calibrated robot after it.
+    let (first, loaded) = follow_the_loads(robot, fitted, options, &priority, first, observer)?;
+    let result = second_pass(robot, &loaded, options, &priority, first, observer)?;
+    Ok(follow_the_loads(robot, &loaded, options, &priority, result, observer)?.0)
+}
+
+/// Most identifications again with an elastic robot's loads at the
+/// calibrated geometry ([`follow_the_loads`]): each moves the torques by
+/// about c·∂τ/∂q ≈ 1e-3 of the previous change, so one suffices in practice.
+const LOAD_ROUNDS: usize = 3;
+
+/// An elastic robot whose loads follow its geometry
+/// ([`IdentificationOptions::masses`]): the samples' torques were evaluated
+/// at the nominal robot, whose geometry is off by centimetres and a degree,
+/// which moves them by a few per cent. While the loads at the calibrated
+/// robot move the model by more than a tenth of the noise
+/// ([`crate::elastic::reweighed`]), the pass is run again from the
+/// calibrated robot with those loads: the same base set (its structure is
+/// kept, not found again) and second-pass parameters, a few Gauss–Newton
+/// iterations. Returns the identification and the study with its loads. (The Jacobian leaves out
+/// `c_j·∂τ_j/∂η`, a thousandth of the joint's own column: the loads are a
+/// fixed point of the identification rather than part of its model.)
+fn follow_the_loads<'a>(
+    robot: &Robot,
+    study: &'a Study,
+    options: &IdentificationOptions,
+    priority: &gecaro_core::PriorityMatrix,
+    mut current: Identification,
+    observer: &mut dyn Observer,
+) -> Result<(Identification, Cow<'a, Study>), Error> {
+    let mut study = Cow::Borrowed(study);
+    let Some(masses) = options.masses.as_ref().filter(|_| robot.is_elastic()) else {
+        return Ok((current, study));
+    };
+    let extras = current
+        .second_pass
+        .iter()
+        .map(|name| robot.parameters().index_of_name(name))
+        .collect::<Result<Vec<usize>, _>>()?;
+    for _ in 0..LOAD_ROUNDS {
+        if current.stop_reason != StopReason::Converged {
+            break;
+        }
+        let Some(weighed) = crate::elastic::reweighed(&study, &current.calibrated, masses)? else {
+            break;
+        };
+        let pass = Pass {
+            extras: &extras,
+            structure: Some(&current.rank),
+        };
+        let Ok(next) = fit_pass(
+            robot,
+            &current.calibrated,
+            &weighed,
+            options,
+            priority,
+            pass,
+            &mut Quiet,
+        ) else {
+            break;
+        };
+        if next.stop_reason != StopReason::Converged {
+            break;
+        }
+        for record in &next.history[1..] {
+            report(observer, Progress::Iteration(record))?;
+        }
+        // What the earlier passes did (the closed-form start, the damped
+        // descent) stays said; the rest is the new fit's.
+        let process: Vec<String> = current
+            .warnings
+            .iter()
+            .filter(|w| describes_the_process(w))
+            .cloned()
+            .collect();
+        current = merge_passes(current, next);
+        current.warnings.splice(0..0, process);
+        study = Cow::Owned(weighed);
     }
-    second_pass(robot, fitted, options, &priority, first, observer)
+    Ok((current, study))
 }
 
 /// The paper's pass from the closed-form start (see [`start`]) on `study`
@@ -253,7 +341,15 @@ fn first_from(
         damping: 0.0,
     };
     report(observer, Progress::Iteration(&first))?;
-    let mut result = fit_pass(nominal, start, study, options, priority, &[], observer)?;
+    let mut result = fit_pass(
+        nominal,
+        start,
+        study,
+        options,
+        priority,
+        Pass::PAPER,
+        observer,
+    )?;
     result.before = before;
     result.errors_before = errors_before;
     // Iteration 1 is the jump to the start: its step, the parameters' change.
@@ -387,8 +483,12 @@ fn second_pass(
             break;
         }
         let extras: Vec<usize> = added.iter().chain(&new).copied().collect();
+        let pass = Pass {
+            extras: &extras,
+            structure: None,
+        };
         let Ok(next) = fit_pass(
-            robot, calibrated, study, options, priority, &extras, &mut Quiet,
+            robot, calibrated, study, options, priority, pass, &mut Quiet,
         ) else {
             break;
         };
@@ -404,7 +504,7 @@ fn second_pass(
         current = merge_passes(current, next);
     }
     match score.whole {
-        Some(rank) if options.extent == Extent::Whole => full_model_phase(
+        Some(rank) => full_model_phase(
             robot,
             study,
             options,
@@ -440,13 +540,17 @@ fn full_model_phase(
     else {
         return Ok(current);
     };
+    let pass = Pass {
+        extras: added,
+        structure: None,
+    };
     let Ok(next) = fit_pass(
         robot,
         &descent.best.robot,
         study,
         options,
         priority,
-        added,
+        pass,
         &mut Quiet,
     ) else {
         return Ok(current);
@@ -481,9 +585,9 @@ fn full_model_phase(
     current.history.extend(descent.history);
     let mut result = merge_passes(current, next);
     result.warnings.push(format!(
-        "parameters outside the base set still mattered: a damped descent over all {} parameters \
-         the priority matrix allows (Levenberg–Marquardt) took the RMS error from {:.4} to \
-         {:.4} mm; what it moved outside the base set is listed as moved",
+        "{DAMPED_DESCENT}: a damped descent over all {} parameters the priority matrix allows \
+         (Levenberg–Marquardt) took the RMS error from {:.4} to {:.4} mm; what it moved outside \
+         the base set is listed as moved",
         every.len(),
         from * 1e3,
         result.after.rms * 1e3,
@@ -531,19 +635,38 @@ fn merge_passes(first: Identification, mut second: Identification) -> Identifica
     second
 }
 
-/// One pass of an identification of `study`: the base set at `start` and
-/// the start, the descent, then the reweighted phase and the summary
-/// (values reported against `nominal`). `extras` (vocabulary indices) are
-/// the second pass's added parameters, held by [`second_pass_prior`].
+/// What a pass identifies besides the base set of its structure.
+#[derive(Copy, Clone)]
+struct Pass<'a> {
+    /// The second pass's added parameters (vocabulary indices), held by
+    /// [`second_pass_prior`].
+    extras: &'a [usize],
+    /// The structure whose base set the pass keeps (a pass run again with
+    /// other loads, [`follow_the_loads`]); `None`: the one at its start.
+    structure: Option<&'a RankReport>,
+}
+
+impl Pass<'_> {
+    /// The paper's pass: the base set at the start, nothing added.
+    const PAPER: Pass<'static> = Pass {
+        extras: &[],
+        structure: None,
+    };
+}
+
+/// One pass of an identification of `study`: the base set at `start` (or
+/// of the pass's structure) and the start, the descent, then the
+/// reweighted phase and the summary (values reported against `nominal`).
 fn fit_pass(
     nominal: &Robot,
     start: &Robot,
     study: &Study,
     options: &IdentificationOptions,
     priority: &gecaro_core::PriorityMatrix,
-    extras: &[usize],
+    pass: Pass<'_>,
     observer: &mut dyn Observer,
 ) -> Result<Identification, Error> {
+    let extras = pass.extras;
     let Setup {
         problem,
         rank,
@@ -551,7 +674,7 @@ fn fit_pass(
         initial_auxiliary,
         mut states,
         start,
-    } = set_up(start, study, options, priority)?;
+    } = set_up(start, study, options, priority, pass.structure)?;
     // A study that does not observe the scale: the second pass's added
     // parameters are held by their prior from the first step. Nearly
     // regrouped with the length that pins the scale, they would let plain
@@ -690,13 +813,15 @@ struct Setup<'a> {
     start: Iterate,
 }
 
-/// The base set of `study` at `robot` (structural, then what the data
-/// excite: paper §3.1, §4), the problem on it, and the starting iterate.
+/// The base set of `study` at `robot` (structural, unless `structure` is
+/// given, then what the data excite: paper §3.1, §4), the problem on it,
+/// and the starting iterate.
 fn set_up<'a>(
     robot: &'a Robot,
     study: &'a Study,
     options: &'a IdentificationOptions,
     priority: &gecaro_core::PriorityMatrix,
+    structure: Option<&RankReport>,
 ) -> Result<Setup<'a>, Error> {
     study.check(robot)?;
     let mut states = StudyStates::default();
@@ -704,7 +829,10 @@ fn set_up<'a>(
     let initial_auxiliary = study.initial_auxiliary(&states)?;
     // Nearly parallel axes hold their offset (Hayati; see `hayati`).
     let priority = &hayati::hayati_priority(robot, priority);
-    let rank = structural_parameters_at(robot, study, &states, priority, STRUCTURAL_SEED)?;
+    let rank = match structure {
+        Some(structure) => structure.clone(),
+        None => structural_parameters_at(robot, study, &states, priority, STRUCTURAL_SEED)?,
+    };
     let mut excited = excitation_at(robot, study, &mut states, &initial_auxiliary, &rank)?;
     let base = excited.report.base_parameters.clone();
     let base_auxiliary = excited.report.base_auxiliary.clone();
@@ -729,7 +857,7 @@ fn set_up<'a>(
         initial_auxiliary.len(),
         &base_auxiliary,
     );
-    let problem = Problem {
+    let mut problem = Problem {
         study,
         nominal: robot,
         options,
@@ -737,7 +865,8 @@ fn set_up<'a>(
         base_auxiliary,
         layout,
         rows: study.row_count(),
-        condition: excited.report.condition_number(),
+        // Set from the starting iterate's W_b below.
+        condition: f64::INFINITY,
         weighting: Weighting::default(),
         joined: 0,
     };
@@ -749,6 +878,9 @@ fn set_up<'a>(
         }
         _ => problem.assemble(robot, &initial_auxiliary, &problem.layout, &mut states)?,
     };
+    // The solver's choice (normal equations or QR) by the condition number
+    // that decides their accuracy: that of W_b with unit columns.
+    problem.condition = start.normal.equilibrated_condition();
     Ok(Setup {
         problem,
         rank,

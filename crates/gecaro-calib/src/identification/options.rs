@@ -1,6 +1,6 @@
 //! The settings of an identification ([`IdentificationOptions`]).
 
-use gecaro_core::{PriorityMatrix, Robot};
+use gecaro_core::{MassModel, PriorityMatrix, Robot};
 
 use super::outliers::DEFAULT_OUTLIER_THRESHOLD;
 use crate::error::{Error, Setting};
@@ -31,21 +31,6 @@ impl Solver {
     }
 }
 
-/// How far an identification goes. Anything short of [`Extent::Whole`] is
-/// a quick geometry for the application layer (an elastic robot's loads
-/// are evaluated at it, docs/elastic.md), not a result to report.
-#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
-pub enum Extent {
-    /// The paper's pass alone: the base set at the nominal robot.
-    PaperPass,
-    /// Also the second pass (the base set at the calibrated robot), without
-    /// the damped descent over every parameter.
-    SecondPass,
-    /// Everything: the paper's pass, the second pass and the damped descent.
-    #[default]
-    Whole,
-}
-
 /// Settings of [`identify`](super::identify).
 #[derive(Clone, Debug, PartialEq)]
 pub struct IdentificationOptions {
@@ -65,8 +50,13 @@ pub struct IdentificationOptions {
     pub outlier_threshold: f64,
     /// Drop the outliers and identify again (once).
     pub reject: bool,
-    /// How far the identification goes ([`Extent::Whole`] by default).
-    pub extent: Extent,
+    /// The masses that load an elastic robot's joints (its links' own;
+    /// each sample states its payload): the samples' torques, evaluated at
+    /// the nominal robot, are then evaluated again at the calibrated one and
+    /// the data identified again from there, until they move the model by
+    /// less than a tenth of the noise ([`crate::elastic::reweighed`]). None
+    /// (the default) keeps the samples' torques as they are.
+    pub masses: Option<MassModel>,
 }
 
 impl Default for IdentificationOptions {
@@ -80,7 +70,7 @@ impl Default for IdentificationOptions {
             prior: None,
             outlier_threshold: DEFAULT_OUTLIER_THRESHOLD,
             reject: false,
-            extent: Extent::Whole,
+            masses: None,
         }
     }
 }

@@ -69,7 +69,9 @@ pub(super) struct Problem<'a> {
     /// Columns: identified auxiliary unknowns, then base parameters.
     pub(super) layout: ColumnLayout,
     pub(super) rows: usize,
-    /// Condition number of W_b on the data at nominal: chooses the solver (see `linalg::solve`).
+    /// Condition number of W_b at the start with its columns scaled to
+    /// unit norm ([`NormalEquations::equilibrated_condition`]): chooses
+    /// between the normal equations and QR (see `linalg::step`).
     pub(super) condition: f64,
     /// Robust weights and prior rows of the reweighted phase (none in plain least squares).
     pub(super) weighting: Weighting,
