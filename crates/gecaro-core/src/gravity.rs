@@ -47,7 +47,7 @@
 //! # Ok::<(), gecaro_core::Error>(())
 //! ```
 
-use nalgebra::{DVector, Point3, Vector3};
+use nalgebra::{DVector, IsometryMatrix3, Point3, Vector3};
 
 use crate::error::{Error, Field};
 use crate::frame::FrameType;
@@ -220,6 +220,37 @@ pub fn gravity_torques(
     payload: Option<&LinkMass>,
     motor_positions: &[f64],
 ) -> Result<DVector<f64>, Error> {
+    let chain = forward_kinematics(robot, motor_positions)?;
+    let mut torques = DVector::zeros(robot.joint_count());
+    gravity_torques_in(
+        robot,
+        masses,
+        payload,
+        |frame| chain.world_from_frame(frame),
+        torques.as_mut_slice(),
+    )?;
+    Ok(torques)
+}
+
+/// [`gravity_torques`] of the configuration whose frames are where
+/// `world_from_frame` puts them (frame 0..=n+1 in the world; a
+/// [`crate::ChainBuffer`] or [`crate::FrameChain`] of the rigid robot at the
+/// configuration), written to `torques` (n values) without allocating.
+/// Joint j carries the masses of frames j..=n+1 and the payload: with M
+/// their total and C their first moment `Σ m p`, `τ_j = gᵀ(z_j × (C − M o_j))`
+/// for a revolute joint, `M gᵀ z_j` for a prismatic one, summed from the
+/// tool inwards.
+///
+/// # Errors
+/// A mass model of another number of frames than `robot`'s, an invalid
+/// payload, `torques` of another length than n.
+pub fn gravity_torques_in<'c>(
+    robot: &Robot,
+    masses: &MassModel,
+    payload: Option<&LinkMass>,
+    world_from_frame: impl Fn(usize) -> &'c IsometryMatrix3<f64>,
+    torques: &mut [f64],
+) -> Result<(), Error> {
     let frames = robot.frames();
     if masses.links.len() != frames.len() {
         return Err(Error::Invalid {
@@ -234,43 +265,38 @@ pub fn gravity_torques(
     if let Some(payload) = payload {
         payload.check(Field::Key("payload"))?;
     }
-    let chain = forward_kinematics(robot, motor_positions)?;
-    let tool = frames.len() - 1;
-    // Every mass in the world frame: (frame it moves with, m, world centre).
-    let mut loads: Vec<(usize, f64, Vector3<f64>)> = masses
-        .links
-        .iter()
-        .enumerate()
-        .filter_map(|(frame, link)| {
-            let link = link.as_ref()?;
-            let point = chain.world_from_frame(frame) * Point3::from(link.com);
-            Some((frame, link.mass, point.coords))
-        })
-        .collect();
-    if let Some(payload) = payload {
-        let point = chain.world_from_frame(tool) * Point3::from(payload.com);
-        loads.push((tool, payload.mass, point.coords));
+    let joints = robot.joint_count();
+    if torques.len() != joints {
+        return Err(Error::ConfigurationLength {
+            expected: joints,
+            found: torques.len(),
+        });
     }
     let gravity = masses.gravity;
-    let joints = robot.joint_count();
-    let mut torques = DVector::zeros(joints);
-    for joint in 1..=joints {
-        let pose = chain.world_from_frame(joint);
-        let axis = pose.rotation * Vector3::z();
-        let origin = pose.translation.vector;
-        torques[joint - 1] = loads
+    let tool = frames.len() - 1;
+    // The total mass and first moment of frames k..=n+1 and the payload.
+    let mut total = 0.0;
+    let mut moment = Vector3::zeros();
+    for frame in (1..=tool).rev() {
+        let carried = masses.links[frame]
             .iter()
-            .filter(|(frame, _, _)| *frame >= joint)
-            .map(|(_, mass, point)| {
-                let velocity = match frames[joint].frame_type {
-                    FrameType::Prismatic => axis,
-                    _ => axis.cross(&(point - origin)),
-                };
-                mass * gravity.dot(&velocity)
-            })
-            .sum();
+            .chain(payload.filter(|_| frame == tool));
+        for link in carried {
+            let point = world_from_frame(frame) * Point3::from(link.com);
+            total += link.mass;
+            moment += link.mass * point.coords;
+        }
+        if frame <= joints {
+            let pose = world_from_frame(frame);
+            let axis = pose.rotation * Vector3::z();
+            let velocity = match frames[frame].frame_type {
+                FrameType::Prismatic => total * axis,
+                _ => axis.cross(&(moment - total * pose.translation.vector)),
+            };
+            torques[frame - 1] = gravity.dot(&velocity);
+        }
     }
-    Ok(torques)
+    Ok(())
 }
 
 #[cfg(test)]

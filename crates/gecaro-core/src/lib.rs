@@ -78,7 +78,9 @@ mod test_robots;
 pub use axis_chain::{AxisChain, ChainJoint};
 pub use error::{Compact, Error, Field};
 pub use frame::{Frame, FrameType, Joint};
-pub use gravity::{LinkMass, MassModel, STANDARD_GRAVITY, gravity_torques, upright_gravity};
+pub use gravity::{
+    LinkMass, MassModel, STANDARD_GRAVITY, gravity_torques, gravity_torques_in, upright_gravity,
+};
 pub use kinematics::{
     ChainBuffer, FrameChain, InverseOptions, InverseSolution, JacobianRows, KinematicModel,
     OrientationDifference, Target, forward_kinematics, frame_transform, inverse_kinematics,

@@ -70,6 +70,7 @@ mod evaluation;
 mod full_model;
 mod gauge;
 mod hayati;
+mod loads;
 mod observations;
 mod options;
 mod outliers;
@@ -111,7 +112,7 @@ pub use options::{IdentificationOptions, Solver};
 pub use outliers::{DEFAULT_OUTLIER_THRESHOLD, Outlier};
 pub use parameter::IdentifiedParameter;
 pub use passes::SECOND_PASS_LEVEL;
-use passes::{ScoreTests, score_tests, significantly_better, significantly_lower};
+use passes::{ScoreTests, score_tests, significantly_lower};
 use prior_rows::{extra_prior_rows, prior_rows};
 pub use result::{ErrorSummary, Identification, Route};
 pub use reweighting::MAX_REWEIGHTINGS;
@@ -121,8 +122,8 @@ use solver::{Iterate, Problem, Run};
 use verdict::Evidence;
 pub use verdict::{Implausible, NOISE_TEST_LEVEL, NoiseTest, Outcome, StopReason, Verdict};
 use warnings::{
-    CORRELATED_WARNING, DAMPED_DESCENT, POOR_EXCITATION, SET_UP_WARNING, correlation_warning,
-    describes_the_process, strongly_correlated, warnings_of,
+    CORRELATED_WARNING, POOR_EXCITATION, SET_UP_WARNING, correlation_warning, strongly_correlated,
+    warnings_of,
 };
 pub use warnings::{POOR_CONDITIONING, STRONG_CORRELATION};
 pub use weighting::SECOND_PASS_PRIOR;
@@ -227,98 +228,39 @@ fn fit(
     let first = match (start, &registered) {
         (Some(start), _) => first_from(robot, &start, fitted, study, options, &priority, observer)?,
         (None, Some(_)) => first_from(robot, robot, fitted, study, options, &priority, observer)?,
-        (None, None) => fit_pass(
-            robot,
-            robot,
-            study,
-            options,
-            &priority,
-            Pass::PAPER,
-            observer,
-        )?,
+        (None, None) => fit_pass(robot, robot, study, options, &priority, &[], observer)?,
     };
-    // An elastic robot's loads at the paper pass's geometry before the
-    // second pass looks for structure (the nominal loads' error would pass
-    // for some), and at the calibrated robot after it.
-    let (first, loaded) = follow_the_loads(robot, fitted, options, &priority, first, observer)?;
-    let result = second_pass(robot, &loaded, options, &priority, first, observer)?;
-    Ok(follow_the_loads(robot, &loaded, options, &priority, result, observer)?.0)
+    // An elastic robot's loads, followed by the paper's pass, are at its
+    // geometry when the second pass looks for structure (the nominal
+    // loads' error would pass for some).
+    let loaded = first.loaded.as_ref().unwrap_or(fitted);
+    second_pass(robot, loaded, options, &priority, first.result, observer)
 }
 
-/// Most identifications again with an elastic robot's loads at the
-/// calibrated geometry ([`follow_the_loads`]): each moves the torques by
-/// about c·∂τ/∂q ≈ 1e-3 of the previous change, so one suffices in practice.
-const LOAD_ROUNDS: usize = 3;
+/// A pass's identification, and what the passes after it need.
+struct Passed {
+    result: Identification,
+    /// The data's sum of squares at the pass's solution with the loads it
+    /// was given, before they followed it ([`loads`]): what an F test
+    /// against the pass before, with the same loads, reads.
+    given_loads_cost: f64,
+    /// The study with an elastic robot's loads at the pass's solution,
+    /// when they moved.
+    loaded: Option<Study>,
+}
 
-/// An elastic robot whose loads follow its geometry
-/// ([`IdentificationOptions::masses`]): the samples' torques were evaluated
-/// at the nominal robot, whose geometry is off by centimetres and a degree,
-/// which moves them by a few per cent. While the loads at the calibrated
-/// robot move the model by more than a tenth of the noise
-/// ([`crate::elastic::reweighed`]), the pass is run again from the
-/// calibrated robot with those loads: the same base set (its structure is
-/// kept, not found again) and second-pass parameters, a few Gauss–Newton
-/// iterations. Returns the identification and the study with its loads. (The Jacobian leaves out
-/// `c_j·∂τ_j/∂η`, a thousandth of the joint's own column: the loads are a
-/// fixed point of the identification rather than part of its model.)
-fn follow_the_loads<'a>(
-    robot: &Robot,
-    study: &'a Study,
-    options: &IdentificationOptions,
-    priority: &gecaro_core::PriorityMatrix,
-    mut current: Identification,
-    observer: &mut dyn Observer,
-) -> Result<(Identification, Cow<'a, Study>), Error> {
-    let mut study = Cow::Borrowed(study);
-    let Some(masses) = options.masses.as_ref().filter(|_| robot.is_elastic()) else {
-        return Ok((current, study));
-    };
-    let extras = current
-        .second_pass
-        .iter()
-        .map(|name| robot.parameters().index_of_name(name))
-        .collect::<Result<Vec<usize>, _>>()?;
-    for _ in 0..LOAD_ROUNDS {
-        if current.stop_reason != StopReason::Converged {
-            break;
-        }
-        let Some(weighed) = crate::elastic::reweighed(&study, &current.calibrated, masses)? else {
-            break;
-        };
-        let pass = Pass {
-            extras: &extras,
-            structure: Some(&current.rank),
-        };
-        let Ok(next) = fit_pass(
-            robot,
-            &current.calibrated,
-            &weighed,
-            options,
-            priority,
-            pass,
-            &mut Quiet,
-        ) else {
-            break;
-        };
-        if next.stop_reason != StopReason::Converged {
-            break;
-        }
-        for record in &next.history[1..] {
-            report(observer, Progress::Iteration(record))?;
-        }
-        // What the earlier passes did (the closed-form start, the damped
-        // descent) stays said; the rest is the new fit's.
-        let process: Vec<String> = current
-            .warnings
-            .iter()
-            .filter(|w| describes_the_process(w))
-            .cloned()
-            .collect();
-        current = merge_passes(current, next);
-        current.warnings.splice(0..0, process);
-        study = Cow::Owned(weighed);
+impl Passed {
+    /// Whether this pass (with `added` more unknowns) explains the data
+    /// significantly better than `before` ([`significantly_lower`]), both
+    /// with the loads this pass was given.
+    fn better_than(&self, before: &Identification, added: usize) -> bool {
+        significantly_lower(
+            before.data_cost,
+            self.given_loads_cost,
+            added,
+            self.result.degrees_of_freedom,
+        )
     }
-    Ok((current, study))
 }
 
 /// The paper's pass from the closed-form start (see [`start`]) on `study`
@@ -333,7 +275,7 @@ fn first_from(
     options: &IdentificationOptions,
     priority: &gecaro_core::PriorityMatrix,
     observer: &mut dyn Observer,
-) -> Result<Identification, Error> {
+) -> Result<Passed, Error> {
     let (before, errors_before, rms) = errors_at(nominal, stated)?;
     let first = IterationRecord {
         rms,
@@ -341,15 +283,8 @@ fn first_from(
         damping: 0.0,
     };
     report(observer, Progress::Iteration(&first))?;
-    let mut result = fit_pass(
-        nominal,
-        start,
-        study,
-        options,
-        priority,
-        Pass::PAPER,
-        observer,
-    )?;
+    let mut passed = fit_pass(nominal, start, study, options, priority, &[], observer)?;
+    let result = &mut passed.result;
     result.before = before;
     result.errors_before = errors_before;
     // Iteration 1 is the jump to the start: its step, the parameters' change.
@@ -379,7 +314,7 @@ fn first_from(
          iterations started there (iteration 1)"
             .into()
     });
-    Ok(result)
+    Ok(passed)
 }
 
 /// The second pass: the base set chosen at the nominal robot is exact only
@@ -441,9 +376,13 @@ fn second_pass(
         .collect();
     let mut current = first;
     let mut added: Vec<usize> = Vec::new();
+    // The data with an elastic robot's loads where the last kept pass left
+    // them (each pass follows them, [`loads`]).
+    let mut loaded = Cow::Borrowed(study);
     // What a step from the current solution could still explain.
     let mut score = ScoreTests::default();
     for pass in 0..MAX_PASSES {
+        let study: &Study = &loaded;
         let calibrated = &current.calibrated;
         let outside =
             |index: &usize| !current.rank.base_parameters.contains(index) && !added.contains(index);
@@ -483,30 +422,29 @@ fn second_pass(
             break;
         }
         let extras: Vec<usize> = added.iter().chain(&new).copied().collect();
-        let pass = Pass {
-            extras: &extras,
-            structure: None,
-        };
         let Ok(next) = fit_pass(
-            robot, calibrated, study, options, priority, pass, &mut Quiet,
+            robot, calibrated, study, options, priority, &extras, &mut Quiet,
         ) else {
             break;
         };
-        if next.stop_reason != StopReason::Converged
-            || !significantly_better(&current, &next, new.len())
+        if next.result.stop_reason != StopReason::Converged
+            || !next.better_than(&current, new.len())
         {
             break;
         }
-        for record in &next.history[1..] {
+        for record in &next.result.history[1..] {
             report(observer, Progress::Iteration(record))?;
         }
+        if let Some(study) = next.loaded {
+            loaded = Cow::Owned(study);
+        }
         added = extras;
-        current = merge_passes(current, next);
+        current = merge_passes(current, next.result);
     }
     match score.whole {
         Some(rank) => full_model_phase(
             robot,
-            study,
+            &loaded,
             options,
             priority,
             current,
@@ -540,24 +478,21 @@ fn full_model_phase(
     else {
         return Ok(current);
     };
-    let pass = Pass {
-        extras: added,
-        structure: None,
-    };
-    let Ok(next) = fit_pass(
+    let Ok(passed) = fit_pass(
         robot,
         &descent.best.robot,
         study,
         options,
         priority,
-        pass,
+        added,
         &mut Quiet,
     ) else {
         return Ok(current);
     };
-    if next.stop_reason != StopReason::Converged || !significantly_better(&current, &next, rank) {
+    if passed.result.stop_reason != StopReason::Converged || !passed.better_than(&current, rank) {
         return Ok(current);
     }
+    let next = passed.result;
     // After a fit with outliers the gain must show on the inliers too: more
     // parameters could chase gross errors (a model that misses structure
     // makes outliers of its own, and there the inliers gain most).
@@ -585,9 +520,9 @@ fn full_model_phase(
     current.history.extend(descent.history);
     let mut result = merge_passes(current, next);
     result.warnings.push(format!(
-        "{DAMPED_DESCENT}: a damped descent over all {} parameters the priority matrix allows \
-         (Levenberg–Marquardt) took the RMS error from {:.4} to {:.4} mm; what it moved outside \
-         the base set is listed as moved",
+        "parameters outside the base set still mattered: a damped descent over all {} parameters \
+         the priority matrix allows (Levenberg–Marquardt) took the RMS error from {:.4} to \
+         {:.4} mm; what it moved outside the base set is listed as moved",
         every.len(),
         from * 1e3,
         result.after.rms * 1e3,
@@ -635,38 +570,20 @@ fn merge_passes(first: Identification, mut second: Identification) -> Identifica
     second
 }
 
-/// What a pass identifies besides the base set of its structure.
-#[derive(Copy, Clone)]
-struct Pass<'a> {
-    /// The second pass's added parameters (vocabulary indices), held by
-    /// [`second_pass_prior`].
-    extras: &'a [usize],
-    /// The structure whose base set the pass keeps (a pass run again with
-    /// other loads, [`follow_the_loads`]); `None`: the one at its start.
-    structure: Option<&'a RankReport>,
-}
-
-impl Pass<'_> {
-    /// The paper's pass: the base set at the start, nothing added.
-    const PAPER: Pass<'static> = Pass {
-        extras: &[],
-        structure: None,
-    };
-}
-
-/// One pass of an identification of `study`: the base set at `start` (or
-/// of the pass's structure) and the start, the descent, then the
-/// reweighted phase and the summary (values reported against `nominal`).
+/// One pass of an identification of `study`: the base set at `start` and
+/// the start, the descent, then the reweighted phase, an elastic robot's
+/// loads followed ([`loads`]), and the summary (values reported against
+/// `nominal`). `extras` (vocabulary indices) are the second pass's added
+/// parameters, held by [`second_pass_prior`].
 fn fit_pass(
     nominal: &Robot,
     start: &Robot,
     study: &Study,
     options: &IdentificationOptions,
     priority: &gecaro_core::PriorityMatrix,
-    pass: Pass<'_>,
+    extras: &[usize],
     observer: &mut dyn Observer,
-) -> Result<Identification, Error> {
-    let extras = pass.extras;
+) -> Result<Passed, Error> {
     let Setup {
         problem,
         rank,
@@ -674,7 +591,7 @@ fn fit_pass(
         initial_auxiliary,
         mut states,
         start,
-    } = set_up(start, study, options, priority, pass.structure)?;
+    } = set_up(start, study, options, priority)?;
     // A study that does not observe the scale: the second pass's added
     // parameters are held by their prior from the first step. Nearly
     // regrouped with the length that pins the scale, they would let plain
@@ -749,6 +666,9 @@ fn fit_pass(
         }
         Some(scale)
     };
+    let given_loads_cost = reweighted.run.best.system.measured_cost();
+    let (reweighted, loaded) = loads::follow_the_loads(&problem, reweighted, &mut states)?;
+    let problem = problem.with_study(loaded.as_ref().unwrap_or(study));
     let mut result = summarise(
         &problem,
         nominal,
@@ -789,7 +709,12 @@ fn fit_pass(
             .warnings
             .extend(correlation_warning(&result.correlated));
     }
-    Ok(result)
+    drop(problem);
+    Ok(Passed {
+        result,
+        given_loads_cost,
+        loaded,
+    })
 }
 
 /// The state at the nominal robot, before any step.
@@ -813,15 +738,13 @@ struct Setup<'a> {
     start: Iterate,
 }
 
-/// The base set of `study` at `robot` (structural, unless `structure` is
-/// given, then what the data excite: paper §3.1, §4), the problem on it,
-/// and the starting iterate.
+/// The base set of `study` at `robot` (structural, then what the data
+/// excite: paper §3.1, §4), the problem on it, and the starting iterate.
 fn set_up<'a>(
     robot: &'a Robot,
     study: &'a Study,
     options: &'a IdentificationOptions,
     priority: &gecaro_core::PriorityMatrix,
-    structure: Option<&RankReport>,
 ) -> Result<Setup<'a>, Error> {
     study.check(robot)?;
     let mut states = StudyStates::default();
@@ -829,10 +752,7 @@ fn set_up<'a>(
     let initial_auxiliary = study.initial_auxiliary(&states)?;
     // Nearly parallel axes hold their offset (Hayati; see `hayati`).
     let priority = &hayati::hayati_priority(robot, priority);
-    let rank = match structure {
-        Some(structure) => structure.clone(),
-        None => structural_parameters_at(robot, study, &states, priority, STRUCTURAL_SEED)?,
-    };
+    let rank = structural_parameters_at(robot, study, &states, priority, STRUCTURAL_SEED)?;
     let mut excited = excitation_at(robot, study, &mut states, &initial_auxiliary, &rank)?;
     let base = excited.report.base_parameters.clone();
     let base_auxiliary = excited.report.base_auxiliary.clone();

@@ -37,7 +37,7 @@ pub(super) struct ScoreTests {
 /// of `current`) at `current`'s solution, before any iteration: one system
 /// over the auxiliary unknowns, the base set and the candidates, written at
 /// the calibrated robot, and the parts of its sum of squares that
-/// least-squares steps would explain, tested as in [`significantly_better`].
+/// least-squares steps would explain, tested as in [`significantly_lower`].
 /// It costs one system and its normal equations, and keeps the structural
 /// analysis, the second pass and the damped descent from running where the
 /// residual is noise. For a study that does not observe the scale, a
@@ -143,26 +143,11 @@ fn f_test(explained: f64, residual: f64, k: usize, freedom: f64) -> bool {
         .unwrap_or(false)
 }
 
-/// Whether `second` (with `added` more unknowns) explains the data
-/// significantly better than `first`: F = ((S₁ − S₂)/k) / (S₂/(n − b₂)) above
-/// the F(k, n − b₂) quantile at [`SECOND_PASS_LEVEL`] (S the data's residual
-/// sum of squares, prior rows excluded).
-pub(super) fn significantly_better(
-    first: &Identification,
-    second: &Identification,
-    added: usize,
-) -> bool {
-    significantly_lower(
-        first.data_cost,
-        second.data_cost,
-        added,
-        second.degrees_of_freedom,
-    )
-}
-
 /// Whether a sum of squares `s2`, with `added` more unknowns and `freedom`
-/// degrees of freedom left, is significantly lower than `s1`: the F test of
-/// [`significantly_better`].
+/// degrees of freedom left, is significantly lower than `s1`: F =
+/// ((s1 − s2)/k) / (s2/freedom) above the F(k, freedom) quantile at
+/// [`SECOND_PASS_LEVEL`] (the data's residual sums of squares, prior rows
+/// excluded).
 pub(super) fn significantly_lower(s1: f64, s2: f64, added: usize, freedom: usize) -> bool {
     let freedom = freedom.max(1) as f64;
     added > 0 && s2 < s1 && f_test((s1 - s2) / added as f64, s2 / freedom, added, freedom)

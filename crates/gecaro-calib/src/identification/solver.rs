@@ -99,6 +99,17 @@ impl<'a> Problem<'a> {
         }
     }
 
+    /// This problem on `study` (the same samples with other loads).
+    pub(super) fn with_study<'b>(&self, study: &'b Study) -> Problem<'b>
+    where
+        'a: 'b,
+    {
+        Problem {
+            study,
+            ..self.with_weighting(self.weighting.clone())
+        }
+    }
+
     pub(super) fn assemble(
         &self,
         robot: &Robot,

@@ -21,19 +21,6 @@ pub(super) const SET_UP_WARNING: &str = "turns about the measured point";
 /// The warning that the data's W_b is poorly conditioned starts so.
 pub(super) const POOR_EXCITATION: &str = "the data excite the robot poorly";
 
-/// In the warnings that the robot or the stated frames started where a
-/// closed-form fit put them.
-pub(super) const CLOSED_FORM_START: &str = "first fitted in closed form";
-
-/// Begins the warning that the damped descent over every parameter ran.
-pub(super) const DAMPED_DESCENT: &str = "parameters outside the base set still mattered";
-
-/// Whether a warning tells how the identification went (the closed-form
-/// start, the damped descent) rather than what its last fit found.
-pub(super) fn describes_the_process(warning: &str) -> bool {
-    warning.contains(CLOSED_FORM_START) || warning.starts_with(DAMPED_DESCENT)
-}
-
 /// The warning that names strongly correlated pairs (none without them).
 pub(super) fn correlation_warning(correlated: &[(String, String, f64)]) -> Option<String> {
     if correlated.is_empty() {
