@@ -722,9 +722,10 @@ pub(crate) struct IdentificationRunArgs {
     /// Which parameters may be identified: full (the priority matrix),
     /// no-gains, no-beta, kinematic (neither), offsets (joint offsets only),
     /// elastic (full and every joint's compliance, loaded by the robot's
-    /// masses and the data's payload; docs/elastic.md), or a priority-matrix file.
-    #[arg(long, value_name = "MODEL", default_value = "full")]
-    pub(crate) model: String,
+    /// masses and the data's payload; docs/elastic.md), or a priority-matrix
+    /// file. Default: a study's `model`, else full.
+    #[arg(long, value_name = "MODEL")]
+    pub(crate) model: Option<String>,
 }
 
 #[derive(Debug, Args)]

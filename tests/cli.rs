@@ -209,6 +209,72 @@ fn robot_show_prints_masses_and_compliances() {
         .stdout(predicate::str::contains("Masses").not());
 }
 
+/// A study stating `model = "elastic"` identifies the compliances without
+/// `--model`; `--model full` on the command line overrides it.
+#[test]
+fn a_study_s_model_is_the_default_of_the_command_line() {
+    let folder = tempfile::tempdir().expect("folder");
+    let path = |name: &str| folder.path().join(name).to_str().expect("UTF-8").to_owned();
+    for (index, payload) in ["0kg", "20kg,0,0,100mm"].iter().enumerate() {
+        let mut args = vec![
+            "generate".to_owned(),
+            "industrial6".into(),
+            "--method".into(),
+            "position".into(),
+            "--count".into(),
+            "40".into(),
+            "--noise".into(),
+            "2e-5".into(),
+            "--payload".into(),
+            (*payload).into(),
+            "--seed".into(),
+            (index + 1).to_string(),
+            "-o".into(),
+            path(&format!("p{index}.csv")),
+        ];
+        let real: Vec<String> = if index == 0 {
+            vec![
+                "--compliance-level".into(),
+                "1".into(),
+                "--real-out".into(),
+                path("real.toml"),
+            ]
+        } else {
+            vec!["--real".into(), path("real.toml")]
+        };
+        args.extend(real);
+        gecaro().args(&args).assert().success();
+    }
+    let study = path("payloads.toml");
+    std::fs::write(
+        &study,
+        "robot = \"industrial6\"\nmodel = \"elastic\"\n\
+         [[measurements]]\nmethod = \"position\"\ndata = \"p0.csv\"\nsigma = \"20um\"\n\
+         [[measurements]]\nmethod = \"position\"\ndata = \"p1.csv\"\nsigma = \"20um\"\n",
+    )
+    .expect("written");
+    let identify = |extra: &[&str]| {
+        let output = gecaro()
+            .args(["identify", "--study", &study, "--json"])
+            .args(extra)
+            .output()
+            .expect("ran");
+        let json: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
+        json["parameters"]
+            .as_array()
+            .expect("parameters")
+            .iter()
+            .filter(|p| p["name"].as_str().is_some_and(|name| name.starts_with('c')))
+            .count()
+    };
+    assert!(identify(&[]) >= 2, "the study's elastic model");
+    assert_eq!(
+        identify(&["--model", "full"]),
+        0,
+        "the command line's model"
+    );
+}
+
 #[test]
 fn robot_show_of_the_stanford_arm_is_table_1() {
     // The whole text, column widths and all: a change of layout shows up here

@@ -164,7 +164,7 @@ pub(crate) fn fit_settings(args: &IdentificationRunArgs) -> FitSettings {
             .priority
             .as_deref()
             .map(|path| PrioritySource::File(name(path))),
-        model: Some(args.model.clone()),
+        model: args.model.clone(),
         solver: Some(args.solver.clone()),
         max_iterations: Some(args.max_iterations),
         loss: Some(args.loss.clone()),

@@ -54,7 +54,12 @@ pub(super) fn print_cross_validation(validation: &CrossValidation, seed: u64) {
 }
 
 pub(crate) fn compare(args: &CompareModelsArgs) -> Result<(), Failure> {
-    if args.run.model != "full" {
+    if args
+        .run
+        .model
+        .as_deref()
+        .is_some_and(|model| model != "full")
+    {
         return Err(Failure::usage(
             "compare-models takes its candidates from --models, not --model",
             Some("for example: --models kinematic,no-gains,full".to_owned()),

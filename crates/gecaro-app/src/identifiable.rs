@@ -76,9 +76,8 @@ impl IdentifiableRequest {
             ));
         }
         let mut loaded = self.measurements.load(files, Data::Optional)?;
-        let model = self
-            .model
-            .as_deref()
+        let model = loaded
+            .model(self.model.as_deref())
             .map(|name| crate::settings::model(name, &loaded.robot.robot, files))
             .transpose()?;
         if model == Some(Model::Elastic) {

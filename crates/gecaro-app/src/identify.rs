@@ -89,7 +89,7 @@ impl IdentifyRequest {
             None => None,
         };
         let mut loaded = self.measurements.load(files, Data::Required)?;
-        if crate::settings::names_elastic(self.settings.model.as_deref()) {
+        if crate::settings::names_elastic(loaded.model(self.settings.model.as_deref())) {
             loaded.make_elastic()?;
         }
         loaded.study.check(&loaded.robot.robot)?;
@@ -397,6 +397,8 @@ impl CompareModelsRequest {
         let folds = folds(self.cv)?;
         let seed = self.seed.unwrap_or(1);
         let mut loaded = self.measurements.load(files, Data::Required)?;
+        // The candidates are the models compared, not the study's.
+        loaded.model = None;
         // An elastic candidate needs the robot elastic; the others leave its
         // compliances (0) alone.
         if self

@@ -95,6 +95,8 @@ pub struct LoadedStudy {
     pub priority: Option<PriorityMatrix>,
     /// The study's prior.
     pub prior: Option<Prior>,
+    /// The study's model (`model = "elastic"`), which a job's own overrides.
+    pub model: Option<String>,
     /// What names the study in messages and reports.
     pub label: String,
 }
@@ -111,6 +113,8 @@ pub struct Loaded {
     pub priority: Option<PriorityMatrix>,
     /// The study file's prior.
     pub prior: Option<Prior>,
+    /// The study file's model, which a job's own overrides.
+    pub model: Option<String>,
     /// The data file or study file, for messages and reports.
     pub label: String,
     /// What a user should know about the data.
@@ -118,6 +122,11 @@ pub struct Loaded {
 }
 
 impl Loaded {
+    /// The model a job identifies: its own (`given`), else the study's.
+    pub fn model<'a>(&'a self, given: Option<&'a str>) -> Option<&'a str> {
+        given.or(self.model.as_deref())
+    }
+
     /// Makes the nominal robot elastic, every compliance 0, unless it is
     /// already (issue 38: `model = "elastic"`), and loads its samples.
     ///
@@ -334,6 +343,7 @@ impl Measurements {
                     study: study.study.clone(),
                     priority: study.priority.clone(),
                     prior: study.prior.clone(),
+                    model: study.model.clone(),
                     label: study.label.clone(),
                     notes: Vec::new(),
                 });
@@ -344,6 +354,7 @@ impl Measurements {
             study: file.study,
             priority: file.priority,
             prior: file.prior,
+            model: file.spec.model.clone(),
             label,
             notes: file.notes.into_iter().map(Note::plain).collect(),
         })
@@ -417,6 +428,7 @@ impl Measurements {
             study,
             priority: None,
             prior: None,
+            model: None,
             label,
             notes,
         })

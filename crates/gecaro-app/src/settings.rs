@@ -90,7 +90,8 @@ impl FitSettings {
             Some(source) => Some(source.load(robot, files)?),
             None => loaded.priority.clone(),
         };
-        let model = model(self.model.as_deref().unwrap_or("full"), robot, files)?;
+        let name = loaded.model(self.model.as_deref()).unwrap_or("full");
+        let model = model(name, robot, files)?;
         let max_iterations = self.max_iterations.unwrap_or(30);
         if !(1..=MAX_ITERATIONS).contains(&max_iterations) {
             return Err(AppError::setting_value(

@@ -262,8 +262,10 @@ fn the_compliances_sigma_is_their_monte_carlo_spread() {
 }
 
 /// The classic experiment as a study: the same poses' sets, each stating
-/// its payload once (`payload = "10kg,0,0,100mm"`), identify as the rows
-/// stating it; a set that states it twice (and its rows) is refused.
+/// its payload once (`payload = "10kg,0,0,100mm"`) and the study its model
+/// (`model = "elastic"`), identify as the rows stating it with the elastic
+/// model asked for; a job's own model overrides the study's; a set that
+/// states its payload twice (and its rows) is refused.
 #[test]
 fn a_study_states_each_set_s_payload_once() {
     let (folder, real) = real_robot_place();
@@ -275,7 +277,7 @@ fn a_study_states_each_set_s_payload_once() {
         .map(|(index, payload)| measured(real, index == 0, payload, 40, 7 + index as u64))
         .collect();
     // Each set's file without its payload columns (the last four).
-    let mut study = String::from("robot = \"industrial6\"\n");
+    let mut study = String::from("robot = \"industrial6\"\nmodel = \"elastic\"\n");
     for (index, (file, payload)) in files.iter().zip(payloads).enumerate() {
         let stripped: String = file
             .lines()
@@ -293,23 +295,32 @@ fn a_study_states_each_set_s_payload_once() {
     }
     let study_path = folder.path().join("payloads.toml");
     std::fs::write(&study_path, &study).expect("written");
-    let identify = |measurements: Measurements| {
+    let identify = |measurements: Measurements, model: Option<&str>| {
         let mut request = IdentifyRequest::new(measurements);
-        request.settings.model = Some("elastic".into());
+        request.settings.model = model.map(str::to_owned);
         request.run(&LocalFiles, &mut Quiet)
     };
-    let as_study = identify(Measurements {
+    let the_study = || Measurements {
         study: Some(gecaro_app::StudySource::File(
             study_path.to_str().expect("UTF-8").into(),
         )),
         ..Measurements::default()
-    })
+    };
+    let as_study = identify(the_study(), None).expect("identified");
+    let as_rows = identify(
+        measurements(RobotSource::Named("industrial6".into()), &joined(&files)),
+        Some("elastic"),
+    )
     .expect("identified");
-    let as_rows = identify(measurements(
-        RobotSource::Named("industrial6".into()),
-        &joined(&files),
-    ))
-    .expect("identified");
+    let geometric = identify(the_study(), Some("full")).expect("identified");
+    assert!(
+        !geometric
+            .result
+            .parameters
+            .iter()
+            .any(|p| p.name.starts_with('c')),
+        "the job's model overrides the study's"
+    );
     let compliance = |result: &gecaro_app::Identified, name: &str| {
         result
             .result
@@ -327,14 +338,9 @@ fn a_study_states_each_set_s_payload_once() {
     let twice = study.replacen("set0.csv", "rows.csv", 1);
     std::fs::write(folder.path().join("rows.csv"), &files[0]).expect("written");
     std::fs::write(&study_path, twice).expect("written");
-    let error = identify(Measurements {
-        study: Some(gecaro_app::StudySource::File(
-            study_path.to_str().expect("UTF-8").into(),
-        )),
-        ..Measurements::default()
-    })
-    .expect_err("refused")
-    .to_string();
+    let error = identify(the_study(), None)
+        .expect_err("refused")
+        .to_string();
     assert!(
         error.contains("payload") && error.contains("give one of them"),
         "{error}"

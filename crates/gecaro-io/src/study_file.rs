@@ -3,6 +3,7 @@
 //! ```toml
 //! robot = "panda-ball.toml"     # relative to this file, or a ready robot's name
 //! priority = "priority.toml"    # optional, as for `--priority`
+//! # model = "elastic"           # optional, as for `--model` (a job's own overrides it)
 //!
 //! [[measurements]]
 //! method = "point-link"

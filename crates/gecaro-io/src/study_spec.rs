@@ -56,6 +56,10 @@ pub struct StudySpec {
     /// A priority-matrix file, as for `--priority`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub priority: Option<String>,
+    /// Which parameters may be identified, as for `--model` (`full`,
+    /// `elastic`, …, or a priority file); a job's own model overrides it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model: Option<String>,
     /// `m` or `mm` for every set that does not say.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub length_unit: Option<String>,
@@ -954,13 +958,14 @@ mod tests {
 
     #[test]
     fn a_spec_reads_back_what_it_writes() {
-        let text = "robot = \"stanford\"\nlength_unit = \"mm\"\n\n[tools.ball]\nposition = [0, 0, 90]\n\
+        let text = "robot = \"stanford\"\nmodel = \"elastic\"\nlength_unit = \"mm\"\n\n[tools.ball]\nposition = [0, 0, 90]\n\
                     rpy = [0, 0, 90]\nangle_unit = \"deg\"\n\n[[measurements]]\nmethod = \"position\"\n\
                     data = \"a.csv\"\nsigma = \"20um\"\ntool = \"ball\"\ncolumns = { x = \"X\" }\n";
         let spec: StudySpec = toml::from_str(text).expect("toml");
         let written = toml::to_string(&spec).expect("written");
         let again: StudySpec = toml::from_str(&written).expect("read back");
         assert_eq!(format!("{spec:?}"), format!("{again:?}"));
+        assert_eq!(again.model.as_deref(), Some("elastic"));
         let json = serde_json::to_string(&spec).expect("json");
         let again: StudySpec = serde_json::from_str(&json).expect("json back");
         assert_eq!(format!("{spec:?}"), format!("{again:?}"));

@@ -39,6 +39,7 @@ pub(crate) fn measurements(
                 study: study.study.clone(),
                 priority: study.priority.clone(),
                 prior: study.prior.clone(),
+                model: study.spec.model.clone(),
                 label: study
                     .label
                     .clone()
@@ -76,6 +77,7 @@ pub(crate) fn measurements(
                     study: Study::single(method.method.clone_method(), samples, label.clone()),
                     priority: None,
                     prior: None,
+                    model: None,
                     label,
                 }))),
                 ..Measurements::default()

@@ -28,7 +28,7 @@ use crate::sigma::Sigma;
 pub(crate) struct PyStudy {
     /// The study as stated: what `add`, `add_tool` and `add_station` fill,
     /// built by the rules of every front end ([`StudySpec`]).
-    spec: StudySpec,
+    pub(crate) spec: StudySpec,
     /// The study built from `spec`.
     pub(crate) study: Study,
     /// The robot of the study file, when read from one.
