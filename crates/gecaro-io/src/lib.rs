@@ -50,7 +50,7 @@ pub use input::{is_hidden_character, open_input, read_description};
 pub use interchange::{ImportOptions, RobotFormat, export_robot, import_robot, import_robot_text};
 pub use joint_calibration::apply_joint_calibration;
 pub use output::{OutputPolicy, remove_temporary_files, write_atomically, write_in_folder};
-pub use payload::parse_payload;
+pub use payload::{PayloadSpec, Quantity, parse_payload};
 pub use pose::{pose_from_seven, unit_quaternion};
 pub use prior::{StandardDeviation, parse_angle, parse_override, parse_prior};
 pub use problem::{DocumentError, Location};

@@ -1,5 +1,7 @@
 //! Payloads as people write them (issue 38): `20kg`, or `20kg,0,0,120mm`
-//! with its centre of mass in the tool frame n+1.
+//! with its centre of mass in the tool frame n+1; in a study file also as a
+//! table, `payload = { mass = "20kg", com = [0, 0, "120mm"] }`
+//! ([`PayloadSpec`]).
 //!
 //! The mass takes `kg` or `g`; each coordinate of the centre takes `m`,
 //! `mm` or `um`, and a bare number is in metres. gecaro works in kilograms
@@ -7,6 +9,7 @@
 
 use gecaro_core::LinkMass;
 use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
 
 use crate::prior::number_length;
 
@@ -100,6 +103,62 @@ fn length(text: &str) -> Result<f64, String> {
     Ok(value)
 }
 
+/// A payload as a study file states it: the text of [`parse_payload`], or
+/// a table of its mass and centre. Written back as it was read.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(untagged)]
+pub enum PayloadSpec {
+    /// `"20kg"` or `"20kg,0,0,120mm"`.
+    Text(String),
+    /// `{ mass = "20kg", com = [0, 0, "120mm"] }`: the centre's
+    /// coordinates are lengths with their unit, or bare numbers in metres.
+    Table {
+        /// The mass, with its unit (`kg` or `g`; a bare number is refused).
+        mass: Quantity,
+        /// The centre of mass in the tool frame (the flange's axis by default).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        com: Option<[Quantity; 3]>,
+    },
+}
+
+/// A value of a payload's table: a bare number, or a text with its unit.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(untagged)]
+pub enum Quantity {
+    /// A bare number: metres for a coordinate (a mass needs its unit).
+    Number(f64),
+    /// `"20kg"`, `"120mm"`.
+    Text(String),
+}
+
+impl std::fmt::Display for Quantity {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Quantity::Number(value) => write!(f, "{value}"),
+            Quantity::Text(text) => f.write_str(text),
+        }
+    }
+}
+
+impl PayloadSpec {
+    /// The payload stated (see [`parse_payload`]).
+    ///
+    /// # Errors
+    /// As [`parse_payload`].
+    pub fn payload(&self) -> Result<LinkMass, String> {
+        match self {
+            PayloadSpec::Text(text) => parse_payload(text),
+            PayloadSpec::Table { mass, com } => {
+                let mut text = mass.to_string();
+                for coordinate in com.iter().flatten() {
+                    text.push_str(&format!(",{coordinate}"));
+                }
+                parse_payload(&text)
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -120,5 +179,32 @@ mod tests {
         }
         let payload = parse_payload(" 6kg , 0.1 , -20mm , 0 ").expect("valid");
         assert_eq!(payload.com, Vector3::new(0.1, -0.02, 0.0));
+    }
+
+    /// A study's table states what the text does, and reads back as written.
+    #[test]
+    fn a_payload_table_is_its_text() {
+        #[derive(Deserialize, Serialize)]
+        struct Set {
+            payload: PayloadSpec,
+        }
+        for (table, text) in [
+            (
+                "payload = { mass = \"20kg\", com = [0, 0.01, \"120mm\"] }",
+                "20kg,0,0.01,120mm",
+            ),
+            ("payload = { mass = \"500g\" }", "500g"),
+            ("payload = \"6kg,0,0,50mm\"", "6kg,0,0,50mm"),
+        ] {
+            let set: Set = toml::from_str(table).expect(table);
+            assert_eq!(set.payload.payload(), parse_payload(text), "{table}");
+            let written = toml::to_string(&set).expect("written");
+            let again: Set = toml::from_str(&written).expect("read back");
+            assert_eq!(again.payload, set.payload, "{written}");
+        }
+        let set: Set = toml::from_str("payload = { mass = 20 }").expect("a bare mass reads");
+        let message = set.payload.payload().expect_err("a bare mass");
+        assert!(message.contains("needs its unit"), "{message}");
+        assert!(toml::from_str::<Set>("payload = { mass = \"2kg\", com = [0, 0] }").is_err());
     }
 }

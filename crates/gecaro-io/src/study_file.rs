@@ -29,7 +29,8 @@
 //! sigma = 0.02                  # in the set's length unit (here mm): 20 µm
 //! # sigma_rotation = 0.01       # in the set's angle unit (here degrees)
 //! # payload = "20kg,0,0,120mm"  # optional: what the robot carried for the whole set
-//!                               # (mass, and its centre in the tool frame; elastic joints)
+//!                               # (mass, and its centre in the tool frame; elastic joints),
+//!                               # or: payload = { mass = "20kg", com = [0, 0, "120mm"] }
 //! ```
 //!
 //! A σ is a number in its set's units (`length_unit`, `angle_unit`: metres and

@@ -253,10 +253,10 @@ pub struct SetSpec {
     pub label: Option<String>,
     /// The payload the robot carried for the whole set, as on the command
     /// line: `"20kg"`, or `"20kg,0,0,120mm"` with its centre in the tool
-    /// frame (elastic joints, issue 38); not with a data file's payload
-    /// columns.
+    /// frame, or as a table, `{ mass = "20kg", com = [0, 0, "120mm"] }`
+    /// (elastic joints, issue 38); not with a data file's payload columns.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub payload: Option<String>,
+    pub payload: Option<crate::payload::PayloadSpec>,
 }
 
 /// The field of a [`StudySpec`] at fault.
@@ -646,11 +646,12 @@ impl SetSpec {
         set: &mut MeasurementSet,
         misplaced: &dyn Fn(&'static str, String) -> E,
     ) -> Result<(), E> {
-        let Some(text) = &self.payload else {
+        let Some(stated) = &self.payload else {
             return Ok(());
         };
-        let payload =
-            crate::payload::parse_payload(text).map_err(|message| misplaced("payload", message))?;
+        let payload = stated
+            .payload()
+            .map_err(|message| misplaced("payload", message))?;
         if let Some(line) = set
             .samples
             .iter()
