@@ -273,6 +273,61 @@ fn a_study_s_model_is_the_default_of_the_command_line() {
         0,
         "the command line's model"
     );
+    // The report's identifiable grid has the compliances' column.
+    let report = path("report.html");
+    gecaro()
+        .args(["report", "--study", &study, "-o", &report])
+        .assert()
+        .success();
+    let html = std::fs::read_to_string(&report).expect("report");
+    assert!(html.contains("<th>K</th><th>c</th>"), "a column c");
+}
+
+/// The identifiable parameters of the elastic model list the compliances
+/// in a column of their own (a vertical first axis: no effect), and their
+/// priorities; a rigid model's table keeps its six columns.
+#[test]
+fn identifiable_compliances_have_their_column() {
+    let folder = tempfile::tempdir().expect("folder");
+    let data = folder.path().join("p.csv");
+    let data = data.to_str().expect("UTF-8");
+    gecaro()
+        .args([
+            "generate",
+            "industrial6",
+            "--method",
+            "position",
+            "--count",
+            "30",
+        ])
+        .args(["--payload", "10kg", "--seed", "3", "-o", data])
+        .assert()
+        .success();
+    let identifiable = |model: &str| {
+        let output = gecaro()
+            .args([
+                "identifiable",
+                "industrial6",
+                "--method",
+                "position",
+                "--data",
+                data,
+            ])
+            .args(["--model", model])
+            .output()
+            .expect("ran");
+        assert!(output.status.success(), "{model}");
+        String::from_utf8(output.stdout).expect("UTF-8")
+    };
+    let elastic = identifiable("elastic");
+    assert!(elastic.contains("K ┆  c │"), "{elastic}");
+    assert!(elastic.contains("id ┆  0 │"), "c1 has no effect: {elastic}");
+    assert!(
+        elastic.contains("K ┆ c │"),
+        "the priorities' column: {elastic}"
+    );
+    let rigid = identifiable("full");
+    assert!(rigid.contains("K │") && !rigid.contains("┆  c"), "{rigid}");
 }
 
 #[test]

@@ -107,10 +107,21 @@ fn print_report(robot: &Robot, report: &RankReport, source: &str) {
     println!(
         "id = identifiable, n = regrouped on others, 0 = no effect, - = excluded (priority 0)"
     );
-    let mut grid = table(&["j", "α", "d", "θ", "r", "β", "K"], 1);
+    // An elastic robot's compliances: a seventh column (joints 1..n).
+    let elastic = robot.is_elastic();
+    let headings: &[&str] = if elastic {
+        &["j", "α", "d", "θ", "r", "β", "K", "c"]
+    } else {
+        &["j", "α", "d", "θ", "r", "β", "K"]
+    };
+    let compliance = ParameterKind::Compliance;
+    let mut grid = table(headings, 1);
     for frame in 0..robot.frames().len() {
         let mut row = vec![frame.to_string()];
         row.extend(ParameterKind::ALL.map(|kind| cell(report, ParameterId::new(kind, frame))));
+        if elastic {
+            row.push(cell(report, ParameterId::new(compliance, frame)));
+        }
         grid.add_row(row);
     }
     println!("{grid}");
@@ -144,10 +155,18 @@ fn print_report(robot: &Robot, report: &RankReport, source: &str) {
         report.relation_residual()
     );
     println!("New priority matrix (non-identifiable set to 0):");
-    let mut priority = table(&["j", "α", "d", "θ", "r", "β", "K"], 1);
+    let mut priority = table(headings, 1);
     for (j, row) in report.priority.rows().iter().enumerate() {
         let mut cells = vec![j.to_string()];
         cells.extend(row.iter().map(ToString::to_string));
+        if elastic {
+            cells.push(
+                report
+                    .priority
+                    .get(ParameterId::new(compliance, j))
+                    .to_string(),
+            );
+        }
         priority.add_row(cells);
     }
     println!("{priority}");

@@ -324,12 +324,20 @@ fn identifiable(robot: &Robot, rank: &RankReport) -> Markup {
              structural analysis on random configurations like the data (Appendix III)."
         }
         table {
-            tr { th { "j" } th { "α" } th { "d" } th { "θ" } th { "r" } th { "β" } th { "K" } }
+            tr {
+                th { "j" } th { "α" } th { "d" } th { "θ" } th { "r" } th { "β" } th { "K" }
+                // An elastic robot's compliances (joints 1..n).
+                @if robot.is_elastic() { th { "c" } }
+            }
             @for frame in 0..robot.frames().len() {
                 tr {
                     td { (frame) }
                     @for kind in ParameterKind::ALL {
                         @let (class, text) = cell(frame, kind);
+                        td class=(class) { (text) }
+                    }
+                    @if robot.is_elastic() {
+                        @let (class, text) = cell(frame, ParameterKind::Compliance);
                         td class=(class) { (text) }
                     }
                 }
