@@ -104,8 +104,9 @@ fn length(text: &str) -> Result<f64, String> {
 }
 
 /// A payload as a study file states it: the text of [`parse_payload`], or
-/// a table of its mass and centre. Written back as it was read.
-#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+/// a table of its mass and centre. Written back as it was read; a table
+/// with another key (`centre`) is refused by name, not ignored.
+#[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(untagged)]
 pub enum PayloadSpec {
     /// `"20kg"` or `"20kg,0,0,120mm"`.
@@ -137,6 +138,47 @@ impl std::fmt::Display for Quantity {
             Quantity::Number(value) => write!(f, "{value}"),
             Quantity::Text(text) => f.write_str(text),
         }
+    }
+}
+
+/// The table form's keys, and no other.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PayloadTable {
+    mass: Quantity,
+    #[serde(default)]
+    com: Option<[Quantity; 3]>,
+}
+
+impl<'de> Deserialize<'de> for PayloadSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Stated;
+        impl<'de> serde::de::Visitor<'de> for Stated {
+            type Value = PayloadSpec;
+
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(
+                    "a payload: \"20kg,0,0,120mm\" or { mass = \"20kg\", com = [0, 0, \"120mm\"] }",
+                )
+            }
+
+            fn visit_str<E: serde::de::Error>(self, text: &str) -> Result<PayloadSpec, E> {
+                Ok(PayloadSpec::Text(text.to_owned()))
+            }
+
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> Result<PayloadSpec, A::Error> {
+                let table =
+                    PayloadTable::deserialize(serde::de::value::MapAccessDeserializer::new(map))?;
+                Ok(PayloadSpec::Table {
+                    mass: table.mass,
+                    com: table.com,
+                })
+            }
+        }
+        deserializer.deserialize_any(Stated)
     }
 }
 
@@ -205,6 +247,18 @@ mod tests {
         let set: Set = toml::from_str("payload = { mass = 20 }").expect("a bare mass reads");
         let message = set.payload.payload().expect_err("a bare mass");
         assert!(message.contains("needs its unit"), "{message}");
-        assert!(toml::from_str::<Set>("payload = { mass = \"2kg\", com = [0, 0] }").is_err());
+        for (table, expected) in [
+            ("payload = { mass = \"2kg\", com = [0, 0] }", "length 3"),
+            (
+                "payload = { mass = \"2kg\", centre = [0, 0, 0] }",
+                "unknown field `centre`",
+            ),
+            ("payload = 20", "a payload"),
+        ] {
+            let message = toml::from_str::<Set>(table).err().expect(table).to_string();
+            assert!(message.contains(expected), "{table}: {message}");
+        }
+        let json: Set = serde_json::from_str(r#"{"payload": {"mass": "2kg"}}"#).expect("json");
+        assert_eq!(json.payload.payload().expect("2 kg").mass, 2.0);
     }
 }
