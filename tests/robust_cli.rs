@@ -259,6 +259,23 @@ fn bad_robust_options_are_clear_errors() {
             .failure()
             .stderr(predicate::str::contains(expected));
     }
+    // The comparison's candidates are its models (the rule lives in the
+    // application layer, in every front end's words).
+    gecaro()
+        .args([
+            "compare-models",
+            "stanford",
+            "--method",
+            "position",
+            "--data",
+        ])
+        .arg(&data)
+        .args(["--models", "kinematic,full", "--model", "elastic"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains(
+            "takes its candidates from --models, not --model",
+        ));
 }
 
 #[test]

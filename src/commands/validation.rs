@@ -54,24 +54,13 @@ pub(super) fn print_cross_validation(validation: &CrossValidation, seed: u64) {
 }
 
 pub(crate) fn compare(args: &CompareModelsArgs) -> Result<(), Failure> {
-    if args
-        .run
-        .model
-        .as_deref()
-        .is_some_and(|model| model != "full")
-    {
-        return Err(Failure::usage(
-            "compare-models takes its candidates from --models, not --model",
-            Some("for example: --models kinematic,no-gains,full".to_owned()),
-        ));
-    }
     let mut request = CompareModelsRequest::new(
         measurements(&args.run.source, args.run.data.as_deref())?,
         args.models.split(',').map(str::to_owned).collect(),
         args.cv,
     );
+    // A --model other than full is refused by the comparison itself.
     request.settings = fit_settings(&args.run);
-    request.settings.model = None;
     request.seed = Some(args.seed);
     let comparison = with_steps("comparing models (folds)", |observer| {
         request.run(&LocalFiles, observer)

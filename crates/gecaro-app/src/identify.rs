@@ -20,7 +20,7 @@ use gecaro_report::{
 use serde::{Deserialize, Serialize};
 
 use crate::documents::{CrossValidationJson, IdentificationJson, ModelScoreJson, RegistrationJson};
-use crate::error::{AppError, ErrorKind};
+use crate::error::{AppError, ErrorKind, Part};
 use crate::files::Files;
 use crate::limits::MAX_FOLDS;
 use crate::measurements::{Data, Loaded, Measurements, Note, Unknown};
@@ -389,10 +389,21 @@ impl CompareModelsRequest {
     ) -> Result<ModelComparison, AppError> {
         self.unknown.check()?;
         if self.settings.model.as_deref().is_some_and(|m| m != "full") {
-            return Err(AppError::setting(
-                "model",
-                "a comparison takes its candidates from the models, not the model",
-            ));
+            return Err(AppError::new(
+                ErrorKind::Usage,
+                vec![
+                    Part::Setting("model".into()),
+                    Part::Text(": a comparison takes its candidates from ".into()),
+                    Part::Setting("models".into()),
+                    Part::Text(", not ".into()),
+                    Part::Setting("model".into()),
+                ],
+            )
+            .with_help(vec![
+                Part::Text("for example: ".into()),
+                Part::Setting("models".into()),
+                Part::Text(" kinematic,no-gains,full".into()),
+            ]));
         }
         let folds = folds(self.cv)?;
         let seed = self.seed.unwrap_or(1);

@@ -169,10 +169,11 @@ pub fn weighed_at(study: &Study, robot: &Robot, masses: &MassModel) -> Result<(S
 /// `study` with its loads at `robot` ([`weighed_at`]) when they move the
 /// model by more than a tenth of the sets' smallest σ, or of 0.1 mm when
 /// that is smaller or no set states one (RMS over the samples, which
-/// changes σ̂ by half a per cent); `None` when they do not. An identification follows the loads so
-/// (see [`crate::identification::IdentificationOptions::masses`]): the
-/// nominal geometry is off by centimetres, which moves the torques by a few
-/// per cent, tens of micrometres of deflection at the flange.
+/// changes σ̂ by half a per cent); `None` when they do not. An
+/// identification follows the loads so
+/// ([`crate::identification::IdentificationOptions::masses`]): the nominal
+/// geometry is off by centimetres, which moves the torques by a few per
+/// cent, tens of micrometres of deflection at the flange.
 ///
 /// # Errors
 /// As [`load_samples`].

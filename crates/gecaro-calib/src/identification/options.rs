@@ -52,10 +52,10 @@ pub struct IdentificationOptions {
     pub reject: bool,
     /// The masses that load an elastic robot's joints (its links' own;
     /// each sample states its payload): the samples' torques, evaluated at
-    /// the nominal robot, are then evaluated again at the calibrated one and
-    /// the data identified again from there, until they move the model by
-    /// less than a tenth of the noise ([`crate::elastic::reweighed`]). None
-    /// (the default) keeps the samples' torques as they are.
+    /// the nominal robot, then follow each pass, evaluated again at its
+    /// solution and its descent continued there while they move the model
+    /// by more than a tenth of the noise ([`crate::elastic::reweighed`]).
+    /// None (the default) keeps the samples' torques as they are.
     pub masses: Option<MassModel>,
 }
 
