@@ -722,8 +722,10 @@ pub(crate) struct IdentificationRunArgs {
     /// Which parameters may be identified: full (the priority matrix),
     /// no-gains, no-beta, kinematic (neither), offsets (joint offsets only),
     /// elastic (full and every joint's compliance, loaded by the robot's
-    /// masses and the data's payload; docs/elastic.md), or a priority-matrix
-    /// file. Default: a study's `model`, else full.
+    /// masses and the data's payload; docs/elastic.md), elastic-gravity
+    /// (elastic and gravity's two tilts, for a measurement frame that is not
+    /// levelled), or a priority-matrix file. Default: a study's `model`, else
+    /// full.
     #[arg(long, value_name = "MODEL")]
     pub(crate) model: Option<String>,
 }

@@ -326,6 +326,14 @@ fn identifiable_compliances_have_their_column() {
         elastic.contains("K ┆ c │"),
         "the priorities' column: {elastic}"
     );
+    assert!(!elastic.contains("tilt"), "{elastic}");
+    // Gravity's tilts, analysed on typical compliances (the file states
+    // none), and the note that says so.
+    let leaning = identifiable("elastic-gravity");
+    assert!(
+        leaning.contains("gravity's tilts: tilt1 identifiable, tilt2 identifiable"),
+        "{leaning}"
+    );
     let rigid = identifiable("full");
     assert!(rigid.contains("K │") && !rigid.contains("┆  c"), "{rigid}");
 }

@@ -125,6 +125,17 @@ fn print_report(robot: &Robot, report: &RankReport, source: &str) {
         grid.add_row(row);
     }
     println!("{grid}");
+    // Gravity's tilts (elastic-gravity): two parameters beside the grid.
+    let tilts: Vec<String> = (1..=2)
+        .map(|axis| ParameterId::new(ParameterKind::GravityTilt, axis))
+        .filter_map(|id| {
+            let p = report.parameters.iter().find(|p| p.parameter == Some(id))?;
+            (p.status != ParameterStatus::Excluded).then(|| format!("{id} {}", p.status.as_str()))
+        })
+        .collect();
+    if !tilts.is_empty() {
+        println!("gravity's tilts: {}", tilts.join(", "));
+    }
     for auxiliary in &report.auxiliary {
         println!(
             "auxiliary {}: {}",

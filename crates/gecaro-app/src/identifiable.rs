@@ -80,7 +80,7 @@ impl IdentifiableRequest {
             .model(self.model.as_deref())
             .map(|name| crate::settings::model(name, &loaded.robot.robot, files))
             .transpose()?;
-        if model == Some(Model::Elastic) {
+        if model.as_ref().is_some_and(Model::is_elastic) {
             // Random configurations carry no loads: the data's are what
             // tells a compliance from the geometry.
             if loaded.study.sets.iter().any(|set| set.samples.is_empty()) {
@@ -92,6 +92,9 @@ impl IdentifiableRequest {
                 ));
             }
             loaded.make_elastic()?;
+            if *model.as_ref().expect("elastic") == Model::ElasticGravity {
+                lean_on_typical_compliances(&mut loaded)?;
+            }
         }
         let robot = &loaded.robot.robot;
         let priority = match &self.priority {
@@ -119,4 +122,35 @@ impl IdentifiabilityAnalysis {
     pub fn document(&self) -> IdentifiableJson {
         IdentifiableJson::new(&self.loaded.robot.robot, &self.analysis)
     }
+}
+
+/// A typical industrial joint's compliance (rad/(N·m)), within the 1e-6 …
+/// 1e-5 of docs/elastic.md.
+const TYPICAL_COMPLIANCE: f64 = 5e-6;
+
+/// Gravity's tilts act through the joints' compliances (their columns are
+/// `c_j ∂τ_j/∂tilt`): where the robot states none, they are analysed on
+/// compliances of [`TYPICAL_COMPLIANCE`] (the structure does not depend
+/// on their size; an identification finds them first), and a note says so.
+///
+/// # Errors
+/// Never for a valid elastic robot.
+fn lean_on_typical_compliances(loaded: &mut crate::measurements::Loaded) -> Result<(), AppError> {
+    let robot = &mut loaded.robot.robot;
+    if robot
+        .compliances()
+        .is_some_and(|compliances| compliances.iter().any(|c| *c != 0.0))
+    {
+        return Ok(());
+    }
+    let typical = vec![TYPICAL_COMPLIANCE; robot.joint_count()];
+    robot
+        .set_compliances(Some(typical))
+        .map_err(|error| AppError::setting("model", error.to_string()))?;
+    loaded.notes.push(crate::measurements::Note::plain(format!(
+        "gravity's tilts act through the joints' compliances, which the robot file does not \
+         state: analysed with {TYPICAL_COMPLIANCE:e} rad/(N·m) on every joint (an \
+         identification finds the compliances first, then the tilts in a second pass)"
+    )));
+    Ok(())
 }

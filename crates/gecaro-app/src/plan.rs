@@ -630,7 +630,7 @@ impl PredictRequest {
             .transpose()?;
         let (elastic, planned, priority) = match model {
             None => (None, planned, robot.priority()),
-            Some(Model::Elastic) => {
+            Some(model) if model.is_elastic() => {
                 if self.monte_carlo.is_some() {
                     return Err(AppError::setting(
                         "monte_carlo",
@@ -641,7 +641,7 @@ impl PredictRequest {
                 let payloads = planned.iter().any(|sample| sample.payload.is_some());
                 let elastic = crate::loads::elastic_file(&file, payloads, "model")?;
                 let planned = crate::loads::loaded(&elastic, &planned, &[])?;
-                let priority = Model::Elastic.priority(&elastic.robot, None);
+                let priority = model.priority(&elastic.robot, None);
                 (Some(elastic), planned, priority)
             }
             Some(model) => (None, planned, model.priority(robot, None)),

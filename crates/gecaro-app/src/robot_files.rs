@@ -16,7 +16,9 @@ pub fn calibrated_robot_file(
     result: &Identification,
     data: &str,
 ) -> RobotFile {
-    let mut robot = result.calibrated.clone();
+    // Gravity's identified tilts go into the gravity the file states
+    // (`elastic-gravity`): the file's robot has none.
+    let mut robot = result.calibrated.untilted();
     robot.set_name(format!("{} (calibrated)", nominal.robot.name()));
     // A file states its angles within a turn (and is read back).
     robot.wrap_angles();
@@ -34,9 +36,10 @@ pub fn calibrated_robot_file(
         // The masses are the nominal's (a calibration does not weigh the
         // links): each centre in its link's frame, and gravity as stated in
         // the measurement frame, which is the calibrated robot's world
-        // (docs/elastic.md). A tilt the calibration finds at frame 1 is the
-        // robot's, not gravity's.
-        masses: nominal.masses.clone(),
+        // (docs/elastic.md), leaning by the tilts identified
+        // (`elastic-gravity`; none otherwise). A tilt the calibration finds
+        // at frame 1 is the robot's, not gravity's.
+        masses: nominal.masses.tilted(result.calibrated.gravity_tilt()),
         robot,
     }
 }

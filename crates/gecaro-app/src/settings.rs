@@ -122,10 +122,12 @@ impl FitSettings {
     }
 }
 
-/// Whether `name` names the elastic model, whose robot is made elastic
-/// (and its samples loaded) before the model's priorities are drawn.
+/// Whether `name` names an elastic model (`elastic`, `elastic-gravity`),
+/// whose robot is made elastic (and its samples loaded) before the model's
+/// priorities are drawn.
 pub(crate) fn names_elastic(name: Option<&str>) -> bool {
-    name.is_some_and(|name| name.trim() == Model::Elastic.name())
+    name.and_then(|name| name.trim().parse::<Model>().ok())
+        .is_some_and(|model| model.is_elastic())
 }
 
 /// A model by name, or a priority-matrix file.

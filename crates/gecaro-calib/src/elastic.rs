@@ -18,8 +18,8 @@
 //!   robot is not the identification's own approximation.
 
 use gecaro_core::{
-    ChainBuffer, FrameType, KinematicModel, LinkMass, MassModel, Robot, gravity_torques,
-    gravity_torques_in,
+    ChainBuffer, FrameType, KinematicModel, LinkMass, MassModel, Robot, gravity_loads_in,
+    gravity_torques,
 };
 use nalgebra::Vector3;
 
@@ -40,7 +40,8 @@ const SETTLING_ITERATIONS: usize = 50;
 
 /// Fills every sample's [`Sample::torques`] with the gravity torques at its
 /// commanded configuration (see the module docs), from `masses` and the
-/// sample's payload.
+/// sample's payload, and its [`Sample::tilt_torques`] with their
+/// derivatives with respect to gravity's tilts.
 ///
 /// # Errors
 /// A configuration that does not fit the robot, masses of another robot,
@@ -51,15 +52,25 @@ pub fn load_samples(
     samples: &mut [Sample],
 ) -> Result<(), Error> {
     let loads = loads_of(&KinematicModel::new(robot), robot, masses, samples)?;
-    for (sample, (torques, _)) in samples.iter_mut().zip(loads) {
-        sample.torques = Some(torques);
+    for (sample, load) in samples.iter_mut().zip(loads) {
+        sample.torques = Some(load.torques);
+        sample.tilt_torques = Some(load.tilt_torques);
     }
     Ok(())
 }
 
+/// One sample's loads ([`loads_of`]).
+struct Load {
+    torques: Vec<f64>,
+    tilt_torques: Vec<f64>,
+    /// How far they move the tool point from the sample's own, squared (m²).
+    moved: f64,
+}
+
 /// The loads of `samples` at `robot` (over the cores), each with how far
 /// they move `robot`'s tool point from where the sample's own loads (none:
-/// zero) put it, squared (m²), to first order: `Σ_j c_j·Δτ_j·∂p/∂q_j`,
+/// zero) put it, squared (m²), to first order: `Σ_j c_j·Δτ_j·∂p/∂q_j`
+/// (τ with the share of `robot`'s gravity tilts),
 /// with `∂p/∂q_j = z_j × (p − o_j)` for a revolute joint and `z_j` for a
 /// prismatic one (the joints turn by c·τ ≈ 1e-3 rad, the loads change by a
 /// few per cent of that).
@@ -68,9 +79,17 @@ fn loads_of(
     robot: &Robot,
     masses: &MassModel,
     samples: &[Sample],
-) -> Result<Vec<(Vec<f64>, f64)>, Error> {
+) -> Result<Vec<Load>, Error> {
     let joints = robot.joint_count();
     let compliances = robot.compliances().unwrap_or_default();
+    let tilt = robot.gravity_tilt();
+    // The torque joint j carries under `torques` and their tilts' share.
+    let carried = |torques: &[f64], tilts: Option<&[f64]>, joint: usize| {
+        torques.get(joint).copied().unwrap_or(0.0)
+            + tilts.map_or(0.0, |tilts| {
+                tilt[0] * tilts[joint] + tilt[1] * tilts[joints + joint]
+            })
+    };
     let frames = robot.frames();
     let parts = samples.chunks(part_size(samples.len())).collect();
     let loads = run_parts(parts, |part: &[Sample]| {
@@ -85,24 +104,27 @@ fn loads_of(
                     .forward(&sample.motor_positions, &mut chain)
                     .map_err(failed)?;
                 let mut torques = vec![0.0; joints];
-                gravity_torques_in(
+                let mut tilt_torques = vec![0.0; 2 * joints];
+                gravity_loads_in(
                     robot,
                     masses,
                     sample.payload.as_ref(),
                     |frame| chain.world_from_frame(frame),
                     &mut torques,
+                    Some(&mut tilt_torques),
                 )
                 .map_err(failed)?;
                 let tool = chain.world_from_tool().translation.vector;
                 let mut moved = Vector3::zeros();
+                let own = sample.torques.as_deref().unwrap_or_default();
+                let own_tilts = sample
+                    .tilt_torques
+                    .as_deref()
+                    .filter(|tilts| tilts.len() == 2 * joints);
                 for (joint, compliance) in compliances.iter().enumerate() {
-                    let own = sample
-                        .torques
-                        .as_ref()
-                        .and_then(|own| own.get(joint))
-                        .copied()
-                        .unwrap_or(0.0);
-                    let turned = compliance * (torques[joint] - own);
+                    let turned = compliance
+                        * (carried(&torques, Some(&tilt_torques), joint)
+                            - carried(own, own_tilts, joint));
                     let pose = chain.world_from_frame(joint + 1);
                     let axis = pose.rotation * Vector3::z();
                     moved += turned
@@ -111,7 +133,11 @@ fn loads_of(
                             _ => axis.cross(&(tool - pose.translation.vector)),
                         };
                 }
-                Ok((torques, moved.norm_squared()))
+                Ok(Load {
+                    torques,
+                    tilt_torques,
+                    moved: moved.norm_squared(),
+                })
             })
             .collect::<Result<Vec<_>, Error>>()
     });
@@ -122,8 +148,8 @@ fn loads_of(
     Ok(all)
 }
 
-/// Torques of every sample of a study: per set, per sample, per joint.
-type StudyLoads = Vec<Vec<Vec<f64>>>;
+/// Loads of every sample of a study: per set, per sample.
+type StudyLoads = Vec<Vec<Load>>;
 
 /// Every set's loads at `robot` ([`loads_of`]) and how far they move the
 /// model: the RMS over the samples of the tool point's move (m).
@@ -137,9 +163,9 @@ fn study_loads(
     let mut loads = Vec::with_capacity(study.sets.len());
     for set in &study.sets {
         let set_loads = loads_of(&model, robot, masses, &set.samples)?;
-        sum += set_loads.iter().map(|(_, moved)| moved).sum::<f64>();
+        sum += set_loads.iter().map(|load| load.moved).sum::<f64>();
         count += set_loads.len();
-        loads.push(set_loads.into_iter().map(|(torques, _)| torques).collect());
+        loads.push(set_loads);
     }
     Ok((loads, (sum / count.max(1) as f64).sqrt()))
 }
@@ -148,8 +174,9 @@ fn study_loads(
 fn carrying(study: &Study, loads: StudyLoads) -> Study {
     let mut weighed = study.clone();
     for (set, loads) in weighed.sets.iter_mut().zip(loads) {
-        for (sample, torques) in set.samples.iter_mut().zip(loads) {
-            sample.torques = Some(torques);
+        for (sample, load) in set.samples.iter_mut().zip(loads) {
+            sample.torques = Some(load.torques);
+            sample.tilt_torques = Some(load.tilt_torques);
         }
     }
     weighed

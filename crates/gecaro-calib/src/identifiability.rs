@@ -527,15 +527,17 @@ pub(crate) fn random_counterpart_at(
 /// first axis, gets none), independent of the configuration. On them a
 /// compliance's column `J_j·τ_j` is generic, so the structure says which
 /// compliances any loads could reveal; whether the data's own loads tell
-/// them from the geometry is the excitation check's question.
+/// them from the geometry is the excitation check's question. The tilts'
+/// torques go with them.
 fn lend_loads(data: &[Sample], random: &mut [Sample], sampler: &mut Sampler) {
-    let loaded: Vec<&Vec<f64>> = data.iter().filter_map(|s| s.torques.as_ref()).collect();
+    let loaded: Vec<&Sample> = data.iter().filter(|s| s.torques.is_some()).collect();
     if loaded.is_empty() {
         return;
     }
     for sample in random {
         let drawn = (sampler.uniform(0.0, loaded.len() as f64) as usize).min(loaded.len() - 1);
-        sample.torques = Some(loaded[drawn].clone());
+        sample.torques.clone_from(&loaded[drawn].torques);
+        sample.tilt_torques.clone_from(&loaded[drawn].tilt_torques);
     }
 }
 

@@ -113,9 +113,10 @@ impl Prior {
             .map(|(_, sigma)| *sigma);
         match id.kind {
             ParameterKind::D | ParameterKind::R => relative.unwrap_or(self.length),
-            ParameterKind::Alpha | ParameterKind::Theta | ParameterKind::Beta => {
-                relative.unwrap_or(self.angle)
-            }
+            ParameterKind::Alpha
+            | ParameterKind::Theta
+            | ParameterKind::Beta
+            | ParameterKind::GravityTilt => relative.unwrap_or(self.angle),
             ParameterKind::Gain => {
                 relative.unwrap_or(self.gain) * nominal.abs().max(f64::MIN_POSITIVE)
             }

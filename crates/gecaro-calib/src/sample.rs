@@ -29,6 +29,11 @@ pub struct Sample {
     /// robot's joints yield to; `None`: no load. Filled from the masses and
     /// the payload by [`crate::elastic::load_samples`].
     pub torques: Option<Vec<f64>>,
+    /// The torques' derivatives with respect to gravity's two tilts (2n
+    /// values: `∂τ_j/∂tilt1` for j = 1..n, then `∂τ_j/∂tilt2`;
+    /// [`gecaro_core::gravity_loads_in`]), filled with them: an elastic
+    /// robot's `tilt1`, `tilt2` load its joints through them.
+    pub tilt_torques: Option<Vec<f64>>,
 }
 
 impl Sample {
@@ -43,6 +48,7 @@ impl Sample {
             line: None,
             payload: None,
             torques: None,
+            tilt_torques: None,
         }
     }
 

@@ -28,11 +28,15 @@ pub const MAX_NOISE: f64 = 1.0;
 
 /// Size of one error unit (the unit of `--error-level`): 0.01 m for lengths,
 /// 1° (in radians) for angles, 1 % (a fraction of the value) for gains, and
-/// 1e-6 rad/(N·m) (m/N) for compliances, about a tenth of a soft joint's.
+/// 1e-6 rad/(N·m) (m/N) for compliances, about a tenth of a soft joint's,
+/// 1° for gravity's tilts.
 pub fn error_unit(kind: ParameterKind) -> f64 {
     match kind {
         ParameterKind::D | ParameterKind::R => 0.01,
-        ParameterKind::Alpha | ParameterKind::Theta | ParameterKind::Beta => 1f64.to_radians(),
+        ParameterKind::Alpha
+        | ParameterKind::Theta
+        | ParameterKind::Beta
+        | ParameterKind::GravityTilt => 1f64.to_radians(),
         ParameterKind::Gain => 0.01,
         ParameterKind::Compliance => 1e-6,
     }

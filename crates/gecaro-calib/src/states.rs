@@ -165,9 +165,10 @@ pub(crate) fn evaluate_chunk(
 ) -> Result<(), ModelError> {
     let mut chain = ChainBuffer::default();
     for (sample, state) in samples.iter().zip(states) {
-        model.forward_loaded(
+        model.forward_tilted(
             &sample.motor_positions,
             sample.torques.as_deref(),
+            sample.tilt_torques.as_deref(),
             &mut chain,
         )?;
         state.pose = *chain.world_from_tool();

@@ -199,20 +199,31 @@ pub enum Model {
     /// ([`gecaro_core::Robot::set_compliances`]) and its samples loaded
     /// ([`crate::elastic::load_samples`]).
     Elastic,
+    /// The elastic model and the direction of gravity: its two tilts
+    /// (`tilt1`, `tilt2`, [`gecaro_core::MassModel::tilted`]) after the
+    /// compliances, for a measurement frame that is not levelled. Seen only
+    /// through the compliances, they are identified in a second pass.
+    ElasticGravity,
     /// A priority matrix read from a file (named by it).
     Matrix(String, PriorityMatrix),
 }
 
 impl Model {
     /// The models that need no file, smallest first.
-    pub const NAMED: [&'static str; 6] = [
+    pub const NAMED: [&'static str; 7] = [
         "offsets",
         "kinematic",
         "no-gains",
         "no-beta",
         "full",
         "elastic",
+        "elastic-gravity",
     ];
+
+    /// Whether it identifies compliances (its robot must be elastic).
+    pub fn is_elastic(&self) -> bool {
+        matches!(self, Model::Elastic | Model::ElasticGravity)
+    }
 
     /// Its name: `full`, `no-gains`, …, or the file's.
     pub fn name(&self) -> &str {
@@ -223,6 +234,7 @@ impl Model {
             Model::Kinematic => "kinematic",
             Model::Offsets => "offsets",
             Model::Elastic => "elastic",
+            Model::ElasticGravity => "elastic-gravity",
             Model::Matrix(name, _) => name,
         }
     }
@@ -233,17 +245,19 @@ impl Model {
         let mut matrix = match self {
             Model::Matrix(_, matrix) => return matrix.clone(),
             // The compliances come last: geometry first in the base set.
-            Model::Elastic => {
+            Model::Elastic | Model::ElasticGravity => {
+                let tilt = u32::from(*self == Model::ElasticGravity);
                 return full
                     .cloned()
                     .unwrap_or_else(|| robot.priority())
-                    .with_compliances(1);
+                    .with_compliances(1)
+                    .with_gravity_tilt(tilt);
             }
             _ => full.cloned().unwrap_or_else(|| robot.priority()),
         };
         for id in robot.parameters().ids() {
             let keep = match self {
-                Model::Full | Model::Matrix(..) | Model::Elastic => true,
+                Model::Full | Model::Matrix(..) | Model::Elastic | Model::ElasticGravity => true,
                 Model::NoGains => id.kind != ParameterKind::Gain,
                 Model::NoBeta => id.kind != ParameterKind::Beta,
                 Model::Kinematic => !matches!(id.kind, ParameterKind::Gain | ParameterKind::Beta),
@@ -281,6 +295,7 @@ impl FromStr for Model {
             "kinematic" => Model::Kinematic,
             "offsets" => Model::Offsets,
             "elastic" => Model::Elastic,
+            "elastic-gravity" => Model::ElasticGravity,
             other => {
                 return Err(Error::InvalidOption {
                     setting: Setting::Model,

@@ -86,7 +86,9 @@ impl Frame {
             ParameterKind::Theta => self.theta,
             ParameterKind::R => self.r,
             ParameterKind::Beta => self.beta,
-            ParameterKind::Gain | ParameterKind::Compliance => f64::NAN,
+            ParameterKind::Gain | ParameterKind::Compliance | ParameterKind::GravityTilt => {
+                f64::NAN
+            }
         }
     }
 
@@ -97,7 +99,7 @@ impl Frame {
             ParameterKind::Theta => Some(&mut self.theta),
             ParameterKind::R => Some(&mut self.r),
             ParameterKind::Beta => Some(&mut self.beta),
-            ParameterKind::Gain | ParameterKind::Compliance => None,
+            ParameterKind::Gain | ParameterKind::Compliance | ParameterKind::GravityTilt => None,
         }
     }
 }

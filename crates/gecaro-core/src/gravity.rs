@@ -20,6 +20,16 @@
 //!   `m gᵀ (z_j × (p − o_j))` (N·m), for a prismatic one `m gᵀ z_j` (N), with
 //!   `z_j` and `o_j` the joint's axis and frame origin. A joint yields in the
 //!   direction of this torque; its motor holds `−τ_j`.
+//! - Gravity may lean from the direction stated (a measurement frame that is
+//!   not levelled) by two small angles, the elastic robot's parameters
+//!   `tilt1`, `tilt2` ([`crate::Robot::gravity_tilt`]): about the axes
+//!   `u₁, u₂` perpendicular to it ([`MassModel::tilt_axes`]; the world's x
+//!   and y for gravity along −z), `g(a) = g + a₁ u₁ × g + a₂ u₂ × g` — the
+//!   rotation to first order, exact as a model (its length grows by
+//!   `√(1 + a²)`, 1.5·10⁻⁴ at 1°). Torques are linear in g, so
+//!   `τ(a) = τ + a₁ ∂τ/∂a₁ + a₂ ∂τ/∂a₂` with `∂τ_j/∂a_k = (u_k × g)ᵀ v_j`,
+//!   `v_j` the vector gravity is dotted with above
+//!   ([`gravity_loads_in`] computes both).
 //!
 //! # Example
 //! A pendulum: 2 kg, 0.5 m out along x of its link, its axis horizontal
@@ -152,6 +162,36 @@ impl MassModel {
         Ok(())
     }
 
+    /// The axes `u₁, u₂` gravity's tilts turn it about (module docs): unit,
+    /// perpendicular to gravity and to each other, `(u₁, u₂, −ĝ)`
+    /// right-handed. `u₁` is the world's x made perpendicular to gravity
+    /// (its y when gravity lies within 45° of x): for gravity along −z,
+    /// x and y.
+    pub fn tilt_axes(&self) -> [Vector3<f64>; 2] {
+        let down = self.gravity.try_normalize(0.0).unwrap_or(-Vector3::z());
+        let reference = if down.x.abs() > std::f64::consts::FRAC_1_SQRT_2 {
+            Vector3::y()
+        } else {
+            Vector3::x()
+        };
+        let first = (reference - reference.dot(&down) * down).normalize();
+        [first, first.cross(&down)]
+    }
+
+    /// The same masses under gravity tilted by `tilt` (tilt1, tilt2 in
+    /// radians; module docs): `g + a₁ u₁ × g + a₂ u₂ × g`. Folds an
+    /// identified tilt into the gravity a robot file states.
+    pub fn tilted(&self, tilt: [f64; 2]) -> MassModel {
+        let [first, second] = self.tilt_axes();
+        let gravity = self.gravity
+            + tilt[0] * first.cross(&self.gravity)
+            + tilt[1] * second.cross(&self.gravity);
+        MassModel {
+            gravity,
+            ..self.clone()
+        }
+    }
+
     /// Whether any mass is stated.
     pub fn is_empty(&self) -> bool {
         self.links.iter().all(Option::is_none)
@@ -251,6 +291,23 @@ pub fn gravity_torques_in<'c>(
     world_from_frame: impl Fn(usize) -> &'c IsometryMatrix3<f64>,
     torques: &mut [f64],
 ) -> Result<(), Error> {
+    gravity_loads_in(robot, masses, payload, world_from_frame, torques, None)
+}
+
+/// [`gravity_torques_in`], and when `tilt_torques` is given (2n values)
+/// the torques' derivatives with respect to gravity's tilts (module docs):
+/// `∂τ_j/∂tilt1` for j = 1..n, then `∂τ_j/∂tilt2`.
+///
+/// # Errors
+/// As [`gravity_torques_in`]; `tilt_torques` of another length than 2n.
+pub fn gravity_loads_in<'c>(
+    robot: &Robot,
+    masses: &MassModel,
+    payload: Option<&LinkMass>,
+    world_from_frame: impl Fn(usize) -> &'c IsometryMatrix3<f64>,
+    torques: &mut [f64],
+    mut tilt_torques: Option<&mut [f64]>,
+) -> Result<(), Error> {
     let frames = robot.frames();
     if masses.links.len() != frames.len() {
         return Err(Error::Invalid {
@@ -266,13 +323,22 @@ pub fn gravity_torques_in<'c>(
         payload.check(Field::Key("payload"))?;
     }
     let joints = robot.joint_count();
-    if torques.len() != joints {
-        return Err(Error::ConfigurationLength {
-            expected: joints,
-            found: torques.len(),
-        });
+    let lengths = [
+        (torques.len(), joints),
+        (
+            tilt_torques.as_ref().map_or(2 * joints, |t| t.len()),
+            2 * joints,
+        ),
+    ];
+    if let Some((found, expected)) = lengths
+        .into_iter()
+        .find(|(found, expected)| found != expected)
+    {
+        return Err(Error::ConfigurationLength { expected, found });
     }
     let gravity = masses.gravity;
+    let [first, second] = masses.tilt_axes();
+    let leaning = [first.cross(&gravity), second.cross(&gravity)];
     let tool = frames.len() - 1;
     // The total mass and first moment of frames k..=n+1 and the payload.
     let mut total = 0.0;
@@ -294,6 +360,10 @@ pub fn gravity_torques_in<'c>(
                 _ => axis.cross(&(moment - total * pose.translation.vector)),
             };
             torques[frame - 1] = gravity.dot(&velocity);
+            if let Some(tilt_torques) = tilt_torques.as_deref_mut() {
+                tilt_torques[frame - 1] = leaning[0].dot(&velocity);
+                tilt_torques[joints + frame - 1] = leaning[1].dot(&velocity);
+            }
         }
     }
     Ok(())
@@ -373,6 +443,73 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// The tilts' torques are the derivatives of the torques under the
+    /// tilted gravity (central differences), and the axes are those stated.
+    #[test]
+    fn tilt_torques_are_the_derivatives_of_the_torques_under_tilted_gravity() {
+        let (robot, masses, payload) = loaded();
+        let upright = MassModel {
+            gravity: upright_gravity(),
+            ..masses.clone()
+        };
+        let [x, y] = upright.tilt_axes();
+        assert!((x - Vector3::x()).norm() < 1e-15 && (y - Vector3::y()).norm() < 1e-15);
+        // A tilt about x leans gravity towards +y (right-handed about x).
+        assert!(upright.tilted([0.01, 0.0]).gravity().y > 0.0);
+        let q = [0.3, -0.7, 0.4, 1.1, -0.5, 2.0];
+        let chain = forward_kinematics(&robot, &q).expect("chain");
+        for model in [&masses, &upright] {
+            let [u, v] = model.tilt_axes();
+            let down = model.gravity().normalize();
+            assert!(u.dot(&down).abs() < 1e-15 && v.dot(&down).abs() < 1e-15);
+            assert!((u.cross(&v) + down).norm() < 1e-15, "right-handed");
+            let mut torques = [0.0; 6];
+            let mut tilts = [0.0; 12];
+            gravity_loads_in(
+                &robot,
+                model,
+                Some(&payload),
+                |frame| chain.world_from_frame(frame),
+                &mut torques,
+                Some(&mut tilts),
+            )
+            .expect("loads");
+            for axis in 0..2 {
+                let h = 1e-5;
+                let mut tilt = [0.0; 2];
+                tilt[axis] = h;
+                let up = gravity_torques(&robot, &model.tilted(tilt), Some(&payload), &q)
+                    .expect("torques");
+                tilt[axis] = -h;
+                let down = gravity_torques(&robot, &model.tilted(tilt), Some(&payload), &q)
+                    .expect("torques");
+                for joint in 0..6 {
+                    let derivative = (up[joint] - down[joint]) / (2.0 * h);
+                    let analytic = tilts[axis * 6 + joint];
+                    assert!(
+                        (analytic - derivative).abs() < 1e-8 * (1.0 + derivative.abs()),
+                        "tilt{} joint {}: {analytic} vs {derivative}",
+                        axis + 1,
+                        joint + 1
+                    );
+                }
+            }
+        }
+        let mut short = [0.0; 11];
+        let mut torques = [0.0; 6];
+        assert!(
+            gravity_loads_in(
+                &robot,
+                &masses,
+                None,
+                |frame| chain.world_from_frame(frame),
+                &mut torques,
+                Some(&mut short),
+            )
+            .is_err()
+        );
     }
 
     #[test]

@@ -79,7 +79,8 @@ pub use axis_chain::{AxisChain, ChainJoint};
 pub use error::{Compact, Error, Field};
 pub use frame::{Frame, FrameType, Joint};
 pub use gravity::{
-    LinkMass, MassModel, STANDARD_GRAVITY, gravity_torques, gravity_torques_in, upright_gravity,
+    LinkMass, MassModel, STANDARD_GRAVITY, gravity_loads_in, gravity_torques, gravity_torques_in,
+    upright_gravity,
 };
 pub use kinematics::{
     ChainBuffer, FrameChain, InverseOptions, InverseSolution, JacobianRows, KinematicModel,

@@ -11,7 +11,10 @@
 //! that is Np = 2 + 5(n+1) + n parameters: 43 for the six-joint Stanford arm.
 //! An elastic robot (issue 38, `docs/elastic.md`) appends the compliance of
 //! every joint, `c1 ... cn` (rad/(N·m) for a revolute joint, m/N for a
-//! prismatic one): Np + n parameters, the geometric ones first and unmoved.
+//! prismatic one): Np + n parameters, the geometric ones first and unmoved,
+//! then the two angles `tilt1 tilt2` by which gravity leans from the
+//! direction the mass model states (a measurement frame that is not
+//! levelled; [`crate::MassModel::tilted`]): Np + n + 2 in all.
 //! Frame 0 carries only θ0 and r0 (α0 = d0 = β0 = 0 by definition of the
 //! base frame, eq. 1–2). These names are used in every file, table and JSON
 //! output of gecaro. Lengths are in metres, angles in radians, gains have no
@@ -40,6 +43,12 @@ pub enum ParameterKind {
     /// c_j: compliance of joint j, `q_j = K_j·qm_j + offset_j + c_j·τ_j`
     /// (rad/(N·m) or m/N; issue 38). Only elastic robots have it.
     Compliance,
+    /// tilt_k (k = 1, 2): the angle (radians) by which gravity leans from
+    /// the direction the robot's mass model states, about the first and the
+    /// second axis perpendicular to it (the world's x and y for gravity
+    /// along −z; [`crate::MassModel::tilt_axes`]). Only elastic robots have
+    /// it, and only their loads see it.
+    GravityTilt,
 }
 
 impl ParameterKind {
@@ -70,6 +79,7 @@ impl ParameterKind {
             ParameterKind::Beta => "beta",
             ParameterKind::Gain => "K",
             ParameterKind::Compliance => "c",
+            ParameterKind::GravityTilt => "tilt",
         }
     }
 
@@ -77,7 +87,10 @@ impl ParameterKind {
     pub fn is_angle(self) -> bool {
         matches!(
             self,
-            ParameterKind::Alpha | ParameterKind::Theta | ParameterKind::Beta
+            ParameterKind::Alpha
+                | ParameterKind::Theta
+                | ParameterKind::Beta
+                | ParameterKind::GravityTilt
         )
     }
 
@@ -92,7 +105,8 @@ impl ParameterKind {
 /// Displayed and parsed as its name: `theta0`, `alpha3`, `K2`.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct ParameterId {
-    /// Frame j (0..=n+1) for geometric parameters, joint j (1..=n) for gains.
+    /// Frame j (0..=n+1) for geometric parameters, joint j (1..=n) for
+    /// gains and compliances, the axis k (1, 2) of a gravity tilt.
     pub frame: usize,
     /// Which parameter of the frame.
     pub kind: ParameterKind,
@@ -122,7 +136,7 @@ impl FromStr for ParameterId {
             let (stem, number) = name.split_at(at);
             let kind = ParameterKind::ALL
                 .into_iter()
-                .chain([ParameterKind::Compliance])
+                .chain([ParameterKind::Compliance, ParameterKind::GravityTilt])
                 .find(|kind| kind.symbol() == stem)?;
             let frame = number.parse::<usize>().ok()?;
             Some(ParameterId { frame, kind })
@@ -166,13 +180,16 @@ impl ParameterSpace {
     }
 
     /// The vocabulary of an elastic robot: [`ParameterSpace::new`]'s, then
-    /// the compliances `c1 … cn`.
+    /// the compliances `c1 … cn`, then the gravity tilts `tilt1 tilt2`.
     pub fn elastic(joint_count: usize) -> Self {
         let mut space = Self::new(joint_count);
         space.elastic = true;
         space.ids.extend(
             (1..=joint_count).map(|joint| ParameterId::new(ParameterKind::Compliance, joint)),
         );
+        space
+            .ids
+            .extend((1..=2).map(|axis| ParameterId::new(ParameterKind::GravityTilt, axis)));
         space
     }
 
@@ -185,7 +202,8 @@ impl ParameterSpace {
         self.elastic
     }
 
-    /// Number of parameters Np = 2 + 5(n+1) + n (+ n compliances when elastic).
+    /// Number of parameters Np = 2 + 5(n+1) + n (+ n compliances and two
+    /// gravity tilts when elastic).
     pub fn len(&self) -> usize {
         self.ids.len()
     }
@@ -224,6 +242,10 @@ impl ParameterSpace {
                 Some(Self::len_for(n) + joint - 1)
             }
             (ParameterKind::Compliance, _) => None,
+            (ParameterKind::GravityTilt, axis @ 1..=2) if self.elastic => {
+                Some(Self::len_for(n) + n + axis - 1)
+            }
+            (ParameterKind::GravityTilt, _) => None,
             (kind, frame) if frame <= n + 1 => Some(2 + 5 * (frame - 1) + kind.column()),
             _ => None,
         }
@@ -294,17 +316,21 @@ mod tests {
     #[test]
     fn an_elastic_space_appends_the_compliances() {
         let space = ParameterSpace::elastic(6);
-        assert_eq!(space.len(), 49);
+        assert_eq!(space.len(), 51);
         assert!(space.is_elastic() && !ParameterSpace::new(6).is_elastic());
         assert_eq!(&space.names()[..43], &ParameterSpace::new(6).names()[..]);
-        assert_eq!(&space.names()[43..], ["c1", "c2", "c3", "c4", "c5", "c6"]);
+        assert_eq!(
+            &space.names()[43..],
+            ["c1", "c2", "c3", "c4", "c5", "c6", "tilt1", "tilt2"]
+        );
         for (index, id) in space.ids().iter().enumerate() {
             assert_eq!(space.index_of_name(&id.to_string()), Ok(index));
         }
-        for name in ["c0", "c7"] {
+        for name in ["c0", "c7", "tilt0", "tilt3"] {
             assert!(space.index_of_name(name).is_err(), "{name}");
         }
         assert!(ParameterSpace::new(6).index_of_name("c1").is_err());
+        assert!(ParameterSpace::new(6).index_of_name("tilt1").is_err());
     }
 
     #[test]

@@ -27,6 +27,10 @@
 //! [`PriorityMatrix::set`]. It is 0 by default: a compliance is identified
 //! only when asked for (`--model elastic`, see [`PriorityMatrix::with_compliances`]),
 //! so no existing file changes. Its candidates come after all six columns.
+//! The two gravity tilts of an elastic robot (`tilt1`, `tilt2`) have a
+//! priority each, 0 unless asked for (`--model elastic-gravity`, see
+//! [`PriorityMatrix::with_gravity_tilt`]), taken after the compliances; a
+//! priority file does not state them.
 
 use crate::frame::{Frame, FrameType};
 use crate::parameters::{ParameterId, ParameterKind, ParameterSpace};
@@ -38,6 +42,8 @@ pub struct PriorityMatrix {
     rows: Vec<[u32; 6]>,
     /// The priority of c_j in row j (frames 0 and n+1 have none).
     compliance: Vec<u32>,
+    /// The priorities of tilt1 and tilt2.
+    gravity_tilt: [u32; 2],
 }
 
 impl PriorityMatrix {
@@ -47,6 +53,7 @@ impl PriorityMatrix {
         PriorityMatrix {
             compliance: vec![0; rows.len()],
             rows,
+            gravity_tilt: [0; 2],
         }
     }
 
@@ -61,6 +68,14 @@ impl PriorityMatrix {
                 priority
             };
         }
+        self
+    }
+
+    /// This matrix with both gravity tilts at `priority` (gravity's
+    /// direction identified with an elastic robot's compliances; 0
+    /// identifies neither).
+    pub fn with_gravity_tilt(mut self, priority: u32) -> Self {
+        self.gravity_tilt = [priority; 2];
         self
     }
 
@@ -122,6 +137,10 @@ impl PriorityMatrix {
     pub fn get(&self, id: ParameterId) -> u32 {
         match id.kind {
             ParameterKind::Compliance => self.compliance[id.frame],
+            ParameterKind::GravityTilt => match id.frame {
+                axis @ 1..=2 => self.gravity_tilt[axis - 1],
+                _ => 0,
+            },
             kind => self.rows[id.frame][kind.column()],
         }
     }
@@ -129,10 +148,12 @@ impl PriorityMatrix {
     /// Sets the priority of one parameter.
     ///
     /// # Panics
-    /// If the frame is outside the matrix.
+    /// If the frame is outside the matrix, or the axis of a gravity tilt
+    /// is not 1 or 2.
     pub fn set(&mut self, id: ParameterId, priority: u32) {
         match id.kind {
             ParameterKind::Compliance => self.compliance[id.frame] = priority,
+            ParameterKind::GravityTilt => self.gravity_tilt[id.frame - 1] = priority,
             kind => self.rows[id.frame][kind.column()] = priority,
         }
     }
@@ -142,7 +163,7 @@ impl PriorityMatrix {
     pub fn ordered_candidates(&self, parameters: &ParameterSpace) -> Vec<ParameterId> {
         let mut candidates: Vec<(u32, ParameterId)> = ParameterKind::ALL
             .into_iter()
-            .chain([ParameterKind::Compliance])
+            .chain([ParameterKind::Compliance, ParameterKind::GravityTilt])
             .flat_map(|kind| (0..self.rows.len()).map(move |frame| ParameterId::new(kind, frame)))
             .filter(|id| parameters.contains(*id))
             .map(|id| (self.get(id), id))
@@ -194,6 +215,13 @@ impl PriorityMatrix {
                     ),
                 ));
             }
+        }
+        if self.gravity_tilt != [0; 2] && !parameters.is_elastic() {
+            return Err(Error::invalid(
+                Field::Priority { row: None },
+                "gravity's tilt is identified with an elastic robot's compliances only (a rigid \
+                 robot's joints do not yield to gravity), so its priority must be 0",
+            ));
         }
         Ok(())
     }
@@ -269,6 +297,17 @@ mod tests {
         asked.validate(&elastic).expect("elastic");
         // A rigid robot has no compliance to give a priority to.
         assert!(asked.validate(robot.parameters()).is_err());
+        // The gravity tilts come last, when asked for, and only elastic.
+        let tilted = asked.with_gravity_tilt(1);
+        let names: Vec<String> = tilted
+            .ordered_candidates(&elastic)
+            .iter()
+            .map(ToString::to_string)
+            .collect();
+        assert_eq!(&names[49..], ["tilt1", "tilt2"]);
+        tilted.validate(&elastic).expect("elastic");
+        let rigid_tilted = rigid.with_gravity_tilt(1);
+        assert!(rigid_tilted.validate(robot.parameters()).is_err());
     }
 
     #[test]

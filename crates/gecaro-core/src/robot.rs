@@ -76,6 +76,12 @@ pub struct Robot {
     joint_coupling: DMatrix<f64>,
     priority_override: Option<PriorityMatrix>,
     compliances: Option<Vec<f64>>,
+    /// tilt1, tilt2 (radians): how far gravity leans from the direction the
+    /// mass model states ([`crate::MassModel::tilted`]); only an elastic
+    /// robot's loads read them. Not part of a [`RobotSpec`]: an
+    /// identification finds them and a front end folds them into the mass
+    /// model's gravity before it writes the robot.
+    gravity_tilt: [f64; 2],
     parameters: ParameterSpace,
     /// Cj · diag(K) · Cm, kept in step with the gains.
     motor_to_joint: DMatrix<f64>,
@@ -131,6 +137,7 @@ impl Robot {
             joint_coupling,
             priority_override: priority,
             compliances,
+            gravity_tilt: [0.0; 2],
             parameters,
             motor_to_joint: DMatrix::zeros(n, n),
         };
@@ -240,6 +247,21 @@ impl Robot {
         Ok(())
     }
 
+    /// The gravity tilts tilt1, tilt2 (radians; see the field's docs), zero
+    /// unless an identification moved them.
+    pub fn gravity_tilt(&self) -> [f64; 2] {
+        self.gravity_tilt
+    }
+
+    /// The same robot with its gravity tilts at zero: what remains once
+    /// they are folded into the mass model ([`crate::MassModel::tilted`]).
+    pub fn untilted(&self) -> Robot {
+        Robot {
+            gravity_tilt: [0.0; 2],
+            ..self.clone()
+        }
+    }
+
     /// Whether the robot is elastic (has compliances, even all zero).
     pub fn is_elastic(&self) -> bool {
         self.compliances.is_some()
@@ -329,6 +351,7 @@ impl Robot {
         match (id.kind, &self.compliances) {
             (ParameterKind::Gain, _) => self.joints[id.frame - 1].gain,
             (ParameterKind::Compliance, Some(compliances)) => compliances[id.frame - 1],
+            (ParameterKind::GravityTilt, _) => self.gravity_tilt[id.frame - 1],
             (kind, _) => self.frames[id.frame].get(kind),
         }
     }
@@ -464,6 +487,11 @@ impl Robot {
                 if let Some(compliances) = &mut self.compliances {
                     compliances[id.frame - 1] = value;
                 }
+                Ok(false)
+            }
+            ParameterKind::GravityTilt => {
+                check_magnitude(field, value)?;
+                self.gravity_tilt[id.frame - 1] = value;
                 Ok(false)
             }
             kind => {

@@ -228,7 +228,10 @@ pub fn parse_override(name_text: &str, value: &str) -> Result<(ParameterId, f64)
     let (kind, sigma) = quantity(value)?;
     let expected = match id.kind {
         ParameterKind::D | ParameterKind::R => Kind::Length,
-        ParameterKind::Alpha | ParameterKind::Theta | ParameterKind::Beta => Kind::Angle,
+        ParameterKind::Alpha
+        | ParameterKind::Theta
+        | ParameterKind::Beta
+        | ParameterKind::GravityTilt => Kind::Angle,
         ParameterKind::Gain | ParameterKind::Compliance => Kind::Gain,
     };
     if kind != expected {

@@ -365,7 +365,9 @@ pub fn format_robot_file(file: &RobotFile) -> String {
     if unit == AngleUnit::Degrees {
         let _ = writeln!(text, "angle_unit = \"deg\"");
     }
-    let gravity = file.masses.gravity();
+    // An identified tilt of gravity (elastic-gravity) is stated as the
+    // gravity it leans to: a file's robot has none.
+    let gravity = file.masses.tilted(robot.gravity_tilt()).gravity();
     if gravity != gecaro_core::upright_gravity() {
         let _ = writeln!(
             text,
@@ -613,7 +615,8 @@ r = 0.1
             file.robot.compliances(),
             Some(&[0.0, 4e-6, 0.0, 0.0, 0.0, 0.0][..])
         );
-        assert_eq!(file.robot.parameters().len(), 49);
+        // 43, the six compliances and gravity's two tilts.
+        assert_eq!(file.robot.parameters().len(), 51);
         let written = format_robot_file(&file);
         assert_eq!(written.matches("compliance = ").count(), 6, "{written}");
         assert!(
@@ -622,6 +625,17 @@ r = 0.1
         );
         assert!(written.contains("# m/N"), "{written}");
         assert_eq!(parse(&written).expect("valid"), file);
+        // Gravity's identified tilt is written as the gravity it leans to.
+        let mut tilted = file.clone();
+        let tilt = gecaro_core::ParameterId::new(gecaro_core::ParameterKind::GravityTilt, 2);
+        tilted.robot.set_parameter(tilt, 0.03).expect("tilt");
+        let read = parse(&format_robot_file(&tilted)).expect("valid");
+        assert_eq!(read.robot.gravity_tilt(), [0.0; 2]);
+        assert_eq!(
+            read.masses.gravity(),
+            file.masses.tilted([0.0, 0.03]).gravity()
+        );
+        assert!(read.masses.gravity().x < -0.2, "{}", read.masses.gravity());
         let (line, message) =
             parse_error(&text.replacen("r = 0.1\n", "r = 0.1\ncompliance = 1\n", 1));
         assert!(

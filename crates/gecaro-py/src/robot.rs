@@ -407,6 +407,20 @@ impl PyRobot {
         self.robot().compliances().map(<[f64]>::to_vec)
     }
 
+    /// Gravity in the robot's world frame (m/s², `[0, 0, -9.80665]` unless
+    /// the robot file states it): what loads an elastic robot's joints. An
+    /// identification with `model="elastic-gravity"` states in its
+    /// calibrated robot the gravity it found.
+    #[getter]
+    fn gravity(&self) -> [f64; 3] {
+        self.file.masses.gravity().into()
+    }
+
+    #[setter]
+    fn set_gravity(&mut self, gravity: [f64; 3]) -> PyResult<()> {
+        self.file.masses.set_gravity(gravity.into()).py()
+    }
+
     /// The torque gravity exerts about each joint at motor values `qm`
     /// (N·m; N for a prismatic joint), from the masses the robot file states
     /// and an optional `payload` (`"6kg"`, `"6kg,0,0,80mm"`), as the elastic

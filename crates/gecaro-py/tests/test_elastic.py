@@ -75,3 +75,30 @@ def test_a_plan_with_payloads_and_its_elastic_prediction():
     assert not any(p["name"].startswith("c") for p in geometric["parameters"])
     analysis = gecaro.identifiable(robot, "position", plan.data, model="elastic")
     assert "c2" in analysis.identifiable and "c1" not in analysis.identifiable
+
+
+def test_gravity_s_tilt_identified_with_the_compliances():
+    """A cell whose gravity leans 2.9° and 2.3° from the −z the robot file
+    states: elastic-gravity finds it, and its calibrated robot states it."""
+    robot = gecaro.Robot.load("industrial6")
+    real = gecaro.generate(robot, "position", 1, seed=30, compliance_level=1.0).real
+    g = 9.80665
+    real.gravity = [0.04 * g, 0.05 * g, -g]  # tilt1 0.05 leans to +y, tilt2 −0.04 to +x
+    sets = [
+        gecaro.generate(robot, "position", 150, noise=2e-5, seed=seed, real=real, payload=payload)
+        for seed, payload in [(31, "0kg"), (32, "10kg,0,0,100mm"), (33, "20kg,0,0,100mm")]
+    ]
+    data = gecaro.Data(
+        np.concatenate([s.data.qm for s in sets]),
+        position=np.concatenate([s.data.position for s in sets]),
+        payload=np.concatenate([s.data.payload for s in sets]),
+    )
+    result = gecaro.identify(robot, "position", data, sigma="20um", model="elastic-gravity")
+    assert result.verdict["outcome"] == "fits_noise"
+    tilts = {p.name: p for p in result.parameters if p.name.startswith("tilt")}
+    assert sorted(tilts) == ["tilt1", "tilt2"]
+    for name, truth in [("tilt1", 0.05), ("tilt2", -0.04)]:
+        assert abs(tilts[name].identified - truth) < 3 * tilts[name].std, name
+    found, truth = np.array(result.calibrated.gravity), np.array(real.gravity)
+    cosine = found @ truth / (np.linalg.norm(found) * np.linalg.norm(truth))
+    assert np.degrees(np.arccos(min(cosine, 1.0))) < 0.5

@@ -2210,21 +2210,21 @@ async fn an_elastic_robot_is_simulated_and_identified_through_the_api() {
                 .map(str::to_owned),
         );
     }
-    let view = api
-        .job(
-            "/api/identify",
-            &json!({ "robot": document, "method": { "name": "position" }, "model": "elastic",
-                     "sigma": "20um",
-                     "data": { "csv": { "text": rows.join("\n"), "name": "payloads.csv" } } }),
-        )
-        .await
-        .expect("started");
-    assert_eq!(view["state"], "done", "{view}");
+    // Elastic, then with gravity's tilt asked for too (the level cell's
+    // data find none): both fit the stated noise.
+    let mut views = Vec::new();
+    for model in ["elastic", "elastic-gravity"] {
+        let request = json!({ "robot": document, "method": { "name": "position" },
+                              "model": model, "sigma": "20um",
+                              "data": { "csv": { "text": rows.join("\n"), "name": "payloads.csv" } } });
+        let view = api.job("/api/identify", &request).await.expect("started");
+        assert_eq!(view["state"], "done", "{view}");
+        let outcome = &view["result"]["identification"]["verdict"]["outcome"];
+        assert_eq!(outcome, "fits_noise", "{model}: {view}");
+        views.push(view);
+    }
+    let view = &views[0];
     let identification = &view["result"]["identification"];
-    assert_eq!(
-        identification["verdict"]["outcome"], "fits_noise",
-        "{identification}"
-    );
     let c2 = identification["parameters"]
         .as_array()
         .expect("parameters")
@@ -2254,6 +2254,19 @@ async fn an_elastic_robot_is_simulated_and_identified_through_the_api() {
         checked["problems"].as_array().expect("problems").is_empty(),
         "{checked}"
     );
+    let identification = &views[1]["result"]["identification"];
+    for tilt in identification["parameters"]
+        .as_array()
+        .expect("parameters")
+        .iter()
+        .filter(|p| p["name"].as_str().is_some_and(|n| n.starts_with("tilt")))
+    {
+        let (value, std) = (tilt["identified"].as_f64(), tilt["std"].as_f64());
+        assert!(
+            value.zip(std).is_some_and(|(v, s)| v.abs() < 3.0 * s),
+            "{tilt}"
+        );
+    }
 }
 
 /// The page's plan offers each candidate with each payload: the plan states

@@ -368,11 +368,22 @@ fn second_pass(
             )
         })
     };
+    // Gravity's tilts load the joints through their compliances (their
+    // columns are `c_j ∂τ_j/∂tilt`): zero at a nominal robot whose
+    // compliances are, they have an effect once the first pass has found
+    // the compliances.
+    let yields = first
+        .calibrated
+        .compliances()
+        .is_some_and(|compliances| compliances.iter().any(|c| *c != 0.0));
+    let tilt_seen = |index: &usize| {
+        yields && robot.parameters().id(*index).kind == gecaro_core::ParameterKind::GravityTilt
+    };
     let every: Vec<usize> = priority
         .ordered_candidates(robot.parameters())
         .into_iter()
         .filter_map(|id| robot.parameters().index_of(id))
-        .filter(has_effect)
+        .filter(|index| has_effect(index) || tilt_seen(index))
         .collect();
     let mut current = first;
     let mut added: Vec<usize> = Vec::new();

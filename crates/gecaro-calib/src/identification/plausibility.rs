@@ -110,7 +110,10 @@ fn beyond_limits(
     // only lengths beyond the cell are implausible there. The tool may be
     // turned any way too (a point tool's direction is written with α and θ
     // of frame n+1), and reach as far as the robot.
-    let geometric = !matches!(id.kind, ParameterKind::Gain | ParameterKind::Compliance);
+    let geometric = !matches!(
+        id.kind,
+        ParameterKind::Gain | ParameterKind::Compliance | ParameterKind::GravityTilt
+    );
     let placement = geometric && id.frame <= 1;
     let turned_freely = placement || (geometric && id.frame == tool);
     let reach = if placement { CELL * size } else { size };
@@ -178,6 +181,28 @@ fn judge_compliance(p: &IdentifiedParameter) -> Option<Implausible> {
     })
 }
 
+/// The farthest gravity's direction may lean from the one a robot file
+/// states (radians): a tracker's frame set up by eye is levelled to a
+/// degree or two; beyond this, the stated gravity is wrong.
+const TILT_LIMIT: f64 = 5.0 * std::f64::consts::PI / 180.0;
+
+/// A gravity tilt is implausible beyond [`TILT_LIMIT`] (beyond 3σ too).
+fn judge_tilt(p: &IdentifiedParameter) -> Option<Implausible> {
+    let beyond = p.identified.abs() > TILT_LIMIT
+        && (!p.std.is_finite() || p.identified.abs() - 3.0 * p.std > TILT_LIMIT);
+    beyond.then(|| Implausible {
+        name: p.name.clone(),
+        why: format!(
+            "leans gravity by {:.1}° from the direction the robot file states, more than {:.0}°",
+            p.identified.to_degrees(),
+            TILT_LIMIT.to_degrees()
+        ),
+        cause: "the robot file's gravity is not stated in the measurement frame (gravity = \
+                [x, y, z] in its mass section), or the tilts absorb an error that is not elastic"
+            .to_owned(),
+    })
+}
+
 /// The judgement of one written parameter (see the module docs).
 fn judge_parameter(
     written: &Written<'_>,
@@ -222,6 +247,9 @@ fn judge_parameter(
     }
     if id.kind == ParameterKind::Compliance {
         return judge_compliance(p);
+    }
+    if id.kind == ParameterKind::GravityTilt {
+        return judge_tilt(p);
     }
     let why = beyond_limits(id, p.nominal, deviation, size, last).or_else(|| {
         let prior = p.prior_std.filter(|_| written.prior.is_some())?;

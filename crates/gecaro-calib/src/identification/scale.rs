@@ -90,7 +90,15 @@ fn scaled(robot: &Robot, factor: f64) -> Result<Robot, Error> {
             joint.offset *= factor;
         }
     }
-    Ok(Robot::new(spec)?)
+    let mut scaled = Robot::new(spec)?;
+    // Gravity's tilts are angles: a scale leaves them (not in a spec).
+    for (axis, tilt) in robot.gravity_tilt().into_iter().enumerate() {
+        let id = ParameterId::new(ParameterKind::GravityTilt, axis + 1);
+        if scaled.parameters().contains(id) {
+            scaled.set_parameter(id, tilt)?;
+        }
+    }
+    Ok(scaled)
 }
 
 /// The most likely scale of `calibrated` (a robot like `nominal`) and its

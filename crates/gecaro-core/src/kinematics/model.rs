@@ -20,6 +20,13 @@
 //! so the model is exact to ~1e-3 of the deflection (micrometres). The
 //! Jacobian column of c_j is the joint variable's column times τ_j (the
 //! joint variable enters θ_j or r_j), and no other column changes.
+//!
+//! Gravity's tilts (`tilt1`, `tilt2`; [`crate::MassModel::tilted`]) load
+//! the joints through the torques' derivatives given with them
+//! ([`KinematicModel::forward_tilted`]): the joints carry
+//! `τ_j + Σ_k tilt_k ∂τ_j/∂tilt_k`, and the column of tilt_k is
+//! `Σ_j c_j ∂τ_j/∂tilt_k` times joint j's column. It is zero while every
+//! compliance is: the tilts are seen only through the joints' yielding.
 
 use nalgebra::{IsometryMatrix3, Matrix3, Matrix6xX, Rotation3, Translation3, Vector3};
 
@@ -65,6 +72,9 @@ pub struct KinematicModel {
     /// c_j of an elastic robot (empty for a rigid one) and its column in η.
     compliances: Vec<f64>,
     compliance_columns: Vec<Option<usize>>,
+    /// tilt1, tilt2 of an elastic robot and their columns in η.
+    gravity_tilt: [f64; 2],
+    tilt_columns: [Option<usize>; 2],
     parameter_count: usize,
     /// Whether the Jacobian writes every column (then a buffer of the right
     /// size needs no zeroing first).
@@ -98,8 +108,12 @@ pub struct ChainBuffer {
     world_from_frame: Vec<IsometryMatrix3<f64>>,
     joint_positions: Vec<f64>,
     coupled_motor_positions: Vec<f64>,
-    /// The gravity torque of every joint (zeros when none was given).
+    /// The gravity torque of every joint (zeros when none was given), with
+    /// the tilts' share.
     torques: Vec<f64>,
+    /// The torques' derivatives with respect to the tilts (2n values, or
+    /// none when none were given).
+    tilt_torques: Vec<f64>,
 }
 
 impl ChainBuffer {
@@ -176,12 +190,14 @@ impl KinematicModel {
         let compliance_columns: Vec<Option<usize>> = (1..=n)
             .map(|joint| column(ParameterKind::Compliance, joint))
             .collect();
+        let tilt_columns = [1, 2].map(|axis| column(ParameterKind::GravityTilt, axis));
         let mut written = vec![false; parameters.len()];
         for index in frames
             .iter()
             .flat_map(|frame| frame.columns)
             .chain(gain_columns.iter().copied())
             .chain(compliance_columns.iter().copied())
+            .chain(tilt_columns)
             .flatten()
         {
             written[index] = true;
@@ -198,6 +214,8 @@ impl KinematicModel {
             joint_columns,
             compliances: robot.compliances().map(<[f64]>::to_vec).unwrap_or_default(),
             compliance_columns,
+            gravity_tilt: robot.gravity_tilt(),
+            tilt_columns,
             parameter_count: parameters.len(),
         }
     }
@@ -235,8 +253,29 @@ impl KinematicModel {
         torques: Option<&[f64]>,
         chain: &mut ChainBuffer,
     ) -> Result<(), Error> {
+        self.forward_tilted(motor_positions, torques, None, chain)
+    }
+
+    /// [`forward_loaded`](Self::forward_loaded) with the torques'
+    /// derivatives with respect to gravity's tilts (`tilt_torques`, 2n
+    /// values: `∂τ_j/∂tilt1` for j = 1..n, then `∂τ_j/∂tilt2`;
+    /// `gecaro_core::gravity_loads_in`): an elastic robot's joints carry
+    /// `τ_j + Σ_k tilt_k ∂τ_j/∂tilt_k` and the Jacobian has the tilts'
+    /// columns (module docs). Without them the tilts have no effect.
+    ///
+    /// # Errors
+    /// As [`forward_loaded`](Self::forward_loaded); `tilt_torques` not 2n
+    /// finite values.
+    pub fn forward_tilted(
+        &self,
+        motor_positions: &[f64],
+        torques: Option<&[f64]>,
+        tilt_torques: Option<&[f64]>,
+        chain: &mut ChainBuffer,
+    ) -> Result<(), Error> {
         let n = self.joint_count();
         chain.torques.clear();
+        chain.tilt_torques.clear();
         // A rigid robot reads no torque: its forward model stays as it was.
         match torques.filter(|_| !self.compliances.is_empty()) {
             Some(torques) => {
@@ -258,6 +297,29 @@ impl KinematicModel {
             }
             None if self.compliances.is_empty() => {}
             None => chain.torques.resize(n, 0.0),
+        }
+        if let Some(tilt_torques) = tilt_torques.filter(|_| !chain.torques.is_empty()) {
+            if tilt_torques.len() != 2 * n {
+                return Err(Error::ConfigurationLength {
+                    expected: 2 * n,
+                    found: tilt_torques.len(),
+                });
+            }
+            if let Some((index, value)) = tilt_torques
+                .iter()
+                .enumerate()
+                .find(|(_, v)| !v.is_finite())
+            {
+                return Err(Error::NonFiniteConfiguration {
+                    joint: index % n + 1,
+                    value: *value,
+                });
+            }
+            chain.tilt_torques.extend_from_slice(tilt_torques);
+            let [first, second] = self.gravity_tilt;
+            for (joint, torque) in chain.torques.iter_mut().enumerate() {
+                *torque += first * tilt_torques[joint] + second * tilt_torques[n + joint];
+            }
         }
         if motor_positions.len() != n {
             return Err(Error::ConfigurationLength {
@@ -425,6 +487,26 @@ impl KinematicModel {
                 column.fixed_rows::<3>(3).into_owned(),
             );
         }
+        // tilt_k: Σ_j c_j ∂τ_j/∂tilt_k times joint j's column (module docs).
+        for (axis, tilt_column) in self.tilt_columns.iter().enumerate() {
+            let Some(tilt_column) = *tilt_column else {
+                continue;
+            };
+            let mut column = nalgebra::Vector6::zeros();
+            if !chain.tilt_torques.is_empty() {
+                for (joint, compliance) in self.compliances.iter().enumerate() {
+                    let weight = compliance * chain.tilt_torques[axis * n + joint];
+                    if weight != 0.0 {
+                        column += jacobian.column(self.joint_columns[joint]) * weight;
+                    }
+                }
+            }
+            jacobian.set(
+                Some(tilt_column),
+                column.fixed_rows::<3>(0).into_owned(),
+                column.fixed_rows::<3>(3).into_owned(),
+            );
+        }
     }
 }
 
@@ -583,7 +665,7 @@ mod tests {
             .expect("valid");
         let mut jacobian = Matrix6xX::zeros(0);
         model.jacobian(&chain, &mut jacobian);
-        assert_eq!(jacobian.ncols(), 49);
+        assert_eq!(jacobian.ncols(), 51);
         // Steps of ~1e-4 rad: smaller ones lose the rotation's digits in
         // the axis-angle of a nearly identity rotation.
         let step = 1e-4;
@@ -614,6 +696,103 @@ mod tests {
                 (analytic.fixed_rows::<3>(3) - rotation).norm() < 1e-6 * scale,
                 "c{joint}"
             );
+        }
+    }
+
+    /// Gravity's tilts: the joints carry τ + Σ tilt_k ∂τ/∂tilt_k, and the
+    /// tilts' and compliances' columns equal central differences of the
+    /// pose; without the derivatives the tilts change nothing, and while
+    /// every compliance is zero their columns are.
+    #[test]
+    fn the_gravity_tilts_load_the_joints_and_their_columns_are_derivatives() {
+        let mut rng = ChaCha8Rng::seed_from_u64(8);
+        let mut robot = stanford();
+        let compliances = vec![2e-3, 5e-3, 1e-4, 3e-3, 4e-3, 6e-3];
+        robot
+            .set_compliances(Some(compliances.clone()))
+            .expect("elastic");
+        let tilt = [
+            ParameterId::new(ParameterKind::GravityTilt, 1),
+            ParameterId::new(ParameterKind::GravityTilt, 2),
+        ];
+        robot.set_parameter(tilt[0], 0.02).expect("tilt");
+        robot.set_parameter(tilt[1], -0.03).expect("tilt");
+        let qm = random_configuration(&robot, &mut rng);
+        let torques = [1.5, -20.0, 3.0, 0.7, -2.5, 0.4];
+        let tilt_torques = [
+            4.0, -3.0, 0.5, 1.0, -0.2, 0.3, -2.0, 6.0, -1.0, 0.4, 0.9, -0.6,
+        ];
+        let pose_of = |robot: &Robot, tilts: Option<&[f64]>| {
+            let mut chain = ChainBuffer::default();
+            KinematicModel::new(robot)
+                .forward_tilted(&qm, Some(&torques), tilts, &mut chain)
+                .expect("valid");
+            *chain.world_from_tool()
+        };
+        let carried: Vec<f64> = (0..6)
+            .map(|j| torques[j] + 0.02 * tilt_torques[j] - 0.03 * tilt_torques[6 + j])
+            .collect();
+        let mut chain = ChainBuffer::default();
+        let model = KinematicModel::new(&robot);
+        model
+            .forward_loaded(&qm, Some(&carried), &mut chain)
+            .expect("valid");
+        let expected = *chain.world_from_tool();
+        let tilted = pose_of(&robot, Some(&tilt_torques));
+        assert!(
+            (expected.to_homogeneous() - tilted.to_homogeneous())
+                .abs()
+                .max()
+                < 1e-14
+        );
+        model
+            .forward_loaded(&qm, Some(&torques), &mut chain)
+            .expect("valid");
+        assert_eq!(pose_of(&robot, None), *chain.world_from_tool());
+
+        model
+            .forward_tilted(&qm, Some(&torques), Some(&tilt_torques), &mut chain)
+            .expect("valid");
+        let mut jacobian = Matrix6xX::zeros(0);
+        model.jacobian(&chain, &mut jacobian);
+        let step = 1e-4;
+        let ids = tilt
+            .into_iter()
+            .chain((1..=6).map(|j| ParameterId::new(ParameterKind::Compliance, j)));
+        for id in ids {
+            let column = robot.parameters().index_of(id).expect("parameter");
+            let pose_at = |delta: f64| {
+                let mut moved = robot.clone();
+                moved
+                    .set_parameter(id, robot.parameter(id) + delta)
+                    .expect("set");
+                pose_of(&moved, Some(&tilt_torques))
+            };
+            let (plus, minus) = (pose_at(step), pose_at(-step));
+            let position = (plus.translation.vector - minus.translation.vector) / (2.0 * step);
+            let rotation = (plus.rotation * minus.rotation.inverse()).scaled_axis() / (2.0 * step);
+            let analytic = jacobian.column(column);
+            assert!(analytic.norm() > 1e-4, "{id} has an effect");
+            let scale = analytic.norm().max(1.0);
+            assert!(
+                (analytic.fixed_rows::<3>(0) - position).norm() < 1e-6 * scale,
+                "{id}"
+            );
+            assert!(
+                (analytic.fixed_rows::<3>(3) - rotation).norm() < 1e-6 * scale,
+                "{id}"
+            );
+        }
+        // A robot whose joints do not yield: the tilts' columns are zero.
+        robot.set_compliances(Some(vec![0.0; 6])).expect("elastic");
+        let model = KinematicModel::new(&robot);
+        model
+            .forward_tilted(&qm, Some(&torques), Some(&tilt_torques), &mut chain)
+            .expect("valid");
+        model.jacobian(&chain, &mut jacobian);
+        for id in tilt {
+            let column = robot.parameters().index_of(id).expect("tilt");
+            assert_eq!(jacobian.column(column).norm(), 0.0, "{id}");
         }
     }
 }

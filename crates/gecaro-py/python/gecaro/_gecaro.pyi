@@ -45,7 +45,9 @@ _FloatArray = npt.NDArray[np.float64]
 _IntArray = npt.NDArray[np.int64]
 _PathLike = Union[str, os.PathLike[str]]
 _Loss = Literal["l2", "huber", "cauchy", "tukey"]
-_Model = Literal["full", "no-gains", "no-beta", "kinematic", "offsets", "elastic"]
+_Model = Literal[
+    "full", "no-gains", "no-beta", "kinematic", "offsets", "elastic", "elastic-gravity"
+]
 _MethodName = Literal[
     "position", "frame", "point-link", "frame-link", "plane1", "plane2", "distance"
 ]
@@ -117,6 +119,11 @@ class Robot:
     @property
     def compliances(self) -> Optional[list[float]]:
         """Compliances c1..cn of an elastic robot (rad/(N·m), m/N if prismatic), or None."""
+    @property
+    def gravity(self) -> tuple[float, float, float]:
+        """Gravity in the world frame (m/s²); elastic-gravity states the one it found."""
+    @gravity.setter
+    def gravity(self, value: Sequence[float]) -> None: ...
     def gravity_torques(self, qm: Sequence[float], *, payload: Optional[str] = None) -> list[float]:
         """Gravity torques at ``qm`` (N·m; N if prismatic) from the robot's masses and a payload."""
     @property

@@ -30,7 +30,8 @@ export function identifyPanel(method) {
   const prior = h('input', { type: 'text', class: 'vector', placeholder: 'none, or e.g. 5mm,0.5deg,1%', id: `${name}-identify-prior` });
   const model = h('select', { id: `${name}-identify-model` },
     h('option', { value: 'full', text: 'geometric (the priority matrix)' }),
-    h('option', { value: 'elastic', text: 'elastic: and every joint’s compliance' }));
+    h('option', { value: 'elastic', text: 'elastic: and every joint’s compliance' }),
+    h('option', { value: 'elastic-gravity', text: 'elastic, and gravity’s tilt (a frame not levelled)' }));
   const reject = h('input', { type: 'checkbox', id: `${name}-identify-reject` });
   const sigma = h('input', { type: 'number', min: 0, step: 'any', placeholder: 'not stated', id: `${name}-identify-sigma` });
   // Frames carry their own σ for rotations (a tracker's 6D probe: 0.01 mm, 0.005°).
