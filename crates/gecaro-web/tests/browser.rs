@@ -1426,8 +1426,16 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
     );
     screenshot(client, "14-study-1400.png").await;
     // Saved as a study file of the folder; it names the table's robot and
-    // opens again to the same six sets.
-    set_values(client, &[("study-save-as", "cell-copy.toml")]).await;
+    // opens again to the same six sets; a payload typed for a set (elastic
+    // joints) is stated with it.
+    set_values(
+        client,
+        &[
+            ("study-set-1-payload", "5kg, 0, 0, 80mm"),
+            ("study-save-as", "cell-copy.toml"),
+        ],
+    )
+    .await;
     click(client, "#study-save").await;
     text_when(client, "#toast", 10, |toast| {
         toast.contains("cell-copy.toml")
@@ -1436,6 +1444,11 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
     let saved = std::fs::read_to_string(folder.join("cell-copy.toml")).expect("saved study");
     assert!(saved.contains("robot = \"industrial6\""), "{saved}");
     assert_eq!(saved.matches("[[measurements]]").count(), 6, "{saved}");
+    assert_eq!(
+        saved.matches("payload = \"5kg,0,0,80mm\"").count(),
+        1,
+        "{saved}"
+    );
 
     // The cell planned from the page: its six sets chosen together, as a
     // job with its progress; saved as a planned study that names the

@@ -9,6 +9,17 @@ export function emptyStudy() {
   return { name: null, robot: null, length_unit: 'mm', angle_unit: 'deg', tools: [], stations: [], measurements: [], extra: {} };
 }
 
+/**
+ * A set's payload as the editor shows it: its text (`20kg,0,0,120mm`), a
+ * table (`{ mass: '20kg', com: [0, 0, '120mm'] }`) written as the same text
+ * (each coordinate keeps its unit; a bare number is in metres, as in the text).
+ */
+function payloadText(payload) {
+  if (typeof payload !== 'object' || payload === null) return String(payload);
+  const mass = typeof payload.mass === 'number' ? `${payload.mass}kg` : String(payload.mass);
+  return payload.com ? [mass, ...payload.com.map(String)].join(',') : mass;
+}
+
 /** The editor's form of a study statement (tools and stations as rows, unknown keys kept). */
 export function studyOf(spec, name) {
   const frames = (map) => Object.entries(map || {}).map(([frame, stated]) => ({
@@ -25,7 +36,11 @@ export function studyOf(spec, name) {
     angle_unit: angleUnit || 'rad',
     tools: frames(tools),
     stations: frames(stations),
-    measurements: (measurements || []).map((set) => ({ ...set, sigma: set.sigma === undefined ? '' : String(set.sigma) })),
+    measurements: (measurements || []).map((set) => ({
+      ...set,
+      sigma: set.sigma === undefined ? '' : String(set.sigma),
+      ...(set.payload === undefined ? {} : { payload: payloadText(set.payload) }),
+    })),
     extra,
   };
 }
@@ -71,6 +86,17 @@ export function studySpec(study, { robot } = {}) {
       out.sigma = withUnit ? sigma.replace(/\s+/, '') : value;
     }
     for (const key of ['tool', 'station']) if (!out[key]) delete out[key];
+    // The payload the set's rows carry (elastic joints, docs/elastic.md):
+    // its mass with kg or g, then optionally its centre in the tool frame.
+    const payload = String(set.payload ?? '').trim();
+    if (payload === '') delete out.payload;
+    else {
+      const parts = payload.split(',').map((part) => part.trim());
+      if (!(parts.length === 1 || parts.length === 4) || !/^[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?\s*(kg|g)$/.test(parts[0])) {
+        throw new FieldError(`Set ${index + 1} payload: “${set.payload}” is not a payload: its mass with kg or g, then optionally its centre in the tool frame (20kg or 20kg,0,0,120mm).`);
+      }
+      out.payload = parts.join(',');
+    }
     return out;
   });
   const spec = {

@@ -38,7 +38,7 @@ function studySetsTable() {
   const stations = [['', 'the measurement frame'], ...study.stations.map((t) => [t.name, t.name])];
   const files = state.files.data.map((f) => [f, f]);
   return h('table', { class: 'values study-table', id: 'study-sets' },
-    h('thead', {}, h('tr', {}, ['set', 'method', 'data file', 'tool (reflector)', 'station', `σ (${study.length_unit})`, ''].map((t) => h('th', { text: t })))),
+    h('thead', {}, h('tr', {}, ['set', 'method', 'data file', 'tool (reflector)', 'station', `σ (${study.length_unit})`, 'payload', ''].map((t) => h('th', { text: t })))),
     h('tbody', {}, study.measurements.map((set, index) => h('tr', {},
       h('td', { text: String(index + 1) }),
       h('td', {}, select(set.method, state.info.methods.map((m) => [m.name, m.title]), `set ${index + 1} method`, (e) => { set.method = e.target.value; persist(); })),
@@ -46,6 +46,7 @@ function studySetsTable() {
       h('td', {}, select(set.tool, tools, `set ${index + 1} tool`, (e) => { set.tool = e.target.value; persist(); })),
       h('td', {}, select(set.station, stations, `set ${index + 1} station`, (e) => { set.station = e.target.value; persist(); })),
       h('td', {}, h('input', { type: 'text', class: 'study-number', value: set.sigma, placeholder: 'not stated', 'aria-label': `set ${index + 1} sigma`, onchange: (e) => { set.sigma = e.target.value; persist(); } })),
+      h('td', {}, h('input', { type: 'text', class: 'study-payload', id: `study-set-${index + 1}-payload`, value: set.payload || '', placeholder: 'none, or 20kg,0,0,120mm', 'aria-label': `set ${index + 1} payload`, onchange: (e) => { set.payload = e.target.value; persist(); } })),
       h('td', {}, h('button', { type: 'button', text: 'Remove', onclick: () => { study.measurements.splice(index, 1); renderStudy(); } }))))));
 }
 

@@ -61,3 +61,29 @@ test('the page refuses what a study cannot hold, in the field\'s words', () => {
   unchosen.measurements.push({ method: 'position', data: '', sigma: '' });
   assert.throws(() => studySpec(unchosen), /Set 1: choose its data file/);
 });
+
+test('a set\'s payload is its text, a table is shown as the same text, and a mass needs its unit', () => {
+  const loaded = {
+    ...statement,
+    model: 'elastic',
+    measurements: [
+      { method: 'position', data: 'p10.csv', payload: '10kg,0,0,100mm' },
+      { method: 'position', data: 'p20.csv', payload: { mass: '20kg', com: [0, 0.0, '120mm'] } },
+      { method: 'position', data: 'p0.csv' },
+    ],
+  };
+  const form = studyOf(loaded, 'payloads.toml');
+  assert.equal(form.measurements[1].payload, '20kg,0,0,120mm');
+  const back = studySpec(form);
+  assert.equal(back.model, 'elastic', 'the study\'s model is kept');
+  assert.deepEqual(back.measurements.map((set) => set.payload), ['10kg,0,0,100mm', '20kg,0,0,120mm', undefined]);
+  form.measurements[0].payload = ' 5 kg , 0, 0, 80mm ';
+  assert.equal(studySpec(form).measurements[0].payload, '5 kg,0,0,80mm');
+  form.measurements[0].payload = '';
+  assert.equal(studySpec(form).measurements[0].payload, undefined, 'an empty payload is not stated');
+  form.measurements[0].payload = '20';
+  assert.throws(() => studySpec(form), /Set 1 payload: “20” is not a payload: its mass with kg or g/);
+  form.measurements[0].payload = '20kg,0,100mm';
+  assert.throws(() => studySpec(form), /Set 1 payload/);
+});
+
