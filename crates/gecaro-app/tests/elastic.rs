@@ -708,3 +708,53 @@ fn gravity_s_tilt_is_identified_with_the_compliances() {
         leaning * 1e3
     );
 }
+
+/// The σ reported for gravity's tilts is their spread: 40 noise draws of
+/// the same tilted cell (same real robot, new configurations and noise),
+/// within the ±30 % that 40 draws allow. Held by the second pass's weak
+/// prior (1°), their spread is the noise's part of σ (`noise_std`).
+#[test]
+fn the_gravity_tilts_sigma_is_their_monte_carlo_spread() {
+    let (folder, real) = real_robot_place();
+    measured(&real, true, "0kg", 1, 300);
+    let mut tilted = gecaro_io::load_robot(&real).expect("the real robot");
+    tilted.masses = tilted.masses.tilted([0.05, -0.04]);
+    let tilted_path = folder.path().join("tilted.toml");
+    let text = gecaro_io::robot_file_text(&tilted, &tilted_path).expect("text");
+    std::fs::write(&tilted_path, text).expect("written");
+    let real = tilted_path.to_str().expect("UTF-8");
+    let draws = 40;
+    let mut estimates: Vec<Vec<(f64, f64)>> = vec![Vec::new(); 2];
+    for draw in 0..draws {
+        let seed = 400 + 3 * draw;
+        let training = joined(&[
+            measured(real, false, "0kg", 100, seed),
+            measured(real, false, "10kg,0,0,100mm", 100, seed + 1),
+            measured(real, false, "20kg,0,0,100mm", 100, seed + 2),
+        ]);
+        let identified = identify_with(&training, "elastic-gravity");
+        for p in &identified.result.parameters {
+            if let Some(ParameterId {
+                kind: ParameterKind::GravityTilt,
+                frame,
+            }) = p.parameter
+            {
+                estimates[frame - 1].push((p.identified, p.noise_std));
+            }
+        }
+    }
+    for (axis, values) in estimates.iter().enumerate() {
+        assert_eq!(values.len(), draws as usize, "tilt{}", axis + 1);
+        let mean = values.iter().map(|(v, _)| v).sum::<f64>() / values.len() as f64;
+        let spread = (values.iter().map(|(v, _)| (v - mean).powi(2)).sum::<f64>()
+            / (values.len() - 1) as f64)
+            .sqrt();
+        let reported = values.iter().map(|(_, s)| s).sum::<f64>() / values.len() as f64;
+        let ratio = spread / reported;
+        assert!(
+            (0.7..1.4).contains(&ratio),
+            "tilt{}: spread {spread:.2e}, reported σ {reported:.2e} (ratio {ratio:.2})",
+            axis + 1
+        );
+    }
+}

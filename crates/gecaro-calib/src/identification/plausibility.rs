@@ -380,3 +380,36 @@ fn size_change(nominal: &Robot, calibrated: &Robot) -> Option<Implausible> {
         },
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tilt(identified: f64, std: f64) -> IdentifiedParameter {
+        IdentifiedParameter {
+            name: "tilt1".into(),
+            parameter: Some(ParameterId::new(ParameterKind::GravityTilt, 1)),
+            nominal: 0.0,
+            identified,
+            std,
+            noise_std: std,
+            prior_std: None,
+            absorbs: Vec::new(),
+        }
+    }
+
+    /// A gravity leaning by a few degrees is a frame set up by eye; beyond
+    /// 5° (and beyond 3σ of it) the stated gravity is wrong, and said so.
+    #[test]
+    fn a_gravity_tilt_beyond_five_degrees_is_named() {
+        assert!(judge_tilt(&tilt(3f64.to_radians(), 1e-3)).is_none());
+        assert!(judge_tilt(&tilt(-6f64.to_radians(), 0.5f64.to_radians())).is_none());
+        let named = judge_tilt(&tilt(-9f64.to_radians(), 1e-3)).expect("implausible");
+        assert!(named.why.contains("-9.0°"), "{}", named.why);
+        assert!(
+            named.cause.contains("gravity = [x, y, z]"),
+            "{}",
+            named.cause
+        );
+    }
+}
