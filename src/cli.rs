@@ -480,6 +480,11 @@ pub(crate) struct GenerateArgs {
     /// the tool frame; written to the data file's payload columns.
     #[arg(long, value_name = "MASS[,X,Y,Z]")]
     pub(crate) payload: Option<String>,
+    /// A measurement frame that is not levelled: the real robot's gravity leans by these two
+    /// angles (tilt1, tilt2: about the world's x and y for gravity along −z) from its file's;
+    /// elastic joints see it, and identify --model elastic-gravity finds it.
+    #[arg(long, value_name = "A1,A2", allow_hyphen_values = true)]
+    pub(crate) gravity_tilt: Option<String>,
     /// Sensor noise, standard deviation (metres; radians for orientations).
     #[arg(long, value_name = "SIGMA", default_value_t = 0.0)]
     pub(crate) noise: f64,

@@ -1717,3 +1717,108 @@ fn a_plan_in_degrees_is_measured_in_degrees() {
         }
     }
 }
+
+/// A cell that is not levelled, simulated (`generate --gravity-tilt`) and
+/// found (`identify --model elastic-gravity`): the tilts within 3σ of
+/// the truth, and the calibrated file states the gravity found; a tilt
+/// for a rigid real robot is refused by name.
+#[test]
+fn a_tilted_cell_is_simulated_and_its_gravity_found() {
+    let folder = tempfile::tempdir().expect("folder");
+    let path = |name: &str| folder.path().join(name).to_str().expect("UTF-8").to_owned();
+    let generate = |extra: &[&str], payload: &str, seed: &str, out: &str| {
+        gecaro()
+            .args(["generate", "industrial6", "--method", "position"])
+            .args(["--count", "150", "--noise", "2e-5", "--seed", seed])
+            .args(["--payload", payload, "-o", out])
+            .args(extra)
+            .assert()
+            .success();
+    };
+    let (real, first) = (path("real.toml"), path("p0.csv"));
+    generate(
+        &[
+            "--compliance-level",
+            "1",
+            "--gravity-tilt",
+            "0.05rad,-0.04rad",
+            "--real-out",
+            &real,
+        ],
+        "0kg",
+        "41",
+        &first,
+    );
+    let real_text = std::fs::read_to_string(&real).expect("real robot");
+    assert!(real_text.contains("gravity = ["), "{real_text}");
+    let mut rows = std::fs::read_to_string(&first).expect("data");
+    assert!(
+        rows.contains("gravity tilted by 0.05rad,-0.04rad"),
+        "{rows}"
+    );
+    for (payload, seed) in [("10kg,0,0,100mm", "42"), ("20kg,0,0,100mm", "43")] {
+        let out = path(&format!("p{seed}.csv"));
+        generate(&["--real", &real], payload, seed, &out);
+        let text = std::fs::read_to_string(&out).expect("data");
+        rows.extend(
+            text.lines()
+                .filter(|line| !line.starts_with('#'))
+                .skip(1)
+                .map(|line| format!("{line}\n")),
+        );
+    }
+    let data = path("all.csv");
+    std::fs::write(&data, rows).expect("written");
+    let output = gecaro()
+        .args([
+            "identify",
+            "industrial6",
+            "--method",
+            "position",
+            "--data",
+            &data,
+        ])
+        .args(["--sigma", "20um", "--model", "elastic-gravity", "--json"])
+        .args(["-o", &path("calibrated.toml")])
+        .output()
+        .expect("ran");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let document: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    for (name, truth) in [("tilt1", 0.05), ("tilt2", -0.04)] {
+        let p = document["parameters"]
+            .as_array()
+            .expect("parameters")
+            .iter()
+            .find(|p| p["name"] == name)
+            .unwrap_or_else(|| panic!("{name} identified: {document}"));
+        let (value, std) = (
+            p["identified"].as_f64().expect("value"),
+            p["std"].as_f64().expect("σ"),
+        );
+        assert!(
+            (value - truth).abs() < 3.0 * std,
+            "{name}: {value} vs {truth} (σ {std})"
+        );
+    }
+    let calibrated = std::fs::read_to_string(path("calibrated.toml")).expect("calibrated");
+    assert!(calibrated.contains("gravity = ["), "{calibrated}");
+    gecaro()
+        .args([
+            "generate",
+            "industrial6",
+            "--method",
+            "position",
+            "--count",
+            "5",
+        ])
+        .args(["--gravity-tilt", "2deg,-1deg", "-o", &path("rigid.csv")])
+        .assert()
+        .failure()
+        .stderr(predicates::str::contains(
+            "--gravity-tilt: gravity's tilt loads elastic joints only",
+        ));
+}

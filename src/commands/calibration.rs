@@ -67,6 +67,7 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
     request.error_level = args.error_level;
     request.compliance_level = args.compliance_level;
     request.payload = args.payload.clone();
+    request.gravity_tilt = args.gravity_tilt.clone();
     request.real = args
         .real
         .as_deref()

@@ -64,6 +64,11 @@ pub struct GenerateRequest {
     /// `20kg,0,0,120mm` with its centre in the tool frame (else each planned
     /// row's own).
     pub payload: Option<String>,
+    /// A measurement frame that is not levelled: the real robot's gravity
+    /// leans by these two angles (`"2deg,-1.5deg"`, tilt1 and tilt2 of
+    /// `gecaro_core::MassModel::tilted`) from the direction its file states.
+    /// Only elastic joints see it (`--model elastic-gravity` finds it).
+    pub gravity_tilt: Option<String>,
     /// Sensor noise, standard deviation (metres; radians for orientations).
     #[serde(default)]
     pub noise: f64,
@@ -125,6 +130,7 @@ impl GenerateRequest {
             real: None,
             compliance_level: None,
             payload: None,
+            gravity_tilt: None,
             noise: 0.0,
             cell: CellSpec::default(),
             seed: None,
@@ -206,6 +212,17 @@ impl GenerateRequest {
                 (self.real.is_some(), payload_given),
                 &mut sampler,
             )?;
+        }
+        if let Some(text) = &self.gravity_tilt {
+            let tilt = gravity_tilt(text)?;
+            if !real.robot.is_elastic() {
+                return Err(AppError::setting(
+                    "gravity_tilt",
+                    "gravity's tilt loads elastic joints only: give the real robot compliances \
+                     (a compliance level, or a real robot file that states them)",
+                ));
+            }
+            real.masses = real.masses.tilted(tilt);
         }
         if real.robot.is_elastic() {
             crate::loads::require_loading_sensor(method.as_ref(), "compliance_level")?;
@@ -337,6 +354,35 @@ impl GenerateRequest {
 /// The compliance range of industrial arms' joints at level 1 (rad/(N·m)).
 const COMPLIANCE_RANGE: (f64, f64) = (2e-6, 1e-5);
 
+/// The largest tilt of gravity a simulated cell takes (radians): 45°.
+const MAX_GRAVITY_TILT: f64 = std::f64::consts::FRAC_PI_4;
+
+/// The two angles of `text` (`"2deg,-1.5deg"`), each within
+/// [`MAX_GRAVITY_TILT`].
+///
+/// # Errors
+/// Not two angles with their units, or one beyond 45°.
+fn gravity_tilt(text: &str) -> Result<[f64; 2], AppError> {
+    let angles = text
+        .split(',')
+        .map(gecaro_io::parse_signed_angle)
+        .collect::<Result<Vec<f64>, String>>()
+        .map_err(|message| AppError::setting("gravity_tilt", message))?;
+    match angles.as_slice() {
+        [first, second] if first.abs().max(second.abs()) <= MAX_GRAVITY_TILT => {
+            Ok([*first, *second])
+        }
+        [_, _] => Err(AppError::setting(
+            "gravity_tilt",
+            format!("'{text}' leans gravity by more than 45°: a tilt is a few degrees"),
+        )),
+        _ => Err(AppError::setting(
+            "gravity_tilt",
+            format!("'{text}' is not two angles: write tilt1,tilt2, e.g. 2deg,-1.5deg"),
+        )),
+    }
+}
+
 /// The largest compliance level: 100 × a soft joint is 1e-3 rad/(N·m).
 const MAX_COMPLIANCE_LEVEL: f64 = 100.0;
 
@@ -409,6 +455,9 @@ impl GenerateRequest {
         }
         if let Some(payload) = &self.payload {
             line.push_str(&format!("; payload {}", payload.trim()));
+        }
+        if let Some(tilt) = &self.gravity_tilt {
+            line.push_str(&format!("; gravity tilted by {}", tilt.trim()));
         }
         line
     }

@@ -52,7 +52,7 @@ pub use joint_calibration::apply_joint_calibration;
 pub use output::{OutputPolicy, remove_temporary_files, write_atomically, write_in_folder};
 pub use payload::{PayloadSpec, Quantity, parse_payload};
 pub use pose::{pose_from_seven, unit_quaternion};
-pub use prior::{StandardDeviation, parse_angle, parse_override, parse_prior};
+pub use prior::{StandardDeviation, parse_angle, parse_override, parse_prior, parse_signed_angle};
 pub use problem::{DocumentError, Location};
 pub use program_file::{ProgramFile, ProgramKind, parse_program, read_program};
 pub use ready::{ReadyRobot, load_robot, ready_robot, ready_robots};

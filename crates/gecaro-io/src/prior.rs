@@ -178,6 +178,39 @@ pub fn parse_angle(text: &str) -> Result<f64, String> {
     }
 }
 
+/// An angle written with its unit and any sign (`-1.5deg`, `0.02rad`,
+/// `0deg`), in radians: a value, not a σ.
+///
+/// # Errors
+/// A sentence saying what is wrong: not a number, no unit, not an angle's.
+///
+/// ```
+/// assert_eq!(gecaro_io::parse_signed_angle("-90deg").unwrap(), -std::f64::consts::FRAC_PI_2);
+/// assert_eq!(gecaro_io::parse_signed_angle("0rad").unwrap(), 0.0);
+/// assert!(gecaro_io::parse_signed_angle("2").is_err());
+/// ```
+pub fn parse_signed_angle(text: &str) -> Result<f64, String> {
+    let text = text.trim();
+    let (number, unit) = text.split_at(number_length(text));
+    let value: f64 = number
+        .trim()
+        .parse()
+        .ok()
+        .filter(|value: &f64| value.is_finite())
+        .ok_or_else(|| format!("'{text}' is not an angle: write -1.5deg or 0.02rad"))?;
+    let factor = match unit.trim() {
+        "rad" => 1.0,
+        "deg" | "°" => std::f64::consts::PI / 180.0,
+        "" => return Err(format!("'{text}' has no unit: write -1.5deg or 0.02rad")),
+        other => {
+            return Err(format!(
+                "unknown angle unit '{other}' in '{text}' (deg or rad)"
+            ));
+        }
+    };
+    Ok(value * factor)
+}
+
 /// Parses `5mm,0.5deg,1%` (see the module docs).
 ///
 /// # Errors

@@ -65,9 +65,11 @@ impl Generation {
 /// and `clearance` (metres) — keeps only configurations it can measure.
 /// Elastic joints: `compliance_level` gives the drawn real robot compliances
 /// of L·[2e-6, 1e-5] rad/(N·m), loaded by the robot's masses and `payload`
-/// (`"20kg"`, `"20kg,0,0,120mm"`), carried at every configuration.
+/// (`"20kg"`, `"20kg,0,0,120mm"`), carried at every configuration;
+/// `gravity_tilt` (`"2deg,-1.5deg"`) leans the real robot's gravity, a
+/// measurement frame that is not levelled.
 #[pyfunction]
-#[pyo3(signature = (robot, method, count, *, error_level = None, noise = 0.0, seed = 1, real = None, floor = None, station = None, max_incidence = None, clearance = None, compliance_level = None, payload = None))]
+#[pyo3(signature = (robot, method, count, *, error_level = None, noise = 0.0, seed = 1, real = None, floor = None, station = None, max_incidence = None, clearance = None, compliance_level = None, payload = None, gravity_tilt = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn generate(
     py: Python<'_>,
@@ -84,6 +86,7 @@ pub(crate) fn generate(
     clearance: Option<f64>,
     compliance_level: Option<f64>,
     payload: Option<String>,
+    gravity_tilt: Option<String>,
 ) -> PyResult<Generation> {
     let method = method_of(method)?;
     let spec = method
@@ -99,6 +102,7 @@ pub(crate) fn generate(
     request.error_level = error_level;
     request.compliance_level = compliance_level;
     request.payload = payload;
+    request.gravity_tilt = gravity_tilt;
     request.noise = noise;
     request.seed = Some(seed);
     request.real = real.map(|real| RobotSource::Loaded(Box::new(real.file.clone())));

@@ -84,6 +84,13 @@ def test_gravity_s_tilt_identified_with_the_compliances():
     real = gecaro.generate(robot, "position", 1, seed=30, compliance_level=1.0).real
     g = 9.80665
     real.gravity = [0.04 * g, 0.05 * g, -g]  # tilt1 0.05 leans to +y, tilt2 −0.04 to +x
+    # The same cell drawn with its tilt: the real robot states that gravity.
+    leaning = gecaro.generate(
+        robot, "position", 1, seed=30, compliance_level=1.0, gravity_tilt="0.05rad,-0.04rad"
+    ).real
+    assert np.allclose(leaning.gravity, real.gravity, rtol=0, atol=1e-12)
+    with pytest.raises(gecaro.InputError, match="gravity_tilt"):
+        gecaro.generate(robot, "position", 1, gravity_tilt="2deg,-1deg")
     sets = [
         gecaro.generate(robot, "position", 150, noise=2e-5, seed=seed, real=real, payload=payload)
         for seed, payload in [(31, "0kg"), (32, "10kg,0,0,100mm"), (33, "20kg,0,0,100mm")]

@@ -506,6 +506,7 @@ def generate(
     clearance: Optional[float] = None,
     compliance_level: Optional[float] = None,
     payload: Optional[str] = None,
+    gravity_tilt: Optional[str] = None,
 ) -> Generation:
     """Points generation on a simulated real robot, as ``gecaro generate``:
     ``real``, or the nominal robot with errors at ``error_level`` (default 1);

@@ -44,6 +44,7 @@ export async function generateInto(name, configurations, format) {
       }
     }
     if (ELASTIC_METHODS.has(name) && value('payload').trim()) request.payload = value('payload').trim();
+    if (ELASTIC_METHODS.has(name) && value('tilt').trim()) request.gravity_tilt = value('tilt').trim();
     if (value('save').trim()) {
       request.save_as = value('save').trim();
       request.overwrite = $(`${name}-generate-overwrite`).checked;
@@ -87,6 +88,8 @@ export function generatePanel(method) {
   // Elastic joints (docs/elastic.md): compliances drawn at level L, a payload carried.
   const compliance = h('input', { type: 'number', min: 0, step: 0.5, placeholder: 'rigid', id: `${name}-generate-compliance` });
   const payload = h('input', { type: 'text', class: 'vector', placeholder: 'none, or e.g. 10kg,0,0,100mm', id: `${name}-generate-payload` });
+  // A measurement frame that is not levelled: gravity leans by two angles.
+  const tilt = h('input', { type: 'text', class: 'vector', placeholder: 'level, or e.g. 2deg,-1.5deg', id: `${name}-generate-tilt` });
   const saveAs = h('input', { type: 'text', id: `${name}-generate-save`, placeholder: 'optional, e.g. data.csv', class: 'vector' });
   const overwrite = h('input', { type: 'checkbox', id: `${name}-generate-overwrite` });
   real.addEventListener('focus', () => refreshRealChoices(real));
@@ -103,6 +106,7 @@ export function generatePanel(method) {
       field('Seed', seed),
       ELASTIC_METHODS.has(name) ? field('Compliance level L (L·2e-6…1e-5 rad/N·m)', compliance) : null,
       ELASTIC_METHODS.has(name) ? field('Payload (mass[,x,y,z] in the tool frame)', payload) : null,
+      ELASTIC_METHODS.has(name) ? field('Gravity tilt (tilt1,tilt2: a frame not levelled)', tilt) : null,
       optionFields(method, 'generate'),
       ...cell.fields,
       field('Save to the folder as', saveAs),
