@@ -30,6 +30,7 @@ use crate::cell::{CellSpec, refuse_misses};
 use crate::error::{AppError, ErrorKind, Part};
 use crate::files::Files;
 use crate::limits::MAX_GENERATE;
+use crate::loads::COMPLIANCE_RANGE;
 use crate::measurements::Unknown;
 use crate::method::MethodSpec;
 use crate::robot_files::simulated_robot_file;
@@ -350,9 +351,6 @@ impl GenerateRequest {
         })
     }
 }
-
-/// The compliance range of industrial arms' joints at level 1 (rad/(N·m)).
-const COMPLIANCE_RANGE: (f64, f64) = (2e-6, 1e-5);
 
 /// The largest tilt of gravity a simulated cell takes (radians): 45°.
 const MAX_GRAVITY_TILT: f64 = std::f64::consts::FRAC_PI_4;

@@ -11,6 +11,7 @@ use crate::documents::IdentifiableJson;
 use crate::error::AppError;
 use crate::files::Files;
 use crate::limits::MAX_RANDOM;
+use crate::loads::TYPICAL_COMPLIANCE;
 use crate::measurements::{Data, Loaded, Measurements, Unknown};
 use crate::settings::PrioritySource;
 
@@ -123,10 +124,6 @@ impl IdentifiabilityAnalysis {
         IdentifiableJson::new(&self.loaded.robot.robot, &self.analysis)
     }
 }
-
-/// A typical industrial joint's compliance (rad/(N·m)), within the 1e-6 …
-/// 1e-5 of docs/elastic.md.
-const TYPICAL_COMPLIANCE: f64 = 5e-6;
 
 /// Gravity's tilts act through the joints' compliances (their columns are
 /// `c_j ∂τ_j/∂tilt`): where the robot states none, they are analysed on

@@ -3,7 +3,8 @@
 //! the rules an elastic job obeys (something must load the joints; the
 //! method's sensor must see the sag), candidate configurations crossed with
 //! the payloads a plan may choose, and every configuration's gravity
-//! torques from the robot file's masses.
+//! torques from the robot file's masses, and what compliances industrial
+//! joints have.
 
 use gecaro_calib::elastic::load_samples;
 use gecaro_calib::methods::CalibrationMethod;
@@ -12,6 +13,13 @@ use gecaro_core::{LinkMass, Robot};
 use gecaro_io::RobotFile;
 
 use crate::error::AppError;
+
+/// The compliance range of industrial arms' joints at level 1 (rad/(N·m)).
+pub(crate) const COMPLIANCE_RANGE: (f64, f64) = (2e-6, 1e-5);
+
+/// A typical industrial joint's compliance (rad/(N·m)): the middle of
+/// [`COMPLIANCE_RANGE`].
+pub(crate) const TYPICAL_COMPLIANCE: f64 = (COMPLIANCE_RANGE.0 + COMPLIANCE_RANGE.1) / 2.0;
 
 /// The payload of `text` (`"20kg"`, `"20kg,0,0,100mm"`), naming `setting`.
 ///

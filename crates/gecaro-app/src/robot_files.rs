@@ -16,9 +16,7 @@ pub fn calibrated_robot_file(
     result: &Identification,
     data: &str,
 ) -> RobotFile {
-    // Gravity's identified tilts go into the gravity the file states
-    // (`elastic-gravity`): the file's robot has none.
-    let mut robot = result.calibrated.untilted();
+    let mut robot = result.calibrated.clone();
     robot.set_name(format!("{} (calibrated)", nominal.robot.name()));
     // A file states its angles within a turn (and is read back).
     robot.wrap_angles();
@@ -36,12 +34,13 @@ pub fn calibrated_robot_file(
         // The masses are the nominal's (a calibration does not weigh the
         // links): each centre in its link's frame, and gravity as stated in
         // the measurement frame, which is the calibrated robot's world
-        // (docs/elastic.md), leaning by the tilts identified
-        // (`elastic-gravity`; none otherwise). A tilt the calibration finds
-        // at frame 1 is the robot's, not gravity's.
-        masses: nominal.masses.tilted(result.calibrated.gravity_tilt()),
+        // (docs/elastic.md). A tilt the calibration finds at frame 1 is the
+        // robot's, not gravity's; gravity's own tilts (`elastic-gravity`)
+        // are folded into the gravity the file states.
+        masses: nominal.masses.clone(),
         robot,
     }
+    .with_gravity_tilt_folded()
 }
 
 /// The simulated real robot of a points generation as a robot file: `real`,

@@ -101,6 +101,36 @@ fn held_out(robot: RobotSource, csv: &str) -> f64 {
         .rms
 }
 
+/// Spread (sample standard deviation) of the estimates `(value, σ)` and
+/// their mean reported σ.
+fn spread_and_reported(values: &[(f64, f64)]) -> (f64, f64) {
+    let count = values.len() as f64;
+    let mean = values.iter().map(|(v, _)| v).sum::<f64>() / count;
+    let spread =
+        (values.iter().map(|(v, _)| (v - mean).powi(2)).sum::<f64>() / (count - 1.0)).sqrt();
+    let reported = values.iter().map(|(_, s)| s).sum::<f64>() / count;
+    (spread, reported)
+}
+
+/// A real robot drawn with `seed` (compliance level 1) in a cell whose
+/// gravity leans by `tilt` from the file's, written in `folder`: its path
+/// and file.
+fn tilted_real(
+    folder: &std::path::Path,
+    seed: u64,
+    tilt: [f64; 2],
+) -> (String, gecaro_io::RobotFile) {
+    let drawn = folder.join("real.toml");
+    let drawn = drawn.to_str().expect("UTF-8");
+    measured(drawn, true, "0kg", 1, seed);
+    let mut tilted = gecaro_io::load_robot(drawn).expect("the real robot");
+    tilted.masses = tilted.masses.tilted(tilt);
+    let path = folder.join("tilted.toml");
+    let text = gecaro_io::robot_file_text(&tilted, &path).expect("text");
+    std::fs::write(&path, text).expect("written");
+    (path.to_str().expect("UTF-8").to_owned(), tilted)
+}
+
 #[test]
 fn compliances_identified_with_three_payloads_hold_a_fourth_at_the_noise_floor() {
     let (_folder, real) = real_robot_place();
@@ -246,11 +276,7 @@ fn the_compliances_sigma_is_their_monte_carlo_spread() {
     for joint in [2, 3] {
         let values = &estimates[joint - 1];
         assert_eq!(values.len(), draws as usize, "c{joint}");
-        let mean = values.iter().map(|(v, _)| v).sum::<f64>() / values.len() as f64;
-        let spread = (values.iter().map(|(v, _)| (v - mean).powi(2)).sum::<f64>()
-            / (values.len() - 1) as f64)
-            .sqrt();
-        let reported = values.iter().map(|(_, s)| s).sum::<f64>() / values.len() as f64;
+        let (spread, reported) = spread_and_reported(values);
         let ratio = spread / reported;
         assert!(
             (0.7..1.4).contains(&ratio),
@@ -625,15 +651,10 @@ fn identifiable_compliances_are_those_the_data_load() {
 /// times as much.
 #[test]
 fn gravity_s_tilt_is_identified_with_the_compliances() {
-    let (folder, real) = real_robot_place();
-    measured(&real, true, "0kg", 1, 30);
+    let (folder, _) = real_robot_place();
     let truth_tilt = [0.05, -0.04];
-    let mut tilted = gecaro_io::load_robot(&real).expect("the real robot");
-    tilted.masses = tilted.masses.tilted(truth_tilt);
-    let tilted_path = folder.path().join("tilted.toml");
-    let text = gecaro_io::robot_file_text(&tilted, &tilted_path).expect("text");
-    std::fs::write(&tilted_path, text).expect("written");
-    let real = tilted_path.to_str().expect("UTF-8");
+    let (real, tilted) = tilted_real(folder.path(), 30, truth_tilt);
+    let real = real.as_str();
     let training = joined(&[
         measured(real, false, "0kg", 150, 31),
         measured(real, false, "10kg,0,0,100mm", 150, 32),
@@ -715,14 +736,9 @@ fn gravity_s_tilt_is_identified_with_the_compliances() {
 /// prior (1°), their spread is the noise's part of σ (`noise_std`).
 #[test]
 fn the_gravity_tilts_sigma_is_their_monte_carlo_spread() {
-    let (folder, real) = real_robot_place();
-    measured(&real, true, "0kg", 1, 300);
-    let mut tilted = gecaro_io::load_robot(&real).expect("the real robot");
-    tilted.masses = tilted.masses.tilted([0.05, -0.04]);
-    let tilted_path = folder.path().join("tilted.toml");
-    let text = gecaro_io::robot_file_text(&tilted, &tilted_path).expect("text");
-    std::fs::write(&tilted_path, text).expect("written");
-    let real = tilted_path.to_str().expect("UTF-8");
+    let (folder, _) = real_robot_place();
+    let (real, _) = tilted_real(folder.path(), 300, [0.05, -0.04]);
+    let real = real.as_str();
     let draws = 40;
     let mut estimates: Vec<Vec<(f64, f64)>> = vec![Vec::new(); 2];
     for draw in 0..draws {
@@ -745,11 +761,7 @@ fn the_gravity_tilts_sigma_is_their_monte_carlo_spread() {
     }
     for (axis, values) in estimates.iter().enumerate() {
         assert_eq!(values.len(), draws as usize, "tilt{}", axis + 1);
-        let mean = values.iter().map(|(v, _)| v).sum::<f64>() / values.len() as f64;
-        let spread = (values.iter().map(|(v, _)| (v - mean).powi(2)).sum::<f64>()
-            / (values.len() - 1) as f64)
-            .sqrt();
-        let reported = values.iter().map(|(_, s)| s).sum::<f64>() / values.len() as f64;
+        let (spread, reported) = spread_and_reported(values);
         let ratio = spread / reported;
         assert!(
             (0.7..1.4).contains(&ratio),

@@ -180,8 +180,9 @@ impl RobotDocument {
             coupling,
             priority,
             urdf: file.urdf.as_ref().map(UrdfDocument::from_names),
-            gravity: (file.masses.gravity() != upright_gravity())
-                .then(|| file.masses.gravity().into()),
+            gravity: Some(file.stated_gravity())
+                .filter(|gravity| *gravity != upright_gravity())
+                .map(Into::into),
         }
     }
 

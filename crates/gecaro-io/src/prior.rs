@@ -31,8 +31,9 @@ pub(crate) enum Kind {
     Gain,
 }
 
-/// A σ written with its unit, in gecaro's units (m, rad, fraction).
-pub(crate) fn quantity(text: &str) -> Result<(Kind, f64), String> {
+/// A value written with its unit, any sign, in gecaro's units (m, rad,
+/// fraction): the unit table of priors and angles alike.
+fn signed_quantity(text: &str) -> Result<(Kind, f64), String> {
     let text = text.trim();
     let (number, unit) = text.split_at(number_length(text));
     let value: f64 = number
@@ -56,13 +57,22 @@ pub(crate) fn quantity(text: &str) -> Result<(Kind, f64), String> {
     if !value.is_finite() {
         return Err(format!("'{text}' is not a finite number"));
     }
+    Ok((kind, value * factor))
+}
+
+/// A σ written with its unit, in gecaro's units (m, rad, fraction).
+pub(crate) fn quantity(text: &str) -> Result<(Kind, f64), String> {
+    let (kind, value) = signed_quantity(text)?;
     if value <= 0.0 {
-        return Err(format!("'{text}': a standard deviation must be positive"));
+        return Err(format!(
+            "'{}': a standard deviation must be positive",
+            text.trim()
+        ));
     }
-    let value = value * factor;
     if value > gecaro_core::MAX_MAGNITUDE {
         return Err(format!(
-            "'{text}' is no prior (beyond 1000 m, rad or gain): leave the prior out instead"
+            "'{}' is no prior (beyond 1000 m, rad or gain): leave the prior out instead",
+            text.trim()
         ));
     }
     Ok((kind, value))
@@ -190,25 +200,13 @@ pub fn parse_angle(text: &str) -> Result<f64, String> {
 /// assert!(gecaro_io::parse_signed_angle("2").is_err());
 /// ```
 pub fn parse_signed_angle(text: &str) -> Result<f64, String> {
-    let text = text.trim();
-    let (number, unit) = text.split_at(number_length(text));
-    let value: f64 = number
-        .trim()
-        .parse()
-        .ok()
-        .filter(|value: &f64| value.is_finite())
-        .ok_or_else(|| format!("'{text}' is not an angle: write -1.5deg or 0.02rad"))?;
-    let factor = match unit.trim() {
-        "rad" => 1.0,
-        "deg" | "°" => std::f64::consts::PI / 180.0,
-        "" => return Err(format!("'{text}' has no unit: write -1.5deg or 0.02rad")),
-        other => {
-            return Err(format!(
-                "unknown angle unit '{other}' in '{text}' (deg or rad)"
-            ));
-        }
-    };
-    Ok(value * factor)
+    match signed_quantity(text) {
+        Ok((Kind::Angle, radians)) => Ok(radians),
+        _ => Err(format!(
+            "'{}' is not an angle: write -1.5deg or 0.02rad",
+            text.trim()
+        )),
+    }
 }
 
 /// Parses `5mm,0.5deg,1%` (see the module docs).

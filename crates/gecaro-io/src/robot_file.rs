@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use gecaro_core::{MassModel, Robot};
+use nalgebra::Vector3;
 
 use crate::urdf::names::UrdfNames;
 
@@ -47,6 +48,23 @@ impl RobotFile {
             urdf: None,
             masses,
         }
+    }
+
+    /// The gravity the file states (m/s², world frame): the masses' gravity
+    /// leaning by the robot's gravity tilts, which an identification with
+    /// `elastic-gravity` moves and a file read holds at zero
+    /// ([`MassModel::tilted`]). What both writers write.
+    pub fn stated_gravity(&self) -> Vector3<f64> {
+        self.masses.tilted(self.robot.gravity_tilt()).gravity()
+    }
+
+    /// The same file with the robot's gravity tilts folded into the masses'
+    /// gravity and the robot holding none: the model unchanged, as a file
+    /// states it.
+    pub fn with_gravity_tilt_folded(mut self) -> Self {
+        self.masses = self.masses.tilted(self.robot.gravity_tilt());
+        self.robot = self.robot.untilted();
+        self
     }
 }
 

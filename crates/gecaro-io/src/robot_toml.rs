@@ -365,9 +365,7 @@ pub fn format_robot_file(file: &RobotFile) -> String {
     if unit == AngleUnit::Degrees {
         let _ = writeln!(text, "angle_unit = \"deg\"");
     }
-    // An identified tilt of gravity (elastic-gravity) is stated as the
-    // gravity it leans to: a file's robot has none.
-    let gravity = file.masses.tilted(robot.gravity_tilt()).gravity();
+    let gravity = file.stated_gravity();
     if gravity != gecaro_core::upright_gravity() {
         let _ = writeln!(
             text,
@@ -636,6 +634,14 @@ r = 0.1
             file.masses.tilted([0.0, 0.03]).gravity()
         );
         assert!(read.masses.gravity().x < -0.2, "{}", read.masses.gravity());
+        // The JSON document (the page's, Python's) states the same gravity.
+        let document = crate::RobotDocument::from_robot_file(&tilted);
+        let back = document.to_robot_file("tilted").expect("valid");
+        assert_eq!(back.masses.gravity(), read.masses.gravity());
+        assert_eq!(
+            tilted.clone().with_gravity_tilt_folded().masses.gravity(),
+            read.masses.gravity()
+        );
         let (line, message) =
             parse_error(&text.replacen("r = 0.1\n", "r = 0.1\ncompliance = 1\n", 1));
         assert!(

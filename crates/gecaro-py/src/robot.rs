@@ -413,7 +413,7 @@ impl PyRobot {
     /// calibrated robot the gravity it found.
     #[getter]
     fn gravity(&self) -> [f64; 3] {
-        self.file.masses.gravity().into()
+        self.file.stated_gravity().into()
     }
 
     #[setter]
