@@ -24,6 +24,7 @@ use faer::Mat;
 use gecaro_core::{ParameterId, PriorityMatrix, Robot};
 
 use crate::Error;
+use crate::fold::{DEFAULT_STREAMED_ROWS, FoldKind};
 use crate::linalg::{
     column_geometry, condition_number, greedy_rank, largest_column_norm, regrouping_relations,
     select_columns, singular_values, view,
@@ -292,9 +293,14 @@ pub fn identifiable_parameters(
     let mut states = StudyStates::default();
     study.evaluate_poses(robot, &mut states)?;
     let auxiliary = study.initial_auxiliary(&states)?;
-    analyse(robot, study, priority, None, |layout, system| {
-        study.linearise(robot, &auxiliary, layout, &mut states, system)
-    })
+    analyse(
+        robot,
+        study,
+        priority,
+        None,
+        DEFAULT_STREAMED_ROWS,
+        |layout, system| study.linearise(robot, &auxiliary, layout, &mut states, system),
+    )
     .map(|(report, _)| report)
 }
 
@@ -308,7 +314,8 @@ fn analyse(
     study: &Study,
     priority: &PriorityMatrix,
     auxiliary_candidates: Option<&[usize]>,
-    write: impl FnOnce(&ColumnLayout, &mut ObservationSystem) -> Result<(), Error>,
+    streamed_rows: usize,
+    mut write: impl FnMut(&ColumnLayout, &mut ObservationSystem) -> Result<(), Error>,
 ) -> Result<(RankReport, ObservationSystem), Error> {
     let space = robot.parameters();
     let candidates: Vec<ParameterId> = priority.ordered_candidates(space);
@@ -337,18 +344,36 @@ fn analyse(
             unknowns: columns,
         });
     }
-    let mut system = ObservationSystem::default();
-    write(&layout, &mut system)?;
-    let rows = system.rows();
-    if !system.matrix().iter().all(|v| v.is_finite()) {
-        return Err(Error::Numerical {
-            message: "the observation matrix has non-finite entries".into(),
-        });
-    }
     // Everything below depends only on the column geometry of W (norms,
     // distances, relations, singular values), which one QR of the tall W
-    // hands to a small c×c matrix.
-    let reduced = column_geometry(view(system.matrix(), rows, columns));
+    // hands to a small c×c matrix. Tall data are folded as they are written
+    // ([`crate::fold`]): into the normal equations, whose Cholesky factor
+    // is that geometry where they are well conditioned, else (written
+    // again) into the R of a QR.
+    let tall = study.row_count() >= streamed_rows;
+    let mut system = ObservationSystem::default();
+    system.set_folding(tall.then_some(FoldKind::Gram));
+    write(&layout, &mut system)?;
+    let finite = |system: &ObservationSystem| {
+        if system.is_finite() {
+            Ok(())
+        } else {
+            Err(Error::Numerical {
+                message: "the observation matrix has non-finite entries".into(),
+            })
+        }
+    };
+    finite(&system)?;
+    let reduced = match system.folded_geometry() {
+        Some(reduced) => reduced,
+        None if system.is_folded() => {
+            system.set_folding(Some(FoldKind::Factor));
+            write(&layout, &mut system)?;
+            finite(&system)?;
+            system.folded_geometry().expect("a factor fold has its R")
+        }
+        None => column_geometry(view(system.matrix(), system.rows(), columns)),
+    };
     let geometry = reduced.as_ref();
     // Eq. 34 with the floor of NOTES.md. max|R_ii| of an unpivoted QR is at
     // most the largest column norm (R_11 is a column norm), which is used as
@@ -441,7 +466,7 @@ fn analyse(
             .map(|c| diagonal[*c])
             .fold(f64::INFINITY, f64::min),
         largest_rejected: rejected.map(|(_, d)| *d).fold(0.0, f64::max),
-        rows,
+        rows: system.rows(),
         equations,
         priority: new_priority,
         conditioning: Conditioning {
@@ -605,7 +630,14 @@ pub fn excitation(
     let mut states = StudyStates::default();
     study.evaluate_poses(robot, &mut states)?;
     let auxiliary = study.initial_auxiliary(&states)?;
-    excitation_at(robot, study, &mut states, &auxiliary, structural)
+    excitation_at(
+        robot,
+        study,
+        &mut states,
+        &auxiliary,
+        structural,
+        DEFAULT_STREAMED_ROWS,
+    )
 }
 
 /// [`excitation`] with these auxiliary values (`states` is storage for
@@ -616,12 +648,14 @@ pub(crate) fn excitation_at(
     states: &mut StudyStates,
     auxiliary: &[f64],
     structural: &RankReport,
+    streamed_rows: usize,
 ) -> Result<Excitation, Error> {
     let (report, system) = analyse(
         robot,
         study,
         &structural.priority,
         Some(&structural.base_auxiliary),
+        streamed_rows,
         |layout, system| study.linearise(robot, auxiliary, layout, states, system),
     )?;
     let not_excited = structural

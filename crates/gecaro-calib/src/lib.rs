@@ -58,6 +58,7 @@ mod continuation;
 pub mod curve;
 pub mod elastic;
 mod error;
+mod fold;
 pub mod frames;
 pub mod identifiability;
 pub mod identification;

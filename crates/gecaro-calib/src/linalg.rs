@@ -148,11 +148,19 @@ pub(crate) fn column_geometry(matrix: MatRef<'_, f64>) -> Mat<f64> {
         return triangular_factor(matrix);
     }
     let factors = run_parts(parts, triangular_factor);
-    let columns = matrix.ncols();
-    let stacked = Mat::from_fn(factors.len() * columns, columns, |i, j| {
-        factors[i / columns][(i % columns, j)]
-    });
-    triangular_factor(stacked.as_ref())
+    stacked_factor(&factors)
+}
+
+/// The R of a QR of the rows of all `factors` stacked (each c × c): the R of
+/// rows whose parts were factored separately (tall-skinny QR).
+pub(crate) fn stacked_factor(factors: &[Mat<f64>]) -> Mat<f64> {
+    let columns = factors.first().map_or(0, |factor| factor.ncols());
+    let height = factors.iter().map(|factor| factor.nrows()).sum();
+    let mut fold = TriangularFold::new(columns, height);
+    for factor in factors {
+        fold.push(factor.as_ref());
+    }
+    fold.factor()
 }
 
 /// `matrix` cut into consecutive parts of [`PART_ROWS`] rows (the last one longer).
@@ -179,60 +187,99 @@ fn row_parts(matrix: MatRef<'_, f64>) -> Vec<MatRef<'_, f64>> {
 const FOLD_BYTES: usize = 96 * 1024;
 
 /// The c × c R of a QR of `matrix` (zero rows below when it has fewer rows
-/// than columns), folding blocks of rows into a running R: `R ← R of
-/// [R; next rows]`. Unblocked Householder, which for these narrow matrices
-/// is faster than faer's blocked default (measured: 31 vs 55 µs at 150 × 31).
+/// than columns); see [`TriangularFold`].
 fn triangular_factor(matrix: MatRef<'_, f64>) -> Mat<f64> {
+    let mut fold = TriangularFold::new(matrix.ncols(), matrix.nrows());
+    fold.push(matrix);
+    fold.factor()
+}
+
+/// The R of a QR of rows given a few at a time, folding each block into a
+/// running R: `R ← R of [R; next rows]`. Orthogonal transformations only, so
+/// it is as accurate as one QR of all the rows, which are never held
+/// together. Unblocked Householder, which for these narrow matrices is faster
+/// than faer's blocked default (measured: 31 vs 55 µs at 150 × 31).
+pub(crate) struct TriangularFold {
+    columns: usize,
+    /// Rows folded at once (below the carried rows of R).
+    fold: usize,
+    block: Mat<f64>,
+    coefficients: Mat<f64>,
+    scratch: MemBuffer,
+    reduced: Mat<f64>,
+    /// Rows of R on top of the block: none before the first fold.
+    carried: usize,
+}
+
+impl TriangularFold {
     const BLOCK_SIZE: usize = 1;
-    let (rows, columns) = matrix.shape();
-    let fold = (FOLD_BYTES / size_of::<f64>() / columns.max(1))
-        .saturating_sub(columns)
-        .max(2 * columns)
-        .max(1);
-    let capacity = columns + fold.min(rows);
-    let mut block = Mat::<f64>::zeros(capacity, columns);
-    let mut coefficients = Mat::<f64>::zeros(BLOCK_SIZE, columns);
-    let mut scratch = MemBuffer::new(qr_factor::qr_in_place_scratch::<f64>(
-        capacity,
-        columns,
-        BLOCK_SIZE,
-        Par::Seq,
-        Default::default(),
-    ));
-    let mut reduced = Mat::<f64>::zeros(columns, columns);
-    // Rows of R on top of the block: none before the first fold.
-    let mut carried = 0;
-    let mut start = 0;
-    while start < rows {
-        let count = fold.min(rows - start);
-        let height = carried + count;
-        block
-            .get_mut(..carried, ..)
-            .copy_from(reduced.get(..carried, ..));
-        block
-            .get_mut(carried..height, ..)
-            .copy_from(matrix.subrows(start, count));
-        let size = height.min(columns);
-        qr_factor::qr_in_place(
-            block.get_mut(..height, ..),
-            coefficients.get_mut(.., ..size),
-            Par::Seq,
-            MemStack::new(&mut scratch),
-            Default::default(),
-        );
-        for j in 0..columns {
-            for i in 0..columns {
-                reduced[(i, j)] = if i <= j && i < size {
-                    block[(i, j)]
-                } else {
-                    0.0
-                };
-            }
+
+    /// A fold of rows of `columns` entries, about `rows` of them in all (the
+    /// block is no larger than they need).
+    pub(crate) fn new(columns: usize, rows: usize) -> Self {
+        let fold = (FOLD_BYTES / size_of::<f64>() / columns.max(1))
+            .saturating_sub(columns)
+            .max(2 * columns)
+            .max(1);
+        let capacity = columns + fold.min(rows.max(1));
+        TriangularFold {
+            columns,
+            fold: fold.min(rows.max(1)),
+            block: Mat::<f64>::zeros(capacity, columns),
+            coefficients: Mat::<f64>::zeros(Self::BLOCK_SIZE, columns),
+            scratch: MemBuffer::new(qr_factor::qr_in_place_scratch::<f64>(
+                capacity,
+                columns,
+                Self::BLOCK_SIZE,
+                Par::Seq,
+                Default::default(),
+            )),
+            reduced: Mat::<f64>::zeros(columns, columns),
+            carried: 0,
         }
-        carried = size;
-        start += count;
     }
-    reduced
+
+    /// Folds the rows of `matrix` (`columns` wide) into R.
+    pub(crate) fn push(&mut self, matrix: MatRef<'_, f64>) {
+        let (rows, columns) = (matrix.nrows(), self.columns);
+        debug_assert_eq!(matrix.ncols(), columns);
+        let mut start = 0;
+        while start < rows {
+            let count = self.fold.min(rows - start);
+            let carried = self.carried;
+            let height = carried + count;
+            self.block
+                .get_mut(..carried, ..)
+                .copy_from(self.reduced.get(..carried, ..));
+            self.block
+                .get_mut(carried..height, ..)
+                .copy_from(matrix.subrows(start, count));
+            let size = height.min(columns);
+            qr_factor::qr_in_place(
+                self.block.get_mut(..height, ..),
+                self.coefficients.get_mut(.., ..size),
+                Par::Seq,
+                MemStack::new(&mut self.scratch),
+                Default::default(),
+            );
+            for j in 0..columns {
+                for i in 0..columns {
+                    self.reduced[(i, j)] = if i <= j && i < size {
+                        self.block[(i, j)]
+                    } else {
+                        0.0
+                    };
+                }
+            }
+            self.carried = size;
+            start += count;
+        }
+    }
+
+    /// R (c × c, upper triangular; zero rows below the rows folded).
+    pub(crate) fn factor(self) -> Mat<f64> {
+        self.reduced
+    }
 }
 
 /// The normal equations of a weighted system `W x ≈ r`: WᵀW (its lower
@@ -252,6 +299,30 @@ impl NormalEquations {
     pub(crate) fn of(matrix: MatRef<'_, f64>, right: &[f64]) -> Self {
         let (gram, projected) = part_sums(matrix, right);
         NormalEquations { gram, projected }
+    }
+
+    /// The normal equations with `gram` (WᵀW: its lower triangle is read)
+    /// and `projected` (Wᵀr, a column), summed elsewhere (rows folded as
+    /// they were written, [`crate::fold`]).
+    pub(crate) fn from_sums(gram: Mat<f64>, projected: Mat<f64>) -> Self {
+        NormalEquations { gram, projected }
+    }
+
+    /// The sum of squares `‖r − W·step‖²` after a step, from `cost = ‖r‖²`:
+    /// `cost − 2 stepᵀWᵀr + stepᵀWᵀW step`.
+    pub(crate) fn cost_after(&self, cost: f64, step: &[f64]) -> f64 {
+        let curvature: f64 = self
+            .gram_times(step)
+            .iter()
+            .zip(step)
+            .map(|(a, b)| a * b)
+            .sum();
+        let slope: f64 = step
+            .iter()
+            .enumerate()
+            .map(|(i, s)| s * self.projected[(i, 0)])
+            .sum();
+        (cost - 2.0 * slope + curvature).max(0.0)
     }
 
     /// Whether every entry is finite (false when W or r has a NaN or an infinity).
@@ -414,6 +485,35 @@ pub(crate) fn predicted_decrease(
         .sum()
 }
 
+/// Adds the rows `part` (with their right-hand sides `right`, a column) to
+/// the sums `gram` (WᵀW, lower triangle) and `projected` (Wᵀr).
+pub(crate) fn add_normal_sums(
+    gram: &mut Mat<f64>,
+    projected: &mut Mat<f64>,
+    part: MatRef<'_, f64>,
+    right: MatRef<'_, f64>,
+) {
+    triangular::matmul(
+        gram.as_mut(),
+        BlockStructure::TriangularLower,
+        Accum::Add,
+        part.transpose(),
+        BlockStructure::Rectangular,
+        part,
+        BlockStructure::Rectangular,
+        1.0,
+        Par::Seq,
+    );
+    faer::linalg::matmul::matmul(
+        projected.as_mut(),
+        Accum::Add,
+        part.transpose(),
+        right,
+        1.0,
+        Par::Seq,
+    );
+}
+
 fn part_sums(matrix: MatRef<'_, f64>, right: &[f64]) -> (Mat<f64>, Mat<f64>) {
     let mut start = 0;
     let parts: Vec<(MatRef<'_, f64>, MatRef<'_, f64>)> = row_parts(matrix)
@@ -427,18 +527,9 @@ fn part_sums(matrix: MatRef<'_, f64>, right: &[f64]) -> (Mat<f64>, Mat<f64>) {
         .collect();
     let mut sums = run_parts(parts, |(part, right)| {
         let mut gram = Mat::<f64>::zeros(part.ncols(), part.ncols());
-        triangular::matmul(
-            gram.as_mut(),
-            BlockStructure::TriangularLower,
-            Accum::Replace,
-            part.transpose(),
-            BlockStructure::Rectangular,
-            part,
-            BlockStructure::Rectangular,
-            1.0,
-            Par::Seq,
-        );
-        (gram, part.transpose() * right)
+        let mut projected = Mat::<f64>::zeros(part.ncols(), 1);
+        add_normal_sums(&mut gram, &mut projected, part, right);
+        (gram, projected)
     })
     .into_iter();
     let (mut gram, mut projected) = sums.next().expect("at least one part");

@@ -124,6 +124,12 @@ pub trait CalibrationMethod: CloneMethod + fmt::Debug + Send + Sync {
         (0..samples.len()).map(|index| vec![index]).collect()
     }
 
+    /// Whether observation `k` is sample `k` ([`observation_samples`](Self::observation_samples)
+    /// is the default): lets large data sets be located without a list per sample.
+    fn observations_are_configurations(&self) -> bool {
+        true
+    }
+
     /// Writes the rows `Δy = W Δη` at the current parameters (whose poses and
     /// Jacobians are `states`, one per sample) and auxiliary values.
     fn linearise(

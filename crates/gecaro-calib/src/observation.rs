@@ -21,7 +21,13 @@
 
 use gecaro_core::{Error as ModelError, JacobianRows, KinematicModel};
 
+use std::borrow::Cow;
+
+use faer::MatRef;
+
+use crate::fold::{FoldKind, FoldedRows, RowFold};
 use crate::frames::SetFrames;
+use crate::linalg::{NormalEquations, add_normal_sums, view};
 
 use crate::method::CalibrationMethod;
 use crate::parallel::run_parts;
@@ -64,6 +70,9 @@ pub(crate) fn linearise_independent(
     frames: Option<&SetFrames<'_>>,
     mut writer: RowWriter<'_>,
 ) -> Result<usize, ModelError> {
+    if let Some(kind) = writer.fold {
+        return linearise_folded(model, method, samples, auxiliary, frames, writer, kind);
+    }
     let rows = method.jacobian_rows();
     // A named tool moves the point with the flange's rotation: all six rows.
     let evaluated = if frames.is_some() {
@@ -114,6 +123,111 @@ pub(crate) fn linearise_independent(
         .try_fold(0, |end, part: Result<usize, ModelError>| Ok(end.max(part?)))
 }
 
+/// Configurations of one part of a folded set: the parts are folded
+/// separately (on all cores) and merged in order, so their size, not the
+/// number of cores, sets the order of the sums.
+const FOLD_PART: usize = 4096;
+
+/// Rows of W written before they are folded: a block that stays in cache.
+const FOLD_ROWS: usize = 384;
+
+/// [`linearise_independent`] for a writer that folds its rows ([`crate::fold`]):
+/// each part writes blocks of rows into a small buffer, folds them, and
+/// hands its sums on; the parts' sums are merged in order into the set's
+/// writer.
+fn linearise_folded(
+    model: &KinematicModel,
+    method: &dyn CalibrationMethod,
+    samples: &[Sample],
+    auxiliary: &[f64],
+    frames: Option<&SetFrames<'_>>,
+    mut writer: RowWriter<'_>,
+    kind: FoldKind,
+) -> Result<usize, ModelError> {
+    let rows = method.jacobian_rows();
+    let evaluated = if frames.is_some() {
+        JacobianRows::Full
+    } else {
+        rows
+    };
+    let columns = writer.columns;
+    let parts: Vec<(&[Sample], RowWriter<'_>)> = samples
+        .chunks(FOLD_PART)
+        .map(|chunk| {
+            (
+                chunk,
+                writer.split_front(method.row_count(chunk), chunk.len()),
+            )
+        })
+        .collect();
+    let folded = run_parts(parts, |(chunk, mut part)| {
+        let mut fold = RowFold::new(columns, kind, method.row_count(chunk));
+        let mut states: Vec<TerminalState> = Vec::with_capacity(BLOCK);
+        let mut buffer: Vec<f64> = Vec::new();
+        let mut right: Vec<f64> = Vec::new();
+        let mut end = 0;
+        for block in chunk.chunks(BLOCK) {
+            states.resize_with(block.len(), || TerminalState::empty(model));
+            evaluate_chunk(model, block, Some(evaluated), &mut states[..block.len()])?;
+            if let Some(frames) = frames {
+                for state in &mut states[..block.len()] {
+                    frames.apply(state, rows.count());
+                }
+            }
+            let count = method.row_count(block);
+            let held = right.len();
+            if held > 0 && held + count > FOLD_ROWS {
+                fold.push(view(&buffer, held, columns), &right);
+                right.clear();
+            }
+            let held = right.len();
+            buffer.resize((held + count) * columns, 0.0);
+            let mut block_rows =
+                part.split_front_into(count, block.len(), &mut buffer[held * columns..]);
+            method.linearise(block, &states[..block.len()], auxiliary, &mut block_rows);
+            right.extend(block_rows.weighted_residuals());
+            end = end.max(block_rows.finish(method.name()));
+        }
+        if !right.is_empty() {
+            fold.push(view(&buffer, right.len(), columns), &right);
+        }
+        Ok((end, fold.finish()))
+    });
+    let mut end = 0;
+    let mut parts = Vec::with_capacity(folded.len());
+    for part in folded {
+        let (part_end, rows) = part?;
+        end = end.max(part_end);
+        parts.push(rows);
+    }
+    if let Some(sink) = writer.sink.take() {
+        let merged = std::mem::replace(sink, FoldedRows::empty(columns, kind)).merged(parts);
+        *sink = merged;
+    }
+    Ok(end)
+}
+
+/// The rows a least-squares routine reads ([`ObservationSystem::solver_rows`]):
+/// W (row-major) or its c × c stand-in, and the weighted right-hand sides.
+pub(crate) struct SolverRows<'a> {
+    matrix: Cow<'a, [f64]>,
+    rows: usize,
+    columns: usize,
+    right: Vec<f64>,
+}
+
+impl SolverRows<'_> {
+    /// The rows, as a matrix.
+    pub(crate) fn matrix(&self) -> MatRef<'_, f64> {
+        view(&self.matrix, self.rows, self.columns)
+    }
+
+    /// Their weighted right-hand sides.
+    pub(crate) fn right(&self) -> &[f64] {
+        &self.right
+    }
+}
+
 /// The stacked, weighted linear system of all measurement sets.
 #[derive(Clone, Debug, Default)]
 pub struct ObservationSystem {
@@ -136,14 +250,30 @@ pub struct ObservationSystem {
     observation_weights: Vec<f64>,
     /// The measured rows of each measurement set, in order.
     set_rows: Vec<std::ops::Range<usize>>,
+    /// Whether the next writes fold the measured rows ([`crate::fold`]);
+    /// kept by `reset`.
+    fold: Option<FoldKind>,
+    /// The measured rows, folded (`matrix` then holds the appended rows only).
+    folded: Option<FoldedRows>,
 }
 
 impl ObservationSystem {
-    /// Clears and sizes the system for `rows` rows in `layout`.
-    pub(crate) fn reset(&mut self, rows: usize, layout: &ColumnLayout) {
+    /// Clears and sizes the system for `rows` rows in `layout`; their W is
+    /// folded as it is written when [`set_folding`](Self::set_folding) asks
+    /// for it and the writer can (`foldable`: every set's configurations
+    /// are independent).
+    pub(crate) fn reset(&mut self, rows: usize, layout: &ColumnLayout, foldable: bool) {
         self.rows = rows;
         self.columns = layout.columns();
-        let size = rows * self.columns;
+        self.folded = self
+            .fold
+            .filter(|_| foldable)
+            .map(|kind| FoldedRows::empty(self.columns, kind));
+        let size = if self.folded.is_some() {
+            0
+        } else {
+            rows * self.columns
+        };
         if self.matrix.capacity() < size {
             // Fresh zeroed memory from the allocator (calloc): its pages are
             // touched first by the threads that write the rows, on all cores,
@@ -167,6 +297,101 @@ impl ObservationSystem {
         self.observations.resize(rows, 0);
         self.set_rows.clear();
         self.observation_count = 0;
+    }
+
+    /// Folds the measured rows of the next writes (`Some`), or holds them
+    /// (`None`, the default): see [`crate::fold`].
+    pub(crate) fn set_folding(&mut self, fold: Option<FoldKind>) {
+        self.fold = fold;
+    }
+
+    /// Whether the measured rows of W are folded rather than held: then
+    /// [`matrix`](Self::matrix) holds the appended rows only, and the
+    /// least-squares routines read [`solver_rows`](Self::solver_rows).
+    pub fn is_folded(&self) -> bool {
+        self.folded.is_some()
+    }
+
+    /// The rows of W in `matrix`: all of them, or the appended ones of a folded system.
+    fn held_rows(&self) -> std::ops::Range<usize> {
+        if self.is_folded() {
+            self.measured_rows()..self.rows
+        } else {
+            0..self.rows
+        }
+    }
+
+    /// The normal equations `WᵀW`, `Wᵀ(w r)` of every row.
+    pub(crate) fn normal_equations(&self) -> NormalEquations {
+        let right = self.weighted_residuals();
+        let held = self.held_rows();
+        let matrix = view(&self.matrix, held.len(), self.columns);
+        match &self.folded {
+            None => NormalEquations::of(matrix, &right),
+            Some(folded) => {
+                debug_assert_eq!(folded.row_count(), self.measured_rows());
+                let (mut gram, mut projected) = folded.normal_sums();
+                add_normal_sums(
+                    &mut gram,
+                    &mut projected,
+                    matrix,
+                    MatRef::from_column_major_slice(&right[held.clone()], held.len(), 1),
+                );
+                NormalEquations::from_sums(gram, projected)
+            }
+        }
+    }
+
+    /// The rows every least-squares routine reads, with their weighted
+    /// right-hand sides: W and `w r` as held, or a c × c stand-in of a
+    /// folded system ([`FoldedRows::stand_in`]); `measured_only` leaves the
+    /// appended rows out.
+    pub(crate) fn solver_rows(&self, measured_only: bool) -> SolverRows<'_> {
+        let right = self.weighted_residuals();
+        let end = if measured_only {
+            self.measured_rows()
+        } else {
+            self.rows
+        };
+        match &self.folded {
+            None => SolverRows {
+                matrix: Cow::Borrowed(&self.matrix[..end * self.columns]),
+                rows: end,
+                columns: self.columns,
+                right: right[..end].to_vec(),
+            },
+            Some(folded) => {
+                let appended = end - self.measured_rows();
+                let (matrix, right) = if appended == 0 {
+                    folded.stand_in()
+                } else {
+                    folded
+                        .with_rows(
+                            view(&self.matrix, appended, self.columns),
+                            &right[self.measured_rows()..end],
+                        )
+                        .stand_in()
+                };
+                SolverRows {
+                    matrix: Cow::Owned(matrix),
+                    rows: self.columns,
+                    columns: self.columns,
+                    right,
+                }
+            }
+        }
+    }
+
+    /// The column geometry of W (c × c: see [`FoldedRows::geometry`]) when
+    /// its rows were folded and it is known from the fold, `None` otherwise.
+    pub(crate) fn folded_geometry(&self) -> Option<faer::Mat<f64>> {
+        self.folded.as_ref().and_then(FoldedRows::geometry)
+    }
+
+    /// Whether every entry of W is finite.
+    pub(crate) fn is_finite(&self) -> bool {
+        self.matrix.iter().all(|v| v.is_finite())
+            && self.folded.as_ref().is_none_or(FoldedRows::is_finite)
     }
 
     /// Number of rows: the measured rows, then any appended ones.
@@ -251,18 +476,27 @@ impl ObservationSystem {
         self.columns
     }
 
-    /// W, row-major (`rows × columns`), weighted.
+    /// W, row-major (`rows × columns`), weighted; of a folded system
+    /// ([`is_folded`](Self::is_folded)), its appended rows only.
     pub fn matrix(&self) -> &[f64] {
         &self.matrix
     }
 
     /// Row `row` of W (weighted).
+    ///
+    /// # Panics
+    /// On a folded system, which holds no rows of W.
     pub fn row(&self, row: usize) -> &[f64] {
+        assert!(!self.is_folded(), "a folded system holds no rows of W");
         &self.matrix[row * self.columns..(row + 1) * self.columns]
     }
 
     /// Column `column` of W (weighted), copied.
+    ///
+    /// # Panics
+    /// On a folded system, which holds no rows of W.
     pub fn column(&self, column: usize) -> Vec<f64> {
+        assert!(!self.is_folded(), "a folded system holds no rows of W");
         (0..self.rows)
             .map(|row| self.matrix[row * self.columns + column])
             .collect()
@@ -284,9 +518,13 @@ impl ObservationSystem {
 
     /// Updates the residuals for a small parameter step through the linear
     /// model: `Δy ← Δy − W·step` (columns of W in this system's layout).
+    /// A folded system updates its appended rows only: its measured rows'
+    /// residuals stay those at the system's parameters (for a negligible
+    /// step, `‖W·step‖² ≤ 1e-12 ‖w r‖²`), and the folded sums are not moved.
     pub(crate) fn apply_linear_step(&mut self, step: &[f64]) {
-        for row in 0..self.rows {
-            let predicted: f64 = self.matrix[row * self.columns..(row + 1) * self.columns]
+        let held = self.held_rows();
+        for (index, row) in held.enumerate() {
+            let predicted: f64 = self.matrix[index * self.columns..(index + 1) * self.columns]
                 .iter()
                 .zip(step)
                 .map(|(w, s)| w * s)
@@ -333,8 +571,13 @@ impl ObservationSystem {
     ) -> RowWriter<'a> {
         let range = first_row..first_row + rows;
         let columns = self.columns;
+        let matrix = if self.folded.is_some() {
+            &mut []
+        } else {
+            &mut self.matrix[range.start * columns..range.end * columns]
+        };
         RowWriter {
-            matrix: &mut self.matrix[range.start * columns..range.end * columns],
+            matrix,
             residuals: &mut self.residuals[range.clone()],
             weights: &mut self.weights[range.clone()],
             sensor_weights: &mut self.sensor_weights[range.clone()],
@@ -348,6 +591,8 @@ impl ObservationSystem {
             row_weights: weights,
             observation_base: self.observation_count,
             observation_end: 0,
+            fold: self.folded.is_some().then_some(self.fold).flatten(),
+            sink: self.folded.as_mut(),
         }
     }
 

@@ -14,6 +14,8 @@
 //! [`crate::observation`]). Methods that centre a set on its mean centre it on
 //! the weighted mean ([`RowWriter::observation_weight`]).
 
+use crate::fold::{FoldKind, FoldedRows};
+
 /// What a row measures, so that errors are reported in the right unit.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
 pub enum RowKind {
@@ -122,6 +124,10 @@ pub struct RowWriter<'a> {
     pub(crate) observation_base: usize,
     /// One past the largest observation written (in the whole system's numbering).
     pub(crate) observation_end: usize,
+    /// Rows folded as they are written ([`crate::fold`]): `matrix` is then
+    /// empty, and the writer of a whole set hands its folded rows to `sink`.
+    pub(crate) fold: Option<FoldKind>,
+    pub(crate) sink: Option<&'a mut FoldedRows>,
 }
 
 impl<'a> RowWriter<'a> {
@@ -217,8 +223,13 @@ impl<'a> RowWriter<'a> {
             self.next_row == 0 && rows <= self.residuals.len(),
             "a writer is split before it writes, within its rows"
         );
+        let matrix = if self.fold.is_some() {
+            &mut []
+        } else {
+            take_front(&mut self.matrix, rows * self.columns)
+        };
         let front = RowWriter {
-            matrix: take_front(&mut self.matrix, rows * self.columns),
+            matrix,
             residuals: take_front(&mut self.residuals, rows),
             weights: take_front(&mut self.weights, rows),
             sensor_weights: take_front(&mut self.sensor_weights, rows),
@@ -232,9 +243,34 @@ impl<'a> RowWriter<'a> {
             row_weights: self.row_weights,
             observation_base: self.observation_base,
             observation_end: 0,
+            fold: self.fold,
+            sink: None,
         };
         self.observation_base += observations;
         front
+    }
+
+    /// [`split_front`](Self::split_front) for a folding writer: the front
+    /// rows of W are written into `matrix` (zeroed here), a block to fold.
+    pub(crate) fn split_front_into<'b>(
+        &'b mut self,
+        rows: usize,
+        observations: usize,
+        matrix: &'b mut [f64],
+    ) -> RowWriter<'b> {
+        debug_assert!(self.fold.is_some() && matrix.len() == rows * self.columns);
+        matrix.fill(0.0);
+        let mut front = self.split_front(rows, observations);
+        front.matrix = matrix;
+        front
+    }
+
+    /// The rows written so far: their weighted right-hand sides `w r`.
+    pub(crate) fn weighted_residuals(&self) -> impl Iterator<Item = f64> + '_ {
+        self.residuals[..self.next_row]
+            .iter()
+            .zip(&self.weights[..self.next_row])
+            .map(|(r, w)| r * w)
     }
 }
 

@@ -724,7 +724,11 @@ impl Study {
         system: &mut ObservationSystem,
         mut write: impl FnMut(usize, &MeasurementSet, &[f64], RowWriter<'_>) -> Result<usize, Error>,
     ) -> Result<(), Error> {
-        system.reset(self.row_count(), layout);
+        let foldable = self
+            .sets
+            .iter()
+            .all(|set| set.method.independent_configurations());
+        system.reset(self.row_count(), layout, foldable);
         let mut first_row = 0;
         let mut auxiliary_offset = self.frame_unknowns();
         for (index, set) in self.sets.iter().enumerate() {

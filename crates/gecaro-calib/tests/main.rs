@@ -10,5 +10,6 @@ mod planning;
 mod prediction;
 mod real_data;
 mod robust;
+mod streaming;
 mod validation;
 mod verdict;

@@ -99,7 +99,7 @@ use crate::frames::FRAME_UNKNOWNS;
 use crate::identifiability::{
     Excitation, ParameterStatus, RankReport, excitation_at, structural_parameters_at,
 };
-use crate::linalg::{NormalEquations, precision, view};
+use crate::linalg::{NormalEquations, precision};
 use crate::progress::{Observer, Progress, Quiet, report};
 use crate::rows::{ColumnLayout, RowKind};
 use crate::study::{Study, StudyStates};
@@ -108,7 +108,7 @@ pub use coverage::{Coverage, MIN_REDUNDANCY, STILL_RANGE, UnobservedScale};
 use evaluation::errors_at;
 pub use evaluation::{evaluate, evaluate_errors};
 pub use observations::{ObservationLocation, locate_observations};
-pub use options::{IdentificationOptions, Solver};
+pub use options::{DEFAULT_STREAMED_ROWS, IdentificationOptions, Solver};
 pub use outliers::{DEFAULT_OUTLIER_THRESHOLD, Outlier};
 pub use parameter::IdentifiedParameter;
 pub use passes::SECOND_PASS_LEVEL;
@@ -409,14 +409,7 @@ fn second_pass(
         // for structure: they read the observations within the outlier
         // threshold. (A model that misses structure makes outliers of its
         // own; the inliers show that structure still.)
-        let inliers =
-            (!current.outliers.is_empty()).then(|| outliers::inliers(study, &current.outliers));
-        score = score_tests(
-            &current,
-            inliers.as_ref().unwrap_or(study),
-            &candidates,
-            gauge,
-        )?;
+        score = score_tests(&current, study, &candidates, gauge)?;
         if score.outside.is_none() || pass == MAX_PASSES - 1 {
             break;
         }
@@ -764,7 +757,14 @@ fn set_up<'a>(
     // Nearly parallel axes hold their offset (Hayati; see `hayati`).
     let priority = &hayati::hayati_priority(robot, priority);
     let rank = structural_parameters_at(robot, study, &states, priority, STRUCTURAL_SEED)?;
-    let mut excited = excitation_at(robot, study, &mut states, &initial_auxiliary, &rank)?;
+    let mut excited = excitation_at(
+        robot,
+        study,
+        &mut states,
+        &initial_auxiliary,
+        &rank,
+        options.streamed_rows,
+    )?;
     let base = excited.report.base_parameters.clone();
     let base_auxiliary = excited.report.base_auxiliary.clone();
     if base.is_empty() {
@@ -857,16 +857,20 @@ fn summarise(
     // (of the data's rows: prior rows would hide a poor excitation).
     let system = &best.system;
     let columns = problem.layout.columns();
-    let matrix = view(system.matrix(), system.rows(), columns);
-    let (solved, mut condition_number) = precision(matrix, &best.normal, problem.condition)?;
-    if !weighting.prior_rows.is_empty() {
+    let all_rows = system.solver_rows(false);
+    let (solved, mut condition_number) =
+        precision(all_rows.matrix(), &best.normal, problem.condition)?;
+    drop(all_rows);
+    // The data's rows (or their stand-in, for a folded system).
+    let data_rows = (system.rows() > system.measured_rows()).then(|| system.solver_rows(true));
+    if let Some(data_rows) = data_rows
+        .as_ref()
+        .filter(|_| !weighting.prior_rows.is_empty())
+    {
         // The data's rows over the columns the data must determine (the
         // joined ones last, held by their prior).
-        let rows = system.measured_rows();
-        let data = view(&system.matrix()[..rows * columns], rows, columns);
-        let data = data.subcols(0, columns - problem.joined);
-        let right = system.weighted_residuals();
-        let normal = NormalEquations::of(data, &right[..rows]);
+        let data = data_rows.matrix().subcols(0, columns - problem.joined);
+        let normal = NormalEquations::of(data, data_rows.right());
         condition_number = precision(data, &normal, problem.condition)?.1;
     }
     // σ² = Σ w e²/(n_eff − b): ‖r‖²/(equations − b) in least squares.
@@ -875,13 +879,9 @@ fn summarise(
     // The noise's part of it, where a prior's rows (or the gauge that holds
     // an unmeasured scale) hold a parameter: σ² diag(G⁻¹ DᵀD G⁻¹), D the
     // measured rows.
-    let data_part = (system.rows() > system.measured_rows())
-        .then(|| {
-            let rows = system.measured_rows();
-            best.normal
-                .data_part_diagonal(view(&system.matrix()[..rows * columns], rows, columns))
-        })
-        .flatten();
+    let data_part = data_rows
+        .as_ref()
+        .and_then(|data_rows| best.normal.data_part_diagonal(data_rows.matrix()));
     let noise_std = |column: usize| {
         let part = data_part
             .as_ref()

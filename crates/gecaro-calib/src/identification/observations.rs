@@ -52,27 +52,53 @@ impl ObservationLocation {
 
 /// Every observation of `study`, numbered across its sets.
 pub fn locate_observations(study: &Study) -> Vec<ObservationLocation> {
+    locate(study, |_| true)
+        .into_iter()
+        .map(|(_, located)| located)
+        .collect()
+}
+
+/// The observations of `study` whose number (across its sets) `wanted`
+/// accepts, in order, with their numbers: on large data, without a list
+/// for every observation.
+pub(crate) fn locate(
+    study: &Study,
+    wanted: impl Fn(usize) -> bool,
+) -> Vec<(usize, ObservationLocation)> {
     let mut located = Vec::new();
+    let mut first = 0;
     for (set_index, set) in study.sets.iter().enumerate() {
-        let observations = set.method.observation_samples(&set.samples);
-        let kind = if observations.iter().any(|members| members.len() > 1) {
+        let grouped = (!set.method.observations_are_configurations())
+            .then(|| set.method.observation_samples(&set.samples));
+        let count = grouped.as_ref().map_or(set.samples.len(), Vec::len);
+        let kind = if grouped
+            .as_ref()
+            .is_some_and(|groups| groups.iter().any(|members| members.len() > 1))
+        {
             "pair"
         } else {
             "configuration"
         };
-        for (observation, samples) in observations.into_iter().enumerate() {
-            located.push(ObservationLocation {
-                set: set_index,
-                label: set.label.clone(),
-                kind,
-                observation,
-                lines: samples
-                    .iter()
-                    .filter_map(|index| set.samples[*index].line)
-                    .collect(),
-                samples,
-            });
+        for observation in (0..count).filter(|k| wanted(first + k)) {
+            let samples = grouped
+                .as_ref()
+                .map_or_else(|| vec![observation], |groups| groups[observation].clone());
+            located.push((
+                first + observation,
+                ObservationLocation {
+                    set: set_index,
+                    label: set.label.clone(),
+                    kind,
+                    observation,
+                    lines: samples
+                        .iter()
+                        .filter_map(|index| set.samples[*index].line)
+                        .collect(),
+                    samples,
+                },
+            ));
         }
+        first += count;
     }
     located
 }

@@ -4,6 +4,7 @@ use gecaro_core::{MassModel, PriorityMatrix, Robot};
 
 use super::outliers::DEFAULT_OUTLIER_THRESHOLD;
 use crate::error::{Error, Setting};
+pub use crate::fold::DEFAULT_STREAMED_ROWS;
 use crate::prior::Prior;
 use crate::robust::Loss;
 
@@ -57,6 +58,14 @@ pub struct IdentificationOptions {
     /// by more than a tenth of the noise ([`crate::elastic::reweighed`]).
     /// None (the default) keeps the samples' torques as they are.
     pub masses: Option<MassModel>,
+    /// Systems of at least this many measured rows are streamed: every
+    /// block of rows is folded into the normal equations (or a triangular
+    /// factor, where they would not be accurate) as it is written, and W is
+    /// never held ([`crate::observation::ObservationSystem::is_folded`]). The
+    /// results differ from those of the held W in floating-point order only.
+    /// [`DEFAULT_STREAMED_ROWS`] by default; 0 streams every system,
+    /// `usize::MAX` none.
+    pub streamed_rows: usize,
 }
 
 impl Default for IdentificationOptions {
@@ -71,6 +80,7 @@ impl Default for IdentificationOptions {
             outlier_threshold: DEFAULT_OUTLIER_THRESHOLD,
             reject: false,
             masses: None,
+            streamed_rows: DEFAULT_STREAMED_ROWS,
         }
     }
 }

@@ -2,7 +2,7 @@
 //! solution exceeds a threshold (see [`crate::Loss`] for the units), located
 //! in their set and data file.
 
-use super::observations::{ObservationLocation, locate_observations};
+use super::observations::{ObservationLocation, locate};
 use super::statistics::ResidualStatistics;
 use crate::study::Study;
 
@@ -36,22 +36,24 @@ pub(super) fn find_outliers(
     if !statistics.standardized.iter().any(|u| *u > threshold) {
         return Vec::new();
     }
-    let mut outliers: Vec<Outlier> = locate_observations(study)
+    let beyond = |number: usize| {
+        statistics
+            .standardized
+            .get(number)
+            .is_some_and(|u| *u > threshold)
+    };
+    let mut outliers: Vec<Outlier> = locate(study, beyond)
         .into_iter()
-        .enumerate()
-        .filter_map(|(number, located)| {
-            let standardized = *statistics.standardized.get(number)?;
-            if standardized <= threshold {
-                return None;
-            }
+        .map(|(number, located)| {
+            let standardized = statistics.standardized[number];
             let (error, rotation) = errors.get(number).copied().unwrap_or((f64::NAN, f64::NAN));
-            Some(Outlier {
+            Outlier {
                 location: located,
                 error,
                 rotation_error: has_rotation.then_some(rotation),
                 standardized,
                 weight: statistics.weights.get(number).copied().unwrap_or(1.0),
-            })
+            }
         })
         .collect();
     outliers.sort_by(|a, b| b.standardized.total_cmp(&a.standardized));
@@ -64,7 +66,7 @@ pub(super) fn inliers(study: &Study, outliers: &[Outlier]) -> Study {
 }
 
 /// The samples of `outliers`, per set of `study` (for [`Study::without_samples`]).
-fn outlier_samples(study: &Study, outliers: &[Outlier]) -> Vec<Vec<usize>> {
+pub(super) fn outlier_samples(study: &Study, outliers: &[Outlier]) -> Vec<Vec<usize>> {
     let mut dropped = vec![Vec::new(); study.sets.len()];
     for outlier in outliers {
         dropped[outlier.location.set].extend(&outlier.location.samples);

@@ -5,7 +5,10 @@
 //! `F = (gain/k) / (rest/ν)` against the F(k, ν) quantile at
 //! [`SECOND_PASS_LEVEL`].
 
+use std::borrow::Cow;
+
 use super::gauge::Gauge;
+use super::outliers::outlier_samples;
 use super::result::Identification;
 use crate::Error;
 use crate::linalg::{NormalEquations, view};
@@ -51,8 +54,13 @@ pub(super) fn score_tests(
 ) -> Result<ScoreTests, Error> {
     const EIGENVALUE_FLOOR: f64 = 1e-12;
     let robot = &current.calibrated;
-    let thinned = thinned(study, SCORE_TEST_OBSERVATIONS);
-    let study = thinned.as_ref().unwrap_or(study);
+    // The tests assume Gaussian residuals, and gross errors would pass for
+    // structure: they read the observations within the outlier threshold.
+    // (A model that misses structure makes outliers of its own; the
+    // inliers show that structure still.)
+    let dropped = outlier_samples(study, &current.outliers);
+    let tested = tested(study, &dropped, SCORE_TEST_OBSERVATIONS);
+    let study: &Study = &tested;
     let mut states = StudyStates::default();
     study.evaluate_poses(robot, &mut states)?;
     let states = &mut states;
@@ -100,33 +108,64 @@ pub(super) fn score_tests(
 /// subset, since it compares the base set and the wider one on the same rows).
 const SCORE_TEST_OBSERVATIONS: usize = 500;
 
-/// `study` with about `limit` of its units (configurations, sets, pairs),
-/// spread over its sets in proportion to their sizes ([`spread_indices`]);
-/// `None` when it has no more than `limit`.
-fn thinned(study: &Study, limit: usize) -> Option<Study> {
-    let units: Vec<Vec<Vec<usize>>> = study
+/// `study` without the `dropped` samples (per set), and with about `limit`
+/// of its units (configurations, sets, pairs) when it has more, spread over
+/// its sets in proportion to their sizes ([`spread_indices`]): a set or pair
+/// left with a single configuration goes, as in [`Study::without_samples`].
+/// On large data the units are chosen first, so that only they are copied.
+fn tested<'a>(study: &'a Study, dropped: &[Vec<usize>], limit: usize) -> Cow<'a, Study> {
+    let units: Vec<Option<Vec<Vec<usize>>>> = study
         .sets
         .iter()
-        .map(|set| crate::methods::units(set.method.as_ref(), &set.samples))
+        .map(|set| {
+            crate::methods::grouped(set.method.as_ref())
+                .then(|| crate::methods::units(set.method.as_ref(), &set.samples))
+        })
         .collect();
-    let total: usize = units.iter().map(Vec::len).sum();
+    let count = |index: usize| {
+        units[index]
+            .as_ref()
+            .map_or(study.sets[index].samples.len(), Vec::len)
+    };
+    let total: usize = (0..study.sets.len()).map(count).sum();
     if total <= limit {
-        return None;
+        return if dropped.iter().all(Vec::is_empty) {
+            Cow::Borrowed(study)
+        } else {
+            Cow::Owned(study.without_samples(dropped))
+        };
     }
-    Some(Study {
-        sets: study
-            .sets
-            .iter()
-            .zip(&units)
-            .map(|(set, units)| {
-                let kept = (units.len() * limit).div_ceil(total);
-                let samples = spread_indices(units.len(), kept)
-                    .into_iter()
-                    .flat_map(|unit| units[unit].iter().map(|index| set.samples[*index].clone()))
-                    .collect();
-                set.with_samples(samples)
-            })
-            .collect(),
+    let sets = study
+        .sets
+        .iter()
+        .enumerate()
+        .map(|(index, set)| {
+            let mut gone: Vec<usize> = dropped.get(index).cloned().unwrap_or_default();
+            gone.sort_unstable();
+            let kept = |sample: &usize| gone.binary_search(sample).is_err();
+            let chosen = spread_indices(count(index), (count(index) * limit).div_ceil(total));
+            let mut samples = Vec::with_capacity(chosen.len());
+            for unit in chosen {
+                match &units[index] {
+                    None => {
+                        if kept(&unit) {
+                            samples.push(set.samples[unit].clone());
+                        }
+                    }
+                    Some(units) => {
+                        let members: Vec<usize> =
+                            units[unit].iter().copied().filter(kept).collect();
+                        if units[unit].len() < 2 || members.len() >= 2 {
+                            samples.extend(members.iter().map(|i| set.samples[*i].clone()));
+                        }
+                    }
+                }
+            }
+            set.with_samples(samples)
+        })
+        .collect();
+    Cow::Owned(Study {
+        sets,
         frames: study.frames.clone(),
     })
 }

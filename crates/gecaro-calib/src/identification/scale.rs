@@ -375,7 +375,11 @@ fn translated_back(
     let plain = problem.with_weighting(super::weighting::Weighting::default());
     let (mut robot, auxiliary) = (moved.robot.clone(), moved.auxiliary.clone());
     for _ in 0..TRANSLATION_STEPS {
-        let system = plain.assemble(&robot, &auxiliary, &layout, states)?.system;
+        // Written whole (two columns): the columns are read one by one.
+        let mut system = ObservationSystem::default();
+        plain
+            .study
+            .linearise(&robot, &auxiliary, &layout, states, &mut system)?;
         let rows = system.measured_rows();
         let right = system.weighted_residuals();
         let columns: Vec<Vec<f64>> = (0..layout.columns()).map(|c| system.column(c)).collect();

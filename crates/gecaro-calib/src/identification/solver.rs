@@ -9,8 +9,10 @@ use super::options::IdentificationOptions;
 use super::verdict::StopReason;
 use super::weighting::Weighting;
 use crate::Error;
+use crate::fold::FoldKind;
 use crate::linalg::{
-    NormalEquations, damped_step, minimum_norm_step, predicted_decrease, step, view,
+    NORMAL_EQUATIONS_CONDITION, NormalEquations, damped_step, minimum_norm_step,
+    predicted_decrease, step,
 };
 use crate::observation::ObservationSystem;
 use crate::progress::{IterationRecord, Observer, Progress, Quiet, report};
@@ -136,10 +138,25 @@ impl<'a> Problem<'a> {
         mut system: ObservationSystem,
     ) -> Result<Iterate, Error> {
         system.set_observation_weights(self.weighting.observation_weights.clone());
+        system.set_folding(self.folding());
         self.study
             .linearise(robot, auxiliary, layout, states, &mut system)?;
         self.weighting.append_rows(&mut system, robot);
         Self::iterate_of(robot, auxiliary, system)
+    }
+
+    /// How this problem's systems are written: folded as they are written
+    /// when they are tall ([`IdentificationOptions::streamed_rows`]), into
+    /// the normal equations where they are accurate, else into a
+    /// triangular factor (see [`crate::fold`]).
+    pub(super) fn folding(&self) -> Option<FoldKind> {
+        (self.rows >= self.options.streamed_rows).then_some(
+            if self.condition < NORMAL_EQUATIONS_CONDITION {
+                FoldKind::Gram
+            } else {
+                FoldKind::Factor
+            },
+        )
     }
 
     /// The iterate of a system written at `robot` and `auxiliary`.
@@ -148,12 +165,8 @@ impl<'a> Problem<'a> {
         auxiliary: &[f64],
         system: ObservationSystem,
     ) -> Result<Iterate, Error> {
-        let right = system.weighted_residuals();
-        let cost: f64 = right.iter().map(|r| r * r).sum();
-        let normal = NormalEquations::of(
-            view(system.matrix(), system.rows(), system.columns()),
-            &right,
-        );
+        let cost: f64 = system.weighted_residuals().iter().map(|r| r * r).sum();
+        let normal = system.normal_equations();
         // Non-finite entries of W or Δy reach the normal equations.
         if !cost.is_finite() || !normal.is_finite() {
             return Err(Error::Numerical {
@@ -194,9 +207,8 @@ impl<'a> Problem<'a> {
         if norm(step) <= self.options.step_tolerance * (1.0 + scale) {
             return true;
         }
-        let system = &iterate.system;
-        let matrix = view(system.matrix(), system.rows(), system.columns());
-        predicted_decrease(matrix, &iterate.normal, step, self.condition)
+        let rows = iterate.system.solver_rows(false);
+        predicted_decrease(rows.matrix(), &iterate.normal, step, self.condition)
             <= COST_TOLERANCE * iterate.cost
     }
 
@@ -232,14 +244,21 @@ impl<'a> Problem<'a> {
         let Ok((robot, auxiliary)) = self.stepped(&current, step, parameters) else {
             return current;
         };
+        // A folded system's measured residuals stay (see
+        // `apply_linear_step`): its cost follows the normal equations.
+        let folded_cost = current.normal.cost_after(current.cost, step);
         current.system.apply_linear_step(step);
         current.normal.apply_step(step);
-        current.cost = current
-            .system
-            .weighted_residuals()
-            .iter()
-            .map(|r| r * r)
-            .sum();
+        current.cost = if current.system.is_folded() {
+            folded_cost
+        } else {
+            current
+                .system
+                .weighted_residuals()
+                .iter()
+                .map(|r| r * r)
+                .sum()
+        };
         current.robot = robot;
         current.auxiliary = auxiliary;
         current
@@ -276,16 +295,15 @@ impl<'a> Problem<'a> {
         // trial; `None` while trials write into the current iterate's storage.
         let mut spare: Option<ObservationSystem> = None;
         'iterations: while history.len() < max_iterations {
-            let right = current.system.weighted_residuals();
             let mut fraction = 1.0;
             loop {
-                let system = &current.system;
-                let matrix = view(system.matrix(), system.rows(), system.columns());
+                let rows = current.system.solver_rows(false);
                 let mut step = if damping == 0.0 {
-                    step(matrix, &current.normal, &right, self.condition)
+                    step(rows.matrix(), &current.normal, rows.right(), self.condition)
                 } else {
-                    damped_step(matrix, &right, damping)
+                    damped_step(rows.matrix(), rows.right(), damping)
                 };
+                drop(rows);
                 if damping <= INITIAL_DAMPING
                     && fraction == 1.0
                     && self.negligible(&step, &current, &self.base)
@@ -383,9 +401,9 @@ impl<'a> Problem<'a> {
         let mut stuck = false;
         'iterations: while history.len() < self.options.max_iterations {
             // Data rows, and any a prior or gauge appends.
-            let rows = current.system.rows();
-            let matrix = view(current.system.matrix(), rows, layout.columns());
-            let step = minimum_norm_step(matrix, &current.system.weighted_residuals(), rank)?;
+            let rows = current.system.solver_rows(false);
+            let step = minimum_norm_step(rows.matrix(), rows.right(), rank)?;
+            drop(rows);
             if self.negligible(&step, &current, effective) {
                 current = self.polish(current, &step, effective);
                 reached = true;

@@ -50,6 +50,7 @@
 use super::coverage::Coverage;
 use crate::observation::ObservationSystem;
 use crate::rows::RowKind;
+use crate::sample::Sample;
 use crate::study::Study;
 
 /// Why the iteration stopped.
@@ -456,55 +457,99 @@ fn distinct(study: &Study) -> (usize, f64) {
     let mut count = 0;
     let mut equations = 0.0;
     for set in &study.sets {
-        // Sorted by their bits (−0 as 0), equal neighbours dropped: exact,
-        // and no allocation per configuration.
-        let mut unique: Vec<&[f64]> = set
-            .samples
-            .iter()
-            .map(|sample| sample.motor_positions.as_slice())
-            .collect();
-        unique.sort_unstable_by(|a, b| bits(a).cmp(bits(b)));
-        unique.dedup_by(|a, b| bits(a).eq(bits(b)));
-        count += unique.len();
-        equations += unique.len() as f64 * set.method.equations_per_configuration();
+        let configuration = |index: usize| set.samples[index].motor_positions.as_slice();
+        let unique = count_distinct(
+            set.samples.len(),
+            |index| fingerprint(bits(configuration(index))),
+            |a, b| bits(configuration(a)).cmp(bits(configuration(b))),
+        );
+        count += unique;
+        equations += unique as f64 * set.method.equations_per_configuration();
     }
     (count, equations)
 }
 
 /// Measurements that repeat an earlier one of the same method exactly:
 /// configuration, group and measured values equal to the last bit (−0 as
-/// 0), over every set. Each is kept as a 64-bit fingerprint (8 bytes a
-/// measurement; two different measurements share one with probability
-/// ~n²/2⁶⁵, 3·10⁻⁸ for a million).
+/// 0), over every set.
 fn copies(study: &Study) -> usize {
-    use std::hash::{Hash, Hasher};
-    let total: usize = study.sets.iter().map(|set| set.samples.len()).sum();
-    let mut seen = std::collections::HashSet::with_capacity(total);
-    let mut copies = 0;
-    for set in &study.sets {
-        for sample in &set.samples {
-            let mut hasher = std::hash::DefaultHasher::new();
-            set.method.name().hash(&mut hasher);
-            bits(&sample.motor_positions).for_each(|b| b.hash(&mut hasher));
-            sample.group.hash(&mut hasher);
-            let measured = sample
-                .position
+    let measurements: Vec<(usize, usize)> = study
+        .sets
+        .iter()
+        .enumerate()
+        .flat_map(|(set, data)| (0..data.samples.len()).map(move |sample| (set, sample)))
+        .collect();
+    let method = |(set, _): (usize, usize)| study.sets[set].method.name();
+    let key = |(set, sample): (usize, usize)| measurement_bits(&study.sets[set].samples[sample]);
+    let unique = count_distinct(
+        measurements.len(),
+        |index| {
+            let measurement = measurements[index];
+            fingerprint(
+                method(measurement)
+                    .bytes()
+                    .map(u64::from)
+                    .chain(key(measurement)),
+            )
+        },
+        |a, b| {
+            let (a, b) = (measurements[a], measurements[b]);
+            method(a).cmp(method(b)).then_with(|| key(a).cmp(key(b)))
+        },
+    );
+    measurements.len() - unique
+}
+
+/// The number of distinct items among `count`, each with a `fingerprint`
+/// (equal items have equal ones) and a total order `compare`: sorted by
+/// fingerprint, equal fingerprints by `compare` (which only ties read), and
+/// equal neighbours counted once. Exact whatever the fingerprints collide
+/// on, and a sort of `count` integers on large data.
+fn count_distinct(
+    count: usize,
+    fingerprint: impl Fn(usize) -> u64,
+    compare: impl Fn(usize, usize) -> std::cmp::Ordering,
+) -> usize {
+    let mut keys: Vec<(u64, usize)> = (0..count).map(|i| (fingerprint(i), i)).collect();
+    keys.sort_unstable_by(|a, b| a.0.cmp(&b.0).then_with(|| compare(a.1, b.1)));
+    keys.windows(2)
+        .filter(|pair| pair[0].0 != pair[1].0 || compare(pair[0].1, pair[1].1).is_ne())
+        .count()
+        + usize::from(count > 0)
+}
+
+/// A 64-bit fingerprint of `values` (rustc-hash's multiply–rotate hash:
+/// fast, not collision-proof; [`count_distinct`] compares ties).
+fn fingerprint(values: impl Iterator<Item = u64>) -> u64 {
+    use std::hash::Hasher;
+    let mut hasher = rustc_hash::FxHasher::default();
+    values.for_each(|value| hasher.write_u64(value));
+    hasher.finish()
+}
+
+/// What a measurement is made of, as bits: its configuration, group and
+/// measured values (−0 as 0; a missing group or value as a tag).
+fn measurement_bits(sample: &Sample) -> impl Iterator<Item = u64> + '_ {
+    let measured = sample
+        .position
+        .iter()
+        .flat_map(|p| p.iter().copied())
+        .chain(
+            sample
+                .orientation
                 .iter()
-                .flat_map(|p| p.iter().copied())
-                .chain(
-                    sample
-                        .orientation
-                        .iter()
-                        .flat_map(|q| q.coords.iter().copied()),
-                )
-                .chain(sample.distance);
-            measured.for_each(|value| (value + 0.0).to_bits().hash(&mut hasher));
-            if !seen.insert(hasher.finish()) {
-                copies += 1;
-            }
-        }
-    }
-    copies
+                .flat_map(|q| q.coords.iter().copied()),
+        )
+        .chain(sample.distance)
+        .map(|value| (value + 0.0).to_bits());
+    bits(&sample.motor_positions)
+        .chain([u64::from(sample.group.is_some()), sample.group.unwrap_or(0)])
+        .chain([
+            u64::from(sample.position.is_some()),
+            u64::from(sample.orientation.is_some()),
+            u64::from(sample.distance.is_some()),
+        ])
+        .chain(measured)
 }
 
 /// The bits of a configuration's values, −0 as 0.
@@ -529,20 +574,40 @@ fn residual_sigmas(evidence: &Evidence<'_>) -> (Option<f64>, Option<f64>) {
             .copied()
             .unwrap_or(1.0)
     };
-    // Rows of observations a robust loss ignores do not count.
-    let counted = (0..rows).filter(|row| weight(*row) > 0.0).count();
+    // Rows of observations a robust loss ignores do not count. Per kind:
+    // rows counted and their weighted sum of squares, in one pass.
+    let mut sums = [(0_usize, 0.0_f64); 2];
+    for row in 0..rows {
+        let weight = weight(row);
+        if weight > 0.0 {
+            let sum = &mut sums[usize::from(kinds[row] == RowKind::Angle)];
+            sum.0 += 1;
+            sum.1 += weight * residuals[row] * residuals[row];
+        }
+    }
+    let counted = sums[0].0 + sums[1].0;
     let share = evidence.degrees_of_freedom as f64 / counted.max(1) as f64;
-    let sigma_of = |kind: RowKind| {
-        let rows: Vec<usize> = (0..rows)
-            .filter(|row| kinds[*row] == kind && weight(*row) > 0.0)
-            .collect();
-        (!rows.is_empty()).then(|| {
-            let squares: f64 = rows
-                .iter()
-                .map(|row| weight(*row) * residuals[*row] * residuals[*row])
-                .sum();
-            (squares / (rows.len() as f64 * share).max(f64::MIN_POSITIVE)).sqrt()
-        })
+    let sigma_of = |(rows, squares): (usize, f64)| {
+        (rows > 0).then(|| (squares / (rows as f64 * share).max(f64::MIN_POSITIVE)).sqrt())
     };
-    (sigma_of(RowKind::Length), sigma_of(RowKind::Angle))
+    (sigma_of(sums[0]), sigma_of(sums[1]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Distinct items are counted exactly whatever their fingerprints: with
+    /// every fingerprint equal, and with honest ones.
+    #[test]
+    fn distinct_items_are_counted_exactly_whatever_the_fingerprints() {
+        let values: [u64; 11] = [3, 1, 4, 1, 5, 9, 2, 6, 5, 3, 5];
+        let compare = |a: usize, b: usize| values[a].cmp(&values[b]);
+        assert_eq!(count_distinct(values.len(), |_| 7, compare), 7);
+        let honest = |i: usize| fingerprint([values[i]].into_iter());
+        assert_eq!(count_distinct(values.len(), honest, compare), 7);
+        // Interleaved collisions (fingerprint by parity) stay exact.
+        assert_eq!(count_distinct(values.len(), |i| values[i] % 2, compare), 7);
+        assert_eq!(count_distinct(0, |_| 0, compare), 0);
+    }
 }

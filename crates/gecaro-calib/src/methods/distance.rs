@@ -76,6 +76,10 @@ impl CalibrationMethod for DistanceMeasure {
         groups(samples)
     }
 
+    fn observations_are_configurations(&self) -> bool {
+        false
+    }
+
     fn equations_per_configuration(&self) -> f64 {
         0.5
     }

@@ -87,15 +87,20 @@ pub fn method_info(name: &str) -> Result<&'static MethodInfo, Error> {
         })
 }
 
+/// Whether `method` groups its samples (sets of link methods, pairs of
+/// distances): its units are then those groups, else single samples.
+pub fn grouped(method: &dyn CalibrationMethod) -> bool {
+    method
+        .data_columns()
+        .iter()
+        .any(|c| matches!(c, DataColumn::Set | DataColumn::Pair))
+}
+
 /// The units of `samples` for `method`: the sample indices of each set or
 /// pair (link and distance methods, grouped as the methods group them, in
 /// order of first appearance), single samples otherwise.
 pub fn units(method: &dyn CalibrationMethod, samples: &[Sample]) -> Vec<Vec<usize>> {
-    let grouped = method
-        .data_columns()
-        .iter()
-        .any(|c| matches!(c, DataColumn::Set | DataColumn::Pair));
-    if grouped {
+    if grouped(method) {
         sets::groups(samples)
     } else {
         (0..samples.len()).map(|index| vec![index]).collect()

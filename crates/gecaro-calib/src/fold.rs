@@ -1,0 +1,357 @@
+//! Rows of the observation matrix folded as they are written (issue 36): a
+//! tall system `W x ≈ r` of millions of rows is never held, only what every
+//! least-squares computation on it reads.
+//!
+//! ## What is kept
+//!
+//! For the weighted rows `w_i` and right-hand sides `r_i` (both already
+//! multiplied by the row's weight), in one of two forms ([`FoldKind`]):
+//!
+//! - [`FoldKind::Gram`]: the normal equations `G = WᵀW` and `g = Wᵀr`
+//!   (`b²/2` multiply–adds a row). Enough where the normal equations are
+//!   accurate (an equilibrated condition number below
+//!   [`NORMAL_EQUATIONS_CONDITION`](crate::linalg::NORMAL_EQUATIONS_CONDITION)).
+//! - [`FoldKind::Factor`]: the R̃ of a QR of `[W | r]`, folded block by
+//!   block (tall-skinny QR, [`TriangularFold`]): `R̃ = [R z; 0 ρ]`, with
+//!   `W = QR`, `z = Qᵀr` and `ρ` the least-squares residual's norm. As
+//!   accurate as a QR of W (the rank decisions of Appendix III read R); G
+//!   and g follow as `RᵀR` and `Rᵀz`.
+//!
+//! ## Why it suffices
+//!
+//! Every computation of an identification on W is a least-squares problem
+//! `min ‖W x − r‖²` (plain, damped, truncated, restricted to columns) or a
+//! quantity of its covariance. For any square `R` and `z` with `RᵀR = WᵀW`
+//! and `Rᵀz = Wᵀr`, `‖R x − z‖² = ‖W x − r‖² − const`: the same solutions,
+//! the same column norms (Marquardt's scaling), the same singular values
+//! and right singular vectors, the same `‖W·step‖²`. So [`FoldedRows::stand_in`]
+//! hands those routines a c × c stand-in for W (the factor's R, or a square
+//! root of G from its eigen-decomposition), and they run unchanged.
+//!
+//! Parts are folded in a fixed order whatever the number of cores, so the
+//! results are the same on every machine; they differ from those of the
+//! held W in floating-point order only.
+
+use faer::{Mat, MatRef};
+
+use crate::linalg::{
+    NORMAL_EQUATIONS_CONDITION, NormalEquations, TriangularFold, add_normal_sums, stacked_factor,
+};
+
+/// The measured rows from which a system is streamed by default (about
+/// 20,000 position configurations; a held W of 60,000 × 31 is 15 MB).
+pub const DEFAULT_STREAMED_ROWS: usize = 60_000;
+
+/// What a fold keeps; see the module docs.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(crate) enum FoldKind {
+    /// The normal equations: where they are accurate enough.
+    Gram,
+    /// The triangular factor of `[W | r]`: as accurate as a QR of W.
+    Factor,
+}
+
+/// Rows of `c` columns folded so far; see the module docs.
+pub(crate) struct RowFold {
+    columns: usize,
+    gram: Mat<f64>,
+    projected: Mat<f64>,
+    factor: Option<TriangularFold>,
+    /// `[W | r]` of the rows of the block being folded (factor only).
+    augmented: Mat<f64>,
+    rows: usize,
+}
+
+impl RowFold {
+    /// An empty fold of rows of `columns` entries, of about `rows` rows.
+    pub(crate) fn new(columns: usize, kind: FoldKind, rows: usize) -> Self {
+        let factor = (kind == FoldKind::Factor).then(|| TriangularFold::new(columns + 1, rows));
+        RowFold {
+            columns,
+            gram: Mat::zeros(columns, columns),
+            projected: Mat::zeros(columns, 1),
+            factor,
+            augmented: Mat::zeros(0, 0),
+            rows: 0,
+        }
+    }
+
+    /// Folds the rows `matrix` (row `i` of W, weighted) with their weighted
+    /// right-hand sides `right`.
+    pub(crate) fn push(&mut self, matrix: MatRef<'_, f64>, right: &[f64]) {
+        let (rows, columns) = matrix.shape();
+        debug_assert!(columns == self.columns && right.len() == rows);
+        self.rows += rows;
+        match &mut self.factor {
+            None => add_normal_sums(
+                &mut self.gram,
+                &mut self.projected,
+                matrix,
+                MatRef::from_column_major_slice(right, rows, 1),
+            ),
+            Some(factor) => {
+                if self.augmented.nrows() < rows {
+                    self.augmented = Mat::zeros(rows, columns + 1);
+                }
+                self.augmented.get_mut(..rows, ..columns).copy_from(matrix);
+                for (i, value) in right.iter().enumerate() {
+                    self.augmented[(i, columns)] = *value;
+                }
+                factor.push(self.augmented.get(..rows, ..));
+            }
+        }
+    }
+
+    /// What the rows folded come to.
+    pub(crate) fn finish(self) -> FoldedRows {
+        FoldedRows {
+            columns: self.columns,
+            rows: self.rows,
+            gram: self.gram,
+            projected: self.projected,
+            factor: self.factor.map(TriangularFold::factor),
+        }
+    }
+}
+
+/// Rows folded into normal equations or a triangular factor; see the module docs.
+#[derive(Clone, Debug)]
+pub(crate) struct FoldedRows {
+    columns: usize,
+    rows: usize,
+    /// `WᵀW` (lower triangle) and `Wᵀr` (Gram folds).
+    gram: Mat<f64>,
+    projected: Mat<f64>,
+    /// R̃ of `[W | r]`, (c + 1) × (c + 1) (factor folds).
+    factor: Option<Mat<f64>>,
+}
+
+impl FoldedRows {
+    /// No rows, in `columns` columns, of `kind`.
+    pub(crate) fn empty(columns: usize, kind: FoldKind) -> Self {
+        RowFold::new(columns, kind, 1).finish()
+    }
+
+    /// Number of rows folded.
+    pub(crate) fn row_count(&self) -> usize {
+        self.rows
+    }
+
+    /// The rows of `self` and then of every one of `others` (in order).
+    pub(crate) fn merged(mut self, others: impl IntoIterator<Item = FoldedRows>) -> Self {
+        let others: Vec<FoldedRows> = others.into_iter().collect();
+        for other in &others {
+            self.rows += other.rows;
+            self.gram += &other.gram;
+            self.projected += &other.projected;
+        }
+        if let Some(factor) = self.factor.take() {
+            let mut factors = vec![factor];
+            factors.extend(others.into_iter().filter_map(|other| other.factor));
+            self.factor = Some(stacked_factor(&factors));
+        }
+        self
+    }
+
+    /// The rows of `self` and `matrix` (weighted, row-major `rows × c`,
+    /// with weighted right-hand sides `right`): a few rows appended.
+    pub(crate) fn with_rows(&self, matrix: MatRef<'_, f64>, right: &[f64]) -> Self {
+        let kind = self.kind();
+        let mut fold = RowFold::new(self.columns, kind, matrix.nrows());
+        fold.push(matrix, right);
+        self.clone().merged([fold.finish()])
+    }
+
+    fn kind(&self) -> FoldKind {
+        if self.factor.is_some() {
+            FoldKind::Factor
+        } else {
+            FoldKind::Gram
+        }
+    }
+
+    /// `WᵀW` (lower triangle) and `Wᵀr`.
+    pub(crate) fn normal_sums(&self) -> (Mat<f64>, Mat<f64>) {
+        let Some(factor) = &self.factor else {
+            return (self.gram.clone(), self.projected.clone());
+        };
+        let c = self.columns;
+        let r = factor.get(..c, ..c);
+        let z = factor.get(..c, c..c + 1);
+        let gram = Mat::from_fn(c, c, |i, j| {
+            if i >= j {
+                (0..=j).map(|k| r[(k, i)] * r[(k, j)]).sum()
+            } else {
+                0.0
+            }
+        });
+        (gram, r.transpose() * z)
+    }
+
+    /// A c × c stand-in for the rows and their right-hand sides, `(R, z)`
+    /// with `RᵀR = WᵀW` and `Rᵀz = Wᵀr` (row-major R): the factor's, or
+    /// `Λ^½Vᵀ` and `Λ^-½Vᵀg` from the eigen-decomposition `G = VΛVᵀ` (rows
+    /// of eigenvalues without weight, below 1e-14 of the largest, are zero).
+    pub(crate) fn stand_in(&self) -> (Vec<f64>, Vec<f64>) {
+        let c = self.columns;
+        if let Some(factor) = &self.factor {
+            let matrix = (0..c)
+                .flat_map(|i| (0..c).map(move |j| factor[(i, j)]))
+                .collect();
+            return (matrix, (0..c).map(|i| factor[(i, c)]).collect());
+        }
+        let gram = nalgebra::DMatrix::from_fn(c, c, |i, j| self.gram[(i.max(j), i.min(j))]);
+        let eigen = gram.symmetric_eigen();
+        let largest = eigen.eigenvalues.iter().copied().fold(0.0, f64::max);
+        let mut matrix = vec![0.0; c * c];
+        let mut right = vec![0.0; c];
+        for k in 0..c {
+            let value = eigen.eigenvalues[k];
+            // Also a NaN: no row.
+            if value.partial_cmp(&(1e-14 * largest)) != Some(std::cmp::Ordering::Greater) {
+                continue;
+            }
+            let root = value.sqrt();
+            let vector = eigen.eigenvectors.column(k);
+            for j in 0..c {
+                matrix[k * c + j] = root * vector[j];
+            }
+            right[k] = (0..c)
+                .map(|j| vector[j] * self.projected[(j, 0)])
+                .sum::<f64>()
+                / root;
+        }
+        (matrix, right)
+    }
+
+    /// Whether every sum is finite (false when a row had a NaN or an infinity).
+    pub(crate) fn is_finite(&self) -> bool {
+        self.gram.is_all_finite()
+            && self.projected.is_all_finite()
+            && self.factor.as_ref().is_none_or(|f| f.is_all_finite())
+    }
+
+    /// The column geometry of W: an upper triangular R with `RᵀR = WᵀW`
+    /// (the inner products of its columns). A factor fold's own R; for a
+    /// Gram fold, the Cholesky factor `Lᵀ` of G where the normal equations
+    /// are accurate (equilibrated condition number below
+    /// [`NORMAL_EQUATIONS_CONDITION`]: every column is then far from the
+    /// span of the others, and no rank decision is close), `None` elsewhere.
+    pub(crate) fn geometry(&self) -> Option<Mat<f64>> {
+        let c = self.columns;
+        if let Some(factor) = &self.factor {
+            return Some(factor.get(..c, ..c).to_owned());
+        }
+        let (gram, projected) = self.normal_sums();
+        let normal = NormalEquations::from_sums(gram, projected);
+        if normal.equilibrated_condition() >= NORMAL_EQUATIONS_CONDITION {
+            return None;
+        }
+        let lower = self.gram.llt(faer::Side::Lower).ok()?;
+        Some(lower.L().transpose().to_owned())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linalg::view;
+
+    /// Seeded rows and right-hand sides.
+    fn rows(count: usize, columns: usize, seed: u64) -> (Vec<f64>, Vec<f64>) {
+        let mut state = seed;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1_u64 << 53) as f64 - 0.5
+        };
+        let matrix = (0..count * columns).map(|_| next()).collect();
+        let right = (0..count).map(|_| next()).collect();
+        (matrix, right)
+    }
+
+    fn solve(matrix: &[f64], rows: usize, columns: usize, right: &[f64]) -> Vec<f64> {
+        crate::linalg::solve_with_covariance(view(matrix, rows, columns), right)
+            .0
+            .solution
+    }
+
+    /// Both folds, in parts, stand in for the whole rows: the same
+    /// least-squares solution, normal equations and column norms.
+    #[test]
+    fn a_fold_stands_in_for_its_rows() {
+        let (count, columns) = (1000, 7);
+        let (matrix, right) = rows(count, columns, 3);
+        let whole = solve(&matrix, count, columns, &right);
+        let expected_gram: Vec<f64> = (0..columns)
+            .flat_map(|i| {
+                let matrix = &matrix;
+                (0..columns).map(move |j| {
+                    (0..count)
+                        .map(|k| matrix[k * columns + i] * matrix[k * columns + j])
+                        .sum::<f64>()
+                })
+            })
+            .collect();
+        for kind in [FoldKind::Gram, FoldKind::Factor] {
+            let parts: Vec<FoldedRows> = [0..300, 300..310, 310..1000]
+                .into_iter()
+                .map(|range| {
+                    let mut fold = RowFold::new(columns, kind, range.len());
+                    fold.push(
+                        view(
+                            &matrix[range.start * columns..range.end * columns],
+                            range.len(),
+                            columns,
+                        ),
+                        &right[range.clone()],
+                    );
+                    fold.finish()
+                })
+                .collect();
+            let mut parts = parts.into_iter();
+            let first = parts.next().expect("three parts");
+            let folded = first.merged(parts);
+            assert_eq!(folded.row_count(), count);
+            let (gram, _) = folded.normal_sums();
+            for i in 0..columns {
+                for j in 0..=i {
+                    let expected = expected_gram[i * columns + j];
+                    assert!(
+                        (gram[(i, j)] - expected).abs() < 1e-10 * expected_gram[0].abs(),
+                        "{kind:?} G[{i},{j}] {} vs {expected}",
+                        gram[(i, j)]
+                    );
+                }
+            }
+            let (stand_in, z) = folded.stand_in();
+            let solution = solve(&stand_in, columns, columns, &z);
+            for (a, b) in solution.iter().zip(&whole) {
+                assert!((a - b).abs() < 1e-10, "{kind:?}: {a} vs {b}");
+            }
+        }
+    }
+
+    /// Appended rows count as folded ones.
+    #[test]
+    fn appended_rows_join_the_fold() {
+        let (count, columns) = (200, 4);
+        let (matrix, right) = rows(count, columns, 11);
+        let whole = solve(&matrix, count, columns, &right);
+        for kind in [FoldKind::Gram, FoldKind::Factor] {
+            let mut fold = RowFold::new(columns, kind, 150);
+            fold.push(view(&matrix[..150 * columns], 150, columns), &right[..150]);
+            let folded = fold.finish().with_rows(
+                view(&matrix[150 * columns..], count - 150, columns),
+                &right[150..],
+            );
+            let (stand_in, z) = folded.stand_in();
+            let solution = solve(&stand_in, columns, columns, &z);
+            for (a, b) in solution.iter().zip(&whole) {
+                assert!((a - b).abs() < 1e-10, "{kind:?}: {a} vs {b}");
+            }
+        }
+        assert!(FoldedRows::empty(3, FoldKind::Gram).is_finite());
+    }
+}
