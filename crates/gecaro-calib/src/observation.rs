@@ -321,10 +321,28 @@ impl ObservationSystem {
         }
     }
 
+    /// The weighted right-hand sides `w r` of `rows`.
+    fn weighted_right(&self, rows: std::ops::Range<usize>) -> Vec<f64> {
+        self.residuals[rows.clone()]
+            .iter()
+            .zip(&self.weights[rows])
+            .map(|(r, w)| r * w)
+            .collect()
+    }
+
+    /// The weighted sum of squares of every row, `‖w r‖²` (prior and gauge rows included).
+    pub(crate) fn weighted_cost(&self) -> f64 {
+        self.residuals
+            .iter()
+            .zip(&self.weights)
+            .map(|(r, w)| (r * w).powi(2))
+            .sum()
+    }
+
     /// The normal equations `WᵀW`, `Wᵀ(w r)` of every row.
     pub(crate) fn normal_equations(&self) -> NormalEquations {
-        let right = self.weighted_residuals();
         let held = self.held_rows();
+        let right = self.weighted_right(held.clone());
         let matrix = view(&self.matrix, held.len(), self.columns);
         match &self.folded {
             None => NormalEquations::of(matrix, &right),
@@ -335,7 +353,7 @@ impl ObservationSystem {
                     &mut gram,
                     &mut projected,
                     matrix,
-                    MatRef::from_column_major_slice(&right[held.clone()], held.len(), 1),
+                    MatRef::from_column_major_slice(&right, held.len(), 1),
                 );
                 NormalEquations::from_sums(gram, projected)
             }
@@ -347,7 +365,6 @@ impl ObservationSystem {
     /// folded system ([`FoldedRows::stand_in`]); `measured_only` leaves the
     /// appended rows out.
     pub(crate) fn solver_rows(&self, measured_only: bool) -> SolverRows<'_> {
-        let right = self.weighted_residuals();
         let end = if measured_only {
             self.measured_rows()
         } else {
@@ -358,7 +375,7 @@ impl ObservationSystem {
                 matrix: Cow::Borrowed(&self.matrix[..end * self.columns]),
                 rows: end,
                 columns: self.columns,
-                right: right[..end].to_vec(),
+                right: self.weighted_right(0..end),
             },
             Some(folded) => {
                 let appended = end - self.measured_rows();
@@ -368,7 +385,7 @@ impl ObservationSystem {
                     folded
                         .with_rows(
                             view(&self.matrix, appended, self.columns),
-                            &right[self.measured_rows()..end],
+                            &self.weighted_right(self.measured_rows()..end),
                         )
                         .stand_in()
                 };

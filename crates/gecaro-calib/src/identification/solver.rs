@@ -165,7 +165,7 @@ impl<'a> Problem<'a> {
         auxiliary: &[f64],
         system: ObservationSystem,
     ) -> Result<Iterate, Error> {
-        let cost: f64 = system.weighted_residuals().iter().map(|r| r * r).sum();
+        let cost = system.weighted_cost();
         let normal = system.normal_equations();
         // Non-finite entries of W or Δy reach the normal equations.
         if !cost.is_finite() || !normal.is_finite() {
@@ -252,12 +252,7 @@ impl<'a> Problem<'a> {
         current.cost = if current.system.is_folded() {
             folded_cost
         } else {
-            current
-                .system
-                .weighted_residuals()
-                .iter()
-                .map(|r| r * r)
-                .sum()
+            current.system.weighted_cost()
         };
         current.robot = robot;
         current.auxiliary = auxiliary;

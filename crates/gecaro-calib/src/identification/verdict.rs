@@ -501,11 +501,36 @@ fn copies(study: &Study) -> usize {
 }
 
 /// The number of distinct items among `count`, each with a `fingerprint`
-/// (equal items have equal ones) and a total order `compare`: sorted by
-/// fingerprint, equal fingerprints by `compare` (which only ties read), and
-/// equal neighbours counted once. Exact whatever the fingerprints collide
-/// on, and a sort of `count` integers on large data.
+/// (equal items have equal ones) and a total order `compare`. Each item is
+/// looked up by its fingerprint among those seen (expected O(1)): a hit is
+/// compared, and counts as a repeat only when equal. Should two different
+/// items share a fingerprint, the count is made again by sorting (by
+/// fingerprint, ties by `compare`). Exact either way.
 fn count_distinct(
+    count: usize,
+    fingerprint: impl Fn(usize) -> u64,
+    compare: impl Fn(usize, usize) -> std::cmp::Ordering,
+) -> usize {
+    use std::collections::hash_map::Entry;
+    let mut seen: rustc_hash::FxHashMap<u64, usize> =
+        rustc_hash::FxHashMap::with_capacity_and_hasher(count, Default::default());
+    let mut distinct = 0;
+    for item in 0..count {
+        match seen.entry(fingerprint(item)) {
+            Entry::Vacant(entry) => {
+                entry.insert(item);
+                distinct += 1;
+            }
+            Entry::Occupied(entry) if compare(*entry.get(), item).is_eq() => {}
+            Entry::Occupied(_) => return count_distinct_sorted(count, fingerprint, compare),
+        }
+    }
+    distinct
+}
+
+/// [`count_distinct`] by sorting: by fingerprint, ties by `compare`, equal
+/// neighbours counted once.
+fn count_distinct_sorted(
     count: usize,
     fingerprint: impl Fn(usize) -> u64,
     compare: impl Fn(usize, usize) -> std::cmp::Ordering,
