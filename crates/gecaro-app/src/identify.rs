@@ -114,13 +114,21 @@ impl IdentifyRequest {
     }
 }
 
+/// Bytes a streamed identification holds per row of its system: the
+/// residual, its weights, kind and observation (33 bytes) in the current
+/// and the trial iterate, and the statistics' vectors of the verdict.
+const STREAMED_BYTES_PER_ROW: usize = 160;
+
 impl PreparedIdentification {
-    /// About how many bytes the identification holds at its peak: five
+    /// About how many bytes the identification holds at its peak, on the
+    /// safe side; a server admits jobs by it. A held system: five
     /// observation matrices (W, its QR, the weighted copies and the second
     /// pass's), `rows × unknowns` numbers each (all the robot's parameters,
-    /// an upper bound of the base set), and the samples: on the safe side (a
-    /// 200,000-configuration position identification of the Stanford arm
-    /// peaked at 720 MB; this says 1.0 GB). A server admits jobs by it.
+    /// an upper bound of the base set). A streamed one (tall, every set's
+    /// configurations independent: [`IdentificationOptions::streamed_rows`](gecaro_calib::identification::IdentificationOptions))
+    /// holds no W, only [`STREAMED_BYTES_PER_ROW`] a row. And the samples.
+    /// Measured: 200,000 Stanford position configurations held peaked at
+    /// 720 MB (this says 1.0 GB); 10⁶ streamed at 560–590 MB (this says 780 MB).
     pub fn memory_need(&self) -> usize {
         let study = &self.loaded.study;
         let rows: usize = study
@@ -136,11 +144,19 @@ impl PreparedIdentification {
                 .map(|set| set.method.auxiliary_names().len())
                 .sum::<usize>();
         let samples: usize = study.sets.iter().map(|set| set.samples.len()).sum();
-        rows.saturating_mul(unknowns)
-            .saturating_mul(5 * std::mem::size_of::<f64>())
-            .saturating_add(
-                samples.saturating_mul(std::mem::size_of::<gecaro_calib::study::Sample>() + 64),
-            )
+        let streamed = rows >= self.options.streamed_rows
+            && study
+                .sets
+                .iter()
+                .all(|set| set.method.independent_configurations());
+        let per_row = if streamed {
+            STREAMED_BYTES_PER_ROW
+        } else {
+            unknowns.saturating_mul(5 * std::mem::size_of::<f64>())
+        };
+        rows.saturating_mul(per_row).saturating_add(
+            samples.saturating_mul(std::mem::size_of::<gecaro_calib::study::Sample>() + 64),
+        )
     }
 
     /// The K-fold cross-validation asked for (two folds when none was);

@@ -31,7 +31,7 @@ use std::path::Path;
 
 use crate::Error;
 use crate::columns::{ColumnMap, DataUnits, Delimiter, locate};
-use crate::data_rows::{Fields, PayloadColumns, RowReader, Rows};
+use crate::data_rows::{CHUNK_BYTES, Fields, MAX_CONFIGURATIONS, PayloadColumns, RowReader, Rows};
 use crate::input::{csv_error, csv_reader, open_regular, record_line};
 use crate::output::{OutputPolicy, write_with};
 use crate::pose::{NORMALISED_TOLERANCE, SILENT_TOLERANCE};
@@ -153,26 +153,29 @@ pub fn parse_samples(
         },
         None => format.clone(),
     };
-    let read = |source, whole| parse_from(source, whole, path, joint_types, columns, format);
-    if head.len() <= IN_MEMORY_BYTES {
-        read(Box::new(head.as_slice()), Some(&head))
-    } else {
-        read(Box::new(head.as_slice().chain(reader)), None)
-    }
+    let rest: Option<&mut dyn Read> = (head.len() > IN_MEMORY_BYTES).then_some(&mut reader);
+    parse_from(
+        (&head, rest),
+        path,
+        (joint_types, columns),
+        format,
+        (CHUNK_BYTES, MAX_CONFIGURATIONS),
+    )
 }
 
-/// [`parse_samples`] from `source`, which is the bytes `whole` when they are
-/// in memory (its rows are then read in parts on all cores).
+/// [`parse_samples`] of the bytes `head` and then `rest`, when the file is
+/// longer than [`IN_MEMORY_BYTES`] (its rows are then read in chunks of
+/// `chunking.0` bytes, at most `chunking.1` of them; those of a file in
+/// memory in parts on all cores).
 fn parse_from(
-    source: Box<dyn Read + '_>,
-    whole: Option<&[u8]>,
+    (head, rest): (&[u8], Option<&mut dyn Read>),
     path: &Path,
-    joint_types: &[FrameType],
-    columns: &[DataColumn],
+    (joint_types, columns): (&[FrameType], &[DataColumn]),
     format: &DataFormat,
+    chunking: (usize, usize),
 ) -> Result<DataFile, Error> {
     let expected = data_headers(joint_types.len(), columns);
-    let (mut csv, separator) = csv_reader(source, format.delimiter);
+    let (mut csv, separator) = csv_reader(head, format.delimiter);
     let decimal_comma = format
         .decimal_comma(separator)
         .map_err(|message| Error::parse(path, 1, None, message))?;
@@ -264,18 +267,27 @@ fn parse_from(
         length,
     };
     // The rows start after the header's last byte, with the lines before.
-    let start = csv.position().byte() as usize;
+    let start = (csv.position().byte() as usize).min(head.len());
+    let lines_before = memchr::memchr_iter(b'\n', &head[..start]).count();
     let Rows {
         samples,
         normalised,
         error,
-    } = whole
-        .filter(|bytes| start <= bytes.len())
-        .and_then(|bytes| {
-            let lines_before = memchr::memchr_iter(b'\n', &bytes[..start]).count();
-            rows.read_in_parts(&bytes[start..], lines_before, separator)
-        })
-        .unwrap_or_else(|| rows.read(&mut csv, 0));
+    } = match rest {
+        None => rows
+            .read_in_parts(&head[start..], lines_before, separator)
+            .unwrap_or_else(|| rows.read(&mut csv, 0, 0)),
+        Some(rest) if memchr::memchr(b'"', head).is_none() => {
+            rows.read_chunks((&head[start..], rest), lines_before, separator, chunking)
+        }
+        // Quoted fields may hold line breaks: one pass over the stream.
+        Some(rest) => {
+            let (mut csv, _) = csv_reader(head.chain(rest), format.delimiter);
+            csv.read_record(&mut record)
+                .map_err(|error| csv_error(path, &error))?;
+            rows.read(&mut csv, 0, 0)
+        }
+    };
     if let Some(error) = error {
         return Err(error);
     }
@@ -624,6 +636,45 @@ mod tests {
             message.contains("data.csv:3") && message.contains("payload_mass"),
             "{message}"
         );
+    }
+
+    /// A file too long to hold is read in chunks (here of 4 kB) with the
+    /// samples, line numbers, first error and limit of a single pass.
+    #[test]
+    fn long_files_are_read_in_chunks_as_in_one_pass() {
+        let mut text = String::from("# a comment\nqm1,qm2,x,y,z\n");
+        for row in 0..3000 {
+            text.push_str(&format!("{row}e-4,{}e-4,1,2,{row}e-3\n", 2 * row));
+            if row % 700 == 0 {
+                text.push_str("# a comment between rows\n");
+            }
+        }
+        let columns = [DataColumn::Position];
+        let chunked = |text: &str, limit: usize| {
+            let (head, mut rest) = text.as_bytes().split_at(1000);
+            parse_from(
+                (head, Some(&mut rest)),
+                Path::new("data.csv"),
+                (&TWO_REVOLUTE, &columns),
+                &DataFormat::default(),
+                (4096, limit),
+            )
+            .map(|file| file.samples)
+        };
+        let whole = parse(&text, &columns).expect("valid");
+        assert_eq!(whole.len(), 3000);
+        assert_eq!(chunked(&text, usize::MAX).expect("valid"), whole);
+        // The first error, in the fifth chunk or so: the same line.
+        let broken = text.replacen(",1,2,2200e-3\n", ",1,2,x\n", 1);
+        let expected = error_of(&broken, &columns);
+        assert!(expected.contains("data.csv:2207"), "{expected}");
+        let found = chunked(&broken, usize::MAX)
+            .expect_err("invalid")
+            .to_string();
+        assert_eq!(found, expected);
+        // The limit falls inside a chunk: its line is named.
+        let message = chunked(&text, 2500).expect_err("too many").to_string();
+        assert!(message.contains("data.csv:2507"), "{message}");
     }
 
     #[test]

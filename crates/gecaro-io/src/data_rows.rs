@@ -34,6 +34,13 @@ pub const MAX_CONFIGURATIONS: usize = 1_000_000;
 /// Bodies shorter than this are read in one part: a thread costs more.
 pub(crate) const PART_MIN_BYTES: usize = 1 << 17;
 
+/// Bytes of a long file read at once ([`RowReader::read_chunks`]).
+pub(crate) const CHUNK_BYTES: usize = 16 << 20;
+
+/// Chunks the first one makes room for (a million position rows are about
+/// ten): the samples are then not copied as they grow.
+const CHUNKS_FORESEEN: usize = 10;
+
 /// Where each field of a sample comes from in a record, and its scale.
 pub(crate) struct Fields {
     /// Column and scale of each joint's motor variable.
@@ -110,15 +117,18 @@ pub(crate) struct RowReader<'a> {
 impl RowReader<'_> {
     /// Reads the records of `csv` to its end or its first error;
     /// `lines_before` is the number of lines of the file before the reader's
-    /// first byte. At most [`MAX_CONFIGURATIONS`] samples: one more record
-    /// is an error.
+    /// first byte, `capacity` the samples to make room for at once (a
+    /// growing list of a million samples is copied, into fresh memory, at
+    /// each doubling). At most [`MAX_CONFIGURATIONS`] samples: one more
+    /// record is an error.
     pub(crate) fn read<R: Read>(
         &self,
         csv: &mut csv::Reader<LineLimit<R>>,
         lines_before: usize,
+        capacity: usize,
     ) -> Rows {
         let mut rows = Rows {
-            samples: Vec::new(),
+            samples: Vec::with_capacity(capacity.min(MAX_CONFIGURATIONS)),
             normalised: Normalised::default(),
             error: None,
         };
@@ -134,14 +144,7 @@ impl RowReader<'_> {
             }
             let line = lines_before + record_line(csv);
             let sample = if rows.samples.len() == MAX_CONFIGURATIONS {
-                Err(self.fail(
-                    line,
-                    None,
-                    format!(
-                        "more than {MAX_CONFIGURATIONS} configurations; reading stopped here \
-                         (calibration needs far fewer: split or subsample the file)"
-                    ),
-                ))
+                Err(self.too_many(line))
             } else {
                 self.sample(&record, line, &mut rows.normalised)
             };
@@ -175,7 +178,9 @@ impl RowReader<'_> {
         }
         // Parts of about equal length, each from a line start to the next
         // part's start, with the lines before it.
-        let mut parts: Vec<(&[u8], usize)> = Vec::with_capacity(threads);
+        // The first part makes room for every line (the others' samples
+        // are moved after its own), each other part for its own lines.
+        let mut parts: Vec<(&[u8], usize, usize)> = Vec::with_capacity(threads);
         let (mut start, mut lines) = (0, lines_before);
         for part in 1..=threads {
             let target = (body.len() * part / threads).max(start);
@@ -186,20 +191,26 @@ impl RowReader<'_> {
                     .map_or(body.len(), |offset| target + offset + 1)
             };
             if end > start {
-                parts.push((&body[start..end], lines));
-                lines += memchr::memchr_iter(b'\n', &body[start..end]).count();
+                let own = memchr::memchr_iter(b'\n', &body[start..end]).count();
+                let capacity = if parts.is_empty() {
+                    breaks + 1
+                } else {
+                    own + 1
+                };
+                parts.push((&body[start..end], lines, capacity));
+                lines += own;
                 start = end;
             }
         }
-        let read = run_parts(parts, |(bytes, lines_before)| {
+        let mut read = run_parts(parts, |(bytes, lines_before, capacity)| {
             let mut csv = csv_reader_with(LineLimit::new(bytes, MAX_LINE_BYTES), separator);
-            self.read(&mut csv, lines_before)
-        });
-        let mut joined = Rows {
-            samples: Vec::with_capacity(read.iter().map(|rows| rows.samples.len()).sum()),
-            normalised: Normalised::default(),
-            error: None,
-        };
+            self.read(&mut csv, lines_before, capacity)
+        })
+        .into_iter();
+        let mut joined = read.next()?;
+        if joined.error.is_some() {
+            return Some(joined);
+        }
         for rows in read {
             joined.samples.extend(rows.samples);
             joined.normalised = joined.normalised.then(rows.normalised);
@@ -209,6 +220,104 @@ impl RowReader<'_> {
             }
         }
         Some(joined)
+    }
+
+    /// Reads a body too long to hold at once: `first` (its first bytes,
+    /// from a line start) and then `rest`, in chunks of about `chunk_bytes`
+    /// ([`CHUNK_BYTES`]) cut at line breaks, each read in parts on all cores
+    /// ([`read_in_parts`](Self::read_in_parts)) or, holding a quote, in one
+    /// pass. Memory beyond the samples is one chunk; the samples, line
+    /// numbers and first error are those of a single pass (a quoted field
+    /// with a line break across a chunk's end aside: data files hold
+    /// numbers). At most `limit` samples ([`MAX_CONFIGURATIONS`]): one more
+    /// is an error naming its line.
+    pub(crate) fn read_chunks(
+        &self,
+        (first, rest): (&[u8], &mut dyn Read),
+        lines_before: usize,
+        separator: u8,
+        (chunk_bytes, limit): (usize, usize),
+    ) -> Rows {
+        let mut joined = Rows {
+            samples: Vec::new(),
+            normalised: Normalised::default(),
+            error: None,
+        };
+        let mut buffer = first.to_vec();
+        let (mut lines, mut ended) = (lines_before, false);
+        loop {
+            while !ended && buffer.len() < chunk_bytes {
+                let filled = buffer.len();
+                buffer.resize(chunk_bytes.max(filled + 1), 0);
+                match rest.read(&mut buffer[filled..]) {
+                    Ok(0) => {
+                        buffer.truncate(filled);
+                        ended = true;
+                    }
+                    Ok(count) => buffer.truncate(filled + count),
+                    Err(cause) if cause.kind() == std::io::ErrorKind::Interrupted => {
+                        buffer.truncate(filled);
+                    }
+                    Err(cause) => {
+                        joined.error = Some(Error::Read {
+                            path: self.path.to_owned(),
+                            cause,
+                        });
+                        return joined;
+                    }
+                }
+            }
+            let cut = if ended {
+                buffer.len()
+            } else {
+                memchr::memrchr(b'\n', &buffer).map_or(buffer.len(), |at| at + 1)
+            };
+            if cut == 0 {
+                return joined;
+            }
+            let chunk = &buffer[..cut];
+            let rows = self
+                .read_in_parts(chunk, lines, separator)
+                .unwrap_or_else(|| {
+                    let mut csv = csv_reader_with(LineLimit::new(chunk, MAX_LINE_BYTES), separator);
+                    self.read(&mut csv, lines, 0)
+                });
+            if joined.samples.is_empty() {
+                joined
+                    .samples
+                    .reserve(rows.samples.len() * (1 + CHUNKS_FORESEEN));
+            }
+            let room = limit.saturating_sub(joined.samples.len());
+            if rows.samples.len() > room {
+                let line = rows.samples[room].line.unwrap_or(lines + 1);
+                joined.samples.extend(rows.samples.into_iter().take(room));
+                joined.error = Some(self.too_many(line));
+                return joined;
+            }
+            joined.samples.extend(rows.samples);
+            joined.normalised = joined.normalised.then(rows.normalised);
+            if rows.error.is_some() {
+                joined.error = rows.error;
+                return joined;
+            }
+            lines += memchr::memchr_iter(b'\n', chunk).count();
+            buffer.drain(..cut);
+            if ended && buffer.is_empty() {
+                return joined;
+            }
+        }
+    }
+
+    /// The error of one record beyond [`MAX_CONFIGURATIONS`], at `line`.
+    fn too_many(&self, line: usize) -> Error {
+        self.fail(
+            line,
+            None,
+            format!(
+                "more than {MAX_CONFIGURATIONS} configurations; reading stopped here \
+                 (calibration needs far fewer: split or subsample the file)"
+            ),
+        )
     }
 
     fn fail(&self, line: usize, column: Option<usize>, message: String) -> Error {

@@ -479,18 +479,19 @@ fn copies(study: &Study) -> usize {
         .enumerate()
         .flat_map(|(set, data)| (0..data.samples.len()).map(move |sample| (set, sample)))
         .collect();
+    // Sets of one method compare with each other: the method's name, once.
+    let methods: Vec<u64> = study
+        .sets
+        .iter()
+        .map(|set| fingerprint(set.method.name().bytes().map(u64::from)))
+        .collect();
     let method = |(set, _): (usize, usize)| study.sets[set].method.name();
     let key = |(set, sample): (usize, usize)| measurement_bits(&study.sets[set].samples[sample]);
     let unique = count_distinct(
         measurements.len(),
         |index| {
-            let measurement = measurements[index];
-            fingerprint(
-                method(measurement)
-                    .bytes()
-                    .map(u64::from)
-                    .chain(key(measurement)),
-            )
+            let (set, sample) = measurements[index];
+            measurement_fingerprint(methods[set], &study.sets[set].samples[sample])
         },
         |a, b| {
             let (a, b) = (measurements[a], measurements[b]);
@@ -498,6 +499,38 @@ fn copies(study: &Study) -> usize {
         },
     );
     measurements.len() - unique
+}
+
+/// The fingerprint of a measurement of the method whose name has the
+/// fingerprint `method`: the values of [`measurement_bits`], written one by
+/// one (a chain of iterators costs more than the hash).
+fn measurement_fingerprint(method: u64, sample: &Sample) -> u64 {
+    use std::hash::Hasher;
+    let mut hasher = rustc_hash::FxHasher::default();
+    hasher.write_u64(method);
+    for value in &sample.motor_positions {
+        hasher.write_u64((value + 0.0).to_bits());
+    }
+    hasher.write_u64(
+        sample
+            .group
+            .map_or(0, |group| group ^ 0x9e37_79b9_7f4a_7c15),
+    );
+    let values = sample
+        .position
+        .iter()
+        .flat_map(|p| p.iter().copied())
+        .chain(
+            sample
+                .orientation
+                .iter()
+                .flat_map(|q| q.coords.iter().copied()),
+        )
+        .chain(sample.distance);
+    for value in values {
+        hasher.write_u64((value + 0.0).to_bits());
+    }
+    hasher.finish()
 }
 
 /// The number of distinct items among `count`, each with a `fingerprint`
