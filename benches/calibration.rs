@@ -89,6 +89,30 @@ fn identify_position_large(bencher: divan::Bencher, count: usize) {
     identify_position(bencher, count);
 }
 
+/// Frame data (six rows a configuration) and a study of position and frame
+/// sets at tracker rates: streamed systems, merged over sets (issue 36).
+#[divan::bench(args = ["frame", "position+frame"], sample_count = 3, sample_size = 1)]
+fn identify_100000_streamed(bencher: divan::Bencher, data: &str) {
+    let robot = stanford();
+    let study = match data {
+        "frame" => simulated("frame", 100_000),
+        _ => {
+            let mut study = simulated("position", 50_000);
+            study.sets.extend(simulated("frame", 50_000).sets);
+            study
+        }
+    };
+    bencher.bench_local(|| {
+        identify(
+            &robot,
+            &study,
+            &IdentificationOptions::default(),
+            &mut Quiet,
+        )
+        .expect("identification")
+    });
+}
+
 /// A textbook reference for one identification iteration at m = 5000: the
 /// direct model and Jacobian of every configuration written into the
 /// 15 000 × 31 W_b (gecaro's fused evaluation, on all cores) and one
