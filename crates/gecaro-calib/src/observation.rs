@@ -34,6 +34,7 @@ use crate::parallel::run_parts;
 use crate::sample::Sample;
 use crate::states::{BLOCK, evaluate_chunk, part_size};
 
+use crate::rows::whole_weight;
 pub use crate::rows::{ColumnLayout, RowKind, RowWriter};
 pub use crate::states::{TerminalState, evaluate_poses, evaluate_states};
 
@@ -237,10 +238,12 @@ pub struct ObservationSystem {
     matrix: Vec<f64>,
     /// Δy, not weighted (metres or radians).
     residuals: Vec<f64>,
-    /// Each row's whole weight: sensor weight × √(robust weight).
-    weights: Vec<f64>,
-    /// Each row's sensor weight (1/σ).
-    sensor_weights: Vec<f64>,
+    /// The sensor weights (1/σ) of each set's length and angle rows: a
+    /// measured row's whole weight is its sensor weight × √(its
+    /// observation's robust weight) ([`whole_weight`]), not stored per row.
+    set_weights: Vec<[f64; 2]>,
+    /// The weights of the appended rows, in order.
+    appended_weights: Vec<f64>,
     /// What each measured row measures (appended rows have none).
     kinds: Vec<RowKind>,
     /// The observation (configuration, pair) each row belongs to, numbered across sets.
@@ -283,14 +286,10 @@ impl ObservationSystem {
             self.matrix.clear();
             self.matrix.resize(size, 0.0);
         }
-        for buffer in [
-            &mut self.residuals,
-            &mut self.weights,
-            &mut self.sensor_weights,
-        ] {
-            buffer.clear();
-            buffer.resize(rows, 0.0);
-        }
+        self.residuals.clear();
+        self.residuals.resize(rows, 0.0);
+        self.appended_weights.clear();
+        self.set_weights.clear();
         self.kinds.clear();
         self.kinds.resize(rows, RowKind::Length);
         self.observations.clear();
@@ -321,11 +320,48 @@ impl ObservationSystem {
         }
     }
 
+    /// Each row's sensor weight and whole weight, in row order: a measured
+    /// row's from its set's weights, its kind and its observation's robust
+    /// weight, as [`RowWriter::push`] weighted it; an appended row's its own.
+    fn row_weights(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.set_rows
+            .iter()
+            .zip(&self.set_weights)
+            .flat_map(move |(rows, weights)| {
+                rows.clone().map(move |row| {
+                    let sensor = weights[usize::from(self.kinds[row] == RowKind::Angle)];
+                    let observation = self.observations[row];
+                    (
+                        sensor,
+                        whole_weight(sensor, &self.observation_weights, observation),
+                    )
+                })
+            })
+            .chain(
+                self.appended_weights
+                    .iter()
+                    .map(|weight| (*weight, *weight)),
+            )
+    }
+
+    /// The whole weights of `rows`.
+    fn weights_of(&self, rows: std::ops::Range<usize>) -> Vec<f64> {
+        let measured = self.measured_rows();
+        if rows.start >= measured {
+            return self.appended_weights[rows.start - measured..rows.end - measured].to_vec();
+        }
+        self.row_weights()
+            .skip(rows.start)
+            .take(rows.len())
+            .map(|(_, whole)| whole)
+            .collect()
+    }
+
     /// The weighted right-hand sides `w r` of `rows`.
     fn weighted_right(&self, rows: std::ops::Range<usize>) -> Vec<f64> {
         self.residuals[rows.clone()]
             .iter()
-            .zip(&self.weights[rows])
+            .zip(self.weights_of(rows))
             .map(|(r, w)| r * w)
             .collect()
     }
@@ -334,8 +370,8 @@ impl ObservationSystem {
     pub(crate) fn weighted_cost(&self) -> f64 {
         self.residuals
             .iter()
-            .zip(&self.weights)
-            .map(|(r, w)| (r * w).powi(2))
+            .zip(self.row_weights())
+            .map(|(r, (_, w))| (r * w).powi(2))
             .sum()
     }
 
@@ -427,8 +463,8 @@ impl ObservationSystem {
         let rows = self.measured_rows();
         self.residuals[..rows]
             .iter()
-            .zip(&self.weights[..rows])
-            .map(|(r, w)| (r * w).powi(2))
+            .zip(self.row_weights())
+            .map(|(r, (_, w))| (r * w).powi(2))
             .sum()
     }
 
@@ -452,8 +488,10 @@ impl ObservationSystem {
     /// The measured rows' residuals multiplied by their sensor weights only
     /// (not by robust weights): in units of the sensor's σ.
     pub fn scaled_residuals(&self) -> Vec<f64> {
-        (0..self.measured_rows())
-            .map(|row| self.residuals[row] * self.sensor_weights[row])
+        self.residuals[..self.measured_rows()]
+            .iter()
+            .zip(self.row_weights())
+            .map(|(r, (sensor, _))| r * sensor)
             .collect()
     }
 
@@ -466,8 +504,7 @@ impl ObservationSystem {
             self.matrix.resize(start + self.columns, 0.0);
             self.matrix[start + column] = weight;
             self.residuals.push(residual);
-            self.weights.push(weight);
-            self.sensor_weights.push(weight);
+            self.appended_weights.push(weight);
             self.rows += 1;
         }
     }
@@ -483,8 +520,7 @@ impl ObservationSystem {
             self.matrix[start + column] += weight * coefficient;
         }
         self.residuals.push(residual);
-        self.weights.push(weight);
-        self.sensor_weights.push(weight);
+        self.appended_weights.push(weight);
         self.rows += 1;
     }
 
@@ -528,8 +564,8 @@ impl ObservationSystem {
     pub fn weighted_residuals(&self) -> Vec<f64> {
         self.residuals
             .iter()
-            .zip(&self.weights)
-            .map(|(r, w)| r * w)
+            .zip(self.row_weights())
+            .map(|(r, (_, w))| r * w)
             .collect()
     }
 
@@ -540,15 +576,16 @@ impl ObservationSystem {
     /// step, `‖W·step‖² ≤ 1e-12 ‖w r‖²`), and the folded sums are not moved.
     pub(crate) fn apply_linear_step(&mut self, step: &[f64]) {
         let held = self.held_rows();
-        for (index, row) in held.enumerate() {
+        let weights = self.weights_of(held.clone());
+        for ((index, row), weight) in held.enumerate().zip(weights) {
             let predicted: f64 = self.matrix[index * self.columns..(index + 1) * self.columns]
                 .iter()
                 .zip(step)
                 .map(|(w, s)| w * s)
                 .sum();
             // W is weighted; the stored residuals are not.
-            if self.weights[row] != 0.0 {
-                self.residuals[row] -= predicted / self.weights[row];
+            if weight != 0.0 {
+                self.residuals[row] -= predicted / weight;
             }
         }
     }
@@ -596,8 +633,6 @@ impl ObservationSystem {
         RowWriter {
             matrix,
             residuals: &mut self.residuals[range.clone()],
-            weights: &mut self.weights[range.clone()],
-            sensor_weights: &mut self.sensor_weights[range.clone()],
             observation_weights: &self.observation_weights,
             kinds: &mut self.kinds[range.clone()],
             observations: &mut self.observations[range],
@@ -613,9 +648,11 @@ impl ObservationSystem {
         }
     }
 
-    /// Records that rows `rows` belong to the next measurement set.
-    pub(crate) fn record_set(&mut self, rows: std::ops::Range<usize>) {
+    /// Records that rows `rows` belong to the next measurement set, whose
+    /// length and angle rows have the sensor weights `weights`.
+    pub(crate) fn record_set(&mut self, rows: std::ops::Range<usize>, weights: [f64; 2]) {
         self.set_rows.push(rows);
+        self.set_weights.push(weights);
     }
 
     /// The measured rows of each measurement set, in order.

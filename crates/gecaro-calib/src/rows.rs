@@ -108,8 +108,6 @@ pub struct RowWriter<'a> {
     /// The writer's rows of W (row-major), Δy, weights, kinds and observations.
     pub(crate) matrix: &'a mut [f64],
     pub(crate) residuals: &'a mut [f64],
-    pub(crate) weights: &'a mut [f64],
-    pub(crate) sensor_weights: &'a mut [f64],
     /// Robust weights of the whole system's observations (empty: all 1).
     pub(crate) observation_weights: &'a [f64],
     pub(crate) kinds: &'a mut [RowKind],
@@ -162,15 +160,7 @@ impl<'a> RowWriter<'a> {
             row < self.residuals.len(),
             "a method wrote more rows than its row_count"
         );
-        let sensor_weight = match kind {
-            RowKind::Length => self.row_weights[0],
-            RowKind::Angle => self.row_weights[1],
-        };
-        let weight = if self.observation_weights.is_empty() {
-            sensor_weight
-        } else {
-            sensor_weight * self.observation_weight(observation).sqrt()
-        };
+        let weight = self.weight(kind, self.observation_base + observation);
         let target = &mut self.matrix[row * self.columns..(row + 1) * self.columns];
         for (index, column) in &self.layout.mapped {
             target[*column] = weight * parameters[*index];
@@ -191,8 +181,6 @@ impl<'a> RowWriter<'a> {
             }
         }
         self.residuals[row] = residual;
-        self.weights[row] = weight;
-        self.sensor_weights[row] = sensor_weight;
         self.kinds[row] = kind;
         let observation = self.observation_base + observation;
         self.observations[row] = observation;
@@ -231,8 +219,6 @@ impl<'a> RowWriter<'a> {
         let front = RowWriter {
             matrix,
             residuals: take_front(&mut self.residuals, rows),
-            weights: take_front(&mut self.weights, rows),
-            sensor_weights: take_front(&mut self.sensor_weights, rows),
             observation_weights: self.observation_weights,
             kinds: take_front(&mut self.kinds, rows),
             observations: take_front(&mut self.observations, rows),
@@ -267,10 +253,31 @@ impl<'a> RowWriter<'a> {
 
     /// The rows written so far: their weighted right-hand sides `w r`.
     pub(crate) fn weighted_residuals(&self) -> impl Iterator<Item = f64> + '_ {
-        self.residuals[..self.next_row]
-            .iter()
-            .zip(&self.weights[..self.next_row])
-            .map(|(r, w)| r * w)
+        (0..self.next_row)
+            .map(|row| self.residuals[row] * self.weight(self.kinds[row], self.observations[row]))
+    }
+
+    /// The whole weight of a row of `kind` of `observation` (numbered in
+    /// the whole system): its sensor weight × √(the observation's robust weight).
+    fn weight(&self, kind: RowKind, observation: usize) -> f64 {
+        let sensor = self.row_weights[usize::from(kind == RowKind::Angle)];
+        whole_weight(sensor, self.observation_weights, observation)
+    }
+}
+
+/// The whole weight of a measured row: its `sensor` weight (1/σ) × √(the
+/// robust weight of its `observation`, numbered in the whole system;
+/// `observation_weights` empty: all 1).
+pub(crate) fn whole_weight(sensor: f64, observation_weights: &[f64], observation: usize) -> f64 {
+    if observation_weights.is_empty() {
+        sensor
+    } else {
+        sensor
+            * observation_weights
+                .get(observation)
+                .copied()
+                .unwrap_or(1.0)
+                .sqrt()
     }
 }
 

@@ -739,7 +739,7 @@ impl Study {
                 system.writer(layout, first_row, rows, auxiliary_offset, set.row_weights());
             let end = write(index, set, own, writer)?;
             system.record_observations(end);
-            system.record_set(first_row..first_row + rows);
+            system.record_set(first_row..first_row + rows, set.row_weights());
             first_row += rows;
             auxiliary_offset += count;
         }
