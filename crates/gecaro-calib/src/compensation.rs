@@ -22,8 +22,9 @@
 //!   (then the start joints are kept). Nothing is dropped or written silently.
 
 use gecaro_core::{
-    InverseOptions, InverseSolution, OrientationDifference, Robot, Target, forward_kinematics,
-    inverse_kinematics, joint_jacobian, orientation_difference, terminal_pose,
+    InverseOptions, InverseSolution, KinematicModel, OrientationDifference, Robot, Target,
+    forward_kinematics, inverse_kinematics, inverse_kinematics_near, joint_jacobian,
+    orientation_difference, terminal_pose,
 };
 use nalgebra::{DMatrix, DVector, IsometryMatrix3, Vector3};
 
@@ -179,6 +180,9 @@ pub fn compensate(
         });
     }
     let options = InverseOptions::default();
+    // Program points start near their solution: Newton steps on the
+    // compiled model, the damped solver where they do not converge.
+    let model = KinematicModel::new(calibrated);
     let mut results = Vec::with_capacity(points.len());
     // Targets with their joints start from them: each is solved on its own,
     // over the cores, a block at a time (progress between blocks). Targets
@@ -194,7 +198,15 @@ pub fn compensate(
                 .map(|(offset, point)| (block * PARALLEL_BLOCK + offset, point))
                 .collect();
             let solved = run_parts(parts, |(index, point)| {
-                compensate_point(nominal, calibrated, point, matching, None, &options, index)
+                compensate_point(
+                    nominal,
+                    (calibrated, &model),
+                    point,
+                    matching,
+                    None,
+                    &options,
+                    index,
+                )
             });
             for result in solved {
                 results.push(result?);
@@ -213,7 +225,7 @@ pub fn compensate(
     for (index, point) in points.iter().enumerate() {
         let result = compensate_point(
             nominal,
-            calibrated,
+            (calibrated, &model),
             point,
             matching,
             previous.as_deref(),
@@ -243,7 +255,7 @@ const PARALLEL_BLOCK: usize = 1024;
 /// else from `previous` (the solution of the point before).
 fn compensate_point(
     nominal: &Robot,
-    calibrated: &Robot,
+    (calibrated, model): (&Robot, &KinematicModel),
     point: &ProgramPoint,
     matching: Match,
     previous: Option<&[f64]>,
@@ -271,7 +283,7 @@ fn compensate_point(
     let free = joints.is_none();
     compensate_one(
         nominal,
-        calibrated,
+        (calibrated, model),
         &target,
         start,
         free,
@@ -282,15 +294,22 @@ fn compensate_point(
 
 fn compensate_one(
     nominal: &Robot,
-    robot: &Robot,
+    (robot, model): (&Robot, &KinematicModel),
     target: &Target,
     start: Option<&[f64]>,
     free: bool,
     options: &InverseOptions,
     seed: u64,
 ) -> Result<CompensatedPoint, Error> {
+    let redundant = robot.joint_count() > task_rows(target);
     let solve = |options: &InverseOptions| {
         let from_start = match start {
+            // Where the solution is locally unique, Newton steps reach it;
+            // where there are many (a point for six axes, seven axes), the
+            // damped solver's, which the move to the closest one starts from.
+            Some(start) if !redundant => {
+                inverse_kinematics_near(robot, model, target, start, options)
+            }
             Some(start) => inverse_kinematics(robot, target, start, options),
             None => return solve_from_starts(robot, target, options, seed),
         };
@@ -483,6 +502,15 @@ fn null_space_step(
 
 /// From a solution, the solution closest to `reference` (see the module
 /// docs); the solution itself when the task leaves no freedom.
+/// The rows of a compensation target: 3 for a point, 6 for a pose (a
+/// program holds no plane targets).
+fn task_rows(target: &Target) -> usize {
+    match target {
+        Target::Position(_) => 3,
+        _ => 6,
+    }
+}
+
 fn closest_solution(
     robot: &Robot,
     target: &Target,
@@ -490,11 +518,7 @@ fn closest_solution(
     reference: &[f64],
     options: &InverseOptions,
 ) -> Result<Vec<f64>, Error> {
-    let task_rows = match target {
-        Target::Position(_) => 3,
-        _ => 6,
-    };
-    if robot.joint_count() <= task_rows {
+    if robot.joint_count() <= task_rows(target) {
         return Ok(solution);
     }
     let distance = |qm: &[f64]| {

@@ -14,7 +14,9 @@ mod model;
 mod pose_difference;
 
 pub use direct::{FrameChain, forward_kinematics, frame_transform, terminal_pose};
-pub use inverse::{InverseOptions, InverseSolution, Target, inverse_kinematics};
+pub use inverse::{
+    InverseOptions, InverseSolution, Target, inverse_kinematics, inverse_kinematics_near,
+};
 pub use jacobian::{joint_jacobian, parameter_jacobian, parameter_jacobian_of_chain};
 pub use model::{ChainBuffer, JacobianRows, KinematicModel};
 pub use pose_difference::{OrientationDifference, orientation_difference, pose_difference};

@@ -369,6 +369,26 @@ impl KinematicModel {
         {
             *q += compliance * torque;
         }
+        self.chain_of_joints(chain);
+        Ok(())
+    }
+
+    /// The frames' poses at the joint variables q (eq. 1–3 without eq. 4:
+    /// no gains, couplings, offsets or loads), into `chain`; its Jacobians
+    /// are then not those of any motor configuration. The caller
+    /// guarantees n finite values (the inverse model's iterates).
+    pub fn forward_joints(&self, joint_positions: &[f64], chain: &mut ChainBuffer) {
+        debug_assert_eq!(joint_positions.len(), self.joint_count());
+        chain.joint_positions.clear();
+        chain.joint_positions.extend_from_slice(joint_positions);
+        chain.coupled_motor_positions.clear();
+        chain.torques.clear();
+        chain.tilt_torques.clear();
+        self.chain_of_joints(chain);
+    }
+
+    /// Fills `chain.world_from_frame` from `chain.joint_positions`.
+    fn chain_of_joints(&self, chain: &mut ChainBuffer) {
         chain.world_from_frame.clear();
         let mut pose = IsometryMatrix3::identity();
         for (j, frame) in self.frames.iter().enumerate() {
@@ -384,7 +404,34 @@ impl KinematicModel {
             pose *= local;
             chain.world_from_frame.push(pose);
         }
-        Ok(())
+    }
+
+    /// The 6×n joint Jacobian of the configuration in `chain`: column j the
+    /// velocity of frame n+1's origin (rows 0–2) and its angular velocity
+    /// (rows 3–5) for a unit rate of joint j, `z_j × (p − o_j)` and `z_j`
+    /// for a revolute joint, `z_j` and 0 for a prismatic one (z_j, o_j the
+    /// axis and origin of frame j, which joint j moves), into `jacobian`.
+    pub fn joint_jacobian(&self, chain: &ChainBuffer, jacobian: &mut Matrix6xX<f64>) {
+        let n = self.joint_count();
+        if jacobian.ncols() != n {
+            *jacobian = Matrix6xX::zeros(n);
+        }
+        let tip = chain.world_from_tool().translation.vector;
+        for (j, frame) in self.frames.iter().enumerate().skip(1) {
+            if frame.frame_type == FrameType::Fixed || j > n {
+                continue;
+            }
+            let pose = &chain.world_from_frame[j];
+            let axis: Vector3<f64> = pose.rotation.matrix().column(2).into();
+            let (linear, angular) = match frame.frame_type {
+                FrameType::Revolute => (axis.cross(&(tip - pose.translation.vector)), axis),
+                _ => (axis, Vector3::zeros()),
+            };
+            for row in 0..3 {
+                jacobian[(row, j - 1)] = linear[row];
+                jacobian[(row + 3, j - 1)] = angular[row];
+            }
+        }
     }
 
     /// The end-effector pose `(−1)T(n+1)` at `motor_positions` (the direct
