@@ -259,13 +259,9 @@ mod tests {
 
     /// Seeded rows and right-hand sides.
     fn rows(count: usize, columns: usize, seed: u64) -> (Vec<f64>, Vec<f64>) {
-        let mut state = seed;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1_u64 << 53) as f64 - 0.5
-        };
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let mut next = || rng.random_range(-0.5..0.5);
         let matrix = (0..count * columns).map(|_| next()).collect();
         let right = (0..count).map(|_| next()).collect();
         (matrix, right)

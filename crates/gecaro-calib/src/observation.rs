@@ -74,13 +74,7 @@ pub(crate) fn linearise_independent(
     if let Some(kind) = writer.fold {
         return linearise_folded(model, method, samples, auxiliary, frames, writer, kind);
     }
-    let rows = method.jacobian_rows();
-    // A named tool moves the point with the flange's rotation: all six rows.
-    let evaluated = if frames.is_some() {
-        JacobianRows::Full
-    } else {
-        rows
-    };
+    let (rows, evaluated) = jacobian_rows(method, frames);
     // No column reads the Jacobian (the errors alone, as `evaluate` asks):
     // its rows are empty, the kinematics poses only.
     let jacobian = (frames.is_some() || writer.layout.maps_parameters()).then_some(evaluated);
@@ -124,6 +118,23 @@ pub(crate) fn linearise_independent(
         .try_fold(0, |end, part: Result<usize, ModelError>| Ok(end.max(part?)))
 }
 
+/// The Jacobian rows `method` reads, and those to evaluate: all six with
+/// named `frames` (a named tool moves the point with the flange's rotation).
+fn jacobian_rows(
+    method: &dyn CalibrationMethod,
+    frames: Option<&SetFrames<'_>>,
+) -> (JacobianRows, JacobianRows) {
+    let rows = method.jacobian_rows();
+    (
+        rows,
+        if frames.is_some() {
+            JacobianRows::Full
+        } else {
+            rows
+        },
+    )
+}
+
 /// Configurations of one part of a folded set: the parts are folded
 /// separately (on all cores) and merged in order, so their size, not the
 /// number of cores, sets the order of the sums.
@@ -145,12 +156,7 @@ fn linearise_folded(
     mut writer: RowWriter<'_>,
     kind: FoldKind,
 ) -> Result<usize, ModelError> {
-    let rows = method.jacobian_rows();
-    let evaluated = if frames.is_some() {
-        JacobianRows::Full
-    } else {
-        rows
-    };
+    let (rows, evaluated) = jacobian_rows(method, frames);
     let columns = writer.columns;
     let parts: Vec<(&[Sample], RowWriter<'_>)> = samples
         .chunks(FOLD_PART)

@@ -516,18 +516,7 @@ fn measurement_fingerprint(method: u64, sample: &Sample) -> u64 {
             .group
             .map_or(0, |group| group ^ 0x9e37_79b9_7f4a_7c15),
     );
-    let values = sample
-        .position
-        .iter()
-        .flat_map(|p| p.iter().copied())
-        .chain(
-            sample
-                .orientation
-                .iter()
-                .flat_map(|q| q.coords.iter().copied()),
-        )
-        .chain(sample.distance);
-    for value in values {
+    for value in measured_values(sample) {
         hasher.write_u64((value + 0.0).to_bits());
     }
     hasher.finish()
@@ -588,7 +577,20 @@ fn fingerprint(values: impl Iterator<Item = u64>) -> u64 {
 /// What a measurement is made of, as bits: its configuration, group and
 /// measured values (−0 as 0; a missing group or value as a tag).
 fn measurement_bits(sample: &Sample) -> impl Iterator<Item = u64> + '_ {
-    let measured = sample
+    let measured = measured_values(sample).map(|value| (value + 0.0).to_bits());
+    bits(&sample.motor_positions)
+        .chain([u64::from(sample.group.is_some()), sample.group.unwrap_or(0)])
+        .chain([
+            u64::from(sample.position.is_some()),
+            u64::from(sample.orientation.is_some()),
+            u64::from(sample.distance.is_some()),
+        ])
+        .chain(measured)
+}
+
+/// The values a sample measured: its position, orientation and distance, as it has them.
+fn measured_values(sample: &Sample) -> impl Iterator<Item = f64> + '_ {
+    sample
         .position
         .iter()
         .flat_map(|p| p.iter().copied())
@@ -599,15 +601,6 @@ fn measurement_bits(sample: &Sample) -> impl Iterator<Item = u64> + '_ {
                 .flat_map(|q| q.coords.iter().copied()),
         )
         .chain(sample.distance)
-        .map(|value| (value + 0.0).to_bits());
-    bits(&sample.motor_positions)
-        .chain([u64::from(sample.group.is_some()), sample.group.unwrap_or(0)])
-        .chain([
-            u64::from(sample.position.is_some()),
-            u64::from(sample.orientation.is_some()),
-            u64::from(sample.distance.is_some()),
-        ])
-        .chain(measured)
 }
 
 /// The bits of a configuration's values, −0 as 0.
