@@ -224,15 +224,31 @@ impl fmt::Display for Loss {
 /// The normalised median absolute deviation of `values` (see the module
 /// docs); 0 for no values.
 pub fn robust_sigma(values: &[f64]) -> f64 {
+    robust_sigma_of(values.to_vec())
+}
+
+/// [`robust_sigma`] of values the caller no longer needs: worked on in
+/// place (millions of residuals are not copied twice).
+pub(crate) fn robust_sigma_of(mut values: Vec<f64>) -> f64 {
     if values.is_empty() {
         return 0.0;
     }
-    let centre = median(values.to_vec());
-    MAD_TO_SIGMA * median(values.iter().map(|v| (v - centre).abs()).collect())
+    let centre = median_in_place(&mut values);
+    for value in &mut values {
+        *value = (*value - centre).abs();
+    }
+    MAD_TO_SIGMA * median_in_place(&mut values)
 }
 
 /// The median of `values` (non-empty), by selection: O(n), no sort.
+#[cfg(test)]
 fn median(mut values: Vec<f64>) -> f64 {
+    median_in_place(&mut values)
+}
+
+/// The median of `values` (non-empty), which are reordered: by selection,
+/// O(n), no sort.
+fn median_in_place(values: &mut [f64]) -> f64 {
     let length = values.len();
     let (below, upper, _) = values.select_nth_unstable_by(length / 2, f64::total_cmp);
     let upper = *upper;

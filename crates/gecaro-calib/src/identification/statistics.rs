@@ -3,7 +3,7 @@
 //! and weight, and the a-posteriori variance (see [`super::reweighting`]).
 
 use crate::observation::ObservationSystem;
-use crate::robust::{Loss, observation_rms, robust_sigma};
+use crate::robust::{Loss, observation_rms, robust_sigma_of};
 use crate::rows::RowKind;
 
 /// The smallest σ̂ residuals are standardised by (scaled units: metres of an
@@ -48,14 +48,16 @@ impl ResidualStatistics {
                 .filter(|row| kinds[*row] == kind)
                 .map(|row| scaled[row])
                 .collect();
-            (values.len(), robust_sigma(&values))
+            (values.len(), robust_sigma_of(values))
         };
         // All sets' σ̂ of a kind: a single set's own, otherwise computed
         // only if a set needs it or to report it.
         const KINDS: [RowKind; 2] = [RowKind::Length, RowKind::Angle];
         let single = system.set_rows().len() == 1;
         let mut pooled: [Option<f64>; 2] = [None; 2];
-        let mut row_sigma = vec![0.0; kinds.len()];
+        // Noise-free (simulated) data leave rounding residuals: no outliers
+        // among them, and no weights from them.
+        let mut standardized_rows = vec![0.0; kinds.len()];
         for rows in system.set_rows() {
             for (slot, kind) in KINDS.into_iter().enumerate() {
                 let (count, own) = sigma_over(rows.clone(), kind);
@@ -67,17 +69,10 @@ impl ResidualStatistics {
                     *pooled[slot].get_or_insert_with(|| sigma_over(0..kinds.len(), kind).1)
                 };
                 for row in rows.clone().filter(|row| kinds[*row] == kind) {
-                    row_sigma[row] = sigma;
+                    standardized_rows[row] = scaled[row] / sigma.max(RESIDUAL_FLOOR);
                 }
             }
         }
-        // Noise-free (simulated) data leave rounding residuals: no outliers
-        // among them, and no weights from them.
-        let standardized_rows: Vec<f64> = scaled
-            .iter()
-            .zip(&row_sigma)
-            .map(|(e, sigma)| e / sigma.max(RESIDUAL_FLOOR))
-            .collect();
         let slot = usize::from(!kinds.contains(&RowKind::Length));
         let robust_sigma =
             pooled[slot].unwrap_or_else(|| sigma_over(0..kinds.len(), KINDS[slot]).1);
