@@ -494,11 +494,7 @@ impl ObservationSystem {
     /// The measured rows' residuals multiplied by their sensor weights only
     /// (not by robust weights): in units of the sensor's σ.
     pub fn scaled_residuals(&self) -> Vec<f64> {
-        self.residuals[..self.measured_rows()]
-            .iter()
-            .zip(self.row_weights())
-            .map(|(r, (sensor, _))| r * sensor)
-            .collect()
+        self.scaled_rows().map(|(_, scaled)| scaled).collect()
     }
 
     /// Appends rows `weight · Δη_column = weight · residual`, each with one
@@ -664,6 +660,30 @@ impl ObservationSystem {
     /// The measured rows of each measurement set, in order.
     pub fn set_rows(&self) -> &[std::ops::Range<usize>] {
         &self.set_rows
+    }
+
+    /// Each measurement set's measured rows with their residuals multiplied
+    /// by their sensor weights only ([`scaled_residuals`](Self::scaled_residuals),
+    /// without a vector of them), in order.
+    pub(crate) fn scaled_rows(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        self.set_rows
+            .iter()
+            .zip(&self.set_weights)
+            .flat_map(move |(rows, weights)| {
+                rows.clone().map(move |row| {
+                    let sensor = weights[usize::from(self.kinds[row] == RowKind::Angle)];
+                    (row, self.residuals[row] * sensor)
+                })
+            })
+    }
+
+    /// [`scaled_rows`](Self::scaled_rows) of measurement set `set`.
+    pub(crate) fn scaled_rows_of(&self, set: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let weights = self.set_weights[set];
+        self.set_rows[set].clone().map(move |row| {
+            let sensor = weights[usize::from(self.kinds[row] == RowKind::Angle)];
+            (row, self.residuals[row] * sensor)
+        })
     }
 
     /// Records that observations up to `end` (exclusive) were written

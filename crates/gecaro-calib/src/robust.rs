@@ -265,25 +265,6 @@ fn median_in_place(values: &mut [f64]) -> f64 {
     }
 }
 
-/// Per observation, the RMS of its scaled row residuals (`scaled[row]`
-/// belongs to observation `observations[row]`; see the module docs), in the
-/// units of `scaled`.
-pub(crate) fn observation_rms(
-    scaled: &[f64],
-    observations: &[usize],
-    observation_count: usize,
-) -> Vec<f64> {
-    let mut sums = vec![(0.0, 0_usize); observation_count];
-    for (value, &observation) in scaled.iter().zip(observations) {
-        let sum = &mut sums[observation];
-        sum.0 += value * value;
-        sum.1 += 1;
-    }
-    sums.into_iter()
-        .map(|(sum, rows)| (sum / rows.max(1) as f64).sqrt())
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -342,13 +323,5 @@ mod tests {
         // Odd and even counts: the middle value, the mean of the two middle ones.
         assert_eq!(median(vec![5.0, 1.0, 3.0]), 3.0);
         assert_eq!(median(vec![4.0, 1.0, 3.0, 2.0]), 2.5);
-    }
-
-    #[test]
-    fn observation_rms_groups_rows() {
-        let rms = observation_rms(&[3.0, 4.0, 0.0, 2.0], &[0, 0, 1, 2], 3);
-        assert!((rms[0] - (12.5_f64).sqrt()).abs() < 1e-12);
-        assert_eq!(rms[1], 0.0);
-        assert_eq!(rms[2], 2.0);
     }
 }

@@ -3,7 +3,7 @@
 //! and weight, and the a-posteriori variance (see [`super::reweighting`]).
 
 use crate::observation::ObservationSystem;
-use crate::robust::{Loss, observation_rms, robust_sigma_of};
+use crate::robust::{Loss, robust_sigma_of};
 use crate::rows::RowKind;
 
 /// The smallest σ̂ residuals are standardised by (scaled units: metres of an
@@ -36,55 +36,75 @@ impl ResidualStatistics {
         equations: usize,
         unknowns: usize,
     ) -> Self {
-        let scaled = system.scaled_residuals();
         let observations = system.row_observations();
         // σ̂ per set and kind of row: lengths and angles of a set without
         // sensor σ are in metres and radians, which do not compare, and each
         // set is judged by its own noise (its σ may be a rough guess). A set's
         // kind with fewer than MINIMUM_ROWS rows takes the σ̂ of all sets.
+        // The scaled residuals are read where they are (millions of rows
+        // are not copied).
         let kinds = system.kinds();
-        let sigma_over = |rows: std::ops::Range<usize>, kind: RowKind| {
-            let values: Vec<f64> = rows
-                .filter(|row| kinds[*row] == kind)
-                .map(|row| scaled[row])
-                .collect();
-            (values.len(), robust_sigma_of(values))
+        let sigma_of = |values: Vec<f64>| (values.len(), robust_sigma_of(values));
+        let of_kind = |kind: RowKind| move |(row, _): &(usize, f64)| kinds[*row] == kind;
+        let set_sigma = |set: usize, kind: RowKind| {
+            sigma_of(
+                system
+                    .scaled_rows_of(set)
+                    .filter(of_kind(kind))
+                    .map(|(_, e)| e)
+                    .collect(),
+            )
+        };
+        let all_sigma = |kind: RowKind| {
+            sigma_of(
+                system
+                    .scaled_rows()
+                    .filter(of_kind(kind))
+                    .map(|(_, e)| e)
+                    .collect(),
+            )
+            .1
         };
         // All sets' σ̂ of a kind: a single set's own, otherwise computed
         // only if a set needs it or to report it.
         const KINDS: [RowKind; 2] = [RowKind::Length, RowKind::Angle];
         let single = system.set_rows().len() == 1;
         let mut pooled: [Option<f64>; 2] = [None; 2];
+        // Each observation's standardised residual is the RMS of its rows',
+        // summed here as the rows are standardised.
         // Noise-free (simulated) data leave rounding residuals: no outliers
         // among them, and no weights from them.
-        let mut standardized_rows = vec![0.0; kinds.len()];
-        for rows in system.set_rows() {
+        let mut sums = vec![(0.0, 0_usize); system.observation_count()];
+        for set in 0..system.set_rows().len() {
             for (slot, kind) in KINDS.into_iter().enumerate() {
-                let (count, own) = sigma_over(rows.clone(), kind);
+                let (count, own) = set_sigma(set, kind);
                 let sigma = if single {
                     *pooled[slot].insert(own)
                 } else if count >= MINIMUM_ROWS {
                     own
                 } else {
-                    *pooled[slot].get_or_insert_with(|| sigma_over(0..kinds.len(), kind).1)
+                    *pooled[slot].get_or_insert_with(|| all_sigma(kind))
                 };
-                for row in rows.clone().filter(|row| kinds[*row] == kind) {
-                    standardized_rows[row] = scaled[row] / sigma.max(RESIDUAL_FLOOR);
+                for (row, scaled) in system.scaled_rows_of(set).filter(of_kind(kind)) {
+                    let standardized = scaled / sigma.max(RESIDUAL_FLOOR);
+                    let sum = &mut sums[observations[row]];
+                    sum.0 += standardized * standardized;
+                    sum.1 += 1;
                 }
             }
         }
         let slot = usize::from(!kinds.contains(&RowKind::Length));
-        let robust_sigma =
-            pooled[slot].unwrap_or_else(|| sigma_over(0..kinds.len(), KINDS[slot]).1);
-        let standardized =
-            observation_rms(&standardized_rows, observations, system.observation_count());
+        let robust_sigma = pooled[slot].unwrap_or_else(|| all_sigma(KINDS[slot]));
+        let standardized: Vec<f64> = sums
+            .into_iter()
+            .map(|(sum, rows)| (sum / rows.max(1) as f64).sqrt())
+            .collect();
         let weights: Vec<f64> = standardized.iter().map(|u| loss.weight(*u)).collect();
         let discarded = observations.iter().filter(|o| weights[**o] == 0.0).count();
         let effective_equations = equations.saturating_sub(discarded);
-        let weighted: f64 = scaled
-            .iter()
-            .zip(observations)
-            .map(|(e, o)| weights[*o] * e * e)
+        let weighted: f64 = system
+            .scaled_rows()
+            .map(|(row, e)| weights[observations[row]] * e * e)
             .sum();
         ResidualStatistics {
             robust_sigma,
