@@ -301,7 +301,7 @@ fn compensate_one(
     options: &InverseOptions,
     seed: u64,
 ) -> Result<CompensatedPoint, Error> {
-    let redundant = robot.joint_count() > task_rows(target);
+    let redundant = robot.joint_count() > target.rows();
     let solve = |options: &InverseOptions| {
         let from_start = match start {
             // Where the solution is locally unique, Newton steps reach it;
@@ -502,15 +502,6 @@ fn null_space_step(
 
 /// From a solution, the solution closest to `reference` (see the module
 /// docs); the solution itself when the task leaves no freedom.
-/// The rows of a compensation target: 3 for a point, 6 for a pose (a
-/// program holds no plane targets).
-fn task_rows(target: &Target) -> usize {
-    match target {
-        Target::Position(_) => 3,
-        _ => 6,
-    }
-}
-
 fn closest_solution(
     robot: &Robot,
     target: &Target,
@@ -518,7 +509,7 @@ fn closest_solution(
     reference: &[f64],
     options: &InverseOptions,
 ) -> Result<Vec<f64>, Error> {
-    if robot.joint_count() <= task_rows(target) {
+    if robot.joint_count() <= target.rows() {
         return Ok(solution);
     }
     let distance = |qm: &[f64]| {

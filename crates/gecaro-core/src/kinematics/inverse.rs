@@ -40,7 +40,8 @@ pub enum Target {
 }
 
 impl Target {
-    fn rows(&self) -> usize {
+    /// The rows of the task it sets: 3 for a point, 6 for a frame, 1 for a plane.
+    pub fn rows(&self) -> usize {
         match self {
             Target::Position(_) => 3,
             Target::Frame(_) => 6,
@@ -217,10 +218,10 @@ const MAX_NEWTON_STEP: f64 = 0.2;
 /// quadratically, 3–4 of them from a millimetre. When one does not, or
 /// they have not converged after a few, the damped solver runs from the
 /// start as [`inverse_kinematics`] does: near a singularity, far from the
-/// start, the result is the damped solver's. Where several configurations meet the target (a
-/// position with six joints) the one found may differ from the damped
-/// solver's by the null-space drift of its steps; both meet it to the
-/// tolerance.
+/// start, the result is the damped solver's. Where several configurations
+/// meet the target (a position with six joints) the one found may differ
+/// from the damped solver's by the null-space drift of its steps; both
+/// meet it to the tolerance.
 ///
 /// # Errors
 /// As [`inverse_kinematics`].
