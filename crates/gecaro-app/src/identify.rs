@@ -144,12 +144,7 @@ impl PreparedIdentification {
                 .map(|set| set.method.auxiliary_names().len())
                 .sum::<usize>();
         let samples: usize = study.sets.iter().map(|set| set.samples.len()).sum();
-        let streamed = rows >= self.options.streamed_rows
-            && study
-                .sets
-                .iter()
-                .all(|set| set.method.independent_configurations());
-        let per_row = if streamed {
+        let per_row = if study.is_streamed(self.options.streamed_rows) {
             STREAMED_BYTES_PER_ROW
         } else {
             unknowns.saturating_mul(5 * std::mem::size_of::<f64>())

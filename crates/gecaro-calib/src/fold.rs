@@ -162,7 +162,8 @@ impl FoldedRows {
         self.clone().merged([fold.finish()])
     }
 
-    fn kind(&self) -> FoldKind {
+    /// What this fold keeps.
+    pub(crate) fn kind(&self) -> FoldKind {
         if self.factor.is_some() {
             FoldKind::Factor
         } else {

@@ -350,9 +350,8 @@ fn analyse(
     // ([`crate::fold`]): into the normal equations, whose Cholesky factor
     // is that geometry where they are well conditioned, else (written
     // again) into the R of a QR.
-    let tall = study.row_count() >= streamed_rows;
     let mut system = ObservationSystem::default();
-    system.set_folding(tall.then_some(FoldKind::Gram));
+    system.set_folding(study.is_streamed(streamed_rows).then_some(FoldKind::Gram));
     write(&layout, &mut system)?;
     let finite = |system: &ObservationSystem| {
         if system.is_finite() {

@@ -312,7 +312,7 @@ impl ObservationSystem {
 
     /// Whether the measured rows of W are folded rather than held: then
     /// [`matrix`](Self::matrix) holds the appended rows only, and the
-    /// least-squares routines read [`solver_rows`](Self::solver_rows).
+    /// least-squares routines read a c × c stand-in for W.
     pub fn is_folded(&self) -> bool {
         self.folded.is_some()
     }
@@ -645,7 +645,7 @@ impl ObservationSystem {
             row_weights: weights,
             observation_base: self.observation_count,
             observation_end: 0,
-            fold: self.folded.is_some().then_some(self.fold).flatten(),
+            fold: self.folded.as_ref().map(FoldedRows::kind),
             sink: self.folded.as_mut(),
         }
     }

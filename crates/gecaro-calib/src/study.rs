@@ -554,6 +554,22 @@ impl Study {
         self.sets.iter().any(|set| !set.method.scale_invariant())
     }
 
+    /// Whether this study's systems are streamed (folded as they are
+    /// written; docs/methods.md, "Streamed systems") from `streamed_rows`
+    /// rows on: every set's configurations independent (written block by
+    /// block) and at least that many rows.
+    pub fn is_streamed(&self, streamed_rows: usize) -> bool {
+        self.foldable() && self.row_count() >= streamed_rows
+    }
+
+    /// Whether every set's rows can be folded as they are written: its
+    /// configurations are independent.
+    fn foldable(&self) -> bool {
+        self.sets
+            .iter()
+            .all(|set| set.method.independent_configurations())
+    }
+
     /// Total rows of W.
     pub fn row_count(&self) -> usize {
         self.sets
@@ -724,11 +740,7 @@ impl Study {
         system: &mut ObservationSystem,
         mut write: impl FnMut(usize, &MeasurementSet, &[f64], RowWriter<'_>) -> Result<usize, Error>,
     ) -> Result<(), Error> {
-        let foldable = self
-            .sets
-            .iter()
-            .all(|set| set.method.independent_configurations());
-        system.reset(self.row_count(), layout, foldable);
+        system.reset(self.row_count(), layout, self.foldable());
         let mut first_row = 0;
         let mut auxiliary_offset = self.frame_unknowns();
         for (index, set) in self.sets.iter().enumerate() {

@@ -58,7 +58,9 @@ pub struct IdentificationOptions {
     /// by more than a tenth of the noise ([`crate::elastic::reweighed`]).
     /// None (the default) keeps the samples' torques as they are.
     pub masses: Option<MassModel>,
-    /// Systems of at least this many measured rows are streamed: every
+    /// Systems of at least this many measured rows, whose sets'
+    /// configurations are independent, are streamed
+    /// ([`Study::is_streamed`](crate::study::Study::is_streamed)): every
     /// block of rows is folded into the normal equations (or a triangular
     /// factor, where they would not be accurate) as it is written, and W is
     /// never held ([`crate::observation::ObservationSystem::is_folded`]). The

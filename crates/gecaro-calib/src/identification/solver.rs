@@ -150,13 +150,13 @@ impl<'a> Problem<'a> {
     /// the normal equations where they are accurate, else into a
     /// triangular factor (see [`crate::fold`]).
     pub(super) fn folding(&self) -> Option<FoldKind> {
-        (self.rows >= self.options.streamed_rows).then_some(
-            if self.condition < NORMAL_EQUATIONS_CONDITION {
+        self.study
+            .is_streamed(self.options.streamed_rows)
+            .then_some(if self.condition < NORMAL_EQUATIONS_CONDITION {
                 FoldKind::Gram
             } else {
                 FoldKind::Factor
-            },
-        )
+            })
     }
 
     /// The iterate of a system written at `robot` and `auxiliary`.
