@@ -117,17 +117,13 @@ pub trait CalibrationMethod: CloneMethod + fmt::Debug + Send + Sync {
     }
 
     /// The samples of each observation, in the numbering `linearise` gives
-    /// its rows: one observation per configuration by default (position,
-    /// frame, plane, and the link methods, whose configurations are each
-    /// compared with their set's mean).
-    fn observation_samples(&self, samples: &[Sample]) -> Vec<Vec<usize>> {
-        (0..samples.len()).map(|index| vec![index]).collect()
-    }
-
-    /// Whether observation `k` is sample `k` ([`observation_samples`](Self::observation_samples)
-    /// is the default): lets large data sets be located without a list per sample.
-    fn observations_are_configurations(&self) -> bool {
-        true
+    /// its rows, when an observation is not one configuration (a distance's
+    /// pair); `None` (the default) when observation `k` is sample `k`
+    /// (position, frame, plane, and the link methods, whose configurations
+    /// are each compared with their set's mean), which lets large data sets
+    /// be located without a list per sample.
+    fn grouped_observations(&self, _samples: &[Sample]) -> Option<Vec<Vec<usize>>> {
+        None
     }
 
     /// Writes the rows `Δy = W Δη` at the current parameters (whose poses and

@@ -68,8 +68,7 @@ pub(crate) fn locate(
     let mut located = Vec::new();
     let mut first = 0;
     for (set_index, set) in study.sets.iter().enumerate() {
-        let grouped = (!set.method.observations_are_configurations())
-            .then(|| set.method.observation_samples(&set.samples));
+        let grouped = set.method.grouped_observations(&set.samples);
         let count = grouped.as_ref().map_or(set.samples.len(), Vec::len);
         let kind = if grouped
             .as_ref()

@@ -72,12 +72,8 @@ impl CalibrationMethod for DistanceMeasure {
     }
 
     /// One observation per pair.
-    fn observation_samples(&self, samples: &[Sample]) -> Vec<Vec<usize>> {
-        groups(samples)
-    }
-
-    fn observations_are_configurations(&self) -> bool {
-        false
+    fn grouped_observations(&self, samples: &[Sample]) -> Option<Vec<Vec<usize>>> {
+        Some(groups(samples))
     }
 
     fn equations_per_configuration(&self) -> f64 {
