@@ -473,6 +473,7 @@ fn distinct(study: &Study) -> (usize, f64) {
 /// configuration, group and measured values equal to the last bit (−0 as
 /// 0), over every set.
 fn copies(study: &Study) -> usize {
+    use std::hash::Hasher;
     let measurements: Vec<(usize, usize)> = study
         .sets
         .iter()
@@ -486,40 +487,54 @@ fn copies(study: &Study) -> usize {
         .map(|set| fingerprint(set.method.name().bytes().map(u64::from)))
         .collect();
     let method = |(set, _): (usize, usize)| study.sets[set].method.name();
-    let key = |(set, sample): (usize, usize)| measurement_bits(&study.sets[set].samples[sample]);
+    let words = |(set, sample): (usize, usize)| {
+        let mut words = Vec::new();
+        measurement_words(&study.sets[set].samples[sample], |word| words.push(word));
+        words
+    };
     let unique = count_distinct(
         measurements.len(),
         |index| {
             let (set, sample) = measurements[index];
-            measurement_fingerprint(methods[set], &study.sets[set].samples[sample])
+            let mut hasher = rustc_hash::FxHasher::default();
+            hasher.write_u64(methods[set]);
+            measurement_words(&study.sets[set].samples[sample], |word| {
+                hasher.write_u64(word);
+            });
+            hasher.finish()
         },
+        // Only items of equal fingerprints are compared.
         |a, b| {
             let (a, b) = (measurements[a], measurements[b]);
-            method(a).cmp(method(b)).then_with(|| key(a).cmp(key(b)))
+            method(a)
+                .cmp(method(b))
+                .then_with(|| words(a).cmp(&words(b)))
         },
     );
     measurements.len() - unique
 }
 
-/// The fingerprint of a measurement of the method whose name has the
-/// fingerprint `method`: the values of [`measurement_bits`], written one by
-/// one (a chain of iterators costs more than the hash).
-fn measurement_fingerprint(method: u64, sample: &Sample) -> u64 {
-    use std::hash::Hasher;
-    let mut hasher = rustc_hash::FxHasher::default();
-    hasher.write_u64(method);
-    for value in &sample.motor_positions {
-        hasher.write_u64((value + 0.0).to_bits());
+/// What a measurement is made of, handed to `word` as 64-bit words: its
+/// configuration, group and measured values as bits (−0 as 0), a missing
+/// group or value as a tag. One encoding for the fingerprint and for the
+/// exact comparison; written value by value (a chain of iterators costs
+/// more than the hash).
+fn measurement_words(sample: &Sample, mut word: impl FnMut(u64)) {
+    bits(&sample.motor_positions).for_each(&mut word);
+    word(u64::from(sample.group.is_some()));
+    word(sample.group.unwrap_or(0));
+    word(u64::from(sample.position.is_some()));
+    word(u64::from(sample.orientation.is_some()));
+    word(u64::from(sample.distance.is_some()));
+    for value in sample.position.iter().flat_map(|p| p.iter()) {
+        word((value + 0.0).to_bits());
     }
-    hasher.write_u64(
-        sample
-            .group
-            .map_or(0, |group| group ^ 0x9e37_79b9_7f4a_7c15),
-    );
-    for value in measured_values(sample) {
-        hasher.write_u64((value + 0.0).to_bits());
+    for value in sample.orientation.iter().flat_map(|q| q.coords.iter()) {
+        word((value + 0.0).to_bits());
     }
-    hasher.finish()
+    if let Some(value) = sample.distance {
+        word((value + 0.0).to_bits());
+    }
 }
 
 /// The number of distinct items among `count`, each with a `fingerprint`
@@ -572,35 +587,6 @@ fn fingerprint(values: impl Iterator<Item = u64>) -> u64 {
     let mut hasher = rustc_hash::FxHasher::default();
     values.for_each(|value| hasher.write_u64(value));
     hasher.finish()
-}
-
-/// What a measurement is made of, as bits: its configuration, group and
-/// measured values (−0 as 0; a missing group or value as a tag).
-fn measurement_bits(sample: &Sample) -> impl Iterator<Item = u64> + '_ {
-    let measured = measured_values(sample).map(|value| (value + 0.0).to_bits());
-    bits(&sample.motor_positions)
-        .chain([u64::from(sample.group.is_some()), sample.group.unwrap_or(0)])
-        .chain([
-            u64::from(sample.position.is_some()),
-            u64::from(sample.orientation.is_some()),
-            u64::from(sample.distance.is_some()),
-        ])
-        .chain(measured)
-}
-
-/// The values a sample measured: its position, orientation and distance, as it has them.
-fn measured_values(sample: &Sample) -> impl Iterator<Item = f64> + '_ {
-    sample
-        .position
-        .iter()
-        .flat_map(|p| p.iter().copied())
-        .chain(
-            sample
-                .orientation
-                .iter()
-                .flat_map(|q| q.coords.iter().copied()),
-        )
-        .chain(sample.distance)
 }
 
 /// The bits of a configuration's values, −0 as 0.
