@@ -103,6 +103,19 @@ pub(crate) struct Rows {
     pub(crate) error: Option<Error>,
 }
 
+impl Rows {
+    /// The rows of a later part after these: its samples, its normalised
+    /// quaternions, and its first error, which ends the reading (`false`:
+    /// read no further). A part after an error is not to be appended.
+    fn append(&mut self, later: Rows) -> bool {
+        debug_assert!(self.error.is_none());
+        self.samples.extend(later.samples);
+        self.normalised = self.normalised.then(later.normalised);
+        self.error = later.error;
+        self.error.is_none()
+    }
+}
+
 /// How the records of one file are read.
 pub(crate) struct RowReader<'a> {
     pub(crate) path: &'a Path,
@@ -208,15 +221,11 @@ impl RowReader<'_> {
         })
         .into_iter();
         let mut joined = read.next()?;
-        if joined.error.is_some() {
-            return Some(joined);
-        }
-        for rows in read {
-            joined.samples.extend(rows.samples);
-            joined.normalised = joined.normalised.then(rows.normalised);
-            if rows.error.is_some() {
-                joined.error = rows.error;
-                break;
+        if joined.error.is_none() {
+            for rows in read {
+                if !joined.append(rows) {
+                    break;
+                }
             }
         }
         Some(joined)
@@ -283,9 +292,8 @@ impl RowReader<'_> {
                     self.read(&mut csv, lines, 0)
                 });
             if joined.samples.is_empty() {
-                joined
-                    .samples
-                    .reserve(rows.samples.len() * (1 + CHUNKS_FORESEEN));
+                let foreseen = rows.samples.len() * (1 + CHUNKS_FORESEEN);
+                joined.samples.reserve(foreseen.min(limit));
             }
             let room = limit.saturating_sub(joined.samples.len());
             if rows.samples.len() > room {
@@ -294,10 +302,7 @@ impl RowReader<'_> {
                 joined.error = Some(self.too_many(line));
                 return joined;
             }
-            joined.samples.extend(rows.samples);
-            joined.normalised = joined.normalised.then(rows.normalised);
-            if rows.error.is_some() {
-                joined.error = rows.error;
+            if !joined.append(rows) {
                 return joined;
             }
             lines += memchr::memchr_iter(b'\n', chunk).count();
