@@ -54,24 +54,39 @@ pub(crate) enum FoldKind {
 /// Rows of `c` columns folded so far; see the module docs.
 pub(crate) struct RowFold {
     columns: usize,
-    gram: Mat<f64>,
-    projected: Mat<f64>,
-    factor: Option<TriangularFold>,
-    /// `[W | r]` of the rows of the block being folded (factor only).
-    augmented: Mat<f64>,
+    sums: Folding,
     rows: usize,
+}
+
+/// What a [`RowFold`] sums into.
+enum Folding {
+    Gram {
+        gram: Mat<f64>,
+        projected: Mat<f64>,
+    },
+    Factor {
+        fold: TriangularFold,
+        /// `[W | r]` of the block being folded.
+        augmented: Mat<f64>,
+    },
 }
 
 impl RowFold {
     /// An empty fold of rows of `columns` entries, of about `rows` rows.
     pub(crate) fn new(columns: usize, kind: FoldKind, rows: usize) -> Self {
-        let factor = (kind == FoldKind::Factor).then(|| TriangularFold::new(columns + 1, rows));
+        let sums = match kind {
+            FoldKind::Gram => Folding::Gram {
+                gram: Mat::zeros(columns, columns),
+                projected: Mat::zeros(columns, 1),
+            },
+            FoldKind::Factor => Folding::Factor {
+                fold: TriangularFold::new(columns + 1, rows),
+                augmented: Mat::zeros(0, 0),
+            },
+        };
         RowFold {
             columns,
-            gram: Mat::zeros(columns, columns),
-            projected: Mat::zeros(columns, 1),
-            factor,
-            augmented: Mat::zeros(0, 0),
+            sums,
             rows: 0,
         }
     }
@@ -82,22 +97,22 @@ impl RowFold {
         let (rows, columns) = matrix.shape();
         debug_assert!(columns == self.columns && right.len() == rows);
         self.rows += rows;
-        match &mut self.factor {
-            None => add_normal_sums(
-                &mut self.gram,
-                &mut self.projected,
+        match &mut self.sums {
+            Folding::Gram { gram, projected } => add_normal_sums(
+                gram,
+                projected,
                 matrix,
                 MatRef::from_column_major_slice(right, rows, 1),
             ),
-            Some(factor) => {
-                if self.augmented.nrows() < rows {
-                    self.augmented = Mat::zeros(rows, columns + 1);
+            Folding::Factor { fold, augmented } => {
+                if augmented.nrows() < rows {
+                    *augmented = Mat::zeros(rows, columns + 1);
                 }
-                self.augmented.get_mut(..rows, ..columns).copy_from(matrix);
+                augmented.get_mut(..rows, ..columns).copy_from(matrix);
                 for (i, value) in right.iter().enumerate() {
-                    self.augmented[(i, columns)] = *value;
+                    augmented[(i, columns)] = *value;
                 }
-                factor.push(self.augmented.get(..rows, ..));
+                fold.push(augmented.get(..rows, ..));
             }
         }
     }
@@ -107,9 +122,10 @@ impl RowFold {
         FoldedRows {
             columns: self.columns,
             rows: self.rows,
-            gram: self.gram,
-            projected: self.projected,
-            factor: self.factor.map(TriangularFold::factor),
+            sums: match self.sums {
+                Folding::Gram { gram, projected } => Sums::Gram { gram, projected },
+                Folding::Factor { fold, .. } => Sums::Factor(fold.factor()),
+            },
         }
     }
 }
@@ -119,11 +135,16 @@ impl RowFold {
 pub(crate) struct FoldedRows {
     columns: usize,
     rows: usize,
-    /// `WᵀW` (lower triangle) and `Wᵀr` (Gram folds).
-    gram: Mat<f64>,
-    projected: Mat<f64>,
-    /// R̃ of `[W | r]`, (c + 1) × (c + 1) (factor folds).
-    factor: Option<Mat<f64>>,
+    sums: Sums,
+}
+
+/// What [`FoldedRows`] keep.
+#[derive(Clone, Debug)]
+enum Sums {
+    /// `WᵀW` (lower triangle) and `Wᵀr`.
+    Gram { gram: Mat<f64>, projected: Mat<f64> },
+    /// R̃ of `[W | r]`, (c + 1) × (c + 1).
+    Factor(Mat<f64>),
 }
 
 impl FoldedRows {
@@ -137,44 +158,61 @@ impl FoldedRows {
         self.rows
     }
 
-    /// The rows of `self` and then of every one of `others` (in order).
+    /// The rows of `self` and then of every one of `others` (of the same
+    /// kind, in order).
     pub(crate) fn merged(mut self, others: impl IntoIterator<Item = FoldedRows>) -> Self {
         let others: Vec<FoldedRows> = others.into_iter().collect();
-        for other in &others {
-            self.rows += other.rows;
-            self.gram += &other.gram;
-            self.projected += &other.projected;
-        }
-        if let Some(factor) = self.factor.take() {
-            let mut factors = vec![factor];
-            factors.extend(others.into_iter().filter_map(|other| other.factor));
-            self.factor = Some(stacked_factor(&factors));
-        }
+        self.rows += others.iter().map(|other| other.rows).sum::<usize>();
+        self.sums = match self.sums {
+            Sums::Gram {
+                mut gram,
+                mut projected,
+            } => {
+                for other in &others {
+                    if let Sums::Gram {
+                        gram: other_gram,
+                        projected: other_projected,
+                    } = &other.sums
+                    {
+                        gram += other_gram;
+                        projected += other_projected;
+                    }
+                }
+                Sums::Gram { gram, projected }
+            }
+            Sums::Factor(factor) => {
+                let mut factors = vec![factor];
+                factors.extend(others.into_iter().filter_map(|other| match other.sums {
+                    Sums::Factor(factor) => Some(factor),
+                    Sums::Gram { .. } => None,
+                }));
+                Sums::Factor(stacked_factor(&factors))
+            }
+        };
         self
     }
 
     /// The rows of `self` and `matrix` (weighted, row-major `rows × c`,
     /// with weighted right-hand sides `right`): a few rows appended.
     pub(crate) fn with_rows(&self, matrix: MatRef<'_, f64>, right: &[f64]) -> Self {
-        let kind = self.kind();
-        let mut fold = RowFold::new(self.columns, kind, matrix.nrows());
+        let mut fold = RowFold::new(self.columns, self.kind(), matrix.nrows());
         fold.push(matrix, right);
         self.clone().merged([fold.finish()])
     }
 
     /// What this fold keeps.
     pub(crate) fn kind(&self) -> FoldKind {
-        if self.factor.is_some() {
-            FoldKind::Factor
-        } else {
-            FoldKind::Gram
+        match self.sums {
+            Sums::Gram { .. } => FoldKind::Gram,
+            Sums::Factor(_) => FoldKind::Factor,
         }
     }
 
     /// `WᵀW` (lower triangle) and `Wᵀr`.
     pub(crate) fn normal_sums(&self) -> (Mat<f64>, Mat<f64>) {
-        let Some(factor) = &self.factor else {
-            return (self.gram.clone(), self.projected.clone());
+        let factor = match &self.sums {
+            Sums::Gram { gram, projected } => return (gram.clone(), projected.clone()),
+            Sums::Factor(factor) => factor,
         };
         let c = self.columns;
         let r = factor.get(..c, ..c);
@@ -195,13 +233,16 @@ impl FoldedRows {
     /// of eigenvalues without weight, below 1e-14 of the largest, are zero).
     pub(crate) fn stand_in(&self) -> (Vec<f64>, Vec<f64>) {
         let c = self.columns;
-        if let Some(factor) = &self.factor {
-            let matrix = (0..c)
-                .flat_map(|i| (0..c).map(move |j| factor[(i, j)]))
-                .collect();
-            return (matrix, (0..c).map(|i| factor[(i, c)]).collect());
-        }
-        let gram = nalgebra::DMatrix::from_fn(c, c, |i, j| self.gram[(i.max(j), i.min(j))]);
+        let (gram, projected) = match &self.sums {
+            Sums::Factor(factor) => {
+                let matrix = (0..c)
+                    .flat_map(|i| (0..c).map(move |j| factor[(i, j)]))
+                    .collect();
+                return (matrix, (0..c).map(|i| factor[(i, c)]).collect());
+            }
+            Sums::Gram { gram, projected } => (gram, projected),
+        };
+        let gram = nalgebra::DMatrix::from_fn(c, c, |i, j| gram[(i.max(j), i.min(j))]);
         let eigen = gram.symmetric_eigen();
         let largest = eigen.eigenvalues.iter().copied().fold(0.0, f64::max);
         let mut matrix = vec![0.0; c * c];
@@ -217,19 +258,17 @@ impl FoldedRows {
             for j in 0..c {
                 matrix[k * c + j] = root * vector[j];
             }
-            right[k] = (0..c)
-                .map(|j| vector[j] * self.projected[(j, 0)])
-                .sum::<f64>()
-                / root;
+            right[k] = (0..c).map(|j| vector[j] * projected[(j, 0)]).sum::<f64>() / root;
         }
         (matrix, right)
     }
 
     /// Whether every sum is finite (false when a row had a NaN or an infinity).
     pub(crate) fn is_finite(&self) -> bool {
-        self.gram.is_all_finite()
-            && self.projected.is_all_finite()
-            && self.factor.as_ref().is_none_or(|f| f.is_all_finite())
+        match &self.sums {
+            Sums::Gram { gram, projected } => gram.is_all_finite() && projected.is_all_finite(),
+            Sums::Factor(factor) => factor.is_all_finite(),
+        }
     }
 
     /// The column geometry of W: an upper triangular R with `RᵀR = WᵀW`
@@ -240,16 +279,14 @@ impl FoldedRows {
     /// span of the others, and no rank decision is close), `None` elsewhere.
     pub(crate) fn geometry(&self) -> Option<Mat<f64>> {
         let c = self.columns;
-        if let Some(factor) = &self.factor {
-            return Some(factor.get(..c, ..c).to_owned());
-        }
-        let (gram, projected) = self.normal_sums();
-        let normal = NormalEquations::from_sums(gram, projected);
-        if normal.equilibrated_condition() >= NORMAL_EQUATIONS_CONDITION {
-            return None;
-        }
-        let lower = self.gram.llt(faer::Side::Lower).ok()?;
-        Some(lower.L().transpose().to_owned())
+        let (gram, projected) = match &self.sums {
+            Sums::Factor(factor) => return Some(factor.get(..c, ..c).to_owned()),
+            Sums::Gram { gram, projected } => (gram, projected),
+        };
+        let lower = gram.llt(faer::Side::Lower).ok()?;
+        let normal = NormalEquations::from_sums(gram.clone(), projected.clone());
+        (normal.equilibrated_condition() < NORMAL_EQUATIONS_CONDITION)
+            .then(|| lower.L().transpose().to_owned())
     }
 }
 
