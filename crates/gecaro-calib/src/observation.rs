@@ -34,8 +34,8 @@ use crate::parallel::run_parts;
 use crate::sample::Sample;
 use crate::states::{BLOCK, evaluate_chunk, part_size};
 
-use crate::rows::whole_weight;
 pub use crate::rows::{ColumnLayout, RowKind, RowWriter};
+use crate::rows::{sensor_weight, whole_weight};
 pub use crate::states::{TerminalState, evaluate_poses, evaluate_states};
 
 /// Has `method` write its rows for `samples` (whose states are `states`)
@@ -330,18 +330,11 @@ impl ObservationSystem {
     /// row's from its set's weights, its kind and its observation's robust
     /// weight, as [`RowWriter::push`] weighted it; an appended row's its own.
     fn row_weights(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
-        self.set_rows
-            .iter()
-            .zip(&self.set_weights)
-            .flat_map(move |(rows, weights)| {
-                rows.clone().map(move |row| {
-                    let sensor = weights[usize::from(self.kinds[row] == RowKind::Angle)];
-                    let observation = self.observations[row];
-                    (
-                        sensor,
-                        whole_weight(sensor, &self.observation_weights, observation),
-                    )
-                })
+        (0..self.set_rows.len())
+            .flat_map(move |set| self.sensor_weights_of(set))
+            .map(move |(row, sensor)| {
+                let whole = whole_weight(sensor, &self.observation_weights, self.observations[row]);
+                (sensor, whole)
             })
             .chain(
                 self.appended_weights
@@ -666,24 +659,21 @@ impl ObservationSystem {
     /// by their sensor weights only ([`scaled_residuals`](Self::scaled_residuals),
     /// without a vector of them), in order.
     pub(crate) fn scaled_rows(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
-        self.set_rows
-            .iter()
-            .zip(&self.set_weights)
-            .flat_map(move |(rows, weights)| {
-                rows.clone().map(move |row| {
-                    let sensor = weights[usize::from(self.kinds[row] == RowKind::Angle)];
-                    (row, self.residuals[row] * sensor)
-                })
-            })
+        (0..self.set_rows.len()).flat_map(move |set| self.scaled_rows_of(set))
     }
 
     /// [`scaled_rows`](Self::scaled_rows) of measurement set `set`.
     pub(crate) fn scaled_rows_of(&self, set: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        self.sensor_weights_of(set)
+            .map(move |(row, sensor)| (row, self.residuals[row] * sensor))
+    }
+
+    /// The rows of measurement set `set` with their sensor weights (1/σ).
+    fn sensor_weights_of(&self, set: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
         let weights = self.set_weights[set];
-        self.set_rows[set].clone().map(move |row| {
-            let sensor = weights[usize::from(self.kinds[row] == RowKind::Angle)];
-            (row, self.residuals[row] * sensor)
-        })
+        self.set_rows[set]
+            .clone()
+            .map(move |row| (row, sensor_weight(weights, self.kinds[row])))
     }
 
     /// Records that observations up to `end` (exclusive) were written

@@ -260,8 +260,20 @@ impl<'a> RowWriter<'a> {
     /// The whole weight of a row of `kind` of `observation` (numbered in
     /// the whole system): its sensor weight × √(the observation's robust weight).
     fn weight(&self, kind: RowKind, observation: usize) -> f64 {
-        let sensor = self.row_weights[usize::from(kind == RowKind::Angle)];
-        whole_weight(sensor, self.observation_weights, observation)
+        whole_weight(
+            sensor_weight(self.row_weights, kind),
+            self.observation_weights,
+            observation,
+        )
+    }
+}
+
+/// The sensor weight (1/σ) of a row of `kind` of a set whose length and
+/// angle rows have the sensor weights `weights`.
+pub(crate) fn sensor_weight(weights: [f64; 2], kind: RowKind) -> f64 {
+    match kind {
+        RowKind::Length => weights[0],
+        RowKind::Angle => weights[1],
     }
 }
 
