@@ -461,11 +461,11 @@ impl NormalEquations {
 /// `‖W·step‖²`, the most a least-squares step can lower ‖r‖² by: from the
 /// normal equations (`stepᵀWᵀW step`) when W is well conditioned (see
 /// [`NORMAL_EQUATIONS_CONDITION`]), else row by row.
-pub(crate) fn predicted_decrease(
-    matrix: MatRef<'_, f64>,
+pub(crate) fn predicted_decrease<R: LeastSquaresRows>(
     normal: &NormalEquations,
     step: &[f64],
     condition: f64,
+    rows: impl FnOnce() -> R,
 ) -> f64 {
     if condition < NORMAL_EQUATIONS_CONDITION {
         return normal
@@ -475,6 +475,8 @@ pub(crate) fn predicted_decrease(
             .map(|(a, b)| a * b)
             .sum();
     }
+    let rows = rows();
+    let matrix = rows.matrix();
     (0..matrix.nrows())
         .map(|row| {
             (0..matrix.ncols())
@@ -732,19 +734,41 @@ pub(crate) const NORMAL_EQUATIONS_CONDITION: f64 = 1e5;
 /// `WᵀW x = Wᵀr` (Cholesky) when W is well conditioned (`condition` below
 /// [`NORMAL_EQUATIONS_CONDITION`]) — a quarter of the cost of a QR of the tall
 /// W — and through QR otherwise or if the Cholesky factorisation fails.
-pub(crate) fn step(
-    matrix: MatRef<'_, f64>,
+pub(crate) fn step<R: LeastSquaresRows>(
     normal: &NormalEquations,
-    right: &[f64],
     condition: f64,
+    rows: impl FnOnce() -> R,
 ) -> Vec<f64> {
     if condition < NORMAL_EQUATIONS_CONDITION
         && let Ok(cholesky) = normal.gram.llt(faer::Side::Lower)
     {
         let solution = cholesky.solve(&normal.projected);
-        return (0..matrix.ncols()).map(|i| solution[(i, 0)]).collect();
+        return (0..solution.nrows()).map(|i| solution[(i, 0)]).collect();
     }
-    solve_with_covariance(matrix, right).0.solution
+    let rows = rows();
+    solve_with_covariance(rows.matrix(), rows.right())
+        .0
+        .solution
+}
+
+/// The rows W of a least-squares problem and their right-hand sides, which
+/// [`step`] and [`predicted_decrease`] make only on their QR route (a tall
+/// system's weighted right-hand sides, a folded one's stand-in).
+pub(crate) trait LeastSquaresRows {
+    /// W.
+    fn matrix(&self) -> MatRef<'_, f64>;
+    /// The right-hand sides.
+    fn right(&self) -> &[f64];
+}
+
+impl LeastSquaresRows for (MatRef<'_, f64>, &[f64]) {
+    fn matrix(&self) -> MatRef<'_, f64> {
+        self.0
+    }
+
+    fn right(&self) -> &[f64] {
+        self.1
+    }
 }
 
 /// See [`LeastSquares`]; `matrix` must have full column rank and at least as
@@ -1017,8 +1041,9 @@ mod tests {
         let right = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
         let (solved, _) = solve_with_covariance(view(&data, 6, 2), &right);
         let equations = NormalEquations::of(view(&data, 6, 2), &right);
-        let normal = step(view(&data, 6, 2), &equations, &right, 1.0);
-        let through_qr = step(view(&data, 6, 2), &equations, &right, f64::INFINITY);
+        let rows = || (view(&data, 6, 2), right.as_slice());
+        let normal = step(&equations, 1.0, rows);
+        let through_qr = step(&equations, f64::INFINITY, rows);
         let (precise, _) = precision(view(&data, 6, 2), &equations, 1.0).expect("finite");
         let (precise_qr, _) =
             precision(view(&data, 6, 2), &equations, f64::INFINITY).expect("finite");
@@ -1169,7 +1194,7 @@ mod tests {
         let moved = w * MatRef::from_column_major_slice(&step, columns, 1);
         let exact = moved.norm_l2().powi(2);
         for condition in [1.0, f64::INFINITY] {
-            let predicted = predicted_decrease(w, &equations, &step, condition);
+            let predicted = predicted_decrease(&equations, &step, condition, || (w, &right[..]));
             assert!(
                 (predicted - exact).abs() < 1e-12 * exact,
                 "{predicted} vs {exact}"

@@ -27,7 +27,7 @@ use faer::MatRef;
 
 use crate::fold::{FoldKind, FoldedRows, RowFold};
 use crate::frames::SetFrames;
-use crate::linalg::{NormalEquations, add_normal_sums, view};
+use crate::linalg::{LeastSquaresRows, NormalEquations, add_normal_sums, view};
 
 use crate::method::CalibrationMethod;
 use crate::parallel::run_parts;
@@ -223,14 +223,14 @@ pub(crate) struct SolverRows<'a> {
     right: Vec<f64>,
 }
 
-impl SolverRows<'_> {
+impl LeastSquaresRows for SolverRows<'_> {
     /// The rows, as a matrix.
-    pub(crate) fn matrix(&self) -> MatRef<'_, f64> {
+    fn matrix(&self) -> MatRef<'_, f64> {
         view(&self.matrix, self.rows, self.columns)
     }
 
     /// Their weighted right-hand sides.
-    pub(crate) fn right(&self) -> &[f64] {
+    fn right(&self) -> &[f64] {
         &self.right
     }
 }

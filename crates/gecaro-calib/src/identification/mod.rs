@@ -99,7 +99,7 @@ use crate::frames::FRAME_UNKNOWNS;
 use crate::identifiability::{
     Excitation, ParameterStatus, RankReport, excitation_at, structural_parameters_at,
 };
-use crate::linalg::{NormalEquations, precision};
+use crate::linalg::{LeastSquaresRows, NormalEquations, precision};
 use crate::progress::{Observer, Progress, Quiet, report};
 use crate::rows::{ColumnLayout, RowKind};
 use crate::study::{Study, StudyStates};

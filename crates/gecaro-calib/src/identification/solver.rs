@@ -11,7 +11,7 @@ use super::weighting::Weighting;
 use crate::Error;
 use crate::fold::FoldKind;
 use crate::linalg::{
-    NORMAL_EQUATIONS_CONDITION, NormalEquations, damped_step, minimum_norm_step,
+    LeastSquaresRows, NORMAL_EQUATIONS_CONDITION, NormalEquations, damped_step, minimum_norm_step,
     predicted_decrease, step,
 };
 use crate::observation::ObservationSystem;
@@ -207,9 +207,9 @@ impl<'a> Problem<'a> {
         if norm(step) <= self.options.step_tolerance * (1.0 + scale) {
             return true;
         }
-        let rows = iterate.system.solver_rows(false);
-        predicted_decrease(rows.matrix(), &iterate.normal, step, self.condition)
-            <= COST_TOLERANCE * iterate.cost
+        predicted_decrease(&iterate.normal, step, self.condition, || {
+            iterate.system.solver_rows(false)
+        }) <= COST_TOLERANCE * iterate.cost
     }
 
     /// Adds `step` (auxiliary columns first, then `parameters`) to an iterate.
@@ -292,13 +292,15 @@ impl<'a> Problem<'a> {
         'iterations: while history.len() < max_iterations {
             let mut fraction = 1.0;
             loop {
-                let rows = current.system.solver_rows(false);
+                // The rows (a tall system's right-hand sides, a folded
+                // one's stand-in) are made only where the step reads them.
+                let rows = || current.system.solver_rows(false);
                 let mut step = if damping == 0.0 {
-                    step(rows.matrix(), &current.normal, rows.right(), self.condition)
+                    step(&current.normal, self.condition, rows)
                 } else {
+                    let rows = rows();
                     damped_step(rows.matrix(), rows.right(), damping)
                 };
-                drop(rows);
                 if damping <= INITIAL_DAMPING
                     && fraction == 1.0
                     && self.negligible(&step, &current, &self.base)
