@@ -280,25 +280,25 @@ impl GenerateRequest {
             }
         };
         // Each row carries the request's payload, else the planned row's.
-        let samples = samples.into_iter().map(|sample| Sample {
-            payload: payload.or(sample.payload),
-            ..sample
+        let samples = samples.into_iter().map(|mut sample| {
+            if payload.is_some() {
+                sample.set_payload(payload);
+            }
+            sample
         });
         // An elastic robot is measured again where it settles under its
         // weight and the payload's; a rigid one's readings stand.
         let samples = if real.robot.is_elastic() {
             let planned = samples
-                .map(|sample| {
+                .map(|mut sample| {
                     let torques = settled_torques(
                         &real.robot,
                         &real.masses,
-                        sample.payload.as_ref(),
+                        sample.payload(),
                         &sample.motor_positions,
                     )?;
-                    Ok(Sample {
-                        torques: Some(torques),
-                        ..sample
-                    })
+                    sample.loads_mut().torques = Some(torques);
+                    Ok(sample)
                 })
                 .collect::<Result<Vec<Sample>, AppError>>()?;
             simulate_at(

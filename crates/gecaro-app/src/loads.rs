@@ -129,9 +129,10 @@ pub(crate) fn loaded(
         samples
             .iter()
             .flat_map(|sample| {
-                payloads.iter().map(move |payload| Sample {
-                    payload: Some(*payload),
-                    ..sample.clone()
+                payloads.iter().map(move |payload| {
+                    let mut loaded = sample.clone();
+                    loaded.set_payload(Some(*payload));
+                    loaded
                 })
             })
             .collect()

@@ -155,7 +155,7 @@ impl Loaded {
             .sets
             .iter()
             .flat_map(|set| &set.samples)
-            .any(|sample| sample.payload.is_some());
+            .any(|sample| sample.payload().is_some());
         crate::loads::require_loads(&self.robot, payloads, "model")?;
         for set in &mut self.study.sets {
             gecaro_calib::elastic::load_samples(robot, &self.robot.masses, &mut set.samples)?;

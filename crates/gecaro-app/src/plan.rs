@@ -53,7 +53,7 @@ impl TestPoses {
         match &self.test_poses {
             Some(source) => Ok(configurations(robot, source, &[], format, files)?
                 .into_iter()
-                .map(|sample| sample.motor_positions)
+                .map(|sample| sample.motor_positions.into_vec())
                 .collect()),
             None => {
                 let count = self.test_pose_count.unwrap_or(TEST_POSES);
@@ -638,7 +638,7 @@ impl PredictRequest {
                          without them, or simulate with generate --compliance-level",
                     ));
                 }
-                let payloads = planned.iter().any(|sample| sample.payload.is_some());
+                let payloads = planned.iter().any(|sample| sample.payload().is_some());
                 let elastic = crate::loads::elastic_file(&file, payloads, "model")?;
                 let planned = crate::loads::loaded(&elastic, &planned, &[])?;
                 let priority = model.priority(&elastic.robot, None);

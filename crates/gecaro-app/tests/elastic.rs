@@ -407,7 +407,7 @@ fn a_program_compensated_for_its_payload_lands_on_its_targets() {
     .expect("read")
     .samples
     .into_iter()
-    .map(|sample| sample.motor_positions)
+    .map(|sample| sample.motor_positions.into_vec())
     .collect();
     let points: Vec<ProgramPoint> = taught
         .iter()
@@ -533,7 +533,7 @@ fn a_plan_with_payloads_predicts_the_compliances_precision() {
         .plan
         .samples
         .iter()
-        .map(|sample| sample.payload.expect("payload").mass)
+        .map(|sample| sample.payload().expect("payload").mass)
         .collect();
     assert!(
         masses.contains(&0.0) && masses.contains(&20.0),

@@ -53,8 +53,9 @@ pub fn load_samples(
 ) -> Result<(), Error> {
     let loads = loads_of(&KinematicModel::new(robot), robot, masses, samples)?;
     for (sample, load) in samples.iter_mut().zip(loads) {
-        sample.torques = Some(load.torques);
-        sample.tilt_torques = Some(load.tilt_torques);
+        let loads = sample.loads_mut();
+        loads.torques = Some(load.torques);
+        loads.tilt_torques = Some(load.tilt_torques);
     }
     Ok(())
 }
@@ -108,7 +109,7 @@ fn loads_of(
                 gravity_loads_in(
                     robot,
                     masses,
-                    sample.payload.as_ref(),
+                    sample.payload(),
                     |frame| chain.world_from_frame(frame),
                     &mut torques,
                     Some(&mut tilt_torques),
@@ -116,10 +117,9 @@ fn loads_of(
                 .map_err(failed)?;
                 let tool = chain.world_from_tool().translation.vector;
                 let mut moved = Vector3::zeros();
-                let own = sample.torques.as_deref().unwrap_or_default();
+                let own = sample.torques().unwrap_or_default();
                 let own_tilts = sample
-                    .tilt_torques
-                    .as_deref()
+                    .tilt_torques()
                     .filter(|tilts| tilts.len() == 2 * joints);
                 for (joint, compliance) in compliances.iter().enumerate() {
                     let turned = compliance
@@ -175,8 +175,9 @@ fn carrying(study: &Study, loads: StudyLoads) -> Study {
     let mut weighed = study.clone();
     for (set, loads) in weighed.sets.iter_mut().zip(loads) {
         for (sample, load) in set.samples.iter_mut().zip(loads) {
-            sample.torques = Some(load.torques);
-            sample.tilt_torques = Some(load.tilt_torques);
+            let loads = sample.loads_mut();
+            loads.torques = Some(load.torques);
+            loads.tilt_torques = Some(load.tilt_torques);
         }
     }
     weighed
@@ -399,16 +400,16 @@ mod tests {
     fn samples_are_loaded_with_their_payload_and_lines_are_named() {
         let (robot, masses) = level_arm();
         let mut samples = vec![Sample::new(vec![0.0, 0.0]), Sample::new(vec![0.0, 0.0])];
-        samples[1].payload = Some(LinkMass {
+        samples[1].set_payload(Some(LinkMass {
             mass: 5.0,
             com: Vector3::zeros(),
-        });
+        }));
         load_samples(&robot, &masses, &mut samples).expect("loads");
-        let first = samples[0].torques.clone().expect("τ");
-        let second = samples[1].torques.clone().expect("τ");
+        let first = samples[0].torques().expect("τ").to_vec();
+        let second = samples[1].torques().expect("τ").to_vec();
         let weight = 5.0 * gecaro_core::STANDARD_GRAVITY;
         assert!((second[0].abs() - first[0].abs() - 2.0 * weight).abs() < 1e-9);
-        samples[0].motor_positions = vec![f64::NAN, 0.0];
+        samples[0].motor_positions = [f64::NAN, 0.0].as_slice().into();
         samples[0].line = Some(12);
         match load_samples(&robot, &masses, &mut samples) {
             Err(Error::InvalidData { line, .. }) => assert_eq!(line, Some(12)),
@@ -431,7 +432,7 @@ mod tests {
             .map(|q| {
                 let mut sample = Sample::new(q.to_vec());
                 // Loads a few per cent off (a geometry centimetres off).
-                sample.torques = Some(
+                sample.loads_mut().torques = Some(
                     gravity_torques(&robot, &masses, None, q)
                         .expect("τ")
                         .iter()
@@ -449,10 +450,10 @@ mod tests {
         for (before, after) in study.sets[0].samples.iter().zip(&weighed.sets[0].samples) {
             let q = &before.motor_positions;
             model
-                .forward_loaded(q, before.torques.as_deref(), &mut old)
+                .forward_loaded(q, before.torques(), &mut old)
                 .expect("pose");
             model
-                .forward_loaded(q, after.torques.as_deref(), &mut new)
+                .forward_loaded(q, after.torques(), &mut new)
                 .expect("pose");
             sum += (new.world_from_tool().translation.vector
                 - old.world_from_tool().translation.vector)

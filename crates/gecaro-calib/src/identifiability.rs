@@ -554,14 +554,13 @@ pub(crate) fn random_counterpart_at(
 /// them from the geometry is the excitation check's question. The tilts'
 /// torques go with them.
 fn lend_loads(data: &[Sample], random: &mut [Sample], sampler: &mut Sampler) {
-    let loaded: Vec<&Sample> = data.iter().filter(|s| s.torques.is_some()).collect();
+    let loaded: Vec<&Sample> = data.iter().filter(|s| s.torques().is_some()).collect();
     if loaded.is_empty() {
         return;
     }
     for sample in random {
         let drawn = (sampler.uniform(0.0, loaded.len() as f64) as usize).min(loaded.len() - 1);
-        sample.torques.clone_from(&loaded[drawn].torques);
-        sample.tilt_torques.clone_from(&loaded[drawn].tilt_torques);
+        sample.loads.clone_from(&loaded[drawn].loads);
     }
 }
 

@@ -100,6 +100,6 @@ pub mod prelude {
     pub use crate::methods::{CalibrationMethod, METHODS, MethodOptions, Plane, Sensor, method};
     pub use crate::progress::{Observer, Progress, Quiet, each_iteration, each_step};
     pub use crate::simulation::{Sampler, perturbed_robot, simulate_at, simulate_measurements};
-    pub use crate::study::{DataColumn, Sample, Study};
+    pub use crate::study::{DataColumn, MotorPositions, Sample, SampleLoads, Study};
     pub use crate::{Error, Setting};
 }

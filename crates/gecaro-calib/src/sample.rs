@@ -6,12 +6,23 @@
 
 use gecaro_core::LinkMass;
 use nalgebra::{UnitQuaternion, Vector3};
+use smallvec::SmallVec;
+
+/// The motor variables of one configuration, held in place up to seven
+/// joints (a longer chain spills to the heap): a million samples are a
+/// million allocations fewer.
+pub type MotorPositions = SmallVec<[f64; 7]>;
 
 /// One configuration with what was measured there.
+///
+/// A sample is compact (192 bytes, no allocation for up to seven joints):
+/// a tracker's data set holds a million of them. What loads an elastic
+/// robot's joints, which most samples do not carry, sits behind one
+/// pointer ([`Sample::loads`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Sample {
     /// Motor variables qm (eq. 4): radians or metres.
-    pub motor_positions: Vec<f64>,
+    pub motor_positions: MotorPositions,
     /// Measured position of the origin of frame n+1 in the world frame (m).
     pub position: Option<Vector3<f64>>,
     /// Measured orientation of frame n+1 in the world frame.
@@ -22,8 +33,16 @@ pub struct Sample {
     pub distance: Option<f64>,
     /// Line of the data file this sample came from, for messages.
     pub line: Option<usize>,
+    /// The payload and the joint loads at this configuration, when the
+    /// data state them (issue 38); `None`: no load.
+    pub loads: Option<Box<SampleLoads>>,
+}
+
+/// What loads the joints of an elastic robot at one configuration.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SampleLoads {
     /// The payload carried at this configuration (its centre in frame
-    /// n+1), when the data state one (issue 38).
+    /// n+1), when the data state one.
     pub payload: Option<LinkMass>,
     /// The gravity torque of every joint (N·m, or N), the load an elastic
     /// robot's joints yield to; `None`: no load. Filled from the masses and
@@ -37,8 +56,11 @@ pub struct Sample {
 }
 
 impl Sample {
-    /// A sample with only a configuration.
-    pub fn new(motor_positions: Vec<f64>) -> Self {
+    /// A sample with only a configuration (held in place up to seven
+    /// joints, whatever the capacity of the vector it came in).
+    pub fn new(motor_positions: impl Into<MotorPositions>) -> Self {
+        let mut motor_positions = motor_positions.into();
+        motor_positions.shrink_to_fit();
         Sample {
             motor_positions,
             position: None,
@@ -46,9 +68,35 @@ impl Sample {
             group: None,
             distance: None,
             line: None,
-            payload: None,
-            torques: None,
-            tilt_torques: None,
+            loads: None,
+        }
+    }
+
+    /// The payload carried at this configuration, if the data state one.
+    pub fn payload(&self) -> Option<&LinkMass> {
+        self.loads.as_ref()?.payload.as_ref()
+    }
+
+    /// The gravity torque of every joint ([`SampleLoads::torques`]).
+    pub fn torques(&self) -> Option<&[f64]> {
+        self.loads.as_ref()?.torques.as_deref()
+    }
+
+    /// The torques' derivatives with respect to gravity's two tilts
+    /// ([`SampleLoads::tilt_torques`]).
+    pub fn tilt_torques(&self) -> Option<&[f64]> {
+        self.loads.as_ref()?.tilt_torques.as_deref()
+    }
+
+    /// The loads of this sample, made (empty) if it had none.
+    pub fn loads_mut(&mut self) -> &mut SampleLoads {
+        self.loads.get_or_insert_with(Box::default)
+    }
+
+    /// This sample carrying `payload` (none: unloaded).
+    pub fn set_payload(&mut self, payload: Option<LinkMass>) {
+        if payload.is_some() || self.loads.is_some() {
+            self.loads_mut().payload = payload;
         }
     }
 
@@ -127,5 +175,23 @@ impl DataColumn {
             DataColumn::Pair => &["pair"],
             DataColumn::Distance => &["distance"],
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A tracker's million samples stay compact: the motor variables of a
+    /// seven-joint robot in place, the loads behind one pointer.
+    #[test]
+    fn a_sample_is_compact_and_keeps_seven_joints_in_place() {
+        assert!(std::mem::size_of::<Sample>() <= 192);
+        let mut joints = Vec::with_capacity(16);
+        joints.extend([0.1; 7]);
+        let sample = Sample::new(joints);
+        assert!(!sample.motor_positions.spilled());
+        assert_eq!(sample.payload(), None);
+        assert_eq!(sample.torques(), None);
     }
 }

@@ -167,8 +167,8 @@ pub(crate) fn evaluate_chunk(
     for (sample, state) in samples.iter().zip(states) {
         model.forward_tilted(
             &sample.motor_positions,
-            sample.torques.as_deref(),
-            sample.tilt_torques.as_deref(),
+            sample.torques(),
+            sample.tilt_torques(),
             &mut chain,
         )?;
         state.pose = *chain.world_from_tool();

@@ -12,7 +12,7 @@ use crate::methods::units;
 use crate::observation::{ObservationSystem, linearise_independent, write_rows};
 use crate::rows::{ColumnLayout, RowWriter};
 
-pub use crate::sample::{DataColumn, Sample};
+pub use crate::sample::{DataColumn, MotorPositions, Sample, SampleLoads};
 use crate::states::{TerminalState, evaluate_poses, evaluate_states};
 
 /// One measurement set of a study.

@@ -112,7 +112,8 @@ fn corrupt(name: &str, study: &mut Study, seed: u64) -> Vec<usize> {
                 } else {
                     direction
                 };
-                sample.motor_positions = displaced(&robot, &sample.motor_positions, GROSS * along);
+                sample.motor_positions =
+                    displaced(&robot, &sample.motor_positions, GROSS * along).into();
             }
         }
         corrupted.push(index);

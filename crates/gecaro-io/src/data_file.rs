@@ -323,7 +323,7 @@ const PAYLOAD_COLUMNS: [&str; 4] = ["payload_mass", "payload_x", "payload_y", "p
 /// The payload columns a file of `samples` has: all of them when any sample
 /// carries a payload, none otherwise.
 fn payload_columns_of(samples: &[Sample]) -> &'static [&'static str] {
-    if samples.iter().any(|sample| sample.payload.is_some()) {
+    if samples.iter().any(|sample| sample.payload().is_some()) {
         &PAYLOAD_COLUMNS
     } else {
         &[]
@@ -333,7 +333,7 @@ fn payload_columns_of(samples: &[Sample]) -> &'static [&'static str] {
 /// A row's payload columns: its mass (kg) and centre in units of `length`
 /// metres; 0 kg at the origin for a row that carried none.
 fn payload_values(sample: &Sample, length: f64) -> [f64; 4] {
-    let payload = sample.payload.unwrap_or(LinkMass {
+    let payload = sample.payload().copied().unwrap_or(LinkMass {
         mass: 0.0,
         com: nalgebra::Vector3::zeros(),
     });
@@ -610,7 +610,7 @@ mod tests {
         )
         .expect("valid");
         assert!(file.unused_columns.is_empty(), "{:?}", file.unused_columns);
-        let payload = file.samples[0].payload.expect("payload");
+        let payload = *file.samples[0].payload().expect("payload");
         assert_eq!(payload.mass, 10.0);
         assert!((payload.com - Vector3::new(0.0, 0.0, 0.12)).norm() < 1e-15);
         let written = format_samples(2, &[DataColumn::Position], &file.samples);
@@ -623,7 +623,7 @@ mod tests {
             &[DataColumn::Position],
         )
         .expect("valid");
-        assert_eq!(alone[0].payload.expect("payload").com, Vector3::zeros());
+        assert_eq!(alone[0].payload().expect("payload").com, Vector3::zeros());
         // Without a payload, nothing is written.
         let none = format_samples(2, &[DataColumn::Position], &alone[..0]);
         assert_eq!(none, "qm1,qm2,x,y,z\n");
@@ -711,7 +711,7 @@ mod tests {
     fn columns_may_come_in_any_order_with_comments() {
         let text = "# exported from the tracker\nz,qm2,x,qm1,y\n3,2,1,0.5,2\n";
         let read = parse(text, &[DataColumn::Position]).expect("valid");
-        assert_eq!(read[0].motor_positions, [0.5, 2.0]);
+        assert_eq!(read[0].motor_positions.as_slice(), [0.5, 2.0]);
         assert_eq!(read[0].position, Some(Vector3::new(1.0, 2.0, 3.0)));
     }
 

@@ -11,7 +11,7 @@
 //! lines than [`MAX_CONFIGURATIONS`] (the limit cannot fall inside a part).
 
 use gecaro_calib::parallel::{available_threads, run_parts};
-use gecaro_calib::study::Sample;
+use gecaro_calib::study::{MotorPositions, Sample};
 use gecaro_core::LinkMass;
 use nalgebra::Vector3;
 use std::io::Read;
@@ -404,7 +404,7 @@ impl RowReader<'_> {
                 }
                 Ok(motor)
             })
-            .collect::<Result<Vec<f64>, Error>>()?;
+            .collect::<Result<MotorPositions, Error>>()?;
         let mut sample = Sample {
             line: Some(line),
             ..Sample::new(motor_positions)
@@ -447,10 +447,10 @@ impl RowReader<'_> {
                 Some([x, y, z]) => Vector3::new(length(x)?, length(y)?, length(z)?),
                 None => Vector3::zeros(),
             };
-            sample.payload = Some(LinkMass {
+            sample.set_payload(Some(LinkMass {
                 mass: kilograms,
                 com,
-            });
+            }));
         }
         Ok(sample)
     }

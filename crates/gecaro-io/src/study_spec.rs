@@ -655,7 +655,7 @@ impl SetSpec {
         if let Some(line) = set
             .samples
             .iter()
-            .find(|sample| sample.payload.is_some())
+            .find(|sample| sample.payload().is_some())
             .map(|sample| sample.line)
         {
             return Err(misplaced(
@@ -669,7 +669,7 @@ impl SetSpec {
             ));
         }
         for sample in &mut set.samples {
-            sample.payload = Some(payload);
+            sample.set_payload(Some(payload));
         }
         Ok(())
     }

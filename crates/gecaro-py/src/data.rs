@@ -194,10 +194,10 @@ impl PyData {
                         "payload: row {row}: {mass} is not a mass in kg (≥ 0)"
                     )));
                 }
-                sample.payload = Some(gecaro_core::LinkMass {
+                sample.set_payload(Some(gecaro_core::LinkMass {
                     mass,
                     com: Vector3::new(x, y, z),
-                });
+                }));
             }
         }
         Ok(PyData::from_samples(
@@ -325,7 +325,7 @@ impl PyData {
     fn payload<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArrayDyn<f64>>>> {
         self.field(py, 4, |sample| {
             sample
-                .payload
+                .payload()
                 .map(|p| vec![p.mass, p.com.x, p.com.y, p.com.z])
         })
     }

@@ -668,7 +668,7 @@ fn write_tracker_file(folder: &Path, name: &str, count: usize, seed: u64) {
     .expect("data");
     let mut text = String::from("qm1;qm2;qm3;qm4;qm5;qm6;X_mm;Y_mm;Z_mm\n");
     for sample in samples {
-        let mut fields: Vec<f64> = sample.motor_positions.clone();
+        let mut fields: Vec<f64> = sample.motor_positions.to_vec();
         fields[2] *= 1e3;
         let p = sample.position.expect("position") * 1e3;
         fields.extend([p.x, p.y, p.z]);

@@ -215,7 +215,7 @@ fn measure_sets(
             members.push(reached);
         }
         for (index, motor_positions) in set.into_iter().zip(members) {
-            measured[index].motor_positions = motor_positions;
+            measured[index].motor_positions = motor_positions.into();
         }
     }
     Ok(measured)

@@ -165,7 +165,7 @@ fn measure_in_plane(
             };
             let reached = sampler.reach(real, &target, Some(&sample.motor_positions), &[])?;
             Ok(Sample {
-                motor_positions: reached,
+                motor_positions: reached.into(),
                 ..sample.clone()
             })
         })

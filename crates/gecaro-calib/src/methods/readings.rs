@@ -10,7 +10,7 @@ use nalgebra::UnitQuaternion;
 use crate::error::Error;
 use crate::method::Sensor;
 use crate::progress::{Observer, report_step};
-use crate::sample::Sample;
+use crate::sample::{Sample, SampleLoads};
 use crate::sampler::Sampler;
 
 /// What a sensor reads of frame n+1; the simulated session of the position
@@ -48,11 +48,8 @@ impl Reader {
         noise: f64,
         sampler: &mut Sampler,
     ) -> Result<Sample, Error> {
-        self.model.forward_loaded(
-            &planned.motor_positions,
-            planned.torques.as_deref(),
-            &mut self.chain,
-        )?;
+        self.model
+            .forward_loaded(&planned.motor_positions, planned.torques(), &mut self.chain)?;
         let pose = *self.chain.world_from_tool();
         let orientation = match self.reading {
             Reading::Point => None,
@@ -63,10 +60,9 @@ impl Reader {
         Ok(Sample {
             position: Some(pose.translation.vector + sampler.gaussian_vector(noise)),
             orientation,
-            payload: planned.payload,
             // The loads go on with the reading: a plan's nominal readings
             // keep the compliances' columns (planning::columns).
-            torques: planned.torques,
+            loads: planned.loads,
             ..Sample::new(planned.motor_positions)
         })
     }
@@ -106,8 +102,13 @@ fn readings_at(
     for (done, sample) in planned.iter().enumerate() {
         report_step(observer, done, planned.len())?;
         let planned = Sample {
-            payload: sample.payload,
-            torques: sample.torques.clone(),
+            loads: sample.loads.as_ref().map(|loads| {
+                Box::new(SampleLoads {
+                    payload: loads.payload,
+                    torques: loads.torques.clone(),
+                    tilt_torques: None,
+                })
+            }),
             ..Sample::new(sample.motor_positions.clone())
         };
         samples.push(sensor.read(planned, noise, sampler)?);
