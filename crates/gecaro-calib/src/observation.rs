@@ -252,8 +252,10 @@ pub struct ObservationSystem {
     appended_weights: Vec<f64>,
     /// What each measured row measures (appended rows have none).
     kinds: Vec<RowKind>,
-    /// The observation (configuration, pair) each row belongs to, numbered across sets.
-    observations: Vec<usize>,
+    /// The observation (configuration, pair) each row belongs to, numbered
+    /// across sets. 32 bits: a study of 2³² observations would hold a
+    /// terabyte of samples; millions of rows keep 4 bytes each.
+    observations: Vec<u32>,
     observation_count: usize,
     /// Robust weight of each observation (empty: all 1); kept by `reset`.
     observation_weights: Vec<f64>,
@@ -333,7 +335,11 @@ impl ObservationSystem {
         (0..self.set_rows.len())
             .flat_map(move |set| self.sensor_weights_of(set))
             .map(move |(row, sensor)| {
-                let whole = whole_weight(sensor, &self.observation_weights, self.observations[row]);
+                let whole = whole_weight(
+                    sensor,
+                    &self.observation_weights,
+                    self.observations[row] as usize,
+                );
                 (sensor, whole)
             })
             .chain(
@@ -473,7 +479,7 @@ impl ObservationSystem {
     }
 
     /// The observation each measured row belongs to.
-    pub fn row_observations(&self) -> &[usize] {
+    pub fn row_observations(&self) -> &[u32] {
         &self.observations
     }
 
@@ -596,7 +602,7 @@ impl ObservationSystem {
         let mut errors = vec![(0.0, 0.0); self.observation_count];
         for row in 0..self.measured_rows() {
             let squared = self.residuals[row] * self.residuals[row];
-            let error = &mut errors[self.observations[row]];
+            let error = &mut errors[self.observations[row] as usize];
             match self.kinds[row] {
                 RowKind::Length => error.0 += squared,
                 RowKind::Angle => error.1 += squared,

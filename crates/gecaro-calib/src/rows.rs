@@ -111,7 +111,7 @@ pub struct RowWriter<'a> {
     /// Robust weights of the whole system's observations (empty: all 1).
     pub(crate) observation_weights: &'a [f64],
     pub(crate) kinds: &'a mut [RowKind],
-    pub(crate) observations: &'a mut [usize],
+    pub(crate) observations: &'a mut [u32],
     pub(crate) columns: usize,
     pub(crate) layout: &'a ColumnLayout,
     pub(crate) next_row: usize,
@@ -183,7 +183,8 @@ impl<'a> RowWriter<'a> {
         self.residuals[row] = residual;
         self.kinds[row] = kind;
         let observation = self.observation_base + observation;
-        self.observations[row] = observation;
+        debug_assert!(u32::try_from(observation).is_ok());
+        self.observations[row] = observation as u32;
         self.observation_end = self.observation_end.max(observation + 1);
         self.next_row += 1;
     }
@@ -253,8 +254,9 @@ impl<'a> RowWriter<'a> {
 
     /// The rows written so far: their weighted right-hand sides `w r`.
     pub(crate) fn weighted_residuals(&self) -> impl Iterator<Item = f64> + '_ {
-        (0..self.next_row)
-            .map(|row| self.residuals[row] * self.weight(self.kinds[row], self.observations[row]))
+        (0..self.next_row).map(|row| {
+            self.residuals[row] * self.weight(self.kinds[row], self.observations[row] as usize)
+        })
     }
 
     /// The whole weight of a row of `kind` of `observation` (numbered in

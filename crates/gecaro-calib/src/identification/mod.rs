@@ -620,10 +620,14 @@ fn fit_pass(
         let start = held.assemble(&start.robot, &start.auxiliary, &held.layout, &mut states)?;
         (held, start)
     };
+    let errors_before = start.system.observation_errors();
     let begun = Begun {
         first: problem.record(&start, &[], 0.0),
-        before: ErrorSummary::of(&start.system),
-        errors_before: start.system.observation_errors(),
+        before: ErrorSummary::of_errors(
+            &errors_before,
+            start.system.kinds().contains(&RowKind::Angle),
+        ),
+        errors_before,
     };
     report(observer, Progress::Iteration(&begun.first))?;
     let (run, route) = descend(
@@ -1047,7 +1051,7 @@ fn summarise(
         moved,
         warnings,
         condition_number,
-        after: ErrorSummary::of(&best.system),
+        after: ErrorSummary::of_errors(&errors_after, has_rotation),
         errors_after,
         errors_before: begun.errors_before,
         before: begun.before,

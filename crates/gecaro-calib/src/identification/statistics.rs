@@ -74,7 +74,9 @@ impl ResidualStatistics {
         // summed here as the rows are standardised.
         // Noise-free (simulated) data leave rounding residuals: no outliers
         // among them, and no weights from them.
-        let mut sums = vec![(0.0, 0_usize); system.observation_count()];
+        // Sums of squares (standardised in place below) and row counts.
+        let mut squares = vec![0.0; system.observation_count()];
+        let mut rows = vec![0_u32; system.observation_count()];
         for set in 0..system.set_rows().len() {
             for (slot, kind) in KINDS.into_iter().enumerate() {
                 let (count, own) = set_sigma(set, kind);
@@ -87,24 +89,27 @@ impl ResidualStatistics {
                 };
                 for (row, scaled) in system.scaled_rows_of(set).filter(of_kind(kind)) {
                     let standardized = scaled / sigma.max(RESIDUAL_FLOOR);
-                    let sum = &mut sums[observations[row]];
-                    sum.0 += standardized * standardized;
-                    sum.1 += 1;
+                    let observation = observations[row] as usize;
+                    squares[observation] += standardized * standardized;
+                    rows[observation] += 1;
                 }
             }
         }
         let slot = usize::from(!kinds.contains(&RowKind::Length));
         let robust_sigma = pooled[slot].unwrap_or_else(|| all_sigma(KINDS[slot]));
-        let standardized: Vec<f64> = sums
-            .into_iter()
-            .map(|(sum, rows)| (sum / rows.max(1) as f64).sqrt())
-            .collect();
+        let mut standardized = squares;
+        for (u, rows) in standardized.iter_mut().zip(rows) {
+            *u = (*u / f64::from(rows.max(1))).sqrt();
+        }
         let weights: Vec<f64> = standardized.iter().map(|u| loss.weight(*u)).collect();
-        let discarded = observations.iter().filter(|o| weights[**o] == 0.0).count();
+        let discarded = observations
+            .iter()
+            .filter(|o| weights[**o as usize] == 0.0)
+            .count();
         let effective_equations = equations.saturating_sub(discarded);
         let weighted: f64 = system
             .scaled_rows()
-            .map(|(row, e)| weights[observations[row]] * e * e)
+            .map(|(row, e)| weights[observations[row] as usize] * e * e)
             .sum();
         ResidualStatistics {
             robust_sigma,

@@ -474,12 +474,23 @@ fn distinct(study: &Study) -> (usize, f64) {
 /// 0), over every set.
 fn copies(study: &Study) -> usize {
     use std::hash::Hasher;
-    let measurements: Vec<(usize, usize)> = study
+    // The measurements are numbered across the sets; a number is found
+    // back by the sets' first numbers (a few sets: no list of a million
+    // pairs).
+    let firsts: Vec<usize> = study
         .sets
         .iter()
-        .enumerate()
-        .flat_map(|(set, data)| (0..data.samples.len()).map(move |sample| (set, sample)))
+        .scan(0, |first, set| {
+            let this = *first;
+            *first += set.samples.len();
+            Some(this)
+        })
         .collect();
+    let count = study.sets.iter().map(|set| set.samples.len()).sum();
+    let locate = |index: usize| {
+        let set = firsts.partition_point(|&first| first <= index) - 1;
+        (set, index - firsts[set])
+    };
     // Sets of one method compare with each other: the method's name, once.
     let methods: Vec<u64> = study
         .sets
@@ -493,9 +504,9 @@ fn copies(study: &Study) -> usize {
         words
     };
     let unique = count_distinct(
-        measurements.len(),
+        count,
         |index| {
-            let (set, sample) = measurements[index];
+            let (set, sample) = locate(index);
             let mut hasher = rustc_hash::FxHasher::default();
             hasher.write_u64(methods[set]);
             measurement_words(&study.sets[set].samples[sample], |word| {
@@ -505,13 +516,13 @@ fn copies(study: &Study) -> usize {
         },
         // Only items of equal fingerprints are compared.
         |a, b| {
-            let (a, b) = (measurements[a], measurements[b]);
+            let (a, b) = (locate(a), locate(b));
             method(a)
                 .cmp(method(b))
                 .then_with(|| words(a).cmp(&words(b)))
         },
     );
-    measurements.len() - unique
+    count - unique
 }
 
 /// What a measurement is made of, handed to `word` as 64-bit words: its
@@ -543,22 +554,32 @@ fn measurement_words(sample: &Sample, mut word: impl FnMut(u64)) {
 /// compared, and counts as a repeat only when equal. Should two different
 /// items share a fingerprint, the count is made again by sorting (by
 /// fingerprint, ties by `compare`). Exact either way.
+///
+/// The table holds the items' numbers only (4 bytes and a control byte a
+/// slot, 10 MB for a million items); a slot's fingerprint is computed
+/// again when a probe meets it.
 fn count_distinct(
     count: usize,
     fingerprint: impl Fn(usize) -> u64,
     compare: impl Fn(usize, usize) -> std::cmp::Ordering,
 ) -> usize {
-    use std::collections::hash_map::Entry;
-    let mut seen: rustc_hash::FxHashMap<u64, usize> =
-        rustc_hash::FxHashMap::with_capacity_and_hasher(count, Default::default());
+    use hashbrown::hash_table::Entry;
+    if u32::try_from(count).is_err() {
+        return count_distinct_sorted(count, fingerprint, compare);
+    }
+    let mut seen = hashbrown::HashTable::<u32>::with_capacity(count);
     let mut distinct = 0;
     for item in 0..count {
-        match seen.entry(fingerprint(item)) {
+        let print = fingerprint(item);
+        let same = |seen: &u32| fingerprint(*seen as usize) == print;
+        let hash = |seen: &u32| fingerprint(*seen as usize);
+        match seen.entry(print, same, hash) {
             Entry::Vacant(entry) => {
-                entry.insert(item);
+                // `count` fits in a u32 (checked above).
+                entry.insert(item as u32);
                 distinct += 1;
             }
-            Entry::Occupied(entry) if compare(*entry.get(), item).is_eq() => {}
+            Entry::Occupied(entry) if compare(*entry.get() as usize, item).is_eq() => {}
             Entry::Occupied(_) => return count_distinct_sorted(count, fingerprint, compare),
         }
     }
@@ -607,7 +628,7 @@ fn residual_sigmas(evidence: &Evidence<'_>) -> (Option<f64>, Option<f64>) {
     let weight = |row: usize| {
         evidence
             .observation_weights
-            .get(observations[row])
+            .get(observations[row] as usize)
             .copied()
             .unwrap_or(1.0)
     };
