@@ -644,7 +644,7 @@ pub(crate) fn demo(args: &DemoArgs) -> Result<(), Failure> {
             RobotSource::Loaded(Box::new(stanford.clone())),
             method,
             Some(DataSource::Samples {
-                samples,
+                samples: samples.into(),
                 label: method_name.to_owned(),
             }),
         );

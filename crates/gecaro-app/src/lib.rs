@@ -47,7 +47,7 @@
 //!     r#"{"robot": "stanford", "method": {"name": "position"}, "loss": "huber"}"#,
 //! )?;
 //! identify.measurements.data = Some(DataSource::Samples {
-//!     samples: generated.samples,
+//!     samples: generated.samples.into(),
 //!     label: "generated".into(),
 //! });
 //! let identified = identify.run(&LocalFiles, &mut gecaro_calib::Quiet)?;

@@ -3,6 +3,7 @@
 //! file as an instrument wrote it ([`DataFormatSpec`]).
 
 use std::path::Path;
+use std::sync::Arc;
 
 use gecaro_calib::study::{DataColumn, Sample};
 use gecaro_io::{
@@ -109,8 +110,9 @@ pub enum DataSource {
     /// Samples built already (Python arrays), with a label for messages.
     #[serde(skip)]
     Samples {
-        /// The samples.
-        samples: Vec<Sample>,
+        /// The samples, shared with whoever made them (a Python `Data`):
+        /// reading them copies them once, into the study.
+        samples: Arc<Vec<Sample>>,
         /// What names them in messages and reports.
         label: String,
     },
@@ -216,7 +218,7 @@ impl DataSource {
             },
             DataSource::Samples { samples, label } => {
                 return Ok(DataRead {
-                    samples: samples.clone(),
+                    samples: Vec::clone(samples),
                     label: label.clone(),
                     unused_columns: Vec::new(),
                     notes: Vec::new(),

@@ -27,7 +27,7 @@ fn a_document_lists_the_worst_outliers_and_counts_them_all() {
     )
     .expect("request");
     identify.measurements.data = Some(DataSource::Samples {
-        samples,
+        samples: samples.into(),
         label: "corrupted".into(),
     });
     let identified = identify.run(&LocalFiles, &mut Quiet).expect("identified");

@@ -27,6 +27,7 @@
 
 use std::collections::BTreeMap;
 use std::fmt;
+use std::sync::Arc;
 
 use gecaro_calib::frames::{FrameRole, NamedFrame};
 use gecaro_calib::identification::Prior;
@@ -166,8 +167,9 @@ pub enum SetData {
     File(String),
     /// Samples in metres and radians (Python's arrays), with a label.
     Samples {
-        /// The configurations and what was measured there.
-        samples: Vec<Sample>,
+        /// The configurations and what was measured there, shared with
+        /// whoever made them (a Python `Data`): the study copies them once.
+        samples: Arc<Vec<Sample>>,
         /// What names them in messages.
         label: String,
     },
@@ -606,7 +608,7 @@ impl SetSpec {
         let (name, format) = match (&self.data, format) {
             (SetData::File(name), Some(format)) => (name, format),
             (SetData::Samples { samples, .. }, _) => {
-                set.samples = samples.clone();
+                set.samples = Vec::clone(samples);
                 self.carried(set, misplaced)?;
                 return Ok(Vec::new());
             }
@@ -880,7 +882,7 @@ mod tests {
         SetSpec {
             method: MethodChoice::Named("position".into()),
             data: SetData::Samples {
-                samples,
+                samples: samples.into(),
                 label: "arrays".into(),
             },
             sigma: Some(StandardDeviation::WithUnit("20um".into())),

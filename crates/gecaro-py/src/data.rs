@@ -14,6 +14,7 @@ use numpy::PyArrayDyn;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
+use std::sync::Arc;
 
 use crate::arrays::{Real, array, identifiers};
 use crate::errors::{IntoPyResult, input};
@@ -29,7 +30,8 @@ const ARRAYS: &str = "<arrays>";
 #[pyclass(name = "Data", module = "gecaro", skip_from_py_object)]
 #[derive(Clone)]
 pub(crate) struct PyData {
-    pub(crate) samples: Vec<Sample>,
+    /// Shared with the requests made of it (no copy until a study is made).
+    pub(crate) samples: Arc<Vec<Sample>>,
     joint_count: usize,
     /// Names the data in messages and reports: the file, or `<arrays>`.
     pub(crate) label: String,
@@ -39,7 +41,7 @@ pub(crate) struct PyData {
 impl PyData {
     pub(crate) fn from_samples(samples: Vec<Sample>, joint_count: usize, label: String) -> Self {
         PyData {
-            samples,
+            samples: Arc::new(samples),
             joint_count,
             label,
             unused_columns: Vec::new(),
@@ -248,7 +250,7 @@ impl PyData {
             )
             .py()?;
         Ok(PyData {
-            samples: file.samples,
+            samples: Arc::new(file.samples),
             joint_count: robot.robot().joint_count(),
             label: path.display().to_string(),
             unused_columns: file.unused_columns,

@@ -2,6 +2,8 @@
 //! measurements and settings: a robot with a `Method` and `Data`, or a
 //! `Study`; a priority matrix as an array or a file.
 
+use std::sync::Arc;
+
 use gecaro_app::{
     DataSource, FitSettings, LoadedStudy, Measurements, PrioritySource, RobotSource, StudySource,
 };
@@ -68,7 +70,9 @@ pub(crate) fn measurements(
         // A study file's method: its options are not known, only the method.
         None => {
             let (samples, label) = match data {
-                Some(DataSource::Samples { samples, label }) => (samples, label),
+                Some(DataSource::Samples { samples, label }) => {
+                    (Arc::unwrap_or_clone(samples), label)
+                }
                 _ => (Vec::new(), "random configurations".to_owned()),
             };
             Measurements {

@@ -233,7 +233,7 @@ impl PyStudy {
         // The sets' data are read: later sets added in Python need no files.
         for (entry, set) in spec.measurements.iter_mut().zip(&file.study.sets) {
             entry.data = SetData::Samples {
-                samples: set.samples.clone(),
+                samples: std::sync::Arc::new(set.samples.clone()),
                 label: set.label.clone(),
             };
             entry.sigma = set.sigma.map(StandardDeviation::Number);
