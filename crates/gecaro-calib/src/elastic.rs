@@ -38,9 +38,10 @@ const LOAD_TOLERANCE: f64 = 0.1;
 /// 0.05 for an arm a hundred times softer.
 const SETTLING_ITERATIONS: usize = 50;
 
-/// Fills every sample's [`Sample::torques`] with the gravity torques at its
-/// commanded configuration (see the module docs), from `masses` and the
-/// sample's payload, and its [`Sample::tilt_torques`] with their
+/// Fills every sample's [`torques`](crate::sample::SampleLoads::torques)
+/// with the gravity torques at its commanded configuration (see the module
+/// docs), from `masses` and the sample's payload, and its
+/// [`tilt_torques`](crate::sample::SampleLoads::tilt_torques) with their
 /// derivatives with respect to gravity's tilts.
 ///
 /// # Errors
