@@ -245,11 +245,15 @@ impl Study {
     /// not fit the robot are left to [`Study::check`].
     pub fn limit_violations(&self, robot: &Robot) -> Vec<LimitViolation> {
         let mut violations = Vec::new();
+        let mut joints = vec![0.0; robot.joint_count()];
         for set in &self.sets {
             for sample in &set.samples {
-                let Ok(joints) = robot.joint_positions(&sample.motor_positions) else {
+                if robot
+                    .joint_positions_into(&sample.motor_positions, &mut joints)
+                    .is_err()
+                {
                     continue;
-                };
+                }
                 for (index, (value, joint)) in joints.iter().zip(robot.joints()).enumerate() {
                     if *value < joint.qmin || *value > joint.qmax {
                         violations.push(LimitViolation {

@@ -508,13 +508,42 @@ impl Robot {
     /// # Errors
     /// When `qm` does not hold n finite values.
     pub fn joint_positions(&self, motor_positions: &[f64]) -> Result<DVector<f64>, Error> {
-        self.check_configuration(motor_positions)?;
-        let qm = DVector::from_column_slice(motor_positions);
-        let mut q = &self.motor_to_joint * qm;
-        for (value, joint) in q.iter_mut().zip(&self.joints) {
-            *value += joint.offset;
-        }
+        let mut q = DVector::zeros(self.joint_count());
+        self.joint_positions_into(motor_positions, q.as_mut_slice())?;
         Ok(q)
+    }
+
+    /// [`joint_positions`](Self::joint_positions) written into
+    /// `joint_positions` (n values), without allocating: a million
+    /// configurations checked against their limits.
+    ///
+    /// # Errors
+    /// As [`joint_positions`](Self::joint_positions); `joint_positions`
+    /// must hold n values.
+    pub fn joint_positions_into(
+        &self,
+        motor_positions: &[f64],
+        joint_positions: &mut [f64],
+    ) -> Result<(), Error> {
+        self.check_configuration(motor_positions)?;
+        if joint_positions.len() != self.joint_count() {
+            return Err(Error::ConfigurationLength {
+                expected: self.joint_count(),
+                found: joint_positions.len(),
+            });
+        }
+        // q = M·qm + Offset, each row summed in the order of nalgebra's
+        // matrix–vector product (the same bits).
+        for (row, (value, joint)) in joint_positions.iter_mut().zip(&self.joints).enumerate() {
+            let product = motor_positions
+                .iter()
+                .enumerate()
+                .map(|(column, qm)| self.motor_to_joint[(row, column)] * qm)
+                .reduce(|sum, term| sum + term)
+                .unwrap_or(0.0);
+            *value = product + joint.offset;
+        }
+        Ok(())
     }
 
     /// Motor variables from joint variables, the inverse of eq. 4:
@@ -837,7 +866,7 @@ fn validate_coupling(
 
 #[cfg(test)]
 mod tests {
-    use rand::SeedableRng;
+    use rand::{RngExt, SeedableRng};
 
     use super::*;
     use crate::test_robots::random_robot;
@@ -856,6 +885,46 @@ mod tests {
             }
         }
         (robot, true)
+    }
+
+    /// Eq. 4 without allocating gives nalgebra's matrix–vector product to
+    /// the bit, with couplings and gains, and refuses a buffer of the wrong
+    /// length or a value that is not finite.
+    #[test]
+    fn joint_positions_into_is_the_matrix_product_of_eq_4() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        let mut spec = random_robot(&mut rng, 4).to_spec();
+        let coupling = |rng: &mut rand_chacha::ChaCha8Rng| {
+            DMatrix::from_fn(4, 4, |i, j| {
+                if i == j {
+                    1.0
+                } else {
+                    rng.random_range(-0.3..0.3)
+                }
+            })
+        };
+        spec.motor_coupling = Some(coupling(&mut rng));
+        spec.joint_coupling = Some(coupling(&mut rng));
+        let robot = Robot::new(spec).expect("robot");
+        let qm = [0.3, -1.2, 0.05, 2.5];
+        let mut expected = robot.motor_to_joint() * DVector::from_column_slice(&qm);
+        for (value, joint) in expected.iter_mut().zip(robot.joints()) {
+            *value += joint.offset;
+        }
+        let mut q = [0.0; 4];
+        robot.joint_positions_into(&qm, &mut q).expect("q");
+        assert_eq!(q.as_slice(), expected.as_slice());
+        assert!(matches!(
+            robot.joint_positions_into(&qm, &mut [0.0; 3]),
+            Err(Error::ConfigurationLength {
+                expected: 4,
+                found: 3
+            })
+        ));
+        assert!(matches!(
+            robot.joint_positions_into(&[0.0, f64::NAN, 0.0, 0.0], &mut q),
+            Err(Error::NonFiniteConfiguration { joint: 2, .. })
+        ));
     }
 
     #[test]
