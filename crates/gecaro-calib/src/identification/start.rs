@@ -56,24 +56,28 @@ const MAXIMUM_POINTS: usize = 500;
 pub(super) fn closed_form_start(robot: &Robot, study: &Study) -> Result<Option<Robot>, Error> {
     // Sets with a named tool or station measure another point or in another
     // frame; their frames start from their stated poses.
-    let points: Vec<(&[f64], Vector3<f64>)> = study
-        .sets
-        .iter()
-        .filter(|set| !set.uses_named_frames())
-        .flat_map(|set| &set.samples)
-        .filter_map(|sample| Some((sample.motor_positions.as_slice(), sample.position?)))
-        .collect();
-    if points.len() < MINIMUM_POINTS {
+    let points = || {
+        study
+            .sets
+            .iter()
+            .filter(|set| !set.uses_named_frames())
+            .flat_map(|set| &set.samples)
+            .filter_map(|sample| Some((sample.motor_positions.as_slice(), sample.position?)))
+    };
+    let count = points().count();
+    if count < MINIMUM_POINTS {
         return Ok(None);
     }
+    // The spread points (indices in increasing order), picked as the points
+    // go by: a million are not listed.
+    let mut picked = spread_indices(count, MAXIMUM_POINTS).into_iter().peekable();
     let mut flanges = Vec::new();
     let mut measured = Vec::new();
-    for (motors, point) in spread_indices(points.len(), MAXIMUM_POINTS)
-        .into_iter()
-        .map(|index| points[index])
-    {
-        flanges.push(terminal_pose(robot, motors)?);
-        measured.push(point);
+    for (index, (motors, point)) in points().enumerate() {
+        if picked.next_if_eq(&index).is_some() {
+            flanges.push(terminal_pose(robot, motors)?);
+            measured.push(point);
+        }
     }
     let nominal_rms = rms(
         &flanges,

@@ -44,73 +44,85 @@ impl ResidualStatistics {
         // The scaled residuals are read where they are (millions of rows
         // are not copied).
         let kinds = system.kinds();
-        let sigma_of = |values: Vec<f64>| (values.len(), robust_sigma_of(values));
-        let of_kind = |kind: RowKind| move |(row, _): &(usize, f64)| kinds[*row] == kind;
-        let set_sigma = |set: usize, kind: RowKind| {
-            sigma_of(
-                system
-                    .scaled_rows_of(set)
-                    .filter(of_kind(kind))
-                    .map(|(_, e)| e)
-                    .collect(),
-            )
+        const KINDS: [RowKind; 2] = [RowKind::Length, RowKind::Angle];
+        let slot_of = |row: usize| usize::from(kinds[row] == RowKind::Angle);
+        // A set's scaled residuals of each kind, in one pass.
+        let by_kind = |set: usize| {
+            let mut values = [Vec::new(), Vec::new()];
+            for (row, scaled) in system.scaled_rows_of(set) {
+                values[slot_of(row)].push(scaled);
+            }
+            values
         };
         let all_sigma = |kind: RowKind| {
-            sigma_of(
+            robust_sigma_of(
                 system
                     .scaled_rows()
-                    .filter(of_kind(kind))
+                    .filter(|(row, _)| kinds[*row] == kind)
                     .map(|(_, e)| e)
                     .collect(),
             )
-            .1
         };
         // All sets' σ̂ of a kind: a single set's own, otherwise computed
         // only if a set needs it or to report it.
-        const KINDS: [RowKind; 2] = [RowKind::Length, RowKind::Angle];
         let single = system.set_rows().len() == 1;
         let mut pooled: [Option<f64>; 2] = [None; 2];
         // Each observation's standardised residual is the RMS of its rows',
         // summed here as the rows are standardised.
         // Noise-free (simulated) data leave rounding residuals: no outliers
         // among them, and no weights from them.
-        // Sums of squares (standardised in place below) and row counts.
+        // Sums of squares (standardised in place below) and row counts, and
+        // the plain sum of squares of the scaled rows (the variance's when
+        // every weight is 1).
         let mut squares = vec![0.0; system.observation_count()];
         let mut rows = vec![0_u32; system.observation_count()];
+        let mut plain = 0.0;
         for set in 0..system.set_rows().len() {
-            for (slot, kind) in KINDS.into_iter().enumerate() {
-                let (count, own) = set_sigma(set, kind);
-                let sigma = if single {
+            let mut sigmas = [0.0; 2];
+            for (slot, values) in by_kind(set).into_iter().enumerate() {
+                let count = values.len();
+                let own = robust_sigma_of(values);
+                sigmas[slot] = if single {
                     *pooled[slot].insert(own)
                 } else if count >= MINIMUM_ROWS {
                     own
                 } else {
-                    *pooled[slot].get_or_insert_with(|| all_sigma(kind))
+                    *pooled[slot].get_or_insert_with(|| all_sigma(KINDS[slot]))
                 };
-                for (row, scaled) in system.scaled_rows_of(set).filter(of_kind(kind)) {
-                    let standardized = scaled / sigma.max(RESIDUAL_FLOOR);
-                    let observation = observations[row] as usize;
-                    squares[observation] += standardized * standardized;
-                    rows[observation] += 1;
-                }
+            }
+            for (row, scaled) in system.scaled_rows_of(set) {
+                let standardized = scaled / sigmas[slot_of(row)].max(RESIDUAL_FLOOR);
+                let observation = observations[row] as usize;
+                squares[observation] += standardized * standardized;
+                rows[observation] += 1;
+                plain += scaled * scaled;
             }
         }
         let slot = usize::from(!kinds.contains(&RowKind::Length));
         let robust_sigma = pooled[slot].unwrap_or_else(|| all_sigma(KINDS[slot]));
         let mut standardized = squares;
-        for (u, rows) in standardized.iter_mut().zip(rows) {
-            *u = (*u / f64::from(rows.max(1))).sqrt();
+        for (u, rows) in standardized.iter_mut().zip(&rows) {
+            *u = (*u / f64::from((*rows).max(1))).sqrt();
         }
         let weights: Vec<f64> = standardized.iter().map(|u| loss.weight(*u)).collect();
-        let discarded = observations
+        // Rows of the observations a robust loss ignores, counted by
+        // observation.
+        let discarded: usize = weights
             .iter()
-            .filter(|o| weights[**o as usize] == 0.0)
-            .count();
-        let effective_equations = equations.saturating_sub(discarded);
-        let weighted: f64 = system
-            .scaled_rows()
-            .map(|(row, e)| weights[observations[row] as usize] * e * e)
+            .zip(&rows)
+            .filter(|(weight, _)| **weight == 0.0)
+            .map(|(_, rows)| *rows as usize)
             .sum();
+        let effective_equations = equations.saturating_sub(discarded);
+        // Every weight 1 (least squares): the plain sum, in the same order.
+        let weighted: f64 = if weights.iter().all(|weight| *weight == 1.0) {
+            plain
+        } else {
+            system
+                .scaled_rows()
+                .map(|(row, e)| weights[observations[row] as usize] * e * e)
+                .sum()
+        };
         ResidualStatistics {
             robust_sigma,
             standardized,

@@ -240,6 +240,17 @@ impl Verdict {
     pub(super) fn of(study: &Study, evidence: Evidence<'_>) -> Verdict {
         let configurations: usize = study.sets.iter().map(|set| set.samples.len()).sum();
         let (distinct_configurations, distinct_equations) = distinct(study);
+        // An exact copy repeats a configuration of its method's sets: none
+        // when every set's configurations are distinct and no two sets
+        // share a method (a million measurements are not hashed again).
+        let methods: std::collections::BTreeSet<&str> =
+            study.sets.iter().map(|set| set.method.name()).collect();
+        let copies =
+            if distinct_configurations == configurations && methods.len() == study.sets.len() {
+                0
+            } else {
+                copies(study)
+            };
         let (residual_length, residual_angle) = residual_sigmas(&evidence);
         let noise_test = study
             .sets
@@ -253,7 +264,7 @@ impl Verdict {
             residual_angle,
             configurations,
             distinct_configurations,
-            copies: copies(study),
+            copies,
             implausible: evidence.implausible,
             coverage: evidence.coverage,
             summary: String::new(),
