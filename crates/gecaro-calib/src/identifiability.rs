@@ -560,7 +560,9 @@ fn lend_loads(data: &[Sample], random: &mut [Sample], sampler: &mut Sampler) {
     }
     for sample in random {
         let drawn = (sampler.uniform(0.0, loaded.len() as f64) as usize).min(loaded.len() - 1);
-        sample.loads.clone_from(&loaded[drawn].loads);
+        let lent = sample.loads_mut();
+        lent.torques = loaded[drawn].torques().map(<[f64]>::to_vec);
+        lent.tilt_torques = loaded[drawn].tilt_torques().map(<[f64]>::to_vec);
     }
 }
 
