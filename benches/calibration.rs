@@ -264,7 +264,10 @@ fn monte_carlo_1000_at_100(bencher: divan::Bencher) {
 fn identify_position_500_with_gross_errors(bencher: divan::Bencher, loss: &str) {
     let robot = stanford();
     let mut study = simulated("position", 500);
-    for sample in study.sets[0].samples.iter_mut().step_by(20) {
+    for sample in std::sync::Arc::make_mut(&mut study.sets[0].samples)
+        .iter_mut()
+        .step_by(20)
+    {
         sample.position = sample.position.map(|p| p + Vector3::new(0.02, 0.0, 0.0));
     }
     let options = IdentificationOptions {

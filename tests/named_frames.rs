@@ -629,7 +629,7 @@ fn a_cell_is_planned_within_its_floor_and_lines_of_sight() {
                 clearance: 0.05,
             }),
         };
-        for sample in &set.samples {
+        for sample in set.samples.iter() {
             assert!(
                 cell.admits(&with_tool, &sample.motor_positions),
                 "{}: {:?} is not measurable",

@@ -154,11 +154,12 @@ impl Loaded {
             .study
             .sets
             .iter()
-            .flat_map(|set| &set.samples)
+            .flat_map(|set| set.samples.iter())
             .any(|sample| sample.payload().is_some());
         crate::loads::require_loads(&self.robot, payloads, "model")?;
         for set in &mut self.study.sets {
-            gecaro_calib::elastic::load_samples(robot, &self.robot.masses, &mut set.samples)?;
+            let samples = std::sync::Arc::make_mut(&mut set.samples);
+            gecaro_calib::elastic::load_samples(robot, &self.robot.masses, samples)?;
         }
         Ok(())
     }
@@ -400,7 +401,7 @@ impl Measurements {
                 notes.extend(read.notes.iter().map(Note::plain));
                 (read.samples, read.label)
             }
-            (None, Data::Optional) => (Vec::new(), "random configurations".to_owned()),
+            (None, Data::Optional) => (Default::default(), "random configurations".to_owned()),
             (None, Data::Required | Data::Configurations) => {
                 return Err(AppError::new(
                     ErrorKind::Usage,

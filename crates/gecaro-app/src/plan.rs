@@ -79,9 +79,11 @@ fn configurations(
     format: &DataFormat,
     files: &dyn Files,
 ) -> Result<Vec<Sample>, AppError> {
-    Ok(source
-        .read(files, &gecaro_io::joint_types(robot), columns, format)?
-        .samples)
+    Ok(std::sync::Arc::unwrap_or_clone(
+        source
+            .read(files, &gecaro_io::joint_types(robot), columns, format)?
+            .samples,
+    ))
 }
 
 /// A plan and/or its accuracy curve; see the module docs.

@@ -121,8 +121,9 @@ pub enum DataSource {
 /// Samples read for a method, with what a user should know about the file.
 #[derive(Clone, Debug)]
 pub struct DataRead {
-    /// The samples, in the file's order.
-    pub samples: Vec<Sample>,
+    /// The samples, in the file's order; shared with the request's when it
+    /// gave them ([`DataSource::Samples`]).
+    pub samples: Arc<Vec<Sample>>,
     /// The file as messages name it.
     pub label: String,
     /// Columns of the file the method does not use (left alone).
@@ -218,7 +219,7 @@ impl DataSource {
             },
             DataSource::Samples { samples, label } => {
                 return Ok(DataRead {
-                    samples: Vec::clone(samples),
+                    samples: Arc::clone(samples),
                     label: label.clone(),
                     unused_columns: Vec::new(),
                     notes: Vec::new(),
@@ -236,7 +237,7 @@ impl DataSource {
         })?;
         check_row_count(files, &label, file.samples.len(), "configurations")?;
         Ok(DataRead {
-            samples: file.samples,
+            samples: file.samples.into(),
             label,
             unused_columns: file.unused_columns,
             notes: file.notes,

@@ -220,10 +220,11 @@ impl PreparedStudyPlan {
             let mut drawing = sampler
                 .clone()
                 .with_cell(request.cell.cell_seen_from(station)?);
-            set.samples =
-                set.method
-                    .sensor()
-                    .generate(&with_tool, pool, 0.0, &mut drawing, observer)?;
+            set.samples = set
+                .method
+                .sensor()
+                .generate(&with_tool, pool, 0.0, &mut drawing, observer)?
+                .into();
             refuse_misses(
                 drawing.cell_misses(),
                 &format!("candidate(s) of {}", set.label),

@@ -17,6 +17,8 @@
 //!   rest where it settles. Simulated robots use it, so that the "real"
 //!   robot is not the identification's own approximation.
 
+use std::sync::Arc;
+
 use gecaro_core::{
     ChainBuffer, FrameType, KinematicModel, LinkMass, MassModel, Robot, gravity_loads_in,
     gravity_torques,
@@ -175,7 +177,7 @@ fn study_loads(
 fn carrying(study: &Study, loads: StudyLoads) -> Study {
     let mut weighed = study.clone();
     for (set, loads) in weighed.sets.iter_mut().zip(loads) {
-        for (sample, load) in set.samples.iter_mut().zip(loads) {
+        for (sample, load) in Arc::make_mut(&mut set.samples).iter_mut().zip(loads) {
             let loads = sample.loads_mut();
             loads.torques = Some(load.torques);
             loads.tilt_torques = Some(load.tilt_torques);
@@ -448,7 +450,11 @@ mod tests {
         let model = KinematicModel::new(&robot);
         let (mut old, mut new) = (ChainBuffer::default(), ChainBuffer::default());
         let mut sum = 0.0;
-        for (before, after) in study.sets[0].samples.iter().zip(&weighed.sets[0].samples) {
+        for (before, after) in study.sets[0]
+            .samples
+            .iter()
+            .zip(weighed.sets[0].samples.iter())
+        {
             let q = &before.motor_positions;
             model
                 .forward_loaded(q, before.torques(), &mut old)

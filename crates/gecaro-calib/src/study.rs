@@ -3,6 +3,8 @@
 //! observation matrix (rows of a set weighted by 1/σ). A single-method
 //! calibration is a study of one set.
 
+use std::sync::Arc;
+
 use gecaro_core::{JacobianRows, KinematicModel, Robot};
 
 use crate::Error;
@@ -21,7 +23,7 @@ pub struct MeasurementSet {
     /// How the data constrain the robot.
     pub method: Box<dyn CalibrationMethod>,
     /// The configurations and what was measured there.
-    pub samples: Vec<Sample>,
+    pub samples: Arc<Vec<Sample>>,
     /// The sensor's standard deviation (metres, and radians for orientations
     /// unless `sigma_rotation` is given), when it is known: the rows are
     /// weighted by 1/σ, and the identification's verdict tests the residuals
@@ -41,10 +43,10 @@ pub struct MeasurementSet {
 
 impl MeasurementSet {
     /// The same set (method, σ, label) with other samples.
-    pub fn with_samples(&self, samples: Vec<Sample>) -> MeasurementSet {
+    pub fn with_samples(&self, samples: impl Into<Arc<Vec<Sample>>>) -> MeasurementSet {
         MeasurementSet {
             method: self.method.clone_method(),
-            samples,
+            samples: samples.into(),
             sigma: self.sigma,
             sigma_rotation: self.sigma_rotation,
             label: self.label.clone(),
@@ -70,7 +72,9 @@ impl MeasurementSet {
 
 impl Clone for MeasurementSet {
     fn clone(&self) -> Self {
-        self.with_samples(self.samples.clone())
+        // The samples are shared: a set's copy copies them only when it
+        // changes them (`Arc::make_mut`).
+        self.with_samples(Arc::clone(&self.samples))
     }
 }
 
@@ -184,13 +188,13 @@ impl Study {
     /// A study of one measurement set, unweighted.
     pub fn single(
         method: Box<dyn CalibrationMethod>,
-        samples: Vec<Sample>,
+        samples: impl Into<Arc<Vec<Sample>>>,
         label: impl Into<String>,
     ) -> Self {
         Study {
             sets: vec![MeasurementSet {
                 method,
-                samples,
+                samples: samples.into(),
                 sigma: None,
                 sigma_rotation: None,
                 label: label.into(),
@@ -247,7 +251,7 @@ impl Study {
         let mut violations = Vec::new();
         let mut joints = vec![0.0; robot.joint_count()];
         for set in &self.sets {
-            for sample in &set.samples {
+            for sample in set.samples.iter() {
                 if robot
                     .joint_positions_into(&sample.motor_positions, &mut joints)
                     .is_err()
@@ -310,7 +314,7 @@ impl Study {
             if set.samples.is_empty() {
                 return Err(invalid(None, "no configurations".into()));
             }
-            for sample in &set.samples {
+            for sample in set.samples.iter() {
                 robot
                     .check_configuration(&sample.motor_positions)
                     .map_err(|error| invalid(sample.line, error.to_string()))?;
@@ -542,7 +546,7 @@ impl Study {
                         .zip(&keep)
                         .filter(|(_, kept)| **kept)
                         .map(|(sample, _)| sample.clone())
-                        .collect(),
+                        .collect::<Vec<_>>(),
                 )
             })
             .collect();
@@ -852,7 +856,8 @@ mod tests {
                             &mut sampler,
                             &mut Quiet,
                         )
-                        .expect("data"),
+                        .expect("data")
+                        .into(),
                         sigma: Some(1e-3),
                         sigma_rotation: None,
                         label: "first".into(),
@@ -863,7 +868,7 @@ mod tests {
                     },
                     MeasurementSet {
                         method,
-                        samples,
+                        samples: samples.into(),
                         sigma: Some(2e-4),
                         sigma_rotation: Some(1e-3),
                         label: info.name.into(),

@@ -100,7 +100,7 @@ pub fn cross_validate(
                     set.with_samples(
                         kept.iter()
                             .map(|index| set.samples[*index].clone())
-                            .collect(),
+                            .collect::<Vec<_>>(),
                     )
                 })
                 .collect(),

@@ -177,7 +177,7 @@ fn cell_study_of(
             .expect("data");
             sets.push(MeasurementSet {
                 method: position.clone_method(),
-                samples,
+                samples: samples.into(),
                 sigma: Some(NOISE),
                 sigma_rotation: (method_name == "frame").then_some(NOISE),
                 label: format!("{}_{}.csv", truth[tool].name, truth[station].name),

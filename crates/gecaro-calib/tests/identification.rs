@@ -164,7 +164,7 @@ fn with_sensor_noise_the_residual_settles_at_the_noise_level() {
             .expect("data");
             study.sets.push(MeasurementSet {
                 method: distance,
-                samples: pairs,
+                samples: pairs.into(),
                 sigma: Some(sigma),
                 sigma_rotation: None,
                 label: "pairs".into(),
@@ -546,7 +546,7 @@ fn failures_are_reported_not_hidden() {
     assert!(result.rms_after() < result.rms_before());
     // Fewer equations than unknowns is an error.
     let (_, mut study) = simulate(1.0, 0.0, 3, "position", false, 60);
-    study.sets[0].samples.truncate(8);
+    std::sync::Arc::make_mut(&mut study.sets[0].samples).truncate(8);
     let error = identify(
         &stanford(),
         &study,
@@ -729,7 +729,7 @@ fn a_repeatability_study_of_many_cycles_converges() {
     let (_, exact) = simulate(1.0, 0.0, 4, "position", false, 50);
     let mut noise = Sampler::new(77);
     let samples: Vec<Sample> = (0..500)
-        .flat_map(|_| exact.sets[0].samples.clone())
+        .flat_map(|_| exact.sets[0].samples.iter().cloned())
         .map(|sample| Sample {
             position: sample.position.map(|p| p + noise.gaussian_vector(1e-5)),
             ..sample

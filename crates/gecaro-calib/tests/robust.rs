@@ -90,7 +90,7 @@ fn displaced(robot: &Robot, motor_positions: &[f64], displacement: Vector3<f64>)
 fn corrupt(name: &str, study: &mut Study, seed: u64) -> Vec<usize> {
     let mut sampler = Sampler::new(seed);
     let robot = stanford();
-    let samples = &mut study.sets[0].samples;
+    let samples = std::sync::Arc::make_mut(&mut study.sets[0].samples);
     let mut corrupted = Vec::new();
     let step = if name == "distance" { 40 } else { 20 };
     for index in (7..samples.len()).step_by(step) {
@@ -410,7 +410,7 @@ fn each_set_of_a_study_is_judged_by_its_own_noise() {
         .expect("data");
         sets.push(gecaro_calib::study::MeasurementSet {
             method: chosen,
-            samples,
+            samples: samples.into(),
             sigma: Some(1e-4),
             sigma_rotation: None,
             label: format!("{name}.csv"),
@@ -418,7 +418,7 @@ fn each_set_of_a_study_is_judged_by_its_own_noise() {
             station: None,
         });
     }
-    let pairs = &mut sets[1].samples;
+    let pairs = std::sync::Arc::make_mut(&mut sets[1].samples);
     for pair in [5_u64, 60, 120] {
         for sample in pairs.iter_mut().filter(|s| s.group == Some(pair)) {
             sample.distance = sample.distance.map(|d| d + GROSS);

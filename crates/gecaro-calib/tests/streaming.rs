@@ -138,7 +138,10 @@ fn streamed_and_held_systems_identify_alike() {
     assert_same(&held, &streamed, "with a prior");
     // Gross errors under a robust loss: every reweighting streams.
     let mut gross = position;
-    for sample in gross.samples.iter_mut().step_by(25) {
+    for sample in std::sync::Arc::make_mut(&mut gross.samples)
+        .iter_mut()
+        .step_by(25)
+    {
         sample.position = sample.position.map(|p| p + Vector3::new(0.02, 0.0, 0.0));
     }
     let robust = IdentificationOptions {

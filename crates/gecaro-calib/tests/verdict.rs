@@ -99,7 +99,7 @@ fn without_a_sigma_the_residual_is_reported_in_units() {
 fn copies_of_one_configuration_are_degenerate_data() {
     let mut copies = study("position", 1, None, 5);
     let one = copies.sets[0].samples[0].clone();
-    copies.sets[0].samples = vec![one; 200];
+    copies.sets[0].samples = vec![one; 200].into();
     // The excitation check keeps the 3 unknowns one point determines, and
     // the residual goes to 0: the verdict names the data, not a "0 mm" fit.
     let result = fit(&copies, &Default::default());
@@ -583,7 +583,8 @@ fn exact_copies_are_named_and_not_trusted() {
     );
     let mut pasted = study("position", 40, Some(2e-5), 6);
     let rows = pasted.sets[0].samples.clone();
-    pasted.sets[0].samples = rows.iter().cycle().take(40 * 100).cloned().collect();
+    pasted.sets[0].samples =
+        std::sync::Arc::new(rows.iter().cycle().take(40 * 100).cloned().collect());
     let result = fit(&pasted, &Default::default());
     assert_eq!(result.verdict.outcome, Outcome::Repeated);
     assert_eq!(result.verdict.copies, 3960);

@@ -585,7 +585,7 @@ impl SetSpec {
             sigma: sigma_value,
             sigma_rotation,
             method,
-            samples: Vec::new(),
+            samples: Arc::default(),
             label: self.label.clone().unwrap_or(label),
             tool,
             station,
@@ -608,7 +608,8 @@ impl SetSpec {
         let (name, format) = match (&self.data, format) {
             (SetData::File(name), Some(format)) => (name, format),
             (SetData::Samples { samples, .. }, _) => {
-                set.samples = Vec::clone(samples);
+                // Shared with the arrays' `Data`: copied only if changed.
+                set.samples = Arc::clone(samples);
                 self.carried(set, misplaced)?;
                 return Ok(Vec::new());
             }
@@ -634,7 +635,7 @@ impl SetSpec {
             ));
         }
         notes.extend(read.notes);
-        set.samples = read.samples;
+        set.samples = read.samples.into();
         if self.label.is_none() {
             set.label = label;
         }
@@ -670,7 +671,7 @@ impl SetSpec {
                 ),
             ));
         }
-        for sample in &mut set.samples {
+        for sample in Arc::make_mut(&mut set.samples) {
             sample.set_payload(Some(payload));
         }
         Ok(())

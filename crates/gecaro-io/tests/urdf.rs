@@ -936,7 +936,7 @@ fn a_reflector_is_stated_in_the_urdf_s_tool0() {
     let study = Study {
         sets: vec![MeasurementSet {
             method: method("position", &MethodOptions::default()).expect("method"),
-            samples,
+            samples: samples.into(),
             sigma: None,
             sigma_rotation: None,
             label: "k".into(),

@@ -39,9 +39,13 @@ pub(crate) struct PyData {
 }
 
 impl PyData {
-    pub(crate) fn from_samples(samples: Vec<Sample>, joint_count: usize, label: String) -> Self {
+    pub(crate) fn from_samples(
+        samples: impl Into<Arc<Vec<Sample>>>,
+        joint_count: usize,
+        label: String,
+    ) -> Self {
         PyData {
-            samples: Arc::new(samples),
+            samples: samples.into(),
             joint_count,
             label,
             unused_columns: Vec::new(),
@@ -250,7 +254,7 @@ impl PyData {
             )
             .py()?;
         Ok(PyData {
-            samples: Arc::new(file.samples),
+            samples: file.samples,
             joint_count: robot.robot().joint_count(),
             label: path.display().to_string(),
             unused_columns: file.unused_columns,

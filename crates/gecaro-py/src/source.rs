@@ -70,10 +70,8 @@ pub(crate) fn measurements(
         // A study file's method: its options are not known, only the method.
         None => {
             let (samples, label) = match data {
-                Some(DataSource::Samples { samples, label }) => {
-                    (Arc::unwrap_or_clone(samples), label)
-                }
-                _ => (Vec::new(), "random configurations".to_owned()),
+                Some(DataSource::Samples { samples, label }) => (samples, label),
+                _ => (Arc::default(), "random configurations".to_owned()),
             };
             Measurements {
                 study: Some(StudySource::Loaded(Box::new(LoadedStudy {

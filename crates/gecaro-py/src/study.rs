@@ -233,7 +233,7 @@ impl PyStudy {
         // The sets' data are read: later sets added in Python need no files.
         for (entry, set) in spec.measurements.iter_mut().zip(&file.study.sets) {
             entry.data = SetData::Samples {
-                samples: std::sync::Arc::new(set.samples.clone()),
+                samples: std::sync::Arc::clone(&set.samples),
                 label: set.label.clone(),
             };
             entry.sigma = set.sigma.map(StandardDeviation::Number);
@@ -299,7 +299,11 @@ impl PyStudy {
                 entry.set_item("method", PyMethod::from_method(set.method.clone_method()))?;
                 entry.set_item(
                     "data",
-                    PyData::from_samples(set.samples.clone(), joint_count, set.label.clone()),
+                    PyData::from_samples(
+                        std::sync::Arc::clone(&set.samples),
+                        joint_count,
+                        set.label.clone(),
+                    ),
                 )?;
                 entry.set_item("sigma", set.sigma)?;
                 entry.set_item("sigma_rotation", set.sigma_rotation)?;

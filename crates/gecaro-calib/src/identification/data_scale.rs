@@ -200,7 +200,7 @@ mod tests {
         // 20 cm out on the flange sweeps its sphere. Neither bound applies.
         let (robot, mut study) = scaled(1.0);
         let set = &mut study.sets[0];
-        for sample in &mut set.samples {
+        for sample in std::sync::Arc::make_mut(&mut set.samples) {
             sample.motor_positions[..3].copy_from_slice(&[0.3, -0.4, 0.5]);
             let flange = gecaro_core::terminal_pose(&robot, &sample.motor_positions).expect("pose");
             sample.position = Some(flange * nalgebra::Point3::new(0.0, 0.2, 0.1)).map(|p| p.coords);

@@ -198,7 +198,7 @@ fn centre(robot: &Robot, study: &Study) -> Vector3<f64> {
     let samples: Vec<&[f64]> = study
         .sets
         .iter()
-        .flat_map(|set| &set.samples)
+        .flat_map(|set| set.samples.iter())
         .map(|sample| sample.motor_positions.as_slice())
         .collect();
     let points: Vec<Vector3<f64>> = crate::sampler::spread_indices(samples.len(), POINTS)

@@ -61,7 +61,7 @@ pub(super) fn closed_form_start(robot: &Robot, study: &Study) -> Result<Option<R
             .sets
             .iter()
             .filter(|set| !set.uses_named_frames())
-            .flat_map(|set| &set.samples)
+            .flat_map(|set| set.samples.iter())
             .filter_map(|sample| Some((sample.motor_positions.as_slice(), sample.position?)))
     };
     let count = points().count();

@@ -70,7 +70,7 @@ pub(crate) fn nominal_study(robot: &Robot, study: &Study) -> Result<Study, Error
     for set in &mut nominal.sets {
         let frame = |index: Option<usize>| index.map(|i| &study.frames[i]);
         let measuring = measuring_robot(robot, frame(set.tool), frame(set.station))?;
-        set.samples = nominal_readings(&measuring, set.method.as_ref(), &set.samples)?;
+        set.samples = nominal_readings(&measuring, set.method.as_ref(), &set.samples)?.into();
     }
     Ok(nominal)
 }

@@ -484,7 +484,7 @@ pub fn plan_study(
     for (index, set) in ordered.sets.iter_mut().enumerate() {
         let (samples, set_ranges) =
             contiguous(&set.samples, &units(set.method.as_ref(), &set.samples));
-        set.samples = samples;
+        set.samples = samples.into();
         ranges.extend(set_ranges.into_iter().map(|range| (index, range)));
     }
     ordered.check(robot)?;
