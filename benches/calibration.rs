@@ -70,14 +70,14 @@ fn table2_stanford(bencher: divan::Bencher) {
 fn identify_position(bencher: divan::Bencher, count: usize) {
     let robot = stanford();
     let study = simulated("position", count);
+    bench_identify(bencher, &robot, &study);
+}
+
+/// `identify` of `study` with the default options, benchmarked.
+fn bench_identify(bencher: divan::Bencher, robot: &Robot, study: &Study) {
     bencher.bench_local(|| {
-        identify(
-            &robot,
-            &study,
-            &IdentificationOptions::default(),
-            &mut Quiet,
-        )
-        .expect("identification")
+        identify(robot, study, &IdentificationOptions::default(), &mut Quiet)
+            .expect("identification")
     });
 }
 
@@ -102,15 +102,7 @@ fn identify_100000_streamed(bencher: divan::Bencher, data: &str) {
             study
         }
     };
-    bencher.bench_local(|| {
-        identify(
-            &robot,
-            &study,
-            &IdentificationOptions::default(),
-            &mut Quiet,
-        )
-        .expect("identification")
-    });
+    bench_identify(bencher, &robot, &study);
 }
 
 /// A textbook reference for one identification iteration at m = 5000: the
@@ -146,15 +138,7 @@ fn iteration_floor_position_5000(bencher: divan::Bencher) {
 fn identify_500(bencher: divan::Bencher, name: &str) {
     let robot = stanford();
     let study = simulated(name, 500);
-    bencher.bench_local(|| {
-        identify(
-            &robot,
-            &study,
-            &IdentificationOptions::default(),
-            &mut Quiet,
-        )
-        .expect("identification")
-    });
+    bench_identify(bencher, &robot, &study);
 }
 
 /// Compensation of a 1 000-target program of joint targets (whole pose) for

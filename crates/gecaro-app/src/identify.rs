@@ -115,8 +115,9 @@ impl IdentifyRequest {
 }
 
 /// Bytes a streamed identification holds per row of its system: the
-/// residual, its weights, kind and observation (33 bytes) in the current
-/// and the trial iterate, and the statistics' vectors of the verdict.
+/// residual, kind and observation (13 bytes) in the current and the trial
+/// iterate, the per-observation statistics and errors of the verdict, and
+/// the allocator's slack.
 const STREAMED_BYTES_PER_ROW: usize = 160;
 
 impl PreparedIdentification {
@@ -127,8 +128,10 @@ impl PreparedIdentification {
     /// an upper bound of the base set). A streamed one (tall, every set's
     /// configurations independent: [`IdentificationOptions::streamed_rows`](gecaro_calib::identification::IdentificationOptions))
     /// holds no W, only [`STREAMED_BYTES_PER_ROW`] a row. And the samples.
-    /// Measured: 200,000 Stanford position configurations held peaked at
-    /// 720 MB (this says 1.0 GB); 10⁶ streamed at 560–590 MB (this says 780 MB).
+    /// The samples are counted with a heap block of motor variables each,
+    /// which only chains of more than seven joints have. Measured:
+    /// 200,000 Stanford position configurations held peaked at 720 MB (this
+    /// says 1.0 GB); 10⁶ streamed at 326–334 MB (this says 740 MB).
     pub fn memory_need(&self) -> usize {
         let study = &self.loaded.study;
         let rows: usize = study

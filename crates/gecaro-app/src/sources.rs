@@ -110,8 +110,9 @@ pub enum DataSource {
     /// Samples built already (Python arrays), with a label for messages.
     #[serde(skip)]
     Samples {
-        /// The samples, shared with whoever made them (a Python `Data`):
-        /// reading them copies them once, into the study.
+        /// The samples, shared with whoever made them (a Python `Data`)
+        /// and with the study read from them; a set that changes them
+        /// copies them first.
         samples: Arc<Vec<Sample>>,
         /// What names them in messages and reports.
         label: String,

@@ -132,10 +132,10 @@ impl<'a> RowWriter<'a> {
     /// The robust weight of `observation` (0-based within this set; 1 unless
     /// the identification reweights, see the module docs).
     pub fn observation_weight(&self, observation: usize) -> f64 {
-        self.observation_weights
-            .get(self.observation_base + observation)
-            .copied()
-            .unwrap_or(1.0)
+        robust_weight(
+            self.observation_weights,
+            self.observation_base + observation,
+        )
     }
 
     /// Appends one row: `Σ parameters[k]·Δη_k + Σ auxiliary[k]·Δaux_k = residual`.
@@ -286,13 +286,15 @@ pub(crate) fn whole_weight(sensor: f64, observation_weights: &[f64], observation
     if observation_weights.is_empty() {
         sensor
     } else {
-        sensor
-            * observation_weights
-                .get(observation)
-                .copied()
-                .unwrap_or(1.0)
-                .sqrt()
+        sensor * robust_weight(observation_weights, observation).sqrt()
     }
+}
+
+/// The robust weight of `observation` (numbered in the whole system) among
+/// `observation_weights`: 1 where there are none (the identification has
+/// not reweighted).
+pub(crate) fn robust_weight(observation_weights: &[f64], observation: usize) -> f64 {
+    observation_weights.get(observation).copied().unwrap_or(1.0)
 }
 
 /// The first `count` entries of `slice`, which keeps the rest.

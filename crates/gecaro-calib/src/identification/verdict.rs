@@ -49,7 +49,7 @@
 
 use super::coverage::Coverage;
 use crate::observation::ObservationSystem;
-use crate::rows::RowKind;
+use crate::rows::{RowKind, robust_weight};
 use crate::sample::Sample;
 use crate::study::Study;
 
@@ -636,13 +636,8 @@ fn residual_sigmas(evidence: &Evidence<'_>) -> (Option<f64>, Option<f64>) {
     let residuals = system.residuals();
     let kinds = system.kinds();
     let observations = system.row_observations();
-    let weight = |row: usize| {
-        evidence
-            .observation_weights
-            .get(observations[row] as usize)
-            .copied()
-            .unwrap_or(1.0)
-    };
+    let weight =
+        |row: usize| robust_weight(evidence.observation_weights, observations[row] as usize);
     // Rows of observations a robust loss ignores do not count. Per kind:
     // rows counted and their weighted sum of squares, in one pass.
     let mut sums = [(0_usize, 0.0_f64); 2];

@@ -112,15 +112,8 @@ pub fn inverse_kinematics(
     options: &InverseOptions,
 ) -> Result<InverseSolution, Error> {
     check_target(target)?;
-    let start = robot.joint_positions(start_motor_positions)?;
-    let limit = |q: DVector<f64>| {
-        if options.respect_limits {
-            clamp_to_limits(robot, q)
-        } else {
-            q
-        }
-    };
-    let mut joint_positions = limit(start);
+    let limit = |q: DVector<f64>| limited(robot, options, q);
+    let mut joint_positions = limit(robot.joint_positions(start_motor_positions)?);
     let (mut chain, mut error) = evaluate(robot, target, &joint_positions);
     let mut damping = INITIAL_DAMPING;
     let mut iterations = 0;
@@ -171,6 +164,16 @@ pub fn inverse_kinematics(
             tolerance: options.tolerance,
         });
     }
+    solution(robot, &joint_positions, iterations, residual)
+}
+
+/// The solution at `joint_positions`, met to `residual` after `iterations`.
+fn solution(
+    robot: &Robot,
+    joint_positions: &DVector<f64>,
+    iterations: usize,
+    residual: f64,
+) -> Result<InverseSolution, Error> {
     let motor_positions = robot.motor_positions(joint_positions.as_slice())?;
     Ok(InverseSolution {
         motor_positions: motor_positions.as_slice().to_vec(),
@@ -178,6 +181,15 @@ pub fn inverse_kinematics(
         iterations,
         residual,
     })
+}
+
+/// `joint_positions` clamped to the limits when the options respect them.
+fn limited(robot: &Robot, options: &InverseOptions, joint_positions: DVector<f64>) -> DVector<f64> {
+    if options.respect_limits {
+        clamp_to_limits(robot, joint_positions)
+    } else {
+        joint_positions
+    }
 }
 
 fn check_target(target: &Target) -> Result<(), Error> {
@@ -233,12 +245,11 @@ pub fn inverse_kinematics_near(
     options: &InverseOptions,
 ) -> Result<InverseSolution, Error> {
     check_target(target)?;
-    let start = robot.joint_positions(start_motor_positions)?;
-    let mut joint_positions = if options.respect_limits {
-        clamp_to_limits(robot, start)
-    } else {
-        start
-    };
+    let mut joint_positions = limited(
+        robot,
+        options,
+        robot.joint_positions(start_motor_positions)?,
+    );
     let mut chain = ChainBuffer::default();
     model.forward_joints(joint_positions.as_slice(), &mut chain);
     let mut error = task_error(target, chain.world_from_tool());
@@ -246,13 +257,7 @@ pub fn inverse_kinematics_near(
     for iteration in 0..=NEWTON_ITERATIONS {
         let residual = error.norm();
         if residual <= options.tolerance {
-            let motor_positions = robot.motor_positions(joint_positions.as_slice())?;
-            return Ok(InverseSolution {
-                motor_positions: motor_positions.as_slice().to_vec(),
-                joint_positions: joint_positions.as_slice().to_vec(),
-                iterations: iteration,
-                residual,
-            });
+            return solution(robot, &joint_positions, iteration, residual);
         }
         if iteration == NEWTON_ITERATIONS {
             break;
@@ -264,10 +269,7 @@ pub fn inverse_kinematics_near(
         else {
             break;
         };
-        let mut candidate = &joint_positions + step;
-        if options.respect_limits {
-            candidate = clamp_to_limits(robot, candidate);
-        }
+        let candidate = limited(robot, options, &joint_positions + step);
         model.forward_joints(candidate.as_slice(), &mut chain);
         let candidate_error = task_error(target, chain.world_from_tool());
         // (A NaN is no improvement either.)
@@ -361,6 +363,19 @@ mod tests {
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
 
+    /// The robot of a trial (the Stanford arm, or a random six-axis arm on
+    /// odd trials), a random configuration of it and the pose there.
+    fn trial_robot(trial: usize, rng: &mut ChaCha8Rng) -> (Robot, Vec<f64>, IsometryMatrix3<f64>) {
+        let robot = if trial.is_multiple_of(2) {
+            stanford()
+        } else {
+            random_robot(rng, 6)
+        };
+        let goal = random_configuration(&robot, rng);
+        let pose = terminal_pose(&robot, &goal).expect("valid");
+        (robot, goal, pose)
+    }
+
     /// From a near start, Newton steps on the compiled model reach the
     /// damped solver's solution (pose targets: locally unique), in a few
     /// iterations; the compiled joint Jacobian is the reference one.
@@ -370,14 +385,8 @@ mod tests {
         let options = InverseOptions::default();
         let mut newton = 0;
         for trial in 0..40 {
-            let robot = if trial % 2 == 0 {
-                stanford()
-            } else {
-                random_robot(&mut rng, 6)
-            };
+            let (robot, goal, pose) = trial_robot(trial, &mut rng);
             let model = KinematicModel::new(&robot);
-            let goal = random_configuration(&robot, &mut rng);
-            let pose = terminal_pose(&robot, &goal).expect("valid");
             let chain = crate::kinematics::forward_kinematics(&robot, &goal).expect("valid");
             let mut buffer = ChainBuffer::default();
             model.forward_joints(chain.joint_positions(), &mut buffer);
@@ -410,13 +419,7 @@ mod tests {
         let options = InverseOptions::default();
         let mut solved = 0;
         for trial in 0..60 {
-            let robot = if trial % 2 == 0 {
-                stanford()
-            } else {
-                random_robot(&mut rng, 6)
-            };
-            let goal = random_configuration(&robot, &mut rng);
-            let pose = terminal_pose(&robot, &goal).expect("valid");
+            let (robot, goal, pose) = trial_robot(trial, &mut rng);
             let target = if trial % 3 == 0 {
                 Target::Position(pose.translation.vector)
             } else {
