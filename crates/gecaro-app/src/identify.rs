@@ -9,7 +9,8 @@
 
 use gecaro_calib::Observer;
 use gecaro_calib::identification::{
-    ErrorSummary, Identification, IdentificationOptions, evaluate_errors, identify,
+    ErrorSummary, Identification, IdentificationOptions, ObservationErrors, evaluate_errors,
+    identify,
 };
 use gecaro_calib::validation::{CrossValidation, ModelScore, compare_models, cross_validate};
 use gecaro_io::RobotFile;
@@ -534,9 +535,9 @@ pub struct Evaluation {
     /// Error statistics per configuration (or pair).
     pub summary: ErrorSummary,
     /// The error of every observation: position-like (m), orientation (rad).
-    pub errors: Vec<(f64, f64)>,
+    pub errors: ObservationErrors,
     /// The compared robot's statistics and errors, when one was given.
-    pub compared: Option<(ErrorSummary, Vec<(f64, f64)>)>,
+    pub compared: Option<(ErrorSummary, ObservationErrors)>,
 }
 
 impl EvaluateRequest {
@@ -598,8 +599,8 @@ impl Evaluation {
     /// # Errors
     /// When a plot cannot be drawn.
     pub fn plots(&self) -> Result<EvaluationPlots, AppError> {
-        let millimetres = |errors: &[(f64, f64)]| -> Vec<f64> {
-            errors.iter().map(|(length, _)| length * 1e3).collect()
+        let millimetres = |errors: &ObservationErrors| -> Vec<f64> {
+            errors.lengths.iter().map(|length| length * 1e3).collect()
         };
         let before = millimetres(&self.errors);
         let after = self

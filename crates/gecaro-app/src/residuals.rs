@@ -51,8 +51,8 @@ pub fn residuals_csv(study: &Study, result: &Identification) -> Result<String, A
     writer.write_record(&header).map_err(failed)?;
     let number = |value: Option<f64>| value.map_or_else(String::new, |v| format!("{v}"));
     for (index, located) in locate_observations(study).iter().enumerate() {
-        let before = result.errors_before.get(index).copied();
-        let after = result.errors_after.get(index).copied();
+        let before = result.errors_before.get(index);
+        let after = result.errors_after.get(index);
         let standardized = result.standardized.get(index).copied();
         let mut row = vec![
             (located.set + 1).to_string(),

@@ -78,6 +78,7 @@ mod robust;
 mod rows;
 mod sample;
 mod sampler;
+mod selection;
 pub mod simulation;
 mod states;
 pub mod study;

@@ -235,6 +235,65 @@ impl LeastSquaresRows for SolverRows<'_> {
     }
 }
 
+/// The errors of a study's observations (configurations or pairs), in
+/// observation order: each one's position-like error, the norm of its
+/// length rows (m), and, when the data measure angles, its orientation
+/// error, the norm of its angle rows (rad). Position data hold no angles:
+/// 8 bytes an observation.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ObservationErrors {
+    /// Each observation's position-like error (m).
+    pub lengths: Vec<f64>,
+    /// Each observation's orientation error (rad); empty when no row
+    /// measures an angle.
+    pub angles: Vec<f64>,
+}
+
+impl ObservationErrors {
+    /// The number of observations.
+    pub fn len(&self) -> usize {
+        self.lengths.len()
+    }
+
+    /// Whether there are no observations.
+    pub fn is_empty(&self) -> bool {
+        self.lengths.is_empty()
+    }
+
+    /// Whether the data measure angles (then every observation has an
+    /// orientation error).
+    pub fn has_angles(&self) -> bool {
+        !self.angles.is_empty()
+    }
+
+    /// Observation `index`'s position-like and orientation errors (the
+    /// latter 0 when the data measure no angle).
+    pub fn get(&self, index: usize) -> Option<(f64, f64)> {
+        let length = *self.lengths.get(index)?;
+        Some((length, self.angles.get(index).copied().unwrap_or(0.0)))
+    }
+
+    /// Every observation's errors, as [`get`](Self::get) gives them.
+    pub fn iter(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        (0..self.len()).filter_map(|index| self.get(index))
+    }
+
+    /// The errors of the observations `keep` says to keep, in order.
+    pub fn retained(&self, mut keep: impl FnMut(usize) -> bool) -> Self {
+        let has_angles = self.has_angles();
+        let mut kept = Self::default();
+        for index in 0..self.len() {
+            if keep(index) {
+                kept.lengths.push(self.lengths[index]);
+                if has_angles {
+                    kept.angles.push(self.angles[index]);
+                }
+            }
+        }
+        kept
+    }
+}
+
 /// The stacked, weighted linear system of all measurement sets.
 #[derive(Clone, Debug, Default)]
 pub struct ObservationSystem {
@@ -597,21 +656,31 @@ impl ObservationSystem {
     }
 
     /// Per observation (configuration or pair): the norm of its length rows
-    /// (metres) and of its angle rows (radians).
-    pub fn observation_errors(&self) -> Vec<(f64, f64)> {
-        let mut errors = vec![(0.0, 0.0); self.observation_count];
+    /// (metres) and, when a row measures an angle, of its angle rows
+    /// (radians).
+    pub fn observation_errors(&self) -> ObservationErrors {
+        let has_angles = self.kinds.contains(&RowKind::Angle);
+        let mut lengths = vec![0.0; self.observation_count];
+        let mut angles = vec![
+            0.0;
+            if has_angles {
+                self.observation_count
+            } else {
+                0
+            }
+        ];
         for row in 0..self.measured_rows() {
             let squared = self.residuals[row] * self.residuals[row];
-            let error = &mut errors[self.observations[row] as usize];
+            let observation = self.observations[row] as usize;
             match self.kinds[row] {
-                RowKind::Length => error.0 += squared,
-                RowKind::Angle => error.1 += squared,
+                RowKind::Length => lengths[observation] += squared,
+                RowKind::Angle => angles[observation] += squared,
             }
         }
-        errors
-            .into_iter()
-            .map(|(l, a)| (l.sqrt(), a.sqrt()))
-            .collect()
+        for error in lengths.iter_mut().chain(&mut angles) {
+            *error = error.sqrt();
+        }
+        ObservationErrors { lengths, angles }
     }
 
     /// A writer for the rows `first_row..first_row + rows` of one measurement

@@ -50,6 +50,7 @@ use std::str::FromStr;
 
 use crate::Error;
 use crate::error::Setting;
+use crate::selection::median_of;
 
 /// Normalising constant of the median absolute deviation (1/Φ⁻¹(3/4)).
 const MAD_TO_SIGMA: f64 = 1.482_602_218_505_602;
@@ -224,45 +225,21 @@ impl fmt::Display for Loss {
 /// The normalised median absolute deviation of `values` (see the module
 /// docs); 0 for no values.
 pub fn robust_sigma(values: &[f64]) -> f64 {
-    robust_sigma_of(values.to_vec())
+    robust_sigma_streamed(values.len(), || values.iter().copied())
 }
 
-/// [`robust_sigma`] of values the caller no longer needs: worked on in
-/// place (millions of residuals are not copied twice).
-pub(crate) fn robust_sigma_of(mut values: Vec<f64>) -> f64 {
-    if values.is_empty() {
+/// [`robust_sigma`] of the `count` values every call of `values` yields,
+/// without holding them ([`crate::selection`]): millions of residuals are
+/// read where they are.
+pub(crate) fn robust_sigma_streamed<I: Iterator<Item = f64>>(
+    count: usize,
+    values: impl Fn() -> I,
+) -> f64 {
+    if count == 0 {
         return 0.0;
     }
-    let centre = median_in_place(&mut values);
-    for value in &mut values {
-        *value = (*value - centre).abs();
-    }
-    MAD_TO_SIGMA * median_in_place(&mut values)
-}
-
-/// The median of `values` (non-empty), by selection: O(n), no sort.
-#[cfg(test)]
-fn median(mut values: Vec<f64>) -> f64 {
-    median_in_place(&mut values)
-}
-
-/// The median of `values` (non-empty), which are reordered: by selection,
-/// O(n), no sort.
-fn median_in_place(values: &mut [f64]) -> f64 {
-    let length = values.len();
-    let (below, upper, _) = values.select_nth_unstable_by(length / 2, f64::total_cmp);
-    let upper = *upper;
-    if length % 2 == 1 {
-        upper
-    } else {
-        // The other middle value is the largest of the lower half.
-        let lower = below
-            .iter()
-            .copied()
-            .max_by(f64::total_cmp)
-            .unwrap_or(upper);
-        0.5 * (lower + upper)
-    }
+    let centre = median_of(count, &values);
+    MAD_TO_SIGMA * median_of(count, || values().map(move |value| (value - centre).abs()))
 }
 
 #[cfg(test)]
@@ -321,7 +298,8 @@ mod tests {
         assert!((robust_sigma(&dirty) - 2.0).abs() < 0.4);
         assert_eq!(robust_sigma(&[]), 0.0);
         // Odd and even counts: the middle value, the mean of the two middle ones.
-        assert_eq!(median(vec![5.0, 1.0, 3.0]), 3.0);
-        assert_eq!(median(vec![4.0, 1.0, 3.0, 2.0]), 2.5);
+        let median = |values: &[f64]| median_of(values.len(), || values.iter().copied());
+        assert_eq!(median(&[5.0, 1.0, 3.0]), 3.0);
+        assert_eq!(median(&[4.0, 1.0, 3.0, 2.0]), 2.5);
     }
 }

@@ -783,7 +783,7 @@ mod tests {
         let errors: Vec<f64> = system
             .observation_errors()
             .iter()
-            .flat_map(|(length, angle)| [*length, *angle])
+            .flat_map(|(length, angle)| [length, angle])
             .collect();
         (
             bits(system.matrix()),

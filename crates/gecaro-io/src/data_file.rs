@@ -133,7 +133,9 @@ pub fn parse_samples(
     columns: &[DataColumn],
     format: &DataFormat,
 ) -> Result<DataFile, Error> {
-    let mut head = Vec::new();
+    // Room for the whole head at once: a long file's head becomes the
+    // buffer of its first chunk.
+    let mut head = Vec::with_capacity(IN_MEMORY_BYTES + 1);
     (&mut reader)
         .take(IN_MEMORY_BYTES as u64 + 1)
         .read_to_end(&mut head)
@@ -155,7 +157,7 @@ pub fn parse_samples(
     };
     let rest: Option<&mut dyn Read> = (head.len() > IN_MEMORY_BYTES).then_some(&mut reader);
     parse_from(
-        (&head, rest),
+        (head, rest),
         path,
         (joint_types, columns),
         format,
@@ -168,14 +170,14 @@ pub fn parse_samples(
 /// `chunking.0` bytes, at most `chunking.1` of them; those of a file in
 /// memory in parts on all cores).
 fn parse_from(
-    (head, rest): (&[u8], Option<&mut dyn Read>),
+    (head, rest): (Vec<u8>, Option<&mut dyn Read>),
     path: &Path,
     (joint_types, columns): (&[FrameType], &[DataColumn]),
     format: &DataFormat,
     chunking: (usize, usize),
 ) -> Result<DataFile, Error> {
     let expected = data_headers(joint_types.len(), columns);
-    let (mut csv, separator) = csv_reader(head, format.delimiter);
+    let (mut csv, separator) = csv_reader(&head[..], format.delimiter);
     let decimal_comma = format
         .decimal_comma(separator)
         .map_err(|message| Error::parse(path, 1, None, message))?;
@@ -277,12 +279,12 @@ fn parse_from(
         None => rows
             .read_in_parts(&head[start..], lines_before, separator)
             .unwrap_or_else(|| rows.read(&mut csv, 0, 0)),
-        Some(rest) if memchr::memchr(b'"', head).is_none() => {
-            rows.read_chunks((&head[start..], rest), lines_before, separator, chunking)
+        Some(rest) if memchr::memchr(b'"', &head).is_none() => {
+            rows.read_chunks((head, start, rest), lines_before, separator, chunking)
         }
         // Quoted fields may hold line breaks: one pass over the stream.
         Some(rest) => {
-            let (mut csv, _) = csv_reader(head.chain(rest), format.delimiter);
+            let (mut csv, _) = csv_reader((&head[..]).chain(rest), format.delimiter);
             csv.read_record(&mut record)
                 .map_err(|error| csv_error(path, &error))?;
             rows.read(&mut csv, 0, 0)
@@ -653,7 +655,7 @@ mod tests {
         let chunked = |text: &str, limit: usize| {
             let (head, mut rest) = text.as_bytes().split_at(1000);
             parse_from(
-                (head, Some(&mut rest)),
+                (head.to_vec(), Some(&mut rest)),
                 Path::new("data.csv"),
                 (&TWO_REVOLUTE, &columns),
                 &DataFormat::default(),

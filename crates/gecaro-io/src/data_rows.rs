@@ -231,8 +231,9 @@ impl RowReader<'_> {
         Some(joined)
     }
 
-    /// Reads a body too long to hold at once: `first` (its first bytes,
-    /// from a line start) and then `rest`, in chunks of about `chunk_bytes`
+    /// Reads a body too long to hold at once: the bytes of `head` from
+    /// `start` (a line start; `head` becomes the chunks' buffer) and then
+    /// `rest`, in chunks of about `chunk_bytes`
     /// ([`CHUNK_BYTES`]) cut at line breaks, each read in parts on all cores
     /// ([`read_in_parts`](Self::read_in_parts)) or, holding a quote, in one
     /// pass. Memory beyond the samples is one chunk; the samples, line
@@ -242,7 +243,7 @@ impl RowReader<'_> {
     /// is an error naming its line.
     pub(crate) fn read_chunks(
         &self,
-        (first, rest): (&[u8], &mut dyn Read),
+        (head, start, rest): (Vec<u8>, usize, &mut dyn Read),
         lines_before: usize,
         separator: u8,
         (chunk_bytes, limit): (usize, usize),
@@ -252,7 +253,8 @@ impl RowReader<'_> {
             normalised: Normalised::default(),
             error: None,
         };
-        let mut buffer = first.to_vec();
+        let mut buffer = head;
+        buffer.drain(..start);
         let (mut lines, mut ended) = (lines_before, false);
         loop {
             while !ended && buffer.len() < chunk_bytes {

@@ -6,7 +6,9 @@
 
 use gecaro_app::documents::{FrameJson, ObservabilityJson, OutlierJson, SummaryJson, VerdictJson};
 use gecaro_app::{EvaluateRequest, FitSettings, Identified, IdentifyRequest, LocalFiles};
-use gecaro_calib::identification::{ErrorSummary, IdentifiedParameter, StopReason};
+use gecaro_calib::identification::{
+    ErrorSummary, IdentifiedParameter, ObservationErrors, StopReason,
+};
 use numpy::PyArrayDyn;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -138,11 +140,11 @@ pub(crate) struct PyIdentification {
 
 fn errors_array<'py>(
     py: Python<'py>,
-    errors: &[(f64, f64)],
+    errors: &ObservationErrors,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let values = errors
         .iter()
-        .flat_map(|(length, angle)| [*length, *angle])
+        .flat_map(|(length, angle)| [length, angle])
         .collect();
     array(py, &[errors.len(), 2], values)
 }

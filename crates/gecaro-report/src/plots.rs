@@ -4,7 +4,10 @@
 
 use gecaro_calib::{
     curve::CurvePoint,
-    identification::{Identification, IterationRecord, ObservationLocation, locate_observations},
+    identification::{
+        Identification, IterationRecord, ObservationErrors, ObservationLocation,
+        locate_observations,
+    },
     study::Study,
 };
 use gecaro_core::{Robot, forward_kinematics};
@@ -191,8 +194,13 @@ pub fn identification_svgs(
     study: &Study,
     result: &Identification,
 ) -> Result<IdentificationSvgs, Error> {
-    let millimetres =
-        |errors: &[(f64, f64)]| errors.iter().map(|e| e.0 * 1e3).collect::<Vec<f64>>();
+    let millimetres = |errors: &ObservationErrors| {
+        errors
+            .lengths
+            .iter()
+            .map(|length| length * 1e3)
+            .collect::<Vec<f64>>()
+    };
     let (before, after) = (
         millimetres(&result.errors_before),
         millimetres(&result.errors_after),

@@ -6,7 +6,7 @@ use gecaro_core::Robot;
 
 use super::result::ErrorSummary;
 use crate::Error;
-use crate::observation::ObservationSystem;
+use crate::observation::{ObservationErrors, ObservationSystem};
 use crate::rows::ColumnLayout;
 use crate::study::{Study, StudyStates};
 
@@ -31,7 +31,7 @@ pub fn evaluate(robot: &Robot, study: &Study) -> Result<ErrorSummary, Error> {
 pub fn evaluate_errors(
     robot: &Robot,
     study: &Study,
-) -> Result<(ErrorSummary, Vec<(f64, f64)>), Error> {
+) -> Result<(ErrorSummary, ObservationErrors), Error> {
     study.check(robot)?;
     let (summary, errors, _) = errors_at(robot, study)?;
     Ok((summary, errors))
@@ -39,11 +39,10 @@ pub fn evaluate_errors(
 
 /// The errors of `robot` on `study`: their summary, per observation, and
 /// the RMS of the weighted residual rows (an iteration record's).
-#[allow(clippy::type_complexity)]
 pub(super) fn errors_at(
     robot: &Robot,
     study: &Study,
-) -> Result<(ErrorSummary, Vec<(f64, f64)>, f64), Error> {
+) -> Result<(ErrorSummary, ObservationErrors, f64), Error> {
     let mut states = StudyStates::default();
     study.evaluate_poses(robot, &mut states)?;
     let auxiliary = study.initial_auxiliary(&states)?;
@@ -52,5 +51,6 @@ pub(super) fn errors_at(
     study.linearise(robot, &auxiliary, &layout, &mut states, &mut system)?;
     let cost: f64 = system.weighted_residuals().iter().map(|r| r * r).sum();
     let rms = (cost / system.rows().max(1) as f64).sqrt();
-    Ok((ErrorSummary::of(&system), system.observation_errors(), rms))
+    let errors = system.observation_errors();
+    Ok((ErrorSummary::of_errors(&errors), errors, rms))
 }

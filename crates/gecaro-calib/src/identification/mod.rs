@@ -101,7 +101,7 @@ use crate::identifiability::{
 };
 use crate::linalg::{LeastSquaresRows, NormalEquations, precision};
 use crate::progress::{Observer, Progress, Quiet, report};
-use crate::rows::{ColumnLayout, RowKind};
+use crate::rows::ColumnLayout;
 use crate::study::{Study, StudyStates};
 
 pub use coverage::{Coverage, MIN_REDUNDANCY, STILL_RANGE, UnobservedScale};
@@ -129,6 +129,7 @@ pub use warnings::{POOR_CONDITIONING, STRONG_CORRELATION};
 pub use weighting::SECOND_PASS_PRIOR;
 use weighting::{Weighting, second_pass_prior};
 
+pub use crate::observation::ObservationErrors;
 pub use crate::prior::{COMPLIANCE_PRIOR, Prior};
 pub use crate::progress::IterationRecord;
 pub use crate::robust::{Loss, LossKind, robust_sigma};
@@ -623,10 +624,7 @@ fn fit_pass(
     let errors_before = start.system.observation_errors();
     let begun = Begun {
         first: problem.record(&start, &[], 0.0),
-        before: ErrorSummary::of_errors(
-            &errors_before,
-            start.system.kinds().contains(&RowKind::Angle),
-        ),
+        before: ErrorSummary::of_errors(&errors_before),
         errors_before,
     };
     report(observer, Progress::Iteration(&begun.first))?;
@@ -730,7 +728,7 @@ struct Begun {
     /// The starting point of the history.
     first: IterationRecord,
     before: ErrorSummary,
-    errors_before: Vec<(f64, f64)>,
+    errors_before: ObservationErrors,
 }
 
 /// What the descent starts from.
@@ -974,14 +972,8 @@ fn summarise(
         &moved,
     ));
     let errors_after = best.system.observation_errors();
-    let has_rotation = best.system.kinds().contains(&RowKind::Angle);
-    let outliers = outliers::find_outliers(
-        study,
-        &statistics,
-        &errors_after,
-        has_rotation,
-        options.outlier_threshold,
-    );
+    let outliers =
+        outliers::find_outliers(study, &statistics, &errors_after, options.outlier_threshold);
     let data_cost = best.system.measured_cost();
     let degrees_of_freedom = statistics.effective_equations.saturating_sub(columns);
     let implausible = plausibility::implausible(&plausibility::Written {
@@ -1051,7 +1043,7 @@ fn summarise(
         moved,
         warnings,
         condition_number,
-        after: ErrorSummary::of_errors(&errors_after, has_rotation),
+        after: ErrorSummary::of_errors(&errors_after),
         errors_after,
         errors_before: begun.errors_before,
         before: begun.before,

@@ -4,6 +4,7 @@
 
 use super::observations::{ObservationLocation, locate};
 use super::statistics::ResidualStatistics;
+use crate::observation::ObservationErrors;
 use crate::study::Study;
 
 /// The default outlier threshold, in robust σ̂.
@@ -29,8 +30,7 @@ pub struct Outlier {
 pub(super) fn find_outliers(
     study: &Study,
     statistics: &ResidualStatistics,
-    errors: &[(f64, f64)],
-    has_rotation: bool,
+    errors: &ObservationErrors,
     threshold: f64,
 ) -> Vec<Outlier> {
     if !statistics.standardized.iter().any(|u| *u > threshold) {
@@ -46,11 +46,11 @@ pub(super) fn find_outliers(
         .into_iter()
         .map(|(number, located)| {
             let standardized = statistics.standardized[number];
-            let (error, rotation) = errors.get(number).copied().unwrap_or((f64::NAN, f64::NAN));
+            let (error, rotation) = errors.get(number).unwrap_or((f64::NAN, f64::NAN));
             Outlier {
                 location: located,
                 error,
-                rotation_error: has_rotation.then_some(rotation),
+                rotation_error: errors.has_angles().then_some(rotation),
                 standardized,
                 weight: statistics.weights.get(number).copied().unwrap_or(1.0),
             }

@@ -9,11 +9,10 @@ use super::verdict::{Outcome, StopReason, Verdict};
 use crate::frames::NamedFrame;
 use crate::identifiability::RankReport;
 use crate::observability::Observability;
-use crate::observation::ObservationSystem;
+use crate::observation::{ObservationErrors, ObservationSystem};
 use crate::prior::Prior;
 use crate::progress::IterationRecord;
 use crate::robust::Loss;
-use crate::rows::RowKind;
 
 /// Which route produced the solution (see the module docs).
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -57,31 +56,38 @@ pub struct ErrorSummary {
 impl ErrorSummary {
     /// The summary of a system's observation errors.
     pub fn of(system: &ObservationSystem) -> Self {
-        let has_angles = system.kinds().contains(&RowKind::Angle);
-        Self::of_errors(&system.observation_errors(), has_angles)
+        Self::of_errors(&system.observation_errors())
     }
 
     /// The summary of per-observation errors (position-like in metres,
-    /// orientation in radians), with orientation statistics when
-    /// `has_angles`.
-    pub fn of_errors(errors: &[(f64, f64)], has_angles: bool) -> Self {
+    /// orientation in radians), with orientation statistics when they
+    /// measure angles.
+    pub fn of_errors(errors: &ObservationErrors) -> Self {
         let count = errors.len();
-        // One pass, nothing copied (a million observations).
-        let (mut squares, mut sum, mut max) = ([0.0; 2], 0.0, [0.0_f64; 2]);
-        for &(length, angle) in errors {
-            squares[0] += length * length;
-            squares[1] += angle * angle;
-            sum += length;
-            max = [max[0].max(length), max[1].max(angle)];
-        }
         let rms = |squares: f64| (squares / count.max(1) as f64).sqrt();
+        // One pass over each, nothing copied (a million observations).
+        let (mut squares, mut sum, mut max) = (0.0, 0.0, 0.0_f64);
+        for &length in &errors.lengths {
+            squares += length * length;
+            sum += length;
+            max = max.max(length);
+        }
+        let rotation = errors.has_angles().then(|| {
+            let (squares, max) = errors
+                .angles
+                .iter()
+                .fold((0.0, 0.0_f64), |(squares, max), &angle| {
+                    (squares + angle * angle, max.max(angle))
+                });
+            (rms(squares), max)
+        });
         ErrorSummary {
             count,
-            rms: rms(squares[0]),
+            rms: rms(squares),
             mean: sum / count.max(1) as f64,
-            max: max[0],
-            rms_rotation: has_angles.then(|| rms(squares[1])),
-            max_rotation: has_angles.then_some(max[1]),
+            max,
+            rms_rotation: rotation.map(|(rms, _)| rms),
+            max_rotation: rotation.map(|(_, max)| max),
         }
     }
 }
@@ -103,9 +109,9 @@ pub struct Identification {
     pub after: ErrorSummary,
     /// Per observation (configuration or pair): the position-like error (m)
     /// and the orientation error (rad) at the nominal parameters.
-    pub errors_before: Vec<(f64, f64)>,
+    pub errors_before: ObservationErrors,
     /// The same at the identified parameters.
-    pub errors_after: Vec<(f64, f64)>,
+    pub errors_after: ObservationErrors,
     /// Condition number of W_b at the solution.
     pub condition_number: f64,
     /// Appendix III on the data at the nominal robot (the excitation check):
@@ -201,17 +207,10 @@ impl Identification {
             return None;
         }
         let outliers = self.outlier_observations();
-        let kept: Vec<(f64, f64)> = self
+        let kept = self
             .errors_after
-            .iter()
-            .enumerate()
-            .filter(|(index, _)| !outliers.contains(index))
-            .map(|(_, error)| *error)
-            .collect();
-        Some(ErrorSummary::of_errors(
-            &kept,
-            self.after.rms_rotation.is_some(),
-        ))
+            .retained(|index| outliers.binary_search(&index).is_err());
+        Some(ErrorSummary::of_errors(&kept))
     }
 
     /// The robust σ̂ of the residuals in words: in units of the stated σ

@@ -3,7 +3,7 @@
 //! and weight, and the a-posteriori variance (see [`super::reweighting`]).
 
 use crate::observation::ObservationSystem;
-use crate::robust::{Loss, robust_sigma_of};
+use crate::robust::{Loss, robust_sigma_streamed};
 use crate::rows::RowKind;
 
 /// The smallest σ̂ residuals are standardised by (scaled units: metres of an
@@ -46,22 +46,26 @@ impl ResidualStatistics {
         let kinds = system.kinds();
         const KINDS: [RowKind; 2] = [RowKind::Length, RowKind::Angle];
         let slot_of = |row: usize| usize::from(kinds[row] == RowKind::Angle);
-        // A set's scaled residuals of each kind, in one pass.
-        let by_kind = |set: usize| {
-            let mut values = [Vec::new(), Vec::new()];
-            for (row, scaled) in system.scaled_rows_of(set) {
-                values[slot_of(row)].push(scaled);
-            }
-            values
+        // The σ̂ of a set's (or all sets') scaled residuals of a kind, read
+        // where they are, and how many there are.
+        let set_sigma = |set: usize, slot: usize| {
+            let of_kind = move || {
+                system
+                    .scaled_rows_of(set)
+                    .filter(move |(row, _)| slot_of(*row) == slot)
+                    .map(|(_, scaled)| scaled)
+            };
+            let count = of_kind().count();
+            (robust_sigma_streamed(count, of_kind), count)
         };
         let all_sigma = |kind: RowKind| {
-            robust_sigma_of(
+            let of_kind = || {
                 system
                     .scaled_rows()
-                    .filter(|(row, _)| kinds[*row] == kind)
-                    .map(|(_, e)| e)
-                    .collect(),
-            )
+                    .filter(move |(row, _)| kinds[*row] == kind)
+                    .map(|(_, scaled)| scaled)
+            };
+            robust_sigma_streamed(of_kind().count(), of_kind)
         };
         // All sets' σ̂ of a kind: a single set's own, otherwise computed
         // only if a set needs it or to report it.
@@ -79,9 +83,8 @@ impl ResidualStatistics {
         let mut plain = 0.0;
         for set in 0..system.set_rows().len() {
             let mut sigmas = [0.0; 2];
-            for (slot, values) in by_kind(set).into_iter().enumerate() {
-                let count = values.len();
-                let own = robust_sigma_of(values);
+            for slot in 0..KINDS.len() {
+                let (own, count) = set_sigma(set, slot);
                 sigmas[slot] = if single {
                     *pooled[slot].insert(own)
                 } else if count >= MINIMUM_ROWS {
