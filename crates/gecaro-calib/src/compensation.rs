@@ -22,9 +22,9 @@
 //!   (then the start joints are kept). Nothing is dropped or written silently.
 
 use gecaro_core::{
-    InverseOptions, InverseSolution, KinematicModel, OrientationDifference, Robot, Target,
-    forward_kinematics, inverse_kinematics, inverse_kinematics_near, joint_jacobian,
-    orientation_difference, terminal_pose,
+    ChainBuffer, InverseOptions, InverseSolution, KinematicModel, OrientationDifference, Robot,
+    Target, forward_kinematics, inverse_kinematics, inverse_kinematics_near, joint_jacobian,
+    orientation_difference,
 };
 use nalgebra::{DMatrix, DVector, IsometryMatrix3, Vector3};
 
@@ -183,6 +183,7 @@ pub fn compensate(
     // Program points start near their solution: Newton steps on the
     // compiled model, the damped solver where they do not converge.
     let model = KinematicModel::new(calibrated);
+    let nominal_model = KinematicModel::new(nominal);
     let mut results = Vec::with_capacity(points.len());
     // Targets with their joints start from them: each is solved on its own,
     // over the cores, a block at a time (progress between blocks). Targets
@@ -199,7 +200,7 @@ pub fn compensate(
                 .collect();
             let solved = run_parts(parts, |(index, point)| {
                 compensate_point(
-                    nominal,
+                    (nominal, &nominal_model),
                     (calibrated, &model),
                     point,
                     matching,
@@ -224,7 +225,7 @@ pub fn compensate(
     let mut previous: Option<Vec<f64>> = None;
     for (index, point) in points.iter().enumerate() {
         let result = compensate_point(
-            nominal,
+            (nominal, &nominal_model),
             (calibrated, &model),
             point,
             matching,
@@ -254,7 +255,7 @@ const PARALLEL_BLOCK: usize = 1024;
 /// targets), solved on the calibrated robot from the program's joints, or
 /// else from `previous` (the solution of the point before).
 fn compensate_point(
-    nominal: &Robot,
+    (nominal, nominal_model): (&Robot, &KinematicModel),
     (calibrated, model): (&Robot, &KinematicModel),
     point: &ProgramPoint,
     matching: Match,
@@ -264,7 +265,7 @@ fn compensate_point(
 ) -> Result<CompensatedPoint, Error> {
     let (target, joints) = match &point.target {
         ProgramTarget::Joints(qm) => {
-            let pose = terminal_pose(nominal, qm)?;
+            let pose = nominal_model.terminal_pose(qm, &mut ChainBuffer::default())?;
             let target = match matching {
                 Match::Pose => Target::Frame(pose),
                 Match::Position => Target::Position(pose.translation.vector),
@@ -389,7 +390,7 @@ fn compensate_one(
     } else {
         status
     };
-    let (position_error, rotation_error) = errors(robot, target, &motor_positions)?;
+    let (position_error, rotation_error) = errors(model, target, &motor_positions)?;
     Ok(CompensatedPoint {
         motor_positions,
         position_error,
@@ -437,11 +438,11 @@ fn fallback(
 
 /// How far the robot at `motor_positions` is from `target`.
 fn errors(
-    robot: &Robot,
+    model: &KinematicModel,
     target: &Target,
     motor_positions: &[f64],
 ) -> Result<(f64, Option<f64>), Error> {
-    let pose = terminal_pose(robot, motor_positions)?;
+    let pose = model.terminal_pose(motor_positions, &mut ChainBuffer::default())?;
     Ok(match target {
         Target::Position(point) => ((point - pose.translation.vector).norm(), None),
         Target::Frame(wanted) => (
@@ -566,7 +567,7 @@ mod tests {
     use std::f64::consts::FRAC_PI_2;
     use std::ops::ControlFlow;
 
-    use gecaro_core::{Frame, FrameType, Joint, RobotSpec};
+    use gecaro_core::{Frame, FrameType, Joint, RobotSpec, terminal_pose};
 
     use super::*;
     use crate::progress::Quiet;

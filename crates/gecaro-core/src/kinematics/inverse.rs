@@ -2,12 +2,15 @@
 //! based on the differential model of the robot").
 //!
 //! Damped least squares (Levenberg–Marquardt) on the joint variables q, from a
-//! chosen start configuration. Each step solves `J Δq ≈ Δx` with
-//! `Δq = Σ σ_i/(σ_i² + λ) v_i u_iᵀ Δx` (SVD of the k×n task Jacobian, so
-//! redundant, position-only and plane problems need nothing special), clamps
-//! q to the joint limits, and keeps the step only if it lowers ‖Δx‖; λ shrinks
-//! after a kept step and grows after a refused one. Close to the solution
-//! λ → 0 and the iteration is Newton's, so targets are met to ~1e-13 m.
+//! chosen start configuration, on the compiled direct model
+//! ([`KinematicModel`]). Each step solves `J Δq ≈ Δx` with
+//! `Δq = (JᵀJ + λI)⁻¹JᵀΔx = Jᵀ(JJᵀ + λI)⁻¹Δx` (k×n task Jacobian; a
+//! Cholesky factorisation of the smaller of the two products per damping
+//! tried, so redundant, position-only and plane problems need nothing
+//! special), clamps q to the joint limits, and keeps the step only if it
+//! lowers ‖Δx‖; λ shrinks after a kept step and grows after a refused one (or
+//! a product that does not factorise). Close to the solution λ → 0 and the
+//! iteration is Newton's, so targets are met to ~1e-13 m.
 //!
 //! Failure is an error, never a silently wrong configuration: when the target
 //! is out of reach within the joint limits, or the iteration stalls from this
@@ -15,8 +18,6 @@
 
 use nalgebra::{DMatrix, DVector, IsometryMatrix3, Matrix6xX, Vector3};
 
-use super::direct::{FrameChain, chain_at_joint_positions};
-use super::jacobian::joint_jacobian;
 use super::model::{ChainBuffer, KinematicModel};
 use super::pose_difference::{OrientationDifference, orientation_difference};
 use crate::Error;
@@ -112,34 +113,73 @@ pub fn inverse_kinematics(
     options: &InverseOptions,
 ) -> Result<InverseSolution, Error> {
     check_target(target)?;
+    let start = robot.joint_positions(start_motor_positions)?;
+    damped_descent(robot, &KinematicModel::new(robot), target, start, options)
+}
+
+/// The damped least-squares descent of [`inverse_kinematics`] from the
+/// joint positions `start`, on the compiled `model` of `robot`.
+fn damped_descent(
+    robot: &Robot,
+    model: &KinematicModel,
+    target: &Target,
+    start: DVector<f64>,
+    options: &InverseOptions,
+) -> Result<InverseSolution, Error> {
     let limit = |q: DVector<f64>| limited(robot, options, q);
-    let mut joint_positions = limit(robot.joint_positions(start_motor_positions)?);
-    let (mut chain, mut error) = evaluate(robot, target, &joint_positions);
+    let evaluate = |joint_positions: &DVector<f64>, chain: &mut ChainBuffer| {
+        model.forward_joints(joint_positions.as_slice(), chain);
+        task_error(target, chain.world_from_tool())
+    };
+    let mut joint_positions = limit(start);
+    let (mut chain, mut candidate_chain) = (ChainBuffer::default(), ChainBuffer::default());
+    let mut error = evaluate(&joint_positions, &mut chain);
+    let mut full = Matrix6xX::zeros(robot.joint_count());
     let mut damping = INITIAL_DAMPING;
     let mut iterations = 0;
     let (mut checkpoint_error, mut checkpoint_iteration) = (error.norm(), 0);
     while error.norm() > options.tolerance && iterations < options.max_iterations {
         iterations += 1;
-        let jacobian = task_jacobian(robot, target, &chain);
-        let svd = jacobian.svd(true, true);
-        let (Some(u), Some(v_t)) = (&svd.u, &svd.v_t) else {
-            break;
+        model.joint_jacobian(&chain, &mut full);
+        let jacobian = task_rows(target, &full);
+        // The damped step (JᵀJ + λI)⁻¹Jᵀ Δx, as Jᵀ(JJᵀ + λI)⁻¹Δx when the
+        // target has fewer rows than the robot joints: one small Cholesky
+        // factorisation per damping tried.
+        let wide = jacobian.nrows() <= jacobian.ncols();
+        let product = if wide {
+            &jacobian * jacobian.transpose()
+        } else {
+            jacobian.transpose() * &jacobian
         };
-        let projected = u.transpose() * &error;
+        let right = if wide {
+            error.clone()
+        } else {
+            jacobian.transpose() * &error
+        };
         let mut improved = false;
         while damping < MAX_DAMPING {
-            let scaled = DVector::from_iterator(
-                projected.len(),
-                projected
-                    .iter()
-                    .zip(svd.singular_values.iter())
-                    .map(|(p, s)| p * s / (s * s + damping)),
-            );
-            let candidate = limit(&joint_positions + v_t.transpose() * scaled);
-            let (candidate_chain, candidate_error) = evaluate(robot, target, &candidate);
+            let mut damped = product.clone();
+            for i in 0..damped.nrows() {
+                damped[(i, i)] += damping;
+            }
+            let Some(solved) = damped
+                .cholesky()
+                .map(|factor| factor.solve(&right))
+                .filter(|solved| solved.iter().all(|v| v.is_finite()))
+            else {
+                damping *= 10.0;
+                continue;
+            };
+            let step = if wide {
+                jacobian.transpose() * solved
+            } else {
+                solved
+            };
+            let candidate = limit(&joint_positions + step);
+            let candidate_error = evaluate(&candidate, &mut candidate_chain);
             if candidate_error.norm() < error.norm() {
                 joint_positions = candidate;
-                chain = candidate_chain;
+                std::mem::swap(&mut chain, &mut candidate_chain);
                 error = candidate_error;
                 damping = (damping / 3.0).max(1e-15);
                 improved = true;
@@ -279,7 +319,8 @@ pub fn inverse_kinematics_near(
         joint_positions = candidate;
         error = candidate_error;
     }
-    inverse_kinematics(robot, target, start_motor_positions, options)
+    let start = robot.joint_positions(start_motor_positions)?;
+    damped_descent(robot, model, target, start, options)
 }
 
 /// The smallest `Δq` with `J Δq = Δx` (J of full row rank), or the
@@ -306,18 +347,6 @@ fn clamp_to_limits(robot: &Robot, mut joint_positions: DVector<f64>) -> DVector<
     joint_positions
 }
 
-/// The frame chain at `joint_positions` and the task error `Δx` towards the target.
-fn evaluate(
-    robot: &Robot,
-    target: &Target,
-    joint_positions: &DVector<f64>,
-) -> (FrameChain, DVector<f64>) {
-    // Cm·qm only feeds the gain columns of the parameter Jacobian; not needed here.
-    let chain = chain_at_joint_positions(robot, joint_positions.as_slice(), Vec::new());
-    let error = task_error(target, chain.world_from_tool());
-    (chain, error)
-}
-
 /// The task error `Δx` from frame n+1 at `current` towards the target.
 fn task_error(target: &Target, current: &IsometryMatrix3<f64>) -> DVector<f64> {
     match target {
@@ -339,11 +368,6 @@ fn task_error(target: &Target, current: &IsometryMatrix3<f64>) -> DVector<f64> {
     }
 }
 
-/// The rows of the joint Jacobian that the target constrains.
-fn task_jacobian(robot: &Robot, target: &Target, chain: &FrameChain) -> DMatrix<f64> {
-    task_rows(target, &joint_jacobian(robot, chain))
-}
-
 /// The rows of the 6×n joint Jacobian `full` that the target constrains.
 fn task_rows(target: &Target, full: &Matrix6xX<f64>) -> DMatrix<f64> {
     match target {
@@ -358,6 +382,7 @@ fn task_rows(target: &Target, full: &Matrix6xX<f64>) -> DMatrix<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kinematics::jacobian::joint_jacobian;
     use crate::kinematics::terminal_pose;
     use crate::test_robots::{random_configuration, random_robot, stanford};
     use rand::SeedableRng;
