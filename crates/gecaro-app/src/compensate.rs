@@ -75,7 +75,8 @@ pub struct CompensateRequest {
 /// A corrected program.
 #[derive(Clone, Debug)]
 pub struct Compensated {
-    /// The program file, when the program came from one.
+    /// The program file, when the program came from one (its targets
+    /// moved to `points`).
     pub program: Option<ProgramFile>,
     /// The targets.
     pub points: Vec<ProgramPoint>,
@@ -206,7 +207,7 @@ impl CompensateRequest {
             }),
             ProgramSource::Points(_) => None,
         };
-        let program = input
+        let mut program = input
             .map(|input| {
                 let format = self.format.format()?;
                 let program = input.parse(files, |reader, path| {
@@ -221,8 +222,9 @@ impl CompensateRequest {
                 Ok::<_, AppError>(program)
             })
             .transpose()?;
-        let points = match (&program, &self.program) {
-            (Some(program), _) => program.points.clone(),
+        // A program file's targets move here (a million are not copied).
+        let points = match (&mut program, &self.program) {
+            (Some(program), _) => std::mem::take(&mut program.points),
             (None, ProgramSource::Points(points)) => points.clone(),
             (None, _) => Vec::new(),
         };

@@ -18,6 +18,7 @@
 //! it (and gecaro reads it back).
 
 use gecaro_calib::compensation::{CompensatedPoint, ProgramPoint, ProgramTarget};
+use gecaro_calib::parallel::run_parts;
 use gecaro_core::{FrameType, Robot};
 use nalgebra::{IsometryMatrix3, Translation3, Vector3};
 use std::path::Path;
@@ -42,7 +43,11 @@ pub enum ProgramKind {
 #[derive(Clone, Debug, PartialEq)]
 pub struct ProgramFile {
     header: Vec<String>,
-    records: Vec<Vec<String>>,
+    /// Per target, the fields of the columns the corrected program keeps
+    /// as written (all but the joints'; none for a joint program).
+    kept: Vec<Vec<String>>,
+    /// The positions of those columns in the header.
+    kept_columns: Vec<usize>,
     lines: Vec<usize>,
     /// Positions of `qm1..qmn` in the header, if the program has them.
     joint_columns: Option<Vec<usize>>,
@@ -58,6 +63,9 @@ pub struct ProgramFile {
     /// Columns kept as they are (not read by gecaro).
     pub unused_columns: Vec<String>,
 }
+
+/// Targets formatted at once on one core ([`ProgramFile::format_corrected`]).
+const FORMAT_BLOCK: usize = 8192;
 
 /// Most targets a program may hold (as many as a data file's configurations).
 const MAX_TARGETS: usize = crate::data_rows::MAX_CONFIGURATIONS;
@@ -153,9 +161,17 @@ pub fn parse_program(
     };
     let types = joint_types(robot);
     let length = units.length.to_metres();
+    let kept_columns: Vec<usize> = (0..header.len())
+        .filter(|column| {
+            joint_columns
+                .as_ref()
+                .is_none_or(|joints| !joints.contains(column))
+        })
+        .collect();
     let mut program = ProgramFile {
         header: header.clone(),
-        records: Vec::new(),
+        kept: Vec::new(),
+        kept_columns,
         lines: Vec::new(),
         joint_columns,
         kind,
@@ -170,7 +186,7 @@ pub fn parse_program(
     // written with the same mark.
     let comma_seen = std::cell::Cell::new(false);
     while let Some((record, line)) = next_record(&mut reader, path)? {
-        if program.records.len() == MAX_TARGETS {
+        if program.points.len() == MAX_TARGETS {
             return Err(Error::parse(
                 path,
                 line,
@@ -264,9 +280,13 @@ pub fn parse_program(
             _ => joints,
         };
         program.points.push(ProgramPoint { target, joints });
-        program
-            .records
-            .push(record.iter().map(str::to_owned).collect());
+        program.kept.push(
+            program
+                .kept_columns
+                .iter()
+                .map(|column| record[*column].to_owned())
+                .collect(),
+        );
         program.lines.push(line);
     }
     if program.points.is_empty() {
@@ -312,7 +332,7 @@ impl ProgramFile {
     /// # Panics
     /// If `results` does not hold one result per target (a bug of the caller).
     pub fn format_corrected(&self, results: &[CompensatedPoint]) -> String {
-        assert_eq!(results.len(), self.records.len(), "one result per target");
+        assert_eq!(results.len(), self.kept.len(), "one result per target");
         let n = self.joint_types.len();
         let mut header = self.header.clone();
         let joint_columns: Vec<usize> = match &self.joint_columns {
@@ -344,41 +364,58 @@ impl ProgramFile {
                 text
             }
         };
-        let mut writer = csv::WriterBuilder::new()
-            .delimiter(self.separator)
-            .from_writer(Vec::new());
-        let write = |writer: &mut csv::Writer<Vec<u8>>, record: &[String]| {
-            // Writing into memory does not fail.
-            let _ = writer.write_record(record);
+        let writer = || {
+            csv::WriterBuilder::new()
+                .delimiter(self.separator)
+                .from_writer(Vec::new())
         };
-        write(&mut writer, &header);
-        for (record, result) in self.records.iter().zip(results) {
-            let mut fields = record.clone();
-            fields.resize(header.len(), String::new());
-            for (j, (column, value)) in joint_columns
-                .iter()
-                .zip(&result.motor_positions)
-                .enumerate()
-            {
-                fields[*column] = mark(format!(
-                    "{:?}",
-                    value / self.units.joint_scale(&self.joint_types, j)
-                ));
-            }
-            fields[residual] = mark(format!(
-                "{:.3e}",
-                result.position_error / self.units.length.to_metres()
-            ));
-            if let Some(rotation) = rotation {
-                fields[rotation] = mark(format!(
+        // Writing into memory does not fail.
+        let text = |writer: csv::Writer<Vec<u8>>| writer.into_inner().unwrap_or_default();
+        let mut head = writer();
+        let _ = head.write_record(&header);
+        let mut corrected = text(head);
+        // Blocks of targets formatted on all cores, joined in order.
+        let blocks: Vec<(&[Vec<String>], &[CompensatedPoint])> = self
+            .kept
+            .chunks(FORMAT_BLOCK)
+            .zip(results.chunks(FORMAT_BLOCK))
+            .collect();
+        let formatted = run_parts(blocks, |(kept, results)| {
+            let mut block = writer();
+            let mut fields = vec![String::new(); header.len()];
+            for (kept, result) in kept.iter().zip(results) {
+                for (column, field) in self.kept_columns.iter().zip(kept) {
+                    fields[*column].clone_from(field);
+                }
+                for (j, (column, value)) in joint_columns
+                    .iter()
+                    .zip(&result.motor_positions)
+                    .enumerate()
+                {
+                    fields[*column] = mark(format!(
+                        "{:?}",
+                        value / self.units.joint_scale(&self.joint_types, j)
+                    ));
+                }
+                fields[residual] = mark(format!(
                     "{:.3e}",
-                    result.rotation_error.unwrap_or(0.0) / self.units.angle.to_radians()
+                    result.position_error / self.units.length.to_metres()
                 ));
+                if let Some(rotation) = rotation {
+                    fields[rotation] = mark(format!(
+                        "{:.3e}",
+                        result.rotation_error.unwrap_or(0.0) / self.units.angle.to_radians()
+                    ));
+                }
+                fields[status] = result.status.word().to_owned();
+                let _ = block.write_record(&fields);
             }
-            fields[status] = result.status.word().to_owned();
-            write(&mut writer, &fields);
+            text(block)
+        });
+        for block in formatted {
+            corrected.extend_from_slice(&block);
         }
-        String::from_utf8(writer.into_inner().unwrap_or_default()).unwrap_or_default()
+        String::from_utf8(corrected).unwrap_or_default()
     }
 }
 
@@ -455,5 +492,43 @@ mod tests {
                 assert!((a - b).abs() < 1e-12, "{a} vs {b}");
             }
         }
+    }
+
+    #[test]
+    fn a_long_program_is_corrected_row_for_row_in_order() {
+        // Blocks formatted on several cores are joined in the program's order.
+        let robot = Robot::template("arm", "RR").expect("robot");
+        let count = 3 * FORMAT_BLOCK + 5;
+        let mut text = String::from("name,qm1,qm2,speed\n");
+        for row in 0..count {
+            text.push_str(&format!("P{row},{}e-6,0.5,{}\n", row, row % 7));
+        }
+        let program = parse_program(
+            text.as_bytes(),
+            Path::new("long.csv"),
+            &robot,
+            &DataFormat::default(),
+        )
+        .expect("read");
+        let results: Vec<CompensatedPoint> = (0..count)
+            .map(|row| CompensatedPoint {
+                motor_positions: vec![row as f64 * 1e-3, -0.25],
+                position_error: 0.0,
+                rotation_error: None,
+                status: CompensationStatus::Reached,
+            })
+            .collect();
+        let corrected = program.format_corrected(&results);
+        let mut lines = corrected.lines();
+        assert_eq!(lines.next(), Some("name,qm1,qm2,speed,residual,status"));
+        for (row, line) in lines.enumerate() {
+            let expected = format!(
+                "P{row},{:?},-0.25,{},0.000e0,ok",
+                row as f64 * 1e-3,
+                row % 7
+            );
+            assert_eq!(line, expected);
+        }
+        assert_eq!(corrected.lines().count(), count + 1);
     }
 }
