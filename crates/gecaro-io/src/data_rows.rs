@@ -20,6 +20,7 @@ use std::path::Path;
 use crate::Error;
 use crate::columns::{not_a_number, parse_number};
 use crate::input::{LineLimit, MAX_LINE_BYTES, csv_error_after, csv_reader_with, record_line};
+use crate::line_chunks::{LineChunks, line_parts};
 use crate::pose::{quaternion_deviation, unit_quaternion};
 
 /// The largest motor value a data file holds: 2⁵³, beyond which a double
@@ -189,32 +190,21 @@ impl RowReader<'_> {
         if breaks >= MAX_CONFIGURATIONS {
             return None;
         }
-        // Parts of about equal length, each from a line start to the next
-        // part's start, with the lines before it.
         // The first part makes room for every line (the others' samples
         // are moved after its own), each other part for its own lines.
-        let mut parts: Vec<(&[u8], usize, usize)> = Vec::with_capacity(threads);
-        let (mut start, mut lines) = (0, lines_before);
-        for part in 1..=threads {
-            let target = (body.len() * part / threads).max(start);
-            let end = if part == threads {
-                body.len()
-            } else {
-                memchr::memchr(b'\n', &body[target..])
-                    .map_or(body.len(), |offset| target + offset + 1)
-            };
-            if end > start {
-                let own = memchr::memchr_iter(b'\n', &body[start..end]).count();
-                let capacity = if parts.is_empty() {
+        let cut = line_parts(body, lines_before, threads);
+        let parts: Vec<(&[u8], usize, usize)> = cut
+            .iter()
+            .enumerate()
+            .map(|(index, &(bytes, lines))| {
+                let capacity = if index == 0 {
                     breaks + 1
                 } else {
-                    own + 1
+                    memchr::memchr_iter(b'\n', bytes).count() + 1
                 };
-                parts.push((&body[start..end], lines, capacity));
-                lines += own;
-                start = end;
-            }
-        }
+                (bytes, lines, capacity)
+            })
+            .collect();
         let mut read = run_parts(parts, |(bytes, lines_before, capacity)| {
             let mut csv = csv_reader_with(LineLimit::new(bytes, MAX_LINE_BYTES), separator);
             self.read(&mut csv, lines_before, capacity)
@@ -253,40 +243,16 @@ impl RowReader<'_> {
             normalised: Normalised::default(),
             error: None,
         };
-        let mut buffer = head;
-        buffer.drain(..start);
-        let (mut lines, mut ended) = (lines_before, false);
+        let mut chunks = LineChunks::new((head, start), rest, lines_before, chunk_bytes, self.path);
         loop {
-            while !ended && buffer.len() < chunk_bytes {
-                let filled = buffer.len();
-                buffer.resize(chunk_bytes.max(filled + 1), 0);
-                match rest.read(&mut buffer[filled..]) {
-                    Ok(0) => {
-                        buffer.truncate(filled);
-                        ended = true;
-                    }
-                    Ok(count) => buffer.truncate(filled + count),
-                    Err(cause) if cause.kind() == std::io::ErrorKind::Interrupted => {
-                        buffer.truncate(filled);
-                    }
-                    Err(cause) => {
-                        joined.error = Some(Error::Read {
-                            path: self.path.to_owned(),
-                            cause,
-                        });
-                        return joined;
-                    }
+            let (chunk, lines) = match chunks.next_chunk() {
+                Ok(Some(chunk)) => chunk,
+                Ok(None) => return joined,
+                Err(error) => {
+                    joined.error = Some(error);
+                    return joined;
                 }
-            }
-            let cut = if ended {
-                buffer.len()
-            } else {
-                memchr::memrchr(b'\n', &buffer).map_or(buffer.len(), |at| at + 1)
             };
-            if cut == 0 {
-                return joined;
-            }
-            let chunk = &buffer[..cut];
             let rows = self
                 .read_in_parts(chunk, lines, separator)
                 .unwrap_or_else(|| {
@@ -305,11 +271,6 @@ impl RowReader<'_> {
                 return joined;
             }
             if !joined.append(rows) {
-                return joined;
-            }
-            lines += memchr::memchr_iter(b'\n', chunk).count();
-            buffer.drain(..cut);
-            if ended && buffer.is_empty() {
                 return joined;
             }
         }

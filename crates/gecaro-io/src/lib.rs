@@ -19,6 +19,7 @@ mod error;
 mod input;
 mod interchange;
 mod joint_calibration;
+mod line_chunks;
 mod output;
 mod payload;
 mod pose;

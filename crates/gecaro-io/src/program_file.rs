@@ -18,15 +18,21 @@
 //! it (and gecaro reads it back).
 
 use gecaro_calib::compensation::{CompensatedPoint, ProgramPoint, ProgramTarget};
-use gecaro_calib::parallel::run_parts;
+use gecaro_calib::parallel::{available_threads, run_parts};
 use gecaro_core::{FrameType, Robot};
 use nalgebra::{IsometryMatrix3, Translation3, Vector3};
+use std::io::Read;
 use std::path::Path;
 
 use crate::Error;
 use crate::columns::{DataUnits, joint_types, locate, not_a_number, parse_number};
 use crate::data_file::DataFormat;
-use crate::input::{csv_reader, next_record, open_regular};
+use crate::data_rows::{CHUNK_BYTES, PART_MIN_BYTES};
+use crate::input::{
+    LineLimit, MAX_LINE_BYTES, csv_error_after, csv_reader, csv_reader_with, next_record,
+    open_regular, record_line,
+};
+use crate::line_chunks::{LineChunks, line_parts};
 
 /// What a program's targets are.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -86,13 +92,23 @@ pub fn read_program(path: &Path, robot: &Robot, format: &DataFormat) -> Result<P
 /// # Errors
 /// As [`read_program`].
 pub fn parse_program(
-    reader: impl std::io::Read,
+    mut input: impl Read,
     path: &Path,
     robot: &Robot,
     format: &DataFormat,
 ) -> Result<ProgramFile, Error> {
+    // The head of the file, whose rows are read in parts on all cores (and
+    // then the rest in chunks) when it holds no quote.
+    let mut head = Vec::new();
+    (&mut input)
+        .take(CHUNK_BYTES as u64)
+        .read_to_end(&mut head)
+        .map_err(|cause| Error::Read {
+            path: path.to_owned(),
+            cause,
+        })?;
     let (units, map) = (format.units, &format.columns);
-    let (mut reader, separator) = csv_reader(reader, format.delimiter);
+    let (mut reader, separator) = csv_reader((&head[..]).chain(&mut input), format.delimiter);
     let decimal_comma = format
         .decimal_comma(separator)
         .map_err(|message| Error::parse(path, 1, None, message))?;
@@ -160,7 +176,6 @@ pub fn parse_program(
         }
     };
     let types = joint_types(robot);
-    let length = units.length.to_metres();
     let kept_columns: Vec<usize> = (0..header.len())
         .filter(|column| {
             joint_columns
@@ -168,34 +183,146 @@ pub fn parse_program(
                 .is_none_or(|joints| !joints.contains(column))
         })
         .collect();
+    let targets = TargetColumns {
+        path,
+        header: &header,
+        kind,
+        joints: joint_columns.as_deref(),
+        position: position_columns.as_deref(),
+        orientation: orientation_columns.as_deref(),
+        kept: &kept_columns,
+        units,
+        joint_types: &types,
+        decimal_comma,
+    };
+    let mut read = ReadTargets::default();
+    if memchr::memchr(b'"', &head).is_some() || available_threads() < 2 {
+        // Quoted fields may hold line breaks: one pass over the stream.
+        while let Some((record, line)) = next_record(&mut reader, path)? {
+            read.add(&targets, &record, line)?;
+            if read.points.len() > MAX_TARGETS {
+                return Err(too_many_targets(path, line));
+            }
+        }
+    } else {
+        let start = (reader.position().byte() as usize).min(head.len());
+        let lines_before = memchr::memchr_iter(b'\n', &head[..start]).count();
+        drop(reader);
+        let mut chunks =
+            LineChunks::new((head, start), &mut input, lines_before, CHUNK_BYTES, path);
+        while let Some((chunk, lines)) = chunks.next_chunk()? {
+            let parts = if chunk.len() < PART_MIN_BYTES {
+                vec![(chunk, lines)]
+            } else {
+                line_parts(chunk, lines, available_threads())
+            };
+            let parts = run_parts(parts, |(bytes, lines_before)| {
+                let mut csv = csv_reader_with(LineLimit::new(bytes, MAX_LINE_BYTES), separator);
+                let mut part = ReadTargets::default();
+                let mut record = csv::StringRecord::new();
+                let error = loop {
+                    match csv.read_record(&mut record) {
+                        Ok(true) => {}
+                        Ok(false) => break None,
+                        Err(error) => break Some(csv_error_after(path, &error, lines_before)),
+                    }
+                    let line = lines_before + record_line(&mut csv);
+                    if let Err(error) = part.add(&targets, &record, line) {
+                        break Some(error);
+                    }
+                };
+                (part, error)
+            });
+            for (part, error) in parts {
+                let room = MAX_TARGETS - read.points.len();
+                if part.points.len() > room {
+                    return Err(too_many_targets(path, part.lines[room]));
+                }
+                read.append(part);
+                if let Some(error) = error {
+                    return Err(error);
+                }
+            }
+        }
+    }
     let mut program = ProgramFile {
         header: header.clone(),
-        kept: Vec::new(),
+        kept: read.kept,
         kept_columns,
-        lines: Vec::new(),
+        lines: read.lines,
         joint_columns,
         kind,
         units,
         joint_types: types,
         separator,
-        decimal_comma: false,
-        points: Vec::new(),
+        decimal_comma: read.comma_seen,
+        points: read.points,
         unused_columns: layout.unused.clone(),
     };
-    // Whether a number read had a decimal comma: the corrected program is
-    // written with the same mark.
-    let comma_seen = std::cell::Cell::new(false);
-    while let Some((record, line)) = next_record(&mut reader, path)? {
-        if program.points.len() == MAX_TARGETS {
-            return Err(Error::parse(
-                path,
-                line,
-                None,
-                format!(
-                    "more than {MAX_TARGETS} targets; reading stopped here (split the program)"
-                ),
-            ));
-        }
+    if program.points.is_empty() {
+        return Err(Error::parse(
+            path,
+            header_line + 1,
+            None,
+            "the program has a header but no targets",
+        ));
+    }
+    program.points.shrink_to_fit();
+    Ok(program)
+}
+
+/// The error of one target beyond [`MAX_TARGETS`], at `line`.
+fn too_many_targets(path: &Path, line: usize) -> Error {
+    Error::parse(
+        path,
+        line,
+        None,
+        format!("more than {MAX_TARGETS} targets; reading stopped here (split the program)"),
+    )
+}
+
+/// Where a program's targets are in its records, and in what units.
+struct TargetColumns<'a> {
+    path: &'a Path,
+    header: &'a [String],
+    kind: ProgramKind,
+    joints: Option<&'a [usize]>,
+    position: Option<&'a [usize]>,
+    orientation: Option<&'a [usize]>,
+    /// The columns the corrected program keeps as written.
+    kept: &'a [usize],
+    units: DataUnits,
+    joint_types: &'a [FrameType],
+    decimal_comma: bool,
+}
+
+/// Targets read, in order, with what the corrected program needs of them.
+#[derive(Default)]
+struct ReadTargets {
+    points: Vec<ProgramPoint>,
+    kept: Vec<Vec<String>>,
+    lines: Vec<usize>,
+    /// Whether a number read had a decimal comma: the corrected program is
+    /// written with the same mark.
+    comma_seen: bool,
+}
+
+impl ReadTargets {
+    /// The target of `record`, at `line` of the file.
+    fn add(
+        &mut self,
+        columns: &TargetColumns<'_>,
+        record: &csv::StringRecord,
+        line: usize,
+    ) -> Result<(), Error> {
+        let TargetColumns {
+            path,
+            header,
+            kind,
+            units,
+            decimal_comma,
+            ..
+        } = *columns;
         if record.len() != header.len() {
             return Err(Error::parse(
                 path,
@@ -209,10 +336,11 @@ pub fn parse_program(
                 ),
             ));
         }
-        let number = |column: usize| -> Result<f64, Error> {
+        let mut comma_seen = false;
+        let mut number = |column: usize| -> Result<f64, Error> {
             let text = record[column].trim();
             if decimal_comma && text.contains(',') {
-                comma_seen.set(true);
+                comma_seen = true;
             }
             match parse_number(text, decimal_comma) {
                 Some(value) if value.is_finite() => Ok(value),
@@ -230,27 +358,24 @@ pub fn parse_program(
                 )),
             }
         };
-        let joints = program
-            .joint_columns
-            .as_ref()
-            .map(|columns| {
-                columns
+        let joints = columns
+            .joints
+            .map(|joints| {
+                joints
                     .iter()
                     .enumerate()
-                    .map(|(j, column)| {
-                        Ok(number(*column)? * units.joint_scale(&program.joint_types, j))
-                    })
+                    .map(|(j, column)| Ok(number(*column)? * units.joint_scale(columns.joint_types, j)))
                     .collect::<Result<Vec<f64>, Error>>()
             })
             .transpose()?;
-        let position = position_columns
-            .as_ref()
-            .map(|columns| -> Result<Vector3<f64>, Error> {
+        let position = columns
+            .position
+            .map(|position| -> Result<Vector3<f64>, Error> {
                 Ok(Vector3::new(
-                    number(columns[0])?,
-                    number(columns[1])?,
-                    number(columns[2])?,
-                ) * length)
+                    number(position[0])?,
+                    number(position[1])?,
+                    number(position[2])?,
+                ) * units.length.to_metres())
             })
             .transpose()?;
         let target = match (kind, position) {
@@ -259,19 +384,19 @@ pub fn parse_program(
             }
             (ProgramKind::Position, Some(position)) => ProgramTarget::Position(position),
             (ProgramKind::Pose, Some(position)) => {
-                let columns = orientation_columns.as_ref().map_or(&[][..], Vec::as_slice);
-                let orientation = crate::pose::unit_quaternion(
-                    number(columns[0])?,
-                    number(columns[1])?,
-                    number(columns[2])?,
-                    number(columns[3])?,
+                let orientation = columns.orientation.unwrap_or(&[]);
+                let rotation = crate::pose::unit_quaternion(
+                    number(orientation[0])?,
+                    number(orientation[1])?,
+                    number(orientation[2])?,
+                    number(orientation[3])?,
                 )
                 .map_err(|message| {
-                    Error::parse(path, line, Some(header[columns[0]].clone()), message)
+                    Error::parse(path, line, Some(header[orientation[0]].clone()), message)
                 })?;
                 ProgramTarget::Pose(IsometryMatrix3::from_parts(
                     Translation3::from(position),
-                    orientation.to_rotation_matrix(),
+                    rotation.to_rotation_matrix(),
                 ))
             }
         };
@@ -279,26 +404,26 @@ pub fn parse_program(
             ProgramKind::Joints => None,
             _ => joints,
         };
-        program.points.push(ProgramPoint { target, joints });
-        program.kept.push(
-            program
-                .kept_columns
+        self.points.push(ProgramPoint { target, joints });
+        self.kept.push(
+            columns
+                .kept
                 .iter()
                 .map(|column| record[*column].to_owned())
                 .collect(),
         );
-        program.lines.push(line);
+        self.lines.push(line);
+        self.comma_seen |= comma_seen;
+        Ok(())
     }
-    if program.points.is_empty() {
-        return Err(Error::parse(
-            path,
-            header_line + 1,
-            None,
-            "the program has a header but no targets",
-        ));
+
+    /// The targets of a later part after these.
+    fn append(&mut self, later: ReadTargets) {
+        self.points.extend(later.points);
+        self.kept.extend(later.kept);
+        self.lines.extend(later.lines);
+        self.comma_seen |= later.comma_seen;
     }
-    program.decimal_comma = comma_seen.get();
-    Ok(program)
 }
 
 impl ProgramFile {
@@ -356,12 +481,17 @@ impl ProgramFile {
         let residual = column("residual", &mut header);
         let rotation = oriented.then(|| column("residual_rotation", &mut header));
         let status = column("status", &mut header);
-        // The program's own separator and decimal mark, as it was read.
-        let mark = |text: String| {
-            if self.decimal_comma {
-                text.replacen('.', ",", 1)
-            } else {
-                text
+        // A number into its field (reused: a million rows allocate nothing),
+        // with the program's own decimal mark, as it was read.
+        let put = |field: &mut String, number: std::fmt::Arguments<'_>| {
+            use std::fmt::Write as _;
+            field.clear();
+            // Writing into a String does not fail.
+            let _ = field.write_fmt(number);
+            if self.decimal_comma
+                && let Some(point) = field.find('.')
+            {
+                field.replace_range(point..=point, ",");
             }
         };
         let writer = || {
@@ -392,22 +522,17 @@ impl ProgramFile {
                     .zip(&result.motor_positions)
                     .enumerate()
                 {
-                    fields[*column] = mark(format!(
-                        "{:?}",
-                        value / self.units.joint_scale(&self.joint_types, j)
-                    ));
+                    let value = value / self.units.joint_scale(&self.joint_types, j);
+                    put(&mut fields[*column], format_args!("{value:?}"));
                 }
-                fields[residual] = mark(format!(
-                    "{:.3e}",
-                    result.position_error / self.units.length.to_metres()
-                ));
+                let error = result.position_error / self.units.length.to_metres();
+                put(&mut fields[residual], format_args!("{error:.3e}"));
                 if let Some(rotation) = rotation {
-                    fields[rotation] = mark(format!(
-                        "{:.3e}",
-                        result.rotation_error.unwrap_or(0.0) / self.units.angle.to_radians()
-                    ));
+                    let error = result.rotation_error.unwrap_or(0.0) / self.units.angle.to_radians();
+                    put(&mut fields[rotation], format_args!("{error:.3e}"));
                 }
-                fields[status] = result.status.word().to_owned();
+                fields[status].clear();
+                fields[status].push_str(result.status.word());
                 let _ = block.write_record(&fields);
             }
             text(block)
