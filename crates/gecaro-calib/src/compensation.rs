@@ -249,7 +249,7 @@ pub fn compensate(
 }
 
 /// Targets solved at once between two progress reports.
-const PARALLEL_BLOCK: usize = 1024;
+const PARALLEL_BLOCK: usize = 8192;
 
 /// One program point: its target (the nominal robot's pose for joint
 /// targets), solved on the calibrated robot from the program's joints, or

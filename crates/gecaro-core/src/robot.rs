@@ -560,6 +560,14 @@ impl Robot {
                 .zip(&self.joints)
                 .map(|(q, joint)| q - joint.offset),
         );
+        // Without couplings the map is diagonal: qm = (q − Offset)/K, as LU
+        // solves it.
+        let map = &self.motor_to_joint;
+        let diagonal = (0..map.ncols())
+            .all(|column| (0..map.nrows()).all(|row| row == column || map[(row, column)] == 0.0));
+        if diagonal {
+            return Ok(shifted.component_div(&map.diagonal()));
+        }
         // Validation guarantees the product is regular; LU keeps this exact to rounding.
         let lu = self.motor_to_joint.clone().lu();
         lu.solve(&shifted).ok_or_else(|| {
@@ -925,6 +933,36 @@ mod tests {
             robot.joint_positions_into(&[0.0, f64::NAN, 0.0, 0.0], &mut q),
             Err(Error::NonFiniteConfiguration { joint: 2, .. })
         ));
+    }
+
+    /// `motor_positions` undoes eq. 4, with couplings (LU) and without
+    /// (a division by the gains), offsets and gains away from 1.
+    #[test]
+    fn motor_positions_invert_eq_4() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(17);
+        let mut spec = random_robot(&mut rng, 4).to_spec();
+        for (index, joint) in spec.joints.iter_mut().enumerate() {
+            joint.gain = 1.0 + 0.01 * index as f64;
+            joint.offset = 0.1 * index as f64 - 0.15;
+        }
+        let plain = Robot::new(spec.clone()).expect("robot");
+        spec.joint_coupling = Some(DMatrix::from_fn(4, 4, |i, j| {
+            if i == j {
+                1.0
+            } else {
+                0.05 * (i + 2 * j) as f64
+            }
+        }));
+        let coupled = Robot::new(spec).expect("robot");
+        let qm = [0.3, -1.2, 0.05, 2.5];
+        for robot in [plain, coupled] {
+            let mut q = [0.0; 4];
+            robot.joint_positions_into(&qm, &mut q).expect("q");
+            let back = robot.motor_positions(&q).expect("qm");
+            for (a, b) in back.iter().zip(qm) {
+                assert!((a - b).abs() < 1e-14, "{a} vs {b}");
+            }
+        }
     }
 
     #[test]

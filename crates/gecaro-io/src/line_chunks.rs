@@ -160,7 +160,11 @@ mod tests {
                 joined.extend_from_slice(chunk);
             }
             let skipped = if start > 0 { start } else { 0 };
-            assert_eq!(joined, text.as_bytes()[skipped..], "{head_bytes}, {chunk_bytes}");
+            assert_eq!(
+                joined,
+                text.as_bytes()[skipped..],
+                "{head_bytes}, {chunk_bytes}"
+            );
         }
     }
 

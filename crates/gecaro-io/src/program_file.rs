@@ -364,7 +364,9 @@ impl ReadTargets {
                 joints
                     .iter()
                     .enumerate()
-                    .map(|(j, column)| Ok(number(*column)? * units.joint_scale(columns.joint_types, j)))
+                    .map(|(j, column)| {
+                        Ok(number(*column)? * units.joint_scale(columns.joint_types, j))
+                    })
                     .collect::<Result<Vec<f64>, Error>>()
             })
             .transpose()?;
@@ -528,7 +530,8 @@ impl ProgramFile {
                 let error = result.position_error / self.units.length.to_metres();
                 put(&mut fields[residual], format_args!("{error:.3e}"));
                 if let Some(rotation) = rotation {
-                    let error = result.rotation_error.unwrap_or(0.0) / self.units.angle.to_radians();
+                    let error =
+                        result.rotation_error.unwrap_or(0.0) / self.units.angle.to_radians();
                     put(&mut fields[rotation], format_args!("{error:.3e}"));
                 }
                 fields[status].clear();

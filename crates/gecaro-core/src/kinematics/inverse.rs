@@ -16,7 +16,7 @@
 //! is out of reach within the joint limits, or the iteration stalls from this
 //! start, [`Error::Unreachable`] reports the remaining error.
 
-use nalgebra::{DMatrix, DVector, IsometryMatrix3, Matrix6xX, Vector3};
+use nalgebra::{DMatrix, DVector, IsometryMatrix3, Matrix6xX, SMatrix, SVector, Vector3};
 
 use super::model::{ChainBuffer, KinematicModel};
 use super::pose_difference::{OrientationDifference, orientation_difference};
@@ -142,38 +142,11 @@ fn damped_descent(
         iterations += 1;
         model.joint_jacobian(&chain, &mut full);
         let jacobian = task_rows(target, &full);
-        // The damped step (JᵀJ + λI)⁻¹Jᵀ Δx, as Jᵀ(JJᵀ + λI)⁻¹Δx when the
-        // target has fewer rows than the robot joints: one small Cholesky
-        // factorisation per damping tried.
-        let wide = jacobian.nrows() <= jacobian.ncols();
-        let product = if wide {
-            &jacobian * jacobian.transpose()
-        } else {
-            jacobian.transpose() * &jacobian
-        };
-        let right = if wide {
-            error.clone()
-        } else {
-            jacobian.transpose() * &error
-        };
         let mut improved = false;
         while damping < MAX_DAMPING {
-            let mut damped = product.clone();
-            for i in 0..damped.nrows() {
-                damped[(i, i)] += damping;
-            }
-            let Some(solved) = damped
-                .cholesky()
-                .map(|factor| factor.solve(&right))
-                .filter(|solved| solved.iter().all(|v| v.is_finite()))
-            else {
+            let Some(step) = damped_step(&jacobian, &error, damping) else {
                 damping *= 10.0;
                 continue;
-            };
-            let step = if wide {
-                jacobian.transpose() * solved
-            } else {
-                solved
             };
             let candidate = limit(&joint_positions + step);
             let candidate_error = evaluate(&candidate, &mut candidate_chain);
@@ -327,17 +300,65 @@ pub fn inverse_kinematics_near(
 /// least-squares one for a J with more rows than columns; `None` when the
 /// product to invert is singular (a singular configuration).
 fn newton_step(jacobian: &DMatrix<f64>, error: &DVector<f64>) -> Option<DVector<f64>> {
-    if jacobian.nrows() <= jacobian.ncols() {
-        let product = jacobian * jacobian.transpose();
-        let solved = product.cholesky()?.solve(error);
-        Some(jacobian.transpose() * solved)
+    damped_step(jacobian, error, 0.0)
+}
+
+/// The damped least-squares step `(JᵀJ + λI)⁻¹JᵀΔx`, computed as
+/// `Jᵀ(JJᵀ + λI)⁻¹Δx` when J has no more rows than columns (the smaller
+/// product; with λ = 0, the smallest step that meets the linearised
+/// target); `None` when the product to invert does not factorise or the
+/// step is not finite.
+fn damped_step(
+    jacobian: &DMatrix<f64>,
+    error: &DVector<f64>,
+    damping: f64,
+) -> Option<DVector<f64>> {
+    let (rows, columns) = jacobian.shape();
+    let step = if rows <= columns {
+        // A frame's, a point's or a plane's rows: a product on the stack.
+        let solved = match rows {
+            6 => wide_solve::<6>(jacobian, error, damping),
+            3 => wide_solve::<3>(jacobian, error, damping),
+            _ => {
+                let product = damped(jacobian * jacobian.transpose(), damping);
+                product.cholesky().map(|factor| factor.solve(error))
+            }
+        }?;
+        jacobian.transpose() * solved
     } else {
-        let product = jacobian.transpose() * jacobian;
-        product
+        damped(jacobian.transpose() * jacobian, damping)
             .cholesky()
-            .map(|c| c.solve(&(jacobian.transpose() * error)))
+            .map(|factor| factor.solve(&(jacobian.transpose() * error)))?
+    };
+    step.iter().all(|v| v.is_finite()).then_some(step)
+}
+
+/// `product + λI`.
+fn damped(mut product: DMatrix<f64>, damping: f64) -> DMatrix<f64> {
+    for i in 0..product.nrows() {
+        product[(i, i)] += damping;
     }
-    .filter(|step| step.iter().all(|v| v.is_finite()))
+    product
+}
+
+/// `(JJᵀ + λI)⁻¹Δx` for a J of `R` rows.
+fn wide_solve<const R: usize>(
+    jacobian: &DMatrix<f64>,
+    error: &DVector<f64>,
+    damping: f64,
+) -> Option<DVector<f64>> {
+    let mut product = SMatrix::<f64, R, R>::zeros();
+    for i in 0..R {
+        for k in 0..=i {
+            let value = jacobian.row(i).dot(&jacobian.row(k));
+            product[(i, k)] = value;
+            product[(k, i)] = value;
+        }
+        product[(i, i)] += damping;
+    }
+    let right = SVector::<f64, R>::from_column_slice(error.as_slice());
+    let solved = product.cholesky()?.solve(&right);
+    Some(DVector::from_column_slice(solved.as_slice()))
 }
 
 fn clamp_to_limits(robot: &Robot, mut joint_positions: DVector<f64>) -> DVector<f64> {
