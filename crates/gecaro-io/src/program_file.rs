@@ -506,13 +506,14 @@ impl ProgramFile {
         let mut head = writer();
         let _ = head.write_record(&header);
         let mut corrected = text(head);
-        // Blocks of targets formatted on all cores, joined in order.
+        // Blocks of targets formatted on all cores, a few at a time (the
+        // text is not held twice), joined in order.
         let blocks: Vec<(&[Vec<String>], &[CompensatedPoint])> = self
             .kept
             .chunks(FORMAT_BLOCK)
             .zip(results.chunks(FORMAT_BLOCK))
             .collect();
-        let formatted = run_parts(blocks, |(kept, results)| {
+        let format_block = |(kept, results): (&[Vec<String>], &[CompensatedPoint])| {
             let mut block = writer();
             let mut fields = vec![String::new(); header.len()];
             for (kept, result) in kept.iter().zip(results) {
@@ -539,9 +540,11 @@ impl ProgramFile {
                 let _ = block.write_record(&fields);
             }
             text(block)
-        });
-        for block in formatted {
-            corrected.extend_from_slice(&block);
+        };
+        for group in blocks.chunks(2 * available_threads()) {
+            for block in run_parts(group.to_vec(), format_block) {
+                corrected.extend_from_slice(&block);
+            }
         }
         String::from_utf8(corrected).unwrap_or_default()
     }
