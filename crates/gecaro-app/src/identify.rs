@@ -132,7 +132,8 @@ impl PreparedIdentification {
     /// The samples are counted with a heap block of motor variables each,
     /// which only chains of more than seven joints have. Measured:
     /// 200,000 Stanford position configurations held peaked at 720 MB (this
-    /// says 1.0 GB); 10⁶ streamed at 326–334 MB (this says 740 MB).
+    /// says 1.0 GB; systems are streamed from 1,000 rows now); 10⁶ streamed
+    /// at 296 MB (this says 740 MB).
     pub fn memory_need(&self) -> usize {
         let study = &self.loaded.study;
         let rows: usize = study

@@ -615,14 +615,18 @@ impl CompiledFrame {
     /// Eq. 3 with the configuration-dependent θ and r: `tilt · (Trans(x,d)·Rot(z,θ)·Trans(z,r))`.
     fn moving(&self, theta: f64, r: f64) -> IsometryMatrix3<f64> {
         let (sin_theta, cos_theta) = theta.sin_cos();
-        let rot_z = Matrix3::new(
-            cos_theta, -sin_theta, 0.0, sin_theta, cos_theta, 0.0, 0.0, 0.0, 1.0,
-        );
-        let z_axis: Vector3<f64> = self.tilt.column(2).into();
         let x_axis: Vector3<f64> = self.tilt.column(0).into();
+        let y_axis: Vector3<f64> = self.tilt.column(1).into();
+        let z_axis: Vector3<f64> = self.tilt.column(2).into();
+        // tilt · Rot(z, θ): its columns are those of tilt turned about z.
+        let rotation = Matrix3::from_columns(&[
+            x_axis * cos_theta + y_axis * sin_theta,
+            y_axis * cos_theta - x_axis * sin_theta,
+            z_axis,
+        ]);
         IsometryMatrix3::from_parts(
             Translation3::from(x_axis * self.d + z_axis * r),
-            Rotation3::from_matrix_unchecked(self.tilt * rot_z),
+            Rotation3::from_matrix_unchecked(rotation),
         )
     }
 }
