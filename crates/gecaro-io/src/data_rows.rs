@@ -186,22 +186,18 @@ impl RowReader<'_> {
         if threads < 2 || body.len() < PART_MIN_BYTES || memchr::memchr(b'"', body).is_some() {
             return None;
         }
-        let breaks = memchr::memchr_iter(b'\n', body).count();
+        let cut = line_parts(body, lines_before, threads);
+        let breaks: usize = cut.iter().map(|(_, _, own)| own).sum();
         if breaks >= MAX_CONFIGURATIONS {
             return None;
         }
         // The first part makes room for every line (the others' samples
         // are moved after its own), each other part for its own lines.
-        let cut = line_parts(body, lines_before, threads);
         let parts: Vec<(&[u8], usize, usize)> = cut
             .iter()
             .enumerate()
-            .map(|(index, &(bytes, lines))| {
-                let capacity = if index == 0 {
-                    breaks + 1
-                } else {
-                    memchr::memchr_iter(b'\n', bytes).count() + 1
-                };
+            .map(|(index, &(bytes, lines, own))| {
+                let capacity = if index == 0 { breaks + 1 } else { own + 1 };
                 (bytes, lines, capacity)
             })
             .collect();

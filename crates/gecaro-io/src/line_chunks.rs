@@ -98,10 +98,14 @@ impl<'a> LineChunks<'a> {
     }
 }
 
+/// A piece of a body: its bytes, the lines of the file before it, and its
+/// own line breaks.
+pub(crate) type LinePart<'a> = (&'a [u8], usize, usize);
+
 /// `body` (whole lines, the first after `lines_before` lines of the file)
-/// cut at line breaks into at most `parts` pieces of about equal length,
-/// each with the lines of the file before it.
-pub(crate) fn line_parts(body: &[u8], lines_before: usize, parts: usize) -> Vec<(&[u8], usize)> {
+/// cut at line breaks into at most `parts` pieces of about equal length
+/// ([`LinePart`]s).
+pub(crate) fn line_parts(body: &[u8], lines_before: usize, parts: usize) -> Vec<LinePart<'_>> {
     let mut cut = Vec::with_capacity(parts);
     let (mut start, mut lines) = (0, lines_before);
     for part in 1..=parts {
@@ -112,8 +116,9 @@ pub(crate) fn line_parts(body: &[u8], lines_before: usize, parts: usize) -> Vec<
             memchr::memchr(b'\n', &body[target..]).map_or(body.len(), |offset| target + offset + 1)
         };
         if end > start {
-            cut.push((&body[start..end], lines));
-            lines += memchr::memchr_iter(b'\n', &body[start..end]).count();
+            let own = memchr::memchr_iter(b'\n', &body[start..end]).count();
+            cut.push((&body[start..end], lines, own));
+            lines += own;
             start = end;
         }
     }
@@ -175,8 +180,9 @@ mod tests {
             let cut = line_parts(text.as_bytes(), 0, parts);
             assert!(cut.len() <= parts);
             let mut joined = Vec::new();
-            for (part, before) in &cut {
+            for (part, before, own) in &cut {
                 assert_eq!(first_number(part), before + 1);
+                assert_eq!(*own, part.iter().filter(|byte| **byte == b'\n').count());
                 joined.extend_from_slice(part);
             }
             assert_eq!(joined, text.as_bytes(), "{parts} parts");

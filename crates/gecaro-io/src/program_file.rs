@@ -212,11 +212,11 @@ pub fn parse_program(
             LineChunks::new((head, start), &mut input, lines_before, CHUNK_BYTES, path);
         while let Some((chunk, lines)) = chunks.next_chunk()? {
             let parts = if chunk.len() < PART_MIN_BYTES {
-                vec![(chunk, lines)]
+                vec![(chunk, lines, 0)]
             } else {
                 line_parts(chunk, lines, available_threads())
             };
-            let parts = run_parts(parts, |(bytes, lines_before)| {
+            let parts = run_parts(parts, |(bytes, lines_before, _)| {
                 let mut csv = csv_reader_with(LineLimit::new(bytes, MAX_LINE_BYTES), separator);
                 let mut part = ReadTargets::default();
                 let mut record = csv::StringRecord::new();
