@@ -63,9 +63,11 @@ pub struct KinematicModel {
     /// Whether Cm and Cj are the identity (then q_j = K_j·qm_j + offset_j).
     uncoupled: bool,
     offsets: Vec<f64>,
-    /// Cm (row-major) and Cj, for the gain columns.
+    /// Cm (row-major), for the gain columns.
     motor_coupling: Vec<f64>,
-    joint_coupling: Vec<f64>,
+    /// Per joint j, the non-zero entries `(i, Cj(i, j))` of Cj's column j:
+    /// the terms of K_j's column (one, the diagonal, without couplings).
+    gain_terms: Vec<Vec<(usize, f64)>>,
     /// Column of K_j in η, and of the joint variable's parameter (θ or r).
     gain_columns: Vec<Option<usize>>,
     joint_columns: Vec<usize>,
@@ -209,7 +211,18 @@ impl KinematicModel {
             motor_to_joint: row_major(robot.motor_to_joint()),
             offsets: robot.joints().iter().map(|joint| joint.offset).collect(),
             motor_coupling: row_major(robot.motor_coupling()),
-            joint_coupling: row_major(robot.joint_coupling()),
+            gain_terms: robot
+                .joint_coupling()
+                .column_iter()
+                .map(|column| {
+                    column
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, coupling)| **coupling != 0.0)
+                        .map(|(i, coupling)| (i, *coupling))
+                        .collect()
+                })
+                .collect(),
             gain_columns,
             joint_columns,
             compliances: robot.compliances().map(<[f64]>::to_vec).unwrap_or_default(),
@@ -503,15 +516,13 @@ impl KinematicModel {
             previous = pose;
         }
         // K_j: Σ_i j_{q_i} Cj(i, j) (Cm·qm)_j, from the joint columns (eq. 4).
-        let n = self.joint_count();
         for (joint, gain_column) in self.gain_columns.iter().enumerate() {
             let Some(gain_column) = *gain_column else {
                 continue;
             };
             let mut column = nalgebra::Vector6::zeros();
-            for i in 0..n {
-                let weight =
-                    self.joint_coupling[i * n + joint] * chain.coupled_motor_positions[joint];
+            for &(i, coupling) in &self.gain_terms[joint] {
+                let weight = coupling * chain.coupled_motor_positions[joint];
                 if weight != 0.0 {
                     column += jacobian.column(self.joint_columns[i]) * weight;
                 }
@@ -535,6 +546,7 @@ impl KinematicModel {
             );
         }
         // tilt_k: Σ_j c_j ∂τ_j/∂tilt_k times joint j's column (module docs).
+        let n = self.joint_count();
         for (axis, tilt_column) in self.tilt_columns.iter().enumerate() {
             let Some(tilt_column) = *tilt_column else {
                 continue;
