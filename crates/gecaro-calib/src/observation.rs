@@ -138,12 +138,12 @@ fn jacobian_rows(
 /// Configurations of one part of a folded set of `configurations`: the
 /// parts are folded separately (on all cores) and merged in order, so
 /// their size, which the data set and not the number of cores, sets the
-/// order of the sums. About 16 parts of 1,024 to 4,096 configurations:
-/// 5,000 make five parts that two cores share evenly (not 4,096 and 904;
-/// in process 10.3 → 8.5 ms), and a million make parts whose set-up is
+/// order of the sums. About 16 parts of 512 to 4,096 configurations:
+/// 5,000 make ten parts that two cores share evenly (not 4,096 and 904;
+/// in process 10.3 → 7.6 ms), and a million make parts whose set-up is
 /// nothing (1,024 there cost 4 %).
 fn fold_part(configurations: usize) -> usize {
-    configurations.div_ceil(16).clamp(1024, 4096)
+    configurations.div_ceil(16).clamp(512, 4096)
 }
 
 /// Rows of W written before they are folded: a block that stays in cache.
