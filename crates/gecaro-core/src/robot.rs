@@ -945,7 +945,12 @@ mod tests {
             joint.gain = 1.0 + 0.01 * index as f64;
             joint.offset = 0.1 * index as f64 - 0.15;
         }
+        // (A random robot has couplings.)
+        spec.motor_coupling = None;
+        spec.joint_coupling = None;
         let plain = Robot::new(spec.clone()).expect("robot");
+        let map = plain.motor_to_joint();
+        assert!((0..4).all(|i| (0..4).all(|j| i == j || map[(i, j)] == 0.0)));
         spec.joint_coupling = Some(DMatrix::from_fn(4, 4, |i, j| {
             if i == j {
                 1.0

@@ -19,7 +19,7 @@ use std::path::Path;
 
 use crate::Error;
 use crate::columns::{not_a_number, parse_number};
-use crate::input::{LineLimit, MAX_LINE_BYTES, csv_error_after, csv_reader_with, record_line};
+use crate::input::{LineLimit, MAX_LINE_BYTES, csv_reader_with, for_each_record};
 use crate::line_chunks::{LineChunks, line_parts};
 use crate::pose::{quaternion_deviation, unit_quaternion};
 
@@ -146,30 +146,14 @@ impl RowReader<'_> {
             normalised: Normalised::default(),
             error: None,
         };
-        let mut record = csv::StringRecord::new();
-        loop {
-            match csv.read_record(&mut record) {
-                Ok(true) => {}
-                Ok(false) => break,
-                Err(error) => {
-                    rows.error = Some(csv_error_after(self.path, &error, lines_before));
-                    break;
-                }
+        let (samples, normalised) = (&mut rows.samples, &mut rows.normalised);
+        rows.error = for_each_record(csv, self.path, lines_before, |record, line| {
+            if samples.len() == MAX_CONFIGURATIONS {
+                return Err(self.too_many(line));
             }
-            let line = lines_before + record_line(csv);
-            let sample = if rows.samples.len() == MAX_CONFIGURATIONS {
-                Err(self.too_many(line))
-            } else {
-                self.sample(&record, line, &mut rows.normalised)
-            };
-            match sample {
-                Ok(sample) => rows.samples.push(sample),
-                Err(error) => {
-                    rows.error = Some(error);
-                    break;
-                }
-            }
-        }
+            samples.push(self.sample(record, line, normalised)?);
+            Ok(())
+        });
         rows
     }
 

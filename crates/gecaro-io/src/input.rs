@@ -163,6 +163,30 @@ pub(crate) fn next_record<R: Read>(
     }
 }
 
+/// Hands every record of `csv` (a reader that started after `lines_before`
+/// lines of the file) to `each` with its line ([`record_line`]), to the end
+/// or the first error: the reader's (naming the file and the line) or
+/// `each`'s, which is returned.
+pub(crate) fn for_each_record<R: Read>(
+    csv: &mut csv::Reader<LineLimit<R>>,
+    path: &Path,
+    lines_before: usize,
+    mut each: impl FnMut(&csv::StringRecord, usize) -> Result<(), Error>,
+) -> Option<Error> {
+    let mut record = csv::StringRecord::new();
+    loop {
+        match csv.read_record(&mut record) {
+            Ok(true) => {}
+            Ok(false) => return None,
+            Err(error) => return Some(csv_error_after(path, &error, lines_before)),
+        }
+        let line = lines_before + record_line(csv);
+        if let Err(error) = each(&record, line) {
+            return Some(error);
+        }
+    }
+}
+
 /// A CSV error as a parse error naming the file and the line.
 pub(crate) fn csv_error(path: &Path, error: &csv::Error) -> Error {
     csv_error_after(path, error, 0)

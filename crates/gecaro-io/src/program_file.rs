@@ -29,8 +29,8 @@ use crate::columns::{DataUnits, joint_types, locate, not_a_number, parse_number}
 use crate::data_file::DataFormat;
 use crate::data_rows::{CHUNK_BYTES, PART_MIN_BYTES};
 use crate::input::{
-    LineLimit, MAX_LINE_BYTES, csv_error_after, csv_reader, csv_reader_with, next_record,
-    open_regular, record_line,
+    LineLimit, MAX_LINE_BYTES, csv_reader, csv_reader_with, for_each_record, next_record,
+    open_regular,
 };
 use crate::line_chunks::{LineChunks, line_parts};
 
@@ -196,13 +196,17 @@ pub fn parse_program(
         decimal_comma,
     };
     let mut read = ReadTargets::default();
-    if memchr::memchr(b'"', &head).is_some() || available_threads() < 2 {
+    if memchr::memchr(b'"', &head).is_some() {
         // Quoted fields may hold line breaks: one pass over the stream.
-        while let Some((record, line)) = next_record(&mut reader, path)? {
-            read.add(&targets, &record, line)?;
+        let error = for_each_record(&mut reader, path, 0, |record, line| {
+            read.add(&targets, record, line)?;
             if read.points.len() > MAX_TARGETS {
                 return Err(too_many_targets(path, line));
             }
+            Ok(())
+        });
+        if let Some(error) = error {
+            return Err(error);
         }
     } else {
         let start = (reader.position().byte() as usize).min(head.len());
@@ -211,28 +215,23 @@ pub fn parse_program(
         let mut chunks =
             LineChunks::new((head, start), &mut input, lines_before, CHUNK_BYTES, path);
         while let Some((chunk, lines)) = chunks.next_chunk()? {
-            let parts = if chunk.len() < PART_MIN_BYTES {
-                vec![(chunk, lines, 0)]
+            // A short chunk is one part: a thread costs more.
+            let count = if chunk.len() < PART_MIN_BYTES {
+                1
             } else {
-                line_parts(chunk, lines, available_threads())
+                available_threads()
             };
-            let parts = run_parts(parts, |(bytes, lines_before, _)| {
-                let mut csv = csv_reader_with(LineLimit::new(bytes, MAX_LINE_BYTES), separator);
-                let mut part = ReadTargets::default();
-                let mut record = csv::StringRecord::new();
-                let error = loop {
-                    match csv.read_record(&mut record) {
-                        Ok(true) => {}
-                        Ok(false) => break None,
-                        Err(error) => break Some(csv_error_after(path, &error, lines_before)),
-                    }
-                    let line = lines_before + record_line(&mut csv);
-                    if let Err(error) = part.add(&targets, &record, line) {
-                        break Some(error);
-                    }
-                };
-                (part, error)
-            });
+            let parts = run_parts(
+                line_parts(chunk, lines, count),
+                |(bytes, lines_before, _)| {
+                    let mut csv = csv_reader_with(LineLimit::new(bytes, MAX_LINE_BYTES), separator);
+                    let mut part = ReadTargets::default();
+                    let error = for_each_record(&mut csv, path, lines_before, |record, line| {
+                        part.add(&targets, record, line)
+                    });
+                    (part, error)
+                },
+            );
             for (part, error) in parts {
                 let room = MAX_TARGETS - read.points.len();
                 if part.points.len() > room {

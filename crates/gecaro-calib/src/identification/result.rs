@@ -9,7 +9,7 @@ use super::verdict::{Outcome, StopReason, Verdict};
 use crate::frames::NamedFrame;
 use crate::identifiability::RankReport;
 use crate::observability::Observability;
-use crate::observation::{ObservationErrors, ObservationSystem};
+use crate::observation::ObservationErrors;
 use crate::prior::Prior;
 use crate::progress::IterationRecord;
 use crate::robust::Loss;
@@ -54,11 +54,6 @@ pub struct ErrorSummary {
 }
 
 impl ErrorSummary {
-    /// The summary of a system's observation errors.
-    pub fn of(system: &ObservationSystem) -> Self {
-        Self::of_errors(&system.observation_errors())
-    }
-
     /// The summary of per-observation errors (position-like in metres,
     /// orientation in radians), with orientation statistics when they
     /// measure angles.

@@ -258,11 +258,8 @@ pub fn inverse_kinematics_near(
     options: &InverseOptions,
 ) -> Result<InverseSolution, Error> {
     check_target(target)?;
-    let mut joint_positions = limited(
-        robot,
-        options,
-        robot.joint_positions(start_motor_positions)?,
-    );
+    let start = robot.joint_positions(start_motor_positions)?;
+    let mut joint_positions = limited(robot, options, start.clone());
     let mut chain = ChainBuffer::default();
     model.forward_joints(joint_positions.as_slice(), &mut chain);
     let mut error = task_error(target, chain.world_from_tool());
@@ -292,7 +289,6 @@ pub fn inverse_kinematics_near(
         joint_positions = candidate;
         error = candidate_error;
     }
-    let start = robot.joint_positions(start_motor_positions)?;
     damped_descent(robot, model, target, start, options)
 }
 
