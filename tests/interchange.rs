@@ -495,6 +495,67 @@ fn cartesian_targets_in_millimetres_are_reached_and_unreachable_ones_are_flagged
 }
 
 #[test]
+fn a_program_corrected_as_it_is_read_is_the_one_corrected_whole() {
+    // Without --json the program streams from reading to writing; with it,
+    // it is held whole to list every target: the same file either way. A
+    // bad row stops the streamed correction and leaves no file behind.
+    let folder = tempfile::tempdir().expect("folder");
+    let file = |name: &str| folder.path().join(name).display().to_string();
+    let mut text = String::from("name;A1;A2;A3;A4;A5;A6;speed\n");
+    for (i, q) in working_program(40).iter().enumerate() {
+        let fields: Vec<String> = q.iter().map(|v| format!("{v}").replace('.', ",")).collect();
+        text.push_str(&format!("P{i};{};0,5\n", fields.join(";")));
+    }
+    std::fs::write(file("job.csv"), &text).expect("write");
+    let compensate = |output: &str, extra: &[&str]| {
+        let mut args = vec!["compensate", "industrial6", "industrial6", "--program"];
+        let program = file("job.csv");
+        let output = file(output);
+        args.extend([program.as_str(), "--angle-unit", "deg"]);
+        args.extend(["--columns", "qm1=A1,qm2=A2,qm3=A3,qm4=A4,qm5=A5,qm6=A6"]);
+        args.extend(["-o", output.as_str()]);
+        args.extend(extra);
+        gecaro().args(&args).output().expect("runs")
+    };
+    let streamed = compensate("streamed.csv", &[]);
+    assert!(streamed.status.success(), "{streamed:?}");
+    let stdout = String::from_utf8_lossy(&streamed.stdout);
+    assert!(
+        stdout.starts_with("40 joint targets: 40 reached"),
+        "{stdout}"
+    );
+    let whole = compensate("whole.csv", &["--json"]);
+    assert!(whole.status.success(), "{whole:?}");
+    let document: serde_json::Value = serde_json::from_slice(&whole.stdout).expect("json");
+    assert_eq!(document["points"].as_array().map(Vec::len), Some(40));
+    let corrected = std::fs::read_to_string(file("streamed.csv")).expect("written");
+    assert_eq!(
+        corrected,
+        std::fs::read_to_string(file("whole.csv")).expect("written")
+    );
+    assert!(
+        corrected.lines().nth(1).expect("a row").contains(';'),
+        "{corrected}"
+    );
+    // Row 30 unreadable: an error naming its line, and no output at all.
+    let broken = text.replacen("P29;", "P29;x", 1);
+    std::fs::write(file("job.csv"), broken).expect("write");
+    let failed = compensate("broken.csv", &[]);
+    let stderr = String::from_utf8_lossy(&failed.stderr);
+    assert!(
+        !failed.status.success() && stderr.contains(":31"),
+        "{stderr}"
+    );
+    assert!(!Path::new(&file("broken.csv")).exists());
+    let leftovers: Vec<_> = std::fs::read_dir(folder.path())
+        .expect("folder")
+        .flatten()
+        .filter(|entry| entry.file_name().to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+}
+
+#[test]
 fn the_tracker_example_runs_as_its_readme_says() {
     // examples/tracker/README.md, step by step, in a copy of the folder.
     let folder = tempfile::tempdir().expect("folder");

@@ -26,59 +26,62 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
     request.save_as = Some(name(&args.output));
     request.overwrite = args.force;
     let mut bar: Option<ProgressBar> = None;
-    let compensated = request.run(
-        &LocalFiles,
-        &mut each_step(|done, total| {
-            let total = total as u64;
-            if total >= QUIET_BELOW && done % 256 == 0 {
-                let bar = bar.get_or_insert_with(|| {
-                    let bar = super::progress::progress_bar("compensating");
-                    bar.set_length(total);
-                    bar
-                });
-                bar.set_position(done as u64);
-            }
-        }),
-    );
+    let mut observer = each_step(|done, total| {
+        let total = total as u64;
+        if total >= QUIET_BELOW {
+            let bar = bar.get_or_insert_with(|| super::progress::progress_bar("compensating"));
+            bar.set_length(total);
+            bar.set_position(done as u64);
+        }
+    });
+    // `--json` lists every target: the program is held whole. Otherwise it
+    // is corrected as it is read, in memory that does not grow with it.
+    let outcome = if args.json {
+        request.run(&LocalFiles, &mut observer).map(|compensated| {
+            let layout = compensated
+                .program
+                .as_ref()
+                .map(|program| program.layout().clone());
+            (Some(compensated.document()), compensated.summary, layout)
+        })
+    } else {
+        request
+            .run_streamed(&LocalFiles, &mut observer)
+            .map(|compensated| (None, compensated.summary, Some(compensated.layout)))
+    };
+    drop(observer);
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    let compensated = compensated?;
-    let program = compensated
-        .program
-        .as_ref()
-        .ok_or_else(|| Failure::input("no program file was read"))?;
-    if !program.unused_columns.is_empty() && !args.json {
+    let (document, summary, layout) = outcome?;
+    let layout = layout.ok_or_else(|| Failure::input("no program file was read"))?;
+    if !layout.unused_columns().is_empty() && !args.json {
         eprintln!(
             "note: columns kept as they are (not read): {}",
-            program.unused_columns.join(", ")
+            layout.unused_columns().join(", ")
         );
     }
-    if args.json {
-        super::output::print_json(&compensated.document())?;
+    if let Some(document) = document {
+        super::output::print_json(&document)?;
     } else {
-        let units = program.units();
-        let kind = match program.kind() {
+        let units = layout.units();
+        let kind = match layout.kind() {
             ProgramKind::Joints => "joint targets",
             ProgramKind::Position => "point targets",
             ProgramKind::Pose => "pose targets",
         };
-        let outside = compensated
-            .lines_with(CompensationStatus::OutsideLimits)
-            .len();
-        let unreached = compensated.lines_with(CompensationStatus::NotReached).len();
-        let reconfigured = compensated
-            .lines_with(CompensationStatus::Reconfigured)
-            .len();
         println!(
             "{} {kind}: {} reached by the calibrated robot (largest residual {:.1e} {})",
-            compensated.results.len(),
-            compensated.results.len() - outside - unreached - reconfigured,
-            compensated.largest_position_error() / units.length.to_metres(),
+            summary.targets,
+            summary.reached(),
+            summary.largest_position_error / units.length.to_metres(),
             units.length.name()
         );
-        if let Some((value, unit, joint, line)) = compensated.largest_correction() {
-            println!("largest joint correction: {value:.4} {unit} (joint {joint}, line {line})");
+        if let Some(largest) = summary.largest_correction {
+            println!(
+                "largest joint correction: {:.4} {} (joint {}, line {})",
+                largest.value, largest.unit, largest.joint, largest.line
+            );
         }
         println!("wrote {}", args.output.display());
     }
@@ -90,32 +93,32 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
             if lines.len() > 10 { ", …" } else { "" }
         )
     };
-    let reconfigured = compensated.lines_with(CompensationStatus::Reconfigured);
+    let reconfigured = summary.lines_with(CompensationStatus::Reconfigured);
     if !reconfigured.is_empty() {
         eprintln!(
             "warning: {} target(s) reached only in another configuration, a joint moving by more than {} rad (status reconfigured: another branch, or a wrist turned about a singularity), lines {}",
             reconfigured.len(),
             gecaro_calib::compensation::RECONFIGURATION,
-            list(&reconfigured)
+            list(reconfigured)
         );
     }
-    let outside = compensated.lines_with(CompensationStatus::OutsideLimits);
+    let outside = summary.lines_with(CompensationStatus::OutsideLimits);
     if !outside.is_empty() {
         eprintln!(
             "warning: {} target(s) reached only beyond a joint limit (status outside-limits), lines {}",
             outside.len(),
-            list(&outside)
+            list(outside)
         );
     }
-    let unreached = compensated.lines_with(CompensationStatus::NotReached);
+    let unreached = summary.lines_with(CompensationStatus::NotReached);
     if !unreached.is_empty() {
         eprintln!(
             "warning: {} target(s) not reached: their joints are left as in the program (status not-reached), lines {}",
             unreached.len(),
-            list(&unreached)
+            list(unreached)
         );
     }
-    match compensated.failure() {
+    match summary.failure(Some(&args.output)) {
         Some(failure) => Err(failure.into()),
         None => Ok(()),
     }

@@ -8,7 +8,7 @@
 //! checked before any work ([`Files::check_output`]) and written atomically
 //! ([`gecaro_io::write_atomically`]).
 
-use std::io::Read;
+use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 
 use gecaro_io::OutputPolicy;
@@ -21,6 +21,8 @@ pub struct Opened {
     pub path: PathBuf,
     /// Its content, to be read once.
     pub reader: Box<dyn Read + Send>,
+    /// Its length in bytes, when known (for progress).
+    pub length: Option<u64>,
 }
 
 /// Reading and writing the files a request names; see the module docs.
@@ -64,6 +66,26 @@ pub trait Files: Sync {
         overwrite: bool,
     ) -> Result<PathBuf, AppError>;
 
+    /// Writes to `name` atomically what `produce` writes, as it produces it
+    /// (a corrected program written as it is read); returns the path
+    /// written. An error of `produce` leaves nothing behind and is returned.
+    /// This default holds the bytes in memory and writes them at the end;
+    /// [`LocalFiles`] writes them as they come.
+    ///
+    /// # Errors
+    /// As [`write`](Self::write), and `produce`'s.
+    fn write_streamed(
+        &self,
+        name: &str,
+        extension: &str,
+        overwrite: bool,
+        produce: &mut dyn FnMut(&mut dyn Write) -> Result<(), AppError>,
+    ) -> Result<PathBuf, AppError> {
+        let mut bytes = Vec::new();
+        produce(&mut bytes)?;
+        self.write(name, extension, &bytes, overwrite)
+    }
+
     /// Removes the file `name` written by this job (a half of a pair of
     /// files whose other half could not be written); failures are ignored.
     fn remove(&self, name: &str);
@@ -92,6 +114,7 @@ impl Files for LocalFiles {
         let path = PathBuf::from(name);
         let file = gecaro_io::open_input(&path)?;
         Ok(Opened {
+            length: file.metadata().ok().map(|metadata| metadata.len()),
             path,
             reader: Box::new(std::io::BufReader::with_capacity(1 << 16, file)),
         })
@@ -145,6 +168,28 @@ impl Files for LocalFiles {
         let path = PathBuf::from(name);
         gecaro_io::write_atomically(&path, bytes, policy(overwrite))?;
         Ok(path)
+    }
+
+    fn write_streamed(
+        &self,
+        name: &str,
+        _: &str,
+        overwrite: bool,
+        produce: &mut dyn FnMut(&mut dyn Write) -> Result<(), AppError>,
+    ) -> Result<PathBuf, AppError> {
+        let path = PathBuf::from(name);
+        // The producer's own error, carried through the write it stops.
+        let mut stopped = None;
+        let written = gecaro_io::write_with(&path, policy(overwrite), |file| {
+            produce(file).map_err(|error| {
+                stopped = Some(error);
+                std::io::Error::other("stopped")
+            })
+        });
+        match (stopped, written) {
+            (Some(error), _) => Err(error),
+            (None, written) => Ok(written.map(|()| path)?),
+        }
     }
 
     fn remove(&self, name: &str) {

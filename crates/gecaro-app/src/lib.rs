@@ -90,7 +90,10 @@ mod study_plan;
 mod study_prediction;
 
 pub use cell::CellSpec;
-pub use compensate::{CompensateRequest, Compensated, ProgramSource};
+pub use compensate::{
+    CompensateRequest, Compensated, CompensatedFile, CompensationSummary, LargestCorrection,
+    ProgramSource,
+};
 pub use error::{AppError, Dialect, ErrorKind};
 pub use files::{Files, LocalFiles, Opened};
 pub use generate::{GenerateRequest, Generated, data_file_name};

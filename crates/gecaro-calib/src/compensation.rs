@@ -169,83 +169,155 @@ pub fn compensate(
     matching: Match,
     observer: &mut dyn Observer,
 ) -> Result<Vec<CompensatedPoint>, Error> {
-    if nominal.joint_count() != calibrated.joint_count() {
-        return Err(Error::InvalidData {
-            line: None,
-            message: format!(
-                "the nominal robot has {} joints, the calibrated one {}: not the same robot",
-                nominal.joint_count(),
-                calibrated.joint_count()
-            ),
-        });
-    }
-    let options = InverseOptions::default();
-    // Program points start near their solution: Newton steps on the
-    // compiled model, the damped solver where they do not converge.
-    let model = KinematicModel::new(calibrated);
-    let nominal_model = KinematicModel::new(nominal);
+    let mut compensator = Compensator::new(nominal, calibrated, matching)?;
     let mut results = Vec::with_capacity(points.len());
-    // Targets with their joints start from them: each is solved on its own,
-    // over the cores, a block at a time (progress between blocks). Targets
-    // without joints start from the previous solution, in order.
-    let independent = points
-        .iter()
-        .all(|point| matches!(point.target, ProgramTarget::Joints(_)) || point.joints.is_some());
-    if independent {
-        for (block, chunk) in points.chunks(PARALLEL_BLOCK).enumerate() {
-            let parts: Vec<(usize, &ProgramPoint)> = chunk
-                .iter()
-                .enumerate()
-                .map(|(offset, point)| (block * PARALLEL_BLOCK + offset, point))
-                .collect();
-            let solved = run_parts(parts, |(index, point)| {
-                compensate_point(
-                    (nominal, &nominal_model),
-                    (calibrated, &model),
-                    point,
-                    matching,
-                    None,
-                    &options,
-                    index,
-                )
-            });
-            for result in solved {
-                results.push(result?);
-            }
-            report(
-                observer,
-                Progress::Step {
-                    done: results.len(),
-                    total: points.len(),
-                },
-            )?;
-        }
-        return Ok(results);
-    }
-    let mut previous: Option<Vec<f64>> = None;
-    for (index, point) in points.iter().enumerate() {
-        let result = compensate_point(
-            (nominal, &nominal_model),
-            (calibrated, &model),
-            point,
-            matching,
-            previous.as_deref(),
-            &options,
-            index,
-        )?;
-        if result.status != CompensationStatus::NotReached {
-            previous = Some(result.motor_positions.clone());
-        }
-        results.push(result);
+    // Progress between blocks solved over the cores; after every target of
+    // a program solved in order (its targets may take random starts).
+    let block = if points.iter().all(independent) {
+        PARALLEL_BLOCK
+    } else {
+        1
+    };
+    for block in points.chunks(block) {
+        results.extend(compensator.compensate(block)?);
         report(
             observer,
             Progress::Step {
-                done: index + 1,
+                done: results.len(),
                 total: points.len(),
             },
         )?;
     }
     Ok(results)
+}
+
+/// Compensation of a program given a block of targets at a time, in order
+/// (a program read as it is written, [`compensate`] on a stream): each
+/// block's results are those [`compensate`] gives the whole program.
+///
+/// # Example
+///
+/// A program in two blocks, as a reader hands them:
+///
+/// ```
+/// use gecaro_calib::compensation::{Compensator, Match, ProgramPoint, ProgramTarget};
+///
+/// let nominal = gecaro_io::load_robot("puma560")?.robot;
+/// let mut spec = nominal.to_spec();
+/// spec.frames[2].d += 1e-3;
+/// let calibrated = gecaro_core::Robot::new(spec)?;
+/// let target = |q: f64| ProgramPoint {
+///     target: ProgramTarget::Joints(vec![q, -0.5, 0.4, 0.2, 0.6, -0.1]),
+///     joints: None,
+/// };
+/// let mut compensator = Compensator::new(&nominal, &calibrated, Match::Pose)?;
+/// let first = compensator.compensate(&[target(0.1), target(0.2)])?;
+/// let second = compensator.compensate(&[target(0.3)])?;
+/// assert_eq!((first.len(), second.len(), compensator.done()), (2, 1, 3));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub struct Compensator<'a> {
+    nominal: (&'a Robot, KinematicModel),
+    calibrated: (&'a Robot, KinematicModel),
+    matching: Match,
+    options: InverseOptions,
+    /// The last target reached: where one without joints starts.
+    previous: Option<Vec<f64>>,
+    /// Targets compensated so far (the index of the next one).
+    done: usize,
+}
+
+impl<'a> Compensator<'a> {
+    /// A compensation from `nominal` to `calibrated`.
+    ///
+    /// # Errors
+    /// Robots with different joint counts.
+    pub fn new(nominal: &'a Robot, calibrated: &'a Robot, matching: Match) -> Result<Self, Error> {
+        if nominal.joint_count() != calibrated.joint_count() {
+            return Err(Error::InvalidData {
+                line: None,
+                message: format!(
+                    "the nominal robot has {} joints, the calibrated one {}: not the same robot",
+                    nominal.joint_count(),
+                    calibrated.joint_count()
+                ),
+            });
+        }
+        // Program points start near their solution: Newton steps on the
+        // compiled model, the damped solver where they do not converge.
+        Ok(Compensator {
+            nominal: (nominal, KinematicModel::new(nominal)),
+            calibrated: (calibrated, KinematicModel::new(calibrated)),
+            matching,
+            options: InverseOptions::default(),
+            previous: None,
+            done: 0,
+        })
+    }
+
+    /// Targets compensated so far.
+    pub fn done(&self) -> usize {
+        self.done
+    }
+
+    /// The next targets of the program, compensated.
+    ///
+    /// # Errors
+    /// A target of the wrong length or not finite.
+    pub fn compensate(&mut self, points: &[ProgramPoint]) -> Result<Vec<CompensatedPoint>, Error> {
+        let solve = |(index, point): (usize, &ProgramPoint), previous: Option<&[f64]>| {
+            compensate_point(
+                (self.nominal.0, &self.nominal.1),
+                (self.calibrated.0, &self.calibrated.1),
+                point,
+                self.matching,
+                previous,
+                &self.options,
+                index,
+            )
+        };
+        let first = self.done;
+        // Targets with their joints start from them: each is solved on its
+        // own, over the cores. Targets without joints start from the
+        // previous solution, in order.
+        let independent = points.iter().all(independent);
+        let results = if independent {
+            let parts: Vec<(usize, &ProgramPoint)> = points
+                .iter()
+                .enumerate()
+                .map(|(offset, point)| (first + offset, point))
+                .collect();
+            run_parts(parts, |part| solve(part, None))
+                .into_iter()
+                .collect::<Result<Vec<_>, Error>>()?
+        } else {
+            let mut results = Vec::with_capacity(points.len());
+            for (offset, point) in points.iter().enumerate() {
+                let result = solve((first + offset, point), self.previous.as_deref())?;
+                if result.status != CompensationStatus::NotReached {
+                    self.previous = Some(result.motor_positions.clone());
+                }
+                results.push(result);
+            }
+            results
+        };
+        if independent
+            && let Some(last) = results
+                .iter()
+                .rev()
+                .find(|result| result.status != CompensationStatus::NotReached)
+        {
+            self.previous = Some(last.motor_positions.clone());
+        }
+        self.done += points.len();
+        Ok(results)
+    }
+}
+
+/// Whether `point` carries its joints (a joint target, or a Cartesian one
+/// with the program's joints): it is solved from them, on its own.
+fn independent(point: &ProgramPoint) -> bool {
+    matches!(point.target, ProgramTarget::Joints(_)) || point.joints.is_some()
 }
 
 /// Targets solved at once between two progress reports.
@@ -321,9 +393,13 @@ fn compensate_one(
             other => other,
         }
     };
+    // The pose reached, when the solution is the solver's: where the
+    // solution is locally unique, the closest one is it.
+    let mut reached = None;
     let (motor_positions, status) = match solve(options) {
         Ok(solution) => {
             let reference = start.map_or_else(|| solution.motor_positions.clone(), <[f64]>::to_vec);
+            reached = (!redundant).then_some(solution.pose);
             (
                 closest_solution(robot, target, solution.motor_positions, &reference, options)?,
                 CompensationStatus::Reached,
@@ -390,7 +466,11 @@ fn compensate_one(
     } else {
         status
     };
-    let (position_error, rotation_error) = errors(model, target, &motor_positions)?;
+    let pose = match reached {
+        Some(pose) => pose,
+        None => model.terminal_pose(&motor_positions, &mut ChainBuffer::default())?,
+    };
+    let (position_error, rotation_error) = errors(target, &pose);
     Ok(CompensatedPoint {
         motor_positions,
         position_error,
@@ -436,14 +516,10 @@ fn fallback(
     closest_from_nearby_starts(robot, target, start, &unlimited, seed)
 }
 
-/// How far the robot at `motor_positions` is from `target`.
-fn errors(
-    model: &KinematicModel,
-    target: &Target,
-    motor_positions: &[f64],
-) -> Result<(f64, Option<f64>), Error> {
-    let pose = model.terminal_pose(motor_positions, &mut ChainBuffer::default())?;
-    Ok(match target {
+/// How far frame n+1 at `pose` is from `target`: the distance, and the
+/// angle for a frame target.
+fn errors(target: &Target, pose: &IsometryMatrix3<f64>) -> (f64, Option<f64>) {
+    match target {
         Target::Position(point) => ((point - pose.translation.vector).norm(), None),
         Target::Frame(wanted) => (
             (wanted.translation.vector - pose.translation.vector).norm(),
@@ -459,7 +535,7 @@ fn errors(
         Target::Plane { normal, offset } => {
             ((offset - normal.dot(&pose.translation.vector)).abs(), None)
         }
-    })
+    }
 }
 
 /// The task rows of the Jacobian w.r.t. the motor values: J_q · ∂q/∂qm.
@@ -752,6 +828,52 @@ mod tests {
                     assert!(drift < 1e-9, "not the closest solution: {drift:e}");
                 }
             }
+        }
+    }
+
+    #[test]
+    fn a_program_given_in_blocks_is_compensated_as_a_whole() {
+        // A path of joint targets and of points without joints, which start
+        // from the solution before them, cut into blocks anywhere: the same
+        // results, bit for bit, as the program given whole.
+        let mut sampler = Sampler::new(8);
+        let nominal = puma();
+        let calibrated = perturbed_robot(&nominal, 0.3, &mut sampler).expect("valid");
+        let program = program(&nominal, 24, &mut sampler);
+        let points: Vec<ProgramPoint> = program
+            .iter()
+            .enumerate()
+            .map(|(index, qm)| {
+                if index % 3 == 2 {
+                    let pose = terminal_pose(&nominal, qm).expect("valid");
+                    ProgramPoint {
+                        target: ProgramTarget::Position(pose.translation.vector),
+                        joints: None,
+                    }
+                } else {
+                    ProgramPoint {
+                        target: ProgramTarget::Joints(qm.clone()),
+                        joints: None,
+                    }
+                }
+            })
+            .collect();
+        let whole = compensate(&nominal, &calibrated, &points, Match::Pose, &mut Quiet)
+            .expect("compensates");
+        for cut in [[1, 8], [2, 3], [6, 7]] {
+            let mut compensator =
+                Compensator::new(&nominal, &calibrated, Match::Pose).expect("same robot");
+            let mut blocks = Vec::new();
+            // Joint-only blocks (solved over the cores) and mixed ones.
+            for block in [
+                &points[..cut[0]],
+                &points[cut[0]..cut[1]],
+                &points[cut[1]..],
+            ] {
+                blocks.extend(compensator.compensate(block).expect("compensates"));
+            }
+            assert_eq!(compensator.done(), points.len());
+            assert_eq!(blocks, whole, "cut at {cut:?}");
         }
     }
 

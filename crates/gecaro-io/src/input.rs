@@ -152,14 +152,25 @@ pub(crate) fn next_record<R: Read>(
     path: &Path,
 ) -> Result<Option<(csv::StringRecord, usize)>, Error> {
     let mut record = csv::StringRecord::new();
-    if csv
-        .read_record(&mut record)
-        .map_err(|error| csv_error(path, &error))?
-    {
-        let line = record_line(csv);
-        Ok(Some((record, line)))
-    } else {
-        Ok(None)
+    Ok(read_record(csv, path, 0, &mut record)?.map(|line| (record, line)))
+}
+
+/// Reads the next record of `csv` (a reader that started after
+/// `lines_before` lines of the file) into `record`; returns its line
+/// ([`record_line`]), `None` at the end.
+///
+/// # Errors
+/// The reader's error, naming the file and the line.
+pub(crate) fn read_record<R: Read>(
+    csv: &mut csv::Reader<LineLimit<R>>,
+    path: &Path,
+    lines_before: usize,
+    record: &mut csv::StringRecord,
+) -> Result<Option<usize>, Error> {
+    match csv.read_record(record) {
+        Ok(true) => Ok(Some(lines_before + record_line(csv))),
+        Ok(false) => Ok(None),
+        Err(error) => Err(csv_error_after(path, &error, lines_before)),
     }
 }
 
@@ -175,12 +186,11 @@ pub(crate) fn for_each_record<R: Read>(
 ) -> Option<Error> {
     let mut record = csv::StringRecord::new();
     loop {
-        match csv.read_record(&mut record) {
-            Ok(true) => {}
-            Ok(false) => return None,
-            Err(error) => return Some(csv_error_after(path, &error, lines_before)),
-        }
-        let line = lines_before + record_line(csv);
+        let line = match read_record(csv, path, lines_before, &mut record) {
+            Ok(Some(line)) => line,
+            Ok(None) => return None,
+            Err(error) => return Some(error),
+        };
         if let Err(error) = each(&record, line) {
             return Some(error);
         }

@@ -25,7 +25,7 @@ mod payload;
 mod pose;
 mod prior;
 mod problem;
-mod program_file;
+mod program;
 mod ready;
 mod robot_file;
 mod robot_toml;
@@ -50,12 +50,17 @@ pub use error::Error;
 pub use input::{is_hidden_character, open_input, read_description};
 pub use interchange::{ImportOptions, RobotFormat, export_robot, import_robot, import_robot_text};
 pub use joint_calibration::apply_joint_calibration;
-pub use output::{OutputPolicy, remove_temporary_files, write_atomically, write_in_folder};
+pub use output::{
+    OutputPolicy, remove_temporary_files, write_atomically, write_in_folder, write_with,
+};
 pub use payload::{PayloadSpec, Quantity, parse_payload};
 pub use pose::{pose_from_seven, unit_quaternion};
 pub use prior::{StandardDeviation, parse_angle, parse_override, parse_prior, parse_signed_angle};
 pub use problem::{DocumentError, Location};
-pub use program_file::{ProgramFile, ProgramKind, parse_program, read_program};
+pub use program::{
+    CorrectedProgram, ProgramBlock, ProgramFile, ProgramKind, ProgramLayout, ProgramReader,
+    parse_program, read_program,
+};
 pub use ready::{ReadyRobot, load_robot, ready_robot, ready_robots};
 pub use robot_file::{AngleUnit, RobotFile, fallback_name};
 pub use robot_toml::{

@@ -19,6 +19,8 @@ pub(crate) struct LineChunks<'a> {
     buffer: Vec<u8>,
     /// Bytes at the buffer's start handed out by the last chunk.
     handed_out: usize,
+    /// Bytes of the file before the buffer's first byte.
+    bytes_before: u64,
     /// Lines of the file before the buffer's first byte.
     lines_before: usize,
     rest: &'a mut dyn Read,
@@ -44,12 +46,18 @@ impl<'a> LineChunks<'a> {
         LineChunks {
             buffer,
             handed_out: 0,
+            bytes_before: start as u64,
             lines_before,
             rest,
             ended: false,
             chunk_bytes,
             path,
         }
+    }
+
+    /// Bytes of the file up to the end of the last chunk handed out.
+    pub(crate) fn bytes_read(&self) -> u64 {
+        self.bytes_before + self.handed_out as u64
     }
 
     /// The next chunk, whole lines (the last one may lack its line break at
@@ -63,6 +71,7 @@ impl<'a> LineChunks<'a> {
             self.lines_before +=
                 memchr::memchr_iter(b'\n', &self.buffer[..self.handed_out]).count();
             self.buffer.drain(..self.handed_out);
+            self.bytes_before += self.handed_out as u64;
             self.handed_out = 0;
         }
         while !self.ended && self.buffer.len() < self.chunk_bytes {

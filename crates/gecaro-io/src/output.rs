@@ -63,9 +63,13 @@ pub fn write_in_folder(
     write_in(folder, name, shown, policy, |file| file.write_all(bytes))
 }
 
-/// Like [`write_atomically`], with the content produced by a writer callback;
-/// an error from the callback aborts the write.
-pub(crate) fn write_with(
+/// Like [`write_atomically`], with the content produced by a writer callback
+/// (a file written as it is computed); an error from the callback aborts the
+/// write and leaves nothing behind.
+///
+/// # Errors
+/// As [`write_atomically`]; the callback's error as [`Error::Write`].
+pub fn write_with(
     path: &Path,
     policy: OutputPolicy,
     produce: impl FnOnce(&mut std::fs::File) -> std::io::Result<()>,

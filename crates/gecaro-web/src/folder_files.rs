@@ -31,6 +31,7 @@ impl Files for Workspace {
         let (_, text) = self.read_text(name, extensions).map_err(app_error)?;
         Ok(Opened {
             path: PathBuf::from(name),
+            length: Some(text.len() as u64),
             reader: Box::new(std::io::Cursor::new(text.into_bytes())),
         })
     }

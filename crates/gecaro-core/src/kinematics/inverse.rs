@@ -16,7 +16,10 @@
 //! is out of reach within the joint limits, or the iteration stalls from this
 //! start, [`Error::Unreachable`] reports the remaining error.
 
-use nalgebra::{DMatrix, DVector, IsometryMatrix3, Matrix6xX, SMatrix, SVector, Vector3};
+use nalgebra::{
+    DMatrix, DVector, IsometryMatrix3, Matrix3, Matrix6, Matrix6xX, SMatrix, SVector, Vector3,
+    Vector6,
+};
 
 use super::model::{ChainBuffer, KinematicModel};
 use super::pose_difference::{OrientationDifference, orientation_difference};
@@ -92,6 +95,8 @@ pub struct InverseSolution {
     pub iterations: usize,
     /// Final ‖Δx‖.
     pub residual: f64,
+    /// The pose of frame n+1 there (world frame).
+    pub pose: IsometryMatrix3<f64>,
 }
 
 const INITIAL_DAMPING: f64 = 1e-3;
@@ -177,13 +182,14 @@ fn damped_descent(
             tolerance: options.tolerance,
         });
     }
-    solution(robot, &joint_positions, iterations, residual)
+    solution(robot, (&joint_positions, &chain), iterations, residual)
 }
 
-/// The solution at `joint_positions`, met to `residual` after `iterations`.
+/// The solution at `joint_positions` (whose chain is `chain`), met to
+/// `residual` after `iterations`.
 fn solution(
     robot: &Robot,
-    joint_positions: &DVector<f64>,
+    (joint_positions, chain): (&DVector<f64>, &ChainBuffer),
     iterations: usize,
     residual: f64,
 ) -> Result<InverseSolution, Error> {
@@ -193,6 +199,7 @@ fn solution(
         joint_positions: joint_positions.as_slice().to_vec(),
         iterations,
         residual,
+        pose: *chain.world_from_tool(),
     })
 }
 
@@ -267,7 +274,7 @@ pub fn inverse_kinematics_near(
     for iteration in 0..=NEWTON_ITERATIONS {
         let residual = error.norm();
         if residual <= options.tolerance {
-            return solution(robot, &joint_positions, iteration, residual);
+            return solution(robot, (&joint_positions, &chain), iteration, residual);
         }
         if iteration == NEWTON_ITERATIONS {
             break;
@@ -310,7 +317,11 @@ fn damped_step(
     damping: f64,
 ) -> Option<DVector<f64>> {
     let (rows, columns) = jacobian.shape();
-    let step = if rows <= columns {
+    let step = if damping == 0.0 && rows == columns && matches!(rows, 3 | 6) {
+        // A square J (a frame for six joints, a point for three): Δq = J⁻¹Δx
+        // by LU, cheaper than the product and with J's own conditioning.
+        square_solve(jacobian, error)?
+    } else if rows <= columns {
         // A frame's, a point's or a plane's rows: a product on the stack.
         let solved = match rows {
             6 => wide_solve::<6>(jacobian, error, damping),
@@ -335,6 +346,22 @@ fn damped(mut product: DMatrix<f64>, damping: f64) -> DMatrix<f64> {
         product[(i, i)] += damping;
     }
     product
+}
+
+/// `J⁻¹Δx` for a square J of 6 or 3 rows, by LU; `None` when J is singular.
+fn square_solve(jacobian: &DMatrix<f64>, error: &DVector<f64>) -> Option<DVector<f64>> {
+    let (values, right) = (jacobian.as_slice(), error.as_slice());
+    match jacobian.nrows() {
+        6 => Matrix6::from_column_slice(values)
+            .lu()
+            .solve(&Vector6::from_column_slice(right))
+            .map(|step| DVector::from_column_slice(step.as_slice())),
+        3 => Matrix3::from_column_slice(values)
+            .lu()
+            .solve(&Vector3::from_column_slice(right))
+            .map(|step| DVector::from_column_slice(step.as_slice())),
+        _ => None,
+    }
 }
 
 /// `(JJᵀ + λI)⁻¹Δx` for a J of `R` rows.

@@ -2,21 +2,25 @@
 //! for the calibrated one ("program filtering"); targets it cannot reach
 //! within the limits are flagged, never dropped.
 
-use gecaro_calib::Observer;
-use gecaro_calib::compensation::{
-    CompensatedPoint, CompensationStatus, Match, ProgramPoint, ProgramTarget, compensate,
-};
+mod summary;
+
+use gecaro_calib::compensation::{CompensatedPoint, Compensator, Match, ProgramPoint, compensate};
 use gecaro_calib::elastic::commanded_under_load;
-use gecaro_io::{ProgramFile, RobotFile};
+use gecaro_calib::{Observer, report_step};
+use gecaro_core::LinkMass;
+use gecaro_io::{CorrectedProgram, ProgramFile, ProgramLayout, ProgramReader, RobotFile};
 use serde::Deserialize;
+use std::path::PathBuf;
 
 use crate::documents::{CompensatedJson, CompensationJson};
-use crate::error::{AppError, ErrorKind};
-use crate::files::Files;
+use crate::error::AppError;
+use crate::files::{Files, Opened};
 use crate::measurements::Unknown;
 use crate::method::parse_name;
 use crate::rebase::{check_same_frame, rebased_file};
 use crate::sources::{CsvInput, DataFormatSpec, RobotSource, check_row_count};
+
+pub use summary::{CompensationSummary, LargestCorrection};
 
 /// Where a program's targets come from (JSON: `{"file": name}` or
 /// `{"csv": {"text": …, "name": …}}`, as a request's data).
@@ -88,45 +92,80 @@ pub struct Compensated {
     /// A name to offer it under: `weld.csv` → `weld-compensated.csv`.
     pub corrected_name: Option<String>,
     /// Where the corrected program was written, if asked for.
-    pub saved: Option<std::path::PathBuf>,
+    pub saved: Option<PathBuf>,
     /// The nominal robot.
     pub nominal: RobotFile,
+    /// The counts, flagged lines and largest residual and correction.
+    pub summary: CompensationSummary,
 }
 
-/// An elastic calibrated robot's solutions moved to where its joints are
-/// commanded so that, yielding to gravity with `payload`, they come to rest
-/// on them ([`commanded_under_load`]).
-///
-/// # Errors
-/// A payload that is not one, or given for a rigid robot (it would change
-/// nothing: calibrate with the elastic model).
-fn unload(
-    calibrated: &RobotFile,
-    payload: Option<&str>,
-    results: &mut [CompensatedPoint],
-) -> Result<(), AppError> {
-    let payload = payload
-        .map(|text| crate::loads::payload(text, "payload"))
-        .transpose()?;
-    if !calibrated.robot.is_elastic() {
-        return match payload {
+/// A program file corrected as it was read ([`CompensateRequest::run_streamed`]).
+#[derive(Clone, Debug)]
+pub struct CompensatedFile {
+    /// The program's columns (units, kind, columns not read).
+    pub layout: ProgramLayout,
+    /// The counts, flagged lines and largest residual and correction.
+    pub summary: CompensationSummary,
+    /// Where the corrected program was written.
+    pub saved: PathBuf,
+}
+
+/// What moves an elastic calibrated robot's solutions to where its joints
+/// are commanded so that, yielding to gravity with the payload, they come
+/// to rest on them ([`commanded_under_load`]).
+struct Unloading {
+    payload: Option<LinkMass>,
+}
+
+impl Unloading {
+    /// The unloading of `calibrated` carrying `payload`; `None` for a rigid
+    /// robot.
+    ///
+    /// # Errors
+    /// A payload that is not one, or given for a rigid robot (it would
+    /// change nothing: calibrate with the elastic model).
+    fn new(calibrated: &RobotFile, payload: Option<&str>) -> Result<Option<Self>, AppError> {
+        let payload = payload
+            .map(|text| crate::loads::payload(text, "payload"))
+            .transpose()?;
+        if calibrated.robot.is_elastic() {
+            return Ok(Some(Unloading { payload }));
+        }
+        match payload {
             Some(_) => Err(AppError::setting(
                 "payload",
                 "the calibrated robot is rigid, so a payload changes none of its poses: \
                  calibrate with the elastic model (model elastic) to compensate its weight",
             )),
-            None => Ok(()),
-        };
+            None => Ok(None),
+        }
     }
-    for result in results {
-        result.motor_positions = commanded_under_load(
-            &calibrated.robot,
-            &calibrated.masses,
-            payload.as_ref(),
-            &result.motor_positions,
-        )?;
+
+    /// `results` of `calibrated` moved to where its joints are commanded.
+    fn apply(
+        &self,
+        calibrated: &RobotFile,
+        results: &mut [CompensatedPoint],
+    ) -> Result<(), AppError> {
+        for result in results {
+            result.motor_positions = commanded_under_load(
+                &calibrated.robot,
+                &calibrated.masses,
+                self.payload.as_ref(),
+                &result.motor_positions,
+            )?;
+        }
+        Ok(())
     }
-    Ok(())
+}
+
+/// The robots and settings of a request, checked before any work.
+struct Prepared {
+    matching: Match,
+    nominal: RobotFile,
+    calibrated: RobotFile,
+    /// An elastic robot's solutions moved for its loads.
+    unloading: Option<Unloading>,
 }
 
 /// The name a corrected copy of the program `label` (a file name or an
@@ -170,16 +209,9 @@ impl CompensateRequest {
         }
     }
 
-    /// Corrects every target, writes the corrected program if asked (checked
-    /// before any work); `observer` hears of the targets done.
-    ///
-    /// # Errors
-    /// Bad files or settings, robots of different joints, an interruption.
-    pub fn run(
-        &self,
-        files: &dyn Files,
-        observer: &mut dyn Observer,
-    ) -> Result<Compensated, AppError> {
+    /// The robots and the match, the output checked: all a run needs
+    /// before any work.
+    fn prepare(&self, files: &dyn Files) -> Result<Prepared, AppError> {
         self.unknown.check()?;
         let matching = parse_name(
             "match",
@@ -198,6 +230,30 @@ impl CompensateRequest {
         if let Some(name) = &self.save_as {
             files.check_output(name, "csv", self.overwrite)?;
         }
+        Ok(Prepared {
+            matching,
+            unloading: Unloading::new(&calibrated, self.payload.as_deref())?,
+            nominal,
+            calibrated,
+        })
+    }
+
+    /// Corrects every target, writes the corrected program if asked (checked
+    /// before any work); `observer` hears of the targets done.
+    ///
+    /// # Errors
+    /// Bad files or settings, robots of different joints, an interruption.
+    pub fn run(
+        &self,
+        files: &dyn Files,
+        observer: &mut dyn Observer,
+    ) -> Result<Compensated, AppError> {
+        let Prepared {
+            matching,
+            nominal,
+            calibrated,
+            unloading,
+        } = self.prepare(files)?;
         let label = self.program.label();
         let input = match &self.program {
             ProgramSource::File(name) => Some(CsvInput::File(name)),
@@ -235,7 +291,20 @@ impl CompensateRequest {
             matching,
             observer,
         )?;
-        unload(&calibrated, self.payload.as_deref(), &mut results)?;
+        if let Some(unloading) = &unloading {
+            unloading.apply(&calibrated, &mut results)?;
+        }
+        let mut summary = CompensationSummary::default();
+        summary.add(
+            &points,
+            &results,
+            |index| {
+                program
+                    .as_ref()
+                    .map_or(index, |program| program.line(index))
+            },
+            program.as_ref().map(ProgramFile::layout),
+        );
         let corrected = program
             .as_ref()
             .map(|program| program.format_corrected(&results));
@@ -259,6 +328,93 @@ impl CompensateRequest {
             results,
             saved,
             nominal,
+            summary,
+        })
+    }
+
+    /// Corrects a program file and writes the corrected program as it reads
+    /// it, a block of targets at a time, in memory that does not grow with
+    /// the program: what `gecaro compensate` does with a million targets.
+    /// The output is written atomically, as by [`run`](Self::run): an error
+    /// or an interruption leaves nothing behind. `observer` hears of the
+    /// targets done, of an estimated total (from the bytes read).
+    ///
+    /// # Errors
+    /// As [`run`](Self::run); a program that is not a file, or no `save_as`.
+    pub fn run_streamed(
+        &self,
+        files: &dyn Files,
+        observer: &mut dyn Observer,
+    ) -> Result<CompensatedFile, AppError> {
+        let (ProgramSource::File(name), Some(save_as)) = (&self.program, &self.save_as) else {
+            return Err(AppError::setting(
+                "save_as",
+                "a program is corrected as it is read from a program file into a file named by save_as",
+            ));
+        };
+        let prepared = self.prepare(files)?;
+        let (nominal, calibrated) = (&prepared.nominal.robot, &prepared.calibrated);
+        let format = self.format.format()?;
+        let Opened {
+            path,
+            mut reader,
+            length,
+        } = files.open(name, &["csv"])?;
+        let mut program = ProgramReader::new(&mut reader, &path, nominal, &format)?;
+        let layout = program.layout().clone();
+        let mut compensator = Compensator::new(nominal, &calibrated.robot, prepared.matching)?;
+        let mut summary = CompensationSummary::default();
+        let mut corrected: Option<CorrectedProgram<'_>> = None;
+        let saved = files.write_streamed(save_as, "csv", self.overwrite, &mut |output| {
+            let failed = |error: std::io::Error| {
+                AppError::from(gecaro_io::Error::Write {
+                    path: PathBuf::from(save_as),
+                    message: error.to_string(),
+                })
+            };
+            while let Some(block) = program.next_block()? {
+                check_row_count(files, name, program.targets(), "targets")?;
+                let mut results = compensator.compensate(&block.points)?;
+                if let Some(unloading) = &prepared.unloading {
+                    unloading.apply(calibrated, &mut results)?;
+                }
+                // The first block decides the columns and the decimal mark.
+                let corrected = match &mut corrected {
+                    Some(corrected) => corrected,
+                    None => {
+                        let oriented = results.iter().any(|result| result.rotation_error.is_some());
+                        let created = corrected.insert(CorrectedProgram::new(
+                            &layout,
+                            oriented,
+                            block.comma_seen(),
+                        ));
+                        output.write_all(&created.header()).map_err(failed)?;
+                        created
+                    }
+                };
+                corrected
+                    .write_rows(&block, &results, output)
+                    .map_err(failed)?;
+                summary.add(
+                    &block.points,
+                    &results,
+                    |index| block.line(index),
+                    Some(&layout),
+                );
+                let done = compensator.done();
+                // The total, estimated from the share of the file read.
+                let total = length.map_or(done, |length| {
+                    let read = program.bytes_read().max(1) as f64;
+                    ((done as f64 * length as f64 / read).round() as usize).max(done)
+                });
+                report_step(observer, done, total)?;
+            }
+            Ok(())
+        })?;
+        Ok(CompensatedFile {
+            layout,
+            summary,
+            saved,
         })
     }
 }
@@ -271,88 +427,25 @@ impl Compensated {
             .map_or(index, |program| program.line(index))
     }
 
-    /// The lines of the targets with `status`.
-    pub fn lines_with(&self, status: CompensationStatus) -> Vec<usize> {
-        self.results
-            .iter()
-            .enumerate()
-            .filter(|(_, result)| result.status == status)
-            .map(|(index, _)| self.line(index))
-            .collect()
-    }
-
-    /// The largest residual of a reached target (m).
-    pub fn largest_position_error(&self) -> f64 {
-        self.results
-            .iter()
-            .filter(|result| result.status != CompensationStatus::NotReached)
-            .map(|result| result.position_error)
-            .fold(0.0, f64::max)
-    }
-
-    /// The largest change of a joint between the program and the correction,
-    /// in the program file's unit: (value, unit, joint number, line).
-    pub fn largest_correction(&self) -> Option<(f64, &'static str, usize, usize)> {
-        let program = self.program.as_ref()?;
-        let mut largest: Option<(f64, &'static str, usize, usize)> = None;
-        for (index, (point, result)) in self.points.iter().zip(&self.results).enumerate() {
-            if result.status != CompensationStatus::Reached {
-                continue;
-            }
-            let original = match &point.target {
-                ProgramTarget::Joints(qm) => Some(qm),
-                _ => point.joints.as_ref(),
-            };
-            for (j, (before, after)) in original
-                .into_iter()
-                .flatten()
-                .zip(&result.motor_positions)
-                .enumerate()
-            {
-                let (change, unit) = program.joint_in_file_unit(j, (after - before).abs());
-                if largest.is_none_or(|(value, ..)| change > value) {
-                    largest = Some((change, unit, j + 1, program.line(index)));
-                }
-            }
-        }
-        largest
-    }
-
     /// Why the corrected program is not to be run as it is: targets
     /// reconfigured, beyond a limit or not reached.
     pub fn failure(&self) -> Option<AppError> {
-        let flagged = self
-            .results
-            .iter()
-            .filter(|result| result.status != CompensationStatus::Reached)
-            .count();
-        (flagged > 0).then(|| {
-            AppError::plain(
-                ErrorKind::NotConverged,
-                format!(
-                    "{flagged} of {} targets are flagged{}; check them before running the program",
-                    self.results.len(),
-                    self.saved
-                        .as_ref()
-                        .map_or_else(String::new, |path| format!(" in {}", path.display()))
-                ),
-            )
-        })
+        self.summary.failure(self.saved.as_deref())
     }
 
     /// The JSON document (`gecaro compensate --json`).
     pub fn document(&self) -> CompensationJson {
-        let reconfigured = self.lines_with(CompensationStatus::Reconfigured);
-        let outside = self.lines_with(CompensationStatus::OutsideLimits);
-        let not_reached = self.lines_with(CompensationStatus::NotReached);
+        let summary = &self.summary;
         CompensationJson {
-            targets: self.results.len(),
-            reached: self.results.len() - reconfigured.len() - outside.len() - not_reached.len(),
-            reconfigured,
-            outside_limits: outside,
-            not_reached,
-            largest_position_error: self.largest_position_error(),
-            largest_correction: self.largest_correction().map_or(0.0, |(value, ..)| value),
+            targets: summary.targets,
+            reached: summary.reached(),
+            reconfigured: summary.reconfigured.clone(),
+            outside_limits: summary.outside_limits.clone(),
+            not_reached: summary.not_reached.clone(),
+            largest_position_error: summary.largest_position_error,
+            largest_correction: summary
+                .largest_correction
+                .map_or(0.0, |largest| largest.value),
             output: self.saved.as_ref().map(|path| path.display().to_string()),
             points: self
                 .results

@@ -1,0 +1,176 @@
+//! What a corrected program comes to, gathered block by block as it is
+//! compensated: the targets, the lines of those flagged, the largest
+//! residual and the largest correction. It is all the command line prints,
+//! and all a streamed compensation keeps of its targets.
+
+use gecaro_calib::compensation::{
+    CompensatedPoint, CompensationStatus, ProgramPoint, ProgramTarget,
+};
+use gecaro_io::ProgramLayout;
+
+use crate::error::{AppError, ErrorKind};
+
+/// The largest change of a joint between the program and its correction.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct LargestCorrection {
+    /// The change, in the program file's unit.
+    pub value: f64,
+    /// That unit's name.
+    pub unit: &'static str,
+    /// The joint (1-based).
+    pub joint: usize,
+    /// The target's line.
+    pub line: usize,
+}
+
+/// See the module docs.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CompensationSummary {
+    /// Targets compensated.
+    pub targets: usize,
+    /// Lines (file) or rows (arrays) of the targets reached only in
+    /// another configuration.
+    pub reconfigured: Vec<usize>,
+    /// Lines of the targets reached only beyond a joint limit.
+    pub outside_limits: Vec<usize>,
+    /// Lines of the targets not reached.
+    pub not_reached: Vec<usize>,
+    /// The largest residual of a reached target (m).
+    pub largest_position_error: f64,
+    /// The largest joint change of a target reached (program files only).
+    pub largest_correction: Option<LargestCorrection>,
+}
+
+impl CompensationSummary {
+    /// Adds a block of targets and their results; `line` gives a target's
+    /// line from its index in the block; `layout` is the program file's
+    /// (the correction is given in its units), if the targets came from one.
+    pub fn add(
+        &mut self,
+        points: &[ProgramPoint],
+        results: &[CompensatedPoint],
+        line: impl Fn(usize) -> usize,
+        layout: Option<&ProgramLayout>,
+    ) {
+        self.targets += results.len();
+        for (index, (point, result)) in points.iter().zip(results).enumerate() {
+            match result.status {
+                CompensationStatus::Reached => {}
+                CompensationStatus::Reconfigured => self.reconfigured.push(line(index)),
+                CompensationStatus::OutsideLimits => self.outside_limits.push(line(index)),
+                CompensationStatus::NotReached => {
+                    self.not_reached.push(line(index));
+                    continue;
+                }
+            }
+            self.largest_position_error = self.largest_position_error.max(result.position_error);
+            let Some(layout) = layout.filter(|_| result.status == CompensationStatus::Reached)
+            else {
+                continue;
+            };
+            let original = match &point.target {
+                ProgramTarget::Joints(qm) => Some(qm),
+                _ => point.joints.as_ref(),
+            };
+            for (j, (before, after)) in original
+                .into_iter()
+                .flatten()
+                .zip(&result.motor_positions)
+                .enumerate()
+            {
+                let (value, unit) = layout.joint_in_file_unit(j, (after - before).abs());
+                if self
+                    .largest_correction
+                    .is_none_or(|largest| value > largest.value)
+                {
+                    self.largest_correction = Some(LargestCorrection {
+                        value,
+                        unit,
+                        joint: j + 1,
+                        line: line(index),
+                    });
+                }
+            }
+        }
+    }
+
+    /// The lines of the targets with `status` (none for those reached).
+    pub fn lines_with(&self, status: CompensationStatus) -> &[usize] {
+        match status {
+            CompensationStatus::Reached => &[],
+            CompensationStatus::Reconfigured => &self.reconfigured,
+            CompensationStatus::OutsideLimits => &self.outside_limits,
+            CompensationStatus::NotReached => &self.not_reached,
+        }
+    }
+
+    /// Targets flagged: reconfigured, beyond a limit or not reached.
+    pub fn flagged(&self) -> usize {
+        self.reconfigured.len() + self.outside_limits.len() + self.not_reached.len()
+    }
+
+    /// Targets reached within the limits in the program's configuration.
+    pub fn reached(&self) -> usize {
+        self.targets - self.flagged()
+    }
+
+    /// Why the corrected program (written to `saved`) is not to be run as
+    /// it is: targets reconfigured, beyond a limit or not reached.
+    pub fn failure(&self, saved: Option<&std::path::Path>) -> Option<AppError> {
+        let flagged = self.flagged();
+        (flagged > 0).then(|| {
+            AppError::plain(
+                ErrorKind::NotConverged,
+                format!(
+                    "{flagged} of {} targets are flagged{}; check them before running the program",
+                    self.targets,
+                    saved.map_or_else(String::new, |path| format!(" in {}", path.display()))
+                ),
+            )
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn result(status: CompensationStatus, position_error: f64, q: f64) -> CompensatedPoint {
+        CompensatedPoint {
+            motor_positions: vec![q, 0.0],
+            position_error,
+            rotation_error: None,
+            status,
+        }
+    }
+
+    #[test]
+    fn blocks_add_up_to_the_summary_of_the_whole() {
+        let point = ProgramPoint {
+            target: ProgramTarget::Joints(vec![0.0, 0.0]),
+            joints: None,
+        };
+        let points = vec![point; 5];
+        let results = [
+            result(CompensationStatus::Reached, 1e-9, 0.01),
+            result(CompensationStatus::NotReached, 5.0, 3.0),
+            result(CompensationStatus::Reached, 2e-9, -0.03),
+            result(CompensationStatus::OutsideLimits, 3e-9, 0.5),
+            result(CompensationStatus::Reconfigured, 1e-10, 1.5),
+        ];
+        // Lines as a file numbers them: the header, then a row each.
+        let mut whole = CompensationSummary::default();
+        whole.add(&points, &results, |index| index + 2, None);
+        let mut blocks = CompensationSummary::default();
+        blocks.add(&points[..2], &results[..2], |index| index + 2, None);
+        blocks.add(&points[2..], &results[2..], |index| index + 4, None);
+        assert_eq!(whole, blocks);
+        assert_eq!((whole.targets, whole.reached(), whole.flagged()), (5, 2, 3));
+        assert_eq!(whole.lines_with(CompensationStatus::NotReached), [3]);
+        assert_eq!(whole.lines_with(CompensationStatus::OutsideLimits), [5]);
+        assert_eq!(whole.lines_with(CompensationStatus::Reconfigured), [6]);
+        // The target not reached does not count as a residual.
+        assert_eq!(whole.largest_position_error, 3e-9);
+        assert!(whole.failure(None).is_some());
+    }
+}

@@ -1,0 +1,296 @@
+//! Robot programs for compensation: a CSV file of targets, as a controller
+//! export or a script writes it, and the same file corrected.
+//!
+//! A program has joint targets (columns `qm1..qmn`: the configurations the
+//! nominal model was programmed with) or Cartesian targets (`x,y,z`, and
+//! `qw,qx,qy,qz` for an orientation, world frame); Cartesian targets may
+//! carry the program's joints too. Columns are found by name (or through a
+//! [`ColumnMap`]), in the file's units ([`DataUnits`]); every other column
+//! (time stamps, point names, speeds) is kept as written.
+//!
+//! The corrected program is the same file with the corrected joint values
+//! in the program's own `qm` columns (under its own names), order and units
+//! (added at the end when the program had none), then `residual` (position,
+//! the file's length unit), `residual_rotation` (the file's angle unit, when
+//! orientations are matched) and `status` (`ok`, `reconfigured`,
+//! `outside-limits`, `not-reached`) — written with the program's own field
+//! separator and decimal mark, so that the controller reads it as it wrote
+//! it (and gecaro reads it back).
+
+mod corrected;
+mod layout;
+mod reader;
+
+use gecaro_calib::compensation::CompensatedPoint;
+use gecaro_core::Robot;
+use std::io::Read;
+use std::path::Path;
+
+use crate::Error;
+use crate::data_file::DataFormat;
+use crate::input::open_regular;
+
+pub use corrected::CorrectedProgram;
+pub use layout::{ProgramBlock, ProgramKind, ProgramLayout};
+pub use reader::ProgramReader;
+
+/// A program read whole from a CSV file (see the module docs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProgramFile {
+    layout: ProgramLayout,
+    /// Every target, in the order of the file.
+    targets: ProgramBlock,
+    /// The targets, in gecaro's units.
+    pub points: Vec<gecaro_calib::compensation::ProgramPoint>,
+    /// Columns kept as they are (not read by gecaro).
+    pub unused_columns: Vec<String>,
+}
+
+/// Reads a program for `robot` written as `format` says (units, column
+/// names, separator, decimal mark).
+///
+/// # Errors
+/// [`Error::Read`] when it cannot be opened (or is not a regular file),
+/// [`Error::Parse`] with line and column for any problem of content.
+pub fn read_program(path: &Path, robot: &Robot, format: &DataFormat) -> Result<ProgramFile, Error> {
+    let (file, _) = open_regular(path)?;
+    parse_program(file, path, robot, format)
+}
+
+/// [`read_program`] from a reader; `path` names the program in messages.
+///
+/// # Errors
+/// As [`read_program`].
+pub fn parse_program(
+    mut input: impl Read,
+    path: &Path,
+    robot: &Robot,
+    format: &DataFormat,
+) -> Result<ProgramFile, Error> {
+    let mut reader = ProgramReader::new(&mut input, path, robot, format)?;
+    let mut targets = ProgramBlock::default();
+    while let Some(block) = reader.next_block()? {
+        targets.append(block);
+    }
+    let layout = reader.layout().clone();
+    let mut points = std::mem::take(&mut targets.points);
+    points.shrink_to_fit();
+    Ok(ProgramFile {
+        unused_columns: layout.unused_columns().to_vec(),
+        layout,
+        targets,
+        points,
+    })
+}
+
+impl ProgramFile {
+    /// The program's columns.
+    pub fn layout(&self) -> &ProgramLayout {
+        &self.layout
+    }
+
+    /// What the targets are.
+    pub fn kind(&self) -> ProgramKind {
+        self.layout.kind()
+    }
+
+    /// The line of target `index` in the file.
+    pub fn line(&self, index: usize) -> usize {
+        self.targets.line(index)
+    }
+
+    /// The units of the file.
+    pub fn units(&self) -> crate::DataUnits {
+        self.layout.units()
+    }
+
+    /// A value of joint `j` (0-based) in the file's unit, and that unit.
+    pub fn joint_in_file_unit(&self, j: usize, value: f64) -> (f64, &'static str) {
+        self.layout.joint_in_file_unit(j, value)
+    }
+
+    /// The corrected program (see the module docs): one result per target.
+    ///
+    /// # Panics
+    /// If `results` does not hold one result per target (a bug of the caller).
+    pub fn format_corrected(&self, results: &[CompensatedPoint]) -> String {
+        let oriented = results.iter().any(|result| result.rotation_error.is_some());
+        let corrected = CorrectedProgram::new(&self.layout, oriented, self.targets.comma_seen());
+        let mut text = corrected.header();
+        // Writing into memory does not fail.
+        let _ = corrected.write_rows(&self.targets, results, &mut text);
+        String::from_utf8(text).unwrap_or_default()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::corrected::FORMAT_BLOCK;
+    use super::*;
+    use crate::DataUnits;
+    use crate::columns::{ColumnMap, Delimiter};
+    use crate::robot_file::AngleUnit;
+    use gecaro_calib::compensation::CompensationStatus;
+    use gecaro_calib::compensation::ProgramTarget;
+
+    /// A controller's export: `;`, decimal commas, degrees, its own joint
+    /// names, a point name and a speed.
+    const EXPORT: &str = "Point;A1;A2;A3;A4;A5;A6;Speed\n\
+                          P1;10,5;-20,25;30;40,125;-50;60;0,5\n\
+                          P2;-10;20,5;-30;4;5,75;-6;1\n";
+
+    fn format() -> DataFormat {
+        DataFormat {
+            units: DataUnits {
+                angle: AngleUnit::Degrees,
+                ..DataUnits::default()
+            },
+            columns: ColumnMap::parse("qm1=A1,qm2=A2,qm3=A3,qm4=A4,qm5=A5,qm6=A6")
+                .expect("columns"),
+            delimiter: Delimiter::Detect,
+            decimal_comma: None,
+        }
+    }
+
+    #[test]
+    fn the_corrected_program_is_written_as_the_program_was() {
+        let robot = Robot::template("arm", "RRRRRR").expect("robot");
+        let program = parse_program(EXPORT.as_bytes(), Path::new("job.csv"), &robot, &format())
+            .expect("read");
+        let corrected: Vec<Vec<f64>> = program
+            .points
+            .iter()
+            .map(|point| match &point.target {
+                ProgramTarget::Joints(qm) => qm.iter().map(|q| q + 1e-3).collect(),
+                _ => unreachable!("joint targets"),
+            })
+            .collect();
+        let results: Vec<CompensatedPoint> = corrected
+            .iter()
+            .map(|qm| CompensatedPoint {
+                motor_positions: qm.clone(),
+                position_error: 2.5e-11,
+                rotation_error: None,
+                status: CompensationStatus::Reached,
+            })
+            .collect();
+        let text = program.format_corrected(&results);
+        let mut lines = text.lines();
+        assert_eq!(
+            lines.next(),
+            Some("Point;A1;A2;A3;A4;A5;A6;Speed;residual;status")
+        );
+        let first = lines.next().expect("a row");
+        assert!(first.starts_with("P1;10,5572"), "{first}");
+        assert!(first.ends_with(";0,5;2,500e-11;ok"), "{first}");
+        // Read back as it was read: the corrected joints.
+        let again = parse_program(
+            text.as_bytes(),
+            Path::new("corrected.csv"),
+            &robot,
+            &format(),
+        )
+        .expect("read back");
+        for (point, expected) in again.points.iter().zip(&corrected) {
+            let ProgramTarget::Joints(qm) = &point.target else {
+                unreachable!("joint targets")
+            };
+            for (a, b) in qm.iter().zip(expected) {
+                assert!((a - b).abs() < 1e-12, "{a} vs {b}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_long_program_is_corrected_row_for_row_in_order() {
+        // Blocks formatted on several cores are joined in the program's order.
+        let robot = Robot::template("arm", "RR").expect("robot");
+        let count = 3 * FORMAT_BLOCK + 5;
+        let mut text = String::from("name,qm1,qm2,speed\n");
+        for row in 0..count {
+            text.push_str(&format!("P{row},{}e-6,0.5,{}\n", row, row % 7));
+        }
+        let program = parse_program(
+            text.as_bytes(),
+            Path::new("long.csv"),
+            &robot,
+            &DataFormat::default(),
+        )
+        .expect("read");
+        let results: Vec<CompensatedPoint> = (0..count)
+            .map(|row| CompensatedPoint {
+                motor_positions: vec![row as f64 * 1e-3, -0.25],
+                position_error: 0.0,
+                rotation_error: None,
+                status: CompensationStatus::Reached,
+            })
+            .collect();
+        let corrected = program.format_corrected(&results);
+        let mut lines = corrected.lines();
+        assert_eq!(lines.next(), Some("name,qm1,qm2,speed,residual,status"));
+        for (row, line) in lines.enumerate() {
+            let expected = format!(
+                "P{row},{:?},-0.25,{},0.000e0,ok",
+                row as f64 * 1e-3,
+                row % 7
+            );
+            assert_eq!(line, expected);
+        }
+        assert_eq!(corrected.lines().count(), count + 1);
+    }
+
+    #[test]
+    fn a_program_read_in_blocks_is_the_program_read_whole() {
+        // Blocks of a few lines, with a comment and a blank line between
+        // rows: the same targets, lines and corrected text as read whole.
+        let robot = Robot::template("arm", "RR").expect("robot");
+        let mut text = String::from("# a cell's export\nname,qm1,qm2\n");
+        for row in 0..200 {
+            text.push_str(&format!("P{row},{}e-3,0.5\n", row));
+            if row == 70 {
+                text.push_str("# a comment\n\n");
+            }
+        }
+        let format = DataFormat::default();
+        let whole =
+            parse_program(text.as_bytes(), Path::new("p.csv"), &robot, &format).expect("whole");
+        let mut input = text.as_bytes();
+        let mut reader =
+            ProgramReader::in_chunks(&mut input, Path::new("p.csv"), &robot, &format, 300)
+                .expect("header");
+        let mut blocks = Vec::new();
+        while let Some(block) = reader.next_block().expect("a block") {
+            blocks.push(block);
+        }
+        assert!(blocks.len() > 10, "{} blocks", blocks.len());
+        assert_eq!(reader.targets(), 200);
+        assert_eq!(reader.bytes_read(), text.len() as u64);
+        let results = |block: &ProgramBlock| -> Vec<CompensatedPoint> {
+            (0..block.len())
+                .map(|index| CompensatedPoint {
+                    motor_positions: vec![block.line(index) as f64, 0.25],
+                    position_error: 0.0,
+                    rotation_error: None,
+                    status: CompensationStatus::Reached,
+                })
+                .collect()
+        };
+        let corrected = CorrectedProgram::new(reader.layout(), false, false);
+        let mut streamed = corrected.header();
+        let mut lines = Vec::new();
+        for block in &blocks {
+            corrected
+                .write_rows(block, &results(block), &mut streamed)
+                .expect("in memory");
+            lines.extend((0..block.len()).map(|index| block.line(index)));
+        }
+        let all: Vec<CompensatedPoint> = blocks.iter().flat_map(results).collect();
+        assert_eq!(
+            String::from_utf8(streamed).expect("text"),
+            whole.format_corrected(&all)
+        );
+        let expected: Vec<usize> = (0..200).map(|index| whole.line(index)).collect();
+        assert_eq!(lines, expected);
+        assert_eq!((lines[0], lines[70], lines[71]), (3, 73, 76));
+    }
+}

@@ -1,0 +1,253 @@
+//! A program read a block of targets at a time: a million-target program
+//! is compensated and written as it is read, in memory that does not grow
+//! with it.
+//!
+//! A file without quotes is read in chunks of whole lines
+//! ([`CHUNK_BYTES`]), each read in parts on all cores; a file with quotes
+//! (whose fields may hold line breaks) record by record, [`RECORDS`] at a
+//! time. Blocks come in the order of the file; lines are those of the file.
+
+use std::io::{Cursor, Read};
+use std::path::Path;
+
+use gecaro_calib::parallel::{available_threads, run_parts};
+use gecaro_core::Robot;
+
+use super::layout::{ProgramBlock, ProgramLayout};
+use crate::Error;
+use crate::data_file::DataFormat;
+use crate::data_rows::{CHUNK_BYTES, MAX_CONFIGURATIONS, PART_MIN_BYTES};
+use crate::input::{
+    LineLimit, MAX_LINE_BYTES, csv_reader, csv_reader_with, for_each_record, next_record,
+    read_record,
+};
+use crate::line_chunks::{LineChunks, line_parts};
+
+/// Most targets a program may hold (as many as a data file's configurations).
+pub(super) const MAX_TARGETS: usize = MAX_CONFIGURATIONS;
+
+/// Targets of a block read record by record (a file with quotes).
+const RECORDS: usize = 1 << 16;
+
+/// The rest of a quoted file, after its head.
+type Quoted<'a> =
+    csv::Reader<LineLimit<std::io::BufReader<std::io::Chain<Cursor<Vec<u8>>, &'a mut dyn Read>>>>;
+
+/// Where the rows come from.
+enum Rows<'a> {
+    /// Record by record, after `lines_before` lines and `bytes_before` bytes.
+    Records {
+        csv: Box<Quoted<'a>>,
+        lines_before: usize,
+        bytes_before: u64,
+    },
+    /// Chunks of whole lines.
+    Chunks(LineChunks<'a>),
+}
+
+/// A program read a block at a time; see the module docs.
+pub struct ProgramReader<'a> {
+    layout: ProgramLayout,
+    path: &'a Path,
+    rows: Rows<'a>,
+    /// Targets handed out so far.
+    targets: usize,
+}
+
+impl<'a> ProgramReader<'a> {
+    /// Reads the header of the program `input` (`path` names it in
+    /// messages) for `robot`, written as `format` says (units, column
+    /// names, separator, decimal mark).
+    ///
+    /// # Errors
+    /// [`Error::Read`] when the stream fails, [`Error::Parse`] with the line
+    /// for a header that is missing or names no targets.
+    pub fn new(
+        input: &'a mut dyn Read,
+        path: &'a Path,
+        robot: &Robot,
+        format: &DataFormat,
+    ) -> Result<Self, Error> {
+        Self::in_chunks(input, path, robot, format, CHUNK_BYTES)
+    }
+
+    /// [`new`](Self::new), reading chunks of about `chunk_bytes`.
+    pub(super) fn in_chunks(
+        input: &'a mut dyn Read,
+        path: &'a Path,
+        robot: &Robot,
+        format: &DataFormat,
+        chunk_bytes: usize,
+    ) -> Result<Self, Error> {
+        // The head of the file, whose rows are read in parts on all cores
+        // (and then the rest in chunks) when it holds no quote.
+        let mut head = Vec::with_capacity(chunk_bytes + 1);
+        (&mut *input)
+            .take(chunk_bytes as u64)
+            .read_to_end(&mut head)
+            .map_err(|cause| Error::Read {
+                path: path.to_owned(),
+                cause,
+            })?;
+        let (mut reader, separator) = csv_reader((&head[..]).chain(&mut *input), format.delimiter);
+        let Some((header, header_line)) = next_record(&mut reader, path)? else {
+            let joints: Vec<String> = (1..=robot.joint_count())
+                .map(|j| format!("qm{j}"))
+                .collect();
+            return Err(Error::parse(
+                path,
+                1,
+                None,
+                format!(
+                    "the file is empty; a program's header names {} and/or x,y,z[,qw,qx,qy,qz]",
+                    joints.join(",")
+                ),
+            ));
+        };
+        let layout = ProgramLayout::new(&header, (path, header_line), robot, format, separator)?;
+        let start = (reader.position().byte() as usize).min(head.len());
+        drop(reader);
+        let lines_before = memchr::memchr_iter(b'\n', &head[..start]).count();
+        let rows = if memchr::memchr(b'"', &head).is_some() {
+            // Quoted fields may hold line breaks: one pass over the stream.
+            let mut rest = Cursor::new(head);
+            rest.set_position(start as u64);
+            let csv = csv_reader_with(
+                LineLimit::new(
+                    std::io::BufReader::with_capacity(1 << 16, rest.chain(input)),
+                    MAX_LINE_BYTES,
+                ),
+                separator,
+            );
+            Rows::Records {
+                csv: Box::new(csv),
+                lines_before,
+                bytes_before: start as u64,
+            }
+        } else {
+            Rows::Chunks(LineChunks::new(
+                (head, start),
+                input,
+                lines_before,
+                chunk_bytes,
+                path,
+            ))
+        };
+        Ok(ProgramReader {
+            layout,
+            path,
+            rows,
+            targets: 0,
+        })
+    }
+
+    /// The program's columns.
+    pub fn layout(&self) -> &ProgramLayout {
+        &self.layout
+    }
+
+    /// Targets read so far.
+    pub fn targets(&self) -> usize {
+        self.targets
+    }
+
+    /// Bytes of the file read through so far (for progress).
+    pub fn bytes_read(&self) -> u64 {
+        match &self.rows {
+            Rows::Records {
+                csv, bytes_before, ..
+            } => bytes_before + csv.position().byte(),
+            Rows::Chunks(chunks) => chunks.bytes_read(),
+        }
+    }
+
+    /// The next targets of the program, in its order; `None` at its end.
+    ///
+    /// # Errors
+    /// [`Error::Parse`] with line and column for any problem of content,
+    /// a program with no target, or more than [`MAX_TARGETS`];
+    /// [`Error::Read`] when the stream fails.
+    pub fn next_block(&mut self) -> Result<Option<ProgramBlock>, Error> {
+        let (layout, path) = (&self.layout, self.path);
+        let mut block = ProgramBlock::default();
+        match &mut self.rows {
+            Rows::Records {
+                csv, lines_before, ..
+            } => {
+                let mut record = csv::StringRecord::new();
+                while block.len() < RECORDS {
+                    let Some(line) = read_record(csv, path, *lines_before, &mut record)? else {
+                        break;
+                    };
+                    block.add(layout, path, &record, line)?;
+                }
+            }
+            Rows::Chunks(chunks) => {
+                if let Some((chunk, lines)) = chunks.next_chunk()? {
+                    // A short chunk is one part: a thread costs more.
+                    let count = if chunk.len() < PART_MIN_BYTES {
+                        1
+                    } else {
+                        available_threads()
+                    };
+                    let parts = run_parts(
+                        line_parts(chunk, lines, count),
+                        |(bytes, lines_before, _)| {
+                            let mut csv = csv_reader_with(
+                                LineLimit::new(bytes, MAX_LINE_BYTES),
+                                layout.separator,
+                            );
+                            let mut part = ProgramBlock::default();
+                            let error =
+                                for_each_record(&mut csv, path, lines_before, |record, line| {
+                                    part.add(layout, path, record, line)
+                                });
+                            (part, error)
+                        },
+                    );
+                    for (part, error) in parts {
+                        block.append(part);
+                        if let Some(error) = error {
+                            // (Targets beyond the limit before the error
+                            // are named first.)
+                            self.check_room(&block)?;
+                            return Err(error);
+                        }
+                    }
+                }
+            }
+        }
+        self.check_room(&block)?;
+        if block.is_empty() {
+            return if self.targets == 0 {
+                Err(Error::parse(
+                    path,
+                    self.layout.header_line + 1,
+                    None,
+                    "the program has a header but no targets",
+                ))
+            } else {
+                Ok(None)
+            };
+        }
+        self.targets += block.len();
+        Ok(Some(block))
+    }
+
+    /// Refuses a block that would take the program beyond [`MAX_TARGETS`],
+    /// naming the first line beyond.
+    fn check_room(&self, block: &ProgramBlock) -> Result<(), Error> {
+        let room = MAX_TARGETS - self.targets;
+        if block.len() > room {
+            return Err(Error::parse(
+                self.path,
+                block.line(room),
+                None,
+                format!(
+                    "more than {MAX_TARGETS} targets; reading stopped here (split the program)"
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
