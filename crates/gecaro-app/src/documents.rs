@@ -1136,7 +1136,9 @@ pub struct CompensationJson {
     /// The corrected program file, when written.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub output: Option<String>,
-    /// Every target.
+    /// Every target (none listed for a program corrected as it was read:
+    /// they are in its file).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
     pub points: Vec<CompensatedJson>,
 }
 

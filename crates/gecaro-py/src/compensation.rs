@@ -1,15 +1,18 @@
 //! `gecaro.compensate`: a robot program corrected for the calibrated robot
 //! (`gecaro compensate`): the motor values with which the calibrated robot
 //! reaches what the nominal program meant.
-use gecaro_app::{CompensateRequest, LocalFiles, ProgramSource, RobotSource};
+use gecaro_app::{CompensateRequest, DataFormatSpec, LocalFiles, ProgramSource, RobotSource};
 use gecaro_calib::compensation::{
     CompensatedPoint, CompensationStatus, ProgramPoint, ProgramTarget,
 };
 use nalgebra::Vector3;
 use numpy::PyArrayDyn;
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::path::PathBuf;
 
 use crate::arrays::{Real, array};
+use crate::documents::to_python;
 use crate::errors::{NotConvergedError, input};
 use crate::interrupt::watched;
 use crate::robot::{PyRobot, pose};
@@ -227,4 +230,85 @@ pub(crate) fn compensate(
     ));
     error.value(py).setattr("result", Py::new(py, result)?)?;
     Err(error)
+}
+
+/// A program file corrected into `output` as it is read, a block of targets
+/// at a time, in memory that does not grow with the program — as
+/// `gecaro compensate --program PROGRAM -o OUTPUT`, for programs of a
+/// million targets. The program's format is said as for `Data.read`
+/// (`length_unit`, `angle_unit`, `columns` as a dict {gecaro name: file
+/// column} or text `"qm1=A1,…"`, `delimiter`, `decimal_comma`); `output`
+/// is written atomically, and an existing one is kept unless `overwrite`.
+/// Returns what `gecaro compensate --json` says of it (counts, flagged lines,
+/// largest residual and correction, the file written), without listing the
+/// targets, which are in the file. Runs without the GIL; Ctrl-C stops it and
+/// writes nothing.
+///
+/// Raises NotConvergedError, with that dict in `.result`, when some targets
+/// are flagged (reconfigured, beyond a joint limit, or not reached).
+#[pyfunction]
+#[pyo3(signature = (nominal, calibrated, program, output, *, r#match = "pose", rebase = false, payload = None, length_unit = None, angle_unit = None, columns = None, delimiter = None, decimal_comma = None, overwrite = false))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn compensate_program<'py>(
+    py: Python<'py>,
+    nominal: PyRef<'_, PyRobot>,
+    calibrated: PyRef<'_, PyRobot>,
+    program: PathBuf,
+    output: PathBuf,
+    r#match: &str,
+    rebase: bool,
+    payload: Option<String>,
+    length_unit: Option<String>,
+    angle_unit: Option<String>,
+    columns: Option<&Bound<'py, PyAny>>,
+    delimiter: Option<String>,
+    decimal_comma: Option<bool>,
+    overwrite: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let columns = columns
+        .map(|columns| -> PyResult<String> {
+            if let Ok(text) = columns.extract::<String>() {
+                return Ok(text);
+            }
+            let pairs = columns.cast::<PyDict>().map_err(|_| {
+                input("columns: expected a dict {gecaro name: file column} or \"qm1=A1,…\"")
+            })?;
+            let pairs: Vec<String> = pairs
+                .iter()
+                .map(|(ours, theirs)| {
+                    Ok(format!(
+                        "{}={}",
+                        ours.extract::<String>()?,
+                        theirs.extract::<String>()?
+                    ))
+                })
+                .collect::<PyResult<_>>()?;
+            Ok(pairs.join(","))
+        })
+        .transpose()?;
+    let mut request = CompensateRequest::new(
+        RobotSource::Loaded(Box::new(nominal.file.clone())),
+        RobotSource::Loaded(Box::new(calibrated.file.clone())),
+        ProgramSource::File(program.display().to_string()),
+    );
+    request.matching = Some(r#match.to_owned());
+    request.rebase = rebase;
+    request.payload = payload;
+    request.save_as = Some(output.display().to_string());
+    request.overwrite = overwrite;
+    request.format = DataFormatSpec {
+        length_unit,
+        angle_unit,
+        columns,
+        delimiter,
+        decimal_comma,
+    };
+    let compensated = watched(py, |observer| request.run_streamed(&LocalFiles, observer))?;
+    let document = to_python(py, &compensated.document())?;
+    if let Some(failure) = compensated.failure() {
+        let error = NotConvergedError::new_err(failure.message(gecaro_app::Dialect::Python));
+        error.value(py).setattr("result", &document)?;
+        return Err(error);
+    }
+    Ok(document)
 }

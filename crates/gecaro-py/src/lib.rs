@@ -71,6 +71,7 @@ fn _gecaro(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(identification::evaluate, module)?)?;
     module.add_function(wrap_pyfunction!(validation::cross_validate, module)?)?;
     module.add_function(wrap_pyfunction!(compensation::compensate, module)?)?;
+    module.add_function(wrap_pyfunction!(compensation::compensate_program, module)?)?;
     module.add_function(wrap_pyfunction!(planning::plan, module)?)?;
     module.add_function(wrap_pyfunction!(planning::plan_study, module)?)?;
     module.add_function(wrap_pyfunction!(planning::predict, module)?)?;

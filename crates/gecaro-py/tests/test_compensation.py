@@ -44,6 +44,40 @@ def test_joint_targets_equal_the_command_line(cli, cell, repository):
     assert np.isnan(result.rotation_error).all() or (result.rotation_error >= 0).all()
 
 
+def test_a_program_file_is_corrected_as_it_is_read(cli, cell, repository, tmp_path):
+    # The same corrected file as the command line's, and its --json without
+    # the targets; an existing output is kept, and a bad program writes nothing.
+    nominal, calibrated, _ = cell
+    job = repository / "examples" / "tracker" / "job.csv"
+    document = cli.json(
+        "compensate", "kr16.toml", "calibrated.toml", "--program", job, "--angle-unit",
+        "deg", "--columns", COLUMNS, "--match", "position", "-o", "by-cli.csv",
+    )
+    summary = gecaro.compensate_program(
+        nominal, calibrated, job, tmp_path / "by-python.csv", match="position",
+        angle_unit="deg", columns=dict(item.split("=") for item in COLUMNS.split(",")),
+    )
+    assert (tmp_path / "by-python.csv").read_text() == (tmp_path / "by-cli.csv").read_text()
+    assert summary["targets"] == document["targets"] == len(document["points"])
+    assert summary["reached"] == document["reached"]
+    assert summary["largest_correction"] == document["largest_correction"]
+    assert "points" not in summary and summary["output"].endswith("by-python.csv")
+    with pytest.raises(gecaro.InputError, match="exists"):
+        gecaro.compensate_program(
+            nominal, calibrated, job, tmp_path / "by-python.csv", angle_unit="deg",
+            columns=COLUMNS,
+        )
+    bad = tmp_path / "bad.csv"
+    lines = job.read_text().splitlines()
+    lines[3] = lines[3].replace(",", ",x", 1)
+    bad.write_text("\n".join(lines) + "\n")
+    with pytest.raises(gecaro.InputError, match=":4"):
+        gecaro.compensate_program(
+            nominal, calibrated, bad, tmp_path / "never.csv", angle_unit="deg", columns=COLUMNS,
+        )
+    assert not (tmp_path / "never.csv").exists()
+
+
 def test_pose_and_point_targets_are_reached(cell):
     nominal, calibrated, joints = cell
     poses = nominal.fk(joints)

@@ -435,20 +435,9 @@ impl Compensated {
 
     /// The JSON document (`gecaro compensate --json`).
     pub fn document(&self) -> CompensationJson {
-        let summary = &self.summary;
-        CompensationJson {
-            targets: summary.targets,
-            reached: summary.reached(),
-            reconfigured: summary.reconfigured.clone(),
-            outside_limits: summary.outside_limits.clone(),
-            not_reached: summary.not_reached.clone(),
-            largest_position_error: summary.largest_position_error,
-            largest_correction: summary
-                .largest_correction
-                .map_or(0.0, |largest| largest.value),
-            output: self.saved.as_ref().map(|path| path.display().to_string()),
-            points: self
-                .results
+        self.summary.document(
+            self.saved.as_ref().map(|path| path.display().to_string()),
+            self.results
                 .iter()
                 .enumerate()
                 .map(|(index, result)| CompensatedJson {
@@ -459,7 +448,21 @@ impl Compensated {
                     rotation_error: result.rotation_error,
                 })
                 .collect(),
-        }
+        )
+    }
+}
+
+impl CompensatedFile {
+    /// The JSON document: counts, flagged lines and the file written; no
+    /// `points` (they are in the file).
+    pub fn document(&self) -> CompensationJson {
+        self.summary
+            .document(Some(self.saved.display().to_string()), Vec::new())
+    }
+
+    /// Why the corrected program is not to be run as it is.
+    pub fn failure(&self) -> Option<AppError> {
+        self.summary.failure(Some(&self.saved))
     }
 }
 

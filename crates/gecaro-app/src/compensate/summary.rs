@@ -8,6 +8,7 @@ use gecaro_calib::compensation::{
 };
 use gecaro_io::ProgramLayout;
 
+use crate::documents::{CompensatedJson, CompensationJson};
 use crate::error::{AppError, ErrorKind};
 
 /// The largest change of a joint between the program and its correction.
@@ -112,6 +113,27 @@ impl CompensationSummary {
     /// Targets reached within the limits in the program's configuration.
     pub fn reached(&self) -> usize {
         self.targets - self.flagged()
+    }
+
+    /// The JSON document (`gecaro compensate --json`) of these targets,
+    /// written to `output`, listing `points` (none for a program corrected
+    /// as it was read).
+    pub fn document(
+        &self,
+        output: Option<String>,
+        points: Vec<CompensatedJson>,
+    ) -> CompensationJson {
+        CompensationJson {
+            targets: self.targets,
+            reached: self.reached(),
+            reconfigured: self.reconfigured.clone(),
+            outside_limits: self.outside_limits.clone(),
+            not_reached: self.not_reached.clone(),
+            largest_position_error: self.largest_position_error,
+            largest_correction: self.largest_correction.map_or(0.0, |largest| largest.value),
+            output,
+            points,
+        }
     }
 
     /// Why the corrected program (written to `saved`) is not to be run as

@@ -293,4 +293,43 @@ mod tests {
         assert_eq!(lines, expected);
         assert_eq!((lines[0], lines[70], lines[71]), (3, 73, 76));
     }
+
+    #[test]
+    fn a_program_with_quoted_fields_is_read_record_by_record() {
+        // A quoted name may hold the separator and a line break: the record
+        // is read whole, named by its last line, and written back quoted.
+        let robot = Robot::template("arm", "RR").expect("robot");
+        let text = "name,qm1,qm2\n\"P,1\",0.1,0.2\n\"two\nlines\",0.3,0.4\nP3,0.5,0.6\n";
+        let program = parse_program(
+            text.as_bytes(),
+            Path::new("q.csv"),
+            &robot,
+            &DataFormat::default(),
+        )
+        .expect("read");
+        assert_eq!(program.points.len(), 3);
+        assert_eq!(
+            (program.line(0), program.line(1), program.line(2)),
+            (2, 4, 5)
+        );
+        let results: Vec<CompensatedPoint> = (0..3)
+            .map(|row| CompensatedPoint {
+                motor_positions: vec![row as f64, 0.5],
+                position_error: 0.0,
+                rotation_error: None,
+                status: CompensationStatus::Reached,
+            })
+            .collect();
+        let corrected = program.format_corrected(&results);
+        assert!(corrected.contains("\"P,1\",0.0,0.5,"), "{corrected}");
+        assert!(corrected.contains("\"two\nlines\",1.0,0.5,"), "{corrected}");
+        let again = parse_program(
+            corrected.as_bytes(),
+            Path::new("corrected.csv"),
+            &robot,
+            &DataFormat::default(),
+        )
+        .expect("read back");
+        assert_eq!(again.points.len(), 3);
+    }
 }

@@ -34,6 +34,7 @@ __all__ = [
     "evaluate",
     "cross_validate",
     "compensate",
+    "compensate_program",
     "plan",
     "plan_study",
     "predict",
@@ -612,6 +613,27 @@ def compensate(
     ``.result``) when targets are flagged. ``rebase``: the calibrated robot
     stands in a measurement frame and the program in robot coordinates
     (robots in different frames are refused without it)."""
+
+def compensate_program(
+    nominal: Robot,
+    calibrated: Robot,
+    program: _PathLike,
+    output: _PathLike,
+    *,
+    match: Literal["pose", "position"] = "pose",
+    rebase: bool = False,
+    payload: Optional[str] = None,
+    length_unit: Optional[Literal["m", "mm"]] = None,
+    angle_unit: Optional[Literal["rad", "deg"]] = None,
+    columns: Union[Mapping[str, str], str, None] = None,
+    delimiter: Optional[Literal["auto", "comma", "semicolon", "tab"]] = None,
+    decimal_comma: Optional[bool] = None,
+    overwrite: bool = False,
+) -> dict[str, Any]:
+    """A program file corrected into ``output`` as it is read, in memory that
+    does not grow with it, as ``gecaro compensate --program … -o …``; returns
+    what ``--json`` says of it, without the targets (they are in the file);
+    NotConvergedError (with ``.result``) when targets are flagged."""
 
 @final
 class Plan:
