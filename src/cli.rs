@@ -872,7 +872,8 @@ pub(crate) struct CompensateArgs {
     /// Overwrite the output file if it exists.
     #[arg(long)]
     pub(crate) force: bool,
-    /// Print JSON instead of text.
+    /// Print JSON instead of text, listing every target (the program is then
+    /// held in memory; without it, it is corrected as it is read).
     #[arg(long)]
     pub(crate) json: bool,
 }
