@@ -133,6 +133,16 @@ mod tests {
     use gecaro_calib::compensation::CompensationStatus;
     use gecaro_calib::compensation::ProgramTarget;
 
+    /// A target reached at `motor_positions`, `position_error` away.
+    fn reached(motor_positions: Vec<f64>, position_error: f64) -> CompensatedPoint {
+        CompensatedPoint {
+            motor_positions,
+            position_error,
+            rotation_error: None,
+            status: CompensationStatus::Reached,
+        }
+    }
+
     /// A controller's export: `;`, decimal commas, degrees, its own joint
     /// names, a point name and a speed.
     const EXPORT: &str = "Point;A1;A2;A3;A4;A5;A6;Speed\n\
@@ -167,12 +177,7 @@ mod tests {
             .collect();
         let results: Vec<CompensatedPoint> = corrected
             .iter()
-            .map(|qm| CompensatedPoint {
-                motor_positions: qm.clone(),
-                position_error: 2.5e-11,
-                rotation_error: None,
-                status: CompensationStatus::Reached,
-            })
+            .map(|qm| reached(qm.clone(), 2.5e-11))
             .collect();
         let text = program.format_corrected(&results);
         let mut lines = text.lines();
@@ -218,12 +223,7 @@ mod tests {
         )
         .expect("read");
         let results: Vec<CompensatedPoint> = (0..count)
-            .map(|row| CompensatedPoint {
-                motor_positions: vec![row as f64 * 1e-3, -0.25],
-                position_error: 0.0,
-                rotation_error: None,
-                status: CompensationStatus::Reached,
-            })
+            .map(|row| reached(vec![row as f64 * 1e-3, -0.25], 0.0))
             .collect();
         let corrected = program.format_corrected(&results);
         let mut lines = corrected.lines();
@@ -267,12 +267,7 @@ mod tests {
         assert_eq!(reader.bytes_read(), text.len() as u64);
         let results = |block: &ProgramBlock| -> Vec<CompensatedPoint> {
             (0..block.len())
-                .map(|index| CompensatedPoint {
-                    motor_positions: vec![block.line(index) as f64, 0.25],
-                    position_error: 0.0,
-                    rotation_error: None,
-                    status: CompensationStatus::Reached,
-                })
+                .map(|index| reached(vec![block.line(index) as f64, 0.25], 0.0))
                 .collect()
         };
         let corrected = CorrectedProgram::new(reader.layout(), false, false);
@@ -313,12 +308,7 @@ mod tests {
             (2, 4, 5)
         );
         let results: Vec<CompensatedPoint> = (0..3)
-            .map(|row| CompensatedPoint {
-                motor_positions: vec![row as f64, 0.5],
-                position_error: 0.0,
-                rotation_error: None,
-                status: CompensationStatus::Reached,
-            })
+            .map(|row| reached(vec![row as f64, 0.5], 0.0))
             .collect();
         let corrected = program.format_corrected(&results);
         assert!(corrected.contains("\"P,1\",0.0,0.5,"), "{corrected}");
