@@ -173,7 +173,7 @@ pub fn compensate(
     let mut results = Vec::with_capacity(points.len());
     // Progress between blocks solved over the cores; after every target of
     // a program solved in order (its targets may take random starts).
-    let block = if points.iter().all(independent) {
+    let block = if points.iter().all(carries_joints) {
         PARALLEL_BLOCK
     } else {
         1
@@ -280,7 +280,7 @@ impl<'a> Compensator<'a> {
         // Targets with their joints start from them: each is solved on its
         // own, over the cores. Targets without joints start from the
         // previous solution, in order.
-        let independent = points.iter().all(independent);
+        let independent = points.iter().all(carries_joints);
         let results = if independent {
             let parts: Vec<(usize, &ProgramPoint)> = points
                 .iter()
@@ -316,7 +316,7 @@ impl<'a> Compensator<'a> {
 
 /// Whether `point` carries its joints (a joint target, or a Cartesian one
 /// with the program's joints): it is solved from them, on its own.
-fn independent(point: &ProgramPoint) -> bool {
+fn carries_joints(point: &ProgramPoint) -> bool {
     matches!(point.target, ProgramTarget::Joints(_)) || point.joints.is_some()
 }
 

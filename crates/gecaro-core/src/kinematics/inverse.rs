@@ -303,7 +303,13 @@ pub fn inverse_kinematics_near(
 /// least-squares one for a J with more rows than columns; `None` when the
 /// product to invert is singular (a singular configuration).
 fn newton_step(jacobian: &DMatrix<f64>, error: &DVector<f64>) -> Option<DVector<f64>> {
-    damped_step(jacobian, error, 0.0)
+    if jacobian.is_square() && matches!(jacobian.nrows(), 3 | 6) {
+        // A square J (a frame for six joints, a point for three): Δq = J⁻¹Δx
+        // by LU, cheaper than the product and with J's own conditioning.
+        square_solve(jacobian, error).filter(|step| step.iter().all(|v| v.is_finite()))
+    } else {
+        damped_step(jacobian, error, 0.0)
+    }
 }
 
 /// The damped least-squares step `(JᵀJ + λI)⁻¹JᵀΔx`, computed as
@@ -317,11 +323,7 @@ fn damped_step(
     damping: f64,
 ) -> Option<DVector<f64>> {
     let (rows, columns) = jacobian.shape();
-    let step = if damping == 0.0 && rows == columns && matches!(rows, 3 | 6) {
-        // A square J (a frame for six joints, a point for three): Δq = J⁻¹Δx
-        // by LU, cheaper than the product and with J's own conditioning.
-        square_solve(jacobian, error)?
-    } else if rows <= columns {
+    let step = if rows <= columns {
         // A frame's, a point's or a plane's rows: a product on the stack.
         let solved = match rows {
             6 => wide_solve::<6>(jacobian, error, damping),

@@ -68,16 +68,17 @@ impl<'a> CorrectedProgram<'a> {
         }
     }
 
-    /// A CSV writer into memory with the program's separator.
-    fn writer(&self) -> csv::Writer<Vec<u8>> {
+    /// A CSV writer into memory of `capacity` bytes, with the program's
+    /// separator.
+    fn writer(&self, capacity: usize) -> csv::Writer<Vec<u8>> {
         csv::WriterBuilder::new()
             .delimiter(self.layout.separator)
-            .from_writer(Vec::new())
+            .from_writer(Vec::with_capacity(capacity))
     }
 
     /// The header line.
     pub fn header(&self) -> Vec<u8> {
-        let mut head = self.writer();
+        let mut head = self.writer(0);
         // Writing into memory does not fail.
         let _ = head.write_record(&self.header);
         head.into_inner().unwrap_or_default()
@@ -129,9 +130,7 @@ impl<'a> CorrectedProgram<'a> {
             }
         };
         // Room for rows of 24 bytes a field, so that the text seldom moves.
-        let mut piece = csv::WriterBuilder::new()
-            .delimiter(layout.separator)
-            .from_writer(Vec::with_capacity(24 * self.header.len() * results.len()));
+        let mut piece = self.writer(24 * self.header.len() * results.len());
         let mut fields = vec![String::new(); self.header.len()];
         for (kept, result) in kept.iter().zip(results) {
             for (column, field) in layout.kept_columns.iter().zip(kept) {

@@ -46,6 +46,13 @@ pub struct ProgramLayout {
     pub(super) unused_columns: Vec<String>,
 }
 
+/// The columns a program of a robot of `joint_count` joints names, as
+/// messages say them: `qm1,…,qmn and/or x,y,z[,qw,qx,qy,qz]`.
+pub(super) fn target_columns(joint_count: usize) -> String {
+    let joints: Vec<String> = (1..=joint_count).map(|j| format!("qm{j}")).collect();
+    format!("{} and/or x,y,z[,qw,qx,qy,qz]", joints.join(","))
+}
+
 impl ProgramLayout {
     /// The layout of the program whose header, at `header_line` of `path`,
     /// is `header`, for `robot`, written as `format` says with `separator`.
@@ -112,9 +119,9 @@ impl ProgramLayout {
             }
             (None, None, Some(_)) => ProgramKind::Joints,
             (None, None, None) => {
-                let expected = format!("{} and/or x,y,z[,qw,qx,qy,qz]", joint_names.join(","));
                 return Err(fail_header(format!(
-                    "no target columns; a program's header names {expected}"
+                    "no target columns; a program's header names {}",
+                    target_columns(n)
                 )));
             }
         };

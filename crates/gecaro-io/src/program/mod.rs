@@ -42,8 +42,6 @@ pub struct ProgramFile {
     targets: ProgramBlock,
     /// The targets, in gecaro's units.
     pub points: Vec<gecaro_calib::compensation::ProgramPoint>,
-    /// Columns kept as they are (not read by gecaro).
-    pub unused_columns: Vec<String>,
 }
 
 /// Reads a program for `robot` written as `format` says (units, column
@@ -76,7 +74,6 @@ pub fn parse_program(
     let mut points = std::mem::take(&mut targets.points);
     points.shrink_to_fit();
     Ok(ProgramFile {
-        unused_columns: layout.unused_columns().to_vec(),
         layout,
         targets,
         points,
@@ -89,24 +86,9 @@ impl ProgramFile {
         &self.layout
     }
 
-    /// What the targets are.
-    pub fn kind(&self) -> ProgramKind {
-        self.layout.kind()
-    }
-
     /// The line of target `index` in the file.
     pub fn line(&self, index: usize) -> usize {
         self.targets.line(index)
-    }
-
-    /// The units of the file.
-    pub fn units(&self) -> crate::DataUnits {
-        self.layout.units()
-    }
-
-    /// A value of joint `j` (0-based) in the file's unit, and that unit.
-    pub fn joint_in_file_unit(&self, j: usize, value: f64) -> (f64, &'static str) {
-        self.layout.joint_in_file_unit(j, value)
     }
 
     /// The corrected program (see the module docs): one result per target.

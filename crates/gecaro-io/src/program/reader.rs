@@ -13,7 +13,7 @@ use std::path::Path;
 use gecaro_calib::parallel::{available_threads, run_parts};
 use gecaro_core::Robot;
 
-use super::layout::{ProgramBlock, ProgramLayout};
+use super::layout::{ProgramBlock, ProgramLayout, target_columns};
 use crate::Error;
 use crate::data_file::DataFormat;
 use crate::data_rows::{CHUNK_BYTES, MAX_CONFIGURATIONS, PART_MIN_BYTES};
@@ -91,16 +91,13 @@ impl<'a> ProgramReader<'a> {
             })?;
         let (mut reader, separator) = csv_reader((&head[..]).chain(&mut *input), format.delimiter);
         let Some((header, header_line)) = next_record(&mut reader, path)? else {
-            let joints: Vec<String> = (1..=robot.joint_count())
-                .map(|j| format!("qm{j}"))
-                .collect();
             return Err(Error::parse(
                 path,
                 1,
                 None,
                 format!(
-                    "the file is empty; a program's header names {} and/or x,y,z[,qw,qx,qy,qz]",
-                    joints.join(",")
+                    "the file is empty; a program's header names {}",
+                    target_columns(robot.joint_count())
                 ),
             ));
         };
