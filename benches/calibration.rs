@@ -1,6 +1,7 @@
 //! Benchmarks of gecaro's calibration functions (`cargo bench`).
 //! Figures and how to read them: docs/performance.md.
 
+use gecaro_calib::study::Samples;
 use gecaro_calib::{
     Quiet,
     compensation::{Match, ProgramPoint, ProgramTarget, compensate},
@@ -197,7 +198,7 @@ fn plan_d_optimal_50(bencher: divan::Bencher, pool: usize) {
         gecaro_calib::planning::plan_configurations(
             &robot,
             position.as_ref(),
-            &candidates,
+            Samples::from(candidates.as_slice()).as_slice(),
             &gecaro_calib::planning::PlanRequest::new(50),
             &priority,
             &mut Quiet,
@@ -228,7 +229,7 @@ fn monte_carlo_1000_at_100(bencher: divan::Bencher) {
         gecaro_calib::prediction::monte_carlo(
             &robot,
             position.as_ref(),
-            &planned,
+            Samples::from(planned.as_slice()).as_slice(),
             1e-4,
             0.1,
             &poses,
@@ -248,12 +249,11 @@ fn monte_carlo_1000_at_100(bencher: divan::Bencher) {
 fn identify_position_500_with_gross_errors(bencher: divan::Bencher, loss: &str) {
     let robot = stanford();
     let mut study = simulated("position", 500);
-    for sample in std::sync::Arc::make_mut(&mut study.sets[0].samples)
-        .iter_mut()
-        .step_by(20)
-    {
+    let mut rows = study.sets[0].samples.to_rows();
+    for sample in rows.iter_mut().step_by(20) {
         sample.position = sample.position.map(|p| p + Vector3::new(0.02, 0.0, 0.0));
     }
+    study.sets[0].samples = rows.into();
     let options = IdentificationOptions {
         loss: gecaro_calib::identification::Loss::new(loss.parse().expect("loss")),
         ..IdentificationOptions::default()
@@ -286,7 +286,7 @@ fn cross_validate_position_500_5_folds(bencher: divan::Bencher) {
 fn read_data_5000(bencher: divan::Bencher) {
     let study = simulated("position", 5000);
     let columns = [DataColumn::Position];
-    let text = gecaro_io::format_samples(6, &columns, &study.sets[0].samples);
+    let text = gecaro_io::format_samples(6, &columns, study.sets[0].samples.as_slice());
     let joint_types = gecaro_io::joint_types(&stanford());
     bencher.bench_local(|| {
         gecaro_io::parse_samples(

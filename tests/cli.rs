@@ -1,5 +1,6 @@
 //! End-to-end tests of the `gecaro` binary: each runs the real executable.
 
+use gecaro_calib::study::Samples;
 use std::path::Path;
 
 use assert_cmd::Command;
@@ -689,7 +690,11 @@ fn identifiable_on_measured_data_checks_the_excitation() {
     let good = folder.path().join("good.csv");
     std::fs::write(
         &good,
-        gecaro_io::format_samples(6, method.data_columns(), &samples),
+        gecaro_io::format_samples(
+            6,
+            method.data_columns(),
+            Samples::from(samples.as_slice()).as_slice(),
+        ),
     )
     .expect("write");
     gecaro()
@@ -704,7 +709,11 @@ fn identifiable_on_measured_data_checks_the_excitation() {
     let few = folder.path().join("few.csv");
     std::fs::write(
         &few,
-        gecaro_io::format_samples(6, method.data_columns(), &samples[..5]),
+        gecaro_io::format_samples(
+            6,
+            method.data_columns(),
+            Samples::from(&samples[..5]).as_slice(),
+        ),
     )
     .expect("write");
     gecaro()
@@ -715,7 +724,11 @@ fn identifiable_on_measured_data_checks_the_excitation() {
         .stderr(predicate::str::contains("too few equations"));
     // A NaN in the data: the line and the column.
     let nan = folder.path().join("nan.csv");
-    let text = gecaro_io::format_samples(6, method.data_columns(), &samples);
+    let text = gecaro_io::format_samples(
+        6,
+        method.data_columns(),
+        Samples::from(samples.as_slice()).as_slice(),
+    );
     let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
     let mut fields: Vec<String> = lines[3].split(',').map(str::to_owned).collect();
     fields[7] = "NaN".into();

@@ -2,6 +2,7 @@
 //! (issue 24 §1), written as a tracker writes it (mm, degrees), identified
 //! by the command line; simulated truth, so the right answer is known.
 
+use gecaro_calib::study::Samples;
 use std::path::Path;
 
 use assert_cmd::Command;
@@ -154,7 +155,7 @@ fn write_cell_seen_from(folder: &Path, tracker_1: &IsometryMatrix3<f64>) -> Name
                 &folder.join(format!("{}_{suffix}.csv", tool.name)),
                 6,
                 &[DataColumn::Position],
-                &samples,
+                Samples::from(samples.as_slice()).as_slice(),
                 OutputPolicy::KeepExisting,
             )
             .expect("written");
@@ -631,10 +632,10 @@ fn a_cell_is_planned_within_its_floor_and_lines_of_sight() {
         };
         for sample in set.samples.iter() {
             assert!(
-                cell.admits(&with_tool, &sample.motor_positions),
+                cell.admits(&with_tool, sample.motor_positions()),
                 "{}: {:?} is not measurable",
                 set.label,
-                sample.motor_positions
+                sample.motor_positions()
             );
             checked += 1;
         }

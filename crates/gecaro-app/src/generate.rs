@@ -21,7 +21,7 @@ use gecaro_calib::simulation::{
     Sampler, perturbed_robot, simulate_at, simulate_measurements, terminal_displacement,
     within_nominal_limits,
 };
-use gecaro_calib::study::{DataColumn, Sample};
+use gecaro_calib::study::{DataColumn, Sample, Samples};
 use gecaro_calib::{Observer, report_step};
 use gecaro_io::RobotFile;
 use serde::Deserialize;
@@ -245,7 +245,7 @@ impl GenerateRequest {
                 simulate_at(
                     &real.robot,
                     method.as_ref(),
-                    &planned.samples,
+                    planned.samples.as_slice(),
                     self.noise,
                     &mut sampler,
                     observer,
@@ -304,7 +304,7 @@ impl GenerateRequest {
             simulate_at(
                 &real.robot,
                 method.as_ref(),
-                &planned,
+                Samples::from(planned.as_slice()).as_slice(),
                 self.noise,
                 &mut sampler,
                 observer,
@@ -315,13 +315,21 @@ impl GenerateRequest {
         // Whoever asked may have gone while the data were drawn (a closed
         // page, Ctrl-C): then nothing is written.
         report_step(observer, samples.len(), samples.len())?;
-        let displacement = terminal_displacement(robot, &real.robot, &samples)?;
+        let displacement = terminal_displacement(
+            robot,
+            &real.robot,
+            Samples::from(samples.as_slice()).as_slice(),
+        )?;
         // The file says where its data came from (a comment line, which the
         // data reader skips).
         let csv = format!(
             "{}\n{}",
             self.origin_line(robot, method.name(), samples.len(), (seed, error_level)),
-            gecaro_io::format_samples(robot.joint_count(), method.data_columns(), &samples)
+            gecaro_io::format_samples(
+                robot.joint_count(),
+                method.data_columns(),
+                Samples::from(samples.as_slice()).as_slice()
+            )
         );
         let saved = match &self.save_as {
             Some(name) => Some(files.write(name, "csv", csv.as_bytes(), self.overwrite)?),

@@ -139,7 +139,7 @@ impl PreparedIdentification {
         let rows: usize = study
             .sets
             .iter()
-            .map(|set| set.method.row_count(&set.samples))
+            .map(|set| set.method.row_count(set.samples.as_slice()))
             .sum();
         let unknowns = self.loaded.robot.robot.parameters().len()
             + study.frame_unknowns()

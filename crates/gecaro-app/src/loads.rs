@@ -8,7 +8,7 @@
 
 use gecaro_calib::elastic::load_samples;
 use gecaro_calib::methods::CalibrationMethod;
-use gecaro_calib::study::Sample;
+use gecaro_calib::study::{SampleSlice, Samples};
 use gecaro_core::{LinkMass, Robot};
 use gecaro_io::RobotFile;
 
@@ -120,17 +120,17 @@ pub(crate) fn elastic_file(
 /// A configuration that does not fit the robot.
 pub(crate) fn loaded(
     file: &RobotFile,
-    samples: &[Sample],
+    samples: SampleSlice<'_>,
     payloads: &[LinkMass],
-) -> Result<Vec<Sample>, AppError> {
-    let mut crossed: Vec<Sample> = if payloads.is_empty() {
-        samples.to_vec()
+) -> Result<Samples, AppError> {
+    let mut crossed: Samples = if payloads.is_empty() {
+        samples.to_samples()
     } else {
         samples
             .iter()
             .flat_map(|sample| {
                 payloads.iter().map(move |payload| {
-                    let mut loaded = sample.clone();
+                    let mut loaded = sample.to_sample();
                     loaded.set_payload(Some(*payload));
                     loaded
                 })

@@ -158,8 +158,7 @@ impl Loaded {
             .any(|sample| sample.payload().is_some());
         crate::loads::require_loads(&self.robot, payloads, "model")?;
         for set in &mut self.study.sets {
-            let samples = std::sync::Arc::make_mut(&mut set.samples);
-            gecaro_calib::elastic::load_samples(robot, &self.robot.masses, samples)?;
+            gecaro_calib::elastic::load_samples(robot, &self.robot.masses, &mut set.samples)?;
         }
         Ok(())
     }

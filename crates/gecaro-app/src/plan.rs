@@ -11,7 +11,7 @@ use gecaro_calib::planning::{
 };
 use gecaro_calib::prediction::{MonteCarlo, Prediction, monte_carlo, predict, random_test_poses};
 use gecaro_calib::simulation::{MAX_NOISE, Sampler};
-use gecaro_calib::study::{DataColumn, Sample};
+use gecaro_calib::study::{DataColumn, Samples};
 use gecaro_calib::validation::Model;
 use gecaro_calib::{Observer, report_phase};
 use gecaro_core::Robot;
@@ -52,8 +52,8 @@ impl TestPoses {
     ) -> Result<Vec<Vec<f64>>, AppError> {
         match &self.test_poses {
             Some(source) => Ok(configurations(robot, source, &[], format, files)?
-                .into_iter()
-                .map(|sample| sample.motor_positions.into_vec())
+                .iter()
+                .map(|sample| sample.motor_positions().to_vec())
                 .collect()),
             None => {
                 let count = self.test_pose_count.unwrap_or(TEST_POSES);
@@ -78,12 +78,10 @@ fn configurations(
     columns: &[DataColumn],
     format: &DataFormat,
     files: &dyn Files,
-) -> Result<Vec<Sample>, AppError> {
-    Ok(std::sync::Arc::unwrap_or_clone(
-        source
-            .read(files, &gecaro_io::joint_types(robot), columns, format)?
-            .samples,
-    ))
+) -> Result<Samples, AppError> {
+    Ok(source
+        .read(files, &gecaro_io::joint_types(robot), columns, format)?
+        .samples)
 }
 
 /// A plan and/or its accuracy curve; see the module docs.
@@ -367,12 +365,12 @@ impl PlanRequest {
                     .sensor()
                     .generate(robot, size, 0.0, &mut sampler, observer)?;
                 refuse_misses(sampler.cell_misses(), "candidate(s)")?;
-                pool
+                Samples::from(pool)
             }
         };
         let kept = match &self.keep {
             Some(source) => configurations(robot, source, &columns, &format, files)?,
-            None => Vec::new(),
+            None => Samples::empty(),
         };
         let name = self.criterion.as_deref().unwrap_or("d");
         let needs_poses = name == "test" || !self.curve.is_empty();
@@ -394,18 +392,18 @@ impl PlanRequest {
             let payloads = crate::loads::payloads(&self.payloads, "payloads")?;
             let elastic = crate::loads::elastic_file(&file, true, "payloads")?;
             let priority = Model::Elastic.priority(&elastic.robot, None);
-            let pool = crate::loads::loaded(&elastic, &pool, &payloads)?;
-            let kept = crate::loads::loaded(&elastic, &kept, &[])?;
+            let pool = crate::loads::loaded(&elastic, pool.as_slice(), &payloads)?;
+            let kept = crate::loads::loaded(&elastic, kept.as_slice(), &[])?;
             (Some(elastic), pool, kept, priority)
         };
         let robot = elastic.as_ref().map_or(robot, |file| &file.robot);
         let design = Design {
             count: largest,
-            kept: &kept,
+            kept: kept.as_slice(),
             criterion,
             min_distance: self.min_distance,
         };
-        let candidates = CandidatePool::new(robot, method.as_ref(), &pool, &priority)?;
+        let candidates = CandidatePool::new(robot, method.as_ref(), pool.as_slice(), &priority)?;
         let curve = if self.curve.is_empty() {
             None
         } else {
@@ -436,13 +434,16 @@ impl PlanRequest {
                 report_phase(observer, "choosing the configurations")?;
                 let plan = candidates.plan(&design, observer)?;
                 // A random choice of as many units from the same pool, for comparison.
-                let random =
-                    candidates.random_design(&kept, plan.chosen.len(), &mut Sampler::new(seed));
-                let random = candidates.assess(&random, &design.criterion)?;
+                let random = candidates.random_design(
+                    kept.as_slice(),
+                    plan.chosen.len(),
+                    &mut Sampler::new(seed),
+                );
+                let random = candidates.assess(random.as_slice(), &design.criterion)?;
                 let csv = gecaro_io::format_configurations(
                     &gecaro_io::joint_types(robot),
                     &columns,
-                    &plan.samples,
+                    Samples::from(plan.samples.as_slice()).as_slice(),
                     &format,
                 );
                 Some(Planned {
@@ -642,7 +643,7 @@ impl PredictRequest {
                 }
                 let payloads = planned.iter().any(|sample| sample.payload().is_some());
                 let elastic = crate::loads::elastic_file(&file, payloads, "model")?;
-                let planned = crate::loads::loaded(&elastic, &planned, &[])?;
+                let planned = crate::loads::loaded(&elastic, planned.as_slice(), &[])?;
                 let priority = model.priority(&elastic.robot, None);
                 (Some(elastic), planned, priority)
             }
@@ -652,7 +653,7 @@ impl PredictRequest {
         let prediction = predict(
             robot,
             method.as_ref(),
-            &planned,
+            planned.as_slice(),
             self.noise,
             &poses,
             &priority,
@@ -662,7 +663,7 @@ impl PredictRequest {
             Some(runs) => Some(monte_carlo(
                 robot,
                 method.as_ref(),
-                &planned,
+                planned.as_slice(),
                 self.noise,
                 error_level,
                 &poses,

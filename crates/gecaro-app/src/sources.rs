@@ -3,9 +3,8 @@
 //! file as an instrument wrote it ([`DataFormatSpec`]).
 
 use std::path::Path;
-use std::sync::Arc;
 
-use gecaro_calib::study::{DataColumn, Sample};
+use gecaro_calib::study::{DataColumn, Samples};
 use gecaro_io::{
     AngleUnit, ColumnMap, DataFormat, DataUnits, Delimiter, LengthUnit, RobotDocument, RobotFile,
 };
@@ -113,7 +112,7 @@ pub enum DataSource {
         /// The samples, shared with whoever made them (a Python `Data`)
         /// and with the study read from them; a set that changes them
         /// copies them first.
-        samples: Arc<Vec<Sample>>,
+        samples: Samples,
         /// What names them in messages and reports.
         label: String,
     },
@@ -124,7 +123,7 @@ pub enum DataSource {
 pub struct DataRead {
     /// The samples, in the file's order; shared with the request's when it
     /// gave them ([`DataSource::Samples`]).
-    pub samples: Arc<Vec<Sample>>,
+    pub samples: Samples,
     /// The file as messages name it.
     pub label: String,
     /// Columns of the file the method does not use (left alone).
@@ -220,7 +219,7 @@ impl DataSource {
             },
             DataSource::Samples { samples, label } => {
                 return Ok(DataRead {
-                    samples: Arc::clone(samples),
+                    samples: samples.clone(),
                     label: label.clone(),
                     unused_columns: Vec::new(),
                     notes: Vec::new(),
@@ -238,7 +237,7 @@ impl DataSource {
         })?;
         check_row_count(files, &label, file.samples.len(), "configurations")?;
         Ok(DataRead {
-            samples: file.samples.into(),
+            samples: file.samples,
             label,
             unused_columns: file.unused_columns,
             notes: file.notes,

@@ -78,7 +78,7 @@ impl StudyFiles for StudyThroughFiles<'_> {
         let label = read.label.clone();
         Ok((
             DataFile {
-                samples: std::sync::Arc::unwrap_or_clone(read.samples),
+                samples: read.samples,
                 unused_columns: read.unused_columns,
                 notes: read.notes,
             },

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use gecaro_calib::frames::measuring_robot;
 use gecaro_calib::planning::{StudyPlan, plan_study};
 use gecaro_calib::simulation::Sampler;
-use gecaro_calib::study::DataColumn;
+use gecaro_calib::study::{DataColumn, Samples};
 use gecaro_calib::{Observer, report_phase};
 use gecaro_io::{DataFormat, StandardDeviation};
 use serde::{Deserialize, Serialize};
@@ -287,7 +287,12 @@ impl PlannedStudy {
             .zip(&self.plan.sets)
             .map(|(set, samples)| {
                 let columns = DataColumn::grouping(set.method.data_columns());
-                gecaro_io::format_configurations(&types, &columns, samples, &DataFormat::default())
+                gecaro_io::format_configurations(
+                    &types,
+                    &columns,
+                    Samples::from(samples.as_slice()).as_slice(),
+                    &DataFormat::default(),
+                )
             })
             .collect()
     }

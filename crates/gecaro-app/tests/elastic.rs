@@ -407,7 +407,7 @@ fn a_program_compensated_for_its_payload_lands_on_its_targets() {
     .expect("read")
     .samples
     .into_iter()
-    .map(|sample| sample.motor_positions.into_vec())
+    .map(|sample| sample.motor_positions().to_vec())
     .collect();
     let points: Vec<ProgramPoint> = taught
         .iter()

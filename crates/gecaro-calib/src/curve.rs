@@ -13,8 +13,8 @@ use crate::Error;
 use crate::planning::{CandidatePool, PlanRequest};
 use crate::prediction::predict_in;
 use crate::progress::{Observer, Progress, Quiet, report};
-use crate::sample::Sample;
 use crate::sampler::Sampler;
+use crate::samples::Samples;
 
 /// Random choices averaged per count.
 pub const RANDOM_DRAWS: usize = 5;
@@ -51,12 +51,18 @@ pub fn accuracy_curve(
 ) -> Result<Vec<CurvePoint>, Error> {
     let (robot, method, columns) = pool.parts();
     let mut sampler = Sampler::new(seed);
-    let predicted =
-        |design: &[Sample]| match predict_in(columns, robot, method, design, noise, test_poses) {
-            Ok(prediction) => Ok(Some(prediction.errors.position_rms)),
-            Err(Error::Numerical { .. } | Error::TooFewEquations { .. }) => Ok(None),
-            Err(error) => Err(error),
-        };
+    let predicted = |design: &Samples| match predict_in(
+        columns,
+        robot,
+        method,
+        design.as_slice(),
+        noise,
+        test_poses,
+    ) {
+        Ok(prediction) => Ok(Some(prediction.errors.position_rms)),
+        Err(Error::Numerical { .. } | Error::TooFewEquations { .. }) => Ok(None),
+        Err(error) => Err(error),
+    };
     let mut curve = Vec::with_capacity(counts.len());
     for (done, count) in counts.iter().enumerate() {
         report(
@@ -81,7 +87,7 @@ pub fn accuracy_curve(
             }
             other => other?,
         };
-        let planned = predicted(&plan.samples)?;
+        let planned = predicted(&Samples::from(plan.samples.as_slice()))?;
         let mut random = Some(0.0);
         for _ in 0..RANDOM_DRAWS {
             let design = pool.random_design(request.kept, plan.chosen.len(), &mut sampler);

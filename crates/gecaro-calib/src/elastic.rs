@@ -17,8 +17,6 @@
 //!   rest where it settles. Simulated robots use it, so that the "real"
 //!   robot is not the identification's own approximation.
 
-use std::sync::Arc;
-
 use gecaro_core::{
     ChainBuffer, FrameType, KinematicModel, LinkMass, MassModel, Robot, gravity_loads_in,
     gravity_torques,
@@ -27,7 +25,7 @@ use nalgebra::Vector3;
 
 use crate::error::Error;
 use crate::parallel::run_parts;
-use crate::sample::Sample;
+use crate::samples::{SampleSlice, Samples};
 use crate::states::part_size;
 use crate::study::Study;
 
@@ -49,18 +47,24 @@ const SETTLING_ITERATIONS: usize = 50;
 /// # Errors
 /// A configuration that does not fit the robot, masses of another robot,
 /// an invalid payload; the sample's line is named.
-pub fn load_samples(
-    robot: &Robot,
-    masses: &MassModel,
-    samples: &mut [Sample],
-) -> Result<(), Error> {
-    let loads = loads_of(&KinematicModel::new(robot), robot, masses, samples)?;
-    for (sample, load) in samples.iter_mut().zip(loads) {
-        let loads = sample.loads_mut();
+pub fn load_samples(robot: &Robot, masses: &MassModel, samples: &mut Samples) -> Result<(), Error> {
+    let loads = loads_of(
+        &KinematicModel::new(robot),
+        robot,
+        masses,
+        samples.as_slice(),
+    )?;
+    carry(samples, loads);
+    Ok(())
+}
+
+/// `samples` carrying `loads`, one per sample.
+fn carry(samples: &mut Samples, loads: Vec<Load>) {
+    for (sample, load) in samples.loads_mut().iter_mut().zip(loads) {
+        let loads = sample.get_or_insert_with(Box::default);
         loads.torques = Some(load.torques);
         loads.tilt_torques = Some(load.tilt_torques);
     }
-    Ok(())
 }
 
 /// One sample's loads ([`loads_of`]).
@@ -82,7 +86,7 @@ fn loads_of(
     model: &KinematicModel,
     robot: &Robot,
     masses: &MassModel,
-    samples: &[Sample],
+    samples: SampleSlice<'_>,
 ) -> Result<Vec<Load>, Error> {
     let joints = robot.joint_count();
     let compliances = robot.compliances().unwrap_or_default();
@@ -96,16 +100,16 @@ fn loads_of(
     };
     let frames = robot.frames();
     let parts = samples.chunks(part_size(samples.len())).collect();
-    let loads = run_parts(parts, |part: &[Sample]| {
+    let loads = run_parts(parts, |part: SampleSlice<'_>| {
         let mut chain = ChainBuffer::default();
         part.iter()
             .map(|sample| {
                 let failed = |error: gecaro_core::Error| Error::InvalidData {
-                    line: sample.line,
+                    line: sample.line(),
                     message: format!("the gravity torques of this configuration: {error}"),
                 };
                 model
-                    .forward(&sample.motor_positions, &mut chain)
+                    .forward(sample.motor_positions(), &mut chain)
                     .map_err(failed)?;
                 let mut torques = vec![0.0; joints];
                 let mut tilt_torques = vec![0.0; 2 * joints];
@@ -165,7 +169,7 @@ fn study_loads(
     let (mut sum, mut count) = (0.0, 0usize);
     let mut loads = Vec::with_capacity(study.sets.len());
     for set in &study.sets {
-        let set_loads = loads_of(&model, robot, masses, &set.samples)?;
+        let set_loads = loads_of(&model, robot, masses, set.samples.as_slice())?;
         sum += set_loads.iter().map(|load| load.moved).sum::<f64>();
         count += set_loads.len();
         loads.push(set_loads);
@@ -177,11 +181,7 @@ fn study_loads(
 fn carrying(study: &Study, loads: StudyLoads) -> Study {
     let mut weighed = study.clone();
     for (set, loads) in weighed.sets.iter_mut().zip(loads) {
-        for (sample, load) in Arc::make_mut(&mut set.samples).iter_mut().zip(loads) {
-            let loads = sample.loads_mut();
-            loads.torques = Some(load.torques);
-            loads.tilt_torques = Some(load.tilt_torques);
-        }
+        carry(&mut set.samples, loads);
     }
     weighed
 }
@@ -285,6 +285,7 @@ pub fn commanded_under_load(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sample::Sample;
 
     /// A planar arm of two 1 m links held out level, a 10 kg mass at its
     /// tip: the shoulder carries 98 N·m and droops by c·τ; settled, the
@@ -407,14 +408,15 @@ mod tests {
             mass: 5.0,
             com: Vector3::zeros(),
         }));
-        load_samples(&robot, &masses, &mut samples).expect("loads");
-        let first = samples[0].torques().expect("τ").to_vec();
-        let second = samples[1].torques().expect("τ").to_vec();
+        let mut loaded = Samples::from(samples.clone());
+        load_samples(&robot, &masses, &mut loaded).expect("loads");
+        let first = loaded.get(0).torques().expect("τ").to_vec();
+        let second = loaded.get(1).torques().expect("τ").to_vec();
         let weight = 5.0 * gecaro_core::STANDARD_GRAVITY;
         assert!((second[0].abs() - first[0].abs() - 2.0 * weight).abs() < 1e-9);
         samples[0].motor_positions = [f64::NAN, 0.0].as_slice().into();
         samples[0].line = Some(12);
-        match load_samples(&robot, &masses, &mut samples) {
+        match load_samples(&robot, &masses, &mut Samples::from(samples)) {
             Err(Error::InvalidData { line, .. }) => assert_eq!(line, Some(12)),
             other => panic!("unexpected {other:?}"),
         }
@@ -455,7 +457,7 @@ mod tests {
             .iter()
             .zip(weighed.sets[0].samples.iter())
         {
-            let q = &before.motor_positions;
+            let q = &before.motor_positions();
             model
                 .forward_loaded(q, before.torques(), &mut old)
                 .expect("pose");

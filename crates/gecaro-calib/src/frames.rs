@@ -294,6 +294,7 @@ impl<'a> SetFrames<'a> {
 mod tests {
     use super::*;
     use crate::sample::Sample;
+    use crate::samples::Samples;
     use crate::simulation::Sampler;
     use crate::states::evaluate_states;
     use gecaro_core::{JacobianRows, OrientationDifference, ParameterId, pose_difference};
@@ -332,7 +333,7 @@ mod tests {
         let mut states = Vec::new();
         evaluate_states(
             robot,
-            &[Sample::new(q.to_vec())],
+            Samples::from([Sample::new(q.to_vec())].as_slice()).as_slice(),
             JacobianRows::Full,
             &mut states,
         )

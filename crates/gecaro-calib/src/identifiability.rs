@@ -36,6 +36,7 @@ use crate::progress::{Observer, Quiet};
 use crate::rows::ColumnLayout;
 use crate::sample::Sample;
 use crate::sampler::Sampler;
+use crate::samples::{SampleRef, SampleSlice};
 use crate::study::{Study, StudyStates};
 
 /// The floor of the numerical zero, relative to max|R_ii| (NOTES.md).
@@ -527,14 +528,14 @@ pub(crate) fn random_counterpart_at(
         .ceil() as usize;
         let mut samples = set.method.sensor().generate_like(
             robot,
-            &set.samples,
+            set.samples.as_slice(),
             states.set(index),
             needed,
             &mut sampler,
             // About 2.5 equations per unknown: quick, whatever the data.
             &mut Quiet,
         )?;
-        lend_loads(&set.samples, &mut samples, &mut sampler);
+        lend_loads(set.samples.as_slice(), &mut samples, &mut sampler);
         let mut random = set.with_samples(samples);
         random.label = format!("random configurations like {}", set.label);
         sets.push(random);
@@ -553,8 +554,8 @@ pub(crate) fn random_counterpart_at(
 /// compliances any loads could reveal; whether the data's own loads tell
 /// them from the geometry is the excitation check's question. The tilts'
 /// torques go with them.
-fn lend_loads(data: &[Sample], random: &mut [Sample], sampler: &mut Sampler) {
-    let loaded: Vec<&Sample> = data.iter().filter(|s| s.torques().is_some()).collect();
+fn lend_loads(data: SampleSlice<'_>, random: &mut [Sample], sampler: &mut Sampler) {
+    let loaded: Vec<SampleRef<'_>> = data.iter().filter(|s| s.torques().is_some()).collect();
     if loaded.is_empty() {
         return;
     }

@@ -78,6 +78,7 @@ mod robust;
 mod rows;
 mod sample;
 mod sampler;
+mod samples;
 mod selection;
 pub mod simulation;
 mod states;
@@ -101,6 +102,8 @@ pub mod prelude {
     pub use crate::methods::{CalibrationMethod, METHODS, MethodOptions, Plane, Sensor, method};
     pub use crate::progress::{Observer, Progress, Quiet, each_iteration, each_step};
     pub use crate::simulation::{Sampler, perturbed_robot, simulate_at, simulate_measurements};
-    pub use crate::study::{DataColumn, MotorPositions, Sample, SampleLoads, Study};
+    pub use crate::study::{
+        DataColumn, MotorPositions, Sample, SampleLoads, SampleRef, SampleSlice, Samples, Study,
+    };
     pub use crate::{Error, Setting};
 }

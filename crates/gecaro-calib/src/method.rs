@@ -18,6 +18,7 @@ use crate::progress::Observer;
 use crate::rows::RowWriter;
 use crate::sample::{DataColumn, Sample};
 use crate::sampler::Sampler;
+use crate::samples::SampleSlice;
 use crate::states::TerminalState;
 
 /// One calibration method; see the module docs.
@@ -45,19 +46,19 @@ pub trait CalibrationMethod: CloneMethod + fmt::Debug + Send + Sync {
     ///
     /// # Errors
     /// [`Error::InvalidData`] naming the first line at fault.
-    fn check_samples(&self, _samples: &[Sample]) -> Result<(), Error> {
+    fn check_samples(&self, _samples: SampleSlice<'_>) -> Result<(), Error> {
         Ok(())
     }
 
     /// Number of rows of W that `samples` give: by default
     /// [`MethodInfo::rows_per_configuration`] per sample.
-    fn row_count(&self, samples: &[Sample]) -> usize {
+    fn row_count(&self, samples: SampleSlice<'_>) -> usize {
         self.info().rows_per_configuration * samples.len()
     }
 
     /// Rows that carry no independent information (one per set and dimension
     /// for mean-centred sets): independent equations = rows − dependent rows.
-    fn dependent_rows(&self, _samples: &[Sample]) -> usize {
+    fn dependent_rows(&self, _samples: SampleSlice<'_>) -> usize {
         0
     }
 
@@ -122,7 +123,7 @@ pub trait CalibrationMethod: CloneMethod + fmt::Debug + Send + Sync {
     /// (position, frame, plane, and the link methods, whose configurations
     /// are each compared with their set's mean), which lets large data sets
     /// be located without a list per sample.
-    fn grouped_observations(&self, _samples: &[Sample]) -> Option<Vec<Vec<usize>>> {
+    fn grouped_observations(&self, _samples: SampleSlice<'_>) -> Option<Vec<Vec<usize>>> {
         None
     }
 
@@ -130,7 +131,7 @@ pub trait CalibrationMethod: CloneMethod + fmt::Debug + Send + Sync {
     /// Jacobians are `states`, one per sample) and auxiliary values.
     fn linearise(
         &self,
-        samples: &[Sample],
+        samples: SampleSlice<'_>,
         states: &[TerminalState],
         auxiliary: &[f64],
         rows: &mut RowWriter<'_>,
@@ -179,7 +180,7 @@ pub trait Sensor: fmt::Debug + Send + Sync {
     fn measure_at(
         &self,
         real: &Robot,
-        planned: &[Sample],
+        planned: SampleSlice<'_>,
         noise: f64,
         sampler: &mut Sampler,
         observer: &mut dyn Observer,
@@ -203,7 +204,7 @@ pub trait Sensor: fmt::Debug + Send + Sync {
     fn generate_like(
         &self,
         robot: &Robot,
-        _samples: &[Sample],
+        _samples: SampleSlice<'_>,
         _states: &[TerminalState],
         count: usize,
         sampler: &mut Sampler,

@@ -28,10 +28,10 @@ use faer::MatRef;
 use crate::fold::{FoldKind, FoldedRows, RowFold};
 use crate::frames::SetFrames;
 use crate::linalg::{LeastSquaresRows, NormalEquations, add_normal_sums, view};
+use crate::samples::SampleSlice;
 
 use crate::method::CalibrationMethod;
 use crate::parallel::run_parts;
-use crate::sample::Sample;
 use crate::states::{BLOCK, evaluate_chunk, part_size};
 
 pub use crate::rows::{ColumnLayout, RowKind, RowWriter};
@@ -44,7 +44,7 @@ pub use crate::states::{TerminalState, evaluate_poses, evaluate_states};
 pub(crate) fn write_rows(
     mut writer: RowWriter<'_>,
     method: &dyn CalibrationMethod,
-    samples: &[Sample],
+    samples: SampleSlice<'_>,
     states: &[TerminalState],
     auxiliary: &[f64],
 ) -> usize {
@@ -66,7 +66,7 @@ pub(crate) fn write_rows(
 pub(crate) fn linearise_independent(
     model: &KinematicModel,
     method: &dyn CalibrationMethod,
-    samples: &[Sample],
+    samples: SampleSlice<'_>,
     auxiliary: &[f64],
     frames: Option<&SetFrames<'_>>,
     mut writer: RowWriter<'_>,
@@ -78,7 +78,7 @@ pub(crate) fn linearise_independent(
     // No column reads the Jacobian (the errors alone, as `evaluate` asks):
     // its rows are empty, the kinematics poses only.
     let jacobian = (frames.is_some() || writer.layout.maps_parameters()).then_some(evaluated);
-    let parts: Vec<(&[Sample], RowWriter<'_>)> = samples
+    let parts: Vec<(SampleSlice<'_>, RowWriter<'_>)> = samples
         .chunks(part_size(samples.len()))
         .map(|chunk| {
             (
@@ -156,7 +156,7 @@ const FOLD_ROWS: usize = 384;
 fn linearise_folded(
     model: &KinematicModel,
     method: &dyn CalibrationMethod,
-    samples: &[Sample],
+    samples: SampleSlice<'_>,
     auxiliary: &[f64],
     frames: Option<&SetFrames<'_>>,
     mut writer: RowWriter<'_>,
@@ -164,7 +164,7 @@ fn linearise_folded(
 ) -> Result<usize, ModelError> {
     let (rows, evaluated) = jacobian_rows(method, frames);
     let columns = writer.columns;
-    let parts: Vec<(&[Sample], RowWriter<'_>)> = samples
+    let parts: Vec<(SampleSlice<'_>, RowWriter<'_>)> = samples
         .chunks(fold_part(samples.len()))
         .map(|chunk| {
             (

@@ -39,8 +39,8 @@ use crate::observation::ObservationSystem;
 use crate::parallel::run_parts;
 use crate::planning::{BaseColumns, nominal_study};
 use crate::progress::{Observer, Progress, Quiet, report};
-use crate::sample::Sample;
 use crate::sampler::Sampler;
+use crate::samples::SampleSlice;
 use crate::simulation::{perturbed_robot, simulate_at};
 use crate::study::Study;
 
@@ -105,7 +105,7 @@ fn pose_errors(position: &[f64], rotation: Option<&[f64]>, runs: f64) -> PoseErr
 pub fn predict(
     robot: &Robot,
     method: &dyn CalibrationMethod,
-    planned: &[Sample],
+    planned: SampleSlice<'_>,
     noise: f64,
     test_poses: &[Vec<f64>],
     priority: &PriorityMatrix,
@@ -119,7 +119,7 @@ pub(crate) fn predict_in(
     base: &BaseColumns,
     robot: &Robot,
     method: &dyn CalibrationMethod,
-    planned: &[Sample],
+    planned: SampleSlice<'_>,
     noise: f64,
     test_poses: &[Vec<f64>],
 ) -> Result<Prediction, Error> {
@@ -238,7 +238,7 @@ pub struct MonteCarlo {
 pub fn monte_carlo(
     robot: &Robot,
     method: &dyn CalibrationMethod,
-    planned: &[Sample],
+    planned: SampleSlice<'_>,
     noise: f64,
     error_level: f64,
     test_poses: &[Vec<f64>],

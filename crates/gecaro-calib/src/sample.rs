@@ -105,37 +105,55 @@ impl Sample {
     /// # Errors
     /// What is missing or not finite, as a sentence.
     pub fn check_column(&self, column: DataColumn) -> Result<(), String> {
-        let missing = || format!("missing {}", column.headers().join(", "));
-        // Finite, and within what a robot cell holds (±1 km, as a robot
-        // file's lengths; orientations are unit quaternions).
-        let finite = |finite: bool, what: &str| {
-            if finite {
-                Ok(())
-            } else {
-                Err(format!(
-                    "the measured {what} is not finite, or beyond ±{} m",
-                    gecaro_core::MAX_MAGNITUDE
-                ))
-            }
-        };
-        let bounded = |v: &f64| v.is_finite() && v.abs() <= gecaro_core::MAX_MAGNITUDE;
-        match column {
-            DataColumn::Position => {
-                let position = self.position.ok_or_else(missing)?;
-                finite(position.iter().all(bounded), "position")
-            }
-            DataColumn::Orientation => {
-                let orientation = self.orientation.ok_or_else(missing)?;
-                finite(
-                    orientation.coords.iter().all(|v| v.is_finite()),
-                    "orientation",
-                )
-            }
-            DataColumn::Set | DataColumn::Pair => self.group.map(|_| ()).ok_or_else(missing),
-            DataColumn::Distance => {
-                let distance = self.distance.ok_or_else(missing)?;
-                finite(bounded(&distance), "distance")
-            }
+        check_fields(
+            column,
+            self.position,
+            self.orientation,
+            self.group,
+            self.distance,
+        )
+    }
+}
+
+/// Checks that the field of `column` is there, finite (see
+/// [`Sample::check_column`]).
+pub(crate) fn check_fields(
+    column: DataColumn,
+    position: Option<Vector3<f64>>,
+    orientation: Option<UnitQuaternion<f64>>,
+    group: Option<u64>,
+    distance: Option<f64>,
+) -> Result<(), String> {
+    let missing = || format!("missing {}", column.headers().join(", "));
+    // Finite, and within what a robot cell holds (±1 km, as a robot
+    // file's lengths; orientations are unit quaternions).
+    let finite = |finite: bool, what: &str| {
+        if finite {
+            Ok(())
+        } else {
+            Err(format!(
+                "the measured {what} is not finite, or beyond ±{} m",
+                gecaro_core::MAX_MAGNITUDE
+            ))
+        }
+    };
+    let bounded = |v: &f64| v.is_finite() && v.abs() <= gecaro_core::MAX_MAGNITUDE;
+    match column {
+        DataColumn::Position => {
+            let position = position.ok_or_else(missing)?;
+            finite(position.iter().all(bounded), "position")
+        }
+        DataColumn::Orientation => {
+            let orientation = orientation.ok_or_else(missing)?;
+            finite(
+                orientation.coords.iter().all(|v| v.is_finite()),
+                "orientation",
+            )
+        }
+        DataColumn::Set | DataColumn::Pair => group.map(|_| ()).ok_or_else(missing),
+        DataColumn::Distance => {
+            let distance = distance.ok_or_else(missing)?;
+            finite(bounded(&distance), "distance")
         }
     }
 }

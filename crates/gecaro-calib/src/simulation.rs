@@ -14,6 +14,7 @@ use crate::error::Setting;
 use crate::method::CalibrationMethod;
 use crate::progress::Observer;
 use crate::sample::Sample;
+use crate::samples::SampleSlice;
 
 pub use crate::sampler::{CELL_DRAWS, RANDOM_STARTS, Sampler, solve_from_starts};
 
@@ -136,15 +137,15 @@ pub fn within_nominal_limits(nominal: &Robot, real: &Robot) -> Result<Robot, Err
 pub fn terminal_displacement(
     nominal: &Robot,
     real: &Robot,
-    samples: &[Sample],
+    samples: SampleSlice<'_>,
 ) -> Result<(f64, f64), Error> {
     let mut squares = 0.0;
     let mut largest: f64 = 0.0;
     for sample in samples {
-        let a = terminal_pose(nominal, &sample.motor_positions)?
+        let a = terminal_pose(nominal, sample.motor_positions())?
             .translation
             .vector;
-        let b = terminal_pose(real, &sample.motor_positions)?
+        let b = terminal_pose(real, sample.motor_positions())?
             .translation
             .vector;
         let distance = (a - b).norm();
@@ -192,7 +193,7 @@ pub fn simulate_measurements(
 pub fn simulate_at(
     real: &Robot,
     method: &dyn CalibrationMethod,
-    planned: &[Sample],
+    planned: SampleSlice<'_>,
     noise: f64,
     sampler: &mut Sampler,
     observer: &mut dyn Observer,
@@ -205,7 +206,7 @@ pub fn simulate_at(
         });
     }
     for sample in planned {
-        real.check_configuration(&sample.motor_positions)?;
+        real.check_configuration(sample.motor_positions())?;
     }
     method
         .sensor()

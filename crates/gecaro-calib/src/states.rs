@@ -9,7 +9,7 @@ use gecaro_core::{ChainBuffer, Error as ModelError, JacobianRows, KinematicModel
 use nalgebra::IsometryMatrix3;
 
 use crate::parallel::{available_threads, run_parts};
-use crate::sample::Sample;
+use crate::samples::SampleSlice;
 
 /// The end-effector pose and parameter Jacobian at one configuration.
 #[derive(Clone, Debug)]
@@ -108,7 +108,7 @@ pub(crate) const BLOCK: usize = 32;
 /// When a sample's configuration does not fit the robot (the first such sample).
 pub fn evaluate_states(
     robot: &Robot,
-    samples: &[Sample],
+    samples: SampleSlice<'_>,
     rows: JacobianRows,
     states: &mut Vec<TerminalState>,
 ) -> Result<(), ModelError> {
@@ -123,7 +123,7 @@ pub fn evaluate_states(
 /// As [`evaluate_states`].
 pub fn evaluate_poses(
     robot: &Robot,
-    samples: &[Sample],
+    samples: SampleSlice<'_>,
     states: &mut Vec<TerminalState>,
 ) -> Result<(), ModelError> {
     evaluate_into(robot, samples, None, states)
@@ -131,7 +131,7 @@ pub fn evaluate_poses(
 
 fn evaluate_into(
     robot: &Robot,
-    samples: &[Sample],
+    samples: SampleSlice<'_>,
     rows: Option<JacobianRows>,
     states: &mut Vec<TerminalState>,
 ) -> Result<(), ModelError> {
@@ -159,14 +159,14 @@ pub(crate) fn part_size(samples: usize) -> usize {
 /// The poses and, unless `rows` is `None`, those Jacobian rows of `samples`.
 pub(crate) fn evaluate_chunk(
     model: &KinematicModel,
-    samples: &[Sample],
+    samples: SampleSlice<'_>,
     rows: Option<JacobianRows>,
     states: &mut [TerminalState],
 ) -> Result<(), ModelError> {
     let mut chain = ChainBuffer::default();
     for (sample, state) in samples.iter().zip(states) {
         model.forward_tilted(
-            &sample.motor_positions,
+            sample.motor_positions(),
             sample.torques(),
             sample.tilt_torques(),
             &mut chain,
@@ -190,6 +190,8 @@ pub(crate) fn evaluate_chunk(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sample::Sample;
+    use crate::samples::Samples;
     use crate::simulation::Sampler;
 
     #[test]
@@ -202,12 +204,24 @@ mod tests {
         let model = KinematicModel::new(&robot);
         for rows in [JacobianRows::Full, JacobianRows::Position] {
             let mut parallel = Vec::new();
-            evaluate_states(&robot, &samples, rows, &mut parallel).expect("states");
+            evaluate_states(
+                &robot,
+                Samples::from(samples.as_slice()).as_slice(),
+                rows,
+                &mut parallel,
+            )
+            .expect("states");
             let mut serial: Vec<TerminalState> = samples
                 .iter()
                 .map(|_| TerminalState::empty(&model))
                 .collect();
-            evaluate_chunk(&model, &samples, Some(rows), &mut serial).expect("states");
+            evaluate_chunk(
+                &model,
+                Samples::from(samples.as_slice()).as_slice(),
+                Some(rows),
+                &mut serial,
+            )
+            .expect("states");
             for (a, b) in parallel.iter().zip(&serial) {
                 assert_eq!(a.pose, b.pose);
                 let bits =
@@ -224,7 +238,13 @@ mod tests {
         let robot = Robot::template("arm", "RRR").expect("template");
         let samples = [Sample::new(vec![0.1, 0.2, 0.3])];
         let mut states = Vec::new();
-        evaluate_states(&robot, &samples, JacobianRows::Position, &mut states).expect("states");
+        evaluate_states(
+            &robot,
+            Samples::from(samples.as_slice()).as_slice(),
+            JacobianRows::Position,
+            &mut states,
+        )
+        .expect("states");
         assert_eq!(states[0].jacobian_row(2).len(), robot.parameters().len());
         let _ = states[0].jacobian_row(3);
     }

@@ -3,8 +3,6 @@
 //! observation matrix (rows of a set weighted by 1/σ). A single-method
 //! calibration is a study of one set.
 
-use std::sync::Arc;
-
 use gecaro_core::{JacobianRows, KinematicModel, Robot};
 
 use crate::Error;
@@ -15,6 +13,7 @@ use crate::observation::{ObservationSystem, linearise_independent, write_rows};
 use crate::rows::{ColumnLayout, RowWriter};
 
 pub use crate::sample::{DataColumn, MotorPositions, Sample, SampleLoads};
+pub use crate::samples::{Column, SampleColumns, SampleIter, SampleRef, SampleSlice, Samples};
 use crate::states::{TerminalState, evaluate_poses, evaluate_states};
 
 /// One measurement set of a study.
@@ -23,7 +22,7 @@ pub struct MeasurementSet {
     /// How the data constrain the robot.
     pub method: Box<dyn CalibrationMethod>,
     /// The configurations and what was measured there.
-    pub samples: Arc<Vec<Sample>>,
+    pub samples: Samples,
     /// The sensor's standard deviation (metres, and radians for orientations
     /// unless `sigma_rotation` is given), when it is known: the rows are
     /// weighted by 1/σ, and the identification's verdict tests the residuals
@@ -43,7 +42,7 @@ pub struct MeasurementSet {
 
 impl MeasurementSet {
     /// The same set (method, σ, label) with other samples.
-    pub fn with_samples(&self, samples: impl Into<Arc<Vec<Sample>>>) -> MeasurementSet {
+    pub fn with_samples(&self, samples: impl Into<Samples>) -> MeasurementSet {
         MeasurementSet {
             method: self.method.clone_method(),
             samples: samples.into(),
@@ -74,7 +73,7 @@ impl Clone for MeasurementSet {
     fn clone(&self) -> Self {
         // The samples are shared: a set's copy copies them only when it
         // changes them (`Arc::make_mut`).
-        self.with_samples(Arc::clone(&self.samples))
+        self.with_samples(self.samples.clone())
     }
 }
 
@@ -188,7 +187,7 @@ impl Study {
     /// A study of one measurement set, unweighted.
     pub fn single(
         method: Box<dyn CalibrationMethod>,
-        samples: impl Into<Arc<Vec<Sample>>>,
+        samples: impl Into<Samples>,
         label: impl Into<String>,
     ) -> Self {
         Study {
@@ -253,7 +252,7 @@ impl Study {
         for set in &self.sets {
             for sample in set.samples.iter() {
                 if robot
-                    .joint_positions_into(&sample.motor_positions, &mut joints)
+                    .joint_positions_into(sample.motor_positions(), &mut joints)
                     .is_err()
                 {
                     continue;
@@ -262,7 +261,7 @@ impl Study {
                     if *value < joint.qmin || *value > joint.qmax {
                         violations.push(LimitViolation {
                             label: set.label.clone(),
-                            line: sample.line,
+                            line: sample.line(),
                             joint: index + 1,
                             value: *value,
                             qmin: joint.qmin,
@@ -316,16 +315,16 @@ impl Study {
             }
             for sample in set.samples.iter() {
                 robot
-                    .check_configuration(&sample.motor_positions)
-                    .map_err(|error| invalid(sample.line, error.to_string()))?;
+                    .check_configuration(sample.motor_positions())
+                    .map_err(|error| invalid(sample.line(), error.to_string()))?;
                 for column in set.method.data_columns() {
                     sample
                         .check_column(*column)
-                        .map_err(|message| invalid(sample.line, message))?;
+                        .map_err(|message| invalid(sample.line(), message))?;
                 }
             }
             set.method
-                .check_samples(&set.samples)
+                .check_samples(set.samples.as_slice())
                 .map_err(|error| match error {
                     Error::InvalidData { line, message } => invalid(line, message),
                     other => other,
@@ -534,20 +533,14 @@ impl Study {
                         *kept = false;
                     }
                 }
-                for unit in units(set.method.as_ref(), &set.samples) {
+                for unit in units(set.method.as_ref(), set.samples.as_slice()) {
                     let kept: Vec<usize> = unit.iter().copied().filter(|i| keep[*i]).collect();
                     if unit.len() > 1 && kept.len() < 2 {
                         kept.into_iter().for_each(|i| keep[i] = false);
                     }
                 }
-                set.with_samples(
-                    set.samples
-                        .iter()
-                        .zip(&keep)
-                        .filter(|(_, kept)| **kept)
-                        .map(|(sample, _)| sample.clone())
-                        .collect::<Vec<_>>(),
-                )
+                let kept: Vec<usize> = (0..keep.len()).filter(|i| keep[*i]).collect();
+                set.with_samples(set.samples.gather(&kept))
             })
             .collect();
         Study {
@@ -582,7 +575,7 @@ impl Study {
     pub fn row_count(&self) -> usize {
         self.sets
             .iter()
-            .map(|set| set.method.row_count(&set.samples))
+            .map(|set| set.method.row_count(set.samples.as_slice()))
             .sum()
     }
 
@@ -592,8 +585,8 @@ impl Study {
             .iter()
             .map(|set| {
                 set.method
-                    .row_count(&set.samples)
-                    .saturating_sub(set.method.dependent_rows(&set.samples))
+                    .row_count(set.samples.as_slice())
+                    .saturating_sub(set.method.dependent_rows(set.samples.as_slice()))
             })
             .sum()
     }
@@ -628,10 +621,10 @@ impl Study {
     ) -> Result<(), Error> {
         let rows = set.method.jacobian_rows();
         match self.set_frames(robot, set, auxiliary) {
-            None => evaluate_states(robot, &set.samples, rows, buffer)?,
+            None => evaluate_states(robot, set.samples.as_slice(), rows, buffer)?,
             Some(frames) => {
                 // A tool moves the point with the flange's rotation: all six rows.
-                evaluate_states(robot, &set.samples, JacobianRows::Full, buffer)?;
+                evaluate_states(robot, set.samples.as_slice(), JacobianRows::Full, buffer)?;
                 for state in buffer.iter_mut() {
                     frames.apply(state, rows.count());
                 }
@@ -653,7 +646,7 @@ impl Study {
         states.states.resize_with(self.sets.len(), Vec::new);
         for (set, buffer) in self.sets.iter().zip(&mut states.states) {
             if set.method.uses_starting_poses() {
-                evaluate_poses(robot, &set.samples, buffer)?;
+                evaluate_poses(robot, set.samples.as_slice(), buffer)?;
             } else {
                 buffer.clear();
             }
@@ -689,7 +682,7 @@ impl Study {
             Ok(write_rows(
                 writer,
                 set.method.as_ref(),
-                &set.samples,
+                set.samples.as_slice(),
                 states.set(index),
                 own,
             ))
@@ -720,7 +713,7 @@ impl Study {
                 return Ok(linearise_independent(
                     &model,
                     set.method.as_ref(),
-                    &set.samples,
+                    set.samples.as_slice(),
                     own,
                     self.set_frames(robot, set, auxiliary).as_ref(),
                     writer,
@@ -731,7 +724,7 @@ impl Study {
             Ok(write_rows(
                 writer,
                 set.method.as_ref(),
-                &set.samples,
+                set.samples.as_slice(),
                 buffer,
                 own,
             ))
@@ -752,7 +745,7 @@ impl Study {
         let mut first_row = 0;
         let mut auxiliary_offset = self.frame_unknowns();
         for (index, set) in self.sets.iter().enumerate() {
-            let rows = set.method.row_count(&set.samples);
+            let rows = set.method.row_count(set.samples.as_slice());
             let count = set.method.auxiliary_names().len();
             let own = &auxiliary[auxiliary_offset..auxiliary_offset + count];
             let writer =

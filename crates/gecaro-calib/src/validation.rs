@@ -96,13 +96,7 @@ pub fn cross_validate(
                 .iter()
                 .zip(&dropped)
                 .filter(|(_, kept)| !kept.is_empty())
-                .map(|(set, kept)| {
-                    set.with_samples(
-                        kept.iter()
-                            .map(|index| set.samples[*index].clone())
-                            .collect::<Vec<_>>(),
-                    )
-                })
+                .map(|(set, kept)| set.with_samples(set.samples.gather(kept)))
                 .collect(),
             frames: study.frames.clone(),
         };
@@ -151,7 +145,7 @@ fn fold_assignment(study: &Study, folds: usize, seed: u64) -> Result<Vec<Vec<usi
     let unit_lists: Vec<Vec<Vec<usize>>> = study
         .sets
         .iter()
-        .map(|set| units(set.method.as_ref(), &set.samples))
+        .map(|set| units(set.method.as_ref(), set.samples.as_slice()))
         .collect();
     let total: usize = unit_lists.iter().map(Vec::len).sum();
     if folds < 2 || folds > total {

@@ -2,6 +2,7 @@
 //! three reflectors on the flange measured from two tracker stations whose
 //! stated poses are rough; simulated truth, so the right answer is known.
 
+use gecaro_calib::study::Samples;
 use gecaro_calib::{
     Quiet,
     frames::{FrameRole, NamedFrame, measuring_robot},
@@ -374,7 +375,7 @@ fn a_study_s_prediction_is_the_cell_s_precision() {
     let single = predict(
         &nominal,
         position.as_ref(),
-        &samples,
+        Samples::from(samples.as_slice()).as_slice(),
         NOISE,
         &poses,
         &nominal.priority(),

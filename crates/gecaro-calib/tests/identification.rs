@@ -1,6 +1,7 @@
 //! Identification against known simulated truth (paper §3–§4): every method,
 //! noise-free and noisy data, large errors, and the reported precision.
 
+use gecaro_calib::study::Samples;
 use gecaro_calib::{
     Progress, Quiet,
     identifiability::ParameterStatus,
@@ -321,8 +322,8 @@ fn spread_over_reported(level: f64, prior: Option<Prior>) -> Vec<(String, f64, f
         let noisy: Vec<Sample> = samples
             .iter()
             .map(|sample| Sample {
-                position: sample.position.map(|p| p + noise.gaussian_vector(sigma)),
-                ..sample.clone()
+                position: sample.position().map(|p| p + noise.gaussian_vector(sigma)),
+                ..sample.to_sample()
             })
             .collect();
         let study = Study::single(
@@ -546,7 +547,7 @@ fn failures_are_reported_not_hidden() {
     assert!(result.rms_after() < result.rms_before());
     // Fewer equations than unknowns is an error.
     let (_, mut study) = simulate(1.0, 0.0, 3, "position", false, 60);
-    std::sync::Arc::make_mut(&mut study.sets[0].samples).truncate(8);
+    study.sets[0].samples = study.sets[0].samples.slice(0..8).to_samples();
     let error = identify(
         &stanford(),
         &study,
@@ -612,6 +613,7 @@ fn every_sensor_reports_its_progress_and_can_be_stopped() {
             "{}: {seen:?}",
             info.name
         );
+        let samples = Samples::from(samples);
         for planned in [None, Some(samples.as_slice())] {
             let mut calls = 0;
             let mut stop_at_second = |_: Progress<'_>| {
@@ -729,7 +731,12 @@ fn a_repeatability_study_of_many_cycles_converges() {
     let (_, exact) = simulate(1.0, 0.0, 4, "position", false, 50);
     let mut noise = Sampler::new(77);
     let samples: Vec<Sample> = (0..500)
-        .flat_map(|_| exact.sets[0].samples.iter().cloned())
+        .flat_map(|_| {
+            exact.sets[0]
+                .samples
+                .iter()
+                .map(|sample| sample.to_sample())
+        })
         .map(|sample| Sample {
             position: sample.position.map(|p| p + noise.gaussian_vector(1e-5)),
             ..sample

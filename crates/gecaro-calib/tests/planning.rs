@@ -3,6 +3,7 @@
 //! (held-out error, 6- and 7-axis robots, four methods), the test-pose
 //! criterion agrees with the prediction, and the minimum distance holds.
 
+use gecaro_calib::study::Samples;
 use gecaro_calib::{
     Quiet,
     identifiability::random_samples,
@@ -26,8 +27,15 @@ fn plan_with(
     pool: &[Sample],
     request: &PlanRequest<'_>,
 ) -> Plan {
-    plan_configurations(robot, chosen, pool, request, &robot.priority(), &mut Quiet)
-        .expect("a plan")
+    plan_configurations(
+        robot,
+        chosen,
+        Samples::from(pool).as_slice(),
+        request,
+        &robot.priority(),
+        &mut Quiet,
+    )
+    .expect("a plan")
 }
 
 fn plan(robot: &Robot, name: &str, pool: &[Sample], count: usize) -> Plan {
@@ -42,7 +50,7 @@ fn random_units(
     count: usize,
     sampler: &mut Sampler,
 ) -> Vec<Sample> {
-    let pool_units = units(chosen, pool);
+    let pool_units = units(chosen, Samples::from(pool).as_slice());
     sampler
         .subset(pool_units.len(), count)
         .into_iter()
@@ -68,8 +76,8 @@ fn the_plan_beats_the_best_of_a_hundred_random_subsets_and_is_deterministic() {
             assess_design(
                 &robot,
                 chosen.as_ref(),
-                &pool,
-                design,
+                Samples::from(pool.as_slice()).as_slice(),
+                Samples::from(design).as_slice(),
                 &Criterion::D,
                 &robot.priority(),
             )
@@ -135,8 +143,8 @@ fn every_criterion_beats_the_best_of_a_hundred_random_subsets() {
             assess_design(
                 &robot,
                 position.as_ref(),
-                &pool,
-                design,
+                Samples::from(pool.as_slice()).as_slice(),
+                Samples::from(design).as_slice(),
                 criterion,
                 &robot.priority(),
             )
@@ -220,7 +228,7 @@ fn the_test_pose_criterion_is_the_predicted_error_and_lowers_it() {
         predict(
             &robot,
             frame.as_ref(),
-            samples,
+            Samples::from(samples).as_slice(),
             noise,
             &poses,
             &robot.priority(),
@@ -263,9 +271,10 @@ fn chosen_configurations_keep_the_minimum_distance() {
         "the constraint must bind"
     );
     for criterion in [Criterion::D, Criterion::O5] {
+        let kept_samples = Samples::from(kept.as_slice());
         let request = PlanRequest {
             count: 35,
-            kept: &kept,
+            kept: kept_samples.as_slice(),
             criterion,
             min_distance: distance,
         };
@@ -288,7 +297,7 @@ fn chosen_configurations_keep_the_minimum_distance() {
     let error = plan_configurations(
         &robot,
         position.as_ref(),
-        &pool,
+        Samples::from(pool.as_slice()).as_slice(),
         &request,
         &robot.priority(),
         &mut Quiet,
@@ -340,7 +349,7 @@ fn planned_beats_random(robot: &str, name: &str, count: usize, pool_size: usize)
             simulate_at(
                 &real,
                 chosen.as_ref(),
-                &held_out,
+                Samples::from(held_out.as_slice()).as_slice(),
                 0.0,
                 &mut sampler,
                 &mut Quiet,
@@ -354,7 +363,7 @@ fn planned_beats_random(robot: &str, name: &str, count: usize, pool_size: usize)
                 let data = simulate_at(
                     &real,
                     chosen.as_ref(),
-                    design,
+                    Samples::from(design).as_slice(),
                     1e-4,
                     &mut sampler,
                     &mut Quiet,
@@ -433,7 +442,7 @@ fn every_method_measures_at_planned_configurations_and_identifies() {
         let data = simulate_at(
             &real,
             chosen.as_ref(),
-            &planned.samples,
+            Samples::from(planned.samples.as_slice()).as_slice(),
             1e-5,
             &mut sampler,
             &mut Quiet,

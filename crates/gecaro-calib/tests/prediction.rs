@@ -2,6 +2,7 @@
 //! robot at test poses, predicted by propagating eq. 11's covariance, and
 //! measured over 1000 simulated calibrations, agree within 10 %.
 
+use gecaro_calib::study::Samples;
 use gecaro_calib::{
     Quiet,
     identifiability::random_samples,
@@ -29,7 +30,7 @@ fn the_prediction_agrees_with_a_thousand_simulated_calibrations() {
         let predicted = predict(
             &robot,
             chosen.as_ref(),
-            &planned,
+            Samples::from(planned.as_slice()).as_slice(),
             noise,
             &test_poses,
             &robot.priority(),
@@ -44,7 +45,7 @@ fn the_prediction_agrees_with_a_thousand_simulated_calibrations() {
         let measured = monte_carlo(
             &robot,
             chosen.as_ref(),
-            &planned,
+            Samples::from(planned.as_slice()).as_slice(),
             noise,
             0.1,
             &test_poses,

@@ -1,6 +1,7 @@
 //! Identification on measurements as they really are: gross errors (robust
 //! losses, the outlier report, rejection) and poorly exciting data (priors),
 //! against known simulated truth.
+use gecaro_calib::study::Samples;
 use gecaro_calib::{
     Quiet,
     identification::{
@@ -90,7 +91,8 @@ fn displaced(robot: &Robot, motor_positions: &[f64], displacement: Vector3<f64>)
 fn corrupt(name: &str, study: &mut Study, seed: u64) -> Vec<usize> {
     let mut sampler = Sampler::new(seed);
     let robot = stanford();
-    let samples = std::sync::Arc::make_mut(&mut study.sets[0].samples);
+    let mut rows = study.sets[0].samples.to_rows();
+    let samples = &mut rows;
     let mut corrupted = Vec::new();
     let step = if name == "distance" { 40 } else { 20 };
     for index in (7..samples.len()).step_by(step) {
@@ -118,6 +120,7 @@ fn corrupt(name: &str, study: &mut Study, seed: u64) -> Vec<usize> {
         }
         corrupted.push(index);
     }
+    study.sets[0].samples = rows.into();
     corrupted
 }
 
@@ -188,7 +191,7 @@ fn robust_losses_resist_gross_errors_by_every_method() {
             }
             // A set of two cannot tell which member is wrong: its partner is
             // flagged with it.
-            let set_of = |sample: usize| dirty.sets[0].samples[sample].group;
+            let set_of = |sample: usize| dirty.sets[0].samples.get(sample).group();
             let clean: Vec<f64> = robust
                 .outliers
                 .iter()
@@ -313,7 +316,7 @@ fn near_singularity(count: usize, spread: f64, seed: u64) -> (Robot, Study) {
     let samples = simulate_at(
         &real,
         chosen.as_ref(),
-        &planned,
+        Samples::from(planned.as_slice()).as_slice(),
         NOISE,
         &mut sampler,
         &mut Quiet,
@@ -418,12 +421,13 @@ fn each_set_of_a_study_is_judged_by_its_own_noise() {
             station: None,
         });
     }
-    let pairs = std::sync::Arc::make_mut(&mut sets[1].samples);
+    let mut pairs = sets[1].samples.to_rows();
     for pair in [5_u64, 60, 120] {
         for sample in pairs.iter_mut().filter(|s| s.group == Some(pair)) {
             sample.distance = sample.distance.map(|d| d + GROSS);
         }
     }
+    sets[1].samples = pairs.into();
     let study = Study {
         sets,
         frames: Vec::new(),

@@ -2,6 +2,7 @@
 //! triangular factor as they are written give the identification of the
 //! held W, to floating-point order, for every kind of data that streams.
 
+use gecaro_calib::study::Samples;
 use gecaro_calib::{
     Quiet,
     identification::{Identification, IdentificationOptions, Loss, Prior, identify},
@@ -138,12 +139,11 @@ fn streamed_and_held_systems_identify_alike() {
     assert_same(&held, &streamed, "with a prior");
     // Gross errors under a robust loss: every reweighting streams.
     let mut gross = position;
-    for sample in std::sync::Arc::make_mut(&mut gross.samples)
-        .iter_mut()
-        .step_by(25)
-    {
+    let mut rows = gross.samples.to_rows();
+    for sample in rows.iter_mut().step_by(25) {
         sample.position = sample.position.map(|p| p + Vector3::new(0.02, 0.0, 0.0));
     }
+    gross.samples = rows.into();
     let robust = IdentificationOptions {
         loss: Loss::new("tukey".parse().expect("loss")),
         ..IdentificationOptions::default()
@@ -175,7 +175,7 @@ fn a_joint_that_never_moved_is_found_by_the_streamed_excitation_check() {
     let samples = simulate_at(
         &real,
         measure.as_ref(),
-        &planned,
+        Samples::from(planned.as_slice()).as_slice(),
         1e-5,
         &mut Sampler::new(4),
         &mut Quiet,

@@ -2,6 +2,7 @@
 //! explains the data to the stated noise says so, one that does not says by
 //! how much, and data or iterations that cannot give a solution are named.
 
+use gecaro_calib::study::Samples;
 use gecaro_calib::{
     Quiet,
     identification::{IdentificationOptions, Outcome, Solver, identify},
@@ -98,7 +99,7 @@ fn without_a_sigma_the_residual_is_reported_in_units() {
 #[test]
 fn copies_of_one_configuration_are_degenerate_data() {
     let mut copies = study("position", 1, None, 5);
-    let one = copies.sets[0].samples[0].clone();
+    let one = copies.sets[0].samples.get(0).to_sample();
     copies.sets[0].samples = vec![one; 200].into();
     // The excitation check keeps the 3 unknowns one point determines, and
     // the residual goes to 0: the verdict names the data, not a "0 mm" fit.
@@ -285,7 +286,7 @@ fn strongly_correlated_pairs_are_named_and_agree_with_repeated_measurements() {
         let samples = simulate_at(
             &real,
             position.as_ref(),
-            &planned,
+            Samples::from(planned.as_slice()).as_slice(),
             1e-5,
             sampler,
             &mut Quiet,
@@ -583,8 +584,12 @@ fn exact_copies_are_named_and_not_trusted() {
     );
     let mut pasted = study("position", 40, Some(2e-5), 6);
     let rows = pasted.sets[0].samples.clone();
-    pasted.sets[0].samples =
-        std::sync::Arc::new(rows.iter().cycle().take(40 * 100).cloned().collect());
+    pasted.sets[0].samples = rows
+        .iter()
+        .cycle()
+        .take(40 * 100)
+        .map(|sample| sample.to_sample())
+        .collect();
     let result = fit(&pasted, &Default::default());
     assert_eq!(result.verdict.outcome, Outcome::Repeated);
     assert_eq!(result.verdict.copies, 3960);

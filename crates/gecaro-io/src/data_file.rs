@@ -24,7 +24,7 @@
 //!
 //! Every error names the file, the line and the column.
 
-use gecaro_calib::study::{DataColumn, Sample};
+use gecaro_calib::study::{DataColumn, SampleRef, SampleSlice, Samples};
 use gecaro_core::{FrameType, LinkMass};
 use std::io::Read;
 use std::path::Path;
@@ -81,7 +81,7 @@ impl DataFormat {
 #[derive(Clone, Debug, PartialEq)]
 pub struct DataFile {
     /// The configurations, in metres and radians.
-    pub samples: Vec<Sample>,
+    pub samples: Samples,
     /// Columns of the file that the method does not use (left alone).
     pub unused_columns: Vec<String>,
     /// What the reader changed that a user should know (quaternions
@@ -313,7 +313,7 @@ fn parse_from(
         ));
     }
     Ok(DataFile {
-        samples,
+        samples: samples.into(),
         unused_columns: unused,
         notes,
     })
@@ -324,7 +324,7 @@ const PAYLOAD_COLUMNS: [&str; 4] = ["payload_mass", "payload_x", "payload_y", "p
 
 /// The payload columns a file of `samples` has: all of them when any sample
 /// carries a payload, none otherwise.
-fn payload_columns_of(samples: &[Sample]) -> &'static [&'static str] {
+fn payload_columns_of(samples: SampleSlice<'_>) -> &'static [&'static str] {
     if samples.iter().any(|sample| sample.payload().is_some()) {
         &PAYLOAD_COLUMNS
     } else {
@@ -334,7 +334,7 @@ fn payload_columns_of(samples: &[Sample]) -> &'static [&'static str] {
 
 /// A row's payload columns: its mass (kg) and centre in units of `length`
 /// metres; 0 kg at the origin for a row that carried none.
-fn payload_values(sample: &Sample, length: f64) -> [f64; 4] {
+fn payload_values(sample: SampleRef<'_>, length: f64) -> [f64; 4] {
     let payload = sample.payload().copied().unwrap_or(LinkMass {
         mass: 0.0,
         com: nalgebra::Vector3::zeros(),
@@ -456,7 +456,7 @@ fn resolve_header(
 pub fn format_configurations(
     joint_types: &[FrameType],
     columns: &[DataColumn],
-    samples: &[Sample],
+    samples: SampleSlice<'_>,
     format: &DataFormat,
 ) -> String {
     let separator = match format.delimiter {
@@ -490,11 +490,11 @@ pub fn format_configurations(
     for sample in samples {
         let motors = format
             .units
-            .configuration_from_si(joint_types, &sample.motor_positions);
+            .configuration_from_si(joint_types, sample.motor_positions());
         let mut fields: Vec<String> = motors.into_iter().map(number).collect();
         for column in columns {
             if matches!(column, DataColumn::Set | DataColumn::Pair) {
-                fields.push(sample.group.unwrap_or(0).to_string());
+                fields.push(sample.group().unwrap_or(0).to_string());
             }
         }
         if !payload_columns.is_empty() {
@@ -510,7 +510,11 @@ pub fn format_configurations(
 ///
 /// When a sample carries a payload, every row states one (0 kg where none
 /// was carried), in the payload columns of the module docs.
-pub fn format_samples(joint_count: usize, columns: &[DataColumn], samples: &[Sample]) -> String {
+pub fn format_samples(
+    joint_count: usize,
+    columns: &[DataColumn],
+    samples: SampleSlice<'_>,
+) -> String {
     let payload_columns = payload_columns_of(samples);
     let mut header = data_headers(joint_count, columns);
     header.extend(payload_columns.iter().map(|name| (*name).to_owned()));
@@ -518,25 +522,25 @@ pub fn format_samples(joint_count: usize, columns: &[DataColumn], samples: &[Sam
     text.push('\n');
     for sample in samples {
         let mut fields: Vec<String> = sample
-            .motor_positions
+            .motor_positions()
             .iter()
             .map(|v| format!("{v:?}"))
             .collect();
         for column in columns {
             match column {
                 DataColumn::Position => {
-                    let position = sample.position.unwrap_or_default();
+                    let position = sample.position().unwrap_or_default();
                     fields.extend(position.iter().map(|v| format!("{v:?}")));
                 }
                 DataColumn::Orientation => {
-                    let q = sample.orientation.unwrap_or_default();
+                    let q = sample.orientation().unwrap_or_default();
                     fields.extend([q.w, q.i, q.j, q.k].iter().map(|v| format!("{v:?}")));
                 }
                 DataColumn::Set | DataColumn::Pair => {
-                    fields.push(sample.group.unwrap_or(0).to_string())
+                    fields.push(sample.group().unwrap_or(0).to_string())
                 }
                 DataColumn::Distance => {
-                    fields.push(format!("{:?}", sample.distance.unwrap_or(0.0)))
+                    fields.push(format!("{:?}", sample.distance().unwrap_or(0.0)))
                 }
             }
         }
@@ -557,7 +561,7 @@ pub fn write_samples(
     path: &Path,
     joint_count: usize,
     columns: &[DataColumn],
-    samples: &[Sample],
+    samples: SampleSlice<'_>,
     policy: OutputPolicy,
 ) -> Result<(), Error> {
     let text = format_samples(joint_count, columns, samples);
@@ -569,6 +573,7 @@ pub fn write_samples(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use gecaro_calib::study::Sample;
     use nalgebra::{UnitQuaternion, Vector3};
 
     const TWO_REVOLUTE: [FrameType; 2] = [FrameType::Revolute; 2];
@@ -581,7 +586,7 @@ mod tests {
             columns,
             &DataFormat::default(),
         )
-        .map(|file| file.samples)
+        .map(|file| file.samples.to_rows())
     }
 
     fn error_of(text: &str, columns: &[DataColumn]) -> String {
@@ -612,10 +617,10 @@ mod tests {
         )
         .expect("valid");
         assert!(file.unused_columns.is_empty(), "{:?}", file.unused_columns);
-        let payload = *file.samples[0].payload().expect("payload");
+        let payload = *file.samples.get(0).payload().expect("payload");
         assert_eq!(payload.mass, 10.0);
         assert!((payload.com - Vector3::new(0.0, 0.0, 0.12)).norm() < 1e-15);
-        let written = format_samples(2, &[DataColumn::Position], &file.samples);
+        let written = format_samples(2, &[DataColumn::Position], file.samples.as_slice());
         assert!(written.starts_with("qm1,qm2,x,y,z,payload_mass,payload_x,payload_y,payload_z\n"));
         let again = parse(&written, &[DataColumn::Position]).expect("reads back");
         assert_eq!(again, file.samples);
@@ -627,7 +632,7 @@ mod tests {
         .expect("valid");
         assert_eq!(alone[0].payload().expect("payload").com, Vector3::zeros());
         // Without a payload, nothing is written.
-        let none = format_samples(2, &[DataColumn::Position], &alone[..0]);
+        let none = format_samples(2, &[DataColumn::Position], SampleSlice::empty());
         assert_eq!(none, "qm1,qm2,x,y,z\n");
         let message = error_of("qm1,qm2,payload_x,payload_y,payload_z\n0,0,0,0,0\n", &[]);
         assert!(message.contains("without its mass"), "{message}");
@@ -694,7 +699,7 @@ mod tests {
             distance: Some(0.05),
             ..Sample::new(vec![0.5, -1.25])
         };
-        let text = format_samples(2, &columns, std::slice::from_ref(&sample));
+        let text = format_samples(2, &columns, Samples::from(vec![sample.clone()]).as_slice());
         let read = parse(&text, &columns).expect("valid");
         assert_eq!(read[0].motor_positions, sample.motor_positions);
         assert_eq!(read[0].position, sample.position);
@@ -780,7 +785,7 @@ mod tests {
             let values = |file: &DataFile| {
                 file.samples
                     .iter()
-                    .map(|sample| (sample.motor_positions.clone(), sample.position))
+                    .map(|sample| (sample.motor_positions().to_vec(), sample.position()))
                     .collect::<Vec<_>>()
             };
             assert_eq!(values(&found), values(&plain), "{text}");
@@ -829,10 +834,10 @@ mod tests {
             &format,
         )
         .expect("valid");
-        let sample = &file.samples[0];
-        assert!((sample.motor_positions[0] - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
-        assert!((sample.motor_positions[1] - 0.25).abs() < 1e-15);
-        let position = sample.position.expect("read");
+        let sample = &file.samples.get(0);
+        assert!((sample.motor_positions()[0] - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+        assert!((sample.motor_positions()[1] - 0.25).abs() < 1e-15);
+        let position = sample.position().expect("read");
         assert!((position - Vector3::new(0.1, -0.2, 0.3)).norm() < 1e-15);
         assert_eq!(file.unused_columns, ["time", "point"]);
         // A renamed column that is not there, and a map to a wrong name.
@@ -909,12 +914,12 @@ mod tests {
         assert_eq!(in_parts.samples.len(), 4000);
         assert_eq!(in_parts.samples, one_pass.samples);
         assert_eq!(in_parts.notes, one_pass.notes);
-        assert_eq!(in_parts.samples[0].line, Some(5));
-        assert_eq!(in_parts.samples[3999].line, Some(4000 + 4 + 2 * 5));
+        assert_eq!(in_parts.samples.get(0).line(), Some(5));
+        assert_eq!(in_parts.samples.get(3999).line(), Some(4000 + 4 + 2 * 5));
         // Row r is on line r + 3 + 2 (r / 700 + 1): a comment, the header, and
         // a comment and a blank line before every 700 rows.
         let line_of_row = |row: usize| row + 3 + 2 * (row / 700 + 1);
-        assert_eq!(in_parts.samples[3507].line, Some(line_of_row(3507)));
+        assert_eq!(in_parts.samples.get(3507).line(), Some(line_of_row(3507)));
         assert!(
             in_parts.notes[0].contains("line 3522"),
             "{:?}",

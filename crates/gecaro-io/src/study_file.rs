@@ -264,7 +264,11 @@ mod tests {
             let sigma = file.study.sets[0].sigma.expect("sigma");
             assert!((sigma - 2e-5).abs() < 1e-15, "{line}: {sigma}");
             // Fields separated by `;` with decimal commas, in millimetres.
-            let position = file.study.sets[0].samples[0].position.expect("position");
+            let position = file.study.sets[0]
+                .samples
+                .get(0)
+                .position()
+                .expect("position");
             assert!((position.x - 0.1005).abs() < 1e-12, "{position}");
         }
         let error = study(folder.path(), "sigma = \"0.02deg\"").expect_err("an angle");

@@ -27,13 +27,12 @@
 
 use std::collections::BTreeMap;
 use std::fmt;
-use std::sync::Arc;
 
 use gecaro_calib::frames::{FrameRole, NamedFrame};
 use gecaro_calib::identification::Prior;
 use gecaro_calib::methods::CalibrationMethod;
 use gecaro_calib::methods::{MethodOptions, Plane};
-use gecaro_calib::study::{DataColumn, MeasurementSet, Sample, Study, StudySite};
+use gecaro_calib::study::{DataColumn, MeasurementSet, Samples, Study, StudySite};
 use gecaro_core::{FrameType, OrientationDifference, PriorityMatrix, Robot};
 use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Vector3};
 use serde::{Deserialize, Serialize};
@@ -168,8 +167,9 @@ pub enum SetData {
     /// Samples in metres and radians (Python's arrays), with a label.
     Samples {
         /// The configurations and what was measured there, shared with
-        /// whoever made them (a Python `Data`): the study copies them once.
-        samples: Arc<Vec<Sample>>,
+        /// whoever made them (a Python `Data`, whose arrays they may read
+        /// in place): a set that changes them copies the column it changes.
+        samples: Box<Samples>,
         /// What names them in messages.
         label: String,
     },
@@ -585,7 +585,7 @@ impl SetSpec {
             sigma: sigma_value,
             sigma_rotation,
             method,
-            samples: Arc::default(),
+            samples: Samples::empty(),
             label: self.label.clone().unwrap_or(label),
             tool,
             station,
@@ -609,7 +609,7 @@ impl SetSpec {
             (SetData::File(name), Some(format)) => (name, format),
             (SetData::Samples { samples, .. }, _) => {
                 // Shared with the arrays' `Data`: copied only if changed.
-                set.samples = Arc::clone(samples);
+                set.samples = Samples::clone(samples);
                 self.carried(set, misplaced)?;
                 return Ok(Vec::new());
             }
@@ -635,7 +635,7 @@ impl SetSpec {
             ));
         }
         notes.extend(read.notes);
-        set.samples = read.samples.into();
+        set.samples = read.samples;
         if self.label.is_none() {
             set.label = label;
         }
@@ -659,7 +659,7 @@ impl SetSpec {
             .samples
             .iter()
             .find(|sample| sample.payload().is_some())
-            .map(|sample| sample.line)
+            .map(|sample| sample.line())
         {
             return Err(misplaced(
                 "payload",
@@ -671,8 +671,8 @@ impl SetSpec {
                 ),
             ));
         }
-        for sample in Arc::make_mut(&mut set.samples) {
-            sample.set_payload(Some(payload));
+        for loads in set.samples.loads_mut() {
+            loads.get_or_insert_with(Box::default).payload = Some(payload);
         }
         Ok(())
     }
@@ -883,7 +883,7 @@ mod tests {
         SetSpec {
             method: MethodChoice::Named("position".into()),
             data: SetData::Samples {
-                samples: samples.into(),
+                samples: Box::new(samples.into()),
                 label: "arrays".into(),
             },
             sigma: Some(StandardDeviation::WithUnit("20um".into())),

@@ -47,7 +47,7 @@ fn data_errors_name_the_record_s_line() {
             &DataFormat::default(),
         )
         .expect("good file");
-        let lines: Vec<Option<usize>> = read.samples.iter().map(|s| s.line).collect();
+        let lines: Vec<Option<usize>> = read.samples.iter().map(|s| s.line()).collect();
         assert_eq!(lines, [Some(3), Some(6)], "{end:?}");
     }
 }

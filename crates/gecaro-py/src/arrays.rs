@@ -5,10 +5,16 @@
 //! strings, objects) and wrong shapes are an `InputError` (a `ValueError`)
 //! naming the argument and the shape it needs. Inputs are copied into Rust
 //! memory before any work, so the GIL can be released without Python code
-//! changing them underneath. Outputs are new C-ordered float64 arrays.
+//! changing them underneath, except the large columns of a `Data`
+//! ([`in_place`]): a C-ordered float64 array is read where it is, for as long
+//! as the `Data` lives (docs/python.md). Outputs are new C-ordered float64
+//! arrays.
 
+use gecaro_calib::study::Column as SampleColumn;
 use numpy::ndarray::{ArrayD, IxDyn};
-use numpy::{Element, IntoPyArray, PyArrayDyn, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{
+    Element, IntoPyArray, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -88,25 +94,9 @@ impl Real {
         what: &str,
         shape: &[Option<usize>],
     ) -> PyResult<Self> {
-        let expected = format!(
-            "an array of shape ({})",
-            shape
-                .iter()
-                .enumerate()
-                .map(|(axis, length)| length
-                    .map_or_else(|| ["m", "k"][axis.min(1)].to_owned(), |n| n.to_string()))
-                .collect::<Vec<_>>()
-                .join(", ")
-                + if shape.len() == 1 { "," } else { "" }
-        );
+        let expected = expected_shape(shape);
         let array = Real::new(value, what, &expected)?;
-        let fits = array.shape.len() == shape.len()
-            && array
-                .shape
-                .iter()
-                .zip(shape)
-                .all(|(found, wanted)| wanted.is_none_or(|wanted| *found == wanted));
-        if fits {
+        if fits(&array.shape, shape) {
             Ok(array)
         } else {
             Err(array.wrong_shape(what, &expected))
@@ -128,6 +118,101 @@ impl Real {
             _ => Err(array.wrong_shape(what, &expected)),
         }
     }
+}
+
+/// The words of a shape in messages: `an array of shape (m, 3)`.
+fn expected_shape(shape: &[Option<usize>]) -> String {
+    format!(
+        "an array of shape ({})",
+        shape
+            .iter()
+            .enumerate()
+            .map(|(axis, length)| length
+                .map_or_else(|| ["m", "k"][axis.min(1)].to_owned(), |n| n.to_string()))
+            .collect::<Vec<_>>()
+            .join(", ")
+            + if shape.len() == 1 { "," } else { "" }
+    )
+}
+
+/// Whether `found` is `shape` (`None`: any length on that axis).
+fn fits(found: &[usize], shape: &[Option<usize>]) -> bool {
+    found.len() == shape.len()
+        && found
+            .iter()
+            .zip(shape)
+            .all(|(found, wanted)| wanted.is_none_or(|wanted| *found == wanted))
+}
+
+/// A C-ordered float64 numpy array's values, read where they are: the
+/// handle keeps the array alive, and numpy does not move the memory of an
+/// array someone holds (`resize` refuses it).
+struct NumpyValues {
+    _array: Py<PyArrayDyn<f64>>,
+    data: *const f64,
+    len: usize,
+}
+
+#[allow(unsafe_code)]
+// SAFETY: the values are only read, and the array they live in is kept
+// alive by `_array` (a reference count, released with the GIL by pyo3).
+// Python code writing into the array while an identification reads it in
+// another thread is the caller's race, as with numpy's own functions that
+// release the GIL (docs/python.md says not to).
+unsafe impl Send for NumpyValues {}
+#[allow(unsafe_code)]
+// SAFETY: as for `Send`: shared reads of memory nobody frees.
+unsafe impl Sync for NumpyValues {}
+
+impl AsRef<[f64]> for NumpyValues {
+    #[allow(unsafe_code)]
+    fn as_ref(&self) -> &[f64] {
+        // SAFETY: `data` points at `len` float64 values of the array that
+        // `_array` keeps alive (checked C-contiguous when it was taken).
+        unsafe { std::slice::from_raw_parts(self.data, self.len) }
+    }
+}
+
+/// `value` of exactly this shape as one column of values, read in place
+/// when it is a C-ordered float64 array, else converted once (numpy's
+/// `ascontiguousarray`) into an array the column keeps. Returns the shape
+/// and the column.
+pub(crate) fn in_place(
+    value: &Bound<'_, PyAny>,
+    what: &str,
+    shape: &[Option<usize>],
+) -> PyResult<(Vec<usize>, SampleColumn<f64>)> {
+    let expected = expected_shape(shape);
+    let array = match value.cast::<PyArrayDyn<f64>>() {
+        Ok(array) if array.is_c_contiguous() => array.clone(),
+        _ => {
+            let converted = converted(value, what, &expected, "float64", "fiu")?;
+            let numpy = value.py().import("numpy")?;
+            numpy
+                .call_method1("ascontiguousarray", (converted,))?
+                .cast_into::<PyArrayDyn<f64>>()?
+        }
+    };
+    let found = array.shape().to_vec();
+    if !fits(&found, shape) {
+        return Err(input(format!(
+            "{what}: expected {expected}, got an array of shape {}",
+            shape_text(&found)
+        )));
+    }
+    let values = {
+        let read = array.readonly();
+        let slice = read
+            .as_slice()
+            .map_err(|error| input(format!("{what}: {error}")))?;
+        (slice.as_ptr(), slice.len())
+    };
+    let column = SampleColumn::shared(NumpyValues {
+        _array: array.unbind(),
+        data: values.0,
+        len: values.1,
+    });
+    Ok((found, column))
 }
 
 /// `value` as m non-negative integers (set or pair ids).

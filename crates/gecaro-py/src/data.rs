@@ -7,16 +7,15 @@
 //! and `pair` (distance) are integer ids; `distance` is in metres.
 
 use gecaro_app::{DataSource, LocalFiles, angle_unit, delimiter, length_unit};
-use gecaro_calib::study::{DataColumn, Sample};
+use gecaro_calib::study::{Column, DataColumn, SampleColumns, SampleRef, Samples};
 use gecaro_io::{ColumnMap, DataFormat, DataUnits, format_samples, joint_types};
 use nalgebra::Vector3;
 use numpy::PyArrayDyn;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
-use std::sync::Arc;
 
-use crate::arrays::{Real, array, identifiers};
+use crate::arrays::{Real, array, identifiers, in_place};
 use crate::errors::{IntoPyResult, input};
 use crate::files::write_text;
 use crate::methods::method_of;
@@ -30,8 +29,9 @@ const ARRAYS: &str = "<arrays>";
 #[pyclass(name = "Data", module = "gecaro", skip_from_py_object)]
 #[derive(Clone)]
 pub(crate) struct PyData {
-    /// Shared with the requests made of it (no copy until a study is made).
-    pub(crate) samples: Arc<Vec<Sample>>,
+    /// Shared with the requests made of it; its large columns are the
+    /// arrays it was made of, read in place.
+    pub(crate) samples: Samples,
     joint_count: usize,
     /// Names the data in messages and reports: the file, or `<arrays>`.
     pub(crate) label: String,
@@ -40,7 +40,7 @@ pub(crate) struct PyData {
 
 impl PyData {
     pub(crate) fn from_samples(
-        samples: impl Into<Arc<Vec<Sample>>>,
+        samples: impl Into<Samples>,
         joint_count: usize,
         label: String,
     ) -> Self {
@@ -58,7 +58,7 @@ impl PyData {
         &self,
         py: Python<'py>,
         width: usize,
-        value: impl Fn(&Sample) -> Option<Vec<f64>>,
+        value: impl Fn(SampleRef<'_>) -> Option<Vec<f64>>,
     ) -> PyResult<Option<Bound<'py, PyArrayDyn<f64>>>> {
         if self.samples.iter().all(|sample| value(sample).is_none()) {
             return Ok(None);
@@ -115,40 +115,31 @@ impl PyData {
         payload: Option<&Bound<'_, PyAny>>,
         label: Option<String>,
     ) -> PyResult<Self> {
-        let qm = Real::shaped(qm, "qm", &[None, None])?;
-        let (m, n) = (qm.shape[0], qm.shape[1]);
+        // The large columns are read in place (see docs/python.md).
+        let (shape, motor_positions) = in_place(qm, "qm", &[None, None])?;
+        let (m, n) = (shape[0], shape[1]);
         if n == 0 {
-            return Err(qm.wrong_shape("qm", "an array of shape (m, n) with n ≥ 1 joints"));
+            return Err(input(format!(
+                "qm: expected an array of shape (m, n) with n ≥ 1 joints, got an array of \
+                 shape ({m}, 0)"
+            )));
         }
-        let mut samples: Vec<Sample> = qm
-            .values
-            .chunks_exact(n)
-            .enumerate()
-            .map(|(row, values)| {
-                let mut sample = Sample::new(values.to_vec());
-                sample.line = Some(row);
-                sample
+        let position = position
+            .map(|position| in_place(position, "position", &[Some(m), Some(3)]))
+            .transpose()?
+            .map(|(_, column)| column);
+        let orientation = orientation
+            .map(|orientation| -> PyResult<Column<f64>> {
+                let orientation = Real::shaped(orientation, "orientation", &[Some(m), Some(4)])?;
+                let mut unit = Vec::with_capacity(orientation.values.len());
+                for (row, q) in orientation.values.chunks_exact(4).enumerate() {
+                    let q = gecaro_io::unit_quaternion(q[0], q[1], q[2], q[3])
+                        .map_err(|message| input(format!("orientation: row {row}: {message}")))?;
+                    unit.extend([q.w, q.i, q.j, q.k]);
+                }
+                Ok(unit.into())
             })
-            .collect();
-        if let Some(position) = position {
-            let position = Real::shaped(position, "position", &[Some(m), Some(3)])?;
-            for (sample, xyz) in samples.iter_mut().zip(position.values.chunks_exact(3)) {
-                sample.position = Some(Vector3::from_column_slice(xyz));
-            }
-        }
-        if let Some(orientation) = orientation {
-            let orientation = Real::shaped(orientation, "orientation", &[Some(m), Some(4)])?;
-            for (row, (sample, q)) in samples
-                .iter_mut()
-                .zip(orientation.values.chunks_exact(4))
-                .enumerate()
-            {
-                sample.orientation = Some(
-                    gecaro_io::unit_quaternion(q[0], q[1], q[2], q[3])
-                        .map_err(|message| input(format!("orientation: row {row}: {message}")))?,
-                );
-            }
-        }
+            .transpose()?;
         let group = match (set, pair) {
             (Some(_), Some(_)) => {
                 return Err(input(
@@ -159,24 +150,29 @@ impl PyData {
             (None, Some(ids)) => Some(identifiers(ids, "pair")?),
             (None, None) => None,
         };
-        if let Some(group) = group {
-            if group.len() != m {
-                return Err(input(format!(
-                    "{}: expected an array of shape ({m},), got {} values",
-                    if set.is_some() { "set" } else { "pair" },
-                    group.len()
-                )));
-            }
-            for (sample, id) in samples.iter_mut().zip(group) {
-                sample.group = Some(id);
-            }
+        if let Some(group) = &group
+            && group.len() != m
+        {
+            return Err(input(format!(
+                "{}: expected an array of shape ({m},), got {} values",
+                if set.is_some() { "set" } else { "pair" },
+                group.len()
+            )));
         }
-        if let Some(distance) = distance {
-            let distance = Real::shaped(distance, "distance", &[Some(m)])?;
-            for (sample, value) in samples.iter_mut().zip(distance.values) {
-                sample.distance = Some(value);
-            }
-        }
+        let distance = distance
+            .map(|distance| in_place(distance, "distance", &[Some(m)]))
+            .transpose()?
+            .map(|(_, column)| column);
+        let mut samples = Samples::from_columns(SampleColumns {
+            motor_positions,
+            joints: n,
+            position,
+            orientation,
+            group: group.map(Column::from),
+            distance,
+            first_line: 0,
+        })
+        .map_err(input)?;
         if let Some(payload) = payload {
             let payloads = Real::shaped(payload, "payload", &[Some(m)])
                 .map(|masses| {
@@ -194,16 +190,18 @@ impl PyData {
                             .collect::<Vec<[f64; 4]>>()
                     })
                 })?;
-            for (row, (sample, [mass, x, y, z])) in samples.iter_mut().zip(payloads).enumerate() {
+            for (row, (loads, [mass, x, y, z])) in
+                samples.loads_mut().iter_mut().zip(payloads).enumerate()
+            {
                 if !(mass.is_finite() && mass >= 0.0) {
                     return Err(input(format!(
                         "payload: row {row}: {mass} is not a mass in kg (≥ 0)"
                     )));
                 }
-                sample.set_payload(Some(gecaro_core::LinkMass {
+                loads.get_or_insert_with(Box::default).payload = Some(gecaro_core::LinkMass {
                     mass,
                     com: Vector3::new(x, y, z),
-                }));
+                });
             }
         }
         Ok(PyData::from_samples(
@@ -267,7 +265,11 @@ impl PyData {
         let method = method_of(method)?;
         let columns = method.get().method.data_columns();
         self.check_columns(columns)?;
-        Ok(format_samples(self.joint_count, columns, &self.samples))
+        Ok(format_samples(
+            self.joint_count,
+            columns,
+            self.samples.as_slice(),
+        ))
     }
 
     /// Writes the data file for `method` atomically; an existing file is kept
@@ -284,7 +286,7 @@ impl PyData {
         let values = self
             .samples
             .iter()
-            .flat_map(|sample| sample.motor_positions.iter().copied())
+            .flat_map(|sample| sample.motor_positions().iter().copied())
             .collect();
         array(py, &[self.samples.len(), self.joint_count], values)
     }
@@ -293,7 +295,7 @@ impl PyData {
     #[getter]
     fn position<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArrayDyn<f64>>>> {
         self.field(py, 3, |sample| {
-            sample.position.map(|p| p.as_slice().to_vec())
+            sample.position().map(|p| p.as_slice().to_vec())
         })
     }
 
@@ -301,20 +303,20 @@ impl PyData {
     #[getter]
     fn orientation<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArrayDyn<f64>>>> {
         self.field(py, 4, |sample| {
-            sample.orientation.map(|q| vec![q.w, q.i, q.j, q.k])
+            sample.orientation().map(|q| vec![q.w, q.i, q.j, q.k])
         })
     }
 
     /// Set ids (link methods) or pair ids (distance), (m,), or None.
     #[getter]
     fn group<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArrayDyn<i64>>>> {
-        if self.samples.iter().all(|sample| sample.group.is_none()) {
+        if self.samples.iter().all(|sample| sample.group().is_none()) {
             return Ok(None);
         }
         let ids = self
             .samples
             .iter()
-            .map(|sample| sample.group.map_or(-1, |id| id as i64))
+            .map(|sample| sample.group().map_or(-1, |id| id as i64))
             .collect();
         array(py, &[self.samples.len()], ids).map(Some)
     }
@@ -322,7 +324,7 @@ impl PyData {
     /// Measured distances (m,), or None.
     #[getter]
     fn distance<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArrayDyn<f64>>>> {
-        self.field(py, 1, |sample| sample.distance.map(|d| vec![d]))
+        self.field(py, 1, |sample| sample.distance().map(|d| vec![d]))
     }
 
     /// The payload of each row (m, 4): mass (kg) and centre x, y, z in the

@@ -2,12 +2,10 @@
 //! measurements and settings: a robot with a `Method` and `Data`, or a
 //! `Study`; a priority matrix as an array or a file.
 
-use std::sync::Arc;
-
 use gecaro_app::{
     DataSource, FitSettings, LoadedStudy, Measurements, PrioritySource, RobotSource, StudySource,
 };
-use gecaro_calib::study::Study;
+use gecaro_calib::study::{Samples, Study};
 use gecaro_core::Robot;
 use pyo3::prelude::*;
 
@@ -71,7 +69,7 @@ pub(crate) fn measurements(
         None => {
             let (samples, label) = match data {
                 Some(DataSource::Samples { samples, label }) => (samples, label),
-                _ => (Arc::default(), "random configurations".to_owned()),
+                _ => (Samples::empty(), "random configurations".to_owned()),
             };
             Measurements {
                 study: Some(StudySource::Loaded(Box::new(LoadedStudy {

@@ -175,7 +175,7 @@ impl PyStudy {
         spec.measurements.push(SetSpec {
             method: MethodChoice::Built(method.get().method.clone_method()),
             data: SetData::Samples {
-                samples: data.samples.clone(),
+                samples: Box::new(data.samples.clone()),
                 label: data.label.clone(),
             },
             sigma: sigma.map(StandardDeviation::from),
@@ -233,7 +233,7 @@ impl PyStudy {
         // The sets' data are read: later sets added in Python need no files.
         for (entry, set) in spec.measurements.iter_mut().zip(&file.study.sets) {
             entry.data = SetData::Samples {
-                samples: std::sync::Arc::clone(&set.samples),
+                samples: Box::new(set.samples.clone()),
                 label: set.label.clone(),
             };
             entry.sigma = set.sigma.map(StandardDeviation::Number);
@@ -295,15 +295,15 @@ impl PyStudy {
             .iter()
             .map(|set| {
                 let entry = PyDict::new(py);
-                let joint_count = set.samples.first().map_or(0, |s| s.motor_positions.len());
+                let joint_count = set
+                    .samples
+                    .iter()
+                    .next()
+                    .map_or(0, |s| s.motor_positions().len());
                 entry.set_item("method", PyMethod::from_method(set.method.clone_method()))?;
                 entry.set_item(
                     "data",
-                    PyData::from_samples(
-                        std::sync::Arc::clone(&set.samples),
-                        joint_count,
-                        set.label.clone(),
-                    ),
+                    PyData::from_samples(set.samples.clone(), joint_count, set.label.clone()),
                 )?;
                 entry.set_item("sigma", set.sigma)?;
                 entry.set_item("sigma_rotation", set.sigma_rotation)?;

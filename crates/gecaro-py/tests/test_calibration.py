@@ -169,6 +169,26 @@ def test_data_from_arrays_and_files_are_the_same(tmp_path):
     assert np.allclose(first.calibrated.parameters, second.calibrated.parameters, atol=1e-12)
 
 
+def test_data_reads_float64_arrays_in_place_and_converts_the_rest_once():
+    robot = gecaro.Robot.load("stanford")
+    generation = gecaro.generate(robot, "position", 40, noise=1e-5, seed=6)
+    qm = np.ascontiguousarray(generation.data.qm)
+    position = np.ascontiguousarray(generation.data.position)
+    in_place = gecaro.Data(qm, position=position)
+    # Fortran order and float32 are converted once, into arrays the Data keeps.
+    converted = gecaro.Data(np.asfortranarray(qm), position=position.tolist())
+    first = gecaro.identify(robot, "position", in_place, sigma=1e-5)
+    second = gecaro.identify(robot, "position", converted, sigma=1e-5)
+    assert np.array_equal(first.calibrated.parameters, second.calibrated.parameters)
+    # No copy: the Data sees the array it was made of; the converted one does not.
+    qm[0, 0] += 0.25
+    position[3, 1] = 7.0
+    assert in_place.qm[0, 0] == qm[0, 0] and in_place.position[3, 1] == 7.0
+    assert converted.qm[0, 0] == qm[0, 0] - 0.25
+    with pytest.raises(gecaro.InputError, match="position: expected an array of shape"):
+        gecaro.Data(qm, position=position[:, :2])
+
+
 def test_tracker_units_and_columns(repository, cli):
     folder = repository / "examples" / "tracker"
     robot = gecaro.Robot.import_file(folder / "kr16_2.urdf")

@@ -20,7 +20,7 @@
 //! - Held-out data: whole tool placements for the ball datasets (every other
 //!   placement), every third pose for the camera datasets.
 
-use gecaro_calib::study::{DataColumn, Sample};
+use gecaro_calib::study::{DataColumn, Sample, Samples};
 use gecaro_core::{Frame, FrameType, Joint, Robot, RobotSpec};
 use gecaro_io::{OutputPolicy, RobotFile, format_robot_file, format_samples, write_atomically};
 use nalgebra::{IsometryMatrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
@@ -273,11 +273,19 @@ fn import_mukca(
         }
         write(
             &out.join(format!("{part}_sets.csv")),
-            &format_samples(n, &[DataColumn::Set], &sets),
+            &format_samples(
+                n,
+                &[DataColumn::Set],
+                Samples::from(sets.as_slice()).as_slice(),
+            ),
         )?;
         write(
             &out.join(format!("{part}_pairs.csv")),
-            &format_samples(n, &[DataColumn::Pair, DataColumn::Distance], &pairs),
+            &format_samples(
+                n,
+                &[DataColumn::Pair, DataColumn::Distance],
+                Samples::from(pairs.as_slice()).as_slice(),
+            ),
         )?;
         let _ = writeln!(
             summary,
@@ -388,11 +396,19 @@ fn write_camera_example(
     let (train, test) = (strip(train), strip(test));
     write(
         &out.join("train.csv"),
-        &format_samples(n, &columns, &frame_samples(&train)),
+        &format_samples(
+            n,
+            &columns,
+            Samples::from(frame_samples(&train).as_slice()).as_slice(),
+        ),
     )?;
     write(
         &out.join("test.csv"),
-        &format_samples(n, &columns, &frame_samples(&test)),
+        &format_samples(
+            n,
+            &columns,
+            Samples::from(frame_samples(&test).as_slice()).as_slice(),
+        ),
     )?;
     // Base (frames 0, 1) and camera (joint n's offsets, frame n+1) only.
     let priority = robot.priority();

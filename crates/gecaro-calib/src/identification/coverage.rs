@@ -192,7 +192,7 @@ fn still_joints(robot: &Robot, study: &Study) -> Vec<usize> {
     let mut low = vec![f64::INFINITY; joints];
     let mut high = vec![f64::NEG_INFINITY; joints];
     for sample in study.sets.iter().flat_map(|set| set.samples.iter()) {
-        for (joint, value) in sample.motor_positions.iter().enumerate().take(joints) {
+        for (joint, value) in sample.motor_positions().iter().enumerate().take(joints) {
             low[joint] = low[joint].min(*value);
             high[joint] = high[joint].max(*value);
         }

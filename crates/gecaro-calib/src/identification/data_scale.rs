@@ -62,7 +62,7 @@ fn check_set(robot: &Robot, set: &MeasurementSet) -> Result<(), Error> {
     let points: Vec<(&[f64], Vector3<f64>)> = set
         .samples
         .iter()
-        .filter_map(|sample| Some((sample.motor_positions.as_slice(), sample.position?)))
+        .filter_map(|sample| Some((sample.motor_positions(), sample.position()?)))
         .collect();
     if points.len() < MINIMUM_POINTS {
         return Ok(());
@@ -200,11 +200,13 @@ mod tests {
         // 20 cm out on the flange sweeps its sphere. Neither bound applies.
         let (robot, mut study) = scaled(1.0);
         let set = &mut study.sets[0];
-        for sample in std::sync::Arc::make_mut(&mut set.samples) {
+        let mut rows = set.samples.to_rows();
+        for sample in &mut rows {
             sample.motor_positions[..3].copy_from_slice(&[0.3, -0.4, 0.5]);
             let flange = gecaro_core::terminal_pose(&robot, &sample.motor_positions).expect("pose");
             sample.position = Some(flange * nalgebra::Point3::new(0.0, 0.2, 0.1)).map(|p| p.coords);
         }
+        set.samples = rows.into();
         check_data_scale(&robot, &study).expect("wrist-only data are not a unit mistake");
     }
 }

@@ -68,7 +68,7 @@ pub(crate) fn locate(
     let mut located = Vec::new();
     let mut first = 0;
     for (set_index, set) in study.sets.iter().enumerate() {
-        let grouped = set.method.grouped_observations(&set.samples);
+        let grouped = set.method.grouped_observations(set.samples.as_slice());
         let count = grouped.as_ref().map_or(set.samples.len(), Vec::len);
         let kind = if grouped
             .as_ref()
@@ -91,7 +91,7 @@ pub(crate) fn locate(
                     observation,
                     lines: samples
                         .iter()
-                        .filter_map(|index| set.samples[*index].line)
+                        .filter_map(|index| set.samples.get(*index).line())
                         .collect(),
                     samples,
                 },

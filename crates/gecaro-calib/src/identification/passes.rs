@@ -119,7 +119,7 @@ fn tested<'a>(study: &'a Study, dropped: &[Vec<usize>], limit: usize) -> Cow<'a,
         .iter()
         .map(|set| {
             crate::methods::grouped(set.method.as_ref())
-                .then(|| crate::methods::units(set.method.as_ref(), &set.samples))
+                .then(|| crate::methods::units(set.method.as_ref(), set.samples.as_slice()))
         })
         .collect();
     let count = |index: usize| {
@@ -149,19 +149,19 @@ fn tested<'a>(study: &'a Study, dropped: &[Vec<usize>], limit: usize) -> Cow<'a,
                 match &units[index] {
                     None => {
                         if kept(&unit) {
-                            samples.push(set.samples[unit].clone());
+                            samples.push(unit);
                         }
                     }
                     Some(units) => {
                         let members: Vec<usize> =
                             units[unit].iter().copied().filter(kept).collect();
                         if units[unit].len() < 2 || members.len() >= 2 {
-                            samples.extend(members.iter().map(|i| set.samples[*i].clone()));
+                            samples.extend(members);
                         }
                     }
                 }
             }
-            set.with_samples(samples)
+            set.with_samples(set.samples.gather(&samples))
         })
         .collect();
     Cow::Owned(Study {

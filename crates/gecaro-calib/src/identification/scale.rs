@@ -199,7 +199,7 @@ fn centre(robot: &Robot, study: &Study) -> Vector3<f64> {
         .sets
         .iter()
         .flat_map(|set| set.samples.iter())
-        .map(|sample| sample.motor_positions.as_slice())
+        .map(|sample| sample.motor_positions())
         .collect();
     let points: Vec<Vector3<f64>> = crate::sampler::spread_indices(samples.len(), POINTS)
         .into_iter()

@@ -62,7 +62,7 @@ pub(super) fn closed_form_start(robot: &Robot, study: &Study) -> Result<Option<R
             .iter()
             .filter(|set| !set.uses_named_frames())
             .flat_map(|set| set.samples.iter())
-            .filter_map(|sample| Some((sample.motor_positions.as_slice(), sample.position?)))
+            .filter_map(|sample| Some((sample.motor_positions(), sample.position()?)))
     };
     let count = points().count();
     if count < MINIMUM_POINTS {
@@ -191,7 +191,7 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<R
         let measured: Vec<(&[f64], Vector3<f64>)> = set
             .samples
             .iter()
-            .filter_map(|s| Some((s.motor_positions.as_slice(), s.position?)))
+            .filter_map(|s| Some((s.motor_positions(), s.position()?)))
             .collect();
         for (motors, point) in spread_indices(measured.len(), MAXIMUM_POINTS)
             .into_iter()

@@ -50,7 +50,7 @@
 use super::coverage::Coverage;
 use crate::observation::ObservationSystem;
 use crate::rows::{RowKind, robust_weight};
-use crate::sample::Sample;
+use crate::samples::SampleRef;
 use crate::study::Study;
 
 /// Why the iteration stopped.
@@ -468,7 +468,7 @@ fn distinct(study: &Study) -> (usize, f64) {
     let mut count = 0;
     let mut equations = 0.0;
     for set in &study.sets {
-        let configuration = |index: usize| set.samples[index].motor_positions.as_slice();
+        let configuration = |index: usize| set.samples.get(index).motor_positions();
         let unique = count_distinct(
             set.samples.len(),
             |index| fingerprint(bits(configuration(index))),
@@ -511,7 +511,7 @@ fn copies(study: &Study) -> usize {
     let method = |(set, _): (usize, usize)| study.sets[set].method.name();
     let words = |(set, sample): (usize, usize)| {
         let mut words = Vec::new();
-        measurement_words(&study.sets[set].samples[sample], |word| words.push(word));
+        measurement_words(study.sets[set].samples.get(sample), |word| words.push(word));
         words
     };
     let unique = count_distinct(
@@ -520,7 +520,7 @@ fn copies(study: &Study) -> usize {
             let (set, sample) = locate(index);
             let mut hasher = rustc_hash::FxHasher::default();
             hasher.write_u64(methods[set]);
-            measurement_words(&study.sets[set].samples[sample], |word| {
+            measurement_words(study.sets[set].samples.get(sample), |word| {
                 hasher.write_u64(word);
             });
             hasher.finish()
@@ -541,20 +541,22 @@ fn copies(study: &Study) -> usize {
 /// group or value as a tag. One encoding for the fingerprint and for the
 /// exact comparison; written value by value (a chain of iterators costs
 /// more than the hash).
-fn measurement_words(sample: &Sample, mut word: impl FnMut(u64)) {
-    bits(&sample.motor_positions).for_each(&mut word);
-    word(u64::from(sample.group.is_some()));
-    word(sample.group.unwrap_or(0));
-    word(u64::from(sample.position.is_some()));
-    word(u64::from(sample.orientation.is_some()));
-    word(u64::from(sample.distance.is_some()));
-    for value in sample.position.iter().flat_map(|p| p.iter()) {
+fn measurement_words(sample: SampleRef<'_>, mut word: impl FnMut(u64)) {
+    bits(sample.motor_positions()).for_each(&mut word);
+    let (group, position) = (sample.group(), sample.position());
+    let (orientation, distance) = (sample.orientation(), sample.distance());
+    word(u64::from(group.is_some()));
+    word(group.unwrap_or(0));
+    word(u64::from(position.is_some()));
+    word(u64::from(orientation.is_some()));
+    word(u64::from(distance.is_some()));
+    for value in position.iter().flat_map(|p| p.iter()) {
         word((value + 0.0).to_bits());
     }
-    for value in sample.orientation.iter().flat_map(|q| q.coords.iter()) {
+    for value in orientation.iter().flat_map(|q| q.coords.iter()) {
         word((value + 0.0).to_bits());
     }
-    if let Some(value) = sample.distance {
+    if let Some(value) = distance {
         word((value + 0.0).to_bits());
     }
 }

@@ -13,6 +13,7 @@ use crate::progress::{Observer, report_step};
 use crate::rows::{RowKind, RowWriter};
 use crate::sample::{DataColumn, Sample};
 use crate::sampler::Sampler;
+use crate::samples::SampleSlice;
 use crate::states::TerminalState;
 
 pub(super) const INFO: MethodInfo = MethodInfo::new(
@@ -37,29 +38,29 @@ impl CalibrationMethod for DistanceMeasure {
         self
     }
 
-    fn check_samples(&self, samples: &[Sample]) -> Result<(), Error> {
+    fn check_samples(&self, samples: SampleSlice<'_>) -> Result<(), Error> {
         check_group_sizes(samples, 2, 2, "pair")?;
         for pair in groups(samples) {
-            let (first, second) = (&samples[pair[0]], &samples[pair[1]]);
+            let (first, second) = (&samples.get(pair[0]), &samples.get(pair[1]));
             let (a, b) = (
-                first.distance.unwrap_or(f64::NAN),
-                second.distance.unwrap_or(f64::NAN),
+                first.distance().unwrap_or(f64::NAN),
+                second.distance().unwrap_or(f64::NAN),
             );
             if (a - b).abs() > 1e-9 * a.abs().max(1.0) {
                 return Err(Error::InvalidData {
-                    line: second.line,
+                    line: second.line(),
                     message: format!(
                         "pair {} gives two different distances ({a} and {b}); both rows of a pair carry the same measured distance",
-                        first.group.unwrap_or(0)
+                        first.group().unwrap_or(0)
                     ),
                 });
             }
             if a < 0.0 {
                 return Err(Error::InvalidData {
-                    line: first.line,
+                    line: first.line(),
                     message: format!(
                         "pair {}: a distance cannot be negative ({a})",
-                        first.group.unwrap_or(0)
+                        first.group().unwrap_or(0)
                     ),
                 });
             }
@@ -67,12 +68,12 @@ impl CalibrationMethod for DistanceMeasure {
         Ok(())
     }
 
-    fn row_count(&self, samples: &[Sample]) -> usize {
+    fn row_count(&self, samples: SampleSlice<'_>) -> usize {
         groups(samples).len()
     }
 
     /// One observation per pair.
-    fn grouped_observations(&self, samples: &[Sample]) -> Option<Vec<Vec<usize>>> {
+    fn grouped_observations(&self, samples: SampleSlice<'_>) -> Option<Vec<Vec<usize>>> {
         Some(groups(samples))
     }
 
@@ -82,7 +83,7 @@ impl CalibrationMethod for DistanceMeasure {
 
     fn linearise(
         &self,
-        samples: &[Sample],
+        samples: SampleSlice<'_>,
         states: &[TerminalState],
         _auxiliary: &[f64],
         rows: &mut RowWriter<'_>,
@@ -100,7 +101,7 @@ impl CalibrationMethod for DistanceMeasure {
                     first.add_jacobian_row(axis, -direction[axis], &mut coefficients);
                 }
             }
-            let measured = samples[members[0]].distance.unwrap_or(distance);
+            let measured = samples.get(members[0]).distance().unwrap_or(distance);
             rows.push(
                 RowKind::Length,
                 pair,
@@ -147,17 +148,17 @@ impl Sensor for DistanceMeasure {
     fn measure_at(
         &self,
         real: &Robot,
-        planned: &[Sample],
+        planned: SampleSlice<'_>,
         noise: f64,
         sampler: &mut Sampler,
         observer: &mut dyn Observer,
     ) -> Result<Vec<Sample>, Error> {
         check_group_sizes(planned, 2, 2, "pair")?;
-        let mut measured = planned.to_vec();
+        let mut measured = planned.to_rows();
         for (done, pair) in groups(planned).into_iter().enumerate() {
             report_step(observer, 2 * done, planned.len())?;
             let point = |index: usize| -> Result<_, Error> {
-                Ok(terminal_pose(real, &planned[index].motor_positions)?
+                Ok(terminal_pose(real, planned.get(index).motor_positions())?
                     .translation
                     .vector)
             };

@@ -7,7 +7,8 @@ use gecaro_core::{JacobianRows, OrientationDifference, orientation_difference};
 use super::readings::Reading;
 use crate::method::{CalibrationMethod, MethodInfo, Sensor};
 use crate::rows::{RowKind, RowWriter};
-use crate::sample::{DataColumn, Sample};
+use crate::sample::DataColumn;
+use crate::samples::SampleSlice;
 use crate::states::TerminalState;
 
 pub(super) const INFO: MethodInfo = MethodInfo::new(
@@ -41,14 +42,17 @@ impl CalibrationMethod for FrameMeasure {
 
     fn linearise(
         &self,
-        samples: &[Sample],
+        samples: SampleSlice<'_>,
         states: &[TerminalState],
         _auxiliary: &[f64],
         rows: &mut RowWriter<'_>,
     ) {
         for (index, (sample, state)) in samples.iter().zip(states).enumerate() {
-            let position = sample.position.unwrap_or_default() - state.pose.translation.vector;
-            let measured_rotation = sample.orientation.unwrap_or_default().to_rotation_matrix();
+            let position = sample.position().unwrap_or_default() - state.pose.translation.vector;
+            let measured_rotation = sample
+                .orientation()
+                .unwrap_or_default()
+                .to_rotation_matrix();
             let rotation =
                 orientation_difference(&measured_rotation, &state.pose.rotation, self.orientation);
             for axis in 0..6 {

@@ -9,7 +9,8 @@ use super::sets::check_group_sizes;
 use crate::error::Error;
 use crate::method::{CalibrationMethod, MethodInfo, Sensor};
 use crate::rows::RowWriter;
-use crate::sample::{DataColumn, Sample};
+use crate::sample::DataColumn;
+use crate::samples::SampleSlice;
 use crate::states::TerminalState;
 
 pub(super) const INFO: MethodInfo = MethodInfo::new(
@@ -44,11 +45,11 @@ impl CalibrationMethod for FrameLink {
         &self.sensor
     }
 
-    fn check_samples(&self, samples: &[Sample]) -> Result<(), Error> {
+    fn check_samples(&self, samples: SampleSlice<'_>) -> Result<(), Error> {
         check_group_sizes(samples, 2, usize::MAX, "set")
     }
 
-    fn dependent_rows(&self, samples: &[Sample]) -> usize {
+    fn dependent_rows(&self, samples: SampleSlice<'_>) -> usize {
         dependent_rows(self.sensor.linked, samples)
     }
 
@@ -58,7 +59,7 @@ impl CalibrationMethod for FrameLink {
 
     fn linearise(
         &self,
-        samples: &[Sample],
+        samples: SampleSlice<'_>,
         states: &[TerminalState],
         _auxiliary: &[f64],
         rows: &mut RowWriter<'_>,

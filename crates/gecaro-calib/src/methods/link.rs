@@ -16,6 +16,7 @@ use crate::progress::{Observer, report_step};
 use crate::rows::{RowKind, RowWriter};
 use crate::sample::Sample;
 use crate::sampler::Sampler;
+use crate::samples::SampleSlice;
 use crate::states::TerminalState;
 
 /// Start configurations tried per set before generation gives up.
@@ -78,7 +79,7 @@ impl Sensor for LinkSets {
     fn measure_at(
         &self,
         real: &Robot,
-        planned: &[Sample],
+        planned: SampleSlice<'_>,
         noise: f64,
         sampler: &mut Sampler,
         observer: &mut dyn Observer,
@@ -90,7 +91,7 @@ impl Sensor for LinkSets {
 /// Rows of every set; one observation per configuration.
 pub(super) fn linearise_sets(
     linked: Linked,
-    samples: &[Sample],
+    samples: SampleSlice<'_>,
     states: &[TerminalState],
     rows: &mut RowWriter<'_>,
 ) {
@@ -136,7 +137,7 @@ pub(super) fn linearise_sets(
 }
 
 /// One equation per set and dimension is used up by the centring.
-pub(super) fn dependent_rows(linked: Linked, samples: &[Sample]) -> usize {
+pub(super) fn dependent_rows(linked: Linked, samples: SampleSlice<'_>) -> usize {
     linked.dimension() * groups(samples).len()
 }
 
@@ -182,26 +183,26 @@ fn generate_sets(
 fn measure_sets(
     linked: Linked,
     real: &Robot,
-    planned: &[Sample],
+    planned: SampleSlice<'_>,
     noise: f64,
     sampler: &mut Sampler,
     observer: &mut dyn Observer,
 ) -> Result<Vec<Sample>, Error> {
-    let mut measured = planned.to_vec();
+    let mut measured = planned.to_rows();
     let mut done = 0;
     for set in groups(planned) {
         report_step(observer, done, planned.len())?;
         done += set.len();
         if set.len() < 2 {
             return Err(Error::InvalidData {
-                line: planned[set[0]].line,
+                line: planned.get(set[0]).line(),
                 message: format!(
                     "set {} has one configuration; a set needs at least 2",
-                    planned[set[0]].group.unwrap_or(0)
+                    planned.get(set[0]).group().unwrap_or(0)
                 ),
             });
         }
-        let pose = terminal_pose(real, &planned[set[0]].motor_positions)?;
+        let pose = terminal_pose(real, planned.get(set[0]).motor_positions())?;
         let mut members: Vec<Vec<f64>> = Vec::with_capacity(set.len());
         for index in &set {
             let target = perturbed_target(linked, &pose, noise, sampler);
@@ -209,7 +210,7 @@ fn measure_sets(
             let reached = sampler.reach(
                 real,
                 &target,
-                Some(&planned[*index].motor_positions),
+                Some(planned.get(*index).motor_positions()),
                 &others,
             )?;
             members.push(reached);

@@ -49,7 +49,8 @@ mod readings;
 mod sets;
 
 use crate::error::Error;
-use crate::sample::{DataColumn, Sample};
+use crate::sample::DataColumn;
+use crate::samples::SampleSlice;
 
 pub use crate::method::{CalibrationMethod, CloneMethod, MethodInfo, MethodOptions, Sensor};
 pub use crate::plane::Plane;
@@ -99,7 +100,7 @@ pub fn grouped(method: &dyn CalibrationMethod) -> bool {
 /// The units of `samples` for `method`: the sample indices of each set or
 /// pair (link and distance methods, grouped as the methods group them, in
 /// order of first appearance), single samples otherwise.
-pub fn units(method: &dyn CalibrationMethod, samples: &[Sample]) -> Vec<Vec<usize>> {
+pub fn units(method: &dyn CalibrationMethod, samples: SampleSlice<'_>) -> Vec<Vec<usize>> {
     if grouped(method) {
         sets::groups(samples)
     } else {

@@ -11,6 +11,7 @@ use crate::plane::Plane;
 use crate::progress::{Observer, report_step};
 use crate::sample::Sample;
 use crate::sampler::Sampler;
+use crate::samples::SampleSlice;
 use crate::states::TerminalState;
 
 /// The simulated session of a plane method: the terminal point touches
@@ -37,7 +38,7 @@ impl Sensor for PlaneContact {
     fn measure_at(
         &self,
         real: &Robot,
-        planned: &[Sample],
+        planned: SampleSlice<'_>,
         noise: f64,
         sampler: &mut Sampler,
         observer: &mut dyn Observer,
@@ -49,7 +50,7 @@ impl Sensor for PlaneContact {
     fn generate_like(
         &self,
         robot: &Robot,
-        _samples: &[Sample],
+        _samples: SampleSlice<'_>,
         states: &[TerminalState],
         count: usize,
         sampler: &mut Sampler,
@@ -149,7 +150,7 @@ fn generate_in_plane(
 fn measure_in_plane(
     real: &Robot,
     plane: &Plane,
-    planned: &[Sample],
+    planned: SampleSlice<'_>,
     noise: f64,
     sampler: &mut Sampler,
     observer: &mut dyn Observer,
@@ -163,10 +164,10 @@ fn measure_in_plane(
                 normal: plane.normal(),
                 offset: plane.normal().dot(&plane.point()) + sampler.gaussian(noise),
             };
-            let reached = sampler.reach(real, &target, Some(&sample.motor_positions), &[])?;
+            let reached = sampler.reach(real, &target, Some(sample.motor_positions()), &[])?;
             Ok(Sample {
                 motor_positions: reached.into(),
-                ..sample.clone()
+                ..sample.to_sample()
             })
         })
         .collect()

@@ -15,7 +15,7 @@ use crate::error::Error;
 use crate::method::{CalibrationMethod, MethodInfo, Sensor};
 use crate::plane::Plane;
 use crate::rows::{RowKind, RowWriter};
-use crate::sample::Sample;
+use crate::samples::SampleSlice;
 use crate::states::TerminalState;
 
 pub(super) const INFO: MethodInfo = MethodInfo::new(
@@ -71,7 +71,7 @@ impl CalibrationMethod for PlaneEquation {
 
     fn linearise(
         &self,
-        _samples: &[Sample],
+        _samples: SampleSlice<'_>,
         states: &[TerminalState],
         auxiliary: &[f64],
         rows: &mut RowWriter<'_>,

@@ -17,7 +17,7 @@ use super::sets::centre;
 use crate::error::Error;
 use crate::method::{CalibrationMethod, MethodInfo, Sensor};
 use crate::rows::{RowKind, RowWriter};
-use crate::sample::Sample;
+use crate::samples::SampleSlice;
 use crate::states::TerminalState;
 
 pub(super) const INFO: MethodInfo = MethodInfo::new(
@@ -60,7 +60,7 @@ impl CalibrationMethod for PlaneNormal {
         &self.sensor
     }
 
-    fn dependent_rows(&self, _samples: &[Sample]) -> usize {
+    fn dependent_rows(&self, _samples: SampleSlice<'_>) -> usize {
         1
     }
 
@@ -74,7 +74,7 @@ impl CalibrationMethod for PlaneNormal {
 
     fn linearise(
         &self,
-        _samples: &[Sample],
+        _samples: SampleSlice<'_>,
         states: &[TerminalState],
         auxiliary: &[f64],
         rows: &mut RowWriter<'_>,

@@ -7,7 +7,8 @@ use gecaro_core::JacobianRows;
 use super::readings::Reading;
 use crate::method::{CalibrationMethod, MethodInfo, Sensor};
 use crate::rows::{RowKind, RowWriter};
-use crate::sample::{DataColumn, Sample};
+use crate::sample::DataColumn;
+use crate::samples::SampleSlice;
 use crate::states::TerminalState;
 
 pub(super) const INFO: MethodInfo = MethodInfo::new(
@@ -35,13 +36,13 @@ impl CalibrationMethod for PositionMeasure {
 
     fn linearise(
         &self,
-        samples: &[Sample],
+        samples: SampleSlice<'_>,
         states: &[TerminalState],
         _auxiliary: &[f64],
         rows: &mut RowWriter<'_>,
     ) {
         for (index, (sample, state)) in samples.iter().zip(states).enumerate() {
-            let measured = sample.position.unwrap_or_default();
+            let measured = sample.position().unwrap_or_default();
             let difference = measured - state.pose.translation.vector;
             for axis in 0..3 {
                 rows.push(

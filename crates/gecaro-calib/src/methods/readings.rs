@@ -12,6 +12,7 @@ use crate::method::Sensor;
 use crate::progress::{Observer, report_step};
 use crate::sample::{Sample, SampleLoads};
 use crate::sampler::Sampler;
+use crate::samples::SampleSlice;
 
 /// What a sensor reads of frame n+1; the simulated session of the position
 /// and frame measure methods.
@@ -92,7 +93,7 @@ fn random_readings(
 fn readings_at(
     real: &Robot,
     reading: Reading,
-    planned: &[Sample],
+    planned: SampleSlice<'_>,
     noise: f64,
     sampler: &mut Sampler,
     observer: &mut dyn Observer,
@@ -102,14 +103,14 @@ fn readings_at(
     for (done, sample) in planned.iter().enumerate() {
         report_step(observer, done, planned.len())?;
         let planned = Sample {
-            loads: sample.loads.as_ref().map(|loads| {
+            loads: sample.loads().as_ref().map(|loads| {
                 Box::new(SampleLoads {
                     payload: loads.payload,
                     torques: loads.torques.clone(),
                     tilt_torques: None,
                 })
             }),
-            ..Sample::new(sample.motor_positions.clone())
+            ..Sample::new(sample.motor_positions())
         };
         samples.push(sensor.read(planned, noise, sampler)?);
     }
@@ -131,7 +132,7 @@ impl Sensor for Reading {
     fn measure_at(
         &self,
         real: &Robot,
-        planned: &[Sample],
+        planned: SampleSlice<'_>,
         noise: f64,
         sampler: &mut Sampler,
         observer: &mut dyn Observer,

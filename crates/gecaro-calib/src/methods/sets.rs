@@ -4,16 +4,16 @@
 use std::collections::HashMap;
 
 use crate::error::Error;
-use crate::sample::Sample;
+use crate::samples::SampleSlice;
 
 /// Sample indices grouped by their `group` id, groups in order of first appearance.
 ///
 /// Linear in the number of samples (a file of 10⁶ rows may hold 5·10⁵ pairs).
-pub(crate) fn groups(samples: &[Sample]) -> Vec<Vec<usize>> {
+pub(crate) fn groups(samples: SampleSlice<'_>) -> Vec<Vec<usize>> {
     let mut position_of: HashMap<u64, usize> = HashMap::new();
     let mut members: Vec<Vec<usize>> = Vec::new();
     for (index, sample) in samples.iter().enumerate() {
-        let id = sample.group.unwrap_or(0);
+        let id = sample.group().unwrap_or(0);
         let position = *position_of.entry(id).or_insert_with(|| {
             members.push(Vec::new());
             members.len() - 1
@@ -25,24 +25,24 @@ pub(crate) fn groups(samples: &[Sample]) -> Vec<Vec<usize>> {
 
 /// Checks that every group has between `min` and `max` members.
 pub(crate) fn check_group_sizes(
-    samples: &[Sample],
+    samples: SampleSlice<'_>,
     min: usize,
     max: usize,
     what: &str,
 ) -> Result<(), Error> {
     for members in groups(samples) {
         if members.len() < min || members.len() > max {
-            let first = &samples[members[0]];
+            let first = &samples.get(members[0]);
             let expected = if min == max {
                 format!("exactly {min}")
             } else {
                 format!("at least {min}")
             };
             return Err(Error::InvalidData {
-                line: first.line,
+                line: first.line(),
                 message: format!(
                     "{what} {} has {} configuration(s); it needs {expected}",
-                    first.group.unwrap_or(0),
+                    first.group().unwrap_or(0),
                     members.len()
                 ),
             });
@@ -90,6 +90,8 @@ pub(crate) fn set_sizes(count: usize, size: usize) -> Vec<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sample::Sample;
+    use crate::samples::Samples;
 
     #[test]
     fn centring_removes_the_mean() {
@@ -109,12 +111,15 @@ mod tests {
             ..Sample::new(vec![0.0])
         };
         let small: Vec<Sample> = [7, 3, 7, 9, 3].into_iter().map(with_group).collect();
-        assert_eq!(groups(&small), [vec![0, 2], vec![1, 4], vec![3]]);
+        assert_eq!(
+            groups(Samples::from(small.as_slice()).as_slice()),
+            [vec![0, 2], vec![1, 4], vec![3]]
+        );
         // 10⁵ pairs, ids in descending order: one pass (this was quadratic).
         let pairs: Vec<Sample> = (0..200_000_u64)
             .map(|row| with_group(1_000_000 - row / 2))
             .collect();
-        let grouped = groups(&pairs);
+        let grouped = groups(Samples::from(pairs.as_slice()).as_slice());
         assert_eq!(grouped.len(), 100_000);
         assert!(
             grouped

@@ -16,24 +16,25 @@ use crate::progress::Quiet;
 use crate::rows::ColumnLayout;
 use crate::sample::{DataColumn, Sample};
 use crate::sampler::Sampler;
+use crate::samples::{SampleSlice, Samples};
 use crate::study::{Study, StudyStates};
 
 /// `samples` reordered unit by unit, and each unit's range in the result:
 /// the rows of W then come unit by unit too.
 pub(super) fn contiguous(
-    samples: &[Sample],
+    samples: SampleSlice<'_>,
     units: &[Vec<usize>],
-) -> (Vec<Sample>, Vec<Range<usize>>) {
+) -> (Samples, Vec<Range<usize>>) {
     let mut ordered = Vec::with_capacity(samples.len());
     let ranges = units
         .iter()
         .map(|unit| {
             let start = ordered.len();
-            ordered.extend(unit.iter().map(|index| samples[*index].clone()));
+            ordered.extend(unit.iter().map(|index| samples.start() + index));
             start..ordered.len()
         })
         .collect();
-    (ordered, ranges)
+    (samples.whole().gather(&ordered), ranges)
 }
 
 /// `samples` with what the sensor would read on the nominal robot, exactly,
@@ -44,7 +45,7 @@ pub(super) fn contiguous(
 fn nominal_readings(
     robot: &Robot,
     method: &dyn CalibrationMethod,
-    samples: &[Sample],
+    samples: SampleSlice<'_>,
 ) -> Result<Vec<Sample>, Error> {
     let reads = method.data_columns().iter().any(|column| {
         matches!(
@@ -58,7 +59,7 @@ fn nominal_readings(
             // Forward models only: quick.
             .measure_at(robot, samples, 0.0, &mut Sampler::new(0), &mut Quiet)
     } else {
-        Ok(samples.to_vec())
+        Ok(samples.to_rows())
     }
 }
 
@@ -70,7 +71,8 @@ pub(crate) fn nominal_study(robot: &Robot, study: &Study) -> Result<Study, Error
     for set in &mut nominal.sets {
         let frame = |index: Option<usize>| index.map(|i| &study.frames[i]);
         let measuring = measuring_robot(robot, frame(set.tool), frame(set.station))?;
-        set.samples = nominal_readings(&measuring, set.method.as_ref(), &set.samples)?.into();
+        set.samples =
+            nominal_readings(&measuring, set.method.as_ref(), set.samples.as_slice())?.into();
     }
     Ok(nominal)
 }
@@ -127,7 +129,7 @@ impl BaseColumns {
     pub(crate) fn of(
         robot: &Robot,
         method: &dyn CalibrationMethod,
-        samples: &[Sample],
+        samples: SampleSlice<'_>,
         priority: &PriorityMatrix,
     ) -> Result<Self, Error> {
         let samples = nominal_readings(robot, method, samples)?;
@@ -183,7 +185,7 @@ impl BaseColumns {
         &self,
         robot: &Robot,
         method: &dyn CalibrationMethod,
-        samples: &[Sample],
+        samples: SampleSlice<'_>,
     ) -> Result<ObservationSystem, Error> {
         let samples = nominal_readings(robot, method, samples)?;
         let study = Study::single(method.clone_method(), samples, "candidates");
@@ -242,7 +244,7 @@ impl BaseColumns {
         &self,
         robot: &Robot,
         method: &dyn CalibrationMethod,
-        samples: &[Sample],
+        samples: SampleSlice<'_>,
         ranges: &[Range<usize>],
     ) -> Result<Blocks, Error> {
         let system = self.system(robot, method, samples)?;
@@ -250,7 +252,7 @@ impl BaseColumns {
             &system,
             ranges
                 .iter()
-                .map(|range| method.row_count(&samples[range.clone()])),
+                .map(|range| method.row_count(samples.slice(range.clone()))),
         )
     }
 

@@ -32,6 +32,7 @@ use crate::observability::Observability;
 use crate::progress::{Observer, Progress, report};
 use crate::sample::Sample;
 use crate::sampler::Sampler;
+use crate::samples::{SampleRef, SampleSlice, Samples};
 
 mod columns;
 mod continuous;
@@ -54,7 +55,7 @@ pub struct PlanRequest<'a> {
     /// included); rounded to whole sets and pairs.
     pub count: usize,
     /// Configurations measured already: part of the design, never dropped.
-    pub kept: &'a [Sample],
+    pub kept: SampleSlice<'a>,
     /// What the design optimises.
     pub criterion: Criterion,
     /// The smallest joint-space distance (Euclidean, radians and metres)
@@ -68,7 +69,7 @@ impl<'a> PlanRequest<'a> {
     pub fn new(count: usize) -> Self {
         PlanRequest {
             count,
-            kept: &[],
+            kept: SampleSlice::empty(),
             criterion: Criterion::D,
             min_distance: 0.0,
         }
@@ -109,7 +110,7 @@ pub struct CandidatePool<'a> {
     robot: &'a Robot,
     method: &'a dyn CalibrationMethod,
     /// The pool's samples, unit by unit.
-    samples: Vec<Sample>,
+    samples: Samples,
     /// Each unit's range in `samples`, in the order of [`units`] of the pool.
     ranges: Vec<Range<usize>>,
     columns: BaseColumns,
@@ -124,12 +125,12 @@ impl<'a> CandidatePool<'a> {
     pub fn new(
         robot: &'a Robot,
         method: &'a dyn CalibrationMethod,
-        pool: &[Sample],
+        pool: SampleSlice<'_>,
         priority: &PriorityMatrix,
     ) -> Result<Self, Error> {
         let (samples, ranges) = contiguous(pool, &units(method, pool));
-        let columns = BaseColumns::of(robot, method, &samples, priority)?;
-        let candidates = columns.blocks(robot, method, &samples, &ranges)?;
+        let columns = BaseColumns::of(robot, method, samples.as_slice(), priority)?;
+        let candidates = columns.blocks(robot, method, samples.as_slice(), &ranges)?;
         Ok(CandidatePool {
             robot,
             method,
@@ -174,19 +175,19 @@ impl<'a> CandidatePool<'a> {
     /// the pool drawn at random (whole sets and pairs).
     pub fn random_design(
         &self,
-        kept: &[Sample],
+        kept: SampleSlice<'_>,
         count: usize,
         sampler: &mut Sampler,
-    ) -> Vec<Sample> {
-        let mut design = kept.to_vec();
+    ) -> Samples {
+        let mut design = kept.to_rows();
         for unit in sampler.subset(self.ranges.len(), count.min(self.ranges.len())) {
-            design.extend_from_slice(&self.samples[self.ranges[unit].clone()]);
+            design.extend(self.samples.slice(self.ranges[unit].clone()).to_rows());
         }
-        design
+        design.into()
     }
 
     /// Σ X_uᵀX_u of `design` (any samples, whole units) in these columns.
-    fn information_of(&self, design: &[Sample]) -> Result<DMatrix<f64>, Error> {
+    fn information_of(&self, design: SampleSlice<'_>) -> Result<DMatrix<f64>, Error> {
         let width = self.columns.layout.columns();
         let zero = DMatrix::zeros(width, width);
         if design.is_empty() {
@@ -195,7 +196,7 @@ impl<'a> CandidatePool<'a> {
         let (design, ranges) = contiguous(design, &units(self.method, design));
         let blocks = self
             .columns
-            .blocks(self.robot, self.method, &design, &ranges)?;
+            .blocks(self.robot, self.method, design.as_slice(), &ranges)?;
         Ok(blocks.information(&zero, 0..ranges.len()))
     }
 
@@ -231,7 +232,11 @@ impl<'a> CandidatePool<'a> {
     ///
     /// # Errors
     /// Invalid samples, or no test poses for the test criterion.
-    pub fn assess(&self, design: &[Sample], criterion: &Criterion) -> Result<DesignQuality, Error> {
+    pub fn assess(
+        &self,
+        design: SampleSlice<'_>,
+        criterion: &Criterion,
+    ) -> Result<DesignQuality, Error> {
         let objective = self.objective(criterion)?;
         let information = self.information_of(design)?;
         Ok(quality(&information, &objective, design.len()))
@@ -254,16 +259,21 @@ impl<'a> CandidatePool<'a> {
     ) -> Result<Plan, Error> {
         let (robot, method, pool, ranges) = (self.robot, self.method, &self.samples, &self.ranges);
         let kept = request.kept;
-        let joint_positions = |sample: &Sample| {
+        let joint_positions = |sample: SampleRef<'_>| {
             robot
-                .joint_positions(&sample.motor_positions)
+                .joint_positions(sample.motor_positions())
                 .ok()
                 .filter(|q| robot.within_limits(q.as_slice()))
         };
         // Joint variables of every unit; None when one is outside the limits.
         let configurations: Vec<Option<Vec<DVector<f64>>>> = ranges
             .iter()
-            .map(|range| pool[range.clone()].iter().map(joint_positions).collect())
+            .map(|range| {
+                pool.slice(range.clone())
+                    .iter()
+                    .map(joint_positions)
+                    .collect()
+            })
             .collect();
         let admissible: Vec<bool> = configurations.iter().map(Option::is_some).collect();
         let admissible_count = admissible.iter().filter(|a| **a).count();
@@ -295,7 +305,7 @@ impl<'a> CandidatePool<'a> {
             request.min_distance,
         );
         for sample in kept {
-            if let Ok(q) = robot.joint_positions(&sample.motor_positions) {
+            if let Ok(q) = robot.joint_positions(sample.motor_positions()) {
                 spacing.keep(&[q]);
             }
         }
@@ -304,12 +314,12 @@ impl<'a> CandidatePool<'a> {
         let width = candidates.width;
         // Too few equations is known before any search: the pool's
         // equations per unit times the units asked, with the kept ones.
-        let equations_of = |samples: &[Sample]| {
+        let equations_of = |samples: SampleSlice<'_>| {
             method
                 .row_count(samples)
                 .saturating_sub(method.dependent_rows(samples))
         };
-        let pool_equations = equations_of(pool);
+        let pool_equations = equations_of(pool.as_slice());
         let expected = (pool_equations as f64 / ranges.len().max(1) as f64 * wanted as f64).floor()
             as usize
             + equations_of(kept);
@@ -385,11 +395,11 @@ impl<'a> CandidatePool<'a> {
         // steps allowed: the part is done.
         report(observer, Progress::Step { done: total, total })?;
         let chosen: Vec<usize> = (0..ranges.len()).filter(|u| chosen[*u]).collect();
-        let mut samples = kept.to_vec();
+        let mut samples = kept.to_rows();
         for unit in &chosen {
-            samples.extend_from_slice(&pool[ranges[*unit].clone()]);
+            samples.extend(pool.slice(ranges[*unit].clone()).to_rows());
         }
-        let equations = method.row_count(&samples) - method.dependent_rows(&samples);
+        let equations = equations_of(Samples::from(samples.as_slice()).as_slice());
         if equations < width {
             return Err(Error::TooFewEquations {
                 equations,
@@ -430,7 +440,7 @@ fn quality(
 pub fn plan_configurations(
     robot: &Robot,
     method: &dyn CalibrationMethod,
-    pool: &[Sample],
+    pool: SampleSlice<'_>,
     request: &PlanRequest<'_>,
     priority: &PriorityMatrix,
     observer: &mut dyn Observer,
@@ -482,9 +492,11 @@ pub fn plan_study(
     let mut ordered = nominal_study(robot, candidates)?;
     let mut ranges: Vec<(usize, Range<usize>)> = Vec::new();
     for (index, set) in ordered.sets.iter_mut().enumerate() {
-        let (samples, set_ranges) =
-            contiguous(&set.samples, &units(set.method.as_ref(), &set.samples));
-        set.samples = samples.into();
+        let (samples, set_ranges) = contiguous(
+            set.samples.as_slice(),
+            &units(set.method.as_ref(), set.samples.as_slice()),
+        );
+        set.samples = samples;
         ranges.extend(set_ranges.into_iter().map(|range| (index, range)));
     }
     ordered.check(robot)?;
@@ -495,18 +507,20 @@ pub fn plan_study(
         &system,
         ranges.iter().map(|(set, range)| {
             let set = &ordered.sets[*set];
-            set.method.row_count(&set.samples[range.clone()])
+            set.method.row_count(set.samples.slice(range.clone()))
         }),
     )?;
-    let within_limits = |sample: &Sample| {
+    let within_limits = |sample: SampleRef<'_>| {
         robot
-            .joint_positions(&sample.motor_positions)
+            .joint_positions(sample.motor_positions())
             .is_ok_and(|q| robot.within_limits(q.as_slice()))
     };
     let admissible: Vec<bool> = ranges
         .iter()
         .map(|(set, range)| {
-            ordered.sets[*set].samples[range.clone()]
+            ordered.sets[*set]
+                .samples
+                .slice(range.clone())
                 .iter()
                 .all(within_limits)
         })
@@ -560,20 +574,20 @@ pub fn plan_study(
     let mut equations = 0;
     for (unit, (set, range)) in ranges.iter().enumerate() {
         if chosen[unit] {
-            sets[*set].extend(
-                ordered.sets[*set].samples[range.clone()]
-                    .iter()
-                    .map(|sample| Sample {
-                        position: None,
-                        orientation: None,
-                        distance: None,
-                        line: None,
-                        ..sample.clone()
-                    }),
-            );
+            sets[*set].extend(ordered.sets[*set].samples.slice(range.clone()).iter().map(
+                |sample| Sample {
+                    position: None,
+                    orientation: None,
+                    distance: None,
+                    line: None,
+                    ..sample.to_sample()
+                },
+            ));
         }
     }
     for (set, samples) in ordered.sets.iter().zip(&sets) {
+        let samples = Samples::from(samples.as_slice());
+        let samples = samples.as_slice();
         equations += set.method.row_count(samples) - set.method.dependent_rows(samples);
     }
     if equations < width {
@@ -605,8 +619,8 @@ pub fn plan_study(
 pub fn assess_design(
     robot: &Robot,
     method: &dyn CalibrationMethod,
-    pool: &[Sample],
-    design: &[Sample],
+    pool: SampleSlice<'_>,
+    design: SampleSlice<'_>,
     criterion: &Criterion,
     priority: &PriorityMatrix,
 ) -> Result<DesignQuality, Error> {

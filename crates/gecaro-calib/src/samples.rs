@@ -1,0 +1,751 @@
+//! A data set as columns: what every calibration reads.
+//!
+//! [`Samples`] holds the configurations of a measurement set and what was
+//! measured at each, one column per field (the motor variables qm1..qmn of
+//! every configuration in one run of `m·n` values, the positions in one of
+//! `3m`, …), in the units of [`Sample`]: metres, radians, unit quaternions
+//! `(w, x, y, z)`. A column is shared, not copied: cloning a set's samples
+//! clones pointers, and a column may be memory that someone else owns and
+//! keeps alive (a numpy array, through [`Column::shared`]), read in place.
+//!
+//! Code reads samples through [`SampleSlice`] (a run of consecutive samples,
+//! `Copy`) and [`SampleRef`] (one sample), whose accessors do not say how the
+//! values are stored. A [`Sample`] is the row form, for building data one
+//! configuration at a time ([`Samples::from`] a `Vec<Sample>`) and for
+//! changing them ([`Samples::to_rows`]).
+//!
+//! ```
+//! use gecaro_calib::study::{Sample, Samples};
+//! use nalgebra::Vector3;
+//!
+//! let mut row = Sample::new(vec![0.1, 0.2]);
+//! row.position = Some(Vector3::new(1.0, 2.0, 3.0));
+//! let samples = Samples::from(vec![row.clone(), Sample::new(vec![0.3, 0.4])]);
+//! assert_eq!(samples.len(), 2);
+//! assert_eq!(samples.get(0).motor_positions(), &[0.1, 0.2]);
+//! assert_eq!(samples.get(0).position(), Some(Vector3::new(1.0, 2.0, 3.0)));
+//! assert_eq!(samples.get(1).position(), None);
+//! assert_eq!(samples.get(0).to_sample(), row);
+//! ```
+
+use std::fmt;
+use std::ops::Range;
+use std::sync::{Arc, LazyLock};
+
+use gecaro_core::LinkMass;
+use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+
+use crate::sample::{DataColumn, Sample, SampleLoads};
+
+/// The values of one column: owned, or memory kept alive by its owner and
+/// read in place ([`Column::shared`]).
+#[derive(Clone)]
+pub struct Column<T: 'static>(Arc<dyn AsRef<[T]> + Send + Sync>);
+
+impl<T: 'static + Send + Sync> Column<T> {
+    /// A column read in place from `owner` (whatever keeps the values alive
+    /// and unchanged while the column lives: a numpy array's handle).
+    pub fn shared(owner: impl AsRef<[T]> + Send + Sync + 'static) -> Self {
+        Column(Arc::new(owner))
+    }
+
+    fn values(&self) -> &[T] {
+        (*self.0).as_ref()
+    }
+}
+
+impl<T: 'static + Send + Sync> From<Vec<T>> for Column<T> {
+    fn from(values: Vec<T>) -> Self {
+        Column(Arc::new(values))
+    }
+}
+
+/// An optional field of `width` values per sample: absent, or a column
+/// with, when some samples lack it, which do.
+#[derive(Clone)]
+struct Field<T: 'static> {
+    values: Column<T>,
+    /// `missing[i]`: sample i has no value (its slots hold zeros).
+    missing: Option<Arc<[bool]>>,
+}
+
+impl<T: Copy + Default + Send + Sync + 'static> Field<T> {
+    /// The field of `rows` (`W` values each, `None`: not there), or
+    /// `None` when no row has it.
+    fn of<R, const W: usize>(rows: &[R], value: impl Fn(&R) -> Option<[T; W]>) -> Option<Self> {
+        let mut values = Vec::with_capacity(rows.len() * W);
+        let mut missing = Vec::new();
+        let mut any = false;
+        for (index, row) in rows.iter().enumerate() {
+            match value(row) {
+                Some(found) => {
+                    any = true;
+                    values.extend_from_slice(&found);
+                }
+                None => {
+                    if missing.is_empty() {
+                        missing.resize(rows.len(), false);
+                    }
+                    missing[index] = true;
+                    values.extend_from_slice(&[T::default(); W]);
+                }
+            }
+        }
+        any.then(|| Field {
+            values: values.into(),
+            missing: (!missing.is_empty()).then(|| missing.into()),
+        })
+    }
+
+    fn at(&self, index: usize, width: usize) -> Option<&[T]> {
+        if self.missing.as_ref().is_some_and(|missing| missing[index]) {
+            return None;
+        }
+        Some(&self.values.values()[index * width..(index + 1) * width])
+    }
+
+    /// The rows `indices` of this field.
+    fn gather(&self, indices: &[usize], width: usize) -> Option<Self> {
+        let values = self.values.values();
+        let kept: Vec<T> = indices
+            .iter()
+            .flat_map(|&index| &values[index * width..(index + 1) * width])
+            .copied()
+            .collect();
+        let missing = self.missing.as_ref().map(|missing| {
+            indices
+                .iter()
+                .map(|&index| missing[index])
+                .collect::<Arc<[bool]>>()
+        });
+        if missing
+            .as_ref()
+            .is_some_and(|missing| missing.iter().all(|m| *m))
+        {
+            return None;
+        }
+        Some(Field {
+            values: kept.into(),
+            missing: missing.filter(|missing| missing.iter().any(|m| *m)),
+        })
+    }
+}
+
+/// The line numbers of the samples in their data file.
+#[derive(Clone)]
+enum Lines {
+    /// Sample i was row `first + i` (arrays: their row index).
+    Counted(usize),
+    /// Each sample's line, when known.
+    Listed(Option<Field<usize>>),
+}
+
+/// The configurations of a data set and what was measured at each, as
+/// columns; see the module docs.
+#[derive(Clone)]
+pub struct Samples {
+    len: usize,
+    /// The motor variables: `joints` per sample, or where `offsets` says
+    /// when samples have different counts (`offsets[i]..offsets[i + 1]`).
+    motor: Column<f64>,
+    joints: usize,
+    offsets: Option<Arc<[usize]>>,
+    position: Option<Field<f64>>,
+    orientation: Option<Field<f64>>,
+    group: Option<Field<u64>>,
+    distance: Option<Field<f64>>,
+    lines: Lines,
+    loads: Option<Arc<Vec<Option<Box<SampleLoads>>>>>,
+}
+
+/// Columns read in place, to make [`Samples`] of ([`Samples::from_columns`]).
+pub struct SampleColumns {
+    /// Motor variables, `joints` per configuration (row-major).
+    pub motor_positions: Column<f64>,
+    /// Joints per configuration.
+    pub joints: usize,
+    /// Positions, 3 per configuration (m).
+    pub position: Option<Column<f64>>,
+    /// Unit quaternions `(w, x, y, z)`, 4 per configuration.
+    pub orientation: Option<Column<f64>>,
+    /// Set or pair ids, one per configuration.
+    pub group: Option<Column<u64>>,
+    /// Distances (m), one per configuration.
+    pub distance: Option<Column<f64>>,
+    /// Sample i's line, for messages: `first_line + i`.
+    pub first_line: usize,
+}
+
+impl Samples {
+    /// Samples of columns read in place (see [`SampleColumns`]).
+    ///
+    /// # Errors
+    /// A sentence naming the column whose length is not a whole number of
+    /// rows of the configurations' count.
+    pub fn from_columns(columns: SampleColumns) -> Result<Samples, String> {
+        let SampleColumns {
+            motor_positions,
+            joints,
+            position,
+            orientation,
+            group,
+            distance,
+            first_line,
+        } = columns;
+        if joints == 0 || motor_positions.values().len() % joints != 0 {
+            return Err(format!(
+                "qm: {} values are not rows of {joints} joints",
+                motor_positions.values().len()
+            ));
+        }
+        let len = motor_positions.values().len() / joints;
+        let field = |column: Option<Column<f64>>, width: usize, name: &str| {
+            column
+                .map(|values| {
+                    let found = values.values().len();
+                    if found == len * width {
+                        Ok(Field {
+                            values,
+                            missing: None,
+                        })
+                    } else {
+                        Err(format!(
+                            "{name}: expected {width} values for each of {len} configurations, \
+                             got {found}"
+                        ))
+                    }
+                })
+                .transpose()
+        };
+        let group = match group {
+            Some(values) if values.values().len() != len => {
+                return Err(format!(
+                    "set/pair: expected {len} ids, got {}",
+                    values.values().len()
+                ));
+            }
+            values => values.map(|values| Field {
+                values,
+                missing: None,
+            }),
+        };
+        Ok(Samples {
+            len,
+            motor: motor_positions,
+            joints,
+            offsets: None,
+            position: field(position, 3, "position")?,
+            orientation: field(orientation, 4, "orientation")?,
+            group,
+            distance: field(distance, 1, "distance")?,
+            lines: Lines::Counted(first_line),
+            loads: None,
+        })
+    }
+
+    /// No samples.
+    pub fn empty() -> Samples {
+        Samples::from(Vec::new())
+    }
+
+    /// How many samples.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Sample `index` (panics beyond [`len`](Self::len), as slices do).
+    pub fn get(&self, index: usize) -> SampleRef<'_> {
+        self.as_slice().get(index)
+    }
+
+    /// All of them, as a slice.
+    pub fn as_slice(&self) -> SampleSlice<'_> {
+        SampleSlice {
+            samples: self,
+            start: 0,
+            end: self.len,
+        }
+    }
+
+    /// The samples `range`, as a slice.
+    pub fn slice(&self, range: Range<usize>) -> SampleSlice<'_> {
+        self.as_slice().slice(range)
+    }
+
+    /// The samples in order.
+    pub fn iter(
+        &self,
+    ) -> impl DoubleEndedIterator<Item = SampleRef<'_>> + ExactSizeIterator + Clone {
+        self.as_slice().iter()
+    }
+
+    /// The samples as rows (a copy), to change them.
+    pub fn to_rows(&self) -> Vec<Sample> {
+        self.as_slice().to_rows()
+    }
+
+    /// The samples at `indices`, in that order (a copy of those rows).
+    pub fn gather(&self, indices: &[usize]) -> Samples {
+        let motor = self.motor.values();
+        let mut kept = Vec::with_capacity(indices.len() * self.joints);
+        let mut offsets = self.offsets.as_ref().map(|_| vec![0]);
+        for &index in indices {
+            let range = self.motor_range(index);
+            kept.extend_from_slice(&motor[range]);
+            if let Some(offsets) = offsets.as_mut() {
+                offsets.push(kept.len());
+            }
+        }
+        Samples {
+            len: indices.len(),
+            motor: kept.into(),
+            joints: self.joints,
+            offsets: offsets.map(Into::into),
+            position: self.position.as_ref().and_then(|f| f.gather(indices, 3)),
+            orientation: self.orientation.as_ref().and_then(|f| f.gather(indices, 4)),
+            group: self.group.as_ref().and_then(|f| f.gather(indices, 1)),
+            distance: self.distance.as_ref().and_then(|f| f.gather(indices, 1)),
+            lines: Lines::Listed(Field::of(indices, |&index| {
+                self.get(index).line().map(|line| [line])
+            })),
+            loads: self
+                .loads
+                .as_ref()
+                .map(|loads| Arc::new(indices.iter().map(|&index| loads[index].clone()).collect())),
+        }
+    }
+
+    /// Every sample's loads, to change ([`Sample::loads`]; a copy of them
+    /// when they are shared).
+    pub fn loads_mut(&mut self) -> &mut [Option<Box<SampleLoads>>] {
+        let len = self.len;
+        Arc::make_mut(self.loads.get_or_insert_with(|| Arc::new(vec![None; len]))).as_mut_slice()
+    }
+
+    fn motor_range(&self, index: usize) -> Range<usize> {
+        match &self.offsets {
+            None => index * self.joints..(index + 1) * self.joints,
+            Some(offsets) => offsets[index]..offsets[index + 1],
+        }
+    }
+}
+
+impl From<Vec<Sample>> for Samples {
+    fn from(rows: Vec<Sample>) -> Self {
+        Samples::from(rows.as_slice())
+    }
+}
+
+impl From<&[Sample]> for Samples {
+    fn from(rows: &[Sample]) -> Self {
+        let joints = rows.first().map_or(0, |row| row.motor_positions.len());
+        let ragged = rows.iter().any(|row| row.motor_positions.len() != joints);
+        let mut motor = Vec::with_capacity(rows.len() * joints);
+        let mut offsets = ragged.then(|| Vec::with_capacity(rows.len() + 1));
+        if let Some(offsets) = offsets.as_mut() {
+            offsets.push(0);
+        }
+        for row in rows {
+            motor.extend_from_slice(&row.motor_positions);
+            if let Some(offsets) = offsets.as_mut() {
+                offsets.push(motor.len());
+            }
+        }
+        let any_loads = rows.iter().any(|row| row.loads.is_some());
+        Samples {
+            len: rows.len(),
+            motor: motor.into(),
+            joints,
+            offsets: offsets.map(Into::into),
+            position: Field::of(rows, |row| row.position.map(|v| [v.x, v.y, v.z])),
+            orientation: Field::of(rows, |row| row.orientation.map(|q| [q.w, q.i, q.j, q.k])),
+            group: Field::of(rows, |row| row.group.map(|g| [g])),
+            distance: Field::of(rows, |row| row.distance.map(|d| [d])),
+            lines: Lines::Listed(Field::of(rows, |row| row.line.map(|l| [l]))),
+            loads: any_loads.then(|| Arc::new(rows.iter().map(|row| row.loads.clone()).collect())),
+        }
+    }
+}
+
+impl FromIterator<Sample> for Samples {
+    fn from_iter<I: IntoIterator<Item = Sample>>(iter: I) -> Self {
+        Samples::from(iter.into_iter().collect::<Vec<_>>())
+    }
+}
+
+impl Default for Samples {
+    fn default() -> Self {
+        Samples::empty()
+    }
+}
+
+impl PartialEq for Samples {
+    fn eq(&self, other: &Self) -> bool {
+        self.len == other.len && self.iter().zip(other.iter()).all(|(a, b)| a == b)
+    }
+}
+
+impl PartialEq<Vec<Sample>> for Samples {
+    fn eq(&self, rows: &Vec<Sample>) -> bool {
+        self.len == rows.len() && self.iter().zip(rows).all(|(a, b)| a == *b)
+    }
+}
+
+impl PartialEq<Samples> for Vec<Sample> {
+    fn eq(&self, samples: &Samples) -> bool {
+        samples == self
+    }
+}
+
+impl fmt::Debug for Samples {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_list().entries(self.iter()).finish()
+    }
+}
+
+impl<'a> IntoIterator for &'a Samples {
+    type Item = SampleRef<'a>;
+    type IntoIter = SampleIter<'a>;
+
+    fn into_iter(self) -> SampleIter<'a> {
+        self.as_slice().iter()
+    }
+}
+
+/// A run of consecutive samples (of one [`Samples`]); see the module docs.
+#[derive(Clone, Copy)]
+pub struct SampleSlice<'a> {
+    samples: &'a Samples,
+    start: usize,
+    end: usize,
+}
+
+impl<'a> SampleSlice<'a> {
+    /// No samples.
+    pub fn empty() -> SampleSlice<'static> {
+        static EMPTY: LazyLock<Samples> = LazyLock::new(Samples::empty);
+        EMPTY.as_slice()
+    }
+
+    /// The samples this slice is part of.
+    pub fn whole(self) -> &'a Samples {
+        self.samples
+    }
+
+    /// Where this slice starts in [`whole`](Self::whole).
+    pub fn start(self) -> usize {
+        self.start
+    }
+
+    /// How many samples.
+    pub fn len(self) -> usize {
+        self.end - self.start
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(self) -> bool {
+        self.start == self.end
+    }
+
+    /// Sample `index` of this slice (panics beyond its length, as slices do).
+    pub fn get(self, index: usize) -> SampleRef<'a> {
+        assert!(
+            index < self.len(),
+            "sample {index} of a slice of {}",
+            self.len()
+        );
+        SampleRef {
+            samples: self.samples,
+            index: self.start + index,
+        }
+    }
+
+    /// The samples `range` of this slice.
+    pub fn slice(self, range: Range<usize>) -> SampleSlice<'a> {
+        assert!(
+            range.start <= range.end && range.end <= self.len(),
+            "samples {range:?} of a slice of {}",
+            self.len()
+        );
+        SampleSlice {
+            samples: self.samples,
+            start: self.start + range.start,
+            end: self.start + range.end,
+        }
+    }
+
+    /// The samples in order.
+    pub fn iter(self) -> SampleIter<'a> {
+        SampleIter {
+            samples: self.samples,
+            range: self.start..self.end,
+        }
+    }
+
+    /// Consecutive runs of `size` samples (the last shorter).
+    pub fn chunks(self, size: usize) -> impl Iterator<Item = SampleSlice<'a>> + Clone {
+        assert!(size > 0, "chunks of 0 samples");
+        (self.start..self.end)
+            .step_by(size)
+            .map(move |start| SampleSlice {
+                samples: self.samples,
+                start,
+                end: (start + size).min(self.end),
+            })
+    }
+
+    /// These samples on their own (a copy of their rows of every column).
+    pub fn to_samples(self) -> Samples {
+        self.samples
+            .gather(&(self.start..self.end).collect::<Vec<_>>())
+    }
+
+    /// These samples as rows (a copy).
+    pub fn to_rows(self) -> Vec<Sample> {
+        self.iter().map(|sample| sample.to_sample()).collect()
+    }
+}
+
+impl fmt::Debug for SampleSlice<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_list().entries(self.iter()).finish()
+    }
+}
+
+impl<'a> IntoIterator for SampleSlice<'a> {
+    type Item = SampleRef<'a>;
+    type IntoIter = SampleIter<'a>;
+
+    fn into_iter(self) -> SampleIter<'a> {
+        self.iter()
+    }
+}
+
+impl<'a> From<&'a Samples> for SampleSlice<'a> {
+    fn from(samples: &'a Samples) -> Self {
+        samples.as_slice()
+    }
+}
+
+/// The samples of a [`SampleSlice`], in order.
+#[derive(Clone)]
+pub struct SampleIter<'a> {
+    samples: &'a Samples,
+    range: Range<usize>,
+}
+
+impl<'a> Iterator for SampleIter<'a> {
+    type Item = SampleRef<'a>;
+
+    fn next(&mut self) -> Option<SampleRef<'a>> {
+        let index = self.range.next()?;
+        Some(SampleRef {
+            samples: self.samples,
+            index,
+        })
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        self.range.size_hint()
+    }
+}
+
+impl DoubleEndedIterator for SampleIter<'_> {
+    fn next_back(&mut self) -> Option<Self::Item> {
+        let index = self.range.next_back()?;
+        Some(SampleRef {
+            samples: self.samples,
+            index,
+        })
+    }
+}
+
+impl ExactSizeIterator for SampleIter<'_> {}
+
+/// One sample of a [`Samples`]: the fields of [`Sample`], read where they
+/// are stored.
+#[derive(Clone, Copy)]
+pub struct SampleRef<'a> {
+    samples: &'a Samples,
+    index: usize,
+}
+
+impl<'a> SampleRef<'a> {
+    /// Motor variables qm (eq. 4): radians or metres.
+    pub fn motor_positions(self) -> &'a [f64] {
+        &self.samples.motor.values()[self.samples.motor_range(self.index)]
+    }
+
+    /// Measured position of the origin of frame n+1 in the world frame (m).
+    pub fn position(self) -> Option<Vector3<f64>> {
+        let xyz = self.samples.position.as_ref()?.at(self.index, 3)?;
+        Some(Vector3::new(xyz[0], xyz[1], xyz[2]))
+    }
+
+    /// Measured orientation of frame n+1 in the world frame.
+    pub fn orientation(self) -> Option<UnitQuaternion<f64>> {
+        let q = self.samples.orientation.as_ref()?.at(self.index, 4)?;
+        Some(UnitQuaternion::new_unchecked(Quaternion::new(
+            q[0], q[1], q[2], q[3],
+        )))
+    }
+
+    /// Set id (link methods) or pair id (distance method).
+    pub fn group(self) -> Option<u64> {
+        Some(self.samples.group.as_ref()?.at(self.index, 1)?[0])
+    }
+
+    /// Measured distance to the other configuration of the pair (m).
+    pub fn distance(self) -> Option<f64> {
+        Some(self.samples.distance.as_ref()?.at(self.index, 1)?[0])
+    }
+
+    /// Line of the data file this sample came from, for messages.
+    pub fn line(self) -> Option<usize> {
+        match &self.samples.lines {
+            Lines::Counted(first) => Some(first + self.index),
+            Lines::Listed(field) => Some(field.as_ref()?.at(self.index, 1)?[0]),
+        }
+    }
+
+    /// The payload and the joint loads at this configuration, when the data
+    /// state them ([`Sample::loads`]).
+    pub fn loads(self) -> Option<&'a SampleLoads> {
+        self.samples.loads.as_ref()?[self.index].as_deref()
+    }
+
+    /// The payload carried at this configuration, if the data state one.
+    pub fn payload(self) -> Option<&'a LinkMass> {
+        self.loads()?.payload.as_ref()
+    }
+
+    /// The gravity torque of every joint ([`SampleLoads::torques`]).
+    pub fn torques(self) -> Option<&'a [f64]> {
+        self.loads()?.torques.as_deref()
+    }
+
+    /// The torques' derivatives with respect to gravity's two tilts
+    /// ([`SampleLoads::tilt_torques`]).
+    pub fn tilt_torques(self) -> Option<&'a [f64]> {
+        self.loads()?.tilt_torques.as_deref()
+    }
+
+    /// This sample as a row (a copy).
+    pub fn to_sample(self) -> Sample {
+        let mut sample = Sample::new(self.motor_positions());
+        sample.position = self.position();
+        sample.orientation = self.orientation();
+        sample.group = self.group();
+        sample.distance = self.distance();
+        sample.line = self.line();
+        sample.loads = self.loads().map(|loads| Box::new(loads.clone()));
+        sample
+    }
+
+    /// Checks that this sample has the field of `column`, finite
+    /// ([`Sample::check_column`]).
+    ///
+    /// # Errors
+    /// What is missing or not finite, as a sentence.
+    pub fn check_column(self, column: DataColumn) -> Result<(), String> {
+        crate::sample::check_fields(
+            column,
+            self.position(),
+            self.orientation(),
+            self.group(),
+            self.distance(),
+        )
+    }
+}
+
+impl PartialEq for SampleRef<'_> {
+    fn eq(&self, other: &Self) -> bool {
+        self.motor_positions() == other.motor_positions()
+            && self.position() == other.position()
+            && self.orientation() == other.orientation()
+            && self.group() == other.group()
+            && self.distance() == other.distance()
+            && self.line() == other.line()
+            && self.loads() == other.loads()
+    }
+}
+
+impl PartialEq<Sample> for SampleRef<'_> {
+    fn eq(&self, other: &Sample) -> bool {
+        self.to_sample() == *other
+    }
+}
+
+impl fmt::Debug for SampleRef<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        self.to_sample().fmt(f)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rows() -> Vec<Sample> {
+        let mut first = Sample::new(vec![0.1, 0.2, 0.3]);
+        first.position = Some(Vector3::new(1.0, 2.0, 3.0));
+        first.line = Some(2);
+        first.group = Some(7);
+        let mut second = Sample::new(vec![0.4, 0.5]);
+        second.orientation = Some(UnitQuaternion::from_euler_angles(0.1, 0.2, 0.3));
+        second.distance = Some(0.25);
+        second.set_payload(Some(LinkMass {
+            mass: 2.0,
+            com: Vector3::new(0.0, 0.0, 0.1),
+        }));
+        let third = Sample::new(vec![0.6, 0.7, 0.8]);
+        vec![first, second, third]
+    }
+
+    /// Rows with different fields, counts of joints and loads come back
+    /// as they went in, and so does any selection of them.
+    #[test]
+    fn rows_survive_the_columns_whatever_each_holds() {
+        let rows = rows();
+        let samples = Samples::from(rows.clone());
+        assert_eq!(samples.to_rows(), rows);
+        assert_eq!(samples.get(1).motor_positions(), &[0.4, 0.5]);
+        assert_eq!(samples.get(2).position(), None);
+        assert_eq!(samples.get(0).line(), Some(2));
+        assert_eq!(samples.get(1).line(), None);
+        let picked = samples.gather(&[2, 0]);
+        assert_eq!(picked.to_rows(), vec![rows[2].clone(), rows[0].clone()]);
+        let middle = samples.as_slice().slice(1..3);
+        assert_eq!(middle.to_rows(), rows[1..].to_vec());
+        let chunks: Vec<usize> = samples.as_slice().chunks(2).map(SampleSlice::len).collect();
+        assert_eq!(chunks, vec![2, 1]);
+    }
+
+    /// Columns read in place number their rows and refuse lengths that do
+    /// not make whole rows.
+    #[test]
+    fn columns_read_in_place_are_checked_and_counted() {
+        let columns = |position: Vec<f64>| SampleColumns {
+            motor_positions: Column::shared(vec![0.0, 1.0, 2.0, 3.0]),
+            joints: 2,
+            position: Some(Column::shared(position)),
+            orientation: None,
+            group: None,
+            distance: None,
+            first_line: 0,
+        };
+        let samples =
+            Samples::from_columns(columns(vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0])).expect("two rows");
+        assert_eq!(samples.len(), 2);
+        assert_eq!(samples.get(1).motor_positions(), &[2.0, 3.0]);
+        assert_eq!(samples.get(1).position(), Some(Vector3::new(4.0, 5.0, 6.0)));
+        assert_eq!(samples.get(1).line(), Some(1));
+        let error = Samples::from_columns(columns(vec![1.0; 5])).expect_err("5 values");
+        assert!(error.contains("position"), "{error}");
+    }
+}
