@@ -28,8 +28,8 @@ fn tracker_file(folder: &std::path::Path) -> String {
         .expect("generated");
     let mut text = String::from("A1,A2,A3,A4,A5,A6,X,Y,Z,stamp\n");
     for (row, sample) in generated.samples.iter().enumerate() {
-        let q = &sample.motor_positions;
-        let p = sample.position.expect("position") * 1e3;
+        let q = &sample.motor_positions();
+        let p = sample.position().expect("position") * 1e3;
         // Joint 3 is prismatic: metres to millimetres like the positions.
         text.push_str(&format!(
             "{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},t{row}\n",

@@ -97,7 +97,7 @@ pub struct Generated {
     /// The method.
     pub method: Box<dyn CalibrationMethod>,
     /// The simulated measurements.
-    pub samples: Vec<Sample>,
+    pub samples: Samples,
     /// The real robot they were measured on.
     pub real: RobotFile,
     /// Whether the real robot was given (else drawn at `error_level`).
@@ -312,14 +312,11 @@ impl GenerateRequest {
         } else {
             samples.collect()
         };
+        let samples = Samples::from(samples);
         // Whoever asked may have gone while the data were drawn (a closed
         // page, Ctrl-C): then nothing is written.
         report_step(observer, samples.len(), samples.len())?;
-        let displacement = terminal_displacement(
-            robot,
-            &real.robot,
-            Samples::from(samples.as_slice()).as_slice(),
-        )?;
+        let displacement = terminal_displacement(robot, &real.robot, samples.as_slice())?;
         // The file says where its data came from (a comment line, which the
         // data reader skips).
         let csv = format!(
@@ -328,7 +325,7 @@ impl GenerateRequest {
             gecaro_io::format_samples(
                 robot.joint_count(),
                 method.data_columns(),
-                Samples::from(samples.as_slice()).as_slice()
+                samples.as_slice()
             )
         );
         let saved = match &self.save_as {

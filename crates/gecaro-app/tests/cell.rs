@@ -25,7 +25,7 @@ fn lowest(generated: &gecaro_app::Generated) -> f64 {
         .iter()
         .flat_map(|sample| {
             let chain =
-                forward_kinematics(&generated.real.robot, &sample.motor_positions).expect("fk");
+                forward_kinematics(&generated.real.robot, sample.motor_positions()).expect("fk");
             chain
                 .poses()
                 .iter()
@@ -71,7 +71,8 @@ fn a_station_sees_every_reflector_within_its_cone() {
         },
     );
     for sample in &generated.samples {
-        let chain = forward_kinematics(&generated.real.robot, &sample.motor_positions).expect("fk");
+        let chain =
+            forward_kinematics(&generated.real.robot, sample.motor_positions()).expect("fk");
         let tool = chain.world_from_tool();
         let to_station = (station - tool.translation.vector).normalize();
         let axis = tool.rotation * nalgebra::Vector3::z();

@@ -12,7 +12,11 @@ fn a_document_lists_the_worst_outliers_and_counts_them_all() {
             "error_level": 0.5, "noise": 1e-5, "seed": 3}"#,
     )
     .expect("request");
-    let mut samples = generate.run(&LocalFiles, &mut Quiet).expect("data").samples;
+    let mut samples = generate
+        .run(&LocalFiles, &mut Quiet)
+        .expect("data")
+        .samples
+        .to_rows();
     // 1500 readings off by 1–3 cm (a reflector knocked, a wrong target):
     // beyond the bound on listed outliers, well within what a robust loss
     // sets aside.

@@ -13,7 +13,9 @@ use crate::observation::{ObservationSystem, linearise_independent, write_rows};
 use crate::rows::{ColumnLayout, RowWriter};
 
 pub use crate::sample::{DataColumn, MotorPositions, Sample, SampleLoads};
-pub use crate::samples::{Column, SampleColumns, SampleIter, SampleRef, SampleSlice, Samples};
+pub use crate::samples::{
+    Column, SampleColumns, SampleIter, SampleRef, SampleSlice, Samples, SamplesBuilder,
+};
 use crate::states::{TerminalState, evaluate_poses, evaluate_states};
 
 /// One measurement set of a study.

@@ -11,7 +11,7 @@
 //! lines than [`MAX_CONFIGURATIONS`] (the limit cannot fall inside a part).
 
 use gecaro_calib::parallel::{available_threads, run_parts};
-use gecaro_calib::study::{MotorPositions, Sample};
+use gecaro_calib::study::{MotorPositions, Sample, SamplesBuilder};
 use gecaro_core::LinkMass;
 use nalgebra::Vector3;
 use std::io::Read;
@@ -99,7 +99,7 @@ impl Normalised {
 
 /// What a part of the rows gave: its samples up to its first error.
 pub(crate) struct Rows {
-    pub(crate) samples: Vec<Sample>,
+    pub(crate) samples: SamplesBuilder,
     pub(crate) normalised: Normalised,
     pub(crate) error: Option<Error>,
 }
@@ -110,7 +110,7 @@ impl Rows {
     /// read no further). A part after an error is not to be appended.
     fn append(&mut self, later: Rows) -> bool {
         debug_assert!(self.error.is_none());
-        self.samples.extend(later.samples);
+        self.samples.append(later.samples);
         self.normalised = self.normalised.then(later.normalised);
         self.error = later.error;
         self.error.is_none()
@@ -142,7 +142,7 @@ impl RowReader<'_> {
         capacity: usize,
     ) -> Rows {
         let mut rows = Rows {
-            samples: Vec::with_capacity(capacity.min(MAX_CONFIGURATIONS)),
+            samples: SamplesBuilder::with_capacity(capacity.min(MAX_CONFIGURATIONS)),
             normalised: Normalised::default(),
             error: None,
         };
@@ -151,7 +151,7 @@ impl RowReader<'_> {
             if samples.len() == MAX_CONFIGURATIONS {
                 return Err(self.too_many(line));
             }
-            samples.push(self.sample(record, line, normalised)?);
+            samples.push(&self.sample(record, line, normalised)?);
             Ok(())
         });
         rows
@@ -219,7 +219,7 @@ impl RowReader<'_> {
         (chunk_bytes, limit): (usize, usize),
     ) -> Rows {
         let mut joined = Rows {
-            samples: Vec::new(),
+            samples: SamplesBuilder::with_capacity(0),
             normalised: Normalised::default(),
             error: None,
         };
@@ -245,8 +245,10 @@ impl RowReader<'_> {
             }
             let room = limit.saturating_sub(joined.samples.len());
             if rows.samples.len() > room {
-                let line = rows.samples[room].line.unwrap_or(lines + 1);
-                joined.samples.extend(rows.samples.into_iter().take(room));
+                let line = rows.samples.line(room).unwrap_or(lines + 1);
+                let mut kept = rows.samples;
+                kept.truncate(room);
+                joined.samples.append(kept);
                 joined.error = Some(self.too_many(line));
                 return joined;
             }

@@ -63,7 +63,7 @@ pub(crate) async fn generate(
                 .iter()
                 .take(MAX_VIEW_POINTS)
                 .filter_map(|sample| {
-                    gecaro_core::terminal_pose(&generated.real.robot, &sample.motor_positions)
+                    gecaro_core::terminal_pose(&generated.real.robot, sample.motor_positions())
                         .ok()
                         .map(|pose| pose.translation.vector.into())
                 })

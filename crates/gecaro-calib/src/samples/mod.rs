@@ -37,99 +37,12 @@ use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use crate::sample::{DataColumn, Sample, SampleLoads};
 
-/// The values of one column: owned, or memory kept alive by its owner and
-/// read in place ([`Column::shared`]).
-#[derive(Clone)]
-pub struct Column<T: 'static>(Arc<dyn AsRef<[T]> + Send + Sync>);
+mod builder;
+mod column;
 
-impl<T: 'static + Send + Sync> Column<T> {
-    /// A column read in place from `owner` (whatever keeps the values alive
-    /// and unchanged while the column lives: a numpy array's handle).
-    pub fn shared(owner: impl AsRef<[T]> + Send + Sync + 'static) -> Self {
-        Column(Arc::new(owner))
-    }
-
-    fn values(&self) -> &[T] {
-        (*self.0).as_ref()
-    }
-}
-
-impl<T: 'static + Send + Sync> From<Vec<T>> for Column<T> {
-    fn from(values: Vec<T>) -> Self {
-        Column(Arc::new(values))
-    }
-}
-
-/// An optional field of `width` values per sample: absent, or a column
-/// with, when some samples lack it, which do.
-#[derive(Clone)]
-struct Field<T: 'static> {
-    values: Column<T>,
-    /// `missing[i]`: sample i has no value (its slots hold zeros).
-    missing: Option<Arc<[bool]>>,
-}
-
-impl<T: Copy + Default + Send + Sync + 'static> Field<T> {
-    /// The field of `rows` (`W` values each, `None`: not there), or
-    /// `None` when no row has it.
-    fn of<R, const W: usize>(rows: &[R], value: impl Fn(&R) -> Option<[T; W]>) -> Option<Self> {
-        let mut values = Vec::with_capacity(rows.len() * W);
-        let mut missing = Vec::new();
-        let mut any = false;
-        for (index, row) in rows.iter().enumerate() {
-            match value(row) {
-                Some(found) => {
-                    any = true;
-                    values.extend_from_slice(&found);
-                }
-                None => {
-                    if missing.is_empty() {
-                        missing.resize(rows.len(), false);
-                    }
-                    missing[index] = true;
-                    values.extend_from_slice(&[T::default(); W]);
-                }
-            }
-        }
-        any.then(|| Field {
-            values: values.into(),
-            missing: (!missing.is_empty()).then(|| missing.into()),
-        })
-    }
-
-    fn at(&self, index: usize, width: usize) -> Option<&[T]> {
-        if self.missing.as_ref().is_some_and(|missing| missing[index]) {
-            return None;
-        }
-        Some(&self.values.values()[index * width..(index + 1) * width])
-    }
-
-    /// The rows `indices` of this field.
-    fn gather(&self, indices: &[usize], width: usize) -> Option<Self> {
-        let values = self.values.values();
-        let kept: Vec<T> = indices
-            .iter()
-            .flat_map(|&index| &values[index * width..(index + 1) * width])
-            .copied()
-            .collect();
-        let missing = self.missing.as_ref().map(|missing| {
-            indices
-                .iter()
-                .map(|&index| missing[index])
-                .collect::<Arc<[bool]>>()
-        });
-        if missing
-            .as_ref()
-            .is_some_and(|missing| missing.iter().all(|m| *m))
-        {
-            return None;
-        }
-        Some(Field {
-            values: kept.into(),
-            missing: missing.filter(|missing| missing.iter().any(|m| *m)),
-        })
-    }
-}
+pub use builder::SamplesBuilder;
+pub use column::Column;
+use column::Field;
 
 /// The line numbers of the samples in their data file.
 #[derive(Clone)]
@@ -343,31 +256,28 @@ impl From<Vec<Sample>> for Samples {
 
 impl From<&[Sample]> for Samples {
     fn from(rows: &[Sample]) -> Self {
-        let joints = rows.first().map_or(0, |row| row.motor_positions.len());
-        let ragged = rows.iter().any(|row| row.motor_positions.len() != joints);
-        let mut motor = Vec::with_capacity(rows.len() * joints);
-        let mut offsets = ragged.then(|| Vec::with_capacity(rows.len() + 1));
-        if let Some(offsets) = offsets.as_mut() {
-            offsets.push(0);
-        }
+        let mut builder = SamplesBuilder::with_capacity(rows.len());
         for row in rows {
-            motor.extend_from_slice(&row.motor_positions);
-            if let Some(offsets) = offsets.as_mut() {
-                offsets.push(motor.len());
-            }
+            builder.push(row);
         }
-        let any_loads = rows.iter().any(|row| row.loads.is_some());
+        Samples::from(builder)
+    }
+}
+
+impl From<SamplesBuilder> for Samples {
+    fn from(builder: SamplesBuilder) -> Self {
+        let parts = builder.into_parts();
         Samples {
-            len: rows.len(),
-            motor: motor.into(),
-            joints,
-            offsets: offsets.map(Into::into),
-            position: Field::of(rows, |row| row.position.map(|v| [v.x, v.y, v.z])),
-            orientation: Field::of(rows, |row| row.orientation.map(|q| [q.w, q.i, q.j, q.k])),
-            group: Field::of(rows, |row| row.group.map(|g| [g])),
-            distance: Field::of(rows, |row| row.distance.map(|d| [d])),
-            lines: Lines::Listed(Field::of(rows, |row| row.line.map(|l| [l]))),
-            loads: any_loads.then(|| Arc::new(rows.iter().map(|row| row.loads.clone()).collect())),
+            len: parts.len,
+            motor: parts.motor.into(),
+            joints: parts.joints,
+            offsets: parts.offsets,
+            position: parts.position,
+            orientation: parts.orientation,
+            group: parts.group,
+            distance: parts.distance,
+            lines: Lines::Listed(parts.lines),
+            loads: parts.loads,
         }
     }
 }

@@ -1,0 +1,276 @@
+//! [`Samples`](super::Samples) made sample by sample, without holding them
+//! as rows: a data file's reader pushes each record's sample into the
+//! columns, in parts on several cores that are appended in order.
+
+use std::sync::Arc;
+
+use super::column::{Field, FieldBuilder};
+use crate::sample::{Sample, SampleLoads};
+
+/// Samples made one at a time ([`push`](Self::push)) or part after part
+/// ([`append`](Self::append)), then [`Samples::from`](super::Samples) it.
+///
+/// ```
+/// use gecaro_calib::study::{Sample, Samples, SamplesBuilder};
+///
+/// let mut builder = SamplesBuilder::with_capacity(2);
+/// builder.push(&Sample::new(vec![0.1, 0.2]));
+/// let mut later = SamplesBuilder::with_capacity(1);
+/// later.push(&Sample::new(vec![0.3, 0.4]));
+/// builder.append(later);
+/// let samples = Samples::from(builder);
+/// assert_eq!(samples.get(1).motor_positions(), &[0.3, 0.4]);
+/// ```
+pub struct SamplesBuilder {
+    len: usize,
+    /// Samples to make room for when the first comes.
+    capacity: usize,
+    motor: Vec<f64>,
+    /// The first sample's joint count.
+    joints: Option<usize>,
+    /// Where each sample's motor variables start, once two samples have
+    /// different counts (`offsets[i]..offsets[i + 1]`).
+    offsets: Option<Vec<usize>>,
+    position: FieldBuilder<f64, 3>,
+    orientation: FieldBuilder<f64, 4>,
+    group: FieldBuilder<u64, 1>,
+    distance: FieldBuilder<f64, 1>,
+    lines: FieldBuilder<usize, 1>,
+    /// `None` while no sample has loads; then one entry per sample.
+    loads: Option<Vec<Option<Box<SampleLoads>>>>,
+}
+
+/// What a builder made, for [`Samples`](super::Samples) to hold.
+pub(super) struct Parts {
+    pub(super) len: usize,
+    pub(super) motor: Vec<f64>,
+    pub(super) joints: usize,
+    pub(super) offsets: Option<Arc<[usize]>>,
+    pub(super) position: Option<Field<f64>>,
+    pub(super) orientation: Option<Field<f64>>,
+    pub(super) group: Option<Field<u64>>,
+    pub(super) distance: Option<Field<f64>>,
+    pub(super) lines: Option<Field<usize>>,
+    pub(super) loads: Option<Arc<Vec<Option<Box<SampleLoads>>>>>,
+}
+
+impl SamplesBuilder {
+    /// A builder with room for `capacity` samples of up to seven joints.
+    pub fn with_capacity(capacity: usize) -> Self {
+        SamplesBuilder {
+            len: 0,
+            capacity,
+            motor: Vec::new(),
+            joints: None,
+            offsets: None,
+            position: FieldBuilder::with_capacity(capacity),
+            orientation: FieldBuilder::with_capacity(capacity),
+            group: FieldBuilder::with_capacity(capacity),
+            distance: FieldBuilder::with_capacity(capacity),
+            lines: FieldBuilder::with_capacity(capacity),
+            loads: None,
+        }
+    }
+
+    /// How many samples so far.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether there are none yet.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// One more sample, copied into the columns.
+    pub fn push(&mut self, sample: &Sample) {
+        let joints = sample.motor_positions.len();
+        if self.joints.is_none() {
+            self.motor
+                .reserve(self.capacity.max(1).saturating_mul(joints));
+        }
+        if *self.joints.get_or_insert(joints) != joints {
+            self.offset_each();
+        }
+        self.motor.extend_from_slice(&sample.motor_positions);
+        if let Some(offsets) = self.offsets.as_mut() {
+            offsets.push(self.motor.len());
+        }
+        self.position.push(sample.position.map(|p| [p.x, p.y, p.z]));
+        self.orientation
+            .push(sample.orientation.map(|q| [q.w, q.i, q.j, q.k]));
+        self.group.push(sample.group.map(|g| [g]));
+        self.distance.push(sample.distance.map(|d| [d]));
+        self.lines.push(sample.line.map(|l| [l]));
+        if sample.loads.is_some() {
+            self.hold_loads();
+        }
+        if let Some(loads) = self.loads.as_mut() {
+            loads.push(sample.loads.clone());
+        }
+        self.len += 1;
+    }
+
+    /// The samples of `later` after these.
+    pub fn append(&mut self, mut later: SamplesBuilder) {
+        let joints = self.joints.or(later.joints);
+        let ragged = self.offsets.is_some()
+            || later.offsets.is_some()
+            || (self.joints.is_some() && later.joints.is_some() && self.joints != later.joints);
+        if ragged {
+            self.offset_each();
+            later.offset_each();
+            let base = self.motor.len();
+            let offsets = self.offsets.as_mut().expect("offsets held");
+            offsets.extend(later.offsets.iter().flatten().skip(1).map(|o| o + base));
+        }
+        if self.loads.is_some() || later.loads.is_some() {
+            self.hold_loads();
+            later.hold_loads();
+            if let (Some(loads), Some(mut more)) = (self.loads.as_mut(), later.loads.take()) {
+                loads.append(&mut more);
+            }
+        }
+        self.joints = joints;
+        self.motor.append(&mut later.motor);
+        self.position.append(later.position);
+        self.orientation.append(later.orientation);
+        self.group.append(later.group);
+        self.distance.append(later.distance);
+        self.lines.append(later.lines);
+        self.len += later.len;
+    }
+
+    /// Room for `additional` more samples.
+    pub fn reserve(&mut self, additional: usize) {
+        self.capacity = self.len.saturating_add(additional);
+        if let Some(joints) = self.joints {
+            self.motor.reserve(additional.saturating_mul(joints));
+        }
+        self.position.reserve(additional);
+        self.orientation.reserve(additional);
+        self.group.reserve(additional);
+        self.distance.reserve(additional);
+        self.lines.reserve(additional);
+    }
+
+    /// The first `len` samples only.
+    pub fn truncate(&mut self, len: usize) {
+        if len >= self.len {
+            return;
+        }
+        match self.offsets.as_mut() {
+            Some(offsets) => {
+                self.motor.truncate(offsets[len]);
+                offsets.truncate(len + 1);
+            }
+            None => self.motor.truncate(len * self.joints.unwrap_or(0)),
+        }
+        self.position.truncate(len);
+        self.orientation.truncate(len);
+        self.group.truncate(len);
+        self.distance.truncate(len);
+        self.lines.truncate(len);
+        if let Some(loads) = self.loads.as_mut() {
+            loads.truncate(len);
+        }
+        self.len = len;
+    }
+
+    /// The line of sample `index`, when it has one.
+    pub fn line(&self, index: usize) -> Option<usize> {
+        self.lines.get(index).map(|[line]| line)
+    }
+
+    /// Loads held from here on: none for the samples so far.
+    fn hold_loads(&mut self) {
+        let len = self.len;
+        self.loads.get_or_insert_with(|| vec![None; len]);
+    }
+
+    /// Offsets held from here on: every sample so far had `joints` values.
+    fn offset_each(&mut self) {
+        if self.offsets.is_none() {
+            let joints = self.joints.unwrap_or(0);
+            self.offsets = Some((0..=self.len).map(|i| i * joints).collect());
+        }
+    }
+
+    pub(super) fn into_parts(self) -> Parts {
+        Parts {
+            len: self.len,
+            motor: self.motor,
+            joints: self.joints.unwrap_or(0),
+            offsets: self.offsets.map(Into::into),
+            position: self.position.finish(),
+            orientation: self.orientation.finish(),
+            group: self.group.finish(),
+            distance: self.distance.finish(),
+            lines: self.lines.finish(),
+            loads: self.loads.map(Arc::new),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::samples::Samples;
+    use gecaro_core::LinkMass;
+    use nalgebra::{UnitQuaternion, Vector3};
+
+    /// Rows whose fields come and go, with two counts of joints and loads
+    /// on one.
+    fn rows() -> Vec<Sample> {
+        (0..9)
+            .map(|i| {
+                let joints = if i == 5 { 2 } else { 3 };
+                let mut row = Sample::new(vec![i as f64 * 0.1; joints]);
+                if i % 2 == 0 {
+                    row.position = Some(Vector3::new(i as f64, 1.0, 2.0));
+                }
+                if i > 3 {
+                    row.orientation =
+                        Some(UnitQuaternion::from_euler_angles(0.1 * i as f64, 0.0, 0.2));
+                }
+                if i % 3 != 1 {
+                    row.line = Some(10 + i);
+                }
+                row.group = Some(i as u64 / 2);
+                if i == 7 {
+                    row.set_payload(Some(LinkMass {
+                        mass: 1.5,
+                        com: Vector3::zeros(),
+                    }));
+                }
+                row
+            })
+            .collect()
+    }
+
+    /// Cut anywhere into two parts appended in order, or cut short, the
+    /// builder gives the columns of the rows pushed at once.
+    #[test]
+    fn parts_appended_in_order_are_the_whole() {
+        let rows = rows();
+        let whole = Samples::from(rows.clone());
+        assert_eq!(whole, rows);
+        for cut in 0..=rows.len() {
+            let mut first = SamplesBuilder::with_capacity(cut);
+            rows[..cut].iter().for_each(|row| first.push(row));
+            let mut second = SamplesBuilder::with_capacity(0);
+            rows[cut..].iter().for_each(|row| second.push(row));
+            first.append(second);
+            assert_eq!(first.line(6), rows[6].line, "cut {cut}");
+            assert_eq!(Samples::from(first), rows, "cut {cut}");
+            let mut short = SamplesBuilder::with_capacity(0);
+            rows.iter().for_each(|row| short.push(row));
+            short.truncate(cut);
+            assert_eq!(
+                Samples::from(short),
+                rows[..cut].to_vec(),
+                "truncated to {cut}"
+            );
+        }
+    }
+}
