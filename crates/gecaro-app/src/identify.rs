@@ -128,12 +128,11 @@ impl PreparedIdentification {
     /// pass's), `rows × unknowns` numbers each (all the robot's parameters,
     /// an upper bound of the base set). A streamed one (tall, every set's
     /// configurations independent: [`IdentificationOptions::streamed_rows`](gecaro_calib::identification::IdentificationOptions))
-    /// holds no W, only [`STREAMED_BYTES_PER_ROW`] a row. And the samples.
-    /// The samples are counted with a heap block of motor variables each,
-    /// which only chains of more than seven joints have. Measured:
-    /// 200,000 Stanford position configurations held peaked at 720 MB (this
-    /// says 1.0 GB; systems are streamed from 1,000 rows now); 10⁶ streamed
-    /// at 296 MB (this says 740 MB).
+    /// holds no W, only [`STREAMED_BYTES_PER_ROW`] a row. And the samples'
+    /// columns ([`Samples::bytes`](gecaro_calib::study::Samples::bytes)).
+    /// Measured: 200,000 Stanford position configurations held peaked at
+    /// 720 MB (this says 1.0 GB; systems are streamed from 1,000 rows now);
+    /// 10⁶ streamed at 218–223 MB (this says 560 MB).
     pub fn memory_need(&self) -> usize {
         let study = &self.loaded.study;
         let rows: usize = study
@@ -148,15 +147,13 @@ impl PreparedIdentification {
                 .iter()
                 .map(|set| set.method.auxiliary_names().len())
                 .sum::<usize>();
-        let samples: usize = study.sets.iter().map(|set| set.samples.len()).sum();
+        let samples: usize = study.sets.iter().map(|set| set.samples.bytes()).sum();
         let per_row = if study.is_streamed(self.options.streamed_rows) {
             STREAMED_BYTES_PER_ROW
         } else {
             unknowns.saturating_mul(5 * std::mem::size_of::<f64>())
         };
-        rows.saturating_mul(per_row).saturating_add(
-            samples.saturating_mul(std::mem::size_of::<gecaro_calib::study::Sample>() + 64),
-        )
+        rows.saturating_mul(per_row).saturating_add(samples)
     }
 
     /// The K-fold cross-validation asked for (two folds when none was);

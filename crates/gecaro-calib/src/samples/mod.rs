@@ -176,6 +176,32 @@ impl Samples {
         self.as_slice().get(index)
     }
 
+    /// The bytes its columns hold (shared or not), loads aside: what a
+    /// job's memory estimate counts for its data.
+    pub fn bytes(&self) -> usize {
+        fn field<T: Send + Sync>(field: &Option<Field<T>>) -> usize {
+            field.as_ref().map_or(0, |field| {
+                std::mem::size_of_val(field.values.values())
+                    + field.missing.as_ref().map_or(0, |missing| missing.len())
+            })
+        }
+        let lines = match &self.lines {
+            Lines::Counted(_) => 0,
+            Lines::Listed(lines) => field(lines),
+        };
+        std::mem::size_of_val(self.motor.values())
+            + self
+                .offsets
+                .as_ref()
+                .map_or(0, |o| std::mem::size_of_val(&o[..]))
+            + field(&self.position)
+            + field(&self.orientation)
+            + field(&self.group)
+            + field(&self.distance)
+            + lines
+            + self.loads.as_ref().map_or(0, |loads| loads.len() * 8)
+    }
+
     /// All of them, as a slice.
     pub fn as_slice(&self) -> SampleSlice<'_> {
         SampleSlice {
@@ -655,6 +681,8 @@ mod tests {
         assert_eq!(samples.get(1).motor_positions(), &[2.0, 3.0]);
         assert_eq!(samples.get(1).position(), Some(Vector3::new(4.0, 5.0, 6.0)));
         assert_eq!(samples.get(1).line(), Some(1));
+        // 4 motor values and 6 coordinates, the lines counted, not held.
+        assert_eq!(samples.bytes(), 10 * 8);
         let error = Samples::from_columns(columns(vec![1.0; 5])).expect_err("5 values");
         assert!(error.contains("position"), "{error}");
     }
