@@ -201,7 +201,9 @@ pub(crate) fn in_place(
         )));
     }
     let values = {
-        let read = array.readonly();
+        let read = array
+            .try_readonly()
+            .map_err(|error| input(format!("{what}: {error}")))?;
         let slice = read
             .as_slice()
             .map_err(|error| input(format!("{what}: {error}")))?;

@@ -310,7 +310,12 @@ impl From<SamplesBuilder> for Samples {
 
 impl FromIterator<Sample> for Samples {
     fn from_iter<I: IntoIterator<Item = Sample>>(iter: I) -> Self {
-        Samples::from(iter.into_iter().collect::<Vec<_>>())
+        let iter = iter.into_iter();
+        let mut builder = SamplesBuilder::with_capacity(iter.size_hint().0);
+        for sample in iter {
+            builder.push(&sample);
+        }
+        Samples::from(builder)
     }
 }
 
