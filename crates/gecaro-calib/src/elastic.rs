@@ -5,7 +5,7 @@
 //! `q_j = K_j·qm_j + offset_j + c_j·τ_j` (eq. 4 with the compliance c_j; see
 //! [`gecaro_core::KinematicModel::forward_loaded`]). The torques come from
 //! the links' masses ([`MassModel`]) and the payload a sample states
-//! ([`Sample::payload`], its centre in frame n+1), by
+//! ([`Sample::payload`](crate::sample::Sample::payload), its centre in frame n+1), by
 //! [`gecaro_core::gravity_torques`].
 //!
 //! Two evaluations, for two uses:

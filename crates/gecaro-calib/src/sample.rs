@@ -1,8 +1,11 @@
-//! One measured (or generated) configuration, the unit of every data set.
+//! One measured (or generated) configuration as a row, the unit a data set
+//! is built from.
 //!
-//! A data set is a list of [`Sample`]s. Every sample has the motor variables
-//! qm1..qmn of one configuration; which other fields a method needs is given by
-//! its [`DataColumn`]s (and so are the columns of its CSV files).
+//! Every sample has the motor variables qm1..qmn of one configuration; which
+//! other fields a method needs is given by its [`DataColumn`]s (and so are
+//! the columns of its CSV files). A data set itself is held as columns
+//! ([`Samples`](crate::study::Samples)); a `Sample` is what generators make
+//! one configuration at a time and what an edit of a data set changes.
 
 use gecaro_core::LinkMass;
 use nalgebra::{UnitQuaternion, Vector3};
@@ -16,9 +19,9 @@ pub type MotorPositions = SmallVec<[f64; 7]>;
 /// One configuration with what was measured there.
 ///
 /// A sample is compact (192 bytes, no allocation for up to seven joints):
-/// a tracker's data set holds a million of them. What loads an elastic
-/// robot's joints, which most samples do not carry, sits behind one
-/// pointer ([`Sample::loads`]).
+/// generators and edits hold many of them. What loads an elastic robot's
+/// joints, which most samples do not carry, sits behind one pointer
+/// ([`Sample::loads`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Sample {
     /// Motor variables qm (eq. 4): radians or metres.
