@@ -116,6 +116,11 @@ mod tests {
     use gecaro_calib::compensation::ProgramTarget;
 
     /// A target reached at `motor_positions`, `position_error` away.
+    /// `text` read as the program `name` in gecaro's own units and columns.
+    fn read(text: &[u8], name: &str, robot: &Robot) -> Result<ProgramFile, Error> {
+        parse_program(text, Path::new(name), robot, &DataFormat::default())
+    }
+
     fn reached(motor_positions: Vec<f64>, position_error: f64) -> CompensatedPoint {
         CompensatedPoint {
             motor_positions,
@@ -197,13 +202,7 @@ mod tests {
         for row in 0..count {
             text.push_str(&format!("P{row},{}e-6,0.5,{}\n", row, row % 7));
         }
-        let program = parse_program(
-            text.as_bytes(),
-            Path::new("long.csv"),
-            &robot,
-            &DataFormat::default(),
-        )
-        .expect("read");
+        let program = read(text.as_bytes(), "long.csv", &robot).expect("read");
         let results: Vec<CompensatedPoint> = (0..count)
             .map(|row| reached(vec![row as f64 * 1e-3, -0.25], 0.0))
             .collect();
@@ -277,13 +276,7 @@ mod tests {
         // is read whole, named by its last line, and written back quoted.
         let robot = Robot::template("arm", "RR").expect("robot");
         let text = "name,qm1,qm2\n\"P,1\",0.1,0.2\n\"two\nlines\",0.3,0.4\nP3,0.5,0.6\n";
-        let program = parse_program(
-            text.as_bytes(),
-            Path::new("q.csv"),
-            &robot,
-            &DataFormat::default(),
-        )
-        .expect("read");
+        let program = read(text.as_bytes(), "q.csv", &robot).expect("read");
         assert_eq!(program.points.len(), 3);
         assert_eq!(
             (program.line(0), program.line(1), program.line(2)),
@@ -295,13 +288,7 @@ mod tests {
         let corrected = program.format_corrected(&results);
         assert!(corrected.contains("\"P,1\",0.0,0.5,"), "{corrected}");
         assert!(corrected.contains("\"two\nlines\",1.0,0.5,"), "{corrected}");
-        let again = parse_program(
-            corrected.as_bytes(),
-            Path::new("corrected.csv"),
-            &robot,
-            &DataFormat::default(),
-        )
-        .expect("read back");
+        let again = read(corrected.as_bytes(), "corrected.csv", &robot).expect("read back");
         assert_eq!(again.points.len(), 3);
     }
 }
