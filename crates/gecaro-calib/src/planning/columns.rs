@@ -30,11 +30,11 @@ pub(super) fn contiguous(
         .iter()
         .map(|unit| {
             let start = ordered.len();
-            ordered.extend(unit.iter().map(|index| samples.start() + index));
+            ordered.extend_from_slice(unit);
             start..ordered.len()
         })
         .collect();
-    (samples.whole().gather(&ordered), ranges)
+    (samples.gather(&ordered), ranges)
 }
 
 /// `samples` with what the sensor would read on the nominal robot, exactly,

@@ -212,6 +212,12 @@ impl SamplesBuilder {
     }
 }
 
+impl<'a> Extend<&'a Sample> for SamplesBuilder {
+    fn extend<I: IntoIterator<Item = &'a Sample>>(&mut self, samples: I) {
+        samples.into_iter().for_each(|sample| self.push(sample));
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -257,14 +263,14 @@ mod tests {
         assert_eq!(whole, rows);
         for cut in 0..=rows.len() {
             let mut first = SamplesBuilder::with_capacity(cut);
-            rows[..cut].iter().for_each(|row| first.push(row));
+            first.extend(&rows[..cut]);
             let mut second = SamplesBuilder::with_capacity(0);
-            rows[cut..].iter().for_each(|row| second.push(row));
+            second.extend(&rows[cut..]);
             first.append(second);
             assert_eq!(first.line(6), rows[6].line, "cut {cut}");
             assert_eq!(Samples::from(first), rows, "cut {cut}");
             let mut short = SamplesBuilder::with_capacity(0);
-            rows.iter().for_each(|row| short.push(row));
+            short.extend(&rows);
             short.truncate(cut);
             assert_eq!(
                 Samples::from(short),

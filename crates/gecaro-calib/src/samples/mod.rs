@@ -283,9 +283,7 @@ impl From<Vec<Sample>> for Samples {
 impl From<&[Sample]> for Samples {
     fn from(rows: &[Sample]) -> Self {
         let mut builder = SamplesBuilder::with_capacity(rows.len());
-        for row in rows {
-            builder.push(row);
-        }
+        builder.extend(rows);
         Samples::from(builder)
     }
 }
@@ -312,9 +310,7 @@ impl FromIterator<Sample> for Samples {
     fn from_iter<I: IntoIterator<Item = Sample>>(iter: I) -> Self {
         let iter = iter.into_iter();
         let mut builder = SamplesBuilder::with_capacity(iter.size_hint().0);
-        for sample in iter {
-            builder.push(&sample);
-        }
+        iter.for_each(|sample| builder.push(&sample));
         Samples::from(builder)
     }
 }
@@ -373,16 +369,6 @@ impl<'a> SampleSlice<'a> {
         EMPTY.as_slice()
     }
 
-    /// The samples this slice is part of.
-    pub fn whole(self) -> &'a Samples {
-        self.samples
-    }
-
-    /// Where this slice starts in [`whole`](Self::whole).
-    pub fn start(self) -> usize {
-        self.start
-    }
-
     /// How many samples.
     pub fn len(self) -> usize {
         self.end - self.start
@@ -438,6 +424,23 @@ impl<'a> SampleSlice<'a> {
                 start,
                 end: (start + size).min(self.end),
             })
+    }
+
+    /// The samples at `indices` of this slice, in that order (a copy of
+    /// those rows of every column: [`Samples::gather`]).
+    pub fn gather(self, indices: &[usize]) -> Samples {
+        let within: Vec<usize> = indices
+            .iter()
+            .map(|&index| {
+                assert!(
+                    index < self.len(),
+                    "sample {index} of a slice of {}",
+                    self.len()
+                );
+                self.start + index
+            })
+            .collect();
+        self.samples.gather(&within)
     }
 
     /// These samples on their own (a copy of their rows of every column).
@@ -663,6 +666,11 @@ mod tests {
         assert_eq!(picked.to_rows(), vec![rows[2].clone(), rows[0].clone()]);
         let middle = samples.as_slice().slice(1..3);
         assert_eq!(middle.to_rows(), rows[1..].to_vec());
+        // A slice's indices are its own.
+        assert_eq!(
+            middle.gather(&[1, 0]).to_rows(),
+            vec![rows[2].clone(), rows[1].clone()]
+        );
         let chunks: Vec<usize> = samples.as_slice().chunks(2).map(SampleSlice::len).collect();
         assert_eq!(chunks, vec![2, 1]);
     }
