@@ -436,17 +436,19 @@ impl NormalEquations {
     /// their squares differ in the eighth digit, within the rounding of an
     /// ill-conditioned G). `None` when G is not positive definite.
     pub(crate) fn data_part_diagonal(&self, data: MatRef<'_, f64>) -> Option<Vec<f64>> {
-        let n = self.gram.nrows();
-        let cholesky = self.gram.llt(faer::Side::Lower).ok()?;
-        let inverse = cholesky.solve(Mat::<f64>::identity(n, n));
-        let mut diagonal = vec![0.0; n];
-        for part in row_parts(data) {
-            let product = part * &inverse;
-            for (j, sum) in diagonal.iter_mut().enumerate() {
-                *sum += product.col(j).squared_norm_l2();
-            }
-        }
-        diagonal.iter().all(|v| v.is_finite()).then_some(diagonal)
+        sandwich_diagonal(&self.gram, data)
+    }
+
+    /// Wᵀr, a column.
+    pub(crate) fn projected(&self) -> &Mat<f64> {
+        &self.projected
+    }
+
+    /// WᵀW with both triangles (the sums keep the lower one).
+    pub(crate) fn gram_full(&self) -> Mat<f64> {
+        Mat::from_fn(self.gram.nrows(), self.gram.ncols(), |i, j| {
+            self.gram[(i.max(j), i.min(j))]
+        })
     }
 
     /// After the residuals moved by the linear model, `r ← r − W·step`:
@@ -456,6 +458,25 @@ impl NormalEquations {
             self.projected[(i, 0)] -= change;
         }
     }
+}
+
+/// `diag(H⁻¹ DᵀD H⁻¹)` for a symmetric positive definite `hessian` H (its
+/// lower triangle is read) and rows `data` D: the squared column norms of
+/// `D H⁻¹`, summed over row parts (a sum of squares, not a difference of
+/// inverses, so a prior's tight hold does not cancel digits); `None` when
+/// H is not positive definite or the result is not finite.
+pub(crate) fn sandwich_diagonal(hessian: &Mat<f64>, data: MatRef<'_, f64>) -> Option<Vec<f64>> {
+    let n = hessian.nrows();
+    let cholesky = hessian.llt(faer::Side::Lower).ok()?;
+    let inverse = cholesky.solve(Mat::<f64>::identity(n, n));
+    let mut diagonal = vec![0.0; n];
+    for part in row_parts(data) {
+        let product = part * &inverse;
+        for (j, sum) in diagonal.iter_mut().enumerate() {
+            *sum += product.col(j).squared_norm_l2();
+        }
+    }
+    diagonal.iter().all(|v| v.is_finite()).then_some(diagonal)
 }
 
 /// `‖W·step‖²`, the most a least-squares step can lower ‖r‖² by: from the

@@ -51,7 +51,8 @@
 //! The best iterate is always returned, with the reason it stopped.
 //!
 //! Precision: `σ² = ‖r‖²/(equations − b)`, `cov(Δη_b) = σ² (W_bᵀW_b)⁻¹` at the
-//! solution.
+//! solution; where `W_bᵀW_b` is nearly singular, the noise's part uses the
+//! Hessian with the residuals' curvature instead ([`curvature`]).
 //!
 //! ## Measurements as they are
 //!
@@ -65,6 +66,7 @@
 //! are dropped and the identification runs again on the rest, once.
 
 mod coverage;
+mod curvature;
 mod data_scale;
 mod evaluation;
 mod full_model;
@@ -99,7 +101,7 @@ use crate::frames::FRAME_UNKNOWNS;
 use crate::identifiability::{
     Excitation, ParameterStatus, RankReport, excitation_at, structural_parameters_at,
 };
-use crate::linalg::{LeastSquaresRows, NormalEquations, precision};
+use crate::linalg::{LeastSquaresRows, NormalEquations, precision, sandwich_diagonal};
 use crate::progress::{Observer, Progress, Quiet, report};
 use crate::rows::ColumnLayout;
 use crate::study::{Study, StudyStates};
@@ -863,8 +865,11 @@ fn summarise(
     let (solved, mut condition_number) =
         precision(all_rows.matrix(), &best.normal, problem.condition)?;
     drop(all_rows);
+    // The residuals' curvature, where G is nearly singular ([`curvature`]).
+    let hessian = curvature::newton_hessian(&problem.with_weighting(weighting.clone()), &best)?;
     // The data's rows (or their stand-in, for a folded system).
-    let data_rows = (system.rows() > system.measured_rows()).then(|| system.solver_rows(true));
+    let data_rows = (hessian.is_some() || system.rows() > system.measured_rows())
+        .then(|| system.solver_rows(true));
     if let Some(data_rows) = data_rows
         .as_ref()
         .filter(|_| !weighting.prior_rows.is_empty())
@@ -880,10 +885,11 @@ fn summarise(
     let std = |column: usize| (variance * solved.inverse_normal_diagonal[column]).sqrt();
     // The noise's part of it, where a prior's rows (or the gauge that holds
     // an unmeasured scale) hold a parameter: σ² diag(G⁻¹ DᵀD G⁻¹), D the
-    // measured rows.
-    let data_part = data_rows
-        .as_ref()
-        .and_then(|data_rows| best.normal.data_part_diagonal(data_rows.matrix()));
+    // measured rows; with H for G where the curvature matters.
+    let data_part = data_rows.as_ref().and_then(|data_rows| match &hessian {
+        Some(hessian) => sandwich_diagonal(hessian, data_rows.matrix()),
+        None => best.normal.data_part_diagonal(data_rows.matrix()),
+    });
     let noise_std = |column: usize| {
         let part = data_part
             .as_ref()
