@@ -540,20 +540,31 @@ fn parameters_the_data_set_outside_the_base_set_are_joined_and_every_sigma_is_th
 /// measured coordinates moved by 1e-7 m and the whole identification run
 /// again), `σ √Σₖ (∂θ̂/∂yₖ)²`. Linear in the noise, so it is what the noise σ
 /// claims to be, draw for draw, without Monte Carlo's ±11 %. PUMA 560
-/// position data at error level 1: r7, held by the second pass's prior and
-/// seen only through the real robot's deviations, moves twice as much as
-/// Gauss–Newton's `G⁻¹DᵀDG⁻¹` says; the Newton Hessian's sandwich is right
-/// for every parameter to 3 %.
+/// position data at error levels 1 and 2: r7, held by the second pass's
+/// prior and seen only through the real robot's deviations, moves twice as
+/// much as Gauss–Newton's `G⁻¹DᵀDG⁻¹` says; the Newton Hessian's sandwich
+/// is right for every parameter to 3 % (measured: 1 %).
 #[test]
 fn the_noise_sigma_is_the_identifications_sensitivity_to_its_data() {
+    // Level 2, seed 8: the near-null direction's own curvature is 4e-8 of
+    // G's diagonal; differences of the gradients `Wᵀr` did not resolve it
+    // (r7 at 2×), the moved rows against the residuals do.
+    for (level, seed) in [(1.0, 7), (2.0, 8)] {
+        noise_sigma_against_sensitivity(level, seed);
+    }
+}
+
+/// [`the_noise_sigma_is_the_identifications_sensitivity_to_its_data`] for
+/// one real robot (PUMA 560 at `level`, drawn with `seed`).
+fn noise_sigma_against_sensitivity(level: f64, seed: u64) {
     let sigma = 1e-5;
     let nominal = gecaro_io::load_robot("puma560").expect("ready robot").robot;
     let measure = method("position", &MethodOptions::default()).expect("method");
-    let mut sampler = Sampler::new(7);
-    let real = perturbed_robot(&nominal, 1.0, &mut sampler).expect("real robot");
+    let mut sampler = Sampler::new(seed);
+    let real = perturbed_robot(&nominal, level, &mut sampler).expect("real robot");
     let exact = simulate_measurements(&real, measure.as_ref(), 60, 0.0, &mut sampler, &mut Quiet)
         .expect("data");
-    let mut noise = Sampler::new(1007);
+    let mut noise = Sampler::new(seed + 1000);
     let noisy: Vec<Sample> = exact
         .iter()
         .map(|sample| Sample {
@@ -608,7 +619,7 @@ fn the_noise_sigma_is_the_identifications_sensitivity_to_its_data() {
     let (median, low, high) = median_and_range(&ratios);
     assert!(
         low > 0.97 * median && high < 1.03 * median,
-        "{median} {ratios:?}"
+        "level {level}, seed {seed}: {median} {ratios:?}"
     );
     let r7 = ratios
         .iter()

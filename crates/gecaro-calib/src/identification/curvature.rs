@@ -29,30 +29,38 @@
 //! equilibrated (`G̃ = Δ⁻¹GΔ⁻¹`, Δ its diagonal's square root), nothing is
 //! done unless its smallest eigenvalue is below [`ONSET`]; then every
 //! eigen-direction v below [`BAND`] is measured (at most
-//! [`MAX_DIRECTIONS`], smallest first). For each, the data's gradient
-//! `g = Wᵀr` at `θ̂ ± h u` (`u = Δ⁻¹v` scaled to a largest entry of 1,
-//! h = [`STEP`]: two linearisations) gives `H u = −(g₊ − g₋)/2h`, so
-//! `S u = G u − H u`. With `P = VVᵀ` on the span of the measured
-//! directions, S is taken as `S̃P + PS̃ − PS̃P`: exact on the span and
-//! between the span and the rest, zero between the other directions, where
-//! an entry `s` of S̃ moves `H⁻¹` by about `s²/(λ_a λ_b)` (below 1e-3 for
-//! the entries of 3e-4 measured, with eigenvalues above 1e-2). The band is
-//! needed: the near-null direction's own curvature can be tiny (4e-8 on
-//! PUMA 560, level 2) while its coupling with the next directions is not.
-//! Restricting S to a subset of *parameters* instead (those the prior
-//! holds) made H indefinite: the near-null direction mixes held and free
-//! parameters.
+//! [`MAX_DIRECTIONS`], smallest first). For each, the rows W at `θ̂ ± h u`
+//! (`u = Δ⁻¹v` scaled to a largest entry of 1, h = [`STEP`]: two
+//! linearisations) against the measured residuals r at θ̂ give
+//! `S u = (W₊ᵀr − W₋ᵀr)/2h`. The rows are held for it when they fit in
+//! [`HELD_ENTRIES`] (a streamed system's too, then with one more
+//! linearisation at θ̂); beyond, the folded gradients give
+//! `S u = G u + (g₊ − g₋)/2h`, `g = Wᵀr` at each point, which subtracts
+//! nearly equal numbers: it did not resolve a curvature of 4e-8 of G's
+//! diagonal (PUMA 560, level 2, seed 8: r7 still 2× its noise σ) that the
+//! held rows do. With `P = VVᵀ` on the span of the measured directions, S is
+//! taken as `S̃P + PS̃ − PS̃P`: exact on the span and between the span and
+//! the rest, zero between the other directions, where an entry `s` of S̃
+//! moves `H⁻¹` by about `s²/(λ_a λ_b)` (below 1e-3 for the entries of 3e-4
+//! measured, with eigenvalues above 1e-2). The band is needed: the near-null
+//! direction's own curvature can be tiny while its coupling with the next
+//! directions is not. Restricting S to a subset of *parameters* instead
+//! (those the prior holds) made H indefinite: the near-null direction mixes
+//! held and free parameters.
 //!
-//! Measured on PUMA 560 position data at error level 1 (seed 7): the noise σ
-//! against the finite-difference sensitivity of the whole identification,
-//! every parameter within 3 % (r7 was at 2×); r7's Monte Carlo spread over
-//! its noise σ (`cargo run --release --example precision`, 40 noise draws)
-//! 1.80 → 0.87, and 0.71–1.16 at levels 1 and 2, seeds 7–9, but one case
-//! (level 2, seed 8: 2.32, where the descent stops short of the stationary
-//! point along the near-null direction; docs/methods.md, "Precision").
+//! Measured on PUMA 560 position data: the noise σ against the
+//! finite-difference sensitivity of the whole identification, every
+//! parameter within 1 % at levels 1 (seed 7) and 2 (seed 8), where r7 was at
+//! 2×; `cargo run --release --example precision` (40 noise draws), the
+//! spread of every parameter over its noise σ 0.67–1.39 in all 24 cases of
+//! PUMA 560 and industrial6, position and frame, levels 1 and 2, seeds 7–9
+//! (it was up to 2.32, always r7 with position data).
 
 use faer::Mat;
 
+use crate::linalg::LeastSquaresRows;
+
+use super::options::IdentificationOptions;
 use super::solver::{Iterate, Problem};
 use crate::Error;
 use crate::study::StudyStates;
@@ -61,7 +69,8 @@ use crate::study::StudyStates;
 /// measured: a well-conditioned base set (the Stanford's position data,
 /// 2.5e-3–5e-3) costs nothing; PUMA 560 position data with the second
 /// pass's parameters (2e-7–1e-8) cost two linearisations a direction (six
-/// directions at m = 5,000: 12 of the run's about 40).
+/// directions at m = 5,000: 13 with the held rows' own, of the run's about
+/// 50; 0.20–0.22 s for the whole command).
 const ONSET: f64 = 1e-4;
 
 /// Then every direction below this equilibrated eigenvalue is measured.
@@ -69,6 +78,10 @@ const BAND: f64 = 1e-2;
 
 /// The most directions measured (two linearisations each).
 const MAX_DIRECTIONS: usize = 12;
+
+/// The most entries of W held to measure the curvature directly (64 MB);
+/// larger streamed systems difference their folded gradients instead.
+const HELD_ENTRIES: usize = 8 << 20;
 
 /// The central difference's step along a direction whose largest entry is
 /// 1 (metres, radians, gains): 1e-5 to 1e-7 give the same H to six digits.
@@ -103,6 +116,35 @@ pub(super) fn newton_hessian(
         return Ok(None);
     }
     let mut states = StudyStates::default();
+    // The rows are held for the measurement where they fit in
+    // [`HELD_ENTRIES`] (a streamed system's too): W at θ̂ ± h u against the
+    // measured residuals at θ̂ (weighted).
+    let rows = best.system.measured_rows();
+    let held_options = IdentificationOptions {
+        streamed_rows: usize::MAX,
+        ..problem.options.clone()
+    };
+    let held_problem = Problem {
+        options: &held_options,
+        ..problem.with_weighting(problem.weighting.clone())
+    };
+    let (problem, held) = if !best.system.is_folded() {
+        (
+            problem,
+            Some(best.system.solver_rows(true).right().to_vec()),
+        )
+    } else if rows.saturating_mul(columns) <= HELD_ENTRIES {
+        let at = held_problem.assemble(
+            &best.robot,
+            &best.auxiliary,
+            &held_problem.layout,
+            &mut states,
+        )?;
+        let residuals = at.system.solver_rows(true).right().to_vec();
+        (&held_problem, Some(residuals))
+    } else {
+        (problem, None)
+    };
     let mut directions: Vec<Vec<f64>> = Vec::new();
     // S̃v of each direction, in equilibrated coordinates.
     let mut curvatures: Vec<Vec<f64>> = Vec::new();
@@ -119,15 +161,37 @@ pub(super) fn newton_hessian(
             let step: Vec<f64> = u.iter().map(|x| sign * STEP * x).collect();
             let (robot, auxiliary) = problem.stepped(best, &step, &problem.base)?;
             let moved = problem.assemble(&robot, &auxiliary, &problem.layout, &mut states)?;
-            *gradient = (0..columns)
-                .map(|i| moved.normal.projected()[(i, 0)])
-                .collect();
+            *gradient = match &held {
+                // `W(θ̂ ± h u)ᵀ r(θ̂)`: the rows moved, the residuals not.
+                Some(residuals) => {
+                    let rows = moved.system.solver_rows(true);
+                    let matrix = rows.matrix();
+                    (0..columns)
+                        .map(|j| {
+                            residuals
+                                .iter()
+                                .enumerate()
+                                .map(|(i, r)| matrix[(i, j)] * r)
+                                .sum()
+                        })
+                        .collect()
+                }
+                None => (0..columns)
+                    .map(|i| moved.normal.projected()[(i, 0)])
+                    .collect(),
+            };
         }
-        // S u = G u − H u = G u + (g₊ − g₋)/2h; S̃v = size · Δ⁻¹ S u.
+        // Held rows: S u = (W₊ᵀr − W₋ᵀr)/2h. Folded: S u = G u − H u
+        // = G u + (g₊ − g₋)/2h. Then S̃v = size · Δ⁻¹ S u.
         let curvature: Vec<f64> = (0..columns)
             .map(|i| {
-                let gu: f64 = (0..columns).map(|j| gram[(i, j)] * u[j]).sum();
-                let su = gu + (gradients[0][i] - gradients[1][i]) / (2.0 * STEP);
+                let difference = (gradients[0][i] - gradients[1][i]) / (2.0 * STEP);
+                let su = if held.is_some() {
+                    difference
+                } else {
+                    let gu: f64 = (0..columns).map(|j| gram[(i, j)] * u[j]).sum();
+                    gu + difference
+                };
                 size * su / scale[i]
             })
             .collect();
