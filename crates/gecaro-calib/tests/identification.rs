@@ -533,6 +533,14 @@ fn parameters_the_data_set_outside_the_base_set_are_joined_and_every_sigma_is_th
     let (median, low, high) = median_and_range(&ratios);
     assert!((0.8..1.25).contains(&median), "{ratios:?}");
     assert!(low > 0.5 && high < 1.5, "{ratios:?}");
+    // industrial6 (issue 33's other robot): its r7 too spread up to 2.1 times
+    // Gauss–Newton's noise σ.
+    for name in ["position", "frame"] {
+        let (ratios, _) = spread_over_noise_sigma("industrial6", name, 60);
+        let (median, low, high) = median_and_range(&ratios);
+        assert!((0.8..1.25).contains(&median), "{name}: {ratios:?}");
+        assert!(low > 0.5 && high < 1.5, "{name}: {ratios:?}");
+    }
 }
 
 /// The noise σ against an independent route: the identification's own
