@@ -337,24 +337,34 @@ impl NormalEquations {
     /// Sluis): a column's unit (a compliance in rad/(N·m) against lengths in
     /// metres) changes W's own condition number, not this one.
     pub(crate) fn equilibrated_condition(&self) -> f64 {
-        let size = self.gram.nrows();
-        let scale: Vec<f64> = (0..size)
-            .map(|j| self.gram[(j, j)].sqrt().recip())
-            .collect();
-        if !scale.iter().all(|s| s.is_finite()) {
-            return f64::INFINITY;
-        }
-        let scaled = Mat::<f64>::from_fn(size, size, |i, j| {
-            if i >= j {
-                self.gram[(i, j)] * scale[i] * scale[j]
-            } else {
-                0.0
-            }
-        });
-        match eigenvalue_range(scaled.as_ref()) {
+        match self.equilibrated_eigenvalue_range() {
             Some((smallest, largest)) if smallest > 0.0 => (largest / smallest).sqrt(),
             _ => f64::INFINITY,
         }
+    }
+
+    /// WᵀW with its columns scaled to unit norm, `D WᵀW D` (both
+    /// triangles), and the column norms `‖w_j‖` (`D⁻¹`); `None` when a
+    /// column is zero or not finite.
+    pub(crate) fn equilibrated(&self) -> Option<(Mat<f64>, Vec<f64>)> {
+        let size = self.gram.nrows();
+        let norms: Vec<f64> = (0..size).map(|j| self.gram[(j, j)].sqrt()).collect();
+        let scale: Vec<f64> = norms.iter().map(|n| n.recip()).collect();
+        if !scale.iter().all(|s| s.is_finite()) || !norms.iter().all(|n| n.is_finite()) {
+            return None;
+        }
+        let scaled = Mat::<f64>::from_fn(size, size, |i, j| {
+            self.gram[(i.max(j), i.min(j))] * scale[i] * scale[j]
+        });
+        Some((scaled, norms))
+    }
+
+    /// The smallest and largest eigenvalues of the
+    /// [`equilibrated`](Self::equilibrated) WᵀW (multisection, no
+    /// eigenvectors); `None` as there, or when they are not finite.
+    pub(crate) fn equilibrated_eigenvalue_range(&self) -> Option<(f64, f64)> {
+        let (scaled, _) = self.equilibrated()?;
+        eigenvalue_range(scaled.as_ref())
     }
 
     /// `WᵀW · x`, from the lower triangle.
@@ -442,13 +452,6 @@ impl NormalEquations {
     /// Wᵀr, a column.
     pub(crate) fn projected(&self) -> &Mat<f64> {
         &self.projected
-    }
-
-    /// WᵀW with both triangles (the sums keep the lower one).
-    pub(crate) fn gram_full(&self) -> Mat<f64> {
-        Mat::from_fn(self.gram.nrows(), self.gram.ncols(), |i, j| {
-            self.gram[(i.max(j), i.min(j))]
-        })
     }
 
     /// After the residuals moved by the linear model, `r ← r − W·step`:

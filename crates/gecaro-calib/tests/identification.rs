@@ -6,7 +6,7 @@ use gecaro_calib::{
     Progress, Quiet,
     identifiability::ParameterStatus,
     identification::{IdentificationOptions, Prior, Route, StopReason, evaluate, identify},
-    methods::{MethodOptions, Plane, method},
+    methods::{CalibrationMethod, MethodOptions, Plane, method},
     simulation::{Sampler, perturbed_robot, simulate_measurements},
     study::{MeasurementSet, Sample, Study},
     table2::{STANFORD_PLANE_POINT, TABLE2_PLANE_NORMAL},
@@ -395,6 +395,31 @@ fn a_prior_adds_its_uncertainty_to_sigma_and_the_noise_sigma_is_the_spread() {
     assert!(!honest(&whole), "σ alone would have matched: {held:?}");
 }
 
+/// A ready robot, the `name` method, and `count` exact measurements of a
+/// real robot drawn from it at `level` with `seed` (the measurements drawn
+/// next from the same sampler).
+fn exact_measurements(
+    robot: &str,
+    name: &str,
+    (level, seed): (f64, u64),
+    count: usize,
+) -> (Robot, Box<dyn CalibrationMethod>, Vec<Sample>) {
+    let nominal = gecaro_io::load_robot(robot).expect("ready robot").robot;
+    let measure = method(name, &MethodOptions::default()).expect("method");
+    let mut sampler = Sampler::new(seed);
+    let real = perturbed_robot(&nominal, level, &mut sampler).expect("real robot");
+    let exact = simulate_measurements(
+        &real,
+        measure.as_ref(),
+        count,
+        0.0,
+        &mut sampler,
+        &mut Quiet,
+    )
+    .expect("data");
+    (nominal, measure, exact)
+}
+
 /// Per parameter of a ready robot's identification from `name` data (one
 /// real robot at level 1, `count` configurations measured 40 times with
 /// fresh noise, σ 0.01 mm and 0.01 mrad stated): the spread of what its σ
@@ -406,19 +431,7 @@ fn spread_over_noise_sigma(
     count: usize,
 ) -> (Vec<(String, f64)>, Vec<String>) {
     let sigma = 1e-5;
-    let nominal = gecaro_io::load_robot(robot).expect("ready robot").robot;
-    let measure = method(name, &MethodOptions::default()).expect("method");
-    let mut sampler = Sampler::new(7);
-    let real = perturbed_robot(&nominal, 1.0, &mut sampler).expect("real robot");
-    let exact = simulate_measurements(
-        &real,
-        measure.as_ref(),
-        count,
-        0.0,
-        &mut sampler,
-        &mut Quiet,
-    )
-    .expect("data");
+    let (nominal, measure, exact) = exact_measurements(robot, name, (1.0, 7), count);
     let mut noise = Sampler::new(1007);
     let runs = 40;
     let mut values: Vec<Vec<f64>> = Vec::new();
@@ -566,12 +579,7 @@ fn the_noise_sigma_is_the_identifications_sensitivity_to_its_data() {
 /// one real robot (PUMA 560 at `level`, drawn with `seed`).
 fn noise_sigma_against_sensitivity(level: f64, seed: u64) {
     let sigma = 1e-5;
-    let nominal = gecaro_io::load_robot("puma560").expect("ready robot").robot;
-    let measure = method("position", &MethodOptions::default()).expect("method");
-    let mut sampler = Sampler::new(seed);
-    let real = perturbed_robot(&nominal, level, &mut sampler).expect("real robot");
-    let exact = simulate_measurements(&real, measure.as_ref(), 60, 0.0, &mut sampler, &mut Quiet)
-        .expect("data");
+    let (nominal, measure, exact) = exact_measurements("puma560", "position", (level, seed), 60);
     let mut noise = Sampler::new(seed + 1000);
     let noisy: Vec<Sample> = exact
         .iter()

@@ -56,13 +56,13 @@
 //! PUMA 560 and industrial6, position and frame, levels 1 and 2, seeds 7–9
 //! (it was up to 2.32, always r7 with position data).
 
-use faer::Mat;
-
-use crate::linalg::LeastSquaresRows;
+use faer::{Mat, MatRef};
 
 use super::options::IdentificationOptions;
 use super::solver::{Iterate, Problem};
+use super::weighting::Weighting;
 use crate::Error;
+use crate::linalg::LeastSquaresRows;
 use crate::study::StudyStates;
 
 /// The smallest equilibrated eigenvalue of G below which the curvature is
@@ -84,42 +84,75 @@ const MAX_DIRECTIONS: usize = 12;
 const HELD_ENTRIES: usize = 8 << 20;
 
 /// The central difference's step along a direction whose largest entry is
-/// 1 (metres, radians, gains): 1e-5 to 1e-7 give the same H to six digits.
+/// 1 (metres, radians, gains): with held rows, 1e-5 and 1e-7 give the same
+/// noise σ to five digits (r7, PUMA 560 at level 2, seed 8).
 const STEP: f64 = 1e-6;
 
 /// The Hessian `H = G − S` of the sum of squares at `best` in the columns
-/// of `problem` (which carries the final weights and prior rows), where
-/// the curvature matters (module docs); `None` where G is well conditioned
-/// and H is G, or where the measured H is not positive definite (the
-/// caller keeps G's precision).
+/// of `problem` under `weighting` (the final robust weights and prior
+/// rows), where the curvature matters (module docs); `None` where G is
+/// well conditioned and H is G, or where the measured H is not positive
+/// definite (the caller keeps G's precision). The check that decides it
+/// reads G's extreme eigenvalues only (what the solver's choice reads);
+/// the eigenvectors are computed past it.
 ///
 /// # Errors
 /// Errors of the model near `best`, which it evaluated.
 pub(super) fn newton_hessian(
     problem: &Problem<'_>,
+    weighting: &Weighting,
     best: &Iterate,
 ) -> Result<Option<Mat<f64>>, Error> {
-    let gram = best.normal.gram_full();
-    let columns = gram.nrows();
-    let scale: Vec<f64> = (0..columns).map(|i| gram[(i, i)].sqrt()).collect();
-    if columns == 0 || scale.iter().any(|s| !s.is_finite() || *s <= 0.0) {
-        return Ok(None);
+    match best.normal.equilibrated_eigenvalue_range() {
+        Some((smallest, _)) if smallest < ONSET => {}
+        _ => return Ok(None),
     }
-    let equilibrated = Mat::from_fn(columns, columns, |i, j| {
-        gram[(i, j)] / (scale[i] * scale[j])
-    });
+    let Some((equilibrated, norms)) = best.normal.equilibrated() else {
+        return Ok(None);
+    };
     let Ok(eigen) = equilibrated.self_adjoint_eigen(faer::Side::Lower) else {
         return Ok(None);
     };
-    let values = eigen.S();
-    if values[0] >= ONSET {
+    let columns = norms.len();
+    let measured = (0..columns.min(MAX_DIRECTIONS))
+        .take_while(|k| eigen.S()[*k] < BAND)
+        .count();
+    // V: the measured directions (equilibrated coordinates, orthonormal).
+    let directions = eigen.U().subcols(0, measured).to_owned();
+    let problem = problem.with_weighting(weighting.clone());
+    let values: Vec<f64> = (0..measured).map(|k| eigen.S()[k]).collect();
+    let curvatures = measured_curvatures(&problem, best, &norms, (directions.as_ref(), &values))?;
+    if !curvatures.is_all_finite() {
         return Ok(None);
     }
+    // S̃ ≈ R Vᵀ + V Rᵀ − V M Vᵀ, R = S̃V, M = VᵀR (symmetrised); H = Δ(G̃ − S̃)Δ.
+    let crossed = directions.transpose() * &curvatures;
+    let m = (&crossed + crossed.transpose()) * 0.5;
+    let curvature = &curvatures * directions.transpose() + &directions * curvatures.transpose()
+        - &directions * &m * directions.transpose();
+    let hessian = Mat::from_fn(columns, columns, |i, j| {
+        (equilibrated[(i, j)] - curvature[(i, j)]) * norms[i] * norms[j]
+    });
+    Ok(hessian.llt(faer::Side::Lower).is_ok().then_some(hessian))
+}
+
+/// `S̃V` for the orthonormal `directions` V of the equilibrated G (columns;
+/// `values` their eigenvalues, `norms` the column norms Δ of W), measured
+/// by central differences (module docs): a column per direction.
+///
+/// # Errors
+/// Errors of the model near `best`.
+fn measured_curvatures(
+    problem: &Problem<'_>,
+    best: &Iterate,
+    norms: &[f64],
+    (directions, values): (MatRef<'_, f64>, &[f64]),
+) -> Result<Mat<f64>, Error> {
+    let (columns, count) = directions.shape();
     let mut states = StudyStates::default();
     // The rows are held for the measurement where they fit in
     // [`HELD_ENTRIES`] (a streamed system's too): W at θ̂ ± h u against the
     // measured residuals at θ̂ (weighted).
-    let rows = best.system.measured_rows();
     let held_options = IdentificationOptions {
         streamed_rows: usize::MAX,
         ..problem.options.clone()
@@ -128,7 +161,8 @@ pub(super) fn newton_hessian(
         options: &held_options,
         ..problem.with_weighting(problem.weighting.clone())
     };
-    let (problem, held) = if !best.system.is_folded() {
+    let rows = best.system.measured_rows();
+    let (problem, residuals) = if !best.system.is_folded() {
         (
             problem,
             Some(best.system.solver_rows(true).right().to_vec()),
@@ -145,82 +179,33 @@ pub(super) fn newton_hessian(
     } else {
         (problem, None)
     };
-    let mut directions: Vec<Vec<f64>> = Vec::new();
-    // S̃v of each direction, in equilibrated coordinates.
-    let mut curvatures: Vec<Vec<f64>> = Vec::new();
-    for k in 0..columns.min(MAX_DIRECTIONS) {
-        if values[k] >= BAND {
-            break;
-        }
-        let v: Vec<f64> = (0..columns).map(|i| eigen.U()[(i, k)]).collect();
-        let raw: Vec<f64> = (0..columns).map(|i| v[i] / scale[i]).collect();
-        let size = raw.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-        let u: Vec<f64> = raw.iter().map(|x| x / size).collect();
-        let mut gradients: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
+    let residuals = residuals.map(|r| Mat::from_fn(r.len(), 1, |i, _| r[i]));
+    let mut curvatures = Mat::<f64>::zeros(columns, count);
+    for k in 0..count {
+        let v = directions.col(k);
+        // u = Δ⁻¹v, scaled to a largest entry of 1 (by `size`).
+        let size = (0..columns).fold(0.0_f64, |m, i| m.max((v[i] / norms[i]).abs()));
+        let mut gradients = [Mat::<f64>::zeros(0, 0), Mat::<f64>::zeros(0, 0)];
         for (gradient, sign) in gradients.iter_mut().zip([1.0, -1.0]) {
-            let step: Vec<f64> = u.iter().map(|x| sign * STEP * x).collect();
+            let step: Vec<f64> = (0..columns)
+                .map(|i| sign * STEP * v[i] / (norms[i] * size))
+                .collect();
             let (robot, auxiliary) = problem.stepped(best, &step, &problem.base)?;
             let moved = problem.assemble(&robot, &auxiliary, &problem.layout, &mut states)?;
-            *gradient = match &held {
+            *gradient = match &residuals {
                 // `W(θ̂ ± h u)ᵀ r(θ̂)`: the rows moved, the residuals not.
-                Some(residuals) => {
-                    let rows = moved.system.solver_rows(true);
-                    let matrix = rows.matrix();
-                    (0..columns)
-                        .map(|j| {
-                            residuals
-                                .iter()
-                                .enumerate()
-                                .map(|(i, r)| matrix[(i, j)] * r)
-                                .sum()
-                        })
-                        .collect()
-                }
-                None => (0..columns)
-                    .map(|i| moved.normal.projected()[(i, 0)])
-                    .collect(),
+                Some(residuals) => moved.system.solver_rows(true).matrix().transpose() * residuals,
+                None => moved.normal.projected().clone(),
             };
         }
         // Held rows: S u = (W₊ᵀr − W₋ᵀr)/2h. Folded: S u = G u − H u
-        // = G u + (g₊ − g₋)/2h. Then S̃v = size · Δ⁻¹ S u.
-        let curvature: Vec<f64> = (0..columns)
-            .map(|i| {
-                let difference = (gradients[0][i] - gradients[1][i]) / (2.0 * STEP);
-                let su = if held.is_some() {
-                    difference
-                } else {
-                    let gu: f64 = (0..columns).map(|j| gram[(i, j)] * u[j]).sum();
-                    gu + difference
-                };
-                size * su / scale[i]
-            })
-            .collect();
-        if curvature.iter().any(|x| !x.is_finite()) {
-            return Ok(None);
+        // = G u + (g₊ − g₋)/2h, and Δ⁻¹G u = G̃v/size = λv/size. Then
+        // S̃v = size · Δ⁻¹ S u.
+        let value = if residuals.is_some() { 0.0 } else { values[k] };
+        for i in 0..columns {
+            let difference = (gradients[0][(i, 0)] - gradients[1][(i, 0)]) / (2.0 * STEP);
+            curvatures[(i, k)] = value * v[i] + size * difference / norms[i];
         }
-        directions.push(v);
-        curvatures.push(curvature);
     }
-    // S̃ ≈ R Vᵀ + V Rᵀ − V M Vᵀ, R = S̃V, M = VᵀR (symmetrised).
-    let p = directions.len();
-    let m = Mat::from_fn(p, p, |a, b| {
-        let ab: f64 = (0..columns)
-            .map(|i| directions[a][i] * curvatures[b][i])
-            .sum();
-        let ba: f64 = (0..columns)
-            .map(|i| directions[b][i] * curvatures[a][i])
-            .sum();
-        0.5 * (ab + ba)
-    });
-    let hessian = Mat::from_fn(columns, columns, |i, j| {
-        let mut s = 0.0;
-        for a in 0..p {
-            s += curvatures[a][i] * directions[a][j] + directions[a][i] * curvatures[a][j];
-            for b in 0..p {
-                s -= directions[a][i] * m[(a, b)] * directions[b][j];
-            }
-        }
-        gram[(i, j)] - s * scale[i] * scale[j]
-    });
-    Ok(hessian.llt(faer::Side::Lower).is_ok().then_some(hessian))
+    Ok(curvatures)
 }

@@ -866,7 +866,7 @@ fn summarise(
         precision(all_rows.matrix(), &best.normal, problem.condition)?;
     drop(all_rows);
     // The residuals' curvature, where G is nearly singular ([`curvature`]).
-    let hessian = curvature::newton_hessian(&problem.with_weighting(weighting.clone()), &best)?;
+    let hessian = curvature::newton_hessian(problem, &weighting, &best)?;
     // The data's rows (or their stand-in, for a folded system).
     let data_rows = (hessian.is_some() || system.rows() > system.measured_rows())
         .then(|| system.solver_rows(true));
