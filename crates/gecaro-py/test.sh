@@ -31,3 +31,13 @@ for example in examples/python/*.py; do
     echo "== $example"
     "$venv/bin/python" "$example"
 done
+
+# The numpy reference of docs/performance.md ("The numpy reference") lands on
+# gecaro's solution, both ways of its Jacobian: 500 configurations, one run
+# (a check of the reference, not a timing).
+reference_data="$PWD/target/numpy-reference-500.csv"
+rm -f "$reference_data"
+"$GECARO_CLI" generate stanford --method position --count 500 --noise 1e-5 --seed 1 \
+    --output "$reference_data" >/dev/null
+"$venv/bin/python" crates/gecaro-py/bench/numpy_reference.py "$GECARO_CLI" \
+    robots/stanford.toml "$reference_data" 1e-5 1

@@ -22,7 +22,7 @@
 //! Each set is judged apart (each may be measured in its own frame), on at
 //! most [`MAXIMUM_POINTS`] of its points, evenly spread over the data.
 
-use gecaro_core::{Robot, forward_kinematics};
+use gecaro_core::{ChainBuffer, KinematicModel, Robot};
 use nalgebra::Vector3;
 
 use crate::Error;
@@ -71,9 +71,11 @@ fn check_set(robot: &Robot, set: &MeasurementSet) -> Result<(), Error> {
     let mut measured = Vec::new();
     let mut terminal = Vec::new();
     let mut wrist = Vec::new();
+    let model = KinematicModel::new(robot);
+    let mut chain = ChainBuffer::default();
     for index in spread_indices(points.len(), MAXIMUM_POINTS) {
         let (motors, point) = points[index];
-        let chain = forward_kinematics(robot, motors)?;
+        model.forward(motors, &mut chain)?;
         measured.push(point);
         terminal.push(chain.world_from_tool().translation.vector);
         wrist.push(chain.world_from_frame(n).translation.vector);

@@ -22,7 +22,7 @@
 //! from the poses the study states. At most [`MAXIMUM_POINTS`] points,
 //! evenly spread over the data, take part.
 
-use gecaro_core::{Robot, terminal_pose};
+use gecaro_core::{ChainBuffer, KinematicModel, Robot};
 use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Vector3};
 
 use crate::Error;
@@ -73,9 +73,11 @@ pub(super) fn closed_form_start(robot: &Robot, study: &Study) -> Result<Option<R
     let mut picked = spread_indices(count, MAXIMUM_POINTS).into_iter().peekable();
     let mut flanges = Vec::new();
     let mut measured = Vec::new();
+    let model = KinematicModel::new(robot);
+    let mut chain = ChainBuffer::default();
     for (index, (motors, point)) in points().enumerate() {
         if picked.next_if_eq(&index).is_some() {
-            flanges.push(terminal_pose(robot, motors)?);
+            flanges.push(model.terminal_pose(motors, &mut chain)?);
             measured.push(point);
         }
     }
@@ -187,6 +189,8 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<R
     // (station, tool, tool_frame pose, measured point) of every point, spread
     // up to MAXIMUM_POINTS per set.
     let mut points: Vec<FramedPoint> = Vec::new();
+    let model = KinematicModel::new(robot);
+    let mut chain = ChainBuffer::default();
     for set in &study.sets {
         let measured: Vec<(&[f64], Vector3<f64>)> = set
             .samples
@@ -197,7 +201,7 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<R
             .into_iter()
             .map(|index| &measured[index])
         {
-            let tool_frame = terminal_pose(robot, motors)?;
+            let tool_frame = model.terminal_pose(motors, &mut chain)?;
             points.push((
                 Some(set.station.unwrap_or(world)),
                 set.tool,
