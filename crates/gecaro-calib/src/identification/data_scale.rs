@@ -59,12 +59,13 @@ pub(super) fn check_data_scale(robot: &Robot, study: &Study) -> Result<(), Error
 }
 
 fn check_set(robot: &Robot, set: &MeasurementSet) -> Result<(), Error> {
-    let points: Vec<(&[f64], Vector3<f64>)> = set
-        .samples
-        .iter()
-        .filter_map(|sample| Some((sample.motor_positions(), sample.position()?)))
-        .collect();
-    if points.len() < MINIMUM_POINTS {
+    let points = || {
+        set.samples
+            .iter()
+            .filter_map(|sample| Some((sample.motor_positions(), sample.position()?)))
+    };
+    let count = points().count();
+    if count < MINIMUM_POINTS {
         return Ok(());
     }
     let n = robot.joint_count();
@@ -73,8 +74,13 @@ fn check_set(robot: &Robot, set: &MeasurementSet) -> Result<(), Error> {
     let mut wrist = Vec::new();
     let model = KinematicModel::new(robot);
     let mut chain = ChainBuffer::default();
-    for index in spread_indices(points.len(), MAXIMUM_POINTS) {
-        let (motors, point) = points[index];
+    // The spread points (indices in increasing order), picked as the points
+    // go by: a million are not listed.
+    let mut picked = spread_indices(count, MAXIMUM_POINTS).into_iter().peekable();
+    for (index, (motors, point)) in points().enumerate() {
+        if picked.next_if_eq(&index).is_none() {
+            continue;
+        }
         model.forward(motors, &mut chain)?;
         measured.push(point);
         terminal.push(chain.world_from_tool().translation.vector);
