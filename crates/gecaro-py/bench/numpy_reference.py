@@ -88,10 +88,11 @@ def read_data(path: str, n: int) -> tuple[np.ndarray, np.ndarray]:
     """The motor positions (m × n) and measured points (m × 3) of a gecaro
     position file: `#` comment lines, a header naming qm1..qmn, x, y, z."""
     with open(path) as file:
-        for skipped, line in enumerate(file):
-            if not line.startswith("#"):
-                names = line.strip().split(",")
-                break
+        skipped, names = next(
+            (index, line.strip().split(","))
+            for index, line in enumerate(file)
+            if not line.startswith("#")
+        )
     data = np.loadtxt(path, delimiter=",", comments="#", skiprows=skipped + 1, ndmin=2)
     joints = [names.index(f"qm{j + 1}") for j in range(n)]
     return data[:, joints], data[:, [names.index(axis) for axis in "xyz"]]
@@ -164,9 +165,10 @@ def analytic_jacobian(table, unknowns, values, qm, poses):
         before = poses[j - 1] if j > 0 else np.broadcast_to(np.eye(4), (m, 4, 4))
         origin_before = before[:, :3, 3]
         if kind in ("theta", "r", "K", "offset"):
+            # About or along z_j; a gain or offset moves the joint's own variable.
             z = poses[j][:, :3, 2]
-            moves_theta = table["sigma"][j] == 0 if kind != "theta" and kind != "r" else kind == "theta"
-            column = np.cross(z, tip - poses[j][:, :3, 3]) if moves_theta else z
+            turns = kind == "theta" or (kind in ("K", "offset") and table["sigma"][j] == 0)
+            column = np.cross(z, tip - poses[j][:, :3, 3]) if turns else z
             if kind == "K":
                 column = column * qm[:, joints[j], None]
         elif kind == "beta":
