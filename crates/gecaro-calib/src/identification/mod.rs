@@ -412,7 +412,7 @@ fn second_pass(
         // for structure: they read the observations within the outlier
         // threshold. (A model that misses structure makes outliers of its
         // own; the inliers show that structure still.)
-        score = score_tests(&current, study, &candidates, gauge)?;
+        score = score_tests(&current, study, &candidates, gauge, options.streamed_rows)?;
         if score.outside.is_none() || pass == MAX_PASSES - 1 {
             break;
         }

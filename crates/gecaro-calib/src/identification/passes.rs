@@ -11,7 +11,7 @@ use super::gauge::Gauge;
 use super::outliers::outlier_samples;
 use super::result::Identification;
 use crate::Error;
-use crate::linalg::{NormalEquations, view};
+use crate::fold::FoldKind;
 use crate::observation::ObservationSystem;
 use crate::rows::ColumnLayout;
 use crate::sampler::spread_indices;
@@ -51,6 +51,7 @@ pub(super) fn score_tests(
     study: &Study,
     candidates: &[usize],
     gauge: Option<&crate::prior::Prior>,
+    streamed_rows: usize,
 ) -> Result<ScoreTests, Error> {
     const EIGENVALUE_FLOOR: f64 = 1e-12;
     let robot = &current.calibrated;
@@ -68,7 +69,10 @@ pub(super) fn score_tests(
     let base = &current.rank.base_parameters;
     let wide: Vec<usize> = base.iter().chain(candidates).copied().collect();
     let layout = ColumnLayout::new(robot.parameters().len(), &wide, auxiliary.len());
+    // The tests read the normal equations only: tall data are folded into
+    // them as they are written, no W is held ([`crate::fold`]).
     let mut system = ObservationSystem::default();
+    system.set_folding(study.is_streamed(streamed_rows).then_some(FoldKind::Gram));
     study.linearise(robot, &auxiliary, &layout, states, &mut system)?;
     let rows = system.measured_rows();
     if let Some(prior) = gauge {
@@ -77,8 +81,7 @@ pub(super) fn score_tests(
     let columns = layout.columns();
     let weighted = system.weighted_residuals();
     let right = &weighted[..rows];
-    let matrix = view(system.matrix(), system.rows(), columns);
-    let normal = NormalEquations::of(matrix, &weighted);
+    let normal = system.normal_equations();
     if !normal.is_finite() {
         return Ok(ScoreTests::default());
     }
