@@ -349,10 +349,10 @@ impl NormalEquations {
     pub(crate) fn equilibrated(&self) -> Option<(Mat<f64>, Vec<f64>)> {
         let size = self.gram.nrows();
         let norms: Vec<f64> = (0..size).map(|j| self.gram[(j, j)].sqrt()).collect();
-        let scale: Vec<f64> = norms.iter().map(|n| n.recip()).collect();
-        if !scale.iter().all(|s| s.is_finite()) || !norms.iter().all(|n| n.is_finite()) {
+        if !norms.iter().all(|n| n.is_finite() && *n > 0.0) {
             return None;
         }
+        let scale: Vec<f64> = norms.iter().map(|n| n.recip()).collect();
         let scaled = Mat::<f64>::from_fn(size, size, |i, j| {
             self.gram[(i.max(j), i.min(j))] * scale[i] * scale[j]
         });
@@ -642,7 +642,7 @@ pub(crate) fn condition_number(matrix: MatRef<'_, f64>) -> Result<f64, Error> {
 /// extreme eigenvalues of the tridiagonal matrix are then needed, which
 /// [`tridiagonal_extremes`] finds in a fraction of the time of nalgebra's
 /// implicit QR iteration for all of them.
-fn eigenvalue_range(gram: MatRef<'_, f64>) -> Option<(f64, f64)> {
+pub(crate) fn eigenvalue_range(gram: MatRef<'_, f64>) -> Option<(f64, f64)> {
     let size = gram.nrows();
     let symmetric = nalgebra::DMatrix::from_fn(size, size, |i, j| gram[(i.max(j), i.min(j))]);
     if size == 0 || !symmetric.iter().all(|v| v.is_finite()) {

@@ -80,6 +80,20 @@ pub(crate) fn spread_indices(len: usize, limit: usize) -> Vec<usize> {
         .collect()
 }
 
+/// The items of [`spread_indices`]`(len, limit)` among the `len` that
+/// `items` yields, picked as they go by: a million items are not listed
+/// first.
+pub(crate) fn spread_items<T>(
+    items: impl Iterator<Item = T>,
+    len: usize,
+    limit: usize,
+) -> impl Iterator<Item = T> {
+    let mut picked = spread_indices(len, limit).into_iter().peekable();
+    items
+        .enumerate()
+        .filter_map(move |(index, item)| picked.next_if_eq(&index).map(|_| item))
+}
+
 /// Draws of a configuration before one the cell admits is given up on.
 pub const CELL_DRAWS: usize = 10_000;
 
@@ -274,7 +288,7 @@ fn distinct(robot: &Robot, first: &[f64], second: &[f64]) -> bool {
 
 #[cfg(test)]
 mod tests {
-    use super::spread_indices;
+    use super::{spread_indices, spread_items};
 
     #[test]
     fn spread_indices_cover_the_data_and_no_cycle_of_it() {
@@ -293,5 +307,8 @@ mod tests {
         poses.dedup();
         assert_eq!(poses.len(), period, "every pose read");
         assert_eq!(indices, spread_indices(len, limit), "the same every run");
+        let items: Vec<usize> = spread_items((0..len).map(|i| 10 * i), len, limit).collect();
+        let expected: Vec<usize> = indices.iter().map(|i| 10 * i).collect();
+        assert_eq!(items, expected, "the items at the spread indices");
     }
 }

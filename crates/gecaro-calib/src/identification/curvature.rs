@@ -62,7 +62,7 @@ use super::options::IdentificationOptions;
 use super::solver::{Iterate, Problem};
 use super::weighting::Weighting;
 use crate::Error;
-use crate::linalg::LeastSquaresRows;
+use crate::linalg::{LeastSquaresRows, eigenvalue_range};
 use crate::study::StudyStates;
 
 /// The smallest equilibrated eigenvalue of G below which the curvature is
@@ -93,8 +93,8 @@ const STEP: f64 = 1e-6;
 /// rows), where the curvature matters (module docs); `None` where G is
 /// well conditioned and H is G, or where the measured H is not positive
 /// definite (the caller keeps G's precision). The check that decides it
-/// reads G's extreme eigenvalues only (what the solver's choice reads);
-/// the eigenvectors are computed past it.
+/// reads the equilibrated G's extreme eigenvalues only (what the solver's
+/// choice reads); the eigenvectors are computed past it.
 ///
 /// # Errors
 /// Errors of the model near `best`, which it evaluated.
@@ -103,13 +103,13 @@ pub(super) fn newton_hessian(
     weighting: &Weighting,
     best: &Iterate,
 ) -> Result<Option<Mat<f64>>, Error> {
-    match best.normal.equilibrated_eigenvalue_range() {
-        Some((smallest, _)) if smallest < ONSET => {}
-        _ => return Ok(None),
-    }
     let Some((equilibrated, norms)) = best.normal.equilibrated() else {
         return Ok(None);
     };
+    match eigenvalue_range(equilibrated.as_ref()) {
+        Some((smallest, _)) if smallest < ONSET => {}
+        _ => return Ok(None),
+    }
     let Ok(eigen) = equilibrated.self_adjoint_eigen(faer::Side::Lower) else {
         return Ok(None);
     };
@@ -153,14 +153,7 @@ fn measured_curvatures(
     // The rows are held for the measurement where they fit in
     // [`HELD_ENTRIES`] (a streamed system's too): W at θ̂ ± h u against the
     // measured residuals at θ̂ (weighted).
-    let held_options = IdentificationOptions {
-        streamed_rows: usize::MAX,
-        ..problem.options.clone()
-    };
-    let held_problem = Problem {
-        options: &held_options,
-        ..problem.with_weighting(problem.weighting.clone())
-    };
+    let (held_options, held_problem);
     let rows = best.system.measured_rows();
     let (problem, residuals) = if !best.system.is_folded() {
         (
@@ -168,6 +161,14 @@ fn measured_curvatures(
             Some(best.system.solver_rows(true).right().to_vec()),
         )
     } else if rows.saturating_mul(columns) <= HELD_ENTRIES {
+        held_options = IdentificationOptions {
+            streamed_rows: usize::MAX,
+            ..problem.options.clone()
+        };
+        held_problem = Problem {
+            options: &held_options,
+            ..problem.with_weighting(problem.weighting.clone())
+        };
         let at = held_problem.assemble(
             &best.robot,
             &best.auxiliary,
@@ -179,7 +180,9 @@ fn measured_curvatures(
     } else {
         (problem, None)
     };
-    let residuals = residuals.map(|r| Mat::from_fn(r.len(), 1, |i, _| r[i]));
+    let residuals = residuals
+        .as_deref()
+        .map(|r| MatRef::from_column_major_slice(r, r.len(), 1));
     let mut curvatures = Mat::<f64>::zeros(columns, count);
     for k in 0..count {
         let v = directions.col(k);

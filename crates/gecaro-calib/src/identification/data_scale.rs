@@ -26,7 +26,7 @@ use gecaro_core::{ChainBuffer, KinematicModel, Robot};
 use nalgebra::Vector3;
 
 use crate::Error;
-use crate::sampler::spread_indices;
+use crate::sampler::spread_items;
 use crate::study::{MeasurementSet, Study};
 
 /// The farthest a measured point may sit from the frame n+1 origin (a tool
@@ -74,13 +74,7 @@ fn check_set(robot: &Robot, set: &MeasurementSet) -> Result<(), Error> {
     let mut wrist = Vec::new();
     let model = KinematicModel::new(robot);
     let mut chain = ChainBuffer::default();
-    // The spread points (indices in increasing order), picked as the points
-    // go by: a million are not listed.
-    let mut picked = spread_indices(count, MAXIMUM_POINTS).into_iter().peekable();
-    for (index, (motors, point)) in points().enumerate() {
-        if picked.next_if_eq(&index).is_none() {
-            continue;
-        }
+    for (motors, point) in spread_items(points(), count, MAXIMUM_POINTS) {
         model.forward(motors, &mut chain)?;
         measured.push(point);
         terminal.push(chain.world_from_tool().translation.vector);

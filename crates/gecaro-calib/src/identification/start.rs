@@ -27,7 +27,7 @@ use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Vector3};
 
 use crate::Error;
 use crate::registration::rigid_fit;
-use crate::sampler::spread_indices;
+use crate::sampler::spread_items;
 use crate::study::Study;
 
 /// Alternations at most.
@@ -68,18 +68,13 @@ pub(super) fn closed_form_start(robot: &Robot, study: &Study) -> Result<Option<R
     if count < MINIMUM_POINTS {
         return Ok(None);
     }
-    // The spread points (indices in increasing order), picked as the points
-    // go by: a million are not listed.
-    let mut picked = spread_indices(count, MAXIMUM_POINTS).into_iter().peekable();
     let mut flanges = Vec::new();
     let mut measured = Vec::new();
     let model = KinematicModel::new(robot);
     let mut chain = ChainBuffer::default();
-    for (index, (motors, point)) in points().enumerate() {
-        if picked.next_if_eq(&index).is_some() {
-            flanges.push(model.terminal_pose(motors, &mut chain)?);
-            measured.push(point);
-        }
+    for (motors, point) in spread_items(points(), count, MAXIMUM_POINTS) {
+        flanges.push(model.terminal_pose(motors, &mut chain)?);
+        measured.push(point);
     }
     let nominal_rms = rms(
         &flanges,
@@ -192,21 +187,18 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<R
     let model = KinematicModel::new(robot);
     let mut chain = ChainBuffer::default();
     for set in &study.sets {
-        let measured: Vec<(&[f64], Vector3<f64>)> = set
-            .samples
-            .iter()
-            .filter_map(|s| Some((s.motor_positions(), s.position()?)))
-            .collect();
-        for (motors, point) in spread_indices(measured.len(), MAXIMUM_POINTS)
-            .into_iter()
-            .map(|index| &measured[index])
-        {
+        let measured = || {
+            set.samples
+                .iter()
+                .filter_map(|s| Some((s.motor_positions(), s.position()?)))
+        };
+        for (motors, point) in spread_items(measured(), measured().count(), MAXIMUM_POINTS) {
             let tool_frame = model.terminal_pose(motors, &mut chain)?;
             points.push((
                 Some(set.station.unwrap_or(world)),
                 set.tool,
                 tool_frame,
-                *point,
+                point,
             ));
         }
     }
