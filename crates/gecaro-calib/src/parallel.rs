@@ -1,9 +1,23 @@
 //! Work split over the cores with scoped standard-library threads: the
 //! independent per-configuration kinematics and the row blocks of the tall
 //! observation matrix. Every split is by contiguous parts whose results are
-//! combined in part order, so results do not depend on the number of cores.
+//! combined in part order, so results do not depend on the number of cores,
+//! nor on which thread ran which part.
+//!
+//! The parts are taken in turn by whichever thread is free (this one
+//! included, from the start), not dealt out in advance: a thread the
+//! system starts late or runs slowly (a virtual machine's second core is
+//! often both, by milliseconds at a process's first spawn) then takes
+//! fewer parts instead of holding the others up. Callers cut about
+//! [`PARTS_PER_THREAD`] parts per thread for that.
 
+use std::sync::Mutex;
 use std::sync::OnceLock;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// About how many parts per thread a caller cuts its work into, so that
+/// the threads finish together however unevenly they run.
+pub const PARTS_PER_THREAD: usize = 8;
 
 /// The cores this process may use, asked once: the standard library reads
 /// the cgroup quota files on every call, which costs more than evaluating
@@ -13,40 +27,56 @@ pub fn available_threads() -> usize {
     *THREADS.get_or_init(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get))
 }
 
-/// `work` applied to every part, in part order: the parts are dealt in
-/// contiguous runs to at most [`available_threads`] threads, this one
-/// included. A panic in a part is resumed here.
+/// `work` applied to every part, results in part order: at most
+/// [`available_threads`] threads, this one included, each take the next
+/// part not yet taken until none is left. A panic in a part is resumed here.
 pub fn run_parts<T: Send, R: Send>(parts: Vec<T>, work: impl Fn(T) -> R + Sync) -> Vec<R> {
     let threads = available_threads().min(parts.len());
     if threads < 2 {
         return parts.into_iter().map(work).collect();
     }
-    let per_thread = parts.len().div_ceil(threads);
-    let mut parts = parts.into_iter();
-    let mut runs: Vec<Vec<T>> = Vec::with_capacity(threads);
-    loop {
-        let run: Vec<T> = parts.by_ref().take(per_thread).collect();
-        if run.is_empty() {
-            break;
+    let parts: Vec<Mutex<Option<T>>> = parts
+        .into_iter()
+        .map(|part| Mutex::new(Some(part)))
+        .collect();
+    let results: Vec<Mutex<Option<R>>> = parts.iter().map(|_| Mutex::new(None)).collect();
+    let next = AtomicUsize::new(0);
+    let take_parts = || {
+        loop {
+            let index = next.fetch_add(1, Ordering::Relaxed);
+            let Some(slot) = parts.get(index) else {
+                return;
+            };
+            // Each index is taken once: the slot holds its part.
+            let part = slot
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .take();
+            if let Some(part) = part {
+                let result = work(part);
+                *results[index]
+                    .lock()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner) = Some(result);
+            }
         }
-        runs.push(run);
-    }
-    let work = &work;
-    let run_all = move |run: Vec<T>| run.into_iter().map(work).collect::<Vec<R>>();
+    };
     std::thread::scope(|scope| {
-        let mut runs = runs.into_iter();
-        let first = runs.next().unwrap_or_default();
-        let others: Vec<_> = runs.map(|run| scope.spawn(move || run_all(run))).collect();
-        let mut results = run_all(first);
-        for handle in others {
-            results.extend(
-                handle
-                    .join()
-                    .unwrap_or_else(|payload| std::panic::resume_unwind(payload)),
-            );
+        let helpers: Vec<_> = (1..threads).map(|_| scope.spawn(take_parts)).collect();
+        take_parts();
+        for helper in helpers {
+            helper
+                .join()
+                .unwrap_or_else(|payload| std::panic::resume_unwind(payload));
         }
-        results
-    })
+    });
+    results
+        .into_iter()
+        .map(|slot| {
+            slot.into_inner()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .expect("every part ran: a panic would have been resumed")
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -64,6 +94,19 @@ mod tests {
             run_parts(Vec::<usize>::new(), |part| part),
             Vec::<usize>::new()
         );
+    }
+
+    /// A slow thread takes fewer parts and the results stay in part order.
+    #[test]
+    fn a_slow_part_does_not_reorder_the_results() {
+        let parts: Vec<usize> = (0..40).collect();
+        let results = run_parts(parts, |part| {
+            if part == 0 {
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+            part * 3
+        });
+        assert_eq!(results, (0..40).map(|part| part * 3).collect::<Vec<_>>());
     }
 
     #[test]

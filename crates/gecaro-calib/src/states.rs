@@ -8,7 +8,7 @@
 use gecaro_core::{ChainBuffer, Error as ModelError, JacobianRows, KinematicModel, Robot};
 use nalgebra::IsometryMatrix3;
 
-use crate::parallel::{available_threads, run_parts};
+use crate::parallel::{PARTS_PER_THREAD, available_threads, run_parts};
 use crate::samples::SampleSlice;
 
 /// The end-effector pose and parameter Jacobian at one configuration.
@@ -147,12 +147,19 @@ fn evaluate_into(
     .collect()
 }
 
-/// Samples per thread: all of them below [`PARALLEL_MINIMUM`], else an even share.
+/// The fewest samples of a part evaluated on its own.
+const MIN_PART: usize = 256;
+
+/// Samples per part: all of them below [`PARALLEL_MINIMUM`], else about
+/// [`PARTS_PER_THREAD`] parts per thread (the threads take them in turn,
+/// see [`run_parts`]) of at least [`MIN_PART`].
 pub(crate) fn part_size(samples: usize) -> usize {
     if samples < PARALLEL_MINIMUM {
         samples.max(1)
     } else {
-        samples.div_ceil(available_threads())
+        samples
+            .div_ceil(available_threads() * PARTS_PER_THREAD)
+            .max(MIN_PART)
     }
 }
 

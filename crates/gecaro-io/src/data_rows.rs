@@ -10,7 +10,7 @@
 //! further care: no quoted field (a quote may hold a line break) and fewer
 //! lines than [`MAX_CONFIGURATIONS`] (the limit cannot fall inside a part).
 
-use gecaro_calib::parallel::{available_threads, run_parts};
+use gecaro_calib::parallel::{PARTS_PER_THREAD, available_threads, run_parts};
 use gecaro_calib::study::{MotorPositions, Sample, SamplesBuilder};
 use gecaro_core::LinkMass;
 use nalgebra::Vector3;
@@ -34,6 +34,9 @@ pub const MAX_CONFIGURATIONS: usize = 1_000_000;
 
 /// Bodies shorter than this are read in one part: a thread costs more.
 pub(crate) const PART_MIN_BYTES: usize = 1 << 17;
+
+/// The shortest part of a body read in parts (about 180 position rows).
+const MIN_PART_BYTES: usize = 1 << 15;
 
 /// Bytes of a long file read at once ([`RowReader::read_chunks`]).
 pub(crate) const CHUNK_BYTES: usize = 16 << 20;
@@ -170,7 +173,10 @@ impl RowReader<'_> {
         if threads < 2 || body.len() < PART_MIN_BYTES || memchr::memchr(b'"', body).is_some() {
             return None;
         }
-        let cut = line_parts(body, lines_before, threads);
+        // The threads take the parts in turn (see `run_parts`): several
+        // each, so that one started late takes fewer.
+        let parts = (threads * PARTS_PER_THREAD).min(body.len() / MIN_PART_BYTES);
+        let cut = line_parts(body, lines_before, parts.max(threads));
         let breaks: usize = cut.iter().map(|(_, _, own)| own).sum();
         if breaks >= MAX_CONFIGURATIONS {
             return None;
