@@ -19,7 +19,7 @@ use std::path::Path;
 
 use crate::Error;
 use crate::columns::{not_a_number, parse_number};
-use crate::input::{LineLimit, MAX_LINE_BYTES, csv_reader_with, for_each_record};
+use crate::input::{LineLimit, MAX_LINE_BYTES, csv_reader_with, for_each_byte_record};
 use crate::line_chunks::{LineChunks, line_parts};
 use crate::pose::{quaternion_deviation, unit_quaternion};
 
@@ -150,7 +150,7 @@ impl RowReader<'_> {
             error: None,
         };
         let (samples, normalised) = (&mut rows.samples, &mut rows.normalised);
-        rows.error = for_each_record(csv, self.path, lines_before, |record, line| {
+        rows.error = for_each_byte_record(csv, self.path, lines_before, |record, line| {
             if samples.len() == MAX_CONFIGURATIONS {
                 return Err(self.too_many(line));
             }
@@ -288,10 +288,19 @@ impl RowReader<'_> {
     /// One record as a sample.
     fn sample(
         &self,
-        record: &csv::StringRecord,
+        record: &csv::ByteRecord,
         line: usize,
         normalised: &mut Normalised,
     ) -> Result<Sample, Error> {
+        // The record is read as bytes (its numbers are parsed from them);
+        // the file must still be text, as in a single pass of the `csv`
+        // crate's text records (a binary file is named as such).
+        let bytes = record.as_slice();
+        if !bytes.is_ascii() && std::str::from_utf8(bytes).is_err() {
+            return Err(self.fail(line, None, "the file is not UTF-8 text".into()));
+        }
+        // A field as text, for a message.
+        let text = |column: usize| String::from_utf8_lossy(&record[column]).trim().to_owned();
         let names = self.names;
         if record.len() != names.len() {
             return Err(self.fail(
@@ -306,15 +315,18 @@ impl RowReader<'_> {
             ));
         }
         let value = |column: usize| -> Result<f64, Error> {
-            let text = record[column].trim();
-            match parse_number(text, self.decimal_comma) {
+            match field_number(&record[column], self.decimal_comma) {
                 Some(number) if number.is_finite() => Ok(number),
                 Some(_) => Err(self.fail(
                     line,
                     Some(column),
-                    format!("`{text}` is not a finite number"),
+                    format!("`{}` is not a finite number", text(column)),
                 )),
-                None => Err(self.fail(line, Some(column), not_a_number(text, self.decimal_comma))),
+                None => Err(self.fail(
+                    line,
+                    Some(column),
+                    not_a_number(&text(column), self.decimal_comma),
+                )),
             }
         };
         // A measured length beyond what a cell holds (1 km, as a robot
@@ -328,7 +340,7 @@ impl RowReader<'_> {
                     Some(column),
                     format!(
                         "`{}` is {} m: beyond ±{} m, no measurement in a robot cell",
-                        record[column].trim(),
+                        text(column),
                         gecaro_core::Compact(metres),
                         gecaro_core::MAX_MAGNITUDE
                     ),
@@ -337,25 +349,22 @@ impl RowReader<'_> {
             Ok(metres)
         };
         let fields = &self.fields;
-        let motor_positions = fields
-            .joints
-            .iter()
-            .map(|(column, scale)| {
-                let motor = value(*column)? * scale;
-                if motor.abs() > MAX_MOTOR_VALUE {
-                    return Err(self.fail(
-                        line,
-                        Some(*column),
-                        format!(
-                            "`{}` is beyond ±{MAX_MOTOR_VALUE:e}, where a double no longer \
-                             counts an encoder's steps",
-                            record[*column].trim()
-                        ),
-                    ));
-                }
-                Ok(motor)
-            })
-            .collect::<Result<MotorPositions, Error>>()?;
+        let mut motor_positions = MotorPositions::with_capacity(fields.joints.len());
+        for (column, scale) in &fields.joints {
+            let motor = value(*column)? * scale;
+            if motor.abs() > MAX_MOTOR_VALUE {
+                return Err(self.fail(
+                    line,
+                    Some(*column),
+                    format!(
+                        "`{}` is beyond ±{MAX_MOTOR_VALUE:e}, where a double no longer \
+                         counts an encoder's steps",
+                        text(*column)
+                    ),
+                ));
+            }
+            motor_positions.push(motor);
+        }
         let mut sample = Sample {
             line: Some(line),
             ..Sample::new(motor_positions)
@@ -373,12 +382,15 @@ impl RowReader<'_> {
             sample.orientation = Some(orientation);
         }
         if let Some(column) = fields.group {
-            let text = record[column].trim();
-            sample.group = Some(text.parse().map_err(|_| {
+            let id = std::str::from_utf8(record[column].trim_ascii())
+                .ok()
+                .and_then(|id| id.parse().ok())
+                .or_else(|| text(column).parse().ok());
+            sample.group = Some(id.ok_or_else(|| {
                 self.fail(
                     line,
                     Some(column),
-                    format!("`{text}` is not an id (a whole number ≥ 0)"),
+                    format!("`{}` is not an id (a whole number ≥ 0)", text(column)),
                 )
             })?);
         }
@@ -391,7 +403,7 @@ impl RowReader<'_> {
                 return Err(self.fail(
                     line,
                     Some(mass),
-                    format!("`{}` is not a mass in kg (≥ 0)", record[mass].trim()),
+                    format!("`{}` is not a mass in kg (≥ 0)", text(mass)),
                 ));
             }
             let com = match centre {
@@ -404,5 +416,93 @@ impl RowReader<'_> {
             }));
         }
         Ok(sample)
+    }
+}
+
+/// The number a field's bytes hold (`None`: none, or not UTF-8 text), as
+/// [`parse_number`] reads its text: ASCII blanks around it are trimmed and
+/// its bytes parsed at once; anything else (a decimal comma, other white
+/// space such as a no-break space pasted from a spreadsheet, a field that
+/// is no number) takes the text route, which says the same of every number
+/// (both are correctly rounded) and has the last word.
+fn field_number(bytes: &[u8], decimal_comma: bool) -> Option<f64> {
+    let bytes = bytes.trim_ascii();
+    if (!decimal_comma || !bytes.contains(&b','))
+        && let Ok(number) = fast_float2::parse::<f64, _>(bytes)
+    {
+        return Some(number);
+    }
+    let text = std::str::from_utf8(bytes).ok()?;
+    parse_number(text, decimal_comma).or_else(|| parse_number(text.trim(), decimal_comma))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// What the text route alone says of a field (the reading before the
+    /// byte route): the standard library's number of the trimmed text.
+    fn text_route(bytes: &[u8], decimal_comma: bool) -> Option<f64> {
+        let text = std::str::from_utf8(bytes).ok()?;
+        parse_number(text.trim(), decimal_comma)
+    }
+
+    #[test]
+    fn fields_read_as_the_text_route_reads_them() {
+        let fields: [&[u8]; 18] = [
+            b"0.1",
+            b" -0.7447739661598641 ",
+            b"\t1e-5",
+            b"+3",
+            b"1.",
+            b".5",
+            b"-0",
+            b"1E+300",
+            b"4.9e-324",
+            b"NaN",
+            b"inf",
+            b"-Infinity",
+            b"1,5",
+            b"\xc2\xa02.5\xc2\xa0",
+            b"",
+            b"1e",
+            b"0x10",
+            b"\xff1",
+        ];
+        for decimal_comma in [false, true] {
+            for field in fields {
+                let read = field_number(field, decimal_comma);
+                let expected = text_route(field, decimal_comma);
+                assert_eq!(
+                    read.map(f64::to_bits),
+                    expected.map(f64::to_bits),
+                    "{:?} (decimal comma: {decimal_comma})",
+                    String::from_utf8_lossy(field)
+                );
+            }
+        }
+        assert_eq!(field_number(b"1,5", true), Some(1.5));
+        assert_eq!(field_number(b"1,5", false), None);
+        assert_eq!(field_number("\u{a0}2.5".as_bytes(), false), Some(2.5));
+    }
+
+    proptest! {
+        /// Every double, printed the shortest way or with 17 digits and
+        /// padded with blanks, is read back bit for bit, as the text route
+        /// reads it.
+        #[test]
+        fn printed_doubles_read_back_bit_for_bit(bits in any::<u64>(), padded in any::<bool>()) {
+            let value = f64::from_bits(bits);
+            prop_assume!(value.is_finite());
+            for printed in [format!("{value}"), format!("{value:.17e}")] {
+                let field = if padded { format!("  {printed} ") } else { printed };
+                prop_assert_eq!(field_number(field.as_bytes(), false).map(f64::to_bits), Some(bits));
+                prop_assert_eq!(
+                    text_route(field.as_bytes(), false).map(f64::to_bits),
+                    Some(bits)
+                );
+            }
+        }
     }
 }

@@ -197,6 +197,30 @@ pub(crate) fn for_each_record<R: Read>(
     }
 }
 
+/// [`for_each_record`] with the records' bytes as they are in the file
+/// (not checked for UTF-8 here: a data row's fields are numbers, which the
+/// caller parses from the bytes, and it checks the record is text).
+pub(crate) fn for_each_byte_record<R: Read>(
+    csv: &mut csv::Reader<LineLimit<R>>,
+    path: &Path,
+    lines_before: usize,
+    mut each: impl FnMut(&csv::ByteRecord, usize) -> Result<(), Error>,
+) -> Option<Error> {
+    let mut record = csv::ByteRecord::new();
+    loop {
+        match csv.read_byte_record(&mut record) {
+            Ok(true) => {
+                let line = lines_before + record_line(csv);
+                if let Err(error) = each(&record, line) {
+                    return Some(error);
+                }
+            }
+            Ok(false) => return None,
+            Err(error) => return Some(csv_error_after(path, &error, lines_before)),
+        }
+    }
+}
+
 /// A CSV error as a parse error naming the file and the line.
 pub(crate) fn csv_error(path: &Path, error: &csv::Error) -> Error {
     csv_error_after(path, error, 0)
