@@ -19,7 +19,7 @@ use std::path::Path;
 
 use crate::Error;
 use crate::columns::{not_a_number, parse_number};
-use crate::input::{LineLimit, MAX_LINE_BYTES, csv_reader_with, for_each_byte_record};
+use crate::input::{LineLimit, MAX_LINE_BYTES, csv_reader_with, for_each_record};
 use crate::line_chunks::{LineChunks, line_parts};
 use crate::pose::{quaternion_deviation, unit_quaternion};
 
@@ -150,13 +150,18 @@ impl RowReader<'_> {
             error: None,
         };
         let (samples, normalised) = (&mut rows.samples, &mut rows.normalised);
-        rows.error = for_each_byte_record(csv, self.path, lines_before, |record, line| {
-            if samples.len() == MAX_CONFIGURATIONS {
-                return Err(self.too_many(line));
-            }
-            samples.push(&self.sample(record, line, normalised)?);
-            Ok(())
-        });
+        rows.error = for_each_record(
+            csv,
+            self.path,
+            lines_before,
+            |record: &csv::ByteRecord, line| {
+                if samples.len() == MAX_CONFIGURATIONS {
+                    return Err(self.too_many(line));
+                }
+                samples.push(&self.sample(record, line, normalised)?);
+                Ok(())
+            },
+        );
         rows
     }
 

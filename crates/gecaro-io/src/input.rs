@@ -155,6 +155,27 @@ pub(crate) fn next_record<R: Read>(
     Ok(read_record(csv, path, 0, &mut record)?.map(|line| (record, line)))
 }
 
+/// A record the `csv` crate reads: as text ([`csv::StringRecord`]) or as
+/// the bytes of the file ([`csv::ByteRecord`], not checked for UTF-8: a
+/// data row's fields are numbers, parsed from the bytes by a caller that
+/// checks the record is text).
+pub(crate) trait CsvRecord: Default {
+    /// Reads the next record of `csv` into this one; `false` at the end.
+    fn read_next<R: Read>(&mut self, csv: &mut csv::Reader<R>) -> csv::Result<bool>;
+}
+
+impl CsvRecord for csv::StringRecord {
+    fn read_next<R: Read>(&mut self, csv: &mut csv::Reader<R>) -> csv::Result<bool> {
+        csv.read_record(self)
+    }
+}
+
+impl CsvRecord for csv::ByteRecord {
+    fn read_next<R: Read>(&mut self, csv: &mut csv::Reader<R>) -> csv::Result<bool> {
+        csv.read_byte_record(self)
+    }
+}
+
 /// Reads the next record of `csv` (a reader that started after
 /// `lines_before` lines of the file) into `record`; returns its line
 /// ([`record_line`]), `None` at the end.
@@ -165,9 +186,9 @@ pub(crate) fn read_record<R: Read>(
     csv: &mut csv::Reader<LineLimit<R>>,
     path: &Path,
     lines_before: usize,
-    record: &mut csv::StringRecord,
+    record: &mut impl CsvRecord,
 ) -> Result<Option<usize>, Error> {
-    match csv.read_record(record) {
+    match record.read_next(csv) {
         Ok(true) => Ok(Some(lines_before + record_line(csv))),
         Ok(false) => Ok(None),
         Err(error) => Err(csv_error_after(path, &error, lines_before)),
@@ -178,13 +199,13 @@ pub(crate) fn read_record<R: Read>(
 /// lines of the file) to `each` with its line ([`record_line`]), to the end
 /// or the first error: the reader's (naming the file and the line) or
 /// `each`'s, which is returned.
-pub(crate) fn for_each_record<R: Read>(
+pub(crate) fn for_each_record<R: Read, T: CsvRecord>(
     csv: &mut csv::Reader<LineLimit<R>>,
     path: &Path,
     lines_before: usize,
-    mut each: impl FnMut(&csv::StringRecord, usize) -> Result<(), Error>,
+    mut each: impl FnMut(&T, usize) -> Result<(), Error>,
 ) -> Option<Error> {
-    let mut record = csv::StringRecord::new();
+    let mut record = T::default();
     loop {
         let line = match read_record(csv, path, lines_before, &mut record) {
             Ok(Some(line)) => line,
@@ -193,30 +214,6 @@ pub(crate) fn for_each_record<R: Read>(
         };
         if let Err(error) = each(&record, line) {
             return Some(error);
-        }
-    }
-}
-
-/// [`for_each_record`] with the records' bytes as they are in the file
-/// (not checked for UTF-8 here: a data row's fields are numbers, which the
-/// caller parses from the bytes, and it checks the record is text).
-pub(crate) fn for_each_byte_record<R: Read>(
-    csv: &mut csv::Reader<LineLimit<R>>,
-    path: &Path,
-    lines_before: usize,
-    mut each: impl FnMut(&csv::ByteRecord, usize) -> Result<(), Error>,
-) -> Option<Error> {
-    let mut record = csv::ByteRecord::new();
-    loop {
-        match csv.read_byte_record(&mut record) {
-            Ok(true) => {
-                let line = lines_before + record_line(csv);
-                if let Err(error) = each(&record, line) {
-                    return Some(error);
-                }
-            }
-            Ok(false) => return None,
-            Err(error) => return Some(csv_error_after(path, &error, lines_before)),
         }
     }
 }
