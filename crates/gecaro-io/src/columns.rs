@@ -106,6 +106,22 @@ pub(crate) fn parse_number(text: &str, decimal_comma: bool) -> Option<f64> {
     }
 }
 
+/// [`parse_number`] of a field's bytes (`None`: no number, or not UTF-8
+/// text): ASCII blanks around it trimmed and the bytes parsed at once
+/// (`fast-float2`, correctly rounded as the standard library is, so the same
+/// double for every number, without the text's UTF-8 check); anything it
+/// refuses (a decimal comma, a no-break space pasted from a spreadsheet, a
+/// field that is no number) goes the text route, which has the last word.
+pub(crate) fn field_number(bytes: &[u8], decimal_comma: bool) -> Option<f64> {
+    let bytes = bytes.trim_ascii();
+    if (!decimal_comma || !bytes.contains(&b','))
+        && let Ok(number) = fast_float2::parse::<f64, _>(bytes)
+    {
+        return Some(number);
+    }
+    parse_number(std::str::from_utf8(bytes).ok()?.trim(), decimal_comma)
+}
+
 /// The words of a message about a field that is not a number.
 pub(crate) fn not_a_number(text: &str, decimal_comma: bool) -> String {
     if !decimal_comma && text.contains(',') && parse_number(text, true).is_some() {
@@ -273,6 +289,7 @@ pub(crate) fn locate(header: &[String], wanted: &[String], map: &ColumnMap) -> L
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
 
     #[test]
     fn maps_parse_and_refuse_what_is_not_one() {
@@ -292,5 +309,70 @@ mod tests {
         let layout = locate(&header, &wanted, &map);
         assert_eq!(layout.positions, [Some(2), Some(1), None]);
         assert_eq!(layout.unused, ["time", "point"]);
+    }
+
+    /// What the text route alone says of a field (the reading before the
+    /// byte route): the standard library's number of the trimmed text.
+    fn text_route(bytes: &[u8], decimal_comma: bool) -> Option<f64> {
+        let text = std::str::from_utf8(bytes).ok()?;
+        parse_number(text.trim(), decimal_comma)
+    }
+
+    #[test]
+    fn fields_read_as_the_text_route_reads_them() {
+        let fields: [&[u8]; 18] = [
+            b"0.1",
+            b" -0.7447739661598641 ",
+            b"\t1e-5",
+            b"+3",
+            b"1.",
+            b".5",
+            b"-0",
+            b"1E+300",
+            b"4.9e-324",
+            b"NaN",
+            b"inf",
+            b"-Infinity",
+            b"1,5",
+            b"\xc2\xa02.5\xc2\xa0",
+            b"",
+            b"1e",
+            b"0x10",
+            b"\xff1",
+        ];
+        for decimal_comma in [false, true] {
+            for field in fields {
+                let read = field_number(field, decimal_comma);
+                let expected = text_route(field, decimal_comma);
+                assert_eq!(
+                    read.map(f64::to_bits),
+                    expected.map(f64::to_bits),
+                    "{:?} (decimal comma: {decimal_comma})",
+                    String::from_utf8_lossy(field)
+                );
+            }
+        }
+        assert_eq!(field_number(b"1,5", true), Some(1.5));
+        assert_eq!(field_number(b"1,5", false), None);
+        assert_eq!(field_number("\u{a0}2.5".as_bytes(), false), Some(2.5));
+    }
+
+    proptest! {
+        /// Every double, printed the shortest way or with 17 digits and
+        /// padded with blanks, is read back bit for bit, as the text route
+        /// reads it.
+        #[test]
+        fn printed_doubles_read_back_bit_for_bit(bits in any::<u64>(), padded in any::<bool>()) {
+            let value = f64::from_bits(bits);
+            prop_assume!(value.is_finite());
+            for printed in [format!("{value}"), format!("{value:.17e}")] {
+                let field = if padded { format!("  {printed} ") } else { printed };
+                prop_assert_eq!(field_number(field.as_bytes(), false).map(f64::to_bits), Some(bits));
+                prop_assert_eq!(
+                    text_route(field.as_bytes(), false).map(f64::to_bits),
+                    Some(bits)
+                );
+            }
+        }
     }
 }

@@ -18,7 +18,7 @@ use std::io::Read;
 use std::path::Path;
 
 use crate::Error;
-use crate::columns::{not_a_number, parse_number};
+use crate::columns::{field_number, not_a_number};
 use crate::input::{LineLimit, MAX_LINE_BYTES, csv_reader_with, for_each_record};
 use crate::line_chunks::{LineChunks, line_parts};
 use crate::pose::{quaternion_deviation, unit_quaternion};
@@ -387,10 +387,9 @@ impl RowReader<'_> {
             sample.orientation = Some(orientation);
         }
         if let Some(column) = fields.group {
-            let id = std::str::from_utf8(record[column].trim_ascii())
+            let id = std::str::from_utf8(&record[column])
                 .ok()
-                .and_then(|id| id.parse().ok())
-                .or_else(|| text(column).parse().ok());
+                .and_then(|id| id.trim().parse().ok());
             sample.group = Some(id.ok_or_else(|| {
                 self.fail(
                     line,
@@ -421,93 +420,5 @@ impl RowReader<'_> {
             }));
         }
         Ok(sample)
-    }
-}
-
-/// The number a field's bytes hold (`None`: none, or not UTF-8 text), as
-/// [`parse_number`] reads its text: ASCII blanks around it are trimmed and
-/// its bytes parsed at once; anything else (a decimal comma, other white
-/// space such as a no-break space pasted from a spreadsheet, a field that
-/// is no number) takes the text route, which says the same of every number
-/// (both are correctly rounded) and has the last word.
-fn field_number(bytes: &[u8], decimal_comma: bool) -> Option<f64> {
-    let bytes = bytes.trim_ascii();
-    if (!decimal_comma || !bytes.contains(&b','))
-        && let Ok(number) = fast_float2::parse::<f64, _>(bytes)
-    {
-        return Some(number);
-    }
-    let text = std::str::from_utf8(bytes).ok()?;
-    parse_number(text, decimal_comma).or_else(|| parse_number(text.trim(), decimal_comma))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use proptest::prelude::*;
-
-    /// What the text route alone says of a field (the reading before the
-    /// byte route): the standard library's number of the trimmed text.
-    fn text_route(bytes: &[u8], decimal_comma: bool) -> Option<f64> {
-        let text = std::str::from_utf8(bytes).ok()?;
-        parse_number(text.trim(), decimal_comma)
-    }
-
-    #[test]
-    fn fields_read_as_the_text_route_reads_them() {
-        let fields: [&[u8]; 18] = [
-            b"0.1",
-            b" -0.7447739661598641 ",
-            b"\t1e-5",
-            b"+3",
-            b"1.",
-            b".5",
-            b"-0",
-            b"1E+300",
-            b"4.9e-324",
-            b"NaN",
-            b"inf",
-            b"-Infinity",
-            b"1,5",
-            b"\xc2\xa02.5\xc2\xa0",
-            b"",
-            b"1e",
-            b"0x10",
-            b"\xff1",
-        ];
-        for decimal_comma in [false, true] {
-            for field in fields {
-                let read = field_number(field, decimal_comma);
-                let expected = text_route(field, decimal_comma);
-                assert_eq!(
-                    read.map(f64::to_bits),
-                    expected.map(f64::to_bits),
-                    "{:?} (decimal comma: {decimal_comma})",
-                    String::from_utf8_lossy(field)
-                );
-            }
-        }
-        assert_eq!(field_number(b"1,5", true), Some(1.5));
-        assert_eq!(field_number(b"1,5", false), None);
-        assert_eq!(field_number("\u{a0}2.5".as_bytes(), false), Some(2.5));
-    }
-
-    proptest! {
-        /// Every double, printed the shortest way or with 17 digits and
-        /// padded with blanks, is read back bit for bit, as the text route
-        /// reads it.
-        #[test]
-        fn printed_doubles_read_back_bit_for_bit(bits in any::<u64>(), padded in any::<bool>()) {
-            let value = f64::from_bits(bits);
-            prop_assume!(value.is_finite());
-            for printed in [format!("{value}"), format!("{value:.17e}")] {
-                let field = if padded { format!("  {printed} ") } else { printed };
-                prop_assert_eq!(field_number(field.as_bytes(), false).map(f64::to_bits), Some(bits));
-                prop_assert_eq!(
-                    text_route(field.as_bytes(), false).map(f64::to_bits),
-                    Some(bits)
-                );
-            }
-        }
     }
 }
