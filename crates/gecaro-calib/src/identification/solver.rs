@@ -52,6 +52,25 @@ pub(super) enum Damping {
     Always,
 }
 
+/// What a computed step is worth at an iterate ([`Problem::worth`]).
+#[derive(Copy, Clone, PartialEq, Eq, Debug)]
+pub(super) enum StepWorth {
+    /// Worth an evaluation: the descent goes on.
+    Descent,
+    /// Small against the parameters (`‖Δ‖ ≤ step_tolerance · (1 + ‖η‖)`):
+    /// applied through the linear model, exact to O(‖Δ‖²).
+    Small,
+    /// Not small, yet unable to lower the cost by more than a relative
+    /// 1e-12: a direction the data barely see (rounding at the minimum, or a
+    /// near-null direction of W). Left out: the linear model is exact along
+    /// it only to first order, and a long step's second-order effect is what
+    /// the data would see. (A noise-free frame fit of the Stanford arm, 60
+    /// configurations, took a 0.12 rad step along θ3, θ4 and the tilt of z4
+    /// that way: the linear model said 1e-14 m, the calibrated robot was
+    /// 0.011 mm from its own data.)
+    Unproductive,
+}
+
 /// The result of one descent.
 pub(super) struct Run {
     pub(super) best: Iterate,
@@ -190,13 +209,13 @@ impl<'a> Problem<'a> {
         }
     }
 
-    /// Whether a step over `parameters` (vocabulary indices, after the
-    /// auxiliary columns) is negligible at `iterate`: small against the
-    /// parameters, or unable to lower the cost by more than a relative 1e-12
-    /// (a least-squares step lowers ‖r‖² by ‖W·Δ‖² at most). The second test
-    /// ends iterations on noisy, ill-conditioned data, where rounding keeps the
-    /// computed correction from vanishing at the minimum.
-    pub(super) fn negligible(&self, step: &[f64], iterate: &Iterate, parameters: &[usize]) -> bool {
+    /// What a step over `parameters` (vocabulary indices, after the
+    /// auxiliary columns) is worth at `iterate` (see [`StepWorth`]): small
+    /// against the parameters, or unable to lower the cost by more than a
+    /// relative 1e-12 (a least-squares step lowers ‖r‖² by ‖W·Δ‖² at most).
+    /// The second test ends iterations on noisy, ill-conditioned data, where
+    /// rounding keeps the computed correction from vanishing at the minimum.
+    pub(super) fn worth(&self, step: &[f64], iterate: &Iterate, parameters: &[usize]) -> StepWorth {
         let robot = &iterate.robot;
         let scale = norm(
             &parameters
@@ -205,11 +224,32 @@ impl<'a> Problem<'a> {
                 .collect::<Vec<_>>(),
         );
         if norm(step) <= self.options.step_tolerance * (1.0 + scale) {
-            return true;
+            return StepWorth::Small;
         }
-        predicted_decrease(&iterate.normal, step, self.condition, || {
+        let decrease = predicted_decrease(&iterate.normal, step, self.condition, || {
             iterate.system.solver_rows(false)
-        }) <= COST_TOLERANCE * iterate.cost
+        });
+        if decrease <= COST_TOLERANCE * iterate.cost {
+            StepWorth::Unproductive
+        } else {
+            StepWorth::Descent
+        }
+    }
+
+    /// The last iterate of a descent whose `step` is not worth another
+    /// evaluation: a small step applied by [`Problem::polish`], an
+    /// unproductive one left out.
+    fn finish(
+        &self,
+        current: Iterate,
+        step: &[f64],
+        worth: StepWorth,
+        parameters: &[usize],
+    ) -> Iterate {
+        match worth {
+            StepWorth::Small => self.polish(current, step, parameters),
+            StepWorth::Unproductive | StepWorth::Descent => current,
+        }
     }
 
     /// Adds `step` (auxiliary columns first, then `parameters`) to an iterate.
@@ -301,13 +341,13 @@ impl<'a> Problem<'a> {
                     let rows = rows();
                     damped_step(rows.matrix(), rows.right(), damping)
                 };
-                if damping <= INITIAL_DAMPING
-                    && fraction == 1.0
-                    && self.negligible(&step, &current, &self.base)
-                {
-                    current = self.polish(current, &step, &self.base);
-                    stop = StopReason::Converged;
-                    break 'iterations;
+                if damping <= INITIAL_DAMPING && fraction == 1.0 {
+                    let worth = self.worth(&step, &current, &self.base);
+                    if worth != StepWorth::Descent {
+                        current = self.finish(current, &step, worth, &self.base);
+                        stop = StopReason::Converged;
+                        break 'iterations;
+                    }
                 }
                 step.iter_mut().for_each(|value| *value *= fraction);
                 let (storage, shared) = match spare.take() {
@@ -401,8 +441,9 @@ impl<'a> Problem<'a> {
             let rows = current.system.solver_rows(false);
             let step = minimum_norm_step(rows.matrix(), rows.right(), rank)?;
             drop(rows);
-            if self.negligible(&step, &current, effective) {
-                current = self.polish(current, &step, effective);
+            let worth = self.worth(&step, &current, effective);
+            if worth != StepWorth::Descent {
+                current = self.finish(current, &step, worth, effective);
                 reached = true;
                 break;
             }
