@@ -13,7 +13,8 @@
 //!   its Khalil–Kleinfinger frames, with Hayati's β for (nearly) parallel axes.
 //! - Kinematics: [`forward_kinematics`] (eq. 1), [`pose_difference`]
 //!   (Appendix I), [`parameter_jacobian`] (Appendix II) and the numerical
-//!   [`inverse_kinematics`].
+//!   [`inverse_kinematics`]; [`turn`], the sine and cosine of a frame's
+//!   turn that every route of the direct model shares.
 //!
 //! Units: metres and radians throughout; gains are dimensionless. Every
 //! vector is expressed in the world frame −1; 6-vectors are `[position; rotation]`.
@@ -82,6 +83,7 @@ pub use gravity::{
     LinkMass, MassModel, STANDARD_GRAVITY, gravity_loads_in, gravity_torques, gravity_torques_in,
     upright_gravity,
 };
+pub use kinematics::turn;
 pub use kinematics::{
     ChainBuffer, FrameChain, InverseOptions, InverseSolution, JacobianRows, KinematicModel,
     OrientationDifference, Target, forward_kinematics, frame_transform, inverse_kinematics,

@@ -33,7 +33,7 @@ def assert_same_data(data: gecaro.Data, other: gecaro.Data) -> None:
             continue
         if field == "orientation":
             # A file's quaternions are normalised when read: equal to the last bit or two.
-            assert np.abs(mine - theirs).max() <= 2e-16, field
+            assert np.all(np.abs(mine - theirs) <= 2 * np.spacing(np.abs(theirs))), field
         else:
             assert np.array_equal(mine, theirs), field
 

@@ -6,6 +6,7 @@
 
 use nalgebra::{IsometryMatrix3, Matrix3, Rotation3, Translation3, Vector3};
 
+use super::turn;
 use crate::Error;
 use crate::frame::{Frame, FrameType};
 use crate::robot::Robot;
@@ -21,7 +22,7 @@ pub fn frame_transform(frame: &Frame, q: f64) -> IsometryMatrix3<f64> {
         FrameType::Fixed => (frame.theta, frame.r),
     };
     let (sin_alpha, cos_alpha) = frame.alpha.sin_cos();
-    let (sin_theta, cos_theta) = theta.sin_cos();
+    let (sin_theta, cos_theta) = turn::sin_cos(theta);
     // Rot(x, α) · Rot(z, θ), and Rot(x, α) · (d, 0, r) — eq. 2 in closed form.
     #[rustfmt::skip]
     let mut rotation = Matrix3::new(

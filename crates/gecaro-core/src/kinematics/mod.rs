@@ -12,6 +12,7 @@ mod inverse;
 mod jacobian;
 mod model;
 mod pose_difference;
+pub mod turn;
 
 pub use direct::{FrameChain, forward_kinematics, frame_transform, terminal_pose};
 pub use inverse::{

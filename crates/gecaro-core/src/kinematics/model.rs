@@ -4,10 +4,13 @@
 //! [`Robot`] are evaluated for thousands of configurations per identification
 //! iteration. Everything that does not depend on the configuration — the sines
 //! and cosines of α_j and β_j, whole transforms of fixed frames, the motor to
-//! joint map of eq. 4, the column of each parameter — is computed once here;
-//! per configuration only sin/cos(θ_j + q_j) of revolute joints remain. The
-//! results are identical to [`forward_kinematics`](super::forward_kinematics)
-//! and [`parameter_jacobian`](super::parameter_jacobian) (tested).
+//! joint map of eq. 4, the column of each parameter, sin/cos θ_j of
+//! prismatic joints — is computed once here; per configuration only
+//! sin/cos(θ_j + q_j) of revolute joints remain, taken four at a time in
+//! SIMD lanes ([`turn`](super::turn), the one sine of every route). The
+//! poses are [`forward_kinematics`](super::forward_kinematics)'s bit for bit,
+//! and the Jacobian agrees with
+//! [`parameter_jacobian`](super::parameter_jacobian) to rounding (tested).
 //!
 //! ## Elastic joints (issue 38)
 //!
@@ -31,6 +34,7 @@
 use nalgebra::{IsometryMatrix3, Matrix3, Matrix6xX, Rotation3, Translation3, Vector3};
 
 use super::direct::frame_transform;
+use super::turn;
 use crate::Error;
 use crate::frame::FrameType;
 use crate::parameters::{ParameterId, ParameterKind};
@@ -46,6 +50,9 @@ struct CompiledFrame {
     fixed: IsometryMatrix3<f64>,
     d: f64,
     theta: f64,
+    /// sin θ, cos θ: a prismatic frame's turn, the same for every configuration.
+    sin_theta: f64,
+    cos_theta: f64,
     r: f64,
     /// cos β, sin β for the rotated x axis of the α/d columns.
     cos_beta: f64,
@@ -109,6 +116,8 @@ impl JacobianRows {
 pub struct ChainBuffer {
     world_from_frame: Vec<IsometryMatrix3<f64>>,
     joint_positions: Vec<f64>,
+    /// sin/cos(θ_j + q_j) of the revolute joints, in order.
+    turns: Vec<(f64, f64)>,
     coupled_motor_positions: Vec<f64>,
     /// The gravity torque of every joint (zeros when none was given), with
     /// the tilts' share.
@@ -144,6 +153,7 @@ impl KinematicModel {
             .map(|(j, frame)| {
                 let (sin_alpha, cos_alpha) = frame.alpha.sin_cos();
                 let (sin_beta, cos_beta) = frame.beta.sin_cos();
+                let (sin_theta, cos_theta) = turn::sin_cos(frame.theta);
                 let rot_x = Matrix3::new(
                     1.0, 0.0, 0.0, 0.0, cos_alpha, -sin_alpha, 0.0, sin_alpha, cos_alpha,
                 );
@@ -156,6 +166,8 @@ impl KinematicModel {
                     fixed: frame_transform(frame, 0.0),
                     d: frame.d,
                     theta: frame.theta,
+                    sin_theta,
+                    cos_theta,
                     r: frame.r,
                     cos_beta,
                     sin_beta,
@@ -400,19 +412,48 @@ impl KinematicModel {
         self.chain_of_joints(chain);
     }
 
+    /// Fills `chain.turns` (the revolute joints' sin/cos(θ_j + q_j), four
+    /// at a time) from `chain.joint_positions`.
+    fn turns_of_joints(&self, chain: &mut ChainBuffer) {
+        chain.turns.clear();
+        let mut angles = self
+            .frames
+            .iter()
+            .enumerate()
+            .filter(|(_, frame)| frame.frame_type == FrameType::Revolute)
+            .map(|(j, frame)| frame.theta + chain.joint_positions[j - 1])
+            .peekable();
+        while angles.peek().is_some() {
+            let mut lanes = [0.0; turn::LANES];
+            let mut filled = 0;
+            for (lane, angle) in lanes.iter_mut().zip(angles.by_ref()) {
+                *lane = angle;
+                filled += 1;
+            }
+            let (sines, cosines) = turn::sin_cos_lanes(lanes);
+            chain
+                .turns
+                .extend((0..filled).map(|lane| (sines[lane], cosines[lane])));
+        }
+    }
+
     /// Fills `chain.world_from_frame` from `chain.joint_positions`.
     fn chain_of_joints(&self, chain: &mut ChainBuffer) {
+        self.turns_of_joints(chain);
         chain.world_from_frame.clear();
         let mut pose = IsometryMatrix3::identity();
+        let mut turns = chain.turns.iter();
         for (j, frame) in self.frames.iter().enumerate() {
             let local = match frame.frame_type {
                 FrameType::Fixed => frame.fixed,
-                FrameType::Revolute => {
-                    frame.moving(frame.theta + chain.joint_positions[j - 1], frame.r)
-                }
-                FrameType::Prismatic => {
-                    frame.moving(frame.theta, frame.r + chain.joint_positions[j - 1])
-                }
+                FrameType::Revolute => frame.moving(
+                    turns.next().copied().expect("a turn per revolute joint"),
+                    frame.r,
+                ),
+                FrameType::Prismatic => frame.moving(
+                    (frame.sin_theta, frame.cos_theta),
+                    frame.r + chain.joint_positions[j - 1],
+                ),
             };
             pose *= local;
             chain.world_from_frame.push(pose);
@@ -624,9 +665,9 @@ impl JacobianStore for RowMajor<'_> {
 }
 
 impl CompiledFrame {
-    /// Eq. 3 with the configuration-dependent θ and r: `tilt · (Trans(x,d)·Rot(z,θ)·Trans(z,r))`.
-    fn moving(&self, theta: f64, r: f64) -> IsometryMatrix3<f64> {
-        let (sin_theta, cos_theta) = theta.sin_cos();
+    /// Eq. 3 with the configuration-dependent θ (its sine and cosine) and
+    /// r: `tilt · (Trans(x,d)·Rot(z,θ)·Trans(z,r))`.
+    fn moving(&self, (sin_theta, cos_theta): (f64, f64), r: f64) -> IsometryMatrix3<f64> {
         let x_axis: Vector3<f64> = self.tilt.column(0).into();
         let y_axis: Vector3<f64> = self.tilt.column(1).into();
         let z_axis: Vector3<f64> = self.tilt.column(2).into();
@@ -650,6 +691,35 @@ mod tests {
     use crate::test_robots::{random_configuration, random_robot, stanford};
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
+
+    /// The joints' turns, taken four at a time, are [`turn::sin_cos`] of
+    /// each joint's angle bit for bit, for any number of revolute joints (a
+    /// lane group part-filled) and joints turned many times round.
+    #[test]
+    fn turns_in_lanes_are_the_one_sine_of_every_route() {
+        let mut rng = ChaCha8Rng::seed_from_u64(29);
+        for joints in 1..=9 {
+            let robot = Robot::template("arm", &"R".repeat(joints)).expect("template");
+            let model = KinematicModel::new(&robot);
+            let mut chain = ChainBuffer::default();
+            for _ in 0..50 {
+                let q: Vec<f64> = (0..joints)
+                    .map(|_| rand::RngExt::random_range(&mut rng, -100.0..100.0))
+                    .collect();
+                model.forward_joints(&q, &mut chain);
+                assert_eq!(chain.turns.len(), joints);
+                for (&(sin, cos), (j, frame)) in chain
+                    .turns
+                    .iter()
+                    .zip(model.frames.iter().enumerate().skip(1))
+                {
+                    let (expected_sin, expected_cos) = turn::sin_cos(frame.theta + q[j - 1]);
+                    assert_eq!(sin.to_bits(), expected_sin.to_bits(), "{}", q[j - 1]);
+                    assert_eq!(cos.to_bits(), expected_cos.to_bits(), "{}", q[j - 1]);
+                }
+            }
+        }
+    }
 
     #[test]
     fn compiled_model_equals_the_reference_implementation() {
