@@ -40,8 +40,7 @@ pub fn sin_cos_lanes(angles: [f64; LANES]) -> ([f64; LANES], [f64; LANES]) {
     let (sines, cosines) = f64x4::from(angles).sin_cos();
     let (mut sines, mut cosines) = (sines.to_array(), cosines.to_array());
     for (lane, angle) in angles.iter().enumerate() {
-        // `!(… <= …)` holds for NaN too.
-        if !(angle.abs() <= LANE_RANGE) {
+        if angle.is_nan() || angle.abs() > LANE_RANGE {
             (sines[lane], cosines[lane]) = angle.sin_cos();
         }
     }
@@ -74,8 +73,16 @@ mod tests {
             let (sines, cosines) = sin_cos_lanes(angles);
             for lane in 0..LANES {
                 let (sin, cos) = angles[lane].sin_cos();
-                assert!((sines[lane] - sin).abs() <= 2.0 * f64::EPSILON, "{}", angles[lane]);
-                assert!((cosines[lane] - cos).abs() <= 2.0 * f64::EPSILON, "{}", angles[lane]);
+                assert!(
+                    (sines[lane] - sin).abs() <= 2.0 * f64::EPSILON,
+                    "{}",
+                    angles[lane]
+                );
+                assert!(
+                    (cosines[lane] - cos).abs() <= 2.0 * f64::EPSILON,
+                    "{}",
+                    angles[lane]
+                );
                 assert_eq!(
                     (sines[lane].to_bits(), cosines[lane].to_bits()),
                     {
