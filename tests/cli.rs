@@ -952,6 +952,15 @@ fn the_calibrated_robot_file_reproduces_the_residuals_its_report_states() {
     assert_eq!(report["stop_reason"], "converged");
     let stated = report["rms_after"].as_f64().expect("rms");
     assert!(stated < 1e-10, "{stated:e}");
+    // Residuals at rounding leave nothing for parameters outside the base
+    // set to explain: no second pass, no damped descent reading rounding
+    // for structure ("took the RMS error from 0.0000 to 0.0000 mm").
+    assert_eq!(report["second_pass"], serde_json::json!([]), "{report}");
+    assert_eq!(report["moved"], serde_json::json!([]), "{report}");
+    for warning in report["warnings"].as_array().expect("warnings") {
+        let warning = warning.as_str().expect("text");
+        assert!(!warning.contains("outside the base set"), "{warning}");
+    }
     let measured = json_output(&[
         "evaluate",
         &path(&calibrated),

@@ -354,6 +354,13 @@ fn second_pass(
     if first.stop_reason != StopReason::Converged || options.prior.is_some() {
         return Ok(first);
     }
+    // Data the first pass explains to rounding (noise-free, simulated) leave
+    // nothing for parameters outside the base set to explain: the score and
+    // F tests would read rounding for structure (a damped descent "took the
+    // RMS error from 0.0000 to 0.0000 mm" on a noise-free frame fit).
+    if statistics::at_rounding(first.data_cost, study.row_count()) {
+        return Ok(first);
+    }
     // A study that does not observe the scale: the steps over every
     // parameter hold it with a gauge row (the step that shrinks the robot
     // has the residuals themselves for its column).

@@ -10,6 +10,12 @@ use crate::rows::RowKind;
 /// unweighted set, σ of a weighted one): below it residuals are rounding,
 /// and none is an outlier.
 const RESIDUAL_FLOOR: f64 = 1e-9;
+
+/// Whether a sum of squares `cost` of `rows` scaled rows is rounding: its
+/// RMS below [`RESIDUAL_FLOOR`] (noise-free, simulated data fitted).
+pub(super) fn at_rounding(cost: f64, rows: usize) -> bool {
+    cost <= rows as f64 * RESIDUAL_FLOOR * RESIDUAL_FLOOR
+}
 /// Rows of one kind a set needs for its own σ̂.
 const MINIMUM_ROWS: usize = 10;
 /// The statistics of the residuals of one iterate under a loss.
