@@ -8,9 +8,10 @@
 //! prismatic joints — is computed once here; per configuration only
 //! sin/cos(θ_j + q_j) of revolute joints remain, taken four at a time in
 //! SIMD lanes ([`turn`](super::turn), the one sine of every route). The
-//! poses are [`forward_kinematics`](super::forward_kinematics)'s bit for bit,
-//! and the Jacobian agrees with
-//! [`parameter_jacobian`](super::parameter_jacobian) to rounding (tested).
+//! poses agree with [`forward_kinematics`](super::forward_kinematics) bit for
+//! bit where no frame has a Hayati β (the same products), to rounding where
+//! one has (its turn about y is applied in another order), and the Jacobian
+//! with [`parameter_jacobian`](super::parameter_jacobian) to rounding (tested).
 //!
 //! ## Elastic joints (issue 38)
 //!
@@ -727,6 +728,7 @@ mod tests {
         let mut robots = vec![stanford()];
         robots.extend((0..10).map(|i| random_robot(&mut rng, 2 + i % 6)));
         let mut rows = Vec::new();
+        let mut without_beta_seen = false;
         for robot in robots {
             let model = KinematicModel::new(&robot);
             let mut chain = ChainBuffer::default();
@@ -736,9 +738,15 @@ mod tests {
                 model.forward(&qm, &mut chain).expect("valid");
                 model.jacobian(&chain, &mut jacobian);
                 let reference = forward_kinematics(&robot, &qm).expect("valid");
+                // Bit for bit without a Hayati β (the same products and sines).
+                let without_beta = robot.frames().iter().all(|frame| frame.beta == 0.0);
                 for (a, b) in reference.poses().iter().zip(&chain.world_from_frame) {
                     assert!((a.to_homogeneous() - b.to_homogeneous()).abs().max() < 1e-14);
+                    if without_beta {
+                        assert_eq!(a, b);
+                    }
                 }
+                without_beta_seen |= without_beta;
                 let expected = parameter_jacobian(&robot, &qm).expect("valid");
                 assert!((&expected - &jacobian).abs().max() < 1e-13);
                 // Row-major, all rows then position rows only, into a buffer
@@ -756,6 +764,7 @@ mod tests {
                 }
             }
         }
+        assert!(without_beta_seen, "a robot without β was compared");
     }
 
     /// An elastic robot under load: the pose is the rigid model's at the

@@ -4,8 +4,9 @@
 //! One function for every route of the direct model: the reference
 //! [`frame_transform`](super::frame_transform) and the compiled
 //! [`KinematicModel`](super::KinematicModel) both take their turns from here,
-//! so the poses they give agree bit for bit (the Python package's `fk` and
-//! `gecaro fk` are the two routes, and are compared so).
+//! so the poses they give agree bit for bit where no frame has a Hayati β
+//! (the Python package's `fk` and `gecaro fk` are the two routes, and are
+//! compared so).
 //!
 //! The values are computed four at a time in SIMD lanes (`wide`'s `f64x4`:
 //! about 7 ns a value here, against 19–21 ns for libm's `sincos`), within
