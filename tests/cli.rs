@@ -913,17 +913,11 @@ fn generate_identify_evaluate_round_trip() {
 #[test]
 fn the_calibrated_robot_file_reproduces_the_residuals_its_report_states() {
     let folder = tempfile::tempdir().expect("temporary folder");
-    let data = folder.path().join("frames.csv");
-    let real = folder.path().join("real.toml");
-    let calibrated = folder.path().join("calibrated.toml");
+    let path = |name: &str| folder.path().join(name).to_str().expect("utf-8").to_owned();
+    let (data, calibrated) = (path("frames.csv"), path("calibrated.toml"));
     gecaro()
+        .args(["generate", "stanford", "--method", "frame", "--count", "60"])
         .args([
-            "generate",
-            "stanford",
-            "--method",
-            "frame",
-            "--count",
-            "60",
             "--error-level",
             "1",
             "--noise",
@@ -931,13 +925,10 @@ fn the_calibrated_robot_file_reproduces_the_residuals_its_report_states() {
             "--seed",
             "11",
             "-o",
+            &data,
         ])
-        .arg(&data)
-        .arg("--real-out")
-        .arg(&real)
         .assert()
         .success();
-    let path = |file: &Path| file.to_str().expect("utf-8").to_owned();
     let report = json_output(&[
         "identify",
         "stanford",
@@ -945,9 +936,9 @@ fn the_calibrated_robot_file_reproduces_the_residuals_its_report_states() {
         "frame",
         "--json",
         "--data",
-        &path(&data),
+        &data,
         "-o",
-        &path(&calibrated),
+        &calibrated,
     ]);
     assert_eq!(report["stop_reason"], "converged");
     let stated = report["rms_after"].as_f64().expect("rms");
@@ -963,12 +954,12 @@ fn the_calibrated_robot_file_reproduces_the_residuals_its_report_states() {
     }
     let measured = json_output(&[
         "evaluate",
-        &path(&calibrated),
+        &calibrated,
         "--method",
         "frame",
         "--json",
         "--data",
-        &path(&data),
+        &data,
     ]);
     let again = measured["rms"].as_f64().expect("rms");
     assert!(
