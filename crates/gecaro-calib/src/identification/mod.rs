@@ -91,6 +91,7 @@ mod tied;
 mod verdict;
 mod warnings;
 mod weighting;
+mod words;
 
 use std::borrow::Cow;
 
@@ -535,11 +536,11 @@ fn full_model_phase(
     let mut result = merge_passes(current, next);
     result.warnings.push(format!(
         "parameters outside the base set still mattered: a damped descent over all {} parameters \
-         the priority matrix allows (Levenberg–Marquardt) took the RMS error from {:.4} to \
-         {:.4} mm; what it moved outside the base set is listed as moved",
+         the priority matrix allows (Levenberg–Marquardt) took the RMS error from {} to {}; \
+         what it moved outside the base set is listed as moved",
         every.len(),
-        from * 1e3,
-        result.after.rms * 1e3,
+        words::millimetres(from),
+        words::millimetres(result.after.rms),
     ));
     Ok(result)
 }

@@ -6,6 +6,7 @@ use gecaro_core::Robot;
 use super::outliers::Outlier;
 use super::parameter::IdentifiedParameter;
 use super::verdict::{Outcome, StopReason, Verdict};
+use super::words;
 use crate::frames::NamedFrame;
 use crate::identifiability::RankReport;
 use crate::observability::Observability;
@@ -215,7 +216,7 @@ impl Identification {
         if self.verdict.noise_test.is_some() {
             format!("{:.3}× the stated σ", self.robust_sigma)
         } else {
-            format!("{:.4} mm", self.robust_sigma * 1e3)
+            words::millimetres(self.robust_sigma)
         }
     }
 

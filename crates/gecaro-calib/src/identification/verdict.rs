@@ -48,6 +48,7 @@
 //! observations with a weight.
 
 use super::coverage::Coverage;
+use super::words;
 use crate::observation::ObservationSystem;
 use crate::rows::{RowKind, robust_weight};
 use crate::samples::SampleRef;
@@ -427,10 +428,10 @@ impl Verdict {
     fn residual_words(&self) -> String {
         let mut parts = Vec::new();
         if let Some(length) = self.residual_length {
-            parts.push(format!("{:.4} mm", length * 1e3));
+            parts.push(words::millimetres(length));
         }
         if let Some(angle) = self.residual_angle {
-            parts.push(format!("{:.4}°", angle.to_degrees()));
+            parts.push(words::degrees(angle));
         }
         if parts.is_empty() {
             String::new()
