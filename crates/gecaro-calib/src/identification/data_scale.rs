@@ -25,6 +25,7 @@
 use gecaro_core::{ChainBuffer, KinematicModel, Robot};
 use nalgebra::Vector3;
 
+use super::words::significant;
 use crate::Error;
 use crate::sampler::spread_items;
 use crate::study::{MeasurementSet, Study};
@@ -112,16 +113,6 @@ fn spread(points: &[Vector3<f64>]) -> f64 {
         .sum::<f64>()
         / points.len() as f64)
         .sqrt()
-}
-
-/// Four significant digits, without an exponent for ordinary sizes.
-fn significant(value: f64) -> String {
-    if (1e-3..1e6).contains(&value) {
-        let digits = (3 - value.log10().floor() as i32).max(0) as usize;
-        format!("{value:.digits$}")
-    } else {
-        format!("{value:.3e}")
-    }
 }
 
 /// What a ratio of measured to nominal spread most likely means.

@@ -1,7 +1,8 @@
-//! Lengths and angles as the identification's sentences print them: four
-//! decimals of a millimetre or a degree, and two significant digits with an
-//! exponent below what four decimals show (a noise-free fit's residual σ of
-//! 1.8e-13 mm is not "0.0000 mm").
+//! Numbers as the identification's sentences print them: lengths and angles
+//! with four decimals of a millimetre or a degree, and two significant digits
+//! with an exponent below what four decimals show (a noise-free fit's
+//! residual σ of 1.8e-13 mm is not "0.0000 mm"); other sizes with four
+//! significant digits.
 
 /// Below this (millimetres or degrees), four decimals would print zero.
 const SHOWN_BY_DECIMALS: f64 = 5e-5;
@@ -23,6 +24,16 @@ pub(super) fn millimetres(metres: f64) -> String {
 /// An angle in radians, in degrees: `0.0040°`, `2.1e-12°`.
 pub(super) fn degrees(radians: f64) -> String {
     format!("{}°", in_words(radians.to_degrees()))
+}
+
+/// Four significant digits, without an exponent for ordinary sizes.
+pub(super) fn significant(value: f64) -> String {
+    if (1e-3..1e6).contains(&value) {
+        let digits = (3 - value.log10().floor() as i32).max(0) as usize;
+        format!("{value:.digits$}")
+    } else {
+        format!("{value:.3e}")
+    }
 }
 
 #[cfg(test)]
