@@ -915,17 +915,21 @@ fn the_calibrated_robot_file_reproduces_the_residuals_its_report_states() {
     let folder = tempfile::tempdir().expect("temporary folder");
     let path = |name: &str| folder.path().join(name).to_str().expect("utf-8").to_owned();
     let (data, calibrated) = (path("frames.csv"), path("calibrated.toml"));
+    let (real, held_out) = (path("real.toml"), path("held_out.csv"));
     gecaro()
         .args(["generate", "stanford", "--method", "frame", "--count", "60"])
+        .args(["--error-level", "1", "--noise", "0", "--seed", "11"])
+        .args(["-o", &data, "--real-out", &real])
+        .assert()
+        .success();
+    // Other configurations of the same real robot, to judge the file where
+    // its user will.
+    gecaro()
         .args([
-            "--error-level",
-            "1",
-            "--noise",
-            "0",
-            "--seed",
-            "11",
-            "-o",
-            &data,
+            "generate", "stanford", "--method", "frame", "--count", "200",
+        ])
+        .args([
+            "--noise", "0", "--seed", "5", "--real", &real, "-o", &held_out,
         ])
         .assert()
         .success();
@@ -952,20 +956,26 @@ fn the_calibrated_robot_file_reproduces_the_residuals_its_report_states() {
         let warning = warning.as_str().expect("text");
         assert!(!warning.contains("outside the base set"), "{warning}");
     }
-    let measured = json_output(&[
-        "evaluate",
-        &calibrated,
-        "--method",
-        "frame",
-        "--json",
-        "--data",
-        &data,
-    ]);
-    let again = measured["rms"].as_f64().expect("rms");
+    // The written file's RMS error on a data file, as `evaluate` reads it.
+    let rms_on = |file: &str| {
+        let args = [
+            "evaluate",
+            &calibrated,
+            "--method",
+            "frame",
+            "--json",
+            "--data",
+            file,
+        ];
+        json_output(&args)["rms"].as_f64().expect("rms")
+    };
+    let again = rms_on(&data);
     assert!(
         again < 1e-10,
         "the calibrated robot misses its own data by {again:e} m RMS; the report said {stated:e}"
     );
+    let held = rms_on(&held_out);
+    assert!(held < 1e-10, "held-out {held:e} m RMS");
 }
 
 #[test]
