@@ -11,7 +11,9 @@ python3 -m venv "$venv"
 "$venv/bin/python" -m pip install --quiet --upgrade pip
 "$venv/bin/python" -m pip install --quiet -r crates/gecaro-py/requirements-test.txt
 # Built in the dev profile, on the artifacts `cargo test --workspace` left in
-# the shared target folder (a release build would compile everything again).
+# the shared target folder (a release build would compile everything again);
+# they fit only while gecaro-py's feature pins hold (see its Cargo.toml).
+python3 crates/gecaro-py/feature_pins.py
 MATURIN_PEP517_ARGS="--profile dev" CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}" \
     "$venv/bin/python" -m pip install --quiet ./crates/gecaro-py
 
