@@ -9,7 +9,8 @@ use gecaro_calib::{
     frames::NamedFrame,
     identifiability::{Classified, Identifiability, RankReport},
     identification::{
-        ErrorSummary, Identification, IdentifiedParameter, NOISE_TEST_LEVEL, StopReason, Verdict,
+        ErrorSummary, Identification, IdentifiedParameter, NOISE_TEST_LEVEL, SIGMA_MARGIN,
+        StopReason, Verdict,
     },
     observability::Observability,
     planning::{Criterion, DesignQuality, Plan},
@@ -763,12 +764,16 @@ pub struct NoiseTestJson {
     pub chi_square: f64,
     /// Its degrees of freedom.
     pub degrees_of_freedom: usize,
-    /// The χ² quantile at 1 − level: above it the residuals exceed the noise.
+    /// The χ² quantile at 1 − level times (1 + sigma_margin)²: above it the
+    /// residuals exceed the noise.
     pub critical: f64,
-    /// The χ² quantile at the level: below it they are too small for it.
+    /// The χ² quantile at the level divided by (1 + sigma_margin)²: below it
+    /// they are too small for it.
     pub critical_low: f64,
-    /// The test's significance level.
+    /// The test's significance level (each side).
     pub level: f64,
+    /// How well the stated σ is taken to be known (0.05: ±5 %).
+    pub sigma_margin: f64,
     /// σ̂/σ.
     pub sigma_ratio: f64,
     /// Whether the residuals fit the stated noise.
@@ -787,6 +792,7 @@ impl From<&Verdict> for VerdictJson {
                 critical: test.critical,
                 critical_low: test.critical_low,
                 level: NOISE_TEST_LEVEL,
+                sigma_margin: SIGMA_MARGIN,
                 sigma_ratio: test.sigma_ratio,
                 passed: test.passed,
             }),

@@ -78,6 +78,42 @@ fn the_stated_noise_is_tested() {
 }
 
 #[test]
+fn a_sigma_good_to_a_few_per_cent_fits_at_tracker_rates() {
+    // 20,000 positions (ν ≈ 60,000): the test alone resolves σ̂/σ to about
+    // 1 %, finer than any datasheet states σ. Stated 2 % off either way, the
+    // fit is trusted (before SIGMA_MARGIN: "below" / "exceeds the noise");
+    // 10 % off, it is not, and the sentence says which way.
+    const NOISE: f64 = 2e-5;
+    let data = study("position", 20_000, None, 4);
+    let judged = |stated: f64| {
+        let mut data = data.clone();
+        data.sets[0].sigma = Some(stated);
+        fit(&data, &Default::default()).verdict
+    };
+    for factor in [0.98, 1.02] {
+        let verdict = judged(NOISE * factor);
+        assert_eq!(verdict.outcome, Outcome::FitsNoise, "{}", verdict.summary);
+        let test = verdict.noise_test.expect("σ stated");
+        assert!(test.passed && (test.sigma_ratio * factor - 1.0).abs() < 0.01);
+    }
+    let overstated = judged(NOISE * 1.1);
+    assert_eq!(
+        overstated.outcome,
+        Outcome::BelowNoise,
+        "{}",
+        overstated.summary
+    );
+    let understated = judged(NOISE * 0.9);
+    assert_eq!(
+        understated.outcome,
+        Outcome::ExceedsNoise,
+        "{}",
+        understated.summary
+    );
+    assert!(!overstated.outcome.trusted() && !understated.outcome.trusted());
+}
+
+#[test]
 fn without_a_sigma_the_residual_is_reported_in_units() {
     let result = fit(&study("frame", 40, None, 4), &Default::default());
     let verdict = &result.verdict;

@@ -123,7 +123,9 @@ use reweighting::Reweighted;
 use routes::descend;
 use solver::{Iterate, Problem, Run};
 use verdict::Evidence;
-pub use verdict::{Implausible, NOISE_TEST_LEVEL, NoiseTest, Outcome, StopReason, Verdict};
+pub use verdict::{
+    Implausible, NOISE_TEST_LEVEL, NoiseTest, Outcome, SIGMA_MARGIN, StopReason, Verdict,
+};
 use warnings::{
     CORRELATED_WARNING, POOR_EXCITATION, SET_UP_WARNING, correlation_warning, strongly_correlated,
     warnings_of,
