@@ -266,10 +266,10 @@ impl PyIdentification {
     /// "untested", "exceeds_noise", "below_noise", "incomplete",
     /// "implausible", "underdetermined", "repeated", "degenerate",
     /// "not_converged", "diverged"), trusted, summary, noise_test
-    /// (chi_square, degrees_of_freedom, critical, level, sigma_ratio, passed;
-    /// None without a stated sigma), residual_length (m), residual_angle
-    /// (rad), configurations, distinct_configurations and copies (as
-    /// `--json`).
+    /// (chi_square, degrees_of_freedom, critical, critical_low, level,
+    /// sigma_margin, sigma_ratio, passed; None without a stated sigma),
+    /// residual_length (m), residual_angle (rad), configurations,
+    /// distinct_configurations and copies (as `--json`).
     #[getter]
     fn verdict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         to_python(py, &VerdictJson::from(&self.identified.result.verdict))
