@@ -646,3 +646,45 @@ fn exact_copies_are_named_and_not_trusted() {
     assert_eq!(result.verdict.outcome, Outcome::Repeated);
     assert_eq!(result.verdict.copies, 40);
 }
+
+/// A repeatability study, the same 40 configurations measured 25 times
+/// with fresh noise added: 40 distinct configurations and no copies. Pasting two
+/// of its rows again (one with a position written as −0 where the other
+/// has 0) makes two copies, whatever the order of the rows.
+#[test]
+fn repeated_poses_measured_again_are_not_copies() {
+    let poses = study("position", 40, Some(2e-5), 7);
+    let mut sampler = Sampler::new(8);
+    let mut rows: Vec<_> = poses.sets[0]
+        .samples
+        .iter()
+        .cycle()
+        .take(40 * 25)
+        .map(|sample| {
+            let mut row = sample.to_sample();
+            let noise = sampler.gaussian_vector(2e-5);
+            row.position = row.position.map(|position| position + noise);
+            row
+        })
+        .collect();
+    let mut repeated = poses.clone();
+    repeated.sets[0].samples = rows.iter().cloned().collect();
+    let result = fit(&repeated, &Default::default());
+    assert_eq!(result.verdict.distinct_configurations, 40);
+    assert_eq!(result.verdict.copies, 0);
+    // (The rows share the first draw's noise as well: their residuals
+    // exceed the stated σ, which is the global test's business.)
+    assert_ne!(result.verdict.outcome, Outcome::Repeated);
+    // Rows 3 and 500 again, at the front and at the back; the second with
+    // a zero coordinate, written once as 0 and once as −0.
+    rows[500].position.as_mut().expect("position").x = 0.0;
+    let mut negative = rows[500].clone();
+    negative.position.as_mut().expect("position").x = -0.0;
+    rows.insert(0, rows[3].clone());
+    rows.push(negative);
+    repeated.sets[0].samples = rows.into_iter().collect();
+    let result = fit(&repeated, &Default::default());
+    assert_eq!(result.verdict.distinct_configurations, 40);
+    assert_eq!(result.verdict.copies, 2);
+    assert_eq!(result.verdict.outcome, Outcome::Repeated);
+}

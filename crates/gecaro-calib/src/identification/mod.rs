@@ -80,6 +80,7 @@ mod parameter;
 mod passes;
 mod plausibility;
 mod prior_rows;
+mod repeats;
 mod result;
 mod reweighting;
 mod routes;

@@ -50,10 +50,10 @@
 //! observations with a weight.
 
 use super::coverage::Coverage;
+use super::repeats::repeats;
 use super::words;
 use crate::observation::ObservationSystem;
 use crate::rows::{RowKind, robust_weight};
-use crate::samples::SampleRef;
 use crate::study::Study;
 
 /// Why the iteration stopped.
@@ -256,18 +256,7 @@ impl Verdict {
     /// The verdict on `evidence` from `study` (see the module docs).
     pub(super) fn of(study: &Study, evidence: Evidence<'_>) -> Verdict {
         let configurations: usize = study.sets.iter().map(|set| set.samples.len()).sum();
-        let (distinct_configurations, distinct_equations) = distinct(study);
-        // An exact copy repeats a configuration of its method's sets: none
-        // when every set's configurations are distinct and no two sets
-        // share a method (a million measurements are not hashed again).
-        let methods: std::collections::BTreeSet<&str> =
-            study.sets.iter().map(|set| set.method.name()).collect();
-        let copies =
-            if distinct_configurations == configurations && methods.len() == study.sets.len() {
-                0
-            } else {
-                copies(study)
-            };
+        let repeats = repeats(study);
         let (residual_length, residual_angle) = residual_sigmas(&evidence);
         let noise_test = study
             .sets
@@ -280,8 +269,8 @@ impl Verdict {
             residual_length,
             residual_angle,
             configurations,
-            distinct_configurations,
-            copies,
+            distinct_configurations: repeats.configurations,
+            copies: repeats.copies,
             implausible: evidence.implausible,
             coverage: evidence.coverage,
             summary: String::new(),
@@ -289,7 +278,7 @@ impl Verdict {
         verdict.outcome = match evidence.stop {
             StopReason::Diverged => Outcome::Diverged,
             StopReason::IterationLimit => Outcome::NotConverged,
-            StopReason::Converged if distinct_equations <= evidence.unknowns as f64 => {
+            StopReason::Converged if repeats.equations <= evidence.unknowns as f64 => {
                 Outcome::Degenerate
             }
             StopReason::Converged => Outcome::Untested,
@@ -482,172 +471,6 @@ fn noise_test(data_cost: f64, freedom: usize) -> NoiseTest {
     }
 }
 
-/// Distinct configurations (per set, summed), and the independent equations
-/// they can give at most.
-fn distinct(study: &Study) -> (usize, f64) {
-    let mut count = 0;
-    let mut equations = 0.0;
-    for set in &study.sets {
-        let configuration = |index: usize| set.samples.get(index).motor_positions();
-        let unique = count_distinct(
-            set.samples.len(),
-            |index| fingerprint(bits(configuration(index))),
-            |a, b| bits(configuration(a)).cmp(bits(configuration(b))),
-        );
-        count += unique;
-        equations += unique as f64 * set.method.equations_per_configuration();
-    }
-    (count, equations)
-}
-
-/// Measurements that repeat an earlier one of the same method exactly:
-/// configuration, group and measured values equal to the last bit (−0 as
-/// 0), over every set.
-fn copies(study: &Study) -> usize {
-    use std::hash::Hasher;
-    // The measurements are numbered across the sets; a number is found
-    // back by the sets' first numbers (a few sets: no list of a million
-    // pairs).
-    let firsts: Vec<usize> = study
-        .sets
-        .iter()
-        .scan(0, |first, set| {
-            let this = *first;
-            *first += set.samples.len();
-            Some(this)
-        })
-        .collect();
-    let count = study.sets.iter().map(|set| set.samples.len()).sum();
-    let locate = |index: usize| {
-        let set = firsts.partition_point(|&first| first <= index) - 1;
-        (set, index - firsts[set])
-    };
-    // Sets of one method compare with each other: the method's name, once.
-    let methods: Vec<u64> = study
-        .sets
-        .iter()
-        .map(|set| fingerprint(set.method.name().bytes().map(u64::from)))
-        .collect();
-    let method = |(set, _): (usize, usize)| study.sets[set].method.name();
-    let words = |(set, sample): (usize, usize)| {
-        let mut words = Vec::new();
-        measurement_words(study.sets[set].samples.get(sample), |word| words.push(word));
-        words
-    };
-    let unique = count_distinct(
-        count,
-        |index| {
-            let (set, sample) = locate(index);
-            let mut hasher = rustc_hash::FxHasher::default();
-            hasher.write_u64(methods[set]);
-            measurement_words(study.sets[set].samples.get(sample), |word| {
-                hasher.write_u64(word);
-            });
-            hasher.finish()
-        },
-        // Only items of equal fingerprints are compared.
-        |a, b| {
-            let (a, b) = (locate(a), locate(b));
-            method(a)
-                .cmp(method(b))
-                .then_with(|| words(a).cmp(&words(b)))
-        },
-    );
-    count - unique
-}
-
-/// What a measurement is made of, handed to `word` as 64-bit words: its
-/// configuration, group and measured values as bits (−0 as 0), a missing
-/// group or value as a tag. One encoding for the fingerprint and for the
-/// exact comparison; written value by value (a chain of iterators costs
-/// more than the hash).
-fn measurement_words(sample: SampleRef<'_>, mut word: impl FnMut(u64)) {
-    bits(sample.motor_positions()).for_each(&mut word);
-    let (group, position) = (sample.group(), sample.position());
-    let (orientation, distance) = (sample.orientation(), sample.distance());
-    word(u64::from(group.is_some()));
-    word(group.unwrap_or(0));
-    word(u64::from(position.is_some()));
-    word(u64::from(orientation.is_some()));
-    word(u64::from(distance.is_some()));
-    for value in position.iter().flat_map(|p| p.iter()) {
-        word((value + 0.0).to_bits());
-    }
-    for value in orientation.iter().flat_map(|q| q.coords.iter()) {
-        word((value + 0.0).to_bits());
-    }
-    if let Some(value) = distance {
-        word((value + 0.0).to_bits());
-    }
-}
-
-/// The number of distinct items among `count`, each with a `fingerprint`
-/// (equal items have equal ones) and a total order `compare`. Each item is
-/// looked up by its fingerprint among those seen (expected O(1)): a hit is
-/// compared, and counts as a repeat only when equal. Should two different
-/// items share a fingerprint, the count is made again by sorting (by
-/// fingerprint, ties by `compare`). Exact either way.
-///
-/// The table holds the items' numbers only (4 bytes and a control byte a
-/// slot, 10 MB for a million items); a slot's fingerprint is computed
-/// again when a probe meets it.
-fn count_distinct(
-    count: usize,
-    fingerprint: impl Fn(usize) -> u64,
-    compare: impl Fn(usize, usize) -> std::cmp::Ordering,
-) -> usize {
-    use hashbrown::hash_table::Entry;
-    if u32::try_from(count).is_err() {
-        return count_distinct_sorted(count, fingerprint, compare);
-    }
-    let mut seen = hashbrown::HashTable::<u32>::with_capacity(count);
-    let mut distinct = 0;
-    for item in 0..count {
-        let print = fingerprint(item);
-        let same = |seen: &u32| fingerprint(*seen as usize) == print;
-        let hash = |seen: &u32| fingerprint(*seen as usize);
-        match seen.entry(print, same, hash) {
-            Entry::Vacant(entry) => {
-                // `count` fits in a u32 (checked above).
-                entry.insert(item as u32);
-                distinct += 1;
-            }
-            Entry::Occupied(entry) if compare(*entry.get() as usize, item).is_eq() => {}
-            Entry::Occupied(_) => return count_distinct_sorted(count, fingerprint, compare),
-        }
-    }
-    distinct
-}
-
-/// [`count_distinct`] by sorting: by fingerprint, ties by `compare`, equal
-/// neighbours counted once.
-fn count_distinct_sorted(
-    count: usize,
-    fingerprint: impl Fn(usize) -> u64,
-    compare: impl Fn(usize, usize) -> std::cmp::Ordering,
-) -> usize {
-    let mut keys: Vec<(u64, usize)> = (0..count).map(|i| (fingerprint(i), i)).collect();
-    keys.sort_unstable_by(|a, b| a.0.cmp(&b.0).then_with(|| compare(a.1, b.1)));
-    keys.windows(2)
-        .filter(|pair| pair[0].0 != pair[1].0 || compare(pair[0].1, pair[1].1).is_ne())
-        .count()
-        + usize::from(count > 0)
-}
-
-/// A 64-bit fingerprint of `values` (rustc-hash's multiply–rotate hash:
-/// fast, not collision-proof; [`count_distinct`] compares ties).
-fn fingerprint(values: impl Iterator<Item = u64>) -> u64 {
-    use std::hash::Hasher;
-    let mut hasher = rustc_hash::FxHasher::default();
-    values.for_each(|value| hasher.write_u64(value));
-    hasher.finish()
-}
-
-/// The bits of a configuration's values, −0 as 0.
-fn bits(configuration: &[f64]) -> impl Iterator<Item = u64> + '_ {
-    configuration.iter().map(|value| (value + 0.0).to_bits())
-}
-
 /// The residual standard deviations of the length and angle rows, in
 /// metres and radians: `√(Σ w r²/(n_k (1 − b/n)))` per kind (w the robust
 /// weight of the row's observation, rows of weight 0 left out), the degrees
@@ -677,23 +500,4 @@ fn residual_sigmas(evidence: &Evidence<'_>) -> (Option<f64>, Option<f64>) {
         (rows > 0).then(|| (squares / (rows as f64 * share).max(f64::MIN_POSITIVE)).sqrt())
     };
     (sigma_of(sums[0]), sigma_of(sums[1]))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Distinct items are counted exactly whatever their fingerprints: with
-    /// every fingerprint equal, and with honest ones.
-    #[test]
-    fn distinct_items_are_counted_exactly_whatever_the_fingerprints() {
-        let values: [u64; 11] = [3, 1, 4, 1, 5, 9, 2, 6, 5, 3, 5];
-        let compare = |a: usize, b: usize| values[a].cmp(&values[b]);
-        assert_eq!(count_distinct(values.len(), |_| 7, compare), 7);
-        let honest = |i: usize| fingerprint([values[i]].into_iter());
-        assert_eq!(count_distinct(values.len(), honest, compare), 7);
-        // Interleaved collisions (fingerprint by parity) stay exact.
-        assert_eq!(count_distinct(values.len(), |i| values[i] % 2, compare), 7);
-        assert_eq!(count_distinct(0, |_| 0, compare), 0);
-    }
 }
