@@ -20,9 +20,10 @@
 //! A hash table of the items seen did the same in expected linear time,
 //! but its probes, and the comparisons with items seen anywhere in memory,
 //! were cache misses: 1.4 s for 10⁶ positions repeating 20,000
-//! configurations (this machine, a busy virtual one), against 0.3 s now;
-//! 10⁶ distinct positions take 0.06 s. At 10⁶ items the fingerprints take
-//! 8 MB, the sorted pairs 16 MB and the first items 8 MB.
+//! configurations, against 0.3 s now, and 0.06 s for 10⁶ distinct ones
+//! (docs/performance.md, "Repeats counted in memory order"). At 10⁶ items
+//! the fingerprints take 8 MB, the sorted pairs 16 MB and the first items
+//! 8 MB.
 
 use std::cell::RefCell;
 use std::cmp::Ordering;
