@@ -4,8 +4,10 @@
 //! make one configuration, and a measurement equal to another to the last
 //! bit (which two readings of a sensor never are) is no new information.
 //!
-//! Both counts are exact, in three passes over the items whose memory
-//! traffic does not depend on how the repeats lie in the file:
+//! Both counts are exact, in three passes: the first and the last read the
+//! items in memory order (the last also reads, for each item, the first
+//! item of its fingerprint); the second sorts a list of pairs, not the
+//! items:
 //!
 //! 1. every item's 64-bit fingerprint (rustc-hash's multiply–rotate hash of
 //!    its values' bits, −0 as 0), computed once, in memory order;
