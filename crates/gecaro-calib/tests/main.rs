@@ -3,6 +3,7 @@
 //! One test binary per crate (as ripgrep has): each file below was its own
 //! binary, and linking them dominated the build of the tests.
 
+mod coarse;
 mod frames;
 mod identifiability;
 mod identification;

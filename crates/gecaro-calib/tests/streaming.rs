@@ -13,7 +13,7 @@ use gecaro_calib::{
 use gecaro_core::Robot;
 use nalgebra::Vector3;
 
-fn stanford() -> Robot {
+pub(crate) fn stanford() -> Robot {
     gecaro_io::load_robot("stanford")
         .expect("ready robot")
         .robot
@@ -54,7 +54,7 @@ fn both_routes(study: &Study, options: &IdentificationOptions) -> (Identificatio
 }
 
 /// The same result, but for the order of floating-point sums.
-fn assert_same(held: &Identification, streamed: &Identification, case: &str) {
+pub(crate) fn assert_same(held: &Identification, streamed: &Identification, case: &str) {
     assert_eq!(held.stop_reason, streamed.stop_reason, "{case}");
     assert_eq!(held.route, streamed.route, "{case}");
     assert_eq!(

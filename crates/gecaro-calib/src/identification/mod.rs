@@ -65,6 +65,7 @@
 //! ([`Identification::outliers`]); with [`IdentificationOptions::reject`] they
 //! are dropped and the identification runs again on the rest, once.
 
+mod coarse;
 mod coverage;
 mod curvature;
 mod data_scale;
@@ -88,6 +89,7 @@ mod scale;
 mod solver;
 mod start;
 mod statistics;
+mod subsample;
 mod tied;
 mod verdict;
 mod warnings;
@@ -100,19 +102,17 @@ use gecaro_core::Robot;
 
 use crate::Error;
 use crate::frames::FRAME_UNKNOWNS;
-use crate::identifiability::{
-    Excitation, ParameterStatus, RankReport, excitation_at, structural_parameters_at,
-};
+use crate::identifiability::{Excitation, ParameterStatus, RankReport, structural_parameters_at};
 use crate::linalg::{LeastSquaresRows, NormalEquations, precision, sandwich_diagonal};
 use crate::progress::{Observer, Progress, Quiet, report};
-use crate::rows::ColumnLayout;
 use crate::study::{Study, StudyStates};
 
+pub use coarse::COARSE_FRACTION;
 pub use coverage::{Coverage, MIN_REDUNDANCY, STILL_RANGE, UnobservedScale};
 use evaluation::errors_at;
 pub use evaluation::{evaluate, evaluate_errors};
 pub use observations::{ObservationLocation, locate_observations};
-pub use options::{DEFAULT_STREAMED_ROWS, IdentificationOptions, Solver};
+pub use options::{DEFAULT_COARSE_FROM, DEFAULT_STREAMED_ROWS, IdentificationOptions, Solver};
 pub use outliers::{DEFAULT_OUTLIER_THRESHOLD, Outlier};
 pub use parameter::IdentifiedParameter;
 pub use passes::SECOND_PASS_LEVEL;
@@ -295,15 +295,8 @@ fn first_from(
     result.before = before;
     result.errors_before = errors_before;
     // Iteration 1 is the jump to the start: its step, the parameters' change.
-    let jump: f64 = nominal
-        .parameters()
-        .ids()
-        .iter()
-        .map(|id| (start.parameter(*id) - nominal.parameter(*id)).powi(2))
-        .sum::<f64>()
-        .sqrt();
     if let Some(record) = result.history.first_mut() {
-        record.step = jump;
+        record.step = parameter_change(nominal, start);
     }
     result.history.insert(0, first);
     result.verdict.summary = result
@@ -322,6 +315,17 @@ fn first_from(
             .into()
     });
     Ok(passed)
+}
+
+/// The Euclidean norm of the change of every parameter from `from` to `to`
+/// (the step of an iteration that jumps to a start).
+fn parameter_change(from: &Robot, to: &Robot) -> f64 {
+    from.parameters()
+        .ids()
+        .iter()
+        .map(|id| (to.parameter(*id) - from.parameter(*id)).powi(2))
+        .sum::<f64>()
+        .sqrt()
 }
 
 /// The second pass: the base set chosen at the nominal robot is exact only
@@ -609,7 +613,8 @@ fn fit_pass(
         initial_auxiliary,
         mut states,
         start,
-    } = set_up(start, study, options, priority)?;
+        coarse,
+    } = set_up(start, study, options, priority, extras.is_empty())?;
     // A study that does not observe the scale: the second pass's added
     // parameters are held by their prior from the first step. Nearly
     // regrouped with the length that pins the scale, they would let plain
@@ -634,14 +639,39 @@ fn fit_pass(
         let start = held.assemble(&start.robot, &start.auxiliary, &held.layout, &mut states)?;
         (held, start)
     };
-    let errors_before = start.system.observation_errors();
-    let begun = Begun {
-        first: problem.record(&start, &[], 0.0),
-        before: ErrorSummary::of_errors(&errors_before),
-        errors_before,
+    let begun = match &coarse {
+        None => {
+            let errors_before = start.system.observation_errors();
+            Begun {
+                first: problem.record(&start, &[], 0.0),
+                before: ErrorSummary::of_errors(&errors_before),
+                errors_before,
+            }
+        }
+        // The errors before are the pass's robot's, evaluated apart.
+        Some(_) => {
+            let (before, errors_before, rms) = errors_at(problem.nominal, study)?;
+            Begun {
+                first: IterationRecord {
+                    rms,
+                    step: 0.0,
+                    damping: 0.0,
+                },
+                before,
+                errors_before,
+            }
+        }
     };
     report(observer, Progress::Iteration(&begun.first))?;
-    let (run, route) = descend(
+    // Iteration 1 of a coarse start is the jump to its solution.
+    let jump = coarse.as_ref().map(|coarse| IterationRecord {
+        step: parameter_change(problem.nominal, &coarse.robot),
+        ..problem.record(&start, &[], 0.0)
+    });
+    if let Some(jump) = &jump {
+        report(observer, Progress::Iteration(jump))?;
+    }
+    let (mut run, route) = descend(
         &problem,
         start,
         &rank,
@@ -650,6 +680,10 @@ fn fit_pass(
         &mut states,
         observer,
     )?;
+    // The minimum-norm route starts from the pass's robot, not the jump.
+    if let Some(jump) = jump.filter(|_| route != Route::MinimumNorm) {
+        run.history.insert(0, jump);
+    }
     let prior_rows = if extras.is_empty() {
         options
             .prior
@@ -697,6 +731,9 @@ fn fit_pass(
         excited,
         &initial_auxiliary,
     )?;
+    if let Some(coarse) = &coarse {
+        result.warnings.push(coarse.note());
+    }
     result.second_pass = extras
         .iter()
         .map(|index| nominal.parameters().id(*index).to_string())
@@ -749,21 +786,27 @@ struct Setup<'a> {
     problem: Problem<'a>,
     /// The structural base set (random data like these, Appendix III).
     rank: RankReport,
-    /// What these data excite of it, at the nominal robot.
+    /// What these data excite of it, where the descent starts.
     excited: Excitation,
     initial_auxiliary: Vec<f64>,
     states: StudyStates,
-    /// The iterate at the nominal robot.
+    /// The iterate the descent starts from: at the nominal robot, or at
+    /// the coarse start.
     start: Iterate,
+    /// The coarse start of large data, when there was one.
+    coarse: Option<coarse::CoarseStart>,
 }
 
 /// The base set of `study` at `robot` (structural, then what the data
-/// excite: paper §3.1, §4), the problem on it, and the starting iterate.
+/// excite: paper §3.1, §4), the problem on it, and the starting iterate:
+/// at `robot`, or, for a `first_pass` on large data, at a coarse start's
+/// solution ([`coarse`]).
 fn set_up<'a>(
     robot: &'a Robot,
     study: &'a Study,
     options: &'a IdentificationOptions,
     priority: &gecaro_core::PriorityMatrix,
+    first_pass: bool,
 ) -> Result<Setup<'a>, Error> {
     study.check(robot)?;
     let mut states = StudyStates::default();
@@ -772,61 +815,29 @@ fn set_up<'a>(
     // Nearly parallel axes hold their offset (Hayati; see `hayati`).
     let priority = &hayati::hayati_priority(robot, priority);
     let rank = structural_parameters_at(robot, study, &states, priority, STRUCTURAL_SEED)?;
-    let mut excited = excitation_at(
+    // A first pass on data that observe the scale (the others' plain steps
+    // may shrink the robot: they take the minimum-norm route from it).
+    let coarse = if first_pass && study.observes_scale() {
+        coarse::coarse_start(robot, study, options, &rank)?
+    } else {
+        None
+    };
+    let from_auxiliary = match &coarse {
+        Some(coarse) => {
+            study.evaluate_poses(&coarse.robot, &mut states)?;
+            study.initial_auxiliary(&states)?
+        }
+        None => initial_auxiliary.clone(),
+    };
+    let from = coarse.as_ref().map_or(robot, |coarse| &coarse.robot);
+    let (problem, excited, start) = Problem::excited(
         robot,
         study,
-        &mut states,
-        &initial_auxiliary,
-        &rank,
-        options.streamed_rows,
-    )?;
-    let base = excited.report.base_parameters.clone();
-    let base_auxiliary = excited.report.base_auxiliary.clone();
-    if base.is_empty() {
-        return Err(Error::Numerical {
-            message: "no robot parameter is identifiable from these data (see the identifiable \
-                      parameters of the method)"
-                .into(),
-        });
-    }
-    let unknowns = base.len() + base_auxiliary.len();
-    let equations = study.equation_count();
-    if equations <= unknowns {
-        return Err(Error::TooFewEquations {
-            equations,
-            unknowns: unknowns + 1,
-        });
-    }
-    let layout = ColumnLayout::with_auxiliary(
-        robot.parameters().len(),
-        &base,
-        initial_auxiliary.len(),
-        &base_auxiliary,
-    );
-    let mut problem = Problem {
-        study,
-        nominal: robot,
         options,
-        base,
-        base_auxiliary,
-        layout,
-        rows: study.row_count(),
-        // Set from the starting iterate's W_b below.
-        condition: f64::INFINITY,
-        weighting: Weighting::default(),
-        joined: 0,
-    };
-    // The excitation check built W_b at the nominal parameters already: reuse
-    // it when every structural base parameter is excited (same columns).
-    let start = match excited.system.take() {
-        Some(system) if excited.not_excited.is_empty() => {
-            Problem::iterate_of(robot, &initial_auxiliary, system)?
-        }
-        _ => problem.assemble(robot, &initial_auxiliary, &problem.layout, &mut states)?,
-    };
-    // The solver's choice (normal equations or QR) by the condition number
-    // that decides their accuracy: that of W_b with unit columns.
-    problem.condition = start.normal.equilibrated_condition();
+        &rank,
+        (from, &from_auxiliary),
+        &mut states,
+    )?;
     Ok(Setup {
         problem,
         rank,
@@ -834,6 +845,7 @@ fn set_up<'a>(
         initial_auxiliary,
         states,
         start,
+        coarse,
     })
 }
 

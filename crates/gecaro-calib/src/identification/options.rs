@@ -8,6 +8,12 @@ pub use crate::fold::DEFAULT_STREAMED_ROWS;
 use crate::prior::Prior;
 use crate::robust::Loss;
 
+/// Studies of more configurations than this begin on a subsample
+/// ([`IdentificationOptions::coarse_from`]): at 10⁵ configurations, the
+/// subsample's descent costs a sixth of the two evaluations of all the data
+/// it saves.
+pub const DEFAULT_COARSE_FROM: usize = 100_000;
+
 /// How steps are taken.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 pub enum Solver {
@@ -68,6 +74,12 @@ pub struct IdentificationOptions {
     /// [`DEFAULT_STREAMED_ROWS`] by default; 0 streams every system,
     /// `usize::MAX` none.
     pub streamed_rows: usize,
+    /// Studies of more than this many configurations begin the first pass
+    /// on a spread subsample of a fifth as many units, and the descent on
+    /// all the data starts at its solution (see [`super::coarse`]): the
+    /// results are the whole data's, to the stopping tolerance.
+    /// [`DEFAULT_COARSE_FROM`] by default; `usize::MAX` never.
+    pub coarse_from: usize,
 }
 
 impl Default for IdentificationOptions {
@@ -83,6 +95,7 @@ impl Default for IdentificationOptions {
             reject: false,
             masses: None,
             streamed_rows: DEFAULT_STREAMED_ROWS,
+            coarse_from: DEFAULT_COARSE_FROM,
         }
     }
 }

@@ -5,16 +5,14 @@
 //! `F = (gain/k) / (rest/ν)` against the F(k, ν) quantile at
 //! [`SECOND_PASS_LEVEL`].
 
-use std::borrow::Cow;
-
 use super::gauge::Gauge;
 use super::outliers::outlier_samples;
 use super::result::Identification;
+use super::subsample::spread_subsample;
 use crate::Error;
 use crate::fold::FoldKind;
 use crate::observation::ObservationSystem;
 use crate::rows::ColumnLayout;
-use crate::sampler::spread_indices;
 use crate::study::{Study, StudyStates};
 
 /// Significance level of the F test that keeps a second pass.
@@ -60,7 +58,7 @@ pub(super) fn score_tests(
     // (A model that misses structure makes outliers of its own; the
     // inliers show that structure still.)
     let dropped = outlier_samples(study, &current.outliers);
-    let tested = tested(study, &dropped, SCORE_TEST_OBSERVATIONS);
+    let tested = spread_subsample(study, &dropped, SCORE_TEST_OBSERVATIONS);
     let study: &Study = &tested;
     let mut states = StudyStates::default();
     study.evaluate_poses(robot, &mut states)?;
@@ -106,72 +104,10 @@ pub(super) fn score_tests(
 }
 
 /// The score test reads at most this many observations (configurations,
-/// pairs), spread over the data ([`spread_indices`]): enough to see structure that
+/// pairs), spread over the data ([`spread_subsample`]): enough to see structure that
 /// matters, and a bounded cost on large data sets (the test is valid on any
 /// subset, since it compares the base set and the wider one on the same rows).
 const SCORE_TEST_OBSERVATIONS: usize = 500;
-
-/// `study` without the `dropped` samples (per set), and with about `limit`
-/// of its units (configurations, sets, pairs) when it has more, spread over
-/// its sets in proportion to their sizes ([`spread_indices`]): a set or pair
-/// left with a single configuration goes, as in [`Study::without_samples`].
-/// On large data the units are chosen first, so that only they are copied.
-fn tested<'a>(study: &'a Study, dropped: &[Vec<usize>], limit: usize) -> Cow<'a, Study> {
-    let units: Vec<Option<Vec<Vec<usize>>>> = study
-        .sets
-        .iter()
-        .map(|set| {
-            crate::methods::grouped(set.method.as_ref())
-                .then(|| crate::methods::units(set.method.as_ref(), set.samples.as_slice()))
-        })
-        .collect();
-    let count = |index: usize| {
-        units[index]
-            .as_ref()
-            .map_or(study.sets[index].samples.len(), Vec::len)
-    };
-    let total: usize = (0..study.sets.len()).map(count).sum();
-    if total <= limit {
-        return if dropped.iter().all(Vec::is_empty) {
-            Cow::Borrowed(study)
-        } else {
-            Cow::Owned(study.without_samples(dropped))
-        };
-    }
-    let sets = study
-        .sets
-        .iter()
-        .enumerate()
-        .map(|(index, set)| {
-            let mut gone: Vec<usize> = dropped.get(index).cloned().unwrap_or_default();
-            gone.sort_unstable();
-            let kept = |sample: &usize| gone.binary_search(sample).is_err();
-            let chosen = spread_indices(count(index), (count(index) * limit).div_ceil(total));
-            let mut samples = Vec::with_capacity(chosen.len());
-            for unit in chosen {
-                match &units[index] {
-                    None => {
-                        if kept(&unit) {
-                            samples.push(unit);
-                        }
-                    }
-                    Some(units) => {
-                        let members: Vec<usize> =
-                            units[unit].iter().copied().filter(kept).collect();
-                        if units[unit].len() < 2 || members.len() >= 2 {
-                            samples.extend(members);
-                        }
-                    }
-                }
-            }
-            set.with_samples(set.samples.gather(&samples))
-        })
-        .collect();
-    Cow::Owned(Study {
-        sets,
-        frames: study.frames.clone(),
-    })
-}
 
 /// Whether the variance ratio `explained / residual` exceeds the F(k, ν)
 /// quantile at [`SECOND_PASS_LEVEL`].

@@ -10,6 +10,7 @@ use super::verdict::StopReason;
 use super::weighting::Weighting;
 use crate::Error;
 use crate::fold::FoldKind;
+use crate::identifiability::{Excitation, RankReport, excitation_at};
 use crate::linalg::{
     LeastSquaresRows, NORMAL_EQUATIONS_CONDITION, NormalEquations, damped_step, minimum_norm_step,
     predicted_decrease, step,
@@ -104,6 +105,76 @@ pub(super) struct Problem<'a> {
 }
 
 impl<'a> Problem<'a> {
+    /// The problem of `study` on the base set of `rank` that the data
+    /// excite at `from` (paper §4's excitation check), with `nominal` the
+    /// robot the pass is reported against and holds fixed outside the base
+    /// set, and the iterate at `from` with `auxiliary` (the excitation
+    /// check's own system when every structural base parameter is excited:
+    /// the same columns). `states` holds the poses at `from`.
+    ///
+    /// # Errors
+    /// Nothing identifiable, no more equations than unknowns, or a system
+    /// that is not finite.
+    pub(super) fn excited(
+        nominal: &'a Robot,
+        study: &'a Study,
+        options: &'a IdentificationOptions,
+        rank: &RankReport,
+        (from, auxiliary): (&Robot, &[f64]),
+        states: &mut StudyStates,
+    ) -> Result<(Problem<'a>, Excitation, Iterate), Error> {
+        let mut excited =
+            excitation_at(from, study, states, auxiliary, rank, options.streamed_rows)?;
+        let base = excited.report.base_parameters.clone();
+        let base_auxiliary = excited.report.base_auxiliary.clone();
+        if base.is_empty() {
+            return Err(Error::Numerical {
+                message: "no robot parameter is identifiable from these data (see the \
+                          identifiable parameters of the method)"
+                    .into(),
+            });
+        }
+        let unknowns = base.len() + base_auxiliary.len();
+        let equations = study.equation_count();
+        if equations <= unknowns {
+            return Err(Error::TooFewEquations {
+                equations,
+                unknowns: unknowns + 1,
+            });
+        }
+        let layout = ColumnLayout::with_auxiliary(
+            nominal.parameters().len(),
+            &base,
+            auxiliary.len(),
+            &base_auxiliary,
+        );
+        let mut problem = Problem {
+            study,
+            nominal,
+            options,
+            base,
+            base_auxiliary,
+            layout,
+            rows: study.row_count(),
+            // Set from the starting iterate's W_b below.
+            condition: f64::INFINITY,
+            weighting: Weighting::default(),
+            joined: 0,
+        };
+        // The excitation check built W_b at `from` already: reuse it when
+        // every structural base parameter is excited (same columns).
+        let start = match excited.system.take() {
+            Some(system) if excited.not_excited.is_empty() => {
+                Problem::iterate_of(from, auxiliary, system)?
+            }
+            _ => problem.assemble(from, auxiliary, &problem.layout, states)?,
+        };
+        // The solver's choice (normal equations or QR) by the condition
+        // number that decides their accuracy: that of W_b with unit columns.
+        problem.condition = start.normal.equilibrated_condition();
+        Ok((problem, excited, start))
+    }
+
     /// This problem with `weighting` (robust weights, prior rows).
     pub(super) fn with_weighting(&self, weighting: Weighting) -> Problem<'a> {
         Problem {
