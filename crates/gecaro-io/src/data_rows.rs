@@ -21,6 +21,7 @@ use crate::Error;
 use crate::columns::{field_number, not_a_number};
 use crate::input::{LineLimit, MAX_LINE_BYTES, csv_reader_with, for_each_record};
 use crate::line_chunks::{LineChunks, line_parts};
+use crate::plain_body::{RecordFields, for_each_plain_record};
 use crate::pose::{quaternion_deviation, unit_quaternion};
 
 /// The largest motor value a data file holds: 2⁵³, beyond which a double
@@ -108,6 +109,16 @@ pub(crate) struct Rows {
 }
 
 impl Rows {
+    /// No rows yet, with room for `capacity` samples (at most
+    /// [`MAX_CONFIGURATIONS`]).
+    fn with_capacity(capacity: usize) -> Rows {
+        Rows {
+            samples: SamplesBuilder::with_capacity(capacity.min(MAX_CONFIGURATIONS)),
+            normalised: Normalised::default(),
+            error: None,
+        }
+    }
+
     /// The rows of a later part after these: its samples, its normalised
     /// quaternions, and its first error, which ends the reading (`false`:
     /// read no further). A part after an error is not to be appended.
@@ -144,25 +155,49 @@ impl RowReader<'_> {
         lines_before: usize,
         capacity: usize,
     ) -> Rows {
-        let mut rows = Rows {
-            samples: SamplesBuilder::with_capacity(capacity.min(MAX_CONFIGURATIONS)),
-            normalised: Normalised::default(),
-            error: None,
-        };
+        let mut rows = Rows::with_capacity(capacity);
         let (samples, normalised) = (&mut rows.samples, &mut rows.normalised);
         rows.error = for_each_record(
             csv,
             self.path,
             lines_before,
-            |record: &csv::ByteRecord, line| {
-                if samples.len() == MAX_CONFIGURATIONS {
-                    return Err(self.too_many(line));
-                }
-                samples.push(&self.sample(record, line, normalised)?);
-                Ok(())
-            },
+            |record: &csv::ByteRecord, line| self.push_sample(samples, normalised, record, line),
         );
         rows
+    }
+
+    /// [`read`](Self::read) of a part of a body, the way of
+    /// [`crate::plain_body`] when the part is plain.
+    fn read_part(&self, part: &[u8], lines_before: usize, capacity: usize, separator: u8) -> Rows {
+        let mut rows = Rows::with_capacity(capacity);
+        let (samples, normalised) = (&mut rows.samples, &mut rows.normalised);
+        match for_each_plain_record(part, lines_before, separator, |record, line| {
+            self.push_sample(samples, normalised, record, line)
+        }) {
+            Some(error) => {
+                rows.error = error;
+                rows
+            }
+            None => {
+                let mut csv = csv_reader_with(LineLimit::new(part, MAX_LINE_BYTES), separator);
+                self.read(&mut csv, lines_before, capacity)
+            }
+        }
+    }
+
+    /// Adds the sample of `record` at `line`, unless it is one too many.
+    fn push_sample(
+        &self,
+        samples: &mut SamplesBuilder,
+        normalised: &mut Normalised,
+        record: &impl RecordFields,
+        line: usize,
+    ) -> Result<(), Error> {
+        if samples.len() == MAX_CONFIGURATIONS {
+            return Err(self.too_many(line));
+        }
+        samples.push(&self.sample(record, line, normalised)?);
+        Ok(())
     }
 
     /// Reads `body` (whole lines of the file after its header, the first
@@ -197,8 +232,7 @@ impl RowReader<'_> {
             })
             .collect();
         let mut read = run_parts(parts, |(bytes, lines_before, capacity)| {
-            let mut csv = csv_reader_with(LineLimit::new(bytes, MAX_LINE_BYTES), separator);
-            self.read(&mut csv, lines_before, capacity)
+            self.read_part(bytes, lines_before, capacity, separator)
         })
         .into_iter();
         let mut joined = read.next()?;
@@ -293,34 +327,38 @@ impl RowReader<'_> {
     /// One record as a sample.
     fn sample(
         &self,
-        record: &csv::ByteRecord,
+        record: &impl RecordFields,
         line: usize,
         normalised: &mut Normalised,
     ) -> Result<Sample, Error> {
         // The record is read as bytes (its numbers are parsed from them);
         // the file must still be text, as in a single pass of the `csv`
         // crate's text records (a binary file is named as such).
-        let bytes = record.as_slice();
+        let bytes = record.bytes();
         if !bytes.is_ascii() && std::str::from_utf8(bytes).is_err() {
             return Err(self.fail(line, None, "the file is not UTF-8 text".into()));
         }
         // A field as text, for a message.
-        let text = |column: usize| String::from_utf8_lossy(&record[column]).trim().to_owned();
+        let text = |column: usize| {
+            String::from_utf8_lossy(record.field(column))
+                .trim()
+                .to_owned()
+        };
         let names = self.names;
-        if record.len() != names.len() {
+        if record.field_count() != names.len() {
             return Err(self.fail(
                 line,
                 None,
                 format!(
                     "{} values for {} columns ({})",
-                    record.len(),
+                    record.field_count(),
                     names.len(),
                     names.join(",")
                 ),
             ));
         }
         let value = |column: usize| -> Result<f64, Error> {
-            match field_number(&record[column], self.decimal_comma) {
+            match field_number(record.field(column), self.decimal_comma) {
                 Some(number) if number.is_finite() => Ok(number),
                 Some(_) => Err(self.fail(
                     line,
@@ -387,7 +425,7 @@ impl RowReader<'_> {
             sample.orientation = Some(orientation);
         }
         if let Some(column) = fields.group {
-            let id = std::str::from_utf8(&record[column])
+            let id = std::str::from_utf8(record.field(column))
                 .ok()
                 .and_then(|id| id.trim().parse().ok());
             sample.group = Some(id.ok_or_else(|| {

@@ -22,6 +22,7 @@ mod joint_calibration;
 mod line_chunks;
 mod output;
 mod payload;
+mod plain_body;
 mod pose;
 mod prior;
 mod problem;
