@@ -278,7 +278,7 @@ fn parse_from(
     } = match rest {
         None => rows
             .read_in_parts(&head[start..], lines_before, separator)
-            .unwrap_or_else(|| rows.read(&mut csv, 0, 0)),
+            .map_or_else(|| rows.read(&mut csv, 0, 0), |(read, _)| read),
         Some(rest) if memchr::memchr(b'"', &head).is_none() => {
             rows.read_chunks((head, start, rest), lines_before, separator, chunking)
         }
@@ -940,6 +940,73 @@ mod tests {
                     "{error} (expected {expected})"
                 );
             }
+        }
+    }
+
+    /// A long plain file (no quote, comment or blank line; `\r\n` line
+    /// ends) read in chunks and parts by the plain route
+    /// ([`crate::plain_body`]) gives the samples, lines and first error of
+    /// a single pass of the `csv` crate (forced by a quote at its end).
+    #[test]
+    fn a_long_plain_file_reads_as_in_one_pass() {
+        let columns = [DataColumn::Position];
+        let mut text = String::from("qm1,qm2,x,y,z\r\n");
+        for row in 0..9000 {
+            text.push_str(&format!(
+                "{}, {} ,0.1,0.2,{}\r\n",
+                row as f64 * 1e-3,
+                -(row as f64) * 2e-3,
+                0.3 + row as f64 * 1e-5
+            ));
+        }
+        let chunk_bytes = crate::data_rows::PART_MIN_BYTES + 1000;
+        assert!(text.len() > 2 * chunk_bytes);
+        let chunked = |text: &str| {
+            let (head, mut rest) = text.as_bytes().split_at(1000);
+            parse_from(
+                (head.to_vec(), Some(&mut rest)),
+                Path::new("plain.csv"),
+                (&TWO_REVOLUTE, &columns),
+                &DataFormat::default(),
+                (chunk_bytes, usize::MAX),
+            )
+            .map(|file| file.samples)
+        };
+        let one_pass = |text: &str| {
+            parse_samples(
+                format!("{text}\"").as_bytes(),
+                Path::new("plain.csv"),
+                &TWO_REVOLUTE,
+                &columns,
+                &DataFormat::default(),
+            )
+            .map(|file| file.samples)
+        };
+        // The quote makes a last record of its own in the single pass.
+        let mut expected = one_pass(&text).expect_err("a quote alone").to_string();
+        assert!(expected.contains("plain.csv:9002"), "{expected}");
+        let read = chunked(&text).expect("plain");
+        assert_eq!(read.len(), 9000);
+        assert_eq!(read.get(8999).line(), Some(9001));
+        let whole = parse(&text, &columns).expect("in parts");
+        assert_eq!(read.to_rows(), whole);
+        assert_eq!(whole[4321].motor_positions[1], -4321.0 * 2e-3);
+        for (first, second) in [(10, 8000), (3333, 3334), (8998, 8999)] {
+            let mut lines: Vec<&str> = text.split("\r\n").collect();
+            lines[first + 1] = "1,2,3,4,oops";
+            lines[second + 1] = "1,2";
+            let broken = lines.join("\r\n");
+            expected = one_pass(&broken).expect_err("broken").to_string();
+            let line = first + 2;
+            assert!(
+                expected.starts_with(&format!("plain.csv:{line}: z: `oops`")),
+                "{expected}"
+            );
+            assert_eq!(chunked(&broken).expect_err("broken").to_string(), expected);
+            assert_eq!(
+                error_of(&broken, &columns),
+                expected.replace("plain.csv", "data.csv")
+            );
         }
     }
 

@@ -208,7 +208,7 @@ impl RowReader<'_> {
         body: &[u8],
         lines_before: usize,
         separator: u8,
-    ) -> Option<Rows> {
+    ) -> Option<(Rows, usize)> {
         let threads = available_threads();
         if threads < 2 || body.len() < PART_MIN_BYTES || memchr::memchr(b'"', body).is_some() {
             return None;
@@ -243,7 +243,7 @@ impl RowReader<'_> {
                 }
             }
         }
-        Some(joined)
+        Some((joined, breaks))
     }
 
     /// Reads a body too long to hold at once: the bytes of `head` from
@@ -278,12 +278,16 @@ impl RowReader<'_> {
                     return joined;
                 }
             };
-            let rows = self
-                .read_in_parts(chunk, lines, separator)
-                .unwrap_or_else(|| {
+            let rows = match self.read_in_parts(chunk, lines, separator) {
+                Some((rows, breaks)) => {
+                    chunks.counted(breaks);
+                    rows
+                }
+                None => {
                     let mut csv = csv_reader_with(LineLimit::new(chunk, MAX_LINE_BYTES), separator);
                     self.read(&mut csv, lines, 0)
-                });
+                }
+            };
             if joined.samples.is_empty() {
                 let foreseen = rows.samples.len() * (1 + CHUNKS_FORESEEN);
                 joined.samples.reserve(foreseen.min(limit));

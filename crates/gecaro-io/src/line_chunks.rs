@@ -15,10 +15,14 @@ use crate::Error;
 /// read, then the rest of the stream. Memory beyond the caller's is one
 /// chunk.
 pub(crate) struct LineChunks<'a> {
-    /// The unread part of the body, from a line start.
+    /// The unread part of the body, from a line start, in its first
+    /// `filled` bytes (the rest is room, zeroed once when it was made).
     buffer: Vec<u8>,
+    filled: usize,
     /// Bytes at the buffer's start handed out by the last chunk.
     handed_out: usize,
+    /// Line breaks of the last chunk, when the caller counted them.
+    handed_out_lines: Option<usize>,
     /// Bytes of the file before the buffer's first byte.
     bytes_before: u64,
     /// Lines of the file before the buffer's first byte.
@@ -44,8 +48,10 @@ impl<'a> LineChunks<'a> {
         let mut buffer = head;
         buffer.drain(..start);
         LineChunks {
+            filled: buffer.len(),
             buffer,
             handed_out: 0,
+            handed_out_lines: None,
             bytes_before: start as u64,
             lines_before,
             rest,
@@ -68,24 +74,23 @@ impl<'a> LineChunks<'a> {
     /// [`Error::Read`] when the stream fails.
     pub(crate) fn next_chunk(&mut self) -> Result<Option<(&[u8], usize)>, Error> {
         if self.handed_out > 0 {
-            self.lines_before +=
-                memchr::memchr_iter(b'\n', &self.buffer[..self.handed_out]).count();
-            self.buffer.drain(..self.handed_out);
+            self.lines_before += self.handed_out_lines.take().unwrap_or_else(|| {
+                memchr::memchr_iter(b'\n', &self.buffer[..self.handed_out]).count()
+            });
+            self.buffer.copy_within(self.handed_out..self.filled, 0);
+            self.filled -= self.handed_out;
             self.bytes_before += self.handed_out as u64;
             self.handed_out = 0;
         }
-        while !self.ended && self.buffer.len() < self.chunk_bytes {
-            let filled = self.buffer.len();
-            self.buffer.resize(self.chunk_bytes.max(filled + 1), 0);
-            match self.rest.read(&mut self.buffer[filled..]) {
-                Ok(0) => {
-                    self.buffer.truncate(filled);
-                    self.ended = true;
-                }
-                Ok(count) => self.buffer.truncate(filled + count),
-                Err(cause) if cause.kind() == std::io::ErrorKind::Interrupted => {
-                    self.buffer.truncate(filled);
-                }
+        while !self.ended && self.filled < self.chunk_bytes {
+            let room = self.chunk_bytes.max(self.filled + 1);
+            if self.buffer.len() < room {
+                self.buffer.resize(room, 0);
+            }
+            match self.rest.read(&mut self.buffer[self.filled..]) {
+                Ok(0) => self.ended = true,
+                Ok(count) => self.filled += count,
+                Err(cause) if cause.kind() == std::io::ErrorKind::Interrupted => {}
                 Err(cause) => {
                     return Err(Error::Read {
                         path: self.path.to_owned(),
@@ -94,16 +99,23 @@ impl<'a> LineChunks<'a> {
                 }
             }
         }
+        let filled = &self.buffer[..self.filled];
         let cut = if self.ended {
-            self.buffer.len()
+            filled.len()
         } else {
-            memchr::memrchr(b'\n', &self.buffer).map_or(self.buffer.len(), |at| at + 1)
+            memchr::memrchr(b'\n', filled).map_or(filled.len(), |at| at + 1)
         };
         if cut == 0 {
             return Ok(None);
         }
         self.handed_out = cut;
-        Ok(Some((&self.buffer[..cut], self.lines_before)))
+        Ok(Some((&filled[..cut], self.lines_before)))
+    }
+
+    /// Tells the line breaks of the last chunk, which its caller counted:
+    /// the next chunk does not count them again.
+    pub(crate) fn counted(&mut self, lines: usize) {
+        self.handed_out_lines = Some(lines);
     }
 }
 
@@ -168,10 +180,17 @@ mod tests {
                 Path::new("lines.txt"),
             );
             let mut joined = Vec::new();
+            let mut told = false;
             while let Some((chunk, before)) = chunks.next_chunk().expect("read") {
                 assert!(chunk.ends_with(b"\n"), "{chunk:?}");
                 assert_eq!(first_number(chunk), before + 1);
                 joined.extend_from_slice(chunk);
+                // Every other chunk's lines told, as a caller counted them.
+                let lines = chunk.iter().filter(|byte| **byte == b'\n').count();
+                if told {
+                    chunks.counted(lines);
+                }
+                told = !told;
             }
             let skipped = if start > 0 { start } else { 0 };
             assert_eq!(
