@@ -50,7 +50,7 @@
 //! observations with a weight.
 
 use super::coverage::Coverage;
-use super::repeats::repeats;
+use super::repeats::Repeats;
 use super::words;
 use crate::observation::ObservationSystem;
 use crate::rows::{RowKind, robust_weight};
@@ -250,13 +250,15 @@ pub(super) struct Evidence<'a> {
     pub(super) implausible: Vec<Implausible>,
     /// What the data determine and the methods observe.
     pub(super) coverage: Coverage,
+    /// What repeats in the study ([`super::repeats::repeats`]).
+    pub(super) repeats: Repeats,
 }
 
 impl Verdict {
     /// The verdict on `evidence` from `study` (see the module docs).
     pub(super) fn of(study: &Study, evidence: Evidence<'_>) -> Verdict {
         let configurations: usize = study.sets.iter().map(|set| set.samples.len()).sum();
-        let repeats = repeats(study);
+        let repeats = evidence.repeats;
         let (residual_length, residual_angle) = residual_sigmas(&evidence);
         let noise_test = study
             .sets
