@@ -615,6 +615,7 @@ fn fit_pass(
         mut states,
         start,
         coarse,
+        begun,
     } = set_up(start, study, options, priority, extras.is_empty())?;
     // A study that does not observe the scale: the second pass's added
     // parameters are held by their prior from the first step. Nearly
@@ -640,29 +641,14 @@ fn fit_pass(
         let start = held.assemble(&start.robot, &start.auxiliary, &held.layout, &mut states)?;
         (held, start)
     };
-    let begun = match &coarse {
-        None => {
-            let errors_before = start.system.observation_errors();
-            Begun {
-                first: problem.record(&start, &[], 0.0),
-                before: ErrorSummary::of_errors(&errors_before),
-                errors_before,
-            }
+    let begun = begun.unwrap_or_else(|| {
+        let errors_before = start.system.observation_errors();
+        Begun {
+            first: problem.record(&start, &[], 0.0),
+            before: ErrorSummary::of_errors(&errors_before),
+            errors_before,
         }
-        // The errors before are the pass's robot's, evaluated apart.
-        Some(_) => {
-            let (before, errors_before, rms) = errors_at(problem.nominal, study)?;
-            Begun {
-                first: IterationRecord {
-                    rms,
-                    step: 0.0,
-                    damping: 0.0,
-                },
-                before,
-                errors_before,
-            }
-        }
-    };
+    });
     report(observer, Progress::Iteration(&begun.first))?;
     // Iteration 1 of a coarse start is the jump to its solution.
     let jump = coarse.as_ref().map(|coarse| IterationRecord {
@@ -808,6 +794,10 @@ struct Setup<'a> {
     start: Iterate,
     /// The coarse start of large data, when there was one.
     coarse: Option<coarse::CoarseStart>,
+    /// The state at the robot, evaluated apart when the descent starts at
+    /// a coarse start (before the start's system is made: the two are not
+    /// held together).
+    begun: Option<Begun>,
 }
 
 /// The base set of `study` at `robot` (structural, then what the data
@@ -843,6 +833,21 @@ fn set_up<'a>(
         None => initial_auxiliary.clone(),
     };
     let from = coarse.as_ref().map_or(robot, |coarse| &coarse.robot);
+    let begun = match &coarse {
+        Some(_) => {
+            let (before, errors_before, rms) = errors_at(robot, study)?;
+            Some(Begun {
+                first: IterationRecord {
+                    rms,
+                    step: 0.0,
+                    damping: 0.0,
+                },
+                before,
+                errors_before,
+            })
+        }
+        None => None,
+    };
     let (problem, excited, start) = Problem::excited(
         robot,
         study,
@@ -859,6 +864,7 @@ fn set_up<'a>(
         states,
         start,
         coarse,
+        begun,
     })
 }
 
