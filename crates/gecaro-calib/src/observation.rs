@@ -69,8 +69,13 @@ pub(crate) fn linearise_independent(
     samples: SampleSlice<'_>,
     auxiliary: &[f64],
     frames: Option<&SetFrames<'_>>,
-    mut writer: RowWriter<'_>,
+    writer: RowWriter<'_>,
 ) -> Result<usize, ModelError> {
+    let selection = selected(model, writer.layout, frames);
+    let (model, mut writer) = match &selection {
+        Some((model, layout)) => (model, RowWriter { layout, ..writer }),
+        None => (model, writer),
+    };
     if let Some(kind) = writer.fold {
         return linearise_folded(model, method, samples, auxiliary, frames, writer, kind);
     }
@@ -116,6 +121,24 @@ pub(crate) fn linearise_independent(
     });
     ends.into_iter()
         .try_fold(0, |end, part: Result<usize, ModelError>| Ok(end.max(part?)))
+}
+
+/// `model` computing only the Jacobian columns that `layout` keeps, and the
+/// layout of its rows ([`KinematicModel::selecting`]), when some column of
+/// W reads the Jacobian and the set has no named `frames` (whose states
+/// need every column, [`crate::frames`]). The rows are the same, bit for
+/// bit: the same values, fewer of them computed, copied whole.
+fn selected(
+    model: &KinematicModel,
+    layout: &ColumnLayout,
+    frames: Option<&SetFrames<'_>>,
+) -> Option<(KinematicModel, ColumnLayout)> {
+    if frames.is_some() || !layout.maps_parameters() {
+        return None;
+    }
+    let model = model.selecting(&layout.kept_parameters());
+    let layout = layout.for_selected(model.parameter_count());
+    Some((model, layout))
 }
 
 /// The Jacobian rows `method` reads, and those to evaluate: all six with

@@ -35,6 +35,10 @@ pub struct ColumnLayout {
     /// For each auxiliary unknown (all sets, in order), its column in W, if kept.
     auxiliary_columns: Vec<Option<usize>>,
     columns: usize,
+    /// `(c, k)` when the kept parameters are the first k of a Jacobian row,
+    /// in columns c, c+1, …, c+k−1 of W: a row's coefficients are then
+    /// copied whole (see [`for_selected`](Self::for_selected)).
+    run: Option<(usize, usize)>,
 }
 
 impl ColumnLayout {
@@ -51,15 +55,52 @@ impl ColumnLayout {
         for (position, index) in parameters.iter().enumerate() {
             parameter_columns[*index] = Some(auxiliary_count + position);
         }
+        let mapped: Vec<(usize, usize)> = parameters
+            .iter()
+            .enumerate()
+            .map(|(position, index)| (*index, auxiliary_count + position))
+            .collect();
         ColumnLayout {
-            mapped: parameters
-                .iter()
-                .enumerate()
-                .map(|(position, index)| (*index, auxiliary_count + position))
-                .collect(),
+            run: run_of(&mapped),
+            mapped,
             parameter_columns,
             auxiliary_columns: (0..auxiliary_count).map(Some).collect(),
             columns: auxiliary_count + parameters.len(),
+        }
+    }
+
+    /// The kept robot parameters (vocabulary indices), in the order of
+    /// their columns: what a model [`selecting`] them computes.
+    ///
+    /// [`selecting`]: gecaro_core::KinematicModel::selecting
+    pub(crate) fn kept_parameters(&self) -> Vec<usize> {
+        self.mapped.iter().map(|(index, _)| *index).collect()
+    }
+
+    /// This layout for Jacobian rows of `width` columns whose first ones
+    /// are the [`kept_parameters`](Self::kept_parameters) in order (a
+    /// model [`selecting`] them; the columns after them are read by none):
+    /// the same columns of W, auxiliary unknowns and all.
+    ///
+    /// [`selecting`]: gecaro_core::KinematicModel::selecting
+    pub(crate) fn for_selected(&self, width: usize) -> ColumnLayout {
+        debug_assert!(width >= self.mapped.len());
+        let mapped: Vec<(usize, usize)> = self
+            .mapped
+            .iter()
+            .enumerate()
+            .map(|(position, (_, column))| (position, *column))
+            .collect();
+        let mut parameter_columns = vec![None; width];
+        for (position, column) in &mapped {
+            parameter_columns[*position] = Some(*column);
+        }
+        ColumnLayout {
+            run: run_of(&mapped),
+            mapped,
+            parameter_columns,
+            auxiliary_columns: self.auxiliary_columns.clone(),
+            columns: self.columns,
         }
     }
 
@@ -99,6 +140,17 @@ impl ColumnLayout {
     pub fn auxiliary_count(&self) -> usize {
         self.auxiliary_columns.iter().flatten().count()
     }
+}
+
+/// `(c, k)` when `mapped` sends parameters 0, 1, …, k−1 to columns c, c+1,
+/// …, c+k−1 (see [`ColumnLayout::run`]).
+fn run_of(mapped: &[(usize, usize)]) -> Option<(usize, usize)> {
+    let (_, first) = *mapped.first()?;
+    mapped
+        .iter()
+        .enumerate()
+        .all(|(position, (index, column))| *index == position && *column == first + position)
+        .then_some((first, mapped.len()))
 }
 
 /// Writes rows of one measurement set into the rows of the system it was
@@ -141,9 +193,13 @@ impl<'a> RowWriter<'a> {
     /// Appends one row: `Σ parameters[k]·Δη_k + Σ auxiliary[k]·Δaux_k = residual`.
     ///
     /// `observation` numbers the configuration or pair the row belongs to
-    /// (0-based within this set); `parameters` has Np entries (the length of
-    /// a state's Jacobian row: more for a set with named frames, whose
-    /// unknowns follow), `auxiliary` one per auxiliary unknown of the method.
+    /// (0-based within this set); `parameters` has the length of a state's
+    /// Jacobian row (Np in vocabulary order; more for a set with named
+    /// frames, whose unknowns follow; the selected columns when the states
+    /// are a [`selecting`] model's), `auxiliary` one per auxiliary unknown
+    /// of the method.
+    ///
+    /// [`selecting`]: gecaro_core::KinematicModel::selecting
     ///
     /// # Panics
     /// When the method pushes more rows than its `row_count` promised (a bug in the method).
@@ -162,8 +218,20 @@ impl<'a> RowWriter<'a> {
         );
         let weight = self.weight(kind, self.observation_base + observation);
         let target = &mut self.matrix[row * self.columns..(row + 1) * self.columns];
-        for (index, column) in &self.layout.mapped {
-            target[*column] = weight * parameters[*index];
+        match self.layout.run {
+            Some((first, count)) => {
+                for (value, coefficient) in target[first..first + count]
+                    .iter_mut()
+                    .zip(&parameters[..count])
+                {
+                    *value = weight * coefficient;
+                }
+            }
+            None => {
+                for (index, column) in &self.layout.mapped {
+                    target[*column] = weight * parameters[*index];
+                }
+            }
         }
         // Columns beyond the robot's parameters: the study's named frames,
         // its first auxiliary unknowns (crate::frames).

@@ -806,7 +806,11 @@ mod tests {
     /// The fused, blocked and parallel route writes exactly what evaluation
     /// followed by assembly writes: every method, small sets, and large
     /// independent sets (several threads, a partial last block), stacked
-    /// with another set so that observations are numbered across sets.
+    /// with another set so that observations are numbered across sets. The
+    /// layout keeps every other parameter, backwards (gains without their
+    /// joints' columns among them), so the fused route's states, which
+    /// hold only the kept columns (`KinematicModel::selecting`), are
+    /// written through another map than the whole states.
     #[test]
     fn fused_linearisation_is_bit_identical_to_evaluate_then_assemble() {
         let nominal = Robot::template("arm", "RRPRRR").expect("template");

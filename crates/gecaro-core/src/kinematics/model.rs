@@ -12,6 +12,9 @@
 //! bit where no frame has a Hayati β (the same products), to rounding where
 //! one has (its turn about y is applied in another order), and the Jacobian
 //! with [`parameter_jacobian`](super::parameter_jacobian) to rounding (tested).
+//! A model may compute only the Jacobian columns a caller reads, in the
+//! caller's order ([`KinematicModel::selecting`]): the identification's
+//! linearisations read the columns of the parameters they estimate.
 //!
 //! ## Elastic joints (issue 38)
 //!
@@ -251,9 +254,107 @@ impl KinematicModel {
         self.offsets.len()
     }
 
-    /// Number of parameters Np (columns of the Jacobian).
+    /// Number of columns of the Jacobian: Np, or for a model
+    /// [`selecting`](Self::selecting) some, the columns it computes.
     pub fn parameter_count(&self) -> usize {
         self.parameter_count
+    }
+
+    /// This model computing only the Jacobian columns of the parameters
+    /// `kept` (vocabulary indices, each once), in that order: column `k` of
+    /// its Jacobian is the parameter `kept[k]`'s. The columns of parameters
+    /// not kept are not computed, except a joint variable's (θ_j or r_j)
+    /// that a kept gain, compliance or tilt column reads: such columns
+    /// follow the kept ones, so [`parameter_count`](Self::parameter_count)
+    /// may exceed `kept.len()`. Every value is computed as this model
+    /// computes it, bit for bit, and the poses are the same.
+    ///
+    /// The identification's linearisations read only the columns of the
+    /// parameters they estimate (fewer than Np: 31 of Stanford's 46 for
+    /// position data); computing those alone, in the order of the columns
+    /// of W, saves the rest and lets each row be copied whole.
+    ///
+    /// ```
+    /// use gecaro_core::{ChainBuffer, JacobianRows, KinematicModel, Robot};
+    ///
+    /// let robot = Robot::template("arm", "RRPRRR")?;
+    /// let model = KinematicModel::new(&robot);
+    /// // K2 reads θ2's column, which is not kept: it follows the kept ones.
+    /// let names = ["d3", "K2", "alpha1"];
+    /// let kept = names.map(|name| robot.parameters().index_of_name(name).unwrap());
+    /// let selected = model.selecting(&kept);
+    /// assert_eq!(selected.parameter_count(), 4);
+    /// let mut chain = ChainBuffer::default();
+    /// model.forward(&[0.1, 0.2, 0.3, 0.4, 0.5, 0.6], &mut chain)?;
+    /// let (mut all, mut some) = (Vec::new(), Vec::new());
+    /// model.jacobian_rows(&chain, &mut all, JacobianRows::Full);
+    /// selected.jacobian_rows(&chain, &mut some, JacobianRows::Full);
+    /// let (np, width) = (model.parameter_count(), selected.parameter_count());
+    /// for axis in 0..6 {
+    ///     for (k, index) in kept.iter().enumerate() {
+    ///         assert_eq!(some[axis * width + k], all[axis * np + index]);
+    ///     }
+    /// }
+    /// # Ok::<(), gecaro_core::Error>(())
+    /// ```
+    ///
+    /// # Panics
+    /// When an index of `kept` is not below Np or is given twice.
+    #[must_use]
+    pub fn selecting(&self, kept: &[usize]) -> KinematicModel {
+        let mut position = vec![None; self.parameter_count];
+        for (k, index) in kept.iter().enumerate() {
+            assert!(
+                position[*index].replace(k).is_none(),
+                "parameter {index} kept twice"
+            );
+        }
+        // The joint columns that kept derived columns read (fill_jacobian),
+        // after the kept ones.
+        let is_kept =
+            |column: Option<usize>| column.is_some_and(|column| position[column].is_some());
+        let mut read = vec![false; self.joint_count()];
+        for (joint, column) in self.gain_columns.iter().enumerate() {
+            if is_kept(*column) {
+                for (i, _) in &self.gain_terms[joint] {
+                    read[*i] = true;
+                }
+            }
+        }
+        for (joint, column) in self.compliance_columns.iter().enumerate() {
+            read[joint] |= is_kept(*column);
+        }
+        if self.tilt_columns.iter().any(|column| is_kept(*column)) {
+            read.fill(true);
+        }
+        let mut width = kept.len();
+        for (joint, column) in self.joint_columns.iter().enumerate() {
+            if read[joint] && position[*column].is_none() {
+                position[*column] = Some(width);
+                width += 1;
+            }
+        }
+        let moved = |column: Option<usize>| column.and_then(|column| position[column]);
+        let mut selected = self.clone();
+        for frame in &mut selected.frames {
+            frame.columns = frame.columns.map(moved);
+        }
+        for column in selected
+            .gain_columns
+            .iter_mut()
+            .chain(&mut selected.compliance_columns)
+            .chain(&mut selected.tilt_columns)
+        {
+            *column = moved(*column);
+        }
+        // A joint column that no kept column reads is never read: its
+        // index is kept only as a place (its values are not written).
+        for joint in &mut selected.joint_columns {
+            *joint = position[*joint].unwrap_or(usize::MAX);
+        }
+        selected.writes_every_column = self.writes_every_column;
+        selected.parameter_count = width;
+        selected
     }
 
     /// Direct model (eq. 1) at motor variables `motor_positions`, into `chain`
@@ -538,22 +639,29 @@ impl KinematicModel {
         for (j, frame) in self.frames.iter().enumerate() {
             let pose = chain.world_from_frame[j];
             let z_axis: Vector3<f64> = pose.rotation.matrix().column(2).into();
-            jacobian.set(
-                frame.columns[0],
-                z_axis.cross(&(tool - pose.translation.vector)),
-                z_axis,
-            );
-            jacobian.set(frame.columns[1], z_axis, zero);
-            if j > 0 {
+            let [theta, r, alpha, d, beta] = frame.columns;
+            if theta.is_some() {
+                jacobian.set(
+                    theta,
+                    z_axis.cross(&(tool - pose.translation.vector)),
+                    z_axis,
+                );
+            }
+            jacobian.set(r, z_axis, zero);
+            if j > 0 && (alpha.is_some() || d.is_some() || beta.is_some()) {
                 let axes = previous.rotation.matrix();
                 let x_previous: Vector3<f64> = axes.column(0).into();
                 let y_previous: Vector3<f64> = axes.column(1).into();
                 let z_previous: Vector3<f64> = axes.column(2).into();
                 let lever = tool - previous.translation.vector;
                 let x_rotated = x_previous * frame.cos_beta - z_previous * frame.sin_beta;
-                jacobian.set(frame.columns[2], x_rotated.cross(&lever), x_rotated);
-                jacobian.set(frame.columns[3], x_rotated, zero);
-                jacobian.set(frame.columns[4], y_previous.cross(&lever), y_previous);
+                if alpha.is_some() {
+                    jacobian.set(alpha, x_rotated.cross(&lever), x_rotated);
+                }
+                jacobian.set(d, x_rotated, zero);
+                if beta.is_some() {
+                    jacobian.set(beta, y_previous.cross(&lever), y_previous);
+                }
             }
             previous = pose;
         }
@@ -765,6 +873,89 @@ mod tests {
             }
         }
         assert!(without_beta_seen, "a robot without β was compared");
+    }
+
+    /// A model selecting some columns computes each of them as the whole
+    /// model does, bit for bit, in the order asked, for coupled chains,
+    /// elastic ones with gravity's tilts, both sets of rows and buffers
+    /// reused; the joint columns a kept gain, compliance or tilt reads
+    /// follow the kept columns, and only then.
+    #[test]
+    fn a_selecting_model_computes_its_columns_as_the_whole_model() {
+        let mut rng = ChaCha8Rng::seed_from_u64(41);
+        let mut elastic = stanford();
+        elastic
+            .set_compliances(Some(vec![2e-3, 5e-3, 1e-4, 3e-3, 4e-3, 6e-3]))
+            .expect("elastic");
+        elastic
+            .set_parameter(ParameterId::new(ParameterKind::GravityTilt, 1), 0.02)
+            .expect("tilt");
+        let mut robots = vec![stanford(), elastic];
+        robots.extend((0..8).map(|i| random_robot(&mut rng, 2 + i % 6)));
+        let (mut all, mut some) = (Vec::new(), Vec::new());
+        let mut chain = ChainBuffer::default();
+        let mut hidden_seen = false;
+        for robot in &robots {
+            let model = KinematicModel::new(robot);
+            let np = model.parameter_count();
+            let n = robot.joint_count();
+            for _ in 0..6 {
+                // A random subset of the parameters, in a random order.
+                let mut kept: Vec<usize> = (0..np)
+                    .filter(|_| rand::RngExt::random_bool(&mut rng, 0.6))
+                    .collect();
+                for i in (1..kept.len()).rev() {
+                    kept.swap(i, rand::RngExt::random_range(&mut rng, 0..=i));
+                }
+                let selected = model.selecting(&kept);
+                let derived = model
+                    .gain_columns
+                    .iter()
+                    .chain(&model.compliance_columns)
+                    .chain(&model.tilt_columns)
+                    .flatten()
+                    .any(|column| kept.contains(column));
+                let missing = model
+                    .joint_columns
+                    .iter()
+                    .filter(|joint| !kept.contains(joint))
+                    .count();
+                // Joint columns follow the kept ones only when read.
+                let width = selected.parameter_count();
+                assert!(width >= kept.len() && width <= kept.len() + missing);
+                if !derived {
+                    assert_eq!(width, kept.len());
+                }
+                hidden_seen |= width > kept.len();
+                let qm = random_configuration(robot, &mut rng);
+                let torques: Vec<f64> = (0..n)
+                    .map(|_| rand::RngExt::random_range(&mut rng, -20.0..20.0))
+                    .collect();
+                let tilts: Vec<f64> = (0..2 * n)
+                    .map(|_| rand::RngExt::random_range(&mut rng, -5.0..5.0))
+                    .collect();
+                model
+                    .forward_tilted(&qm, Some(&torques), Some(&tilts), &mut chain)
+                    .expect("valid");
+                for which in [JacobianRows::Full, JacobianRows::Position] {
+                    some.iter_mut().for_each(|value| *value = f64::NAN);
+                    model.jacobian_rows(&chain, &mut all, which);
+                    selected.jacobian_rows(&chain, &mut some, which);
+                    assert_eq!(some.len(), which.count() * width);
+                    for axis in 0..which.count() {
+                        for (k, index) in kept.iter().enumerate() {
+                            assert_eq!(
+                                some[axis * width + k].to_bits(),
+                                all[axis * np + index].to_bits(),
+                                "{} row {axis}, parameter {index}",
+                                robot.name()
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        assert!(hidden_seen, "a kept gain read a joint column not kept");
     }
 
     /// An elastic robot under load: the pose is the rigid model's at the
