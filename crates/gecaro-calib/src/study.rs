@@ -12,11 +12,12 @@ use crate::methods::units;
 use crate::observation::{ObservationSystem, linearise_independent, write_rows};
 use crate::rows::{ColumnLayout, RowWriter};
 
+use crate::parallel::run_parts;
 pub use crate::sample::{DataColumn, MotorPositions, Sample, SampleLoads};
 pub use crate::samples::{
     Column, SampleColumns, SampleIter, SampleRef, SampleSlice, Samples, SamplesBuilder,
 };
-use crate::states::{TerminalState, evaluate_poses, evaluate_states};
+use crate::states::{TerminalState, evaluate_poses, evaluate_states, part_size};
 
 /// One measurement set of a study.
 #[derive(Debug)]
@@ -250,28 +251,33 @@ impl Study {
     /// not fit the robot are left to [`Study::check`].
     pub fn limit_violations(&self, robot: &Robot) -> Vec<LimitViolation> {
         let mut violations = Vec::new();
-        let mut joints = vec![0.0; robot.joint_count()];
         for set in &self.sets {
-            for sample in set.samples.iter() {
-                if robot
-                    .joint_positions_into(sample.motor_positions(), &mut joints)
-                    .is_err()
-                {
-                    continue;
-                }
-                for (index, (value, joint)) in joints.iter().zip(robot.joints()).enumerate() {
-                    if *value < joint.qmin || *value > joint.qmax {
-                        violations.push(LimitViolation {
-                            label: set.label.clone(),
-                            line: sample.line(),
-                            joint: index + 1,
-                            value: *value,
-                            qmin: joint.qmin,
-                            qmax: joint.qmax,
-                        });
+            let parts = run_parts(checked_parts(set.samples.as_slice()), |samples| {
+                let mut found = Vec::new();
+                let mut joints = vec![0.0; robot.joint_count()];
+                for sample in samples.iter() {
+                    if robot
+                        .joint_positions_into(sample.motor_positions(), &mut joints)
+                        .is_err()
+                    {
+                        continue;
+                    }
+                    for (index, (value, joint)) in joints.iter().zip(robot.joints()).enumerate() {
+                        if *value < joint.qmin || *value > joint.qmax {
+                            found.push(LimitViolation {
+                                label: set.label.clone(),
+                                line: sample.line(),
+                                joint: index + 1,
+                                value: *value,
+                                qmin: joint.qmin,
+                                qmax: joint.qmax,
+                            });
+                        }
                     }
                 }
-            }
+                found
+            });
+            violations.extend(parts.into_iter().flatten());
         }
         violations
     }
@@ -315,16 +321,22 @@ impl Study {
             if set.samples.is_empty() {
                 return Err(invalid(None, "no configurations".into()));
             }
-            for sample in set.samples.iter() {
-                robot
-                    .check_configuration(sample.motor_positions())
-                    .map_err(|error| invalid(sample.line(), error.to_string()))?;
-                for column in set.method.data_columns() {
-                    sample
-                        .check_column(*column)
-                        .map_err(|message| invalid(sample.line(), message))?;
+            // The parts' first faults, in order: the first is the set's.
+            run_parts(checked_parts(set.samples.as_slice()), |samples| {
+                for sample in samples.iter() {
+                    robot
+                        .check_configuration(sample.motor_positions())
+                        .map_err(|error| invalid(sample.line(), error.to_string()))?;
+                    for column in set.method.data_columns() {
+                        sample
+                            .check_column(*column)
+                            .map_err(|message| invalid(sample.line(), message))?;
+                    }
                 }
-            }
+                Ok(())
+            })
+            .into_iter()
+            .collect::<Result<Vec<()>, Error>>()?;
             set.method
                 .check_samples(set.samples.as_slice())
                 .map_err(|error| match error {
@@ -762,6 +774,21 @@ impl Study {
     }
 }
 
+/// Below this many samples, a set is checked on one thread (a thread's
+/// start costs about what checking a few thousand samples does).
+const PARALLEL_CHECKS: usize = 16_384;
+
+/// `samples` in the parts that [`Study::check`] and
+/// [`Study::limit_violations`] read on all cores: one part for a small set.
+fn checked_parts(samples: SampleSlice<'_>) -> Vec<SampleSlice<'_>> {
+    let size = if samples.len() < PARALLEL_CHECKS {
+        samples.len().max(1)
+    } else {
+        part_size(samples.len())
+    };
+    samples.chunks(size).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -801,6 +828,68 @@ mod tests {
         let mut system = ObservationSystem::default();
         study.assemble(&states, auxiliary, layout, &mut system);
         system
+    }
+
+    /// A large set is checked in parts on all cores, and says what one pass
+    /// would: its first fault (the lowest line, though a later part holds
+    /// another), and every joint value beyond its limits, in line order.
+    #[test]
+    fn large_sets_are_checked_in_parts_in_line_order() {
+        let robot = Robot::template("arm", "RRPRRR").expect("template");
+        let mut sampler = Sampler::new(7);
+        let count = 3 * PARALLEL_CHECKS;
+        let mut outside = Vec::new();
+        let samples: Vec<Sample> = (0..count)
+            .map(|index| {
+                let mut configuration = sampler.configuration(&robot);
+                // Joint 2 beyond its upper limit, here and there.
+                if index % 3001 == 17 {
+                    configuration[1] = robot.joints()[1].qmax + 0.5;
+                    outside.push(index + 2);
+                }
+                Sample {
+                    position: Some(nalgebra::Vector3::new(0.1, 0.2, 0.3)),
+                    line: Some(index + 2),
+                    ..Sample::new(configuration)
+                }
+            })
+            .collect();
+        let position =
+            crate::methods::method("position", &MethodOptions::default()).expect("position");
+        let mut study = Study {
+            sets: vec![MeasurementSet {
+                method: position,
+                samples: samples.clone().into(),
+                sigma: Some(1e-5),
+                sigma_rotation: None,
+                label: "data.csv".into(),
+                tool: None,
+                station: None,
+            }],
+            frames: Vec::new(),
+        };
+        assert!(checked_parts(study.sets[0].samples.as_slice()).len() > 2);
+        study.check(&robot).expect("valid");
+        let lines: Vec<Option<usize>> = study
+            .limit_violations(&robot)
+            .iter()
+            .map(|violation| violation.line)
+            .collect();
+        assert_eq!(
+            lines,
+            outside.iter().map(|line| Some(*line)).collect::<Vec<_>>()
+        );
+        assert!(outside.len() > 10);
+        // Two faults in different parts: the first line is named.
+        let mut faulty = samples;
+        faulty[count - 10].position = None;
+        faulty[count / 2].motor_positions[3] = f64::NAN;
+        study.sets[0].samples = faulty.into();
+        let message = study.check(&robot).expect_err("faults").to_string();
+        assert!(
+            message.contains(&format!("data.csv:{}:", count / 2 + 2)),
+            "{message}"
+        );
     }
 
     /// The fused, blocked and parallel route writes exactly what evaluation
