@@ -961,17 +961,28 @@ mod tests {
         }
         let chunk_bytes = crate::data_rows::PART_MIN_BYTES + 1000;
         assert!(text.len() > 2 * chunk_bytes);
-        let chunked = |text: &str| {
+        let limited = |text: &str, limit: usize| {
             let (head, mut rest) = text.as_bytes().split_at(1000);
             parse_from(
                 (head.to_vec(), Some(&mut rest)),
                 Path::new("plain.csv"),
                 (&TWO_REVOLUTE, &columns),
                 &DataFormat::default(),
-                (chunk_bytes, usize::MAX),
+                (chunk_bytes, limit),
             )
             .map(|file| file.samples)
         };
+        let chunked = |text: &str| limited(text, usize::MAX);
+        // A limit inside a part of a later chunk names the line of the
+        // sample one too many; the last sample within it is read.
+        for limit in [5000, 8999] {
+            let message = limited(&text, limit).expect_err("too many").to_string();
+            assert!(
+                message.starts_with(&format!("plain.csv:{}:", limit + 2)),
+                "{message}"
+            );
+        }
+        assert_eq!(limited(&text, 9000).expect("within").len(), 9000);
         let one_pass = |text: &str| {
             parse_samples(
                 format!("{text}\"").as_bytes(),

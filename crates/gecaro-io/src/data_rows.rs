@@ -209,6 +209,30 @@ impl RowReader<'_> {
         lines_before: usize,
         separator: u8,
     ) -> Option<(Rows, usize)> {
+        let (parts, breaks) = self.read_parts(body, lines_before, separator, true)?;
+        let mut read = parts.into_iter();
+        let mut joined = read.next()?;
+        if joined.error.is_none() {
+            for rows in read {
+                if !joined.append(rows) {
+                    break;
+                }
+            }
+        }
+        Some((joined, breaks))
+    }
+
+    /// The parts of [`read_in_parts`](Self::read_in_parts), in order, each
+    /// up to its first error (the parts after an error are not to be
+    /// read), and the body's line breaks; with `room_in_first`, the first
+    /// part makes room for every line, the parts to be moved after its own.
+    fn read_parts(
+        &self,
+        body: &[u8],
+        lines_before: usize,
+        separator: u8,
+        room_in_first: bool,
+    ) -> Option<(Vec<Rows>, usize)> {
         let threads = available_threads();
         if threads < 2 || body.len() < PART_MIN_BYTES || memchr::memchr(b'"', body).is_some() {
             return None;
@@ -221,29 +245,24 @@ impl RowReader<'_> {
         if breaks >= MAX_CONFIGURATIONS {
             return None;
         }
-        // The first part makes room for every line (the others' samples
-        // are moved after its own), each other part for its own lines.
+        // Each part makes room for its own lines, the first for every line
+        // when the others' samples are to be moved after its own.
         let parts: Vec<(&[u8], usize, usize)> = cut
             .iter()
             .enumerate()
             .map(|(index, &(bytes, lines, own))| {
-                let capacity = if index == 0 { breaks + 1 } else { own + 1 };
+                let capacity = if index == 0 && room_in_first {
+                    breaks + 1
+                } else {
+                    own + 1
+                };
                 (bytes, lines, capacity)
             })
             .collect();
-        let mut read = run_parts(parts, |(bytes, lines_before, capacity)| {
+        let read = run_parts(parts, |(bytes, lines_before, capacity)| {
             self.read_part(bytes, lines_before, capacity, separator)
-        })
-        .into_iter();
-        let mut joined = read.next()?;
-        if joined.error.is_none() {
-            for rows in read {
-                if !joined.append(rows) {
-                    break;
-                }
-            }
-        }
-        Some((joined, breaks))
+        });
+        Some((read, breaks))
     }
 
     /// Reads a body too long to hold at once: the bytes of `head` from
@@ -278,31 +297,37 @@ impl RowReader<'_> {
                     return joined;
                 }
             };
-            let rows = match self.read_in_parts(chunk, lines, separator) {
-                Some((rows, breaks)) => {
+            // The chunk's parts go straight after the samples read so far
+            // (not joined first: one copy of each sample, not two).
+            let parts = match self.read_parts(chunk, lines, separator, false) {
+                Some((parts, breaks)) => {
                     chunks.counted(breaks);
-                    rows
+                    parts
                 }
                 None => {
                     let mut csv = csv_reader_with(LineLimit::new(chunk, MAX_LINE_BYTES), separator);
-                    self.read(&mut csv, lines, 0)
+                    vec![self.read(&mut csv, lines, 0)]
                 }
             };
             if joined.samples.is_empty() {
-                let foreseen = rows.samples.len() * (1 + CHUNKS_FORESEEN);
-                joined.samples.reserve(foreseen.min(limit));
+                let read: usize = parts.iter().map(|rows| rows.samples.len()).sum();
+                joined
+                    .samples
+                    .reserve((read * (1 + CHUNKS_FORESEEN)).min(limit));
             }
-            let room = limit.saturating_sub(joined.samples.len());
-            if rows.samples.len() > room {
-                let line = rows.samples.line(room).unwrap_or(lines + 1);
-                let mut kept = rows.samples;
-                kept.truncate(room);
-                joined.samples.append(kept);
-                joined.error = Some(self.too_many(line));
-                return joined;
-            }
-            if !joined.append(rows) {
-                return joined;
+            for rows in parts {
+                let room = limit.saturating_sub(joined.samples.len());
+                if rows.samples.len() > room {
+                    let line = rows.samples.line(room).unwrap_or(lines + 1);
+                    let mut kept = rows.samples;
+                    kept.truncate(room);
+                    joined.samples.append(kept);
+                    joined.error = Some(self.too_many(line));
+                    return joined;
+                }
+                if !joined.append(rows) {
+                    return joined;
+                }
             }
         }
     }
