@@ -10,9 +10,9 @@ use crate::frames::{FRAME_UNKNOWNS, FrameRole, NamedFrame, SetFrames, UNKNOWN_NA
 use crate::method::CalibrationMethod;
 use crate::methods::units;
 use crate::observation::{ObservationSystem, linearise_independent, write_rows};
+use crate::parallel::run_parts;
 use crate::rows::{ColumnLayout, RowWriter};
 
-use crate::parallel::run_parts;
 pub use crate::sample::{DataColumn, MotorPositions, Sample, SampleLoads};
 pub use crate::samples::{
     Column, SampleColumns, SampleIter, SampleRef, SampleSlice, Samples, SamplesBuilder,
