@@ -5,7 +5,9 @@
 //! Each state depends only on its own configuration, so the states are the
 //! same, bit for bit, whatever the number of threads.
 
-use gecaro_core::{ChainBuffer, Error as ModelError, JacobianRows, KinematicModel, Robot};
+use gecaro_core::{
+    CONFIGURATION_LANES, Error as ModelError, JacobianRows, KinematicModel, LaneBuffer, Robot,
+};
 use nalgebra::IsometryMatrix3;
 
 use crate::parallel::{PARTS_PER_THREAD, available_threads, run_parts};
@@ -170,25 +172,33 @@ pub(crate) fn evaluate_chunk(
     rows: Option<JacobianRows>,
     states: &mut [TerminalState],
 ) -> Result<(), ModelError> {
-    let mut chain = ChainBuffer::default();
-    for (sample, state) in samples.iter().zip(states) {
-        model.forward_tilted(
-            sample.motor_positions(),
-            sample.torques(),
-            sample.tilt_torques(),
-            &mut chain,
-        )?;
-        state.pose = *chain.world_from_tool();
-        state.parameters = model.parameter_count();
+    let mut lanes = LaneBuffer::default();
+    for (group, states) in samples
+        .chunks(CONFIGURATION_LANES)
+        .zip(states.chunks_mut(CONFIGURATION_LANES))
+    {
+        lanes.clear();
+        for sample in group.iter() {
+            lanes.push(
+                model,
+                sample.motor_positions(),
+                sample.torques(),
+                sample.tilt_torques(),
+            )?;
+        }
+        model.forward_lanes(&mut lanes);
+        for (lane, state) in states.iter_mut().enumerate() {
+            state.pose = lanes.world_from_tool(lane);
+            state.parameters = model.parameter_count();
+            state.rows = rows.map_or(0, JacobianRows::count);
+        }
         match rows {
-            Some(rows) => {
-                state.rows = rows.count();
-                model.jacobian_rows(&chain, &mut state.jacobian, rows);
-            }
-            None => {
-                state.rows = 0;
-                state.jacobian.clear();
-            }
+            Some(rows) => model.jacobian_rows_lanes(
+                &mut lanes,
+                states.iter_mut().map(|state| &mut state.jacobian),
+                rows,
+            ),
+            None => states.iter_mut().for_each(|state| state.jacobian.clear()),
         }
     }
     Ok(())

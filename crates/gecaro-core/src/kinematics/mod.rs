@@ -10,6 +10,7 @@
 mod direct;
 mod inverse;
 mod jacobian;
+mod lanes;
 mod model;
 mod pose_difference;
 pub mod turn;
@@ -19,5 +20,6 @@ pub use inverse::{
     InverseOptions, InverseSolution, Target, inverse_kinematics, inverse_kinematics_near,
 };
 pub use jacobian::{joint_jacobian, parameter_jacobian, parameter_jacobian_of_chain};
+pub use lanes::{CONFIGURATION_LANES, LaneBuffer};
 pub use model::{ChainBuffer, JacobianRows, KinematicModel};
 pub use pose_difference::{OrientationDifference, orientation_difference, pose_difference};

@@ -35,7 +35,10 @@
 //! `Σ_j c_j ∂τ_j/∂tilt_k` times joint j's column. It is zero while every
 //! compliance is: the tilts are seen only through the joints' yielding.
 
-use nalgebra::{IsometryMatrix3, Matrix3, Matrix6xX, Rotation3, Translation3, Vector3};
+use nalgebra::{
+    IsometryMatrix3, Matrix3, Matrix6xX, Rotation3, Scalar, SimdBool, SimdRealField, Translation3,
+    Vector3, Vector6,
+};
 
 use super::direct::frame_transform;
 use super::turn;
@@ -254,6 +257,12 @@ impl KinematicModel {
         self.offsets.len()
     }
 
+    /// Whether the Jacobian writes every column (a buffer of the right
+    /// size then needs no zeroing first).
+    pub(super) fn writes_every_column(&self) -> bool {
+        self.writes_every_column
+    }
+
     /// Number of columns of the Jacobian: Np, or for a model
     /// [`selecting`](Self::selecting) some, the columns it computes.
     pub fn parameter_count(&self) -> usize {
@@ -400,6 +409,21 @@ impl KinematicModel {
         tilt_torques: Option<&[f64]>,
         chain: &mut ChainBuffer,
     ) -> Result<(), Error> {
+        self.load(motor_positions, torques, tilt_torques, chain)?;
+        self.chain_of_joints(chain);
+        Ok(())
+    }
+
+    /// The configuration-dependent inputs of the poses, checked, into
+    /// `chain`: the joint variables (eq. 4, deflected under load), the
+    /// coupled motor variables the gain columns read, and the loads.
+    pub(super) fn load(
+        &self,
+        motor_positions: &[f64],
+        torques: Option<&[f64]>,
+        tilt_torques: Option<&[f64]>,
+        chain: &mut ChainBuffer,
+    ) -> Result<(), Error> {
         let n = self.joint_count();
         chain.torques.clear();
         chain.tilt_torques.clear();
@@ -496,7 +520,6 @@ impl KinematicModel {
         {
             *q += compliance * torque;
         }
-        self.chain_of_joints(chain);
         Ok(())
     }
 
@@ -518,13 +541,7 @@ impl KinematicModel {
     /// at a time) from `chain.joint_positions`.
     fn turns_of_joints(&self, chain: &mut ChainBuffer) {
         chain.turns.clear();
-        let mut angles = self
-            .frames
-            .iter()
-            .enumerate()
-            .filter(|(_, frame)| frame.frame_type == FrameType::Revolute)
-            .map(|(j, frame)| frame.theta + chain.joint_positions[j - 1])
-            .peekable();
+        let mut angles = self.turn_angles(&chain.joint_positions).peekable();
         while angles.peek().is_some() {
             let mut lanes = [0.0; turn::LANES];
             let mut filled = 0;
@@ -539,26 +556,57 @@ impl KinematicModel {
         }
     }
 
+    /// The angles θ_j + q_j of the revolute joints' turns, in order, at
+    /// the joint variables `joint_positions`.
+    pub(super) fn turn_angles<'a>(
+        &'a self,
+        joint_positions: &'a [f64],
+    ) -> impl Iterator<Item = f64> + 'a {
+        self.frames
+            .iter()
+            .enumerate()
+            .filter(|(_, frame)| frame.frame_type == FrameType::Revolute)
+            .map(|(j, frame)| frame.theta + joint_positions[j - 1])
+    }
+
     /// Fills `chain.world_from_frame` from `chain.joint_positions`.
     fn chain_of_joints(&self, chain: &mut ChainBuffer) {
         self.turns_of_joints(chain);
-        chain.world_from_frame.clear();
+        self.poses(
+            &chain.joint_positions,
+            &chain.turns,
+            &mut chain.world_from_frame,
+        );
+    }
+
+    /// The frames' poses `(−1)T(j)`, j = 0..n+1 (eq. 1), into `poses`, from
+    /// the joint variables and the revolute joints' turns (sin, cos), in
+    /// one configuration's values or in lanes of several ([`Lane`]): the
+    /// same products either way, so each lane's poses are bit for bit
+    /// those of its configuration alone.
+    pub(super) fn poses<T: Lane>(
+        &self,
+        joint_positions: &[T],
+        turns: &[(T, T)],
+        poses: &mut Vec<IsometryMatrix3<T>>,
+    ) {
+        poses.clear();
         let mut pose = IsometryMatrix3::identity();
-        let mut turns = chain.turns.iter();
+        let mut turns = turns.iter();
         for (j, frame) in self.frames.iter().enumerate() {
             let local = match frame.frame_type {
-                FrameType::Fixed => frame.fixed,
+                FrameType::Fixed => splat_pose(&frame.fixed),
                 FrameType::Revolute => frame.moving(
                     turns.next().copied().expect("a turn per revolute joint"),
-                    frame.r,
+                    T::splat(frame.r),
                 ),
                 FrameType::Prismatic => frame.moving(
-                    (frame.sin_theta, frame.cos_theta),
-                    frame.r + chain.joint_positions[j - 1],
+                    (T::splat(frame.sin_theta), T::splat(frame.cos_theta)),
+                    T::splat(frame.r) + joint_positions[j - 1],
                 ),
             };
             pose *= local;
-            chain.world_from_frame.push(pose);
+            poses.push(pose);
         }
     }
 
@@ -610,7 +658,7 @@ impl KinematicModel {
         if jacobian.ncols() != self.parameter_count {
             *jacobian = Matrix6xX::zeros(self.parameter_count);
         }
-        self.fill_jacobian(chain, jacobian);
+        self.fill_jacobian(&chain.view(), jacobian);
     }
 
     /// The same Jacobian, row-major: `rows[axis * Np + column]` (rows 0–2
@@ -623,7 +671,7 @@ impl KinematicModel {
             rows.resize(size, 0.0);
         }
         self.fill_jacobian(
-            chain,
+            &chain.view(),
             &mut RowMajor {
                 rows,
                 parameters: self.parameter_count,
@@ -632,13 +680,26 @@ impl KinematicModel {
         );
     }
 
-    fn fill_jacobian(&self, chain: &ChainBuffer, jacobian: &mut impl JacobianStore) {
-        let tool = chain.world_from_tool().translation.vector;
+    /// The parameter Jacobian (Appendix II) of the configuration(s) in
+    /// `chain`, column by column into `jacobian`: in one configuration's
+    /// values or in lanes of several ([`Lane`]), the same operations either
+    /// way.
+    pub(super) fn fill_jacobian<T: Lane>(
+        &self,
+        chain: &ChainView<'_, T>,
+        jacobian: &mut impl JacobianStore<T>,
+    ) {
+        let tool = chain
+            .poses
+            .last()
+            .expect("filled by KinematicModel::forward")
+            .translation
+            .vector;
         let zero = Vector3::zeros();
         let mut previous = IsometryMatrix3::identity();
         for (j, frame) in self.frames.iter().enumerate() {
-            let pose = chain.world_from_frame[j];
-            let z_axis: Vector3<f64> = pose.rotation.matrix().column(2).into();
+            let pose = chain.poses[j];
+            let z_axis: Vector3<T> = pose.rotation.matrix().column(2).into();
             let [theta, r, alpha, d, beta] = frame.columns;
             if theta.is_some() {
                 jacobian.set(
@@ -650,11 +711,12 @@ impl KinematicModel {
             jacobian.set(r, z_axis, zero);
             if j > 0 && (alpha.is_some() || d.is_some() || beta.is_some()) {
                 let axes = previous.rotation.matrix();
-                let x_previous: Vector3<f64> = axes.column(0).into();
-                let y_previous: Vector3<f64> = axes.column(1).into();
-                let z_previous: Vector3<f64> = axes.column(2).into();
+                let x_previous: Vector3<T> = axes.column(0).into();
+                let y_previous: Vector3<T> = axes.column(1).into();
+                let z_previous: Vector3<T> = axes.column(2).into();
                 let lever = tool - previous.translation.vector;
-                let x_rotated = x_previous * frame.cos_beta - z_previous * frame.sin_beta;
+                let x_rotated =
+                    x_previous * T::splat(frame.cos_beta) - z_previous * T::splat(frame.sin_beta);
                 if alpha.is_some() {
                     jacobian.set(alpha, x_rotated.cross(&lever), x_rotated);
                 }
@@ -670,10 +732,10 @@ impl KinematicModel {
             let Some(gain_column) = *gain_column else {
                 continue;
             };
-            let mut column = nalgebra::Vector6::zeros();
+            let mut column = Vector6::zeros();
             for &(i, coupling) in &self.gain_terms[joint] {
-                let weight = coupling * chain.coupled_motor_positions[joint];
-                if weight != 0.0 {
+                let weight = T::splat(coupling) * chain.coupled_motor_positions[joint];
+                if any_non_zero(weight) {
                     column += jacobian.column(self.joint_columns[i]) * weight;
                 }
             }
@@ -701,11 +763,11 @@ impl KinematicModel {
             let Some(tilt_column) = *tilt_column else {
                 continue;
             };
-            let mut column = nalgebra::Vector6::zeros();
+            let mut column = Vector6::zeros();
             if !chain.tilt_torques.is_empty() {
                 for (joint, compliance) in self.compliances.iter().enumerate() {
-                    let weight = compliance * chain.tilt_torques[axis * n + joint];
-                    if weight != 0.0 {
+                    let weight = T::splat(*compliance) * chain.tilt_torques[axis * n + joint];
+                    if any_non_zero(weight) {
                         column += jacobian.column(self.joint_columns[joint]) * weight;
                     }
                 }
@@ -719,13 +781,73 @@ impl KinematicModel {
     }
 }
 
-/// Where a Jacobian is written: column by column.
-trait JacobianStore {
-    fn set(&mut self, column: Option<usize>, position: Vector3<f64>, rotation: Vector3<f64>);
-    fn column(&self, column: usize) -> nalgebra::Vector6<f64>;
+/// The scalar of the kinematics: one configuration's `f64`, or the values
+/// of several configurations in SIMD lanes (`simba`'s `WideF64x4`, four),
+/// each lane computed with the operations, and so to the bits, of its
+/// configuration alone (no operation mixes lanes).
+pub(super) trait Lane: SimdRealField<Element = f64> + Copy {}
+
+impl<T: SimdRealField<Element = f64> + Copy> Lane for T {}
+
+/// Whether some lane of `value` is not zero: a derived column skips the
+/// terms whose weight is zero in every lane (adding `0·x` to a sum begun at
+/// +0 changes none of its bits, so a lane with a zero weight among others
+/// that are not has the bits it has alone).
+fn any_non_zero<T: Lane>(value: T) -> bool {
+    !value.simd_eq(T::zero()).all()
 }
 
-impl JacobianStore for Matrix6xX<f64> {
+/// `pose` with each value in every lane.
+fn splat_pose<T: Lane>(pose: &IsometryMatrix3<f64>) -> IsometryMatrix3<T> {
+    IsometryMatrix3::from_parts(
+        Translation3::from(pose.translation.vector.map(T::splat)),
+        Rotation3::from_matrix_unchecked(pose.rotation.matrix().map(T::splat)),
+    )
+}
+
+/// What the parameter Jacobian reads of the configuration(s) evaluated:
+/// the frames' poses and, for the gain, compliance and tilt columns, the
+/// coupled motor variables and the loads.
+pub(super) struct ChainView<'c, T: Scalar> {
+    pub(super) poses: &'c [IsometryMatrix3<T>],
+    pub(super) coupled_motor_positions: &'c [T],
+    pub(super) torques: &'c [T],
+    pub(super) tilt_torques: &'c [T],
+}
+
+impl ChainBuffer {
+    fn view(&self) -> ChainView<'_, f64> {
+        ChainView {
+            poses: &self.world_from_frame,
+            coupled_motor_positions: &self.coupled_motor_positions,
+            torques: &self.torques,
+            tilt_torques: &self.tilt_torques,
+        }
+    }
+
+    /// The joint variables q of the configuration evaluated (eq. 4).
+    pub(super) fn joint_positions(&self) -> &[f64] {
+        &self.joint_positions
+    }
+
+    /// Its coupled motor variables Cm·qm, its loads τ and their tilt
+    /// derivatives (empty when none).
+    pub(super) fn loads(&self) -> (&[f64], &[f64], &[f64]) {
+        (
+            &self.coupled_motor_positions,
+            &self.torques,
+            &self.tilt_torques,
+        )
+    }
+}
+
+/// Where a Jacobian is written: column by column.
+pub(super) trait JacobianStore<T: Scalar> {
+    fn set(&mut self, column: Option<usize>, position: Vector3<T>, rotation: Vector3<T>);
+    fn column(&self, column: usize) -> Vector6<T>;
+}
+
+impl JacobianStore<f64> for Matrix6xX<f64> {
     fn set(&mut self, column: Option<usize>, position: Vector3<f64>, rotation: Vector3<f64>) {
         if let Some(column) = column {
             let mut target = self.column_mut(column);
@@ -734,7 +856,7 @@ impl JacobianStore for Matrix6xX<f64> {
         }
     }
 
-    fn column(&self, column: usize) -> nalgebra::Vector6<f64> {
+    fn column(&self, column: usize) -> Vector6<f64> {
         Matrix6xX::column(self, column).into_owned()
     }
 }
@@ -747,7 +869,7 @@ struct RowMajor<'a> {
     rotation: bool,
 }
 
-impl JacobianStore for RowMajor<'_> {
+impl JacobianStore<f64> for RowMajor<'_> {
     fn set(&mut self, column: Option<usize>, position: Vector3<f64>, rotation: Vector3<f64>) {
         if let Some(column) = column {
             for axis in 0..3 {
@@ -761,9 +883,9 @@ impl JacobianStore for RowMajor<'_> {
         }
     }
 
-    fn column(&self, column: usize) -> nalgebra::Vector6<f64> {
+    fn column(&self, column: usize) -> Vector6<f64> {
         let kept = if self.rotation { 6 } else { 3 };
-        nalgebra::Vector6::from_fn(|axis, _| {
+        Vector6::from_fn(|axis, _| {
             if axis < kept {
                 self.rows[axis * self.parameters + column]
             } else {
@@ -776,10 +898,10 @@ impl JacobianStore for RowMajor<'_> {
 impl CompiledFrame {
     /// Eq. 3 with the configuration-dependent θ (its sine and cosine) and
     /// r: `tilt · (Trans(x,d)·Rot(z,θ)·Trans(z,r))`.
-    fn moving(&self, (sin_theta, cos_theta): (f64, f64), r: f64) -> IsometryMatrix3<f64> {
-        let x_axis: Vector3<f64> = self.tilt.column(0).into();
-        let y_axis: Vector3<f64> = self.tilt.column(1).into();
-        let z_axis: Vector3<f64> = self.tilt.column(2).into();
+    fn moving<T: Lane>(&self, (sin_theta, cos_theta): (T, T), r: T) -> IsometryMatrix3<T> {
+        let x_axis: Vector3<T> = self.tilt.column(0).map(T::splat);
+        let y_axis: Vector3<T> = self.tilt.column(1).map(T::splat);
+        let z_axis: Vector3<T> = self.tilt.column(2).map(T::splat);
         // tilt · Rot(z, θ): its columns are those of tilt turned about z.
         let rotation = Matrix3::from_columns(&[
             x_axis * cos_theta + y_axis * sin_theta,
@@ -787,7 +909,7 @@ impl CompiledFrame {
             z_axis,
         ]);
         IsometryMatrix3::from_parts(
-            Translation3::from(x_axis * self.d + z_axis * r),
+            Translation3::from(x_axis * T::splat(self.d) + z_axis * r),
             Rotation3::from_matrix_unchecked(rotation),
         )
     }

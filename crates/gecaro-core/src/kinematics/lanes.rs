@@ -1,0 +1,399 @@
+//! Four configurations at once: the direct model (eq. 1–3) and the
+//! parameter Jacobian (Appendix II) of a [`KinematicModel`] in SIMD lanes.
+//!
+//! A data set's configurations are independent, and each costs the same
+//! products: the poses of the n + 2 frames, then the Jacobian's columns.
+//! Here those products are taken for four configurations at once, one per
+//! lane of nalgebra's SIMD scalar (`simba`'s `WideF64x4`), by the very code
+//! the model runs for one configuration (its poses and Jacobian are written
+//! once, generic over the scalar). No operation mixes lanes, the turns come
+//! from [`turn::sin_cos_lanes`](super::turn::sin_cos_lanes), whose lanes are
+//! computed on their own, and a derived column skips a term only where its
+//! weight is zero in every lane (which adds +0 elsewhere, changing no bit):
+//! each lane's pose and Jacobian are those of its configuration alone, bit
+//! for bit (tested for every kind of chain, loads and selections).
+//!
+//! The inputs of eq. 4 (couplings, gains, offsets, deflections under load)
+//! are checked and computed for each configuration alone
+//! ([`LaneBuffer::push`]) and the errors are those of
+//! [`KinematicModel::forward_tilted`]. A group of fewer than four fills its
+//! free lanes with its first configuration, whose values are not read.
+//!
+//! ```
+//! use gecaro_core::{ChainBuffer, JacobianRows, KinematicModel, LaneBuffer, Robot};
+//!
+//! let robot = Robot::template("arm", "RRPRRR")?;
+//! let model = KinematicModel::new(&robot);
+//! let configurations = [[0.1, 0.2, 0.3, 0.4, 0.5, 0.6], [0.3, -1.0, 0.2, 0.0, 2.0, -0.5]];
+//! let mut lanes = LaneBuffer::default();
+//! for qm in &configurations {
+//!     lanes.push(&model, qm, None, None)?;
+//! }
+//! model.forward_lanes(&mut lanes);
+//! let mut rows = [Vec::new(), Vec::new()];
+//! model.jacobian_rows_lanes(&mut lanes, rows.iter_mut(), JacobianRows::Full);
+//!
+//! // Each lane is its configuration alone, to the bit.
+//! let (mut chain, mut alone) = (ChainBuffer::default(), Vec::new());
+//! for (lane, qm) in configurations.iter().enumerate() {
+//!     model.forward(qm, &mut chain)?;
+//!     model.jacobian_rows(&chain, &mut alone, JacobianRows::Full);
+//!     assert_eq!(lanes.world_from_tool(lane), *chain.world_from_tool());
+//!     assert_eq!(rows[lane], alone);
+//! }
+//! # Ok::<(), gecaro_core::Error>(())
+//! ```
+
+use nalgebra::{IsometryMatrix3, Rotation3, SimdValue, Translation3, Vector3, Vector6};
+use simba::simd::WideF64x4;
+use wide::f64x4;
+
+use super::model::{ChainBuffer, ChainView, JacobianRows, JacobianStore, KinematicModel};
+use super::turn;
+use crate::Error;
+
+/// Configurations evaluated at once by [`KinematicModel::forward_lanes`].
+pub const CONFIGURATION_LANES: usize = 4;
+
+/// Four configurations' values, one per lane.
+type Lanes = WideF64x4;
+
+/// Up to [`CONFIGURATION_LANES`] configurations, and their poses once
+/// [`KinematicModel::forward_lanes`] has evaluated them.
+#[derive(Clone, Debug, Default)]
+pub struct LaneBuffer {
+    /// Each configuration's inputs of the poses (joint variables, coupled
+    /// motor variables, loads), as [`KinematicModel::forward_tilted`]
+    /// computes them.
+    loaded: [ChainBuffer; CONFIGURATION_LANES],
+    /// Configurations pushed since the last [`clear`](Self::clear).
+    filled: usize,
+    joint_positions: Vec<Lanes>,
+    coupled_motor_positions: Vec<Lanes>,
+    torques: Vec<Lanes>,
+    tilt_torques: Vec<Lanes>,
+    turns: Vec<(Lanes, Lanes)>,
+    poses: Vec<IsometryMatrix3<Lanes>>,
+    angles: Vec<f64>,
+    /// The Jacobians in lanes, row-major as [`KinematicModel::jacobian_rows`]
+    /// writes one.
+    jacobian: Vec<Lanes>,
+}
+
+impl LaneBuffer {
+    /// Empties the buffer (its storage is kept).
+    pub fn clear(&mut self) {
+        self.filled = 0;
+    }
+
+    /// Number of configurations pushed.
+    pub fn len(&self) -> usize {
+        self.filled
+    }
+
+    /// Whether no configuration was pushed.
+    pub fn is_empty(&self) -> bool {
+        self.filled == 0
+    }
+
+    /// Whether [`CONFIGURATION_LANES`] configurations were pushed.
+    pub fn is_full(&self) -> bool {
+        self.filled == CONFIGURATION_LANES
+    }
+
+    /// Adds a configuration of `model` (motor variables and loads, as
+    /// [`KinematicModel::forward_tilted`] takes them) in the next lane.
+    ///
+    /// # Errors
+    /// As [`KinematicModel::forward_tilted`].
+    ///
+    /// # Panics
+    /// When the buffer [`is_full`](Self::is_full).
+    pub fn push(
+        &mut self,
+        model: &KinematicModel,
+        motor_positions: &[f64],
+        torques: Option<&[f64]>,
+        tilt_torques: Option<&[f64]>,
+    ) -> Result<(), Error> {
+        assert!(!self.is_full(), "a lane buffer holds four configurations");
+        model.load(
+            motor_positions,
+            torques,
+            tilt_torques,
+            &mut self.loaded[self.filled],
+        )?;
+        self.filled += 1;
+        Ok(())
+    }
+
+    /// The end-effector pose `(−1)T(n+1)` of configuration `lane` (in the
+    /// order pushed), once evaluated.
+    ///
+    /// # Panics
+    /// When `lane` was not pushed, or the poses were not evaluated.
+    pub fn world_from_tool(&self, lane: usize) -> IsometryMatrix3<f64> {
+        assert!(lane < self.filled, "lane {lane} holds no configuration");
+        let pose = self
+            .poses
+            .last()
+            .expect("filled by KinematicModel::forward_lanes");
+        IsometryMatrix3::from_parts(
+            Translation3::from(
+                pose.translation
+                    .vector
+                    .map(|value| value.0.as_array()[lane]),
+            ),
+            Rotation3::from_matrix_unchecked(
+                pose.rotation.matrix().map(|value| value.0.as_array()[lane]),
+            ),
+        )
+    }
+
+    /// The configuration in `lane`, or the first for a free lane.
+    fn source(&self, lane: usize) -> &ChainBuffer {
+        &self.loaded[if lane < self.filled { lane } else { 0 }]
+    }
+
+    /// Each lane's `values(configuration)[i]` for i in `0..count`, into `out`.
+    fn gather(&self, count: usize, values: impl Fn(&ChainBuffer) -> &[f64], out: &mut Vec<Lanes>) {
+        let sources: [&[f64]; CONFIGURATION_LANES] =
+            std::array::from_fn(|lane| values(self.source(lane)));
+        out.clear();
+        out.extend(
+            (0..count).map(|i| WideF64x4(f64x4::new(std::array::from_fn(|lane| sources[lane][i])))),
+        );
+    }
+}
+
+impl KinematicModel {
+    /// The direct model (eq. 1) of the configurations in `lanes`, at once
+    /// (see the module docs): each one's poses are, bit for bit, those
+    /// [`forward_tilted`](Self::forward_tilted) gives it.
+    ///
+    /// # Panics
+    /// When `lanes` is empty.
+    pub fn forward_lanes(&self, lanes: &mut LaneBuffer) {
+        assert!(!lanes.is_empty(), "no configuration to evaluate");
+        let n = self.joint_count();
+        let mut joint_positions = std::mem::take(&mut lanes.joint_positions);
+        lanes.gather(n, ChainBuffer::joint_positions, &mut joint_positions);
+        lanes.joint_positions = joint_positions;
+        let (coupled, torques, tilts) = lanes.loaded[0].loads();
+        let counts = (coupled.len(), torques.len(), tilts.len());
+        let mut buffers = (
+            std::mem::take(&mut lanes.coupled_motor_positions),
+            std::mem::take(&mut lanes.torques),
+            std::mem::take(&mut lanes.tilt_torques),
+        );
+        lanes.gather(counts.0, |chain| chain.loads().0, &mut buffers.0);
+        lanes.gather(counts.1, |chain| chain.loads().1, &mut buffers.1);
+        lanes.gather(counts.2, |chain| chain.loads().2, &mut buffers.2);
+        (
+            lanes.coupled_motor_positions,
+            lanes.torques,
+            lanes.tilt_torques,
+        ) = buffers;
+        // Each joint's turn in its four lanes, as one configuration's
+        // turns take theirs (turn::sin_cos_lanes computes lanes alone).
+        let mut angles = std::mem::take(&mut lanes.angles);
+        let sources: [&[f64]; CONFIGURATION_LANES] =
+            std::array::from_fn(|lane| lanes.source(lane).joint_positions());
+        let revolute = self.turn_angles(sources[0]).count();
+        angles.clear();
+        for source in sources {
+            angles.extend(self.turn_angles(source));
+        }
+        lanes.turns.clear();
+        lanes.turns.extend((0..revolute).map(|joint| {
+            let (sines, cosines) =
+                turn::sin_cos_lanes(std::array::from_fn(|lane| angles[lane * revolute + joint]));
+            (WideF64x4(f64x4::new(sines)), WideF64x4(f64x4::new(cosines)))
+        }));
+        lanes.angles = angles;
+        self.poses(&lanes.joint_positions, &lanes.turns, &mut lanes.poses);
+    }
+
+    /// The parameter Jacobian (Appendix II) of each configuration in
+    /// `lanes` (evaluated by [`forward_lanes`](Self::forward_lanes)), row-
+    /// major into the next of `rows` in the order pushed, as
+    /// [`jacobian_rows`](Self::jacobian_rows) writes it, bit for bit.
+    ///
+    /// # Panics
+    /// When `rows` yields fewer buffers than `lanes` holds configurations.
+    pub fn jacobian_rows_lanes<'r>(
+        &self,
+        lanes: &mut LaneBuffer,
+        rows: impl IntoIterator<Item = &'r mut Vec<f64>>,
+        which: JacobianRows,
+    ) {
+        let size = which.count() * self.parameter_count();
+        let mut jacobian = std::mem::take(&mut lanes.jacobian);
+        if jacobian.len() != size || !self.writes_every_column() {
+            jacobian.clear();
+            jacobian.resize(size, Lanes::splat(0.0));
+        }
+        let view = ChainView {
+            poses: &lanes.poses,
+            coupled_motor_positions: &lanes.coupled_motor_positions,
+            torques: &lanes.torques,
+            tilt_torques: &lanes.tilt_torques,
+        };
+        self.fill_jacobian(
+            &view,
+            &mut LaneRows {
+                rows: &mut jacobian,
+                parameters: self.parameter_count(),
+                rotation: which == JacobianRows::Full,
+            },
+        );
+        let mut rows = rows.into_iter();
+        for lane in 0..lanes.len() {
+            let row = rows.next().expect("a buffer for each configuration");
+            row.clear();
+            row.extend(jacobian.iter().map(|values| values.0.as_array()[lane]));
+        }
+        lanes.jacobian = jacobian;
+    }
+}
+
+/// The row-major 6×Np (or 3×Np) Jacobians of the configurations in lanes.
+struct LaneRows<'a> {
+    rows: &'a mut [Lanes],
+    parameters: usize,
+    /// Whether the rotation rows 3–5 are kept.
+    rotation: bool,
+}
+
+impl JacobianStore<Lanes> for LaneRows<'_> {
+    fn set(&mut self, column: Option<usize>, position: Vector3<Lanes>, rotation: Vector3<Lanes>) {
+        if let Some(column) = column {
+            for axis in 0..3 {
+                self.rows[axis * self.parameters + column] = position[axis];
+            }
+            if self.rotation {
+                for axis in 0..3 {
+                    self.rows[(axis + 3) * self.parameters + column] = rotation[axis];
+                }
+            }
+        }
+    }
+
+    fn column(&self, column: usize) -> Vector6<Lanes> {
+        let kept = if self.rotation { 6 } else { 3 };
+        Vector6::from_fn(|axis, _| {
+            if axis < kept {
+                self.rows[axis * self.parameters + column]
+            } else {
+                Lanes::splat(0.0)
+            }
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::parameters::{ParameterId, ParameterKind};
+    use crate::robot::Robot;
+    use crate::test_robots::{random_configuration, random_robot, stanford};
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// Every lane's pose and Jacobian rows are its configuration's alone,
+    /// bit for bit: rigid, coupled, β-tilted and elastic chains under loads
+    /// and gravity's tilts, whole and selecting models, both sets of rows,
+    /// groups of one to four (free lanes), buffers reused across robots, a
+    /// zero weight in some lanes of a gain column (a joint whose coupled
+    /// motor variable is 0 in one configuration only), and angles beyond
+    /// the lanes' range (their own fallback).
+    #[test]
+    fn each_lane_is_its_configuration_alone() {
+        let mut rng = ChaCha8Rng::seed_from_u64(43);
+        let mut elastic = stanford();
+        elastic
+            .set_compliances(Some(vec![2e-3, 5e-3, 1e-4, 3e-3, 4e-3, 6e-3]))
+            .expect("elastic");
+        elastic
+            .set_parameter(ParameterId::new(ParameterKind::GravityTilt, 2), -0.03)
+            .expect("tilt");
+        let mut robots: Vec<Robot> = vec![stanford(), elastic];
+        robots.extend((0..8).map(|i| random_robot(&mut rng, 2 + i % 6)));
+        let mut lanes = LaneBuffer::default();
+        let mut chain = ChainBuffer::default();
+        let (mut alone, mut rows) = (Vec::new(), vec![Vec::new(); CONFIGURATION_LANES]);
+        let mut compared = 0;
+        for robot in &robots {
+            let whole = KinematicModel::new(robot);
+            let np = whole.parameter_count();
+            let kept: Vec<usize> = (0..np).filter(|_| rng.random_bool(0.6)).collect();
+            let n = robot.joint_count();
+            for model in [whole.clone(), whole.selecting(&kept)] {
+                for group in 1..=CONFIGURATION_LANES {
+                    let configurations: Vec<(Vec<f64>, Vec<f64>, Vec<f64>)> = (0..group)
+                        .map(|lane| {
+                            let mut qm = random_configuration(robot, &mut rng);
+                            if lane == 1 {
+                                qm[0] = 0.0;
+                            }
+                            if lane == 2 {
+                                qm[n - 1] += 3e4;
+                            }
+                            let torques = (0..n).map(|_| rng.random_range(-20.0..20.0)).collect();
+                            let tilts = (0..2 * n).map(|_| rng.random_range(-5.0..5.0)).collect();
+                            (qm, torques, tilts)
+                        })
+                        .collect();
+                    lanes.clear();
+                    for (qm, torques, tilts) in &configurations {
+                        lanes
+                            .push(&model, qm, Some(torques), Some(tilts))
+                            .expect("valid");
+                    }
+                    model.forward_lanes(&mut lanes);
+                    for which in [JacobianRows::Full, JacobianRows::Position] {
+                        for row in &mut rows {
+                            row.iter_mut().for_each(|value| *value = f64::NAN);
+                        }
+                        model.jacobian_rows_lanes(&mut lanes, rows.iter_mut(), which);
+                        for (lane, (qm, torques, tilts)) in configurations.iter().enumerate() {
+                            model
+                                .forward_tilted(qm, Some(torques), Some(tilts), &mut chain)
+                                .expect("valid");
+                            model.jacobian_rows(&chain, &mut alone, which);
+                            let pose = lanes.world_from_tool(lane);
+                            assert_eq!(pose, *chain.world_from_tool(), "{}", robot.name());
+                            assert_eq!(rows[lane].len(), alone.len());
+                            for (k, (a, b)) in rows[lane].iter().zip(&alone).enumerate() {
+                                assert_eq!(
+                                    a.to_bits(),
+                                    b.to_bits(),
+                                    "{} lane {lane} of {group}, entry {k}",
+                                    robot.name()
+                                );
+                            }
+                            compared += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert_eq!(compared, robots.len() * 2 * 2 * 10);
+    }
+
+    /// A configuration that does not fit the model is refused as
+    /// [`KinematicModel::forward_tilted`] refuses it, and takes no lane.
+    #[test]
+    fn a_configuration_that_does_not_fit_is_refused_alone() {
+        let model = KinematicModel::new(&stanford());
+        let mut lanes = LaneBuffer::default();
+        lanes.push(&model, &[0.1; 6], None, None).expect("valid");
+        let mut chain = ChainBuffer::default();
+        for qm in [vec![0.1; 5], vec![0.1, f64::NAN, 0.0, 0.0, 0.0, 0.0]] {
+            let expected = model.forward(&qm, &mut chain).expect_err("invalid");
+            let found = lanes.push(&model, &qm, None, None).expect_err("invalid");
+            assert_eq!(found.to_string(), expected.to_string());
+        }
+        assert_eq!(lanes.len(), 1);
+    }
+}
