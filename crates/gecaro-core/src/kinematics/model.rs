@@ -14,7 +14,10 @@
 //! with [`parameter_jacobian`](super::parameter_jacobian) to rounding (tested).
 //! A model may compute only the Jacobian columns a caller reads, in the
 //! caller's order ([`KinematicModel::selecting`]): the identification's
-//! linearisations read the columns of the parameters they estimate.
+//! linearisations read the columns of the parameters they estimate. The
+//! poses and the Jacobian are written once, generic over the scalar
+//! ([`Lane`]): one configuration's `f64` here, four configurations' lanes in
+//! [`lanes`](super::lanes), each lane bit for bit its configuration alone.
 //!
 //! ## Elastic joints (issue 38)
 //!
