@@ -44,11 +44,11 @@
 //! # Ok::<(), gecaro_core::Error>(())
 //! ```
 
-use nalgebra::{IsometryMatrix3, Rotation3, SimdValue, Translation3, Vector3, Vector6};
+use nalgebra::{IsometryMatrix3, Rotation3, SimdValue, Translation3};
 use simba::simd::WideF64x4;
 use wide::f64x4;
 
-use super::model::{ChainBuffer, ChainView, JacobianRows, JacobianStore, KinematicModel};
+use super::model::{ChainBuffer, ChainView, JacobianRows, KinematicModel, RowMajor};
 use super::turn;
 use crate::Error;
 
@@ -241,7 +241,7 @@ impl KinematicModel {
         };
         self.fill_jacobian(
             &view,
-            &mut LaneRows {
+            &mut RowMajor {
                 rows: &mut jacobian,
                 parameters: self.parameter_count(),
                 rotation: which == JacobianRows::Full,
@@ -254,40 +254,6 @@ impl KinematicModel {
             row.extend(jacobian.iter().map(|values| values.0.as_array()[lane]));
         }
         lanes.jacobian = jacobian;
-    }
-}
-
-/// The row-major 6×Np (or 3×Np) Jacobians of the configurations in lanes.
-struct LaneRows<'a> {
-    rows: &'a mut [Lanes],
-    parameters: usize,
-    /// Whether the rotation rows 3–5 are kept.
-    rotation: bool,
-}
-
-impl JacobianStore<Lanes> for LaneRows<'_> {
-    fn set(&mut self, column: Option<usize>, position: Vector3<Lanes>, rotation: Vector3<Lanes>) {
-        if let Some(column) = column {
-            for axis in 0..3 {
-                self.rows[axis * self.parameters + column] = position[axis];
-            }
-            if self.rotation {
-                for axis in 0..3 {
-                    self.rows[(axis + 3) * self.parameters + column] = rotation[axis];
-                }
-            }
-        }
-    }
-
-    fn column(&self, column: usize) -> Vector6<Lanes> {
-        let kept = if self.rotation { 6 } else { 3 };
-        Vector6::from_fn(|axis, _| {
-            if axis < kept {
-                self.rows[axis * self.parameters + column]
-            } else {
-                Lanes::splat(0.0)
-            }
-        })
     }
 }
 

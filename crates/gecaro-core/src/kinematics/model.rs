@@ -864,16 +864,17 @@ impl JacobianStore<f64> for Matrix6xX<f64> {
     }
 }
 
-/// A row-major 6×Np (or 3×Np, position rows only) buffer.
-struct RowMajor<'a> {
-    rows: &'a mut Vec<f64>,
-    parameters: usize,
+/// A row-major 6×Np (or 3×Np, position rows only) buffer, of one
+/// configuration's values or of several's in lanes.
+pub(super) struct RowMajor<'a, T> {
+    pub(super) rows: &'a mut [T],
+    pub(super) parameters: usize,
     /// Whether the rotation rows 3–5 are kept.
-    rotation: bool,
+    pub(super) rotation: bool,
 }
 
-impl JacobianStore<f64> for RowMajor<'_> {
-    fn set(&mut self, column: Option<usize>, position: Vector3<f64>, rotation: Vector3<f64>) {
+impl<T: Lane> JacobianStore<T> for RowMajor<'_, T> {
+    fn set(&mut self, column: Option<usize>, position: Vector3<T>, rotation: Vector3<T>) {
         if let Some(column) = column {
             for axis in 0..3 {
                 self.rows[axis * self.parameters + column] = position[axis];
@@ -886,13 +887,13 @@ impl JacobianStore<f64> for RowMajor<'_> {
         }
     }
 
-    fn column(&self, column: usize) -> Vector6<f64> {
+    fn column(&self, column: usize) -> Vector6<T> {
         let kept = if self.rotation { 6 } else { 3 };
         Vector6::from_fn(|axis, _| {
             if axis < kept {
                 self.rows[axis * self.parameters + column]
             } else {
-                0.0
+                T::zero()
             }
         })
     }
