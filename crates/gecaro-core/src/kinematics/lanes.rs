@@ -155,14 +155,19 @@ impl LaneBuffer {
         &self.loaded[if lane < self.filled { lane } else { 0 }]
     }
 
-    /// Each lane's `values(configuration)[i]` for i in `0..count`, into `out`.
+    /// Each lane's `values(configuration)[i]` for i in `0..count`, into
+    /// `out`; 0 where a configuration has fewer values (loads given with
+    /// some configurations only: a term weighted 0 adds +0, which leaves
+    /// every bit as the configuration alone, without the load, has it).
     fn gather(&self, count: usize, values: impl Fn(&ChainBuffer) -> &[f64], out: &mut Vec<Lanes>) {
         let sources: [&[f64]; CONFIGURATION_LANES] =
             std::array::from_fn(|lane| values(self.source(lane)));
         out.clear();
-        out.extend(
-            (0..count).map(|i| WideF64x4(f64x4::new(std::array::from_fn(|lane| sources[lane][i])))),
-        );
+        out.extend((0..count).map(|i| {
+            WideF64x4(f64x4::new(std::array::from_fn(|lane| {
+                sources[lane].get(i).copied().unwrap_or(0.0)
+            })))
+        }));
     }
 }
 
@@ -179,8 +184,13 @@ impl KinematicModel {
         let mut joint_positions = std::mem::take(&mut lanes.joint_positions);
         lanes.gather(n, ChainBuffer::joint_positions, &mut joint_positions);
         lanes.joint_positions = joint_positions;
-        let (coupled, torques, tilts) = lanes.loaded[0].loads();
-        let counts = (coupled.len(), torques.len(), tilts.len());
+        let counts = lanes.loaded[..lanes.len()]
+            .iter()
+            .map(|chain| {
+                let (coupled, torques, tilts) = chain.loads();
+                (coupled.len(), torques.len(), tilts.len())
+            })
+            .fold((0, 0, 0), |a, b| (a.0.max(b.0), a.1.max(b.1), a.2.max(b.2)));
         let mut buffers = (
             std::mem::take(&mut lanes.coupled_motor_positions),
             std::mem::take(&mut lanes.torques),
@@ -268,7 +278,8 @@ mod tests {
 
     /// Every lane's pose and Jacobian rows are its configuration's alone,
     /// bit for bit: rigid, coupled, β-tilted and elastic chains under loads
-    /// and gravity's tilts, whole and selecting models, both sets of rows,
+    /// and gravity's tilts (given with some configurations of a group
+    /// only), whole and selecting models, both sets of rows,
     /// groups of one to four (free lanes), buffers reused across robots, a
     /// zero weight in some lanes of a gain column (a joint whose coupled
     /// motor variable is 0 in one configuration only), and angles beyond
@@ -305,15 +316,20 @@ mod tests {
                             if lane == 2 {
                                 qm[n - 1] += 3e4;
                             }
+                            // Loads given with some configurations only.
                             let torques = (0..n).map(|_| rng.random_range(-20.0..20.0)).collect();
                             let tilts = (0..2 * n).map(|_| rng.random_range(-5.0..5.0)).collect();
-                            (qm, torques, tilts)
+                            match lane {
+                                1 => (qm, Vec::new(), Vec::new()),
+                                3 => (qm, torques, Vec::new()),
+                                _ => (qm, torques, tilts),
+                            }
                         })
                         .collect();
                     lanes.clear();
                     for (qm, torques, tilts) in &configurations {
                         lanes
-                            .push(&model, qm, Some(torques), Some(tilts))
+                            .push(&model, qm, given_loads(torques), given_loads(tilts))
                             .expect("valid");
                     }
                     model.forward_lanes(&mut lanes);
@@ -324,7 +340,12 @@ mod tests {
                         model.jacobian_rows_lanes(&mut lanes, rows.iter_mut(), which);
                         for (lane, (qm, torques, tilts)) in configurations.iter().enumerate() {
                             model
-                                .forward_tilted(qm, Some(torques), Some(tilts), &mut chain)
+                                .forward_tilted(
+                                    qm,
+                                    given_loads(torques),
+                                    given_loads(tilts),
+                                    &mut chain,
+                                )
                                 .expect("valid");
                             model.jacobian_rows(&chain, &mut alone, which);
                             let pose = lanes.world_from_tool(lane);
@@ -345,6 +366,11 @@ mod tests {
             }
         }
         assert_eq!(compared, robots.len() * 2 * 2 * 10);
+    }
+
+    /// Loads as `push` takes them: none when empty.
+    fn given_loads(values: &[f64]) -> Option<&[f64]> {
+        (!values.is_empty()).then_some(values)
     }
 
     /// A configuration that does not fit the model is refused as
