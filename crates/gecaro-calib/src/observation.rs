@@ -772,6 +772,32 @@ impl ObservationSystem {
             .map(move |(row, sensor)| (row, self.residuals[row] * sensor))
     }
 
+    /// [`scaled_rows`](Self::scaled_rows) among `rows` (a part of the
+    /// system's rows, read on its own).
+    pub(crate) fn scaled_rows_within(
+        &self,
+        rows: std::ops::Range<usize>,
+    ) -> impl Iterator<Item = (usize, f64)> + '_ {
+        (0..self.set_rows.len()).flat_map(move |set| self.scaled_rows_of_within(set, rows.clone()))
+    }
+
+    /// [`scaled_rows_of`](Self::scaled_rows_of) among `rows`.
+    pub(crate) fn scaled_rows_of_within(
+        &self,
+        set: usize,
+        rows: std::ops::Range<usize>,
+    ) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let own = &self.set_rows[set];
+        let start = own.start.max(rows.start);
+        let weights = self.set_weights[set];
+        (start..own.end.min(rows.end).max(start)).map(move |row| {
+            (
+                row,
+                self.residuals[row] * sensor_weight(weights, self.kinds[row]),
+            )
+        })
+    }
+
     /// The rows of measurement set `set` with their sensor weights (1/σ).
     fn sensor_weights_of(&self, set: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
         let weights = self.set_weights[set];

@@ -50,7 +50,7 @@ use std::str::FromStr;
 
 use crate::Error;
 use crate::error::Setting;
-use crate::selection::median_of;
+use crate::selection::median_of_parts;
 
 /// Normalising constant of the median absolute deviation (1/Φ⁻¹(3/4)).
 const MAD_TO_SIGMA: f64 = 1.482_602_218_505_602;
@@ -225,21 +225,26 @@ impl fmt::Display for Loss {
 /// The normalised median absolute deviation of `values` (see the module
 /// docs); 0 for no values.
 pub fn robust_sigma(values: &[f64]) -> f64 {
-    robust_sigma_streamed(values.len(), || values.iter().copied())
+    robust_sigma_parts(values.len(), 1, |_| values.iter().copied())
 }
 
-/// [`robust_sigma`] of the `count` values every call of `values` yields,
-/// without holding them ([`crate::selection`]): millions of residuals are
-/// read where they are.
-pub(crate) fn robust_sigma_streamed<I: Iterator<Item = f64>>(
+/// [`robust_sigma`] of the `count` values that `values(0)`, …,
+/// `values(parts − 1)` yield between them, without holding them
+/// ([`crate::selection`]): millions of residuals are read where they are,
+/// the parts on all cores. The same value, bit for bit, for any split.
+pub(crate) fn robust_sigma_parts<I: Iterator<Item = f64>>(
     count: usize,
-    values: impl Fn() -> I,
+    parts: usize,
+    values: impl Fn(usize) -> I + Sync,
 ) -> f64 {
     if count == 0 {
         return 0.0;
     }
-    let centre = median_of(count, &values);
-    MAD_TO_SIGMA * median_of(count, || values().map(move |value| (value - centre).abs()))
+    let centre = median_of_parts(count, parts, &values);
+    MAD_TO_SIGMA
+        * median_of_parts(count, parts, |part| {
+            values(part).map(move |value| (value - centre).abs())
+        })
 }
 
 #[cfg(test)]
@@ -298,7 +303,8 @@ mod tests {
         assert!((robust_sigma(&dirty) - 2.0).abs() < 0.4);
         assert_eq!(robust_sigma(&[]), 0.0);
         // Odd and even counts: the middle value, the mean of the two middle ones.
-        let median = |values: &[f64]| median_of(values.len(), || values.iter().copied());
+        let median =
+            |values: &[f64]| crate::selection::median_of(values.len(), || values.iter().copied());
         assert_eq!(median(&[5.0, 1.0, 3.0]), 3.0);
         assert_eq!(median(&[4.0, 1.0, 3.0, 2.0]), 2.5);
     }

@@ -23,6 +23,8 @@
 //! mean of the two middle values (even count). Memory is 512 KiB of counts
 //! and the collected candidates; time is two to five passes.
 
+use crate::parallel::run_parts;
+
 /// Candidates collected for the final selection, at most (32 KiB of
 /// values); more are split by another pass.
 const COLLECTED: usize = 4096;
@@ -58,11 +60,32 @@ fn key_value(key: u64) -> f64 {
 ///
 /// # Panics
 /// When `values` yields fewer than `count` values.
-pub(crate) fn median_of<I: Iterator<Item = f64>>(count: usize, values: impl Fn() -> I) -> f64 {
+#[cfg(test)]
+pub(crate) fn median_of<I: Iterator<Item = f64>>(
+    count: usize,
+    values: impl Fn() -> I + Sync,
+) -> f64 {
+    median_of_parts(count, 1, |_| values())
+}
+
+/// The median of the `count` values (at least one) that `values(0)`, …,
+/// `values(parts − 1)` yield between them, each pass reading the parts on
+/// all cores ([`run_parts`]). The passes count exactly and the last
+/// selects by value, so the median is the same, bit for bit, for any
+/// split of the values into parts (tested).
+///
+/// # Panics
+/// When the parts yield fewer than `count` values, or `parts` is 0.
+pub(crate) fn median_of_parts<I: Iterator<Item = f64>>(
+    count: usize,
+    parts: usize,
+    values: impl Fn(usize) -> I + Sync,
+) -> f64 {
     assert!(count > 0, "the median of no values");
+    assert!(parts > 0, "values in no part");
     let upper = count / 2;
     let lower = if count % 2 == 1 { upper } else { upper - 1 };
-    let (lower, upper) = ranked_pair(count, &values, lower, upper);
+    let (lower, upper) = ranked_pair((count, parts), &values, lower, upper);
     if count % 2 == 1 {
         upper
     } else {
@@ -70,19 +93,24 @@ pub(crate) fn median_of<I: Iterator<Item = f64>>(count: usize, values: impl Fn()
     }
 }
 
+/// Whether `key` has the bits `prefix` above `shift` (every key while
+/// `shift` is 64).
+fn within(key: u64, prefix: u64, shift: u32) -> bool {
+    shift == 64 || key >> shift == prefix
+}
+
 /// The values of ranks `lower` and `upper` (`upper` is `lower` or
-/// `lower + 1`, both below `count`) in total order.
+/// `lower + 1`, both below `count`) in total order, of the values of
+/// `parts` parts.
 fn ranked_pair<I: Iterator<Item = f64>>(
-    count: usize,
-    values: &impl Fn() -> I,
+    (count, parts): (usize, usize),
+    values: &(impl Fn(usize) -> I + Sync),
     lower: usize,
     upper: usize,
 ) -> (f64, f64) {
     // The candidates: keys whose bits above `shift` are `prefix` (all keys
     // while `shift` is 64), `before` keys below them.
     let (mut prefix, mut shift, mut before, mut candidates) = (0_u64, 64_u32, 0_usize, count);
-    let within = |key: u64, prefix: u64, shift: u32| shift == 64 || key >> shift == prefix;
-    let mut counts = Vec::new();
     let collected = |shift: u32| {
         if shift == 64 {
             SELECTED_AT_ONCE
@@ -92,11 +120,20 @@ fn ranked_pair<I: Iterator<Item = f64>>(
     };
     while candidates > collected(shift) && shift > 0 {
         let next = shift - DIGIT;
-        counts.clear();
-        counts.resize(1 << DIGIT, 0_usize);
-        for key in values().map(order_key) {
-            if within(key, prefix, shift) {
-                counts[((key >> next) & 0xFFFF) as usize] += 1;
+        let count_part = |part: usize| {
+            let mut counts = vec![0_usize; 1 << DIGIT];
+            for key in values(part).map(order_key) {
+                if within(key, prefix, shift) {
+                    counts[((key >> next) & 0xFFFF) as usize] += 1;
+                }
+            }
+            counts
+        };
+        let mut parts_counts = run_parts((0..parts).collect(), count_part).into_iter();
+        let mut counts = parts_counts.next().expect("one part at least");
+        for part in parts_counts {
+            for (total, in_part) in counts.iter_mut().zip(part) {
+                *total += in_part;
             }
         }
         let mut below = before;
@@ -118,14 +155,20 @@ fn ranked_pair<I: Iterator<Item = f64>>(
             // The two middle ranks are the last of one bin and the first
             // of a later one.
             let (lower_prefix, upper_prefix) = (extend(lower_bin), extend(upper_bin));
-            let (mut largest, mut smallest) = (0, u64::MAX);
-            for key in values().map(order_key) {
-                if within(key, lower_prefix, next) {
-                    largest = largest.max(key);
-                } else if within(key, upper_prefix, next) {
-                    smallest = smallest.min(key);
+            let ends_of_part = |part: usize| {
+                let (mut largest, mut smallest) = (0, u64::MAX);
+                for key in values(part).map(order_key) {
+                    if within(key, lower_prefix, next) {
+                        largest = largest.max(key);
+                    } else if within(key, upper_prefix, next) {
+                        smallest = smallest.min(key);
+                    }
                 }
-            }
+                (largest, smallest)
+            };
+            let (largest, smallest) = run_parts((0..parts).collect(), ends_of_part)
+                .into_iter()
+                .fold((0, u64::MAX), |(l, s), (pl, ps)| (l.max(pl), s.min(ps)));
             return (key_value(largest), key_value(smallest));
         }
         prefix = extend(lower_bin);
@@ -138,8 +181,15 @@ fn ranked_pair<I: Iterator<Item = f64>>(
         let value = key_value(prefix);
         return (value, value);
     }
+    let kept_of_part = |part: usize| -> Vec<f64> {
+        values(part)
+            .filter(|&value| within(order_key(value), prefix, shift))
+            .collect()
+    };
     let mut kept: Vec<f64> = Vec::with_capacity(candidates);
-    kept.extend(values().filter(|&value| within(order_key(value), prefix, shift)));
+    for part in run_parts((0..parts).collect(), kept_of_part) {
+        kept.extend(part);
+    }
     let (below, upper_value, _) = kept.select_nth_unstable_by(upper - before, f64::total_cmp);
     let upper_value = *upper_value;
     let lower_value = if lower == upper {
@@ -173,8 +223,18 @@ mod tests {
         }
     }
 
+    /// The median read in one part, and in 2, 3 and 7 parts of uneven
+    /// sizes (one empty among 7 for a few values): the same bits.
     fn streamed_median(values: &[f64]) -> f64 {
-        median_of(values.len(), || values.iter().copied())
+        let whole = median_of(values.len(), || values.iter().copied());
+        for parts in [2, 3, 7] {
+            let at = |part: usize| values.len() * part * part / (parts * parts);
+            let parted = median_of_parts(values.len(), parts, |part| {
+                values[at(part)..at(part + 1)].iter().copied()
+            });
+            assert_eq!(parted.to_bits(), whole.to_bits(), "{parts} parts");
+        }
+        whole
     }
 
     #[test]
