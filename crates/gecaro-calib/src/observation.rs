@@ -763,13 +763,12 @@ impl ObservationSystem {
     /// by their sensor weights only ([`scaled_residuals`](Self::scaled_residuals),
     /// without a vector of them), in order.
     pub(crate) fn scaled_rows(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
-        (0..self.set_rows.len()).flat_map(move |set| self.scaled_rows_of(set))
+        self.scaled_rows_within(0..usize::MAX)
     }
 
     /// [`scaled_rows`](Self::scaled_rows) of measurement set `set`.
     pub(crate) fn scaled_rows_of(&self, set: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
-        self.sensor_weights_of(set)
-            .map(move |(row, sensor)| (row, self.residuals[row] * sensor))
+        self.scaled_rows_of_within(set, self.set_rows[set].clone())
     }
 
     /// [`scaled_rows`](Self::scaled_rows) among `rows` (a part of the
@@ -787,22 +786,25 @@ impl ObservationSystem {
         set: usize,
         rows: std::ops::Range<usize>,
     ) -> impl Iterator<Item = (usize, f64)> + '_ {
-        let own = &self.set_rows[set];
-        let start = own.start.max(rows.start);
-        let weights = self.set_weights[set];
-        (start..own.end.min(rows.end).max(start)).map(move |row| {
-            (
-                row,
-                self.residuals[row] * sensor_weight(weights, self.kinds[row]),
-            )
-        })
+        self.sensor_weights_within(set, rows)
+            .map(move |(row, sensor)| (row, self.residuals[row] * sensor))
     }
 
     /// The rows of measurement set `set` with their sensor weights (1/σ).
     fn sensor_weights_of(&self, set: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        self.sensor_weights_within(set, self.set_rows[set].clone())
+    }
+
+    /// [`sensor_weights_of`](Self::sensor_weights_of) among `rows`.
+    fn sensor_weights_within(
+        &self,
+        set: usize,
+        rows: std::ops::Range<usize>,
+    ) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let own = &self.set_rows[set];
+        let start = own.start.max(rows.start);
         let weights = self.set_weights[set];
-        self.set_rows[set]
-            .clone()
+        (start..own.end.min(rows.end).max(start))
             .map(move |row| (row, sensor_weight(weights, self.kinds[row])))
     }
 

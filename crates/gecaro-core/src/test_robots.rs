@@ -5,7 +5,7 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use nalgebra::DMatrix;
 use rand::{Rng, RngExt};
 
-use crate::{Frame, FrameType, Joint, Robot, RobotSpec};
+use crate::{Frame, FrameType, Joint, ParameterId, ParameterKind, Robot, RobotSpec};
 
 /// The Stanford arm of Table 1.
 pub(crate) fn stanford() -> Robot {
@@ -104,6 +104,19 @@ pub(crate) fn random_robot(rng: &mut impl Rng, n: usize) -> Robot {
         compliances: None,
     })
     .expect("random robots are valid")
+}
+
+/// The Stanford arm with elastic joints and gravity's tilt `tilt` (rad)
+/// about measurement axis `axis` (1 or 2): every kind of Jacobian column.
+pub(crate) fn elastic_stanford(axis: usize, tilt: f64) -> Robot {
+    let mut robot = stanford();
+    robot
+        .set_compliances(Some(vec![2e-3, 5e-3, 1e-4, 3e-3, 4e-3, 6e-3]))
+        .expect("elastic");
+    robot
+        .set_parameter(ParameterId::new(ParameterKind::GravityTilt, axis), tilt)
+        .expect("tilt");
+    robot
 }
 
 /// Motor variables of a random configuration within the joint limits.

@@ -149,26 +149,34 @@ impl LaneBuffer {
             ),
         )
     }
+}
 
-    /// The configuration in `lane`, or the first for a free lane.
-    fn source(&self, lane: usize) -> &ChainBuffer {
-        &self.loaded[if lane < self.filled { lane } else { 0 }]
-    }
+/// Each lane's configuration of the `filled` first of `loaded`: a free
+/// lane repeats the first.
+fn sources(
+    loaded: &[ChainBuffer; CONFIGURATION_LANES],
+    filled: usize,
+) -> [&ChainBuffer; CONFIGURATION_LANES] {
+    std::array::from_fn(|lane| &loaded[if lane < filled { lane } else { 0 }])
+}
 
-    /// Each lane's `values(configuration)[i]` for i in `0..count`, into
-    /// `out`; 0 where a configuration has fewer values (loads given with
-    /// some configurations only: a term weighted 0 adds +0, which leaves
-    /// every bit as the configuration alone, without the load, has it).
-    fn gather(&self, count: usize, values: impl Fn(&ChainBuffer) -> &[f64], out: &mut Vec<Lanes>) {
-        let sources: [&[f64]; CONFIGURATION_LANES] =
-            std::array::from_fn(|lane| values(self.source(lane)));
-        out.clear();
-        out.extend((0..count).map(|i| {
-            WideF64x4(f64x4::new(std::array::from_fn(|lane| {
-                sources[lane].get(i).copied().unwrap_or(0.0)
-            })))
-        }));
-    }
+/// Each lane's `values(configuration)[i]`, for i below the longest's
+/// length, into `out`; 0 where a configuration has fewer values (loads
+/// given with some configurations only: a term weighted 0 adds +0, which
+/// leaves every bit as the configuration alone, without the load, has it).
+fn gather(
+    sources: &[&ChainBuffer; CONFIGURATION_LANES],
+    values: impl Fn(&ChainBuffer) -> &[f64],
+    out: &mut Vec<Lanes>,
+) {
+    let values: [&[f64]; CONFIGURATION_LANES] = std::array::from_fn(|lane| values(sources[lane]));
+    let count = values.iter().map(|values| values.len()).max().unwrap_or(0);
+    out.clear();
+    out.extend((0..count).map(|i| {
+        WideF64x4(f64x4::new(std::array::from_fn(|lane| {
+            values[lane].get(i).copied().unwrap_or(0.0)
+        })))
+    }));
 }
 
 impl KinematicModel {
@@ -180,48 +188,37 @@ impl KinematicModel {
     /// When `lanes` is empty.
     pub fn forward_lanes(&self, lanes: &mut LaneBuffer) {
         assert!(!lanes.is_empty(), "no configuration to evaluate");
-        let n = self.joint_count();
-        let mut joint_positions = std::mem::take(&mut lanes.joint_positions);
-        lanes.gather(n, ChainBuffer::joint_positions, &mut joint_positions);
-        lanes.joint_positions = joint_positions;
-        let counts = lanes.loaded[..lanes.len()]
-            .iter()
-            .map(|chain| {
-                let (coupled, torques, tilts) = chain.loads();
-                (coupled.len(), torques.len(), tilts.len())
-            })
-            .fold((0, 0, 0), |a, b| (a.0.max(b.0), a.1.max(b.1), a.2.max(b.2)));
-        let mut buffers = (
-            std::mem::take(&mut lanes.coupled_motor_positions),
-            std::mem::take(&mut lanes.torques),
-            std::mem::take(&mut lanes.tilt_torques),
-        );
-        lanes.gather(counts.0, |chain| chain.loads().0, &mut buffers.0);
-        lanes.gather(counts.1, |chain| chain.loads().1, &mut buffers.1);
-        lanes.gather(counts.2, |chain| chain.loads().2, &mut buffers.2);
-        (
-            lanes.coupled_motor_positions,
-            lanes.torques,
-            lanes.tilt_torques,
-        ) = buffers;
+        let LaneBuffer {
+            loaded,
+            filled,
+            joint_positions,
+            coupled_motor_positions,
+            torques,
+            tilt_torques,
+            turns,
+            poses,
+            angles,
+            ..
+        } = lanes;
+        let sources = sources(loaded, *filled);
+        gather(&sources, ChainBuffer::joint_positions, joint_positions);
+        gather(&sources, |chain| chain.loads().0, coupled_motor_positions);
+        gather(&sources, |chain| chain.loads().1, torques);
+        gather(&sources, |chain| chain.loads().2, tilt_torques);
         // Each joint's turn in its four lanes, as one configuration's
         // turns take theirs (turn::sin_cos_lanes computes lanes alone).
-        let mut angles = std::mem::take(&mut lanes.angles);
-        let sources: [&[f64]; CONFIGURATION_LANES] =
-            std::array::from_fn(|lane| lanes.source(lane).joint_positions());
-        let revolute = self.turn_angles(sources[0]).count();
         angles.clear();
         for source in sources {
-            angles.extend(self.turn_angles(source));
+            angles.extend(self.turn_angles(source.joint_positions()));
         }
-        lanes.turns.clear();
-        lanes.turns.extend((0..revolute).map(|joint| {
+        let revolute = angles.len() / CONFIGURATION_LANES;
+        turns.clear();
+        turns.extend((0..revolute).map(|joint| {
             let (sines, cosines) =
                 turn::sin_cos_lanes(std::array::from_fn(|lane| angles[lane * revolute + joint]));
             (WideF64x4(f64x4::new(sines)), WideF64x4(f64x4::new(cosines)))
         }));
-        lanes.angles = angles;
-        self.poses(&lanes.joint_positions, &lanes.turns, &mut lanes.poses);
+        self.poses(joint_positions, turns, poses);
     }
 
     /// The parameter Jacobian (Appendix II) of each configuration in
@@ -237,42 +234,47 @@ impl KinematicModel {
         rows: impl IntoIterator<Item = &'r mut Vec<f64>>,
         which: JacobianRows,
     ) {
+        let LaneBuffer {
+            filled,
+            poses,
+            coupled_motor_positions,
+            torques,
+            tilt_torques,
+            jacobian,
+            ..
+        } = lanes;
         let size = which.count() * self.parameter_count();
-        let mut jacobian = std::mem::take(&mut lanes.jacobian);
         if jacobian.len() != size || !self.writes_every_column() {
             jacobian.clear();
             jacobian.resize(size, Lanes::splat(0.0));
         }
         let view = ChainView {
-            poses: &lanes.poses,
-            coupled_motor_positions: &lanes.coupled_motor_positions,
-            torques: &lanes.torques,
-            tilt_torques: &lanes.tilt_torques,
+            poses,
+            coupled_motor_positions,
+            torques,
+            tilt_torques,
         };
         self.fill_jacobian(
             &view,
             &mut RowMajor {
-                rows: &mut jacobian,
+                rows: jacobian,
                 parameters: self.parameter_count(),
                 rotation: which == JacobianRows::Full,
             },
         );
         let mut rows = rows.into_iter();
-        for lane in 0..lanes.len() {
+        for lane in 0..*filled {
             let row = rows.next().expect("a buffer for each configuration");
             row.clear();
             row.extend(jacobian.iter().map(|values| values.0.as_array()[lane]));
         }
-        lanes.jacobian = jacobian;
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::parameters::{ParameterId, ParameterKind};
-    use crate::robot::Robot;
-    use crate::test_robots::{random_configuration, random_robot, stanford};
+    use crate::test_robots::{elastic_stanford, random_configuration, random_robot, stanford};
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
@@ -287,14 +289,7 @@ mod tests {
     #[test]
     fn each_lane_is_its_configuration_alone() {
         let mut rng = ChaCha8Rng::seed_from_u64(43);
-        let mut elastic = stanford();
-        elastic
-            .set_compliances(Some(vec![2e-3, 5e-3, 1e-4, 3e-3, 4e-3, 6e-3]))
-            .expect("elastic");
-        elastic
-            .set_parameter(ParameterId::new(ParameterKind::GravityTilt, 2), -0.03)
-            .expect("tilt");
-        let mut robots: Vec<Robot> = vec![stanford(), elastic];
+        let mut robots = vec![stanford(), elastic_stanford(2, -0.03)];
         robots.extend((0..8).map(|i| random_robot(&mut rng, 2 + i % 6)));
         let mut lanes = LaneBuffer::default();
         let mut chain = ChainBuffer::default();

@@ -923,7 +923,7 @@ impl CompiledFrame {
 mod tests {
     use super::*;
     use crate::kinematics::{forward_kinematics, parameter_jacobian};
-    use crate::test_robots::{random_configuration, random_robot, stanford};
+    use crate::test_robots::{elastic_stanford, random_configuration, random_robot, stanford};
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
 
@@ -1009,14 +1009,7 @@ mod tests {
     #[test]
     fn a_selecting_model_computes_its_columns_as_the_whole_model() {
         let mut rng = ChaCha8Rng::seed_from_u64(41);
-        let mut elastic = stanford();
-        elastic
-            .set_compliances(Some(vec![2e-3, 5e-3, 1e-4, 3e-3, 4e-3, 6e-3]))
-            .expect("elastic");
-        elastic
-            .set_parameter(ParameterId::new(ParameterKind::GravityTilt, 1), 0.02)
-            .expect("tilt");
-        let mut robots = vec![stanford(), elastic];
+        let mut robots = vec![stanford(), elastic_stanford(1, 0.02)];
         robots.extend((0..8).map(|i| random_robot(&mut rng, 2 + i % 6)));
         let (mut all, mut some) = (Vec::new(), Vec::new());
         let mut chain = ChainBuffer::default();
