@@ -147,21 +147,26 @@ pub(crate) enum CsvInput<'a> {
 }
 
 impl CsvInput<'_> {
-    /// The file read by `parse` (its reader, and the path its messages name).
+    /// The file read by `parse` (its reader, the path its messages name,
+    /// and its length in bytes when known).
     ///
     /// # Errors
     /// A file that cannot be opened, and `parse`'s.
     pub(crate) fn parse<T>(
         &self,
         files: &dyn Files,
-        parse: impl FnOnce(&mut dyn std::io::Read, &Path) -> Result<T, AppError>,
+        parse: impl FnOnce(&mut dyn std::io::Read, &Path, Option<u64>) -> Result<T, AppError>,
     ) -> Result<T, AppError> {
         match self {
             CsvInput::File(name) => {
                 let mut opened = files.open(name, &["csv"])?;
-                parse(&mut opened.reader, &opened.path)
+                parse(&mut opened.reader, &opened.path, opened.length)
             }
-            CsvInput::Text { text, label } => parse(&mut text.as_bytes(), Path::new(label)),
+            CsvInput::Text { text, label } => parse(
+                &mut text.as_bytes(),
+                Path::new(label),
+                u64::try_from(text.len()).ok(),
+            ),
         }
     }
 }
@@ -226,12 +231,12 @@ impl DataSource {
                 });
             }
         };
-        let file = input.parse(files, |reader, path| {
-            Ok(gecaro_io::parse_samples(
+        let file = input.parse(files, |reader, path, length| {
+            Ok(gecaro_io::parse_samples_of_length(
                 reader,
+                length,
                 path,
-                joint_types,
-                columns,
+                (joint_types, columns),
                 format,
             )?)
         })?;

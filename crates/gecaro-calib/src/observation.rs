@@ -172,6 +172,50 @@ fn fold_part(configurations: usize) -> usize {
 /// Rows of W written before they are folded: a block that stays in cache.
 const FOLD_ROWS: usize = 384;
 
+/// Measured rows from which the errors of their observations are summed in
+/// parts on all cores ([`ObservationSystem::observation_errors`]).
+const PARALLEL_ERROR_ROWS: usize = 1 << 16;
+
+/// The rows `0..observations.len()` in about one part per core, each cut
+/// where the observation changes (one part below [`PARALLEL_ERROR_ROWS`]).
+fn observation_parts(observations: &[u32]) -> Vec<std::ops::Range<usize>> {
+    let rows = observations.len();
+    let parts = if rows < PARALLEL_ERROR_ROWS {
+        1
+    } else {
+        crate::parallel::available_threads()
+    };
+    let size = rows.div_ceil(parts).max(1);
+    let mut cuts = vec![0];
+    let mut cut = size;
+    while cut < rows {
+        // The next row of another observation.
+        while cut < rows && observations[cut] == observations[cut - 1] {
+            cut += 1;
+        }
+        if cut < rows {
+            cuts.push(cut);
+        }
+        cut += size;
+    }
+    cuts.push(rows);
+    cuts.windows(2).map(|pair| pair[0]..pair[1]).collect()
+}
+
+/// The sums of squares of the observations `first..` of a part of the rows.
+struct PartErrors {
+    first: usize,
+    lengths: Vec<f64>,
+    angles: Vec<f64>,
+}
+
+impl PartErrors {
+    /// One past its last observation.
+    fn end(&self) -> usize {
+        self.first + self.lengths.len()
+    }
+}
+
 /// [`linearise_independent`] for a writer that folds its rows ([`crate::fold`]):
 /// each part writes blocks of rows into a small buffer, folds them, and
 /// hands its sums on; the parts' sums are merged in order into the set's
@@ -689,27 +733,70 @@ impl ObservationSystem {
     /// (radians).
     pub fn observation_errors(&self) -> ObservationErrors {
         let has_angles = self.kinds.contains(&RowKind::Angle);
-        let mut lengths = vec![0.0; self.observation_count];
-        let mut angles = vec![
-            0.0;
-            if has_angles {
-                self.observation_count
-            } else {
-                0
+        let count = self.observation_count;
+        let mut lengths = vec![0.0; count];
+        let mut angles = vec![0.0; if has_angles { count } else { 0 }];
+        let rows = 0..self.measured_rows();
+        // Parts of rows whose observations do not reach into another part
+        // (the rows of an observation together, in order): each
+        // observation's sum is the one taken row after row, to the bit.
+        let parts = run_parts(
+            observation_parts(&self.observations[rows.clone()]),
+            |part| self.errors_within(part, has_angles),
+        );
+        let ordered = parts.iter().all(Option::is_some)
+            && parts
+                .windows(2)
+                .all(|pair| matches!(pair, [Some(a), Some(b)] if a.end() <= b.first));
+        if ordered {
+            for part in parts.into_iter().flatten() {
+                let span = part.first..part.end();
+                lengths[span.clone()].copy_from_slice(&part.lengths);
+                if has_angles {
+                    angles[span].copy_from_slice(&part.angles);
+                }
             }
-        ];
-        for row in 0..self.measured_rows() {
-            let squared = self.residuals[row] * self.residuals[row];
-            let observation = self.observations[row] as usize;
-            match self.kinds[row] {
-                RowKind::Length => lengths[observation] += squared,
-                RowKind::Angle => angles[observation] += squared,
+        } else {
+            for row in rows {
+                let squared = self.residuals[row] * self.residuals[row];
+                let observation = self.observations[row] as usize;
+                match self.kinds[row] {
+                    RowKind::Length => lengths[observation] += squared,
+                    RowKind::Angle => angles[observation] += squared,
+                }
             }
         }
         for error in lengths.iter_mut().chain(&mut angles) {
             *error = error.sqrt();
         }
         ObservationErrors { lengths, angles }
+    }
+
+    /// The sums of squared residuals of each observation of `rows`, when
+    /// their observations do not decrease along them (else `None`).
+    fn errors_within(&self, rows: std::ops::Range<usize>, has_angles: bool) -> Option<PartErrors> {
+        let observations = &self.observations[rows.clone()];
+        if observations.windows(2).any(|pair| pair[0] > pair[1]) {
+            return None;
+        }
+        let first = observations.first().map_or(0, |first| *first as usize);
+        let span = observations
+            .last()
+            .map_or(0, |last| *last as usize + 1 - first);
+        let mut part = PartErrors {
+            first,
+            lengths: vec![0.0; span],
+            angles: vec![0.0; if has_angles { span } else { 0 }],
+        };
+        for row in rows {
+            let squared = self.residuals[row] * self.residuals[row];
+            let observation = self.observations[row] as usize - first;
+            match self.kinds[row] {
+                RowKind::Length => part.lengths[observation] += squared,
+                RowKind::Angle => part.angles[observation] += squared,
+            }
+        }
+        Some(part)
     }
 
     /// A writer for the rows `first_row..first_row + rows` of one measurement
@@ -812,5 +899,108 @@ impl ObservationSystem {
     /// ([`RowWriter::observation_end`]).
     pub(crate) fn record_observations(&mut self, end: usize) {
         self.observation_count = self.observation_count.max(end);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+
+    /// The errors summed row after row, as one thread does.
+    fn row_after_row(system: &ObservationSystem) -> ObservationErrors {
+        let has_angles = system.kinds.contains(&RowKind::Angle);
+        let count = system.observation_count;
+        let mut errors = ObservationErrors {
+            lengths: vec![0.0; count],
+            angles: vec![0.0; if has_angles { count } else { 0 }],
+        };
+        for row in 0..system.measured_rows() {
+            let squared = system.residuals[row].powi(2);
+            let observation = system.observations[row] as usize;
+            match system.kinds[row] {
+                RowKind::Length => errors.lengths[observation] += squared,
+                RowKind::Angle => errors.angles[observation] += squared,
+            }
+        }
+        for error in errors.lengths.iter_mut().chain(&mut errors.angles) {
+            *error = error.sqrt();
+        }
+        errors
+    }
+
+    /// Rows of `observations` (1–7 rows each, lengths and angles mixed,
+    /// some observations without rows), in order or shuffled.
+    fn system(observations: usize, shuffled: bool, seed: u64) -> ObservationSystem {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let mut rows: Vec<(u32, RowKind, f64)> = Vec::new();
+        for observation in 0..observations {
+            if observation % 97 == 5 {
+                continue;
+            }
+            for _ in 0..rng.random_range(1..8) {
+                let kind = if rng.random_bool(0.4) {
+                    RowKind::Angle
+                } else {
+                    RowKind::Length
+                };
+                rows.push((observation as u32, kind, rng.random_range(-1e-3..1e-3)));
+            }
+        }
+        if shuffled {
+            // Two far rows trade places: one observation's rows apart.
+            let last = rows.len() - 1;
+            rows.swap(3, last);
+        }
+        let layout = ColumnLayout::new(0, &[], 0);
+        let mut system = ObservationSystem::default();
+        system.reset(rows.len(), &layout, false);
+        for (row, (observation, kind, residual)) in rows.into_iter().enumerate() {
+            system.observations[row] = observation;
+            system.kinds[row] = kind;
+            system.residuals[row] = residual;
+        }
+        system.observation_count = observations;
+        system
+    }
+
+    /// Summed in parts on all cores (cut where an observation ends) or on
+    /// one, each observation's error has the bits of the sum row after row;
+    /// rows out of order take the one-thread route.
+    #[test]
+    fn errors_in_parts_are_those_row_after_row() {
+        let long = 2 * PARALLEL_ERROR_ROWS / 3;
+        for (observations, shuffled) in [(50, false), (long, false), (long, true), (0, false)] {
+            let system = system(observations, shuffled, 7);
+            assert!(observations < 100 || system.measured_rows() > PARALLEL_ERROR_ROWS);
+            let expected = row_after_row(&system);
+            let errors = system.observation_errors();
+            let bits = |values: &[f64]| values.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(
+                bits(&errors.lengths),
+                bits(&expected.lengths),
+                "{observations}"
+            );
+            assert_eq!(
+                bits(&errors.angles),
+                bits(&expected.angles),
+                "{observations}"
+            );
+        }
+    }
+
+    /// Parts end where an observation does, and cover every row once.
+    #[test]
+    fn parts_are_cut_between_observations() {
+        let observations: Vec<u32> = (0..200_000u32).map(|row| row / 6).collect();
+        let parts = observation_parts(&observations);
+        assert_eq!(parts.first().map(|part| part.start), Some(0));
+        assert_eq!(parts.last().map(|part| part.end), Some(observations.len()));
+        for pair in parts.windows(2) {
+            assert_eq!(pair[0].end, pair[1].start);
+            let cut = pair[0].end;
+            assert_ne!(observations[cut - 1], observations[cut]);
+        }
+        assert_eq!(observation_parts(&observations[..100]), vec![0..100]);
     }
 }

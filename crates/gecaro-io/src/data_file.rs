@@ -31,7 +31,9 @@ use std::path::Path;
 
 use crate::Error;
 use crate::columns::{ColumnMap, DataUnits, Delimiter, locate};
-use crate::data_rows::{CHUNK_BYTES, Fields, MAX_CONFIGURATIONS, PayloadColumns, RowReader, Rows};
+use crate::data_rows::{
+    CHUNK_BYTES, Chunking, Fields, MAX_CONFIGURATIONS, PayloadColumns, RowReader, Rows,
+};
 use crate::input::{csv_error, csv_reader, open_regular, record_line};
 use crate::output::{OutputPolicy, write_with};
 use crate::pose::{NORMALISED_TOLERANCE, SILENT_TOLERANCE};
@@ -112,12 +114,12 @@ pub fn read_samples(
     columns: &[DataColumn],
     format: &DataFormat,
 ) -> Result<DataFile, Error> {
-    let (file, _) = open_regular(path)?;
-    parse_samples(
+    let (file, length) = open_regular(path)?;
+    parse_samples_of_length(
         std::io::BufReader::with_capacity(1 << 16, file),
+        Some(length),
         path,
-        joint_types,
-        columns,
+        (joint_types, columns),
         format,
     )
 }
@@ -127,10 +129,28 @@ pub fn read_samples(
 /// # Errors
 /// [`Error::Parse`] with line and column.
 pub fn parse_samples(
-    mut reader: impl Read,
+    reader: impl Read,
     path: &Path,
     joint_types: &[FrameType],
     columns: &[DataColumn],
+    format: &DataFormat,
+) -> Result<DataFile, Error> {
+    parse_samples_of_length(reader, None, path, (joint_types, columns), format)
+}
+
+/// [`parse_samples`] of a reader whose `length` in bytes is known (a
+/// file's): the samples of a long file are given room for all its rows at
+/// once, from the rows of its first chunk, instead of growing (and being
+/// copied) as they are read. The samples are the same; a wrong length
+/// costs only memory or a copy.
+///
+/// # Errors
+/// [`Error::Parse`] with line and column.
+pub fn parse_samples_of_length(
+    mut reader: impl Read,
+    length: Option<u64>,
+    path: &Path,
+    (joint_types, columns): (&[FrameType], &[DataColumn]),
     format: &DataFormat,
 ) -> Result<DataFile, Error> {
     // Room for the whole head at once: a long file's head becomes the
@@ -161,20 +181,23 @@ pub fn parse_samples(
         path,
         (joint_types, columns),
         format,
-        (CHUNK_BYTES, MAX_CONFIGURATIONS),
+        Chunking {
+            bytes: CHUNK_BYTES,
+            limit: MAX_CONFIGURATIONS,
+            length,
+        },
     )
 }
 
 /// [`parse_samples`] of the bytes `head` and then `rest`, when the file is
-/// longer than [`IN_MEMORY_BYTES`] (its rows are then read in chunks of
-/// `chunking.0` bytes, at most `chunking.1` of them; those of a file in
-/// memory in parts on all cores).
+/// longer than [`IN_MEMORY_BYTES`] (its rows are then read in chunks, see
+/// [`Chunking`]; those of a file in memory in parts on all cores).
 fn parse_from(
     (head, rest): (Vec<u8>, Option<&mut dyn Read>),
     path: &Path,
     (joint_types, columns): (&[FrameType], &[DataColumn]),
     format: &DataFormat,
-    chunking: (usize, usize),
+    chunking: Chunking,
 ) -> Result<DataFile, Error> {
     let expected = data_headers(joint_types.len(), columns);
     let (mut csv, separator) = csv_reader(&head[..], format.delimiter);
@@ -657,20 +680,31 @@ mod tests {
             }
         }
         let columns = [DataColumn::Position];
-        let chunked = |text: &str, limit: usize| {
+        let read = |text: &str, limit: usize, length: Option<u64>| {
             let (head, mut rest) = text.as_bytes().split_at(1000);
             parse_from(
                 (head.to_vec(), Some(&mut rest)),
                 Path::new("data.csv"),
                 (&TWO_REVOLUTE, &columns),
                 &DataFormat::default(),
-                (4096, limit),
+                Chunking {
+                    bytes: 4096,
+                    limit,
+                    length,
+                },
             )
             .map(|file| file.samples)
         };
+        let chunked = |text: &str, limit: usize| read(text, limit, None);
         let whole = parse(&text, &columns).expect("valid");
         assert_eq!(whole.len(), 3000);
         assert_eq!(chunked(&text, usize::MAX).expect("valid"), whole);
+        // The file's length only makes room: right, short or long, the
+        // samples are the same.
+        let length = text.len() as u64;
+        for stated in [length, 10, 10 * length, u64::MAX] {
+            assert_eq!(read(&text, usize::MAX, Some(stated)).expect("valid"), whole);
+        }
         // The first error, in the fifth chunk or so: the same line.
         let broken = text.replacen(",1,2,2200e-3\n", ",1,2,x\n", 1);
         let expected = error_of(&broken, &columns);
@@ -681,6 +715,10 @@ mod tests {
         assert_eq!(found, expected);
         // The limit falls inside a chunk: its line is named.
         let message = chunked(&text, 2500).expect_err("too many").to_string();
+        assert!(message.contains("data.csv:2507"), "{message}");
+        let message = read(&text, 2500, Some(length))
+            .expect_err("too many")
+            .to_string();
         assert!(message.contains("data.csv:2507"), "{message}");
     }
 
@@ -968,7 +1006,11 @@ mod tests {
                 Path::new("plain.csv"),
                 (&TWO_REVOLUTE, &columns),
                 &DataFormat::default(),
-                (chunk_bytes, limit),
+                Chunking {
+                    bytes: chunk_bytes,
+                    limit,
+                    length: None,
+                },
             )
             .map(|file| file.samples)
         };

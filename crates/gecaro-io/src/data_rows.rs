@@ -42,9 +42,42 @@ const MIN_PART_BYTES: usize = 1 << 15;
 /// Bytes of a long file read at once ([`RowReader::read_chunks`]).
 pub(crate) const CHUNK_BYTES: usize = 16 << 20;
 
-/// Chunks the first one makes room for (a million position rows are about
-/// ten): the samples are then not copied as they grow.
+/// Chunks the first one makes room for when the file's length is not
+/// known (a million position rows are about ten): the samples are then not
+/// copied as they grow.
 const CHUNKS_FORESEEN: usize = 10;
+
+/// How a body too long to hold at once is read ([`RowReader::read_chunks`]).
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Chunking {
+    /// Bytes read at once (about: chunks end at line breaks).
+    pub(crate) bytes: usize,
+    /// Samples read at most ([`MAX_CONFIGURATIONS`]): one more is an error
+    /// naming its line.
+    pub(crate) limit: usize,
+    /// The whole file's length in bytes, when known: the samples are given
+    /// room for all its rows once the first chunk's are read (rows per byte
+    /// of that chunk, 1 % more), else for [`CHUNKS_FORESEEN`] more chunks.
+    pub(crate) length: Option<u64>,
+}
+
+impl Chunking {
+    /// The samples to make room for, once the first chunk, of `bytes`
+    /// bytes, gave `read` of them.
+    fn foreseen(&self, read: usize, bytes: usize) -> usize {
+        let foreseen = match self.length {
+            Some(length) if bytes > 0 => {
+                let per_byte = read as f64 / bytes as f64;
+                // Saturating (as casts are) for any length.
+                (per_byte * length as f64 * 1.01).ceil() as usize
+            }
+            _ => read.saturating_mul(1 + CHUNKS_FORESEEN),
+        };
+        // No room beyond the limit, nor beyond [`MAX_CONFIGURATIONS`]
+        // whatever the limit (room is memory).
+        foreseen.max(read).min(self.limit).min(MAX_CONFIGURATIONS)
+    }
+}
 
 /// Where each field of a sample comes from in a record, and its scale.
 pub(crate) struct Fields {
@@ -267,21 +300,26 @@ impl RowReader<'_> {
 
     /// Reads a body too long to hold at once: the bytes of `head` from
     /// `start` (a line start; `head` becomes the chunks' buffer) and then
-    /// `rest`, in chunks of about `chunk_bytes`
+    /// `rest`, in chunks of about `chunking.bytes`
     /// ([`CHUNK_BYTES`]) cut at line breaks, each read in parts on all cores
     /// ([`read_in_parts`](Self::read_in_parts)) or, holding a quote, in one
     /// pass. Memory beyond the samples is one chunk; the samples, line
     /// numbers and first error are those of a single pass (a quoted field
     /// with a line break across a chunk's end aside: data files hold
-    /// numbers). At most `limit` samples ([`MAX_CONFIGURATIONS`]): one more
-    /// is an error naming its line.
+    /// numbers). At most `chunking.limit` samples: one more is an error
+    /// naming its line.
     pub(crate) fn read_chunks(
         &self,
         (head, start, rest): (Vec<u8>, usize, &mut dyn Read),
         lines_before: usize,
         separator: u8,
-        (chunk_bytes, limit): (usize, usize),
+        chunking: Chunking,
     ) -> Rows {
+        let Chunking {
+            bytes: chunk_bytes,
+            limit,
+            ..
+        } = chunking;
         let mut joined = Rows {
             samples: SamplesBuilder::with_capacity(0),
             normalised: Normalised::default(),
@@ -297,6 +335,7 @@ impl RowReader<'_> {
                     return joined;
                 }
             };
+            let chunk_length = chunk.len();
             // The chunk's parts go straight after the samples read so far
             // (not joined first: one copy of each sample, not two).
             let parts = match self.read_parts(chunk, lines, separator, false) {
@@ -313,7 +352,7 @@ impl RowReader<'_> {
                 let read: usize = parts.iter().map(|rows| rows.samples.len()).sum();
                 joined
                     .samples
-                    .reserve((read * (1 + CHUNKS_FORESEEN)).min(limit));
+                    .reserve(chunking.foreseen(read, chunk_length));
             }
             for rows in parts {
                 let room = limit.saturating_sub(joined.samples.len());
@@ -487,5 +526,34 @@ impl RowReader<'_> {
             }));
         }
         Ok(sample)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Room for the rows of the whole file, read at the first chunk's rate
+    /// with 1 % more; without a length, for ten more chunks; never beyond
+    /// the limit nor below what was read.
+    #[test]
+    fn the_samples_foreseen() {
+        let chunking = |length| Chunking {
+            bytes: 1000,
+            limit: 1_000_000,
+            length,
+        };
+        // 100 rows in the first 10,000 bytes of a 1,000,000-byte file.
+        assert_eq!(chunking(Some(1_000_000)).foreseen(100, 10_000), 10_100);
+        assert_eq!(chunking(None).foreseen(100, 10_000), 1_100);
+        assert_eq!(chunking(Some(u64::MAX)).foreseen(100, 10_000), 1_000_000);
+        // Past every limit: no more than a file may hold.
+        let unlimited = Chunking {
+            limit: usize::MAX,
+            ..chunking(Some(u64::MAX))
+        };
+        assert_eq!(unlimited.foreseen(100, 10_000), MAX_CONFIGURATIONS);
+        assert_eq!(chunking(Some(10)).foreseen(100, 10_000), 100);
+        assert_eq!(chunking(Some(1_000_000)).foreseen(0, 0), 0);
     }
 }

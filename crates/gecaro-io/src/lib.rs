@@ -42,7 +42,7 @@ pub use columns::{ColumnMap, DataUnits, Delimiter, header_names, joint_types};
 pub use conversion::{ChainEnds, Exported, Imported};
 pub use data_file::{
     DataFile, DataFormat, data_headers, format_configurations, format_samples, parse_samples,
-    read_samples, write_samples,
+    parse_samples_of_length, read_samples, write_samples,
 };
 pub use data_rows::MAX_CONFIGURATIONS;
 pub use dh::{DhConvention, TableUnits};

@@ -266,7 +266,7 @@ impl CompensateRequest {
         let mut program = input
             .map(|input| {
                 let format = self.format.format()?;
-                let program = input.parse(files, |reader, path| {
+                let program = input.parse(files, |reader, path, _| {
                     Ok(gecaro_io::parse_program(
                         reader,
                         path,

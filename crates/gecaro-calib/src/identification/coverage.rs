@@ -16,7 +16,13 @@
 use gecaro_core::Robot;
 
 use crate::identifiability::{ParameterStatus, RankReport};
+use crate::parallel::run_parts;
+use crate::samples::SampleSlice;
+use crate::states::part_size;
 use crate::study::Study;
+
+/// Samples from which a set's joint ranges are read in parts on all cores.
+const PARALLEL_SAMPLES: usize = 1 << 16;
 
 /// Equations per unknown below which the data are too few to trust: with
 /// `p` unknowns and `n` equations the fit's residuals shrink by
@@ -189,16 +195,74 @@ impl Coverage {
 /// Joints (1-based) whose motor values span less than [`STILL_RANGE`].
 fn still_joints(robot: &Robot, study: &Study) -> Vec<usize> {
     let joints = robot.joint_count();
-    let mut low = vec![f64::INFINITY; joints];
-    let mut high = vec![f64::NEG_INFINITY; joints];
-    for sample in study.sets.iter().flat_map(|set| set.samples.iter()) {
-        for (joint, value) in sample.motor_positions().iter().enumerate().take(joints) {
-            low[joint] = low[joint].min(*value);
-            high[joint] = high[joint].max(*value);
+    // Each part's range of every joint, on all cores for long data (the
+    // least and greatest values do not depend on the cut).
+    let parts: Vec<SampleSlice<'_>> = study
+        .sets
+        .iter()
+        .flat_map(|set| {
+            let samples = set.samples.as_slice();
+            let size = if samples.len() < PARALLEL_SAMPLES {
+                samples.len().max(1)
+            } else {
+                part_size(samples.len())
+            };
+            samples.chunks(size)
+        })
+        .collect();
+    let ranges = run_parts(parts, |part| {
+        let mut low = vec![f64::INFINITY; joints];
+        let mut high = vec![f64::NEG_INFINITY; joints];
+        for sample in part.iter() {
+            for (joint, value) in sample.motor_positions().iter().enumerate().take(joints) {
+                low[joint] = low[joint].min(*value);
+                high[joint] = high[joint].max(*value);
+            }
         }
-    }
+        (low, high)
+    });
     (0..joints)
-        .filter(|joint| high[*joint] - low[*joint] < STILL_RANGE)
+        .filter(|joint| {
+            let low = ranges
+                .iter()
+                .map(|(low, _)| low[*joint])
+                .fold(f64::INFINITY, f64::min);
+            let high = ranges
+                .iter()
+                .map(|(_, high)| high[*joint])
+                .fold(f64::NEG_INFINITY, f64::max);
+            high - low < STILL_RANGE
+        })
         .map(|joint| joint + 1)
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::methods::{MethodOptions, method};
+    use crate::sample::Sample;
+
+    /// A joint held still is found in short data and in long data read in
+    /// parts, and one that moved once, in the last sample, is not.
+    #[test]
+    fn a_joint_that_never_moved_is_found_in_long_data() {
+        let robot = Robot::template("arm", "RRR").expect("robot");
+        for count in [100, 3 * PARALLEL_SAMPLES + 7] {
+            let mut samples: Vec<Sample> = (0..count)
+                .map(|i| {
+                    let turn = (i as f64 * 1e-3).sin();
+                    Sample::new(vec![turn, 0.3, -turn])
+                })
+                .collect();
+            let study = |samples: &[Sample]| {
+                let position = method("position", &MethodOptions::default()).expect("method");
+                Study::single(position, samples, "still")
+            };
+            assert_eq!(still_joints(&robot, &study(&samples)), vec![2], "{count}");
+            let last = samples.last_mut().expect("samples");
+            last.motor_positions[1] += 2.0 * STILL_RANGE;
+            assert!(still_joints(&robot, &study(&samples)).is_empty(), "{count}");
+        }
+    }
 }

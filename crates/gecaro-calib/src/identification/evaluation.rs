@@ -49,7 +49,7 @@ pub(super) fn errors_at(
     let layout = ColumnLayout::new(robot.parameters().len(), &[], auxiliary.len());
     let mut system = ObservationSystem::default();
     study.linearise(robot, &auxiliary, &layout, &mut states, &mut system)?;
-    let cost: f64 = system.weighted_residuals().iter().map(|r| r * r).sum();
+    let cost = system.weighted_cost();
     let rms = (cost / system.rows().max(1) as f64).sqrt();
     let errors = system.observation_errors();
     Ok((ErrorSummary::of_errors(&errors), errors, rms))
