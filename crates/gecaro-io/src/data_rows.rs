@@ -10,7 +10,7 @@
 //! further care: no quoted field (a quote may hold a line break) and fewer
 //! lines than [`MAX_CONFIGURATIONS`] (the limit cannot fall inside a part).
 
-use gecaro_calib::parallel::{PARTS_PER_THREAD, available_threads, run_parts};
+use gecaro_calib::parallel::{PARTS_PER_THREAD, alongside, available_threads, run_parts};
 use gecaro_calib::study::{MotorPositions, Sample, SamplesBuilder};
 use gecaro_core::LinkMass;
 use nalgebra::Vector3;
@@ -77,6 +77,15 @@ impl Chunking {
         // whatever the limit (room is memory).
         foreseen.max(read).min(self.limit).min(MAX_CONFIGURATIONS)
     }
+}
+
+/// A chunk read in parts, not yet joined to the samples before it.
+struct ChunkRead {
+    parts: Vec<Rows>,
+    /// The file's lines before the chunk.
+    lines: usize,
+    /// The chunk's length in bytes.
+    bytes: usize,
 }
 
 /// Where each field of a sample comes from in a record, and its scale.
@@ -315,60 +324,89 @@ impl RowReader<'_> {
         separator: u8,
         chunking: Chunking,
     ) -> Rows {
-        let Chunking {
-            bytes: chunk_bytes,
-            limit,
-            ..
-        } = chunking;
+        let chunk_bytes = chunking.bytes;
         let mut joined = Rows {
             samples: SamplesBuilder::with_capacity(0),
             normalised: Normalised::default(),
             error: None,
         };
         let mut chunks = LineChunks::new((head, start), rest, lines_before, chunk_bytes, self.path);
+        // A chunk's parts are joined to the samples (a copy, single-threaded)
+        // while the next chunk is read and cut into parts: the same samples,
+        // in the same order, with the same first error.
+        let mut pending: Option<ChunkRead> = None;
         loop {
-            let (chunk, lines) = match chunks.next_chunk() {
-                Ok(Some(chunk)) => chunk,
+            let (whole, next) = alongside(
+                || {
+                    pending
+                        .take()
+                        .is_none_or(|read| self.join(&mut joined, read, chunking))
+                },
+                || -> Result<Option<ChunkRead>, Error> {
+                    let Some((chunk, lines)) = chunks.next_chunk()? else {
+                        return Ok(None);
+                    };
+                    let bytes = chunk.len();
+                    let parts = match self.read_parts(chunk, lines, separator, false) {
+                        Some((parts, breaks)) => {
+                            chunks.counted(breaks);
+                            parts
+                        }
+                        None => {
+                            let mut csv =
+                                csv_reader_with(LineLimit::new(chunk, MAX_LINE_BYTES), separator);
+                            vec![self.read(&mut csv, lines, 0)]
+                        }
+                    };
+                    Ok(Some(ChunkRead {
+                        parts,
+                        lines,
+                        bytes,
+                    }))
+                },
+            );
+            if !whole {
+                return joined;
+            }
+            match next {
+                Ok(Some(read)) => pending = Some(read),
                 Ok(None) => return joined,
                 Err(error) => {
                     joined.error = Some(error);
                     return joined;
                 }
-            };
-            let chunk_length = chunk.len();
-            // The chunk's parts go straight after the samples read so far
-            // (not joined first: one copy of each sample, not two).
-            let parts = match self.read_parts(chunk, lines, separator, false) {
-                Some((parts, breaks)) => {
-                    chunks.counted(breaks);
-                    parts
-                }
-                None => {
-                    let mut csv = csv_reader_with(LineLimit::new(chunk, MAX_LINE_BYTES), separator);
-                    vec![self.read(&mut csv, lines, 0)]
-                }
-            };
-            if joined.samples.is_empty() {
-                let read: usize = parts.iter().map(|rows| rows.samples.len()).sum();
-                joined
-                    .samples
-                    .reserve(chunking.foreseen(read, chunk_length));
-            }
-            for rows in parts {
-                let room = limit.saturating_sub(joined.samples.len());
-                if rows.samples.len() > room {
-                    let line = rows.samples.line(room).unwrap_or(lines + 1);
-                    let mut kept = rows.samples;
-                    kept.truncate(room);
-                    joined.samples.append(kept);
-                    joined.error = Some(self.too_many(line));
-                    return joined;
-                }
-                if !joined.append(rows) {
-                    return joined;
-                }
             }
         }
+    }
+
+    /// Appends the parts of a chunk to `joined` (the first chunk's make
+    /// room for the file's rows, [`Chunking::foreseen`]); false when
+    /// reading stops there, at a part's error or at the limit.
+    fn join(&self, joined: &mut Rows, read: ChunkRead, chunking: Chunking) -> bool {
+        let ChunkRead {
+            parts,
+            lines,
+            bytes,
+        } = read;
+        if joined.samples.is_empty() {
+            let read: usize = parts.iter().map(|rows| rows.samples.len()).sum();
+            joined.samples.reserve(chunking.foreseen(read, bytes));
+        }
+        for rows in parts {
+            let room = chunking.limit.saturating_sub(joined.samples.len());
+            if rows.samples.len() > room {
+                let line = rows.samples.line(room).unwrap_or(lines + 1);
+                let mut kept = rows.samples;
+                kept.truncate(room);
+                joined.samples.append(kept);
+                joined.error = Some(self.too_many(line));
+                return false;
+            }
+            if !joined.append(rows) {
+                return false;
+            }
+        }
+        true
     }
 
     /// The error of one record beyond [`MAX_CONFIGURATIONS`], at `line`.
