@@ -31,7 +31,7 @@ use crate::linalg::{LeastSquaresRows, NormalEquations, add_normal_sums, view};
 use crate::samples::SampleSlice;
 
 use crate::method::CalibrationMethod;
-use crate::parallel::run_parts;
+use crate::parallel::{PARTS_PER_THREAD, run_parts};
 use crate::states::{BLOCK, evaluate_chunk, part_size};
 
 pub use crate::rows::{ColumnLayout, RowKind, RowWriter};
@@ -176,14 +176,27 @@ const FOLD_ROWS: usize = 384;
 /// parts on all cores ([`ObservationSystem::observation_errors`]).
 const PARALLEL_ERROR_ROWS: usize = 1 << 16;
 
-/// The rows `0..observations.len()` in about one part per core, each cut
-/// where the observation changes (one part below [`PARALLEL_ERROR_ROWS`]).
+/// `values` as `len` zeros: fresh zeroed memory from the allocator when it
+/// needs more room (its pages are then touched first by the threads that
+/// write the rows, on all cores, not by a serial fill here), else its own.
+fn zeroed<T: Copy + Default>(values: &mut Vec<T>, len: usize) {
+    if values.capacity() < len {
+        *values = vec![T::default(); len];
+    } else {
+        values.clear();
+        values.resize(len, T::default());
+    }
+}
+
+/// The rows `0..observations.len()` in about [`PARTS_PER_THREAD`] parts
+/// per core (taken in turn, [`run_parts`]), each cut where the observation
+/// changes (one part below [`PARALLEL_ERROR_ROWS`]).
 fn observation_parts(observations: &[u32]) -> Vec<std::ops::Range<usize>> {
     let rows = observations.len();
     let parts = if rows < PARALLEL_ERROR_ROWS {
         1
     } else {
-        crate::parallel::available_threads()
+        crate::parallel::available_threads() * PARTS_PER_THREAD
     };
     let size = rows.div_ceil(parts).max(1);
     let mut cuts = vec![0];
@@ -202,18 +215,20 @@ fn observation_parts(observations: &[u32]) -> Vec<std::ops::Range<usize>> {
     cuts.windows(2).map(|pair| pair[0]..pair[1]).collect()
 }
 
-/// The sums of squares of the observations `first..` of a part of the rows.
-struct PartErrors {
-    first: usize,
-    lengths: Vec<f64>,
-    angles: Vec<f64>,
-}
-
-impl PartErrors {
-    /// One past its last observation.
-    fn end(&self) -> usize {
-        self.first + self.lengths.len()
+/// `values[span]` for each of `spans` (in order, disjoint, within
+/// `values`), apart.
+fn split_spans<'a>(values: &'a mut [f64], spans: &[std::ops::Range<usize>]) -> Vec<&'a mut [f64]> {
+    let mut rest = values;
+    let mut at = 0;
+    let mut parts = Vec::with_capacity(spans.len());
+    for span in spans {
+        let (_, after) = std::mem::take(&mut rest).split_at_mut(span.start - at);
+        let (part, after) = after.split_at_mut(span.len());
+        parts.push(part);
+        rest = after;
+        at = span.end;
     }
+    parts
 }
 
 /// [`linearise_independent`] for a writer that folds its rows ([`crate::fold`]):
@@ -417,23 +432,13 @@ impl ObservationSystem {
         } else {
             rows * self.columns
         };
-        if self.matrix.capacity() < size {
-            // Fresh zeroed memory from the allocator (calloc): its pages are
-            // touched first by the threads that write the rows, on all cores,
-            // instead of by a serial fill here.
-            self.matrix = vec![0.0; size];
-        } else {
-            self.matrix.clear();
-            self.matrix.resize(size, 0.0);
-        }
-        self.residuals.clear();
-        self.residuals.resize(rows, 0.0);
+        zeroed(&mut self.matrix, size);
+        zeroed(&mut self.residuals, rows);
         self.appended_weights.clear();
         self.set_weights.clear();
         self.kinds.clear();
         self.kinds.resize(rows, RowKind::Length);
-        self.observations.clear();
-        self.observations.resize(rows, 0);
+        zeroed(&mut self.observations, rows);
         self.set_rows.clear();
         self.observation_count = 0;
     }
@@ -505,11 +510,25 @@ impl ObservationSystem {
 
     /// The weighted sum of squares of every row, `‖w r‖²` (prior and gauge rows included).
     pub(crate) fn weighted_cost(&self) -> f64 {
-        self.residuals
-            .iter()
-            .zip(self.row_weights())
-            .map(|(r, (_, w))| (r * w).powi(2))
+        self.weighted_terms(&self.residuals, |r, w| (r * w).powi(2))
             .sum()
+    }
+
+    /// `term(r, w)` of each of `residuals` (the first rows' residuals) and
+    /// its row's whole weight, in row order. The weights are read by the
+    /// iterator's own loop over each set's rows (a fold, where `zip` would
+    /// step through the sets' chain row by row: a third of the time), the
+    /// residuals beside them; a sum or collection of the terms is the one
+    /// taken with `zip`, to the bit.
+    fn weighted_terms<'a>(
+        &'a self,
+        residuals: &'a [f64],
+        term: impl Fn(f64, f64) -> f64 + 'a,
+    ) -> impl Iterator<Item = f64> + 'a {
+        let mut residuals = residuals.iter();
+        self.row_weights()
+            .take(residuals.len())
+            .map(move |(_, w)| term(residuals.next().copied().unwrap_or_default(), w))
     }
 
     /// The normal equations `WᵀW`, `Wᵀ(w r)` of every row.
@@ -598,10 +617,7 @@ impl ObservationSystem {
     /// prior and gauge rows left out).
     pub fn measured_cost(&self) -> f64 {
         let rows = self.measured_rows();
-        self.residuals[..rows]
-            .iter()
-            .zip(self.row_weights())
-            .map(|(r, (_, w))| (r * w).powi(2))
+        self.weighted_terms(&self.residuals[..rows], |r, w| (r * w).powi(2))
             .sum()
     }
 
@@ -695,11 +711,10 @@ impl ObservationSystem {
 
     /// Δy multiplied by the row weights: the right-hand side that goes with [`Self::matrix`].
     pub fn weighted_residuals(&self) -> Vec<f64> {
-        self.residuals
-            .iter()
-            .zip(self.row_weights())
-            .map(|(r, (_, w))| r * w)
-            .collect()
+        let mut weighted = Vec::with_capacity(self.residuals.len());
+        self.weighted_terms(&self.residuals, |r, w| r * w)
+            .for_each(|value| weighted.push(value));
+        weighted
     }
 
     /// Updates the residuals for a small parameter step through the linear
@@ -738,25 +753,43 @@ impl ObservationSystem {
         let mut angles = vec![0.0; if has_angles { count } else { 0 }];
         let rows = 0..self.measured_rows();
         // Parts of rows whose observations do not reach into another part
-        // (the rows of an observation together, in order): each
-        // observation's sum is the one taken row after row, to the bit.
-        let parts = run_parts(
-            observation_parts(&self.observations[rows.clone()]),
-            |part| self.errors_within(part, has_angles),
-        );
-        let ordered = parts.iter().all(Option::is_some)
-            && parts
-                .windows(2)
-                .all(|pair| matches!(pair, [Some(a), Some(b)] if a.end() <= b.first));
-        if ordered {
-            for part in parts.into_iter().flatten() {
-                let span = part.first..part.end();
-                lengths[span.clone()].copy_from_slice(&part.lengths);
-                if has_angles {
-                    angles[span].copy_from_slice(&part.angles);
-                }
-            }
-        } else {
+        // (the rows of an observation together, in order), each summed into
+        // its own observations' errors: each sum is the one taken row after
+        // row, to the bit.
+        let observations = &self.observations[rows.clone()];
+        let parts = observation_parts(observations);
+        let spans: Vec<std::ops::Range<usize>> = parts
+            .iter()
+            .map(
+                |part| match (observations.get(part.start), part.end.checked_sub(1)) {
+                    (Some(first), Some(last)) => *first as usize..observations[last] as usize + 1,
+                    _ => 0..0,
+                },
+            )
+            .collect();
+        let in_order = spans.iter().all(|span| span.start <= span.end)
+            && spans.windows(2).all(|pair| pair[0].end <= pair[1].start);
+        let summed = in_order && {
+            let length_parts = split_spans(&mut lengths, &spans);
+            let angle_parts = if has_angles {
+                split_spans(&mut angles, &spans)
+            } else {
+                spans.iter().map(|_| &mut [][..]).collect()
+            };
+            let work: Vec<_> = parts
+                .into_iter()
+                .zip(spans.iter().map(|span| span.start))
+                .zip(length_parts.into_iter().zip(angle_parts))
+                .collect();
+            run_parts(work, |((part, first), (lengths, angles))| {
+                self.errors_within(part, first, lengths, angles)
+            })
+            .into_iter()
+            .all(|summed| summed)
+        };
+        if !summed {
+            lengths.fill(0.0);
+            angles.fill(0.0);
             for row in rows {
                 let squared = self.residuals[row] * self.residuals[row];
                 let observation = self.observations[row] as usize;
@@ -765,38 +798,42 @@ impl ObservationSystem {
                     RowKind::Angle => angles[observation] += squared,
                 }
             }
-        }
-        for error in lengths.iter_mut().chain(&mut angles) {
-            *error = error.sqrt();
+            for error in lengths.iter_mut().chain(&mut angles) {
+                *error = error.sqrt();
+            }
         }
         ObservationErrors { lengths, angles }
     }
 
-    /// The sums of squared residuals of each observation of `rows`, when
-    /// their observations do not decrease along them (else `None`).
-    fn errors_within(&self, rows: std::ops::Range<usize>, has_angles: bool) -> Option<PartErrors> {
-        let observations = &self.observations[rows.clone()];
-        if observations.windows(2).any(|pair| pair[0] > pair[1]) {
-            return None;
+    /// The errors of the observations `first..` of `rows` into `lengths` and
+    /// `angles` (theirs only; `angles` empty without angle rows), when
+    /// their observations do not decrease along them (else false, nothing
+    /// written).
+    fn errors_within(
+        &self,
+        rows: std::ops::Range<usize>,
+        first: usize,
+        lengths: &mut [f64],
+        angles: &mut [f64],
+    ) -> bool {
+        if self.observations[rows.clone()]
+            .windows(2)
+            .any(|pair| pair[0] > pair[1])
+        {
+            return false;
         }
-        let first = observations.first().map_or(0, |first| *first as usize);
-        let span = observations
-            .last()
-            .map_or(0, |last| *last as usize + 1 - first);
-        let mut part = PartErrors {
-            first,
-            lengths: vec![0.0; span],
-            angles: vec![0.0; if has_angles { span } else { 0 }],
-        };
         for row in rows {
             let squared = self.residuals[row] * self.residuals[row];
             let observation = self.observations[row] as usize - first;
             match self.kinds[row] {
-                RowKind::Length => part.lengths[observation] += squared,
-                RowKind::Angle => part.angles[observation] += squared,
+                RowKind::Length => lengths[observation] += squared,
+                RowKind::Angle => angles[observation] += squared,
             }
         }
-        Some(part)
+        for error in lengths.iter_mut().chain(angles) {
+            *error = error.sqrt();
+        }
+        true
     }
 
     /// A writer for the rows `first_row..first_row + rows` of one measurement
@@ -952,7 +989,7 @@ mod tests {
             let last = rows.len() - 1;
             rows.swap(3, last);
         }
-        let layout = ColumnLayout::new(0, &[], 0);
+        let layout = ColumnLayout::new(1, &[0], 0);
         let mut system = ObservationSystem::default();
         system.reset(rows.len(), &layout, false);
         for (row, (observation, kind, residual)) in rows.into_iter().enumerate() {
@@ -961,6 +998,8 @@ mod tests {
             system.residuals[row] = residual;
         }
         system.observation_count = observations;
+        system.set_rows.push(0..system.rows);
+        system.set_weights.push([2.0, 3.0]);
         system
     }
 
@@ -987,6 +1026,33 @@ mod tests {
                 "{observations}"
             );
         }
+    }
+
+    /// The weighted sums and residuals read the weights by their own loop:
+    /// the bits of the same terms taken beside the weights with `zip`, with
+    /// robust weights and appended rows.
+    #[test]
+    fn weighted_terms_are_those_beside_the_weights() {
+        let mut system = system(3000, false, 11);
+        let count = system.observation_count;
+        system.set_observation_weights((0..count).map(|i| 0.25 + (i % 7) as f64 / 7.0).collect());
+        system.append_rows(&[(0, 1e3, 1e-4), (0, 5e2, -2e-4)]);
+        let zipped: Vec<f64> = system
+            .residuals
+            .iter()
+            .zip(system.row_weights())
+            .map(|(r, (_, w))| r * w)
+            .collect();
+        let cost: f64 = zipped.iter().map(|value| value.powi(2)).sum();
+        let measured: f64 = zipped[..system.measured_rows()]
+            .iter()
+            .map(|value| value.powi(2))
+            .sum();
+        let bits = |values: &[f64]| values.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&system.weighted_residuals()), bits(&zipped));
+        assert_eq!(system.weighted_cost().to_bits(), cost.to_bits());
+        assert_eq!(system.measured_cost().to_bits(), measured.to_bits());
+        assert!(system.measured_cost() < system.weighted_cost());
     }
 
     /// Parts end where an observation does, and cover every row once.
