@@ -9,6 +9,9 @@
 //! first error in the file. Parts are used only where that holds without
 //! further care: no quoted field (a quote may hold a line break) and fewer
 //! lines than [`MAX_CONFIGURATIONS`] (the limit cannot fall inside a part).
+//! A file too long to hold is read in chunks the same way, each chunk's
+//! parts joined to the samples while the next chunk is read
+//! ([`RowReader::read_chunks`]).
 
 use gecaro_calib::parallel::{PARTS_PER_THREAD, alongside, available_threads, run_parts};
 use gecaro_calib::study::{MotorPositions, Sample, SamplesBuilder};
@@ -324,13 +327,13 @@ impl RowReader<'_> {
         separator: u8,
         chunking: Chunking,
     ) -> Rows {
-        let chunk_bytes = chunking.bytes;
         let mut joined = Rows {
             samples: SamplesBuilder::with_capacity(0),
             normalised: Normalised::default(),
             error: None,
         };
-        let mut chunks = LineChunks::new((head, start), rest, lines_before, chunk_bytes, self.path);
+        let mut chunks =
+            LineChunks::new((head, start), rest, lines_before, chunking.bytes, self.path);
         // A chunk's parts are joined to the samples (a copy, single-threaded)
         // while the next chunk is read and cut into parts: the same samples,
         // in the same order, with the same first error.
