@@ -31,7 +31,7 @@ use crate::linalg::{LeastSquaresRows, NormalEquations, add_normal_sums, view};
 use crate::samples::SampleSlice;
 
 use crate::method::CalibrationMethod;
-use crate::parallel::{PARTS_PER_THREAD, run_parts};
+use crate::parallel::{run_parts, scan_parts};
 use crate::states::{BLOCK, evaluate_chunk, part_size};
 
 pub use crate::rows::{ColumnLayout, RowKind, RowWriter};
@@ -172,10 +172,6 @@ fn fold_part(configurations: usize) -> usize {
 /// Rows of W written before they are folded: a block that stays in cache.
 const FOLD_ROWS: usize = 384;
 
-/// Measured rows from which the errors of their observations are summed in
-/// parts on all cores ([`ObservationSystem::observation_errors`]).
-const PARALLEL_ERROR_ROWS: usize = 1 << 16;
-
 /// `values` as `len` zeros: fresh zeroed memory from the allocator when it
 /// needs more room (its pages are then touched first by the threads that
 /// write the rows, on all cores, not by a serial fill here), else its own.
@@ -188,30 +184,22 @@ fn zeroed<T: Copy + Default>(values: &mut Vec<T>, len: usize) {
     }
 }
 
-/// The rows `0..observations.len()` in about [`PARTS_PER_THREAD`] parts
-/// per core (taken in turn, [`run_parts`]), each cut where the observation
-/// changes (one part below [`PARALLEL_ERROR_ROWS`]).
+/// The rows `0..observations.len()` in the parts of a light pass
+/// ([`scan_parts`]), each cut moved on to where the observation changes.
 fn observation_parts(observations: &[u32]) -> Vec<std::ops::Range<usize>> {
     let rows = observations.len();
-    let parts = if rows < PARALLEL_ERROR_ROWS {
-        1
-    } else {
-        crate::parallel::available_threads() * PARTS_PER_THREAD
-    };
-    let size = rows.div_ceil(parts).max(1);
-    let mut cuts = vec![0];
-    let mut cut = size;
-    while cut < rows {
-        // The next row of another observation.
-        while cut < rows && observations[cut] == observations[cut - 1] {
-            cut += 1;
-        }
-        if cut < rows {
-            cuts.push(cut);
-        }
-        cut += size;
-    }
+    let mut cuts: Vec<usize> = scan_parts(rows)
+        .into_iter()
+        .map(|part| {
+            let mut cut = part.start;
+            while cut > 0 && cut < rows && observations[cut] == observations[cut - 1] {
+                cut += 1;
+            }
+            cut
+        })
+        .collect();
     cuts.push(rows);
+    cuts.dedup();
     cuts.windows(2).map(|pair| pair[0]..pair[1]).collect()
 }
 
@@ -790,17 +778,7 @@ impl ObservationSystem {
         if !summed {
             lengths.fill(0.0);
             angles.fill(0.0);
-            for row in rows {
-                let squared = self.residuals[row] * self.residuals[row];
-                let observation = self.observations[row] as usize;
-                match self.kinds[row] {
-                    RowKind::Length => lengths[observation] += squared,
-                    RowKind::Angle => angles[observation] += squared,
-                }
-            }
-            for error in lengths.iter_mut().chain(&mut angles) {
-                *error = error.sqrt();
-            }
+            self.root_sums_of_squares(rows, 0, &mut lengths, &mut angles);
         }
         ObservationErrors { lengths, angles }
     }
@@ -822,6 +800,20 @@ impl ObservationSystem {
         {
             return false;
         }
+        self.root_sums_of_squares(rows, first, lengths, angles);
+        true
+    }
+
+    /// Each observation's root sum of squares of its length rows and of
+    /// its angle rows among `rows`, row after row, into `lengths` and
+    /// `angles` (zeros on entry), indexed from observation `first`.
+    fn root_sums_of_squares(
+        &self,
+        rows: std::ops::Range<usize>,
+        first: usize,
+        lengths: &mut [f64],
+        angles: &mut [f64],
+    ) {
         for row in rows {
             let squared = self.residuals[row] * self.residuals[row];
             let observation = self.observations[row] as usize - first;
@@ -833,7 +825,6 @@ impl ObservationSystem {
         for error in lengths.iter_mut().chain(angles) {
             *error = error.sqrt();
         }
-        true
     }
 
     /// A writer for the rows `first_row..first_row + rows` of one measurement
@@ -1008,10 +999,10 @@ mod tests {
     /// rows out of order take the one-thread route.
     #[test]
     fn errors_in_parts_are_those_row_after_row() {
-        let long = 2 * PARALLEL_ERROR_ROWS / 3;
+        let long = 2 * crate::parallel::PARALLEL_SCAN / 3;
         for (observations, shuffled) in [(50, false), (long, false), (long, true), (0, false)] {
             let system = system(observations, shuffled, 7);
-            assert!(observations < 100 || system.measured_rows() > PARALLEL_ERROR_ROWS);
+            assert!(observations < 100 || system.measured_rows() > crate::parallel::PARALLEL_SCAN);
             let expected = row_after_row(&system);
             let errors = system.observation_errors();
             let bits = |values: &[f64]| values.iter().map(|v| v.to_bits()).collect::<Vec<_>>();

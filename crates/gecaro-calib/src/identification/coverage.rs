@@ -16,13 +16,9 @@
 use gecaro_core::Robot;
 
 use crate::identifiability::{ParameterStatus, RankReport};
-use crate::parallel::run_parts;
+use crate::parallel::{run_parts, scan_parts};
 use crate::samples::SampleSlice;
-use crate::states::part_size;
 use crate::study::Study;
-
-/// Samples from which a set's joint ranges are read in parts on all cores.
-const PARALLEL_SAMPLES: usize = 1 << 16;
 
 /// Equations per unknown below which the data are too few to trust: with
 /// `p` unknowns and `n` equations the fit's residuals shrink by
@@ -202,12 +198,9 @@ fn still_joints(robot: &Robot, study: &Study) -> Vec<usize> {
         .iter()
         .flat_map(|set| {
             let samples = set.samples.as_slice();
-            let size = if samples.len() < PARALLEL_SAMPLES {
-                samples.len().max(1)
-            } else {
-                part_size(samples.len())
-            };
-            samples.chunks(size)
+            scan_parts(samples.len())
+                .into_iter()
+                .map(move |part| samples.slice(part))
         })
         .collect();
     let ranges = run_parts(parts, |part| {
@@ -248,7 +241,7 @@ mod tests {
     #[test]
     fn a_joint_that_never_moved_is_found_in_long_data() {
         let robot = Robot::template("arm", "RRR").expect("robot");
-        for count in [100, 3 * PARALLEL_SAMPLES + 7] {
+        for count in [100, 3 * crate::parallel::PARALLEL_SCAN + 7] {
             let mut samples: Vec<Sample> = (0..count)
                 .map(|i| {
                     let turn = (i as f64 * 1e-3).sin();

@@ -5,7 +5,7 @@
 use std::ops::Range;
 
 use crate::observation::ObservationSystem;
-use crate::parallel::{available_threads, run_parts};
+use crate::parallel::{run_parts, scan_parts};
 use crate::robust::{Loss, robust_sigma_parts};
 use crate::rows::RowKind;
 
@@ -22,21 +22,13 @@ pub(super) fn at_rounding(cost: f64, rows: usize) -> bool {
 /// Rows of one kind a set needs for its own σ̂.
 const MINIMUM_ROWS: usize = 10;
 
-/// Rows from which the robust σ̂'s passes ([`crate::selection`]) read
-/// them in parts on all cores (a million configurations' residuals: a
-/// fifth of a second on one).
-const PARALLEL_ROWS: usize = 1 << 16;
-
-/// `rows` cut into contiguous parts: one below [`PARALLEL_ROWS`], else one
-/// per core. The σ̂ is the same, bit for bit, for any cut.
+/// `rows` cut into contiguous parts ([`scan_parts`]). The σ̂ is the same,
+/// bit for bit, for any cut.
 fn row_parts(rows: Range<usize>) -> Vec<Range<usize>> {
-    let parts = if rows.len() < PARALLEL_ROWS {
-        1
-    } else {
-        available_threads()
-    };
-    let at = |part: usize| rows.start + rows.len() * part / parts;
-    (0..parts).map(|part| at(part)..at(part + 1)).collect()
+    scan_parts(rows.len())
+        .into_iter()
+        .map(|part| rows.start + part.start..rows.start + part.end)
+        .collect()
 }
 
 /// The robust σ̂ of the values `values(rows)` yields for the parts of
