@@ -561,6 +561,7 @@ impl KinematicModel {
 
     /// The angles θ_j + q_j of the revolute joints' turns, in order, at
     /// the joint variables `joint_positions`.
+    #[inline(always)]
     pub(super) fn turn_angles<'a>(
         &'a self,
         joint_positions: &'a [f64],
@@ -587,6 +588,7 @@ impl KinematicModel {
     /// one configuration's values or in lanes of several ([`Lane`]): the
     /// same products either way, so each lane's poses are bit for bit
     /// those of its configuration alone.
+    #[inline(always)]
     pub(super) fn poses<T: Lane>(
         &self,
         joint_positions: &[T],
@@ -687,6 +689,7 @@ impl KinematicModel {
     /// `chain`, column by column into `jacobian`: in one configuration's
     /// values or in lanes of several ([`Lane`]), the same operations either
     /// way.
+    #[inline(always)]
     pub(super) fn fill_jacobian<T: Lane>(
         &self,
         chain: &ChainView<'_, T>,
@@ -796,11 +799,13 @@ impl<T: SimdRealField<Element = f64> + Copy> Lane for T {}
 /// terms whose weight is zero in every lane (adding `0·x` to a sum begun at
 /// +0 changes none of its bits, so a lane with a zero weight among others
 /// that are not has the bits it has alone).
+#[inline(always)]
 fn any_non_zero<T: Lane>(value: T) -> bool {
     !value.simd_eq(T::zero()).all()
 }
 
 /// `pose` with each value in every lane.
+#[inline(always)]
 fn splat_pose<T: Lane>(pose: &IsometryMatrix3<f64>) -> IsometryMatrix3<T> {
     IsometryMatrix3::from_parts(
         Translation3::from(pose.translation.vector.map(T::splat)),
@@ -874,6 +879,7 @@ pub(super) struct RowMajor<'a, T> {
 }
 
 impl<T: Lane> JacobianStore<T> for RowMajor<'_, T> {
+    #[inline(always)]
     fn set(&mut self, column: Option<usize>, position: Vector3<T>, rotation: Vector3<T>) {
         if let Some(column) = column {
             for axis in 0..3 {
@@ -887,6 +893,7 @@ impl<T: Lane> JacobianStore<T> for RowMajor<'_, T> {
         }
     }
 
+    #[inline(always)]
     fn column(&self, column: usize) -> Vector6<T> {
         let kept = if self.rotation { 6 } else { 3 };
         Vector6::from_fn(|axis, _| {
@@ -902,6 +909,7 @@ impl<T: Lane> JacobianStore<T> for RowMajor<'_, T> {
 impl CompiledFrame {
     /// Eq. 3 with the configuration-dependent θ (its sine and cosine) and
     /// r: `tilt · (Trans(x,d)·Rot(z,θ)·Trans(z,r))`.
+    #[inline(always)]
     fn moving<T: Lane>(&self, (sin_theta, cos_theta): (T, T), r: T) -> IsometryMatrix3<T> {
         let x_axis: Vector3<T> = self.tilt.column(0).map(T::splat);
         let y_axis: Vector3<T> = self.tilt.column(1).map(T::splat);

@@ -38,6 +38,7 @@ const LANE_RANGE: f64 = 1e4;
 
 /// The sine and cosine of four angles (radians) at once.
 #[must_use]
+#[inline(always)]
 pub fn sin_cos_lanes(angles: [f64; LANES]) -> ([f64; LANES], [f64; LANES]) {
     let (sines, cosines) = f64x4::from(angles).sin_cos();
     let (mut sines, mut cosines) = (sines.to_array(), cosines.to_array());
