@@ -15,7 +15,12 @@ pub(crate) struct Cli {
     pub(crate) command: Command,
 }
 
+// Each command's arguments are built when it runs (`defer`): building all
+// of them took 0.45 ms of every run, a thirtieth of a 5,000-configuration
+// identification. The argument structs carry `//` comments, not doc comments:
+// built after the command, a struct's doc comment would replace its description.
 #[derive(Debug, Subcommand)]
+#[command(defer = true)]
 pub(crate) enum Command {
     /// Show, check, create, convert or re-express robot files.
     #[command(subcommand)]
@@ -57,6 +62,7 @@ pub(crate) enum Command {
 }
 
 #[derive(Debug, Subcommand)]
+#[command(defer = true)]
 pub(crate) enum RobotCommand {
     /// Print the robot's table (j, σ, α, d, θ, r, β, K), limits and priority matrix.
     Show {
@@ -126,7 +132,7 @@ pub(crate) enum RobotCommand {
     },
 }
 
-/// Units of a file's columns that do not state theirs.
+// Units of a file's columns that do not state theirs.
 #[derive(Debug, Args)]
 pub(crate) struct UnitArgs {
     /// Unit of the angles (joint angles, α, θ) where the file does not say.
@@ -137,7 +143,7 @@ pub(crate) struct UnitArgs {
     pub(crate) length_unit: Option<String>,
 }
 
-/// How a data or program file is written: units and other column names.
+// How a data or program file is written: units and other column names.
 #[derive(Debug, Args)]
 pub(crate) struct DataFormatArgs {
     #[command(flatten)]
@@ -333,7 +339,7 @@ pub(crate) struct MethodArgs {
     pub(crate) options: MethodOptionArgs,
 }
 
-/// Where the measurements come from: one method and its data, or a study file.
+// Where the measurements come from: one method and its data, or a study file.
 #[derive(Debug, Args)]
 pub(crate) struct StudySource {
     /// Robot file or ready robot name (not with --study).
@@ -423,7 +429,7 @@ pub(crate) struct Table2Args {
     pub(crate) json: bool,
 }
 
-/// The measuring cell: which random configurations can be measured.
+// The measuring cell: which random configurations can be measured.
 #[derive(Debug, Args)]
 pub(crate) struct CellArgs {
     /// Every joint origin and the tool stay at or above z = Z of the world
@@ -599,7 +605,7 @@ pub(crate) struct PlanArgs {
     pub(crate) json: bool,
 }
 
-/// Where the calibrated robot will work: the poses its accuracy is judged at.
+// Where the calibrated robot will work: the poses its accuracy is judged at.
 #[derive(Debug, Args)]
 pub(crate) struct TestPoseArgs {
     /// Test poses: a data file's configurations (default: random
@@ -670,7 +676,7 @@ pub(crate) struct PredictArgs {
     pub(crate) json: bool,
 }
 
-/// What an identification runs on and how: shared by `identify` and `report`.
+// What an identification runs on and how: shared by `identify` and `report`.
 #[derive(Debug, Args)]
 pub(crate) struct IdentificationRunArgs {
     #[command(flatten)]
@@ -902,4 +908,17 @@ pub(crate) struct ServeArgs {
     /// Open the page in the default browser.
     #[arg(long)]
     pub(crate) open: bool,
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    /// Every command, deferred ones included (their arguments are built
+    /// when they run), passes clap's checks: no two arguments with the same
+    /// name or flag, defaults among their possible values.
+    #[test]
+    fn the_command_line_is_well_formed() {
+        super::Cli::command().debug_assert();
+    }
 }
