@@ -3,6 +3,10 @@
 //! The binary only parses arguments, calls the libraries and prints; see
 //! `gecaro --help` and the README for the commands.
 
+// The arguments' doc comments are clap's help text, not Markdown: `[prior]`
+// there is a TOML table's name, not a link.
+#![allow(rustdoc::broken_intra_doc_links)]
+
 mod cli;
 mod commands;
 mod failure;

@@ -128,7 +128,7 @@ impl PreparedIdentification {
     /// pass's), `rows × unknowns` numbers each (all the robot's parameters,
     /// an upper bound of the base set). A streamed one (tall, every set's
     /// configurations independent: [`IdentificationOptions::streamed_rows`](gecaro_calib::identification::IdentificationOptions))
-    /// holds no W, only [`STREAMED_BYTES_PER_ROW`] a row. And the samples'
+    /// holds no W, only `STREAMED_BYTES_PER_ROW` a row. And the samples'
     /// columns ([`Samples::bytes`](gecaro_calib::study::Samples::bytes)).
     /// Measured: 200,000 Stanford position configurations held peaked at
     /// 720 MB (this says 1.0 GB; systems are streamed from 1,000 rows now);

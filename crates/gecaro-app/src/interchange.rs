@@ -147,7 +147,7 @@ pub struct ExportRequest {
     pub to: String,
     /// Re-express the robot in this nominal robot's base frame first (a
     /// robot calibrated in a tracker's frame, exported in its own;
-    /// [`crate::rebase`]).
+    /// `crate::rebase`).
     pub rebase: Option<RobotSource>,
     /// Write the file here (and its joint calibration beside it, as
     /// `FILE.joint_calibration.yaml`).

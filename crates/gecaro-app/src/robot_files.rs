@@ -8,7 +8,7 @@ use gecaro_core::Robot;
 use gecaro_io::RobotFile;
 
 /// The calibrated robot as a robot file: the identified robot, named
-/// "<name> (calibrated)", with a description of how it was obtained from the
+/// "`<name> (calibrated)`", with a description of how it was obtained from the
 /// data labelled `data`.
 pub fn calibrated_robot_file(
     nominal: &RobotFile,

@@ -48,7 +48,7 @@ pub struct PriorityMatrix {
 
 impl PriorityMatrix {
     /// A matrix from its rows (frame 0 first). Check it against a robot with
-    /// [`Robot::set_priority_override`] or [`Robot::new`].
+    /// [`Robot::set_priority_override`](crate::Robot::set_priority_override) or [`Robot::new`](crate::Robot::new).
     pub fn from_rows(rows: Vec<[u32; 6]>) -> Self {
         PriorityMatrix {
             compliance: vec![0; rows.len()],

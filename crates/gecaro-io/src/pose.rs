@@ -43,9 +43,9 @@ pub(crate) fn to_seven(pose: &IsometryMatrix3<f64>) -> [f64; 7] {
 }
 
 /// The orientation of a unit quaternion `(qw, qx, qy, qz)`, or why not: a
-/// norm further than [`NORMALISED_TOLERANCE`] from 1 is refused (it is not an
+/// norm further than `NORMALISED_TOLERANCE` from 1 is refused (it is not an
 /// orientation, or its components are mixed up); within that, it is
-/// normalised (see [`quaternion_deviation`] to tell the user).
+/// normalised (see `quaternion_deviation` to tell the user).
 ///
 /// # Errors
 /// The message says what is wrong (non-finite values, the norm).

@@ -27,6 +27,10 @@
 //! Units everywhere: metres and radians (file readers convert from mm and
 //! degrees when told); a sensor's σ may carry its own unit ([`sigma`]).
 
+// The modules are private (the crate's interface is Python's); their docs
+// are for its developers: `cargo doc --document-private-items`.
+#![allow(rustdoc::private_intra_doc_links)]
+
 use pyo3::prelude::*;
 
 mod arrays;

@@ -299,7 +299,7 @@ pub(crate) const MAX_PLOTTED_POINTS: usize = 2000;
 /// Every dot carries an SVG `<title>` (a browser shows it on hover): where
 /// the configuration comes from, `names[k]` (e.g. `data.csv: configuration
 /// 17 (line 19)`; "configuration k" where `names` has none), and its error.
-/// Past [`MAX_PLOTTED_POINTS`] configurations, each dot is the largest error
+/// Past `MAX_PLOTTED_POINTS` configurations, each dot is the largest error
 /// of a group of consecutive configurations (the caption says how many), and
 /// a group holding an outlier is ringed.
 ///

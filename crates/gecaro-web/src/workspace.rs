@@ -61,7 +61,7 @@ pub struct Listing {
     /// Robots in other formats, converted when opened: `*.urdf`, `*.par`.
     pub imports: Vec<String>,
     /// The column names of each data file's header (read from its first
-    /// [`HEADER_BYTES`] bytes), for menus that list only the files a method
+    /// `HEADER_BYTES` bytes), for menus that list only the files a method
     /// can read; a file whose header could not be read has none here.
     pub data_columns: std::collections::BTreeMap<String, Vec<String>>,
     /// Whether the listing stopped at its limit.

@@ -59,7 +59,7 @@ pub struct CompensateRequest {
     pub matching: Option<String>,
     /// Re-express the calibrated robot in the nominal's base frame first (a
     /// robot calibrated in a tracker's frame, a program in robot
-    /// coordinates; [`crate::rebase`]). Without it, robots in different
+    /// coordinates; `crate::rebase`). Without it, robots in different
     /// frames are refused.
     #[serde(default)]
     pub rebase: bool,

@@ -52,7 +52,7 @@
 //!
 //! Precision: `σ² = ‖r‖²/(equations − b)`, `cov(Δη_b) = σ² (W_bᵀW_b)⁻¹` at the
 //! solution; where `W_bᵀW_b` is nearly singular, the noise's part uses the
-//! Hessian with the residuals' curvature instead ([`curvature`]).
+//! Hessian with the residuals' curvature instead (`curvature`).
 //!
 //! ## Measurements as they are
 //!

@@ -76,7 +76,7 @@ pub struct IdentificationOptions {
     pub streamed_rows: usize,
     /// Studies of more than this many configurations begin the first pass
     /// on a spread subsample of a fifth as many units, and the descent on
-    /// all the data starts at its solution (see [`super::coarse`]): the
+    /// all the data starts at its solution (see the `coarse` module): the
     /// results are the whole data's, to the stopping tolerance.
     /// [`DEFAULT_COARSE_FROM`] by default; `usize::MAX` never.
     pub coarse_from: usize,

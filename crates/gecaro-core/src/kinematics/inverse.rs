@@ -246,7 +246,7 @@ const MAX_NEWTON_STEP: f64 = 0.2;
 /// joint step that meets the linearised target (`Δq = Jᵀ(JJᵀ)⁻¹Δx`, or the
 /// least-squares one when the target has more rows than the robot joints),
 /// clamped to the limits like the damped solver's. Each step must lower
-/// ‖Δx‖ and move no joint by more than [`MAX_NEWTON_STEP`]; they converge
+/// ‖Δx‖ and move no joint by more than `MAX_NEWTON_STEP` (0.2 rad, or m); they converge
 /// quadratically, 3–4 of them from a millimetre. When one does not, or
 /// they have not converged after a few, the damped solver runs from the
 /// start as [`inverse_kinematics`] does: near a singularity, far from the

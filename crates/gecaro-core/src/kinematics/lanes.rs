@@ -19,6 +19,11 @@
 //! [`KinematicModel::forward_tilted`]. A group of fewer than four fills its
 //! free lanes with its first configuration, whose values are not read.
 //!
+//! The lanes' products run in the widest instruction set the processor has
+//! (AVX2 or AVX-512 on x86-64, chosen at run time by `pulp`, the baseline
+//! elsewhere), with the same bits in each: the same IEEE operations in the
+//! same order, no fused multiply-add (tested in every set the processor has).
+//!
 //! ```
 //! use gecaro_core::{ChainBuffer, JacobianRows, KinematicModel, LaneBuffer, Robot};
 //!

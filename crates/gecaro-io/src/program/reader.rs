@@ -162,7 +162,7 @@ impl<'a> ProgramReader<'a> {
     ///
     /// # Errors
     /// [`Error::Parse`] with line and column for any problem of content,
-    /// a program with no target, or more than [`MAX_TARGETS`];
+    /// a program with no target, or more than `MAX_TARGETS`;
     /// [`Error::Read`] when the stream fails.
     pub fn next_block(&mut self) -> Result<Option<ProgramBlock>, Error> {
         let (layout, path) = (&self.layout, self.path);

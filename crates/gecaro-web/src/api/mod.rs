@@ -20,7 +20,7 @@ use axum::routing::{get, post};
 use crate::state::AppState;
 
 /// Every POST route of the API (full paths), each taking a JSON body: for
-/// clients, tests and the fuzz targets. [`routes`] registers them (a test
+/// clients, tests and the fuzz targets. `routes` registers them (a test
 /// checks that each one answers).
 pub const POST_ROUTES: [&str; 14] = [
     "/api/robots/check",
