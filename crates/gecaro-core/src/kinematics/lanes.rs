@@ -49,6 +49,8 @@
 //! # Ok::<(), gecaro_core::Error>(())
 //! ```
 
+use std::sync::OnceLock;
+
 use nalgebra::{IsometryMatrix3, Rotation3, SimdValue, Translation3};
 use simba::simd::WideF64x4;
 use wide::f64x4;
@@ -186,34 +188,43 @@ fn gather(
     }));
 }
 
-/// Work compiled also for the wider instruction sets of x86-64 (AVX2,
-/// AVX-512) and run in the widest this processor has, chosen at run time
-/// by `pulp` (faer's SIMD layer): the lanes' products then take one
-/// instruction where SSE2 takes two, and spill less. The same IEEE
-/// operations in the same order, and no fused multiply-add (Rust never
-/// contracts `a * b + c`, and `wide` chose its SSE2 code when this crate
-/// was compiled): each lane's bits are the same in every instruction set,
-/// those of its configuration alone (tested in each one the processor
-/// has). What the work runs is compiled so where it is inlined into it
-/// (`#[inline(always)]`).
-enum Widest<'a, 'r, R: IntoIterator<Item = &'r mut Vec<f64>>> {
-    /// [`KinematicModel::forward_lanes`].
-    Forward(&'a KinematicModel, &'a mut LaneBuffer),
-    /// [`KinematicModel::jacobian_rows_lanes`].
-    Jacobian(&'a KinematicModel, &'a mut LaneBuffer, R, JacobianRows),
+/// The widest instruction set of this processor, found once: the lanes'
+/// products are compiled also for the wider sets of x86-64 (AVX2, AVX-512)
+/// and run in this one, chosen at run time by `pulp` (faer's SIMD layer).
+/// They then take one instruction where SSE2 takes two, and spill less.
+/// The same IEEE operations in the same order, and no fused multiply-add
+/// (Rust never contracts `a * b + c`, and `wide` chose its SSE2 code when
+/// this crate was compiled): each lane's bits are the same in every
+/// instruction set, those of its configuration alone (tested in each one
+/// the processor has). What the work runs is compiled so where it is
+/// inlined into it (`#[inline(always)]`).
+fn widest() -> pulp::Arch {
+    static WIDEST: OnceLock<pulp::Arch> = OnceLock::new();
+    *WIDEST.get_or_init(pulp::Arch::new)
 }
 
-impl<'r, R: IntoIterator<Item = &'r mut Vec<f64>>> pulp::WithSimd for Widest<'_, 'r, R> {
+/// [`KinematicModel::forward_lanes`], as work for [`widest`].
+struct Forward<'a>(&'a KinematicModel, &'a mut LaneBuffer);
+
+impl pulp::WithSimd for Forward<'_> {
     type Output = ();
 
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _: S) {
-        match self {
-            Widest::Forward(model, lanes) => model.forward_lanes_inlined(lanes),
-            Widest::Jacobian(model, lanes, rows, which) => {
-                model.jacobian_rows_lanes_inlined(lanes, rows, which);
-            }
-        }
+        self.0.forward_lanes_inlined(self.1);
+    }
+}
+
+/// [`KinematicModel::jacobian_rows_lanes`], as work for [`widest`].
+struct Jacobian<'a, R>(&'a KinematicModel, &'a mut LaneBuffer, R, JacobianRows);
+
+impl<'r, R: IntoIterator<Item = &'r mut Vec<f64>>> pulp::WithSimd for Jacobian<'_, R> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _: S) {
+        let Jacobian(model, lanes, rows, which) = self;
+        model.jacobian_rows_lanes_inlined(lanes, rows, which);
     }
 }
 
@@ -225,17 +236,17 @@ impl KinematicModel {
     /// # Panics
     /// When `lanes` is empty.
     pub fn forward_lanes(&self, lanes: &mut LaneBuffer) {
-        self.forward_lanes_in(pulp::Arch::new(), lanes);
+        self.forward_lanes_in(widest(), lanes);
     }
 
     /// [`forward_lanes`](Self::forward_lanes) in the instruction set `arch`.
     pub(crate) fn forward_lanes_in(&self, arch: pulp::Arch, lanes: &mut LaneBuffer) {
         assert!(!lanes.is_empty(), "no configuration to evaluate");
-        arch.dispatch(Widest::<std::iter::Empty<_>>::Forward(self, lanes));
+        arch.dispatch(Forward(self, lanes));
     }
 
     /// [`forward_lanes`](Self::forward_lanes)' products, inlined into
-    /// [`Widest`]'s instruction set.
+    /// [`widest`]'s instruction set.
     #[inline(always)]
     fn forward_lanes_inlined(&self, lanes: &mut LaneBuffer) {
         let LaneBuffer {
@@ -284,7 +295,7 @@ impl KinematicModel {
         rows: impl IntoIterator<Item = &'r mut Vec<f64>>,
         which: JacobianRows,
     ) {
-        self.jacobian_rows_lanes_in(pulp::Arch::new(), lanes, rows, which);
+        self.jacobian_rows_lanes_in(widest(), lanes, rows, which);
     }
 
     /// [`jacobian_rows_lanes`](Self::jacobian_rows_lanes) in the
@@ -296,11 +307,11 @@ impl KinematicModel {
         rows: impl IntoIterator<Item = &'r mut Vec<f64>>,
         which: JacobianRows,
     ) {
-        arch.dispatch(Widest::Jacobian(self, lanes, rows, which));
+        arch.dispatch(Jacobian(self, lanes, rows, which));
     }
 
     /// [`jacobian_rows_lanes`](Self::jacobian_rows_lanes)' products,
-    /// inlined into [`Widest`]'s instruction set.
+    /// inlined into [`widest`]'s instruction set.
     #[inline(always)]
     fn jacobian_rows_lanes_inlined<'r>(
         &self,
