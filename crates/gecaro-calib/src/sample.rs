@@ -118,6 +118,12 @@ impl Sample {
     }
 }
 
+/// Whether a measured length is finite and within what a robot cell holds
+/// (±[`gecaro_core::MAX_MAGNITUDE`], as a robot file's lengths).
+pub(crate) fn within_cell(value: f64) -> bool {
+    value.is_finite() && value.abs() <= gecaro_core::MAX_MAGNITUDE
+}
+
 /// Checks that the field of `column` is there, finite (see
 /// [`Sample::check_column`]).
 pub(crate) fn check_fields(
@@ -140,7 +146,7 @@ pub(crate) fn check_fields(
             ))
         }
     };
-    let bounded = |v: &f64| v.is_finite() && v.abs() <= gecaro_core::MAX_MAGNITUDE;
+    let bounded = |v: &f64| within_cell(*v);
     match column {
         DataColumn::Position => {
             let position = position.ok_or_else(missing)?;

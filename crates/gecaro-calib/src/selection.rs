@@ -23,11 +23,16 @@
 //! mean of the two middle values (even count). Memory is 512 KiB of counts
 //! and the collected candidates; time is two to five passes.
 
-use crate::parallel::run_parts;
+use std::ops::Range;
+
+use crate::parallel::{available_threads, run_parts};
 
 /// Candidates collected for the final selection, at most (32 KiB of
 /// values); more are split by another pass.
 const COLLECTED: usize = 4096;
+
+/// Runs of parts a thread counts, each into its own table of counts.
+const RUNS_PER_THREAD: usize = 2;
 
 /// Bits of the key counted by each pass.
 const DIGIT: u32 = 16;
@@ -93,6 +98,15 @@ pub(crate) fn median_of_parts<I: Iterator<Item = f64>>(
     }
 }
 
+/// `parts` parts in [`RUNS_PER_THREAD`] contiguous runs a thread (fewer
+/// for few parts): enough for a core that starts late to take fewer.
+fn part_runs(parts: usize) -> Vec<Range<usize>> {
+    let runs = (available_threads() * RUNS_PER_THREAD).clamp(1, parts.max(1));
+    (0..runs)
+        .map(|run| parts * run / runs..parts * (run + 1) / runs)
+        .collect()
+}
+
 /// Whether `key` has the bits `prefix` above `shift` (every key while
 /// `shift` is 64).
 fn within(key: u64, prefix: u64, shift: u32) -> bool {
@@ -120,20 +134,24 @@ fn ranked_pair<I: Iterator<Item = f64>>(
     };
     while candidates > collected(shift) && shift > 0 {
         let next = shift - DIGIT;
-        let count_part = |part: usize| {
+        // Each run of parts is counted into one table: a table a part
+        // would be megabytes to clear and add up for 16 parts.
+        let count_run = |run: Range<usize>| {
             let mut counts = vec![0_usize; 1 << DIGIT];
-            for key in values(part).map(order_key) {
-                if within(key, prefix, shift) {
-                    counts[((key >> next) & 0xFFFF) as usize] += 1;
+            for part in run {
+                for key in values(part).map(order_key) {
+                    if within(key, prefix, shift) {
+                        counts[((key >> next) & 0xFFFF) as usize] += 1;
+                    }
                 }
             }
             counts
         };
-        let mut parts_counts = run_parts((0..parts).collect(), count_part).into_iter();
-        let mut counts = parts_counts.next().expect("one part at least");
-        for part in parts_counts {
-            for (total, in_part) in counts.iter_mut().zip(part) {
-                *total += in_part;
+        let mut runs_counts = run_parts(part_runs(parts), count_run).into_iter();
+        let mut counts = runs_counts.next().expect("one part at least");
+        for run in runs_counts {
+            for (total, in_run) in counts.iter_mut().zip(run) {
+                *total += in_run;
             }
         }
         let mut below = before;

@@ -25,9 +25,9 @@
 use gecaro_core::{ChainBuffer, KinematicModel, Robot};
 use nalgebra::Vector3;
 
+use super::subsample::spread_points;
 use super::words::significant;
 use crate::Error;
-use crate::sampler::spread_items;
 use crate::study::{MeasurementSet, Study};
 
 /// The farthest a measured point may sit from the frame n+1 origin (a tool
@@ -60,22 +60,17 @@ pub(super) fn check_data_scale(robot: &Robot, study: &Study) -> Result<(), Error
 }
 
 fn check_set(robot: &Robot, set: &MeasurementSet) -> Result<(), Error> {
-    let points = || {
-        set.samples
-            .iter()
-            .filter_map(|sample| Some((sample.motor_positions(), sample.position()?)))
-    };
-    let count = points().count();
-    if count < MINIMUM_POINTS {
+    let n = robot.joint_count();
+    let picked = spread_points(&[set.samples.as_slice()], MAXIMUM_POINTS);
+    if picked.len() < MINIMUM_POINTS {
         return Ok(());
     }
-    let n = robot.joint_count();
     let mut measured = Vec::new();
     let mut terminal = Vec::new();
     let mut wrist = Vec::new();
     let model = KinematicModel::new(robot);
     let mut chain = ChainBuffer::default();
-    for (motors, point) in spread_items(points(), count, MAXIMUM_POINTS) {
+    for (motors, point) in picked {
         model.forward(motors, &mut chain)?;
         measured.push(point);
         terminal.push(chain.world_from_tool().translation.vector);

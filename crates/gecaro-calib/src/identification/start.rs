@@ -25,9 +25,9 @@
 use gecaro_core::{ChainBuffer, KinematicModel, Robot};
 use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Vector3};
 
+use super::subsample::spread_points;
 use crate::Error;
 use crate::registration::rigid_fit;
-use crate::sampler::spread_items;
 use crate::study::Study;
 
 /// Alternations at most.
@@ -56,23 +56,21 @@ const MAXIMUM_POINTS: usize = 500;
 pub(super) fn closed_form_start(robot: &Robot, study: &Study) -> Result<Option<Robot>, Error> {
     // Sets with a named tool or station measure another point or in another
     // frame; their frames start from their stated poses.
-    let points = || {
-        study
-            .sets
-            .iter()
-            .filter(|set| !set.uses_named_frames())
-            .flat_map(|set| set.samples.iter())
-            .filter_map(|sample| Some((sample.motor_positions(), sample.position()?)))
-    };
-    let count = points().count();
-    if count < MINIMUM_POINTS {
+    let slices: Vec<_> = study
+        .sets
+        .iter()
+        .filter(|set| !set.uses_named_frames())
+        .map(|set| set.samples.as_slice())
+        .collect();
+    let picked = spread_points(&slices, MAXIMUM_POINTS);
+    if picked.len() < MINIMUM_POINTS {
         return Ok(None);
     }
     let mut flanges = Vec::new();
     let mut measured = Vec::new();
     let model = KinematicModel::new(robot);
     let mut chain = ChainBuffer::default();
-    for (motors, point) in spread_items(points(), count, MAXIMUM_POINTS) {
+    for (motors, point) in picked {
         flanges.push(model.terminal_pose(motors, &mut chain)?);
         measured.push(point);
     }
@@ -187,12 +185,7 @@ pub(super) fn registered_frames(robot: &Robot, study: &Study) -> Result<Option<R
     let model = KinematicModel::new(robot);
     let mut chain = ChainBuffer::default();
     for set in &study.sets {
-        let measured = || {
-            set.samples
-                .iter()
-                .filter_map(|s| Some((s.motor_positions(), s.position()?)))
-        };
-        for (motors, point) in spread_items(measured(), measured().count(), MAXIMUM_POINTS) {
+        for (motors, point) in spread_points(&[set.samples.as_slice()], MAXIMUM_POINTS) {
             let tool_frame = model.terminal_pose(motors, &mut chain)?;
             points.push((
                 Some(set.station.unwrap_or(world)),

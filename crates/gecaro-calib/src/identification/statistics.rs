@@ -5,7 +5,7 @@
 use std::ops::Range;
 
 use crate::observation::ObservationSystem;
-use crate::parallel::{run_parts, scan_parts};
+use crate::parallel::scan_parts;
 use crate::robust::{Loss, robust_sigma_parts};
 use crate::rows::RowKind;
 
@@ -31,18 +31,15 @@ fn row_parts(rows: Range<usize>) -> Vec<Range<usize>> {
         .collect()
 }
 
-/// The robust σ̂ of the values `values(rows)` yields for the parts of
-/// `rows`, and how many there are.
+/// The robust σ̂ of the `count` values `values(rows)` yields for the parts
+/// of `rows`.
 fn sigma_in_parts<I: Iterator<Item = f64>>(
     rows: Range<usize>,
+    count: usize,
     values: impl Fn(Range<usize>) -> I + Sync,
-) -> (f64, usize) {
+) -> f64 {
     let parts = row_parts(rows);
-    let of_part = |part: usize| values(parts[part].clone());
-    let count = run_parts((0..parts.len()).collect(), |part| of_part(part).count())
-        .into_iter()
-        .sum();
-    (robust_sigma_parts(count, parts.len(), of_part), count)
+    robust_sigma_parts(count, parts.len(), |part| values(parts[part].clone()))
 }
 /// The statistics of the residuals of one iterate under a loss.
 #[derive(Clone, Debug)]
@@ -78,27 +75,36 @@ impl ResidualStatistics {
         let kinds = system.kinds();
         const KINDS: [RowKind; 2] = [RowKind::Length, RowKind::Angle];
         let slot_of = |row: usize| usize::from(kinds[row] == RowKind::Angle);
+        // Rows of set `set` of a kind, counted from their kinds alone.
+        let counted = |set: usize, kind: RowKind| {
+            kinds[system.set_rows()[set].clone()]
+                .iter()
+                .filter(|row| **row == kind)
+                .count()
+        };
         // The σ̂ of a set's (or all sets') scaled residuals of a kind, read
         // where they are, and how many there are.
         let set_sigma = |set: usize, slot: usize| {
-            sigma_in_parts(system.set_rows()[set].clone(), |rows| {
+            let count = counted(set, KINDS[slot]);
+            let sigma = sigma_in_parts(system.set_rows()[set].clone(), count, |rows| {
                 system
                     .scaled_rows_of_within(set, rows)
                     .filter(move |(row, _)| slot_of(*row) == slot)
                     .map(|(_, scaled)| scaled)
-            })
+            });
+            (sigma, count)
         };
         let all_sigma = |kind: RowKind| {
             let sets = system.set_rows();
             let rows =
                 sets.first().map_or(0, |set| set.start)..sets.last().map_or(0, |set| set.end);
-            sigma_in_parts(rows, |rows| {
+            let count = (0..sets.len()).map(|set| counted(set, kind)).sum();
+            sigma_in_parts(rows, count, |rows| {
                 system
                     .scaled_rows_within(rows)
                     .filter(move |(row, _)| kinds[*row] == kind)
                     .map(|(_, scaled)| scaled)
             })
-            .0
         };
         // All sets' σ̂ of a kind: a single set's own, otherwise computed
         // only if a set needs it or to report it.

@@ -10,8 +10,43 @@
 
 use std::borrow::Cow;
 
-use crate::sampler::spread_indices;
+use nalgebra::Vector3;
+
+use crate::sampler::{spread_indices, spread_items};
+use crate::samples::SampleSlice;
 use crate::study::Study;
+
+/// The motor positions and measured point of at most `limit` of the
+/// samples of `slices` that have a point, in order, as [`spread_items`]
+/// picks them among those: by index when every sample has a point (a
+/// million samples are not walked to count them), else as they go by.
+pub(super) fn spread_points<'a>(
+    slices: &[SampleSlice<'a>],
+    limit: usize,
+) -> Vec<(&'a [f64], Vector3<f64>)> {
+    let point = |sample: crate::samples::SampleRef<'a>| {
+        Some((sample.motor_positions(), sample.position()?))
+    };
+    if slices.iter().all(|slice| slice.all_positioned()) {
+        let mut picked = Vec::new();
+        let (mut slice, mut before) = (0, 0);
+        let total = slices.iter().map(|slice| slice.len()).sum();
+        for index in spread_indices(total, limit) {
+            while index >= before + slices[slice].len() {
+                before += slices[slice].len();
+                slice += 1;
+            }
+            picked.extend(point(slices[slice].get(index - before)));
+        }
+        return picked;
+    }
+    let points = || {
+        slices
+            .iter()
+            .flat_map(|slice| slice.iter().filter_map(point))
+    };
+    spread_items(points(), points().count(), limit).collect()
+}
 
 /// `study` without the `dropped` samples (per set), and with about `limit`
 /// of its units (configurations, sets, pairs) when it has more, spread over
@@ -77,4 +112,64 @@ pub(super) fn spread_subsample<'a>(
         sets,
         frames: study.frames.clone(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sample::Sample;
+    use crate::samples::Samples;
+
+    /// Samples `0..len` from `first`, each with its point when `positioned`
+    /// says so.
+    fn samples(first: usize, len: usize, positioned: impl Fn(usize) -> bool) -> Samples {
+        let rows: Vec<Sample> = (first..first + len)
+            .map(|index| {
+                let mut row = Sample::new(vec![index as f64, 0.5]);
+                row.position = positioned(index).then(|| Vector3::new(index as f64, 1.0, 2.0));
+                row
+            })
+            .collect();
+        Samples::from(rows.as_slice())
+    }
+
+    /// Picked by index, the points are those picked as they go by.
+    #[test]
+    fn points_picked_by_index_are_those_walked() {
+        let sets = [
+            samples(0, 700, |_| true),
+            samples(700, 0, |_| true),
+            samples(700, 1300, |_| true),
+        ];
+        let slices: Vec<SampleSlice<'_>> = sets.iter().map(Samples::as_slice).collect();
+        assert!(slices.iter().all(|slice| slice.all_positioned()));
+        let walked = |limit: usize| -> Vec<(Vec<f64>, Vector3<f64>)> {
+            let points = || {
+                slices.iter().flat_map(|slice| {
+                    slice.iter().filter_map(|sample| {
+                        Some((sample.motor_positions().to_vec(), sample.position()?))
+                    })
+                })
+            };
+            spread_items(points(), points().count(), limit).collect()
+        };
+        for limit in [1, 7, 500, 1999, 2000, 5000] {
+            let picked: Vec<(Vec<f64>, Vector3<f64>)> = spread_points(&slices, limit)
+                .into_iter()
+                .map(|(motors, point)| (motors.to_vec(), point))
+                .collect();
+            assert_eq!(picked, walked(limit), "limit {limit}");
+            assert_eq!(picked.len(), limit.min(2000));
+        }
+        // A sample without its point: walked, and it is never picked.
+        let gappy = samples(0, 900, |index| index % 3 != 0);
+        assert!(!gappy.as_slice().all_positioned());
+        let picked = spread_points(&[gappy.as_slice()], 100);
+        assert_eq!(picked.len(), 100);
+        assert!(
+            picked
+                .iter()
+                .all(|(motors, _)| !(motors[0] as usize).is_multiple_of(3))
+        );
+    }
 }

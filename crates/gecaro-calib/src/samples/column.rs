@@ -1,6 +1,7 @@
 //! The columns [`Samples`](super::Samples) are made of: shared values, and
 //! optional fields that some samples may lack.
 
+use std::ops::Range;
 use std::sync::Arc;
 
 /// The values of one column: owned, or memory kept alive by its owner and
@@ -54,6 +55,19 @@ impl<T: Copy + Default + Send + Sync + 'static> Field<T> {
             return None;
         }
         Some(&self.values.values()[index * width..(index + 1) * width])
+    }
+
+    /// The values of samples `range` (`width` each), when every one of
+    /// them has the field.
+    pub(super) fn all_within(&self, range: Range<usize>, width: usize) -> Option<&[T]> {
+        if self
+            .missing
+            .as_ref()
+            .is_some_and(|missing| missing[range.clone()].contains(&true))
+        {
+            return None;
+        }
+        Some(&self.values.values()[range.start * width..range.end * width])
     }
 
     /// The rows `indices` of this field.
