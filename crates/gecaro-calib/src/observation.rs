@@ -905,6 +905,28 @@ impl ObservationSystem {
             .map(move |(row, sensor)| (row, self.residuals[row] * sensor))
     }
 
+    /// The scaled residuals of the rows of kind `kind` of measurement set
+    /// `set` among `rows`, in order: those of
+    /// [`scaled_rows_of_within`](Self::scaled_rows_of_within) of that kind,
+    /// the same values, read as slices (the robust σ̂ reads millions of
+    /// rows several times).
+    pub(crate) fn scaled_of_kind_within(
+        &self,
+        set: usize,
+        kind: RowKind,
+        rows: std::ops::Range<usize>,
+    ) -> impl Iterator<Item = f64> + '_ {
+        let own = &self.set_rows[set];
+        let start = own.start.max(rows.start);
+        let end = own.end.min(rows.end).max(start);
+        let sensor = sensor_weight(self.set_weights[set], kind);
+        self.residuals[start..end]
+            .iter()
+            .zip(&self.kinds[start..end])
+            .filter(move |(_, row)| **row == kind)
+            .map(move |(residual, _)| residual * sensor)
+    }
+
     /// The rows of measurement set `set` with their sensor weights (1/σ).
     fn sensor_weights_of(&self, set: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
         self.sensor_weights_within(set, self.set_rows[set].clone())
@@ -992,6 +1014,43 @@ mod tests {
         system.set_rows.push(0..system.rows);
         system.set_weights.push([2.0, 3.0]);
         system
+    }
+
+    /// The scaled residuals of a kind, read as slices, are those of every
+    /// row filtered by kind, bit for bit, for any range and both sets.
+    #[test]
+    fn scaled_residuals_of_a_kind_are_those_of_every_row() {
+        let mut system = system(300, false, 5);
+        let middle = system.rows / 2;
+        system.set_rows = vec![0..middle, middle..system.rows];
+        system.set_weights = vec![[2.0, 3.0], [0.5, 7.0]];
+        let bits = |values: Vec<f64>| values.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        for rows in [0..system.rows, 3..middle + 5, middle..middle, 7..usize::MAX] {
+            for set in 0..2 {
+                for kind in [RowKind::Length, RowKind::Angle] {
+                    let every: Vec<f64> = system
+                        .scaled_rows_of_within(set, rows.clone())
+                        .filter(|(row, _)| system.kinds[*row] == kind)
+                        .map(|(_, scaled)| scaled)
+                        .collect();
+                    let of_kind: Vec<f64> = system
+                        .scaled_of_kind_within(set, kind, rows.clone())
+                        .collect();
+                    assert_eq!(bits(of_kind), bits(every), "{rows:?} {set} {kind:?}");
+                }
+            }
+        }
+        // Both sets have rows of both kinds over all rows.
+        for set in 0..2 {
+            for kind in [RowKind::Length, RowKind::Angle] {
+                assert!(
+                    system
+                        .scaled_of_kind_within(set, kind, 0..usize::MAX)
+                        .count()
+                        > 10
+                );
+            }
+        }
     }
 
     /// Summed in parts on all cores (cut where an observation ends) or on

@@ -87,10 +87,7 @@ impl ResidualStatistics {
         let set_sigma = |set: usize, slot: usize| {
             let count = counted(set, KINDS[slot]);
             let sigma = sigma_in_parts(system.set_rows()[set].clone(), count, |rows| {
-                system
-                    .scaled_rows_of_within(set, rows)
-                    .filter(move |(row, _)| slot_of(*row) == slot)
-                    .map(|(_, scaled)| scaled)
+                system.scaled_of_kind_within(set, KINDS[slot], rows)
             });
             (sigma, count)
         };
@@ -100,10 +97,8 @@ impl ResidualStatistics {
                 sets.first().map_or(0, |set| set.start)..sets.last().map_or(0, |set| set.end);
             let count = (0..sets.len()).map(|set| counted(set, kind)).sum();
             sigma_in_parts(rows, count, |rows| {
-                system
-                    .scaled_rows_within(rows)
-                    .filter(move |(row, _)| kinds[*row] == kind)
-                    .map(|(_, scaled)| scaled)
+                (0..sets.len())
+                    .flat_map(move |set| system.scaled_of_kind_within(set, kind, rows.clone()))
             })
         };
         // All sets' σ̂ of a kind: a single set's own, otherwise computed
