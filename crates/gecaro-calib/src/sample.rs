@@ -118,12 +118,6 @@ impl Sample {
     }
 }
 
-/// Whether a measured length is finite and within what a robot cell holds
-/// (±[`gecaro_core::MAX_MAGNITUDE`], as a robot file's lengths).
-pub(crate) fn within_cell(value: f64) -> bool {
-    value.is_finite() && value.abs() <= gecaro_core::MAX_MAGNITUDE
-}
-
 /// Checks that the field of `column` is there, finite (see
 /// [`Sample::check_column`]).
 pub(crate) fn check_fields(
@@ -146,23 +140,20 @@ pub(crate) fn check_fields(
             ))
         }
     };
-    let bounded = |v: &f64| within_cell(*v);
+    let admitted = |values: &[f64]| values.iter().all(|value| column.admits(*value));
     match column {
         DataColumn::Position => {
             let position = position.ok_or_else(missing)?;
-            finite(position.iter().all(bounded), "position")
+            finite(admitted(position.as_slice()), "position")
         }
         DataColumn::Orientation => {
             let orientation = orientation.ok_or_else(missing)?;
-            finite(
-                orientation.coords.iter().all(|v| v.is_finite()),
-                "orientation",
-            )
+            finite(admitted(orientation.coords.as_slice()), "orientation")
         }
         DataColumn::Set | DataColumn::Pair => group.map(|_| ()).ok_or_else(missing),
         DataColumn::Distance => {
             let distance = distance.ok_or_else(missing)?;
-            finite(bounded(&distance), "distance")
+            finite(admitted(&[distance]), "distance")
         }
     }
 }
@@ -183,6 +174,20 @@ pub enum DataColumn {
 }
 
 impl DataColumn {
+    /// Whether a measured value of this column is one [`Sample::check_column`]
+    /// admits: finite, and a length within what a robot cell holds
+    /// (±[`gecaro_core::MAX_MAGNITUDE`], as a robot file's lengths); the
+    /// grouping columns' ids are any.
+    pub(crate) fn admits(self, value: f64) -> bool {
+        match self {
+            DataColumn::Position | DataColumn::Distance => {
+                value.is_finite() && value.abs() <= gecaro_core::MAX_MAGNITUDE
+            }
+            DataColumn::Orientation => value.is_finite(),
+            DataColumn::Set | DataColumn::Pair => true,
+        }
+    }
+
     /// The grouping columns (set, pair) among `columns`: the columns of a
     /// data file of planned configurations, which carry no measurements.
     pub fn grouping(columns: &[DataColumn]) -> Vec<DataColumn> {

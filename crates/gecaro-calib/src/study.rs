@@ -324,7 +324,7 @@ impl Study {
             // The parts' first faults, in order: the first is the set's.
             let columns = set.method.data_columns();
             run_parts(checked_parts(set.samples.as_slice()), |samples| {
-                if samples.plainly_sound(robot.joint_count(), columns) {
+                if samples.plainly_sound(robot, columns) {
                     return Ok(());
                 }
                 for sample in samples.iter() {

@@ -592,6 +592,18 @@ impl Robot {
             .all(|(q, joint)| *q >= joint.qmin - 1e-9 && *q <= joint.qmax + 1e-9)
     }
 
+    /// Whether `values`, configurations of n values one after another, all
+    /// pass [`check_configuration`](Self::check_configuration): one pass
+    /// over millions of them, which says only yes or no (the configuration
+    /// at fault is found by checking them one by one).
+    pub fn configurations_sound(&self, values: &[f64]) -> bool {
+        // Every value read (no early exit: the loop is vectorised).
+        values.len().is_multiple_of(self.joint_count())
+            && values
+                .iter()
+                .fold(true, |all, value| all & value.is_finite())
+    }
+
     /// Checks that a configuration has n finite values.
     ///
     /// # Errors
@@ -877,6 +889,35 @@ mod tests {
     use rand::{RngExt, SeedableRng};
 
     use super::*;
+
+    /// Configurations checked at once pass exactly when each one passes
+    /// `check_configuration`.
+    #[test]
+    fn configurations_checked_at_once_are_those_checked_one_by_one() {
+        let robot = Robot::template("three", "RRP").expect("template");
+        let sound: Vec<f64> = (0..30).map(|i| 0.1 * f64::from(i) - 1.0).collect();
+        let one_by_one = |values: &[f64]| {
+            values.len().is_multiple_of(3)
+                && values
+                    .chunks(3)
+                    .all(|configuration| robot.check_configuration(configuration).is_ok())
+        };
+        let mut cases = vec![sound.clone(), Vec::new(), sound[..29].to_vec()];
+        for (at, bad) in [(0, f64::NAN), (14, f64::INFINITY), (29, f64::NEG_INFINITY)] {
+            let mut values = sound.clone();
+            values[at] = bad;
+            cases.push(values);
+        }
+        for values in &cases {
+            assert_eq!(
+                robot.configurations_sound(values),
+                one_by_one(values),
+                "{values:?}"
+            );
+        }
+        assert!(robot.configurations_sound(&sound));
+        assert!(!robot.configurations_sound(&sound[..29]));
+    }
     use crate::test_robots::random_robot;
 
     /// `deltas` added one `set_parameter` at a time, up to the first error.

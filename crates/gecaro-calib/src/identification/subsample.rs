@@ -13,7 +13,7 @@ use std::borrow::Cow;
 use nalgebra::Vector3;
 
 use crate::sampler::{spread_indices, spread_items};
-use crate::samples::SampleSlice;
+use crate::samples::{SampleRef, SampleSlice};
 use crate::study::Study;
 
 /// The motor positions and measured point of at most `limit` of the
@@ -24,9 +24,7 @@ pub(super) fn spread_points<'a>(
     slices: &[SampleSlice<'a>],
     limit: usize,
 ) -> Vec<(&'a [f64], Vector3<f64>)> {
-    let point = |sample: crate::samples::SampleRef<'a>| {
-        Some((sample.motor_positions(), sample.position()?))
-    };
+    let point = |sample: SampleRef<'a>| Some((sample.motor_positions(), sample.position()?));
     if slices.iter().all(|slice| slice.all_positioned()) {
         let mut picked = Vec::new();
         let (mut slice, mut before) = (0, 0);

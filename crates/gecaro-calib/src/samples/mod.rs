@@ -32,10 +32,10 @@ use std::fmt;
 use std::ops::Range;
 use std::sync::{Arc, LazyLock};
 
-use gecaro_core::LinkMass;
+use gecaro_core::{LinkMass, Robot};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
-use crate::sample::{DataColumn, Sample, SampleLoads, within_cell};
+use crate::sample::{DataColumn, Sample, SampleLoads};
 
 mod builder;
 mod column;
@@ -406,44 +406,42 @@ impl<'a> SampleSlice<'a> {
         }
     }
 
-    /// Whether every sample of this slice has `joints` finite motor
-    /// variables and passes [`SampleRef::check_column`] for each of
-    /// `columns`, read column by column: the quick route of a study's check
-    /// (a million samples in milliseconds), which the sample-by-sample route
-    /// follows only when it fails, to name the first fault. False whenever
-    /// some sample would fail (and for samples of different joint counts).
-    pub(crate) fn plainly_sound(self, joints: usize, columns: &[DataColumn]) -> bool {
+    /// Whether every sample of this slice passes `robot`'s
+    /// [`check_configuration`](Robot::check_configuration) and
+    /// [`SampleRef::check_column`] for each of `columns`, read column by
+    /// column: the quick route of a study's check (a million samples in
+    /// milliseconds), which the sample-by-sample route follows only when it
+    /// fails, to name the first fault. False whenever some sample would
+    /// fail (and for samples of different joint counts).
+    pub(crate) fn plainly_sound(self, robot: &Robot, columns: &[DataColumn]) -> bool {
         let (samples, range) = (self.samples, self.start..self.end);
-        // Every value checked (no early exit: the loop is vectorised).
-        fn all(values: &[f64], sound: impl Fn(f64) -> bool) -> bool {
-            values.iter().fold(true, |all, value| all & sound(*value))
-        }
-        let field = |field: &Option<Field<f64>>, width: usize, sound: &dyn Fn(&[f64]) -> bool| {
-            field
-                .as_ref()
-                .and_then(|field| field.all_within(range.clone(), width))
-                .is_some_and(sound)
-        };
+        let joints = samples.joints;
         samples.offsets.is_none()
-            && samples.joints == joints
-            && all(
+            && joints == robot.joint_count()
+            && robot.configurations_sound(
                 &samples.motor.values()[range.start * joints..range.end * joints],
-                f64::is_finite,
             )
-            && columns.iter().all(|column| match column {
-                DataColumn::Position => {
-                    field(&samples.position, 3, &|values| all(values, within_cell))
-                }
-                DataColumn::Orientation => field(&samples.orientation, 4, &|values| {
-                    all(values, f64::is_finite)
-                }),
-                DataColumn::Set | DataColumn::Pair => samples
-                    .group
+            && columns.iter().all(|&column| {
+                let (field, width) = match column {
+                    DataColumn::Position => (&samples.position, 3),
+                    DataColumn::Orientation => (&samples.orientation, 4),
+                    DataColumn::Distance => (&samples.distance, 1),
+                    DataColumn::Set | DataColumn::Pair => {
+                        return samples
+                            .group
+                            .as_ref()
+                            .is_some_and(|group| group.all_within(range.clone(), 1).is_some());
+                    }
+                };
+                // Every value read (no early exit: the loop is vectorised).
+                field
                     .as_ref()
-                    .is_some_and(|group| group.all_within(range.clone(), 1).is_some()),
-                DataColumn::Distance => {
-                    field(&samples.distance, 1, &|values| all(values, within_cell))
-                }
+                    .and_then(|field| field.all_within(range.clone(), width))
+                    .is_some_and(|values| {
+                        values
+                            .iter()
+                            .fold(true, |all, value| all & column.admits(*value))
+                    })
             })
     }
 
@@ -692,6 +690,7 @@ mod tests {
     /// pass, and each kind of fault, in any one sample, fails it.
     #[test]
     fn the_quick_check_agrees_with_each_sample_checked() {
+        let robot = Robot::template("three", "RRR").expect("template");
         let columns = [
             DataColumn::Position,
             DataColumn::Orientation,
@@ -736,9 +735,7 @@ mod tests {
                 spoil(&mut rows[at]);
                 let samples = Samples::from(rows.as_slice());
                 let each_sound = samples.as_slice().iter().all(|sample| {
-                    let motor = sample.motor_positions();
-                    motor.len() == 3
-                        && motor.iter().all(|value| value.is_finite())
+                    robot.check_configuration(sample.motor_positions()).is_ok()
                         && columns
                             .iter()
                             .all(|column| sample.check_column(*column).is_ok())
@@ -746,16 +743,19 @@ mod tests {
                 assert_eq!(each_sound, fault == "none", "{fault} at {at}");
                 let slice = samples.as_slice();
                 assert_eq!(
-                    slice.plainly_sound(3, &columns),
+                    slice.plainly_sound(&robot, &columns),
                     each_sound,
                     "{fault} at {at}"
                 );
                 // Slices without the spoilt sample are sound (samples of
                 // different joint counts always take the slow route).
                 if fault != "a joint short" {
-                    assert!(slice.slice(0..at).plainly_sound(3, &columns), "{fault}");
                     assert!(
-                        slice.slice(at + 1..10).plainly_sound(3, &columns),
+                        slice.slice(0..at).plainly_sound(&robot, &columns),
+                        "{fault}"
+                    );
+                    assert!(
+                        slice.slice(at + 1..10).plainly_sound(&robot, &columns),
                         "{fault}"
                     );
                 }
@@ -763,11 +763,15 @@ mod tests {
         }
         // Another joint count, or columns a sample does not have.
         let samples = Samples::from((0..4).map(sound).collect::<Vec<_>>().as_slice());
-        assert!(!samples.as_slice().plainly_sound(4, &columns));
+        let four = Robot::template("four", "RRRR").expect("template");
+        assert!(!samples.as_slice().plainly_sound(&four, &columns));
         let bare = Samples::from(vec![Sample::new(vec![0.1, 0.2, 0.3])].as_slice());
-        assert!(bare.as_slice().plainly_sound(3, &[]));
+        assert!(bare.as_slice().plainly_sound(&robot, &[]));
         for column in columns {
-            assert!(!bare.as_slice().plainly_sound(3, &[column]), "{column:?}");
+            assert!(
+                !bare.as_slice().plainly_sound(&robot, &[column]),
+                "{column:?}"
+            );
         }
     }
 
