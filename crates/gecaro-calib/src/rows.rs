@@ -126,6 +126,14 @@ impl ColumnLayout {
         layout
     }
 
+    /// Whether [`RowWriter::push`] writes every entry of a row: the robot
+    /// parameters' columns are all of W's, in one run (no auxiliary or frame
+    /// column, none left unwritten). A block of such rows needs no zeroing
+    /// before it is written.
+    pub(crate) fn writes_every_column(&self) -> bool {
+        self.run == Some((0, self.columns))
+    }
+
     /// Number of columns of W.
     pub fn columns(&self) -> usize {
         self.columns
@@ -306,7 +314,9 @@ impl<'a> RowWriter<'a> {
     }
 
     /// [`split_front`](Self::split_front) for a folding writer: the front
-    /// rows of W are written into `matrix` (zeroed here), a block to fold.
+    /// rows of W are written into `matrix` (zeroed here, unless every entry
+    /// of a row is written: [`ColumnLayout::writes_every_column`]), a block
+    /// to fold.
     pub(crate) fn split_front_into<'b>(
         &'b mut self,
         rows: usize,
@@ -314,7 +324,9 @@ impl<'a> RowWriter<'a> {
         matrix: &'b mut [f64],
     ) -> RowWriter<'b> {
         debug_assert!(self.fold.is_some() && matrix.len() == rows * self.columns);
-        matrix.fill(0.0);
+        if !self.layout.writes_every_column() {
+            matrix.fill(0.0);
+        }
         let mut front = self.split_front(rows, observations);
         front.matrix = matrix;
         front
@@ -370,4 +382,84 @@ fn take_front<'a, T>(slice: &mut &'a mut [T], count: usize) -> &'a mut [T] {
     let (front, rest) = std::mem::take(slice).split_at_mut(count);
     *slice = rest;
     front
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Rows pushed through a writer of `layout` into a block first filled
+    /// with NaN, a robot parameter Jacobian of `parameters` entries and
+    /// `auxiliary` auxiliary coefficients a row: the block as written.
+    fn written(layout: &ColumnLayout, parameters: usize, auxiliary: usize) -> Vec<f64> {
+        let rows = 3;
+        let mut matrix = vec![f64::NAN; rows * layout.columns()];
+        let mut residuals = vec![0.0; rows];
+        let mut kinds = vec![RowKind::Length; rows];
+        let mut observations = vec![0; rows];
+        let mut writer = RowWriter {
+            matrix: &mut matrix,
+            residuals: &mut residuals,
+            observation_weights: &[],
+            kinds: &mut kinds,
+            observations: &mut observations,
+            columns: layout.columns(),
+            layout,
+            next_row: 0,
+            auxiliary_offset: 0,
+            row_weights: [2.0, 3.0],
+            observation_base: 0,
+            observation_end: 0,
+            fold: Some(FoldKind::Gram),
+            sink: None,
+        };
+        for row in 0..rows {
+            let coefficients: Vec<f64> = (0..parameters).map(|k| (row + k) as f64).collect();
+            let extra: Vec<f64> = (0..auxiliary).map(|k| -(k as f64)).collect();
+            writer.push(RowKind::Length, row, 0.5, &coefficients, &extra);
+        }
+        writer.finish("test");
+        matrix
+    }
+
+    /// A layout that says its rows are written whole leaves no entry of a
+    /// block unwritten (the block needs no zeroing); where it does not say
+    /// so, a row may leave some (another set's auxiliary unknowns).
+    #[test]
+    fn rows_written_whole_are_those_the_layout_says() {
+        let cases = [
+            // Every parameter, in order: written whole.
+            (ColumnLayout::new(5, &[0, 1, 2, 3, 4], 0), 5, 0, true),
+            // The kept parameters, as a selecting model's Jacobian writes them.
+            (
+                ColumnLayout::new(5, &[0, 2, 4], 0).for_selected(3),
+                3,
+                0,
+                true,
+            ),
+            // Auxiliary unknowns of which none is kept.
+            (
+                ColumnLayout::with_auxiliary(3, &[0, 1, 2], 2, &[]),
+                3,
+                2,
+                true,
+            ),
+            // Some parameters of the whole Jacobian (not a run).
+            (ColumnLayout::new(5, &[0, 2, 4], 0), 5, 0, false),
+            // Auxiliary columns before the parameters'.
+            (ColumnLayout::new(4, &[0, 1, 2, 3], 2), 4, 2, false),
+        ];
+        for (index, (layout, parameters, auxiliary, whole)) in cases.into_iter().enumerate() {
+            assert_eq!(layout.writes_every_column(), whole, "case {index}");
+            if whole {
+                let block = written(&layout, parameters, auxiliary);
+                assert!(block.iter().all(|value| !value.is_nan()), "case {index}");
+            }
+        }
+        // Rows of a set with one of the system's two auxiliary unknowns
+        // leave the other's column unwritten: such a layout is not whole.
+        let shared = ColumnLayout::new(4, &[0, 1, 2, 3], 2);
+        assert!(!shared.writes_every_column());
+        assert!(written(&shared, 4, 1).iter().any(|value| value.is_nan()));
+    }
 }
