@@ -480,26 +480,84 @@ fn noise_test(data_cost: f64, freedom: usize) -> NoiseTest {
 fn residual_sigmas(evidence: &Evidence<'_>) -> (Option<f64>, Option<f64>) {
     let system = evidence.system;
     let rows = system.measured_rows();
-    let residuals = system.residuals();
-    let kinds = system.kinds();
-    let observations = system.row_observations();
-    let weight =
-        |row: usize| robust_weight(evidence.observation_weights, observations[row] as usize);
-    // Rows of observations a robust loss ignores do not count. Per kind:
-    // rows counted and their weighted sum of squares, in one pass.
-    let mut sums = [(0_usize, 0.0_f64); 2];
-    for row in 0..rows {
-        let weight = weight(row);
-        if weight > 0.0 {
-            let sum = &mut sums[usize::from(kinds[row] == RowKind::Angle)];
-            sum.0 += 1;
-            sum.1 += weight * residuals[row] * residuals[row];
-        }
-    }
+    let rows = system.residuals()[..rows]
+        .iter()
+        .zip(&system.kinds()[..rows]);
+    // Without robust weights every row weighs 1 (1·r·r is r·r, to the bit),
+    // and no row's observation is looked up.
+    let sums = if evidence.observation_weights.is_empty() {
+        kind_sums(rows.map(|(residual, kind)| (1.0, *residual, *kind)))
+    } else {
+        let observations = system.row_observations();
+        kind_sums(
+            rows.zip(observations)
+                .map(|((residual, kind), observation)| {
+                    let weight = robust_weight(evidence.observation_weights, *observation as usize);
+                    (weight, *residual, *kind)
+                }),
+        )
+    };
     let counted = sums[0].0 + sums[1].0;
     let share = evidence.degrees_of_freedom as f64 / counted.max(1) as f64;
     let sigma_of = |(rows, squares): (usize, f64)| {
         (rows > 0).then(|| (squares / (rows as f64 * share).max(f64::MIN_POSITIVE)).sqrt())
     };
     (sigma_of(sums[0]), sigma_of(sums[1]))
+}
+
+/// Per kind of row (lengths, angles), the rows counted and their weighted
+/// sum of squares `Σ w r²`, in row order, of `(w, r, kind)` rows; rows of
+/// observations a robust loss ignores (w = 0) do not count.
+fn kind_sums(rows: impl Iterator<Item = (f64, f64, RowKind)>) -> [(usize, f64); 2] {
+    let mut sums = [(0_usize, 0.0_f64); 2];
+    for (weight, residual, kind) in rows {
+        if weight > 0.0 {
+            let sum = &mut sums[usize::from(kind == RowKind::Angle)];
+            sum.0 += 1;
+            sum.1 += weight * residual * residual;
+        }
+    }
+    sums
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The sums per kind leave out rows of weight 0, weigh the others, and
+    /// rows of weight 1 sum their squares to the bit, as the route without
+    /// robust weights takes them.
+    #[test]
+    fn kind_sums_count_and_weigh_each_kind() {
+        let rows = [
+            (1.0, 0.3, RowKind::Length),
+            (0.0, 5.0, RowKind::Length),
+            (0.25, 0.1, RowKind::Angle),
+            (1.0, -0.7, RowKind::Length),
+            (0.0, 9.0, RowKind::Angle),
+        ];
+        let sums = kind_sums(rows.into_iter());
+        assert_eq!(sums[0].0, 2);
+        assert_eq!(sums[1].0, 1);
+        assert_eq!(sums[0].1.to_bits(), (0.3_f64 * 0.3 + 0.7 * 0.7).to_bits());
+        assert_eq!(sums[1].1.to_bits(), (0.25_f64 * 0.1 * 0.1).to_bits());
+        // Unit weights: the plain sums of squares, bit for bit.
+        let residuals = [0.1, 1.0 / 3.0, -2.5e-7, 7.0, 0.123_456_789];
+        let kinds = [RowKind::Length, RowKind::Angle, RowKind::Length];
+        let unit = kind_sums(
+            residuals
+                .iter()
+                .zip(kinds.iter().cycle())
+                .map(|(r, kind)| (1.0, *r, *kind)),
+        );
+        let (mut lengths, mut angles) = (0.0_f64, 0.0_f64);
+        for (r, kind) in residuals.iter().zip(kinds.iter().cycle()) {
+            match kind {
+                RowKind::Length => lengths += r * r,
+                RowKind::Angle => angles += r * r,
+            }
+        }
+        assert_eq!(unit[0].1.to_bits(), lengths.to_bits());
+        assert_eq!(unit[1].1.to_bits(), angles.to_bits());
+    }
 }
