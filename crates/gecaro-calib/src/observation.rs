@@ -916,13 +916,11 @@ impl ObservationSystem {
         kind: RowKind,
         rows: std::ops::Range<usize>,
     ) -> impl Iterator<Item = f64> + '_ {
-        let own = &self.set_rows[set];
-        let start = own.start.max(rows.start);
-        let end = own.end.min(rows.end).max(start);
+        let within = self.set_rows_within(set, rows);
         let sensor = sensor_weight(self.set_weights[set], kind);
-        self.residuals[start..end]
+        self.residuals[within.clone()]
             .iter()
-            .zip(&self.kinds[start..end])
+            .zip(&self.kinds[within])
             .filter(move |(_, row)| **row == kind)
             .map(move |(residual, _)| residual * sensor)
     }
@@ -938,11 +936,17 @@ impl ObservationSystem {
         set: usize,
         rows: std::ops::Range<usize>,
     ) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let weights = self.set_weights[set];
+        self.set_rows_within(set, rows)
+            .map(move |row| (row, sensor_weight(weights, self.kinds[row])))
+    }
+
+    /// The rows of measurement set `set` among `rows` (empty where they do
+    /// not meet).
+    fn set_rows_within(&self, set: usize, rows: std::ops::Range<usize>) -> std::ops::Range<usize> {
         let own = &self.set_rows[set];
         let start = own.start.max(rows.start);
-        let weights = self.set_weights[set];
-        (start..own.end.min(rows.end).max(start))
-            .map(move |row| (row, sensor_weight(weights, self.kinds[row])))
+        start..own.end.min(rows.end).max(start)
     }
 
     /// Records that observations up to `end` (exclusive) were written
