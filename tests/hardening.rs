@@ -61,6 +61,29 @@ fn wait_bounded(mut child: std::process::Child, limit: Duration) -> std::process
     child.wait_with_output().expect("output")
 }
 
+/// `-o -` (the standard output, to many tools) is refused with a sentence
+/// naming what to do, and leaves no file named `-` behind.
+#[test]
+fn a_dash_output_is_refused_not_written_as_a_file() {
+    let folder = tempfile::tempdir().expect("folder");
+    for args in [
+        &["robot", "new", "--joints", "RR", "-o", "-"][..],
+        &[
+            "generate", "stanford", "--method", "position", "--count", "20", "-o", "-",
+        ][..],
+    ] {
+        let output = gecaro()
+            .current_dir(folder.path())
+            .args(args)
+            .output()
+            .expect("runs");
+        assert!(!output.status.success(), "{args:?}: {output:?}");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(stderr.contains("/dev/stdout"), "{args:?}: {stderr}");
+        assert!(!folder.path().join("-").exists(), "{args:?} wrote `-`");
+    }
+}
+
 #[cfg(unix)]
 #[test]
 fn a_device_output_is_written_to_not_replaced() {

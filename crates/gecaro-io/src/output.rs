@@ -41,7 +41,8 @@ pub enum OutputPolicy {
 /// # Errors
 /// [`Error::OutputExists`] when `path` exists and the policy keeps it;
 /// [`Error::Write`] when the folder is missing or not writable, when `path`
-/// is an input of this command, a folder, a socket or a block device.
+/// is an input of this command, a folder, a socket or a block device, or
+/// `-` ([`roles::check_output_name`]).
 pub fn write_atomically(path: &Path, bytes: &[u8], policy: OutputPolicy) -> Result<(), Error> {
     write_with(path, policy, |file| file.write_all(bytes))
 }
@@ -78,6 +79,7 @@ pub fn write_with(
         path: path.to_owned(),
         message,
     };
+    roles::check_output_name(path)?;
     roles::check_not_input(path)?;
     if let Ok(metadata) = std::fs::metadata(path) {
         if metadata.is_dir() {

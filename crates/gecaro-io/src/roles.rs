@@ -72,6 +72,25 @@ fn identities(path: &Path) -> Vec<Identity> {
     found
 }
 
+/// Refuses the output name `-`, which many tools take for the standard
+/// output: written as it is, it would make a file named `-` in the current
+/// folder, and the standard output already carries the command's report.
+///
+/// # Errors
+/// [`Error::Write`] for `-`.
+pub fn check_output_name(path: &Path) -> Result<(), Error> {
+    if path == Path::new("-") {
+        return Err(Error::Write {
+            path: path.to_owned(),
+            message: "`-` is not taken for the standard output (the command's report is \
+                      printed there): name a file, or /dev/stdout to have the output and \
+                      the report in one stream"
+                .into(),
+        });
+    }
+    Ok(())
+}
+
 /// Records an opened input (see the module docs).
 pub(crate) fn note_input(path: &Path, file: &std::fs::File) {
     let Some(roles) = roles() else {
@@ -131,6 +150,7 @@ pub fn check_not_input(path: &Path) -> Result<(), Error> {
 /// # Errors
 /// [`Error::Write`] when it is an input, or the output of another kind.
 pub fn claim_output(path: &Path, kind: &str) -> Result<(), Error> {
+    check_output_name(path)?;
     check_not_input(path)?;
     let Some(roles) = roles() else {
         return Ok(());
