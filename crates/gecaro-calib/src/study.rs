@@ -15,7 +15,8 @@ use crate::rows::{ColumnLayout, RowWriter};
 
 pub use crate::sample::{DataColumn, MotorPositions, Sample, SampleLoads};
 pub use crate::samples::{
-    Column, SampleColumns, SampleIter, SampleRef, SampleSlice, Samples, SamplesBuilder,
+    Column, FilledSamples, SampleColumns, SampleIter, SampleRef, SampleShape, SampleSlice,
+    SampleSlots, Samples, SamplesBuilder, SlotMut,
 };
 use crate::states::{TerminalState, evaluate_poses, evaluate_states, part_size};
 

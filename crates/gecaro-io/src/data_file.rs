@@ -299,9 +299,7 @@ fn parse_from(
         normalised,
         error,
     } = match rest {
-        None => rows
-            .read_in_parts(&head[start..], lines_before, separator)
-            .map_or_else(|| rows.read(&mut csv, 0, 0), |(read, _)| read),
+        None => rows.read_all(&head[start..], lines_before, separator),
         Some(rest) if memchr::memchr(b'"', &head).is_none() => {
             rows.read_chunks((head, start, rest), lines_before, separator, chunking)
         }
@@ -310,7 +308,7 @@ fn parse_from(
             let (mut csv, _) = csv_reader((&head[..]).chain(rest), format.delimiter);
             csv.read_record(&mut record)
                 .map_err(|error| csv_error(path, &error))?;
-            rows.read(&mut csv, 0, 0)
+            rows.read(&mut csv, 0)
         }
     };
     if let Some(error) = error {

@@ -1,20 +1,20 @@
-//! The rows of a data file after its header: each record read into a
-//! [`Sample`] (joint values scaled to the robot's units, position, unit
-//! quaternion, group id, distance), and a file held in memory read in parts
-//! on all cores.
+//! The rows of a data file after its header: each record read into the
+//! samples' columns (joint values scaled to the robot's units, position,
+//! unit quaternion, group id, distance), and a file held in memory read in
+//! parts on all cores.
 //!
 //! A part starts at a line break, so records, comments and line numbers are
-//! those of the whole file: the parts' samples joined in part order are the
-//! samples a single pass reads, and the first error in part order is the
-//! first error in the file. Parts are used only where that holds without
-//! further care: no quoted field (a quote may hold a line break) and fewer
-//! lines than [`MAX_CONFIGURATIONS`] (the limit cannot fall inside a part).
-//! A file too long to hold is read in chunks the same way, each chunk's
-//! parts joined to the samples while the next chunk is read
-//! ([`RowReader::read_chunks`]).
+//! those of the whole file. Each part writes its records straight into the
+//! samples' columns, in a run of slots of its own, one per line
+//! ([`FilledSamples`]): the parts settled in order are the samples a single
+//! pass reads, and the first error in part order is the first error in the
+//! file. Parts are used only where that holds without further care: no
+//! quoted field (a quote may hold a line break). A file too long to hold is
+//! read in chunks the same way, each chunk's parts written after the
+//! samples before it ([`RowReader::read_chunks`]).
 
-use gecaro_calib::parallel::{PARTS_PER_THREAD, alongside, available_threads, run_parts};
-use gecaro_calib::study::{MotorPositions, Sample, SamplesBuilder};
+use gecaro_calib::parallel::{PARTS_PER_THREAD, available_threads, run_parts};
+use gecaro_calib::study::{FilledSamples, SampleLoads, SampleShape, SampleSlots, SlotMut};
 use gecaro_core::LinkMass;
 use nalgebra::Vector3;
 use std::io::Read;
@@ -82,15 +82,6 @@ impl Chunking {
     }
 }
 
-/// A chunk read in parts, not yet joined to the samples before it.
-struct ChunkRead {
-    parts: Vec<Rows>,
-    /// The file's lines before the chunk.
-    lines: usize,
-    /// The chunk's length in bytes.
-    bytes: usize,
-}
-
 /// Where each field of a sample comes from in a record, and its scale.
 pub(crate) struct Fields {
     /// Column and scale of each joint's motor variable.
@@ -146,34 +137,19 @@ impl Normalised {
     }
 }
 
-/// What a part of the rows gave: its samples up to its first error.
+/// What the rows gave: their samples up to the first error, the
+/// quaternions normalised, and the first error.
 pub(crate) struct Rows {
-    pub(crate) samples: SamplesBuilder,
+    pub(crate) samples: FilledSamples,
     pub(crate) normalised: Normalised,
     pub(crate) error: Option<Error>,
 }
 
-impl Rows {
-    /// No rows yet, with room for `capacity` samples (at most
-    /// [`MAX_CONFIGURATIONS`]).
-    fn with_capacity(capacity: usize) -> Rows {
-        Rows {
-            samples: SamplesBuilder::with_capacity(capacity.min(MAX_CONFIGURATIONS)),
-            normalised: Normalised::default(),
-            error: None,
-        }
-    }
-
-    /// The rows of a later part after these: its samples, its normalised
-    /// quaternions, and its first error, which ends the reading (`false`:
-    /// read no further). A part after an error is not to be appended.
-    fn append(&mut self, later: Rows) -> bool {
-        debug_assert!(self.error.is_none());
-        self.samples.append(later.samples);
-        self.normalised = self.normalised.then(later.normalised);
-        self.error = later.error;
-        self.error.is_none()
-    }
+/// What a part of the rows gave: the slots it filled, up to its first error.
+struct PartRead {
+    filled: usize,
+    normalised: Normalised,
+    error: Option<Error>,
 }
 
 /// How the records of one file are read.
@@ -188,138 +164,195 @@ pub(crate) struct RowReader<'a> {
 }
 
 impl RowReader<'_> {
-    /// Reads the records of `csv` to its end or its first error;
-    /// `lines_before` is the number of lines of the file before the reader's
-    /// first byte, `capacity` the samples to make room for at once (a
-    /// growing list of a million samples is copied, into fresh memory, at
-    /// each doubling). At most [`MAX_CONFIGURATIONS`] samples: one more
-    /// record is an error.
+    /// No rows yet.
+    fn rows(&self) -> Rows {
+        let fields = &self.fields;
+        Rows {
+            samples: FilledSamples::new(SampleShape {
+                joints: fields.joints.len(),
+                position: fields.position.is_some(),
+                orientation: fields.orientation.is_some(),
+                group: fields.group.is_some(),
+                distance: fields.distance.is_some(),
+                loads: fields.payload.is_some(),
+            }),
+            normalised: Normalised::default(),
+            error: None,
+        }
+    }
+
+    /// Reads the records of `csv` to its end or its first error, one by
+    /// one (a stream whose quoted fields may hold line breaks); `lines_before`
+    /// is the number of lines of the file before the reader's first byte. At
+    /// most [`MAX_CONFIGURATIONS`] samples: one more record is an error.
     pub(crate) fn read<R: Read>(
         &self,
         csv: &mut csv::Reader<LineLimit<R>>,
         lines_before: usize,
-        capacity: usize,
     ) -> Rows {
-        let mut rows = Rows::with_capacity(capacity);
+        let mut rows = self.rows();
         let (samples, normalised) = (&mut rows.samples, &mut rows.normalised);
         rows.error = for_each_record(
             csv,
             self.path,
             lines_before,
-            |record: &csv::ByteRecord, line| self.push_sample(samples, normalised, record, line),
+            |record: &csv::ByteRecord, line| {
+                if samples.len() == MAX_CONFIGURATIONS {
+                    return Err(self.too_many(line));
+                }
+                samples.push_with(|slot| self.fill(record, line, normalised, slot))
+            },
         );
         rows
     }
 
-    /// [`read`](Self::read) of a part of a body, the way of
-    /// [`crate::plain_body`] when the part is plain.
-    fn read_part(&self, part: &[u8], lines_before: usize, capacity: usize, separator: u8) -> Rows {
-        let mut rows = Rows::with_capacity(capacity);
-        let (samples, normalised) = (&mut rows.samples, &mut rows.normalised);
-        match for_each_plain_record(part, lines_before, separator, |record, line| {
-            self.push_sample(samples, normalised, record, line)
-        }) {
-            Some(error) => {
-                rows.error = error;
-                rows
-            }
+    /// Reads `body` (whole lines of the file after its header, the first
+    /// being line `lines_before + 1`), in parts on all cores when it is long
+    /// and holds no quote ([`read_body`](Self::read_body)). At most
+    /// [`MAX_CONFIGURATIONS`] samples: one more record is an error.
+    pub(crate) fn read_all(&self, body: &[u8], lines_before: usize, separator: u8) -> Rows {
+        let mut rows = self.rows();
+        let (reads, _) = self.read_body(body, lines_before, separator, &mut rows.samples, 0);
+        self.settle(&mut rows, reads, MAX_CONFIGURATIONS);
+        rows
+    }
+
+    /// Reads `body` (whole lines, the first being line `lines_before + 1`)
+    /// into slots after the settled `samples`, a slot per line (a record is
+    /// at most one; room is made for `room` samples in all first): in parts
+    /// on all cores when it is long and holds no quote (a quote may hold a
+    /// line break), else in one part. Returns the parts' reads, in order, to
+    /// be settled ([`settle`](Self::settle)), and the body's line breaks.
+    fn read_body(
+        &self,
+        body: &[u8],
+        lines_before: usize,
+        separator: u8,
+        samples: &mut FilledSamples,
+        room: usize,
+    ) -> (Vec<PartRead>, usize) {
+        let threads = available_threads();
+        let parts =
+            if threads < 2 || body.len() < PART_MIN_BYTES || memchr::memchr(b'"', body).is_some() {
+                vec![(body, lines_before, memchr::memchr_iter(b'\n', body).count())]
+            } else {
+                // The threads take the parts in turn (see `run_parts`): several
+                // each, so that one started late takes fewer.
+                let parts = (threads * PARTS_PER_THREAD).min(body.len() / MIN_PART_BYTES);
+                line_parts(body, lines_before, parts.max(threads))
+            };
+        let breaks: usize = parts.iter().map(|(_, _, own)| own).sum();
+        // A slot per line: the last one's too when it lacks its line break
+        // (at the file's end).
+        let counts: Vec<usize> = parts
+            .iter()
+            .map(|(bytes, _, own)| own + usize::from(!bytes.ends_with(b"\n")))
+            .collect();
+        samples.make_room(room);
+        let slots = samples.slots(&counts);
+        let reads = run_parts(
+            parts.into_iter().zip(slots).collect(),
+            |((bytes, lines_before, _), slots)| {
+                self.read_part(bytes, lines_before, slots, separator)
+            },
+        );
+        (reads, breaks)
+    }
+
+    /// Reads a part of a body into its slots, the way of
+    /// [`crate::plain_body`] when the part is plain, else the `csv` crate's.
+    fn read_part(
+        &self,
+        part: &[u8],
+        lines_before: usize,
+        mut slots: SampleSlots<'_>,
+        separator: u8,
+    ) -> PartRead {
+        let mut normalised = Normalised::default();
+        let plain = for_each_plain_record(part, lines_before, separator, |record, line| {
+            self.put(&mut slots, &mut normalised, record, line)
+        });
+        let error = match plain {
+            Some(error) => error,
             None => {
+                // Read again from the part's start.
+                slots.clear();
+                normalised = Normalised::default();
                 let mut csv = csv_reader_with(LineLimit::new(part, MAX_LINE_BYTES), separator);
-                self.read(&mut csv, lines_before, capacity)
+                for_each_record(
+                    &mut csv,
+                    self.path,
+                    lines_before,
+                    |record: &csv::ByteRecord, line| {
+                        self.put(&mut slots, &mut normalised, record, line)
+                    },
+                )
             }
+        };
+        PartRead {
+            filled: slots.len(),
+            normalised,
+            error,
         }
     }
 
-    /// Adds the sample of `record` at `line`, unless it is one too many.
-    fn push_sample(
+    /// Writes the sample of `record` at `line` into the next slot.
+    fn put(
         &self,
-        samples: &mut SamplesBuilder,
+        slots: &mut SampleSlots<'_>,
         normalised: &mut Normalised,
         record: &impl RecordFields,
         line: usize,
     ) -> Result<(), Error> {
-        if samples.len() == MAX_CONFIGURATIONS {
-            return Err(self.too_many(line));
-        }
-        samples.push(&self.sample(record, line, normalised)?);
+        let Some(slot) = slots.next_slot() else {
+            // A record is at most one line, and a part has a slot per line.
+            return Err(self.fail(
+                line,
+                None,
+                "more records than lines in a part of the file (a bug of gecaro's reader)".into(),
+            ));
+        };
+        self.fill(record, line, normalised, slot)?;
+        slots.commit();
         Ok(())
     }
 
-    /// Reads `body` (whole lines of the file after its header, the first
-    /// being line `lines_before + 1`) in parts on all cores when it is
-    /// long and holds no quote; `None` when it is to be read in one pass.
-    pub(crate) fn read_in_parts(
-        &self,
-        body: &[u8],
-        lines_before: usize,
-        separator: u8,
-    ) -> Option<(Rows, usize)> {
-        let (parts, breaks) = self.read_parts(body, lines_before, separator, true)?;
-        let mut read = parts.into_iter();
-        let mut joined = read.next()?;
-        if joined.error.is_none() {
-            for rows in read {
-                if !joined.append(rows) {
-                    break;
-                }
+    /// Settles the parts' reads into `rows` in order, up to the first part
+    /// with an error (its samples before the error kept) or to `limit`
+    /// samples, one more being an error naming its line; false when
+    /// reading stops there.
+    fn settle(&self, rows: &mut Rows, reads: Vec<PartRead>, limit: usize) -> bool {
+        let mut filled = Vec::with_capacity(reads.len());
+        let mut count = rows.samples.len();
+        let mut error = None;
+        for read in reads {
+            filled.push(read.filled);
+            count = count.saturating_add(read.filled);
+            rows.normalised = rows.normalised.then(read.normalised);
+            if count > limit || read.error.is_some() {
+                error = read.error;
+                break;
             }
         }
-        Some((joined, breaks))
-    }
-
-    /// The parts of [`read_in_parts`](Self::read_in_parts), in order, each
-    /// up to its first error (the parts after an error are not to be
-    /// read), and the body's line breaks; with `room_in_first`, the first
-    /// part makes room for every line, the parts to be moved after its own.
-    fn read_parts(
-        &self,
-        body: &[u8],
-        lines_before: usize,
-        separator: u8,
-        room_in_first: bool,
-    ) -> Option<(Vec<Rows>, usize)> {
-        let threads = available_threads();
-        if threads < 2 || body.len() < PART_MIN_BYTES || memchr::memchr(b'"', body).is_some() {
-            return None;
+        rows.samples.settle(&filled);
+        if rows.samples.len() > limit {
+            let line = rows.samples.line(limit).unwrap_or(0);
+            rows.samples.truncate(limit);
+            error = Some(self.too_many(line));
         }
-        // The threads take the parts in turn (see `run_parts`): several
-        // each, so that one started late takes fewer.
-        let parts = (threads * PARTS_PER_THREAD).min(body.len() / MIN_PART_BYTES);
-        let cut = line_parts(body, lines_before, parts.max(threads));
-        let breaks: usize = cut.iter().map(|(_, _, own)| own).sum();
-        if breaks >= MAX_CONFIGURATIONS {
-            return None;
-        }
-        // Each part makes room for its own lines, the first for every line
-        // when the others' samples are to be moved after its own.
-        let parts: Vec<(&[u8], usize, usize)> = cut
-            .iter()
-            .enumerate()
-            .map(|(index, &(bytes, lines, own))| {
-                let capacity = if index == 0 && room_in_first {
-                    breaks + 1
-                } else {
-                    own + 1
-                };
-                (bytes, lines, capacity)
-            })
-            .collect();
-        let read = run_parts(parts, |(bytes, lines_before, capacity)| {
-            self.read_part(bytes, lines_before, capacity, separator)
-        });
-        Some((read, breaks))
+        rows.error = error;
+        rows.error.is_none()
     }
 
     /// Reads a body too long to hold at once: the bytes of `head` from
     /// `start` (a line start; `head` becomes the chunks' buffer) and then
     /// `rest`, in chunks of about `chunking.bytes`
-    /// ([`CHUNK_BYTES`]) cut at line breaks, each read in parts on all cores
-    /// ([`read_in_parts`](Self::read_in_parts)) or, holding a quote, in one
-    /// pass. Memory beyond the samples is one chunk; the samples, line
-    /// numbers and first error are those of a single pass (a quoted field
-    /// with a line break across a chunk's end aside: data files hold
-    /// numbers). At most `chunking.limit` samples: one more is an error
-    /// naming its line.
+    /// ([`CHUNK_BYTES`]) cut at line breaks, each read into the samples in
+    /// parts on all cores ([`read_body`](Self::read_body)). Memory beyond
+    /// the samples is one chunk; the samples, line numbers and first error
+    /// are those of a single pass (a quoted field with a line break across
+    /// a chunk's end aside: data files hold numbers). At most
+    /// `chunking.limit` samples: one more is an error naming its line.
     pub(crate) fn read_chunks(
         &self,
         (head, start, rest): (Vec<u8>, usize, &mut dyn Read),
@@ -327,89 +360,35 @@ impl RowReader<'_> {
         separator: u8,
         chunking: Chunking,
     ) -> Rows {
-        let mut joined = Rows {
-            samples: SamplesBuilder::with_capacity(0),
-            normalised: Normalised::default(),
-            error: None,
-        };
+        let mut rows = self.rows();
         let mut chunks =
             LineChunks::new((head, start), rest, lines_before, chunking.bytes, self.path);
-        // A chunk's parts are joined to the samples (a copy, single-threaded)
-        // while the next chunk is read and cut into parts: the same samples,
-        // in the same order, with the same first error.
-        let mut pending: Option<ChunkRead> = None;
+        let mut first = true;
         loop {
-            let (whole, next) = alongside(
-                || {
-                    pending
-                        .take()
-                        .is_none_or(|read| self.join(&mut joined, read, chunking))
-                },
-                || -> Result<Option<ChunkRead>, Error> {
-                    let Some((chunk, lines)) = chunks.next_chunk()? else {
-                        return Ok(None);
-                    };
-                    let bytes = chunk.len();
-                    let parts = match self.read_parts(chunk, lines, separator, false) {
-                        Some((parts, breaks)) => {
-                            chunks.counted(breaks);
-                            parts
-                        }
-                        None => {
-                            let mut csv =
-                                csv_reader_with(LineLimit::new(chunk, MAX_LINE_BYTES), separator);
-                            vec![self.read(&mut csv, lines, 0)]
-                        }
-                    };
-                    Ok(Some(ChunkRead {
-                        parts,
-                        lines,
-                        bytes,
-                    }))
-                },
-            );
-            if !whole {
-                return joined;
-            }
-            match next {
-                Ok(Some(read)) => pending = Some(read),
-                Ok(None) => return joined,
+            let (chunk, lines) = match chunks.next_chunk() {
+                Ok(Some(chunk)) => chunk,
+                Ok(None) => return rows,
                 Err(error) => {
-                    joined.error = Some(error);
-                    return joined;
+                    rows.error = Some(error);
+                    return rows;
                 }
+            };
+            // The first chunk makes room for the file's rows, at its rate
+            // ([`Chunking::foreseen`]): the samples are then not copied as
+            // they grow.
+            let room = if first {
+                let lines = memchr::memchr_iter(b'\n', chunk).count() + 1;
+                chunking.foreseen(lines, chunk.len())
+            } else {
+                0
+            };
+            first = false;
+            let (reads, breaks) = self.read_body(chunk, lines, separator, &mut rows.samples, room);
+            chunks.counted(breaks);
+            if !self.settle(&mut rows, reads, chunking.limit) {
+                return rows;
             }
         }
-    }
-
-    /// Appends the parts of a chunk to `joined` (the first chunk's make
-    /// room for the file's rows, [`Chunking::foreseen`]); false when
-    /// reading stops there, at a part's error or at the limit.
-    fn join(&self, joined: &mut Rows, read: ChunkRead, chunking: Chunking) -> bool {
-        let ChunkRead {
-            parts,
-            lines,
-            bytes,
-        } = read;
-        if joined.samples.is_empty() {
-            let read: usize = parts.iter().map(|rows| rows.samples.len()).sum();
-            joined.samples.reserve(chunking.foreseen(read, bytes));
-        }
-        for rows in parts {
-            let room = chunking.limit.saturating_sub(joined.samples.len());
-            if rows.samples.len() > room {
-                let line = rows.samples.line(room).unwrap_or(lines + 1);
-                let mut kept = rows.samples;
-                kept.truncate(room);
-                joined.samples.append(kept);
-                joined.error = Some(self.too_many(line));
-                return false;
-            }
-            if !joined.append(rows) {
-                return false;
-            }
-        }
-        true
     }
 
     /// The error of one record beyond [`MAX_CONFIGURATIONS`], at `line`.
@@ -433,13 +412,14 @@ impl RowReader<'_> {
         )
     }
 
-    /// One record as a sample.
-    fn sample(
+    /// One record written into `slot` (whole, when it succeeds).
+    fn fill(
         &self,
         record: &impl RecordFields,
         line: usize,
         normalised: &mut Normalised,
-    ) -> Result<Sample, Error> {
+        slot: SlotMut<'_>,
+    ) -> Result<(), Error> {
         // The record is read as bytes (its numbers are parsed from them);
         // the file must still be text, as in a single pass of the `csv`
         // crate's text records (a binary file is named as such).
@@ -501,8 +481,7 @@ impl RowReader<'_> {
             Ok(metres)
         };
         let fields = &self.fields;
-        let mut motor_positions = MotorPositions::with_capacity(fields.joints.len());
-        for (column, scale) in &fields.joints {
+        for ((column, scale), motor_position) in fields.joints.iter().zip(slot.motor) {
             let motor = value(*column)? * scale;
             if motor.abs() > MAX_MOTOR_VALUE {
                 return Err(self.fail(
@@ -515,14 +494,12 @@ impl RowReader<'_> {
                     ),
                 ));
             }
-            motor_positions.push(motor);
+            *motor_position = motor;
         }
-        let mut sample = Sample {
-            line: Some(line),
-            ..Sample::new(motor_positions)
-        };
+        *slot.line = line;
         if let Some([x, y, z]) = fields.position {
-            sample.position = Some(Vector3::new(length(x)?, length(y)?, length(z)?));
+            slot.position
+                .copy_from_slice(&[length(x)?, length(y)?, length(z)?]);
         }
         if let Some([w, i, j, k]) = fields.orientation {
             let (qw, qx, qy, qz) = (value(w)?, value(i)?, value(j)?, value(k)?);
@@ -531,22 +508,27 @@ impl RowReader<'_> {
             if let Some(deviation) = quaternion_deviation(qw, qx, qy, qz) {
                 normalised.add(deviation, line);
             }
-            sample.orientation = Some(orientation);
+            slot.orientation.copy_from_slice(&[
+                orientation.w,
+                orientation.i,
+                orientation.j,
+                orientation.k,
+            ]);
         }
-        if let Some(column) = fields.group {
+        if let (Some(column), Some(group)) = (fields.group, slot.group) {
             let id = std::str::from_utf8(record.field(column))
                 .ok()
                 .and_then(|id| id.trim().parse().ok());
-            sample.group = Some(id.ok_or_else(|| {
+            *group = id.ok_or_else(|| {
                 self.fail(
                     line,
                     Some(column),
                     format!("`{}` is not an id (a whole number ≥ 0)", text(column)),
                 )
-            })?);
+            })?;
         }
-        if let Some(column) = fields.distance {
-            sample.distance = Some(length(column)?);
+        if let (Some(column), Some(distance)) = (fields.distance, slot.distance) {
+            *distance = length(column)?;
         }
         if let Some(PayloadColumns { mass, centre }) = fields.payload {
             let kilograms = value(mass)?;
@@ -561,12 +543,17 @@ impl RowReader<'_> {
                 Some([x, y, z]) => Vector3::new(length(x)?, length(y)?, length(z)?),
                 None => Vector3::zeros(),
             };
-            sample.set_payload(Some(LinkMass {
-                mass: kilograms,
-                com,
-            }));
+            if let Some(loads) = slot.loads {
+                *loads = Some(Box::new(SampleLoads {
+                    payload: Some(LinkMass {
+                        mass: kilograms,
+                        com,
+                    }),
+                    ..SampleLoads::default()
+                }));
+            }
         }
-        Ok(sample)
+        Ok(())
     }
 }
 

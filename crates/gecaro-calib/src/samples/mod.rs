@@ -39,10 +39,12 @@ use crate::sample::{DataColumn, Sample, SampleLoads};
 
 mod builder;
 mod column;
+mod filled;
 
 pub use builder::SamplesBuilder;
 pub use column::Column;
 use column::Field;
+pub use filled::{FilledSamples, SampleShape, SampleSlots, SlotMut};
 
 /// The line numbers of the samples in their data file.
 #[derive(Clone)]
@@ -290,7 +292,19 @@ impl From<&[Sample]> for Samples {
 
 impl From<SamplesBuilder> for Samples {
     fn from(builder: SamplesBuilder) -> Self {
-        let parts = builder.into_parts();
+        Samples::from_parts(builder.into_parts())
+    }
+}
+
+impl From<FilledSamples> for Samples {
+    fn from(filled: FilledSamples) -> Self {
+        Samples::from_parts(filled.into_parts())
+    }
+}
+
+impl Samples {
+    /// The samples a builder made.
+    fn from_parts(parts: builder::Parts) -> Self {
         Samples {
             len: parts.len,
             motor: parts.motor.into(),
