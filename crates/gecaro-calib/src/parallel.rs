@@ -99,25 +99,6 @@ pub fn scan_parts(len: usize) -> Vec<std::ops::Range<usize>> {
     (0..parts).map(|part| at(part)..at(part + 1)).collect()
 }
 
-/// `side` on another thread while `here` runs on this one, and both
-/// results (`side` first, then `here`, on one core); a panic in either is
-/// resumed here. For a step of a pipeline beside the next one's work (a
-/// file's parts joined while its next chunk is read in parts).
-pub fn alongside<A: Send, B>(side: impl FnOnce() -> A + Send, here: impl FnOnce() -> B) -> (A, B) {
-    if available_threads() < 2 {
-        let side = side();
-        return (side, here());
-    }
-    std::thread::scope(|scope| {
-        let helper = scope.spawn(side);
-        let here = here();
-        let side = helper
-            .join()
-            .unwrap_or_else(|payload| std::panic::resume_unwind(payload));
-        (side, here)
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -161,26 +142,6 @@ mod tests {
                 len < PARALLEL_SCAN || available_threads() * PARTS_PER_THREAD == 1
             );
         }
-    }
-
-    #[test]
-    fn both_sides_run_and_come_back() {
-        let data: Vec<usize> = (0..1000).collect();
-        let mut total = 0;
-        let (sum, doubled) = alongside(
-            || {
-                total = data.iter().sum::<usize>();
-                total
-            },
-            || run_parts(vec![1, 2, 3], |part| part * 2),
-        );
-        assert_eq!((sum, doubled, total), (499_500, vec![2, 4, 6], 499_500));
-    }
-
-    #[test]
-    #[should_panic(expected = "the side's")]
-    fn a_panic_beside_reaches_the_caller() {
-        alongside(|| panic!("the side's"), || 1);
     }
 
     #[test]

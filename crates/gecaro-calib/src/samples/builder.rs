@@ -1,23 +1,22 @@
 //! [`Samples`](super::Samples) made sample by sample, without holding them
-//! as rows: a data file's reader pushes each record's sample into the
-//! columns, in parts on several cores that are appended in order.
+//! as rows: what generators and edits make, whose samples may differ in
+//! their fields and joint counts (a data file's reader, whose records all
+//! have the same fields, writes them in place: [`super::FilledSamples`]).
 
 use std::sync::Arc;
 
 use super::column::{Field, FieldBuilder};
 use crate::sample::{Sample, SampleLoads};
 
-/// Samples made one at a time ([`push`](Self::push)) or part after part
-/// ([`append`](Self::append)), then [`Samples::from`](super::Samples) it.
+/// Samples made one at a time ([`push`](Self::push)), then
+/// [`Samples::from`](super::Samples) it.
 ///
 /// ```
 /// use gecaro_calib::study::{Sample, Samples, SamplesBuilder};
 ///
 /// let mut builder = SamplesBuilder::with_capacity(2);
 /// builder.push(&Sample::new(vec![0.1, 0.2]));
-/// let mut later = SamplesBuilder::with_capacity(1);
-/// later.push(&Sample::new(vec![0.3, 0.4]));
-/// builder.append(later);
+/// builder.push(&Sample::new(vec![0.3, 0.4]));
 /// let samples = Samples::from(builder);
 /// assert_eq!(samples.get(1).motor_positions(), &[0.3, 0.4]);
 /// ```
@@ -111,77 +110,6 @@ impl SamplesBuilder {
         self.len += 1;
     }
 
-    /// The samples of `later` after these.
-    pub fn append(&mut self, mut later: SamplesBuilder) {
-        let joints = self.joints.or(later.joints);
-        let ragged = self.offsets.is_some()
-            || later.offsets.is_some()
-            || (self.joints.is_some() && later.joints.is_some() && self.joints != later.joints);
-        if ragged {
-            self.offset_each();
-            later.offset_each();
-            let base = self.motor.len();
-            let offsets = self.offsets.as_mut().expect("offsets held");
-            offsets.extend(later.offsets.iter().flatten().skip(1).map(|o| o + base));
-        }
-        if self.loads.is_some() || later.loads.is_some() {
-            self.hold_loads();
-            later.hold_loads();
-            if let (Some(loads), Some(mut more)) = (self.loads.as_mut(), later.loads.take()) {
-                loads.append(&mut more);
-            }
-        }
-        self.joints = joints;
-        self.motor.append(&mut later.motor);
-        self.position.append(later.position);
-        self.orientation.append(later.orientation);
-        self.group.append(later.group);
-        self.distance.append(later.distance);
-        self.lines.append(later.lines);
-        self.len += later.len;
-    }
-
-    /// Room for `additional` more samples.
-    pub fn reserve(&mut self, additional: usize) {
-        self.capacity = self.len.saturating_add(additional);
-        if let Some(joints) = self.joints {
-            self.motor.reserve(additional.saturating_mul(joints));
-        }
-        self.position.reserve(additional);
-        self.orientation.reserve(additional);
-        self.group.reserve(additional);
-        self.distance.reserve(additional);
-        self.lines.reserve(additional);
-    }
-
-    /// The first `len` samples only.
-    pub fn truncate(&mut self, len: usize) {
-        if len >= self.len {
-            return;
-        }
-        match self.offsets.as_mut() {
-            Some(offsets) => {
-                self.motor.truncate(offsets[len]);
-                offsets.truncate(len + 1);
-            }
-            None => self.motor.truncate(len * self.joints.unwrap_or(0)),
-        }
-        self.position.truncate(len);
-        self.orientation.truncate(len);
-        self.group.truncate(len);
-        self.distance.truncate(len);
-        self.lines.truncate(len);
-        if let Some(loads) = self.loads.as_mut() {
-            loads.truncate(len);
-        }
-        self.len = len;
-    }
-
-    /// The line of sample `index`, when it has one.
-    pub fn line(&self, index: usize) -> Option<usize> {
-        self.lines.get(index).map(|[line]| line)
-    }
-
     /// Loads held from here on: none for the samples so far.
     fn hold_loads(&mut self) {
         let len = self.len;
@@ -254,29 +182,16 @@ mod tests {
             .collect()
     }
 
-    /// Cut anywhere into two parts appended in order, or cut short, the
-    /// builder gives the columns of the rows pushed at once.
+    /// Rows whose fields come and go, pushed one by one, are the rows.
     #[test]
-    fn parts_appended_in_order_are_the_whole() {
+    fn rows_pushed_are_the_whole() {
         let rows = rows();
-        let whole = Samples::from(rows.clone());
-        assert_eq!(whole, rows);
+        let mut builder = SamplesBuilder::with_capacity(0);
+        builder.extend(&rows);
+        assert_eq!(builder.len(), rows.len());
+        assert_eq!(Samples::from(builder), rows);
         for cut in 0..=rows.len() {
-            let mut first = SamplesBuilder::with_capacity(cut);
-            first.extend(&rows[..cut]);
-            let mut second = SamplesBuilder::with_capacity(0);
-            second.extend(&rows[cut..]);
-            first.append(second);
-            assert_eq!(first.line(6), rows[6].line, "cut {cut}");
-            assert_eq!(Samples::from(first), rows, "cut {cut}");
-            let mut short = SamplesBuilder::with_capacity(0);
-            short.extend(&rows);
-            short.truncate(cut);
-            assert_eq!(
-                Samples::from(short),
-                rows[..cut].to_vec(),
-                "truncated to {cut}"
-            );
+            assert_eq!(Samples::from(&rows[..cut]), rows[..cut].to_vec(), "{cut}");
         }
     }
 }

@@ -143,50 +143,6 @@ impl<T: Copy + Default + Send + Sync + 'static, const W: usize> FieldBuilder<T, 
         self.len += 1;
     }
 
-    /// The samples of `later` after these.
-    pub(super) fn append(&mut self, mut later: Self) {
-        if self.any || later.any {
-            self.hold_values();
-            later.hold_values();
-            self.values.append(&mut later.values);
-        }
-        if !self.missing.is_empty() || !later.missing.is_empty() {
-            self.flag_missing();
-            later.flag_missing();
-            self.missing.append(&mut later.missing);
-        }
-        self.len += later.len;
-    }
-
-    /// Room for `additional` more samples.
-    pub(super) fn reserve(&mut self, additional: usize) {
-        if self.any {
-            self.values.reserve(additional.saturating_mul(W));
-        } else {
-            self.capacity = self.len.saturating_add(additional);
-        }
-    }
-
-    /// The first `len` samples only.
-    pub(super) fn truncate(&mut self, len: usize) {
-        if len < self.len {
-            self.values.truncate(if self.any { len * W } else { 0 });
-            self.missing
-                .truncate(if self.missing.is_empty() { 0 } else { len });
-            self.len = len;
-        }
-    }
-
-    /// Sample `index`'s value, if it has one.
-    pub(super) fn get(&self, index: usize) -> Option<[T; W]> {
-        if !self.any || self.missing.get(index).copied().unwrap_or(false) || index >= self.len {
-            return None;
-        }
-        let mut value = [T::default(); W];
-        value.copy_from_slice(&self.values[index * W..(index + 1) * W]);
-        Some(value)
-    }
-
     /// The field, or `None` when no sample has it.
     pub(super) fn finish(self) -> Option<Field<T>> {
         let lacking = self.missing.iter().any(|m| *m);
