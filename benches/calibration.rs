@@ -178,6 +178,42 @@ fn compensate_6r_1000_targets(bencher: divan::Bencher) {
     });
 }
 
+/// Compensation of 100 joint targets that a calibrated Stanford arm (level-1
+/// errors) mostly cannot reach: the shoulder at q2 within ±0.03 rad of 0,
+/// where the wrist centre lies on the cylinder of radius r2 about z1 that no
+/// configuration enters, and the calibrated robot's cylinder is not the
+/// nominal one's (9 reached, 17 on another branch, 57 beyond a limit, 17 not
+/// at all). Each target runs the fallback chain to prove it (issue 36:
+/// 10⁶ targets drawn over the whole joint space, 0.45 % of them such, took
+/// 67 s where 10⁶ reachable ones take 2.7 s; docs/performance.md). One core.
+#[divan::bench(sample_count = 10)]
+fn compensate_stanford_100_targets_on_the_shoulder_void(bencher: divan::Bencher) {
+    let nominal = stanford();
+    let mut sampler = Sampler::new(1);
+    let calibrated = perturbed_robot(&nominal, 1.0, &mut sampler).expect("calibrated");
+    let points: Vec<ProgramPoint> = (0..100)
+        .map(|i| {
+            let t = f64::from(i);
+            let wave =
+                |k: f64, low: f64, high: f64| low + (high - low) * (0.5 + 0.5 * (t * k).sin());
+            ProgramPoint {
+                target: ProgramTarget::Joints(vec![
+                    wave(0.71, -3.0, 3.0),
+                    wave(1.37, -0.03, 0.03),
+                    wave(2.11, 0.25, 0.95),
+                    wave(0.53, -3.0, 3.0),
+                    wave(1.93, 0.3, 2.5),
+                    wave(2.97, -3.0, 3.0),
+                ]),
+                joints: None,
+            }
+        })
+        .collect();
+    bencher.bench_local(|| {
+        compensate(&nominal, &calibrated, &points, Match::Pose, &mut Quiet).expect("compensates")
+    });
+}
+
 /// D-optimal planning (docs/planning.md): 50 configurations of the Stanford
 /// arm for the position method, chosen from a pool of 500 or 10 000
 /// candidates (generated outside the timing).
