@@ -104,6 +104,13 @@ const MAX_DAMPING: f64 = 1e8;
 /// A solve that has not halved its error in this many iterations has stalled
 /// (a local minimum or a joint limit in the way) and is given up.
 const STALL_ITERATIONS: usize = 25;
+/// A solve whose error fell by less than [`STATIONARY_DECREASE`] of itself
+/// in each of this many iterations in a row has settled at a least-squares
+/// minimum short of the target (a target out of reach): given up without
+/// waiting for [`STALL_ITERATIONS`].
+const STATIONARY_ITERATIONS: usize = 5;
+/// See [`STATIONARY_ITERATIONS`].
+const STATIONARY_DECREASE: f64 = 1e-9;
 
 /// Solves the inverse geometric model for `target`, starting from the motor
 /// configuration `start_motor_positions`.
@@ -143,6 +150,7 @@ fn damped_descent(
     let mut damping = INITIAL_DAMPING;
     let mut iterations = 0;
     let (mut checkpoint_error, mut checkpoint_iteration) = (error.norm(), 0);
+    let mut stationary = 0;
     while error.norm() > options.tolerance && iterations < options.max_iterations {
         iterations += 1;
         model.joint_jacobian(&chain, &mut full);
@@ -156,6 +164,12 @@ fn damped_descent(
             let candidate = limit(&joint_positions + step);
             let candidate_error = evaluate(&candidate, &mut candidate_chain);
             if candidate_error.norm() < error.norm() {
+                let decrease = error.norm() - candidate_error.norm();
+                stationary = if decrease <= STATIONARY_DECREASE * error.norm() {
+                    stationary + 1
+                } else {
+                    0
+                };
                 joint_positions = candidate;
                 std::mem::swap(&mut chain, &mut candidate_chain);
                 error = candidate_error;
@@ -165,7 +179,7 @@ fn damped_descent(
             }
             damping *= 10.0;
         }
-        if !improved {
+        if !improved || stationary >= STATIONARY_ITERATIONS {
             break;
         }
         if error.norm() < 0.5 * checkpoint_error {
@@ -530,6 +544,36 @@ mod tests {
             }
         }
         assert!(solved >= 15, "{solved} of 20");
+    }
+
+    /// A pose whose wrist centre lies 2 cm inside the cylinder of radius
+    /// r2 about z1 that the Stanford arm's wrist centre never enters: the
+    /// solve settles at the least-squares minimum, where its error still
+    /// falls by rounding's worth, and gives up there five iterations later
+    /// (17) rather than at the stall rule's 25.
+    #[test]
+    fn a_solve_settled_short_of_its_target_stops() {
+        let robot = stanford();
+        let start = [2.0, 0.01, 0.5, -1.0, 0.6, 1.2];
+        let mut pose = terminal_pose(&robot, &start).expect("valid");
+        pose.translation.vector.x += 0.02;
+        pose.translation.vector.y += 0.02;
+        let result = inverse_kinematics(
+            &robot,
+            &Target::Frame(pose),
+            &start,
+            &InverseOptions::default(),
+        );
+        let Err(Error::Unreachable {
+            iterations,
+            residual,
+            ..
+        }) = result
+        else {
+            panic!("reached a pose out of reach: {result:?}");
+        };
+        assert!(residual > 8e-3, "{residual}");
+        assert!(iterations <= 20, "{iterations} iterations");
     }
 
     #[test]
