@@ -10,7 +10,7 @@
 //! - [`FoldKind::Gram`]: the normal equations `G = WᵀW` and `g = Wᵀr`
 //!   (`b²/2` multiply–adds a row). Enough where the normal equations are
 //!   accurate (an equilibrated condition number below
-//!   [`NORMAL_EQUATIONS_CONDITION`](crate::linalg::NORMAL_EQUATIONS_CONDITION)).
+//!   [`NORMAL_EQUATIONS_CONDITION`]).
 //! - [`FoldKind::Factor`]: the R̃ of a QR of `[W | r]`, folded block by
 //!   block (tall-skinny QR, [`TriangularFold`]): `R̃ = [R z; 0 ρ]`, with
 //!   `W = QR`, `z = Qᵀr` and `ρ` the least-squares residual's norm. As

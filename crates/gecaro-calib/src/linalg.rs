@@ -16,7 +16,7 @@ use crate::Error;
 use crate::parallel::run_parts;
 
 /// A row-major `rows × columns` view of `data` (the layout of
-/// [`ObservationSystem`](crate::ObservationSystem)).
+/// [`ObservationSystem`](crate::observation::ObservationSystem)).
 pub(crate) fn view(data: &[f64], rows: usize, columns: usize) -> MatRef<'_, f64> {
     MatRef::from_row_major_slice(data, rows, columns)
 }
@@ -749,7 +749,7 @@ pub(crate) struct LeastSquares {
     pub(crate) inverse_normal_diagonal: Vec<f64>,
 }
 
-/// The condition number of W below which [`solve`] uses the normal equations:
+/// The condition number of W below which [`step`] uses the normal equations:
 /// they square it, and 1e5² · ε ≈ 1e-6 relative accuracy in the step is ample
 /// for an iteration whose residual is recomputed exactly each time.
 pub(crate) const NORMAL_EQUATIONS_CONDITION: f64 = 1e5;

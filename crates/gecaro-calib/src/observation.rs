@@ -56,7 +56,7 @@ pub(crate) fn write_rows(
 /// independent ([`CalibrationMethod::independent_configurations`]), into
 /// `writer`: block by block, so that each block's states are still in cache
 /// when the method reads them, and large sets over all cores. The rows are
-/// those of [`evaluate_states`](crate::states::evaluate_states) followed by [`CalibrationMethod::linearise`]
+/// those of [`evaluate_states`] followed by [`CalibrationMethod::linearise`]
 /// on the whole set, bit for bit; with the set's named `frames`, each state
 /// is that of the measured pose ([`crate::frames`]). Returns the end of the observations
 /// written (see [`RowWriter::observation_end`]).

@@ -19,7 +19,7 @@
 //! combination `η_b + Σ_j β_j η_j`, the others being held at nominal. Its
 //! prior is the prior of that combination: independent Gaussian priors give
 //! `σ_b² = σ_k² + Σ_j β_j² σ_j²`, with the regrouping coefficients β_j of
-//! [`crate::RankReport::relations`] (on the data at the nominal robot).
+//! [`RankReport::relations`](crate::identifiability::RankReport::relations) (on the data at the nominal robot).
 //! Parameters the data do not excite are not identified and keep their
 //! nominal value, which is also their prior mean. The auxiliary unknowns
 //! (plane coefficients) have no prior.

@@ -338,7 +338,7 @@ impl PyData {
         })
     }
 
-    /// The file it was read from, or "<arrays>".
+    /// The file it was read from, or `"<arrays>"`.
     #[getter]
     fn label(&self) -> &str {
         &self.label

@@ -151,7 +151,7 @@ fn errors_array<'py>(
 
 #[pymethods]
 impl PyIdentification {
-    /// The calibrated robot, named "<name> (calibrated)", as `identify -o`
+    /// The calibrated robot, named `"<name> (calibrated)"`, as `identify -o`
     /// writes it.
     #[getter]
     fn calibrated(&self, py: Python<'_>) -> Py<PyRobot> {

@@ -1,5 +1,5 @@
 //! The outlier report: observations whose standardised residual at the
-//! solution exceeds a threshold (see [`crate::Loss`] for the units), located
+//! solution exceeds a threshold (see [`Loss`](crate::robust::Loss) for the units), located
 //! in their set and data file.
 
 use super::observations::{ObservationLocation, locate};

@@ -1,6 +1,6 @@
 //! The reweighted phase of an identification: a robust loss by iteratively
-//! reweighted least squares ([`crate::Loss`]), a Gaussian prior as
-//! pseudo-observation rows ([`crate::Prior`]), or both.
+//! reweighted least squares ([`Loss`]), a Gaussian prior as
+//! pseudo-observation rows ([`Prior`](crate::prior::Prior)), or both.
 //!
 //! Without a robust loss or a prior it only takes the statistics of the
 //! least-squares solution (for the outlier report and σ). Otherwise it

@@ -121,7 +121,7 @@ pub(crate) struct BaseColumns {
     /// Number of base auxiliary unknowns (the first columns).
     pub(crate) auxiliary: usize,
     pub(crate) names: Vec<String>,
-    /// Each column's error unit (see [`crate::Observability`]).
+    /// Each column's error unit (see [`Observability`](crate::observability::Observability)).
     pub(crate) scale: Vec<f64>,
 }
 

@@ -7,7 +7,7 @@
 //! lane of nalgebra's SIMD scalar (`simba`'s `WideF64x4`), by the very code
 //! the model runs for one configuration (its poses and Jacobian are written
 //! once, generic over the scalar). No operation mixes lanes, the turns come
-//! from [`turn::sin_cos_lanes`](super::turn::sin_cos_lanes), whose lanes are
+//! from [`turn::sin_cos_lanes`], whose lanes are
 //! computed on their own, and a derived column skips a term only where its
 //! weight is zero in every lane (which adds +0 elsewhere, changing no bit):
 //! each lane's pose and Jacobian are those of its configuration alone, bit

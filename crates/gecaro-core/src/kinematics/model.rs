@@ -7,7 +7,7 @@
 //! joint map of eq. 4, the column of each parameter, sin/cos θ_j of
 //! prismatic joints — is computed once here; per configuration only
 //! sin/cos(θ_j + q_j) of revolute joints remain, taken four at a time in
-//! SIMD lanes ([`turn`](super::turn), the one sine of every route). The
+//! SIMD lanes ([`turn`], the one sine of every route). The
 //! poses agree with [`forward_kinematics`](super::forward_kinematics) bit for
 //! bit where no frame has a Hayati β (the same products), to rounding where
 //! one has (its turn about y is applied in another order), and the Jacobian

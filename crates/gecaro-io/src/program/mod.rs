@@ -5,7 +5,7 @@
 //! nominal model was programmed with) or Cartesian targets (`x,y,z`, and
 //! `qw,qx,qy,qz` for an orientation, world frame); Cartesian targets may
 //! carry the program's joints too. Columns are found by name (or through a
-//! [`ColumnMap`]), in the file's units ([`DataUnits`]); every other column
+//! [`ColumnMap`](crate::ColumnMap)), in the file's units ([`DataUnits`](crate::DataUnits)); every other column
 //! (time stamps, point names, speeds) is kept as written.
 //!
 //! The corrected program is the same file with the corrected joint values

@@ -1,6 +1,6 @@
 //! The JSON API of the page (documented in `docs/api.md`).
 //!
-//! Every request that computes carries the robot as a [`RobotDocument`]: the
+//! Every request that computes carries the robot as a [`RobotDocument`](gecaro_io::RobotDocument): the
 //! page holds the table being edited, and the server keeps no robot between
 //! requests. Values are in the document's own units (its `angle_unit`);
 //! everything the server computes is in metres and radians.
