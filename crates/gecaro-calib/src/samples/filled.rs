@@ -67,9 +67,29 @@ pub struct SampleShape {
 }
 
 impl SampleShape {
-    fn width(present: bool, width: usize) -> usize {
-        if present { width } else { 0 }
+    /// The values each sample has in each column.
+    fn widths(self) -> Widths {
+        let width = |present: bool, width: usize| if present { width } else { 0 };
+        Widths {
+            motor: self.joints,
+            position: width(self.position, 3),
+            orientation: width(self.orientation, 4),
+            group: width(self.group, 1),
+            distance: width(self.distance, 1),
+            loads: width(self.loads, 1),
+        }
     }
+}
+
+/// Values per sample of each column of a [`SampleShape`] (0: not held).
+#[derive(Copy, Clone)]
+struct Widths {
+    motor: usize,
+    position: usize,
+    orientation: usize,
+    group: usize,
+    distance: usize,
+    loads: usize,
 }
 
 /// Samples of one [`SampleShape`] written in place; see the module docs.
@@ -171,32 +191,26 @@ impl FilledSamples {
         if room <= self.room {
             return;
         }
-        let shape = self.shape;
-        let len = self.len;
-        grow(&mut self.motor, len * shape.joints, room * shape.joints);
-        let width = |present, width| SampleShape::width(present, width);
+        let (len, widths) = (self.len, self.shape.widths());
+        grow(&mut self.motor, len * widths.motor, room * widths.motor);
         grow(
             &mut self.position,
-            len * width(shape.position, 3),
-            room * width(shape.position, 3),
+            len * widths.position,
+            room * widths.position,
         );
         grow(
             &mut self.orientation,
-            len * width(shape.orientation, 4),
-            room * width(shape.orientation, 4),
+            len * widths.orientation,
+            room * widths.orientation,
         );
-        grow(
-            &mut self.group,
-            len * width(shape.group, 1),
-            room * width(shape.group, 1),
-        );
+        grow(&mut self.group, len * widths.group, room * widths.group);
         grow(
             &mut self.distance,
-            len * width(shape.distance, 1),
-            room * width(shape.distance, 1),
+            len * widths.distance,
+            room * widths.distance,
         );
         grow(&mut self.lines, len, room);
-        if shape.loads {
+        if self.shape.loads {
             self.loads.resize_with(room, || None);
         }
         self.room = room;
@@ -211,57 +225,31 @@ impl FilledSamples {
             .iter()
             .fold(0usize, |sum, count| sum.saturating_add(*count));
         self.make_room(self.len.saturating_add(total));
-        let shape = self.shape;
-        let len = self.len;
-        let width = |present, width| SampleShape::width(present, width);
-        let mut motor = &mut self.motor[len * shape.joints..];
-        let mut position = &mut self.position[len * width(shape.position, 3)..];
-        let mut orientation = &mut self.orientation[len * width(shape.orientation, 4)..];
-        let mut group = &mut self.group[len * width(shape.group, 1)..];
-        let mut distance = &mut self.distance[len * width(shape.distance, 1)..];
+        let (shape, len, widths) = (self.shape, self.len, self.shape.widths());
+        let mut motor = &mut self.motor[len * widths.motor..];
+        let mut position = &mut self.position[len * widths.position..];
+        let mut orientation = &mut self.orientation[len * widths.orientation..];
+        let mut group = &mut self.group[len * widths.group..];
+        let mut distance = &mut self.distance[len * widths.distance..];
         let mut lines = &mut self.lines[len..];
-        let mut loads = if shape.loads {
-            &mut self.loads[len..]
-        } else {
-            &mut self.loads[..0]
-        };
+        let mut loads = &mut self.loads[len * widths.loads..];
         self.handed_out.clear();
         let mut start = len;
         let mut runs = Vec::with_capacity(counts.len());
         for &count in counts {
             self.handed_out.push((start, count));
             start += count;
-            let cut = |column_width: usize| count * column_width;
-            let (run_motor, rest) = std::mem::take(&mut motor).split_at_mut(cut(shape.joints));
-            motor = rest;
-            let (run_position, rest) =
-                std::mem::take(&mut position).split_at_mut(cut(width(shape.position, 3)));
-            position = rest;
-            let (run_orientation, rest) =
-                std::mem::take(&mut orientation).split_at_mut(cut(width(shape.orientation, 4)));
-            orientation = rest;
-            let (run_group, rest) =
-                std::mem::take(&mut group).split_at_mut(cut(width(shape.group, 1)));
-            group = rest;
-            let (run_distance, rest) =
-                std::mem::take(&mut distance).split_at_mut(cut(width(shape.distance, 1)));
-            distance = rest;
-            let (run_lines, rest) = std::mem::take(&mut lines).split_at_mut(count);
-            lines = rest;
-            let (run_loads, rest) =
-                std::mem::take(&mut loads).split_at_mut(cut(usize::from(shape.loads)));
-            loads = rest;
             runs.push(SampleSlots {
                 shape,
                 len: 0,
                 capacity: count,
-                motor: run_motor,
-                position: run_position,
-                orientation: run_orientation,
-                group: run_group,
-                distance: run_distance,
-                lines: run_lines,
-                loads: run_loads,
+                motor: cut(&mut motor, count * widths.motor),
+                position: cut(&mut position, count * widths.position),
+                orientation: cut(&mut orientation, count * widths.orientation),
+                group: cut(&mut group, count * widths.group),
+                distance: cut(&mut distance, count * widths.distance),
+                lines: cut(&mut lines, count),
+                loads: cut(&mut loads, count * widths.loads),
             });
         }
         runs
@@ -272,23 +260,22 @@ impl FilledSamples {
     /// slots (the runs after them are dropped): their samples follow the
     /// settled ones in order, the empty slots between them closed up.
     pub fn settle(&mut self, filled: &[usize]) {
-        let shape = self.shape;
-        let width = |present, width| SampleShape::width(present, width);
+        let (shape, widths) = (self.shape, self.shape.widths());
         let runs = std::mem::take(&mut self.handed_out);
         for (&(start, count), &kept) in runs.iter().zip(filled) {
             let kept = kept.min(count);
             let to = self.len;
             if start != to {
-                let close = |column: usize| (start * column..(start + kept) * column, to * column);
-                let (from, at) = close(shape.joints);
+                let close = |width: usize| (start * width..(start + kept) * width, to * width);
+                let (from, at) = close(widths.motor);
                 self.motor.copy_within(from, at);
-                let (from, at) = close(width(shape.position, 3));
+                let (from, at) = close(widths.position);
                 self.position.copy_within(from, at);
-                let (from, at) = close(width(shape.orientation, 4));
+                let (from, at) = close(widths.orientation);
                 self.orientation.copy_within(from, at);
-                let (from, at) = close(width(shape.group, 1));
+                let (from, at) = close(widths.group);
                 self.group.copy_within(from, at);
-                let (from, at) = close(width(shape.distance, 1));
+                let (from, at) = close(widths.distance);
                 self.distance.copy_within(from, at);
                 self.lines.copy_within(start..start + kept, to);
                 if shape.loads {
@@ -378,6 +365,13 @@ impl FilledSamples {
             loads: (shape.loads && len > 0).then(|| Arc::new(self.loads)),
         }
     }
+}
+
+/// The first `len` values of `column`, which keeps the rest.
+fn cut<'a, T>(column: &mut &'a mut [T], len: usize) -> &'a mut [T] {
+    let (run, rest) = std::mem::take(column).split_at_mut(len);
+    *column = rest;
+    run
 }
 
 /// `column` (its first `kept` values those of the settled samples) with
