@@ -212,14 +212,15 @@ impl RowReader<'_> {
     /// [`MAX_CONFIGURATIONS`] samples: one more record is an error.
     pub(crate) fn read_all(&self, body: &[u8], lines_before: usize, separator: u8) -> Rows {
         let mut rows = self.rows();
-        let (reads, _) = self.read_body(body, lines_before, separator, &mut rows.samples, 0);
+        let (reads, _) = self.read_body(body, lines_before, separator, &mut rows.samples, |_| 0);
         self.settle(&mut rows, reads, MAX_CONFIGURATIONS);
         rows
     }
 
     /// Reads `body` (whole lines, the first being line `lines_before + 1`)
     /// into slots after the settled `samples`, a slot per line (a record is
-    /// at most one; room is made for `room` samples in all first): in parts
+    /// at most one; room is first made for `room(lines)` samples in all,
+    /// `lines` the body's): in parts
     /// on all cores when it is long and holds no quote (a quote may hold a
     /// line break), else in one part. Returns the parts' reads, in order, to
     /// be settled ([`settle`](Self::settle)), and the body's line breaks.
@@ -229,7 +230,7 @@ impl RowReader<'_> {
         lines_before: usize,
         separator: u8,
         samples: &mut FilledSamples,
-        room: usize,
+        room: impl FnOnce(usize) -> usize,
     ) -> (Vec<PartRead>, usize) {
         let threads = available_threads();
         let parts =
@@ -248,7 +249,7 @@ impl RowReader<'_> {
             .iter()
             .map(|(bytes, _, own)| own + usize::from(!bytes.ends_with(b"\n")))
             .collect();
-        samples.make_room(room);
+        samples.make_room(room(counts.iter().sum()));
         let slots = samples.slots(&counts);
         let reads = run_parts(
             parts.into_iter().zip(slots).collect(),
@@ -376,14 +377,16 @@ impl RowReader<'_> {
             // The first chunk makes room for the file's rows, at its rate
             // ([`Chunking::foreseen`]): the samples are then not copied as
             // they grow.
-            let room = if first {
-                let lines = memchr::memchr_iter(b'\n', chunk).count() + 1;
-                chunking.foreseen(lines, chunk.len())
-            } else {
-                0
+            let bytes = chunk.len();
+            let room = |lines| {
+                if first {
+                    chunking.foreseen(lines, bytes)
+                } else {
+                    0
+                }
             };
-            first = false;
             let (reads, breaks) = self.read_body(chunk, lines, separator, &mut rows.samples, room);
+            first = false;
             chunks.counted(breaks);
             if !self.settle(&mut rows, reads, chunking.limit) {
                 return rows;

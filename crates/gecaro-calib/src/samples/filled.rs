@@ -320,11 +320,29 @@ impl FilledSamples {
         if self.len == self.room {
             self.make_room(self.room.saturating_mul(2).max(16));
         }
-        let mut run = self.slots(&[1]);
-        let slot = run[0].next_slot().expect("a slot was made");
+        let mut run = self.run_at(self.len, 1);
+        let slot = run.next_slot().expect("a slot was made");
         write(slot)?;
-        self.settle(&[1]);
+        self.len += 1;
         Ok(())
+    }
+
+    /// The run of `count` slots from sample `start` (room made for them).
+    fn run_at(&mut self, start: usize, count: usize) -> SampleSlots<'_> {
+        let (shape, widths) = (self.shape, self.shape.widths());
+        let run = |width: usize| start * width..(start + count) * width;
+        SampleSlots {
+            shape,
+            len: 0,
+            capacity: count,
+            motor: &mut self.motor[run(widths.motor)],
+            position: &mut self.position[run(widths.position)],
+            orientation: &mut self.orientation[run(widths.orientation)],
+            group: &mut self.group[run(widths.group)],
+            distance: &mut self.distance[run(widths.distance)],
+            lines: &mut self.lines[run(1)],
+            loads: &mut self.loads[run(widths.loads)],
+        }
     }
 
     pub(super) fn into_parts(mut self) -> Parts {
@@ -413,19 +431,13 @@ impl SampleSlots<'_> {
         if self.len == self.capacity {
             return None;
         }
-        let shape = self.shape;
+        let (shape, widths) = (self.shape, self.shape.widths());
         let index = self.len;
-        let slice = |present: bool, width: usize| {
-            if present {
-                index * width..(index + 1) * width
-            } else {
-                0..0
-            }
-        };
+        let at = |width: usize| index * width..(index + 1) * width;
         Some(SlotMut {
-            motor: &mut self.motor[index * shape.joints..(index + 1) * shape.joints],
-            position: &mut self.position[slice(shape.position, 3)],
-            orientation: &mut self.orientation[slice(shape.orientation, 4)],
+            motor: &mut self.motor[at(widths.motor)],
+            position: &mut self.position[at(widths.position)],
+            orientation: &mut self.orientation[at(widths.orientation)],
             group: shape.group.then(|| &mut self.group[index]),
             distance: shape.distance.then(|| &mut self.distance[index]),
             line: &mut self.lines[index],
