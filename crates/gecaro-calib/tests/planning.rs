@@ -319,14 +319,27 @@ fn chosen_configurations_keep_the_minimum_distance() {
 /// Measuring sessions per design and seed.
 const SESSIONS: usize = 5;
 
+/// Simulated real robots per design comparison.
+const REAL_ROBOTS: u64 = 20;
+/// Comparisons of [`REAL_ROBOTS`] the plan must win.
+const WINS_NEEDED: usize = 15;
+
 /// N planned configurations against N random ones from the same pool,
 /// identified on simulated measurements and evaluated on held-out data of the
-/// same method. Each of 10 seeds draws a real robot (error level 0.1) and a
-/// random design, and compares the designs' mean held-out error over
-/// [`SESSIONS`] measuring sessions (independent noise, σ 0.1 mm): one
-/// session's error varies by ±30 % with the noise drawn, which would make a
-/// single comparison a coin toss biased by the design, not a test of it. The
-/// plan must win in at least 9 of 10.
+/// same method. Each of [`REAL_ROBOTS`] seeds draws a real robot (error
+/// level 0.1) and a random design, and compares the designs' mean held-out
+/// error over [`SESSIONS`] measuring sessions (independent noise, σ 0.1 mm):
+/// one session's error varies by ±30 % with the noise drawn, which would
+/// make a single comparison a coin toss biased by the design, not a test of
+/// it. The plan must win at least [`WINS_NEEDED`] of them (a coin toss does
+/// so with probability 2 %), and its mean error over them must be the
+/// smaller.
+///
+/// (It was 9 of 10 real robots. The Panda's point-link plans win about 88 %
+/// of the comparisons, as measured over six pools: at that rate 9 of 10
+/// fails for one pool in three, and a change of the inverse model that only
+/// drew another pool failed it, 8 of 10, with the plan's mean error 15 %
+/// below the random designs'. 15 of 20 fails for one pool in forty.)
 fn planned_beats_random(robot: &str, name: &str, count: usize, pool_size: usize) {
     let robot = ready(robot);
     let chosen = method(name, &MethodOptions::default()).expect("method");
@@ -339,8 +352,8 @@ fn planned_beats_random(robot: &str, name: &str, count: usize, pool_size: usize)
         .sensor()
         .generate(&robot, 2 * count, 0.0, &mut Sampler::new(12), &mut Quiet)
         .expect("held out");
-    let mut wins = 0;
-    for seed in 0..10 {
+    let (mut wins, mut planned_sum, mut random_sum) = (0, 0.0, 0.0);
+    for seed in 0..REAL_ROBOTS {
         let mut sampler = Sampler::new(100 + seed);
         let real = perturbed_robot(&robot, 0.1, &mut sampler).expect("real");
         let random = random_units(chosen.as_ref(), &pool, planned.chosen.len(), &mut sampler);
@@ -385,8 +398,16 @@ fn planned_beats_random(robot: &str, name: &str, count: usize, pool_size: usize)
         if planned_error < random_error {
             wins += 1;
         }
+        planned_sum += planned_error;
+        random_sum += random_error;
     }
-    assert!(wins >= 9, "{name}: planned configurations won {wins} of 10");
+    assert!(
+        wins >= WINS_NEEDED && planned_sum < random_sum,
+        "{name}: planned configurations won {wins} of {REAL_ROBOTS}, mean held-out error \
+         {:.4} mm planned, {:.4} mm random",
+        1e3 * planned_sum / REAL_ROBOTS as f64,
+        1e3 * random_sum / REAL_ROBOTS as f64
+    );
 }
 
 #[test]
