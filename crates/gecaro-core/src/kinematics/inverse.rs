@@ -4,10 +4,10 @@
 //! Damped least squares (Levenberg–Marquardt) on the joint variables q, from a
 //! chosen start configuration, on the compiled direct model
 //! ([`KinematicModel`]). Each step solves `J Δq ≈ Δx` with
-//! `Δq = (JᵀJ + λI)⁻¹JᵀΔx = Jᵀ(JJᵀ + λI)⁻¹Δx` (k×n task Jacobian; a
-//! Cholesky factorisation of the smaller of the two products per damping
-//! tried, so redundant, position-only and plane problems need nothing
-//! special), leaves out of it the joints held at a limit that it would
+//! `Δq = (JᵀJ + λI)⁻¹JᵀΔx = Jᵀ(JJᵀ + λI)⁻¹Δx` (k×n task Jacobian; the
+//! smaller of the two products, formed once per iterate and factorised by
+//! Cholesky per damping tried, so redundant, position-only and plane
+//! problems need nothing special), leaves out of it the joints held at a limit that it would
 //! push beyond (their columns of J zeroed, the step taken again: an active
 //! set), clamps q to the joint limits, and keeps the step only if it
 //! lowers ‖Δx‖; λ shrinks after a kept step and grows after a refused one (or
@@ -157,10 +157,11 @@ fn damped_descent(
         iterations += 1;
         model.joint_jacobian(&chain, &mut full);
         let jacobian = task_rows(target, &full);
+        let system = DampedSystem::new(&jacobian);
         let mut improved = false;
         while damping < MAX_DAMPING {
             let Some(step) =
-                bounded_step(robot, options, &joint_positions, &jacobian, &error, damping)
+                bounded_step(robot, options, &joint_positions, &system, &error, damping)
             else {
                 damping *= 10.0;
                 continue;
@@ -326,56 +327,100 @@ fn newton_step(jacobian: &DMatrix<f64>, error: &DVector<f64>) -> Option<DVector<
         // by LU, cheaper than the product and with J's own conditioning.
         square_solve(jacobian, error).filter(|step| step.iter().all(|v| v.is_finite()))
     } else {
-        damped_step(jacobian, error, 0.0)
+        DampedSystem::new(jacobian).step(error, 0.0)
     }
 }
 
-/// The damped least-squares step `(JᵀJ + λI)⁻¹JᵀΔx`, computed as
-/// `Jᵀ(JJᵀ + λI)⁻¹Δx` when J has no more rows than columns (the smaller
+/// The damped least-squares steps `(JᵀJ + λI)⁻¹JᵀΔx` of one J, computed
+/// as `Jᵀ(JJᵀ + λI)⁻¹Δx` when J has no more rows than columns (the smaller
 /// product; with λ = 0, the smallest step that meets the linearised
-/// target); `None` when the product to invert does not factorise or the
-/// step is not finite.
-fn damped_step(
-    jacobian: &DMatrix<f64>,
-    error: &DVector<f64>,
-    damping: f64,
-) -> Option<DVector<f64>> {
-    let (rows, columns) = jacobian.shape();
-    let step = if rows <= columns {
-        // A frame's, a point's or a plane's rows: a product on the stack.
-        let solved = match rows {
-            6 => wide_solve::<6>(jacobian, error, damping),
-            3 => wide_solve::<3>(jacobian, error, damping),
-            _ => {
-                let product = damped(jacobian * jacobian.transpose(), damping);
-                product.cholesky().map(|factor| factor.solve(error))
-            }
-        }?;
-        jacobian.transpose() * solved
-    } else {
-        damped(jacobian.transpose() * jacobian, damping)
-            .cholesky()
-            .map(|factor| factor.solve(&(jacobian.transpose() * error)))?
-    };
-    step.iter().all(|v| v.is_finite()).then_some(step)
+/// target). The product to invert does not change with λ: it is formed
+/// once for every damping tried.
+struct DampedSystem<'a> {
+    jacobian: &'a DMatrix<f64>,
+    product: Product,
 }
 
-/// The damped step of [`damped_step`] from `joint_positions` with the
-/// joints held at a limit it would push beyond taken out of it (an active
-/// set): their columns of J are zeroed and the step is taken again by the
+/// The product [`DampedSystem`] inverts.
+#[allow(clippy::large_enum_variant)] // one per iterate, on the stack: no allocation
+enum Product {
+    /// JJᵀ of a frame's rows (six), on the stack.
+    Six(Matrix6<f64>),
+    /// JJᵀ of a point's rows (three), on the stack.
+    Three(Matrix3<f64>),
+    /// JJᵀ of other rows (a plane's one).
+    Wide(DMatrix<f64>),
+    /// JᵀJ of a J with more rows than columns.
+    Tall(DMatrix<f64>),
+}
+
+impl<'a> DampedSystem<'a> {
+    fn new(jacobian: &'a DMatrix<f64>) -> Self {
+        let (rows, columns) = jacobian.shape();
+        let product = match rows {
+            _ if rows > columns => Product::Tall(jacobian.transpose() * jacobian),
+            6 => Product::Six(outer_sum(jacobian)),
+            3 => Product::Three(outer_sum(jacobian)),
+            _ => Product::Wide(jacobian * jacobian.transpose()),
+        };
+        DampedSystem { jacobian, product }
+    }
+
+    /// The step for the damping λ; `None` when the product to invert does
+    /// not factorise or the step is not finite.
+    fn step(&self, error: &DVector<f64>, damping: f64) -> Option<DVector<f64>> {
+        let jacobian = self.jacobian;
+        let step = match &self.product {
+            Product::Six(product) => jacobian.transpose() * wide_solve(product, error, damping)?,
+            Product::Three(product) => jacobian.transpose() * wide_solve(product, error, damping)?,
+            Product::Wide(product) => {
+                let factor = damped(product.clone(), damping).cholesky()?;
+                jacobian.transpose() * factor.solve(error)
+            }
+            Product::Tall(product) => damped(product.clone(), damping)
+                .cholesky()?
+                .solve(&(jacobian.transpose() * error)),
+        };
+        step.iter().all(|v| v.is_finite()).then_some(step)
+    }
+}
+
+/// JJᵀ for a J of `R` rows, as the sum of its columns' outer products in
+/// column order: each entry is the rows' dot product, summed in the same
+/// order, read from contiguous columns rather than strided rows.
+fn outer_sum<const R: usize>(jacobian: &DMatrix<f64>) -> SMatrix<f64, R, R> {
+    let mut product = SMatrix::<f64, R, R>::zeros();
+    for column in jacobian.column_iter() {
+        for i in 0..R {
+            for k in 0..=i {
+                product[(i, k)] += column[i] * column[k];
+            }
+        }
+    }
+    for i in 0..R {
+        for k in 0..i {
+            product[(k, i)] = product[(i, k)];
+        }
+    }
+    product
+}
+
+/// The damped step of `system` from `joint_positions` with the joints
+/// held at a limit it would push beyond taken out of it (an active set):
+/// their columns of J are zeroed and the step is taken again by the
 /// others, until none pushes beyond. Clamping such a joint instead would
 /// cut the step after it is chosen, so the others would not make up for it
 /// and the descent would crawl along the limit. Without limits, or with no
-/// joint pushing beyond one, the step is [`damped_step`]'s.
+/// joint pushing beyond one, the step is the system's.
 fn bounded_step(
     robot: &Robot,
     options: &InverseOptions,
     joint_positions: &DVector<f64>,
-    jacobian: &DMatrix<f64>,
+    system: &DampedSystem<'_>,
     error: &DVector<f64>,
     damping: f64,
 ) -> Option<DVector<f64>> {
-    let mut step = damped_step(jacobian, error, damping)?;
+    let mut step = system.step(error, damping)?;
     if !options.respect_limits {
         return Some(step);
     }
@@ -389,7 +434,7 @@ fn bounded_step(
             .enumerate()
         {
             if (*q <= joint.qmin && *change < 0.0) || (*q >= joint.qmax && *change > 0.0) {
-                held.get_or_insert_with(|| jacobian.clone())
+                held.get_or_insert_with(|| system.jacobian.clone())
                     .column_mut(index)
                     .fill(0.0);
                 blocked = true;
@@ -399,7 +444,7 @@ fn bounded_step(
         let Some(reduced) = held.as_ref().filter(|_| blocked) else {
             return Some(step);
         };
-        step = damped_step(reduced, error, damping)?;
+        step = DampedSystem::new(reduced).step(error, damping)?;
     }
 }
 
@@ -427,19 +472,14 @@ fn square_solve(jacobian: &DMatrix<f64>, error: &DVector<f64>) -> Option<DVector
     }
 }
 
-/// `(JJᵀ + λI)⁻¹Δx` for a J of `R` rows.
+/// `(JJᵀ + λI)⁻¹Δx` for a J of `R` rows, from its `product` JJᵀ.
 fn wide_solve<const R: usize>(
-    jacobian: &DMatrix<f64>,
+    product: &SMatrix<f64, R, R>,
     error: &DVector<f64>,
     damping: f64,
 ) -> Option<DVector<f64>> {
-    let mut product = SMatrix::<f64, R, R>::zeros();
+    let mut product = *product;
     for i in 0..R {
-        for k in 0..=i {
-            let value = jacobian.row(i).dot(&jacobian.row(k));
-            product[(i, k)] = value;
-            product[(k, i)] = value;
-        }
         product[(i, i)] += damping;
     }
     let right = SVector::<f64, R>::from_column_slice(error.as_slice());
