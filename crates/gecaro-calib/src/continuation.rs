@@ -21,7 +21,8 @@
 //! limit: limits are left to the caller.
 
 use gecaro_core::{
-    InverseOptions, InverseSolution, ParameterKind, Robot, Target, inverse_kinematics,
+    InverseOptions, InverseSolution, KinematicModel, ParameterKind, Robot, Target,
+    inverse_kinematics, inverse_kinematics_on,
 };
 
 use crate::Error;
@@ -138,6 +139,7 @@ pub(crate) fn closest_from_nearby_starts(
             .map(|(a, b)| (a - b).abs())
             .fold(0.0, f64::max)
     };
+    let model = KinematicModel::new(robot);
     let mut best: Option<InverseSolution> = None;
     for spread in SPREADS {
         for _ in 0..STARTS_PER_SPREAD {
@@ -145,7 +147,7 @@ pub(crate) fn closest_from_nearby_starts(
                 .iter()
                 .map(|value| value + sampler.gaussian(spread))
                 .collect();
-            match inverse_kinematics(robot, target, &start, options) {
+            match inverse_kinematics_on(robot, &model, target, &start, options) {
                 Ok(solution) => {
                     if best
                         .as_ref()

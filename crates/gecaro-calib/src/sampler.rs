@@ -6,7 +6,10 @@
 //! seeded by the user: the same seed gives the same configurations, bit for
 //! bit, on every platform.
 
-use gecaro_core::{InverseOptions, InverseSolution, Robot, Target, inverse_kinematics};
+use gecaro_core::{
+    InverseOptions, InverseSolution, KinematicModel, Robot, Target, inverse_kinematics,
+    inverse_kinematics_on,
+};
 use nalgebra::{Rotation3, Vector3};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -43,14 +46,16 @@ pub fn solve_from_starts(
         .map(|joint| 0.5 * (joint.qmin + joint.qmax))
         .collect();
     let first = robot.motor_positions(&middle)?;
-    let first_error = match inverse_kinematics(robot, target, first.as_slice(), options) {
+    let model = KinematicModel::new(robot);
+    let first_error = match inverse_kinematics_on(robot, &model, target, first.as_slice(), options)
+    {
         Ok(solution) => return Ok(solution),
         Err(error) => error,
     };
     let mut sampler = Sampler::new(seed);
     for _ in 0..RANDOM_STARTS {
         let start = sampler.configuration(robot);
-        if let Ok(solution) = inverse_kinematics(robot, target, &start, options) {
+        if let Ok(solution) = inverse_kinematics_on(robot, &model, target, &start, options) {
             return Ok(solution);
         }
     }

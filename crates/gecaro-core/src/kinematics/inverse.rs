@@ -126,9 +126,31 @@ pub fn inverse_kinematics(
     start_motor_positions: &[f64],
     options: &InverseOptions,
 ) -> Result<InverseSolution, Error> {
+    inverse_kinematics_on(
+        robot,
+        &KinematicModel::new(robot),
+        target,
+        start_motor_positions,
+        options,
+    )
+}
+
+/// [`inverse_kinematics`] on the compiled `model` of `robot`, for callers
+/// that solve many targets or starts on one robot (the model is compiled
+/// once rather than per solve).
+///
+/// # Errors
+/// As [`inverse_kinematics`].
+pub fn inverse_kinematics_on(
+    robot: &Robot,
+    model: &KinematicModel,
+    target: &Target,
+    start_motor_positions: &[f64],
+    options: &InverseOptions,
+) -> Result<InverseSolution, Error> {
     check_target(target)?;
     let start = robot.joint_positions(start_motor_positions)?;
-    damped_descent(robot, &KinematicModel::new(robot), target, start, options)
+    damped_descent(robot, model, target, start, options)
 }
 
 /// The damped least-squares descent of [`inverse_kinematics`] from the
@@ -507,7 +529,9 @@ fn task_error(target: &Target, current: &IsometryMatrix3<f64>) -> DVector<f64> {
                 &current.rotation,
                 OrientationDifference::AxisAngle,
             );
-            DVector::from_iterator(6, position.iter().chain(rotation.iter()).copied())
+            DVector::from_column_slice(&[
+                position.x, position.y, position.z, rotation.x, rotation.y, rotation.z,
+            ])
         }
         Target::Plane { normal, offset } => {
             DVector::from_element(1, offset - normal.dot(&current.translation.vector))
@@ -522,7 +546,9 @@ fn task_rows(target: &Target, full: &Matrix6xX<f64>) -> DMatrix<f64> {
             let row = normal.transpose() * full.fixed_rows::<3>(0);
             DMatrix::from_row_slice(1, row.len(), row.as_slice())
         }
-        _ => full.rows(0, target.rows()).into_owned(),
+        // (The columns of `full` are contiguous: a frame's rows are all of it.)
+        Target::Frame(_) => DMatrix::from_column_slice(6, full.ncols(), full.as_slice()),
+        Target::Position(_) => DMatrix::from_fn(3, full.ncols(), |row, column| full[(row, column)]),
     }
 }
 

@@ -18,6 +18,7 @@ pub mod turn;
 pub use direct::{FrameChain, forward_kinematics, frame_transform, terminal_pose};
 pub use inverse::{
     InverseOptions, InverseSolution, Target, inverse_kinematics, inverse_kinematics_near,
+    inverse_kinematics_on,
 };
 pub use jacobian::{joint_jacobian, parameter_jacobian, parameter_jacobian_of_chain};
 pub use lanes::{CONFIGURATION_LANES, LaneBuffer};
