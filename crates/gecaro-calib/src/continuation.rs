@@ -41,8 +41,9 @@ const LONGEST_STEP: f64 = 1.0 / 8.0;
 /// the Stanford arm's joint space: of 630 paths followed to the end, 4 had
 /// a step halved, none more than twice; the 1,268 cut were cut where the
 /// target left the reach, after 12.7 failed steps on average when the
-/// shortest step was 1/256 of the longest, 5.3 at 1/8 of it, with the same results
-/// (2 of 10⁵ targets then reached within the limits, beyond them before).
+/// shortest step was 1/256 of the longest, 5.3 at 1/8 of it, with the
+/// same results (2 of 10⁵ targets then reached within the limits, beyond
+/// them before).
 const SHORTEST_STEP: f64 = LONGEST_STEP / 8.0;
 /// Failed steps before the path is given up, whatever their length.
 const MAX_FAILED_STEPS: usize = 64;

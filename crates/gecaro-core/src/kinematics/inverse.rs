@@ -7,10 +7,10 @@
 //! `Δq = (JᵀJ + λI)⁻¹JᵀΔx = Jᵀ(JJᵀ + λI)⁻¹Δx` (k×n task Jacobian; the
 //! smaller of the two products, formed once per iterate and factorised by
 //! Cholesky per damping tried, so redundant, position-only and plane
-//! problems need nothing special), leaves out of it the joints held at a limit that it would
-//! push beyond (their columns of J zeroed, the step taken again: an active
-//! set), clamps q to the joint limits, and keeps the step only if it
-//! lowers ‖Δx‖; λ shrinks after a kept step and grows after a refused one (or
+//! problems need nothing special), leaves out of it the joints held at a
+//! limit that it would push beyond (their columns of J zeroed, the step
+//! taken again: an active set), clamps q to the joint limits, and keeps the
+//! step only if it lowers ‖Δx‖; λ shrinks after a kept step and grows after a refused one (or
 //! a product that does not factorise). Close to the solution λ → 0 and the
 //! iteration is Newton's, so targets are met to ~1e-13 m.
 //!
