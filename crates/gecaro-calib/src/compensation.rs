@@ -23,7 +23,7 @@
 
 use gecaro_core::{
     ChainBuffer, InverseOptions, InverseSolution, KinematicModel, OrientationDifference, Robot,
-    Target, forward_kinematics, inverse_kinematics, inverse_kinematics_near, joint_jacobian,
+    Target, forward_kinematics, inverse_kinematics_near, inverse_kinematics_on, joint_jacobian,
     orientation_difference,
 };
 use nalgebra::{DMatrix, DVector, IsometryMatrix3, Vector3};
@@ -383,7 +383,7 @@ fn compensate_one(
             Some(start) if !redundant => {
                 inverse_kinematics_near(robot, model, target, start, options)
             }
-            Some(start) => inverse_kinematics(robot, target, start, options),
+            Some(start) => inverse_kinematics_on(robot, model, target, start, options),
             None => return solve_from_starts(robot, target, options, seed),
         };
         match from_start {
@@ -396,12 +396,16 @@ fn compensate_one(
     // The pose reached, when the solution is the solver's: where the
     // solution is locally unique, the closest one is it.
     let mut reached = None;
+    // The solution closest to the start joints (else to its own).
+    let closest = |motor_positions: Vec<f64>| {
+        let reference = start.map_or_else(|| motor_positions.clone(), <[f64]>::to_vec);
+        closest_solution((robot, model), target, motor_positions, &reference, options)
+    };
     let (motor_positions, status) = match solve(options) {
         Ok(solution) => {
-            let reference = start.map_or_else(|| solution.motor_positions.clone(), <[f64]>::to_vec);
             reached = (!redundant).then_some(solution.pose);
             (
-                closest_solution(robot, target, solution.motor_positions, &reference, options)?,
+                closest(solution.motor_positions)?,
                 CompensationStatus::Reached,
             )
         }
@@ -411,7 +415,7 @@ fn compensate_one(
             let program_joints = start.filter(|_| !free);
             let solution = fallback(
                 nominal,
-                robot,
+                (robot, model),
                 target,
                 program_joints,
                 &solve,
@@ -419,19 +423,10 @@ fn compensate_one(
                 seed,
             )?;
             match solution {
-                Some(solution) if robot.within_limits(&solution.joint_positions) => {
-                    let reference = start.unwrap_or(&solution.motor_positions).to_vec();
-                    (
-                        closest_solution(
-                            robot,
-                            target,
-                            solution.motor_positions,
-                            &reference,
-                            options,
-                        )?,
-                        CompensationStatus::Reached,
-                    )
-                }
+                Some(solution) if robot.within_limits(&solution.joint_positions) => (
+                    closest(solution.motor_positions)?,
+                    CompensationStatus::Reached,
+                ),
                 Some(solution) => (solution.motor_positions, CompensationStatus::OutsideLimits),
                 None => {
                     let kept = match start {
@@ -485,7 +480,7 @@ fn compensate_one(
 /// limits; else anywhere beyond them. `None` when none reaches the target.
 fn fallback(
     nominal: &Robot,
-    robot: &Robot,
+    (robot, model): (&Robot, &KinematicModel),
     target: &Target,
     program_joints: Option<&[f64]>,
     solve: &dyn Fn(&InverseOptions) -> Result<InverseSolution, gecaro_core::Error>,
@@ -507,13 +502,15 @@ fn fallback(
     if let Some(solution) = continue_from_nominal(nominal, robot, target, start, options)? {
         return Ok(Some(solution));
     }
-    if let Some(solution) = closest_from_nearby_starts(robot, target, start, options, seed)? {
+    if let Some(solution) =
+        closest_from_nearby_starts((robot, model), target, start, options, seed)?
+    {
         return Ok(Some(solution));
     }
     if let Some(solution) = reached(solve(&unlimited))? {
         return Ok(Some(solution));
     }
-    closest_from_nearby_starts(robot, target, start, &unlimited, seed)
+    closest_from_nearby_starts((robot, model), target, start, &unlimited, seed)
 }
 
 /// How far frame n+1 at `pose` is from `target`: the distance, and the
@@ -580,7 +577,7 @@ fn null_space_step(
 /// From a solution, the solution closest to `reference` (see the module
 /// docs); the solution itself when the task leaves no freedom.
 fn closest_solution(
-    robot: &Robot,
+    (robot, model): (&Robot, &KinematicModel),
     target: &Target,
     solution: Vec<f64>,
     reference: &[f64],
@@ -616,7 +613,9 @@ fn closest_solution(
         let mut accepted = None;
         for fraction in fractions {
             let moved = DVector::from_column_slice(&current) + &step * fraction;
-            if let Ok(projected) = inverse_kinematics(robot, target, moved.as_slice(), options) {
+            if let Ok(projected) =
+                inverse_kinematics_on(robot, model, target, moved.as_slice(), options)
+            {
                 let joints = robot.joint_positions(&projected.motor_positions)?;
                 let next = null_space_step(robot, target, &projected.motor_positions, reference)?;
                 let there = distance(&projected.motor_positions);

@@ -119,13 +119,14 @@ pub(crate) fn continue_from_nominal(
 }
 
 /// Of the solutions found from starts around `start_motor_positions`
-/// ([`SPREADS`], seeded by `seed`), the one closest to it (largest joint
-/// difference); `None` when no start reaches the target.
+/// ([`SPREADS`], seeded by `seed`) on `robot` (compiled as `model`), the
+/// one closest to it (largest joint difference); `None` when no start
+/// reaches the target.
 ///
 /// # Errors
 /// Configuration errors of the robot.
 pub(crate) fn closest_from_nearby_starts(
-    robot: &Robot,
+    (robot, model): (&Robot, &KinematicModel),
     target: &Target,
     start_motor_positions: &[f64],
     options: &InverseOptions,
@@ -140,7 +141,6 @@ pub(crate) fn closest_from_nearby_starts(
             .map(|(a, b)| (a - b).abs())
             .fold(0.0, f64::max)
     };
-    let model = KinematicModel::new(robot);
     let mut best: Option<InverseSolution> = None;
     for spread in SPREADS {
         for _ in 0..STARTS_PER_SPREAD {
@@ -148,7 +148,7 @@ pub(crate) fn closest_from_nearby_starts(
                 .iter()
                 .map(|value| value + sampler.gaussian(spread))
                 .collect();
-            match inverse_kinematics_on(robot, &model, target, &start, options) {
+            match inverse_kinematics_on(robot, model, target, &start, options) {
                 Ok(solution) => {
                     if best
                         .as_ref()

@@ -7,8 +7,7 @@
 //! bit, on every platform.
 
 use gecaro_core::{
-    InverseOptions, InverseSolution, KinematicModel, Robot, Target, inverse_kinematics,
-    inverse_kinematics_on,
+    InverseOptions, InverseSolution, KinematicModel, Robot, Target, inverse_kinematics_on,
 };
 use nalgebra::{Rotation3, Vector3};
 use rand::{RngExt, SeedableRng};
@@ -240,12 +239,14 @@ impl Sampler {
         distinct_from: &[&[f64]],
     ) -> Result<Vec<f64>, Error> {
         let options = InverseOptions::default();
+        let model = KinematicModel::new(robot);
         for attempt in 0..REACH_ATTEMPTS {
             let start = match (attempt, start) {
                 (0, Some(start)) => start.to_vec(),
                 _ => self.configuration(robot),
             };
-            let Ok(solution) = inverse_kinematics(robot, target, &start, &options) else {
+            let Ok(solution) = inverse_kinematics_on(robot, &model, target, &start, &options)
+            else {
                 continue;
             };
             if !self.cell.admits(robot, &solution.motor_positions) {
