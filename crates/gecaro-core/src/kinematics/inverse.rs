@@ -170,12 +170,14 @@ fn damped_descent(
     let mut joint_positions = limit(start);
     let (mut chain, mut candidate_chain) = (ChainBuffer::default(), ChainBuffer::default());
     let mut error = evaluate(&joint_positions, &mut chain);
+    // ‖Δx‖ of `error`, kept beside it.
+    let mut residual = error.norm();
     let mut full = Matrix6xX::zeros(robot.joint_count());
     let mut damping = INITIAL_DAMPING;
     let mut iterations = 0;
-    let (mut checkpoint_error, mut checkpoint_iteration) = (error.norm(), 0);
+    let (mut checkpoint_error, mut checkpoint_iteration) = (residual, 0);
     let mut stationary = 0;
-    while error.norm() > options.tolerance && iterations < options.max_iterations {
+    while residual > options.tolerance && iterations < options.max_iterations {
         iterations += 1;
         model.joint_jacobian(&chain, &mut full);
         let jacobian = task_rows(target, &full);
@@ -190,16 +192,17 @@ fn damped_descent(
             };
             let candidate = limit(&joint_positions + step);
             let candidate_error = evaluate(&candidate, &mut candidate_chain);
-            if candidate_error.norm() < error.norm() {
-                let decrease = error.norm() - candidate_error.norm();
-                stationary = if decrease <= STATIONARY_DECREASE * error.norm() {
+            let candidate_residual = candidate_error.norm();
+            if candidate_residual < residual {
+                let decrease = residual - candidate_residual;
+                stationary = if decrease <= STATIONARY_DECREASE * residual {
                     stationary + 1
                 } else {
                     0
                 };
                 joint_positions = candidate;
                 std::mem::swap(&mut chain, &mut candidate_chain);
-                error = candidate_error;
+                (error, residual) = (candidate_error, candidate_residual);
                 damping = (damping / 3.0).max(1e-15);
                 improved = true;
                 break;
@@ -209,13 +212,12 @@ fn damped_descent(
         if !improved || stationary >= STATIONARY_ITERATIONS {
             break;
         }
-        if error.norm() < 0.5 * checkpoint_error {
-            (checkpoint_error, checkpoint_iteration) = (error.norm(), iterations);
+        if residual < 0.5 * checkpoint_error {
+            (checkpoint_error, checkpoint_iteration) = (residual, iterations);
         } else if iterations - checkpoint_iteration > STALL_ITERATIONS {
             break;
         }
     }
-    let residual = error.norm();
     if residual > options.tolerance {
         return Err(Error::Unreachable {
             iterations,
