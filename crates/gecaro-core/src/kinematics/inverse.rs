@@ -16,7 +16,10 @@
 //!
 //! Failure is an error, never a silently wrong configuration: when the target
 //! is out of reach within the joint limits, or the iteration stalls from this
-//! start, [`Error::Unreachable`] reports the remaining error.
+//! start, [`Error::Unreachable`] reports the remaining error. A solve gives up
+//! at a least-squares minimum short of the target (the projected gradient
+//! `Jᵀ Δx` vanishing against `‖J‖ ‖Δx‖`), after five iterations that lower
+//! ‖Δx‖ by rounding's worth, or after 25 that do not halve it.
 
 use nalgebra::{
     DMatrix, DVector, IsometryMatrix3, Matrix3, Matrix6, Matrix6xX, SMatrix, SVector, Vector3,
@@ -113,6 +116,17 @@ const STALL_ITERATIONS: usize = 25;
 const STATIONARY_ITERATIONS: usize = 5;
 /// See [`STATIONARY_ITERATIONS`].
 const STATIONARY_DECREASE: f64 = 1e-9;
+/// A solve whose error is orthogonal, to this cosine, to every direction
+/// the free joints can move the task (`‖Jᵀ_free Δx‖ ≤ this · ‖J‖_F ‖Δx‖`:
+/// the gradient of ‖Δx‖² vanishes) is at a least-squares minimum short of
+/// the target, and given up: it can only creep closer to that minimum. At
+/// a solution J has full rank and the cosine stays above
+/// σ_min(J)/‖J‖_F. Measured on the solves of the compensation's fallbacks
+/// for Stanford targets reached only on another branch, beyond a limit or
+/// not at all (2,000 targets of each): of 28,428 solves that met their
+/// target, one went below 1e-5 on the way (7.8e-7; the next lowest
+/// 1.0e-5); the 321,759 that failed were cut by 21 % of their iterations.
+const STATIONARY_COSINE: f64 = 1e-5;
 
 /// Solves the inverse geometric model for `target`, starting from the motor
 /// configuration `start_motor_positions`.
@@ -181,6 +195,16 @@ fn damped_descent(
         iterations += 1;
         model.joint_jacobian(&chain, &mut full);
         let jacobian = task_rows(target, &full);
+        if at_stationary_point(
+            robot,
+            options,
+            &joint_positions,
+            &jacobian,
+            &error,
+            residual,
+        ) {
+            break;
+        }
         let system = DampedSystem::new(&jacobian);
         let mut improved = false;
         while damping < MAX_DAMPING {
@@ -226,6 +250,34 @@ fn damped_descent(
         });
     }
     solution(robot, (&joint_positions, &chain), iterations, residual)
+}
+
+/// Whether `error` (of norm `residual`) is orthogonal to what the free
+/// joints can do at `joint_positions` (see [`STATIONARY_COSINE`]): the
+/// gradient `Jᵀ Δx` with the components of the joints held at a limit
+/// that it would push beyond left out (a projected gradient).
+fn at_stationary_point(
+    robot: &Robot,
+    options: &InverseOptions,
+    joint_positions: &DVector<f64>,
+    jacobian: &DMatrix<f64>,
+    error: &DVector<f64>,
+    residual: f64,
+) -> bool {
+    let held = |index: usize, change: f64| {
+        let joint = &robot.joints()[index];
+        let q = joint_positions[index];
+        options.respect_limits
+            && ((q <= joint.qmin && change < 0.0) || (q >= joint.qmax && change > 0.0))
+    };
+    let gradient_squared: f64 = jacobian
+        .column_iter()
+        .map(|column| column.dot(error))
+        .enumerate()
+        .filter(|(index, change)| !held(*index, *change))
+        .map(|(_, change)| change * change)
+        .sum();
+    gradient_squared.sqrt() <= STATIONARY_COSINE * jacobian.norm() * residual
 }
 
 /// The solution at `joint_positions` (whose chain is `chain`), met to
@@ -683,9 +735,10 @@ mod tests {
 
     /// A pose whose wrist centre lies 2 cm inside the cylinder of radius
     /// r2 about z1 that the Stanford arm's wrist centre never enters: the
-    /// solve settles at the least-squares minimum, where its error still
-    /// falls by rounding's worth, and gives up there five iterations later
-    /// (17) rather than at the stall rule's 25.
+    /// solve settles at the least-squares minimum and gives up when its
+    /// error is orthogonal to what the joints can do (12 iterations). It
+    /// waited before for five iterations of rounding's worth of decrease
+    /// (17), and before that for the stall rule's 25.
     #[test]
     fn a_solve_settled_short_of_its_target_stops() {
         let robot = stanford();
@@ -695,17 +748,18 @@ mod tests {
         pose.translation.vector.y += 0.02;
         let (iterations, residual) = given_up(&robot, pose, &start);
         assert!(residual > 8e-3, "{residual}");
-        assert!(iterations <= 20, "{iterations} iterations");
+        assert!(iterations <= 13, "{iterations} iterations");
     }
 
     /// Poses the Stanford arm would reach with its prismatic joint 5 cm
     /// short of its lower limit (0.2 m): within the limits the best is that
     /// joint held at the limit and the others doing what they can, 3.2 cm
     /// from the pose. The steps are taken with the held joint out of them,
-    /// so the solve settles there and gives up in 11–12 iterations.
-    /// Clamping the held joint after each step instead cut every step short:
-    /// the solve crawled along the limit and gave up after 27, 4.3–4.5 cm
-    /// from the pose.
+    /// so the solve settles there, and gives up in 7 iterations when the
+    /// gradient left to the free joints vanishes (11–12 when it waited for
+    /// the error to stop falling). Clamping the held joint after each step
+    /// instead cut every step short: the solve crawled along the limit and
+    /// gave up after 27, 4.3–4.5 cm from the pose.
     #[test]
     fn a_joint_held_at_its_limit_is_taken_out_of_the_step() {
         let mut spec = stanford().to_spec();
@@ -725,7 +779,7 @@ mod tests {
             let pose = terminal_pose(&robot, &beyond).expect("valid");
             let (iterations, residual) = given_up(&robot, pose, &start);
             assert!(
-                (0.03..0.034).contains(&residual) && iterations <= 15,
+                (0.03..0.034).contains(&residual) && iterations <= 8,
                 "start {index}: {iterations} iterations, {residual} from the pose"
             );
         }
