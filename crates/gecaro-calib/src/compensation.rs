@@ -18,8 +18,12 @@
 //!   Jacobian towards them until `qm − qm₀` is orthogonal to it (the
 //!   first-order condition of the closest point), staying within the limits.
 //! - Every target gets its remaining error against the calibrated model and
-//!   a status: reached, reached only beyond a joint limit, or not reached
-//!   (then the start joints are kept). Nothing is dropped or written silently.
+//!   a status: reached, reached in another configuration, reached only
+//!   beyond a joint limit, or not reached (then the start joints are kept).
+//!   A solution with a revolute joint beyond a limit is first turned by
+//!   whole turns (2π, the same pose) within the limits where the range
+//!   allows it ([`Robot::turned_into_limits`]). Nothing is dropped or
+//!   written silently.
 
 use gecaro_core::{
     ChainBuffer, InverseOptions, InverseSolution, KinematicModel, OrientationDifference, Robot,
@@ -87,10 +91,12 @@ pub enum CompensationStatus {
     Reached,
     /// Reached within the limits, but with a joint moved by more than
     /// [`RECONFIGURATION`] from the program's: another branch (shoulder,
-    /// elbow) or a wrist turned about a singularity. Written, flagged: the
-    /// robot would swing there.
+    /// elbow), a wrist turned about a singularity, or a joint of a full
+    /// turn's range turned the other way round past its limit. Written,
+    /// flagged: the robot would swing there.
     Reconfigured,
-    /// Reached only with a joint beyond its limit (the values are written, flagged).
+    /// Reached only with a joint beyond its limit, even turned by whole
+    /// turns (the values are written, flagged).
     OutsideLimits,
     /// Not reached: the start joints are kept.
     NotReached,
@@ -427,7 +433,14 @@ fn compensate_one(
                     closest(solution.motor_positions)?,
                     CompensationStatus::Reached,
                 ),
-                Some(solution) => (solution.motor_positions, CompensationStatus::OutsideLimits),
+                // A revolute joint beyond a limit may reach the same pose
+                // within it, turned the other way round (±π limits): that
+                // is another configuration, flagged below, not a target
+                // out of reach.
+                Some(solution) => match turned_into_limits(robot, &solution, start)? {
+                    Some(turned) => (closest(turned)?, CompensationStatus::Reached),
+                    None => (solution.motor_positions, CompensationStatus::OutsideLimits),
+                },
                 None => {
                     let kept = match start {
                         Some(start) => start.to_vec(),
@@ -472,6 +485,25 @@ fn compensate_one(
         rotation_error,
         status,
     })
+}
+
+/// The motor positions of `solution` with its revolute joints beyond their
+/// limits turned by whole turns within them ([`Robot::turned_into_limits`],
+/// the turns closest to the `start` motor positions, else to the solution's
+/// own); `None` when a joint cannot be brought within its limits.
+fn turned_into_limits(
+    robot: &Robot,
+    solution: &InverseSolution,
+    start: Option<&[f64]>,
+) -> Result<Option<Vec<f64>>, Error> {
+    let reference = match start {
+        Some(start) => robot.joint_positions(start)?.as_slice().to_vec(),
+        None => solution.joint_positions.clone(),
+    };
+    match robot.turned_into_limits(&solution.joint_positions, &reference) {
+        Some(turned) => Ok(Some(robot.motor_positions(&turned)?.as_slice().to_vec())),
+        None => Ok(None),
+    }
 }
 
 /// A solution where the direct solve stalled (near a singularity it crawls):
@@ -954,6 +986,35 @@ mod tests {
         );
         assert_eq!(stopped, Err(Error::Interrupted));
         assert_eq!(seen, [1]);
+    }
+
+    /// A joint of range ±π that the calibrated robot needs 0.04 rad beyond
+    /// +π reaches the same pose at −π + 0.04, turned the other way round:
+    /// another configuration (flagged `reconfigured`), not a target reached
+    /// only beyond a limit, as it was called before.
+    #[test]
+    fn a_joint_beyond_a_limit_of_a_full_turn_is_turned_the_other_way() {
+        use std::f64::consts::PI;
+        let mut spec = puma().to_spec();
+        (spec.joints[5].qmin, spec.joints[5].qmax) = (-PI, PI);
+        let nominal = Robot::new(spec.clone()).expect("valid");
+        spec.frames[6].theta = -0.05;
+        let calibrated = Robot::new(spec).expect("valid");
+        let program = vec![0.3, 0.4, -0.6, 0.2, 0.7, PI - 0.01];
+        let points = [ProgramPoint {
+            target: ProgramTarget::Joints(program),
+            joints: None,
+        }];
+        let results =
+            compensate(&nominal, &calibrated, &points, Match::Pose, &mut Quiet).expect("runs");
+        let result = &results[0];
+        assert_eq!(result.status, CompensationStatus::Reconfigured);
+        assert!(
+            (result.motor_positions[5] - (0.04 - PI)).abs() < 1e-9,
+            "{result:?}"
+        );
+        assert!(result.position_error < 1e-10);
+        assert!(result.rotation_error.is_some_and(|angle| angle < 1e-10));
     }
 
     /// Targets within 0.05 rad of the wrist singularity (q5 ≈ 0): the

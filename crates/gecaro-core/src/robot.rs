@@ -592,6 +592,52 @@ impl Robot {
             .all(|(q, joint)| *q >= joint.qmin - 1e-9 && *q <= joint.qmax + 1e-9)
     }
 
+    /// `joint_positions` with each revolute joint beyond its limits turned by
+    /// whole turns (2π: the same pose) back within them, by the turn that
+    /// brings it closest to its value in `reference` (joint positions of
+    /// the same robot) where the range holds more than one. `None` when a
+    /// joint cannot be brought within its limits: a prismatic one beyond
+    /// them, or a revolute one whose range holds no whole turn of it.
+    /// Joints within their limits are left as they are.
+    ///
+    /// A solver that follows a joint continuously cannot pass a limit, but
+    /// a joint with a range of ±π reaches the pose of q = π + 0.1 at
+    /// q = −π + 0.1 by turning the other way round.
+    ///
+    /// ```
+    /// use gecaro_core::Robot;
+    /// use std::f64::consts::PI;
+    ///
+    /// let robot = Robot::template("planar", "RP").unwrap(); // ±π, 0..1 m
+    /// let turned = robot.turned_into_limits(&[PI + 0.1, 0.5], &[3.0, 0.5]);
+    /// assert!((turned.unwrap()[0] - (0.1 - PI)).abs() < 1e-12);
+    /// assert!(robot.turned_into_limits(&[0.3, 1.2], &[0.3, 0.5]).is_none());
+    /// ```
+    pub fn turned_into_limits(
+        &self,
+        joint_positions: &[f64],
+        reference: &[f64],
+    ) -> Option<Vec<f64>> {
+        let turn = std::f64::consts::TAU;
+        joint_positions
+            .iter()
+            .zip(reference)
+            .zip(&self.joints)
+            .zip(&self.frames[1..])
+            .map(|(((q, near), joint), frame)| {
+                let (low, high) = (joint.qmin - 1e-9, joint.qmax + 1e-9);
+                if (low..=high).contains(q) {
+                    return Some(*q);
+                }
+                if frame.frame_type != FrameType::Revolute {
+                    return None;
+                }
+                let (fewest, most) = (((low - q) / turn).ceil(), ((high - q) / turn).floor());
+                (fewest <= most).then(|| q + turn * ((near - q) / turn).round().clamp(fewest, most))
+            })
+            .collect()
+    }
+
     /// Whether `values`, configurations of n values one after another, all
     /// pass [`check_configuration`](Self::check_configuration): one pass
     /// over millions of them, which says only yes or no (the configuration
@@ -889,6 +935,40 @@ mod tests {
     use rand::{RngExt, SeedableRng};
 
     use super::*;
+
+    /// Revolute joints beyond their limits are turned back by whole turns,
+    /// to the turn closest to the reference where the range holds two;
+    /// the pose does not change; prismatic joints are never turned.
+    #[test]
+    fn joints_beyond_their_limits_are_turned_back_by_whole_turns() {
+        use std::f64::consts::TAU;
+        let mut spec = Robot::template("three", "RRP").expect("template").to_spec();
+        (spec.joints[1].qmin, spec.joints[1].qmax) = (-TAU, TAU);
+        (spec.joints[0].qmin, spec.joints[0].qmax) = (-1.0, 1.0);
+        let robot = Robot::new(spec).expect("valid");
+        let within = [0.5, -3.0, 0.4];
+        assert_eq!(
+            robot.turned_into_limits(&within, &[0.0; 3]),
+            Some(within.to_vec())
+        );
+        // Joint 2 (±2π) holds two turns of 7: 7 − 2π near 0.5, 7 − 4π near −5.
+        let beyond = [0.5, 7.0, 0.4];
+        let near_zero = robot.turned_into_limits(&beyond, &[0.0, 0.5, 0.0]);
+        assert_eq!(near_zero, Some(vec![0.5, 7.0 - TAU, 0.4]));
+        let near_minus_five = robot.turned_into_limits(&beyond, &[0.0, -5.0, 0.0]);
+        assert_eq!(near_minus_five, Some(vec![0.5, 7.0 - 2.0 * TAU, 0.4]));
+        let model = crate::KinematicModel::new(&robot);
+        let pose = |q: &[f64]| {
+            model
+                .terminal_pose(q, &mut Default::default())
+                .expect("pose")
+        };
+        let moved = pose(&beyond).inverse() * pose(&near_minus_five.expect("turned"));
+        assert!(moved.translation.vector.norm() < 1e-12 && moved.rotation.angle() < 1e-12);
+        // Joint 1 (±1 rad) holds no turn of 2; a prismatic joint is not turned.
+        assert_eq!(robot.turned_into_limits(&[2.0, 0.0, 0.4], &[0.0; 3]), None);
+        assert_eq!(robot.turned_into_limits(&[0.0, 0.0, 1.5], &[0.0; 3]), None);
+    }
 
     /// Configurations checked at once pass exactly when each one passes
     /// `check_configuration`.

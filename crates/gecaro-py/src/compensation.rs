@@ -62,8 +62,9 @@ impl PyCompensation {
         array(py, &[self.points.len()], values)
     }
 
-    /// Per target: "ok", "outside-limits" (reached only beyond a joint
-    /// limit) or "not-reached".
+    /// Per target: "ok", "reconfigured" (reached in another configuration,
+    /// a joint moved by more than 1 rad), "outside-limits" (reached only
+    /// beyond a joint limit, even turned by whole turns) or "not-reached".
     #[getter]
     fn status(&self) -> Vec<&'static str> {
         self.points
