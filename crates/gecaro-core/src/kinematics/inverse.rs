@@ -29,6 +29,7 @@ use nalgebra::{
 use super::model::{ChainBuffer, KinematicModel};
 use super::pose_difference::{OrientationDifference, orientation_difference};
 use crate::Error;
+use crate::frame::Joint;
 use crate::robot::Robot;
 
 /// What the end-effector frame n+1 must reach, in the world frame.
@@ -265,10 +266,8 @@ fn at_stationary_point(
     residual: f64,
 ) -> bool {
     let held = |index: usize, change: f64| {
-        let joint = &robot.joints()[index];
-        let q = joint_positions[index];
         options.respect_limits
-            && ((q <= joint.qmin && change < 0.0) || (q >= joint.qmax && change > 0.0))
+            && pushes_beyond(&robot.joints()[index], joint_positions[index], change)
     };
     let gradient_squared: f64 = jacobian
         .column_iter()
@@ -278,6 +277,12 @@ fn at_stationary_point(
         .map(|(_, change)| change * change)
         .sum();
     gradient_squared.sqrt() <= STATIONARY_COSINE * jacobian.norm() * residual
+}
+
+/// Whether a joint at `q` held at one of its limits would be pushed beyond
+/// it by a `change` of that sign (a step, or the descent direction `Jᵀ Δx`).
+fn pushes_beyond(joint: &Joint, q: f64, change: f64) -> bool {
+    (q <= joint.qmin && change < 0.0) || (q >= joint.qmax && change > 0.0)
 }
 
 /// The solution at `joint_positions` (whose chain is `chain`), met to
@@ -509,7 +514,7 @@ fn bounded_step(
             .zip(step.iter())
             .enumerate()
         {
-            if (*q <= joint.qmin && *change < 0.0) || (*q >= joint.qmax && *change > 0.0) {
+            if pushes_beyond(joint, *q, *change) {
                 held.get_or_insert_with(|| system.jacobian.clone())
                     .column_mut(index)
                     .fill(0.0);
