@@ -509,7 +509,8 @@ fn turned_into_limits(
 /// A solution where the direct solve stalled (near a singularity it crawls):
 /// the program's branch first, followed from the nominal robot (within the
 /// limits or not); else starts around the program's joints within the
-/// limits; else anywhere beyond them. `None` when none reaches the target.
+/// limits; else anywhere beyond them, a solution that turns back within
+/// them first. `None` when none reaches the target.
 fn fallback(
     nominal: &Robot,
     (robot, model): (&Robot, &KinematicModel),
@@ -534,15 +535,30 @@ fn fallback(
     if let Some(solution) = continue_from_nominal(nominal, robot, target, start, options)? {
         return Ok(Some(solution));
     }
+    let any = |_: &InverseSolution| true;
     if let Some(solution) =
-        closest_from_nearby_starts((robot, model), target, start, options, seed)?
+        closest_from_nearby_starts((robot, model), target, start, (options, &any), seed)?
     {
         return Ok(Some(solution));
     }
     if let Some(solution) = reached(solve(&unlimited))? {
         return Ok(Some(solution));
     }
-    closest_from_nearby_starts((robot, model), target, start, &unlimited, seed)
+    // Beyond the limits, the solutions whose joints turn back within them
+    // (see `turned_into_limits`) first.
+    let reference = robot.joint_positions(start)?;
+    let turns_within = |solution: &InverseSolution| {
+        robot
+            .turned_into_limits(&solution.joint_positions, reference.as_slice())
+            .is_some()
+    };
+    closest_from_nearby_starts(
+        (robot, model),
+        target,
+        start,
+        (&unlimited, &turns_within),
+        seed,
+    )
 }
 
 /// How far frame n+1 at `pose` is from `target`: the distance, and the

@@ -120,8 +120,8 @@ pub(crate) fn continue_from_nominal(
 
 /// Of the solutions found from starts around `start_motor_positions`
 /// ([`SPREADS`], seeded by `seed`) on `robot` (compiled as `model`), the
-/// one closest to it (largest joint difference); `None` when no start
-/// reaches the target.
+/// one closest to it (largest joint difference) of those `preferred`
+/// says yes to, else of all; `None` when no start reaches the target.
 ///
 /// # Errors
 /// Configuration errors of the robot.
@@ -129,19 +129,21 @@ pub(crate) fn closest_from_nearby_starts(
     (robot, model): (&Robot, &KinematicModel),
     target: &Target,
     start_motor_positions: &[f64],
-    options: &InverseOptions,
+    (options, preferred): (&InverseOptions, &dyn Fn(&InverseSolution) -> bool),
     seed: u64,
 ) -> Result<Option<InverseSolution>, Error> {
     let mut sampler = Sampler::new(seed);
-    let distance = |solution: &InverseSolution| {
-        solution
+    // Preferred first, then the closest.
+    let rank = |solution: &InverseSolution| {
+        let distance = solution
             .motor_positions
             .iter()
             .zip(start_motor_positions)
             .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max)
+            .fold(0.0, f64::max);
+        (!preferred(solution), distance)
     };
-    let mut best: Option<InverseSolution> = None;
+    let mut best: Option<(InverseSolution, (bool, f64))> = None;
     for spread in SPREADS {
         for _ in 0..STARTS_PER_SPREAD {
             let start: Vec<f64> = start_motor_positions
@@ -150,11 +152,9 @@ pub(crate) fn closest_from_nearby_starts(
                 .collect();
             match inverse_kinematics_on(robot, model, target, &start, options) {
                 Ok(solution) => {
-                    if best
-                        .as_ref()
-                        .is_none_or(|kept| distance(&solution) < distance(kept))
-                    {
-                        best = Some(solution);
+                    let ranked = rank(&solution);
+                    if best.as_ref().is_none_or(|(_, kept)| ranked < *kept) {
+                        best = Some((solution, ranked));
                     }
                 }
                 Err(gecaro_core::Error::Unreachable { .. }) => {}
@@ -166,5 +166,74 @@ pub(crate) fn closest_from_nearby_starts(
             break;
         }
     }
-    Ok(best)
+    Ok(best.map(|(solution, _)| solution))
+}
+
+#[cfg(test)]
+mod tests {
+    use gecaro_core::{Frame, FrameType, Joint, RobotSpec, terminal_pose};
+
+    use super::*;
+
+    /// A planar arm of two revolute joints (links 0.5 and 0.4 m): each point
+    /// of its annulus has two solutions, elbow one way and the other.
+    fn planar_arm() -> Robot {
+        let frame = |frame_type, d| Frame {
+            d,
+            ..Frame::new(frame_type)
+        };
+        Robot::new(RobotSpec {
+            name: "planar".into(),
+            frames: vec![
+                frame(FrameType::Fixed, 0.0),
+                frame(FrameType::Revolute, 0.0),
+                frame(FrameType::Revolute, 0.5),
+                frame(FrameType::Fixed, 0.4),
+            ],
+            joints: vec![Joint::default_for(FrameType::Revolute); 2],
+            motor_coupling: None,
+            joint_coupling: None,
+            priority: None,
+            compliances: None,
+        })
+        .expect("valid")
+    }
+
+    /// From the arm nearly stretched, the nearest starts find both
+    /// solutions: without a preference the closer one is taken (elbow up,
+    /// 1.15 rad away), with one the solution it prefers (elbow down, 1.25
+    /// rad away).
+    #[test]
+    fn a_preferred_solution_comes_before_a_closer_one() {
+        let robot = planar_arm();
+        let model = KinematicModel::new(&robot);
+        let elbow_up = [0.3, 1.2];
+        let pose = terminal_pose(&robot, &elbow_up).expect("pose");
+        let target = Target::Position(pose.translation.vector);
+        let options = InverseOptions::default();
+        let start = [0.35, 0.05];
+        let any = |_: &InverseSolution| true;
+        let elbow_down = |solution: &InverseSolution| solution.joint_positions[1] < 0.0;
+        let closest =
+            closest_from_nearby_starts((&robot, &model), &target, &start, (&options, &any), 5)
+                .expect("runs")
+                .expect("reached");
+        assert!(
+            (closest.joint_positions[1] - 1.2).abs() < 1e-9,
+            "{closest:?}"
+        );
+        let preferred = closest_from_nearby_starts(
+            (&robot, &model),
+            &target,
+            &start,
+            (&options, &elbow_down),
+            5,
+        )
+        .expect("runs")
+        .expect("reached");
+        assert!(
+            (preferred.joint_positions[1] + 1.2).abs() < 1e-9,
+            "{preferred:?}"
+        );
+    }
 }
