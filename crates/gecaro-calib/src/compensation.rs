@@ -537,7 +537,7 @@ fn fallback(
     }
     let any = |_: &InverseSolution| true;
     if let Some(solution) =
-        closest_from_nearby_starts((robot, model), target, start, (options, &any), seed)?
+        closest_from_nearby_starts((robot, model), target, start, options, &any, seed)?
     {
         return Ok(Some(solution));
     }
@@ -556,7 +556,8 @@ fn fallback(
         (robot, model),
         target,
         start,
-        (&unlimited, &turns_within),
+        &unlimited,
+        &turns_within,
         seed,
     )
 }

@@ -129,7 +129,8 @@ pub(crate) fn closest_from_nearby_starts(
     (robot, model): (&Robot, &KinematicModel),
     target: &Target,
     start_motor_positions: &[f64],
-    (options, preferred): (&InverseOptions, &dyn Fn(&InverseSolution) -> bool),
+    options: &InverseOptions,
+    preferred: &dyn Fn(&InverseSolution) -> bool,
     seed: u64,
 ) -> Result<Option<InverseSolution>, Error> {
     let mut sampler = Sampler::new(seed);
@@ -215,22 +216,17 @@ mod tests {
         let any = |_: &InverseSolution| true;
         let elbow_down = |solution: &InverseSolution| solution.joint_positions[1] < 0.0;
         let closest =
-            closest_from_nearby_starts((&robot, &model), &target, &start, (&options, &any), 5)
+            closest_from_nearby_starts((&robot, &model), &target, &start, &options, &any, 5)
                 .expect("runs")
                 .expect("reached");
         assert!(
             (closest.joint_positions[1] - 1.2).abs() < 1e-9,
             "{closest:?}"
         );
-        let preferred = closest_from_nearby_starts(
-            (&robot, &model),
-            &target,
-            &start,
-            (&options, &elbow_down),
-            5,
-        )
-        .expect("runs")
-        .expect("reached");
+        let preferred =
+            closest_from_nearby_starts((&robot, &model), &target, &start, &options, &elbow_down, 5)
+                .expect("runs")
+                .expect("reached");
         assert!(
             (preferred.joint_positions[1] + 1.2).abs() < 1e-9,
             "{preferred:?}"

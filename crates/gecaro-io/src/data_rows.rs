@@ -221,8 +221,9 @@ impl RowReader<'_> {
     /// into slots after the settled `samples`, a slot per line (a record is
     /// at most one; room is first made for `room(lines)` samples in all,
     /// `lines` the body's): in parts on all cores when it is long and holds
-    /// no quote (a quote may hold a line break), else in one part. Returns the parts' reads, in order, to
-    /// be settled ([`settle`](Self::settle)), and the body's line breaks.
+    /// no quote (a quote may hold a line break), else in one part. Returns
+    /// the parts' reads, in order, to be settled ([`settle`](Self::settle)),
+    /// and the body's line breaks.
     fn read_body(
         &self,
         body: &[u8],

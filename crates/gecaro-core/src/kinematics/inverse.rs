@@ -10,9 +10,10 @@
 //! problems need nothing special), leaves out of it the joints held at a
 //! limit that it would push beyond (their columns of J zeroed, the step
 //! taken again: an active set), clamps q to the joint limits, and keeps the
-//! step only if it lowers ‖Δx‖; λ shrinks after a kept step and grows after a refused one (or
-//! a product that does not factorise). Close to the solution λ → 0 and the
-//! iteration is Newton's, so targets are met to ~1e-13 m.
+//! step only if it lowers ‖Δx‖; λ shrinks after a kept step and grows after
+//! a refused one (or a product that does not factorise). Close to the
+//! solution λ → 0 and the iteration is Newton's, so targets are met to
+//! ~1e-13 m.
 //!
 //! Failure is an error, never a silently wrong configuration: when the target
 //! is out of reach within the joint limits, or the iteration stalls from this
