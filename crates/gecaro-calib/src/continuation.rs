@@ -10,7 +10,9 @@
 //!    cut (a wrist that must pass through q5 = 0 turns q4 and q6 by up to π
 //!    at once), starts drawn around the program's joints at growing
 //!    distances; of the solutions found, the one closest to the program's
-//!    joints.
+//!    joints. Most starts fall into the basin of one minimum short of the
+//!    target, beside the program's joints: once one start has settled
+//!    there, the others give up on the way ([`KnownMinima`]).
 //!
 //! With η₀ the nominal and η₁ the calibrated parameters (angles compared
 //! modulo 2π), the robot of step t ∈ [0, 1] has η(t) = η₁ − (1 − t)(η₁ − η₀)
@@ -21,8 +23,8 @@
 //! limit: limits are left to the caller.
 
 use gecaro_core::{
-    InverseOptions, InverseSolution, KinematicModel, ParameterKind, Robot, Target,
-    inverse_kinematics, inverse_kinematics_on,
+    InverseOptions, InverseSolution, KinematicModel, KnownMinima, ParameterKind, Robot, Target,
+    inverse_kinematics, inverse_kinematics_avoiding,
 };
 
 use crate::Error;
@@ -33,6 +35,16 @@ const STARTS_PER_SPREAD: usize = 10;
 /// The spreads (standard deviations, in the joint variables' units) of
 /// the nearby starts.
 const SPREADS: [f64; 4] = [0.1, 0.5, 1.5, 3.0];
+
+/// How near (per joint, rad or m) a known minimum short of the target a
+/// nearby start's solve is given up ([`KnownMinima`]): most starts fall
+/// into the basin of one minimum beside the program's joints. Measured on
+/// the first 10⁵ targets of a 10⁶-target Stanford program (CPU time 8.9 s
+/// without): 0.01 cut it by 27 % and changed no row; 0.02 by 30 % and
+/// 0.05 by 35 %, each changing one row: a target with q2 at ±π, reached
+/// at the other end of its range (the same configuration a turn away),
+/// so `reconfigured` rather than `ok`.
+const KNOWN_MINIMUM_RADIUS: f64 = 0.05;
 
 /// The longest step from the nominal to the calibrated robot (in t).
 const LONGEST_STEP: f64 = 1.0 / 8.0;
@@ -121,7 +133,9 @@ pub(crate) fn continue_from_nominal(
 /// Of the solutions found from starts around `start_motor_positions`
 /// ([`SPREADS`], seeded by `seed`) on `robot` (compiled as `model`), the
 /// one closest to it (largest joint difference) of those `preferred`
-/// says yes to, else of all; `None` when no start reaches the target.
+/// says yes to, else of all; `None` when no start reaches the target. A
+/// start heading for a minimum short of the target that an earlier one
+/// settled at is given up on the way ([`KNOWN_MINIMUM_RADIUS`]).
 ///
 /// # Errors
 /// Configuration errors of the robot.
@@ -145,13 +159,14 @@ pub(crate) fn closest_from_nearby_starts(
         (!preferred(solution), distance)
     };
     let mut best: Option<(InverseSolution, (bool, f64))> = None;
+    let mut known = KnownMinima::new(KNOWN_MINIMUM_RADIUS);
     for spread in SPREADS {
         for _ in 0..STARTS_PER_SPREAD {
             let start: Vec<f64> = start_motor_positions
                 .iter()
                 .map(|value| value + sampler.gaussian(spread))
                 .collect();
-            match inverse_kinematics_on(robot, model, target, &start, options) {
+            match inverse_kinematics_avoiding(robot, model, target, &start, options, &mut known) {
                 Ok(solution) => {
                     let ranked = rank(&solution);
                     if best.as_ref().is_none_or(|(_, kept)| ranked < *kept) {
