@@ -6,6 +6,9 @@
 //! 1. **Continuation** ([`continue_from_nominal`]): the robot is moved from
 //!    the nominal parameters to the calibrated ones in small steps, the
 //!    target held, and each step solved from the solution of the one before.
+//!    The compensation follows it where the calibrated robot meets the
+//!    target from the program's joints with the limits lifted; elsewhere
+//!    the target nearly always leaves the branch's reach on the way.
 //! 2. **Nearby starts** ([`closest_from_nearby_starts`]): where the path is
 //!    cut (a wrist that must pass through q5 = 0 turns q4 and q6 by up to π
 //!    at once), starts drawn around the program's joints at growing
