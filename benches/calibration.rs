@@ -182,8 +182,8 @@ fn compensate_6r_1000_targets(bencher: divan::Bencher) {
 /// errors) mostly cannot reach: the shoulder at q2 within ±0.03 rad of 0,
 /// where the wrist centre lies on the cylinder of radius r2 about z1 that no
 /// configuration enters, and the calibrated robot's cylinder is not the
-/// nominal one's (9 reached, 17 on another branch, 57 beyond a limit, 17 not
-/// at all). Each target runs the fallback chain to prove it (issue 36:
+/// nominal one's (9 reached, 20 on another branch, 54 only beyond a limit, 17
+/// not at all). Each target runs the fallback chain to prove it (issue 36:
 /// 10⁶ targets drawn over the whole joint space, 0.45 % of them such, took
 /// 67 s where 10⁶ reachable ones take 2.7 s; docs/performance.md). One core.
 #[divan::bench(sample_count = 10)]

@@ -29,7 +29,7 @@
 /// assert!(!known.is_near(&[0.5, -0.98]));
 /// assert_eq!(known.len(), 1);
 /// ```
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct KnownMinima {
     radius: f64,
     minima: Vec<Vec<f64>>,
