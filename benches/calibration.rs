@@ -135,7 +135,9 @@ fn iteration_floor_position_5000(bencher: divan::Bencher) {
 }
 
 /// Every method at m = 500 configurations.
-#[divan::bench(args = ["position", "frame", "point-link", "frame-link", "plane1", "plane2", "distance"])]
+#[divan::bench(args = [
+    "position", "frame", "point-link", "frame-link", "plane1", "plane2", "distance",
+])]
 fn identify_500(bencher: divan::Bencher, name: &str) {
     let robot = stanford();
     let study = simulated(name, 500);

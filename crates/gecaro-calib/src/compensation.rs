@@ -154,7 +154,9 @@ const CLOSEST_ITERATIONS: usize = 60;
 ///
 /// ```
 /// use gecaro_calib::Quiet;
-/// use gecaro_calib::compensation::{CompensationStatus, Match, ProgramPoint, ProgramTarget, compensate};
+/// use gecaro_calib::compensation::{
+///     CompensationStatus, Match, ProgramPoint, ProgramTarget, compensate,
+/// };
 ///
 /// let nominal = gecaro_io::load_robot("puma560")?.robot;
 /// let mut spec = nominal.to_spec();

@@ -26,7 +26,9 @@
 //!
 //! ```
 //! use std::f64::consts::FRAC_PI_2;
-//! use gecaro_core::{forward_kinematics, parameter_jacobian, Frame, FrameType, Joint, Robot, RobotSpec};
+//! use gecaro_core::{
+//!     Frame, FrameType, Joint, Robot, RobotSpec, forward_kinematics, parameter_jacobian,
+//! };
 //!
 //! let revolute = |alpha: f64, r: f64| Frame { alpha, r, ..Frame::new(FrameType::Revolute) };
 //! let frames = vec![

@@ -189,7 +189,10 @@ fn targets_with_starts(
 /// Raises NotConvergedError, with the whole result in `.result`, when some
 /// targets are reached only beyond a joint limit or not at all.
 #[pyfunction]
-#[pyo3(signature = (nominal, calibrated, *, joints = None, positions = None, poses = None, r#match = "pose", rebase = false, payload = None))]
+#[pyo3(signature = (
+    nominal, calibrated, *, joints = None, positions = None, poses = None, r#match = "pose",
+    rebase = false, payload = None,
+))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn compensate(
     py: Python<'_>,
@@ -248,7 +251,11 @@ pub(crate) fn compensate(
 /// Raises NotConvergedError, with that dict in `.result`, when some targets
 /// are flagged (reconfigured, beyond a joint limit, or not reached).
 #[pyfunction]
-#[pyo3(signature = (nominal, calibrated, program, output, *, r#match = "pose", rebase = false, payload = None, length_unit = None, angle_unit = None, columns = None, delimiter = None, decimal_comma = None, overwrite = false))]
+#[pyo3(signature = (
+    nominal, calibrated, program, output, *, r#match = "pose", rebase = false, payload = None,
+    length_unit = None, angle_unit = None, columns = None, delimiter = None, decimal_comma = None,
+    overwrite = false,
+))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn compensate_program<'py>(
     py: Python<'py>,

@@ -214,8 +214,11 @@ pub fn inverse_kinematics_on(
 /// let mut known = KnownMinima::new(0.01);
 /// let options = InverseOptions::default();
 ///
-/// let first = inverse_kinematics_avoiding(&robot, &model, &far, &[0.3, 0.4], &options, &mut known);
-/// let second = inverse_kinematics_avoiding(&robot, &model, &far, &[0.3, 0.5], &options, &mut known);
+/// let mut solve = |start: &[f64]| {
+///     inverse_kinematics_avoiding(&robot, &model, &far, start, &options, &mut known)
+/// };
+/// let first = solve(&[0.3, 0.4]);
+/// let second = solve(&[0.3, 0.5]);
 /// let iterations = |result: Result<_, gecaro_core::Error>| match result {
 ///     Err(gecaro_core::Error::Unreachable { iterations, .. }) => iterations,
 ///     other => panic!("{other:?}"),
