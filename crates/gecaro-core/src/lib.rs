@@ -97,7 +97,7 @@ pub use parameters::{ParameterId, ParameterKind, ParameterSpace};
 pub use placement::NEARLY_PARALLEL_DEGREES;
 pub use priority::PriorityMatrix;
 pub use rebase::{SAME_FRAME_ANGLE, SAME_FRAME_DISTANCE};
-pub use robot::{MAX_JOINTS, MAX_MAGNITUDE, MIN_GAIN, Robot, RobotSpec};
+pub use robot::{LIMIT_TOLERANCE, MAX_JOINTS, MAX_MAGNITUDE, MIN_GAIN, Robot, RobotSpec};
 
 #[cfg(test)]
 pub(crate) use test_robots::stanford as ready_robot_for_tests;

@@ -46,6 +46,16 @@ pub const MAX_MAGNITUDE: f64 = 1e3;
 /// value is a typo or an underflow, and motor values would overflow.
 pub const MIN_GAIN: f64 = 1e-12;
 
+/// How far beyond a joint limit (rad, or m) a joint value still counts as
+/// within it ([`Robot::within_limits`], [`Robot::turned_into_limits`]): a
+/// solver clamped to the limit may leave rounding's worth beyond it.
+pub const LIMIT_TOLERANCE: f64 = 1e-9;
+
+/// Whether `q` lies within the limits of `joint`, to [`LIMIT_TOLERANCE`].
+fn within(joint: &Joint, q: f64) -> bool {
+    (joint.qmin - LIMIT_TOLERANCE..=joint.qmax + LIMIT_TOLERANCE).contains(&q)
+}
+
 /// Everything needed to build a [`Robot`]; plain data, not yet validated.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RobotSpec {
@@ -584,12 +594,12 @@ impl Robot {
     }
 
     /// Whether each joint variable of `q` lies within its limits (with a
-    /// tolerance of 1e-9 for values pushed there by a solver).
+    /// tolerance of [`LIMIT_TOLERANCE`] for values pushed there by a solver).
     pub fn within_limits(&self, joint_positions: &[f64]) -> bool {
         joint_positions
             .iter()
             .zip(&self.joints)
-            .all(|(q, joint)| *q >= joint.qmin - 1e-9 && *q <= joint.qmax + 1e-9)
+            .all(|(q, joint)| within(joint, *q))
     }
 
     /// `joint_positions` with each revolute joint beyond its limits turned by
@@ -625,10 +635,10 @@ impl Robot {
             .zip(&self.joints)
             .zip(&self.frames[1..])
             .map(|(((q, near), joint), frame)| {
-                let (low, high) = (joint.qmin - 1e-9, joint.qmax + 1e-9);
-                if (low..=high).contains(q) {
+                if within(joint, *q) {
                     return Some(*q);
                 }
+                let (low, high) = (joint.qmin - LIMIT_TOLERANCE, joint.qmax + LIMIT_TOLERANCE);
                 if frame.frame_type != FrameType::Revolute {
                     return None;
                 }

@@ -266,14 +266,12 @@ fn damped_descent(
     let mut iterations = 0;
     let (mut checkpoint_error, mut checkpoint_iteration) = (residual, 0);
     let mut stationary = 0;
-    // Given up near a known minimum (where it would settle again).
-    let mut abandoned = false;
     while residual > options.tolerance && iterations < options.max_iterations {
+        // Given up near a known minimum (where it would settle again).
         if known
             .as_deref()
             .is_some_and(|known| known.is_near(joint_positions.as_slice()))
         {
-            abandoned = true;
             break;
         }
         iterations += 1;
@@ -327,7 +325,7 @@ fn damped_descent(
         }
     }
     if residual > options.tolerance {
-        if let Some(known) = known.filter(|_| !abandoned) {
+        if let Some(known) = known {
             known.record(joint_positions.as_slice());
         }
         return Err(Error::Unreachable {

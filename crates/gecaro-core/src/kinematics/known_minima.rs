@@ -25,6 +25,7 @@
 ///
 /// let mut known = KnownMinima::new(0.01);
 /// known.record(&[0.5, -1.0]);
+/// known.record(&[0.505, -0.995]); // the same minimum
 /// assert!(known.is_near(&[0.505, -0.995]));
 /// assert!(!known.is_near(&[0.5, -0.98]));
 /// assert_eq!(known.len(), 1);
@@ -60,9 +61,13 @@ impl KnownMinima {
         self.minima.is_empty()
     }
 
-    /// Records the joint positions where a solve settled short of the target.
+    /// Records the joint positions where a solve settled short of the
+    /// target, unless they are near a minimum already recorded (a solve
+    /// given up there, or one that settled at it again).
     pub fn record(&mut self, joint_positions: &[f64]) {
-        self.minima.push(joint_positions.to_vec());
+        if !self.is_near(joint_positions) {
+            self.minima.push(joint_positions.to_vec());
+        }
     }
 
     /// Whether every joint of `joint_positions` is within the radius of a
