@@ -34,7 +34,7 @@ use nalgebra::{DMatrix, DVector, IsometryMatrix3, Vector3};
 
 use crate::Error;
 use crate::continuation::{closest_from_nearby_starts, continue_from_nominal};
-use crate::parallel::run_parts;
+use crate::parallel::run_parts_with;
 use crate::progress::{Observer, Progress, report};
 use crate::sampler::solve_from_starts;
 
@@ -273,15 +273,16 @@ impl<'a> Compensator<'a> {
     /// # Errors
     /// A target of the wrong length or not finite.
     pub fn compensate(&mut self, points: &[ProgramPoint]) -> Result<Vec<CompensatedPoint>, Error> {
-        let solve = |(index, point): (usize, &ProgramPoint), previous: Option<&[f64]>| {
+        let solve = |chain: &mut ChainBuffer,
+                     (index, point): (usize, &ProgramPoint),
+                     previous: Option<&[f64]>| {
             compensate_point(
                 (self.nominal.0, &self.nominal.1),
                 (self.calibrated.0, &self.calibrated.1),
-                point,
+                (point, previous),
                 self.matching,
-                previous,
                 &self.options,
-                index,
+                (index, chain),
             )
         };
         let first = self.done;
@@ -295,13 +296,20 @@ impl<'a> Compensator<'a> {
                 .enumerate()
                 .map(|(offset, point)| (first + offset, point))
                 .collect();
-            run_parts(parts, |part| solve(part, None))
-                .into_iter()
-                .collect::<Result<Vec<_>, Error>>()?
+            run_parts_with(parts, ChainBuffer::default, |chain, part| {
+                solve(chain, part, None)
+            })
+            .into_iter()
+            .collect::<Result<Vec<_>, Error>>()?
         } else {
             let mut results = Vec::with_capacity(points.len());
+            let mut chain = ChainBuffer::default();
             for (offset, point) in points.iter().enumerate() {
-                let result = solve((first + offset, point), self.previous.as_deref())?;
+                let result = solve(
+                    &mut chain,
+                    (first + offset, point),
+                    self.previous.as_deref(),
+                )?;
                 if result.status != CompensationStatus::NotReached {
                     self.previous = Some(result.motor_positions.clone());
                 }
@@ -333,19 +341,19 @@ const PARALLEL_BLOCK: usize = 8192;
 
 /// One program point: its target (the nominal robot's pose for joint
 /// targets), solved on the calibrated robot from the program's joints, or
-/// else from `previous` (the solution of the point before).
+/// else from `previous` (the solution of the point before). `index` seeds
+/// its random starts; `chain` is a buffer for the direct models.
 fn compensate_point(
     (nominal, nominal_model): (&Robot, &KinematicModel),
     (calibrated, model): (&Robot, &KinematicModel),
-    point: &ProgramPoint,
+    (point, previous): (&ProgramPoint, Option<&[f64]>),
     matching: Match,
-    previous: Option<&[f64]>,
     options: &InverseOptions,
-    index: usize,
+    (index, chain): (usize, &mut ChainBuffer),
 ) -> Result<CompensatedPoint, Error> {
     let (target, joints) = match &point.target {
         ProgramTarget::Joints(qm) => {
-            let pose = nominal_model.terminal_pose(qm, &mut ChainBuffer::default())?;
+            let pose = nominal_model.terminal_pose(qm, chain)?;
             let target = match matching {
                 Match::Pose => Target::Frame(pose),
                 Match::Position => Target::Position(pose.translation.vector),
@@ -366,21 +374,23 @@ fn compensate_point(
         nominal,
         (calibrated, model),
         &target,
-        start,
-        free,
+        (start, free),
         options,
-        index as u64,
+        (index as u64, chain),
     )
 }
 
+/// `target` solved on the calibrated `robot` from `start` (the program's
+/// joints, or when `free` the solution of the point before), with the
+/// fallbacks where that fails; `seed` seeds the random starts, `chain` is
+/// a buffer for the direct model.
 fn compensate_one(
     nominal: &Robot,
     (robot, model): (&Robot, &KinematicModel),
     target: &Target,
-    start: Option<&[f64]>,
-    free: bool,
+    (start, free): (Option<&[f64]>, bool),
     options: &InverseOptions,
-    seed: u64,
+    (seed, chain): (u64, &mut ChainBuffer),
 ) -> Result<CompensatedPoint, Error> {
     let redundant = robot.joint_count() > target.rows();
     let solve = |options: &InverseOptions| {
@@ -478,7 +488,7 @@ fn compensate_one(
     };
     let pose = match reached {
         Some(pose) => pose,
-        None => model.terminal_pose(&motor_positions, &mut ChainBuffer::default())?,
+        None => model.terminal_pose(&motor_positions, chain)?,
     };
     let (position_error, rotation_error) = errors(target, &pose);
     Ok(CompensatedPoint {

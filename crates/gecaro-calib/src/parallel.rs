@@ -31,9 +31,24 @@ pub fn available_threads() -> usize {
 /// [`available_threads`] threads, this one included, each take the next
 /// part not yet taken until none is left. A panic in a part is resumed here.
 pub fn run_parts<T: Send, R: Send>(parts: Vec<T>, work: impl Fn(T) -> R + Sync) -> Vec<R> {
+    run_parts_with(parts, || (), |(), part| work(part))
+}
+
+/// [`run_parts`] with buffers that each thread makes once, by `buffers`,
+/// and hands to `work` for every part it takes: what a part needs for a
+/// while and then drops is not allocated again and again.
+pub fn run_parts_with<T: Send, R: Send, S>(
+    parts: Vec<T>,
+    buffers: impl Fn() -> S + Sync,
+    work: impl Fn(&mut S, T) -> R + Sync,
+) -> Vec<R> {
     let threads = available_threads().min(parts.len());
     if threads < 2 {
-        return parts.into_iter().map(work).collect();
+        let mut buffers = buffers();
+        return parts
+            .into_iter()
+            .map(|part| work(&mut buffers, part))
+            .collect();
     }
     let parts: Vec<Mutex<Option<T>>> = parts
         .into_iter()
@@ -42,6 +57,7 @@ pub fn run_parts<T: Send, R: Send>(parts: Vec<T>, work: impl Fn(T) -> R + Sync) 
     let results: Vec<Mutex<Option<R>>> = parts.iter().map(|_| Mutex::new(None)).collect();
     let next = AtomicUsize::new(0);
     let take_parts = || {
+        let mut buffers = buffers();
         loop {
             let index = next.fetch_add(1, Ordering::Relaxed);
             let Some(slot) = parts.get(index) else {
@@ -53,7 +69,7 @@ pub fn run_parts<T: Send, R: Send>(parts: Vec<T>, work: impl Fn(T) -> R + Sync) 
                 .unwrap_or_else(std::sync::PoisonError::into_inner)
                 .take();
             if let Some(part) = part {
-                let result = work(part);
+                let result = work(&mut buffers, part);
                 *results[index]
                     .lock()
                     .unwrap_or_else(std::sync::PoisonError::into_inner) = Some(result);
@@ -127,6 +143,35 @@ mod tests {
             part * 3
         });
         assert_eq!(results, (0..40).map(|part| part * 3).collect::<Vec<_>>());
+    }
+
+    /// Each thread makes its buffers once and keeps them for every part it
+    /// takes: the buffers made are at most the threads, the parts each
+    /// buffer saw add up to all of them, and the results stay in order.
+    #[test]
+    fn each_thread_makes_its_buffers_once() {
+        let made = AtomicUsize::new(0);
+        let parts: Vec<usize> = (0..200).collect();
+        let results = run_parts_with(
+            parts,
+            || {
+                made.fetch_add(1, Ordering::Relaxed);
+                Vec::new()
+            },
+            |seen: &mut Vec<usize>, part| {
+                seen.push(part);
+                (part * 2, seen.len())
+            },
+        );
+        let made = made.into_inner();
+        assert!((1..=available_threads()).contains(&made), "{made} buffers");
+        assert_eq!(
+            results.iter().map(|(value, _)| *value).collect::<Vec<_>>(),
+            (0..200).map(|part| part * 2).collect::<Vec<_>>()
+        );
+        // Each buffer's last count is the number of parts it saw.
+        let most = results.iter().map(|(_, seen)| *seen).max().unwrap_or(0);
+        assert!(most >= 200 / made, "a buffer saw at most {most} parts");
     }
 
     /// The parts of a light pass cover every item once, in order.

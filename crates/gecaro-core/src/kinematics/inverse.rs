@@ -13,7 +13,9 @@
 //! step only if it lowers ‖Δx‖; λ shrinks after a kept step and grows after
 //! a refused one (or a product that does not factorise). Close to the
 //! solution λ → 0 and the iteration is Newton's, so targets are met to
-//! ~1e-13 m.
+//! ~1e-13 m. The steps are [`joint_step`](super::joint_step)'s; a solve
+//! works in buffers its thread keeps for the next one, so an iteration for
+//! a point or a frame allocates nothing.
 //!
 //! Failure is an error, never a silently wrong configuration: when the target
 //! is out of reach within the joint limits, or the iteration stalls from this
@@ -22,16 +24,15 @@
 //! `Jᵀ Δx` vanishing against `‖J‖ ‖Δx‖`), after five iterations that lower
 //! ‖Δx‖ by rounding's worth, or after 25 that do not halve it.
 
-use nalgebra::{
-    DMatrix, DVector, IsometryMatrix3, Matrix3, Matrix6, Matrix6xX, SMatrix, SVector, Vector3,
-    Vector6,
-};
+use std::cell::Cell;
 
+use nalgebra::{DMatrix, DVector, IsometryMatrix3, Matrix6xX, Vector3};
+
+use super::joint_step::{DampedSystem, bounded_step, newton_step, pushes_beyond};
 use super::known_minima::KnownMinima;
 use super::model::{ChainBuffer, KinematicModel};
 use super::pose_difference::{OrientationDifference, orientation_difference};
 use crate::Error;
-use crate::frame::Joint;
 use crate::robot::Robot;
 
 /// What the end-effector frame n+1 must reach, in the world frame.
@@ -167,7 +168,7 @@ pub fn inverse_kinematics_on(
 ) -> Result<InverseSolution, Error> {
     check_target(target)?;
     let start = robot.joint_positions(start_motor_positions)?;
-    damped_descent(robot, model, target, start, options, None)
+    damped_descent((robot, model, options), target, &start, None)
 }
 
 /// [`inverse_kinematics_on`] for one of many starts on one target: the
@@ -237,31 +238,131 @@ pub fn inverse_kinematics_avoiding(
 ) -> Result<InverseSolution, Error> {
     check_target(target)?;
     let start = robot.joint_positions(start_motor_positions)?;
-    damped_descent(robot, model, target, start, options, Some(known))
+    damped_descent((robot, model, options), target, &start, Some(known))
+}
+
+/// The buffers of one solve, reused from iteration to iteration: an
+/// iteration for a point or a frame target allocates nothing.
+struct Workspace {
+    /// The iterate, and the candidate a step leads to.
+    current: Iterate,
+    candidate: Iterate,
+    /// The 6×n joint Jacobian, and the target's rows of it at the iterate.
+    full: Matrix6xX<f64>,
+    jacobian: DMatrix<f64>,
+    /// J with the columns of the joints held at a limit zeroed.
+    held: DMatrix<f64>,
+    /// The step from the iterate to the candidate.
+    step: DVector<f64>,
+}
+
+/// Joint positions, the direct model there and the task error.
+struct Iterate {
+    joint_positions: DVector<f64>,
+    chain: ChainBuffer,
+    error: DVector<f64>,
+}
+
+thread_local! {
+    /// The buffers of this thread's last solve, for its next: a
+    /// compensation solves a million targets one after another, each in a
+    /// few iterations.
+    static SPARE_WORKSPACE: Cell<Option<Workspace>> = const { Cell::new(None) };
+}
+
+/// `solve` in buffers for `target` on a robot of `joints` joints: this
+/// thread's spare ones when they have that shape.
+fn in_workspace<R>(target: &Target, joints: usize, solve: impl FnOnce(&mut Workspace) -> R) -> R {
+    let shape = (target.rows(), joints);
+    let mut work = SPARE_WORKSPACE
+        .take()
+        .filter(|work| work.jacobian.shape() == shape)
+        .unwrap_or_else(|| Workspace::new(shape));
+    let result = solve(&mut work);
+    SPARE_WORKSPACE.set(Some(work));
+    result
+}
+
+impl Workspace {
+    /// The buffers for a target of `rows` rows on a robot of `joints` joints.
+    fn new((rows, joints): (usize, usize)) -> Self {
+        let iterate = || Iterate {
+            joint_positions: DVector::zeros(joints),
+            chain: ChainBuffer::default(),
+            error: DVector::zeros(rows),
+        };
+        Workspace {
+            current: iterate(),
+            candidate: iterate(),
+            full: Matrix6xX::zeros(joints),
+            jacobian: DMatrix::zeros(rows, joints),
+            held: DMatrix::zeros(rows, joints),
+            step: DVector::zeros(joints),
+        }
+    }
+
+    /// The target's rows of the joint Jacobian at the iterate.
+    fn linearise(&mut self, model: &KinematicModel, target: &Target) {
+        model.joint_jacobian(&self.current.chain, &mut self.full);
+        task_rows(target, &self.full, &mut self.jacobian);
+    }
+}
+
+/// The robot, its compiled model and the options of a solve.
+type Solver<'a> = (&'a Robot, &'a KinematicModel, &'a InverseOptions);
+
+impl Iterate {
+    /// This iterate at `from` plus `step`, evaluated; its ‖Δx‖.
+    fn step_from(
+        &mut self,
+        (from, step): (&Iterate, &DVector<f64>),
+        solver: Solver<'_>,
+        target: &Target,
+    ) -> f64 {
+        self.joint_positions.copy_from(&from.joint_positions);
+        self.joint_positions += step;
+        self.evaluate(solver, target)
+    }
+
+    /// Clamps the joint positions to the limits (when the options keep
+    /// them) and evaluates the model and the task error there; ‖Δx‖.
+    fn evaluate(&mut self, (robot, model, options): Solver<'_>, target: &Target) -> f64 {
+        if options.respect_limits {
+            clamp_to_limits(robot, &mut self.joint_positions);
+        }
+        model.forward_joints(self.joint_positions.as_slice(), &mut self.chain);
+        task_error(target, self.chain.world_from_tool(), &mut self.error);
+        self.error.norm()
+    }
 }
 
 /// The damped least-squares descent of [`inverse_kinematics`] from the
 /// joint positions `start`, on the compiled `model` of `robot`; given up
 /// near a minimum of `known`, and its own recorded there when it fails.
 fn damped_descent(
-    robot: &Robot,
-    model: &KinematicModel,
+    (robot, model, options): Solver<'_>,
     target: &Target,
-    start: DVector<f64>,
-    options: &InverseOptions,
+    start: &DVector<f64>,
     known: Option<&mut KnownMinima>,
 ) -> Result<InverseSolution, Error> {
-    let limit = |q: DVector<f64>| limited(robot, options, q);
-    let evaluate = |joint_positions: &DVector<f64>, chain: &mut ChainBuffer| {
-        model.forward_joints(joint_positions.as_slice(), chain);
-        task_error(target, chain.world_from_tool())
-    };
-    let mut joint_positions = limit(start);
-    let (mut chain, mut candidate_chain) = (ChainBuffer::default(), ChainBuffer::default());
-    let mut error = evaluate(&joint_positions, &mut chain);
-    // ‖Δx‖ of `error`, kept beside it.
-    let mut residual = error.norm();
-    let mut full = Matrix6xX::zeros(robot.joint_count());
+    in_workspace(target, robot.joint_count(), |work| {
+        descend_from(work, (robot, model, options), target, start, known)
+    })
+}
+
+/// [`damped_descent`] in the buffers `work`.
+fn descend_from(
+    work: &mut Workspace,
+    solver: Solver<'_>,
+    target: &Target,
+    start: &DVector<f64>,
+    known: Option<&mut KnownMinima>,
+) -> Result<InverseSolution, Error> {
+    let (robot, model, options) = solver;
+    let joints = options.respect_limits.then(|| robot.joints());
+    work.current.joint_positions.copy_from(start);
+    // ‖Δx‖ of `work.current.error`, kept beside it.
+    let mut residual = work.current.evaluate(solver, target);
     let mut damping = INITIAL_DAMPING;
     let mut iterations = 0;
     let (mut checkpoint_error, mut checkpoint_iteration) = (residual, 0);
@@ -270,35 +371,32 @@ fn damped_descent(
         // Given up near a known minimum (where it would settle again).
         if known
             .as_deref()
-            .is_some_and(|known| known.is_near(joint_positions.as_slice()))
+            .is_some_and(|known| known.is_near(work.current.joint_positions.as_slice()))
         {
             break;
         }
         iterations += 1;
-        model.joint_jacobian(&chain, &mut full);
-        let jacobian = task_rows(target, &full);
-        if at_stationary_point(
-            robot,
-            options,
-            &joint_positions,
-            &jacobian,
-            &error,
-            residual,
-        ) {
+        work.linearise(model, target);
+        if at_stationary_point(robot, options, &work.current, &work.jacobian, residual) {
             break;
         }
-        let system = DampedSystem::new(&jacobian);
+        let system = DampedSystem::new(&work.jacobian);
         let mut improved = false;
         while damping < MAX_DAMPING {
-            let Some(step) =
-                bounded_step(robot, options, &joint_positions, &system, &error, damping)
-            else {
+            let stepped = bounded_step(
+                joints,
+                &work.current.joint_positions,
+                (&system, &work.current.error, damping),
+                &mut work.step,
+                &mut work.held,
+            );
+            if !stepped {
                 damping *= 10.0;
                 continue;
-            };
-            let candidate = limit(&joint_positions + step);
-            let candidate_error = evaluate(&candidate, &mut candidate_chain);
-            let candidate_residual = candidate_error.norm();
+            }
+            let candidate_residual =
+                work.candidate
+                    .step_from((&work.current, &work.step), solver, target);
             if candidate_residual < residual {
                 let decrease = residual - candidate_residual;
                 stationary = if decrease <= STATIONARY_DECREASE * residual {
@@ -306,9 +404,8 @@ fn damped_descent(
                 } else {
                     0
                 };
-                joint_positions = candidate;
-                std::mem::swap(&mut chain, &mut candidate_chain);
-                (error, residual) = (candidate_error, candidate_residual);
+                std::mem::swap(&mut work.current, &mut work.candidate);
+                residual = candidate_residual;
                 damping = (damping / 3.0).max(1e-15);
                 improved = true;
                 break;
@@ -326,7 +423,7 @@ fn damped_descent(
     }
     if residual > options.tolerance {
         if let Some(known) = known {
-            known.record(joint_positions.as_slice());
+            known.record(work.current.joint_positions.as_slice());
         }
         return Err(Error::Unreachable {
             iterations,
@@ -334,21 +431,22 @@ fn damped_descent(
             tolerance: options.tolerance,
         });
     }
-    solution(robot, (&joint_positions, &chain), iterations, residual)
+    solution(robot, &work.current, iterations, residual)
 }
 
-/// Whether `error` (of norm `residual`) is orthogonal to what the free
-/// joints can do at `joint_positions` (see [`STATIONARY_COSINE`]): the
-/// gradient `Jᵀ Δx` with the components of the joints held at a limit
-/// that it would push beyond left out (a projected gradient).
+/// Whether the error of `iterate` (of norm `residual`) is orthogonal to
+/// what the free joints can do there, J the target's rows of the joint
+/// Jacobian (see [`STATIONARY_COSINE`]): the gradient `Jᵀ Δx` with the
+/// components of the joints held at a limit that it would push beyond left
+/// out (a projected gradient).
 fn at_stationary_point(
     robot: &Robot,
     options: &InverseOptions,
-    joint_positions: &DVector<f64>,
+    iterate: &Iterate,
     jacobian: &DMatrix<f64>,
-    error: &DVector<f64>,
     residual: f64,
 ) -> bool {
+    let (joint_positions, error) = (&iterate.joint_positions, &iterate.error);
     let held = |index: usize, change: f64| {
         options.respect_limits
             && pushes_beyond(&robot.joints()[index], joint_positions[index], change)
@@ -363,20 +461,14 @@ fn at_stationary_point(
     gradient_squared.sqrt() <= STATIONARY_COSINE * jacobian.norm() * residual
 }
 
-/// Whether a joint at `q` held at one of its limits would be pushed beyond
-/// it by a `change` of that sign (a step, or the descent direction `Jᵀ Δx`).
-fn pushes_beyond(joint: &Joint, q: f64, change: f64) -> bool {
-    (q <= joint.qmin && change < 0.0) || (q >= joint.qmax && change > 0.0)
-}
-
-/// The solution at `joint_positions` (whose chain is `chain`), met to
-/// `residual` after `iterations`.
+/// The solution at `iterate`, met to `residual` after `iterations`.
 fn solution(
     robot: &Robot,
-    (joint_positions, chain): (&DVector<f64>, &ChainBuffer),
+    iterate: &Iterate,
     iterations: usize,
     residual: f64,
 ) -> Result<InverseSolution, Error> {
+    let (joint_positions, chain) = (&iterate.joint_positions, &iterate.chain);
     let motor_positions = robot.motor_positions(joint_positions.as_slice())?;
     Ok(InverseSolution {
         motor_positions: motor_positions.as_slice().to_vec(),
@@ -385,15 +477,6 @@ fn solution(
         residual,
         pose: *chain.world_from_tool(),
     })
-}
-
-/// `joint_positions` clamped to the limits when the options respect them.
-fn limited(robot: &Robot, options: &InverseOptions, joint_positions: DVector<f64>) -> DVector<f64> {
-    if options.respect_limits {
-        clamp_to_limits(robot, joint_positions)
-    } else {
-        joint_positions
-    }
 }
 
 fn check_target(target: &Target) -> Result<(), Error> {
@@ -450,220 +533,50 @@ pub fn inverse_kinematics_near(
 ) -> Result<InverseSolution, Error> {
     check_target(target)?;
     let start = robot.joint_positions(start_motor_positions)?;
-    let mut joint_positions = limited(robot, options, start.clone());
-    let mut chain = ChainBuffer::default();
-    model.forward_joints(joint_positions.as_slice(), &mut chain);
-    let mut error = task_error(target, chain.world_from_tool());
-    let mut full = Matrix6xX::zeros(robot.joint_count());
-    for iteration in 0..=NEWTON_ITERATIONS {
-        let residual = error.norm();
-        if residual <= options.tolerance {
-            return solution(robot, (&joint_positions, &chain), iteration, residual);
-        }
-        if iteration == NEWTON_ITERATIONS {
-            break;
-        }
-        model.joint_jacobian(&chain, &mut full);
-        let jacobian = task_rows(target, &full);
-        let Some(step) =
-            newton_step(&jacobian, &error).filter(|step| step.amax() <= MAX_NEWTON_STEP)
-        else {
-            break;
-        };
-        let candidate = limited(robot, options, &joint_positions + step);
-        model.forward_joints(candidate.as_slice(), &mut chain);
-        let candidate_error = task_error(target, chain.world_from_tool());
-        // (A NaN is no improvement either.)
-        if candidate_error.norm().is_nan() || candidate_error.norm() >= residual {
-            break;
-        }
-        joint_positions = candidate;
-        error = candidate_error;
-    }
-    damped_descent(robot, model, target, start, options, None)
-}
-
-/// The smallest `Δq` with `J Δq = Δx` (J of full row rank), or the
-/// least-squares one for a J with more rows than columns; `None` when the
-/// product to invert is singular (a singular configuration).
-fn newton_step(jacobian: &DMatrix<f64>, error: &DVector<f64>) -> Option<DVector<f64>> {
-    if jacobian.is_square() && matches!(jacobian.nrows(), 3 | 6) {
-        // A square J (a frame for six joints, a point for three): Δq = J⁻¹Δx
-        // by LU, cheaper than the product and with J's own conditioning.
-        square_solve(jacobian, error).filter(|step| step.iter().all(|v| v.is_finite()))
-    } else {
-        DampedSystem::new(jacobian).step(error, 0.0)
-    }
-}
-
-/// The damped least-squares steps `(JᵀJ + λI)⁻¹JᵀΔx` of one J, computed
-/// as `Jᵀ(JJᵀ + λI)⁻¹Δx` when J has no more rows than columns (the smaller
-/// product; with λ = 0, the smallest step that meets the linearised
-/// target). The product to invert does not change with λ: it is formed
-/// once for every damping tried.
-struct DampedSystem<'a> {
-    jacobian: &'a DMatrix<f64>,
-    product: Product,
-}
-
-/// The product [`DampedSystem`] inverts.
-#[allow(clippy::large_enum_variant)] // one per iterate, on the stack: no allocation
-enum Product {
-    /// JJᵀ of a frame's rows (six), on the stack.
-    Six(Matrix6<f64>),
-    /// JJᵀ of a point's rows (three), on the stack.
-    Three(Matrix3<f64>),
-    /// JJᵀ of other rows (a plane's one).
-    Wide(DMatrix<f64>),
-    /// JᵀJ of a J with more rows than columns.
-    Tall(DMatrix<f64>),
-}
-
-impl<'a> DampedSystem<'a> {
-    fn new(jacobian: &'a DMatrix<f64>) -> Self {
-        let (rows, columns) = jacobian.shape();
-        let product = match rows {
-            _ if rows > columns => Product::Tall(jacobian.transpose() * jacobian),
-            6 => Product::Six(outer_sum(jacobian)),
-            3 => Product::Three(outer_sum(jacobian)),
-            _ => Product::Wide(jacobian * jacobian.transpose()),
-        };
-        DampedSystem { jacobian, product }
-    }
-
-    /// The step for the damping λ; `None` when the product to invert does
-    /// not factorise or the step is not finite.
-    fn step(&self, error: &DVector<f64>, damping: f64) -> Option<DVector<f64>> {
-        let jacobian = self.jacobian;
-        let step = match &self.product {
-            Product::Six(product) => jacobian.transpose() * wide_solve(product, error, damping)?,
-            Product::Three(product) => jacobian.transpose() * wide_solve(product, error, damping)?,
-            Product::Wide(product) => {
-                let factor = damped(product.clone(), damping).cholesky()?;
-                jacobian.transpose() * factor.solve(error)
+    let solver = (robot, model, options);
+    in_workspace(target, robot.joint_count(), |work| {
+        work.current.joint_positions.copy_from(&start);
+        let mut residual = work.current.evaluate(solver, target);
+        for iteration in 0..=NEWTON_ITERATIONS {
+            if residual <= options.tolerance {
+                return solution(robot, &work.current, iteration, residual);
             }
-            Product::Tall(product) => damped(product.clone(), damping)
-                .cholesky()?
-                .solve(&(jacobian.transpose() * error)),
-        };
-        step.iter().all(|v| v.is_finite()).then_some(step)
-    }
-}
-
-/// JJᵀ for a J of `R` rows, as the sum of its columns' outer products in
-/// column order: each entry is the rows' dot product, summed in the same
-/// order, read from contiguous columns rather than strided rows.
-fn outer_sum<const R: usize>(jacobian: &DMatrix<f64>) -> SMatrix<f64, R, R> {
-    let mut product = SMatrix::<f64, R, R>::zeros();
-    for column in jacobian.column_iter() {
-        for i in 0..R {
-            for k in 0..=i {
-                product[(i, k)] += column[i] * column[k];
+            if iteration == NEWTON_ITERATIONS {
+                break;
             }
-        }
-    }
-    for i in 0..R {
-        for k in 0..i {
-            product[(k, i)] = product[(i, k)];
-        }
-    }
-    product
-}
-
-/// The damped step of `system` from `joint_positions` with the joints
-/// held at a limit it would push beyond taken out of it (an active set):
-/// their columns of J are zeroed and the step is taken again by the
-/// others, until none pushes beyond. Clamping such a joint instead would
-/// cut the step after it is chosen, so the others would not make up for it
-/// and the descent would crawl along the limit. Without limits, or with no
-/// joint pushing beyond one, the step is the system's.
-fn bounded_step(
-    robot: &Robot,
-    options: &InverseOptions,
-    joint_positions: &DVector<f64>,
-    system: &DampedSystem<'_>,
-    error: &DVector<f64>,
-    damping: f64,
-) -> Option<DVector<f64>> {
-    let mut step = system.step(error, damping)?;
-    if !options.respect_limits {
-        return Some(step);
-    }
-    let mut held: Option<DMatrix<f64>> = None;
-    loop {
-        let mut blocked = false;
-        for (index, ((q, joint), change)) in joint_positions
-            .iter()
-            .zip(robot.joints())
-            .zip(step.iter())
-            .enumerate()
-        {
-            if pushes_beyond(joint, *q, *change) {
-                held.get_or_insert_with(|| system.jacobian.clone())
-                    .column_mut(index)
-                    .fill(0.0);
-                blocked = true;
+            work.linearise(model, target);
+            if !newton_step(&work.jacobian, &work.current.error, &mut work.step)
+                || work.step.amax() > MAX_NEWTON_STEP
+            {
+                break;
             }
+            let candidate_residual =
+                work.candidate
+                    .step_from((&work.current, &work.step), solver, target);
+            // (A NaN is no improvement either.)
+            if candidate_residual.is_nan() || candidate_residual >= residual {
+                break;
+            }
+            std::mem::swap(&mut work.current, &mut work.candidate);
+            residual = candidate_residual;
         }
-        // (A zeroed column gives its joint no step: each round holds a new one.)
-        let Some(reduced) = held.as_ref().filter(|_| blocked) else {
-            return Some(step);
-        };
-        step = DampedSystem::new(reduced).step(error, damping)?;
-    }
+        descend_from(work, solver, target, &start, None)
+    })
 }
 
-/// `product + λI`.
-fn damped(mut product: DMatrix<f64>, damping: f64) -> DMatrix<f64> {
-    for i in 0..product.nrows() {
-        product[(i, i)] += damping;
-    }
-    product
-}
-
-/// `J⁻¹Δx` for a square J of 6 or 3 rows, by LU; `None` when J is singular.
-fn square_solve(jacobian: &DMatrix<f64>, error: &DVector<f64>) -> Option<DVector<f64>> {
-    let (values, right) = (jacobian.as_slice(), error.as_slice());
-    match jacobian.nrows() {
-        6 => Matrix6::from_column_slice(values)
-            .lu()
-            .solve(&Vector6::from_column_slice(right))
-            .map(|step| DVector::from_column_slice(step.as_slice())),
-        3 => Matrix3::from_column_slice(values)
-            .lu()
-            .solve(&Vector3::from_column_slice(right))
-            .map(|step| DVector::from_column_slice(step.as_slice())),
-        _ => None,
-    }
-}
-
-/// `(JJᵀ + λI)⁻¹Δx` for a J of `R` rows, from its `product` JJᵀ.
-fn wide_solve<const R: usize>(
-    product: &SMatrix<f64, R, R>,
-    error: &DVector<f64>,
-    damping: f64,
-) -> Option<DVector<f64>> {
-    let mut product = *product;
-    for i in 0..R {
-        product[(i, i)] += damping;
-    }
-    let right = SVector::<f64, R>::from_column_slice(error.as_slice());
-    let solved = product.cholesky()?.solve(&right);
-    Some(DVector::from_column_slice(solved.as_slice()))
-}
-
-fn clamp_to_limits(robot: &Robot, mut joint_positions: DVector<f64>) -> DVector<f64> {
+/// `joint_positions` clamped to the joint limits.
+fn clamp_to_limits(robot: &Robot, joint_positions: &mut DVector<f64>) {
     for (q, joint) in joint_positions.iter_mut().zip(robot.joints()) {
         *q = q.clamp(joint.qmin, joint.qmax);
     }
-    joint_positions
 }
 
-/// The task error `Δx` from frame n+1 at `current` towards the target.
-fn task_error(target: &Target, current: &IsometryMatrix3<f64>) -> DVector<f64> {
+/// The task error `Δx` from frame n+1 at `current` towards the target,
+/// into `error` (of the target's rows).
+fn task_error(target: &Target, current: &IsometryMatrix3<f64>, error: &mut DVector<f64>) {
     match target {
         Target::Position(point) => {
-            DVector::from_column_slice((point - current.translation.vector).as_slice())
+            error.copy_from_slice((point - current.translation.vector).as_slice());
         }
         Target::Frame(pose) => {
             let position = pose.translation.vector - current.translation.vector;
@@ -672,26 +585,26 @@ fn task_error(target: &Target, current: &IsometryMatrix3<f64>) -> DVector<f64> {
                 &current.rotation,
                 OrientationDifference::AxisAngle,
             );
-            DVector::from_column_slice(&[
+            error.copy_from_slice(&[
                 position.x, position.y, position.z, rotation.x, rotation.y, rotation.z,
-            ])
+            ]);
         }
         Target::Plane { normal, offset } => {
-            DVector::from_element(1, offset - normal.dot(&current.translation.vector))
+            error[0] = offset - normal.dot(&current.translation.vector);
         }
     }
 }
 
-/// The rows of the 6×n joint Jacobian `full` that the target constrains.
-fn task_rows(target: &Target, full: &Matrix6xX<f64>) -> DMatrix<f64> {
+/// The rows of the 6×n joint Jacobian `full` that the target constrains,
+/// into `rows` (of the target's rows, n columns).
+fn task_rows(target: &Target, full: &Matrix6xX<f64>, rows: &mut DMatrix<f64>) {
     match target {
         Target::Plane { normal, .. } => {
-            let row = normal.transpose() * full.fixed_rows::<3>(0);
-            DMatrix::from_row_slice(1, row.len(), row.as_slice())
+            rows.copy_from(&(normal.transpose() * full.fixed_rows::<3>(0)))
         }
         // (The columns of `full` are contiguous: a frame's rows are all of it.)
-        Target::Frame(_) => DMatrix::from_column_slice(6, full.ncols(), full.as_slice()),
-        Target::Position(_) => DMatrix::from_fn(3, full.ncols(), |row, column| full[(row, column)]),
+        Target::Frame(_) => rows.copy_from_slice(full.as_slice()),
+        Target::Position(_) => rows.copy_from(&full.fixed_rows::<3>(0)),
     }
 }
 
@@ -926,6 +839,51 @@ mod tests {
             &mut known,
         );
         assert!(reached.is_ok(), "{reached:?}");
+    }
+
+    /// A solve in the buffers of earlier solves of other shapes (points,
+    /// frames, planes), robots and outcomes (met, given up) gives what it
+    /// gives on a thread of its own, bit for bit.
+    #[test]
+    fn a_solve_in_reused_buffers_is_the_solve_in_fresh_ones() {
+        let mut rng = ChaCha8Rng::seed_from_u64(41);
+        let options = InverseOptions::default();
+        let mut cases = Vec::new();
+        for trial in 0..12 {
+            let (robot, goal, pose) = trial_robot(trial, &mut rng);
+            let target = match trial % 3 {
+                0 => Target::Position(pose.translation.vector),
+                1 => Target::Frame(pose),
+                _ => Target::Plane {
+                    normal: Vector3::z(),
+                    offset: pose.translation.vector.z,
+                },
+            };
+            let start: Vec<f64> = goal.iter().map(|q| q + 0.3).collect();
+            cases.push((robot, target, start));
+        }
+        // One far target, given up, between the others.
+        cases.insert(
+            5,
+            (
+                stanford(),
+                Target::Position(Vector3::new(10.0, 0.0, 0.0)),
+                vec![0.0, 0.0, 0.5, 0.0, 0.0, 0.0],
+            ),
+        );
+        let solve = |(robot, target, start): &(Robot, Target, Vec<f64>)| {
+            let model = KinematicModel::new(robot);
+            let near = inverse_kinematics_near(robot, &model, target, start, &options);
+            let damped = inverse_kinematics_on(robot, &model, target, start, &options);
+            format!("{near:?} {damped:?}")
+        };
+        let in_turn: Vec<String> = cases.iter().map(solve).collect();
+        for (case, expected) in cases.iter().zip(&in_turn) {
+            let alone =
+                std::thread::scope(|scope| scope.spawn(|| solve(case)).join().expect("no panic"));
+            assert_eq!(&alone, expected);
+        }
+        assert!(in_turn.iter().any(|result| result.contains("Unreachable")));
     }
 
     #[test]

@@ -10,6 +10,7 @@
 mod direct;
 mod inverse;
 mod jacobian;
+mod joint_step;
 mod known_minima;
 mod lanes;
 mod model;

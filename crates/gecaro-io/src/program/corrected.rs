@@ -118,16 +118,25 @@ impl<'a> CorrectedProgram<'a> {
         let layout = self.layout;
         // A number into its field (reused: a million rows allocate nothing),
         // with the program's own decimal mark, as it was read.
-        let put = |field: &mut String, number: std::fmt::Arguments<'_>| {
-            use std::fmt::Write as _;
-            field.clear();
-            // Writing into a String does not fail.
-            let _ = field.write_fmt(number);
+        let decimal_mark = |field: &mut String| {
             if self.decimal_comma
                 && let Some(point) = field.find('.')
             {
                 field.replace_range(point..=point, ",");
             }
+        };
+        let put = |field: &mut String, number: std::fmt::Arguments<'_>| {
+            use std::fmt::Write as _;
+            field.clear();
+            // Writing into a String does not fail.
+            let _ = field.write_fmt(number);
+            decimal_mark(field);
+        };
+        let mut digits = zmij::Buffer::new();
+        let mut put_shortest = |field: &mut String, value: f64| {
+            field.clear();
+            shortest(value, &mut digits, field);
+            decimal_mark(field);
         };
         // Room for rows of 24 bytes a field, so that the text seldom moves.
         let mut piece = self.writer(24 * self.header.len() * results.len());
@@ -143,7 +152,7 @@ impl<'a> CorrectedProgram<'a> {
                 .enumerate()
             {
                 let value = value / layout.units().joint_scale(&layout.joint_types, j);
-                put(&mut fields[*column], format_args!("{value:?}"));
+                put_shortest(&mut fields[*column], value);
             }
             let error = result.position_error / layout.units().length.to_metres();
             put(&mut fields[self.residual], format_args!("{error:.3e}"));
@@ -158,5 +167,57 @@ impl<'a> CorrectedProgram<'a> {
             let _ = piece.write_record(&fields);
         }
         piece.into_inner().unwrap_or_default()
+    }
+}
+
+/// The joint values [`shortest`] writes with Żmij: there its digits are
+/// those of `{:?}` (both the shortest that read back, the same one chosen;
+/// compared on 1.5·10⁶ values), where `{:?}` would switch to an exponent
+/// below and Żmij's exponents differ (`1e+16`) above.
+const PLAIN_DIGITS: std::ops::Range<f64> = 1e-4..1e4;
+
+/// `value` appended to `field` as the shortest text that reads back to it,
+/// as `{:?}` writes it: by Żmij within [`PLAIN_DIGITS`] (and for zero), a
+/// few times faster, else by `{:?}`.
+fn shortest(value: f64, digits: &mut zmij::Buffer, field: &mut String) {
+    if value.is_finite() && (value == 0.0 || PLAIN_DIGITS.contains(&value.abs())) {
+        field.push_str(digits.format_finite(value));
+    } else {
+        use std::fmt::Write as _;
+        // Writing into a String does not fail.
+        let _ = write!(field, "{value:?}");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// A joint value is written as `{:?}` writes it, at any magnitude
+        /// (so the text reads back to the same value).
+        #[test]
+        fn joint_values_are_written_as_debug_writes_them(
+            mantissa in -1.0f64..1.0,
+            exponent in -12i32..14,
+        ) {
+            let value = mantissa * 10f64.powi(exponent);
+            let mut field = String::new();
+            shortest(value, &mut zmij::Buffer::new(), &mut field);
+            prop_assert_eq!(&field, &format!("{value:?}"));
+            prop_assert_eq!(field.parse::<f64>().ok(), Some(value));
+        }
+    }
+
+    #[test]
+    fn zeros_and_the_ends_of_the_plain_range_are_written_as_debug_writes_them() {
+        for value in [
+            0.0, -0.0, 1e-4, -1e-4, 9.999e-5, 1e4, 9999.999, 1.0, -3.0, 1e20, -2.5e-9,
+        ] {
+            let mut field = String::new();
+            shortest(value, &mut zmij::Buffer::new(), &mut field);
+            assert_eq!(field, format!("{value:?}"), "{value:e}");
+        }
     }
 }
