@@ -62,11 +62,11 @@ impl<'a> DampedSystem<'a> {
         let jacobian = self.jacobian;
         match &self.product {
             Product::Six(product) => match wide_solve(product, error, damping) {
-                Some(solved) => transpose_times(jacobian, solved.as_slice(), step),
+                Some(solved) => fixed_transpose_times(jacobian, &solved, step),
                 None => return false,
             },
             Product::Three(product) => match wide_solve(product, error, damping) {
-                Some(solved) => transpose_times(jacobian, solved.as_slice(), step),
+                Some(solved) => fixed_transpose_times(jacobian, &solved, step),
                 None => return false,
             },
             Product::Wide(product) => match damped(product.clone(), damping).cholesky() {
@@ -78,17 +78,34 @@ impl<'a> DampedSystem<'a> {
                 None => return false,
             },
         }
-        step.iter().all(|v| v.is_finite())
+        step.as_slice().iter().all(|v| v.is_finite())
     }
 }
 
 /// `Jᵀv` into `out`, each entry summed over the rows of J in order (as
 /// nalgebra's product of the transposed J and v sums it).
 fn transpose_times(jacobian: &DMatrix<f64>, v: &[f64], out: &mut DVector<f64>) {
-    for (column, entry) in jacobian.column_iter().zip(out.iter_mut()) {
+    let rows = jacobian.nrows();
+    // (J is column-major: each chunk is a column, entry j of Jᵀv.)
+    for (column, entry) in jacobian.as_slice().chunks_exact(rows).zip(out.iter_mut()) {
         let mut sum = column[0] * v[0];
-        for (value, weight) in column.iter().zip(v).skip(1) {
+        for (value, weight) in column[1..].iter().zip(&v[1..rows]) {
             sum += value * weight;
+        }
+        *entry = sum;
+    }
+}
+
+/// [`transpose_times`] for a J of `R` rows (a point's or a frame's).
+fn fixed_transpose_times<const R: usize>(
+    jacobian: &DMatrix<f64>,
+    v: &SVector<f64, R>,
+    out: &mut DVector<f64>,
+) {
+    for (column, entry) in jacobian.as_slice().chunks_exact(R).zip(out.iter_mut()) {
+        let mut sum = column[0] * v[0];
+        for i in 1..R {
+            sum += column[i] * v[i];
         }
         *entry = sum;
     }
@@ -98,20 +115,15 @@ fn transpose_times(jacobian: &DMatrix<f64>, v: &[f64], out: &mut DVector<f64>) {
 /// column order: each entry is the rows' dot product, summed in the same
 /// order, read from contiguous columns rather than strided rows.
 fn outer_sum<const R: usize>(jacobian: &DMatrix<f64>) -> SMatrix<f64, R, R> {
-    let mut product = SMatrix::<f64, R, R>::zeros();
-    for column in jacobian.column_iter() {
+    let mut lower = [[0.0; R]; R];
+    for column in jacobian.as_slice().chunks_exact(R) {
         for i in 0..R {
             for k in 0..=i {
-                product[(i, k)] += column[i] * column[k];
+                lower[i][k] += column[i] * column[k];
             }
         }
     }
-    for i in 0..R {
-        for k in 0..i {
-            product[(k, i)] = product[(i, k)];
-        }
-    }
-    product
+    SMatrix::from_fn(|i, k| if k <= i { lower[i][k] } else { lower[k][i] })
 }
 
 /// The damped step of `system` from `joint_positions` into `step`, with
@@ -140,9 +152,10 @@ pub(super) fn bounded_step(
     loop {
         let mut blocked = false;
         for (index, ((q, joint), change)) in joint_positions
+            .as_slice()
             .iter()
             .zip(joints)
-            .zip(step.iter())
+            .zip(step.as_slice())
             .enumerate()
         {
             if pushes_beyond(joint, *q, *change) {
