@@ -8,7 +8,7 @@ use nalgebra::{IsometryMatrix3, Translation3, Vector3};
 use std::path::Path;
 
 use crate::Error;
-use crate::columns::{DataUnits, joint_types, locate, not_a_number, parse_number};
+use crate::columns::{DataUnits, field_number, joint_types, locate, not_a_number};
 use crate::data_file::DataFormat;
 
 /// What a program's targets are.
@@ -246,7 +246,8 @@ impl ProgramBlock {
             if *decimal_comma && text.contains(',') {
                 comma_seen = true;
             }
-            match parse_number(text, *decimal_comma) {
+            // (The bytes at once, as a data file's; the same double as the text's.)
+            match field_number(text.as_bytes(), *decimal_comma) {
                 Some(value) if value.is_finite() => Ok(value),
                 Some(_) => Err(Error::parse(
                     path,
