@@ -39,6 +39,20 @@ impl RecordFields for csv::ByteRecord {
     }
 }
 
+impl RecordFields for csv::StringRecord {
+    fn field_count(&self) -> usize {
+        self.len()
+    }
+
+    fn field(&self, column: usize) -> &[u8] {
+        self[column].as_bytes()
+    }
+
+    fn bytes(&self) -> &[u8] {
+        self.as_byte_record().as_slice()
+    }
+}
+
 impl RecordFields for simd_csv::ZeroCopyByteRecord<'_> {
     fn field_count(&self) -> usize {
         self.len()

@@ -10,6 +10,7 @@ use std::path::Path;
 use crate::Error;
 use crate::columns::{DataUnits, field_number, joint_types, locate, not_a_number};
 use crate::data_file::DataFormat;
+use crate::plain_body::RecordFields;
 
 /// What a program's targets are.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -217,7 +218,7 @@ impl ProgramBlock {
         &mut self,
         layout: &ProgramLayout,
         path: &Path,
-        record: &csv::StringRecord,
+        record: &impl RecordFields,
         line: usize,
     ) -> Result<(), Error> {
         let ProgramLayout {
@@ -227,14 +228,20 @@ impl ProgramBlock {
             decimal_comma,
             ..
         } = layout;
-        if record.len() != header.len() {
+        let bytes = record.bytes();
+        if !bytes.is_ascii() && std::str::from_utf8(bytes).is_err() {
+            return Err(Error::parse(path, line, None, "the file is not UTF-8 text"));
+        }
+        // (Every field is text once the record is.)
+        let field = |column: usize| String::from_utf8_lossy(record.field(column));
+        if record.field_count() != header.len() {
             return Err(Error::parse(
                 path,
                 line,
                 None,
                 format!(
                     "{} values for {} columns ({})",
-                    record.len(),
+                    record.field_count(),
                     header.len(),
                     header.join(",")
                 ),
@@ -242,24 +249,24 @@ impl ProgramBlock {
         }
         let mut comma_seen = false;
         let mut number = |column: usize| -> Result<f64, Error> {
-            let text = record[column].trim();
-            if *decimal_comma && text.contains(',') {
+            let bytes = record.field(column);
+            if *decimal_comma && bytes.contains(&b',') {
                 comma_seen = true;
             }
             // (The bytes at once, as a data file's; the same double as the text's.)
-            match field_number(text.as_bytes(), *decimal_comma) {
+            match field_number(bytes, *decimal_comma) {
                 Some(value) if value.is_finite() => Ok(value),
                 Some(_) => Err(Error::parse(
                     path,
                     line,
                     Some(header[column].clone()),
-                    format!("`{text}` is not a finite number"),
+                    format!("`{}` is not a finite number", field(column).trim()),
                 )),
                 None => Err(Error::parse(
                     path,
                     line,
                     Some(header[column].clone()),
-                    not_a_number(text, *decimal_comma),
+                    not_a_number(field(column).trim(), *decimal_comma),
                 )),
             }
         };
@@ -318,7 +325,7 @@ impl ProgramBlock {
             layout
                 .kept_columns
                 .iter()
-                .map(|column| record[*column].to_owned())
+                .map(|column| field(*column).into_owned())
                 .collect(),
         );
         self.lines.push(line);

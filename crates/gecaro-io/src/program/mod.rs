@@ -149,6 +149,35 @@ mod tests {
         }
     }
 
+    /// A plain program (no quote, comment or blank line) is read a vector
+    /// at a time, any other the `csv` crate's way: the same targets, kept
+    /// fields (text beyond ASCII too) and corrected program, the lines
+    /// after a comment one further down.
+    #[test]
+    fn plain_and_csv_routes_read_a_program_alike() {
+        let robot = Robot::template("arm", "RRRRRR").expect("robot");
+        let plain = EXPORT.replacen("P1;", "P1 café;", 1);
+        let commented = plain.replacen("\nP2", "\n# the second point\nP2", 1);
+        let a =
+            parse_program(plain.as_bytes(), Path::new("a.csv"), &robot, &format()).expect("plain");
+        let b = parse_program(commented.as_bytes(), Path::new("b.csv"), &robot, &format())
+            .expect("commented");
+        assert_eq!(a.points, b.points);
+        assert_eq!((a.line(0), a.line(1)), (2, 3));
+        assert_eq!((b.line(0), b.line(1)), (2, 4));
+        let results: Vec<CompensatedPoint> = a
+            .points
+            .iter()
+            .map(|point| match &point.target {
+                ProgramTarget::Joints(qm) => reached(qm.clone(), 1e-12),
+                _ => unreachable!("joint targets"),
+            })
+            .collect();
+        let text = a.format_corrected(&results);
+        assert!(text.contains("P1 café;"), "{text}");
+        assert_eq!(text, b.format_corrected(&results));
+    }
+
     #[test]
     fn the_corrected_program_is_written_as_the_program_was() {
         let robot = Robot::template("arm", "RRRRRR").expect("robot");

@@ -22,6 +22,7 @@ use crate::input::{
     read_record,
 };
 use crate::line_chunks::{LineChunks, line_parts};
+use crate::plain_body::for_each_plain_record;
 
 /// Most targets a program may hold (as many as a data file's configurations).
 pub(super) const MAX_TARGETS: usize = MAX_CONFIGURATIONS;
@@ -190,15 +191,30 @@ impl<'a> ProgramReader<'a> {
                     let parts = run_parts(
                         line_parts(chunk, lines, count),
                         |(bytes, lines_before, _)| {
-                            let mut csv = csv_reader_with(
-                                LineLimit::new(bytes, MAX_LINE_BYTES),
-                                layout.separator,
-                            );
+                            // A plain part a vector at a time, else (or
+                            // again from its start) the `csv` crate's way.
                             let mut part = ProgramBlock::default();
-                            let error =
-                                for_each_record(&mut csv, path, lines_before, |record, line| {
-                                    part.add(layout, path, record, line)
-                                });
+                            let plain = for_each_plain_record(
+                                bytes,
+                                lines_before,
+                                layout.separator,
+                                |record, line| part.add(layout, path, record, line),
+                            );
+                            let error = plain.unwrap_or_else(|| {
+                                part = ProgramBlock::default();
+                                let mut csv = csv_reader_with(
+                                    LineLimit::new(bytes, MAX_LINE_BYTES),
+                                    layout.separator,
+                                );
+                                for_each_record(
+                                    &mut csv,
+                                    path,
+                                    lines_before,
+                                    |record: &csv::ByteRecord, line| {
+                                        part.add(layout, path, record, line)
+                                    },
+                                )
+                            });
                             (part, error)
                         },
                     );
