@@ -22,9 +22,9 @@ use std::path::Path;
 
 use crate::Error;
 use crate::columns::{field_number, not_a_number};
-use crate::input::{LineLimit, MAX_LINE_BYTES, csv_reader_with, for_each_record};
+use crate::input::{LineLimit, NOT_TEXT, for_each_record};
 use crate::line_chunks::{LineChunks, line_parts};
-use crate::plain_body::{RecordFields, for_each_plain_record};
+use crate::plain_body::{RecordFields, RecordSink, read_part_records};
 use crate::pose::{quaternion_deviation, unit_quaternion};
 
 /// The largest motor value a data file holds: 2⁵³, beyond which a double
@@ -152,6 +152,25 @@ struct PartRead {
     error: Option<Error>,
 }
 
+/// A part's slots, filled by a [`RowReader`] record by record.
+struct PartSink<'r, 'a, 's> {
+    reader: &'r RowReader<'a>,
+    slots: SampleSlots<'s>,
+    normalised: Normalised,
+}
+
+impl RecordSink for PartSink<'_, '_, '_> {
+    fn take(&mut self, record: &impl RecordFields, line: usize) -> Result<(), Error> {
+        self.reader
+            .put(&mut self.slots, &mut self.normalised, record, line)
+    }
+
+    fn restart(&mut self) {
+        self.slots.clear();
+        self.normalised = Normalised::default();
+    }
+}
+
 /// How the records of one file are read.
 pub(crate) struct RowReader<'a> {
     pub(crate) path: &'a Path,
@@ -260,39 +279,23 @@ impl RowReader<'_> {
         (reads, breaks)
     }
 
-    /// Reads a part of a body into its slots, the way of
-    /// [`crate::plain_body`] when the part is plain, else the `csv` crate's.
+    /// Reads a part of a body into its slots ([`read_part_records`]).
     fn read_part(
         &self,
         part: &[u8],
         lines_before: usize,
-        mut slots: SampleSlots<'_>,
+        slots: SampleSlots<'_>,
         separator: u8,
     ) -> PartRead {
-        let mut normalised = Normalised::default();
-        let plain = for_each_plain_record(part, lines_before, separator, |record, line| {
-            self.put(&mut slots, &mut normalised, record, line)
-        });
-        let error = match plain {
-            Some(error) => error,
-            None => {
-                // Read again from the part's start.
-                slots.clear();
-                normalised = Normalised::default();
-                let mut csv = csv_reader_with(LineLimit::new(part, MAX_LINE_BYTES), separator);
-                for_each_record(
-                    &mut csv,
-                    self.path,
-                    lines_before,
-                    |record: &csv::ByteRecord, line| {
-                        self.put(&mut slots, &mut normalised, record, line)
-                    },
-                )
-            }
+        let mut sink = PartSink {
+            reader: self,
+            slots,
+            normalised: Normalised::default(),
         };
+        let error = read_part_records(part, lines_before, (separator, self.path), &mut sink);
         PartRead {
-            filled: slots.len(),
-            normalised,
+            filled: sink.slots.len(),
+            normalised: sink.normalised,
             error,
         }
     }
@@ -426,9 +429,8 @@ impl RowReader<'_> {
         // The record is read as bytes (its numbers are parsed from them);
         // the file must still be text, as in a single pass of the `csv`
         // crate's text records (a binary file is named as such).
-        let bytes = record.bytes();
-        if !bytes.is_ascii() && std::str::from_utf8(bytes).is_err() {
-            return Err(self.fail(line, None, "the file is not UTF-8 text".into()));
+        if !record.is_text() {
+            return Err(self.fail(line, None, NOT_TEXT.into()));
         }
         // A field as text, for a message.
         let text = |column: usize| {

@@ -101,9 +101,12 @@ pub(crate) fn read_text(path: &Path, limit: u64) -> Result<String, Error> {
             .iter()
             .filter(|b| **b == b'\n')
             .count();
-        Error::parse(path, line, None, "the file is not UTF-8 text")
+        Error::parse(path, line, None, NOT_TEXT)
     })
 }
+
+/// What is said of a file whose bytes are not UTF-8 text.
+pub(crate) const NOT_TEXT: &str = "the file is not UTF-8 text";
 
 /// The CSV reader of every gecaro CSV file: the header is read as the first
 /// record (so that its line is known), `#` starts a comment, rows may have
@@ -231,7 +234,7 @@ pub(crate) fn csv_error_after(path: &Path, error: &csv::Error, lines_before: usi
             .position()
             .map_or(1, |position| position.line() as usize);
     let message = match error.kind() {
-        csv::ErrorKind::Utf8 { .. } => "the file is not UTF-8 text".to_owned(),
+        csv::ErrorKind::Utf8 { .. } => NOT_TEXT.to_owned(),
         csv::ErrorKind::Io(cause) => cause.to_string(),
         _ => error.to_string(),
     };

@@ -12,7 +12,10 @@
 //! [`MAX_LINE_BYTES`], goes the `csv` crate's way, which has the last word
 //! on every error.
 
-use crate::input::MAX_LINE_BYTES;
+use std::path::Path;
+
+use crate::Error;
+use crate::input::{LineLimit, MAX_LINE_BYTES, csv_reader_with, for_each_record};
 
 /// A record's fields as a tokenizer gives them: the `csv` crate's or the
 /// zero-copy reader of a plain body.
@@ -23,6 +26,55 @@ pub(crate) trait RecordFields {
     fn field(&self, column: usize) -> &[u8];
     /// Its bytes (for the check that the file is text).
     fn bytes(&self) -> &[u8];
+
+    /// Whether its bytes are UTF-8 text, as the `csv` crate's text records
+    /// must be (a record read as bytes, its numbers parsed from them, must
+    /// still be text: a binary file is named as such,
+    /// [`NOT_TEXT`](crate::input::NOT_TEXT)).
+    fn is_text(&self) -> bool {
+        let bytes = self.bytes();
+        bytes.is_ascii() || std::str::from_utf8(bytes).is_ok()
+    }
+}
+
+/// What takes the records of a part of a body, in order
+/// ([`read_part_records`]).
+pub(crate) trait RecordSink {
+    /// Takes `record`, at `line` of the file.
+    ///
+    /// # Errors
+    /// The record's: reading stops there.
+    fn take(&mut self, record: &impl RecordFields, line: usize) -> Result<(), Error>;
+
+    /// Forgets every record taken: the part is read again from its start.
+    fn restart(&mut self);
+}
+
+/// Hands each record of `part` (whole lines, from a line start; its first
+/// line is line `lines_before + 1` of `path`) to `sink` with its line: the
+/// plain way when the part is plain (see the module docs), else, or again
+/// from its start after a line too long for it, the `csv` crate's. The
+/// first error (the reader's or the sink's); `None` when every record was
+/// taken.
+pub(crate) fn read_part_records(
+    part: &[u8],
+    lines_before: usize,
+    (separator, path): (u8, &Path),
+    sink: &mut impl RecordSink,
+) -> Option<Error> {
+    let plain = for_each_plain_record(part, lines_before, separator, |record, line| {
+        sink.take(record, line)
+    });
+    plain.unwrap_or_else(|| {
+        sink.restart();
+        let mut csv = csv_reader_with(LineLimit::new(part, MAX_LINE_BYTES), separator);
+        for_each_record(
+            &mut csv,
+            path,
+            lines_before,
+            |record: &csv::ByteRecord, line| sink.take(record, line),
+        )
+    })
 }
 
 impl RecordFields for csv::ByteRecord {
@@ -90,7 +142,7 @@ pub(crate) fn is_plain(body: &[u8]) -> bool {
 /// end or `each`'s first error, which is returned. `None` when the body is
 /// not plain or holds a line longer than [`MAX_LINE_BYTES`]: the records
 /// handed out until then are to be read again the `csv` crate's way.
-pub(crate) fn for_each_plain_record<E>(
+fn for_each_plain_record<E>(
     body: &[u8],
     lines_before: usize,
     separator: u8,

@@ -33,6 +33,7 @@ use super::known_minima::KnownMinima;
 use super::model::{ChainBuffer, KinematicModel};
 use super::pose_difference::{OrientationDifference, orientation_difference};
 use crate::Error;
+use crate::frame::Joint;
 use crate::robot::Robot;
 
 /// What the end-effector frame n+1 must reach, in the world frame.
@@ -340,13 +341,13 @@ impl Iterate {
 /// joint positions `start`, on the compiled `model` of `robot`; given up
 /// near a minimum of `known`, and its own recorded there when it fails.
 fn damped_descent(
-    (robot, model, options): Solver<'_>,
+    solver: Solver<'_>,
     target: &Target,
     start: &DVector<f64>,
     known: Option<&mut KnownMinima>,
 ) -> Result<InverseSolution, Error> {
-    in_workspace(target, robot.joint_count(), |work| {
-        descend_from(work, (robot, model, options), target, start, known)
+    in_workspace(target, solver.0.joint_count(), |work| {
+        descend_from(work, solver, target, start, known)
     })
 }
 
@@ -377,7 +378,7 @@ fn descend_from(
         }
         iterations += 1;
         work.linearise(model, target);
-        if at_stationary_point(robot, options, &work.current, &work.jacobian, residual) {
+        if at_stationary_point(joints, &work.current, &work.jacobian, residual) {
             break;
         }
         let system = DampedSystem::new(&work.jacobian);
@@ -438,18 +439,17 @@ fn descend_from(
 /// what the free joints can do there, J the target's rows of the joint
 /// Jacobian (see [`STATIONARY_COSINE`]): the gradient `Jᵀ Δx` with the
 /// components of the joints held at a limit that it would push beyond left
-/// out (a projected gradient).
+/// out (a projected gradient; `joints` the robot's, `None` when the limits
+/// are not kept).
 fn at_stationary_point(
-    robot: &Robot,
-    options: &InverseOptions,
+    joints: Option<&[Joint]>,
     iterate: &Iterate,
     jacobian: &DMatrix<f64>,
     residual: f64,
 ) -> bool {
     let (joint_positions, error) = (&iterate.joint_positions, &iterate.error);
     let held = |index: usize, change: f64| {
-        options.respect_limits
-            && pushes_beyond(&robot.joints()[index], joint_positions[index], change)
+        joints.is_some_and(|joints| pushes_beyond(&joints[index], joint_positions[index], change))
     };
     let gradient_squared: f64 = jacobian
         .column_iter()

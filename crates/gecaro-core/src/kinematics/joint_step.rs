@@ -62,11 +62,11 @@ impl<'a> DampedSystem<'a> {
         let jacobian = self.jacobian;
         match &self.product {
             Product::Six(product) => match wide_solve(product, error, damping) {
-                Some(solved) => fixed_transpose_times(jacobian, &solved, step),
+                Some(solved) => transpose_times(jacobian, solved.as_slice(), step),
                 None => return false,
             },
             Product::Three(product) => match wide_solve(product, error, damping) {
-                Some(solved) => fixed_transpose_times(jacobian, &solved, step),
+                Some(solved) => transpose_times(jacobian, solved.as_slice(), step),
                 None => return false,
             },
             Product::Wide(product) => match damped(product.clone(), damping).cholesky() {
@@ -82,29 +82,17 @@ impl<'a> DampedSystem<'a> {
     }
 }
 
-/// `Jᵀv` into `out`, each entry summed over the rows of J in order (as
-/// nalgebra's product of the transposed J and v sums it).
+/// `Jᵀv` into `out` (J of `v.len()` rows), each entry summed over the
+/// rows of J in order (as nalgebra's product of the transposed J and v
+/// sums it). Inlined, so that for a point's or a frame's `v` (a fixed
+/// length) the sums are unrolled.
+#[inline(always)]
 fn transpose_times(jacobian: &DMatrix<f64>, v: &[f64], out: &mut DVector<f64>) {
-    let rows = jacobian.nrows();
+    let rows = v.len();
     // (J is column-major: each chunk is a column, entry j of Jᵀv.)
     for (column, entry) in jacobian.as_slice().chunks_exact(rows).zip(out.iter_mut()) {
         let mut sum = column[0] * v[0];
-        for (value, weight) in column[1..].iter().zip(&v[1..rows]) {
-            sum += value * weight;
-        }
-        *entry = sum;
-    }
-}
-
-/// [`transpose_times`] for a J of `R` rows (a point's or a frame's).
-fn fixed_transpose_times<const R: usize>(
-    jacobian: &DMatrix<f64>,
-    v: &SVector<f64, R>,
-    out: &mut DVector<f64>,
-) {
-    for (column, entry) in jacobian.as_slice().chunks_exact(R).zip(out.iter_mut()) {
-        let mut sum = column[0] * v[0];
-        for i in 1..R {
+        for i in 1..rows {
             sum += column[i] * v[i];
         }
         *entry = sum;

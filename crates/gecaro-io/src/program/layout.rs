@@ -10,6 +10,7 @@ use std::path::Path;
 use crate::Error;
 use crate::columns::{DataUnits, field_number, joint_types, locate, not_a_number};
 use crate::data_file::DataFormat;
+use crate::input::NOT_TEXT;
 use crate::plain_body::RecordFields;
 
 /// What a program's targets are.
@@ -228,9 +229,8 @@ impl ProgramBlock {
             decimal_comma,
             ..
         } = layout;
-        let bytes = record.bytes();
-        if !bytes.is_ascii() && std::str::from_utf8(bytes).is_err() {
-            return Err(Error::parse(path, line, None, "the file is not UTF-8 text"));
+        if !record.is_text() {
+            return Err(Error::parse(path, line, None, NOT_TEXT));
         }
         // (Every field is text once the record is.)
         let field = |column: usize| String::from_utf8_lossy(record.field(column));

@@ -18,14 +18,30 @@ use crate::Error;
 use crate::data_file::DataFormat;
 use crate::data_rows::{CHUNK_BYTES, MAX_CONFIGURATIONS, PART_MIN_BYTES};
 use crate::input::{
-    LineLimit, MAX_LINE_BYTES, csv_reader, csv_reader_with, for_each_record, next_record,
-    read_record,
+    LineLimit, MAX_LINE_BYTES, csv_reader, csv_reader_with, next_record, read_record,
 };
 use crate::line_chunks::{LineChunks, line_parts};
-use crate::plain_body::for_each_plain_record;
+use crate::plain_body::{RecordFields, RecordSink, read_part_records};
 
 /// Most targets a program may hold (as many as a data file's configurations).
 pub(super) const MAX_TARGETS: usize = MAX_CONFIGURATIONS;
+
+/// A part of a program's chunk read into a block.
+struct PartBlock<'a> {
+    layout: &'a ProgramLayout,
+    path: &'a Path,
+    block: ProgramBlock,
+}
+
+impl RecordSink for PartBlock<'_> {
+    fn take(&mut self, record: &impl RecordFields, line: usize) -> Result<(), Error> {
+        self.block.add(self.layout, self.path, record, line)
+    }
+
+    fn restart(&mut self) {
+        self.block = ProgramBlock::default();
+    }
+}
 
 /// Targets of a block read record by record (a file with quotes).
 const RECORDS: usize = 1 << 16;
@@ -191,31 +207,18 @@ impl<'a> ProgramReader<'a> {
                     let parts = run_parts(
                         line_parts(chunk, lines, count),
                         |(bytes, lines_before, _)| {
-                            // A plain part a vector at a time, else (or
-                            // again from its start) the `csv` crate's way.
-                            let mut part = ProgramBlock::default();
-                            let plain = for_each_plain_record(
+                            let mut part = PartBlock {
+                                layout,
+                                path,
+                                block: ProgramBlock::default(),
+                            };
+                            let error = read_part_records(
                                 bytes,
                                 lines_before,
-                                layout.separator,
-                                |record, line| part.add(layout, path, record, line),
+                                (layout.separator, path),
+                                &mut part,
                             );
-                            let error = plain.unwrap_or_else(|| {
-                                part = ProgramBlock::default();
-                                let mut csv = csv_reader_with(
-                                    LineLimit::new(bytes, MAX_LINE_BYTES),
-                                    layout.separator,
-                                );
-                                for_each_record(
-                                    &mut csv,
-                                    path,
-                                    lines_before,
-                                    |record: &csv::ByteRecord, line| {
-                                        part.add(layout, path, record, line)
-                                    },
-                                )
-                            });
-                            (part, error)
+                            (part.block, error)
                         },
                     );
                     for (part, error) in parts {
