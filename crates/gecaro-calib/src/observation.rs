@@ -31,7 +31,7 @@ use crate::linalg::{LeastSquaresRows, NormalEquations, add_normal_sums, view};
 use crate::samples::SampleSlice;
 
 use crate::method::CalibrationMethod;
-use crate::parallel::{run_parts, scan_parts};
+use crate::parallel::{run_parts, run_parts_with, scan_parts};
 use crate::states::{BLOCK, evaluate_chunk, part_size};
 
 pub use crate::rows::{ColumnLayout, RowKind, RowWriter};
@@ -219,6 +219,18 @@ fn split_spans<'a>(values: &'a mut [f64], spans: &[std::ops::Range<usize>]) -> V
     parts
 }
 
+/// What a thread folding parts of a set keeps from one part to the next
+/// ([`run_parts_with`]): the blocks' terminal states, and the rows held until
+/// they are folded with their weighted right-hand sides. The rows only grow
+/// (a writer fills its rows whole, `RowWriter::split_front_into`), so their
+/// memory is zeroed once, not once a block.
+#[derive(Default)]
+struct FoldBuffers {
+    states: Vec<TerminalState>,
+    rows: Vec<f64>,
+    right: Vec<f64>,
+}
+
 /// [`linearise_independent`] for a writer that folds its rows ([`crate::fold`]):
 /// each part writes blocks of rows into a small buffer, folds them, and
 /// hands its sums on; the parts' sums are merged in order into the set's
@@ -243,11 +255,14 @@ fn linearise_folded(
             )
         })
         .collect();
-    let folded = run_parts(parts, |(chunk, mut part)| {
+    let folded = run_parts_with(parts, FoldBuffers::default, |buffers, (chunk, mut part)| {
         let mut fold = RowFold::new(columns, kind, method.row_count(chunk));
-        let mut states: Vec<TerminalState> = Vec::with_capacity(BLOCK);
-        let mut buffer: Vec<f64> = Vec::new();
-        let mut right: Vec<f64> = Vec::new();
+        let FoldBuffers {
+            states,
+            rows: buffer,
+            right,
+        } = buffers;
+        right.clear();
         let mut end = 0;
         for block in chunk.chunks(BLOCK) {
             states.resize_with(block.len(), || TerminalState::empty(model));
@@ -260,19 +275,22 @@ fn linearise_folded(
             let count = method.row_count(block);
             let held = right.len();
             if held > 0 && held + count > FOLD_ROWS {
-                fold.push(view(&buffer, held, columns), &right);
+                fold.push(view(&buffer[..held * columns], held, columns), right);
                 right.clear();
             }
-            let held = right.len();
-            buffer.resize((held + count) * columns, 0.0);
+            let (start, end_of_rows) = (right.len() * columns, (right.len() + count) * columns);
+            if buffer.len() < end_of_rows {
+                buffer.resize(end_of_rows, 0.0);
+            }
             let mut block_rows =
-                part.split_front_into(count, block.len(), &mut buffer[held * columns..]);
+                part.split_front_into(count, block.len(), &mut buffer[start..end_of_rows]);
             method.linearise(block, &states[..block.len()], auxiliary, &mut block_rows);
             right.extend(block_rows.weighted_residuals());
             end = end.max(block_rows.finish(method.name()));
         }
         if !right.is_empty() {
-            fold.push(view(&buffer, right.len(), columns), &right);
+            let held = right.len();
+            fold.push(view(&buffer[..held * columns], held, columns), right);
         }
         Ok((end, fold.finish()))
     });
