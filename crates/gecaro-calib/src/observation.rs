@@ -19,7 +19,7 @@
 //! weighted least-squares problem with the set's point eliminated. A prior adds
 //! rows that belong to no observation ([`ObservationSystem::append_rows`]).
 
-use gecaro_core::{Error as ModelError, JacobianRows, KinematicModel};
+use gecaro_core::{Error as ModelError, JacobianRows, KinematicModel, LaneBuffer};
 
 use std::borrow::Cow;
 
@@ -92,12 +92,12 @@ pub(crate) fn linearise_independent(
             )
         })
         .collect();
-    let ends = run_parts(parts, |(chunk, mut part)| {
-        let mut states: Vec<TerminalState> = Vec::with_capacity(BLOCK);
+    let ends = run_parts_with(parts, PartBuffers::default, |buffers, (chunk, mut part)| {
+        let PartBuffers { states, lanes, .. } = buffers;
         let mut end = 0;
         for block in chunk.chunks(BLOCK) {
             states.resize_with(block.len(), || TerminalState::empty(model));
-            evaluate_chunk(model, block, jacobian, &mut states[..block.len()])?;
+            evaluate_chunk(model, block, jacobian, &mut states[..block.len()], lanes)?;
             if jacobian.is_none() {
                 for state in &mut states[..block.len()] {
                     state.with_empty_jacobian(evaluated);
@@ -219,14 +219,16 @@ fn split_spans<'a>(values: &'a mut [f64], spans: &[std::ops::Range<usize>]) -> V
     parts
 }
 
-/// What a thread folding parts of a set keeps from one part to the next
-/// ([`run_parts_with`]): the blocks' terminal states, and the rows held until
-/// they are folded with their weighted right-hand sides. The rows only grow
-/// (a writer fills its rows whole, `RowWriter::split_front_into`), so their
-/// memory is zeroed once, not once a block.
+/// What a thread linearising parts of a set keeps from one part to the
+/// next ([`run_parts_with`]): the blocks' terminal states and the lanes they
+/// are evaluated in; when the rows are folded, the rows held until they are
+/// folded and their weighted right-hand sides. The rows only grow (a writer
+/// fills its rows whole, `RowWriter::split_front_into`), so their memory is
+/// zeroed once, not once a block.
 #[derive(Default)]
-struct FoldBuffers {
+struct PartBuffers {
     states: Vec<TerminalState>,
+    lanes: LaneBuffer,
     rows: Vec<f64>,
     right: Vec<f64>,
 }
@@ -255,10 +257,11 @@ fn linearise_folded(
             )
         })
         .collect();
-    let folded = run_parts_with(parts, FoldBuffers::default, |buffers, (chunk, mut part)| {
+    let folded = run_parts_with(parts, PartBuffers::default, |buffers, (chunk, mut part)| {
         let mut fold = RowFold::new(columns, kind, method.row_count(chunk));
-        let FoldBuffers {
+        let PartBuffers {
             states,
+            lanes,
             rows: buffer,
             right,
         } = buffers;
@@ -266,7 +269,13 @@ fn linearise_folded(
         let mut end = 0;
         for block in chunk.chunks(BLOCK) {
             states.resize_with(block.len(), || TerminalState::empty(model));
-            evaluate_chunk(model, block, Some(evaluated), &mut states[..block.len()])?;
+            evaluate_chunk(
+                model,
+                block,
+                Some(evaluated),
+                &mut states[..block.len()],
+                lanes,
+            )?;
             if let Some(frames) = frames {
                 for state in &mut states[..block.len()] {
                     frames.apply(state, rows.count());

@@ -10,7 +10,7 @@ use gecaro_core::{
 };
 use nalgebra::IsometryMatrix3;
 
-use crate::parallel::{PARTS_PER_THREAD, available_threads, run_parts};
+use crate::parallel::{PARTS_PER_THREAD, available_threads, run_parts_with};
 use crate::samples::SampleSlice;
 
 /// The end-effector pose and parameter Jacobian at one configuration.
@@ -142,8 +142,8 @@ fn evaluate_into(
     states.resize_with(samples.len(), || TerminalState::empty(&model));
     let part = part_size(samples.len());
     let parts = samples.chunks(part).zip(states.chunks_mut(part)).collect();
-    run_parts(parts, |(samples, states)| {
-        evaluate_chunk(&model, samples, rows, states)
+    run_parts_with(parts, LaneBuffer::default, |lanes, (samples, states)| {
+        evaluate_chunk(&model, samples, rows, states, lanes)
     })
     .into_iter()
     .collect()
@@ -165,14 +165,15 @@ pub(crate) fn part_size(samples: usize) -> usize {
     }
 }
 
-/// The poses and, unless `rows` is `None`, those Jacobian rows of `samples`.
+/// The poses and, unless `rows` is `None`, those Jacobian rows of `samples`,
+/// evaluated in `lanes` (a buffer its caller keeps from one call to the next).
 pub(crate) fn evaluate_chunk(
     model: &KinematicModel,
     samples: SampleSlice<'_>,
     rows: Option<JacobianRows>,
     states: &mut [TerminalState],
+    lanes: &mut LaneBuffer,
 ) -> Result<(), ModelError> {
-    let mut lanes = LaneBuffer::default();
     for (group, states) in samples
         .chunks(CONFIGURATION_LANES)
         .zip(states.chunks_mut(CONFIGURATION_LANES))
@@ -186,7 +187,7 @@ pub(crate) fn evaluate_chunk(
                 sample.tilt_torques(),
             )?;
         }
-        model.forward_lanes(&mut lanes);
+        model.forward_lanes(lanes);
         for (lane, state) in states.iter_mut().enumerate() {
             state.pose = lanes.world_from_tool(lane);
             state.parameters = model.parameter_count();
@@ -194,7 +195,7 @@ pub(crate) fn evaluate_chunk(
         }
         match rows {
             Some(rows) => model.jacobian_rows_lanes(
-                &mut lanes,
+                lanes,
                 states.iter_mut().map(|state| &mut state.jacobian),
                 rows,
             ),
@@ -237,6 +238,7 @@ mod tests {
                 Samples::from(samples.as_slice()).as_slice(),
                 Some(rows),
                 &mut serial,
+                &mut LaneBuffer::default(),
             )
             .expect("states");
             for (a, b) in parallel.iter().zip(&serial) {
