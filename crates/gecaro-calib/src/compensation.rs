@@ -415,9 +415,12 @@ fn compensate_one(
     // solution is locally unique, the closest one is it.
     let mut reached = None;
     // The solution closest to the start joints (else to its own).
-    let closest = |motor_positions: Vec<f64>| {
-        let reference = start.map_or_else(|| motor_positions.clone(), <[f64]>::to_vec);
-        closest_solution((robot, model), target, motor_positions, &reference, options)
+    let closest = |motor_positions: Vec<f64>| match start {
+        Some(start) => closest_solution((robot, model), target, motor_positions, start, options),
+        None => {
+            let reference = motor_positions.clone();
+            closest_solution((robot, model), target, motor_positions, &reference, options)
+        }
     };
     let (motor_positions, status) = match solve(options) {
         Ok(solution) => {

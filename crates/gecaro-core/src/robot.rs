@@ -562,30 +562,56 @@ impl Robot {
     /// # Errors
     /// When `q` does not hold n finite values.
     pub fn motor_positions(&self, joint_positions: &[f64]) -> Result<DVector<f64>, Error> {
+        let mut motor_positions = DVector::zeros(self.joint_count());
+        self.motor_positions_into(joint_positions, motor_positions.as_mut_slice())?;
+        Ok(motor_positions)
+    }
+
+    /// [`motor_positions`](Self::motor_positions) written into
+    /// `motor_positions` (n values): without couplings, without allocating
+    /// (an inverse solution's motor values, a million program targets).
+    ///
+    /// # Errors
+    /// As [`motor_positions`](Self::motor_positions); `motor_positions`
+    /// must hold n values.
+    pub fn motor_positions_into(
+        &self,
+        joint_positions: &[f64],
+        motor_positions: &mut [f64],
+    ) -> Result<(), Error> {
         self.check_configuration(joint_positions)?;
-        let shifted = DVector::from_iterator(
-            self.joint_count(),
-            joint_positions
-                .iter()
-                .zip(&self.joints)
-                .map(|(q, joint)| q - joint.offset),
-        );
+        if motor_positions.len() != self.joint_count() {
+            return Err(Error::ConfigurationLength {
+                expected: self.joint_count(),
+                found: motor_positions.len(),
+            });
+        }
+        let shifted = joint_positions
+            .iter()
+            .zip(&self.joints)
+            .map(|(q, joint)| q - joint.offset);
         // Without couplings the map is diagonal: qm = (q − Offset)/K, as LU
         // solves it.
         let map = &self.motor_to_joint;
         let diagonal = (0..map.ncols())
             .all(|column| (0..map.nrows()).all(|row| row == column || map[(row, column)] == 0.0));
         if diagonal {
-            return Ok(shifted.component_div(&map.diagonal()));
+            for (index, (value, shifted)) in motor_positions.iter_mut().zip(shifted).enumerate() {
+                *value = shifted / map[(index, index)];
+            }
+            return Ok(());
         }
         // Validation guarantees the product is regular; LU keeps this exact to rounding.
+        let shifted = DVector::from_iterator(self.joint_count(), shifted);
         let lu = self.motor_to_joint.clone().lu();
-        lu.solve(&shifted).ok_or_else(|| {
+        let solved = lu.solve(&shifted).ok_or_else(|| {
             Error::invalid(
                 Field::Coupling("Cj·diag(K)·Cm"),
                 "the motor-to-joint map is singular",
             )
-        })
+        })?;
+        motor_positions.copy_from_slice(solved.as_slice());
+        Ok(())
     }
 
     /// The product Cj · diag(K) · Cm, so that q = M · qm + Offset.
@@ -1067,7 +1093,9 @@ mod tests {
     }
 
     /// `motor_positions` undoes eq. 4, with couplings (LU) and without
-    /// (a division by the gains), offsets and gains away from 1.
+    /// (a division by the gains), offsets and gains away from 1; written
+    /// into a buffer, it gives nalgebra's division by the diagonal or LU
+    /// solve to the bit, and refuses a buffer of the wrong length.
     #[test]
     fn motor_positions_invert_eq_4() {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(17);
@@ -1091,13 +1119,36 @@ mod tests {
         }));
         let coupled = Robot::new(spec).expect("robot");
         let qm = [0.3, -1.2, 0.05, 2.5];
-        for robot in [plain, coupled] {
+        for (robot, diagonal) in [(plain, true), (coupled, false)] {
             let mut q = [0.0; 4];
             robot.joint_positions_into(&qm, &mut q).expect("q");
             let back = robot.motor_positions(&q).expect("qm");
             for (a, b) in back.iter().zip(qm) {
                 assert!((a - b).abs() < 1e-14, "{a} vs {b}");
             }
+            let shifted = DVector::from_iterator(
+                4,
+                q.iter()
+                    .zip(robot.joints())
+                    .map(|(q, joint)| q - joint.offset),
+            );
+            let map = robot.motor_to_joint();
+            let expected = if diagonal {
+                shifted.component_div(&map.diagonal())
+            } else {
+                map.clone().lu().solve(&shifted).expect("regular")
+            };
+            let mut written = [0.0; 4];
+            robot.motor_positions_into(&q, &mut written).expect("qm");
+            assert_eq!(written.as_slice(), expected.as_slice());
+            assert_eq!(back.as_slice(), expected.as_slice());
+            assert!(matches!(
+                robot.motor_positions_into(&q, &mut [0.0; 5]),
+                Err(Error::ConfigurationLength {
+                    expected: 4,
+                    found: 5
+                })
+            ));
         }
     }
 

@@ -469,9 +469,10 @@ fn solution(
     residual: f64,
 ) -> Result<InverseSolution, Error> {
     let (joint_positions, chain) = (&iterate.joint_positions, &iterate.chain);
-    let motor_positions = robot.motor_positions(joint_positions.as_slice())?;
+    let mut motor_positions = vec![0.0; robot.joint_count()];
+    robot.motor_positions_into(joint_positions.as_slice(), &mut motor_positions)?;
     Ok(InverseSolution {
-        motor_positions: motor_positions.as_slice().to_vec(),
+        motor_positions,
         joint_positions: joint_positions.as_slice().to_vec(),
         iterations,
         residual,

@@ -193,6 +193,16 @@ pub struct ProgramBlock {
 }
 
 impl ProgramBlock {
+    /// An empty block with room for `targets` targets.
+    pub(super) fn with_capacity(targets: usize) -> Self {
+        ProgramBlock {
+            points: Vec::with_capacity(targets),
+            kept: Vec::with_capacity(targets),
+            lines: Vec::with_capacity(targets),
+            comma_seen: false,
+        }
+    }
+
     /// Targets in the block.
     pub fn len(&self) -> usize {
         self.lines.len()
@@ -270,17 +280,17 @@ impl ProgramBlock {
                 )),
             }
         };
-        let joints = layout
+        let mut joints = layout
             .joint_columns
             .as_ref()
-            .map(|joints| {
-                joints
-                    .iter()
-                    .enumerate()
-                    .map(|(j, column)| {
-                        Ok(number(*column)? * units.joint_scale(&layout.joint_types, j))
-                    })
-                    .collect::<Result<Vec<f64>, Error>>()
+            .map(|joints| -> Result<Vec<f64>, Error> {
+                // (Sized at once: collected through a `Result`, the vector
+                // would grow, and move, a target at a time.)
+                let mut values = Vec::with_capacity(joints.len());
+                for (j, column) in joints.iter().enumerate() {
+                    values.push(number(*column)? * units.joint_scale(&layout.joint_types, j));
+                }
+                Ok(values)
             })
             .transpose()?;
         let position = layout
@@ -295,9 +305,10 @@ impl ProgramBlock {
             })
             .transpose()?;
         let target = match (kind, position) {
-            (ProgramKind::Joints, _) | (_, None) => {
-                ProgramTarget::Joints(joints.clone().unwrap_or_default())
-            }
+            // A joint program's joints are its targets: moved there, not
+            // copied (none are kept beside them).
+            (ProgramKind::Joints, _) => ProgramTarget::Joints(joints.take().unwrap_or_default()),
+            (_, None) => ProgramTarget::Joints(joints.clone().unwrap_or_default()),
             (ProgramKind::Position, Some(position)) => ProgramTarget::Position(position),
             (ProgramKind::Pose, Some(position)) => {
                 let orientation = layout.orientation_columns.as_deref().unwrap_or(&[]);
@@ -315,10 +326,6 @@ impl ProgramBlock {
                     rotation.to_rotation_matrix(),
                 ))
             }
-        };
-        let joints = match kind {
-            ProgramKind::Joints => None,
-            _ => joints,
         };
         self.points.push(ProgramPoint { target, joints });
         self.kept.push(

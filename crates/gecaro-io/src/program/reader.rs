@@ -204,23 +204,25 @@ impl<'a> ProgramReader<'a> {
                     } else {
                         available_threads()
                     };
-                    let parts = run_parts(
-                        line_parts(chunk, lines, count),
-                        |(bytes, lines_before, _)| {
-                            let mut part = PartBlock {
-                                layout,
-                                path,
-                                block: ProgramBlock::default(),
-                            };
-                            let error = read_part_records(
-                                bytes,
-                                lines_before,
-                                (layout.separator, path),
-                                &mut part,
-                            );
-                            (part.block, error)
-                        },
-                    );
+                    let parts = line_parts(chunk, lines, count);
+                    // Room for a target a line, made once: the whole block's
+                    // and each part's (a part grown a target at a time moves
+                    // as it grows).
+                    block = ProgramBlock::with_capacity(parts.iter().map(|part| part.2).sum());
+                    let parts = run_parts(parts, |(bytes, lines_before, own_lines)| {
+                        let mut part = PartBlock {
+                            layout,
+                            path,
+                            block: ProgramBlock::with_capacity(own_lines),
+                        };
+                        let error = read_part_records(
+                            bytes,
+                            lines_before,
+                            (layout.separator, path),
+                            &mut part,
+                        );
+                        (part.block, error)
+                    });
                     for (part, error) in parts {
                         block.append(part);
                         if let Some(error) = error {
