@@ -154,7 +154,7 @@ const MIN_PART: usize = 256;
 
 /// Samples per part: all of them below [`PARALLEL_MINIMUM`], else about
 /// [`PARTS_PER_THREAD`] parts per thread (the threads take them in turn,
-/// see [`run_parts`]) of at least [`MIN_PART`].
+/// see [`run_parts`](crate::parallel::run_parts)) of at least [`MIN_PART`].
 pub(crate) fn part_size(samples: usize) -> usize {
     if samples < PARALLEL_MINIMUM {
         samples.max(1)

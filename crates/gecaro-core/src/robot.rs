@@ -535,13 +535,7 @@ impl Robot {
         motor_positions: &[f64],
         joint_positions: &mut [f64],
     ) -> Result<(), Error> {
-        self.check_configuration(motor_positions)?;
-        if joint_positions.len() != self.joint_count() {
-            return Err(Error::ConfigurationLength {
-                expected: self.joint_count(),
-                found: joint_positions.len(),
-            });
-        }
+        self.check_conversion(motor_positions, joint_positions)?;
         // q = M·qm + Offset, each row summed in the order of nalgebra's
         // matrix–vector product (the same bits).
         for (row, (value, joint)) in joint_positions.iter_mut().zip(&self.joints).enumerate() {
@@ -579,13 +573,7 @@ impl Robot {
         joint_positions: &[f64],
         motor_positions: &mut [f64],
     ) -> Result<(), Error> {
-        self.check_configuration(joint_positions)?;
-        if motor_positions.len() != self.joint_count() {
-            return Err(Error::ConfigurationLength {
-                expected: self.joint_count(),
-                found: motor_positions.len(),
-            });
-        }
+        self.check_conversion(joint_positions, motor_positions)?;
         let shifted = joint_positions
             .iter()
             .zip(&self.joints)
@@ -611,6 +599,19 @@ impl Robot {
             )
         })?;
         motor_positions.copy_from_slice(solved.as_slice());
+        Ok(())
+    }
+
+    /// Checks a conversion of eq. 4 from `from` into `into`: n finite
+    /// values, and room for n.
+    fn check_conversion(&self, from: &[f64], into: &[f64]) -> Result<(), Error> {
+        self.check_configuration(from)?;
+        if into.len() != self.joint_count() {
+            return Err(Error::ConfigurationLength {
+                expected: self.joint_count(),
+                found: into.len(),
+            });
+        }
         Ok(())
     }
 
