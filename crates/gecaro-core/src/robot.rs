@@ -95,6 +95,9 @@ pub struct Robot {
     parameters: ParameterSpace,
     /// Cj · diag(K) · Cm, kept in step with the gains.
     motor_to_joint: DMatrix<f64>,
+    /// Whether `motor_to_joint` is diagonal (no coupling): qm = (q − Offset)/K.
+    /// Kept in step with it.
+    motor_to_joint_diagonal: bool,
 }
 
 impl Robot {
@@ -150,6 +153,7 @@ impl Robot {
             gravity_tilt: [0.0; 2],
             parameters,
             motor_to_joint: DMatrix::zeros(n, n),
+            motor_to_joint_diagonal: true,
         };
         robot.update_motor_to_joint();
         Ok(robot)
@@ -581,9 +585,7 @@ impl Robot {
         // Without couplings the map is diagonal: qm = (q − Offset)/K, as LU
         // solves it.
         let map = &self.motor_to_joint;
-        let diagonal = (0..map.ncols())
-            .all(|column| (0..map.nrows()).all(|row| row == column || map[(row, column)] == 0.0));
-        if diagonal {
+        if self.motor_to_joint_diagonal {
             for (index, (value, shifted)) in motor_positions.iter_mut().zip(shifted).enumerate() {
                 *value = shifted / map[(index, index)];
             }
@@ -730,6 +732,9 @@ impl Robot {
         let gains = DVector::from_iterator(self.joints.len(), self.joints.iter().map(|j| j.gain));
         self.motor_to_joint =
             &self.joint_coupling * DMatrix::from_diagonal(&gains) * &self.motor_coupling;
+        let map = &self.motor_to_joint;
+        self.motor_to_joint_diagonal = (0..map.ncols())
+            .all(|column| (0..map.nrows()).all(|row| row == column || map[(row, column)] == 0.0));
     }
 }
 
