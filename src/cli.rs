@@ -740,6 +740,13 @@ pub(crate) struct IdentificationRunArgs {
     /// full.
     #[arg(long, value_name = "MODEL")]
     pub(crate) model: Option<String>,
+    /// The region the calibrated robot will be used in, over which the
+    /// verdict predicts its error: joint ranges with their units, e.g.
+    /// q1=-90..90deg,q3=0..120deg (joints not named: their limits; default:
+    /// the joint limits). A result that holds in the measured region only
+    /// is not trusted (exit 5) and its file keeps that region.
+    #[arg(long, value_name = "q1=MIN..MAXdeg,..")]
+    pub(crate) work_region: Option<String>,
 }
 
 #[derive(Debug, Args)]

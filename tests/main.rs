@@ -11,4 +11,5 @@ mod front_ends;
 mod hardening;
 mod interchange;
 mod named_frames;
+mod region_cli;
 mod robust_cli;

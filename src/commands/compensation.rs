@@ -102,6 +102,14 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
             list(reconfigured)
         );
     }
+    let extrapolated = summary.lines_with(CompensationStatus::OutsideRegion);
+    if !extrapolated.is_empty() {
+        eprintln!(
+            "warning: {} target(s) reached outside the joint ranges the calibration's data covered (status outside-region: the calibrated model is extrapolated there, and may be far off; the calibrated robot file's `measured` ranges), lines {}",
+            extrapolated.len(),
+            list(extrapolated)
+        );
+    }
     let outside = summary.lines_with(CompensationStatus::OutsideLimits);
     if !outside.is_empty() {
         eprintln!(

@@ -172,6 +172,7 @@ pub(crate) fn fit_settings(args: &IdentificationRunArgs) -> FitSettings {
         prior: args.prior.clone(),
         outlier_threshold: Some(args.outlier_threshold),
         reject: args.reject,
+        work_region: args.work_region.clone(),
     }
 }
 

@@ -280,6 +280,8 @@ fn reframe(
             .reframed(&original.robot, &robot, &new_world_from_old_world)?,
         robot,
         angle_unit: original.angle_unit,
+        // The joints move as before: the region a calibration measured stays.
+        measured_region: original.measured_region.clone(),
     };
     write_atomically(
         output,

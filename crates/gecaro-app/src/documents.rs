@@ -676,7 +676,7 @@ pub struct ModelScoreJson {
 /// radians.
 #[derive(Clone, Debug, Serialize)]
 pub struct VerdictJson {
-    /// `fits_noise`, `untested`, `incomplete`, `below_noise`,
+    /// `fits_noise`, `untested`, `incomplete`, `regional`, `below_noise`,
     /// `exceeds_noise`, `implausible`, `underdetermined`, `degenerate`,
     /// `not_converged` or `diverged`.
     pub outcome: &'static str,
@@ -701,6 +701,62 @@ pub struct VerdictJson {
     pub implausible: Vec<ImplausibleJson>,
     /// What the data determine and the methods observe.
     pub coverage: CoverageJson,
+    /// Blocks of consecutive observations that disagree with the rest: the
+    /// cell changed during the measurement.
+    pub changes: Vec<CellChangeJson>,
+    /// Where the result holds: the calibrated robot's predicted error in
+    /// the measured region and over the work region; `null` where no
+    /// prediction is made (a study that does not measure the scale).
+    pub region: Option<RegionJson>,
+}
+
+/// A block of consecutive observations of one set that disagrees with the
+/// rest (see [`gecaro_calib::identification::CellChange`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct CellChangeJson {
+    /// The set (0-based) and its label.
+    pub set: usize,
+    /// Its label (usually its data file).
+    pub label: String,
+    /// The block's first and last observations (1-based, in the set).
+    pub observations: Vec<usize>,
+    /// The block's first and last lines of the data file, when known.
+    pub lines: Option<Vec<usize>>,
+    /// Whether the block runs to the set's last observation.
+    pub to_end: bool,
+    /// Outliers in the block.
+    pub outliers_inside: usize,
+    /// Outliers of the set outside it.
+    pub outliers_elsewhere: usize,
+    /// The chance of so dense a block among independent outliers.
+    pub chance: f64,
+}
+
+/// Where an identification's result holds (see
+/// [`gecaro_calib::identification::RegionPrediction`]); joint ranges as
+/// `[min, max]` per joint in radians (metres for a prismatic joint),
+/// errors in metres.
+#[derive(Clone, Debug, Serialize)]
+pub struct RegionJson {
+    /// The joint ranges the data covered.
+    pub measured: Vec<Vec<f64>>,
+    /// The region the robot is used in: the joint limits, or the one stated.
+    pub work: Vec<Vec<f64>>,
+    /// Whether `work` is the joint limits.
+    pub work_is_limits: bool,
+    /// RMS of the predicted position error at the measured configurations.
+    pub predicted_inside: f64,
+    /// RMS of the predicted position error over the work region.
+    pub predicted_work: f64,
+    /// The largest predicted position error at a configuration of the work region.
+    pub predicted_work_max: f64,
+    /// What a held-out position measurement of a perfect robot shows (√3 σ̂).
+    pub noise_floor: f64,
+    /// Joints (1-based) whose measured range covers less than half their
+    /// work range.
+    pub narrow_joints: Vec<usize>,
+    /// Whether the result holds over the work region.
+    pub holds_everywhere: bool,
 }
 
 /// What the data of an identification determine and its methods observe
@@ -823,6 +879,36 @@ impl From<&Verdict> for VerdictJson {
                 tool_observed: verdict.coverage.tool_observed,
                 base_observed: verdict.coverage.base_observed,
             },
+            changes: verdict
+                .changes
+                .iter()
+                .map(|change| CellChangeJson {
+                    set: change.set,
+                    label: change.label.clone(),
+                    observations: vec![change.first + 1, change.last + 1],
+                    lines: change.lines.map(|(first, last)| vec![first, last]),
+                    to_end: change.to_end(),
+                    outliers_inside: change.outliers_inside,
+                    outliers_elsewhere: change.outliers_elsewhere,
+                    chance: change.chance,
+                })
+                .collect(),
+            region: verdict.region.as_ref().map(|region| {
+                let ranges = |region: &gecaro_core::JointRegion| {
+                    region.ranges().iter().map(|(a, b)| vec![*a, *b]).collect()
+                };
+                RegionJson {
+                    measured: ranges(&region.measured),
+                    work: ranges(&region.work),
+                    work_is_limits: region.work_is_limits,
+                    predicted_inside: region.inside,
+                    predicted_work: region.work_rms,
+                    predicted_work_max: region.work_max,
+                    noise_floor: region.floor,
+                    narrow_joints: region.narrow_joints(),
+                    holds_everywhere: region.holds_everywhere,
+                }
+            }),
         }
     }
 }
@@ -1131,6 +1217,9 @@ pub struct CompensationJson {
     /// Lines of the targets reached within the limits in another
     /// configuration (a joint moved by more than a radian).
     pub reconfigured: Vec<usize>,
+    /// Lines of the targets reached outside the joint ranges the
+    /// calibration's data covered (a calibrated robot that holds there only).
+    pub outside_region: Vec<usize>,
     /// Lines of the targets reached only beyond a joint limit.
     pub outside_limits: Vec<usize>,
     /// Lines of the targets not reached.

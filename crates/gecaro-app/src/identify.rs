@@ -563,6 +563,9 @@ impl EvaluateRequest {
             ));
         }
         let (summary, errors) = evaluate_errors(&loaded.robot.robot, &loaded.study)?;
+        if let Some(note) = outside_region_note(&loaded, &errors)? {
+            loaded.notes.push(note);
+        }
         let compared = match &self.compared {
             None => None,
             Some(source) => {
@@ -580,6 +583,59 @@ impl EvaluateRequest {
             compared,
         })
     }
+}
+
+/// A warning when configurations of the data lie outside the region the
+/// robot's calibration measured (a calibrated robot that holds there only,
+/// [`RobotFile::measured_region`]): how many, and, where every observation
+/// is one configuration, the errors within and outside.
+fn outside_region_note(
+    loaded: &Loaded,
+    errors: &ObservationErrors,
+) -> Result<Option<Note>, AppError> {
+    let robot = &loaded.robot.robot;
+    let Some(region) = &loaded.robot.measured_region else {
+        return Ok(None);
+    };
+    let region = region.widened(gecaro_core::MEASURED_MARGIN);
+    let mut joint_positions = vec![0.0; robot.joint_count()];
+    let mut outside = Vec::new();
+    let mut total = 0;
+    for set in &loaded.study.sets {
+        for sample in set.samples.as_slice().iter() {
+            robot
+                .joint_positions_into(sample.motor_positions(), &mut joint_positions)
+                .map_err(gecaro_calib::Error::from)?;
+            outside.push(!region.contains(&joint_positions));
+            total += 1;
+        }
+    }
+    let count = outside.iter().filter(|o| **o).count();
+    if count == 0 {
+        return Ok(None);
+    }
+    let mut text = format!(
+        "{count} of {total} configurations lie outside the joint ranges this robot's calibration \
+         measured (its file's `measured` ranges, and a tenth of each beyond): the calibrated model \
+         is extrapolated there"
+    );
+    if errors.len() == total {
+        let rms = |keep: bool| {
+            let (sum, n) = errors
+                .lengths
+                .iter()
+                .zip(&outside)
+                .filter(|(_, o)| **o != keep)
+                .fold((0.0, 0usize), |(sum, n), (e, _)| (sum + e * e, n + 1));
+            (n > 0).then(|| (sum / n as f64).sqrt() * 1e3)
+        };
+        if let (Some(inside), Some(beyond)) = (rms(true), rms(false)) {
+            text.push_str(&format!(
+                " (error RMS {inside:.4} mm within the ranges, {beyond:.4} mm outside)"
+            ));
+        }
+    }
+    Ok(Some(Note::warning(text)))
 }
 
 impl Evaluation {

@@ -180,6 +180,13 @@ impl Note {
         }
     }
 
+    pub(crate) fn warning(message: impl Into<String>) -> Self {
+        Note {
+            warning: true,
+            message: vec![Part::Text(message.into())],
+        }
+    }
+
     /// The note in a front end's words.
     pub fn text(&self, dialect: crate::Dialect) -> String {
         crate::error::render(&self.message, dialect)

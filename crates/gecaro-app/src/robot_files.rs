@@ -20,15 +20,31 @@ pub fn calibrated_robot_file(
     robot.set_name(format!("{} (calibrated)", nominal.robot.name()));
     // A file states its angles within a turn (and is read back).
     robot.wrap_angles();
+    // A result that holds in the measured region only keeps that region:
+    // compensation and evaluation flag poses outside it.
+    let region = result
+        .verdict
+        .region
+        .as_ref()
+        .filter(|region| !region.holds_everywhere);
+    let holds = region.map_or_else(String::new, |region| {
+        format!(
+            "; holds within the measured joint ranges (predicted {:.4} mm there, {:.4} mm over {})",
+            region.inside * 1e3,
+            region.work_rms * 1e3,
+            region.work_words()
+        )
+    });
     RobotFile {
         description: Some(format!(
-            "{} calibrated by gecaro: {} method on {data}, {} parameters identified, residual RMS {:.3e} → {:.3e}",
+            "{} calibrated by gecaro: {} method on {data}, {} parameters identified, residual RMS {:.3e} → {:.3e}{holds}",
             nominal.robot.name(),
             study.method_names(),
             result.parameters.len(),
             result.rms_before(),
             result.rms_after()
         )),
+        measured_region: region.map(|region| region.measured.clone()),
         angle_unit: nominal.angle_unit,
         urdf: nominal.urdf.clone(),
         // The masses are the nominal's (a calibration does not weigh the
@@ -60,6 +76,7 @@ pub fn simulated_robot_file(
         angle_unit: nominal.angle_unit,
         urdf: nominal.urdf.clone(),
         masses: nominal.masses.clone(),
+        measured_region: None,
     }
 }
 

@@ -70,6 +70,10 @@ pub struct FitSettings {
     /// Drop the outliers and identify again, once.
     #[serde(default)]
     pub reject: bool,
+    /// The region the calibrated robot will be used in, over which the
+    /// verdict predicts its error: joint ranges with their units,
+    /// `q1=-90..90deg,q3=0..120deg` (default: the joint limits).
+    pub work_region: Option<String>,
 }
 
 impl FitSettings {
@@ -117,6 +121,19 @@ impl FitSettings {
             reject: self.reject,
             // An elastic robot's loads follow the calibrated geometry.
             masses: robot.is_elastic().then(|| loaded.robot.masses.clone()),
+            work_region: self
+                .work_region
+                .as_deref()
+                .map(|text| {
+                    gecaro_io::parse_work_region(text, robot).map_err(|message| {
+                        AppError::setting("work_region", message).with_help(vec![
+                            crate::error::Part::Text(
+                                "for example: q1=-90..90deg,q2=-45..45deg".into(),
+                            ),
+                        ])
+                    })
+                })
+                .transpose()?,
             ..IdentificationOptions::default()
         })
     }

@@ -26,9 +26,9 @@
 //!   written silently.
 
 use gecaro_core::{
-    ChainBuffer, InverseOptions, InverseSolution, KinematicModel, OrientationDifference, Robot,
-    Target, forward_kinematics, inverse_kinematics_near, inverse_kinematics_on, joint_jacobian,
-    orientation_difference,
+    ChainBuffer, InverseOptions, InverseSolution, JointRegion, KinematicModel, MEASURED_MARGIN,
+    OrientationDifference, Robot, Target, forward_kinematics, inverse_kinematics_near,
+    inverse_kinematics_on, joint_jacobian, orientation_difference,
 };
 use nalgebra::{DMatrix, DVector, IsometryMatrix3, Vector3};
 
@@ -95,6 +95,11 @@ pub enum CompensationStatus {
     /// turn's range turned the other way round past its limit. Written,
     /// flagged: the robot would swing there.
     Reconfigured,
+    /// Reached within the limits in the program's configuration, but
+    /// outside the region the calibration's data covered
+    /// ([`Compensator::within`]): the calibrated model is extrapolated
+    /// there, and may be far off (written, flagged).
+    OutsideRegion,
     /// Reached only with a joint beyond its limit, even turned by whole
     /// turns (the values are written, flagged).
     OutsideLimits,
@@ -104,11 +109,12 @@ pub enum CompensationStatus {
 
 impl CompensationStatus {
     /// The word written in output files: `ok`, `reconfigured`,
-    /// `outside-limits`, `not-reached`.
+    /// `outside-region`, `outside-limits`, `not-reached`.
     pub fn word(self) -> &'static str {
         match self {
             CompensationStatus::Reached => "ok",
             CompensationStatus::Reconfigured => "reconfigured",
+            CompensationStatus::OutsideRegion => "outside-region",
             CompensationStatus::OutsideLimits => "outside-limits",
             CompensationStatus::NotReached => "not-reached",
         }
@@ -126,7 +132,8 @@ pub struct CompensatedPoint {
     /// Angle between the target orientation and the calibrated robot's
     /// (radians); `None` for a point target.
     pub rotation_error: Option<f64>,
-    /// Reached, beyond a limit, or not reached.
+    /// Reached, in another configuration, outside the measured region,
+    /// beyond a limit, or not reached.
     pub status: CompensationStatus,
 }
 
@@ -177,26 +184,7 @@ pub fn compensate(
     matching: Match,
     observer: &mut dyn Observer,
 ) -> Result<Vec<CompensatedPoint>, Error> {
-    let mut compensator = Compensator::new(nominal, calibrated, matching)?;
-    let mut results = Vec::with_capacity(points.len());
-    // Progress between blocks solved over the cores; after every target of
-    // a program solved in order (its targets may take random starts).
-    let block = if points.iter().all(carries_joints) {
-        PARALLEL_BLOCK
-    } else {
-        1
-    };
-    for block in points.chunks(block) {
-        results.extend(compensator.compensate(block)?);
-        report(
-            observer,
-            Progress::Step {
-                done: results.len(),
-                total: points.len(),
-            },
-        )?;
-    }
-    Ok(results)
+    Compensator::new(nominal, calibrated, matching)?.compensate_all(points, observer)
 }
 
 /// Compensation of a program given a block of targets at a time, in order
@@ -233,6 +221,8 @@ pub struct Compensator<'a> {
     previous: Option<Vec<f64>>,
     /// Targets compensated so far (the index of the next one).
     done: usize,
+    /// Where the calibration holds, when it holds there only.
+    region: Option<JointRegion>,
 }
 
 impl<'a> Compensator<'a> {
@@ -260,12 +250,54 @@ impl<'a> Compensator<'a> {
             options: InverseOptions::default(),
             previous: None,
             done: 0,
+            region: None,
         })
+    }
+
+    /// The same compensation, flagging a target reached outside `region`
+    /// (joint variables of the calibrated robot: the region its
+    /// calibration's data covered, widened by [`MEASURED_MARGIN`]) as
+    /// [`CompensationStatus::OutsideRegion`].
+    #[must_use]
+    pub fn within(mut self, region: Option<JointRegion>) -> Self {
+        self.region = region.map(|region| region.widened(MEASURED_MARGIN));
+        self
     }
 
     /// Targets compensated so far.
     pub fn done(&self) -> usize {
         self.done
+    }
+
+    /// The targets of a whole program (see [`compensate`]); `observer`
+    /// hears of the targets done and may stop the work.
+    ///
+    /// # Errors
+    /// As [`compensate`].
+    pub fn compensate_all(
+        &mut self,
+        points: &[ProgramPoint],
+        observer: &mut dyn Observer,
+    ) -> Result<Vec<CompensatedPoint>, Error> {
+        let mut results = Vec::with_capacity(points.len());
+        // Progress between blocks solved over the cores; after every target
+        // of a program solved in order (its targets may take random starts).
+        let block = if points.iter().all(carries_joints) {
+            PARALLEL_BLOCK
+        } else {
+            1
+        };
+        for block in points.chunks(block) {
+            results.extend(self.compensate(block)?);
+            report(
+                observer,
+                Progress::Step {
+                    done: results.len(),
+                    total: points.len(),
+                },
+            )?;
+        }
+        Ok(results)
     }
 
     /// The next targets of the program, compensated.
@@ -326,6 +358,19 @@ impl<'a> Compensator<'a> {
             self.previous = Some(last.motor_positions.clone());
         }
         self.done += points.len();
+        let mut results = results;
+        if let Some(region) = &self.region {
+            let robot = self.calibrated.0;
+            let mut joint_positions = vec![0.0; robot.joint_count()];
+            for result in &mut results {
+                if result.status == CompensationStatus::Reached {
+                    robot.joint_positions_into(&result.motor_positions, &mut joint_positions)?;
+                    if !region.contains(&joint_positions) {
+                        result.status = CompensationStatus::OutsideRegion;
+                    }
+                }
+            }
+        }
         Ok(results)
     }
 }

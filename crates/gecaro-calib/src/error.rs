@@ -111,6 +111,8 @@ pub enum Setting {
     Station,
     /// The reflector's acceptance half-angle.
     MaxIncidence,
+    /// The region of the joint space a calibrated robot is used in.
+    WorkRegion,
 }
 
 impl Setting {
@@ -135,6 +137,7 @@ impl Setting {
             Setting::Prior => "prior",
             Setting::Floor => "floor",
             Setting::Station => "station",
+            Setting::WorkRegion => "work_region",
             Setting::MaxIncidence => "max_incidence",
         }
     }

@@ -413,16 +413,24 @@ impl NormalEquations {
         (explained, rank)
     }
 
-    /// The correlation matrix of the least-squares estimate, from
-    /// (WᵀW)⁻¹ = L⁻ᵀL⁻¹ (Cholesky): `ρ_ij = C_ij / √(C_ii C_jj)`, as a
-    /// row-major n×n vector; `None` when WᵀW is not positive definite.
-    pub(crate) fn correlations(&self) -> Option<Vec<f64>> {
+    /// (WᵀW)⁻¹ = L⁻ᵀL⁻¹ (Cholesky), both triangles, as nalgebra's; `None`
+    /// when WᵀW is not positive definite or the inverse is not finite.
+    pub(crate) fn inverse(&self) -> Option<nalgebra::DMatrix<f64>> {
         let n = self.gram.nrows();
         let cholesky = self.gram.llt(faer::Side::Lower).ok()?;
         let mut inverse_factor = Mat::<f64>::zeros(n, n);
         invert_lower_triangular(inverse_factor.as_mut(), cholesky.L(), Par::Seq);
-        // C = L⁻ᵀ L⁻¹: C_ij = Σ_k (L⁻¹)_ki (L⁻¹)_kj.
-        let covariance = inverse_factor.transpose() * &inverse_factor;
+        let inverse = inverse_factor.transpose() * &inverse_factor;
+        let inverse = nalgebra::DMatrix::from_fn(n, n, |i, j| inverse[(i, j)]);
+        inverse.iter().all(|v| v.is_finite()).then_some(inverse)
+    }
+
+    /// The correlation matrix of the least-squares estimate, from
+    /// [`inverse`](Self::inverse): `ρ_ij = C_ij / √(C_ii C_jj)`, as a
+    /// row-major n×n vector; `None` when WᵀW is not positive definite.
+    pub(crate) fn correlations(&self) -> Option<Vec<f64>> {
+        let covariance = self.inverse()?;
+        let n = covariance.nrows();
         let mut correlations = vec![0.0; n * n];
         for i in 0..n {
             for j in 0..n {

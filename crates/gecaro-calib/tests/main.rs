@@ -3,6 +3,7 @@
 //! One test binary per crate (as ripgrep has): each file below was its own
 //! binary, and linking them dominated the build of the tests.
 
+mod change;
 mod coarse;
 mod frames;
 mod identifiability;
@@ -10,6 +11,7 @@ mod identification;
 mod planning;
 mod prediction;
 mod real_data;
+mod region;
 mod robust;
 mod streaming;
 mod validation;

@@ -773,3 +773,57 @@ fn repeated_poses_measured_again_are_not_copies() {
     assert_eq!(result.verdict.copies, 2);
     assert_eq!(result.verdict.outcome, Outcome::Repeated);
 }
+
+/// A robust loss weighs the fit, not the test: with a scale below the
+/// residuals' spread (`huber 0.5`, `cauchy 0.5`) a σ stated 1.7× too small
+/// fails the global test, the true σ passes it with any loss, and without a
+/// σ the residual σ is the noise's (it was 1e-150 mm).
+#[test]
+fn a_robust_loss_weighs_the_fit_not_the_test() {
+    use gecaro_calib::identification::{Loss, LossKind};
+    const NOISE: f64 = 2e-5;
+    let losses = [
+        Loss::with_scale(LossKind::Huber, 0.5).expect("loss"),
+        Loss::with_scale(LossKind::Cauchy, 0.5).expect("loss"),
+        Loss::new(LossKind::Huber),
+        Loss::new(LossKind::Tukey),
+    ];
+    for loss in losses {
+        let options = IdentificationOptions {
+            loss,
+            ..IdentificationOptions::default()
+        };
+        let mut fits = 0;
+        for seed in 0..5 {
+            let data = study("position", 60, Some(NOISE), seed);
+            let honest = fit(&data, &options).verdict;
+            fits += usize::from(honest.outcome == Outcome::FitsNoise);
+            let mut understated = data.clone();
+            understated.sets[0].sigma = Some(NOISE / 1.7);
+            let verdict = fit(&understated, &options).verdict;
+            assert_eq!(
+                verdict.outcome,
+                Outcome::ExceedsNoise,
+                "{loss:?}: {}",
+                verdict.summary
+            );
+            let ratio = verdict.noise_test.expect("σ stated").sigma_ratio;
+            assert!((ratio / 1.7 - 1.0).abs() < 0.25, "{loss:?}: σ̂/σ {ratio}");
+            let mut unstated = data.clone();
+            unstated.sets[0].sigma = None;
+            let result = fit(&unstated, &options);
+            let residual = result.verdict.residual_length.expect("lengths");
+            assert!(
+                (residual / NOISE - 1.0).abs() < 0.25,
+                "{loss:?}: residual σ {residual}"
+            );
+            // A scale that weighs most observations down is named.
+            let named = result
+                .warnings
+                .iter()
+                .any(|w| w.contains("below the residuals' own spread"));
+            assert_eq!(named, loss.scale < 1.0, "{loss:?}: {:?}", result.warnings);
+        }
+        assert!(fits >= 4, "{loss:?}: the true σ passed {fits} of 5 times");
+    }
+}

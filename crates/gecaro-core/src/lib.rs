@@ -73,6 +73,7 @@ mod placement;
 mod priority;
 mod rebase;
 mod reframe;
+mod region;
 mod robot;
 
 #[cfg(test)]
@@ -97,6 +98,7 @@ pub use parameters::{ParameterId, ParameterKind, ParameterSpace};
 pub use placement::NEARLY_PARALLEL_DEGREES;
 pub use priority::PriorityMatrix;
 pub use rebase::{SAME_FRAME_ANGLE, SAME_FRAME_DISTANCE};
+pub use region::{JointRegion, MEASURED_MARGIN};
 pub use robot::{LIMIT_TOLERANCE, MAX_JOINTS, MAX_MAGNITUDE, MIN_GAIN, Robot, RobotSpec};
 
 #[cfg(test)]

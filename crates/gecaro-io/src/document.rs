@@ -11,7 +11,8 @@
 use std::f64::consts::TAU;
 
 use gecaro_core::{
-    Frame, FrameType, Joint, LinkMass, MassModel, PriorityMatrix, Robot, RobotSpec, upright_gravity,
+    Frame, FrameType, Joint, JointRegion, LinkMass, MassModel, PriorityMatrix, Robot, RobotSpec,
+    upright_gravity,
 };
 use nalgebra::{DMatrix, Vector3};
 use serde::{Deserialize, Serialize};
@@ -88,6 +89,12 @@ pub struct FrameDocument {
     /// robot elastic, the other joints at 0 (issue 38).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub compliance: Option<f64>,
+    /// The range of the joint variable a calibration's data covered
+    /// (`[min, max]`, in the unit of `qmin`, `qmax`): outside it the
+    /// calibrated model is extrapolated. Written by an identification whose
+    /// result holds in the measured region only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured: Option<[f64; 2]>,
 }
 
 /// The `[coupling]` table.
@@ -149,6 +156,14 @@ impl RobotDocument {
                         .compliances()
                         .filter(|_| joint.is_some())
                         .map(|compliances| compliances[j - 1]),
+                    measured: file
+                        .measured_region
+                        .as_ref()
+                        .filter(|_| joint.is_some())
+                        .map(|region| {
+                            let (min, max) = region.range(j - 1);
+                            [joint_angle(min), joint_angle(max)]
+                        }),
                 }
             })
             .collect();
@@ -274,13 +289,59 @@ impl RobotDocument {
             .map(|urdf| urdf.read(robot.joint_count()))
             .transpose()?;
         let masses = self.masses()?;
+        let measured_region = self.measured_region(&robot, angle_unit)?;
         Ok(RobotFile {
             robot,
             description: self.description.clone(),
             angle_unit,
             urdf,
             masses,
+            measured_region,
         })
+    }
+
+    /// The region a calibration's data covered, when any joint states its
+    /// `measured` range (a joint that does not is unrestricted: its limits).
+    fn measured_region(
+        &self,
+        robot: &Robot,
+        unit: AngleUnit,
+    ) -> Result<Option<JointRegion>, DocumentError> {
+        if self.frame.iter().all(|frame| frame.measured.is_none()) {
+            return Ok(None);
+        }
+        let mut ranges = Vec::with_capacity(robot.joint_count());
+        for (j, joint) in robot.joints().iter().enumerate() {
+            let index = j + 1;
+            let at = |message: String| frame_error(index, "measured", message);
+            let Some([min, max]) = self.frame[index].measured else {
+                ranges.push((joint.qmin, joint.qmax));
+                continue;
+            };
+            if !(min.is_finite() && max.is_finite()) || min > max {
+                return Err(at(format!(
+                    "[{min}, {max}] is no range: two finite numbers, the smaller first"
+                )));
+            }
+            let convert = |value: f64| match (robot.frames()[index].frame_type, unit) {
+                (FrameType::Revolute, AngleUnit::Degrees) => value.to_radians(),
+                _ => value,
+            };
+            ranges.push((convert(min), convert(max)));
+        }
+        if let Some(index) = [0, self.frame.len() - 1]
+            .into_iter()
+            .find(|index| self.frame[*index].measured.is_some())
+        {
+            return Err(frame_error(
+                index,
+                "measured",
+                format!("frame {index} is fixed and has no joint, so no measured range"),
+            ));
+        }
+        JointRegion::new(ranges)
+            .map(Some)
+            .map_err(|(joint, message)| frame_error(joint, "measured", message))
     }
 
     /// The joints' compliances when any frame states one (then the robot is

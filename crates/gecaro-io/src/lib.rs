@@ -37,6 +37,7 @@ mod study_spec;
 mod symoro;
 mod units;
 mod urdf;
+mod work_region;
 
 pub use columns::{ColumnMap, DataUnits, Delimiter, header_names, joint_types};
 pub use conversion::{ChainEnds, Exported, Imported};
@@ -75,3 +76,4 @@ pub use study_spec::{
 };
 pub use units::LengthUnit;
 pub use urdf::names::{UrdfDocument, UrdfJointDocument, UrdfJointNames, UrdfNames};
+pub use work_region::parse_work_region;

@@ -33,7 +33,7 @@ pub(crate) enum Kind {
 
 /// A value written with its unit, any sign, in gecaro's units (m, rad,
 /// fraction): the unit table of priors and angles alike.
-fn signed_quantity(text: &str) -> Result<(Kind, f64), String> {
+pub(crate) fn signed_quantity(text: &str) -> Result<(Kind, f64), String> {
     let text = text.trim();
     let (number, unit) = text.split_at(number_length(text));
     let value: f64 = number

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use gecaro_core::{MassModel, Robot};
+use gecaro_core::{JointRegion, MassModel, Robot};
 use nalgebra::Vector3;
 
 use crate::urdf::names::UrdfNames;
@@ -34,6 +34,10 @@ pub struct RobotFile {
     /// The masses its frames carry and gravity (`mass`, `com` of a frame,
     /// `gravity`): the loads of elastic joints. None stated by default.
     pub masses: MassModel,
+    /// The region of the joint space a calibration's data covered (each
+    /// joint frame's `measured` range), when the calibrated robot holds
+    /// there only: compensation and evaluation flag poses outside it.
+    pub measured_region: Option<JointRegion>,
 }
 
 impl RobotFile {
@@ -47,6 +51,7 @@ impl RobotFile {
             angle_unit: AngleUnit::Radians,
             urdf: None,
             masses,
+            measured_region: None,
         }
     }
 

@@ -26,6 +26,10 @@
 //! compliance = 4e-6          # optional: rad/(N·m) (m/N if prismatic), in any
 //!                            # angle unit; on any joint it makes the robot
 //!                            # elastic, the other joints at 0 (issue 38)
+//! measured = [-0.26, 0.26]   # optional: the range of q2 a calibration's data
+//!                            # covered, in qmin's unit (written when the
+//!                            # result holds there only; compensate and
+//!                            # evaluate flag poses outside it)
 //!
 //! [coupling]                 # optional, n×n each, identity by default (eq. 4)
 //! Cm = [[1.0, 0.0], [0.0, 1.0]]
@@ -79,6 +83,7 @@ const FRAME_KEYS: &[&str] = &[
     "mass",
     "com",
     "compliance",
+    "measured",
 ];
 const COUPLING_KEYS: &[&str] = &["Cm", "Cj"];
 const PRIORITY_KEYS: &[&str] = &["matrix", "priority"];
@@ -410,6 +415,15 @@ pub fn format_robot_file(file: &RobotFile) -> String {
                     _ => "rad/(N·m)",
                 };
                 let _ = writeln!(text, "compliance = {} # {unit}", float(compliances[j - 1]));
+            }
+            if let Some(region) = &file.measured_region {
+                let (min, max) = region.range(j - 1);
+                let _ = writeln!(
+                    text,
+                    "measured = [{}, {}] # the range the calibration's data covered",
+                    float(joint_angle(min)),
+                    float(joint_angle(max))
+                );
             }
         }
         if let Some(link) = file.masses.link(j) {

@@ -575,6 +575,7 @@ pub(crate) fn import_symoro(text: &str, path: &Path) -> Result<Imported, Error> 
     Ok(Imported {
         file: RobotFile {
             masses: MassModel::new(robot.frames().len()),
+            measured_region: None,
             robot,
             description: Some(format!(
                 "imported from {} (SYMORO, {joint_count} joints)",

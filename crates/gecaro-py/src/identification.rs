@@ -424,7 +424,7 @@ impl PyIdentification {
 /// Raises NotConvergedError (with the best iterate in `.result`) when the
 /// iteration did not converge, NotIdentifiableError with too few equations.
 #[pyfunction]
-#[pyo3(signature = (robot, method, data = None, *, solver = "gauss-newton", max_iterations = 30, priority = None, loss = "l2", loss_scale = None, prior = None, outlier_threshold = 3.0, reject = false, model = "full", strict_limits = false, sigma = None, sigma_rotation = None, progress = None))]
+#[pyo3(signature = (robot, method, data = None, *, solver = "gauss-newton", max_iterations = 30, priority = None, loss = "l2", loss_scale = None, prior = None, outlier_threshold = 3.0, reject = false, model = "full", strict_limits = false, sigma = None, sigma_rotation = None, work_region = None, progress = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn identify(
     py: Python<'_>,
@@ -443,6 +443,7 @@ pub(crate) fn identify(
     strict_limits: bool,
     sigma: Option<Sigma>,
     sigma_rotation: Option<Sigma>,
+    work_region: Option<&str>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<PyIdentification> {
     let mut request =
@@ -452,6 +453,7 @@ pub(crate) fn identify(
     request.settings = FitSettings {
         outlier_threshold: Some(outlier_threshold),
         reject,
+        work_region: work_region.map(str::to_owned),
         ..fit_settings(
             &robot,
             Fit {

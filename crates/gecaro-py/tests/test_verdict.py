@@ -26,11 +26,18 @@ def test_the_verdict_equals_the_command_line(cli: Cli, tmp_path: Path) -> None:
     # The file's quaternions are normalised when read: equal to ~1e-13.
     document = cli.json("identify", "stanford", "--method", "frame", "--data", data)["verdict"]
     numbers = ["residual_length", "residual_angle"]
-    assert {k: v for k, v in verdict.items() if k not in numbers} == {
-        k: v for k, v in document.items() if k not in numbers
+    predicted = ["predicted_inside", "predicted_work", "predicted_work_max", "noise_floor"]
+    assert {k: v for k, v in verdict.items() if k not in numbers + ["region"]} == {
+        k: v for k, v in document.items() if k not in numbers + ["region"]
     }
     for key in numbers:
         assert verdict[key] == pytest.approx(document[key], rel=1e-9)
+    region, stated = verdict["region"], document["region"]
+    assert {k: v for k, v in region.items() if k not in predicted} == {
+        k: v for k, v in stated.items() if k not in predicted
+    }
+    for key in predicted:
+        assert region[key] == pytest.approx(stated[key], rel=1e-9)
     assert result.to_dict()["verdict"] == verdict
     # The true sigma passes the global test; one five times too small fails it.
     fits = gecaro.identify(robot, "frame", run.data, sigma=2e-5).verdict
@@ -78,3 +85,33 @@ def test_a_link_method_alone_is_incomplete_at_the_nominal_size() -> None:
     scale = verdict["coverage"]["scale"]
     assert 0 < scale["std"] < 0.05
     assert "add a distance set" in verdict["summary"]
+
+
+def test_where_the_result_holds(tmp_path: Path) -> None:
+    """120 poses within ±15° of the middle of every joint's range: the fit
+    passes the test, but holds in the measured region only; a work region as
+    small as the data is trusted, and a bare range is refused."""
+    import numpy as np
+
+    robot = gecaro.Robot.load("industrial6")
+    real = gecaro.generate(robot, "position", 10, error_level=1.0, seed=7).real
+    generator = np.random.default_rng(7)
+    limits = np.array([[-170, 170], [-190, 45], [-120, 156], [-185, 185], [-120, 120], [-350, 350]])
+    middle = np.radians(limits.mean(axis=1))
+    qm = middle + np.radians(generator.uniform(-15, 15, size=(120, 6)))
+    position = real.fk(qm)[:, :3, 3] + generator.normal(0, 2e-5, size=(120, 3))
+    data = gecaro.Data(qm, position=position)
+    verdict = gecaro.identify(robot, "position", data, sigma="20um").verdict
+    assert verdict["outcome"] == "regional" and not verdict["trusted"]
+    region = verdict["region"]
+    assert not region["holds_everywhere"] and region["work_is_limits"]
+    assert region["predicted_work"] > 10 * region["noise_floor"] > region["predicted_inside"]
+    assert region["narrow_joints"] == [1, 2, 3, 4, 5, 6]
+    home = ",".join(
+        f"q{j + 1}={m - 10:.1f}..{m + 10:.1f}deg" for j, m in enumerate(np.degrees(middle))
+    )
+    held = gecaro.identify(robot, "position", data, sigma="20um", work_region=home).verdict
+    assert held["outcome"] == "fits_noise" and held["region"]["holds_everywhere"]
+    assert not held["region"]["work_is_limits"]
+    with pytest.raises(gecaro.InputError, match="work_region"):
+        gecaro.identify(robot, "position", data, work_region="q1=-10..10")

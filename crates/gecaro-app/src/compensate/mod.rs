@@ -4,7 +4,7 @@
 
 mod summary;
 
-use gecaro_calib::compensation::{CompensatedPoint, Compensator, Match, ProgramPoint, compensate};
+use gecaro_calib::compensation::{CompensatedPoint, Compensator, Match, ProgramPoint};
 use gecaro_calib::elastic::commanded_under_load;
 use gecaro_calib::{Observer, report_step};
 use gecaro_core::LinkMass;
@@ -284,13 +284,9 @@ impl CompensateRequest {
             (None, ProgramSource::Points(points)) => points.clone(),
             (None, _) => Vec::new(),
         };
-        let mut results = compensate(
-            &nominal.robot,
-            &calibrated.robot,
-            &points,
-            matching,
-            observer,
-        )?;
+        let mut results = Compensator::new(&nominal.robot, &calibrated.robot, matching)?
+            .within(calibrated.measured_region.clone())
+            .compensate_all(&points, observer)?;
         if let Some(unloading) = &unloading {
             unloading.apply(&calibrated, &mut results)?;
         }
@@ -362,7 +358,8 @@ impl CompensateRequest {
         } = files.open(name, &["csv"])?;
         let mut program = ProgramReader::new(&mut reader, &path, nominal, &format)?;
         let layout = program.layout().clone();
-        let mut compensator = Compensator::new(nominal, &calibrated.robot, prepared.matching)?;
+        let mut compensator = Compensator::new(nominal, &calibrated.robot, prepared.matching)?
+            .within(calibrated.measured_region.clone());
         let mut summary = CompensationSummary::default();
         let mut corrected: Option<CorrectedProgram<'_>> = None;
         let saved = files.write_streamed(save_as, "csv", self.overwrite, &mut |output| {

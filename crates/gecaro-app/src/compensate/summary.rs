@@ -32,6 +32,9 @@ pub struct CompensationSummary {
     /// Lines (file) or rows (arrays) of the targets reached only in
     /// another configuration.
     pub reconfigured: Vec<usize>,
+    /// Lines of the targets reached outside the region the calibration's
+    /// data covered.
+    pub outside_region: Vec<usize>,
     /// Lines of the targets reached only beyond a joint limit.
     pub outside_limits: Vec<usize>,
     /// Lines of the targets not reached.
@@ -58,6 +61,7 @@ impl CompensationSummary {
             match result.status {
                 CompensationStatus::Reached => {}
                 CompensationStatus::Reconfigured => self.reconfigured.push(line(index)),
+                CompensationStatus::OutsideRegion => self.outside_region.push(line(index)),
                 CompensationStatus::OutsideLimits => self.outside_limits.push(line(index)),
                 CompensationStatus::NotReached => {
                     self.not_reached.push(line(index));
@@ -100,14 +104,19 @@ impl CompensationSummary {
         match status {
             CompensationStatus::Reached => &[],
             CompensationStatus::Reconfigured => &self.reconfigured,
+            CompensationStatus::OutsideRegion => &self.outside_region,
             CompensationStatus::OutsideLimits => &self.outside_limits,
             CompensationStatus::NotReached => &self.not_reached,
         }
     }
 
-    /// Targets flagged: reconfigured, beyond a limit or not reached.
+    /// Targets flagged: reconfigured, outside the measured region, beyond a
+    /// limit or not reached.
     pub fn flagged(&self) -> usize {
-        self.reconfigured.len() + self.outside_limits.len() + self.not_reached.len()
+        self.reconfigured.len()
+            + self.outside_region.len()
+            + self.outside_limits.len()
+            + self.not_reached.len()
     }
 
     /// Targets reached within the limits in the program's configuration.
@@ -127,6 +136,7 @@ impl CompensationSummary {
             targets: self.targets,
             reached: self.reached(),
             reconfigured: self.reconfigured.clone(),
+            outside_region: self.outside_region.clone(),
             outside_limits: self.outside_limits.clone(),
             not_reached: self.not_reached.clone(),
             largest_position_error: self.largest_position_error,
@@ -137,7 +147,8 @@ impl CompensationSummary {
     }
 
     /// Why the corrected program (written to `saved`) is not to be run as
-    /// it is: targets reconfigured, beyond a limit or not reached.
+    /// it is: targets reconfigured, outside the measured region, beyond a
+    /// limit or not reached.
     pub fn failure(&self, saved: Option<&std::path::Path>) -> Option<AppError> {
         let flagged = self.flagged();
         (flagged > 0).then(|| {
@@ -172,13 +183,14 @@ mod tests {
             target: ProgramTarget::Joints(vec![0.0, 0.0]),
             joints: None,
         };
-        let points = vec![point; 5];
+        let points = vec![point; 6];
         let results = [
             result(CompensationStatus::Reached, 1e-9, 0.01),
             result(CompensationStatus::NotReached, 5.0, 3.0),
             result(CompensationStatus::Reached, 2e-9, -0.03),
             result(CompensationStatus::OutsideLimits, 3e-9, 0.5),
             result(CompensationStatus::Reconfigured, 1e-10, 1.5),
+            result(CompensationStatus::OutsideRegion, 4e-10, 0.2),
         ];
         // Lines as a file numbers them: the header, then a row each.
         let mut whole = CompensationSummary::default();
@@ -187,10 +199,11 @@ mod tests {
         blocks.add(&points[..2], &results[..2], |index| index + 2, None);
         blocks.add(&points[2..], &results[2..], |index| index + 4, None);
         assert_eq!(whole, blocks);
-        assert_eq!((whole.targets, whole.reached(), whole.flagged()), (5, 2, 3));
+        assert_eq!((whole.targets, whole.reached(), whole.flagged()), (6, 2, 4));
         assert_eq!(whole.lines_with(CompensationStatus::NotReached), [3]);
         assert_eq!(whole.lines_with(CompensationStatus::OutsideLimits), [5]);
         assert_eq!(whole.lines_with(CompensationStatus::Reconfigured), [6]);
+        assert_eq!(whole.lines_with(CompensationStatus::OutsideRegion), [7]);
         // The target not reached does not count as a residual.
         assert_eq!(whole.largest_position_error, 3e-9);
         assert!(whole.failure(None).is_some());

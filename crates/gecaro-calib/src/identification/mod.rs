@@ -65,6 +65,7 @@
 //! ([`Identification::outliers`]); with [`IdentificationOptions::reject`] they
 //! are dropped and the identification runs again on the rest, once.
 
+mod change;
 mod coarse;
 mod coverage;
 mod curvature;
@@ -81,6 +82,7 @@ mod parameter;
 mod passes;
 mod plausibility;
 mod prior_rows;
+mod region;
 mod repeats;
 mod result;
 mod reweighting;
@@ -90,6 +92,7 @@ mod solver;
 mod start;
 mod statistics;
 mod subsample;
+mod tested;
 mod tied;
 mod verdict;
 mod warnings;
@@ -107,6 +110,7 @@ use crate::linalg::{LeastSquaresRows, NormalEquations, precision, sandwich_diago
 use crate::progress::{Observer, Progress, Quiet, report};
 use crate::study::{Study, StudyStates};
 
+pub use change::{CHANGE_LEVEL, CellChange, MIN_CHANGED};
 pub use coarse::COARSE_FRACTION;
 pub use coverage::{Coverage, MIN_REDUNDANCY, STILL_RANGE, UnobservedScale};
 use evaluation::errors_at;
@@ -118,6 +122,9 @@ pub use parameter::IdentifiedParameter;
 pub use passes::SECOND_PASS_LEVEL;
 use passes::{ScoreTests, score_tests, significantly_lower};
 use prior_rows::{extra_prior_rows, prior_rows};
+pub use region::{
+    FLOOR_FACTOR, NARROW_FRACTION, REGION_FACTOR, REGION_POSES, RegionPrediction, WORK_POSES,
+};
 use repeats::Repeats;
 pub use result::{ErrorSummary, Identification, Route};
 pub use reweighting::MAX_REWEIGHTINGS;
@@ -190,8 +197,11 @@ pub fn identify(
     options::check_options(robot, options)?;
     data_scale::check_data_scale(robot, study)?;
     let first = fit(robot, study, options, observer)?;
+    // A block of outliers in a set's row order is a change of the cell,
+    // whatever the loss or a rejection makes of them ([`change`]).
+    let changes = change::cell_changes(study, &first.outliers);
     if !options.reject || first.outliers.is_empty() {
-        return Ok(first);
+        return Ok(judged(first, study, changes, options));
     }
     let kept = outliers::inliers(study, &first.outliers);
     let mut refit = fit(robot, &kept, options, observer).map_err(|error| Error::Numerical {
@@ -209,7 +219,32 @@ pub fn identify(
         ),
     );
     refit.rejected = first.outliers;
-    Ok(refit)
+    Ok(judged(refit, &kept, changes, options))
+}
+
+/// `result` (of `study`) with the verdict on what the data say beyond its
+/// fit: the cell's `changes` during the measurement ([`change`]), and where
+/// the result holds ([`region`]), its predicted error in the measured
+/// region and over the work region.
+fn judged(
+    mut result: Identification,
+    study: &Study,
+    changes: Vec<change::CellChange>,
+    options: &IdentificationOptions,
+) -> Identification {
+    result.verdict.changes = changes;
+    result.verdict.outlier_threshold = options.outlier_threshold;
+    result.verdict.region = region::where_it_holds(study, &result, options.work_region.as_ref());
+    result.warnings.extend(
+        result
+            .verdict
+            .region
+            .as_ref()
+            .and_then(RegionPrediction::warning),
+    );
+    let (iterations, unknowns) = (result.iterations(), result.unknowns());
+    result.verdict.reconsider(iterations, unknowns);
+    result
 }
 
 /// One identification of `study` (see the module docs): the paper's pass on
@@ -1025,6 +1060,28 @@ fn summarise(
         outliers::find_outliers(study, &statistics, &errors_after, options.outlier_threshold);
     let data_cost = best.system.measured_cost();
     let degrees_of_freedom = statistics.effective_equations.saturating_sub(columns);
+    // The test reads the residuals as measured, not as the loss weighed them.
+    let tested = tested::tested(
+        &best.system,
+        &statistics,
+        &options.loss,
+        options.outlier_threshold,
+        (study.equation_count(), columns),
+        (data_cost, degrees_of_freedom),
+    );
+    warnings.extend(tested::loss_scale_warning(
+        &options.loss,
+        &statistics.weights,
+    ));
+    // The posterior covariance of the unknowns (eq. 11: σ² (W_bᵀW_b)⁻¹,
+    // with the prior's rows), for predictions away from the data; σ² of the
+    // residuals as measured (with a robust loss, the loss-weighted sum
+    // keeps part of every gross error).
+    let tested_variance = tested.cost / tested.freedom.max(1) as f64;
+    let covariance = best
+        .normal
+        .inverse()
+        .map(|inverse| inverse * tested_variance);
     let implausible = plausibility::implausible(&plausibility::Written {
         nominal: robot,
         calibrated: &best.robot,
@@ -1064,9 +1121,9 @@ fn summarise(
             stop,
             iterations: history.len() - 1,
             system: &best.system,
-            observation_weights: &statistics.weights,
-            data_cost,
-            degrees_of_freedom,
+            observation_weights: &tested.weights,
+            data_cost: tested.cost,
+            degrees_of_freedom: tested.freedom,
             unknowns: columns - problem.joined,
             implausible,
             coverage,
@@ -1075,6 +1132,7 @@ fn summarise(
     );
     Ok(Identification {
         correlated,
+        covariance,
         verdict,
         second_pass: Vec::new(),
         joined,

@@ -1,6 +1,6 @@
 //! The settings of an identification ([`IdentificationOptions`]).
 
-use gecaro_core::{MassModel, PriorityMatrix, Robot};
+use gecaro_core::{JointRegion, MassModel, PriorityMatrix, Robot};
 
 use super::outliers::DEFAULT_OUTLIER_THRESHOLD;
 use crate::error::{Error, Setting};
@@ -80,6 +80,10 @@ pub struct IdentificationOptions {
     /// results are the whole data's, to the stopping tolerance.
     /// [`DEFAULT_COARSE_FROM`] by default; `usize::MAX` never.
     pub coarse_from: usize,
+    /// The region of the joint space the calibrated robot will be used in,
+    /// over which the verdict predicts its error (`None`: the joint
+    /// limits; see [`RegionPrediction`](super::RegionPrediction)).
+    pub work_region: Option<JointRegion>,
 }
 
 impl Default for IdentificationOptions {
@@ -96,6 +100,7 @@ impl Default for IdentificationOptions {
             masses: None,
             streamed_rows: DEFAULT_STREAMED_ROWS,
             coarse_from: DEFAULT_COARSE_FROM,
+            work_region: None,
         }
     }
 }
@@ -114,6 +119,18 @@ pub(super) fn check_options(robot: &Robot, options: &IdentificationOptions) -> R
     }
     if let Some(prior) = &options.prior {
         prior.check(robot)?;
+    }
+    if let Some(region) = &options.work_region
+        && region.joints() != robot.joint_count()
+    {
+        return Err(Error::InvalidOption {
+            setting: Setting::WorkRegion,
+            message: format!(
+                "gives {} joint ranges for a robot of {} joints",
+                region.joints(),
+                robot.joint_count()
+            ),
+        });
     }
     Ok(())
 }

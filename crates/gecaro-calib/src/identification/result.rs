@@ -124,6 +124,14 @@ pub struct Identification {
     /// [`Study::with_frames`](crate::study::Study::with_frames), what a
     /// held-out evaluation of the calibrated robot needs.
     pub frames: Vec<NamedFrame>,
+    /// The posterior covariance of the identified unknowns, `σ² (W_bᵀW_b)⁻¹`
+    /// (eq. 11, the prior's rows in W_b; σ² of the residuals as measured, of
+    /// the observations within the outlier threshold with a robust loss):
+    /// rows and columns in the order of
+    /// [`auxiliary`](Self::auxiliary), then [`parameters`](Self::parameters);
+    /// in their units (metres, radians). `None` when W_bᵀW_b is not
+    /// numerically positive definite.
+    pub covariance: Option<nalgebra::DMatrix<f64>>,
     /// The a-posteriori residual standard deviation σ (units of the weighted rows).
     pub residual_sigma: f64,
     /// Why the iteration stopped.

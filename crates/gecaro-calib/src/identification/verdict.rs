@@ -18,38 +18,48 @@
 //!    the last bit, which two readings of a sensor never are). Copies are no
 //!    new information, yet each counts as an observation: the σ shrink and
 //!    the global test passes what it should not.
-//! 4. **Underdetermined**: the data leave part of the robot undetermined
+//! 4. **Changed**: outliers that form one block in a set's row order
+//!    ([`CellChange`]): the cell changed during the measurement (a reflector
+//!    re-seated, a tracker bumped), which a robust loss or a rejection would
+//!    otherwise hide. Named with the block's first line.
+//! 5. **Underdetermined**: the data leave part of the robot undetermined
 //!    ([`Coverage`]): a joint that never moved, a base parameter they do not
 //!    excite, or fewer than [`MIN_REDUNDANCY`](super::coverage::MIN_REDUNDANCY)
 //!    equations per unknown. The result holds near the measured poses only.
-//! 5. **Implausible parameters**: the written robot holds a value no real
+//! 6. **Implausible parameters**: the written robot holds a value no real
 //!    robot has ([`super::plausibility`]), each named with its likely cause.
-//! 6. **Exceeds the noise**: every measurement set states its sensor σ and
+//! 7. **Exceeds the noise**: every measurement set states its sensor σ and
 //!    the global test of adjustment theory (Baarda) fails: the weighted sum of
 //!    squares `χ² = Σ (r_i/σ_i)²` exceeds the χ²(ν) quantile at
 //!    1 − [`NOISE_TEST_LEVEL`] (ν = equations − unknowns), with the stated σ
 //!    taken as known to ±[`SIGMA_MARGIN`] (the quantile times
 //!    (1 + margin)²). The model, the data or the stated σ is wrong; the ratio
 //!    σ̂/σ = √(χ²/ν) says by how much.
-//! 7. **Below the noise**: the same test, two-sided: χ² below the χ²(ν)
+//! 8. **Below the noise**: the same test, two-sided: χ² below the χ²(ν)
 //!    quantile at [`NOISE_TEST_LEVEL`] divided by (1 + margin)². The stated
 //!    σ is too large (then the test cannot see a model error), or the robot
 //!    shrank (residuals in metres shrink with it).
-//! 8. **Incomplete**: the fit is sound but the methods do not observe the
-//!    robot's scale (link and plane methods measure no length) or its tool
-//!    (frame link): shape calibrated, the rest not measured.
-//! 9. **Fits the noise**: the test passes.
-//! 10. **Converged, untested**: no σ was stated; the residual σ is reported in
+//! 9. **Regional**: the fit holds where the data were taken but not over
+//!    the region the robot is used in: its predicted error there is above
+//!    the noise floor and several times that in the measured region
+//!    ([`RegionPrediction`]); the measured joint ranges are named.
+//! 10. **Incomplete**: the fit is sound but the methods do not observe the
+//!     robot's scale (link and plane methods measure no length) or its tool
+//!     (frame link): shape calibrated, the rest not measured.
+//! 11. **Fits the noise**: the test passes.
+//! 12. **Converged, untested**: no σ was stated; the residual σ is reported in
 //!     metres and radians instead.
 //!
 //! Only the last two are trusted. The sentence names every problem found,
 //! the outcome the first of them.
 //!
-//! With a robust loss the test takes the weighted residuals of the final fit
-//! (outliers weigh little or nothing) and ν counts the equations of the
-//! observations with a weight.
+//! With a robust loss the test takes the residuals of the final fit as
+//! measured, unweighted, of the observations within the outlier threshold
+//! (`tested`), and ν counts their equations.
 
+use super::change::CellChange;
 use super::coverage::Coverage;
+use super::region::RegionPrediction;
 use super::repeats::Repeats;
 use super::words;
 use crate::observation::ObservationSystem;
@@ -106,6 +116,9 @@ pub enum Outcome {
     Degenerate,
     /// Converged, but some measurements are exact copies of others.
     Repeated,
+    /// Converged, but a block of consecutive observations disagrees with
+    /// the rest: the cell changed during the measurement.
+    Changed,
     /// Converged, but the data leave part of the robot undetermined (a
     /// joint that never moved, parameters not excited, too few equations).
     Underdetermined,
@@ -116,6 +129,9 @@ pub enum Outcome {
     /// Converged, but the residuals are far below the stated noise: σ
     /// overstated, or the robot shrank.
     BelowNoise,
+    /// Converged, but the result holds in the measured region only: over
+    /// the work region its predicted error is far above the noise.
+    Regional,
     /// Converged and consistent, but the methods do not observe the robot's
     /// scale or its tool.
     Incomplete,
@@ -126,19 +142,22 @@ pub enum Outcome {
 }
 
 impl Outcome {
-    /// `diverged`, `not_converged`, `degenerate`, `repeated`, `underdetermined`,
-    /// `implausible`, `exceeds_noise`, `below_noise`, `incomplete`,
-    /// `fits_noise` or `untested`.
+    /// `diverged`, `not_converged`, `degenerate`, `repeated`, `changed`,
+    /// `underdetermined`,
+    /// `implausible`, `exceeds_noise`, `below_noise`, `regional`,
+    /// `incomplete`, `fits_noise` or `untested`.
     pub fn as_str(self) -> &'static str {
         match self {
             Outcome::Diverged => "diverged",
             Outcome::NotConverged => "not_converged",
             Outcome::Degenerate => "degenerate",
             Outcome::Repeated => "repeated",
+            Outcome::Changed => "changed",
             Outcome::Underdetermined => "underdetermined",
             Outcome::Implausible => "implausible",
             Outcome::ExceedsNoise => "exceeds_noise",
             Outcome::BelowNoise => "below_noise",
+            Outcome::Regional => "regional",
             Outcome::Incomplete => "incomplete",
             Outcome::FitsNoise => "fits_noise",
             Outcome::Untested => "untested",
@@ -218,6 +237,15 @@ pub struct Verdict {
     pub implausible: Vec<Implausible>,
     /// What the data determine and the methods observe.
     pub coverage: Coverage,
+    /// Blocks of consecutive observations that disagree with the rest:
+    /// the cell changed during the measurement (with the outlier threshold
+    /// they were read at).
+    pub changes: Vec<CellChange>,
+    /// The outlier threshold the changes were found at (robust σ̂).
+    pub outlier_threshold: f64,
+    /// Where the result holds: its predicted error in the measured region
+    /// and over the work region (`None` where no prediction is made).
+    pub region: Option<RegionPrediction>,
     /// The verdict in one sentence.
     pub summary: String,
 }
@@ -239,9 +267,10 @@ pub(super) struct Evidence<'a> {
     pub(super) iterations: usize,
     /// The system at the solution.
     pub(super) system: &'a ObservationSystem,
-    /// Each observation's weight in the final fit (empty: all 1).
+    /// Each observation's weight in what the test reads (empty: all 1;
+    /// with a robust loss, 0 for the outliers: `tested`).
     pub(super) observation_weights: &'a [f64],
-    /// Σ w (r/σ)² over the data rows.
+    /// Σ w (r/σ)² over the data rows, with those weights.
     pub(super) data_cost: f64,
     pub(super) degrees_of_freedom: usize,
     /// Identified unknowns.
@@ -275,6 +304,9 @@ impl Verdict {
             copies: repeats.copies,
             implausible: evidence.implausible,
             coverage: evidence.coverage,
+            changes: Vec::new(),
+            outlier_threshold: super::DEFAULT_OUTLIER_THRESHOLD,
+            region: None,
             summary: String::new(),
         };
         verdict.outcome = match evidence.stop {
@@ -319,6 +351,16 @@ impl Verdict {
                      and the global test too lenient; remove them",
                     self.copies, self.configurations
                 ),
+            ));
+        }
+        if !self.changes.is_empty() {
+            problems.push((
+                Outcome::Changed,
+                self.changes
+                    .iter()
+                    .map(|change| change.words(self.outlier_threshold))
+                    .collect::<Vec<_>>()
+                    .join("; "),
             ));
         }
         if self.coverage.underdetermined() {
@@ -367,6 +409,13 @@ impl Verdict {
                     ),
                 ));
             }
+        }
+        if let Some(region) = self
+            .region
+            .as_ref()
+            .filter(|region| !region.holds_everywhere)
+        {
+            problems.push((Outcome::Regional, region.words()));
         }
         if self.coverage.incomplete() {
             problems.push((Outcome::Incomplete, self.coverage.incomplete_words()));

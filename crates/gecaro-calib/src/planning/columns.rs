@@ -8,7 +8,7 @@ use nalgebra::DMatrix;
 
 use crate::Error;
 use crate::frames::measuring_robot;
-use crate::identifiability::structural_parameters;
+use crate::identifiability::{RankReport, structural_parameters};
 use crate::method::CalibrationMethod;
 use crate::observability::{AUXILIARY_UNIT, column_unit};
 use crate::observation::ObservationSystem;
@@ -145,6 +145,12 @@ impl BaseColumns {
         priority: &PriorityMatrix,
     ) -> Result<Self, Error> {
         let report = structural_parameters(robot, study, priority, 1)?;
+        Ok(Self::of_report(robot, study, report))
+    }
+
+    /// The base columns of `report`'s base set (Appendix III on `study`,
+    /// or on random data like it).
+    pub(crate) fn of_report(robot: &Robot, study: &Study, report: RankReport) -> Self {
         let layout = ColumnLayout::with_auxiliary(
             robot.parameters().len(),
             &report.base_parameters,
@@ -171,13 +177,13 @@ impl BaseColumns {
                     .map(|index| report.parameters[*index].name.clone()),
             )
             .collect();
-        Ok(BaseColumns {
+        BaseColumns {
             layout,
             auxiliary: report.base_auxiliary.len(),
             parameters: report.base_parameters,
             names,
             scale,
-        })
+        }
     }
 
     /// W_b of `samples` at the nominal robot (parameter units, rows as eq. 10).

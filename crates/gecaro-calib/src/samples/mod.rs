@@ -459,6 +459,14 @@ impl<'a> SampleSlice<'a> {
             })
     }
 
+    /// The motor values of this slice's samples, n a sample one after
+    /// another, as stored; `None` when the samples do not all have n.
+    pub(crate) fn motor_values(self) -> Option<&'a [f64]> {
+        let joints = self.samples.joints;
+        (self.samples.offsets.is_none() && joints > 0)
+            .then(|| &self.samples.motor.values()[self.start * joints..self.end * joints])
+    }
+
     /// Whether every sample of this slice has a measured position (finite
     /// or not), found without reading the samples.
     pub(crate) fn all_positioned(self) -> bool {

@@ -126,6 +126,7 @@ pub(super) fn robot_of_table(
             description: Some(description),
             angle_unit: AngleUnit::Radians,
             urdf: None,
+            measured_region: None,
         },
         notes,
     })

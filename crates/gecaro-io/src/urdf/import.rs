@@ -645,6 +645,7 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
     Ok(Imported {
         file: RobotFile {
             masses,
+            measured_region: None,
             robot: robot_model,
             description: Some(description),
             angle_unit: AngleUnit::Radians,

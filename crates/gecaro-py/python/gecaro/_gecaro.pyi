@@ -544,11 +544,15 @@ def identify(
     strict_limits: bool = False,
     sigma: Union[float, str, None] = None,
     sigma_rotation: Union[float, str, None] = None,
+    work_region: Optional[str] = None,
     progress: Optional[Callable[[int, float], object]] = None,
 ) -> Identification:
     """Identification (eq. 10–11), as ``gecaro identify``. ``sigma``: the
     sensor's σ in metres, or with its unit (``"20um"``); ``sigma_rotation``
-    in radians, or with its unit (``"0.01deg"``)."""
+    in radians, or with its unit (``"0.01deg"``). ``work_region``: the joint
+    ranges the robot will be used in, with their units
+    (``"q1=-90..90deg,q3=0..120deg"``; default the joint limits), over which
+    the verdict predicts its error (``verdict["region"]``)."""
 
 def cross_validate(
     robot: Robot,

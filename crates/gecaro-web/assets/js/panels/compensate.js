@@ -57,13 +57,14 @@ export function compensatePanel(method) {
       h('label', { class: 'field checkbox' }, rebase, h('span', { text: 'Calibrated in another frame (a tracker’s): re-express it in the table’s base frame' })),
       run),
     formatFields(name, 'compensate'),
-    h('p', { class: 'hint', text: 'A program written for the robot in the table — joint targets qm1…qmn, or Cartesian targets x, y, z [, qw, qx, qy, qz] — corrected for the last calibrated robot of this method: the joints with which it reaches what the table’s robot would have. Other columns are kept. Targets reconfigured, beyond a joint limit or not reached are flagged, never dropped.' }),
+    h('p', { class: 'hint', text: 'A program written for the robot in the table — joint targets qm1…qmn, or Cartesian targets x, y, z [, qw, qx, qy, qz] — corrected for the last calibrated robot of this method: the joints with which it reaches what the table’s robot would have. Other columns are kept. Targets reconfigured, outside the joint ranges the calibration measured, beyond a joint limit or not reached are flagged, never dropped.' }),
     result);
 }
 
 const COMPENSATION_STATUS = {
   ok: 'reached',
   reconfigured: 'reached in another configuration',
+  'outside-region': 'outside the measured region',
   'outside-limits': 'beyond a joint limit',
   'not-reached': 'not reached',
 };
@@ -87,6 +88,7 @@ function renderCompensation(container, name, compensated) {
     stat('targets', String(compensated.targets), { id: id('targets') }),
     stat('reached', String(compensated.reached), { id: id('reached') }),
     stat('reconfigured', String(compensated.reconfigured.length), { id: id('reconfigured') }),
+    stat('outside the measured region', String(compensated.outside_region.length), { id: id('outside-region') }),
     stat('beyond a limit', String(compensated.outside_limits.length), { id: id('outside') }),
     stat('not reached', String(compensated.not_reached.length), { id: id('not-reached') }));
   const rows = [...compensated.points]

@@ -33,6 +33,8 @@ export function identifyPanel(method) {
     h('option', { value: 'elastic', text: 'elastic: and every joint’s compliance' }),
     h('option', { value: 'elastic-gravity', text: 'elastic, and gravity’s tilt (a frame not levelled)' }));
   const reject = h('input', { type: 'checkbox', id: `${name}-identify-reject` });
+  // Where the robot will be used: the verdict predicts its error there.
+  const workRegion = h('input', { type: 'text', class: 'vector', placeholder: 'the joint limits, or e.g. q1=-90..90deg,q2=-45..45deg', id: `${name}-identify-work-region` });
   const sigma = h('input', { type: 'number', min: 0, step: 'any', placeholder: 'not stated', id: `${name}-identify-sigma` });
   // Frames carry their own σ for rotations (a tracker's 6D probe: 0.01 mm, 0.005°).
   const sigmaRotation = h('input', { type: 'number', min: 0, step: 'any', placeholder: 'not stated', id: `${name}-identify-sigma-rotation` });
@@ -55,6 +57,7 @@ export function identifyPanel(method) {
         model: model.value,
         prior: prior.value.trim() || null,
         reject: reject.checked,
+        work_region: workRegion.value.trim() || null,
         // With its unit: a bare number would be in the data file's length unit.
         sigma: sigmaText(fieldNumber(sigma, 'Sensor σ', { min: 0, above: true, empty: null })),
         sigma_rotation: method.uses_orientation
@@ -91,6 +94,7 @@ export function identifyPanel(method) {
       field('Model', model),
       field('Prior σ (lengths, angles, gains)', prior),
       field('Drop outliers and refit', reject),
+      field('Work region (joint ranges with units)', workRegion),
       field('Cross-validation folds (0: none)', folds),
       optionFields(method, 'identify'),
       run),
@@ -107,6 +111,7 @@ export function renderIdentification(container, name, job, result) {
   const outcomes = {
     fits_noise: 'Fits the noise', untested: 'Converged (σ not stated)', incomplete: 'Incomplete (not all measured)',
     below_noise: 'Far below the stated noise', exceeds_noise: 'Exceeds the noise', implausible: 'Implausible values',
+    regional: 'Holds in the measured region only', changed: 'The cell changed during the measurement',
     underdetermined: 'Data do not determine it', repeated: 'Repeated data', degenerate: 'Degenerate data', not_converged: 'Not converged', diverged: 'Diverged',
   };
   const headline = h('p', { class: `verdict ${verdict.trusted ? 'ok' : 'bad'}`, id: `${name}-identify-verdict` },
@@ -123,7 +128,11 @@ export function renderIdentification(container, name, job, result) {
     verdict.residual_length !== null && verdict.residual_length !== undefined
       ? stat(`residual σ (${unitName('length')})`, sci(inUnits(verdict.residual_length, 'length')), { id: `${name}-identify-residual` }) : null,
     verdict.residual_angle !== null && verdict.residual_angle !== undefined
-      ? stat(`residual σ (${unitName('angle')})`, sci(inUnits(verdict.residual_angle, 'angle'))) : null);
+      ? stat(`residual σ (${unitName('angle')})`, sci(inUnits(verdict.residual_angle, 'angle'))) : null,
+    verdict.region
+      ? stat(`predicted error, measured region → ${verdict.region.work_is_limits ? 'joint limits' : 'work region'} (${unitName('length')})`,
+        `${sci(inUnits(verdict.region.predicted_inside, 'length'))} → ${sci(inUnits(verdict.region.predicted_work, 'length'))}`,
+        { id: `${name}-identify-region`, class: verdict.region.holds_everywhere ? 'ok' : 'bad' }) : null);
   const warnings = id.warnings.length
     ? h('div', { class: 'warnings' }, h('strong', { text: 'Warnings' }), h('ul', {}, id.warnings.map((w) => h('li', { text: w })))) : null;
   const plots = h('div', { class: 'plots' },

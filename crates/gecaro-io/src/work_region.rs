@@ -1,0 +1,161 @@
+//! Work regions as people write them: the range of each joint a calibrated
+//! robot will be used in, `q1=-90..90deg,q3=0..120deg,q4=0.1..0.4m`.
+//!
+//! Each range names its joint (`q1`…`qn`) and carries its unit: on both
+//! bounds (`-90deg..90deg`) or once at the end, for both (`-90..90deg`);
+//! `deg` or `rad` for a revolute joint, `m`, `mm` or `um` for a prismatic
+//! one. A joint not named keeps its limits. A bare range is refused rather
+//! than read in a unit the writer may not have meant, and so is a range
+//! beyond the joint's limits, where the robot is never used.
+
+use gecaro_core::{FrameType, JointRegion, Robot};
+
+use crate::prior::{Kind, signed_quantity};
+
+/// The work region of `text` for `robot` (see the module docs), joint
+/// variables in radians and metres.
+///
+/// # Errors
+/// A sentence naming the range at fault: no joint name, a joint the robot
+/// does not have or named twice, no unit, a unit of the other kind, the
+/// bounds in the wrong order, beyond the joint's limits.
+///
+/// ```
+/// let robot = gecaro_io::load_robot("puma560").unwrap().robot;
+/// let region = gecaro_io::parse_work_region("q1=-90..90deg, q3=-1rad..0deg", &robot).unwrap();
+/// assert!((region.range(0).1 - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+/// assert_eq!(region.range(2), (-1.0, 0.0));
+/// assert_eq!(region.range(1), (robot.joints()[1].qmin, robot.joints()[1].qmax));
+/// assert!(gecaro_io::parse_work_region("q1=-90..90", &robot).is_err());
+/// ```
+pub fn parse_work_region(text: &str, robot: &Robot) -> Result<JointRegion, String> {
+    let mut ranges: Vec<(f64, f64)> = robot
+        .joints()
+        .iter()
+        .map(|joint| (joint.qmin, joint.qmax))
+        .collect();
+    let mut named = vec![false; ranges.len()];
+    let parts: Vec<&str> = text
+        .split(',')
+        .map(str::trim)
+        .filter(|part| !part.is_empty())
+        .collect();
+    if parts.is_empty() {
+        return Err("no joint range given: write q1=-90..90deg,q2=-45..45deg".into());
+    }
+    for part in parts {
+        let (name, range) = part.split_once('=').ok_or_else(|| {
+            format!("'{part}' names no joint: write q1=-90..90deg, a joint's name and its range")
+        })?;
+        let joint = name
+            .trim()
+            .strip_prefix('q')
+            .and_then(|number| number.parse::<usize>().ok())
+            .filter(|joint| (1..=ranges.len()).contains(joint))
+            .ok_or_else(|| {
+                format!(
+                    "'{}' is not a joint of this robot: q1 to q{}",
+                    name.trim(),
+                    ranges.len()
+                )
+            })?;
+        if std::mem::replace(&mut named[joint - 1], true) {
+            return Err(format!("q{joint} is given twice"));
+        }
+        let revolute = robot.frames()[joint].frame_type == FrameType::Revolute;
+        let (min, max) =
+            bounds(range.trim(), revolute).map_err(|message| format!("q{joint}: {message}"))?;
+        let joint_limits = &robot.joints()[joint - 1];
+        let shown = |value: f64| {
+            if revolute {
+                format!("{:.1}°", value.to_degrees())
+            } else {
+                format!("{:.1} mm", value * 1e3)
+            }
+        };
+        let tolerance = gecaro_core::LIMIT_TOLERANCE;
+        if min < joint_limits.qmin - tolerance || max > joint_limits.qmax + tolerance {
+            return Err(format!(
+                "q{joint}: {}..{} reaches beyond the joint's limits {}..{}",
+                shown(min),
+                shown(max),
+                shown(joint_limits.qmin),
+                shown(joint_limits.qmax)
+            ));
+        }
+        ranges[joint - 1] = (min, max);
+    }
+    JointRegion::new(ranges).map_err(|(joint, message)| format!("q{joint}: {message}"))
+}
+
+/// The bounds of `MIN..MAX` with their units (module docs), in radians or
+/// metres.
+fn bounds(range: &str, revolute: bool) -> Result<(f64, f64), String> {
+    let (low, high) = range
+        .split_once("..")
+        .ok_or_else(|| format!("'{range}' is not a range: write MIN..MAX with its unit"))?;
+    let (low, high) = (low.trim(), high.trim());
+    let unit_of = |text: &str| text[crate::prior::number_length(text)..].trim().to_owned();
+    // One unit at the end serves both bounds.
+    let low = if unit_of(low).is_empty() && !unit_of(high).is_empty() {
+        format!("{low}{}", unit_of(high))
+    } else {
+        low.to_owned()
+    };
+    let wanted = if revolute { Kind::Angle } else { Kind::Length };
+    let value = |text: &str| -> Result<f64, String> {
+        let (kind, value) = signed_quantity(text).map_err(|_| {
+            format!(
+                "'{range}' needs its unit: {}",
+                if revolute {
+                    "-90..90deg or -1.5..1.5rad"
+                } else {
+                    "0.1..0.4m or 100..400mm"
+                }
+            )
+        })?;
+        if kind != wanted {
+            return Err(format!(
+                "'{text}' is not {}",
+                if revolute {
+                    "an angle (deg, rad): the joint is revolute"
+                } else {
+                    "a length (m, mm, um): the joint is prismatic"
+                }
+            ));
+        }
+        Ok(value)
+    };
+    let (min, max) = (value(&low)?, value(high)?);
+    if min > max {
+        return Err(format!("'{range}' starts above its end"));
+    }
+    Ok((min, max))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_name_their_joint_and_unit_or_are_refused() {
+        let robot = crate::load_robot("stanford").expect("ready").robot;
+        let region = parse_work_region("q3=300..400mm,q1=-30..45deg", &robot).expect("region");
+        assert!((region.range(2).0 - 0.3).abs() < 1e-15 && (region.range(2).1 - 0.4).abs() < 1e-15);
+        assert!((region.range(0).0 + 30f64.to_radians()).abs() < 1e-15);
+        let refused = |text: &str, words: &str| {
+            let message = parse_work_region(text, &robot).expect_err(text);
+            assert!(message.contains(words), "{text}: {message}");
+        };
+        refused("q1=-30..45", "needs its unit");
+        refused("q3=-30..45deg", "is not a length");
+        refused("q1=0.1..0.4m", "is not an angle");
+        refused("q9=0..1deg", "not a joint of this robot");
+        refused("q1=0..1deg,q1=0..2deg", "given twice");
+        refused("q1=45..-30deg", "starts above its end");
+        refused("-30..45deg", "names no joint");
+        refused("q1=-30deg", "is not a range");
+        refused("q1=-400..400deg", "beyond the joint's limits");
+        refused("", "no joint range");
+    }
+}
