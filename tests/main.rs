@@ -10,6 +10,7 @@ mod errors;
 mod front_ends;
 mod hardening;
 mod interchange;
+mod mistakes_cli;
 mod named_frames;
 mod region_cli;
 mod robust_cli;

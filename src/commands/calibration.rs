@@ -209,7 +209,11 @@ fn not_converged(identified: &Identified, advice: &str) -> Failure {
         .unwrap_or_else(|| "the identification did not converge".into());
     gecaro_app::AppError::plain(
         gecaro_app::ErrorKind::NotConverged,
-        format!("{failure}. {advice}"),
+        if advice.is_empty() {
+            format!("{failure}.")
+        } else {
+            format!("{failure}. {advice}")
+        },
     )
     .into()
 }
@@ -286,6 +290,8 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
             &identified,
             if args.output.is_some() && !args.write_unconverged {
                 "Nothing was written (--write-unconverged saves the best iterate)."
+            } else if identified.result.verdict.shifted_join.is_some() {
+                ""
             } else {
                 "Try --solver lm, more --max-iterations, or check the data."
             },

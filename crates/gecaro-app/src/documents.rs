@@ -704,10 +704,60 @@ pub struct VerdictJson {
     /// Blocks of consecutive observations that disagree with the rest: the
     /// cell changed during the measurement.
     pub changes: Vec<CellChangeJson>,
+    /// Every set's σ̂/σ at the solution (studies of several sets):
+    /// `{"label", "sigma_ratio"}`.
+    pub sets: Vec<SetFitJson>,
+    /// The set that disagrees with the rest, when the global test fails and
+    /// leaving it out makes the others fit.
+    pub disagreement: Option<DisagreementJson>,
+    /// A set whose measurements belong to other rows' configurations (a
+    /// join off by a few rows).
+    pub shifted_join: Option<ShiftedJoinJson>,
     /// Where the result holds: the calibrated robot's predicted error in
     /// the measured region and over the work region; `null` where no
     /// prediction is made (a study that does not measure the scale).
     pub region: Option<RegionJson>,
+}
+
+/// One set's fit at the solution.
+#[derive(Clone, Debug, Serialize)]
+pub struct SetFitJson {
+    /// The set's label.
+    pub label: String,
+    /// Its σ̂/σ.
+    pub sigma_ratio: f64,
+}
+
+/// The set of a study that disagrees with the rest (see
+/// [`gecaro_calib::identification::Disagreement`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct DisagreementJson {
+    /// The set (0-based).
+    pub set: usize,
+    /// Its label.
+    pub label: String,
+    /// σ̂/σ of the other sets identified without it.
+    pub rest_ratio: f64,
+    /// σ̂/σ of the study as a whole.
+    pub whole_ratio: f64,
+    /// The set's RMS error at the robot the others give (m).
+    pub error: f64,
+}
+
+/// A set joined a few rows off (see
+/// [`gecaro_calib::identification::ShiftedJoin`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct ShiftedJoinJson {
+    /// The set (0-based).
+    pub set: usize,
+    /// Its label.
+    pub label: String,
+    /// The measurement of row i belongs to the configuration of row i − shift.
+    pub shift: isize,
+    /// Residual RMS of the identification as read and with the shift.
+    pub rms_as_read: f64,
+    /// See `rms_as_read`.
+    pub rms_shifted: f64,
 }
 
 /// A block of consecutive observations of one set that disagrees with the
@@ -893,6 +943,28 @@ impl From<&Verdict> for VerdictJson {
                     chance: change.chance,
                 })
                 .collect(),
+            sets: verdict
+                .sets
+                .iter()
+                .map(|set| SetFitJson {
+                    label: set.label.clone(),
+                    sigma_ratio: set.sigma_ratio,
+                })
+                .collect(),
+            disagreement: verdict.disagreement.as_ref().map(|d| DisagreementJson {
+                set: d.set,
+                label: d.label.clone(),
+                rest_ratio: d.rest_ratio,
+                whole_ratio: d.whole_ratio,
+                error: d.error,
+            }),
+            shifted_join: verdict.shifted_join.as_ref().map(|join| ShiftedJoinJson {
+                set: join.set,
+                label: join.label.clone(),
+                shift: join.shift,
+                rms_as_read: join.rms_as_read,
+                rms_shifted: join.rms_shifted,
+            }),
             region: verdict.region.as_ref().map(|region| {
                 let ranges = |region: &gecaro_core::JointRegion| {
                     region.ranges().iter().map(|(a, b)| vec![*a, *b]).collect()

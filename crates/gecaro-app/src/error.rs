@@ -306,6 +306,12 @@ impl From<gecaro_calib::Error> for AppError {
                     error
                 }
             }
+            Calib::WrongUnit { quantity, unit, .. } => {
+                AppError::plain(ErrorKind::Input, error.to_string()).with_help(vec![
+                    Part::Text(format!("state the data's {quantity} unit: ")),
+                    Part::SettingValue(format!("{quantity}_unit"), unit.to_owned()),
+                ])
+            }
             Calib::UnknownMethod { .. } => AppError::plain(ErrorKind::Usage, error.to_string()),
             Calib::TooFewEquations { .. } => {
                 AppError::plain(ErrorKind::NotIdentifiable, error.to_string())

@@ -33,6 +33,17 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
+    /// The data's values are in another unit than the one they are read in
+    /// (joint angles in degrees read as radians), named before any fitting.
+    #[error("{message}")]
+    WrongUnit {
+        /// What is in the wrong unit: `angle` or `length`.
+        quantity: &'static str,
+        /// The unit the values look like they are in: `deg`, `mm`, …
+        unit: &'static str,
+        /// What is wrong, with the set.
+        message: String,
+    },
     /// Fewer independent equations than unknowns.
     #[error(
         "too few equations: the data give {equations} independent equations for {unknowns} \

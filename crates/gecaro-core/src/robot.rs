@@ -434,6 +434,45 @@ impl Robot {
         }
     }
 
+    /// Brings every angle (α, θ, β) within ±π of `reference`'s value of it
+    /// by whole turns, the same robot: an identification's steps may take an
+    /// angle the long way round (a joint zero 90° off written as 2250°).
+    ///
+    /// ```
+    /// use gecaro_core::{ParameterId, ParameterKind, Robot};
+    ///
+    /// let nominal = Robot::template("arm", "RR").unwrap();
+    /// let mut robot = nominal.clone();
+    /// let theta = ParameterId::new(ParameterKind::Theta, 2);
+    /// robot.set_parameter(theta, 1.5 + 6.0 * std::f64::consts::PI).unwrap();
+    /// robot.wrap_angles_near(&nominal);
+    /// assert!((robot.parameter(theta) - 1.5).abs() < 1e-12);
+    /// ```
+    pub fn wrap_angles_near(&mut self, reference: &Robot) {
+        use std::f64::consts::{PI, TAU};
+        let angles: Vec<ParameterId> = self
+            .parameters
+            .ids()
+            .iter()
+            .copied()
+            .filter(|id| {
+                matches!(
+                    id.kind,
+                    ParameterKind::Alpha | ParameterKind::Theta | ParameterKind::Beta
+                ) && reference.parameters.contains(*id)
+            })
+            .collect();
+        for id in angles {
+            let (value, near) = (self.parameter(id), reference.parameter(id));
+            let turns = ((value - near) / TAU).round();
+            let wrapped = value - TAU * turns;
+            if turns != 0.0 && (wrapped - near).abs() <= PI + 1e-12 {
+                // An angle is never a gain: assigning it cannot fail.
+                let _ = self.assign(id, wrapped);
+            }
+        }
+    }
+
     /// Adds `deltas` (vocabulary order) to the parameters: η ← η + Δη.
     ///
     /// # Errors

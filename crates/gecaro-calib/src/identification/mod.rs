@@ -65,15 +65,19 @@
 //! ([`Identification::outliers`]); with [`IdentificationOptions::reject`] they
 //! are dropped and the identification runs again on the rest, once.
 
+mod angle_unit;
+mod branch;
 mod change;
 mod coarse;
 mod coverage;
 mod curvature;
 mod data_scale;
+mod disagreement;
 mod evaluation;
 mod full_model;
 mod gauge;
 mod hayati;
+mod join;
 mod loads;
 mod observations;
 mod options;
@@ -113,8 +117,10 @@ use crate::study::{Study, StudyStates};
 pub use change::{CHANGE_LEVEL, CellChange, MIN_CHANGED};
 pub use coarse::COARSE_FRACTION;
 pub use coverage::{Coverage, MIN_REDUNDANCY, STILL_RANGE, UnobservedScale};
+pub use disagreement::{Disagreement, MAX_CONFIGURATIONS, MAX_SETS, MIN_SETS, SetFit};
 use evaluation::errors_at;
 pub use evaluation::{evaluate, evaluate_errors};
+pub use join::{FAR_BEYOND, MAX_SHIFT, ShiftedJoin};
 pub use observations::{ObservationLocation, locate_observations};
 pub use options::{DEFAULT_COARSE_FROM, DEFAULT_STREAMED_ROWS, IdentificationOptions, Solver};
 pub use outliers::{DEFAULT_OUTLIER_THRESHOLD, Outlier};
@@ -195,13 +201,27 @@ pub fn identify(
     observer: &mut dyn Observer,
 ) -> Result<Identification, Error> {
     options::check_options(robot, options)?;
+    angle_unit::check_angle_unit(robot, study)?;
     data_scale::check_data_scale(robot, study)?;
     let first = fit(robot, study, options, observer)?;
     // A block of outliers in a set's row order is a change of the cell,
     // whatever the loss or a rejection makes of them ([`change`]).
     let changes = change::cell_changes(study, &first.outliers);
+    // A study that exceeds the noise: the set that disagrees with the rest.
+    let disagreement = disagreement::disagreeing_set(study, &first, |without| {
+        fit(robot, without, options, &mut Quiet)
+    });
+    // A fit that fails far from the noise: a join off by a few rows?
+    let join = join::shifted_join(study, &first, |shifted| {
+        fit(robot, shifted, options, &mut Quiet)
+    });
+    let found = Found {
+        changes,
+        disagreement,
+        join,
+    };
     if !options.reject || first.outliers.is_empty() {
-        return Ok(judged(first, study, changes, options));
+        return Ok(judged(first, study, found, options));
     }
     let kept = outliers::inliers(study, &first.outliers);
     let mut refit = fit(robot, &kept, options, observer).map_err(|error| Error::Numerical {
@@ -219,20 +239,34 @@ pub fn identify(
         ),
     );
     refit.rejected = first.outliers;
-    Ok(judged(refit, &kept, changes, options))
+    Ok(judged(refit, &kept, found, options))
+}
+
+/// What the data say beyond the first fit, for the verdict.
+struct Found {
+    /// Blocks of outliers in a set's row order.
+    changes: Vec<change::CellChange>,
+    /// The set that disagrees with the rest.
+    disagreement: Option<Disagreement>,
+    /// A set joined a few rows off.
+    join: Option<ShiftedJoin>,
 }
 
 /// `result` (of `study`) with the verdict on what the data say beyond its
-/// fit: the cell's `changes` during the measurement ([`change`]), and where
+/// fit: the cell's `changes` during the measurement ([`change`]), the set
+/// that disagrees with the rest ([`disagreement`]), a join off by a few
+/// rows ([`join`]), and where
 /// the result holds ([`region`]), its predicted error in the measured
 /// region and over the work region.
 fn judged(
     mut result: Identification,
     study: &Study,
-    changes: Vec<change::CellChange>,
+    found: Found,
     options: &IdentificationOptions,
 ) -> Identification {
-    result.verdict.changes = changes;
+    result.verdict.changes = found.changes;
+    result.verdict.disagreement = found.disagreement;
+    result.verdict.shifted_join = found.join;
     result.verdict.outlier_threshold = options.outlier_threshold;
     result.verdict.region = region::where_it_holds(study, &result, options.work_region.as_ref());
     result.warnings.extend(
@@ -753,8 +787,15 @@ fn fit_pass(
             Some(scale)
         };
         let given_loads_cost = reweighted.run.best.system.measured_cost();
-        let (reweighted, loaded) = loads::follow_the_loads(&problem, reweighted, &mut states)?;
+        let (mut reweighted, loaded) = loads::follow_the_loads(&problem, reweighted, &mut states)?;
         let problem = problem.with_study(loaded.as_ref().unwrap_or(study));
+        // The same fit written the way nearest to the nominal ([`branch`]).
+        if let Some(nearer) = branch::nearest_branch(nominal, &reweighted.run.best.robot) {
+            let weighted = problem.with_weighting(reweighted.weighting.clone());
+            let auxiliary = reweighted.run.best.auxiliary.clone();
+            reweighted.run.best =
+                weighted.assemble(&nearer, &auxiliary, &weighted.layout, &mut states)?;
+        }
         let mut result = summarise(
             &problem,
             nominal,
@@ -917,7 +958,7 @@ fn summarise(
 ) -> Result<Identification, Error> {
     let Reweighted {
         run: Run {
-            best,
+            mut best,
             history: updates,
             stop,
         },
@@ -925,6 +966,9 @@ fn summarise(
         statistics,
         reweightings,
     } = reweighted;
+    // Whole turns are the same robot: every angle within ±π of its nominal
+    // value (a joint zero 90° off was written 2250° off, the long way round).
+    best.robot.wrap_angles_near(nominal);
     let (robot, study, options) = (nominal, problem.study, problem.options);
     let prior_std = |column: usize| {
         weighting
@@ -1125,6 +1169,11 @@ fn summarise(
             data_cost: tested.cost,
             degrees_of_freedom: tested.freedom,
             unknowns: columns - problem.joined,
+            sets: if study.sets.len() > 1 {
+                disagreement::set_fits(study, &best.system, tested.freedom)
+            } else {
+                Vec::new()
+            },
             implausible,
             coverage,
             repeats,

@@ -242,8 +242,15 @@ fn judge_parameter(
                 .to_owned(),
         });
     }
+    // A joint's θ turned far is its zero, before any guess at its cause;
+    // a combination only when no member can carry it (a tool turned any
+    // way carries the last joint's).
     if p.is_regrouped() {
-        return judge_expanded(written, p, id, size);
+        let found = judge_expanded(written, p, id, size)?;
+        return Some(joint_zero(written, p, id).unwrap_or(found));
+    }
+    if let Some(zero) = joint_zero(written, p, id) {
+        return Some(zero);
     }
     if id.kind == ParameterKind::Compliance {
         return judge_compliance(p);
@@ -286,6 +293,55 @@ fn judge_parameter(
         name: p.name.clone(),
         why,
         cause,
+    })
+}
+
+/// A joint's zero far from the robot file's: θ_j of a revolute joint j ≥ 2
+/// (its offset, eq. 4; as such or carrying a combination) turned by more
+/// than [`ANGLE_LIMIT`], well determined. Nothing else a calibration finds
+/// turns a joint's θ that far: the joint is mastered (zeroed) elsewhere
+/// than the file says, often by a quarter or half turn. Named with the
+/// angle wrapped to ±180°, before any guess at excitation. Joint 1's θ also
+/// places the robot in the measurement frame (a tracker turned any way
+/// about the robot's axis 1): no external measurement sees its zero.
+fn joint_zero(
+    written: &Written<'_>,
+    p: &IdentifiedParameter,
+    id: ParameterId,
+) -> Option<Implausible> {
+    use std::f64::consts::TAU;
+    let robot = written.nominal;
+    let joint = (2..=robot.joint_count()).contains(&id.frame)
+        && robot.frames()[id.frame].frame_type == gecaro_core::FrameType::Revolute;
+    if id.kind != ParameterKind::Theta || !joint {
+        return None;
+    }
+    let deviation = p.identified - p.nominal;
+    let turned = deviation - TAU * (deviation / TAU).round();
+    let determined = p.std.is_finite() && turned.abs() > 3.0 * p.std;
+    if turned.abs() <= ANGLE_LIMIT || !determined {
+        return None;
+    }
+    let degrees = turned.to_degrees();
+    let quarter = (degrees / 90.0).round() * 90.0;
+    let near_quarter = (degrees - quarter).abs() < 5.0;
+    Some(Implausible {
+        name: p.name.clone(),
+        why: format!(
+            "joint {}'s zero is {degrees:+.1}° from the robot file's (wrapped to ±180°)",
+            id.frame
+        ),
+        cause: format!(
+            "a mastering question: joint {} is zeroed elsewhere than the robot file says{}; \
+             check its zero mark and the file's θ{} (or offset), then identify again",
+            id.frame,
+            if near_quarter {
+                format!(" (by {quarter:+.0}°: a mark read a quarter or half turn off?)")
+            } else {
+                String::new()
+            },
+            id.frame
+        ),
     })
 }
 

@@ -263,8 +263,14 @@ impl Identification {
     /// exceeds the stated noise is a solution, and says so in its verdict).
     pub fn failure(&self) -> Option<String> {
         if self.stop_reason != StopReason::Converged {
+            let cause = self
+                .verdict
+                .shifted_join
+                .as_ref()
+                .map_or_else(String::new, |join| format!(": {}", join.words()));
             return Some(format!(
-                "the identification did not converge ({}) after {} iterations; best residual RMS {:.3e}",
+                "the identification did not converge ({}) after {} iterations; best residual RMS \
+                 {:.3e}{cause}",
                 self.stop_reason.as_str().replace('_', " "),
                 self.iterations(),
                 self.rms_after(),

@@ -59,6 +59,8 @@
 
 use super::change::CellChange;
 use super::coverage::Coverage;
+use super::disagreement::{Disagreement, SetFit};
+use super::join::ShiftedJoin;
 use super::region::RegionPrediction;
 use super::repeats::Repeats;
 use super::words;
@@ -243,6 +245,14 @@ pub struct Verdict {
     pub changes: Vec<CellChange>,
     /// The outlier threshold the changes were found at (robust σ̂).
     pub outlier_threshold: f64,
+    /// Every set's σ̂/σ at the solution (studies of several sets).
+    pub sets: Vec<SetFit>,
+    /// The set that disagrees with the rest, when the global test fails
+    /// and leaving one set out makes the others fit.
+    pub disagreement: Option<Disagreement>,
+    /// A set whose measurements belong to other rows' configurations (a
+    /// join off by a few rows), when the fit failed far from the noise.
+    pub shifted_join: Option<ShiftedJoin>,
     /// Where the result holds: its predicted error in the measured region
     /// and over the work region (`None` where no prediction is made).
     pub region: Option<RegionPrediction>,
@@ -275,6 +285,8 @@ pub(super) struct Evidence<'a> {
     pub(super) degrees_of_freedom: usize,
     /// Identified unknowns.
     pub(super) unknowns: usize,
+    /// Every set's σ̂/σ at the solution.
+    pub(super) sets: Vec<SetFit>,
     /// Values of the written robot that no real robot has.
     pub(super) implausible: Vec<Implausible>,
     /// What the data determine and the methods observe.
@@ -306,6 +318,9 @@ impl Verdict {
             coverage: evidence.coverage,
             changes: Vec::new(),
             outlier_threshold: super::DEFAULT_OUTLIER_THRESHOLD,
+            sets: evidence.sets,
+            disagreement: None,
+            shifted_join: None,
             region: None,
             summary: String::new(),
         };
@@ -385,13 +400,19 @@ impl Verdict {
                     Outcome::ExceedsNoise,
                     format!(
                         "the residuals are {:.1}× the stated noise (global test at {:.0} %: χ² \
-                         {:.1} > {:.1} for {} degrees of freedom): the model, the data or the \
-                         stated σ is wrong",
+                         {:.1} > {:.1} for {} degrees of freedom): {}",
                         test.sigma_ratio,
                         NOISE_TEST_LEVEL * 100.0,
                         test.chi_square,
                         test.critical,
-                        test.degrees_of_freedom
+                        test.degrees_of_freedom,
+                        self.shifted_join
+                            .as_ref()
+                            .map(ShiftedJoin::words)
+                            .or_else(|| self.disagreement.as_ref().map(Disagreement::words))
+                            .unwrap_or_else(
+                                || "the model, the data or the stated σ is wrong".to_owned(),
+                            )
                     ),
                 ));
             } else if test.below() {
