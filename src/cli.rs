@@ -771,6 +771,12 @@ pub(crate) struct IdentifyArgs {
     /// Write the best iterate even when the identification did not converge.
     #[arg(long)]
     pub(crate) write_unconverged: bool,
+    /// Also compare the model with the next smaller one (full → no-gains →
+    /// kinematic → offsets) by region folds, the ends of each joint's
+    /// measured range held out, and suggest it when it predicts better
+    /// (5–10× the identification's time).
+    #[arg(long)]
+    pub(crate) check_model: bool,
     /// Print JSON instead of tables.
     #[arg(long)]
     pub(crate) json: bool,
@@ -781,6 +787,11 @@ pub(crate) struct IdentifyArgs {
     /// Seed of the cross-validation folds.
     #[arg(long, default_value_t = 1)]
     pub(crate) seed: u64,
+    /// How the folds hold observations out: random (default:
+    /// interpolation) or regions (the ends of each joint's measured range:
+    /// extrapolation).
+    #[arg(long, value_parser = names(&gecaro_calib::validation::Folds::NAMES), default_value = "random", requires = "cv")]
+    pub(crate) folds_by: String,
 }
 
 #[derive(Debug, Args)]
@@ -798,9 +809,15 @@ pub(crate) struct CompareModelsArgs {
     /// Folds of the cross-validation.
     #[arg(long, value_name = "K", default_value_t = 5)]
     pub(crate) cv: usize,
-    /// Seed of the folds (the same folds for every model).
+    /// Seed of the folds (the same folds for every model; random folds).
     #[arg(long, default_value_t = 1)]
     pub(crate) seed: u64,
+    /// How the folds hold observations out: regions (the lowest and the
+    /// highest 1/K of each joint's measured range in turn, so that a
+    /// parameter that only interpolates loses) or random (rows dealt at
+    /// random: interpolation).
+    #[arg(long, value_parser = names(&gecaro_calib::validation::Folds::NAMES), default_value = "regions")]
+    pub(crate) folds_by: String,
     /// Print JSON instead of a table.
     #[arg(long)]
     pub(crate) json: bool,

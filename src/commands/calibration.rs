@@ -244,6 +244,8 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
     let mut request = request(&args.run)?;
     request.cv = args.cv;
     request.seed = Some(args.seed);
+    request.folds_by = Some(args.folds_by.clone());
+    request.check_model = args.check_model;
     let outputs: Vec<&Path> = args
         .output
         .iter()
@@ -255,10 +257,11 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         super::output::print_json(&identified.document())?;
     } else {
         print_identification(&identified);
-        if let Some((validation, seed)) = &identified.cross_validation {
-            super::validation::print_cross_validation(validation, *seed);
+        if let Some(validation) = &identified.cross_validation {
+            super::validation::print_cross_validation(validation);
         }
     }
+    super::options::print_notes(&identified.advice_notes());
     // Written atomically, never over a file without --force; said unless --json.
     let write = |path: &Path, text: String, what: &str| -> Result<(), Failure> {
         gecaro_io::write_atomically(path, text.as_bytes(), output_policy(args.force))?;

@@ -2,7 +2,7 @@
 //! the judge of an identification and of the model (docs/methods.md).
 
 use gecaro_app::{CompareModelsRequest, LocalFiles};
-use gecaro_calib::validation::CrossValidation;
+use gecaro_calib::validation::{CrossValidation, Folds};
 
 use super::options::{fit_settings, measurements, print_notes};
 use super::progress::with_steps;
@@ -18,17 +18,31 @@ fn degrees(radians: Option<f64>) -> String {
     radians.map_or("–".into(), |r| format!("{:.4}", r.to_degrees()))
 }
 
+/// How `folds` (`count` of them) held the observations out, in words.
+fn folds_words(folds: Folds, count: usize) -> String {
+    match folds {
+        Folds::Random { count, seed } => format!(
+            "{count}-fold cross-validation by random rows (seed {seed}; interpolation: every \
+             held-out pose has measured neighbours)"
+        ),
+        Folds::Regions { count: parts } => format!(
+            "{count} folds by region (the lowest and the highest 1/{parts} of each joint's \
+             measured range held out in turn: extrapolation)"
+        ),
+    }
+}
+
 /// The per-fold table and the pooled held-out error.
-pub(super) fn print_cross_validation(validation: &CrossValidation, seed: u64) {
+pub(super) fn print_cross_validation(validation: &CrossValidation) {
     let rotation = validation.rms_rotation.is_some();
     let mut header = vec!["fold", "held out", "training RMS (mm)", "held-out RMS (mm)"];
     if rotation {
         header.push("held-out RMS (°)");
     }
     let mut rows = table(&header, 1);
-    for (index, fold) in validation.folds.iter().enumerate() {
+    for fold in &validation.folds {
         let mut row = vec![
-            (index + 1).to_string(),
+            fold.label.clone(),
             fold.held_out.to_string(),
             millimetres(fold.training_rms),
             millimetres(fold.rms),
@@ -39,8 +53,8 @@ pub(super) fn print_cross_validation(validation: &CrossValidation, seed: u64) {
         rows.add_row(row);
     }
     println!(
-        "Cross-validation, {} folds (seed {seed}; sets and pairs kept whole):\n{rows}",
-        validation.folds.len()
+        "Cross-validation, {} (sets and pairs kept whole):\n{rows}",
+        folds_words(validation.folds_by, validation.folds.len())
     );
     println!(
         "Held-out RMS over every fold: {} mm{}",
@@ -62,6 +76,7 @@ pub(crate) fn compare(args: &CompareModelsArgs) -> Result<(), Failure> {
     // A --model other than full is refused by the comparison itself.
     request.settings = fit_settings(&args.run);
     request.seed = Some(args.seed);
+    request.folds_by = Some(args.folds_by.clone());
     let comparison = with_steps("comparing models (folds)", |observer| {
         request.run(&LocalFiles, observer)
     });
@@ -110,12 +125,14 @@ pub(crate) fn compare(args: &CompareModelsArgs) -> Result<(), Failure> {
         rows.add_row(row);
     }
     println!(
-        "Models of {} on {} ({} method), {}-fold cross-validation (seed {}), best first:\n{rows}",
+        "Models of {} on {} ({} method), {}, best first:\n{rows}",
         comparison.loaded.robot.robot.name(),
         comparison.loaded.label,
         comparison.loaded.study.method_names(),
-        comparison.folds,
-        comparison.seed
+        folds_words(
+            comparison.folds,
+            scores.first().map_or(0, |s| s.validation.folds.len())
+        ),
     );
     if let Some(best) = scores.first() {
         println!(

@@ -534,6 +534,40 @@ pub struct IdentificationJson {
     /// against the robot file (the registration a cell's user reads first).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub registration: Option<RegistrationJson>,
+    /// Other models that would do better, with their figures (the elastic
+    /// model where the robot file has masses and the rigid fit exceeds the
+    /// noise; with `check_model`, the next smaller model).
+    pub model_advice: Vec<ModelAdviceJson>,
+}
+
+/// Another model that would do better (see [`crate::ModelAdvice`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct ModelAdviceJson {
+    /// The model suggested.
+    pub model: String,
+    /// The model identified.
+    pub instead_of: String,
+    /// The suggested model's σ̂/σ, when σ was stated.
+    pub sigma_ratio: Option<f64>,
+    /// The identified model's σ̂/σ.
+    pub instead_ratio: Option<f64>,
+    /// The suggested model's error held out by region (m).
+    pub held_out: f64,
+    /// The identified model's (m).
+    pub instead_held_out: f64,
+}
+
+impl From<&crate::ModelAdvice> for ModelAdviceJson {
+    fn from(advice: &crate::ModelAdvice) -> Self {
+        ModelAdviceJson {
+            model: advice.model.clone(),
+            instead_of: advice.instead_of.clone(),
+            sigma_ratio: advice.sigma_ratio,
+            instead_ratio: advice.instead_ratio,
+            held_out: advice.held_out,
+            instead_held_out: advice.instead_held_out,
+        }
+    }
 }
 
 /// A pose: origin (m) and roll, pitch, yaw (rad).
@@ -611,6 +645,8 @@ impl RegistrationJson {
 /// One fold of a cross-validation.
 #[derive(Clone, Debug, Serialize)]
 pub struct FoldJson {
+    /// What the fold holds out: `fold 3`, or `q1 ≥ 101.5°`.
+    pub label: String,
     /// Observations held out.
     pub held_out: usize,
     /// RMS position-like error of the training observations (m).
@@ -624,10 +660,13 @@ pub struct FoldJson {
 /// A K-fold cross-validation (docs/methods.md).
 #[derive(Clone, Debug, Serialize)]
 pub struct CrossValidationJson {
+    /// How the observations were held out: `regions` (the ends of each
+    /// joint's measured range: extrapolation) or `random` (interpolation).
+    pub by: &'static str,
     /// Number of folds.
     pub folds: usize,
-    /// The seed of the folds.
-    pub seed: u64,
+    /// The seed of random folds.
+    pub seed: Option<u64>,
     /// Held-out RMS over every held-out observation (m).
     pub rms: f64,
     /// Held-out RMS orientation error (rad), for data with orientations.
@@ -637,17 +676,22 @@ pub struct CrossValidationJson {
 }
 
 impl CrossValidationJson {
-    /// The document of `validation`, made with `seed`.
-    pub fn new(validation: &gecaro_calib::validation::CrossValidation, seed: u64) -> Self {
+    /// The document of `validation`.
+    pub fn new(validation: &gecaro_calib::validation::CrossValidation) -> Self {
         CrossValidationJson {
+            by: validation.folds_by.name(),
             folds: validation.folds.len(),
-            seed,
+            seed: match validation.folds_by {
+                gecaro_calib::validation::Folds::Random { seed, .. } => Some(seed),
+                gecaro_calib::validation::Folds::Regions { .. } => None,
+            },
             rms: validation.rms,
             rms_rotation: validation.rms_rotation,
             per_fold: validation
                 .folds
                 .iter()
                 .map(|fold| FoldJson {
+                    label: fold.label.clone(),
                     held_out: fold.held_out,
                     training_rms: fold.training_rms,
                     rms: fold.rms,
@@ -1045,6 +1089,7 @@ impl IdentificationJson {
             }),
             cross_validation: None,
             registration: None,
+            model_advice: Vec::new(),
         }
     }
 }

@@ -12,7 +12,9 @@ use gecaro_calib::identification::{
     ErrorSummary, Identification, IdentificationOptions, ObservationErrors, evaluate_errors,
     identify,
 };
-use gecaro_calib::validation::{CrossValidation, ModelScore, compare_models, cross_validate};
+use gecaro_calib::validation::{
+    CrossValidation, Folds, ModelScore, compare_models, cross_validate_by,
+};
 use gecaro_io::RobotFile;
 use gecaro_report::{
     ReportInput, error_histograms_svg, errors_per_configuration_svg, html_report,
@@ -20,11 +22,14 @@ use gecaro_report::{
 };
 use serde::{Deserialize, Serialize};
 
-use crate::documents::{CrossValidationJson, IdentificationJson, ModelScoreJson, RegistrationJson};
+use crate::documents::{
+    CrossValidationJson, IdentificationJson, ModelAdviceJson, ModelScoreJson, RegistrationJson,
+};
 use crate::error::{AppError, ErrorKind, Part};
 use crate::files::Files;
 use crate::limits::MAX_FOLDS;
 use crate::measurements::{Data, Loaded, Measurements, Note, Unknown};
+use crate::model_advice::ModelAdvice;
 use crate::robot_files::calibrated_robot_file;
 use crate::settings::{FitSettings, model};
 use crate::sources::RobotSource;
@@ -42,6 +47,14 @@ pub struct IdentifyRequest {
     pub cv: Option<usize>,
     /// Seed of the folds (default 1).
     pub seed: Option<u64>,
+    /// How the folds hold observations out: `random` (default:
+    /// interpolation) or `regions` (the ends of each joint's range:
+    /// extrapolation).
+    pub folds_by: Option<String>,
+    /// Also compare the model with the next smaller one by region folds,
+    /// and suggest it when it predicts better ([`ModelAdvice`]).
+    #[serde(default)]
+    pub check_model: bool,
     #[serde(flatten)]
     unknown: Unknown,
 }
@@ -53,8 +66,29 @@ pub struct PreparedIdentification {
     pub loaded: Loaded,
     /// The library's settings.
     pub options: IdentificationOptions,
-    /// Folds and seed of the cross-validation, if asked for.
-    pub cross_validation: Option<(usize, u64)>,
+    /// The folds of the cross-validation, if asked for.
+    pub cross_validation: Option<Folds>,
+    /// The model's name, when it is compared with the next smaller one
+    /// ([`IdentifyRequest::check_model`]).
+    pub check_model: Option<String>,
+}
+
+/// The folds `folds_by` names (`default` when not given), `count` of them,
+/// with `seed`.
+fn folds_by(
+    folds_by: Option<&str>,
+    default: &str,
+    count: usize,
+    seed: u64,
+) -> Result<Folds, AppError> {
+    let name = folds_by.map_or(default, str::trim);
+    Folds::from_name(name, folds(count)?, seed).ok_or_else(|| {
+        AppError::setting_value(
+            "folds_by",
+            name,
+            format!("one of {}", Folds::NAMES.join(", ")),
+        )
+    })
 }
 
 /// Checks a number of folds.
@@ -86,7 +120,12 @@ impl IdentifyRequest {
     pub fn prepare(&self, files: &dyn Files) -> Result<PreparedIdentification, AppError> {
         self.unknown.check()?;
         let cross_validation = match self.cv {
-            Some(count) => Some((folds(count)?, self.seed.unwrap_or(1))),
+            Some(count) => Some(folds_by(
+                self.folds_by.as_deref(),
+                "random",
+                count,
+                self.seed.unwrap_or(1),
+            )?),
             None => None,
         };
         let mut loaded = self.measurements.load(files, Data::Required)?;
@@ -95,10 +134,17 @@ impl IdentifyRequest {
         }
         loaded.study.check(&loaded.robot.robot)?;
         let options = self.settings.options(&loaded, files)?;
+        let check_model = self.check_model.then(|| {
+            loaded
+                .model(self.settings.model.as_deref())
+                .unwrap_or("full")
+                .to_owned()
+        });
         Ok(PreparedIdentification {
             loaded,
             options,
             cross_validation,
+            check_model,
         })
     }
 
@@ -162,13 +208,14 @@ impl PreparedIdentification {
     /// # Errors
     /// A fold that cannot be identified, an interruption.
     pub fn cross_validate(&self, observer: &mut dyn Observer) -> Result<CrossValidation, AppError> {
-        let (folds, seed) = self.cross_validation.unwrap_or((2, 1));
-        Ok(cross_validate(
+        let folds = self
+            .cross_validation
+            .unwrap_or(Folds::Random { count: 2, seed: 1 });
+        Ok(cross_validate_by(
             &self.loaded.robot.robot,
             &self.loaded.study,
             &self.options,
             folds,
-            seed,
             observer,
         )?)
     }
@@ -192,14 +239,33 @@ impl PreparedIdentification {
                     .0;
         }
         let cross_validation = match self.cross_validation {
-            Some((_, seed)) => Some((self.cross_validate(observer)?, seed)),
+            Some(_) => Some(self.cross_validate(observer)?),
             None => None,
         };
+        // Another model that would do better, with its figures.
+        let mut advice = Vec::new();
+        if result.verdict.outcome.solved() {
+            advice.extend(crate::model_advice::elastic_advice(
+                &self.loaded,
+                &self.options,
+                &result,
+                observer,
+            )?);
+            if let Some(name) = &self.check_model {
+                advice.extend(crate::model_advice::smaller_model_advice(
+                    &self.loaded,
+                    &self.options,
+                    name,
+                    observer,
+                )?);
+            }
+        }
         Ok(Identified {
             loaded: self.loaded,
             options: self.options,
             result,
             cross_validation,
+            advice,
         })
     }
 }
@@ -213,8 +279,10 @@ pub struct Identified {
     pub options: IdentificationOptions,
     /// The library's result.
     pub result: Identification,
-    /// The cross-validation and its seed, if asked for.
-    pub cross_validation: Option<(CrossValidation, u64)>,
+    /// The cross-validation, if asked for.
+    pub cross_validation: Option<CrossValidation>,
+    /// Other models that would do better, with their figures.
+    pub advice: Vec<ModelAdvice>,
 }
 
 /// The plots of an identification, as SVG.
@@ -229,15 +297,18 @@ pub struct Plots {
 }
 
 impl Identified {
+    /// The advice of other models as notes, in each front end's words.
+    pub fn advice_notes(&self) -> Vec<Note> {
+        self.advice.iter().map(ModelAdvice::note).collect()
+    }
+
     /// The JSON document (`gecaro identify --json`, the web page's result,
     /// Python's `to_dict()`).
     pub fn document(&self) -> IdentificationJson {
         let mut document = IdentificationJson::new(&self.loaded.study, &self.result);
-        document.cross_validation = self
-            .cross_validation
-            .as_ref()
-            .map(|(validation, seed)| CrossValidationJson::new(validation, *seed));
+        document.cross_validation = self.cross_validation.as_ref().map(CrossValidationJson::new);
         document.registration = Some(self.registration());
+        document.model_advice = self.advice.iter().map(ModelAdviceJson::from).collect();
         document
     }
 
@@ -357,6 +428,10 @@ pub struct CompareModelsRequest {
     pub cv: usize,
     /// Seed of the folds (the same for every model).
     pub seed: Option<u64>,
+    /// How the folds hold observations out: `regions` (default: the ends
+    /// of each joint's range, so that what only interpolates loses) or
+    /// `random` (interpolation).
+    pub folds_by: Option<String>,
     #[serde(flatten)]
     unknown: Unknown,
 }
@@ -371,10 +446,8 @@ pub struct ModelComparison {
     /// For each score: what it identifies beyond the next smaller model, or
     /// which model it identifies the same parameters as.
     pub adds: Vec<Vec<String>>,
-    /// Folds and seed.
-    pub folds: usize,
-    /// The seed of the folds.
-    pub seed: u64,
+    /// The folds every model was judged on.
+    pub folds: Folds,
 }
 
 impl CompareModelsRequest {
@@ -386,6 +459,7 @@ impl CompareModelsRequest {
             models,
             cv,
             seed: None,
+            folds_by: None,
             unknown: Unknown::default(),
         }
     }
@@ -418,8 +492,12 @@ impl CompareModelsRequest {
                 Part::Text(" kinematic,no-gains,full".into()),
             ]));
         }
-        let folds = folds(self.cv)?;
-        let seed = self.seed.unwrap_or(1);
+        let folds = folds_by(
+            self.folds_by.as_deref(),
+            "regions",
+            self.cv,
+            self.seed.unwrap_or(1),
+        )?;
         let mut loaded = self.measurements.load(files, Data::Required)?;
         // The candidates are the models compared, not the study's.
         loaded.model = None;
@@ -444,22 +522,13 @@ impl CompareModelsRequest {
         if models.is_empty() {
             return Err(AppError::setting("models", "no model given"));
         }
-        let scores = compare_models(
-            robot,
-            &loaded.study,
-            &options,
-            &models,
-            folds,
-            seed,
-            observer,
-        )?;
+        let scores = compare_models(robot, &loaded.study, &options, &models, folds, observer)?;
         let adds = additions(&scores);
         Ok(ModelComparison {
             loaded,
             scores,
             adds,
             folds,
-            seed,
         })
     }
 }
@@ -474,7 +543,7 @@ impl ModelComparison {
                 model: score.model.to_string(),
                 parameters: score.validation.parameters.clone(),
                 adds: adds.clone(),
-                cross_validation: CrossValidationJson::new(&score.validation, self.seed),
+                cross_validation: CrossValidationJson::new(&score.validation),
             })
             .collect()
     }

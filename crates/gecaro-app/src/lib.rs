@@ -78,6 +78,7 @@ pub mod limits;
 mod loads;
 mod measurements;
 mod method;
+mod model_advice;
 mod plan;
 mod rebase;
 mod residuals;
@@ -108,6 +109,7 @@ pub use interchange::{
 };
 pub use measurements::{Data, Loaded, LoadedStudy, Measurements, Note, StudySource};
 pub use method::{MethodSpec, parse_name};
+pub use model_advice::{BETTER, ModelAdvice};
 pub use plan::{
     AccuracyCurve, PlanRequest, Planned, Planning, PredictRequest, Predicted, TestPoses,
 };

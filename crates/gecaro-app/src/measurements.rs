@@ -181,9 +181,13 @@ impl Note {
     }
 
     pub(crate) fn warning(message: impl Into<String>) -> Self {
+        Note::warning_parts(vec![Part::Text(message.into())])
+    }
+
+    pub(crate) fn warning_parts(message: Vec<Part>) -> Self {
         Note {
             warning: true,
-            message: vec![Part::Text(message.into())],
+            message,
         }
     }
 

@@ -1,15 +1,29 @@
 //! Held-out error as the judge: K-fold cross-validation of an
 //! identification, and the choice of the model by it.
 //!
-//! **Folds.** The units of each measurement set — a configuration, or a
-//! whole link set or distance pair, so that a set is never split — are
-//! shuffled (seeded) and dealt to K folds in turn, one set after the other,
-//! so that each fold holds about 1/K of every set. Fold k identifies on the
-//! other K − 1 folds and measures the calibrated robot's errors on fold k
-//! with [`crate::identification::evaluate`] (the distance to the measured point, the scatter
-//! of a held-out link set about its own mean, the distance to a held-out
-//! plane, the distance error of a pair). The overall held-out RMS pools every
-//! held-out observation.
+//! **Folds** ([`Folds`]). The unit held out is a configuration, or a whole
+//! link set or distance pair, so that a set is never split. Each fold
+//! identifies on the units it keeps and measures the calibrated robot's
+//! errors on those it holds out with [`crate::identification::evaluate`]
+//! (the distance to the measured point, the scatter of a held-out link set
+//! about its own mean, the distance to a held-out plane, the distance error
+//! of a pair). The overall held-out RMS pools every held-out observation.
+//!
+//! - **Random** folds ([`Folds::Random`]): the units of each set are
+//!   shuffled (seeded) and dealt to K folds in turn, so that each fold holds
+//!   about 1/K of every set. Every held-out unit has measured neighbours:
+//!   this tests *interpolation*, and ranks first whatever fits the measured
+//!   region best.
+//! - **Regions** ([`Folds::Regions`]): a calibration is used in a workspace
+//!   it was not measured in, and a parameter that only interpolates (a gain
+//!   over a narrow range of its joint) fits the region and misleads beyond
+//!   it. So each fold holds out one end of one joint's measured range: the
+//!   units whose joint value lies in the lowest, or the highest, 1/K of the
+//!   range the data cover (each unit judged at its first configuration's
+//!   joint variables, eq. 4 of the nominal robot), two folds per joint that
+//!   moved. A unit may be held out by several folds (a corner of the
+//!   workspace) or by none (its middle): the score is the RMS over every
+//!   held-out error, as for random folds.
 //!
 //! **Models.** A model is a priority matrix: which parameters may be
 //! identified at all ([`Model`]). The full model fits the training data best
@@ -31,9 +45,59 @@ use crate::progress::{Observer, Progress, Quiet, report};
 use crate::sampler::Sampler;
 use crate::study::Study;
 
+/// How observations are held out (see the module docs).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum Folds {
+    /// `count` folds of units dealt at random, seeded: interpolation.
+    Random {
+        /// The number of folds.
+        count: usize,
+        /// The seed of the deal.
+        seed: u64,
+    },
+    /// The ends of each joint's measured range, 1/`count` of it at each
+    /// end, one fold per end: extrapolation.
+    Regions {
+        /// The range's parts: each end holds out 1/`count` of it.
+        count: usize,
+    },
+}
+
+impl Folds {
+    /// The names users give the two kinds: `regions`, `random`.
+    pub const NAMES: [&'static str; 2] = ["regions", "random"];
+
+    /// The folds of kind `name` ([`NAMES`](Self::NAMES)) with `count`
+    /// parts and `seed` (random folds only).
+    pub fn from_name(name: &str, count: usize, seed: u64) -> Option<Self> {
+        match name {
+            "regions" => Some(Folds::Regions { count }),
+            "random" => Some(Folds::Random { count, seed }),
+            _ => None,
+        }
+    }
+
+    /// `regions` or `random`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Folds::Regions { .. } => "regions",
+            Folds::Random { .. } => "random",
+        }
+    }
+
+    /// The number of folds, or of parts of a range.
+    pub fn count(self) -> usize {
+        match self {
+            Folds::Regions { count } | Folds::Random { count, .. } => count,
+        }
+    }
+}
+
 /// The held-out errors of one fold.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Fold {
+    /// What the fold holds out: `fold 3`, or `q1 ≥ 1.82 rad`.
+    pub label: String,
     /// Observations held out (configurations, or pairs).
     pub held_out: usize,
     /// Training residual: RMS position-like error of the training observations (m).
@@ -55,6 +119,8 @@ pub struct CrossValidation {
     pub rms_rotation: Option<f64>,
     /// Identified parameters of the first fold's fit (the model's size).
     pub parameters: Vec<String>,
+    /// How the observations were held out.
+    pub folds_by: Folds,
 }
 
 /// K-fold cross-validation of `identify(robot, study, options)`; see the
@@ -73,22 +139,54 @@ pub fn cross_validate(
     seed: u64,
     observer: &mut dyn Observer,
 ) -> Result<CrossValidation, Error> {
-    let assignment = fold_assignment(study, folds, seed)?;
-    let mut results = Vec::with_capacity(folds);
+    cross_validate_by(
+        robot,
+        study,
+        options,
+        Folds::Random { count: folds, seed },
+        observer,
+    )
+}
+
+/// Cross-validation of `identify(robot, study, options)` with the `folds`
+/// asked for (see the module docs); each finished fold is reported to
+/// `observer` ([`Progress::Step`]).
+///
+/// # Errors
+/// As [`cross_validate`]; region folds on data whose joints did not move.
+pub fn cross_validate_by(
+    robot: &Robot,
+    study: &Study,
+    options: &IdentificationOptions,
+    folds: Folds,
+    observer: &mut dyn Observer,
+) -> Result<CrossValidation, Error> {
+    let held_out_by = match folds {
+        Folds::Random { count, seed } => {
+            let assignment = fold_assignment(study, count, seed)?;
+            (0..count)
+                .map(|fold| {
+                    let dropped = study
+                        .sets
+                        .iter()
+                        .enumerate()
+                        .map(|(set, measurement)| {
+                            (0..measurement.samples.len())
+                                .filter(|sample| assignment[set][*sample] == fold)
+                                .collect()
+                        })
+                        .collect();
+                    (format!("fold {}", fold + 1), dropped)
+                })
+                .collect()
+        }
+        Folds::Regions { count } => region_folds(robot, study, count)?,
+    };
+    let total = held_out_by.len();
+    let mut results = Vec::with_capacity(total);
     let mut parameters = Vec::new();
     let (mut squares, mut rotation_squares, mut count) = (0.0, 0.0, 0);
-    for fold in 0..folds {
-        let in_fold = |set: usize, sample: usize| assignment[set][sample] == fold;
-        let dropped: Vec<Vec<usize>> = study
-            .sets
-            .iter()
-            .enumerate()
-            .map(|(set, measurement)| {
-                (0..measurement.samples.len())
-                    .filter(|sample| in_fold(set, *sample))
-                    .collect()
-            })
-            .collect();
+    for (fold, (label, dropped)) in held_out_by.into_iter().enumerate() {
         let training = study.without_samples(&dropped);
         let held_out = Study {
             sets: study
@@ -101,7 +199,10 @@ pub fn cross_validate(
             frames: study.frames.clone(),
         };
         let context = |error: Error| Error::Numerical {
-            message: format!("cross-validation fold {} of {folds}: {error}", fold + 1),
+            message: format!(
+                "cross-validation fold {} of {total} ({label}): {error}",
+                fold + 1
+            ),
         };
         let fitted: Identification =
             identify(robot, &training, options, &mut Quiet).map_err(context)?;
@@ -117,6 +218,7 @@ pub fn cross_validate(
         rotation_squares += errors.rms_rotation.unwrap_or(0.0).powi(2) * errors.count as f64;
         count += errors.count;
         results.push(Fold {
+            label,
             held_out: errors.count,
             training_rms: fitted.after.rms,
             rms: errors.rms,
@@ -126,7 +228,7 @@ pub fn cross_validate(
             observer,
             Progress::Step {
                 done: fold + 1,
-                total: folds,
+                total,
             },
         )?;
     }
@@ -137,6 +239,7 @@ pub fn cross_validate(
         rms: pooled(squares),
         rms_rotation: has_rotation.then(|| pooled(rotation_squares)),
         parameters,
+        folds_by: folds,
     })
 }
 
@@ -173,6 +276,81 @@ fn fold_assignment(study: &Study, folds: usize, seed: u64) -> Result<Vec<Vec<usi
             fold_of
         })
         .collect())
+}
+
+/// A fold: its label, and the samples it holds out, per set.
+type HeldOut = (String, Vec<Vec<usize>>);
+
+/// The region folds of `study` (module docs): per joint that moved, the
+/// units whose joint value lies in the lowest and in the highest
+/// 1/`parts` of the range the data cover, each fold with its label and its
+/// held-out samples per set.
+///
+/// # Errors
+/// Fewer than 2 parts, or data whose joints did not move.
+fn region_folds(robot: &Robot, study: &Study, parts: usize) -> Result<Vec<HeldOut>, Error> {
+    if parts < 2 {
+        return Err(Error::InvalidOption {
+            setting: Setting::Folds,
+            message: format!("{parts} parts: region folds hold out 1/K of each end, K ≥ 2"),
+        });
+    }
+    // Every unit with its joint variables (at its first configuration).
+    let mut joints = vec![0.0; robot.joint_count()];
+    let mut located: Vec<(usize, Vec<usize>, Vec<f64>)> = Vec::new();
+    for (index, set) in study.sets.iter().enumerate() {
+        for unit in units(set.method.as_ref(), set.samples.as_slice()) {
+            let Some(first) = unit.first() else { continue };
+            robot.joint_positions_into(set.samples.get(*first).motor_positions(), &mut joints)?;
+            located.push((index, unit, joints.clone()));
+        }
+    }
+    let mut folds = Vec::new();
+    for joint in 0..robot.joint_count() {
+        let values = located.iter().map(|(_, _, q)| q[joint]);
+        let (min, max) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), q| {
+            (a.min(q), b.max(q))
+        });
+        let width = max - min;
+        if width.is_nan() || width <= crate::identification::STILL_RANGE {
+            continue;
+        }
+        let unit = if robot.frames()[joint + 1].frame_type == gecaro_core::FrameType::Prismatic {
+            (" mm", 1e3)
+        } else {
+            ("°", 180.0 / std::f64::consts::PI)
+        };
+        let part = width / parts as f64;
+        for (low, bound) in [(true, min + part), (false, max - part)] {
+            let held = |q: f64| if low { q <= bound } else { q >= bound };
+            let mut dropped = vec![Vec::new(); study.sets.len()];
+            let mut held_units = 0;
+            for (set, unit_samples, q) in &located {
+                if held(q[joint]) {
+                    dropped[*set].extend(unit_samples);
+                    held_units += 1;
+                }
+            }
+            if held_units == 0 || held_units == located.len() {
+                continue;
+            }
+            let label = format!(
+                "q{} {} {:.1}{}",
+                joint + 1,
+                if low { "≤" } else { "≥" },
+                bound * unit.1,
+                unit.0
+            );
+            folds.push((label, dropped));
+        }
+    }
+    if folds.is_empty() {
+        return Err(Error::InvalidOption {
+            setting: Setting::Folds,
+            message: "region folds need joints that moved in the data".into(),
+        });
+    }
+    Ok(folds)
 }
 
 /// Which parameters a model may identify; see the module docs.
@@ -313,7 +491,10 @@ pub struct ModelScore {
 }
 
 /// Cross-validates each model (same folds for all), best (lowest held-out
-/// RMS) first; every finished fold of every model is reported to `observer`.
+/// RMS) first; every finished fold of every model is reported to
+/// `observer`. Region folds ([`Folds::Regions`]) rank the model that
+/// generalises to where the data were not taken; random folds, the one that
+/// interpolates best.
 ///
 /// # Errors
 /// As [`cross_validate`], naming the model.
@@ -322,12 +503,16 @@ pub fn compare_models(
     study: &Study,
     options: &IdentificationOptions,
     models: &[Model],
-    folds: usize,
-    seed: u64,
+    folds: Folds,
     observer: &mut dyn Observer,
 ) -> Result<Vec<ModelScore>, Error> {
     let mut scores = Vec::with_capacity(models.len());
-    let total = models.len() * folds;
+    // Each model's folds are counted as one of the first model's.
+    let per_model = match folds {
+        Folds::Random { count, .. } => count,
+        Folds::Regions { count } => region_folds(robot, study, count)?.len(),
+    };
+    let total = models.len() * per_model;
     for (index, model) in models.iter().enumerate() {
         let options = IdentificationOptions {
             priority: Some(model.priority(robot, options.priority.as_ref())),
@@ -335,13 +520,13 @@ pub fn compare_models(
         };
         let mut folds_of_all = |progress: Progress<'_>| match progress {
             Progress::Step { done, .. } => observer.observe(Progress::Step {
-                done: index * folds + done,
+                done: index * per_model + done,
                 total,
             }),
             // Each model's folds are one count of all models' folds.
             Progress::Iteration(_) | Progress::Phase(_) => ControlFlow::Continue(()),
         };
-        let validation = cross_validate(robot, study, &options, folds, seed, &mut folds_of_all)
+        let validation = cross_validate_by(robot, study, &options, folds, &mut folds_of_all)
             .map_err(|error| match error {
                 Error::Interrupted => Error::Interrupted,
                 error => Error::Numerical {

@@ -424,7 +424,7 @@ impl PyIdentification {
 /// Raises NotConvergedError (with the best iterate in `.result`) when the
 /// iteration did not converge, NotIdentifiableError with too few equations.
 #[pyfunction]
-#[pyo3(signature = (robot, method, data = None, *, solver = "gauss-newton", max_iterations = 30, priority = None, loss = "l2", loss_scale = None, prior = None, outlier_threshold = 3.0, reject = false, model = "full", strict_limits = false, sigma = None, sigma_rotation = None, work_region = None, progress = None))]
+#[pyo3(signature = (robot, method, data = None, *, solver = "gauss-newton", max_iterations = 30, priority = None, loss = "l2", loss_scale = None, prior = None, outlier_threshold = 3.0, reject = false, model = "full", strict_limits = false, sigma = None, sigma_rotation = None, work_region = None, check_model = false, progress = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn identify(
     py: Python<'_>,
@@ -444,12 +444,14 @@ pub(crate) fn identify(
     sigma: Option<Sigma>,
     sigma_rotation: Option<Sigma>,
     work_region: Option<&str>,
+    check_model: bool,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<PyIdentification> {
     let mut request =
         IdentifyRequest::new(measurements(&robot, method, data, false, strict_limits)?);
     request.measurements.sigma = sigma.map(Into::into);
     request.measurements.sigma_rotation = sigma_rotation.map(Into::into);
+    request.check_model = check_model;
     request.settings = FitSettings {
         outlier_threshold: Some(outlier_threshold),
         reject,
@@ -474,6 +476,7 @@ pub(crate) fn identify(
         let result = prepared.run(&mut watch);
         watch.finish(result)
     })?;
+    warn_notes(py, &identified.advice_notes())?;
     let failure = identified.failure();
     let identification = PyIdentification {
         calibrated: Py::new(py, PyRobot::new(identified.calibrated()))?,

@@ -12,11 +12,12 @@ use crate::source::{Fit, fit_settings, measurements};
 use crate::warnings::warn_notes;
 
 /// K-fold cross-validation of an identification (folds by configuration,
-/// set or pair, seeded), as `gecaro identify --cv K`: the document of
+/// set or pair, seeded; or `folds_by="regions"`, the ends of each joint's
+/// measured range), as `gecaro identify --cv K`: the document of
 /// `"cross_validation"` (held-out RMS per fold and overall, metres and
 /// radians). Options as `identify`.
 #[pyfunction]
-#[pyo3(signature = (robot, method, data = None, *, folds = 5, seed = 1, solver = "gauss-newton", max_iterations = 30, priority = None, loss = "l2", loss_scale = None, prior = None, model = "full", strict_limits = false))]
+#[pyo3(signature = (robot, method, data = None, *, folds = 5, seed = 1, folds_by = "random", solver = "gauss-newton", max_iterations = 30, priority = None, loss = "l2", loss_scale = None, prior = None, model = "full", strict_limits = false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn cross_validate<'py>(
     py: Python<'py>,
@@ -25,6 +26,7 @@ pub(crate) fn cross_validate<'py>(
     data: Option<PyRef<'_, PyData>>,
     folds: usize,
     seed: u64,
+    folds_by: &str,
     solver: &str,
     max_iterations: usize,
     priority: Option<&Bound<'py, PyAny>>,
@@ -50,11 +52,12 @@ pub(crate) fn cross_validate<'py>(
     )?;
     request.cv = Some(folds);
     request.seed = Some(seed);
+    request.folds_by = Some(folds_by.to_owned());
     let prepared = request.prepare(&LocalFiles).py()?;
     warn_notes(py, &prepared.loaded.notes)?;
     let validation = watched(py, |observer| prepared.cross_validate(observer))?;
     to_python(
         py,
-        &gecaro_app::documents::CrossValidationJson::new(&validation, seed),
+        &gecaro_app::documents::CrossValidationJson::new(&validation),
     )
 }

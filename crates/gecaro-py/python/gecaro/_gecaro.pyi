@@ -545,6 +545,7 @@ def identify(
     sigma: Union[float, str, None] = None,
     sigma_rotation: Union[float, str, None] = None,
     work_region: Optional[str] = None,
+    check_model: bool = False,
     progress: Optional[Callable[[int, float], object]] = None,
 ) -> Identification:
     """Identification (eq. 10–11), as ``gecaro identify``. ``sigma``: the
@@ -552,7 +553,9 @@ def identify(
     in radians, or with its unit (``"0.01deg"``). ``work_region``: the joint
     ranges the robot will be used in, with their units
     (``"q1=-90..90deg,q3=0..120deg"``; default the joint limits), over which
-    the verdict predicts its error (``verdict["region"]``)."""
+    the verdict predicts its error (``verdict["region"]``). ``check_model``:
+    also compare the model with the next smaller one by region folds
+    (``to_dict()["model_advice"]``, and a warning when it predicts better)."""
 
 def cross_validate(
     robot: Robot,
@@ -561,6 +564,7 @@ def cross_validate(
     *,
     folds: int = 5,
     seed: int = 1,
+    folds_by: Literal["random", "regions"] = "random",
     solver: Literal["gauss-newton", "lm"] = "gauss-newton",
     max_iterations: int = 30,
     priority: Union[_ArrayLike, _PathLike, None] = None,

@@ -30,9 +30,13 @@ export function identifyPanel(method) {
   const prior = h('input', { type: 'text', class: 'vector', placeholder: 'none, or e.g. 5mm,0.5deg,1%', id: `${name}-identify-prior` });
   const model = h('select', { id: `${name}-identify-model` },
     h('option', { value: 'full', text: 'geometric (the priority matrix)' }),
+    h('option', { value: 'no-gains', text: 'geometric without the gains K' }),
+    h('option', { value: 'kinematic', text: 'geometric without the gains K and the Hayati β' }),
+    h('option', { value: 'offsets', text: 'the joint offsets only' }),
     h('option', { value: 'elastic', text: 'elastic: and every joint’s compliance' }),
     h('option', { value: 'elastic-gravity', text: 'elastic, and gravity’s tilt (a frame not levelled)' }));
   const reject = h('input', { type: 'checkbox', id: `${name}-identify-reject` });
+  const checkModel = h('input', { type: 'checkbox', id: `${name}-identify-check-model` });
   // Where the robot will be used: the verdict predicts its error there.
   const workRegion = h('input', { type: 'text', class: 'vector', placeholder: 'the joint limits, or e.g. q1=-90..90deg,q2=-45..45deg', id: `${name}-identify-work-region` });
   const sigma = h('input', { type: 'number', min: 0, step: 'any', placeholder: 'not stated', id: `${name}-identify-sigma` });
@@ -58,6 +62,7 @@ export function identifyPanel(method) {
         prior: prior.value.trim() || null,
         reject: reject.checked,
         work_region: workRegion.value.trim() || null,
+        check_model: checkModel.checked,
         // With its unit: a bare number would be in the data file's length unit.
         sigma: sigmaText(fieldNumber(sigma, 'Sensor σ', { min: 0, above: true, empty: null })),
         sigma_rotation: method.uses_orientation
@@ -95,6 +100,7 @@ export function identifyPanel(method) {
       field('Prior σ (lengths, angles, gains)', prior),
       field('Drop outliers and refit', reject),
       field('Work region (joint ranges with units)', workRegion),
+      field('Compare with the next smaller model (region folds)', checkModel),
       field('Cross-validation folds (0: none)', folds),
       optionFields(method, 'identify'),
       run),
@@ -133,8 +139,14 @@ export function renderIdentification(container, name, job, result) {
       ? stat(`predicted error, measured region → ${verdict.region.work_is_limits ? 'joint limits' : 'work region'} (${unitName('length')})`,
         `${sci(inUnits(verdict.region.predicted_inside, 'length'))} → ${sci(inUnits(verdict.region.predicted_work, 'length'))}`,
         { id: `${name}-identify-region`, class: verdict.region.holds_everywhere ? 'ok' : 'bad' }) : null);
-  const warnings = id.warnings.length
-    ? h('div', { class: 'warnings' }, h('strong', { text: 'Warnings' }), h('ul', {}, id.warnings.map((w) => h('li', { text: w })))) : null;
+  const advice = (result.identification.model_advice || []).map((a) => {
+    const ratios = a.sigma_ratio !== null && a.instead_ratio !== null
+      ? `σ̂/σ ${fixed(a.sigma_ratio, 2)} against ${fixed(a.instead_ratio, 2)}; ` : '';
+    return `The ${a.model} model predicts better than the ${a.instead_of} one (${ratios}held out by region, the ends of each joint’s range: ${mm(a.held_out)} mm against ${mm(a.instead_held_out)} mm): choose Model “${a.model}”.`;
+  });
+  const notes = [...id.warnings, ...advice];
+  const warnings = notes.length
+    ? h('div', { class: 'warnings', id: `${name}-identify-warnings` }, h('strong', { text: 'Warnings' }), h('ul', {}, notes.map((w) => h('li', { text: w })))) : null;
   const plots = h('div', { class: 'plots' },
     plotFigure('Residual RMS per iteration', result.plots.convergence, `${name}-identify-convergence`),
     plotFigure(id.outlier_count ? `Errors before and after (mm; after: the inliers, without the ${id.outlier_count} outliers)` : 'Errors before and after (mm)', result.plots.errors_histogram, `${name}-identify-histogram`),
