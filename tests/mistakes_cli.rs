@@ -355,3 +355,62 @@ fn a_yielding_robot_fitted_rigidly_is_told_the_elastic_model_with_its_figures() 
     let document: Value = serde_json::from_slice(&output.stdout).expect("JSON");
     assert_eq!(document["model_advice"], serde_json::json!([]));
 }
+
+#[test]
+fn a_model_error_ten_times_the_noise_is_a_solution_written_and_not_trusted() {
+    // UR10e positions, σ 18 µm, and an error no geometric model holds
+    // (smooth in the joints, 0.25 mm): the fit converges to it, writes the
+    // robot, and says how far above the noise it is (exit 5).
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let at = |name: &str| folder.path().join(name);
+    gecaro()
+        .args([
+            "generate", "ur10e", "--method", "position", "--count", "300",
+        ])
+        .args(["--noise", "1.8e-5", "--seed", "2", "-o"])
+        .arg(at("clean.csv"))
+        .assert()
+        .success();
+    rewrite(&at("clean.csv"), &at("model_error.csv"), |rows| {
+        rows.iter()
+            .map(|row| {
+                let value = |k: usize| row[k].parse::<f64>().expect("a number");
+                let q: Vec<f64> = (0..6).map(value).collect();
+                let error = [
+                    2.5e-4 * (q[0] + 2.0 * q[1]).sin(),
+                    2.5e-4 * (2.0 * q[2] - q[1]).cos(),
+                    2.5e-4 * (q[3] + q[4]).sin(),
+                ];
+                let mut row = row.clone();
+                for axis in 0..3 {
+                    row[6 + axis] = format!("{:?}", value(6 + axis) + error[axis]);
+                }
+                row
+            })
+            .collect()
+    });
+    let output = gecaro()
+        .args([
+            "identify", "ur10e", "--method", "position", "--sigma", "18um", "--json",
+        ])
+        .arg("--data")
+        .arg(at("model_error.csv"))
+        .arg("-o")
+        .arg(at("calibrated.toml"))
+        .output()
+        .expect("runs");
+    assert_eq!(
+        output.status.code(),
+        Some(5),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let document: Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    assert_eq!(document["verdict"]["outcome"], "exceeds_noise");
+    assert!(document["iterations"].as_u64().expect("iterations") <= 30);
+    let ratio = document["verdict"]["noise_test"]["sigma_ratio"]
+        .as_f64()
+        .expect("ratio");
+    assert!((8.0..12.0).contains(&ratio), "σ̂/σ {ratio}");
+    assert!(at("calibrated.toml").exists());
+}

@@ -730,6 +730,9 @@ pub struct VerdictJson {
     pub summary: String,
     /// The global test, when every measurement set states its σ.
     pub noise_test: Option<NoiseTestJson>,
+    /// The noise the data's repeated poses measure, and the lack-of-fit
+    /// test against it (the fit's judge when there are repeats).
+    pub repeatability: Option<RepeatabilityJson>,
     /// Residual standard deviation of the length rows (m).
     pub residual_length: Option<f64>,
     /// Residual standard deviation of the angle rows (rad).
@@ -761,6 +764,26 @@ pub struct VerdictJson {
     /// the measured region and over the work region; `null` where no
     /// prediction is made (a study that does not measure the scale).
     pub region: Option<RegionJson>,
+}
+
+/// The noise repeated poses measure (see
+/// [`gecaro_calib::identification::Repeatability`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct RepeatabilityJson {
+    /// Poses measured more than once.
+    pub poses: usize,
+    /// Their observations.
+    pub observations: usize,
+    /// Degrees of freedom of the pure error.
+    pub degrees_of_freedom: usize,
+    /// The noise they measure, in units of the stated σ (metres without one).
+    pub sigma_ratio: f64,
+    /// The lack-of-fit statistic F.
+    pub lack_of_fit: f64,
+    /// Its quantile at 1 − 1 %.
+    pub critical: f64,
+    /// Whether the residuals fit the measured noise.
+    pub passed: bool,
 }
 
 /// One set's fit at the solution.
@@ -945,6 +968,15 @@ impl From<&Verdict> for VerdictJson {
                 sigma_margin: SIGMA_MARGIN,
                 sigma_ratio: test.sigma_ratio,
                 passed: test.passed,
+            }),
+            repeatability: verdict.repeatability.as_ref().map(|r| RepeatabilityJson {
+                poses: r.poses,
+                observations: r.observations,
+                degrees_of_freedom: r.degrees_of_freedom,
+                sigma_ratio: r.sigma_ratio,
+                lack_of_fit: r.lack_of_fit,
+                critical: r.critical,
+                passed: r.passed(),
             }),
             residual_length: verdict.residual_length,
             residual_angle: verdict.residual_angle,

@@ -827,3 +827,228 @@ fn a_robust_loss_weighs_the_fit_not_the_test() {
         assert!(fits >= 4, "{loss:?}: the true σ passed {fits} of 5 times");
     }
 }
+
+/// Repeated poses measure the noise: a σ stated twice too large (a
+/// datasheet's) hides a model error of √3 σ from the stated-σ test, not from
+/// the lack-of-fit test against the repeats; honest data with repeats fit,
+/// whatever σ is stated.
+#[test]
+fn repeated_poses_measure_the_noise_and_judge_the_fit() {
+    use gecaro_calib::simulation::simulate_at;
+    use gecaro_calib::study::Sample;
+    use nalgebra::Vector3;
+    const NOISE: f64 = 2e-5;
+    let nominal = gecaro_io::load_robot("industrial6").expect("ready").robot;
+    let position = method("position", &MethodOptions::default()).expect("method");
+    // An error no geometric model holds, smooth in the joints, √3 σ a
+    // coordinate in RMS (each term's mean square is 1/2).
+    let unmodelled = |q: &[f64], size: f64| {
+        let amplitude = size * 2.0_f64.sqrt();
+        Vector3::new(
+            amplitude * (2.0 * q[1] + q[2]).sin(),
+            amplitude * (q[0] - 3.0 * q[2]).cos(),
+            amplitude * (2.0 * q[3] + q[1]).sin(),
+        )
+    };
+    let mut fits_with_repeats = 0;
+    for seed in 0..8 {
+        let mut sampler = Sampler::new(40 + seed);
+        let real = perturbed_robot(&nominal, 0.5, &mut sampler).expect("real");
+        // 90 poses, and 12 poses measured 3 times each (the encoders'
+        // jitter of a commanded pose: 1 µrad).
+        let mut configurations: Vec<Vec<f64>> =
+            (0..90).map(|_| sampler.configuration(&nominal)).collect();
+        for _ in 0..12 {
+            let pose = sampler.configuration(&nominal);
+            for _ in 0..3 {
+                configurations.push(pose.iter().map(|q| q + sampler.gaussian(1e-6)).collect());
+            }
+        }
+        let planned: Samples = configurations
+            .iter()
+            .map(|q| Sample::new(q.clone()))
+            .collect();
+        let clean = simulate_at(
+            &real,
+            position.as_ref(),
+            planned.as_slice(),
+            NOISE,
+            &mut sampler,
+            &mut Quiet,
+        )
+        .expect("measured");
+        let with_error = |size: f64| {
+            let samples: Vec<Sample> = clean
+                .iter()
+                .zip(&configurations)
+                .map(|(sample, q)| {
+                    let mut sample = sample.clone();
+                    sample.position = sample.position.map(|p| p + unmodelled(q, size));
+                    sample
+                })
+                .collect();
+            let mut study = Study::single(position.clone_method(), samples, "repeats.csv");
+            study.sets[0].sigma = Some(2.0 * NOISE);
+            study
+        };
+        // The model error hidden by a σ stated 2× too large: the repeats see it.
+        let fitted = |study: &Study| {
+            identify(
+                &nominal,
+                study,
+                &IdentificationOptions::default(),
+                &mut Quiet,
+            )
+            .expect("identified")
+            .verdict
+        };
+        let hidden = fitted(&with_error(3.0_f64.sqrt() * NOISE));
+        let repeats = hidden.repeatability.as_ref().expect("repeated poses");
+        assert_eq!(repeats.poses, 12);
+        assert_eq!(repeats.degrees_of_freedom, 72);
+        assert!(!repeats.passed(), "seed {seed}: {}", hidden.summary);
+        assert_eq!(hidden.outcome, Outcome::ExceedsNoise, "{}", hidden.summary);
+        assert!(
+            hidden.summary.contains("repeated poses measure"),
+            "{}",
+            hidden.summary
+        );
+        // Honest data, σ stated 2× too large: the repeats say the fit is
+        // at the noise, and that the stated σ is twice it.
+        let honest = fitted(&with_error(0.0));
+        let measured = honest
+            .repeatability
+            .as_ref()
+            .expect("repeated poses")
+            .sigma_ratio;
+        assert!(
+            (measured - 0.5).abs() < 0.15,
+            "seed {seed}: σ_pe {measured}× the stated"
+        );
+        if honest.outcome == Outcome::FitsNoise {
+            fits_with_repeats += 1;
+            assert!(honest.summary.contains("× that"), "{}", honest.summary);
+        }
+    }
+    assert!(
+        fits_with_repeats >= 7,
+        "{fits_with_repeats} of 8 honest fits passed"
+    );
+}
+
+/// A tool stated half a turn off about the flange's axis, with frame data:
+/// the closed-form start registers the tool's rotation as well as its
+/// point, and the fit reaches the noise (before: 34,439× the noise, K6 off
+/// by 82 %, "implausible").
+#[test]
+fn a_tool_stated_half_a_turn_off_is_found_by_the_start() {
+    use gecaro_core::{ParameterId, ParameterKind};
+    const NOISE: f64 = 2e-5;
+    let nominal = gecaro_io::load_robot("industrial6").expect("ready").robot;
+    let frame = method("frame", &MethodOptions::default()).expect("method");
+    for seed in [1, 2, 3] {
+        let mut sampler = Sampler::new(seed);
+        let mut real = perturbed_robot(&nominal, 1.0, &mut sampler).expect("real");
+        let theta7 = ParameterId::new(ParameterKind::Theta, 7);
+        real.set_parameter(theta7, real.parameter(theta7) + std::f64::consts::PI)
+            .expect("turned");
+        let samples =
+            simulate_measurements(&real, frame.as_ref(), 60, NOISE, &mut sampler, &mut Quiet)
+                .expect("data");
+        let mut study = Study::single(frame.clone_method(), samples, "tool180.csv");
+        study.sets[0].sigma = Some(NOISE);
+        let result = identify(
+            &nominal,
+            &study,
+            &IdentificationOptions::default(),
+            &mut Quiet,
+        )
+        .expect("identified");
+        assert_eq!(
+            result.verdict.outcome,
+            Outcome::FitsNoise,
+            "seed {seed}: {}",
+            result.verdict.summary
+        );
+        assert!(
+            result.warnings.iter().any(|w| w.contains("closed form")),
+            "{:?}",
+            result.warnings
+        );
+    }
+}
+
+/// The closed-form start honours the priority matrix: a tool the user holds
+/// (frame 7 at priority 0) stays where the robot file states it while the
+/// start registers a measurement frame 2 m away (before, the start moved
+/// the tool point by the noise, "0.555 mm, NaN° from the robot file's").
+#[test]
+fn the_start_leaves_what_the_priority_matrix_holds() {
+    use gecaro_core::{ParameterId, ParameterKind};
+    let nominal = stanford();
+    let moved = nalgebra::IsometryMatrix3::from_parts(
+        nalgebra::Translation3::new(2.0, 0.0, 0.4),
+        nalgebra::Rotation3::from_euler_angles(0.0, 0.0, std::f64::consts::FRAC_PI_2),
+    );
+    let mut sampler = Sampler::new(6);
+    let far = perturbed_robot(&nominal, 0.3, &mut sampler)
+        .expect("real")
+        .reframed(&moved, &nalgebra::IsometryMatrix3::identity())
+        .expect("reframed");
+    // The real tool is the nominal's.
+    let mut real = far.clone();
+    for kind in [
+        ParameterKind::Alpha,
+        ParameterKind::D,
+        ParameterKind::Theta,
+        ParameterKind::R,
+        ParameterKind::Beta,
+    ] {
+        let id = ParameterId::new(kind, 7);
+        real.set_parameter(id, nominal.parameter(id)).expect("tool");
+    }
+    let position = method("position", &MethodOptions::default()).expect("method");
+    let samples = simulate_measurements(
+        &real,
+        position.as_ref(),
+        100,
+        1e-5,
+        &mut sampler,
+        &mut Quiet,
+    )
+    .expect("data");
+    let study = Study::single(position, samples, "far");
+    let mut priority = nominal.priority();
+    for kind in [
+        ParameterKind::Alpha,
+        ParameterKind::D,
+        ParameterKind::Theta,
+        ParameterKind::R,
+        ParameterKind::Beta,
+    ] {
+        priority.set(ParameterId::new(kind, 7), 0);
+    }
+    let options = IdentificationOptions {
+        priority: Some(priority),
+        ..IdentificationOptions::default()
+    };
+    let result = fit(&study, &options);
+    assert!(
+        result.warnings.iter().any(|w| w.contains("Horn/Kabsch")),
+        "{:?}",
+        result.warnings
+    );
+    for kind in [
+        ParameterKind::Alpha,
+        ParameterKind::D,
+        ParameterKind::Theta,
+        ParameterKind::R,
+    ] {
+        let id = ParameterId::new(kind, 7);
+        assert_eq!(
+            result.calibrated.parameter(id),
+            nominal.parameter(id),
+            "{id}"
+        );
+    }
+}

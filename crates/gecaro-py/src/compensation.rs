@@ -63,8 +63,10 @@ impl PyCompensation {
     }
 
     /// Per target: "ok", "reconfigured" (reached in another configuration,
-    /// a joint moved by more than 1 rad), "outside-limits" (reached only
-    /// beyond a joint limit, even turned by whole turns) or "not-reached".
+    /// a joint moved by more than 1 rad), "outside-region" (reached outside
+    /// the joint ranges the calibration measured), "outside-limits" (reached
+    /// only beyond a joint limit, even turned by whole turns) or
+    /// "not-reached".
     #[getter]
     fn status(&self) -> Vec<&'static str> {
         self.points
@@ -73,8 +75,8 @@ impl PyCompensation {
             .collect()
     }
 
-    /// Rows (0-based) whose target is flagged (reconfigured, outside-limits
-    /// or not-reached).
+    /// Rows (0-based) whose target is flagged (reconfigured, outside-region,
+    /// outside-limits or not-reached).
     #[getter]
     fn flagged(&self) -> Vec<usize> {
         self.points

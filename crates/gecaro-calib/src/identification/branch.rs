@@ -80,9 +80,14 @@ fn half_turned(robot: &Robot, frame: usize) -> Option<Robot> {
 }
 
 /// How far the parameters a half turn at `frame` changes lie from the
-/// nominal's: angles wrapped, in radians; lengths in [`LENGTH_UNIT`].
+/// nominal's: angles wrapped, in radians; lengths in [`LENGTH_UNIT`]. The
+/// angles of the base (frame 0) and of the tool (frame n+1) count
+/// [`FREE_WEIGHT`] as much: the measurement frame and a tool may be turned
+/// any way, a joint's zero may not (a tool half a turn off about the
+/// flange's axis is θ of frame n+1, not joint n's zero).
 fn distance(nominal: &Robot, robot: &Robot, frame: usize) -> f64 {
     use std::f64::consts::TAU;
+    let tool = nominal.frames().len() - 1;
     members(frame)
         .into_iter()
         .filter(|id| robot.parameters().contains(*id))
@@ -91,11 +96,19 @@ fn distance(nominal: &Robot, robot: &Robot, frame: usize) -> f64 {
             if id.kind == ParameterKind::D {
                 (difference / LENGTH_UNIT).powi(2)
             } else {
-                (difference - TAU * (difference / TAU).round()).powi(2)
+                let weight = if id.frame == 0 || id.frame == tool {
+                    FREE_WEIGHT
+                } else {
+                    1.0
+                };
+                weight * (difference - TAU * (difference / TAU).round()).powi(2)
             }
         })
         .sum()
 }
+
+/// What a turn of the base or the tool counts against a joint's.
+const FREE_WEIGHT: f64 = 0.01;
 
 #[cfg(test)]
 mod tests {

@@ -87,6 +87,7 @@ mod passes;
 mod plausibility;
 mod prior_rows;
 mod region;
+mod repeatability;
 mod repeats;
 mod result;
 mod reweighting;
@@ -131,6 +132,7 @@ use prior_rows::{extra_prior_rows, prior_rows};
 pub use region::{
     FLOOR_FACTOR, NARROW_FRACTION, REGION_FACTOR, REGION_POSES, RegionPrediction, WORK_POSES,
 };
+pub use repeatability::{MIN_FREEDOM, Repeatability, SAME_POSE};
 use repeats::Repeats;
 pub use result::{ErrorSummary, Identification, Route};
 pub use reweighting::MAX_REWEIGHTINGS;
@@ -300,7 +302,7 @@ fn fit(
     // else where the closed-form start of the sets without named frames does.
     let start = match registered.as_ref().and_then(|found| found.base) {
         Some(base) => Some(robot.reframed(&base, &nalgebra::IsometryMatrix3::identity())?),
-        None => start::closed_form_start(robot, fitted)?,
+        None => start::closed_form_start(robot, fitted, &priority)?,
     };
     let first = match (start, &registered) {
         (Some(start), _) => first_from(robot, &start, fitted, study, options, &priority, observer)?,
@@ -1169,6 +1171,12 @@ fn summarise(
             data_cost: tested.cost,
             degrees_of_freedom: tested.freedom,
             unknowns: columns - problem.joined,
+            repeatability: repeatability::repeatability(
+                study,
+                &best.system,
+                tested.cost,
+                tested.freedom,
+            ),
             sets: if study.sets.len() > 1 {
                 disagreement::set_fits(study, &best.system, tested.freedom)
             } else {

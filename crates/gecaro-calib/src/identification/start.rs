@@ -20,14 +20,24 @@
 //! paper's scheme does, to the same numbers as before). Sets that name a
 //! tool or a station ([`crate::frames`]) take no part: their frames start
 //! from the poses the study states. At most [`MAXIMUM_POINTS`] points,
-//! evenly spread over the data, take part.
+//! evenly spread over the data, take part. Where the sets measure
+//! orientations (frame measure), the tool's rotation `R_t` is fitted too:
+//! the rotation closest to every `(R_b R_i)ᵀ Q_i` (`Q_i` the measured
+//! orientation; the SVD projection of their sum), so that a tool stated
+//! half a turn off about the flange's axis starts where it is rather than
+//! drifting into an implausible θ of frame n+1; the start is then also
+//! taken when it halves the RMS orientation error. The priority matrix is
+//! honoured: a base (frames 0 and 1) or a tool (frame n+1) whose every
+//! parameter it holds at priority 0 stays where the robot file states it,
+//! and only the other is fitted.
 
-use gecaro_core::{ChainBuffer, KinematicModel, Robot};
+use gecaro_core::{ChainBuffer, KinematicModel, PriorityMatrix, Robot};
 use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Vector3};
 
 use super::subsample::spread_points;
 use crate::Error;
 use crate::registration::rigid_fit;
+use crate::sampler::spread_indices;
 use crate::study::Study;
 
 /// Alternations at most.
@@ -53,7 +63,25 @@ const MAXIMUM_POINTS: usize = 500;
 ///
 /// # Errors
 /// A configuration that does not fit the robot.
-pub(super) fn closed_form_start(robot: &Robot, study: &Study) -> Result<Option<Robot>, Error> {
+pub(super) fn closed_form_start(
+    robot: &Robot,
+    study: &Study,
+    priority: &PriorityMatrix,
+) -> Result<Option<Robot>, Error> {
+    // What the priority matrix lets be identified: the base (frames 0
+    // and 1) and the tool (frame n+1); what it holds stays as stated.
+    let free = |frames: &[usize]| {
+        robot
+            .parameters()
+            .ids()
+            .iter()
+            .any(|id| frames.contains(&id.frame) && priority.get(*id) > 0)
+    };
+    let tool_frame = robot.frames().len() - 1;
+    let (fit_base, fit_tool) = (free(&[0, 1]), free(&[tool_frame]));
+    if !(fit_base || fit_tool) {
+        return Ok(None);
+    }
     // Sets with a named tool or station measure another point or in another
     // frame; their frames start from their stated poses.
     let slices: Vec<_> = study
@@ -74,6 +102,17 @@ pub(super) fn closed_form_start(robot: &Robot, study: &Study) -> Result<Option<R
         flanges.push(model.terminal_pose(motors, &mut chain)?);
         measured.push(point);
     }
+    // The measured orientations of frame n+1, where the sets hold them.
+    let mut oriented = Vec::new();
+    for slice in &slices {
+        for index in spread_indices(slice.len(), MAXIMUM_POINTS) {
+            let sample = slice.get(index);
+            if let Some(orientation) = sample.orientation() {
+                let flange = model.terminal_pose(sample.motor_positions(), &mut chain)?;
+                oriented.push((flange.rotation, orientation.to_rotation_matrix()));
+            }
+        }
+    }
     let nominal_rms = rms(
         &flanges,
         &measured,
@@ -87,7 +126,12 @@ pub(super) fn closed_form_start(robot: &Robot, study: &Study) -> Result<Option<R
             .iter()
             .map(|flange| flange.rotation * tool + flange.translation.vector)
             .collect();
-        base = rigid_fit(&model, &measured);
+        if fit_base {
+            base = rigid_fit(&model, &measured);
+        }
+        if !fit_tool {
+            break;
+        }
         let next = flanges
             .iter()
             .zip(&measured)
@@ -105,14 +149,64 @@ pub(super) fn closed_form_start(robot: &Robot, study: &Study) -> Result<Option<R
         }
     }
     let start_rms = rms(&flanges, &measured, &base, &tool);
+    // The tool's rotation, where orientations are measured: the rotation
+    // R_t closest to every (R_b R_i)ᵀ Q_i (its chordal mean).
+    let tool_rotation = mean_rotation(
+        oriented
+            .iter()
+            .map(|(flange, measured)| (base.rotation * flange).inverse() * measured),
+    )
+    .filter(|_| fit_tool);
+    let angles = |tool: &Rotation3<f64>, base: &Rotation3<f64>| {
+        let squares: f64 = oriented
+            .iter()
+            .map(|(flange, measured)| {
+                let predicted = base * flange * tool;
+                (predicted.inverse() * measured).angle().powi(2)
+            })
+            .sum();
+        (squares / oriented.len().max(1) as f64).sqrt()
+    };
+    let (nominal_angles, start_angles) = match tool_rotation {
+        Some(rotation) => (
+            angles(&Rotation3::identity(), &Rotation3::identity()),
+            angles(&rotation, &base.rotation),
+        ),
+        None => (0.0, 0.0),
+    };
+    let tool_rotation = tool_rotation.unwrap_or_else(Rotation3::identity);
     let far = base.translation.vector.norm() > FAR_LENGTH
         || base.rotation.angle() > FAR_ANGLE
-        || tool.norm() > FAR_LENGTH;
-    if !(far && start_rms.is_finite() && start_rms * IMPROVEMENT <= nominal_rms) {
+        || tool.norm() > FAR_LENGTH
+        || tool_rotation.angle() > FAR_ANGLE;
+    let better = (start_rms.is_finite() && start_rms * IMPROVEMENT <= nominal_rms)
+        || (!oriented.is_empty()
+            && start_angles.is_finite()
+            && start_angles * IMPROVEMENT <= nominal_angles);
+    if !(far && better) {
         return Ok(None);
     }
-    let new_tool = IsometryMatrix3::from_parts(Translation3::from(tool), Rotation3::identity());
+    let new_tool = IsometryMatrix3::from_parts(Translation3::from(tool), tool_rotation);
     Ok(robot.reframed(&base, &new_tool).ok())
+}
+
+/// The rotation closest to `rotations` in the chordal sense (the SVD
+/// projection of their sum onto SO(3)); `None` without any.
+fn mean_rotation(rotations: impl Iterator<Item = Rotation3<f64>>) -> Option<Rotation3<f64>> {
+    let mut sum = nalgebra::Matrix3::<f64>::zeros();
+    let mut count = 0;
+    for rotation in rotations {
+        sum += rotation.matrix();
+        count += 1;
+    }
+    if count == 0 {
+        return None;
+    }
+    let svd = sum.svd(true, true);
+    let (u, v_t) = (svd.u?, svd.v_t?);
+    let mut correction = nalgebra::Matrix3::<f64>::identity();
+    correction[(2, 2)] = (u * v_t).determinant().signum();
+    Some(Rotation3::from_matrix_unchecked(u * correction * v_t))
 }
 
 /// RMS distance between the measured points and the model's.

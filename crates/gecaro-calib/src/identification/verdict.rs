@@ -62,6 +62,7 @@ use super::coverage::Coverage;
 use super::disagreement::{Disagreement, SetFit};
 use super::join::ShiftedJoin;
 use super::region::RegionPrediction;
+use super::repeatability::Repeatability;
 use super::repeats::Repeats;
 use super::words;
 use crate::observation::ObservationSystem;
@@ -222,6 +223,10 @@ pub struct Verdict {
     pub outcome: Outcome,
     /// The global test, when every measurement set states its σ.
     pub noise_test: Option<NoiseTest>,
+    /// The noise the data's repeated poses measure, and the lack-of-fit
+    /// test against it: the judge of the fit, when there are repeats
+    /// (whatever σ is stated).
+    pub repeatability: Option<Repeatability>,
     /// The residual standard deviation of the length rows (metres), `None`
     /// without length rows.
     pub residual_length: Option<f64>,
@@ -287,6 +292,8 @@ pub(super) struct Evidence<'a> {
     pub(super) unknowns: usize,
     /// Every set's σ̂/σ at the solution.
     pub(super) sets: Vec<SetFit>,
+    /// The noise repeated poses measure, and the fit judged against it.
+    pub(super) repeatability: Option<Repeatability>,
     /// Values of the written robot that no real robot has.
     pub(super) implausible: Vec<Implausible>,
     /// What the data determine and the methods observe.
@@ -309,6 +316,7 @@ impl Verdict {
         let mut verdict = Verdict {
             outcome: Outcome::Untested,
             noise_test,
+            repeatability: evidence.repeatability,
             residual_length,
             residual_angle,
             configurations,
@@ -342,7 +350,7 @@ impl Verdict {
     pub(super) fn reconsider(&mut self, iterations: usize, unknowns: usize) {
         if self.outcome.solved() {
             self.outcome = self.problems().first().map_or(
-                if self.noise_test.is_some() {
+                if self.noise_test.is_some() || self.repeatability.is_some() {
                     Outcome::FitsNoise
                 } else {
                     Outcome::Untested
@@ -394,7 +402,25 @@ impl Verdict {
                     .join("; "),
             ));
         }
-        if let Some(test) = self.noise_test {
+        // Repeated poses measure the noise: the lack-of-fit test judges the
+        // fit then, whatever σ is stated.
+        if let Some(repeats) = self.repeatability.as_ref().filter(|r| !r.passed()) {
+            problems.push((
+                Outcome::ExceedsNoise,
+                format!(
+                    "the residuals are {:.1}× the noise the {} repeated poses measure ({}; \
+                     lack-of-fit F test at {:.0} %: F {:.2} > {:.2}): the model misses something \
+                     the robot does (a compliance, a coupling, a drift), whatever σ is stated",
+                    repeats.lack_of_fit.sqrt(),
+                    repeats.poses,
+                    self.repeat_noise_words(repeats),
+                    NOISE_TEST_LEVEL * 100.0,
+                    repeats.lack_of_fit,
+                    repeats.critical
+                ),
+            ));
+        }
+        if let Some(test) = self.noise_test.filter(|_| self.repeatability.is_none()) {
             if test.exceeded() {
                 problems.push((
                     Outcome::ExceedsNoise,
@@ -472,14 +498,30 @@ impl Verdict {
                 self.configurations
             ),
             _ => {
-                let fit = match self.noise_test {
-                    Some(test) if test.passed => format!(
-                        "the residuals fit the stated noise (σ̂/σ = {:.2}, global test at {:.0} %)",
+                let fit = match (self.noise_test, &self.repeatability) {
+                    (_, Some(repeats)) if repeats.passed() => format!(
+                        "the residuals fit the noise the {} repeated poses measure ({}; \
+                         lack-of-fit F test at {:.0} %: F {:.2}){}",
+                        repeats.poses,
+                        self.repeat_noise_words(repeats),
+                        NOISE_TEST_LEVEL * 100.0,
+                        repeats.lack_of_fit,
+                        self.noise_test.filter(|test| !test.passed).map_or_else(
+                            String::new,
+                            |_| format!(", the stated σ {:.1}× that", 1.0 / repeats.sigma_ratio)
+                        )
+                    ),
+                    (_, Some(_)) => String::new(),
+                    (Some(test), None) if test.passed => format!(
+                        "the residuals fit the stated noise (σ̂/σ = {:.2}, global test at {:.0} %; \
+                         σ as stated, not measured)",
                         test.sigma_ratio,
                         NOISE_TEST_LEVEL * 100.0
                     ),
-                    Some(_) => String::new(),
-                    None => "no σ was stated, so the fit is not tested against the noise".into(),
+                    (Some(_), None) => String::new(),
+                    (None, None) => {
+                        "no σ was stated, so the fit is not tested against the noise".into()
+                    }
                 };
                 let problems: Vec<String> = self
                     .problems()
@@ -498,6 +540,16 @@ impl Verdict {
                 sentence.push_str(&residual);
                 sentence
             }
+        }
+    }
+
+    /// The noise repeated poses measure, in words: `σ 1.02× the stated`,
+    /// or in millimetres when no σ was stated.
+    fn repeat_noise_words(&self, repeats: &Repeatability) -> String {
+        if self.noise_test.is_some() {
+            format!("σ {:.2}× the stated", repeats.sigma_ratio)
+        } else {
+            format!("σ {}", words::millimetres(repeats.sigma_ratio))
         }
     }
 

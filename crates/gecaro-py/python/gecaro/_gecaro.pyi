@@ -600,10 +600,10 @@ class Compensation:
         """(m,) angle (rad); NaN for point targets."""
     @property
     def status(self) -> list[str]:
-        """Per target: "ok", "reconfigured", "outside-limits" or "not-reached"."""
+        """Per target: "ok", "reconfigured", "outside-region", "outside-limits" or "not-reached"."""
     @property
     def flagged(self) -> list[int]:
-        """Rows whose target is reconfigured, outside-limits or not-reached."""
+        """Rows whose target is reconfigured, outside-region, outside-limits or not-reached."""
     def __len__(self) -> int: ...
 
 def compensate(
