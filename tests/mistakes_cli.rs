@@ -84,13 +84,29 @@ fn a_set_labelled_with_the_wrong_reflector_is_named_alone() {
     }
     // Every set's σ̂/σ: the fit spreads the error over every set (which is
     // why one is left out at a time); the mislabelled one is the worst.
-    let ratios: Vec<f64> = verdict["sets"]
-        .as_array()
-        .expect("sets")
+    let fits = verdict["sets"].as_array().expect("sets");
+    // Sets are labelled by their file's path.
+    let labels: Vec<&str> = fits
+        .iter()
+        .map(|f| f["label"].as_str().expect("a label"))
+        .map(|label| label.rsplit('/').next().unwrap_or(label))
+        .collect();
+    assert_eq!(
+        labels,
+        [
+            "smr_a_1.csv",
+            "smr_b_1.csv",
+            "smr_c_1.csv",
+            "smr_a_2.csv",
+            "tool smr_a",
+            "tool smr_c",
+            "station tracker_2"
+        ]
+    );
+    let ratios: Vec<f64> = fits[..4]
         .iter()
         .map(|set| set["sigma_ratio"].as_f64().expect("a ratio"))
         .collect();
-    assert_eq!(ratios.len(), 4);
     assert!(ratios.iter().all(|ratio| *ratio <= ratios[1]), "{ratios:?}");
 }
 

@@ -202,6 +202,16 @@ fn command_line() -> String {
 }
 
 /// The error of a run that did not converge; `advice` says what was saved anyway.
+/// Whether the last updates of a run that did not converge still lowered
+/// the residual by more than a thousandth (more iterations would help).
+fn still_descending(result: &gecaro_calib::identification::Identification) -> bool {
+    let rms: Vec<f64> = result.history.iter().map(|record| record.rms).collect();
+    match rms.as_slice() {
+        [.., before, last] => *last < 0.999 * before,
+        _ => false,
+    }
+}
+
 fn not_converged(identified: &Identified, advice: &str) -> Failure {
     let failure = identified
         .result
@@ -295,8 +305,13 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
                 "Nothing was written (--write-unconverged saves the best iterate)."
             } else if identified.result.verdict.shifted_join.is_some() {
                 ""
+            } else if still_descending(&identified.result) {
+                "The residual was still falling: allow more --max-iterations."
             } else {
-                "Try --solver lm, more --max-iterations, or check the data."
+                // The default already falls back on Levenberg–Marquardt.
+                "The residual had stopped falling far from the data: check their units \
+                 (--length-unit, --angle-unit), the robot file and how the joints and the \
+                 measurements were joined."
             },
         ));
     }

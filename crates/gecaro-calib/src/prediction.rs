@@ -33,7 +33,7 @@ use gecaro_core::{ChainBuffer, JacobianRows, KinematicModel, PriorityMatrix, Rob
 use nalgebra::DMatrix;
 
 use crate::Error;
-use crate::identification::{IdentificationOptions, identify};
+use crate::identification::{IdentificationOptions, identify_fit};
 use crate::method::CalibrationMethod;
 use crate::observation::ObservationSystem;
 use crate::parallel::run_parts;
@@ -253,7 +253,7 @@ pub fn monte_carlo(
         let real = perturbed_robot(robot, error_level, &mut sampler)?;
         let data = simulate_at(&real, method, planned, noise, &mut sampler, &mut Quiet)?;
         let study = Study::single(method.clone_method(), data, "simulated");
-        let result = identify(robot, &study, options, &mut Quiet)?;
+        let result = identify_fit(robot, &study, options, &mut Quiet)?;
         let (calibrated, real) = (
             KinematicModel::new(&result.calibrated),
             KinematicModel::new(&real),

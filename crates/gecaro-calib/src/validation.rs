@@ -39,7 +39,7 @@ use gecaro_core::{ParameterKind, PriorityMatrix, Robot};
 
 use crate::Error;
 use crate::error::Setting;
-use crate::identification::{Identification, IdentificationOptions, evaluate, identify};
+use crate::identification::{Identification, IdentificationOptions, evaluate, identify_fit};
 use crate::methods::units;
 use crate::progress::{Observer, Progress, Quiet, report};
 use crate::sampler::Sampler;
@@ -205,7 +205,7 @@ pub fn cross_validate_by(
             ),
         };
         let fitted: Identification =
-            identify(robot, &training, options, &mut Quiet).map_err(context)?;
+            identify_fit(robot, &training, options, &mut Quiet).map_err(context)?;
         let errors = evaluate(
             &fitted.calibrated,
             &held_out.with_frames(fitted.frames.clone()),

@@ -1052,3 +1052,59 @@ fn the_start_leaves_what_the_priority_matrix_holds() {
         );
     }
 }
+
+/// A tool point 0.4 mm off axis 6, frame data: θ6 and θ7 are one direction
+/// of the data (ρ = −1.000). Where their split is known to no better than
+/// 1°, θ7 is held at its stated value and θ6 carries their sum, so no split
+/// drifts into "implausible"; every fit is trusted.
+#[test]
+fn a_split_the_data_cannot_make_is_held() {
+    use gecaro_core::{ParameterId, ParameterKind};
+    const NOISE: f64 = 2e-5;
+    let mut nominal = gecaro_io::load_robot("industrial6").expect("ready").robot;
+    let d7 = ParameterId::new(ParameterKind::D, 7);
+    let theta7 = ParameterId::new(ParameterKind::Theta, 7);
+    nominal.set_parameter(d7, 4e-4).expect("d7");
+    let frame = method("frame", &MethodOptions::default()).expect("method");
+    let mut held = 0;
+    for seed in 1..=6 {
+        let mut sampler = Sampler::new(seed);
+        let real = perturbed_robot(&nominal, 1.0, &mut sampler).expect("real");
+        let samples =
+            simulate_measurements(&real, frame.as_ref(), 60, NOISE, &mut sampler, &mut Quiet)
+                .expect("data");
+        let mut study = Study::single(frame.clone_method(), samples, "flange.csv");
+        study.sets[0].sigma = Some(NOISE);
+        study.sets[0].sigma_rotation = Some(NOISE);
+        let result = identify(
+            &nominal,
+            &study,
+            &IdentificationOptions::default(),
+            &mut Quiet,
+        )
+        .expect("identified");
+        assert!(
+            result.verdict.outcome.trusted(),
+            "seed {seed}: {}",
+            result.verdict.summary
+        );
+        if result
+            .warnings
+            .iter()
+            .any(|w| w.contains("are one direction of these data"))
+        {
+            held += 1;
+            assert_eq!(
+                result.calibrated.parameter(theta7),
+                nominal.parameter(theta7)
+            );
+        } else {
+            let split = result.parameters.iter().find(|p| p.name == "theta7");
+            assert!(
+                split.is_none_or(|p| p.std <= 0.0175),
+                "seed {seed}: {split:?}"
+            );
+        }
+    }
+    assert!(held >= 1, "no seed held the split");
+}

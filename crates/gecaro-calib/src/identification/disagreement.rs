@@ -21,6 +21,7 @@
 //!   judged all the same (the others still fit).
 
 use super::evaluation::errors_at;
+use super::findings::{Disagreement, SetFit};
 use super::result::Identification;
 use crate::Error;
 use crate::observation::ObservationSystem;
@@ -35,83 +36,71 @@ pub const MAX_SETS: usize = 12;
 /// Configurations beyond which no set is left out.
 pub const MAX_CONFIGURATIONS: usize = 200_000;
 
-/// One set's fit at the solution.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SetFit {
-    /// The set's label (usually its data file).
-    pub label: String,
-    /// Its residuals' σ̂ over its stated σ (over 1 for an unweighted set:
-    /// metres and radians), `√(χ²_k/ν_k)`.
-    pub sigma_ratio: f64,
-}
-
 /// Every set's σ̂/σ at the solution of `system` (`freedom` degrees of
-/// freedom in all), labelled from `study`.
+/// freedom in all), labelled from `study`; then, for a study that names
+/// tools or stations, each tool's and each station's sets pooled (a wrong
+/// station shows in every set it measures from).
 pub(super) fn set_fits(study: &Study, system: &ObservationSystem, freedom: usize) -> Vec<SetFit> {
     let rows = system.measured_rows().max(1) as f64;
     let share = freedom as f64 / rows;
-    study
+    let sums: Vec<(usize, f64)> = (0..study.sets.len())
+        .map(|index| {
+            system
+                .scaled_rows_of(index)
+                .fold((0_usize, 0.0), |(n, sum), (_, e)| (n + 1, sum + e * e))
+        })
+        .collect();
+    let fit = |label: String, (count, squares): (usize, f64)| SetFit {
+        label,
+        sigma_ratio: (squares / (count as f64 * share).max(f64::MIN_POSITIVE)).sqrt(),
+    };
+    let mut fits: Vec<SetFit> = study
         .sets
         .iter()
-        .enumerate()
-        .map(|(index, set)| {
-            let (count, squares) = system
-                .scaled_rows_of(index)
-                .fold((0_usize, 0.0), |(n, sum), (_, e)| (n + 1, sum + e * e));
-            SetFit {
-                label: set.label.clone(),
-                sigma_ratio: (squares / (count as f64 * share).max(f64::MIN_POSITIVE)).sqrt(),
-            }
-        })
-        .collect()
-}
-
-/// The set that disagrees with the rest: see the module docs.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Disagreement {
-    /// The set (its index in the study).
-    pub set: usize,
-    /// Its label.
-    pub label: String,
-    /// σ̂/σ of the other sets identified without it.
-    pub rest_ratio: f64,
-    /// The set's RMS error at the robot the others give (metres).
-    pub error: f64,
-    /// σ̂/σ of the study as a whole.
-    pub whole_ratio: f64,
-}
-
-impl Disagreement {
-    /// The verdict's words.
-    pub fn words(&self) -> String {
-        format!(
-            "{} disagrees with the other sets: identified without it they fit the noise (σ̂/σ = \
-             {:.2} against {:.1} with it), and it is {:.4} mm off the robot they give — a set \
-             labelled with the wrong tool or station, another robot's data, or a cell changed \
-             between the sets?",
-            self.label,
-            self.rest_ratio,
-            self.whole_ratio,
-            self.error * 1e3
-        )
+        .zip(&sums)
+        .map(|(set, sum)| fit(set.label.clone(), *sum))
+        .collect();
+    for (frame_index, frame) in study.frames.iter().enumerate() {
+        let pooled = study
+            .sets
+            .iter()
+            .zip(&sums)
+            .filter(|(set, _)| set.tool == Some(frame_index) || set.station == Some(frame_index))
+            .fold((0, 0.0), |(n, sum), (_, (count, squares))| {
+                (n + count, sum + squares)
+            });
+        if pooled.0 > 0 {
+            let role = match frame.role {
+                crate::frames::FrameRole::Tool => "tool",
+                crate::frames::FrameRole::Station => "station",
+            };
+            fits.push(fit(format!("{role} {}", frame.name), pooled));
+        }
     }
+    fits
 }
 
 /// The set of `study` that disagrees with the rest, if `result` exceeds
 /// the noise and one does (module docs); `identify` identifies a study
 /// without a set.
+///
+/// # Errors
+/// [`Error::Interrupted`] when `identify` is stopped (a set that cannot be
+/// identified without is no answer, and no error).
 pub(super) fn disagreeing_set(
     study: &Study,
     result: &Identification,
-    identify: impl Fn(&Study) -> Result<Identification, Error>,
-) -> Option<Disagreement> {
-    let test = result.verdict.noise_test?;
+    mut identify: impl FnMut(&Study) -> Result<Identification, Error>,
+) -> Result<Option<Disagreement>, Error> {
+    let Some(test) = result.verdict.noise_test else {
+        return Ok(None);
+    };
     let configurations: usize = study.sets.iter().map(|set| set.samples.len()).sum();
     if !test.exceeded()
         || !(MIN_SETS..=MAX_SETS).contains(&study.sets.len())
         || configurations > MAX_CONFIGURATIONS
     {
-        return None;
+        return Ok(None);
     }
     let without = |left: usize| Study {
         sets: study
@@ -124,26 +113,34 @@ pub(super) fn disagreeing_set(
         frames: study.frames.clone(),
     };
     // The sets without which the others fit the noise.
-    let fitting: Vec<(usize, Identification)> = (0..study.sets.len())
-        .filter_map(|left| {
-            let rest = identify(&without(left)).ok()?;
-            let fits = rest.verdict.noise_test.is_some_and(|test| !test.exceeded());
-            fits.then_some((left, rest))
-        })
-        .collect();
+    let mut fitting: Vec<(usize, Identification)> = Vec::new();
+    for left in 0..study.sets.len() {
+        let rest = match identify(&without(left)) {
+            Ok(rest) => rest,
+            Err(Error::Interrupted) => return Err(Error::Interrupted),
+            Err(_) => continue,
+        };
+        if rest.verdict.noise_test.is_some_and(|test| !test.exceeded()) {
+            fitting.push((left, rest));
+        }
+    }
     let [(left, rest)] = fitting.as_slice() else {
-        return None;
+        return Ok(None);
     };
     let alone = Study {
         sets: vec![study.sets[*left].with_samples(study.sets[*left].samples.clone())],
         frames: rest.frames.clone(),
     };
-    let error = errors_at(&rest.calibrated, &alone).ok()?.0.rms;
-    Some(Disagreement {
+    let (Ok((errors, ..)), Some(rest_test)) =
+        (errors_at(&rest.calibrated, &alone), rest.verdict.noise_test)
+    else {
+        return Ok(None);
+    };
+    Ok(Some(Disagreement {
         set: *left,
         label: study.sets[*left].label.clone(),
-        rest_ratio: rest.verdict.noise_test?.sigma_ratio,
-        error,
+        rest_ratio: rest_test.sigma_ratio,
+        error: errors.rms,
         whole_ratio: test.sigma_ratio,
-    })
+    }))
 }

@@ -17,6 +17,7 @@
 //! Each shift costs an identification, so only studies of at most
 //! [`MAX_SETS`] sets and [`MAX_CONFIGURATIONS`] configurations are tried.
 
+use super::findings::ShiftedJoin;
 use super::result::Identification;
 use super::verdict::StopReason;
 use crate::Error;
@@ -35,43 +36,6 @@ const MAX_SETS: usize = 4;
 
 /// Configurations beyond which no shift is tried.
 const MAX_CONFIGURATIONS: usize = 20_000;
-
-/// A set whose measurements belong to other rows' configurations.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ShiftedJoin {
-    /// The set (its index in the study).
-    pub set: usize,
-    /// Its label.
-    pub label: String,
-    /// The shift: the measurement of row i belongs to the configuration of
-    /// row i − `shift` (1: each measurement sits one row below its
-    /// configuration).
-    pub shift: isize,
-    /// The residual RMS of the identification as read (weighted rows).
-    pub rms_as_read: f64,
-    /// The same with the measurements shifted.
-    pub rms_shifted: f64,
-}
-
-impl ShiftedJoin {
-    /// The diagnosis in words.
-    pub fn words(&self) -> String {
-        let rows = self.shift.unsigned_abs();
-        format!(
-            "{}: the measurements seem to belong to the configurations {} row{} {} them (a joint \
-             log and a measurement file joined {} row{} off?): moved so, the identification \
-             converges to a residual RMS {:.2e} against {:.2e} as read; join the files again",
-            self.label,
-            rows,
-            if rows == 1 { "" } else { "s" },
-            if self.shift > 0 { "above" } else { "below" },
-            rows,
-            if rows == 1 { "" } else { "s" },
-            self.rms_shifted,
-            self.rms_as_read,
-        )
-    }
-}
 
 /// Whether `result` failed the way a shifted join makes it fail.
 fn questioned(result: &Identification) -> bool {
@@ -107,14 +71,18 @@ fn shifted(study: &Study, set: usize, shift: isize) -> Option<Study> {
 /// The set of `study` whose measurements belong to other rows, if `result`
 /// failed the way that makes it fail and a shift explains it (module docs);
 /// `identify` identifies a study.
+///
+/// # Errors
+/// [`Error::Interrupted`] when `identify` is stopped (a shift that cannot be
+/// identified is no answer, and no error).
 pub(super) fn shifted_join(
     study: &Study,
     result: &Identification,
-    identify: impl Fn(&Study) -> Result<Identification, Error>,
-) -> Option<ShiftedJoin> {
+    mut identify: impl FnMut(&Study) -> Result<Identification, Error>,
+) -> Result<Option<ShiftedJoin>, Error> {
     let configurations: usize = study.sets.iter().map(|set| set.samples.len()).sum();
     if !questioned(result) || study.sets.len() > MAX_SETS || configurations > MAX_CONFIGURATIONS {
-        return None;
+        return Ok(None);
     }
     let rms_as_read = result.rms_after();
     let mut best: Option<ShiftedJoin> = None;
@@ -133,8 +101,10 @@ pub(super) fn shifted_join(
             let Some(moved) = shifted(study, index, shift) else {
                 continue;
             };
-            let Ok(fitted) = identify(&moved) else {
-                continue;
+            let fitted = match identify(&moved) {
+                Ok(fitted) => fitted,
+                Err(Error::Interrupted) => return Err(Error::Interrupted),
+                Err(_) => continue,
             };
             let fits = fitted.stop_reason == StopReason::Converged
                 && fitted
@@ -156,5 +126,5 @@ pub(super) fn shifted_join(
             }
         }
     }
-    best
+    Ok(best)
 }

@@ -74,6 +74,7 @@ mod curvature;
 mod data_scale;
 mod disagreement;
 mod evaluation;
+mod findings;
 mod full_model;
 mod gauge;
 mod hayati;
@@ -94,6 +95,7 @@ mod reweighting;
 mod routes;
 mod scale;
 mod solver;
+mod split;
 mod start;
 mod statistics;
 mod subsample;
@@ -118,10 +120,11 @@ use crate::study::{Study, StudyStates};
 pub use change::{CHANGE_LEVEL, CellChange, MIN_CHANGED};
 pub use coarse::COARSE_FRACTION;
 pub use coverage::{Coverage, MIN_REDUNDANCY, STILL_RANGE, UnobservedScale};
-pub use disagreement::{Disagreement, MAX_CONFIGURATIONS, MAX_SETS, MIN_SETS, SetFit};
+pub use disagreement::{MAX_CONFIGURATIONS, MAX_SETS, MIN_SETS};
 use evaluation::errors_at;
 pub use evaluation::{evaluate, evaluate_errors};
-pub use join::{FAR_BEYOND, MAX_SHIFT, ShiftedJoin};
+pub use findings::{Disagreement, NARROW_FRACTION, RegionPrediction, SetFit, ShiftedJoin};
+pub use join::{FAR_BEYOND, MAX_SHIFT};
 pub use observations::{ObservationLocation, locate_observations};
 pub use options::{DEFAULT_COARSE_FROM, DEFAULT_STREAMED_ROWS, IdentificationOptions, Solver};
 pub use outliers::{DEFAULT_OUTLIER_THRESHOLD, Outlier};
@@ -129,9 +132,7 @@ pub use parameter::IdentifiedParameter;
 pub use passes::SECOND_PASS_LEVEL;
 use passes::{ScoreTests, score_tests, significantly_lower};
 use prior_rows::{extra_prior_rows, prior_rows};
-pub use region::{
-    FLOOR_FACTOR, NARROW_FRACTION, REGION_FACTOR, REGION_POSES, RegionPrediction, WORK_POSES,
-};
+pub use region::{FLOOR_FACTOR, REGION_FACTOR, REGION_POSES, WORK_POSES};
 pub use repeatability::{MIN_FREEDOM, Repeatability, SAME_POSE};
 use repeats::Repeats;
 pub use result::{ErrorSummary, Identification, Route};
@@ -139,6 +140,7 @@ pub use reweighting::MAX_REWEIGHTINGS;
 use reweighting::Reweighted;
 use routes::descend;
 use solver::{Iterate, Problem, Run};
+pub use split::{SPLIT_CORRELATION, UNDETERMINED_ANGLE, UNDETERMINED_LENGTH};
 use verdict::Evidence;
 pub use verdict::{
     Implausible, NOISE_TEST_LEVEL, NoiseTest, Outcome, SIGMA_MARGIN, StopReason, Verdict,
@@ -202,25 +204,43 @@ pub fn identify(
     options: &IdentificationOptions,
     observer: &mut dyn Observer,
 ) -> Result<Identification, Error> {
+    identify_as(robot, study, options, observer, true)
+}
+
+/// [`identify`] without looking beyond the fit (a change of the cell, the
+/// set that disagrees, a shifted join, where the result holds): what a
+/// cross-validation's fold or a Monte Carlo run needs of it, the robot.
+///
+/// # Errors
+/// As [`identify`].
+pub(crate) fn identify_fit(
+    robot: &Robot,
+    study: &Study,
+    options: &IdentificationOptions,
+    observer: &mut dyn Observer,
+) -> Result<Identification, Error> {
+    identify_as(robot, study, options, observer, false)
+}
+
+/// [`identify`], looking beyond the fit when `further`.
+fn identify_as(
+    robot: &Robot,
+    study: &Study,
+    options: &IdentificationOptions,
+    observer: &mut dyn Observer,
+    further: bool,
+) -> Result<Identification, Error> {
     options::check_options(robot, options)?;
     angle_unit::check_angle_unit(robot, study)?;
     data_scale::check_data_scale(robot, study)?;
     let first = fit(robot, study, options, observer)?;
-    // A block of outliers in a set's row order is a change of the cell,
-    // whatever the loss or a rejection makes of them ([`change`]).
-    let changes = change::cell_changes(study, &first.outliers);
-    // A study that exceeds the noise: the set that disagrees with the rest.
-    let disagreement = disagreement::disagreeing_set(study, &first, |without| {
-        fit(robot, without, options, &mut Quiet)
-    });
-    // A fit that fails far from the noise: a join off by a few rows?
-    let join = join::shifted_join(study, &first, |shifted| {
-        fit(robot, shifted, options, &mut Quiet)
-    });
-    let found = Found {
-        changes,
-        disagreement,
-        join,
+    if !further && (!options.reject || first.outliers.is_empty()) {
+        return Ok(first);
+    }
+    let found = if further {
+        look_further(robot, study, options, &first, observer)?
+    } else {
+        Found::default()
     };
     if !options.reject || first.outliers.is_empty() {
         return Ok(judged(first, study, found, options));
@@ -244,7 +264,43 @@ pub fn identify(
     Ok(judged(refit, &kept, found, options))
 }
 
+/// What `first`, the fit of `study`, leaves for the data to say: a block
+/// of outliers in a set's row order ([`change`]), the set that disagrees
+/// with the rest ([`disagreement`]), a join off by a few rows ([`join`]).
+/// The last two identify the study again; `observer` may stop them (it
+/// hears of them as one part of the work).
+///
+/// # Errors
+/// [`Error::Interrupted`] when the observer stops the work.
+fn look_further(
+    robot: &Robot,
+    study: &Study,
+    options: &IdentificationOptions,
+    first: &Identification,
+    observer: &mut dyn Observer,
+) -> Result<Found, Error> {
+    // A block of outliers is a change of the cell, whatever the loss or a
+    // rejection makes of them.
+    let changes = change::cell_changes(study, &first.outliers);
+    let mut checking =
+        |_: Progress<'_>| observer.observe(Progress::Phase("looking for a mistake in the data"));
+    // A study that exceeds the noise: the set that disagrees with the rest.
+    let disagreement = disagreement::disagreeing_set(study, first, |without| {
+        fit(robot, without, options, &mut checking)
+    })?;
+    // A fit that fails far from the noise: a join off by a few rows?
+    let join = join::shifted_join(study, first, |shifted| {
+        fit(robot, shifted, options, &mut checking)
+    })?;
+    Ok(Found {
+        changes,
+        disagreement,
+        join,
+    })
+}
+
 /// What the data say beyond the first fit, for the verdict.
+#[derive(Default)]
 struct Found {
     /// Blocks of outliers in a set's row order.
     changes: Vec<change::CellChange>,
@@ -285,8 +341,43 @@ fn judged(
 
 /// One identification of `study` (see the module docs): the paper's pass on
 /// the base set chosen at the nominal robot, then, where the structure at the
-/// calibrated robot differs, the second pass ([`second_pass`]).
+/// calibrated robot differs, the second pass ([`second_pass`]); a split of
+/// two parameters the data cannot tell apart held ([`split`]).
 fn fit(
+    robot: &Robot,
+    study: &Study,
+    options: &IdentificationOptions,
+    observer: &mut dyn Observer,
+) -> Result<Identification, Error> {
+    let result = fit_once(robot, study, options, observer)?;
+    let Some((held, words)) = split::undetermined_split(&result) else {
+        return Ok(result);
+    };
+    let mut priority = options.priority.clone().unwrap_or_else(|| robot.priority());
+    priority.set(held, 0);
+    let holding = IdentificationOptions {
+        priority: Some(priority),
+        ..options.clone()
+    };
+    let Ok(mut refit) = fit_once(robot, study, &holding, &mut Quiet) else {
+        return Ok(result);
+    };
+    let as_well = refit.stop_reason == StopReason::Converged
+        && !significantly_lower(
+            refit.data_cost,
+            result.data_cost,
+            1,
+            result.degrees_of_freedom,
+        );
+    if !as_well {
+        return Ok(result);
+    }
+    refit.warnings.push(words);
+    Ok(refit)
+}
+
+/// [`fit`] without the split held.
+fn fit_once(
     robot: &Robot,
     study: &Study,
     options: &IdentificationOptions,

@@ -59,9 +59,7 @@
 
 use super::change::CellChange;
 use super::coverage::Coverage;
-use super::disagreement::{Disagreement, SetFit};
-use super::join::ShiftedJoin;
-use super::region::RegionPrediction;
+use super::findings::{Disagreement, RegionPrediction, SetFit, ShiftedJoin};
 use super::repeatability::Repeatability;
 use super::repeats::Repeats;
 use super::words;
