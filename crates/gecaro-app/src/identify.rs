@@ -29,7 +29,7 @@ use crate::error::{AppError, ErrorKind, Part};
 use crate::files::Files;
 use crate::limits::MAX_FOLDS;
 use crate::measurements::{Data, Loaded, Measurements, Note, Unknown};
-use crate::model_advice::ModelAdvice;
+use crate::model_advice::{ModelAdvice, ModelCheck};
 use crate::robot_files::calibrated_robot_file;
 use crate::settings::{FitSettings, model};
 use crate::sources::RobotSource;
@@ -51,10 +51,11 @@ pub struct IdentifyRequest {
     /// interpolation) or `regions` (the ends of each joint's range:
     /// extrapolation).
     pub folds_by: Option<String>,
-    /// Also compare the model with the next smaller one by region folds,
-    /// and suggest it when it predicts better ([`ModelAdvice`]).
-    #[serde(default)]
-    pub check_model: bool,
+    /// Compare the model with the next smaller and larger ones by region
+    /// folds, and suggest one that predicts better ([`ModelAdvice`]):
+    /// `true` always, `false` never, unset (default) when the data are small
+    /// enough for it to be cheap (at most [`crate::CHEAP_EQUATIONS`]).
+    pub check_model: Option<bool>,
     #[serde(flatten)]
     unknown: Unknown,
 }
@@ -68,9 +69,9 @@ pub struct PreparedIdentification {
     pub options: IdentificationOptions,
     /// The folds of the cross-validation, if asked for.
     pub cross_validation: Option<Folds>,
-    /// The model's name, when it is compared with the next smaller one
+    /// The comparison of the model with its neighbours, when it runs
     /// ([`IdentifyRequest::check_model`]).
-    pub check_model: Option<String>,
+    pub check_model: Option<ModelCheck>,
 }
 
 /// The folds `folds_by` names (`default` when not given), `count` of them,
@@ -134,12 +135,22 @@ impl IdentifyRequest {
         }
         loaded.study.check(&loaded.robot.robot)?;
         let options = self.settings.options(&loaded, files)?;
-        let check_model = self.check_model.then(|| {
-            loaded
-                .model(self.settings.model.as_deref())
-                .unwrap_or("full")
-                .to_owned()
-        });
+        let check_model = match self.check_model {
+            Some(asked) => asked,
+            None => crate::model_advice::is_cheap(&loaded.study),
+        }
+        .then(|| {
+            Ok::<_, AppError>(ModelCheck {
+                model: loaded
+                    .model(self.settings.model.as_deref())
+                    .unwrap_or("full")
+                    .trim()
+                    .to_owned(),
+                given: self.settings.given_priority(&loaded, files)?,
+                asked: self.check_model == Some(true),
+            })
+        })
+        .transpose()?;
         Ok(PreparedIdentification {
             loaded,
             options,
@@ -251,11 +262,11 @@ impl PreparedIdentification {
                 &result,
                 observer,
             )?);
-            if let Some(name) = &self.check_model {
-                advice.extend(crate::model_advice::smaller_model_advice(
+            if let Some(check) = &self.check_model {
+                advice.extend(crate::model_advice::neighbour_advice(
                     &self.loaded,
                     &self.options,
-                    name,
+                    check,
                     observer,
                 )?);
             }

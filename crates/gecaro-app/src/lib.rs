@@ -109,7 +109,7 @@ pub use interchange::{
 };
 pub use measurements::{Data, Loaded, LoadedStudy, Measurements, Note, StudySource};
 pub use method::{MethodSpec, parse_name};
-pub use model_advice::{BETTER, ModelAdvice};
+pub use model_advice::{BETTER, CHEAP_EQUATIONS, ModelAdvice, ModelCheck};
 pub use plan::{
     AccuracyCurve, PlanRequest, Planned, Planning, PredictRequest, Predicted, TestPoses,
 };

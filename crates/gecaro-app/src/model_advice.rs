@@ -21,8 +21,10 @@
 //!   default.
 
 use gecaro_calib::identification::{Identification, IdentificationOptions, identify};
+use gecaro_calib::study::Study;
 use gecaro_calib::validation::{Folds, Model, compare_models};
 use gecaro_calib::{Observer, Quiet};
+use gecaro_core::PriorityMatrix;
 
 use crate::error::{AppError, Part};
 use crate::measurements::{Loaded, Note};
@@ -30,6 +32,11 @@ use crate::measurements::{Loaded, Note};
 /// A smaller model is suggested when its held-out error is below this part
 /// of the model's.
 pub const BETTER: f64 = 0.9;
+
+/// The size of data (equations) up to which `identify` compares its model
+/// with its neighbours unasked: a few hundred measurements, where the two or
+/// three region cross-validations take a fraction of a second.
+pub const CHEAP_EQUATIONS: usize = 1_500;
 
 /// The parts of each joint's range the region folds hold out (a fifth at
 /// each end).
@@ -151,61 +158,111 @@ pub(crate) fn elastic_advice(
     }))
 }
 
-/// The next smaller model than `name`'s, when region folds say it
-/// predicts better (module docs).
+/// A comparison of the model identified with its neighbours, prepared.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModelCheck {
+    /// The model identified (`full`, `no-gains`, …).
+    pub model: String,
+    /// The priority matrix before the model restricted it (`None`: the
+    /// robot's), from which the next larger model is drawn.
+    pub given: Option<PriorityMatrix>,
+    /// Whether the user asked for it (an error of a fold is then reported);
+    /// otherwise it runs because the data are small ([`is_cheap`]) and a
+    /// fold that cannot be identified only skips it.
+    pub asked: bool,
+}
+
+/// Whether comparing models costs little beside the identification: at
+/// most [`CHEAP_EQUATIONS`] equations.
+pub(crate) fn is_cheap(study: &Study) -> bool {
+    study.equation_count() <= CHEAP_EQUATIONS
+}
+
+/// The model one step smaller than `name` (full → no-gains → kinematic →
+/// offsets; no-beta → kinematic).
+fn smaller(name: &str) -> Option<Model> {
+    match name {
+        "full" => Some(Model::NoGains),
+        "no-gains" | "no-beta" => Some(Model::Kinematic),
+        "kinematic" => Some(Model::Offsets),
+        _ => None,
+    }
+}
+
+/// The larger model `name` is compared with: the kinematic one for the
+/// offsets, the full one (the priority matrix given) for any model between.
+fn larger(name: &str) -> Option<Model> {
+    match name {
+        "offsets" => Some(Model::Kinematic),
+        "kinematic" | "no-gains" | "no-beta" => Some(Model::Full),
+        _ => None,
+    }
+}
+
+/// The neighbour of the model identified (one step smaller or larger) that
+/// region folds say predicts better, by at least [`BETTER`] (module docs).
 ///
 /// # Errors
-/// A fold that cannot be identified; an interruption.
-pub(crate) fn smaller_model_advice(
+/// An interruption; a fold that cannot be identified when the check was
+/// asked for.
+pub(crate) fn neighbour_advice(
     loaded: &Loaded,
     options: &IdentificationOptions,
-    name: &str,
+    check: &ModelCheck,
     observer: &mut dyn Observer,
 ) -> Result<Option<ModelAdvice>, AppError> {
-    let smaller = match name {
-        "full" => Model::NoGains,
-        "no-gains" | "no-beta" => Model::Kinematic,
-        "kinematic" => Model::Offsets,
-        _ => return Ok(None),
-    };
     let robot = &loaded.robot.robot;
+    let name = check.model.as_str();
     // The model identified is the options' priority matrix as it stands.
-    let current = Model::Matrix(
-        name.to_owned(),
-        options.priority.clone().unwrap_or_else(|| robot.priority()),
-    );
-    let candidates = [
-        current,
-        Model::Matrix(
-            smaller.name().to_owned(),
-            smaller.priority(robot, options.priority.as_ref()),
-        ),
+    let current = options.priority.clone().unwrap_or_else(|| robot.priority());
+    let neighbours = [
+        smaller(name).map(|model| (model.priority(robot, Some(&current)), model)),
+        larger(name).map(|model| (model.priority(robot, check.given.as_ref()), model)),
     ];
-    let scores = compare_models(
-        robot,
-        &loaded.study,
-        options,
-        &candidates,
-        Folds::Regions {
-            count: REGION_PARTS,
-        },
-        observer,
-    )?;
+    let mut candidates = vec![Model::Matrix(name.to_owned(), current.clone())];
+    let mut matrices = vec![current];
+    // A neighbour that identifies the same parameters is no alternative.
+    for (matrix, model) in neighbours.into_iter().flatten() {
+        if !matrices.contains(&matrix) {
+            candidates.push(Model::Matrix(model.name().to_owned(), matrix.clone()));
+            matrices.push(matrix);
+        }
+    }
+    if candidates.len() < 2 {
+        return Ok(None);
+    }
+    let folds = Folds::Regions {
+        count: REGION_PARTS,
+    };
+    let scores = match compare_models(robot, &loaded.study, options, &candidates, folds, observer) {
+        Ok(scores) => scores,
+        Err(error) if check.asked || matches!(error, gecaro_calib::Error::Interrupted) => {
+            return Err(error.into());
+        }
+        Err(_) => return Ok(None),
+    };
     let held_out = |model: &str| {
         scores
             .iter()
             .find(|score| score.model.name() == model)
             .map(|score| score.validation.rms)
     };
-    let (Some(small), Some(current)) = (held_out(smaller.name()), held_out(name)) else {
+    let Some(current) = held_out(name) else {
         return Ok(None);
     };
-    Ok((small < BETTER * current).then(|| ModelAdvice {
-        model: smaller.name().to_owned(),
-        instead_of: name.to_owned(),
-        sigma_ratio: None,
-        instead_ratio: None,
-        held_out: small,
-        instead_held_out: current,
-    }))
+    let best = scores
+        .iter()
+        .filter(|score| score.model.name() != name)
+        .map(|score| (score.model.name(), score.validation.rms))
+        .min_by(|a, b| a.1.total_cmp(&b.1));
+    Ok(best
+        .filter(|&(_, rms)| rms < BETTER * current)
+        .map(|(model, rms)| ModelAdvice {
+            model: model.to_owned(),
+            instead_of: name.to_owned(),
+            sigma_ratio: None,
+            instead_ratio: None,
+            held_out: rms,
+            instead_held_out: current,
+        }))
 }

@@ -77,6 +77,22 @@ pub struct FitSettings {
 }
 
 impl FitSettings {
+    /// The priority matrix before the model restricts it: the one given,
+    /// else the study file's (`None`: the robot's own).
+    ///
+    /// # Errors
+    /// A priority file that cannot be read.
+    pub fn given_priority(
+        &self,
+        loaded: &Loaded,
+        files: &dyn Files,
+    ) -> Result<Option<PriorityMatrix>, AppError> {
+        Ok(match &self.priority {
+            Some(source) => Some(source.load(&loaded.robot.robot, files)?),
+            None => loaded.priority.clone(),
+        })
+    }
+
     /// The library's options for the robot and study of `loaded`: the priority
     /// matrix given, else the study's, restricted by the model; the prior
     /// given (its σ per kind replacing the study file's, whose per-parameter
@@ -90,10 +106,7 @@ impl FitSettings {
         files: &dyn Files,
     ) -> Result<IdentificationOptions, AppError> {
         let robot = &loaded.robot.robot;
-        let given = match &self.priority {
-            Some(source) => Some(source.load(robot, files)?),
-            None => loaded.priority.clone(),
-        };
+        let given = self.given_priority(loaded, files)?;
         let name = loaded.model(self.model.as_deref()).unwrap_or("full");
         let model = model(name, robot, files)?;
         let max_iterations = self.max_iterations.unwrap_or(30);

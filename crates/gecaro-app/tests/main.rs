@@ -6,4 +6,5 @@
 mod cell;
 mod documents;
 mod elastic;
+mod model_check;
 mod wording;

@@ -424,7 +424,7 @@ impl PyIdentification {
 /// Raises NotConvergedError (with the best iterate in `.result`) when the
 /// iteration did not converge, NotIdentifiableError with too few equations.
 #[pyfunction]
-#[pyo3(signature = (robot, method, data = None, *, solver = "gauss-newton", max_iterations = 30, priority = None, loss = "l2", loss_scale = None, prior = None, outlier_threshold = 3.0, reject = false, model = "full", strict_limits = false, sigma = None, sigma_rotation = None, work_region = None, check_model = false, progress = None))]
+#[pyo3(signature = (robot, method, data = None, *, solver = "gauss-newton", max_iterations = 30, priority = None, loss = "l2", loss_scale = None, prior = None, outlier_threshold = 3.0, reject = false, model = "full", strict_limits = false, sigma = None, sigma_rotation = None, work_region = None, check_model = None, progress = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn identify(
     py: Python<'_>,
@@ -444,7 +444,7 @@ pub(crate) fn identify(
     sigma: Option<Sigma>,
     sigma_rotation: Option<Sigma>,
     work_region: Option<&str>,
-    check_model: bool,
+    check_model: Option<bool>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<PyIdentification> {
     let mut request =

@@ -101,7 +101,7 @@ def test_where_the_result_holds(tmp_path: Path) -> None:
     qm = middle + np.radians(generator.uniform(-15, 15, size=(120, 6)))
     position = real.fk(qm)[:, :3, 3] + generator.normal(0, 2e-5, size=(120, 3))
     data = gecaro.Data(qm, position=position)
-    verdict = gecaro.identify(robot, "position", data, sigma="20um").verdict
+    verdict = gecaro.identify(robot, "position", data, sigma="20um", check_model=False).verdict
     assert verdict["outcome"] == "regional" and not verdict["trusted"]
     region = verdict["region"]
     assert not region["holds_everywhere"] and region["work_is_limits"]
@@ -110,8 +110,25 @@ def test_where_the_result_holds(tmp_path: Path) -> None:
     home = ",".join(
         f"q{j + 1}={m - 10:.1f}..{m + 10:.1f}deg" for j, m in enumerate(np.degrees(middle))
     )
-    held = gecaro.identify(robot, "position", data, sigma="20um", work_region=home).verdict
+    held = gecaro.identify(
+        robot, "position", data, sigma="20um", work_region=home, check_model=False
+    ).verdict
     assert held["outcome"] == "fits_noise" and held["region"]["holds_everywhere"]
     assert not held["region"]["work_is_limits"]
     with pytest.raises(gecaro.InputError, match="work_region"):
         gecaro.identify(robot, "position", data, work_region="q1=-10..10")
+
+
+def test_a_model_too_small_is_told_the_full_one() -> None:
+    """The real robot's gains off by up to 1 % and the kinematic model asked
+    for: small data are compared with the full model unasked, and the advice
+    names it; ``check_model=False`` skips the comparison."""
+    robot = gecaro.Robot.load("industrial6")
+    data = gecaro.generate(robot, "position", 100, error_level=1.0, noise=2e-5, seed=5).data
+    advice = gecaro.identify(robot, "position", data, sigma="20um", model="kinematic").to_dict()[
+        "model_advice"
+    ]
+    assert [(a["model"], a["instead_of"]) for a in advice] == [("full", "kinematic")]
+    assert advice[0]["held_out"] < 0.1 * advice[0]["instead_held_out"]
+    skipped = gecaro.identify(robot, "position", data, sigma="20um", model="kinematic", check_model=False)
+    assert skipped.to_dict()["model_advice"] == []

@@ -1516,6 +1516,39 @@ async fn identification_takes_a_robust_loss_a_prior_and_cross_validation() {
     }
 }
 
+/// Small data are compared with the neighbouring models unasked: the
+/// kinematic model of a robot whose gains are off is told the full one;
+/// `check_model: false` skips it, a value that is not a boolean is a 400.
+#[tokio::test]
+async fn small_data_are_told_a_model_that_predicts_better() {
+    let api = Api::new();
+    let document = api.document("industrial6").await;
+    let (_, generated) = api
+        .post(
+            "/api/generate",
+            &json!({ "robot": document, "method": { "name": "position" }, "count": 100, "error_level": 1.0, "noise": 2e-5, "seed": 5 }),
+        )
+        .await;
+    let request = |check: Value| {
+        json!({ "robot": document, "method": { "name": "position" }, "model": "kinematic",
+                "sigma": "20um", "check_model": check,
+                "data": { "csv": { "text": generated["csv"], "name": "small.csv" } } })
+    };
+    let mut advice = Vec::new();
+    for check in [Value::Null, json!(false)] {
+        let (status, submitted) = api.post("/api/identify", &request(check)).await;
+        assert_eq!(status, StatusCode::ACCEPTED, "{submitted}");
+        let view = api.finished(submitted["job"].as_u64().expect("job")).await;
+        assert_eq!(view["state"], "done", "{view}");
+        advice.push(view["result"]["identification"]["model_advice"].clone());
+    }
+    assert_eq!(advice[0][0]["model"], "full", "{}", advice[0]);
+    assert_eq!(advice[0][0]["instead_of"], "kinematic");
+    assert_eq!(advice[1], json!([]));
+    let (status, body) = api.post("/api/identify", &request(json!("yes"))).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST, "{body}");
+}
+
 /// Identification jobs never hold up the page's quick requests: with eight
 /// jobs queued or running, the folder's listing answers while some are still
 /// at work (before, it waited behind all of them for a computing slot).

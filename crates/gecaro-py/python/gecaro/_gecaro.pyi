@@ -545,7 +545,7 @@ def identify(
     sigma: Union[float, str, None] = None,
     sigma_rotation: Union[float, str, None] = None,
     work_region: Optional[str] = None,
-    check_model: bool = False,
+    check_model: Optional[bool] = None,
     progress: Optional[Callable[[int, float], object]] = None,
 ) -> Identification:
     """Identification (eq. 10–11), as ``gecaro identify``. ``sigma``: the
@@ -554,8 +554,10 @@ def identify(
     ranges the robot will be used in, with their units
     (``"q1=-90..90deg,q3=0..120deg"``; default the joint limits), over which
     the verdict predicts its error (``verdict["region"]``). ``check_model``:
-    also compare the model with the next smaller one by region folds
-    (``to_dict()["model_advice"]``, and a warning when it predicts better)."""
+    compare the model with the next smaller and larger ones by region folds
+    (``to_dict()["model_advice"]``, and a warning when one predicts better):
+    ``True`` always, ``False`` never, ``None`` (default) when the data are
+    small (at most 1,500 equations)."""
 
 def cross_validate(
     robot: Robot,

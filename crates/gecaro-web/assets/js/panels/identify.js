@@ -36,7 +36,11 @@ export function identifyPanel(method) {
     h('option', { value: 'elastic', text: 'elastic: and every joint’s compliance' }),
     h('option', { value: 'elastic-gravity', text: 'elastic, and gravity’s tilt (a frame not levelled)' }));
   const reject = h('input', { type: 'checkbox', id: `${name}-identify-reject` });
-  const checkModel = h('input', { type: 'checkbox', id: `${name}-identify-check-model` });
+  // The neighbouring models, by region folds: by default when the data are small.
+  const checkModel = h('select', { id: `${name}-identify-check-model` },
+    h('option', { value: 'auto', text: 'when the data are small (a few hundred measurements)' }),
+    h('option', { value: 'always', text: 'always' }),
+    h('option', { value: 'never', text: 'never' }));
   // Where the robot will be used: the verdict predicts its error there.
   const workRegion = h('input', { type: 'text', class: 'vector', placeholder: 'the joint limits, or e.g. q1=-90..90deg,q2=-45..45deg', id: `${name}-identify-work-region` });
   const sigma = h('input', { type: 'number', min: 0, step: 'any', placeholder: 'not stated', id: `${name}-identify-sigma` });
@@ -62,7 +66,7 @@ export function identifyPanel(method) {
         prior: prior.value.trim() || null,
         reject: reject.checked,
         work_region: workRegion.value.trim() || null,
-        check_model: checkModel.checked,
+        check_model: { always: true, never: false }[checkModel.value] ?? null,
         // With its unit: a bare number would be in the data file's length unit.
         sigma: sigmaText(fieldNumber(sigma, 'Sensor σ', { min: 0, above: true, empty: null })),
         sigma_rotation: method.uses_orientation
@@ -100,7 +104,7 @@ export function identifyPanel(method) {
       field('Prior σ (lengths, angles, gains)', prior),
       field('Drop outliers and refit', reject),
       field('Work region (joint ranges with units)', workRegion),
-      field('Compare with the next smaller model (region folds)', checkModel),
+      field('Compare with the next smaller and larger models (region folds)', checkModel),
       field('Cross-validation folds (0: none)', folds),
       optionFields(method, 'identify'),
       run),
