@@ -430,3 +430,58 @@ fn a_model_error_ten_times_the_noise_is_a_solution_written_and_not_trusted() {
     assert!((8.0..12.0).contains(&ratio), "σ̂/σ {ratio}");
     assert!(at("calibrated.toml").exists());
 }
+
+/// The payload traps of the trial (issue 74): a centre in mixed units, a
+/// centre 80 m away and a payload heavier than the arm are refused with
+/// their value, by `generate`, `compensate` and a data file alike; the
+/// honest `12kg,0,0,80mm` is read.
+#[test]
+fn a_payload_no_arm_carries_is_refused_with_its_value() {
+    let folder = tempfile::tempdir().expect("temporary folder");
+    let at = |name: &str| folder.path().join(name);
+    let generate = |payload: &str| {
+        gecaro()
+            .args(["generate", "industrial6", "--method", "position"])
+            .args(["--count", "20", "--compliance-level", "1", "--seed", "4"])
+            .args(["--payload", payload, "-o"])
+            .arg(at("loaded.csv"))
+            .arg("--force")
+            .output()
+            .expect("runs")
+    };
+    for (payload, expected) in [
+        (
+            "12kg,-32.2959,17.2685,-17.3173mm",
+            "mixes units: '-32.2959' has none",
+        ),
+        ("12kg,0,0,80", "80 m from the tool frame"),
+        ("1200kg", "whose moving links weigh 36.3 kg"),
+    ] {
+        let output = generate(payload);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{payload}: {stderr}");
+        assert!(stderr.contains(expected), "{payload}: {stderr}");
+        assert!(!at("loaded.csv").exists(), "{payload}");
+    }
+    let output = generate("12kg,0,0,80mm");
+    assert!(output.status.success(), "{output:?}");
+    let rows = std::fs::read_to_string(at("loaded.csv")).expect("data");
+    assert!(
+        rows.lines()
+            .nth(2)
+            .is_some_and(|row| row.ends_with(",12.0,0.0,0.0,0.08")),
+        "{rows}"
+    );
+    // A data file whose payload is heavier than the arm, fitted elastic.
+    let heavy = rows.replacen(",12.0,0.0,0.0,0.08", ",1200.0,0.0,0.0,0.08", 1);
+    std::fs::write(at("heavy.csv"), heavy).expect("write");
+    let output = gecaro()
+        .args(["identify", "industrial6", "--method", "position"])
+        .args(["--model", "elastic", "--data"])
+        .arg(at("heavy.csv"))
+        .output()
+        .expect("runs");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_ne!(output.status.code(), Some(0), "{stderr}");
+    assert!(stderr.contains("a payload of 1200 kg"), "{stderr}");
+}

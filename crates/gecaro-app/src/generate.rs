@@ -169,7 +169,7 @@ impl GenerateRequest {
         let payload = self
             .payload
             .as_deref()
-            .map(|text| crate::loads::payload(text, "payload"))
+            .map(|text| crate::loads::payload(&nominal, text, "payload"))
             .transpose()?;
         let mut sampler = Sampler::new(seed);
         let mut real = match &self.real {

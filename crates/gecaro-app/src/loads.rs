@@ -21,20 +21,60 @@ pub(crate) const COMPLIANCE_RANGE: (f64, f64) = (2e-6, 1e-5);
 /// [`COMPLIANCE_RANGE`].
 pub(crate) const TYPICAL_COMPLIANCE: f64 = (COMPLIANCE_RANGE.0 + COMPLIANCE_RANGE.1) / 2.0;
 
-/// The payload of `text` (`"20kg"`, `"20kg,0,0,100mm"`), naming `setting`.
+/// The payload of `text` (`"20kg"`, `"20kg,0,0,100mm"`) carried by
+/// `file`'s robot, naming `setting`.
 ///
 /// # Errors
-/// A text that is not a payload.
-pub(crate) fn payload(text: &str, setting: &str) -> Result<LinkMass, AppError> {
-    gecaro_io::parse_payload(text).map_err(|message| AppError::setting(setting, message))
+/// A text that is not a payload ([`gecaro_io::parse_payload`]), or one
+/// the robot cannot carry ([`require_carried`]).
+pub(crate) fn payload(file: &RobotFile, text: &str, setting: &str) -> Result<LinkMass, AppError> {
+    let payload =
+        gecaro_io::parse_payload(text).map_err(|message| AppError::setting(setting, message))?;
+    require_carried(file, &payload, setting)?;
+    Ok(payload)
 }
 
-/// The payloads of `texts`, naming `setting`.
+/// The payloads of `texts` carried by `file`'s robot, naming `setting`.
 ///
 /// # Errors
-/// A text that is not a payload.
-pub(crate) fn payloads(texts: &[String], setting: &str) -> Result<Vec<LinkMass>, AppError> {
-    texts.iter().map(|text| payload(text, setting)).collect()
+/// As [`payload`].
+pub(crate) fn payloads(
+    file: &RobotFile,
+    texts: &[String],
+    setting: &str,
+) -> Result<Vec<LinkMass>, AppError> {
+    texts
+        .iter()
+        .map(|text| payload(file, text, setting))
+        .collect()
+}
+
+/// Refuses a payload heavier than the robot that would carry it: when
+/// `file` states its links' masses, no serial arm carries more than its
+/// moving links weigh (a cobot about a third, an industrial arm a tenth
+/// to a quarter), so a payload beyond them is a unit or a digit wrong
+/// (`1200kg` for `12kg`).
+///
+/// # Errors
+/// That case, with both masses, naming `setting`.
+pub(crate) fn require_carried(
+    file: &RobotFile,
+    payload: &LinkMass,
+    setting: &str,
+) -> Result<(), AppError> {
+    let robot_mass = file.masses.moving_mass();
+    if robot_mass > 0.0 && payload.mass > robot_mass {
+        return Err(AppError::setting(
+            setting,
+            format!(
+                "a payload of {} kg on {}, whose moving links weigh {robot_mass:.1} kg: no \
+                 serial arm carries more than itself; check the mass and its unit",
+                payload.mass,
+                file.robot.name()
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// Makes `robot` elastic, every compliance 0, unless it is already.

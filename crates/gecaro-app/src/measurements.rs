@@ -157,6 +157,16 @@ impl Loaded {
             .flat_map(|set| set.samples.iter())
             .any(|sample| sample.payload().is_some());
         crate::loads::require_loads(&self.robot, payloads, "model")?;
+        let heaviest = self
+            .study
+            .sets
+            .iter()
+            .flat_map(|set| set.samples.iter())
+            .filter_map(|sample| sample.payload().copied())
+            .max_by(|a, b| a.mass.total_cmp(&b.mass));
+        if let Some(heaviest) = heaviest {
+            crate::loads::require_carried(&self.robot, &heaviest, "payload_mass")?;
+        }
         for set in &mut self.study.sets {
             gecaro_calib::elastic::load_samples(robot, &self.robot.masses, &mut set.samples)?;
         }

@@ -389,7 +389,7 @@ impl PlanRequest {
             (None, pool, kept, robot.priority())
         } else {
             crate::loads::require_loading_sensor(method.as_ref(), "payloads")?;
-            let payloads = crate::loads::payloads(&self.payloads, "payloads")?;
+            let payloads = crate::loads::payloads(&file, &self.payloads, "payloads")?;
             let elastic = crate::loads::elastic_file(&file, true, "payloads")?;
             let priority = Model::Elastic.priority(&elastic.robot, None);
             let pool = crate::loads::loaded(&elastic, pool.as_slice(), &payloads)?;

@@ -197,6 +197,17 @@ impl MassModel {
         self.links.iter().all(Option::is_none)
     }
 
+    /// The mass the joints carry (kg): every stated mass but the base's
+    /// (frame 0), which no joint moves.
+    pub fn moving_mass(&self) -> f64 {
+        self.links
+            .iter()
+            .skip(1)
+            .flatten()
+            .map(|link| link.mass)
+            .sum()
+    }
+
     /// The same masses stated for `new`, the robot `old` re-framed
     /// ([`Robot::reframed`] with `new_world_from_old_world`): a link keeps its
     /// body, so each centre is moved into its frame's new coordinates (the

@@ -664,6 +664,20 @@ mod tests {
             message.contains("data.csv:3") && message.contains("payload_mass"),
             "{message}"
         );
+        // A mass no arm carries, a centre 80 m away (issue 75 item 6, 74).
+        let message = error_of("qm1,qm2,payload_mass\n0,0,1\n0,0,1e300\n", &[]);
+        assert!(
+            message.contains("data.csv:3") && message.contains("payload_mass"),
+            "{message}"
+        );
+        let message = error_of(
+            "qm1,qm2,payload_mass,payload_x,payload_y,payload_z\n0,0,12,0,0,80\n",
+            &[],
+        );
+        assert!(
+            message.contains("data.csv:2") && message.contains("80 m from the tool frame"),
+            "{message}"
+        );
     }
 
     /// A file too long to hold is read in chunks (here of 4 kB) with the

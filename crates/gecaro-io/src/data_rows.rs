@@ -548,12 +548,21 @@ impl RowReader<'_> {
                 Some([x, y, z]) => Vector3::new(length(x)?, length(y)?, length(z)?),
                 None => Vector3::zeros(),
             };
+            let payload = LinkMass {
+                mass: kilograms,
+                com,
+            };
+            if let Err(message) = crate::payload::check_payload(&payload) {
+                let column = if payload.mass > crate::payload::MAX_PAYLOAD_KG {
+                    mass
+                } else {
+                    centre.map_or(mass, |[x, _, _]| x)
+                };
+                return Err(self.fail(line, Some(column), message));
+            }
             if let Some(loads) = slot.loads {
                 *loads = Some(Box::new(SampleLoads {
-                    payload: Some(LinkMass {
-                        mass: kilograms,
-                        com,
-                    }),
+                    payload: Some(payload),
                     ..SampleLoads::default()
                 }));
             }

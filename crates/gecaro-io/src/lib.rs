@@ -55,7 +55,9 @@ pub use joint_calibration::apply_joint_calibration;
 pub use output::{
     OutputPolicy, remove_temporary_files, write_atomically, write_in_folder, write_with,
 };
-pub use payload::{PayloadSpec, Quantity, parse_payload};
+pub use payload::{
+    MAX_PAYLOAD_CENTRE, MAX_PAYLOAD_KG, PayloadSpec, Quantity, check_payload, parse_payload,
+};
 pub use pose::{pose_from_seven, unit_quaternion};
 pub use prior::{StandardDeviation, parse_angle, parse_override, parse_prior, parse_signed_angle};
 pub use problem::{DocumentError, Location};

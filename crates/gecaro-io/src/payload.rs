@@ -6,6 +6,14 @@
 //! The mass takes `kg` or `g`; each coordinate of the centre takes `m`,
 //! `mm` or `um`, and a bare number is in metres. gecaro works in kilograms
 //! and metres ([`LinkMass`]).
+//!
+//! No trap on the way (issue 74): a bare number beside a coordinate that
+//! carries its unit (`12kg,-32.3,17.3,-17.3mm`) is refused rather than read
+//! as metres — only a bare 0 may stand there, being 0 in any unit; a centre
+//! farther than [`MAX_PAYLOAD_CENTRE`] from the tool frame (`12kg,0,0,80`,
+//! 80 m) and a mass beyond [`MAX_PAYLOAD_KG`] are refused with their value.
+//! A mass beyond what the robot itself weighs is refused where the robot is
+//! known (gecaro-app).
 
 use gecaro_core::LinkMass;
 use nalgebra::Vector3;
@@ -14,13 +22,44 @@ use serde::{Deserialize, Serialize};
 use crate::prior::number_length;
 
 /// The heaviest payload gecaro takes: 10 t, beyond any serial arm's.
-const MAX_PAYLOAD_KG: f64 = 1e4;
+pub const MAX_PAYLOAD_KG: f64 = 1e4;
+
+/// The farthest a payload's centre of mass may be from the tool frame
+/// (m): a 2 m tool is longer than any an arm carries, and a centre farther
+/// is a length read in the wrong unit.
+pub const MAX_PAYLOAD_CENTRE: f64 = 2.0;
+
+/// Refuses a payload no arm carries: a mass beyond [`MAX_PAYLOAD_KG`] or
+/// not finite and ≥ 0, a centre beyond [`MAX_PAYLOAD_CENTRE`] from the
+/// tool frame or not finite.
+///
+/// # Errors
+/// A sentence with the value and its bound.
+pub fn check_payload(payload: &LinkMass) -> Result<(), String> {
+    if !(payload.mass.is_finite() && (0.0..=MAX_PAYLOAD_KG).contains(&payload.mass)) {
+        return Err(format!(
+            "the payload's mass {} kg is not a mass from 0 to {MAX_PAYLOAD_KG} kg",
+            payload.mass
+        ));
+    }
+    let distance = payload.com.norm();
+    if !(distance.is_finite() && distance <= MAX_PAYLOAD_CENTRE) {
+        return Err(format!(
+            "the payload's centre ({}, {}, {}) m is {distance} m from the tool frame, beyond \
+             the {MAX_PAYLOAD_CENTRE} m of any tool: is it in mm (give its unit: 80mm)?",
+            payload.com.x, payload.com.y, payload.com.z
+        ));
+    }
+    Ok(())
+}
 
 /// A payload from its text (see the module docs).
 ///
 /// # Errors
 /// A sentence naming what is wrong: no unit on the mass, a unit of another
-/// kind, a negative or absurd mass, a centre of other than three values.
+/// kind, a negative or absurd mass, a centre of other than three values,
+/// a bare number beside a coordinate with its unit, a centre beyond
+/// [`MAX_PAYLOAD_CENTRE`].
 ///
 /// ```
 /// let payload = gecaro_io::parse_payload("20kg,0,0,120mm").unwrap();
@@ -28,6 +67,10 @@ const MAX_PAYLOAD_KG: f64 = 1e4;
 /// assert!((payload.com.z - 0.12).abs() < 1e-15);
 /// assert_eq!(gecaro_io::parse_payload("500g").unwrap().mass, 0.5);
 /// assert!(gecaro_io::parse_payload("20").is_err());
+/// // A bare number beside a unit, and a centre 80 m away, are refused.
+/// assert!(gecaro_io::parse_payload("12kg,-32.3,17.3,-17.3mm").is_err());
+/// assert!(gecaro_io::parse_payload("12kg,0,0,80").is_err());
+/// assert!(gecaro_io::parse_payload("12kg,0,0,80mm").is_ok());
 /// ```
 pub fn parse_payload(text: &str) -> Result<LinkMass, String> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
@@ -69,19 +112,38 @@ pub fn parse_payload(text: &str) -> Result<LinkMass, String> {
         None => Vector3::zeros(),
         Some(coordinates) => {
             let mut com = Vector3::zeros();
+            let mut bare = None;
+            let mut with_unit = None;
             for (axis, coordinate) in coordinates.iter().enumerate() {
-                com[axis] = length(coordinate)?;
+                let (value, unit_given) = length(coordinate)?;
+                com[axis] = value;
+                if unit_given {
+                    with_unit = Some(*coordinate);
+                } else if value != 0.0 && bare.is_none() {
+                    bare = Some(*coordinate);
+                }
+            }
+            if let (Some(bare), Some(with_unit)) = (bare, with_unit) {
+                return Err(format!(
+                    "the payload's centre '{}' mixes units: '{bare}' has none beside \
+                     '{with_unit}'; give every coordinate its unit ({bare}mm or {bare}m)",
+                    coordinates.join(",")
+                ));
             }
             com
         }
     };
-    Ok(LinkMass { mass, com })
+    let payload = LinkMass { mass, com };
+    check_payload(&payload)?;
+    Ok(payload)
 }
 
-/// A coordinate of the centre: a length, metres when bare.
-fn length(text: &str) -> Result<f64, String> {
+/// A coordinate of the centre: a length, metres when bare, and whether
+/// its unit was given.
+fn length(text: &str) -> Result<(f64, bool), String> {
     let (number, unit) = text.split_at(number_length(text));
-    let factor = match unit.trim() {
+    let unit = unit.trim();
+    let factor = match unit {
         "" | "m" => 1.0,
         "mm" => 1e-3,
         "um" | "µm" => 1e-6,
@@ -100,7 +162,7 @@ fn length(text: &str) -> Result<f64, String> {
             "the payload's centre holds '{text}', not a length in a cell"
         ));
     }
-    Ok(value)
+    Ok((value, !unit.is_empty()))
 }
 
 /// A payload as a study file states it: the text of [`parse_payload`], or
@@ -219,8 +281,37 @@ mod tests {
             let message = parse_payload(text).expect_err(text);
             assert!(message.contains(expected), "{text}: {message}");
         }
-        let payload = parse_payload(" 6kg , 0.1 , -20mm , 0 ").expect("valid");
+        let payload = parse_payload(" 6kg , 0.1m , -20mm , 0 ").expect("valid");
         assert_eq!(payload.com, Vector3::new(0.1, -0.02, 0.0));
+        let payload = parse_payload("6kg,0.1,-0.02,0").expect("bare metres");
+        assert_eq!(payload.com, Vector3::new(0.1, -0.02, 0.0));
+    }
+
+    /// The traps of the trial (issue 74): a centre in mixed units, a centre
+    /// 80 m away; an honest payload with zeros beside its unit reads.
+    #[test]
+    fn mixed_units_and_a_centre_out_of_reach_are_refused() {
+        for (text, expected) in [
+            (
+                "12kg,-32.2959,17.2685,-17.3173mm",
+                "mixes units: '-32.2959' has none",
+            ),
+            ("12kg,0,0.5,80mm", "mixes units: '0.5' has none"),
+            ("12kg,0,0,80", "80 m from the tool frame"),
+            ("12kg,2m,1m,0", "from the tool frame"),
+        ] {
+            let message = parse_payload(text).expect_err(text);
+            assert!(message.contains(expected), "{text}: {message}");
+        }
+        let honest = parse_payload("12kg,0,0,80mm").expect("honest");
+        assert!((honest.com - Vector3::new(0.0, 0.0, 0.08)).norm() < 1e-15);
+        assert!(
+            check_payload(&LinkMass {
+                mass: 1e300,
+                com: Vector3::zeros()
+            })
+            .is_err()
+        );
     }
 
     /// A study's table states what the text does, and reads back as written.
@@ -232,8 +323,8 @@ mod tests {
         }
         for (table, text) in [
             (
-                "payload = { mass = \"20kg\", com = [0, 0.01, \"120mm\"] }",
-                "20kg,0,0.01,120mm",
+                "payload = { mass = \"20kg\", com = [0, \"10mm\", \"120mm\"] }",
+                "20kg,0,10mm,120mm",
             ),
             ("payload = { mass = \"500g\" }", "500g"),
             ("payload = \"6kg,0,0,50mm\"", "6kg,0,0,50mm"),

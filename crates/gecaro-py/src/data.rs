@@ -193,15 +193,13 @@ impl PyData {
             for (row, (loads, [mass, x, y, z])) in
                 samples.loads_mut().iter_mut().zip(payloads).enumerate()
             {
-                if !(mass.is_finite() && mass >= 0.0) {
-                    return Err(input(format!(
-                        "payload: row {row}: {mass} is not a mass in kg (≥ 0)"
-                    )));
-                }
-                loads.get_or_insert_with(Box::default).payload = Some(gecaro_core::LinkMass {
+                let payload = gecaro_core::LinkMass {
                     mass,
                     com: Vector3::new(x, y, z),
-                });
+                };
+                gecaro_io::check_payload(&payload)
+                    .map_err(|message| input(format!("payload: row {row}: {message}")))?;
+                loads.get_or_insert_with(Box::default).payload = Some(payload);
             }
         }
         Ok(PyData::from_samples(

@@ -109,3 +109,24 @@ def test_gravity_s_tilt_identified_with_the_compliances():
     found, truth = np.array(result.calibrated.gravity), np.array(real.gravity)
     cosine = found @ truth / (np.linalg.norm(found) * np.linalg.norm(truth))
     assert np.degrees(np.arccos(min(cosine, 1.0))) < 0.5
+
+
+def test_a_payload_no_arm_carries_is_refused_with_its_value():
+    """The traps of issue 74 from Python: a centre in mixed units, a centre
+    80 m away, a payload heavier than the arm, and the same in arrays."""
+    robot = gecaro.Robot.load("industrial6")
+    for payload, expected in [
+        ("12kg,-32.2959,17.2685,-17.3173mm", "mixes units"),
+        ("12kg,0,0,80", "is 80 m from the tool frame"),
+        ("1200kg", "moving links weigh 36.3 kg"),
+    ]:
+        with pytest.raises(gecaro.InputError, match=expected):
+            gecaro.generate(robot, "position", 5, compliance_level=1.0, payload=payload)
+    honest = gecaro.generate(robot, "position", 5, compliance_level=1.0, payload="12kg,0,0,80mm")
+    assert honest.data.payload[0].tolist() == [12.0, 0.0, 0.0, 0.08]
+    qm = honest.data.qm
+    with pytest.raises(gecaro.InputError, match="payload: row 0: .*from 0 to 10000 kg"):
+        gecaro.Data(qm, position=honest.data.position, payload=np.full(5, 1e300))
+    centre = np.array([[12.0, 0.0, 0.0, 80.0]] * 5)
+    with pytest.raises(gecaro.InputError, match="80 m from the tool frame"):
+        gecaro.Data(qm, position=honest.data.position, payload=centre)

@@ -2340,3 +2340,40 @@ async fn a_plan_chooses_payloads_for_an_elastic_robot() {
     };
     assert!(message.contains("payloads"), "{message}");
 }
+
+/// The payload traps (issue 74) are refused by the page's fields as by the
+/// command line: a mixed-unit centre in a plan, a payload heavier than the
+/// arm in generate; the field is named.
+#[tokio::test]
+async fn a_payload_no_arm_carries_is_refused_by_its_field() {
+    let api = Api::new();
+    let document = api.document("industrial6").await;
+    let refused = api
+        .job(
+            "/api/plan",
+            &json!({ "robot": document, "method": { "name": "position" }, "count": 30,
+                     "payloads": ["0kg", "12kg,-32.3,17.3,-17.3mm"] }),
+        )
+        .await;
+    let message = match refused {
+        Err((status, body)) => {
+            assert_eq!(status, StatusCode::BAD_REQUEST, "{body}");
+            error_text(&body).to_owned()
+        }
+        Ok(view) => view["error"].as_str().expect("failed job").to_owned(),
+    };
+    assert!(
+        message.contains("payloads") && message.contains("mixes units"),
+        "{message}"
+    );
+    let (status, body) = api
+        .post(
+            "/api/generate",
+            &json!({ "robot": document, "method": { "name": "position" }, "count": 5,
+                     "compliance_level": 1.0, "payload": "1200kg" }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST, "{body}");
+    let message = error_text(&body);
+    assert!(message.contains("a payload of 1200 kg"), "{message}");
+}

@@ -126,7 +126,7 @@ impl Unloading {
     /// change nothing: calibrate with the elastic model).
     fn new(calibrated: &RobotFile, payload: Option<&str>) -> Result<Option<Self>, AppError> {
         let payload = payload
-            .map(|text| crate::loads::payload(text, "payload"))
+            .map(|text| crate::loads::payload(calibrated, text, "payload"))
             .transpose()?;
         if calibrated.robot.is_elastic() {
             return Ok(Some(Unloading { payload }));
