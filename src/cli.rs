@@ -216,6 +216,15 @@ pub(crate) struct RebaseArgs {
     /// The nominal robot (file or ready robot name), in the robot's own base frame.
     #[arg(long)]
     pub(crate) nominal: String,
+    /// The base as its owner defines it: points measured in the calibration's frame
+    /// (x,y,z) beside the same points in the base frame from the drawing
+    /// (base_x,base_y,base_z), optionally named (name); at least 3 not on one line.
+    /// Without it, the base is the nominal's convention (joint 1's axis, x towards axis 2).
+    #[arg(long, value_name = "POINTS.csv")]
+    pub(crate) base_points: Option<PathBuf>,
+    /// Units and column names of the base-points file.
+    #[command(flatten)]
+    pub(crate) format: DataFormatArgs,
     /// Output robot file: the calibrated robot in its own base frame.
     #[arg(short, long)]
     pub(crate) output: PathBuf,
@@ -896,11 +905,29 @@ pub(crate) struct CompensateArgs {
     /// different frames are refused.
     #[arg(long)]
     pub(crate) rebase: bool,
+    /// The program is in the base its owner defines: register it by points measured in the
+    /// calibration's frame beside their place in that base (the file of `robot rebase
+    /// --base-points`), and re-express the calibrated robot in it first.
+    #[arg(long, value_name = "POINTS.csv", conflicts_with = "rebase")]
+    pub(crate) base_points: Option<PathBuf>,
+    /// The length unit of the base-points file (m or mm; default m).
+    #[arg(long, value_name = "m|mm", requires = "base_points")]
+    pub(crate) base_points_unit: Option<String>,
     /// The payload the robot will carry: 12kg, or 12kg,0,0,80mm with its centre in the tool
     /// frame. An elastic calibrated robot (identify --model elastic) is commanded where it
     /// comes to rest on the targets under this load and its links' weight.
     #[arg(long, value_name = "MASS[,X,Y,Z]")]
     pub(crate) payload: Option<String>,
+    /// The tool the program's targets are for: a tool the calibration identified (a study's
+    /// reflector, by its name in the calibrated file's [tools]), or its pose in frame n+1,
+    /// 0,0,120mm[,qw,qx,qy,qz]. Frame n+1 itself when omitted — refused where the
+    /// calibration never observed it (every set measured a named tool).
+    #[arg(long, value_name = "NAME|X,Y,Z[,QW,QX,QY,QZ]")]
+    pub(crate) tool: Option<String>,
+    /// With --match position: the largest turn of the tool a target may be left with
+    /// before it is flagged (default 1deg).
+    #[arg(long, value_name = "ANGLE")]
+    pub(crate) max_tool_turn: Option<String>,
     /// The corrected program (CSV): the program's columns with corrected
     /// joints, then residual, residual_rotation and status.
     #[arg(short, long, value_name = "CORRECTED.csv")]

@@ -5,6 +5,7 @@
 
 mod build_profile;
 mod cli;
+mod customer_frames;
 mod determinism;
 mod errors;
 mod front_ends;

@@ -98,13 +98,13 @@ sigma = 0.02
 /// Writes the cell's data and study into `folder` (the bundled
 /// `examples/tracker-cell`) and returns tracker 2's true pose in tracker
 /// 1's frame: x −1200, y 1750, z −200 mm, rpy 0.4°, −0.3°, −128°.
-fn write_cell(folder: &Path) -> NamedFrame {
+pub(super) fn write_cell(folder: &Path) -> NamedFrame {
     write_cell_seen_from(folder, &tracker_1())
 }
 
 /// Where tracker 1 stands in the robot's base frame, as in a real cell:
 /// 2.5 m away, turned 126°.
-fn tracker_1() -> IsometryMatrix3<f64> {
+pub(super) fn tracker_1() -> IsometryMatrix3<f64> {
     IsometryMatrix3::from_parts(
         Translation3::new(2.5, 0.4, -0.3),
         Rotation3::from_euler_angles(0.0, 0.0, 2.2),

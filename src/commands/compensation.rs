@@ -23,6 +23,13 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
     request.matching = Some(args.matching.clone());
     request.rebase = args.rebase;
     request.payload = args.payload.clone();
+    request.tool = args.tool.clone();
+    request.base_points = args
+        .base_points
+        .as_ref()
+        .map(|path| gecaro_app::BasePointsSource::File(name(path)));
+    request.base_points_format.length_unit = args.base_points_unit.clone();
+    request.max_tool_turn = args.max_tool_turn.clone();
     request.save_as = Some(name(&args.output));
     request.overwrite = args.force;
     let mut bar: Option<ProgressBar> = None;
@@ -42,18 +49,34 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
                 .program
                 .as_ref()
                 .map(|program| program.layout().clone());
-            (Some(compensated.document()), compensated.summary, layout)
+            (
+                Some(compensated.document()),
+                compensated.summary,
+                layout,
+                None,
+            )
         })
     } else {
         request
             .run_streamed(&LocalFiles, &mut observer)
-            .map(|compensated| (None, compensated.summary, Some(compensated.layout)))
+            .map(|compensated| {
+                let registered = compensated.registration.as_ref().map(|r| r.summary());
+                (
+                    None,
+                    compensated.summary,
+                    Some(compensated.layout),
+                    registered,
+                )
+            })
     };
     drop(observer);
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    let (document, summary, layout) = outcome?;
+    let (document, summary, layout, registered) = outcome?;
+    if let Some(registered) = registered {
+        println!("the calibrated robot in the owner's base: {registered}");
+    }
     let layout = layout.ok_or_else(|| Failure::input("no program file was read"))?;
     if !layout.unused_columns().is_empty() && !args.json {
         eprintln!(
@@ -81,6 +104,12 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
             println!(
                 "largest joint correction: {:.4} {} (joint {}, line {})",
                 largest.value, largest.unit, largest.joint, largest.line
+            );
+        }
+        if let Some((turn, line)) = summary.largest_tool_turn {
+            println!(
+                "largest tool turn left by the position match: {:.3}° (line {line})",
+                turn.to_degrees()
             );
         }
         println!("wrote {}", args.output.display());
@@ -124,6 +153,13 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
             "warning: {} target(s) not reached: their joints are left as in the program (status not-reached), lines {}",
             unreached.len(),
             list(unreached)
+        );
+    }
+    if !summary.turned.is_empty() {
+        eprintln!(
+            "warning: {} target(s) reached with the tool turned beyond the tolerance (position match), lines {}",
+            summary.turned.len(),
+            list(&summary.turned)
         );
     }
     match summary.failure(Some(&args.output)) {

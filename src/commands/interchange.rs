@@ -3,7 +3,8 @@
 //! `docs/interchange.md`), and a calibrated robot in its own base frame.
 
 use gecaro_app::{
-    ExportRequest, ImportRequest, LocalFiles, RebaseRequest, RobotSource, format_name,
+    BasePointsSource, BaseRegistration, ExportRequest, ImportRequest, LocalFiles, RebaseRequest,
+    RobotSource, format_name,
 };
 use gecaro_io::RobotFormat;
 use serde::Serialize;
@@ -91,6 +92,9 @@ struct RebasedJson {
     quaternion: [f64; 4],
     /// The robot file written.
     output: String,
+    /// The base registered by points (`--base-points`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    registration: Option<gecaro_app::BaseRegistrationJson>,
 }
 
 pub(crate) fn rebase(args: &RebaseArgs) -> Result<(), Failure> {
@@ -100,6 +104,11 @@ pub(crate) fn rebase(args: &RebaseArgs) -> Result<(), Failure> {
     );
     request.save_as = Some(name(&args.output));
     request.overwrite = args.force;
+    request.base_points = args
+        .base_points
+        .as_ref()
+        .map(|path| BasePointsSource::File(name(path)));
+    request.format = super::options::data_format(&args.format);
     let rebased = request.run(&LocalFiles)?;
     let frame = rebased.measurement_frame;
     let t = frame.translation.vector;
@@ -111,11 +120,52 @@ pub(crate) fn rebase(args: &RebaseArgs) -> Result<(), Failure> {
             rpy: [roll, pitch, yaw],
             quaternion: [q.w, q.i, q.j, q.k],
             output: args.output.display().to_string(),
+            registration: rebased
+                .registration
+                .as_ref()
+                .map(BaseRegistration::document),
         });
     }
+    if let (Some(registration), Some(convention)) =
+        (&rebased.registration, &rebased.from_convention)
+    {
+        println!("{}", registration.summary());
+        for (point, residual) in registration.points.iter().zip(&registration.fit.residuals) {
+            println!(
+                "  {:<12} line {:>4}: residual {} mm",
+                point.name,
+                point.line,
+                number(residual * 1e3, 4)
+            );
+        }
+        let (distance, angle) = (
+            convention.translation.vector.norm(),
+            convention.rotation.angle().to_degrees(),
+        );
+        let said = format!(
+            "the base by {}'s convention (joint 1's axis, x towards axis 2) stands {} mm and {}° \
+             from this base",
+            shown(&args.nominal),
+            number(distance * 1e3, 3),
+            number(angle, 4)
+        );
+        // A robot base stands within millimetres of its drawing's.
+        if distance > 0.05 || angle > 5.0 {
+            eprintln!(
+                "warning: {said}: more than a mounting error; check the points' names and \
+                 columns, and that {}'s base is the drawing's",
+                shown(&args.nominal)
+            );
+        } else {
+            println!("{said}");
+        }
+    }
+    let base = match &args.base_points {
+        Some(points) => format!("the base of {}", points.display()),
+        None => format!("{}'s base frame", shown(&args.nominal)),
+    };
     println!(
-        "the measurement frame in {}'s base frame: x {} y {} z {} mm, rpy {} {} {}°",
-        shown(&args.nominal),
+        "the measurement frame in {base}: x {} y {} z {} mm, rpy {} {} {}°",
         number(t.x * 1e3, 3),
         number(t.y * 1e3, 3),
         number(t.z * 1e3, 3),

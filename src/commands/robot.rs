@@ -282,6 +282,16 @@ fn reframe(
         angle_unit: original.angle_unit,
         // The joints move as before: the region a calibration measured stays.
         measured_region: original.measured_region.clone(),
+        // A tool identified in the old frame n+1, posed in the new one.
+        tools: original
+            .tools
+            .iter()
+            .map(|tool| gecaro_io::IdentifiedTool {
+                name: tool.name.clone(),
+                pose: old_tool_from_new_tool.inverse() * tool.pose,
+            })
+            .collect(),
+        tool_frame_observed: original.tool_frame_observed,
     };
     write_atomically(
         output,

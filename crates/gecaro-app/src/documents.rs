@@ -1354,6 +1354,10 @@ pub struct CompensatedJson {
     pub position_error: f64,
     /// Its orientation error (rad), for pose targets.
     pub rotation_error: Option<f64>,
+    /// The tool's turn a position match left (rad), for joint targets
+    /// matched by position.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tool_turn: Option<f64>,
 }
 
 /// A corrected program (`gecaro compensate --json`).
@@ -1377,6 +1381,13 @@ pub struct CompensationJson {
     pub largest_position_error: f64,
     /// The largest joint correction, in the program's unit.
     pub largest_correction: f64,
+    /// The largest turn of the tool a position match left (rad); absent for
+    /// a pose match.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub largest_tool_turn: Option<f64>,
+    /// Lines of the targets a position match reached with the tool turned
+    /// beyond the tolerance (`max_tool_turn`).
+    pub turned: Vec<usize>,
     /// The corrected program file, when written.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub output: Option<String>,
@@ -1384,6 +1395,9 @@ pub struct CompensationJson {
     /// they are in its file).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub points: Vec<CompensatedJson>,
+    /// The owner's base registered by points, when they were given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub registration: Option<crate::base_frame::BaseRegistrationJson>,
 }
 
 #[cfg(test)]

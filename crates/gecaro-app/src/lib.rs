@@ -65,6 +65,7 @@
 
 #![warn(missing_docs)]
 
+mod base_frame;
 mod cell;
 mod compensate;
 pub mod documents;
@@ -90,10 +91,11 @@ mod study_files;
 mod study_plan;
 mod study_prediction;
 
+pub use base_frame::{BasePointJson, BasePointsSource, BaseRegistration, BaseRegistrationJson};
 pub use cell::CellSpec;
 pub use compensate::{
-    CompensateRequest, Compensated, CompensatedFile, CompensationSummary, LargestCorrection,
-    ProgramSource,
+    CompensateRequest, Compensated, CompensatedFile, CompensationSummary, DEFAULT_MAX_TOOL_TURN,
+    LargestCorrection, ProgramSource,
 };
 pub use error::{AppError, Dialect, ErrorKind};
 pub use files::{Files, LocalFiles, Opened};

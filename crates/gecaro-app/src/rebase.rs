@@ -14,10 +14,11 @@ use gecaro_io::RobotFile;
 use nalgebra::IsometryMatrix3;
 use serde::Deserialize;
 
+use crate::base_frame::{BasePointsSource, BaseRegistration};
 use crate::error::{AppError, ErrorKind, Hint, Part};
 use crate::files::Files;
 use crate::measurements::Unknown;
-use crate::sources::RobotSource;
+use crate::sources::{DataFormatSpec, RobotSource};
 
 /// A calibrated robot to re-express in its nominal's base frame.
 #[derive(Clone, Debug, Deserialize)]
@@ -26,6 +27,14 @@ pub struct RebaseRequest {
     pub robot: RobotSource,
     /// The nominal robot, whose base frame is the robot's own.
     pub nominal: RobotSource,
+    /// Points measured in the calibration's frame beside their place in
+    /// the owner's base frame (a drawing's): the base registered by them
+    /// (`crate::base_frame`) rather than by the nominal's convention.
+    #[serde(default)]
+    pub base_points: Option<BasePointsSource>,
+    /// Units and column names of the base-points file.
+    #[serde(default)]
+    pub format: DataFormatSpec,
     /// Write the robot in its own frame here.
     pub save_as: Option<String>,
     /// Replace a file that exists.
@@ -44,6 +53,12 @@ pub struct Rebased {
     pub measurement_frame: IsometryMatrix3<f64>,
     /// The robot in its own base frame.
     pub robot: RobotFile,
+    /// The base registered by points, when they were given.
+    pub registration: Option<BaseRegistration>,
+    /// With points: the owner's base against the base the nominal's
+    /// convention gives the calibrated robot (frame 0 from joint 1's axis)
+    /// — the pose of the convention's base frame in the owner's.
+    pub from_convention: Option<IsometryMatrix3<f64>>,
     /// Where it was written, if asked for.
     pub saved: Option<PathBuf>,
 }
@@ -54,6 +69,8 @@ impl RebaseRequest {
         RebaseRequest {
             robot,
             nominal,
+            base_points: None,
+            format: DataFormatSpec::default(),
             save_as: None,
             overwrite: false,
             unknown: Unknown::default(),
@@ -71,7 +88,40 @@ impl RebaseRequest {
         }
         let robot = self.robot.load(files)?;
         let nominal = self.nominal.load(files)?;
-        let (measurement_frame, robot) = rebased_file(&robot, &nominal.robot)?;
+        let (measurement_frame, robot, registration, from_convention) = match &self.base_points {
+            None => {
+                let (frame, robot) = rebased_file(&robot, &nominal.robot)?;
+                (frame, robot, None, None)
+            }
+            Some(source) => {
+                if robot.robot.joint_letters() != nominal.robot.joint_letters() {
+                    return Err(AppError::plain(
+                        ErrorKind::Input,
+                        format!(
+                            "the robot has joints {}, the nominal one {}",
+                            robot.robot.joint_letters(),
+                            nominal.robot.joint_letters()
+                        ),
+                    ));
+                }
+                let points = source.load(files, &self.format)?;
+                let label = match source {
+                    BasePointsSource::File(name) => name.clone(),
+                    _ => "the base points".into(),
+                };
+                let registration = BaseRegistration::new(points, &label)?;
+                let rebased = registration.rebased(&robot)?;
+                // Where the convention would have put the base, seen from
+                // the owner's.
+                let (convention, _) = rebased.robot.rebased(&nominal.robot)?;
+                (
+                    registration.base_in_measurement_frame().inverse(),
+                    rebased,
+                    Some(registration),
+                    Some(convention.inverse()),
+                )
+            }
+        };
         let saved = match &self.save_as {
             Some(name) => Some(files.write(
                 name,
@@ -84,6 +134,8 @@ impl RebaseRequest {
         Ok(Rebased {
             measurement_frame,
             robot,
+            registration,
+            from_convention,
             saved,
         })
     }

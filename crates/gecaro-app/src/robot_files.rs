@@ -2,10 +2,11 @@
 //! and the simulated real robot of a points generation, each described by how
 //! it was obtained, in the nominal file's angle unit and with its URDF names.
 
+use gecaro_calib::frames::FrameRole;
 use gecaro_calib::identification::Identification;
 use gecaro_calib::study::Study;
 use gecaro_core::Robot;
-use gecaro_io::RobotFile;
+use gecaro_io::{IdentifiedTool, RobotFile};
 
 /// The calibrated robot as a robot file: the identified robot, named
 /// "`<name> (calibrated)`", with a description of how it was obtained from the
@@ -45,6 +46,18 @@ pub fn calibrated_robot_file(
             result.rms_after()
         )),
         measured_region: region.map(|region| region.measured.clone()),
+        // The study's tools as identified, for `compensate --tool NAME`; a
+        // study whose every set names a tool keeps frame n+1 nominal.
+        tools: result
+            .frames
+            .iter()
+            .filter(|frame| frame.role == FrameRole::Tool)
+            .map(|frame| IdentifiedTool {
+                name: frame.name.clone(),
+                pose: frame.pose,
+            })
+            .collect(),
+        tool_frame_observed: study.sets.iter().any(|set| set.tool.is_none()),
         angle_unit: nominal.angle_unit,
         urdf: nominal.urdf.clone(),
         // The masses are the nominal's (a calibration does not weigh the
@@ -77,6 +90,8 @@ pub fn simulated_robot_file(
         urdf: nominal.urdf.clone(),
         masses: nominal.masses.clone(),
         measured_region: None,
+        tools: Vec::new(),
+        tool_frame_observed: true,
     }
 }
 

@@ -132,6 +132,12 @@ pub struct CompensatedPoint {
     /// Angle between the target orientation and the calibrated robot's
     /// (radians); `None` for a point target.
     pub rotation_error: Option<f64>,
+    /// For a joint target matched by position ([`Match::Position`]): the
+    /// angle (radians) by which frame n+1 of the calibrated robot at these
+    /// values is turned from the orientation the nominal model gives the
+    /// program's joints — what a position match leaves free; `None`
+    /// otherwise, and for a target not reached.
+    pub tool_turn: Option<f64>,
     /// Reached, in another configuration, outside the measured region,
     /// beyond a limit, or not reached.
     pub status: CompensationStatus,
@@ -415,14 +421,27 @@ fn compensate_point(
     // Without the program's joints the configuration is free: other starts
     // may reach the target within the limits where the previous one does not.
     let free = joints.is_none();
-    compensate_one(
+    let mut result = compensate_one(
         nominal,
         (calibrated, model),
         &target,
         (start, free),
         options,
         (index as u64, chain),
-    )
+    )?;
+    // What the position match leaves free: the tool's turn from the
+    // orientation the program's joints meant.
+    if let (ProgramTarget::Joints(qm), Match::Position) = (&point.target, matching)
+        && result.status != CompensationStatus::NotReached
+    {
+        let meant = nominal_model.terminal_pose(qm, chain)?.rotation;
+        let reached = model
+            .terminal_pose(&result.motor_positions, chain)?
+            .rotation;
+        result.tool_turn =
+            Some(orientation_difference(&meant, &reached, OrientationDifference::AxisAngle).norm());
+    }
+    Ok(result)
 }
 
 /// `target` solved on the calibrated `robot` from `start` (the program's
@@ -543,6 +562,7 @@ fn compensate_one(
         motor_positions,
         position_error,
         rotation_error,
+        tool_turn: None,
         status,
     })
 }

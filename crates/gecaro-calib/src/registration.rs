@@ -43,6 +43,101 @@ pub fn similarity_fit(from: &[Vector3<f64>], to: &[Vector3<f64>]) -> Similarity 
     fit(from, to, true)
 }
 
+/// A rigid registration of named points and what the points say of it:
+/// the transform, each point's residual, and its precision.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PointRegistration {
+    /// `T` with `T x_i ≈ y_i` (the `to` points' frame from the `from`
+    /// points' frame).
+    pub transform: IsometryMatrix3<f64>,
+    /// `‖T x_i − y_i‖` per point (the units of the points).
+    pub residuals: Vec<f64>,
+    /// The residuals' standard deviation per coordinate,
+    /// `s = √(Σ‖r_i‖² / (3N − 6))`.
+    pub sigma: f64,
+    /// The standard deviation of the `from` frame's origin in the `to`
+    /// frame (per axis, RMS of the three), from `s² (JᵀJ)⁻¹`.
+    pub origin_sigma: f64,
+    /// The standard deviation of the rotation (rad, per axis, RMS of the
+    /// three), likewise.
+    pub rotation_sigma: f64,
+}
+
+/// The rigid fit of `from` onto `to` ([`rigid_fit`]) with its residuals
+/// and precision: the parameters `(δt, δφ)` of `y = (I + [δφ]×) R x + t + δt`
+/// have the Jacobian rows `[I, −[R x_i]×]` per point, and the covariance
+/// `s² (JᵀJ)⁻¹` with `s` of 3N − 6 degrees of freedom.
+///
+/// # Errors
+/// Fewer than 3 pairs, or points on one line (the rotation about it is
+/// free), as a sentence.
+pub fn register_points(
+    from: &[Vector3<f64>],
+    to: &[Vector3<f64>],
+) -> Result<PointRegistration, String> {
+    let count = from.len().min(to.len());
+    if count < 3 {
+        return Err(format!(
+            "{count} point(s): a frame is registered from at least 3 points not on one line"
+        ));
+    }
+    let mean = from.iter().sum::<Vector3<f64>>() / count as f64;
+    let spread: Matrix3<f64> = from
+        .iter()
+        .map(|x| (x - mean) * (x - mean).transpose())
+        .sum();
+    let mut extents = spread.symmetric_eigenvalues();
+    extents.as_mut_slice().sort_by(|a, b| b.total_cmp(a));
+    // The points' second-largest extent (m): a line has none.
+    let width = extents[1].max(0.0).sqrt() / (count as f64).sqrt();
+    let length = extents[0].max(0.0).sqrt() / (count as f64).sqrt();
+    if width.is_nan() || width <= 1e-6 * length.max(1e-9) || width < 1e-9 {
+        return Err(format!(
+            "the {count} points lie on one line: the rotation about it is free; add a point \
+             off that line"
+        ));
+    }
+    let transform = rigid_fit(from, to);
+    let residuals: Vec<f64> = from
+        .iter()
+        .zip(to)
+        .map(|(x, y)| ((transform * nalgebra::Point3::from(*x)).coords - y).norm())
+        .collect();
+    let freedom = 3 * count - 6;
+    let sigma = if freedom > 0 {
+        (residuals.iter().map(|r| r * r).sum::<f64>() / freedom as f64).sqrt()
+    } else {
+        0.0
+    };
+    let mut normal = nalgebra::Matrix6::<f64>::zeros();
+    for x in from {
+        let r = transform.rotation * x;
+        let mut rows = nalgebra::Matrix3x6::<f64>::zeros();
+        rows.fixed_view_mut::<3, 3>(0, 0)
+            .copy_from(&Matrix3::identity());
+        rows.fixed_view_mut::<3, 3>(0, 3)
+            .copy_from(&(-r.cross_matrix()));
+        normal += rows.transpose() * rows;
+    }
+    let (origin_sigma, rotation_sigma) = match normal.try_inverse() {
+        Some(inverse) => {
+            let diagonal = inverse.diagonal() * sigma * sigma;
+            (
+                (diagonal.rows(0, 3).sum() / 3.0).sqrt(),
+                (diagonal.rows(3, 3).sum() / 3.0).sqrt(),
+            )
+        }
+        None => (f64::INFINITY, f64::INFINITY),
+    };
+    Ok(PointRegistration {
+        transform,
+        residuals,
+        sigma,
+        origin_sigma,
+        rotation_sigma,
+    })
+}
+
 fn fit(from: &[Vector3<f64>], to: &[Vector3<f64>], scaled: bool) -> Similarity {
     let identity = Similarity {
         scale: 1.0,
@@ -121,6 +216,68 @@ mod tests {
             .map(|e| e.norm_squared())
             .sum();
         assert!(residual > 1e-3);
+    }
+
+    /// Noisy points: the transform within its stated precision, the σ
+    /// of the noise found, a line refused.
+    #[test]
+    fn a_registration_states_its_precision() {
+        let truth = IsometryMatrix3::from_parts(
+            Translation3::new(2.5, 0.4, -0.3),
+            Rotation3::from_axis_angle(&Unit::new_normalize(Vector3::new(0.1, 0.2, 1.0)), 2.2),
+        );
+        let from: Vec<Vector3<f64>> = cloud().iter().map(|x| x * 0.3).collect();
+        let mut sampler = crate::simulation::Sampler::new(11);
+        let sigma = 2e-5;
+        let (mut origin_errors, mut rotation_errors, mut sigmas) = (0.0, 0.0, 0.0);
+        let trials = 200;
+        let mut stated = (0.0, 0.0);
+        for _ in 0..trials {
+            let to: Vec<Vector3<f64>> = from
+                .iter()
+                .map(|x| {
+                    (truth * nalgebra::Point3::from(*x)).coords + sampler.gaussian_vector(sigma)
+                })
+                .collect();
+            let found = register_points(&from, &to).expect("registered");
+            let error = truth.inverse() * found.transform;
+            origin_errors += found
+                .transform
+                .translation
+                .vector
+                .metric_distance(&truth.translation.vector)
+                .powi(2);
+            rotation_errors += error.rotation.scaled_axis().norm_squared();
+            sigmas += found.sigma;
+            stated = (found.origin_sigma, found.rotation_sigma);
+        }
+        // Per axis: the RMS over trials of the 3-D error, over √3.
+        let origin = (origin_errors / trials as f64 / 3.0).sqrt();
+        let rotation = (rotation_errors / trials as f64 / 3.0).sqrt();
+        assert!(
+            (sigmas / trials as f64 / sigma - 1.0).abs() < 0.1,
+            "σ {}",
+            sigmas / trials as f64
+        );
+        assert!(
+            (origin / stated.0 - 1.0).abs() < 0.25,
+            "origin {origin} vs {}",
+            stated.0
+        );
+        assert!(
+            (rotation / stated.1 - 1.0).abs() < 0.25,
+            "rotation {rotation} vs {}",
+            stated.1
+        );
+        let line: Vec<Vector3<f64>> = (0..5)
+            .map(|i| Vector3::new(f64::from(i), 0.0, 0.0))
+            .collect();
+        assert!(
+            register_points(&line, &line)
+                .expect_err("a line")
+                .contains("one line")
+        );
+        assert!(register_points(&from[..2], &from[..2]).is_err());
     }
 
     #[test]

@@ -14,11 +14,12 @@ use gecaro_core::{
     Frame, FrameType, Joint, JointRegion, LinkMass, MassModel, PriorityMatrix, Robot, RobotSpec,
     upright_gravity,
 };
-use nalgebra::{DMatrix, Vector3};
+use nalgebra::{DMatrix, IsometryMatrix3, Translation3, Vector3};
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 
 use crate::problem::{DocumentError, Location, model_error};
-use crate::robot_file::{AngleUnit, RobotFile};
+use crate::robot_file::{AngleUnit, IdentifiedTool, RobotFile};
 use crate::urdf::names::UrdfDocument;
 
 /// A robot file's content (see the robot file format in the README).
@@ -50,6 +51,69 @@ pub struct RobotDocument {
     /// omitted (the loads of elastic joints: [`MassModel`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gravity: Option<[f64; 3]>,
+    /// `false` when the calibration that made the robot did not observe
+    /// frame n+1 (every set measured a named tool); `true` when omitted.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tool_frame_observed: Option<bool>,
+    /// Tools identified with the robot, by name: their poses in frame n+1.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub tools: BTreeMap<String, ToolDocument>,
+}
+
+/// A `[tools.NAME]` table: a tool's pose in the robot's frame n+1.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ToolDocument {
+    /// Its origin (m).
+    pub position: [f64; 3],
+    /// Its orientation, `[w, x, y, z]`; none when omitted.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub quaternion: Option<[f64; 4]>,
+}
+
+impl ToolDocument {
+    fn of(pose: &IsometryMatrix3<f64>) -> Self {
+        let [x, y, z, w, i, j, k] = crate::pose::to_seven(pose);
+        ToolDocument {
+            position: [x, y, z],
+            quaternion: Some([w, i, j, k]),
+        }
+    }
+
+    fn read(&self, name: &str) -> Result<IdentifiedTool, DocumentError> {
+        let at = |message: String| {
+            DocumentError::new(
+                Location::Key {
+                    key: format!("tools.{name}"),
+                },
+                message,
+            )
+        };
+        if name.trim().is_empty() {
+            return Err(at("a tool needs a name".into()));
+        }
+        if !self
+            .position
+            .iter()
+            .all(|v| v.is_finite() && v.abs() <= gecaro_core::MAX_MAGNITUDE)
+        {
+            return Err(at(format!(
+                "position {:?} is not a point in metres",
+                self.position
+            )));
+        }
+        let rotation = match self.quaternion {
+            None => nalgebra::Rotation3::identity(),
+            Some([w, x, y, z]) => crate::pose::unit_quaternion(w, x, y, z)
+                .map_err(|message| at(format!("quaternion: {message}")))?
+                .to_rotation_matrix(),
+        };
+        let [x, y, z] = self.position;
+        Ok(IdentifiedTool {
+            name: name.to_owned(),
+            pose: IsometryMatrix3::from_parts(Translation3::new(x, y, z), rotation),
+        })
+    }
 }
 
 /// One frame as written; omitted keys take their defaults.
@@ -198,6 +262,12 @@ impl RobotDocument {
             gravity: Some(file.stated_gravity())
                 .filter(|gravity| *gravity != upright_gravity())
                 .map(Into::into),
+            tool_frame_observed: (!file.tool_frame_observed).then_some(false),
+            tools: file
+                .tools
+                .iter()
+                .map(|tool| (tool.name.clone(), ToolDocument::of(&tool.pose)))
+                .collect(),
         }
     }
 
@@ -290,6 +360,11 @@ impl RobotDocument {
             .transpose()?;
         let masses = self.masses()?;
         let measured_region = self.measured_region(&robot, angle_unit)?;
+        let tools = self
+            .tools
+            .iter()
+            .map(|(name, tool)| tool.read(name))
+            .collect::<Result<_, _>>()?;
         Ok(RobotFile {
             robot,
             description: self.description.clone(),
@@ -297,6 +372,8 @@ impl RobotDocument {
             urdf,
             masses,
             measured_region,
+            tools,
+            tool_frame_observed: self.tool_frame_observed.unwrap_or(true),
         })
     }
 

@@ -9,6 +9,7 @@
 
 #![warn(missing_docs)]
 
+mod base_points;
 mod columns;
 mod conversion;
 mod data_file;
@@ -38,7 +39,9 @@ mod symoro;
 mod units;
 mod urdf;
 mod work_region;
+mod written_lengths;
 
+pub use base_points::{BasePoint, MAX_BASE_POINT_DISTANCE, parse_base_points};
 pub use columns::{ColumnMap, DataUnits, Delimiter, header_names, joint_types};
 pub use conversion::{ChainEnds, Exported, Imported};
 pub use data_file::{
@@ -47,7 +50,9 @@ pub use data_file::{
 };
 pub use data_rows::MAX_CONFIGURATIONS;
 pub use dh::{DhConvention, TableUnits};
-pub use document::{CouplingDocument, FrameDocument, PriorityDocument, RobotDocument};
+pub use document::{
+    CouplingDocument, FrameDocument, PriorityDocument, RobotDocument, ToolDocument,
+};
 pub use error::Error;
 pub use input::{is_hidden_character, open_input, read_description};
 pub use interchange::{ImportOptions, RobotFormat, export_robot, import_robot, import_robot_text};
@@ -58,7 +63,7 @@ pub use output::{
 pub use payload::{
     MAX_PAYLOAD_CENTRE, MAX_PAYLOAD_KG, PayloadSpec, Quantity, check_payload, parse_payload,
 };
-pub use pose::{pose_from_seven, unit_quaternion};
+pub use pose::{parse_tool_pose, pose_from_seven, unit_quaternion};
 pub use prior::{StandardDeviation, parse_angle, parse_override, parse_prior, parse_signed_angle};
 pub use problem::{DocumentError, Location};
 pub use program::{
@@ -66,7 +71,7 @@ pub use program::{
     parse_program, read_program,
 };
 pub use ready::{ReadyRobot, load_robot, ready_robot, ready_robots};
-pub use robot_file::{AngleUnit, RobotFile, fallback_name};
+pub use robot_file::{AngleUnit, IdentifiedTool, RobotFile, fallback_name};
 pub use robot_toml::{
     format_robot_file, parse_priority_file, parse_robot_document, parse_robot_file,
     read_priority_file, read_robot_file, robot_file_text,

@@ -19,7 +19,7 @@ use gecaro_core::LinkMass;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
-use crate::prior::number_length;
+use crate::written_lengths::number_length;
 
 /// The heaviest payload gecaro takes: 10 t, beyond any serial arm's.
 pub const MAX_PAYLOAD_KG: f64 = 1e4;
@@ -111,58 +111,13 @@ pub fn parse_payload(text: &str) -> Result<LinkMass, String> {
     let com = match centre {
         None => Vector3::zeros(),
         Some(coordinates) => {
-            let mut com = Vector3::zeros();
-            let mut bare = None;
-            let mut with_unit = None;
-            for (axis, coordinate) in coordinates.iter().enumerate() {
-                let (value, unit_given) = length(coordinate)?;
-                com[axis] = value;
-                if unit_given {
-                    with_unit = Some(*coordinate);
-                } else if value != 0.0 && bare.is_none() {
-                    bare = Some(*coordinate);
-                }
-            }
-            if let (Some(bare), Some(with_unit)) = (bare, with_unit) {
-                return Err(format!(
-                    "the payload's centre '{}' mixes units: '{bare}' has none beside \
-                     '{with_unit}'; give every coordinate its unit ({bare}mm or {bare}m)",
-                    coordinates.join(",")
-                ));
-            }
-            com
+            let [x, y, z] = crate::written_lengths::point(&coordinates, "the payload's centre")?;
+            Vector3::new(x, y, z)
         }
     };
     let payload = LinkMass { mass, com };
     check_payload(&payload)?;
     Ok(payload)
-}
-
-/// A coordinate of the centre: a length, metres when bare, and whether
-/// its unit was given.
-fn length(text: &str) -> Result<(f64, bool), String> {
-    let (number, unit) = text.split_at(number_length(text));
-    let unit = unit.trim();
-    let factor = match unit {
-        "" | "m" => 1.0,
-        "mm" => 1e-3,
-        "um" | "µm" => 1e-6,
-        other => {
-            return Err(format!(
-                "unknown length unit '{other}' in the payload's centre '{text}' (m, mm, um)"
-            ));
-        }
-    };
-    let value = number
-        .parse::<f64>()
-        .map_err(|_| format!("the payload's centre holds '{text}', not a length"))?
-        * factor;
-    if !value.is_finite() || value.abs() > gecaro_core::MAX_MAGNITUDE {
-        return Err(format!(
-            "the payload's centre holds '{text}', not a length in a cell"
-        ));
-    }
-    Ok((value, !unit.is_empty()))
 }
 
 /// A payload as a study file states it: the text of [`parse_payload`], or

@@ -32,6 +32,54 @@ pub(crate) fn rpy(rotation: &Rotation3<f64>) -> [f64; 3] {
     }
 }
 
+/// A tool's pose in frame n+1 as a person writes it (issue 74): `x,y,z`,
+/// each a length with its unit or bare metres (no bare number beside a
+/// unit), optionally followed by `qw,qx,qy,qz`; no rotation when omitted.
+///
+/// ```
+/// let tool = gecaro_io::parse_tool_pose("0,0,120mm").unwrap();
+/// assert!((tool.translation.vector.z - 0.12).abs() < 1e-15);
+/// assert!(gecaro_io::parse_tool_pose("10,0,120mm").is_err());
+/// let turned = gecaro_io::parse_tool_pose("0,0,0.1,0,1,0,0").unwrap();
+/// assert!((turned.rotation.matrix()[(1, 1)] + 1.0).abs() < 1e-15);
+/// ```
+///
+/// # Errors
+/// A sentence naming what is wrong: the count, a unit, a mix of units, a
+/// quaternion that is not a unit one.
+pub fn parse_tool_pose(text: &str) -> Result<IsometryMatrix3<f64>, String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let (position, quaternion) = match parts.as_slice() {
+        [x, y, z] => ([*x, *y, *z], None),
+        [x, y, z, rest @ ..] if rest.len() == 4 => ([*x, *y, *z], Some(rest)),
+        _ => {
+            return Err(format!(
+                "'{text}' is not a tool pose: give its position in frame n+1 with units, and \
+                 optionally its quaternion: 0,0,120mm or 0,0,120mm,1,0,0,0"
+            ));
+        }
+    };
+    let [x, y, z] = crate::written_lengths::point(&position, "the tool's position")?;
+    let rotation = match quaternion {
+        None => Rotation3::identity(),
+        Some(values) => {
+            let mut q = [0.0; 4];
+            for (value, text) in q.iter_mut().zip(values) {
+                *value = text
+                    .parse()
+                    .map_err(|_| format!("the tool's quaternion holds '{text}', not a number"))?;
+            }
+            unit_quaternion(q[0], q[1], q[2], q[3])
+                .map_err(|message| format!("the tool's quaternion: {message}"))?
+                .to_rotation_matrix()
+        }
+    };
+    Ok(IsometryMatrix3::from_parts(
+        Translation3::new(x, y, z),
+        rotation,
+    ))
+}
+
 /// `[x, y, z, qw, qx, qy, qz]` of a transform (the quaternion with qw ≥ 0).
 pub(crate) fn to_seven(pose: &IsometryMatrix3<f64>) -> [f64; 7] {
     let t = pose.translation.vector;

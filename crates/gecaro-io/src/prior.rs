@@ -22,6 +22,7 @@ use serde::Deserialize;
 
 use crate::columns::DataUnits;
 use crate::robot_file::AngleUnit;
+use crate::written_lengths::number_length;
 
 /// What a σ with its unit measures.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -76,34 +77,6 @@ pub(crate) fn quantity(text: &str) -> Result<(Kind, f64), String> {
         ));
     }
     Ok((kind, value))
-}
-
-/// The length of the number that starts `text`: sign, digits, decimals and
-/// an exponent (`1e-3mm` is 1e-3 millimetres, not 1 of the unit `e-3mm`).
-pub(crate) fn number_length(text: &str) -> usize {
-    let bytes = text.as_bytes();
-    let digits = |mut at: usize| {
-        while at < bytes.len() && bytes[at].is_ascii_digit() {
-            at += 1;
-        }
-        at
-    };
-    let mut end = usize::from(matches!(bytes.first(), Some(b'+' | b'-')));
-    end = digits(end);
-    if bytes.get(end) == Some(&b'.') {
-        end = digits(end + 1);
-    }
-    if matches!(bytes.get(end), Some(b'e' | b'E')) {
-        let mut exponent = end + 1;
-        if matches!(bytes.get(exponent), Some(b'+' | b'-')) {
-            exponent += 1;
-        }
-        let after = digits(exponent);
-        if after > exponent {
-            end = after;
-        }
-    }
-    end
 }
 
 /// A sensor's standard deviation as people write it: a number in the data's

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use gecaro_core::{JointRegion, MassModel, Robot};
-use nalgebra::Vector3;
+use nalgebra::{IsometryMatrix3, Vector3};
 
 use crate::urdf::names::UrdfNames;
 
@@ -38,6 +38,25 @@ pub struct RobotFile {
     /// joint frame's `measured` range), when the calibrated robot holds
     /// there only: compensation and evaluation flag poses outside it.
     pub measured_region: Option<JointRegion>,
+    /// The tools a calibration identified with the robot (a study's
+    /// reflectors, the `[tools]` table), each posed in frame n+1: what
+    /// `compensate --tool NAME` compensates.
+    pub tools: Vec<IdentifiedTool>,
+    /// Whether the calibration that made this robot observed its frame
+    /// n+1; `false` (`tool_frame_observed = false`) when every set
+    /// measured a named tool, so frame n+1 kept its nominal pose and only
+    /// the tools' poses in it are calibrated (docs/studies.md).
+    pub tool_frame_observed: bool,
+}
+
+/// A tool identified with a robot: its name and its pose in the robot's
+/// tool frame n+1 (metres).
+#[derive(Clone, Debug, PartialEq)]
+pub struct IdentifiedTool {
+    /// Its name (a study's `[tools.NAME]`).
+    pub name: String,
+    /// Its pose in frame n+1.
+    pub pose: IsometryMatrix3<f64>,
 }
 
 impl RobotFile {
@@ -52,6 +71,8 @@ impl RobotFile {
             urdf: None,
             masses,
             measured_region: None,
+            tools: Vec::new(),
+            tool_frame_observed: true,
         }
     }
 

@@ -68,6 +68,8 @@ const TOP_KEYS: &[&str] = &[
     "priority",
     "urdf",
     "gravity",
+    "tool_frame_observed",
+    "tools",
 ];
 const FRAME_KEYS: &[&str] = &[
     "sigma",
@@ -380,6 +382,13 @@ pub fn format_robot_file(file: &RobotFile) -> String {
             float(gravity.z)
         );
     }
+    if !file.tool_frame_observed {
+        let _ = writeln!(
+            text,
+            "tool_frame_observed = false # every set of the calibration measured a named tool: \
+             frame n+1 is the nominal's, the tools below are calibrated"
+        );
+    }
     let last = robot.frames().len() - 1;
     for (j, frame) in robot.frames().iter().enumerate() {
         let role = match (j, frame.frame_type) {
@@ -470,6 +479,22 @@ pub fn format_robot_file(file: &RobotFile) -> String {
         }
         let _ = writeln!(text, "]");
     }
+    for tool in &file.tools {
+        let [x, y, z, w, i, j, k] = crate::pose::to_seven(&tool.pose);
+        let _ = writeln!(
+            text,
+            "\n[tools.{}] # identified with the robot: its pose in frame n+1\n\
+             position = [{}, {}, {}] # m\nquaternion = [{}, {}, {}, {}] # w, x, y, z",
+            toml_key(&tool.name),
+            float(x),
+            float(y),
+            float(z),
+            float(w),
+            float(i),
+            float(j),
+            float(k)
+        );
+    }
     if let Some(names) = &file.urdf {
         #[derive(serde::Serialize)]
         struct Table<'a> {
@@ -485,6 +510,19 @@ pub fn format_robot_file(file: &RobotFile) -> String {
         }
     }
     text
+}
+
+/// A TOML key: bare when it may be, quoted otherwise.
+fn toml_key(name: &str) -> String {
+    let bare = !name.is_empty()
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    if bare {
+        name.to_owned()
+    } else {
+        toml_string(name)
+    }
 }
 
 /// A float in TOML form that reads back to the same bits.

@@ -576,6 +576,8 @@ pub(crate) fn import_symoro(text: &str, path: &Path) -> Result<Imported, Error> 
         file: RobotFile {
             masses: MassModel::new(robot.frames().len()),
             measured_region: None,
+            tools: Vec::new(),
+            tool_frame_observed: true,
             robot,
             description: Some(format!(
                 "imported from {} (SYMORO, {joint_count} joints)",

@@ -95,7 +95,11 @@ fn bounds(range: &str, revolute: bool) -> Result<(f64, f64), String> {
         .split_once("..")
         .ok_or_else(|| format!("'{range}' is not a range: write MIN..MAX with its unit"))?;
     let (low, high) = (low.trim(), high.trim());
-    let unit_of = |text: &str| text[crate::prior::number_length(text)..].trim().to_owned();
+    let unit_of = |text: &str| {
+        text[crate::written_lengths::number_length(text)..]
+            .trim()
+            .to_owned()
+    };
     // One unit at the end serves both bounds.
     let low = if unit_of(low).is_empty() && !unit_of(high).is_empty() {
         format!("{low}{}", unit_of(high))

@@ -62,6 +62,19 @@ impl PyCompensation {
         array(py, &[self.points.len()], values)
     }
 
+    /// Angle (rad) by which a position match leaves the tool turned from
+    /// the orientation the program's joints meant, (m,); NaN for a pose
+    /// match, a Cartesian target or a target not reached.
+    #[getter]
+    fn tool_turn<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let values = self
+            .points
+            .iter()
+            .map(|point| point.tool_turn.unwrap_or(f64::NAN))
+            .collect();
+        array(py, &[self.points.len()], values)
+    }
+
     /// Per target: "ok", "reconfigured" (reached in another configuration,
     /// a joint moved by more than 1 rad), "outside-region" (reached outside
     /// the joint ranges the calibration measured), "outside-limits" (reached
@@ -185,15 +198,21 @@ fn targets_with_starts(
 /// re-expressed in the nominal's base frame (`Robot.rebased`); without it,
 /// robots in different frames are refused. An elastic calibrated robot is
 /// commanded where it comes to rest on the targets with `payload`
-/// (`"12kg"`, `"12kg,0,0,80mm"`) and its links' weight. Runs without the
-/// GIL; Ctrl-C stops it.
+/// (`"12kg"`, `"12kg,0,0,80mm"`) and its links' weight. `tool` is the tool
+/// the targets are for: a tool the calibration identified (by name) or its
+/// pose in frame n+1 (`"0,0,120mm"`); frame n+1 itself is refused where the
+/// calibration never observed it. `base_points` (a file of `gecaro robot
+/// rebase --base-points`, lengths in `base_points_unit`) registers the
+/// owner's base first. Runs without the GIL; Ctrl-C stops it.
 ///
 /// Raises NotConvergedError, with the whole result in `.result`, when some
-/// targets are reached only beyond a joint limit or not at all.
+/// targets are reached only beyond a joint limit or not at all, or a
+/// position match turns the tool beyond `max_tool_turn` (`"1deg"`).
 #[pyfunction]
 #[pyo3(signature = (
     nominal, calibrated, *, joints = None, positions = None, poses = None, r#match = "pose",
-    rebase = false, payload = None,
+    rebase = false, payload = None, tool = None, max_tool_turn = None, base_points = None,
+    base_points_unit = None,
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn compensate(
@@ -206,6 +225,10 @@ pub(crate) fn compensate(
     r#match: &str,
     rebase: bool,
     payload: Option<String>,
+    tool: Option<String>,
+    max_tool_turn: Option<String>,
+    base_points: Option<PathBuf>,
+    base_points_unit: Option<String>,
 ) -> PyResult<PyCompensation> {
     let joint_count = nominal.robot().joint_count();
     let mut request = CompensateRequest::new(
@@ -216,14 +239,27 @@ pub(crate) fn compensate(
     request.matching = Some(r#match.to_owned());
     request.rebase = rebase;
     request.payload = payload;
+    request.tool = tool;
+    request.max_tool_turn = max_tool_turn;
+    request.base_points =
+        base_points.map(|path| gecaro_app::BasePointsSource::File(path.display().to_string()));
+    request.base_points_format.length_unit = base_points_unit;
     let compensated = watched(py, |observer| request.run(&LocalFiles, observer))?;
+    let failure = compensated.failure();
     let result = PyCompensation {
         points: compensated.results,
         joint_count,
     };
     let flagged = result.flagged();
     if flagged.is_empty() {
-        return Ok(result);
+        // No target flagged, yet a position match may turn the tool beyond
+        // the tolerance.
+        let Some(failure) = failure else {
+            return Ok(result);
+        };
+        let error = NotConvergedError::new_err(failure.message(gecaro_app::Dialect::Python));
+        error.value(py).setattr("result", Py::new(py, result)?)?;
+        return Err(error);
     }
     let shown: Vec<String> = flagged.iter().take(10).map(ToString::to_string).collect();
     let error = NotConvergedError::new_err(format!(
@@ -255,7 +291,7 @@ pub(crate) fn compensate(
 #[pyfunction]
 #[pyo3(signature = (
     nominal, calibrated, program, output, *, r#match = "pose", rebase = false, payload = None,
-    length_unit = None, angle_unit = None, columns = None, delimiter = None, decimal_comma = None,
+    tool = None, max_tool_turn = None, length_unit = None, angle_unit = None, columns = None, delimiter = None, decimal_comma = None,
     overwrite = false,
 ))]
 #[allow(clippy::too_many_arguments)]
@@ -268,6 +304,8 @@ pub(crate) fn compensate_program<'py>(
     r#match: &str,
     rebase: bool,
     payload: Option<String>,
+    tool: Option<String>,
+    max_tool_turn: Option<String>,
     length_unit: Option<String>,
     angle_unit: Option<String>,
     columns: Option<&Bound<'py, PyAny>>,
@@ -304,6 +342,8 @@ pub(crate) fn compensate_program<'py>(
     request.matching = Some(r#match.to_owned());
     request.rebase = rebase;
     request.payload = payload;
+    request.tool = tool;
+    request.max_tool_turn = max_tool_turn;
     request.save_as = Some(output.display().to_string());
     request.overwrite = overwrite;
     request.format = DataFormatSpec {

@@ -407,6 +407,30 @@ impl PyRobot {
         self.robot().compliances().map(<[f64]>::to_vec)
     }
 
+    /// The tools a calibration identified with the robot (a study's
+    /// reflectors): `{name: (position (m), quaternion (w, x, y, z))}` in
+    /// frame n+1, what `compensate(tool=name)` compensates.
+    #[getter]
+    fn tools(&self) -> std::collections::BTreeMap<String, ([f64; 3], [f64; 4])> {
+        self.file
+            .tools
+            .iter()
+            .map(|tool| {
+                let t = tool.pose.translation.vector;
+                let q = nalgebra::UnitQuaternion::from_rotation_matrix(&tool.pose.rotation);
+                (tool.name.clone(), ([t.x, t.y, t.z], [q.w, q.i, q.j, q.k]))
+            })
+            .collect()
+    }
+
+    /// Whether the calibration that made this robot observed its frame n+1
+    /// (False when every set measured a named tool: frame n+1 is then the
+    /// nominal's, and only the tools are calibrated).
+    #[getter]
+    fn tool_frame_observed(&self) -> bool {
+        self.file.tool_frame_observed
+    }
+
     /// Gravity in the robot's world frame (m/s², `[0, 0, -9.80665]` unless
     /// the robot file states it): what loads an elastic robot's joints. An
     /// identification with `model="elastic-gravity"` states in its
@@ -604,6 +628,58 @@ impl PyRobot {
         let mut values = vec![0.0; 16];
         homogeneous_rows(&frame, &mut values);
         Ok((array(py, &[4, 4], values)?, PyRobot::new(file)))
+    }
+
+    /// This robot, calibrated in a measurement frame, in the base frame its
+    /// owner defines by points (issue 74): `measured` (N, 3) points in the
+    /// measurement frame beside `base` (N, 3), the same points in the base
+    /// frame from the drawing (metres), N ≥ 3 not on one line, optionally
+    /// `names`. Returns `(registration, robot)`: the registration as
+    /// `gecaro robot rebase --base-points … --json` gives it (the base's
+    /// pose in the measurement frame, every point's residual, σ, and the
+    /// error it adds at 1 m), and this robot in that base frame. `nominal`
+    /// is the robot's nominal (joints checked).
+    #[pyo3(signature = (nominal, measured, base, *, names = None))]
+    fn rebased_by_points<'py>(
+        &self,
+        py: Python<'py>,
+        nominal: PyRef<'_, PyRobot>,
+        measured: &Bound<'py, PyAny>,
+        base: &Bound<'py, PyAny>,
+        names: Option<Vec<String>>,
+    ) -> PyResult<(Bound<'py, PyAny>, Self)> {
+        let measured = Real::shaped(measured, "measured", &[None, Some(3)])?.values;
+        let count = measured.len() / 3;
+        let base = Real::shaped(base, "base", &[Some(count), Some(3)])?.values;
+        if let Some(names) = &names
+            && names.len() != count
+        {
+            return Err(input(format!("names: {} for {count} points", names.len())));
+        }
+        let points = (0..count)
+            .map(|i| gecaro_io::BasePoint {
+                name: names
+                    .as_ref()
+                    .map_or_else(|| format!("row {i}"), |names| names[i].clone()),
+                measured: Vector3::from_column_slice(&measured[3 * i..3 * i + 3]),
+                base: Vector3::from_column_slice(&base[3 * i..3 * i + 3]),
+                line: i,
+            })
+            .collect();
+        let mut request = gecaro_app::RebaseRequest::new(
+            gecaro_app::RobotSource::Loaded(Box::new(self.file.clone())),
+            gecaro_app::RobotSource::Loaded(Box::new(nominal.file.clone())),
+        );
+        request.base_points = Some(gecaro_app::BasePointsSource::Points(points));
+        let rebased = request.run(&LocalFiles).py()?;
+        let registration = rebased
+            .registration
+            .as_ref()
+            .map(gecaro_app::BaseRegistration::document);
+        Ok((
+            crate::documents::to_python(py, &registration)?,
+            PyRobot::new(rebased.robot),
+        ))
     }
 
     /// A copy (changes to it leave this robot alone).

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -31,10 +33,18 @@ def test_joint_targets_equal_the_command_line(cli, cell, repository):
     document = cli.json(
         "compensate", "kr16.toml", "calibrated.toml", "--program",
         repository / "examples" / "tracker" / "job.csv", "--angle-unit", "deg",
-        "--columns", COLUMNS, "--match", "position", "-o", "corrected.csv",
+        "--columns", COLUMNS, "--match", "position", "--max-tool-turn", "2deg",
+        "-o", "corrected.csv",
     )
-    result = gecaro.compensate(nominal, calibrated, joints=joints, match="position")
+    result = gecaro.compensate(
+        nominal, calibrated, joints=joints, match="position", max_tool_turn="2deg"
+    )
     assert result.status == [point["status"] for point in document["points"]]
+    # The tool's turn, target by target, as the command line states it.
+    assert np.abs(result.tool_turn - [p["tool_turn"] for p in document["points"]]).max() < 1e-15
+    assert math.radians(1) < document["largest_tool_turn"] < math.radians(2)
+    with pytest.raises(gecaro.NotConvergedError, match="turns the tool by more than 1.00°"):
+        gecaro.compensate(nominal, calibrated, joints=joints, match="position")
     expected = np.array([point["motor_positions"] for point in document["points"]])
     assert np.abs(result.qm - expected).max() <= 1e-15
     # Independent route: the calibrated robot puts the flange where the nominal
@@ -51,10 +61,12 @@ def test_a_program_file_is_corrected_as_it_is_read(cli, cell, repository, tmp_pa
     job = repository / "examples" / "tracker" / "job.csv"
     document = cli.json(
         "compensate", "kr16.toml", "calibrated.toml", "--program", job, "--angle-unit",
-        "deg", "--columns", COLUMNS, "--match", "position", "-o", "by-cli.csv",
+        "deg", "--columns", COLUMNS, "--match", "position", "--max-tool-turn", "2deg",
+        "-o", "by-cli.csv",
     )
     summary = gecaro.compensate_program(
         nominal, calibrated, job, tmp_path / "by-python.csv", match="position",
+        max_tool_turn="2deg",
         angle_unit="deg", columns=dict(item.split("=") for item in COLUMNS.split(",")),
     )
     assert (tmp_path / "by-python.csv").read_text() == (tmp_path / "by-cli.csv").read_text()

@@ -121,3 +121,58 @@ def test_a_cell_is_planned_as_the_command_line_does(cli, repository):
     assert planned["log_det"] == pytest.approx(expected["log_det"], rel=1e-12)
     with pytest.raises(gecaro.InputError, match="plans a Study"):
         gecaro.plan_study(study.robot, "position", 10)
+
+
+def test_a_reflector_study_compensates_its_reflector_not_tool0(repository):
+    """Every set of the cell names a reflector: the calibrated robot holds
+    the reflectors as identified and says frame n+1 was not observed; tool0
+    is refused, the reflector compensated, and a position match that turns
+    the tool beyond the tolerance raises with the result attached."""
+    import numpy as np
+
+    study = gecaro.Study.read(repository / "examples" / "tracker-cell" / "study.toml")
+    calibrated = gecaro.identify(study.robot, study).calibrated
+    assert not calibrated.tool_frame_observed
+    assert sorted(calibrated.tools) == ["smr_a", "smr_b", "smr_c"]
+    position, quaternion = calibrated.tools["smr_a"]
+    assert abs(position[0] - 0.04) < 2e-3 and abs(quaternion[0]) == pytest.approx(1.0)
+    nominal = study.robot
+    joints = np.radians([[10, -40, 30, 20, 45, 0], [-20, -60, 50, -30, 30, 90]])
+    with pytest.raises(gecaro.InputError, match="is not calibrated"):
+        gecaro.compensate(nominal, calibrated, joints=joints, match="position", rebase=True)
+    done = gecaro.compensate(
+        nominal, calibrated, joints=joints, match="position", rebase=True,
+        tool="smr_a", max_tool_turn="90deg",
+    )
+    assert done.status == ["ok", "ok"] and np.all(np.isfinite(done.tool_turn))
+    assert np.all(done.position_error < 1e-9)
+    with pytest.raises(gecaro.NotConvergedError, match="turns the tool") as raised:
+        gecaro.compensate(
+            nominal, calibrated, joints=joints, match="position", rebase=True,
+            tool="smr_a", max_tool_turn="0.001deg",
+        )
+    assert raised.value.result.tool_turn.max() > math.radians(0.001)
+
+
+def test_the_owner_s_base_is_registered_by_points():
+    """A robot seen from a tracker 3 m away, its plate's holes measured
+    exactly: the base registered by them gives the robot back in its own
+    frame; two points are refused."""
+    import numpy as np
+
+    robot = gecaro.Robot.load("industrial6")
+    yaw = 2.4
+    rotation = np.array([[math.cos(yaw), -math.sin(yaw), 0], [math.sin(yaw), math.cos(yaw), 0], [0, 0, 1]])
+    tracker = np.eye(4)
+    tracker[:3, :3], tracker[:3, 3] = rotation, [3.0, -0.4, 0.2]
+    world = np.linalg.inv(tracker)
+    seen = robot.reframe(world=world)
+    base = np.array([[0.3, 0.3, 0], [-0.3, 0.3, 0], [-0.3, -0.3, 0], [0.3, -0.3, 0.05]])
+    measured = base @ world[:3, :3].T + world[:3, 3]
+    registration, back = seen.rebased_by_points(robot, measured, base, names=["H1", "H2", "H3", "H4"])
+    assert [p["name"] for p in registration["points"]] == ["H1", "H2", "H3", "H4"]
+    assert registration["rms"] < 1e-12 and registration["at_one_metre"] < 1e-9
+    qm = np.array([0.3, -0.5, 0.8, 1.1, -0.4, 2.0])
+    assert np.allclose(back.fk(qm), robot.fk(qm), atol=1e-9)
+    with pytest.raises(gecaro.InputError, match="at least 3 points"):
+        seen.rebased_by_points(robot, measured[:2], base[:2])

@@ -1118,6 +1118,70 @@ async fn a_program_is_compensated_target_by_target_and_saved_beside_it() {
         .await;
     assert!(status.is_client_error(), "{body}");
     assert!(error_text(&body).contains("calibrated"), "{body}");
+    // The position match says how far it turned the tool.
+    assert!(
+        compensated["largest_tool_turn"].as_f64().is_some() && compensated["turned"].is_array(),
+        "{compensated}"
+    );
+    // A robot calibrated by a reflector study: frame n+1 was not observed,
+    // so the program is compensated for a reflector it names, not tool0.
+    let mut reflected = calibrated.clone();
+    reflected["tool_frame_observed"] = json!(false);
+    reflected["tools"] = json!({ "smr_a": { "position": [0.0, 0.0, 0.1] } });
+    let program = json!({ "csv": { "text": text, "name": "weld.csv" } });
+    let (status, body) = api
+        .post(
+            "/api/compensate",
+            &json!({ "nominal": document, "calibrated": reflected, "program": program,
+                     "format": { "angle_unit": "deg" }, "match": "position" }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST, "{body}");
+    assert!(
+        error_text(&body).contains("is not calibrated") && error_text(&body).contains("smr_a"),
+        "{body}"
+    );
+    let (status, body) = api
+        .post(
+            "/api/compensate",
+            &json!({ "nominal": document, "calibrated": reflected, "program": program,
+                     "format": { "angle_unit": "deg" }, "match": "position",
+                     "tool": "smr_a", "max_tool_turn": "180deg" }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{body}");
+    assert_eq!(body["reached"], 12, "{body}");
+    // The owner's base by four plate points (here where the nominal's is),
+    // an upload in mm with `;` and decimal commas: the registration is
+    // stated with the result.
+    let plate = "name;x;y;z;base_x;base_y;base_z\nH1;250;250;0;250;250;0\n\
+                 H2;-250;250;0,01;-250;250;0\nH3;-250;-250;0;-250;-250;0\nH4;250;-250;0;250;-250;0\n";
+    let (status, body) = api
+        .post(
+            "/api/compensate",
+            &json!({ "nominal": document, "calibrated": calibrated, "program": program,
+                     "format": { "angle_unit": "deg" },
+                     "base_points": { "csv": { "text": plate, "name": "plate.csv" } },
+                     "base_points_format": { "length_unit": "mm" } }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{body}");
+    let registration = &body["registration"];
+    assert_eq!(registration["points"][1]["name"], "H2", "{body}");
+    assert!(
+        registration["max"].as_f64().expect("m") < 1e-5,
+        "{registration}"
+    );
+    let (status, body) = api
+        .post(
+            "/api/compensate",
+            &json!({ "nominal": document, "calibrated": calibrated, "program": program,
+                     "format": { "angle_unit": "deg" },
+                     "base_points": { "csv": { "text": "x;y;z;base_x;base_y;base_z\n2500;0;0;0;0;0\n", "name": "plate.csv" } } }),
+        )
+        .await;
+    assert!(status.is_client_error(), "{body}");
+    assert!(error_text(&body).contains("plate.csv:2"), "{body}");
 }
 
 /// A 7-joint arm's data with a 6-joint robot: refused, not run with the

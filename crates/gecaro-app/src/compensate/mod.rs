@@ -3,15 +3,18 @@
 //! within the limits are flagged, never dropped.
 
 mod summary;
+mod tool;
 
 use gecaro_calib::compensation::{CompensatedPoint, Compensator, Match, ProgramPoint};
 use gecaro_calib::elastic::commanded_under_load;
 use gecaro_calib::{Observer, report_step};
-use gecaro_core::LinkMass;
+use gecaro_core::{LinkMass, Robot};
 use gecaro_io::{CorrectedProgram, ProgramFile, ProgramLayout, ProgramReader, RobotFile};
+use nalgebra::IsometryMatrix3;
 use serde::Deserialize;
 use std::path::PathBuf;
 
+use crate::base_frame::{BasePointsSource, BaseRegistration};
 use crate::documents::{CompensatedJson, CompensationJson};
 use crate::error::AppError;
 use crate::files::{Files, Opened};
@@ -63,10 +66,27 @@ pub struct CompensateRequest {
     /// frames are refused.
     #[serde(default)]
     pub rebase: bool,
+    /// The base as its owner defines it, registered by points
+    /// (`crate::base_frame`): the calibrated robot is re-expressed in it
+    /// first, instead of in the nominal's convention (`rebase`).
+    #[serde(default)]
+    pub base_points: Option<BasePointsSource>,
+    /// Units and column names of the base-points file.
+    #[serde(default)]
+    pub base_points_format: DataFormatSpec,
     /// The payload the robot will carry (`12kg`, `12kg,0,0,80mm`): an
     /// elastic calibrated robot's joints are commanded where they come to
     /// rest on the targets under its weight and the links' (docs/elastic.md).
     pub payload: Option<String>,
+    /// The tool the program's targets are for: a tool the calibration
+    /// identified (its name in the calibrated file's `[tools]`), or its
+    /// pose in frame n+1 (`0,0,120mm[,qw,qx,qy,qz]`); frame n+1 itself when
+    /// omitted (see the `tool` module).
+    pub tool: Option<String>,
+    /// The largest turn of the tool a position match may leave (an angle
+    /// with its unit, [`DEFAULT_MAX_TOOL_TURN`] when omitted): targets
+    /// turned more are flagged.
+    pub max_tool_turn: Option<String>,
     /// Write the corrected program (CSV) here.
     pub save_as: Option<String>,
     /// Replace a file that exists.
@@ -75,6 +95,11 @@ pub struct CompensateRequest {
     #[serde(flatten)]
     unknown: Unknown,
 }
+
+/// The largest turn of the tool a position match leaves unflagged (rad):
+/// 1°, 17 mm at a metre — beyond what a process holding its tool square
+/// (welding, drilling, dispensing) tolerates.
+pub const DEFAULT_MAX_TOOL_TURN: f64 = std::f64::consts::PI / 180.0;
 
 /// A corrected program.
 #[derive(Clone, Debug)]
@@ -97,6 +122,8 @@ pub struct Compensated {
     pub nominal: RobotFile,
     /// The counts, flagged lines and largest residual and correction.
     pub summary: CompensationSummary,
+    /// The base registered by points, when they were given.
+    pub registration: Option<BaseRegistration>,
 }
 
 /// A program file corrected as it was read ([`CompensateRequest::run_streamed`]).
@@ -108,6 +135,8 @@ pub struct CompensatedFile {
     pub summary: CompensationSummary,
     /// Where the corrected program was written.
     pub saved: PathBuf,
+    /// The base registered by points, when they were given.
+    pub registration: Option<BaseRegistration>,
 }
 
 /// What moves an elastic calibrated robot's solutions to where its joints
@@ -164,6 +193,13 @@ struct Prepared {
     matching: Match,
     nominal: RobotFile,
     calibrated: RobotFile,
+    /// The nominal and calibrated robots solved: with the program's tool
+    /// as their frame n+1 when one is given.
+    solved: (Robot, Robot),
+    /// The largest tool turn left unflagged (rad).
+    max_tool_turn: f64,
+    /// The base registered by points, when they were given.
+    registration: Option<BaseRegistration>,
     /// An elastic robot's solutions moved for its loads.
     unloading: Option<Unloading>,
 }
@@ -202,7 +238,11 @@ impl CompensateRequest {
             format: DataFormatSpec::default(),
             matching: None,
             rebase: false,
+            base_points: None,
+            base_points_format: DataFormatSpec::default(),
             payload: None,
+            tool: None,
+            max_tool_turn: None,
             save_as: None,
             overwrite: false,
             unknown: Unknown::default(),
@@ -222,11 +262,38 @@ impl CompensateRequest {
         .unwrap_or_default();
         let nominal = self.nominal.load(files)?;
         let mut calibrated = self.calibrated.load(files)?;
-        if self.rebase {
+        let mut registration = None;
+        if let Some(source) = &self.base_points {
+            let label = match source {
+                BasePointsSource::File(name) => name.clone(),
+                _ => "the base points".into(),
+            };
+            let registered =
+                BaseRegistration::new(source.load(files, &self.base_points_format)?, &label)?;
+            calibrated = registered.rebased(&calibrated)?;
+            registration = Some(registered);
+            // The owner's base and the nominal's: one robot, millimetres apart.
+            check_same_frame(&nominal.robot, &calibrated.robot)?;
+        } else if self.rebase {
             calibrated = rebased_file(&calibrated, &nominal.robot)?.1;
         } else {
             check_same_frame(&nominal.robot, &calibrated.robot)?;
         }
+        let solved = match tool::program_tool(&calibrated, self.tool.as_deref())? {
+            Some(pose) => {
+                let world = IsometryMatrix3::identity();
+                (
+                    nominal.robot.reframed(&world, &pose)?,
+                    calibrated.robot.reframed(&world, &pose)?,
+                )
+            }
+            None => (nominal.robot.clone(), calibrated.robot.clone()),
+        };
+        let max_tool_turn = match self.max_tool_turn.as_deref() {
+            None => DEFAULT_MAX_TOOL_TURN,
+            Some(text) => gecaro_io::parse_angle(text)
+                .map_err(|message| AppError::setting("max_tool_turn", message))?,
+        };
         if let Some(name) = &self.save_as {
             files.check_output(name, "csv", self.overwrite)?;
         }
@@ -235,6 +302,9 @@ impl CompensateRequest {
             unloading: Unloading::new(&calibrated, self.payload.as_deref())?,
             nominal,
             calibrated,
+            solved,
+            max_tool_turn,
+            registration,
         })
     }
 
@@ -253,6 +323,9 @@ impl CompensateRequest {
             nominal,
             calibrated,
             unloading,
+            solved,
+            max_tool_turn,
+            registration,
         } = self.prepare(files)?;
         let label = self.program.label();
         let input = match &self.program {
@@ -284,13 +357,13 @@ impl CompensateRequest {
             (None, ProgramSource::Points(points)) => points.clone(),
             (None, _) => Vec::new(),
         };
-        let mut results = Compensator::new(&nominal.robot, &calibrated.robot, matching)?
+        let mut results = Compensator::new(&solved.0, &solved.1, matching)?
             .within(calibrated.measured_region.clone())
             .compensate_all(&points, observer)?;
         if let Some(unloading) = &unloading {
             unloading.apply(&calibrated, &mut results)?;
         }
-        let mut summary = CompensationSummary::default();
+        let mut summary = CompensationSummary::limiting_tool_turn(max_tool_turn);
         summary.add(
             &points,
             &results,
@@ -325,6 +398,7 @@ impl CompensateRequest {
             saved,
             nominal,
             summary,
+            registration,
         })
     }
 
@@ -349,7 +423,8 @@ impl CompensateRequest {
             ));
         };
         let prepared = self.prepare(files)?;
-        let (nominal, calibrated) = (&prepared.nominal.robot, &prepared.calibrated);
+        let calibrated = &prepared.calibrated;
+        let (nominal, solved_calibrated) = (&prepared.solved.0, &prepared.solved.1);
         let format = self.format.format()?;
         let Opened {
             path,
@@ -358,9 +433,9 @@ impl CompensateRequest {
         } = files.open(name, &["csv"])?;
         let mut program = ProgramReader::new(&mut reader, &path, nominal, &format)?;
         let layout = program.layout().clone();
-        let mut compensator = Compensator::new(nominal, &calibrated.robot, prepared.matching)?
+        let mut compensator = Compensator::new(nominal, solved_calibrated, prepared.matching)?
             .within(calibrated.measured_region.clone());
-        let mut summary = CompensationSummary::default();
+        let mut summary = CompensationSummary::limiting_tool_turn(prepared.max_tool_turn);
         let mut corrected: Option<CorrectedProgram<'_>> = None;
         let saved = files.write_streamed(save_as, "csv", self.overwrite, &mut |output| {
             let failed = |error: std::io::Error| {
@@ -412,6 +487,7 @@ impl CompensateRequest {
             layout,
             summary,
             saved,
+            registration: prepared.registration,
         })
     }
 }
@@ -432,7 +508,7 @@ impl Compensated {
 
     /// The JSON document (`gecaro compensate --json`).
     pub fn document(&self) -> CompensationJson {
-        self.summary.document(
+        let mut document = self.summary.document(
             self.saved.as_ref().map(|path| path.display().to_string()),
             self.results
                 .iter()
@@ -443,9 +519,12 @@ impl Compensated {
                     motor_positions: result.motor_positions.clone(),
                     position_error: result.position_error,
                     rotation_error: result.rotation_error,
+                    tool_turn: result.tool_turn,
                 })
                 .collect(),
-        )
+        );
+        document.registration = self.registration.as_ref().map(BaseRegistration::document);
+        document
     }
 }
 
@@ -453,8 +532,11 @@ impl CompensatedFile {
     /// The JSON document: counts, flagged lines and the file written; no
     /// `points` (they are in the file).
     pub fn document(&self) -> CompensationJson {
-        self.summary
-            .document(Some(self.saved.display().to_string()), Vec::new())
+        let mut document = self
+            .summary
+            .document(Some(self.saved.display().to_string()), Vec::new());
+        document.registration = self.registration.as_ref().map(BaseRegistration::document);
+        document
     }
 
     /// Why the corrected program is not to be run as it is.

@@ -9,7 +9,7 @@ use gecaro_calib::compensation::{
 use gecaro_io::ProgramLayout;
 
 use crate::documents::{CompensatedJson, CompensationJson};
-use crate::error::{AppError, ErrorKind};
+use crate::error::{AppError, ErrorKind, Part};
 
 /// The largest change of a joint between the program and its correction.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -43,9 +43,27 @@ pub struct CompensationSummary {
     pub largest_position_error: f64,
     /// The largest joint change of a target reached (program files only).
     pub largest_correction: Option<LargestCorrection>,
+    /// The turn of the tool beyond which a position match's target is
+    /// flagged (rad); none checked when `None`.
+    pub max_tool_turn: Option<f64>,
+    /// The largest turn of the tool a position match left (rad), and its
+    /// target's line.
+    pub largest_tool_turn: Option<(f64, usize)>,
+    /// Lines of the targets a position match reached with the tool turned
+    /// beyond [`max_tool_turn`](Self::max_tool_turn).
+    pub turned: Vec<usize>,
 }
 
 impl CompensationSummary {
+    /// An empty summary that flags targets a position match reaches with
+    /// the tool turned by more than `max_tool_turn` (rad).
+    pub fn limiting_tool_turn(max_tool_turn: f64) -> Self {
+        CompensationSummary {
+            max_tool_turn: Some(max_tool_turn),
+            ..Self::default()
+        }
+    }
+
     /// Adds a block of targets and their results; `line` gives a target's
     /// line from its index in the block; `layout` is the program file's
     /// (the correction is given in its units), if the targets came from one.
@@ -69,6 +87,17 @@ impl CompensationSummary {
                 }
             }
             self.largest_position_error = self.largest_position_error.max(result.position_error);
+            if let Some(turn) = result.tool_turn {
+                if self
+                    .largest_tool_turn
+                    .is_none_or(|(largest, _)| turn > largest)
+                {
+                    self.largest_tool_turn = Some((turn, line(index)));
+                }
+                if self.max_tool_turn.is_some_and(|limit| turn > limit) {
+                    self.turned.push(line(index));
+                }
+            }
             let Some(layout) = layout.filter(|_| result.status == CompensationStatus::Reached)
             else {
                 continue;
@@ -141,8 +170,11 @@ impl CompensationSummary {
             not_reached: self.not_reached.clone(),
             largest_position_error: self.largest_position_error,
             largest_correction: self.largest_correction.map_or(0.0, |largest| largest.value),
+            largest_tool_turn: self.largest_tool_turn.map(|(turn, _)| turn),
+            turned: self.turned.clone(),
             output,
             points,
+            registration: None,
         }
     }
 
@@ -151,14 +183,37 @@ impl CompensationSummary {
     /// limit or not reached.
     pub fn failure(&self, saved: Option<&std::path::Path>) -> Option<AppError> {
         let flagged = self.flagged();
-        (flagged > 0).then(|| {
-            AppError::plain(
+        let place = saved.map_or_else(String::new, |path| format!(" in {}", path.display()));
+        if flagged > 0 {
+            return Some(AppError::plain(
                 ErrorKind::NotConverged,
                 format!(
-                    "{flagged} of {} targets are flagged{}; check them before running the program",
-                    self.targets,
-                    saved.map_or_else(String::new, |path| format!(" in {}", path.display()))
+                    "{flagged} of {} targets are flagged{place}; check them before running the \
+                     program",
+                    self.targets
                 ),
+            ));
+        }
+        let (Some((largest, line)), Some(limit)) = (self.largest_tool_turn, self.max_tool_turn)
+        else {
+            return None;
+        };
+        (!self.turned.is_empty()).then(|| {
+            AppError::new(
+                ErrorKind::NotConverged,
+                vec![
+                    Part::Text(format!(
+                        "the position match turns the tool by more than {:.2}° at {} of {} \
+                         targets{place} (up to {:.2}° at line {line}): it moves the point only, \
+                         and leaves the orientation to the joints; match the pose (a calibration \
+                         that measured orientations) or accept the turn with a larger ",
+                        limit.to_degrees(),
+                        self.turned.len(),
+                        self.targets,
+                        largest.to_degrees()
+                    )),
+                    Part::Setting("max_tool_turn".into()),
+                ],
             )
         })
     }
@@ -173,6 +228,7 @@ mod tests {
             motor_positions: vec![q, 0.0],
             position_error,
             rotation_error: None,
+            tool_turn: None,
             status,
         }
     }

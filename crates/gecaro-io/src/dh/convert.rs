@@ -127,6 +127,8 @@ pub(super) fn robot_of_table(
             angle_unit: AngleUnit::Radians,
             urdf: None,
             measured_region: None,
+            tools: Vec::new(),
+            tool_frame_observed: true,
         },
         notes,
     })

@@ -126,6 +126,7 @@ mod tests {
             motor_positions,
             position_error,
             rotation_error: None,
+            tool_turn: None,
             status: CompensationStatus::Reached,
         }
     }

@@ -646,6 +646,8 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
         file: RobotFile {
             masses,
             measured_region: None,
+            tools: Vec::new(),
+            tool_frame_observed: true,
             robot: robot_model,
             description: Some(description),
             angle_unit: AngleUnit::Radians,

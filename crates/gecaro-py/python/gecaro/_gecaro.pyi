@@ -121,6 +121,12 @@ class Robot:
     def compliances(self) -> Optional[list[float]]:
         """Compliances c1..cn of an elastic robot (rad/(N·m), m/N if prismatic), or None."""
     @property
+    def tools(self) -> dict[str, tuple[tuple[float, float, float], tuple[float, float, float, float]]]:
+        """Tools a calibration identified: {name: (position (m), quaternion (w, x, y, z))} in frame n+1."""
+    @property
+    def tool_frame_observed(self) -> bool:
+        """False when every set of the calibration measured a named tool (frame n+1 stays nominal)."""
+    @property
     def gravity(self) -> tuple[float, float, float]:
         """Gravity in the world frame (m/s²); elastic-gravity states the one it found."""
     @gravity.setter
@@ -163,6 +169,19 @@ class Robot:
         """This robot, calibrated in a measurement frame, in its nominal's base
         frame: (the 4×4 pose of the measurement frame in the robot's base
         frame, the robot), as ``gecaro robot rebase``."""
+    def rebased_by_points(
+        self,
+        nominal: Robot,
+        measured: _ArrayLike,
+        base: _ArrayLike,
+        *,
+        names: Optional[Sequence[str]] = None,
+    ) -> tuple[dict[str, Any], Robot]:
+        """This robot, calibrated in a measurement frame, in the base frame its
+        owner defines by points: ``measured`` (N, 3) in the measurement frame
+        beside ``base`` (N, 3) from the drawing (m), N ≥ 3. Returns (the
+        registration as ``gecaro robot rebase --base-points … --json`` gives
+        it, the robot)."""
     def copy(self) -> Robot: ...
     def __copy__(self) -> Robot: ...
     def __deepcopy__(self, memo: object) -> Robot: ...
@@ -601,6 +620,9 @@ class Compensation:
     def rotation_error(self) -> _FloatArray:
         """(m,) angle (rad); NaN for point targets."""
     @property
+    def tool_turn(self) -> _FloatArray:
+        """(m,) angle (rad) a position match leaves the tool turned by; NaN otherwise."""
+    @property
     def status(self) -> list[str]:
         """Per target: "ok", "reconfigured", "outside-region", "outside-limits" or "not-reached"."""
     @property
@@ -618,11 +640,20 @@ def compensate(
     match: Literal["pose", "position"] = "pose",
     rebase: bool = False,
     payload: Optional[str] = None,
+    tool: Optional[str] = None,
+    max_tool_turn: Optional[str] = None,
+    base_points: Optional[_PathLike] = None,
+    base_points_unit: Optional[Literal["m", "mm"]] = None,
 ) -> Compensation:
     """Program compensation, as ``gecaro compensate``; NotConvergedError (with
-    ``.result``) when targets are flagged. ``rebase``: the calibrated robot
-    stands in a measurement frame and the program in robot coordinates
-    (robots in different frames are refused without it)."""
+    ``.result``) when targets are flagged or a position match turns the tool
+    beyond ``max_tool_turn`` (``"1deg"`` by default). ``rebase``: the
+    calibrated robot stands in a measurement frame and the program in robot
+    coordinates (robots in different frames are refused without it).
+    ``tool``: the tool the targets are for — a tool the calibration
+    identified, by name, or its pose in frame n+1 (``"0,0,120mm"``).
+    ``base_points``: a file of points measured beside their place in the
+    owner's base (``gecaro robot rebase --base-points``), registered first."""
 
 def compensate_program(
     nominal: Robot,
@@ -633,6 +664,8 @@ def compensate_program(
     match: Literal["pose", "position"] = "pose",
     rebase: bool = False,
     payload: Optional[str] = None,
+    tool: Optional[str] = None,
+    max_tool_turn: Optional[str] = None,
     length_unit: Optional[Literal["m", "mm"]] = None,
     angle_unit: Optional[Literal["rad", "deg"]] = None,
     columns: Union[Mapping[str, str], str, None] = None,

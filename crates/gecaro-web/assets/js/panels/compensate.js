@@ -26,6 +26,11 @@ export function compensatePanel(method) {
     h('option', { value: 'pose', text: 'the whole pose (position and orientation)' }),
     h('option', { value: 'position', text: 'the position only (a tool point)' }));
   const rebase = h('input', { type: 'checkbox', id: id('rebase') });
+  const tool = h('input', { type: 'text', id: id('tool'), placeholder: 'frame n+1; or a calibrated tool (smr_a), or 0,0,120mm' });
+  const maxTurn = h('input', { type: 'text', id: id('max-tool-turn'), placeholder: '1deg' });
+  const basePoints = h('input', { type: 'text', id: id('base-points'), placeholder: 'e.g. plate.csv in the folder (optional)' });
+  const basePointsUnit = h('select', { id: id('base-points-unit') },
+    h('option', { value: 'mm', text: 'mm' }), h('option', { value: 'm', text: 'm' }));
   const saveAs = h('input', { type: 'text', id: id('save-as'), placeholder: 'e.g. program-compensated.csv (optional)' });
   const run = runButton(id('run'), 'Compensate', async () => {
     result.replaceChildren(h('div', { class: 'progress' }, h('div', { class: 'spinner' }), h('span', { text: 'Compensating…' })));
@@ -38,7 +43,11 @@ export function compensatePanel(method) {
         program: await dataRequest(name, 'compensate'),
         format: formatRequest(name, 'compensate'),
         match: matching.value,
-        rebase: rebase.checked,
+        rebase: rebase.checked && !basePoints.value.trim(),
+        base_points: basePoints.value.trim() ? { file: basePoints.value.trim() } : null,
+        base_points_format: { length_unit: basePointsUnit.value },
+        tool: tool.value.trim() || null,
+        max_tool_turn: maxTurn.value.trim() || null,
         save_as: saveAs.value.trim() || null,
       });
       renderCompensation(result, name, compensated);
@@ -53,8 +62,12 @@ export function compensatePanel(method) {
     h('div', { class: 'form' },
       field('Program', program), upload,
       field('A joint target asks for', matching),
+      field('The tool the targets are for', tool),
+      field('Largest tool turn a position match may leave', maxTurn),
       field('Save in the folder as', saveAs),
       h('label', { class: 'field checkbox' }, rebase, h('span', { text: 'Calibrated in another frame (a tracker’s): re-express it in the table’s base frame' })),
+      field('Or the owner’s base, by points measured beside the drawing’s (name, x, y, z, base_x, base_y, base_z)', basePoints),
+      field('Their length unit', basePointsUnit),
       run),
     formatFields(name, 'compensate'),
     h('p', { class: 'hint', text: 'A program written for the robot in the table — joint targets qm1…qmn, or Cartesian targets x, y, z [, qw, qx, qy, qz] — corrected for the last calibrated robot of this method: the joints with which it reaches what the table’s robot would have. Other columns are kept. Targets reconfigured, outside the joint ranges the calibration measured, beyond a joint limit or not reached are flagged, never dropped.' }),
@@ -77,20 +90,28 @@ function renderCompensation(container, name, compensated) {
   const unit = unitName('length');
   const length = (v) => sci(inUnits(v, 'length'));
   const flagged = compensated.targets - compensated.reached;
-  const verdict = h('div', { class: `verdict ${flagged ? 'bad' : 'ok'}`, id: id('verdict') },
+  const turned = compensated.turned.length;
+  const turn = compensated.largest_tool_turn === undefined || compensated.largest_tool_turn === null ? null
+    : `Largest tool turn left by the position match ${fmt(Number((compensated.largest_tool_turn * 180 / Math.PI).toPrecision(3)))}°.`;
+  const verdict = h('div', { class: `verdict ${flagged || turned ? 'bad' : 'ok'}`, id: id('verdict') },
     h('p', {
       text: flagged
         ? `${flagged} of ${compensated.targets} targets are flagged: check them before running the program.`
-        : `All ${compensated.targets} targets are reached within the joint limits, in the program’s configuration.`,
+        : turned
+          ? `The position match turns the tool beyond the tolerance at ${turned} of ${compensated.targets} targets: it moves the point only. Match the pose, or accept a larger turn.`
+          : `All ${compensated.targets} targets are reached within the joint limits, in the program’s configuration.`,
     }),
-    h('p', { text: `Largest joint correction ${fmt(Number(compensated.largest_correction.toPrecision(3)))} (in the program’s units); largest residual ${length(compensated.largest_position_error)} ${unit}.` }));
+    h('p', { text: `Largest joint correction ${fmt(Number(compensated.largest_correction.toPrecision(3)))} (in the program’s units); largest residual ${length(compensated.largest_position_error)} ${unit}.` }),
+    turn ? h('p', { id: id('tool-turn'), text: turn }) : null,
+    compensated.registration ? h('p', { id: id('registration'), text: registrationText(compensated.registration, unit, length) }) : null);
   const cards = h('div', { class: 'cards' },
     stat('targets', String(compensated.targets), { id: id('targets') }),
     stat('reached', String(compensated.reached), { id: id('reached') }),
     stat('reconfigured', String(compensated.reconfigured.length), { id: id('reconfigured') }),
     stat('outside the measured region', String(compensated.outside_region.length), { id: id('outside-region') }),
     stat('beyond a limit', String(compensated.outside_limits.length), { id: id('outside') }),
-    stat('not reached', String(compensated.not_reached.length), { id: id('not-reached') }));
+    stat('not reached', String(compensated.not_reached.length), { id: id('not-reached') }),
+    stat('tool turned too far', String(turned), { id: id('turned') }));
   const rows = [...compensated.points]
     .sort((a, b) => Number(a.status === 'ok') - Number(b.status === 'ok') || a.line - b.line)
     .slice(0, COMPENSATION_ROWS);
@@ -114,4 +135,10 @@ function renderCompensation(container, name, compensated) {
     table,
     more,
   ].filter(Boolean));
+}
+
+/** One sentence on a base registered by points: its residuals and what it adds. */
+function registrationText(registration, unit, length) {
+  const worst = registration.points.reduce((a, b) => (b.residual > a.residual ? b : a));
+  return `The calibrated robot in the owner’s base, registered by ${registration.points.length} points: residual RMS ${length(registration.rms)} ${unit}, largest ${length(worst.residual)} ${unit} (${worst.name}); about ${length(registration.at_one_metre)} ${unit} added at 1 m from the base.`;
 }
