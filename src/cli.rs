@@ -56,6 +56,12 @@ pub(crate) enum Command {
     /// Correct a robot program for the calibrated robot: the joint values
     /// that reach what the nominal program meant ("program filtering").
     Compensate(CompensateArgs),
+    /// Teach a tool point by pivoting: the joint values of N ≥ 4 orientations with the tool's
+    /// tip on one fixed point give the tip in frame n+1 (tool0) and the fixed point.
+    Tcp(TcpArgs),
+    /// A user frame from measured points: origin, x and xy (three points), or any number of
+    /// points with their place in the frame (frame_x, frame_y, frame_z; least squares).
+    Frame(FrameArgs),
     /// Generate data for the Stanford arm and identify it with every method.
     Demo(DemoArgs),
     /// Serve the GECARO main page (robot table, seven method menus) on 127.0.0.1.
@@ -847,6 +853,36 @@ pub(crate) struct ReportArgs {
     /// Overwrite the report if it exists.
     #[arg(long)]
     pub(crate) force: bool,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct TcpArgs {
+    /// The robot (file or ready robot name; a calibrated one gives the tip in its calibrated
+    /// frame n+1).
+    pub(crate) robot: String,
+    /// The configurations (CSV): qm1..qmn, one row per orientation.
+    #[arg(long, value_name = "PIVOT.csv")]
+    pub(crate) data: PathBuf,
+    /// Units and column names of the file.
+    #[command(flatten)]
+    pub(crate) format: DataFormatArgs,
+    /// Print JSON instead of text (lengths in metres).
+    #[arg(long)]
+    pub(crate) json: bool,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct FrameArgs {
+    /// The points (CSV): name,x,y,z as measured, with the points origin, x and xy, or
+    /// with frame_x,frame_y,frame_z.
+    #[arg(long, value_name = "POINTS.csv")]
+    pub(crate) points: PathBuf,
+    /// Units and column names of the file.
+    #[command(flatten)]
+    pub(crate) format: DataFormatArgs,
+    /// Print JSON instead of text (lengths in metres, the quaternion w, x, y, z).
+    #[arg(long)]
+    pub(crate) json: bool,
 }
 
 #[derive(Debug, Args)]

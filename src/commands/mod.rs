@@ -3,6 +3,7 @@
 
 mod calibration;
 mod compensation;
+mod frames;
 mod identifiability;
 mod interchange;
 mod kinematics;
@@ -35,6 +36,8 @@ pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
         Command::CompareModels(args) => validation::compare(&args),
         Command::Evaluate(args) => calibration::evaluate(&args),
         Command::Compensate(args) => compensation::compensate(&args),
+        Command::Tcp(args) => frames::tcp(&args),
+        Command::Frame(args) => frames::frame(&args),
         Command::Demo(args) => calibration::demo(&args),
         Command::Serve(args) => serve::serve(&args),
     }

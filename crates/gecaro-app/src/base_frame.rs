@@ -19,9 +19,6 @@
 //! world from the old ([`Robot::reframed`](gecaro_core::Robot::reframed)),
 //! its masses moved with their links and gravity into the base frame.
 
-use std::io::Read as _;
-use std::path::Path;
-
 use gecaro_calib::registration::{PointRegistration, register_points};
 use gecaro_io::{BasePoint, RobotFile};
 use nalgebra::{IsometryMatrix3, UnitQuaternion, Vector3};
@@ -63,47 +60,23 @@ impl BasePointsSource {
         files: &dyn Files,
         format: &DataFormatSpec,
     ) -> Result<Vec<BasePoint>, AppError> {
-        let (input, label) = match self {
+        let label;
+        let input = match self {
             BasePointsSource::Points(points) => return Ok(points.clone()),
-            BasePointsSource::File(name) => (CsvInput::File(name), name.clone()),
+            BasePointsSource::File(name) => CsvInput::File(name),
             BasePointsSource::Csv { text, name } => {
-                let label = name
+                label = name
                     .clone()
                     .unwrap_or_else(|| "uploaded base points".into());
-                (
-                    CsvInput::Text {
-                        text,
-                        label: "base points",
-                    },
-                    label,
-                )
+                CsvInput::Text {
+                    text,
+                    label: &label,
+                }
             }
         };
         let format = format.format()?;
-        input.parse(files, |reader, path, _| {
-            let path = match self {
-                BasePointsSource::Csv { .. } => Path::new(&label),
-                _ => path,
-            };
-            let mut text = String::new();
-            reader
-                .take(MAX_BYTES + 1)
-                .read_to_string(&mut text)
-                .map_err(|cause| gecaro_io::Error::Read {
-                    path: path.to_owned(),
-                    cause,
-                })?;
-            if text.len() as u64 > MAX_BYTES {
-                return Err(AppError::from(gecaro_io::Error::Format {
-                    path: path.to_owned(),
-                    message: format!(
-                        "over {} MB: not a base-points file (a few points of a drawing)",
-                        MAX_BYTES >> 20
-                    ),
-                }));
-            }
-            Ok(gecaro_io::parse_base_points(&text, path, &format)?)
-        })
+        let (text, path) = input.small_text(files, MAX_BYTES, "a base-points file")?;
+        Ok(gecaro_io::parse_base_points(&text, &path, &format)?)
     }
 }
 

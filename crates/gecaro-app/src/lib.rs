@@ -90,6 +90,8 @@ mod study_editing;
 mod study_files;
 mod study_plan;
 mod study_prediction;
+mod tool_point;
+mod user_frame;
 
 pub use base_frame::{BasePointJson, BasePointsSource, BaseRegistration, BaseRegistrationJson};
 pub use cell::CellSpec;
@@ -130,3 +132,5 @@ pub use study_plan::{
 pub use study_prediction::{
     PredictStudyJson, PredictStudyRequest, PredictedSetJson, PredictedStudy,
 };
+pub use tool_point::{SMALL_SPREAD, TaughtToolPoint, ToolPointJson, ToolPointRequest};
+pub use user_frame::{FramePointsSource, UserFrame, UserFrameJson, UserFrameRequest};

@@ -167,7 +167,7 @@ pub struct ModelCheck {
     /// robot's), from which the next larger model is drawn.
     pub given: Option<PriorityMatrix>,
     /// Whether the user asked for it (an error of a fold is then reported);
-    /// otherwise it runs because the data are small ([`is_cheap`]) and a
+    /// otherwise it runs because the data are small (`is_cheap`) and a
     /// fold that cannot be identified only skips it.
     pub asked: bool,
 }

@@ -2,6 +2,7 @@
 //! ([`DataSource`]) as each front end names them, and the format of a data
 //! file as an instrument wrote it ([`DataFormatSpec`]).
 
+use std::io::Read as _;
 use std::path::Path;
 
 use gecaro_calib::study::{DataColumn, Samples};
@@ -168,6 +169,38 @@ impl CsvInput<'_> {
                 u64::try_from(text.len()).ok(),
             ),
         }
+    }
+}
+
+impl CsvInput<'_> {
+    /// The whole text of a small file (a points file: at most `max_bytes`),
+    /// and the path its messages name; `what` names such a file.
+    ///
+    /// # Errors
+    /// A file that cannot be read, or one larger than `max_bytes`.
+    pub(crate) fn small_text(
+        &self,
+        files: &dyn Files,
+        max_bytes: u64,
+        what: &str,
+    ) -> Result<(String, std::path::PathBuf), AppError> {
+        self.parse(files, |reader, path, _| {
+            let mut text = String::new();
+            reader
+                .take(max_bytes + 1)
+                .read_to_string(&mut text)
+                .map_err(|cause| gecaro_io::Error::Read {
+                    path: path.to_owned(),
+                    cause,
+                })?;
+            if text.len() as u64 > max_bytes {
+                return Err(AppError::from(gecaro_io::Error::Format {
+                    path: path.to_owned(),
+                    message: format!("over {} kB: not {what}", max_bytes >> 10),
+                }));
+            }
+            Ok((text, path.to_owned()))
+        })
     }
 }
 

@@ -84,6 +84,7 @@ pub mod simulation;
 mod states;
 pub mod study;
 pub mod table2;
+pub mod tool_point;
 pub mod validation;
 
 pub use error::{Error, Setting};

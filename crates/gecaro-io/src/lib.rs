@@ -9,7 +9,6 @@
 
 #![warn(missing_docs)]
 
-mod base_points;
 mod columns;
 mod conversion;
 mod data_file;
@@ -21,6 +20,7 @@ mod input;
 mod interchange;
 mod joint_calibration;
 mod line_chunks;
+mod named_points;
 mod output;
 mod payload;
 mod plain_body;
@@ -41,7 +41,6 @@ mod urdf;
 mod work_region;
 mod written_lengths;
 
-pub use base_points::{BasePoint, MAX_BASE_POINT_DISTANCE, parse_base_points};
 pub use columns::{ColumnMap, DataUnits, Delimiter, header_names, joint_types};
 pub use conversion::{ChainEnds, Exported, Imported};
 pub use data_file::{
@@ -57,6 +56,9 @@ pub use error::Error;
 pub use input::{is_hidden_character, open_input, read_description};
 pub use interchange::{ImportOptions, RobotFormat, export_robot, import_robot, import_robot_text};
 pub use joint_calibration::apply_joint_calibration;
+pub use named_points::{
+    BasePoint, FramePoint, MAX_BASE_POINT_DISTANCE, parse_base_points, parse_frame_points,
+};
 pub use output::{
     OutputPolicy, remove_temporary_files, write_atomically, write_in_folder, write_with,
 };

@@ -39,6 +39,7 @@ mod data;
 mod documents;
 mod errors;
 mod files;
+mod frames;
 mod generation;
 mod identifiability;
 mod identification;
@@ -76,6 +77,8 @@ fn _gecaro(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(validation::cross_validate, module)?)?;
     module.add_function(wrap_pyfunction!(compensation::compensate, module)?)?;
     module.add_function(wrap_pyfunction!(compensation::compensate_program, module)?)?;
+    module.add_function(wrap_pyfunction!(frames::tool_point, module)?)?;
+    module.add_function(wrap_pyfunction!(frames::user_frame, module)?)?;
     module.add_function(wrap_pyfunction!(planning::plan, module)?)?;
     module.add_function(wrap_pyfunction!(planning::plan_study, module)?)?;
     module.add_function(wrap_pyfunction!(planning::predict, module)?)?;

@@ -176,3 +176,48 @@ def test_the_owner_s_base_is_registered_by_points():
     assert np.allclose(back.fk(qm), robot.fk(qm), atol=1e-9)
     with pytest.raises(gecaro.InputError, match="at least 3 points"):
         seen.rebased_by_points(robot, measured[:2], base[:2])
+
+
+def test_a_tool_point_and_a_user_frame_equal_the_command_line(cli, tmp_path):
+    """Pivot configurations of a tip at (15, −20, 180) mm: the tip found as
+    the command line finds it; a fixture's frame from three named points."""
+    import numpy as np
+
+    robot = gecaro.Robot.load("industrial6")
+    tool = np.array([0.015, -0.02, 0.18])
+    tooled = robot.reframe(tool=np.block([[np.eye(3), tool[:, None]], [0, 0, 0, 1]]))
+    generator = np.random.default_rng(3)
+    qm = []
+    for _ in range(40):
+        axis = generator.normal(size=3)
+        axis /= np.linalg.norm(axis)
+        angle = generator.uniform(-0.6, 0.6)
+        k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+        turn = np.eye(3) + math.sin(angle) * k + (1 - math.cos(angle)) * k @ k
+        target = np.eye(4)
+        target[:3, :3] = turn @ np.diag([1.0, -1.0, -1.0])
+        target[:3, 3] = [0.75, 0.1, 0.3]
+        try:
+            qm.append(tooled.ik(target, start=[0, -0.3, 0.9, 0, 0.9, 0]))
+        except gecaro.GecaroError:
+            continue
+        if len(qm) == 8:
+            break
+    qm = np.array(qm)
+    taught = gecaro.tool_point(robot, qm)
+    assert np.allclose(taught["tool"], tool, atol=1e-6)
+    assert np.allclose(taught["fixed_point"], [0.75, 0.1, 0.3], atol=1e-6)
+    np.savetxt(tmp_path / "pivot.csv", qm, delimiter=",", header="qm1,qm2,qm3,qm4,qm5,qm6", comments="")
+    import json
+
+    by_cli = cli.json("tcp", "industrial6", "--data", tmp_path / "pivot.csv")
+    ours = json.loads(json.dumps(taught))
+    assert len(ours.pop("warnings")) == len(by_cli.pop("warnings"))
+    assert ours == by_cli
+    frame = gecaro.user_frame(
+        [[1.0, 2.0, 0.5], [1.0, 2.5, 0.5], [0.2, 2.1, 0.5]], names=["origin", "x", "xy"]
+    )
+    assert frame["way"] == "three points"
+    assert np.allclose(frame["quaternion"], [math.cos(math.pi / 4), 0, 0, math.sin(math.pi / 4)])
+    with pytest.raises(gecaro.InputError, match="no point named `xy`"):
+        gecaro.user_frame([[0, 0, 0], [1, 0, 0], [0, 1, 0]], names=["origin", "x", "y"])

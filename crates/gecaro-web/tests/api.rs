@@ -2441,3 +2441,86 @@ async fn a_payload_no_arm_carries_is_refused_by_its_field() {
     let message = error_text(&body);
     assert!(message.contains("a payload of 1200 kg"), "{message}");
 }
+
+/// The owner's frames from the page (issue 74): a tool point taught from
+/// a pivot's joint values (an upload, degrees), as `gecaro tcp`; a pivot
+/// about one axis refused by its field; a user frame from three points.
+#[tokio::test]
+async fn a_tool_point_and_a_user_frame_are_made_through_the_api() {
+    let api = Api::new();
+    let document = api.document("industrial6").await;
+    let robot = gecaro_io::load_robot("industrial6").expect("robot").robot;
+    let tool = nalgebra::Vector3::new(0.015, -0.02, 0.18);
+    let tooled = robot
+        .reframed(
+            &nalgebra::IsometryMatrix3::identity(),
+            &nalgebra::IsometryMatrix3::translation(tool.x, tool.y, tool.z),
+        )
+        .expect("tooled");
+    let mut text = String::from("qm1,qm2,qm3,qm4,qm5,qm6\n");
+    for (rx, ry) in [
+        (0.4, 0.0),
+        (-0.4, 0.0),
+        (0.0, 0.4),
+        (0.0, -0.4),
+        (0.3, 0.3),
+        (-0.3, 0.2),
+    ] {
+        let rotation = nalgebra::Rotation3::from_euler_angles(rx, ry, 0.0)
+            * nalgebra::Rotation3::from_euler_angles(std::f64::consts::PI, 0.0, 0.0);
+        let target = nalgebra::IsometryMatrix3::from_parts(
+            nalgebra::Translation3::new(0.75, 0.1, 0.3),
+            rotation,
+        );
+        let solution = gecaro_core::inverse_kinematics(
+            &tooled,
+            &gecaro_core::Target::Frame(target),
+            &[0.0, -0.3, 0.9, 0.0, 0.9, 0.0],
+            &gecaro_core::InverseOptions::default(),
+        )
+        .expect("reached");
+        let row: Vec<String> = solution
+            .motor_positions
+            .iter()
+            .map(|q| q.to_degrees().to_string())
+            .collect();
+        text += &(row.join(",") + "\n");
+    }
+    let (status, taught) = api
+        .post(
+            "/api/tcp",
+            &json!({ "robot": document, "data": { "csv": { "text": text, "name": "pivot.csv" } },
+                     "format": { "angle_unit": "deg" } }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{taught}");
+    for axis in 0..3 {
+        let found = taught["tool"][axis].as_f64().expect("m");
+        assert!((found - tool[axis]).abs() < 1e-6, "{taught}");
+    }
+    let about_axis: String = (0..5)
+        .map(|i| format!("0,-17,52,0,52,{}\n", 30 * i))
+        .collect();
+    let (status, body) = api
+        .post(
+            "/api/tcp",
+            &json!({ "robot": document, "format": { "angle_unit": "deg" },
+                     "data": { "csv": { "text": format!("qm1,qm2,qm3,qm4,qm5,qm6\n{about_axis}"), "name": "pivot.csv" } } }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST, "{body}");
+    assert!(error_text(&body).contains("not determined"), "{body}");
+    let (status, frame) = api
+        .post(
+            "/api/frame",
+            &json!({ "points": { "csv": { "text": "name;x;y;z\norigin;1000;2000;500\nx;1000;2500;500\nxy;200;2100;500\n", "name": "fixture.csv" } },
+                     "format": { "length_unit": "mm" } }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{frame}");
+    assert_eq!(frame["way"], "three points");
+    assert!(
+        (frame["position"][1].as_f64().expect("m") - 2.0).abs() < 1e-12,
+        "{frame}"
+    );
+}

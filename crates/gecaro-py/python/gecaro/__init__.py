@@ -41,6 +41,8 @@ from ._gecaro import (
     plan_study,
     predict,
     ready_robots,
+    tool_point,
+    user_frame,
 )
 from .errors import (
     GecaroError,
@@ -85,4 +87,6 @@ __all__ = [
     "plan_study",
     "predict",
     "ready_robots",
+    "tool_point",
+    "user_frame",
 ]

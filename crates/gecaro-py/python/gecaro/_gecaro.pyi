@@ -678,6 +678,21 @@ def compensate_program(
     what ``--json`` says of it, without the targets (they are in the file);
     NotConvergedError (with ``.result``) when targets are flagged."""
 
+def tool_point(robot: Robot, qm: Union[_ArrayLike, Data]) -> dict[str, Any]:
+    """A tool point taught by pivoting, as ``gecaro tcp --json``: m ≥ 4
+    orientations with the tip on one fixed point → ``"tool"`` in frame n+1
+    and ``"fixed_point"`` (m), residuals, σ, the orientations' spread (rad)."""
+
+def user_frame(
+    measured: _ArrayLike,
+    *,
+    names: Optional[Sequence[str]] = None,
+    frame: Optional[_ArrayLike] = None,
+) -> dict[str, Any]:
+    """A user frame from measured points (m), as ``gecaro frame --json``: the
+    points ``origin``, ``x`` and ``xy`` by ``names``, or with ``frame`` (N, 3)
+    their coordinates in the frame (least squares, with σ)."""
+
 @final
 class Plan:
     """A plan, as ``gecaro plan``: the configurations to measure and what they give."""

@@ -8,6 +8,7 @@
 mod background;
 mod calibration;
 mod compensation;
+mod frames;
 mod identification;
 mod json;
 mod planning;
@@ -57,6 +58,8 @@ pub(crate) fn routes() -> Router<AppState> {
         .route("/identify", post(identification::submit))
         .route("/evaluate", post(calibration::evaluate))
         .route("/compensate", post(compensation::compensate))
+        .route("/tcp", post(frames::tool_point))
+        .route("/frame", post(frames::user_frame))
         .route("/studies/file", get(study::open))
         .route("/studies/save", post(study::save))
         .route("/studies/plan", post(planning::plan_study))

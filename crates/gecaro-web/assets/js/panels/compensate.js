@@ -58,6 +58,7 @@ export function compensatePanel(method) {
       result.replaceChildren(errorBox(error));
     }
   });
+  const frames = framesForm(name, id, tool);
   return h('div', { class: 'panel', id: `${name}-compensate` },
     h('div', { class: 'form' },
       field('Program', program), upload,
@@ -70,6 +71,7 @@ export function compensatePanel(method) {
       field('Their length unit', basePointsUnit),
       run),
     formatFields(name, 'compensate'),
+    frames,
     h('p', { class: 'hint', text: 'A program written for the robot in the table — joint targets qm1…qmn, or Cartesian targets x, y, z [, qw, qx, qy, qz] — corrected for the last calibrated robot of this method: the joints with which it reaches what the table’s robot would have. Other columns are kept. Targets reconfigured, outside the joint ranges the calibration measured, beyond a joint limit or not reached are flagged, never dropped.' }),
     result);
 }
@@ -141,4 +143,60 @@ function renderCompensation(container, name, compensated) {
 function registrationText(registration, unit, length) {
   const worst = registration.points.reduce((a, b) => (b.residual > a.residual ? b : a));
   return `The calibrated robot in the owner’s base, registered by ${registration.points.length} points: residual RMS ${length(registration.rms)} ${unit}, largest ${length(worst.residual)} ${unit} (${worst.name}); about ${length(registration.at_one_metre)} ${unit} added at 1 m from the base.`;
+}
+
+/**
+ * The owner's frames (issue 74): a tool point taught by pivoting — the
+ * joint values of four or more orientations with the tip on one point, a
+ * file of the folder — on the calibrated robot (else the table's), offered
+ * as the tool to compensate for; and a user frame from measured points.
+ */
+function framesForm(name, id, toolField) {
+  const pivot = h('input', { type: 'text', id: id('pivot'), placeholder: 'e.g. pivot.csv: qm1…qmn of ≥ 4 orientations' });
+  const pivotUnit = h('select', { id: id('pivot-angle-unit') },
+    h('option', { value: 'deg', text: 'degrees' }), h('option', { value: 'rad', text: 'radians' }));
+  const points = h('input', { type: 'text', id: id('frame-points'), placeholder: 'e.g. fixture.csv: name,x,y,z (origin, x, xy)' });
+  const pointsUnit = h('select', { id: id('frame-points-unit') },
+    h('option', { value: 'mm', text: 'mm' }), h('option', { value: 'm', text: 'm' }));
+  const result = h('div', { class: 'result', id: id('frames-result') });
+  const mm = (v) => (v * 1000).toFixed(4);
+  const teach = runButton(id('teach'), 'Teach the tool point', async () => {
+    try {
+      if (!pivot.value.trim()) throw new FieldError('Name the file of the pivot’s joint values.');
+      const taught = await api('/tcp', {
+        robot: state.calibrated[name] || tableDocument(),
+        data: { file: pivot.value.trim() },
+        format: { angle_unit: pivotUnit.value },
+      });
+      const [x, y, z] = taught.tool;
+      toolField.value = `${mm(x)}mm,${mm(y)}mm,${mm(z)}mm`;
+      result.replaceChildren(
+        h('p', { id: id('tool-point'), text: `Tool point in frame n+1: x ${mm(x)}, y ${mm(y)}, z ${mm(z)} mm (σ ${mm(taught.tool_sigma)} mm per axis), from ${taught.orientations} orientations spread over ${(taught.spread * 180 / Math.PI).toFixed(1)}°; residual RMS ${mm(taught.rms)} mm, max ${mm(taught.max)} mm. It is now the tool to compensate for.` }),
+        ...taught.warnings.map((text) => h('p', { class: 'warnings', text })));
+    } catch (error) {
+      result.replaceChildren(errorBox(error));
+    }
+  });
+  const makeFrame = runButton(id('make-frame'), 'Make the user frame', async () => {
+    try {
+      if (!points.value.trim()) throw new FieldError('Name the file of the frame’s points.');
+      const frame = await api('/frame', { points: { file: points.value.trim() }, format: { length_unit: pointsUnit.value } });
+      const [x, y, z] = frame.position;
+      const [w, qx, qy, qz] = frame.quaternion;
+      const sigma = frame.sigma === undefined ? 'three points: exact, no σ' : `σ ${mm(frame.sigma)} mm, origin to ${mm(frame.origin_sigma)} mm`;
+      result.replaceChildren(h('p', { id: id('user-frame'), text: `User frame (${frame.way}): origin x ${mm(x)}, y ${mm(y)}, z ${mm(z)} mm; quaternion (w, x, y, z) ${[w, qx, qy, qz].map((v) => v.toFixed(8)).join(', ')}; ${sigma}.` }));
+    } catch (error) {
+      result.replaceChildren(errorBox(error));
+    }
+  });
+  return h('details', { class: 'frames', id: id('frames') },
+    h('summary', { text: 'The owner’s tool point and user frames' }),
+    h('div', { class: 'form' },
+      field('Pivot: joint values with the tip on one point', pivot),
+      field('Their angle unit', pivotUnit),
+      teach,
+      field('A user frame’s measured points', points),
+      field('Their length unit', pointsUnit),
+      makeFrame),
+    result);
 }

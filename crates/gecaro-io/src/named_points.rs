@@ -1,4 +1,7 @@
-//! Base points: the customer's base frame as a drawing gives it (issue 74).
+//! Files of named points measured by an instrument (issue 74): base
+//! points, and a user frame's points.
+//!
+//! **Base points**: the customer's base frame as a drawing gives it.
 //!
 //! A robot's base is where its owner says it is — the mounting plate, the
 //! dowel holes of its drawing — not where joint 1's axis puts gecaro's
@@ -22,6 +25,11 @@
 //! - A coordinate beyond [`MAX_BASE_POINT_DISTANCE`] is refused with its
 //!   line: no tracker measures that far, and it is a length in the wrong
 //!   unit.
+//!
+//! **A user frame's points** ([`parse_frame_points`]): `name,x,y,z` as
+//! measured, either the three points `origin`, `x` (on the +x axis) and
+//! `xy` (in the xy plane, +y side), or any number of points with their
+//! coordinates in the user frame, `frame_x,frame_y,frame_z`.
 
 use std::path::Path;
 
@@ -52,7 +60,34 @@ pub struct BasePoint {
 }
 
 /// The columns a base-points file needs, in gecaro's names.
-const COLUMNS: [&str; 6] = ["x", "y", "z", "base_x", "base_y", "base_z"];
+const BASE_COLUMNS: [&str; 6] = ["x", "y", "z", "base_x", "base_y", "base_z"];
+
+/// A user frame's points: the measured point, and optionally its place in
+/// the frame.
+const FRAME_COLUMNS: [&str; 3] = ["x", "y", "z"];
+const FRAME_REFERENCE: [&str; 3] = ["frame_x", "frame_y", "frame_z"];
+
+/// A point of a user frame's file (see the module docs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FramePoint {
+    /// Its name (the `name` column, else `line N`).
+    pub name: String,
+    /// The point as measured (m).
+    pub measured: Vector3<f64>,
+    /// Its coordinates in the user frame, when the file gives them (m).
+    pub frame: Option<Vector3<f64>>,
+    /// Its line in the file (1-based).
+    pub line: usize,
+}
+
+/// One row of a points file: its name, the required columns' values and
+/// the optional group's, in metres, and its line.
+struct Row {
+    name: String,
+    values: Vec<f64>,
+    optional: Option<Vec<f64>>,
+    line: usize,
+}
 
 /// Reads the base points of `text` (the file `path`, named in messages).
 ///
@@ -77,6 +112,55 @@ pub fn parse_base_points(
     path: &Path,
     format: &DataFormat,
 ) -> Result<Vec<BasePoint>, Error> {
+    let hint = "a base-points file has the measured point x,y,z and the same point in the base \
+                frame base_x,base_y,base_z (and optionally name)";
+    Ok(rows(text, path, format, (&BASE_COLUMNS, &[]), hint)?
+        .into_iter()
+        .map(|row| BasePoint {
+            name: row.name,
+            measured: Vector3::new(row.values[0], row.values[1], row.values[2]),
+            base: Vector3::new(row.values[3], row.values[4], row.values[5]),
+            line: row.line,
+        })
+        .collect())
+}
+
+/// Reads a user frame's points (see the module docs).
+///
+/// # Errors
+/// As [`parse_base_points`]; part of `frame_x, frame_y, frame_z`.
+pub fn parse_frame_points(
+    text: &str,
+    path: &Path,
+    format: &DataFormat,
+) -> Result<Vec<FramePoint>, Error> {
+    let hint = "a frame's points file has name,x,y,z (the points origin, x and xy) and \
+                optionally each point's place in the frame, frame_x,frame_y,frame_z";
+    Ok(
+        rows(text, path, format, (&FRAME_COLUMNS, &FRAME_REFERENCE), hint)?
+            .into_iter()
+            .map(|row| FramePoint {
+                name: row.name,
+                measured: Vector3::new(row.values[0], row.values[1], row.values[2]),
+                frame: row
+                    .optional
+                    .map(|values| Vector3::new(values[0], values[1], values[2])),
+                line: row.line,
+            })
+            .collect(),
+    )
+}
+
+/// The rows of a points file with the `required` columns and, when all are
+/// there, the `optional` ones (see the module docs); `hint` says what the
+/// file holds.
+fn rows(
+    text: &str,
+    path: &Path,
+    format: &DataFormat,
+    (required, optional): (&[&str], &[&str]),
+    hint: &str,
+) -> Result<Vec<Row>, Error> {
     let format_error = |message: String| Error::Format {
         path: path.to_owned(),
         message,
@@ -93,9 +177,7 @@ pub fn parse_base_points(
         .map(|(index, line)| (index + 1, line.trim_end_matches('\r')))
         .filter(|(_, line)| !line.trim().is_empty() && !line.trim_start().starts_with('#'));
     let Some((_, header)) = lines.next() else {
-        return Err(format_error(
-            "no header: a base-points file starts with name,x,y,z,base_x,base_y,base_z".into(),
-        ));
+        return Err(format_error(format!("no header: {hint}")));
     };
     let separator = format.delimiter.byte(header.as_bytes());
     let decimal_comma = format.decimal_comma(separator).map_err(format_error)?;
@@ -109,27 +191,45 @@ pub fn parse_base_points(
         let file_name = format.columns.file_name(name);
         names.iter().position(|column| column == file_name)
     };
-    let mut columns = [0; 6];
-    for (slot, name) in columns.iter_mut().zip(COLUMNS) {
-        *slot = find(name).ok_or_else(|| {
-            format_error(format!(
-                "no column `{}`: a base-points file has the measured point x,y,z and the same \
-                 point in the base frame base_x,base_y,base_z (and optionally name); its header \
-                 reads {}",
-                format.columns.file_name(name),
-                names.join(",")
-            ))
-        })?;
+    let mut columns = Vec::with_capacity(required.len());
+    for name in required {
+        columns.push((
+            *name,
+            find(name).ok_or_else(|| {
+                format_error(format!(
+                    "no column `{}`: {hint}; its header reads {}",
+                    format.columns.file_name(name),
+                    names.join(",")
+                ))
+            })?,
+        ));
     }
+    let found: Vec<(&str, Option<usize>)> =
+        optional.iter().map(|name| (*name, find(name))).collect();
+    let optional_columns: Option<Vec<(&str, usize)>> = if found.iter().all(|(_, c)| c.is_some()) {
+        (!found.is_empty()).then(|| {
+            found
+                .iter()
+                .filter_map(|(name, column)| column.map(|column| (*name, column)))
+                .collect()
+        })
+    } else if found.iter().any(|(_, c)| c.is_some()) {
+        return Err(format_error(format!(
+            "the columns {} go together: give all of them or none",
+            optional.join(", ")
+        )));
+    } else {
+        None
+    };
     let name_column = find("name");
     let metres = format.units.length.to_metres();
-    let mut points = Vec::new();
+    let mut rows = Vec::new();
     for (line, row) in lines {
-        if points.len() == MAX_BASE_POINTS {
+        if rows.len() == MAX_BASE_POINTS {
             return Err(parse_error(
                 line,
                 None,
-                format!("more than {MAX_BASE_POINTS} points: this is not a base-points file"),
+                format!("more than {MAX_BASE_POINTS} points: this is not a points file"),
             ));
         }
         let fields = split(row);
@@ -144,42 +244,45 @@ pub fn parse_base_points(
                 ),
             ));
         }
-        let mut values = [0.0; 6];
-        for ((value, column), name) in values.iter_mut().zip(columns).zip(COLUMNS) {
-            let text = &fields[column];
-            let number = parse_number(text, decimal_comma).ok_or_else(|| {
+        let read = |(name, column): &(&str, usize)| -> Result<f64, Error> {
+            let text = &fields[*column];
+            let value = parse_number(text, decimal_comma).ok_or_else(|| {
                 parse_error(line, Some(name), format!("`{text}` is not a number"))
-            })?;
-            *value = number * metres;
+            })? * metres;
             if !(value.is_finite() && value.abs() <= MAX_BASE_POINT_DISTANCE) {
                 return Err(parse_error(
                     line,
                     Some(name),
                     format!(
-                        "{} m is beyond any instrument's reach ({MAX_BASE_POINT_DISTANCE} m): is \
-                         the file in millimetres (give its length unit)?",
-                        *value
+                        "{value} m is beyond any instrument's reach ({MAX_BASE_POINT_DISTANCE} \
+                         m): is the file in millimetres (give its length unit)?"
                     ),
                 ));
             }
-        }
+            Ok(value)
+        };
+        let values = columns.iter().map(read).collect::<Result<Vec<_>, _>>()?;
+        let optional = optional_columns
+            .as_ref()
+            .map(|columns| columns.iter().map(read).collect::<Result<Vec<_>, _>>())
+            .transpose()?;
         let name = name_column
             .map(|column| fields[column].clone())
             .filter(|name| !name.is_empty())
             .unwrap_or_else(|| format!("line {line}"));
-        points.push(BasePoint {
+        rows.push(Row {
             name,
-            measured: Vector3::new(values[0], values[1], values[2]),
-            base: Vector3::new(values[3], values[4], values[5]),
+            values,
+            optional,
             line,
         });
     }
-    if points.is_empty() {
+    if rows.is_empty() {
         return Err(format_error(
             "a header but no point: give at least 3 points not on one line".into(),
         ));
     }
-    Ok(points)
+    Ok(rows)
 }
 
 #[cfg(test)]
@@ -203,6 +306,23 @@ mod tests {
         assert_eq!((points[0].name.as_str(), points[0].line), ("H1", 3));
         assert!((points[0].measured - Vector3::new(2.4125, -0.188, -0.3019)).norm() < 1e-12);
         assert!((points[1].base - Vector3::new(-0.25, 0.25, 0.0)).norm() < 1e-12);
+    }
+
+    #[test]
+    fn a_frame_s_points_read_with_or_without_their_place() {
+        let path = Path::new("fixture.csv");
+        let three = "name,x,y,z\norigin,1,2,0\nx,1.5,2,0\nxy,1,2.4,0\n";
+        let points = parse_frame_points(three, path, &DataFormat::default()).expect("reads");
+        assert_eq!(points.len(), 3);
+        assert!(points.iter().all(|point| point.frame.is_none()));
+        let placed = "name,x,y,z,frame_x,frame_y,frame_z\nA,1,2,0,0,0,0\n";
+        let points = parse_frame_points(placed, path, &DataFormat::default()).expect("reads");
+        assert_eq!(points[0].frame, Some(Vector3::zeros()));
+        let part = "name,x,y,z,frame_x\nA,1,2,0,0\n";
+        let message = parse_frame_points(part, path, &DataFormat::default())
+            .expect_err("part")
+            .to_string();
+        assert!(message.contains("go together"), "{message}");
     }
 
     #[test]
