@@ -912,6 +912,11 @@ pub(crate) struct EvaluateArgs {
     /// Refuse data with joints outside their limits (by default a warning).
     #[arg(long)]
     pub(crate) strict_limits: bool,
+    /// Data measured in another frame (another tracker position): register it in closed form
+    /// on this share of the rows (spread over the file), `30%`, and judge the robot on the
+    /// others; `all` registers and judges on every row (said so).
+    #[arg(long, value_name = "N%|all", conflicts_with = "study")]
+    pub(crate) register: Option<String>,
     /// Print JSON instead of text.
     #[arg(long)]
     pub(crate) json: bool,

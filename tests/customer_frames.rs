@@ -489,3 +489,146 @@ fn a_user_frame_is_made_from_measured_points() {
         assert_eq!(json["sigma"].is_number(), least_squares, "{json}");
     }
 }
+
+/// A cell planned before it is measured (issue 74): the study's set files
+/// do not exist yet, the plan writes them in the teach pendant's degrees
+/// with a units line, and the planned study reads back.
+#[test]
+fn a_cell_is_planned_before_it_is_measured() {
+    let folder = tempfile::tempdir().expect("folder");
+    let at = |name: &str| folder.path().join(name);
+    std::fs::copy("examples/tracker-cell/study.toml", at("study.toml")).expect("study");
+    let output = gecaro()
+        .args(["plan", "--study"])
+        .arg(at("study.toml"))
+        .args(["--count", "24", "--angle-unit", "deg", "-o"])
+        .arg(at("planned.toml"))
+        .output()
+        .expect("runs");
+    assert!(output.status.success(), "{output:?}");
+    let first = std::fs::read_to_string(at("planned_1.csv")).expect("written");
+    assert!(first.starts_with("# units: angle_unit = deg"), "{first}");
+    let planned = std::fs::read_to_string(at("planned.toml")).expect("written");
+    assert!(planned.contains("angle_unit = \"deg\""), "{planned}");
+    assert!(planned.contains("(qm in deg and m)"), "{planned}");
+    let predicted = gecaro()
+        .args(["predict", "--study"])
+        .arg(at("planned.toml"))
+        .output()
+        .expect("runs");
+    assert!(predicted.status.success(), "{predicted:?}");
+}
+
+/// Files written alike are described once: `columns`, `delimiter` and the
+/// units at a study's top level hold for every set.
+#[test]
+fn a_study_states_its_files_format_once() {
+    let folder = tempfile::tempdir().expect("folder");
+    let at = |name: &str| folder.path().join(name);
+    let study = std::fs::read_to_string("examples/tracker-cell/study.toml").expect("study");
+    for entry in std::fs::read_dir("examples/tracker-cell")
+        .expect("cell")
+        .flatten()
+    {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if name.ends_with(".csv") {
+            // As the tracker's software writes them: its own names, `;`.
+            let text = std::fs::read_to_string(entry.path()).expect("data");
+            let renamed: String = text
+                .lines()
+                .map(|line| {
+                    if line.starts_with("qm1") {
+                        "A1;A2;A3;A4;A5;A6;X;Y;Z".to_owned()
+                    } else if line.starts_with('#') {
+                        line.to_owned()
+                    } else {
+                        line.replace(',', ";")
+                    }
+                })
+                .collect::<Vec<_>>()
+                .join("\n");
+            std::fs::write(at(&name), renamed + "\n").expect("written");
+        }
+    }
+    let top = "columns = { qm1 = \"A1\", qm2 = \"A2\", qm3 = \"A3\", qm4 = \"A4\", qm5 = \"A5\", \
+               qm6 = \"A6\", x = \"X\", y = \"Y\", z = \"Z\" }\ndelimiter = \";\"\n";
+    let study = study.replacen(
+        "angle_unit = \"deg\"\n",
+        &format!("angle_unit = \"deg\"\n{top}"),
+        1,
+    );
+    std::fs::write(at("study.toml"), study).expect("study");
+    let output = gecaro()
+        .args(["identify", "--study"])
+        .arg(at("study.toml"))
+        .arg("--json")
+        .output()
+        .expect("runs");
+    assert!(output.status.success(), "{output:?}");
+    let json: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    assert_eq!(
+        json["verdict"]["outcome"], "fits_noise",
+        "{}",
+        json["verdict"]
+    );
+}
+
+/// Data measured from another tracker position (issue 74): `evaluate`
+/// names the error as a frame mismatch instead of printing metres of
+/// "error"; `--register 30%` registers the frame on 30 % of the rows and
+/// judges the robot on the rest, at the noise.
+#[test]
+fn data_from_another_tracker_position_are_registered() {
+    let folder = tempfile::tempdir().expect("folder");
+    let text = |name: &str| folder.path().join(name).to_str().expect("UTF-8").to_owned();
+    let nominal = gecaro_io::load_robot("industrial6").expect("robot");
+    let tracker = IsometryMatrix3::from_parts(
+        nalgebra::Translation3::new(2.2, 1.4, -0.3),
+        nalgebra::Rotation3::from_euler_angles(0.01, 0.0, -2.0),
+    );
+    let seen = gecaro_io::RobotFile::of(
+        nominal
+            .robot
+            .reframed(&tracker.inverse(), &IsometryMatrix3::identity())
+            .expect("seen"),
+    );
+    let seen_path = folder.path().join("seen.toml");
+    std::fs::write(
+        &seen_path,
+        gecaro_io::robot_file_text(&seen, &seen_path).expect("text"),
+    )
+    .expect("written");
+    gecaro()
+        .args(["generate", "industrial6", "--real", &text("seen.toml")])
+        .args(["--method", "position", "--count", "60", "--noise", "2e-5"])
+        .args(["--seed", "5", "-o", &text("other.csv")])
+        .assert()
+        .success();
+    let evaluate = |extra: &[&str]| {
+        gecaro()
+            .args(["evaluate", "industrial6", "--method", "position", "--json"])
+            .args(["--data", &text("other.csv")])
+            .args(extra)
+            .output()
+            .expect("runs")
+    };
+    let plain = evaluate(&[]);
+    let stderr = String::from_utf8_lossy(&plain.stderr);
+    assert!(
+        stderr.contains("look measured in another frame"),
+        "{stderr}"
+    );
+    let registered = evaluate(&["--register", "30%"]);
+    assert!(registered.status.success(), "{registered:?}");
+    let stderr = String::from_utf8_lossy(&registered.stderr);
+    assert!(
+        stderr.contains("registered the measurement frame in closed form on 18 of the 60 rows"),
+        "{stderr}"
+    );
+    let json: serde_json::Value = serde_json::from_slice(&registered.stdout).expect("JSON");
+    let rms = json["rms"].as_f64().expect("m");
+    assert!(rms < 6e-5, "{json}");
+    assert_eq!(json["count"], 42, "{json}");
+    let refused = evaluate(&["--register", "150%"]);
+    assert_eq!(refused.status.code(), Some(2));
+}

@@ -578,7 +578,9 @@ pub(crate) fn evaluate(args: &EvaluateArgs) -> Result<(), Failure> {
         strict_limits: args.strict_limits,
         ..Measurements::default()
     };
-    let evaluation = EvaluateRequest::new(measurements).run(&LocalFiles)?;
+    let mut request = EvaluateRequest::new(measurements);
+    request.register = args.register.clone();
+    let evaluation = request.run(&LocalFiles)?;
     print_notes(&evaluation.loaded.notes);
     if args.json {
         return super::output::print_json(&gecaro_app::documents::SummaryJson::from(

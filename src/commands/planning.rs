@@ -11,7 +11,7 @@ use gecaro_calib::prediction::PoseErrors;
 use gecaro_calib::study::DataColumn;
 use serde::Serialize;
 
-use super::options::{method_spec, name};
+use super::options::{data_format, method_spec, name};
 use super::progress::with_steps;
 use crate::cli::{PlanArgs, PredictArgs, TestPoseArgs};
 use crate::failure::Failure;
@@ -104,6 +104,7 @@ fn plan_study(args: &PlanArgs, study: &std::path::Path) -> Result<(), Failure> {
     request.pool = args.pool;
     request.seed = Some(args.seed);
     request.cell = super::options::cell_spec(&args.cell)?;
+    request.format = data_format(&args.format);
     request.save_as = Some(name(output));
     request.overwrite = args.force;
     let planned = with_steps("planning", |observer| request.run(&LocalFiles, observer));

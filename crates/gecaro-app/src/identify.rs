@@ -12,6 +12,7 @@ use gecaro_calib::identification::{
     ErrorSummary, Identification, IdentificationOptions, ObservationErrors, evaluate_errors,
     identify,
 };
+use gecaro_calib::study::DataColumn;
 use gecaro_calib::validation::{
     CrossValidation, Folds, ModelScore, compare_models, cross_validate_by,
 };
@@ -26,6 +27,7 @@ use crate::documents::{
     CrossValidationJson, IdentificationJson, ModelAdviceJson, ModelScoreJson, RegistrationJson,
 };
 use crate::error::{AppError, ErrorKind, Part};
+use crate::evaluation_frame::{self, RegisterShare};
 use crate::files::Files;
 use crate::limits::MAX_FOLDS;
 use crate::measurements::{Data, Loaded, Measurements, Note, Unknown};
@@ -601,6 +603,10 @@ pub struct EvaluateRequest {
     /// A second robot evaluated on the same data (the page's calibrated
     /// robot beside the table's): "before" is the first, "after" this one.
     pub compared: Option<RobotSource>,
+    /// Register the measurement frame on this share of the rows (`all`,
+    /// `30%`) and judge the robot on the others (`crate::evaluation_frame`).
+    #[serde(default)]
+    pub register: Option<String>,
     #[serde(flatten)]
     unknown: Unknown,
 }
@@ -624,6 +630,7 @@ impl EvaluateRequest {
         EvaluateRequest {
             measurements,
             compared: None,
+            register: None,
             unknown: Unknown::default(),
         }
     }
@@ -642,8 +649,29 @@ impl EvaluateRequest {
                  them)",
             ));
         }
+        if let Some(share) = &self.register {
+            let share = RegisterShare::parse(share)?;
+            let (registered, note) =
+                evaluation_frame::register(&loaded.robot.robot, &mut loaded.study, share)?;
+            loaded.robot.robot = registered;
+            loaded.notes.push(note);
+        }
         let (summary, errors) = evaluate_errors(&loaded.robot.robot, &loaded.study)?;
         if let Some(note) = outside_region_note(&loaded, &errors)? {
+            loaded.notes.push(note);
+        }
+        if self.register.is_none()
+            && summary.rms.is_finite()
+            && loaded
+                .study
+                .sets
+                .iter()
+                .all(|set| set.method.data_columns().contains(&DataColumn::Position))
+            && let Some(note) = evaluation_frame::frame_mismatch(
+                summary.rms,
+                evaluation_frame::reach(&loaded.robot.robot, &loaded.study),
+            )
+        {
             loaded.notes.push(note);
         }
         let compared = match &self.compared {

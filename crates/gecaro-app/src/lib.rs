@@ -70,6 +70,7 @@ mod cell;
 mod compensate;
 pub mod documents;
 mod error;
+mod evaluation_frame;
 mod files;
 mod generate;
 mod identifiable;
@@ -100,6 +101,7 @@ pub use compensate::{
     LargestCorrection, ProgramSource,
 };
 pub use error::{AppError, Dialect, ErrorKind};
+pub use evaluation_frame::RegisterShare;
 pub use files::{Files, LocalFiles, Opened};
 pub use generate::{GenerateRequest, Generated, data_file_name};
 pub use identifiable::{IdentifiabilityAnalysis, IdentifiableRequest};

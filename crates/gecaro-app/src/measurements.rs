@@ -218,6 +218,9 @@ pub enum Data {
     /// The configurations of the data are what counts (a plan before it is
     /// measured): measurement columns need not be there.
     Configurations,
+    /// None of the study's set files is read (a cell planned before it is
+    /// measured: its plan writes them).
+    Unmeasured,
 }
 
 impl Measurements {
@@ -337,10 +340,10 @@ impl Measurements {
                     .into(),
             )]));
         }
-        let read_for = if data == Data::Configurations {
-            gecaro_io::StudyData::Configurations
-        } else {
-            gecaro_io::StudyData::Measured
+        let read_for = match data {
+            Data::Configurations => gecaro_io::StudyData::Configurations,
+            Data::Unmeasured => gecaro_io::StudyData::Unmeasured,
+            Data::Required | Data::Optional => gecaro_io::StudyData::Measured,
         };
         let (file, label) = match study {
             StudySource::File(name) => (
@@ -399,7 +402,7 @@ impl Measurements {
         let mut notes = Vec::new();
         let (samples, label) = match (&self.data, data) {
             (Some(source), _) => {
-                let columns = if data == Data::Configurations {
+                let columns = if matches!(data, Data::Configurations | Data::Unmeasured) {
                     gecaro_calib::study::DataColumn::grouping(method.data_columns())
                 } else {
                     method.data_columns().to_vec()
@@ -410,7 +413,9 @@ impl Measurements {
                     &columns,
                     &self.format.format()?,
                 )?;
-                if !read.unused_columns.is_empty() && data != Data::Configurations {
+                if !read.unused_columns.is_empty()
+                    && !matches!(data, Data::Configurations | Data::Unmeasured)
+                {
                     notes.push(Note::plain(format!(
                         "{}: columns {} are not used by the {} method (left alone)",
                         read.label,
@@ -422,7 +427,7 @@ impl Measurements {
                 (read.samples, read.label)
             }
             (None, Data::Optional) => (Default::default(), "random configurations".to_owned()),
-            (None, Data::Required | Data::Configurations) => {
+            (None, Data::Required | Data::Configurations | Data::Unmeasured) => {
                 return Err(AppError::new(
                     ErrorKind::Usage,
                     vec![

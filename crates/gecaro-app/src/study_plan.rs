@@ -21,7 +21,7 @@ use crate::error::{AppError, ErrorKind};
 use crate::files::Files;
 use crate::limits::MAX_GENERATE;
 use crate::measurements::{Data, Loaded, Measurements, StudySource, Unknown};
-use crate::sources::RobotSource;
+use crate::sources::{DataFormatSpec, RobotSource};
 
 /// A cell to plan; see the module docs.
 #[derive(Clone, Debug, Deserialize)]
@@ -43,6 +43,11 @@ pub struct PlanStudyRequest {
     /// cell's `station`: the tracker that measures in the world frame).
     #[serde(default)]
     pub cell: CellSpec,
+    /// Units, separator and decimal mark of the sets' files written (a
+    /// teach pendant's degrees): each file states its units in a units
+    /// line, and the planned study's sets say them.
+    #[serde(default)]
+    pub format: DataFormatSpec,
     /// Write the planned study here (TOML), its sets' files beside it.
     pub save_as: Option<String>,
     /// Replace files that exist.
@@ -74,6 +79,8 @@ pub struct PlannedStudy {
     pub pool: usize,
     /// The files written: the planned study, then each set's file.
     pub saved: Vec<PathBuf>,
+    /// How the sets' files are written (units, separator, decimal mark).
+    pub format: DataFormat,
 }
 
 impl PlanStudyRequest {
@@ -86,6 +93,7 @@ impl PlanStudyRequest {
             pool: None,
             seed: None,
             cell: CellSpec::default(),
+            format: DataFormatSpec::default(),
             save_as: None,
             overwrite: false,
             unknown: Unknown::default(),
@@ -112,7 +120,15 @@ impl PlanStudyRequest {
             study: Some(self.study.clone()),
             ..Measurements::default()
         }
-        .load(files, Data::Configurations)?;
+        // The sets' files are what the plan writes: they need not exist.
+        .load(files, Data::Unmeasured)?;
+        let written = self.format.format()?;
+        if !written.columns.is_empty() {
+            return Err(AppError::setting(
+                "columns",
+                "a planned study's set files are written in gecaro's column names",
+            ));
+        }
         let sets = loaded.study.sets.len();
         let pool = self
             .pool
@@ -239,6 +255,7 @@ impl PreparedStudyPlan {
             plan,
             pool,
             saved: Vec::new(),
+            format: request.format.format()?,
         };
         // Written last: a failed request leaves no file.
         if let Some((name, outputs)) = outputs {
@@ -247,7 +264,7 @@ impl PreparedStudyPlan {
                 &request.study,
                 request.named_robot(),
                 &name,
-                &planned.loaded,
+                (&planned.loaded, &planned.format),
                 &outputs,
             )?;
             let mut saved = vec![files.write(&name, "toml", text.as_bytes(), request.overwrite)?];
@@ -276,8 +293,9 @@ impl PlanStudyRequest {
 }
 
 impl PlannedStudy {
-    /// Every set's planned configurations as a data file's text (metres,
-    /// radians, gecaro's column names), in the study's order.
+    /// Every set's planned configurations as a data file's text (gecaro's
+    /// column names, in the request's units with a units line where they
+    /// are not metres and radians), in the study's order.
     pub fn set_files(&self) -> Vec<String> {
         let types = gecaro_io::joint_types(&self.loaded.robot.robot);
         self.loaded
@@ -291,7 +309,7 @@ impl PlannedStudy {
                     &types,
                     &columns,
                     Samples::from(samples.as_slice()).as_slice(),
-                    &DataFormat::default(),
+                    &self.format,
                 )
             })
             .collect()
@@ -395,7 +413,7 @@ fn planned_study_text(
     source: &StudySource,
     robot: Option<Option<&str>>,
     planned: &str,
-    loaded: &Loaded,
+    (loaded, format): (&Loaded, &DataFormat),
     outputs: &[String],
 ) -> Result<String, AppError> {
     let (study, mut spec) = match source {
@@ -434,6 +452,11 @@ fn planned_study_text(
             }
         }
     }
+    // The planned files are written as the request says, not as the
+    // study's measured files are.
+    spec.columns = None;
+    spec.delimiter = None;
+    spec.decimal_comma = None;
     for ((entry, set), output) in spec
         .measurements
         .iter_mut()
@@ -445,10 +468,14 @@ fn planned_study_text(
             .map_or_else(|| output.clone(), |n| n.to_string_lossy().into_owned());
         entry.data = gecaro_io::SetData::File(file_name);
         entry.columns = None;
-        entry.delimiter = None;
-        entry.decimal_comma = None;
-        entry.length_unit = Some("m".into());
-        entry.angle_unit = Some("rad".into());
+        entry.delimiter = match format.delimiter {
+            gecaro_io::Delimiter::Semicolon => Some("semicolon".into()),
+            gecaro_io::Delimiter::Tab => Some("tab".into()),
+            gecaro_io::Delimiter::Comma | gecaro_io::Delimiter::Detect => None,
+        };
+        entry.decimal_comma = format.decimal_comma.filter(|comma| *comma);
+        entry.length_unit = Some(format.units.length.name().into());
+        entry.angle_unit = Some(format.units.angle.name().into());
         entry.sigma = set
             .sigma
             .map(|sigma| StandardDeviation::WithUnit(format!("{sigma:e}m")));
@@ -460,6 +487,8 @@ fn planned_study_text(
         .map_err(|error| AppError::plain(ErrorKind::Internal, error.to_string()))?;
     Ok(format!(
         "# planned by gecaro plan --study from {study}: each set's configurations in its file\n\
-         # (qm in radians and metres); add the measurements to identify from it.\n{body}"
+         # (qm in {} and {}); add the measurements to identify from it.\n{body}",
+        format.units.angle.name(),
+        format.units.length.name()
     ))
 }

@@ -137,9 +137,6 @@ pub fn export_robot(file: &RobotFile, format: RobotFormat) -> Result<Exported, S
         RobotFormat::Urdf => crate::urdf::export::export_urdf(file),
         RobotFormat::Dh => crate::dh::export_table(file, DhConvention::Standard),
         RobotFormat::Mdh => crate::dh::export_table(file, DhConvention::Modified),
-        RobotFormat::Symoro => Err(
-            "gecaro reads SYMORO .par files but does not write them; export to urdf, dh or mdh"
-                .into(),
-        ),
+        RobotFormat::Symoro => crate::symoro::export::export_symoro(file),
     }
 }

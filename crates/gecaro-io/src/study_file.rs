@@ -37,7 +37,9 @@
 //! radians unless said), or a text with its own unit: `sigma = "0.02mm"`,
 //! `sigma_rotation = "0.01deg"`.
 //!
-//! `length_unit` and `angle_unit` may also stand at the top, for every set.
+//! `length_unit`, `angle_unit`, `columns`, `delimiter` and `decimal_comma`
+//! may also stand at the top, for every set (a set's own `columns` add to
+//! the top's and win), so that files written alike are described once.
 //! An optional `[prior]` table puts a Gaussian prior on the parameters
 //! (`length = "5mm"`, `angle = "0.5deg"`, `gain = "1%"`, and
 //! `parameters = { d3 = "0.5mm" }` to override one parameter; see

@@ -66,6 +66,17 @@ pub struct StudySpec {
     /// `rad` or `deg` for every set that does not say.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub angle_unit: Option<String>,
+    /// Columns under other names for every set (`qm1 = "A1"`): stated once
+    /// for files written alike; a set's own `columns` add to them and win.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub columns: Option<BTreeMap<String, String>>,
+    /// The field separator of every set's file that does not say.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub delimiter: Option<String>,
+    /// Whether every set's numbers have a decimal comma, where the set does
+    /// not say.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub decimal_comma: Option<bool>,
     /// A Gaussian prior on the parameters.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub prior: Option<PriorSpec>,
@@ -350,6 +361,9 @@ pub enum StudyData {
     /// before it is measured, for a prediction. Measurement columns, if
     /// present, are left alone.
     Configurations,
+    /// Nothing of the sets' files (a cell planned before it is measured,
+    /// whose plan writes them: they need not exist): every set is empty.
+    Unmeasured,
 }
 
 /// A study built from its statement, with its robot.
@@ -471,7 +485,13 @@ impl StudySpec {
             let misplaced = |key: &'static str, message: String| {
                 files.misplaced(&SpecField::Set(index, key), message)
             };
-            let (stated, format) = set.statement(&study, study_units, &misplaced)?;
+            let defaults = SetDefaults {
+                units: study_units,
+                columns: self.columns.as_ref(),
+                delimiter: self.delimiter.as_deref(),
+                decimal_comma: self.decimal_comma,
+            };
+            let (stated, format) = set.statement(&study, &defaults, &misplaced)?;
             study.sets.push(stated);
             formats.push(format);
         }
@@ -513,15 +533,25 @@ impl StudySpec {
     }
 }
 
+/// What a study's top level states for every set that does not say: the
+/// units, column names, separator and decimal mark of its file.
+struct SetDefaults<'a> {
+    units: DataUnits,
+    columns: Option<&'a BTreeMap<String, String>>,
+    delimiter: Option<&'a str>,
+    decimal_comma: Option<bool>,
+}
+
 impl SetSpec {
     /// The set as stated, its samples not read yet, with the format of its
     /// data file (`None` for samples given in memory).
     fn statement<E>(
         &self,
         study: &Study,
-        study_units: DataUnits,
+        defaults: &SetDefaults<'_>,
         misplaced: &dyn Fn(&'static str, String) -> E,
     ) -> Result<(MeasurementSet, Option<DataFormat>), E> {
+        let study_units = defaults.units;
         let units = DataUnits {
             length: length_unit(self.length_unit.as_deref(), study_units.length)
                 .map_err(|message| misplaced("length_unit", message))?,
@@ -557,7 +587,7 @@ impl SetSpec {
                             .into(),
                     ));
                 }
-                let delimiter = match &self.delimiter {
+                let delimiter = match self.delimiter.as_deref().or(defaults.delimiter) {
                     None => Delimiter::Detect,
                     Some(name) => Delimiter::from_name(name).ok_or_else(|| {
                         misplaced(
@@ -569,14 +599,18 @@ impl SetSpec {
                         )
                     })?,
                 };
+                // The study's columns, then the set's (which win).
+                let columns = defaults
+                    .columns
+                    .into_iter()
+                    .chain(self.columns.as_ref())
+                    .flat_map(|map| map.iter().map(|(k, v)| (k.clone(), v.clone())))
+                    .collect::<BTreeMap<String, String>>();
                 let format = DataFormat {
                     units,
-                    columns: self
-                        .columns
-                        .clone()
-                        .map_or_else(ColumnMap::default, ColumnMap::from_pairs),
+                    columns: ColumnMap::from_pairs(columns),
                     delimiter,
-                    decimal_comma: self.decimal_comma,
+                    decimal_comma: self.decimal_comma.or(defaults.decimal_comma),
                 };
                 (name.clone(), Some(format))
             }
@@ -606,6 +640,7 @@ impl SetSpec {
         misplaced: &dyn Fn(&'static str, String) -> F::Error,
     ) -> Result<Vec<String>, F::Error> {
         let (name, format) = match (&self.data, format) {
+            (SetData::File(_), _) if data == StudyData::Unmeasured => return Ok(Vec::new()),
             (SetData::File(name), Some(format)) => (name, format),
             (SetData::Samples { samples, .. }, _) => {
                 // Shared with the arrays' `Data`: copied only if changed.
@@ -623,7 +658,9 @@ impl SetSpec {
         };
         let columns = match data {
             StudyData::Measured => set.method.data_columns().to_vec(),
-            StudyData::Configurations => DataColumn::grouping(set.method.data_columns()),
+            StudyData::Configurations | StudyData::Unmeasured => {
+                DataColumn::grouping(set.method.data_columns())
+            }
         };
         let (read, label) = files.samples(name, joint_types, &columns, format)?;
         let mut notes = Vec::new();

@@ -501,16 +501,21 @@ pub(crate) fn identify(
 /// Errors of `robot` on measured data (a Method with Data, or a Study): the
 /// distance to the measured point (position, frame), to the set's mean point
 /// (links), to the plane, or the distance error (pairs). As `gecaro evaluate`.
+/// `register` (`"30%"`, `"all"`): data measured in another frame, registered
+/// in closed form on that share of the rows and judged on the others.
 #[pyfunction]
-#[pyo3(signature = (robot, method, data = None, *, strict_limits = false))]
+#[pyo3(signature = (robot, method, data = None, *, strict_limits = false, register = None))]
 pub(crate) fn evaluate(
     py: Python<'_>,
     robot: PyRef<'_, PyRobot>,
     method: &Bound<'_, PyAny>,
     data: Option<PyRef<'_, PyData>>,
     strict_limits: bool,
+    register: Option<String>,
 ) -> PyResult<PyErrorSummary> {
-    let request = EvaluateRequest::new(measurements(&robot, method, data, false, strict_limits)?);
+    let mut request =
+        EvaluateRequest::new(measurements(&robot, method, data, false, strict_limits)?);
+    request.register = register;
     let evaluation = py.detach(|| request.run(&LocalFiles)).py()?;
     warn_notes(py, &evaluation.loaded.notes)?;
     Ok(PyErrorSummary {

@@ -221,3 +221,20 @@ def test_a_tool_point_and_a_user_frame_equal_the_command_line(cli, tmp_path):
     assert np.allclose(frame["quaternion"], [math.cos(math.pi / 4), 0, 0, math.sin(math.pi / 4)])
     with pytest.raises(gecaro.InputError, match="no point named `xy`"):
         gecaro.user_frame([[0, 0, 0], [1, 0, 0], [0, 1, 0]], names=["origin", "x", "y"])
+
+
+def test_data_of_another_frame_are_named_and_registered():
+    """Points measured from a tracker 2 m away: a warning names the frame,
+    and ``register="30%"`` judges the robot on the other rows, at the noise."""
+    import numpy as np
+
+    robot = gecaro.Robot.load("industrial6")
+    world = np.eye(4)
+    world[:3, :3] = [[0, -1, 0], [1, 0, 0], [0, 0, 1]]
+    world[:3, 3] = [2.0, 0.5, -0.2]
+    seen = robot.reframe(world=world)
+    data = gecaro.generate(robot, "position", 50, noise=2e-5, seed=3, real=seen).data
+    with pytest.warns(UserWarning, match="another frame"):
+        gecaro.evaluate(robot, "position", data)
+    registered = gecaro.evaluate(robot, "position", data, register="30%")
+    assert registered.rms < 6e-5 and registered.to_dict()["count"] == 35

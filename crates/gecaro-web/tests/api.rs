@@ -1949,6 +1949,28 @@ async fn a_study_is_planned_as_a_job_and_predicted_from_the_editor() {
     let document = api.document("industrial6").await;
     // Planned with the table's robot, not saved: the sets' files to download.
     let request = json!({ "robot": document, "study": study, "count": 36, "pool": 150 });
+    // In a teach pendant's degrees: a units line, and the cell need not be
+    // measured yet (issue 74): its sets' files are what the plan writes.
+    let mut unmeasured = study.clone();
+    for (k, set) in unmeasured["measurements"]
+        .as_array_mut()
+        .expect("sets")
+        .iter_mut()
+        .enumerate()
+    {
+        set["data"] = json!(format!("not_yet_{k}.csv"));
+    }
+    let job = api
+        .job(
+            "/api/studies/plan",
+            &json!({ "robot": document, "study": unmeasured, "count": 36, "pool": 150,
+                     "format": { "angle_unit": "deg" } }),
+        )
+        .await
+        .expect("started");
+    assert_eq!(job["state"], "done", "{job}");
+    let first = job["result"]["files"][0]["csv"].as_str().expect("csv");
+    assert!(first.starts_with("# units: angle_unit = deg"), "{first}");
     let job = api
         .job("/api/studies/plan", &request)
         .await
@@ -2522,5 +2544,48 @@ async fn a_tool_point_and_a_user_frame_are_made_through_the_api() {
     assert!(
         (frame["position"][1].as_f64().expect("m") - 2.0).abs() < 1e-12,
         "{frame}"
+    );
+    // Data measured from a tracker 2 m away: named, then registered on 30 %.
+    let world = nalgebra::IsometryMatrix3::from_parts(
+        nalgebra::Translation3::new(2.0, 0.5, -0.2),
+        nalgebra::Rotation3::from_euler_angles(0.0, 0.0, 1.2),
+    );
+    let seen = gecaro_io::RobotFile::of(
+        robot
+            .reframed(&world, &nalgebra::IsometryMatrix3::identity())
+            .expect("seen"),
+    );
+    let real = serde_json::to_value(gecaro_io::RobotDocument::from_robot_file(&seen)).expect("doc");
+    let (status, generated) = api
+        .post(
+            "/api/generate",
+            &json!({ "robot": document, "method": { "name": "position" }, "count": 40,
+                     "noise": 2e-5, "seed": 2, "real": real }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{generated}");
+    let data = json!({ "csv": { "text": generated["csv"], "name": "other.csv" } });
+    let (status, plain) = api
+        .post(
+            "/api/evaluate",
+            &json!({ "robot": document, "method": { "name": "position" }, "data": data }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{plain}");
+    assert!(
+        plain["notes"].to_string().contains("another frame"),
+        "{plain}"
+    );
+    let (status, registered) = api
+        .post(
+            "/api/evaluate",
+            &json!({ "robot": document, "method": { "name": "position" }, "data": data,
+                     "register": "30%" }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{registered}");
+    assert!(
+        registered["errors"]["rms"].as_f64().expect("m") < 6e-5,
+        "{registered}"
     );
 }

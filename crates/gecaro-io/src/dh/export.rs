@@ -76,6 +76,7 @@ pub(crate) fn export_table(file: &RobotFile, convention: DhConvention) -> Result
             theta,
             qmin: Some(joint.qmin - offset),
             qmax: Some(joint.qmax - offset),
+            name: None,
         }
     };
     let zero = |frame: &Frame| frame_transform(frame, 0.0);

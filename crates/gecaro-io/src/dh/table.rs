@@ -118,6 +118,10 @@ pub(super) struct RowDocument {
     pub(super) qmin: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub(super) qmax: Option<f64>,
+    /// The joint's name, as the CSV form's `name` column: kept for the
+    /// reader, not used by the model.
+    #[serde(default, alias = "joint", skip_serializing_if = "Option::is_none")]
+    pub(super) name: Option<String>,
 }
 
 pub(super) struct Units {

@@ -35,6 +35,8 @@ __all__ = [
     "cross_validate",
     "compensate",
     "compensate_program",
+    "tool_point",
+    "user_frame",
     "plan",
     "plan_study",
     "predict",
@@ -603,8 +605,11 @@ def evaluate(
     data: Optional[Data] = None,
     *,
     strict_limits: bool = False,
+    register: Optional[str] = None,
 ) -> ErrorSummary:
-    """Errors of a robot on measured data, as ``gecaro evaluate``."""
+    """Errors of a robot on measured data, as ``gecaro evaluate``; ``register``
+    (``"30%"``, ``"all"``) registers another measurement frame on that share
+    of the rows and judges on the others."""
 
 @final
 class Compensation:

@@ -37,6 +37,8 @@ export function studyPlanSection({ studyRobot, openStudy }) {
   const pool = h('input', { type: 'number', min: 1, id: 'study-plan-pool', placeholder: '20 × count ÷ sets' });
   const seed = h('input', { type: 'number', min: 0, value: 1, id: 'study-plan-seed' });
   const saveAs = h('input', { type: 'text', class: 'vector', id: 'study-plan-save', placeholder: 'optional, e.g. planned.toml' });
+  const angleUnit = h('select', { id: 'study-plan-angle-unit' },
+    h('option', { value: 'rad', text: 'radians' }), h('option', { value: 'deg', text: 'degrees (a teach pendant’s)' }));
   const cell = cellInputs('study', 'plan');
   const plan = runButton('study-plan-run', 'Plan the cell', async () => {
     const cancel = h('button', { type: 'button', id: 'study-plan-cancel', text: 'Cancel', disabled: true });
@@ -49,6 +51,7 @@ export function studyPlanSection({ studyRobot, openStudy }) {
         count: fieldNumber(count, 'Configurations', { min: 1, max: state.info.limits.generate, whole: true }),
         seed: fieldNumber(seed, 'Seed', { min: 0, whole: true, empty: 1 }),
         cell: cell.request(),
+        format: { angle_unit: angleUnit.value },
       };
       const candidates = fieldNumber(pool, 'Candidates per set', { min: 1, max: state.info.limits.generate, whole: true, empty: null });
       if (candidates !== null) request.pool = candidates;
@@ -93,6 +96,7 @@ export function studyPlanSection({ studyRobot, openStudy }) {
       field('Seed', seed),
       ...cell.fields,
       field('Save the planned study as', saveAs),
+      field('Joint angles of the files written in', angleUnit),
       plan,
       predict),
     h('p', { class: 'hint', text: 'Plan: every set’s configurations chosen together, seen through its reflector from its station, so the cell determines the robot and the frames best (D-optimal). Saved, the planned study names one configuration file per set; measure them, then identify. Predict: the precision of every unknown and the calibrated robot’s error that the sets’ configurations give, before measuring (eq. 11, each set at its σ).' }),

@@ -17,6 +17,7 @@ export function evaluatePanel(method) {
   const data = dataSelect(name, 'evaluate', false);
   const upload = h('input', { type: 'file', accept: '.csv,text/csv', id: `${name}-evaluate-upload`, hidden: true });
   data.addEventListener('change', () => { upload.hidden = data.value !== 'upload'; });
+  const register = h('input', { type: 'text', id: `${name}-evaluate-register`, placeholder: 'optional: 30% (data of another tracker position)' });
   const run = runButton(`${name}-evaluate-run`, 'Evaluate', async () => {
     result.replaceChildren(h('div', { class: 'progress' }, h('div', { class: 'spinner' }), h('span', { text: 'Evaluating…' })));
     try {
@@ -27,6 +28,7 @@ export function evaluatePanel(method) {
         method: methodRequest(name, 'evaluate'),
         data: await dataRequest(name, 'evaluate'),
         format: formatRequest(name, 'evaluate'),
+        register: register.value.trim() || null,
       });
       renderEvaluation(result, name, evaluated, Boolean(compared));
       state.evaluated[name] = evaluated.comparison ? evaluated.comparison.outcome : 'table';
@@ -39,7 +41,8 @@ export function evaluatePanel(method) {
     }
   });
   return h('div', { class: 'panel', id: `${name}-evaluate` },
-    h('div', { class: 'form' }, field('Held-out data', data), upload, optionFields(method, 'evaluate'), run),
+    h('div', { class: 'form' }, field('Held-out data', data), upload, optionFields(method, 'evaluate'),
+      field('Register their measurement frame on (a share of the rows)', register), run),
     formatFields(name, 'evaluate'),
     h('p', { class: 'hint', text: 'The errors of the robot in the table on measurements the identification has not seen, beside those of the last calibrated robot of this method (the Identification function’s). This is the honest measure of a calibration: the training residual always looks better.' }),
     result);

@@ -16,6 +16,10 @@
 //! n+1. γ1 and b1 become frame 0 (θ0, r0); a γ_j, b_j of a later frame is
 //! folded into frame j−1's θ and r. Trees, closed loops and floating bases
 //! are errors; `.par` files carry no joint limits (defaults, with a note).
+//!
+//! [`export`] writes them back.
+
+pub(crate) mod export;
 
 use std::collections::HashMap;
 use std::path::Path;
