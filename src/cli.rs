@@ -167,6 +167,11 @@ pub(crate) struct DataFormatArgs {
     /// decimal comma is read where fields are separated by `;` or tabs.
     #[arg(long)]
     pub(crate) decimal_comma: bool,
+    /// How orientations are written: quaternion (qw,qx,qy,qz, the default), or rx,ry,rz in
+    /// the angle unit as rpy (fixed x, y, z), euler-xyz (intrinsic), euler-zyz or
+    /// rotation-vector.
+    #[arg(long, value_parser = names(&gecaro_io::RotationFormat::NAMES), value_name = "FORM")]
+    pub(crate) rotation: Option<String>,
 }
 
 #[derive(Debug, Args)]

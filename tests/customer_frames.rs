@@ -632,3 +632,96 @@ fn data_from_another_tracker_position_are_registered() {
     let refused = evaluate(&["--register", "150%"]);
     assert_eq!(refused.status.code(), Some(2));
 }
+
+/// A 6-D probe's export as it is (issue 74): orientations as Euler angles
+/// x, y′, z″ in degrees, positions in mm, `;` and decimal commas — read
+/// with `--rotation euler-xyz` and identified as the quaternions the probe
+/// stood for are.
+#[test]
+fn a_probe_s_euler_angles_are_read_as_they_are() {
+    let folder = tempfile::tempdir().expect("folder");
+    let text = |name: &str| folder.path().join(name).to_str().expect("UTF-8").to_owned();
+    gecaro()
+        .args([
+            "generate",
+            "industrial6",
+            "--method",
+            "frame",
+            "--count",
+            "40",
+        ])
+        .args(["--noise", "1e-5", "--seed", "6", "-o", &text("frames.csv")])
+        .assert()
+        .success();
+    let original = std::fs::read_to_string(text("frames.csv")).expect("data");
+    let mut probe = String::from("A1;A2;A3;A4;A5;A6;X;Y;Z;RX;RY;RZ\n");
+    for line in original
+        .lines()
+        .filter(|line| !line.starts_with('#'))
+        .skip(1)
+    {
+        let v: Vec<f64> = line
+            .split(',')
+            .map(|v| v.parse().expect("number"))
+            .collect();
+        let q = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+            v[9], v[10], v[11], v[12],
+        ));
+        // R = Rx(a)·Ry(b)·Rz(c), written out independently.
+        let m = q.to_rotation_matrix().into_inner();
+        let b = m[(0, 2)].asin();
+        let a = (-m[(1, 2)]).atan2(m[(2, 2)]);
+        let c = (-m[(0, 1)]).atan2(m[(0, 0)]);
+        let mut fields: Vec<f64> = v[..6].iter().map(|q| q.to_degrees()).collect();
+        fields.extend(v[6..9].iter().map(|p| p * 1e3));
+        fields.extend([a, b, c].map(f64::to_degrees));
+        let row: Vec<String> = fields
+            .iter()
+            .map(|x| format!("{x:.12}").replace('.', ","))
+            .collect();
+        probe += &(row.join(";") + "\n");
+    }
+    std::fs::write(text("probe.csv"), probe).expect("probe");
+    let identify = |extra: &[&str]| -> serde_json::Value {
+        let output = gecaro()
+            .args(["identify", "industrial6", "--method", "frame", "--json"])
+            .args(["--no-check-model"])
+            .args(extra)
+            .output()
+            .expect("runs");
+        assert!(output.status.success(), "{output:?}");
+        serde_json::from_slice(&output.stdout).expect("JSON")
+    };
+    let by_quaternions = identify(&["--data", &text("frames.csv")]);
+    let columns = "qm1=A1,qm2=A2,qm3=A3,qm4=A4,qm5=A5,qm6=A6,x=X,y=Y,z=Z,rx=RX,ry=RY,rz=RZ";
+    let by_euler = identify(&[
+        "--data",
+        &text("probe.csv"),
+        "--rotation",
+        "euler-xyz",
+        "--angle-unit",
+        "deg",
+        "--length-unit",
+        "mm",
+        "--columns",
+        columns,
+    ]);
+    let values = |json: &serde_json::Value| -> Vec<f64> {
+        json["parameters"]
+            .as_array()
+            .expect("parameters")
+            .iter()
+            .map(|p| p["identified"].as_f64().expect("value"))
+            .collect()
+    };
+    let (a, b) = (values(&by_quaternions), values(&by_euler));
+    assert!(
+        a.len() > 20 && a.len() == b.len(),
+        "{} vs {}",
+        a.len(),
+        b.len()
+    );
+    for (x, y) in a.iter().zip(&b) {
+        assert!((x - y).abs() < 1e-8, "{x} vs {y}");
+    }
+}

@@ -118,6 +118,7 @@ pub(crate) fn data_format(args: &DataFormatArgs) -> DataFormatSpec {
         columns: args.columns.clone(),
         delimiter: args.delimiter.clone(),
         decimal_comma: args.decimal_comma.then_some(true),
+        rotation: args.rotation.clone(),
     }
 }
 

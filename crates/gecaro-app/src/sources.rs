@@ -300,6 +300,11 @@ pub struct DataFormatSpec {
     /// Numbers with a decimal comma: allowed by default where fields are not
     /// separated by commas; `true` requires, `false` refuses them.
     pub decimal_comma: Option<bool>,
+    /// How orientations are written: `quaternion` (default, `qw,qx,qy,qz`),
+    /// `rpy`, `euler-xyz`, `euler-zyz` or `rotation-vector` (`rx,ry,rz` in
+    /// the angle unit; [`gecaro_io::RotationFormat`]).
+    #[serde(default)]
+    pub rotation: Option<String>,
 }
 
 impl DataFormatSpec {
@@ -325,6 +330,18 @@ impl DataFormatSpec {
             },
             delimiter: delimiter(self.delimiter.as_deref())?,
             decimal_comma: self.decimal_comma,
+            rotation: match self.rotation.as_deref() {
+                None => gecaro_io::RotationFormat::Quaternion,
+                Some(name) => gecaro_io::RotationFormat::from_name(name).ok_or_else(|| {
+                    AppError::setting(
+                        "rotation",
+                        format!(
+                            "{name:?} is not a form of orientations: {}",
+                            gecaro_io::RotationFormat::NAMES.join(", ")
+                        ),
+                    )
+                })?,
+            },
         })
     }
 }

@@ -37,6 +37,7 @@ use crate::data_rows::{
 use crate::input::{csv_error, csv_reader, open_regular, record_line};
 use crate::output::{OutputPolicy, write_with};
 use crate::pose::{NORMALISED_TOLERANCE, SILENT_TOLERANCE};
+use crate::rotation::RotationFormat;
 use crate::stated_units::{stated_units, units_line, units_to_read};
 
 /// Files up to this size are read whole, and their rows in parts on all
@@ -58,6 +59,9 @@ pub struct DataFormat {
     /// where fields are not separated by commas, `Some(true)` requires such
     /// a separator, `Some(false)` refuses decimal commas.
     pub decimal_comma: Option<bool>,
+    /// How orientations are written ([`RotationFormat`]): quaternions by
+    /// default, or Euler angles or a rotation vector in the angle unit.
+    pub rotation: RotationFormat,
 }
 
 impl DataFormat {
@@ -199,7 +203,20 @@ fn parse_from(
     format: &DataFormat,
     chunking: Chunking,
 ) -> Result<DataFile, Error> {
-    let expected = data_headers(joint_types.len(), columns);
+    // Orientations in the file's own form: its columns in place of qw…qz.
+    let mut expected = data_headers(joint_types.len(), columns);
+    if format.rotation != RotationFormat::Quaternion
+        && let Some(at) = expected.iter().position(|name| name == "qw")
+    {
+        expected.splice(
+            at..at + 4,
+            format
+                .rotation
+                .columns()
+                .iter()
+                .map(|name| (*name).to_owned()),
+        );
+    }
     let (mut csv, separator) = csv_reader(&head[..], format.delimiter);
     let decimal_comma = format
         .decimal_comma(separator)
@@ -273,7 +290,11 @@ fn parse_from(
             .then(|| [at("x"), at("y"), at("z")]),
         orientation: columns
             .contains(&DataColumn::Orientation)
-            .then(|| [at("qw"), at("qx"), at("qy"), at("qz")]),
+            .then(|| match format.rotation {
+                RotationFormat::Quaternion => [at("qw"), at("qx"), at("qy"), at("qz")],
+                _ => [at("rx"), at("ry"), at("rz"), 0],
+            }),
+        rotation: format.rotation,
         group: columns.iter().find_map(|column| match column {
             DataColumn::Set => Some(at("set")),
             DataColumn::Pair => Some(at("pair")),
@@ -290,6 +311,7 @@ fn parse_from(
         fields,
         decimal_comma,
         length,
+        angle: units.angle.to_radians(),
     };
     // The rows start after the header's last byte, with the lines before.
     let start = (csv.position().byte() as usize).min(head.len());

@@ -26,6 +26,7 @@ use crate::input::{LineLimit, NOT_TEXT, for_each_record};
 use crate::line_chunks::{LineChunks, line_parts};
 use crate::plain_body::{RecordFields, RecordSink, read_part_records};
 use crate::pose::{quaternion_deviation, unit_quaternion};
+use crate::rotation::RotationFormat;
 
 /// The largest motor value a data file holds: 2⁵³, beyond which a double
 /// no longer tells one encoder count from the next.
@@ -88,8 +89,11 @@ pub(crate) struct Fields {
     pub(crate) joints: Vec<(usize, f64)>,
     /// Columns of x, y, z.
     pub(crate) position: Option<[usize; 3]>,
-    /// Columns of qw, qx, qy, qz.
+    /// Columns of qw, qx, qy, qz; of rx, ry, rz (and 0) when the file
+    /// writes orientations in another `rotation` form.
     pub(crate) orientation: Option<[usize; 4]>,
+    /// How the file writes orientations.
+    pub(crate) rotation: RotationFormat,
     /// Column of the set or pair id.
     pub(crate) group: Option<usize>,
     /// Column of the distance.
@@ -180,6 +184,8 @@ pub(crate) struct RowReader<'a> {
     pub(crate) decimal_comma: bool,
     /// Metres per length unit of the file.
     pub(crate) length: f64,
+    /// Radians per angle unit of the file (Euler angles, rotation vectors).
+    pub(crate) angle: f64,
 }
 
 impl RowReader<'_> {
@@ -507,12 +513,17 @@ impl RowReader<'_> {
                 .copy_from_slice(&[length(x)?, length(y)?, length(z)?]);
         }
         if let Some([w, i, j, k]) = fields.orientation {
-            let (qw, qx, qy, qz) = (value(w)?, value(i)?, value(j)?, value(k)?);
-            let orientation = unit_quaternion(qw, qx, qy, qz)
-                .map_err(|message| self.fail(line, Some(w), message))?;
-            if let Some(deviation) = quaternion_deviation(qw, qx, qy, qz) {
-                normalised.add(deviation, line);
-            }
+            let orientation = if fields.rotation == RotationFormat::Quaternion {
+                let (qw, qx, qy, qz) = (value(w)?, value(i)?, value(j)?, value(k)?);
+                if let Some(deviation) = quaternion_deviation(qw, qx, qy, qz) {
+                    normalised.add(deviation, line);
+                }
+                unit_quaternion(qw, qx, qy, qz)
+                    .map_err(|message| self.fail(line, Some(w), message))?
+            } else {
+                let angles = [value(w)?, value(i)?, value(j)?].map(|angle| angle * self.angle);
+                fields.rotation.orientation(angles)
+            };
             slot.orientation.copy_from_slice(&[
                 orientation.w,
                 orientation.i,

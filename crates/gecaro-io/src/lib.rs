@@ -32,6 +32,7 @@ mod ready;
 mod robot_file;
 mod robot_toml;
 pub mod roles;
+mod rotation;
 mod stated_units;
 mod study_file;
 mod study_spec;
@@ -78,6 +79,7 @@ pub use robot_toml::{
     format_robot_file, parse_priority_file, parse_robot_document, parse_robot_file,
     read_priority_file, read_robot_file, robot_file_text,
 };
+pub use rotation::RotationFormat;
 pub use study_file::{StudyText, read_study_file, read_study_file_for};
 pub use study_spec::{
     FrameSpec, MethodChoice, PriorSpec, SetData, SetSpec, SpecField, StudyData, StudyFile,

@@ -42,6 +42,7 @@ use crate::columns::{ColumnMap, DataUnits, Delimiter, joint_types};
 use crate::data_file::{DataFile, DataFormat};
 use crate::prior::StandardDeviation;
 use crate::robot_file::{AngleUnit, RobotFile};
+use crate::rotation::RotationFormat;
 use crate::units::LengthUnit;
 
 /// A study as stated (see the module docs).
@@ -77,6 +78,10 @@ pub struct StudySpec {
     /// not say.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub decimal_comma: Option<bool>,
+    /// How every set's file writes orientations, where the set does not say
+    /// ([`RotationFormat`]'s names: `quaternion`, `rpy`, `euler-xyz`, …).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<String>,
     /// A Gaussian prior on the parameters.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub prior: Option<PriorSpec>,
@@ -255,6 +260,9 @@ pub struct SetSpec {
     /// Whether numbers have a decimal comma.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub decimal_comma: Option<bool>,
+    /// How the file writes orientations (the study's by default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<String>,
     /// The named tool the set measures.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tool: Option<String>,
@@ -490,6 +498,7 @@ impl StudySpec {
                 columns: self.columns.as_ref(),
                 delimiter: self.delimiter.as_deref(),
                 decimal_comma: self.decimal_comma,
+                rotation: self.rotation.as_deref(),
             };
             let (stated, format) = set.statement(&study, &defaults, &misplaced)?;
             study.sets.push(stated);
@@ -540,6 +549,7 @@ struct SetDefaults<'a> {
     columns: Option<&'a BTreeMap<String, String>>,
     delimiter: Option<&'a str>,
     decimal_comma: Option<bool>,
+    rotation: Option<&'a str>,
 }
 
 impl SetSpec {
@@ -606,11 +616,24 @@ impl SetSpec {
                     .chain(self.columns.as_ref())
                     .flat_map(|map| map.iter().map(|(k, v)| (k.clone(), v.clone())))
                     .collect::<BTreeMap<String, String>>();
+                let rotation = match self.rotation.as_deref().or(defaults.rotation) {
+                    None => RotationFormat::Quaternion,
+                    Some(name) => RotationFormat::from_name(name).ok_or_else(|| {
+                        misplaced(
+                            "rotation",
+                            format!(
+                                "must be one of {}, not {name:?}",
+                                RotationFormat::NAMES.join(", ")
+                            ),
+                        )
+                    })?,
+                };
                 let format = DataFormat {
                     units,
                     columns: ColumnMap::from_pairs(columns),
                     delimiter,
                     decimal_comma: self.decimal_comma.or(defaults.decimal_comma),
+                    rotation,
                 };
                 (name.clone(), Some(format))
             }

@@ -352,6 +352,7 @@ pub(crate) fn compensate_program<'py>(
         columns,
         delimiter,
         decimal_comma,
+        rotation: None,
     };
     let compensated = watched(py, |observer| request.run_streamed(&LocalFiles, observer))?;
     let document = to_python(py, &compensated.document())?;

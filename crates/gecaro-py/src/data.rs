@@ -217,9 +217,11 @@ impl PyData {
     /// Fields are separated by `delimiter` ("comma", "semicolon", "tab";
     /// by default found from the header), and numbers may have a decimal
     /// comma where fields are not comma-separated (`decimal_comma` True
-    /// requires, False refuses it).
+    /// requires, False refuses it). Orientations are `qw,qx,qy,qz` unless
+    /// `rotation` says "rpy", "euler-xyz", "euler-zyz" or "rotation-vector"
+    /// (`rx,ry,rz` in `angle_unit`).
     #[staticmethod]
-    #[pyo3(signature = (path, robot, method, *, length_unit = None, angle_unit = None, columns = None, delimiter = None, decimal_comma = None))]
+    #[pyo3(signature = (path, robot, method, *, length_unit = None, angle_unit = None, columns = None, delimiter = None, decimal_comma = None, rotation = None))]
     #[allow(clippy::too_many_arguments)]
     fn read(
         path: PathBuf,
@@ -230,6 +232,7 @@ impl PyData {
         columns: Option<&Bound<'_, PyAny>>,
         delimiter: Option<&str>,
         decimal_comma: Option<bool>,
+        rotation: Option<String>,
     ) -> PyResult<Self> {
         let method = method_of(method)?;
         let format = DataFormat {
@@ -240,6 +243,15 @@ impl PyData {
             columns: column_map(columns)?,
             delimiter: self::delimiter(delimiter).py()?,
             decimal_comma,
+            rotation: match rotation {
+                None => gecaro_io::RotationFormat::Quaternion,
+                Some(name) => gecaro_io::RotationFormat::from_name(&name).ok_or_else(|| {
+                    input(format!(
+                        "rotation: {name:?} is not one of {}",
+                        gecaro_io::RotationFormat::NAMES.join(", ")
+                    ))
+                })?,
+            },
         };
         let file = DataSource::File(path.display().to_string())
             .read(

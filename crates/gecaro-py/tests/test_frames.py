@@ -238,3 +238,27 @@ def test_data_of_another_frame_are_named_and_registered():
         gecaro.evaluate(robot, "position", data)
     registered = gecaro.evaluate(robot, "position", data, register="30%")
     assert registered.rms < 6e-5 and registered.to_dict()["count"] == 35
+
+
+def test_orientations_as_roll_pitch_yaw_are_read(tmp_path):
+    """A frame file with rx, ry, rz as roll, pitch, yaw in degrees reads as
+    the quaternions it stands for."""
+    import numpy as np
+
+    robot = gecaro.Robot.load("industrial6")
+    data = gecaro.generate(robot, "frame", 5, seed=2).data
+    rows = []
+    for qm, (w, x, y, z), position in zip(data.qm, data.orientation, data.position):
+        m = np.array([
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ])
+        roll, pitch, yaw = math.atan2(m[2, 1], m[2, 2]), -math.asin(m[2, 0]), math.atan2(m[1, 0], m[0, 0])
+        rows.append([*qm, *position, *np.degrees([roll, pitch, yaw])])
+    path = tmp_path / "rpy.csv"
+    np.savetxt(path, rows, delimiter=",", header="qm1,qm2,qm3,qm4,qm5,qm6,x,y,z,rx,ry,rz", comments="")
+    read = gecaro.Data.read(path, robot, "frame", rotation="rpy", angle_unit="deg")
+    assert np.allclose(np.abs(np.sum(read.orientation * data.orientation, axis=1)), 1.0, atol=1e-12)
+    with pytest.raises(gecaro.InputError, match="rotation"):
+        gecaro.Data.read(path, robot, "frame", rotation="xyz")

@@ -147,6 +147,7 @@ mod tests {
                 .expect("columns"),
             delimiter: Delimiter::Detect,
             decimal_comma: None,
+            ..DataFormat::default()
         }
     }
 

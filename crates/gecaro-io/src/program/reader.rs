@@ -96,6 +96,17 @@ impl<'a> ProgramReader<'a> {
         format: &DataFormat,
         chunk_bytes: usize,
     ) -> Result<Self, Error> {
+        // A program's poses are read as quaternions: another form is refused,
+        // not ignored.
+        if format.rotation != crate::rotation::RotationFormat::Quaternion {
+            return Err(Error::Format {
+                path: path.to_owned(),
+                message: format!(
+                    "a program's pose targets are read as quaternions (qw,qx,qy,qz), not as {}",
+                    format.rotation.name()
+                ),
+            });
+        }
         // The head of the file, whose rows are read in parts on all cores
         // (and then the rest in chunks) when it holds no quote.
         let mut head = Vec::with_capacity(chunk_bytes + 1);

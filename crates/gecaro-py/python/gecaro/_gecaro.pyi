@@ -276,10 +276,14 @@ class Data:
         columns: Union[Mapping[str, str], str, None] = None,
         delimiter: Optional[Literal["auto", "comma", "semicolon", "tab"]] = None,
         decimal_comma: Optional[bool] = None,
+        rotation: Optional[
+            Literal["quaternion", "rpy", "euler-zyx", "euler-xyz", "euler-zyz", "rotation-vector"]
+        ] = None,
     ) -> Data:
         """Reads a data file (CSV), as the command line's ``--data``: fields
         separated by ``delimiter`` (found from the header by default), decimal
-        commas allowed where fields are not comma-separated."""
+        commas allowed where fields are not comma-separated; orientations as
+        ``rotation`` says (``rx,ry,rz`` in ``angle_unit`` unless quaternions)."""
     def to_csv(self, method: _MethodLike) -> str: ...
     def write(self, path: _PathLike, method: _MethodLike, *, overwrite: bool = False) -> None: ...
     @property

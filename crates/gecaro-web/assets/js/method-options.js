@@ -77,8 +77,19 @@ export function formatFields(name, fn) {
         h('option', { value: 'rad', text: 'radians' }), h('option', { value: 'deg', text: 'degrees' }))),
       field('Column names (gecaro=file, …)', h('input', { type: 'text', class: 'vector', id: id('columns'), placeholder: 'x=X_mm,qm1=A1', onchange: () => refreshDataChoices(name) })),
       field('Separator', h('select', { id: id('delimiter') },
-        ['auto', 'comma', 'semicolon', 'tab'].map((d) => h('option', { value: d, text: d === 'auto' ? 'found from the header' : d }))))));
+        ['auto', 'comma', 'semicolon', 'tab'].map((d) => h('option', { value: d, text: d === 'auto' ? 'found from the header' : d })))),
+      field('Orientations in the file', h('select', { id: id('rotation') },
+        ROTATIONS.map(([value, text]) => h('option', { value, text }))))));
 }
+
+/** How files write orientations (gecaro_io::RotationFormat). */
+const ROTATIONS = [
+  ['quaternion', 'quaternion qw, qx, qy, qz'],
+  ['rpy', 'rx, ry, rz: roll, pitch, yaw (fixed x, y, z)'],
+  ['euler-xyz', 'rx, ry, rz: Euler x, y′, z″ (intrinsic)'],
+  ['euler-zyz', 'rx, ry, rz: Euler z, y′, z″'],
+  ['rotation-vector', 'rx, ry, rz: rotation vector'],
+];
 
 export function formatRequest(name, fn) {
   const value = (what) => $(`${name}-${fn}-${what}`).value.trim();
@@ -87,5 +98,6 @@ export function formatRequest(name, fn) {
     angle_unit: value('angle-unit'),
     columns: value('columns') || null,
     delimiter: value('delimiter'),
+    rotation: value('rotation'),
   };
 }
