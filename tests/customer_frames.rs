@@ -69,6 +69,15 @@ fn a_reflector_study_compensates_its_reflector_and_refuses_tool0() {
         .success();
     let file = gecaro_io::load_robot(calibrated.to_str().expect("UTF-8")).expect("reads back");
     assert!(!file.tool_frame_observed);
+    // The base's mass rides with the base, not with the tracker's frame:
+    // as far from joint 1's axis frame as in the nominal robot.
+    let base_offset = |file: &gecaro_io::RobotFile| {
+        let com = file.masses.link(0).expect("a base mass").com;
+        let frame_1 = gecaro_core::frame_transform(&file.robot.frames()[1], 0.0);
+        (frame_1.inverse() * Point3::from(com)).coords
+    };
+    let nominal_file = gecaro_io::load_robot("industrial6").expect("robot");
+    assert!((base_offset(&file) - base_offset(&nominal_file)).norm() < 1e-12);
     let names: Vec<&str> = file.tools.iter().map(|tool| tool.name.as_str()).collect();
     assert_eq!(names, ["smr_a", "smr_b", "smr_c"]);
     let identified = file.tools[0].pose.translation.vector;

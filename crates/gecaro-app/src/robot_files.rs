@@ -5,8 +5,9 @@
 use gecaro_calib::frames::FrameRole;
 use gecaro_calib::identification::Identification;
 use gecaro_calib::study::Study;
-use gecaro_core::Robot;
+use gecaro_core::{LinkMass, MassModel, Robot};
 use gecaro_io::{IdentifiedTool, RobotFile};
+use nalgebra::Point3;
 
 /// The calibrated robot as a robot file: the identified robot, named
 /// "`<name> (calibrated)`", with a description of how it was obtained from the
@@ -65,11 +66,36 @@ pub fn calibrated_robot_file(
         // the measurement frame, which is the calibrated robot's world
         // (docs/elastic.md). A tilt the calibration finds at frame 1 is the
         // robot's, not gravity's; gravity's own tilts (`elastic-gravity`)
-        // are folded into the gravity the file states.
-        masses: nominal.masses.clone(),
+        // are folded into the gravity the file states. The base's centre
+        // rides with the base (`calibrated_masses`).
+        masses: calibrated_masses(nominal, &robot),
         robot,
     }
     .with_gravity_tilt_folded()
+}
+
+/// The nominal's masses for `calibrated`: each link's centre in its own
+/// frame as stated, but the base's (frame 0), which no joint carries and
+/// whose frame a calibration in a measurement frame (a tracker's) puts by
+/// the instrument (issue 74: a 60 kg base at the tracker in the exported
+/// URDF). Its centre keeps where it sits against frame 1 at q1 = 0 (joint
+/// 1's axis), so that it rides with the robot's base.
+fn calibrated_masses(nominal: &RobotFile, calibrated: &Robot) -> MassModel {
+    let mut masses = nominal.masses.clone();
+    let Some(base) = nominal.masses.link(0) else {
+        return masses;
+    };
+    let frame_1 = |robot: &Robot| gecaro_core::frame_transform(&robot.frames()[1], 0.0);
+    let against_axis_1 = frame_1(&nominal.robot).inverse() * Point3::from(base.com);
+    let moved = LinkMass {
+        com: (frame_1(calibrated) * against_axis_1).coords,
+        ..*base
+    };
+    // Both robots are valid, so the centre is finite and the frame there.
+    if masses.set_link(0, moved).is_err() {
+        return nominal.masses.clone();
+    }
+    masses
 }
 
 /// The simulated real robot of a points generation as a robot file: `real`,
@@ -101,7 +127,8 @@ mod tests {
     use gecaro_calib::identification::IdentificationOptions;
 
     /// A calibrated robot keeps the nominal's masses and gravity as stated:
-    /// the measurement frame's, whatever tilt the calibration finds.
+    /// the measurement frame's, whatever tilt the calibration finds; the
+    /// base's centre moves with the base.
     #[test]
     fn a_calibrated_robot_keeps_the_stated_masses_and_gravity() {
         let mut nominal = gecaro_io::load_robot("industrial6").expect("ready");
@@ -134,6 +161,20 @@ mod tests {
         .expect("identified");
         let calibrated = calibrated_robot_file(&nominal, &study, &result, "tilted");
         assert!((calibrated.robot.parameter(alpha1) - 0.02).abs() < 1e-6);
-        assert_eq!(calibrated.masses, nominal.masses);
+        assert_eq!(calibrated.masses.gravity(), nominal.masses.gravity());
+        for frame in 1..nominal.robot.frames().len() {
+            assert_eq!(calibrated.masses.link(frame), nominal.masses.link(frame));
+        }
+        // The base's centre rides with the base: where it sits against
+        // frame 1 (joint 1's axis, tilted here by α1) at q1 = 0.
+        let against_axis_1 = |file: &RobotFile| {
+            let base = file.masses.link(0).expect("a base mass");
+            let frame_1 = gecaro_core::frame_transform(&file.robot.frames()[1], 0.0);
+            (base.mass, (frame_1.inverse() * Point3::from(base.com)).coords)
+        };
+        let (mass, offset) = against_axis_1(&calibrated);
+        let (nominal_mass, nominal_offset) = against_axis_1(&nominal);
+        assert_eq!(mass, nominal_mass);
+        assert!((offset - nominal_offset).norm() < 1e-12, "{offset} vs {nominal_offset}");
     }
 }
