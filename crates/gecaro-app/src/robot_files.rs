@@ -170,11 +170,17 @@ mod tests {
         let against_axis_1 = |file: &RobotFile| {
             let base = file.masses.link(0).expect("a base mass");
             let frame_1 = gecaro_core::frame_transform(&file.robot.frames()[1], 0.0);
-            (base.mass, (frame_1.inverse() * Point3::from(base.com)).coords)
+            (
+                base.mass,
+                (frame_1.inverse() * Point3::from(base.com)).coords,
+            )
         };
         let (mass, offset) = against_axis_1(&calibrated);
         let (nominal_mass, nominal_offset) = against_axis_1(&nominal);
         assert_eq!(mass, nominal_mass);
-        assert!((offset - nominal_offset).norm() < 1e-12, "{offset} vs {nominal_offset}");
+        assert!(
+            (offset - nominal_offset).norm() < 1e-12,
+            "{offset} vs {nominal_offset}"
+        );
     }
 }

@@ -28,6 +28,28 @@ use serde::Deserialize;
 use crate::Error;
 use crate::robot_file::RobotFile;
 
+/// [`joint_calibration`] for a format whose joints are numbered (a DH
+/// table, a SYMORO file: `joint 1`, …), with the note that says so pushed
+/// to `notes` when there is one; `format` names the format in the note (`a
+/// DH table`).
+pub(crate) fn numbered_joint_calibration(
+    robot: &Robot,
+    (file_word, format): (&str, &str),
+    notes: &mut Vec<String>,
+) -> Option<String> {
+    let joint_names: Vec<String> = (1..=robot.joint_count())
+        .map(|j| format!("joint {j}"))
+        .collect();
+    let calibration = joint_calibration(robot, &joint_names, file_word);
+    if calibration.is_some() {
+        notes.push(format!(
+            "gains K or couplings are not expressible in {format}: its joint values are \
+             q = Cj·diag(K)·Cm·qm, a map written to the joint calibration file for the driver"
+        ));
+    }
+    calibration
+}
+
 /// The joint calibration of a robot whose map `M = Cj·diag(K)·Cm` (eq. 4)
 /// is not the identity, for a format whose joint values are `M·qm` (offsets
 /// folded into the file): YAML naming the file's joints.

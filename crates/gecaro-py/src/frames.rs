@@ -58,26 +58,18 @@ pub(crate) fn user_frame<'py>(
     names: Option<Vec<String>>,
     frame: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let measured = Real::shaped(measured, "measured", &[None, Some(3)])?.values;
-    let count = measured.len() / 3;
+    let (names, measured) = named_points(measured, names)?;
     let frame = frame
-        .map(|frame| Real::shaped(frame, "frame", &[Some(count), Some(3)]))
-        .transpose()?
-        .map(|frame| frame.values);
-    if let Some(names) = &names
-        && names.len() != count
-    {
-        return Err(input(format!("names: {} for {count} points", names.len())));
-    }
-    let points = (0..count)
-        .map(|i| gecaro_io::FramePoint {
-            name: names
-                .as_ref()
-                .map_or_else(|| format!("row {i}"), |names| names[i].clone()),
-            measured: Vector3::from_column_slice(&measured[3 * i..3 * i + 3]),
-            frame: frame
-                .as_ref()
-                .map(|frame| Vector3::from_column_slice(&frame[3 * i..3 * i + 3])),
+        .map(|frame| points(frame, "frame", Some(measured.len())))
+        .transpose()?;
+    let points = names
+        .into_iter()
+        .zip(measured)
+        .enumerate()
+        .map(|(i, (name, measured))| gecaro_io::FramePoint {
+            name,
+            measured,
+            frame: frame.as_ref().map(|frame| frame[i]),
             line: i,
         })
         .collect();
@@ -85,4 +77,38 @@ pub(crate) fn user_frame<'py>(
         .run(&LocalFiles)
         .py()?;
     to_python(py, &made.document())
+}
+
+/// The rows of an (N, 3) array `what` (N = `count` when given) as points.
+pub(crate) fn points(
+    array: &Bound<'_, PyAny>,
+    what: &str,
+    count: Option<usize>,
+) -> PyResult<Vec<Vector3<f64>>> {
+    Ok(Real::shaped(array, what, &[count, Some(3)])?
+        .values
+        .chunks_exact(3)
+        .map(Vector3::from_column_slice)
+        .collect())
+}
+
+/// Measured points (an (N, 3) array, `measured`) and their names (`names`,
+/// else `row i`).
+///
+/// # Errors
+/// An array of another shape, or names of another count.
+pub(crate) fn named_points(
+    measured: &Bound<'_, PyAny>,
+    names: Option<Vec<String>>,
+) -> PyResult<(Vec<String>, Vec<Vector3<f64>>)> {
+    let measured = points(measured, "measured", None)?;
+    let count = measured.len();
+    let names = match names {
+        Some(names) if names.len() != count => {
+            return Err(input(format!("names: {} for {count} points", names.len())));
+        }
+        Some(names) => names,
+        None => (0..count).map(|i| format!("row {i}")).collect(),
+    };
+    Ok((names, measured))
 }

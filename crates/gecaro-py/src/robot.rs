@@ -648,22 +648,17 @@ impl PyRobot {
         base: &Bound<'py, PyAny>,
         names: Option<Vec<String>>,
     ) -> PyResult<(Bound<'py, PyAny>, Self)> {
-        let measured = Real::shaped(measured, "measured", &[None, Some(3)])?.values;
-        let count = measured.len() / 3;
-        let base = Real::shaped(base, "base", &[Some(count), Some(3)])?.values;
-        if let Some(names) = &names
-            && names.len() != count
-        {
-            return Err(input(format!("names: {} for {count} points", names.len())));
-        }
-        let points = (0..count)
-            .map(|i| gecaro_io::BasePoint {
-                name: names
-                    .as_ref()
-                    .map_or_else(|| format!("row {i}"), |names| names[i].clone()),
-                measured: Vector3::from_column_slice(&measured[3 * i..3 * i + 3]),
-                base: Vector3::from_column_slice(&base[3 * i..3 * i + 3]),
-                line: i,
+        let (names, measured) = crate::frames::named_points(measured, names)?;
+        let base = crate::frames::points(base, "base", Some(measured.len()))?;
+        let points = names
+            .into_iter()
+            .zip(measured.into_iter().zip(base))
+            .enumerate()
+            .map(|(line, (name, (measured, base)))| gecaro_io::BasePoint {
+                name,
+                measured,
+                base,
+                line,
             })
             .collect();
         let mut request = gecaro_app::RebaseRequest::new(

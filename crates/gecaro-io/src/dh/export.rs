@@ -8,7 +8,7 @@ use serde::Serialize;
 
 use super::table::{DhConvention, RowDocument, TransformDocument};
 use crate::conversion::Exported;
-use crate::joint_calibration::joint_calibration;
+use crate::joint_calibration::numbered_joint_calibration;
 use crate::pose::rpy;
 use crate::robot_file::RobotFile;
 
@@ -123,15 +123,7 @@ pub(crate) fn export_table(file: &RobotFile, convention: DhConvention) -> Result
         joint: rows,
     };
     let text = toml::to_string(&output).map_err(|error| error.to_string())?;
-    let joint_names: Vec<String> = (1..=n).map(|j| format!("joint {j}")).collect();
-    let joint_calibration = joint_calibration(robot, &joint_names, "table");
-    if joint_calibration.is_some() {
-        notes.push(
-            "gains K or couplings are not expressible in a DH table: its joint values are \
-             q = Cj·diag(K)·Cm·qm, a map written to the joint calibration file for the driver"
-                .into(),
-        );
-    }
+    let joint_calibration = numbered_joint_calibration(robot, ("table", "a DH table"), &mut notes);
     Ok(Exported {
         text: format!(
             "# {} table (gecaro robot export): one [[joint]] per joint; q is added to theta (R) or d (P).\n{text}",

@@ -14,7 +14,7 @@ use std::fmt::Write as _;
 use gecaro_core::FrameType;
 
 use crate::conversion::Exported;
-use crate::joint_calibration::joint_calibration;
+use crate::joint_calibration::numbered_joint_calibration;
 use crate::robot_file::RobotFile;
 
 /// A number as SYMORO reads it back to the same bits.
@@ -110,15 +110,8 @@ pub(crate) fn export_symoro(file: &RobotFile) -> Result<Exported, String> {
         "a .par file has no joint limits: they are not written (import gives the defaults)"
             .to_owned(),
     ];
-    let joint_names: Vec<String> = (1..=n).map(|j| format!("joint {j}")).collect();
-    let joint_calibration = joint_calibration(robot, &joint_names, "SYMORO file");
-    if joint_calibration.is_some() {
-        notes.push(
-            "gains K or couplings are not expressible in a SYMORO file: its joint values are \
-             q = Cj·diag(K)·Cm·qm, a map written to the joint calibration file for the driver"
-                .into(),
-        );
-    }
+    let joint_calibration =
+        numbered_joint_calibration(robot, ("SYMORO file", "a SYMORO file"), &mut notes);
     Ok(Exported {
         text,
         joint_calibration,
