@@ -22,62 +22,28 @@
 use gecaro_calib::registration::{PointRegistration, register_points};
 use gecaro_io::{BasePoint, RobotFile};
 use nalgebra::{IsometryMatrix3, UnitQuaternion, Vector3};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use crate::error::AppError;
 use crate::files::Files;
-use crate::sources::{CsvInput, DataFormatSpec};
+use crate::sources::{DataFormatSpec, PointsSource};
 
-/// The largest base-points file read (bytes).
-const MAX_BYTES: u64 = 1 << 20;
+/// Where base points come from ([`PointsSource`]).
+pub type BasePointsSource = PointsSource<BasePoint>;
 
-/// Where base points come from (JSON: `{"file": name}` or
-/// `{"csv": {"text": …, "name": …}}`).
-#[derive(Clone, Debug, Deserialize)]
-#[serde(rename_all = "snake_case", deny_unknown_fields)]
-pub enum BasePointsSource {
-    /// A base-points file (CSV).
-    File(String),
-    /// A base-points file's text (an upload), with a name for messages.
-    Csv {
-        /// The file's content.
-        text: String,
-        /// Its name (for messages).
-        name: Option<String>,
-    },
-    /// Points given already (Python arrays).
-    #[serde(skip)]
-    Points(Vec<BasePoint>),
-}
-
-impl BasePointsSource {
-    /// The points, read in `format`.
-    ///
-    /// # Errors
-    /// A file that cannot be read or is not a base-points file.
-    pub fn load(
-        &self,
-        files: &dyn Files,
-        format: &DataFormatSpec,
-    ) -> Result<Vec<BasePoint>, AppError> {
-        let label;
-        let input = match self {
-            BasePointsSource::Points(points) => return Ok(points.clone()),
-            BasePointsSource::File(name) => CsvInput::File(name),
-            BasePointsSource::Csv { text, name } => {
-                label = name
-                    .clone()
-                    .unwrap_or_else(|| "uploaded base points".into());
-                CsvInput::Text {
-                    text,
-                    label: &label,
-                }
-            }
-        };
-        let format = format.format()?;
-        let (text, path) = input.small_text(files, MAX_BYTES, "a base-points file")?;
-        Ok(gecaro_io::parse_base_points(&text, &path, &format)?)
-    }
+/// The base points of `source`, read in `format`.
+///
+/// # Errors
+/// A file that cannot be read or is not a base-points file.
+pub(crate) fn load_base_points(
+    source: &BasePointsSource,
+    files: &dyn Files,
+    format: &DataFormatSpec,
+) -> Result<Vec<BasePoint>, AppError> {
+    let format = format.format()?;
+    source.load(files, "a base-points file", |text, path| {
+        gecaro_io::parse_base_points(text, path, &format)
+    })
 }
 
 /// A base registered by points: where it stands in the measurement frame

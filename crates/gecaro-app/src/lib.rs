@@ -124,8 +124,8 @@ pub use residuals::residuals_csv;
 pub use robot_files::{calibrated_robot_file, simulated_robot_file};
 pub use settings::{FitSettings, PrioritySource};
 pub use sources::{
-    DataFormatSpec, DataRead, DataSource, RobotSource, angle_unit, delimiter, length_unit,
-    robot_of_document,
+    DataFormatSpec, DataRead, DataSource, PointsSource, RobotSource, angle_unit, delimiter,
+    length_unit, robot_of_document, rotation_format,
 };
 pub use study_editing::{SaveStudyRequest, open_study};
 pub use study_plan::{

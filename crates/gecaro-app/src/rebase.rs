@@ -14,7 +14,7 @@ use gecaro_io::RobotFile;
 use nalgebra::IsometryMatrix3;
 use serde::Deserialize;
 
-use crate::base_frame::{BasePointsSource, BaseRegistration};
+use crate::base_frame::{BasePointsSource, BaseRegistration, load_base_points};
 use crate::error::{AppError, ErrorKind, Hint, Part};
 use crate::files::Files;
 use crate::measurements::Unknown;
@@ -104,11 +104,8 @@ impl RebaseRequest {
                         ),
                     ));
                 }
-                let points = source.load(files, &self.format)?;
-                let label = match source {
-                    BasePointsSource::File(name) => name.clone(),
-                    _ => "the base points".into(),
-                };
+                let points = load_base_points(source, files, &self.format)?;
+                let label = source.label();
                 let registration = BaseRegistration::new(points, &label)?;
                 let rebased = registration.rebased(&robot)?;
                 // Where the convention would have put the base, seen from

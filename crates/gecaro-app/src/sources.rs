@@ -172,34 +172,79 @@ impl CsvInput<'_> {
     }
 }
 
-impl CsvInput<'_> {
-    /// The whole text of a small file (a points file: at most `max_bytes`),
-    /// and the path its messages name; `what` names such a file.
+/// The largest points file read (bytes): a drawing's or a fixture's few
+/// points, not a data set.
+const MAX_POINTS_BYTES: u64 = 1 << 20;
+
+/// Where a file of named points comes from (base points, a user frame's
+/// points; JSON: `{"file": name}` or `{"csv": {"text": …, "name": …}}`).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields, bound = "")]
+pub enum PointsSource<P> {
+    /// A points file (CSV).
+    File(String),
+    /// A points file's text (an upload), with a name for messages.
+    Csv {
+        /// The file's content.
+        text: String,
+        /// Its name (for messages).
+        name: Option<String>,
+    },
+    /// Points given already (Python arrays).
+    #[serde(skip)]
+    Points(Vec<P>),
+}
+
+impl<P: Clone> PointsSource<P> {
+    /// The points as messages name them: the file's name, the upload's, or
+    /// `the points`.
+    pub fn label(&self) -> String {
+        match self {
+            PointsSource::File(name) => name.clone(),
+            PointsSource::Csv { name, .. } => {
+                name.clone().unwrap_or_else(|| "uploaded points".into())
+            }
+            PointsSource::Points(_) => "the points".into(),
+        }
+    }
+
+    /// The points: those given, or `parse` of the file's text (at most
+    /// [`MAX_POINTS_BYTES`]) and the path its messages name; `what` names
+    /// such a file.
     ///
     /// # Errors
-    /// A file that cannot be read, or one larger than `max_bytes`.
-    pub(crate) fn small_text(
+    /// A file that cannot be read, one too large, and `parse`'s.
+    pub(crate) fn load(
         &self,
         files: &dyn Files,
-        max_bytes: u64,
         what: &str,
-    ) -> Result<(String, std::path::PathBuf), AppError> {
-        self.parse(files, |reader, path, _| {
+        parse: impl FnOnce(&str, &Path) -> Result<Vec<P>, gecaro_io::Error>,
+    ) -> Result<Vec<P>, AppError> {
+        let label = self.label();
+        let input = match self {
+            PointsSource::Points(points) => return Ok(points.clone()),
+            PointsSource::File(name) => CsvInput::File(name),
+            PointsSource::Csv { text, .. } => CsvInput::Text {
+                text,
+                label: &label,
+            },
+        };
+        input.parse(files, |reader, path, _| {
             let mut text = String::new();
             reader
-                .take(max_bytes + 1)
+                .take(MAX_POINTS_BYTES + 1)
                 .read_to_string(&mut text)
                 .map_err(|cause| gecaro_io::Error::Read {
                     path: path.to_owned(),
                     cause,
                 })?;
-            if text.len() as u64 > max_bytes {
+            if text.len() as u64 > MAX_POINTS_BYTES {
                 return Err(AppError::from(gecaro_io::Error::Format {
                     path: path.to_owned(),
-                    message: format!("over {} kB: not {what}", max_bytes >> 10),
+                    message: format!("over {} kB: not {what}", MAX_POINTS_BYTES >> 10),
                 }));
             }
-            Ok((text, path.to_owned()))
+            Ok(parse(&text, path)?)
         })
     }
 }
@@ -330,19 +375,28 @@ impl DataFormatSpec {
             },
             delimiter: delimiter(self.delimiter.as_deref())?,
             decimal_comma: self.decimal_comma,
-            rotation: match self.rotation.as_deref() {
-                None => gecaro_io::RotationFormat::Quaternion,
-                Some(name) => gecaro_io::RotationFormat::from_name(name).ok_or_else(|| {
-                    AppError::setting(
-                        "rotation",
-                        format!(
-                            "{name:?} is not a form of orientations: {}",
-                            gecaro_io::RotationFormat::NAMES.join(", ")
-                        ),
-                    )
-                })?,
-            },
+            rotation: rotation_format(self.rotation.as_deref())?,
         })
+    }
+}
+
+/// How orientations are written, by name (`quaternion`, `rpy`,
+/// `euler-xyz`, …; [`gecaro_io::RotationFormat`]); none: quaternions.
+///
+/// # Errors
+/// An unknown name, naming the `rotation` setting.
+pub fn rotation_format(name: Option<&str>) -> Result<gecaro_io::RotationFormat, AppError> {
+    match name {
+        None => Ok(gecaro_io::RotationFormat::Quaternion),
+        Some(name) => gecaro_io::RotationFormat::from_name(name).ok_or_else(|| {
+            AppError::setting(
+                "rotation",
+                format!(
+                    "{name:?} is not a form of orientations: {}",
+                    gecaro_io::RotationFormat::NAMES.join(", ")
+                ),
+            )
+        }),
     }
 }
 

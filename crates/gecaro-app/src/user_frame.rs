@@ -16,29 +16,10 @@ use serde::{Deserialize, Serialize};
 use crate::error::AppError;
 use crate::files::Files;
 use crate::measurements::Unknown;
-use crate::sources::{CsvInput, DataFormatSpec};
+use crate::sources::{DataFormatSpec, PointsSource};
 
-/// The largest points file read (bytes).
-const MAX_BYTES: u64 = 1 << 20;
-
-/// Where a frame's points come from (JSON: `{"file": name}` or
-/// `{"csv": {"text": …, "name": …}}`).
-#[derive(Clone, Debug, Deserialize)]
-#[serde(rename_all = "snake_case", deny_unknown_fields)]
-pub enum FramePointsSource {
-    /// A points file (CSV).
-    File(String),
-    /// A points file's text (an upload), with a name for messages.
-    Csv {
-        /// The file's content.
-        text: String,
-        /// Its name (for messages).
-        name: Option<String>,
-    },
-    /// Points given already (Python arrays).
-    #[serde(skip)]
-    Points(Vec<FramePoint>),
-}
+/// Where a frame's points come from ([`PointsSource`]).
+pub type FramePointsSource = PointsSource<FramePoint>;
 
 /// A user frame to make from measured points.
 #[derive(Clone, Debug, Deserialize)]
@@ -150,25 +131,13 @@ impl UserFrameRequest {
     }
 
     fn read(&self, files: &dyn Files) -> Result<(Vec<FramePoint>, String), AppError> {
-        let label = match &self.points {
-            FramePointsSource::Points(points) => {
-                return Ok((points.clone(), "the points".into()));
-            }
-            FramePointsSource::File(name) => name.clone(),
-            FramePointsSource::Csv { name, .. } => {
-                name.clone().unwrap_or_else(|| "uploaded points".into())
-            }
-        };
-        let input = match &self.points {
-            FramePointsSource::Csv { text, .. } => CsvInput::Text {
-                text,
-                label: &label,
-            },
-            _ => CsvInput::File(&label),
-        };
         let format = self.format.format()?;
-        let (text, path) = input.small_text(files, MAX_BYTES, "a file of a frame's points")?;
-        Ok((gecaro_io::parse_frame_points(&text, &path, &format)?, label))
+        let points = self
+            .points
+            .load(files, "a file of a frame's points", |text, path| {
+                gecaro_io::parse_frame_points(text, path, &format)
+            })?;
+        Ok((points, self.points.label()))
     }
 }
 

@@ -88,7 +88,7 @@ pub fn pivot(poses: &[IsometryMatrix3<f64>]) -> Result<PivotFit, String> {
             .copy_from(&(-Matrix3::identity()));
         b.rows_mut(3 * i, 3).copy_from(&(-pose.translation.vector));
     }
-    let svd = a.clone().svd(true, true);
+    let svd = a.svd(true, true);
     let solution = svd
         .solve(&b, 1e-12)
         .map_err(|message| format!("the pivot's least squares failed: {message}"))?;
@@ -100,11 +100,18 @@ pub fn pivot(poses: &[IsometryMatrix3<f64>]) -> Result<PivotFit, String> {
         .collect();
     let freedom = 3 * count - 6;
     let sigma = (residuals.iter().map(|r| r * r).sum::<f64>() / freedom as f64).sqrt();
-    let covariance = (a.transpose() * &a)
-        .try_inverse()
-        .ok_or_else(|| "the pivot's normal matrix is singular".to_owned())?
-        * (sigma * sigma);
-    let diagonal = covariance.diagonal();
+    // (AᵀA)⁻¹ = V S⁻² Vᵀ from the SVD already made: its diagonal.
+    let v_t = svd
+        .v_t
+        .as_ref()
+        .ok_or_else(|| "the pivot's SVD has no V".to_owned())?;
+    let diagonal = DVector::from_fn(6, |k, _| {
+        (0..6)
+            .map(|i| (v_t[(i, k)] / svd.singular_values[i]).powi(2))
+            .sum::<f64>()
+            * sigma
+            * sigma
+    });
     Ok(PivotFit {
         tool,
         fixed,

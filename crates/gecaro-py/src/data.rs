@@ -6,7 +6,7 @@
 //! `(qw, qx, qy, qz)` of frame n+1 in the world frame; `set` (link methods)
 //! and `pair` (distance) are integer ids; `distance` is in metres.
 
-use gecaro_app::{DataSource, LocalFiles, angle_unit, delimiter, length_unit};
+use gecaro_app::{DataSource, LocalFiles, angle_unit, delimiter, length_unit, rotation_format};
 use gecaro_calib::study::{Column, DataColumn, SampleColumns, SampleRef, Samples};
 use gecaro_io::{ColumnMap, DataFormat, DataUnits, format_samples, joint_types};
 use nalgebra::Vector3;
@@ -243,15 +243,7 @@ impl PyData {
             columns: column_map(columns)?,
             delimiter: self::delimiter(delimiter).py()?,
             decimal_comma,
-            rotation: match rotation {
-                None => gecaro_io::RotationFormat::Quaternion,
-                Some(name) => gecaro_io::RotationFormat::from_name(&name).ok_or_else(|| {
-                    input(format!(
-                        "rotation: {name:?} is not one of {}",
-                        gecaro_io::RotationFormat::NAMES.join(", ")
-                    ))
-                })?,
-            },
+            rotation: rotation_format(rotation.as_deref()).py()?,
         };
         let file = DataSource::File(path.display().to_string())
             .read(

@@ -1182,6 +1182,17 @@ async fn a_program_is_compensated_target_by_target_and_saved_beside_it() {
         .await;
     assert!(status.is_client_error(), "{body}");
     assert!(error_text(&body).contains("plate.csv:2"), "{body}");
+    // The base by its points or by the convention, not both.
+    let (status, body) = api
+        .post(
+            "/api/compensate",
+            &json!({ "nominal": document, "calibrated": calibrated, "program": program,
+                     "format": { "angle_unit": "deg" }, "rebase": true,
+                     "base_points": { "csv": { "text": plate, "name": "plate.csv" } } }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST, "{body}");
+    assert!(error_text(&body).contains("give one of them"), "{body}");
 }
 
 /// A 7-joint arm's data with a 6-joint robot: refused, not run with the

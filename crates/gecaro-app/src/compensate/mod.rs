@@ -14,7 +14,7 @@ use nalgebra::IsometryMatrix3;
 use serde::Deserialize;
 use std::path::PathBuf;
 
-use crate::base_frame::{BasePointsSource, BaseRegistration};
+use crate::base_frame::{BasePointsSource, BaseRegistration, load_base_points};
 use crate::documents::{CompensatedJson, CompensationJson};
 use crate::error::AppError;
 use crate::files::{Files, Opened};
@@ -263,13 +263,19 @@ impl CompensateRequest {
         let nominal = self.nominal.load(files)?;
         let mut calibrated = self.calibrated.load(files)?;
         let mut registration = None;
+        if self.rebase && self.base_points.is_some() {
+            return Err(AppError::setting(
+                "base_points",
+                "the base is registered by its points or by the nominal's convention (rebase): \
+                 give one of them",
+            ));
+        }
         if let Some(source) = &self.base_points {
-            let label = match source {
-                BasePointsSource::File(name) => name.clone(),
-                _ => "the base points".into(),
-            };
-            let registered =
-                BaseRegistration::new(source.load(files, &self.base_points_format)?, &label)?;
+            let label = source.label();
+            let registered = BaseRegistration::new(
+                load_base_points(source, files, &self.base_points_format)?,
+                &label,
+            )?;
             calibrated = registered.rebased(&calibrated)?;
             registration = Some(registered);
             // The owner's base and the nominal's: one robot, millimetres apart.

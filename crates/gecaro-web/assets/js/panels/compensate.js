@@ -43,7 +43,7 @@ export function compensatePanel(method) {
         program: await dataRequest(name, 'compensate'),
         format: formatRequest(name, 'compensate'),
         match: matching.value,
-        rebase: rebase.checked && !basePoints.value.trim(),
+        rebase: rebase.checked,
         base_points: basePoints.value.trim() ? { file: basePoints.value.trim() } : null,
         base_points_format: { length_unit: basePointsUnit.value },
         tool: tool.value.trim() || null,
