@@ -233,7 +233,14 @@ pub(crate) struct RebaseArgs {
     /// Without it, the base is the nominal's convention (joint 1's axis, x towards axis 2).
     #[arg(long, value_name = "POINTS.csv")]
     pub(crate) base_points: Option<PathBuf>,
-    /// Units and column names of the base-points file.
+    /// The base as its maker defines it, measured by circles: a position data file
+    /// (qm1..qmn,x,y,z) of a point on the arm while joint 1 turned alone, and while joint 2
+    /// turned alone with joint 1 held (at least 4 points each). z along axis 1, the origin
+    /// where the common normal of axes 1 and 2 meets it, x along that normal at joint 1's zero,
+    /// placed as the nominal robot places them.
+    #[arg(long, value_name = "CIRCLES.csv", conflicts_with = "base_points")]
+    pub(crate) base_circles: Option<PathBuf>,
+    /// Units and column names of the base-points or circles file.
     #[command(flatten)]
     pub(crate) format: DataFormatArgs,
     /// Output robot file: the calibrated robot in its own base frame.
@@ -956,8 +963,12 @@ pub(crate) struct CompensateArgs {
     /// --base-points`), and re-express the calibrated robot in it first.
     #[arg(long, value_name = "POINTS.csv", conflicts_with = "rebase")]
     pub(crate) base_points: Option<PathBuf>,
-    /// The length unit of the base-points file (m or mm; default m).
-    #[arg(long, value_name = "m|mm", requires = "base_points")]
+    /// Or by the circles of joints 1 and 2 turned alone (the file of `robot rebase
+    /// --base-circles`; its angles in radians unless its units line says otherwise).
+    #[arg(long, value_name = "CIRCLES.csv", conflicts_with_all = ["rebase", "base_points"])]
+    pub(crate) base_circles: Option<PathBuf>,
+    /// The length unit of the base-points or circles file (m or mm; default m).
+    #[arg(long, value_name = "m|mm")]
     pub(crate) base_points_unit: Option<String>,
     /// The payload the robot will carry: 12kg, or 12kg,0,0,80mm with its centre in the tool
     /// frame. An elastic calibrated robot (identify --model elastic) is commanded where it

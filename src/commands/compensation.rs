@@ -28,6 +28,10 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
         .base_points
         .as_ref()
         .map(|path| gecaro_app::BasePointsSource::File(name(path)));
+    request.base_circles = args
+        .base_circles
+        .as_ref()
+        .map(|path| gecaro_app::DataSource::File(name(path)));
     request.base_points_format.length_unit = args.base_points_unit.clone();
     request.max_tool_turn = args.max_tool_turn.clone();
     request.save_as = Some(name(&args.output));

@@ -108,6 +108,10 @@ pub(crate) fn rebase(args: &RebaseArgs) -> Result<(), Failure> {
         .base_points
         .as_ref()
         .map(|path| BasePointsSource::File(name(path)));
+    request.base_circles = args
+        .base_circles
+        .as_ref()
+        .map(|path| gecaro_app::DataSource::File(name(path)));
     request.format = super::options::data_format(&args.format);
     let rebased = request.run(&LocalFiles)?;
     let frame = rebased.measurement_frame;
@@ -132,9 +136,13 @@ pub(crate) fn rebase(args: &RebaseArgs) -> Result<(), Failure> {
         println!("{}", registration.summary());
         for (point, residual) in registration.points.iter().zip(&registration.fit.residuals) {
             println!(
-                "  {:<12} line {:>4}: residual {} mm",
+                "  {:<12} line {:>4}: {} {} mm",
                 point.name,
                 point.line,
+                match registration.by {
+                    gecaro_app::BaseBy::Points => "residual",
+                    gecaro_app::BaseBy::Circles => "from its circle",
+                },
                 number(residual * 1e3, 4)
             );
         }
@@ -160,9 +168,9 @@ pub(crate) fn rebase(args: &RebaseArgs) -> Result<(), Failure> {
             println!("{said}");
         }
     }
-    let base = match &args.base_points {
-        Some(points) => format!("the base of {}", points.display()),
-        None => format!("{}'s base frame", shown(&args.nominal)),
+    let base = match (&args.base_points, &args.base_circles) {
+        (Some(points), _) | (None, Some(points)) => format!("the base of {}", points.display()),
+        (None, None) => format!("{}'s base frame", shown(&args.nominal)),
     };
     println!(
         "the measurement frame in {base}: x {} y {} z {} mm, rpy {} {} {}°",

@@ -46,14 +46,40 @@ pub(crate) fn load_base_points(
     })
 }
 
-/// A base registered by points: where it stands in the measurement frame
-/// and how well the points agree.
+/// What a base was registered by.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BaseBy {
+    /// Points measured beside their place in the base (a drawing's).
+    Points,
+    /// The circles of joints 1 and 2 turned alone
+    /// ([`gecaro_calib::axis_circles`]).
+    Circles,
+}
+
+/// A point a base was registered by: its name and line.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RegisteredPoint {
+    /// Its name (`line N` where the file names none; `joint 1` or `joint
+    /// 2` and the line for a circle's point).
+    pub name: String,
+    /// Its line in the file.
+    pub line: usize,
+}
+
+/// A base registered by points or circles: where it stands in the
+/// measurement frame and how well the points agree.
 #[derive(Clone, Debug)]
 pub struct BaseRegistration {
-    /// The points, as read.
-    pub points: Vec<BasePoint>,
-    /// The fit: the base's pose in the measurement frame, residuals, σ.
+    /// What it was registered by.
+    pub by: BaseBy,
+    /// The points, in the order of the fit's residuals.
+    pub points: Vec<RegisteredPoint>,
+    /// The fit: the base's pose in the measurement frame, each point's
+    /// residual (its distance from its circle, for circles), σ.
     pub fit: PointRegistration,
+    /// For circles: each circle's radius (m), joint 1's first.
+    pub radii: Vec<f64>,
 }
 
 /// One point of a registration, as JSON gives it.
@@ -71,6 +97,11 @@ pub struct BasePointJson {
 /// --json`, the page, Python).
 #[derive(Clone, Debug, Serialize)]
 pub struct BaseRegistrationJson {
+    /// What it was registered by: `points` or `circles`.
+    pub by: BaseBy,
+    /// For circles: each circle's radius (m), joint 1's first.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub radii: Vec<f64>,
     /// The base's origin in the measurement frame (m).
     pub position: [f64; 3],
     /// The base's orientation in the measurement frame, `[w, x, y, z]`.
@@ -102,7 +133,18 @@ impl BaseRegistration {
         let measured: Vec<Vector3<f64>> = points.iter().map(|point| point.measured).collect();
         let fit = register_points(&base, &measured)
             .map_err(|message| AppError::setting("base_points", format!("{label}: {message}")))?;
-        Ok(BaseRegistration { points, fit })
+        Ok(BaseRegistration {
+            by: BaseBy::Points,
+            points: points
+                .into_iter()
+                .map(|point| RegisteredPoint {
+                    name: point.name,
+                    line: point.line,
+                })
+                .collect(),
+            fit,
+            radii: Vec::new(),
+        })
     }
 
     /// The base's pose in the measurement frame.
@@ -140,11 +182,22 @@ impl BaseRegistration {
     /// precision of the base.
     pub fn summary(&self) -> String {
         let (worst, largest) = self.worst();
+        let what = match self.by {
+            BaseBy::Points => format!("{} base points: residual", self.points.len()),
+            BaseBy::Circles => format!(
+                "the circles of joints 1 and 2 ({} points, radii {} m): distance from the \
+                 circles",
+                self.points.len(),
+                self.radii
+                    .iter()
+                    .map(|radius| significant(*radius))
+                    .collect::<Vec<_>>()
+                    .join(" and ")
+            ),
+        };
         format!(
-            "{} base points: residual RMS {} mm, max {} mm ({worst}); the base's origin to \
-             {} mm and its rotation to {} mrad (1σ per axis): about {} mm added at 1 m from \
-             its origin",
-            self.points.len(),
+            "{what} RMS {} mm, max {} mm ({worst}); the base's origin to {} mm and its rotation \
+             to {} mrad (1σ per axis): about {} mm added at 1 m from its origin",
             significant(self.rms() * 1e3),
             significant(largest * 1e3),
             significant(self.fit.origin_sigma * 1e3),
@@ -159,6 +212,8 @@ impl BaseRegistration {
         let t = pose.translation.vector;
         let q = UnitQuaternion::from_rotation_matrix(&pose.rotation);
         BaseRegistrationJson {
+            by: self.by,
+            radii: self.radii.clone(),
             position: [t.x, t.y, t.z],
             quaternion: [q.w, q.i, q.j, q.k],
             points: self

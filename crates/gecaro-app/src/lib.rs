@@ -65,6 +65,7 @@
 
 #![warn(missing_docs)]
 
+mod base_circles;
 mod base_frame;
 mod cell;
 mod compensate;
@@ -94,7 +95,11 @@ mod study_prediction;
 mod tool_point;
 mod user_frame;
 
-pub use base_frame::{BasePointJson, BasePointsSource, BaseRegistration, BaseRegistrationJson};
+pub use base_circles::HELD;
+pub use base_frame::{
+    BaseBy, BasePointJson, BasePointsSource, BaseRegistration, BaseRegistrationJson,
+    RegisteredPoint,
+};
 pub use cell::CellSpec;
 pub use compensate::{
     CompensateRequest, Compensated, CompensatedFile, CompensationSummary, DEFAULT_MAX_TOOL_TURN,

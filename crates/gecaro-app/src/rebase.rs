@@ -14,11 +14,12 @@ use gecaro_io::RobotFile;
 use nalgebra::IsometryMatrix3;
 use serde::Deserialize;
 
+use crate::base_circles::register_base_by_circles;
 use crate::base_frame::{BasePointsSource, BaseRegistration, load_base_points};
 use crate::error::{AppError, ErrorKind, Hint, Part};
 use crate::files::Files;
 use crate::measurements::Unknown;
-use crate::sources::{DataFormatSpec, RobotSource};
+use crate::sources::{DataFormatSpec, DataSource, RobotSource};
 
 /// A calibrated robot to re-express in its nominal's base frame.
 #[derive(Clone, Debug, Deserialize)]
@@ -32,7 +33,11 @@ pub struct RebaseRequest {
     /// (`crate::base_frame`) rather than by the nominal's convention.
     #[serde(default)]
     pub base_points: Option<BasePointsSource>,
-    /// Units and column names of the base-points file.
+    /// A position data file of joints 1 and 2 turned alone: the base
+    /// registered by their circles (`crate::base_circles`).
+    #[serde(default)]
+    pub base_circles: Option<DataSource>,
+    /// Units and column names of the base-points or circles file.
     #[serde(default)]
     pub format: DataFormatSpec,
     /// Write the robot in its own frame here.
@@ -70,6 +75,7 @@ impl RebaseRequest {
             robot,
             nominal,
             base_points: None,
+            base_circles: None,
             format: DataFormatSpec::default(),
             save_as: None,
             overwrite: false,
@@ -88,25 +94,19 @@ impl RebaseRequest {
         }
         let robot = self.robot.load(files)?;
         let nominal = self.nominal.load(files)?;
-        let (measurement_frame, robot, registration, from_convention) = match &self.base_points {
+        let registration = owner_base(
+            files,
+            (self.base_points.as_ref(), self.base_circles.as_ref()),
+            &self.format,
+            &robot,
+            &nominal,
+        )?;
+        let (measurement_frame, robot, from_convention) = match &registration {
             None => {
                 let (frame, robot) = rebased_file(&robot, &nominal.robot)?;
-                (frame, robot, None, None)
+                (frame, robot, None)
             }
-            Some(source) => {
-                if robot.robot.joint_letters() != nominal.robot.joint_letters() {
-                    return Err(AppError::plain(
-                        ErrorKind::Input,
-                        format!(
-                            "the robot has joints {}, the nominal one {}",
-                            robot.robot.joint_letters(),
-                            nominal.robot.joint_letters()
-                        ),
-                    ));
-                }
-                let points = load_base_points(source, files, &self.format)?;
-                let label = source.label();
-                let registration = BaseRegistration::new(points, &label)?;
+            Some(registration) => {
                 let rebased = registration.rebased(&robot)?;
                 // Where the convention would have put the base, seen from
                 // the owner's.
@@ -114,7 +114,6 @@ impl RebaseRequest {
                 (
                     registration.base_in_measurement_frame().inverse(),
                     rebased,
-                    Some(registration),
                     Some(convention.inverse()),
                 )
             }
@@ -136,6 +135,48 @@ impl RebaseRequest {
             saved,
         })
     }
+}
+
+/// The owner's base registered by `points` or by `circles` (not both), if
+/// either is given, for `robot` calibrated from `nominal`.
+///
+/// # Errors
+/// Both given, robots of other joints, and the registrations' own.
+pub(crate) fn owner_base(
+    files: &dyn Files,
+    (points, circles): (Option<&BasePointsSource>, Option<&DataSource>),
+    format: &DataFormatSpec,
+    robot: &RobotFile,
+    nominal: &RobotFile,
+) -> Result<Option<BaseRegistration>, AppError> {
+    if points.is_some() && circles.is_some() {
+        return Err(AppError::setting(
+            "base_circles",
+            "the base is registered by its points or by the circles of joints 1 and 2: give one \
+             of them",
+        ));
+    }
+    if (points.is_some() || circles.is_some())
+        && robot.robot.joint_letters() != nominal.robot.joint_letters()
+    {
+        return Err(AppError::plain(
+            ErrorKind::Input,
+            format!(
+                "the robot has joints {}, the nominal one {}",
+                robot.robot.joint_letters(),
+                nominal.robot.joint_letters()
+            ),
+        ));
+    }
+    if let Some(source) = points {
+        return Ok(Some(BaseRegistration::new(
+            load_base_points(source, files, format)?,
+            &source.label(),
+        )?));
+    }
+    circles
+        .map(|source| register_base_by_circles(source, files, format, &nominal.robot))
+        .transpose()
 }
 
 /// `calibrated` in `nominal`'s base frame, as a robot file that says so,

@@ -52,6 +52,7 @@
 
 #![warn(missing_docs)]
 
+pub mod axis_circles;
 pub mod cell;
 pub mod compensation;
 mod continuation;

@@ -276,3 +276,37 @@ pub(crate) fn priority_array<'py>(
     let values = rows.iter().flatten().map(|v| i64::from(*v)).collect();
     array(py, &[rows.len(), 6], values)
 }
+
+/// The rows of an (N, 3) array `what` (N = `count` when given) as points.
+pub(crate) fn points(
+    array: &Bound<'_, PyAny>,
+    what: &str,
+    count: Option<usize>,
+) -> PyResult<Vec<nalgebra::Vector3<f64>>> {
+    Ok(Real::shaped(array, what, &[count, Some(3)])?
+        .values
+        .chunks_exact(3)
+        .map(nalgebra::Vector3::from_column_slice)
+        .collect())
+}
+
+/// Measured points (an (N, 3) array, `measured`) and their names (`names`,
+/// else `row i`).
+///
+/// # Errors
+/// An array of another shape, or names of another count.
+pub(crate) fn named_points(
+    measured: &Bound<'_, PyAny>,
+    names: Option<Vec<String>>,
+) -> PyResult<(Vec<String>, Vec<nalgebra::Vector3<f64>>)> {
+    let measured = points(measured, "measured", None)?;
+    let count = measured.len();
+    let names = match names {
+        Some(names) if names.len() != count => {
+            return Err(input(format!("names: {} for {count} points", names.len())));
+        }
+        Some(names) => names,
+        None => (0..count).map(|i| format!("row {i}")).collect(),
+    };
+    Ok((names, measured))
+}

@@ -7,7 +7,7 @@
 //! and `pair` (distance) are integer ids; `distance` is in metres.
 
 use gecaro_app::{DataSource, LocalFiles, angle_unit, delimiter, length_unit, rotation_format};
-use gecaro_calib::study::{Column, DataColumn, SampleColumns, SampleRef, Samples};
+use gecaro_calib::study::{Column, DataColumn, SampleColumns, Samples};
 use gecaro_io::{ColumnMap, DataFormat, DataUnits, format_samples, joint_types};
 use nalgebra::Vector3;
 use numpy::PyArrayDyn;
@@ -20,62 +20,8 @@ use crate::errors::{IntoPyResult, input};
 use crate::files::write_text;
 use crate::methods::method_of;
 use crate::robot::PyRobot;
-
-/// The label of data built from arrays, in messages: `<arrays>:3: …` names
-/// row 3 (0-based, as numpy indexes it).
-const ARRAYS: &str = "<arrays>";
-
-/// A data set (see the module docs).
-#[pyclass(name = "Data", module = "gecaro", skip_from_py_object)]
-#[derive(Clone)]
-pub(crate) struct PyData {
-    /// Shared with the requests made of it; its large columns are the
-    /// arrays it was made of, read in place.
-    pub(crate) samples: Samples,
-    joint_count: usize,
-    /// Names the data in messages and reports: the file, or `<arrays>`.
-    pub(crate) label: String,
-    unused_columns: Vec<String>,
-}
-
-impl PyData {
-    pub(crate) fn from_samples(
-        samples: impl Into<Samples>,
-        joint_count: usize,
-        label: String,
-    ) -> Self {
-        PyData {
-            samples: samples.into(),
-            joint_count,
-            label,
-            unused_columns: Vec::new(),
-        }
-    }
-
-    /// The field of every sample as rows of `width` values, or None when no
-    /// sample has it.
-    fn field<'py>(
-        &self,
-        py: Python<'py>,
-        width: usize,
-        value: impl Fn(SampleRef<'_>) -> Option<Vec<f64>>,
-    ) -> PyResult<Option<Bound<'py, PyArrayDyn<f64>>>> {
-        if self.samples.iter().all(|sample| value(sample).is_none()) {
-            return Ok(None);
-        }
-        let values = self
-            .samples
-            .iter()
-            .flat_map(|sample| value(sample).unwrap_or_else(|| vec![f64::NAN; width]))
-            .collect();
-        let shape = if width == 1 {
-            vec![self.samples.len()]
-        } else {
-            vec![self.samples.len(), width]
-        };
-        array(py, &shape, values).map(Some)
-    }
-}
+pub(crate) use crate::data_set::PyData;
+use crate::data_set::ARRAYS;
 
 /// The column map of `columns`: a dict {gecaro name: file column} or text
 /// `"x=X_mm,y=Y_mm"`.

@@ -4,13 +4,12 @@
 use gecaro_app::{
     DataSource, FramePointsSource, LocalFiles, RobotSource, ToolPointRequest, UserFrameRequest,
 };
-use nalgebra::Vector3;
 use pyo3::prelude::*;
 
-use crate::arrays::Real;
+use crate::arrays::{named_points, points};
 use crate::data::PyData;
 use crate::documents::to_python;
-use crate::errors::{IntoPyResult, input};
+use crate::errors::IntoPyResult;
 use crate::robot::PyRobot;
 
 /// A tool point taught by pivoting, as `gecaro tcp --json` gives it: the
@@ -77,38 +76,4 @@ pub(crate) fn user_frame<'py>(
         .run(&LocalFiles)
         .py()?;
     to_python(py, &made.document())
-}
-
-/// The rows of an (N, 3) array `what` (N = `count` when given) as points.
-pub(crate) fn points(
-    array: &Bound<'_, PyAny>,
-    what: &str,
-    count: Option<usize>,
-) -> PyResult<Vec<Vector3<f64>>> {
-    Ok(Real::shaped(array, what, &[count, Some(3)])?
-        .values
-        .chunks_exact(3)
-        .map(Vector3::from_column_slice)
-        .collect())
-}
-
-/// Measured points (an (N, 3) array, `measured`) and their names (`names`,
-/// else `row i`).
-///
-/// # Errors
-/// An array of another shape, or names of another count.
-pub(crate) fn named_points(
-    measured: &Bound<'_, PyAny>,
-    names: Option<Vec<String>>,
-) -> PyResult<(Vec<String>, Vec<Vector3<f64>>)> {
-    let measured = points(measured, "measured", None)?;
-    let count = measured.len();
-    let names = match names {
-        Some(names) if names.len() != count => {
-            return Err(input(format!("names: {} for {count} points", names.len())));
-        }
-        Some(names) => names,
-        None => (0..count).map(|i| format!("row {i}")).collect(),
-    };
-    Ok((names, measured))
 }

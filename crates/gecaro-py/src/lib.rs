@@ -36,6 +36,7 @@ use pyo3::prelude::*;
 mod arrays;
 mod compensation;
 mod data;
+mod data_set;
 mod documents;
 mod errors;
 mod files;

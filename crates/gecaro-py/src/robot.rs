@@ -648,8 +648,8 @@ impl PyRobot {
         base: &Bound<'py, PyAny>,
         names: Option<Vec<String>>,
     ) -> PyResult<(Bound<'py, PyAny>, Self)> {
-        let (names, measured) = crate::frames::named_points(measured, names)?;
-        let base = crate::frames::points(base, "base", Some(measured.len()))?;
+        let (names, measured) = crate::arrays::named_points(measured, names)?;
+        let base = crate::arrays::points(base, "base", Some(measured.len()))?;
         let points = names
             .into_iter()
             .zip(measured.into_iter().zip(base))
@@ -666,6 +666,40 @@ impl PyRobot {
             gecaro_app::RobotSource::Loaded(Box::new(nominal.file.clone())),
         );
         request.base_points = Some(gecaro_app::BasePointsSource::Points(points));
+        let rebased = request.run(&LocalFiles).py()?;
+        let registration = rebased
+            .registration
+            .as_ref()
+            .map(gecaro_app::BaseRegistration::document);
+        Ok((
+            crate::documents::to_python(py, &registration)?,
+            PyRobot::new(rebased.robot),
+        ))
+    }
+
+    /// This robot, calibrated in a measurement frame, in the base frame its
+    /// maker defines by joints 1 and 2 (issue 74): `circles`, a `Data` of
+    /// motor positions (radians) and positions (m) of a point on the arm
+    /// while joint 1 turned alone and while joint 2 turned alone (joint 1
+    /// held), at least 4 points each. z along axis 1, the origin where the
+    /// common normal of axes 1 and 2 meets it, x along that normal at joint
+    /// 1's zero, placed as `nominal` places them. Returns `(registration,
+    /// robot)` as `rebased_by_points` (`registration["by"] == "circles"`,
+    /// each point's distance from its circle, the radii).
+    fn rebased_by_circles<'py>(
+        &self,
+        py: Python<'py>,
+        nominal: PyRef<'_, PyRobot>,
+        circles: PyRef<'_, crate::data_set::PyData>,
+    ) -> PyResult<(Bound<'py, PyAny>, Self)> {
+        let mut request = gecaro_app::RebaseRequest::new(
+            gecaro_app::RobotSource::Loaded(Box::new(self.file.clone())),
+            gecaro_app::RobotSource::Loaded(Box::new(nominal.file.clone())),
+        );
+        request.base_circles = Some(gecaro_app::DataSource::Samples {
+            samples: circles.samples.clone(),
+            label: circles.label.clone(),
+        });
         let rebased = request.run(&LocalFiles).py()?;
         let registration = rebased
             .registration

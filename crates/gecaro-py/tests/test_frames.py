@@ -178,6 +178,37 @@ def test_the_owner_s_base_is_registered_by_points():
         seen.rebased_by_points(robot, measured[:2], base[:2])
 
 
+def test_the_maker_s_base_is_registered_by_circles():
+    """A robot seen from a tracker, joints 1 and 2 turned alone (exact
+    points): the base by their circles gives the robot back in its own
+    frame (the nominal's axes are where its frames put them); rows that
+    turn two joints are refused with their line."""
+    import numpy as np
+
+    robot = gecaro.Robot.load("industrial6")
+    tracker = np.eye(4)
+    tracker[:3, 3] = [2.5, 0.4, -0.3]
+    seen = robot.reframe(world=np.linalg.inv(tracker))
+    start = np.radians([0, -20, 30, 10, 40, 0])
+    rows = []
+    for q1 in np.radians(np.arange(-150, 151, 30)):
+        rows.append(start.copy())
+        rows[-1][0] = q1
+    for q2 in np.radians(np.arange(-80, 31, 10)):
+        rows.append(start.copy())
+        rows[-1][:2] = [math.radians(25), q2]
+    qm = np.array(rows)
+    points = np.array([seen.fk(row)[:3, 3] for row in qm])
+    registration, back = seen.rebased_by_circles(robot, gecaro.Data(qm, position=points))
+    assert registration["by"] == "circles" and len(registration["radii"]) == 2
+    assert registration["max"] < 1e-9
+    assert np.allclose(back.fk(start), robot.fk(start), atol=1e-8)
+    stray = np.vstack([qm, np.radians([[10, 10, 30, 10, 40, 0]])])
+    stray_points = np.vstack([points, points[:1] + 0.1])
+    with pytest.raises(gecaro.InputError, match="more than one joint moved"):
+        seen.rebased_by_circles(robot, gecaro.Data(stray, position=stray_points))
+
+
 def test_a_tool_point_and_a_user_frame_equal_the_command_line(cli, tmp_path):
     """Pivot configurations of a tip at (15, −20, 180) mm: the tip found as
     the command line finds it; a fixture's frame from three named points."""

@@ -1182,6 +1182,48 @@ async fn a_program_is_compensated_target_by_target_and_saved_beside_it() {
         .await;
     assert!(status.is_client_error(), "{body}");
     assert!(error_text(&body).contains("plate.csv:2"), "{body}");
+    // The maker's base by the circles of joints 1 and 2, the points where
+    // the calibrated robot puts them (its axes as the table's robot puts
+    // them: nothing to move), uploaded in mm.
+    let start = [0.0, 0.4, 0.5, 0.3, -0.6, 0.2];
+    let mut circles = String::from("qm1,qm2,qm3,qm4,qm5,qm6,x,y,z\n");
+    let turned: Vec<(usize, f64)> = (-4..=4)
+        .map(|k| (0, f64::from(k) * 0.3))
+        .chain((-4..=3).map(|k| (1, 0.4 + f64::from(k) * 0.15)))
+        .collect();
+    for (joint, value) in turned {
+        let mut q = start;
+        q[joint] = value;
+        if joint == 1 {
+            q[0] = 0.25;
+        }
+        let (status, pose) = api
+            .post("/api/robots/pose", &json!({ "robot": document, "q": q }))
+            .await;
+        assert_eq!(status, StatusCode::OK, "{pose}");
+        let frames = pose["frames"].as_array().expect("frames");
+        let tool = &frames[frames.len() - 1]["origin"];
+        let mm = |axis: usize| tool[axis].as_f64().expect("number") * 1e3;
+        let joints: Vec<String> = q.iter().map(f64::to_string).collect();
+        circles += &format!("{},{},{},{}\n", joints.join(","), mm(0), mm(1), mm(2));
+    }
+    let (status, body) = api
+        .post(
+            "/api/compensate",
+            &json!({ "nominal": document, "calibrated": document, "program": program,
+                     "format": { "angle_unit": "deg" },
+                     "base_circles": { "csv": { "text": circles, "name": "circles.csv" } },
+                     "base_points_format": { "length_unit": "mm" } }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{body}");
+    let registration = &body["registration"];
+    assert_eq!(registration["by"], "circles", "{body}");
+    assert_eq!(registration["points"][0]["name"], "joint 1", "{body}");
+    assert!(
+        registration["max"].as_f64().expect("m") < 1e-6,
+        "{registration}"
+    );
     // The base by its points or by the convention, not both.
     let (status, body) = api
         .post(

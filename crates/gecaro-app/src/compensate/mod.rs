@@ -14,14 +14,14 @@ use nalgebra::IsometryMatrix3;
 use serde::Deserialize;
 use std::path::PathBuf;
 
-use crate::base_frame::{BasePointsSource, BaseRegistration, load_base_points};
+use crate::base_frame::{BasePointsSource, BaseRegistration};
 use crate::documents::{CompensatedJson, CompensationJson};
 use crate::error::AppError;
 use crate::files::{Files, Opened};
 use crate::measurements::Unknown;
 use crate::method::parse_name;
-use crate::rebase::{check_same_frame, rebased_file};
-use crate::sources::{CsvInput, DataFormatSpec, RobotSource, check_row_count};
+use crate::rebase::{check_same_frame, owner_base, rebased_file};
+use crate::sources::{CsvInput, DataFormatSpec, DataSource, RobotSource, check_row_count};
 
 pub use summary::{CompensationSummary, LargestCorrection};
 
@@ -71,7 +71,11 @@ pub struct CompensateRequest {
     /// first, instead of in the nominal's convention (`rebase`).
     #[serde(default)]
     pub base_points: Option<BasePointsSource>,
-    /// Units and column names of the base-points file.
+    /// Or by the circles of joints 1 and 2 turned alone
+    /// (`crate::base_circles`): a position data file.
+    #[serde(default)]
+    pub base_circles: Option<DataSource>,
+    /// Units and column names of the base-points or circles file.
     #[serde(default)]
     pub base_points_format: DataFormatSpec,
     /// The payload the robot will carry (`12kg`, `12kg,0,0,80mm`): an
@@ -239,6 +243,7 @@ impl CompensateRequest {
             matching: None,
             rebase: false,
             base_points: None,
+            base_circles: None,
             base_points_format: DataFormatSpec::default(),
             payload: None,
             tool: None,
@@ -263,19 +268,24 @@ impl CompensateRequest {
         let nominal = self.nominal.load(files)?;
         let mut calibrated = self.calibrated.load(files)?;
         let mut registration = None;
-        if self.rebase && self.base_points.is_some() {
+        if self.rebase && (self.base_points.is_some() || self.base_circles.is_some()) {
             return Err(AppError::setting(
-                "base_points",
-                "the base is registered by its points or by the nominal's convention (rebase): \
-                 give one of them",
+                if self.base_points.is_some() {
+                    "base_points"
+                } else {
+                    "base_circles"
+                },
+                "the base is registered by its points or circles, or by the nominal's convention \
+                 (rebase): give one of them",
             ));
         }
-        if let Some(source) = &self.base_points {
-            let label = source.label();
-            let registered = BaseRegistration::new(
-                load_base_points(source, files, &self.base_points_format)?,
-                &label,
-            )?;
+        if let Some(registered) = owner_base(
+            files,
+            (self.base_points.as_ref(), self.base_circles.as_ref()),
+            &self.base_points_format,
+            &calibrated,
+            &nominal,
+        )? {
             calibrated = registered.rebased(&calibrated)?;
             registration = Some(registered);
             // The owner's base and the nominal's: one robot, millimetres apart.

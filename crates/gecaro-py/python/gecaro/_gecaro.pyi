@@ -184,6 +184,12 @@ class Robot:
         beside ``base`` (N, 3) from the drawing (m), N ≥ 3. Returns (the
         registration as ``gecaro robot rebase --base-points … --json`` gives
         it, the robot)."""
+    def rebased_by_circles(self, nominal: Robot, circles: Data) -> tuple[dict[str, Any], Robot]:
+        """This robot, calibrated in a measurement frame, in the base frame its
+        maker defines by joints 1 and 2: ``circles`` holds motor positions
+        (rad) and positions (m) of a point on the arm while joint 1 turned
+        alone, and joint 2 turned alone with joint 1 held (≥ 4 points each).
+        Returns (the registration, ``by == "circles"``, the robot)."""
     def copy(self) -> Robot: ...
     def __copy__(self) -> Robot: ...
     def __deepcopy__(self, memo: object) -> Robot: ...

@@ -29,6 +29,7 @@ export function compensatePanel(method) {
   const tool = h('input', { type: 'text', id: id('tool'), placeholder: 'frame n+1; or a calibrated tool (smr_a), or 0,0,120mm' });
   const maxTurn = h('input', { type: 'text', id: id('max-tool-turn'), placeholder: '1deg' });
   const basePoints = h('input', { type: 'text', id: id('base-points'), placeholder: 'e.g. plate.csv in the folder (optional)' });
+  const baseCircles = h('input', { type: 'text', id: id('base-circles'), placeholder: 'e.g. circles.csv in the folder (optional)' });
   const basePointsUnit = h('select', { id: id('base-points-unit') },
     h('option', { value: 'mm', text: 'mm' }), h('option', { value: 'm', text: 'm' }));
   const saveAs = h('input', { type: 'text', id: id('save-as'), placeholder: 'e.g. program-compensated.csv (optional)' });
@@ -45,6 +46,7 @@ export function compensatePanel(method) {
         match: matching.value,
         rebase: rebase.checked,
         base_points: basePoints.value.trim() ? { file: basePoints.value.trim() } : null,
+        base_circles: baseCircles.value.trim() ? { file: baseCircles.value.trim() } : null,
         base_points_format: { length_unit: basePointsUnit.value },
         tool: tool.value.trim() || null,
         max_tool_turn: maxTurn.value.trim() || null,
@@ -68,6 +70,7 @@ export function compensatePanel(method) {
       field('Save in the folder as', saveAs),
       h('label', { class: 'field checkbox' }, rebase, h('span', { text: 'Calibrated in another frame (a tracker’s): re-express it in the table’s base frame' })),
       field('Or the owner’s base, by points measured beside the drawing’s (name, x, y, z, base_x, base_y, base_z)', basePoints),
+      field('Or the maker’s base, by the circles of joints 1 and 2 turned alone (qm1…qmn, x, y, z; angles in radians unless the file’s units line says otherwise)', baseCircles),
       field('Their length unit', basePointsUnit),
       run),
     formatFields(name, 'compensate'),
@@ -142,7 +145,10 @@ function renderCompensation(container, name, compensated) {
 /** One sentence on a base registered by points: its residuals and what it adds. */
 function registrationText(registration, unit, length) {
   const worst = registration.points.reduce((a, b) => (b.residual > a.residual ? b : a));
-  return `The calibrated robot in the owner’s base, registered by ${registration.points.length} points: residual RMS ${length(registration.rms)} ${unit}, largest ${length(worst.residual)} ${unit} (${worst.name}); about ${length(registration.at_one_metre)} ${unit} added at 1 m from the base.`;
+  const by = registration.by === 'circles'
+    ? `the circles of joints 1 and 2 (${registration.points.length} points, radii ${registration.radii.map((r) => length(r)).join(' and ')} ${unit}): distance from the circles`
+    : `${registration.points.length} points: residual`;
+  return `The calibrated robot in the owner’s base, registered by ${by} RMS ${length(registration.rms)} ${unit}, largest ${length(worst.residual)} ${unit} (${worst.name}${worst.name.startsWith('joint') ? `, line ${worst.line}` : ''}); about ${length(registration.at_one_metre)} ${unit} added at 1 m from the base.`;
 }
 
 /**
