@@ -205,10 +205,10 @@ pub(crate) struct ImportArgs {
 pub(crate) struct ExportArgs {
     /// Robot file or ready robot name.
     pub(crate) robot: String,
-    /// The format to write: urdf, dh or mdh.
+    /// The format to write: urdf, dh, mdh or symoro.
     #[arg(long, value_parser = names(&gecaro_io::RobotFormat::NAMES))]
     pub(crate) to: String,
-    /// Output file (.urdf, or .toml for a table).
+    /// Output file (.urdf, .toml for a table, .par for SYMORO).
     #[arg(short, long)]
     pub(crate) output: PathBuf,
     /// Export the robot re-expressed in this nominal robot's base frame (a

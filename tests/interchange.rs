@@ -90,6 +90,41 @@ fn a_symoro_file_and_a_table_import_to_the_ready_robots() {
             1e-12,
         );
     }
+    // Written back as SYMORO (`--to symoro`), it reads to the same poses;
+    // the .par file where a robot file is read is named, not parsed as TOML.
+    let written = path(&folder, "written.par");
+    run(&[
+        "robot",
+        "export",
+        "industrial6",
+        "--to",
+        "symoro",
+        "-o",
+        written.to_str().expect("utf8"),
+    ]);
+    let again = path(&folder, "again.toml");
+    run(&[
+        "robot",
+        "import",
+        written.to_str().expect("utf8"),
+        "-o",
+        again.to_str().expect("utf8"),
+    ]);
+    let qm = "0.3,-1.2,0.4,2.0,-0.7,1.1";
+    assert_close(
+        &fk(again.to_str().expect("utf8"), qm),
+        &fk("industrial6", qm),
+        1e-12,
+    );
+    let refused = gecaro()
+        .args(["robot", "check", written.to_str().expect("utf8")])
+        .output()
+        .expect("runs");
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        !refused.status.success() && stderr.contains("a SYMORO file, not a gecaro robot file"),
+        "{stderr}"
+    );
     let puma = path(&folder, "puma.toml");
     run(&[
         "robot",
@@ -165,6 +200,106 @@ fn a_urdf_goes_in_and_out_with_its_names() {
     );
 }
 
+/// Every link's pose at q = 0 in the frame of `base` (composing the
+/// joints' origins from the root), by name.
+fn link_poses(
+    text: &str,
+    base: &str,
+) -> std::collections::HashMap<String, nalgebra::IsometryMatrix3<f64>> {
+    let robot = urdf_rs::read_from_string(text).expect("a URDF");
+    let pose = |origin: &urdf_rs::Pose| {
+        let [x, y, z] = origin.xyz.0;
+        let [roll, pitch, yaw] = origin.rpy.0;
+        nalgebra::IsometryMatrix3::from_parts(
+            nalgebra::Translation3::new(x, y, z),
+            nalgebra::Rotation3::from_euler_angles(roll, pitch, yaw),
+        )
+    };
+    let mut poses = std::collections::HashMap::new();
+    let children: std::collections::HashSet<&str> = robot
+        .joints
+        .iter()
+        .map(|joint| joint.child.link.as_str())
+        .collect();
+    let mut stack: Vec<(String, nalgebra::IsometryMatrix3<f64>)> = robot
+        .links
+        .iter()
+        .filter(|link| !children.contains(link.name.as_str()))
+        .map(|link| (link.name.clone(), nalgebra::IsometryMatrix3::identity()))
+        .collect();
+    while let Some((name, at)) = stack.pop() {
+        for joint in robot
+            .joints
+            .iter()
+            .filter(|joint| joint.parent.link == name)
+        {
+            stack.push((joint.child.link.clone(), at * pose(&joint.origin)));
+        }
+        poses.insert(name, at);
+    }
+    let base = poses[base].inverse();
+    poses
+        .into_iter()
+        .map(|(name, at)| (name, base * at))
+        .collect()
+}
+
+/// A URDF export keeps every link of the original fixed to the chain — the
+/// UR10e's base, flange and its camera mount, the KR16's `base` — each
+/// where the original puts it; links other joints move, or on other
+/// branches, are not the robot's (issue 74).
+#[test]
+fn a_urdf_export_keeps_every_link_fixed_to_the_chain() {
+    let folder = tempfile::tempdir().expect("folder");
+    for (file, chain, kept) in [
+        ("urdf/kuka_kr16_2.urdf", &[][..], &["base", "tool0"][..]),
+        (
+            "urdf/ur10e.urdf",
+            &["--base", "base_link", "--tip", "tool0"][..],
+            &[
+                "base",
+                "base_link_inertia",
+                "flange",
+                "tool0",
+                "ur10e_d435_mount_link",
+            ][..],
+        ),
+    ] {
+        let base = "base_link";
+        let original = std::fs::read_to_string(data(file)).expect("URDF");
+        let robot = path(&folder, "robot.toml");
+        let urdf = path(&folder, "robot.urdf");
+        gecaro()
+            .args(["robot", "import", &data(file), "-o"])
+            .arg(&robot)
+            .args(chain)
+            .arg("--force")
+            .assert()
+            .success();
+        gecaro()
+            .args(["robot", "export"])
+            .arg(&robot)
+            .args(["--to", "urdf", "-o"])
+            .arg(&urdf)
+            .arg("--force")
+            .assert()
+            .success();
+        let written = std::fs::read_to_string(&urdf).expect("written");
+        let (before, after) = (link_poses(&original, base), link_poses(&written, base));
+        for name in kept {
+            assert!(after.contains_key(*name), "{file}: {name} lost");
+        }
+        for (name, pose) in &after {
+            let Some(was) = before.get(name) else {
+                panic!("{file}: {name} is not a link of the original");
+            };
+            let apart = (pose.to_homogeneous() - was.to_homogeneous()).norm();
+            assert!(apart < 1e-9, "{file}: {name} moved by {apart}");
+        }
+        eprintln!("{file}: {} of {} links kept", after.len(), before.len());
+    }
+}
+
 #[test]
 fn gains_go_beside_the_export_and_an_existing_output_stops_everything() {
     let folder = tempfile::tempdir().expect("folder");
@@ -221,6 +356,124 @@ fn gains_go_beside_the_export_and_an_existing_output_stops_everything() {
     ]);
     assert!(stderr.contains("not expressible in a DH table"), "{stderr}");
     assert!(path(&folder, "geared-mdh.joint_calibration.yaml").exists());
+}
+
+/// A robot whose calibration tilted axis 3 against axis 2 (Hayati's β3):
+/// a DH table has no β, so the nearest robot without it is written with
+/// its largest tool error stated, and that statement holds against the
+/// robot on configurations of its own (issue 74); a tilt whose nearest
+/// table is off by more than 0.1 mm is refused with the number. β before
+/// joint 1 and after joint n go into the table's base and tool exactly.
+#[test]
+fn a_robot_with_beta_is_written_as_its_nearest_table_with_its_error() {
+    let folder = tempfile::tempdir().expect("folder");
+    let nominal = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/industrial6.toml"),
+    )
+    .expect("robot");
+    let tilted = |beta3: f64| {
+        nominal
+            .replace(
+                "[[frame]] # frame 3: parallel to axis 2\nsigma = 0\n",
+                &format!("[[frame]] # frame 3: parallel to axis 2\nsigma = 0\nbeta = {beta3}\n"),
+            )
+            .replace(
+                "[[frame]] # frame 1\nsigma = 0\n",
+                "[[frame]] # frame 1\nsigma = 0\nbeta = 0.3\n",
+            )
+    };
+    let mut results = Vec::new();
+    for (beta3, name) in [(0.0, "base_only"), (0.002, "small"), (0.05, "large")] {
+        let robot = path(&folder, &format!("{name}.toml"));
+        std::fs::write(&robot, tilted(beta3)).expect("robot");
+        assert!(tilted(beta3).contains("beta = 0.3"));
+        let table = path(&folder, &format!("{name}_mdh.toml"));
+        let output = gecaro()
+            .args([
+                "robot",
+                "export",
+                robot.to_str().expect("utf8"),
+                "--to",
+                "mdh",
+                "-o",
+            ])
+            .arg(&table)
+            .output()
+            .expect("runs");
+        results.push((robot, table, output));
+    }
+    // β of frame 1 alone: the base carries it, exactly, without a word.
+    let (robot, table, output) = &results[0];
+    assert!(output.status.success(), "{output:?}");
+    assert!(!String::from_utf8_lossy(&output.stderr).contains("nearest"));
+    let back = path(&folder, "base_only_back.toml");
+    run(&[
+        "robot",
+        "import",
+        table.to_str().expect("utf8"),
+        "-o",
+        back.to_str().expect("utf8"),
+    ]);
+    let qm = "0.3,-1.2,0.4,2.0,-0.7,1.1";
+    assert_close(
+        &fk(back.to_str().expect("utf8"), qm),
+        &fk(robot.to_str().expect("utf8"), qm),
+        1e-12,
+    );
+    // β3 = 0.002° (35 µrad): the nearest table, its error stated and true.
+    let (robot, table, output) = &results[1];
+    assert!(output.status.success(), "{output:?}");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let stated: f64 = stderr
+        .split("off by up to ")
+        .nth(1)
+        .and_then(|rest| rest.split(" mm").next())
+        .and_then(|number| number.parse().ok())
+        .unwrap_or_else(|| panic!("no error stated: {stderr}"));
+    let back = path(&folder, "small_back.toml");
+    run(&[
+        "robot",
+        "import",
+        table.to_str().expect("utf8"),
+        "-o",
+        back.to_str().expect("utf8"),
+    ]);
+    let (original, written) = (
+        gecaro_io::load_robot(robot.to_str().expect("utf8"))
+            .expect("robot")
+            .robot,
+        gecaro_io::load_robot(back.to_str().expect("utf8"))
+            .expect("robot")
+            .robot,
+    );
+    let mut sampler = gecaro_calib::simulation::Sampler::new(5);
+    let largest = (0..500)
+        .map(|_| {
+            let qm = sampler.configuration(&original);
+            (terminal_point(&original, &qm) - terminal_point(&written, &qm)).norm()
+        })
+        .fold(0.0f64, f64::max);
+    eprintln!(
+        "β3 0.002°: stated {stated} mm, found {:.4} mm on 500 other configurations",
+        largest * 1e3
+    );
+    assert!(stated > 0.0 && stated < 0.1, "{stderr}");
+    assert!(
+        largest * 1e3 <= stated * 1.05 + 1e-4,
+        "{largest} vs stated {stated} mm"
+    );
+    assert!(
+        largest * 1e3 > 0.3 * stated,
+        "{largest} vs stated {stated} mm"
+    );
+    // β3 = 0.05°: refused with its number, nothing written.
+    let (_, table, output) = &results[2];
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        !output.status.success() && stderr.contains("off by up to"),
+        "{stderr}"
+    );
+    assert!(!table.exists());
 }
 
 #[test]

@@ -205,18 +205,36 @@ impl ExportRequest {
     pub fn run(&self, files: &dyn Files) -> Result<ExportedRobot, AppError> {
         self.unknown.check()?;
         let format = format("to", Some(&self.to))?.unwrap_or(RobotFormat::Urdf);
-        if format == RobotFormat::Symoro {
-            return Err(AppError::setting_value(
-                "to",
-                "symoro",
-                "not a format gecaro writes (it reads SYMORO .par files); export to urdf, dh or mdh",
-            ));
-        }
         let mut robot = self.robot.load(files)?;
         if let Some(nominal) = &self.rebase {
             robot = crate::rebase::rebased_file(&robot, &nominal.load(files)?.robot)?.1;
         }
-        let exported = gecaro_io::export_robot(&robot, format).map_err(|message| {
+        // A table has no Hayati β: the nearest robot without it, its error
+        // stated (or refused beyond what a table may carry).
+        let joints = 2..=robot.robot.joint_count();
+        let nearest = if format != RobotFormat::Urdf
+            && robot
+                .robot
+                .frames()
+                .iter()
+                .enumerate()
+                .any(|(j, frame)| joints.contains(&j) && frame.beta != 0.0)
+        {
+            Some(crate::nearest_table::nearest_without_beta(
+                &robot.robot,
+                format_name(format),
+            )?)
+        } else {
+            None
+        };
+        let written = match &nearest {
+            Some(nearest) => RobotFile {
+                robot: nearest.robot.clone(),
+                ..robot.clone()
+            },
+            None => robot.clone(),
+        };
+        let mut exported = gecaro_io::export_robot(&written, format).map_err(|message| {
             AppError::plain(
                 ErrorKind::Usage,
                 format!(
@@ -226,6 +244,9 @@ impl ExportRequest {
                 ),
             )
         })?;
+        if let Some(nearest) = &nearest {
+            exported.notes.insert(0, nearest.note());
+        }
         let saved = match &self.save_as {
             Some(name) => write_export(&exported, format, name, self.overwrite, files)?,
             None => Vec::new(),
@@ -255,7 +276,8 @@ pub fn write_export(
 ) -> Result<Vec<PathBuf>, AppError> {
     let extension = match format {
         RobotFormat::Urdf => "urdf",
-        _ => "toml",
+        RobotFormat::Symoro => "par",
+        RobotFormat::Dh | RobotFormat::Mdh => "toml",
     };
     let calibration = joint_calibration_name(name);
     files.check_output(name, extension, overwrite)?;

@@ -82,6 +82,7 @@ mod loads;
 mod measurements;
 mod method;
 mod model_advice;
+mod nearest_table;
 mod plan;
 mod rebase;
 mod residuals;
@@ -121,6 +122,7 @@ pub use interchange::{
 pub use measurements::{Data, Loaded, LoadedStudy, Measurements, Note, StudySource};
 pub use method::{MethodSpec, parse_name};
 pub use model_advice::{BETTER, CHEAP_EQUATIONS, ModelAdvice, ModelCheck};
+pub use nearest_table::{CHECK_POSES, FIT_POSES, MAX_TABLE_ERROR, NearestTable};
 pub use plan::{
     AccuracyCurve, PlanRequest, Planned, Planning, PredictRequest, Predicted, TestPoses,
 };

@@ -86,5 +86,7 @@ pub use study_spec::{
     StudyFiles, StudySpec,
 };
 pub use units::LengthUnit;
-pub use urdf::names::{UrdfDocument, UrdfJointDocument, UrdfJointNames, UrdfNames};
+pub use urdf::names::{
+    UrdfDocument, UrdfFixedDocument, UrdfFixedLink, UrdfJointDocument, UrdfJointNames, UrdfNames,
+};
 pub use work_region::parse_work_region;

@@ -186,6 +186,22 @@ pub fn read_robot_file(path: &Path) -> Result<RobotFile, Error> {
 /// # Errors
 /// [`Error::Parse`] naming the line and key of the first problem.
 pub fn parse_robot_file(text: &str, path: &Path) -> Result<RobotFile, Error> {
+    // A URDF or a SYMORO file where gecaro's TOML is read: named as such,
+    // not as a TOML syntax error on its first line.
+    if let Some(format) = crate::interchange::RobotFormat::guess(path) {
+        return Err(Error::Format {
+            path: path.to_owned(),
+            message: format!(
+                "a {} file, not a gecaro robot file (TOML): convert it with `gecaro robot import \
+                 {} -o robot.toml`",
+                match format {
+                    crate::interchange::RobotFormat::Urdf => "URDF",
+                    _ => "SYMORO",
+                },
+                path.display()
+            ),
+        });
+    }
     let source = Source { path, text };
     let document = parse_robot_document(text, path)?;
     document

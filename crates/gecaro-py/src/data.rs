@@ -16,12 +16,12 @@ use pyo3::types::PyDict;
 use std::path::PathBuf;
 
 use crate::arrays::{Real, array, identifiers, in_place};
+use crate::data_set::ARRAYS;
+pub(crate) use crate::data_set::PyData;
 use crate::errors::{IntoPyResult, input};
 use crate::files::write_text;
 use crate::methods::method_of;
 use crate::robot::PyRobot;
-pub(crate) use crate::data_set::PyData;
-use crate::data_set::ARRAYS;
 
 /// The column map of `columns`: a dict {gecaro name: file column} or text
 /// `"x=X_mm,y=Y_mm"`.

@@ -62,4 +62,3 @@ impl PyData {
         array(py, &shape, values).map(Some)
     }
 }
-

@@ -356,7 +356,7 @@ impl PyRobot {
         format_robot_file(&self.file)
     }
 
-    /// The robot in another format: "urdf", "dh" or "mdh", as
+    /// The robot in another format: "urdf", "dh", "mdh" or "symoro", as
     /// `gecaro robot export` (docs/interchange.md).
     fn export(&self, to: &str) -> PyResult<Exported> {
         let exported = gecaro_app::ExportRequest::new(

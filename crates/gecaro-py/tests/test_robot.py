@@ -164,5 +164,20 @@ def test_dh_tables_round_trip(tmp_path):
     again = gecaro.Robot.import_file(tmp_path / "puma.toml", "mdh")
     qm = np.array([0.2, -0.4, 0.3, 0.1, 0.5, -0.2])
     assert np.abs(again.fk(qm) - robot.fk(qm)).max() < 1e-12
-    with pytest.raises(gecaro.InputError, match="not a format gecaro writes"):
-        robot.export("symoro")
+    exported = robot.export("symoro")
+    exported.save(tmp_path / "puma.par")
+    again = gecaro.Robot.import_file(tmp_path / "puma.par")
+    assert np.abs(again.fk(qm) - robot.fk(qm)).max() < 1e-12
+
+
+def test_a_table_of_a_robot_with_beta_is_its_nearest_with_the_error_stated():
+    """β3 tilts axis 3 against axis 2: the table written is the nearest
+    robot without it, its error in the notes; a tilt whose table is off by
+    more than 0.1 mm is refused with the number."""
+    robot = gecaro.Robot.load("industrial6")
+    robot["beta3"] = 3.5e-5
+    exported = robot.export("mdh")
+    assert any("off by up to" in note for note in exported.notes), exported.notes
+    robot["beta3"] = 1e-3
+    with pytest.raises(gecaro.InputError, match="off by up to"):
+        robot.export("dh")

@@ -37,13 +37,23 @@ fn transform_document(pose: &IsometryMatrix3<f64>) -> Option<TransformDocument> 
 /// The DH or MDH table of a robot (SI units), with its offsets folded into
 /// θ (or d): the table's joint values are q − offset.
 ///
+/// Hayati's β of frame 1 (before joint 1) goes into the table's base
+/// transform and that of frame n+1 into its tool transform (in the
+/// standard convention the last row's `a` and `alpha` then go there too):
+/// both are fixed transforms, and the table carries them exactly.
+///
 /// # Errors
-/// A frame with β ≠ 0 (not expressible in a DH table), naming it.
+/// A frame between two joints with β ≠ 0 (not expressible in a DH table),
+/// naming it.
 pub(crate) fn export_table(file: &RobotFile, convention: DhConvention) -> Result<Exported, String> {
     let robot = &file.robot;
     let frames = robot.frames();
     let n = robot.joint_count();
-    if let Some((j, frame)) = frames.iter().enumerate().find(|(_, f)| f.beta != 0.0) {
+    if let Some((j, frame)) = frames
+        .iter()
+        .enumerate()
+        .find(|(j, f)| (2..=n).contains(j) && f.beta != 0.0)
+    {
         return Err(format!(
             "frame {j} has beta = {} rad: Hayati's β has no place in a DH table; export to URDF instead",
             frame.beta
@@ -80,30 +90,53 @@ pub(crate) fn export_table(file: &RobotFile, convention: DhConvention) -> Result
         }
     };
     let zero = |frame: &Frame| frame_transform(frame, 0.0);
+    // β of frame 1 stands before its α: in the base transform.
+    let tilt = |frame: &Frame| {
+        zero(&Frame {
+            beta: frame.beta,
+            ..Frame::new(FrameType::Fixed)
+        })
+    };
     let (base, rows, tool) = match convention {
         DhConvention::Modified => (
-            zero(&frames[0]),
+            zero(&frames[0]) * tilt(&frames[1]),
             (1..=n)
                 .map(|j| row(j, frames[j].d, frames[j].alpha))
                 .collect(),
             zero(&frames[n + 1]),
         ),
-        DhConvention::Standard => (
-            zero(&frames[0])
-                * zero(&Frame {
-                    alpha: frames[1].alpha,
-                    d: frames[1].d,
-                    ..Frame::new(FrameType::Fixed)
-                }),
-            (1..=n)
-                .map(|j| row(j, frames[j + 1].d, frames[j + 1].alpha))
-                .collect(),
-            zero(&Frame {
-                theta: frames[n + 1].theta,
-                r: frames[n + 1].r,
-                ..Frame::new(FrameType::Fixed)
-            }),
-        ),
+        DhConvention::Standard => {
+            // The last row carries frame n+1's a and alpha, unless its β
+            // stands before them: then the whole frame is the tool.
+            let tool_tilted = frames[n + 1].beta != 0.0;
+            (
+                zero(&frames[0])
+                    * zero(&Frame {
+                        alpha: frames[1].alpha,
+                        d: frames[1].d,
+                        beta: frames[1].beta,
+                        ..Frame::new(FrameType::Fixed)
+                    }),
+                (1..=n)
+                    .map(|j| {
+                        if j == n && tool_tilted {
+                            row(j, 0.0, 0.0)
+                        } else {
+                            row(j, frames[j + 1].d, frames[j + 1].alpha)
+                        }
+                    })
+                    .collect(),
+                if tool_tilted {
+                    zero(&frames[n + 1])
+                } else {
+                    zero(&Frame {
+                        theta: frames[n + 1].theta,
+                        r: frames[n + 1].r,
+                        ..Frame::new(FrameType::Fixed)
+                    })
+                },
+            )
+        }
     };
     let output = TableOutput {
         name: robot.name().to_owned(),

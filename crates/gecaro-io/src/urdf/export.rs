@@ -41,11 +41,14 @@ fn generated_names(robot: &Robot) -> UrdfNames {
                 frame_from_link: IsometryMatrix3::identity(),
                 effort: 0.0,
                 velocity: 0.0,
+                parent: None,
             })
             .collect(),
         tip_joint: None,
         tip_link: "tool0".into(),
         tool_from_tip_link: IsometryMatrix3::identity(),
+        tip_parent: None,
+        fixed: Vec::new(),
     }
 }
 
@@ -216,9 +219,41 @@ pub(crate) fn export_urdf(file: &RobotFile) -> Result<Exported, String> {
         &world_from_frame[0],
         &names.world_from_base_link,
     ));
+    // Where every link stands: the chain's on the robot's frames, the kept
+    // fixed links on their parents as the URDF had them.
+    let world_from_tip = world_from_frame[n + 1] * names.tool_from_tip_link;
+    let mut placed: Vec<(&str, IsometryMatrix3<f64>)> =
+        vec![(names.base_link.as_str(), names.world_from_base_link)];
+    placed.extend(names.joints.iter().enumerate().map(|(j, joint)| {
+        (
+            joint.link.as_str(),
+            world_from_frame[j + 1] * joint.frame_from_link,
+        )
+    }));
+    if !placed.iter().any(|(name, _)| *name == names.tip_link) {
+        placed.push((names.tip_link.as_str(), world_from_tip));
+    }
+    for kept in &names.fixed {
+        // `UrdfDocument::read` checked that every parent is named before.
+        let parent = placed
+            .iter()
+            .find(|(name, _)| *name == kept.parent)
+            .map_or(world_from_tip, |(_, pose)| *pose);
+        placed.push((kept.link.as_str(), parent * kept.origin));
+    }
+    let world_from = |name: &str, otherwise: IsometryMatrix3<f64>| {
+        placed
+            .iter()
+            .find(|(link, _)| *link == name)
+            .map_or(otherwise, |(_, pose)| *pose)
+    };
     let mut parent_link = names.base_link.clone();
     let mut world_from_parent = names.world_from_base_link;
     for (j, joint_names) in names.joints.iter().enumerate() {
+        if let Some(parent) = &joint_names.parent {
+            world_from_parent = world_from(parent, world_from_parent);
+            parent_link = parent.clone();
+        }
         let world_from_link = world_from_frame[j + 1] * joint_names.frame_from_link;
         let axis = joint_names.frame_from_link.rotation.inverse() * Vector3::z();
         let frame = &robot.frames()[j + 1];
@@ -276,7 +311,10 @@ pub(crate) fn export_urdf(file: &RobotFile) -> Result<Exported, String> {
             "the tool frame n+1 gets its own link `{tip}` (the URDF's tip was the last joint's link)"
         ));
     }
-    let world_from_tip = world_from_frame[n + 1] * names.tool_from_tip_link;
+    if let Some(parent) = &names.tip_parent {
+        world_from_parent = world_from(parent, world_from_parent);
+        parent_link = parent.clone();
+    }
     joints.push(fixed_joint(
         names
             .tip_joint
@@ -292,6 +330,16 @@ pub(crate) fn export_urdf(file: &RobotFile) -> Result<Exported, String> {
         &world_from_frame[n + 1],
         &world_from_tip,
     ));
+
+    for kept in &names.fixed {
+        links.push(link(&kept.link));
+        joints.push(fixed_joint(
+            kept.joint.clone(),
+            &kept.parent,
+            &kept.link,
+            &kept.origin,
+        ));
+    }
 
     let joint_calibration = if relations.is_some() {
         None
@@ -318,8 +366,9 @@ pub(crate) fn export_urdf(file: &RobotFile) -> Result<Exported, String> {
     let text = urdf_rs::write_to_string(&document).map_err(|error| error.to_string())?;
     Ok(Exported {
         text: format!(
-            "<?xml version=\"1.0\"?>\n<!-- written by gecaro robot export from `{}`: {} -->\n{text}\n",
+            "<?xml version=\"1.0\"?>\n<!-- written by gecaro robot export from `{}`: chain `{}` → `{tip}`; {} -->\n{text}\n",
             robot.name().replace("--", "- -"),
+            names.base_link.replace("--", "- -"),
             if file.masses.is_empty() {
                 "kinematic chain only (no meshes, no inertia)"
             } else {

@@ -24,7 +24,7 @@ use gecaro_core::{AxisChain, ChainJoint, FrameType, Joint, LinkMass, MassModel, 
 use nalgebra::{DMatrix, IsometryMatrix3, Unit, Vector3};
 use urdf_rs::JointType;
 
-use super::names::{UrdfJointNames, UrdfNames};
+use super::names::{UrdfFixedLink, UrdfJointNames, UrdfNames};
 use crate::Error;
 use crate::conversion::{ChainEnds, Imported};
 use crate::pose::from_xyz_rpy;
@@ -445,6 +445,21 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
     })?;
     let tree = Tree::new(&robot, &source)?;
     let root = tree.root(&source)?;
+    // A URDF gecaro wrote names its chain: read back without being told.
+    let written = written_chain(text).filter(|(base, tip)| {
+        ends.base.is_none()
+            && ends.tip.is_none()
+            && tree.links.contains(base.as_str())
+            && tree.links.contains(tip.as_str())
+    });
+    let ends = match &written {
+        Some((base, tip)) => &ChainEnds {
+            base: Some(base.clone()),
+            tip: Some(tip.clone()),
+            name: ends.name.clone(),
+        },
+        None => ends,
+    };
     let base = match ends.base.as_deref() {
         Some(base) if !tree.links.contains(base) => {
             return Err(source.error(
@@ -610,6 +625,13 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
     let frame_poses = super::frame_poses(&robot_model);
     let masses = chain_masses(&robot, &placed, &frame_poses, &mut notes);
     let finite_or_zero = |value: f64| if value.is_finite() { value } else { 0.0 };
+    // The link a joint hangs from when nothing is folded between: the
+    // previous joint's link, or the base.
+    let chain_parent = |index: usize| {
+        index
+            .checked_sub(1)
+            .map_or(base, |previous| moving[previous].child.link.as_str())
+    };
     let names = moving
         .iter()
         .enumerate()
@@ -619,6 +641,7 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
             frame_from_link: frame_poses[index + 1].inverse() * child_poses[index],
             effort: finite_or_zero(joint.limit.effort),
             velocity: finite_or_zero(joint.limit.velocity),
+            parent: (joint.parent.link != chain_parent(index)).then(|| joint.parent.link.clone()),
         })
         .collect();
     let last = path_joints
@@ -658,12 +681,66 @@ pub(crate) fn import_urdf(text: &str, path: &Path, ends: &ChainEnds) -> Result<I
                 world_from_base_link: IsometryMatrix3::identity(),
                 joints: names,
                 tip_joint: last.map(|joint| joint.name.clone()),
+                tip_parent: last
+                    .filter(|joint| joint.parent.link != chain_parent(moving.len()))
+                    .map(|joint| joint.parent.link.clone()),
+                fixed: kept_fixed_links(&robot, base, &moving, tip),
                 tip_link: tip.to_owned(),
                 tool_from_tip_link: IsometryMatrix3::identity(),
             }),
         },
         notes,
     })
+}
+
+/// The chain a URDF written by gecaro names in its header comment
+/// (`chain `base_link` → `tool0``; see `super::export`), if it is one.
+fn written_chain(text: &str) -> Option<(String, String)> {
+    let header = text.get(..text.len().min(2_000))?;
+    let comment = header.split("<!-- written by gecaro robot export").nth(1)?;
+    let comment = comment.split("-->").next()?;
+    let chain = comment.split("chain `").nth(1)?;
+    let (base, rest) = chain.split_once("` → `")?;
+    let (tip, _) = rest.split_once('`')?;
+    Some((base.to_owned(), tip.to_owned()))
+}
+
+/// The links fixed to the chain but not on it (a flange between the last
+/// joint and the tip, a camera mount, a link folded between two joints),
+/// parents first, as the URDF places each on its parent: kept so that an
+/// export writes every link back.
+fn kept_fixed_links(
+    robot: &urdf_rs::Robot,
+    base: &str,
+    moving: &[&urdf_rs::Joint],
+    tip: &str,
+) -> Vec<UrdfFixedLink> {
+    let mut known: Vec<&str> = std::iter::once(base)
+        .chain(moving.iter().map(|joint| joint.child.link.as_str()))
+        .chain(std::iter::once(tip))
+        .collect();
+    let mut kept = Vec::new();
+    let mut grown = true;
+    while grown {
+        grown = false;
+        for joint in &robot.joints {
+            if joint.joint_type != JointType::Fixed
+                || known.contains(&joint.child.link.as_str())
+                || !known.contains(&joint.parent.link.as_str())
+            {
+                continue;
+            }
+            known.push(joint.child.link.as_str());
+            kept.push(UrdfFixedLink {
+                joint: joint.name.clone(),
+                parent: joint.parent.link.clone(),
+                link: joint.child.link.clone(),
+                origin: from_xyz_rpy(joint.origin.xyz.0, joint.origin.rpy.0),
+            });
+            grown = true;
+        }
+    }
+    kept
 }
 
 /// The masses of the chain's links from their `<inertial>`: each link's

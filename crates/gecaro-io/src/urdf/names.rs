@@ -21,7 +21,19 @@
 //! link_frame = [0.0, 0.0, 0.675, 1.0, 0.0, 0.0, 0.0]  # that link's frame in frame j
 //! effort = 0.0
 //! velocity = 2.72271363311
+//! # parent = "link_1_mount"         # its parent link, when not the previous joint's link
+//!
+//! [[urdf.fixed]]                    # every link fixed to the chain but not on it
+//! joint = "joint_a6-flange"         # (a flange, a camera mount), kept for the export
+//! parent = "link_6"
+//! link = "flange"
+//! origin = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]        # the link in its parent, as the URDF had it
 //! ```
+//!
+//! `tip_parent` names the tip joint's parent link when it is such a link
+//! (`flange`, with `tool0` fixed below it). An export writes every kept
+//! link where the URDF had it on its parent, and the chain's links where
+//! the robot's (calibrated) frames put them.
 
 use gecaro_core::Robot;
 use nalgebra::IsometryMatrix3;
@@ -49,6 +61,24 @@ pub struct UrdfNames {
     /// The tip link's frame in frame n+1: identity, unless the tool frame
     /// was re-expressed.
     pub tool_from_tip_link: IsometryMatrix3<f64>,
+    /// The tip joint's parent link, when it is a kept fixed link (a
+    /// flange) rather than the last joint's link.
+    pub tip_parent: Option<String>,
+    /// The links fixed to the chain but not on it, parents first.
+    pub fixed: Vec<UrdfFixedLink>,
+}
+
+/// A link fixed to the chain but not on it (see the module docs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct UrdfFixedLink {
+    /// The fixed `<joint name>` that carries it.
+    pub joint: String,
+    /// Its parent link: a link of the chain or another kept link.
+    pub parent: String,
+    /// The link.
+    pub link: String,
+    /// The link's frame in its parent's, as the URDF had it.
+    pub origin: IsometryMatrix3<f64>,
 }
 
 impl UrdfNames {
@@ -99,6 +129,9 @@ pub struct UrdfJointNames {
     pub effort: f64,
     /// `<limit velocity>` (kept for the export; not used by gecaro).
     pub velocity: f64,
+    /// Its parent link, when it is a kept fixed link rather than the
+    /// previous joint's link (or the base link).
+    pub parent: Option<String>,
 }
 
 /// The `[urdf]` table as written.
@@ -115,8 +148,23 @@ pub struct UrdfDocument {
     pub tip_joint: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tip_link_frame: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tip_parent: Option<String>,
     #[serde(default)]
     pub joint: Vec<UrdfJointDocument>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub fixed: Vec<UrdfFixedDocument>,
+}
+
+/// One `[[urdf.fixed]]` table.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(missing_docs)]
+pub struct UrdfFixedDocument {
+    pub joint: String,
+    pub parent: String,
+    pub link: String,
+    pub origin: Vec<f64>,
 }
 
 /// One `[[urdf.joint]]` table.
@@ -131,6 +179,8 @@ pub struct UrdfJointDocument {
     pub effort: f64,
     #[serde(default)]
     pub velocity: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub parent: Option<String>,
 }
 
 fn optional_frame(pose: &IsometryMatrix3<f64>) -> Option<Vec<f64>> {
@@ -156,6 +206,18 @@ impl UrdfDocument {
                     link_frame: to_seven(&joint.frame_from_link).to_vec(),
                     effort: joint.effort,
                     velocity: joint.velocity,
+                    parent: joint.parent.clone(),
+                })
+                .collect(),
+            tip_parent: names.tip_parent.clone(),
+            fixed: names
+                .fixed
+                .iter()
+                .map(|fixed| UrdfFixedDocument {
+                    joint: fixed.joint.clone(),
+                    parent: fixed.parent.clone(),
+                    link: fixed.link.clone(),
+                    origin: to_seven(&fixed.origin).to_vec(),
                 })
                 .collect(),
         }
@@ -198,10 +260,52 @@ impl UrdfDocument {
                     .map_err(|message| at(format!("joint {} link_frame {message}", index + 1)))?,
                 effort: joint.effort,
                 velocity: joint.velocity,
+                parent: joint.parent.clone(),
             });
         }
         if self.robot.is_empty() || self.base_link.is_empty() || self.tip_link.is_empty() {
             return Err(at("robot, base_link and tip_link must not be empty".into()));
+        }
+        // Every kept link hangs from a link named before it: the export
+        // places it from its parent.
+        let mut links: Vec<&str> = std::iter::once(self.base_link.as_str())
+            .chain(self.joint.iter().map(|joint| joint.link.as_str()))
+            .chain(std::iter::once(self.tip_link.as_str()))
+            .collect();
+        let mut fixed = Vec::with_capacity(self.fixed.len());
+        for (index, kept) in self.fixed.iter().enumerate() {
+            if kept.joint.is_empty() || kept.link.is_empty() || kept.parent.is_empty() {
+                return Err(at(format!("fixed link {} has an empty name", index + 1)));
+            }
+            if !links.contains(&kept.parent.as_str()) {
+                return Err(at(format!(
+                    "fixed link `{}` hangs from `{}`, which is no link named before it",
+                    kept.link, kept.parent
+                )));
+            }
+            if links.contains(&kept.link.as_str()) {
+                return Err(at(format!("link `{}` appears twice", kept.link)));
+            }
+            links.push(&kept.link);
+            fixed.push(UrdfFixedLink {
+                joint: kept.joint.clone(),
+                parent: kept.parent.clone(),
+                link: kept.link.clone(),
+                origin: pose_from_seven(&kept.origin).map_err(|message| {
+                    at(format!("fixed link `{}` origin {message}", kept.link))
+                })?,
+            });
+        }
+        for parent in joints
+            .iter()
+            .filter_map(|joint| joint.parent.as_deref())
+            .chain(self.tip_parent.as_deref())
+        {
+            if !fixed.iter().any(|kept| kept.link == parent) {
+                return Err(at(format!(
+                    "parent link `{parent}` is not a kept fixed link ([[urdf.fixed]])"
+                )));
+            }
         }
         Ok(UrdfNames {
             robot: self.robot.clone(),
@@ -211,6 +315,8 @@ impl UrdfDocument {
             tip_joint: self.tip_joint.clone(),
             tip_link: self.tip_link.clone(),
             tool_from_tip_link: frame(&self.tip_link_frame, "tip_link_frame")?,
+            tip_parent: self.tip_parent.clone(),
+            fixed,
         })
     }
 }

@@ -109,7 +109,7 @@ class Robot:
         """Writes the robot file (TOML) atomically."""
     def to_toml(self) -> str:
         """The robot file's text."""
-    def export(self, to: Literal["urdf", "dh", "mdh"]) -> Exported:
+    def export(self, to: Literal["urdf", "dh", "mdh", "symoro"]) -> Exported:
         """The robot in another format, as ``gecaro robot export``."""
     name: str
     @property
