@@ -62,6 +62,10 @@ pub(crate) enum Command {
     /// A user frame from measured points: origin, x and xy (three points), or any number of
     /// points with their place in the frame (frame_x, frame_y, frame_z; least squares).
     Frame(FrameArgs),
+    /// Join an instrument's export (x,y,z[,qw,qx,qy,qz]) with a controller's log
+    /// (qm1..qmn) into one data file, by a key column or by row order; a shifted join is
+    /// refused with its direction.
+    Join(JoinArgs),
     /// Generate data for the Stanford arm and identify it with every method.
     Demo(DemoArgs),
     /// Serve the GECARO main page (robot table, seven method menus) on 127.0.0.1.
@@ -881,6 +885,42 @@ pub(crate) struct TcpArgs {
     /// Print JSON instead of text (lengths in metres).
     #[arg(long)]
     pub(crate) json: bool,
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct JoinArgs {
+    /// The instrument's export (CSV): x,y,z and, when measured, qw,qx,qy,qz per point.
+    pub(crate) tracker: PathBuf,
+    /// The controller's log (CSV): qm1..qmn per configuration.
+    pub(crate) log: PathBuf,
+    /// The robot (file or ready robot name): its joints, and its model to check the join.
+    #[arg(long)]
+    pub(crate) robot: String,
+    /// The key column (a point's name or number) of both files; without it, rows are joined
+    /// in order and the files must have as many.
+    #[arg(long, value_name = "COLUMN")]
+    pub(crate) key: Option<String>,
+    /// The log's key column, when its name differs from the export's.
+    #[arg(long, value_name = "COLUMN", requires = "key")]
+    pub(crate) log_key: Option<String>,
+    /// The export's columns under other names (x=X_mm,y=Y_mm,z=Z_mm).
+    #[arg(long, value_name = "NAME=COLUMN,..")]
+    pub(crate) tracker_columns: Option<String>,
+    /// The log's columns under other names (qm1=A1,qm2=A2,…).
+    #[arg(long, value_name = "NAME=COLUMN,..")]
+    pub(crate) log_columns: Option<String>,
+    /// The export's length unit (m or mm; default m).
+    #[arg(long, value_name = "m|mm")]
+    pub(crate) length_unit: Option<String>,
+    /// The log's angle unit (rad or deg; default rad).
+    #[arg(long, value_name = "rad|deg")]
+    pub(crate) angle_unit: Option<String>,
+    /// The joined data file (CSV, metres and radians).
+    #[arg(short, long)]
+    pub(crate) output: PathBuf,
+    /// Overwrite the output if it exists.
+    #[arg(long)]
+    pub(crate) force: bool,
 }
 
 #[derive(Debug, Args)]

@@ -897,3 +897,147 @@ fn the_maker_s_base_is_registered_by_circles() {
     );
     assert!(!at("bad.toml").exists());
 }
+
+/// `gecaro join` (issue 74): a tracker's export (`;`, decimal commas, mm,
+/// its own column names, the points in another order) joined with a
+/// controller's log (degrees, its own names, rows nothing measured) by
+/// the point's name gives the simulated truth back; joined by row order
+/// with a row more at the log's top, the shift is refused with its
+/// direction; the files as they come, row for row, join.
+#[test]
+fn an_instrument_export_joins_a_controller_log() {
+    let folder = tempfile::tempdir().expect("folder");
+    let at = |name: &str| folder.path().join(name);
+    let text = |name: &str| at(name).to_str().expect("UTF-8").to_owned();
+    let real = real_robot();
+    let reflector = Vector3::new(0.01, -0.02, 0.12);
+    let mut sampler = Sampler::new(23);
+    let configurations: Vec<Vec<f64>> = (0..40).map(|_| sampler.configuration(&real)).collect();
+    let points: Vec<Vector3<f64>> = configurations
+        .iter()
+        .map(|qm| point(&real, qm, &reflector) + sampler.gaussian_vector(2e-5))
+        .collect();
+    let mm = |v: f64| format!("{:.4}", v * 1e3).replace('.', ",");
+    let degrees = |qm: &[f64]| {
+        qm.iter()
+            .map(|q| format!("{:.9}", q.to_degrees()))
+            .collect::<Vec<_>>()
+            .join(",")
+    };
+    // The export, last point first; the log with two rows nothing measured.
+    let mut export = String::from("Point;X;Y;Z;RMS\n");
+    for (i, p) in points.iter().enumerate().rev() {
+        export += &format!("P{};{};{};{};0,01\n", i + 1, mm(p.x), mm(p.y), mm(p.z));
+    }
+    let mut log = String::from("Name,A1,A2,A3,A4,A5,A6,Speed\n");
+    log += &format!("HOME,{},100\n", degrees(&[0.0; 6]));
+    for (i, qm) in configurations.iter().enumerate() {
+        log += &format!("P{},{},100\n", i + 1, degrees(qm));
+    }
+    log += &format!("PARK,{},100\n", degrees(&[0.0, -1.0, 1.0, 0.0, 0.5, 0.0]));
+    std::fs::write(at("export.csv"), &export).expect("export");
+    std::fs::write(at("log.csv"), &log).expect("log");
+    let join = |tracker: &str, log: &str, key: bool, output: &str| {
+        let mut command = gecaro();
+        command
+            .args(["join", &text(tracker), &text(log), "--robot", "industrial6"])
+            .args(["--tracker-columns", "x=X,y=Y,z=Z", "--length-unit", "mm"])
+            .args(["--log-columns", "qm1=A1,qm2=A2,qm3=A3,qm4=A4,qm5=A5,qm6=A6"])
+            .args(["--angle-unit", "deg", "-o", &text(output)]);
+        if key {
+            command.args(["--key", "Point", "--log-key", "Name"]);
+        }
+        command.output().expect("runs")
+    };
+    let run = join("export.csv", "log.csv", true, "joined.csv");
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("2 log row(s) have no measured point") && stderr.contains("HOME (line 2)"),
+        "{stderr}"
+    );
+    // Read back as data: the truth, in the export's order.
+    let joined = std::fs::read_to_string(at("joined.csv")).expect("joined");
+    let rows: Vec<Vec<f64>> = joined
+        .lines()
+        .filter(|line| !line.starts_with('#'))
+        .skip(1)
+        .map(|line| {
+            line.split(',')
+                .map(|v| v.parse().expect("number"))
+                .collect()
+        })
+        .collect();
+    assert_eq!(rows.len(), 40);
+    for (row, i) in rows.iter().zip((0..40).rev()) {
+        for j in 0..6 {
+            assert!((row[j] - configurations[i][j]).abs() < 1e-10, "row {i}");
+        }
+        for axis in 0..3 {
+            assert!((row[6 + axis] - points[i][axis]).abs() < 1e-7, "row {i}");
+        }
+    }
+    gecaro()
+        .args([
+            "identify",
+            "industrial6",
+            "--method",
+            "position",
+            "--sigma",
+            "20um",
+        ])
+        .args([
+            "--data",
+            &text("joined.csv"),
+            "-o",
+            &text("calibrated.toml"),
+        ])
+        .assert()
+        .success();
+    // By row order: the log's HOME row at its top shifts every point by one.
+    let mut in_order = String::from("Point;X;Y;Z;RMS\n");
+    for (i, p) in points.iter().enumerate() {
+        in_order += &format!("P{};{};{};{};0,01\n", i + 1, mm(p.x), mm(p.y), mm(p.z));
+    }
+    std::fs::write(at("in_order.csv"), &in_order).expect("export");
+    let shifted_log: String = log
+        .lines()
+        .take(41)
+        .map(|line| format!("{line}\n"))
+        .collect();
+    std::fs::write(at("shifted_log.csv"), shifted_log).expect("log");
+    let run = join("in_order.csv", "shifted_log.csv", false, "shifted.csv");
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        !run.status.success()
+            && stderr.contains("looks shifted")
+            && stderr.contains("1 after its own"),
+        "{stderr}"
+    );
+    assert!(!at("shifted.csv").exists());
+    // The log without HOME and PARK: row for row.
+    let plain_log: String = log
+        .lines()
+        .filter(|line| !line.starts_with("HOME") && !line.starts_with("PARK"))
+        .map(|line| format!("{line}\n"))
+        .collect();
+    std::fs::write(at("plain_log.csv"), plain_log).expect("log");
+    let run = join(
+        "in_order.csv",
+        "plain_log.csv",
+        false,
+        "in_order_joined.csv",
+    );
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    // And counts that differ are named.
+    let run = join("in_order.csv", "log.csv", false, "counts.csv");
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        stderr.contains("40 measured points and 42 log rows"),
+        "{stderr}"
+    );
+}

@@ -1,11 +1,14 @@
-//! `gecaro tcp` and `gecaro frame`: the owner's tool point and user frames.
+//! `gecaro tcp`, `gecaro frame` and `gecaro join`: the owner's tool point
+//! and user frames, and the instrument's files joined with the
+//! controller's.
 
 use gecaro_app::{
-    DataSource, FramePointsSource, LocalFiles, RobotSource, ToolPointRequest, UserFrameRequest,
+    DataFormatSpec, DataSource, FramePointsSource, JoinRequest, LocalFiles, RobotSource,
+    ToolPointRequest, UserFrameRequest,
 };
 
 use super::options::{data_format, name};
-use crate::cli::{FrameArgs, TcpArgs};
+use crate::cli::{FrameArgs, JoinArgs, TcpArgs};
 use crate::failure::Failure;
 
 /// Millimetres with four decimals.
@@ -93,5 +96,62 @@ pub(crate) fn frame(args: &FrameArgs) -> Result<(), Failure> {
             "three points define it exactly: no σ (give more points with frame_x, frame_y, frame_z for one)"
         );
     }
+    Ok(())
+}
+
+pub(crate) fn join(args: &JoinArgs) -> Result<(), Failure> {
+    let mut request = JoinRequest::new(
+        RobotSource::Named(args.robot.clone()),
+        DataSource::File(name(&args.tracker)),
+        DataSource::File(name(&args.log)),
+    );
+    request.key = args.key.clone();
+    request.log_key = args.log_key.clone();
+    request.tracker_format = DataFormatSpec {
+        length_unit: args.length_unit.clone(),
+        columns: args.tracker_columns.clone(),
+        ..DataFormatSpec::default()
+    };
+    request.log_format = DataFormatSpec {
+        angle_unit: args.angle_unit.clone(),
+        columns: args.log_columns.clone(),
+        ..DataFormatSpec::default()
+    };
+    request.save_as = Some(name(&args.output));
+    request.overwrite = args.force;
+    let joined = request.run(&LocalFiles)?;
+    let unmeasured = &joined.joined.unmeasured;
+    if !unmeasured.is_empty() {
+        let shown: Vec<String> = unmeasured
+            .iter()
+            .take(5)
+            .map(|(key, line)| format!("{key} (line {line})"))
+            .collect();
+        eprintln!(
+            "note: {} log row(s) have no measured point and are left out: {}{}",
+            unmeasured.len(),
+            shown.join(", "),
+            if unmeasured.len() > 5 { ", …" } else { "" }
+        );
+    }
+    let check = match joined.distance_rms {
+        Some(rms) => format!(
+            "; the distances between consecutive points match the robot's to {} mm RMS, and \
+             no shift of up to {} rows matches them better",
+            mm(rms),
+            gecaro_app::MAX_SHIFT
+        ),
+        None => String::new(),
+    };
+    println!(
+        "wrote {}: {} configurations with their measured {}{check}",
+        args.output.display(),
+        joined.joined.points.len(),
+        if joined.joined.orientations {
+            "poses"
+        } else {
+            "points"
+        }
+    );
     Ok(())
 }

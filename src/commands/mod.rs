@@ -38,6 +38,7 @@ pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
         Command::Compensate(args) => compensation::compensate(&args),
         Command::Tcp(args) => frames::tcp(&args),
         Command::Frame(args) => frames::frame(&args),
+        Command::Join(args) => frames::join(&args),
         Command::Demo(args) => calibration::demo(&args),
         Command::Serve(args) => serve::serve(&args),
     }

@@ -77,6 +77,7 @@ mod generate;
 mod identifiable;
 mod identify;
 mod interchange;
+mod join;
 pub mod limits;
 mod loads;
 mod measurements;
@@ -119,6 +120,7 @@ pub use interchange::{
     ExportRequest, ExportedRobot, ImportRequest, Imported, format_name, joint_calibration_name,
     write_export,
 };
+pub use join::{JoinRequest, JoinedData, JoinedJson, MAX_SHIFT, SHIFT_RATIO, UnmeasuredJson};
 pub use measurements::{Data, Loaded, LoadedStudy, Measurements, Note, StudySource};
 pub use method::{MethodSpec, parse_name};
 pub use model_advice::{BETTER, CHEAP_EQUATIONS, ModelAdvice, ModelCheck};

@@ -18,6 +18,7 @@ mod document;
 mod error;
 mod input;
 mod interchange;
+mod join;
 mod joint_calibration;
 mod line_chunks;
 mod named_points;
@@ -37,6 +38,7 @@ mod stated_units;
 mod study_file;
 mod study_spec;
 mod symoro;
+mod table_text;
 mod units;
 mod urdf;
 mod work_region;
@@ -56,6 +58,7 @@ pub use document::{
 pub use error::Error;
 pub use input::{is_hidden_character, open_input, read_description};
 pub use interchange::{ImportOptions, RobotFormat, export_robot, import_robot, import_robot_text};
+pub use join::{JoinSpec, Joined, join_tables};
 pub use joint_calibration::apply_joint_calibration;
 pub use named_points::{
     BasePoint, FramePoint, MAX_BASE_POINT_DISTANCE, parse_base_points, parse_frame_points,

@@ -36,8 +36,8 @@ use std::path::Path;
 use nalgebra::Vector3;
 
 use crate::Error;
-use crate::columns::parse_number;
 use crate::data_file::DataFormat;
+use crate::table_text::TextTable;
 
 /// The farthest a base point may be from either frame's origin (m): a
 /// laser tracker's range is under 80 m.
@@ -171,26 +171,15 @@ fn rows(
         field: field.map(str::to_owned),
         message,
     };
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(index, line)| (index + 1, line.trim_end_matches('\r')))
-        .filter(|(_, line)| !line.trim().is_empty() && !line.trim_start().starts_with('#'));
-    let Some((_, header)) = lines.next() else {
-        return Err(format_error(format!("no header: {hint}")));
-    };
-    let separator = format.delimiter.byte(header.as_bytes());
-    let decimal_comma = format.decimal_comma(separator).map_err(format_error)?;
-    let split = |line: &str| -> Vec<String> {
-        line.split(char::from(separator))
-            .map(|field| field.trim().trim_matches('"').to_owned())
-            .collect()
-    };
-    let names = split(header);
-    let find = |name: &str| {
-        let file_name = format.columns.file_name(name);
-        names.iter().position(|column| column == file_name)
-    };
+    let table = TextTable::parse(
+        text,
+        path,
+        format,
+        MAX_BASE_POINTS,
+        &format!("this is not a points file ({hint})"),
+    )?;
+    let names = &table.names;
+    let find = |name: &str| table.column(format, name);
     let mut columns = Vec::with_capacity(required.len());
     for name in required {
         columns.push((
@@ -224,31 +213,10 @@ fn rows(
     let name_column = find("name");
     let metres = format.units.length.to_metres();
     let mut rows = Vec::new();
-    for (line, row) in lines {
-        if rows.len() == MAX_BASE_POINTS {
-            return Err(parse_error(
-                line,
-                None,
-                format!("more than {MAX_BASE_POINTS} points: this is not a points file"),
-            ));
-        }
-        let fields = split(row);
-        if fields.len() != names.len() {
-            return Err(parse_error(
-                line,
-                None,
-                format!(
-                    "{} fields where the header has {}",
-                    fields.len(),
-                    names.len()
-                ),
-            ));
-        }
+    for (line, fields) in &table.rows {
+        let line = *line;
         let read = |(name, column): &(&str, usize)| -> Result<f64, Error> {
-            let text = &fields[*column];
-            let value = parse_number(text, decimal_comma).ok_or_else(|| {
-                parse_error(line, Some(name), format!("`{text}` is not a number"))
-            })? * metres;
+            let value = table.number(path, (line, &fields[*column]), name)? * metres;
             if !(value.is_finite() && value.abs() <= MAX_BASE_POINT_DISTANCE) {
                 return Err(parse_error(
                     line,

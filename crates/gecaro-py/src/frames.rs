@@ -1,15 +1,22 @@
-//! The owner's tool point and user frames (issue 74): `gecaro.tool_point`
-//! and `gecaro.user_frame`, through the application layer's requests.
+//! The owner's tool point and user frames, and an instrument's export
+//! joined with a controller's log (issue 74): `gecaro.tool_point`,
+//! `gecaro.user_frame` and `gecaro.join`, through the application layer's
+//! requests.
+
+use std::ffi::CString;
+use std::path::PathBuf;
 
 use gecaro_app::{
-    DataSource, FramePointsSource, LocalFiles, RobotSource, ToolPointRequest, UserFrameRequest,
+    DataFormatSpec, DataSource, FramePointsSource, JoinRequest, LocalFiles, RobotSource,
+    ToolPointRequest, UserFrameRequest,
 };
+use gecaro_calib::study::DataColumn;
 use pyo3::prelude::*;
 
 use crate::arrays::{named_points, points};
 use crate::data::PyData;
 use crate::documents::to_python;
-use crate::errors::IntoPyResult;
+use crate::errors::{IntoPyResult, input};
 use crate::robot::PyRobot;
 
 /// A tool point taught by pivoting, as `gecaro tcp --json` gives it: the
@@ -76,4 +83,94 @@ pub(crate) fn user_frame<'py>(
         .run(&LocalFiles)
         .py()?;
     to_python(py, &made.document())
+}
+
+/// An instrument's export joined with a controller's log, as `gecaro
+/// join`: `tracker` (x, y, z and, when measured, qw, qx, qy, qz per point,
+/// lengths in `length_unit`) and `log` (qm1 … qmn in `angle_unit`), by the
+/// `key` column of both (`log_key` in the log when its name differs) or by
+/// row order; columns renamed by `tracker_columns` / `log_columns`
+/// (`"x=X,y=Y,z=Z"`). Returns the joined `Data` (metres, radians), written
+/// to `output` when given. Log rows nothing measured are left out with a
+/// `UserWarning`; a shifted join, a key twice, a point the log lacks raise
+/// InputError.
+#[pyfunction]
+#[pyo3(signature = (
+    robot, tracker, log, output = None, *, key = None, log_key = None, tracker_columns = None,
+    log_columns = None, length_unit = None, angle_unit = None, overwrite = false,
+))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn join(
+    py: Python<'_>,
+    robot: PyRef<'_, PyRobot>,
+    tracker: PathBuf,
+    log: PathBuf,
+    output: Option<PathBuf>,
+    key: Option<String>,
+    log_key: Option<String>,
+    tracker_columns: Option<String>,
+    log_columns: Option<String>,
+    length_unit: Option<String>,
+    angle_unit: Option<String>,
+    overwrite: bool,
+) -> PyResult<PyData> {
+    let mut request = JoinRequest::new(
+        RobotSource::Loaded(Box::new(robot.file.clone())),
+        DataSource::File(tracker.display().to_string()),
+        DataSource::File(log.display().to_string()),
+    );
+    request.key = key;
+    request.log_key = log_key;
+    request.tracker_format = DataFormatSpec {
+        length_unit,
+        columns: tracker_columns,
+        ..DataFormatSpec::default()
+    };
+    request.log_format = DataFormatSpec {
+        angle_unit,
+        columns: log_columns,
+        ..DataFormatSpec::default()
+    };
+    request.save_as = output.map(|path| path.display().to_string());
+    request.overwrite = overwrite;
+    let joined = request.run(&LocalFiles).py()?;
+    let unmeasured = &joined.joined.unmeasured;
+    if !unmeasured.is_empty() {
+        let shown: Vec<String> = unmeasured
+            .iter()
+            .take(5)
+            .map(|(key, line)| format!("{key} (line {line})"))
+            .collect();
+        let message = CString::new(format!(
+            "{} log row(s) have no measured point and are left out: {}",
+            unmeasured.len(),
+            shown.join(", ")
+        ))
+        .map_err(|error| input(error.to_string()))?;
+        PyErr::warn(
+            py,
+            &py.get_type::<pyo3::exceptions::PyUserWarning>(),
+            &message,
+            1,
+        )?;
+    }
+    let types = gecaro_io::joint_types(robot.robot());
+    let columns = if joined.joined.orientations {
+        vec![DataColumn::Position, DataColumn::Orientation]
+    } else {
+        vec![DataColumn::Position]
+    };
+    let label = joined
+        .saved
+        .as_ref()
+        .map_or_else(|| "joined".to_owned(), |path| path.display().to_string());
+    let file = gecaro_io::parse_samples(
+        joined.joined.text.as_bytes(),
+        std::path::Path::new(&label),
+        &types,
+        &columns,
+        &gecaro_io::DataFormat::default(),
+    )
+    .py()?;
+    Ok(PyData::from_samples(file.samples, types.len(), label))
 }

@@ -80,6 +80,7 @@ fn _gecaro(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(compensation::compensate_program, module)?)?;
     module.add_function(wrap_pyfunction!(frames::tool_point, module)?)?;
     module.add_function(wrap_pyfunction!(frames::user_frame, module)?)?;
+    module.add_function(wrap_pyfunction!(frames::join, module)?)?;
     module.add_function(wrap_pyfunction!(planning::plan, module)?)?;
     module.add_function(wrap_pyfunction!(planning::plan_study, module)?)?;
     module.add_function(wrap_pyfunction!(planning::predict, module)?)?;

@@ -293,3 +293,42 @@ def test_orientations_as_roll_pitch_yaw_are_read(tmp_path):
     assert np.allclose(np.abs(np.sum(read.orientation * data.orientation, axis=1)), 1.0, atol=1e-12)
     with pytest.raises(gecaro.InputError, match="rotation"):
         gecaro.Data.read(path, robot, "frame", rotation="xyz")
+
+
+def test_an_export_joins_a_log_as_the_command_line_does(cli, tmp_path):
+    """A tracker export (mm, `;`, decimal commas) and a controller log
+    (degrees, a row nothing measured) joined by name: the same file as the
+    command line's, the truth back, the extra row warned about."""
+    import numpy as np
+
+    robot = gecaro.Robot.load("industrial6")
+    generator = np.random.default_rng(4)
+    qm = generator.uniform(-1.0, 1.0, size=(12, 6))
+    points = np.array([robot.fk(row)[:3, 3] for row in qm])
+    export = "Point;X;Y;Z\n" + "".join(
+        f"P{i};" + ";".join(f"{v * 1e3:.6f}".replace(".", ",") for v in p) + "\n"
+        for i, p in enumerate(points)
+    )
+    log = "Name,A1,A2,A3,A4,A5,A6\nHOME,0,0,0,0,0,0\n" + "".join(
+        f"P{i}," + ",".join(f"{v:.10f}" for v in np.degrees(row)) + "\n" for i, row in enumerate(qm)
+    )
+    (tmp_path / "export.csv").write_text(export)
+    (tmp_path / "log.csv").write_text(log)
+    options = dict(
+        key="Point", log_key="Name", tracker_columns="x=X,y=Y,z=Z",
+        log_columns="qm1=A1,qm2=A2,qm3=A3,qm4=A4,qm5=A5,qm6=A6", length_unit="mm", angle_unit="deg",
+    )
+    with pytest.warns(UserWarning, match="1 log row"):
+        data = gecaro.join(robot, tmp_path / "export.csv", tmp_path / "log.csv", tmp_path / "py.csv", **options)
+    assert np.allclose(data.qm, qm, atol=1e-9) and np.allclose(data.position, points, atol=1e-8)
+    cli.run(
+        "join", "export.csv", "log.csv", "--robot", "industrial6", "--key", "Point", "--log-key", "Name",
+        "--tracker-columns", "x=X,y=Y,z=Z", "--log-columns", options["log_columns"],
+        "--length-unit", "mm", "--angle-unit", "deg", "-o", "cli.csv",
+    )
+    # The same rows (the comment line names the files as each was given).
+    lines = lambda name: (tmp_path / name).read_text().splitlines()[1:]
+    assert lines("py.csv") == lines("cli.csv")
+    (tmp_path / "twice.csv").write_text(export + "P3;0;0;0\n")
+    with pytest.raises(gecaro.InputError, match="key `P3` again"):
+        gecaro.join(robot, tmp_path / "twice.csv", tmp_path / "log.csv", **options)

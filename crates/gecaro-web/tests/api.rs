@@ -2517,6 +2517,77 @@ async fn a_payload_no_arm_carries_is_refused_by_its_field() {
     assert!(message.contains("a payload of 1200 kg"), "{message}");
 }
 
+/// `/api/join` (issue 74): an export in mm with `;` and decimal commas, a
+/// log in degrees with a row nothing measured, joined by name and saved in
+/// the folder; by row order, the counts that differ are named.
+#[tokio::test]
+async fn an_export_and_a_log_are_joined_through_the_api() {
+    let api = Api::new();
+    let document = api.document("stanford").await;
+    let mut export = String::from("Point;X;Y;Z\n");
+    let mut log = String::from("Name,qm1,qm2,qm3,qm4,qm5,qm6\nHOME,0,0,0.5,0,0,0\n");
+    for i in 0..12 {
+        let t = f64::from(i);
+        let q = [
+            (0.7 * t).sin(),
+            (0.4 * t).cos() - 0.5,
+            0.4 + 0.1 * (0.9 * t).sin(),
+            (1.3 * t).sin(),
+            0.8 * (0.5 * t).cos(),
+            0.3 * t - 1.5,
+        ];
+        let (status, pose) = api
+            .post("/api/robots/pose", &json!({ "robot": document, "q": q }))
+            .await;
+        assert_eq!(status, StatusCode::OK, "{pose}");
+        let frames = pose["frames"].as_array().expect("frames");
+        let tool = &frames[frames.len() - 1]["origin"];
+        let mm =
+            |axis: usize| format!("{:.6}", tool[axis].as_f64().expect("m") * 1e3).replace('.', ",");
+        export += &format!("P{i};{};{};{}\n", mm(0), mm(1), mm(2));
+        let degrees: Vec<String> = q
+            .iter()
+            .enumerate()
+            .map(|(j, v)| {
+                if j == 2 {
+                    v.to_string()
+                } else {
+                    v.to_degrees().to_string()
+                }
+            })
+            .collect();
+        log += &format!("P{i},{}\n", degrees.join(","));
+    }
+    let request = |key: bool, save_as: &str| {
+        let mut request = json!({
+            "robot": document,
+            "tracker": { "csv": { "text": export, "name": "export.csv" } },
+            "log": { "csv": { "text": log, "name": "log.csv" } },
+            "tracker_format": { "length_unit": "mm", "columns": "x=X,y=Y,z=Z" },
+            "log_format": { "angle_unit": "deg" },
+            "save_as": save_as,
+        });
+        if key {
+            request["key"] = json!("Point");
+            request["log_key"] = json!("Name");
+        }
+        request
+    };
+    let (status, body) = api.post("/api/join", &request(true, "joined.csv")).await;
+    assert_eq!(status, StatusCode::OK, "{body}");
+    assert_eq!(body["rows"], 12, "{body}");
+    assert_eq!(body["unmeasured"][0]["key"], "HOME", "{body}");
+    assert!(body["distance_rms"].as_f64().expect("m") < 1e-5, "{body}");
+    assert!(api.names().contains(&"joined.csv".to_owned()));
+    // By row order, the export is one row short of the log: named.
+    let (status, body) = api.post("/api/join", &request(false, "by_order.csv")).await;
+    assert!(status.is_client_error(), "{body}");
+    assert!(
+        error_text(&body).contains("12 measured points and 13 log rows"),
+        "{body}"
+    );
+}
+
 /// The owner's frames from the page (issue 74): a tool point taught from
 /// a pivot's joint values (an upload, degrees), as `gecaro tcp`; a pivot
 /// about one axis refused by its field; a user frame from three points.

@@ -37,6 +37,7 @@ __all__ = [
     "compensate_program",
     "tool_point",
     "user_frame",
+    "join",
     "plan",
     "plan_study",
     "predict",
@@ -697,6 +698,26 @@ def tool_point(robot: Robot, qm: Union[_ArrayLike, Data]) -> dict[str, Any]:
     """A tool point taught by pivoting, as ``gecaro tcp --json``: m ≥ 4
     orientations with the tip on one fixed point → ``"tool"`` in frame n+1
     and ``"fixed_point"`` (m), residuals, σ, the orientations' spread (rad)."""
+
+def join(
+    robot: Robot,
+    tracker: _PathLike,
+    log: _PathLike,
+    output: Optional[_PathLike] = None,
+    *,
+    key: Optional[str] = None,
+    log_key: Optional[str] = None,
+    tracker_columns: Optional[str] = None,
+    log_columns: Optional[str] = None,
+    length_unit: Optional[Literal["m", "mm"]] = None,
+    angle_unit: Optional[Literal["rad", "deg"]] = None,
+    overwrite: bool = False,
+) -> Data:
+    """An instrument's export joined with a controller's log, as ``gecaro
+    join``: by the ``key`` column of both (``log_key`` in the log) or by row
+    order; the joined data (metres, radians), written to ``output`` when
+    given. Log rows nothing measured are left out with a ``UserWarning``; a
+    shifted join raises InputError."""
 
 def user_frame(
     measured: _ArrayLike,

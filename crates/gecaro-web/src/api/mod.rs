@@ -60,6 +60,7 @@ pub(crate) fn routes() -> Router<AppState> {
         .route("/compensate", post(compensation::compensate))
         .route("/tcp", post(frames::tool_point))
         .route("/frame", post(frames::user_frame))
+        .route("/join", post(frames::join))
         .route("/studies/file", get(study::open))
         .route("/studies/save", post(study::save))
         .route("/studies/plan", post(planning::plan_study))

@@ -1,13 +1,14 @@
 // The Identification function: iterated linearised least squares (eq. 10)
 // as a server job, its verdict, errors, plots and parameters with σ.
 import { api } from '../api.js';
-import { dataSelect, dataRequest } from '../data-choices.js';
+import { dataSelect, dataRequest, refreshDataChoices } from '../data-choices.js';
 import { h } from '../dom.js';
-import { field, fieldNumber, sigmaText, degreesText, foldsOf, errorBox, runButton, observabilityLine, stat } from '../fields.js';
+import { field, fieldNumber, sigmaText, degreesText, foldsOf, errorBox, runButton, observabilityLine, stat, FieldError } from '../fields.js';
 import { fmt, fixed, sci } from '../format.js';
 import { followJob } from '../jobs.js';
 import { optionFields, methodRequest, formatFields, formatRequest } from '../method-options.js';
 import { calibratedActions, plotFigure, registrationBlock } from '../results.js';
+import { refreshFiles } from '../robot-menu.js';
 import { identificationBasis, refreshStale } from '../stale.js';
 import { state, tableDocument, persist } from '../state.js';
 import { unitOf, inUnits, unitName, unitsLabel } from '../units.js';
@@ -109,6 +110,7 @@ export function identifyPanel(method) {
       optionFields(method, 'identify'),
       run),
     formatFields(name, 'identify'),
+    joinForm(name),
     h('p', { class: 'hint', text: 'Iterated linearised least squares (eq. 10): W is rebuilt at every iterate; σ of each parameter from eq. 11. A robust loss discounts gross errors; a prior keeps poorly excited parameters near nominal; cross-validation judges the fit on held-out configurations.' }),
     result);
 }
@@ -198,4 +200,67 @@ export function renderIdentification(container, name, job, result) {
     outlierTable('Rejected before this fit', id.rejected, id.rejected_count, `${name}-identify-rejected`),
     outlierTable('Outliers', id.outliers, id.outlier_count, `${name}-identify-outliers`),
     plots, h('h3', { text: `Identified parameters (${unitsLabel()}; gains without unit; beyond 3σ in bold, regrouped in italics)` }), table, moved].filter(Boolean));
+}
+
+/**
+ * An instrument's export joined with a controller's log (issue 74), files
+ * of the folder as they are written: by a key column of both, or by row
+ * order; the joined data file is saved in the folder and offered as data.
+ */
+function joinForm(name) {
+  const id = (what) => `${name}-join-${what}`;
+  const text = (what, placeholder) => h('input', { type: 'text', id: id(what), placeholder });
+  const tracker = text('tracker', 'e.g. export.csv: x, y, z per measured point');
+  const log = text('log', 'e.g. log.csv: qm1…qmn per configuration');
+  const key = text('key', 'e.g. Point (empty: by row order)');
+  const logKey = text('log-key', 'when the log names it otherwise');
+  const trackerColumns = text('tracker-columns', 'e.g. x=X,y=Y,z=Z');
+  const logColumns = text('log-columns', 'e.g. qm1=A1,qm2=A2,…');
+  const lengthUnit = h('select', { id: id('length-unit') },
+    h('option', { value: 'mm', text: 'mm' }), h('option', { value: 'm', text: 'm' }));
+  const angleUnit = h('select', { id: id('angle-unit') },
+    h('option', { value: 'deg', text: 'degrees' }), h('option', { value: 'rad', text: 'radians' }));
+  const saveAs = text('save-as', 'e.g. joined.csv');
+  const result = h('div', { class: 'result', id: id('result') });
+  const run = runButton(id('run'), 'Join', async () => {
+    try {
+      for (const [input, what] of [[tracker, 'the instrument’s export'], [log, 'the controller’s log'], [saveAs, 'the joined file']]) {
+        if (!input.value.trim()) throw new FieldError(`Name ${what}.`);
+      }
+      const joined = await api('/join', {
+        robot: tableDocument(),
+        tracker: { file: tracker.value.trim() },
+        log: { file: log.value.trim() },
+        key: key.value.trim() || null,
+        log_key: logKey.value.trim() || null,
+        tracker_format: { length_unit: lengthUnit.value, columns: trackerColumns.value.trim() || null },
+        log_format: { angle_unit: angleUnit.value, columns: logColumns.value.trim() || null },
+        save_as: saveAs.value.trim(),
+      });
+      const left = joined.unmeasured.length
+        ? ` ${joined.unmeasured.length} log row(s) have no measured point and are left out: ${joined.unmeasured.slice(0, 5).map((row) => `${row.key} (line ${row.line})`).join(', ')}.`
+        : '';
+      const check = joined.distance_rms === null || joined.distance_rms === undefined ? ''
+        : ` The distances between consecutive points match the table’s robot to ${(joined.distance_rms * 1000).toFixed(3)} mm RMS, and no shift of rows matches them better.`;
+      result.replaceChildren(h('p', { id: id('summary'), text: `Saved ${joined.output}: ${joined.rows} configurations with their measured ${joined.orientations ? 'poses' : 'points'}.${left}${check}` }));
+      await refreshFiles();
+      refreshDataChoices(name, joined.output);
+    } catch (error) {
+      result.replaceChildren(errorBox(error));
+    }
+  });
+  return h('details', { class: 'join', id: id('form') },
+    h('summary', { text: 'Join an instrument’s export with the controller’s log' }),
+    h('div', { class: 'form' },
+      field('Instrument’s export', tracker),
+      field('Its length unit', lengthUnit),
+      field('Its columns, renamed', trackerColumns),
+      field('Controller’s log', log),
+      field('Its angle unit', angleUnit),
+      field('Its columns, renamed', logColumns),
+      field('Key column (both files)', key),
+      field('The log’s key column', logKey),
+      field('Save the joined data as', saveAs),
+      run),
+    result);
 }
