@@ -94,7 +94,7 @@ pub(crate) enum RobotCommand {
         /// Robot file or ready robot name.
         robot: String,
         /// The robot's current world frame in the new one: position (metres)
-        /// and unit quaternion.
+        /// and unit quaternion, or the 16 numbers of its 4×4 matrix, row by row.
         #[arg(
             long,
             value_delimiter = ',',
@@ -103,7 +103,7 @@ pub(crate) enum RobotCommand {
         )]
         world: Option<Vec<f64>>,
         /// The new tool frame in the current one (frame n+1): position
-        /// (metres) and unit quaternion.
+        /// (metres) and unit quaternion, or the 16 numbers of its 4×4 matrix, row by row.
         #[arg(
             long,
             value_delimiter = ',',
@@ -1017,8 +1017,9 @@ pub(crate) struct CompensateArgs {
     pub(crate) payload: Option<String>,
     /// The tool the program's targets are for: a tool the calibration identified (a study's
     /// reflector, by its name in the calibrated file's [tools]), or its pose in frame n+1,
-    /// 0,0,120mm[,qw,qx,qy,qz]. Frame n+1 itself when omitted — refused where the
-    /// calibration never observed it (every set measured a named tool).
+    /// 0,0,120mm[,qw,qx,qy,qz] or the 16 numbers of its 4×4 matrix, row by row. Frame n+1
+    /// itself when omitted — refused where the calibration never observed it (every set
+    /// measured a named tool).
     #[arg(long, value_name = "NAME|X,Y,Z[,QW,QX,QY,QZ]")]
     pub(crate) tool: Option<String>,
     /// With --match position: the largest turn of the tool a target may be left with

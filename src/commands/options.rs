@@ -56,12 +56,18 @@ pub(crate) fn rotation(values: &[f64], option: &str) -> Result<Rotation3<f64>, F
 }
 
 /// A rigid transform from seven comma-separated numbers: position x,y,z
-/// (metres), then a unit quaternion qw,qx,qy,qz.
+/// (metres), then a unit quaternion qw,qx,qy,qz; or the 16 numbers of a
+/// 4×4 homogeneous matrix, row by row.
 pub(crate) fn pose(values: &[f64], option: &str) -> Result<IsometryMatrix3<f64>, Failure> {
+    if values.len() == 16 {
+        return gecaro_io::pose_from_matrix(values)
+            .map_err(|message| Failure::usage(format!("{option}: {message}"), None));
+    }
     if values.len() != 7 {
         return Err(Failure::usage(
             format!(
-                "{option} needs seven numbers (x,y,z,qw,qx,qy,qz), got {}",
+                "{option} needs seven numbers (x,y,z,qw,qx,qy,qz) or the 16 of a 4×4 matrix, \
+                 got {}",
                 values.len()
             ),
             Some(format!("for example: {option} 0.1,0,0.5,1,0,0,0")),

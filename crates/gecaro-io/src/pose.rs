@@ -35,6 +35,8 @@ pub(crate) fn rpy(rotation: &Rotation3<f64>) -> [f64; 3] {
 /// A tool's pose in frame n+1 as a person writes it (issue 74): `x,y,z`,
 /// each a length with its unit or bare metres (no bare number beside a
 /// unit), optionally followed by `qw,qx,qy,qz`; no rotation when omitted.
+/// Or the 16 numbers of its 4×4 homogeneous matrix, row by row
+/// ([`pose_from_matrix`]; the translation's three may carry their unit).
 ///
 /// ```
 /// let tool = gecaro_io::parse_tool_pose("0,0,120mm").unwrap();
@@ -49,13 +51,30 @@ pub(crate) fn rpy(rotation: &Rotation3<f64>) -> [f64; 3] {
 /// quaternion that is not a unit one.
 pub fn parse_tool_pose(text: &str) -> Result<IsometryMatrix3<f64>, String> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if parts.len() == 16 {
+        let [x, y, z] =
+            crate::written_lengths::point(&[parts[3], parts[7], parts[11]], "the tool's position")?;
+        let mut values = [0.0; 16];
+        for (index, (value, text)) in values.iter_mut().zip(&parts).enumerate() {
+            *value = match index {
+                3 => x,
+                7 => y,
+                11 => z,
+                _ => text
+                    .parse()
+                    .map_err(|_| format!("the tool's matrix holds '{text}', not a number"))?,
+            };
+        }
+        return pose_from_matrix(&values).map_err(|message| format!("the tool's matrix {message}"));
+    }
     let (position, quaternion) = match parts.as_slice() {
         [x, y, z] => ([*x, *y, *z], None),
         [x, y, z, rest @ ..] if rest.len() == 4 => ([*x, *y, *z], Some(rest)),
         _ => {
             return Err(format!(
                 "'{text}' is not a tool pose: give its position in frame n+1 with units, and \
-                 optionally its quaternion: 0,0,120mm or 0,0,120mm,1,0,0,0"
+                 optionally its quaternion: 0,0,120mm or 0,0,120mm,1,0,0,0; or the 16 numbers \
+                 of its 4×4 matrix, row by row"
             ));
         }
     };
@@ -147,9 +166,107 @@ pub fn pose_from_seven(values: &[f64]) -> Result<IsometryMatrix3<f64>, String> {
     ))
 }
 
+/// The transform of a 4×4 homogeneous matrix, its 16 numbers row by row
+/// (the translation in metres), or why not: the last row must be `0, 0,
+/// 0, 1` and the upper-left block a rotation (`‖RᵀR − I‖ ≤ 1e-6`, det
+/// > 0; a matrix of 6 decimals, as instruments write them, is made
+/// exactly orthonormal).
+///
+/// ```
+/// let pose = gecaro_io::pose_from_matrix(&[
+///     0.0, -1.0, 0.0, 0.1, 1.0, 0.0, 0.0, 0.2, 0.0, 0.0, 1.0, 0.3, 0.0, 0.0, 0.0, 1.0,
+/// ])
+/// .unwrap();
+/// assert!((pose.translation.vector.y - 0.2).abs() < 1e-15);
+/// assert!(gecaro_io::pose_from_matrix(&[2.0; 16]).is_err());
+/// ```
+///
+/// # Errors
+/// The message says what is wrong (count, non-finite values, the last
+/// row, a block that is no rotation).
+pub fn pose_from_matrix(values: &[f64]) -> Result<IsometryMatrix3<f64>, String> {
+    let [
+        r11,
+        r12,
+        r13,
+        x,
+        r21,
+        r22,
+        r23,
+        y,
+        r31,
+        r32,
+        r33,
+        z,
+        last @ ..,
+    ] = values
+    else {
+        return Err(format!(
+            "needs the 16 numbers of a 4×4 homogeneous matrix, row by row, got {}",
+            values.len()
+        ));
+    };
+    if !values.iter().all(|v| v.is_finite()) {
+        return Err("holds a value that is not a finite number".into());
+    }
+    if last
+        .iter()
+        .zip([0.0, 0.0, 0.0, 1.0])
+        .any(|(a, b)| (a - b).abs() > 1e-12)
+    {
+        return Err("the last row of a homogeneous matrix must be 0, 0, 0, 1".into());
+    }
+    let rotation = nalgebra::Matrix3::new(*r11, *r12, *r13, *r21, *r22, *r23, *r31, *r32, *r33);
+    let error = (rotation.transpose() * rotation - nalgebra::Matrix3::identity())
+        .abs()
+        .max();
+    if error > 1e-6 || rotation.determinant() < 0.0 {
+        return Err(format!(
+            "the upper-left 3×3 block is not a rotation (‖RᵀR − I‖ = {error:.1e}, det = {:.3})",
+            rotation.determinant()
+        ));
+    }
+    let rotation = if error <= 1e-12 {
+        Rotation3::from_matrix_unchecked(rotation)
+    } else {
+        Rotation3::from_matrix(&rotation)
+    };
+    Ok(IsometryMatrix3::from_parts(
+        Translation3::new(*x, *y, *z),
+        rotation,
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A tool as a 4×4 matrix (the translation with its unit) is the tool
+    /// of its position and quaternion; a reflection, a skewed block or a
+    /// bare number beside a unit are refused.
+    #[test]
+    fn a_tool_is_read_from_its_matrix() {
+        let half = std::f64::consts::FRAC_1_SQRT_2;
+        let by_quaternion = parse_tool_pose(&format!("10mm,20mm,120mm,{half},0,0,{half}")).unwrap();
+        let by_matrix =
+            parse_tool_pose("0,-1,0,10mm, 1,0,0,20mm, 0,0,1,120mm, 0,0,0,1").expect("matrix");
+        assert!((by_matrix.to_homogeneous() - by_quaternion.to_homogeneous()).norm() < 1e-12);
+        // Six decimals, as instruments write them: made orthonormal.
+        let rounded =
+            parse_tool_pose("0.707107,-0.707107,0,0, 0.707107,0.707107,0,0, 0,0,1,0.1, 0,0,0,1")
+                .expect("rounded");
+        let r = rounded.rotation.matrix();
+        assert!((r.transpose() * r - nalgebra::Matrix3::identity()).norm() < 1e-14);
+        for (text, words) in [
+            ("-1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1", "not a rotation"),
+            ("1,0.1,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1", "not a rotation"),
+            ("1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,1,1", "last row"),
+            ("1,0,0,10, 0,1,0,0, 0,0,1,120mm, 0,0,0,1", "unit"),
+        ] {
+            let message = parse_tool_pose(text).expect_err(text);
+            assert!(message.contains(words), "{text}: {message}");
+        }
+    }
 
     #[test]
     fn rpy_is_urdf_s_convention_and_round_trips_next_to_the_singularity() {

@@ -16,7 +16,7 @@ use gecaro_core::{
 use gecaro_io::{
     RobotFile, format_robot_file, parse_robot_file, pose_from_seven, read_priority_file,
 };
-use nalgebra::{DMatrix, IsometryMatrix3, Matrix3, Rotation3, Translation3, Vector3};
+use nalgebra::{DMatrix, IsometryMatrix3, Vector3};
 use numpy::PyArrayDyn;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -123,40 +123,8 @@ const POSE: &str = "a 4×4 homogeneous matrix or [x, y, z, qw, qx, qy, qz]";
 fn pose_of(array: &Real, what: &str) -> PyResult<IsometryMatrix3<f64>> {
     match array.shape[..] {
         [7] => pose_from_seven(&array.values).map_err(|message| input(format!("{what} {message}"))),
-        [4, 4] => {
-            let v = &array.values;
-            if !v.iter().all(|x| x.is_finite()) {
-                return Err(input(format!("{what}: holds a value that is not finite")));
-            }
-            if v[12..]
-                .iter()
-                .zip([0.0, 0.0, 0.0, 1.0])
-                .any(|(a, b)| (a - b).abs() > 1e-12)
-            {
-                return Err(input(format!(
-                    "{what}: the last row of a homogeneous matrix must be [0, 0, 0, 1]"
-                )));
-            }
-            let rotation = Matrix3::new(v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10]);
-            let error = (rotation.transpose() * rotation - Matrix3::identity())
-                .abs()
-                .max();
-            if error > 1e-6 || rotation.determinant() < 0.0 {
-                return Err(input(format!(
-                    "{what}: the upper-left 3×3 block is not a rotation (‖RᵀR − I‖ = {error:.1e}, det = {:.3})",
-                    rotation.determinant()
-                )));
-            }
-            let rotation = if error <= 1e-12 {
-                Rotation3::from_matrix_unchecked(rotation)
-            } else {
-                Rotation3::from_matrix(&rotation)
-            };
-            Ok(IsometryMatrix3::from_parts(
-                Translation3::new(v[3], v[7], v[11]),
-                rotation,
-            ))
-        }
+        [4, 4] => gecaro_io::pose_from_matrix(&array.values)
+            .map_err(|message| input(format!("{what}: {message}"))),
         _ => Err(array.wrong_shape(what, POSE)),
     }
 }
