@@ -168,9 +168,9 @@ pub fn pose_from_seven(values: &[f64]) -> Result<IsometryMatrix3<f64>, String> {
 
 /// The transform of a 4×4 homogeneous matrix, its 16 numbers row by row
 /// (the translation in metres), or why not: the last row must be `0, 0,
-/// 0, 1` and the upper-left block a rotation (`‖RᵀR − I‖ ≤ 1e-6`, det
-/// > 0; a matrix of 6 decimals, as instruments write them, is made
-/// exactly orthonormal).
+/// 0, 1` and the upper-left block a rotation (`‖RᵀR − I‖ ≤ 1e-6`, a
+/// positive determinant; a matrix of 6 decimals, as instruments write
+/// them, is made exactly orthonormal).
 ///
 /// ```
 /// let pose = gecaro_io::pose_from_matrix(&[
