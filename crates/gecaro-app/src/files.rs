@@ -44,6 +44,12 @@ pub trait Files: Sync {
     /// Whether `name` is a file this front end can read.
     fn is_file(&self, name: &str) -> bool;
 
+    /// Whether `a` and `b` name one existing file (an output named as an
+    /// input; issue 75). By name here; [`LocalFiles`] by the file itself.
+    fn is_same_file(&self, a: &str, b: &str) -> bool {
+        a == b
+    }
+
     /// Refuses, before any work, an output `name` that exists (unless
     /// `overwrite`), cannot be written, or is an input or another output of
     /// the same command; `extension` is the one expected, and tells the job's
@@ -128,6 +134,13 @@ impl Files for LocalFiles {
 
     fn is_file(&self, name: &str) -> bool {
         Path::new(name).is_file()
+    }
+
+    fn is_same_file(&self, a: &str, b: &str) -> bool {
+        match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+            (Ok(a), Ok(b)) => a == b,
+            _ => false,
+        }
     }
 
     fn check_output(&self, name: &str, extension: &str, overwrite: bool) -> Result<(), AppError> {

@@ -285,23 +285,45 @@ impl<'a> Compensator<'a> {
         points: &[ProgramPoint],
         observer: &mut dyn Observer,
     ) -> Result<Vec<CompensatedPoint>, Error> {
+        let total = points.len();
+        self.compensate_in_parts(points, |done| {
+            report(observer, Progress::Step { done, total })
+        })
+    }
+
+    /// The next targets of the program, compensated a part at a time, each
+    /// part sized to take about [`PART_TIME`] (doubled after a quicker part,
+    /// halved after a slower one, between 1 and [`PARALLEL_BLOCK`] targets),
+    /// with `between` told the targets of `points` done after each part:
+    /// progress and Ctrl-C are heard every few tens of milliseconds, whether
+    /// a target costs microseconds (reached near its joints) or a bounded
+    /// search of random starts (not reached; issue 75: 150,000 of those
+    /// went 63 s without a word). The results are those of
+    /// [`compensate`](Self::compensate) of the whole slice.
+    ///
+    /// # Errors
+    /// As [`compensate`](Self::compensate), and `between`'s.
+    pub fn compensate_in_parts(
+        &mut self,
+        points: &[ProgramPoint],
+        mut between: impl FnMut(usize) -> Result<(), Error>,
+    ) -> Result<Vec<CompensatedPoint>, Error> {
         let mut results = Vec::with_capacity(points.len());
-        // Progress between blocks solved over the cores; after every target
-        // of a program solved in order (its targets may take random starts).
-        let block = if points.iter().all(carries_joints) {
-            PARALLEL_BLOCK
-        } else {
-            1
-        };
-        for block in points.chunks(block) {
-            results.extend(self.compensate(block)?);
-            report(
-                observer,
-                Progress::Step {
-                    done: results.len(),
-                    total: points.len(),
-                },
-            )?;
+        // Targets with joints are solved over the cores: a part of a few per
+        // core at first; targets without joints in order, one at a time.
+        let parallel = points.iter().all(carries_joints);
+        let mut size = if parallel { 2 * crate::parallel::available_threads() } else { 1 };
+        while results.len() < points.len() {
+            let part = &points[results.len()..(results.len() + size).min(points.len())];
+            let started = std::time::Instant::now();
+            results.extend(self.compensate(part)?);
+            between(results.len())?;
+            let took = started.elapsed();
+            if took < PART_TIME / 2 {
+                size = (size * 2).min(PARALLEL_BLOCK);
+            } else if took > PART_TIME * 2 {
+                size = (size / 2).max(1);
+            }
         }
         Ok(results)
     }
@@ -387,8 +409,12 @@ fn carries_joints(point: &ProgramPoint) -> bool {
     matches!(point.target, ProgramTarget::Joints(_)) || point.joints.is_some()
 }
 
-/// Targets solved at once between two progress reports.
+/// Targets solved at once between two progress reports, at most.
 const PARALLEL_BLOCK: usize = 8192;
+
+/// About how long a part of a program takes between two progress reports
+/// ([`Compensator::compensate_in_parts`]): Ctrl-C is heard within it.
+pub const PART_TIME: std::time::Duration = std::time::Duration::from_millis(20);
 
 /// One program point: its target (the nominal robot's pose for joint
 /// targets), solved on the calibrated robot from the program's joints, or

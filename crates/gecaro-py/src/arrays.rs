@@ -5,9 +5,8 @@
 //! strings, objects) and wrong shapes are an `InputError` (a `ValueError`)
 //! naming the argument and the shape it needs. Inputs are copied into Rust
 //! memory before any work, so the GIL can be released without Python code
-//! changing them underneath, except the large columns of a `Data`
-//! ([`in_place`]): a C-ordered float64 array is read where it is, for as long
-//! as the `Data` lives (docs/python.md). Outputs are new C-ordered float64
+//! changing them underneath — the large columns of a `Data` too
+//! ([`column_of`]; docs/python.md). Outputs are new C-ordered float64
 //! arrays.
 
 use gecaro_calib::study::Column as SampleColumn;
@@ -144,40 +143,19 @@ fn fits(found: &[usize], shape: &[Option<usize>]) -> bool {
             .all(|(found, wanted)| wanted.is_none_or(|wanted| *found == wanted))
 }
 
-/// A C-ordered float64 numpy array's values, read where they are: the
-/// handle keeps the array alive, and numpy does not move the memory of an
-/// array someone holds (`resize` refuses it).
-struct NumpyValues {
-    _array: Py<PyArrayDyn<f64>>,
-    data: *const f64,
-    len: usize,
-}
-
-#[allow(unsafe_code)]
-// SAFETY: the values are only read, and the array they live in is kept
-// alive by `_array` (a reference count, released with the GIL by pyo3).
-// Python code writing into the array while an identification reads it in
-// another thread is the caller's race, as with numpy's own functions that
-// release the GIL (docs/python.md says not to).
-unsafe impl Send for NumpyValues {}
-#[allow(unsafe_code)]
-// SAFETY: as for `Send`: shared reads of memory nobody frees.
-unsafe impl Sync for NumpyValues {}
-
-impl AsRef<[f64]> for NumpyValues {
-    #[allow(unsafe_code)]
-    fn as_ref(&self) -> &[f64] {
-        // SAFETY: `data` points at `len` float64 values of the array that
-        // `_array` keeps alive (checked C-contiguous when it was taken).
-        unsafe { std::slice::from_raw_parts(self.data, self.len) }
-    }
-}
-
-/// `value` of exactly this shape as one column of values, read in place
-/// when it is a C-ordered float64 array, else converted once (numpy's
-/// `ascontiguousarray`) into an array the column keeps. Returns the shape
-/// and the column.
-pub(crate) fn in_place(
+/// `value` of exactly this shape as one column of values, copied into
+/// Rust memory (one pass over a C-ordered float64 array; other arrays
+/// converted by numpy's `ascontiguousarray` first). Returns the shape and
+/// the column.
+///
+/// Why a copy, not the array's memory read in place (issue 75): numpy frees
+/// an array's memory on `resize(…, refcheck=False)` and `__setstate__`
+/// whatever references or buffer exports it has, and a calibration that
+/// read it afterwards — or while another thread did it, the GIL released —
+/// read freed memory. The copy costs one pass (72 MB and ~30 ms for 10⁶
+/// rows of a 6-joint robot with positions) and no crash is left to a
+/// caller's care.
+pub(crate) fn column_of(
     value: &Bound<'_, PyAny>,
     what: &str,
     shape: &[Option<usize>],
@@ -200,21 +178,14 @@ pub(crate) fn in_place(
             shape_text(&found)
         )));
     }
-    let values = {
-        let read = array
-            .try_readonly()
-            .map_err(|error| input(format!("{what}: {error}")))?;
-        let slice = read
-            .as_slice()
-            .map_err(|error| input(format!("{what}: {error}")))?;
-        (slice.as_ptr(), slice.len())
-    };
-    let column = SampleColumn::shared(NumpyValues {
-        _array: array.unbind(),
-        data: values.0,
-        len: values.1,
-    });
-    Ok((found, column))
+    let read = array
+        .try_readonly()
+        .map_err(|error| input(format!("{what}: {error}")))?;
+    let values = read
+        .as_slice()
+        .map_err(|error| input(format!("{what}: {error}")))?
+        .to_vec();
+    Ok((found, SampleColumn::from(values)))
 }
 
 /// `value` as m non-negative integers (set or pair ids).

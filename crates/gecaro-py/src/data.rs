@@ -15,7 +15,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
 
-use crate::arrays::{Real, array, identifiers, in_place};
+use crate::arrays::{Real, array, column_of, identifiers};
 use crate::data_set::ARRAYS;
 pub(crate) use crate::data_set::PyData;
 use crate::errors::{IntoPyResult, input};
@@ -61,8 +61,8 @@ impl PyData {
         payload: Option<&Bound<'_, PyAny>>,
         label: Option<String>,
     ) -> PyResult<Self> {
-        // The large columns are read in place (see docs/python.md).
-        let (shape, motor_positions) = in_place(qm, "qm", &[None, None])?;
+        // The large columns are copied once (see `column_of`).
+        let (shape, motor_positions) = column_of(qm, "qm", &[None, None])?;
         let (m, n) = (shape[0], shape[1]);
         if n == 0 {
             return Err(input(format!(
@@ -71,7 +71,7 @@ impl PyData {
             )));
         }
         let position = position
-            .map(|position| in_place(position, "position", &[Some(m), Some(3)]))
+            .map(|position| column_of(position, "position", &[Some(m), Some(3)]))
             .transpose()?
             .map(|(_, column)| column);
         let orientation = orientation
@@ -106,7 +106,7 @@ impl PyData {
             )));
         }
         let distance = distance
-            .map(|distance| in_place(distance, "distance", &[Some(m)]))
+            .map(|distance| column_of(distance, "distance", &[Some(m)]))
             .transpose()?
             .map(|(_, column)| column);
         let mut samples = Samples::from_columns(SampleColumns {

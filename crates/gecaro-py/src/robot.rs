@@ -77,10 +77,10 @@ impl PyRobot {
         let (values, single) = Real::rows(qm, "qm", n)?;
         let count = values.len() / n;
         let width: usize = shape.iter().product();
+        let mut output = batch_output(count, width)?;
         let model = &self.model;
-        let output = py.detach(|| {
+        let output = py.detach(move || {
             let mut watch = Watch::new();
-            let mut output = vec![0.0; count * width];
             let mut chain = ChainBuffer::default();
             for (row, (configuration, out)) in values
                 .chunks_exact(n)
@@ -98,6 +98,35 @@ impl PyRobot {
         full_shape.extend_from_slice(shape);
         array(py, &full_shape, output)
     }
+}
+
+/// The most bytes a batch call returns (1 GiB): beyond it the caller is
+/// told to split the batch, rather than the process aborted by a failed
+/// allocation (issue 75: a Jacobian of 2·10⁶ configurations asked 4.1 GB).
+pub(crate) const MAX_BATCH_BYTES: usize = 1 << 30;
+
+/// Room for `count` rows of `width` values, or a `MemoryError` that says
+/// how much was asked and how to split it.
+fn batch_output(count: usize, width: usize) -> PyResult<Vec<f64>> {
+    let values = count.checked_mul(width).filter(|values| {
+        values
+            .checked_mul(std::mem::size_of::<f64>())
+            .is_some_and(|bytes| bytes <= MAX_BATCH_BYTES)
+    });
+    let too_large = || {
+        pyo3::exceptions::PyMemoryError::new_err(format!(
+            "qm: {count} configurations would give {:.2} GB ({width} values each), over the {} \
+             GB a call returns: call it in batches of up to {} configurations",
+            count as f64 * width as f64 * 8e-9,
+            MAX_BATCH_BYTES as f64 * 1e-9,
+            MAX_BATCH_BYTES / (8 * width.max(1))
+        ))
+    };
+    let values = values.ok_or_else(too_large)?;
+    let mut output = Vec::new();
+    output.try_reserve_exact(values).map_err(|_| too_large())?;
+    output.resize(values, 0.0);
+    Ok(output)
 }
 
 /// The values of a homogeneous matrix, row by row.
@@ -416,17 +445,28 @@ impl PyRobot {
     /// The torque gravity exerts about each joint at motor values `qm`
     /// (N·m; N for a prismatic joint), from the masses the robot file states
     /// and an optional `payload` (`"6kg"`, `"6kg,0,0,80mm"`), as the elastic
-    /// model loads its joints.
+    /// model loads its joints. `qm` of shape (n,) gives (n,); (m, n) gives
+    /// (m, n), in one call without the GIL.
     #[pyo3(signature = (qm, *, payload = None))]
-    fn gravity_torques(&self, qm: Vec<f64>, payload: Option<&str>) -> PyResult<Vec<f64>> {
+    fn gravity_torques<'py>(
+        &self,
+        py: Python<'py>,
+        qm: &Bound<'py, PyAny>,
+        payload: Option<&str>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let payload = payload
             .map(gecaro_io::parse_payload)
             .transpose()
             .map_err(|message| crate::errors::input(format!("payload: {message}")))?;
-        let torques =
-            gecaro_core::gravity_torques(self.robot(), &self.file.masses, payload.as_ref(), &qm)
-                .py()?;
-        Ok(torques.as_slice().to_vec())
+        let n = self.robot().joint_count();
+        let (robot, masses) = (self.robot(), &self.file.masses);
+        self.batch(py, qm, &[n], |_, _, configuration, out| {
+            let torques =
+                gecaro_core::gravity_torques(robot, masses, payload.as_ref(), configuration)
+                    .py()?;
+            out.copy_from_slice(torques.as_slice());
+            Ok(())
+        })
     }
 
     /// The joint types 1..n as letters: `R` revolute, `P` prismatic.

@@ -169,24 +169,50 @@ def test_data_from_arrays_and_files_are_the_same(tmp_path):
     assert np.allclose(first.calibrated.parameters, second.calibrated.parameters, atol=1e-12)
 
 
-def test_data_reads_float64_arrays_in_place_and_converts_the_rest_once():
+def test_data_copies_its_arrays_so_numpy_cannot_free_them_under_it():
+    """Issue 75: numpy frees an array's memory on resize(refcheck=False) and
+    __setstate__ whatever holds it; a Data read in place then read freed
+    memory (SIGSEGV). A Data copies its arrays: resized, re-stated, written
+    into or resized from another thread during identify, the result is the
+    one of the data as given."""
+    import pickle
+    import threading
+
     robot = gecaro.Robot.load("stanford")
-    generation = gecaro.generate(robot, "position", 40, noise=1e-5, seed=6)
-    qm = np.ascontiguousarray(generation.data.qm)
-    position = np.ascontiguousarray(generation.data.position)
-    in_place = gecaro.Data(qm, position=position)
-    # Fortran order and float32 are converted once, into arrays the Data keeps.
+    generation = gecaro.generate(robot, "position", 400, noise=1e-5, seed=6)
+    # Arrays that own their memory, as a user's usually do.
+    qm = generation.data.qm.copy()
+    position = generation.data.position.copy()
+    expected = gecaro.identify(robot, "position", gecaro.Data(qm.copy(), position=position.copy()), sigma=1e-5)
+    data = gecaro.Data(qm, position=position)
     converted = gecaro.Data(np.asfortranarray(qm), position=position.tolist())
-    first = gecaro.identify(robot, "position", in_place, sigma=1e-5)
-    second = gecaro.identify(robot, "position", converted, sigma=1e-5)
-    assert np.array_equal(first.calibrated.parameters, second.calibrated.parameters)
-    # No copy: the Data sees the array it was made of; the converted one does not.
-    qm[0, 0] += 0.25
-    position[3, 1] = 7.0
-    assert in_place.qm[0, 0] == qm[0, 0] and in_place.position[3, 1] == 7.0
-    assert converted.qm[0, 0] == qm[0, 0] - 0.25
+    qm.resize((2, 6), refcheck=False)
+    position.__setstate__(pickle.loads(pickle.dumps(np.zeros((1, 3)))).__reduce__()[2])
+    for made in (data, converted):
+        result = gecaro.identify(robot, "position", made, sigma=1e-5)
+        assert np.array_equal(result.calibrated.parameters, expected.calibrated.parameters)
+    # Arrays resized over and over by another thread while identify runs.
+    racing_qm = generation.data.qm.copy()
+    racing = gecaro.Data(racing_qm, position=generation.data.position.copy())
+    stop = threading.Event()
+
+    def resize():
+        size = 1
+        while not stop.is_set():
+            racing_qm.resize((size % 50 + 1, 6), refcheck=False)
+            size += 7
+
+    thread = threading.Thread(target=resize)
+    thread.start()
+    try:
+        for _ in range(3):
+            result = gecaro.identify(robot, "position", racing, sigma=1e-5)
+            assert np.array_equal(result.calibrated.parameters, expected.calibrated.parameters)
+    finally:
+        stop.set()
+        thread.join()
     with pytest.raises(gecaro.InputError, match="position: expected an array of shape"):
-        gecaro.Data(qm, position=position[:, :2])
+        gecaro.Data(np.zeros((4, 6)), position=np.zeros((4, 2)))
 
 
 def test_tracker_units_and_columns(repository, cli):

@@ -53,6 +53,9 @@ def test_elastic_calibration_from_arrays_matches_the_command_line(cli, tmp_path)
     loaded = robot.gravity_torques(level, payload="20kg")
     # (the flange 0.955 m out, docs/elastic.md)
     assert abs(loaded[1] - empty[1]) == pytest.approx(20 * 9.80665 * 0.955, rel=0.01)
+    # A batch in one call: the rows as one at a time.
+    batch = robot.gravity_torques(np.array([level, np.zeros(6)]), payload="20kg")
+    assert batch.shape == (2, 6) and np.array_equal(batch[0], loaded)
 
     # Compensated for 15 kg, the commands differ from the rigid ones by the sag.
     joints = first.data.qm[:5]

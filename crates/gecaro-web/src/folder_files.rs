@@ -45,6 +45,10 @@ impl Files for Workspace {
         Workspace::is_file(self, name, &["toml", "csv", "urdf", "par", "yaml"])
     }
 
+    fn is_same_file(&self, a: &str, b: &str) -> bool {
+        Workspace::is_same_file(self, a, b)
+    }
+
     fn check_output(&self, name: &str, extension: &str, overwrite: bool) -> Result<(), AppError> {
         self.check_writable(name, extension, overwrite)
             .map_err(app_error)

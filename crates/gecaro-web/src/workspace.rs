@@ -179,6 +179,12 @@ impl Workspace {
         }
     }
 
+    /// Whether `a` and `b` name one file of the folder (`./job.csv` and
+    /// `job.csv`).
+    pub fn is_same_file(&self, a: &str, b: &str) -> bool {
+        matches!((Self::relative(a), Self::relative(b)), (Ok(a), Ok(b)) if a == b)
+    }
+
     /// Whether `name` (with one of `extensions`) is an existing regular file.
     pub fn is_file(&self, name: &str, extensions: &[&str]) -> bool {
         Self::relative(name)

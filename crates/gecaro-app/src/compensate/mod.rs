@@ -311,6 +311,18 @@ impl CompensateRequest {
                 .map_err(|message| AppError::setting("max_tool_turn", message))?,
         };
         if let Some(name) = &self.save_as {
+            // The taught program is never replaced, whatever `overwrite` says.
+            if let ProgramSource::File(program) = &self.program
+                && files.is_same_file(program, name)
+            {
+                return Err(AppError::setting(
+                    "save_as",
+                    format!(
+                        "{name} is the program itself: a corrected program never replaces the \
+                         taught one; write it to another file"
+                    ),
+                ));
+            }
             files.check_output(name, "csv", self.overwrite)?;
         }
         Ok(Prepared {
@@ -462,7 +474,18 @@ impl CompensateRequest {
             };
             while let Some(block) = program.next_block()? {
                 check_row_count(files, name, program.targets(), "targets")?;
-                let mut results = compensator.compensate(&block.points)?;
+                let before = compensator.done();
+                let bytes_read = program.bytes_read().max(1) as f64;
+                // The total, estimated from the share of the file read.
+                let estimate = |done: usize| {
+                    length.map_or(done, |length| {
+                        ((done as f64 * length as f64 / bytes_read).round() as usize).max(done)
+                    })
+                };
+                let mut results = compensator.compensate_in_parts(&block.points, |done| {
+                    let done = before + done;
+                    report_step(observer, done, estimate(done))
+                })?;
                 if let Some(unloading) = &prepared.unloading {
                     unloading.apply(calibrated, &mut results)?;
                 }
@@ -489,13 +512,6 @@ impl CompensateRequest {
                     |index| block.line(index),
                     Some(&layout),
                 );
-                let done = compensator.done();
-                // The total, estimated from the share of the file read.
-                let total = length.map_or(done, |length| {
-                    let read = program.bytes_read().max(1) as f64;
-                    ((done as f64 * length as f64 / read).round() as usize).max(done)
-                });
-                report_step(observer, done, total)?;
             }
             Ok(())
         })?;

@@ -134,8 +134,9 @@ class Robot:
         """Gravity in the world frame (m/s²); elastic-gravity states the one it found."""
     @gravity.setter
     def gravity(self, value: Sequence[float]) -> None: ...
-    def gravity_torques(self, qm: Sequence[float], *, payload: Optional[str] = None) -> list[float]:
-        """Gravity torques at ``qm`` (N·m; N if prismatic) from the robot's masses and a payload."""
+    def gravity_torques(self, qm: _ArrayLike, *, payload: Optional[str] = None) -> _FloatArray:
+        """Gravity torques at ``qm`` (N·m; N if prismatic) from the robot's masses and a payload:
+        (n,) for one configuration, (m, n) for m."""
     @property
     def joint_types(self) -> str:
         """Joint types 1..n as letters, e.g. ``"RRPRRR"``."""
