@@ -312,7 +312,11 @@ impl<'a> Compensator<'a> {
         // Targets with joints are solved over the cores: a part of a few per
         // core at first; targets without joints in order, one at a time.
         let parallel = points.iter().all(carries_joints);
-        let mut size = if parallel { 2 * crate::parallel::available_threads() } else { 1 };
+        let mut size = if parallel {
+            2 * crate::parallel::available_threads()
+        } else {
+            1
+        };
         while results.len() < points.len() {
             let part = &points[results.len()..(results.len() + size).min(points.len())];
             let started = std::time::Instant::now();
