@@ -273,4 +273,8 @@ rows! {
     h12_output_that_is_an_input => "H12",
     h13_report_over_its_data => "H13",
     h14_two_outputs_in_one_file => "H14",
+    h15_sigma_no_instrument_has => "H15",
+    h16_prior_beyond_reason => "H16",
+    h17_world_frame_far_away => "H17",
+    h18_robot_rebased_onto_another => "H18",
 }

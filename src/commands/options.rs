@@ -73,10 +73,8 @@ pub(crate) fn pose(values: &[f64], option: &str) -> Result<IsometryMatrix3<f64>,
             Some(format!("for example: {option} 0.1,0,0.5,1,0,0,0")),
         ));
     }
-    Ok(IsometryMatrix3::from_parts(
-        vector3(&values[..3], option)?.into(),
-        rotation(&values[3..], option)?,
-    ))
+    gecaro_io::pose_from_seven(values)
+        .map_err(|message| Failure::usage(format!("{option}: {message}"), None))
 }
 
 /// The plane given by `--plane-normal` and `--plane-point`, if any.

@@ -82,6 +82,46 @@ impl Robot {
         distance <= SAME_FRAME_DISTANCE && angle <= SAME_FRAME_ANGLE
     }
 
+    /// The first link between two joints (frames 2..n) whose parameter
+    /// differs from `other`'s beyond what a calibration moves
+    /// ([`SAME_FRAME_DISTANCE`] for d and r, 10° for α and β): its frame,
+    /// the parameter's name and the difference as words. θ is not compared:
+    /// a calibration regroups it with joint offsets and the tool's rotation
+    /// (a position calibration turns θ6 by tens of degrees).
+    fn link_difference(&self, other: &Robot) -> Option<(usize, &'static str, String)> {
+        let angle = 10f64.to_radians();
+        let wrapped = |a: f64, b: f64| {
+            let d = (a - b).rem_euclid(std::f64::consts::TAU);
+            d.min(std::f64::consts::TAU - d)
+        };
+        (2..=self.joint_count()).find_map(|j| {
+            let (a, b) = (&self.frames()[j], &other.frames()[j]);
+            [
+                ("alpha", wrapped(a.alpha, b.alpha), true),
+                ("beta", wrapped(a.beta, b.beta), true),
+                ("d", (a.d - b.d).abs(), false),
+                ("r", (a.r - b.r).abs(), false),
+            ]
+            .into_iter()
+            .find(|(_, difference, is_angle)| {
+                *difference
+                    > if *is_angle {
+                        angle
+                    } else {
+                        SAME_FRAME_DISTANCE
+                    }
+            })
+            .map(|(name, difference, is_angle)| {
+                let words = if is_angle {
+                    format!("{:.1}°", difference.to_degrees())
+                } else {
+                    format!("{:.3} m", difference)
+                };
+                (j, name, words)
+            })
+        })
+    }
+
     /// This robot (calibrated in a measurement frame) split into the pose of
     /// the measurement frame in the robot's own base frame and the robot
     /// seen from that frame, the base frame being `nominal`'s (see the
@@ -92,9 +132,7 @@ impl Robot {
     /// [`Error::Invalid`] when `nominal` has other joints (count or type of
     /// joint 1) or the result breaks a rule of the model.
     pub fn rebased(&self, nominal: &Robot) -> Result<(IsometryMatrix3<f64>, Robot), Error> {
-        if self.joint_count() != nominal.joint_count()
-            || self.frames()[1].frame_type != nominal.frames()[1].frame_type
-        {
+        if self.joint_letters() != nominal.joint_letters() {
             return Err(Error::invalid(
                 Field::Frames,
                 format!(
@@ -102,6 +140,20 @@ impl Robot {
                      in the base frame of its own nominal robot",
                     nominal.joint_letters(),
                     self.joint_letters()
+                ),
+            ));
+        }
+        // Another robot of the same joints (an industrial6 onto a puma560)
+        // is no calibration of this one: its links differ by more than any
+        // calibration moves them.
+        if let Some((j, name, difference)) = self.link_difference(nominal) {
+            return Err(Error::invalid(
+                Field::Frames,
+                format!(
+                    "frame {j}'s {name} differs from {}'s by {difference}: not a calibration of \
+                     it (a calibration moves a link by millimetres and tenths of a degree); \
+                     re-express a robot in the base frame of its own nominal robot",
+                    nominal.name()
                 ),
             ));
         }
@@ -232,6 +284,28 @@ mod tests {
             .expect("reframed");
         assert!(!nominal.same_frame_as(&turned));
         let other = Robot::template("other", "PRPRRR").expect("template");
+        assert!(seen.rebased(&other).is_err());
+    }
+
+    /// Another robot of the same joints is refused as a nominal (issue 75:
+    /// a robot was written rebased onto a PUMA), naming the link that
+    /// differs; a calibration of the robot itself is not.
+    #[test]
+    fn a_robot_is_rebased_onto_its_own_nominal_only() {
+        let nominal = stanford();
+        let seen = calibrated(&nominal)
+            .reframed(
+                &pose(2.5, 0.3, 0.0, 0.0, 0.0, 1.0),
+                &IsometryMatrix3::identity(),
+            )
+            .expect("reframed");
+        assert!(seen.rebased(&nominal).is_ok());
+        let mut spec = nominal.to_spec();
+        spec.frames[4].r += 0.3;
+        let other = Robot::new(spec).expect("other");
+        let message = seen.rebased(&other).expect_err("another robot").to_string();
+        assert!(message.contains("frame 4's r differs"), "{message}");
+        let other = Robot::template("other", "RRRRRR").expect("template");
         assert!(seen.rebased(&other).is_err());
     }
 }

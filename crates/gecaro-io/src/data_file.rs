@@ -35,6 +35,7 @@ use crate::data_rows::{
     CHUNK_BYTES, Chunking, Fields, MAX_CONFIGURATIONS, PayloadColumns, RowReader, Rows,
 };
 use crate::input::{csv_error, csv_reader, open_regular, record_line};
+use crate::line_chunks::{CarriageReturnLines, carriage_returns_only};
 use crate::output::{OutputPolicy, write_with};
 use crate::pose::{NORMALISED_TOLERANCE, SILENT_TOLERANCE};
 use crate::rotation::RotationFormat;
@@ -167,6 +168,16 @@ pub fn parse_samples_of_length(
             path: path.to_owned(),
             cause,
         })?;
+    // Lines ended by a carriage return alone (Excel's "CSV (Macintosh)")
+    // are read as lines (issue 75: "more records than lines").
+    let carriage_returns = carriage_returns_only(&head);
+    if carriage_returns {
+        for byte in &mut head {
+            if *byte == b'\r' {
+                *byte = b'\n';
+            }
+        }
+    }
     // A file that states its units (`gecaro plan --angle-unit deg`) is read
     // in them where the request leaves gecaro's own.
     let format = &match stated_units(&head)
@@ -179,7 +190,12 @@ pub fn parse_samples_of_length(
         },
         None => format.clone(),
     };
-    let rest: Option<&mut dyn Read> = (head.len() > IN_MEMORY_BYTES).then_some(&mut reader);
+    let mut translated = CarriageReturnLines(&mut reader);
+    let rest: Option<&mut dyn Read> = match (head.len() > IN_MEMORY_BYTES, carriage_returns) {
+        (false, _) => None,
+        (true, true) => Some(&mut translated),
+        (true, false) => Some(translated.0),
+    };
     parse_from(
         (head, rest),
         path,

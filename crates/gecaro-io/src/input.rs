@@ -229,10 +229,23 @@ pub(crate) fn csv_error(path: &Path, error: &csv::Error) -> Error {
 /// [`csv_error`] of a reader that started after `lines_before` lines of the
 /// file.
 pub(crate) fn csv_error_after(path: &Path, error: &csv::Error, lines_before: usize) -> Error {
+    // A line too long names itself: the csv reader's position is that of
+    // the record it began, lines before it (issue 75).
+    let long = match error.kind() {
+        csv::ErrorKind::Io(cause) => cause
+            .get_ref()
+            .and_then(|inner| inner.downcast_ref::<LongLine>()),
+        _ => None,
+    };
     let line = lines_before
-        + error
-            .position()
-            .map_or(1, |position| position.line() as usize);
+        + long.map_or_else(
+            || {
+                error
+                    .position()
+                    .map_or(1, |position| position.line() as usize)
+            },
+            |long| long.line,
+        );
     let message = match error.kind() {
         csv::ErrorKind::Utf8 { .. } => NOT_TEXT.to_owned(),
         csv::ErrorKind::Io(cause) => cause.to_string(),
@@ -240,6 +253,26 @@ pub(crate) fn csv_error_after(path: &Path, error: &csv::Error, lines_before: usi
     };
     Error::parse(path, line, None, message)
 }
+
+/// A line longer than a reader takes: its 1-based line among the lines
+/// the reader passed on.
+#[derive(Debug)]
+pub(crate) struct LongLine {
+    line: usize,
+    limit: usize,
+}
+
+impl std::fmt::Display for LongLine {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "a line longer than {} KiB: not a data file (no line breaks?)",
+            self.limit >> 10
+        )
+    }
+}
+
+impl std::error::Error for LongLine {}
 
 /// A reader that fails once a line grows longer than `limit` bytes (a CSV
 /// reader keeps a whole record in memory), and knows the line of any byte
@@ -294,10 +327,10 @@ impl<R: Read> Read for LineLimit<R> {
             None => self.current + count,
         };
         if self.current > self.limit {
-            return Err(std::io::Error::other(format!(
-                "a line longer than {} KiB: not a data file (no line breaks?)",
-                self.limit >> 10
-            )));
+            return Err(std::io::Error::other(LongLine {
+                line: self.lines_passed + self.breaks.len() + 1,
+                limit: self.limit,
+            }));
         }
         Ok(count)
     }

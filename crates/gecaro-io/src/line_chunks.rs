@@ -11,6 +11,28 @@ use std::path::Path;
 
 use crate::Error;
 
+/// Whether `head` (a file's first bytes) ends its lines with a carriage
+/// return alone — Excel's "CSV (Macintosh)" — rather than `\n` or `\r\n`.
+pub(crate) fn carriage_returns_only(head: &[u8]) -> bool {
+    head.contains(&b'\r') && !head.contains(&b'\n')
+}
+
+/// A stream whose carriage returns are read as line feeds (a file of
+/// [`carriage_returns_only`], read as any other).
+pub(crate) struct CarriageReturnLines<'a>(pub(crate) &'a mut dyn Read);
+
+impl Read for CarriageReturnLines<'_> {
+    fn read(&mut self, buffer: &mut [u8]) -> std::io::Result<usize> {
+        let read = self.0.read(buffer)?;
+        for byte in &mut buffer[..read] {
+            if *byte == b'\r' {
+                *byte = b'\n';
+            }
+        }
+        Ok(read)
+    }
+}
+
 /// A body in chunks of about `chunk_bytes`: the bytes of a head already
 /// read, then the rest of the stream. Memory beyond the caller's is one
 /// chunk.

@@ -145,6 +145,22 @@ pub(crate) fn quaternion_deviation(w: f64, x: f64, y: f64, z: f64) -> Option<f64
     (deviation > SILENT_TOLERANCE).then_some(deviation)
 }
 
+/// `translation` (m) when no coordinate is beyond
+/// [`gecaro_core::MAX_MAGNITUDE`] (a frame kilometres away is a typo or a
+/// length in another unit; issue 75: 1e300 gave "frame 0 theta NaN").
+fn bounded(translation: Vector3<f64>) -> Result<Translation3<f64>, String> {
+    match translation
+        .iter()
+        .find(|v| v.abs() > gecaro_core::MAX_MAGNITUDE)
+    {
+        Some(v) => Err(format!(
+            "puts the frame {v:.3e} m away: beyond ±{} m, no robot cell is that large",
+            gecaro_core::MAX_MAGNITUDE
+        )),
+        None => Ok(Translation3::from(translation)),
+    }
+}
+
 /// The transform of `[x, y, z, qw, qx, qy, qz]` (metres, then a unit
 /// quaternion), or why not.
 ///
@@ -161,7 +177,7 @@ pub fn pose_from_seven(values: &[f64]) -> Result<IsometryMatrix3<f64>, String> {
         return Err("holds a value that is not a finite number".into());
     }
     Ok(IsometryMatrix3::from_parts(
-        Translation3::from(Vector3::new(x, y, z)),
+        bounded(Vector3::new(x, y, z))?,
         unit_quaternion(w, i, j, k)?.to_rotation_matrix(),
     ))
 }
@@ -232,7 +248,7 @@ pub fn pose_from_matrix(values: &[f64]) -> Result<IsometryMatrix3<f64>, String> 
         Rotation3::from_matrix(&rotation)
     };
     Ok(IsometryMatrix3::from_parts(
-        Translation3::new(*x, *y, *z),
+        bounded(Vector3::new(*x, *y, *z))?,
         rotation,
     ))
 }

@@ -105,6 +105,17 @@ impl std::str::FromStr for StandardDeviation {
     }
 }
 
+/// The σ a sensor may have, of lengths (m): a nanometre to a metre.
+pub(crate) const SENSOR_SIGMA: (f64, f64) = (1e-9, 1.0);
+
+/// The largest σ of a sensor's rotations (rad): half a radian (29°).
+pub(crate) const SENSOR_ROTATION_MAX: f64 = 0.5;
+
+/// The σ a prior may have, per kind — lengths (m), angles (rad), gains
+/// (relative): from 1e-9 (a parameter held) to far beyond any robot's
+/// (none held).
+pub(crate) const PRIOR_SIGMA: (f64, f64) = (1e-9, 1e3);
+
 impl StandardDeviation {
     /// In metres (of a length, `rotation` false) or radians (of an
     /// orientation), with the data's `units` for a bare number.
@@ -140,13 +151,29 @@ impl StandardDeviation {
                 (sigma, text.clone())
             }
         };
-        if sigma.is_finite() && sigma > 0.0 {
-            Ok(sigma)
-        } else {
-            Err(format!(
+        if !(sigma.is_finite() && sigma > 0.0) {
+            return Err(format!(
                 "must be a positive standard deviation, not {shown}"
-            ))
+            ));
         }
+        // No instrument measures below a nanometre (or nanoradian), and none
+        // errs by a metre (or half a radian): such a σ is a typo or another
+        // unit, and would make the fit's arithmetic overflow (issue 75).
+        let (low, high, range) = if rotation {
+            (
+                SENSOR_SIGMA.0,
+                SENSOR_ROTATION_MAX,
+                "a nanoradian to half a radian",
+            )
+        } else {
+            (SENSOR_SIGMA.0, SENSOR_SIGMA.1, "a nanometre to a metre")
+        };
+        if sigma < low || sigma > high {
+            return Err(format!(
+                "{shown} is no sensor's σ ({range}): a typo, or a number in another unit?"
+            ));
+        }
+        Ok(sigma)
     }
 }
 
@@ -208,6 +235,19 @@ pub fn parse_prior(text: &str) -> Result<Prior, String> {
             missing.join(" and ")
         ));
     };
+    for (kind, value) in [
+        (Kind::Length, length),
+        (Kind::Angle, angle),
+        (Kind::Gain, gain),
+    ] {
+        if value.is_finite() && !(PRIOR_SIGMA.0..=PRIOR_SIGMA.1).contains(&value) {
+            return Err(format!(
+                "'{text}': the {} σ {value:.3e} is beyond the σ a prior may have (1e-9 to 1e3, \
+                 in metres, radians or a share of the gain): a typo, or another unit?",
+                name(kind)
+            ));
+        }
+    }
     Prior::new(length, angle, gain).map_err(|error| error.to_string())
 }
 
