@@ -481,7 +481,7 @@ fn resolve_header(
     expected: &[String],
     map: &ColumnMap,
 ) -> Result<crate::columns::Layout, String> {
-    if let Some(message) = map.unused(names, expected) {
+    if let Some(message) = map.unused(names, expected).or_else(|| map.clash(expected)) {
         return Err(format!("{message}{}", header_read(names)));
     }
     let layout = locate(names, expected, map);

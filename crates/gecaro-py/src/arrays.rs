@@ -57,6 +57,16 @@ fn converted<'py>(
     array.call_method1("astype", (dtype,))
 }
 
+/// Whether `value` (a numpy array) sits at an address its dtype can be
+/// read at (numpy's `flags.aligned`); false for what is not an array.
+fn aligned(value: &Bound<'_, PyAny>) -> bool {
+    value
+        .getattr("flags")
+        .and_then(|flags| flags.getattr("aligned"))
+        .and_then(|aligned| aligned.extract::<bool>())
+        .unwrap_or(false)
+}
+
 /// A float64 array with its shape, copied.
 pub(crate) struct Real {
     /// The shape.
@@ -72,7 +82,11 @@ impl Real {
             shape: array.shape().to_vec(),
             values: array.as_array().iter().copied().collect(),
         };
-        if let Ok(array) = value.extract::<PyReadonlyArrayDyn<'_, f64>>() {
+        // A float64 array at an odd address (a view into a byte buffer)
+        // cannot be read as one: it is converted (issue 75: it panicked).
+        if let Ok(array) = value.extract::<PyReadonlyArrayDyn<'_, f64>>()
+            && aligned(value)
+        {
             return Ok(read(array));
         }
         let array = converted(value, what, expected, "float64", "fiu")?;
@@ -161,8 +175,10 @@ pub(crate) fn column_of(
     shape: &[Option<usize>],
 ) -> PyResult<(Vec<usize>, SampleColumn<f64>)> {
     let expected = expected_shape(shape);
+    // A float64 array at an odd address (a view into a byte buffer) is
+    // converted, not refused (issue 75).
     let array = match value.cast::<PyArrayDyn<f64>>() {
-        Ok(array) if array.is_c_contiguous() => array.clone(),
+        Ok(array) if array.is_c_contiguous() && aligned(value) => array.clone(),
         _ => {
             let converted = converted(value, what, &expected, "float64", "fiu")?;
             let numpy = value.py().import("numpy")?;

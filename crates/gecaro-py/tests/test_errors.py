@@ -316,3 +316,20 @@ def test_compensate_program_hears_ctrl_c_on_costly_targets_and_never_replaces_th
     with pytest.raises(gecaro.InputError, match="is the program itself"):
         gecaro.compensate_program(nominal, nominal, program, program, overwrite=True)
     assert program.read_text().startswith("qm1,qm2")
+
+
+def test_misaligned_and_odd_arrays_are_converted_not_refused_or_panicking():
+    """Issue 75: a float64 view at an odd address (into a byte buffer) was
+    refused by Data and panicked in fk; it reads as its aligned copy."""
+    import numpy as np
+
+    robot = gecaro.Robot.load("stanford")
+    values = np.random.default_rng(2).uniform(-1, 1, size=(10, 6))
+    buffer = np.zeros(values.nbytes + 1, dtype=np.uint8)
+    buffer[1:] = np.frombuffer(values.tobytes(), dtype=np.uint8)
+    odd = np.frombuffer(buffer.data, dtype=np.float64, count=60, offset=1).reshape(10, 6)
+    assert not odd.flags.aligned and np.array_equal(odd, values)
+    assert np.array_equal(robot.fk(odd), robot.fk(values))
+    assert np.array_equal(robot.jacobian(odd), robot.jacobian(values))
+    data = gecaro.Data(odd, position=np.zeros((10, 3)))
+    assert np.array_equal(data.qm, values)

@@ -434,8 +434,13 @@ fn header_of(folder: &Dir, name: &str) -> Option<Vec<String>> {
 }
 
 fn check_extensions(relative: &Path, name: &str, extensions: &[&str]) -> Result<(), ApiError> {
+    // `ARM.TOML` is a `.toml` file, as the command line reads it (issue 75).
     let extension = relative.extension().and_then(|e| e.to_str());
-    if extension.is_some_and(|extension| extensions.contains(&extension)) {
+    if extension.is_some_and(|extension| {
+        extensions
+            .iter()
+            .any(|wanted| wanted.eq_ignore_ascii_case(extension))
+    }) {
         Ok(())
     } else {
         Err(ApiError::Forbidden(format!(

@@ -2323,6 +2323,16 @@ async fn an_uploaded_robot_file_opens_without_touching_the_folder() {
         .await;
     assert_eq!(status, StatusCode::OK, "{opened}");
     assert_eq!(opened["summary"]["letters"], "RRRRRR");
+    // `ARM.TOML` as the command line reads it (issue 75: read as a DH
+    // table, "unknown field `frame`").
+    let (status, opened) = api
+        .post(
+            "/api/robots/upload",
+            &json!({ "name": "PUMA.TOML", "text": puma }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{opened}");
+    assert_eq!(opened["summary"]["letters"], "RRRRRR");
     let (status, bad) = api
         .post(
             "/api/robots/upload",

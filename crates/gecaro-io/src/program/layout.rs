@@ -80,7 +80,7 @@ impl ProgramLayout {
             .map(String::from)
             .to_vec();
         let wanted: Vec<String> = joint_names.iter().chain(&cartesian).cloned().collect();
-        if let Some(message) = map.unused(&header, &wanted) {
+        if let Some(message) = map.unused(&header, &wanted).or_else(|| map.clash(&wanted)) {
             return Err(fail_header(message));
         }
         let located = locate(&header, &wanted, map);

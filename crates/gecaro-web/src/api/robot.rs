@@ -300,7 +300,14 @@ fn robot_of_text(
     let label = std::path::Path::new(name);
     let is_table = |text: &str| text.contains("[[joint]]") && !text.contains("[[frame]]");
     let origin = if uploaded { "uploaded" } else { "file" };
-    if label.extension().is_some_and(|e| e == "toml") && !is_table(text) {
+    // `ARM.TOML` is a robot file as `arm.toml` is (issue 75: it was read as
+    // a DH table).
+    if label
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("toml"))
+        && !is_table(text)
+    {
         let mut document = parse_robot_document(text, label)?;
         if document.name.is_none() {
             document.name = Some(fallback_name(label));
