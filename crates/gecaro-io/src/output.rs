@@ -5,7 +5,8 @@
 //! the old file or the new one, never a half-written one. An error at any step
 //! removes the temporary file and leaves an existing destination untouched.
 //!
-//! Temporary files are named `.gecaro-<pid>-<n>.tmp`. A process stopped by a
+//! Temporary files are named `.gecaro-<pid>-<n>.tmp` (a name a killed
+//! process of the same pid left is removed and another taken). A process stopped by a
 //! signal removes its own ([`remove_temporary_files`], called by the
 //! `gecaro` binary's signal handler); one killed outright leaves them, and
 //! the next write into that folder removes those of processes that no
@@ -137,12 +138,21 @@ fn write_in(
         });
     }
     remove_stale_temporaries(folder);
-    let temporary = Temporary::create(folder, permissions_for(folder, name))
-        .map_err(|error| failure(error.to_string()))?;
-    let mut file = folder
-        .open_with(&temporary.name, &temporary.options)
-        .map(cap_std::fs::File::into_std)
-        .map_err(|error| failure(error.to_string()))?;
+    // A temporary name left by a killed process of the same pid (routine in
+    // containers, issue 75) is taken: the dropped reservation removes that
+    // stale file, and the next name is tried.
+    let mut attempts = 0;
+    let (temporary, mut file) = loop {
+        let temporary = Temporary::create(folder, permissions_for(folder, name))
+            .map_err(|error| failure(error.to_string()))?;
+        match folder.open_with(&temporary.name, &temporary.options) {
+            Ok(file) => break (temporary, file.into_std()),
+            Err(error) if error.kind() == std::io::ErrorKind::AlreadyExists && attempts < 8 => {
+                attempts += 1;
+            }
+            Err(error) => return Err(failure(error.to_string())),
+        }
+    };
     produce(&mut file).map_err(|error| failure(error.to_string()))?;
     file.sync_all()
         .map_err(|error| failure(error.to_string()))?;
@@ -276,7 +286,17 @@ fn remove_stale_temporaries(folder: &Dir) {
             else {
                 continue;
             };
-            let alive = pid == own || Path::new(&format!("/proc/{pid}")).exists();
+            // This process's own names are its temporaries being written;
+            // any other of its pid is a killed namesake's.
+            let alive = if pid == own {
+                TEMPORARIES
+                    .lock()
+                    .unwrap_or_else(PoisonError::into_inner)
+                    .iter()
+                    .any(|(_, _, written)| *written == name)
+            } else {
+                Path::new(&format!("/proc/{pid}")).exists()
+            };
             if !alive {
                 let _ = folder.remove_file(&name);
             }
@@ -321,6 +341,30 @@ mod tests {
         assert!(matches!(result, Err(Error::Write { .. })));
         assert_eq!(std::fs::read_to_string(&path).expect("read"), "old");
         assert_eq!(std::fs::read_dir(folder.path()).expect("list").count(), 1);
+    }
+
+    /// Temporary names a killed process of this pid left (containers reuse
+    /// pids: issue 75, "cannot write X: File exists") are removed and the
+    /// write goes through.
+    #[test]
+    fn a_killed_namesake_s_temporaries_do_not_stop_a_write() {
+        let folder = tempfile::tempdir().expect("temporary folder");
+        let next = NEXT_TEMPORARY.load(Ordering::Relaxed);
+        for id in next..next + 64 {
+            let stale = folder
+                .path()
+                .join(format!(".gecaro-{}-{id}.tmp", std::process::id()));
+            std::fs::write(stale, "left by a killed process").expect("stale");
+        }
+        let path = folder.path().join("out.csv");
+        write_atomically(&path, b"written", OutputPolicy::KeepExisting).expect("written");
+        assert_eq!(std::fs::read_to_string(&path).expect("read"), "written");
+        let left: Vec<_> = std::fs::read_dir(folder.path())
+            .expect("list")
+            .flatten()
+            .map(|entry| entry.file_name())
+            .collect();
+        assert_eq!(left, ["out.csv"], "{left:?}");
     }
 
     #[test]
