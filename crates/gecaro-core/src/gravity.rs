@@ -82,18 +82,41 @@ pub struct LinkMass {
     pub com: Vector3<f64>,
 }
 
+/// The heaviest link a robot file may state (kg): 10 t, beyond the arm of
+/// the largest industrial robot (issue 75: 1e300 kg was read).
+pub const MAX_LINK_MASS: f64 = 1e4;
+
+/// The farthest a link's centre of mass may sit from its frame (m).
+pub const MAX_CENTRE_DISTANCE: f64 = 100.0;
+
+/// The largest gravity a robot file may state (m/s²): 10 g.
+pub const MAX_GRAVITY: f64 = 100.0;
+
 impl LinkMass {
     fn check(&self, field: Field) -> Result<(), Error> {
-        if !(self.mass.is_finite() && self.mass >= 0.0) {
+        if !(self.mass.is_finite() && (0.0..=MAX_LINK_MASS).contains(&self.mass)) {
             return Err(Error::Invalid {
                 field,
-                message: format!("mass {} is not a mass in kg (≥ 0)", self.mass),
+                message: format!(
+                    "mass {} is not a link's mass in kg (0 to {MAX_LINK_MASS})",
+                    self.mass
+                ),
             });
         }
         if !self.com.iter().all(|v| v.is_finite()) {
             return Err(Error::Invalid {
                 field,
                 message: "the centre of mass holds a value that is not finite".into(),
+            });
+        }
+        if self.com.norm() > MAX_CENTRE_DISTANCE {
+            return Err(Error::Invalid {
+                field,
+                message: format!(
+                    "the centre of mass is {:.3e} m from its frame: beyond {MAX_CENTRE_DISTANCE} \
+                     m, no link's (a length in mm?)",
+                    self.com.norm()
+                ),
             });
         }
         Ok(())
@@ -156,6 +179,15 @@ impl MassModel {
             return Err(Error::Invalid {
                 field: Field::Key("gravity"),
                 message: "gravity holds a value that is not finite".into(),
+            });
+        }
+        if gravity.norm() > MAX_GRAVITY {
+            return Err(Error::Invalid {
+                field: Field::Key("gravity"),
+                message: format!(
+                    "gravity of {:.3e} m/s²: beyond {MAX_GRAVITY} m/s² (10 g), no cell's",
+                    gravity.norm()
+                ),
             });
         }
         self.gravity = gravity;

@@ -83,8 +83,8 @@ pub use axis_chain::{AxisChain, ChainJoint};
 pub use error::{Compact, Error, Field};
 pub use frame::{Frame, FrameType, Joint};
 pub use gravity::{
-    LinkMass, MassModel, STANDARD_GRAVITY, gravity_loads_in, gravity_torques, gravity_torques_in,
-    upright_gravity,
+    LinkMass, MAX_CENTRE_DISTANCE, MAX_GRAVITY, MAX_LINK_MASS, MassModel, STANDARD_GRAVITY,
+    gravity_loads_in, gravity_torques, gravity_torques_in, upright_gravity,
 };
 pub use kinematics::turn;
 pub use kinematics::{
@@ -99,7 +99,9 @@ pub use placement::NEARLY_PARALLEL_DEGREES;
 pub use priority::PriorityMatrix;
 pub use rebase::{SAME_FRAME_ANGLE, SAME_FRAME_DISTANCE};
 pub use region::{JointRegion, MEASURED_MARGIN};
-pub use robot::{LIMIT_TOLERANCE, MAX_JOINTS, MAX_MAGNITUDE, MIN_GAIN, Robot, RobotSpec};
+pub use robot::{
+    LIMIT_TOLERANCE, MAX_COMPLIANCE, MAX_JOINTS, MAX_MAGNITUDE, MIN_GAIN, Robot, RobotSpec,
+};
 
 #[cfg(test)]
 pub(crate) use test_robots::stanford as ready_robot_for_tests;

@@ -877,6 +877,13 @@ fn validate_frames(frames: &[Frame]) -> Result<(), Error> {
 
 /// The vocabulary of a robot of `n` joints with these compliances (checked
 /// by [`validate_compliances`]): elastic with them, rigid without.
+/// The largest compliance a joint may have, either sign (rad/(N·m), or
+/// m/N): a radian under 100 N·m, a hundred times the softest joint of an
+/// industrial arm (issue 75: 1e300 was read). A slightly negative one is an
+/// identification's answer within its noise, which the plausibility check
+/// names; it is no malformed file.
+pub const MAX_COMPLIANCE: f64 = 1e-2;
+
 fn parameters_with(compliances: Option<&[f64]>, n: usize) -> Result<ParameterSpace, Error> {
     match compliances {
         Some(compliances) => {
@@ -901,13 +908,20 @@ fn validate_compliances(compliances: &[f64], n: usize) -> Result<(), Error> {
         ));
     }
     for (index, value) in compliances.iter().enumerate() {
-        check_magnitude(
-            Field::Frame {
-                index: index + 1,
-                key: "compliance",
-            },
-            *value,
-        )?;
+        let field = Field::Frame {
+            index: index + 1,
+            key: "compliance",
+        };
+        check_magnitude(field.clone(), *value)?;
+        if value.abs() > MAX_COMPLIANCE {
+            return Err(Error::invalid(
+                field,
+                format!(
+                    "{value} rad/(N·m) (m/N if prismatic) is no joint's compliance: beyond \
+                     ±{MAX_COMPLIANCE} (a radian under 100 N·m); a typo?"
+                ),
+            ));
+        }
     }
     Ok(())
 }

@@ -147,7 +147,9 @@ fn write_in(
             .map_err(|error| failure(error.to_string()))?;
         match folder.open_with(&temporary.name, &temporary.options) {
             Ok(file) => break (temporary, file.into_std()),
-            Err(error) if error.kind() == std::io::ErrorKind::AlreadyExists && attempts < 8 => {
+            Err(error)
+                if error.kind() == std::io::ErrorKind::AlreadyExists && attempts < 10_000 =>
+            {
                 attempts += 1;
             }
             Err(error) => return Err(failure(error.to_string())),
@@ -251,12 +253,14 @@ pub fn remove_temporary_files() {
     std::mem::forget(temporaries);
 }
 
-/// Removes, once per folder and process, the temporary files of gecaro
-/// processes that no longer run (killed while writing).
+/// Removes the temporary files of gecaro processes that no longer run
+/// (killed while writing), and those of this pid it is not writing (a
+/// killed namesake's).
 fn remove_stale_temporaries(folder: &Dir) {
     #[cfg(target_os = "linux")]
     {
-        static CLEANED: Mutex<Vec<(u64, u64)>> = Mutex::new(Vec::new());
+        // Every write scans its folder: a cache by the folder's inode would
+        // skip a new folder that took a removed one's inode.
         let Ok(metadata) = folder.dir_metadata() else {
             return;
         };
@@ -264,13 +268,6 @@ fn remove_stale_temporaries(folder: &Dir) {
             cap_std::fs::MetadataExt::dev(&metadata),
             cap_std::fs::MetadataExt::ino(&metadata),
         );
-        {
-            let mut cleaned = CLEANED.lock().unwrap_or_else(PoisonError::into_inner);
-            if cleaned.contains(&key) {
-                return;
-            }
-            cleaned.push(key);
-        }
         let Ok(entries) = folder.entries() else {
             return;
         };
@@ -293,7 +290,15 @@ fn remove_stale_temporaries(folder: &Dir) {
                     .lock()
                     .unwrap_or_else(PoisonError::into_inner)
                     .iter()
-                    .any(|(_, _, written)| *written == name)
+                    .any(|(_, written_in, written)| {
+                        *written == name
+                            && written_in.dir_metadata().is_ok_and(|metadata| {
+                                (
+                                    cap_std::fs::MetadataExt::dev(&metadata),
+                                    cap_std::fs::MetadataExt::ino(&metadata),
+                                ) == key
+                            })
+                    })
             } else {
                 Path::new(&format!("/proc/{pid}")).exists()
             };

@@ -656,7 +656,7 @@ r = 0.1
         // A negative mass, a centre without its mass, a centre of two values.
         let (line, message) = parse_error(&text.replace("mass = 4.5", "mass = -4.5"));
         assert!(
-            message.contains("frame 2") && message.contains("not a mass"),
+            message.contains("frame 2") && message.contains("not a link's mass"),
             "{line}: {message}"
         );
         assert_eq!(line, 17, "{message}");
@@ -664,6 +664,34 @@ r = 0.1
         assert!(message.contains("without its `mass`"), "{message}");
         let (line, message) = parse_error(&text.replace("[0.1, 0, -0.02]", "[0.1, 0]"));
         assert_eq!(line, 18, "{message}");
+        // Values no robot has (issue 75): refused, naming what.
+        for (from, to, words) in [
+            ("mass = 4.5", "mass = 1e300", "not a link's mass"),
+            ("[0.1, 0, -0.02]", "[1e300, 0, 0]", "from its frame"),
+            (
+                "gravity = [0.1, 0.0, -9.8]",
+                "gravity = [0, 0, -1e300]",
+                "10 g",
+            ),
+            (
+                "compliance = 4e-6",
+                "compliance = 0.5",
+                "no joint's compliance",
+            ),
+        ] {
+            let text = if from.starts_with("compliance") {
+                STANFORD.replacen(
+                    "[[frame]]\nsigma = 0\nalpha = -1.5707963267948966\nr = 0.2",
+                    "[[frame]]\nsigma = 0\nalpha = -1.5707963267948966\nr = 0.2\ncompliance = 4e-6",
+                    1,
+                )
+            } else {
+                text.clone()
+            };
+            assert!(text.contains(from), "{from}");
+            let (_, message) = parse_error(&text.replace(from, to));
+            assert!(message.contains(words), "{to}: {message}");
+        }
     }
 
     /// A compliance on one joint makes the robot elastic (the others at 0);

@@ -786,7 +786,15 @@ fn chain_masses(
             continue;
         };
         let mass = link.inertial.mass.value;
-        if !(mass.is_finite() && mass > 0.0) {
+        if !(mass.is_finite() && (0.0..=gecaro_core::MAX_LINK_MASS).contains(&mass)) {
+            // Named, not dropped without a word (issue 75).
+            notes.push(format!(
+                "link `{name}`'s <inertial> mass {mass} is no link's mass (0 to {} kg): left out",
+                gecaro_core::MAX_LINK_MASS
+            ));
+            continue;
+        }
+        if mass == 0.0 {
             continue;
         }
         let centre =
