@@ -6,6 +6,7 @@
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
+use std::time::{Duration, Instant};
 
 use std::ops::ControlFlow;
 
@@ -63,7 +64,20 @@ struct Progress {
     steps: Option<Steps>,
     outcome: Option<Arc<JobOutcome>>,
     error: Option<String>,
+    /// When it finished (done, failed or cancelled).
+    finished: Option<Instant>,
+    /// When a client first saw it finished.
+    read: Option<Instant>,
 }
+
+/// How long a finished job is kept after a client first saw it finished:
+/// its report and residuals are fetched right after.
+pub const READ_GRACE: Duration = Duration::from_secs(2);
+
+/// How long a finished job nobody has seen finished is kept: a client that
+/// polls every few seconds finds its result (issue 75: 802 of 1,000 jobs
+/// were dropped before their clients saw them finish).
+pub const UNREAD_KEEP: Duration = Duration::from_secs(600);
 
 /// One job.
 #[derive(Debug)]
@@ -163,11 +177,13 @@ impl Job {
         let mut progress = self.progress();
         progress.state = JobState::Done;
         progress.outcome = Some(Arc::new(outcome));
+        progress.finished = Some(Instant::now());
     }
 
     /// Ends the job with an error.
     pub fn fail(&self, error: String) {
         let mut progress = self.progress();
+        progress.finished = Some(Instant::now());
         if self.is_cancelled() {
             progress.state = JobState::Cancelled;
             progress.error = Some("cancelled".into());
@@ -193,9 +209,12 @@ impl Job {
         self.cancelled.load(Ordering::Relaxed)
     }
 
-    /// The job as the API shows it.
+    /// The job as the API shows it; a finished job shown is read.
     pub fn view(&self) -> JobView {
-        let progress = self.progress();
+        let mut progress = self.progress();
+        if progress.finished.is_some() && progress.read.is_none() {
+            progress.read = Some(Instant::now());
+        }
         JobView {
             id: self.id,
             state: progress.state,
@@ -215,10 +234,24 @@ impl Job {
     fn active(&self) -> bool {
         matches!(self.progress().state, JobState::Queued | JobState::Running)
     }
+
+    /// Whether the job may be forgotten: finished, and seen finished
+    /// `read_grace` ago, or never seen and finished [`UNREAD_KEEP`] ago.
+    fn forgettable(&self, read_grace: Duration) -> bool {
+        let progress = self.progress();
+        match (progress.finished, progress.read) {
+            (Some(_), Some(read)) => read.elapsed() >= read_grace,
+            (Some(finished), None) => finished.elapsed() >= UNREAD_KEEP,
+            (None, _) => false,
+        }
+    }
 }
 
 /// The jobs of the server: at most [`MAX_JOBS_ACTIVE`] queued or running, and
-/// the [`MAX_JOBS_KEPT`] most recent kept for their results.
+/// [`MAX_JOBS_KEPT`] kept for their results. A finished job is kept until
+/// its client has seen it finished (and [`READ_GRACE`] more, for its
+/// report), or [`UNREAD_KEEP`]; when every kept job is still owed to its
+/// client, a new one waits (503) rather than a result be dropped unread.
 ///
 /// Job numbers are unique across the server's restarts: a page reloaded
 /// after a restart still holds the numbers of the last server's jobs, and
@@ -230,6 +263,8 @@ impl Job {
 pub struct Jobs {
     next: AtomicU64,
     jobs: Mutex<VecDeque<Arc<Job>>>,
+    /// [`READ_GRACE`], shorter in tests.
+    read_grace: Duration,
 }
 
 impl Default for Jobs {
@@ -251,6 +286,7 @@ impl Default for Jobs {
         Jobs {
             next: AtomicU64::new(start),
             jobs: Mutex::new(VecDeque::new()),
+            read_grace: READ_GRACE,
         }
     }
 }
@@ -294,11 +330,16 @@ impl Jobs {
             )));
         }
         while jobs.len() >= MAX_JOBS_KEPT {
-            match jobs.iter().position(|job| !job.active()) {
-                Some(oldest_finished) => {
-                    jobs.remove(oldest_finished);
+            match jobs.iter().position(|job| job.forgettable(self.read_grace)) {
+                Some(oldest_read) => {
+                    jobs.remove(oldest_read);
                 }
-                None => break,
+                None => {
+                    return Err(ApiError::Busy(format!(
+                        "the server keeps {MAX_JOBS_KEPT} jobs and each is running or finished \
+                         and not yet seen by its client; try again in a moment"
+                    )));
+                }
             }
         }
         let job = Arc::new(Job {
@@ -310,6 +351,8 @@ impl Jobs {
                 steps: None,
                 outcome: None,
                 error: None,
+                finished: None,
+                read: None,
             }),
             cancelled: std::sync::atomic::AtomicBool::new(false),
             need,
@@ -331,7 +374,8 @@ impl Jobs {
             .cloned()
             .ok_or_else(|| {
                 ApiError::NotFound(format!(
-                    "no job {id} (the server keeps the last {MAX_JOBS_KEPT} jobs)"
+                    "no job {id} (the server keeps {MAX_JOBS_KEPT} jobs, a finished one until \
+                     its client has seen it finished)"
                 ))
             })
     }
@@ -341,19 +385,30 @@ impl Jobs {
 mod tests {
     use super::*;
 
+    /// Jobs that forget a job read at once (the grace of the tests).
+    fn quick() -> Jobs {
+        Jobs {
+            read_grace: Duration::ZERO,
+            ..Jobs::default()
+        }
+    }
+
     #[test]
-    fn active_jobs_are_bounded_and_old_results_forgotten() {
-        let jobs = Jobs::default();
+    fn active_jobs_are_bounded_and_read_results_forgotten() {
+        let jobs = quick();
         let active: Vec<_> = (0..MAX_JOBS_ACTIVE)
             .map(|_| jobs.create(0).expect("room"))
             .collect();
         assert!(matches!(jobs.create(0), Err(ApiError::Busy(_))));
         for job in &active {
             job.fail("stopped".into());
+            job.view();
         }
         let first = active[0].id();
         for _ in 0..MAX_JOBS_KEPT {
-            jobs.create(0).expect("room").fail("stopped".into());
+            let job = jobs.create(0).expect("room");
+            job.fail("stopped".into());
+            job.view();
         }
         assert!(matches!(jobs.get(first), Err(ApiError::NotFound(_))));
         let last = jobs.create(0).expect("room");
@@ -362,6 +417,32 @@ mod tests {
         let view = jobs.get(last.id()).expect("kept").view();
         assert_eq!(view.state, JobState::Running);
         assert_eq!(view.history, [1e-3]);
+    }
+
+    /// A finished job nobody has seen finished is never dropped for a new
+    /// one (issue 75): the new one waits (503) until a result was read.
+    #[test]
+    fn a_result_nobody_read_is_kept() {
+        let jobs = quick();
+        let unread: Vec<_> = (0..MAX_JOBS_KEPT)
+            .map(|_| {
+                let job = jobs.create(0).expect("room");
+                job.fail("finished".into());
+                job
+            })
+            .collect();
+        assert!(matches!(jobs.create(0), Err(ApiError::Busy(ref m)) if m.contains("not yet seen")));
+        for job in &unread {
+            assert!(jobs.get(job.id()).is_ok());
+        }
+        // One read: its room is taken, the others stay.
+        unread[5].view();
+        jobs.create(0).expect("room once one was read");
+        assert!(matches!(
+            jobs.get(unread[5].id()),
+            Err(ApiError::NotFound(_))
+        ));
+        assert!(jobs.get(unread[0].id()).is_ok());
     }
 
     #[test]

@@ -14,7 +14,8 @@ pub const MAX_BODY_BYTES: usize = 16 << 20;
 pub const MAX_FILE_BYTES: u64 = 64 << 20;
 /// Most configurations in one data set.
 pub const MAX_SAMPLES: usize = 200_000;
-/// Identification jobs kept for their results (oldest finished ones go first).
+/// Identification jobs kept for their results (the oldest a client has seen
+/// finished go first; see `jobs::Jobs`).
 pub const MAX_JOBS_KEPT: usize = 32;
 /// Identification jobs queued or running at once.
 pub const MAX_JOBS_ACTIVE: usize = 8;

@@ -1307,6 +1307,73 @@ async fn jobs_can_be_cancelled() {
     assert_eq!(status, StatusCode::NOT_FOUND);
 }
 
+/// No job is lost under load (issue 75: 802 of 1,000 jobs answered 404 to
+/// the client that started them): 12 clients submit 5 identifications
+/// each, cancel every third, poll every 20 ms until it ends, then fetch
+/// the report; a 503 (every kept job still owed to its client) is retried.
+/// Every client finds its every job until it has seen it end.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn no_job_is_lost_under_load() {
+    let api = std::sync::Arc::new(Api::new());
+    let document = api.document("stanford").await;
+    let (_, generated) = api
+        .post(
+            "/api/generate",
+            &json!({ "robot": document, "method": { "name": "position" }, "count": 30, "error_level": 1.0, "seed": 4 }),
+        )
+        .await;
+    let request = json!({ "robot": document, "method": { "name": "position" },
+                          "data": { "csv": { "text": generated["csv"], "name": "small.csv" } } });
+    let mut clients = Vec::new();
+    for client in 0..12u64 {
+        let (api, request) = (std::sync::Arc::clone(&api), request.clone());
+        clients.push(tokio::spawn(async move {
+            let mut seen = Vec::new();
+            for round in 0..5u64 {
+                let mut tries = 0;
+                let job = loop {
+                    let (status, submitted) = api.post("/api/identify", &request).await;
+                    if status == StatusCode::ACCEPTED {
+                        break submitted["job"].as_u64().expect("job");
+                    }
+                    assert_eq!(status, StatusCode::SERVICE_UNAVAILABLE, "{submitted}");
+                    tries += 1;
+                    assert!(tries < 2000, "never admitted");
+                    tokio::time::sleep(Duration::from_millis(20)).await;
+                };
+                if (client + round) % 3 == 0 {
+                    api.post(&format!("/api/jobs/{job}/cancel"), &json!({}))
+                        .await;
+                }
+                let state = loop {
+                    let (status, view) = api.get(&format!("/api/jobs/{job}")).await;
+                    assert_eq!(
+                        status,
+                        StatusCode::OK,
+                        "client {client}: job {job} lost: {view}"
+                    );
+                    let state = view["state"].as_str().expect("state").to_owned();
+                    if state != "queued" && state != "running" {
+                        break state;
+                    }
+                    tokio::time::sleep(Duration::from_millis(20)).await;
+                };
+                if state == "done" {
+                    let (status, _) = api.get(&format!("/api/jobs/{job}/report")).await;
+                    assert_eq!(status, StatusCode::OK, "client {client}: report of {job}");
+                }
+                seen.push(state);
+            }
+            seen
+        }));
+    }
+    let mut ended = 0;
+    for client in clients {
+        ended += client.await.expect("client").len();
+    }
+    assert_eq!(ended, 60);
+}
+
 #[tokio::test]
 async fn bad_data_is_an_answer_not_a_failed_job() {
     let api = Api::new();
