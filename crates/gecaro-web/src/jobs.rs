@@ -72,12 +72,12 @@ struct Progress {
 
 /// How long a finished job is kept after a client first saw it finished:
 /// its report and residuals are fetched right after.
-pub const READ_GRACE: Duration = Duration::from_secs(2);
+pub(crate) const READ_GRACE: Duration = Duration::from_secs(2);
 
 /// How long a finished job nobody has seen finished is kept: a client that
 /// polls every few seconds finds its result (issue 75: 802 of 1,000 jobs
 /// were dropped before their clients saw them finish).
-pub const UNREAD_KEEP: Duration = Duration::from_secs(600);
+pub(crate) const UNREAD_KEEP: Duration = Duration::from_secs(600);
 
 /// One job.
 #[derive(Debug)]
