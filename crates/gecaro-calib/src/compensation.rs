@@ -293,7 +293,7 @@ impl<'a> Compensator<'a> {
 
     /// The next targets of the program, compensated a part at a time, each
     /// part sized to take about [`PART_TIME`] (doubled after a quicker part,
-    /// halved after a slower one, between 1 and [`PARALLEL_BLOCK`] targets),
+    /// halved after a slower one, between 1 and 8,192 targets),
     /// with `between` told the targets of `points` done after each part:
     /// progress and Ctrl-C are heard every few tens of milliseconds, whether
     /// a target costs microseconds (reached near its joints) or a bounded
