@@ -875,8 +875,6 @@ fn validate_frames(frames: &[Frame]) -> Result<(), Error> {
     Ok(())
 }
 
-/// The vocabulary of a robot of `n` joints with these compliances (checked
-/// by [`validate_compliances`]): elastic with them, rigid without.
 /// The largest compliance a joint may have, either sign (rad/(N·m), or
 /// m/N): a radian under 100 N·m, a hundred times the softest joint of an
 /// industrial arm (issue 75: 1e300 was read). A slightly negative one is an
@@ -884,6 +882,8 @@ fn validate_frames(frames: &[Frame]) -> Result<(), Error> {
 /// names; it is no malformed file.
 pub const MAX_COMPLIANCE: f64 = 1e-2;
 
+/// The vocabulary of a robot of `n` joints with these compliances (checked
+/// by [`validate_compliances`]): elastic with them, rigid without.
 fn parameters_with(compliances: Option<&[f64]>, n: usize) -> Result<ParameterSpace, Error> {
     match compliances {
         Some(compliances) => {
