@@ -3,7 +3,9 @@
 //! the file it saves is the statement as TOML, read back before it is
 //! written (so every file saved here opens again, to the same statement).
 
-use gecaro_io::{StudySpec, StudyText};
+use std::path::Path;
+
+use gecaro_io::{SetData, StudySpec, StudyText};
 use serde::Deserialize;
 
 use crate::error::{AppError, ErrorKind};
@@ -17,7 +19,52 @@ use crate::measurements::Unknown;
 /// A file that cannot be read, or is not a study file.
 pub fn open_study(files: &dyn Files, name: &str) -> Result<StudySpec, AppError> {
     let (path, text) = files.read_text(name, &["toml"])?;
-    Ok(StudyText::parse(text, &path)?.spec)
+    let mut spec = StudyText::parse(text, &path)?.spec;
+    // A study names its files relative to its own folder; a statement, as
+    // the page runs it, relative to the front end's (issue 75: a study in
+    // a subfolder read the root's files of the same names).
+    let folder = folder_of(name);
+    if !folder.is_empty() {
+        rename_files(&mut spec, |name| {
+            let joined = format!("{folder}/{name}");
+            Ok((!Path::new(name).is_absolute() && files.is_file(&joined)).then_some(joined))
+        })?;
+    }
+    Ok(spec)
+}
+
+/// The folder part of a front end's file name (`cell` of
+/// `cell/study.toml`; empty at the root).
+fn folder_of(name: &str) -> &str {
+    name.rsplit_once('/').map_or("", |(folder, _)| folder)
+}
+
+/// Renames every file `spec` names (its sets' data, its robot, priority and
+/// model where they are files) by `rename` (`None`: kept).
+///
+/// # Errors
+/// `rename`'s.
+fn rename_files(
+    spec: &mut StudySpec,
+    rename: impl Fn(&str) -> Result<Option<String>, AppError>,
+) -> Result<(), AppError> {
+    for set in &mut spec.measurements {
+        if let SetData::File(name) = &mut set.data
+            && !name.is_empty()
+            && let Some(renamed) = rename(name.as_str())?
+        {
+            *name = renamed;
+        }
+    }
+    for name in [&mut spec.robot, &mut spec.priority, &mut spec.model]
+        .into_iter()
+        .flatten()
+    {
+        if let Some(renamed) = rename(name.as_str())? {
+            *name = renamed;
+        }
+    }
+    Ok(())
 }
 
 /// A study statement to save as a study file.
@@ -63,7 +110,29 @@ impl SaveStudyRequest {
     /// As [`text`](Self::text), and the file's own errors.
     pub fn run(&self, files: &dyn Files) -> Result<std::path::PathBuf, AppError> {
         self.unknown.check()?;
-        let text = self.text()?;
+        // Saved into a subfolder, the study names its files from there.
+        let folder = folder_of(&self.name);
+        let mut request = self.clone();
+        if !folder.is_empty() {
+            let prefix = format!("{folder}/");
+            rename_files(&mut request.study, |name| {
+                if let Some(inside) = name.strip_prefix(&prefix) {
+                    return Ok(Some(inside.to_owned()));
+                }
+                if Path::new(name).is_absolute() || !files.is_file(name) {
+                    // A ready robot's name, a model's, an absolute path.
+                    return Ok(None);
+                }
+                Err(AppError::setting(
+                    "name",
+                    format!(
+                        "{name} is outside the study's folder {folder}: a study names its files \
+                         from its own folder; save it beside its files, or above them"
+                    ),
+                ))
+            })?;
+        }
+        let text = request.text()?;
         files.write(&self.name, "toml", text.as_bytes(), self.overwrite)
     }
 }

@@ -1992,6 +1992,59 @@ async fn a_study_runs_from_its_file_or_its_json_alike() {
     );
 }
 
+/// A study opened from a subfolder names its files from the folder's root,
+/// as the page runs it (issue 75: it read the root's files of the same
+/// names); saved into a subfolder it names them from there, and a file
+/// outside that folder is refused, not written as a name that breaks.
+#[tokio::test]
+async fn a_study_in_a_subfolder_names_its_own_files() {
+    let api = Api::new();
+    let cell = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/tracker-cell");
+    let sub = api.folder.path().join("cell");
+    std::fs::create_dir(&sub).expect("subfolder");
+    for entry in std::fs::read_dir(&cell).expect("cell") {
+        let path = entry.expect("entry").path();
+        std::fs::copy(&path, sub.join(path.file_name().expect("name"))).expect("copy");
+    }
+    let (status, opened) = api.get("/api/studies/file?name=cell/study.toml").await;
+    assert_eq!(status, StatusCode::OK, "{opened}");
+    let study = opened["study"].clone();
+    let first = study["measurements"][0]["data"]
+        .as_str()
+        .expect("data")
+        .to_owned();
+    assert!(first.starts_with("cell/"), "{study}");
+    assert_eq!(
+        study["robot"], "industrial6",
+        "a ready robot's name is kept"
+    );
+    // Saved beside its files: named from there, and it opens the same.
+    let (status, saved) = api
+        .post(
+            "/api/studies/save",
+            &json!({ "name": "cell/copy.toml", "study": study }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{saved}");
+    let written = std::fs::read_to_string(sub.join("copy.toml")).expect("written");
+    assert!(!written.contains("cell/"), "{written}");
+    let (_, again) = api.get("/api/studies/file?name=cell/copy.toml").await;
+    assert_eq!(again["study"], study);
+    // Saved into another folder: its files are outside it.
+    std::fs::create_dir(api.folder.path().join("saved")).expect("folder");
+    let (status, body) = api
+        .post(
+            "/api/studies/save",
+            &json!({ "name": "saved/copy.toml", "study": study }),
+        )
+        .await;
+    assert!(status.is_client_error(), "{body}");
+    assert!(
+        error_text(&body).contains("outside the study's folder saved"),
+        "{body}"
+    );
+}
+
 #[tokio::test]
 async fn the_study_editor_opens_saves_and_identifies_with_the_tables_robot() {
     let api = Api::new();
