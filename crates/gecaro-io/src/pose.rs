@@ -263,7 +263,8 @@ mod tests {
     #[test]
     fn a_tool_is_read_from_its_matrix() {
         let half = std::f64::consts::FRAC_1_SQRT_2;
-        let by_quaternion = parse_tool_pose(&format!("10mm,20mm,120mm,{half},0,0,{half}")).unwrap();
+        let by_quaternion =
+            parse_tool_pose(&format!("10mm,20mm,120mm,{half},0,0,{half}")).expect("pose");
         let by_matrix =
             parse_tool_pose("0,-1,0,10mm, 1,0,0,20mm, 0,0,1,120mm, 0,0,0,1").expect("matrix");
         assert!((by_matrix.to_homogeneous() - by_quaternion.to_homogeneous()).norm() < 1e-12);
