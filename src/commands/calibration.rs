@@ -276,25 +276,31 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         }
     }
     super::options::print_notes(&identified.advice_notes());
-    // Written atomically, never over a file without --force; said unless --json.
-    let write = |path: &Path, text: String, what: &str| -> Result<(), Failure> {
-        gecaro_io::write_atomically(path, text.as_bytes(), output_policy(args.force))?;
-        if !args.json {
-            println!("wrote {what} to {}", path.display());
-        }
-        Ok(())
-    };
+    // Written atomically and together — both or neither (a full disk after
+    // the robot left it without its residuals) — never over a file without
+    // --force; said unless --json.
+    let mut outputs: Vec<(&Path, String, &str)> = Vec::new();
     if let Some(output) = &args.output
         && (identified.converged() || args.write_unconverged)
     {
-        write(
+        outputs.push((
             output,
             identified.calibrated_text()?,
             "the calibrated robot",
-        )?;
+        ));
     }
     if let Some(path) = &args.residuals {
-        write(path, identified.residuals_csv()?, "the residuals")?;
+        outputs.push((path, identified.residuals_csv()?, "the residuals"));
+    }
+    let bytes: Vec<(&Path, &[u8])> = outputs
+        .iter()
+        .map(|(path, text, _)| (*path, text.as_bytes()))
+        .collect();
+    gecaro_io::write_all_atomically(&bytes, output_policy(args.force))?;
+    if !args.json {
+        for (path, _, what) in &outputs {
+            println!("wrote {what} to {}", path.display());
+        }
     }
     if let Some(folder) = &args.plot {
         let paths = write_plots(folder, &identified, args.force)?;

@@ -72,6 +72,24 @@ pub trait Files: Sync {
         overwrite: bool,
     ) -> Result<PathBuf, AppError>;
 
+    /// Writes every one of `outputs` (name, extension, bytes) or none, as
+    /// far as the front end can: [`LocalFiles`] stages them all before it
+    /// replaces any (`gecaro_io::write_all_atomically`); this default writes
+    /// them one after the other. Returns the paths written.
+    ///
+    /// # Errors
+    /// As [`write`](Self::write).
+    fn write_all(
+        &self,
+        outputs: &[(&str, &str, &[u8])],
+        overwrite: bool,
+    ) -> Result<Vec<PathBuf>, AppError> {
+        outputs
+            .iter()
+            .map(|(name, extension, bytes)| self.write(name, extension, bytes, overwrite))
+            .collect()
+    }
+
     /// Writes to `name` atomically what `produce` writes, as it produces it
     /// (a corrected program written as it is read); returns the path
     /// written. An error of `produce` leaves nothing behind and is returned.
@@ -181,6 +199,24 @@ impl Files for LocalFiles {
         let path = PathBuf::from(name);
         gecaro_io::write_atomically(&path, bytes, policy(overwrite))?;
         Ok(path)
+    }
+
+    fn write_all(
+        &self,
+        outputs: &[(&str, &str, &[u8])],
+        overwrite: bool,
+    ) -> Result<Vec<PathBuf>, AppError> {
+        let paths: Vec<PathBuf> = outputs
+            .iter()
+            .map(|(name, _, _)| PathBuf::from(name))
+            .collect();
+        let staged: Vec<(&Path, &[u8])> = paths
+            .iter()
+            .zip(outputs)
+            .map(|(path, (_, _, bytes))| (path.as_path(), *bytes))
+            .collect();
+        gecaro_io::write_all_atomically(&staged, policy(overwrite))?;
+        Ok(paths)
     }
 
     fn write_streamed(

@@ -267,11 +267,17 @@ impl PreparedStudyPlan {
                 (&planned.loaded, &planned.format),
                 &outputs,
             )?;
-            let mut saved = vec![files.write(&name, "toml", text.as_bytes(), request.overwrite)?];
-            for (text, output) in planned.set_files().iter().zip(&outputs) {
-                saved.push(files.write(output, "csv", text.as_bytes(), request.overwrite)?);
-            }
-            planned.saved = saved;
+            // The study and its set files together, or none of them: a
+            // planned study never names files it did not write (issue 75).
+            let set_files = planned.set_files();
+            let mut all: Vec<(&str, &str, &[u8])> = vec![(&name, "toml", text.as_bytes())];
+            all.extend(
+                set_files
+                    .iter()
+                    .zip(&outputs)
+                    .map(|(text, output)| (output.as_str(), "csv", text.as_bytes())),
+            );
+            planned.saved = files.write_all(&all, request.overwrite)?;
         }
         Ok(planned)
     }

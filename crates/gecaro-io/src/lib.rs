@@ -64,7 +64,8 @@ pub use named_points::{
     BasePoint, FramePoint, MAX_BASE_POINT_DISTANCE, parse_base_points, parse_frame_points,
 };
 pub use output::{
-    OutputPolicy, remove_temporary_files, write_atomically, write_in_folder, write_with,
+    OutputPolicy, remove_temporary_files, write_all_atomically, write_atomically, write_in_folder,
+    write_with,
 };
 pub use payload::{
     MAX_PAYLOAD_CENTRE, MAX_PAYLOAD_KG, PayloadSpec, Quantity, check_payload, parse_payload,

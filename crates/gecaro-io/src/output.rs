@@ -76,47 +76,110 @@ pub fn write_with(
     policy: OutputPolicy,
     produce: impl FnOnce(&mut std::fs::File) -> std::io::Result<()>,
 ) -> Result<(), Error> {
-    let failure = |message: String| Error::Write {
-        path: path.to_owned(),
-        message,
-    };
-    roles::check_output_name(path)?;
-    roles::check_not_input(path)?;
-    if let Ok(metadata) = std::fs::metadata(path) {
-        if metadata.is_dir() {
-            return Err(failure("it is a folder".into()));
-        }
-        if is_stream(&metadata) {
-            let mut file = std::fs::OpenOptions::new()
-                .write(true)
-                .open(path)
-                .map_err(|error| failure(error.to_string()))?;
-            return produce(&mut file).map_err(|error| failure(error.to_string()));
-        }
-        if !metadata.is_file() {
-            return Err(failure(
-                "not a regular file, FIFO or terminal (a socket or a block device); give a file"
-                    .into(),
-            ));
+    match Target::of(path)? {
+        Target::Stream(mut file) => produce(&mut file).map_err(|error| Error::Write {
+            path: path.to_owned(),
+            message: error.to_string(),
+        }),
+        Target::Folder(dir, name) => write_in(&dir, Path::new(&name), path, policy, produce),
+    }
+}
+
+/// Writes every one of `outputs` (path, bytes) or none (issue 75: an
+/// identification's robot written, then its residuals failing on a full
+/// disk): each is written to a temporary file and flushed first, and only
+/// then are they all put in place. A failure before that replaces nothing;
+/// putting them in place is a rename each. A FIFO or a terminal among them
+/// is written last.
+///
+/// # Errors
+/// As [`write_atomically`], for the first output at fault.
+pub fn write_all_atomically(outputs: &[(&Path, &[u8])], policy: OutputPolicy) -> Result<(), Error> {
+    let targets = outputs
+        .iter()
+        .map(|(path, _)| Target::of(path))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut staged = Vec::with_capacity(outputs.len());
+    for (target, (path, bytes)) in targets.iter().zip(outputs) {
+        if let Target::Folder(dir, name) = target {
+            staged.push(stage(dir, Path::new(name), path, policy, |file| {
+                file.write_all(bytes)
+            })?);
         }
     }
-    let folder = match path.parent() {
-        Some(parent) if !parent.as_os_str().is_empty() => parent,
-        _ => Path::new("."),
-    };
-    let name = path
-        .file_name()
-        .ok_or_else(|| failure("not a file name".into()))?;
-    let dir = Dir::open_ambient_dir(folder, ambient_authority()).map_err(|error| {
-        failure(
-            if error.kind() == std::io::ErrorKind::NotFound || !folder.is_dir() {
-                format!("the folder {} does not exist", folder.display())
-            } else {
-                error.to_string()
-            },
-        )
-    })?;
-    write_in(&dir, Path::new(name), path, policy, produce)
+    for staged in staged {
+        staged.place()?;
+    }
+    for (target, (path, bytes)) in targets.into_iter().zip(outputs) {
+        if let Target::Stream(mut file) = target {
+            file.write_all(bytes).map_err(|error| Error::Write {
+                path: path.to_path_buf(),
+                message: error.to_string(),
+            })?;
+        }
+    }
+    Ok(())
+}
+
+/// Where an output goes: a stream written to as it is, or a name in a
+/// folder, replaced atomically.
+enum Target {
+    /// A FIFO or a character device, opened for writing.
+    Stream(std::fs::File),
+    /// The folder (by its handle) and the file's name in it.
+    Folder(Dir, std::ffi::OsString),
+}
+
+impl Target {
+    /// The target of `path`, checked: not `-`, not an input of this
+    /// command, not a folder, a socket or a block device, in a folder that
+    /// exists.
+    ///
+    /// # Errors
+    /// As [`write_atomically`].
+    fn of(path: &Path) -> Result<Target, Error> {
+        let failure = |message: String| Error::Write {
+            path: path.to_owned(),
+            message,
+        };
+        roles::check_output_name(path)?;
+        roles::check_not_input(path)?;
+        if let Ok(metadata) = std::fs::metadata(path) {
+            if metadata.is_dir() {
+                return Err(failure("it is a folder".into()));
+            }
+            if is_stream(&metadata) {
+                let file = std::fs::OpenOptions::new()
+                    .write(true)
+                    .open(path)
+                    .map_err(|error| failure(error.to_string()))?;
+                return Ok(Target::Stream(file));
+            }
+            if !metadata.is_file() {
+                return Err(failure(
+                    "not a regular file, FIFO or terminal (a socket or a block device); give a file"
+                        .into(),
+                ));
+            }
+        }
+        let folder = match path.parent() {
+            Some(parent) if !parent.as_os_str().is_empty() => parent,
+            _ => Path::new("."),
+        };
+        let name = path
+            .file_name()
+            .ok_or_else(|| failure("not a file name".into()))?;
+        let dir = Dir::open_ambient_dir(folder, ambient_authority()).map_err(|error| {
+            failure(
+                if error.kind() == std::io::ErrorKind::NotFound || !folder.is_dir() {
+                    format!("the folder {} does not exist", folder.display())
+                } else {
+                    error.to_string()
+                },
+            )
+        })?;
+        Ok(Target::Folder(dir, name.to_owned()))
+    }
 }
 
 /// The atomic write itself, in a folder given by its handle.
@@ -127,6 +190,26 @@ fn write_in(
     policy: OutputPolicy,
     produce: impl FnOnce(&mut std::fs::File) -> std::io::Result<()>,
 ) -> Result<(), Error> {
+    stage(folder, name, shown, policy, produce)?.place()
+}
+
+/// An output written to its temporary file and flushed, to be put in place.
+struct Staged<'a> {
+    folder: &'a Dir,
+    temporary: Temporary<'a>,
+    name: &'a Path,
+    shown: &'a Path,
+    policy: OutputPolicy,
+}
+
+/// `produce`'s bytes in a temporary file beside `name`, flushed to disk.
+fn stage<'a>(
+    folder: &'a Dir,
+    name: &'a Path,
+    shown: &'a Path,
+    policy: OutputPolicy,
+    produce: impl FnOnce(&mut std::fs::File) -> std::io::Result<()>,
+) -> Result<Staged<'a>, Error> {
     let failure = |message: String| Error::Write {
         path: shown.to_owned(),
         message,
@@ -159,21 +242,37 @@ fn write_in(
     file.sync_all()
         .map_err(|error| failure(error.to_string()))?;
     drop(file);
-    let placed = match policy {
-        OutputPolicy::Overwrite => folder.rename(&temporary.name, folder, name),
-        // A hard link fails when the name exists: no check-then-write race.
-        OutputPolicy::KeepExisting => folder.hard_link(&temporary.name, folder, name),
-    };
-    placed.map_err(|error| {
-        if error.kind() == std::io::ErrorKind::AlreadyExists {
-            Error::OutputExists {
-                path: shown.to_owned(),
+    Ok(Staged {
+        folder,
+        temporary,
+        name,
+        shown,
+        policy,
+    })
+}
+
+impl Staged<'_> {
+    /// Puts the staged file in place (the temporary file goes when dropped).
+    fn place(self) -> Result<(), Error> {
+        let (folder, name) = (self.folder, self.name);
+        let placed = match self.policy {
+            OutputPolicy::Overwrite => folder.rename(&self.temporary.name, folder, name),
+            // A hard link fails when the name exists: no check-then-write race.
+            OutputPolicy::KeepExisting => folder.hard_link(&self.temporary.name, folder, name),
+        };
+        placed.map_err(|error| {
+            if error.kind() == std::io::ErrorKind::AlreadyExists {
+                Error::OutputExists {
+                    path: self.shown.to_owned(),
+                }
+            } else {
+                Error::Write {
+                    path: self.shown.to_owned(),
+                    message: error.to_string(),
+                }
             }
-        } else {
-            failure(error.to_string())
-        }
-    })?;
-    Ok(())
+        })
+    }
 }
 
 /// A FIFO or a character device: written to, never replaced.
@@ -370,6 +469,42 @@ mod tests {
             .map(|entry| entry.file_name())
             .collect();
         assert_eq!(left, ["out.csv"], "{left:?}");
+    }
+
+    /// Outputs written as a set: all, or none replaced (issue 75).
+    #[test]
+    fn a_set_of_outputs_is_written_whole_or_not_at_all() {
+        let folder = tempfile::tempdir().expect("temporary folder");
+        let (robot, residuals) = (folder.path().join("cal.toml"), folder.path().join("r.csv"));
+        std::fs::write(&robot, "old robot").expect("old");
+        let blocked = folder.path().join("a folder");
+        std::fs::create_dir(&blocked).expect("folder");
+        let refused = write_all_atomically(
+            &[(&robot, b"new robot"), (&blocked, b"residuals")],
+            OutputPolicy::Overwrite,
+        );
+        assert!(matches!(refused, Err(Error::Write { .. })), "{refused:?}");
+        assert_eq!(std::fs::read_to_string(&robot).expect("read"), "old robot");
+        // An existing output kept (the policy) stops the set before any is placed.
+        std::fs::write(&residuals, "old residuals").expect("old");
+        let kept = write_all_atomically(
+            &[(&robot, b"new robot"), (&residuals, b"residuals")],
+            OutputPolicy::KeepExisting,
+        );
+        assert!(matches!(kept, Err(Error::OutputExists { .. })), "{kept:?}");
+        assert_eq!(std::fs::read_to_string(&robot).expect("read"), "old robot");
+        write_all_atomically(
+            &[(&robot, b"new robot"), (&residuals, b"residuals")],
+            OutputPolicy::Overwrite,
+        )
+        .expect("written");
+        assert_eq!(std::fs::read_to_string(&robot).expect("read"), "new robot");
+        assert_eq!(
+            std::fs::read_to_string(&residuals).expect("read"),
+            "residuals"
+        );
+        let left = std::fs::read_dir(folder.path()).expect("list").count();
+        assert_eq!(left, 3, "no temporary left");
     }
 
     #[test]
