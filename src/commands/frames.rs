@@ -120,19 +120,8 @@ pub(crate) fn join(args: &JoinArgs) -> Result<(), Failure> {
     request.save_as = Some(name(&args.output));
     request.overwrite = args.force;
     let joined = request.run(&LocalFiles)?;
-    let unmeasured = &joined.joined.unmeasured;
-    if !unmeasured.is_empty() {
-        let shown: Vec<String> = unmeasured
-            .iter()
-            .take(5)
-            .map(|(key, line)| format!("{key} (line {line})"))
-            .collect();
-        eprintln!(
-            "note: {} log row(s) have no measured point and are left out: {}{}",
-            unmeasured.len(),
-            shown.join(", "),
-            if unmeasured.len() > 5 { ", …" } else { "" }
-        );
+    if let Some(note) = joined.unmeasured_note() {
+        eprintln!("note: {note}");
     }
     let check = match joined.distance_rms {
         Some(rms) => format!(

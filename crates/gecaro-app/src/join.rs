@@ -16,7 +16,6 @@
 //! poses), so a tool point a few centimetres from frame n+1 does not raise
 //! it.
 
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use gecaro_core::terminal_pose;
@@ -93,6 +92,8 @@ pub struct JoinedJson {
     pub orientations: bool,
     /// Log rows nothing measured, left out.
     pub unmeasured: Vec<UnmeasuredJson>,
+    /// The sentence that says so ([`JoinedData::unmeasured_note`]).
+    pub unmeasured_note: Option<String>,
     /// The RMS difference between measured and modelled consecutive
     /// distances (m), when there were rows enough to check.
     pub distance_rms: Option<f64>,
@@ -115,6 +116,26 @@ pub struct JoinedData {
 }
 
 impl JoinedData {
+    /// What a user should know of the log rows nothing measured (left out),
+    /// the first five named with their lines; `None` when there are none.
+    pub fn unmeasured_note(&self) -> Option<String> {
+        let unmeasured = &self.joined.unmeasured;
+        if unmeasured.is_empty() {
+            return None;
+        }
+        let shown: Vec<String> = unmeasured
+            .iter()
+            .take(5)
+            .map(|(key, line)| format!("{key} (line {line})"))
+            .collect();
+        Some(format!(
+            "{} log row(s) have no measured point and are left out: {}{}",
+            unmeasured.len(),
+            shown.join(", "),
+            if unmeasured.len() > 5 { ", …" } else { "" }
+        ))
+    }
+
     /// The JSON document (`output` as `name` says it when written).
     pub fn document(&self, name: Option<&str>) -> JoinedJson {
         JoinedJson {
@@ -129,6 +150,7 @@ impl JoinedData {
                     line: *line,
                 })
                 .collect(),
+            unmeasured_note: self.unmeasured_note(),
             distance_rms: self.distance_rms,
             csv: self.joined.text.clone(),
             output: self.saved.as_ref().and(name).map(str::to_owned),
@@ -250,23 +272,7 @@ fn read_table(source: &DataSource, files: &dyn Files) -> Result<(String, PathBuf
             ));
         }
     };
-    input.parse(files, |reader, path, _| {
-        let mut text = String::new();
-        reader
-            .take(MAX_JOIN_BYTES + 1)
-            .read_to_string(&mut text)
-            .map_err(|cause| gecaro_io::Error::Read {
-                path: path.to_owned(),
-                cause,
-            })?;
-        if text.len() as u64 > MAX_JOIN_BYTES {
-            return Err(AppError::from(gecaro_io::Error::Format {
-                path: path.to_owned(),
-                message: format!("over {} MB: not a file to join", MAX_JOIN_BYTES >> 20),
-            }));
-        }
-        Ok((text, path.to_owned()))
-    })
+    input.read_text(files, MAX_JOIN_BYTES, "a file to join")
 }
 
 /// What the consecutive distances say of a join.

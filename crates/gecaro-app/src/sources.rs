@@ -148,6 +148,41 @@ pub(crate) enum CsvInput<'a> {
 }
 
 impl CsvInput<'_> {
+    /// The whole text of the file (at most `most` bytes: beyond, it is not
+    /// `what`) and the path its messages name.
+    ///
+    /// # Errors
+    /// A file that cannot be read, or one too large.
+    pub(crate) fn read_text(
+        &self,
+        files: &dyn Files,
+        most: u64,
+        what: &str,
+    ) -> Result<(String, std::path::PathBuf), AppError> {
+        self.parse(files, |reader, path, _| {
+            let mut text = String::new();
+            reader
+                .take(most + 1)
+                .read_to_string(&mut text)
+                .map_err(|cause| gecaro_io::Error::Read {
+                    path: path.to_owned(),
+                    cause,
+                })?;
+            if text.len() as u64 > most {
+                let size = if most >= 1 << 20 {
+                    format!("{} MB", most >> 20)
+                } else {
+                    format!("{} kB", most >> 10)
+                };
+                return Err(AppError::from(gecaro_io::Error::Format {
+                    path: path.to_owned(),
+                    message: format!("over {size}: not {what}"),
+                }));
+            }
+            Ok((text, path.to_owned()))
+        })
+    }
+
     /// The file read by `parse` (its reader, the path its messages name,
     /// and its length in bytes when known).
     ///
@@ -229,23 +264,8 @@ impl<P: Clone> PointsSource<P> {
                 label: &label,
             },
         };
-        input.parse(files, |reader, path, _| {
-            let mut text = String::new();
-            reader
-                .take(MAX_POINTS_BYTES + 1)
-                .read_to_string(&mut text)
-                .map_err(|cause| gecaro_io::Error::Read {
-                    path: path.to_owned(),
-                    cause,
-                })?;
-            if text.len() as u64 > MAX_POINTS_BYTES {
-                return Err(AppError::from(gecaro_io::Error::Format {
-                    path: path.to_owned(),
-                    message: format!("over {} kB: not {what}", MAX_POINTS_BYTES >> 10),
-                }));
-            }
-            Ok(parse(&text, path)?)
-        })
+        let (text, path) = input.read_text(files, MAX_POINTS_BYTES, what)?;
+        Ok(parse(&text, &path)?)
     }
 }
 

@@ -25,9 +25,13 @@ pub fn open_study(files: &dyn Files, name: &str) -> Result<StudySpec, AppError> 
     // a subfolder read the root's files of the same names).
     let folder = folder_of(name);
     if !folder.is_empty() {
-        rename_files(&mut spec, |name| {
+        // A set's data file may not be measured yet (a planned cell).
+        rename_files(&mut spec, |name, always_a_file| {
             let joined = format!("{folder}/{name}");
-            Ok((!Path::new(name).is_absolute() && files.is_file(&joined)).then_some(joined))
+            Ok(
+                (!Path::new(name).is_absolute() && (always_a_file || files.is_file(&joined)))
+                    .then_some(joined),
+            )
         })?;
     }
     Ok(spec)
@@ -39,19 +43,21 @@ fn folder_of(name: &str) -> &str {
     name.rsplit_once('/').map_or("", |(folder, _)| folder)
 }
 
-/// Renames every file `spec` names (its sets' data, its robot, priority and
-/// model where they are files) by `rename` (`None`: kept).
+/// Renames every file `spec` names by `rename(name, always_a_file)`
+/// (`None`: kept): its sets' data (always files, measured or not yet), and
+/// its robot, priority and model (files, or a ready robot's or a model's
+/// name).
 ///
 /// # Errors
 /// `rename`'s.
 fn rename_files(
     spec: &mut StudySpec,
-    rename: impl Fn(&str) -> Result<Option<String>, AppError>,
+    rename: impl Fn(&str, bool) -> Result<Option<String>, AppError>,
 ) -> Result<(), AppError> {
     for set in &mut spec.measurements {
         if let SetData::File(name) = &mut set.data
             && !name.is_empty()
-            && let Some(renamed) = rename(name.as_str())?
+            && let Some(renamed) = rename(name.as_str(), true)?
         {
             *name = renamed;
         }
@@ -60,7 +66,7 @@ fn rename_files(
         .into_iter()
         .flatten()
     {
-        if let Some(renamed) = rename(name.as_str())? {
+        if let Some(renamed) = rename(name.as_str(), false)? {
             *name = renamed;
         }
     }
@@ -115,11 +121,11 @@ impl SaveStudyRequest {
         let mut request = self.clone();
         if !folder.is_empty() {
             let prefix = format!("{folder}/");
-            rename_files(&mut request.study, |name| {
+            rename_files(&mut request.study, |name, always_a_file| {
                 if let Some(inside) = name.strip_prefix(&prefix) {
                     return Ok(Some(inside.to_owned()));
                 }
-                if Path::new(name).is_absolute() || !files.is_file(name) {
+                if Path::new(name).is_absolute() || !(always_a_file || files.is_file(name)) {
                     // A ready robot's name, a model's, an absolute path.
                     return Ok(None);
                 }
@@ -140,6 +146,27 @@ impl SaveStudyRequest {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A planned study in a subfolder names its set files from there even
+    /// before they are measured; a ready robot's name stays a name.
+    #[test]
+    fn a_study_s_files_not_measured_yet_are_named_from_its_folder() {
+        let folder = tempfile::tempdir().expect("folder");
+        let cell = folder.path().join("cell");
+        std::fs::create_dir(&cell).expect("cell");
+        std::fs::write(
+            cell.join("study.toml"),
+            "robot = \"industrial6\"\n[[measurements]]\nmethod = \"position\"\ndata = \"s1.csv\"\nsigma = \"20um\"\n",
+        )
+        .expect("study");
+        let name = cell.join("study.toml").display().to_string();
+        let spec = open_study(&crate::files::LocalFiles, &name).expect("opened");
+        let SetData::File(data) = &spec.measurements[0].data else {
+            panic!("a file");
+        };
+        assert_eq!(Path::new(data), cell.join("s1.csv"));
+        assert_eq!(spec.robot.as_deref(), Some("industrial6"));
+    }
 
     #[test]
     fn a_saved_study_reads_back_to_the_same_statement() {

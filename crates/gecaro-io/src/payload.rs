@@ -21,8 +21,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::written_lengths::number_length;
 
-/// The heaviest payload gecaro takes: 10 t, beyond any serial arm's.
-pub const MAX_PAYLOAD_KG: f64 = 1e4;
+/// The heaviest payload gecaro takes: 10 t, beyond any serial arm's — the
+/// bound of a link's mass ([`gecaro_core::MAX_LINK_MASS`]), stated once.
+pub const MAX_PAYLOAD_KG: f64 = gecaro_core::MAX_LINK_MASS;
 
 /// The farthest a payload's centre of mass may be from the tool frame
 /// (m): a 2 m tool is longer than any an arm carries, and a centre farther

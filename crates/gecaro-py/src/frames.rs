@@ -134,19 +134,8 @@ pub(crate) fn join(
     request.save_as = output.map(|path| path.display().to_string());
     request.overwrite = overwrite;
     let joined = request.run(&LocalFiles).py()?;
-    let unmeasured = &joined.joined.unmeasured;
-    if !unmeasured.is_empty() {
-        let shown: Vec<String> = unmeasured
-            .iter()
-            .take(5)
-            .map(|(key, line)| format!("{key} (line {line})"))
-            .collect();
-        let message = CString::new(format!(
-            "{} log row(s) have no measured point and are left out: {}",
-            unmeasured.len(),
-            shown.join(", ")
-        ))
-        .map_err(|error| input(error.to_string()))?;
+    if let Some(note) = joined.unmeasured_note() {
+        let message = CString::new(note).map_err(|error| input(error.to_string()))?;
         PyErr::warn(
             py,
             &py.get_type::<pyo3::exceptions::PyUserWarning>(),

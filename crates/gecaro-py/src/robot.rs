@@ -129,6 +129,23 @@ fn batch_output(count: usize, width: usize) -> PyResult<Vec<f64>> {
     Ok(output)
 }
 
+/// `request` run: its base registration as `robot rebase --json` gives it,
+/// and the robot in that base.
+fn rebased_with_registration<'py>(
+    py: Python<'py>,
+    request: &gecaro_app::RebaseRequest,
+) -> PyResult<(Bound<'py, PyAny>, PyRobot)> {
+    let rebased = request.run(&LocalFiles).py()?;
+    let registration = rebased
+        .registration
+        .as_ref()
+        .map(gecaro_app::BaseRegistration::document);
+    Ok((
+        crate::documents::to_python(py, &registration)?,
+        PyRobot::new(rebased.robot),
+    ))
+}
+
 /// The values of a homogeneous matrix, row by row.
 fn homogeneous_rows(pose: &IsometryMatrix3<f64>, out: &mut [f64]) {
     let matrix = pose.to_homogeneous();
@@ -674,15 +691,7 @@ impl PyRobot {
             gecaro_app::RobotSource::Loaded(Box::new(nominal.file.clone())),
         );
         request.base_points = Some(gecaro_app::BasePointsSource::Points(points));
-        let rebased = request.run(&LocalFiles).py()?;
-        let registration = rebased
-            .registration
-            .as_ref()
-            .map(gecaro_app::BaseRegistration::document);
-        Ok((
-            crate::documents::to_python(py, &registration)?,
-            PyRobot::new(rebased.robot),
-        ))
+        rebased_with_registration(py, &request)
     }
 
     /// This robot, calibrated in a measurement frame, in the base frame its
@@ -708,15 +717,7 @@ impl PyRobot {
             samples: circles.samples.clone(),
             label: circles.label.clone(),
         });
-        let rebased = request.run(&LocalFiles).py()?;
-        let registration = rebased
-            .registration
-            .as_ref()
-            .map(gecaro_app::BaseRegistration::document);
-        Ok((
-            crate::documents::to_python(py, &registration)?,
-            PyRobot::new(rebased.robot),
-        ))
+        rebased_with_registration(py, &request)
     }
 
     /// A copy (changes to it leave this robot alone).

@@ -237,9 +237,7 @@ function joinForm(name) {
         log_format: { angle_unit: angleUnit.value, columns: logColumns.value.trim() || null },
         save_as: saveAs.value.trim(),
       });
-      const left = joined.unmeasured.length
-        ? ` ${joined.unmeasured.length} log row(s) have no measured point and are left out: ${joined.unmeasured.slice(0, 5).map((row) => `${row.key} (line ${row.line})`).join(', ')}.`
-        : '';
+      const left = joined.unmeasured_note ? ` ${joined.unmeasured_note}.` : '';
       const check = joined.distance_rms === null || joined.distance_rms === undefined ? ''
         : ` The distances between consecutive points match the table’s robot to ${(joined.distance_rms * 1000).toFixed(3)} mm RMS, and no shift of rows matches them better.`;
       result.replaceChildren(h('p', { id: id('summary'), text: `Saved ${joined.output}: ${joined.rows} configurations with their measured ${joined.orientations ? 'poses' : 'points'}.${left}${check}` }));
