@@ -1381,6 +1381,10 @@ pub struct CompensationJson {
     pub largest_position_error: f64,
     /// The largest joint correction, in the program's unit.
     pub largest_correction: f64,
+    /// The same with its unit, joint and line (`0.9360 rad (joint 5, line
+    /// 7)`); absent for targets given as arrays.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub largest_correction_at: Option<crate::compensate::LargestCorrection>,
     /// The largest turn of the tool a position match left (rad); absent for
     /// a pose match.
     #[serde(skip_serializing_if = "Option::is_none")]

@@ -18,8 +18,8 @@ use gecaro_calib::validation::{
 };
 use gecaro_io::RobotFile;
 use gecaro_report::{
-    ReportInput, error_histograms_svg, errors_per_configuration_svg, html_report,
-    identification_svgs, observation_names,
+    ReportInput, errors_per_configuration_svg, html_report, identification_svgs,
+    labelled_error_histograms_svg, observation_names,
 };
 use serde::{Deserialize, Serialize};
 
@@ -769,8 +769,18 @@ impl Evaluation {
             .compared
             .as_ref()
             .map_or_else(|| before.clone(), |(_, errors)| millimetres(errors));
+        // The robot evaluated is whatever it is (nominal or not): named as
+        // "the robot"; alone, one panel, not the same errors twice.
+        let compared = self
+            .compared
+            .as_ref()
+            .map(|_| (after.as_slice(), "the compared robot (calibrated)"));
         Ok(EvaluationPlots {
-            errors_histogram: error_histograms_svg(&before, &after, "mm")?,
+            errors_histogram: labelled_error_histograms_svg(
+                (&before, "the robot evaluated"),
+                compared,
+                "mm",
+            )?,
             errors_per_configuration: errors_per_configuration_svg(
                 &before,
                 &after,

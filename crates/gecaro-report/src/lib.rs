@@ -14,7 +14,8 @@ mod plots;
 pub use html::{ReportInput, html_report};
 pub use plots::{
     IdentificationSvgs, accuracy_curve_svg, convergence_svg, error_histograms_svg,
-    errors_per_configuration_svg, identification_svgs, observation_names, robot_projections_svg,
+    errors_per_configuration_svg, identification_svgs, labelled_error_histograms_svg,
+    observation_names, robot_projections_svg,
 };
 
 /// Errors of report making.

@@ -261,10 +261,32 @@ pub fn observation_names(study: &Study) -> Vec<String> {
 /// # Errors
 /// [`Error::Plot`] if drawing fails.
 pub fn error_histograms_svg(before: &[f64], after: &[f64], unit: &str) -> Result<String, Error> {
+    labelled_error_histograms_svg(
+        (before, "before (nominal)"),
+        Some((after, "after (calibrated)")),
+        unit,
+    )
+}
+
+/// Histograms of the per-configuration errors of one robot, or of two side
+/// by side, each with its caption: an evaluation names the robots it
+/// compares (the table's robot need not be the nominal one), and draws one
+/// panel when there is nothing to compare with.
+///
+/// # Errors
+/// [`Error::Plot`] if drawing fails.
+pub fn labelled_error_histograms_svg(
+    first: (&[f64], &str),
+    second: Option<(&[f64], &str)>,
+    unit: &str,
+) -> Result<String, Error> {
     svg(WIDTH, HEIGHT, |root| {
+        let Some((after, label)) = second else {
+            return histogram_panel(&root, first.1, first.0, BEFORE, unit);
+        };
         let (left, right) = root.split_horizontally(WIDTH / 2);
-        histogram_panel(&left, "before (nominal)", before, BEFORE, unit)?;
-        histogram_panel(&right, "after (calibrated)", after, AFTER, unit)?;
+        histogram_panel(&left, first.1, first.0, BEFORE, unit)?;
+        histogram_panel(&right, label, after, AFTER, unit)?;
         Ok(())
     })
 }
@@ -611,6 +633,9 @@ mod tests {
         let histograms =
             error_histograms_svg(&[10.0, 20.0, 35.0], &[0.01, 0.02], "mm").expect("svg");
         assert!(histograms.contains("after (calibrated)"));
+        let alone = labelled_error_histograms_svg((&[10.0, 20.0], "the table's robot"), None, "mm")
+            .expect("svg");
+        assert!(alone.contains("the table") && !alone.contains("before (nominal)"));
         let points = errors_per_configuration_svg(
             &[10.0, 20.0],
             &[0.01, 0.02],

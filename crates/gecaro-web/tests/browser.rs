@@ -963,6 +963,30 @@ async fn the_page_is_an_engineers_tool() {
         count(client, "#position-compensate-table tbody tr.flagged").await,
         flagged
     );
+    // Flagged targets are not a step done; the largest correction says its
+    // unit, joint and line; motor values stand in the page's units.
+    let step = client
+        .find(Locator::Css("#step-export"))
+        .await
+        .expect("step")
+        .attr("class")
+        .await
+        .expect("class")
+        .unwrap_or_default();
+    assert!(
+        step.contains(if flagged == 0 { "done" } else { "warn" }),
+        "{step}"
+    );
+    let largest = text_of(client, "#position-compensate-largest", 5).await;
+    assert!(
+        largest.contains("(joint ") && largest.contains(", line "),
+        "{largest}"
+    );
+    let heads = text_of(client, "#position-compensate-table thead", 5).await;
+    assert!(
+        heads.contains("qm1 (°)") && heads.contains("qm3 (mm)"),
+        "{heads}"
+    );
     assert!(
         text_of(client, "#position-compensate-saved", 5)
             .await
@@ -1211,15 +1235,24 @@ async fn the_page_is_an_engineers_tool() {
         overflow <= 0.0,
         "the page is {overflow} px wider than the window"
     );
+    // The robot's whole table in view (no sideways scroll to reach qmax, c
+    // and mass), the methods beside the study below it.
+    let table = number(
+        client,
+        "const t = document.getElementById('frames-table').parentElement; \
+         return t.scrollWidth - t.clientWidth",
+    )
+    .await;
+    assert!(table <= 0.0, "the robot table scrolls {table} px sideways");
     let beside = number(
         client,
-        "return document.getElementById('methods-card').getBoundingClientRect().left - \
-         document.getElementById('robot-card').getBoundingClientRect().right",
+        "return document.getElementById('study-card').getBoundingClientRect().left - \
+         document.getElementById('methods-card').getBoundingClientRect().right",
     )
     .await;
     assert!(
         beside > 0.0,
-        "the methods are beside the robot at 1920 px ({beside})"
+        "the methods are beside the study at 1920 px ({beside})"
     );
     client
         .execute("window.scrollTo(0, 0)", vec![])
@@ -1483,5 +1516,354 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
     let unknowns = text_of(client, "#study-predicted", 5).await;
     assert!(unknowns.contains("tracker_2.x"), "{unknowns}");
     screenshot(client, "15-study-plan-1400.png").await;
+    session.close().await;
+}
+
+/// Collects the page's uncaught errors and rejected promises from now on
+/// (`window.__errors`); read by [`uncaught_errors`].
+async fn collect_errors(client: &Client) {
+    client
+        .execute(
+            "window.__errors = []; \
+             window.addEventListener('error', (e) => window.__errors.push(String(e.message))); \
+             window.addEventListener('unhandledrejection', (e) => window.__errors.push(String(e.reason)));",
+            vec![],
+        )
+        .await
+        .expect("error collector");
+}
+
+async fn uncaught_errors(client: &Client) -> Vec<String> {
+    let errors = client
+        .execute("return window.__errors || []", vec![])
+        .await
+        .expect("errors");
+    serde_json::from_value(errors).expect("strings")
+}
+
+/// Types `text` into the field `selector` as a person would (its old text
+/// selected, and replaced by what is typed), then leaves it with Tab.
+async fn type_into(client: &Client, selector: &str, text: &str) {
+    let input = client
+        .find(Locator::Css(selector))
+        .await
+        .unwrap_or_else(|error| panic!("{selector}: {error}"));
+    client
+        .execute(
+            "const e = document.querySelector(arguments[0]); e.focus(); e.select();",
+            vec![json!(selector)],
+        )
+        .await
+        .expect("select");
+    input
+        .send_keys(&format!("{text}{}", Key::Tab))
+        .await
+        .expect("type");
+}
+
+async fn class_of(client: &Client, selector: &str) -> String {
+    client
+        .find(Locator::Css(selector))
+        .await
+        .unwrap_or_else(|error| panic!("{selector}: {error}"))
+        .attr("class")
+        .await
+        .expect("class")
+        .unwrap_or_default()
+}
+
+/// The page is {overflow} px wider than its window, or 0 — naming the
+/// elements that stick out when it is.
+async fn sideways(client: &Client) -> Option<String> {
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    let overflow = number(
+        client,
+        "return document.documentElement.scrollWidth - window.innerWidth",
+    )
+    .await;
+    if overflow <= 0.0 {
+        return None;
+    }
+    let wide = client
+        .execute(
+            "return [...document.querySelectorAll('body *')].filter(e => e.getBoundingClientRect().right > window.innerWidth + 1 && e.offsetParent !== null).slice(0, 12).map(e => e.tagName + '#' + e.id + '.' + e.className + ' ' + Math.round(e.getBoundingClientRect().right)).join(' | ')",
+            vec![],
+        )
+        .await
+        .expect("script");
+    Some(format!("{overflow} px wider than the window: {wide}"))
+}
+
+/// Issue 76: nothing silently wrong on the page. A decimal comma is read
+/// as one (0,05 mm, never 5 mm); no data are chosen for the person; a
+/// result changed under it (data, settings, study) is marked stale; the
+/// calibrated robot is not evaluated against itself; a job outlives a
+/// reload; a study runs with the robot it names (or the page asks),
+/// reads its files from its own folder, and survives renaming its tools;
+/// the tabs work from the keyboard; nothing scrolls sideways; and no error
+/// goes uncaught.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_page_is_never_silently_wrong() {
+    let Some(session) = Session::start(1920, 1400).await else {
+        return;
+    };
+    let (client, folder, url) = (&session.client, session.folder.path(), session.url.clone());
+    write_tracker_file(folder, "tracker.csv", 60, 1);
+    write_tracker_file(folder, "long.csv", 10000, 3);
+    // The tracker cell in a subfolder; at the root, a file of the same name
+    // as one of its sets holds another reflector's points.
+    let cell = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/tracker-cell");
+    std::fs::create_dir(folder.join("cell")).expect("subfolder");
+    for entry in std::fs::read_dir(&cell).expect("cell") {
+        let path = entry.expect("entry").path();
+        std::fs::copy(
+            &path,
+            folder.join("cell").join(path.file_name().expect("name")),
+        )
+        .expect("copy");
+    }
+    std::fs::copy(cell.join("smr_b_1.csv"), folder.join("smr_a_1.csv")).expect("decoy");
+    client.goto(&url).await.expect("page");
+    text_when(client, "#robot-name", 30, |name| name == "Stanford").await;
+    collect_errors(client).await;
+
+    // A fresh page has chosen no data, though the folder has a data file.
+    click(client, "#tab-position").await;
+    click(client, "#function-identify").await;
+    assert_eq!(
+        text_of(client, "#step-measure .step-status", 5).await,
+        "no data chosen"
+    );
+    click(client, "#position-identify-run").await;
+    let refused = text_of(client, "#position-identify-result .error-box", 10).await;
+    assert!(
+        refused.starts_with("Data: choose the measurements"),
+        "{refused}"
+    );
+
+    // The method tabs from the keyboard: arrows move and select.
+    let tabs = "return [...document.querySelectorAll('#method-tabs [role=tab]')]\
+                .map((t) => t.getAttribute('aria-selected') + ':' + t.tabIndex + ':' + (t === document.activeElement))";
+    client
+        .find(Locator::Css("#tab-position"))
+        .await
+        .expect("tab")
+        .send_keys(&Key::Right.to_string())
+        .await
+        .expect("arrow");
+    let states = client.execute(tabs, vec![]).await.expect("tabs");
+    assert_eq!(states[1], "true:0:true", "{states}");
+    assert_eq!(states[0], "false:-1:false", "{states}");
+    assert_eq!(
+        count(client, "#method-panels [role=tabpanel][aria-labelledby]").await,
+        states.as_array().expect("tabs").len()
+    );
+    client
+        .execute("return document.activeElement.id", vec![])
+        .await
+        .expect("focus");
+    client
+        .find(Locator::Css("#method-tabs [aria-selected=true]"))
+        .await
+        .expect("selected")
+        .send_keys(&Key::Left.to_string())
+        .await
+        .expect("arrow");
+    assert_eq!(
+        client.execute(tabs, vec![]).await.expect("tabs")[0],
+        "true:0:true"
+    );
+
+    // A decimal comma is a decimal comma: 0,05 mm of noise, not 5 mm.
+    click(client, "#function-generate").await;
+    type_into(client, "#position-generate-noise", "1,500").await;
+    click(client, "#position-generate-run").await;
+    let refused = text_of(client, "#position-generate-result .error-box", 10).await;
+    assert!(
+        refused.contains("could be a decimal comma or a thousands separator"),
+        "{refused}"
+    );
+    type_into(client, "#position-generate-noise", "0,05").await;
+    click(client, "#position-generate-run").await;
+    let origin = text_of(client, "#position-generate-origin", 30).await;
+    assert!(origin.contains("sensor noise σ 0.050 mm"), "{origin}");
+    click(client, "#position-generate-identify").await;
+    type_into(client, "#position-identify-sigma", "0,05").await;
+    click(client, "#position-identify-run").await;
+    assert_eq!(
+        text_of(client, "#position-identify-status", 60).await,
+        "Fits the noise"
+    );
+    assert!(
+        class_of(client, "#position-identify-save")
+            .await
+            .contains("primary")
+    );
+
+    // A setting changed after the identification marks it stale, names the
+    // setting, and takes the green and the primary Save away; set back, the
+    // mark goes.
+    client
+        .find(Locator::Css("#position-identify-loss"))
+        .await
+        .expect("loss")
+        .select_by_value("huber")
+        .await
+        .expect("huber");
+    let stale = text_of(client, "#position-identify-stale", 5).await;
+    assert!(stale.contains("the setting “Loss”"), "{stale}");
+    assert!(
+        class_of(client, "#position-identify-result")
+            .await
+            .contains("stale")
+    );
+    assert!(
+        !class_of(client, "#position-identify-save")
+            .await
+            .contains("primary")
+    );
+    assert_eq!(
+        text_of(client, "#step-identify .step-status", 5).await,
+        "stale: identify again"
+    );
+    client
+        .find(Locator::Css("#position-identify-loss"))
+        .await
+        .expect("loss")
+        .select_by_value("l2")
+        .await
+        .expect("l2");
+    if count(client, "#position-identify-stale").await > 0 {
+        panic!("{}", text_of(client, "#position-identify-stale", 1).await);
+    }
+    assert!(
+        class_of(client, "#position-identify-save")
+            .await
+            .contains("primary")
+    );
+    type_into(client, "#position-identify-sigma", "0,02").await;
+    let stale = text_of(client, "#position-identify-stale", 5).await;
+    assert!(stale.contains("“Sensor σ"), "{stale}");
+    // 0.05 is what 0,05 was: nothing changed.
+    type_into(client, "#position-identify-sigma", "0.05").await;
+    assert_eq!(count(client, "#position-identify-stale").await, 0);
+
+    // Evaluate after the calibrated robot is opened in the table: it is
+    // evaluated alone, and the page says why.
+    click(client, "#position-identify-open").await;
+    text_when(client, "#robot-name", 10, |name| {
+        name.contains("calibrated")
+    })
+    .await;
+    click(client, "#function-evaluate").await;
+    set_values(client, &[("position-evaluate-data", "generated")]).await;
+    click(client, "#position-evaluate-run").await;
+    let itself = text_of(client, "#position-evaluate-itself", 30).await;
+    assert!(itself.contains("not compared with itself"), "{itself}");
+    assert_eq!(count(client, "#position-evaluate-calibrated").await, 0);
+    let histogram = text_of(client, "#position-evaluate-histogram", 5).await;
+    assert!(!histogram.contains("nominal"), "{histogram}");
+
+    // A reload during an identification: the page follows the same job
+    // again, its form as it was.
+    click(client, "#function-identify").await;
+    set_values(
+        client,
+        &[
+            ("position-identify-data", "file:long.csv"),
+            ("position-identify-length-unit", "mm"),
+            ("position-identify-columns", "x=X_mm,y=Y_mm,z=Z_mm"),
+            ("position-identify-cv", "20"),
+            ("position-identify-loss", "tukey"),
+        ],
+    )
+    .await;
+    click(client, "#position-identify-run").await;
+    client
+        .wait()
+        .at_most(Duration::from_secs(30))
+        .for_element(Locator::Css("#position-identify-cancel:not([disabled])"))
+        .await
+        .expect("running");
+    client.refresh().await.expect("reload");
+    text_of(client, "#position-identify-progress", 30).await;
+    collect_errors(client).await;
+    let verdict = text_of(client, "#position-identify-verdict", 120).await;
+    assert!(verdict.starts_with("Verdict"), "{verdict}");
+    let form = client
+        .execute(
+            "return ['data', 'loss', 'cv', 'columns'].map((k) => document.getElementById('position-identify-' + k).value)",
+            vec![],
+        )
+        .await
+        .expect("form");
+    assert_eq!(
+        form,
+        json!(["file:long.csv", "tukey", "20", "x=X_mm,y=Y_mm,z=Z_mm"])
+    );
+    assert_eq!(count(client, "#position-identify-stale").await, 0);
+
+    // The study of the subfolder, opened with another robot in the table:
+    // the editor says so, Identify asks which robot, naming both; the
+    // study's own opens, and its sets are read from its folder.
+    click(client, "#robot-open").await;
+    click(client, "#open-ready-stanford").await;
+    text_when(client, "#robot-name", 30, |name| name == "Stanford").await;
+    set_values(client, &[("study-file", "cell/study.toml")]).await;
+    click(client, "#study-open").await;
+    let note = text_of(client, "#study-robot-note", 10).await;
+    assert!(
+        note.contains("names the robot industrial6, but the table holds Stanford"),
+        "{note}"
+    );
+    let sets = text_of(client, "#study-sets", 5).await;
+    assert!(sets.contains("cell/smr_a_1.csv"), "{sets}");
+    click(client, "#study-run").await;
+    let question = text_of(client, "#study-robot-question", 10).await;
+    assert!(
+        question.contains("industrial6") && question.contains("Stanford"),
+        "{question}"
+    );
+    click(client, "#dialog-ok").await;
+    let verdict = text_of(client, "#study-verdict", 120).await;
+    assert!(verdict.contains("converged"), "{verdict}");
+    assert_ne!(text_of(client, "#robot-name", 5).await, "Stanford");
+    let note = text_of(client, "#study-robot-note", 5).await;
+    assert!(note.contains("the table holds it"), "{note}");
+
+    // Renaming a tool: the sets that use it follow, focus stays where the
+    // person moved it, nothing throws; the result is marked stale.
+    let tool = r#"input[aria-label="tool 1 name"]"#;
+    type_into(client, tool, "smr_x").await;
+    tokio::time::sleep(Duration::from_millis(200)).await;
+    let renamed = client
+        .execute(
+            "return [document.querySelector('select[aria-label=\"set 1 tool\"]').value, \
+                     document.querySelector('select[aria-label=\"set 4 tool\"]').value, \
+                     document.activeElement.getAttribute('aria-label')]",
+            vec![],
+        )
+        .await
+        .expect("sets");
+    assert_eq!(renamed[0], "smr_x", "{renamed}");
+    assert_eq!(renamed[2], "smr_x x", "{renamed}");
+    let stale = text_of(client, "#study-stale", 5).await;
+    assert!(stale.contains("the study"), "{stale}");
+
+    // No sideways scroll with the study loaded, at 1920 and at 800 px.
+    if let Some(wide) = sideways(client).await {
+        panic!("at 1920 px the page is {wide}");
+    }
+    client.set_window_size(800, 1400).await.expect("resize");
+    if let Some(wide) = sideways(client).await {
+        panic!("at 800 px the page is {wide}");
+    }
+    client.set_window_size(1920, 1400).await.expect("resize");
+
+    // A new study takes the old result away.
+    click(client, "#study-new").await;
+    assert_eq!(count(client, "#study-result *").await, 0);
+    let errors = uncaught_errors(client).await;
+    assert!(errors.is_empty(), "uncaught errors: {errors:?}");
     session.close().await;
 }

@@ -12,7 +12,7 @@ use crate::documents::{CompensatedJson, CompensationJson};
 use crate::error::{AppError, ErrorKind, Part};
 
 /// The largest change of a joint between the program and its correction.
-#[derive(Copy, Clone, Debug, PartialEq)]
+#[derive(Copy, Clone, Debug, PartialEq, serde::Serialize)]
 pub struct LargestCorrection {
     /// The change, in the program file's unit.
     pub value: f64,
@@ -170,6 +170,7 @@ impl CompensationSummary {
             not_reached: self.not_reached.clone(),
             largest_position_error: self.largest_position_error,
             largest_correction: self.largest_correction.map_or(0.0, |largest| largest.value),
+            largest_correction_at: self.largest_correction,
             largest_tool_turn: self.largest_tool_turn.map(|(turn, _)| turn),
             turned: self.turned.clone(),
             output,

@@ -1,6 +1,7 @@
 // The data menus of each method: generated, held-out, files of the folder
 // and uploads, and the request's data (`dataRequest`).
 import { h, $ } from './dom.js';
+import { FieldError } from './fields.js';
 import { columnMap, dataColumns, fits, isProgram } from './file-fit.js';
 import { methodInfo, state } from './state.js';
 
@@ -27,6 +28,9 @@ export function refreshDataChoices(name, prefer) {
     const previous = prefer && !select.dataset.random ? prefer : select.value;
     const options = [];
     if (select.dataset.random) options.push(h('option', { value: 'random', text: 'Random configurations' }));
+    // Nothing is chosen for the person: a file of the folder is data only
+    // once picked (the step bar and Identify count what was chosen).
+    else options.push(h('option', { value: '', text: select.dataset.program ? 'choose a program…' : 'choose the data…' }));
     // A program is a file of the folder or an upload, never measurements.
     const generated = select.dataset.program ? null : state.generated[name];
     if (generated) options.push(h('option', { value: 'generated', text: `Generated here: ${generated.file_name}` }));
@@ -57,7 +61,11 @@ export function refreshDataChoices(name, prefer) {
 
 export async function dataRequest(name, fn) {
   const choice = $(`${name}-${fn}-data`).value;
-  if (choice === 'random' || choice === '') return undefined;
+  if (choice === 'random') return undefined;
+  if (choice === '') {
+    throw new FieldError(fn === 'compensate' ? 'Program: choose the program to compensate (a file of the folder, or upload one).'
+      : 'Data: choose the measurements (generate them under Points generation, a file of the folder, or upload one).');
+  }
   if (choice === 'generated' || choice === 'held-out') {
     const generated = (choice === 'generated' ? state.generated : state.heldOut)[name];
     return { csv: { text: generated.csv, name: generated.file_name } };

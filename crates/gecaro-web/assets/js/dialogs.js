@@ -10,6 +10,8 @@ export function openDialog({ title, body, ok = 'OK', onOk }) {
   const okButton = $('dialog-ok');
   okButton.textContent = ok;
   okButton.hidden = !onOk;
+  // A dialog with nothing to confirm is closed, not cancelled.
+  $('dialog-cancel').textContent = onOk ? 'Cancel' : 'Close';
   $('dialog-form').onsubmit = async (event) => {
     event.preventDefault();
     if (!onOk) return;

@@ -2,8 +2,18 @@
 // field's own words (`fieldNumber`, `FieldError`), error boxes, stat
 // cards, run buttons.
 import { h } from './dom.js';
-import { sci } from './format.js';
+import { numberProblem, readNumber, sci } from './format.js';
 import { state } from './state.js';
+
+/**
+ * A field for a number as a person types it: text, so that a decimal
+ * comma reaches the page as typed (a browser's number field drops it:
+ * `0,05` became `005`), read by `fieldNumber`; the phone's keyboard is the
+ * decimal one.
+ */
+export function numberInput(attributes) {
+  return h('input', { type: 'text', inputmode: 'decimal', autocomplete: 'off', spellcheck: 'false', class: 'number', ...attributes });
+}
 
 export function field(label, input) {
   return h('label', { class: 'field' }, h('span', { text: label }), input);
@@ -42,8 +52,10 @@ export function fieldNumber(input, label, { min = -Infinity, max = Infinity, who
     if (empty !== undefined) return empty;
     fail('it is empty');
   }
-  const value = Number(text);
-  if (!Number.isFinite(value)) fail(`“${text}” is not a number`);
+  // A decimal comma is read as one (0,05 is 0.05); text whose meaning is
+  // not certain (1,500) is refused, never guessed.
+  const value = readNumber(text);
+  if (!Number.isFinite(value)) fail(numberProblem(text));
   if (whole && !Number.isInteger(value)) fail(`${text} is not a whole number`);
   if (value < min || (above && value === min) || value > max) fail(`${text} is out of range`);
   return value;
@@ -83,7 +95,8 @@ export function locationText(location) {
 export function errorBox(error) {
   const lines = [error.message];
   for (const problem of error.problems || []) lines.push(`${locationText(problem.location)}: ${problem.message}`);
-  return h('div', { class: 'error-box', text: lines.join('\n') });
+  // A lost server's message goes when the server answers again (main.js).
+  return h('div', { class: error.unreachable ? 'error-box unreachable' : 'error-box', text: lines.join('\n') });
 }
 
 export function runButton(id, text, action) {

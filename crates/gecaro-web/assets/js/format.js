@@ -21,10 +21,44 @@ export function slug(text) {
   return text.toLowerCase().replace(/[^a-z0-9]+/g, '-').replace(/^-|-$/g, '') || 'robot';
 }
 
+/**
+ * The number a person typed, read as they meant it: a decimal point or a
+ * decimal comma (`0,05` is 0.05, never 5), a typographic minus, spaces
+ * around. Returns NaN for text that is no number, and for text whose
+ * meaning is not certain: a comma and a point together (`1.234,5`), two
+ * commas, or a comma before exactly three digits after a non-zero whole
+ * part (`1,500`: one and a half, or fifteen hundred?).
+ */
+export function readNumber(text) {
+  const typed = String(text).trim().replace(/\u2212/g, '-');
+  if (typed === '' || /\s/.test(typed)) return Number.NaN;
+  if (!typed.includes(',')) return /^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$/.test(typed) ? Number(typed) : Number.NaN;
+  const comma = /^([+-]?)(\d*),(\d+)([eE][+-]?\d+)?$/.exec(typed);
+  if (!comma) return Number.NaN;
+  const [, sign, whole, fraction, exponent] = comma;
+  if (fraction.length === 3 && /[1-9]/.test(whole) && !exponent) return Number.NaN;
+  return Number(`${sign}${whole || '0'}.${fraction}${exponent || ''}`);
+}
+
+/** Why `text` is not read as a number (readNumber gave NaN), in words. */
+export function numberProblem(text) {
+  const typed = String(text).trim();
+  if (typed.includes(',') && typed.includes('.')) return `“${typed}” mixes a decimal comma and a decimal point`;
+  if (/^[+-]?[1-9]\d*,\d{3}$/.test(typed)) return `“${typed}” could be a decimal comma or a thousands separator: write ${typed.replace(',', '.')} or ${typed.replace(',', '')}`;
+  return `“${typed}” is not a number`;
+}
+
+/**
+ * Three numbers: separated by semicolons or spaces (then each may have a
+ * decimal comma: `0,3; 0,5; 0,81`), or by commas (decimal points).
+ */
 export function parseVector(text, what) {
-  const parts = text.trim().split(/[\s,;]+/).filter(Boolean).map(Number);
+  const trimmed = text.trim();
+  const bySpace = trimmed.split(/[\s;]+/).filter(Boolean);
+  const words = bySpace.length === 3 ? bySpace : trimmed.split(/[\s,;]+/).filter(Boolean);
+  const parts = words.map((word) => (bySpace.length === 3 ? readNumber(word.replace(/,$/, '')) : Number(word)));
   if (parts.length !== 3 || !parts.every(Number.isFinite)) {
-    throw new Error(`${what} needs three numbers, e.g. 0.3, 0.5, 0.81`);
+    throw new Error(`${what} needs three numbers, e.g. 0.3, 0.5, 0.81 (or 0,3; 0,5; 0,81)`);
   }
   return parts;
 }

@@ -6,13 +6,14 @@
 import { api } from './api.js';
 import { h, $, toast } from './dom.js';
 import { on } from './events.js';
+import { cancelJobsLeftBehind, jobsLeftRunning } from './jobs.js';
 import { helpDialog } from './help.js';
-import { selectMethod, selectFunction } from './navigation.js';
+import { selectMethod, selectFunction, tabKeys } from './navigation.js';
 import { compensatePanel } from './panels/compensate.js';
 import { evaluatePanel } from './panels/evaluate.js';
 import { generatePanel } from './panels/generate.js';
 import { identifiablePanel } from './panels/identifiable.js';
-import { identifyPanel, renderIdentification } from './panels/identify.js';
+import { followIdentification, identifyPanel, renderIdentification } from './panels/identify.js';
 import { planPanel } from './panels/plan.js';
 import { loadReady, refreshFiles, openRobotDialog, newRobotDialog, saveRobotAs, saveRobot } from './robot-menu.js';
 import { setRobot, confirmDiscard, remember, undoEdit, renderTableUnits, renderRobot, renderFrames, markModified, scheduleCheck, renderPriority, changeAngleUnit } from './robot-table.js';
@@ -20,7 +21,7 @@ import { identificationBasis, refreshStale } from './stale.js';
 import { FUNCTIONS, state, tableDocument, persist, stored } from './state.js';
 import { renderSteps } from './steps.js';
 import { emptyStudy } from './study-spec.js';
-import { renderStudy, renderStudyPlan } from './study.js';
+import { followStudy, refreshStudyRobotNote, renderStudy, renderStudyPlan } from './study.js';
 import { renderSliders, refreshPose, drawView, installViewControls } from './view.js';
 
 function buildMethodPanels() {
@@ -31,25 +32,34 @@ function buildMethodPanels() {
       type: 'button',
       role: 'tab',
       id: `tab-${method.name}`,
+      'aria-controls': `method-${method.name}`,
       'data-method': method.name,
       text: method.title,
       onclick: () => selectMethod(method.name),
     }));
-    panels.append(h('div', { class: 'method', id: `method-${method.name}`, hidden: true },
+    panels.append(h('div', { class: 'method', id: `method-${method.name}`, role: 'tabpanel', 'aria-labelledby': `tab-${method.name}`, hidden: true },
       identifiablePanel(method), planPanel(method), generatePanel(method), identifyPanel(method), evaluatePanel(method),
       compensatePanel(method)));
   }
   for (const button of $('function-tabs').querySelectorAll('button')) {
+    button.setAttribute('role', 'tab');
     button.addEventListener('click', () => selectFunction(button.dataset.function));
   }
+  tabKeys(tabs);
+  tabKeys($('function-tabs'));
   selectMethod(state.method);
 }
 
 async function start() {
   // What the lower modules tell (events.js), done here where every module is in reach.
   on('server-back', scheduleCheck);
+  // What a lost server left in the panels is no longer true once it answers.
+  on('server-back', () => { for (const box of document.querySelectorAll('.error-box.unreachable')) box.remove(); });
   on('files-changed', () => { if (state.study) renderStudy(); });
   on('changed', renderSteps);
+  on('changed', refreshStudyRobotNote);
+  // A study edited after its identification makes the result stale (stale.js).
+  $('study-editor').addEventListener('change', () => refreshStale());
   state.info = await api('/info');
   $('folder').textContent = `folder: ${state.info.folder}`;
   buildMethodPanels();
@@ -87,6 +97,7 @@ async function start() {
     refreshPose();
   });
   window.addEventListener('resize', () => drawView());
+  cancelJobsLeftBehind();
   window.addEventListener('beforeunload', (event) => {
     if (state.dirty) event.preventDefault();
   });
@@ -103,7 +114,7 @@ async function start() {
 async function restore(before) {
   try {
     const view = await api('/robots/check', { robot: before.robot.document });
-    setRobot({ ...view, origin: before.robot.origin, name: before.robot.name }, before.file);
+    setRobot({ ...view, origin: before.robot.origin, name: before.robot.name, calibratedFrom: before.robot.calibratedFrom }, before.file);
   } catch (error) {
     await loadReady('stanford');
     return;
@@ -128,12 +139,51 @@ async function restore(before) {
     try { await api(`/jobs/${job}`); } catch (ignored) { job = null; }
     // Generated data are not kept across a reload: the data chosen now are
     // taken as the result's, and the table alone is compared.
+    // The form as it was when the result was made: its data and settings come back.
+    restoreForm(name, last.basis);
     const basis = last.basis ? { ...last.basis, data: identificationBasis(name).data } : undefined;
     state.results[name] = { ...last, job, basis };
     renderIdentification(container, name, job, last.result);
   }
   refreshStale();
   toast('Restored the page as it was before the reload');
+  resumeJobs();
+}
+
+/**
+ * The identifications under way when the page was reloaded, followed
+ * again (their form put back as it was): a job outlives a reload.
+ */
+function resumeJobs() {
+  for (const left of jobsLeftRunning()) {
+    if (left.kind === 'identify' && $(`${left.name}-identify-result`)) {
+      restoreForm(left.name, left.basis);
+      followIdentification(left.name, left.id, left.basis && { ...left.basis, data: identificationBasis(left.name).data });
+    } else if (left.kind === 'study') {
+      followStudy(left.id, left.basis);
+    }
+  }
+}
+
+/**
+ * Puts back method `name`'s Identification form as `basis` (stale.js's)
+ * recorded it: the data file chosen, when the folder still has it, and
+ * every setting.
+ */
+function restoreForm(name, basis) {
+  if (!basis) return;
+  const data = $(`${name}-identify-data`);
+  const file = String(basis.data || '');
+  if (data && file.startsWith('file:') && [...data.options].some((o) => o.value === file)) {
+    data.value = file;
+    data.dispatchEvent(new Event('change'));
+  }
+  for (const [id, setting] of Object.entries(basis.settings || {})) {
+    const input = $(id);
+    if (!input) continue;
+    if (input.type === 'checkbox') input.checked = setting.value === 'true';
+    else if (input.tagName !== 'SELECT' || [...input.options].some((o) => o.value === setting.value)) input.value = setting.value;
+  }
 }
 
 /** One choice of units for the page: mm and degrees, or metres and radians. */

@@ -3,7 +3,7 @@
 // separator), as fields and as the request's parts.
 import { refreshDataChoices } from './data-choices.js';
 import { h, $ } from './dom.js';
-import { field } from './fields.js';
+import { field, fieldNumber, numberInput } from './fields.js';
 import { parseVector } from './format.js';
 import { state, methodInfo } from './state.js';
 
@@ -23,7 +23,7 @@ export function optionFields(method, fn) {
       h('option', { value: 'cross-products', text: 'cross products (method 1)' }))));
   }
   if (method.uses_sets && fn === 'generate') {
-    fields.push(field('Configurations per set', h('input', { type: 'number', min: 2, step: 1, id: id('set-size'), placeholder: method.name === 'point-link' ? '4' : '2' })));
+    fields.push(field('Configurations per set', numberInput({ id: id('set-size'), placeholder: method.name === 'point-link' ? '4' : '2' })));
   }
   return fields;
 }
@@ -45,7 +45,7 @@ export function methodRequest(name, fn) {
     request.plane_unknown = value('plane') === 'unknown';
   }
   if (method.uses_orientation && fn !== 'generate') request.orientation = value('orientation');
-  if (method.uses_sets && fn === 'generate' && value('set-size')) request.set_size = Number(value('set-size'));
+  if (method.uses_sets && fn === 'generate' && value('set-size')) request.set_size = fieldNumber($(`${name}-${fn}-set-size`), 'Configurations per set', { min: 2, whole: true });
   return request;
 }
 

@@ -24,12 +24,13 @@ export function calibratedActions(result, trusted, job, prefix, onSaved) {
   const link = (what, route, file, text) => h('a', { href: `/api/jobs/${job}/${route}`, download: file, id: `${prefix}-${what}` },
     h('button', { type: 'button', text }));
   return h('div', { class: 'actions' },
-    h('button', { type: 'button', class: trusted ? 'primary' : '', id: `${prefix}-save`, text: trusted ? 'Save calibrated robot…' : 'Save calibrated robot anyway…', onclick: () => saveAsDialog(result.calibrated, result.calibrated_name, onSaved) }),
+    h('button', { type: 'button', class: trusted ? 'primary' : '', 'data-primary': trusted ? '1' : null, id: `${prefix}-save`, text: trusted ? 'Save calibrated robot…' : 'Save calibrated robot anyway…', onclick: () => saveAsDialog(result.calibrated, result.calibrated_name, onSaved) }),
     h('button', {
       type: 'button',
       id: `${prefix}-open`,
       text: 'Open the calibrated robot in the table',
-      onclick: () => confirmDiscard(async () => setRobot(await api('/robots/check', { robot: result.calibrated }), null, { keep: true }), 'Opening the calibrated robot'),
+      // The table then holds this calibrated robot: Evaluate knows it (and does not compare it with itself).
+      onclick: () => confirmDiscard(async () => setRobot({ ...(await api('/robots/check', { robot: result.calibrated })), calibratedFrom: JSON.stringify(result.calibrated) }, null, { keep: true }), 'Opening the calibrated robot'),
     }),
     job === null
       ? h('span', { class: 'muted', id: `${prefix}-no-report`, text: 'The server was restarted since: identify again for its report and residuals.' })

@@ -15,6 +15,21 @@ export async function loadReady(name) {
   setRobot(await api(`/robots/ready/${encodeURIComponent(name)}`), null);
 }
 
+/**
+ * Opens the robot a study names (`name`: a ready robot's name, or a robot
+ * file relative to the study file `studyFile`, as the command line reads it).
+ */
+export async function loadStudyRobot(name, studyFile) {
+  if (state.info.ready.includes(name)) return loadReady(name);
+  return loadFile(studyRelative(name, studyFile));
+}
+
+/** The folder's name of a file a study file `studyFile` names (relative to the study's folder). */
+export function studyRelative(name, studyFile) {
+  const folder = studyFile && studyFile.includes('/') ? studyFile.slice(0, studyFile.lastIndexOf('/') + 1) : '';
+  return `${folder}${name}`;
+}
+
 async function loadFile(name, chain = {}) {
   const query = [`name=${encodeURIComponent(name)}`];
   if (chain.base) query.push(`base=${encodeURIComponent(chain.base)}`);

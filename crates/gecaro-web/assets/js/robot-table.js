@@ -7,7 +7,7 @@ import { openDialog } from './dialogs.js';
 import { h, $ } from './dom.js';
 import { emit } from './events.js';
 import { locationText } from './fields.js';
-import { fmt } from './format.js';
+import { fmt, numberProblem, readNumber } from './format.js';
 import { prefillPlanes } from './method-options.js';
 import { refreshStale } from './stale.js';
 import { KINDS, KIND_HEADS, COLUMNS, ANGLES, JOINT_KEYS, JOINT_ANGLES, state, tableDocument, persist } from './state.js';
@@ -188,9 +188,9 @@ function editCell(frame, key, input) {
   if (text === '') {
     delete target[key];
   } else {
-    const value = Number(text);
+    const value = readNumber(text);
     if (!Number.isFinite(value)) {
-      state.localProblems.set(slot, { frame, key, message: `“${text}” is not a number` });
+      state.localProblems.set(slot, { frame, key, message: numberProblem(text) });
     } else if (key === 'sigma' && !Number.isInteger(value)) {
       state.localProblems.set(slot, { frame, key, message: 'sigma is 0 (revolute), 1 (prismatic) or 2 (fixed)' });
     } else if (key !== 'sigma' && Math.abs(value / displayScale(target, key)) > 1000) {

@@ -43,8 +43,9 @@ export const state = {
   calibrated: {}, // method -> the calibrated robot's document, for Evaluate
   planned: {}, // method -> the last plan's configuration count
   evaluated: {}, // method -> the last evaluation's comparison outcome ('better', 'worse', …, or 'table')
-  exported: {}, // method -> what was done with the calibrated robot ('saved', 'compensated')
+  exported: {}, // method -> what was done with the calibrated robot: {text, status ('done' or 'warn': targets flagged)}
   study: null, // the study editor's study (see emptyStudy)
+  studyResult: null, // the study's last identification {basis, stale}, for its stale mark
   undo: [], // earlier table documents (JSON), for Undo
   redo: [],
   units: 'mm', // results in 'mm' (mm, degrees) or 'm' (m, radians)

@@ -63,7 +63,7 @@ export function renderSteps() {
     step('measure', 'Measure or import', measured.status, measured.text, show(data === '' ? 'generate' : 'identify')),
     step('identify', 'Identify', identified.status, identified.text, show('identify')),
     step('validate', 'Validate', validated.status, validated.text, show('evaluate')),
-    step('export', 'Export or compensate', exported ? 'done' : '', exported || 'not yet', show('compensate'))));
+    step('export', 'Export or compensate', exported ? exported.status : '', exported ? exported.text : 'not yet', show('compensate'))));
   // The step of the function shown is marked.
   const current = { plan: 'plan', generate: 'measure', identifiable: 'identify', identify: 'identify', evaluate: 'validate', compensate: 'export' }[state.function];
   const shown = $(`step-${current}`);

@@ -7,7 +7,7 @@
 import { api } from './api.js';
 import { cellInputs } from './cell.js';
 import { download, h, toast } from './dom.js';
-import { field, FieldError, fieldNumber, errorBox, runButton, stat } from './fields.js';
+import { field, FieldError, fieldNumber, errorBox, runButton, stat, numberInput } from './fields.js';
 import { fixed, sci } from './format.js';
 import { followJob } from './jobs.js';
 import { refreshFiles } from './robot-menu.js';
@@ -33,9 +33,9 @@ function namedRobot(studyRobot) {
  */
 export function studyPlanSection({ studyRobot, openStudy }) {
   const result = h('div', { class: 'result', id: 'study-plan-result' });
-  const count = h('input', { type: 'number', min: 1, value: 60, id: 'study-plan-count' });
-  const pool = h('input', { type: 'number', min: 1, id: 'study-plan-pool', placeholder: '20 × count ÷ sets' });
-  const seed = h('input', { type: 'number', min: 0, value: 1, id: 'study-plan-seed' });
+  const count = numberInput({ value: 60, id: 'study-plan-count' });
+  const pool = numberInput({ id: 'study-plan-pool', placeholder: '20 × count ÷ sets' });
+  const seed = numberInput({ value: 1, id: 'study-plan-seed' });
   const saveAs = h('input', { type: 'text', class: 'vector', id: 'study-plan-save', placeholder: 'optional, e.g. planned.toml' });
   const angleUnit = h('select', { id: 'study-plan-angle-unit' },
     h('option', { value: 'rad', text: 'radians' }), h('option', { value: 'deg', text: 'degrees (a teach pendant’s)' }));

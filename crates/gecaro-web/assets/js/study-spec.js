@@ -3,6 +3,7 @@
 // stations as rows of text, unknown keys kept), one into the other. No DOM
 // (tested under node in assets/tests).
 import { FieldError } from './fields.js';
+import { numberProblem, readNumber } from './format.js';
 
 /** A new study: no frames, no sets, lengths in mm and angles in degrees. */
 export function emptyStudy() {
@@ -52,8 +53,8 @@ export function studyOf(spec, name) {
  */
 export function studySpec(study, { robot } = {}) {
   const number = (text, what) => {
-    const value = Number(String(text).trim());
-    if (String(text).trim() === '' || !Number.isFinite(value)) throw new FieldError(`${what}: “${text}” is not a number.`);
+    const value = readNumber(text);
+    if (!Number.isFinite(value)) throw new FieldError(`${what}: ${numberProblem(text)}.`);
     return value;
   };
   const frames = (rows, kind) => {
@@ -79,11 +80,12 @@ export function studySpec(study, { robot } = {}) {
     else {
       // A number in the study's length unit, or a length with its own unit
       // ("20um", "2e-5m": as a planned study writes it).
-      const withUnit = /^([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(m|mm|um|µm)$/.exec(sigma);
-      const value = withUnit ? Number(withUnit[1]) : Number(sigma);
+      // A decimal comma is read as one (0,02 is 0.02).
+      const withUnit = /^([+-]?(?:\d+[.,]?\d*|[.,]\d+)(?:[eE][+-]?\d+)?)\s*(m|mm|um|µm)$/.exec(sigma);
+      const value = readNumber(withUnit ? withUnit[1] : sigma);
       if (!Number.isFinite(value)) throw new FieldError(`Set ${index + 1} σ: “${set.sigma}” is not a number, or a length with its unit (20um).`);
       if (!(value > 0)) throw new FieldError(`Set ${index + 1} σ: ${set.sigma} is out of range; it takes a number above 0.`);
-      out.sigma = withUnit ? sigma.replace(/\s+/, '') : value;
+      out.sigma = withUnit ? `${withUnit[1].replace(',', '.')}${withUnit[2]}` : value;
     }
     for (const key of ['tool', 'station']) if (!out[key]) delete out[key];
     // The payload the set's rows carry (elastic joints, docs/elastic.md):
@@ -112,4 +114,13 @@ export function studySpec(study, { robot } = {}) {
     if (!spec.robot) throw new FieldError('A study file names its robot: save the robot in the folder first.');
   }
   return spec;
+}
+
+/**
+ * A message about a study statement in the editor's words: the server
+ * names a set's field as JSON does (`measurements[0].tool`, from 0), the
+ * editor counts its sets from 1 (`Set 1 tool`).
+ */
+export function studyWords(message) {
+  return String(message).replace(/measurements\[(\d+)\]\.?(\w*)/g, (_, index, key) => `Set ${Number(index) + 1}${key ? ` ${key}` : ''}`);
 }

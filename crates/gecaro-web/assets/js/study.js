@@ -7,10 +7,12 @@ import { field, FieldError, errorBox, runButton, stat } from './fields.js';
 import { sci } from './format.js';
 import { followJob } from './jobs.js';
 import { calibratedActions, registrationBlock } from './results.js';
-import { refreshFiles } from './robot-menu.js';
+import { openDialog } from './dialogs.js';
+import { loadStudyRobot, refreshFiles, studyRelative } from './robot-menu.js';
+import { refreshStale, studyBasis } from './stale.js';
 import { state, tableDocument, persist } from './state.js';
 import { studyPlanSection } from './study-plan.js';
-import { emptyStudy, studyOf, studySpec } from './study-spec.js';
+import { emptyStudy, studyOf, studySpec, studyWords } from './study-spec.js';
 import { inUnits, inPageUnits, unitName } from './units.js';
 
 function studyFramesTable(kind, rows) {
@@ -20,14 +22,35 @@ function studyFramesTable(kind, rows) {
     type: 'text', class: 'study-number', value: row[key][index], 'aria-label': label,
     onchange: (event) => { row[key][index] = event.target.value; persist(); },
   });
-  return h('table', { class: 'values study-table', id: `study-${kind}s` },
+  return h('div', { class: 'scroll-x' }, h('table', { class: 'values study-table', id: `study-${kind}s` },
     h('thead', {}, h('tr', {}, [`${kind}`, `x (${lengthUnit})`, `y (${lengthUnit})`, `z (${lengthUnit})`, `roll (${angleUnit})`, `pitch (${angleUnit})`, `yaw (${angleUnit})`, ''].map((t) => h('th', { text: t })))),
     h('tbody', {}, rows.map((row, r) => h('tr', {},
-      h('td', {}, h('input', { type: 'text', value: row.name, class: 'study-name', 'aria-label': `${kind} name`, onchange: (event) => { row.name = event.target.value; renderStudy(); } })),
+      h('td', {}, h('input', { type: 'text', value: row.name, class: 'study-name', 'aria-label': `${kind} ${r + 1} name`, onchange: (event) => renameFrame(kind, row, event.target.value) })),
       [0, 1, 2].map((k) => h('td', {}, cell(row, 'position', k, `${row.name} ${'xyz'[k]}`))),
       row.rpy ? [0, 1, 2].map((k) => h('td', {}, cell(row, 'rpy', k, `${row.name} ${['roll', 'pitch', 'yaw'][k]}`)))
         : [h('td', { colspan: 3, class: 'muted', text: 'quaternion (as stated)' })],
-      h('td', {}, h('button', { type: 'button', text: 'Remove', onclick: () => { rows.splice(r, 1); renderStudy(); } }))))));
+      h('td', {}, h('button', { type: 'button', text: 'Remove', 'aria-label': `Remove ${kind} ${r + 1}`, onclick: () => { rows.splice(r, 1); renderStudy(); } })))))));
+}
+
+/**
+ * Renames a tool or station: the sets that name it follow (a set keeps
+ * its frame, under the new name). The editor is redrawn once the change
+ * event is over — redrawn inside it, the field being left was removed
+ * while the browser still moved focus from it — and the focus stays on the
+ * field the person moved to.
+ */
+function renameFrame(kind, row, name) {
+  const old = row.name;
+  row.name = name.trim();
+  if (old) for (const set of state.study.measurements) if (set[kind] === old) set[kind] = row.name;
+  setTimeout(() => {
+    // The field focused now, by its place among the editor's fields (its
+    // label may hold the old name).
+    const fields = () => [...$('study-editor').querySelectorAll('input, select, button')];
+    const at = fields().indexOf(document.activeElement);
+    renderStudy();
+    if (at >= 0 && fields()[at]) fields()[at].focus();
+  }, 0);
 }
 
 function studySetsTable() {
@@ -37,7 +60,7 @@ function studySetsTable() {
   const tools = [['', 'none'], ...study.tools.map((t) => [t.name, t.name])];
   const stations = [['', 'the measurement frame'], ...study.stations.map((t) => [t.name, t.name])];
   const files = state.files.data.map((f) => [f, f]);
-  return h('table', { class: 'values study-table', id: 'study-sets' },
+  return h('div', { class: 'scroll-x' }, h('table', { class: 'values study-table', id: 'study-sets' },
     h('thead', {}, h('tr', {}, ['set', 'method', 'data file', 'tool (reflector)', 'station', `σ (${study.length_unit})`, 'payload', ''].map((t) => h('th', { text: t })))),
     h('tbody', {}, study.measurements.map((set, index) => h('tr', {},
       h('td', { text: String(index + 1) }),
@@ -47,7 +70,7 @@ function studySetsTable() {
       h('td', {}, select(set.station, stations, `set ${index + 1} station`, (e) => { set.station = e.target.value; persist(); })),
       h('td', {}, h('input', { type: 'text', class: 'study-number', value: set.sigma, placeholder: 'not stated', 'aria-label': `set ${index + 1} sigma`, onchange: (e) => { set.sigma = e.target.value; persist(); } })),
       h('td', {}, h('input', { type: 'text', class: 'study-payload', id: `study-set-${index + 1}-payload`, value: set.payload || '', placeholder: 'none, or 20kg,0,0,120mm', 'aria-label': `set ${index + 1} payload`, onchange: (e) => { set.payload = e.target.value; persist(); } })),
-      h('td', {}, h('button', { type: 'button', text: 'Remove', onclick: () => { study.measurements.splice(index, 1); renderStudy(); } }))))));
+      h('td', {}, h('button', { type: 'button', text: 'Remove', 'aria-label': `Remove set ${index + 1}`, onclick: () => { study.measurements.splice(index, 1); renderStudy(); } })))))));
 }
 
 /** Redraws the study editor from `state.study` (the result stays). */
@@ -60,10 +83,10 @@ export function renderStudy() {
     h('div', { class: 'form' },
       field('Open', opened),
       h('button', { type: 'button', id: 'study-open', text: 'Open', onclick: () => openStudy(opened.value) }),
-      h('button', { type: 'button', id: 'study-new', text: 'New study', onclick: () => { state.study = emptyStudy(); renderStudy(); persist(); } }),
+      h('button', { type: 'button', id: 'study-new', text: 'New study', onclick: () => { state.study = emptyStudy(); clearStudyResult(); renderStudy(); persist(); } }),
       field('Lengths', unit('study-length-unit', study.length_unit, [['m', 'metres'], ['mm', 'millimetres']], (e) => { study.length_unit = e.target.value; renderStudy(); })),
       field('Angles', unit('study-angle-unit', study.angle_unit, [['rad', 'radians'], ['deg', 'degrees']], (e) => { study.angle_unit = e.target.value; renderStudy(); }))),
-    study.robot ? h('p', { class: 'muted', id: 'study-robot-note', text: `${study.name || 'This study'} names the robot ${study.robot}; it runs with the robot in the table (${tableDocument().name || 'unnamed'}).` }) : null,
+    study.robot ? studyRobotNote(study) : null,
     h('h3', { text: 'Tools (reflectors on the flange), their stated pose in the flange frame' }),
     studyFramesTable('tool', study.tools),
     h('button', { type: 'button', id: 'study-add-tool', text: 'Add a tool', onclick: () => { study.tools.push({ name: `tool_${study.tools.length + 1}`, position: ['0', '0', '0'], rpy: ['0', '0', '0'], rest: {} }); renderStudy(); } }),
@@ -74,10 +97,64 @@ export function renderStudy() {
     studySetsTable(),
     h('div', { class: 'actions' },
       h('button', { type: 'button', id: 'study-add-set', text: 'Add a measurement set', onclick: () => { study.measurements.push({ method: 'position', data: '', sigma: '' }); renderStudy(); } }),
-      runButton('study-run', 'Identify the study', identifyStudy),
-      h('input', { type: 'text', id: 'study-save-as', placeholder: 'study.toml', value: study.name || '' }),
+      runButton('study-run', 'Identify the study', identifyStudyRobot),
+      h('input', { type: 'text', id: 'study-save-as', placeholder: 'study.toml', value: study.name || '', 'aria-label': 'Save the study as (a file of the folder)' }),
       h('button', { type: 'button', id: 'study-save', text: 'Save the study', onclick: saveStudy })));
+  refreshStale();
   persist();
+}
+
+/** Whether the table holds the robot study `study` names (its ready robot, or its file, edited or not). */
+function tableIsStudyRobot(study) {
+  if (!study.robot) return true;
+  if (state.robot.origin === 'ready' && !state.file) return state.robot.name === study.robot;
+  return state.file === studyRelative(study.robot, study.name);
+}
+
+/** What the editor says of the study's robot: the table holds it, or not (a warning naming both). */
+function studyRobotNote(study) {
+  const table = tableDocument().name || 'an unnamed robot';
+  return tableIsStudyRobot(study)
+    ? h('p', { class: 'muted', id: 'study-robot-note', text: `${study.name || 'This study'} names the robot ${study.robot}: the table holds it (${table}).` })
+    : h('div', { class: 'warnings', id: 'study-robot-note', role: 'status', text: `${study.name || 'This study'} names the robot ${study.robot}, but the table holds ${table}${state.file ? ` (${state.file})` : ''}. Identify asks which to use.` });
+}
+
+/** Says again whether the table holds the study's robot (after another robot is opened). */
+export function refreshStudyRobotNote() {
+  const note = $('study-robot-note');
+  if (note && state.study && state.study.robot && state.robot) note.replaceWith(studyRobotNote(state.study));
+}
+
+/**
+ * Runs the study with the robot it names: when the table holds another,
+ * the page asks, naming both — open the study's robot in the table and
+ * identify, or identify with the table's robot as it stands.
+ */
+function identifyStudyRobot() {
+  const study = state.study;
+  if (tableIsStudyRobot(study)) return identifyStudy();
+  const table = tableDocument().name || 'an unnamed robot';
+  const anyway = h('button', { type: 'button', id: 'study-robot-table', text: `Identify with ${table}` });
+  anyway.addEventListener('click', () => { $('dialog').close(); identifyStudy(); });
+  openDialog({
+    title: 'Which robot does the study run with?',
+    body: h('div', {},
+      h('p', { id: 'study-robot-question', text: `${study.name || 'The study'} names the robot ${study.robot}; the table holds ${table}${state.file ? ` (${state.file})` : ''}.${state.dirty ? ' The table’s unsaved edits are lost if the study’s robot is opened.' : ''}` }),
+      h('p', { class: 'muted', text: 'A study’s sets were measured on its robot: identifying them with another gives a fit that means nothing.' }),
+      anyway),
+    ok: `Open ${study.robot} and identify`,
+    onOk: async () => {
+      await loadStudyRobot(study.robot, study.name);
+      setTimeout(identifyStudy, 0);
+    },
+  });
+  return undefined;
+}
+
+/** The study's result goes with the study it was of (a new or another study opened). */
+function clearStudyResult() {
+  state.studyResult = null;
+  $('study-result').replaceChildren();
 }
 
 /** The study card's Plan and Predict part (drawn once; it reads the editor's study when run). */
@@ -91,8 +168,8 @@ async function openStudy(name) {
   try {
     const opened = await api(`/studies/file?name=${encodeURIComponent(name)}`);
     state.study = studyOf(opened.study, opened.name);
+    clearStudyResult();
     renderStudy();
-    result.replaceChildren();
   } catch (error) {
     result.replaceChildren(errorBox(error));
   }
@@ -122,12 +199,34 @@ async function identifyStudy() {
   const progress = h('div', { class: 'progress', id: 'study-progress' }, h('div', { class: 'spinner' }), h('span', { text: 'Reading the sets…' }));
   result.replaceChildren(progress);
   try {
+    const basis = studyBasis();
     const submitted = await api('/identify', { robot: tableDocument(), study: studySpec(state.study) });
-    const job = await followJob(submitted.job, progress.children[1]);
-    if (job.state === 'failed') throw new Error(job.error);
-    if (job.state !== 'done') throw new Error('The identification was cancelled.');
-    renderStudyResult(result, job.result, submitted.job);
+    await followStudy(submitted.job, basis, progress);
   } catch (error) {
+    error.message = studyWords(error.message);
+    result.replaceChildren(errorBox(error));
+  }
+}
+
+/**
+ * Follows the study's identification job `job` (of `basis`) to its end and
+ * shows its result in `progress`'s place; a reload during it follows it again.
+ */
+export async function followStudy(job, basis, progress = null) {
+  const result = $('study-result');
+  const shown = progress || h('div', { class: 'progress', id: 'study-progress' }, h('div', { class: 'spinner' }), h('span', { text: 'Identifying the study…' }));
+  if (!progress) result.replaceChildren(shown);
+  const cancel = h('button', { type: 'button', id: 'study-cancel', text: 'Cancel', disabled: true });
+  shown.append(cancel);
+  try {
+    const ended = await followJob(job, shown.children[1], { cancel, resume: { kind: 'study', basis } });
+    if (ended.state === 'failed') throw new Error(ended.error);
+    if (ended.state !== 'done') throw new Error('The identification was cancelled.');
+    renderStudyResult(result, ended.result, job);
+    state.studyResult = { basis, stale: false };
+    refreshStale();
+  } catch (error) {
+    error.message = studyWords(error.message);
     result.replaceChildren(errorBox(error));
   }
 }
@@ -164,5 +263,5 @@ function renderStudyResult(container, result, job) {
       h('tbody', {}, rows)),
     registrationBlock(id.registration, 'study-registration'),
     calibratedActions(result, id.verdict.trusted, job, 'study-calibrated'),
-    (id.warnings || []).length ? h('ul', { class: 'notes' }, id.warnings.map((w) => h('li', { text: w }))) : null);
+    (id.warnings || []).length ? h('div', { class: 'warnings', id: 'study-warnings', role: 'status' }, h('strong', { text: 'Warnings' }), h('ul', {}, id.warnings.map((w) => h('li', { text: w })))) : null);
 }

@@ -2,7 +2,7 @@
 // into the other and back, and what the page refuses before the server.
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { emptyStudy, studyOf, studySpec } from '../js/study-spec.js';
+import { emptyStudy, studyOf, studySpec, studyWords } from '../js/study-spec.js';
 
 const statement = {
   robot: 'irb1600.toml',
@@ -44,6 +44,10 @@ test('the page refuses what a study cannot hold, in the field\'s words', () => {
   assert.throws(() => studySpec(form), /Set 1 σ: “abc” is not a number, or a length with its unit/);
   form.measurements[0].sigma = '2e-5 m';
   assert.equal(studySpec(form).measurements[0].sigma, '2e-5m', 'a length with its unit, as a planned study writes it');
+  form.measurements[0].sigma = '0,02';
+  assert.equal(studySpec(form).measurements[0].sigma, 0.02, 'a decimal comma is read as one');
+  form.measurements[0].sigma = '20,5 um';
+  assert.equal(studySpec(form).measurements[0].sigma, '20.5um');
   form.measurements[0].sigma = '20um';
   assert.equal(studySpec(form).measurements[0].sigma, '20um');
   form.measurements[0].sigma = '20 parsecs';
@@ -87,3 +91,9 @@ test('a set\'s payload is its text, a table is shown as the same text, and a mas
   assert.throws(() => studySpec(form), /Set 1 payload/);
 });
 
+
+test('the server\'s set numbers (from 0) are the editor\'s (from 1)', () => {
+  assert.equal(studyWords('measurements[0].tool: no tool named `bal` in this study'), 'Set 1 tool: no tool named `bal` in this study');
+  assert.equal(studyWords('measurements[11]: no data'), 'Set 12: no data');
+  assert.equal(studyWords('no set here'), 'no set here');
+});

@@ -8,7 +8,7 @@ import { fmt, sci } from '../format.js';
 import { formatFields, formatRequest } from '../method-options.js';
 import { refreshFiles } from '../robot-menu.js';
 import { state, tableDocument, persist } from '../state.js';
-import { inUnits, unitName } from '../units.js';
+import { inPageUnits, inUnits, unitName } from '../units.js';
 
 /**
  * The Compensate function: a program written for the table's robot (joint
@@ -53,7 +53,12 @@ export function compensatePanel(method) {
         save_as: saveAs.value.trim() || null,
       });
       renderCompensation(result, name, compensated);
-      state.exported[name] = compensated.output ? `program saved as ${compensated.output}` : 'program compensated';
+      // The step bar marks a program with flagged targets as a warning, not as done.
+      const flagged = compensated.targets - compensated.reached + compensated.turned.length;
+      state.exported[name] = {
+        text: `${compensated.output ? `program saved as ${compensated.output}` : 'program compensated'}${flagged ? `, ${flagged} of ${compensated.targets} flagged` : ''}`,
+        status: flagged ? 'warn' : 'done',
+      };
       persist();
       if (compensated.output) refreshFiles();
     } catch (error) {
@@ -90,6 +95,29 @@ const COMPENSATION_STATUS = {
 /** Rows of the per-target table, at most (flagged targets first). */
 const COMPENSATION_ROWS = 200;
 
+/** The largest joint correction as the command line says it: `0.936 rad (joint 5, line 7). `; nothing when none was made. */
+function correctionText(largest) {
+  if (!largest) return '';
+  return `Largest joint correction ${fmt(Number(largest.value.toPrecision(4)))} ${largest.unit} (joint ${largest.joint}, line ${largest.line}). `;
+}
+
+/** Whether joint `j` (from 0) of the table's robot is revolute (a prismatic joint's motor value is a length). */
+function revolute(j) {
+  const joints = state.robot.summary ? state.robot.summary.joints : [];
+  return !joints[j] || joints[j].revolute;
+}
+
+/** The corrected motor values' column heads, one per joint, each with the page's unit. */
+function motorHeads() {
+  const joints = state.robot.summary ? state.robot.summary.joints : [];
+  return joints.map((_, j) => `qm${j + 1} (${unitName(revolute(j) ? 'angle' : 'length')})`);
+}
+
+/** A corrected motor value (rad or m from the server) in the page's units, 6 significant digits. */
+function motorValue(q, j) {
+  return inPageUnits(q, revolute(j) ? 'angle' : 'length', 6);
+}
+
 function renderCompensation(container, name, compensated) {
   const id = (what) => `${name}-compensate-${what}`;
   const unit = unitName('length');
@@ -106,7 +134,7 @@ function renderCompensation(container, name, compensated) {
           ? `The position match turns the tool beyond the tolerance at ${turned} of ${compensated.targets} targets: it moves the point only. Match the pose, or accept a larger turn.`
           : `All ${compensated.targets} targets are reached within the joint limits, in the program’s configuration.`,
     }),
-    h('p', { text: `Largest joint correction ${fmt(Number(compensated.largest_correction.toPrecision(3)))} (in the program’s units); largest residual ${length(compensated.largest_position_error)} ${unit}.` }),
+    h('p', { id: id('largest'), text: `${correctionText(compensated.largest_correction_at)}Largest residual ${length(compensated.largest_position_error)} ${unit}.` }),
     turn ? h('p', { id: id('tool-turn'), text: turn }) : null,
     compensated.registration ? h('p', { id: id('registration'), text: registrationText(compensated.registration, unit, length) }) : null);
   const cards = h('div', { class: 'cards' },
@@ -121,12 +149,12 @@ function renderCompensation(container, name, compensated) {
     .sort((a, b) => Number(a.status === 'ok') - Number(b.status === 'ok') || a.line - b.line)
     .slice(0, COMPENSATION_ROWS);
   const table = h('table', { class: 'values', id: id('table') },
-    h('thead', {}, h('tr', {}, ['line', 'status', `residual (${unit})`, 'corrected motor values (rad, m)'].map((t) => h('th', { text: t })))),
+    h('thead', {}, h('tr', {}, ['line', 'status', `residual (${unit})`, ...motorHeads()].map((t) => h('th', { text: t })))),
     h('tbody', {}, rows.map((point) => h('tr', { class: point.status === 'ok' ? '' : 'flagged' },
       h('td', { text: String(point.line) }),
       h('td', { text: COMPENSATION_STATUS[point.status] || point.status }),
       h('td', { text: length(point.position_error) }),
-      h('td', { text: point.motor_positions.map((q) => fmt(Number(q.toPrecision(6)))).join(', ') })))));
+      point.motor_positions.map((q, j) => h('td', { class: 'number', title: String(q), text: motorValue(q, j) }))))));
   const more = compensated.points.length > rows.length
     ? h('p', { class: 'muted', text: `${rows.length} of ${compensated.points.length} targets shown, flagged first; the file holds them all.` }) : null;
   const last = state.results[name];

@@ -21,7 +21,12 @@ export function evaluatePanel(method) {
   const run = runButton(`${name}-evaluate-run`, 'Evaluate', async () => {
     result.replaceChildren(h('div', { class: 'progress' }, h('div', { class: 'spinner' }), h('span', { text: 'Evaluating…' })));
     try {
-      const compared = state.calibrated[name];
+      const calibrated = state.calibrated[name];
+      // The table opened from this very calibrated robot: comparing them
+      // would compare the robot with itself; it is evaluated alone, and
+      // the page says so.
+      const itself = Boolean(calibrated) && state.robot.calibratedFrom === JSON.stringify(calibrated);
+      const compared = itself ? null : calibrated;
       const evaluated = await api('/evaluate', {
         robot: tableDocument(),
         compared: compared || null,
@@ -31,6 +36,9 @@ export function evaluatePanel(method) {
         register: register.value.trim() || null,
       });
       renderEvaluation(result, name, evaluated, Boolean(compared));
+      if (itself) {
+        result.prepend(h('div', { class: 'warnings', id: `${name}-evaluate-itself`, role: 'status', text: `The table holds this method’s calibrated robot (opened from its identification${state.dirty ? ', edited since' : ''}): it is evaluated alone, not compared with itself. To see what the calibration gained, open the robot it was identified from in the table and evaluate again.` }));
+      }
       state.evaluated[name] = evaluated.comparison ? evaluated.comparison.outcome : 'table';
       persist();
       if (compared && state.results[name] && state.results[name].stale) {
@@ -75,10 +83,10 @@ function renderEvaluation(container, name, evaluated, compared) {
     h('div', { class: 'cards' },
       summary('the table’s robot', evaluated.errors, `${name}-evaluate-table`),
       evaluated.compared ? summary('calibrated', evaluated.compared, `${name}-evaluate-calibrated`) : null),
-    compared ? null : h('p', { class: 'muted', text: 'No calibrated robot yet: identify first to compare it here.' }),
+    compared || state.calibrated[name] ? null : h('p', { class: 'muted', text: 'No calibrated robot yet: identify first to compare it here.' }),
     notes,
     h('div', { class: 'plots' },
-      plotFigure(compared ? 'Held-out errors: the table’s robot (before) and the calibrated one (after), mm' : 'Held-out errors of the table’s robot, mm', evaluated.plots.errors_histogram, `${name}-evaluate-histogram`),
+      plotFigure(compared ? 'Held-out errors: the table’s robot (left) and the calibrated one (right), mm' : 'Held-out errors of the table’s robot, mm', evaluated.plots.errors_histogram, `${name}-evaluate-histogram`),
       plotFigure('Held-out error of every configuration (mm; hover a dot for its file and line)', evaluated.plots.errors_per_configuration, `${name}-evaluate-per-configuration`)),
   ].filter(Boolean));
 }

@@ -4,7 +4,7 @@ import { api } from '../api.js';
 import { cellInputs } from '../cell.js';
 import { refreshDataChoices, nextSerial } from '../data-choices.js';
 import { h, $, download } from '../dom.js';
-import { field, fieldNumber, errorBox, runButton, stat } from '../fields.js';
+import { field, fieldNumber, errorBox, runButton, stat, numberInput } from '../fields.js';
 import { fixed, slug } from '../format.js';
 import { optionFields, methodRequest } from '../method-options.js';
 import { selectFunction } from '../navigation.js';
@@ -80,13 +80,13 @@ const generationCells = {};
 export function generatePanel(method) {
   const name = method.name;
   const result = h('div', { class: 'result', id: `${name}-generate-result` });
-  const count = h('input', { type: 'number', min: 1, value: DEFAULT_COUNTS[name] || 50, id: `${name}-generate-count` });
+  const count = numberInput({ value: DEFAULT_COUNTS[name] || 50, id: `${name}-generate-count` });
   const real = h('select', { id: `${name}-generate-real`, class: 'real-choice' });
-  const level = h('input', { type: 'number', min: 0, step: 0.5, value: 1, id: `${name}-generate-level` });
-  const noise = h('input', { type: 'number', min: 0, step: 0.01, value: 0.05, id: `${name}-generate-noise` });
-  const seed = h('input', { type: 'number', min: 0, value: 1, id: `${name}-generate-seed` });
+  const level = numberInput({ value: 1, id: `${name}-generate-level` });
+  const noise = numberInput({ value: 0.05, id: `${name}-generate-noise` });
+  const seed = numberInput({ value: 1, id: `${name}-generate-seed` });
   // Elastic joints (docs/elastic.md): compliances drawn at level L, a payload carried.
-  const compliance = h('input', { type: 'number', min: 0, step: 0.5, placeholder: 'rigid', id: `${name}-generate-compliance` });
+  const compliance = numberInput({ placeholder: 'rigid', id: `${name}-generate-compliance` });
   const payload = h('input', { type: 'text', class: 'vector', placeholder: 'none, or e.g. 10kg,0,0,100mm', id: `${name}-generate-payload` });
   // A measurement frame that is not levelled: gravity leans by two angles.
   const tilt = h('input', { type: 'text', class: 'vector', placeholder: 'level, or e.g. 2deg,-1.5deg', id: `${name}-generate-tilt` });

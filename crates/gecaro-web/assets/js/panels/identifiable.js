@@ -3,7 +3,7 @@
 import { api } from '../api.js';
 import { dataSelect, dataRequest } from '../data-choices.js';
 import { h } from '../dom.js';
-import { field, fieldNumber, errorBox, runButton, observabilityLine, stat } from '../fields.js';
+import { field, fieldNumber, errorBox, runButton, observabilityLine, stat, numberInput } from '../fields.js';
 import { fmt, sci } from '../format.js';
 import { optionFields, methodRequest } from '../method-options.js';
 import { KINDS, KIND_HEADS, state, tableDocument } from '../state.js';
@@ -11,8 +11,8 @@ import { KINDS, KIND_HEADS, state, tableDocument } from '../state.js';
 export function identifiablePanel(method) {
   const name = method.name;
   const result = h('div', { class: 'result', id: `${name}-identifiable-result` });
-  const count = h('input', { type: 'number', min: 1, id: `${name}-identifiable-count-input`, placeholder: 'auto' });
-  const seed = h('input', { type: 'number', min: 0, value: 1, id: `${name}-identifiable-seed` });
+  const count = numberInput({ id: `${name}-identifiable-count-input`, placeholder: 'auto' });
+  const seed = numberInput({ value: 1, id: `${name}-identifiable-seed` });
   const run = runButton(`${name}-identifiable-run`, 'Compute', async () => {
     result.replaceChildren(h('div', { class: 'progress' }, h('div', { class: 'spinner' }), 'QR of the observation matrix…'));
     try {

@@ -2,8 +2,8 @@
 // as a server job, its verdict, errors, plots and parameters with σ.
 import { api } from '../api.js';
 import { dataSelect, dataRequest, refreshDataChoices } from '../data-choices.js';
-import { h } from '../dom.js';
-import { field, fieldNumber, sigmaText, degreesText, foldsOf, errorBox, runButton, observabilityLine, stat, FieldError } from '../fields.js';
+import { h, $ } from '../dom.js';
+import { field, fieldNumber, sigmaText, degreesText, foldsOf, errorBox, runButton, observabilityLine, stat, FieldError, numberInput } from '../fields.js';
 import { fmt, fixed, sci } from '../format.js';
 import { followJob } from '../jobs.js';
 import { optionFields, methodRequest, formatFields, formatRequest } from '../method-options.js';
@@ -22,7 +22,7 @@ export function identifyPanel(method) {
   const solver = h('select', { id: `${name}-identify-solver` },
     h('option', { value: 'gauss-newton', text: 'Gauss–Newton (the paper)' }),
     h('option', { value: 'lm', text: 'Levenberg–Marquardt' }));
-  const iterations = h('input', { type: 'number', min: 1, max: state.info.limits.iterations, value: 30, id: `${name}-identify-iterations` });
+  const iterations = numberInput({ value: 30, id: `${name}-identify-iterations` });
   const loss = h('select', { id: `${name}-identify-loss` },
     h('option', { value: 'l2', text: 'least squares (the paper)' }),
     h('option', { value: 'huber', text: 'Huber (mild contamination)' }),
@@ -44,15 +44,13 @@ export function identifyPanel(method) {
     h('option', { value: 'never', text: 'never' }));
   // Where the robot will be used: the verdict predicts its error there.
   const workRegion = h('input', { type: 'text', class: 'vector', placeholder: 'the joint limits, or e.g. q1=-90..90deg,q2=-45..45deg', id: `${name}-identify-work-region` });
-  const sigma = h('input', { type: 'number', min: 0, step: 'any', placeholder: 'not stated', id: `${name}-identify-sigma` });
+  const sigma = numberInput({ placeholder: 'not stated', id: `${name}-identify-sigma` });
   // Frames carry their own σ for rotations (a tracker's 6D probe: 0.01 mm, 0.005°).
-  const sigmaRotation = h('input', { type: 'number', min: 0, step: 'any', placeholder: 'not stated', id: `${name}-identify-sigma-rotation` });
-  const folds = h('input', { type: 'number', min: 0, max: state.info.limits.folds, value: 0, id: `${name}-identify-cv` });
+  const sigmaRotation = numberInput({ placeholder: 'not stated', id: `${name}-identify-sigma-rotation` });
+  const folds = numberInput({ value: 0, id: `${name}-identify-cv` });
   const run = runButton(`${name}-identify-run`, 'Identify', async () => {
-    const cancel = h('button', { type: 'button', id: `${name}-identify-cancel`, text: 'Cancel', disabled: true });
-    const progress = h('div', { class: 'progress', id: `${name}-identify-progress` }, h('div', { class: 'spinner' }), h('span', { text: 'Reading the data…' }), cancel);
-    result.replaceChildren(progress);
-    // What this result is of: the table and the data chosen now.
+    result.replaceChildren(h('div', { class: 'progress' }, h('div', { class: 'spinner' }), h('span', { text: 'Reading the data…' })));
+    // What this result is of: the table, the data chosen and the settings now.
     const basis = identificationBasis(name);
     try {
       const submitted = await api('/identify', {
@@ -75,24 +73,12 @@ export function identifyPanel(method) {
           : null,
         cv: foldsOf(folds),
       });
-      const job = await followJob(submitted.job, progress.children[1], { cancel });
-      if (job.state === 'cancelled') {
-        result.replaceChildren(h('div', { class: 'warnings', id: `${name}-identify-cancelled`, text: 'Cancelled: the server stopped the identification. Nothing was changed.' }));
-      } else if (job.state === 'failed') {
-        result.replaceChildren(errorBox(new Error(job.error)));
-      } else {
-        state.results[name] = { job: submitted.job, result: job.result, basis };
-        renderIdentification(result, name, submitted.job, job.result);
-        // The verdict first, without scrolling for it.
-        result.scrollIntoView({ block: 'start' });
-        refreshStale();
-        persist();
-      }
+      await followIdentification(name, submitted.job, basis);
     } catch (error) {
       result.replaceChildren(errorBox(error));
     }
   });
-  return h('div', { class: 'panel', id: `${name}-identify` },
+  const panel = h('div', { class: 'panel', id: `${name}-identify` },
     h('div', { class: 'form' },
       field('Data', data),
       upload,
@@ -113,6 +99,44 @@ export function identifyPanel(method) {
     joinForm(name),
     h('p', { class: 'hint', text: 'Iterated linearised least squares (eq. 10): W is rebuilt at every iterate; σ of each parameter from eq. 11. A robust loss discounts gross errors; a prior keeps poorly excited parameters near nominal; cross-validation judges the fit on held-out configurations.' }),
     result);
+  // A setting changed after an identification makes its result stale (stale.js).
+  for (const kind of ['change', 'input']) {
+    panel.addEventListener(kind, (event) => {
+      if (event.target.closest('.join') || event.target.closest('.result')) return;
+      refreshStale();
+      persist();
+    });
+  }
+  return panel;
+}
+
+/**
+ * Follows identification job `job` of method `name` (made of `basis`) to
+ * its end and shows its result; a reload during it follows it again
+ * (`resume`), the page's form put back as it was.
+ */
+export async function followIdentification(name, job, basis) {
+  const result = $(`${name}-identify-result`);
+  const cancel = h('button', { type: 'button', id: `${name}-identify-cancel`, text: 'Cancel', disabled: true });
+  const progress = h('div', { class: 'progress', id: `${name}-identify-progress` }, h('div', { class: 'spinner' }), h('span', { text: 'Identifying…' }), cancel);
+  result.replaceChildren(progress);
+  try {
+    const ended = await followJob(job, progress.children[1], { cancel, resume: { kind: 'identify', name, basis } });
+    if (ended.state === 'cancelled') {
+      result.replaceChildren(h('div', { class: 'warnings', id: `${name}-identify-cancelled`, text: 'Cancelled: the server stopped the identification. Nothing was changed.' }));
+    } else if (ended.state === 'failed') {
+      result.replaceChildren(errorBox(new Error(ended.error)));
+    } else {
+      state.results[name] = { job, result: ended.result, basis };
+      renderIdentification(result, name, job, ended.result);
+      // The verdict first, without scrolling for it.
+      result.scrollIntoView({ block: 'start' });
+      refreshStale();
+      persist();
+    }
+  } catch (error) {
+    result.replaceChildren(errorBox(error));
+  }
 }
 
 export function renderIdentification(container, name, job, result) {
@@ -192,7 +216,7 @@ export function renderIdentification(container, name, job, result) {
   const moved = id.moved.length
     ? h('p', { class: 'muted', text: `Outside the base set, moved: ${id.moved.map((p) => `${p.name} ${(p.identified - p.nominal).toExponential(2)}`).join(', ')}` }) : null;
   const actions = calibratedActions(result, verdict.trusted, job, `${name}-identify`, (file) => {
-    state.exported[name] = `saved as ${file}`;
+    state.exported[name] = { text: `saved as ${file}`, status: 'done' };
     persist();
   });
   container.replaceChildren(...[headline, cards, observabilityLine(id.observability, 'the data'), robustness, validation, warnings, actions,

@@ -3,7 +3,7 @@
 import { api } from '../api.js';
 import { cellInputs } from '../cell.js';
 import { h, download } from '../dom.js';
-import { field, fieldNumber, errorBox, runButton, observabilityLine, stat } from '../fields.js';
+import { field, fieldNumber, errorBox, runButton, observabilityLine, stat, numberInput } from '../fields.js';
 import { fmt, fixed, payloadList, sci } from '../format.js';
 import { optionFields, methodRequest } from '../method-options.js';
 import { selectFunction } from '../navigation.js';
@@ -25,16 +25,16 @@ const CRITERIA = [
 export function planPanel(method) {
   const name = method.name;
   const result = h('div', { class: 'result', id: `${name}-plan-result` });
-  const count = h('input', { type: 'number', min: 1, value: Math.round((DEFAULT_COUNTS[name] || 50) / 2), id: `${name}-plan-count` });
+  const count = numberInput({ value: Math.round((DEFAULT_COUNTS[name] || 50) / 2), id: `${name}-plan-count` });
   const criterion = h('select', { id: `${name}-plan-criterion` }, CRITERIA.map(([value, text]) => h('option', { value, text })));
-  const pool = h('input', { type: 'number', min: 1, id: `${name}-plan-pool`, placeholder: '20 × count' });
-  const distance = h('input', { type: 'number', min: 0, step: 0.1, value: 0, id: `${name}-plan-distance` });
-  const seed = h('input', { type: 'number', min: 0, value: 1, id: `${name}-plan-seed` });
+  const pool = numberInput({ id: `${name}-plan-pool`, placeholder: '20 × count' });
+  const distance = numberInput({ value: 0, id: `${name}-plan-distance` });
+  const seed = numberInput({ value: 1, id: `${name}-plan-seed` });
   // Elastic joints: the payloads each candidate may be measured with.
   const payloads = h('input', { type: 'text', class: 'vector', id: `${name}-plan-payloads`, placeholder: 'none, or e.g. 0kg; 20kg,0,0,100mm' });
   const elastic = name === 'position' || name === 'frame';
   const curve = h('input', { type: 'text', class: 'vector', id: `${name}-plan-curve`, placeholder: 'optional, e.g. 10, 20, 40, 80' });
-  const noise = h('input', { type: 'number', min: 0, step: 0.01, value: 0.1, id: `${name}-plan-noise` });
+  const noise = numberInput({ value: 0.1, id: `${name}-plan-noise` });
   const saveAs = h('input', { type: 'text', id: `${name}-plan-save`, placeholder: 'optional, e.g. planned.csv', class: 'vector' });
   const overwrite = h('input', { type: 'checkbox', id: `${name}-plan-overwrite` });
   const cell = cellInputs(name, 'plan');
