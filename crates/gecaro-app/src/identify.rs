@@ -395,7 +395,18 @@ impl Identified {
     /// # Errors
     /// Only if the text cannot be written.
     pub fn residuals_csv(&self) -> Result<String, AppError> {
-        crate::residuals::residuals_csv(&self.loaded.study, &self.result)
+        crate::residuals::residuals_csv(&self.loaded.robot.robot, &self.loaded.study, &self.result)
+    }
+
+    /// The deviation of every measured point from the calibrated robot's
+    /// ([`point_deviations`](crate::point_deviations)), or `None` where the
+    /// study measures no points or the robot is elastic.
+    pub fn point_deviations(&self) -> Option<Vec<crate::PointDeviation>> {
+        crate::deviations::point_deviations(
+            &self.loaded.robot.robot,
+            &self.loaded.study,
+            &self.result,
+        )
     }
 
     /// The three plots (lengths in millimetres).

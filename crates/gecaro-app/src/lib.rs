@@ -69,6 +69,7 @@ mod base_circles;
 mod base_frame;
 mod cell;
 mod compensate;
+mod deviations;
 pub mod documents;
 mod error;
 mod evaluation_frame;
@@ -107,6 +108,7 @@ pub use compensate::{
     CompensateRequest, Compensated, CompensatedFile, CompensationSummary, DEFAULT_MAX_TOOL_TURN,
     LargestCorrection, ProgramSource,
 };
+pub use deviations::{PointDeviation, point_deviations, view_from_measurement};
 pub use error::{AppError, Dialect, ErrorKind};
 pub use evaluation_frame::RegisterShare;
 pub use files::{Files, LocalFiles, Opened};

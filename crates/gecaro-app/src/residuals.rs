@@ -15,19 +15,35 @@
 //! | `residual_sigmas` | its standardised residual at the solution (robust σ̂) |
 //! | `weight` | its weight in the final fit (1 in least squares) |
 //! | `outlier` | `true` beyond the outlier threshold |
+//! | `dx_mm`, `dy_mm`, `dz_mm` | a measured point's deviation from the calibrated robot's, along the robot's base axes ([`point_deviations`]; only when the study measures points, empty on other rows) |
 
 use gecaro_calib::identification::{Identification, locate_observations};
 use gecaro_calib::study::Study;
+use gecaro_core::Robot;
+
+use crate::deviations::point_deviations;
 
 use crate::error::{AppError, ErrorKind};
 
-/// The residuals of `result`, identified from `study`, as CSV text.
+/// The residuals of `result`, identified from `study` with the robot
+/// `nominal`, as CSV text.
 ///
 /// # Errors
 /// [`ErrorKind::Numerical`] if the CSV cannot be written (it always can: the
 /// writer is in memory).
-pub fn residuals_csv(study: &Study, result: &Identification) -> Result<String, AppError> {
+pub fn residuals_csv(
+    nominal: &Robot,
+    study: &Study,
+    result: &Identification,
+) -> Result<String, AppError> {
     let rotation = result.before.rms_rotation.is_some();
+    // Each point measure's deviation, by its set and line.
+    let deviations: std::collections::HashMap<usize, [f64; 3]> =
+        point_deviations(nominal, study, result)
+            .unwrap_or_default()
+            .into_iter()
+            .map(|point| (point.index, point.deviation))
+            .collect();
     let mut writer = csv::Writer::from_writer(Vec::new());
     let mut header = vec![
         "set",
@@ -42,6 +58,9 @@ pub fn residuals_csv(study: &Study, result: &Identification) -> Result<String, A
         header.extend(["rotation_before_deg", "rotation_after_deg"]);
     }
     header.extend(["residual_sigmas", "weight", "outlier"]);
+    if !deviations.is_empty() {
+        header.extend(["dx_mm", "dy_mm", "dz_mm"]);
+    }
     let failed = |error: csv::Error| {
         AppError::plain(
             ErrorKind::Numerical,
@@ -79,6 +98,12 @@ pub fn residuals_csv(study: &Study, result: &Identification) -> Result<String, A
                 .is_some_and(|u| u > result.outlier_threshold)
                 .to_string(),
         );
+        if !deviations.is_empty() {
+            let deviation = deviations.get(&index);
+            for axis in 0..3 {
+                row.push(number(deviation.map(|d| d[axis] * 1e3)));
+            }
+        }
         writer.write_record(&row).map_err(failed)?;
     }
     let bytes = writer

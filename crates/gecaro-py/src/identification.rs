@@ -246,6 +246,26 @@ impl PyIdentification {
         errors_array(py, &self.identified.result.errors_after)
     }
 
+    /// Each measured point's deviation from the calibrated robot's point,
+    /// (observations, 3): measured minus calibrated (metres) along the
+    /// robot's base frame 0 axes; NaN on observations that are not a
+    /// measured point (links, planes, distances); `None` when the study
+    /// measures no points or the robot is elastic (its sag is not in the
+    /// rigid model these are taken with). The residuals CSV's `dx_mm`,
+    /// `dy_mm`, `dz_mm`.
+    #[getter]
+    fn deviations<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArrayDyn<f64>>>> {
+        let Some(points) = self.identified.point_deviations() else {
+            return Ok(None);
+        };
+        let count = self.identified.result.errors_after.len();
+        let mut values = vec![f64::NAN; count * 3];
+        for point in points {
+            values[point.index * 3..point.index * 3 + 3].copy_from_slice(&point.deviation);
+        }
+        array(py, &[count, 3], values).map(Some)
+    }
+
     /// Condition number of W_b at the solution.
     #[getter]
     fn condition_number(&self) -> f64 {

@@ -336,6 +336,13 @@ def test_the_residuals_equal_the_command_line(cli, tmp_path):
     assert lines == list(range(lines[0], lines[0] + 30))
     assert max(float(row["error_after_mm"]) for row in rows) == pytest.approx(result.after.max * 1e3, rel=1e-9)
     assert {"rotation_before_deg", "rotation_after_deg", "outlier"} <= set(rows[0])
+    # Each measured point's deviation (issue 76): its length is the error
+    # after, and the CSV's dx, dy, dz are the same numbers in mm.
+    deviations = result.deviations
+    assert deviations.shape == (30, 3)
+    assert np.linalg.norm(deviations, axis=1) == pytest.approx(result.errors_after[:, 0], rel=1e-9)
+    written = np.array([[float(row[f"d{axis}_mm"]) for axis in "xyz"] for row in rows])
+    assert written == pytest.approx(deviations * 1e3, rel=1e-9, abs=1e-12)
 
 
 def test_generation_in_a_cell_equals_the_command_line(cli, tmp_path):

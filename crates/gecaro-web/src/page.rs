@@ -21,6 +21,7 @@ const MODULES: &[(&str, &str)] = &[
         "data-choices.js",
         include_str!("../assets/js/data-choices.js"),
     ),
+    ("deviations.js", include_str!("../assets/js/deviations.js")),
     ("dialogs.js", include_str!("../assets/js/dialogs.js")),
     ("dom.js", include_str!("../assets/js/dom.js")),
     ("events.js", include_str!("../assets/js/events.js")),

@@ -1942,6 +1942,54 @@ async fn a_study_runs_from_its_file_or_its_json_alike() {
     }
     assert_eq!(results[0]["frames"], results[1]["frames"]);
     assert_eq!(results[0]["rms_after"], results[1]["rms_after"]);
+    // Every measured point's deviation from the calibrated robot (issue
+    // 76): one per configuration of the six sets, at the tracker's 20 µm,
+    // drawn on the robot (the tracker itself 2.5 m away).
+    let view = api
+        .job("/api/identify", &json!({ "study": "study.toml" }))
+        .await
+        .expect("job");
+    let deviations = &view["result"]["deviations"];
+    let configurations: usize = std::fs::read_dir(&cell)
+        .expect("cell")
+        .map(|entry| entry.expect("entry").path())
+        .filter(|path| path.extension().is_some_and(|e| e == "csv"))
+        .map(|path| {
+            std::fs::read_to_string(path)
+                .expect("data")
+                .lines()
+                .filter(|line| line.starts_with(|c: char| c.is_ascii_digit() || c == '-'))
+                .count()
+        })
+        .sum();
+    assert_eq!(deviations["total"], configurations, "{deviations:.300}");
+    let points = deviations["points"].as_array().expect("points");
+    assert_eq!(points.len(), configurations);
+    let norm = |value: &Value| -> f64 {
+        value
+            .as_array()
+            .expect("three")
+            .iter()
+            .map(|v| v.as_f64().expect("m").powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
+    let rms = (points
+        .iter()
+        .map(|p| norm(&p["deviation"]).powi(2))
+        .sum::<f64>()
+        / points.len() as f64)
+        .sqrt();
+    assert!(rms < 5e-5, "deviation RMS {rms} m");
+    assert!(
+        points
+            .iter()
+            .all(|p| norm(&p["point"]) < 2.0 && p["line"].as_u64().is_some())
+    );
+    assert!(
+        norm(&deviations["measurement_origin"]) > 1.0,
+        "{deviations:.200}"
+    );
     let station = &results[0]["frames"]
         .as_array()
         .expect("frames")

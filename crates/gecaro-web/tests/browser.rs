@@ -842,15 +842,15 @@ async fn the_page_is_an_engineers_tool() {
             .contains("ok")
     );
     // One choice of units: the identified table in mm and degrees by default.
-    let heading = text_of(client, "#position-identify-result h3:last-of-type", 5).await;
+    let heading = text_of(client, "#position-identify-parameters-title", 5).await;
     assert!(heading.contains("mm, °"), "{heading}");
     assert!(count(client, "#position-identify-parameters tr.significant").await > 0);
-    assert!(
-        text_of(client, "#position-identify-residual", 5)
-            .await
-            .contains("e-2"),
-        "residual σ ≈ 0.02 mm"
-    );
+    // Residual σ ≈ 0.02 mm, to 4 significant digits in the page's mm.
+    let residual: f64 = text_of(client, "#position-identify-residual", 5)
+        .await
+        .parse()
+        .expect("mm");
+    assert!((0.01..0.03).contains(&residual), "residual σ {residual} mm");
     let save = client
         .find(Locator::Css("#position-identify-save"))
         .await
@@ -1413,14 +1413,17 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
     assert_eq!(count(client, "#study-frames tbody tr").await, 4);
     // Errors in mm: before (the stated cell) and after, at the noise.
     let rms = text_of(client, "#study-rms", 5).await;
-    let after: f64 = rms
-        .split(',')
-        .nth(1)
-        .expect("after")
+    let after: f64 = rms.trim().parse().expect("mm");
+    assert!(after < 0.05, "{rms}");
+    let before: f64 = text_of(client, "#study-rms-before", 5)
+        .await
         .trim()
         .parse()
         .expect("mm");
-    assert!(after < 0.05, "{rms}");
+    assert!(
+        before > 1000.0,
+        "{before}: the robot 2.5 m from the tracker"
+    );
     // The second station, stated at (−1150, 1700, −250) mm, stands at
     // (−1200, 1750, −200) mm in the simulation: found to a tenth of a mm.
     let station = client
@@ -1458,6 +1461,47 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
         "no empty part shows as text: {card}"
     );
     screenshot(client, "14-study-1400.png").await;
+    // Every measured point's deviation (issue 76): a table, the largest
+    // first, and the error vectors with the tracker and its second station
+    // in the 3D view.
+    assert_eq!(count(client, "#study-deviations-table tbody tr").await, 25);
+    let all: usize = text_of(client, "#study-deviations-all", 5)
+        .await
+        .trim_start_matches("Show all ")
+        .parse()
+        .expect("a count");
+    assert!(all > 100, "{all}");
+    click(client, "#study-deviations-all").await;
+    assert_eq!(count(client, "#study-deviations-table tbody tr").await, all);
+    let drawn = client
+        .execute(
+            "const c = document.getElementById('robot-view'); return [Number(c.dataset.vectors), Number(c.dataset.stations)]",
+            vec![],
+        )
+        .await
+        .expect("view");
+    assert_eq!(drawn, json!([all, 1]));
+    assert!(
+        text_of(client, "#view-overlay", 5)
+            .await
+            .contains("Error vectors of the study")
+    );
+    client
+        .execute(
+            "document.getElementById('robot-view').scrollIntoView()",
+            vec![],
+        )
+        .await
+        .expect("scroll");
+    screenshot(client, "16-study-deviations-view-1400.png").await;
+    client
+        .execute(
+            "document.getElementById('study-deviations').scrollIntoView()",
+            vec![],
+        )
+        .await
+        .expect("scroll");
+    screenshot(client, "17-study-deviations-table-1400.png").await;
     // Saved as a study file of the folder; it names the table's robot and
     // opens again to the same six sets; a payload typed for a set (elastic
     // joints) is stated with it.

@@ -484,6 +484,9 @@ class Identification:
     @property
     def errors_after(self) -> _FloatArray: ...
     @property
+    def deviations(self) -> Optional[_FloatArray]:
+        """(observations, 3): each measured point minus the calibrated robot's (m, along the robot's base axes); NaN where an observation is not a point; None without point measures or for an elastic robot."""
+    @property
     def condition_number(self) -> float: ...
     @property
     def observability(self) -> dict[str, float]:

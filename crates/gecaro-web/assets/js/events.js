@@ -5,6 +5,7 @@
  *
  * - `server-back`: the server answers again after it was lost.
  * - `files-changed`: the folder's file lists (`state.files`) were read again.
+ * - `overlay`: a result gave the 3D view something to draw (`state.overlay`).
  */
 const bus = new EventTarget();
 

@@ -71,3 +71,22 @@ export function parseVector(text, what) {
 export function payloadList(text) {
   return text.split(';').map((part) => part.trim()).filter(Boolean);
 }
+
+/** The order of a parameter's kind within its frame (eq. 2–4). */
+const KIND_ORDER = ['alpha', 'd', 'theta', 'r', 'beta', 'K', 'offset', 'c'];
+
+/**
+ * Parameters named `kind` + frame (`theta2`, `K4`) in frame order, each
+ * frame's in the order of eq. 2–4; names of another form keep their place
+ * after them.
+ */
+export function inFrameOrder(parameters) {
+  const key = (p) => {
+    const parts = /^([A-Za-z]+?)(\d+)$/.exec(p.name);
+    const kind = parts ? KIND_ORDER.indexOf(parts[1]) : -1;
+    return parts && kind >= 0 ? [Number(parts[2]), kind] : [Infinity, 0];
+  };
+  return parameters.map((p, index) => ({ p, index, key: key(p) }))
+    .sort((a, b) => a.key[0] - b.key[0] || a.key[1] - b.key[1] || a.index - b.index)
+    .map(({ p }) => p);
+}

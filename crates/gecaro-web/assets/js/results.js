@@ -4,7 +4,7 @@ import { api } from './api.js';
 import { h } from './dom.js';
 import { saveAsDialog } from './robot-menu.js';
 import { setRobot, confirmDiscard } from './robot-table.js';
-import { inPageUnits, unitName } from './units.js';
+import { coordinate, quantity, unitName } from './units.js';
 
 /** A plot the server drew (plotters' SVG), captioned, in the page's plot grid. */
 export function plotFigure(caption, svg, id) {
@@ -46,8 +46,8 @@ export function calibratedActions(result, trusted, job, prefix, onSaved) {
 export function registrationBlock(registration, id) {
   if (!registration) return null;
   const [unit, degrees] = [unitName('length'), unitName('angle')];
-  const pose = (p) => `(${p.position.map((v) => inPageUnits(v, 'length')).join(', ')}) ${unit}, roll-pitch-yaw (${p.rpy.map((v) => inPageUnits(v, 'angle', 5)).join(', ')}) ${degrees}`;
-  const moved = ([distance, turned]) => `${inPageUnits(distance, 'length')} ${unit} and ${inPageUnits(turned, 'angle', 5)} ${degrees} from the robot file’s`;
+  const pose = (p) => `(${p.position.map((v) => coordinate(v, 'length')).join(', ')}) ${unit}, roll-pitch-yaw (${p.rpy.map((v) => coordinate(v, 'angle')).join(', ')}) ${degrees}`;
+  const moved = ([distance, turned]) => `${quantity(distance, 'length')} ${unit} and ${quantity(turned, 'angle')} ${degrees} from the robot file’s`;
   return h('div', { class: 'registration', id },
     h('p', {}, h('strong', { text: 'Registration. ' }), `The robot’s base in the measurement frame: ${pose(registration.base)} — ${moved(registration.base_moved)}.`),
     h('p', { text: `The tool in the flange frame: ${pose(registration.tool)} — ${moved(registration.tool_moved)}.` }));

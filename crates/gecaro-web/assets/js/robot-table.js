@@ -12,6 +12,7 @@ import { prefillPlanes } from './method-options.js';
 import { refreshStale } from './stale.js';
 import { KINDS, KIND_HEADS, COLUMNS, ANGLES, JOINT_KEYS, JOINT_ANGLES, state, tableDocument, persist } from './state.js';
 import { renderSliders, updateSliderRanges, refreshPose } from './view.js';
+import { unitName } from './units.js';
 
 /**
  * Shows `view` in the table. Another robot clears the previous robot's
@@ -46,6 +47,7 @@ function clearResults() {
   state.planned = {};
   state.evaluated = {};
   state.exported = {};
+  state.overlay = null;
   if (state.info) {
     for (const method of state.info.methods) {
       for (const select of document.querySelectorAll(`select.data-choice[data-method="${method.name}"]`)) select.value = '';
@@ -155,10 +157,36 @@ function shown(frame, key) {
   return typeof value === 'number' ? fmt(Number((value * displayScale(frame, key)).toPrecision(12))) : fmt(value);
 }
 
+/**
+ * A column's head with its unit in the page's units: lengths and angles
+ * as the Units menu says; a joint's offset and limits in the unit of its
+ * type (an angle, or a prismatic joint's length); compliances per joint type.
+ */
+function columnHead(column) {
+  const [length, angle] = [unitName('length'), unitName('angle')];
+  const head = ANGLES.has(column.key) ? `${column.head} (${angle})`
+    : column.key === 'd' || column.key === 'r' ? `${column.head} (${length})`
+      : JOINT_ANGLES.has(column.key) ? `${column.head} (${angle}; P: ${length})`
+        : column.key === 'compliance' ? 'c (rad/N·m; P: m/N)'
+          : column.head;
+  return h('th', { text: head, title: JOINT_ANGLES.has(column.key) ? `${angle} for a revolute joint, ${length} for a prismatic one (σ = 1)` : null });
+}
+
+/** A cell's unit, for its hover text: what the number typed there is in. */
+function cellUnit(frame, key) {
+  const prismatic = frame.sigma === 1;
+  if (ANGLES.has(key)) return unitName('angle');
+  if (key === 'd' || key === 'r') return unitName('length');
+  if (JOINT_ANGLES.has(key)) return prismatic ? `${unitName('length')} (prismatic joint)` : unitName('angle');
+  if (key === 'compliance') return prismatic ? 'm/N (prismatic joint)' : 'rad/(N·m)';
+  if (key === 'mass') return 'kg';
+  return null;
+}
+
 export function renderFrames() {
   const doc = tableDocument();
   const last = doc.frame.length - 1;
-  const head = h('tr', {}, h('th', { text: 'j' }), COLUMNS.map((c) => h('th', { text: c.head })));
+  const head = h('tr', {}, h('th', { text: 'j' }), COLUMNS.map(columnHead));
   const rows = doc.frame.map((frame, j) => h('tr', {},
     h('td', { text: String(j) }),
     COLUMNS.map((column) => {
@@ -172,6 +200,7 @@ export function renderFrames() {
         'data-frame': j,
         'data-key': column.key,
         'aria-label': `frame ${j} ${column.key}`,
+        title: cellUnit(frame, column.key),
         onchange: (event) => editCell(j, column.key, event.target),
       });
       return h('td', {}, input);
@@ -193,6 +222,8 @@ function editCell(frame, key, input) {
       state.localProblems.set(slot, { frame, key, message: numberProblem(text) });
     } else if (key === 'sigma' && !Number.isInteger(value)) {
       state.localProblems.set(slot, { frame, key, message: 'sigma is 0 (revolute), 1 (prismatic) or 2 (fixed)' });
+    } else if ((key === 'compliance' || key === 'mass') && value < 0) {
+      state.localProblems.set(slot, { frame, key, message: `${text} is negative: a ${key === 'mass' ? 'mass' : 'compliance'} is 0 or more` });
     } else if (key !== 'sigma' && Math.abs(value / displayScale(target, key)) > 1000) {
       state.localProblems.set(slot, { frame, key, message: `${text} is beyond ±1000 m or rad: no robot has such a value` });
     } else {

@@ -53,6 +53,7 @@ export const state = {
   function: 'identifiable',
   robotSerial: 0, // changes with every robot loaded, so late answers about the last one are dropped
   view: { azimuth: -0.9, elevation: 0.45, zoom: 1, bounds: null },
+  overlay: null, // what the 3D view draws of the last result: {source, points, instrument, stations} (deviations.js)
 };
 
 export function tableDocument() {

@@ -4,16 +4,16 @@
 import { api } from './api.js';
 import { fill, h, $, toast } from './dom.js';
 import { field, FieldError, errorBox, runButton, stat } from './fields.js';
-import { sci } from './format.js';
 import { followJob } from './jobs.js';
 import { calibratedActions, registrationBlock } from './results.js';
+import { deviationTable, showOnView } from './deviations.js';
 import { openDialog } from './dialogs.js';
 import { loadStudyRobot, refreshFiles, studyRelative } from './robot-menu.js';
 import { refreshStale, studyBasis } from './stale.js';
 import { state, tableDocument, persist } from './state.js';
 import { studyPlanSection } from './study-plan.js';
 import { emptyStudy, studyOf, studySpec, studyWords } from './study-spec.js';
-import { inUnits, inPageUnits, unitName } from './units.js';
+import { coordinate, quantity, unitName } from './units.js';
 
 function studyFramesTable(kind, rows) {
   const lengthUnit = state.study.length_unit;
@@ -234,8 +234,9 @@ export async function followStudy(job, basis, progress = null) {
 /** The study's verdict, errors and identified frames (with σ); job `job`'s. */
 function renderStudyResult(container, result, job) {
   const id = result.identification;
-  const length = (v) => inPageUnits(v, 'length');
-  const angle = (v) => inPageUnits(v, 'angle');
+  showOnView(`the study${state.study && state.study.name ? ` ${state.study.name}` : ''}`, result.deviations, id.frames);
+  const length = (v) => coordinate(v, 'length');
+  const angle = (v) => coordinate(v, 'angle');
   const [unit, degrees] = [unitName('length'), unitName('angle')];
   const sigmaOf = (name) => {
     const found = (id.auxiliary || []).find((p) => p.name === name);
@@ -243,7 +244,7 @@ function renderStudyResult(container, result, job) {
   };
   const plusMinus = (frame, keys, kind) => {
     const values = keys.map((k) => sigmaOf(`${frame}.${k}`)).filter((v) => v !== null);
-    return values.length ? `± ${sci(inUnits(Math.max(...values), kind))}` : '(stated)';
+    return values.length ? `± ${quantity(Math.max(...values), kind)}` : '(stated)';
   };
   const rows = (id.frames || []).map((frame) => h('tr', {},
     h('td', { text: frame.name }),
@@ -255,7 +256,8 @@ function renderStudyResult(container, result, job) {
   fill(container,
     h('div', { class: `verdict ${id.verdict.trusted ? 'ok' : 'bad'}`, id: 'study-verdict' }, h('p', { text: id.verdict.summary })),
     h('div', { class: 'cards' },
-      stat(`RMS error before, after (${unit})`, `${inPageUnits(id.before.rms, 'length', 4)}, ${inPageUnits(id.after.rms, 'length', 4)}`, { id: 'study-rms' }),
+      stat(`RMS error before (${unit}): the robot and frames as stated`, quantity(id.before.rms, 'length'), { id: 'study-rms-before' }),
+      stat(`RMS error after (${unit})`, quantity(id.after.rms, 'length'), { id: 'study-rms', class: id.verdict.trusted ? 'ok' : '' }),
       stat('parameters identified', String(id.parameters.length), { id: 'study-parameters' })),
     h('h3', { text: `Identified tools and stations (${unit}, ${degrees})` }),
     h('table', { class: 'values', id: 'study-frames' },
@@ -263,5 +265,6 @@ function renderStudyResult(container, result, job) {
       h('tbody', {}, rows)),
     registrationBlock(id.registration, 'study-registration'),
     calibratedActions(result, id.verdict.trusted, job, 'study-calibrated'),
+    deviationTable(result.deviations, 'study'),
     (id.warnings || []).length ? h('div', { class: 'warnings', id: 'study-warnings', role: 'status' }, h('strong', { text: 'Warnings' }), h('ul', {}, id.warnings.map((w) => h('li', { text: w })))) : null);
 }

@@ -31,3 +31,30 @@ export function unitName(kind) {
 export function unitsLabel() {
   return state.units === 'mm' ? 'mm, °' : 'm, rad';
 }
+
+/**
+ * A quantity a person reads — an error, a σ, an RMS, a distance moved — in
+ * the page's units to 4 significant digits (the full value on hover: see
+ * `titled`).
+ */
+export function quantity(value, kind) {
+  return Number.isFinite(value) ? inPageUnits(value, kind, 4) : '–';
+}
+
+/**
+ * A coordinate — a position, an angle of a pose — in the page's units to
+ * its resolution, not its size: 0.01 mm (1e-5 m) and 0.001° (1e-5 rad). A
+ * tracker 2.5 m away is at 2545.93 mm, not 2546 (4 significant digits) nor
+ * 2545.9312 (more than it measured).
+ */
+export function coordinate(value, kind) {
+  if (!Number.isFinite(value)) return '–';
+  const decimals = kind === 'length' ? (state.units === 'mm' ? 2 : 5) : (state.units === 'mm' ? 3 : 5);
+  const text = inUnits(value, kind).toFixed(decimals);
+  return /^-0\.?0*$/.test(text) ? text.slice(1) : text;
+}
+
+/** The full value of a shown number (SI: m, rad), for its hover text. */
+export function fullValue(value, kind) {
+  return `${value} ${kind === 'length' ? 'm' : kind === 'angle' ? 'rad' : ''}`.trim();
+}

@@ -109,9 +109,71 @@ function niceStep(target) {
   return (mantissa < 1.5 ? 1 : mantissa < 3.5 ? 2 : 5) * power;
 }
 
-/** Centre and radius of what is drawn: the world origin and every frame. */
+/** The places a result's overlay draws (measured points, instrument, stations), or none. */
+function overlayPlaces() {
+  const overlay = state.overlay;
+  if (!overlay) return [];
+  return [...overlay.points.map((p) => p.at), overlay.instrument.at, ...overlay.stations.map((s) => s.at)];
+}
+
+/** A round magnification: 1, 2 or 5 × 10^k, at most `target`. */
+function roundGain(target) {
+  const power = Math.pow(10, Math.floor(Math.log10(target)));
+  const mantissa = target / power;
+  return (mantissa >= 5 ? 5 : mantissa >= 2 ? 2 : 1) * power;
+}
+
+/**
+ * The overlay of the last result (`state.overlay`, deviations.js): each
+ * measured point with its error vector (magnified, the largest about a
+ * seventh of the view, green to red by size), the instrument and its
+ * stations; returns what it drew.
+ */
+function drawOverlay(context, toScreen, radius) {
+  const overlay = state.overlay;
+  if (!overlay || !state.pose) return { vectors: 0, stations: 0, gain: 0 };
+  const base = state.pose[0];
+  // Deviations are along the robot's base axes: into the view's world.
+  const inWorld = (d) => [0, 1, 2].map((k) => d[0] * base.x[k] + d[1] * base.y[k] + d[2] * base.z[k]);
+  const largest = Math.max(1e-12, ...overlay.points.map((p) => Math.hypot(...p.deviation)));
+  const gain = roundGain((radius * 0.15) / largest);
+  context.lineWidth = 1.5;
+  for (const point of overlay.points) {
+    const size = Math.hypot(...point.deviation) / largest;
+    const [x, y] = toScreen(point.at);
+    const tip = inWorld(point.deviation).map((v, k) => point.at[k] + v * gain);
+    const [tx, ty] = toScreen(tip);
+    context.strokeStyle = `hsl(${Math.round(120 * (1 - size))}, 75%, 40%)`;
+    context.beginPath();
+    context.moveTo(x, y);
+    context.lineTo(tx, ty);
+    context.stroke();
+    context.fillStyle = '#5b6775';
+    context.beginPath();
+    context.arc(x, y, 2, 0, 2 * Math.PI);
+    context.fill();
+  }
+  // The instrument (the measurement frame's origin) and its stations: a
+  // tripod's triangle with its name.
+  const tripods = [overlay.instrument, ...overlay.stations];
+  context.font = '12px system-ui, sans-serif';
+  for (const tripod of tripods) {
+    const [x, y] = toScreen(tripod.at);
+    context.fillStyle = '#8a3ffc';
+    context.beginPath();
+    context.moveTo(x, y - 8);
+    context.lineTo(x - 7, y + 6);
+    context.lineTo(x + 7, y + 6);
+    context.closePath();
+    context.fill();
+    context.fillText(tripod.name, x + 10, y + 4);
+  }
+  return { vectors: overlay.points.length, stations: overlay.stations.length, gain };
+}
+
+/** Centre and radius of what is drawn: the world origin, every frame and the overlay. */
 function viewBounds(origins) {
-  const points = [[0, 0, 0], ...origins];
+  const points = [[0, 0, 0], ...origins, ...overlayPlaces()];
   const low = [0, 1, 2].map((k) => Math.min(...points.map((p) => p[k])));
   const high = [0, 1, 2].map((k) => Math.max(...points.map((p) => p[k])));
   const centre = low.map((l, k) => (l + high[k]) / 2);
@@ -212,6 +274,7 @@ export function drawView(message) {
       drawn.points += 1;
     }
   }
+  const overlaid = drawOverlay(context, toScreen, radius);
   // World axes.
   const axis = radius * 0.12;
   line([0, 0, 0], [axis, 0, 0], '#e8a3a3', 1.5);
@@ -255,6 +318,15 @@ export function drawView(message) {
   context.fillText(`floor grid ${fmt(step)} m`, 10, height - 10);
   canvas.dataset.plane = String(drawn.plane);
   canvas.dataset.points = String(drawn.points);
+  canvas.dataset.vectors = String(overlaid.vectors);
+  canvas.dataset.stations = String(overlaid.stations);
+  const caption = $('view-overlay');
+  if (caption) {
+    caption.replaceChildren(...(state.overlay ? [
+      `Error vectors of ${state.overlay.source}, magnified ×${fmt(overlaid.gain)} (green small, red the largest); ▲ the instrument${state.overlay.stations.length ? ' and its stations' : ''}. `,
+      h('button', { type: 'button', class: 'link', id: 'view-overlay-hide', text: 'Hide', onclick: () => { state.overlay = null; state.view.bounds = null; drawView(); } }),
+    ] : []));
+  }
 }
 
 export function installViewControls() {

@@ -1,7 +1,7 @@
 // The page's number formats and parsers (js/format.js), under node.
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { fixed, fmt, numberProblem, parseVector, payloadList, readNumber, sci, slug } from '../js/format.js';
+import { fixed, fmt, inFrameOrder, numberProblem, parseVector, payloadList, readNumber, sci, slug } from '../js/format.js';
 
 test('numbers keep 8 significant digits, and go exponential outside 1e-4..1e7', () => {
   assert.equal(fmt(0.1 + 0.2), '0.3');
@@ -61,4 +61,10 @@ test('a vector of numbers with decimal commas, separated by semicolons or spaces
   assert.deepEqual(parseVector('0,3; 0,5; 0,81', 'normal'), [0.3, 0.5, 0.81]);
   assert.deepEqual(parseVector('0,3 0,5 0,81', 'normal'), [0.3, 0.5, 0.81]);
   assert.deepEqual(parseVector('0.3,0.5,0.81', 'normal'), [0.3, 0.5, 0.81]);
+});
+
+test('identified parameters in frame order, eq. 2–4 within a frame', () => {
+  const names = ['K3', 'theta2', 'd3', 'alpha7', 'beta2', 'r1', 'theta10', 'smr_a.x'];
+  const ordered = inFrameOrder(names.map((name) => ({ name }))).map((p) => p.name);
+  assert.deepEqual(ordered, ['r1', 'theta2', 'beta2', 'd3', 'K3', 'alpha7', 'theta10', 'smr_a.x']);
 });

@@ -43,6 +43,56 @@ struct IdentifyResult {
     /// outside their limits).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     notes: Vec<String>,
+    /// Every measured point's deviation from the calibrated robot's (point
+    /// measures of a rigid robot), the largest [`MAX_DEVIATIONS`] of them
+    /// in data order.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    deviations: Option<Deviations>,
+}
+
+/// The most point deviations a result carries to the page (its table and
+/// its 3D view); the residuals CSV holds them all.
+const MAX_DEVIATIONS: usize = 2000;
+
+/// The points' deviations as the page takes them.
+#[derive(Serialize)]
+struct Deviations {
+    /// The points measured (with a deviation).
+    total: usize,
+    /// The largest [`MAX_DEVIATIONS`] deviations, in data order.
+    points: Vec<gecaro_app::PointDeviation>,
+    /// Where the measurement frame lies in the nominal robot's world (the
+    /// 3D view's): its origin (m) and the columns of its rotation (its
+    /// axes x, y, z), to draw the instrument and its stations.
+    measurement_origin: [f64; 3],
+    measurement_axes: [[f64; 3]; 3],
+}
+
+impl Deviations {
+    fn of(
+        mut points: Vec<gecaro_app::PointDeviation>,
+        view: nalgebra::IsometryMatrix3<f64>,
+    ) -> Deviations {
+        let total = points.len();
+        if total > MAX_DEVIATIONS {
+            let length =
+                |p: &gecaro_app::PointDeviation| p.deviation.iter().map(|d| d * d).sum::<f64>();
+            points.sort_by(|a, b| length(b).total_cmp(&length(a)));
+            points.truncate(MAX_DEVIATIONS);
+            points.sort_by_key(|p| p.index);
+        }
+        let axis = |k: usize| {
+            let column = view.rotation.matrix().column(k);
+            [column[0], column[1], column[2]]
+        };
+        let origin = view.translation.vector;
+        Deviations {
+            total,
+            points,
+            measurement_origin: [origin.x, origin.y, origin.z],
+            measurement_axes: [axis(0), axis(1), axis(2)],
+        }
+    }
 }
 
 /// The result and the report of a finished identification.
@@ -65,6 +115,13 @@ fn outcome(identified: &Identified) -> Result<JobOutcome, ApiError> {
             .iter()
             .map(|note| note.text(gecaro_app::Dialect::Web))
             .collect(),
+        deviations: identified.point_deviations().map(|points| {
+            let view = gecaro_app::view_from_measurement(
+                &identified.loaded.robot.robot,
+                &identified.result.calibrated,
+            );
+            Deviations::of(points, view)
+        }),
     };
     let report = identified.report(&format!(
         "gecaro serve: {} method on {}",

@@ -2,16 +2,17 @@
 // as a server job, its verdict, errors, plots and parameters with σ.
 import { api } from '../api.js';
 import { dataSelect, dataRequest, refreshDataChoices } from '../data-choices.js';
+import { deviationTable, showOnView } from '../deviations.js';
 import { h, $ } from '../dom.js';
 import { field, fieldNumber, sigmaText, degreesText, foldsOf, errorBox, runButton, observabilityLine, stat, FieldError, numberInput } from '../fields.js';
-import { fmt, fixed, sci } from '../format.js';
+import { fmt, fixed, inFrameOrder, sci } from '../format.js';
 import { followJob } from '../jobs.js';
 import { optionFields, methodRequest, formatFields, formatRequest } from '../method-options.js';
 import { calibratedActions, plotFigure, registrationBlock } from '../results.js';
 import { refreshFiles } from '../robot-menu.js';
 import { identificationBasis, refreshStale } from '../stale.js';
 import { state, tableDocument, persist } from '../state.js';
-import { unitOf, inUnits, unitName, unitsLabel } from '../units.js';
+import { unitOf, inUnits, inPageUnits, quantity, unitName, unitsLabel } from '../units.js';
 
 export function identifyPanel(method) {
   const name = method.name;
@@ -143,6 +144,7 @@ export function renderIdentification(container, name, job, result) {
   const id = result.identification;
   state.calibrated[name] = result.calibrated;
   const mm = (v) => fixed(v * 1e3, v * 1e3 < 0.1 ? 4 : 3);
+  const unit = unitName('length');
   const verdict = id.verdict;
   const outcomes = {
     fits_noise: 'Fits the noise', untested: 'Converged (σ not stated)', incomplete: 'Incomplete (not all measured)',
@@ -150,24 +152,29 @@ export function renderIdentification(container, name, job, result) {
     regional: 'Holds in the measured region only', changed: 'The cell changed during the measurement',
     underdetermined: 'Data do not determine it', repeated: 'Repeated data', degenerate: 'Degenerate data', not_converged: 'Not converged', diverged: 'Diverged',
   };
-  const headline = h('p', { class: `verdict ${verdict.trusted ? 'ok' : 'bad'}`, id: `${name}-identify-verdict` },
-    h('strong', { text: 'Verdict: ' }), document.createTextNode(`${verdict.summary}.`));
+  // A long verdict (implausible values, a region) reads as its first
+  // sentence and a list of the rest, not one paragraph.
+  const sentences = verdict.summary.split(/(?<=[.;])\s+(?=[A-Z])/);
+  const headline = h('div', { class: `verdict ${verdict.trusted ? 'ok' : 'bad'}`, id: `${name}-identify-verdict` },
+    h('p', {}, h('strong', { text: 'Verdict: ' }), document.createTextNode(`${sentences[0].replace(/\.$/, '')}.`)),
+    sentences.length > 1 ? h('ul', {}, sentences.slice(1).map((sentence) => h('li', { text: sentence }))) : null);
   const cards = h('div', { class: 'cards' },
     stat(`after ${id.iterations} iterations (${id.route.replace(/_/g, ' ')})`, outcomes[verdict.outcome] || verdict.outcome, { id: `${name}-identify-status`, class: verdict.trusted ? 'ok' : 'bad' }),
-    stat('error RMS before → after (mm)', `${mm(id.before.rms)} → ${mm(id.after.rms)}`),
-    stat('largest error (mm)', `${mm(id.before.max)} → ${mm(id.after.max)}`),
-    id.after_inliers ? stat(`after, without the ${id.outlier_count} outliers (mm)`, `RMS ${mm(id.after_inliers.rms)}, max ${mm(id.after_inliers.max)}`, { id: `${name}-identify-inliers` }) : null,
+    stat(`error RMS before (${unit})`, quantity(id.before.rms, 'length'), { id: `${name}-identify-rms-before` }),
+    stat(`error RMS after (${unit})`, quantity(id.after.rms, 'length'), { id: `${name}-identify-rms-after` }),
+    stat(`largest error after (${unit}; before ${quantity(id.before.max, 'length')})`, quantity(id.after.max, 'length')),
+    id.after_inliers ? stat(`RMS after, without the ${id.outlier_count} outliers (${unit}; largest ${quantity(id.after_inliers.max, 'length')})`, quantity(id.after_inliers.rms, 'length'), { id: `${name}-identify-inliers` }) : null,
     id.before.rms_rotation !== undefined
-      ? stat('orientation RMS (°)', `${fixed(id.before.rms_rotation * 180 / Math.PI, 3)} → ${fixed(id.after.rms_rotation * 180 / Math.PI, 4)}`) : null,
+      ? stat(`orientation RMS after (${unitName('angle')}; before ${quantity(id.before.rms_rotation, 'angle')})`, quantity(id.after.rms_rotation, 'angle')) : null,
     stat('identified parameters', String(id.parameters.length + id.auxiliary.length)),
     stat('condition number of W_b', fmt(Number(id.condition_number.toPrecision(4)))),
     verdict.residual_length !== null && verdict.residual_length !== undefined
-      ? stat(`residual σ (${unitName('length')})`, sci(inUnits(verdict.residual_length, 'length')), { id: `${name}-identify-residual` }) : null,
+      ? stat(`residual σ (${unit})`, quantity(verdict.residual_length, 'length'), { id: `${name}-identify-residual` }) : null,
     verdict.residual_angle !== null && verdict.residual_angle !== undefined
-      ? stat(`residual σ (${unitName('angle')})`, sci(inUnits(verdict.residual_angle, 'angle'))) : null,
+      ? stat(`residual σ (${unitName('angle')})`, quantity(verdict.residual_angle, 'angle')) : null,
     verdict.region
-      ? stat(`predicted error, measured region → ${verdict.region.work_is_limits ? 'joint limits' : 'work region'} (${unitName('length')})`,
-        `${sci(inUnits(verdict.region.predicted_inside, 'length'))} → ${sci(inUnits(verdict.region.predicted_work, 'length'))}`,
+      ? stat(`predicted error in the ${verdict.region.work_is_limits ? 'joint limits' : 'work region'} (${unit}; in the measured region ${quantity(verdict.region.predicted_inside, 'length')})`,
+        quantity(verdict.region.predicted_work, 'length'),
         { id: `${name}-identify-region`, class: verdict.region.holds_everywhere ? 'ok' : 'bad' }) : null);
   const advice = (result.identification.model_advice || []).map((a) => {
     const ratios = a.sigma_ratio !== null && a.instead_ratio !== null
@@ -183,18 +190,26 @@ export function renderIdentification(container, name, job, result) {
     plotFigure('Error of every configuration (mm; hover a dot for its file and line)', result.plots.errors_per_configuration, `${name}-identify-per-configuration`));
   // Values in the page's units; a deviation beyond 3σ is marked, a
   // regrouped parameter is a combination, not the physical value.
-  const rows = id.parameters.concat(id.auxiliary).map((p) => {
+  // The robot's parameters in frame order (α, d, θ, r, β, K within a
+  // frame), then the auxiliary unknowns as identified; one mark per row: a
+  // regrouped parameter's deviation stands for a combination, so it is not
+  // marked significant as well.
+  const rows = inFrameOrder(id.parameters).concat(id.auxiliary).map((p) => {
     const kind = unitOf(p.name);
-    const value = (v) => inUnits(v, kind);
+    const shown = (v) => (kind === 'none' ? fmt(Number(v.toPrecision(6))) : inPageUnits(v, kind, 6));
+    const small = (v) => (kind === 'none' ? fmt(Number(v.toPrecision(4))) : quantity(v, kind));
     const deviation = p.identified - p.nominal;
-    const significant = Number.isFinite(p.std) && Math.abs(deviation) > 3 * p.std;
-    const classes = [p.combination ? 'regrouped' : '', significant ? 'significant' : ''].join(' ').trim();
+    const significant = !p.combination && Number.isFinite(p.std) && Math.abs(deviation) > 3 * p.std;
+    const classes = p.combination ? 'regrouped' : significant ? 'significant' : '';
     const title = p.combination ? `regrouped: the deviation stands for ${p.combination}, not for ${p.name} alone`
       : significant ? 'the deviation is beyond 3σ: the data moved this parameter' : '';
     return h('tr', classes ? { class: classes, title } : {},
-      h('td', { text: p.combination ? `${p.name} (regrouped)` : p.name }), h('td', { text: fmt(value(p.nominal)) }), h('td', { text: fmt(value(p.identified)) }),
-      h('td', { class: 'deviation', text: value(deviation).toExponential(3) }), h('td', { text: sci(value(p.std)) }),
-      id.prior ? h('td', { text: sci(value(p.prior_std)) }) : null);
+      h('td', { text: p.combination ? `${p.name} (regrouped)` : p.name }),
+      h('td', { class: 'number', title: String(p.nominal), text: shown(p.nominal) }),
+      h('td', { class: 'number', title: String(p.identified), text: shown(p.identified) }),
+      h('td', { class: 'number deviation', title: String(deviation), text: small(deviation) }),
+      h('td', { class: 'number', title: String(p.std), text: small(p.std) }),
+      id.prior ? h('td', { class: 'number', text: small(p.prior_std) }) : null);
   });
   const table = h('table', { class: 'values', id: `${name}-identify-parameters` },
     h('thead', {}, h('tr', {}, ['parameter', 'nominal', 'identified', 'deviation', 'σ'].concat(id.prior ? ['prior σ'] : []).map((t) => h('th', { text: t })))),
@@ -223,7 +238,9 @@ export function renderIdentification(container, name, job, result) {
     registrationBlock(id.registration, `${name}-identify-registration`),
     outlierTable('Rejected before this fit', id.rejected, id.rejected_count, `${name}-identify-rejected`),
     outlierTable('Outliers', id.outliers, id.outlier_count, `${name}-identify-outliers`),
-    plots, h('h3', { text: `Identified parameters (${unitsLabel()}; gains without unit; beyond 3σ in bold, regrouped in italics)` }), table, moved].filter(Boolean));
+    plots, deviationTable(result.deviations, `${name}-identify`),
+    h('h3', { id: `${name}-identify-parameters-title`, text: `Identified parameters (${unitsLabel()}; gains without unit; beyond 3σ in bold, regrouped in italics)` }), table, moved].filter(Boolean));
+  showOnView(`the ${name} identification`, result.deviations, null);
 }
 
 /**

@@ -118,7 +118,11 @@ function renderPlanned(container, name, planned) {
   const parts = [
     h('div', { class: 'cards' },
       stat('configurations planned', String(planned.configurations), { id: `${name}-plan-count-result`, class: 'ok' }),
-      stat(`of a pool of ${planned.pool}`, `${planned.units} units`),
+      // A unit is what is measured together: a configuration, or a set of
+      // configurations for the link and plane methods.
+      planned.units === planned.configurations
+        ? stat(`chosen of ${planned.pool} candidate configurations`, String(planned.units))
+        : stat(`sets measured together, chosen of ${planned.pool} candidate sets`, `${planned.units} sets`),
       stat(planned.criterion_meaning, sci(planned.value), { id: `${name}-plan-value`, class: better ? 'ok' : '' }),
       stat('a random choice', sci(planned.random_value), { id: `${name}-plan-random` })),
     observabilityLine(planned.observability, 'the plan'),
