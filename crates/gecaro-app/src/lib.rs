@@ -96,6 +96,7 @@ mod study_files;
 mod study_plan;
 mod study_prediction;
 mod tool_point;
+mod uncertainty;
 mod user_frame;
 
 pub use base_circles::HELD;
@@ -146,4 +147,5 @@ pub use study_prediction::{
     PredictStudyJson, PredictStudyRequest, PredictedSetJson, PredictedStudy,
 };
 pub use tool_point::{SMALL_SPREAD, TaughtToolPoint, ToolPointJson, ToolPointRequest};
+pub use uncertainty::{Correlation, correlation, position_covariance};
 pub use user_frame::{FramePointsSource, UserFrame, UserFrameJson, UserFrameRequest};

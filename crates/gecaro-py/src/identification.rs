@@ -266,6 +266,26 @@ impl PyIdentification {
         array(py, &[count, 3], values).map(Some)
     }
 
+    /// The correlation matrix of the identified unknowns, `(names, values)`:
+    /// the auxiliary unknowns then the base parameters, `values` (k, k)
+    /// symmetric with 1 on its diagonal (eq. 11's covariance scaled);
+    /// `None` without a covariance.
+    #[getter]
+    fn correlation<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<Option<(Vec<String>, Bound<'py, PyArrayDyn<f64>>)>> {
+        let Some(correlation) = gecaro_app::correlation(&self.identified.result) else {
+            return Ok(None);
+        };
+        let count = correlation.names.len();
+        let values = correlation.values.into_iter().flatten().collect();
+        Ok(Some((
+            correlation.names,
+            array(py, &[count, count], values)?,
+        )))
+    }
+
     /// Condition number of W_b at the solution.
     #[getter]
     fn condition_number(&self) -> f64 {

@@ -343,6 +343,14 @@ def test_the_residuals_equal_the_command_line(cli, tmp_path):
     assert np.linalg.norm(deviations, axis=1) == pytest.approx(result.errors_after[:, 0], rel=1e-9)
     written = np.array([[float(row[f"d{axis}_mm"]) for axis in "xyz"] for row in rows])
     assert written == pytest.approx(deviations * 1e3, rel=1e-9, abs=1e-12)
+    # The correlations of the unknowns: symmetric, 1 on the diagonal, and
+    # each σ of the parameters' table is the covariance's the matrix scales.
+    names, rho = result.correlation
+    assert rho.shape == (len(names), len(names))
+    assert np.allclose(rho, rho.T) and np.allclose(np.diag(rho), 1.0)
+    assert set(names) == {p["name"] for p in result.to_dict()["parameters"]} | {
+        p["name"] for p in result.to_dict()["auxiliary"]
+    }
 
 
 def test_generation_in_a_cell_equals_the_command_line(cli, tmp_path):

@@ -1990,6 +1990,37 @@ async fn a_study_runs_from_its_file_or_its_json_alike() {
         norm(&deviations["measurement_origin"]) > 1.0,
         "{deviations:.200}"
     );
+    // The correlation matrix (the heatmap): symmetric, 1 on its diagonal,
+    // one row per unknown; tracker 2's origin covariance, whose diagonal
+    // gives the σ the frames table states.
+    let correlation = &view["result"]["correlation"];
+    let names = correlation["names"].as_array().expect("names");
+    let values = correlation["values"].as_array().expect("rows");
+    assert_eq!(values.len(), names.len());
+    let at = |i: usize, j: usize| values[i][j].as_f64().expect("ρ");
+    for i in 0..names.len() {
+        assert!((at(i, i) - 1.0).abs() < 1e-12);
+        for j in 0..names.len() {
+            assert!((at(i, j) - at(j, i)).abs() < 1e-12 && at(i, j).abs() <= 1.0);
+        }
+    }
+    let block = &view["result"]["frame_covariances"]["tracker_2"];
+    let auxiliary = view["result"]["identification"]["auxiliary"]
+        .as_array()
+        .expect("auxiliary");
+    for (k, axis) in ["x", "y", "z"].iter().enumerate() {
+        let stated = auxiliary
+            .iter()
+            .find(|p| p["name"] == format!("tracker_2.{axis}"))
+            .expect("tracker_2's unknown")["std"]
+            .as_f64()
+            .expect("σ");
+        let variance = block[k][k].as_f64().expect("m²");
+        assert!(
+            (variance.sqrt() - stated).abs() < 1e-9 * stated,
+            "{axis}: {variance} against σ {stated}"
+        );
+    }
     let station = &results[0]["frames"]
         .as_array()
         .expect("frames")

@@ -1465,6 +1465,14 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
     // first, and the error vectors with the tracker and its second station
     // in the 3D view.
     assert_eq!(count(client, "#study-deviations-table tbody tr").await, 25);
+    client
+        .execute(
+            "document.getElementById('study-deviations').scrollIntoView()",
+            vec![],
+        )
+        .await
+        .expect("scroll");
+    screenshot(client, "17-study-deviations-table-1400.png").await;
     let all: usize = text_of(client, "#study-deviations-all", 5)
         .await
         .trim_start_matches("Show all ")
@@ -1481,6 +1489,29 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
         .await
         .expect("view");
     assert_eq!(drawn, json!([all, 1]));
+    // Tracker 2 ringed by its 3σ uncertainty; the unknowns' correlations
+    // as a heatmap, one row per unknown.
+    assert_eq!(
+        number(
+            client,
+            "return Number(document.getElementById('robot-view').dataset.ellipses)"
+        )
+        .await,
+        1.0
+    );
+    let unknowns = number(
+        client,
+        "return Number(document.getElementById('study-correlation').dataset.size)",
+    )
+    .await;
+    let parameters: f64 = text_of(client, "#study-parameters", 5)
+        .await
+        .parse()
+        .expect("a count");
+    assert!(
+        unknowns >= parameters,
+        "{unknowns} unknowns, {parameters} parameters"
+    );
     assert!(
         text_of(client, "#view-overlay", 5)
             .await
@@ -1494,14 +1525,6 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
         .await
         .expect("scroll");
     screenshot(client, "16-study-deviations-view-1400.png").await;
-    client
-        .execute(
-            "document.getElementById('study-deviations').scrollIntoView()",
-            vec![],
-        )
-        .await
-        .expect("scroll");
-    screenshot(client, "17-study-deviations-table-1400.png").await;
     // Saved as a study file of the folder; it names the table's robot and
     // opens again to the same six sets; a payload typed for a set (elastic
     // joints) is stated with it.
@@ -1743,6 +1766,12 @@ async fn the_page_is_never_silently_wrong() {
             .await
             .contains("primary")
     );
+    // A plot enlarged in a dialog, and offered as SVG and PNG.
+    click(client, "#position-identify-histogram-enlarge").await;
+    assert_eq!(count(client, "#dialog .plot-large svg").await, 1);
+    click(client, "#dialog-cancel").await;
+    assert_eq!(count(client, "#position-identify-histogram-svg").await, 1);
+    assert_eq!(count(client, "#position-identify-histogram-png").await, 1);
 
     // A setting changed after the identification marks it stale, names the
     // setting, and takes the green and the primary Save away; set back, the

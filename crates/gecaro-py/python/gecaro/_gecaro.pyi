@@ -484,6 +484,9 @@ class Identification:
     @property
     def errors_after(self) -> _FloatArray: ...
     @property
+    def correlation(self) -> Optional[tuple[list[str], _FloatArray]]:
+        """The identified unknowns' names and their correlation matrix (k, k); None without a covariance."""
+    @property
     def deviations(self) -> Optional[_FloatArray]:
         """(observations, 3): each measured point minus the calibrated robot's (m, along the robot's base axes); NaN where an observation is not a point; None without point measures or for an elastic robot."""
     @property

@@ -50,12 +50,22 @@ export function deviationTable(deviations, prefix) {
  * (`frames` as identified, in the measurement frame). None without
  * deviations.
  */
-export function showOnView(source, deviations, frames) {
+export function showOnView(source, deviations, frames, covariances) {
   if (!deviations || !deviations.points.length) return;
   const origin = deviations.measurement_origin;
   const axes = deviations.measurement_axes;
-  const toView = (p) => [0, 1, 2].map((k) => origin[k] + axes[0][k] * p[0] + axes[1][k] * p[1] + axes[2][k] * p[2]);
-  const stations = (frames || []).filter((f) => f.role === 'station').map((f) => ({ name: f.name, at: toView(f.position) }));
+  const turn = (p) => [0, 1, 2].map((k) => axes[0][k] * p[0] + axes[1][k] * p[1] + axes[2][k] * p[2]);
+  const toView = (p) => turn(p).map((v, k) => origin[k] + v);
+  // A covariance C in the measurement frame is R C Rᵀ in the view's.
+  const turned = (c) => {
+    const columns = [0, 1, 2].map((j) => turn([c[0][j], c[1][j], c[2][j]]));
+    return [0, 1, 2].map((i) => turn([columns[0][i], columns[1][i], columns[2][i]]));
+  };
+  const stations = (frames || []).filter((f) => f.role === 'station').map((f) => ({
+    name: f.name,
+    at: toView(f.position),
+    covariance: covariances && covariances[f.name] ? turned(covariances[f.name]) : null,
+  }));
   state.overlay = {
     source,
     points: deviations.points.map((p) => ({ at: p.point, deviation: p.deviation })),

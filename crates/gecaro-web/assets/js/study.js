@@ -5,7 +5,7 @@ import { api } from './api.js';
 import { fill, h, $, toast } from './dom.js';
 import { field, FieldError, errorBox, runButton, stat } from './fields.js';
 import { followJob } from './jobs.js';
-import { calibratedActions, registrationBlock } from './results.js';
+import { calibratedActions, correlationHeatmap, registrationBlock } from './results.js';
 import { deviationTable, showOnView } from './deviations.js';
 import { openDialog } from './dialogs.js';
 import { loadStudyRobot, refreshFiles, studyRelative } from './robot-menu.js';
@@ -234,7 +234,7 @@ export async function followStudy(job, basis, progress = null) {
 /** The study's verdict, errors and identified frames (with σ); job `job`'s. */
 function renderStudyResult(container, result, job) {
   const id = result.identification;
-  showOnView(`the study${state.study && state.study.name ? ` ${state.study.name}` : ''}`, result.deviations, id.frames);
+  showOnView(`the study${state.study && state.study.name ? ` ${state.study.name}` : ''}`, result.deviations, id.frames, result.frame_covariances);
   const length = (v) => coordinate(v, 'length');
   const angle = (v) => coordinate(v, 'angle');
   const [unit, degrees] = [unitName('length'), unitName('angle')];
@@ -266,5 +266,6 @@ function renderStudyResult(container, result, job) {
     registrationBlock(id.registration, 'study-registration'),
     calibratedActions(result, id.verdict.trusted, job, 'study-calibrated'),
     deviationTable(result.deviations, 'study'),
+    correlationHeatmap(result.correlation, 'study'),
     (id.warnings || []).length ? h('div', { class: 'warnings', id: 'study-warnings', role: 'status' }, h('strong', { text: 'Warnings' }), h('ul', {}, id.warnings.map((w) => h('li', { text: w })))) : null);
 }

@@ -94,12 +94,38 @@ export async function refreshPose() {
   }
 }
 
-function project(point) {
+/** The view's right and up directions in the world (the screen's x, and −y). */
+function screenAxes() {
   const { azimuth, elevation } = state.view;
-  const right = [-Math.sin(azimuth), Math.cos(azimuth), 0];
-  const up = [-Math.sin(elevation) * Math.cos(azimuth), -Math.sin(elevation) * Math.sin(azimuth), Math.cos(elevation)];
-  const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  return {
+    right: [-Math.sin(azimuth), Math.cos(azimuth), 0],
+    up: [-Math.sin(elevation) * Math.cos(azimuth), -Math.sin(elevation) * Math.sin(azimuth), Math.cos(elevation)],
+  };
+}
+
+const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+
+function project(point) {
+  const { right, up } = screenAxes();
   return [dot(point, right), dot(point, up)];
+}
+
+/**
+ * The screen ellipse of a 3D covariance `c` (m², the view's world) at `k`
+ * σ, `pixels` per metre: the covariance projected on the screen,
+ * `P C Pᵀ` with P's rows the view's right and −up, and its eigenvalues.
+ */
+function screenEllipse(c, k, pixels) {
+  const { right, up } = screenAxes();
+  const down = up.map((v) => -v);
+  const times = (v) => [0, 1, 2].map((i) => dot(c[i], v));
+  const a = dot(right, times(right));
+  const b = dot(right, times(down));
+  const d = dot(down, times(down));
+  const mean = (a + d) / 2;
+  const spread = Math.hypot((a - d) / 2, b);
+  const radius = (value) => k * Math.sqrt(Math.max(value, 0)) * pixels;
+  return { major: radius(mean + spread), minor: radius(mean - spread), angle: 0.5 * Math.atan2(2 * b, a - d) };
 }
 
 /** A round grid step: 1, 2 or 5 × 10^k, about `target`. */
@@ -129,9 +155,9 @@ function roundGain(target) {
  * seventh of the view, green to red by size), the instrument and its
  * stations; returns what it drew.
  */
-function drawOverlay(context, toScreen, radius) {
+function drawOverlay(context, toScreen, radius, pixels) {
   const overlay = state.overlay;
-  if (!overlay || !state.pose) return { vectors: 0, stations: 0, gain: 0 };
+  if (!overlay || !state.pose) return { vectors: 0, stations: 0, ellipses: 0, gain: 0 };
   const base = state.pose[0];
   // Deviations are along the robot's base axes: into the view's world.
   const inWorld = (d) => [0, 1, 2].map((k) => d[0] * base.x[k] + d[1] * base.y[k] + d[2] * base.z[k]);
@@ -157,8 +183,19 @@ function drawOverlay(context, toScreen, radius) {
   // tripod's triangle with its name.
   const tripods = [overlay.instrument, ...overlay.stations];
   context.font = '12px system-ui, sans-serif';
+  let ellipses = 0;
   for (const tripod of tripods) {
     const [x, y] = toScreen(tripod.at);
+    // A station's uncertainty: its 3σ ellipsoid, magnified as the vectors are.
+    if (tripod.covariance) {
+      const shape = screenEllipse(tripod.covariance, 3, pixels * gain);
+      context.strokeStyle = 'rgba(138, 63, 252, 0.8)';
+      context.lineWidth = 1.5;
+      context.beginPath();
+      context.ellipse(x, y, Math.max(shape.major, 1), Math.max(shape.minor, 1), shape.angle, 0, 2 * Math.PI);
+      context.stroke();
+      ellipses += 1;
+    }
     context.fillStyle = '#8a3ffc';
     context.beginPath();
     context.moveTo(x, y - 8);
@@ -168,7 +205,7 @@ function drawOverlay(context, toScreen, radius) {
     context.fill();
     context.fillText(tripod.name, x + 10, y + 4);
   }
-  return { vectors: overlay.points.length, stations: overlay.stations.length, gain };
+  return { vectors: overlay.points.length, stations: overlay.stations.length, ellipses, gain };
 }
 
 /** Centre and radius of what is drawn: the world origin, every frame and the overlay. */
@@ -274,7 +311,7 @@ export function drawView(message) {
       drawn.points += 1;
     }
   }
-  const overlaid = drawOverlay(context, toScreen, radius);
+  const overlaid = drawOverlay(context, toScreen, radius, scale);
   // World axes.
   const axis = radius * 0.12;
   line([0, 0, 0], [axis, 0, 0], '#e8a3a3', 1.5);
@@ -320,10 +357,11 @@ export function drawView(message) {
   canvas.dataset.points = String(drawn.points);
   canvas.dataset.vectors = String(overlaid.vectors);
   canvas.dataset.stations = String(overlaid.stations);
+  canvas.dataset.ellipses = String(overlaid.ellipses);
   const caption = $('view-overlay');
   if (caption) {
     caption.replaceChildren(...(state.overlay ? [
-      `Error vectors of ${state.overlay.source}, magnified ×${fmt(overlaid.gain)} (green small, red the largest); ▲ the instrument${state.overlay.stations.length ? ' and its stations' : ''}. `,
+      `Error vectors of ${state.overlay.source}, magnified ×${fmt(overlaid.gain)} (green small, red the largest); ▲ the instrument${state.overlay.stations.length ? ' and its stations, each ringed by its 3σ uncertainty magnified alike' : ''}. `,
       h('button', { type: 'button', class: 'link', id: 'view-overlay-hide', text: 'Hide', onclick: () => { state.overlay = null; state.view.bounds = null; drawView(); } }),
     ] : []));
   }

@@ -48,6 +48,13 @@ struct IdentifyResult {
     /// in data order.
     #[serde(skip_serializing_if = "Option::is_none")]
     deviations: Option<Deviations>,
+    /// The correlation matrix of the identified unknowns (the page's heatmap).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    correlation: Option<gecaro_app::Correlation>,
+    /// Each named frame's origin covariance (m², row by row): its
+    /// uncertainty ellipsoid.
+    #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    frame_covariances: std::collections::BTreeMap<String, [[f64; 3]; 3]>,
 }
 
 /// The most point deviations a result carries to the page (its table and
@@ -114,6 +121,16 @@ fn outcome(identified: &Identified) -> Result<JobOutcome, ApiError> {
             .notes
             .iter()
             .map(|note| note.text(gecaro_app::Dialect::Web))
+            .collect(),
+        correlation: gecaro_app::correlation(&identified.result),
+        frame_covariances: identified
+            .result
+            .frames
+            .iter()
+            .filter_map(|frame| {
+                gecaro_app::position_covariance(&identified.result, &frame.name)
+                    .map(|block| (frame.name.clone(), block))
+            })
             .collect(),
         deviations: identified.point_deviations().map(|points| {
             let view = gecaro_app::view_from_measurement(

@@ -8,7 +8,7 @@ import { field, fieldNumber, sigmaText, degreesText, foldsOf, errorBox, runButto
 import { fmt, fixed, inFrameOrder, sci } from '../format.js';
 import { followJob } from '../jobs.js';
 import { optionFields, methodRequest, formatFields, formatRequest } from '../method-options.js';
-import { calibratedActions, plotFigure, registrationBlock } from '../results.js';
+import { calibratedActions, correlationHeatmap, plotFigure, registrationBlock } from '../results.js';
 import { refreshFiles } from '../robot-menu.js';
 import { identificationBasis, refreshStale } from '../stale.js';
 import { state, tableDocument, persist } from '../state.js';
@@ -239,6 +239,7 @@ export function renderIdentification(container, name, job, result) {
     outlierTable('Rejected before this fit', id.rejected, id.rejected_count, `${name}-identify-rejected`),
     outlierTable('Outliers', id.outliers, id.outlier_count, `${name}-identify-outliers`),
     plots, deviationTable(result.deviations, `${name}-identify`),
+    correlationHeatmap(result.correlation, `${name}-identify`),
     h('h3', { id: `${name}-identify-parameters-title`, text: `Identified parameters (${unitsLabel()}; gains without unit; beyond 3σ in bold, regrouped in italics)` }), table, moved].filter(Boolean));
   showOnView(`the ${name} identification`, result.deviations, null);
 }
