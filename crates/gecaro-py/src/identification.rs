@@ -131,6 +131,9 @@ impl PyErrorSummary {
     }
 }
 
+/// Names and the square array of a value per pair of them (a correlation matrix).
+type NamedMatrix<'py> = (Vec<String>, Bound<'py, PyArrayDyn<f64>>);
+
 /// The result of an identification.
 #[pyclass(name = "Identification", module = "gecaro", frozen)]
 pub(crate) struct PyIdentification {
@@ -271,10 +274,7 @@ impl PyIdentification {
     /// symmetric with 1 on its diagonal (eq. 11's covariance scaled);
     /// `None` without a covariance.
     #[getter]
-    fn correlation<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<Option<(Vec<String>, Bound<'py, PyArrayDyn<f64>>)>> {
+    fn correlation<'py>(&self, py: Python<'py>) -> PyResult<Option<NamedMatrix<'py>>> {
         let Some(correlation) = gecaro_app::correlation(&self.identified.result) else {
             return Ok(None);
         };
