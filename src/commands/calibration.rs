@@ -384,7 +384,42 @@ fn print_identification(identified: &Identified) {
     );
     super::robustness::print_robustness(result);
     print_parameters(result);
+    print_groups(identified);
     print_registration(identified);
+}
+
+/// A study's errors set by set and station by station (mm): the set that
+/// fits worse than the others stands out.
+fn print_groups(identified: &Identified) {
+    let document = identified.document();
+    for (title, groups) in [("set", &document.sets), ("station", &document.stations)] {
+        if groups.is_empty() {
+            continue;
+        }
+        // A set names its tool and station; a station is its own name.
+        let sets = title == "set";
+        let mut header = vec![title];
+        if sets {
+            header.extend(["tool", "station"]);
+        }
+        header.extend(["observations", "RMS before", "RMS after", "largest after"]);
+        let mut rows = table(&header, if sets { 3 } else { 1 });
+        for group in groups {
+            let mut row = vec![group.name.clone()];
+            if sets {
+                row.push(group.tool.clone().unwrap_or_default());
+                row.push(group.station.clone().unwrap_or_default());
+            }
+            row.extend([
+                group.observations.to_string(),
+                format!("{:.4}", group.rms_before * 1e3),
+                format!("{:.4}", group.rms_after * 1e3),
+                format!("{:.4}", group.max_after * 1e3),
+            ]);
+            rows.add_row(row);
+        }
+        println!("Errors {title} by {title} (mm):\n{rows}");
+    }
 }
 
 fn print_iterations(result: &Identification) {

@@ -538,6 +538,12 @@ pub struct IdentificationJson {
     /// model where the robot file has masses and the rigid fit exceeds the
     /// noise; with `check_model`, the next smaller model).
     pub model_advice: Vec<ModelAdviceJson>,
+    /// A study's errors set by set (none for one set).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub sets: Vec<crate::set_errors::GroupErrorsJson>,
+    /// The same station by station (none for one station).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub stations: Vec<crate::set_errors::GroupErrorsJson>,
 }
 
 /// Another model that would do better (see [`crate::ModelAdvice`]).
@@ -1064,6 +1070,7 @@ impl From<&Verdict> for VerdictJson {
 impl IdentificationJson {
     /// The document of an identification on `study`.
     pub fn new(study: &Study, result: &Identification) -> Self {
+        let (sets, stations) = crate::set_errors::group_errors(study, result);
         IdentificationJson {
             method: study.method_names(),
             verdict: (&result.verdict).into(),
@@ -1122,6 +1129,8 @@ impl IdentificationJson {
             cross_validation: None,
             registration: None,
             model_advice: Vec::new(),
+            sets,
+            stations,
         }
     }
 }

@@ -89,6 +89,7 @@ mod plan;
 mod rebase;
 mod residuals;
 mod robot_files;
+mod set_errors;
 mod settings;
 mod sources;
 mod study_editing;
@@ -134,6 +135,7 @@ pub use plan::{
 pub use rebase::{RebaseRequest, Rebased, check_same_frame, rebased_file};
 pub use residuals::residuals_csv;
 pub use robot_files::{calibrated_robot_file, simulated_robot_file};
+pub use set_errors::GroupErrorsJson;
 pub use settings::{FitSettings, PrioritySource};
 pub use sources::{
     DataFormatSpec, DataRead, DataSource, PointsSource, RobotSource, angle_unit, delimiter,

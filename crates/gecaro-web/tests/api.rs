@@ -1945,10 +1945,11 @@ async fn a_study_runs_from_its_file_or_its_json_alike() {
     // Every measured point's deviation from the calibrated robot (issue
     // 76): one per configuration of the six sets, at the tracker's 20 µm,
     // drawn on the robot (the tracker itself 2.5 m away).
-    let view = api
-        .job("/api/identify", &json!({ "study": "study.toml" }))
-        .await
-        .expect("job");
+    let (_, submitted) = api
+        .post("/api/identify", &json!({ "study": "study.toml" }))
+        .await;
+    let job = submitted["job"].as_u64().expect("job");
+    let view = api.finished(job).await;
     let deviations = &view["result"]["deviations"];
     let configurations: usize = std::fs::read_dir(&cell)
         .expect("cell")
@@ -2004,6 +2005,47 @@ async fn a_study_runs_from_its_file_or_its_json_alike() {
             assert!((at(i, j) - at(j, i)).abs() < 1e-12 && at(i, j).abs() <= 1.0);
         }
     }
+    // The errors set by set and station by station, against the residuals
+    // file's rows summed here.
+    let residuals = api
+        .download(&format!("/api/jobs/{job}/residuals.csv"), "text/csv")
+        .await;
+    let mut reader = csv::Reader::from_reader(residuals.as_bytes());
+    let headers = reader.headers().expect("header").clone();
+    let column = |name: &str| headers.iter().position(|h| h == name).expect(name);
+    let (set_column, after_column) = (column("set"), column("error_after_mm"));
+    let mut sums = [(0usize, 0.0f64); 6];
+    for record in reader.records() {
+        let record = record.expect("row");
+        let set: usize = record[set_column].parse().expect("set");
+        let after: f64 = record[after_column].parse().expect("mm");
+        sums[set - 1].0 += 1;
+        sums[set - 1].1 += after * after;
+    }
+    let sets = view["result"]["identification"]["sets"]
+        .as_array()
+        .expect("sets");
+    assert_eq!(sets.len(), 6);
+    for (set, (count, squares)) in sets.iter().zip(sums) {
+        assert_eq!(set["observations"], count);
+        let rms = (squares / count as f64).sqrt() * 1e-3;
+        assert!(
+            (set["rms_after"].as_f64().expect("m") - rms).abs() < 1e-12,
+            "{set}"
+        );
+    }
+    assert_eq!(sets[3]["station"], "tracker_2");
+    assert_eq!(sets[0]["tool"], "smr_a");
+    let stations = view["result"]["identification"]["stations"]
+        .as_array()
+        .expect("stations");
+    assert_eq!(stations.len(), 2);
+    assert_eq!(stations[0]["name"], "the measurement frame");
+    assert_eq!(
+        stations[0]["observations"].as_u64().expect("n")
+            + stations[1]["observations"].as_u64().expect("n"),
+        configurations as u64
+    );
     let block = &view["result"]["frame_covariances"]["tracker_2"];
     let auxiliary = view["result"]["identification"]["auxiliary"]
         .as_array()

@@ -1465,6 +1465,9 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
     // first, and the error vectors with the tracker and its second station
     // in the 3D view.
     assert_eq!(count(client, "#study-deviations-table tbody tr").await, 25);
+    // Errors set by set and station by station, each with its bar.
+    assert_eq!(count(client, "#study-sets-errors tbody tr .bar").await, 6);
+    assert_eq!(count(client, "#study-stations-errors tbody tr").await, 2);
     client
         .execute(
             "document.getElementById('study-deviations').scrollIntoView()",

@@ -231,6 +231,31 @@ export async function followStudy(job, basis, progress = null) {
   }
 }
 
+/**
+ * A study's errors by set or by station (`groups` as the server sends
+ * them): observations, RMS before and after, largest after, and a bar of
+ * the RMS after against the largest group's — the set that fits worse than
+ * the others stands out.
+ */
+function groupTable(title, groups, id) {
+  if (!groups.length) return null;
+  const unit = unitName('length');
+  const widest = Math.max(...groups.map((g) => g.rms_after), 1e-15);
+  // A set names its tool and station; a station is its own name.
+  const sets = Boolean(groups[0].method);
+  return h('div', {},
+    h('h3', { text: `${title} (${unit})` }),
+    h('div', { class: 'scroll-x' }, h('table', { class: 'values', id },
+      h('thead', {}, h('tr', {}, [sets ? 'set' : 'station', ...(sets ? ['tool', 'station'] : []), 'observations', 'RMS before', 'RMS after', 'largest after', ''].map((t) => h('th', { text: t })))),
+      h('tbody', {}, groups.map((g) => h('tr', {},
+        h('td', { text: g.name }), sets ? [h('td', { text: g.tool || '' }), h('td', { text: g.station || 'the measurement frame' })] : null,
+        h('td', { class: 'number', text: String(g.observations) }),
+        h('td', { class: 'number', title: `${g.rms_before} m`, text: quantity(g.rms_before, 'length') }),
+        h('td', { class: 'number', title: `${g.rms_after} m`, text: quantity(g.rms_after, 'length') }),
+        h('td', { class: 'number', title: `${g.max_after} m`, text: quantity(g.max_after, 'length') }),
+        h('td', { class: 'bar-cell' }, h('div', { class: 'bar', style: `width: ${Math.round((100 * g.rms_after) / widest)}%` })))))))); 
+}
+
 /** The study's verdict, errors and identified frames (with σ); job `job`'s. */
 function renderStudyResult(container, result, job) {
   const id = result.identification;
@@ -263,6 +288,8 @@ function renderStudyResult(container, result, job) {
     h('table', { class: 'values', id: 'study-frames' },
       h('thead', {}, h('tr', {}, ['frame', 'role', 'position', 'σ', 'roll, pitch, yaw', 'σ'].map((t) => h('th', { text: t })))),
       h('tbody', {}, rows)),
+    groupTable('Errors set by set', id.sets || [], 'study-sets-errors'),
+    groupTable('Errors station by station', id.stations || [], 'study-stations-errors'),
     registrationBlock(id.registration, 'study-registration'),
     calibratedActions(result, id.verdict.trusted, job, 'study-calibrated'),
     deviationTable(result.deviations, 'study'),
