@@ -29,6 +29,7 @@ const MODULES: &[(&str, &str)] = &[
     ("file-fit.js", include_str!("../assets/js/file-fit.js")),
     ("format.js", include_str!("../assets/js/format.js")),
     ("help.js", include_str!("../assets/js/help.js")),
+    ("history.js", include_str!("../assets/js/history.js")),
     ("jobs.js", include_str!("../assets/js/jobs.js")),
     ("main.js", include_str!("../assets/js/main.js")),
     (

@@ -1744,6 +1744,30 @@ async fn the_page_is_never_silently_wrong() {
         "true:0:true"
     );
 
+    // The cell as the Plan's fields state it, in the 3D view: the floor and
+    // the tracker (decimal commas, semicolons between the numbers).
+    set_values(
+        client,
+        &[
+            ("position-plan-floor", "-0,5"),
+            ("position-plan-station", "2500,5; 0; 400"),
+        ],
+    )
+    .await;
+    let cell = client
+        .execute(
+            "const c = document.getElementById('robot-view'); return [c.dataset.floor, c.dataset.tracker]",
+            vec![],
+        )
+        .await
+        .expect("view");
+    assert_eq!(cell, json!(["true", "true"]));
+    set_values(
+        client,
+        &[("position-plan-floor", ""), ("position-plan-station", "")],
+    )
+    .await;
+
     // A decimal comma is a decimal comma: 0,05 mm of noise, not 5 mm.
     click(client, "#function-generate").await;
     type_into(client, "#position-generate-noise", "1,500").await;
@@ -1935,6 +1959,13 @@ async fn the_page_is_never_silently_wrong() {
         panic!("at 800 px the page is {wide}");
     }
     client.set_window_size(1920, 1400).await.expect("resize");
+
+    // The history: every identification run here (the position ones and
+    // the study), two compared side by side, value by value.
+    assert!(count(client, "#history-runs tbody tr").await >= 3);
+    let moved = text_of(client, "#history-moved", 5).await;
+    assert!(moved.contains("values identified by both"), "{moved}");
+    assert!(count(client, "#history-values tbody tr").await > 10);
 
     // A new study takes the old result away.
     click(client, "#study-new").await;

@@ -2,7 +2,9 @@
 // clearance: the command line's --floor, --station, --max-incidence,
 // --clearance) in millimetres and degrees, and the request they make.
 import { h } from './dom.js';
+import { emit } from './events.js';
 import { field, FieldError, fieldNumber } from './fields.js';
+import { parseVector, readNumber } from './format.js';
 
 /**
  * The cell fields of function `fn` of method `name` (as the command line's
@@ -10,7 +12,8 @@ import { field, FieldError, fieldNumber } from './fields.js';
  * degrees): where only configurations the cell can measure are drawn.
  */
 export function cellInputs(name, fn) {
-  const input = (key, placeholder) => h('input', { type: 'text', class: 'vector', id: `${name}-${fn}-${key}`, placeholder });
+  // The floor and the tracker are drawn in the 3D view as they are typed.
+  const input = (key, placeholder) => h('input', { type: 'text', class: 'vector', id: `${name}-${fn}-${key}`, placeholder, onchange: () => emit('overlay') });
   const floor = input('floor', 'none, e.g. 0');
   const station = input('station', 'none, e.g. 2500, 0, 400');
   const incidence = input('incidence', 'any, e.g. 30');
@@ -32,8 +35,11 @@ export function cellInputs(name, fn) {
     const text = station.value.trim();
     station.classList.remove('invalid');
     if (text) {
-      const parts = text.split(/[\s,;]+/).filter(Boolean).map(Number);
-      if (parts.length !== 3 || !parts.every(Number.isFinite)) {
+      // Decimal commas too, when the numbers are separated by semicolons or spaces.
+      let parts;
+      try {
+        parts = parseVector(text, 'Laser tracker');
+      } catch (error) {
         station.classList.add('invalid');
         throw new FieldError(`Laser tracker: “${text}” is not three numbers x, y, z (mm).`);
       }
@@ -50,4 +56,21 @@ export function cellInputs(name, fn) {
     return cell;
   };
   return { fields, request };
+}
+
+/**
+ * The cell the fields of method `name` state (its Plan's, else its Points
+ * generation's), for the 3D view: the floor's height and the tracker's
+ * position (m), each `null` when not stated or not readable.
+ */
+export function statedCell(name) {
+  const value = (key) => ['plan', 'generate'].map((fn) => document.getElementById(`${name}-${fn}-${key}`))
+    .map((input) => (input ? input.value.trim() : '')).find((text) => text !== '') || '';
+  const floorText = value('floor');
+  const floor = floorText === '' ? null : readNumber(floorText);
+  let station = null;
+  try {
+    station = value('station') ? parseVector(value('station'), 'tracker').map((v) => v * 1e-3) : null;
+  } catch (error) { /* not three numbers yet: nothing to draw */ }
+  return { floor: Number.isFinite(floor) ? floor * 1e-3 : null, station };
 }

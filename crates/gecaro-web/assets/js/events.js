@@ -5,7 +5,8 @@
  *
  * - `server-back`: the server answers again after it was lost.
  * - `files-changed`: the folder's file lists (`state.files`) were read again.
- * - `overlay`: a result gave the 3D view something to draw (`state.overlay`).
+ * - `overlay`: the 3D view has something else to draw: a result's (`state.overlay`),
+ *   or the cell's floor and tracker as typed.
  */
 const bus = new EventTarget();
 

@@ -8,6 +8,7 @@ import { h, $, toast } from './dom.js';
 import { on } from './events.js';
 import { cancelJobsLeftBehind, jobsLeftRunning } from './jobs.js';
 import { helpDialog } from './help.js';
+import { renderHistory } from './history.js';
 import { selectMethod, selectFunction, tabKeys } from './navigation.js';
 import { compensatePanel } from './panels/compensate.js';
 import { evaluatePanel } from './panels/evaluate.js';
@@ -64,6 +65,7 @@ async function start() {
   state.info = await api('/info');
   $('folder').textContent = `folder: ${state.info.folder}`;
   buildMethodPanels();
+  renderHistory();
   state.study = emptyStudy();
   renderStudyPlan();
   installViewControls();
@@ -197,6 +199,7 @@ function changeUnits() {
     renderIdentification($(`${name}-identify-result`), name, last.job, last.result);
   }
   refreshStale();
+  renderHistory();
   persist();
 }
 

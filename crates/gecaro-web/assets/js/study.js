@@ -4,6 +4,7 @@
 import { api } from './api.js';
 import { fill, h, $, toast } from './dom.js';
 import { field, FieldError, errorBox, runButton, stat } from './fields.js';
+import { recordRun } from './history.js';
 import { followJob } from './jobs.js';
 import { calibratedActions, correlationHeatmap, registrationBlock } from './results.js';
 import { deviationTable, showOnView } from './deviations.js';
@@ -224,6 +225,13 @@ export async function followStudy(job, basis, progress = null) {
     if (ended.state !== 'done') throw new Error('The identification was cancelled.');
     renderStudyResult(result, ended.result, job);
     state.studyResult = { basis, stale: false };
+    recordRun({
+      what: `study ${state.study.name || '(not saved)'}`,
+      robot: tableDocument().name || 'unnamed',
+      data: `${state.study.measurements.length} sets`,
+      settings: `${state.study.tools.length} tools, ${state.study.stations.length} stations`,
+      result: ended.result,
+    });
     refreshStale();
   } catch (error) {
     error.message = studyWords(error.message);

@@ -2,6 +2,7 @@
 // canvas, dragged to turn and wheeled to zoom), with the method's plane
 // and the generated data's points.
 import { api } from './api.js';
+import { statedCell } from './cell.js';
 import { h, $ } from './dom.js';
 import { fmt, parseVector } from './format.js';
 import { state, tableDocument, methodInfo } from './state.js';
@@ -135,11 +136,13 @@ function niceStep(target) {
   return (mantissa < 1.5 ? 1 : mantissa < 3.5 ? 2 : 5) * power;
 }
 
-/** The places a result's overlay draws (measured points, instrument, stations), or none. */
+/** The places the view draws beyond the robot: the cell's tracker, a result's measured points, instrument and stations. */
 function overlayPlaces() {
   const overlay = state.overlay;
-  if (!overlay) return [];
-  return [...overlay.points.map((p) => p.at), overlay.instrument.at, ...overlay.stations.map((s) => s.at)];
+  const cell = state.info ? statedCell(state.method) : { station: null };
+  const tracker = cell.station ? [cell.station] : [];
+  if (!overlay) return tracker;
+  return [...tracker, ...overlay.points.map((p) => p.at), overlay.instrument.at, ...overlay.stations.map((s) => s.at)];
 }
 
 /** A round magnification: 1, 2 or 5 × 10^k, at most `target`. */
@@ -268,7 +271,7 @@ export function drawView(message) {
   // The current method's plane (plane methods) and the points of its
   // generated data (methods that measure a point), in the world frame.
   // What is drawn, on the canvas for whoever checks it (the browser tests).
-  const drawn = { plane: false, points: 0 };
+  const drawn = { plane: false, points: 0, floor: false, tracker: false };
   const method = state.info && methodInfo(state.method);
   if (method && method.uses_plane) {
     try {
@@ -310,6 +313,33 @@ export function drawView(message) {
       context.fill();
       drawn.points += 1;
     }
+  }
+  // The cell the shown method's fields state: its floor and its tracker.
+  const cell = statedCell(state.method);
+  if (cell.floor !== null) {
+    const corners = [[-1, -1], [1, -1], [1, 1], [-1, 1]].map(([a, b]) => toScreen([gx + a * extent, gy + b * extent, cell.floor]));
+    context.fillStyle = 'rgba(160, 120, 60, 0.12)';
+    context.strokeStyle = 'rgba(160, 120, 60, 0.7)';
+    context.lineWidth = 1;
+    context.beginPath();
+    corners.forEach(([x, y], i) => (i ? context.lineTo(x, y) : context.moveTo(x, y)));
+    context.closePath();
+    context.fill();
+    context.stroke();
+    drawn.floor = true;
+  }
+  if (cell.station) {
+    const [x, y] = toScreen(cell.station);
+    context.fillStyle = '#b35c00';
+    context.beginPath();
+    context.moveTo(x, y - 8);
+    context.lineTo(x - 7, y + 6);
+    context.lineTo(x + 7, y + 6);
+    context.closePath();
+    context.fill();
+    context.font = '12px system-ui, sans-serif';
+    context.fillText('tracker (cell)', x + 10, y + 4);
+    drawn.tracker = true;
   }
   const overlaid = drawOverlay(context, toScreen, radius, scale);
   // World axes.
@@ -358,6 +388,8 @@ export function drawView(message) {
   canvas.dataset.vectors = String(overlaid.vectors);
   canvas.dataset.stations = String(overlaid.stations);
   canvas.dataset.ellipses = String(overlaid.ellipses);
+  canvas.dataset.floor = String(drawn.floor);
+  canvas.dataset.tracker = String(drawn.tracker);
   const caption = $('view-overlay');
   if (caption) {
     caption.replaceChildren(...(state.overlay ? [

@@ -6,12 +6,13 @@ import { deviationTable, showOnView } from '../deviations.js';
 import { h, $ } from '../dom.js';
 import { field, fieldNumber, sigmaText, degreesText, foldsOf, errorBox, runButton, observabilityLine, stat, FieldError, numberInput } from '../fields.js';
 import { fmt, fixed, inFrameOrder, sci } from '../format.js';
+import { recordRun } from '../history.js';
 import { followJob } from '../jobs.js';
 import { optionFields, methodRequest, formatFields, formatRequest } from '../method-options.js';
 import { calibratedActions, correlationHeatmap, plotFigure, registrationBlock } from '../results.js';
 import { refreshFiles } from '../robot-menu.js';
 import { identificationBasis, refreshStale } from '../stale.js';
-import { state, tableDocument, persist } from '../state.js';
+import { methodInfo, state, tableDocument, persist } from '../state.js';
 import { unitOf, inUnits, inPageUnits, quantity, unitName, unitsLabel } from '../units.js';
 
 export function identifyPanel(method) {
@@ -130,6 +131,7 @@ export async function followIdentification(name, job, basis) {
     } else {
       state.results[name] = { job, result: ended.result, basis };
       renderIdentification(result, name, job, ended.result);
+      recordRun({ what: `${methodInfo(name).title}`, robot: tableDocument().name || 'unnamed', data: dataWords(basis), settings: settingsWords(basis), result: ended.result });
       // The verdict first, without scrolling for it.
       result.scrollIntoView({ block: 'start' });
       refreshStale();
@@ -138,6 +140,22 @@ export async function followIdentification(name, job, basis) {
   } catch (error) {
     result.replaceChildren(errorBox(error));
   }
+}
+
+/** The data an identification ran on, in words (its menu's choice). */
+function dataWords(basis) {
+  const data = String((basis && basis.data) || '').split('#')[0];
+  return data.startsWith('file:') ? data.slice(5) : data === 'generated' ? 'generated here' : data === 'upload' ? 'an upload' : data || '–';
+}
+
+/** The settings that decide an identification, in words: model, loss, σ. */
+function settingsWords(basis) {
+  const settings = (basis && basis.settings) || {};
+  const value = (suffix) => {
+    const entry = Object.entries(settings).find(([id]) => id.endsWith(`-identify-${suffix}`));
+    return entry ? entry[1].value : '';
+  };
+  return [`model ${value('model') || 'full'}`, `loss ${value('loss') || 'l2'}`, `σ ${value('sigma') ? `${value('sigma')} mm` : 'not stated'}`].join(', ');
 }
 
 export function renderIdentification(container, name, job, result) {
