@@ -41,3 +41,6 @@ pub const BODY_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(5);
 pub const MAX_CONNECTIONS: usize = 512;
 /// Descriptors kept free of connections: for files, jobs and the listener.
 pub const RESERVED_DESCRIPTORS: usize = 64;
+/// Points sent for the 3D view, at most (a generation's measured points, a
+/// plan's tool points).
+pub const MAX_VIEW_POINTS: usize = 5_000;

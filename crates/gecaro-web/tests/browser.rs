@@ -300,6 +300,15 @@ async fn the_page_works_as_a_person_uses_it() {
         3
     );
     assert_eq!(count(client, "#position-plan-curve-plot svg").await, 1);
+    // The planned poses' tool points in the 3D view, with the cell's floor.
+    let view = client
+        .execute(
+            "const c = document.getElementById('robot-view'); return [c.dataset.planned, c.dataset.floor]",
+            vec![],
+        )
+        .await
+        .expect("view");
+    assert_eq!(view, json!(["25", "true"]));
     assert_eq!(
         text_of(client, "#step-plan .step-status", 5).await,
         format!(

@@ -45,6 +45,7 @@ function clearResults() {
   state.results = {};
   state.calibrated = {};
   state.planned = {};
+  state.plannedPoints = {};
   state.evaluated = {};
   state.exported = {};
   state.overlay = null;

@@ -42,6 +42,7 @@ export const state = {
   results: {}, // method -> the last identification {job, result}, shown again after a reload
   calibrated: {}, // method -> the calibrated robot's document, for Evaluate
   planned: {}, // method -> the last plan's configuration count
+  plannedPoints: {}, // method -> the last plan's tool points with the table's robot (the 3D view)
   evaluated: {}, // method -> the last evaluation's comparison outcome ('better', 'worse', …, or 'table')
   exported: {}, // method -> what was done with the calibrated robot: {text, status ('done' or 'warn': targets flagged)}
   study: null, // the study editor's study (see emptyStudy)

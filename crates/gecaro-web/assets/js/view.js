@@ -341,6 +341,17 @@ export function drawView(message) {
     context.fillText('tracker (cell)', x + 10, y + 4);
     drawn.tracker = true;
   }
+  // The last plan's poses (their tool points), blue rings.
+  const planned = state.plannedPoints[state.method] || [];
+  context.strokeStyle = 'rgba(31, 111, 235, 0.9)';
+  context.lineWidth = 1.5;
+  for (const point of planned) {
+    const [x, y] = toScreen(point);
+    context.beginPath();
+    context.arc(x, y, 3.5, 0, 2 * Math.PI);
+    context.stroke();
+  }
+  drawn.planned = planned.length;
   const overlaid = drawOverlay(context, toScreen, radius, scale);
   // World axes.
   const axis = radius * 0.12;
@@ -389,6 +400,7 @@ export function drawView(message) {
   canvas.dataset.stations = String(overlaid.stations);
   canvas.dataset.ellipses = String(overlaid.ellipses);
   canvas.dataset.floor = String(drawn.floor);
+  canvas.dataset.planned = String(drawn.planned || 0);
   canvas.dataset.tracker = String(drawn.tracker);
   const caption = $('view-overlay');
   if (caption) {

@@ -23,13 +23,10 @@ pub(crate) async fn identifiable(
         .await
 }
 
-/// Points sent for the 3D view, at most.
-const MAX_VIEW_POINTS: usize = 5_000;
-
 #[derive(Serialize)]
 pub(crate) struct GeneratedJson {
     /// The measured (terminal) points of the real robot, world frame (m),
-    /// for the 3D view; the first [`MAX_VIEW_POINTS`].
+    /// for the 3D view; the first [`MAX_VIEW_POINTS`](crate::limits::MAX_VIEW_POINTS).
     points: Vec<[f64; 3]>,
     /// The data file's text.
     csv: String,
@@ -61,7 +58,7 @@ pub(crate) async fn generate(
             let points = generated
                 .samples
                 .iter()
-                .take(MAX_VIEW_POINTS)
+                .take(crate::limits::MAX_VIEW_POINTS)
                 .filter_map(|sample| {
                     gecaro_core::terminal_pose(&generated.real.robot, sample.motor_positions())
                         .ok()

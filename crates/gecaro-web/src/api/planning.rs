@@ -38,6 +38,9 @@ pub(crate) struct Planned {
     saved: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     curve: Option<CurveAnswer>,
+    /// The planned configurations' tool points with the table's robot,
+    /// world frame (m), for the 3D view.
+    points: Vec<[f64; 3]>,
 }
 
 /// Checks the request and starts planning a method's configurations (and
@@ -72,6 +75,19 @@ pub(crate) async fn plan(
                 curve,
                 svg: drawn.svg.clone(),
             });
+        let points = planning.planned.as_ref().map_or_else(Vec::new, |planned| {
+            planned
+                .plan
+                .samples
+                .iter()
+                .take(crate::limits::MAX_VIEW_POINTS)
+                .filter_map(|sample| {
+                    gecaro_core::terminal_pose(&planning.robot.robot, &sample.motor_positions)
+                        .ok()
+                        .map(|pose| pose.translation.vector.into())
+                })
+                .collect()
+        });
         let planned = planning
             .planned
             .ok_or_else(|| ApiError::Internal("no plan was made".into()))?;
@@ -82,6 +98,7 @@ pub(crate) async fn plan(
                 saved: planned.saved.as_ref().and(saved),
                 csv: planned.csv,
                 curve,
+                points,
             })?,
             report: None,
             residuals: None,

@@ -3,6 +3,7 @@
 import { api } from '../api.js';
 import { cellInputs } from '../cell.js';
 import { h, download } from '../dom.js';
+import { emit } from '../events.js';
 import { field, fieldNumber, errorBox, runButton, observabilityLine, stat, numberInput } from '../fields.js';
 import { fmt, fixed, payloadList, sci } from '../format.js';
 import { optionFields, methodRequest } from '../method-options.js';
@@ -111,6 +112,8 @@ export function planPanel(method) {
 
 function renderPlanned(container, name, planned) {
   state.planned[name] = planned.configurations;
+  state.plannedPoints[name] = planned.points || [];
+  emit('overlay');
   persist();
   const better = planned.criterion === 'a' || planned.criterion === 'test'
     ? planned.value < planned.random_value : planned.value > planned.random_value;
