@@ -1802,6 +1802,13 @@ async fn the_page_is_never_silently_wrong() {
             .await
             .contains("primary")
     );
+    // The calibrated robot beside the table's in the 3D view, its
+    // differences magnified.
+    let ghost = text_when(client, "#view-overlay", 10, |caption| {
+        caption.contains("the calibrated robot at the same joints")
+    })
+    .await;
+    assert!(ghost.contains("magnified ×"), "{ghost}");
     // A plot enlarged in a dialog, and offered as SVG and PNG.
     click(client, "#position-identify-histogram-enlarge").await;
     assert_eq!(count(client, "#dialog .plot-large svg").await, 1);

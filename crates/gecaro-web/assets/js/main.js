@@ -58,7 +58,7 @@ async function start() {
   on('server-back', () => { for (const box of document.querySelectorAll('.error-box.unreachable')) box.remove(); });
   on('files-changed', () => { if (state.study) renderStudy(); });
   on('changed', renderSteps);
-  on('overlay', () => { state.view.bounds = null; drawView(); });
+  on('overlay', () => { state.view.bounds = null; drawView(); refreshPose(); });
   on('changed', refreshStudyRobotNote);
   // A study edited after its identification makes the result stale (stale.js).
   $('study-editor').addEventListener('change', () => refreshStale());

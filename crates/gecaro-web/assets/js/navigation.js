@@ -1,7 +1,7 @@
 // The method and function tabs: which panel shows.
 import { $ } from './dom.js';
 import { FUNCTIONS, state, persist } from './state.js';
-import { drawView } from './view.js';
+import { drawView, refreshPose } from './view.js';
 
 /** Marks `button` as its tab list's selected tab or not (ARIA tabs: one tab in the Tab order). */
 function markTab(button, selected) {
@@ -34,6 +34,8 @@ export function selectMethod(name) {
   for (const method of state.info.methods) $(`method-${method.name}`).hidden = method.name !== name;
   selectFunction(state.function);
   drawView();
+  // The method's calibrated robot, if any, beside the table's.
+  if (state.robot) refreshPose();
 }
 
 export function selectFunction(fn) {

@@ -35,6 +35,7 @@ export const state = {
   dirty: false,
   q: [],
   pose: null,
+  calibratedPose: null, // the shown method's calibrated robot's frames at the same joints (the 3D view)
   localProblems: new Map(),
   files: { robots: [], data: [] },
   generated: {}, // method -> {csv, file_name, real, origin, serial}

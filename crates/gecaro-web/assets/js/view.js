@@ -75,8 +75,13 @@ export async function refreshPose() {
   const serial = state.robotSerial;
   try {
     const pose = await api('/robots/pose', { robot: tableDocument(), q: state.q });
+    // The shown method's calibrated robot at the same joints, beside it.
+    const calibrated = state.calibrated[state.method];
+    const other = calibrated && calibrated.frame && calibrated.frame.length === tableDocument().frame.length
+      ? await api('/robots/pose', { robot: calibrated, q: state.q }).catch(() => null) : null;
     if (serial === state.robotSerial) {
       state.pose = pose.frames;
+      state.calibratedPose = other ? other.frames : null;
       drawView();
     } else {
       posePending = true;
@@ -134,6 +139,29 @@ function niceStep(target) {
   const power = Math.pow(10, Math.floor(Math.log10(target)));
   const mantissa = target / power;
   return (mantissa < 1.5 ? 1 : mantissa < 3.5 ? 2 : 5) * power;
+}
+
+/**
+ * The calibrated robot's frame origins in the view (`state.calibratedPose`
+ * placed on the table's by frame 0: `N₀·C₀⁻¹·p`), each one's difference
+ * from the table's magnified by a round factor that makes the largest a
+ * twelfth of the view; none without a calibrated robot or a difference.
+ */
+function calibratedGhost(radius) {
+  const nominal = state.pose;
+  const calibrated = state.calibratedPose;
+  if (!nominal || !calibrated || calibrated.length !== nominal.length) return null;
+  const [n0, c0] = [nominal[0], calibrated[0]];
+  const placed = calibrated.map((frame) => {
+    const v = frame.origin.map((value, k) => value - c0.origin[k]);
+    const local = [dot(v, c0.x), dot(v, c0.y), dot(v, c0.z)];
+    return [0, 1, 2].map((k) => n0.origin[k] + local[0] * n0.x[k] + local[1] * n0.y[k] + local[2] * n0.z[k]);
+  });
+  const differences = placed.map((p, j) => p.map((value, k) => value - nominal[j].origin[k]));
+  const largest = Math.max(...differences.map((d) => Math.hypot(...d)));
+  if (!(largest > 1e-9)) return null;
+  const gain = roundGain((radius / 12) / largest);
+  return { gain, origins: nominal.map((frame, j) => frame.origin.map((value, k) => value + gain * differences[j][k])) };
 }
 
 /** The places the view draws beyond the robot: the cell's tracker, a result's measured points, instrument and stations. */
@@ -341,6 +369,14 @@ export function drawView(message) {
     context.fillText('tracker (cell)', x + 10, y + 4);
     drawn.tracker = true;
   }
+  // The calibrated robot at the same joints, its frames placed on the
+  // table's by frame 0 (a tracker's calibration is drawn on the robot, not
+  // 2.5 m away), its differences magnified: orange, dashed.
+  const ghost = calibratedGhost(radius);
+  if (ghost) {
+    for (let i = 0; i + 1 < ghost.origins.length; i += 1) line(ghost.origins[i], ghost.origins[i + 1], '#e67e00', 2.5, [6, 4]);
+    drawn.calibrated = ghost.gain;
+  }
   // The last plan's poses (their tool points), blue rings.
   const planned = state.plannedPoints[state.method] || [];
   context.strokeStyle = 'rgba(31, 111, 235, 0.9)';
@@ -401,10 +437,12 @@ export function drawView(message) {
   canvas.dataset.ellipses = String(overlaid.ellipses);
   canvas.dataset.floor = String(drawn.floor);
   canvas.dataset.planned = String(drawn.planned || 0);
+  canvas.dataset.calibrated = String(drawn.calibrated || 0);
   canvas.dataset.tracker = String(drawn.tracker);
   const caption = $('view-overlay');
   if (caption) {
-    caption.replaceChildren(...(state.overlay ? [
+    const ghostText = drawn.calibrated ? `Orange, dashed: the calibrated robot at the same joints, its differences from the table’s magnified ×${fmt(drawn.calibrated)}. ` : '';
+    caption.replaceChildren(ghostText, ...(state.overlay ? [
       `Error vectors of ${state.overlay.source}, magnified ×${fmt(overlaid.gain)} (green small, red the largest); ▲ the instrument${state.overlay.stations.length ? ' and its stations, each ringed by its 3σ uncertainty magnified alike' : ''}. `,
       h('button', { type: 'button', class: 'link', id: 'view-overlay-hide', text: 'Hide', onclick: () => { state.overlay = null; state.view.bounds = null; drawView(); } }),
     ] : []));

@@ -4,6 +4,7 @@ import { api } from '../api.js';
 import { dataSelect, dataRequest, refreshDataChoices } from '../data-choices.js';
 import { deviationTable, showOnView } from '../deviations.js';
 import { h, $ } from '../dom.js';
+import { emit } from '../events.js';
 import { field, fieldNumber, sigmaText, degreesText, foldsOf, errorBox, runButton, observabilityLine, stat, FieldError, numberInput } from '../fields.js';
 import { fmt, fixed, inFrameOrder, sci } from '../format.js';
 import { recordRun } from '../history.js';
@@ -260,6 +261,8 @@ export function renderIdentification(container, name, job, result) {
     correlationHeatmap(result.correlation, `${name}-identify`),
     h('h3', { id: `${name}-identify-parameters-title`, text: `Identified parameters (${unitsLabel()}; gains without unit; beyond 3σ in bold, regrouped in italics)` }), table, moved].filter(Boolean));
   showOnView(`the ${name} identification`, result.deviations, null);
+  // The calibrated robot is drawn beside the table's (view.js).
+  emit('overlay');
 }
 
 /**
