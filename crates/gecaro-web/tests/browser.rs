@@ -1350,6 +1350,28 @@ async fn the_page_is_an_engineers_tool() {
         !problems.as_str().unwrap_or_default().contains("fetch"),
         "{problems}"
     );
+    // A run tried meanwhile says the server is unreachable in its panel…
+    client
+        .execute(
+            "document.getElementById('position-identifiable-run').click()",
+            vec![],
+        )
+        .await
+        .expect("run");
+    let deadline = std::time::Instant::now() + Duration::from_secs(10);
+    while count(
+        client,
+        "#position-identifiable-result .error-box.unreachable",
+    )
+    .await
+        == 0
+    {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "no unreachable message"
+        );
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
     client
         .execute("window.fetch = window.realFetch;", vec![])
         .await
@@ -1360,6 +1382,8 @@ async fn the_page_is_an_engineers_tool() {
         assert!(std::time::Instant::now() < deadline, "the banner stayed");
         tokio::time::sleep(Duration::from_millis(100)).await;
     }
+    // … and no longer once the server answers again.
+    assert_eq!(count(client, ".error-box.unreachable").await, 0);
     session.close().await;
 }
 
