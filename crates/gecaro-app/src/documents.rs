@@ -1369,6 +1369,19 @@ pub struct CompensatedJson {
     pub tool_turn: Option<f64>,
 }
 
+/// The largest change of a joint between a program and its correction.
+#[derive(Copy, Clone, Debug, PartialEq, Serialize)]
+pub struct LargestCorrectionJson {
+    /// The change, in the program file's unit.
+    pub value: f64,
+    /// That unit's name.
+    pub unit: &'static str,
+    /// The joint (1-based).
+    pub joint: usize,
+    /// The target's line.
+    pub line: usize,
+}
+
 /// A corrected program (`gecaro compensate --json`).
 #[derive(Clone, Debug, Serialize)]
 pub struct CompensationJson {
@@ -1393,7 +1406,7 @@ pub struct CompensationJson {
     /// The same with its unit, joint and line (`0.9360 rad (joint 5, line
     /// 7)`); absent for targets given as arrays.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub largest_correction_at: Option<crate::compensate::LargestCorrection>,
+    pub largest_correction_at: Option<LargestCorrectionJson>,
     /// The largest turn of the tool a position match left (rad); absent for
     /// a pose match.
     #[serde(skip_serializing_if = "Option::is_none")]

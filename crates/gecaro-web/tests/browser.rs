@@ -687,6 +687,31 @@ fn write_tracker_file(folder: &Path, name: &str, count: usize, seed: u64) {
     std::fs::write(folder.join(name), text).expect("data file");
 }
 
+/// Starts a long identification of position data (long.csv: 10 000
+/// configurations, a robust loss, 20 folds: seconds) and returns its
+/// Cancel button once the job runs.
+async fn start_long_identification(client: &Client) -> fantoccini::elements::Element {
+    click(client, "#function-identify").await;
+    set_values(
+        client,
+        &[
+            ("position-identify-data", "file:long.csv"),
+            ("position-identify-length-unit", "mm"),
+            ("position-identify-columns", "x=X_mm,y=Y_mm,z=Z_mm"),
+            ("position-identify-cv", "20"),
+            ("position-identify-loss", "tukey"),
+        ],
+    )
+    .await;
+    click(client, "#position-identify-run").await;
+    client
+        .wait()
+        .at_most(Duration::from_secs(30))
+        .for_element(Locator::Css("#position-identify-cancel:not([disabled])"))
+        .await
+        .expect("the identification runs")
+}
+
 /// Sets form values by element id (the page's own fields).
 async fn set_values(client: &Client, values: &[(&str, &str)]) {
     for (id, value) in values {
@@ -1107,25 +1132,8 @@ async fn the_page_is_an_engineers_tool() {
 
     // A long run (10 000 configurations, a robust loss, 20 folds: seconds)
     // cancelled from the page stops on the server.
-    click(client, "#function-identify").await;
-    set_values(
-        client,
-        &[
-            ("position-identify-data", "file:long.csv"),
-            ("position-identify-length-unit", "mm"),
-            ("position-identify-columns", "x=X_mm,y=Y_mm,z=Z_mm"),
-            ("position-identify-cv", "20"),
-            ("position-identify-loss", "tukey"),
-        ],
-    )
-    .await;
-    click(client, "#position-identify-run").await;
-    client
-        .wait()
-        .at_most(Duration::from_secs(30))
-        .for_element(Locator::Css("#position-identify-cancel:not([disabled])"))
+    start_long_identification(client)
         .await
-        .expect("cancel enabled")
         .click()
         .await
         .expect("cancel");
@@ -1906,25 +1914,7 @@ async fn the_page_is_never_silently_wrong() {
 
     // A reload during an identification: the page follows the same job
     // again, its form as it was.
-    click(client, "#function-identify").await;
-    set_values(
-        client,
-        &[
-            ("position-identify-data", "file:long.csv"),
-            ("position-identify-length-unit", "mm"),
-            ("position-identify-columns", "x=X_mm,y=Y_mm,z=Z_mm"),
-            ("position-identify-cv", "20"),
-            ("position-identify-loss", "tukey"),
-        ],
-    )
-    .await;
-    click(client, "#position-identify-run").await;
-    client
-        .wait()
-        .at_most(Duration::from_secs(30))
-        .for_element(Locator::Css("#position-identify-cancel:not([disabled])"))
-        .await
-        .expect("running");
+    start_long_identification(client).await;
     client.refresh().await.expect("reload");
     text_of(client, "#position-identify-progress", 30).await;
     collect_errors(client).await;

@@ -12,7 +12,7 @@ use crate::documents::{CompensatedJson, CompensationJson};
 use crate::error::{AppError, ErrorKind, Part};
 
 /// The largest change of a joint between the program and its correction.
-#[derive(Copy, Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Copy, Clone, Debug, PartialEq)]
 pub struct LargestCorrection {
     /// The change, in the program file's unit.
     pub value: f64,
@@ -170,7 +170,14 @@ impl CompensationSummary {
             not_reached: self.not_reached.clone(),
             largest_position_error: self.largest_position_error,
             largest_correction: self.largest_correction.map_or(0.0, |largest| largest.value),
-            largest_correction_at: self.largest_correction,
+            largest_correction_at: self.largest_correction.map(|largest| {
+                crate::documents::LargestCorrectionJson {
+                    value: largest.value,
+                    unit: largest.unit,
+                    joint: largest.joint,
+                    line: largest.line,
+                }
+            }),
             largest_tool_turn: self.largest_tool_turn.map(|(turn, _)| turn),
             turned: self.turned.clone(),
             output,

@@ -180,6 +180,31 @@ function roundGain(target) {
   return (mantissa >= 5 ? 5 : mantissa >= 2 ? 2 : 1) * power;
 }
 
+/** A filled and outlined polygon through the screen points `corners`. */
+function polygon(context, corners, fill, stroke, width) {
+  context.fillStyle = fill;
+  context.strokeStyle = stroke;
+  context.lineWidth = width;
+  context.beginPath();
+  corners.forEach(([x, y], i) => (i ? context.lineTo(x, y) : context.moveTo(x, y)));
+  context.closePath();
+  context.fill();
+  context.stroke();
+}
+
+/** An instrument on its tripod: a triangle at screen point `at`, with its name. */
+function tripod(context, [x, y], colour, name) {
+  context.fillStyle = colour;
+  context.beginPath();
+  context.moveTo(x, y - 8);
+  context.lineTo(x - 7, y + 6);
+  context.lineTo(x + 7, y + 6);
+  context.closePath();
+  context.fill();
+  context.font = '12px system-ui, sans-serif';
+  context.fillText(name, x + 10, y + 4);
+}
+
 /**
  * The overlay of the last result (`state.overlay`, deviations.js): each
  * measured point with its error vector (magnified, the largest about a
@@ -212,14 +237,13 @@ function drawOverlay(context, toScreen, radius, pixels) {
   }
   // The instrument (the measurement frame's origin) and its stations: a
   // tripod's triangle with its name.
-  const tripods = [overlay.instrument, ...overlay.stations];
-  context.font = '12px system-ui, sans-serif';
+  const places = [overlay.instrument, ...overlay.stations];
   let ellipses = 0;
-  for (const tripod of tripods) {
-    const [x, y] = toScreen(tripod.at);
+  for (const place of places) {
+    const [x, y] = toScreen(place.at);
     // A station's uncertainty: its 3σ ellipsoid, magnified as the vectors are.
-    if (tripod.covariance) {
-      const shape = screenEllipse(tripod.covariance, 3, pixels * gain);
+    if (place.covariance) {
+      const shape = screenEllipse(place.covariance, 3, pixels * gain);
       context.strokeStyle = 'rgba(138, 63, 252, 0.8)';
       context.lineWidth = 1.5;
       context.beginPath();
@@ -227,14 +251,7 @@ function drawOverlay(context, toScreen, radius, pixels) {
       context.stroke();
       ellipses += 1;
     }
-    context.fillStyle = '#8a3ffc';
-    context.beginPath();
-    context.moveTo(x, y - 8);
-    context.lineTo(x - 7, y + 6);
-    context.lineTo(x + 7, y + 6);
-    context.closePath();
-    context.fill();
-    context.fillText(tripod.name, x + 10, y + 4);
+    tripod(context, [x, y], '#8a3ffc', place.name);
   }
   return { vectors: overlay.points.length, stations: overlay.stations.length, ellipses, gain };
 }
@@ -316,14 +333,7 @@ export function drawView(message) {
       const half = radius * 0.6;
       const corner = (a, b) => point.map((p, k) => p + (a * e1[k] + b * e2[k]) * half);
       const corners = [corner(-1, -1), corner(1, -1), corner(1, 1), corner(-1, 1)].map(toScreen);
-      context.fillStyle = 'rgba(31, 111, 235, 0.10)';
-      context.strokeStyle = 'rgba(31, 111, 235, 0.6)';
-      context.lineWidth = 1.5;
-      context.beginPath();
-      corners.forEach(([x, y], i) => (i ? context.lineTo(x, y) : context.moveTo(x, y)));
-      context.closePath();
-      context.fill();
-      context.stroke();
+      polygon(context, corners, 'rgba(31, 111, 235, 0.10)', 'rgba(31, 111, 235, 0.6)', 1.5);
       drawn.plane = true;
     } catch (error) {
       // No valid plane in the fields yet: nothing to draw.
@@ -346,27 +356,11 @@ export function drawView(message) {
   const cell = statedCell(state.method);
   if (cell.floor !== null) {
     const corners = [[-1, -1], [1, -1], [1, 1], [-1, 1]].map(([a, b]) => toScreen([gx + a * extent, gy + b * extent, cell.floor]));
-    context.fillStyle = 'rgba(160, 120, 60, 0.12)';
-    context.strokeStyle = 'rgba(160, 120, 60, 0.7)';
-    context.lineWidth = 1;
-    context.beginPath();
-    corners.forEach(([x, y], i) => (i ? context.lineTo(x, y) : context.moveTo(x, y)));
-    context.closePath();
-    context.fill();
-    context.stroke();
+    polygon(context, corners, 'rgba(160, 120, 60, 0.12)', 'rgba(160, 120, 60, 0.7)', 1);
     drawn.floor = true;
   }
   if (cell.station) {
-    const [x, y] = toScreen(cell.station);
-    context.fillStyle = '#b35c00';
-    context.beginPath();
-    context.moveTo(x, y - 8);
-    context.lineTo(x - 7, y + 6);
-    context.lineTo(x + 7, y + 6);
-    context.closePath();
-    context.fill();
-    context.font = '12px system-ui, sans-serif';
-    context.fillText('tracker (cell)', x + 10, y + 4);
+    tripod(context, toScreen(cell.station), '#b35c00', 'tracker (cell)');
     drawn.tracker = true;
   }
   // The calibrated robot at the same joints, its frames placed on the
