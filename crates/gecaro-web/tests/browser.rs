@@ -1895,6 +1895,20 @@ async fn the_page_is_never_silently_wrong() {
     // 0.05 is what 0,05 was: nothing changed.
     type_into(client, "#position-identify-sigma", "0.05").await;
     assert_eq!(count(client, "#position-identify-stale").await, 0);
+    // The model, and the data chosen, alike.
+    let model = client
+        .find(Locator::Css("#position-identify-model"))
+        .await
+        .expect("model");
+    model.select_by_value("kinematic").await.expect("kinematic");
+    let stale = text_of(client, "#position-identify-stale", 5).await;
+    assert!(stale.contains("the setting “Model”"), "{stale}");
+    model.select_by_value("full").await.expect("full");
+    set_values(client, &[("position-identify-data", "file:tracker.csv")]).await;
+    let stale = text_of(client, "#position-identify-stale", 5).await;
+    assert!(stale.contains("the data chosen"), "{stale}");
+    set_values(client, &[("position-identify-data", "generated")]).await;
+    assert_eq!(count(client, "#position-identify-stale").await, 0);
 
     // Evaluate after the calibrated robot is opened in the table: it is
     // evaluated alone, and the page says why.
