@@ -420,7 +420,7 @@ pub(crate) struct IdentifiableArgs {
     #[arg(long)]
     pub(crate) count: Option<usize>,
     /// Seed of the random configurations.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = gecaro_calib::simulation::DEFAULT_SEED)]
     pub(crate) seed: u64,
     /// The model whose parameters are candidates, as identify --model takes it (full, no-gains,
     /// …, a priority file); elastic: every joint's compliance too, on the data's loads (the
@@ -454,7 +454,7 @@ pub(crate) struct Table2Args {
     )]
     pub(crate) plane_point: Option<Vec<f64>>,
     /// Seed of the random configurations.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = gecaro_calib::simulation::DEFAULT_SEED)]
     pub(crate) seed: u64,
     /// Print JSON instead of a table.
     #[arg(long)]
@@ -529,7 +529,7 @@ pub(crate) struct GenerateArgs {
     #[command(flatten)]
     pub(crate) cell: CellArgs,
     /// Seed of every random draw (errors, configurations, noise).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = gecaro_calib::simulation::DEFAULT_SEED)]
     pub(crate) seed: u64,
     /// Output data file (CSV).
     #[arg(short, long, value_name = "DATA.csv")]
@@ -581,7 +581,7 @@ pub(crate) struct PlanArgs {
     #[command(flatten)]
     pub(crate) cell: CellArgs,
     /// Seed of the generated pool (and of the test poses and random designs).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = gecaro_calib::simulation::DEFAULT_SEED)]
     pub(crate) seed: u64,
     /// Elastic joints: a payload each candidate may be measured with (repeat it: --payload 0kg
     /// --payload 20kg,0,0,100mm); the compliances join the design and the plan states each
@@ -696,7 +696,7 @@ pub(crate) struct PredictArgs {
     #[arg(long, default_value_t = 0.1)]
     pub(crate) error_level: f64,
     /// Seed of the test poses and the simulations.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = gecaro_calib::simulation::DEFAULT_SEED)]
     pub(crate) seed: u64,
     /// The model predicted, as identify --model takes it (full, no-gains, …, a priority file);
     /// elastic: the compliances too, loaded by the robot's masses and the plan's payload columns
@@ -741,7 +741,7 @@ pub(crate) struct IdentificationRunArgs {
     #[arg(long, value_parser = names(&gecaro_calib::identification::Solver::NAMES), default_value = "gauss-newton")]
     pub(crate) solver: String,
     /// Iteration limit.
-    #[arg(long, default_value_t = 30)]
+    #[arg(long, default_value_t = gecaro_calib::identification::DEFAULT_MAX_ITERATIONS)]
     pub(crate) max_iterations: usize,
     /// Loss: l2 (least squares, the paper), or a robust loss that discounts
     /// gross errors (iteratively reweighted least squares; docs/methods.md).
@@ -821,7 +821,7 @@ pub(crate) struct IdentifyArgs {
     #[arg(long, value_name = "K")]
     pub(crate) cv: Option<usize>,
     /// Seed of the cross-validation folds.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = gecaro_calib::simulation::DEFAULT_SEED)]
     pub(crate) seed: u64,
     /// How the folds hold observations out: random (default:
     /// interpolation) or regions (the ends of each joint's measured range:
@@ -846,7 +846,7 @@ pub(crate) struct CompareModelsArgs {
     #[arg(long, value_name = "K", default_value_t = 5)]
     pub(crate) cv: usize,
     /// Seed of the folds (the same folds for every model; random folds).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = gecaro_calib::simulation::DEFAULT_SEED)]
     pub(crate) seed: u64,
     /// How the folds hold observations out: regions (the lowest and the
     /// highest 1/K of each joint's measured range in turn, so that a
@@ -1048,7 +1048,7 @@ pub(crate) struct DemoArgs {
     #[arg(long, value_name = "SIGMA", default_value_t = 5e-5)]
     pub(crate) noise: f64,
     /// Seed of every random draw.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = gecaro_calib::simulation::DEFAULT_SEED)]
     pub(crate) seed: u64,
 }
 

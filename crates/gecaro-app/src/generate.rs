@@ -163,7 +163,7 @@ impl GenerateRequest {
             }
         }
         let method = self.method.build()?;
-        let seed = self.seed.unwrap_or(1);
+        let seed = self.seed.unwrap_or(gecaro_calib::simulation::DEFAULT_SEED);
         let error_level = self.error_level.unwrap_or(1.0);
         let cell = self.cell.cell()?;
         let payload = self

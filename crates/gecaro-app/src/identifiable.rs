@@ -111,7 +111,7 @@ impl IdentifiableRequest {
             &loaded.study,
             &priority,
             self.count,
-            self.seed.unwrap_or(1),
+            self.seed.unwrap_or(gecaro_calib::simulation::DEFAULT_SEED),
             observer,
         )?;
         Ok(IdentifiabilityAnalysis { loaded, analysis })

@@ -127,7 +127,7 @@ impl IdentifyRequest {
                 self.folds_by.as_deref(),
                 "random",
                 count,
-                self.seed.unwrap_or(1),
+                self.seed.unwrap_or(gecaro_calib::simulation::DEFAULT_SEED),
             )?),
             None => None,
         };
@@ -520,7 +520,7 @@ impl CompareModelsRequest {
             self.folds_by.as_deref(),
             "regions",
             self.cv,
-            self.seed.unwrap_or(1),
+            self.seed.unwrap_or(gecaro_calib::simulation::DEFAULT_SEED),
         )?;
         let mut loaded = self.measurements.load(files, Data::Required)?;
         // The candidates are the models compared, not the study's.

@@ -351,7 +351,7 @@ impl PlanRequest {
         }
         let robot = &file.robot;
         let method = self.method.build()?;
-        let seed = self.seed.unwrap_or(1);
+        let seed = self.seed.unwrap_or(gecaro_calib::simulation::DEFAULT_SEED);
         let columns = DataColumn::grouping(method.data_columns());
         let largest = self.largest_count();
         let format = self.format.format()?;
@@ -621,7 +621,7 @@ impl PredictRequest {
         let file = self.robot.load(files)?;
         let robot = &file.robot;
         let method = self.method.build()?;
-        let seed = self.seed.unwrap_or(1);
+        let seed = self.seed.unwrap_or(gecaro_calib::simulation::DEFAULT_SEED);
         let columns = DataColumn::grouping(method.data_columns());
         let format = self.format.format()?;
         let planned = configurations(robot, &self.data, &columns, &format, files)?;

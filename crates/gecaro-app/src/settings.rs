@@ -57,7 +57,7 @@ pub struct FitSettings {
     pub model: Option<String>,
     /// `gauss-newton` (default, the paper) or `lm`.
     pub solver: Option<String>,
-    /// Iteration limit (default 30, at most [`MAX_ITERATIONS`]).
+    /// Iteration limit (default [`DEFAULT_MAX_ITERATIONS`](gecaro_calib::identification::DEFAULT_MAX_ITERATIONS), at most [`MAX_ITERATIONS`]).
     pub max_iterations: Option<usize>,
     /// `l2` (default), `huber`, `cauchy` or `tukey`.
     pub loss: Option<String>,
@@ -109,7 +109,9 @@ impl FitSettings {
         let given = self.given_priority(loaded, files)?;
         let name = loaded.model(self.model.as_deref()).unwrap_or("full");
         let model = model(name, robot, files)?;
-        let max_iterations = self.max_iterations.unwrap_or(30);
+        let max_iterations = self
+            .max_iterations
+            .unwrap_or(gecaro_calib::identification::DEFAULT_MAX_ITERATIONS);
         if !(1..=MAX_ITERATIONS).contains(&max_iterations) {
             return Err(AppError::setting_value(
                 "max_iterations",

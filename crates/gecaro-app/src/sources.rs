@@ -13,7 +13,7 @@ use serde::Deserialize;
 
 use crate::error::{AppError, ErrorKind};
 use crate::files::Files;
-use crate::limits::MAX_JOINTS;
+use crate::limits::MAX_TABLE_JOINTS;
 
 /// The robot of a request.
 #[derive(Clone, Debug, Deserialize)]
@@ -71,16 +71,16 @@ fn load_named(name: &str, files: &dyn Files) -> Result<RobotFile, AppError> {
     }
 }
 
-/// The validated robot of a document, with at most [`MAX_JOINTS`] joints.
+/// The validated robot of a document, with at most [`MAX_TABLE_JOINTS`] joints.
 ///
 /// # Errors
 /// [`ErrorKind::InvalidRobot`] with every problem of the document.
 pub fn robot_of_document(document: &RobotDocument) -> Result<RobotFile, AppError> {
-    if document.frame.len() > MAX_JOINTS + 2 {
+    if document.frame.len() > MAX_TABLE_JOINTS + 2 {
         return Err(AppError::invalid_robot(vec![gecaro_io::DocumentError {
             location: gecaro_io::Location::Document,
             message: format!(
-                "{} frames: gecaro takes robot documents of up to {MAX_JOINTS} joints",
+                "{} frames: gecaro takes robot documents of up to {MAX_TABLE_JOINTS} joints",
                 document.frame.len()
             ),
         }]));

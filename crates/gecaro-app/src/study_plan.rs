@@ -219,7 +219,9 @@ impl PreparedStudyPlan {
             outputs,
         } = self;
         let robot = &loaded.robot.robot;
-        let seed = request.seed.unwrap_or(1);
+        let seed = request
+            .seed
+            .unwrap_or(gecaro_calib::simulation::DEFAULT_SEED);
         let mut sampler = Sampler::new(seed);
         let mut candidates = loaded.study.clone();
         for set in &mut candidates.sets {

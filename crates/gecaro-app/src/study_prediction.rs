@@ -100,9 +100,12 @@ impl PredictStudyRequest {
         let loaded = measurements.load(files, Data::Configurations)?;
         let robot = &loaded.robot.robot;
         let format = crate::sources::DataFormatSpec::default().format()?;
-        let poses = self
-            .test_poses
-            .load(robot, self.seed.unwrap_or(1), &format, files)?;
+        let poses = self.test_poses.load(
+            robot,
+            self.seed.unwrap_or(gecaro_calib::simulation::DEFAULT_SEED),
+            &format,
+            files,
+        )?;
         let priority = loaded.priority.clone().unwrap_or_else(|| robot.priority());
         let prediction = predict_study(robot, &loaded.study, &poses, &priority)?;
         Ok(PredictedStudy {

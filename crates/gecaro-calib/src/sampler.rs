@@ -101,6 +101,11 @@ pub(crate) fn spread_items<T>(
 /// Draws of a configuration before one the cell admits is given up on.
 pub const CELL_DRAWS: usize = 10_000;
 
+/// The seed of every random draw when none is asked for (generation,
+/// random configurations, planning pools, folds): the command line's
+/// `--seed`, Python's `seed`, the page's Seed fields (sent by `/api/info`).
+pub const DEFAULT_SEED: u64 = 1;
+
 /// The source of randomness of points generation; see the module docs.
 #[derive(Clone, Debug)]
 pub struct Sampler {

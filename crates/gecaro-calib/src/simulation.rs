@@ -16,7 +16,7 @@ use crate::progress::Observer;
 use crate::sample::Sample;
 use crate::samples::SampleSlice;
 
-pub use crate::sampler::{CELL_DRAWS, RANDOM_STARTS, Sampler, solve_from_starts};
+pub use crate::sampler::{CELL_DRAWS, DEFAULT_SEED, RANDOM_STARTS, Sampler, solve_from_starts};
 
 /// Largest error level: ±50 cm on lengths, ±50° on angles, ±50 % on gains.
 /// Beyond it a simulated robot is no longer a perturbation of the nominal one

@@ -57,6 +57,20 @@ mod warnings;
 #[pymodule]
 fn _gecaro(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    // The defaults the functions' signatures state, from the constants the
+    // command line and the page read (a test checks every signature
+    // against them).
+    let defaults = pyo3::types::PyDict::new(module.py());
+    defaults.set_item(
+        "max_iterations",
+        gecaro_calib::identification::DEFAULT_MAX_ITERATIONS,
+    )?;
+    defaults.set_item("seed", gecaro_calib::simulation::DEFAULT_SEED)?;
+    defaults.set_item(
+        "outlier_threshold",
+        gecaro_calib::identification::DEFAULT_OUTLIER_THRESHOLD,
+    )?;
+    module.add("DEFAULTS", defaults)?;
     module.add_class::<robot::PyRobot>()?;
     module.add_class::<robot::Exported>()?;
     module.add_class::<methods::PyMethod>()?;

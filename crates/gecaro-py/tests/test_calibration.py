@@ -370,3 +370,26 @@ def test_generation_in_a_cell_equals_the_command_line(cli, tmp_path):
         gecaro.generate(robot, "position", 5, floor=5.0)
     with pytest.raises(gecaro.InputError, match="max_incidence"):
         gecaro.generate(robot, "position", 5, station=(2.0, 0.0, 0.0), max_incidence="30")
+
+
+def test_every_signature_states_the_shared_defaults():
+    # One default per setting (issue 77): every function that takes an
+    # iteration limit, a seed or an outlier threshold states the value the
+    # command line and the page use, read here from the Rust constants.
+    import inspect
+
+    checked = 0
+    for name in gecaro.__all__:
+        function = getattr(gecaro, name)
+        if not callable(function) or inspect.isclass(function):
+            continue
+        try:
+            parameters = inspect.signature(function).parameters
+        except (TypeError, ValueError):
+            continue
+        for setting, value in gecaro.DEFAULTS.items():
+            if setting in parameters and parameters[setting].default is not inspect.Parameter.empty:
+                assert parameters[setting].default == value, (name, setting)
+                checked += 1
+    assert checked >= 6, checked
+    assert gecaro.DEFAULTS == {"max_iterations": 30, "seed": 1, "outlier_threshold": 3.0}

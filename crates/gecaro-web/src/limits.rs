@@ -5,7 +5,7 @@
 //! end ([`gecaro_app::limits`]); these are the server's own.
 
 pub use gecaro_app::limits::{
-    MAX_CURVE_POINTS, MAX_FOLDS, MAX_GENERATE, MAX_ITERATIONS, MAX_JOINTS, MAX_RANDOM,
+    MAX_CURVE_POINTS, MAX_FOLDS, MAX_GENERATE, MAX_ITERATIONS, MAX_RANDOM, MAX_TABLE_JOINTS,
 };
 
 /// Largest request body (a data file uploaded inline): 16 MiB.

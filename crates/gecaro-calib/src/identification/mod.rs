@@ -126,7 +126,10 @@ pub use evaluation::{evaluate, evaluate_errors};
 pub use findings::{Disagreement, NARROW_FRACTION, RegionPrediction, SetFit, ShiftedJoin};
 pub use join::{FAR_BEYOND, MAX_SHIFT};
 pub use observations::{ObservationLocation, locate_observations};
-pub use options::{DEFAULT_COARSE_FROM, DEFAULT_STREAMED_ROWS, IdentificationOptions, Solver};
+pub use options::{
+    DEFAULT_COARSE_FROM, DEFAULT_MAX_ITERATIONS, DEFAULT_STREAMED_ROWS, IdentificationOptions,
+    Solver,
+};
 pub use outliers::{DEFAULT_OUTLIER_THRESHOLD, Outlier};
 pub use parameter::IdentifiedParameter;
 pub use passes::SECOND_PASS_LEVEL;

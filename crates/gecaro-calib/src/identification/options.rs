@@ -86,11 +86,17 @@ pub struct IdentificationOptions {
     pub work_region: Option<JointRegion>,
 }
 
+/// The iteration limit of an identification when none is asked for: the
+/// command line's `--max-iterations`, Python's `max_iterations`, the page's
+/// field (sent by `/api/info`). Gauss–Newton on the paper's problems takes
+/// 3–8; the limit is for a slow LM route.
+pub const DEFAULT_MAX_ITERATIONS: usize = 30;
+
 impl Default for IdentificationOptions {
     fn default() -> Self {
         IdentificationOptions {
             solver: Solver::GaussNewton,
-            max_iterations: 30,
+            max_iterations: DEFAULT_MAX_ITERATIONS,
             priority: None,
             step_tolerance: 1e-8,
             loss: Loss::default(),

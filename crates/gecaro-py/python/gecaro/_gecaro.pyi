@@ -12,8 +12,11 @@ import numpy as np
 import numpy.typing as npt
 
 __version__: str
+#: The defaults the functions' signatures state (the command line's and the page's).
+DEFAULTS: dict[str, float]
 __all__ = [
     "__version__",
+    "DEFAULTS",
     "Robot",
     "Exported",
     "Method",

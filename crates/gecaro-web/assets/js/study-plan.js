@@ -35,7 +35,7 @@ export function studyPlanSection({ studyRobot, openStudy }) {
   const result = h('div', { class: 'result', id: 'study-plan-result' });
   const count = numberInput({ value: 60, id: 'study-plan-count' });
   const pool = numberInput({ id: 'study-plan-pool', placeholder: '20 × count ÷ sets' });
-  const seed = numberInput({ value: 1, id: 'study-plan-seed' });
+  const seed = numberInput({ value: state.info.defaults.seed, id: 'study-plan-seed' });
   const saveAs = h('input', { type: 'text', class: 'vector', id: 'study-plan-save', placeholder: 'optional, e.g. planned.toml' });
   const angleUnit = h('select', { id: 'study-plan-angle-unit' },
     h('option', { value: 'rad', text: 'radians' }), h('option', { value: 'deg', text: 'degrees (a teach pendant’s)' }));
@@ -49,7 +49,7 @@ export function studyPlanSection({ studyRobot, openStudy }) {
       const request = {
         study: studySpec(state.study),
         count: fieldNumber(count, 'Configurations', { min: 1, max: state.info.limits.generate, whole: true }),
-        seed: fieldNumber(seed, 'Seed', { min: 0, whole: true, empty: 1 }),
+        seed: fieldNumber(seed, 'Seed', { min: 0, whole: true, empty: state.info.defaults.seed }),
         cell: cell.request(),
         format: { angle_unit: angleUnit.value },
       };

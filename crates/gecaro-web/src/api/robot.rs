@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 
 use super::json::Json;
 use crate::error::ApiError;
-use crate::limits::MAX_JOINTS;
+use crate::limits::MAX_TABLE_JOINTS;
 use crate::state::AppState;
 use crate::workspace::Listing;
 
@@ -26,6 +26,18 @@ pub(crate) struct MethodView {
     uses_plane: bool,
     uses_sets: bool,
     uses_orientation: bool,
+    /// Whether the method's measurements see elastic joints' sag (a
+    /// compliance level, a payload and a gravity tilt apply to its data).
+    elastic: bool,
+}
+
+/// The defaults a request takes for what it does not say, as the command
+/// line and Python take them: the page's fields start at them.
+#[derive(Serialize)]
+struct Defaults {
+    max_iterations: usize,
+    seed: u64,
+    outlier_threshold: f64,
 }
 
 /// What the page needs to start.
@@ -38,6 +50,7 @@ pub(crate) struct Info {
     /// What one request may ask for (the application layer's bounds), so
     /// that the page checks its fields against the same numbers.
     limits: Limits,
+    defaults: Defaults,
 }
 
 /// The bounds of [`gecaro_app::limits`] the page's fields are checked against.
@@ -58,12 +71,15 @@ pub(crate) async fn info(State(state): State<AppState>) -> Json<Info> {
         .iter()
         .map(|info| {
             // Options do not change a method's columns: build with defaults.
-            let columns = gecaro_calib::methods::method(
+            let method = gecaro_calib::methods::method(
                 info.name,
                 &gecaro_calib::methods::MethodOptions::default(),
             )
-            .map(|method| method.data_columns().to_vec())
-            .unwrap_or_default();
+            .ok();
+            let columns = method
+                .as_ref()
+                .map(|method| method.data_columns().to_vec())
+                .unwrap_or_default();
             MethodView {
                 name: info.name,
                 title: info.title,
@@ -74,6 +90,7 @@ pub(crate) async fn info(State(state): State<AppState>) -> Json<Info> {
                 uses_plane: info.uses_plane,
                 uses_sets: columns.contains(&DataColumn::Set),
                 uses_orientation: columns.contains(&DataColumn::Orientation),
+                elastic: method.is_some_and(|method| method.sensor().yields_to_loads()),
             }
         })
         .collect();
@@ -87,6 +104,11 @@ pub(crate) async fn info(State(state): State<AppState>) -> Json<Info> {
             random: gecaro_app::limits::MAX_RANDOM,
             iterations: gecaro_app::limits::MAX_ITERATIONS,
             folds: gecaro_app::limits::MAX_FOLDS,
+        },
+        defaults: Defaults {
+            max_iterations: gecaro_calib::identification::DEFAULT_MAX_ITERATIONS,
+            seed: gecaro_calib::simulation::DEFAULT_SEED,
+            outlier_threshold: gecaro_calib::identification::DEFAULT_OUTLIER_THRESHOLD,
         },
     })
 }
@@ -350,9 +372,9 @@ pub(crate) struct NewRequest {
 }
 
 pub(crate) async fn new(Json(request): Json<NewRequest>) -> Result<Json<RobotView>, ApiError> {
-    if request.joints.len() > MAX_JOINTS {
+    if request.joints.len() > MAX_TABLE_JOINTS {
         return Err(ApiError::BadRequest(format!(
-            "{} joints: the server takes robots of up to {MAX_JOINTS} joints",
+            "{} joints: the server takes robots of up to {MAX_TABLE_JOINTS} joints",
             request.joints.len()
         )));
     }

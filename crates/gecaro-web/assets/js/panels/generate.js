@@ -10,7 +10,7 @@ import { optionFields, methodRequest } from '../method-options.js';
 import { selectFunction } from '../navigation.js';
 import { refreshFiles, saveAsDialog } from '../robot-menu.js';
 import { refreshStale } from '../stale.js';
-import { DEFAULT_COUNTS, state, tableDocument } from '../state.js';
+import { DEFAULT_COUNTS, methodInfo, state, tableDocument } from '../state.js';
 import { drawView } from '../view.js';
 
 /**
@@ -27,7 +27,7 @@ export async function generateInto(name, configurations, format) {
       robot: tableDocument(),
       method: methodRequest(name, 'generate'),
       noise: fieldNumber($(`${name}-generate-noise`), 'Sensor noise σ', { min: 0, empty: 0 }) * 1e-3,
-      seed: fieldNumber($(`${name}-generate-seed`), 'Seed', { min: 0, whole: true, empty: 1 }),
+      seed: fieldNumber($(`${name}-generate-seed`), 'Seed', { min: 0, whole: true, empty: state.info.defaults.seed }),
     };
     if (configurations) {
       request.configurations = configurations;
@@ -39,12 +39,12 @@ export async function generateInto(name, configurations, format) {
       request.real = (await api(`/robots/file?name=${encodeURIComponent(real.slice(5))}`)).document;
     } else {
       request.error_level = fieldNumber($(`${name}-generate-level`), 'Error level', { min: 0, empty: 0 });
-      if (ELASTIC_METHODS.has(name)) {
+      if (methodInfo(name).elastic) {
         request.compliance_level = fieldNumber($(`${name}-generate-compliance`), 'Compliance level', { min: 0, empty: null });
       }
     }
-    if (ELASTIC_METHODS.has(name) && value('payload').trim()) request.payload = value('payload').trim();
-    if (ELASTIC_METHODS.has(name) && value('tilt').trim()) request.gravity_tilt = value('tilt').trim();
+    if (methodInfo(name).elastic && value('payload').trim()) request.payload = value('payload').trim();
+    if (methodInfo(name).elastic && value('tilt').trim()) request.gravity_tilt = value('tilt').trim();
     if (value('save').trim()) {
       request.save_as = value('save').trim();
       request.overwrite = $(`${name}-generate-overwrite`).checked;
@@ -72,7 +72,6 @@ export async function generateInto(name, configurations, format) {
 }
 
 /** The methods whose simulated sensors see an elastic robot's sag. */
-const ELASTIC_METHODS = new Set(['position', 'frame']);
 
 /** Each method's generation cell, read when it generates. */
 const generationCells = {};
@@ -84,7 +83,7 @@ export function generatePanel(method) {
   const real = h('select', { id: `${name}-generate-real`, class: 'real-choice' });
   const level = numberInput({ value: 1, id: `${name}-generate-level` });
   const noise = numberInput({ value: 0.05, id: `${name}-generate-noise` });
-  const seed = numberInput({ value: 1, id: `${name}-generate-seed` });
+  const seed = numberInput({ value: state.info.defaults.seed, id: `${name}-generate-seed` });
   // Elastic joints (docs/elastic.md): compliances drawn at level L, a payload carried.
   const compliance = numberInput({ placeholder: 'rigid', id: `${name}-generate-compliance` });
   const payload = h('input', { type: 'text', class: 'vector', placeholder: 'none, or e.g. 10kg,0,0,100mm', id: `${name}-generate-payload` });
@@ -104,9 +103,9 @@ export function generatePanel(method) {
       field('Error level L (±L cm, ±L°, ±L %)', level),
       field('Sensor noise σ (mm; mrad)', noise),
       field('Seed', seed),
-      ELASTIC_METHODS.has(name) ? field('Compliance level L (L·2e-6…1e-5 rad/N·m)', compliance) : null,
-      ELASTIC_METHODS.has(name) ? field('Payload (mass[,x,y,z] in the tool frame)', payload) : null,
-      ELASTIC_METHODS.has(name) ? field('Gravity tilt (tilt1,tilt2: a frame not levelled)', tilt) : null,
+      methodInfo(name).elastic ? field('Compliance level L (L·2e-6…1e-5 rad/N·m)', compliance) : null,
+      methodInfo(name).elastic ? field('Payload (mass[,x,y,z] in the tool frame)', payload) : null,
+      methodInfo(name).elastic ? field('Gravity tilt (tilt1,tilt2: a frame not levelled)', tilt) : null,
       optionFields(method, 'generate'),
       ...cell.fields,
       field('Save to the folder as', saveAs),

@@ -12,7 +12,7 @@ export function identifiablePanel(method) {
   const name = method.name;
   const result = h('div', { class: 'result', id: `${name}-identifiable-result` });
   const count = numberInput({ id: `${name}-identifiable-count-input`, placeholder: 'auto' });
-  const seed = numberInput({ value: 1, id: `${name}-identifiable-seed` });
+  const seed = numberInput({ value: state.info.defaults.seed, id: `${name}-identifiable-seed` });
   const run = runButton(`${name}-identifiable-run`, 'Compute', async () => {
     result.replaceChildren(h('div', { class: 'progress' }, h('div', { class: 'spinner' }), 'QR of the observation matrix…'));
     try {
@@ -20,7 +20,7 @@ export function identifiablePanel(method) {
         robot: tableDocument(),
         method: methodRequest(name, 'identifiable'),
         data: await dataRequest(name, 'identifiable'),
-        seed: fieldNumber(seed, 'Seed', { min: 0, whole: true, empty: 1 }),
+        seed: fieldNumber(seed, 'Seed', { min: 0, whole: true, empty: state.info.defaults.seed }),
       };
       const configurations = fieldNumber(count, 'Random configurations', { min: 1, max: state.info.limits.random, whole: true, empty: null });
       if (configurations !== null) request.count = configurations;

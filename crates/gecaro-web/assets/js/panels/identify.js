@@ -25,7 +25,7 @@ export function identifyPanel(method) {
   const solver = h('select', { id: `${name}-identify-solver` },
     h('option', { value: 'gauss-newton', text: 'Gauss–Newton (the paper)' }),
     h('option', { value: 'lm', text: 'Levenberg–Marquardt' }));
-  const iterations = numberInput({ value: 30, id: `${name}-identify-iterations` });
+  const iterations = numberInput({ value: state.info.defaults.max_iterations, id: `${name}-identify-iterations` });
   const loss = h('select', { id: `${name}-identify-loss` },
     h('option', { value: 'l2', text: 'least squares (the paper)' }),
     h('option', { value: 'huber', text: 'Huber (mild contamination)' }),
@@ -62,7 +62,7 @@ export function identifyPanel(method) {
         data: await dataRequest(name, 'identify'),
         format: formatRequest(name, 'identify'),
         solver: solver.value,
-        max_iterations: fieldNumber(iterations, 'Iteration limit', { min: 1, max: state.info.limits.iterations, whole: true, empty: 30 }),
+        max_iterations: fieldNumber(iterations, 'Iteration limit', { min: 1, max: state.info.limits.iterations, whole: true, empty: state.info.defaults.max_iterations }),
         loss: loss.value,
         model: model.value,
         prior: prior.value.trim() || null,

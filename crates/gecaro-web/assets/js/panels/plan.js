@@ -30,10 +30,10 @@ export function planPanel(method) {
   const criterion = h('select', { id: `${name}-plan-criterion` }, CRITERIA.map(([value, text]) => h('option', { value, text })));
   const pool = numberInput({ id: `${name}-plan-pool`, placeholder: '20 × count' });
   const distance = numberInput({ value: 0, id: `${name}-plan-distance` });
-  const seed = numberInput({ value: 1, id: `${name}-plan-seed` });
+  const seed = numberInput({ value: state.info.defaults.seed, id: `${name}-plan-seed` });
   // Elastic joints: the payloads each candidate may be measured with.
   const payloads = h('input', { type: 'text', class: 'vector', id: `${name}-plan-payloads`, placeholder: 'none, or e.g. 0kg; 20kg,0,0,100mm' });
-  const elastic = name === 'position' || name === 'frame';
+  const elastic = method.elastic;
   const curve = h('input', { type: 'text', class: 'vector', id: `${name}-plan-curve`, placeholder: 'optional, e.g. 10, 20, 40, 80' });
   const noise = numberInput({ value: 0.1, id: `${name}-plan-noise` });
   const saveAs = h('input', { type: 'text', id: `${name}-plan-save`, placeholder: 'optional, e.g. planned.csv', class: 'vector' });
@@ -56,7 +56,7 @@ export function planPanel(method) {
         count: fieldNumber(count, 'Configurations', { min: 1, max: state.info.limits.generate, whole: true }),
         criterion: criterion.value,
         min_distance: fieldNumber(distance, 'Smallest distance', { min: 0, empty: 0 }),
-        seed: fieldNumber(seed, 'Seed', { min: 0, whole: true, empty: 1 }),
+        seed: fieldNumber(seed, 'Seed', { min: 0, whole: true, empty: state.info.defaults.seed }),
         noise: fieldNumber(noise, 'Sensor σ', { min: 0, above: true, empty: 0.1 }) * 1e-3,
       };
       const candidates = fieldNumber(pool, 'Candidates', { min: 1, max: state.info.limits.generate, whole: true, empty: null });
