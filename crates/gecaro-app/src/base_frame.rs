@@ -241,6 +241,9 @@ impl BaseRegistration {
     /// # Errors
     /// A robot that cannot be re-framed (never for a valid robot).
     pub fn rebased(&self, calibrated: &RobotFile) -> Result<RobotFile, AppError> {
+        // Gravity's tilts folded first: they turn with the frame
+        // ([`crate::rebased_file`]).
+        let calibrated = &calibrated.clone().with_gravity_tilt_folded();
         let base_from_measurement = self.fit.transform.inverse();
         let robot = calibrated
             .robot

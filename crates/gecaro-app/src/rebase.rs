@@ -188,6 +188,11 @@ pub fn rebased_file(
     calibrated: &RobotFile,
     nominal: &Robot,
 ) -> Result<(IsometryMatrix3<f64>, RobotFile), AppError> {
+    // Gravity's tilts, found by an identification, lean gravity about axes
+    // chosen from its direction in the measurement frame: folded into the
+    // file's gravity first, they turn with the frame (left on the robot,
+    // `rebased` dropped them).
+    let calibrated = &calibrated.clone().with_gravity_tilt_folded();
     let (measurement_frame, robot) = calibrated.robot.rebased(nominal)?;
     let t = measurement_frame.translation.vector;
     let (roll, pitch, yaw) = measurement_frame.rotation.euler_angles();

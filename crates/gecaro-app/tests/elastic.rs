@@ -770,3 +770,63 @@ fn the_gravity_tilts_sigma_is_their_monte_carlo_spread() {
         );
     }
 }
+
+/// A robot whose identification found gravity leaning (its tilts still on
+/// the robot, not yet folded into the file's gravity), in a tracker's frame
+/// 2.5 m away and turned 60°, re-expressed in its nominal's base frame
+/// (issue 74): gravity pulls on every joint as it did — the torques at 20
+/// configurations equal the tilted robot's in the tracker's frame, with the
+/// tilt folded and turned with the frame (before: the tilt was dropped).
+#[test]
+fn a_rebased_robot_keeps_the_gravity_its_calibration_found() {
+    use gecaro_core::gravity_torques;
+    let nominal = gecaro_io::load_robot("industrial6").expect("nominal");
+    let mut calibrated = nominal.clone();
+    let world = nalgebra::IsometryMatrix3::from_parts(
+        nalgebra::Translation3::new(2.5, 0.3, -0.6),
+        nalgebra::Rotation3::from_axis_angle(&nalgebra::Vector3::z_axis(), 60f64.to_radians()),
+    );
+    calibrated.robot = calibrated
+        .robot
+        .reframed(&world, &nalgebra::IsometryMatrix3::identity())
+        .expect("reframed");
+    calibrated.masses = calibrated
+        .masses
+        .reframed(&nominal.robot, &calibrated.robot, &world)
+        .expect("masses");
+    calibrated
+        .robot
+        .set_compliances(Some(vec![2e-6; 6]))
+        .expect("elastic");
+    for (axis, tilt) in [0.03, -0.02].into_iter().enumerate() {
+        calibrated
+            .robot
+            .set_parameter(
+                ParameterId {
+                    kind: ParameterKind::GravityTilt,
+                    frame: axis + 1,
+                },
+                tilt,
+            )
+            .expect("tilt");
+    }
+    let (_, rebased) = gecaro_app::rebased_file(&calibrated, &nominal.robot).expect("rebased");
+    assert_eq!(
+        rebased.robot.gravity_tilt(),
+        [0.0; 2],
+        "folded into gravity"
+    );
+    // What gravity does to the tilted robot: its masses' gravity tilted.
+    let pulled = calibrated.masses.tilted(calibrated.robot.gravity_tilt());
+    let mut sampler = gecaro_calib::simulation::Sampler::new(5);
+    for _ in 0..20 {
+        let qm: Vec<f64> = (0..6).map(|_| sampler.uniform(-1.5, 1.5)).collect();
+        let before = gravity_torques(&calibrated.robot, &pulled, None, &qm).expect("torques");
+        let after = gravity_torques(&rebased.robot, &rebased.masses, None, &qm).expect("torques");
+        assert!(before.amax() > 10.0, "the links weigh: {before}");
+        assert!(
+            (&before - &after).amax() < 1e-9 * before.amax().max(1.0),
+            "{before} against {after}"
+        );
+    }
+}
