@@ -915,6 +915,13 @@ pub(crate) struct JoinArgs {
     /// The log's angle unit (rad or deg; default rad).
     #[arg(long, value_name = "rad|deg")]
     pub(crate) angle_unit: Option<String>,
+    /// How the export writes orientations: quaternion (qw,qx,qy,qz, the default), or rx,ry,rz
+    /// as rpy, euler-xyz, euler-zyz or rotation-vector (written as quaternions).
+    #[arg(long, value_name = "FORMAT", value_parser = names(&gecaro_io::RotationFormat::NAMES))]
+    pub(crate) rotation: Option<String>,
+    /// The angle unit of the export's rx,ry,rz (rad or deg; default rad).
+    #[arg(long, value_name = "rad|deg", requires = "rotation")]
+    pub(crate) rotation_unit: Option<String>,
     /// The joined data file (CSV, metres and radians).
     #[arg(short, long)]
     pub(crate) output: PathBuf,

@@ -1041,3 +1041,100 @@ fn an_instrument_export_joins_a_controller_log() {
         "{stderr}"
     );
 }
+
+/// `gecaro join` of a 6-D probe's export (issue 74): its orientations as
+/// Euler angles x, y′, z″ in degrees are joined as the quaternions they
+/// stand for (the frame's truth to 1e-9), and the same export joined
+/// without saying their form is refused rather than joined position-only.
+#[test]
+fn a_probe_export_joins_its_orientations() {
+    use nalgebra::UnitQuaternion;
+    let folder = tempfile::tempdir().expect("folder");
+    let at = |name: &str| folder.path().join(name).to_str().expect("UTF-8").to_owned();
+    let real = real_robot();
+    let mut sampler = Sampler::new(29);
+    let configurations: Vec<Vec<f64>> = (0..30).map(|_| sampler.configuration(&real)).collect();
+    let poses: Vec<_> = configurations
+        .iter()
+        .map(|qm| gecaro_core::terminal_pose(&real, qm).expect("pose"))
+        .collect();
+    let mut export = String::from("Point,X,Y,Z,A,B,C\n");
+    let mut log = String::from("Point,A1,A2,A3,A4,A5,A6\n");
+    for (i, (qm, pose)) in configurations.iter().zip(&poses).enumerate() {
+        // Intrinsic x, y′, z″ angles of the pose's rotation.
+        let r = pose.rotation.matrix();
+        let b = r[(0, 2)].clamp(-1.0, 1.0).asin();
+        let a = (-r[(1, 2)]).atan2(r[(2, 2)]);
+        let c = (-r[(0, 1)]).atan2(r[(0, 0)]);
+        let t = pose.translation.vector * 1e3;
+        export += &format!(
+            "P{i},{},{},{},{},{},{}\n",
+            t.x,
+            t.y,
+            t.z,
+            a.to_degrees(),
+            b.to_degrees(),
+            c.to_degrees()
+        );
+        let angles: Vec<String> = qm.iter().map(|q| q.to_degrees().to_string()).collect();
+        log += &format!("P{i},{}\n", angles.join(","));
+    }
+    std::fs::write(at("probe.csv"), &export).expect("export");
+    std::fs::write(at("log.csv"), &log).expect("log");
+    let join = |rotation: bool, output: &str| {
+        let mut command = gecaro();
+        command
+            .args([
+                "join",
+                &at("probe.csv"),
+                &at("log.csv"),
+                "--robot",
+                "industrial6",
+            ])
+            .args([
+                "--key",
+                "Point",
+                "--length-unit",
+                "mm",
+                "--angle-unit",
+                "deg",
+            ])
+            .args(["--tracker-columns", "x=X,y=Y,z=Z,rx=A,ry=B,rz=C"])
+            .args(["--log-columns", "qm1=A1,qm2=A2,qm3=A3,qm4=A4,qm5=A5,qm6=A6"])
+            .args(["-o", &at(output)]);
+        if rotation {
+            command.args(["--rotation", "euler-xyz", "--rotation-unit", "deg"]);
+        }
+        command.output().expect("runs")
+    };
+    let refused = join(false, "position-only.csv");
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        !refused.status.success()
+            && stderr.contains("has rx, ry, rz columns but no rotation format"),
+        "{stderr}"
+    );
+    assert!(!std::path::Path::new(&at("position-only.csv")).exists());
+    let run = join(true, "poses.csv");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let joined = std::fs::read_to_string(at("poses.csv")).expect("joined");
+    let mut lines = joined.lines().filter(|line| !line.starts_with('#'));
+    assert_eq!(
+        lines.next(),
+        Some("qm1,qm2,qm3,qm4,qm5,qm6,x,y,z,qw,qx,qy,qz")
+    );
+    for (line, pose) in lines.zip(&poses) {
+        let v: Vec<f64> = line
+            .split(',')
+            .map(|v| v.parse().expect("number"))
+            .collect();
+        let q =
+            UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(v[9], v[10], v[11], v[12]));
+        let truth = UnitQuaternion::from_rotation_matrix(&pose.rotation);
+        assert!(q.angle_to(&truth) < 1e-9, "{line}");
+    }
+}

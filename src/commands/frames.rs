@@ -109,7 +109,9 @@ pub(crate) fn join(args: &JoinArgs) -> Result<(), Failure> {
     request.log_key = args.log_key.clone();
     request.tracker_format = DataFormatSpec {
         length_unit: args.length_unit.clone(),
+        angle_unit: args.rotation_unit.clone(),
         columns: args.tracker_columns.clone(),
+        rotation: args.rotation.clone(),
         ..DataFormatSpec::default()
     };
     request.log_format = DataFormatSpec {

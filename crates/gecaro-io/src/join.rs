@@ -2,8 +2,12 @@
 //! points a tracker measured beside the joint values the robot stood at,
 //! as one data file (`gecaro join`).
 //!
-//! - **The tracker's file**: `x, y, z` (and `qw, qx, qy, qz` when it
-//!   measured orientations), in its length unit; other columns left alone.
+//! - **The tracker's file**: `x, y, z` (and, when it measured
+//!   orientations, `qw, qx, qy, qz`, or `rx, ry, rz` in the form its
+//!   rotation format names — Euler angles or a rotation vector, in its angle
+//!   unit — written as quaternions), in its length unit; other columns left
+//!   alone. `rx, ry, rz` columns without a rotation format are refused, not
+//!   dropped: the join would be silently position-only.
 //! - **The controller's log**: `qm1 … qmn` in its angle unit (prismatic
 //!   joints in its length unit); other columns left alone.
 //! - Both as they are written: commas, semicolons or tabs, decimal commas,
@@ -29,6 +33,7 @@ use crate::Error;
 use crate::data_file::DataFormat;
 use crate::data_rows::MAX_CONFIGURATIONS;
 use crate::named_points::MAX_BASE_POINT_DISTANCE;
+use crate::rotation::RotationFormat;
 use crate::table_text::TextTable;
 
 /// How two files are joined (see the module docs).
@@ -170,11 +175,39 @@ pub fn join_tables(
     let position: Vec<String> = ["x", "y", "z"].map(String::from).to_vec();
     let quaternion: Vec<String> = ["qw", "qx", "qy", "qz"].map(String::from).to_vec();
     let point_columns = columns(&tracker, &spec.tracker, tracker_path, &position)?;
-    let has_orientation = quaternion
+    // The orientations as the export writes them: quaternions, or three
+    // angles in the form the rotation format names.
+    let rotation = spec.tracker.rotation;
+    let given: Vec<String> = rotation
+        .columns()
         .iter()
-        .any(|name| tracker.column(&spec.tracker, name).is_some());
+        .map(|name| name.to_string())
+        .collect();
+    let present = |names: &[&str]| {
+        names
+            .iter()
+            .any(|name| tracker.column(&spec.tracker, name).is_some())
+    };
+    if rotation == RotationFormat::Quaternion && present(&["rx", "ry", "rz"]) {
+        return Err(format_error(
+            tracker_path,
+            "has rx, ry, rz columns but no rotation format: give their form (rpy, euler-xyz,              euler-zyz or rotation-vector) and their angle unit, or the join would drop the              orientations"
+                .into(),
+        ));
+    }
+    let has_orientation = present(rotation.columns());
+    if rotation != RotationFormat::Quaternion && !has_orientation {
+        return Err(format_error(
+            tracker_path,
+            format!(
+                "no rx, ry, rz columns for the rotation format {} (rename them with the columns                  option: rx=A,…); its header reads {}",
+                rotation.name(),
+                tracker.names.join(",")
+            ),
+        ));
+    }
     let orientation_columns = if has_orientation {
-        Some(columns(&tracker, &spec.tracker, tracker_path, &quaternion)?)
+        Some(columns(&tracker, &spec.tracker, tracker_path, &given)?)
     } else {
         None
     };
@@ -298,8 +331,17 @@ pub fn join_tables(
             values.push(value);
         }
         if let Some(columns) = &orientation_columns {
-            for (name, column) in quaternion.iter().zip(columns) {
-                values.push(tracker.number(tracker_path, (*line, &fields[*column]), name)?);
+            let read = given
+                .iter()
+                .zip(columns)
+                .map(|(name, column)| tracker.number(tracker_path, (*line, &fields[*column]), name))
+                .collect::<Result<Vec<f64>, Error>>()?;
+            if rotation == RotationFormat::Quaternion {
+                values.extend(read);
+            } else {
+                let radians = spec.tracker.units.angle.to_radians();
+                let turned = rotation.orientation([read[0], read[1], read[2]].map(|a| a * radians));
+                values.extend([turned.w, turned.i, turned.j, turned.k]);
             }
         }
         let row: Vec<String> = values.iter().map(f64::to_string).collect();

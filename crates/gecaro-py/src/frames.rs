@@ -90,14 +90,19 @@ pub(crate) fn user_frame<'py>(
 /// lengths in `length_unit`) and `log` (qm1 … qmn in `angle_unit`), by the
 /// `key` column of both (`log_key` in the log when its name differs) or by
 /// row order; columns renamed by `tracker_columns` / `log_columns`
-/// (`"x=X,y=Y,z=Z"`). Returns the joined `Data` (metres, radians), written
+/// (`"x=X,y=Y,z=Z"`); the tracker's orientations as quaternions `qw … qz`,
+/// or `rx, ry, rz` in the form `rotation` names (`"rpy"`, `"euler-xyz"`,
+/// `"euler-zyz"`, `"rotation-vector"`) and the angle unit `rotation_unit`
+/// (written as quaternions; `rx, ry, rz` without `rotation` are refused).
+/// Returns the joined `Data` (metres, radians), written
 /// to `output` when given. Log rows nothing measured are left out with a
 /// `UserWarning`; a shifted join, a key twice, a point the log lacks raise
 /// InputError.
 #[pyfunction]
 #[pyo3(signature = (
     robot, tracker, log, output = None, *, key = None, log_key = None, tracker_columns = None,
-    log_columns = None, length_unit = None, angle_unit = None, overwrite = false,
+    log_columns = None, length_unit = None, angle_unit = None, rotation = None,
+    rotation_unit = None, overwrite = false,
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn join(
@@ -112,6 +117,8 @@ pub(crate) fn join(
     log_columns: Option<String>,
     length_unit: Option<String>,
     angle_unit: Option<String>,
+    rotation: Option<String>,
+    rotation_unit: Option<String>,
     overwrite: bool,
 ) -> PyResult<PyData> {
     let mut request = JoinRequest::new(
@@ -123,7 +130,9 @@ pub(crate) fn join(
     request.log_key = log_key;
     request.tracker_format = DataFormatSpec {
         length_unit,
+        angle_unit: rotation_unit,
         columns: tracker_columns,
+        rotation,
         ..DataFormatSpec::default()
     };
     request.log_format = DataFormatSpec {

@@ -332,3 +332,27 @@ def test_an_export_joins_a_log_as_the_command_line_does(cli, tmp_path):
     (tmp_path / "twice.csv").write_text(export + "P3;0;0;0\n")
     with pytest.raises(gecaro.InputError, match="key `P3` again"):
         gecaro.join(robot, tmp_path / "twice.csv", tmp_path / "log.csv", **options)
+    # A 6-D probe's angles: joined as the quaternions they stand for (roll,
+    # pitch, yaw of each pose, degrees), never dropped unsaid.
+    frames = [robot.fk(row) for row in qm]
+    rpy = np.degrees([
+        [np.arctan2(f[2, 1], f[2, 2]), np.arcsin(-f[2, 0]), np.arctan2(f[1, 0], f[0, 0])] for f in frames
+    ])
+    probe = "Point;X;Y;Z;A;B;C\n" + "".join(
+        f"P{i};" + ";".join(f"{v:.9f}".replace(".", ",") for v in [*(p * 1e3), *angles]) + "\n"
+        for i, (p, angles) in enumerate(zip(points, rpy))
+    )
+    (tmp_path / "probe.csv").write_text(probe)
+    probed = dict(options, tracker_columns="x=X,y=Y,z=Z,rx=A,ry=B,rz=C")
+    with pytest.raises(gecaro.InputError, match="no rotation format"):
+        gecaro.join(robot, tmp_path / "probe.csv", tmp_path / "log.csv", **probed)
+    with pytest.warns(UserWarning, match="1 log row"):
+        posed = gecaro.join(robot, tmp_path / "probe.csv", tmp_path / "log.csv", rotation="rpy", rotation_unit="deg", **probed)
+    for frame, q in zip(frames, posed.orientation):
+        w, x, y, z = q
+        rotation = np.array([
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ])
+        assert np.allclose(rotation, frame[:3, :3], atol=1e-9)

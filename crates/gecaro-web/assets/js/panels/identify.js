@@ -283,6 +283,12 @@ function joinForm(name) {
     h('option', { value: 'mm', text: 'mm' }), h('option', { value: 'm', text: 'm' }));
   const angleUnit = h('select', { id: id('angle-unit') },
     h('option', { value: 'deg', text: 'degrees' }), h('option', { value: 'rad', text: 'radians' }));
+  // A 6-D probe's orientations: quaternions, or rx, ry, rz in a form and unit.
+  const rotation = h('select', { id: id('rotation') },
+    [['quaternion', 'quaternions qw, qx, qy, qz (or none)'], ['rpy', 'rx, ry, rz: roll, pitch, yaw'], ['euler-xyz', 'rx, ry, rz: Euler x, y′, z″'],
+      ['euler-zyz', 'rx, ry, rz: Euler z, y′, z″'], ['rotation-vector', 'rx, ry, rz: rotation vector']].map(([value, words]) => h('option', { value, text: words })));
+  const rotationUnit = h('select', { id: id('rotation-unit') },
+    h('option', { value: 'deg', text: 'degrees' }), h('option', { value: 'rad', text: 'radians' }));
   const saveAs = text('save-as', 'e.g. joined.csv');
   const result = h('div', { class: 'result', id: id('result') });
   const run = runButton(id('run'), 'Join', async () => {
@@ -296,7 +302,12 @@ function joinForm(name) {
         log: { file: log.value.trim() },
         key: key.value.trim() || null,
         log_key: logKey.value.trim() || null,
-        tracker_format: { length_unit: lengthUnit.value, columns: trackerColumns.value.trim() || null },
+        tracker_format: {
+          length_unit: lengthUnit.value,
+          columns: trackerColumns.value.trim() || null,
+          rotation: rotation.value,
+          angle_unit: rotation.value === 'quaternion' ? null : rotationUnit.value,
+        },
         log_format: { angle_unit: angleUnit.value, columns: logColumns.value.trim() || null },
         save_as: saveAs.value.trim(),
       });
@@ -316,6 +327,8 @@ function joinForm(name) {
       field('Instrument’s export', tracker),
       field('Its length unit', lengthUnit),
       field('Its columns, renamed', trackerColumns),
+      field('Its orientations', rotation),
+      field('Their angles in', rotationUnit),
       field('Controller’s log', log),
       field('Its angle unit', angleUnit),
       field('Its columns, renamed', logColumns),
