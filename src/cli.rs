@@ -915,6 +915,9 @@ pub(crate) struct JoinArgs {
     /// The log's angle unit (rad or deg; default rad).
     #[arg(long, value_name = "rad|deg")]
     pub(crate) angle_unit: Option<String>,
+    /// The log's length unit, of its prismatic joints (m or mm; default m).
+    #[arg(long, value_name = "m|mm")]
+    pub(crate) log_length_unit: Option<String>,
     /// How the export writes orientations: quaternion (qw,qx,qy,qz, the default), or rx,ry,rz
     /// as rpy, euler-xyz, euler-zyz or rotation-vector (written as quaternions).
     #[arg(long, value_name = "FORMAT", value_parser = names(&gecaro_io::RotationFormat::NAMES))]

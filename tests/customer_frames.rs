@@ -1138,3 +1138,56 @@ fn a_probe_export_joins_its_orientations() {
         assert!(q.angle_to(&truth) < 1e-9, "{line}");
     }
 }
+
+/// A log whose prismatic joint is in millimetres (`--log-length-unit mm`)
+/// joins in metres: the Stanford arm's joint 3 as the controller logged it.
+#[test]
+fn a_log_s_prismatic_joint_is_read_in_its_unit() {
+    let folder = tempfile::tempdir().expect("folder");
+    let at = |name: &str| folder.path().join(name).to_str().expect("UTF-8").to_owned();
+    let robot = gecaro_io::load_robot("stanford").expect("robot").robot;
+    let mut sampler = Sampler::new(31);
+    let configurations: Vec<Vec<f64>> = (0..20).map(|_| sampler.configuration(&robot)).collect();
+    let mut export = String::from("Point,x,y,z\n");
+    let mut log = String::from("Point,qm1,qm2,qm3,qm4,qm5,qm6\n");
+    for (i, qm) in configurations.iter().enumerate() {
+        let p = point(&robot, qm, &Vector3::zeros());
+        export += &format!("P{i},{},{},{}\n", p.x, p.y, p.z);
+        let logged: Vec<String> = qm
+            .iter()
+            .enumerate()
+            .map(|(j, q)| {
+                if j == 2 {
+                    (q * 1e3).to_string()
+                } else {
+                    q.to_string()
+                }
+            })
+            .collect();
+        log += &format!("P{i},{}\n", logged.join(","));
+    }
+    std::fs::write(at("export.csv"), export).expect("export");
+    std::fs::write(at("log.csv"), log).expect("log");
+    gecaro()
+        .args([
+            "join",
+            &at("export.csv"),
+            &at("log.csv"),
+            "--robot",
+            "stanford",
+        ])
+        .args([
+            "--key",
+            "Point",
+            "--log-length-unit",
+            "mm",
+            "-o",
+            &at("joined.csv"),
+        ])
+        .assert()
+        .success();
+    let joined = joint_rows(Path::new(&at("joined.csv")));
+    for (row, qm) in joined.iter().zip(&configurations) {
+        assert!((row[2] - qm[2]).abs() < 1e-12, "{row:?} against {qm:?}");
+    }
+}

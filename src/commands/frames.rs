@@ -116,6 +116,7 @@ pub(crate) fn join(args: &JoinArgs) -> Result<(), Failure> {
     };
     request.log_format = DataFormatSpec {
         angle_unit: args.angle_unit.clone(),
+        length_unit: args.log_length_unit.clone(),
         columns: args.log_columns.clone(),
         ..DataFormatSpec::default()
     };

@@ -87,7 +87,8 @@ pub(crate) fn user_frame<'py>(
 
 /// An instrument's export joined with a controller's log, as `gecaro
 /// join`: `tracker` (x, y, z and, when measured, qw, qx, qy, qz per point,
-/// lengths in `length_unit`) and `log` (qm1 … qmn in `angle_unit`), by the
+/// lengths in `length_unit`) and `log` (qm1 … qmn in `angle_unit`, a
+/// prismatic joint in `log_length_unit`), by the
 /// `key` column of both (`log_key` in the log when its name differs) or by
 /// row order; columns renamed by `tracker_columns` / `log_columns`
 /// (`"x=X,y=Y,z=Z"`); the tracker's orientations as quaternions `qw … qz`,
@@ -101,8 +102,8 @@ pub(crate) fn user_frame<'py>(
 #[pyfunction]
 #[pyo3(signature = (
     robot, tracker, log, output = None, *, key = None, log_key = None, tracker_columns = None,
-    log_columns = None, length_unit = None, angle_unit = None, rotation = None,
-    rotation_unit = None, overwrite = false,
+    log_columns = None, length_unit = None, angle_unit = None, log_length_unit = None,
+    rotation = None, rotation_unit = None, overwrite = false,
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn join(
@@ -117,6 +118,7 @@ pub(crate) fn join(
     log_columns: Option<String>,
     length_unit: Option<String>,
     angle_unit: Option<String>,
+    log_length_unit: Option<String>,
     rotation: Option<String>,
     rotation_unit: Option<String>,
     overwrite: bool,
@@ -137,6 +139,7 @@ pub(crate) fn join(
     };
     request.log_format = DataFormatSpec {
         angle_unit,
+        length_unit: log_length_unit,
         columns: log_columns,
         ..DataFormatSpec::default()
     };

@@ -721,6 +721,7 @@ def join(
     log_columns: Optional[str] = None,
     length_unit: Optional[Literal["m", "mm"]] = None,
     angle_unit: Optional[Literal["rad", "deg"]] = None,
+    log_length_unit: Optional[Literal["m", "mm"]] = None,
     rotation: Optional[Literal["quaternion", "rpy", "euler-zyx", "euler-xyz", "euler-zyz", "rotation-vector"]] = None,
     rotation_unit: Optional[Literal["rad", "deg"]] = None,
     overwrite: bool = False,

@@ -283,6 +283,9 @@ function joinForm(name) {
     h('option', { value: 'mm', text: 'mm' }), h('option', { value: 'm', text: 'm' }));
   const angleUnit = h('select', { id: id('angle-unit') },
     h('option', { value: 'deg', text: 'degrees' }), h('option', { value: 'rad', text: 'radians' }));
+  // A prismatic joint's values in the log.
+  const logLengthUnit = h('select', { id: id('log-length-unit') },
+    h('option', { value: 'mm', text: 'mm' }), h('option', { value: 'm', text: 'm' }));
   // A 6-D probe's orientations: quaternions, or rx, ry, rz in a form and unit.
   const rotation = h('select', { id: id('rotation') },
     [['quaternion', 'quaternions qw, qx, qy, qz (or none)'], ['rpy', 'rx, ry, rz: roll, pitch, yaw'], ['euler-xyz', 'rx, ry, rz: Euler x, y′, z″'],
@@ -308,7 +311,7 @@ function joinForm(name) {
           rotation: rotation.value,
           angle_unit: rotation.value === 'quaternion' ? null : rotationUnit.value,
         },
-        log_format: { angle_unit: angleUnit.value, columns: logColumns.value.trim() || null },
+        log_format: { angle_unit: angleUnit.value, length_unit: logLengthUnit.value, columns: logColumns.value.trim() || null },
         save_as: saveAs.value.trim(),
       });
       const left = joined.unmeasured_note ? ` ${joined.unmeasured_note}.` : '';
@@ -331,6 +334,7 @@ function joinForm(name) {
       field('Their angles in', rotationUnit),
       field('Controller’s log', log),
       field('Its angle unit', angleUnit),
+      field('Its prismatic joints in', logLengthUnit),
       field('Its columns, renamed', logColumns),
       field('Key column (both files)', key),
       field('The log’s key column', logKey),
