@@ -446,9 +446,7 @@ pub fn delimiter(name: Option<&str>) -> Result<Delimiter, AppError> {
 /// An unknown name, naming the `length_unit` setting.
 pub fn length_unit(name: Option<&str>) -> Result<Option<LengthUnit>, AppError> {
     name.map(|name| {
-        LengthUnit::from_name(name).ok_or_else(|| {
-            AppError::setting("length_unit", format!("`{name}` is neither m nor mm"))
-        })
+        LengthUnit::parse(name).map_err(|message| AppError::setting("length_unit", message))
     })
     .transpose()
 }
@@ -459,9 +457,7 @@ pub fn length_unit(name: Option<&str>) -> Result<Option<LengthUnit>, AppError> {
 /// An unknown name, naming the `angle_unit` setting.
 pub fn angle_unit(name: Option<&str>) -> Result<Option<AngleUnit>, AppError> {
     name.map(|name| {
-        AngleUnit::from_name(name).ok_or_else(|| {
-            AppError::setting("angle_unit", format!("`{name}` is neither rad nor deg"))
-        })
+        AngleUnit::parse(name).map_err(|message| AppError::setting("angle_unit", message))
     })
     .transpose()
 }

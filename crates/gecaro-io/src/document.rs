@@ -296,14 +296,15 @@ impl RobotDocument {
 
     fn angle_unit(&self) -> Result<AngleUnit, DocumentError> {
         match self.angle_unit.as_deref() {
-            None | Some("rad" | "radian" | "radians") => Ok(AngleUnit::Radians),
-            Some("deg" | "degree" | "degrees") => Ok(AngleUnit::Degrees),
-            Some(other) => Err(DocumentError::new(
-                Location::Key {
-                    key: "angle_unit".into(),
-                },
-                format!("must be \"rad\" or \"deg\", not {other:?}"),
-            )),
+            None => Ok(AngleUnit::Radians),
+            Some(name) => AngleUnit::parse(name).map_err(|message| {
+                DocumentError::new(
+                    Location::Key {
+                        key: "angle_unit".into(),
+                    },
+                    message,
+                )
+            }),
         }
     }
 

@@ -22,15 +22,7 @@ use serde::Deserialize;
 
 use crate::columns::DataUnits;
 use crate::robot_file::AngleUnit;
-use crate::written_lengths::number_length;
-
-/// What a σ with its unit measures.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-pub(crate) enum Kind {
-    Length,
-    Angle,
-    Gain,
-}
+use crate::written_lengths::{Kind, number_length, written_unit};
 
 /// A value written with its unit, any sign, in gecaro's units (m, rad,
 /// fraction): the unit table of priors and angles alike.
@@ -42,18 +34,10 @@ pub(crate) fn signed_quantity(text: &str) -> Result<(Kind, f64), String> {
         .parse()
         .map_err(|_| format!("'{text}' is not a number with a unit (e.g. 5mm, 0.5deg, 1%)"))?;
     let (kind, factor) = match unit.trim() {
-        "m" => (Kind::Length, 1.0),
-        "mm" => (Kind::Length, 1e-3),
-        "um" | "µm" => (Kind::Length, 1e-6),
-        "rad" => (Kind::Angle, 1.0),
-        "deg" | "°" => (Kind::Angle, std::f64::consts::PI / 180.0),
-        "%" => (Kind::Gain, 0.01),
         "" => return Err(format!("'{text}' has no unit: write 5mm, 0.5deg or 1%")),
-        other => {
-            return Err(format!(
-                "unknown unit '{other}' in '{text}' (m, mm, um, rad, deg or %)"
-            ));
-        }
+        unit => written_unit(unit).ok_or_else(|| {
+            format!("unknown unit '{unit}' in '{text}' (m, mm, um, rad, deg or %)")
+        })?,
     };
     if !value.is_finite() {
         return Err(format!("'{text}' is not a finite number"));

@@ -879,8 +879,7 @@ impl FrameSpec {
 fn length_unit(name: Option<&str>, default: LengthUnit) -> Result<LengthUnit, String> {
     match name {
         None => Ok(default),
-        Some(name) => LengthUnit::from_name(name)
-            .ok_or_else(|| format!("must be \"m\" or \"mm\", not {name:?}")),
+        Some(name) => LengthUnit::parse(name),
     }
 }
 
@@ -888,8 +887,7 @@ fn length_unit(name: Option<&str>, default: LengthUnit) -> Result<LengthUnit, St
 fn angle_unit(name: Option<&str>, default: AngleUnit) -> Result<AngleUnit, String> {
     match name {
         None => Ok(default),
-        Some(name) => AngleUnit::from_name(name)
-            .ok_or_else(|| format!("must be \"rad\" or \"deg\", not {name:?}")),
+        Some(name) => AngleUnit::parse(name),
     }
 }
 

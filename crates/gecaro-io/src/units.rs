@@ -33,6 +33,15 @@ impl LengthUnit {
         }
     }
 
+    /// The unit of `name`, or what a length unit must be: one wording for
+    /// every file, setting and front end.
+    ///
+    /// # Errors
+    /// A name that is no length unit's.
+    pub fn parse(name: &str) -> Result<Self, String> {
+        Self::from_name(name).ok_or_else(|| format!("must be \"m\" or \"mm\", not {name:?}"))
+    }
+
     /// Its short name.
     pub fn name(self) -> &'static str {
         match self {
@@ -58,6 +67,15 @@ impl AngleUnit {
             "deg" | "degree" | "degrees" => Some(AngleUnit::Degrees),
             _ => None,
         }
+    }
+
+    /// The unit of `name`, or what an angle unit must be (see
+    /// [`LengthUnit::parse`]).
+    ///
+    /// # Errors
+    /// A name that is no angle unit's.
+    pub fn parse(name: &str) -> Result<Self, String> {
+        Self::from_name(name).ok_or_else(|| format!("must be \"rad\" or \"deg\", not {name:?}"))
     }
 
     /// Its short name.

@@ -10,7 +10,8 @@
 
 use gecaro_core::{FrameType, JointRegion, Robot};
 
-use crate::prior::{Kind, signed_quantity};
+use crate::prior::signed_quantity;
+use crate::written_lengths::Kind;
 
 /// The work region of `text` for `robot` (see the module docs), joint
 /// variables in radians and metres.

@@ -1,7 +1,31 @@
 //! Lengths as people write them in an option or a study (`120mm`, `0.1`,
-//! `-32.3mm`): a number, then its unit. A leaf: it imports nothing of the
-//! crate, so that every reader of such text (payloads, tool poses, priors,
-//! work regions) may use it.
+//! `-32.3mm`): a number, then its unit. The one table of the units written
+//! beside a number (m, mm, um, rad, deg, %). A leaf: it imports nothing of
+//! the crate, so that every reader of such text (payloads, tool poses,
+//! priors, work regions) may use it.
+
+/// What a number written with its unit measures.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(crate) enum Kind {
+    Length,
+    Angle,
+    Gain,
+}
+
+/// The units a person writes beside a number, what each measures and its
+/// factor to gecaro's units (m, rad, fraction): the one table of priors,
+/// work regions and written lengths.
+pub(crate) fn written_unit(unit: &str) -> Option<(Kind, f64)> {
+    Some(match unit {
+        "m" => (Kind::Length, 1.0),
+        "mm" => (Kind::Length, 1e-3),
+        "um" | "µm" => (Kind::Length, 1e-6),
+        "rad" => (Kind::Angle, 1.0),
+        "deg" | "°" => (Kind::Angle, std::f64::consts::PI / 180.0),
+        "%" => (Kind::Gain, 0.01),
+        _ => return None,
+    })
+}
 
 /// The length of the number that starts `text`: sign, digits, decimals and
 /// an exponent (`1e-3mm` is 1e-3 millimetres, not 1 of the unit `e-3mm`).
@@ -37,11 +61,10 @@ pub(crate) fn number_length(text: &str) -> usize {
 pub(crate) fn length(text: &str, what: &str) -> Result<(f64, bool), String> {
     let (number, unit) = text.split_at(number_length(text));
     let unit = unit.trim();
-    let factor = match unit {
-        "" | "m" => 1.0,
-        "mm" => 1e-3,
-        "um" | "µm" => 1e-6,
-        other => {
+    let factor = match (unit, written_unit(unit)) {
+        ("", _) => 1.0,
+        (_, Some((Kind::Length, factor))) => factor,
+        (other, _) => {
             return Err(format!(
                 "unknown length unit '{other}' in {what} '{text}' (m, mm, um)"
             ));

@@ -60,23 +60,13 @@ pub(super) fn parse_toml(text: &str, path: &Path, defaults: TableUnits) -> Resul
     })?;
     let angle = match &document.angle_unit {
         None => defaults.angle.unwrap_or_default(),
-        Some(unit) => AngleUnit::from_name(unit.get_ref()).ok_or_else(|| {
-            fail(
-                unit.span(),
-                "angle_unit",
-                format!("must be \"rad\" or \"deg\", not {:?}", unit.get_ref()),
-            )
-        })?,
+        Some(unit) => AngleUnit::parse(unit.get_ref())
+            .map_err(|message| fail(unit.span(), "angle_unit", message))?,
     };
     let length = match &document.length_unit {
         None => defaults.length.unwrap_or_default(),
-        Some(unit) => LengthUnit::from_name(unit.get_ref()).ok_or_else(|| {
-            fail(
-                unit.span(),
-                "length_unit",
-                format!("must be \"m\" or \"mm\", not {:?}", unit.get_ref()),
-            )
-        })?,
+        Some(unit) => LengthUnit::parse(unit.get_ref())
+            .map_err(|message| fail(unit.span(), "length_unit", message))?,
     };
     let units = Units {
         angle: angle.to_radians(),
