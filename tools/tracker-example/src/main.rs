@@ -6,8 +6,11 @@
 //! to correct.
 //!
 //! ```sh
-//! cargo run -p tracker-example -- tests/data/urdf examples/tracker
+//! cargo run -p tracker-example -- tests/data/urdf examples/tracker examples/owner-base
 //! ```
+//!
+//! The third folder, when given, receives the same robot in its owner's
+//! cell ([`owner`]).
 
 use gecaro_calib::simulation::{Sampler, perturbed_robot};
 use gecaro_core::{Robot, terminal_pose};
@@ -17,6 +20,8 @@ use gecaro_io::{
 use std::error::Error;
 use std::fmt::Write as _;
 use std::path::Path;
+
+mod owner;
 
 type Result<T> = std::result::Result<T, Box<dyn Error>>;
 
@@ -115,9 +120,13 @@ fn corrupted(tracker: &str) -> String {
 
 fn main() -> Result<()> {
     let arguments: Vec<String> = std::env::args().collect();
-    let [_, source, output] = arguments.as_slice() else {
-        eprintln!("usage: tracker-example URDF_FOLDER OUTPUT_FOLDER");
-        std::process::exit(2);
+    let (source, output, owner) = match arguments.as_slice() {
+        [_, source, output] => (source, output, None),
+        [_, source, output, owner] => (source, output, Some(owner)),
+        _ => {
+            eprintln!("usage: tracker-example URDF_FOLDER OUTPUT_FOLDER [OWNER_FOLDER]");
+            std::process::exit(2);
+        }
     };
     let (source, output) = (Path::new(source), Path::new(output));
     std::fs::create_dir_all(output)?;
@@ -163,5 +172,23 @@ fn main() -> Result<()> {
     }
     write("job.csv", &job)?;
     println!("wrote {}", output.display());
+    if let Some(owner) = owner {
+        let owner = Path::new(owner);
+        std::fs::create_dir_all(owner)?;
+        let write_owner = |name: &str, text: &str| -> Result<()> {
+            Ok(write_atomically(
+                &owner.join(name),
+                text.as_bytes(),
+                OutputPolicy::Overwrite,
+            )?)
+        };
+        write_owner("kr16_2.urdf", &urdf)?;
+        write_owner(
+            "LICENSE-kuka_experimental-Apache-2.0",
+            &std::fs::read_to_string(source.join("LICENSE-kuka_experimental-Apache-2.0"))?,
+        )?;
+        owner::write_owner_cell(&nominal, &write_owner)?;
+        println!("wrote {}", owner.display());
+    }
     Ok(())
 }
