@@ -839,16 +839,7 @@ mod tests {
                 ..Joint::default_for(FrameType::Revolute)
             })
             .collect();
-        Robot::new(RobotSpec {
-            name: name.into(),
-            frames,
-            joints,
-            motor_coupling: None,
-            joint_coupling: None,
-            priority: None,
-            compliances: None,
-        })
-        .expect("valid")
+        Robot::new(RobotSpec::rigid(name, frames, joints)).expect("valid")
     }
 
     /// The PUMA 560 of `robots/puma560.toml`.

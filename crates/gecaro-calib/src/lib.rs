@@ -33,15 +33,16 @@
 //! use gecaro_calib::prelude::*;
 //!
 //! let link = |d: f64| Frame { d, ..Frame::new(FrameType::Revolute) };
-//! let robot = Robot::new(RobotSpec {
-//!     name: "planar RR".into(),
-//!     frames: vec![Frame::new(FrameType::Fixed), link(0.0), link(0.4), Frame { d: 0.3, ..Frame::new(FrameType::Fixed) }],
-//!     joints: vec![Joint::default_for(FrameType::Revolute); 2],
-//!     motor_coupling: None,
-//!     joint_coupling: None,
-//!     priority: None,
-//!     compliances: None,
-//! })?;
+//! let robot = Robot::new(RobotSpec::rigid(
+//!     "planar RR",
+//!     vec![
+//!         Frame::new(FrameType::Fixed),
+//!         link(0.0),
+//!         link(0.4),
+//!         Frame { d: 0.3, ..Frame::new(FrameType::Fixed) },
+//!     ],
+//!     vec![Joint::default_for(FrameType::Revolute); 2],
+//! ))?;
 //! let position = method("position", &MethodOptions::default())?;
 //! let random = Study::single(position, Vec::new(), "random configurations");
 //! let report = identifiability(&robot, &random, &robot.priority(), None, 1, &mut Quiet)?.report;

@@ -390,16 +390,7 @@ mod tests {
                 ..Joint::default_for(joint.frame_type)
             })
             .collect();
-        Robot::new(RobotSpec {
-            name: "chain".into(),
-            frames,
-            joints,
-            motor_coupling: None,
-            joint_coupling: None,
-            priority: None,
-            compliances: None,
-        })
-        .expect("valid")
+        Robot::new(RobotSpec::rigid("chain", frames, joints)).expect("valid")
     }
 
     fn distance(a: &IsometryMatrix3<f64>, b: &IsometryMatrix3<f64>) -> f64 {

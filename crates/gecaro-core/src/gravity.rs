@@ -41,15 +41,11 @@
 //! use nalgebra::Vector3;
 //!
 //! let horizontal_axis = Frame { alpha: std::f64::consts::FRAC_PI_2, ..Frame::new(FrameType::Revolute) };
-//! let robot = Robot::new(RobotSpec {
-//!     name: "pendulum".into(),
-//!     frames: vec![Frame::new(FrameType::Fixed), horizontal_axis, Frame::new(FrameType::Fixed)],
-//!     joints: vec![Joint::default_for(FrameType::Revolute)],
-//!     motor_coupling: None,
-//!     joint_coupling: None,
-//!     priority: None,
-//!     compliances: None,
-//! })?;
+//! let robot = Robot::new(RobotSpec::rigid(
+//!     "pendulum",
+//!     vec![Frame::new(FrameType::Fixed), horizontal_axis, Frame::new(FrameType::Fixed)],
+//!     vec![Joint::default_for(FrameType::Revolute)],
+//! ))?;
 //! let mut masses = MassModel::new(robot.frames().len());
 //! masses.set_link(1, LinkMass { mass: 2.0, com: Vector3::new(0.5, 0.0, 0.0) })?;
 //! let torques = gravity_torques(&robot, &masses, None, &[0.0])?;

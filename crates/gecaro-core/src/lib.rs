@@ -42,15 +42,7 @@
 //!     Frame { alpha: 1.3, d: 0.2, theta: FRAC_PI_2, r: 0.1, ..Frame::new(FrameType::Fixed) },
 //! ];
 //! let joints = frames[1..7].iter().map(|f| Joint::default_for(f.frame_type)).collect();
-//! let stanford = Robot::new(RobotSpec {
-//!     name: "Stanford".into(),
-//!     frames,
-//!     joints,
-//!     motor_coupling: None,
-//!     joint_coupling: None,
-//!     priority: None,
-//!     compliances: None,
-//! })?;
+//! let stanford = Robot::new(RobotSpec::rigid("Stanford", frames, joints))?;
 //!
 //! let qm = [0.0, 0.0, 0.5, 0.0, 0.0, 0.0];
 //! let tool = forward_kinematics(&stanford, &qm)?.world_from_tool().translation.vector;

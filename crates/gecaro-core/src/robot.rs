@@ -76,6 +76,22 @@ pub struct RobotSpec {
     pub compliances: Option<Vec<f64>>,
 }
 
+impl RobotSpec {
+    /// A rigid robot's statement: `frames` 0..=n+1 and `joints` 1..=n, no
+    /// coupling (identity Cm and Cj), the paper's priorities, no compliance.
+    pub fn rigid(name: impl Into<String>, frames: Vec<Frame>, joints: Vec<Joint>) -> RobotSpec {
+        RobotSpec {
+            name: name.into(),
+            frames,
+            joints,
+            motor_coupling: None,
+            joint_coupling: None,
+            priority: None,
+            compliances: None,
+        }
+    }
+}
+
 /// A valid serial robot (see the module docs for the conventions).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Robot {
@@ -214,15 +230,7 @@ impl Robot {
             .iter()
             .map(|frame| Joint::default_for(frame.frame_type))
             .collect();
-        Robot::new(RobotSpec {
-            name: name.into(),
-            frames,
-            joints,
-            motor_coupling: None,
-            joint_coupling: None,
-            priority: None,
-            compliances: None,
-        })
+        Robot::new(RobotSpec::rigid(name, frames, joints))
     }
 
     /// The description this robot was built from (to edit and rebuild).

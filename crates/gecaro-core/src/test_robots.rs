@@ -41,16 +41,7 @@ pub(crate) fn stanford() -> Robot {
         .iter()
         .map(|frame| Joint::default_for(frame.frame_type))
         .collect();
-    Robot::new(RobotSpec {
-        name: "Stanford".into(),
-        frames,
-        joints,
-        motor_coupling: None,
-        joint_coupling: None,
-        priority: None,
-        compliances: None,
-    })
-    .expect("Table 1 is a valid robot")
+    Robot::new(RobotSpec::rigid("Stanford", frames, joints)).expect("Table 1 is a valid robot")
 }
 
 /// A random robot with n joints, non-zero β everywhere, gains ≠ 1, offsets and

@@ -107,15 +107,11 @@ fn table_robot(path: &Path, name: &str, limits: &[(f64, f64)]) -> Result<Robot> 
             gain: 1.0,
         })
         .collect();
-    Ok(Robot::new(RobotSpec {
-        name: name.to_owned(),
+    Ok(Robot::new(RobotSpec::rigid(
+        name.to_owned(),
         frames,
         joints,
-        motor_coupling: None,
-        joint_coupling: None,
-        priority: None,
-        compliances: None,
-    })?)
+    ))?)
 }
 
 fn tilt_x(degrees: f64) -> IsometryMatrix3<f64> {

@@ -96,15 +96,11 @@ impl FrameChain {
 /// use gecaro_core::{forward_kinematics, Frame, FrameType, Joint, Robot, RobotSpec};
 /// // A one-joint arm: a revolute joint and a tool 0.5 m along x.
 /// let tool = Frame { d: 0.5, ..Frame::new(FrameType::Fixed) };
-/// let robot = Robot::new(RobotSpec {
-///     name: "pendulum".into(),
-///     frames: vec![Frame::new(FrameType::Fixed), Frame::new(FrameType::Revolute), tool],
-///     joints: vec![Joint::default_for(FrameType::Revolute)],
-///     motor_coupling: None,
-///     joint_coupling: None,
-///     priority: None,
-///     compliances: None,
-/// })?;
+/// let robot = Robot::new(RobotSpec::rigid(
+///     "pendulum",
+///     vec![Frame::new(FrameType::Fixed), Frame::new(FrameType::Revolute), tool],
+///     vec![Joint::default_for(FrameType::Revolute)],
+/// ))?;
 /// let chain = forward_kinematics(&robot, &[std::f64::consts::FRAC_PI_2])?;
 /// let tip = chain.world_from_tool().translation.vector;
 /// assert!((tip - nalgebra::Vector3::new(0.0, 0.5, 0.0)).norm() < 1e-15);

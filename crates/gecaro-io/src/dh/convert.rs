@@ -91,15 +91,11 @@ pub(super) fn robot_of_table(
         })
         .collect();
     let name = table.name.clone().unwrap_or_else(|| fallback_name(path));
-    let robot = Robot::new(RobotSpec {
+    let robot = Robot::new(RobotSpec::rigid(
         name,
-        frames: table_frames(&table.rows, convention),
+        table_frames(&table.rows, convention),
         joints,
-        motor_coupling: None,
-        joint_coupling: None,
-        priority: None,
-        compliances: None,
-    })
+    ))
     .map_err(|error| format_error(error.to_string()))?;
     let identity = IsometryMatrix3::identity();
     let world = table.world_from_base.unwrap_or(identity);

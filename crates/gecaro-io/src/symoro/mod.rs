@@ -542,15 +542,11 @@ pub(crate) fn import_symoro(text: &str, path: &Path) -> Result<Imported, Error> 
         .iter()
         .map(|frame| Joint::default_for(frame.frame_type))
         .collect();
-    let robot = Robot::new(RobotSpec {
-        name: robot_name.unwrap_or_else(|| crate::robot_file::fallback_name(path)),
+    let robot = Robot::new(RobotSpec::rigid(
+        robot_name.unwrap_or_else(|| crate::robot_file::fallback_name(path)),
         frames,
         joints,
-        motor_coupling: None,
-        joint_coupling: None,
-        priority: None,
-        compliances: None,
-    })
+    ))
     .map_err(|error| Error::Format {
         path: path.to_owned(),
         message: error.to_string(),
