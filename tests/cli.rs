@@ -3,13 +3,9 @@
 use gecaro_calib::study::Samples;
 use std::path::Path;
 
-use assert_cmd::Command;
+use crate::util::gecaro;
 use predicates::prelude::*;
 use serde_json::Value;
-
-fn gecaro() -> Command {
-    Command::cargo_bin("gecaro").expect("the gecaro binary is built")
-}
 
 fn json_output(args: &[&str]) -> Value {
     let output = gecaro().args(args).output().expect("runs");

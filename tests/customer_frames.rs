@@ -4,16 +4,12 @@
 
 use std::path::Path;
 
-use assert_cmd::Command;
 use gecaro_calib::simulation::{Sampler, perturbed_robot};
 use gecaro_core::{Robot, terminal_pose};
 use nalgebra::{IsometryMatrix3, Point3, Vector3};
 
 use super::named_frames::{tracker_1, write_cell};
-
-fn gecaro() -> Command {
-    Command::cargo_bin("gecaro").expect("the gecaro binary is built")
-}
+use crate::util::gecaro;
 
 /// The real robot of `write_cell`, seen from tracker 1 (its first draw).
 fn real_robot() -> Robot {

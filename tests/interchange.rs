@@ -3,12 +3,8 @@
 
 use std::path::{Path, PathBuf};
 
-use assert_cmd::Command;
+use crate::util::gecaro;
 use serde_json::Value;
-
-fn gecaro() -> Command {
-    Command::cargo_bin("gecaro").expect("the gecaro binary is built")
-}
 
 fn data(name: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))

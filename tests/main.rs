@@ -15,3 +15,4 @@ mod mistakes_cli;
 mod named_frames;
 mod region_cli;
 mod robust_cli;
+mod util;

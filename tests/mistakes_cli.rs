@@ -4,13 +4,9 @@
 
 use std::path::Path;
 
-use assert_cmd::Command;
+use crate::util::gecaro;
 use predicates::prelude::*;
 use serde_json::Value;
-
-fn gecaro() -> Command {
-    Command::cargo_bin("gecaro").expect("the gecaro binary is built")
-}
 
 /// `file`'s data rows rewritten by `edit` (comments and the header kept).
 fn rewrite(from: &Path, to: &Path, edit: impl Fn(&[Vec<String>]) -> Vec<Vec<String>>) {

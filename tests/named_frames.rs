@@ -5,7 +5,7 @@
 use gecaro_calib::study::Samples;
 use std::path::Path;
 
-use assert_cmd::Command;
+use crate::util::gecaro;
 use gecaro_calib::{
     frames::{FrameRole, NamedFrame, measuring_robot},
     methods::{MethodOptions, method},
@@ -15,10 +15,6 @@ use gecaro_calib::{
 use gecaro_io::OutputPolicy;
 use nalgebra::{IsometryMatrix3, Rotation3, Translation3};
 use serde_json::Value;
-
-fn gecaro() -> Command {
-    Command::cargo_bin("gecaro").expect("the gecaro binary is built")
-}
 
 /// `gecaro SUBCOMMAND --study STUDY [extra…]`, run to its end.
 fn on_study(subcommand: &str, study: &Path, extra: &[&str]) -> std::process::Output {

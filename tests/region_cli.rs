@@ -5,14 +5,10 @@
 
 use std::path::Path;
 
-use assert_cmd::Command;
+use crate::util::gecaro;
 use gecaro_calib::simulation::Sampler;
 use predicates::prelude::*;
 use serde_json::Value;
-
-fn gecaro() -> Command {
-    Command::cargo_bin("gecaro").expect("the gecaro binary is built")
-}
 
 /// `count` configurations of industrial6 (a header, then qm1..qm6 in
 /// radians), drawn within `half_degrees` of the middle of every joint's

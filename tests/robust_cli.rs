@@ -4,13 +4,10 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::util::gecaro;
 use assert_cmd::Command;
 use predicates::prelude::*;
 use serde_json::Value;
-
-fn gecaro() -> Command {
-    Command::cargo_bin("gecaro").expect("the gecaro binary is built")
-}
 
 const COLUMNS: &str = "qm1=A1,qm2=A2,qm3=A3,qm4=A4,qm5=A5,qm6=A6,x=X,y=Y,z=Z";
 const TRACKER: &str = "examples/tracker";
