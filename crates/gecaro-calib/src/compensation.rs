@@ -1121,7 +1121,7 @@ mod tests {
     /// A joint of range ±π that the calibrated robot needs 0.04 rad beyond
     /// +π reaches the same pose at −π + 0.04, turned the other way round:
     /// another configuration (flagged `reconfigured`), not a target reached
-    /// only beyond a limit, as it was called before.
+    /// only beyond a limit.
     #[test]
     fn a_joint_beyond_a_limit_of_a_full_turn_is_turned_the_other_way() {
         use std::f64::consts::PI;

@@ -40,11 +40,9 @@ use crate::linalg::{
 
 /// The measured rows from which a system is streamed by default (about 330
 /// position configurations). Folding costs half a QR's work (`b²/2`
-/// multiply–adds a row against `b²`) and no held W: measured in
-/// process, 500 position configurations identify in 2.7 ms streamed
-/// against 3.1 ms held, 5000 in 10.6 against 13.4 ms, 500 frame
-/// configurations in 3.6 against 4.9 ms; 50 configurations are faster held
-/// (0.70 against 0.79 ms).
+/// multiply–adds a row against `b²`) and no held W: from a few hundred
+/// configurations on, streaming is the faster, below it holding W is
+/// (measured: docs/performance.md, "Identification").
 pub const DEFAULT_STREAMED_ROWS: usize = 1_000;
 
 /// What a fold keeps; see the module docs.

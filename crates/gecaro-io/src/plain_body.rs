@@ -6,8 +6,8 @@
 //! quote, no comment (`#`), no blank line and no carriage return outside
 //! a `\r\n` is plain: each of its lines is one record, its fields are the
 //! bytes between separators, and the `csv` crate reads it as `simd-csv`'s
-//! zero-copy reader does (3.6× faster on a million position rows: 65 ms
-//! against 235 ms). So a record's line is the line after the one before,
+//! zero-copy reader does, several times faster (docs/performance.md, "a
+//! plain body"). So a record's line is the line after the one before,
 //! with no position to track. Anything else, or a line longer than
 //! [`MAX_LINE_BYTES`], goes the `csv` crate's way, which has the last word
 //! on every error.

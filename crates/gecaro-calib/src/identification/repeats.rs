@@ -19,11 +19,11 @@
 //!    two different items share a fingerprint, each fingerprint's items are
 //!    sorted by value and counted instead.
 //!
-//! A hash table of the items seen did the same in expected linear time,
+//! A hash table of the items seen does the same in expected linear time,
 //! but its probes, and the comparisons with items seen anywhere in memory,
-//! were cache misses: 1.4 s for 10⁶ positions repeating 20,000
-//! configurations, against 0.3 s now, and 0.06 s for 10⁶ distinct ones
-//! (docs/performance.md, "Repeats counted in memory order"). At 10⁶ items
+//! are cache misses: several times slower on 10⁶ positions repeating
+//! 20,000 configurations (docs/performance.md, "Repeats counted in memory
+//! order"). At 10⁶ items
 //! the fingerprints take 8 MB, the sorted pairs 16 MB and the first items
 //! 8 MB.
 
