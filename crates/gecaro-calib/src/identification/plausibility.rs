@@ -258,12 +258,20 @@ fn judge_parameter(
     if id.kind == ParameterKind::GravityTilt {
         return judge_tilt(p);
     }
-    let why = beyond_limits(id, p.nominal, deviation, size, last).or_else(|| {
-        let prior = p.prior_std.filter(|_| written.prior.is_some())?;
-        (deviation.abs() > PRIOR_LIMIT * prior)
-            .then(|| format!("moved {:.1} times its prior σ", deviation.abs() / prior))
-    })?;
-    let cause = if why.contains("prior σ") {
+    // Why it is implausible, and whether it is against the prior (the
+    // cause then differs), told apart by value, not by the words.
+    let (why, against_prior) = match beyond_limits(id, p.nominal, deviation, size, last) {
+        Some(why) => (why, false),
+        None => {
+            let prior = p.prior_std.filter(|_| written.prior.is_some())?;
+            if deviation.abs() <= PRIOR_LIMIT * prior {
+                return None;
+            }
+            let times = deviation.abs() / prior;
+            (format!("moved {times:.1} times its prior σ"), true)
+        }
+    };
+    let cause = if against_prior {
         "the data contradict the prior: widen it, or look for a model error that this \
          parameter absorbs"
             .to_owned()
