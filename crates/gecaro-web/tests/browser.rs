@@ -225,6 +225,7 @@ async fn the_page_works_as_a_person_uses_it() {
     let (client, folder, url) = (&session.client, &session.folder, session.url.clone());
     client.goto(&url).await.expect("page");
     text_when(client, "#robot-name", 30, |name| name == "Stanford").await;
+    collect_errors(client).await;
 
     // Robot ▸ Open…: another ready robot, then the Stanford again.
     click(client, "#robot-open").await;
@@ -653,6 +654,8 @@ async fn the_page_works_as_a_person_uses_it() {
         .await
         .expect("scroll");
     screenshot(client, "06-validation.png").await;
+    let errors = uncaught_errors(client).await;
+    assert!(errors.is_empty(), "uncaught errors: {errors:?}");
 
     session.close().await;
 }
@@ -750,6 +753,7 @@ async fn the_page_is_an_engineers_tool() {
     write_tracker_file(folder, "long.csv", 10000, 3);
     client.goto(&url).await.expect("page");
     text_when(client, "#robot-name", 30, |name| name == "Stanford").await;
+    collect_errors(client).await;
     assert_eq!(count(client, "link[rel='icon']").await, 1, "a favicon");
     // One choice of units: the table shows mm and degrees, or m and radians,
     // and switching does not touch the robot.
@@ -1095,11 +1099,17 @@ async fn the_page_is_an_engineers_tool() {
     assert_eq!(count(client, "#position-identify-stale").await, 1);
 
     // A reload restores the edited table, the function and the last result.
+    let errors = uncaught_errors(client).await;
+    assert!(
+        errors.is_empty(),
+        "uncaught errors before the reload: {errors:?}"
+    );
     client.refresh().await.expect("reload");
     text_when(client, "#robot-origin", 30, |origin| {
         origin.contains("modified")
     })
     .await;
+    collect_errors(client).await;
     assert_eq!(value(client).await, "0.5");
     // The function shown before the reload (Evaluate) is shown again.
     let active = client
@@ -1392,6 +1402,8 @@ async fn the_page_is_an_engineers_tool() {
     }
     // … and no longer once the server answers again.
     assert_eq!(count(client, ".error-box.unreachable").await, 0);
+    let errors = uncaught_errors(client).await;
+    assert!(errors.is_empty(), "uncaught errors: {errors:?}");
     session.close().await;
 }
 
@@ -1412,6 +1424,7 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
     }
     client.goto(&url).await.expect("page");
     text_when(client, "#robot-name", 30, |name| name == "Stanford").await;
+    collect_errors(client).await;
     click(client, "#robot-open").await;
     click(client, "#open-ready-industrial6").await;
     text_when(client, "#robot-name", 30, |name| name != "Stanford").await;
@@ -1627,6 +1640,8 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
     let unknowns = text_of(client, "#study-predicted", 5).await;
     assert!(unknowns.contains("tracker_2.x"), "{unknowns}");
     screenshot(client, "15-study-plan-1400.png").await;
+    let errors = uncaught_errors(client).await;
+    assert!(errors.is_empty(), "uncaught errors: {errors:?}");
     session.close().await;
 }
 
