@@ -391,8 +391,8 @@ fn print_identification(identified: &Identified) {
 /// A study's errors set by set and station by station (mm): the set that
 /// fits worse than the others stands out.
 fn print_groups(identified: &Identified) {
-    let document = identified.document();
-    for (title, groups) in [("set", &document.sets), ("station", &document.stations)] {
+    let (sets, stations) = identified.group_errors();
+    for (title, groups) in [("set", &sets), ("station", &stations)] {
         if groups.is_empty() {
             continue;
         }

@@ -15,7 +15,8 @@
 //! The measured point is given in the nominal robot's world, the one its
 //! table and 3D view are drawn in: the point relative to the calibrated
 //! robot's base placed at the nominal base, `N₁·C₁⁻¹·(S·y)` with `C₁`, `N₁`
-//! the calibrated and nominal [`base_pose`](gecaro_core::Robot::base_pose)s
+//! the calibrated and nominal [`base_pose`](gecaro_core::Robot::base_pose)s,
+//! [`measurement_frame_in`](gecaro_core::Robot::measurement_frame_in)
 //! (a tracker 3 m away draws its points on the robot, not 3 m off).
 //!
 //! `|d|` is checked against the identification's own error of the same
@@ -24,7 +25,7 @@
 //! errors and not in the rigid model used here — none are given then).
 
 use gecaro_calib::identification::{Identification, locate_observations};
-use gecaro_calib::study::Study;
+use gecaro_calib::study::{DataColumn, Study};
 use gecaro_core::{Robot, forward_kinematics, frame_transform};
 use nalgebra::{IsometryMatrix3, Point3, Vector3};
 use serde::Serialize;
@@ -32,9 +33,6 @@ use serde::Serialize;
 /// The largest difference between a deviation's length and the fit's
 /// error of the same observation (metres) for the deviations to be given.
 const AGREEMENT: f64 = 1e-9;
-
-/// The methods whose samples are measured points.
-const POINT_METHODS: [&str; 2] = ["position", "frame"];
 
 /// One measured point's deviation (JSON: `deviations` of an identification).
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -61,15 +59,6 @@ pub struct PointDeviation {
     pub before: f64,
 }
 
-/// Where the measurement frame (the calibrated robot's world: a tracker's,
-/// or the robot's own) lies in the nominal robot's world, the frame the
-/// page's table and 3D view are drawn in: `N₁·C₁⁻¹`, the calibrated robot's
-/// base placed at the nominal base. A measured point, a station or the
-/// instrument itself is drawn at `view · p`.
-pub fn view_from_measurement(nominal: &Robot, calibrated: &Robot) -> IsometryMatrix3<f64> {
-    nominal.base_pose() * calibrated.base_pose().inverse()
-}
-
 /// The deviation of every point measured by a point-measure set of
 /// `study`, identified as `result` from `nominal`; `None` when the study
 /// has no point measures or the deviations would not be what the fit saw
@@ -89,11 +78,12 @@ pub fn point_deviations(
         &study.frames
     };
     let base_rotation = frame_transform(&calibrated.frames()[0], 0.0).rotation;
-    let view = view_from_measurement(nominal, calibrated);
+    let view = calibrated.measurement_frame_in(nominal);
     let mut deviations = Vec::new();
     for (index, located) in locate_observations(study).iter().enumerate() {
+        // The sets whose samples are measured points (position, frame).
         let set = &study.sets[located.set];
-        if !POINT_METHODS.contains(&set.method.name()) {
+        if !set.method.data_columns().contains(&DataColumn::Position) {
             continue;
         }
         let &[sample] = located.samples.as_slice() else {

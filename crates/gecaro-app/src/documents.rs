@@ -1371,7 +1371,7 @@ pub struct CompensatedJson {
 
 /// The largest change of a joint between a program and its correction.
 #[derive(Copy, Clone, Debug, PartialEq, Serialize)]
-pub struct LargestCorrectionJson {
+pub struct LargestCorrection {
     /// The change, in the program file's unit.
     pub value: f64,
     /// That unit's name.
@@ -1406,7 +1406,7 @@ pub struct CompensationJson {
     /// The same with its unit, joint and line (`0.9360 rad (joint 5, line
     /// 7)`); absent for targets given as arrays.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub largest_correction_at: Option<LargestCorrectionJson>,
+    pub largest_correction_at: Option<LargestCorrection>,
     /// The largest turn of the tool a position match left (rad); absent for
     /// a pose match.
     #[serde(skip_serializing_if = "Option::is_none")]

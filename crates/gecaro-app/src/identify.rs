@@ -395,7 +395,25 @@ impl Identified {
     /// # Errors
     /// Only if the text cannot be written.
     pub fn residuals_csv(&self) -> Result<String, AppError> {
-        crate::residuals::residuals_csv(&self.loaded.robot.robot, &self.loaded.study, &self.result)
+        self.residuals_csv_with(self.point_deviations().as_deref())
+    }
+
+    /// The errors set by set and station by station (`identification.sets`
+    /// and `.stations` of the document; both empty for a single set).
+    pub fn group_errors(&self) -> (Vec<crate::GroupErrorsJson>, Vec<crate::GroupErrorsJson>) {
+        crate::set_errors::group_errors(&self.loaded.study, &self.result)
+    }
+
+    /// [`residuals_csv`](Self::residuals_csv) with the deviations already
+    /// taken ([`point_deviations`](Self::point_deviations)).
+    ///
+    /// # Errors
+    /// As [`residuals_csv`](Self::residuals_csv).
+    pub fn residuals_csv_with(
+        &self,
+        deviations: Option<&[crate::PointDeviation]>,
+    ) -> Result<String, AppError> {
+        crate::residuals::residuals_csv(&self.loaded.study, &self.result, deviations)
     }
 
     /// The deviation of every measured point from the calibrated robot's

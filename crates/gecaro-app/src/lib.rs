@@ -110,7 +110,7 @@ pub use compensate::{
     CompensateRequest, Compensated, CompensatedFile, CompensationSummary, DEFAULT_MAX_TOOL_TURN,
     LargestCorrection, ProgramSource,
 };
-pub use deviations::{PointDeviation, point_deviations, view_from_measurement};
+pub use deviations::{PointDeviation, point_deviations};
 pub use error::{AppError, Dialect, ErrorKind};
 pub use evaluation_frame::RegisterShare;
 pub use files::{Files, LocalFiles, Opened};
@@ -149,5 +149,5 @@ pub use study_prediction::{
     PredictStudyJson, PredictStudyRequest, PredictedSetJson, PredictedStudy,
 };
 pub use tool_point::{SMALL_SPREAD, TaughtToolPoint, ToolPointJson, ToolPointRequest};
-pub use uncertainty::{Correlation, correlation, position_covariance};
+pub use uncertainty::{Correlation, correlation, frame_covariances};
 pub use user_frame::{FramePointsSource, UserFrame, UserFrameJson, UserFrameRequest};

@@ -15,35 +15,36 @@
 //! | `residual_sigmas` | its standardised residual at the solution (robust σ̂) |
 //! | `weight` | its weight in the final fit (1 in least squares) |
 //! | `outlier` | `true` beyond the outlier threshold |
-//! | `dx_mm`, `dy_mm`, `dz_mm` | a measured point's deviation from the calibrated robot's, along the robot's base axes ([`point_deviations`]; only when the study measures points, empty on other rows) |
+//! | `dx_mm`, `dy_mm`, `dz_mm` | a measured point's deviation from the calibrated robot's, along the robot's base axes ([`point_deviations`](crate::point_deviations); only when the study measures points, empty on other rows) |
 
 use gecaro_calib::identification::{Identification, locate_observations};
 use gecaro_calib::study::Study;
-use gecaro_core::Robot;
 
-use crate::deviations::point_deviations;
+use crate::deviations::PointDeviation;
 
 use crate::error::{AppError, ErrorKind};
 
-/// The residuals of `result`, identified from `study` with the robot
-/// `nominal`, as CSV text.
+/// The residuals of `result`, identified from `study`, as CSV text, with
+/// the measured points' `deviations` ([`crate::point_deviations`]) when
+/// there are any.
 ///
 /// # Errors
 /// [`ErrorKind::Numerical`] if the CSV cannot be written (it always can: the
 /// writer is in memory).
 pub fn residuals_csv(
-    nominal: &Robot,
     study: &Study,
     result: &Identification,
+    deviations: Option<&[PointDeviation]>,
 ) -> Result<String, AppError> {
     let rotation = result.before.rms_rotation.is_some();
-    // Each point measure's deviation, by its set and line.
-    let deviations: std::collections::HashMap<usize, [f64; 3]> =
-        point_deviations(nominal, study, result)
-            .unwrap_or_default()
-            .into_iter()
-            .map(|point| (point.index, point.deviation))
-            .collect();
+    // Each observation's deviation, by its index (none for the others).
+    let mut by_observation: Vec<Option<[f64; 3]>> = Vec::new();
+    for point in deviations.unwrap_or_default() {
+        if by_observation.len() <= point.index {
+            by_observation.resize(point.index + 1, None);
+        }
+        by_observation[point.index] = Some(point.deviation);
+    }
     let mut writer = csv::Writer::from_writer(Vec::new());
     let mut header = vec![
         "set",
@@ -58,7 +59,7 @@ pub fn residuals_csv(
         header.extend(["rotation_before_deg", "rotation_after_deg"]);
     }
     header.extend(["residual_sigmas", "weight", "outlier"]);
-    if !deviations.is_empty() {
+    if !by_observation.is_empty() {
         header.extend(["dx_mm", "dy_mm", "dz_mm"]);
     }
     let failed = |error: csv::Error| {
@@ -98,8 +99,8 @@ pub fn residuals_csv(
                 .is_some_and(|u| u > result.outlier_threshold)
                 .to_string(),
         );
-        if !deviations.is_empty() {
-            let deviation = deviations.get(&index);
+        if !by_observation.is_empty() {
+            let deviation = by_observation.get(index).copied().flatten();
             for axis in 0..3 {
                 row.push(number(deviation.map(|d| d[axis] * 1e3)));
             }

@@ -8,7 +8,7 @@
 //! measured from it (the measurement frame itself for the sets that name
 //! none).
 
-use gecaro_calib::identification::{Identification, locate_observations};
+use gecaro_calib::identification::{ErrorSummary, Identification, locate_observations};
 use gecaro_calib::study::Study;
 use serde::Serialize;
 
@@ -37,34 +37,29 @@ pub struct GroupErrorsJson {
     pub max_after: f64,
 }
 
-/// Sums of one group's errors.
-#[derive(Default)]
-struct Sums {
-    count: usize,
-    before: f64,
-    after: f64,
-    max_after: f64,
-}
-
-impl Sums {
-    fn add(&mut self, before: f64, after: f64) {
-        self.count += 1;
-        self.before += before * before;
-        self.after += after * after;
-        self.max_after = self.max_after.max(after);
-    }
-
-    fn rms(sum: f64, count: usize) -> f64 {
-        if count == 0 {
-            0.0
-        } else {
-            (sum / count as f64).sqrt()
-        }
+/// A group's document from the errors of its observations (`keep` says
+/// which of the identification's).
+fn group(
+    result: &Identification,
+    keep: impl Fn(usize) -> bool,
+    (name, method, tool, station): (String, Option<&'static str>, Option<String>, Option<String>),
+) -> GroupErrorsJson {
+    let before = ErrorSummary::of_errors(&result.errors_before.retained(&keep));
+    let after = ErrorSummary::of_errors(&result.errors_after.retained(&keep));
+    GroupErrorsJson {
+        name,
+        method,
+        tool,
+        station,
+        observations: after.count,
+        rms_before: before.rms,
+        rms_after: after.rms,
+        max_after: after.max,
     }
 }
 
 /// `result`'s errors per set of `study`, then per station (only when the
-/// study has more than one set; empty otherwise).
+/// study has more than one set, or more than one station; empty otherwise).
 pub(crate) fn group_errors(
     study: &Study,
     result: &Identification,
@@ -72,65 +67,47 @@ pub(crate) fn group_errors(
     if study.sets.len() < 2 {
         return (Vec::new(), Vec::new());
     }
-    let mut sets: Vec<Sums> = study.sets.iter().map(|_| Sums::default()).collect();
-    for (index, located) in locate_observations(study).iter().enumerate() {
-        if let (Some(before), Some(after)) = (
-            result.errors_before.get(index),
-            result.errors_after.get(index),
-        ) {
-            sets[located.set].add(before.0, after.0);
-        }
-    }
+    let set_of: Vec<usize> = locate_observations(study).iter().map(|l| l.set).collect();
+    let set_of = &set_of;
     let frame_name = |k: Option<usize>| k.and_then(|k| study.frames.get(k)).map(|f| f.name.clone());
     let per_set = study
         .sets
         .iter()
-        .zip(&sets)
         .enumerate()
-        .map(|(k, (set, sums))| GroupErrorsJson {
-            name: format!("{}: {}", k + 1, set.label),
-            method: Some(set.method.name()),
-            tool: frame_name(set.tool),
-            station: frame_name(set.station),
-            observations: sums.count,
-            rms_before: Sums::rms(sums.before, sums.count),
-            rms_after: Sums::rms(sums.after, sums.count),
-            max_after: sums.max_after,
+        .map(|(k, set)| {
+            let labels = (
+                format!("{}: {}", k + 1, set.label),
+                Some(set.method.name()),
+                frame_name(set.tool),
+                frame_name(set.station),
+            );
+            group(result, |index| set_of.get(index) == Some(&k), labels)
         })
         .collect();
     // Stations in the order the sets first name them.
-    let mut stations: Vec<(Option<usize>, Sums)> = Vec::new();
-    for (set, sums) in study.sets.iter().zip(&sets) {
-        let slot = match stations
-            .iter()
-            .position(|(station, _)| *station == set.station)
-        {
-            Some(slot) => slot,
-            None => {
-                stations.push((set.station, Sums::default()));
-                stations.len() - 1
-            }
-        };
-        let total = &mut stations[slot].1;
-        total.count += sums.count;
-        total.before += sums.before;
-        total.after += sums.after;
-        total.max_after = total.max_after.max(sums.max_after);
+    let mut stations: Vec<Option<usize>> = Vec::new();
+    for set in &study.sets {
+        if !stations.contains(&set.station) {
+            stations.push(set.station);
+        }
     }
     let per_station = if stations.len() < 2 {
         Vec::new()
     } else {
         stations
             .into_iter()
-            .map(|(station, sums)| GroupErrorsJson {
-                name: frame_name(station).unwrap_or_else(|| "the measurement frame".into()),
-                method: None,
-                tool: None,
-                station: frame_name(station),
-                observations: sums.count,
-                rms_before: Sums::rms(sums.before, sums.count),
-                rms_after: Sums::rms(sums.after, sums.count),
-                max_after: sums.max_after,
+            .map(|station| {
+                let name = frame_name(station).unwrap_or_else(|| "the measurement frame".into());
+                let from_station = |index: usize| {
+                    set_of
+                        .get(index)
+                        .is_some_and(|&set| study.sets[set].station == station)
+                };
+                group(
+                    result,
+                    from_station,
+                    (name, None, None, frame_name(station)),
+                )
             })
             .collect()
     };

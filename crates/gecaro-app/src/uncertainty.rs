@@ -1,12 +1,11 @@
 //! What an identification's covariance says, in the forms people look at:
 //! the correlation matrix of the identified unknowns (a heatmap), and the
-//! covariance of each named frame's position (its uncertainty ellipsoid).
-//!
-//! The covariance is eq. 11's `σ² (W_bᵀW_b)⁻¹`, rows and columns in the
-//! order of the auxiliary unknowns, then the base parameters
-//! ([`Identification::covariance`]); its units are metres and radians. The
-//! correlation of unknowns `i` and `j` is `C_ij / √(C_ii C_jj)`, in
-//! [−1, 1]; an unknown of zero variance (none is) would give 0.
+//! covariance of each named frame's position (its uncertainty ellipsoid),
+//! from [`Identification::correlation`] and
+//! [`Identification::frame_position_covariance`] (eq. 11's covariance;
+//! metres and radians).
+
+use std::collections::BTreeMap;
 
 use gecaro_calib::identification::Identification;
 use serde::Serialize;
@@ -24,52 +23,33 @@ pub struct Correlation {
 /// The correlation matrix of `result`'s unknowns, or `None` without a
 /// covariance (W_bᵀW_b not positive definite).
 pub fn correlation(result: &Identification) -> Option<Correlation> {
-    let covariance = result.covariance.as_ref()?;
-    let names: Vec<String> = result
-        .auxiliary
-        .iter()
-        .chain(&result.parameters)
-        .map(|p| p.name.clone())
-        .collect();
-    let count = covariance.nrows();
-    if names.len() != count {
-        return None;
-    }
-    let scale: Vec<f64> = (0..count)
-        .map(|i| covariance[(i, i)].max(0.0).sqrt())
-        .collect();
-    let values = (0..count)
-        .map(|i| {
-            (0..count)
-                .map(|j| {
-                    let denominator = scale[i] * scale[j];
-                    if denominator > 0.0 {
-                        (covariance[(i, j)] / denominator).clamp(-1.0, 1.0)
-                    } else {
-                        0.0
-                    }
-                })
-                .collect()
-        })
-        .collect();
-    Some(Correlation { names, values })
+    let matrix = result.correlation()?;
+    Some(Correlation {
+        names: result
+            .unknown_names()
+            .into_iter()
+            .map(String::from)
+            .collect(),
+        values: matrix
+            .row_iter()
+            .map(|row| row.iter().copied().collect())
+            .collect(),
+    })
 }
 
-/// The covariance (m²) of named frame `frame`'s identified origin — its
-/// unknowns `FRAME.x`, `FRAME.y`, `FRAME.z` — row by row; `None` when one
-/// of them was not identified or there is no covariance.
-pub fn position_covariance(result: &Identification, frame: &str) -> Option<[[f64; 3]; 3]> {
-    let covariance = result.covariance.as_ref()?;
-    let index = |axis: &str| {
-        let name = format!("{frame}.{axis}");
-        result.auxiliary.iter().position(|p| p.name == name)
-    };
-    let indices = [index("x")?, index("y")?, index("z")?];
-    let mut block = [[0.0; 3]; 3];
-    for (row, &i) in indices.iter().enumerate() {
-        for (column, &j) in indices.iter().enumerate() {
-            block[row][column] = covariance[(i, j)];
-        }
-    }
-    Some(block)
+/// Each named frame's origin covariance (m², row by row), by its name:
+/// its uncertainty ellipsoid (frames whose origin was not identified are
+/// left out).
+pub fn frame_covariances(result: &Identification) -> BTreeMap<String, [[f64; 3]; 3]> {
+    result
+        .frames
+        .iter()
+        .filter_map(|frame| {
+            let block = result.frame_position_covariance(&frame.name)?;
+            Some((
+                frame.name.clone(),
+                [0, 1, 2].map(|i| [0, 1, 2].map(|j| block[(i, j)])),
+            ))
+        })
+        .collect()
 }

@@ -68,6 +68,14 @@ impl Robot {
         frame_transform(&frames[0], 0.0) * frame_transform(&frames[1], 0.0)
     }
 
+    /// Where this robot's world frame lies in `nominal`'s, this robot's
+    /// base placed where `nominal` puts its own: `N₁·C₁⁻¹` with `C₁`, `N₁`
+    /// their [`base_pose`](Self::base_pose)s. For a robot calibrated in a
+    /// tracker's frame, the tracker's frame in the robot's own.
+    pub fn measurement_frame_in(&self, nominal: &Robot) -> IsometryMatrix3<f64> {
+        nominal.base_pose() * self.base_pose().inverse()
+    }
+
     /// How far `other`'s joint 1 stands from this robot's: the distance
     /// (metres) and angle (radians) between their [`base_pose`](Self::base_pose)s.
     pub fn base_offset(&self, other: &Robot) -> (f64, f64) {
@@ -157,7 +165,7 @@ impl Robot {
                 ),
             ));
         }
-        let measurement_frame = nominal.base_pose() * self.base_pose().inverse();
+        let measurement_frame = self.measurement_frame_in(nominal);
         let mut spec = self.to_spec();
         spec.frames[0] = nominal.frames()[0];
         spec.frames[1] = nominal.frames()[1];

@@ -286,6 +286,18 @@ impl PyIdentification {
         )))
     }
 
+    /// Each named frame's identified origin covariance (m²), by its name, a
+    /// (3, 3) array: its uncertainty ellipsoid (the page rings each station
+    /// with it); frames whose origin was not identified are left out.
+    #[getter]
+    fn frame_covariances<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let covariances = PyDict::new(py);
+        for (name, block) in gecaro_app::frame_covariances(&self.identified.result) {
+            covariances.set_item(name, array(py, &[3, 3], block.concat())?)?;
+        }
+        Ok(covariances)
+    }
+
     /// Condition number of W_b at the solution.
     #[getter]
     fn condition_number(&self) -> f64 {

@@ -30,6 +30,13 @@ def test_the_cell_study_equals_the_command_line(cli, repository):
     # Its six unknowns carry their precision.
     unknowns = {p.name: p for p in result.auxiliary}
     assert all(unknowns[f"tracker_2.{u}"].std > 0 for u in ("x", "y", "z", "rx", "ry", "rz"))
+    # Its origin's covariance, whose diagonal gives those σ (its ellipsoid).
+    import numpy as np
+
+    block = result.frame_covariances["tracker_2"]
+    assert block.shape == (3, 3) and np.allclose(block, block.T)
+    stated = [unknowns[f"tracker_2.{u}"].std for u in ("x", "y", "z")]
+    assert np.allclose(np.sqrt(np.diag(block)), stated, rtol=1e-9)
 
 
 def test_a_cell_built_set_by_set_equals_its_study_file(repository):

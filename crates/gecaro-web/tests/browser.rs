@@ -1430,7 +1430,7 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
     text_when(client, "#robot-name", 30, |name| name != "Stanford").await;
     set_values(client, &[("study-file", "study.toml")]).await;
     click(client, "#study-open").await;
-    text_when(client, "#study-robot-note", 10, |note| {
+    text_when(client, "#study-robot-note", 30, |note| {
         note.contains("industrial6")
     })
     .await;
@@ -1851,7 +1851,7 @@ async fn the_page_is_never_silently_wrong() {
     );
     // The calibrated robot beside the table's in the 3D view, its
     // differences magnified.
-    let ghost = text_when(client, "#view-overlay", 10, |caption| {
+    let ghost = text_when(client, "#view-overlay", 30, |caption| {
         caption.contains("the calibrated robot at the same joints")
     })
     .await;
@@ -1928,7 +1928,7 @@ async fn the_page_is_never_silently_wrong() {
     // Evaluate after the calibrated robot is opened in the table: it is
     // evaluated alone, and the page says why.
     click(client, "#position-identify-open").await;
-    text_when(client, "#robot-name", 10, |name| {
+    text_when(client, "#robot-name", 30, |name| {
         name.contains("calibrated")
     })
     .await;
@@ -1970,7 +1970,7 @@ async fn the_page_is_never_silently_wrong() {
     text_when(client, "#robot-name", 30, |name| name == "Stanford").await;
     set_values(client, &[("study-file", "cell/study.toml")]).await;
     click(client, "#study-open").await;
-    let note = text_of(client, "#study-robot-note", 10).await;
+    let note = text_of(client, "#study-robot-note", 30).await;
     assert!(
         note.contains("names the robot industrial6, but the table holds Stanford"),
         "{note}"

@@ -23,7 +23,8 @@ use crate::method::parse_name;
 use crate::rebase::{check_same_frame, owner_base, rebased_file};
 use crate::sources::{CsvInput, DataFormatSpec, DataSource, RobotSource, check_row_count};
 
-pub use summary::{CompensationSummary, LargestCorrection};
+pub use crate::documents::LargestCorrection;
+pub use summary::CompensationSummary;
 
 /// Where a program's targets come from (JSON: `{"file": name}` or
 /// `{"csv": {"text": …, "name": …}}`, as a request's data).

@@ -8,21 +8,8 @@ use gecaro_calib::compensation::{
 };
 use gecaro_io::ProgramLayout;
 
-use crate::documents::{CompensatedJson, CompensationJson};
+use crate::documents::{CompensatedJson, CompensationJson, LargestCorrection};
 use crate::error::{AppError, ErrorKind, Part};
-
-/// The largest change of a joint between the program and its correction.
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub struct LargestCorrection {
-    /// The change, in the program file's unit.
-    pub value: f64,
-    /// That unit's name.
-    pub unit: &'static str,
-    /// The joint (1-based).
-    pub joint: usize,
-    /// The target's line.
-    pub line: usize,
-}
 
 /// See the module docs.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -170,14 +157,7 @@ impl CompensationSummary {
             not_reached: self.not_reached.clone(),
             largest_position_error: self.largest_position_error,
             largest_correction: self.largest_correction.map_or(0.0, |largest| largest.value),
-            largest_correction_at: self.largest_correction.map(|largest| {
-                crate::documents::LargestCorrectionJson {
-                    value: largest.value,
-                    unit: largest.unit,
-                    joint: largest.joint,
-                    line: largest.line,
-                }
-            }),
+            largest_correction_at: self.largest_correction,
             largest_tool_turn: self.largest_tool_turn.map(|(turn, _)| turn),
             turned: self.turned.clone(),
             output,

@@ -192,6 +192,56 @@ pub struct Identification {
 }
 
 impl Identification {
+    /// The names of the unknowns in the order of
+    /// [`covariance`](Self::covariance): the auxiliary unknowns, then the
+    /// base parameters.
+    pub fn unknown_names(&self) -> Vec<&str> {
+        self.auxiliary
+            .iter()
+            .chain(&self.parameters)
+            .map(|p| p.name.as_str())
+            .collect()
+    }
+
+    /// The correlation matrix of the unknowns, `ρ_ij = C_ij / √(C_ii C_jj)`
+    /// of [`covariance`](Self::covariance) (its order, 1 on the diagonal;
+    /// 0 beside an unknown of no variance); `None` without a covariance.
+    pub fn correlation(&self) -> Option<nalgebra::DMatrix<f64>> {
+        let covariance = self.covariance.as_ref()?;
+        let scale: Vec<f64> = covariance
+            .diagonal()
+            .iter()
+            .map(|v| v.max(0.0).sqrt())
+            .collect();
+        Some(nalgebra::DMatrix::from_fn(
+            covariance.nrows(),
+            covariance.ncols(),
+            |i, j| {
+                let denominator = scale[i] * scale[j];
+                if denominator > 0.0 {
+                    (covariance[(i, j)] / denominator).clamp(-1.0, 1.0)
+                } else {
+                    0.0
+                }
+            },
+        ))
+    }
+
+    /// The covariance (m²) of named frame `frame`'s identified origin, its
+    /// unknowns `FRAME.x`, `FRAME.y`, `FRAME.z`; `None` when one of them
+    /// was not identified or there is no covariance.
+    pub fn frame_position_covariance(&self, frame: &str) -> Option<nalgebra::Matrix3<f64>> {
+        let covariance = self.covariance.as_ref()?;
+        let index = |axis: &str| {
+            let name = format!("{frame}.{axis}");
+            self.auxiliary.iter().position(|p| p.name == name)
+        };
+        let indices = [index("x")?, index("y")?, index("z")?];
+        Some(nalgebra::Matrix3::from_fn(|i, j| {
+            covariance[(indices[i], indices[j])]
+        }))
+    }
+
     /// The observations beyond the outlier threshold, numbered across sets
     /// as [`Identification::errors_after`] (for plots).
     pub fn outlier_observations(&self) -> Vec<usize> {

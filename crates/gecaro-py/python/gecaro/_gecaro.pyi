@@ -487,6 +487,9 @@ class Identification:
     @property
     def errors_after(self) -> _FloatArray: ...
     @property
+    def frame_covariances(self) -> dict[str, _FloatArray]:
+        """Each named frame's identified origin covariance (m²), a (3, 3) array by its name."""
+    @property
     def correlation(self) -> Optional[tuple[list[str], _FloatArray]]:
         """The identified unknowns' names and their correlation matrix (k, k); None without a covariance."""
     @property

@@ -46,8 +46,6 @@ export function fieldNumber(input, label, { min = -Infinity, max = Infinity, who
     input.focus();
     throw new FieldError(`${label}: ${what}; it takes ${kind}${range ? ` ${range}` : ''}.`);
   };
-  // A number field holds '' for text that is no number ("abc"): the browser says which.
-  if (input.validity && input.validity.badInput) fail('that is not a number');
   if (text === '') {
     if (empty !== undefined) return empty;
     fail('it is empty');

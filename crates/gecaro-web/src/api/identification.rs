@@ -111,6 +111,9 @@ fn outcome(identified: &Identified) -> Result<JobOutcome, ApiError> {
         .name()
         .to_lowercase()
         .replace(|c: char| !c.is_alphanumeric(), "-");
+    // Taken once: for the residuals file and for the page.
+    let deviations = identified.point_deviations();
+    let residuals = identified.residuals_csv_with(deviations.as_deref())?;
     let value = IdentifyResult {
         identification: identified.document(),
         plots: identified.plots()?,
@@ -123,20 +126,12 @@ fn outcome(identified: &Identified) -> Result<JobOutcome, ApiError> {
             .map(|note| note.text(gecaro_app::Dialect::Web))
             .collect(),
         correlation: gecaro_app::correlation(&identified.result),
-        frame_covariances: identified
-            .result
-            .frames
-            .iter()
-            .filter_map(|frame| {
-                gecaro_app::position_covariance(&identified.result, &frame.name)
-                    .map(|block| (frame.name.clone(), block))
-            })
-            .collect(),
-        deviations: identified.point_deviations().map(|points| {
-            let view = gecaro_app::view_from_measurement(
-                &identified.loaded.robot.robot,
-                &identified.result.calibrated,
-            );
+        frame_covariances: gecaro_app::frame_covariances(&identified.result),
+        deviations: deviations.map(|points| {
+            let view = identified
+                .result
+                .calibrated
+                .measurement_frame_in(&identified.loaded.robot.robot);
             Deviations::of(points, view)
         }),
     };
@@ -148,6 +143,6 @@ fn outcome(identified: &Identified) -> Result<JobOutcome, ApiError> {
     Ok(JobOutcome {
         result: background::encoded(&value)?,
         report: Some(report),
-        residuals: Some(identified.residuals_csv()?),
+        residuals: Some(residuals),
     })
 }
