@@ -97,6 +97,10 @@ pub fn robot_of_document(document: &RobotDocument) -> Result<RobotFile, AppError
 /// Where the measurements of a request come from.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
+#[allow(
+    clippy::large_enum_variant,
+    reason = "a request holds one source per set, made once: its size is nothing beside the data"
+)]
 pub enum DataSource {
     /// A data file (CSV): a path, or a name in the web page's folder.
     File(String),

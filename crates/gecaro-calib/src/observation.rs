@@ -410,6 +410,10 @@ pub struct ObservationSystem {
     /// measured row's whole weight is its sensor weight × √(its
     /// observation's robust weight) ([`whole_weight`]), not stored per row.
     set_weights: Vec<[f64; 2]>,
+    /// Each set's sensor weights per observation, when its data state a σ
+    /// per row (empty otherwise; see [`RowWriter`]), and the number of the
+    /// set's first observation in the whole system.
+    set_sensors: Vec<(Vec<[f64; 2]>, usize)>,
     /// The weights of the appended rows, in order.
     appended_weights: Vec<f64>,
     /// What each measured row measures (appended rows have none).
@@ -451,6 +455,7 @@ impl ObservationSystem {
         zeroed(&mut self.residuals, rows);
         self.appended_weights.clear();
         self.set_weights.clear();
+        self.set_sensors.clear();
         self.kinds.clear();
         self.kinds.resize(rows, RowKind::Length);
         zeroed(&mut self.observations, rows);
@@ -862,9 +867,11 @@ impl ObservationSystem {
         first_row: usize,
         rows: usize,
         auxiliary_offset: usize,
-        weights: [f64; 2],
+        (weights, sensors): ([f64; 2], Vec<[f64; 2]>),
     ) -> RowWriter<'a> {
         let range = first_row..first_row + rows;
+        let set_base = self.observation_count;
+        self.set_sensors.push((sensors, set_base));
         let columns = self.columns;
         let matrix = if self.folded.is_some() {
             &mut []
@@ -882,7 +889,9 @@ impl ObservationSystem {
             next_row: 0,
             auxiliary_offset,
             row_weights: weights,
-            observation_base: self.observation_count,
+            observation_sensors: &self.set_sensors[self.set_sensors.len() - 1].0,
+            set_base,
+            observation_base: set_base,
             observation_end: 0,
             fold: self.folded.as_ref().map(FoldedRows::kind),
             sink: self.folded.as_mut(),
@@ -890,7 +899,9 @@ impl ObservationSystem {
     }
 
     /// Records that rows `rows` belong to the next measurement set, whose
-    /// length and angle rows have the sensor weights `weights`.
+    /// length and angle rows have the sensor weights `weights` (those of
+    /// its observations with a σ of their own given to its
+    /// [`writer`](Self::writer)).
     pub(crate) fn record_set(&mut self, rows: std::ops::Range<usize>, weights: [f64; 2]) {
         self.set_rows.push(rows);
         self.set_weights.push(weights);
@@ -945,11 +956,25 @@ impl ObservationSystem {
     ) -> impl Iterator<Item = f64> + '_ {
         let within = self.set_rows_within(set, rows);
         let sensor = sensor_weight(self.set_weights[set], kind);
-        self.residuals[within.clone()]
+        let sensors = self.observation_sensors(set);
+        // The set's one weight read as slices, or each observation's own.
+        let (plain, own) = match sensors {
+            None => (within, 0..0),
+            Some(_) => (0..0, within),
+        };
+        let (own_sensors, base) = sensors.unwrap_or_default();
+        self.residuals[plain.clone()]
             .iter()
-            .zip(&self.kinds[within])
+            .zip(&self.kinds[plain])
             .filter(move |(_, row)| **row == kind)
             .map(move |(residual, _)| residual * sensor)
+            .chain(
+                own.filter(move |row| self.kinds[*row] == kind)
+                    .map(move |row| {
+                        let observation = self.observations[row] as usize - base;
+                        self.residuals[row] * sensor_weight(own_sensors[observation], kind)
+                    }),
+            )
     }
 
     /// The rows of measurement set `set` with their sensor weights (1/σ).
@@ -964,8 +989,23 @@ impl ObservationSystem {
         rows: std::ops::Range<usize>,
     ) -> impl Iterator<Item = (usize, f64)> + '_ {
         let weights = self.set_weights[set];
-        self.set_rows_within(set, rows)
-            .map(move |row| (row, sensor_weight(weights, self.kinds[row])))
+        let sensors = self.observation_sensors(set);
+        self.set_rows_within(set, rows).map(move |row| {
+            let weights = match sensors {
+                None => weights,
+                Some((sensors, base)) => sensors[self.observations[row] as usize - base],
+            };
+            (row, sensor_weight(weights, self.kinds[row]))
+        })
+    }
+
+    /// Set `set`'s sensor weights per observation and the number of its
+    /// first observation, when its data state a σ per row.
+    fn observation_sensors(&self, set: usize) -> Option<(&[[f64; 2]], usize)> {
+        self.set_sensors
+            .get(set)
+            .filter(|(sensors, _)| !sensors.is_empty())
+            .map(|(sensors, base)| (sensors.as_slice(), *base))
     }
 
     /// The rows of measurement set `set` among `rows` (empty where they do
@@ -1048,13 +1088,34 @@ mod tests {
     }
 
     /// The scaled residuals of a kind, read as slices, are those of every
-    /// row filtered by kind, bit for bit, for any range and both sets.
+    /// row filtered by kind, bit for bit, for any range and both sets, the
+    /// second with a σ per observation or not; each row's by its own σ.
     #[test]
     fn scaled_residuals_of_a_kind_are_those_of_every_row() {
         let mut system = system(300, false, 5);
         let middle = system.rows / 2;
         system.set_rows = vec![0..middle, middle..system.rows];
         system.set_weights = vec![[2.0, 3.0], [0.5, 7.0]];
+        let base = system.observations[middle] as usize;
+        let own: Vec<[f64; 2]> = (base..system.observation_count)
+            .map(|observation| [1.0 + observation as f64, 0.25 * observation as f64])
+            .collect();
+        for sensors in [Vec::new(), own] {
+            system.set_sensors = vec![(Vec::new(), 0), (sensors.clone(), base)];
+            scaled_of_kind_are_every_row_s(&system, middle);
+            let (row, scaled) = system.scaled_rows_of(1).nth(3).expect("a row");
+            let weights = sensors
+                .get(system.observations[row] as usize - base)
+                .copied()
+                .unwrap_or([0.5, 7.0]);
+            assert_eq!(
+                scaled,
+                system.residuals[row] * sensor_weight(weights, system.kinds[row])
+            );
+        }
+    }
+
+    fn scaled_of_kind_are_every_row_s(system: &ObservationSystem, middle: usize) {
         let bits = |values: Vec<f64>| values.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
         for rows in [0..system.rows, 3..middle + 5, middle..middle, 7..usize::MAX] {
             for set in 0..2 {

@@ -145,7 +145,7 @@ pub fn predict_study(
     test_poses: &[Vec<f64>],
     priority: &PriorityMatrix,
 ) -> Result<Prediction, Error> {
-    if let Some(set) = study.sets.iter().find(|set| set.sigma.is_none()) {
+    if let Some(set) = study.sets.iter().find(|set| !set.states_sigma()) {
         return Err(Error::InvalidData {
             line: None,
             message: format!(

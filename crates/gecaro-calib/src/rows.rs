@@ -178,6 +178,12 @@ pub struct RowWriter<'a> {
     pub(crate) auxiliary_offset: usize,
     /// Row weights of length and angle rows (1/σ of the sensor).
     pub(crate) row_weights: [f64; 2],
+    /// The sensor weights of each of the set's observations when its data
+    /// state a σ per row ([`crate::study::RowSigma`]; empty: `row_weights`
+    /// for every row), the set's observation 0 being `set_base` in the
+    /// whole system.
+    pub(crate) observation_sensors: &'a [[f64; 2]],
+    pub(crate) set_base: usize,
     /// Number, in the whole system, of this writer's observation 0.
     pub(crate) observation_base: usize,
     /// One past the largest observation written (in the whole system's numbering).
@@ -304,6 +310,8 @@ impl<'a> RowWriter<'a> {
             next_row: 0,
             auxiliary_offset: self.auxiliary_offset,
             row_weights: self.row_weights,
+            observation_sensors: self.observation_sensors,
+            set_base: self.set_base,
             observation_base: self.observation_base,
             observation_end: 0,
             fold: self.fold,
@@ -342,8 +350,13 @@ impl<'a> RowWriter<'a> {
     /// The whole weight of a row of `kind` of `observation` (numbered in
     /// the whole system): its sensor weight × √(the observation's robust weight).
     fn weight(&self, kind: RowKind, observation: usize) -> f64 {
+        let weights = observation_sensor(
+            self.row_weights,
+            self.observation_sensors,
+            observation - self.set_base,
+        );
         whole_weight(
-            sensor_weight(self.row_weights, kind),
+            sensor_weight(weights, kind),
             self.observation_weights,
             observation,
         )
@@ -357,6 +370,18 @@ pub(crate) fn sensor_weight(weights: [f64; 2], kind: RowKind) -> f64 {
         RowKind::Length => weights[0],
         RowKind::Angle => weights[1],
     }
+}
+
+/// The sensor weights (1/σ) of the length and angle rows of a set's
+/// `observation` (numbered within the set): its own when the set's data
+/// state a σ per row (`sensors`, one per observation), else the set's
+/// `weights`.
+pub(crate) fn observation_sensor(
+    weights: [f64; 2],
+    sensors: &[[f64; 2]],
+    observation: usize,
+) -> [f64; 2] {
+    sensors.get(observation).copied().unwrap_or(weights)
 }
 
 /// The whole weight of a measured row: its `sensor` weight (1/σ) × √(the
@@ -408,6 +433,8 @@ mod tests {
             next_row: 0,
             auxiliary_offset: 0,
             row_weights: [2.0, 3.0],
+            observation_sensors: &[],
+            set_base: 0,
             observation_base: 0,
             observation_end: 0,
             fold: Some(FoldKind::Gram),

@@ -18,10 +18,11 @@ pub type MotorPositions = SmallVec<[f64; 7]>;
 
 /// One configuration with what was measured there.
 ///
-/// A sample is compact (192 bytes, no allocation for up to seven joints):
+/// A sample is compact (200 bytes, no allocation for up to seven joints):
 /// generators and edits hold many of them. What loads an elastic robot's
-/// joints, which most samples do not carry, sits behind one pointer
-/// ([`Sample::loads`]).
+/// joints and the uncertainty an instrument states for the row, which most
+/// samples do not carry, sit behind a pointer each ([`Sample::loads`],
+/// [`Sample::sigma`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Sample {
     /// Motor variables qm (eq. 4): radians or metres.
@@ -39,6 +40,67 @@ pub struct Sample {
     /// The payload and the joint loads at this configuration, when the
     /// data state them (issue 38); `None`: no load.
     pub loads: Option<Box<SampleLoads>>,
+    /// The standard deviations the instrument states for this row's
+    /// measurement, when the data give them; `None`: the set's σ.
+    pub sigma: Option<Box<RowSigma>>,
+}
+
+/// The standard deviations an instrument states for one measured row (a
+/// tracker's or a 6-D probe's per-point uncertainty): they stand for the
+/// set's σ in this row's weight (rows are multiplied by 1/σ, eq. 8 with a
+/// diagonal weight), so that a point measured far from the instrument, or
+/// through a poor line of sight, counts less. `None`: the set's σ.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RowSigma {
+    /// σ of the row's lengths (positions, distances), metres, > 0.
+    pub length: Option<f64>,
+    /// σ of the row's orientation angles, radians, > 0.
+    pub angle: Option<f64>,
+}
+
+impl RowSigma {
+    /// The σ of lengths and of angles as stored in a data set's column
+    /// (`0`: not stated; a stated 0 is no standard deviation, refused by
+    /// [`check`](Self::check) where it is made).
+    pub(crate) fn stored(self) -> [f64; 2] {
+        [self.length.unwrap_or(0.0), self.angle.unwrap_or(0.0)]
+    }
+
+    /// The σ stored as [`stored`](Self::stored) writes it; `None` when
+    /// neither is stated.
+    pub(crate) fn of_stored([length, angle]: [f64; 2]) -> Option<RowSigma> {
+        // 0 is "not stated"; any other value is kept, to be checked.
+        let stated = |value: f64| (value != 0.0).then_some(value);
+        let sigma = RowSigma {
+            length: stated(length),
+            angle: stated(angle),
+        };
+        (sigma.length.is_some() || sigma.angle.is_some()).then_some(sigma)
+    }
+
+    /// Checks that each stated σ is a finite length or angle above zero
+    /// and within what an instrument can state (a length up to
+    /// [`gecaro_core::MAX_MAGNITUDE`], an angle up to π).
+    ///
+    /// # Errors
+    /// A sentence naming the σ at fault.
+    pub fn check(self) -> Result<(), String> {
+        if let Some(length) = self.length
+            && !(length > 0.0 && length <= gecaro_core::MAX_MAGNITUDE)
+        {
+            return Err(format!(
+                "the row's σ of lengths {length} m is not a standard deviation (> 0, finite)"
+            ));
+        }
+        if let Some(angle) = self.angle
+            && !(angle > 0.0 && angle <= std::f64::consts::PI)
+        {
+            return Err(format!(
+                "the row's σ of angles {angle} rad is not a standard deviation (> 0, ≤ π)"
+            ));
+        }
+        Ok(())
+    }
 }
 
 /// What loads the joints of an elastic robot at one configuration.
@@ -72,6 +134,7 @@ impl Sample {
             distance: None,
             line: None,
             loads: None,
+            sigma: None,
         }
     }
 
@@ -218,7 +281,7 @@ mod tests {
     /// seven-joint robot in place, the loads behind one pointer.
     #[test]
     fn a_sample_is_compact_and_keeps_seven_joints_in_place() {
-        assert!(std::mem::size_of::<Sample>() <= 192);
+        assert!(std::mem::size_of::<Sample>() <= 200);
         let mut joints = Vec::with_capacity(16);
         joints.extend([0.1; 7]);
         let sample = Sample::new(joints);

@@ -13,7 +13,7 @@ use crate::observation::{ObservationSystem, linearise_independent, write_rows};
 use crate::parallel::run_parts;
 use crate::rows::{ColumnLayout, RowWriter};
 
-pub use crate::sample::{DataColumn, MotorPositions, Sample, SampleLoads};
+pub use crate::sample::{DataColumn, MotorPositions, RowSigma, Sample, SampleLoads};
 pub use crate::samples::{
     Column, FilledSamples, SampleColumns, SampleIter, SampleRef, SampleShape, SampleSlice,
     SampleSlots, Samples, SamplesBuilder, SlotMut,
@@ -70,6 +70,48 @@ impl MeasurementSet {
     pub fn row_weights(&self) -> [f64; 2] {
         let length = self.sigma.unwrap_or(1.0);
         [1.0 / length, 1.0 / self.sigma_rotation.unwrap_or(length)]
+    }
+
+    /// The sensor weights of each configuration's length and angle rows
+    /// when the data state a σ per row ([`RowSigma`]): 1/σ of the row,
+    /// the set's ([`row_weights`](Self::row_weights)) where the row states
+    /// none; empty when no row states one. A configuration is an
+    /// observation of the methods whose configurations are independent,
+    /// the only ones whose data may state σ per row
+    /// ([`Study::check`]).
+    pub fn observation_sensors(&self) -> Vec<[f64; 2]> {
+        if !self.samples.states_sigma() {
+            return Vec::new();
+        }
+        let [length, angle] = self.row_weights();
+        self.samples
+            .iter()
+            .map(|sample| match sample.sigma() {
+                None => [length, angle],
+                Some(sigma) => [
+                    sigma.length.map_or(length, f64::recip),
+                    sigma.angle.map_or(angle, f64::recip),
+                ],
+            })
+            .collect()
+    }
+
+    /// Whether the set states the σ of its sensor: as the set's `sigma`,
+    /// or for every row (its lengths' σ, and its angles' where the method
+    /// measures angles and the set states no `sigma_rotation`).
+    pub fn states_sigma(&self) -> bool {
+        let angles = self
+            .method
+            .data_columns()
+            .contains(&DataColumn::Orientation)
+            && self.sigma_rotation.is_none();
+        self.sigma.is_some()
+            || (!self.samples.is_empty()
+                && self.samples.iter().all(|sample| {
+                    sample.sigma().is_some_and(|sigma| {
+                        sigma.length.is_some() && (!angles || sigma.angle.is_some())
+                    })
+                }))
     }
 }
 
@@ -294,7 +336,9 @@ impl Study {
 
     /// Checks every set against the robot and its method: configurations of n
     /// finite values, the method's columns present and finite, unit
-    /// quaternions, set and pair structure, a positive σ.
+    /// quaternions, set and pair structure, a positive σ (a set's, and a
+    /// row's where the data state one, only for methods whose
+    /// configurations are independent).
     ///
     /// # Errors
     /// [`Error::InvalidData`] naming the line at fault.
@@ -342,6 +386,25 @@ impl Study {
             })
             .into_iter()
             .collect::<Result<Vec<()>, Error>>()?;
+            if set.samples.states_sigma() {
+                if !set.method.independent_configurations() {
+                    return Err(invalid(
+                        None,
+                        format!(
+                            "the data state a σ per row, and the {} method's equations join \
+                             several configurations (a set, a pair): state the set's σ instead",
+                            set.method.name()
+                        ),
+                    ));
+                }
+                for sample in set.samples.iter() {
+                    if let Some(sigma) = sample.sigma() {
+                        sigma
+                            .check()
+                            .map_err(|message| invalid(sample.line(), message))?;
+                    }
+                }
+            }
             set.method
                 .check_samples(set.samples.as_slice())
                 .map_err(|error| match error {
@@ -767,8 +830,8 @@ impl Study {
             let rows = set.method.row_count(set.samples.as_slice());
             let count = set.method.auxiliary_names().len();
             let own = &auxiliary[auxiliary_offset..auxiliary_offset + count];
-            let writer =
-                system.writer(layout, first_row, rows, auxiliary_offset, set.row_weights());
+            let weights = (set.row_weights(), set.observation_sensors());
+            let writer = system.writer(layout, first_row, rows, auxiliary_offset, weights);
             let end = write(index, set, own, writer)?;
             system.record_observations(end);
             system.record_set(first_row..first_row + rows, set.row_weights());

@@ -13,6 +13,7 @@ mod prediction;
 mod real_data;
 mod region;
 mod robust;
+mod row_sigma;
 mod streaming;
 mod validation;
 mod verdict;

@@ -11,6 +11,13 @@
 //! `payload_x,payload_y,payload_z`, its centre in frame n+1 (a length, in
 //! the file's length unit; frame n+1's origin when omitted).
 //!
+//! A file may state each row's uncertainty, as instruments export it
+//! (issue 74): `sigma`, the σ of the row's lengths (positions, distances;
+//! in the file's length unit), and `sigma_angle`, the σ of its orientation
+//! angles (in the file's angle unit); an empty field states none (the
+//! set's σ holds there). Such a row counts by its own σ in the fit and in
+//! its verdict ([`gecaro_calib::study::RowSigma`]).
+//!
 //! Files are read as instruments and controllers write them ([`DataFormat`]):
 //! columns come in any order and are found by name, or under other names
 //! given by a [`ColumnMap`] (`x=X_mm`); lengths (positions, distances,
@@ -295,6 +302,7 @@ fn parse_from(
     let mut unused = layout.unused;
     let payload = payload_columns(&names, &mut unused, &format.columns)
         .map_err(|message| fail(header_line, None, message))?;
+    let sigma = sigma_columns(&mut unused, &format.columns, &names);
     let units = format.units;
     let length = units.length.to_metres();
     let fields = Fields {
@@ -320,6 +328,7 @@ fn parse_from(
             .contains(&DataColumn::Distance)
             .then(|| at("distance")),
         payload,
+        sigma,
     };
     let rows = RowReader {
         path,
@@ -376,6 +385,49 @@ fn parse_from(
         unused_columns: unused,
         notes,
     })
+}
+
+/// gecaro's names of the columns of a row's σ (see the module docs): of
+/// its lengths, and of its angles.
+const SIGMA_COLUMNS: [&str; 2] = ["sigma", "sigma_angle"];
+
+/// The columns of a row's σ among the header's `names` (taken out of
+/// `unused`), when the file has either.
+fn sigma_columns(
+    unused: &mut Vec<String>,
+    map: &ColumnMap,
+    names: &[String],
+) -> Option<[Option<usize>; 2]> {
+    let found = SIGMA_COLUMNS.map(|name| {
+        let file_name = map.file_name(name);
+        names.iter().position(|column| column == file_name)
+    });
+    unused.retain(|name| {
+        !SIGMA_COLUMNS
+            .iter()
+            .any(|column| map.file_name(column) == name)
+    });
+    found.iter().any(Option::is_some).then_some(found)
+}
+
+/// The σ columns a file of `samples` has: both when any sample states
+/// its σ, none otherwise.
+fn sigma_columns_of(samples: SampleSlice<'_>) -> &'static [&'static str] {
+    if samples.iter().any(|sample| sample.sigma().is_some()) {
+        &SIGMA_COLUMNS
+    } else {
+        &[]
+    }
+}
+
+/// A row's σ fields in units of `length` metres and `angle` radians:
+/// empty where the row states none.
+fn sigma_fields(sample: SampleRef<'_>, (length, angle): (f64, f64)) -> [Option<f64>; 2] {
+    let sigma = sample.sigma().unwrap_or_default();
+    [
+        sigma.length.map(|value| value / length),
+        sigma.angle.map(|value| value / angle),
+    ]
 }
 
 /// gecaro's names of the payload columns (see the module docs).
@@ -481,7 +533,19 @@ fn resolve_header(
     expected: &[String],
     map: &ColumnMap,
 ) -> Result<crate::columns::Layout, String> {
-    if let Some(message) = map.unused(names, expected).or_else(|| map.clash(expected)) {
+    // The optional columns any file may have (a payload, a row's σ) may
+    // be renamed too.
+    let known: Vec<String> = expected
+        .iter()
+        .cloned()
+        .chain(
+            PAYLOAD_COLUMNS
+                .iter()
+                .chain(&SIGMA_COLUMNS)
+                .map(|name| (*name).to_owned()),
+        )
+        .collect();
+    if let Some(message) = map.unused(names, &known).or_else(|| map.clash(&known)) {
         return Err(format!("{message}{}", header_read(names)));
     }
     let layout = locate(names, expected, map);
@@ -575,8 +639,10 @@ pub fn format_samples(
     samples: SampleSlice<'_>,
 ) -> String {
     let payload_columns = payload_columns_of(samples);
+    let sigma_columns = sigma_columns_of(samples);
     let mut header = data_headers(joint_count, columns);
     header.extend(payload_columns.iter().map(|name| (*name).to_owned()));
+    header.extend(sigma_columns.iter().map(|name| (*name).to_owned()));
     let mut text = header.join(",");
     text.push('\n');
     for sample in samples {
@@ -605,6 +671,12 @@ pub fn format_samples(
         }
         if !payload_columns.is_empty() {
             fields.extend(payload_values(sample, 1.0).map(|v| format!("{v:?}")));
+        }
+        if !sigma_columns.is_empty() {
+            fields.extend(
+                sigma_fields(sample, (1.0, 1.0))
+                    .map(|v| v.map_or_else(String::new, |v| format!("{v:?}"))),
+            );
         }
         text.push_str(&fields.join(","));
         text.push('\n');
@@ -650,6 +722,61 @@ mod tests {
 
     fn error_of(text: &str, columns: &[DataColumn]) -> String {
         parse(text, columns).expect_err("invalid").to_string()
+    }
+
+    /// A row's σ (issue 74): `sigma` in the file's length unit and
+    /// `sigma_angle` in its angle unit, an empty field stating none, a
+    /// decimal comma read as such; written back in metres and radians and
+    /// read again the same; a σ that is no standard deviation is refused
+    /// naming its line and column.
+    #[test]
+    fn a_row_s_sigma_reads_in_the_file_s_units_and_round_trips() {
+        let text = "qm1;qm2;x;y;z;qw;qx;qy;qz;sigma;sigma_angle\n\
+                    10;20;100;200;300;1;0;0;0;0,015;0,002\n\
+                    30;40;100;200;300;1;0;0;0;0,2;\n\
+                    50;60;100;200;300;1;0;0;0;;\n";
+        let columns = [DataColumn::Position, DataColumn::Orientation];
+        let file = parse_samples(
+            text.as_bytes(),
+            Path::new("probe.csv"),
+            &TWO_REVOLUTE,
+            &columns,
+            &DataFormat {
+                units: DataUnits {
+                    length: crate::LengthUnit::Millimetres,
+                    angle: crate::AngleUnit::Degrees,
+                },
+                ..DataFormat::default()
+            },
+        )
+        .expect("valid");
+        assert!(file.unused_columns.is_empty(), "{:?}", file.unused_columns);
+        let sigma = file.samples.get(0).sigma().expect("σ");
+        assert!((sigma.length.expect("length") - 15e-6).abs() < 1e-18);
+        assert!((sigma.angle.expect("angle") - 0.002f64.to_radians()).abs() < 1e-15);
+        let second = file.samples.get(1).sigma().expect("σ");
+        assert_eq!((second.length, second.angle), (Some(2e-4), None));
+        assert_eq!(file.samples.get(2).sigma(), None);
+        let written = format_samples(2, &columns, file.samples.as_slice());
+        assert!(written.starts_with("qm1,qm2,x,y,z,qw,qx,qy,qz,sigma,sigma_angle\n"));
+        assert_eq!(parse(&written, &columns).expect("reads back"), file.samples);
+        for (row, column) in [("0,0,1,2,3,-0.1", "sigma"), ("0,0,1,2,3,0", "sigma")] {
+            let message = error_of(
+                &format!("qm1,qm2,x,y,z,sigma\n0,0,1,2,3,1e-5\n{row}\n"),
+                &[DataColumn::Position],
+            );
+            assert!(
+                message.contains("data.csv:3")
+                    && message.contains(column)
+                    && message.contains("standard deviation"),
+                "{message}"
+            );
+        }
+        let message = error_of(
+            "qm1,qm2,x,y,z,sigma_angle\n0,0,1,2,3,4\n",
+            &[DataColumn::Position],
+        );
+        assert!(message.contains("sigma_angle"), "{message}");
     }
 
     /// The payload columns: read in the file's length unit, written back

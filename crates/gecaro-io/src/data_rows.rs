@@ -100,6 +100,9 @@ pub(crate) struct Fields {
     pub(crate) distance: Option<usize>,
     /// Columns of the payload, when the file states one.
     pub(crate) payload: Option<PayloadColumns>,
+    /// Columns of each row's σ of lengths and of angles, when the file
+    /// has either.
+    pub(crate) sigma: Option<[Option<usize>; 2]>,
 }
 
 /// Columns of the payload's mass (kg) and, when given, of its centre in
@@ -200,6 +203,7 @@ impl RowReader<'_> {
                 group: fields.group.is_some(),
                 distance: fields.distance.is_some(),
                 loads: fields.payload.is_some(),
+                sigma: fields.sigma.is_some(),
             }),
             normalised: Normalised::default(),
             error: None,
@@ -545,6 +549,36 @@ impl RowReader<'_> {
         }
         if let (Some(column), Some(distance)) = (fields.distance, slot.distance) {
             *distance = length(column)?;
+        }
+        if let Some(columns) = fields.sigma {
+            // σ of lengths, then of angles, each a standard deviation above
+            // zero that an instrument can state; an empty field states none.
+            let limits = [
+                (self.length, gecaro_core::MAX_MAGNITUDE, "m"),
+                (self.angle, std::f64::consts::PI, "rad"),
+            ];
+            for ((column, (scale, largest, unit)), stored) in
+                columns.into_iter().zip(limits).zip(slot.sigma.iter_mut())
+            {
+                *stored = 0.0;
+                let Some(column) = column else { continue };
+                if record.field(column).iter().all(u8::is_ascii_whitespace) {
+                    continue;
+                }
+                let sigma = value(column)? * scale;
+                if !(sigma > 0.0 && sigma <= largest) {
+                    return Err(self.fail(
+                        line,
+                        Some(column),
+                        format!(
+                            "`{}` is not a standard deviation: above 0 and at most {largest} {unit} \
+                             (leave the field empty where the row states none)",
+                            text(column)
+                        ),
+                    ));
+                }
+                *stored = sigma;
+            }
         }
         if let Some(PayloadColumns { mass, centre }) = fields.payload {
             let kilograms = value(mass)?;

@@ -47,9 +47,12 @@ impl PyData {
     /// `position` (m, 3), `orientation` (m, 4) unit quaternions qw, qx, qy, qz,
     /// `set` or `pair` (m,) integer ids, `distance` (m,); and the payload
     /// carried at each row for elastic joints, `payload` (m,) masses in kg
-    /// or (m, 4) mass and centre x, y, z in the tool frame (metres).
+    /// or (m, 4) mass and centre x, y, z in the tool frame (metres); and
+    /// the σ the instrument states for each row, `sigma` (m,) of its
+    /// lengths in metres and `sigma_angle` (m,) of its angles in radians
+    /// (NaN: none stated, the set's σ there).
     #[new]
-    #[pyo3(signature = (qm, *, position = None, orientation = None, set = None, pair = None, distance = None, payload = None, label = None))]
+    #[pyo3(signature = (qm, *, position = None, orientation = None, set = None, pair = None, distance = None, payload = None, sigma = None, sigma_angle = None, label = None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         qm: &Bound<'_, PyAny>,
@@ -59,6 +62,8 @@ impl PyData {
         pair: Option<&Bound<'_, PyAny>>,
         distance: Option<&Bound<'_, PyAny>>,
         payload: Option<&Bound<'_, PyAny>>,
+        sigma: Option<&Bound<'_, PyAny>>,
+        sigma_angle: Option<&Bound<'_, PyAny>>,
         label: Option<String>,
     ) -> PyResult<Self> {
         // The large columns are copied once (see `column_of`).
@@ -109,6 +114,7 @@ impl PyData {
             .map(|distance| column_of(distance, "distance", &[Some(m)]))
             .transpose()?
             .map(|(_, column)| column);
+        let sigma = row_sigmas(m, sigma, sigma_angle)?;
         let mut samples = Samples::from_columns(SampleColumns {
             motor_positions,
             joints: n,
@@ -116,6 +122,7 @@ impl PyData {
             orientation,
             group: group.map(Column::from),
             distance,
+            sigma,
             first_line: 0,
         })
         .map_err(input)?;
@@ -286,6 +293,20 @@ impl PyData {
         })
     }
 
+    /// The σ each row states (m, 2): of its lengths (m) and of its angles
+    /// (rad), NaN where it states none; None when no row states one.
+    #[getter]
+    fn sigma<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArrayDyn<f64>>>> {
+        self.field(py, 2, |sample| {
+            sample.sigma().map(|sigma| {
+                vec![
+                    sigma.length.unwrap_or(f64::NAN),
+                    sigma.angle.unwrap_or(f64::NAN),
+                ]
+            })
+        })
+    }
+
     /// The file it was read from, or `"<arrays>"`.
     #[getter]
     fn label(&self) -> &str {
@@ -330,4 +351,47 @@ impl PyData {
         }
         Ok(())
     }
+}
+
+/// The column of each row's σ of lengths (m) and of angles (rad) from
+/// `sigma` and `sigma_angle`, arrays of shape (m,) with NaN where a row
+/// states none ([`gecaro_calib::study::RowSigma`]); `None` when neither is
+/// given.
+fn row_sigmas(
+    m: usize,
+    sigma: Option<&Bound<'_, PyAny>>,
+    sigma_angle: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Option<Column<f64>>> {
+    if sigma.is_none() && sigma_angle.is_none() {
+        return Ok(None);
+    }
+    let mut stored = vec![0.0; 2 * m];
+    for (slot, (values, name)) in [(sigma, "sigma"), (sigma_angle, "sigma_angle")]
+        .into_iter()
+        .enumerate()
+    {
+        let Some(values) = values else { continue };
+        let values = Real::shaped(values, name, &[Some(m)])?;
+        for (row, value) in values.values.into_iter().enumerate() {
+            if value.is_nan() {
+                continue;
+            }
+            let sigma = if slot == 0 {
+                gecaro_calib::study::RowSigma {
+                    length: Some(value),
+                    angle: None,
+                }
+            } else {
+                gecaro_calib::study::RowSigma {
+                    length: None,
+                    angle: Some(value),
+                }
+            };
+            sigma
+                .check()
+                .map_err(|message| input(format!("{name}: row {row}: {message}")))?;
+            stored[2 * row + slot] = value;
+        }
+    }
+    Ok(Some(stored.into()))
 }

@@ -65,7 +65,7 @@ use super::repeats::Repeats;
 use super::words;
 use crate::observation::ObservationSystem;
 use crate::rows::{RowKind, robust_weight};
-use crate::study::Study;
+use crate::study::{MeasurementSet, Study};
 
 /// Why the iteration stopped.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -309,7 +309,7 @@ impl Verdict {
         let noise_test = study
             .sets
             .iter()
-            .all(|set| set.sigma.is_some())
+            .all(MeasurementSet::states_sigma)
             .then(|| noise_test(evidence.data_cost, evidence.degrees_of_freedom));
         let mut verdict = Verdict {
             outcome: Outcome::Untested,

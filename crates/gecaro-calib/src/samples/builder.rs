@@ -34,6 +34,7 @@ pub struct SamplesBuilder {
     orientation: FieldBuilder<f64, 4>,
     group: FieldBuilder<u64, 1>,
     distance: FieldBuilder<f64, 1>,
+    sigma: FieldBuilder<f64, 2>,
     lines: FieldBuilder<usize, 1>,
     /// `None` while no sample has loads; then one entry per sample.
     loads: Option<Vec<Option<Box<SampleLoads>>>>,
@@ -49,6 +50,7 @@ pub(super) struct Parts {
     pub(super) orientation: Option<Field<f64>>,
     pub(super) group: Option<Field<u64>>,
     pub(super) distance: Option<Field<f64>>,
+    pub(super) sigma: Option<Field<f64>>,
     pub(super) lines: Option<Field<usize>>,
     pub(super) loads: Option<Arc<Vec<Option<Box<SampleLoads>>>>>,
 }
@@ -66,6 +68,7 @@ impl SamplesBuilder {
             orientation: FieldBuilder::with_capacity(capacity),
             group: FieldBuilder::with_capacity(capacity),
             distance: FieldBuilder::with_capacity(capacity),
+            sigma: FieldBuilder::with_capacity(capacity),
             lines: FieldBuilder::with_capacity(capacity),
             loads: None,
         }
@@ -100,6 +103,8 @@ impl SamplesBuilder {
             .push(sample.orientation.map(|q| [q.w, q.i, q.j, q.k]));
         self.group.push(sample.group.map(|g| [g]));
         self.distance.push(sample.distance.map(|d| [d]));
+        self.sigma
+            .push(sample.sigma.as_deref().map(|sigma| sigma.stored()));
         self.lines.push(sample.line.map(|l| [l]));
         if sample.loads.is_some() {
             self.hold_loads();
@@ -134,6 +139,7 @@ impl SamplesBuilder {
             orientation: self.orientation.finish(),
             group: self.group.finish(),
             distance: self.distance.finish(),
+            sigma: self.sigma.finish(),
             lines: self.lines.finish(),
             loads: self.loads.map(Arc::new),
         }
@@ -149,6 +155,7 @@ impl<'a> Extend<&'a Sample> for SamplesBuilder {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sample::RowSigma;
     use crate::samples::Samples;
     use gecaro_core::LinkMass;
     use nalgebra::{UnitQuaternion, Vector3};
@@ -171,6 +178,12 @@ mod tests {
                     row.line = Some(10 + i);
                 }
                 row.group = Some(i as u64 / 2);
+                if i % 4 == 1 {
+                    row.sigma = Some(Box::new(RowSigma {
+                        length: Some(1e-5 * i as f64),
+                        angle: (i > 4).then_some(1e-4),
+                    }));
+                }
                 if i == 7 {
                     row.set_payload(Some(LinkMass {
                         mass: 1.5,

@@ -62,6 +62,8 @@ pub struct SampleShape {
     pub group: bool,
     /// A distance.
     pub distance: bool,
+    /// A stated σ of lengths and of angles ([`crate::study::RowSigma`]).
+    pub sigma: bool,
     /// Loads (a payload).
     pub loads: bool,
 }
@@ -76,6 +78,7 @@ impl SampleShape {
             orientation: width(self.orientation, 4),
             group: width(self.group, 1),
             distance: width(self.distance, 1),
+            sigma: width(self.sigma, 2),
             loads: width(self.loads, 1),
         }
     }
@@ -89,6 +92,7 @@ struct Widths {
     orientation: usize,
     group: usize,
     distance: usize,
+    sigma: usize,
     loads: usize,
 }
 
@@ -104,6 +108,7 @@ pub struct FilledSamples {
     orientation: Vec<f64>,
     group: Vec<u64>,
     distance: Vec<f64>,
+    sigma: Vec<f64>,
     lines: Vec<usize>,
     loads: Vec<Option<Box<SampleLoads>>>,
     /// Where each part of the last [`slots`](Self::slots) starts, and its
@@ -122,6 +127,7 @@ pub struct SampleSlots<'a> {
     orientation: &'a mut [f64],
     group: &'a mut [u64],
     distance: &'a mut [f64],
+    sigma: &'a mut [f64],
     lines: &'a mut [usize],
     loads: &'a mut [Option<Box<SampleLoads>>],
 }
@@ -140,6 +146,9 @@ pub struct SlotMut<'s> {
     pub group: Option<&'s mut u64>,
     /// The distance (m).
     pub distance: Option<&'s mut f64>,
+    /// The stated σ of lengths (m) and of angles (rad), 0 where not
+    /// stated, or empty.
+    pub sigma: &'s mut [f64],
     /// The line of the data file.
     pub line: &'s mut usize,
     /// The loads.
@@ -158,6 +167,7 @@ impl FilledSamples {
             orientation: Vec::new(),
             group: Vec::new(),
             distance: Vec::new(),
+            sigma: Vec::new(),
             lines: Vec::new(),
             loads: Vec::new(),
             handed_out: Vec::new(),
@@ -209,6 +219,7 @@ impl FilledSamples {
             len * widths.distance,
             room * widths.distance,
         );
+        grow(&mut self.sigma, len * widths.sigma, room * widths.sigma);
         grow(&mut self.lines, len, room);
         if self.shape.loads {
             self.loads.resize_with(room, || None);
@@ -231,6 +242,7 @@ impl FilledSamples {
         let mut orientation = &mut self.orientation[len * widths.orientation..];
         let mut group = &mut self.group[len * widths.group..];
         let mut distance = &mut self.distance[len * widths.distance..];
+        let mut sigma = &mut self.sigma[len * widths.sigma..];
         let mut lines = &mut self.lines[len..];
         let mut loads = &mut self.loads[len * widths.loads..];
         self.handed_out.clear();
@@ -248,6 +260,7 @@ impl FilledSamples {
                 orientation: cut(&mut orientation, count * widths.orientation),
                 group: cut(&mut group, count * widths.group),
                 distance: cut(&mut distance, count * widths.distance),
+                sigma: cut(&mut sigma, count * widths.sigma),
                 lines: cut(&mut lines, count),
                 loads: cut(&mut loads, count * widths.loads),
             });
@@ -277,6 +290,8 @@ impl FilledSamples {
                 self.group.copy_within(from, at);
                 let (from, at) = close(widths.distance);
                 self.distance.copy_within(from, at);
+                let (from, at) = close(widths.sigma);
+                self.sigma.copy_within(from, at);
                 self.lines.copy_within(start..start + kept, to);
                 if shape.loads {
                     for offset in 0..kept {
@@ -340,6 +355,7 @@ impl FilledSamples {
             orientation: &mut self.orientation[run(widths.orientation)],
             group: &mut self.group[run(widths.group)],
             distance: &mut self.distance[run(widths.distance)],
+            sigma: &mut self.sigma[run(widths.sigma)],
             lines: &mut self.lines[run(1)],
             loads: &mut self.loads[run(widths.loads)],
         }
@@ -376,6 +392,7 @@ impl FilledSamples {
             orientation: field(self.orientation, shape.orientation, 4),
             group,
             distance: field(self.distance, shape.distance, 1),
+            sigma: field(self.sigma, shape.sigma, 2),
             lines: Some(Field {
                 values: self.lines.into(),
                 missing: None,
@@ -440,6 +457,7 @@ impl SampleSlots<'_> {
             orientation: &mut self.orientation[at(widths.orientation)],
             group: shape.group.then(|| &mut self.group[index]),
             distance: shape.distance.then(|| &mut self.distance[index]),
+            sigma: &mut self.sigma[at(widths.sigma)],
             line: &mut self.lines[index],
             loads: shape.loads.then(|| &mut self.loads[index]),
         })

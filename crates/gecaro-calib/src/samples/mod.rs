@@ -35,7 +35,7 @@ use std::sync::{Arc, LazyLock};
 use gecaro_core::{LinkMass, Robot};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
-use crate::sample::{DataColumn, Sample, SampleLoads};
+use crate::sample::{DataColumn, RowSigma, Sample, SampleLoads};
 
 mod builder;
 mod column;
@@ -69,6 +69,9 @@ pub struct Samples {
     orientation: Option<Field<f64>>,
     group: Option<Field<u64>>,
     distance: Option<Field<f64>>,
+    /// Each sample's stated σ of lengths (m) and of angles (rad), 0 where
+    /// not stated ([`RowSigma`]).
+    sigma: Option<Field<f64>>,
     lines: Lines,
     loads: Option<Arc<Vec<Option<Box<SampleLoads>>>>>,
 }
@@ -87,6 +90,9 @@ pub struct SampleColumns {
     pub group: Option<Column<u64>>,
     /// Distances (m), one per configuration.
     pub distance: Option<Column<f64>>,
+    /// Each configuration's stated σ of lengths (m) and of angles (rad),
+    /// 2 per configuration, 0 where not stated ([`RowSigma`]).
+    pub sigma: Option<Column<f64>>,
     /// Sample i's line, for messages: `first_line + i`.
     pub first_line: usize,
 }
@@ -105,6 +111,7 @@ impl Samples {
             orientation,
             group,
             distance,
+            sigma,
             first_line,
         } = columns;
         if joints == 0 || motor_positions.values().len() % joints != 0 {
@@ -153,6 +160,7 @@ impl Samples {
             orientation: field(orientation, 4, "orientation")?,
             group,
             distance: field(distance, 1, "distance")?,
+            sigma: field(sigma, 2, "sigma")?,
             lines: Lines::Counted(first_line),
             loads: None,
         })
@@ -200,8 +208,14 @@ impl Samples {
             + field(&self.orientation)
             + field(&self.group)
             + field(&self.distance)
+            + field(&self.sigma)
             + lines
             + self.loads.as_ref().map_or(0, |loads| loads.len() * 8)
+    }
+
+    /// Whether some sample states its σ ([`Sample::sigma`]).
+    pub fn states_sigma(&self) -> bool {
+        self.sigma.is_some() && self.iter().any(|sample| sample.sigma().is_some())
     }
 
     /// All of them, as a slice.
@@ -251,6 +265,7 @@ impl Samples {
             orientation: self.orientation.as_ref().and_then(|f| f.gather(indices, 4)),
             group: self.group.as_ref().and_then(|f| f.gather(indices, 1)),
             distance: self.distance.as_ref().and_then(|f| f.gather(indices, 1)),
+            sigma: self.sigma.as_ref().and_then(|f| f.gather(indices, 2)),
             lines: Lines::Listed(Field::of(indices, |&index| {
                 self.get(index).line().map(|line| [line])
             })),
@@ -314,6 +329,7 @@ impl Samples {
             orientation: parts.orientation,
             group: parts.group,
             distance: parts.distance,
+            sigma: parts.sigma,
             lines: Lines::Listed(parts.lines),
             loads: parts.loads,
         }
@@ -622,6 +638,13 @@ impl<'a> SampleRef<'a> {
         Some(self.samples.distance.as_ref()?.at(self.index, 1)?[0])
     }
 
+    /// The standard deviations the data state for this sample's
+    /// measurement ([`Sample::sigma`]); `None`: the set's σ.
+    pub fn sigma(self) -> Option<RowSigma> {
+        let stored = self.samples.sigma.as_ref()?.at(self.index, 2)?;
+        RowSigma::of_stored([stored[0], stored[1]])
+    }
+
     /// Line of the data file this sample came from, for messages.
     pub fn line(self) -> Option<usize> {
         match &self.samples.lines {
@@ -661,6 +684,7 @@ impl<'a> SampleRef<'a> {
         sample.distance = self.distance();
         sample.line = self.line();
         sample.loads = self.loads().map(|loads| Box::new(loads.clone()));
+        sample.sigma = self.sigma().map(Box::new);
         sample
     }
 
@@ -689,6 +713,7 @@ impl PartialEq for SampleRef<'_> {
             && self.distance() == other.distance()
             && self.line() == other.line()
             && self.loads() == other.loads()
+            && self.sigma() == other.sigma()
     }
 }
 
@@ -848,6 +873,7 @@ mod tests {
             orientation: None,
             group: None,
             distance: None,
+            sigma: None,
             first_line: 0,
         };
         let samples =

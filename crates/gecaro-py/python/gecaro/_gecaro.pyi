@@ -274,6 +274,8 @@ class Data:
         pair: Optional[_ArrayLike] = None,
         distance: Optional[_ArrayLike] = None,
         payload: Optional[_ArrayLike] = None,
+        sigma: Optional[_ArrayLike] = None,
+        sigma_angle: Optional[_ArrayLike] = None,
         label: Optional[str] = None,
     ) -> Data: ...
     @staticmethod
@@ -315,6 +317,9 @@ class Data:
     @property
     def payload(self) -> Optional[_FloatArray]:
         """(m, 4) payload per row: mass (kg), centre x, y, z in the tool frame (m)."""
+    @property
+    def sigma(self) -> Optional[_FloatArray]:
+        """(m, 2) the sigma each row states: of its lengths (m), of its angles (rad); NaN where none."""
     @property
     def label(self) -> str: ...
     @property
