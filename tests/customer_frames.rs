@@ -639,9 +639,10 @@ fn data_from_another_tracker_position_are_registered() {
 }
 
 /// A 6-D probe's export as it is (issue 74): orientations as Euler angles
-/// x, y′, z″ in degrees, positions in mm, `;` and decimal commas — read
-/// with `--rotation euler-xyz` and identified as the quaternions the probe
-/// stood for are.
+/// x, y′, z″ in degrees, positions in mm, each point's σ, `;` and decimal
+/// commas — read with `--rotation euler-xyz` and identified as the
+/// quaternions the probe stood for are, the verdict testing each row
+/// against its own σ.
 #[test]
 fn a_probe_s_euler_angles_are_read_as_they_are() {
     let folder = tempfile::tempdir().expect("folder");
@@ -659,7 +660,8 @@ fn a_probe_s_euler_angles_are_read_as_they_are() {
         .assert()
         .success();
     let original = std::fs::read_to_string(text("frames.csv")).expect("data");
-    let mut probe = String::from("A1;A2;A3;A4;A5;A6;X;Y;Z;RX;RY;RZ\n");
+    // The probe states each point's σ too: 0,01 mm and 1e-5 rad in degrees.
+    let mut probe = String::from("A1;A2;A3;A4;A5;A6;X;Y;Z;RX;RY;RZ;SP;SR\n");
     for line in original
         .lines()
         .filter(|line| !line.starts_with('#'))
@@ -680,6 +682,7 @@ fn a_probe_s_euler_angles_are_read_as_they_are() {
         let mut fields: Vec<f64> = v[..6].iter().map(|q| q.to_degrees()).collect();
         fields.extend(v[6..9].iter().map(|p| p * 1e3));
         fields.extend([a, b, c].map(f64::to_degrees));
+        fields.extend([1e-2, 1e-5f64.to_degrees()]);
         let row: Vec<String> = fields
             .iter()
             .map(|x| format!("{x:.12}").replace('.', ","))
@@ -697,8 +700,9 @@ fn a_probe_s_euler_angles_are_read_as_they_are() {
         assert!(output.status.success(), "{output:?}");
         serde_json::from_slice(&output.stdout).expect("JSON")
     };
-    let by_quaternions = identify(&["--data", &text("frames.csv")]);
-    let columns = "qm1=A1,qm2=A2,qm3=A3,qm4=A4,qm5=A5,qm6=A6,x=X,y=Y,z=Z,rx=RX,ry=RY,rz=RZ";
+    let by_quaternions = identify(&["--data", &text("frames.csv"), "--sigma", "1e-5"]);
+    let columns = "qm1=A1,qm2=A2,qm3=A3,qm4=A4,qm5=A5,qm6=A6,x=X,y=Y,z=Z,rx=RX,ry=RY,rz=RZ,\
+                   sigma=SP,sigma_angle=SR";
     let by_euler = identify(&[
         "--data",
         &text("probe.csv"),
@@ -729,6 +733,20 @@ fn a_probe_s_euler_angles_are_read_as_they_are() {
     for (x, y) in a.iter().zip(&b) {
         assert!((x - y).abs() < 1e-8, "{x} vs {y}");
     }
+    // The rows' own σ test them as the stated one does.
+    for json in [&by_quaternions, &by_euler] {
+        assert_eq!(
+            json["verdict"]["outcome"], "fits_noise",
+            "{}",
+            json["verdict"]
+        );
+    }
+    let ratio = |json: &serde_json::Value| json["verdict"]["noise_test"]["sigma_ratio"].as_f64();
+    let (stated, own) = (
+        ratio(&by_quaternions).expect("σ̂/σ"),
+        ratio(&by_euler).expect("σ̂/σ"),
+    );
+    assert!((stated - own).abs() < 1e-6, "{stated} vs {own}");
 }
 
 /// The owner's base registered by the circles of joints 1 and 2 (issue
