@@ -85,7 +85,7 @@ pub(crate) fn nearest_without_beta(robot: &Robot, format: &str) -> Result<Neares
         &mut sampler,
         &mut Quiet,
     )?;
-    let mut prior = Prior::new(1e3, 1e3, 1e3)?;
+    let mut prior = Prior::new(1e3, 1e3, 1e3).map_err(gecaro_calib::Error::from)?;
     prior.overrides = between
         .clone()
         .map(|j| ParameterId::new(ParameterKind::Beta, j))

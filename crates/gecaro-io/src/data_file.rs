@@ -16,7 +16,7 @@
 //! in the file's length unit), and `sigma_angle`, the σ of its orientation
 //! angles (in the file's angle unit); an empty field states none (the
 //! set's σ holds there). Such a row counts by its own σ in the fit and in
-//! its verdict ([`gecaro_calib::study::RowSigma`]).
+//! its verdict ([`gecaro_data::sample::RowSigma`]).
 //!
 //! Files are read as instruments and controllers write them ([`DataFormat`]):
 //! columns come in any order and are found by name, or under other names
@@ -31,8 +31,9 @@
 //!
 //! Every error names the file, the line and the column.
 
-use gecaro_calib::study::{DataColumn, SampleRef, SampleSlice, Samples};
 use gecaro_core::{FrameType, LinkMass};
+use gecaro_data::sample::DataColumn;
+use gecaro_data::samples::{SampleRef, SampleSlice, Samples};
 use std::io::Read;
 use std::path::Path;
 
@@ -571,7 +572,7 @@ fn resolve_header(
 }
 
 /// The CSV text of configurations (and their set or pair ids: `columns` of
-/// [`DataColumn::grouping`](gecaro_calib::study::DataColumn::grouping)) as
+/// [`DataColumn::grouping`](gecaro_data::sample::DataColumn::grouping)) as
 /// `format` reads them back: joint values in its units (`joint_types` from
 /// [`crate::joint_types`]), columns under its names, its separator (`;` or
 /// a tab when it names one) and, when it asks for one, a decimal comma. A
@@ -704,7 +705,7 @@ pub fn write_samples(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use gecaro_calib::study::Sample;
+    use gecaro_data::sample::Sample;
     use nalgebra::{UnitQuaternion, Vector3};
 
     const TWO_REVOLUTE: [FrameType; 2] = [FrameType::Revolute; 2];

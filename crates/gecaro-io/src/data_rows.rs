@@ -13,9 +13,10 @@
 //! read in chunks the same way, each chunk's parts written after the
 //! samples before it ([`RowReader::read_chunks`]).
 
-use gecaro_calib::parallel::{PARTS_PER_THREAD, available_threads, run_parts};
-use gecaro_calib::study::{FilledSamples, SampleLoads, SampleShape, SampleSlots, SlotMut};
 use gecaro_core::LinkMass;
+use gecaro_data::parallel::{PARTS_PER_THREAD, available_threads, run_parts};
+use gecaro_data::sample::SampleLoads;
+use gecaro_data::samples::{FilledSamples, SampleShape, SampleSlots, SlotMut};
 use nalgebra::Vector3;
 use std::io::Read;
 use std::path::Path;

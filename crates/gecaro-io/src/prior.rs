@@ -14,10 +14,10 @@
 //! ```
 //!
 //! gecaro works in metres, radians and fractions of the gain
-//! ([`gecaro_calib::identification::Prior`]).
+//! ([`gecaro_data::prior::Prior`]).
 
-use gecaro_calib::identification::Prior;
 use gecaro_core::{ParameterId, ParameterKind};
+use gecaro_data::prior::Prior;
 use serde::Deserialize;
 
 use crate::columns::DataUnits;

@@ -157,7 +157,7 @@ pub use weighting::SECOND_PASS_PRIOR;
 use weighting::{Weighting, second_pass_prior};
 
 pub use crate::observation::ObservationErrors;
-pub use crate::prior::{COMPLIANCE_PRIOR, Prior};
+pub use crate::prior::{COMPLIANCE_PRIOR, Prior, PriorError};
 pub use crate::progress::IterationRecord;
 pub use crate::robust::{Loss, LossKind, robust_sigma};
 

@@ -10,7 +10,7 @@ use crate::identifiability::Relation;
 use crate::prior::Prior;
 
 /// The prior's rows for the base parameters of `problem` (weights set by the
-/// reweighted phase), with the regrouped priors of [`Prior::base_sigma`].
+/// reweighted phase), with the regrouped priors of [`crate::prior::base_sigma`].
 pub(super) fn prior_rows(
     prior: &Prior,
     robot: &Robot,
@@ -25,7 +25,7 @@ pub(super) fn prior_rows(
         .map(|(position, &index)| PriorRow {
             column: offset + position,
             centre: robot.parameter(robot.parameters().id(index)),
-            sigma: prior.base_sigma(robot, robot.parameters().id(index), relations),
+            sigma: crate::prior::base_sigma(prior, robot, robot.parameters().id(index), relations),
             index,
             weight: 0.0,
         })

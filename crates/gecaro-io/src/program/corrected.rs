@@ -6,8 +6,8 @@
 //! read a block at a time ([`crate::ProgramReader`]) is written as it is
 //! read.
 
-use gecaro_calib::compensation::CompensatedPoint;
-use gecaro_calib::parallel::{available_threads, run_parts};
+use gecaro_data::parallel::{available_threads, run_parts};
+use gecaro_data::program::CompensatedPoint;
 
 use std::io::Write;
 

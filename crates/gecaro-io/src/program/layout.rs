@@ -2,8 +2,8 @@
 //! which columns the corrected program keeps as written; and the targets of
 //! its rows, a block at a time.
 
-use gecaro_calib::compensation::{ProgramPoint, ProgramTarget};
 use gecaro_core::{FrameType, Robot};
+use gecaro_data::program::{ProgramPoint, ProgramTarget};
 use nalgebra::{IsometryMatrix3, Translation3, Vector3};
 use std::path::Path;
 

@@ -21,8 +21,8 @@ mod corrected;
 mod layout;
 mod reader;
 
-use gecaro_calib::compensation::CompensatedPoint;
 use gecaro_core::Robot;
+use gecaro_data::program::CompensatedPoint;
 use std::io::Read;
 use std::path::Path;
 
@@ -41,7 +41,7 @@ pub struct ProgramFile {
     /// Every target, in the order of the file.
     targets: ProgramBlock,
     /// The targets, in gecaro's units.
-    pub points: Vec<gecaro_calib::compensation::ProgramPoint>,
+    pub points: Vec<gecaro_data::program::ProgramPoint>,
 }
 
 /// Reads a program for `robot` written as `format` says (units, column
@@ -112,8 +112,8 @@ mod tests {
     use crate::DataUnits;
     use crate::columns::{ColumnMap, Delimiter};
     use crate::robot_file::AngleUnit;
-    use gecaro_calib::compensation::CompensationStatus;
-    use gecaro_calib::compensation::ProgramTarget;
+    use gecaro_data::program::CompensationStatus;
+    use gecaro_data::program::ProgramTarget;
 
     /// A target reached at `motor_positions`, `position_error` away.
     /// `text` read as the program `name` in gecaro's own units and columns.

@@ -10,8 +10,8 @@
 use std::io::{Cursor, Read};
 use std::path::Path;
 
-use gecaro_calib::parallel::{available_threads, run_parts};
 use gecaro_core::Robot;
+use gecaro_data::parallel::{available_threads, run_parts};
 
 use super::layout::{ProgramBlock, ProgramLayout, target_columns};
 use crate::Error;

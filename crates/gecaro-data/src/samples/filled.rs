@@ -15,7 +15,7 @@
 //! core.
 //!
 //! ```
-//! use gecaro_calib::study::{FilledSamples, SampleShape, Samples};
+//! use gecaro_data::samples::{FilledSamples, SampleShape, Samples};
 //!
 //! let shape = SampleShape { joints: 2, position: true, ..SampleShape::default() };
 //! let mut filled = FilledSamples::new(shape);
@@ -62,7 +62,7 @@ pub struct SampleShape {
     pub group: bool,
     /// A distance.
     pub distance: bool,
-    /// A stated σ of lengths and of angles ([`crate::study::RowSigma`]).
+    /// A stated σ of lengths and of angles ([`crate::sample::RowSigma`]).
     pub sigma: bool,
     /// Loads (a payload).
     pub loads: bool,
@@ -472,8 +472,8 @@ impl SampleSlots<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sample::Sample;
     use crate::samples::Samples;
-    use crate::study::Sample;
     use gecaro_core::LinkMass;
     use nalgebra::{UnitQuaternion, Vector3};
 

@@ -15,7 +15,8 @@
 //! changing them ([`Samples::to_rows`]).
 //!
 //! ```
-//! use gecaro_calib::study::{Sample, Samples};
+//! use gecaro_data::sample::Sample;
+//! use gecaro_data::samples::Samples;
 //! use nalgebra::Vector3;
 //!
 //! let mut row = Sample::new(vec![0.1, 0.2]);
@@ -443,7 +444,7 @@ impl<'a> SampleSlice<'a> {
     /// milliseconds), which the sample-by-sample route follows only when it
     /// fails, to name the first fault. False whenever some sample would
     /// fail (and for samples of different joint counts).
-    pub(crate) fn plainly_sound(self, robot: &Robot, columns: &[DataColumn]) -> bool {
+    pub fn plainly_sound(self, robot: &Robot, columns: &[DataColumn]) -> bool {
         let (samples, range) = (self.samples, self.start..self.end);
         let joints = samples.joints;
         samples.offsets.is_none()
@@ -477,7 +478,7 @@ impl<'a> SampleSlice<'a> {
 
     /// The motor values of this slice's samples, n a sample one after
     /// another, as stored; `None` when the samples do not all have n.
-    pub(crate) fn motor_values(self) -> Option<&'a [f64]> {
+    pub fn motor_values(self) -> Option<&'a [f64]> {
         let joints = self.samples.joints;
         (self.samples.offsets.is_none() && joints > 0)
             .then(|| &self.samples.motor.values()[self.start * joints..self.end * joints])
@@ -485,7 +486,7 @@ impl<'a> SampleSlice<'a> {
 
     /// Whether every sample of this slice has a measured position (finite
     /// or not), found without reading the samples.
-    pub(crate) fn all_positioned(self) -> bool {
+    pub fn all_positioned(self) -> bool {
         let range = self.start..self.end;
         self.is_empty()
             || self

@@ -4,7 +4,7 @@
 //! Every sample has the motor variables qm1..qmn of one configuration; which
 //! other fields a method needs is given by its [`DataColumn`]s (and so are
 //! the columns of its CSV files). A data set itself is held as columns
-//! ([`Samples`](crate::study::Samples)); a `Sample` is what generators make
+//! ([`Samples`](crate::samples::Samples)); a `Sample` is what generators make
 //! one configuration at a time and what an edit of a data set changes.
 
 use gecaro_core::LinkMass;
@@ -111,7 +111,7 @@ pub struct SampleLoads {
     pub payload: Option<LinkMass>,
     /// The gravity torque of every joint (N·m, or N), the load an elastic
     /// robot's joints yield to; `None`: no load. Filled from the masses and
-    /// the payload by [`crate::elastic::load_samples`].
+    /// the payload by `gecaro_calib::elastic::load_samples`.
     pub torques: Option<Vec<f64>>,
     /// The torques' derivatives with respect to gravity's two tilts (2n
     /// values: `∂τ_j/∂tilt1` for j = 1..n, then `∂τ_j/∂tilt2`;

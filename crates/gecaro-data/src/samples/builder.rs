@@ -12,7 +12,8 @@ use crate::sample::{Sample, SampleLoads};
 /// [`Samples::from`](super::Samples) it.
 ///
 /// ```
-/// use gecaro_calib::study::{Sample, Samples, SamplesBuilder};
+/// use gecaro_data::sample::Sample;
+/// use gecaro_data::samples::{Samples, SamplesBuilder};
 ///
 /// let mut builder = SamplesBuilder::with_capacity(2);
 /// builder.push(&Sample::new(vec![0.1, 0.2]));
