@@ -607,7 +607,7 @@ fn a_cell_is_planned_within_its_floor_and_lines_of_sight() {
         .output()
         .expect("runs");
     assert!(output.status.success(), "{output:?}");
-    let file = gecaro_io::read_study_file_for(&planned, gecaro_io::StudyData::Configurations)
+    let file = gecaro_app::read_study_file_for(&planned, gecaro_app::StudyData::Configurations)
         .expect("the planned study reads");
     let robot = &file.robot.robot;
     let mut checked = 0;

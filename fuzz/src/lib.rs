@@ -161,9 +161,9 @@ pub fn symoro_file(bytes: &[u8]) {
 /// A study's files in memory: any robot name is the Stanford arm, any
 /// priority file its default matrix, any data file two configurations with
 /// every column a method may read.
-struct FuzzStudyFiles<'a>(&'a gecaro_io::StudyText);
+struct FuzzStudyFiles<'a>(&'a gecaro_app::StudyText);
 
-impl gecaro_io::StudyFiles for FuzzStudyFiles<'_> {
+impl gecaro_app::StudyFiles for FuzzStudyFiles<'_> {
     type Error = gecaro_io::Error;
 
     fn robot(&self, _: &str) -> Result<gecaro_io::RobotFile, gecaro_io::Error> {
@@ -198,7 +198,7 @@ impl gecaro_io::StudyFiles for FuzzStudyFiles<'_> {
         Ok((data, "fuzz.csv".into()))
     }
 
-    fn misplaced(&self, field: &gecaro_io::SpecField, message: String) -> gecaro_io::Error {
+    fn misplaced(&self, field: &gecaro_app::SpecField, message: String) -> gecaro_io::Error {
         self.0.misplaced(field, message)
     }
 }
@@ -213,16 +213,16 @@ pub fn study_file(bytes: &[u8]) {
     };
     let started = std::time::Instant::now();
     let path = Path::new("fuzz.toml");
-    match gecaro_io::StudyText::parse(text.to_owned(), path) {
+    match gecaro_app::StudyText::parse(text.to_owned(), path) {
         Ok(study) => {
             let written = toml::to_string(&study.spec).expect("a stated study writes");
-            let again: gecaro_io::StudySpec = toml::from_str(&written).unwrap_or_else(|error| {
+            let again: gecaro_app::StudySpec = toml::from_str(&written).unwrap_or_else(|error| {
                 panic!("a written study does not read: {error}\n{written}")
             });
             assert_eq!(format!("{again:?}"), format!("{:?}", study.spec));
             match study
                 .spec
-                .build(&FuzzStudyFiles(&study), gecaro_io::StudyData::Measured)
+                .build(&FuzzStudyFiles(&study), gecaro_app::StudyData::Measured)
             {
                 Ok(file) => {
                     let _ = file.study.check(&file.robot.robot);

@@ -93,9 +93,11 @@ mod set_errors;
 mod settings;
 mod sources;
 mod study_editing;
+mod study_file;
 mod study_files;
 mod study_plan;
 mod study_prediction;
+mod study_spec;
 mod tool_point;
 mod uncertainty;
 mod user_frame;
@@ -142,11 +144,16 @@ pub use sources::{
     length_unit, robot_of_document, rotation_format,
 };
 pub use study_editing::{SaveStudyRequest, open_study};
+pub use study_file::{StudyText, read_study_file, read_study_file_for};
 pub use study_plan::{
     PlanStudyJson, PlanStudyRequest, PlannedSetJson, PlannedStudy, PreparedStudyPlan,
 };
 pub use study_prediction::{
     PredictStudyJson, PredictStudyRequest, PredictedSetJson, PredictedStudy,
+};
+pub use study_spec::{
+    FrameSpec, MethodChoice, PriorSpec, SetData, SetSpec, SpecField, StudyData, StudyFile,
+    StudyFiles, StudySpec,
 };
 pub use tool_point::{SMALL_SPREAD, TaughtToolPoint, ToolPointJson, ToolPointRequest};
 pub use uncertainty::{Correlation, correlation, frame_covariances};

@@ -5,10 +5,11 @@
 
 use std::collections::BTreeMap;
 
+use crate::StudySpec;
 use gecaro_calib::identification::Prior;
 use gecaro_calib::study::Study;
 use gecaro_core::PriorityMatrix;
-use gecaro_io::{RobotFile, StandardDeviation, StudySpec};
+use gecaro_io::{RobotFile, StandardDeviation};
 use serde::Deserialize;
 use serde::de::IgnoredAny;
 
@@ -341,9 +342,9 @@ impl Measurements {
             )]));
         }
         let read_for = match data {
-            Data::Configurations => gecaro_io::StudyData::Configurations,
-            Data::Unmeasured => gecaro_io::StudyData::Unmeasured,
-            Data::Required | Data::Optional => gecaro_io::StudyData::Measured,
+            Data::Configurations => crate::StudyData::Configurations,
+            Data::Unmeasured => crate::StudyData::Unmeasured,
+            Data::Required | Data::Optional => crate::StudyData::Measured,
         };
         let (file, label) = match study {
             StudySource::File(name) => (

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use gecaro_io::{SetData, StudySpec, StudyText};
+use crate::{SetData, StudySpec, StudyText};
 use serde::Deserialize;
 
 use crate::error::{AppError, ErrorKind};

@@ -10,12 +10,10 @@
 
 use std::path::Path;
 
+use crate::{SpecField, StudyData, StudyFile, StudyFiles, StudySpec, StudyText};
 use gecaro_calib::study::DataColumn;
 use gecaro_core::{FrameType, PriorityMatrix, Robot};
-use gecaro_io::{
-    DataFile, DataFormat, RobotFile, SpecField, StudyData, StudyFile, StudyFiles, StudySpec,
-    StudyText,
-};
+use gecaro_io::{DataFile, DataFormat, RobotFile};
 
 use crate::error::{AppError, ErrorKind};
 use crate::files::Files;

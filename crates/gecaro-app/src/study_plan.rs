@@ -427,10 +427,7 @@ fn planned_study_text(
     let (study, mut spec) = match source {
         StudySource::File(study) => {
             let (path, text) = files.read_text(study, &["toml"])?;
-            (
-                study.as_str(),
-                gecaro_io::StudyText::parse(text, &path)?.spec,
-            )
+            (study.as_str(), crate::StudyText::parse(text, &path)?.spec)
         }
         StudySource::Spec(spec) => {
             let mut spec = (**spec).clone();
@@ -474,7 +471,7 @@ fn planned_study_text(
         let file_name = Path::new(output)
             .file_name()
             .map_or_else(|| output.clone(), |n| n.to_string_lossy().into_owned());
-        entry.data = gecaro_io::SetData::File(file_name);
+        entry.data = crate::SetData::File(file_name);
         entry.columns = None;
         entry.delimiter = match format.delimiter {
             gecaro_io::Delimiter::Semicolon => Some("semicolon".into()),

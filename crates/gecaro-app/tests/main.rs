@@ -7,4 +7,5 @@ mod cell;
 mod documents;
 mod elastic;
 mod model_check;
+mod real_data;
 mod wording;

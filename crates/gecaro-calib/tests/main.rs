@@ -10,7 +10,6 @@ mod identifiability;
 mod identification;
 mod planning;
 mod prediction;
-mod real_data;
 mod region;
 mod robust;
 mod row_sigma;

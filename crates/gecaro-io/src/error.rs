@@ -70,7 +70,8 @@ fn field_prefix(field: &Option<String>) -> String {
 }
 
 impl Error {
-    pub(crate) fn parse(
+    /// A [`Error::Parse`] of `path` at `line`, naming `field` when known.
+    pub fn parse(
         path: impl Into<PathBuf>,
         line: usize,
         field: Option<String>,
@@ -87,7 +88,7 @@ impl Error {
 
 /// The message of a TOML error, naming the key where the parser does not
 /// ("duplicate key" says which from the text its span covers).
-pub(crate) fn toml_message(error: &toml::de::Error, text: &str) -> String {
+pub fn toml_message(error: &toml::de::Error, text: &str) -> String {
     let message = error.message().trim();
     if message == "duplicate key"
         && let Some(key) = error.span().and_then(|span| text.get(span))
@@ -102,7 +103,7 @@ pub(crate) fn toml_message(error: &toml::de::Error, text: &str) -> String {
 
 /// The 1-based line of the byte `offset` of `text` (offsets past the end
 /// count as the last line; an offset inside a character is fine).
-pub(crate) fn line_at(text: &str, offset: usize) -> usize {
+pub fn line_at(text: &str, offset: usize) -> usize {
     text.as_bytes()[..offset.min(text.len())]
         .iter()
         .filter(|byte| **byte == b'\n')

@@ -35,8 +35,6 @@ mod robot_toml;
 pub mod roles;
 mod rotation;
 mod stated_units;
-mod study_file;
-mod study_spec;
 mod symoro;
 mod table_text;
 mod units;
@@ -55,7 +53,7 @@ pub use dh::{DhConvention, TableUnits};
 pub use document::{
     CouplingDocument, FrameDocument, PriorityDocument, RobotDocument, ToolDocument,
 };
-pub use error::Error;
+pub use error::{Error, line_at, toml_message};
 pub use input::{is_hidden_character, open_input, read_description};
 pub use interchange::{ImportOptions, RobotFormat, export_robot, import_robot, import_robot_text};
 pub use join::{JoinSpec, Joined, join_tables};
@@ -84,11 +82,6 @@ pub use robot_toml::{
     read_priority_file, read_robot_file, robot_file_text,
 };
 pub use rotation::RotationFormat;
-pub use study_file::{StudyText, read_study_file, read_study_file_for};
-pub use study_spec::{
-    FrameSpec, MethodChoice, PriorSpec, SetData, SetSpec, SpecField, StudyData, StudyFile,
-    StudyFiles, StudySpec,
-};
 pub use units::LengthUnit;
 pub use urdf::names::{
     UrdfDocument, UrdfFixedDocument, UrdfFixedLink, UrdfJointDocument, UrdfJointNames, UrdfNames,

@@ -4,8 +4,8 @@
 
 use std::path::Path;
 
-use gecaro_calib::study::DataColumn;
 use gecaro_core::FrameType;
+use gecaro_data::sample::DataColumn;
 use gecaro_io::{DataFormat, load_robot, parse_program, parse_samples};
 
 /// `lines`, each ended by `end`.

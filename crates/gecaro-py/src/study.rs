@@ -2,13 +2,13 @@
 //! method, data and sensor σ (rows weighted by 1/σ), as a study file holds them.
 
 use gecaro_app::documents::FrameJson;
+use gecaro_app::{
+    FrameSpec, MethodChoice, SetData, SetSpec, SpecField, StudyData, StudyFiles, StudySpec,
+};
 use gecaro_calib::frames::FrameRole;
 use gecaro_calib::study::Study;
 use gecaro_core::PriorityMatrix;
-use gecaro_io::{
-    FrameSpec, MethodChoice, SetData, SetSpec, SpecField, StandardDeviation, StudyData, StudyFiles,
-    StudySpec,
-};
+use gecaro_io::StandardDeviation;
 use numpy::PyArrayDyn;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -228,7 +228,7 @@ impl PyStudy {
     /// `[[measurements]]` with method, data file, σ, units), as `--study`.
     #[staticmethod]
     fn read(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
-        let mut file = gecaro_io::read_study_file(&path).py()?;
+        let mut file = gecaro_app::read_study_file(&path).py()?;
         let mut spec = std::mem::take(&mut file.spec);
         // The sets' data are read: later sets added in Python need no files.
         for (entry, set) in spec.measurements.iter_mut().zip(&file.study.sets) {

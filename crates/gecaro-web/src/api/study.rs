@@ -3,8 +3,8 @@
 //! `study`), and a statement saved as a study file.
 
 use axum::extract::{Query, State};
+use gecaro_app::StudySpec;
 use gecaro_app::{SaveStudyRequest, open_study};
-use gecaro_io::StudySpec;
 use serde::{Deserialize, Serialize};
 
 use super::json::Json;

@@ -1,6 +1,7 @@
 //! Calibrations of the real datasets in examples/real, judged on held-out data
 //! (docs/real-data.md). The thresholds are what these data support, with margin.
 
+use gecaro_app::read_study_file;
 use gecaro_calib::{
     Quiet,
     identification::{IdentificationOptions, StopReason, evaluate, identify},
@@ -8,7 +9,7 @@ use gecaro_calib::{
     study::Study,
 };
 use gecaro_core::Robot;
-use gecaro_io::{read_priority_file, read_samples, read_study_file};
+use gecaro_io::{read_priority_file, read_samples};
 use std::path::{Path, PathBuf};
 
 fn example(name: &str) -> PathBuf {

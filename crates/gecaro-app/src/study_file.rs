@@ -43,7 +43,7 @@
 //! An optional `[prior]` table puts a Gaussian prior on the parameters
 //! (`length = "5mm"`, `angle = "0.5deg"`, `gain = "1%"`, and
 //! `parameters = { d3 = "0.5mm" }` to override one parameter; see
-//! [`crate::parse_prior`]).
+//! [`gecaro_io::parse_prior`]).
 //! Each set's rows are weighted by 1/σ, so that sets measured in different
 //! units and with different sensors count by their precision. Columns a set
 //! does not use are left alone and listed in [`StudyFile::notes`].
@@ -57,13 +57,12 @@ use gecaro_core::{FrameType, PriorityMatrix, Robot};
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::Error;
-use crate::data_file::{DataFile, DataFormat, read_samples};
-use crate::input::{MAX_DESCRIPTION_BYTES, read_text};
-use crate::ready::load_robot;
-use crate::robot_file::RobotFile;
-use crate::robot_toml::read_priority_file;
 use crate::study_spec::{SpecField, StudyData, StudyFile, StudyFiles, StudySpec};
+use gecaro_io::Error;
+use gecaro_io::RobotFile;
+use gecaro_io::load_robot;
+use gecaro_io::read_priority_file;
+use gecaro_io::{DataFile, DataFormat, read_samples};
 
 /// A study file's text: its statement, and where each of its keys stands.
 #[derive(Debug)]
@@ -104,8 +103,8 @@ impl StudyText {
         let fail = |error: toml::de::Error| {
             let line = error
                 .span()
-                .map_or(1, |span| crate::error::line_at(&text, span.start));
-            Error::parse(path, line, None, crate::error::toml_message(&error, &text))
+                .map_or(1, |span| gecaro_io::line_at(&text, span.start));
+            Error::parse(path, line, None, gecaro_io::toml_message(&error, &text))
         };
         let spec: StudySpec = toml::from_str(&text).map_err(fail)?;
         let located: Located = toml::from_str(&text).map_err(fail)?;
@@ -159,7 +158,7 @@ impl StudyText {
                 )
             }
         };
-        let line = span.map_or(1, |span| crate::error::line_at(&self.text, span.start));
+        let line = span.map_or(1, |span| gecaro_io::line_at(&self.text, span.start));
         Error::parse(&self.path, line, Some(key), message)
     }
 }
@@ -217,7 +216,7 @@ pub fn read_study_file(path: &Path) -> Result<StudyFile, Error> {
 /// # Errors
 /// As [`read_study_file`].
 pub fn read_study_file_for(path: &Path, data: StudyData) -> Result<StudyFile, Error> {
-    let text = StudyText::parse(read_text(path, MAX_DESCRIPTION_BYTES)?, path)?;
+    let text = StudyText::parse(gecaro_io::read_description(path)?, path)?;
     let folder = path.parent().unwrap_or(Path::new("."));
     text.spec.build(
         &BesideStudyFile {

@@ -37,13 +37,13 @@ use gecaro_core::{FrameType, OrientationDifference, PriorityMatrix, Robot};
 use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Vector3};
 use serde::{Deserialize, Serialize};
 
-use crate::Error;
-use crate::columns::{ColumnMap, DataUnits, Delimiter, joint_types};
-use crate::data_file::{DataFile, DataFormat};
-use crate::prior::StandardDeviation;
-use crate::robot_file::{AngleUnit, RobotFile};
-use crate::rotation::RotationFormat;
-use crate::units::LengthUnit;
+use gecaro_io::Error;
+use gecaro_io::LengthUnit;
+use gecaro_io::RotationFormat;
+use gecaro_io::StandardDeviation;
+use gecaro_io::{AngleUnit, RobotFile};
+use gecaro_io::{ColumnMap, DataUnits, Delimiter, joint_types};
+use gecaro_io::{DataFile, DataFormat};
 
 /// A study as stated (see the module docs).
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
@@ -277,7 +277,7 @@ pub struct SetSpec {
     /// frame, or as a table, `{ mass = "20kg", com = [0, 0, "120mm"] }`
     /// (elastic joints, issue 38); not with a data file's payload columns.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub payload: Option<crate::payload::PayloadSpec>,
+    pub payload: Option<gecaro_io::PayloadSpec>,
 }
 
 /// The field of a [`StudySpec`] at fault.
@@ -344,7 +344,7 @@ pub trait StudyFiles {
     /// The most configurations a study's sets may hold together (four sets
     /// naming one large file hold four times its rows).
     fn max_configurations(&self) -> usize {
-        crate::MAX_CONFIGURATIONS
+        gecaro_io::MAX_CONFIGURATIONS
     }
 
     /// The error for sets holding more than
@@ -812,9 +812,9 @@ impl PriorSpec {
     /// The prior for `robot`, or the key at fault and why.
     fn build(&self, robot: &Robot) -> Result<Prior, (&'static str, String)> {
         let text = format!("{},{},{}", self.length, self.angle, self.gain);
-        let mut prior = crate::parse_prior(&text).map_err(|message| ("prior", message))?;
+        let mut prior = gecaro_io::parse_prior(&text).map_err(|message| ("prior", message))?;
         for (name, value) in self.parameters.iter().flatten() {
-            let entry = crate::parse_override(name, value)
+            let entry = gecaro_io::parse_override(name, value)
                 .map_err(|message| ("prior.parameters", message))?;
             prior.overrides.push(entry);
         }
@@ -856,7 +856,7 @@ impl FrameSpec {
                 Rotation3::from_euler_angles(angles.x, angles.y, angles.z)
             }
             (None, Some(quaternion)) => match quaternion.as_slice() {
-                [w, x, y, z] => crate::pose::unit_quaternion(*w, *x, *y, *z)
+                [w, x, y, z] => gecaro_io::unit_quaternion(*w, *x, *y, *z)
                     .map_err(|message| ("quaternion", message))?
                     .to_rotation_matrix(),
                 other => {
@@ -898,13 +898,17 @@ mod tests {
     /// Files of nothing: every field error is its message with its field.
     struct NoFiles;
 
+    /// An error of [`NoFiles`]: its message.
+    #[derive(Debug, PartialEq)]
+    struct Message(String);
+
     impl StudyFiles for NoFiles {
-        type Error = String;
-        fn robot(&self, name: &str) -> Result<RobotFile, String> {
-            Err(format!("no robot {name}"))
+        type Error = Message;
+        fn robot(&self, name: &str) -> Result<RobotFile, Message> {
+            Err(Message(format!("no robot {name}")))
         }
-        fn priority(&self, name: &str, _: &Robot) -> Result<PriorityMatrix, String> {
-            Err(format!("no priority {name}"))
+        fn priority(&self, name: &str, _: &Robot) -> Result<PriorityMatrix, Message> {
+            Err(Message(format!("no priority {name}")))
         }
         fn samples(
             &self,
@@ -912,22 +916,22 @@ mod tests {
             _: &[FrameType],
             _: &[DataColumn],
             _: &DataFormat,
-        ) -> Result<(DataFile, String), String> {
-            Err(format!("no data {name}"))
+        ) -> Result<(DataFile, String), Message> {
+            Err(Message(format!("no data {name}")))
         }
-        fn misplaced(&self, field: &SpecField, message: String) -> String {
-            format!("{field}: {message}")
+        fn misplaced(&self, field: &SpecField, message: String) -> Message {
+            Message(format!("{field}: {message}"))
         }
     }
 
-    impl From<Error> for String {
-        fn from(error: Error) -> String {
-            error.to_string()
+    impl From<Error> for Message {
+        fn from(error: Error) -> Message {
+            Message(error.to_string())
         }
     }
 
     fn position_set(samples: usize) -> SetSpec {
-        let robot = crate::ready_robot("stanford")
+        let robot = gecaro_io::ready_robot("stanford")
             .expect("ready")
             .expect("stanford")
             .robot;
@@ -961,7 +965,8 @@ mod tests {
         };
         let error = filled
             .build_study(&NoFiles, None, StudyData::Measured, true)
-            .expect_err("2 km");
+            .expect_err("2 km")
+            .0;
         assert!(
             error.starts_with("tools.ball.position: tool `ball` is stated 2000 m"),
             "{error}"
@@ -975,7 +980,8 @@ mod tests {
         filled.measurements[0].sigma = Some(StandardDeviation::Number(-1.0));
         let error = filled
             .build_study(&NoFiles, None, StudyData::Measured, true)
-            .expect_err("negative");
+            .expect_err("negative")
+            .0;
         assert_eq!(
             error,
             "measurements[0].sigma: must be a positive standard deviation, not -1"
@@ -984,7 +990,8 @@ mod tests {
         filled.measurements[0].tool = Some("bal".into());
         let error = filled
             .build_study(&NoFiles, None, StudyData::Measured, true)
-            .expect_err("no such tool");
+            .expect_err("no such tool")
+            .0;
         assert_eq!(
             error,
             "measurements[0].tool: no tool named `bal` in this study"
@@ -1005,7 +1012,8 @@ mod tests {
             .expect("not yet complete");
         let error = spec
             .build_study(&NoFiles, None, StudyData::Measured, true)
-            .expect_err("unmeasured");
+            .expect_err("unmeasured")
+            .0;
         assert!(
             error.contains("station `far` is measured by no measurement set"),
             "{error}"
