@@ -16,6 +16,7 @@
 mod common;
 
 use common::{Case, Cases, Failure};
+use gecaro_calib::identification::Warning;
 use gecaro_calib::prelude::*;
 
 fn main() -> Result<(), Failure> {
@@ -53,7 +54,7 @@ fn phases(result: &Identification) -> String {
     if result
         .warnings
         .iter()
-        .any(|w| w.contains("a damped descent over all"))
+        .any(|w| matches!(w, Warning::FullModelDescent { .. }))
     {
         phases.push('D');
     }

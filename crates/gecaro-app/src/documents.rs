@@ -1104,7 +1104,7 @@ impl IdentificationJson {
             identifiable: result.rank.count(),
             route: result.route.as_str(),
             moved: parameters(&result.moved),
-            warnings: result.warnings.clone(),
+            warnings: result.warnings.iter().map(ToString::to_string).collect(),
             loss: LossJson {
                 kind: result.loss.kind.as_str(),
                 scale: (!result.loss.is_l2()).then_some(result.loss.scale),

@@ -2,6 +2,7 @@
 //! spread subsample, then all the data from its solution, end where the
 //! descent on all the data from the nominal robot does.
 
+use gecaro_calib::identification::Warning;
 use gecaro_calib::study::Samples;
 use gecaro_calib::{
     Quiet,
@@ -60,10 +61,10 @@ fn without_and_with(study: &Study, coarse_from: usize) -> (Identification, Ident
 }
 
 fn note(result: &Identification) -> Option<&String> {
-    result
-        .warnings
-        .iter()
-        .find(|w| w.contains("spread subsample"))
+    result.warnings.iter().find_map(|w| match w {
+        Warning::CoarseStart(words) => Some(words),
+        _ => None,
+    })
 }
 
 #[test]

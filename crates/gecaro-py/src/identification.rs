@@ -384,7 +384,12 @@ impl PyIdentification {
     /// What the user should know about the result.
     #[getter]
     fn warnings(&self) -> Vec<String> {
-        self.identified.result.warnings.clone()
+        self.identified
+            .result
+            .warnings
+            .iter()
+            .map(ToString::to_string)
+            .collect()
     }
 
     /// The loss minimised: "l2", "huber", "cauchy" or "tukey".

@@ -148,11 +148,8 @@ use verdict::Evidence;
 pub use verdict::{
     Implausible, NOISE_TEST_LEVEL, NoiseTest, Outcome, SIGMA_MARGIN, StopReason, Verdict,
 };
-use warnings::{
-    CORRELATED_WARNING, POOR_EXCITATION, SET_UP_WARNING, correlation_warning, strongly_correlated,
-    warnings_of,
-};
-pub use warnings::{POOR_CONDITIONING, STRONG_CORRELATION};
+pub use warnings::{POOR_CONDITIONING, STRONG_CORRELATION, Warning};
+use warnings::{correlation_warning, strongly_correlated, warnings_of};
 pub use weighting::SECOND_PASS_PRIOR;
 use weighting::{Weighting, second_pass_prior};
 
@@ -257,11 +254,10 @@ fn identify_as(
     })?;
     refit.warnings.insert(
         0,
-        format!(
-            "{} observations beyond {} σ̂ were rejected and the rest identified again",
-            first.outliers.len(),
-            options.outlier_threshold
-        ),
+        Warning::OutliersRejected {
+            count: first.outliers.len(),
+            threshold: options.outlier_threshold,
+        },
     );
     refit.rejected = first.outliers;
     Ok(judged(refit, &kept, found, options))
@@ -335,7 +331,8 @@ fn judged(
             .verdict
             .region
             .as_ref()
-            .and_then(RegionPrediction::warning),
+            .and_then(RegionPrediction::warning)
+            .map(Warning::Region),
     );
     let (iterations, unknowns) = (result.iterations(), result.unknowns());
     result.verdict.reconsider(iterations, unknowns);
@@ -375,7 +372,7 @@ fn fit(
     if !as_well {
         return Ok(result);
     }
-    refit.warnings.push(words);
+    refit.warnings.push(Warning::SplitHeld(words));
     Ok(refit)
 }
 
@@ -468,17 +465,8 @@ fn first_from(
     result.verdict.summary = result
         .verdict
         .sentence(result.iterations(), result.unknowns());
-    result.warnings.push(if study.frames == stated.frames {
-        "the nominal robot was far from the measurements: the measurement frame and the tool \
-         point were first fitted in closed form (Horn/Kabsch), and the iterations started \
-         there (iteration 1)"
-            .into()
-    } else {
-        "the robot's base in the data's frame, or the stated stations and tools, were far \
-         from the measurements: they were first fitted in closed form (Horn/Kabsch for the \
-         world frame and each station, least squares for each tool point), and the \
-         iterations started there (iteration 1)"
-            .into()
+    result.warnings.push(Warning::ClosedFormStart {
+        named_frames: study.frames != stated.frames,
     });
     Ok(passed)
 }
@@ -707,14 +695,11 @@ fn full_model_phase(
     let from = current.after.rms;
     current.history.extend(descent.history);
     let mut result = merge_passes(current, next);
-    result.warnings.push(format!(
-        "parameters outside the base set still mattered: a damped descent over all {} parameters \
-         the priority matrix allows (Levenberg–Marquardt) took the RMS error from {} to {}; \
-         what it moved outside the base set is listed as moved",
-        every.len(),
-        words::millimetres(from),
-        words::millimetres(result.after.rms),
-    ));
+    result.warnings.push(Warning::FullModelDescent {
+        parameters: every.len(),
+        from,
+        to: result.after.rms,
+    });
     Ok(result)
 }
 
@@ -733,28 +718,24 @@ fn merge_passes(first: Identification, mut second: Identification) -> Identifica
     second.errors_before = first.errors_before;
     second.condition_number = first.condition_number;
     // The first pass's excitation and set-up are the nominal structure's.
-    let nominal_structure =
-        |w: &String| w.starts_with(POOR_EXCITATION) || w.contains(SET_UP_WARNING);
-    second.warnings.retain(|w| !nominal_structure(w));
-    let mut warnings: Vec<String> = first
+    second.warnings.retain(|w| !w.of_nominal_structure());
+    let mut warnings: Vec<Warning> = first
         .warnings
         .into_iter()
-        .filter(|w| nominal_structure(w))
+        .filter(Warning::of_nominal_structure)
         .collect();
     warnings.append(&mut second.warnings);
     second.warnings = warnings;
     second
         .warnings
-        .retain(|w| !w.contains("identified in a second pass"));
+        .retain(|w| !matches!(w, Warning::SecondPass { .. }));
     if second.second_pass.is_empty() {
         return second;
     }
-    second.warnings.push(format!(
-        "{} identifiable at the calibrated robot but not at the nominal one (its structure holds \
-         there only): identified in a second pass, held by a prior of {}",
-        second.second_pass.join(", "),
-        second_pass_prior()
-    ));
+    second.warnings.push(Warning::SecondPass {
+        parameters: second.second_pass.clone(),
+        prior: second_pass_prior().to_string(),
+    });
     second
 }
 
@@ -902,20 +883,17 @@ fn fit_pass(
             &initial_auxiliary,
         )?;
         if let Some(coarse) = &coarse {
-            result.warnings.push(coarse.note());
+            result.warnings.push(Warning::CoarseStart(coarse.note()));
         }
         result.second_pass = extras
             .iter()
             .map(|index| nominal.parameters().id(*index).to_string())
             .collect();
         if !result.joined.is_empty() {
-            result.warnings.push(format!(
-                "{} set by the data outside the base set (the closed-form start, the continuation or \
-                 the damped descent moved them) and regrouped with base parameters: identified beside \
-                 the base set, held by a prior of {}",
-                result.joined.join(", "),
-                second_pass_prior()
-            ));
+            result.warnings.push(Warning::Joined {
+                parameters: result.joined.clone(),
+                prior: second_pass_prior().to_string(),
+            });
         }
         if !extras.is_empty() || !result.joined.is_empty() {
             // The added and joined parameters are held by their prior, and
@@ -930,7 +908,9 @@ fn fit_pass(
             result
                 .correlated
                 .retain(|(a, b, _)| !added.contains(a) && !added.contains(b));
-            result.warnings.retain(|w| !w.contains(CORRELATED_WARNING));
+            result
+                .warnings
+                .retain(|w| !matches!(w, Warning::Correlated(_)));
             result
                 .warnings
                 .extend(correlation_warning(&result.correlated));
@@ -1187,7 +1167,11 @@ fn summarise(
         .map(|p| p.name.as_str())
         .collect();
     let correlated = strongly_correlated(&best.normal, &names);
-    let mut warnings = rank.set_up_warnings(robot);
+    let mut warnings: Vec<Warning> = rank
+        .set_up_warnings(robot)
+        .into_iter()
+        .map(Warning::SetUp)
+        .collect();
     warnings.extend(correlation_warning(&correlated));
     warnings.extend(warnings_of(
         &excited.not_excited,
@@ -1209,10 +1193,9 @@ fn summarise(
         (study.equation_count(), columns),
         (data_cost, degrees_of_freedom),
     );
-    warnings.extend(tested::loss_scale_warning(
-        &options.loss,
-        &statistics.weights,
-    ));
+    warnings.extend(
+        tested::loss_scale_warning(&options.loss, &statistics.weights).map(Warning::LossScale),
+    );
     // The posterior covariance of the unknowns (eq. 11: σ² (W_bᵀW_b)⁻¹,
     // with the prior's rows), for predictions away from the data; σ² of the
     // residuals as measured (with a robust loss, the loss-weighted sum
@@ -1231,13 +1214,10 @@ fn summarise(
         expansion: options.prior.as_ref().unwrap_or(&second_pass_prior()),
     });
     if let Some(scale) = scale.filter(|scale| scale.std.is_finite()) {
-        warnings.push(format!(
-            "the robot's scale is not measured (no set measures a length): the paper's base set \
-             alone gave a robot {:.3}× the size kept; its lengths were scaled to be closest to \
-             the nominal ones (scale known to ±{:.2} %)",
-            scale.base_set_scale,
-            100.0 * scale.std
-        ));
+        warnings.push(Warning::ScaleNotMeasured {
+            base_set_scale: scale.base_set_scale,
+            std: scale.std,
+        });
     }
     let coverage = Coverage::of(
         robot,
@@ -1248,12 +1228,7 @@ fn summarise(
         scale,
     );
     if !coverage.base_observed {
-        warnings.push(
-            "these methods do not observe where the robot stands in the measurement frame \
-             (frame 0 has no effect on them): its base is the nominal one; register it in the \
-             cell before using the calibrated robot in world coordinates"
-                .to_owned(),
-        );
+        warnings.push(Warning::BaseNotObserved);
     }
     let verdict = Verdict::of(
         study,

@@ -6,6 +6,7 @@ use gecaro_core::Robot;
 use super::outliers::Outlier;
 use super::parameter::IdentifiedParameter;
 use super::verdict::{Outcome, StopReason, Verdict};
+use super::warnings::Warning;
 use super::words;
 use crate::frames::NamedFrame;
 use crate::identifiability::RankReport;
@@ -143,8 +144,9 @@ pub struct Identification {
     /// nominal geometry, where its regroupings hold to first order — cannot
     /// reproduce these data. Empty on the paper's route.
     pub moved: Vec<IdentifiedParameter>,
-    /// Things a user should know about these results, in words.
-    pub warnings: Vec<String>,
+    /// Things a user should know about these results ([`Warning`]: each
+    /// says itself in words).
+    pub warnings: Vec<Warning>,
     /// The loss minimised.
     pub loss: Loss,
     /// The prior, if one was given.
