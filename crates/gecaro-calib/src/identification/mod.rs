@@ -84,6 +84,7 @@ mod observations;
 mod options;
 mod outliers;
 mod parameter;
+mod pass;
 mod passes;
 mod plausibility;
 mod prior_rows;
@@ -99,6 +100,7 @@ mod split;
 mod start;
 mod statistics;
 mod subsample;
+mod summary;
 mod tested;
 mod tied;
 mod verdict;
@@ -111,9 +113,7 @@ use std::borrow::Cow;
 use gecaro_core::Robot;
 
 use crate::Error;
-use crate::frames::FRAME_UNKNOWNS;
-use crate::identifiability::{Excitation, ParameterStatus, RankReport, structural_parameters_at};
-use crate::linalg::{LeastSquaresRows, NormalEquations, precision, sandwich_diagonal};
+use crate::identifiability::{ParameterStatus, structural_parameters_at};
 use crate::progress::{Observer, Progress, Quiet, report};
 use crate::study::{Study, StudyStates};
 
@@ -132,26 +132,20 @@ pub use options::{
 };
 pub use outliers::{DEFAULT_OUTLIER_THRESHOLD, Outlier};
 pub use parameter::IdentifiedParameter;
+use pass::{Passed, STRUCTURAL_SEED, fit_pass, parameter_change};
 pub use passes::SECOND_PASS_LEVEL;
 use passes::{ScoreTests, score_tests, significantly_lower};
-use prior_rows::{extra_prior_rows, prior_rows};
 pub use region::{FLOOR_FACTOR, REGION_FACTOR, REGION_POSES, WORK_POSES};
 pub use repeatability::{MIN_FREEDOM, Repeatability, SAME_POSE};
-use repeats::Repeats;
 pub use result::{ErrorSummary, Identification, Route};
 pub use reweighting::MAX_REWEIGHTINGS;
-use reweighting::Reweighted;
-use routes::descend;
-use solver::{Iterate, Problem, Run};
 pub use split::{SPLIT_CORRELATION, UNDETERMINED_ANGLE, UNDETERMINED_LENGTH};
-use verdict::Evidence;
 pub use verdict::{
     Implausible, NOISE_TEST_LEVEL, NoiseTest, Outcome, SIGMA_MARGIN, StopReason, Verdict,
 };
 pub use warnings::{POOR_CONDITIONING, STRONG_CORRELATION, Warning};
-use warnings::{correlation_warning, strongly_correlated, warnings_of};
 pub use weighting::SECOND_PASS_PRIOR;
-use weighting::{Weighting, second_pass_prior};
+use weighting::second_pass_prior;
 
 pub use crate::observation::ObservationErrors;
 pub use crate::prior::{COMPLIANCE_PRIOR, Prior, PriorError};
@@ -161,10 +155,6 @@ pub use crate::robust::{Loss, LossKind, robust_sigma};
 /// Passes at most: the paper's, and the second pass repeated while the
 /// structure at the calibrated robot keeps adding parameters.
 const MAX_PASSES: usize = 3;
-
-/// Seed of the random data of the structural analysis: fixed, so that an
-/// identification is a pure function of its inputs.
-const STRUCTURAL_SEED: u64 = 0x6ECA20;
 
 /// Identifies the base parameters of `robot` from `study` (see the module
 /// docs), reporting the starting point and every accepted update to
@@ -407,32 +397,6 @@ fn fit_once(
     second_pass(robot, loaded, options, &priority, first.result, observer)
 }
 
-/// A pass's identification, and what the passes after it need.
-struct Passed {
-    result: Identification,
-    /// The data's sum of squares at the pass's solution with the loads it
-    /// was given, before they followed it ([`loads`]): what an F test
-    /// against the pass before, with the same loads, reads.
-    given_loads_cost: f64,
-    /// The study with an elastic robot's loads at the pass's solution,
-    /// when they moved.
-    loaded: Option<Study>,
-}
-
-impl Passed {
-    /// Whether this pass (with `added` more unknowns) explains the data
-    /// significantly better than `before` ([`significantly_lower`]), both
-    /// with the loads this pass was given.
-    fn better_than(&self, before: &Identification, added: usize) -> bool {
-        significantly_lower(
-            before.data_cost,
-            self.given_loads_cost,
-            added,
-            self.result.degrees_of_freedom,
-        )
-    }
-}
-
 /// The paper's pass from the closed-form start (see [`start`]) on `study`
 /// (its named frames perhaps re-stated there), reported against `nominal`
 /// and `stated`, the study as given: the errors before and iteration 0 are
@@ -469,17 +433,6 @@ fn first_from(
         named_frames: study.frames != stated.frames,
     });
     Ok(passed)
-}
-
-/// The Euclidean norm of the change of every parameter from `from` to `to`
-/// (the step of an iteration that jumps to a start).
-fn parameter_change(from: &Robot, to: &Robot) -> f64 {
-    from.parameters()
-        .ids()
-        .iter()
-        .map(|id| (to.parameter(*id) - from.parameter(*id)).powi(2))
-        .sum::<f64>()
-        .sqrt()
 }
 
 /// The second pass: the base set chosen at the nominal robot is exact only
@@ -737,589 +690,4 @@ fn merge_passes(first: Identification, mut second: Identification) -> Identifica
         prior: second_pass_prior().to_string(),
     });
     second
-}
-
-/// One pass of an identification of `study`: the base set at `start` and
-/// the start, the descent, then the reweighted phase, an elastic robot's
-/// loads followed ([`loads`]), and the summary (values reported against
-/// `nominal`). `extras` (vocabulary indices) are the second pass's added
-/// parameters, held by [`second_pass_prior`].
-fn fit_pass(
-    nominal: &Robot,
-    start: &Robot,
-    study: &Study,
-    options: &IdentificationOptions,
-    priority: &gecaro_core::PriorityMatrix,
-    extras: &[usize],
-    observer: &mut dyn Observer,
-) -> Result<Passed, Error> {
-    let Setup {
-        problem,
-        rank,
-        excited,
-        initial_auxiliary,
-        mut states,
-        start,
-        coarse,
-        begun,
-    } = set_up(start, study, options, priority, extras.is_empty())?;
-    // A study that does not observe the scale: the second pass's added
-    // parameters are held by their prior from the first step. Nearly
-    // regrouped with the length that pins the scale, they would let plain
-    // steps shrink the robot, along which its residuals in metres shrink.
-    let (problem, start) = if extras.is_empty() || study.observes_scale() {
-        (problem, start)
-    } else {
-        let statistics = statistics::ResidualStatistics::of(
-            &start.system,
-            &Loss::default(),
-            study.equation_count(),
-            problem.layout.columns(),
-        );
-        let mut rows = extra_prior_rows(&second_pass_prior(), &problem, extras);
-        for row in &mut rows {
-            row.weight = statistics.variance.sqrt() / row.sigma;
-        }
-        let held = problem.with_weighting(Weighting {
-            prior_rows: rows,
-            ..Weighting::default()
-        });
-        let start = held.assemble(&start.robot, &start.auxiliary, &held.layout, &mut states)?;
-        (held, start)
-    };
-    let begun = begun.unwrap_or_else(|| {
-        let errors_before = start.system.observation_errors();
-        Begun {
-            first: problem.record(&start, &[], 0.0),
-            before: ErrorSummary::of_errors(&errors_before),
-            errors_before,
-        }
-    });
-    report(observer, Progress::Iteration(&begun.first))?;
-    // Iteration 1 of a coarse start is the jump to its solution.
-    let jump = coarse.as_ref().map(|coarse| IterationRecord {
-        step: parameter_change(problem.nominal, &coarse.robot),
-        ..problem.record(&start, &[], 0.0)
-    });
-    if let Some(jump) = &jump {
-        report(observer, Progress::Iteration(jump))?;
-    }
-    let (mut run, route) = descend(
-        &problem,
-        start,
-        &rank,
-        &initial_auxiliary,
-        &begun.first,
-        &mut states,
-        observer,
-    )?;
-    // The minimum-norm route starts from the pass's robot, not the jump.
-    if let Some(jump) = jump.filter(|_| route != Route::MinimumNorm) {
-        run.history.insert(0, jump);
-    }
-    // What repeats in the data is counted on another core while the pass
-    // ends on this one (the statistics, the precision, the coverage): a
-    // tenth of a second at 10⁶ configurations. Loads do not change it.
-    std::thread::scope(|scope| {
-        let counting = scope.spawn(|| repeats::repeats(study));
-        let counted = move || {
-            counting
-                .join()
-                .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
-        };
-        let prior_rows = if extras.is_empty() {
-            options
-                .prior
-                .as_ref()
-                .map(|prior| prior_rows(prior, problem.nominal, &problem, rank.relations()))
-                .unwrap_or_default()
-        } else {
-            extra_prior_rows(&second_pass_prior(), &problem, extras)
-        };
-        let reweighted =
-            problem.reweighted(run, options.loss, prior_rows, &mut states, observer)?;
-        // Moved parameters a base parameter absorbs join the base set ([`tied`]).
-        let (problem, mut reweighted) = if study.observes_scale() {
-            tied::joined(problem, nominal, &rank, reweighted, &mut states)?
-        } else {
-            (problem, reweighted)
-        };
-        let scale = if study.observes_scale() {
-            None
-        } else {
-            // The final weights and prior rows, at the scaled robot: its
-            // residuals are the same multiplied by the factor.
-            let weighted = problem.with_weighting(reweighted.weighting.clone());
-            let (moved, scale) =
-                scale::rescaled(&weighted, nominal, &rank, &reweighted.run.best, &mut states)?;
-            if let Some(moved) = moved {
-                reweighted.statistics = statistics::ResidualStatistics::of(
-                    &moved.system,
-                    &options.loss,
-                    study.equation_count(),
-                    problem.layout.columns(),
-                );
-                reweighted.run.best = moved;
-            }
-            Some(scale)
-        };
-        let given_loads_cost = reweighted.run.best.system.measured_cost();
-        let (mut reweighted, loaded) = loads::follow_the_loads(&problem, reweighted, &mut states)?;
-        let problem = problem.with_study(loaded.as_ref().unwrap_or(study));
-        // The same fit written the way nearest to the nominal ([`branch`]).
-        if let Some(nearer) = branch::nearest_branch(nominal, &reweighted.run.best.robot) {
-            let weighted = problem.with_weighting(reweighted.weighting.clone());
-            let auxiliary = reweighted.run.best.auxiliary.clone();
-            reweighted.run.best =
-                weighted.assemble(&nearer, &auxiliary, &weighted.layout, &mut states)?;
-        }
-        let mut result = summarise(
-            &problem,
-            nominal,
-            begun,
-            (reweighted, route, scale, counted()),
-            rank,
-            excited,
-            &initial_auxiliary,
-        )?;
-        if let Some(coarse) = &coarse {
-            result.warnings.push(Warning::CoarseStart(coarse.note()));
-        }
-        result.second_pass = extras
-            .iter()
-            .map(|index| nominal.parameters().id(*index).to_string())
-            .collect();
-        if !result.joined.is_empty() {
-            result.warnings.push(Warning::Joined {
-                parameters: result.joined.clone(),
-                prior: second_pass_prior().to_string(),
-            });
-        }
-        if !extras.is_empty() || !result.joined.is_empty() {
-            // The added and joined parameters are held by their prior, and
-            // correlate with the base parameters they nearly regroup with by
-            // construction.
-            let added: Vec<String> = result
-                .second_pass
-                .iter()
-                .chain(&result.joined)
-                .cloned()
-                .collect();
-            result
-                .correlated
-                .retain(|(a, b, _)| !added.contains(a) && !added.contains(b));
-            result
-                .warnings
-                .retain(|w| !matches!(w, Warning::Correlated(_)));
-            result
-                .warnings
-                .extend(correlation_warning(&result.correlated));
-        }
-        drop(problem);
-        Ok(Passed {
-            result,
-            given_loads_cost,
-            loaded,
-        })
-    })
-}
-
-/// The state at the nominal robot, before any step.
-struct Begun {
-    /// The starting point of the history.
-    first: IterationRecord,
-    before: ErrorSummary,
-    errors_before: ObservationErrors,
-}
-
-/// What the descent starts from.
-struct Setup<'a> {
-    problem: Problem<'a>,
-    /// The structural base set (random data like these, Appendix III).
-    rank: RankReport,
-    /// What these data excite of it, where the descent starts.
-    excited: Excitation,
-    initial_auxiliary: Vec<f64>,
-    states: StudyStates,
-    /// The iterate the descent starts from: at the nominal robot, or at
-    /// the coarse start.
-    start: Iterate,
-    /// The coarse start of large data, when there was one.
-    coarse: Option<coarse::CoarseStart>,
-    /// The state at the robot, evaluated apart when the descent starts at
-    /// a coarse start (before the start's system is made: the two are not
-    /// held together).
-    begun: Option<Begun>,
-}
-
-/// The base set of `study` at `robot` (structural, then what the data
-/// excite: paper §3.1, §4), the problem on it, and the starting iterate:
-/// at `robot`, or, for a `first_pass` on large data, at a coarse start's
-/// solution ([`coarse`]).
-fn set_up<'a>(
-    robot: &'a Robot,
-    study: &'a Study,
-    options: &'a IdentificationOptions,
-    priority: &gecaro_core::PriorityMatrix,
-    first_pass: bool,
-) -> Result<Setup<'a>, Error> {
-    study.check(robot)?;
-    let mut states = StudyStates::default();
-    study.evaluate_poses(robot, &mut states)?;
-    let initial_auxiliary = study.initial_auxiliary(&states)?;
-    // Nearly parallel axes hold their offset (Hayati; see `hayati`).
-    let priority = &hayati::hayati_priority(robot, priority);
-    let rank = structural_parameters_at(robot, study, &states, priority, STRUCTURAL_SEED)?;
-    // A first pass on data that observe the scale (the others' plain steps
-    // may shrink the robot: they take the minimum-norm route from it).
-    let coarse = if first_pass && study.observes_scale() {
-        coarse::coarse_start(robot, study, options, &rank)?
-    } else {
-        None
-    };
-    let from_auxiliary = match &coarse {
-        Some(coarse) => {
-            study.evaluate_poses(&coarse.robot, &mut states)?;
-            study.initial_auxiliary(&states)?
-        }
-        None => initial_auxiliary.clone(),
-    };
-    let from = coarse.as_ref().map_or(robot, |coarse| &coarse.robot);
-    let begun = match &coarse {
-        Some(_) => {
-            let (before, errors_before, rms) = errors_at(robot, study)?;
-            Some(Begun {
-                first: IterationRecord {
-                    rms,
-                    step: 0.0,
-                    damping: 0.0,
-                },
-                before,
-                errors_before,
-            })
-        }
-        None => None,
-    };
-    let (problem, excited, start) = Problem::excited(
-        robot,
-        study,
-        options,
-        &rank,
-        (from, &from_auxiliary),
-        &mut states,
-    )?;
-    Ok(Setup {
-        problem,
-        rank,
-        excited,
-        initial_auxiliary,
-        states,
-        start,
-        coarse,
-        begun,
-    })
-}
-
-/// The identification at the end of the reweighted phase (reached by
-/// `route`, with the data's `repeats`): parameters with their precision,
-/// errors, outliers and warnings.
-fn summarise(
-    problem: &Problem<'_>,
-    nominal: &Robot,
-    begun: Begun,
-    (reweighted, route, scale, repeats): (Reweighted, Route, Option<UnobservedScale>, Repeats),
-    rank: RankReport,
-    excited: Excitation,
-    initial_auxiliary: &[f64],
-) -> Result<Identification, Error> {
-    let Reweighted {
-        run: Run {
-            mut best,
-            history: updates,
-            stop,
-        },
-        weighting,
-        statistics,
-        reweightings,
-    } = reweighted;
-    // Whole turns are the same robot: every angle within ±π of its nominal
-    // value (a joint zero 90° off was written 2250° off, the long way round).
-    best.robot.wrap_angles_near(nominal);
-    let (robot, study, options) = (nominal, problem.study, problem.options);
-    let prior_std = |column: usize| {
-        weighting
-            .prior_rows
-            .iter()
-            .find(|row| row.column == column)
-            .map(|row| row.sigma)
-    };
-    let mut history = vec![begun.first];
-    history.extend(updates);
-    // Precision at the solution: σ² (W_bᵀ W_b)⁻¹, and the condition number of W_b
-    // (of the data's rows: prior rows would hide a poor excitation).
-    let system = &best.system;
-    let columns = problem.layout.columns();
-    let all_rows = system.solver_rows(false);
-    let (solved, mut condition_number) =
-        precision(all_rows.matrix(), &best.normal, problem.condition)?;
-    drop(all_rows);
-    // The residuals' curvature, where G is nearly singular ([`curvature`]).
-    let hessian = curvature::newton_hessian(problem, &weighting, &best)?;
-    // The data's rows (or their stand-in, for a folded system).
-    let data_rows = (hessian.is_some() || system.rows() > system.measured_rows())
-        .then(|| system.solver_rows(true));
-    if let Some(data_rows) = data_rows
-        .as_ref()
-        .filter(|_| !weighting.prior_rows.is_empty())
-    {
-        // The data's rows over the columns the data must determine (the
-        // joined ones last, held by their prior).
-        let data = data_rows.matrix().subcols(0, columns - problem.joined);
-        let normal = NormalEquations::of(data, data_rows.right());
-        condition_number = precision(data, &normal, problem.condition)?.1;
-    }
-    // σ² = Σ w e²/(n_eff − b): ‖r‖²/(equations − b) in least squares.
-    let variance = statistics.variance;
-    let std = |column: usize| (variance * solved.inverse_normal_diagonal[column]).sqrt();
-    // The noise's part of it, where a prior's rows (or the gauge that holds
-    // an unmeasured scale) hold a parameter: σ² diag(G⁻¹ DᵀD G⁻¹), D the
-    // measured rows; with H for G where the curvature matters.
-    let data_part = data_rows.as_ref().and_then(|data_rows| match &hessian {
-        Some(hessian) => sandwich_diagonal(hessian, data_rows.matrix()),
-        None => best.normal.data_part_diagonal(data_rows.matrix()),
-    });
-    let noise_std = |column: usize| {
-        let part = data_part
-            .as_ref()
-            .map_or(solved.inverse_normal_diagonal[column], |diagonal| {
-                diagonal[column]
-            });
-        (variance * part).sqrt()
-    };
-    let auxiliary_names = study.auxiliary_names();
-    let relations = rank.relations();
-    // The parameters joined to the structural base set ([`tied`]), the last
-    // columns: what a base parameter stands for leaves them out, since they
-    // are estimated beside it.
-    let joined: Vec<String> = problem.base[problem.base.len() - problem.joined..]
-        .iter()
-        .map(|index| robot.parameters().id(*index).to_string())
-        .collect();
-    let absorbed = |name: &str| -> Vec<(String, f64)> {
-        relations
-            .iter()
-            .find(|relation| relation.base == name)
-            .map(|relation| {
-                let mut absorbed = relation.absorbed.clone();
-                absorbed.retain(|(other, _)| !joined.contains(other));
-                absorbed
-            })
-            .unwrap_or_default()
-    };
-    let auxiliary_columns = problem.base_auxiliary.len();
-    let auxiliary: Vec<IdentifiedParameter> = problem
-        .base_auxiliary
-        .iter()
-        .enumerate()
-        .map(|(column, &index)| IdentifiedParameter {
-            name: auxiliary_names[index].clone(),
-            parameter: None,
-            nominal: initial_auxiliary[index],
-            identified: best.auxiliary[index],
-            std: std(column),
-            noise_std: noise_std(column),
-            prior_std: None,
-            absorbs: absorbed(&auxiliary_names[index]),
-        })
-        .collect();
-    let parameters: Vec<IdentifiedParameter> = problem
-        .base
-        .iter()
-        .enumerate()
-        .map(|(position, &index)| {
-            let id = robot.parameters().id(index);
-            IdentifiedParameter {
-                name: id.to_string(),
-                parameter: Some(id),
-                nominal: robot.parameter(id),
-                identified: best.robot.parameter(id),
-                std: std(auxiliary_columns + position),
-                noise_std: noise_std(auxiliary_columns + position),
-                prior_std: prior_std(auxiliary_columns + position),
-                absorbs: absorbed(&id.to_string()),
-            }
-        })
-        .collect();
-    // A scale the data do not measure is uncertain to its own σ: every
-    // length carries it (the σ of the data hold it at one length).
-    let mut parameters = parameters;
-    if let Some(relative) = scale.map(|scale| scale.std).filter(|std| std.is_finite()) {
-        for p in &mut parameters {
-            if p.parameter.is_some_and(|id| gauge::scales(robot, id)) {
-                p.std = p.std.hypot(p.identified * relative);
-            }
-        }
-    }
-    let moved = moved_outside_base(robot, &best.robot, &problem.base);
-    let names: Vec<&str> = auxiliary
-        .iter()
-        .chain(&parameters)
-        .map(|p| p.name.as_str())
-        .collect();
-    let correlated = strongly_correlated(&best.normal, &names);
-    let mut warnings: Vec<Warning> = rank
-        .set_up_warnings(robot)
-        .into_iter()
-        .map(Warning::SetUp)
-        .collect();
-    warnings.extend(correlation_warning(&correlated));
-    warnings.extend(warnings_of(
-        &excited.not_excited,
-        condition_number,
-        &parameters,
-        &moved,
-    ));
-    let errors_after = best.system.observation_errors();
-    let outliers =
-        outliers::find_outliers(study, &statistics, &errors_after, options.outlier_threshold);
-    let data_cost = best.system.measured_cost();
-    let degrees_of_freedom = statistics.effective_equations.saturating_sub(columns);
-    // The test reads the residuals as measured, not as the loss weighed them.
-    let tested = tested::tested(
-        &best.system,
-        &statistics,
-        &options.loss,
-        options.outlier_threshold,
-        (study.equation_count(), columns),
-        (data_cost, degrees_of_freedom),
-    );
-    warnings.extend(
-        tested::loss_scale_warning(&options.loss, &statistics.weights).map(Warning::LossScale),
-    );
-    // The posterior covariance of the unknowns (eq. 11: σ² (W_bᵀW_b)⁻¹,
-    // with the prior's rows), for predictions away from the data; σ² of the
-    // residuals as measured (with a robust loss, the loss-weighted sum
-    // keeps part of every gross error).
-    let tested_variance = tested.cost / tested.freedom.max(1) as f64;
-    let covariance = best
-        .normal
-        .inverse()
-        .map(|inverse| inverse * tested_variance);
-    let implausible = plausibility::implausible(&plausibility::Written {
-        nominal: robot,
-        calibrated: &best.robot,
-        parameters: &parameters,
-        moved: &moved,
-        prior: options.prior.as_ref(),
-        expansion: options.prior.as_ref().unwrap_or(&second_pass_prior()),
-    });
-    if let Some(scale) = scale.filter(|scale| scale.std.is_finite()) {
-        warnings.push(Warning::ScaleNotMeasured {
-            base_set_scale: scale.base_set_scale,
-            std: scale.std,
-        });
-    }
-    let coverage = Coverage::of(
-        robot,
-        study,
-        &rank,
-        &excited.not_excited,
-        columns - problem.joined,
-        scale,
-    );
-    if !coverage.base_observed {
-        warnings.push(Warning::BaseNotObserved);
-    }
-    let verdict = Verdict::of(
-        study,
-        Evidence {
-            stop,
-            iterations: history.len() - 1,
-            system: &best.system,
-            observation_weights: &tested.weights,
-            data_cost: tested.cost,
-            degrees_of_freedom: tested.freedom,
-            unknowns: columns - problem.joined,
-            repeatability: repeatability::repeatability(
-                study,
-                &best.system,
-                tested.cost,
-                tested.freedom,
-            ),
-            sets: if study.sets.len() > 1 {
-                disagreement::set_fits(study, &best.system, tested.freedom)
-            } else {
-                Vec::new()
-            },
-            implausible,
-            coverage,
-            repeats,
-        },
-    );
-    Ok(Identification {
-        correlated,
-        covariance,
-        verdict,
-        second_pass: Vec::new(),
-        joined,
-        data_cost,
-        degrees_of_freedom,
-        loss: options.loss,
-        prior: options.prior.clone(),
-        reweightings,
-        robust_sigma: statistics.robust_sigma,
-        observation_weights: statistics.weights,
-        standardized: statistics.standardized,
-        outlier_threshold: options.outlier_threshold,
-        outliers,
-        rejected: Vec::new(),
-        excitation: excited.report,
-        moved,
-        warnings,
-        condition_number,
-        after: ErrorSummary::of_errors(&errors_after),
-        errors_after,
-        errors_before: begun.errors_before,
-        before: begun.before,
-        calibrated: best.robot,
-        rank,
-        history,
-        route,
-        parameters,
-        auxiliary,
-        frames: study
-            .frames
-            .iter()
-            .enumerate()
-            .map(|(index, frame)| {
-                let first = index * FRAME_UNKNOWNS;
-                frame.at(&best.auxiliary[first..first + FRAME_UNKNOWNS])
-            })
-            .collect(),
-        residual_sigma: variance.sqrt(),
-        stop_reason: stop,
-        not_excited: excited.not_excited,
-    })
-}
-
-/// The parameters outside the base set (`base`: vocabulary indices) that
-/// differ between `nominal` and `identified` (see [`Identification::moved`]).
-fn moved_outside_base(
-    nominal: &Robot,
-    identified: &Robot,
-    base: &[usize],
-) -> Vec<IdentifiedParameter> {
-    tied::moved_outside(nominal, identified, base)
-        .map(|index| nominal.parameters().id(index))
-        .map(|id| IdentifiedParameter {
-            name: id.to_string(),
-            parameter: Some(id),
-            nominal: nominal.parameter(id),
-            identified: identified.parameter(id),
-            std: f64::NAN,
-            noise_std: f64::NAN,
-            prior_std: None,
-            absorbs: Vec::new(),
-        })
-        .collect()
 }

@@ -50,10 +50,10 @@ pub enum Warning {
         threshold: f64,
     },
     /// Where the result holds: its predicted error over the work region
-    /// ([`super::region`]), in words.
+    /// (the region check), in words.
     Region(String),
     /// A split of two parameters the data cannot tell apart was held
-    /// ([`super::split`]), in words.
+    /// (a split held), in words.
     SplitHeld(String),
     /// The nominal robot was far from the measurements: the frames were
     /// first fitted in closed form; `named_frames`: the study's stated
@@ -88,7 +88,7 @@ pub enum Warning {
         /// The prior that holds them.
         prior: String,
     },
-    /// A coarse start was taken ([`super::coarse`]), in words.
+    /// A coarse start was taken (large data started on a spread subsample), in words.
     CoarseStart(String),
     /// The robust loss's scale is off the residuals' (in words).
     LossScale(String),
