@@ -65,6 +65,7 @@ pub mod frames;
 pub mod identifiability;
 pub mod identification;
 mod linalg;
+mod linearise;
 mod method;
 pub mod methods;
 pub mod observability;

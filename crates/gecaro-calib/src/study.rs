@@ -7,9 +7,10 @@ use gecaro_core::{JacobianRows, KinematicModel, Robot};
 
 use crate::Error;
 use crate::frames::{FRAME_UNKNOWNS, FrameRole, NamedFrame, SetFrames, UNKNOWN_NAMES};
+use crate::linearise::{linearise_independent, write_rows};
 use crate::method::CalibrationMethod;
 use crate::methods::units;
-use crate::observation::{ObservationSystem, linearise_independent, write_rows};
+use crate::observation::ObservationSystem;
 use crate::parallel::run_parts;
 use crate::rows::{ColumnLayout, RowWriter};
 
