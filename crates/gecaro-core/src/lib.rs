@@ -67,6 +67,7 @@ mod rebase;
 mod reframe;
 mod region;
 mod robot;
+mod stated;
 
 #[cfg(test)]
 mod test_robots;
@@ -91,9 +92,8 @@ pub use placement::NEARLY_PARALLEL_DEGREES;
 pub use priority::PriorityMatrix;
 pub use rebase::{SAME_FRAME_ANGLE, SAME_FRAME_DISTANCE};
 pub use region::{JointRegion, MEASURED_MARGIN};
-pub use robot::{
-    LIMIT_TOLERANCE, MAX_COMPLIANCE, MAX_JOINTS, MAX_MAGNITUDE, MIN_GAIN, Robot, RobotSpec,
-};
+pub use robot::{LIMIT_TOLERANCE, Robot, RobotSpec};
+pub use stated::{MAX_COMPLIANCE, MAX_JOINTS, MAX_MAGNITUDE, MIN_GAIN};
 
 #[cfg(test)]
 pub(crate) use test_robots::stanford as ready_robot_for_tests;
