@@ -15,7 +15,8 @@ use crate::arrays::{Real, array};
 use crate::documents::to_python;
 use crate::errors::{NotConvergedError, input};
 use crate::interrupt::watched;
-use crate::robot::{PyRobot, pose};
+use crate::robot::PyRobot;
+use crate::robot_inputs::pose;
 
 /// A corrected program.
 #[pyclass(name = "Compensation", module = "gecaro", frozen)]

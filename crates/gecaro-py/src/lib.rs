@@ -48,6 +48,7 @@ mod interrupt;
 mod methods;
 mod planning;
 mod robot;
+mod robot_inputs;
 mod sigma;
 mod source;
 mod study;

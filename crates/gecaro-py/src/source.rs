@@ -12,7 +12,8 @@ use pyo3::prelude::*;
 use crate::data::PyData;
 use crate::errors::input;
 use crate::methods::method_of;
-use crate::robot::{PyRobot, priority_matrix};
+use crate::robot::PyRobot;
+use crate::robot_inputs::priority_matrix;
 use crate::study::PyStudy;
 
 /// The measurements named by `(robot, method, data)` or `(robot, study,

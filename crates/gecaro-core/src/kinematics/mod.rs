@@ -13,6 +13,7 @@ mod jacobian;
 mod joint_step;
 mod known_minima;
 mod lanes;
+mod loaded;
 mod model;
 mod pose_difference;
 pub mod turn;

@@ -76,28 +76,28 @@ struct CompiledFrame {
 pub struct KinematicModel {
     frames: Vec<CompiledFrame>,
     /// Cj·diag(K)·Cm, row-major n×n, and the offsets of eq. 4.
-    motor_to_joint: Vec<f64>,
+    pub(super) motor_to_joint: Vec<f64>,
     /// Whether Cm and Cj are the identity (then q_j = K_j·qm_j + offset_j).
-    uncoupled: bool,
-    offsets: Vec<f64>,
+    pub(super) uncoupled: bool,
+    pub(super) offsets: Vec<f64>,
     /// Cm (row-major), for the gain columns.
-    motor_coupling: Vec<f64>,
+    pub(super) motor_coupling: Vec<f64>,
     /// Per joint j, the non-zero entries `(i, Cj(i, j))` of Cj's column j:
     /// the terms of K_j's column (one, the diagonal, without couplings).
-    gain_terms: Vec<Vec<(usize, f64)>>,
+    pub(super) gain_terms: Vec<Vec<(usize, f64)>>,
     /// Column of K_j in η, and of the joint variable's parameter (θ or r).
-    gain_columns: Vec<Option<usize>>,
-    joint_columns: Vec<usize>,
+    pub(super) gain_columns: Vec<Option<usize>>,
+    pub(super) joint_columns: Vec<usize>,
     /// c_j of an elastic robot (empty for a rigid one) and its column in η.
-    compliances: Vec<f64>,
-    compliance_columns: Vec<Option<usize>>,
+    pub(super) compliances: Vec<f64>,
+    pub(super) compliance_columns: Vec<Option<usize>>,
     /// tilt1, tilt2 of an elastic robot and their columns in η.
-    gravity_tilt: [f64; 2],
-    tilt_columns: [Option<usize>; 2],
-    parameter_count: usize,
+    pub(super) gravity_tilt: [f64; 2],
+    pub(super) tilt_columns: [Option<usize>; 2],
+    pub(super) parameter_count: usize,
     /// Whether the Jacobian writes every column (then a buffer of the right
     /// size needs no zeroing first).
-    writes_every_column: bool,
+    pub(super) writes_every_column: bool,
 }
 
 /// Which rows of the parameter Jacobian to compute.
@@ -124,17 +124,17 @@ impl JacobianRows {
 /// Frame poses of one configuration, filled by [`KinematicModel::forward`].
 #[derive(Clone, Debug, Default)]
 pub struct ChainBuffer {
-    world_from_frame: Vec<IsometryMatrix3<f64>>,
-    joint_positions: Vec<f64>,
+    pub(super) world_from_frame: Vec<IsometryMatrix3<f64>>,
+    pub(super) joint_positions: Vec<f64>,
     /// sin/cos(θ_j + q_j) of the revolute joints, in order.
-    turns: Vec<(f64, f64)>,
-    coupled_motor_positions: Vec<f64>,
+    pub(super) turns: Vec<(f64, f64)>,
+    pub(super) coupled_motor_positions: Vec<f64>,
     /// The gravity torque of every joint (zeros when none was given), with
     /// the tilts' share.
-    torques: Vec<f64>,
+    pub(super) torques: Vec<f64>,
     /// The torques' derivatives with respect to the tilts (2n values, or
     /// none when none were given).
-    tilt_torques: Vec<f64>,
+    pub(super) tilt_torques: Vec<f64>,
 }
 
 impl ChainBuffer {
@@ -378,154 +378,6 @@ impl KinematicModel {
         self.forward_loaded(motor_positions, None, chain)
     }
 
-    /// Direct model at `motor_positions` with the joints carrying `torques`
-    /// (N·m, or N for a prismatic joint; `None`: no load): an elastic
-    /// robot's joint j is deflected by `c_j·τ_j` (see the module docs); a
-    /// rigid robot ignores them.
-    ///
-    /// # Errors
-    /// When `motor_positions` does not hold n finite values, or `torques`
-    /// not n finite values.
-    pub fn forward_loaded(
-        &self,
-        motor_positions: &[f64],
-        torques: Option<&[f64]>,
-        chain: &mut ChainBuffer,
-    ) -> Result<(), Error> {
-        self.forward_tilted(motor_positions, torques, None, chain)
-    }
-
-    /// [`forward_loaded`](Self::forward_loaded) with the torques'
-    /// derivatives with respect to gravity's tilts (`tilt_torques`, 2n
-    /// values: `∂τ_j/∂tilt1` for j = 1..n, then `∂τ_j/∂tilt2`;
-    /// `gecaro_core::gravity_loads_in`): an elastic robot's joints carry
-    /// `τ_j + Σ_k tilt_k ∂τ_j/∂tilt_k` and the Jacobian has the tilts'
-    /// columns (module docs). Without them the tilts have no effect.
-    ///
-    /// # Errors
-    /// As [`forward_loaded`](Self::forward_loaded); `tilt_torques` not 2n
-    /// finite values.
-    pub fn forward_tilted(
-        &self,
-        motor_positions: &[f64],
-        torques: Option<&[f64]>,
-        tilt_torques: Option<&[f64]>,
-        chain: &mut ChainBuffer,
-    ) -> Result<(), Error> {
-        self.load(motor_positions, torques, tilt_torques, chain)?;
-        self.chain_of_joints(chain);
-        Ok(())
-    }
-
-    /// The configuration-dependent inputs of the poses, checked, into
-    /// `chain`: the joint variables (eq. 4, deflected under load), the
-    /// coupled motor variables the gain columns read, and the loads.
-    pub(super) fn load(
-        &self,
-        motor_positions: &[f64],
-        torques: Option<&[f64]>,
-        tilt_torques: Option<&[f64]>,
-        chain: &mut ChainBuffer,
-    ) -> Result<(), Error> {
-        let n = self.joint_count();
-        chain.torques.clear();
-        chain.tilt_torques.clear();
-        // A rigid robot reads no torque: its forward model stays as it was.
-        match torques.filter(|_| !self.compliances.is_empty()) {
-            Some(torques) => {
-                if torques.len() != n {
-                    return Err(Error::ConfigurationLength {
-                        expected: n,
-                        found: torques.len(),
-                    });
-                }
-                if let Some((index, value)) =
-                    torques.iter().enumerate().find(|(_, v)| !v.is_finite())
-                {
-                    return Err(Error::NonFiniteConfiguration {
-                        joint: index + 1,
-                        value: *value,
-                    });
-                }
-                chain.torques.extend_from_slice(torques);
-            }
-            None if self.compliances.is_empty() => {}
-            None => chain.torques.resize(n, 0.0),
-        }
-        if let Some(tilt_torques) = tilt_torques.filter(|_| !chain.torques.is_empty()) {
-            if tilt_torques.len() != 2 * n {
-                return Err(Error::ConfigurationLength {
-                    expected: 2 * n,
-                    found: tilt_torques.len(),
-                });
-            }
-            if let Some((index, value)) = tilt_torques
-                .iter()
-                .enumerate()
-                .find(|(_, v)| !v.is_finite())
-            {
-                return Err(Error::NonFiniteConfiguration {
-                    joint: index % n + 1,
-                    value: *value,
-                });
-            }
-            chain.tilt_torques.extend_from_slice(tilt_torques);
-            let [first, second] = self.gravity_tilt;
-            for (joint, torque) in chain.torques.iter_mut().enumerate() {
-                *torque += first * tilt_torques[joint] + second * tilt_torques[n + joint];
-            }
-        }
-        if motor_positions.len() != n {
-            return Err(Error::ConfigurationLength {
-                expected: n,
-                found: motor_positions.len(),
-            });
-        }
-        if let Some((index, value)) = motor_positions
-            .iter()
-            .enumerate()
-            .find(|(_, v)| !v.is_finite())
-        {
-            return Err(Error::NonFiniteConfiguration {
-                joint: index + 1,
-                value: *value,
-            });
-        }
-        chain.joint_positions.clear();
-        chain.coupled_motor_positions.clear();
-        if self.uncoupled {
-            chain
-                .coupled_motor_positions
-                .extend_from_slice(motor_positions);
-            chain
-                .joint_positions
-                .extend((0..n).map(|j| {
-                    self.motor_to_joint[j * n + j] * motor_positions[j] + self.offsets[j]
-                }));
-        } else {
-            let matrix_vector = |matrix: &[f64], row: usize| {
-                (0..n)
-                    .map(|j| matrix[row * n + j] * motor_positions[j])
-                    .sum::<f64>()
-            };
-            chain
-                .joint_positions
-                .extend((0..n).map(|i| matrix_vector(&self.motor_to_joint, i) + self.offsets[i]));
-            chain
-                .coupled_motor_positions
-                .extend((0..n).map(|i| matrix_vector(&self.motor_coupling, i)));
-        }
-        for ((q, compliance), torque) in chain
-            .joint_positions
-            .iter_mut()
-            .zip(&self.compliances)
-            .zip(&chain.torques)
-        {
-            *q += compliance * torque;
-        }
-        Ok(())
-    }
-
     /// The frames' poses at the joint variables q (eq. 1–3 without eq. 4:
     /// no gains, couplings, offsets or loads), into `chain`; its Jacobians
     /// are then not those of any motor configuration. The caller
@@ -574,7 +426,7 @@ impl KinematicModel {
     }
 
     /// Fills `chain.world_from_frame` from `chain.joint_positions`.
-    fn chain_of_joints(&self, chain: &mut ChainBuffer) {
+    pub(super) fn chain_of_joints(&self, chain: &mut ChainBuffer) {
         self.turns_of_joints(chain);
         self.poses(
             &chain.joint_positions,
