@@ -9,11 +9,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use assert_cmd::cargo::cargo_bin;
-
-fn gecaro() -> Command {
-    Command::new(cargo_bin("gecaro"))
-}
+use crate::util::gecaro_process as gecaro;
 
 fn temporaries(folder: &Path) -> Vec<String> {
     std::fs::read_dir(folder)

@@ -6,3 +6,9 @@ use assert_cmd::Command;
 pub(crate) fn gecaro() -> Command {
     Command::cargo_bin("gecaro").expect("the gecaro binary is built")
 }
+
+/// The `gecaro` binary as a process of the standard library, to spawn,
+/// signal and wait on (assert_cmd's `Command` runs to its end).
+pub(crate) fn gecaro_process() -> std::process::Command {
+    std::process::Command::new(assert_cmd::cargo::cargo_bin("gecaro"))
+}
