@@ -64,6 +64,7 @@ mod fold;
 pub mod frames;
 pub mod identifiability;
 pub mod identification;
+pub mod iso9283;
 mod linalg;
 mod linearise;
 mod method;
