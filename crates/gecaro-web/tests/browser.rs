@@ -1945,7 +1945,14 @@ async fn the_page_is_never_silently_wrong() {
     // again, its form as it was.
     start_long_identification(client).await;
     client.refresh().await.expect("reload");
-    text_of(client, "#position-identify-progress", 30).await;
+    // Followed again: its progress, or, when it ended while the page
+    // reloaded (a loaded machine reloads slowly), its result at once.
+    text_of(
+        client,
+        "#position-identify-progress, #position-identify-verdict",
+        30,
+    )
+    .await;
     collect_errors(client).await;
     let verdict = text_of(client, "#position-identify-verdict", 120).await;
     assert!(verdict.starts_with("Verdict"), "{verdict}");
