@@ -29,7 +29,7 @@ use crate::linalg::{LeastSquaresRows, NormalEquations, add_normal_sums, view};
 use crate::parallel::{run_parts, scan_parts};
 
 pub use crate::rows::{ColumnLayout, RowKind, RowWriter};
-use crate::rows::{sensor_weight, whole_weight};
+use crate::rows::{observation_sensor, sensor_weight, whole_weight};
 pub use crate::states::{TerminalState, evaluate_poses, evaluate_states};
 
 /// `values` as `len` zeros: fresh zeroed memory from the allocator when it
@@ -718,13 +718,12 @@ impl ObservationSystem {
     ) -> impl Iterator<Item = f64> + '_ {
         let within = self.set_rows_within(set, rows);
         let sensor = sensor_weight(self.set_weights[set], kind);
-        let sensors = self.observation_sensors(set);
         // The set's one weight read as slices, or each observation's own.
-        let (plain, own) = match sensors {
-            None => (within, 0..0),
-            Some(_) => (0..0, within),
+        let (plain, own) = if self.has_observation_sensors(set) {
+            (0..0, within)
+        } else {
+            (within, 0..0)
         };
-        let (own_sensors, base) = sensors.unwrap_or_default();
         self.residuals[plain.clone()]
             .iter()
             .zip(&self.kinds[plain])
@@ -733,8 +732,7 @@ impl ObservationSystem {
             .chain(
                 own.filter(move |row| self.kinds[*row] == kind)
                     .map(move |row| {
-                        let observation = self.observations[row] as usize - base;
-                        self.residuals[row] * sensor_weight(own_sensors[observation], kind)
+                        self.residuals[row] * sensor_weight(self.row_sensor(set, row), kind)
                     }),
             )
     }
@@ -750,24 +748,35 @@ impl ObservationSystem {
         set: usize,
         rows: std::ops::Range<usize>,
     ) -> impl Iterator<Item = (usize, f64)> + '_ {
-        let weights = self.set_weights[set];
-        let sensors = self.observation_sensors(set);
         self.set_rows_within(set, rows).map(move |row| {
-            let weights = match sensors {
-                None => weights,
-                Some((sensors, base)) => sensors[self.observations[row] as usize - base],
-            };
-            (row, sensor_weight(weights, self.kinds[row]))
+            (
+                row,
+                sensor_weight(self.row_sensor(set, row), self.kinds[row]),
+            )
         })
     }
 
-    /// Set `set`'s sensor weights per observation and the number of its
-    /// first observation, when its data state a σ per row.
-    fn observation_sensors(&self, set: usize) -> Option<(&[[f64; 2]], usize)> {
+    /// Whether set `set`'s data state a σ per row (its observations then
+    /// have sensor weights of their own).
+    fn has_observation_sensors(&self, set: usize) -> bool {
         self.set_sensors
             .get(set)
-            .filter(|(sensors, _)| !sensors.is_empty())
-            .map(|(sensors, base)| (sensors.as_slice(), *base))
+            .is_some_and(|(sensors, _)| !sensors.is_empty())
+    }
+
+    /// The sensor weights of the length and angle rows of row `row`'s
+    /// observation in set `set` ([`observation_sensor`], as the writer
+    /// weighted it).
+    fn row_sensor(&self, set: usize, row: usize) -> [f64; 2] {
+        let (sensors, base) = self
+            .set_sensors
+            .get(set)
+            .map_or((&[][..], 0), |(sensors, base)| (sensors.as_slice(), *base));
+        observation_sensor(
+            self.set_weights[set],
+            sensors,
+            (self.observations[row] as usize).wrapping_sub(base),
+        )
     }
 
     /// The rows of measurement set `set` among `rows` (empty where they do

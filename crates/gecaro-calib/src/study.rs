@@ -81,7 +81,7 @@ impl MeasurementSet {
     /// the only ones whose data may state σ per row
     /// ([`Study::check`]).
     pub fn observation_sensors(&self) -> Vec<[f64; 2]> {
-        if !self.samples.states_sigma() {
+        if !self.samples.has_row_sigma() {
             return Vec::new();
         }
         let [length, angle] = self.row_weights();
@@ -387,7 +387,7 @@ impl Study {
             })
             .into_iter()
             .collect::<Result<Vec<()>, Error>>()?;
-            if set.samples.states_sigma() {
+            if set.samples.has_row_sigma() {
                 if !set.method.independent_configurations() {
                     return Err(invalid(
                         None,

@@ -78,22 +78,42 @@ impl RowSigma {
         (sigma.length.is_some() || sigma.angle.is_some()).then_some(sigma)
     }
 
-    /// Checks that each stated σ is a finite length or angle above zero
-    /// and within what an instrument can state (a length up to
-    /// [`gecaro_core::MAX_MAGNITUDE`], an angle up to π).
+    /// The largest σ of lengths a row may state (m): a cell's size
+    /// ([`gecaro_core::MAX_MAGNITUDE`]).
+    pub const MAX_LENGTH: f64 = gecaro_core::MAX_MAGNITUDE;
+
+    /// The largest σ of angles a row may state (rad): half a turn.
+    pub const MAX_ANGLE: f64 = std::f64::consts::PI;
+
+    /// Whether `sigma` (m) is a σ of lengths a row may state: above 0, at
+    /// most [`MAX_LENGTH`](Self::MAX_LENGTH).
+    pub fn admits_length(sigma: f64) -> bool {
+        sigma > 0.0 && sigma <= Self::MAX_LENGTH
+    }
+
+    /// Whether `sigma` (rad) is a σ of angles a row may state: above 0, at
+    /// most [`MAX_ANGLE`](Self::MAX_ANGLE).
+    pub fn admits_angle(sigma: f64) -> bool {
+        sigma > 0.0 && sigma <= Self::MAX_ANGLE
+    }
+
+    /// Checks that each stated σ is one a row may state
+    /// ([`admits_length`](Self::admits_length),
+    /// [`admits_angle`](Self::admits_angle)).
     ///
     /// # Errors
     /// A sentence naming the σ at fault.
     pub fn check(self) -> Result<(), String> {
         if let Some(length) = self.length
-            && !(length > 0.0 && length <= gecaro_core::MAX_MAGNITUDE)
+            && !Self::admits_length(length)
         {
             return Err(format!(
-                "the row's σ of lengths {length} m is not a standard deviation (> 0, finite)"
+                "the row's σ of lengths {length} m is not a standard deviation (> 0, at most {} m)",
+                Self::MAX_LENGTH
             ));
         }
         if let Some(angle) = self.angle
-            && !(angle > 0.0 && angle <= std::f64::consts::PI)
+            && !Self::admits_angle(angle)
         {
             return Err(format!(
                 "the row's σ of angles {angle} rad is not a standard deviation (> 0, ≤ π)"

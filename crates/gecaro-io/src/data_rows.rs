@@ -15,7 +15,7 @@
 
 use gecaro_core::LinkMass;
 use gecaro_data::parallel::{PARTS_PER_THREAD, available_threads, run_parts};
-use gecaro_data::sample::SampleLoads;
+use gecaro_data::sample::{RowSigma, SampleLoads};
 use gecaro_data::samples::{FilledSamples, SampleShape, SampleSlots, SlotMut};
 use nalgebra::Vector3;
 use std::io::Read;
@@ -554,11 +554,21 @@ impl RowReader<'_> {
         if let Some(columns) = fields.sigma {
             // σ of lengths, then of angles, each a standard deviation above
             // zero that an instrument can state; an empty field states none.
-            let limits = [
-                (self.length, gecaro_core::MAX_MAGNITUDE, "m"),
-                (self.angle, std::f64::consts::PI, "rad"),
+            let limits: [(f64, fn(f64) -> bool, f64, &str); 2] = [
+                (
+                    self.length,
+                    RowSigma::admits_length,
+                    RowSigma::MAX_LENGTH,
+                    "m",
+                ),
+                (
+                    self.angle,
+                    RowSigma::admits_angle,
+                    RowSigma::MAX_ANGLE,
+                    "rad",
+                ),
             ];
-            for ((column, (scale, largest, unit)), stored) in
+            for ((column, (scale, admits, largest, unit)), stored) in
                 columns.into_iter().zip(limits).zip(slot.sigma.iter_mut())
             {
                 *stored = 0.0;
@@ -567,7 +577,7 @@ impl RowReader<'_> {
                     continue;
                 }
                 let sigma = value(column)? * scale;
-                if !(sigma > 0.0 && sigma <= largest) {
+                if !admits(sigma) {
                     return Err(self.fail(
                         line,
                         Some(column),

@@ -215,7 +215,7 @@ impl Samples {
     }
 
     /// Whether some sample states its σ ([`Sample::sigma`]).
-    pub fn states_sigma(&self) -> bool {
+    pub fn has_row_sigma(&self) -> bool {
         self.sigma.is_some() && self.iter().any(|sample| sample.sigma().is_some())
     }
 
