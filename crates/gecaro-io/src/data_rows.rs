@@ -554,22 +554,12 @@ impl RowReader<'_> {
         if let Some(columns) = fields.sigma {
             // σ of lengths, then of angles, each a standard deviation above
             // zero that an instrument can state; an empty field states none.
-            let limits: [(f64, fn(f64) -> bool, f64, &str); 2] = [
-                (
-                    self.length,
-                    RowSigma::admits_length,
-                    RowSigma::MAX_LENGTH,
-                    "m",
-                ),
-                (
-                    self.angle,
-                    RowSigma::admits_angle,
-                    RowSigma::MAX_ANGLE,
-                    "rad",
-                ),
-            ];
-            for ((column, (scale, admits, largest, unit)), stored) in
-                columns.into_iter().zip(limits).zip(slot.sigma.iter_mut())
+            let scales = [(self.length, "m"), (self.angle, "rad")];
+            for (index, ((column, (scale, unit)), stored)) in columns
+                .into_iter()
+                .zip(scales)
+                .zip(slot.sigma.iter_mut())
+                .enumerate()
             {
                 *stored = 0.0;
                 let Some(column) = column else { continue };
@@ -577,7 +567,12 @@ impl RowReader<'_> {
                     continue;
                 }
                 let sigma = value(column)? * scale;
-                if !admits(sigma) {
+                let (admitted, largest) = if index == 0 {
+                    (RowSigma::admits_length(sigma), RowSigma::MAX_LENGTH)
+                } else {
+                    (RowSigma::admits_angle(sigma), RowSigma::MAX_ANGLE)
+                };
+                if !admitted {
                     return Err(self.fail(
                         line,
                         Some(column),
