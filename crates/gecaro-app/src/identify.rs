@@ -23,9 +23,7 @@ use gecaro_report::{
 };
 use serde::{Deserialize, Serialize};
 
-use crate::documents::{
-    CrossValidationJson, IdentificationJson, ModelAdviceJson, ModelScoreJson, RegistrationJson,
-};
+use crate::documents::{CrossValidationJson, IdentificationJson, ModelScoreJson, RegistrationJson};
 use crate::error::{AppError, ErrorKind, Part};
 use crate::evaluation_frame::{self, RegisterShare};
 use crate::files::Files;
@@ -321,7 +319,7 @@ impl Identified {
         let mut document = IdentificationJson::new(&self.loaded.study, &self.result);
         document.cross_validation = self.cross_validation.as_ref().map(CrossValidationJson::new);
         document.registration = Some(self.registration());
-        document.model_advice = self.advice.iter().map(ModelAdviceJson::from).collect();
+        document.model_advice = self.advice.clone();
         document
     }
 

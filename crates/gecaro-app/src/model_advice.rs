@@ -42,8 +42,9 @@ pub const CHEAP_EQUATIONS: usize = 1_500;
 /// each end).
 const REGION_PARTS: usize = 5;
 
-/// Another model, with the figures that recommend it.
-#[derive(Clone, Debug, PartialEq)]
+/// Another model, with the figures that recommend it (the JSON documents'
+/// `model_advice`, as it stands).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct ModelAdvice {
     /// The model suggested (`elastic`, `no-gains`, …).
     pub model: String,

@@ -160,10 +160,10 @@ fn orientation_error(
 }
 
 /// The mean and the sample standard deviation (n − 1) of `values`.
-fn mean_and_deviation(values: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
-    let n = values.clone().count() as f64;
-    let mean = values.clone().sum::<f64>() / n;
-    let squares: f64 = values.map(|value| (value - mean).powi(2)).sum();
+fn mean_and_deviation(values: &[f64]) -> (f64, f64) {
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let squares: f64 = values.iter().map(|value| (value - mean).powi(2)).sum();
     (mean, (squares / (n - 1.0)).sqrt())
 }
 
@@ -210,10 +210,11 @@ pub fn pose_characteristics(
         .sum::<Vector3<f64>>()
         / n;
     let components = barycentre - commanded.translation.vector;
-    let distances = attained
+    let distances: Vec<f64> = attained
         .iter()
-        .map(|pose| (pose.translation.vector - barycentre).norm());
-    let (mean_distance, distance_deviation) = mean_and_deviation(distances);
+        .map(|pose| (pose.translation.vector - barycentre).norm())
+        .collect();
+    let (mean_distance, distance_deviation) = mean_and_deviation(&distances);
     let errors: Vec<[f64; 3]> = attained
         .iter()
         .map(|pose| orientation_error(commanded, pose))
@@ -221,7 +222,8 @@ pub fn pose_characteristics(
     let mut orientation_accuracy = [0.0; 3];
     let mut orientation_repeatability = [0.0; 3];
     for axis in 0..3 {
-        let (mean, deviation) = mean_and_deviation(errors.iter().map(|error| error[axis]));
+        let about: Vec<f64> = errors.iter().map(|error| error[axis]).collect();
+        let (mean, deviation) = mean_and_deviation(&about);
         orientation_accuracy[axis] = mean;
         orientation_repeatability[axis] = 3.0 * deviation;
     }
@@ -342,8 +344,12 @@ pub fn distance_characteristics(
         ));
     }
     let commanded = (commanded_first - commanded_second).norm();
-    let distances = first.iter().zip(second).map(|(a, b)| (a - b).norm());
-    let (mean, deviation) = mean_and_deviation(distances);
+    let distances: Vec<f64> = first
+        .iter()
+        .zip(second)
+        .map(|(a, b)| (a - b).norm())
+        .collect();
+    let (mean, deviation) = mean_and_deviation(&distances);
     Ok(DistanceCharacteristics {
         commanded,
         mean,

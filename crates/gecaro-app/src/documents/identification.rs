@@ -257,35 +257,9 @@ pub struct IdentificationJson {
     pub stations: Vec<crate::set_errors::GroupErrorsJson>,
 }
 
-/// Another model that would do better (see [`crate::ModelAdvice`]).
-#[derive(Clone, Debug, Serialize)]
-pub struct ModelAdviceJson {
-    /// The model suggested.
-    pub model: String,
-    /// The model identified.
-    pub instead_of: String,
-    /// The suggested model's σ̂/σ, when σ was stated.
-    pub sigma_ratio: Option<f64>,
-    /// The identified model's σ̂/σ.
-    pub instead_ratio: Option<f64>,
-    /// The suggested model's error held out by region (m).
-    pub held_out: f64,
-    /// The identified model's (m).
-    pub instead_held_out: f64,
-}
-
-impl From<&crate::ModelAdvice> for ModelAdviceJson {
-    fn from(advice: &crate::ModelAdvice) -> Self {
-        ModelAdviceJson {
-            model: advice.model.clone(),
-            instead_of: advice.instead_of.clone(),
-            sigma_ratio: advice.sigma_ratio,
-            instead_ratio: advice.instead_ratio,
-            held_out: advice.held_out,
-            instead_held_out: advice.instead_held_out,
-        }
-    }
-}
+/// Another model that would do better: [`crate::ModelAdvice`] itself,
+/// serialised as it stands.
+pub type ModelAdviceJson = crate::ModelAdvice;
 
 /// A pose: origin (m) and roll, pitch, yaw (rad).
 #[derive(Clone, Debug, Serialize)]

@@ -687,7 +687,7 @@ fn merge_passes(first: Identification, mut second: Identification) -> Identifica
     }
     second.warnings.push(Warning::SecondPass {
         parameters: second.second_pass.clone(),
-        prior: second_pass_prior().to_string(),
+        prior: second_pass_prior(),
     });
     second
 }

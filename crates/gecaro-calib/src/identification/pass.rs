@@ -221,7 +221,7 @@ pub(super) fn fit_pass(
         if !result.joined.is_empty() {
             result.warnings.push(Warning::Joined {
                 parameters: result.joined.clone(),
-                prior: second_pass_prior().to_string(),
+                prior: second_pass_prior(),
             });
         }
         if !extras.is_empty() || !result.joined.is_empty() {

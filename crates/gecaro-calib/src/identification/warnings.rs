@@ -10,6 +10,7 @@ use std::fmt;
 
 use super::parameter::IdentifiedParameter;
 use crate::linalg::NormalEquations;
+use crate::prior::Prior;
 
 /// Above this condition number of W_b the data are called poorly exciting.
 pub const POOR_CONDITIONING: f64 = 1e4;
@@ -73,20 +74,20 @@ pub enum Warning {
         to: f64,
     },
     /// Parameters identifiable at the calibrated robot only, identified in
-    /// a second pass held by the prior `prior` (in words).
+    /// a second pass held by the prior `prior`.
     SecondPass {
         /// The parameters.
         parameters: Vec<String>,
         /// The prior that holds them.
-        prior: String,
+        prior: Prior,
     },
     /// Parameters set by the data outside the base set and regrouped,
-    /// identified beside it held by the prior `prior` (in words).
+    /// identified beside it held by the prior `prior`.
     Joined {
         /// The parameters.
         parameters: Vec<String>,
         /// The prior that holds them.
-        prior: String,
+        prior: Prior,
     },
     /// A coarse start was taken (large data started on a spread subsample), in words.
     CoarseStart(String),
