@@ -3,19 +3,9 @@
 use gecaro_calib::study::Samples;
 use std::path::Path;
 
-use crate::util::gecaro;
+use crate::util::{gecaro, json_output};
 use predicates::prelude::*;
 use serde_json::Value;
-
-fn json_output(args: &[&str]) -> Value {
-    let output = gecaro().args(args).output().expect("runs");
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    serde_json::from_slice(&output.stdout).expect("valid JSON")
-}
 
 fn as_f64s(value: &Value) -> Vec<f64> {
     value

@@ -9,7 +9,7 @@ use gecaro_core::{Robot, terminal_pose};
 use nalgebra::{IsometryMatrix3, Point3, Vector3};
 
 use super::named_frames::{tracker_1, write_cell};
-use crate::util::gecaro;
+use crate::util::{gecaro, json_output};
 
 /// The real robot of `write_cell`, seen from tracker 1 (its first draw).
 fn real_robot() -> Robot {
@@ -1271,19 +1271,11 @@ fn a_tracker_export_s_own_sigma_weights_its_rows() {
     let rms_sigma_mm = (squares / rows.len() as f64).sqrt() * 1e3;
     let columns = "qm1=A1,qm2=A2,qm3=A3,qm4=A4,qm5=A5,qm6=A6,x=X_mm,y=Y_mm,z=Z_mm";
     let identify = |extra: &[&str], output: &str| -> serde_json::Value {
-        let run = gecaro()
-            .args(["identify", "industrial6", "--method", "position", "--json"])
-            .args(["--data", &path("export.csv"), "--length-unit", "mm"])
-            .args(extra)
-            .args(["-o", &path(output)])
-            .output()
-            .expect("runs");
-        assert!(
-            run.status.success(),
-            "{}",
-            String::from_utf8_lossy(&run.stderr)
-        );
-        serde_json::from_slice(&run.stdout).expect("JSON")
+        let (data, output) = (path("export.csv"), path(output));
+        let mut args = vec!["identify", "industrial6", "--method", "position", "--json"];
+        args.extend(["--data", &data, "--length-unit", "mm", "-o", &output]);
+        args.extend(extra);
+        json_output(&args)
     };
     let weighted = identify(
         &["--columns", &format!("{columns},sigma=Uncertainty_mm")],
@@ -1304,18 +1296,12 @@ fn a_tracker_export_s_own_sigma_weights_its_rows() {
         "single.toml",
     );
     let held_out = |robot: &str| -> f64 {
-        let run = gecaro()
-            .args(["evaluate", &path(robot), "--method", "position", "--json"])
-            .args(["--data", &path("held.csv")])
-            .output()
-            .expect("runs");
-        assert!(
-            run.status.success(),
-            "{}",
-            String::from_utf8_lossy(&run.stderr)
-        );
-        let json: serde_json::Value = serde_json::from_slice(&run.stdout).expect("JSON");
-        json["rms"].as_f64().expect("rms")
+        let (robot, data) = (path(robot), path("held.csv"));
+        json_output(&[
+            "evaluate", &robot, "--method", "position", "--json", "--data", &data,
+        ])["rms"]
+            .as_f64()
+            .expect("rms")
     };
     let (by_rows, by_one) = (held_out("weighted.toml"), held_out("single.toml"));
     println!(

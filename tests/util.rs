@@ -12,3 +12,15 @@ pub(crate) fn gecaro() -> Command {
 pub(crate) fn gecaro_process() -> std::process::Command {
     std::process::Command::new(assert_cmd::cargo::cargo_bin("gecaro"))
 }
+
+/// The JSON `gecaro args…` prints, the run required to succeed (its
+/// error output shown when it does not).
+pub(crate) fn json_output(args: &[&str]) -> serde_json::Value {
+    let output = gecaro().args(args).output().expect("runs");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    serde_json::from_slice(&output.stdout).expect("valid JSON")
+}
