@@ -132,9 +132,13 @@ async function restore(before) {
     state.study = before.study;
     renderStudy();
   }
+  // The jobs under way first: their form and progress at once, and a
+  // method's older result, which the running job supersedes, never shown
+  // in between.
+  const resumed = resumeJobs();
   for (const [name, last] of Object.entries(before.results || {})) {
     const container = $(`${name}-identify-result`);
-    if (!container || !last.result) continue;
+    if (!container || !last.result || resumed.has(name)) continue;
     // A server restarted since keeps no report of the old job (and never
     // serves another job's under its number): the result stays, its report
     // link goes.
@@ -150,22 +154,25 @@ async function restore(before) {
   }
   refreshStale();
   toast('Restored the page as it was before the reload');
-  resumeJobs();
 }
 
 /**
  * The identifications under way when the page was reloaded, followed
- * again (their form put back as it was): a job outlives a reload.
+ * again (their form put back as it was): a job outlives a reload. Returns
+ * the methods whose identification is followed again.
  */
 function resumeJobs() {
+  const resumed = new Set();
   for (const left of jobsLeftRunning()) {
     if (left.kind === 'identify' && $(`${left.name}-identify-result`)) {
       restoreForm(left.name, left.basis);
+      resumed.add(left.name);
       followIdentification(left.name, left.id, left.basis && { ...left.basis, data: identificationBasis(left.name).data });
     } else if (left.kind === 'study') {
       followStudy(left.id, left.basis);
     }
   }
+  return resumed;
 }
 
 /**
