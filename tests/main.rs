@@ -11,6 +11,7 @@ mod errors;
 mod front_ends;
 mod hardening;
 mod interchange;
+mod iso9283_cli;
 mod mistakes_cli;
 mod named_frames;
 mod region_cli;

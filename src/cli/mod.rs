@@ -7,11 +7,13 @@ use clap::{Parser, Subcommand};
 mod calibration_args;
 mod cell_args;
 mod common;
+mod iso9283_args;
 mod robot_args;
 
 pub(crate) use calibration_args::*;
 pub(crate) use cell_args::*;
 pub(crate) use common::*;
+pub(crate) use iso9283_args::*;
 pub(crate) use robot_args::*;
 
 /// Geometric calibration of serial robots (GECARO, Khalil et al.).
@@ -76,6 +78,10 @@ pub(crate) enum Command {
     /// (qm1..qmn) into one data file, by a key column or by row order; a shifted join is
     /// refused with its direction.
     Join(JoinArgs),
+    /// ISO 9283's acceptance test: plan its program, evaluate what was measured
+    /// (pose accuracy and repeatability, multi-directional variation, distance accuracy).
+    #[command(subcommand)]
+    Iso9283(Iso9283Command),
     /// Generate data for the Stanford arm and identify it with every method.
     Demo(DemoArgs),
     /// Serve the GECARO main page (robot table, seven method menus) on 127.0.0.1.

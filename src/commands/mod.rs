@@ -6,6 +6,7 @@ mod compensation;
 mod frames;
 mod identifiability;
 mod interchange;
+mod iso9283;
 mod kinematics;
 mod options;
 mod output;
@@ -39,6 +40,7 @@ pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
         Command::Tcp(args) => frames::tcp(&args),
         Command::Frame(args) => frames::frame(&args),
         Command::Join(args) => frames::join(&args),
+        Command::Iso9283(command) => iso9283::run(&command),
         Command::Demo(args) => calibration::demo(&args),
         Command::Serve(args) => serve::serve(&args),
     }

@@ -24,6 +24,8 @@
 //! | a robot from another format | [`ImportRequest`] | [`Imported`] |
 //! | a robot to another format | [`ExportRequest`] | [`ExportedRobot`] |
 //! | a calibrated robot in its own base frame | [`RebaseRequest`] | [`Rebased`] |
+//! | ISO 9283's test planned | [`Iso9283PlanRequest`] | [`PlannedTest`] |
+//! | ISO 9283's test evaluated | [`Iso9283EvaluateRequest`] | [`EvaluatedTest`] |
 //!
 //! Requests deserialise from the JSON of the web API (`docs/api.md`);
 //! results give the JSON documents of [`documents`]. Files are read and
@@ -78,6 +80,7 @@ mod generate;
 mod identifiable;
 mod identify;
 mod interchange;
+mod iso9283;
 mod join;
 pub mod limits;
 mod loads;
@@ -125,6 +128,10 @@ pub use identify::{
 pub use interchange::{
     ExportRequest, ExportedRobot, ImportRequest, Imported, format_name, joint_calibration_name,
     write_export,
+};
+pub use iso9283::{
+    EvaluatedTest, Iso9283EvaluateRequest, Iso9283PlanRequest, MAX_CYCLES, MeasuredTestJson,
+    PlannedTest, PoseResultJson, TestConditions, TestEvaluationJson, TestPlanJson,
 };
 pub use join::{JoinRequest, JoinedData, JoinedJson, MAX_SHIFT, SHIFT_RATIO, UnmeasuredJson};
 pub use measurements::{Data, Loaded, LoadedStudy, Measurements, Note, StudySource};

@@ -6,6 +6,7 @@
 mod cell;
 mod documents;
 mod elastic;
+mod iso9283;
 mod model_check;
 mod real_data;
 mod wording;

@@ -8,6 +8,7 @@ mod coarse;
 mod frames;
 mod identifiability;
 mod identification;
+mod iso9283;
 mod planning;
 mod prediction;
 mod region;

@@ -37,6 +37,7 @@ mod rotation;
 mod stated_units;
 mod symoro;
 mod table_text;
+mod test_cube;
 mod units;
 mod urdf;
 mod work_region;
@@ -73,7 +74,7 @@ pub use prior::{StandardDeviation, parse_angle, parse_override, parse_prior, par
 pub use problem::{DocumentError, Location};
 pub use program::{
     CorrectedProgram, ProgramBlock, ProgramFile, ProgramKind, ProgramLayout, ProgramReader,
-    parse_program, read_program,
+    WrittenRow, format_program, parse_program, read_program,
 };
 pub use ready::{ReadyRobot, load_robot, ready_robot, ready_robots};
 pub use robot_file::{AngleUnit, IdentifiedTool, RobotFile, fallback_name};
@@ -82,6 +83,7 @@ pub use robot_toml::{
     read_priority_file, read_robot_file, robot_file_text,
 };
 pub use rotation::RotationFormat;
+pub use test_cube::parse_test_cube;
 pub use units::LengthUnit;
 pub use urdf::names::{
     UrdfDocument, UrdfFixedDocument, UrdfFixedLink, UrdfJointDocument, UrdfJointNames, UrdfNames,

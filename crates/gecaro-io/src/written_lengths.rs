@@ -80,12 +80,16 @@ pub(crate) fn length(text: &str, what: &str) -> Result<(f64, bool), String> {
     Ok((value, !unit.is_empty()))
 }
 
-/// A point's three coordinates as a person writes them (see [`length`]):
+/// A point's coordinates (or any lengths written together, a cube's centre
+/// and side) as a person writes them (see [`length`]):
 /// a bare number beside a coordinate that carries its unit is refused
 /// (`-32.3,17.3,-17.3mm` would read the first two as metres); only a bare
 /// 0, being 0 in any unit, may stand there.
-pub(crate) fn point(coordinates: &[&str; 3], what: &str) -> Result<[f64; 3], String> {
-    let mut values = [0.0; 3];
+pub(crate) fn point<const N: usize>(
+    coordinates: &[&str; N],
+    what: &str,
+) -> Result<[f64; N], String> {
+    let mut values = [0.0; N];
     let mut bare = None;
     let mut with_unit = None;
     for (value, coordinate) in values.iter_mut().zip(coordinates) {

@@ -81,7 +81,18 @@ impl<'a> CorrectedProgram<'a> {
         let mut head = self.writer(0);
         // Writing into memory does not fail.
         let _ = head.write_record(&self.header);
-        head.into_inner().unwrap_or_default()
+        let record = head.into_inner().unwrap_or_default();
+        // A program that stated its units states them again (one that did
+        // not is written as the controller wrote it: no line added).
+        let mut text = if self.layout.units_stated {
+            crate::stated_units::units_line(&self.layout.units())
+                .unwrap_or_default()
+                .into_bytes()
+        } else {
+            Vec::new()
+        };
+        text.extend(record);
+        text
     }
 
     /// Writes the rows of `block` to `output`, one result per target,

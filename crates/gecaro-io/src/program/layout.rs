@@ -46,6 +46,9 @@ pub struct ProgramLayout {
     decimal_comma: bool,
     /// Columns kept as they are (not read by gecaro).
     pub(super) unused_columns: Vec<String>,
+    /// Whether the file stated its units in a units line (the corrected
+    /// program states them again).
+    pub(super) units_stated: bool,
 }
 
 /// The columns a program of a robot of `joint_count` joints names, as
@@ -147,6 +150,7 @@ impl ProgramLayout {
             separator,
             decimal_comma,
             unused_columns: located.unused,
+            units_stated: false,
         })
     }
 

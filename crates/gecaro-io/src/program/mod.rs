@@ -20,6 +20,7 @@
 mod corrected;
 mod layout;
 mod reader;
+mod written;
 
 use gecaro_core::Robot;
 use gecaro_data::program::CompensatedPoint;
@@ -33,6 +34,7 @@ use crate::input::open_regular;
 pub use corrected::CorrectedProgram;
 pub use layout::{ProgramBlock, ProgramKind, ProgramLayout};
 pub use reader::ProgramReader;
+pub use written::{WrittenRow, format_program};
 
 /// A program read whole from a CSV file (see the module docs).
 #[derive(Clone, Debug, PartialEq)]
@@ -89,6 +91,24 @@ impl ProgramFile {
     /// The line of target `index` in the file.
     pub fn line(&self, index: usize) -> usize {
         self.targets.line(index)
+    }
+
+    /// The field of the column `name` (as the header writes it, or as the
+    /// format's column map names it) at target `index`, as written; `None`
+    /// for a column the program does not have or a joint column.
+    pub fn field(&self, index: usize, name: &str) -> Option<&str> {
+        let layout = &self.layout;
+        let column = layout.header.iter().position(|header| header == name)?;
+        let kept = layout
+            .kept_columns
+            .iter()
+            .position(|kept| *kept == column)?;
+        self.targets.kept.get(index)?.get(kept).map(String::as_str)
+    }
+
+    /// Whether the header has a column `name`.
+    pub fn has_column(&self, name: &str) -> bool {
+        self.layout.header.iter().any(|header| header == name)
     }
 
     /// The corrected program (see the module docs): one result per target.

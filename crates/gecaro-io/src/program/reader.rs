@@ -22,6 +22,7 @@ use crate::input::{
 };
 use crate::line_chunks::{LineChunks, line_parts};
 use crate::plain_body::{RecordFields, RecordSink, read_part_records};
+use crate::stated_units::{stated_units, units_to_read};
 
 /// Most targets a program may hold (as many as a data file's configurations).
 pub(super) const MAX_TARGETS: usize = MAX_CONFIGURATIONS;
@@ -117,6 +118,20 @@ impl<'a> ProgramReader<'a> {
                 path: path.to_owned(),
                 cause,
             })?;
+        // A program that states its units (as gecaro writes one in other
+        // units than its own) is read in them where the request leaves
+        // gecaro's own.
+        let stated = stated_units(&head)
+            .map_err(|(line, message)| Error::parse(path, line, None, message))?;
+        let units_stated = stated.is_some();
+        let format = &match stated {
+            Some((line, stated)) => DataFormat {
+                units: units_to_read(format.units, stated)
+                    .map_err(|message| Error::parse(path, line, None, message))?,
+                ..format.clone()
+            },
+            None => format.clone(),
+        };
         let (mut reader, separator) = csv_reader((&head[..]).chain(&mut *input), format.delimiter);
         let Some((header, header_line)) = next_record(&mut reader, path)? else {
             return Err(Error::parse(
@@ -129,7 +144,9 @@ impl<'a> ProgramReader<'a> {
                 ),
             ));
         };
-        let layout = ProgramLayout::new(&header, (path, header_line), robot, format, separator)?;
+        let mut layout =
+            ProgramLayout::new(&header, (path, header_line), robot, format, separator)?;
+        layout.units_stated = units_stated;
         let start = (reader.position().byte() as usize).min(head.len());
         drop(reader);
         let lines_before = memchr::memchr_iter(b'\n', &head[..start]).count();

@@ -1,133 +1,10 @@
-//! The performance characteristics of ISO 9283 ("Manipulating industrial
-//! robots — Performance criteria and related test methods"), clause 7: the
-//! test cube and its five poses, pose accuracy and repeatability (7.2),
-//! multi-directional pose accuracy variation, and distance accuracy and
-//! repeatability (7.3), computed from attained poses as the standard states
-//! them.
-//!
-//! ## The test cube and its poses
-//!
-//! A cube of side `s` centred at `c`, its edges along the base frame's
-//! axes ([`TestCube`]). The measuring plane C1–C2–C7–C8 is the diagonal
-//! plane through the cube's vertical edges at (−x, −y) and (+x, +y); its
-//! corners, in gecaro's numbering, are C1 = c + s/2·(−1, −1, −1),
-//! C2 = c + s/2·(+1, +1, −1), C7 = c + s/2·(+1, +1, +1) and
-//! C8 = c + s/2·(−1, −1, +1). Its diagonals are two of the cube's space
-//! diagonals (C1–C7 and C2–C8, length √3·s). P1 is the cube's centre; P2 to
-//! P5 lie on those diagonals at 10 % of the diagonal's length from C1, C2,
-//! C7 and C8 ([`TestCube::poses`]).
-//!
-//! ## Pose accuracy and repeatability (7.2)
-//!
-//! For the `n` attained positions `x_j` of one commanded pose `x_c`
-//! (metres) and their orientations, [`pose_characteristics`]:
-//!
-//! - the barycentre `x̄ = (1/n) Σ x_j`;
-//! - **AP_P** `= ‖x̄ − x_c‖`, with its components `AP_x, AP_y, AP_z`;
-//! - **AP_a, AP_b, AP_c** `= ā − a_c, …`: the mean orientation error about
-//!   x, y and z. gecaro takes each attained orientation's error as the
-//!   roll, pitch, yaw (about the fixed x, y, z) of `R_cᵀ R_j`, the attained
-//!   orientation seen from the commanded one — the standard's difference of
-//!   angles to first order, without a turn's wrap where an angle passes ±π;
-//! - **RP_l** `= l̄ + 3 S_l`, with `l_j = ‖x_j − x̄‖`, `l̄` their mean and
-//!   `S_l = √(Σ (l_j − l̄)² / (n − 1))`;
-//! - **RP_a, RP_b, RP_c** `= ±3 S_a, …`, `S_a = √(Σ (a_j − ā)² / (n − 1))`.
-//!
-//! ## Multi-directional pose accuracy variation
-//!
-//! A pose approached from several directions: for each approach its
-//! barycentre and mean orientation error; **vAP_P** is the largest distance
-//! between two approaches' barycentres, **vAP_a, vAP_b, vAP_c** the largest
-//! difference of their mean errors ([`multi_directional`]).
-//!
-//! ## Distance accuracy and repeatability (7.3)
-//!
-//! Between two commanded positions `P_c1`, `P_c2` (P2 and P4 of the cube),
-//! attained `n` times each: `D_c = ‖P_c1 − P_c2‖`, `D_j = ‖P_1j − P_2j‖`;
-//! **AD_P** `= D̄ − D_c` and **RD** `= ±3 S_D`,
-//! `S_D = √(Σ (D_j − D̄)² / (n − 1))` ([`distance_characteristics`]).
-//!
-//! ```
-//! use gecaro_calib::iso9283::{TestCube, pose_characteristics};
-//! use nalgebra::{IsometryMatrix3, Vector3};
-//!
-//! let cube = TestCube::new(Vector3::new(0.8, 0.0, 0.6), 0.4)?;
-//! let [p1, ..] = cube.poses();
-//! assert_eq!(p1, Vector3::new(0.8, 0.0, 0.6));
-//! // Three cycles 0.1 mm off along x, 0.05 mm apart along y.
-//! let commanded = IsometryMatrix3::translation(p1.x, p1.y, p1.z);
-//! let attained: Vec<IsometryMatrix3<f64>> = [-5e-5, 0.0, 5e-5]
-//!     .iter()
-//!     .map(|dy| IsometryMatrix3::translation(p1.x + 1e-4, p1.y + dy, p1.z))
-//!     .collect();
-//! let pose = pose_characteristics(&commanded, &attained)?;
-//! assert!((pose.accuracy - 1e-4).abs() < 1e-12);
-//! # Ok::<(), gecaro_calib::Error>(())
-//! ```
+//! Pose accuracy and repeatability (7.2), multi-directional pose accuracy
+//! variation and distance accuracy and repeatability (7.3) of attained
+//! poses: the formulas of the [module docs](super).
 
 use nalgebra::{IsometryMatrix3, Vector3};
 
 use crate::Error;
-
-/// The distance of P2–P5 from their corners, as a share of the diagonal.
-pub const CORNER_SHARE: f64 = 0.1;
-
-/// The cube of the test (see the module docs): its centre in the base
-/// frame and its side (metres).
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub struct TestCube {
-    /// The cube's centre, base frame (m).
-    pub centre: Vector3<f64>,
-    /// Its side (m).
-    pub side: f64,
-}
-
-impl TestCube {
-    /// The cube of `side` (m) centred at `centre`.
-    ///
-    /// # Errors
-    /// [`Error::InvalidData`] for a side that is not positive and finite, or
-    /// a centre that is not finite.
-    pub fn new(centre: Vector3<f64>, side: f64) -> Result<Self, Error> {
-        if !(side.is_finite() && side > 0.0 && centre.iter().all(|x| x.is_finite())) {
-            return Err(Error::InvalidData {
-                line: None,
-                message: format!(
-                    "the test cube needs a finite centre and a side above 0 m, not side {side} m \
-                     at ({}, {}, {})",
-                    centre.x, centre.y, centre.z
-                ),
-            });
-        }
-        Ok(TestCube { centre, side })
-    }
-
-    /// The corners C1, C2, C7, C8 of the measuring plane (module docs).
-    pub fn plane_corners(&self) -> [Vector3<f64>; 4] {
-        let h = self.side / 2.0;
-        [
-            Vector3::new(-h, -h, -h),
-            Vector3::new(h, h, -h),
-            Vector3::new(h, h, h),
-            Vector3::new(-h, -h, h),
-        ]
-        .map(|corner| self.centre + corner)
-    }
-
-    /// P1 (the centre), then P2–P5 at [`CORNER_SHARE`] of the diagonal from
-    /// C1, C2, C7 and C8 along the plane's diagonals.
-    pub fn poses(&self) -> [Vector3<f64>; 5] {
-        let [c1, c2, c7, c8] = self.plane_corners();
-        let towards = |from: Vector3<f64>, to: Vector3<f64>| from + CORNER_SHARE * (to - from);
-        [
-            self.centre,
-            towards(c1, c7),
-            towards(c2, c8),
-            towards(c7, c1),
-            towards(c8, c2),
-        ]
-    }
-}
 
 /// Pose accuracy and repeatability of one commanded pose (7.2; module
 /// docs). Lengths in metres, angles in radians.
@@ -366,26 +243,6 @@ mod tests {
 
     fn at(position: Vector3<f64>) -> IsometryMatrix3<f64> {
         IsometryMatrix3::from_parts(Translation3::from(position), Rotation3::identity())
-    }
-
-    /// The cube's poses: P1 the centre; P2–P5 on the plane's diagonals, a
-    /// tenth of √3·s from their corners, in the plane through the edges at
-    /// (−x, −y) and (+x, +y); a cube that is none is refused.
-    #[test]
-    fn the_cube_s_poses_lie_where_the_standard_puts_them() {
-        let cube = TestCube::new(Vector3::new(1.0, -0.5, 0.3), 0.6).expect("cube");
-        let poses = cube.poses();
-        assert_eq!(poses[0], cube.centre);
-        let diagonal = 3f64.sqrt() * 0.6;
-        for (pose, corner) in poses[1..].iter().zip(cube.plane_corners()) {
-            assert!(((pose - corner).norm() - 0.1 * diagonal).abs() < 1e-12);
-            assert!(((pose - cube.centre).norm() - 0.4 * diagonal).abs() < 1e-12);
-            // In the plane x − y = const through the centre.
-            let offset = pose - cube.centre;
-            assert!((offset.x - offset.y).abs() < 1e-12);
-        }
-        assert!(TestCube::new(Vector3::zeros(), 0.0).is_err());
-        assert!(TestCube::new(Vector3::new(f64::NAN, 0.0, 0.0), 0.3).is_err());
     }
 
     /// Hand-computed: four cycles at known offsets.

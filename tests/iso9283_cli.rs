@@ -1,0 +1,103 @@
+//! `gecaro iso9283 plan` and `evaluate` as an engineer runs them: a program
+//! for the controller in millimetres and degrees with `;` and decimal
+//! commas, read back; a tracker's export of the visits in millimetres,
+//! evaluated against an independent computation.
+
+use crate::util::{gecaro, json_output};
+
+/// The plan is written in the units asked and read back by `evaluate`: a
+/// measured file of the commanded positions shifted by known offsets gives
+/// AP = the offset, RP from the offsets' spread, by hand.
+#[test]
+fn a_test_planned_in_millimetres_is_evaluated_end_to_end() {
+    let folder = tempfile::tempdir().expect("folder");
+    let program = folder.path().join("test.csv");
+    let program = program.to_str().expect("path");
+    let plan = json_output(&[
+        "iso9283",
+        "plan",
+        "industrial6",
+        "--cycles",
+        "4",
+        "--length-unit",
+        "mm",
+        "--angle-unit",
+        "deg",
+        "--delimiter",
+        ";",
+        "--decimal-comma",
+        "-o",
+        program,
+        "--json",
+    ]);
+    assert_eq!(plan["rows"], 20);
+    let text = std::fs::read_to_string(program).expect("program");
+    assert!(text.starts_with("# units: angle_unit = deg, length_unit = mm\npose;cycle;"));
+    assert!(text.lines().nth(2).expect("row").contains(','), "{text}");
+    // The tracker saw every visit 0.1 mm off along x, and cycle 2 of each
+    // pose 0.02 mm further along y: AP_x 0.1 mm, AP_y 0.005 mm.
+    let mut measured = String::from("pose,cycle,x,y,z\n");
+    for pose in plan["poses"].as_array().expect("poses") {
+        let [x, y, z] = [0, 1, 2].map(|i| pose["position"][i].as_f64().expect("x") * 1e3);
+        for cycle in 1..=4 {
+            let dy = if cycle == 2 { 0.02 } else { 0.0 };
+            measured.push_str(&format!(
+                "{},{cycle},{},{},{z}\n",
+                pose["pose"],
+                x + 0.1,
+                y + dy
+            ));
+        }
+    }
+    let data = folder.path().join("measured.csv");
+    std::fs::write(&data, measured).expect("write");
+    let report = json_output(&[
+        "iso9283",
+        "evaluate",
+        "--program",
+        program,
+        "--data",
+        data.to_str().expect("path"),
+        "--length-unit",
+        "mm",
+        "--robot",
+        "industrial6",
+        "--load",
+        "rated, 12 kg",
+        "--json",
+    ]);
+    assert_eq!(report["warnings"], serde_json::json!([]));
+    let before = &report["before"];
+    assert_eq!(before["registration"], "base");
+    assert_eq!(before["poses"].as_array().expect("poses").len(), 5);
+    for pose in before["poses"].as_array().expect("poses") {
+        let ap = &pose["ap"];
+        assert!((ap["x"].as_f64().expect("x") - 1e-4).abs() < 1e-9);
+        assert!((ap["y"].as_f64().expect("y") - 5e-6).abs() < 1e-9);
+        // l = 15, 5, 5, 5 µm: l̄ = 7.5 µm, S_l = 5 µm → RP 22.5 µm.
+        assert!((pose["rp"]["l"].as_f64().expect("l") - 22.5e-6).abs() < 1e-9);
+        assert!(ap.get("a").is_none(), "no orientation measured");
+    }
+    assert_eq!(report["conditions"]["load"], "rated, 12 kg");
+    // In text, for people.
+    let output = gecaro()
+        .args(["iso9283", "evaluate", "--program", program, "--data"])
+        .arg(&data)
+        .args(["--length-unit", "mm", "--frame", "best-fit"])
+        .output()
+        .expect("runs");
+    assert!(output.status.success());
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        stdout.contains("best fit") && stdout.contains("P5"),
+        "{stdout}"
+    );
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("rigid motion"), "{stderr}");
+    // The program is never replaced by an output.
+    let again = gecaro()
+        .args(["iso9283", "plan", "industrial6", "-o", program])
+        .output()
+        .expect("runs");
+    assert!(!again.status.success());
+}
