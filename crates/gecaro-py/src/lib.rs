@@ -45,6 +45,7 @@ mod generation;
 mod identifiability;
 mod identification;
 mod interrupt;
+mod iso9283;
 mod methods;
 mod planning;
 mod robot;
@@ -96,6 +97,8 @@ fn _gecaro(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(frames::tool_point, module)?)?;
     module.add_function(wrap_pyfunction!(frames::user_frame, module)?)?;
     module.add_function(wrap_pyfunction!(frames::join, module)?)?;
+    module.add_function(wrap_pyfunction!(iso9283::iso9283_plan, module)?)?;
+    module.add_function(wrap_pyfunction!(iso9283::iso9283_evaluate, module)?)?;
     module.add_function(wrap_pyfunction!(planning::plan, module)?)?;
     module.add_function(wrap_pyfunction!(planning::plan_study, module)?)?;
     module.add_function(wrap_pyfunction!(planning::predict, module)?)?;

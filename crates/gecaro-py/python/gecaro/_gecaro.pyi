@@ -41,6 +41,8 @@ __all__ = [
     "tool_point",
     "user_frame",
     "join",
+    "iso9283_plan",
+    "iso9283_evaluate",
     "plan",
     "plan_study",
     "predict",
@@ -716,6 +718,39 @@ def tool_point(robot: Robot, qm: Union[_ArrayLike, Data]) -> dict[str, Any]:
     """A tool point taught by pivoting, as ``gecaro tcp --json``: m ≥ 4
     orientations with the tip on one fixed point → ``"tool"`` in frame n+1
     and ``"fixed_point"`` (m), residuals, σ, the orientations' spread (rad)."""
+
+def iso9283_plan(
+    robot: Robot,
+    *,
+    cube: str = "auto",
+    cycles: int = ...,
+    directions: Literal[1, 3] = 1,
+    floor: Optional[float] = None,
+    path: Optional[_PathLike] = None,
+    length_unit: Optional[Literal["m", "mm"]] = None,
+    angle_unit: Optional[Literal["rad", "deg"]] = None,
+    overwrite: bool = False,
+) -> dict[str, Any]:
+    """ISO 9283's test planned on ``robot``: the cube (``"auto"`` or
+    ``"CX,CY,CZ,SIDE"`` with units), P1–P5 and the cycles as a program
+    (``"program"``: CSV text, written to ``path``), as ``gecaro iso9283 plan
+    --json``."""
+
+def iso9283_evaluate(
+    program: _PathLike,
+    data: _PathLike,
+    *,
+    after: Optional[_PathLike] = None,
+    robot: Optional[Robot] = None,
+    frame: Optional[str] = None,
+    length_unit: Optional[Literal["m", "mm"]] = None,
+    angle_unit: Optional[Literal["rad", "deg"]] = None,
+    rotation: Optional[Literal["quaternion", "rpy", "euler-zyx", "euler-xyz", "euler-zyz", "rotation-vector"]] = None,
+    conditions: Optional[dict[str, str]] = None,
+) -> dict[str, Any]:
+    """ISO 9283's test evaluated: per pose ``"ap"`` and ``"rp"`` (m, rad),
+    ``"vap"``, the P2–P4 ``"distance"``, before and ``"after"``, as
+    ``gecaro iso9283 evaluate --json``."""
 
 def join(
     robot: Robot,
