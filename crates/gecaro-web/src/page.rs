@@ -15,6 +15,7 @@ const STYLE: &str = include_str!("../assets/style.css");
 /// Every module of `assets/js` by its path under `/js/` (a test checks that
 /// the folder holds these and no others).
 const MODULES: &[(&str, &str)] = &[
+    ("acceptance.js", include_str!("../assets/js/acceptance.js")),
     ("api.js", include_str!("../assets/js/api.js")),
     ("cell.js", include_str!("../assets/js/cell.js")),
     (

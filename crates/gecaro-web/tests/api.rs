@@ -2964,3 +2964,73 @@ async fn a_tool_point_and_a_user_frame_are_made_through_the_api() {
         "{registered}"
     );
 }
+
+/// ISO 9283's test from the page (issue 78): planned into the folder (the
+/// program's text beside the plan), a measured upload evaluated against it
+/// in millimetres with a stated frame, a bad cube refused by its field.
+#[tokio::test]
+async fn an_iso9283_test_is_planned_and_evaluated_through_the_api() {
+    let api = Api::new();
+    let document = api.document("industrial6").await;
+    let (status, plan) = api
+        .post(
+            "/api/iso9283/plan",
+            &json!({ "robot": document, "cycles": 3, "directions": 3, "save_as": "test.csv" }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{plan}");
+    assert_eq!(plan["rows"], 90);
+    assert_eq!(plan["measured_rows"], 45);
+    let program = plan["program"].as_str().expect("program");
+    assert_eq!(
+        std::fs::read_to_string(api.folder.path().join("test.csv")).expect("saved"),
+        program
+    );
+    // A tracker 1 m along x saw each visit 0.05 mm off along z.
+    let mut measured = String::from("pose;cycle;direction;x;y;z\n");
+    for line in program.lines().skip(1) {
+        let fields: Vec<&str> = line.split(',').collect();
+        if fields[3] != "1" {
+            continue;
+        }
+        let at = |i: usize| fields[i].parse::<f64>().expect("number") * 1e3;
+        measured.push_str(&format!(
+            "{};{};{};{};{};{}\n",
+            fields[0],
+            fields[1],
+            fields[2],
+            (at(10) - 1000.0).to_string().replace('.', ","),
+            at(11).to_string().replace('.', ","),
+            (at(12) + 0.05).to_string().replace('.', ",")
+        ));
+    }
+    let (status, report) = api
+        .post(
+            "/api/iso9283/evaluate",
+            &json!({ "program": { "file": "test.csv" },
+                     "data": { "csv": { "text": measured, "name": "tracker.csv" } },
+                     "format": { "length_unit": "mm" }, "frame": "1m,0,0",
+                     "conditions": { "speed": "50 %" } }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{report}");
+    let before = &report["before"];
+    assert_eq!(before["registration"], "stated");
+    assert_eq!(before["directions"], 3);
+    for pose in before["poses"].as_array().expect("poses") {
+        assert!(
+            (pose["ap"]["z"].as_f64().expect("m") - 5e-5).abs() < 1e-9,
+            "{pose}"
+        );
+        assert!(pose["vap"]["p"].as_f64().expect("m") < 1e-9, "{pose}");
+    }
+    assert_eq!(report["conditions"]["speed"], "50 %");
+    let (status, body) = api
+        .post(
+            "/api/iso9283/plan",
+            &json!({ "robot": document, "cube": "1,0,0.5,0.3mm" }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST, "{body}");
+    assert!(error_text(&body).contains("cube"), "{body}");
+}

@@ -1640,6 +1640,51 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
     let unknowns = text_of(client, "#study-predicted", 5).await;
     assert!(unknowns.contains("tracker_2.x"), "{unknowns}");
     screenshot(client, "15-study-plan-1400.png").await;
+
+    // ISO 9283's test of the table's robot: planned into the folder (mm and
+    // degrees), a tracker's file of its visits 0.1 mm off along x
+    // evaluated: AP 0.1 mm at every pose, a bullseye each.
+    set_values(
+        client,
+        &[("iso-cycles", "3"), ("iso-save", "acceptance.csv")],
+    )
+    .await;
+    collect_errors(client).await;
+    click(client, "#iso-plan").await;
+    let cube = text_of(client, "#iso-planned, #iso-result .error-box", 60).await;
+    assert!(
+        cube.contains("largest found") && cube.contains("15 rows"),
+        "{cube}"
+    );
+    let program = std::fs::read_to_string(folder.join("acceptance.csv")).expect("program");
+    let mut measured = String::from("pose,cycle,x,y,z\n");
+    for line in program.lines().skip(2) {
+        let fields: Vec<&str> = line.split(',').collect();
+        let at = |i: usize| fields[i].parse::<f64>().expect("mm");
+        measured.push_str(&format!(
+            "{},{},{},{},{}\n",
+            fields[0],
+            fields[1],
+            at(10) + 0.1,
+            at(11),
+            at(12)
+        ));
+    }
+    std::fs::write(folder.join("visits.csv"), measured).expect("measured");
+    set_values(client, &[("iso-data", "visits.csv")]).await;
+    click(client, "#iso-evaluate").await;
+    let summary = text_of(client, "#iso-summary", 30).await;
+    assert!(summary.contains("the largest AP_P 0.1"), "{summary}");
+    assert_eq!(count(client, "#iso-table tbody tr").await, 5);
+    assert_eq!(count(client, ".bullseye").await, 5);
+    client
+        .execute(
+            "document.getElementById('iso-evaluation').scrollIntoView()",
+            vec![],
+        )
+        .await
+        .expect("scroll");
+    screenshot(client, "16-acceptance-test.png").await;
     let errors = uncaught_errors(client).await;
     assert!(errors.is_empty(), "uncaught errors: {errors:?}");
     session.close().await;

@@ -6,6 +6,7 @@
 import { api } from './api.js';
 import { h, $, toast } from './dom.js';
 import { on } from './events.js';
+import { buildAcceptance } from './acceptance.js';
 import { cancelJobsLeftBehind, jobsLeftRunning } from './jobs.js';
 import { helpDialog } from './help.js';
 import { renderHistory } from './history.js';
@@ -68,6 +69,7 @@ async function start() {
   renderHistory();
   state.study = emptyStudy();
   renderStudyPlan();
+  buildAcceptance();
   installViewControls();
   $('angle-unit').addEventListener('change', changeAngleUnit);
   $('robot-new').addEventListener('click', () => confirmDiscard(newRobotDialog, 'A new robot'));

@@ -10,6 +10,7 @@ mod calibration;
 mod compensation;
 mod frames;
 mod identification;
+mod iso9283;
 mod json;
 mod planning;
 mod robot;
@@ -23,7 +24,7 @@ use crate::state::AppState;
 /// Every POST route of the API (full paths), each taking a JSON body: for
 /// clients, tests and the fuzz targets. `routes` registers them (a test
 /// checks that each one answers).
-pub const POST_ROUTES: [&str; 14] = [
+pub const POST_ROUTES: [&str; 16] = [
     "/api/robots/check",
     "/api/robots/new",
     "/api/robots/upload",
@@ -35,6 +36,8 @@ pub const POST_ROUTES: [&str; 14] = [
     "/api/identify",
     "/api/evaluate",
     "/api/compensate",
+    "/api/iso9283/plan",
+    "/api/iso9283/evaluate",
     "/api/studies/save",
     "/api/studies/plan",
     "/api/studies/predict",
@@ -61,6 +64,8 @@ pub(crate) fn routes() -> Router<AppState> {
         .route("/tcp", post(frames::tool_point))
         .route("/frame", post(frames::user_frame))
         .route("/join", post(frames::join))
+        .route("/iso9283/plan", post(iso9283::plan))
+        .route("/iso9283/evaluate", post(iso9283::evaluate))
         .route("/studies/file", get(study::open))
         .route("/studies/save", post(study::save))
         .route("/studies/plan", post(planning::plan_study))
