@@ -94,6 +94,22 @@ fn a_test_planned_in_millimetres_is_evaluated_end_to_end() {
     );
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(stderr.contains("rigid motion"), "{stderr}");
+    // The report: one HTML file with the tables and the plots inline.
+    let report = folder.path().join("report.html");
+    gecaro()
+        .args(["iso9283", "evaluate", "--program", program, "--data"])
+        .arg(&data)
+        .args(["--length-unit", "mm", "-o"])
+        .arg(&report)
+        .assert()
+        .success();
+    let html = std::fs::read_to_string(&report).expect("report");
+    assert!(html.contains("Acceptance test (ISO 9283)") && html.contains("RP_l"));
+    assert_eq!(
+        html.matches("<svg").count(),
+        6,
+        "the cube and five bullseyes"
+    );
     // The program is never replaced by an output.
     let again = gecaro()
         .args(["iso9283", "plan", "industrial6", "-o", program])

@@ -89,6 +89,13 @@ pub(crate) struct Iso9283EvaluateArgs {
     /// Its uncertainty.
     #[arg(long)]
     pub(crate) uncertainty: Option<String>,
+    /// Write the report, one self-contained HTML file (tables, the cube with the errors, a
+    /// bullseye per pose).
+    #[arg(short, long, value_name = "REPORT.html")]
+    pub(crate) output: Option<PathBuf>,
+    /// Overwrite the report if it exists.
+    #[arg(long)]
+    pub(crate) force: bool,
     /// Print JSON instead of text (lengths in metres, angles in radians).
     #[arg(long)]
     pub(crate) json: bool,

@@ -17,9 +17,23 @@ pub(crate) fn run(command: &Iso9283Command) -> Result<(), Failure> {
     }
 }
 
+/// `value` with four decimals, without the sign of a value that rounds to 0.
+fn four(value: f64) -> String {
+    let text = format!("{value:.4}");
+    if text
+        .trim_start_matches('-')
+        .bytes()
+        .all(|b| b == b'0' || b == b'.')
+    {
+        text.trim_start_matches('-').to_owned()
+    } else {
+        text
+    }
+}
+
 /// Millimetres with four decimals.
 fn mm(value: f64) -> String {
-    format!("{:.4}", value * 1e3)
+    four(value * 1e3)
 }
 
 fn plan(args: &Iso9283PlanArgs) -> Result<(), Failure> {
@@ -109,7 +123,7 @@ fn print_measured(before: &MeasuredTestJson, after: Option<&MeasuredTestJson>) {
         let mut line = format!("P{}    {ap}    {rp}", pose.pose);
         if before.oriented {
             let degrees = |key: &str, map: &serde_json::Map<String, serde_json::Value>| {
-                value(map, key).map_or("–".into(), |v| format!("{:.4}", v.to_degrees()))
+                value(map, key).map_or("–".into(), |v| four(v.to_degrees()))
             };
             line.push_str(&format!(
                 "    AP_a,b,c {} {} {}°  RP_a,b,c ±{} ±{} ±{}°",
@@ -159,6 +173,8 @@ fn evaluate(args: &Iso9283EvaluateArgs) -> Result<(), Failure> {
         instrument: args.instrument.clone(),
         uncertainty: args.uncertainty.clone(),
     };
+    request.save_report = args.output.as_deref().map(name);
+    request.overwrite = args.force;
     let evaluated = request.run(&LocalFiles)?;
     let document = evaluated.document();
     for warning in &document.warnings {
@@ -200,5 +216,8 @@ fn evaluate(args: &Iso9283EvaluateArgs) -> Result<(), Failure> {
         stated(&conditions.instrument),
         stated(&conditions.uncertainty)
     );
+    if let Some(path) = &evaluated.saved_report {
+        println!("report → {}", path.display());
+    }
     Ok(())
 }

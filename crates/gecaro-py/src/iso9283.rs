@@ -74,11 +74,12 @@ pub(crate) fn iso9283_plan<'py>(
 /// radians. `frame`: `"base"` (default), `"best-fit"`, or the measurement
 /// frame's pose in the base frame with units. `robot` checks the program's
 /// targets against its model. `conditions`: load, speed, warm_up,
-/// instrument, uncertainty (text, reported as given).
+/// instrument, uncertainty (text, reported as given). `report`: write the
+/// self-contained HTML report there (`overwrite` to replace one).
 #[pyfunction]
 #[pyo3(signature = (
     program, data, *, after = None, robot = None, frame = None, length_unit = None,
-    angle_unit = None, rotation = None, conditions = None,
+    angle_unit = None, rotation = None, conditions = None, report = None, overwrite = false,
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn iso9283_evaluate<'py>(
@@ -92,6 +93,8 @@ pub(crate) fn iso9283_evaluate<'py>(
     angle_unit: Option<String>,
     rotation: Option<String>,
     conditions: Option<std::collections::HashMap<String, String>>,
+    report: Option<PathBuf>,
+    overwrite: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let mut request = Iso9283EvaluateRequest::new(
         ProgramSource::File(name(&program)),
@@ -115,6 +118,8 @@ pub(crate) fn iso9283_evaluate<'py>(
             ))
         })?;
     }
+    request.save_report = report.as_deref().map(name);
+    request.overwrite = overwrite;
     let evaluated = py.detach(|| request.run(&LocalFiles)).py()?;
     to_python(py, &evaluated.document())
 }

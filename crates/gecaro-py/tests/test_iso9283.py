@@ -33,7 +33,11 @@ def test_iso9283_planned_and_evaluated(tmp_path):
         writer = csv.writer(file)
         writer.writerow(["pose", "cycle", "x", "y", "z"])
         writer.writerows(rows)
-    report = gecaro.iso9283_evaluate(program, data, robot=robot, conditions={"speed": "100 %"})
+    html = tmp_path / "report.html"
+    report = gecaro.iso9283_evaluate(
+        program, data, robot=robot, conditions={"speed": "100 %"}, report=html
+    )
+    assert "Acceptance test (ISO 9283)" in html.read_text()
     assert report["warnings"] == []
     assert report["conditions"]["speed"] == "100 %"
     for pose in report["before"]["poses"]:

@@ -25,7 +25,7 @@ pub struct ReportInput<'a> {
     pub command: &'a str,
 }
 
-const STYLE: &str = "body{font-family:system-ui,-apple-system,'Segoe UI',sans-serif;max-width:980px;margin:2rem auto;\
+pub(crate) const STYLE: &str = "body{font-family:system-ui,-apple-system,'Segoe UI',sans-serif;max-width:980px;margin:2rem auto;\
 padding:0 1rem;color:#1d2630;line-height:1.45}h1{margin-bottom:.2rem}h2{margin-top:2rem;border-bottom:1px solid #d8dee6;\
 padding-bottom:.2rem}table{border-collapse:collapse;margin:.6rem 0;font-size:.92rem}td,th{border:1px solid #d8dee6;\
 padding:.25rem .6rem;text-align:right}th{background:#f2f5f8}td:first-child,th:first-child{text-align:left}\

@@ -4,13 +4,15 @@
 //! SVG made with plotters ([`convergence_svg`], [`error_histograms_svg`],
 //! [`errors_per_configuration_svg`], [`robot_projections_svg`]),
 //! and [`html_report`], one HTML file with the plots inline, readable without
-//! a network.
+//! a network; [`acceptance_report`], the same for ISO 9283's acceptance test.
 
 #![warn(missing_docs)]
 
+mod acceptance;
 mod html;
 mod plots;
 
+pub use acceptance::{AcceptanceInput, MeasuredInput, acceptance_report};
 pub use html::{ReportInput, html_report};
 pub use plots::{
     IdentificationSvgs, accuracy_curve_svg, convergence_svg, error_histograms_svg,

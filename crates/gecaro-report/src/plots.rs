@@ -18,9 +18,9 @@ use crate::Error;
 
 const WIDTH: u32 = 720;
 const HEIGHT: u32 = 340;
-const BEFORE: RGBColor = RGBColor(214, 39, 40);
-const AFTER: RGBColor = RGBColor(31, 119, 180);
-const FONT: &str = "sans-serif";
+pub(crate) const BEFORE: RGBColor = RGBColor(214, 39, 40);
+pub(crate) const AFTER: RGBColor = RGBColor(31, 119, 180);
+pub(crate) const FONT: &str = "sans-serif";
 
 /// Registers the bundled font once per process.
 fn fonts() {
@@ -32,12 +32,12 @@ fn fonts() {
     });
 }
 
-fn plot_error(error: impl std::fmt::Display) -> Error {
+pub(crate) fn plot_error(error: impl std::fmt::Display) -> Error {
     Error::Plot(error.to_string())
 }
 
 /// Renders into an SVG string with `draw`.
-fn svg(
+pub(crate) fn svg(
     width: u32,
     height: u32,
     draw: impl FnOnce(DrawingArea<SVGBackend<'_>, plotters::coord::Shift>) -> Result<(), Error>,

@@ -71,6 +71,12 @@ pub struct Iso9283EvaluateRequest {
     /// The test's conditions, reported as given.
     #[serde(default)]
     pub conditions: TestConditions,
+    /// Write the HTML report here (checked before any work).
+    #[serde(default)]
+    pub save_report: Option<String>,
+    /// Replace an existing report.
+    #[serde(default)]
+    pub overwrite: bool,
     #[serde(flatten)]
     unknown: Unknown,
 }
@@ -99,6 +105,8 @@ pub struct EvaluatedTest {
     pub conditions: TestConditions,
     /// What a user should know.
     pub warnings: Vec<String>,
+    /// Where the HTML report was written.
+    pub saved_report: Option<std::path::PathBuf>,
 }
 
 /// One pose's characteristics as JSON gives them (m, rad).
@@ -250,6 +258,39 @@ impl MeasuredTest {
 }
 
 impl EvaluatedTest {
+    /// The self-contained HTML report (`gecaro_report::acceptance_report`);
+    /// `command` is the command that made it, as the report states.
+    ///
+    /// # Errors
+    /// A plot that cannot be drawn.
+    pub fn report(&self, command: &str) -> Result<String, AppError> {
+        let conditions = &self.conditions;
+        let stated: [(&str, Option<&str>); 5] = [
+            ("load", conditions.load.as_deref()),
+            ("speed", conditions.speed.as_deref()),
+            ("warm-up", conditions.warm_up.as_deref()),
+            ("measurement system", conditions.instrument.as_deref()),
+            ("its uncertainty", conditions.uncertainty.as_deref()),
+        ];
+        fn measured(test: &MeasuredTest) -> gecaro_report::MeasuredInput<'_> {
+            gecaro_report::MeasuredInput {
+                label: &test.label,
+                evaluation: &test.evaluation,
+            }
+        }
+        Ok(gecaro_report::acceptance_report(
+            &gecaro_report::AcceptanceInput {
+                robot: self.robot.as_deref(),
+                program: &self.program,
+                before: measured(&self.before),
+                after: self.after.as_ref().map(measured),
+                conditions: &stated,
+                warnings: &self.warnings,
+                command,
+            },
+        )?)
+    }
+
     /// The JSON document.
     pub fn document(&self) -> TestEvaluationJson {
         TestEvaluationJson {
@@ -350,6 +391,8 @@ impl Iso9283EvaluateRequest {
             format: DataFormatSpec::default(),
             frame: None,
             conditions: TestConditions::default(),
+            save_report: None,
+            overwrite: false,
             unknown: Unknown::default(),
         }
     }
@@ -381,6 +424,9 @@ impl Iso9283EvaluateRequest {
     /// poses with fewer than two cycles, bad settings.
     pub fn run(&self, files: &dyn Files) -> Result<EvaluatedTest, AppError> {
         self.unknown.check()?;
+        if let Some(name) = &self.save_report {
+            files.check_output(name, "html", self.overwrite)?;
+        }
         let registration = self.registration()?;
         let format = self.format.format()?;
         let (program_text, program_label) = read_source(&self.program, files, "program")?;
@@ -530,13 +576,20 @@ impl Iso9283EvaluateRequest {
                 _ => {}
             }
         }
-        Ok(EvaluatedTest {
+        let mut evaluated = EvaluatedTest {
             program: program_label,
             robot: given.map(|file| file.robot.name().to_owned()),
             before,
             after,
             conditions: self.conditions.clone(),
             warnings,
-        })
+            saved_report: None,
+        };
+        if let Some(name) = &self.save_report {
+            let report = evaluated.report(&format!("gecaro iso9283 evaluate → {name}"))?;
+            evaluated.saved_report =
+                Some(files.write(name, "html", report.as_bytes(), self.overwrite)?);
+        }
+        Ok(evaluated)
     }
 }

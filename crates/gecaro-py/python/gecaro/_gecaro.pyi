@@ -747,10 +747,13 @@ def iso9283_evaluate(
     angle_unit: Optional[Literal["rad", "deg"]] = None,
     rotation: Optional[Literal["quaternion", "rpy", "euler-zyx", "euler-xyz", "euler-zyz", "rotation-vector"]] = None,
     conditions: Optional[dict[str, str]] = None,
+    report: Optional[_PathLike] = None,
+    overwrite: bool = False,
 ) -> dict[str, Any]:
     """ISO 9283's test evaluated: per pose ``"ap"`` and ``"rp"`` (m, rad),
     ``"vap"``, the P2–P4 ``"distance"``, before and ``"after"``, as
-    ``gecaro iso9283 evaluate --json``."""
+    ``gecaro iso9283 evaluate --json``; the HTML report written to
+    ``report``."""
 
 def join(
     robot: Robot,

@@ -94,6 +94,7 @@ function renderEvaluation(report) {
     characteristicsTable(before, after),
     h('p', { id: 'iso-distance', text: `Distance P2–P4: ${distance(before)}${after ? ` → ${distance(after)}` : ''}.` }),
     h('div', { class: 'bullseyes' }, (after || before).poses.map(bullseye)),
+    h('button', { type: 'button', id: 'iso-report', text: 'Download the report (HTML)', onclick: () => download('iso9283-report.html', report.report, 'text/html') }),
     h('p', { class: 'hint', text: `Conditions: ${conditions}.` }));
 }
 

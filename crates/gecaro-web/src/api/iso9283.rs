@@ -38,12 +38,28 @@ pub(crate) async fn plan(
         .await
 }
 
-/// The test evaluated (see the module docs).
+/// An evaluated test and its report.
+#[derive(Serialize)]
+pub(crate) struct EvaluatedTestJson {
+    /// As the command line's JSON.
+    #[serde(flatten)]
+    evaluation: TestEvaluationJson,
+    /// The self-contained HTML report, to download.
+    report: String,
+}
+
+/// The test evaluated (see the module docs), with its report.
 pub(crate) async fn evaluate(
     State(state): State<AppState>,
     Json(request): Json<Iso9283EvaluateRequest>,
-) -> Result<Json<TestEvaluationJson>, ApiError> {
+) -> Result<Json<EvaluatedTestJson>, ApiError> {
     state
-        .compute(move |state| Ok(Json(request.run(state.workspace())?.document())))
+        .compute(move |state| {
+            let evaluated = request.run(state.workspace())?;
+            Ok(Json(EvaluatedTestJson {
+                evaluation: evaluated.document(),
+                report: evaluated.report("the page's acceptance test")?,
+            }))
+        })
         .await
 }
