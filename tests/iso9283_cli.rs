@@ -117,3 +117,133 @@ fn a_test_planned_in_millimetres_is_evaluated_end_to_end() {
         .expect("runs");
     assert!(!again.status.success());
 }
+
+/// A study set's σ measured by a repeatability file (poses revisited):
+/// the verdict tests the residuals against it and says so; a file that
+/// claims ten times less scatter than the data have is named as exceeded;
+/// a σ both stated and measured is refused.
+#[test]
+fn a_repeatability_file_gives_a_study_its_noise() {
+    let folder = tempfile::tempdir().expect("folder");
+    let at = |name: &str| folder.path().join(name);
+    let run = |args: &[&str]| {
+        let output = gecaro()
+            .current_dir(folder.path())
+            .args(args)
+            .output()
+            .expect("runs");
+        assert!(
+            output.status.success(),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+    };
+    run(&[
+        "generate",
+        "stanford",
+        "--method",
+        "position",
+        "--count",
+        "80",
+        "--noise",
+        "2e-5",
+        "--seed",
+        "5",
+        "-o",
+        "data.csv",
+        "--real-out",
+        "real.toml",
+    ]);
+    // Five of the data's configurations, revisited twenty times each.
+    let data = std::fs::read_to_string(at("data.csv")).expect("data");
+    let rows: Vec<&str> = data.lines().filter(|line| !line.starts_with('#')).collect();
+    let joints = |row: &str| row.split(',').take(6).collect::<Vec<_>>().join(",");
+    let mut configurations = format!("{}\n", joints(rows[0]));
+    for _ in 0..20 {
+        for row in &rows[1..6] {
+            configurations.push_str(&format!("{}\n", joints(row)));
+        }
+    }
+    std::fs::write(at("configs.csv"), configurations).expect("configurations");
+    run(&[
+        "generate",
+        "stanford",
+        "--method",
+        "position",
+        "--configurations",
+        "configs.csv",
+        "--real",
+        "real.toml",
+        "--noise",
+        "2e-5",
+        "--seed",
+        "6",
+        "-o",
+        "revisits.csv",
+    ]);
+    let revisits = std::fs::read_to_string(at("revisits.csv")).expect("revisits");
+    let revisits: Vec<&str> = revisits
+        .lines()
+        .filter(|line| !line.starts_with('#'))
+        .collect();
+    let mut repeatability = format!("pose,{}\n", revisits[0]);
+    for (index, row) in revisits[1..].iter().enumerate() {
+        repeatability.push_str(&format!("{},{row}\n", index % 5 + 1));
+    }
+    std::fs::write(at("rep.csv"), repeatability).expect("repeatability");
+    let study = "robot = \"stanford\"\n[[measurements]]\nmethod = \"position\"\ndata = \"data.csv\"\nrepeatability = \"rep.csv\"\n";
+    std::fs::write(at("study.toml"), study).expect("study");
+    let output = gecaro()
+        .current_dir(folder.path())
+        .args(["identify", "--study", "study.toml"])
+        .output()
+        .expect("runs");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(stderr.contains("σ 0.02"), "{stderr}");
+    assert!(
+        stdout.contains("fit the noise measured from the revisited poses of rep.csv"),
+        "{stdout}"
+    );
+    // Revisits scattered ten times less than the data's noise.
+    let mut small = String::from("pose,qm1,qm2,qm3,qm4,qm5,qm6,x,y,z\n");
+    let parsed: Vec<Vec<f64>> = revisits[1..]
+        .iter()
+        .map(|row| row.split(',').map(|v| v.parse().expect("number")).collect())
+        .collect();
+    for (index, row) in parsed.iter().enumerate() {
+        let pose = index % 5;
+        let members: Vec<&Vec<f64>> = parsed.iter().skip(pose).step_by(5).collect();
+        let mean = |c: usize| members.iter().map(|m| m[c]).sum::<f64>() / members.len() as f64;
+        let fields: Vec<String> = (0..9)
+            .map(|c| {
+                if c >= 6 {
+                    (mean(c) + (row[c] - mean(c)) / 10.0).to_string()
+                } else {
+                    row[c].to_string()
+                }
+            })
+            .collect();
+        small.push_str(&format!("{},{}\n", pose + 1, fields.join(",")));
+    }
+    std::fs::write(at("small.csv"), small).expect("small");
+    std::fs::write(at("small.toml"), study.replace("rep.csv", "small.csv")).expect("study");
+    let output = gecaro()
+        .current_dir(folder.path())
+        .args(["identify", "--study", "small.toml"])
+        .output()
+        .expect("runs");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("× the measured noise"), "{stdout}");
+    let both = study.replace("repeatability", "sigma = \"20um\"\nrepeatability");
+    std::fs::write(at("both.toml"), both).expect("study");
+    let output = gecaro()
+        .current_dir(folder.path())
+        .args(["identify", "--study", "both.toml"])
+        .output()
+        .expect("runs");
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("not both"), "{stderr}");
+}

@@ -90,6 +90,7 @@ mod model_advice;
 mod nearest_table;
 mod plan;
 mod rebase;
+mod repeatability;
 mod residuals;
 mod robot_files;
 mod set_errors;

@@ -200,6 +200,15 @@ impl StudyFiles for BesideStudyFile<'_> {
     fn misplaced(&self, field: &SpecField, message: String) -> Error {
         self.text.misplaced(field, message)
     }
+
+    fn text(&self, name: &str) -> Result<(String, String), Error> {
+        let path = self.folder.join(name);
+        let text = std::fs::read_to_string(&path).map_err(|cause| Error::Read {
+            path: path.clone(),
+            cause,
+        })?;
+        Ok((text, path.display().to_string()))
+    }
 }
 
 /// Reads a study file and everything it refers to.

@@ -92,6 +92,11 @@ impl StudyFiles for StudyThroughFiles<'_> {
         AppError::plain(ErrorKind::TooLarge, message)
     }
 
+    fn text(&self, name: &str) -> Result<(String, String), AppError> {
+        let (path, text) = self.files.read_text(&self.name(name), &["csv"])?;
+        Ok((text, path.display().to_string()))
+    }
+
     fn misplaced(&self, field: &SpecField, message: String) -> AppError {
         match self.statement {
             Statement::File(text) => text.misplaced(field, message).into(),

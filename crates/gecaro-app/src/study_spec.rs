@@ -230,6 +230,11 @@ pub struct SetSpec {
     /// A separate σ for orientation rows.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sigma_rotation: Option<StandardDeviation>,
+    /// Instead of `sigma`: a file of poses revisited (`pose` and the
+    /// attained `x,y,z`, in the set's format), whose pooled scatter is the
+    /// set's σ (issue 78; `crate::repeatability`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub repeatability: Option<String>,
     /// `known` or `unknown` (plane methods).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub plane: Option<String>,
@@ -334,6 +339,19 @@ pub trait StudyFiles {
 
     /// The error for `field`, which is wrong as `message` says.
     fn misplaced(&self, field: &SpecField, message: String) -> Self::Error;
+
+    /// The text of the CSV file `name` (a repeatability file) and the label
+    /// messages give it; a front end without files refuses it.
+    ///
+    /// # Errors
+    /// A file that cannot be read.
+    fn text(&self, name: &str) -> Result<(String, String), Self::Error> {
+        Err(Error::Format {
+            path: name.into(),
+            message: "files are not read here: state the set's sigma".into(),
+        }
+        .into())
+    }
 
     /// The robot the front end gives a study that does not name one (the
     /// web page's table); none by default.
@@ -576,6 +594,12 @@ impl SetSpec {
                 .map_err(|message| misplaced(key, message))
         };
         let sigma_value = sigma(&self.sigma, "sigma", false)?;
+        if self.sigma.is_some() && self.repeatability.is_some() {
+            return Err(misplaced(
+                "repeatability",
+                "a set's σ is stated (sigma) or measured (repeatability), not both".into(),
+            ));
+        }
         let sigma_rotation = sigma(&self.sigma_rotation, "sigma_rotation", true)?;
         let method = self.method(misplaced)?;
         let frame = |name: &Option<String>, role: FrameRole, key: &'static str| {
@@ -589,11 +613,11 @@ impl SetSpec {
         let (label, format) = match &self.data {
             SetData::Samples { label, .. } => (label.clone(), None),
             SetData::File(name) => {
-                if self.sigma.is_none() {
+                if self.sigma.is_none() && self.repeatability.is_none() {
                     return Err(misplaced(
                         "sigma",
                         "a set read from a file states its sensor's σ (sigma = 0.02 in the set's \
-                         length unit, or \"20um\")"
+                         length unit, or \"20um\"), or a repeatability file that measures it"
                             .into(),
                     ));
                 }
@@ -641,6 +665,7 @@ impl SetSpec {
         let set = MeasurementSet {
             sigma: sigma_value,
             sigma_rotation,
+            sigma_source: None,
             method,
             samples: Samples::empty(),
             label: self.label.clone().unwrap_or(label),
@@ -662,16 +687,36 @@ impl SetSpec {
         data: StudyData,
         misplaced: &dyn Fn(&'static str, String) -> F::Error,
     ) -> Result<Vec<String>, F::Error> {
+        let mut notes = Vec::new();
+        if let Some(name) = &self.repeatability {
+            let (text, label) = files.text(name)?;
+            let noise = crate::repeatability::repeatability_noise(
+                &text,
+                &label,
+                format.unwrap_or(&DataFormat::default()),
+            )?;
+            set.sigma = Some(noise.sigma);
+            set.sigma_source = Some(name.clone());
+            notes.push(format!(
+                "{}: σ {:.4} mm measured from {label} ({} poses, {} visits; the largest RP_l \
+                 {:.4} mm)",
+                set.label,
+                noise.sigma * 1e3,
+                noise.poses,
+                noise.positions,
+                noise.repeatability * 1e3
+            ));
+        }
         let (name, format) = match (&self.data, format) {
-            (SetData::File(_), _) if data == StudyData::Unmeasured => return Ok(Vec::new()),
+            (SetData::File(_), _) if data == StudyData::Unmeasured => return Ok(notes),
             (SetData::File(name), Some(format)) => (name, format),
             (SetData::Samples { samples, .. }, _) => {
                 // Shared with the arrays' `Data`: copied only if changed.
                 set.samples = Samples::clone(samples);
                 self.carried(set, misplaced)?;
-                return Ok(Vec::new());
+                return Ok(notes);
             }
-            (SetData::File(_), None) => return Ok(Vec::new()),
+            (SetData::File(_), None) => return Ok(notes),
         };
         let Some(joint_types) = joint_types else {
             return Err(misplaced(
@@ -686,7 +731,6 @@ impl SetSpec {
             }
         };
         let (read, label) = files.samples(name, joint_types, &columns, format)?;
-        let mut notes = Vec::new();
         if !read.unused_columns.is_empty() && data == StudyData::Measured {
             notes.push(format!(
                 "{label}: columns {} are not used by the {} method (left alone)",

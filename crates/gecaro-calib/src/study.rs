@@ -35,6 +35,9 @@ pub struct MeasurementSet {
     pub sigma: Option<f64>,
     /// A separate standard deviation for the orientation rows (radians).
     pub sigma_rotation: Option<f64>,
+    /// Where `sigma` was measured (a repeatability file of poses revisited),
+    /// when it was not stated: the verdict says which.
+    pub sigma_source: Option<String>,
     /// A name for messages (usually the data file).
     pub label: String,
     /// The named tool the set measures (index into [`Study::frames`]);
@@ -53,6 +56,7 @@ impl MeasurementSet {
             samples: samples.into(),
             sigma: self.sigma,
             sigma_rotation: self.sigma_rotation,
+            sigma_source: self.sigma_source.clone(),
             label: self.label.clone(),
             tool: self.tool,
             station: self.station,
@@ -243,6 +247,7 @@ impl Study {
                 samples: samples.into(),
                 sigma: None,
                 sigma_rotation: None,
+                sigma_source: None,
                 label: label.into(),
                 tool: None,
                 station: None,
@@ -931,6 +936,7 @@ mod tests {
                 samples: samples.clone().into(),
                 sigma: Some(1e-5),
                 sigma_rotation: None,
+                sigma_source: None,
                 label: "data.csv".into(),
                 tool: None,
                 station: None,
@@ -1017,6 +1023,7 @@ mod tests {
                         .into(),
                         sigma: Some(1e-3),
                         sigma_rotation: None,
+                        sigma_source: None,
                         label: "first".into(),
                         // A reflector seen from a station: states with
                         // the frames' columns, on the fused route too.
@@ -1028,6 +1035,7 @@ mod tests {
                         samples: samples.into(),
                         sigma: Some(2e-4),
                         sigma_rotation: Some(1e-3),
+                        sigma_source: None,
                         label: info.name.into(),
                         tool: None,
                         station: None,

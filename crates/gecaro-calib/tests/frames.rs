@@ -181,6 +181,7 @@ fn cell_study_of(
                 samples: samples.into(),
                 sigma: Some(NOISE),
                 sigma_rotation: (method_name == "frame").then_some(NOISE),
+                sigma_source: None,
                 label: format!("{}_{}.csv", truth[tool].name, truth[station].name),
                 tool: Some(tool),
                 station: named_station,

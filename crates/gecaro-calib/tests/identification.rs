@@ -169,6 +169,7 @@ fn with_sensor_noise_the_residual_settles_at_the_noise_level() {
                 samples: pairs.into(),
                 sigma: Some(sigma),
                 sigma_rotation: None,
+                sigma_source: None,
                 label: "pairs".into(),
                 tool: None,
                 station: None,

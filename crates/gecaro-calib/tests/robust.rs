@@ -421,6 +421,7 @@ fn each_set_of_a_study_is_judged_by_its_own_noise() {
             samples: samples.into(),
             sigma: Some(1e-4),
             sigma_rotation: None,
+            sigma_source: None,
             label: format!("{name}.csv"),
             tool: None,
             station: None,

@@ -259,6 +259,10 @@ pub struct Verdict {
     /// Where the result holds: its predicted error in the measured region
     /// and over the work region (`None` where no prediction is made).
     pub region: Option<RegionPrediction>,
+    /// Where the σ the global test uses was measured (repeatability files of
+    /// poses revisited), when every set's σ was measured rather than
+    /// stated; empty otherwise.
+    pub sigma_sources: Vec<String>,
     /// The verdict in one sentence.
     pub summary: String,
 }
@@ -301,6 +305,16 @@ pub(super) struct Evidence<'a> {
 }
 
 impl Verdict {
+    /// How the σ the global test uses was known: `stated`, or `measured`
+    /// (every set's from a repeatability file).
+    fn noise_words(&self) -> &'static str {
+        if self.sigma_sources.is_empty() {
+            "stated"
+        } else {
+            "measured"
+        }
+    }
+
     /// The verdict on `evidence` from `study` (see the module docs).
     pub(super) fn of(study: &Study, evidence: Evidence<'_>) -> Verdict {
         let configurations: usize = study.sets.iter().map(|set| set.samples.len()).sum();
@@ -311,8 +325,15 @@ impl Verdict {
             .iter()
             .all(MeasurementSet::states_sigma)
             .then(|| noise_test(evidence.data_cost, evidence.degrees_of_freedom));
+        let sigma_sources: Vec<String> = study
+            .sets
+            .iter()
+            .map(|set| set.sigma_source.clone())
+            .collect::<Option<Vec<String>>>()
+            .unwrap_or_default();
         let mut verdict = Verdict {
             outcome: Outcome::Untested,
+            sigma_sources,
             noise_test,
             repeatability: evidence.repeatability,
             residual_length,
@@ -423,9 +444,10 @@ impl Verdict {
                 problems.push((
                     Outcome::ExceedsNoise,
                     format!(
-                        "the residuals are {:.1}× the stated noise (global test at {:.0} %: χ² \
+                        "the residuals are {:.1}× the {} noise (global test at {:.0} %: χ² \
                          {:.1} > {:.1} for {} degrees of freedom): {}",
                         test.sigma_ratio,
+                        self.noise_words(),
                         NOISE_TEST_LEVEL * 100.0,
                         test.chi_square,
                         test.critical,
@@ -434,9 +456,10 @@ impl Verdict {
                             .as_ref()
                             .map(ShiftedJoin::words)
                             .or_else(|| self.disagreement.as_ref().map(Disagreement::words))
-                            .unwrap_or_else(
-                                || "the model, the data or the stated σ is wrong".to_owned(),
-                            )
+                            .unwrap_or_else(|| format!(
+                                "the model, the data or the {} σ is wrong",
+                                self.noise_words()
+                            ),)
                     ),
                 ));
             } else if test.below() {
@@ -510,6 +533,15 @@ impl Verdict {
                         )
                     ),
                     (_, Some(_)) => String::new(),
+                    (Some(test), None) if test.passed && !self.sigma_sources.is_empty() => {
+                        format!(
+                            "the residuals fit the noise measured from the revisited poses of \
+                             {} (σ̂/σ = {:.2}, global test at {:.0} %)",
+                            self.sigma_sources.join(", "),
+                            test.sigma_ratio,
+                            NOISE_TEST_LEVEL * 100.0
+                        )
+                    }
                     (Some(test), None) if test.passed => format!(
                         "the residuals fit the stated noise (σ̂/σ = {:.2}, global test at {:.0} %; \
                          σ as stated, not measured)",

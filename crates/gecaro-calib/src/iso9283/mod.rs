@@ -73,6 +73,7 @@
 mod characteristics;
 mod cube;
 mod evaluation;
+mod noise;
 mod plan;
 
 pub use characteristics::{
@@ -81,6 +82,7 @@ pub use characteristics::{
 };
 pub use cube::{CORNER_SHARE, TestCube};
 pub use evaluation::{PoseResult, Registration, TestEvaluation, Visit, evaluate_test};
+pub use noise::{PooledNoise, pooled_noise};
 pub use plan::{
     APPROACH_SHARE, Approaches, CubeChoice, DEFAULT_CYCLES, JOINT_MARGIN, PlannedPoint,
     SPACE_MARGIN, TestOptions, TestPlan, TestRow, plan_test,
