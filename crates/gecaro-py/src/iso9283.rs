@@ -28,7 +28,7 @@ fn name(path: &Path) -> String {
 /// joint above it.
 #[pyfunction]
 #[pyo3(signature = (
-    robot, *, cube = "auto", cycles = gecaro_calib::iso9283::DEFAULT_CYCLES, directions = 1,
+    robot, *, cube = "auto", cycles = 30, directions = 1,
     floor = None, path = None, length_unit = None, angle_unit = None, overwrite = false,
 ))]
 #[allow(clippy::too_many_arguments)]

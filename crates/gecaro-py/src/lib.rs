@@ -72,6 +72,7 @@ fn _gecaro(module: &Bound<'_, PyModule>) -> PyResult<()> {
         "outlier_threshold",
         gecaro_calib::identification::DEFAULT_OUTLIER_THRESHOLD,
     )?;
+    defaults.set_item("cycles", gecaro_calib::iso9283::DEFAULT_CYCLES)?;
     module.add("DEFAULTS", defaults)?;
     module.add_class::<robot::PyRobot>()?;
     module.add_class::<robot::Exported>()?;

@@ -374,7 +374,7 @@ def test_generation_in_a_cell_equals_the_command_line(cli, tmp_path):
 
 def test_every_signature_states_the_shared_defaults():
     # One default per setting (issue 77): every function that takes an
-    # iteration limit, a seed or an outlier threshold states the value the
+    # iteration limit, a seed, an outlier threshold or a test's cycles states the value the
     # command line and the page use, read here from the Rust constants.
     import inspect
 
@@ -392,4 +392,9 @@ def test_every_signature_states_the_shared_defaults():
                 assert parameters[setting].default == value, (name, setting)
                 checked += 1
     assert checked >= 6, checked
-    assert gecaro.DEFAULTS == {"max_iterations": 30, "seed": 1, "outlier_threshold": 3.0}
+    assert gecaro.DEFAULTS == {
+        "max_iterations": 30,
+        "seed": 1,
+        "outlier_threshold": 3.0,
+        "cycles": 30,
+    }

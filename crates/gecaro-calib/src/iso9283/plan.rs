@@ -460,7 +460,7 @@ pub fn plan_test(
             message: format!(
                 "the cube of side {:.1} mm at ({:.1}, {:.1}, {:.1}) mm is not inside {}'s working \
                  space{}: a corner, a pose{} is not reached within the joint limits{}; a smaller \
-                 cube, another centre, or --cube auto",
+                 cube, another centre, or the largest cube found (auto)",
                 cube.side * 1e3,
                 cube.centre.x * 1e3,
                 cube.centre.y * 1e3,
@@ -546,8 +546,8 @@ fn largest_cube(
         line: None,
         message: format!(
             "no test cube of side 10 mm or more fits {}'s working space{} about the tool's \
-             position in its reference configuration ({:.1}, {:.1}, {:.1}) mm; state one with \
-             --cube",
+             position in its reference configuration ({:.1}, {:.1}, {:.1}) mm; state a cube \
+             that fits",
             robot.name(),
             if solver.cell.is_open() {
                 ""

@@ -723,7 +723,7 @@ def iso9283_plan(
     robot: Robot,
     *,
     cube: str = "auto",
-    cycles: int = ...,
+    cycles: int = 30,
     directions: Literal[1, 3] = 1,
     floor: Optional[float] = None,
     path: Optional[_PathLike] = None,
