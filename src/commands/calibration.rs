@@ -75,9 +75,9 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
     request.noise = args.noise;
     request.cell = super::options::cell_spec(&args.cell)?;
     request.seed = Some(args.seed);
-    request.save_as = Some(name(&args.output));
+    request.output.save_as = Some(name(&args.output));
     request.real_save_as = args.real_out.as_deref().map(name);
-    request.overwrite = args.force;
+    request.output.overwrite = args.force;
     let what = match &args.configurations {
         Some(_) => "measuring",
         None => "generating",

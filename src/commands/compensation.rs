@@ -6,7 +6,7 @@ use gecaro_calib::each_step;
 use gecaro_io::ProgramKind;
 use indicatif::ProgressBar;
 
-use super::options::{data_format, name};
+use super::options::{data_format, name, written};
 use crate::cli::CompensateArgs;
 use crate::failure::Failure;
 
@@ -34,8 +34,7 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
         .map(|path| gecaro_app::DataSource::File(name(path)));
     request.base_points_format.length_unit = args.base_points_unit.clone();
     request.max_tool_turn = args.max_tool_turn.clone();
-    request.save_as = Some(name(&args.output));
-    request.overwrite = args.force;
+    request.output = written(&args.output, args.force);
     let mut bar: Option<ProgressBar> = None;
     let mut observer = each_step(|done, total| {
         let total = total as u64;

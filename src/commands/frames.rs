@@ -7,7 +7,7 @@ use gecaro_app::{
     ToolPointRequest, UserFrameRequest,
 };
 
-use super::options::{data_format, name};
+use super::options::{data_format, name, written};
 use crate::cli::{FrameArgs, JoinArgs, TcpArgs};
 use crate::failure::Failure;
 
@@ -120,8 +120,7 @@ pub(crate) fn join(args: &JoinArgs) -> Result<(), Failure> {
         columns: args.log_columns.clone(),
         ..DataFormatSpec::default()
     };
-    request.save_as = Some(name(&args.output));
-    request.overwrite = args.force;
+    request.output = written(&args.output, args.force);
     let joined = request.run(&LocalFiles)?;
     if let Some(note) = joined.unmeasured_note() {
         eprintln!("note: {note}");

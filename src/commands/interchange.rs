@@ -9,7 +9,7 @@ use gecaro_app::{
 use gecaro_io::RobotFormat;
 use serde::Serialize;
 
-use super::options::name;
+use super::options::{name, written};
 use crate::cli::{ExportArgs, ImportArgs, RebaseArgs};
 use crate::failure::Failure;
 use crate::format::number;
@@ -29,8 +29,7 @@ pub(crate) fn import(args: &ImportArgs) -> Result<(), Failure> {
     request.name = args.name.clone();
     request.length_unit = args.units.length_unit.clone();
     request.angle_unit = args.units.angle_unit.clone();
-    request.save_as = Some(name(&args.output));
-    request.overwrite = args.force;
+    request.output = written(&args.output, args.force);
     let imported = request.run(&LocalFiles)?.imported;
     let robot = &imported.file.robot;
     print_notes(&imported.notes);
@@ -51,8 +50,7 @@ pub(crate) fn import(args: &ImportArgs) -> Result<(), Failure> {
 
 pub(crate) fn export(args: &ExportArgs) -> Result<(), Failure> {
     let mut request = ExportRequest::new(RobotSource::Named(args.robot.clone()), args.to.clone());
-    request.save_as = Some(name(&args.output));
-    request.overwrite = args.force;
+    request.output = written(&args.output, args.force);
     request.rebase = args.rebase.clone().map(RobotSource::Named);
     let calibration_path = gecaro_app::joint_calibration_name(&name(&args.output));
     let exported = request.run(&LocalFiles)?;
@@ -102,8 +100,7 @@ pub(crate) fn rebase(args: &RebaseArgs) -> Result<(), Failure> {
         RobotSource::Named(args.robot.clone()),
         RobotSource::Named(args.nominal.clone()),
     );
-    request.save_as = Some(name(&args.output));
-    request.overwrite = args.force;
+    request.output = written(&args.output, args.force);
     request.base_points = args
         .base_points
         .as_ref()

@@ -6,7 +6,7 @@ use gecaro_app::{
     RobotSource, TestConditions,
 };
 
-use super::options::{cell_spec, data_format, name};
+use super::options::{cell_spec, data_format, name, written};
 use crate::cli::{Iso9283Command, Iso9283EvaluateArgs, Iso9283PlanArgs};
 use crate::failure::Failure;
 
@@ -43,8 +43,7 @@ fn plan(args: &Iso9283PlanArgs) -> Result<(), Failure> {
     request.directions = Some(args.directions);
     request.cell = cell_spec(&args.cell)?;
     request.format = data_format(&args.format);
-    request.save_as = Some(name(&args.output));
-    request.overwrite = args.force;
+    request.output = written(&args.output, args.force);
     let planned = request.run(&LocalFiles)?;
     let document = planned.document();
     if args.json {
@@ -173,8 +172,9 @@ fn evaluate(args: &Iso9283EvaluateArgs) -> Result<(), Failure> {
         instrument: args.instrument.clone(),
         uncertainty: args.uncertainty.clone(),
     };
-    request.save_report = args.output.as_deref().map(name);
-    request.overwrite = args.force;
+    if let Some(path) = &args.output {
+        request.output = written(path, args.force);
+    }
     let evaluated = request.run(&LocalFiles)?;
     let document = evaluated.document();
     for warning in &document.warnings {

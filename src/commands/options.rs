@@ -141,6 +141,14 @@ pub(crate) fn name(path: &Path) -> String {
     path.display().to_string()
 }
 
+/// The output file `path`, replacing one that exists when `force`.
+pub(crate) fn written(path: &Path, force: bool) -> gecaro_app::Output {
+    gecaro_app::Output {
+        save_as: Some(name(path)),
+        overwrite: force,
+    }
+}
+
 /// What a command's measurements are: one method with its data file, or a study file.
 pub(crate) fn measurements(source: &Source, data: Option<&Path>) -> Result<Measurements, Failure> {
     Ok(Measurements {

@@ -11,7 +11,7 @@ use gecaro_calib::prediction::PoseErrors;
 use gecaro_calib::study::DataColumn;
 use serde::Serialize;
 
-use super::options::{data_format, method_spec, name};
+use super::options::{data_format, method_spec, name, written};
 use super::progress::with_steps;
 use crate::cli::{PlanArgs, PredictArgs, TestPoseArgs};
 use crate::failure::Failure;
@@ -64,13 +64,13 @@ pub(crate) fn plan(args: &PlanArgs) -> Result<(), Failure> {
     request.curve = args.curve.clone().unwrap_or_default();
     request.noise = args.noise;
     request.plot_save_as = args.plot.as_deref().map(name);
-    request.overwrite = args.force;
+    request.output.overwrite = args.force;
     if args.curve.is_none() {
         let output = args
             .output
             .as_deref()
             .ok_or_else(|| Failure::usage("give the output file: -o PLANNED.csv", None))?;
-        request.save_as = Some(name(output));
+        request.output.save_as = Some(name(output));
     }
     let planning = with_steps(
         if args.curve.is_some() {
@@ -105,8 +105,7 @@ fn plan_study(args: &PlanArgs, study: &std::path::Path) -> Result<(), Failure> {
     request.seed = Some(args.seed);
     request.cell = super::options::cell_spec(&args.cell)?;
     request.format = data_format(&args.format);
-    request.save_as = Some(name(output));
-    request.overwrite = args.force;
+    request.output = written(output, args.force);
     let planned = with_steps("planning", |observer| request.run(&LocalFiles, observer));
     let planned = planned?;
     super::options::print_notes(&planned.loaded.notes);

@@ -33,6 +33,7 @@ use crate::limits::MAX_GENERATE;
 use crate::loads::COMPLIANCE_RANGE;
 use crate::measurements::Unknown;
 use crate::method::MethodSpec;
+use crate::output::Output;
 use crate::robot_files::simulated_robot_file;
 use crate::sources::{DataFormatSpec, DataSource, RobotSource};
 
@@ -78,13 +79,12 @@ pub struct GenerateRequest {
     pub cell: CellSpec,
     /// Seed of every random draw (default 1).
     pub seed: Option<u64>,
-    /// Write the data file (CSV) here.
-    pub save_as: Option<String>,
+    /// Where the output is written (`save_as`) and whether it may replace a
+    /// file (`overwrite`).
+    #[serde(flatten)]
+    pub output: Output,
     /// Write the simulated real robot here, so that the truth is known.
     pub real_save_as: Option<String>,
-    /// Replace files that exist.
-    #[serde(default)]
-    pub overwrite: bool,
     #[serde(flatten)]
     unknown: Unknown,
 }
@@ -135,9 +135,8 @@ impl GenerateRequest {
             noise: 0.0,
             cell: CellSpec::default(),
             seed: None,
-            save_as: None,
+            output: Output::default(),
             real_save_as: None,
-            overwrite: false,
             unknown: Unknown::default(),
         }
     }
@@ -157,9 +156,9 @@ impl GenerateRequest {
         self.unknown.check()?;
         let nominal = self.robot.load(files)?;
         let robot = &nominal.robot;
-        for (name, extension) in [(&self.save_as, "csv"), (&self.real_save_as, "toml")] {
+        for (name, extension) in [(&self.output.save_as, "csv"), (&self.real_save_as, "toml")] {
             if let Some(name) = name {
-                files.check_output(name, extension, self.overwrite)?;
+                files.check_output(name, extension, self.output.overwrite)?;
             }
         }
         let method = self.method.build()?;
@@ -328,16 +327,13 @@ impl GenerateRequest {
                 samples.as_slice()
             )
         );
-        let saved = match &self.save_as {
-            Some(name) => Some(files.write(name, "csv", csv.as_bytes(), self.overwrite)?),
-            None => None,
-        };
+        let saved = self.output.write(files, "csv", csv.as_bytes())?;
         let real_saved = match &self.real_save_as {
             Some(name) => Some(files.write(
                 name,
                 "toml",
                 gecaro_io::robot_file_text(&real, std::path::Path::new(name))?.as_bytes(),
-                self.overwrite,
+                self.output.overwrite,
             )?),
             None => None,
         };

@@ -14,6 +14,7 @@ use crate::error::{AppError, ErrorKind, Part};
 use crate::files::Files;
 use crate::measurements::Unknown;
 use crate::method::parse_name;
+use crate::output::Output;
 use crate::sources::{RobotSource, angle_unit, length_unit};
 
 /// The format of a name: `urdf`, `dh`, `mdh`, `symoro`.
@@ -43,11 +44,10 @@ pub struct ImportRequest {
     pub length_unit: Option<String>,
     /// Tables: the unit of angles that do not state theirs (`rad`, `deg`).
     pub angle_unit: Option<String>,
-    /// Write the robot file here.
-    pub save_as: Option<String>,
-    /// Replace a file that exists.
-    #[serde(default)]
-    pub overwrite: bool,
+    /// Where the output is written (`save_as`) and whether it may replace a
+    /// file (`overwrite`).
+    #[serde(flatten)]
+    pub output: Output,
     #[serde(flatten)]
     unknown: Unknown,
 }
@@ -89,9 +89,7 @@ impl ImportRequest {
                 angle: angle_unit(self.angle_unit.as_deref())?,
             },
         };
-        if let Some(name) = &self.save_as {
-            files.check_output(name, "toml", self.overwrite)?;
-        }
+        self.output.check(files, "toml")?;
         let (path, text) = match &self.text {
             Some(text) => (PathBuf::from(&self.file), text.clone()),
             None => files.read_text(&self.file, &["urdf", "par", "toml", "csv", "xml"])?,
@@ -125,12 +123,12 @@ impl ImportRequest {
                  the export could not carry"
             ));
         }
-        let saved = match &self.save_as {
+        let saved = match &self.output.save_as {
             Some(name) => Some(files.write(
                 name,
                 "toml",
                 gecaro_io::robot_file_text(&imported.file, std::path::Path::new(name))?.as_bytes(),
-                self.overwrite,
+                self.output.overwrite,
             )?),
             None => None,
         };
@@ -149,12 +147,10 @@ pub struct ExportRequest {
     /// robot calibrated in a tracker's frame, exported in its own;
     /// `crate::rebase`).
     pub rebase: Option<RobotSource>,
-    /// Write the file here (and its joint calibration beside it, as
-    /// `FILE.joint_calibration.yaml`).
-    pub save_as: Option<String>,
-    /// Replace files that exist.
-    #[serde(default)]
-    pub overwrite: bool,
+    /// Where the output is written (`save_as`) and whether it may replace a
+    /// file (`overwrite`).
+    #[serde(flatten)]
+    pub output: Output,
     #[serde(flatten)]
     unknown: Unknown,
 }
@@ -189,8 +185,7 @@ impl ExportRequest {
             robot,
             to: to.into(),
             rebase: None,
-            save_as: None,
-            overwrite: false,
+            output: Output::default(),
             unknown: Unknown::default(),
         }
     }
@@ -247,8 +242,8 @@ impl ExportRequest {
         if let Some(nearest) = &nearest {
             exported.notes.insert(0, nearest.note());
         }
-        let saved = match &self.save_as {
-            Some(name) => write_export(&exported, format, name, self.overwrite, files)?,
+        let saved = match &self.output.save_as {
+            Some(name) => write_export(&exported, format, name, self.output.overwrite, files)?,
             None => Vec::new(),
         };
         Ok(ExportedRobot {

@@ -26,6 +26,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{AppError, ErrorKind};
 use crate::files::Files;
 use crate::measurements::Unknown;
+use crate::output::Output;
 use crate::sources::{CsvInput, DataFormatSpec, DataSource, RobotSource};
 
 /// The largest shift tried, in rows either way.
@@ -64,12 +65,10 @@ pub struct JoinRequest {
     /// The log's units, column names, separator.
     #[serde(default)]
     pub log_format: DataFormatSpec,
-    /// Write the joined data here.
-    #[serde(default)]
-    pub save_as: Option<String>,
-    /// Replace a file that exists.
-    #[serde(default)]
-    pub overwrite: bool,
+    /// Where the output is written (`save_as`) and whether it may replace a
+    /// file (`overwrite`).
+    #[serde(flatten)]
+    pub output: Output,
     #[serde(flatten)]
     unknown: Unknown,
 }
@@ -169,8 +168,7 @@ impl JoinRequest {
             log_key: None,
             tracker_format: DataFormatSpec::default(),
             log_format: DataFormatSpec::default(),
-            save_as: None,
-            overwrite: false,
+            output: Output::default(),
             unknown: Unknown::default(),
         }
     }
@@ -183,9 +181,7 @@ impl JoinRequest {
     /// does not read back as data.
     pub fn run(&self, files: &dyn Files) -> Result<JoinedData, AppError> {
         self.unknown.check()?;
-        if let Some(name) = &self.save_as {
-            files.check_output(name, "csv", self.overwrite)?;
-        }
+        self.output.check(files, "csv")?;
         let robot = self.robot.load(files)?;
         let (tracker_text, tracker_path) = read_table(&self.tracker, files)?;
         let (log_text, log_path) = read_table(&self.log, files)?;
@@ -244,10 +240,7 @@ impl JoinRequest {
             &method,
             &gecaro_io::DataFormat::default(),
         )?;
-        let saved = match &self.save_as {
-            Some(name) => Some(files.write(name, "csv", joined.text.as_bytes(), self.overwrite)?),
-            None => None,
-        };
+        let saved = self.output.write(files, "csv", joined.text.as_bytes())?;
         Ok(JoinedData {
             joined,
             distance_rms: distances.as_joined,

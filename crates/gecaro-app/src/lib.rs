@@ -88,6 +88,7 @@ mod measurements;
 mod method;
 mod model_advice;
 mod nearest_table;
+mod output;
 mod plan;
 mod rebase;
 mod repeatability;
@@ -139,6 +140,7 @@ pub use measurements::{Data, Loaded, LoadedStudy, Measurements, Note, StudySourc
 pub use method::{MethodSpec, parse_name};
 pub use model_advice::{BETTER, CHEAP_EQUATIONS, ModelAdvice, ModelCheck};
 pub use nearest_table::{CHECK_POSES, FIT_POSES, MAX_TABLE_ERROR, NearestTable};
+pub use output::Output;
 pub use plan::{
     AccuracyCurve, PlanRequest, Planned, Planning, PredictRequest, Predicted, TestPoses,
 };

@@ -25,6 +25,7 @@ use crate::files::Files;
 use crate::limits::{MAX_CURVE_POINTS, MAX_GENERATE};
 use crate::measurements::Unknown;
 use crate::method::{MethodSpec, parse_name};
+use crate::output::Output;
 use crate::sources::{DataFormatSpec, DataSource, RobotSource};
 
 /// The sensor's σ of an accuracy curve when none is given: 0.1 mm.
@@ -128,13 +129,12 @@ pub struct PlanRequest {
     pub curve: Vec<usize>,
     /// The sensor's σ for the curve (metres; default 0.1 mm).
     pub noise: Option<f64>,
-    /// Write the plan (CSV) here.
-    pub save_as: Option<String>,
+    /// Where the output is written (`save_as`) and whether it may replace a
+    /// file (`overwrite`).
+    #[serde(flatten)]
+    pub output: Output,
     /// Write the curve's plot (SVG) here.
     pub plot_save_as: Option<String>,
-    /// Replace files that exist.
-    #[serde(default)]
-    pub overwrite: bool,
     #[serde(flatten)]
     unknown: Unknown,
 }
@@ -207,9 +207,8 @@ impl PlanRequest {
             test_poses: TestPoses::default(),
             curve: Vec::new(),
             noise: None,
-            save_as: None,
+            output: Output::default(),
             plot_save_as: None,
-            overwrite: false,
             unknown: Unknown::default(),
         }
     }
@@ -228,9 +227,9 @@ impl PlanRequest {
         self.robot.load(files)?;
         self.method.build()?;
         self.format.format()?;
-        for (name, extension) in [(&self.save_as, "csv"), (&self.plot_save_as, "svg")] {
+        for (name, extension) in [(&self.output.save_as, "csv"), (&self.plot_save_as, "svg")] {
             if let Some(name) = name {
-                files.check_output(name, extension, self.overwrite)?;
+                files.check_output(name, extension, self.output.overwrite)?;
             }
         }
         Ok(())
@@ -344,9 +343,9 @@ impl PlanRequest {
     ) -> Result<Planning, AppError> {
         self.check_settings()?;
         let file = self.robot.load(files)?;
-        for (name, extension) in [(&self.save_as, "csv"), (&self.plot_save_as, "svg")] {
+        for (name, extension) in [(&self.output.save_as, "csv"), (&self.plot_save_as, "svg")] {
             if let Some(name) = name {
-                files.check_output(name, extension, self.overwrite)?;
+                files.check_output(name, extension, self.output.overwrite)?;
             }
         }
         let robot = &file.robot;
@@ -467,12 +466,13 @@ impl PlanRequest {
             method: method.clone_method(),
         };
         // Written last: a failed request leaves no file.
-        if let (Some(name), Some(planned)) = (&self.save_as, &mut planning.planned) {
+        if let (Some(name), Some(planned)) = (&self.output.save_as, &mut planning.planned) {
             planned.saved =
-                Some(files.write(name, "csv", planned.csv.as_bytes(), self.overwrite)?);
+                Some(files.write(name, "csv", planned.csv.as_bytes(), self.output.overwrite)?);
         }
         if let (Some(name), Some(curve)) = (&self.plot_save_as, &mut planning.curve) {
-            curve.saved = Some(files.write(name, "svg", curve.svg.as_bytes(), self.overwrite)?);
+            curve.saved =
+                Some(files.write(name, "svg", curve.svg.as_bytes(), self.output.overwrite)?);
         }
         Ok(planning)
     }

@@ -19,6 +19,7 @@ use crate::base_frame::{BasePointsSource, BaseRegistration, load_base_points};
 use crate::error::{AppError, ErrorKind, Hint, Part};
 use crate::files::Files;
 use crate::measurements::Unknown;
+use crate::output::Output;
 use crate::sources::{DataFormatSpec, DataSource, RobotSource};
 
 /// A calibrated robot to re-express in its nominal's base frame.
@@ -40,11 +41,10 @@ pub struct RebaseRequest {
     /// Units and column names of the base-points or circles file.
     #[serde(default)]
     pub format: DataFormatSpec,
-    /// Write the robot in its own frame here.
-    pub save_as: Option<String>,
-    /// Replace a file that exists.
-    #[serde(default)]
-    pub overwrite: bool,
+    /// Where the output is written (`save_as`) and whether it may replace a
+    /// file (`overwrite`).
+    #[serde(flatten)]
+    pub output: Output,
     #[serde(flatten)]
     unknown: Unknown,
 }
@@ -77,8 +77,7 @@ impl RebaseRequest {
             base_points: None,
             base_circles: None,
             format: DataFormatSpec::default(),
-            save_as: None,
-            overwrite: false,
+            output: Output::default(),
             unknown: Unknown::default(),
         }
     }
@@ -89,9 +88,7 @@ impl RebaseRequest {
     /// Files that cannot be read or written, robots of other joints.
     pub fn run(&self, files: &dyn Files) -> Result<Rebased, AppError> {
         self.unknown.check()?;
-        if let Some(name) = &self.save_as {
-            files.check_output(name, "toml", self.overwrite)?;
-        }
+        self.output.check(files, "toml")?;
         let robot = self.robot.load(files)?;
         let nominal = self.nominal.load(files)?;
         let registration = owner_base(
@@ -118,12 +115,12 @@ impl RebaseRequest {
                 )
             }
         };
-        let saved = match &self.save_as {
+        let saved = match &self.output.save_as {
             Some(name) => Some(files.write(
                 name,
                 "toml",
                 gecaro_io::robot_file_text(&robot, Path::new(name))?.as_bytes(),
-                self.overwrite,
+                self.output.overwrite,
             )?),
             None => None,
         };

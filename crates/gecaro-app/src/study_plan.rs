@@ -21,6 +21,7 @@ use crate::error::{AppError, ErrorKind};
 use crate::files::Files;
 use crate::limits::MAX_GENERATE;
 use crate::measurements::{Data, Loaded, Measurements, StudySource, Unknown};
+use crate::output::Output;
 use crate::sources::{DataFormatSpec, RobotSource};
 
 /// A cell to plan; see the module docs.
@@ -48,11 +49,10 @@ pub struct PlanStudyRequest {
     /// line, and the planned study's sets say them.
     #[serde(default)]
     pub format: DataFormatSpec,
-    /// Write the planned study here (TOML), its sets' files beside it.
-    pub save_as: Option<String>,
-    /// Replace files that exist.
-    #[serde(default)]
-    pub overwrite: bool,
+    /// Where the output is written (`save_as`) and whether it may replace a
+    /// file (`overwrite`).
+    #[serde(flatten)]
+    pub output: Output,
     #[serde(flatten)]
     unknown: Unknown,
 }
@@ -94,8 +94,7 @@ impl PlanStudyRequest {
             seed: None,
             cell: CellSpec::default(),
             format: DataFormatSpec::default(),
-            save_as: None,
-            overwrite: false,
+            output: Output::default(),
             unknown: Unknown::default(),
         }
     }
@@ -140,7 +139,7 @@ impl PlanStudyRequest {
                 format!("between 1 and {MAX_GENERATE} candidates per set"),
             ));
         }
-        let outputs = match &self.save_as {
+        let outputs = match &self.output.save_as {
             Some(name) => {
                 if let StudySource::Loaded(_) = &self.study {
                     return Err(AppError::setting(
@@ -156,9 +155,9 @@ impl PlanStudyRequest {
                     ));
                 }
                 let outputs = set_file_names(name, sets);
-                files.check_output(name, "toml", self.overwrite)?;
+                files.check_output(name, "toml", self.output.overwrite)?;
                 for output in &outputs {
-                    files.check_output(output, "csv", self.overwrite)?;
+                    files.check_output(output, "csv", self.output.overwrite)?;
                 }
                 Some((name.clone(), outputs))
             }
@@ -190,7 +189,7 @@ impl PlanStudyRequest {
 impl PreparedStudyPlan {
     /// Where the planned study is written, if it is.
     pub fn save_as(&self) -> Option<&str> {
-        self.request.save_as.as_deref()
+        self.request.output.save_as.as_deref()
     }
 
     /// About the bytes the work holds at its largest: every set's
@@ -279,7 +278,7 @@ impl PreparedStudyPlan {
                     .zip(&outputs)
                     .map(|(text, output)| (output.as_str(), "csv", text.as_bytes())),
             );
-            planned.saved = files.write_all(&all, request.overwrite)?;
+            planned.saved = files.write_all(&all, request.output.overwrite)?;
         }
         Ok(planned)
     }

@@ -345,8 +345,8 @@ pub(crate) fn compensate_program<'py>(
     request.payload = payload;
     request.tool = tool;
     request.max_tool_turn = max_tool_turn;
-    request.save_as = Some(output.display().to_string());
-    request.overwrite = overwrite;
+    request.output.save_as = Some(output.display().to_string());
+    request.output.overwrite = overwrite;
     request.format = DataFormatSpec {
         length_unit,
         angle_unit,

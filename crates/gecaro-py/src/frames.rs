@@ -143,8 +143,8 @@ pub(crate) fn join(
         columns: log_columns,
         ..DataFormatSpec::default()
     };
-    request.save_as = output.map(|path| path.display().to_string());
-    request.overwrite = overwrite;
+    request.output.save_as = output.map(|path| path.display().to_string());
+    request.output.overwrite = overwrite;
     let joined = request.run(&LocalFiles).py()?;
     if let Some(note) = joined.unmeasured_note() {
         let message = CString::new(note).map_err(|error| input(error.to_string()))?;

@@ -57,8 +57,8 @@ pub(crate) fn iso9283_plan<'py>(
         angle_unit,
         ..DataFormatSpec::default()
     };
-    request.save_as = path.as_deref().map(name);
-    request.overwrite = overwrite;
+    request.output.save_as = path.as_deref().map(name);
+    request.output.overwrite = overwrite;
     let planned = py.detach(|| request.run(&LocalFiles)).py()?;
     let document = to_python(py, &planned.document())?;
     document.set_item("program", planned.program)?;
@@ -118,8 +118,8 @@ pub(crate) fn iso9283_evaluate<'py>(
             ))
         })?;
     }
-    request.save_report = report.as_deref().map(name);
-    request.overwrite = overwrite;
+    request.output.save_as = report.as_deref().map(name);
+    request.output.overwrite = overwrite;
     let evaluated = py.detach(|| request.run(&LocalFiles)).py()?;
     to_python(py, &evaluated.document())
 }

@@ -20,6 +20,7 @@ use crate::error::AppError;
 use crate::files::{Files, Opened};
 use crate::measurements::Unknown;
 use crate::method::parse_name;
+use crate::output::Output;
 use crate::rebase::{check_same_frame, owner_base, rebased_file};
 use crate::sources::{CsvInput, DataFormatSpec, DataSource, RobotSource, check_row_count};
 
@@ -92,11 +93,10 @@ pub struct CompensateRequest {
     /// with its unit, [`DEFAULT_MAX_TOOL_TURN`] when omitted): targets
     /// turned more are flagged.
     pub max_tool_turn: Option<String>,
-    /// Write the corrected program (CSV) here.
-    pub save_as: Option<String>,
-    /// Replace a file that exists.
-    #[serde(default)]
-    pub overwrite: bool,
+    /// Where the output is written (`save_as`) and whether it may replace a
+    /// file (`overwrite`).
+    #[serde(flatten)]
+    pub output: Output,
     #[serde(flatten)]
     unknown: Unknown,
 }
@@ -249,8 +249,7 @@ impl CompensateRequest {
             payload: None,
             tool: None,
             max_tool_turn: None,
-            save_as: None,
-            overwrite: false,
+            output: Output::default(),
             unknown: Unknown::default(),
         }
     }
@@ -311,7 +310,7 @@ impl CompensateRequest {
             Some(text) => gecaro_io::parse_angle(text)
                 .map_err(|message| AppError::setting("max_tool_turn", message))?,
         };
-        if let Some(name) = &self.save_as {
+        if let Some(name) = &self.output.save_as {
             // The taught program is never replaced, whatever `overwrite` says.
             if let ProgramSource::File(program) = &self.program
                 && files.is_same_file(program, name)
@@ -324,7 +323,7 @@ impl CompensateRequest {
                     ),
                 ));
             }
-            files.check_output(name, "csv", self.overwrite)?;
+            files.check_output(name, "csv", self.output.overwrite)?;
         }
         Ok(Prepared {
             matching,
@@ -406,9 +405,9 @@ impl CompensateRequest {
         let corrected = program
             .as_ref()
             .map(|program| program.format_corrected(&results));
-        let saved = match (&self.save_as, &corrected) {
+        let saved = match (&self.output.save_as, &corrected) {
             (Some(name), Some(corrected)) => {
-                Some(files.write(name, "csv", corrected.as_bytes(), self.overwrite)?)
+                Some(files.write(name, "csv", corrected.as_bytes(), self.output.overwrite)?)
             }
             (Some(_), None) => {
                 return Err(AppError::setting(
@@ -445,7 +444,8 @@ impl CompensateRequest {
         files: &dyn Files,
         observer: &mut dyn Observer,
     ) -> Result<CompensatedFile, AppError> {
-        let (ProgramSource::File(name), Some(save_as)) = (&self.program, &self.save_as) else {
+        let (ProgramSource::File(name), Some(save_as)) = (&self.program, &self.output.save_as)
+        else {
             return Err(AppError::setting(
                 "save_as",
                 "a program is corrected as it is read from a program file into a file named by save_as",
@@ -466,7 +466,7 @@ impl CompensateRequest {
             .within(calibrated.measured_region.clone());
         let mut summary = CompensationSummary::limiting_tool_turn(prepared.max_tool_turn);
         let mut corrected: Option<CorrectedProgram<'_>> = None;
-        let saved = files.write_streamed(save_as, "csv", self.overwrite, &mut |output| {
+        let saved = files.write_streamed(save_as, "csv", self.output.overwrite, &mut |output| {
             let failed = |error: std::io::Error| {
                 AppError::from(gecaro_io::Error::Write {
                     path: PathBuf::from(save_as),

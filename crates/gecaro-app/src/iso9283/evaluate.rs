@@ -17,6 +17,7 @@ use crate::compensate::ProgramSource;
 use crate::error::AppError;
 use crate::files::Files;
 use crate::measurements::Unknown;
+use crate::output::Output;
 use crate::sources::{CsvInput, DataFormatSpec, RobotSource};
 
 /// Attained poses farther than this from their commanded ones (m) are not
@@ -71,12 +72,10 @@ pub struct Iso9283EvaluateRequest {
     /// The test's conditions, reported as given.
     #[serde(default)]
     pub conditions: TestConditions,
-    /// Write the HTML report here (checked before any work).
-    #[serde(default)]
-    pub save_report: Option<String>,
-    /// Replace an existing report.
-    #[serde(default)]
-    pub overwrite: bool,
+    /// Where the HTML report is written (`save_as`, checked before any
+    /// work) and whether it may replace a file (`overwrite`).
+    #[serde(flatten)]
+    pub output: Output,
     #[serde(flatten)]
     unknown: Unknown,
 }
@@ -391,8 +390,7 @@ impl Iso9283EvaluateRequest {
             format: DataFormatSpec::default(),
             frame: None,
             conditions: TestConditions::default(),
-            save_report: None,
-            overwrite: false,
+            output: Output::default(),
             unknown: Unknown::default(),
         }
     }
@@ -424,9 +422,7 @@ impl Iso9283EvaluateRequest {
     /// poses with fewer than two cycles, bad settings.
     pub fn run(&self, files: &dyn Files) -> Result<EvaluatedTest, AppError> {
         self.unknown.check()?;
-        if let Some(name) = &self.save_report {
-            files.check_output(name, "html", self.overwrite)?;
-        }
+        self.output.check(files, "html")?;
         let registration = self.registration()?;
         let format = self.format.format()?;
         let (program_text, program_label) = read_source(&self.program, files, "program")?;
@@ -585,10 +581,9 @@ impl Iso9283EvaluateRequest {
             warnings,
             saved_report: None,
         };
-        if let Some(name) = &self.save_report {
+        if let Some(name) = &self.output.save_as {
             let report = evaluated.report(&format!("gecaro iso9283 evaluate → {name}"))?;
-            evaluated.saved_report =
-                Some(files.write(name, "html", report.as_bytes(), self.overwrite)?);
+            evaluated.saved_report = self.output.write(files, "html", report.as_bytes())?;
         }
         Ok(evaluated)
     }

@@ -14,6 +14,7 @@ use crate::cell::CellSpec;
 use crate::error::AppError;
 use crate::files::Files;
 use crate::measurements::Unknown;
+use crate::output::Output;
 use crate::sources::{DataFormatSpec, RobotSource};
 
 /// The most cycles a test may run (the standard asks for 30).
@@ -41,12 +42,10 @@ pub struct Iso9283PlanRequest {
     /// Units, column names and separator of the program written.
     #[serde(default)]
     pub format: DataFormatSpec,
-    /// Write the program (CSV) here.
-    #[serde(default)]
-    pub save_as: Option<String>,
-    /// Replace an existing file.
-    #[serde(default)]
-    pub overwrite: bool,
+    /// Where the output is written (`save_as`) and whether it may replace a
+    /// file (`overwrite`).
+    #[serde(flatten)]
+    pub output: Output,
     #[serde(flatten)]
     unknown: Unknown,
 }
@@ -114,8 +113,7 @@ impl Iso9283PlanRequest {
             directions: None,
             cell: CellSpec::default(),
             format: DataFormatSpec::default(),
-            save_as: None,
-            overwrite: false,
+            output: Output::default(),
             unknown: Unknown::default(),
         }
     }
@@ -175,9 +173,7 @@ impl Iso9283PlanRequest {
     pub fn run(&self, files: &dyn Files) -> Result<PlannedTest, AppError> {
         let (cube, options) = self.options()?;
         let format = self.format.format()?;
-        if let Some(name) = &self.save_as {
-            files.check_output(name, "csv", self.overwrite)?;
-        }
+        self.output.check(files, "csv")?;
         let file = self.robot.load(files)?;
         let robot = &file.robot;
         let plan = plan_test(robot, cube, &options)?;
@@ -202,11 +198,7 @@ impl Iso9283PlanRequest {
             plan.orientation_held,
             &format,
         );
-        let saved = self
-            .save_as
-            .as_ref()
-            .map(|name| files.write(name, "csv", program.as_bytes(), self.overwrite))
-            .transpose()?;
+        let saved = self.output.write(files, "csv", program.as_bytes())?;
         Ok(PlannedTest {
             plan,
             robot: robot.name().to_owned(),

@@ -48,7 +48,7 @@ pub(crate) async fn generate(
     State(state): State<AppState>,
     Json(request): Json<GenerateRequest>,
 ) -> Result<Json<GeneratedJson>, ApiError> {
-    let saved = request.save_as.clone();
+    let saved = request.output.save_as.clone();
     state
         .compute_abandonable(move |state, observer| {
             // A client that leaves stops the generation: nothing is written.

@@ -32,7 +32,7 @@ pub(crate) async fn compensate(
     State(state): State<AppState>,
     Json(request): Json<CompensateRequest>,
 ) -> Result<Json<CompensatedProgramJson>, ApiError> {
-    let save_as = request.save_as.clone();
+    let save_as = request.output.save_as.clone();
     state
         .compute_abandonable(move |state, observer| {
             let compensated = request.run(state.workspace(), observer)?;

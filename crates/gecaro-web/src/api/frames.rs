@@ -42,7 +42,7 @@ pub(crate) async fn join(
     state
         .compute(move |state| {
             let joined = request.run(state.workspace())?;
-            Ok(Json(joined.document(request.save_as.as_deref())))
+            Ok(Json(joined.document(request.output.save_as.as_deref())))
         })
         .await
 }

@@ -62,7 +62,7 @@ pub(crate) async fn plan(
         .await?;
     let need = request.memory_need();
     background::start(state, need, move |state, observer| {
-        let saved = request.save_as.clone();
+        let saved = request.output.save_as.clone();
         let planning = request.run(state.workspace(), observer)?;
         let (plan, file_name) = planning
             .plan_document()

@@ -480,8 +480,8 @@ fn save_file(
     }
     let mut export =
         gecaro_app::ExportRequest::new(gecaro_app::RobotSource::Loaded(Box::new(file)), "urdf");
-    export.save_as = Some(request.name.clone());
-    export.overwrite = request.overwrite;
+    export.output.save_as = Some(request.name.clone());
+    export.output.overwrite = request.overwrite;
     let exported = export.run(workspace)?;
     let calibration_name = exported
         .exported
