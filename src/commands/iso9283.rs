@@ -1,6 +1,8 @@
 //! `gecaro iso9283 plan` and `gecaro iso9283 evaluate`: ISO 9283's
 //! acceptance test planned and evaluated (the jobs are gecaro-app's).
 
+use gecaro_report::four_decimals;
+
 use gecaro_app::{
     Iso9283EvaluateRequest, Iso9283PlanRequest, LocalFiles, MeasuredTestJson, ProgramSource,
     RobotSource, TestConditions,
@@ -17,23 +19,9 @@ pub(crate) fn run(command: &Iso9283Command) -> Result<(), Failure> {
     }
 }
 
-/// `value` with four decimals, without the sign of a value that rounds to 0.
-fn four(value: f64) -> String {
-    let text = format!("{value:.4}");
-    if text
-        .trim_start_matches('-')
-        .bytes()
-        .all(|b| b == b'0' || b == b'.')
-    {
-        text.trim_start_matches('-').to_owned()
-    } else {
-        text
-    }
-}
-
 /// Millimetres with four decimals.
 fn mm(value: f64) -> String {
-    four(value * 1e3)
+    four_decimals(value * 1e3)
 }
 
 fn plan(args: &Iso9283PlanArgs) -> Result<(), Failure> {
@@ -122,7 +110,7 @@ fn print_measured(before: &MeasuredTestJson, after: Option<&MeasuredTestJson>) {
         let mut line = format!("P{}    {ap}    {rp}", pose.pose);
         if before.oriented {
             let degrees = |key: &str, map: &serde_json::Map<String, serde_json::Value>| {
-                value(map, key).map_or("–".into(), |v| four(v.to_degrees()))
+                value(map, key).map_or("–".into(), |v| four_decimals(v.to_degrees()))
             };
             line.push_str(&format!(
                 "    AP_a,b,c {} {} {}°  RP_a,b,c ±{} ±{} ±{}°",

@@ -22,19 +22,26 @@ fn cube_of(robot: &Robot, side: f64) -> TestCube {
     TestCube::new(found.centre, found.side.min(side)).expect("cube")
 }
 
+/// The multi-directional test of `cycles` cycles on `robot` in the cube
+/// the search finds, shrunk to `side` (m) at most.
+fn three_directions(robot: &Robot, side: f64, cycles: usize) -> (TestCube, TestPlan) {
+    let cube = cube_of(robot, side);
+    let options = TestOptions {
+        cycles,
+        approaches: Approaches::Three,
+        ..TestOptions::default()
+    };
+    let plan = plan_test(robot, CubeChoice::Stated(cube), &options).expect("plan");
+    (cube, plan)
+}
+
 /// A stated cube: the five poses where the standard puts them, held in
 /// one orientation, within the limits, the program's targets the model's
 /// poses at its joints; the rows in the order the robot runs them.
 #[test]
 fn a_stated_cube_is_planned_as_the_standard_asks() {
     let robot = ready("stanford");
-    let cube = cube_of(&robot, 0.1);
-    let options = TestOptions {
-        cycles: 3,
-        approaches: Approaches::Three,
-        ..TestOptions::default()
-    };
-    let plan = plan_test(&robot, CubeChoice::Stated(cube), &options).expect("plan");
+    let (cube, plan) = three_directions(&robot, 0.1, 3);
     assert!(plan.orientation_held && !plan.searched);
     for (planned, point) in plan.poses.iter().zip(cube.poses()) {
         assert!((planned.target.translation.vector - point).norm() < 1e-9);
@@ -185,13 +192,7 @@ fn a_simulated_robot_s_accuracy_and_repeatability_are_found() {
     let nominal = ready("industrial6");
     let mut sampler = Sampler::new(78);
     let real = perturbed_robot(&nominal, 0.3, &mut sampler).expect("real");
-    let cube = cube_of(&nominal, 0.4);
-    let options = TestOptions {
-        cycles: 30,
-        approaches: Approaches::Three,
-        ..TestOptions::default()
-    };
-    let plan = plan_test(&nominal, CubeChoice::Stated(cube), &options).expect("plan");
+    let (_, plan) = three_directions(&nominal, 0.4, 30);
     let sigma = 2e-5;
     let visits = run(
         &plan,

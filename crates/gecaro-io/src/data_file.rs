@@ -571,6 +571,27 @@ fn resolve_header(
     Ok(layout)
 }
 
+/// The field separator a file written as `format` asks has, and how it
+/// writes a number: shortest round-trip digits, with a decimal comma where
+/// the format asks for one (and its separator is not a comma).
+pub(crate) fn written_numbers(format: &DataFormat) -> (char, impl Fn(f64) -> String + Copy) {
+    let separator = match format.delimiter {
+        Delimiter::Semicolon => ';',
+        Delimiter::Tab => '\t',
+        Delimiter::Comma | Delimiter::Detect => ',',
+    };
+    let decimal_comma = format.decimal_comma == Some(true) && separator != ',';
+    let number = move |value: f64| {
+        let text = format!("{value:?}");
+        if decimal_comma {
+            text.replacen('.', ",", 1)
+        } else {
+            text
+        }
+    };
+    (separator, number)
+}
+
 /// The CSV text of configurations (and their set or pair ids: `columns` of
 /// [`DataColumn::grouping`](gecaro_data::sample::DataColumn::grouping)) as
 /// `format` reads them back: joint values in its units (`joint_types` from
@@ -583,20 +604,7 @@ pub fn format_configurations(
     samples: SampleSlice<'_>,
     format: &DataFormat,
 ) -> String {
-    let separator = match format.delimiter {
-        Delimiter::Semicolon => ';',
-        Delimiter::Tab => '\t',
-        Delimiter::Comma | Delimiter::Detect => ',',
-    };
-    let decimal_comma = format.decimal_comma == Some(true) && separator != ',';
-    let number = |value: f64| {
-        let text = format!("{value:?}");
-        if decimal_comma {
-            text.replacen('.', ",", 1)
-        } else {
-            text
-        }
-    };
+    let (separator, number) = written_numbers(format);
     // A plan for an elastic robot states each row's payload.
     let payload_columns = payload_columns_of(samples);
     let mut names = data_headers(joint_types.len(), columns);

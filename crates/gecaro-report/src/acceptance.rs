@@ -41,8 +41,10 @@ pub struct AcceptanceInput<'a> {
     pub command: &'a str,
 }
 
-/// `value` with four decimals, without the sign of a value that rounds to 0.
-fn four(value: f64) -> String {
+/// `value` with four decimals, without the sign of a value that rounds to 0
+/// (`-0.0000` says nothing a reader can use): the report's millimetres and
+/// degrees, and the command line's.
+pub fn four_decimals(value: f64) -> String {
     let text = format!("{value:.4}");
     if text
         .trim_start_matches('-')
@@ -56,11 +58,11 @@ fn four(value: f64) -> String {
 }
 
 fn mm(value: f64) -> String {
-    four(value * 1e3)
+    four_decimals(value * 1e3)
 }
 
 fn degrees(value: f64) -> String {
-    four(value.to_degrees())
+    four_decimals(value.to_degrees())
 }
 
 /// A bullseye of one pose: the attained positions (x–y of the base frame)
@@ -147,10 +149,16 @@ fn cube_svg(evaluation: &TestEvaluation, side: f64) -> Result<(String, f64), Err
         .iter()
         .map(|pose| pose.characteristics.accuracy)
         .fold(0.0, f64::max);
-    // The largest error drawn at 3–30 % of the side, by a round factor.
+    // The largest error drawn at 12–30 % of the side, by a round factor
+    // (1, 2 or 5 times a power of ten).
     let scale = if largest > 0.0 {
         let raw = 0.3 * side / largest;
-        10f64.powf(raw.log10().floor())
+        let decade = 10f64.powf(raw.log10().floor());
+        [5.0, 2.0, 1.0]
+            .into_iter()
+            .map(|step| step * decade)
+            .find(|scale| *scale <= raw)
+            .unwrap_or(decade)
     } else {
         1.0
     };
@@ -185,6 +193,19 @@ fn cube_svg(evaluation: &TestEvaluation, side: f64) -> Result<(String, f64), Err
                     [project(at), project(at + scale * error)],
                     BEFORE.stroke_width(2),
                 ))
+                .map_err(plot_error)?;
+            // The repeatability sphere about the barycentre, at the same scale
+            // (its outline in the drawing's plane).
+            let (cx, cy) = project(at + scale * error);
+            let radius = scale * pose.characteristics.repeatability;
+            let outline: Vec<(f64, f64)> = (0..=48)
+                .map(|k| {
+                    let angle = f64::from(k) * std::f64::consts::TAU / 48.0;
+                    (cx + radius * angle.cos(), cy + radius * angle.sin())
+                })
+                .collect();
+            chart
+                .draw_series(LineSeries::new(outline, AFTER.stroke_width(1)))
                 .map_err(plot_error)?;
             let (x, y) = project(at);
             chart
@@ -330,7 +351,8 @@ pub fn acceptance_report(input: &AcceptanceInput<'_>) -> Result<String, Error> {
                 }
                 h2 { "The cube and the errors" }
                 p.muted {
-                    "Commanded poses (black), each barycentre's error drawn " (scale) " times larger (red)"
+                    "Commanded poses (black), each barycentre's error drawn " (scale) " times larger (red), \
+                     and the sphere of RP_l about it at the same scale (blue)"
                     @if input.after.is_some() { ", after calibration" } "."
                 }
                 (PreEscaped(cube))

@@ -12,7 +12,7 @@ mod acceptance;
 mod html;
 mod plots;
 
-pub use acceptance::{AcceptanceInput, MeasuredInput, acceptance_report};
+pub use acceptance::{AcceptanceInput, MeasuredInput, acceptance_report, four_decimals};
 pub use html::{ReportInput, html_report};
 pub use plots::{
     IdentificationSvgs, accuracy_curve_svg, convergence_svg, error_histograms_svg,

@@ -7,8 +7,7 @@
 use gecaro_core::FrameType;
 use nalgebra::IsometryMatrix3;
 
-use crate::columns::Delimiter;
-use crate::data_file::DataFormat;
+use crate::data_file::{DataFormat, written_numbers};
 use crate::stated_units::units_line;
 
 /// One row of a written program.
@@ -34,20 +33,7 @@ pub fn format_program(
     oriented: bool,
     format: &DataFormat,
 ) -> String {
-    let separator = match format.delimiter {
-        Delimiter::Semicolon => ';',
-        Delimiter::Tab => '\t',
-        Delimiter::Comma | Delimiter::Detect => ',',
-    };
-    let decimal_comma = format.decimal_comma == Some(true) && separator != ',';
-    let number = |value: f64| {
-        let text = format!("{value:?}");
-        if decimal_comma {
-            text.replacen('.', ",", 1)
-        } else {
-            text
-        }
-    };
+    let (separator, number) = written_numbers(format);
     let mut names: Vec<String> = keys.iter().map(|key| (*key).to_owned()).collect();
     names.extend((1..=joint_types.len()).map(|j| format!("qm{j}")));
     let cartesian: &[&str] = if oriented {
