@@ -1,9 +1,6 @@
 //! `gecaro fk`, `gecaro jacobian` and `gecaro ik`.
 
-use gecaro_core::{
-    InverseOptions, InverseSolution, Target, forward_kinematics, inverse_kinematics,
-    parameter_jacobian,
-};
+use gecaro_core::{InverseOptions, Target, forward_kinematics, parameter_jacobian};
 use gecaro_io::load_robot;
 use nalgebra::IsometryMatrix3;
 use serde::Serialize;
@@ -122,11 +119,12 @@ pub(crate) fn inverse(args: &IkArgs) -> Result<(), Failure> {
             Target::Frame(IsometryMatrix3::from_parts(position.into(), rotation))
         }
     };
-    let options = InverseOptions::default();
-    let solution = match &args.start {
-        Some(start) => inverse_kinematics(&robot, &target, start, &options)?,
-        None => solve_from_several_starts(&robot, &target, &options)?,
-    };
+    let solution = gecaro_app::inverse_model(
+        &robot,
+        &target,
+        args.start.as_deref(),
+        &InverseOptions::default(),
+    )?;
     if args.json {
         return super::output::print_json(&InverseJson {
             motor_positions: solution.motor_positions.clone(),
@@ -144,20 +142,4 @@ pub(crate) fn inverse(args: &IkArgs) -> Result<(), Failure> {
     println!("qm = {}", crate::format::list(&solution.motor_positions));
     println!("q  = {}", crate::format::list(&solution.joint_positions));
     Ok(())
-}
-
-/// The middle of the joint ranges first, then seeded random starts; the
-/// error of the first start when none reaches the target.
-fn solve_from_several_starts(
-    robot: &gecaro_core::Robot,
-    target: &Target,
-    options: &InverseOptions,
-) -> Result<InverseSolution, Failure> {
-    gecaro_calib::simulation::solve_from_starts(robot, target, options, 1).map_err(|first_error| {
-        Failure::numerical(format!(
-            "{first_error} (tried the middle of the joint ranges and {} random starts; \
-             --start chooses another)",
-            gecaro_calib::simulation::RANDOM_STARTS
-        ))
-    })
 }

@@ -82,6 +82,7 @@ mod identify;
 mod interchange;
 mod iso9283;
 mod join;
+mod kinematics;
 pub mod limits;
 mod loads;
 mod measurements;
@@ -136,6 +137,7 @@ pub use iso9283::{
     PlannedTest, PoseResultJson, TestConditions, TestEvaluationJson, TestPlanJson,
 };
 pub use join::{JoinRequest, JoinedData, JoinedJson, MAX_SHIFT, SHIFT_RATIO, UnmeasuredJson};
+pub use kinematics::inverse_model;
 pub use measurements::{Data, Loaded, LoadedStudy, Measurements, Note, StudySource};
 pub use method::{MethodSpec, parse_name};
 pub use model_advice::{BETTER, CHEAP_EQUATIONS, ModelAdvice, ModelCheck};

@@ -11,7 +11,7 @@ use std::path::PathBuf;
 use gecaro_app::LocalFiles;
 use gecaro_core::{
     ChainBuffer, Frame, FrameType, InverseOptions, JacobianRows, Joint, KinematicModel,
-    ParameterId, Robot, RobotSpec, Target, inverse_kinematics,
+    ParameterId, Robot, RobotSpec, Target,
 };
 use gecaro_io::{RobotFile, format_robot_file, parse_robot_file};
 use nalgebra::{DMatrix, IsometryMatrix3, Vector3};
@@ -726,20 +726,16 @@ impl PyRobot {
             respect_limits,
         };
         let robot = self.robot();
-        let solution = py.detach(|| match &start {
-            Some(start) => inverse_kinematics(robot, &target, &start.values, &options),
-            None => gecaro_calib::simulation::solve_from_starts(robot, &target, &options, 1),
-        });
-        let solution = solution.map_err(|error| match (&start, error) {
-            (None, error @ gecaro_core::Error::Unreachable { .. }) => {
-                crate::errors::NotConvergedError::new_err(format!(
-                    "{error} (tried the middle of the joint ranges and {} random starts; \
-                     start= chooses another)",
-                    gecaro_calib::simulation::RANDOM_STARTS
-                ))
-            }
-            (_, error) => crate::errors::to_py(error.into()),
-        })?;
+        let solution = py
+            .detach(|| {
+                gecaro_app::inverse_model(
+                    robot,
+                    &target,
+                    start.as_ref().map(|start| start.values.as_slice()),
+                    &options,
+                )
+            })
+            .py()?;
         array(
             py,
             &[solution.motor_positions.len()],
