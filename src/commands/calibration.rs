@@ -3,14 +3,13 @@
 //! evaluation of a calibrated robot.
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use gecaro_app::{
-    DataSource, EvaluateRequest, GenerateRequest, Identified, IdentifyRequest, LocalFiles,
-    Measurements, MethodSpec, RobotSource,
+    DEMO_COUNTS, DEMO_HELD_OUT, DataSource, DemoRequest, EvaluateRequest, GenerateRequest,
+    Identified, IdentifyRequest, LocalFiles, Measurements, RobotSource,
 };
 use gecaro_calib::identification::{ErrorSummary, Identification, StopReason};
-use gecaro_calib::{Quiet, each_iteration};
+use gecaro_calib::{Progress, each_iteration};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::options::{fit_settings, measurements, method_spec, name, output_policy, print_notes};
@@ -638,33 +637,33 @@ pub(crate) fn evaluate(args: &EvaluateArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Configurations of the real robot the demo judges each calibration on.
-const DEMO_HELD_OUT: usize = 300;
-
-/// Configurations per method in the demo: enough for a clean identification.
-const DEMO_COUNTS: [(&str, usize); 7] = [
-    ("position", 50),
-    ("frame", 30),
-    ("point-link", 80),
-    ("frame-link", 60),
-    ("plane1", 120),
-    ("plane2", 120),
-    ("distance", 200),
-];
-
 pub(crate) fn demo(args: &DemoArgs) -> Result<(), Failure> {
-    let stanford = gecaro_io::load_robot("stanford")?;
-    let robot = &stanford.robot;
-    let mut sampler = gecaro_calib::simulation::Sampler::new(args.seed);
-    let real = gecaro_calib::simulation::perturbed_robot(robot, args.error_level, &mut sampler)?;
-    let real = gecaro_app::simulated_robot_file(&stanford, real, args.error_level, args.seed);
+    let request = DemoRequest {
+        error_level: args.error_level,
+        noise: args.noise,
+        seed: args.seed,
+    };
     println!(
-        "gecaro demo — {} (Table 1); simulated real robot at error level {}, sensor noise σ = {} mm, seed {}",
-        robot.name(),
+        "gecaro demo — Stanford (Table 1); simulated real robot at error level {}, sensor noise σ = {} mm, seed {}",
         number(args.error_level, 3),
         mm(args.noise),
         args.seed
     );
+    let bar = ProgressBar::new(DEMO_COUNTS.len() as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let mut observer = |progress: Progress<'_>| {
+        match progress {
+            Progress::Phase(title) => bar.set_message(title.to_owned()),
+            Progress::Step { done, .. } => bar.set_position(done as u64),
+            Progress::Iteration(_) => {}
+        }
+        std::ops::ControlFlow::Continue(())
+    };
+    let demo = request.run(&LocalFiles, &mut observer)?;
+    bar.finish_and_clear();
     let mut summary = table(
         &[
             "method",
@@ -678,67 +677,19 @@ pub(crate) fn demo(args: &DemoArgs) -> Result<(), Failure> {
         ],
         1,
     );
-    // Judged where a user meets the result: against the real robot, on
-    // configurations no method saw.
-    let held_out =
-        gecaro_calib::simulation::held_out_configurations(&real.robot, DEMO_HELD_OUT, &mut sampler);
-    let judge = |candidate: &gecaro_core::Robot| {
-        gecaro_calib::simulation::judge(candidate, &real.robot, &held_out)
-    };
-    let nominal_error = judge(robot)?.rms;
-    let bar = ProgressBar::new(DEMO_COUNTS.len() as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
     let mut failures = Vec::new();
-    for (method_name, count) in DEMO_COUNTS {
-        let method = MethodSpec {
-            plane_normal: Some(gecaro_calib::table2::TABLE2_PLANE_NORMAL),
-            plane_point: Some(gecaro_calib::table2::STANFORD_PLANE_POINT),
-            ..MethodSpec::named(method_name)
-        };
-        let chosen = method.build()?;
-        let title = chosen.title();
-        bar.set_message(title);
-        let started = Instant::now();
-        let samples = gecaro_calib::simulation::simulate_measurements(
-            &real.robot,
-            chosen.as_ref(),
-            count,
-            args.noise,
-            &mut sampler,
-            &mut Quiet,
-        )?;
-        // The sensor's σ is known here: the verdict tests the fit against it.
-        let mut measurements = Measurements::single(
-            RobotSource::Loaded(Box::new(stanford.clone())),
-            method,
-            Some(DataSource::Samples {
-                samples: samples.into(),
-                label: method_name.to_owned(),
-            }),
-        );
-        measurements.sigma =
-            (args.noise > 0.0).then_some(gecaro_io::StandardDeviation::Number(args.noise));
-        // Each method's identification alone, as its time column says: the
-        // comparison with the neighbouring models is not the demo's subject.
-        let mut request = IdentifyRequest::new(measurements);
-        request.check_model = Some(false);
-        let identified = request.run(&LocalFiles, &mut Quiet)?;
-        let elapsed = started.elapsed();
-        let result = &identified.result;
-        let held = judge(&result.calibrated)?;
+    for run in &demo.runs {
+        let result = &run.identification;
         if result.stop_reason != StopReason::Converged {
-            failures.push(format!("{title}: {}", result.stop_reason.as_str()));
+            failures.push(format!("{}: {}", run.title, result.stop_reason.as_str()));
         }
         summary.add_row(vec![
-            title.to_owned(),
-            count.to_string(),
+            run.title.to_owned(),
+            run.configurations.to_string(),
             result.parameters.len().to_string(),
             result.iterations().to_string(),
             format!("{} → {}", mm(result.before.rms), mm(result.after.rms)),
-            format!("{} → {}", mm(nominal_error), mm(held.rms)),
+            format!("{} → {}", mm(demo.nominal_held_out), mm(run.held_out)),
             match result.verdict.noise_test {
                 Some(test) => format!(
                     "{} ({:.2})",
@@ -747,11 +698,9 @@ pub(crate) fn demo(args: &DemoArgs) -> Result<(), Failure> {
                 ),
                 None => result.verdict.outcome.as_str().replace('_', " "),
             },
-            format!("{:.0} ms", elapsed.as_secs_f64() * 1000.0),
+            format!("{:.0} ms", run.elapsed.as_secs_f64() * 1000.0),
         ]);
-        bar.inc(1);
     }
-    bar.finish_and_clear();
     println!("{summary}");
     println!(
         "Fit: each method's own residuals per configuration (distance to the measured point, to the \

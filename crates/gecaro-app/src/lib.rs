@@ -71,6 +71,7 @@ mod base_circles;
 mod base_frame;
 mod cell;
 mod compensate;
+mod demo;
 mod deviations;
 pub mod documents;
 mod error;
@@ -118,6 +119,7 @@ pub use compensate::{
     CompensateRequest, Compensated, CompensatedFile, CompensationSummary, DEFAULT_MAX_TOOL_TURN,
     LargestCorrection, ProgramSource,
 };
+pub use demo::{DEMO_COUNTS, DEMO_HELD_OUT, Demo, DemoRequest, DemoRun};
 pub use deviations::{PointDeviation, point_deviations};
 pub use error::{AppError, Dialect, ErrorKind};
 pub use evaluation_frame::RegisterShare;
