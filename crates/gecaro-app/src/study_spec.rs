@@ -409,6 +409,40 @@ pub struct StudyFile {
     pub spec: StudySpec,
 }
 
+impl StudyFile {
+    /// Its statement with every set's data in memory — the samples read,
+    /// σ in metres and radians (a measured σ as the number it measured),
+    /// the set's label — and the named frames in the units they were stated
+    /// in: a statement that builds again without files, to which sets may
+    /// be added (Python's `Study.read`).
+    pub fn spec_in_memory(&mut self) -> StudySpec {
+        let mut spec = std::mem::take(&mut self.spec);
+        for (entry, set) in spec.measurements.iter_mut().zip(&self.study.sets) {
+            entry.data = SetData::Samples {
+                samples: Box::new(set.samples.clone()),
+                label: set.label.clone(),
+            };
+            entry.sigma = set.sigma.map(StandardDeviation::Number);
+            entry.sigma_rotation = set.sigma_rotation.map(StandardDeviation::Number);
+            entry.repeatability = None;
+            entry.length_unit = None;
+            entry.angle_unit = None;
+            entry.label = Some(set.label.clone());
+        }
+        let length_unit = spec.length_unit.take();
+        let angle_unit = spec.angle_unit.take();
+        for frame in spec.tools.values_mut().chain(spec.stations.values_mut()) {
+            if frame.length_unit.is_none() {
+                frame.length_unit.clone_from(&length_unit);
+            }
+            if frame.angle_unit.is_none() {
+                frame.angle_unit.clone_from(&angle_unit);
+            }
+        }
+        spec
+    }
+}
+
 impl StudySpec {
     /// The study with its robot, priority matrix and prior, every file read
     /// through `files` for `data`, and every named frame measured.

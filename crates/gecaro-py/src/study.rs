@@ -229,30 +229,8 @@ impl PyStudy {
     #[staticmethod]
     fn read(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
         let mut file = gecaro_app::read_study_file(&path).py()?;
-        let mut spec = std::mem::take(&mut file.spec);
         // The sets' data are read: later sets added in Python need no files.
-        for (entry, set) in spec.measurements.iter_mut().zip(&file.study.sets) {
-            entry.data = SetData::Samples {
-                samples: Box::new(set.samples.clone()),
-                label: set.label.clone(),
-            };
-            entry.sigma = set.sigma.map(StandardDeviation::Number);
-            entry.sigma_rotation = set.sigma_rotation.map(StandardDeviation::Number);
-            entry.length_unit = None;
-            entry.angle_unit = None;
-            entry.label = Some(set.label.clone());
-        }
-        // The frames keep the units they were stated in.
-        let length_unit = spec.length_unit.take();
-        let angle_unit = spec.angle_unit.take();
-        for frame in spec.tools.values_mut().chain(spec.stations.values_mut()) {
-            if frame.length_unit.is_none() {
-                frame.length_unit.clone_from(&length_unit);
-            }
-            if frame.angle_unit.is_none() {
-                frame.angle_unit.clone_from(&angle_unit);
-            }
-        }
+        let spec = file.spec_in_memory();
         Ok(PyStudy {
             spec,
             study: file.study,

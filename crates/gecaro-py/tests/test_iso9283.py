@@ -52,3 +52,31 @@ def test_iso9283_planned_and_evaluated(tmp_path):
         gecaro.iso9283_plan(robot, cycles=1)
     with pytest.raises(gecaro.InputError, match="mixes units"):
         gecaro.iso9283_plan(robot, cube="800,0,600,400mm")
+
+
+def test_a_study_read_with_a_repeatability_file(tmp_path):
+    # A set's σ measured from poses revisited (docs/studies.md): read from
+    # the study file, identified, and kept as the number it measured when
+    # the study is read into Python.
+    robot = gecaro.Robot.load("stanford")
+    generated = gecaro.generate(robot, "position", 80, error_level=1.0, noise=2e-5, seed=5)
+    (tmp_path / "data.csv").write_text(generated.csv)
+    real = generated.real
+    rng = np.random.default_rng(6)
+    qm = generated.data.qm[:5]
+    points = real.fk(qm)[:, :3, 3]
+    with open(tmp_path / "rep.csv", "w") as file:
+        file.write("pose,x,y,z\n")
+        for _ in range(20):
+            for pose, point in enumerate(points, start=1):
+                x, y, z = point + rng.normal(0.0, 2e-5, 3)
+                file.write(f"{pose},{float(x)!r},{float(y)!r},{float(z)!r}\n")
+    (tmp_path / "study.toml").write_text(
+        'robot = "stanford"\n[[measurements]]\nmethod = "position"\n'
+        'data = "data.csv"\nrepeatability = "rep.csv"\n'
+    )
+    study = gecaro.Study.read(tmp_path / "study.toml")
+    assert study.sets[0]["sigma"] == pytest.approx(2e-5, rel=0.1)
+    assert any("measured from" in note for note in study.notes)
+    result = gecaro.identify(study.robot, study)
+    assert result.verdict["outcome"] == "fits_noise"
