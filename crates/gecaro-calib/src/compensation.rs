@@ -26,9 +26,9 @@
 //!   written silently.
 
 use gecaro_core::{
-    ChainBuffer, InverseOptions, InverseSolution, JointRegion, KinematicModel, MEASURED_MARGIN,
-    OrientationDifference, Robot, Target, forward_kinematics, inverse_kinematics_near,
-    inverse_kinematics_on, joint_jacobian, orientation_difference,
+    ChainBuffer, InverseOptions, InverseSolution, InverseSolver, JointRegion, MEASURED_MARGIN,
+    OrientationDifference, Robot, Target, forward_kinematics, joint_jacobian,
+    orientation_difference,
 };
 use nalgebra::{DMatrix, DVector, IsometryMatrix3};
 
@@ -141,8 +141,8 @@ pub fn compensate(
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub struct Compensator<'a> {
-    nominal: (&'a Robot, KinematicModel),
-    calibrated: (&'a Robot, KinematicModel),
+    nominal: InverseSolver<'a>,
+    calibrated: InverseSolver<'a>,
     matching: Match,
     options: InverseOptions,
     /// The last target reached: where one without joints starts.
@@ -172,8 +172,8 @@ impl<'a> Compensator<'a> {
         // Program points start near their solution: Newton steps on the
         // compiled model, the damped solver where they do not converge.
         Ok(Compensator {
-            nominal: (nominal, KinematicModel::new(nominal)),
-            calibrated: (calibrated, KinematicModel::new(calibrated)),
+            nominal: InverseSolver::new(nominal),
+            calibrated: InverseSolver::new(calibrated),
             matching,
             options: InverseOptions::default(),
             previous: None,
@@ -263,8 +263,8 @@ impl<'a> Compensator<'a> {
                      (index, point): (usize, &ProgramPoint),
                      previous: Option<&[f64]>| {
             compensate_point(
-                (self.nominal.0, &self.nominal.1),
-                (self.calibrated.0, &self.calibrated.1),
+                &self.nominal,
+                &self.calibrated,
                 (point, previous),
                 self.matching,
                 &self.options,
@@ -314,7 +314,7 @@ impl<'a> Compensator<'a> {
         self.done += points.len();
         let mut results = results;
         if let Some(region) = &self.region {
-            let robot = self.calibrated.0;
+            let robot = self.calibrated.robot();
             let mut joint_positions = vec![0.0; robot.joint_count()];
             for result in &mut results {
                 if result.status == CompensationStatus::Reached {
@@ -347,13 +347,15 @@ pub const PART_TIME: std::time::Duration = std::time::Duration::from_millis(20);
 /// else from `previous` (the solution of the point before). `index` seeds
 /// its random starts; `chain` is a buffer for the direct models.
 fn compensate_point(
-    (nominal, nominal_model): (&Robot, &KinematicModel),
-    (calibrated, model): (&Robot, &KinematicModel),
+    nominal_solver: &InverseSolver<'_>,
+    solver: &InverseSolver<'_>,
     (point, previous): (&ProgramPoint, Option<&[f64]>),
     matching: Match,
     options: &InverseOptions,
     (index, chain): (usize, &mut ChainBuffer),
 ) -> Result<CompensatedPoint, Error> {
+    let (nominal, nominal_model) = (nominal_solver.robot(), nominal_solver.model());
+    let (calibrated, model) = (solver.robot(), solver.model());
     let (target, joints) = match &point.target {
         ProgramTarget::Joints(qm) => {
             let pose = nominal_model.terminal_pose(qm, chain)?;
@@ -375,7 +377,7 @@ fn compensate_point(
     let free = joints.is_none();
     let mut result = compensate_one(
         nominal,
-        (calibrated, model),
+        solver,
         &target,
         (start, free),
         options,
@@ -402,22 +404,21 @@ fn compensate_point(
 /// a buffer for the direct model.
 fn compensate_one(
     nominal: &Robot,
-    (robot, model): (&Robot, &KinematicModel),
+    solver: &InverseSolver<'_>,
     target: &Target,
     (start, free): (Option<&[f64]>, bool),
     options: &InverseOptions,
     (seed, chain): (u64, &mut ChainBuffer),
 ) -> Result<CompensatedPoint, Error> {
+    let (robot, model) = (solver.robot(), solver.model());
     let redundant = robot.joint_count() > target.rows();
     let solve = |options: &InverseOptions| {
         let from_start = match start {
             // Where the solution is locally unique, Newton steps reach it;
             // where there are many (a point for six axes, seven axes), the
             // damped solver's, which the move to the closest one starts from.
-            Some(start) if !redundant => {
-                inverse_kinematics_near(robot, model, target, start, options)
-            }
-            Some(start) => inverse_kinematics_on(robot, model, target, start, options),
+            Some(start) if !redundant => solver.solve_near(target, start, options),
+            Some(start) => solver.solve(target, start, options),
             None => return solve_from_starts(robot, target, options, seed),
         };
         match from_start {
@@ -432,10 +433,10 @@ fn compensate_one(
     let mut reached = None;
     // The solution closest to the start joints (else to its own).
     let closest = |motor_positions: Vec<f64>| match start {
-        Some(start) => closest_solution((robot, model), target, motor_positions, start, options),
+        Some(start) => closest_solution(solver, target, motor_positions, start, options),
         None => {
             let reference = motor_positions.clone();
-            closest_solution((robot, model), target, motor_positions, &reference, options)
+            closest_solution(solver, target, motor_positions, &reference, options)
         }
     };
     let (motor_positions, status) = match solve(options) {
@@ -452,7 +453,7 @@ fn compensate_one(
             let program_joints = start.filter(|_| !free);
             let solution = fallback(
                 nominal,
-                (robot, model),
+                solver,
                 target,
                 program_joints,
                 &solve,
@@ -547,13 +548,14 @@ fn turned_into_limits(
 /// reaches the target.
 fn fallback(
     nominal: &Robot,
-    (robot, model): (&Robot, &KinematicModel),
+    solver: &InverseSolver<'_>,
     target: &Target,
     program_joints: Option<&[f64]>,
     solve: &dyn Fn(&InverseOptions) -> Result<InverseSolution, gecaro_core::Error>,
     options: &InverseOptions,
     seed: u64,
 ) -> Result<Option<InverseSolution>, Error> {
+    let robot = solver.robot();
     let unlimited = InverseOptions {
         respect_limits: false,
         ..*options
@@ -580,8 +582,7 @@ fn fallback(
         return Ok(Some(solution));
     }
     let any = |_: &InverseSolution| true;
-    if let Some(solution) =
-        closest_from_nearby_starts((robot, model), target, start, options, &any, seed)?
+    if let Some(solution) = closest_from_nearby_starts(solver, target, start, options, &any, seed)?
     {
         return Ok(Some(solution));
     }
@@ -596,14 +597,7 @@ fn fallback(
             .turned_into_limits(&solution.joint_positions, reference.as_slice())
             .is_some()
     };
-    closest_from_nearby_starts(
-        (robot, model),
-        target,
-        start,
-        &unlimited,
-        &turns_within,
-        seed,
-    )
+    closest_from_nearby_starts(solver, target, start, &unlimited, &turns_within, seed)
 }
 
 /// How far frame n+1 at `pose` is from `target`: the distance, and the
@@ -670,12 +664,13 @@ fn null_space_step(
 /// From a solution, the solution closest to `reference` (see the module
 /// docs); the solution itself when the task leaves no freedom.
 fn closest_solution(
-    (robot, model): (&Robot, &KinematicModel),
+    solver: &InverseSolver<'_>,
     target: &Target,
     solution: Vec<f64>,
     reference: &[f64],
     options: &InverseOptions,
 ) -> Result<Vec<f64>, Error> {
+    let robot = solver.robot();
     if robot.joint_count() <= target.rows() {
         return Ok(solution);
     }
@@ -706,9 +701,7 @@ fn closest_solution(
         let mut accepted = None;
         for fraction in fractions {
             let moved = DVector::from_column_slice(&current) + &step * fraction;
-            if let Ok(projected) =
-                inverse_kinematics_on(robot, model, target, moved.as_slice(), options)
-            {
+            if let Ok(projected) = solver.solve(target, moved.as_slice(), options) {
                 let joints = robot.joint_positions(&projected.motor_positions)?;
                 let next = null_space_step(robot, target, &projected.motor_positions, reference)?;
                 let there = distance(&projected.motor_positions);

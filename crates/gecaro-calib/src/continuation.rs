@@ -26,8 +26,8 @@
 //! limit: limits are left to the caller.
 
 use gecaro_core::{
-    InverseOptions, InverseSolution, KinematicModel, KnownMinima, ParameterKind, Robot, Target,
-    inverse_kinematics, inverse_kinematics_avoiding,
+    InverseOptions, InverseSolution, InverseSolver, KnownMinima, ParameterKind, Robot, Target,
+    inverse_kinematics,
 };
 
 use crate::Error;
@@ -143,7 +143,7 @@ pub(crate) fn continue_from_nominal(
 /// # Errors
 /// Configuration errors of the robot.
 pub(crate) fn closest_from_nearby_starts(
-    (robot, model): (&Robot, &KinematicModel),
+    solver: &InverseSolver<'_>,
     target: &Target,
     start_motor_positions: &[f64],
     options: &InverseOptions,
@@ -169,7 +169,7 @@ pub(crate) fn closest_from_nearby_starts(
                 .iter()
                 .map(|value| value + sampler.gaussian(spread))
                 .collect();
-            match inverse_kinematics_avoiding(robot, model, target, &start, options, &mut known) {
+            match solver.solve_avoiding(target, &start, options, &mut known) {
                 Ok(solution) => {
                     let ranked = rank(&solution);
                     if best.as_ref().is_none_or(|(_, kept)| ranked < *kept) {
@@ -225,7 +225,7 @@ mod tests {
     #[test]
     fn a_preferred_solution_comes_before_a_closer_one() {
         let robot = planar_arm();
-        let model = KinematicModel::new(&robot);
+        let solver = InverseSolver::new(&robot);
         let elbow_up = [0.3, 1.2];
         let pose = terminal_pose(&robot, &elbow_up).expect("pose");
         let target = Target::Position(pose.translation.vector);
@@ -233,16 +233,15 @@ mod tests {
         let start = [0.35, 0.05];
         let any = |_: &InverseSolution| true;
         let elbow_down = |solution: &InverseSolution| solution.joint_positions[1] < 0.0;
-        let closest =
-            closest_from_nearby_starts((&robot, &model), &target, &start, &options, &any, 5)
-                .expect("runs")
-                .expect("reached");
+        let closest = closest_from_nearby_starts(&solver, &target, &start, &options, &any, 5)
+            .expect("runs")
+            .expect("reached");
         assert!(
             (closest.joint_positions[1] - 1.2).abs() < 1e-9,
             "{closest:?}"
         );
         let preferred =
-            closest_from_nearby_starts((&robot, &model), &target, &start, &options, &elbow_down, 5)
+            closest_from_nearby_starts(&solver, &target, &start, &options, &elbow_down, 5)
                 .expect("runs")
                 .expect("reached");
         assert!(

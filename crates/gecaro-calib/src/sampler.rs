@@ -6,9 +6,7 @@
 //! seeded by the user: the same seed gives the same configurations, bit for
 //! bit, on every platform.
 
-use gecaro_core::{
-    InverseOptions, InverseSolution, KinematicModel, Robot, Target, inverse_kinematics_on,
-};
+use gecaro_core::{InverseOptions, InverseSolution, InverseSolver, Robot, Target};
 use nalgebra::{Rotation3, Vector3};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -45,16 +43,15 @@ pub fn solve_from_starts(
         .map(|joint| 0.5 * (joint.qmin + joint.qmax))
         .collect();
     let first = robot.motor_positions(&middle)?;
-    let model = KinematicModel::new(robot);
-    let first_error = match inverse_kinematics_on(robot, &model, target, first.as_slice(), options)
-    {
+    let solver = InverseSolver::new(robot);
+    let first_error = match solver.solve(target, first.as_slice(), options) {
         Ok(solution) => return Ok(solution),
         Err(error) => error,
     };
     let mut sampler = Sampler::new(seed);
     for _ in 0..RANDOM_STARTS {
         let start = sampler.configuration(robot);
-        if let Ok(solution) = inverse_kinematics_on(robot, &model, target, &start, options) {
+        if let Ok(solution) = solver.solve(target, &start, options) {
             return Ok(solution);
         }
     }
@@ -244,14 +241,13 @@ impl Sampler {
         distinct_from: &[&[f64]],
     ) -> Result<Vec<f64>, Error> {
         let options = InverseOptions::default();
-        let model = KinematicModel::new(robot);
+        let solver = InverseSolver::new(robot);
         for attempt in 0..REACH_ATTEMPTS {
             let start = match (attempt, start) {
                 (0, Some(start)) => start.to_vec(),
                 _ => self.configuration(robot),
             };
-            let Ok(solution) = inverse_kinematics_on(robot, &model, target, &start, &options)
-            else {
+            let Ok(solution) = solver.solve(target, &start, &options) else {
                 continue;
             };
             if !self.cell.admits(robot, &solution.motor_positions) {

@@ -85,6 +85,16 @@ pub enum Error {
         /// `position` or `frame`.
         what: &'static str,
     },
+    /// A compiled model passed with a robot it was not compiled from (or
+    /// that changed since).
+    #[error(
+        "the compiled kinematic model is not {robot}'s as it is now (its parameters, offsets or \
+         couplings differ): compile the model of the robot solved"
+    )]
+    ModelMismatch {
+        /// The robot's name.
+        robot: String,
+    },
     /// The numerical inverse geometric model did not reach its target.
     #[error(
         "target not reached by the inverse geometric model after {iterations} iterations \

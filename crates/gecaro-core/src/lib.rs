@@ -81,11 +81,11 @@ pub use gravity::{
 };
 pub use kinematics::turn;
 pub use kinematics::{
-    CONFIGURATION_LANES, ChainBuffer, FrameChain, InverseOptions, InverseSolution, JacobianRows,
-    KinematicModel, KnownMinima, LaneBuffer, OrientationDifference, Target, forward_kinematics,
-    frame_transform, inverse_kinematics, inverse_kinematics_avoiding, inverse_kinematics_near,
-    inverse_kinematics_on, joint_jacobian, orientation_difference, parameter_jacobian,
-    parameter_jacobian_of_chain, pose_difference, terminal_pose,
+    CONFIGURATION_LANES, ChainBuffer, FrameChain, InverseOptions, InverseSolution, InverseSolver,
+    JacobianRows, KinematicModel, KnownMinima, LaneBuffer, OrientationDifference, Target,
+    forward_kinematics, frame_transform, inverse_kinematics, joint_jacobian,
+    orientation_difference, parameter_jacobian, parameter_jacobian_of_chain, pose_difference,
+    terminal_pose,
 };
 pub use parameters::{ParameterId, ParameterKind, ParameterSpace};
 pub use placement::NEARLY_PARALLEL_DEGREES;

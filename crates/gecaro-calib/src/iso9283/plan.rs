@@ -32,9 +32,7 @@
 //!   [`APPROACH_SHARE`] of the side away on the side of the cube's centre
 //!   (inside the cube).
 
-use gecaro_core::{
-    InverseOptions, KinematicModel, Robot, Target, inverse_kinematics_on, terminal_pose,
-};
+use gecaro_core::{InverseOptions, InverseSolver, Robot, Target, terminal_pose};
 use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Vector3};
 
 use super::cube::TestCube;
@@ -280,7 +278,7 @@ type Fitted = (Vec<PlannedPoint>, Vec<Vec<PlannedPoint>>);
 /// the starts.
 struct Solver<'a> {
     robot: &'a Robot,
-    model: KinematicModel,
+    inverse: InverseSolver<'a>,
     /// The held orientation, or none (positions only).
     orientation: Option<Rotation3<f64>>,
     cell: &'a Cell,
@@ -306,7 +304,7 @@ impl<'a> Solver<'a> {
         starts.extend((0..RANDOM_STARTS).map(|_| sampler.configuration(robot)));
         let solver = Solver {
             robot,
-            model: KinematicModel::new(robot),
+            inverse: InverseSolver::new(robot),
             orientation,
             cell,
             starts,
@@ -334,9 +332,7 @@ impl<'a> Solver<'a> {
         std::iter::once(near)
             .chain(self.starts.iter().map(Vec::as_slice))
             .find_map(|start| {
-                let solution =
-                    inverse_kinematics_on(self.robot, &self.model, &target, start, &self.options)
-                        .ok()?;
+                let solution = self.inverse.solve(&target, start, &self.options).ok()?;
                 let inside = solution
                     .joint_positions
                     .iter()

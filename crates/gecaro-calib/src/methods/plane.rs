@@ -2,7 +2,7 @@
 //! and their sensor, which generates configurations whose terminal point lies
 //! in a plane (a touch probe on a surface).
 
-use gecaro_core::{InverseOptions, KinematicModel, Robot, Target, inverse_kinematics_on};
+use gecaro_core::{InverseOptions, InverseSolver, Robot, Target};
 use nalgebra::Vector3;
 
 use crate::error::{Error, Setting};
@@ -115,7 +115,7 @@ fn generate_in_plane(
 ) -> Result<Vec<Sample>, Error> {
     const STARTS_PER_POINT: usize = 20;
     let mut samples = Vec::with_capacity(count);
-    let model = KinematicModel::new(robot);
+    let solver = InverseSolver::new(robot);
     for done in 0..count {
         report_step(observer, done, count)?;
         let mut reached = None;
@@ -127,9 +127,7 @@ fn generate_in_plane(
                 normal: plane.normal(),
                 offset: plane.normal().dot(&plane.point()) + sampler.gaussian(noise),
             };
-            if let Ok(solution) =
-                inverse_kinematics_on(robot, &model, &target, &start, &InverseOptions::default())
-            {
+            if let Ok(solution) = solver.solve(&target, &start, &InverseOptions::default()) {
                 reached = Some(solution.motor_positions);
                 break;
             }

@@ -160,7 +160,7 @@ pub fn inverse_kinematics(
 ///
 /// # Errors
 /// As [`inverse_kinematics`].
-pub fn inverse_kinematics_on(
+pub(super) fn inverse_kinematics_on(
     robot: &Robot,
     model: &KinematicModel,
     target: &Target,
@@ -182,54 +182,7 @@ pub fn inverse_kinematics_on(
 /// As [`inverse_kinematics`]; [`Error::Unreachable`] also for a solve given
 /// up near a known minimum.
 ///
-/// # Example
-///
-/// A planar arm of links 0.5 and 0.4 m asked for a point 1 m away: every
-/// start settles with the arm stretched towards it, 0.1 m short. The
-/// second start, given up near the first one's minimum, takes fewer
-/// iterations:
-///
-/// ```
-/// use gecaro_core::{
-///     Frame, FrameType, InverseOptions, Joint, KinematicModel, KnownMinima, Robot, RobotSpec,
-///     Target, inverse_kinematics_avoiding,
-/// };
-/// use nalgebra::Vector3;
-///
-/// let frame = |frame_type, d| Frame { d, ..Frame::new(frame_type) };
-/// let robot = Robot::new(RobotSpec {
-///     name: "planar".into(),
-///     frames: vec![
-///         frame(FrameType::Fixed, 0.0),
-///         frame(FrameType::Revolute, 0.0),
-///         frame(FrameType::Revolute, 0.5),
-///         frame(FrameType::Fixed, 0.4),
-///     ],
-///     joints: vec![Joint::default_for(FrameType::Revolute); 2],
-///     motor_coupling: None,
-///     joint_coupling: None,
-///     priority: None,
-///     compliances: None,
-/// })?;
-/// let model = KinematicModel::new(&robot);
-/// let far = Target::Position(Vector3::new(1.0, 0.0, 0.0));
-/// let mut known = KnownMinima::new(0.01);
-/// let options = InverseOptions::default();
-///
-/// let mut solve = |start: &[f64]| {
-///     inverse_kinematics_avoiding(&robot, &model, &far, start, &options, &mut known)
-/// };
-/// let first = solve(&[0.3, 0.4]);
-/// let second = solve(&[0.3, 0.5]);
-/// let iterations = |result: Result<_, gecaro_core::Error>| match result {
-///     Err(gecaro_core::Error::Unreachable { iterations, .. }) => iterations,
-///     other => panic!("{other:?}"),
-/// };
-/// assert_eq!(known.len(), 1);
-/// assert!(iterations(second) < iterations(first));
-/// # Ok::<(), Box<dyn std::error::Error>>(())
-/// ```
-pub fn inverse_kinematics_avoiding(
+pub(super) fn inverse_kinematics_avoiding(
     robot: &Robot,
     model: &KinematicModel,
     target: &Target,
@@ -525,7 +478,7 @@ const MAX_NEWTON_STEP: f64 = 0.2;
 ///
 /// # Errors
 /// As [`inverse_kinematics`].
-pub fn inverse_kinematics_near(
+pub(super) fn inverse_kinematics_near(
     robot: &Robot,
     model: &KinematicModel,
     target: &Target,

@@ -1,6 +1,6 @@
 //! Least-squares minima short of a target that earlier solves of it settled
 //! at, so that later solves from other starts give up on the way there
-//! ([`inverse_kinematics_avoiding`](super::inverse_kinematics_avoiding)).
+//! ([`InverseSolver::solve_avoiding`](super::InverseSolver::solve_avoiding)).
 //!
 //! A search for a configuration that meets a hard target (a pose beside a
 //! fold of the workspace, or out of reach) starts the inverse model from

@@ -16,15 +16,14 @@ mod lanes;
 mod loaded;
 mod model;
 mod pose_difference;
+mod solver;
 pub mod turn;
 
 pub use direct::{FrameChain, forward_kinematics, frame_transform, terminal_pose};
-pub use inverse::{
-    InverseOptions, InverseSolution, Target, inverse_kinematics, inverse_kinematics_avoiding,
-    inverse_kinematics_near, inverse_kinematics_on,
-};
+pub use inverse::{InverseOptions, InverseSolution, Target, inverse_kinematics};
 pub use jacobian::{joint_jacobian, parameter_jacobian, parameter_jacobian_of_chain};
 pub use known_minima::KnownMinima;
 pub use lanes::{CONFIGURATION_LANES, LaneBuffer};
 pub use model::{ChainBuffer, JacobianRows, KinematicModel};
 pub use pose_difference::{OrientationDifference, orientation_difference, pose_difference};
+pub use solver::InverseSolver;

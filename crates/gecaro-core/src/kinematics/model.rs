@@ -98,6 +98,20 @@ pub struct KinematicModel {
     /// Whether the Jacobian writes every column (then a buffer of the right
     /// size needs no zeroing first).
     pub(super) writes_every_column: bool,
+    /// What the model was compiled from ([`fingerprint`]): the robot it is
+    /// bound to ([`KinematicModel::is_of`]).
+    source: Vec<f64>,
+}
+
+/// Every number of `robot` a compiled model holds: its parameters (the
+/// frames', gains, compliances, gravity's tilt), the joint offsets and both
+/// couplings of eq. 4.
+fn fingerprint(robot: &Robot) -> Vec<f64> {
+    let mut source: Vec<f64> = robot.parameter_values().iter().copied().collect();
+    source.extend(robot.joints().iter().map(|joint| joint.offset));
+    source.extend(robot.motor_coupling().iter().copied());
+    source.extend(robot.joint_coupling().iter().copied());
+    source
 }
 
 /// Which rows of the parameter Jacobian to compute.
@@ -228,6 +242,7 @@ impl KinematicModel {
         }
         KinematicModel {
             writes_every_column: written.iter().all(|w| *w),
+            source: fingerprint(robot),
             frames,
             uncoupled: *robot.motor_coupling() == identity && *robot.joint_coupling() == identity,
             motor_to_joint: row_major(robot.motor_to_joint()),
@@ -264,6 +279,14 @@ impl KinematicModel {
     /// size then needs no zeroing first).
     pub(super) fn writes_every_column(&self) -> bool {
         self.writes_every_column
+    }
+
+    /// Whether this model was compiled from `robot` as it is now (its
+    /// parameters, offsets and couplings, to the bit): a model and a robot
+    /// passed side by side are checked with it, as pinocchio's model and
+    /// data are.
+    pub fn is_of(&self, robot: &Robot) -> bool {
+        self.source == fingerprint(robot)
     }
 
     /// Number of columns of the Jacobian: Np, or for a model
