@@ -136,7 +136,7 @@ pub use interchange::{
 };
 pub use iso9283::{
     EvaluatedTest, Iso9283EvaluateRequest, Iso9283PlanRequest, MAX_CYCLES, MeasuredTestJson,
-    PlannedTest, PoseResultJson, TestConditions, TestEvaluationJson, TestPlanJson,
+    PlannedTest, PoseResultJson, TestConditions, TestEvaluationJson, TestPlanJson, TestWarning,
 };
 pub use join::{JoinRequest, JoinedData, JoinedJson, MAX_SHIFT, SHIFT_RATIO, UnmeasuredJson};
 pub use kinematics::inverse_model;

@@ -185,10 +185,10 @@ fn measured_files_that_do_not_fit_are_named() {
         .run(&LocalFiles)
         .expect("far");
     assert!(
-        evaluated
-            .warnings
-            .iter()
-            .any(|w| w.contains("another frame")),
+        evaluated.warnings.iter().any(|w| matches!(
+            w,
+            gecaro_app::TestWarning::AnotherFrame { .. }
+        ) && w.to_string().contains("another frame")),
         "{:?}",
         evaluated.warnings
     );

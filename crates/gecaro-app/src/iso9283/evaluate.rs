@@ -80,6 +80,62 @@ pub struct Iso9283EvaluateRequest {
     unknown: Unknown,
 }
 
+/// What the user of an evaluated test should know, worded by `Display`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TestWarning {
+    /// The program's targets are not the given robot's poses at its joints.
+    OffModel {
+        /// The program.
+        program: String,
+        /// The largest gap (m).
+        largest: f64,
+        /// The robot.
+        robot: String,
+    },
+    /// In the base frame, attained poses far beyond any robot's error.
+    AnotherFrame {
+        /// The measured file.
+        data: String,
+        /// The largest AP_P (m).
+        largest: f64,
+    },
+    /// The frame registered by a best fit, which absorbs a rigid error.
+    BestFit {
+        /// The measured file.
+        data: String,
+    },
+}
+
+impl std::fmt::Display for TestWarning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            TestWarning::OffModel {
+                program,
+                largest,
+                robot,
+            } => write!(
+                f,
+                "{program}'s targets are up to {:.3} mm from {robot}'s poses at the program's \
+                 joints: the program was not planned on this robot (or was edited)",
+                largest * 1e3
+            ),
+            TestWarning::AnotherFrame { data, largest } => write!(
+                f,
+                "{data}: the attained poses are up to {:.1} mm from the commanded ones — not a \
+                 robot's error but another frame's: the measurements are not in the robot's \
+                 base frame; state the instrument's pose (frame) or register it by a best fit",
+                largest * 1e3
+            ),
+            TestWarning::BestFit { data } => write!(
+                f,
+                "{data}: the measurement frame was registered by a best fit of the poses' \
+                 barycentres: AP excludes the part of the robot's error that is a rigid motion \
+                 of the cube"
+            ),
+        }
+    }
+}
+
 /// One measured file evaluated.
 #[derive(Clone, Debug)]
 pub struct MeasuredTest {
@@ -103,7 +159,7 @@ pub struct EvaluatedTest {
     /// The conditions stated.
     pub conditions: TestConditions,
     /// What a user should know.
-    pub warnings: Vec<String>,
+    pub warnings: Vec<TestWarning>,
     /// Where the HTML report was written.
     pub saved_report: Option<std::path::PathBuf>,
 }
@@ -271,6 +327,7 @@ impl EvaluatedTest {
             ("measurement system", conditions.instrument.as_deref()),
             ("its uncertainty", conditions.uncertainty.as_deref()),
         ];
+        let words: Vec<String> = self.warnings.iter().map(ToString::to_string).collect();
         fn measured(test: &MeasuredTest) -> gecaro_report::MeasuredInput<'_> {
             gecaro_report::MeasuredInput {
                 label: &test.label,
@@ -284,7 +341,7 @@ impl EvaluatedTest {
                 before: measured(&self.before),
                 after: self.after.as_ref().map(measured),
                 conditions: &stated,
-                warnings: &self.warnings,
+                warnings: &words,
                 command,
             },
         )?)
@@ -298,7 +355,7 @@ impl EvaluatedTest {
             before: self.before.document(),
             after: self.after.as_ref().map(MeasuredTest::document),
             conditions: self.conditions.clone(),
-            warnings: self.warnings.clone(),
+            warnings: self.warnings.iter().map(ToString::to_string).collect(),
         }
     }
 }
@@ -490,12 +547,11 @@ impl Iso9283EvaluateRequest {
             commanded.insert(key, target);
         }
         if off_model > 1e-6 {
-            warnings.push(format!(
-                "{program_label}'s targets are up to {:.3} mm from {}'s poses at the program's \
-                 joints: the program was not planned on this robot (or was edited)",
-                off_model * 1e3,
-                robot.name()
-            ));
+            warnings.push(TestWarning::OffModel {
+                program: program_label.clone(),
+                largest: off_model,
+                robot: robot.name().to_owned(),
+            });
         }
         let measure = |source: &ProgramSource, what: &str| -> Result<MeasuredTest, AppError> {
             let (text, label) = read_source(source, files, what)?;
@@ -556,19 +612,15 @@ impl Iso9283EvaluateRequest {
         for measured in std::iter::once(&before).chain(&after) {
             let worst = measured.evaluation.worst_accuracy();
             match measured.evaluation.registration {
-                Registration::Base if worst > FRAME_MISMATCH => warnings.push(format!(
-                    "{}: the attained poses are up to {:.1} mm from the commanded ones — not a \
-                     robot's error but another frame's: the measurements are not in the robot's \
-                     base frame; state the instrument's pose (frame) or register it by a best fit",
-                    measured.label,
-                    worst * 1e3
-                )),
-                Registration::BestFit => warnings.push(format!(
-                    "{}: the measurement frame was registered by a best fit of the poses' \
-                     barycentres: AP excludes the part of the robot's error that is a rigid \
-                     motion of the cube",
-                    measured.label
-                )),
+                Registration::Base if worst > FRAME_MISMATCH => {
+                    warnings.push(TestWarning::AnotherFrame {
+                        data: measured.label.clone(),
+                        largest: worst,
+                    });
+                }
+                Registration::BestFit => warnings.push(TestWarning::BestFit {
+                    data: measured.label.clone(),
+                }),
                 _ => {}
             }
         }

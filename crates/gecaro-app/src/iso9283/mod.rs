@@ -18,7 +18,7 @@ mod plan;
 
 pub use evaluate::{
     EvaluatedTest, Iso9283EvaluateRequest, MeasuredTestJson, PoseResultJson, TestConditions,
-    TestEvaluationJson,
+    TestEvaluationJson, TestWarning,
 };
 pub use plan::{Iso9283PlanRequest, MAX_CYCLES, PlannedTest, TestPlanJson};
 
