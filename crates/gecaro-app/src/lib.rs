@@ -102,6 +102,7 @@ mod sources;
 mod study_editing;
 mod study_file;
 mod study_files;
+mod study_parts;
 mod study_plan;
 mod study_prediction;
 mod study_spec;
@@ -159,6 +160,7 @@ pub use sources::{
 };
 pub use study_editing::{SaveStudyRequest, open_study};
 pub use study_file::{StudyText, read_study_file, read_study_file_for};
+pub use study_parts::{FrameSpec, PriorSpec};
 pub use study_plan::{
     PlanStudyJson, PlanStudyRequest, PlannedSetJson, PlannedStudy, PreparedStudyPlan,
 };
@@ -166,8 +168,7 @@ pub use study_prediction::{
     PredictStudyJson, PredictStudyRequest, PredictedSetJson, PredictedStudy,
 };
 pub use study_spec::{
-    FrameSpec, MethodChoice, PriorSpec, SetData, SetSpec, SpecField, StudyData, StudyFile,
-    StudyFiles, StudySpec,
+    MethodChoice, SetData, SetSpec, SpecField, StudyData, StudyFile, StudyFiles, StudySpec,
 };
 pub use tool_point::{SMALL_SPREAD, TaughtToolPoint, ToolPointJson, ToolPointRequest};
 pub use uncertainty::{Correlation, correlation, frame_covariances};

@@ -22,7 +22,7 @@ fn name(path: &Path) -> String {
 /// — the largest found inside the working space — or `"CX,CY,CZ,SIDE"`
 /// with units, `"800mm,0,600mm,400mm"`), its five poses P1–P5 and the
 /// cycles, written as a program to `path` (CSV: pose, cycle, direction,
-/// measure, qm1..qmn, x,y,z[,qw,qx,qy,qz]) in `length_unit`/`angle_unit`
+/// measure, qm1..qmn, `x,y,z[,qw,qx,qy,qz]`) in `length_unit`/`angle_unit`
 /// → `{"centre", "side" (m), "poses": [{"pose", "position", "quaternion",
 /// "qm"}], "rows", …, "program": the CSV text}`. `floor` (m) keeps every
 /// joint above it.
@@ -67,7 +67,7 @@ pub(crate) fn iso9283_plan<'py>(
 
 /// Evaluates ISO 9283's test: `program` (`iso9283_plan`'s file), `data`
 /// (what was measured: pose, cycle[, direction] and the attained
-/// x,y,z[,qw,qx,qy,qz], in `length_unit`), optionally `after` (measured
+/// `x,y,z[,qw,qx,qy,qz]`, in `length_unit`), optionally `after` (measured
 /// running the compensated program) → `{"before": {"poses": [{"ap": {"p",
 /// "x", "y", "z"[, "a", "b", "c"]}, "rp": {"l"[, "a", "b", "c"]}, "vap"}],
 /// "distance": {"ad", "rd", …}, …}, "after", "warnings"}` in metres and
