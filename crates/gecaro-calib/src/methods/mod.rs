@@ -38,12 +38,11 @@
 
 mod distance;
 mod frame;
-mod frame_link;
 mod link;
+mod link_methods;
 mod plane;
 mod plane_equation;
 mod plane_normal;
-mod point_link;
 mod position;
 mod readings;
 mod sets;
@@ -59,8 +58,8 @@ pub use crate::plane::Plane;
 pub const METHODS: &[MethodInfo] = &[
     position::INFO,
     frame::INFO,
-    point_link::INFO,
-    frame_link::INFO,
+    link_methods::POINT_LINK,
+    link_methods::FRAME_LINK,
     plane_equation::INFO,
     plane_normal::INFO,
     distance::INFO,
