@@ -16,6 +16,8 @@
 //! - Orientation characteristics when every visit's orientation was
 //!   measured; positions only otherwise.
 
+use std::collections::HashMap;
+
 use nalgebra::{IsometryMatrix3, Rotation3, Translation3, Vector3};
 
 use super::characteristics::{
@@ -174,11 +176,16 @@ pub fn evaluate_test(
             }
         }
     }
-    let group = |pose: usize, direction: usize| -> Vec<&Visit> {
-        visits
-            .iter()
-            .filter(|visit| visit.pose == pose && visit.direction == direction)
-            .collect()
+    // The visits of each pose and direction, grouped once.
+    let mut groups: HashMap<(usize, usize), Vec<&Visit>> = HashMap::new();
+    for visit in visits {
+        groups
+            .entry((visit.pose, visit.direction))
+            .or_default()
+            .push(visit);
+    }
+    let group = |pose: usize, direction: usize| -> &[&Visit] {
+        groups.get(&(pose, direction)).map_or(&[], Vec::as_slice)
     };
     let frame = match registration {
         Registration::Base => IsometryMatrix3::identity(),
@@ -215,7 +222,7 @@ pub fn evaluate_test(
         };
         let pose = index + 1;
         let first: Vec<IsometryMatrix3<f64>> = group(pose, 1)
-            .into_iter()
+            .iter()
             .map(|visit| attained(visit, &frame))
             .collect();
         let characteristics = pose_characteristics(commanded, &first)
@@ -224,7 +231,7 @@ pub fn evaluate_test(
             let approaches: Vec<Vec<IsometryMatrix3<f64>>> = (1..=directions)
                 .map(|direction| {
                     group(pose, direction)
-                        .into_iter()
+                        .iter()
                         .map(|visit| attained(visit, &frame))
                         .collect()
                 })
@@ -246,20 +253,18 @@ pub fn evaluate_test(
     }
     let distance = match (commanded[1], commanded[3]) {
         (Some(p2), Some(p4)) => {
-            let at = |pose: usize| -> Vec<(usize, Vector3<f64>)> {
-                group(pose, 1)
-                    .into_iter()
-                    .map(|visit| (visit.cycle, attained(visit, &frame).translation.vector))
-                    .collect()
-            };
-            let fourth = at(4);
-            let (first, second): (Vec<_>, Vec<_>) = at(2)
-                .into_iter()
-                .filter_map(|(cycle, position)| {
+            let position = |visit: &Visit| attained(visit, &frame).translation.vector;
+            let fourth: HashMap<usize, Vector3<f64>> = group(4, 1)
+                .iter()
+                .map(|visit| (visit.cycle, position(visit)))
+                .collect();
+            // The cycles that measured both, in P2's order.
+            let (first, second): (Vec<_>, Vec<_>) = group(2, 1)
+                .iter()
+                .filter_map(|visit| {
                     fourth
-                        .iter()
-                        .find(|(other, _)| *other == cycle)
-                        .map(|(_, other)| (position, *other))
+                        .get(&visit.cycle)
+                        .map(|other| (position(visit), *other))
                 })
                 .unzip();
             (first.len() >= 2)
