@@ -50,10 +50,27 @@ pub(crate) fn rpy(rotation: &Rotation3<f64>) -> [f64; 3] {
 /// A sentence naming what is wrong: the count, a unit, a mix of units, a
 /// quaternion that is not a unit one.
 pub fn parse_tool_pose(text: &str) -> Result<IsometryMatrix3<f64>, String> {
+    parse_pose(text, "tool", "frame n+1")
+}
+
+/// A pose as a person writes it, as [`parse_tool_pose`] reads a tool's: of
+/// the `what` (a tool, the measurement frame) in its `parent` frame, named
+/// so in messages.
+///
+/// ```
+/// let error = gecaro_io::parse_pose("3,0,0.4mm", "frame", "the base frame").unwrap_err();
+/// assert!(error.contains("the frame's position"), "{error}");
+/// ```
+///
+/// # Errors
+/// As [`parse_tool_pose`].
+pub fn parse_pose(text: &str, what: &str, parent: &str) -> Result<IsometryMatrix3<f64>, String> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
     if parts.len() == 16 {
-        let [x, y, z] =
-            crate::written_lengths::point(&[parts[3], parts[7], parts[11]], "the tool's position")?;
+        let [x, y, z] = crate::written_lengths::point(
+            &[parts[3], parts[7], parts[11]],
+            &format!("the {what}'s position"),
+        )?;
         let mut values = [0.0; 16];
         for (index, (value, text)) in values.iter_mut().zip(&parts).enumerate() {
             *value = match index {
@@ -62,23 +79,24 @@ pub fn parse_tool_pose(text: &str) -> Result<IsometryMatrix3<f64>, String> {
                 11 => z,
                 _ => text
                     .parse()
-                    .map_err(|_| format!("the tool's matrix holds '{text}', not a number"))?,
+                    .map_err(|_| format!("the {what}'s matrix holds '{text}', not a number"))?,
             };
         }
-        return pose_from_matrix(&values).map_err(|message| format!("the tool's matrix {message}"));
+        return pose_from_matrix(&values)
+            .map_err(|message| format!("the {what}'s matrix {message}"));
     }
     let (position, quaternion) = match parts.as_slice() {
         [x, y, z] => ([*x, *y, *z], None),
         [x, y, z, rest @ ..] if rest.len() == 4 => ([*x, *y, *z], Some(rest)),
         _ => {
             return Err(format!(
-                "'{text}' is not a tool pose: give its position in frame n+1 with units, and \
+                "'{text}' is not a {what} pose: give its position in {parent} with units, and \
                  optionally its quaternion: 0,0,120mm or 0,0,120mm,1,0,0,0; or the 16 numbers \
                  of its 4×4 matrix, row by row"
             ));
         }
     };
-    let [x, y, z] = crate::written_lengths::point(&position, "the tool's position")?;
+    let [x, y, z] = crate::written_lengths::point(&position, &format!("the {what}'s position"))?;
     let rotation = match quaternion {
         None => Rotation3::identity(),
         Some(values) => {
@@ -86,10 +104,10 @@ pub fn parse_tool_pose(text: &str) -> Result<IsometryMatrix3<f64>, String> {
             for (value, text) in q.iter_mut().zip(values) {
                 *value = text
                     .parse()
-                    .map_err(|_| format!("the tool's quaternion holds '{text}', not a number"))?;
+                    .map_err(|_| format!("the {what}'s quaternion holds '{text}', not a number"))?;
             }
             unit_quaternion(q[0], q[1], q[2], q[3])
-                .map_err(|message| format!("the tool's quaternion: {message}"))?
+                .map_err(|message| format!("the {what}'s quaternion: {message}"))?
                 .to_rotation_matrix()
         }
     };

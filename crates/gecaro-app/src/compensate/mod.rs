@@ -231,6 +231,16 @@ impl ProgramSource {
             ProgramSource::Points(_) => "the targets given".into(),
         }
     }
+
+    /// The CSV the program is read from, named `label` in messages (its
+    /// [`label`](Self::label)); `None` for targets given already.
+    pub(crate) fn csv<'a>(&'a self, label: &'a str) -> Option<CsvInput<'a>> {
+        match self {
+            ProgramSource::File(name) => Some(CsvInput::File(name)),
+            ProgramSource::Csv { text, .. } => Some(CsvInput::Text { text, label }),
+            ProgramSource::Points(_) => None,
+        }
+    }
 }
 
 impl CompensateRequest {
@@ -356,14 +366,7 @@ impl CompensateRequest {
             registration,
         } = self.prepare(files)?;
         let label = self.program.label();
-        let input = match &self.program {
-            ProgramSource::File(name) => Some(CsvInput::File(name)),
-            ProgramSource::Csv { text, .. } => Some(CsvInput::Text {
-                text,
-                label: &label,
-            }),
-            ProgramSource::Points(_) => None,
-        };
+        let input = self.program.csv(&label);
         let mut program = input
             .map(|input| {
                 let format = self.format.format()?;

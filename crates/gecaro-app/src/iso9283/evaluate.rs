@@ -18,7 +18,7 @@ use crate::error::AppError;
 use crate::files::Files;
 use crate::measurements::Unknown;
 use crate::output::Output;
-use crate::sources::{CsvInput, DataFormatSpec, RobotSource};
+use crate::sources::{DataFormatSpec, RobotSource};
 
 /// Attained poses farther than this from their commanded ones (m) are not
 /// the robot's error but another frame's: 50 mm, as an evaluation's.
@@ -369,25 +369,12 @@ fn read_source(
     files: &dyn Files,
     what: &str,
 ) -> Result<(String, String), AppError> {
-    let label = match source {
-        ProgramSource::File(name) => name.clone(),
-        ProgramSource::Csv { name, .. } => {
-            name.clone().unwrap_or_else(|| format!("uploaded {what}"))
-        }
-        ProgramSource::Points(_) => {
-            return Err(AppError::setting(
-                what,
-                "the test's files are read from CSV (a file or its text)",
-            ));
-        }
-    };
-    let input = match source {
-        ProgramSource::File(name) => CsvInput::File(name),
-        ProgramSource::Csv { text, .. } => CsvInput::Text {
-            text,
-            label: &label,
-        },
-        ProgramSource::Points(_) => unreachable!("refused above"),
+    let label = source.label();
+    let Some(input) = source.csv(&label) else {
+        return Err(AppError::setting(
+            what,
+            "the test's files are read from CSV (a file or its text)",
+        ));
     };
     let (text, _) = input.read_text(files, MAX_TEST_BYTES, what)?;
     Ok((text, label))
@@ -458,16 +445,14 @@ impl Iso9283EvaluateRequest {
             None | Some("base") => Registration::Base,
             Some("best-fit" | "best_fit") => Registration::BestFit,
             Some(text) => {
-                Registration::Stated(gecaro_io::parse_tool_pose(text).map_err(|message| {
-                    AppError::setting(
-                        "frame",
-                        format!(
-                            "`base`, `best-fit`, or the measurement frame's pose in the base \
-                             frame: {}",
-                            message.replace("tool", "frame")
-                        ),
-                    )
-                })?)
+                let pose = gecaro_io::parse_pose(text, "measurement frame", "the base frame")
+                    .map_err(|message| {
+                        AppError::setting(
+                            "frame",
+                            format!("`base`, `best-fit`, or the frame's pose: {message}"),
+                        )
+                    })?;
+                Registration::Stated(pose)
             }
         })
     }
