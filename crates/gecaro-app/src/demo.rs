@@ -105,7 +105,8 @@ impl DemoRequest {
                 plane_point: Some(gecaro_calib::table2::STANFORD_PLANE_POINT),
                 ..MethodSpec::named(method_name)
             };
-            let title = method.build()?.title();
+            let chosen = method.build()?;
+            let title = chosen.title();
             let interrupted =
                 || AppError::plain(ErrorKind::NotConverged, "the demo was interrupted");
             if observer.observe(Progress::Phase(title)).is_break() {
@@ -114,7 +115,7 @@ impl DemoRequest {
             let started = Instant::now();
             let samples = simulate_measurements(
                 &real.robot,
-                method.build()?.as_ref(),
+                chosen.as_ref(),
                 count,
                 self.noise,
                 &mut sampler,
