@@ -1677,6 +1677,10 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
     assert!(summary.contains("the largest AP_P 0.1"), "{summary}");
     assert_eq!(count(client, "#iso-table tbody tr").await, 5);
     assert_eq!(count(client, ".bullseye").await, 5);
+    assert_eq!(count(client, "#iso-stale").await, 0);
+    set_values(client, &[("iso-frame", "best-fit")]).await;
+    let stale = text_of(client, "#iso-stale", 5).await;
+    assert!(stale.contains("settings changed"), "{stale}");
     client
         .execute(
             "document.getElementById('iso-evaluation').scrollIntoView()",

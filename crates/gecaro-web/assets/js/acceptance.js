@@ -7,7 +7,7 @@ import { api } from './api.js';
 import { $, h, download } from './dom.js';
 import { field, FieldError, errorBox, fieldNumber, runButton } from './fields.js';
 import { refreshFiles } from './robot-menu.js';
-import { tableDocument } from './state.js';
+import { state, tableDocument } from './state.js';
 import { quantity, unitName } from './units.js';
 
 /** A text field. */
@@ -102,7 +102,7 @@ function renderEvaluation(report) {
 export function buildAcceptance() {
   const result = h('div', { class: 'result', id: 'iso-result' });
   const cube = text('cube', 'auto, or 800mm,0,600mm,400mm', 'auto');
-  const cycles = text('cycles', '30', '30');
+  const cycles = text('cycles', String(state.info.defaults.cycles), String(state.info.defaults.cycles));
   const directions = choice('directions', [['1', 'one (the pose test)'], ['3', 'three (multi-directional)']]);
   const programUnit = choice('program-unit', [['mm', 'mm and degrees'], ['m', 'm and radians']]);
   const save = text('save', 'test.csv', 'iso9283-test.csv');
@@ -112,7 +112,7 @@ export function buildAcceptance() {
       const planned = await api('/iso9283/plan', {
         robot: tableDocument(),
         cube: cube.value.trim() || 'auto',
-        cycles: fieldNumber(cycles, 'Cycles', { min: 2, max: 1000, whole: true, empty: 30 }),
+        cycles: fieldNumber(cycles, 'Cycles', { min: 2, max: state.info.limits.cycles, whole: true, empty: state.info.defaults.cycles }),
         directions: Number(directions.value),
         format: programUnit.value === 'mm' ? { length_unit: 'mm', angle_unit: 'deg' } : {},
         save_as: save.value.trim(),
@@ -157,7 +157,17 @@ export function buildAcceptance() {
       result.replaceChildren(errorBox(error));
     }
   });
-  $('acceptance').replaceChildren(
+  // A setting changed after a result makes it stale: said above it, until
+  // the test is planned or evaluated again (heard while capturing: a
+  // field's change event does not bubble when a script sends it).
+  const card = $('acceptance');
+  for (const kind of ['input', 'change']) {
+    card.addEventListener(kind, (event) => {
+      if (event.target.closest('.result') || !result.firstChild || $('iso-stale')) return;
+      result.prepend(h('p', { class: 'warnings', id: 'iso-stale', text: 'The settings changed since this result: plan or evaluate again to see theirs.' }));
+    }, true);
+  }
+  card.replaceChildren(
     h('div', { class: 'form' },
       field('Test cube', cube),
       field('Cycles', cycles),

@@ -38,6 +38,8 @@ struct Defaults {
     max_iterations: usize,
     seed: u64,
     outlier_threshold: f64,
+    /// Cycles of an ISO 9283 test.
+    cycles: usize,
 }
 
 /// What the page needs to start.
@@ -64,6 +66,8 @@ struct Limits {
     iterations: usize,
     /// Cross-validation folds.
     folds: usize,
+    /// Cycles of an ISO 9283 test.
+    cycles: usize,
 }
 
 pub(crate) async fn info(State(state): State<AppState>) -> Json<Info> {
@@ -104,11 +108,13 @@ pub(crate) async fn info(State(state): State<AppState>) -> Json<Info> {
             random: gecaro_app::limits::MAX_RANDOM,
             iterations: gecaro_app::limits::MAX_ITERATIONS,
             folds: gecaro_app::limits::MAX_FOLDS,
+            cycles: gecaro_app::MAX_CYCLES,
         },
         defaults: Defaults {
             max_iterations: gecaro_calib::identification::DEFAULT_MAX_ITERATIONS,
             seed: gecaro_calib::simulation::DEFAULT_SEED,
             outlier_threshold: gecaro_calib::identification::DEFAULT_OUTLIER_THRESHOLD,
+            cycles: gecaro_calib::iso9283::DEFAULT_CYCLES,
         },
     })
 }
