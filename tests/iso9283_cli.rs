@@ -110,6 +110,10 @@ fn a_test_planned_in_millimetres_is_evaluated_end_to_end() {
         6,
         "the cube and five bullseyes"
     );
+    assert!(
+        html.contains("The cube (side"),
+        "the planned poses are the cube's"
+    );
     // The program is never replaced by an output.
     let again = gecaro()
         .args(["iso9283", "plan", "industrial6", "-o", program])

@@ -5,7 +5,7 @@
 //! angles in degrees, for people; the JSON of `gecaro iso9283 evaluate`
 //! keeps metres and radians.
 
-use gecaro_calib::iso9283::{PoseResult, Registration, TestEvaluation};
+use gecaro_calib::iso9283::{PoseResult, Registration, TestCube, TestEvaluation};
 use maud::{DOCTYPE, Markup, PreEscaped, html};
 use plotters::prelude::*;
 
@@ -162,17 +162,28 @@ fn cube_svg(evaluation: &TestEvaluation, side: f64) -> Result<(String, f64), Err
     } else {
         1.0
     };
+    // The side is read from P2–P4; a program whose poses are not that
+    // cube's (edited, or another test) is drawn without the cube's edges.
+    let is_cube = evaluation.poses.len() == 5
+        && TestCube::new(centre, side).is_ok_and(|cube| {
+            cube.poses()
+                .iter()
+                .zip(&commanded)
+                .all(|(expected, at)| (expected - at).norm() < 1e-6)
+        });
+    let caption = if is_cube {
+        format!("The cube (side {} mm), errors × {scale}", mm(side))
+    } else {
+        format!("The commanded poses (not a test cube's), errors × {scale}")
+    };
     let reach = side * 1.1;
     let text = svg(420, 380, |root| {
         let mut chart = ChartBuilder::on(&root)
-            .caption(
-                format!("The cube (side {} mm), errors × {scale}", mm(side)),
-                (FONT, 13),
-            )
+            .caption(caption, (FONT, 13))
             .margin(8)
             .build_cartesian_2d(-reach..reach, -reach..reach)
             .map_err(plot_error)?;
-        for a in 0..8usize {
+        for a in (0..8usize).filter(|_| is_cube) {
             for bit in [1, 2, 4] {
                 if a & bit == 0 {
                     let (from, to) = (project(corner(a)), project(corner(a | bit)));
