@@ -2,6 +2,7 @@
 //! spread subsample, then all the data from its solution, end where the
 //! descent on all the data from the nominal robot does.
 
+use crate::util::{simulated, stanford};
 use gecaro_calib::identification::Warning;
 use gecaro_calib::study::Samples;
 use gecaro_calib::{
@@ -12,7 +13,7 @@ use gecaro_calib::{
     study::Study,
 };
 
-use super::streaming::{assert_same, stanford};
+use super::streaming::assert_same;
 
 /// Position data of the Stanford arm with errors of a centimetre and a
 /// degree, σ = 0.01 mm, on `configurations` (or `count` random ones).
@@ -114,15 +115,7 @@ fn a_coarse_start_on_repeated_cycles_reads_every_pose() {
 fn a_study_that_does_not_observe_the_scale_starts_from_its_robot() {
     let real = perturbed_robot(&stanford(), 0.3, &mut Sampler::new(5)).expect("real robot");
     let link = method("point-link", &MethodOptions::default()).expect("method");
-    let samples = simulate_measurements(
-        &real,
-        link.as_ref(),
-        120,
-        1e-5,
-        &mut Sampler::new(1),
-        &mut Quiet,
-    )
-    .expect("data");
+    let samples = simulated(&real, link.as_ref(), 120, 1e-5, &mut Sampler::new(1));
     let study = Study::single(link, samples, "point link");
     let (whole, coarse) = without_and_with(&study, 50);
     assert!(note(&coarse).is_none(), "{:?}", coarse.warnings);

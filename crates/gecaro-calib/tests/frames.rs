@@ -2,6 +2,7 @@
 //! three reflectors on the flange measured from two tracker stations whose
 //! stated poses are rough; simulated truth, so the right answer is known.
 
+use crate::util::simulated;
 use gecaro_calib::study::Samples;
 use gecaro_calib::{
     Quiet,
@@ -11,7 +12,7 @@ use gecaro_calib::{
         ErrorSummary, Identification, IdentificationOptions, Outcome, evaluate, identify,
     },
     methods::{MethodOptions, method},
-    simulation::{Sampler, perturbed_robot, simulate_measurements},
+    simulation::{Sampler, perturbed_robot},
     study::{MeasurementSet, Study},
 };
 use gecaro_core::Robot;
@@ -167,15 +168,7 @@ fn cell_study_of(
             });
             let measuring =
                 measuring_robot(real, Some(&truth[tool]), measuring_from.as_ref()).expect("robot");
-            let samples = simulate_measurements(
-                &measuring,
-                position.as_ref(),
-                count,
-                NOISE,
-                &mut sampler,
-                &mut Quiet,
-            )
-            .expect("data");
+            let samples = simulated(&measuring, position.as_ref(), count, NOISE, &mut sampler);
             sets.push(MeasurementSet {
                 method: position.clone_method(),
                 samples: samples.into(),
@@ -364,15 +357,7 @@ fn a_study_s_prediction_is_the_cell_s_precision() {
     let poses = random_test_poses(&nominal, 50, 3);
     let position = method("position", &MethodOptions::default()).expect("method");
     let mut sampler = Sampler::new(4);
-    let samples = simulate_measurements(
-        &nominal,
-        position.as_ref(),
-        40,
-        0.0,
-        &mut sampler,
-        &mut Quiet,
-    )
-    .expect("configurations");
+    let samples = simulated(&nominal, position.as_ref(), 40, 0.0, &mut sampler);
     let single = predict(
         &nominal,
         position.as_ref(),

@@ -1,6 +1,7 @@
 //! Identification against known simulated truth (paper §3–§4): every method,
 //! noise-free and noisy data, large errors, and the reported precision.
 
+use crate::util::{simulated, stanford};
 use gecaro_calib::identification::Warning;
 use gecaro_calib::study::Samples;
 use gecaro_calib::{
@@ -8,19 +9,13 @@ use gecaro_calib::{
     identifiability::ParameterStatus,
     identification::{IdentificationOptions, Prior, Route, StopReason, evaluate, identify},
     methods::{CalibrationMethod, MethodOptions, Plane, method},
-    simulation::{Sampler, perturbed_robot, simulate_measurements},
+    simulation::{Sampler, perturbed_robot},
     study::{MeasurementSet, Sample, Study},
     table2::{STANFORD_PLANE_POINT, TABLE2_PLANE_NORMAL},
 };
 use gecaro_core::Robot;
 use nalgebra::Vector3;
 use std::ops::ControlFlow;
-
-fn stanford() -> Robot {
-    gecaro_io::load_robot("stanford")
-        .expect("ready robot")
-        .robot
-}
 
 fn options(plane_unknown: bool) -> MethodOptions {
     MethodOptions {
@@ -61,30 +56,14 @@ fn simulate(
     let mut sampler = Sampler::new(seed);
     let real = perturbed_robot(&stanford(), level, &mut sampler).expect("real robot");
     let chosen = method(name, &options(unknown)).expect("method");
-    let samples = simulate_measurements(
-        &real,
-        chosen.as_ref(),
-        count,
-        noise,
-        &mut sampler,
-        &mut Quiet,
-    )
-    .expect("data");
+    let samples = simulated(&real, chosen.as_ref(), count, noise, &mut sampler);
     (real, Study::single(chosen, samples, name))
 }
 
 /// Fresh data of the same method on the same real robot (other configurations).
 fn held_out(real: &Robot, name: &str, unknown: bool, count: usize, seed: u64) -> Study {
     let chosen = method(name, &options(unknown)).expect("method");
-    let samples = simulate_measurements(
-        real,
-        chosen.as_ref(),
-        count,
-        0.0,
-        &mut Sampler::new(seed),
-        &mut Quiet,
-    )
-    .expect("data");
+    let samples = simulated(real, chosen.as_ref(), count, 0.0, &mut Sampler::new(seed));
     Study::single(chosen, samples, "held out")
 }
 
@@ -155,15 +134,7 @@ fn with_sensor_noise_the_residual_settles_at_the_noise_level() {
         let standalone = study.observes_scale();
         if !standalone {
             let distance = method("distance", &MethodOptions::default()).expect("method");
-            let pairs = simulate_measurements(
-                &real,
-                distance.as_ref(),
-                120,
-                sigma,
-                &mut Sampler::new(5),
-                &mut Quiet,
-            )
-            .expect("data");
+            let pairs = simulated(&real, distance.as_ref(), 120, sigma, &mut Sampler::new(5));
             study.sets.push(MeasurementSet {
                 method: distance,
                 samples: pairs.into(),
@@ -416,15 +387,7 @@ fn exact_measurements(
     let measure = method(name, &MethodOptions::default()).expect("method");
     let mut sampler = Sampler::new(seed);
     let real = perturbed_robot(&nominal, level, &mut sampler).expect("real robot");
-    let exact = simulate_measurements(
-        &real,
-        measure.as_ref(),
-        count,
-        0.0,
-        &mut sampler,
-        &mut Quiet,
-    )
-    .expect("data");
+    let exact = simulated(&real, measure.as_ref(), count, 0.0, &mut sampler);
     (nominal, measure, exact)
 }
 
@@ -778,9 +741,7 @@ fn held_out_over_floor_of(robot: &str, name: &str, level: f64, seed: u64) -> (f6
     let mut sampler = Sampler::new(seed);
     let real = perturbed_robot(&nominal, level, &mut sampler).expect("real robot");
     let mut measure = || {
-        let samples =
-            simulate_measurements(&real, measure.as_ref(), 200, 1e-5, &mut sampler, &mut Quiet)
-                .expect("data");
+        let samples = simulated(&real, measure.as_ref(), 200, 1e-5, &mut sampler);
         Study::single(measure.clone_method(), samples, "simulated")
     };
     let (train, check) = (measure(), measure());

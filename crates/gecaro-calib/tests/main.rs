@@ -15,5 +15,6 @@ mod region;
 mod robust;
 mod row_sigma;
 mod streaming;
+mod util;
 mod validation;
 mod verdict;

@@ -1,6 +1,7 @@
 //! Identification on measurements as they really are: gross errors (robust
 //! losses, the outlier report, rejection) and poorly exciting data (priors),
 //! against known simulated truth.
+use crate::util::{simulated, stanford};
 use gecaro_calib::identification::Warning;
 use gecaro_calib::study::Samples;
 use gecaro_calib::{
@@ -9,18 +10,12 @@ use gecaro_calib::{
         Identification, IdentificationOptions, Loss, LossKind, Prior, evaluate, identify,
     },
     methods::{MethodOptions, Plane, method},
-    simulation::{Sampler, perturbed_robot, simulate_at, simulate_measurements},
+    simulation::{Sampler, perturbed_robot, simulate_at},
     study::{Sample, Study},
     table2::{STANFORD_PLANE_POINT, TABLE2_PLANE_NORMAL},
 };
 use gecaro_core::{Robot, forward_kinematics, joint_jacobian};
 use nalgebra::{DVector, Vector3};
-
-fn stanford() -> Robot {
-    gecaro_io::load_robot("stanford")
-        .expect("ready robot")
-        .robot
-}
 
 fn plane() -> Plane {
     Plane::new(
@@ -54,15 +49,7 @@ fn simulate(name: &str, count: usize, seed: u64) -> (Robot, Study) {
         ..MethodOptions::default()
     };
     let chosen = method(name, &options).expect("method");
-    let samples = simulate_measurements(
-        &real,
-        chosen.as_ref(),
-        count,
-        NOISE,
-        &mut sampler,
-        &mut Quiet,
-    )
-    .expect("data");
+    let samples = simulated(&real, chosen.as_ref(), count, NOISE, &mut sampler);
     (real, Study::single(chosen, samples, format!("{name}.csv")))
 }
 
@@ -376,15 +363,7 @@ fn a_prior_bounds_poorly_excited_parameters_and_leaves_the_others() {
     );
     // Where the robot will work (anywhere), the prior's robot is the better one.
     let chosen = method("position", &MethodOptions::default()).expect("method");
-    let anywhere = simulate_measurements(
-        &real,
-        chosen.as_ref(),
-        200,
-        0.0,
-        &mut Sampler::new(82),
-        &mut Quiet,
-    )
-    .expect("data");
+    let anywhere = simulated(&real, chosen.as_ref(), 200, 0.0, &mut Sampler::new(82));
     let anywhere = Study::single(chosen, anywhere, "anywhere");
     let plain_error = evaluate(&plain.calibrated, &anywhere)
         .expect("evaluation")
@@ -407,15 +386,7 @@ fn each_set_of_a_study_is_judged_by_its_own_noise() {
     let mut sets = Vec::new();
     for (name, count, noise) in [("position", 60, 1e-3), ("distance", 300, 1e-4)] {
         let chosen = method(name, &MethodOptions::default()).expect("method");
-        let samples = simulate_measurements(
-            &real,
-            chosen.as_ref(),
-            count,
-            noise,
-            &mut sampler,
-            &mut Quiet,
-        )
-        .expect("data");
+        let samples = simulated(&real, chosen.as_ref(), count, noise, &mut sampler);
         sets.push(gecaro_calib::study::MeasurementSet {
             method: chosen,
             samples: samples.into(),

@@ -3,18 +3,13 @@
 //! count less, the verdict tests each row against its own σ, and the
 //! calibration is judged on the real robot at held-out configurations.
 
+use crate::util::{simulated, stanford};
 use gecaro_calib::identification::{IdentificationOptions, Outcome, evaluate, identify};
 use gecaro_calib::methods::{MethodOptions, method};
-use gecaro_calib::simulation::{Sampler, perturbed_robot, simulate_measurements};
+use gecaro_calib::simulation::{Sampler, perturbed_robot};
 use gecaro_calib::study::{MeasurementSet, RowSigma, Sample, Samples, Study};
 use gecaro_calib::{Error, Quiet};
 use gecaro_core::Robot;
-
-fn stanford() -> Robot {
-    gecaro_io::load_robot("stanford")
-        .expect("ready robot")
-        .robot
-}
 
 /// The real robot, its exact positions at 120 configurations and the same
 /// measured with a σ of each row's own, drawn log-uniformly between 5 µm
@@ -24,8 +19,7 @@ fn measured() -> (Robot, Vec<Sample>, Study) {
     let mut sampler = Sampler::new(74);
     let real = perturbed_robot(&stanford(), 1.0, &mut sampler).expect("real robot");
     let position = method("position", &MethodOptions::default()).expect("method");
-    let exact = simulate_measurements(&real, position.as_ref(), 120, 0.0, &mut sampler, &mut Quiet)
-        .expect("data");
+    let exact = simulated(&real, position.as_ref(), 120, 0.0, &mut sampler);
     let rows: Vec<Sample> = exact
         .iter()
         .map(|sample| {
@@ -39,15 +33,7 @@ fn measured() -> (Robot, Vec<Sample>, Study) {
             row
         })
         .collect();
-    let held_out = simulate_measurements(
-        &real,
-        position.as_ref(),
-        200,
-        0.0,
-        &mut Sampler::new(740),
-        &mut Quiet,
-    )
-    .expect("held out");
+    let held_out = simulated(&real, position.as_ref(), 200, 0.0, &mut Sampler::new(740));
     (real, rows, Study::single(position, held_out, "held out"))
 }
 
@@ -173,15 +159,7 @@ fn rows_overstating_their_precision_exceed_the_noise() {
 fn a_sigma_per_row_is_refused_where_it_means_nothing() {
     let robot = stanford();
     let link = method("point-link", &MethodOptions::default()).expect("method");
-    let mut rows = simulate_measurements(
-        &robot,
-        link.as_ref(),
-        12,
-        0.0,
-        &mut Sampler::new(3),
-        &mut Quiet,
-    )
-    .expect("data");
+    let mut rows = simulated(&robot, link.as_ref(), 12, 0.0, &mut Sampler::new(3));
     rows[4].sigma = Some(Box::new(RowSigma {
         length: Some(1e-5),
         angle: None,

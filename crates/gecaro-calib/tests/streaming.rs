@@ -2,35 +2,22 @@
 //! triangular factor as they are written give the identification of the
 //! held W, to floating-point order, for every kind of data that streams.
 
+use crate::util::{simulated, stanford};
 use gecaro_calib::study::Samples;
 use gecaro_calib::{
     Quiet,
     identification::{Identification, IdentificationOptions, Loss, Prior, identify},
     methods::{MethodOptions, method},
-    simulation::{Sampler, perturbed_robot, simulate_at, simulate_measurements},
+    simulation::{Sampler, perturbed_robot, simulate_at},
     study::{MeasurementSet, Study},
 };
 use gecaro_core::Robot;
 use nalgebra::Vector3;
 
-pub(crate) fn stanford() -> Robot {
-    gecaro_io::load_robot("stanford")
-        .expect("ready robot")
-        .robot
-}
-
 /// Data of `name` on a Stanford arm with level-`level` errors.
 fn measured(real: &Robot, name: &str, count: usize, seed: u64) -> MeasurementSet {
     let chosen = method(name, &MethodOptions::default()).expect("method");
-    let samples = simulate_measurements(
-        real,
-        chosen.as_ref(),
-        count,
-        1e-5,
-        &mut Sampler::new(seed),
-        &mut Quiet,
-    )
-    .expect("data");
+    let samples = simulated(real, chosen.as_ref(), count, 1e-5, &mut Sampler::new(seed));
     let mut set = Study::single(chosen, samples, name).sets.remove(0);
     set.sigma = Some(1e-5);
     set
@@ -176,15 +163,7 @@ fn a_joint_that_never_moved_is_found_by_the_streamed_excitation_check() {
     // QR, whose rank decisions are those of the held W.
     let real = perturbed_robot(&stanford(), 1.0, &mut Sampler::new(5)).expect("real robot");
     let measure = method("position", &MethodOptions::default()).expect("method");
-    let mut planned = simulate_measurements(
-        &real,
-        measure.as_ref(),
-        300,
-        0.0,
-        &mut Sampler::new(3),
-        &mut Quiet,
-    )
-    .expect("configurations");
+    let mut planned = simulated(&real, measure.as_ref(), 300, 0.0, &mut Sampler::new(3));
     for sample in &mut planned {
         sample.motor_positions[1] = 0.4;
     }
@@ -214,9 +193,7 @@ fn an_ill_conditioned_pass_streams_into_a_triangular_factor() {
     let mut sampler = Sampler::new(7);
     let real = perturbed_robot(&nominal, 0.1, &mut sampler).expect("real robot");
     let measure = method("position", &MethodOptions::default()).expect("method");
-    let samples =
-        simulate_measurements(&real, measure.as_ref(), 200, 1e-5, &mut sampler, &mut Quiet)
-            .expect("data");
+    let samples = simulated(&real, measure.as_ref(), 200, 1e-5, &mut sampler);
     let study = Study::single(measure, samples, "simulated");
     let route = |streamed_rows| {
         identify(

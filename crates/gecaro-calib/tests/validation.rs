@@ -1,32 +1,19 @@
 //! Held-out error as the judge: K-fold cross-validation and model choice,
 //! against known simulated truth.
+use crate::util::{simulated, stanford};
 use gecaro_calib::{
     Quiet,
     identification::{IdentificationOptions, evaluate, identify},
     methods::{MethodOptions, method},
-    simulation::{Sampler, perturbed_robot, simulate_measurements},
+    simulation::{Sampler, perturbed_robot},
     study::Study,
     validation::{Folds, Model, compare_models, cross_validate},
 };
 use gecaro_core::Robot;
 
-fn stanford() -> Robot {
-    gecaro_io::load_robot("stanford")
-        .expect("ready robot")
-        .robot
-}
-
 fn simulate(real: &Robot, name: &str, count: usize, noise: f64, seed: u64) -> Study {
     let chosen = method(name, &MethodOptions::default()).expect("method");
-    let samples = simulate_measurements(
-        real,
-        chosen.as_ref(),
-        count,
-        noise,
-        &mut Sampler::new(seed),
-        &mut Quiet,
-    )
-    .expect("data");
+    let samples = simulated(real, chosen.as_ref(), count, noise, &mut Sampler::new(seed));
     Study::single(chosen, samples, format!("{name}.csv"))
 }
 

@@ -2,22 +2,16 @@
 //! explains the data to the stated noise says so, one that does not says by
 //! how much, and data or iterations that cannot give a solution are named.
 
+use crate::util::{simulated, stanford};
 use gecaro_calib::identification::Warning;
 use gecaro_calib::study::Samples;
 use gecaro_calib::{
     Quiet,
     identification::{IdentificationOptions, Outcome, Solver, identify},
     methods::{MethodOptions, method},
-    simulation::{Sampler, perturbed_robot, simulate_measurements},
+    simulation::{Sampler, perturbed_robot},
     study::Study,
 };
-use gecaro_core::Robot;
-
-fn stanford() -> Robot {
-    gecaro_io::load_robot("stanford")
-        .expect("ready robot")
-        .robot
-}
 
 /// Position data of a Stanford arm with level-0.5 errors, noise σ = 0.02 mm.
 fn study(method_name: &str, count: usize, stated: Option<f64>, seed: u64) -> Study {
@@ -25,15 +19,7 @@ fn study(method_name: &str, count: usize, stated: Option<f64>, seed: u64) -> Stu
     let chosen = method(method_name, &MethodOptions::default()).expect("method");
     let mut sampler = Sampler::new(seed);
     let real = perturbed_robot(&stanford(), 0.5, &mut sampler).expect("real");
-    let samples = simulate_measurements(
-        &real,
-        chosen.as_ref(),
-        count,
-        NOISE,
-        &mut sampler,
-        &mut Quiet,
-    )
-    .expect("data");
+    let samples = simulated(&real, chosen.as_ref(), count, NOISE, &mut sampler);
     let mut study = Study::single(chosen, samples, "simulated");
     study.sets[0].sigma = stated;
     study
@@ -131,8 +117,7 @@ fn the_sigma_margin_hides_only_a_model_error_below_a_third_of_sigma() {
     let chosen = method("position", &MethodOptions::default()).expect("method");
     let mut sampler = Sampler::new(9);
     let real = perturbed_robot(&stanford(), 0.5, &mut sampler).expect("real");
-    let clean = simulate_measurements(&real, chosen.as_ref(), 5000, 0.0, &mut sampler, &mut Quiet)
-        .expect("data");
+    let clean = simulated(&real, chosen.as_ref(), 5000, 0.0, &mut sampler);
     let noise: Vec<_> = (0..clean.len())
         .map(|_| sampler.gaussian_vector(NOISE))
         .collect();
@@ -309,15 +294,7 @@ fn a_measurement_frame_two_metres_away_converges_to_the_noise_floor() {
     for name in ["position", "frame"] {
         let measured = method(name, &MethodOptions::default()).expect("method");
         let mut measure = |count| {
-            let samples = simulate_measurements(
-                &far,
-                measured.as_ref(),
-                count,
-                1e-5,
-                &mut sampler,
-                &mut Quiet,
-            )
-            .expect("data");
+            let samples = simulated(&far, measured.as_ref(), count, 1e-5, &mut sampler);
             Study::single(measured.clone_method(), samples, "far")
         };
         let (train, check) = (measure(100), measure(100));
@@ -361,15 +338,7 @@ fn a_gain_thirty_percent_off_is_implausible() {
     let k3 = gecaro_core::ParameterId::new(gecaro_core::ParameterKind::Gain, 3);
     real.set_parameter(k3, 1.3).expect("gain");
     let position = method("position", &MethodOptions::default()).expect("method");
-    let samples = simulate_measurements(
-        &real,
-        position.as_ref(),
-        60,
-        1e-5,
-        &mut Sampler::new(3),
-        &mut Quiet,
-    )
-    .expect("data");
+    let samples = simulated(&real, position.as_ref(), 60, 1e-5, &mut Sampler::new(3));
     let result = fit(
         &Study::single(position, samples, "gears"),
         &Default::default(),
@@ -400,15 +369,7 @@ fn strongly_correlated_pairs_are_named_and_agree_with_repeated_measurements() {
     let position = method("position", &MethodOptions::default()).expect("method");
     let mut sampler = Sampler::new(11);
     let real = perturbed_robot(&nominal, 0.3, &mut sampler).expect("real");
-    let planned = simulate_measurements(
-        &nominal,
-        position.as_ref(),
-        60,
-        0.0,
-        &mut sampler,
-        &mut Quiet,
-    )
-    .expect("configurations");
+    let planned = simulated(&nominal, position.as_ref(), 60, 0.0, &mut sampler);
     let identify_once = |sampler: &mut Sampler| {
         let samples = simulate_at(
             &real,
@@ -491,27 +452,11 @@ fn judged(
     let mut sampler = Sampler::new(seed);
     let real = perturbed_robot(&nominal, level, &mut sampler).expect("real");
     let count = if name.starts_with("plane") { 120 } else { 80 };
-    let samples = simulate_measurements(
-        &real,
-        chosen.as_ref(),
-        count,
-        NOISE,
-        &mut sampler,
-        &mut Quiet,
-    )
-    .expect("data");
+    let samples = simulated(&real, chosen.as_ref(), count, NOISE, &mut sampler);
     let mut study = Study::single(chosen, samples, "simulated");
     if pairs > 0 {
         let distance = method("distance", &MethodOptions::default()).expect("method");
-        let samples = simulate_measurements(
-            &real,
-            distance.as_ref(),
-            2 * pairs,
-            NOISE,
-            &mut sampler,
-            &mut Quiet,
-        )
-        .expect("pairs");
+        let samples = simulated(&real, distance.as_ref(), 2 * pairs, NOISE, &mut sampler);
         study
             .sets
             .append(&mut Study::single(distance, samples, "pairs").sets);
@@ -650,15 +595,7 @@ fn a_levelled_tracker_is_not_a_singular_measurement_frame() {
     for seed in 1..=3 {
         let mut sampler = Sampler::new(seed);
         let real = perturbed_robot(&in_tracker, 1.0, &mut sampler).expect("real");
-        let samples = simulate_measurements(
-            &real,
-            position.as_ref(),
-            60,
-            NOISE,
-            &mut sampler,
-            &mut Quiet,
-        )
-        .expect("data");
+        let samples = simulated(&real, position.as_ref(), 60, NOISE, &mut sampler);
         let mut study = Study::single(position.clone_method(), samples, "tracker");
         study.sets[0].sigma = Some(NOISE);
         let held_out = held_out_configurations(&real, 300, &mut sampler);
@@ -958,9 +895,7 @@ fn a_tool_stated_half_a_turn_off_is_found_by_the_start() {
         let theta7 = ParameterId::new(ParameterKind::Theta, 7);
         real.set_parameter(theta7, real.parameter(theta7) + std::f64::consts::PI)
             .expect("turned");
-        let samples =
-            simulate_measurements(&real, frame.as_ref(), 60, NOISE, &mut sampler, &mut Quiet)
-                .expect("data");
+        let samples = simulated(&real, frame.as_ref(), 60, NOISE, &mut sampler);
         let mut study = Study::single(frame.clone_method(), samples, "tool180.csv");
         study.sets[0].sigma = Some(NOISE);
         let result = identify(
@@ -1017,15 +952,7 @@ fn the_start_leaves_what_the_priority_matrix_holds() {
         real.set_parameter(id, nominal.parameter(id)).expect("tool");
     }
     let position = method("position", &MethodOptions::default()).expect("method");
-    let samples = simulate_measurements(
-        &real,
-        position.as_ref(),
-        100,
-        1e-5,
-        &mut sampler,
-        &mut Quiet,
-    )
-    .expect("data");
+    let samples = simulated(&real, position.as_ref(), 100, 1e-5, &mut sampler);
     let study = Study::single(position, samples, "far");
     let mut priority = nominal.priority();
     for kind in [
@@ -1082,9 +1009,7 @@ fn a_split_the_data_cannot_make_is_held() {
     for seed in 1..=6 {
         let mut sampler = Sampler::new(seed);
         let real = perturbed_robot(&nominal, 1.0, &mut sampler).expect("real");
-        let samples =
-            simulate_measurements(&real, frame.as_ref(), 60, NOISE, &mut sampler, &mut Quiet)
-                .expect("data");
+        let samples = simulated(&real, frame.as_ref(), 60, NOISE, &mut sampler);
         let mut study = Study::single(frame.clone_method(), samples, "flange.csv");
         study.sets[0].sigma = Some(NOISE);
         study.sets[0].sigma_rotation = Some(NOISE);
