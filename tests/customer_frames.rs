@@ -9,7 +9,7 @@ use gecaro_core::{Robot, terminal_pose};
 use nalgebra::{IsometryMatrix3, Point3, Vector3};
 
 use super::named_frames::{tracker_1, write_cell};
-use crate::util::{gecaro, json_output};
+use crate::util::{command, gecaro, json_output};
 
 /// The real robot of `write_cell`, seen from tracker 1 (its first draw).
 fn real_robot() -> Robot {
@@ -56,8 +56,7 @@ fn a_reflector_study_compensates_its_reflector_and_refuses_tool0() {
     let at = |name: &str| folder.path().join(name);
     write_cell(folder.path());
     let calibrated = at("calibrated.toml");
-    gecaro()
-        .args(["identify", "--study"])
+    command("identify --study")
         .arg(at("study.toml"))
         .arg("-o")
         .arg(&calibrated)
@@ -218,15 +217,7 @@ fn the_owner_s_base_is_registered_by_plate_points() {
         .args(["--seed", "8", "-o", &text("train.csv")])
         .assert()
         .success();
-    gecaro()
-        .args([
-            "identify",
-            "industrial6",
-            "--method",
-            "position",
-            "--sigma",
-            "20um",
-        ])
+    command("identify industrial6 --method position --sigma 20um")
         .args(["--data", &text("train.csv"), "-o", &text("calibrated.toml")])
         .assert()
         .success();
@@ -395,15 +386,7 @@ fn a_tool_point_is_taught_by_pivoting() {
         }
         let path = folder.path().join(name);
         std::fs::write(&path, text).expect("pivot");
-        let output = gecaro()
-            .args([
-                "tcp",
-                "industrial6",
-                "--angle-unit",
-                "deg",
-                "--json",
-                "--data",
-            ])
+        let output = command("tcp industrial6 --angle-unit deg --json --data")
             .arg(&path)
             .output()
             .expect("runs");
@@ -427,8 +410,7 @@ fn a_tool_point_is_taught_by_pivoting() {
         .collect();
     let path = folder.path().join("about_axis.csv");
     std::fs::write(&path, format!("qm1,qm2,qm3,qm4,qm5,qm6\n{about_axis}")).expect("pivot");
-    let output = gecaro()
-        .args(["tcp", "industrial6", "--data"])
+    let output = command("tcp industrial6 --data")
         .arg(&path)
         .output()
         .expect("runs");
@@ -465,8 +447,7 @@ fn a_user_frame_is_made_from_measured_points() {
     for (name, content, least_squares) in [("three.csv", text, false), ("four.csv", placed, true)] {
         let path = folder.path().join(name);
         std::fs::write(&path, content).expect("points");
-        let output = gecaro()
-            .args(["frame", "--length-unit", "mm", "--json", "--points"])
+        let output = command("frame --length-unit mm --json --points")
             .arg(&path)
             .output()
             .expect("runs");
@@ -503,8 +484,7 @@ fn a_cell_is_planned_before_it_is_measured() {
     let folder = tempfile::tempdir().expect("folder");
     let at = |name: &str| folder.path().join(name);
     std::fs::copy("examples/tracker-cell/study.toml", at("study.toml")).expect("study");
-    let output = gecaro()
-        .args(["plan", "--study"])
+    let output = command("plan --study")
         .arg(at("study.toml"))
         .args(["--count", "24", "--angle-unit", "deg", "-o"])
         .arg(at("planned.toml"))
@@ -516,8 +496,7 @@ fn a_cell_is_planned_before_it_is_measured() {
     let planned = std::fs::read_to_string(at("planned.toml")).expect("written");
     assert!(planned.contains("angle_unit = \"deg\""), "{planned}");
     assert!(planned.contains("(qm in deg and m)"), "{planned}");
-    let predicted = gecaro()
-        .args(["predict", "--study"])
+    let predicted = command("predict --study")
         .arg(at("planned.toml"))
         .output()
         .expect("runs");
@@ -563,8 +542,7 @@ fn a_study_states_its_files_format_once() {
         1,
     );
     std::fs::write(at("study.toml"), study).expect("study");
-    let output = gecaro()
-        .args(["identify", "--study"])
+    let output = command("identify --study")
         .arg(at("study.toml"))
         .arg("--json")
         .output()
@@ -610,8 +588,7 @@ fn data_from_another_tracker_position_are_registered() {
         .assert()
         .success();
     let evaluate = |extra: &[&str]| {
-        gecaro()
-            .args(["evaluate", "industrial6", "--method", "position", "--json"])
+        command("evaluate industrial6 --method position --json")
             .args(["--data", &text("other.csv")])
             .args(extra)
             .output()
@@ -647,15 +624,7 @@ fn data_from_another_tracker_position_are_registered() {
 fn a_probe_s_euler_angles_are_read_as_they_are() {
     let folder = tempfile::tempdir().expect("folder");
     let text = |name: &str| folder.path().join(name).to_str().expect("UTF-8").to_owned();
-    gecaro()
-        .args([
-            "generate",
-            "industrial6",
-            "--method",
-            "frame",
-            "--count",
-            "40",
-        ])
+    command("generate industrial6 --method frame --count 40")
         .args(["--noise", "1e-5", "--seed", "6", "-o", &text("frames.csv")])
         .assert()
         .success();
@@ -691,9 +660,7 @@ fn a_probe_s_euler_angles_are_read_as_they_are() {
     }
     std::fs::write(text("probe.csv"), probe).expect("probe");
     let identify = |extra: &[&str]| -> serde_json::Value {
-        let output = gecaro()
-            .args(["identify", "industrial6", "--method", "frame", "--json"])
-            .args(["--no-check-model"])
+        let output = command("identify industrial6 --method frame --json --no-check-model")
             .args(extra)
             .output()
             .expect("runs");
@@ -787,8 +754,7 @@ fn the_maker_s_base_is_registered_by_circles() {
         .args(["--seed", "12", "-o", &text("train.csv")])
         .assert()
         .success();
-    gecaro()
-        .args(["identify", "industrial6", "--method", "position"])
+    command("identify industrial6 --method position")
         .args(["--sigma", "20um", "--data", &text("train.csv")])
         .args(["-o", &text("calibrated.toml")])
         .assert()
@@ -991,15 +957,7 @@ fn an_instrument_export_joins_a_controller_log() {
             assert!((row[6 + axis] - points[i][axis]).abs() < 1e-7, "row {i}");
         }
     }
-    gecaro()
-        .args([
-            "identify",
-            "industrial6",
-            "--method",
-            "position",
-            "--sigma",
-            "20um",
-        ])
+    command("identify industrial6 --method position --sigma 20um")
         .args([
             "--data",
             &text("joined.csv"),
@@ -1221,15 +1179,7 @@ fn a_tracker_export_s_own_sigma_weights_its_rows() {
     real.robot = perturbed_robot(&real.robot, 1.0, &mut Sampler::new(8)).expect("real");
     std::fs::write(at("real.toml"), gecaro_io::format_robot_file(&real)).expect("written");
     for (name, count, seed) in [("exact.csv", "120", "3"), ("held.csv", "200", "9")] {
-        gecaro()
-            .args([
-                "generate",
-                "industrial6",
-                "--method",
-                "position",
-                "--noise",
-                "0",
-            ])
+        command("generate industrial6 --method position --noise 0")
             .args([
                 "--count",
                 count,

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::util::gecaro;
+use crate::util::{command, gecaro};
 use serde_json::Value;
 
 fn data(name: &str) -> String {
@@ -272,8 +272,7 @@ fn a_urdf_export_keeps_every_link_fixed_to_the_chain() {
             .arg("--force")
             .assert()
             .success();
-        gecaro()
-            .args(["robot", "export"])
+        command("robot export")
             .arg(&robot)
             .args(["--to", "urdf", "-o"])
             .arg(&urdf)

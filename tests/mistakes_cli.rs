@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use crate::util::gecaro;
+use crate::util::command;
 use predicates::prelude::*;
 use serde_json::Value;
 
@@ -49,8 +49,7 @@ fn a_set_labelled_with_the_wrong_reflector_is_named_alone() {
         set("smr_a_2.csv", "smr_a", Some("tracker_2")),
     );
     std::fs::write(folder.path().join("study.toml"), study).expect("written");
-    let output = gecaro()
-        .args(["identify", "--json", "--study"])
+    let output = command("identify --json --study")
         .arg(folder.path().join("study.toml"))
         .output()
         .expect("runs");
@@ -110,16 +109,7 @@ fn a_set_labelled_with_the_wrong_reflector_is_named_alone() {
 fn a_log_joined_one_row_off_is_named() {
     let folder = tempfile::tempdir().expect("temporary folder");
     let at = |name: &str| folder.path().join(name);
-    gecaro()
-        .args([
-            "generate",
-            "industrial6",
-            "--method",
-            "position",
-            "--count",
-            "120",
-        ])
-        .args(["--noise", "2e-5", "--seed", "9", "-o"])
+    command("generate industrial6 --method position --count 120 --noise 2e-5 --seed 9 -o")
         .arg(at("joined.csv"))
         .assert()
         .success();
@@ -129,15 +119,7 @@ fn a_log_joined_one_row_off_is_named() {
             .map(|pair| [&pair[0][..6], &pair[1][6..]].concat())
             .collect()
     });
-    gecaro()
-        .args([
-            "identify",
-            "industrial6",
-            "--method",
-            "position",
-            "--sigma",
-            "20um",
-        ])
+    command("identify industrial6 --method position --sigma 20um")
         .arg("--data")
         .arg(at("shifted.csv"))
         .assert()
@@ -154,16 +136,7 @@ fn a_log_joined_one_row_off_is_named() {
 fn degrees_read_as_radians_are_named_with_the_option_that_reads_them() {
     let folder = tempfile::tempdir().expect("temporary folder");
     let at = |name: &str| folder.path().join(name);
-    gecaro()
-        .args([
-            "generate",
-            "industrial6",
-            "--method",
-            "position",
-            "--count",
-            "60",
-        ])
-        .args(["--noise", "2e-5", "--seed", "9", "-o"])
+    command("generate industrial6 --method position --count 60 --noise 2e-5 --seed 9 -o")
         .arg(at("radians.csv"))
         .assert()
         .success();
@@ -182,8 +155,7 @@ fn degrees_read_as_radians_are_named_with_the_option_that_reads_them() {
             })
             .collect()
     });
-    gecaro()
-        .args(["identify", "industrial6", "--method", "position", "--data"])
+    command("identify industrial6 --method position --data")
         .arg(at("degrees.csv"))
         .assert()
         .code(3)
@@ -191,15 +163,7 @@ fn degrees_read_as_radians_are_named_with_the_option_that_reads_them() {
             predicate::str::contains("the joint angles look like degrees read as radians")
                 .and(predicate::str::contains("--angle-unit deg")),
         );
-    gecaro()
-        .args([
-            "identify",
-            "industrial6",
-            "--method",
-            "position",
-            "--angle-unit",
-            "deg",
-        ])
+    command("identify industrial6 --method position --angle-unit deg")
         .arg("--data")
         .arg(at("degrees.csv"))
         .assert()
@@ -215,31 +179,13 @@ fn a_joint_mastered_a_quarter_turn_off_is_named_as_its_zero() {
     let turned = real.robot.parameter(theta2) + std::f64::consts::FRAC_PI_2 + 0.01;
     real.robot.set_parameter(theta2, turned).expect("turned");
     std::fs::write(at("real.toml"), gecaro_io::format_robot_file(&real)).expect("written");
-    gecaro()
-        .args([
-            "generate",
-            "industrial6",
-            "--method",
-            "position",
-            "--count",
-            "100",
-        ])
-        .args(["--noise", "2e-5", "--seed", "4", "--real"])
+    command("generate industrial6 --method position --count 100 --noise 2e-5 --seed 4 --real")
         .arg(at("real.toml"))
         .arg("-o")
         .arg(at("mastered.csv"))
         .assert()
         .success();
-    let output = gecaro()
-        .args([
-            "identify",
-            "industrial6",
-            "--method",
-            "position",
-            "--sigma",
-            "20um",
-        ])
-        .args(["--json", "--data"])
+    let output = command("identify industrial6 --method position --sigma 20um --json --data")
         .arg(at("mastered.csv"))
         .output()
         .expect("runs");
@@ -265,39 +211,12 @@ fn a_joint_mastered_a_quarter_turn_off_is_named_as_its_zero() {
 fn a_yielding_robot_fitted_rigidly_is_told_the_elastic_model_with_its_figures() {
     let folder = tempfile::tempdir().expect("temporary folder");
     let at = |name: &str| folder.path().join(name);
-    gecaro()
-        .args([
-            "generate",
-            "industrial6",
-            "--method",
-            "position",
-            "--count",
-            "100",
-        ])
-        .args([
-            "--noise",
-            "1e-5",
-            "--seed",
-            "3",
-            "--compliance-level",
-            "1",
-            "--payload",
-            "10kg",
-        ])
+    command("generate industrial6 --method position --count 100 --noise 1e-5 --seed 3 --compliance-level 1 --payload 10kg")
         .arg("-o")
         .arg(at("sagging.csv"))
         .assert()
         .success();
-    let output = gecaro()
-        .args([
-            "identify",
-            "industrial6",
-            "--method",
-            "position",
-            "--sigma",
-            "10um",
-        ])
-        .args(["--json", "--data"])
+    let output = command("identify industrial6 --method position --sigma 10um --json --data")
         .arg(at("sagging.csv"))
         .output()
         .expect("runs");
@@ -322,47 +241,21 @@ fn a_yielding_robot_fitted_rigidly_is_told_the_elastic_model_with_its_figures() 
         "elastic {held_out} m, rigid {rigid} m"
     );
     // The elastic model, as advised, fits.
-    gecaro()
-        .args([
-            "identify",
-            "industrial6",
-            "--method",
-            "position",
-            "--sigma",
-            "10um",
-        ])
-        .args(["--model", "elastic", "--data"])
+    command("identify industrial6 --method position --sigma 10um --model elastic --data")
         .arg(at("sagging.csv"))
         .assert()
         .success();
     // A smaller model compared on request: the gains of this rigid robot
     // are real (off by up to 1 %), so no advice.
-    gecaro()
-        .args([
-            "generate",
-            "industrial6",
-            "--method",
-            "position",
-            "--count",
-            "80",
-        ])
-        .args(["--noise", "1e-5", "--seed", "5", "-o"])
+    command("generate industrial6 --method position --count 80 --noise 1e-5 --seed 5 -o")
         .arg(at("rigid.csv"))
         .assert()
         .success();
-    let output = gecaro()
-        .args([
-            "identify",
-            "industrial6",
-            "--method",
-            "position",
-            "--sigma",
-            "10um",
-        ])
-        .args(["--check-model", "--json", "--data"])
-        .arg(at("rigid.csv"))
-        .output()
-        .expect("runs");
+    let output =
+        command("identify industrial6 --method position --sigma 10um --check-model --json --data")
+            .arg(at("rigid.csv"))
+            .output()
+            .expect("runs");
     assert!(output.status.success());
     let document: Value = serde_json::from_slice(&output.stdout).expect("JSON");
     assert_eq!(document["model_advice"], serde_json::json!([]));
@@ -375,11 +268,7 @@ fn a_model_error_ten_times_the_noise_is_a_solution_written_and_not_trusted() {
     // robot, and says how far above the noise it is (exit 5).
     let folder = tempfile::tempdir().expect("temporary folder");
     let at = |name: &str| folder.path().join(name);
-    gecaro()
-        .args([
-            "generate", "ur10e", "--method", "position", "--count", "300",
-        ])
-        .args(["--noise", "1.8e-5", "--seed", "2", "-o"])
+    command("generate ur10e --method position --count 300 --noise 1.8e-5 --seed 2 -o")
         .arg(at("clean.csv"))
         .assert()
         .success();
@@ -401,10 +290,7 @@ fn a_model_error_ten_times_the_noise_is_a_solution_written_and_not_trusted() {
             })
             .collect()
     });
-    let output = gecaro()
-        .args([
-            "identify", "ur10e", "--method", "position", "--sigma", "18um", "--json",
-        ])
+    let output = command("identify ur10e --method position --sigma 18um --json")
         .arg("--data")
         .arg(at("model_error.csv"))
         .arg("-o")
@@ -436,9 +322,7 @@ fn a_payload_no_arm_carries_is_refused_with_its_value() {
     let folder = tempfile::tempdir().expect("temporary folder");
     let at = |name: &str| folder.path().join(name);
     let generate = |payload: &str| {
-        gecaro()
-            .args(["generate", "industrial6", "--method", "position"])
-            .args(["--count", "20", "--compliance-level", "1", "--seed", "4"])
+        command("generate industrial6 --method position --count 20 --compliance-level 1 --seed 4")
             .args(["--payload", payload, "-o"])
             .arg(at("loaded.csv"))
             .arg("--force")
@@ -471,9 +355,7 @@ fn a_payload_no_arm_carries_is_refused_with_its_value() {
     // A data file whose payload is heavier than the arm, fitted elastic.
     let heavy = rows.replacen(",12.0,0.0,0.0,0.08", ",1200.0,0.0,0.0,0.08", 1);
     std::fs::write(at("heavy.csv"), heavy).expect("write");
-    let output = gecaro()
-        .args(["identify", "industrial6", "--method", "position"])
-        .args(["--model", "elastic", "--data"])
+    let output = command("identify industrial6 --method position --model elastic --data")
         .arg(at("heavy.csv"))
         .output()
         .expect("runs");

@@ -5,7 +5,7 @@
 use gecaro_calib::study::Samples;
 use std::path::Path;
 
-use crate::util::gecaro;
+use crate::util::{command, gecaro};
 use gecaro_calib::{
     frames::{FrameRole, NamedFrame, measuring_robot},
     methods::{MethodOptions, method},
@@ -322,8 +322,7 @@ fn a_robot_is_evaluated_on_a_study() {
     write_cell(folder.path());
     let study = folder.path().join("study.toml");
     let calibrated = folder.path().join("calibrated.toml");
-    let output = gecaro()
-        .args(["identify", "--study"])
+    let output = command("identify --study")
         .arg(&study)
         .arg("--json")
         .arg("-o")
@@ -495,8 +494,7 @@ fn a_cell_whose_reference_tracker_stands_far_from_the_base_is_registered() {
         &["-o", calibrated.to_str().expect("utf-8")],
     );
     assert!(output.status.success(), "{output:?}");
-    let output = gecaro()
-        .args(["robot", "rebase"])
+    let output = command("robot rebase")
         .arg(&calibrated)
         .args(["--nominal", "industrial6", "--json", "-o"])
         .arg(folder.path().join("own.toml"))
@@ -528,8 +526,7 @@ fn a_cell_is_planned_as_one_design() {
     write_cell(folder.path());
     let study = folder.path().join("study.toml");
     let planned = folder.path().join("planned.toml");
-    let output = gecaro()
-        .args(["plan", "--study"])
+    let output = command("plan --study")
         .arg(&study)
         .args(["--count", "48", "--json", "-o"])
         .arg(&planned)
@@ -569,8 +566,7 @@ fn a_cell_is_planned_as_one_design() {
         .expect("rms");
     assert!(rms > 0.0 && rms < 1e-4, "{rms}");
     // The study file planned from is never replaced.
-    let again = gecaro()
-        .args(["plan", "--study"])
+    let again = command("plan --study")
         .arg(&study)
         .args(["--count", "48", "-o"])
         .arg(&study)
@@ -591,8 +587,7 @@ fn a_cell_is_planned_within_its_floor_and_lines_of_sight() {
     write_cell(folder.path());
     let study = folder.path().join("study.toml");
     let planned = folder.path().join("planned.toml");
-    let output = gecaro()
-        .args(["plan", "--study"])
+    let output = command("plan --study")
         .arg(&study)
         .args([
             "--count",
@@ -639,8 +634,7 @@ fn a_cell_is_planned_within_its_floor_and_lines_of_sight() {
     assert_eq!(checked, 48);
     // A cell that admits nothing is named, nothing written.
     let blocked = folder.path().join("blocked.toml");
-    let output = gecaro()
-        .args(["plan", "--study"])
+    let output = command("plan --study")
         .arg(&study)
         .args(["--count", "48", "--floor", "100", "-o"])
         .arg(&blocked)

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use crate::util::gecaro;
+use crate::util::{command, gecaro};
 use gecaro_calib::simulation::Sampler;
 use predicates::prelude::*;
 use serde_json::Value;
@@ -41,16 +41,7 @@ fn a_calibration_measured_in_a_small_region_holds_there_and_says_so() {
     let at = |name: &str| folder.path().join(name);
     configurations(&at("narrow.csv"), 15.0, 120, 5);
     configurations(&at("wide.csv"), 180.0, 100, 6);
-    gecaro()
-        .args([
-            "generate",
-            "industrial6",
-            "--method",
-            "position",
-            "--noise",
-            "2e-5",
-        ])
-        .args(["--seed", "5", "--configurations"])
+    command("generate industrial6 --method position --noise 2e-5 --seed 5 --configurations")
         .arg(at("narrow.csv"))
         .arg("-o")
         .arg(at("data.csv"))
@@ -58,16 +49,7 @@ fn a_calibration_measured_in_a_small_region_holds_there_and_says_so() {
         .arg(at("real.toml"))
         .assert()
         .success();
-    let output = gecaro()
-        .args([
-            "identify",
-            "industrial6",
-            "--method",
-            "position",
-            "--sigma",
-            "20um",
-        ])
-        .args(["--json", "--data"])
+    let output = command("identify industrial6 --method position --sigma 20um --json --data")
         .arg(at("data.csv"))
         .arg("-o")
         .arg(at("calibrated.toml"))
@@ -109,43 +91,18 @@ fn a_calibration_measured_in_a_small_region_holds_there_and_says_so() {
         assert!((range[1].as_f64().expect("a number") - max).abs() < 1e-9);
     }
     // A stated work region as small as the data: trusted (exit 0).
-    gecaro()
-        .args([
-            "identify",
-            "industrial6",
-            "--method",
-            "position",
-            "--sigma",
-            "20um",
-        ])
-        .args(["--work-region", "q1=-10..10deg,q5=-10..10deg", "--data"])
+    command("identify industrial6 --method position --sigma 20um --work-region q1=-10..10deg,q5=-10..10deg --data")
         .arg(at("data.csv"))
         .assert()
         .code(5);
     let home = "q1=-10..10deg,q2=-80..-65deg,q3=8..28deg,q4=-10..10deg,q5=-10..10deg,q6=-10..10deg";
-    gecaro()
-        .args([
-            "identify",
-            "industrial6",
-            "--method",
-            "position",
-            "--sigma",
-            "20um",
-        ])
+    command("identify industrial6 --method position --sigma 20um")
         .args(["--work-region", home, "--data"])
         .arg(at("data.csv"))
         .assert()
         .success();
     // A bare range is refused by name.
-    gecaro()
-        .args([
-            "identify",
-            "industrial6",
-            "--method",
-            "position",
-            "--work-region",
-            "q1=-10..10",
-        ])
+    command("identify industrial6 --method position --work-region q1=-10..10")
         .arg("--data")
         .arg(at("data.csv"))
         .assert()
@@ -160,8 +117,7 @@ fn a_calibration_measured_in_a_small_region_holds_there_and_says_so() {
         .chain(wide.lines().skip(1).take(5))
         .collect();
     std::fs::write(at("job.csv"), program.join("\n") + "\n").expect("written");
-    let compensation = gecaro()
-        .args(["compensate", "industrial6"])
+    let compensation = command("compensate industrial6")
         .arg(at("calibrated.toml"))
         .args(["--match", "position", "--json", "--program"])
         .arg(at("job.csv"))
@@ -181,16 +137,7 @@ fn a_calibration_measured_in_a_small_region_holds_there_and_says_so() {
     let corrected = std::fs::read_to_string(at("corrected.csv")).expect("written");
     assert_eq!(corrected.matches(",outside-region").count(), 5);
     // Evaluated on poses over the whole workspace: the warning counts them.
-    gecaro()
-        .args([
-            "generate",
-            "industrial6",
-            "--method",
-            "position",
-            "--noise",
-            "2e-5",
-        ])
-        .args(["--seed", "6", "--real"])
+    command("generate industrial6 --method position --noise 2e-5 --seed 6 --real")
         .arg(at("real.toml"))
         .arg("--configurations")
         .arg(at("wide.csv"))

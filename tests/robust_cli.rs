@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::util::gecaro;
+use crate::util::{command, gecaro};
 use assert_cmd::Command;
 use predicates::prelude::*;
 use serde_json::Value;
@@ -15,8 +15,7 @@ const TRACKER: &str = "examples/tracker";
 /// The KR 16-2 imported from its URDF into `folder`.
 fn kr16(folder: &Path) -> PathBuf {
     let robot = folder.join("kr16.toml");
-    gecaro()
-        .args(["robot", "import", "examples/tracker/kr16_2.urdf", "-o"])
+    command("robot import examples/tracker/kr16_2.urdf -o")
         .arg(&robot)
         .assert()
         .success();
@@ -184,8 +183,7 @@ fn priors_come_from_the_command_line_or_the_study_file() {
     // off: the data contradict the prior (d2 ends 28 prior σ away) and the
     // fit cannot reach the tracker's stated σ; the verdict names d2 and the
     // exit code is 5 (the document is printed).
-    let output = gecaro()
-        .args(["identify", "--json", "--study"])
+    let output = command("identify --json --study")
         .arg(&study)
         .output()
         .expect("runs");
@@ -208,8 +206,7 @@ fn priors_come_from_the_command_line_or_the_study_file() {
     write_study(
         "[prior]\nlength = \"5mm\"\nangle = \"0.5deg\"\ngain = \"1%\"\nparameters = { d2 = \"1deg\" }\n",
     );
-    gecaro()
-        .args(["identify", "--study"])
+    command("identify --study")
         .arg(&study)
         .assert()
         .code(3)
@@ -218,8 +215,7 @@ fn priors_come_from_the_command_line_or_the_study_file() {
     write_study(
         "[prior]\nlength = \"5mm\"\nangle = \"0.5deg\"\ngain = \"1%\"\nparameters = { d12 = \"1mm\" }\n",
     );
-    gecaro()
-        .args(["identify", "--study"])
+    command("identify --study")
         .arg(&study)
         .assert()
         .code(3)
@@ -240,16 +236,12 @@ fn bad_robust_options_are_clear_errors() {
     ];
     let folder = tempfile::tempdir().expect("temporary folder");
     let data = folder.path().join("position.csv");
-    gecaro()
-        .args([
-            "generate", "stanford", "--method", "position", "--count", "30", "-o",
-        ])
+    command("generate stanford --method position --count 30 -o")
         .arg(&data)
         .assert()
         .success();
     for (extra, expected) in cases {
-        gecaro()
-            .args(["identify", "stanford", "--method", "position", "--data"])
+        command("identify stanford --method position --data")
             .arg(&data)
             .args(extra)
             .assert()
@@ -258,14 +250,7 @@ fn bad_robust_options_are_clear_errors() {
     }
     // The comparison's candidates are its models (the rule lives in the
     // application layer, in every front end's words).
-    gecaro()
-        .args([
-            "compare-models",
-            "stanford",
-            "--method",
-            "position",
-            "--data",
-        ])
+    command("compare-models stanford --method position --data")
         .arg(&data)
         .args(["--models", "kinematic,full", "--model", "elastic"])
         .assert()

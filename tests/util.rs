@@ -24,3 +24,12 @@ pub(crate) fn json_output(args: &[&str]) -> serde_json::Value {
     );
     serde_json::from_slice(&output.stdout).expect("valid JSON")
 }
+
+/// `gecaro` with the arguments of a command line as a user types it
+/// (`"identify industrial6 --method position"`; words split at spaces, so
+/// a path or a value with a space is added by `.arg`).
+pub(crate) fn command(line: &str) -> Command {
+    let mut command = gecaro();
+    command.args(line.split_whitespace());
+    command
+}

@@ -84,15 +84,7 @@ fn identifiable_compliances_have_their_column() {
     let folder = tempfile::tempdir().expect("folder");
     let data = folder.path().join("p.csv");
     let data = data.to_str().expect("UTF-8");
-    gecaro()
-        .args([
-            "generate",
-            "industrial6",
-            "--method",
-            "position",
-            "--count",
-            "30",
-        ])
+    command("generate industrial6 --method position --count 30")
         .args(["--payload", "10kg", "--seed", "3", "-o", data])
         .assert()
         .success();
@@ -133,8 +125,7 @@ fn identifiable_compliances_have_their_column() {
 
 #[test]
 fn table2_prints_the_paper_totals() {
-    gecaro()
-        .args(["table2"])
+    command("table2")
         .assert()
         .success()
         .stdout(predicate::str::is_match(r"Total\s*┆\s*31\s*┆\s*34\s*┆\s*24\s*┆\s*21\s*┆\s*27\s*┆\s*24\s*┆\s*26\s*┆\s*24\s*┆\s*25").expect("regex"));
@@ -232,8 +223,7 @@ fn identifiable_on_measured_data_checks_the_excitation() {
         ),
     )
     .expect("write");
-    gecaro()
-        .args(["identifiable", "stanford", "--method", "position", "--data"])
+    command("identifiable stanford --method position --data")
         .arg(&good)
         .assert()
         .success()
@@ -251,8 +241,7 @@ fn identifiable_on_measured_data_checks_the_excitation() {
         ),
     )
     .expect("write");
-    gecaro()
-        .args(["identifiable", "stanford", "--method", "position", "--data"])
+    command("identifiable stanford --method position --data")
         .arg(&few)
         .assert()
         .code(4)
@@ -269,8 +258,7 @@ fn identifiable_on_measured_data_checks_the_excitation() {
     fields[7] = "NaN".into();
     lines[3] = fields.join(",");
     std::fs::write(&nan, lines.join("\n")).expect("write");
-    gecaro()
-        .args(["identifiable", "stanford", "--method", "position", "--data"])
+    command("identifiable stanford --method position --data")
         .arg(&nan)
         .assert()
         .code(3)
@@ -281,27 +269,15 @@ fn identifiable_on_measured_data_checks_the_excitation() {
 
 #[test]
 fn bad_method_options_are_usage_errors() {
-    gecaro()
-        .args(["identifiable", "stanford", "--method", "plane3"])
+    command("identifiable stanford --method plane3")
         .assert()
         .code(2)
         .stderr(predicate::str::contains("position").and(predicate::str::contains("distance")));
-    gecaro()
-        .args([
-            "identifiable",
-            "stanford",
-            "--method",
-            "plane1",
-            "--plane-normal",
-            "0,0,0",
-            "--plane-point",
-            "0.3,0.2,0.6",
-        ])
+    command("identifiable stanford --method plane1 --plane-normal 0,0,0 --plane-point 0.3,0.2,0.6")
         .assert()
         .code(2)
         .stderr(predicate::str::contains("normal is zero"));
-    gecaro()
-        .args(["identifiable", "stanford", "--method", "plane2"])
+    command("identifiable stanford --method plane2")
         .assert()
         .code(2)
         .stderr(predicate::str::contains("needs a plane"));
@@ -314,20 +290,7 @@ fn generate_identify_evaluate_round_trip() {
     let held_out = folder.path().join("test.csv");
     let real = folder.path().join("real.toml");
     let calibrated = folder.path().join("calibrated.toml");
-    gecaro()
-        .args([
-            "generate",
-            "stanford",
-            "--method",
-            "position",
-            "--count",
-            "40",
-            "--error-level",
-            "2",
-            "--seed",
-            "3",
-            "-o",
-        ])
+    command("generate stanford --method position --count 40 --error-level 2 --seed 3 -o")
         .arg(&data)
         .arg("--real-out")
         .arg(&real)
@@ -348,20 +311,13 @@ fn generate_identify_evaluate_round_trip() {
         "{header}"
     );
     // Held-out data from the same real robot, other configurations.
-    gecaro()
-        .args([
-            "generate", "stanford", "--method", "position", "--count", "30", "--seed", "4",
-            "--real",
-        ])
+    command("generate stanford --method position --count 30 --seed 4 --real")
         .arg(&real)
         .arg("-o")
         .arg(&held_out)
         .assert()
         .success();
-    let identification = gecaro()
-        .args([
-            "identify", "stanford", "--method", "position", "--json", "--data",
-        ])
+    let identification = command("identify stanford --method position --json --data")
         .arg(&data)
         .arg("-o")
         .arg(&calibrated)
@@ -392,11 +348,7 @@ fn generate_identify_evaluate_round_trip() {
         }
     }
     // The calibrated robot file loads everywhere and predicts held-out data of the real robot.
-    gecaro()
-        .args(["robot", "check"])
-        .arg(&calibrated)
-        .assert()
-        .success();
+    command("robot check").arg(&calibrated).assert().success();
     let before = json_output(&[
         "evaluate",
         "stanford",
@@ -451,18 +403,13 @@ fn the_calibrated_robot_file_reproduces_the_residuals_its_report_states() {
     let path = |name: &str| folder.path().join(name).to_str().expect("utf-8").to_owned();
     let (data, calibrated) = (path("frames.csv"), path("calibrated.toml"));
     let (real, held_out) = (path("real.toml"), path("held_out.csv"));
-    gecaro()
-        .args(["generate", "stanford", "--method", "frame", "--count", "60"])
-        .args(["--error-level", "1", "--noise", "0", "--seed", "11"])
+    command("generate stanford --method frame --count 60 --error-level 1 --noise 0 --seed 11")
         .args(["-o", &data, "--real-out", &real])
         .assert()
         .success();
     // Other configurations of the same real robot, to judge the file where
     // its user will.
-    gecaro()
-        .args([
-            "generate", "stanford", "--method", "frame", "--count", "200",
-        ])
+    command("generate stanford --method frame --count 200")
         .args([
             "--noise", "0", "--seed", "5", "--real", &real, "-o", &held_out,
         ])
@@ -518,33 +465,11 @@ fn identification_failures_exit_4_and_write_nothing() {
     let folder = tempfile::tempdir().expect("temporary folder");
     let data = folder.path().join("far.csv");
     let output = folder.path().join("calibrated.toml");
-    gecaro()
-        .args([
-            "generate",
-            "stanford",
-            "--method",
-            "position",
-            "--count",
-            "40",
-            "--error-level",
-            "10",
-            "--seed",
-            "2",
-            "-o",
-        ])
+    command("generate stanford --method position --count 40 --error-level 10 --seed 2 -o")
         .arg(&data)
         .assert()
         .success();
-    gecaro()
-        .args([
-            "identify",
-            "stanford",
-            "--method",
-            "position",
-            "--max-iterations",
-            "1",
-            "--data",
-        ])
+    command("identify stanford --method position --max-iterations 1 --data")
         .arg(&data)
         .arg("-o")
         .arg(&output)
@@ -553,17 +478,7 @@ fn identification_failures_exit_4_and_write_nothing() {
         .stderr(predicate::str::contains("did not converge"))
         .stderr(predicate::str::contains("Nothing was written"));
     assert!(!output.exists());
-    gecaro()
-        .args([
-            "identify",
-            "stanford",
-            "--method",
-            "position",
-            "--max-iterations",
-            "1",
-            "--write-unconverged",
-            "--data",
-        ])
+    command("identify stanford --method position --max-iterations 1 --write-unconverged --data")
         .arg(&data)
         .arg("-o")
         .arg(&output)
@@ -577,19 +492,13 @@ fn generate_refuses_existing_outputs_before_doing_anything() {
     let folder = tempfile::tempdir().expect("temporary folder");
     let data = folder.path().join("data.csv");
     std::fs::write(&data, "keep me").expect("write");
-    gecaro()
-        .args([
-            "generate", "stanford", "--method", "distance", "--count", "10", "-o",
-        ])
+    command("generate stanford --method distance --count 10 -o")
         .arg(&data)
         .assert()
         .code(3)
         .stderr(predicate::str::contains("--force"));
     assert_eq!(std::fs::read_to_string(&data).expect("read"), "keep me");
-    gecaro()
-        .args([
-            "generate", "stanford", "--method", "distance", "--count", "10", "-o",
-        ])
+    command("generate stanford --method distance --count 10 -o")
         .arg(folder.path().join("missing/data.csv"))
         .assert()
         .code(3)
@@ -598,8 +507,7 @@ fn generate_refuses_existing_outputs_before_doing_anything() {
 
 #[test]
 fn demo_identifies_every_method() {
-    gecaro()
-        .args(["demo"])
+    command("demo")
         .assert()
         .success()
         .stdout(predicate::str::contains("Position measure"))
@@ -620,8 +528,7 @@ fn studies_stack_several_methods_from_a_file() {
     assert_eq!(report["excitation"]["same_base_set"], true, "{report}");
     let folder = tempfile::tempdir().expect("temporary folder");
     let calibrated = folder.path().join("calibrated.toml");
-    let output = gecaro()
-        .args(["identify", "--study"])
+    let output = command("identify --study")
         .arg(study)
         .arg("--json")
         .arg("-o")
@@ -658,8 +565,7 @@ fn studies_stack_several_methods_from_a_file() {
     assert!(before["rms"].as_f64().expect("rms") > 3e-3);
     assert!(after["rms"].as_f64().expect("rms") < 0.35e-3, "{after}");
     // --study excludes ROBOT and --method.
-    gecaro()
-        .args(["identify", "stanford", "--study"])
+    command("identify stanford --study")
         .arg(study)
         .assert()
         .code(2);
@@ -670,16 +576,14 @@ fn study_files_report_their_own_mistakes() {
     let folder = tempfile::tempdir().expect("temporary folder");
     let study = folder.path().join("study.toml");
     std::fs::write(&study, "robot = \"stanford\"\n[[measurements]]\nmethod = \"point-lnk\"\ndata = \"x.csv\"\nsigma = 0.001\n").expect("write");
-    gecaro()
-        .args(["identify", "--study"])
+    command("identify --study")
         .arg(&study)
         .assert()
         .code(3)
         .stderr(predicate::str::contains("study.toml:3: method"))
         .stderr(predicate::str::contains("point-link"));
     std::fs::write(&study, "robot = \"stanford\"\n[[measurements]]\nmethod = \"distance\"\ndata = \"x.csv\"\nsigma = -1\n").expect("write");
-    gecaro()
-        .args(["identify", "--study"])
+    command("identify --study")
         .arg(&study)
         .assert()
         .code(3)
@@ -692,15 +596,11 @@ fn report_and_plots_show_the_identification() {
     let data = folder.path().join("frame.csv");
     let report = folder.path().join("report.html");
     let plots = folder.path().join("plots");
-    gecaro()
-        .args([
-            "generate", "scara", "--method", "frame", "--count", "25", "--noise", "1e-5", "-o",
-        ])
+    command("generate scara --method frame --count 25 --noise 1e-5 -o")
         .arg(&data)
         .assert()
         .success();
-    gecaro()
-        .args(["report", "scara", "--method", "frame", "--data"])
+    command("report scara --method frame --data")
         .arg(&data)
         .arg("-o")
         .arg(&report)
@@ -775,8 +675,7 @@ fn report_and_plots_show_the_identification() {
         assert!(html.contains(&format!("<td>{name}</td>")), "{name}");
     }
     // The same report again needs --force, and leaves the first intact without it.
-    gecaro()
-        .args(["report", "scara", "--method", "frame", "--data"])
+    command("report scara --method frame --data")
         .arg(&data)
         .arg("-o")
         .arg(&report)
@@ -784,8 +683,7 @@ fn report_and_plots_show_the_identification() {
         .code(3);
     assert_eq!(std::fs::read_to_string(&report).expect("report"), html);
 
-    gecaro()
-        .args(["identify", "scara", "--method", "frame", "--data"])
+    command("identify scara --method frame --data")
         .arg(&data)
         .arg("--plot")
         .arg(&plots)
@@ -829,8 +727,7 @@ fn a_tilted_cell_is_simulated_and_its_gravity_found() {
     let folder = tempfile::tempdir().expect("folder");
     let path = |name: &str| folder.path().join(name).to_str().expect("UTF-8").to_owned();
     let generate = |extra: &[&str], payload: &str, seed: &str, out: &str| {
-        gecaro()
-            .args(["generate", "industrial6", "--method", "position"])
+        command("generate industrial6 --method position")
             .args(["--count", "150", "--noise", "2e-5", "--seed", seed])
             .args(["--payload", payload, "-o", out])
             .args(extra)
@@ -908,15 +805,7 @@ fn a_tilted_cell_is_simulated_and_its_gravity_found() {
     }
     let calibrated = std::fs::read_to_string(path("calibrated.toml")).expect("calibrated");
     assert!(calibrated.contains("gravity = ["), "{calibrated}");
-    gecaro()
-        .args([
-            "generate",
-            "industrial6",
-            "--method",
-            "position",
-            "--count",
-            "5",
-        ])
+    command("generate industrial6 --method position --count 5")
         .args(["--gravity-tilt", "2deg,-1deg", "-o", &path("rigid.csv")])
         .assert()
         .failure()

@@ -136,20 +136,14 @@ fn joint_limits_may_span_several_turns() {
     let text = "name = \"turns\"\n[[frame]]\nsigma = 2\n[[frame]]\nsigma = 0\nqmin = -6.981317\nqmax = 6.981317\n\
                 [[frame]]\nsigma = 0\nd = 0.3\n[[frame]]\nsigma = 2\nd = 0.2\n";
     std::fs::write(&robot, text).expect("write");
-    gecaro()
-        .args(["robot", "check"])
-        .arg(&robot)
-        .assert()
-        .success();
-    gecaro()
-        .args(["robot", "show"])
+    command("robot check").arg(&robot).assert().success();
+    command("robot show")
         .arg(&robot)
         .assert()
         .success()
         .stdout(predicate::str::contains("6.981317"));
     std::fs::write(&robot, text.replace("d = 0.3", "d = 0.3\nalpha = 90")).expect("write");
-    gecaro()
-        .args(["robot", "check"])
+    command("robot check")
         .arg(&robot)
         .assert()
         .code(3)
@@ -173,8 +167,7 @@ fn a_measured_point_on_a_joint_axis_is_named_before_any_data() {
         let frames = json_output(&["identifiable", robot, "--method", "frame", "--json"]);
         assert_eq!(frames["warnings"].as_array().expect("warnings").len(), 0);
     }
-    gecaro()
-        .args(["identifiable", "stanford", "--method", "position"])
+    command("identifiable stanford --method position")
         .assert()
         .success()
         .stdout(predicate::str::contains("warning:").not());

@@ -11,7 +11,7 @@ mod robots;
 pub(crate) use gecaro_calib::study::Samples;
 pub(crate) use std::path::Path;
 
-pub(crate) use crate::util::{gecaro, json_output};
+pub(crate) use crate::util::{command, gecaro, json_output};
 pub(crate) use predicates::prelude::*;
 pub(crate) use serde_json::Value;
 

@@ -39,39 +39,19 @@ fn plan_writes_the_chosen_configurations_and_beats_a_random_choice() {
     }
     assert!(sets.values().all(|count| *count == 4), "{sets:?}");
     // The same inputs give the same plan; an existing output is kept.
-    gecaro()
-        .args([
-            "plan",
-            "stanford",
-            "--method",
-            "point-link",
-            "--count",
-            "40",
-        ])
+    command("plan stanford --method point-link --count 40")
         .args(["--pool", "400", "--seed", "2", "-o", output_text])
         .assert()
         .code(3)
         .stderr(predicate::str::contains("already exists"));
     let again = folder.path().join("again.csv");
-    gecaro()
-        .args([
-            "plan",
-            "stanford",
-            "--method",
-            "point-link",
-            "--count",
-            "40",
-        ])
-        .args(["--pool", "400", "--seed", "2", "-o"])
+    command("plan stanford --method point-link --count 40 --pool 400 --seed 2 -o")
         .arg(&again)
         .assert()
         .success();
     assert_eq!(std::fs::read_to_string(&again).expect("again"), text);
     // More than the pool holds is a usage error.
-    gecaro()
-        .args([
-            "plan", "stanford", "--method", "position", "--count", "40", "--pool", "20",
-        ])
+    command("plan stanford --method position --count 40 --pool 20")
         .arg("-o")
         .arg(folder.path().join("too-many.csv"))
         .assert()
@@ -243,8 +223,7 @@ fn plan_by_other_criteria_with_a_minimum_distance_and_test_poses() {
 fn predict_agrees_with_its_monte_carlo_and_refuses_bad_input() {
     let folder = tempfile::tempdir().expect("temporary folder");
     let planned = folder.path().join("planned.csv");
-    gecaro()
-        .args(["plan", "panda", "--method", "frame", "--count", "30", "-o"])
+    command("plan panda --method frame --count 30 -o")
         .arg(&planned)
         .assert()
         .success();
@@ -303,20 +282,14 @@ fn predict_agrees_with_its_monte_carlo_and_refuses_bad_input() {
             .join("\n"),
     )
     .expect("written");
-    gecaro()
-        .args([
-            "predict", "panda", "--method", "frame", "--noise", "1e-4", "--data",
-        ])
+    command("predict panda --method frame --noise 1e-4 --data")
         .arg(&few)
         .assert()
         .failure()
         .stderr(
             predicate::str::contains("equations").or(predicate::str::contains("do not determine")),
         );
-    gecaro()
-        .args([
-            "predict", "panda", "--method", "frame", "--noise", "-1", "--data",
-        ])
+    command("predict panda --method frame --noise -1 --data")
         .arg(&planned)
         .assert()
         .code(2)
@@ -361,10 +334,7 @@ fn the_curve_shows_planned_below_random_as_a_table_json_and_svg() {
     );
     let svg = std::fs::read_to_string(&plot).expect("svg");
     assert!(svg.starts_with("<svg") && svg.contains("planned") && svg.contains("random"));
-    gecaro()
-        .args([
-            "plan", "stanford", "--method", "position", "--curve", "10,20", "--pool", "300",
-        ])
+    command("plan stanford --method position --curve 10,20 --pool 300")
         .assert()
         .code(2)
         .stderr(predicate::str::contains("--noise"));
@@ -378,21 +348,11 @@ fn a_plan_in_degrees_is_measured_in_degrees() {
     let folder = tempfile::tempdir().expect("folder");
     let plan = folder.path().join("plan.csv");
     let data = folder.path().join("data.csv");
-    gecaro()
-        .args(["plan", "stanford", "--method", "position", "--count", "15"])
-        .args(["--angle-unit", "deg", "-o"])
+    command("plan stanford --method position --count 15 --angle-unit deg -o")
         .arg(&plan)
         .assert()
         .success();
-    gecaro()
-        .args([
-            "generate",
-            "stanford",
-            "--method",
-            "position",
-            "--error-level",
-            "0",
-        ])
+    command("generate stanford --method position --error-level 0")
         .arg("--configurations")
         .arg(&plan)
         .args(["--angle-unit", "deg", "-o"])
@@ -417,23 +377,14 @@ fn a_plan_in_degrees_is_measured_in_degrees() {
     // configurations (before, 28° were read as 28 rad, silently); a request
     // for other units than the file states is refused, naming its line.
     let unstated = folder.path().join("unstated.csv");
-    gecaro()
-        .args(["generate", "stanford", "--method", "position"])
-        .args(["--error-level", "0", "--configurations"])
+    command("generate stanford --method position --error-level 0 --configurations")
         .arg(&plan)
         .arg("-o")
         .arg(&unstated)
         .assert()
         .success();
     assert_eq!(rows(&unstated), rows(&data));
-    gecaro()
-        .args([
-            "generate",
-            "stanford",
-            "--method",
-            "position",
-            "--configurations",
-        ])
+    command("generate stanford --method position --configurations")
         .arg(&plan)
         .args(["--length-unit", "mm", "-o"])
         .arg(folder.path().join("refused.csv"))

@@ -4,8 +4,7 @@ use super::*;
 
 #[test]
 fn robot_show_prints_the_table_and_priorities() {
-    gecaro()
-        .args(["robot", "show", "stanford"])
+    command("robot show stanford")
         .assert()
         .success()
         .stdout(predicate::str::contains("RRPRRR"))
@@ -18,8 +17,7 @@ fn robot_show_prints_the_table_and_priorities() {
 /// prints neither (its table unchanged).
 #[test]
 fn robot_show_prints_masses_and_compliances() {
-    gecaro()
-        .args(["robot", "show", "industrial6"])
+    command("robot show industrial6")
         .assert()
         .success()
         .stdout(predicate::str::contains("Masses (51.3 kg;"))
@@ -50,8 +48,7 @@ fn robot_show_prints_masses_and_compliances() {
         .assert()
         .success()
         .stdout(predicate::str::contains("c1 = 5.0e-6, c2 = 0"));
-    gecaro()
-        .args(["robot", "show", "stanford"])
+    command("robot show stanford")
         .assert()
         .success()
         .stdout(predicate::str::contains("Masses").not());
@@ -61,10 +58,7 @@ fn robot_show_prints_masses_and_compliances() {
 fn robot_show_of_the_stanford_arm_is_table_1() {
     // The whole text, column widths and all: a change of layout shows up here
     // as a diff to review (`cargo insta review`), not as a silent change.
-    let output = gecaro()
-        .args(["robot", "show", "stanford"])
-        .output()
-        .expect("runs");
+    let output = command("robot show stanford").output().expect("runs");
     assert!(output.status.success());
     insta::assert_snapshot!(String::from_utf8(output.stdout).expect("utf-8"));
 }
@@ -88,11 +82,7 @@ fn every_ready_robot_checks_out() {
     // And the files in robots/ are the same robots.
     for entry in std::fs::read_dir("robots").expect("robots/") {
         let path = entry.expect("entry").path();
-        gecaro()
-            .args(["robot", "check"])
-            .arg(&path)
-            .assert()
-            .success();
+        command("robot check").arg(&path).assert().success();
     }
 }
 
@@ -102,8 +92,7 @@ fn robot_check_names_file_line_and_key() {
     let path = folder.path().join("broken.toml");
     let text = std::fs::read_to_string("robots/stanford.toml").expect("stanford");
     std::fs::write(&path, text.replace("sigma = 1", "sigma = 7")).expect("write");
-    gecaro()
-        .args(["robot", "check"])
+    command("robot check")
         .arg(&path)
         .assert()
         .code(3)
@@ -115,27 +104,23 @@ fn robot_check_names_file_line_and_key() {
 fn robot_new_writes_a_loadable_template_and_refuses_to_overwrite() {
     let folder = tempfile::tempdir().expect("temporary folder");
     let path = folder.path().join("arm.toml");
-    gecaro()
-        .args(["robot", "new", "--joints", "RRPRRR", "-o"])
+    command("robot new --joints RRPRRR -o")
         .arg(&path)
         .assert()
         .success();
-    gecaro()
-        .args(["robot", "check"])
+    command("robot check")
         .arg(&path)
         .assert()
         .success()
         .stdout(predicate::str::contains("RRPRRR"));
     let before = std::fs::read(&path).expect("read");
-    gecaro()
-        .args(["robot", "new", "--joints", "RR", "-o"])
+    command("robot new --joints RR -o")
         .arg(&path)
         .assert()
         .code(3)
         .stderr(predicate::str::contains("--force"));
     assert_eq!(std::fs::read(&path).expect("read"), before);
-    gecaro()
-        .args(["robot", "new", "--joints", "RR", "--force", "-o"])
+    command("robot new --joints RR --force -o")
         .arg(&path)
         .assert()
         .success();
@@ -170,8 +155,7 @@ fn robot_reframe_keeps_every_link_s_mass_on_its_body() {
     let original = folder.path().join("loaded.toml");
     std::fs::write(&original, gecaro_io::format_robot_file(&file)).expect("written");
     let moved = folder.path().join("moved.toml");
-    gecaro()
-        .args(["robot", "reframe"])
+    command("robot reframe")
         .arg(&original)
         .args([
             "--world",
@@ -267,21 +251,12 @@ fn robot_reframe_moves_the_world_and_tool_frames_and_nothing_else() {
         .success()
         .stdout(predicate::str::contains("frames 0, 1 rewritten"));
     let nothing = folder.path().join("nothing.toml");
-    gecaro()
-        .args(["robot", "reframe", "stanford", "-o"])
+    command("robot reframe stanford -o")
         .arg(&nothing)
         .assert()
         .failure()
         .stderr(predicate::str::contains("give --world, --tool or both"));
-    gecaro()
-        .args([
-            "robot",
-            "reframe",
-            "stanford",
-            "--tool",
-            "0,0,0,2,0,0,0",
-            "-o",
-        ])
+    command("robot reframe stanford --tool 0,0,0,2,0,0,0 -o")
         .arg(&nothing)
         .assert()
         .failure()
@@ -293,22 +268,16 @@ fn robot_reframe_moves_the_world_and_tool_frames_and_nothing_else() {
 
 #[test]
 fn bad_command_lines_are_clear_errors() {
-    gecaro()
-        .args(["fk", "stanfrod", "--qm", "0,0,0,0,0,0"])
+    command("fk stanfrod --qm 0,0,0,0,0,0")
         .assert()
         .code(3)
         .stderr(predicate::str::contains("ready robots: stanford, puma560"));
-    gecaro()
-        .args(["fk", "stanford", "--qm", "0,0"])
+    command("fk stanford --qm 0,0")
         .assert()
         .code(3)
         .stderr(predicate::str::contains("needs 6 motor values"));
-    gecaro()
-        .args(["fk", "stanford", "--qm", "0,x"])
-        .assert()
-        .code(2);
-    gecaro()
-        .args(["fk", "no/such/robot.toml", "--qm", "0"])
+    command("fk stanford --qm 0,x").assert().code(2);
+    command("fk no/such/robot.toml --qm 0")
         .assert()
         .code(3)
         .stderr(predicate::str::contains("no/such/robot.toml"));
