@@ -141,9 +141,9 @@ fn jacobian_rows(
 /// parts are folded separately (on all cores) and merged in order, so
 /// their size, which the data set and not the number of cores, sets the
 /// order of the sums. About 16 parts of 512 to 4,096 configurations:
-/// 5,000 make ten parts that two cores share evenly (not 4,096 and 904;
-/// in process 10.3 → 7.6 ms), and a million make parts whose set-up is
-/// nothing (1,024 there cost 4 %).
+/// 5,000 make ten parts that two cores share evenly (not 4,096 and 904),
+/// and a million make parts whose set-up is nothing (figures in
+/// docs/performance.md).
 fn fold_part(configurations: usize) -> usize {
     configurations.div_ceil(16).clamp(512, 4096)
 }

@@ -299,8 +299,8 @@ impl ObservationSystem {
     /// `term(r, w)` of each of `residuals` (the first rows' residuals) and
     /// its row's whole weight, in row order. The weights are read by the
     /// iterator's own loop over each set's rows (a fold, where `zip` would
-    /// step through the sets' chain row by row: half the time, 45 → 22 ms
-    /// for 6·10⁶ rows), the residuals beside them; a sum or collection of the terms is the one
+    /// step through the sets' chain row by row, twice as slow), the
+    /// residuals beside them; a sum or collection of the terms is the one
     /// taken with `zip`, to the bit.
     fn weighted_terms<'a>(
         &'a self,
