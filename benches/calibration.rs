@@ -268,11 +268,13 @@ fn monte_carlo_1000_at_100(bencher: divan::Bencher) {
             &robot,
             position.as_ref(),
             Samples::from(planned.as_slice()).as_slice(),
-            1e-4,
-            0.1,
             &poses,
-            1000,
-            3,
+            gecaro_calib::prediction::SimulatedRuns {
+                runs: 1000,
+                seed: 3,
+                noise: 1e-4,
+                error_level: 0.1,
+            },
             &options,
             &mut Quiet,
         )

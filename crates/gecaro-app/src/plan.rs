@@ -9,7 +9,9 @@ use gecaro_calib::methods::CalibrationMethod;
 use gecaro_calib::planning::{
     CandidatePool, Criterion, DesignQuality, Plan, PlanRequest as Design,
 };
-use gecaro_calib::prediction::{MonteCarlo, Prediction, monte_carlo, predict, random_test_poses};
+use gecaro_calib::prediction::{
+    MonteCarlo, Prediction, SimulatedRuns, monte_carlo, predict, random_test_poses,
+};
 use gecaro_calib::simulation::{MAX_NOISE, Sampler};
 use gecaro_calib::study::{DataColumn, Samples};
 use gecaro_calib::validation::Model;
@@ -664,11 +666,13 @@ impl PredictRequest {
                 robot,
                 method.as_ref(),
                 planned.as_slice(),
-                self.noise,
-                error_level,
                 &poses,
-                runs,
-                seed,
+                SimulatedRuns {
+                    runs,
+                    seed,
+                    noise: self.noise,
+                    error_level,
+                },
                 &IdentificationOptions::default(),
                 observer,
             )?),

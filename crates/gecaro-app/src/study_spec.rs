@@ -678,7 +678,6 @@ impl SetSpec {
 
     /// Reads the set's samples into `set` (stated by [`Self::statement`]),
     /// with the notes on its file.
-    #[allow(clippy::too_many_arguments)]
     fn read<F: StudyFiles>(
         &self,
         set: &mut MeasurementSet,

@@ -225,28 +225,44 @@ pub struct MonteCarlo {
     pub errors: PoseErrors,
 }
 
-/// Monte Carlo check of [`predict`]: `runs` calibrations, each of a real
-/// robot drawn at `error_level` (seeded by `seed` + run), measured at
-/// `planned` with noise σ = `noise` and identified; their errors at
+/// The simulated calibrations of a [`monte_carlo`] check.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SimulatedRuns {
+    /// How many calibrations.
+    pub runs: usize,
+    /// Run r's real robot and noise are drawn from seed `seed + r`.
+    pub seed: u64,
+    /// The measurements' noise σ (metres; radians for orientations).
+    pub noise: f64,
+    /// How far each real robot is drawn from the nominal one
+    /// ([`perturbed_robot`]'s level).
+    pub error_level: f64,
+}
+
+/// Monte Carlo check of [`predict`]: `runs.runs` calibrations, each of a real
+/// robot drawn at `runs.error_level` (seeded by `runs.seed` + run), measured
+/// at `planned` with noise σ = `runs.noise` and identified; their errors at
 /// `test_poses` against the real robot. Runs on all cores; the result does
 /// not depend on their number. Each finished run is reported to `observer`,
 /// which may stop the work.
 ///
 /// # Errors
 /// The first failed simulation or identification, or [`Error::Interrupted`].
-#[allow(clippy::too_many_arguments)]
 pub fn monte_carlo(
     robot: &Robot,
     method: &dyn CalibrationMethod,
     planned: SampleSlice<'_>,
-    noise: f64,
-    error_level: f64,
     test_poses: &[Vec<f64>],
-    runs: usize,
-    seed: u64,
+    simulated: SimulatedRuns,
     options: &IdentificationOptions,
     observer: &mut dyn Observer,
 ) -> Result<MonteCarlo, Error> {
+    let SimulatedRuns {
+        runs,
+        seed,
+        noise,
+        error_level,
+    } = simulated;
     let full = method.jacobian_rows() == JacobianRows::Full;
     let one = |run: usize| -> Result<(Vec<f64>, Vec<f64>, bool), Error> {
         let mut sampler = Sampler::new(seed.wrapping_add(run as u64));

@@ -8,7 +8,7 @@ use gecaro_calib::{
     identifiability::random_samples,
     identification::IdentificationOptions,
     methods::{MethodOptions, method},
-    prediction::{monte_carlo, predict},
+    prediction::{SimulatedRuns, monte_carlo, predict},
     simulation::Sampler,
 };
 use gecaro_io::load_robot;
@@ -46,11 +46,13 @@ fn the_prediction_agrees_with_a_thousand_simulated_calibrations() {
             &robot,
             chosen.as_ref(),
             Samples::from(planned.as_slice()).as_slice(),
-            noise,
-            0.1,
             &test_poses,
-            1000,
-            1,
+            SimulatedRuns {
+                runs: 1000,
+                seed: 1,
+                noise,
+                error_level: 0.1,
+            },
             &IdentificationOptions::default(),
             &mut Quiet,
         )

@@ -215,7 +215,6 @@ fn targets_with_starts(
     rebase = false, payload = None, tool = None, max_tool_turn = None, base_points = None,
     base_points_unit = None,
 ))]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn compensate(
     py: Python<'_>,
     nominal: PyRef<'_, PyRobot>,
@@ -295,7 +294,6 @@ pub(crate) fn compensate(
     tool = None, max_tool_turn = None, length_unit = None, angle_unit = None, columns = None, delimiter = None, decimal_comma = None,
     overwrite = false,
 ))]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn compensate_program<'py>(
     py: Python<'py>,
     nominal: PyRef<'_, PyRobot>,

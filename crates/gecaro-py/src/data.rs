@@ -53,7 +53,6 @@ impl PyData {
     /// (NaN: none stated, the set's σ there).
     #[new]
     #[pyo3(signature = (qm, *, position = None, orientation = None, set = None, pair = None, distance = None, payload = None, sigma = None, sigma_angle = None, label = None))]
-    #[allow(clippy::too_many_arguments)]
     fn new(
         qm: &Bound<'_, PyAny>,
         position: Option<&Bound<'_, PyAny>>,
@@ -175,7 +174,6 @@ impl PyData {
     /// (`rx,ry,rz` in `angle_unit`).
     #[staticmethod]
     #[pyo3(signature = (path, robot, method, *, length_unit = None, angle_unit = None, columns = None, delimiter = None, decimal_comma = None, rotation = None))]
-    #[allow(clippy::too_many_arguments)]
     fn read(
         path: PathBuf,
         robot: PyRef<'_, PyRobot>,

@@ -105,7 +105,6 @@ pub(crate) fn user_frame<'py>(
     log_columns = None, length_unit = None, angle_unit = None, log_length_unit = None,
     rotation = None, rotation_unit = None, overwrite = false,
 ))]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn join(
     py: Python<'_>,
     robot: PyRef<'_, PyRobot>,

@@ -70,7 +70,6 @@ impl Generation {
 /// measurement frame that is not levelled.
 #[pyfunction]
 #[pyo3(signature = (robot, method, count, *, error_level = None, noise = 0.0, seed = 1, real = None, floor = None, station = None, max_incidence = None, clearance = None, compliance_level = None, payload = None, gravity_tilt = None))]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn generate(
     py: Python<'_>,
     robot: PyRef<'_, PyRobot>,

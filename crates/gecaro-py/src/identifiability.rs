@@ -128,7 +128,6 @@ impl PyIdentifiability {
 /// As `gecaro identifiable`.
 #[pyfunction]
 #[pyo3(signature = (robot, method, data = None, *, count = None, seed = 1, priority = None, strict_limits = false, model = None))]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn identifiable(
     py: Python<'_>,
     robot: PyRef<'_, PyRobot>,

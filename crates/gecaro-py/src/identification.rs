@@ -482,7 +482,6 @@ impl PyIdentification {
 /// iteration did not converge, NotIdentifiableError with too few equations.
 #[pyfunction]
 #[pyo3(signature = (robot, method, data = None, *, solver = "gauss-newton", max_iterations = 30, priority = None, loss = "l2", loss_scale = None, prior = None, outlier_threshold = 3.0, reject = false, model = "full", strict_limits = false, sigma = None, sigma_rotation = None, work_region = None, check_model = None, progress = None))]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn identify(
     py: Python<'_>,
     robot: PyRef<'_, PyRobot>,

@@ -31,7 +31,6 @@ fn name(path: &Path) -> String {
     robot, *, cube = "auto", cycles = 30, directions = 1,
     floor = None, path = None, length_unit = None, angle_unit = None, overwrite = false,
 ))]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn iso9283_plan<'py>(
     py: Python<'py>,
     robot: PyRef<'_, PyRobot>,
@@ -81,7 +80,6 @@ pub(crate) fn iso9283_plan<'py>(
     program, data, *, after = None, robot = None, frame = None, length_unit = None,
     angle_unit = None, rotation = None, conditions = None, report = None, overwrite = false,
 ))]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn iso9283_evaluate<'py>(
     py: Python<'py>,
     program: PathBuf,

@@ -30,6 +30,11 @@
 // The modules are private (the crate's interface is Python's); their docs
 // are for its developers: `cargo doc --document-private-items`.
 #![allow(rustdoc::private_intra_doc_links)]
+// A Python function's keyword arguments are its Rust function's parameters
+// (pyo3 reads `#[pyo3(signature = …)]` from them): a Python call with ten
+// keywords is a Rust function with ten parameters, which each function maps
+// onto one request of the application layer at once.
+#![allow(clippy::too_many_arguments)]
 
 use pyo3::prelude::*;
 

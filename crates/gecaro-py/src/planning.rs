@@ -45,7 +45,6 @@ fn test_poses(count: Option<usize>) -> TestPoses {
 }
 
 /// The request of a plan or a curve: the shared settings.
-#[allow(clippy::too_many_arguments)]
 fn plan_request(
     robot: &PyRobot,
     method: &Bound<'_, PyAny>,
@@ -106,7 +105,6 @@ impl PyPlan {
 /// payload.
 #[pyfunction]
 #[pyo3(signature = (robot, method, count, *, criterion = "d", candidates = None, pool = None, keep = None, min_distance = 0.0, seed = 1, test_pose_count = None, floor = None, station = None, max_incidence = None, clearance = None, payloads = None))]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn plan(
     py: Python<'_>,
     robot: PyRef<'_, PyRobot>,
@@ -165,7 +163,6 @@ pub(crate) fn plan(
 /// many from the same pools), `exchanges`, `pool`.
 #[pyfunction]
 #[pyo3(signature = (robot, study, count, *, pool = None, seed = 1, floor = None, station = None, max_incidence = None, clearance = None))]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn plan_study<'py>(
     py: Python<'py>,
     robot: PyRef<'_, PyRobot>,
@@ -229,7 +226,6 @@ pub(crate) fn plan_study<'py>(
 /// masses and the data's payloads.
 #[pyfunction]
 #[pyo3(signature = (robot, method, data = None, noise = None, *, monte_carlo = None, error_level = 0.1, seed = 1, test_pose_count = None, model = None))]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn predict<'py>(
     py: Python<'py>,
     robot: PyRef<'_, PyRobot>,
@@ -286,7 +282,6 @@ pub(crate) fn predict<'py>(
 /// prints it (without the plot).
 #[pyfunction]
 #[pyo3(signature = (robot, method, counts, noise, *, criterion = "d", pool = None, seed = 1, test_pose_count = None, floor = None, station = None, max_incidence = None, clearance = None))]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn accuracy_curve<'py>(
     py: Python<'py>,
     robot: PyRef<'_, PyRobot>,

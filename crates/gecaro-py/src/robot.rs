@@ -144,7 +144,6 @@ impl PyRobot {
     /// `notes`.
     #[staticmethod]
     #[pyo3(signature = (path, format = None, *, base = None, tip = None, name = None, length_unit = None, angle_unit = None))]
-    #[allow(clippy::too_many_arguments)]
     fn import_file(
         path: PathBuf,
         format: Option<&str>,
@@ -173,7 +172,6 @@ impl PyRobot {
     /// (prismatic), offsets to 0, gains K to 1, couplings Cm, Cj to identity.
     #[staticmethod]
     #[pyo3(signature = (name, sigma, alpha, d, theta, r, *, beta = None, qmin = None, qmax = None, offset = None, gain = None, motor_coupling = None, joint_coupling = None, priority = None))]
-    #[allow(clippy::too_many_arguments)]
     fn from_table(
         name: String,
         sigma: &Bound<'_, PyAny>,

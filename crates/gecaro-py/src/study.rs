@@ -159,7 +159,6 @@ impl PyStudy {
     /// `add_station`: the set measures that reflector, from that station
     /// (docs/studies.md).
     #[pyo3(signature = (method, data, *, sigma = None, sigma_rotation = None, label = None, tool = None, station = None))]
-    #[allow(clippy::too_many_arguments)]
     fn add(
         &mut self,
         method: &Bound<'_, PyAny>,

@@ -18,7 +18,6 @@ use crate::warnings::warn_notes;
 /// radians). Options as `identify`.
 #[pyfunction]
 #[pyo3(signature = (robot, method, data = None, *, folds = 5, seed = 1, folds_by = "random", solver = "gauss-newton", max_iterations = 30, priority = None, loss = "l2", loss_scale = None, prior = None, model = "full", strict_limits = false))]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn cross_validate<'py>(
     py: Python<'py>,
     robot: PyRef<'_, PyRobot>,

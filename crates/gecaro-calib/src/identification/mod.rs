@@ -577,12 +577,28 @@ fn second_pass(
             options,
             priority,
             current,
-            (&added, &every, gauge),
-            rank,
+            &WholeModel {
+                added: &added,
+                every: &every,
+                gauge,
+                rank,
+            },
             observer,
         ),
         _ => Ok(current),
     }
+}
+
+/// What the last phase ([`full_model_phase`]) descends over.
+struct WholeModel<'a> {
+    /// The parameters the passes added to the base set.
+    added: &'a [usize],
+    /// Every parameter the priority matrix allows.
+    every: &'a [usize],
+    /// The prior that fixes the descent's gauge, if any.
+    gauge: Option<&'a Prior>,
+    /// How many parameters the score test says the base set lacks.
+    rank: usize,
 }
 
 /// The last phase, when parameters outside the base set still matter after
@@ -591,17 +607,21 @@ fn second_pass(
 /// on the base set from there (its parameters' precision; the others stay
 /// where the descent put them and are listed as moved). Kept when an F test
 /// says it explains the data better.
-#[allow(clippy::too_many_arguments)]
 fn full_model_phase(
     robot: &Robot,
     study: &Study,
     options: &IdentificationOptions,
     priority: &gecaro_core::PriorityMatrix,
     mut current: Identification,
-    (added, every, gauge): (&[usize], &[usize], Option<&Prior>),
-    rank: usize,
+    whole: &WholeModel<'_>,
     observer: &mut dyn Observer,
 ) -> Result<Identification, Error> {
+    let &WholeModel {
+        added,
+        every,
+        gauge,
+        rank,
+    } = whole;
     let Some(descent) =
         full_model::damped_descent(robot, study, options, every, &current.calibrated, gauge)?
     else {
