@@ -23,6 +23,14 @@ pub enum Field {
     Coupling(&'static str),
     /// A key of the robot as a whole, such as `gravity` or a `payload`.
     Key(&'static str),
+    /// One key of leg `number` (1..6) of a parallel robot, such as `base`.
+    Leg {
+        /// Leg number, 1-based.
+        number: usize,
+        /// The key of the leg's table (`base`, `platform`, `length`, `gain`,
+        /// `min`, `max`).
+        key: &'static str,
+    },
     /// The priority matrix, optionally one row (frame) of it.
     Priority {
         /// The row (frame number) at fault, if one is.
@@ -37,6 +45,7 @@ impl fmt::Display for Field {
             Field::Frame { index, key } => write!(f, "frame {index}, `{key}`"),
             Field::Coupling(name) => write!(f, "coupling matrix `{name}`"),
             Field::Key(key) => write!(f, "`{key}`"),
+            Field::Leg { number, key } => write!(f, "leg {number}, `{key}`"),
             Field::Priority { row: None } => f.write_str("priority matrix"),
             Field::Priority { row: Some(row) } => write!(f, "priority matrix, row {row}"),
         }
@@ -94,6 +103,16 @@ pub enum Error {
     ModelMismatch {
         /// The robot's name.
         robot: String,
+    },
+    /// The direct model of a parallel robot found no pose that closes its
+    /// legs from the start pose.
+    #[error(
+        "no platform pose closes the legs at these actuator values (legs still {residual:.3e} m \
+         off): values outside what the platform can take, or a start across a singularity"
+    )]
+    NoAssembly {
+        /// The largest leg residual left (m).
+        residual: f64,
     },
     /// The numerical inverse geometric model did not reach its target.
     #[error(

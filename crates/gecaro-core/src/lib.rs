@@ -58,6 +58,7 @@
 mod axis_chain;
 mod error;
 mod frame;
+pub mod gough_stewart;
 mod gravity;
 mod kinematics;
 mod parameters;
