@@ -71,6 +71,7 @@ mod method;
 pub mod methods;
 pub mod observability;
 pub mod observation;
+pub mod parallel_robots;
 pub use gecaro_data::parallel;
 mod plane;
 pub mod planning;

@@ -9,6 +9,7 @@ mod frames;
 mod identifiability;
 mod identification;
 mod iso9283;
+mod parallel_robots;
 mod planning;
 mod prediction;
 mod region;

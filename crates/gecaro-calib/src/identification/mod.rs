@@ -140,6 +140,7 @@ pub use repeatability::{MIN_FREEDOM, Repeatability, SAME_POSE};
 pub use result::{ErrorSummary, Identification, Route};
 pub use reweighting::MAX_REWEIGHTINGS;
 pub use split::{SPLIT_CORRELATION, UNDETERMINED_ANGLE, UNDETERMINED_LENGTH};
+pub(crate) use verdict::noise_test;
 pub use verdict::{
     Implausible, NOISE_TEST_LEVEL, NoiseTest, Outcome, SIGMA_MARGIN, StopReason, Verdict,
 };

@@ -603,7 +603,7 @@ impl Verdict {
 /// The global test of `Σ (r/σ)² = data_cost` with ν = `freedom`, the
 /// stated σ known to ±[`SIGMA_MARGIN`]: at the margin's ends the statistic
 /// is (1 ± margin)² χ²(ν), hence the quantiles scaled by (1 + margin)^±2.
-fn noise_test(data_cost: f64, freedom: usize) -> NoiseTest {
+pub(crate) fn noise_test(data_cost: f64, freedom: usize) -> NoiseTest {
     use statrs::distribution::{ChiSquared, ContinuousCDF};
     let nu = freedom.max(1) as f64;
     let widened = (1.0 + SIGMA_MARGIN).powi(2);

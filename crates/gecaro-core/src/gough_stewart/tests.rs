@@ -217,7 +217,10 @@ fn a_program_keeps_its_assembly_mode_target_after_target() {
             .expect("solved");
         let position = (found.translation.vector - target.translation.vector).norm();
         let angle = (found.rotation.inverse() * target.rotation).angle();
-        assert!(position < 1e-9 && angle < 1e-9, "target {step}: {position} m, {angle} rad");
+        assert!(
+            position < 1e-9 && angle < 1e-9,
+            "target {step}: {position} m, {angle} rad"
+        );
         previous = found;
     }
 }
