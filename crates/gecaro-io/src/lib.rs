@@ -23,6 +23,7 @@ mod joint_calibration;
 mod line_chunks;
 mod named_points;
 mod output;
+mod parallel_file;
 mod payload;
 mod plain_body;
 mod pose;
@@ -66,6 +67,10 @@ pub use output::{
     OutputPolicy, remove_temporary_files, write_all_atomically, write_atomically, write_in_folder,
     write_with,
 };
+pub use parallel_file::{
+    PARALLEL_KIND, ParallelRobotFile, format_parallel_robot_file, is_parallel_robot_text,
+    parse_parallel_robot_file, read_parallel_robot_file,
+};
 pub use payload::{
     MAX_PAYLOAD_CENTRE, MAX_PAYLOAD_KG, PayloadSpec, Quantity, check_payload, parse_payload,
 };
@@ -76,7 +81,9 @@ pub use program::{
     CorrectedProgram, ProgramBlock, ProgramFile, ProgramKind, ProgramLayout, ProgramReader,
     WrittenRow, format_program, parse_program, read_program,
 };
-pub use ready::{ReadyRobot, load_robot, ready_robot, ready_robots};
+pub use ready::{
+    ReadyRobot, load_parallel_robot, load_robot, ready_parallel_robots, ready_robot, ready_robots,
+};
 pub use robot_file::{AngleUnit, IdentifiedTool, RobotFile, fallback_name};
 pub use robot_toml::{
     format_robot_file, parse_priority_file, parse_robot_document, parse_robot_file,

@@ -22,6 +22,13 @@ pub enum Location {
         /// The key (`sigma`, `alpha`, ..., `K`).
         key: String,
     },
+    /// A key of leg `leg` (1..6) of a parallel robot.
+    Leg {
+        /// Leg number, 1-based.
+        leg: usize,
+        /// The key (`base`, `platform`, `length`, `gain`, `min`, `max`).
+        key: String,
+    },
     /// A coupling matrix (`Cm` or `Cj`).
     Coupling {
         /// The matrix.
@@ -40,6 +47,7 @@ impl std::fmt::Display for Location {
             Location::Document => f.write_str("frame"),
             Location::Key { key } => f.write_str(key),
             Location::Frame { frame, key } => write!(f, "frame {frame}, {key}"),
+            Location::Leg { leg, key } => write!(f, "leg {leg}, {key}"),
             Location::Coupling { matrix } => write!(f, "coupling.{matrix}"),
             Location::Priority { row: None } => f.write_str("priority.matrix"),
             Location::Priority { row: Some(row) } => write!(f, "priority.matrix row {row}"),
@@ -79,6 +87,10 @@ pub(crate) fn model_error(error: gecaro_core::Error) -> DocumentError {
                 },
                 Field::Priority { row } => Location::Priority { row },
                 Field::Key(key) => Location::Key { key: key.into() },
+                Field::Leg { number, key } => Location::Leg {
+                    leg: number,
+                    key: key.into(),
+                },
                 _ => Location::Document,
             };
             DocumentError::new(location, message)

@@ -4,6 +4,8 @@
 use std::path::Path;
 
 use crate::Error;
+use crate::input::{MAX_DESCRIPTION_BYTES, read_text};
+use crate::parallel_file::{ParallelRobotFile, is_parallel_robot_text, parse_parallel_robot_file};
 use crate::robot_file::{RobotFile, virtual_path};
 use crate::robot_toml::{parse_robot_file, read_robot_file};
 
@@ -30,6 +32,49 @@ const READY: &[ReadyRobot] = ready![
     "panda",
     "ur10e"
 ];
+
+/// The ready parallel robots ([`crate::ParallelRobotFile`]s).
+const READY_PARALLEL: &[ReadyRobot] = ready!["hexapod"];
+
+/// All ready parallel robots, in the order they are listed to users.
+pub fn ready_parallel_robots() -> &'static [ReadyRobot] {
+    READY_PARALLEL
+}
+
+/// A parallel robot from a path or, when no such file exists, a ready
+/// parallel robot's name.
+///
+/// # Errors
+/// [`Error::UnknownRobot`] (listing the ready parallel robots) when neither
+/// exists, a serial robot's file named as such, and the file's own errors.
+pub fn load_parallel_robot(path_or_name: &str) -> Result<ParallelRobotFile, Error> {
+    let path = Path::new(path_or_name);
+    let (text, path) = if path.is_file() {
+        (read_text(path, MAX_DESCRIPTION_BYTES)?, path.to_owned())
+    } else if let Some(ready) = READY_PARALLEL
+        .iter()
+        .find(|ready| ready.name.eq_ignore_ascii_case(path_or_name))
+    {
+        (ready.text.to_owned(), virtual_path(ready.name))
+    } else {
+        return Err(Error::UnknownRobot {
+            name: path_or_name.to_owned(),
+            available: READY_PARALLEL
+                .iter()
+                .map(|ready| ready.name.to_owned())
+                .collect(),
+        });
+    };
+    if !is_parallel_robot_text(&text) {
+        return Err(Error::Format {
+            path,
+            message: "a serial robot's file (no `kind = \"parallel\"`), where a parallel robot's \
+                      is read"
+                .into(),
+        });
+    }
+    parse_parallel_robot_file(&text, &path)
+}
 
 /// All ready robots, in the order they are listed to users.
 pub fn ready_robots() -> &'static [ReadyRobot] {
@@ -59,6 +104,14 @@ pub fn load_robot(path_or_name: &str) -> Result<RobotFile, Error> {
     let path = Path::new(path_or_name);
     if path.is_file() {
         return read_robot_file(path);
+    }
+    if READY_PARALLEL
+        .iter()
+        .any(|ready| ready.name.eq_ignore_ascii_case(path_or_name))
+    {
+        return Err(crate::robot_toml::parallel_robot_here(&virtual_path(
+            path_or_name,
+        )));
     }
     ready_robot(path_or_name).unwrap_or_else(|| {
         if path.extension().is_some() || path_or_name.contains(std::path::MAIN_SEPARATOR) {

@@ -91,9 +91,9 @@ const COUPLING_KEYS: &[&str] = &["Cm", "Cj"];
 const PRIORITY_KEYS: &[&str] = &["matrix", "priority"];
 
 /// Where a text came from, to name it in messages.
-struct Source<'a> {
-    path: &'a Path,
-    text: &'a str,
+pub(crate) struct Source<'a> {
+    pub(crate) path: &'a Path,
+    pub(crate) text: &'a str,
 }
 
 impl Source<'_> {
@@ -104,7 +104,7 @@ impl Source<'_> {
 
     /// The line of a document location: the key's line inside its table, or
     /// the table's header (a text scan of the file as written).
-    fn line_of_location(&self, location: &Location) -> usize {
+    pub(crate) fn line_of_location(&self, location: &Location) -> usize {
         let lines: Vec<&str> = self.text.lines().collect();
         let key_of = |line: &str| {
             line.split('=')
@@ -137,6 +137,10 @@ impl Source<'_> {
         match location {
             Location::Frame { frame, key } => table(&|line| line.starts_with("[[frame]]"), *frame)
                 .map_or(1, |range| find(range, key)),
+            Location::Leg { leg, key } => {
+                table(&|line| line.starts_with("[[leg]]"), leg.saturating_sub(1))
+                    .map_or(1, |range| find(range, key))
+            }
             Location::Coupling { matrix } => table(&|line| line.starts_with("[coupling]"), 0)
                 .map_or(1, |range| find(range, matrix)),
             Location::Priority { row } => {
@@ -202,11 +206,25 @@ pub fn parse_robot_file(text: &str, path: &Path) -> Result<RobotFile, Error> {
             ),
         });
     }
+    if crate::parallel_file::is_parallel_robot_text(text) {
+        return Err(parallel_robot_here(path));
+    }
     let source = Source { path, text };
     let document = parse_robot_document(text, path)?;
     document
         .to_robot_file(&fallback_name(path))
         .map_err(|error| source.document_error(error))
+}
+
+/// The error of a parallel robot's file where a serial robot's is read.
+pub(crate) fn parallel_robot_here(path: &Path) -> Error {
+    Error::Format {
+        path: path.to_owned(),
+        message: "a parallel robot (`kind = \"parallel\"`, a Gough–Stewart platform), where this \
+                  job needs a serial robot's frames; a parallel robot is read by `robot show`, \
+                  `robot check`, `generate`, `identifiable`, `identify` and `evaluate`"
+            .into(),
+    }
 }
 
 /// Parses the text of a robot file into its document, without checking the
@@ -300,33 +318,38 @@ pub fn parse_priority_file(
 }
 
 fn toml_error(source: &Source<'_>, error: &toml::de::Error) -> Error {
-    let message = crate::error::toml_message(error, source.text);
-    let message = match unknown_key(&message) {
-        Some(key) => {
-            let known = TOP_KEYS
-                .iter()
-                .chain(FRAME_KEYS)
-                .chain(COUPLING_KEYS)
-                .chain(PRIORITY_KEYS);
-            let closest = known
-                .map(|candidate| (strsim::levenshtein(&key, candidate), *candidate))
-                .filter(|(distance, _)| *distance <= 2.max(key.len() / 3))
-                .min_by_key(|(distance, _)| *distance);
-            match closest {
-                Some((_, candidate)) => {
-                    format!("unknown key `{key}` (did you mean `{candidate}`?)")
+    source.toml_error(error, &[TOP_KEYS, FRAME_KEYS, COUPLING_KEYS, PRIORITY_KEYS])
+}
+
+impl Source<'_> {
+    /// A TOML error at its line; an unknown key named with the closest of
+    /// `known`.
+    pub(crate) fn toml_error(&self, error: &toml::de::Error, known: &[&[&str]]) -> Error {
+        let source = self;
+        let message = crate::error::toml_message(error, source.text);
+        let message = match unknown_key(&message) {
+            Some(key) => {
+                let known = known.iter().flat_map(|keys| keys.iter());
+                let closest = known
+                    .map(|candidate| (strsim::levenshtein(&key, candidate), *candidate))
+                    .filter(|(distance, _)| *distance <= 2.max(key.len() / 3))
+                    .min_by_key(|(distance, _)| *distance);
+                match closest {
+                    Some((_, candidate)) => {
+                        format!("unknown key `{key}` (did you mean `{candidate}`?)")
+                    }
+                    None => format!("unknown key `{key}`; {}", expected_list(&message)),
                 }
-                None => format!("unknown key `{key}`; {}", expected_list(&message)),
             }
-        }
-        None => message,
-    };
-    Error::parse(
-        source.path,
-        error.span().map_or(1, |span| source.line_of(span.start)),
-        None,
-        message,
-    )
+            None => message,
+        };
+        Error::parse(
+            source.path,
+            error.span().map_or(1, |span| source.line_of(span.start)),
+            None,
+            message,
+        )
+    }
 }
 
 /// The key of serde's "unknown field `x`, expected ..." message.
