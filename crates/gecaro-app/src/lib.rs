@@ -91,6 +91,7 @@ mod method;
 mod model_advice;
 mod nearest_table;
 mod output;
+pub mod parallel;
 mod plan;
 mod rebase;
 mod repeatability;

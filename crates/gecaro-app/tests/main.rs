@@ -8,5 +8,6 @@ mod documents;
 mod elastic;
 mod iso9283;
 mod model_check;
+mod parallel;
 mod real_data;
 mod wording;

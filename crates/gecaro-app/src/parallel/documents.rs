@@ -1,0 +1,160 @@
+//! The JSON documents of the parallel robots' jobs (m, rad; gains
+//! dimensionless), for `--json`, the web page and Python.
+
+use gecaro_calib::parallel_robots::{PlatformErrors, PlatformIdentification, PlatformRankReport};
+use serde::Serialize;
+
+/// The identifiable parameters of a platform.
+#[derive(Clone, Debug, Serialize)]
+pub struct PlatformRankDocument {
+    /// `frame` or `position`.
+    pub method: &'static str,
+    /// Equations (rows of W).
+    pub equations: usize,
+    /// How many parameters are identifiable.
+    pub rank: usize,
+    /// Every parameter's name and status (`identifiable`, `regrouped`,
+    /// `no_effect`, `excluded`).
+    pub parameters: Vec<(String, &'static str)>,
+    /// What each regrouped parameter's effect is carried by.
+    pub regrouped: Vec<PlatformRelationDocument>,
+    /// The condition number of the identifiable columns.
+    pub condition_number: f64,
+    /// Where the equations were formed.
+    pub source: String,
+}
+
+/// A regrouping relation.
+#[derive(Clone, Debug, Serialize)]
+pub struct PlatformRelationDocument {
+    /// The regrouped parameter.
+    pub parameter: String,
+    /// `(identifiable parameter, coefficient)`.
+    pub into: Vec<(String, f64)>,
+}
+
+impl PlatformRankDocument {
+    /// The document of a report on equations from `source`.
+    pub fn new(report: &PlatformRankReport, source: String) -> Self {
+        Self {
+            method: report.measure.name(),
+            equations: report.rows,
+            rank: report.rank(),
+            parameters: report
+                .names
+                .iter()
+                .zip(&report.statuses)
+                .map(|(name, status)| (name.clone(), status.as_str()))
+                .collect(),
+            regrouped: report
+                .relations
+                .iter()
+                .map(|relation| PlatformRelationDocument {
+                    parameter: report.names[relation.parameter].clone(),
+                    into: relation
+                        .terms
+                        .iter()
+                        .map(|(index, coefficient)| (report.names[*index].clone(), *coefficient))
+                        .collect(),
+                })
+                .collect(),
+            condition_number: report.condition_number,
+            source,
+        }
+    }
+}
+
+/// A platform's errors at measured configurations.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct PlatformErrorsDocument {
+    /// RMS of the position errors (m).
+    pub position_rms: f64,
+    /// The largest position error (m).
+    pub position_max: f64,
+    /// RMS of the orientation errors (rad), for measured poses.
+    pub angle_rms: Option<f64>,
+    /// The largest orientation error (rad), for measured poses.
+    pub angle_max: Option<f64>,
+}
+
+impl From<PlatformErrors> for PlatformErrorsDocument {
+    fn from(errors: PlatformErrors) -> Self {
+        Self {
+            position_rms: errors.position_rms,
+            position_max: errors.position_max,
+            angle_rms: errors.angle_rms,
+            angle_max: errors.angle_max,
+        }
+    }
+}
+
+/// One identified parameter.
+#[derive(Clone, Debug, Serialize)]
+pub struct PlatformParameterDocument {
+    /// `a1x`, `l3`, `K6`, `tz`.
+    pub name: String,
+    /// `identifiable`, `regrouped`, `no_effect` or `excluded`.
+    pub status: &'static str,
+    /// The nominal value.
+    pub nominal: f64,
+    /// The identified value.
+    pub identified: f64,
+    /// Its standard deviation, when identified.
+    pub sigma: Option<f64>,
+}
+
+/// An identification of a platform.
+#[derive(Clone, Debug, Serialize)]
+pub struct PlatformIdentificationDocument {
+    /// The robot's name.
+    pub robot: String,
+    /// `frame` or `position`.
+    pub method: &'static str,
+    /// The data's label.
+    pub data: String,
+    /// Measured configurations.
+    pub configurations: usize,
+    /// The verdict (`fits_noise`, `exceeds_noise`, `below_noise`,
+    /// `untested`, `implausible`, `not_converged`, `diverged`).
+    pub outcome: &'static str,
+    /// The verdict in words.
+    pub summary: String,
+    /// σ̂/σ of the χ² test, when σ was stated.
+    pub sigma_ratio: Option<f64>,
+    /// Gauss–Newton iterations.
+    pub iterations: usize,
+    /// RMS of the equations' residuals before and after (m).
+    pub rms_before: f64,
+    /// See `rms_before`.
+    pub rms_after: f64,
+    /// The direct model's errors at the measured configurations, nominal
+    /// and calibrated.
+    pub errors_before: PlatformErrorsDocument,
+    /// See `errors_before`.
+    pub errors_after: PlatformErrorsDocument,
+    /// Identifiable parameters.
+    pub rank: usize,
+    /// Every parameter.
+    pub parameters: Vec<PlatformParameterDocument>,
+    /// Regrouped parameters and what carries them.
+    pub regrouped: Vec<PlatformRelationDocument>,
+    /// The file the calibrated robot was written to.
+    pub written: Option<String>,
+}
+
+impl PlatformIdentificationDocument {
+    /// The parameters of a result.
+    pub(super) fn parameters(result: &PlatformIdentification) -> Vec<PlatformParameterDocument> {
+        result
+            .parameters
+            .iter()
+            .map(|parameter| PlatformParameterDocument {
+                name: parameter.name.clone(),
+                status: parameter.status.as_str(),
+                nominal: parameter.nominal,
+                identified: parameter.identified,
+                sigma: parameter.sigma,
+            })
+            .collect()
+    }
+}

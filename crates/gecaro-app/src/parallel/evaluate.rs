@@ -1,0 +1,69 @@
+//! A parallel robot judged on measured configurations: its direct model's
+//! pose (or tool point) at each one's actuator values, against the
+//! measured one.
+
+use gecaro_calib::parallel_robots::platform_errors;
+use serde::Deserialize;
+
+use super::documents::PlatformErrorsDocument;
+use super::{actuator_types, load_parallel_robot, measure_of};
+use crate::error::AppError;
+use crate::files::Files;
+use crate::sources::{DataFormatSpec, DataSource};
+
+/// An evaluation of a parallel robot.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParallelEvaluateRequest {
+    /// The platform (a calibrated one's file, typically).
+    pub robot: String,
+    /// `frame` or `position`.
+    pub method: String,
+    /// The held-out measurements.
+    pub data: DataSource,
+    /// Units and columns of the data file.
+    #[serde(default)]
+    pub format: DataFormatSpec,
+}
+
+/// An evaluated platform.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct ParallelEvaluated {
+    /// The platform's name.
+    pub robot: String,
+    /// `frame` or `position`.
+    pub method: &'static str,
+    /// The data's label.
+    pub data: String,
+    /// Configurations evaluated.
+    pub configurations: usize,
+    /// The errors.
+    pub errors: PlatformErrorsDocument,
+}
+
+impl ParallelEvaluateRequest {
+    /// Runs the evaluation.
+    ///
+    /// # Errors
+    /// A robot or data file that cannot be read, actuator values with no
+    /// pose (naming the line).
+    pub fn run(&self, files: &dyn Files) -> Result<ParallelEvaluated, AppError> {
+        let file = load_parallel_robot(&self.robot, files)?;
+        let measure = measure_of(&self.method)?;
+        let read = self.data.read(
+            files,
+            &actuator_types(),
+            measure.columns(),
+            &self.format.format()?,
+        )?;
+        let samples = read.samples.to_rows();
+        let errors = platform_errors(&file.platform, &samples, measure)?;
+        Ok(ParallelEvaluated {
+            robot: file.platform.name().to_owned(),
+            method: measure.name(),
+            data: read.label,
+            configurations: samples.len(),
+            errors: errors.into(),
+        })
+    }
+}

@@ -1,0 +1,157 @@
+//! Points generation for a parallel robot: a "real" platform drawn about
+//! the nominal one (or given), measured at reachable poses with noise.
+
+use std::path::PathBuf;
+
+use gecaro_calib::parallel_robots::{
+    PlatformNoise, PlatformWorkspace, perturbed_platform, random_platform_poses, simulate_platform,
+};
+use gecaro_calib::simulation::{DEFAULT_SEED, Sampler};
+use gecaro_calib::study::{Sample, Samples};
+use gecaro_core::gough_stewart::LEGS;
+use gecaro_io::ParallelRobotFile;
+use serde::Deserialize;
+
+use super::{load_parallel_robot, measure_of};
+use crate::error::AppError;
+use crate::files::Files;
+use crate::limits::MAX_GENERATE;
+use crate::output::Output;
+
+/// A points generation for a parallel robot.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParallelGenerateRequest {
+    /// The nominal platform (a file, or a ready parallel robot's name).
+    pub robot: String,
+    /// `frame` (the platform's pose) or `position` (its tool point).
+    pub method: String,
+    /// Measured poses (1 to [`MAX_GENERATE`]).
+    pub count: usize,
+    /// The real platform's errors: ±L mm on every joint centre, length and
+    /// tool coordinate, ±L·10⁻³ on every gain (default 1); not with `real`.
+    pub error_level: Option<f64>,
+    /// The real platform, instead of one with random errors.
+    pub real: Option<String>,
+    /// The sensor's noise σ: metres, radians for orientations.
+    #[serde(default)]
+    pub noise: f64,
+    /// Seed of every draw (default [`DEFAULT_SEED`]).
+    pub seed: Option<u64>,
+    /// The data file.
+    #[serde(flatten)]
+    pub output: Output,
+    /// Where the real platform is written (TOML), if anywhere.
+    pub real_save_as: Option<String>,
+}
+
+/// What a generation made.
+#[derive(Clone, Debug)]
+pub struct ParallelGenerated {
+    /// The measurements.
+    pub samples: Vec<Sample>,
+    /// The real platform.
+    pub real: ParallelRobotFile,
+    /// The data file's text.
+    pub text: String,
+    /// The files written.
+    pub written: Vec<PathBuf>,
+}
+
+impl ParallelGenerateRequest {
+    /// Runs the generation.
+    ///
+    /// # Errors
+    /// A robot that cannot be read, a setting out of range, a workspace
+    /// with too few reachable poses, a file that cannot be written.
+    pub fn run(&self, files: &dyn Files) -> Result<ParallelGenerated, AppError> {
+        let nominal = load_parallel_robot(&self.robot, files)?;
+        let measure = measure_of(&self.method)?;
+        self.output.check(files, "csv")?;
+        if let Some(name) = &self.real_save_as {
+            files.check_output(name, "toml", self.output.overwrite)?;
+        }
+        if !(1..=MAX_GENERATE).contains(&self.count) {
+            return Err(AppError::setting_value(
+                "count",
+                self.count,
+                format!("takes 1 to {MAX_GENERATE} poses"),
+            ));
+        }
+        if !(self.noise.is_finite() && (0.0..=1.0).contains(&self.noise)) {
+            return Err(AppError::setting_value(
+                "noise",
+                self.noise,
+                "is a sensor's σ in metres (radians for orientations), from 0 to 1",
+            ));
+        }
+        let seed = self.seed.unwrap_or(DEFAULT_SEED);
+        let mut sampler = Sampler::new(seed);
+        let real = match (&self.real, self.error_level) {
+            (Some(_), Some(_)) => {
+                return Err(AppError::setting(
+                    "real",
+                    "is the real platform; an error level draws one: give one of them",
+                ));
+            }
+            (Some(name), None) => load_parallel_robot(name, files)?,
+            (None, level) => {
+                let level = level.unwrap_or(1.0);
+                if !(level.is_finite() && (0.0..=100.0).contains(&level)) {
+                    return Err(AppError::setting_value(
+                        "error_level",
+                        level,
+                        "takes 0 to 100 (mm of error on each length)",
+                    ));
+                }
+                let platform = perturbed_platform(&nominal.platform, level, &mut sampler)?
+                    .renamed(&format!("{} (simulated real)", nominal.platform.name()));
+                ParallelRobotFile {
+                    platform,
+                    description: Some(format!(
+                        "{} with random errors of level {level} (seed {seed}), drawn by gecaro",
+                        nominal.platform.name()
+                    )),
+                }
+            }
+        };
+        let poses = random_platform_poses(
+            &real.platform,
+            self.count,
+            PlatformWorkspace::of(&real.platform),
+            &mut sampler,
+        )?;
+        let noise = PlatformNoise {
+            length: self.noise,
+            angle: self.noise,
+        };
+        let samples = simulate_platform(&real.platform, measure, &poses, noise, &mut sampler);
+        let text = gecaro_io::format_samples(
+            LEGS,
+            measure.columns(),
+            Samples::from(samples.as_slice()).as_slice(),
+        );
+        let mut outputs: Vec<(&str, &str, Vec<u8>)> = Vec::new();
+        if let Some(name) = &self.output.save_as {
+            outputs.push((name, "csv", text.clone().into_bytes()));
+        }
+        if let Some(name) = &self.real_save_as {
+            outputs.push((
+                name,
+                "toml",
+                gecaro_io::format_parallel_robot_file(&real).into_bytes(),
+            ));
+        }
+        let borrowed: Vec<(&str, &str, &[u8])> = outputs
+            .iter()
+            .map(|(name, extension, bytes)| (*name, *extension, bytes.as_slice()))
+            .collect();
+        let written = files.write_all(&borrowed, self.output.overwrite)?;
+        Ok(ParallelGenerated {
+            samples,
+            real,
+            text,
+            written,
+        })
+    }
+}

@@ -1,0 +1,84 @@
+//! The identifiable parameters of a parallel robot: at the configurations
+//! of a data file, or at random reachable poses.
+
+use gecaro_calib::parallel_robots::{
+    PlatformNoise, PlatformWorkspace, platform_identifiability, random_platform_poses,
+    simulate_platform,
+};
+use gecaro_calib::simulation::{DEFAULT_SEED, Sampler};
+use serde::Deserialize;
+
+use super::documents::PlatformRankDocument;
+use super::{actuator_types, load_parallel_robot, measure_of};
+use crate::error::AppError;
+use crate::files::Files;
+use crate::sources::{DataFormatSpec, DataSource};
+
+/// Random poses drawn when no data are given.
+pub const DEFAULT_POSES: usize = 60;
+
+/// The identifiable parameters of a parallel robot.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParallelIdentifiableRequest {
+    /// The platform (a file, or a ready parallel robot's name).
+    pub robot: String,
+    /// `frame` or `position`.
+    pub method: String,
+    /// The configurations (a data file); random reachable poses without.
+    pub data: Option<DataSource>,
+    /// Units and columns of the data file.
+    #[serde(default)]
+    pub format: DataFormatSpec,
+    /// Random poses when no data are given (default [`DEFAULT_POSES`]).
+    pub count: Option<usize>,
+    /// Seed of the random poses (default [`DEFAULT_SEED`]).
+    pub seed: Option<u64>,
+}
+
+impl ParallelIdentifiableRequest {
+    /// Runs the analysis.
+    ///
+    /// # Errors
+    /// A robot or data file that cannot be read, too few equations.
+    pub fn run(&self, files: &dyn Files) -> Result<PlatformRankDocument, AppError> {
+        let file = load_parallel_robot(&self.robot, files)?;
+        let measure = measure_of(&self.method)?;
+        let (samples, source) = match &self.data {
+            Some(data) => {
+                let read = data.read(
+                    files,
+                    &actuator_types(),
+                    measure.columns(),
+                    &self.format.format()?,
+                )?;
+                let count = read.samples.len();
+                (
+                    read.samples.to_rows(),
+                    format!("the {count} configurations of {}", read.label),
+                )
+            }
+            None => {
+                let count = self.count.unwrap_or(DEFAULT_POSES);
+                let seed = self.seed.unwrap_or(DEFAULT_SEED);
+                let mut sampler = Sampler::new(seed);
+                let poses = random_platform_poses(
+                    &file.platform,
+                    count,
+                    PlatformWorkspace::of(&file.platform),
+                    &mut sampler,
+                )?;
+                let exact = PlatformNoise {
+                    length: 0.0,
+                    angle: 0.0,
+                };
+                (
+                    simulate_platform(&file.platform, measure, &poses, exact, &mut sampler),
+                    format!("{count} random reachable poses (seed {seed})"),
+                )
+            }
+        };
+        let report = platform_identifiability(&file.platform, &samples, measure)?;
+        Ok(PlatformRankDocument::new(&report, source))
+    }
+}

@@ -1,0 +1,184 @@
+//! Identification of a parallel robot from a data file: the calibrated
+//! platform, every parameter with its precision, the verdict, and the
+//! direct model's errors at the measured configurations before and after.
+
+use gecaro_calib::parallel_robots::{
+    PlatformIdentification, PlatformIdentificationOptions, PlatformNoise, identify_platform,
+    platform_errors,
+};
+use gecaro_io::{ParallelRobotFile, StandardDeviation};
+use serde::Deserialize;
+
+use super::documents::{PlatformIdentificationDocument, PlatformRankDocument};
+use super::{actuator_types, load_parallel_robot, measure_of};
+use crate::error::AppError;
+use crate::files::Files;
+use crate::output::Output;
+use crate::sources::{DataFormatSpec, DataSource};
+
+/// An identification of a parallel robot.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParallelIdentifyRequest {
+    /// The nominal platform (a file, or a ready parallel robot's name).
+    pub robot: String,
+    /// `frame` or `position`.
+    pub method: String,
+    /// The measurements.
+    pub data: DataSource,
+    /// Units and columns of the data file.
+    #[serde(default)]
+    pub format: DataFormatSpec,
+    /// The sensor's σ of a position coordinate: a number in the data's
+    /// length unit, or a text with its unit (`"20um"`); also the
+    /// orientations' unless `sigma_rotation` is given.
+    pub sigma: Option<StandardDeviation>,
+    /// The σ of a rotation angle: a number in the data's angle unit, or a
+    /// text with its unit (`"0.001deg"`).
+    pub sigma_rotation: Option<StandardDeviation>,
+    /// Gauss–Newton iterations at most (default 30).
+    pub max_iterations: Option<usize>,
+    /// The calibrated platform's file.
+    #[serde(flatten)]
+    pub output: Output,
+}
+
+/// An identified platform.
+#[derive(Clone, Debug)]
+pub struct ParallelIdentified {
+    /// The calibrated platform as a file.
+    pub calibrated: ParallelRobotFile,
+    /// The identification.
+    pub result: PlatformIdentification,
+    /// Its document.
+    pub document: PlatformIdentificationDocument,
+}
+
+impl ParallelIdentifyRequest {
+    /// Runs the identification.
+    ///
+    /// # Errors
+    /// A robot or data file that cannot be read, a σ that is no sensor's,
+    /// too few equations, actuator values with no pose, a file that cannot
+    /// be written.
+    pub fn run(&self, files: &dyn Files) -> Result<ParallelIdentified, AppError> {
+        let nominal = load_parallel_robot(&self.robot, files)?;
+        let measure = measure_of(&self.method)?;
+        self.output.check(files, "toml")?;
+        let format = self.format.format()?;
+        let read = self
+            .data
+            .read(files, &actuator_types(), measure.columns(), &format)?;
+        let samples = read.samples.to_rows();
+        let value = |setting: &str, sigma: &Option<StandardDeviation>, rotation: bool| {
+            sigma
+                .as_ref()
+                .map(|sigma| sigma.value(rotation, format.units))
+                .transpose()
+                .map_err(|message| AppError::setting(setting, message))
+        };
+        let length = value("sigma", &self.sigma, false)?;
+        let angle = value("sigma_rotation", &self.sigma_rotation, true)?;
+        let noise = length.map(|length| PlatformNoise {
+            length,
+            angle: angle.unwrap_or(length),
+        });
+        let mut options = PlatformIdentificationOptions::default();
+        if let Some(iterations) = self.max_iterations {
+            if !(1..=crate::limits::MAX_ITERATIONS).contains(&iterations) {
+                return Err(AppError::setting_value(
+                    "max_iterations",
+                    iterations,
+                    format!("takes 1 to {}", crate::limits::MAX_ITERATIONS),
+                ));
+            }
+            options.max_iterations = iterations;
+        }
+        let result = identify_platform(&nominal.platform, &samples, measure, noise, &options)?;
+        let errors_before = platform_errors(&nominal.platform, &samples, measure)?;
+        let errors_after = platform_errors(&result.calibrated, &samples, measure)?;
+        let name = format!("{} (calibrated)", nominal.platform.name());
+        let calibrated = ParallelRobotFile {
+            platform: result.calibrated.clone().renamed(&name),
+            description: Some(format!(
+                "{} calibrated by gecaro: {} method on {}, {} parameters identified, verdict {}",
+                nominal.platform.name(),
+                measure.name(),
+                read.label,
+                result.rank.rank(),
+                result.outcome.as_str()
+            )),
+        };
+        let written = self.output.write(
+            files,
+            "toml",
+            gecaro_io::format_parallel_robot_file(&calibrated).as_bytes(),
+        )?;
+        let rank = PlatformRankDocument::new(&result.rank, read.label.clone());
+        let document = PlatformIdentificationDocument {
+            robot: nominal.platform.name().to_owned(),
+            method: measure.name(),
+            data: read.label,
+            configurations: samples.len(),
+            outcome: result.outcome.as_str(),
+            summary: summary(&result),
+            sigma_ratio: result.noise_test.map(|test| test.sigma_ratio),
+            iterations: result.iterations,
+            rms_before: result.rms_before,
+            rms_after: result.rms_after,
+            errors_before: errors_before.into(),
+            errors_after: errors_after.into(),
+            rank: result.rank.rank(),
+            parameters: PlatformIdentificationDocument::parameters(&result),
+            regrouped: rank.regrouped,
+            written: written.map(|path| path.display().to_string()),
+        };
+        Ok(ParallelIdentified {
+            calibrated,
+            result,
+            document,
+        })
+    }
+}
+
+/// The verdict in words.
+fn summary(result: &PlatformIdentification) -> String {
+    use gecaro_calib::identification::Outcome;
+    let ratio = result
+        .noise_test
+        .map(|test| format!("{:.2}", test.sigma_ratio))
+        .unwrap_or_default();
+    match result.outcome {
+        Outcome::FitsNoise => format!(
+            "converged in {} iterations: the residuals fit the stated noise (σ̂/σ {ratio})",
+            result.iterations
+        ),
+        Outcome::ExceedsNoise => format!(
+            "converged, but the residuals are {ratio}× the stated noise: a model error (a joint \
+             not at its stated place, an elastic leg), data from another platform, or σ \
+             understated"
+        ),
+        Outcome::BelowNoise => format!(
+            "converged, but the residuals are {ratio}× the stated noise, far below it: σ \
+             overstated, or the same measurements counted twice"
+        ),
+        Outcome::Untested => format!(
+            "converged in {} iterations; no σ was stated, so the fit is not tested against the \
+             noise",
+            result.iterations
+        ),
+        Outcome::Implausible => format!(
+            "converged, but {} took values no platform has (more than 50 mm, or a gain 10 % off, \
+             from nominal): the robot file or the data are mistaken",
+            result.implausible.join(", ")
+        ),
+        Outcome::NotConverged => format!(
+            "not converged after {} iterations: more iterations, or a nominal platform nearer \
+             the real one",
+            result.iterations
+        ),
+        _ => "diverged: no step lowered the residuals from the nominal platform; check the \
+              robot file and the data's units"
+            .to_owned(),
+    }
+}

@@ -1,0 +1,106 @@
+//! Parallel robots as jobs (issue 79): a Gough–Stewart platform's points
+//! generation, identifiable parameters, identification and evaluation, for
+//! every front end. The mathematics is `gecaro_calib::parallel_robots`';
+//! the robot files are `gecaro_io`'s (`kind = "parallel"`).
+//!
+//! A robot named on any front end is one kind or the other:
+//! [`RobotKind::of`] says which, so that a front end runs the job of that
+//! kind and a serial-only job (forward kinematics, compensation of a joint
+//! program) refuses a parallel robot by name.
+
+mod documents;
+mod evaluate;
+mod generate;
+mod identifiable;
+mod identify;
+
+use gecaro_calib::parallel_robots::PlatformMeasure;
+use gecaro_io::ParallelRobotFile;
+
+use crate::error::{AppError, ErrorKind};
+use crate::files::Files;
+
+pub use documents::{
+    PlatformErrorsDocument, PlatformIdentificationDocument, PlatformParameterDocument,
+    PlatformRankDocument, PlatformRelationDocument,
+};
+pub use evaluate::{ParallelEvaluateRequest, ParallelEvaluated};
+pub use generate::{ParallelGenerateRequest, ParallelGenerated};
+pub use identifiable::{DEFAULT_POSES, ParallelIdentifiableRequest};
+pub use identify::{ParallelIdentified, ParallelIdentifyRequest};
+
+/// The kind of a robot file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RobotKind {
+    /// Frames 0..n+1 in Khalil–Kleinfinger parameters.
+    Serial,
+    /// A Gough–Stewart platform (`kind = "parallel"`).
+    Parallel,
+}
+
+impl RobotKind {
+    /// The kind of the robot `name` (a file of `files`, else a ready
+    /// robot's name): parallel when its file says `kind = "parallel"` or it
+    /// is a ready parallel robot; serial otherwise (its loading says what
+    /// is wrong with it).
+    pub fn of(name: &str, files: &dyn Files) -> RobotKind {
+        if files.is_file(name) {
+            return match files.read_text(name, &["toml"]) {
+                Ok((_, text)) if gecaro_io::is_parallel_robot_text(&text) => RobotKind::Parallel,
+                _ => RobotKind::Serial,
+            };
+        }
+        if gecaro_io::ready_parallel_robots()
+            .iter()
+            .any(|ready| ready.name.eq_ignore_ascii_case(name))
+        {
+            RobotKind::Parallel
+        } else {
+            RobotKind::Serial
+        }
+    }
+}
+
+/// The parallel robot `name`: a file of `files`, else a ready parallel
+/// robot.
+///
+/// # Errors
+/// A file that cannot be read or parsed (its line and key), a serial
+/// robot's file, an unknown name (listing the ready parallel robots).
+pub fn load_parallel_robot(name: &str, files: &dyn Files) -> Result<ParallelRobotFile, AppError> {
+    if files.is_file(name) {
+        let (path, text) = files.read_text(name, &["toml"])?;
+        if !gecaro_io::is_parallel_robot_text(&text) {
+            return Err(AppError::plain(
+                ErrorKind::Input,
+                format!(
+                    "{}: a serial robot's file, where this job needs a parallel robot's \
+                     (`kind = \"parallel\"`)",
+                    path.display()
+                ),
+            ));
+        }
+        return Ok(gecaro_io::parse_parallel_robot_file(&text, &path)?);
+    }
+    Ok(gecaro_io::load_parallel_robot(name)?)
+}
+
+/// The measure of a job: `frame` (the platform's pose) or `position` (its
+/// tool point).
+fn measure_of(name: &str) -> Result<PlatformMeasure, AppError> {
+    PlatformMeasure::named(name).map_err(|_| {
+        AppError::setting(
+            "method",
+            format!(
+                "a parallel robot is measured by `frame` (the platform's pose) or `position` \
+                 (its tool point), not `{name}`"
+            ),
+        )
+    })
+}
+
+/// The actuator values' joint types of a data file: six prismatic joints,
+/// read in the file's length unit.
+fn actuator_types() -> Vec<gecaro_core::FrameType> {
+    vec![gecaro_core::FrameType::Prismatic; gecaro_core::gough_stewart::LEGS]
+}

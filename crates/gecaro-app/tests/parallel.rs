@@ -1,0 +1,137 @@
+//! A parallel robot's jobs end to end through the files a user has: the
+//! ready hexapod generated, identified from the written data file, the
+//! calibrated platform written, read back and evaluated on held-out data.
+
+use gecaro_app::LocalFiles;
+use gecaro_app::parallel::{
+    ParallelEvaluateRequest, ParallelGenerateRequest, ParallelIdentifiableRequest,
+    ParallelIdentifyRequest, RobotKind,
+};
+use gecaro_app::{DataSource, Output};
+
+fn generate(folder: &std::path::Path, name: &str, count: usize, seed: u64) -> String {
+    let path = folder.join(name).display().to_string();
+    ParallelGenerateRequest {
+        robot: "hexapod".into(),
+        method: "frame".into(),
+        count,
+        error_level: None,
+        real: Some(folder.join("real.toml").display().to_string()),
+        noise: 2e-5,
+        seed: Some(seed),
+        output: Output::to(path.clone()),
+        real_save_as: None,
+    }
+    .run(&LocalFiles)
+    .expect("generated");
+    path
+}
+
+#[test]
+fn a_hexapod_is_calibrated_from_its_files_to_the_noise_floor() {
+    let folder = tempfile::tempdir().expect("folder");
+    assert_eq!(RobotKind::of("hexapod", &LocalFiles), RobotKind::Parallel);
+    assert_eq!(RobotKind::of("stanford", &LocalFiles), RobotKind::Serial);
+    // The real platform, drawn once and written.
+    ParallelGenerateRequest {
+        robot: "hexapod".into(),
+        method: "frame".into(),
+        count: 1,
+        error_level: Some(1.0),
+        real: None,
+        noise: 0.0,
+        seed: Some(7),
+        output: Output::default(),
+        real_save_as: Some(folder.path().join("real.toml").display().to_string()),
+    }
+    .run(&LocalFiles)
+    .expect("real platform");
+    let data = generate(folder.path(), "poses.csv", 60, 8);
+    let held_out = generate(folder.path(), "held-out.csv", 200, 9);
+    let calibrated = folder.path().join("calibrated.toml").display().to_string();
+    let identified = ParallelIdentifyRequest {
+        robot: "hexapod".into(),
+        method: "frame".into(),
+        data: DataSource::File(data),
+        format: Default::default(),
+        sigma: Some("20um".parse().expect("σ")),
+        sigma_rotation: Some("20e-6rad".parse().expect("σ")),
+        max_iterations: None,
+        output: Output::to(calibrated.clone()),
+    }
+    .run(&LocalFiles)
+    .expect("identified");
+    assert_eq!(
+        identified.document.outcome, "fits_noise",
+        "{}",
+        identified.document.summary
+    );
+    assert_eq!(identified.document.rank, 48);
+    let evaluate = |robot: &str| {
+        ParallelEvaluateRequest {
+            robot: robot.into(),
+            method: "frame".into(),
+            data: DataSource::File(held_out.clone()),
+            format: Default::default(),
+        }
+        .run(&LocalFiles)
+        .expect("evaluated")
+        .errors
+        .position_rms
+    };
+    let floor = evaluate(&folder.path().join("real.toml").display().to_string());
+    let after = evaluate(&calibrated);
+    let before = evaluate("hexapod");
+    assert!(
+        after <= 1.2 * floor,
+        "{after} m against the floor's {floor} m"
+    );
+    assert!(before > 20.0 * floor, "{before} m before, floor {floor} m");
+    // What was written reads back as the platform identified.
+    let read =
+        gecaro_io::read_parallel_robot_file(std::path::Path::new(&calibrated)).expect("read");
+    assert_eq!(
+        read.platform.parameters(),
+        identified.calibrated.platform.parameters()
+    );
+}
+
+#[test]
+fn identifiable_parameters_of_one_platform_point() {
+    let report = ParallelIdentifiableRequest {
+        robot: "hexapod".into(),
+        method: "position".into(),
+        data: None,
+        format: Default::default(),
+        count: None,
+        seed: None,
+    }
+    .run(&LocalFiles)
+    .expect("rank");
+    assert_eq!(report.rank, 45);
+    assert_eq!(report.regrouped.len(), 6);
+    let error = ParallelIdentifiableRequest {
+        robot: "hexapod".into(),
+        method: "distance".into(),
+        data: None,
+        format: Default::default(),
+        count: None,
+        seed: None,
+    }
+    .run(&LocalFiles)
+    .expect_err("refused")
+    .to_string();
+    assert!(
+        error.contains("`frame` (the platform's pose) or `position`"),
+        "{error}"
+    );
+}
+
+#[test]
+fn a_serial_job_refuses_a_parallel_robot_by_name() {
+    let error = gecaro_app::RobotSource::Named("hexapod".into())
+        .load(&LocalFiles)
+        .expect_err("refused")
+        .to_string();
+    assert!(error.contains("a parallel robot"), "{error}");
+}
