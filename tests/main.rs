@@ -14,6 +14,7 @@ mod interchange;
 mod iso9283_cli;
 mod mistakes_cli;
 mod named_frames;
+mod parallel_cli;
 mod region_cli;
 mod robust_cli;
 mod util;

@@ -10,6 +10,7 @@ mod iso9283;
 mod kinematics;
 mod options;
 mod output;
+mod parallel;
 mod planning;
 mod progress;
 mod robot;
@@ -20,10 +21,27 @@ mod validation;
 use crate::cli::{Cli, Command};
 use crate::failure::Failure;
 
+/// Whether the robot a command names is a parallel one (its own commands
+/// in [`parallel`]).
+fn is_parallel(robot: Option<&str>) -> bool {
+    robot.is_some_and(|robot| {
+        gecaro_app::parallel::RobotKind::of(robot, &gecaro_app::LocalFiles)
+            == gecaro_app::parallel::RobotKind::Parallel
+    })
+}
+
 /// Runs one command line.
 pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
     match cli.command {
         Command::Robot(command) => robot::run(command),
+        Command::Identifiable(args) if is_parallel(args.source.robot.as_deref()) => {
+            parallel::identifiable(&args, args.source.robot.as_deref().unwrap_or_default())
+        }
+        Command::Generate(args) if is_parallel(Some(&args.robot)) => parallel::generate(&args),
+        Command::Identify(args) if is_parallel(args.run.source.robot.as_deref()) => {
+            parallel::identify(&args, args.run.source.robot.as_deref().unwrap_or_default())
+        }
+        Command::Evaluate(args) if is_parallel(Some(&args.robot)) => parallel::evaluate(&args),
         Command::Fk(args) => kinematics::forward(&args),
         Command::Jacobian(args) => kinematics::jacobian(&args),
         Command::Ik(args) => kinematics::inverse(&args),

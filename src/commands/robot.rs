@@ -13,6 +13,12 @@ use crate::format::{number, shown, table};
 
 pub(crate) fn run(command: RobotCommand) -> Result<(), Failure> {
     match command {
+        RobotCommand::Show { robot, .. } if super::is_parallel(Some(&robot)) => {
+            super::parallel::show(&robot)
+        }
+        RobotCommand::Check { robot } if super::is_parallel(Some(&robot)) => {
+            super::parallel::check(&robot)
+        }
         RobotCommand::Show { robot, deg } => show(&robot, deg),
         RobotCommand::Check { robot } => check(&robot),
         RobotCommand::Reframe {

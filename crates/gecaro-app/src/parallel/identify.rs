@@ -11,7 +11,7 @@ use serde::Deserialize;
 
 use super::documents::{PlatformIdentificationDocument, PlatformRankDocument};
 use super::{actuator_types, load_parallel_robot, measure_of};
-use crate::error::AppError;
+use crate::error::{AppError, ErrorKind};
 use crate::files::Files;
 use crate::output::Output;
 use crate::sources::{DataFormatSpec, DataSource};
@@ -52,6 +52,33 @@ pub struct ParallelIdentified {
     pub result: PlatformIdentification,
     /// Its document.
     pub document: PlatformIdentificationDocument,
+}
+
+impl ParallelIdentified {
+    /// Whether the fit converged (trusted or not).
+    pub fn converged(&self) -> bool {
+        self.result.outcome.solved()
+    }
+
+    /// The error a front end ends with: not converged
+    /// ([`ErrorKind::NotConverged`]), or converged to a fit its data do not
+    /// trust ([`ErrorKind::Untrusted`]); `None` for a trusted fit.
+    pub fn failure(&self) -> Option<AppError> {
+        let outcome = self.result.outcome;
+        if !outcome.solved() {
+            Some(AppError::plain(
+                ErrorKind::NotConverged,
+                format!("the identification {}", self.document.summary),
+            ))
+        } else if !outcome.trusted() {
+            Some(AppError::plain(
+                ErrorKind::Untrusted,
+                format!("the identification {}", self.document.summary),
+            ))
+        } else {
+            None
+        }
+    }
 }
 
 impl ParallelIdentifyRequest {

@@ -1,6 +1,7 @@
 //! The identifiable parameters of a platform (Appendix III, as for a serial
-//! robot): QR of the observation matrix W, the base set in vocabulary order,
-//! and what each regrouped parameter stands in.
+//! robot): QR of the observation matrix W with its columns in the order of
+//! [`candidates`] (the tool point first), the base set, and what each
+//! regrouped parameter stands in.
 
 use faer::Mat;
 use gecaro_core::gough_stewart::{GoughStewart, LEGS, PARAMETER_COUNT, PARAMETERS_PER_LEG};
@@ -70,13 +71,19 @@ pub fn platform_identifiability(
     rank_of(&rows, measure)
 }
 
-/// The candidate parameters of a measure: every leg parameter, and the tool
-/// point's when it is measured.
-pub(super) fn candidates(measure: PlatformMeasure) -> usize {
+/// The candidate parameters of a measure, in the order QR keeps them: the
+/// tool point's first when it is measured (the point a user measured is
+/// identified; the platform frame's six degrees of freedom, which a point
+/// does not observe, are left to the last legs' platform joints), then every
+/// leg's parameters.
+fn candidates(measure: PlatformMeasure) -> Vec<usize> {
+    let legs = 0..LEGS * PARAMETERS_PER_LEG;
     if measure.measures_tool() {
-        PARAMETER_COUNT
+        (LEGS * PARAMETERS_PER_LEG..PARAMETER_COUNT)
+            .chain(legs)
+            .collect()
     } else {
-        LEGS * PARAMETERS_PER_LEG
+        legs.collect()
     }
 }
 
@@ -85,7 +92,8 @@ pub(super) fn rank_of(
     rows: &PlatformRows,
     measure: PlatformMeasure,
 ) -> Result<PlatformRankReport, Error> {
-    let columns = candidates(measure);
+    let order = candidates(measure);
+    let columns = order.len();
     let equations = rows.matrix.nrows();
     if equations < columns {
         return Err(Error::TooFewEquations {
@@ -93,44 +101,50 @@ pub(super) fn rank_of(
             unknowns: columns,
         });
     }
-    let matrix = rows.matrix.get(.., ..columns);
-    let geometry = column_geometry(matrix);
+    let geometry = column_geometry(select_columns(rows.matrix.as_ref(), &order).as_ref());
     let tolerance = (columns as f64 * f64::EPSILON).max(RELATIVE_ZERO_FLOOR)
         * largest_column_norm(geometry.as_ref());
     let rank = greedy_rank(geometry.as_ref(), tolerance);
-    let mut statuses = vec![ParameterStatus::Excluded; PARAMETER_COUNT];
-    for (column, status) in statuses.iter_mut().enumerate().take(columns) {
-        *status = if rank.norms[column] <= tolerance {
+    // Statuses by column of the ordered W, then by parameter.
+    let status_of = |column: usize| {
+        if rank.norms[column] <= tolerance {
             ParameterStatus::NoEffect
         } else if rank.kept.contains(&column) {
             ParameterStatus::Identifiable
         } else {
             ParameterStatus::Regrouped
-        };
+        }
+    };
+    let mut statuses = vec![ParameterStatus::Excluded; PARAMETER_COUNT];
+    for (column, parameter) in order.iter().enumerate() {
+        statuses[*parameter] = status_of(column);
     }
-    let base = rank.kept.clone();
+    let kept = rank.kept.clone();
     let regrouped: Vec<usize> = (0..columns)
-        .filter(|c| statuses[*c] == ParameterStatus::Regrouped)
+        .filter(|c| status_of(*c) == ParameterStatus::Regrouped)
         .collect();
     let relations = if regrouped.is_empty() {
         Vec::new()
     } else {
-        let (beta, _) = regrouping_relations(geometry.as_ref(), &base, &regrouped);
+        let (beta, _) = regrouping_relations(geometry.as_ref(), &kept, &regrouped);
         regrouped
             .iter()
             .enumerate()
-            .map(|(j, parameter)| PlatformRelation {
-                parameter: *parameter,
-                terms: base
+            .map(|(j, column)| PlatformRelation {
+                parameter: order[*column],
+                terms: kept
                     .iter()
                     .enumerate()
                     .filter(|(k, _)| beta[(*k, j)].abs() > 1e-9)
-                    .map(|(k, index)| (*index, beta[(k, j)]))
+                    .map(|(k, kept_column)| (order[*kept_column], beta[(k, j)]))
                     .collect(),
             })
             .collect()
     };
-    let base_columns: Mat<f64> = select_columns(geometry.as_ref(), &base);
+    let base_columns: Mat<f64> = select_columns(geometry.as_ref(), &kept);
+    // The base set in vocabulary order (the identification's columns).
+    let mut base: Vec<usize> = kept.iter().map(|column| order[*column]).collect();
+    base.sort_unstable();
     Ok(PlatformRankReport {
         measure,
         names: GoughStewart::parameter_names(),

@@ -164,17 +164,17 @@ fn parameters_round_trip_with_their_names() {
 fn a_platform_no_one_builds_is_refused_naming_the_leg() {
     let mut legs = hexapod().legs().to_vec();
     legs[3].gain = 0.0;
-    let error = GoughStewart::new("bad", legs.clone(), Vector3::zeros()).unwrap_err();
+    let error = GoughStewart::new("bad", legs.clone(), Vector3::zeros()).expect_err("refused");
     assert_eq!(
         error.to_string(),
         "leg 4, `gain`: a gain of zero moves nothing"
     );
     legs[3].gain = 1.0;
     legs[1].base.y = f64::NAN;
-    let error = GoughStewart::new("bad", legs.clone(), Vector3::zeros()).unwrap_err();
+    let error = GoughStewart::new("bad", legs.clone(), Vector3::zeros()).expect_err("refused");
     assert!(error.to_string().starts_with("leg 2, `base`"), "{error}");
     legs.pop();
-    let error = GoughStewart::new("bad", legs, Vector3::zeros()).unwrap_err();
+    let error = GoughStewart::new("bad", legs, Vector3::zeros()).expect_err("refused");
     assert!(
         error.to_string().contains("has 6 legs, 5 are given"),
         "{error}"
@@ -186,11 +186,11 @@ fn actuator_values_no_platform_takes_are_refused() {
     let hexapod = hexapod();
     let error = hexapod
         .direct(&[5.0, -0.5, 0.0, 0.0, 0.0, 0.0], &hexapod.home())
-        .unwrap_err();
+        .expect_err("refused");
     assert!(matches!(error, Error::NoAssembly { .. }), "{error}");
     let error = hexapod
         .direct(&[0.0, f64::NAN, 0.0, 0.0, 0.0, 0.0], &hexapod.home())
-        .unwrap_err();
+        .expect_err("refused");
     assert!(matches!(
         error,
         Error::NonFiniteConfiguration { joint: 2, .. }

@@ -1,0 +1,339 @@
+//! The commands of a parallel robot (a Gough–Stewart platform): `robot
+//! show | check`, `generate`, `identifiable`, `identify` and `evaluate` run
+//! the `gecaro_app::parallel` jobs when the robot named is a parallel one;
+//! an option that means something for serial robots only is refused by
+//! name.
+
+use gecaro_app::parallel::{
+    ParallelEvaluateRequest, ParallelGenerateRequest, ParallelIdentifiableRequest,
+    ParallelIdentifyRequest, PlatformErrorsDocument, load_parallel_robot,
+};
+use gecaro_app::{DataSource, LocalFiles};
+
+use super::options::{data_format, name, written};
+use crate::cli::{EvaluateArgs, GenerateArgs, IdentifiableArgs, IdentifyArgs};
+use crate::failure::Failure;
+use crate::format::{number, shown, table};
+
+/// Refuses the first of `given` (an option's name and whether it was
+/// given) that has no meaning for a parallel robot.
+fn serial_only(given: &[(&str, bool)]) -> Result<(), Failure> {
+    match given.iter().find(|(_, given)| *given) {
+        Some((option, _)) => Err(Failure::usage(
+            format!("{option} has no meaning for a parallel robot (a Gough–Stewart platform)"),
+            Some(
+                "a parallel robot takes --method frame|position, --data, --sigma and the data \
+                 file's units and columns"
+                    .to_owned(),
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
+fn mm(metres: f64) -> String {
+    number(metres * 1e3, 4)
+}
+
+/// `gecaro robot show` of a parallel robot.
+pub(crate) fn show(robot: &str) -> Result<(), Failure> {
+    let file = load_parallel_robot(robot, &LocalFiles)?;
+    let platform = &file.platform;
+    println!(
+        "{} — Gough–Stewart platform, 6 legs, {} parameters (mm)",
+        shown(platform.name()),
+        gecaro_core::gough_stewart::PARAMETER_COUNT
+    );
+    if let Some(description) = &file.description {
+        println!("{}", shown(description));
+    }
+    let mut legs = table(
+        &[
+            "leg",
+            "base x",
+            "base y",
+            "base z",
+            "platform x",
+            "platform y",
+            "platform z",
+            "length",
+            "gain",
+            "min",
+            "max",
+        ],
+        1,
+    );
+    for (index, leg) in platform.legs().iter().enumerate() {
+        let mut row = vec![(index + 1).to_string()];
+        row.extend(leg.base.iter().chain(leg.platform.iter()).map(|v| mm(*v)));
+        row.extend([
+            mm(leg.length),
+            number(leg.gain, 6),
+            mm(leg.min),
+            mm(leg.max),
+        ]);
+        legs.add_row(row);
+    }
+    println!("{legs}");
+    let tool = platform.tool();
+    let home = platform.home().translation.vector;
+    println!(
+        "tool point (platform frame): {}, {}, {} mm; home pose: level at {}, {}, {} mm",
+        mm(tool.x),
+        mm(tool.y),
+        mm(tool.z),
+        mm(home.x),
+        mm(home.y),
+        mm(home.z)
+    );
+    Ok(())
+}
+
+/// `gecaro robot check` of a parallel robot.
+pub(crate) fn check(robot: &str) -> Result<(), Failure> {
+    let file = load_parallel_robot(robot, &LocalFiles)?;
+    let home = file.platform.home().translation.vector;
+    println!(
+        "ok: {} — Gough–Stewart platform, 6 legs, {} parameters; home pose level at {} mm \
+         above the base",
+        shown(file.platform.name()),
+        gecaro_core::gough_stewart::PARAMETER_COUNT,
+        mm(home.z)
+    );
+    Ok(())
+}
+
+/// `gecaro generate` of a parallel robot.
+pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
+    serial_only(&[
+        ("--configurations", args.configurations.is_some()),
+        ("--compliance-level", args.compliance_level.is_some()),
+        ("--payload", args.payload.is_some()),
+        ("--gravity-tilt", args.gravity_tilt.is_some()),
+    ])?;
+    let count = args
+        .count
+        .ok_or_else(|| Failure::usage("give the number of poses (--count N)", None))?;
+    let output = written(&args.output, args.force);
+    let generated = ParallelGenerateRequest {
+        robot: args.robot.clone(),
+        method: args.method.method.clone(),
+        count,
+        error_level: args.error_level,
+        real: args.real.as_deref().map(name),
+        noise: args.noise,
+        seed: Some(args.seed),
+        output,
+        real_save_as: args.real_out.as_deref().map(name),
+    }
+    .run(&LocalFiles)?;
+    println!(
+        "wrote {} poses ({} measured) to {}",
+        generated.samples.len(),
+        args.method.method,
+        args.output.display()
+    );
+    println!("real platform: {}", shown(generated.real.platform.name()));
+    if args.noise > 0.0 {
+        println!(
+            "sensor noise: σ = {} mm ({} rad for orientations)",
+            mm(args.noise),
+            number(args.noise, 9)
+        );
+    }
+    if let Some(real_out) = &args.real_out {
+        println!("wrote the real platform to {}", real_out.display());
+    }
+    Ok(())
+}
+
+/// `gecaro identifiable` of a parallel robot.
+pub(crate) fn identifiable(args: &IdentifiableArgs, robot: &str) -> Result<(), Failure> {
+    serial_only(&[
+        ("--priority", args.priority.is_some()),
+        ("--model", args.model.is_some()),
+    ])?;
+    let method = args.source.method.clone().unwrap_or_default();
+    let report = ParallelIdentifiableRequest {
+        robot: robot.to_owned(),
+        method,
+        data: args
+            .data
+            .as_deref()
+            .map(|path| DataSource::File(name(path))),
+        format: data_format(&args.source.format),
+        count: args.count,
+        seed: Some(args.seed),
+    }
+    .run(&LocalFiles)?;
+    if args.json {
+        return super::output::print_json(&report);
+    }
+    println!(
+        "{} of {} parameters identifiable ({} method, {} equations from {}); condition number {}",
+        report.rank,
+        report.parameters.len(),
+        report.method,
+        report.equations,
+        report.source,
+        number(report.condition_number, 4)
+    );
+    let mut statuses = table(
+        &["leg", "a x", "a y", "a z", "b x", "b y", "b z", "l", "K"],
+        1,
+    );
+    for (leg, chunk) in report.parameters.chunks(8).take(6).enumerate() {
+        let mut row = vec![(leg + 1).to_string()];
+        row.extend(
+            chunk
+                .iter()
+                .map(|(_, status)| status_letter(status).to_owned()),
+        );
+        statuses.add_row(row);
+    }
+    println!("{statuses}");
+    let tool: Vec<&str> = report.parameters[48..]
+        .iter()
+        .map(|(_, status)| status_letter(status))
+        .collect();
+    println!("tool point t: {}", tool.join(" "));
+    println!("(1 identifiable, n regrouped, 0 no effect, - not in these equations)");
+    for relation in &report.regrouped {
+        let terms: Vec<String> = relation
+            .into
+            .iter()
+            .map(|(name, coefficient)| format!("{} {name}", number(*coefficient, 4)))
+            .collect();
+        println!(
+            "{} is regrouped into: {}",
+            relation.parameter,
+            terms.join(", ")
+        );
+    }
+    Ok(())
+}
+
+fn status_letter(status: &str) -> &'static str {
+    match status {
+        "identifiable" => "1",
+        "regrouped" => "n",
+        "no_effect" => "0",
+        _ => "-",
+    }
+}
+
+/// `gecaro identify` of a parallel robot.
+pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> {
+    let run = &args.run;
+    serial_only(&[
+        ("--priority", run.priority.is_some()),
+        ("--prior", run.prior.is_some()),
+        ("--model", run.model.is_some()),
+        ("--loss", run.loss != "l2"),
+        ("--reject", run.reject),
+        ("--plot", args.plot.is_some()),
+        ("--residuals", args.residuals.is_some()),
+        ("--cv", args.cv.is_some()),
+    ])?;
+    let data = run
+        .data
+        .as_deref()
+        .ok_or_else(|| Failure::usage("give the measurements (--data FILE.csv)", None))?;
+    let identified = ParallelIdentifyRequest {
+        robot: robot.to_owned(),
+        method: run.source.method.clone().unwrap_or_default(),
+        data: DataSource::File(name(data)),
+        format: data_format(&run.source.format),
+        sigma: run.sigma.clone(),
+        sigma_rotation: run.sigma_rotation.clone(),
+        max_iterations: Some(run.max_iterations),
+        output: args
+            .output
+            .as_deref()
+            .map(|path| written(path, args.force))
+            .unwrap_or_default(),
+    }
+    .run(&LocalFiles)?;
+    let document = &identified.document;
+    if args.json {
+        super::output::print_json(document)?;
+    } else {
+        println!(
+            "{} — {} method on {} ({} poses): {}",
+            shown(&document.robot),
+            document.method,
+            document.data,
+            document.configurations,
+            document.summary
+        );
+        let mut parameters = table(&["parameter", "nominal", "identified", "σ", "status"], 1);
+        for parameter in &document.parameters {
+            let gain = parameter.name.starts_with('K');
+            let shown_value = |value: f64| if gain { number(value, 8) } else { mm(value) };
+            parameters.add_row(vec![
+                parameter.name.clone(),
+                shown_value(parameter.nominal),
+                shown_value(parameter.identified),
+                parameter.sigma.map_or_else(|| "-".into(), shown_value),
+                parameter.status.to_owned(),
+            ]);
+        }
+        println!("{parameters}");
+        println!("(mm; gains K dimensionless)");
+        print_errors("at the measured poses, nominal", &document.errors_before);
+        print_errors("at the measured poses, calibrated", &document.errors_after);
+        if let Some(path) = &document.written {
+            println!("wrote the calibrated platform to {path}");
+        }
+    }
+    identified
+        .failure()
+        .map_or(Ok(()), |error| Err(error.into()))
+}
+
+fn print_errors(title: &str, errors: &PlatformErrorsDocument) {
+    let angles = match (errors.angle_rms, errors.angle_max) {
+        (Some(rms), Some(max)) => format!(
+            "; orientation RMS {}°, max {}°",
+            number(rms.to_degrees(), 4),
+            number(max.to_degrees(), 4)
+        ),
+        _ => String::new(),
+    };
+    println!(
+        "{title}: position RMS {} mm, max {} mm{angles}",
+        mm(errors.position_rms),
+        mm(errors.position_max)
+    );
+}
+
+/// `gecaro evaluate` of a parallel robot.
+pub(crate) fn evaluate(args: &EvaluateArgs) -> Result<(), Failure> {
+    serial_only(&[
+        ("--study", args.study.is_some()),
+        ("--register", args.register.is_some()),
+    ])?;
+    let data = args
+        .data
+        .as_deref()
+        .ok_or_else(|| Failure::usage("give the measurements (--data FILE.csv)", None))?;
+    let evaluated = ParallelEvaluateRequest {
+        robot: args.robot.clone(),
+        method: args.method.clone().unwrap_or_default(),
+        data: DataSource::File(name(data)),
+        format: data_format(&args.format),
+    }
+    .run(&LocalFiles)?;
+    if args.json {
+        return super::output::print_json(&evaluated);
+    }
+    println!(
+        "{} on {} ({} method, {} poses):",
+        shown(&evaluated.robot),
+        evaluated.data,
+        evaluated.method,
+        evaluated.configurations
+    );
+    print_errors("direct model against the measured", &evaluated.errors);
+    Ok(())
+}

@@ -1,0 +1,102 @@
+//! A parallel robot on the command line: the ready hexapod generated,
+//! identified and judged on held-out poses through files, as a user runs
+//! it; serial-only options and jobs refused by name.
+
+use serde_json::Value;
+
+use crate::util::{command, json_output};
+
+#[test]
+fn a_hexapod_calibrated_on_the_command_line_reaches_the_noise_floor() {
+    let folder = tempfile::tempdir().expect("folder");
+    let at = |name: &str| folder.path().join(name).display().to_string();
+    command("generate hexapod --method position --count 60 --noise 2e-5 --seed 3 -o")
+        .arg(at("points.csv"))
+        .arg("--real-out")
+        .arg(at("real.toml"))
+        .assert()
+        .success();
+    command("generate hexapod --method position --count 200 --noise 2e-5 --seed 4 -o")
+        .arg(at("held.csv"))
+        .arg("--real")
+        .arg(at("real.toml"))
+        .assert()
+        .success();
+    let identified = json_output(&[
+        "identify",
+        "hexapod",
+        "--method",
+        "position",
+        "--sigma",
+        "0.02mm",
+        "--json",
+        "--data",
+        &at("points.csv"),
+        "-o",
+        &at("calibrated.toml"),
+    ]);
+    assert_eq!(
+        identified["outcome"], "fits_noise",
+        "{}",
+        identified["summary"]
+    );
+    assert_eq!(identified["rank"], 45);
+    let rms = |robot: &str| {
+        json_output(&[
+            "evaluate",
+            robot,
+            "--method",
+            "position",
+            "--json",
+            "--data",
+            &at("held.csv"),
+        ])["errors"]["position_rms"]
+            .as_f64()
+            .expect("rms")
+    };
+    let (after, floor) = (rms(&at("calibrated.toml")), rms(&at("real.toml")));
+    assert!(after <= 1.3 * floor, "{after} m, floor {floor} m");
+    let shown = command("robot show")
+        .arg(at("calibrated.toml"))
+        .output()
+        .expect("runs");
+    let text = String::from_utf8_lossy(&shown.stdout);
+    assert!(
+        text.contains("hexapod (calibrated) — Gough–Stewart platform, 6 legs"),
+        "{text}"
+    );
+}
+
+#[test]
+fn the_identifiable_parameters_of_measured_poses_are_every_leg_parameter() {
+    let report: Value = json_output(&["identifiable", "hexapod", "--method", "frame", "--json"]);
+    assert_eq!(report["rank"], 48);
+    assert_eq!(report["regrouped"].as_array().map(Vec::len), Some(0));
+}
+
+#[test]
+fn serial_only_options_and_jobs_are_refused_by_name() {
+    let output = command("identify hexapod --method frame --data x.csv --prior 1mm")
+        .output()
+        .expect("runs");
+    assert_eq!(output.status.code(), Some(2));
+    let error = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        error.contains("--prior has no meaning for a parallel robot"),
+        "{error}"
+    );
+    let output = command("fk hexapod --qm 0,0,0,0,0,0")
+        .output()
+        .expect("runs");
+    let error = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(error.contains("a parallel robot"), "{error}");
+    let output = command("identifiable hexapod --method distance")
+        .output()
+        .expect("runs");
+    let error = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        error.contains("`frame` (the platform's pose) or `position`"),
+        "{error}"
+    );
+}
