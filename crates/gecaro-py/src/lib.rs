@@ -17,6 +17,7 @@
 //! | [`identification`] | `identify`, `evaluate`, `Identification`, `Parameter`, `ErrorSummary` |
 //! | [`validation`] | `cross_validate` |
 //! | [`compensation`] | `compensate`, `Compensation` |
+//! | [`parallel`] | `parallel_generate`, `parallel_identifiable`, `parallel_identify`, `parallel_evaluate` |
 //! | [`planning`] | `plan`, `Plan`, `plan_study`, `predict`, `accuracy_curve` |
 //!
 //! Every calibration function maps its arguments onto a request of the
@@ -52,6 +53,7 @@ mod identification;
 mod interrupt;
 mod iso9283;
 mod methods;
+mod parallel;
 mod planning;
 mod robot;
 mod robot_inputs;
@@ -105,6 +107,10 @@ fn _gecaro(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(frames::join, module)?)?;
     module.add_function(wrap_pyfunction!(iso9283::iso9283_plan, module)?)?;
     module.add_function(wrap_pyfunction!(iso9283::iso9283_evaluate, module)?)?;
+    module.add_function(wrap_pyfunction!(parallel::parallel_generate, module)?)?;
+    module.add_function(wrap_pyfunction!(parallel::parallel_identifiable, module)?)?;
+    module.add_function(wrap_pyfunction!(parallel::parallel_identify, module)?)?;
+    module.add_function(wrap_pyfunction!(parallel::parallel_evaluate, module)?)?;
     module.add_function(wrap_pyfunction!(planning::plan, module)?)?;
     module.add_function(wrap_pyfunction!(planning::plan_study, module)?)?;
     module.add_function(wrap_pyfunction!(planning::predict, module)?)?;

@@ -34,7 +34,7 @@ pub struct PlatformIdentificationOptions {
 impl Default for PlatformIdentificationOptions {
     fn default() -> Self {
         Self {
-            max_iterations: crate::identification::IdentificationOptions::default().max_iterations,
+            max_iterations: crate::identification::DEFAULT_MAX_ITERATIONS,
             tolerance: 1e-10,
         }
     }

@@ -43,6 +43,10 @@ __all__ = [
     "join",
     "iso9283_plan",
     "iso9283_evaluate",
+    "parallel_generate",
+    "parallel_identifiable",
+    "parallel_identify",
+    "parallel_evaluate",
     "plan",
     "plan_study",
     "predict",
@@ -754,6 +758,67 @@ def iso9283_evaluate(
     ``"vap"``, the P2–P4 ``"distance"``, before and ``"after"``, as
     ``gecaro iso9283 evaluate --json``; the HTML report written to
     ``report``."""
+
+def parallel_generate(
+    robot: str,
+    method: Literal["frame", "position"],
+    count: int,
+    *,
+    noise: float = 0.0,
+    error_level: Optional[float] = None,
+    real: Optional[_PathLike] = None,
+    seed: int = 1,
+    path: Optional[_PathLike] = None,
+    real_path: Optional[_PathLike] = None,
+    overwrite: bool = False,
+) -> dict[str, Any]:
+    """Measurements of a "real" Gough–Stewart platform drawn about ``robot``
+    (a parallel robot file or ``"hexapod"``) at random reachable poses:
+    ``"data"`` (CSV text, written to ``path``) and ``"real"`` (its file
+    text, written to ``real_path``)."""
+
+def parallel_identifiable(
+    robot: str,
+    method: Literal["frame", "position"],
+    *,
+    data: Optional[_PathLike] = None,
+    count: Optional[int] = None,
+    seed: int = 1,
+    length_unit: Optional[Literal["m", "mm"]] = None,
+) -> dict[str, Any]:
+    """The identifiable parameters of a platform (QR, Appendix III), as
+    ``gecaro identifiable hexapod --json``: ``"rank"``, each parameter's
+    status, the regrouping relations."""
+
+def parallel_identify(
+    robot: str,
+    method: Literal["frame", "position"],
+    data: _PathLike,
+    *,
+    sigma: Union[float, str, None] = None,
+    sigma_rotation: Union[float, str, None] = None,
+    length_unit: Optional[Literal["m", "mm"]] = None,
+    angle_unit: Optional[Literal["rad", "deg"]] = None,
+    max_iterations: int = 30,
+    path: Optional[_PathLike] = None,
+    overwrite: bool = False,
+) -> dict[str, Any]:
+    """A platform identified from the data file ``data``, as ``gecaro
+    identify hexapod --json``, with ``"calibrated"`` (the platform file's
+    text, written to ``path``) and ``"trusted"``; a fit that did not
+    converge raises NotConvergedError."""
+
+def parallel_evaluate(
+    robot: str,
+    method: Literal["frame", "position"],
+    data: _PathLike,
+    *,
+    length_unit: Optional[Literal["m", "mm"]] = None,
+    angle_unit: Optional[Literal["rad", "deg"]] = None,
+) -> dict[str, Any]:
+    """A platform's direct model against the measured poses of ``data``:
+    ``"errors"`` (``"position_rms"``, ``"position_max"`` m; ``"angle_rms"``,
+    ``"angle_max"`` rad)."""
 
 def join(
     robot: Robot,

@@ -1,0 +1,186 @@
+//! Parallel robots (issue 79): `gecaro.parallel_generate`,
+//! `parallel_identifiable`, `parallel_identify` and `parallel_evaluate`,
+//! through the application layer's requests — the documents the command
+//! line's `--json` prints. A robot is a parallel robot file's path or a
+//! ready parallel robot's name (`"hexapod"`); data are files.
+
+use std::path::{Path, PathBuf};
+
+use gecaro_app::parallel::{
+    ParallelEvaluateRequest, ParallelGenerateRequest, ParallelIdentifiableRequest,
+    ParallelIdentifyRequest,
+};
+use gecaro_app::{DataFormatSpec, DataSource, LocalFiles, Output};
+use pyo3::prelude::*;
+
+use crate::documents::to_python;
+use crate::errors::IntoPyResult;
+use crate::sigma::Sigma;
+
+fn name(path: &Path) -> String {
+    path.display().to_string()
+}
+
+fn output(path: Option<&Path>, overwrite: bool) -> Output {
+    Output {
+        save_as: path.map(name),
+        overwrite,
+    }
+}
+
+fn format(length_unit: Option<String>, angle_unit: Option<String>) -> DataFormatSpec {
+    DataFormatSpec {
+        length_unit,
+        angle_unit,
+        ..DataFormatSpec::default()
+    }
+}
+
+/// Simulates `count` measurements of a "real" platform drawn about `robot`
+/// at error level `error_level` (±L mm, gains ±L·10⁻³; or the platform file
+/// `real`), at random reachable poses, by `method` (`"frame"`: the
+/// platform's pose; `"position"`: its tool point), noise σ `noise` (m; rad
+/// for orientations) → `{"configurations", "data": the CSV text, "real":
+/// the real platform's file text}`; written to `path` (and `real_path`)
+/// when given.
+#[pyfunction]
+#[pyo3(signature = (
+    robot, method, count, *, noise = 0.0, error_level = None, real = None, seed = 1,
+    path = None, real_path = None, overwrite = false,
+))]
+pub(crate) fn parallel_generate<'py>(
+    py: Python<'py>,
+    robot: String,
+    method: String,
+    count: usize,
+    noise: f64,
+    error_level: Option<f64>,
+    real: Option<PathBuf>,
+    seed: u64,
+    path: Option<PathBuf>,
+    real_path: Option<PathBuf>,
+    overwrite: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let request = ParallelGenerateRequest {
+        robot,
+        method,
+        count,
+        error_level,
+        real: real.as_deref().map(name),
+        noise,
+        seed: Some(seed),
+        output: output(path.as_deref(), overwrite),
+        real_save_as: real_path.as_deref().map(name),
+    };
+    let generated = py.detach(|| request.run(&LocalFiles)).py()?;
+    let document = pyo3::types::PyDict::new(py);
+    document.set_item("configurations", generated.samples.len())?;
+    document.set_item("data", generated.text)?;
+    document.set_item(
+        "real",
+        gecaro_io::format_parallel_robot_file(&generated.real),
+    )?;
+    Ok(document.into_any())
+}
+
+/// The identifiable parameters of `robot` measured by `method`, at the
+/// configurations of the data file `data` or at `count` random reachable
+/// poses → `{"rank", "parameters": [(name, status)], "regrouped":
+/// [{"parameter", "into": [(name, coefficient)]}], "condition_number", …}`.
+#[pyfunction]
+#[pyo3(signature = (robot, method, *, data = None, count = None, seed = 1, length_unit = None))]
+pub(crate) fn parallel_identifiable<'py>(
+    py: Python<'py>,
+    robot: String,
+    method: String,
+    data: Option<PathBuf>,
+    count: Option<usize>,
+    seed: u64,
+    length_unit: Option<String>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let request = ParallelIdentifiableRequest {
+        robot,
+        method,
+        data: data.as_deref().map(|path| DataSource::File(name(path))),
+        format: format(length_unit, None),
+        count,
+        seed: Some(seed),
+    };
+    let report = py.detach(|| request.run(&LocalFiles)).py()?;
+    to_python(py, &report)
+}
+
+/// Identifies `robot`'s parameters from the data file `data` measured by
+/// `method`, σ `sigma` (a number in the data's length unit or a text with
+/// its unit, `"20um"`; `sigma_rotation` for orientations) → `{"outcome",
+/// "summary", "sigma_ratio", "parameters": [{"name", "status", "nominal",
+/// "identified", "sigma"}], "errors_before", "errors_after", …,
+/// "calibrated": the calibrated platform's file text}`, written to `path`
+/// when given, and `"trusted"`: whether the verdict trusts the fit (as
+/// `Identification.verdict` says for a serial robot). A fit that did not
+/// converge raises `NotConvergedError`.
+#[pyfunction]
+#[pyo3(signature = (
+    robot, method, data, *, sigma = None, sigma_rotation = None, length_unit = None,
+    angle_unit = None, max_iterations = 30, path = None, overwrite = false,
+))]
+pub(crate) fn parallel_identify<'py>(
+    py: Python<'py>,
+    robot: String,
+    method: String,
+    data: PathBuf,
+    sigma: Option<Sigma>,
+    sigma_rotation: Option<Sigma>,
+    length_unit: Option<String>,
+    angle_unit: Option<String>,
+    max_iterations: usize,
+    path: Option<PathBuf>,
+    overwrite: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let request = ParallelIdentifyRequest {
+        robot,
+        method,
+        data: DataSource::File(name(&data)),
+        format: format(length_unit, angle_unit),
+        sigma: sigma.map(Into::into),
+        sigma_rotation: sigma_rotation.map(Into::into),
+        max_iterations: Some(max_iterations),
+        output: output(path.as_deref(), overwrite),
+    };
+    let identified = py.detach(|| request.run(&LocalFiles)).py()?;
+    if !identified.converged()
+        && let Some(error) = identified.failure()
+    {
+        return Err(error).py();
+    }
+    let document = to_python(py, &identified.document)?;
+    document.set_item("trusted", identified.failure().is_none())?;
+    document.set_item(
+        "calibrated",
+        gecaro_io::format_parallel_robot_file(&identified.calibrated),
+    )?;
+    Ok(document)
+}
+
+/// The errors of `robot`'s direct model at the configurations of the data
+/// file `data` (measured by `method`) → `{"errors": {"position_rms",
+/// "position_max", "angle_rms", "angle_max"}, …}` in metres and radians.
+#[pyfunction]
+#[pyo3(signature = (robot, method, data, *, length_unit = None, angle_unit = None))]
+pub(crate) fn parallel_evaluate<'py>(
+    py: Python<'py>,
+    robot: String,
+    method: String,
+    data: PathBuf,
+    length_unit: Option<String>,
+    angle_unit: Option<String>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let request = ParallelEvaluateRequest {
+        robot,
+        method,
+        data: DataSource::File(name(&data)),
+        format: format(length_unit, angle_unit),
+    };
+    let evaluated = py.detach(|| request.run(&LocalFiles)).py()?;
+    to_python(py, &evaluated)
+}

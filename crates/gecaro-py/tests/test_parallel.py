@@ -1,0 +1,46 @@
+"""Parallel robots from Python (issue 79): the ready hexapod generated,
+identified from its file and judged on held-out poses, as on the command
+line."""
+
+import pytest
+
+import gecaro
+import gecaro.errors
+
+
+def test_a_hexapod_identified_from_python_reaches_the_noise_floor(tmp_path):
+    real = tmp_path / "real.toml"
+    gecaro.parallel_generate("hexapod", "frame", 60, noise=2e-5, seed=3,
+                             path=tmp_path / "poses.csv", real_path=real)
+    gecaro.parallel_generate("hexapod", "frame", 200, noise=2e-5, seed=4,
+                             real=real, path=tmp_path / "held.csv")
+    result = gecaro.parallel_identify("hexapod", "frame", tmp_path / "poses.csv",
+                                      sigma="20um", sigma_rotation="20e-6rad",
+                                      path=tmp_path / "calibrated.toml")
+    assert result["outcome"] == "fits_noise", result["summary"]
+    assert result["rank"] == 48
+    assert result["calibrated"].startswith('kind = "parallel"')
+    floor = gecaro.parallel_evaluate(str(real), "frame", tmp_path / "held.csv")
+    after = gecaro.parallel_evaluate(str(tmp_path / "calibrated.toml"), "frame",
+                                     tmp_path / "held.csv")
+    assert after["errors"]["position_rms"] <= 1.2 * floor["errors"]["position_rms"]
+
+
+def test_a_point_leaves_six_platform_coordinates_regrouped():
+    report = gecaro.parallel_identifiable("hexapod", "position")
+    assert report["rank"] == 45
+    assert sorted(r["parameter"][0] for r in report["regrouped"]) == ["b"] * 6
+
+
+def test_an_understated_noise_is_not_trusted(tmp_path):
+    gecaro.parallel_generate("hexapod", "frame", 60, noise=2e-5, seed=5,
+                             path=tmp_path / "poses.csv")
+    result = gecaro.parallel_identify("hexapod", "frame", tmp_path / "poses.csv", sigma="2um")
+    assert result["outcome"] == "exceeds_noise"
+    assert not result["trusted"]
+    assert "× the stated noise" in result["summary"]
+
+
+def test_a_serial_function_refuses_the_hexapod_by_name():
+    with pytest.raises(gecaro.errors.InputError, match="a parallel robot"):
+        gecaro.Robot.load("hexapod")
