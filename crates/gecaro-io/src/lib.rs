@@ -82,7 +82,8 @@ pub use program::{
     WrittenRow, format_program, parse_program, read_program,
 };
 pub use ready::{
-    ReadyRobot, load_parallel_robot, load_robot, ready_parallel_robots, ready_robot, ready_robots,
+    ReadyRobot, load_parallel_robot, load_robot, ready_parallel_robot, ready_parallel_robots,
+    ready_robot, ready_robots,
 };
 pub use robot_file::{AngleUnit, IdentifiedTool, RobotFile, fallback_name};
 pub use robot_toml::{

@@ -41,6 +41,19 @@ pub fn ready_parallel_robots() -> &'static [ReadyRobot] {
     READY_PARALLEL
 }
 
+/// The ready parallel robot called `name` (case-insensitive), parsed;
+/// `None` when there is no such ready robot.
+///
+/// # Errors
+/// Never for the shipped files (every ready robot is tested), but the parse
+/// error is passed on rather than hidden.
+pub fn ready_parallel_robot(name: &str) -> Option<Result<ParallelRobotFile, Error>> {
+    READY_PARALLEL
+        .iter()
+        .find(|ready| ready.name.eq_ignore_ascii_case(name))
+        .map(|ready| parse_parallel_robot_file(ready.text, &virtual_path(ready.name)))
+}
+
 /// A parallel robot from a path or, when no such file exists, a ready
 /// parallel robot's name.
 ///
@@ -51,18 +64,15 @@ pub fn load_parallel_robot(path_or_name: &str) -> Result<ParallelRobotFile, Erro
     let path = Path::new(path_or_name);
     let (text, path) = if path.is_file() {
         (read_text(path, MAX_DESCRIPTION_BYTES)?, path.to_owned())
-    } else if let Some(ready) = READY_PARALLEL
-        .iter()
-        .find(|ready| ready.name.eq_ignore_ascii_case(path_or_name))
-    {
-        (ready.text.to_owned(), virtual_path(ready.name))
     } else {
-        return Err(Error::UnknownRobot {
-            name: path_or_name.to_owned(),
-            available: READY_PARALLEL
-                .iter()
-                .map(|ready| ready.name.to_owned())
-                .collect(),
+        return ready_parallel_robot(path_or_name).unwrap_or_else(|| {
+            Err(Error::UnknownRobot {
+                name: path_or_name.to_owned(),
+                available: READY_PARALLEL
+                    .iter()
+                    .map(|ready| ready.name.to_owned())
+                    .collect(),
+            })
         });
     };
     if !is_parallel_robot_text(&text) {

@@ -16,6 +16,7 @@ const STYLE: &str = include_str!("../assets/style.css");
 /// the folder holds these and no others).
 const MODULES: &[(&str, &str)] = &[
     ("acceptance.js", include_str!("../assets/js/acceptance.js")),
+    ("parallel.js", include_str!("../assets/js/parallel.js")),
     ("api.js", include_str!("../assets/js/api.js")),
     ("cell.js", include_str!("../assets/js/cell.js")),
     (

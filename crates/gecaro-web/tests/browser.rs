@@ -1689,6 +1689,32 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
         .await
         .expect("scroll");
     screenshot(client, "16-acceptance-test.png").await;
+
+    // A parallel robot: the ready hexapod's poses simulated into the
+    // folder, identified at the noise (every leg parameter), the table of
+    // parameters shown.
+    set_values(
+        client,
+        &[
+            ("parallel-count", "60"),
+            ("parallel-generated", "hexapod.csv"),
+        ],
+    )
+    .await;
+    click(client, "#parallel-generate").await;
+    let written = text_of(
+        client,
+        "#parallel-written, #parallel-result .error-box",
+        30,
+    )
+    .await;
+    assert!(written.contains("60 poses"), "{written}");
+    set_values(client, &[("parallel-sigma", "20um")]).await;
+    click(client, "#parallel-identify").await;
+    let verdict = text_of(client, "#parallel-verdict, #parallel-result .error-box", 30).await;
+    assert!(verdict.contains("fit the stated noise"), "{verdict}");
+    assert_eq!(count(client, "#parallel-parameters tbody tr").await, 51);
+    screenshot(client, "17-parallel-robot.png").await;
     let errors = uncaught_errors(client).await;
     assert!(errors.is_empty(), "uncaught errors: {errors:?}");
     session.close().await;

@@ -82,7 +82,25 @@ pub fn load_parallel_robot(name: &str, files: &dyn Files) -> Result<ParallelRobo
         }
         return Ok(gecaro_io::parse_parallel_robot_file(&text, &path)?);
     }
-    Ok(gecaro_io::load_parallel_robot(name)?)
+    // Only the ready robots beyond `files`: the web page's folder is the
+    // whole of what it reads.
+    match gecaro_io::ready_parallel_robot(name) {
+        Some(ready) => Ok(ready?),
+        None => {
+            if name.ends_with(".toml") || name.contains(['/', std::path::MAIN_SEPARATOR]) {
+                // Looks like a path: say the file is missing.
+                files.read_text(name, &["toml"])?;
+            }
+            Err(gecaro_io::Error::UnknownRobot {
+                name: name.to_owned(),
+                available: gecaro_io::ready_parallel_robots()
+                    .iter()
+                    .map(|ready| ready.name.to_owned())
+                    .collect(),
+            }
+            .into())
+        }
+    }
 }
 
 /// The measure of a job: `frame` (the platform's pose) or `position` (its

@@ -7,6 +7,7 @@ import { api } from './api.js';
 import { h, $, toast } from './dom.js';
 import { on } from './events.js';
 import { buildAcceptance } from './acceptance.js';
+import { buildParallel } from './parallel.js';
 import { cancelJobsLeftBehind, jobsLeftRunning } from './jobs.js';
 import { helpDialog } from './help.js';
 import { renderHistory } from './history.js';
@@ -70,6 +71,7 @@ async function start() {
   state.study = emptyStudy();
   renderStudyPlan();
   buildAcceptance();
+  buildParallel();
   installViewControls();
   $('angle-unit').addEventListener('change', changeAngleUnit);
   $('robot-new').addEventListener('click', () => confirmDiscard(newRobotDialog, 'A new robot'));

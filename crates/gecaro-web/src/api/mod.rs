@@ -12,6 +12,7 @@ mod frames;
 mod identification;
 mod iso9283;
 mod json;
+mod parallel;
 mod planning;
 mod robot;
 mod study;
@@ -24,7 +25,7 @@ use crate::state::AppState;
 /// Every POST route of the API (full paths), each taking a JSON body: for
 /// clients, tests and the fuzz targets. `routes` registers them (a test
 /// checks that each one answers).
-pub const POST_ROUTES: [&str; 16] = [
+pub const POST_ROUTES: [&str; 20] = [
     "/api/robots/check",
     "/api/robots/new",
     "/api/robots/upload",
@@ -38,6 +39,10 @@ pub const POST_ROUTES: [&str; 16] = [
     "/api/compensate",
     "/api/iso9283/plan",
     "/api/iso9283/evaluate",
+    "/api/parallel/generate",
+    "/api/parallel/identifiable",
+    "/api/parallel/identify",
+    "/api/parallel/evaluate",
     "/api/studies/save",
     "/api/studies/plan",
     "/api/studies/predict",
@@ -66,6 +71,10 @@ pub(crate) fn routes() -> Router<AppState> {
         .route("/join", post(frames::join))
         .route("/iso9283/plan", post(iso9283::plan))
         .route("/iso9283/evaluate", post(iso9283::evaluate))
+        .route("/parallel/generate", post(parallel::generate))
+        .route("/parallel/identifiable", post(parallel::identifiable))
+        .route("/parallel/identify", post(parallel::identify))
+        .route("/parallel/evaluate", post(parallel::evaluate))
         .route("/studies/file", get(study::open))
         .route("/studies/save", post(study::save))
         .route("/studies/plan", post(planning::plan_study))

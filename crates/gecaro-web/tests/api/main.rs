@@ -8,6 +8,7 @@
 mod calibration;
 mod cell;
 mod page;
+mod parallel;
 mod robots;
 mod robustness;
 mod studies;

@@ -1,0 +1,149 @@
+// A parallel robot on the page (issue 79): a Gough–Stewart platform of the
+// folder (or the ready hexapod) — its measurements simulated, its
+// identifiable parameters, its identification with every parameter's
+// precision and the verdict, and its direct model judged on held-out poses.
+import { api } from './api.js';
+import { $, h } from './dom.js';
+import { field, FieldError, errorBox, fieldNumber, numberInput, runButton } from './fields.js';
+import { refreshFiles } from './robot-menu.js';
+import { state } from './state.js';
+import { quantity, unitName } from './units.js';
+
+/** A text field. */
+function text(id, placeholder, value = '') {
+  return h('input', { type: 'text', id: `parallel-${id}`, placeholder, value, autocomplete: 'off', spellcheck: 'false' });
+}
+
+/** A name a field must hold. */
+function required(input, what) {
+  const value = input.value.trim();
+  if (!value) {
+    input.classList.add('invalid');
+    input.focus();
+    throw new FieldError(`Name ${what}.`);
+  }
+  input.classList.remove('invalid');
+  return value;
+}
+
+/** Lengths in the page's unit, angles in its angle unit. */
+function errorsText(errors) {
+  const length = (value) => quantity(value, 'length');
+  const angles = errors.angle_rms === null || errors.angle_rms === undefined ? ''
+    : `; orientation RMS ${quantity(errors.angle_rms, 'angle')}, max ${quantity(errors.angle_max, 'angle')} ${unitName('angle')}`;
+  return `position RMS ${length(errors.position_rms)}, max ${length(errors.position_max)} ${unitName('length')}${angles}`;
+}
+
+/** The parameters' table: status, nominal, identified, σ. */
+function parameterTable(parameters) {
+  const shown = (parameter, value) => (value === null || value === undefined ? '–'
+    : parameter.name.startsWith('K') ? value.toPrecision(9) : quantity(value, 'length'));
+  return h('table', { class: 'iso-table', id: 'parallel-parameters' },
+    h('thead', {}, h('tr', {}, ['parameter', `nominal (${unitName('length')})`, 'identified', 'σ', 'status']
+      .map((title) => h('th', { text: title })))),
+    h('tbody', {}, parameters.map((parameter) => h('tr', {}, [
+      parameter.name, shown(parameter, parameter.nominal), shown(parameter, parameter.identified),
+      shown(parameter, parameter.sigma), parameter.status,
+    ].map((cell) => h('td', { text: cell }))))));
+}
+
+/** Builds the parallel robot's card. */
+export function buildParallel() {
+  const result = h('div', { class: 'result', id: 'parallel-result' });
+  const robot = text('robot', 'hexapod, or a parallel robot file of the folder', 'hexapod');
+  const method = h('select', { id: 'parallel-method' },
+    [['frame', 'frame: the platform’s pose'], ['position', 'position: its tool point']]
+      .map(([value, label]) => h('option', { value, text: label })));
+  const data = text('data', 'poses.csv (qm1…qm6, x, y, z[, qw, qx, qy, qz])');
+  const dataUnit = h('select', { id: 'parallel-data-unit' }, [['m', 'm'], ['mm', 'mm']].map(([value, label]) => h('option', { value, text: label })));
+  const sigma = text('sigma', '20um, 0.02mm');
+  const saveAs = text('save', 'calibrated.toml (optional)');
+  const count = numberInput({ id: 'parallel-count', value: '60' });
+  const noise = numberInput({ id: 'parallel-noise', value: '0.02' });
+  const generated = text('generated', 'poses.csv', 'parallel-poses.csv');
+  const real = text('real', 'real platform: real.toml (optional)', 'parallel-real.toml');
+  const common = () => ({ robot: required(robot, 'the parallel robot (hexapod, or a file)'), method: method.value });
+  const format = () => ({ length_unit: dataUnit.value });
+
+  const generate = runButton('parallel-generate', 'Simulate measurements', async () => {
+    try {
+      const answer = await api('/parallel/generate', {
+        ...common(),
+        count: fieldNumber(count, 'Poses', { min: 1, max: state.info.limits.generate, whole: true }),
+        noise: fieldNumber(noise, 'Sensor noise σ', { min: 0, empty: 0 }) * 1e-3,
+        seed: state.info.defaults.seed,
+        save_as: required(generated, 'the data file to write'),
+        real_save_as: real.value.trim() || null,
+        overwrite: true,
+      });
+      await refreshFiles();
+      data.value = generated.value.trim();
+      result.replaceChildren(h('p', { id: 'parallel-written', text: `${answer.configurations} poses of a simulated real platform written to ${answer.written.join(' and ')} (metres).` }));
+      dataUnit.value = 'm';
+    } catch (error) {
+      result.replaceChildren(errorBox(error));
+    }
+  });
+  const identifiable = runButton('parallel-identifiable', 'Identifiable parameters', async () => {
+    try {
+      const report = await api('/parallel/identifiable', {
+        ...common(),
+        data: data.value.trim() ? { file: data.value.trim() } : null,
+        format: format(),
+      });
+      result.replaceChildren(
+        h('p', { id: 'parallel-rank', text: `${report.rank} of ${report.parameters.length} parameters identifiable (${report.method} method, ${report.equations} equations from ${report.source}); condition number ${report.condition_number.toPrecision(4)}.` }),
+        ...report.regrouped.map((relation) => h('p', { class: 'hint', text: `${relation.parameter} is regrouped into ${relation.into.map(([name, coefficient]) => `${coefficient.toPrecision(4)} ${name}`).join(', ')}.` })));
+    } catch (error) {
+      result.replaceChildren(errorBox(error));
+    }
+  });
+  const identify = runButton('parallel-identify', 'Identify', async () => {
+    try {
+      const answer = await api('/parallel/identify', {
+        ...common(),
+        data: { file: required(data, 'the measurements file') },
+        format: format(),
+        sigma: sigma.value.trim() || null,
+        save_as: saveAs.value.trim() || null,
+        overwrite: true,
+      });
+      if (answer.written) await refreshFiles();
+      result.replaceChildren(
+        h('p', { id: 'parallel-verdict', class: answer.trusted ? '' : 'warnings', text: `${answer.robot} — ${answer.method} method on ${answer.data} (${answer.configurations} poses): ${answer.summary}.` }),
+        h('p', { id: 'parallel-errors', text: `At the measured poses: nominal ${errorsText(answer.errors_before)}; calibrated ${errorsText(answer.errors_after)}.${answer.written ? ` The calibrated platform was written to ${answer.written}.` : ''}` }),
+        parameterTable(answer.parameters));
+    } catch (error) {
+      result.replaceChildren(errorBox(error));
+    }
+  });
+  const evaluate = runButton('parallel-evaluate', 'Evaluate', async () => {
+    try {
+      const answer = await api('/parallel/evaluate', {
+        ...common(),
+        data: { file: required(data, 'the held-out measurements file') },
+        format: format(),
+      });
+      result.replaceChildren(h('p', { id: 'parallel-evaluation', text: `${answer.robot} on ${answer.data} (${answer.configurations} poses): its direct model against the measured, ${errorsText(answer.errors)}.` }));
+    } catch (error) {
+      result.replaceChildren(errorBox(error));
+    }
+  });
+  $('parallel').replaceChildren(
+    h('div', { class: 'form' },
+      field('Parallel robot', robot),
+      field('Measured', method),
+      field('Measurements', data),
+      field('Their length unit', dataUnit),
+      field('Sensor σ (with its unit)', sigma),
+      field('Save the calibrated platform as', saveAs),
+      identifiable, identify, evaluate),
+    h('div', { class: 'form' },
+      field('Simulated poses', count),
+      field('Sensor noise σ (mm; mrad)', noise),
+      field('Write them to', generated),
+      field('Write the real platform to', real),
+      generate),
+    h('p', { class: 'hint', text: 'A Gough–Stewart platform: leg i from its base joint aᵢ to its platform joint bᵢ, length ℓᵢ = ‖p + R·bᵢ − aᵢ‖ = lᵢ + Kᵢ·qmᵢ. Measured poses identify every leg’s aᵢ, bᵢ, lᵢ, Kᵢ (48 parameters) through the inverse model; one measured point identifies the tool point and all but six platform-joint coordinates (docs/parallel.md).' }),
+    result);
+}

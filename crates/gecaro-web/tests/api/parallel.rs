@@ -1,0 +1,92 @@
+//! A parallel robot through the API: the ready hexapod's measurements
+//! simulated into the folder, identified, and judged on held-out poses; a
+//! path outside the folder is never read.
+
+use crate::util::*;
+
+#[tokio::test]
+async fn a_hexapod_is_calibrated_through_the_api() {
+    let api = Api::new();
+    let generate = |count: u64, seed: u64, save: &str, real: Value| {
+        json!({
+            "robot": "hexapod", "method": "frame", "count": count, "noise": 2e-5,
+            "seed": seed, "save_as": save, "real_save_as": real["save"], "real": real["use"],
+        })
+    };
+    let (status, body) = api
+        .post(
+            "/api/parallel/generate",
+            &generate(60, 3, "poses.csv", json!({"save": "real.toml"})),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{body}");
+    assert_eq!(body["configurations"], 60);
+    let (status, body) = api
+        .post(
+            "/api/parallel/generate",
+            &generate(200, 4, "held.csv", json!({"use": "real.toml"})),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{body}");
+    let (status, identified) = api
+        .post(
+            "/api/parallel/identify",
+            &json!({"robot": "hexapod", "method": "frame", "data": {"file": "poses.csv"},
+                    "sigma": "20um", "save_as": "calibrated.toml"}),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{identified}");
+    assert_eq!(
+        identified["outcome"], "fits_noise",
+        "{}",
+        identified["summary"]
+    );
+    assert_eq!(identified["trusted"], true);
+    assert!(api.folder.path().join("calibrated.toml").is_file());
+    let rms = |answer: &Value| answer["errors"]["position_rms"].as_f64().expect("rms");
+    let evaluate =
+        |robot: &str| json!({"robot": robot, "method": "frame", "data": {"file": "held.csv"}});
+    let (_, after) = api
+        .post("/api/parallel/evaluate", &evaluate("calibrated.toml"))
+        .await;
+    let (_, floor) = api
+        .post("/api/parallel/evaluate", &evaluate("real.toml"))
+        .await;
+    assert!(rms(&after) <= 1.2 * rms(&floor), "{after} against {floor}");
+    let (status, report) = api
+        .post(
+            "/api/parallel/identifiable",
+            &json!({"robot": "hexapod", "method": "position"}),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{report}");
+    assert_eq!(report["rank"], 45);
+}
+
+#[tokio::test]
+async fn a_robot_outside_the_folder_is_not_read() {
+    let api = Api::new();
+    let outside = tempfile::NamedTempFile::with_suffix(".toml").expect("file");
+    std::fs::write(
+        outside.path(),
+        include_str!("../../../../robots/hexapod.toml"),
+    )
+    .expect("written");
+    let (status, body) = api
+        .post(
+            "/api/parallel/identifiable",
+            &json!({"robot": outside.path().display().to_string(), "method": "frame"}),
+        )
+        .await;
+    assert_ne!(status, StatusCode::OK, "{body}");
+    // A serial robot where a parallel one is needed: the ready parallel
+    // robots are listed.
+    let (status, body) = api
+        .post(
+            "/api/parallel/identifiable",
+            &json!({"robot": "stanford", "method": "frame"}),
+        )
+        .await;
+    assert_ne!(status, StatusCode::OK);
+    assert!(body.to_string().contains("hexapod"), "{body}");
+}
