@@ -10,26 +10,17 @@ use gecaro_calib::parallel_robots::{
     random_platform_poses, simulate_platform,
 };
 use gecaro_calib::simulation::Sampler;
-use gecaro_core::gough_stewart::{GoughStewart, LEGS, Leg, PARAMETER_COUNT, PARAMETERS_PER_LEG};
+use gecaro_core::gough_stewart::{GoughStewart, LEGS, PARAMETER_COUNT, PARAMETERS_PER_LEG};
 use gecaro_data::sample::Sample;
-use nalgebra::{DMatrix, Vector3};
+use nalgebra::DMatrix;
 
-/// A hexapod of base radius 0.5 m and platform radius 0.3 m (joints paired
-/// 30° apart), legs of 0.6 m at actuator zero with ±0.1 m of stroke, a
-/// tool point 0.1 m above the platform.
+/// The ready hexapod (`robots/hexapod.toml`): base joints on a circle of
+/// 0.5 m, platform joints on one of 0.3 m, 0.6 m legs with ±0.1 m of
+/// stroke, a tool point 0.1 m above the platform.
 fn hexapod() -> GoughStewart {
-    let on = |radius: f64, degrees: f64| {
-        let angle = f64::to_radians(degrees);
-        Vector3::new(radius * angle.cos(), radius * angle.sin(), 0.0)
-    };
-    let legs = (0..6)
-        .map(|i| {
-            let pair = f64::from(i / 2) * 120.0;
-            let side = if i % 2 == 0 { -15.0 } else { 15.0 };
-            Leg::new(on(0.5, pair + side), on(0.3, pair + 3.0 * side), 0.6)
-        })
-        .collect();
-    GoughStewart::new("hexapod", legs, Vector3::new(0.0, 0.0, 0.1)).expect("hexapod")
+    gecaro_io::load_parallel_robot("hexapod")
+        .expect("the ready hexapod")
+        .platform
 }
 
 const NOISE: PlatformNoise = PlatformNoise {

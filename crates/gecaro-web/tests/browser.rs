@@ -1702,12 +1702,7 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
     )
     .await;
     click(client, "#parallel-generate").await;
-    let written = text_of(
-        client,
-        "#parallel-written, #parallel-result .error-box",
-        30,
-    )
-    .await;
+    let written = text_of(client, "#parallel-written, #parallel-result .error-box", 30).await;
     assert!(written.contains("60 poses"), "{written}");
     set_values(client, &[("parallel-sigma", "20um")]).await;
     click(client, "#parallel-identify").await;

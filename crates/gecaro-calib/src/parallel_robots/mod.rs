@@ -57,27 +57,3 @@ pub use measure::{PlatformMeasure, PlatformNoise};
 pub use simulation::{
     PlatformWorkspace, perturbed_platform, random_platform_poses, simulate_platform,
 };
-
-#[cfg(test)]
-pub(crate) mod tests {
-    use gecaro_core::gough_stewart::{GoughStewart, Leg};
-    use nalgebra::Vector3;
-
-    /// A hexapod of base radius 0.5 m and platform radius 0.3 m, joints
-    /// paired 30° apart, legs of 0.6 m at actuator zero, ranges ±0.1 m, a
-    /// tool point 0.1 m above the platform's centre.
-    pub(crate) fn hexapod() -> GoughStewart {
-        let on = |radius: f64, degrees: f64| {
-            let angle = f64::to_radians(degrees);
-            Vector3::new(radius * angle.cos(), radius * angle.sin(), 0.0)
-        };
-        let legs = (0..6)
-            .map(|i| {
-                let pair = f64::from(i / 2) * 120.0;
-                let side = if i % 2 == 0 { -15.0 } else { 15.0 };
-                Leg::new(on(0.5, pair + side), on(0.3, pair + 3.0 * side), 0.6)
-            })
-            .collect();
-        GoughStewart::new("hexapod", legs, Vector3::new(0.0, 0.0, 0.1)).expect("hexapod")
-    }
-}

@@ -156,7 +156,9 @@ mod tests {
     /// model's tool point.
     #[test]
     fn point_rows_match_finite_differences_of_the_direct_model() {
-        let platform = super::super::tests::hexapod();
+        let platform = gecaro_io::load_parallel_robot("hexapod")
+            .expect("the ready hexapod")
+            .platform;
         let mut sampler = Sampler::new(3);
         let poses =
             random_platform_poses(&platform, 4, PlatformWorkspace::of(&platform), &mut sampler)
