@@ -39,6 +39,7 @@ mod stated_units;
 mod symoro;
 mod table_text;
 mod test_cube;
+mod toml_source;
 mod units;
 mod urdf;
 mod work_region;

@@ -35,7 +35,7 @@ use serde::Deserialize;
 use crate::Error;
 use crate::input::{MAX_DESCRIPTION_BYTES, read_text};
 use crate::problem::{Location, model_error};
-use crate::robot_toml::Source;
+use crate::toml_source::Source;
 use crate::units::LengthUnit;
 
 /// The keys of a parallel robot file's top level, its legs and its tool.
@@ -185,15 +185,8 @@ pub fn parse_parallel_robot_file(text: &str, path: &Path) -> Result<ParallelRobo
         .name
         .clone()
         .unwrap_or_else(|| crate::robot_file::fallback_name(path));
-    let platform = GoughStewart::new(&name, legs, tool).map_err(|error| {
-        let error = model_error(error);
-        Error::parse(
-            path,
-            source.line_of_location(&error.location),
-            Some(error.location.to_string()),
-            error.message,
-        )
-    })?;
+    let platform = GoughStewart::new(&name, legs, tool)
+        .map_err(|error| source.document_error(model_error(error)))?;
     Ok(ParallelRobotFile {
         platform,
         description: document.description,
