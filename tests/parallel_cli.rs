@@ -56,6 +56,27 @@ fn a_hexapod_calibrated_on_the_command_line_reaches_the_noise_floor() {
     };
     let (after, floor) = (rms(&at("calibrated.toml")), rms(&at("real.toml")));
     assert!(after <= 1.3 * floor, "{after} m, floor {floor} m");
+    // One point does not observe the platform frame: a program of
+    // platform poses is not compensated with it, and said why.
+    command("generate hexapod --method frame --count 10 --error-level 0 --seed 5 -o")
+        .arg(at("job.csv"))
+        .assert()
+        .success();
+    let output = command("compensate hexapod")
+        .arg(at("calibrated.toml"))
+        .arg("--program")
+        .arg(at("job.csv"))
+        .arg("-o")
+        .arg(at("corrected.csv"))
+        .output()
+        .expect("runs");
+    let error = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(
+        error.contains("its platform frame is not observed"),
+        "{error}"
+    );
+    assert!(!std::path::Path::new(&at("corrected.csv")).exists());
     let shown = command("robot show")
         .arg(at("calibrated.toml"))
         .output()

@@ -42,6 +42,9 @@ pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
             parallel::identify(&args, args.run.source.robot.as_deref().unwrap_or_default())
         }
         Command::Evaluate(args) if is_parallel(Some(&args.robot)) => parallel::evaluate(&args),
+        Command::Compensate(args) if is_parallel(Some(&args.calibrated)) => {
+            parallel::compensate(&args)
+        }
         Command::Fk(args) => kinematics::forward(&args),
         Command::Jacobian(args) => kinematics::jacobian(&args),
         Command::Ik(args) => kinematics::inverse(&args),

@@ -5,13 +5,14 @@
 //! name.
 
 use gecaro_app::parallel::{
-    ParallelEvaluateRequest, ParallelGenerateRequest, ParallelIdentifiableRequest,
-    ParallelIdentifyRequest, PlatformErrorsDocument, load_parallel_robot,
+    ParallelCompensateRequest, ParallelEvaluateRequest, ParallelGenerateRequest,
+    ParallelIdentifiableRequest, ParallelIdentifyRequest, PlatformErrorsDocument,
+    load_parallel_robot,
 };
 use gecaro_app::{DataSource, LocalFiles};
 
 use super::options::{data_format, name, written};
-use crate::cli::{EvaluateArgs, GenerateArgs, IdentifiableArgs, IdentifyArgs};
+use crate::cli::{CompensateArgs, EvaluateArgs, GenerateArgs, IdentifiableArgs, IdentifyArgs};
 use crate::failure::Failure;
 use crate::format::{number, shown, table};
 
@@ -336,4 +337,40 @@ pub(crate) fn evaluate(args: &EvaluateArgs) -> Result<(), Failure> {
     );
     print_errors("direct model against the measured", &evaluated.errors);
     Ok(())
+}
+
+/// `gecaro compensate` of a parallel robot: a program of platform poses to
+/// the calibrated platform's actuator values.
+pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
+    serial_only(&[
+        ("--match", args.matching != "pose"),
+        ("--rebase", args.rebase),
+        ("--base-points", args.base_points.is_some()),
+        ("--base-circles", args.base_circles.is_some()),
+        ("--payload", args.payload.is_some()),
+        ("--tool", args.tool.is_some()),
+        ("--max-tool-turn", args.max_tool_turn.is_some()),
+    ])?;
+    let compensated = ParallelCompensateRequest {
+        nominal: args.nominal.clone(),
+        calibrated: args.calibrated.clone(),
+        program: DataSource::File(name(&args.program)),
+        format: data_format(&args.format),
+        output: written(&args.output, args.force),
+    }
+    .run(&LocalFiles)?;
+    if args.json {
+        super::output::print_json(&compensated)?;
+    } else {
+        println!(
+            "{} targets: actuator values of the calibrated platform (the largest change from \
+             the nominal one {} mm), written to {}",
+            compensated.targets,
+            mm(compensated.largest_correction),
+            args.output.display()
+        );
+    }
+    compensated
+        .failure()
+        .map_or(Ok(()), |error| Err(error.into()))
 }

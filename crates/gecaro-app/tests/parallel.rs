@@ -4,8 +4,8 @@
 
 use gecaro_app::LocalFiles;
 use gecaro_app::parallel::{
-    ParallelEvaluateRequest, ParallelGenerateRequest, ParallelIdentifiableRequest,
-    ParallelIdentifyRequest, RobotKind,
+    ParallelCompensateRequest, ParallelEvaluateRequest, ParallelGenerateRequest,
+    ParallelIdentifiableRequest, ParallelIdentifyRequest, RobotKind,
 };
 use gecaro_app::{DataSource, Output};
 
@@ -87,6 +87,63 @@ fn a_hexapod_is_calibrated_from_its_files_to_the_noise_floor() {
         "{after} m against the floor's {floor} m"
     );
     assert!(before > 20.0 * floor, "{before} m before, floor {floor} m");
+    // A job written for the nominal platform (targets and their nominal
+    // actuator values), compensated: the real platform lands on its
+    // targets at the calibration's precision, not 1 mm off.
+    let job = folder.path().join("job.csv").display().to_string();
+    ParallelGenerateRequest {
+        robot: "hexapod".into(),
+        method: "frame".into(),
+        count: 40,
+        error_level: Some(0.0),
+        real: None,
+        noise: 0.0,
+        seed: Some(11),
+        output: Output::to(job.clone()),
+        real_save_as: None,
+    }
+    .run(&LocalFiles)
+    .expect("job");
+    let corrected = folder.path().join("corrected.csv").display().to_string();
+    let compensated = ParallelCompensateRequest {
+        nominal: "hexapod".into(),
+        calibrated: calibrated.clone(),
+        program: DataSource::File(job.clone()),
+        format: Default::default(),
+        output: Output::to(corrected.clone()),
+    }
+    .run(&LocalFiles)
+    .expect("compensated");
+    assert_eq!(compensated.targets, 40);
+    assert!(compensated.failure().is_none());
+    let real = gecaro_io::read_parallel_robot_file(&folder.path().join("real.toml"))
+        .expect("real")
+        .platform;
+    let off_target = |program: &str| {
+        let read = gecaro_io::read_samples(
+            std::path::Path::new(program),
+            &[gecaro_core::FrameType::Prismatic; 6],
+            &[
+                gecaro_calib::study::DataColumn::Position,
+                gecaro_calib::study::DataColumn::Orientation,
+            ],
+            &Default::default(),
+        )
+        .expect("program");
+        let squares: Vec<f64> = read
+            .samples
+            .to_rows()
+            .iter()
+            .map(|row| {
+                let actuators: [f64; 6] = row.motor_positions.as_slice().try_into().expect("six");
+                let reached = real.direct(&actuators, &real.home()).expect("pose");
+                (reached.translation.vector - row.position.expect("target")).norm_squared()
+            })
+            .collect();
+        (squares.iter().sum::<f64>() / squares.len() as f64).sqrt()
+    };
+    let (before, after) = (off_target(&job), off_target(&corrected));
+    assert!(before > 0.5e-3 && after < 0.05e-3, "{before} m → {after} m");
     // What was written reads back as the platform identified.
     let read =
         gecaro_io::read_parallel_robot_file(std::path::Path::new(&calibrated)).expect("read");

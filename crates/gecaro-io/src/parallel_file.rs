@@ -7,6 +7,8 @@
 //! name = "hexapod"
 //! description = "a positioning hexapod"   # optional free text
 //! length_unit = "mm"             # optional: "m" (default) or "mm", every length below
+//! calibrated_from = "frame"      # written by a calibration: "frame" (poses) or
+//!                                # "position" (one point: the platform frame not observed)
 //!
 //! [[leg]]                        # six legs, leg 1 first
 //! base = [482.96, -129.41, 0]    # a: the base joint's centre, base frame
@@ -45,6 +47,7 @@ const TOP_KEYS: &[&str] = &[
     "name",
     "description",
     "length_unit",
+    "calibrated_from",
     "leg",
     "tool",
 ];
@@ -61,6 +64,10 @@ pub struct ParallelRobotFile {
     pub platform: GoughStewart,
     /// Free text kept from the file's `description` key.
     pub description: Option<String>,
+    /// What the calibration that made this platform measured (`frame`: its
+    /// poses; `position`: one point, so the platform frame is not
+    /// observed); `None` for a platform no calibration made.
+    pub calibrated_from: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -71,6 +78,7 @@ struct ParallelDocument {
     name: Option<String>,
     description: Option<String>,
     length_unit: Option<String>,
+    calibrated_from: Option<String>,
     #[serde(default)]
     leg: Vec<LegDocument>,
     tool: Option<ToolDocument>,
@@ -187,9 +195,20 @@ pub fn parse_parallel_robot_file(text: &str, path: &Path) -> Result<ParallelRobo
         .unwrap_or_else(|| crate::robot_file::fallback_name(path));
     let platform = GoughStewart::new(&name, legs, tool)
         .map_err(|error| source.document_error(model_error(error)))?;
+    if let Some(measured) = document.calibrated_from.as_deref()
+        && !["frame", "position"].contains(&measured)
+    {
+        return Err(at_key(
+            "calibrated_from",
+            format!(
+                "\"{measured}\" is not what a platform is calibrated from: \"frame\" or \"position\""
+            ),
+        ));
+    }
     Ok(ParallelRobotFile {
         platform,
         description: document.description,
+        calibrated_from: document.calibrated_from,
     })
 }
 
@@ -203,6 +222,9 @@ pub fn format_parallel_robot_file(file: &ParallelRobotFile) -> String {
     let _ = writeln!(text, "name = {}", toml_string(platform.name()));
     if let Some(description) = &file.description {
         let _ = writeln!(text, "description = {}", toml_string(description));
+    }
+    if let Some(measured) = &file.calibrated_from {
+        let _ = writeln!(text, "calibrated_from = {}", toml_string(measured));
     }
     let triple = |v: &Vector3<f64>| format!("[{:?}, {:?}, {:?}]", v.x, v.y, v.z);
     for leg in platform.legs() {

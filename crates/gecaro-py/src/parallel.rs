@@ -7,8 +7,8 @@
 use std::path::{Path, PathBuf};
 
 use gecaro_app::parallel::{
-    ParallelEvaluateRequest, ParallelGenerateRequest, ParallelIdentifiableRequest,
-    ParallelIdentifyRequest,
+    ParallelCompensateRequest, ParallelEvaluateRequest, ParallelGenerateRequest,
+    ParallelIdentifiableRequest, ParallelIdentifyRequest,
 };
 use gecaro_app::{DataFormatSpec, DataSource, LocalFiles, Output};
 use pyo3::prelude::*;
@@ -183,4 +183,39 @@ pub(crate) fn parallel_evaluate<'py>(
     };
     let evaluated = py.detach(|| request.run(&LocalFiles)).py()?;
     to_python(py, &evaluated)
+}
+
+/// A program of platform poses (`x,y,z,qw,qx,qy,qz`, base frame; other
+/// columns left aside) turned into the actuator values of the calibrated
+/// platform `calibrated` (exact: its inverse model) and written to `path`
+/// (`qm1…qm6` and the targets) → `{"targets", "largest_correction" (from
+/// the nominal platform's values), "outside_range": [(line, legs)],
+/// "written", "program": the CSV text}`. A platform calibrated from one
+/// point is refused (its platform frame is not observed).
+#[pyfunction]
+#[pyo3(signature = (
+    nominal, calibrated, program, *, path = None, length_unit = None, angle_unit = None,
+    overwrite = false,
+))]
+pub(crate) fn parallel_compensate<'py>(
+    py: Python<'py>,
+    nominal: String,
+    calibrated: String,
+    program: PathBuf,
+    path: Option<PathBuf>,
+    length_unit: Option<String>,
+    angle_unit: Option<String>,
+    overwrite: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let request = ParallelCompensateRequest {
+        nominal,
+        calibrated,
+        program: DataSource::File(name(&program)),
+        format: format(length_unit, angle_unit),
+        output: output(path.as_deref(), overwrite),
+    };
+    let compensated = py.detach(|| request.run(&LocalFiles)).py()?;
+    let document = to_python(py, &compensated)?;
+    document.set_item("program", compensated.text)?;
+    Ok(document)
 }

@@ -44,3 +44,18 @@ def test_an_understated_noise_is_not_trusted(tmp_path):
 def test_a_serial_function_refuses_the_hexapod_by_name():
     with pytest.raises(gecaro.errors.InputError, match="a parallel robot"):
         gecaro.Robot.load("hexapod")
+
+
+def test_a_program_of_poses_is_compensated_on_the_frame_calibrated_platform(tmp_path):
+    gecaro.parallel_generate("hexapod", "frame", 60, noise=2e-5, seed=6,
+                             path=tmp_path / "poses.csv", real_path=tmp_path / "real.toml")
+    gecaro.parallel_identify("hexapod", "frame", tmp_path / "poses.csv", sigma="20um",
+                             path=tmp_path / "calibrated.toml")
+    gecaro.parallel_generate("hexapod", "frame", 10, error_level=0.0, seed=7,
+                             path=tmp_path / "job.csv")
+    result = gecaro.parallel_compensate("hexapod", str(tmp_path / "calibrated.toml"),
+                                        tmp_path / "job.csv", path=tmp_path / "corrected.csv")
+    assert result["targets"] == 10
+    assert result["outside_range"] == []
+    assert 0.1e-3 < result["largest_correction"] < 10e-3
+    assert result["program"].startswith("qm1,qm2,qm3,qm4,qm5,qm6,x,y,z,qw,qx,qy,qz")

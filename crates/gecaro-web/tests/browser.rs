@@ -1704,11 +1704,27 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
     click(client, "#parallel-generate").await;
     let written = text_of(client, "#parallel-written, #parallel-result .error-box", 30).await;
     assert!(written.contains("60 poses"), "{written}");
-    set_values(client, &[("parallel-sigma", "20um")]).await;
+    set_values(
+        client,
+        &[
+            ("parallel-sigma", "20um"),
+            ("parallel-save", "hexapod-calibrated.toml"),
+        ],
+    )
+    .await;
     click(client, "#parallel-identify").await;
     let verdict = text_of(client, "#parallel-verdict, #parallel-result .error-box", 30).await;
     assert!(verdict.contains("fit the stated noise"), "{verdict}");
     assert_eq!(count(client, "#parallel-parameters tbody tr").await, 51);
+    set_values(client, &[("parallel-program", "hexapod.csv")]).await;
+    click(client, "#parallel-compensate").await;
+    let compensated = text_of(
+        client,
+        "#parallel-compensated, #parallel-result .error-box",
+        30,
+    )
+    .await;
+    assert!(compensated.contains("60 targets"), "{compensated}");
     screenshot(client, "17-parallel-robot.png").await;
     let errors = uncaught_errors(client).await;
     assert!(errors.is_empty(), "uncaught errors: {errors:?}");

@@ -112,6 +112,7 @@ impl ParallelGenerateRequest {
                         "{} with random errors of level {level} (seed {seed}), drawn by gecaro",
                         nominal.platform.name()
                     )),
+                    calibrated_from: None,
                 }
             }
         };

@@ -135,6 +135,7 @@ impl ParallelIdentifyRequest {
                 result.rank.rank(),
                 result.outcome.as_str()
             )),
+            calibrated_from: Some(measure.name().to_owned()),
         };
         let written = self.output.write(
             files,

@@ -8,6 +8,7 @@
 //! kind and a serial-only job (forward kinematics, compensation of a joint
 //! program) refuses a parallel robot by name.
 
+mod compensate;
 mod documents;
 mod evaluate;
 mod generate;
@@ -20,6 +21,7 @@ use gecaro_io::ParallelRobotFile;
 use crate::error::{AppError, ErrorKind};
 use crate::files::Files;
 
+pub use compensate::{ParallelCompensateRequest, ParallelCompensated};
 pub use documents::{
     PlatformErrorsDocument, PlatformIdentificationDocument, PlatformParameterDocument,
     PlatformRankDocument, PlatformRelationDocument,

@@ -93,7 +93,7 @@ impl PlatformMeasure {
 
     /// What the sensor reads of `platform` at `pose`, as a sample with the
     /// actuator values `actuators`.
-    pub(super) fn reading(
+    pub fn reading(
         self,
         platform: &GoughStewart,
         pose: &Isometry3<f64>,

@@ -47,6 +47,7 @@ __all__ = [
     "parallel_identifiable",
     "parallel_identify",
     "parallel_evaluate",
+    "parallel_compensate",
     "plan",
     "plan_study",
     "predict",
@@ -819,6 +820,21 @@ def parallel_evaluate(
     """A platform's direct model against the measured poses of ``data``:
     ``"errors"`` (``"position_rms"``, ``"position_max"`` m; ``"angle_rms"``,
     ``"angle_max"`` rad)."""
+
+def parallel_compensate(
+    nominal: str,
+    calibrated: str,
+    program: _PathLike,
+    *,
+    path: Optional[_PathLike] = None,
+    length_unit: Optional[Literal["m", "mm"]] = None,
+    angle_unit: Optional[Literal["rad", "deg"]] = None,
+    overwrite: bool = False,
+) -> dict[str, Any]:
+    """A program of platform poses turned into the calibrated platform's
+    actuator values (exact, its inverse model), as ``gecaro compensate
+    NOMINAL CALIBRATED --json``, with ``"program"`` (the CSV text, written to
+    ``path``); targets beyond an actuator's range in ``"outside_range"``."""
 
 def join(
     robot: Robot,

@@ -129,6 +129,26 @@ export function buildParallel() {
       result.replaceChildren(errorBox(error));
     }
   });
+  const program = text('program', 'job.csv (x, y, z, qw, qx, qy, qz)');
+  const corrected = text('corrected', 'job-compensated.csv', 'job-compensated.csv');
+  const compensate = runButton('parallel-compensate', 'Compensate the program', async () => {
+    try {
+      const answer = await api('/parallel/compensate', {
+        nominal: required(robot, 'the nominal parallel robot'),
+        calibrated: required(saveAs, 'the calibrated platform (saved above)'),
+        program: { file: required(program, 'the program of platform poses') },
+        format: format(),
+        save_as: required(corrected, 'the compensated program to write'),
+        overwrite: true,
+      });
+      await refreshFiles();
+      const flagged = answer.outside_range.length
+        ? ` ${answer.outside_range.length} targets need an actuator beyond its range (lines ${answer.outside_range.map(([line]) => line).join(', ')}).` : '';
+      result.replaceChildren(h('p', { id: 'parallel-compensated', class: flagged ? 'warnings' : '', text: `${answer.targets} targets: the calibrated platform’s actuator values (the largest change from the nominal one ${quantity(answer.largest_correction, 'length')} ${unitName('length')}) written to ${answer.written}.${flagged}` }));
+    } catch (error) {
+      result.replaceChildren(errorBox(error));
+    }
+  });
   $('parallel').replaceChildren(
     h('div', { class: 'form' },
       field('Parallel robot', robot),
@@ -144,6 +164,10 @@ export function buildParallel() {
       field('Write them to', generated),
       field('Write the real platform to', real),
       generate),
+    h('div', { class: 'form' },
+      field('Program of platform poses', program),
+      field('Write the compensated program to', corrected),
+      compensate),
     h('p', { class: 'hint', text: 'A Gough–Stewart platform: leg i from its base joint aᵢ to its platform joint bᵢ, length ℓᵢ = ‖p + R·bᵢ − aᵢ‖ = lᵢ + Kᵢ·qmᵢ. Measured poses identify every leg’s aᵢ, bᵢ, lᵢ, Kᵢ (48 parameters) through the inverse model; one measured point identifies the tool point and all but six platform-joint coordinates (docs/parallel.md).' }),
     result);
 }

@@ -25,7 +25,7 @@ use crate::state::AppState;
 /// Every POST route of the API (full paths), each taking a JSON body: for
 /// clients, tests and the fuzz targets. `routes` registers them (a test
 /// checks that each one answers).
-pub const POST_ROUTES: [&str; 20] = [
+pub const POST_ROUTES: [&str; 21] = [
     "/api/robots/check",
     "/api/robots/new",
     "/api/robots/upload",
@@ -43,6 +43,7 @@ pub const POST_ROUTES: [&str; 20] = [
     "/api/parallel/identifiable",
     "/api/parallel/identify",
     "/api/parallel/evaluate",
+    "/api/parallel/compensate",
     "/api/studies/save",
     "/api/studies/plan",
     "/api/studies/predict",
@@ -75,6 +76,7 @@ pub(crate) fn routes() -> Router<AppState> {
         .route("/parallel/identifiable", post(parallel::identifiable))
         .route("/parallel/identify", post(parallel::identify))
         .route("/parallel/evaluate", post(parallel::evaluate))
+        .route("/parallel/compensate", post(parallel::compensate))
         .route("/studies/file", get(study::open))
         .route("/studies/save", post(study::save))
         .route("/studies/plan", post(planning::plan_study))

@@ -1,13 +1,14 @@
 //! Parallel robots (issue 79) on the page: a Gough–Stewart platform of the
 //! folder (or the ready `hexapod`) generated, analysed, identified and
-//! evaluated: `/api/parallel/{generate, identifiable, identify, evaluate}`,
+//! evaluated, and a program of its poses compensated:
+//! `/api/parallel/{generate, identifiable, identify, evaluate, compensate}`,
 //! each as the command line's `--json`.
 
 use axum::extract::State;
 use gecaro_app::parallel::{
-    ParallelEvaluateRequest, ParallelEvaluated, ParallelGenerateRequest,
-    ParallelIdentifiableRequest, ParallelIdentifyRequest, PlatformIdentificationDocument,
-    PlatformRankDocument,
+    ParallelCompensateRequest, ParallelCompensated, ParallelEvaluateRequest, ParallelEvaluated,
+    ParallelGenerateRequest, ParallelIdentifiableRequest, ParallelIdentifyRequest,
+    PlatformIdentificationDocument, PlatformRankDocument,
 };
 use serde::Serialize;
 
@@ -84,5 +85,31 @@ pub(crate) async fn evaluate(
 ) -> Result<Json<ParallelEvaluated>, ApiError> {
     state
         .compute(move |state| Ok(Json(request.run(state.workspace())?)))
+        .await
+}
+
+/// A compensated program (written into the folder when named), with its
+/// CSV text.
+#[derive(Serialize)]
+pub(crate) struct ParallelCompensatedJson {
+    #[serde(flatten)]
+    compensated: ParallelCompensated,
+    program: String,
+}
+
+/// A program of platform poses turned into the calibrated platform's
+/// actuator values.
+pub(crate) async fn compensate(
+    State(state): State<AppState>,
+    Json(request): Json<ParallelCompensateRequest>,
+) -> Result<Json<ParallelCompensatedJson>, ApiError> {
+    state
+        .compute(move |state| {
+            let compensated = request.run(state.workspace())?;
+            Ok(Json(ParallelCompensatedJson {
+                program: compensated.text.clone(),
+                compensated,
+            }))
+        })
         .await
 }

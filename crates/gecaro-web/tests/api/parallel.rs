@@ -53,6 +53,22 @@ async fn a_hexapod_is_calibrated_through_the_api() {
         .post("/api/parallel/evaluate", &evaluate("real.toml"))
         .await;
     assert!(rms(&after) <= 1.2 * rms(&floor), "{after} against {floor}");
+    let (status, compensated) = api
+        .post(
+            "/api/parallel/compensate",
+            &json!({"nominal": "hexapod", "calibrated": "calibrated.toml",
+                    "program": {"file": "held.csv"}, "save_as": "held-compensated.csv"}),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{compensated}");
+    assert_eq!(compensated["targets"], 200);
+    assert!(
+        compensated["program"]
+            .as_str()
+            .expect("csv")
+            .starts_with("qm1,")
+    );
+    assert!(api.folder.path().join("held-compensated.csv").is_file());
     let (status, report) = api
         .post(
             "/api/parallel/identifiable",

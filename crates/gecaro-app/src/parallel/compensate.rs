@@ -1,0 +1,210 @@
+//! Compensation for a parallel robot: a program of platform poses (the
+//! targets, base frame) turned into the actuator values of the calibrated
+//! platform. Its inverse model is explicit, so each target is exact — no
+//! search, no residual — and only a target beyond an actuator's range is
+//! flagged. The corrected program is a data file (`qm1…qm6` and the
+//! target's `x,y,z,qw,qx,qy,qz`) that every job reads back.
+
+use gecaro_calib::parallel_robots::PlatformMeasure;
+use gecaro_calib::study::{DataColumn, Sample, Samples};
+use gecaro_core::gough_stewart::LEGS;
+use nalgebra::{Isometry3, Translation3};
+use serde::{Deserialize, Serialize};
+
+use super::load_parallel_robot;
+use crate::error::{AppError, ErrorKind};
+use crate::files::Files;
+use crate::output::Output;
+use crate::sources::{DataFormatSpec, DataSource};
+
+/// A compensation of a program for a parallel robot.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParallelCompensateRequest {
+    /// The nominal platform the program was written for.
+    pub nominal: String,
+    /// The calibrated platform.
+    pub calibrated: String,
+    /// The program: platform poses `x,y,z,qw,qx,qy,qz` (other columns,
+    /// such as the nominal actuator values, are left aside).
+    pub program: DataSource,
+    /// Units and columns of the program.
+    #[serde(default)]
+    pub format: DataFormatSpec,
+    /// The corrected program (CSV).
+    #[serde(flatten)]
+    pub output: Output,
+}
+
+/// A compensated program, as `gecaro compensate … --json` prints it (m).
+#[derive(Clone, Debug, Serialize)]
+pub struct ParallelCompensated {
+    /// Targets corrected.
+    pub targets: usize,
+    /// The largest change of an actuator value from the nominal platform's
+    /// (in the actuators' unit, metres for a gain of 1).
+    pub largest_correction: f64,
+    /// The program's lines whose corrected actuator values are beyond a
+    /// range, with the legs (1-based).
+    pub outside_range: Vec<(Option<usize>, Vec<usize>)>,
+    /// Where the corrected program was written.
+    pub written: Option<String>,
+    /// The corrected program (CSV).
+    #[serde(skip)]
+    pub text: String,
+}
+
+impl ParallelCompensated {
+    /// The error a front end ends with when targets are flagged.
+    pub fn failure(&self) -> Option<AppError> {
+        let lines: Vec<String> = self
+            .outside_range
+            .iter()
+            .take(5)
+            .map(|(line, legs)| {
+                let legs: Vec<String> = legs.iter().map(ToString::to_string).collect();
+                format!(
+                    "line {} (leg {})",
+                    line.map_or_else(|| "?".into(), |line| line.to_string()),
+                    legs.join(", ")
+                )
+            })
+            .collect();
+        (!self.outside_range.is_empty()).then(|| {
+            AppError::plain(
+                ErrorKind::NotConverged,
+                format!(
+                    "{} of {} targets need an actuator beyond its range on the calibrated \
+                     platform: {}{}; they are written, flagged here only",
+                    self.outside_range.len(),
+                    self.targets,
+                    lines.join(", "),
+                    if self.outside_range.len() > 5 {
+                        ", …"
+                    } else {
+                        ""
+                    }
+                ),
+            )
+        })
+    }
+}
+
+impl ParallelCompensateRequest {
+    /// Whether the program's header has actuator columns (`qm1`, or a
+    /// column the format maps to it).
+    fn names_actuators(&self, files: &dyn Files) -> Result<bool, AppError> {
+        if self.format.columns.as_deref().is_some_and(|columns| {
+            columns
+                .split(',')
+                .any(|pair| pair.trim().starts_with("qm1="))
+        }) {
+            return Ok(true);
+        }
+        let head = match &self.program {
+            DataSource::File(name) => {
+                let opened = files.open(name, &["csv"])?;
+                let mut head = Vec::new();
+                std::io::Read::read_to_end(
+                    &mut std::io::Read::take(opened.reader, 1 << 16),
+                    &mut head,
+                )
+                .map_err(|cause| gecaro_io::Error::Read {
+                    path: opened.path.clone(),
+                    cause,
+                })?;
+                String::from_utf8_lossy(&head).into_owned()
+            }
+            DataSource::Csv { text, .. } => text.chars().take(1 << 16).collect(),
+            DataSource::Samples { samples, .. } => {
+                return Ok(samples
+                    .as_slice()
+                    .iter()
+                    .any(|sample| !sample.motor_positions().is_empty()));
+            }
+        };
+        let header = head
+            .lines()
+            .map(str::trim)
+            .find(|line| !line.is_empty() && !line.starts_with('#'))
+            .unwrap_or_default();
+        Ok(header
+            .split([',', ';', '\t'])
+            .any(|field| field.trim().trim_matches('"') == "qm1"))
+    }
+
+    /// Runs the compensation.
+    ///
+    /// # Errors
+    /// Robots or a program that cannot be read (its line), a file that
+    /// cannot be written.
+    pub fn run(&self, files: &dyn Files) -> Result<ParallelCompensated, AppError> {
+        let nominal = load_parallel_robot(&self.nominal, files)?;
+        let calibrated = load_parallel_robot(&self.calibrated, files)?;
+        if calibrated.calibrated_from.as_deref() == Some("position") {
+            // One measured point fixes the tool point, not the platform
+            // frame (six of its coordinates are regrouped): a target pose
+            // of that frame would be met in the calibration's gauge, not on
+            // the real platform.
+            return Err(AppError::plain(
+                ErrorKind::Input,
+                format!(
+                    "{} was calibrated from one measured point (calibrated_from = \"position\"): \
+                     its platform frame is not observed, so a program of platform poses cannot \
+                     be compensated with it; calibrate from measured poses (frame) to compensate \
+                     poses",
+                    self.calibrated
+                ),
+            ));
+        }
+        self.output.check(files, "csv")?;
+        // A program may carry the nominal actuator values (a data file, a
+        // program written for the nominal platform): read and left aside.
+        let actuators = if self.names_actuators(files)? {
+            super::actuator_types()
+        } else {
+            Vec::new()
+        };
+        let read = self.program.read(
+            files,
+            &actuators,
+            &[DataColumn::Position, DataColumn::Orientation],
+            &self.format.format()?,
+        )?;
+        let mut corrected = Vec::with_capacity(read.samples.len());
+        let mut outside_range = Vec::new();
+        let mut largest_correction = 0.0f64;
+        for target in read.samples.to_rows() {
+            let pose = Isometry3::from_parts(
+                Translation3::from(target.position.unwrap_or_default()),
+                target.orientation.unwrap_or_default(),
+            );
+            let actuators = calibrated.platform.actuator_values(&pose);
+            let commanded = nominal.platform.actuator_values(&pose);
+            for (new, old) in actuators.iter().zip(&commanded) {
+                largest_correction = largest_correction.max((new - old).abs());
+            }
+            let legs = calibrated.platform.legs_out_of_range(&actuators);
+            if !legs.is_empty() {
+                outside_range.push((target.line, legs));
+            }
+            let mut sample: Sample =
+                PlatformMeasure::Pose.reading(&calibrated.platform, &pose, &actuators);
+            sample.line = target.line;
+            corrected.push(sample);
+        }
+        let text = gecaro_io::format_samples(
+            LEGS,
+            PlatformMeasure::Pose.columns(),
+            Samples::from(corrected.as_slice()).as_slice(),
+        );
+        let written = self.output.write(files, "csv", text.as_bytes())?;
+        Ok(ParallelCompensated {
+            targets: corrected.len(),
+            largest_correction,
+            outside_range,
+            written: written.map(|path| path.display().to_string()),
+            text,
+        })
+    }
+}
