@@ -83,7 +83,7 @@ fn a_hexapod_calibrated_on_the_command_line_reaches_the_noise_floor() {
         .expect("runs");
     let text = String::from_utf8_lossy(&shown.stdout);
     assert!(
-        text.contains("hexapod (calibrated) — Gough–Stewart platform, 6 legs"),
+        text.contains("hexapod (calibrated) — Gough–Stewart platform, 6 actuators"),
         "{text}"
     );
 }
@@ -120,4 +120,83 @@ fn serial_only_options_and_jobs_are_refused_by_name() {
         error.contains("`frame` (the platform's pose) or `position`"),
         "{error}"
     );
+}
+
+#[test]
+fn a_delta_is_calibrated_from_its_tool_point_and_a_program_compensated() {
+    let folder = tempfile::tempdir().expect("folder");
+    let at = |name: &str| folder.path().join(name).display().to_string();
+    command("generate delta --method position --count 60 --noise 2e-5 --seed 3 -o")
+        .arg(at("points.csv"))
+        .arg("--real-out")
+        .arg(at("real.toml"))
+        .assert()
+        .success();
+    command("generate delta --method position --count 200 --noise 2e-5 --seed 4 -o")
+        .arg(at("held.csv"))
+        .arg("--real")
+        .arg(at("real.toml"))
+        .assert()
+        .success();
+    let identified = json_output(&[
+        "identify",
+        "delta",
+        "--method",
+        "position",
+        "--sigma",
+        "20um",
+        "--json",
+        "--data",
+        &at("points.csv"),
+        "-o",
+        &at("calibrated.toml"),
+    ]);
+    assert_eq!(
+        identified["outcome"], "fits_noise",
+        "{}",
+        identified["summary"]
+    );
+    assert_eq!(identified["rank"], 24);
+    let rms = |robot: &str| {
+        json_output(&[
+            "evaluate",
+            robot,
+            "--method",
+            "position",
+            "--json",
+            "--data",
+            &at("held.csv"),
+        ])["errors"]["position_rms"]
+            .as_f64()
+            .expect("rms")
+    };
+    let (after, floor) = (rms(&at("calibrated.toml")), rms(&at("real.toml")));
+    assert!(after <= 1.3 * floor, "{after} m, floor {floor} m");
+    // The held-out tool points as a program: the compensated motor angles
+    // put the real Delta's tool point on them (its own noise aside).
+    command("compensate delta")
+        .arg(at("calibrated.toml"))
+        .arg("--program")
+        .arg(at("held.csv"))
+        .arg("-o")
+        .arg(at("corrected.csv"))
+        .assert()
+        .success();
+    let corrected = json_output(&[
+        "evaluate",
+        &at("real.toml"),
+        "--method",
+        "position",
+        "--json",
+        "--data",
+        &at("corrected.csv"),
+    ]);
+    let off = corrected["errors"]["position_rms"].as_f64().expect("rms");
+    assert!(off < 0.05e-3, "{off} m off the targets");
+    let output = command("identify delta --method frame --data")
+        .arg(at("points.csv"))
+        .output()
+        .expect("runs");
+    assert!(!output.status.success());
+    assert!(String::from_utf8_lossy(&output.stderr).contains("only translates"));
 }

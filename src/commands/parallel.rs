@@ -10,6 +10,8 @@ use gecaro_app::parallel::{
     load_parallel_robot,
 };
 use gecaro_app::{DataSource, LocalFiles};
+use gecaro_core::parallel_model::ParallelModel;
+use gecaro_core::parallel_robot::ParallelRobot;
 
 use super::options::{data_format, name, written};
 use crate::cli::{CompensateArgs, EvaluateArgs, GenerateArgs, IdentifiableArgs, IdentifyArgs};
@@ -21,7 +23,7 @@ use crate::format::{number, shown, table};
 fn serial_only(given: &[(&str, bool)]) -> Result<(), Failure> {
     match given.iter().find(|(_, given)| *given) {
         Some((option, _)) => Err(Failure::usage(
-            format!("{option} has no meaning for a parallel robot (a Gough–Stewart platform)"),
+            format!("{option} has no meaning for a parallel robot"),
             Some(
                 "a parallel robot takes --method frame|position, --data, --sigma and the data \
                  file's units and columns"
@@ -39,45 +41,89 @@ fn mm(metres: f64) -> String {
 /// `gecaro robot show` of a parallel robot.
 pub(crate) fn show(robot: &str) -> Result<(), Failure> {
     let file = load_parallel_robot(robot, &LocalFiles)?;
-    let platform = &file.platform;
+    let model = &file.robot;
     println!(
-        "{} — Gough–Stewart platform, 6 legs, {} parameters (mm)",
-        shown(platform.name()),
-        gecaro_core::gough_stewart::PARAMETER_COUNT
+        "{} — {}, {} actuators, {} parameters (mm, degrees)",
+        shown(model.name()),
+        structure_words(model),
+        model.actuator_count(),
+        model.parameters().len()
     );
     if let Some(description) = &file.description {
         println!("{}", shown(description));
     }
-    let mut legs = table(
-        &[
-            "leg",
-            "base x",
-            "base y",
-            "base z",
-            "platform x",
-            "platform y",
-            "platform z",
-            "length",
-            "gain",
-            "min",
-            "max",
-        ],
-        1,
-    );
-    for (index, leg) in platform.legs().iter().enumerate() {
-        let mut row = vec![(index + 1).to_string()];
-        row.extend(leg.base.iter().chain(leg.platform.iter()).map(|v| mm(*v)));
-        row.extend([
-            mm(leg.length),
-            number(leg.gain, 6),
-            mm(leg.min),
-            mm(leg.max),
-        ]);
-        legs.add_row(row);
-    }
-    println!("{legs}");
-    let tool = platform.tool();
-    let home = platform.home().translation.vector;
+    let degrees = |radians: f64| number(radians.to_degrees(), 4);
+    let rows = match model {
+        ParallelRobot::GoughStewart(platform) => {
+            let mut legs = table(
+                &[
+                    "leg",
+                    "base x",
+                    "base y",
+                    "base z",
+                    "platform x",
+                    "platform y",
+                    "platform z",
+                    "length",
+                    "gain",
+                    "min",
+                    "max",
+                ],
+                1,
+            );
+            for (index, leg) in platform.legs().iter().enumerate() {
+                let mut row = vec![(index + 1).to_string()];
+                row.extend(leg.base.iter().chain(leg.platform.iter()).map(|v| mm(*v)));
+                row.extend([
+                    mm(leg.length),
+                    number(leg.gain, 6),
+                    mm(leg.min),
+                    mm(leg.max),
+                ]);
+                legs.add_row(row);
+            }
+            legs
+        }
+        ParallelRobot::Delta(delta) => {
+            let mut arms = table(
+                &[
+                    "arm",
+                    "base x",
+                    "base y",
+                    "base z",
+                    "azimuth",
+                    "offset",
+                    "gain",
+                    "upper arm",
+                    "forearm",
+                    "plate x",
+                    "plate y",
+                    "plate z",
+                    "min",
+                    "max",
+                ],
+                1,
+            );
+            for (index, arm) in delta.arms().iter().enumerate() {
+                let mut row = vec![(index + 1).to_string()];
+                row.extend(arm.base.iter().map(|v| mm(*v)));
+                row.extend([
+                    degrees(arm.azimuth),
+                    degrees(arm.offset),
+                    number(arm.gain, 6),
+                    mm(arm.upper_arm),
+                    mm(arm.forearm),
+                ]);
+                row.extend(arm.platform.iter().map(|v| mm(*v)));
+                row.extend([degrees(arm.min), degrees(arm.max)]);
+                arms.add_row(row);
+            }
+            arms
+        }
+    };
+    println!("{rows}");
+    let tool = model.tool();
+    let home = model.home().translation.vector;
     println!(
         "tool point (platform frame): {}, {}, {} mm; home pose: level at {}, {}, {} mm",
         mm(tool.x),
@@ -90,15 +136,25 @@ pub(crate) fn show(robot: &str) -> Result<(), Failure> {
     Ok(())
 }
 
+/// The structure in words.
+fn structure_words(model: &ParallelRobot) -> &'static str {
+    match model {
+        ParallelRobot::GoughStewart(_) => "Gough–Stewart platform",
+        ParallelRobot::Delta(_) => "Delta robot",
+    }
+}
+
 /// `gecaro robot check` of a parallel robot.
 pub(crate) fn check(robot: &str) -> Result<(), Failure> {
     let file = load_parallel_robot(robot, &LocalFiles)?;
-    let home = file.platform.home().translation.vector;
+    let model = &file.robot;
+    let home = model.home().translation.vector;
     println!(
-        "ok: {} — Gough–Stewart platform, 6 legs, {} parameters; home pose level at {} mm \
-         above the base",
-        shown(file.platform.name()),
-        gecaro_core::gough_stewart::PARAMETER_COUNT,
+        "ok: {} — {}, {} actuators, {} parameters; home pose at {} mm from the base",
+        shown(model.name()),
+        structure_words(model),
+        model.actuator_count(),
+        model.parameters().len(),
         mm(home.z)
     );
     Ok(())
@@ -134,7 +190,7 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
         args.method.method,
         args.output.display()
     );
-    println!("real platform: {}", shown(generated.real.platform.name()));
+    println!("real robot: {}", shown(generated.real.robot.name()));
     if args.noise > 0.0 {
         println!(
             "sensor noise: σ = {} mm ({} rad for orientations)",
@@ -179,26 +235,22 @@ pub(crate) fn identifiable(args: &IdentifiableArgs, robot: &str) -> Result<(), F
         report.source,
         number(report.condition_number, 4)
     );
-    let mut statuses = table(
-        &["leg", "a x", "a y", "a z", "b x", "b y", "b z", "l", "K"],
-        1,
-    );
-    for (leg, chunk) in report.parameters.chunks(8).take(6).enumerate() {
-        let mut row = vec![(leg + 1).to_string()];
-        row.extend(
-            chunk
-                .iter()
-                .map(|(_, status)| status_letter(status).to_owned()),
-        );
-        statuses.add_row(row);
+    for status in ["identifiable", "regrouped", "no_effect", "excluded"] {
+        let names: Vec<&str> = report
+            .parameters
+            .iter()
+            .filter(|(_, of)| *of == status)
+            .map(|(name, _)| name.as_str())
+            .collect();
+        if !names.is_empty() {
+            println!(
+                "{} ({}): {}",
+                status.replace('_', " "),
+                names.len(),
+                names.join(" ")
+            );
+        }
     }
-    println!("{statuses}");
-    let tool: Vec<&str> = report.parameters[48..]
-        .iter()
-        .map(|(_, status)| status_letter(status))
-        .collect();
-    println!("tool point t: {}", tool.join(" "));
-    println!("(1 identifiable, n regrouped, 0 no effect, - not in these equations)");
     for relation in &report.regrouped {
         let terms: Vec<String> = relation
             .into
@@ -212,15 +264,6 @@ pub(crate) fn identifiable(args: &IdentifiableArgs, robot: &str) -> Result<(), F
         );
     }
     Ok(())
-}
-
-fn status_letter(status: &str) -> &'static str {
-    match status {
-        "identifiable" => "1",
-        "regrouped" => "n",
-        "no_effect" => "0",
-        _ => "-",
-    }
 }
 
 /// `gecaro identify` of a parallel robot.
@@ -269,8 +312,11 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
         );
         let mut parameters = table(&["parameter", "nominal", "identified", "σ", "status"], 1);
         for parameter in &document.parameters {
-            let gain = parameter.name.starts_with('K');
-            let shown_value = |value: f64| if gain { number(value, 8) } else { mm(value) };
+            let shown_value = |value: f64| match parameter.unit {
+                "m" => mm(value),
+                "rad" => number(value.to_degrees(), 5),
+                _ => number(value, 8),
+            };
             parameters.add_row(vec![
                 parameter.name.clone(),
                 shown_value(parameter.nominal),
@@ -280,7 +326,7 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
             ]);
         }
         println!("{parameters}");
-        println!("(mm; gains K dimensionless)");
+        println!("(mm; angles in degrees; gains dimensionless)");
         print_errors("at the measured poses, nominal", &document.errors_before);
         print_errors("at the measured poses, calibrated", &document.errors_after);
         if let Some(path) = &document.written {

@@ -8,6 +8,7 @@ use gecaro_app::parallel::{
     ParallelIdentifiableRequest, ParallelIdentifyRequest, RobotKind,
 };
 use gecaro_app::{DataSource, Output};
+use gecaro_core::parallel_model::ParallelModel;
 
 fn generate(folder: &std::path::Path, name: &str, count: usize, seed: u64) -> String {
     let path = folder.join(name).display().to_string();
@@ -118,7 +119,7 @@ fn a_hexapod_is_calibrated_from_its_files_to_the_noise_floor() {
     assert!(compensated.failure().is_none());
     let real = gecaro_io::read_parallel_robot_file(&folder.path().join("real.toml"))
         .expect("real")
-        .platform;
+        .robot;
     let off_target = |program: &str| {
         let read = gecaro_io::read_samples(
             std::path::Path::new(program),
@@ -148,8 +149,8 @@ fn a_hexapod_is_calibrated_from_its_files_to_the_noise_floor() {
     let read =
         gecaro_io::read_parallel_robot_file(std::path::Path::new(&calibrated)).expect("read");
     assert_eq!(
-        read.platform.parameters(),
-        identified.calibrated.platform.parameters()
+        read.robot.parameters(),
+        identified.calibrated.robot.parameters()
     );
 }
 

@@ -124,6 +124,8 @@ pub enum Setting {
     MaxIncidence,
     /// The region of the joint space a calibrated robot is used in.
     WorkRegion,
+    /// What a sensor measures (a method).
+    Method,
 }
 
 impl Setting {
@@ -150,6 +152,7 @@ impl Setting {
             Setting::Station => "station",
             Setting::WorkRegion => "work_region",
             Setting::MaxIncidence => "max_incidence",
+            Setting::Method => "method",
         }
     }
 }

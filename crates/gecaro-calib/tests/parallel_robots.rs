@@ -1,6 +1,7 @@
-//! A Gough–Stewart platform calibrated against simulated truth (issue 79's
-//! targets): identifiability against an independent rank computation, and
-//! calibrations judged on held-out poses against the real platform.
+//! Parallel robots calibrated against simulated truth (issue 79's targets),
+//! a Gough–Stewart platform and a Delta robot alike: identifiability against
+//! an independent rank computation, and calibrations judged on held-out
+//! poses against the real robot.
 
 use gecaro_calib::identifiability::ParameterStatus;
 use gecaro_calib::identification::Outcome;
@@ -10,17 +11,16 @@ use gecaro_calib::parallel_robots::{
     random_platform_poses, simulate_platform,
 };
 use gecaro_calib::simulation::Sampler;
-use gecaro_core::gough_stewart::{GoughStewart, LEGS, PARAMETER_COUNT, PARAMETERS_PER_LEG};
+use gecaro_core::parallel_model::ParallelModel;
+use gecaro_core::parallel_robot::ParallelRobot;
 use gecaro_data::sample::Sample;
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, Isometry3};
 
-/// The ready hexapod (`robots/hexapod.toml`): base joints on a circle of
-/// 0.5 m, platform joints on one of 0.3 m, 0.6 m legs with ±0.1 m of
-/// stroke, a tool point 0.1 m above the platform.
-fn hexapod() -> GoughStewart {
-    gecaro_io::load_parallel_robot("hexapod")
-        .expect("the ready hexapod")
-        .platform
+/// A ready parallel robot (`robots/hexapod.toml`, `robots/delta.toml`).
+fn ready(name: &str) -> ParallelRobot {
+    gecaro_io::load_parallel_robot(name)
+        .expect("a ready parallel robot")
+        .robot
 }
 
 const NOISE: PlatformNoise = PlatformNoise {
@@ -29,7 +29,7 @@ const NOISE: PlatformNoise = PlatformNoise {
 };
 
 fn measured(
-    real: &GoughStewart,
+    real: &ParallelRobot,
     measure: PlatformMeasure,
     count: usize,
     noise: PlatformNoise,
@@ -38,43 +38,38 @@ fn measured(
     let mut sampler = Sampler::new(seed);
     let poses = random_platform_poses(real, count, PlatformWorkspace::of(real), &mut sampler)
         .expect("reachable poses");
-    simulate_platform(real, measure, &poses, noise, &mut sampler)
+    simulate_platform(real, measure, &poses, noise, &mut sampler).expect("measured")
 }
 
-/// The rank of W made by central differences of what the sensor reads
-/// (the legs' equations for poses, the direct model's tool point for
+/// The rank of W made by central differences of what the sensor reads (the
+/// closure equations at measured poses, the direct model's tool point for
 /// points), by nalgebra's SVD.
-fn independent_rank(
-    platform: &GoughStewart,
-    samples: &[Sample],
-    measure: PlatformMeasure,
-) -> usize {
-    let values = platform.parameters();
-    let columns = match measure {
-        PlatformMeasure::Pose => LEGS * PARAMETERS_PER_LEG,
-        PlatformMeasure::Point => PARAMETER_COUNT,
-    };
+fn independent_rank(model: &ParallelRobot, samples: &[Sample], measure: PlatformMeasure) -> usize {
+    let values = model.parameters();
+    let tool = model.tool_parameters();
+    let columns: Vec<usize> = (0..values.len())
+        .filter(|index| measure.measures_tool() || !tool.contains(index))
+        .collect();
     let read = |delta: f64, column: usize| -> Vec<f64> {
         let mut changed = values.clone();
         changed[column] += delta;
-        let changed = platform.with_parameters(&changed).expect("platform");
+        let changed = model.with_parameters(&changed).expect("model");
         samples
             .iter()
             .flat_map(|sample| {
-                let actuators: [f64; LEGS] =
-                    sample.motor_positions.as_slice().try_into().expect("6");
-                let measured = nalgebra::Isometry3::from_parts(
+                let actuators = sample.motor_positions.as_slice();
+                let measured = Isometry3::from_parts(
                     sample.position.expect("position").into(),
                     sample.orientation.unwrap_or_default(),
                 );
                 match measure {
                     PlatformMeasure::Pose => changed
-                        .leg_residuals(&measured, &actuators)
+                        .closure(&measured, actuators)
                         .iter()
                         .copied()
                         .collect::<Vec<_>>(),
                     PlatformMeasure::Point => {
-                        let pose = changed.direct(&actuators, &platform.home()).expect("pose");
+                        let pose = changed.direct(actuators, &model.home()).expect("pose");
                         changed.tool_point(&pose).iter().copied().collect()
                     }
                 }
@@ -82,12 +77,12 @@ fn independent_rank(
             .collect()
     };
     let h = 1e-6;
-    let rows = samples.len() * measure.rows_per_sample();
-    let mut matrix = DMatrix::zeros(rows, columns);
-    for column in 0..columns {
-        let (plus, minus) = (read(h, column), read(-h, column));
+    let rows = samples.len() * measure.rows_per_sample(model);
+    let mut matrix = DMatrix::zeros(rows, columns.len());
+    for (j, column) in columns.iter().enumerate() {
+        let (plus, minus) = (read(h, *column), read(-h, *column));
         for row in 0..rows {
-            matrix[(row, column)] = (plus[row] - minus[row]) / (2.0 * h);
+            matrix[(row, j)] = (plus[row] - minus[row]) / (2.0 * h);
         }
     }
     let singular = matrix.singular_values();
@@ -96,8 +91,8 @@ fn independent_rank(
 }
 
 #[test]
-fn measured_poses_identify_every_leg_parameter() {
-    let nominal = hexapod();
+fn measured_poses_identify_every_leg_parameter_of_a_hexapod() {
+    let nominal = ready("hexapod");
     let samples = measured(&nominal, PlatformMeasure::Pose, 30, NOISE, 1);
     let report = platform_identifiability(&nominal, &samples, PlatformMeasure::Pose).expect("rank");
     assert_eq!(report.rank(), 48);
@@ -107,16 +102,13 @@ fn measured_poses_identify_every_leg_parameter() {
     );
     assert!(report.relations.is_empty());
     // The tool point is not in these equations.
-    assert_eq!(
-        report.statuses[PARAMETER_COUNT - 1],
-        ParameterStatus::Excluded
-    );
+    assert_eq!(report.statuses[50], ParameterStatus::Excluded);
     assert!(report.condition_number.is_finite());
 }
 
 #[test]
-fn one_measured_point_leaves_the_platform_frame_to_six_regroupings() {
-    let nominal = hexapod();
+fn one_measured_point_leaves_a_hexapods_platform_frame_to_six_regroupings() {
+    let nominal = ready("hexapod");
     let samples = measured(&nominal, PlatformMeasure::Point, 40, NOISE, 2);
     let report =
         platform_identifiability(&nominal, &samples, PlatformMeasure::Point).expect("rank");
@@ -124,7 +116,7 @@ fn one_measured_point_leaves_the_platform_frame_to_six_regroupings() {
         report.rank(),
         independent_rank(&nominal, &samples, PlatformMeasure::Point)
     );
-    assert_eq!(report.rank(), PARAMETER_COUNT - 6, "{:?}", report.statuses);
+    assert_eq!(report.rank(), 51 - 6, "{:?}", report.statuses);
     assert_eq!(report.relations.len(), 6);
     // Every regrouped parameter is a platform joint's: the tool point, the
     // base joints, lengths and gains are all identifiable.
@@ -135,12 +127,40 @@ fn one_measured_point_leaves_the_platform_frame_to_six_regroupings() {
     }
 }
 
-/// Identifies from `count` measurements and judges the calibrated platform
-/// on 200 held-out poses of the real one: its RMS position error over the
-/// real platform's own (the noise floor of held-out measurements).
-fn held_out_ratio(measure: PlatformMeasure, count: usize, seed: u64) -> (f64, Outcome, f64) {
-    let nominal = hexapod();
-    let real = perturbed_platform(&nominal, 1.0, &mut Sampler::new(seed)).expect("real platform");
+#[test]
+fn a_deltas_plate_joints_are_regrouped_with_its_base_joints() {
+    let nominal = ready("delta");
+    let samples = measured(&nominal, PlatformMeasure::Point, 40, NOISE, 3);
+    let report =
+        platform_identifiability(&nominal, &samples, PlatformMeasure::Point).expect("rank");
+    let independent = independent_rank(&nominal, &samples, PlatformMeasure::Point);
+    assert_eq!(report.rank(), independent, "{:?}", report.statuses);
+    // The plate only translates: each arm's plate joint c meets the data
+    // only as c − B, and the tool point as c − t — twelve combinations
+    // fewer than the 36 parameters.
+    assert_eq!(report.rank(), 36 - 12, "{:?}", report.statuses);
+    for relation in &report.relations {
+        let name = &report.names[relation.parameter];
+        assert!(name.starts_with('c') || name.starts_with('B'), "{name}");
+    }
+    // A Delta's pose says nothing its position does not.
+    let error = platform_identifiability(&nominal, &samples, PlatformMeasure::Pose)
+        .expect_err("refused")
+        .to_string();
+    assert!(error.contains("only translates"), "{error}");
+}
+
+/// Identifies `robot`'s real counterpart from `count` measurements and
+/// judges it on 200 held-out poses: its RMS position error over the real
+/// robot's own (the noise floor of held-out measurements).
+fn held_out_ratio(
+    robot: &str,
+    measure: PlatformMeasure,
+    count: usize,
+    seed: u64,
+) -> (f64, Outcome, f64) {
+    let nominal = ready(robot);
+    let real = perturbed_platform(&nominal, 1.0, &mut Sampler::new(seed)).expect("real robot");
     let data = measured(&real, measure, count, NOISE, seed + 1);
     let result = identify_platform(
         &nominal,
@@ -155,7 +175,7 @@ fn held_out_ratio(measure: PlatformMeasure, count: usize, seed: u64) -> (f64, Ou
     let calibrated = platform_errors(&result.calibrated, &held_out, measure).expect("calibrated");
     let before = platform_errors(&nominal, &held_out, measure).expect("nominal");
     println!(
-        "{measure:?}: nominal {:.4} mm, calibrated {:.4} mm, floor {:.4} mm; {:?} σ̂/σ {:.3}",
+        "{robot} {measure:?}: nominal {:.4} mm, calibrated {:.4} mm, floor {:.4} mm; {:?} σ̂/σ {:.3}",
         before.position_rms * 1e3,
         calibrated.position_rms * 1e3,
         floor.position_rms * 1e3,
@@ -170,8 +190,8 @@ fn held_out_ratio(measure: PlatformMeasure, count: usize, seed: u64) -> (f64, Ou
 }
 
 #[test]
-fn sixty_measured_poses_calibrate_to_the_noise_floor() {
-    let (ratio, outcome, before) = held_out_ratio(PlatformMeasure::Pose, 60, 10);
+fn sixty_measured_poses_calibrate_a_hexapod_to_the_noise_floor() {
+    let (ratio, outcome, before) = held_out_ratio("hexapod", PlatformMeasure::Pose, 60, 10);
     assert!(
         before > 20.0,
         "the real platform is off: {before}× the floor"
@@ -181,8 +201,8 @@ fn sixty_measured_poses_calibrate_to_the_noise_floor() {
 }
 
 #[test]
-fn one_platform_point_calibrates_to_the_noise_floor() {
-    let (ratio, outcome, before) = held_out_ratio(PlatformMeasure::Point, 60, 20);
+fn one_platform_point_calibrates_a_hexapod_to_the_noise_floor() {
+    let (ratio, outcome, before) = held_out_ratio("hexapod", PlatformMeasure::Point, 60, 20);
     assert!(
         before > 20.0,
         "the real platform is off: {before}× the floor"
@@ -192,23 +212,36 @@ fn one_platform_point_calibrates_to_the_noise_floor() {
 }
 
 #[test]
+fn sixty_measured_points_calibrate_a_delta_to_the_noise_floor() {
+    let (ratio, outcome, before) = held_out_ratio("delta", PlatformMeasure::Point, 60, 30);
+    assert!(before > 20.0, "the real Delta is off: {before}× the floor");
+    assert!(ratio <= 1.3, "{ratio}× the noise floor");
+    assert_eq!(outcome, Outcome::FitsNoise);
+}
+
+#[test]
 fn a_stated_noise_ten_times_too_small_is_named() {
-    let nominal = hexapod();
-    let real = perturbed_platform(&nominal, 1.0, &mut Sampler::new(5)).expect("real");
-    let data = measured(&real, PlatformMeasure::Pose, 60, NOISE, 6);
-    let stated = PlatformNoise {
-        length: NOISE.length / 10.0,
-        angle: NOISE.angle / 10.0,
-    };
-    let result = identify_platform(
-        &nominal,
-        &data,
-        PlatformMeasure::Pose,
-        Some(stated),
-        &PlatformIdentificationOptions::default(),
-    )
-    .expect("identified");
-    assert_eq!(result.outcome, Outcome::ExceedsNoise);
-    let ratio = result.noise_test.expect("tested").sigma_ratio;
-    assert!((8.0..12.0).contains(&ratio), "{ratio}");
+    for (robot, measure) in [
+        ("hexapod", PlatformMeasure::Pose),
+        ("delta", PlatformMeasure::Point),
+    ] {
+        let nominal = ready(robot);
+        let real = perturbed_platform(&nominal, 1.0, &mut Sampler::new(5)).expect("real");
+        let data = measured(&real, measure, 60, NOISE, 6);
+        let stated = PlatformNoise {
+            length: NOISE.length / 10.0,
+            angle: NOISE.angle / 10.0,
+        };
+        let result = identify_platform(
+            &nominal,
+            &data,
+            measure,
+            Some(stated),
+            &PlatformIdentificationOptions::default(),
+        )
+        .expect("identified");
+        assert_eq!(result.outcome, Outcome::ExceedsNoise, "{robot}");
+        let ratio = result.noise_test.expect("tested").sigma_ratio;
+        assert!((8.0..12.0).contains(&ratio), "{robot}: {ratio}");
+    }
 }

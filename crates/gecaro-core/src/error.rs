@@ -31,6 +31,14 @@ pub enum Field {
         /// `min`, `max`).
         key: &'static str,
     },
+    /// One key of arm `number` (1..3) of a Delta robot, such as `forearm`.
+    Arm {
+        /// Arm number, 1-based.
+        number: usize,
+        /// The key of the arm's table (`base`, `azimuth`, `offset`, `gain`,
+        /// `upper_arm`, `forearm`, `platform`, `min`, `max`).
+        key: &'static str,
+    },
     /// The priority matrix, optionally one row (frame) of it.
     Priority {
         /// The row (frame number) at fault, if one is.
@@ -46,6 +54,7 @@ impl fmt::Display for Field {
             Field::Coupling(name) => write!(f, "coupling matrix `{name}`"),
             Field::Key(key) => write!(f, "`{key}`"),
             Field::Leg { number, key } => write!(f, "leg {number}, `{key}`"),
+            Field::Arm { number, key } => write!(f, "arm {number}, `{key}`"),
             Field::Priority { row: None } => f.write_str("priority matrix"),
             Field::Priority { row: Some(row) } => write!(f, "priority matrix, row {row}"),
         }

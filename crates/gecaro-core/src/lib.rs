@@ -56,11 +56,14 @@
 #![warn(missing_docs)]
 
 mod axis_chain;
+pub mod delta;
 mod error;
 mod frame;
 pub mod gough_stewart;
 mod gravity;
 mod kinematics;
+pub mod parallel_model;
+pub mod parallel_robot;
 mod parameters;
 mod placement;
 mod priority;

@@ -1,5 +1,5 @@
-//! Parallel robot files: a Gough–Stewart platform in TOML, as a person
-//! writes it beside the serial robots' files.
+//! Parallel robot files: a Gough–Stewart platform or a Delta robot in
+//! TOML, as a person writes it beside the serial robots' files.
 //!
 //! ```toml
 //! kind = "parallel"              # what makes it a parallel robot's file
@@ -22,6 +22,27 @@
 //! position = [0, 0, 100]
 //! ```
 //!
+//! A Delta robot (`structure = "delta"`) has three `[[arm]]` tables instead:
+//!
+//! ```toml
+//! kind = "parallel"
+//! structure = "delta"
+//! name = "delta"
+//! length_unit = "mm"             # lengths: base, platform, upper_arm, forearm, tool
+//! angle_unit = "deg"             # angles: azimuth, offset, min, max ("rad" by default)
+//!
+//! [[arm]]                        # three arms, arm 1 first
+//! base = [200, 0, 0]             # B: the motor axis's point in the arm's plane
+//! azimuth = 0                    # φ: the arm's plane
+//! offset = 0                     # θ0: the arm's angle at actuator value zero (down > 0)
+//! gain = 1                       # optional: K (1)
+//! upper_arm = 300                # La
+//! forearm = 800                  # Lb
+//! platform = [50, 0, 0]          # c: the plate's joint centre, plate frame
+//! min = -40                      # the actuator's range (angles)
+//! max = 80
+//! ```
+//!
 //! The platform's pose is that of its frame in the base frame; data files
 //! have the actuator values `qm1…qm6` and what is measured (`x, y, z` and
 //! `qw, qx, qy, qz`), as a serial robot's. gecaro writes these files in
@@ -30,13 +51,17 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use gecaro_core::delta::{Arm, Delta};
 use gecaro_core::gough_stewart::{GoughStewart, Leg};
+use gecaro_core::parallel_model::ParallelModel;
+use gecaro_core::parallel_robot::ParallelRobot;
 use nalgebra::Vector3;
 use serde::Deserialize;
 
 use crate::Error;
 use crate::input::{MAX_DESCRIPTION_BYTES, read_text};
 use crate::problem::{Location, model_error};
+use crate::robot_file::AngleUnit;
 use crate::toml_source::Source;
 use crate::units::LengthUnit;
 
@@ -47,11 +72,24 @@ const TOP_KEYS: &[&str] = &[
     "name",
     "description",
     "length_unit",
+    "angle_unit",
     "calibrated_from",
     "leg",
+    "arm",
     "tool",
 ];
 const LEG_KEYS: &[&str] = &["base", "platform", "length", "gain", "min", "max"];
+const ARM_KEYS: &[&str] = &[
+    "base",
+    "azimuth",
+    "offset",
+    "gain",
+    "upper_arm",
+    "forearm",
+    "platform",
+    "min",
+    "max",
+];
 const TOOL_KEYS: &[&str] = &["position"];
 
 /// The value of `kind` that makes a robot file a parallel robot's.
@@ -60,8 +98,8 @@ pub const PARALLEL_KIND: &str = "parallel";
 /// A parallel robot as a file holds it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ParallelRobotFile {
-    /// The platform.
-    pub platform: GoughStewart,
+    /// The robot.
+    pub robot: ParallelRobot,
     /// Free text kept from the file's `description` key.
     pub description: Option<String>,
     /// What the calibration that made this platform measured (`frame`: its
@@ -78,10 +116,27 @@ struct ParallelDocument {
     name: Option<String>,
     description: Option<String>,
     length_unit: Option<String>,
+    angle_unit: Option<String>,
     calibrated_from: Option<String>,
     #[serde(default)]
     leg: Vec<LegDocument>,
+    #[serde(default)]
+    arm: Vec<ArmDocument>,
     tool: Option<ToolDocument>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ArmDocument {
+    base: [f64; 3],
+    azimuth: f64,
+    offset: f64,
+    gain: Option<f64>,
+    upper_arm: f64,
+    forearm: f64,
+    platform: [f64; 3],
+    min: f64,
+    max: f64,
 }
 
 #[derive(Deserialize)]
@@ -134,7 +189,7 @@ pub fn read_parallel_robot_file(path: &Path) -> Result<ParallelRobotFile, Error>
 pub fn parse_parallel_robot_file(text: &str, path: &Path) -> Result<ParallelRobotFile, Error> {
     let source = Source { path, text };
     let document: ParallelDocument = toml::from_str(text)
-        .map_err(|error| source.toml_error(&error, &[TOP_KEYS, LEG_KEYS, TOOL_KEYS]))?;
+        .map_err(|error| source.toml_error(&error, &[TOP_KEYS, LEG_KEYS, ARM_KEYS, TOOL_KEYS]))?;
     let at_key = |key: &str, message: String| {
         Error::parse(
             path,
@@ -153,38 +208,16 @@ pub fn parse_parallel_robot_file(text: &str, path: &Path) -> Result<ParallelRobo
             ),
         ));
     }
-    if let Some(structure) = document.structure.as_deref()
-        && structure != "gough-stewart"
-    {
-        return Err(at_key(
-            "structure",
-            format!(
-                "\"{structure}\" is not a structure gecaro models yet; it models \"gough-stewart\" \
-                 (six legs between a base and a platform)"
-            ),
-        ));
-    }
     let unit = match document.length_unit.as_deref() {
         Some(name) => LengthUnit::parse(name).map_err(|message| at_key("length_unit", message))?,
         None => LengthUnit::Metres,
     };
-    let scale = unit.to_metres();
+    let angle = match document.angle_unit.as_deref() {
+        Some(name) => AngleUnit::parse(name).map_err(|message| at_key("angle_unit", message))?,
+        None => AngleUnit::Radians,
+    };
+    let (scale, radians) = (unit.to_metres(), angle.to_radians());
     let vector = |values: [f64; 3]| Vector3::from(values) * scale;
-    let legs: Vec<Leg> = document
-        .leg
-        .iter()
-        .map(|leg| {
-            let default = Leg::new(Vector3::zeros(), Vector3::zeros(), 0.0);
-            Leg {
-                base: vector(leg.base),
-                platform: vector(leg.platform),
-                length: leg.length * scale,
-                gain: leg.gain.unwrap_or(default.gain),
-                min: leg.min.map_or(default.min, |min| min * scale),
-                max: leg.max.map_or(default.max, |max| max * scale),
-            }
-        })
-        .collect();
     let tool = document
         .tool
         .as_ref()
@@ -193,8 +226,66 @@ pub fn parse_parallel_robot_file(text: &str, path: &Path) -> Result<ParallelRobo
         .name
         .clone()
         .unwrap_or_else(|| crate::robot_file::fallback_name(path));
-    let platform = GoughStewart::new(&name, legs, tool)
-        .map_err(|error| source.document_error(model_error(error)))?;
+    let located = |error| source.document_error(model_error(error));
+    let robot = match document.structure.as_deref().unwrap_or("gough-stewart") {
+        "gough-stewart" => {
+            if !document.arm.is_empty() {
+                return Err(at_key(
+                    "arm",
+                    "a Gough–Stewart platform has legs (`[[leg]]`), not arms".into(),
+                ));
+            }
+            let legs: Vec<Leg> = document
+                .leg
+                .iter()
+                .map(|leg| {
+                    let default = Leg::new(Vector3::zeros(), Vector3::zeros(), 0.0);
+                    Leg {
+                        base: vector(leg.base),
+                        platform: vector(leg.platform),
+                        length: leg.length * scale,
+                        gain: leg.gain.unwrap_or(default.gain),
+                        min: leg.min.map_or(default.min, |min| min * scale),
+                        max: leg.max.map_or(default.max, |max| max * scale),
+                    }
+                })
+                .collect();
+            ParallelRobot::GoughStewart(GoughStewart::new(&name, legs, tool).map_err(located)?)
+        }
+        "delta" => {
+            if !document.leg.is_empty() {
+                return Err(at_key(
+                    "leg",
+                    "a Delta robot has arms (`[[arm]]`), not legs".into(),
+                ));
+            }
+            let arms: Vec<Arm> = document
+                .arm
+                .iter()
+                .map(|arm| Arm {
+                    base: vector(arm.base),
+                    azimuth: arm.azimuth * radians,
+                    offset: arm.offset * radians,
+                    gain: arm.gain.unwrap_or(1.0),
+                    upper_arm: arm.upper_arm * scale,
+                    forearm: arm.forearm * scale,
+                    platform: vector(arm.platform),
+                    min: arm.min * radians,
+                    max: arm.max * radians,
+                })
+                .collect();
+            ParallelRobot::Delta(Delta::new(&name, arms, tool).map_err(located)?)
+        }
+        other => {
+            return Err(at_key(
+                "structure",
+                format!(
+                    "\"{other}\" is not a structure gecaro models: \"gough-stewart\" (six legs \
+                     between a base and a platform) or \"delta\" (three arms and parallelograms)"
+                ),
+            ));
+        }
+    };
     if let Some(measured) = document.calibrated_from.as_deref()
         && !["frame", "position"].contains(&measured)
     {
@@ -206,7 +297,7 @@ pub fn parse_parallel_robot_file(text: &str, path: &Path) -> Result<ParallelRobo
         ));
     }
     Ok(ParallelRobotFile {
-        platform,
+        robot,
         description: document.description,
         calibrated_from: document.calibrated_from,
     })
@@ -215,11 +306,11 @@ pub fn parse_parallel_robot_file(text: &str, path: &Path) -> Result<ParallelRobo
 /// The text of a parallel robot file: metres, every digit (Rust's shortest
 /// round-trip form), so that reading it gives the same platform.
 pub fn format_parallel_robot_file(file: &ParallelRobotFile) -> String {
-    let platform = &file.platform;
+    let robot = &file.robot;
     let mut text = String::new();
     let _ = writeln!(text, "kind = \"{PARALLEL_KIND}\"");
-    let _ = writeln!(text, "structure = \"gough-stewart\"");
-    let _ = writeln!(text, "name = {}", toml_string(platform.name()));
+    let _ = writeln!(text, "structure = \"{}\"", robot.structure());
+    let _ = writeln!(text, "name = {}", toml_string(robot.name()));
     if let Some(description) = &file.description {
         let _ = writeln!(text, "description = {}", toml_string(description));
     }
@@ -227,16 +318,34 @@ pub fn format_parallel_robot_file(file: &ParallelRobotFile) -> String {
         let _ = writeln!(text, "calibrated_from = {}", toml_string(measured));
     }
     let triple = |v: &Vector3<f64>| format!("[{:?}, {:?}, {:?}]", v.x, v.y, v.z);
-    for leg in platform.legs() {
-        let _ = writeln!(text, "\n[[leg]]");
-        let _ = writeln!(text, "base = {}", triple(&leg.base));
-        let _ = writeln!(text, "platform = {}", triple(&leg.platform));
-        let _ = writeln!(text, "length = {:?}", leg.length);
-        let _ = writeln!(text, "gain = {:?}", leg.gain);
-        let _ = writeln!(text, "min = {:?}", leg.min);
-        let _ = writeln!(text, "max = {:?}", leg.max);
+    match robot {
+        ParallelRobot::GoughStewart(platform) => {
+            for leg in platform.legs() {
+                let _ = writeln!(text, "\n[[leg]]");
+                let _ = writeln!(text, "base = {}", triple(&leg.base));
+                let _ = writeln!(text, "platform = {}", triple(&leg.platform));
+                let _ = writeln!(text, "length = {:?}", leg.length);
+                let _ = writeln!(text, "gain = {:?}", leg.gain);
+                let _ = writeln!(text, "min = {:?}", leg.min);
+                let _ = writeln!(text, "max = {:?}", leg.max);
+            }
+        }
+        ParallelRobot::Delta(delta) => {
+            for arm in delta.arms() {
+                let _ = writeln!(text, "\n[[arm]]");
+                let _ = writeln!(text, "base = {}", triple(&arm.base));
+                let _ = writeln!(text, "azimuth = {:?}", arm.azimuth);
+                let _ = writeln!(text, "offset = {:?}", arm.offset);
+                let _ = writeln!(text, "gain = {:?}", arm.gain);
+                let _ = writeln!(text, "upper_arm = {:?}", arm.upper_arm);
+                let _ = writeln!(text, "forearm = {:?}", arm.forearm);
+                let _ = writeln!(text, "platform = {}", triple(&arm.platform));
+                let _ = writeln!(text, "min = {:?}", arm.min);
+                let _ = writeln!(text, "max = {:?}", arm.max);
+            }
+        }
     }
-    let _ = writeln!(text, "\n[tool]\nposition = {}", triple(&platform.tool()));
+    let _ = writeln!(text, "\n[tool]\nposition = {}", triple(&robot.tool()));
     text
 }
 
@@ -256,7 +365,10 @@ mod tests {
         let path = Path::new("hexapod.toml");
         assert!(is_parallel_robot_text(HEXAPOD));
         let file = parse_parallel_robot_file(HEXAPOD, path).expect("hexapod");
-        let first = &file.platform.legs()[0];
+        let ParallelRobot::GoughStewart(platform) = &file.robot else {
+            panic!("a Gough–Stewart platform");
+        };
+        let first = &platform.legs()[0];
         assert!((first.length - 0.6).abs() < 1e-15);
         assert!((first.max - 0.1).abs() < 1e-15);
         let written = format_parallel_robot_file(&file);
@@ -292,11 +404,38 @@ mod tests {
             error.contains(&format!("bad.toml:{line}")) && error.contains("a gain of zero"),
             "{error}"
         );
+        let error = with("structure = \"gough-stewart\"", "structure = \"stewart\"");
+        assert!(error.contains("not a structure gecaro models"), "{error}");
         let error = with("structure = \"gough-stewart\"", "structure = \"delta\"");
-        assert!(
-            error.contains("not a structure gecaro models yet"),
-            "{error}"
-        );
+        assert!(error.contains("a Delta robot has arms"), "{error}");
+    }
+
+    #[test]
+    fn the_ready_delta_reads_in_millimetres_and_degrees_and_writes_back() {
+        let text = include_str!("../../../robots/delta.toml");
+        let path = Path::new("delta.toml");
+        let file = parse_parallel_robot_file(text, path).expect("delta");
+        let ParallelRobot::Delta(delta) = &file.robot else {
+            panic!("a Delta robot");
+        };
+        let second = &delta.arms()[1];
+        assert!((second.azimuth - 120f64.to_radians()).abs() < 1e-15);
+        assert!((second.forearm - 0.8).abs() < 1e-15);
+        assert!((second.min + 40f64.to_radians()).abs() < 1e-15);
+        let again =
+            parse_parallel_robot_file(&format_parallel_robot_file(&file), path).expect("written");
+        assert_eq!(again, file);
+        let error =
+            parse_parallel_robot_file(&text.replacen("forearm = 800", "forearm = 0", 1), path)
+                .expect_err("refused")
+                .to_string();
+        let line = text
+            .lines()
+            .position(|line| line.starts_with("forearm"))
+            .expect("line")
+            + 1;
+        assert!(error.contains(&format!("delta.toml:{line}")), "{error}");
+        assert!(error.contains("not the length of an arm"), "{error}");
     }
 
     #[test]

@@ -29,6 +29,14 @@ pub enum Location {
         /// The key (`base`, `platform`, `length`, `gain`, `min`, `max`).
         key: String,
     },
+    /// A key of arm `arm` (1..3) of a Delta robot.
+    Arm {
+        /// Arm number, 1-based.
+        arm: usize,
+        /// The key (`base`, `azimuth`, `offset`, `gain`, `upper_arm`,
+        /// `forearm`, `platform`, `min`, `max`).
+        key: String,
+    },
     /// A coupling matrix (`Cm` or `Cj`).
     Coupling {
         /// The matrix.
@@ -48,6 +56,7 @@ impl std::fmt::Display for Location {
             Location::Key { key } => f.write_str(key),
             Location::Frame { frame, key } => write!(f, "frame {frame}, {key}"),
             Location::Leg { leg, key } => write!(f, "leg {leg}, {key}"),
+            Location::Arm { arm, key } => write!(f, "arm {arm}, {key}"),
             Location::Coupling { matrix } => write!(f, "coupling.{matrix}"),
             Location::Priority { row: None } => f.write_str("priority.matrix"),
             Location::Priority { row: Some(row) } => write!(f, "priority.matrix row {row}"),
@@ -89,6 +98,10 @@ pub(crate) fn model_error(error: gecaro_core::Error) -> DocumentError {
                 Field::Key(key) => Location::Key { key: key.into() },
                 Field::Leg { number, key } => Location::Leg {
                     leg: number,
+                    key: key.into(),
+                },
+                Field::Arm { number, key } => Location::Arm {
+                    arm: number,
                     key: key.into(),
                 },
                 _ => Location::Document,

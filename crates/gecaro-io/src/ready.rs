@@ -34,7 +34,7 @@ const READY: &[ReadyRobot] = ready![
 ];
 
 /// The ready parallel robots ([`crate::ParallelRobotFile`]s).
-const READY_PARALLEL: &[ReadyRobot] = ready!["hexapod"];
+const READY_PARALLEL: &[ReadyRobot] = ready!["hexapod", "delta"];
 
 /// All ready parallel robots, in the order they are listed to users.
 pub fn ready_parallel_robots() -> &'static [ReadyRobot] {

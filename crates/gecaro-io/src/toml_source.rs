@@ -59,6 +59,10 @@ impl Source<'_> {
                 table(&|line| line.starts_with("[[leg]]"), leg.saturating_sub(1))
                     .map_or(1, |range| find(range, key))
             }
+            Location::Arm { arm, key } => {
+                table(&|line| line.starts_with("[[arm]]"), arm.saturating_sub(1))
+                    .map_or(1, |range| find(range, key))
+            }
             Location::Coupling { matrix } => table(&|line| line.starts_with("[coupling]"), 0)
                 .map_or(1, |range| find(range, matrix)),
             Location::Priority { row } => {

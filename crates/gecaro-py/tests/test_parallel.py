@@ -59,3 +59,13 @@ def test_a_program_of_poses_is_compensated_on_the_frame_calibrated_platform(tmp_
     assert result["outside_range"] == []
     assert 0.1e-3 < result["largest_correction"] < 10e-3
     assert result["program"].startswith("qm1,qm2,qm3,qm4,qm5,qm6,x,y,z,qw,qx,qy,qz")
+
+
+def test_a_delta_is_identified_from_its_tool_point(tmp_path):
+    gecaro.parallel_generate("delta", "position", 60, noise=2e-5, seed=8,
+                             path=tmp_path / "points.csv")
+    result = gecaro.parallel_identify("delta", "position", tmp_path / "points.csv", sigma="20um")
+    assert result["outcome"] == "fits_noise", result["summary"]
+    assert result["rank"] == 24
+    units = {p["name"]: p["unit"] for p in result["parameters"]}
+    assert units["phi1"] == "rad" and units["K1"] == "" and units["La1"] == "m"

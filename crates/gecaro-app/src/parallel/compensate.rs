@@ -1,13 +1,15 @@
-//! Compensation for a parallel robot: a program of platform poses (the
-//! targets, base frame) turned into the actuator values of the calibrated
-//! platform. Its inverse model is explicit, so each target is exact — no
+//! Compensation for a parallel robot: a program of targets (base frame) —
+//! platform poses for a platform that turns, tool-point positions for a
+//! Delta's plate — turned into the actuator values of the calibrated
+//! robot. Its inverse model is explicit, so each target is exact — no
 //! search, no residual — and only a target beyond an actuator's range is
 //! flagged. The corrected program is a data file (`qm1…qm6` and the
 //! target's `x,y,z,qw,qx,qy,qz`) that every job reads back.
 
 use gecaro_calib::parallel_robots::PlatformMeasure;
-use gecaro_calib::study::{DataColumn, Sample, Samples};
-use gecaro_core::gough_stewart::LEGS;
+use gecaro_calib::study::{Sample, Samples};
+use gecaro_core::parallel_model::ParallelModel;
+use gecaro_core::parallel_robot::ParallelRobot;
 use nalgebra::{Isometry3, Translation3};
 use serde::{Deserialize, Serialize};
 
@@ -141,7 +143,9 @@ impl ParallelCompensateRequest {
     pub fn run(&self, files: &dyn Files) -> Result<ParallelCompensated, AppError> {
         let nominal = load_parallel_robot(&self.nominal, files)?;
         let calibrated = load_parallel_robot(&self.calibrated, files)?;
-        if calibrated.calibrated_from.as_deref() == Some("position") {
+        if calibrated.calibrated_from.as_deref() == Some("position")
+            && calibrated.robot.pose_freedom() == 6
+        {
             // One measured point fixes the tool point, not the platform
             // frame (six of its coordinates are regrouped): a target pose
             // of that frame would be met in the calibration's gauge, not on
@@ -161,41 +165,88 @@ impl ParallelCompensateRequest {
         // A program may carry the nominal actuator values (a data file, a
         // program written for the nominal platform): read and left aside.
         let actuators = if self.names_actuators(files)? {
-            super::actuator_types()
+            super::actuator_types(&calibrated.robot)
         } else {
             Vec::new()
         };
-        let read = self.program.read(
-            files,
-            &actuators,
-            &[DataColumn::Position, DataColumn::Orientation],
-            &self.format.format()?,
-        )?;
+        // A platform that turns is commanded by its frame's pose; one that
+        // only translates (a Delta's plate) by its tool point's position,
+        // the point its calibration observed.
+        let turns = calibrated.robot.pose_freedom() == 6;
+        let measure = if turns {
+            PlatformMeasure::Pose
+        } else {
+            PlatformMeasure::Point
+        };
+        let read =
+            self.program
+                .read(files, &actuators, measure.columns(), &self.format.format()?)?;
+        // The platform's pose that puts `robot`'s tool point (or frame) on
+        // the target.
+        let pose_for = |robot: &ParallelRobot, target: &Sample| {
+            let position = target.position.unwrap_or_default();
+            if turns {
+                Isometry3::from_parts(
+                    Translation3::from(position),
+                    target.orientation.unwrap_or_default(),
+                )
+            } else {
+                Isometry3::translation(
+                    position.x - robot.tool().x,
+                    position.y - robot.tool().y,
+                    position.z - robot.tool().z,
+                )
+            }
+        };
         let mut corrected = Vec::with_capacity(read.samples.len());
         let mut outside_range = Vec::new();
+        let mut unreached = Vec::new();
         let mut largest_correction = 0.0f64;
         for target in read.samples.to_rows() {
-            let pose = Isometry3::from_parts(
-                Translation3::from(target.position.unwrap_or_default()),
-                target.orientation.unwrap_or_default(),
-            );
-            let actuators = calibrated.platform.actuator_values(&pose);
-            let commanded = nominal.platform.actuator_values(&pose);
-            for (new, old) in actuators.iter().zip(&commanded) {
-                largest_correction = largest_correction.max((new - old).abs());
+            let pose = pose_for(&calibrated.robot, &target);
+            let Ok(actuators) = calibrated.robot.actuator_values(&pose) else {
+                unreached.push(
+                    target
+                        .line
+                        .map_or_else(|| "?".into(), |line| line.to_string()),
+                );
+                continue;
+            };
+            if let Ok(commanded) = nominal
+                .robot
+                .actuator_values(&pose_for(&nominal.robot, &target))
+            {
+                for (new, old) in actuators.iter().zip(&commanded) {
+                    largest_correction = largest_correction.max((new - old).abs());
+                }
             }
-            let legs = calibrated.platform.legs_out_of_range(&actuators);
-            if !legs.is_empty() {
-                outside_range.push((target.line, legs));
+            let out = calibrated.robot.out_of_range(&actuators);
+            if !out.is_empty() {
+                outside_range.push((target.line, out));
             }
-            let mut sample: Sample =
-                PlatformMeasure::Pose.reading(&calibrated.platform, &pose, &actuators);
+            let mut sample: Sample = measure.reading(&calibrated.robot, &pose, &actuators);
             sample.line = target.line;
             corrected.push(sample);
         }
+        if !unreached.is_empty() {
+            return Err(AppError::plain(
+                ErrorKind::Input,
+                format!(
+                    "{} of the program's targets are out of the calibrated robot's reach (lines \
+                     {}): nothing was written",
+                    unreached.len(),
+                    unreached
+                        .iter()
+                        .take(10)
+                        .cloned()
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            ));
+        }
         let text = gecaro_io::format_samples(
-            LEGS,
-            PlatformMeasure::Pose.columns(),
+            calibrated.robot.actuator_count(),
+            measure.columns(),
             Samples::from(corrected.as_slice()).as_slice(),
         );
         let written = self.output.write(files, "csv", text.as_bytes())?;

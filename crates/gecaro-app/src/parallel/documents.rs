@@ -2,6 +2,8 @@
 //! dimensionless), for `--json`, the web page and Python.
 
 use gecaro_calib::parallel_robots::{PlatformErrors, PlatformIdentification, PlatformRankReport};
+use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};
+use gecaro_core::parallel_robot::ParallelRobot;
 use serde::Serialize;
 
 /// The identifiable parameters of a platform.
@@ -93,6 +95,8 @@ impl From<PlatformErrors> for PlatformErrorsDocument {
 pub struct PlatformParameterDocument {
     /// `a1x`, `l3`, `K6`, `tz`.
     pub name: String,
+    /// `m`, `rad`, or `""` for a gain.
+    pub unit: &'static str,
     /// `identifiable`, `regrouped`, `no_effect` or `excluded`.
     pub status: &'static str,
     /// The nominal value.
@@ -144,12 +148,21 @@ pub struct PlatformIdentificationDocument {
 
 impl PlatformIdentificationDocument {
     /// The parameters of a result.
-    pub(super) fn parameters(result: &PlatformIdentification) -> Vec<PlatformParameterDocument> {
+    pub(super) fn parameters(
+        robot: &ParallelRobot,
+        result: &PlatformIdentification<ParallelRobot>,
+    ) -> Vec<PlatformParameterDocument> {
         result
             .parameters
             .iter()
-            .map(|parameter| PlatformParameterDocument {
+            .enumerate()
+            .map(|(index, parameter)| PlatformParameterDocument {
                 name: parameter.name.clone(),
+                unit: match robot.parameter_unit(index) {
+                    ParameterUnit::Length => "m",
+                    ParameterUnit::Angle => "rad",
+                    ParameterUnit::Gain => "",
+                },
                 status: parameter.status.as_str(),
                 nominal: parameter.nominal,
                 identified: parameter.identified,

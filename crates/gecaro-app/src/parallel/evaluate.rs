@@ -3,10 +3,11 @@
 //! measured one.
 
 use gecaro_calib::parallel_robots::platform_errors;
+use gecaro_core::parallel_model::ParallelModel;
 use serde::Deserialize;
 
 use super::documents::PlatformErrorsDocument;
-use super::{actuator_types, load_parallel_robot, measure_of};
+use super::{actuator_types, load_parallel_robot, measure_for};
 use crate::error::AppError;
 use crate::files::Files;
 use crate::sources::{DataFormatSpec, DataSource};
@@ -49,17 +50,17 @@ impl ParallelEvaluateRequest {
     /// pose (naming the line).
     pub fn run(&self, files: &dyn Files) -> Result<ParallelEvaluated, AppError> {
         let file = load_parallel_robot(&self.robot, files)?;
-        let measure = measure_of(&self.method)?;
+        let measure = measure_for(&self.method, &file.robot)?;
         let read = self.data.read(
             files,
-            &actuator_types(),
+            &actuator_types(&file.robot),
             measure.columns(),
             &self.format.format()?,
         )?;
         let samples = read.samples.to_rows();
-        let errors = platform_errors(&file.platform, &samples, measure)?;
+        let errors = platform_errors(&file.robot, &samples, measure)?;
         Ok(ParallelEvaluated {
-            robot: file.platform.name().to_owned(),
+            robot: file.robot.name().to_owned(),
             method: measure.name(),
             data: read.label,
             configurations: samples.len(),

@@ -8,11 +8,11 @@ use gecaro_calib::parallel_robots::{
 };
 use gecaro_calib::simulation::{DEFAULT_SEED, Sampler};
 use gecaro_calib::study::{Sample, Samples};
-use gecaro_core::gough_stewart::LEGS;
+use gecaro_core::parallel_model::ParallelModel;
 use gecaro_io::ParallelRobotFile;
 use serde::Deserialize;
 
-use super::{load_parallel_robot, measure_of};
+use super::{load_parallel_robot, measure_for};
 use crate::error::AppError;
 use crate::files::Files;
 use crate::limits::MAX_GENERATE;
@@ -66,7 +66,7 @@ impl ParallelGenerateRequest {
     /// with too few reachable poses, a file that cannot be written.
     pub fn run(&self, files: &dyn Files) -> Result<ParallelGenerated, AppError> {
         let nominal = load_parallel_robot(&self.robot, files)?;
-        let measure = measure_of(&self.method)?;
+        let measure = measure_for(&self.method, &nominal.robot)?;
         self.output.check(files, "csv")?;
         if let Some(name) = &self.real_save_as {
             files.check_output(name, "toml", self.output.overwrite)?;
@@ -104,31 +104,31 @@ impl ParallelGenerateRequest {
                         "takes 0 to 100 (mm of error on each length)",
                     ));
                 }
-                let platform = perturbed_platform(&nominal.platform, level, &mut sampler)?
-                    .renamed(&format!("{} (simulated real)", nominal.platform.name()));
+                let platform = perturbed_platform(&nominal.robot, level, &mut sampler)?
+                    .renamed(&format!("{} (simulated real)", nominal.robot.name()));
                 ParallelRobotFile {
-                    platform,
+                    robot: platform,
                     description: Some(format!(
                         "{} with random errors of level {level} (seed {seed}), drawn by gecaro",
-                        nominal.platform.name()
+                        nominal.robot.name()
                     )),
                     calibrated_from: None,
                 }
             }
         };
         let poses = random_platform_poses(
-            &real.platform,
+            &real.robot,
             self.count,
-            PlatformWorkspace::of(&real.platform),
+            PlatformWorkspace::of(&real.robot),
             &mut sampler,
         )?;
         let noise = PlatformNoise {
             length: self.noise,
             angle: self.noise,
         };
-        let samples = simulate_platform(&real.platform, measure, &poses, noise, &mut sampler);
+        let samples = simulate_platform(&real.robot, measure, &poses, noise, &mut sampler)?;
         let text = gecaro_io::format_samples(
-            LEGS,
+            real.robot.actuator_count(),
             measure.columns(),
             Samples::from(samples.as_slice()).as_slice(),
         );

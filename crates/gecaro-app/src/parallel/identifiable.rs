@@ -9,7 +9,7 @@ use gecaro_calib::simulation::{DEFAULT_SEED, Sampler};
 use serde::Deserialize;
 
 use super::documents::PlatformRankDocument;
-use super::{actuator_types, load_parallel_robot, measure_of};
+use super::{actuator_types, load_parallel_robot, measure_for};
 use crate::error::AppError;
 use crate::files::Files;
 use crate::sources::{DataFormatSpec, DataSource};
@@ -43,12 +43,12 @@ impl ParallelIdentifiableRequest {
     /// A robot or data file that cannot be read, too few equations.
     pub fn run(&self, files: &dyn Files) -> Result<PlatformRankDocument, AppError> {
         let file = load_parallel_robot(&self.robot, files)?;
-        let measure = measure_of(&self.method)?;
+        let measure = measure_for(&self.method, &file.robot)?;
         let (samples, source) = match &self.data {
             Some(data) => {
                 let read = data.read(
                     files,
-                    &actuator_types(),
+                    &actuator_types(&file.robot),
                     measure.columns(),
                     &self.format.format()?,
                 )?;
@@ -63,9 +63,9 @@ impl ParallelIdentifiableRequest {
                 let seed = self.seed.unwrap_or(DEFAULT_SEED);
                 let mut sampler = Sampler::new(seed);
                 let poses = random_platform_poses(
-                    &file.platform,
+                    &file.robot,
                     count,
-                    PlatformWorkspace::of(&file.platform),
+                    PlatformWorkspace::of(&file.robot),
                     &mut sampler,
                 )?;
                 let exact = PlatformNoise {
@@ -73,12 +73,12 @@ impl ParallelIdentifiableRequest {
                     angle: 0.0,
                 };
                 (
-                    simulate_platform(&file.platform, measure, &poses, exact, &mut sampler),
+                    simulate_platform(&file.robot, measure, &poses, exact, &mut sampler)?,
                     format!("{count} random reachable poses (seed {seed})"),
                 )
             }
         };
-        let report = platform_identifiability(&file.platform, &samples, measure)?;
+        let report = platform_identifiability(&file.robot, &samples, measure)?;
         Ok(PlatformRankDocument::new(&report, source))
     }
 }

@@ -6,11 +6,13 @@ use gecaro_calib::parallel_robots::{
     PlatformIdentification, PlatformIdentificationOptions, PlatformNoise, identify_platform,
     platform_errors,
 };
+use gecaro_core::parallel_model::ParallelModel;
+use gecaro_core::parallel_robot::ParallelRobot;
 use gecaro_io::{ParallelRobotFile, StandardDeviation};
 use serde::Deserialize;
 
 use super::documents::{PlatformIdentificationDocument, PlatformRankDocument};
-use super::{actuator_types, load_parallel_robot, measure_of};
+use super::{actuator_types, load_parallel_robot, measure_for};
 use crate::error::{AppError, ErrorKind};
 use crate::files::Files;
 use crate::output::Output;
@@ -49,7 +51,7 @@ pub struct ParallelIdentified {
     /// The calibrated platform as a file.
     pub calibrated: ParallelRobotFile,
     /// The identification.
-    pub result: PlatformIdentification,
+    pub result: PlatformIdentification<ParallelRobot>,
     /// Its document.
     pub document: PlatformIdentificationDocument,
 }
@@ -90,12 +92,15 @@ impl ParallelIdentifyRequest {
     /// be written.
     pub fn run(&self, files: &dyn Files) -> Result<ParallelIdentified, AppError> {
         let nominal = load_parallel_robot(&self.robot, files)?;
-        let measure = measure_of(&self.method)?;
+        let measure = measure_for(&self.method, &nominal.robot)?;
         self.output.check(files, "toml")?;
         let format = self.format.format()?;
-        let read = self
-            .data
-            .read(files, &actuator_types(), measure.columns(), &format)?;
+        let read = self.data.read(
+            files,
+            &actuator_types(&nominal.robot),
+            measure.columns(),
+            &format,
+        )?;
         let samples = read.samples.to_rows();
         let value = |setting: &str, sigma: &Option<StandardDeviation>, rotation: bool| {
             sigma
@@ -121,15 +126,15 @@ impl ParallelIdentifyRequest {
             }
             options.max_iterations = iterations;
         }
-        let result = identify_platform(&nominal.platform, &samples, measure, noise, &options)?;
-        let errors_before = platform_errors(&nominal.platform, &samples, measure)?;
+        let result = identify_platform(&nominal.robot, &samples, measure, noise, &options)?;
+        let errors_before = platform_errors(&nominal.robot, &samples, measure)?;
         let errors_after = platform_errors(&result.calibrated, &samples, measure)?;
-        let name = format!("{} (calibrated)", nominal.platform.name());
+        let name = format!("{} (calibrated)", nominal.robot.name());
         let calibrated = ParallelRobotFile {
-            platform: result.calibrated.clone().renamed(&name),
+            robot: result.calibrated.clone().renamed(&name),
             description: Some(format!(
                 "{} calibrated by gecaro: {} method on {}, {} parameters identified, verdict {}",
-                nominal.platform.name(),
+                nominal.robot.name(),
                 measure.name(),
                 read.label,
                 result.rank.rank(),
@@ -144,7 +149,7 @@ impl ParallelIdentifyRequest {
         )?;
         let rank = PlatformRankDocument::new(&result.rank, read.label.clone());
         let document = PlatformIdentificationDocument {
-            robot: nominal.platform.name().to_owned(),
+            robot: nominal.robot.name().to_owned(),
             method: measure.name(),
             data: read.label,
             configurations: samples.len(),
@@ -157,7 +162,7 @@ impl ParallelIdentifyRequest {
             errors_before: errors_before.into(),
             errors_after: errors_after.into(),
             rank: result.rank.rank(),
-            parameters: PlatformIdentificationDocument::parameters(&result),
+            parameters: PlatformIdentificationDocument::parameters(&nominal.robot, &result),
             regrouped: rank.regrouped,
             written: written.map(|path| path.display().to_string()),
         };
@@ -170,7 +175,7 @@ impl ParallelIdentifyRequest {
 }
 
 /// The verdict in words.
-fn summary(result: &PlatformIdentification) -> String {
+fn summary(result: &PlatformIdentification<ParallelRobot>) -> String {
     use gecaro_calib::identification::Outcome;
     let ratio = result
         .noise_test

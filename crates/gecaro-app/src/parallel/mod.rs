@@ -16,6 +16,8 @@ mod identifiable;
 mod identify;
 
 use gecaro_calib::parallel_robots::PlatformMeasure;
+use gecaro_core::parallel_model::ParallelModel;
+use gecaro_core::parallel_robot::ParallelRobot;
 use gecaro_io::ParallelRobotFile;
 
 use crate::error::{AppError, ErrorKind};
@@ -105,8 +107,17 @@ pub fn load_parallel_robot(name: &str, files: &dyn Files) -> Result<ParallelRobo
     }
 }
 
-/// The measure of a job: `frame` (the platform's pose) or `position` (its
-/// tool point).
+/// The measure of a job on `robot`: `frame` (the platform's pose, for a
+/// platform that turns) or `position` (its tool point), checked before any
+/// file is read.
+fn measure_for(name: &str, robot: &ParallelRobot) -> Result<PlatformMeasure, AppError> {
+    let measure = measure_of(name)?;
+    measure.check_for(robot)?;
+    Ok(measure)
+}
+
+/// The measure called `name`: `frame` (the platform's pose) or `position`
+/// (its tool point).
 fn measure_of(name: &str) -> Result<PlatformMeasure, AppError> {
     PlatformMeasure::named(name).map_err(|_| {
         AppError::setting(
@@ -119,8 +130,13 @@ fn measure_of(name: &str) -> Result<PlatformMeasure, AppError> {
     })
 }
 
-/// The actuator values' joint types of a data file: six prismatic joints,
-/// read in the file's length unit.
-fn actuator_types() -> Vec<gecaro_core::FrameType> {
-    vec![gecaro_core::FrameType::Prismatic; gecaro_core::gough_stewart::LEGS]
+/// The actuator values' joint types of a data file: a Gough–Stewart
+/// platform's six prismatic actuators (read in the file's length unit), a
+/// Delta robot's three motors (in its angle unit).
+fn actuator_types(robot: &ParallelRobot) -> Vec<gecaro_core::FrameType> {
+    let kind = match robot {
+        ParallelRobot::GoughStewart(_) => gecaro_core::FrameType::Prismatic,
+        ParallelRobot::Delta(_) => gecaro_core::FrameType::Revolute,
+    };
+    vec![kind; robot.actuator_count()]
 }

@@ -1,14 +1,15 @@
-//! A platform judged where its user judges it: the poses its direct model
-//! predicts for the actuator values of measured configurations, against the
-//! measured ones.
+//! A parallel robot judged where its user judges it: the poses its direct
+//! model predicts for the actuator values of measured configurations,
+//! against the measured ones.
 
-use gecaro_core::gough_stewart::{GoughStewart, LEGS};
+use gecaro_core::parallel_model::ParallelModel;
 use gecaro_data::sample::Sample;
 
 use super::measure::PlatformMeasure;
+use super::observation::actuator_values;
 use crate::Error;
 
-/// The errors of a platform's direct model at measured configurations.
+/// The errors of a parallel robot's direct model at measured configurations.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PlatformErrors {
     /// RMS of the position errors' lengths (m): the platform frame's origin
@@ -22,52 +23,45 @@ pub struct PlatformErrors {
     pub angle_max: Option<f64>,
 }
 
-/// The errors of `platform` at `samples` measured by `measure`: for each,
-/// the direct model from the platform's home pose (the assembly mode of a
-/// platform above its base) against the measured pose or point.
+/// The errors of `model` at `samples` measured by `measure`: for each, the
+/// direct model from the home pose (the assembly mode the robot works in)
+/// against the measured pose or point.
 ///
 /// # Errors
-/// Samples without six actuator values or the measure's columns, or
-/// actuator values with no pose (naming the sample's line).
-pub fn platform_errors(
-    platform: &GoughStewart,
+/// Samples without the model's number of actuator values or the measure's
+/// columns, or actuator values with no pose (naming the sample's line).
+pub fn platform_errors<M: ParallelModel>(
+    model: &M,
     samples: &[Sample],
     measure: PlatformMeasure,
 ) -> Result<PlatformErrors, Error> {
     let (mut squares, mut largest) = (0.0, 0.0f64);
     let (mut angle_squares, mut angle_largest) = (0.0, 0.0f64);
+    let poses = measure == PlatformMeasure::Pose;
     for sample in samples {
-        let actuators: [f64; LEGS] =
-            sample
-                .motor_positions
-                .as_slice()
-                .try_into()
-                .map_err(|_| Error::InvalidData {
-                    line: sample.line,
-                    message: format!("a Gough–Stewart platform has {LEGS} actuator values qm1…qm6"),
-                })?;
+        let actuators = actuator_values(model, sample)?;
         let measured = measure.measured(sample)?;
-        let pose = platform
-            .direct(&actuators, &platform.home())
+        let pose = model
+            .direct(actuators, &model.home())
             .map_err(|cause| Error::InvalidData {
                 line: sample.line,
                 message: cause.to_string(),
             })?;
-        let (predicted, read) = match measure {
-            PlatformMeasure::Pose => (pose.translation.vector, measured.translation.vector),
-            PlatformMeasure::Point => (platform.tool_point(&pose), measured.translation.vector),
+        let predicted = if poses {
+            pose.translation.vector
+        } else {
+            model.tool_point(&pose)
         };
-        let error = (predicted - read).norm();
+        let error = (predicted - measured.translation.vector).norm();
         squares += error * error;
         largest = largest.max(error);
-        if measure == PlatformMeasure::Pose {
+        if poses {
             let angle = (pose.rotation.inverse() * measured.rotation).angle();
             angle_squares += angle * angle;
             angle_largest = angle_largest.max(angle);
         }
     }
     let count = samples.len().max(1) as f64;
-    let poses = measure == PlatformMeasure::Pose;
     Ok(PlatformErrors {
         position_rms: (squares / count).sqrt(),
         position_max: largest,

@@ -1,10 +1,10 @@
-//! The identifiable parameters of a platform (Appendix III, as for a serial
-//! robot): QR of the observation matrix W with its columns in the order of
-//! [`candidates`] (the tool point first), the base set, and what each
-//! regrouped parameter stands in.
+//! The identifiable parameters of a parallel robot (Appendix III, as for a
+//! serial robot): QR of the observation matrix W with its columns in the
+//! order of [`candidates`] (the tool point first), the base set, and what
+//! each regrouped parameter stands in.
 
 use faer::Mat;
-use gecaro_core::gough_stewart::{GoughStewart, LEGS, PARAMETER_COUNT, PARAMETERS_PER_LEG};
+use gecaro_core::parallel_model::ParallelModel;
 use gecaro_data::sample::Sample;
 
 use super::measure::PlatformMeasure;
@@ -16,12 +16,12 @@ use crate::linalg::{
     select_columns,
 };
 
-/// The identifiable parameters of a platform for one measure.
+/// The identifiable parameters of a parallel robot for one measure.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlatformRankReport {
     /// What was measured.
     pub measure: PlatformMeasure,
-    /// Every parameter's name ([`GoughStewart::parameter_names`]).
+    /// Every parameter's name ([`ParallelModel::parameter_names`]).
     pub names: Vec<String>,
     /// Every parameter's status: identifiable, regrouped, of no effect, or
     /// excluded (the tool point when only poses are measured).
@@ -56,43 +56,43 @@ impl PlatformRankReport {
     }
 }
 
-/// The identifiable parameters of `platform` measured by `measure` at the
+/// The identifiable parameters of `model` measured by `measure` at the
 /// configurations of `samples` (their measured values are not used).
 ///
 /// # Errors
-/// Samples without the measure's columns or six actuator values, actuator
-/// values no pose has, or fewer equations than candidate parameters.
-pub fn platform_identifiability(
-    platform: &GoughStewart,
+/// A measure the structure cannot take, samples without the measure's
+/// columns or the model's number of actuator values, actuator values no
+/// pose has, or fewer equations than candidate parameters.
+pub fn platform_identifiability<M: ParallelModel>(
+    model: &M,
     samples: &[Sample],
     measure: PlatformMeasure,
 ) -> Result<PlatformRankReport, Error> {
-    let rows = platform_rows(platform, samples, measure, None, &mut Vec::new())?;
-    rank_of(&rows, measure)
+    let rows = platform_rows(model, samples, measure, None, &mut Vec::new())?;
+    rank_of(model, &rows, measure)
 }
 
 /// The candidate parameters of a measure, in the order QR keeps them: the
 /// tool point's first when it is measured (the point a user measured is
-/// identified; the platform frame's six degrees of freedom, which a point
-/// does not observe, are left to the last legs' platform joints), then every
-/// leg's parameters.
-fn candidates(measure: PlatformMeasure) -> Vec<usize> {
-    let legs = 0..LEGS * PARAMETERS_PER_LEG;
+/// identified; what a point does not observe is left to the platform's
+/// joints), then the others in vocabulary order.
+fn candidates(model: &impl ParallelModel, measure: PlatformMeasure) -> Vec<usize> {
+    let tool = model.tool_parameters();
+    let others = (0..model.parameters().len()).filter(|index| !tool.contains(index));
     if measure.measures_tool() {
-        (LEGS * PARAMETERS_PER_LEG..PARAMETER_COUNT)
-            .chain(legs)
-            .collect()
+        model.tool_parameters().chain(others).collect()
     } else {
-        legs.collect()
+        others.collect()
     }
 }
 
 /// [`platform_identifiability`] of rows already made.
 pub(super) fn rank_of(
+    model: &impl ParallelModel,
     rows: &PlatformRows,
     measure: PlatformMeasure,
 ) -> Result<PlatformRankReport, Error> {
-    let order = candidates(measure);
+    let order = candidates(model, measure);
     let columns = order.len();
     let equations = rows.matrix.nrows();
     if equations < columns {
@@ -115,7 +115,7 @@ pub(super) fn rank_of(
             ParameterStatus::Regrouped
         }
     };
-    let mut statuses = vec![ParameterStatus::Excluded; PARAMETER_COUNT];
+    let mut statuses = vec![ParameterStatus::Excluded; model.parameters().len()];
     for (column, parameter) in order.iter().enumerate() {
         statuses[*parameter] = status_of(column);
     }
@@ -147,7 +147,7 @@ pub(super) fn rank_of(
     base.sort_unstable();
     Ok(PlatformRankReport {
         measure,
-        names: GoughStewart::parameter_names(),
+        names: model.parameter_names(),
         statuses,
         condition_number: condition_number(base_columns.as_ref())?,
         base,

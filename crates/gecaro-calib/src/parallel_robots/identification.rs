@@ -1,8 +1,8 @@
-//! Identification of a platform's parameters: Gauss–Newton on the base set
+//! Identification of a parallel robot's parameters: Gauss–Newton on the base set
 //! (module docs of [`super`]), with the precision of every parameter and a
 //! serial robot's verdict.
 
-use gecaro_core::gough_stewart::{GoughStewart, LEGS, PARAMETERS_PER_LEG};
+use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};
 use gecaro_data::sample::Sample;
 use nalgebra::Isometry3;
 
@@ -18,6 +18,10 @@ use crate::linalg::{select_columns, solve_with_covariance};
 /// from its nominal value (m) is no platform's error but a mistaken file
 /// or data set.
 const PLAUSIBLE_LENGTH: f64 = 0.05;
+
+/// An angle (a Delta's arm azimuth or offset) that moved further than this
+/// (rad, 5°), the same.
+const PLAUSIBLE_ANGLE: f64 = 0.087;
 
 /// A gain off its nominal value by more than this fraction, the same.
 const PLAUSIBLE_GAIN: f64 = 0.1;
@@ -55,11 +59,11 @@ pub struct PlatformParameter {
     pub status: ParameterStatus,
 }
 
-/// An identified platform.
+/// An identified parallel robot.
 #[derive(Clone, Debug)]
-pub struct PlatformIdentification {
-    /// The platform with the identified parameters.
-    pub calibrated: GoughStewart,
+pub struct PlatformIdentification<M> {
+    /// The robot with the identified parameters.
+    pub calibrated: M,
     /// Every parameter, in vocabulary order.
     pub parameters: Vec<PlatformParameter>,
     /// The identifiable parameters and the regrouping at the nominal ones.
@@ -86,16 +90,16 @@ pub struct PlatformIdentification {
 /// # Errors
 /// The samples' own errors (missing columns, actuator values with no pose),
 /// too few equations, a numerical failure.
-pub fn identify_platform(
-    nominal: &GoughStewart,
+pub fn identify_platform<M: ParallelModel>(
+    nominal: &M,
     samples: &[Sample],
     measure: PlatformMeasure,
     noise: Option<PlatformNoise>,
     options: &PlatformIdentificationOptions,
-) -> Result<PlatformIdentification, Error> {
+) -> Result<PlatformIdentification<M>, Error> {
     let mut poses: Vec<Isometry3<f64>> = Vec::new();
     let mut rows = platform_rows(nominal, samples, measure, noise, &mut poses)?;
-    let rank = rank_of(&rows, measure)?;
+    let rank = rank_of(nominal, &rows, measure)?;
     let count = rows.residuals.len();
     let rms = |rows: &PlatformRows| {
         let sigma = noise.map_or(1.0, |noise| noise.length);
@@ -155,7 +159,8 @@ pub fn identify_platform(
     // σ̂ of a unit weight: √(χ²/ν) with σ stated, the residuals' own otherwise.
     let unit_sigma = (rows.cost() / freedom.max(1) as f64).sqrt();
     let nominal_values = nominal.parameters();
-    let parameters: Vec<PlatformParameter> = GoughStewart::parameter_names()
+    let parameters: Vec<PlatformParameter> = nominal
+        .parameter_names()
         .into_iter()
         .enumerate()
         .map(|(index, name)| PlatformParameter {
@@ -174,12 +179,11 @@ pub fn identify_platform(
         .iter()
         .enumerate()
         .filter(|(index, parameter)| {
-            let gain = *index < LEGS * PARAMETERS_PER_LEG && index % PARAMETERS_PER_LEG == 7;
-            let moved = parameter.identified - parameter.nominal;
-            if gain {
-                moved.abs() > PLAUSIBLE_GAIN * parameter.nominal.abs()
-            } else {
-                moved.abs() > PLAUSIBLE_LENGTH
+            let moved = (parameter.identified - parameter.nominal).abs();
+            match nominal.parameter_unit(*index) {
+                ParameterUnit::Gain => moved > PLAUSIBLE_GAIN * parameter.nominal.abs(),
+                ParameterUnit::Angle => moved > PLAUSIBLE_ANGLE,
+                ParameterUnit::Length => moved > PLAUSIBLE_LENGTH,
             }
         })
         .map(|(_, parameter)| parameter.name.clone())

@@ -1,8 +1,8 @@
-//! What is measured of a platform, and how precisely.
+//! What is measured of a parallel robot's platform, and how precisely.
 
-use gecaro_core::gough_stewart::GoughStewart;
+use gecaro_core::parallel_model::ParallelModel;
 use gecaro_data::sample::{DataColumn, Sample};
-use nalgebra::{Isometry3, Translation3, Vector3};
+use nalgebra::{Isometry3, Translation3};
 
 use crate::Error;
 
@@ -10,7 +10,7 @@ use crate::Error;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PlatformMeasure {
     /// The platform frame's pose in the base frame (`frame`: columns
-    /// `x, y, z, qw, qx, qy, qz`).
+    /// `x, y, z, qw, qx, qy, qz`); for a platform that turns.
     Pose,
     /// The tool point's position in the base frame (`position`: columns
     /// `x, y, z`).
@@ -22,7 +22,7 @@ impl PlatformMeasure {
     pub const ALL: [PlatformMeasure; 2] = [PlatformMeasure::Pose, PlatformMeasure::Point];
 
     /// The name of the serial method that measures the same (`frame`,
-    /// `position`), and the data files' columns are that method's.
+    /// `position`); the data files' columns are that method's.
     pub fn name(self) -> &'static str {
         match self {
             PlatformMeasure::Pose => "frame",
@@ -44,7 +44,7 @@ impl PlatformMeasure {
             })
     }
 
-    /// The measured columns of a data file, after `qm1…qm6`.
+    /// The measured columns of a data file, after `qm1…qmk`.
     pub fn columns(self) -> &'static [DataColumn] {
         match self {
             PlatformMeasure::Pose => &[DataColumn::Position, DataColumn::Orientation],
@@ -52,22 +52,41 @@ impl PlatformMeasure {
         }
     }
 
-    /// Equations a measured configuration gives: a leg each for a pose,
-    /// a coordinate each for a point.
-    pub fn rows_per_sample(self) -> usize {
+    /// Equations a measured configuration gives `model`: its closure
+    /// equations for a pose, a coordinate each for a point.
+    pub fn rows_per_sample(self, model: &impl ParallelModel) -> usize {
         match self {
-            PlatformMeasure::Pose => gecaro_core::gough_stewart::LEGS,
+            PlatformMeasure::Pose => model.actuator_count(),
             PlatformMeasure::Point => 3,
         }
     }
 
-    /// Whether `platform`'s tool point is measured (its 3 parameters in
-    /// the equations).
+    /// Whether the tool point's parameters are in the equations.
     pub fn measures_tool(self) -> bool {
         self == PlatformMeasure::Point
     }
 
-    /// A measured pose of a sample (the point's for [`Point`](Self::Point),
+    /// Refuses a measure a structure cannot take: a pose of a platform
+    /// that only translates (a Delta's plate) says nothing of its
+    /// orientation, and its equations have no noise to weigh.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] naming the measure that fits.
+    pub fn check_for(self, model: &impl ParallelModel) -> Result<(), Error> {
+        if self == PlatformMeasure::Pose && model.pose_freedom() < 6 {
+            return Err(Error::InvalidOption {
+                setting: crate::Setting::Method,
+                message: format!(
+                    "{}'s platform only translates: measure the position of a point on it \
+                     (method `position`), not its pose",
+                    model.name()
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    /// A sample's measured pose (the point's for [`Point`](Self::Point),
     /// level).
     ///
     /// # Errors
@@ -91,11 +110,11 @@ impl PlatformMeasure {
         ))
     }
 
-    /// What the sensor reads of `platform` at `pose`, as a sample with the
+    /// What the sensor reads of `model` at `pose`, as a sample with the
     /// actuator values `actuators`.
     pub fn reading(
         self,
-        platform: &GoughStewart,
+        model: &impl ParallelModel,
         pose: &Isometry3<f64>,
         actuators: &[f64],
     ) -> Sample {
@@ -105,7 +124,7 @@ impl PlatformMeasure {
                 sample.position = Some(pose.translation.vector);
                 sample.orientation = Some(pose.rotation);
             }
-            PlatformMeasure::Point => sample.position = Some(platform.tool_point(pose)),
+            PlatformMeasure::Point => sample.position = Some(model.tool_point(pose)),
         }
         sample
     }
@@ -122,9 +141,12 @@ pub struct PlatformNoise {
 }
 
 impl PlatformNoise {
-    /// The variance of leg `i`'s equation from a measured pose's noise:
-    /// `σ_p² + σ_r²·‖R·b × u‖²` (`arm` = R·b, `unit` = u).
-    pub(super) fn leg_variance(self, arm: &Vector3<f64>, unit: &Vector3<f64>) -> f64 {
-        self.length.powi(2) + self.angle.powi(2) * arm.cross(unit).norm_squared()
+    /// The variance a measured pose's noise gives a closure equation whose
+    /// row of `∂F/∂x` is `row` (`[position; rotation]`):
+    /// `σ_p²·‖row_p‖² + σ_r²·‖row_r‖²`.
+    pub(super) fn closure_variance(self, row: &[f64]) -> f64 {
+        let (position, rotation) = row.split_at(3.min(row.len()));
+        self.length.powi(2) * position.iter().map(|v| v * v).sum::<f64>()
+            + self.angle.powi(2) * rotation.iter().map(|v| v * v).sum::<f64>()
     }
 }

@@ -1,6 +1,8 @@
-//! Calibration of parallel robots: a Gough–Stewart platform
-//! ([`gecaro_core::gough_stewart`]) identified from what a tracker measures
-//! of its platform, as the serial robots are (the paper's closing words).
+//! Calibration of parallel robots — a Gough–Stewart platform
+//! ([`gecaro_core::gough_stewart`]) or a Delta robot ([`gecaro_core::delta`]),
+//! any [`ParallelModel`](gecaro_core::parallel_model::ParallelModel) — identified
+//! from what a tracker measures of its platform, as the serial robots are
+//! (the paper's closing words).
 //!
 //! # The calibration equations
 //!
@@ -9,7 +11,7 @@
 //!   through the inverse model, so no direct model is solved to form the
 //!   equations. Each pose gives six equations, one a leg,
 //!   `∂Fᵢ/∂ξ·Δξ = −Fᵢ` with `Fᵢ = ‖p + R·bᵢ − aᵢ‖ − lᵢ − Kᵢ·qmᵢ`
-//!   ([`GoughStewart::leg_parameter_rows`]). A measured pose's noise reaches
+//!   ([`ParallelModel::parameter_jacobian`](gecaro_core::parallel_model::ParallelModel::parameter_jacobian)). A measured pose's noise reaches
 //!   leg i's equation with variance `σ_p² + σ_r²·‖R·bᵢ × uᵢ‖²` (σ_p of a
 //!   position coordinate, σ_r of a rotation angle); each row is weighted by
 //!   it, so the residuals are tested against the stated noise like a serial

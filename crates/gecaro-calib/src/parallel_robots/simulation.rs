@@ -1,19 +1,21 @@
-//! A simulated "real" platform, the poses it reaches and what a sensor
-//! measures there (the paper's points generation, for a parallel robot).
+//! A simulated "real" parallel robot, the poses it reaches and what a
+//! sensor measures there (the paper's points generation, for a parallel
+//! robot).
 
-use gecaro_core::gough_stewart::{GoughStewart, LEGS, PARAMETER_COUNT, PARAMETERS_PER_LEG};
+use gecaro_core::parallel_model::{ParallelModel, ParameterUnit, moved};
 use gecaro_data::sample::Sample;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
-use super::measure::PlatformMeasure;
+use super::measure::{PlatformMeasure, PlatformNoise};
 use crate::{Error, simulation::Sampler};
 
 /// Draws per pose kept, at most, before the workspace is said to hold too
 /// few reachable poses.
 const DRAWS_PER_POSE: usize = 200;
 
-/// Where poses are drawn: about the platform's home pose, within ±`translation`
-/// (m) along each axis and ±`rotation` (rad) about each.
+/// Where poses are drawn: about the home pose, within ±`translation` (m)
+/// along each axis and ±`rotation` (rad) about each (for a platform that
+/// turns).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PlatformWorkspace {
     /// Half the side of the box of positions (m).
@@ -23,66 +25,81 @@ pub struct PlatformWorkspace {
 }
 
 impl PlatformWorkspace {
-    /// The workspace a platform's strokes allow: 40 % of the shortest
-    /// half-stroke in translation, and the turn that moves the platform's
-    /// joints by as much.
-    pub fn of(platform: &GoughStewart) -> Self {
-        let stroke = platform
-            .legs()
-            .iter()
-            .map(|leg| 0.5 * (leg.max - leg.min) * leg.gain.abs())
-            .fold(f64::INFINITY, f64::min);
-        let radius = platform
-            .legs()
-            .iter()
-            .map(|leg| leg.platform.norm())
-            .sum::<f64>()
-            / LEGS as f64;
+    /// The workspace a robot's ranges allow about its home pose: 60 % of
+    /// the shortest of the twelve moves (±x, ±y, ±z; ±turns) it can make
+    /// alone before an actuator leaves its range, found by bisection.
+    pub fn of(model: &impl ParallelModel) -> Self {
+        let home = model.home();
+        let reach = |axis: usize, sign: f64| {
+            let inside = |size: f64| {
+                let mut step = vec![0.0; model.pose_freedom()];
+                step[axis] = sign * size;
+                let pose = moved(&home, &step);
+                model
+                    .actuator_values(&pose)
+                    .is_ok_and(|values| model.out_of_range(&values).is_empty())
+            };
+            let (mut low, mut high) = (0.0, 1.0);
+            for _ in 0..50 {
+                let middle = 0.5 * (low + high);
+                if inside(middle) {
+                    low = middle;
+                } else {
+                    high = middle;
+                }
+            }
+            low
+        };
+        let shortest = |axes: std::ops::Range<usize>| {
+            axes.flat_map(|axis| [reach(axis, 1.0), reach(axis, -1.0)])
+                .fold(f64::INFINITY, f64::min)
+        };
         Self {
-            translation: 0.4 * stroke,
-            rotation: (0.4 * stroke / radius.max(1e-3)).min(0.5),
+            translation: 0.6 * shortest(0..3),
+            rotation: if model.pose_freedom() == 6 {
+                0.6 * shortest(3..6)
+            } else {
+                0.0
+            },
         }
     }
 }
 
-/// A "real" platform drawn about `nominal`: every joint centre, length at
-/// actuator zero and tool coordinate moved uniformly within ±`level` mm,
-/// every gain within ±`level`·10⁻³ of its value.
+/// A "real" robot drawn about `nominal`: every length moved uniformly within
+/// ±`level` mm, every angle within ±`level` mrad, every gain within
+/// ±`level`·10⁻³ of its value.
 ///
 /// # Errors
-/// When the drawn platform is not one (an error level of metres).
-pub fn perturbed_platform(
-    nominal: &GoughStewart,
+/// When the drawn robot is not one (an error level of metres).
+pub fn perturbed_platform<M: ParallelModel>(
+    nominal: &M,
     level: f64,
     sampler: &mut Sampler,
-) -> Result<GoughStewart, Error> {
+) -> Result<M, Error> {
     let mut values = nominal.parameters();
     for (index, value) in values.iter_mut().enumerate() {
-        let gain = index < LEGS * PARAMETERS_PER_LEG && index % PARAMETERS_PER_LEG == 7;
-        let spread = if gain {
-            level * 1e-3 * value.abs()
-        } else {
-            level * 1e-3
+        let spread = match nominal.parameter_unit(index) {
+            ParameterUnit::Gain => level * 1e-3 * value.abs(),
+            ParameterUnit::Length | ParameterUnit::Angle => level * 1e-3,
         };
         *value += sampler.uniform(-spread, spread);
     }
-    debug_assert_eq!(values.len(), PARAMETER_COUNT);
     Ok(nominal.with_parameters(&values)?)
 }
 
-/// `count` poses of `platform` drawn uniformly in `workspace` about its home
-/// pose, each with every actuator value within its range.
+/// `count` poses of `model` drawn uniformly in `workspace` about its home
+/// pose, each reached with every actuator value within its range.
 ///
 /// # Errors
-/// [`Error::Generation`] when fewer than one draw in [`DRAWS_PER_POSE`]
-/// is reachable (a workspace larger than the strokes allow).
+/// [`Error::Generation`] when fewer than one draw in 200 is reachable (a
+/// workspace larger than the ranges allow).
 pub fn random_platform_poses(
-    platform: &GoughStewart,
+    model: &impl ParallelModel,
     count: usize,
     workspace: PlatformWorkspace,
     sampler: &mut Sampler,
 ) -> Result<Vec<Isometry3<f64>>, Error> {
-    let home = platform.home();
+    let home = model.home();
     let mut poses = Vec::with_capacity(count);
     let mut draws = 0;
     while poses.len() < count {
@@ -105,9 +122,9 @@ pub fn random_platform_poses(
             Translation3::from(home.translation.vector + offset),
             UnitQuaternion::from_scaled_axis(turn) * home.rotation,
         );
-        if platform
-            .legs_out_of_range(&platform.actuator_values(&pose))
-            .is_empty()
+        if model
+            .actuator_values(&pose)
+            .is_ok_and(|values| model.out_of_range(&values).is_empty())
         {
             poses.push(pose);
         }
@@ -115,21 +132,26 @@ pub fn random_platform_poses(
     Ok(poses)
 }
 
-/// What a sensor measures of the `real` platform at `poses`: the actuator
+/// What a sensor measures of the `real` robot at `poses`: the actuator
 /// values that put it there (its inverse model) and the measured pose or
 /// tool point with Gaussian noise (σ `noise.length` a coordinate,
 /// `noise.angle` about each axis).
-pub fn simulate_platform(
-    real: &GoughStewart,
+///
+/// # Errors
+/// A measure the structure cannot take, a pose the real robot does not
+/// reach.
+pub fn simulate_platform<M: ParallelModel>(
+    real: &M,
     measure: PlatformMeasure,
     poses: &[Isometry3<f64>],
-    noise: super::PlatformNoise,
+    noise: PlatformNoise,
     sampler: &mut Sampler,
-) -> Vec<Sample> {
+) -> Result<Vec<Sample>, Error> {
+    measure.check_for(real)?;
     poses
         .iter()
         .map(|pose| {
-            let actuators = real.actuator_values(pose);
+            let actuators = real.actuator_values(pose)?;
             let read = match measure {
                 PlatformMeasure::Pose => Isometry3::from_parts(
                     Translation3::from(
@@ -146,7 +168,7 @@ pub fn simulate_platform(
                     .position
                     .map(|point| point + sampler.gaussian_vector(noise.length));
             }
-            sample
+            Ok(sample)
         })
         .collect()
 }

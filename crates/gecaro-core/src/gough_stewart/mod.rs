@@ -17,11 +17,12 @@
 //! with `lᵢ` the leg's length at actuator value zero, `Kᵢ` its gain and
 //! `qmᵢ` the actuator value (metres for a gain of 1). A calibration equation
 //! is the difference of the two (`Fᵢ = ‖p + R·bᵢ − aᵢ‖ − lᵢ − Kᵢ·qmᵢ = 0`),
-//! differentiated with respect to the pose ([`GoughStewart::pose_jacobian`])
+//! differentiated with respect to the pose
+//! ([`GoughStewart::inverse_kinematic_jacobian`])
 //! and to the leg's parameters ([`GoughStewart::leg_parameter_rows`]).
 //!
 //! The direct model — the pose from the actuator values — has no closed
-//! form (up to 40 assembly modes); [`GoughStewart::direct`] solves the six
+//! form (up to 40 assembly modes); [`ParallelModel::direct`] solves the six
 //! leg equations by Newton's method from a start pose, which keeps the
 //! assembly mode of the start (the platform's home pose, or the pose of the
 //! previous target along a program).
@@ -29,7 +30,7 @@
 //! # Parameters and units
 //!
 //! 8 per leg, then the tool point's 3, 51 in all, in this order and with
-//! these names ([`GoughStewart::parameter_names`]):
+//! these names ([`ParallelModel::parameter_names`]):
 //! `a1x a1y a1z b1x b1y b1z l1 K1 … a6x … K6 tx ty tz`. Metres, except the
 //! gains (dimensionless). A pose's small rotation ω is a rotation vector
 //! in the base frame (`R ← exp(ω)·R`); 6-vectors are `[position; rotation]`.
@@ -38,6 +39,7 @@
 //!
 //! ```
 //! use gecaro_core::gough_stewart::{GoughStewart, Leg};
+//! use gecaro_core::parallel_model::ParallelModel;
 //! use nalgebra::{Isometry3, Vector3};
 //!
 //! // Base joints on a circle of 0.5 m, platform joints on one of 0.3 m.
@@ -51,17 +53,16 @@
 //!     .collect();
 //! let hexapod = GoughStewart::new("hexapod", legs, Vector3::zeros())?;
 //! let pose = Isometry3::translation(0.01, -0.02, 0.55);
-//! let actuators = hexapod.actuator_values(&pose);
+//! let actuators = hexapod.actuator_values(&pose)?;
 //! let found = hexapod.direct(&actuators, &hexapod.home())?;
 //! assert!((found.translation.vector - pose.translation.vector).norm() < 1e-12);
 //! # Ok::<(), gecaro_core::Error>(())
 //! ```
 
-mod direct;
-
-use nalgebra::{Isometry3, Matrix6, Point3, Vector3, Vector6};
+use nalgebra::{DMatrix, DVector, Isometry3, Matrix6, Point3, Vector3, Vector6};
 
 use crate::error::{Error, Field};
+use crate::parallel_model::{ParallelModel, ParameterUnit};
 use crate::stated::{MAX_MAGNITUDE, MIN_GAIN};
 
 /// The number of legs of a Gough–Stewart platform.
@@ -154,103 +155,9 @@ impl GoughStewart {
         Ok(platform)
     }
 
-    /// The platform's name.
-    pub fn name(&self) -> &str {
-        &self.name
-    }
-
     /// The six legs, leg 1 first.
     pub fn legs(&self) -> &[Leg] {
         &self.legs
-    }
-
-    /// The tool point, in the platform frame (m).
-    pub fn tool(&self) -> Vector3<f64> {
-        self.tool
-    }
-
-    /// The home pose: the platform level (R = I), centred over the base's
-    /// joints, at the height where the legs' mean length is the mean of their
-    /// ranges' middles. The direct model starts here unless told otherwise,
-    /// which fixes the assembly mode (the platform above the base).
-    pub fn home(&self) -> Isometry3<f64> {
-        self.home
-    }
-
-    /// The parameter vector, in the order of the module docs.
-    pub fn parameters(&self) -> Vec<f64> {
-        let mut values = Vec::with_capacity(PARAMETER_COUNT);
-        for leg in &self.legs {
-            values.extend(leg.base.iter());
-            values.extend(leg.platform.iter());
-            values.push(leg.length);
-            values.push(leg.gain);
-        }
-        values.extend(self.tool.iter());
-        values
-    }
-
-    /// The names of [`parameters`](Self::parameters).
-    pub fn parameter_names() -> Vec<String> {
-        let mut names = Vec::with_capacity(PARAMETER_COUNT);
-        for leg in 1..=LEGS {
-            for part in ["a", "b"] {
-                for axis in ["x", "y", "z"] {
-                    names.push(format!("{part}{leg}{axis}"));
-                }
-            }
-            names.push(format!("l{leg}"));
-            names.push(format!("K{leg}"));
-        }
-        names.extend(["tx", "ty", "tz"].map(String::from));
-        names
-    }
-
-    /// The same platform with other parameter values (ranges, name and home
-    /// kept: the home of a calibrated platform is its nominal one's, so the
-    /// direct model keeps the same assembly mode).
-    ///
-    /// # Errors
-    /// [`Error::Invalid`] when `values` are not [`PARAMETER_COUNT`] or make
-    /// a platform [`new`](Self::new) refuses.
-    pub fn with_parameters(&self, values: &[f64]) -> Result<Self, Error> {
-        if values.len() != PARAMETER_COUNT {
-            return Err(Error::Invalid {
-                field: Field::Frames,
-                message: format!(
-                    "a Gough–Stewart platform has {PARAMETER_COUNT} parameters, {} are given",
-                    values.len()
-                ),
-            });
-        }
-        let legs: Vec<Leg> = self
-            .legs
-            .iter()
-            .zip(values.chunks_exact(PARAMETERS_PER_LEG))
-            .map(|(leg, chunk)| Leg {
-                base: Vector3::new(chunk[0], chunk[1], chunk[2]),
-                platform: Vector3::new(chunk[3], chunk[4], chunk[5]),
-                length: chunk[6],
-                gain: chunk[7],
-                ..leg.clone()
-            })
-            .collect();
-        for (index, leg) in legs.iter().enumerate() {
-            check_leg(index + 1, leg)?;
-        }
-        let tool = &values[LEGS * PARAMETERS_PER_LEG..];
-        Ok(Self {
-            name: self.name.clone(),
-            legs,
-            tool: Vector3::new(tool[0], tool[1], tool[2]),
-            home: self.home,
-        })
-    }
-
-    /// The same platform under another name.
-    pub fn renamed(mut self, name: &str) -> Self {
-        name.clone_into(&mut self.name);
-        self
     }
 
     /// `p + R·bᵢ − aᵢ` of every leg: from the base joint to the platform
@@ -267,35 +174,15 @@ impl GoughStewart {
         self.leg_vectors(pose).map(|v| v.norm())
     }
 
-    /// The actuator values that put the platform at `pose`:
-    /// `qmᵢ = (ℓᵢ − lᵢ)/Kᵢ`.
-    pub fn actuator_values(&self, pose: &Isometry3<f64>) -> [f64; LEGS] {
-        let lengths = self.leg_lengths(pose);
-        std::array::from_fn(|i| (lengths[i] - self.legs[i].length) / self.legs[i].gain)
-    }
-
     /// The legs' lengths the actuators give: `lᵢ + Kᵢ·qmᵢ`.
     pub fn commanded_lengths(&self, actuators: &[f64; LEGS]) -> [f64; LEGS] {
         std::array::from_fn(|i| self.legs[i].length + self.legs[i].gain * actuators[i])
     }
 
-    /// The legs whose actuator value is outside its range (1-based).
-    pub fn legs_out_of_range(&self, actuators: &[f64; LEGS]) -> Vec<usize> {
-        (0..LEGS)
-            .filter(|i| !(self.legs[*i].min..=self.legs[*i].max).contains(&actuators[*i]))
-            .map(|i| i + 1)
-            .collect()
-    }
-
-    /// The tool point at a pose, in the base frame.
-    pub fn tool_point(&self, pose: &Isometry3<f64>) -> Vector3<f64> {
-        pose.transform_point(&Point3::from(self.tool)).coords
-    }
-
     /// ∂ℓ/∂x at a pose: row i is `[uᵢᵀ, (R·bᵢ × uᵢ)ᵀ]`, uᵢ the unit vector of
     /// leg i, for a pose change `[δp; ω]` with `R ← exp(ω)·R` (the
     /// platform's inverse kinematic Jacobian).
-    pub fn pose_jacobian(&self, pose: &Isometry3<f64>) -> Matrix6<f64> {
+    pub fn inverse_kinematic_jacobian(&self, pose: &Isometry3<f64>) -> Matrix6<f64> {
         let vectors = self.leg_vectors(pose);
         let mut jacobian = Matrix6::zeros();
         for (i, vector) in vectors.iter().enumerate() {
@@ -388,6 +275,155 @@ impl GoughStewart {
             centre.y,
             centre.z + 0.5 * (low + high),
         ))
+    }
+}
+
+/// Six legs' closure equations `Fᵢ = ‖p + R·bᵢ − aᵢ‖ − lᵢ − Kᵢ·qmᵢ`.
+impl ParallelModel for GoughStewart {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn renamed(&self, name: &str) -> Self {
+        Self {
+            name: name.to_owned(),
+            ..self.clone()
+        }
+    }
+
+    fn actuator_count(&self) -> usize {
+        LEGS
+    }
+
+    fn pose_freedom(&self) -> usize {
+        6
+    }
+
+    /// In the order of the module docs.
+    fn parameters(&self) -> Vec<f64> {
+        let mut values = Vec::with_capacity(PARAMETER_COUNT);
+        for leg in &self.legs {
+            values.extend(leg.base.iter());
+            values.extend(leg.platform.iter());
+            values.push(leg.length);
+            values.push(leg.gain);
+        }
+        values.extend(self.tool.iter());
+        values
+    }
+
+    fn parameter_names(&self) -> Vec<String> {
+        let mut names = Vec::with_capacity(PARAMETER_COUNT);
+        for leg in 1..=LEGS {
+            for part in ["a", "b"] {
+                for axis in ["x", "y", "z"] {
+                    names.push(format!("{part}{leg}{axis}"));
+                }
+            }
+            names.push(format!("l{leg}"));
+            names.push(format!("K{leg}"));
+        }
+        names.extend(["tx", "ty", "tz"].map(String::from));
+        names
+    }
+
+    fn parameter_unit(&self, index: usize) -> ParameterUnit {
+        if index < LEGS * PARAMETERS_PER_LEG && index % PARAMETERS_PER_LEG == 7 {
+            ParameterUnit::Gain
+        } else {
+            ParameterUnit::Length
+        }
+    }
+
+    fn tool_parameters(&self) -> std::ops::Range<usize> {
+        LEGS * PARAMETERS_PER_LEG..PARAMETER_COUNT
+    }
+
+    /// Ranges, name and home kept: the home of a calibrated platform is its
+    /// nominal one's, so the direct model keeps the same assembly mode.
+    fn with_parameters(&self, values: &[f64]) -> Result<Self, Error> {
+        if values.len() != PARAMETER_COUNT {
+            return Err(Error::Invalid {
+                field: Field::Frames,
+                message: format!(
+                    "a Gough–Stewart platform has {PARAMETER_COUNT} parameters, {} are given",
+                    values.len()
+                ),
+            });
+        }
+        let legs: Vec<Leg> = self
+            .legs
+            .iter()
+            .zip(values.chunks_exact(PARAMETERS_PER_LEG))
+            .map(|(leg, chunk)| Leg {
+                base: Vector3::new(chunk[0], chunk[1], chunk[2]),
+                platform: Vector3::new(chunk[3], chunk[4], chunk[5]),
+                length: chunk[6],
+                gain: chunk[7],
+                ..leg.clone()
+            })
+            .collect();
+        for (index, leg) in legs.iter().enumerate() {
+            check_leg(index + 1, leg)?;
+        }
+        let tool = &values[LEGS * PARAMETERS_PER_LEG..];
+        Ok(Self {
+            name: self.name.clone(),
+            legs,
+            tool: Vector3::new(tool[0], tool[1], tool[2]),
+            home: self.home,
+        })
+    }
+
+    /// The platform level (R = I), centred over the base's joints, at the
+    /// height where the legs' mean length is the mean of their ranges'
+    /// middles: the platform above the base.
+    fn home(&self) -> Isometry3<f64> {
+        self.home
+    }
+
+    fn tool(&self) -> Vector3<f64> {
+        self.tool
+    }
+
+    fn closure(&self, pose: &Isometry3<f64>, actuators: &[f64]) -> DVector<f64> {
+        let lengths = self.leg_lengths(pose);
+        DVector::from_fn(LEGS, |i, _| {
+            lengths[i] - self.legs[i].length - self.legs[i].gain * actuators[i]
+        })
+    }
+
+    fn pose_jacobian(&self, pose: &Isometry3<f64>, _actuators: &[f64]) -> DMatrix<f64> {
+        let jacobian = self.inverse_kinematic_jacobian(pose);
+        DMatrix::from_fn(LEGS, 6, |r, c| jacobian[(r, c)])
+    }
+
+    fn parameter_jacobian(&self, pose: &Isometry3<f64>, actuators: &[f64]) -> DMatrix<f64> {
+        let actuators: [f64; LEGS] = std::array::from_fn(|i| actuators[i]);
+        let rows = self.leg_parameter_rows(pose, &actuators);
+        let mut jacobian = DMatrix::zeros(LEGS, PARAMETER_COUNT);
+        for (leg, row) in rows.iter().enumerate() {
+            for (k, value) in row.iter().enumerate() {
+                jacobian[(leg, leg * PARAMETERS_PER_LEG + k)] = *value;
+            }
+        }
+        jacobian
+    }
+
+    /// `qmᵢ = (ℓᵢ − lᵢ)/Kᵢ`: every pose has its values (a leg's range is
+    /// checked apart, [`out_of_range`](Self::out_of_range)).
+    fn actuator_values(&self, pose: &Isometry3<f64>) -> Result<Vec<f64>, Error> {
+        let lengths = self.leg_lengths(pose);
+        Ok((0..LEGS)
+            .map(|i| (lengths[i] - self.legs[i].length) / self.legs[i].gain)
+            .collect())
+    }
+
+    fn out_of_range(&self, actuators: &[f64]) -> Vec<usize> {
+        (0..LEGS)
+            .filter(|i| !(self.legs[*i].min..=self.legs[*i].max).contains(&actuators[*i]))
+            .map(|i| i + 1)
+            .collect()
     }
 }
 

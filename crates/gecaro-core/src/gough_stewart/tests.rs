@@ -1,7 +1,7 @@
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
-use super::direct::moved;
 use super::*;
+use crate::parallel_model::moved;
 
 /// A hexapod of base radius 0.5 m and platform radius 0.3 m, joints paired
 /// 30° apart, legs of 0.6 m at actuator zero, ranges ±0.1 m.
@@ -33,7 +33,7 @@ fn home_is_level_and_every_leg_mid_range() {
     let home = hexapod.home();
     assert!(home.rotation.angle() < 1e-15);
     // A symmetric platform: every leg the same length, at mid-range (0).
-    for value in hexapod.actuator_values(&home) {
+    for value in hexapod.actuator_values(&home).expect("values") {
         assert!(value.abs() < 1e-12, "{value}");
     }
     assert!(home.translation.z > 0.0);
@@ -60,7 +60,7 @@ fn direct_model_inverts_an_independent_inverse_model() {
                 (world - leg.base).norm()
             })
             .collect();
-        let actuators: [f64; 6] = std::array::from_fn(|j| lengths[j] - 0.6);
+        let actuators: Vec<f64> = lengths.iter().map(|length| length - 0.6).collect();
         let found = hexapod.direct(&actuators, &hexapod.home()).expect("solved");
         let position = (found.translation.vector - target.translation.vector).norm();
         let angle = (found.rotation.inverse() * target.rotation).angle();
@@ -82,18 +82,14 @@ fn pose_jacobian_matches_finite_differences() {
         -0.05,
         0.2,
     );
-    let jacobian = hexapod.pose_jacobian(&at);
+    let jacobian = hexapod.inverse_kinematic_jacobian(&at);
     let h = 1e-6;
     for column in 0..6 {
         let mut step = [0.0; 6];
         step[column] = h;
         let shifted = |sign: f64| {
             let s = step.map(|v| v * sign);
-            let moved = moved(
-                &at,
-                &Vector3::new(s[0], s[1], s[2]),
-                &Vector3::new(s[3], s[4], s[5]),
-            );
+            let moved = moved(&at, &s);
             hexapod.leg_lengths(&moved)
         };
         let (plus, minus) = (shifted(1.0), shifted(-1.0));
@@ -142,7 +138,7 @@ fn parameter_rows_match_finite_differences() {
             assert!(
                 (numeric[row] - analytic).abs() < 1e-7,
                 "{}: leg {row}: {} against {analytic}",
-                GoughStewart::parameter_names()[parameter],
+                hexapod.parameter_names()[parameter],
                 numeric[row]
             );
         }
@@ -154,9 +150,9 @@ fn parameters_round_trip_with_their_names() {
     let hexapod = hexapod();
     let values = hexapod.parameters();
     assert_eq!(values.len(), PARAMETER_COUNT);
-    assert_eq!(GoughStewart::parameter_names().len(), PARAMETER_COUNT);
-    assert_eq!(GoughStewart::parameter_names()[7], "K1");
-    assert_eq!(GoughStewart::parameter_names()[50], "tz");
+    assert_eq!(hexapod.parameter_names().len(), PARAMETER_COUNT);
+    assert_eq!(hexapod.parameter_names()[7], "K1");
+    assert_eq!(hexapod.parameter_names()[50], "tz");
     assert_eq!(hexapod.with_parameters(&values).expect("same"), hexapod);
 }
 
@@ -213,7 +209,10 @@ fn a_program_keeps_its_assembly_mode_target_after_target() {
             0.25 * (0.5 * t).sin(),
         );
         let found = hexapod
-            .direct(&hexapod.actuator_values(&target), &previous)
+            .direct(
+                &hexapod.actuator_values(&target).expect("values"),
+                &previous,
+            )
             .expect("solved");
         let position = (found.translation.vector - target.translation.vector).norm();
         let angle = (found.rotation.inverse() * target.rotation).angle();

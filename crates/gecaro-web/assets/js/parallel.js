@@ -1,5 +1,5 @@
-// A parallel robot on the page (issue 79): a Gough–Stewart platform of the
-// folder (or the ready hexapod) — its measurements simulated, its
+// A parallel robot on the page (issue 79): a Gough–Stewart platform or a
+// Delta robot of the folder (or the ready hexapod and delta) — its measurements simulated, its
 // identifiable parameters, its identification with every parameter's
 // precision and the verdict, and its direct model judged on held-out poses.
 import { api } from './api.js';
@@ -50,7 +50,7 @@ function parameterTable(parameters) {
 /** Builds the parallel robot's card. */
 export function buildParallel() {
   const result = h('div', { class: 'result', id: 'parallel-result' });
-  const robot = text('robot', 'hexapod, or a parallel robot file of the folder', 'hexapod');
+  const robot = text('robot', 'hexapod, delta, or a parallel robot file of the folder', 'hexapod');
   const method = h('select', { id: 'parallel-method' },
     [['frame', 'frame: the platform’s pose'], ['position', 'position: its tool point']]
       .map(([value, label]) => h('option', { value, text: label })));
@@ -168,6 +168,6 @@ export function buildParallel() {
       field('Program of platform poses', program),
       field('Write the compensated program to', corrected),
       compensate),
-    h('p', { class: 'hint', text: 'A Gough–Stewart platform: leg i from its base joint aᵢ to its platform joint bᵢ, length ℓᵢ = ‖p + R·bᵢ − aᵢ‖ = lᵢ + Kᵢ·qmᵢ. Measured poses identify every leg’s aᵢ, bᵢ, lᵢ, Kᵢ (48 parameters) through the inverse model; one measured point identifies the tool point and all but six platform-joint coordinates (docs/parallel.md).' }),
+    h('p', { class: 'hint', text: 'A Gough–Stewart platform: leg i from its base joint aᵢ to its platform joint bᵢ, length ℓᵢ = ‖p + R·bᵢ − aᵢ‖ = lᵢ + Kᵢ·qmᵢ; measured poses identify every leg’s aᵢ, bᵢ, lᵢ, Kᵢ (48 parameters) through the inverse model, one measured point the tool point and all but six platform-joint coordinates. A Delta robot (three arms, the plate only translates) is measured by its tool point: 24 of its 36 parameters (docs/parallel.md).' }),
     result);
 }

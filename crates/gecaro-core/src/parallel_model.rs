@@ -1,0 +1,166 @@
+//! What every parallel robot is to the calibration ([`ParallelModel`]): k
+//! actuators, k closure equations `F(x, qm, ξ) = 0` that tie the platform's
+//! pose x to the actuator values qm and the parameters ξ, their
+//! derivatives, the explicit inverse model, and the direct model solved by
+//! Newton's method on the closure equations — Khalil's approach for closed
+//! chains, for the Gough–Stewart platform ([`crate::gough_stewart`]) and the
+//! Delta robot ([`crate::delta`]) alike.
+//!
+//! A pose change is `[δp; ω]` with `R ← exp(ω)·R` (base frame) for a
+//! platform that turns, `δp` alone for one that only translates (a Delta's);
+//! [`ParallelModel::pose_freedom`] says which (6 or 3).
+
+use nalgebra::{DMatrix, DVector, Isometry3, Translation3, UnitQuaternion, Vector3};
+
+use crate::error::Error;
+
+/// Newton iterations at most: from a start a stroke away, convergence
+/// takes 4–6.
+const MAX_ITERATIONS: usize = 50;
+
+/// The closure equations' residual below which the pose is solved (m).
+const TOLERANCE: f64 = 1e-12;
+
+/// A parallel robot; see the module docs.
+pub trait ParallelModel: Clone + std::fmt::Debug + Send + Sync {
+    /// Its name.
+    fn name(&self) -> &str;
+
+    /// The same robot under another name.
+    #[must_use]
+    fn renamed(&self, name: &str) -> Self;
+
+    /// k: actuators, and closure equations.
+    fn actuator_count(&self) -> usize;
+
+    /// 6 for a platform that turns, 3 for one that only translates.
+    fn pose_freedom(&self) -> usize;
+
+    /// The parameter vector ξ.
+    fn parameters(&self) -> Vec<f64>;
+
+    /// The names of [`parameters`](Self::parameters).
+    fn parameter_names(&self) -> Vec<String>;
+
+    /// Whether parameter `index` is a gain (dimensionless; the others are
+    /// lengths, or angles for a Delta's).
+    fn parameter_unit(&self, index: usize) -> ParameterUnit;
+
+    /// The indices of the tool point's three parameters.
+    fn tool_parameters(&self) -> std::ops::Range<usize>;
+
+    /// The same robot with other parameter values (name, ranges and home
+    /// kept).
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] for values no such robot has.
+    fn with_parameters(&self, values: &[f64]) -> Result<Self, Error>;
+
+    /// The home pose: the direct model's default start, which fixes the
+    /// assembly mode.
+    fn home(&self) -> Isometry3<f64>;
+
+    /// The tool point, in the platform frame (m).
+    fn tool(&self) -> Vector3<f64>;
+
+    /// The tool point at a pose, in the base frame.
+    fn tool_point(&self, pose: &Isometry3<f64>) -> Vector3<f64> {
+        pose.transform_point(&nalgebra::Point3::from(self.tool()))
+            .coords
+    }
+
+    /// `F(x, qm)`: one residual per actuator (m).
+    fn closure(&self, pose: &Isometry3<f64>, actuators: &[f64]) -> DVector<f64>;
+
+    /// `∂F/∂x` (k × [`pose_freedom`](Self::pose_freedom)).
+    fn pose_jacobian(&self, pose: &Isometry3<f64>, actuators: &[f64]) -> DMatrix<f64>;
+
+    /// `∂F/∂ξ` (k × parameters).
+    fn parameter_jacobian(&self, pose: &Isometry3<f64>, actuators: &[f64]) -> DMatrix<f64>;
+
+    /// The inverse model: the actuator values that put the platform at
+    /// `pose`.
+    ///
+    /// # Errors
+    /// [`Error::Unreachable`] for a pose no leg or arm reaches.
+    fn actuator_values(&self, pose: &Isometry3<f64>) -> Result<Vec<f64>, Error>;
+
+    /// The actuators (1-based) whose value is outside its range.
+    fn out_of_range(&self, actuators: &[f64]) -> Vec<usize>;
+
+    /// The direct model: the pose the actuator values put the platform at,
+    /// by Newton's method on the closure equations from `start` (which
+    /// fixes the assembly mode), each step halved while it does not lower
+    /// the residual.
+    ///
+    /// # Errors
+    /// [`Error::ConfigurationLength`] or [`Error::NonFiniteConfiguration`]
+    /// for values that are not k numbers; [`Error::NoAssembly`] when no
+    /// pose closes the chains from `start`.
+    fn direct(&self, actuators: &[f64], start: &Isometry3<f64>) -> Result<Isometry3<f64>, Error> {
+        if actuators.len() != self.actuator_count() {
+            return Err(Error::ConfigurationLength {
+                expected: self.actuator_count(),
+                found: actuators.len(),
+            });
+        }
+        if let Some((index, value)) = actuators.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(Error::NonFiniteConfiguration {
+                joint: index + 1,
+                value: *value,
+            });
+        }
+        let mut pose = *start;
+        let mut residual = self.closure(&pose, actuators);
+        for _ in 0..MAX_ITERATIONS {
+            if residual.amax() < TOLERANCE {
+                return Ok(pose);
+            }
+            let Some(step) = self
+                .pose_jacobian(&pose, actuators)
+                .lu()
+                .solve(&(-&residual))
+            else {
+                break;
+            };
+            let lowered = (0..30)
+                .map(|halvings| &step * 0.5f64.powi(halvings))
+                .find_map(|step| {
+                    let next = moved(&pose, step.as_slice());
+                    let next_residual = self.closure(&next, actuators);
+                    (next_residual.norm() < residual.norm()).then_some((next, next_residual))
+                });
+            let Some((next, next_residual)) = lowered else {
+                break;
+            };
+            (pose, residual) = (next, next_residual);
+        }
+        Err(Error::NoAssembly {
+            residual: residual.amax(),
+        })
+    }
+}
+
+/// What a parameter measures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ParameterUnit {
+    /// A length (m).
+    Length,
+    /// An angle (rad).
+    Angle,
+    /// A gain (dimensionless).
+    Gain,
+}
+
+/// `pose` moved by `step`: `[δp]` or `[δp; ω]` with `R ← exp(ω)·R`.
+pub fn moved(pose: &Isometry3<f64>, step: &[f64]) -> Isometry3<f64> {
+    let translation = Vector3::new(step[0], step[1], step[2]);
+    let rotation = match step.get(3..6) {
+        Some(turn) => UnitQuaternion::from_scaled_axis(Vector3::new(turn[0], turn[1], turn[2])),
+        None => UnitQuaternion::identity(),
+    };
+    Isometry3::from_parts(
+        Translation3::from(pose.translation.vector + translation),
+        rotation * pose.rotation,
+    )
+}
