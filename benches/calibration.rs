@@ -372,3 +372,37 @@ fn iso9283_evaluate_100000(bencher: divan::Bencher) {
         .collect();
     bencher.bench_local(|| evaluate_test(&visits, &Registration::BestFit).expect("evaluation"));
 }
+
+/// A parallel robot identified at tracker rates (issue 80): 10⁵ measured
+/// poses of the ready hexapod, 10⁵ tool points of the ready Delta, σ 20 µm
+/// (a real robot drawn at level 1), against `identify_position_large`'s
+/// serial arm of the same size.
+#[divan::bench(args = ["hexapod frame", "delta position"], sample_count = 3, sample_size = 1)]
+fn identify_parallel_100000(bencher: divan::Bencher, case: &str) {
+    use gecaro_calib::parallel_robots::{
+        PlatformIdentificationOptions, PlatformMeasure, PlatformNoise, PlatformWorkspace,
+        identify_platform, perturbed_platform, random_platform_poses, simulate_platform,
+    };
+    let (name, method) = case.split_once(' ').expect("robot and method");
+    let nominal = gecaro_io::load_parallel_robot(name).expect("ready").robot;
+    let measure = PlatformMeasure::named(method).expect("measure");
+    let mut sampler = gecaro_calib::simulation::Sampler::new(1);
+    let real = perturbed_platform(&nominal, 1.0, &mut sampler).expect("real");
+    let poses = random_platform_poses(&real, 100_000, PlatformWorkspace::of(&real), &mut sampler)
+        .expect("poses");
+    let noise = PlatformNoise {
+        length: 2e-5,
+        angle: 2e-5,
+    };
+    let samples = simulate_platform(&real, measure, &poses, noise, &mut sampler).expect("data");
+    bencher.bench_local(|| {
+        identify_platform(
+            &nominal,
+            &samples,
+            measure,
+            Some(noise),
+            &PlatformIdentificationOptions::default(),
+        )
+        .expect("identified")
+    });
+}

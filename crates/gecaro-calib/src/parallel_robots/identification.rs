@@ -8,11 +8,11 @@ use nalgebra::Isometry3;
 
 use super::identifiability::{PlatformRankReport, rank_of};
 use super::measure::{PlatformMeasure, PlatformNoise};
-use super::observation::{PlatformRows, platform_rows};
+use super::observation::{NormalSystem, normal_system, platform_rows};
 use crate::Error;
 use crate::identifiability::ParameterStatus;
 use crate::identification::{NoiseTest, Outcome, noise_test};
-use crate::linalg::{select_columns, solve_with_covariance};
+use nalgebra::{DMatrix, DVector};
 
 /// A joint centre, length or tool coordinate that moved further than this
 /// from its nominal value (m) is no platform's error but a mistaken file
@@ -97,15 +97,21 @@ pub fn identify_platform<M: ParallelModel>(
     noise: Option<PlatformNoise>,
     options: &PlatformIdentificationOptions,
 ) -> Result<PlatformIdentification<M>, Error> {
+    let mut rank = structural_rank(nominal, samples, measure, noise)?;
     let mut poses: Vec<Isometry3<f64>> = Vec::new();
-    let mut rows = platform_rows(nominal, samples, measure, noise, &mut poses)?;
-    let rank = rank_of(nominal, &rows, measure)?;
-    let count = rows.residuals.len();
-    let rms = |rows: &PlatformRows| {
+    let mut system = normal_system(nominal, samples, measure, noise, &mut poses)?;
+    let count = system.rows;
+    if count < rank.base.len() {
+        return Err(Error::TooFewEquations {
+            equations: count,
+            unknowns: rank.base.len(),
+        });
+    }
+    let rms = |system: &NormalSystem| {
         let sigma = noise.map_or(1.0, |noise| noise.length);
-        (rows.cost() / count as f64).sqrt() * sigma
+        (system.cost / count as f64).sqrt() * sigma
     };
-    let rms_before = rms(&rows);
+    let rms_before = rms(&system);
     let mut current = nominal.clone();
     let mut values = nominal.parameters();
     let mut iterations = 0;
@@ -113,51 +119,50 @@ pub fn identify_platform<M: ParallelModel>(
     let mut diverged = false;
     while iterations < options.max_iterations {
         iterations += 1;
-        let base = select_columns(rows.matrix.as_ref(), &rank.base);
-        let (solution, _) = solve_with_covariance(base.as_ref(), &rows.residuals);
-        let cost = rows.cost();
+        let (_, solution) = base_system(&system, &rank.base)?;
+        let cost = system.cost;
         // The full step, halved while it does not lower the cost.
         let mut accepted = None;
         for halving in 0..20 {
             let scale = 0.5f64.powi(halving);
             let mut trial = values.clone();
-            for (column, step) in rank.base.iter().zip(&solution.solution) {
+            for (column, step) in rank.base.iter().zip(solution.iter()) {
                 trial[*column] += scale * step;
             }
-            let Ok(platform) = nominal.with_parameters(&trial) else {
+            let Ok(model) = nominal.with_parameters(&trial) else {
                 continue;
             };
             let mut trial_poses = poses.clone();
-            let Ok(trial_rows) =
-                platform_rows(&platform, samples, measure, noise, &mut trial_poses)
+            let Ok(trial_system) = normal_system(&model, samples, measure, noise, &mut trial_poses)
             else {
                 continue;
             };
-            if trial_rows.cost() <= cost {
-                accepted = Some((trial, platform, trial_rows, trial_poses));
+            if trial_system.cost <= cost {
+                accepted = Some((trial, model, trial_system, trial_poses));
                 break;
             }
         }
-        let Some((trial, platform, trial_rows, trial_poses)) = accepted else {
+        let Some((trial, model, trial_system, trial_poses)) = accepted else {
             // No step lowers the cost: the current parameters are the
             // minimum to the precision of the arithmetic, or the fit failed.
             converged = iterations > 1;
             diverged = !converged;
             break;
         };
-        let decrease = (cost - trial_rows.cost()) / cost.max(f64::MIN_POSITIVE);
-        (values, current, rows, poses) = (trial, platform, trial_rows, trial_poses);
+        let decrease = (cost - trial_system.cost) / cost.max(f64::MIN_POSITIVE);
+        (values, current, system, poses) = (trial, model, trial_system, trial_poses);
         if decrease < options.tolerance {
             converged = true;
             break;
         }
     }
-    let base = select_columns(rows.matrix.as_ref(), &rank.base);
-    let (precision, _) = solve_with_covariance(base.as_ref(), &rows.residuals);
+    let (inverse_diagonal, _) = base_system(&system, &rank.base)?;
+    rank.rows = count;
+    rank.condition_number = condition(&system, &rank.base);
     let freedom = count.saturating_sub(rank.rank());
-    let test = noise.map(|_| noise_test(rows.cost(), freedom));
+    let test = noise.map(|_| noise_test(system.cost, freedom));
     // σ̂ of a unit weight: √(χ²/ν) with σ stated, the residuals' own otherwise.
-    let unit_sigma = (rows.cost() / freedom.max(1) as f64).sqrt();
+    let unit_sigma = (system.cost / freedom.max(1) as f64).sqrt();
     let nominal_values = nominal.parameters();
     let parameters: Vec<PlatformParameter> = nominal
         .parameter_names()
@@ -171,7 +176,7 @@ pub fn identify_platform<M: ParallelModel>(
                 .base
                 .iter()
                 .position(|c| *c == index)
-                .map(|k| unit_sigma * precision.inverse_normal_diagonal[k].sqrt()),
+                .map(|k| unit_sigma * inverse_diagonal[k].sqrt()),
             status: rank.statuses[index],
         })
         .collect();
@@ -209,8 +214,64 @@ pub fn identify_platform<M: ParallelModel>(
         outcome,
         noise_test: test,
         rms_before,
-        rms_after: rms(&rows),
+        rms_after: rms(&system),
         iterations,
         implausible,
     })
+}
+
+/// Configurations the rank analysis takes at most: the structure's rank
+/// shows in a few thousand equations; more add precision, not rank.
+const RANK_SAMPLES: usize = 2000;
+
+/// The identifiable parameters from at most [`RANK_SAMPLES`] configurations
+/// spread evenly over the data (all of them below that).
+fn structural_rank<M: ParallelModel>(
+    nominal: &M,
+    samples: &[Sample],
+    measure: PlatformMeasure,
+    noise: Option<PlatformNoise>,
+) -> Result<PlatformRankReport, Error> {
+    let taken: Vec<Sample> = if samples.len() <= RANK_SAMPLES {
+        samples.to_vec()
+    } else {
+        (0..RANK_SAMPLES)
+            .map(|k| samples[k * samples.len() / RANK_SAMPLES].clone())
+            .collect()
+    };
+    let rows = platform_rows(nominal, &taken, measure, noise, &mut Vec::new())?;
+    rank_of(nominal, &rows, measure)
+}
+
+/// The normal equations of the base columns: the diagonal of their inverse
+/// (the parameters' precision before σ̂) and the Gauss–Newton step.
+///
+/// # Errors
+/// [`Error::Numerical`] when they are not positive definite (a base set
+/// that the data do not determine).
+fn base_system(system: &NormalSystem, base: &[usize]) -> Result<(Vec<f64>, DVector<f64>), Error> {
+    let gram = DMatrix::from_fn(base.len(), base.len(), |i, j| system.gram[(base[i], base[j])]);
+    let projected = DVector::from_fn(base.len(), |i, _| system.projected[base[i]]);
+    let cholesky = gram.cholesky().ok_or_else(|| Error::Numerical {
+        message: "the normal equations of the identifiable parameters are not positive definite"
+            .into(),
+    })?;
+    let inverse = cholesky.inverse();
+    Ok((
+        (0..base.len()).map(|i| inverse[(i, i)]).collect(),
+        cholesky.solve(&projected),
+    ))
+}
+
+/// The condition number of the base columns of W: `√(λmax/λmin)` of their
+/// normal equations.
+fn condition(system: &NormalSystem, base: &[usize]) -> f64 {
+    let gram = DMatrix::from_fn(base.len(), base.len(), |i, j| system.gram[(base[i], base[j])]);
+    let values = gram.symmetric_eigenvalues();
+    let (smallest, largest) = (values.min(), values.max());
+    if smallest > 0.0 {
+        (largest / smallest).sqrt()
+    } else {
+        f64::INFINITY
+    }
 }

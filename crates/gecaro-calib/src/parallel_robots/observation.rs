@@ -4,33 +4,24 @@
 use faer::Mat;
 use gecaro_core::parallel_model::ParallelModel;
 use gecaro_data::sample::Sample;
-use nalgebra::{DMatrix, Isometry3, Matrix3};
+use gecaro_data::parallel::run_parts;
+use nalgebra::{DMatrix, DVector, Isometry3, Matrix3};
 
 use super::measure::{PlatformMeasure, PlatformNoise};
 use crate::Error;
 
-/// The weighted system `W·Δξ ≈ r` of every measured configuration: each row
-/// and its residual divided by the row's σ (1 m when no σ is stated), the
-/// columns the model's parameters.
+/// The weighted observation matrix W of every measured configuration: each
+/// row divided by its σ (1 m when no σ is stated), the columns the model's
+/// parameters.
 pub(super) struct PlatformRows {
     /// W, rows × parameters.
     pub(super) matrix: Mat<f64>,
-    /// r: measured minus predicted (a point), or −Fᵢ (a closure equation),
-    /// weighted.
-    pub(super) residuals: Vec<f64>,
 }
 
-impl PlatformRows {
-    /// The weighted cost `Σ r²`.
-    pub(super) fn cost(&self) -> f64 {
-        self.residuals.iter().map(|r| r * r).sum()
-    }
-}
-
-/// The rows of `samples` at `model`'s parameters. `poses` holds each
-/// sample's last solved pose (the start of its next direct model: the
-/// assembly mode kept, and few Newton steps); it is filled on the first
-/// call.
+/// The rows of `samples` at `model`'s parameters, held (for the rank
+/// analysis of a few thousand configurations). `poses` holds each sample's
+/// last solved pose (the start of its next direct model: the assembly mode
+/// kept, and few Newton steps); it is filled on the first call.
 ///
 /// # Errors
 /// A measure the structure cannot take, a sample without the measure's
@@ -48,51 +39,143 @@ pub(super) fn platform_rows<M: ParallelModel>(
     let columns = model.parameters().len();
     let rows = samples.len() * per_sample;
     let mut matrix = Mat::<f64>::zeros(rows, columns);
-    let mut residuals = vec![0.0; rows];
     if poses.len() != samples.len() {
         *poses = vec![model.home(); samples.len()];
     }
     for (index, (sample, start)) in samples.iter().zip(poses.iter_mut()).enumerate() {
-        let actuators = actuator_values(model, sample)?;
-        let measured = measure.measured(sample)?;
-        let first = index * per_sample;
-        match measure {
-            PlatformMeasure::Pose => {
-                let closure = model.closure(&measured, actuators);
-                let by_pose = model.pose_jacobian(&measured, actuators);
-                let by_parameter = model.parameter_jacobian(&measured, actuators);
-                for equation in 0..per_sample {
-                    let sigma = noise.map_or(1.0, |noise| {
-                        let row: Vec<f64> = by_pose.row(equation).iter().copied().collect();
-                        noise.closure_variance(&row).sqrt()
-                    });
-                    for column in 0..columns {
-                        matrix[(first + equation, column)] =
-                            by_parameter[(equation, column)] / sigma;
-                    }
-                    residuals[first + equation] = -closure[equation] / sigma;
-                }
-            }
-            PlatformMeasure::Point => {
-                let pose = model
-                    .direct(actuators, start)
-                    .map_err(|cause| located(sample, &cause))?;
-                *start = pose;
-                let sigma = noise.map_or(1.0, |noise| noise.length);
-                let point = model.tool_point(&pose);
-                let derivative = point_derivative(model, &pose, actuators)
-                    .ok_or_else(|| located(sample, &"the platform is singular there"))?;
-                for axis in 0..3 {
-                    for column in 0..columns {
-                        matrix[(first + axis, column)] = derivative[(axis, column)] / sigma;
-                    }
-                    residuals[first + axis] =
-                        (measured.translation.vector[axis] - point[axis]) / sigma;
-                }
+        let (block, _) = sample_rows(model, sample, measure, noise, start)?;
+        for row in 0..per_sample {
+            for column in 0..columns {
+                matrix[(index * per_sample + row, column)] = block[(row, column)];
             }
         }
     }
-    Ok(PlatformRows { matrix, residuals })
+    Ok(PlatformRows { matrix })
+}
+
+/// The normal equations `WᵀW·Δξ = Wᵀr` of the weighted system and its cost
+/// `Σ r²`, summed over the samples without holding W (10⁵ measured poses
+/// are 6·10⁵ rows): on all cores, each row added on its non-zero columns
+/// only (a leg's equation touches its own eight).
+pub(super) struct NormalSystem {
+    /// WᵀW (parameters × parameters).
+    pub(super) gram: DMatrix<f64>,
+    /// Wᵀr.
+    pub(super) projected: DVector<f64>,
+    /// Σ r² (weighted).
+    pub(super) cost: f64,
+    /// Rows of W.
+    pub(super) rows: usize,
+}
+
+/// Samples a part of the normal equations' sum takes: enough for its set-up
+/// to be nothing, few enough for two cores to share evenly.
+const PART_SAMPLES: usize = 2048;
+
+/// See [`NormalSystem`]; `poses` as for [`platform_rows`].
+///
+/// # Errors
+/// As [`platform_rows`].
+pub(super) fn normal_system<M: ParallelModel>(
+    model: &M,
+    samples: &[Sample],
+    measure: PlatformMeasure,
+    noise: Option<PlatformNoise>,
+    poses: &mut Vec<Isometry3<f64>>,
+) -> Result<NormalSystem, Error> {
+    measure.check_for(model)?;
+    let columns = model.parameters().len();
+    if poses.len() != samples.len() {
+        *poses = vec![model.home(); samples.len()];
+    }
+    let parts: Vec<(&[Sample], &mut [Isometry3<f64>])> = samples
+        .chunks(PART_SAMPLES)
+        .zip(poses.chunks_mut(PART_SAMPLES))
+        .collect();
+    let sums = run_parts(parts, |(samples, starts)| {
+        let mut gram = DMatrix::<f64>::zeros(columns, columns);
+        let mut projected = DVector::<f64>::zeros(columns);
+        let mut cost = 0.0;
+        let mut nonzero = Vec::with_capacity(columns);
+        for (sample, start) in samples.iter().zip(starts.iter_mut()) {
+            let (block, right) = sample_rows(model, sample, measure, noise, start)?;
+            for row in 0..block.nrows() {
+                nonzero.clear();
+                nonzero.extend((0..columns).filter(|c| block[(row, *c)] != 0.0));
+                for (k, i) in nonzero.iter().enumerate() {
+                    let value = block[(row, *i)];
+                    projected[*i] += value * right[row];
+                    for j in &nonzero[k..] {
+                        gram[(*i, *j)] += value * block[(row, *j)];
+                    }
+                }
+                cost += right[row] * right[row];
+            }
+        }
+        Ok::<_, Error>((gram, projected, cost))
+    });
+    let mut system = NormalSystem {
+        gram: DMatrix::zeros(columns, columns),
+        projected: DVector::zeros(columns),
+        cost: 0.0,
+        rows: samples.len() * measure.rows_per_sample(model),
+    };
+    for part in sums {
+        let (gram, projected, cost) = part?;
+        system.gram += gram;
+        system.projected += projected;
+        system.cost += cost;
+    }
+    // The upper triangle was summed; the lower one is its mirror.
+    system.gram.fill_lower_triangle_with_upper_triangle();
+    Ok(system)
+}
+
+/// One sample's weighted rows of W and their residuals: the closure
+/// equations at its measured pose (each divided by the σ a measured pose's
+/// noise gives it), or its tool point's coordinates through the direct
+/// model from `start` (which is moved to the pose found).
+fn sample_rows<M: ParallelModel>(
+    model: &M,
+    sample: &Sample,
+    measure: PlatformMeasure,
+    noise: Option<PlatformNoise>,
+    start: &mut Isometry3<f64>,
+) -> Result<(DMatrix<f64>, DVector<f64>), Error> {
+    let actuators = actuator_values(model, sample)?;
+    let measured = measure.measured(sample)?;
+    match measure {
+        PlatformMeasure::Pose => {
+            let closure = model.closure(&measured, actuators);
+            let by_pose = model.pose_jacobian(&measured, actuators);
+            let mut rows = model.parameter_jacobian(&measured, actuators);
+            let mut right = -closure;
+            for equation in 0..rows.nrows() {
+                let sigma = noise.map_or(1.0, |noise| {
+                    let row: Vec<f64> = by_pose.row(equation).iter().copied().collect();
+                    noise.closure_variance(&row).sqrt()
+                });
+                rows.row_mut(equation).unscale_mut(sigma);
+                right[equation] /= sigma;
+            }
+            Ok((rows, right))
+        }
+        PlatformMeasure::Point => {
+            let pose = model
+                .direct(actuators, start)
+                .map_err(|cause| located(sample, &cause))?;
+            *start = pose;
+            let sigma = noise.map_or(1.0, |noise| noise.length);
+            let point = model.tool_point(&pose);
+            let rows = point_derivative(model, &pose, actuators)
+                .ok_or_else(|| located(sample, &"the platform is singular there"))?
+                / sigma;
+            let right = DVector::from_fn(3, |axis, _| {
+                (measured.translation.vector[axis] - point[axis]) / sigma
+            });
+            Ok((rows, right))
+        }
+    }
 }
 
 /// A sample's actuator values, as many as the model has.
