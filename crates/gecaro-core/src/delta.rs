@@ -328,6 +328,11 @@ impl ParallelModel for Delta {
         jacobian
     }
 
+    /// Arm i's equation involves arm i's eleven parameters only.
+    fn equation_parameters(&self, equation: usize) -> std::ops::Range<usize> {
+        equation * PARAMETERS_PER_ARM..(equation + 1) * PARAMETERS_PER_ARM
+    }
+
     /// Per arm, `A cos θ + B sin θ = C` with `v = p + R·c − B`, `A = v·h`,
     /// `B = −v_z`, `C = (‖v‖² + La² − Lb²)/(2 La)`; of its two solutions the
     /// one whose elbow is further out (the Delta's working mode).

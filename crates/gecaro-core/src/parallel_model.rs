@@ -78,6 +78,24 @@ pub trait ParallelModel: Clone + std::fmt::Debug + Send + Sync {
     /// `∂F/∂ξ` (k × parameters).
     fn parameter_jacobian(&self, pose: &Isometry3<f64>, actuators: &[f64]) -> DMatrix<f64>;
 
+    /// `F`, `∂F/∂x` and `∂F/∂ξ` at once, for a structure to compute what
+    /// they share once (a calibration linearises every measured pose).
+    fn linearised(&self, pose: &Isometry3<f64>, actuators: &[f64]) -> Linearised {
+        Linearised {
+            closure: self.closure(pose, actuators),
+            by_pose: self.pose_jacobian(pose, actuators),
+            by_parameter: self.parameter_jacobian(pose, actuators),
+        }
+    }
+
+    /// The parameters closure equation `equation` can involve (a leg's
+    /// own eight): the columns of `∂F/∂ξ` outside are zero. All of them by
+    /// default.
+    fn equation_parameters(&self, equation: usize) -> std::ops::Range<usize> {
+        let _ = equation;
+        0..self.parameters().len()
+    }
+
     /// The inverse model: the actuator values that put the platform at
     /// `pose`.
     ///
@@ -139,6 +157,17 @@ pub trait ParallelModel: Clone + std::fmt::Debug + Send + Sync {
             residual: residual.amax(),
         })
     }
+}
+
+/// The closure equations linearised at a pose ([`ParallelModel::linearised`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Linearised {
+    /// `F` (k).
+    pub closure: DVector<f64>,
+    /// `∂F/∂x` (k × pose freedom).
+    pub by_pose: DMatrix<f64>,
+    /// `∂F/∂ξ` (k × parameters).
+    pub by_parameter: DMatrix<f64>,
 }
 
 /// What a parameter measures.

@@ -7,7 +7,7 @@ use nalgebra::{DMatrix, DVector, Isometry3, Vector3};
 use crate::delta::Delta;
 use crate::error::Error;
 use crate::gough_stewart::GoughStewart;
-use crate::parallel_model::{ParallelModel, ParameterUnit};
+use crate::parallel_model::{Linearised, ParallelModel, ParameterUnit};
 
 /// A Gough–Stewart platform or a Delta robot.
 #[derive(Clone, Debug, PartialEq)]
@@ -109,6 +109,14 @@ impl ParallelModel for ParallelRobot {
 
     fn parameter_jacobian(&self, pose: &Isometry3<f64>, actuators: &[f64]) -> DMatrix<f64> {
         each!(self, robot => robot.parameter_jacobian(pose, actuators))
+    }
+
+    fn linearised(&self, pose: &Isometry3<f64>, actuators: &[f64]) -> Linearised {
+        each!(self, robot => robot.linearised(pose, actuators))
+    }
+
+    fn equation_parameters(&self, equation: usize) -> std::ops::Range<usize> {
+        each!(self, robot => robot.equation_parameters(equation))
     }
 
     fn actuator_values(&self, pose: &Isometry3<f64>) -> Result<Vec<f64>, Error> {

@@ -121,6 +121,21 @@ pub fn identify_platform<M: ParallelModel>(
         iterations += 1;
         let (_, solution) = base_system(&system, &rank.base)?;
         let cost = system.cost;
+        // Gauss–Newton's predicted decrease `gᵀ·Δ`: below the tolerance the
+        // parameters are the minimum, and no trial pass over the data is
+        // needed to say so.
+        let predicted: f64 = rank
+            .base
+            .iter()
+            .zip(solution.iter())
+            .map(|(column, step)| system.projected[*column] * step)
+            .sum();
+        if iterations > 1 && predicted <= options.tolerance * cost {
+            // Iterations count the steps taken.
+            iterations -= 1;
+            converged = true;
+            break;
+        }
         // The full step, halved while it does not lower the cost.
         let mut accepted = None;
         for halving in 0..20 {

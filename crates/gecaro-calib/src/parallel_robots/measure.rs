@@ -144,9 +144,13 @@ impl PlatformNoise {
     /// The variance a measured pose's noise gives a closure equation whose
     /// row of `∂F/∂x` is `row` (`[position; rotation]`):
     /// `σ_p²·‖row_p‖² + σ_r²·‖row_r‖²`.
-    pub(super) fn closure_variance(self, row: &[f64]) -> f64 {
-        let (position, rotation) = row.split_at(3.min(row.len()));
-        self.length.powi(2) * position.iter().map(|v| v * v).sum::<f64>()
-            + self.angle.powi(2) * rotation.iter().map(|v| v * v).sum::<f64>()
+    pub(super) fn closure_variance(self, row: impl IntoIterator<Item = f64>) -> f64 {
+        row.into_iter()
+            .enumerate()
+            .map(|(index, value)| {
+                let sigma = if index < 3 { self.length } else { self.angle };
+                (sigma * value).powi(2)
+            })
+            .sum()
     }
 }

@@ -2,7 +2,7 @@
 //! weighted residuals (the module docs of [`super`] state the equations).
 
 use faer::Mat;
-use gecaro_core::parallel_model::ParallelModel;
+use gecaro_core::parallel_model::{Linearised, ParallelModel};
 use gecaro_data::sample::Sample;
 use gecaro_data::parallel::run_parts;
 use nalgebra::{DMatrix, DVector, Isometry3, Matrix3};
@@ -72,6 +72,9 @@ pub(super) struct NormalSystem {
 /// to be nothing, few enough for two cores to share evenly.
 const PART_SAMPLES: usize = 2048;
 
+/// Dense rows added to the normal equations at once.
+const BATCH_ROWS: usize = 256;
+
 /// See [`NormalSystem`]; `poses` as for [`platform_rows`].
 ///
 /// # Errors
@@ -97,20 +100,57 @@ pub(super) fn normal_system<M: ParallelModel>(
         let mut projected = DVector::<f64>::zeros(columns);
         let mut cost = 0.0;
         let mut nonzero = Vec::with_capacity(columns);
+        // Dense rows wait in a batch, added as one product `BᵀB` (SIMD);
+        // sparse ones (a leg's equation) are added on their own columns.
+        let mut batch = DMatrix::<f64>::zeros(BATCH_ROWS, columns);
+        let mut batch_right = DVector::<f64>::zeros(BATCH_ROWS);
+        let mut filled = 0;
+        let flush = |batch: &DMatrix<f64>,
+                         right: &DVector<f64>,
+                         filled: usize,
+                         gram: &mut DMatrix<f64>,
+                         projected: &mut DVector<f64>| {
+            let rows = batch.rows(0, filled);
+            gram.gemm_tr(1.0, &rows, &rows, 1.0);
+            projected.gemv_tr(1.0, &rows, &right.rows(0, filled), 1.0);
+        };
         for (sample, start) in samples.iter().zip(starts.iter_mut()) {
             let (block, right) = sample_rows(model, sample, measure, noise, start)?;
             for row in 0..block.nrows() {
+                cost += right[row] * right[row];
+                // A closure equation's own columns (a leg's eight); a point's
+                // coordinates involve every parameter.
+                let own = if measure == PlatformMeasure::Pose {
+                    model.equation_parameters(row)
+                } else {
+                    0..columns
+                };
                 nonzero.clear();
-                nonzero.extend((0..columns).filter(|c| block[(row, *c)] != 0.0));
+                nonzero.extend(own.filter(|c| block[(row, *c)] != 0.0));
+                if 4 * nonzero.len() > columns {
+                    batch.row_mut(filled).copy_from(&block.row(row));
+                    batch_right[filled] = right[row];
+                    filled += 1;
+                    if filled == BATCH_ROWS {
+                        flush(&batch, &batch_right, filled, &mut gram, &mut projected);
+                        filled = 0;
+                    }
+                    continue;
+                }
                 for (k, i) in nonzero.iter().enumerate() {
                     let value = block[(row, *i)];
                     projected[*i] += value * right[row];
                     for j in &nonzero[k..] {
                         gram[(*i, *j)] += value * block[(row, *j)];
+                        if i != j {
+                            gram[(*j, *i)] += value * block[(row, *j)];
+                        }
                     }
                 }
-                cost += right[row] * right[row];
             }
+        }
+        if filled > 0 {
+            flush(&batch, &batch_right, filled, &mut gram, &mut projected);
         }
         Ok::<_, Error>((gram, projected, cost))
     });
@@ -126,8 +166,6 @@ pub(super) fn normal_system<M: ParallelModel>(
         system.projected += projected;
         system.cost += cost;
     }
-    // The upper triangle was summed; the lower one is its mirror.
-    system.gram.fill_lower_triangle_with_upper_triangle();
     Ok(system)
 }
 
@@ -146,14 +184,17 @@ fn sample_rows<M: ParallelModel>(
     let measured = measure.measured(sample)?;
     match measure {
         PlatformMeasure::Pose => {
-            let closure = model.closure(&measured, actuators);
-            let by_pose = model.pose_jacobian(&measured, actuators);
-            let mut rows = model.parameter_jacobian(&measured, actuators);
+            let Linearised {
+                closure,
+                by_pose,
+                by_parameter: mut rows,
+            } = model.linearised(&measured, actuators);
             let mut right = -closure;
             for equation in 0..rows.nrows() {
                 let sigma = noise.map_or(1.0, |noise| {
-                    let row: Vec<f64> = by_pose.row(equation).iter().copied().collect();
-                    noise.closure_variance(&row).sqrt()
+                    noise
+                        .closure_variance(by_pose.row(equation).iter().copied())
+                        .sqrt()
                 });
                 rows.row_mut(equation).unscale_mut(sigma);
                 right[equation] /= sigma;

@@ -62,7 +62,7 @@
 use nalgebra::{DMatrix, DVector, Isometry3, Matrix6, Point3, Vector3, Vector6};
 
 use crate::error::{Error, Field};
-use crate::parallel_model::{ParallelModel, ParameterUnit};
+use crate::parallel_model::{Linearised, ParallelModel, ParameterUnit};
 use crate::stated::{MAX_MAGNITUDE, MIN_GAIN};
 
 /// The number of legs of a Gough–Stewart platform.
@@ -408,6 +408,41 @@ impl ParallelModel for GoughStewart {
             }
         }
         jacobian
+    }
+
+    /// The leg vectors computed once for all three.
+    fn linearised(&self, pose: &Isometry3<f64>, actuators: &[f64]) -> Linearised {
+        let vectors = self.leg_vectors(pose);
+        let inverse = pose.rotation.inverse();
+        let mut closure = DVector::zeros(LEGS);
+        let mut by_pose = DMatrix::zeros(LEGS, 6);
+        let mut by_parameter = DMatrix::zeros(LEGS, PARAMETER_COUNT);
+        for (i, vector) in vectors.iter().enumerate() {
+            let leg = &self.legs[i];
+            let length = vector.norm();
+            let unit = vector / length;
+            let turn = (pose.rotation * leg.platform).cross(&unit);
+            let turned = inverse * unit;
+            closure[i] = length - leg.length - leg.gain * actuators[i];
+            for axis in 0..3 {
+                by_pose[(i, axis)] = unit[axis];
+                by_pose[(i, 3 + axis)] = turn[axis];
+                by_parameter[(i, i * PARAMETERS_PER_LEG + axis)] = -unit[axis];
+                by_parameter[(i, i * PARAMETERS_PER_LEG + 3 + axis)] = turned[axis];
+            }
+            by_parameter[(i, i * PARAMETERS_PER_LEG + 6)] = -1.0;
+            by_parameter[(i, i * PARAMETERS_PER_LEG + 7)] = -actuators[i];
+        }
+        Linearised {
+            closure,
+            by_pose,
+            by_parameter,
+        }
+    }
+
+    /// Leg i's equation involves leg i's eight parameters only.
+    fn equation_parameters(&self, equation: usize) -> std::ops::Range<usize> {
+        equation * PARAMETERS_PER_LEG..(equation + 1) * PARAMETERS_PER_LEG
     }
 
     /// `qmᵢ = (ℓᵢ − lᵢ)/Kᵢ`: every pose has its values (a leg's range is

@@ -223,3 +223,21 @@ fn a_program_keeps_its_assembly_mode_target_after_target() {
         previous = found;
     }
 }
+
+#[test]
+fn linearised_at_once_is_the_three_derivatives_apart() {
+    let hexapod = hexapod();
+    let at = pose(0.01, -0.02, hexapod.home().translation.z + 0.01, 0.05, 0.02, -0.1);
+    let actuators = [0.01, -0.02, 0.03, 0.0, 0.05, -0.04];
+    let at_once = hexapod.linearised(&at, &actuators);
+    assert!((at_once.closure - hexapod.closure(&at, &actuators)).amax() < 1e-15);
+    assert!((at_once.by_pose - hexapod.pose_jacobian(&at, &actuators)).amax() < 1e-15);
+    assert!((at_once.by_parameter - hexapod.parameter_jacobian(&at, &actuators)).amax() < 1e-15);
+    let rows = hexapod.parameter_jacobian(&at, &actuators);
+    for leg in 0..LEGS {
+        let own = hexapod.equation_parameters(leg);
+        for column in (0..PARAMETER_COUNT).filter(|c| !own.contains(c)) {
+            assert_eq!(rows[(leg, column)], 0.0);
+        }
+    }
+}
