@@ -77,8 +77,18 @@ pub struct Arm {
 pub struct Delta {
     name: String,
     arms: Vec<Arm>,
+    /// Each arm's hᵢ, from its azimuth (computed once: every closure
+    /// equation reads it).
+    directions: Vec<Vector3<f64>>,
     tool: Vector3<f64>,
     home: Isometry3<f64>,
+}
+
+/// `(cos φ, sin φ, 0)` of each arm.
+fn directions(arms: &[Arm]) -> Vec<Vector3<f64>> {
+    arms.iter()
+        .map(|arm| Vector3::new(arm.azimuth.cos(), arm.azimuth.sin(), 0.0))
+        .collect()
 }
 
 impl Delta {
@@ -102,6 +112,7 @@ impl Delta {
         }
         let mut delta = Self {
             name: name.to_owned(),
+            directions: directions(&arms),
             arms,
             tool,
             home: Isometry3::identity(),
@@ -122,8 +133,7 @@ impl Delta {
 
     /// The arm's horizontal direction hᵢ.
     fn direction(&self, arm: usize) -> Vector3<f64> {
-        let azimuth = self.arms[arm].azimuth;
-        Vector3::new(azimuth.cos(), azimuth.sin(), 0.0)
+        self.directions[arm]
     }
 
     /// The elbow Eᵢ at angle θ.
@@ -261,6 +271,7 @@ impl ParallelModel for Delta {
         let tool = &values[ARMS * PARAMETERS_PER_ARM..];
         Ok(Self {
             name: self.name.clone(),
+            directions: directions(&arms),
             arms,
             tool: Vector3::new(tool[0], tool[1], tool[2]),
             home: self.home,
