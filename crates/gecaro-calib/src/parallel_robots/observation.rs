@@ -99,9 +99,7 @@ pub(super) fn normal_system<M: ParallelModel>(
         let mut gram = DMatrix::<f64>::zeros(columns, columns);
         let mut projected = DVector::<f64>::zeros(columns);
         let mut cost = 0.0;
-        let mut nonzero = Vec::with_capacity(columns);
-        // Dense rows wait in a batch, added as one product `BᵀB` (SIMD);
-        // sparse ones (a leg's equation) are added on their own columns.
+        // A point's rows wait in a batch, added as one product `BᵀB`.
         let mut batch = DMatrix::<f64>::zeros(BATCH_ROWS, columns);
         let mut batch_right = DVector::<f64>::zeros(BATCH_ROWS);
         let mut filled = 0;
@@ -118,34 +116,26 @@ pub(super) fn normal_system<M: ParallelModel>(
             let (block, right) = sample_rows(model, sample, measure, noise, start)?;
             for row in 0..block.nrows() {
                 cost += right[row] * right[row];
-                // A closure equation's own columns (a leg's eight); a point's
-                // coordinates involve every parameter.
-                let own = if measure == PlatformMeasure::Pose {
-                    model.equation_parameters(row)
-                } else {
-                    0..columns
-                };
-                nonzero.clear();
-                nonzero.extend(own.filter(|c| block[(row, *c)] != 0.0));
-                if 4 * nonzero.len() > columns {
-                    batch.row_mut(filled).copy_from(&block.row(row));
-                    batch_right[filled] = right[row];
-                    filled += 1;
-                    if filled == BATCH_ROWS {
-                        flush(&batch, &batch_right, filled, &mut gram, &mut projected);
-                        filled = 0;
+                // A closure equation is added on its own columns (a leg's
+                // eight); a point's coordinates involve every parameter, and
+                // wait in the batch.
+                if measure == PlatformMeasure::Pose {
+                    let own = model.equation_parameters(row);
+                    for i in own.clone() {
+                        let value = block[(row, i)];
+                        projected[i] += value * right[row];
+                        for j in own.clone() {
+                            gram[(i, j)] += value * block[(row, j)];
+                        }
                     }
                     continue;
                 }
-                for (k, i) in nonzero.iter().enumerate() {
-                    let value = block[(row, *i)];
-                    projected[*i] += value * right[row];
-                    for j in &nonzero[k..] {
-                        gram[(*i, *j)] += value * block[(row, *j)];
-                        if i != j {
-                            gram[(*j, *i)] += value * block[(row, *j)];
-                        }
-                    }
+                batch.row_mut(filled).copy_from(&block.row(row));
+                batch_right[filled] = right[row];
+                filled += 1;
+                if filled == BATCH_ROWS {
+                    flush(&batch, &batch_right, filled, &mut gram, &mut projected);
+                    filled = 0;
                 }
             }
         }
