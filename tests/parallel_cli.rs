@@ -200,3 +200,55 @@ fn a_delta_is_calibrated_from_its_tool_point_and_a_program_compensated() {
     assert!(!output.status.success());
     assert!(String::from_utf8_lossy(&output.stderr).contains("only translates"));
 }
+
+#[test]
+fn planned_poses_are_measured_and_identified_as_a_cell_would() {
+    let folder = tempfile::tempdir().expect("folder");
+    let at = |name: &str| folder.path().join(name).display().to_string();
+    let plan = json_output(&[
+        "plan",
+        "hexapod",
+        "--method",
+        "frame",
+        "--count",
+        "20",
+        "--json",
+        "-o",
+        &at("plan.csv"),
+    ]);
+    assert_eq!(plan["count"], 20);
+    assert!(
+        plan["criterion"].as_f64() > plan["random_criterion"].as_f64(),
+        "{plan}"
+    );
+    let header = std::fs::read_to_string(at("plan.csv")).expect("plan");
+    assert!(header.starts_with("qm1,qm2,qm3,qm4,qm5,qm6\n"), "{header}");
+    command("generate hexapod --method frame --noise 2e-5 --seed 5 --configurations")
+        .arg(at("plan.csv"))
+        .arg("-o")
+        .arg(at("measured.csv"))
+        .assert()
+        .success();
+    let identified = json_output(&[
+        "identify",
+        "hexapod",
+        "--method",
+        "frame",
+        "--sigma",
+        "20um",
+        "--json",
+        "--data",
+        &at("measured.csv"),
+    ]);
+    assert_eq!(identified["configurations"], 20);
+    assert_eq!(
+        identified["outcome"], "fits_noise",
+        "{}",
+        identified["summary"]
+    );
+    let output = command("plan hexapod --method frame --count 20 --criterion a -o")
+        .arg(at("other.csv"))
+        .output()
+        .expect("runs");
+    assert!(String::from_utf8_lossy(&output.stderr).contains("--criterion has no meaning"));
+}

@@ -38,6 +38,9 @@ pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
             parallel::identifiable(&args, args.source.robot.as_deref().unwrap_or_default())
         }
         Command::Generate(args) if is_parallel(Some(&args.robot)) => parallel::generate(&args),
+        Command::Plan(args) if is_parallel(args.robot.as_deref()) => {
+            parallel::plan(&args, args.robot.as_deref().unwrap_or_default())
+        }
         Command::Identify(args) if is_parallel(args.run.source.robot.as_deref()) => {
             parallel::identify(&args, args.run.source.robot.as_deref().unwrap_or_default())
         }

@@ -6,15 +6,17 @@
 
 use gecaro_app::parallel::{
     ParallelCompensateRequest, ParallelEvaluateRequest, ParallelGenerateRequest,
-    ParallelIdentifiableRequest, ParallelIdentifyRequest, PlatformErrorsDocument,
-    load_parallel_robot,
+    ParallelIdentifiableRequest, ParallelIdentifyRequest, ParallelPlanRequest,
+    PlatformErrorsDocument, load_parallel_robot,
 };
 use gecaro_app::{DataSource, LocalFiles};
 use gecaro_core::parallel_model::ParallelModel;
 use gecaro_core::parallel_robot::ParallelRobot;
 
 use super::options::{data_format, name, written};
-use crate::cli::{CompensateArgs, EvaluateArgs, GenerateArgs, IdentifiableArgs, IdentifyArgs};
+use crate::cli::{
+    CompensateArgs, EvaluateArgs, GenerateArgs, IdentifiableArgs, IdentifyArgs, PlanArgs,
+};
 use crate::failure::Failure;
 use crate::format::{number, shown, table};
 
@@ -163,19 +165,31 @@ pub(crate) fn check(robot: &str) -> Result<(), Failure> {
 /// `gecaro generate` of a parallel robot.
 pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
     serial_only(&[
-        ("--configurations", args.configurations.is_some()),
         ("--compliance-level", args.compliance_level.is_some()),
         ("--payload", args.payload.is_some()),
         ("--gravity-tilt", args.gravity_tilt.is_some()),
     ])?;
-    let count = args
-        .count
-        .ok_or_else(|| Failure::usage("give the number of poses (--count N)", None))?;
+    let count = match (&args.configurations, args.count) {
+        (Some(_), _) => 0,
+        (None, Some(count)) => count,
+        (None, None) => {
+            return Err(Failure::usage(
+                "give the number of poses (--count N) or the configurations to measure at \
+                 (--configurations planned.csv)",
+                None,
+            ));
+        }
+    };
     let output = written(&args.output, args.force);
     let generated = ParallelGenerateRequest {
         robot: args.robot.clone(),
         method: args.method.method.clone(),
         count,
+        configurations: args
+            .configurations
+            .as_deref()
+            .map(|path| DataSource::File(name(path))),
+        format: data_format(&args.format),
         error_level: args.error_level,
         real: args.real.as_deref().map(name),
         noise: args.noise,
@@ -419,4 +433,47 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
     compensated
         .failure()
         .map_or(Ok(()), |error| Err(error.into()))
+}
+
+/// `gecaro plan` of a parallel robot: D-optimal poses from a pool, written
+/// as the actuator values to command.
+pub(crate) fn plan(args: &PlanArgs, robot: &str) -> Result<(), Failure> {
+    serial_only(&[
+        ("--criterion", args.criterion != "d"),
+        ("--candidates", args.candidates.is_some()),
+        ("--keep", args.keep.is_some()),
+        ("--payload", !args.payloads.is_empty()),
+        ("--min-distance", args.min_distance != 0.0),
+        ("--curve", args.curve.is_some()),
+    ])?;
+    let count = args
+        .count
+        .ok_or_else(|| Failure::usage("give the number of poses to plan (--count N)", None))?;
+    let output = args
+        .output
+        .as_deref()
+        .ok_or_else(|| Failure::usage("name the planned file (-o planned.csv)", None))?;
+    let planned = ParallelPlanRequest {
+        robot: robot.to_owned(),
+        method: args.method.clone().unwrap_or_default(),
+        count,
+        pool: args.pool,
+        seed: Some(args.seed),
+        output: written(output, args.force),
+    }
+    .run(&LocalFiles)?;
+    if args.json {
+        return super::output::print_json(&planned);
+    }
+    println!(
+        "{} poses of {} candidates chosen for the {} identifiable parameters (D-optimal): \
+         log det per equation {} against {} for as many random poses; written to {}",
+        planned.count,
+        planned.pool,
+        planned.rank,
+        number(planned.criterion, 4),
+        number(planned.random_criterion, 4),
+        output.display()
+    );
+    Ok(())
 }

@@ -245,3 +245,65 @@ fn a_stated_noise_ten_times_too_small_is_named() {
         assert!((8.0..12.0).contains(&ratio), "{robot}: {ratio}");
     }
 }
+
+/// Planned poses against as many random ones, both calibrations judged on
+/// held-out poses of the same real robot: the plan's larger determinant
+/// and its held-out error no worse.
+#[test]
+fn planned_poses_determine_the_parameters_better_than_random_ones() {
+    use gecaro_calib::parallel_robots::plan_platform;
+    for (robot, measure, count) in [
+        ("hexapod", PlatformMeasure::Pose, 15),
+        ("delta", PlatformMeasure::Point, 15),
+    ] {
+        let nominal = ready(robot);
+        let planned = plan_platform(&nominal, measure, count, 400, 7).expect("planned");
+        assert_eq!(planned.poses.len(), count);
+        assert!(
+            planned.criterion > planned.random_criterion,
+            "{robot}: log det {} against random {}",
+            planned.criterion,
+            planned.random_criterion
+        );
+        let real = perturbed_platform(&nominal, 1.0, &mut Sampler::new(40)).expect("real");
+        let noise = NOISE;
+        let mut sampler = Sampler::new(41);
+        let on_real = |poses: &[Isometry3<f64>], sampler: &mut Sampler| {
+            simulate_platform(&real, measure, poses, noise, sampler).expect("measured")
+        };
+        let random_poses = random_platform_poses(
+            &nominal,
+            count,
+            PlatformWorkspace::of(&nominal),
+            &mut sampler,
+        )
+        .expect("random");
+        let held_out = measured(&real, measure, 200, NOISE, 42);
+        let error_of = |poses: &[Isometry3<f64>], sampler: &mut Sampler| {
+            let data = on_real(poses, sampler);
+            let result = identify_platform(
+                &nominal,
+                &data,
+                measure,
+                Some(noise),
+                &PlatformIdentificationOptions::default(),
+            )
+            .expect("identified");
+            platform_errors(&result.calibrated, &held_out, measure)
+                .expect("errors")
+                .position_rms
+        };
+        // Averaged over five draws of the noise: one draw of 15 poses
+        // varies more than the designs differ.
+        let (mut planned_error, mut random_error) = (0.0, 0.0);
+        for _ in 0..5 {
+            planned_error += error_of(&planned.poses, &mut sampler) / 5.0;
+            random_error += error_of(&random_poses, &mut sampler) / 5.0;
+        }
+        println!("{robot}: planned {planned_error:e} m, random {random_error:e} m");
+        assert!(
+            planned_error <= 1.1 * random_error,
+            "{robot}: {planned_error} against {random_error}"
+        );
+    }
+}

@@ -36,7 +36,8 @@ fn format(length_unit: Option<String>, angle_unit: Option<String>) -> DataFormat
     }
 }
 
-/// Simulates `count` measurements of a "real" platform drawn about `robot`
+/// Simulates `count` measurements (or measurements at the actuator values
+/// of the file `configurations`, a plan's) of a "real" platform drawn about `robot`
 /// at error level `error_level` (±L mm, gains ±L·10⁻³; or the platform file
 /// `real`), at random reachable poses, by `method` (`"frame"`: the
 /// platform's pose; `"position"`: its tool point), noise σ `noise` (m; rad
@@ -45,26 +46,34 @@ fn format(length_unit: Option<String>, angle_unit: Option<String>) -> DataFormat
 /// when given.
 #[pyfunction]
 #[pyo3(signature = (
-    robot, method, count, *, noise = 0.0, error_level = None, real = None, seed = 1,
-    path = None, real_path = None, overwrite = false,
+    robot, method, count = 0, *, configurations = None, noise = 0.0, error_level = None,
+    real = None, seed = 1, path = None, real_path = None, length_unit = None,
+    angle_unit = None, overwrite = false,
 ))]
 pub(crate) fn parallel_generate<'py>(
     py: Python<'py>,
     robot: String,
     method: String,
     count: usize,
+    configurations: Option<PathBuf>,
     noise: f64,
     error_level: Option<f64>,
     real: Option<PathBuf>,
     seed: u64,
     path: Option<PathBuf>,
     real_path: Option<PathBuf>,
+    length_unit: Option<String>,
+    angle_unit: Option<String>,
     overwrite: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let request = ParallelGenerateRequest {
         robot,
         method,
         count,
+        configurations: configurations
+            .as_deref()
+            .map(|path| DataSource::File(name(path))),
+        format: format(length_unit, angle_unit),
         error_level,
         real: real.as_deref().map(name),
         noise,
@@ -217,5 +226,36 @@ pub(crate) fn parallel_compensate<'py>(
     let compensated = py.detach(|| request.run(&LocalFiles)).py()?;
     let document = to_python(py, &compensated)?;
     document.set_item("program", compensated.text)?;
+    Ok(document)
+}
+
+/// The `count` poses to measure, chosen D-optimally from `pool` random
+/// reachable poses of `robot` (default 20 × `count`) → `{"count", "rank",
+/// "criterion", "random_criterion" (log det per equation, the plan's and
+/// random poses'), "configurations": actuator values, "written",
+/// "configurations_csv": the file's text}`, written to `path` when given.
+#[pyfunction]
+#[pyo3(signature = (robot, method, count, *, pool = None, seed = 1, path = None, overwrite = false))]
+pub(crate) fn parallel_plan<'py>(
+    py: Python<'py>,
+    robot: String,
+    method: String,
+    count: usize,
+    pool: Option<usize>,
+    seed: u64,
+    path: Option<PathBuf>,
+    overwrite: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let request = gecaro_app::parallel::ParallelPlanRequest {
+        robot,
+        method,
+        count,
+        pool,
+        seed: Some(seed),
+        output: output(path.as_deref(), overwrite),
+    };
+    let planned = py.detach(|| request.run(&LocalFiles)).py()?;
+    let document = to_python(py, &planned)?;
+    document.set_item("configurations_csv", planned.text)?;
     Ok(document)
 }

@@ -69,3 +69,14 @@ def test_a_delta_is_identified_from_its_tool_point(tmp_path):
     assert result["rank"] == 24
     units = {p["name"]: p["unit"] for p in result["parameters"]}
     assert units["phi1"] == "rad" and units["K1"] == "" and units["La1"] == "m"
+
+
+def test_planned_poses_are_measured_at_their_actuator_values(tmp_path):
+    plan = gecaro.parallel_plan("delta", "position", 20, path=tmp_path / "plan.csv")
+    assert plan["count"] == 20 and plan["rank"] == 24
+    assert plan["criterion"] > plan["random_criterion"]
+    measured = gecaro.parallel_generate("delta", "position", configurations=tmp_path / "plan.csv",
+                                        noise=2e-5, seed=9)
+    assert measured["configurations"] == 20
+    first = [float(v) for v in measured["data"].splitlines()[1].split(",")[:3]]
+    assert first == pytest.approx(plan["configurations"][0], abs=1e-12)

@@ -17,6 +17,7 @@ use crate::error::AppError;
 use crate::files::Files;
 use crate::limits::MAX_GENERATE;
 use crate::output::Output;
+use crate::sources::{DataFormatSpec, DataSource};
 
 /// A points generation for a parallel robot.
 #[derive(Clone, Debug, Deserialize)]
@@ -26,8 +27,15 @@ pub struct ParallelGenerateRequest {
     pub robot: String,
     /// `frame` (the platform's pose) or `position` (its tool point).
     pub method: String,
-    /// Measured poses (1 to [`MAX_GENERATE`]).
+    /// Measured poses (1 to [`MAX_GENERATE`]); not with `configurations`.
     pub count: usize,
+    /// Measure at these actuator values instead (a plan's file): the real
+    /// robot's direct model puts it where they take it.
+    #[serde(default)]
+    pub configurations: Option<DataSource>,
+    /// Units and columns of the configurations file.
+    #[serde(default)]
+    pub format: DataFormatSpec,
     /// The real platform's errors: ±L mm on every joint centre, length and
     /// tool coordinate, ±L·10⁻³ on every gain (default 1); not with `real`.
     pub error_level: Option<f64>,
@@ -71,7 +79,7 @@ impl ParallelGenerateRequest {
         if let Some(name) = &self.real_save_as {
             files.check_output(name, "toml", self.output.overwrite)?;
         }
-        if !(1..=MAX_GENERATE).contains(&self.count) {
+        if self.configurations.is_none() && !(1..=MAX_GENERATE).contains(&self.count) {
             return Err(AppError::setting_value(
                 "count",
                 self.count,
@@ -116,17 +124,55 @@ impl ParallelGenerateRequest {
                 }
             }
         };
-        let poses = random_platform_poses(
-            &real.robot,
-            self.count,
-            PlatformWorkspace::of(&real.robot),
-            &mut sampler,
-        )?;
+        // The actuator values commanded, when a file gives them: the
+        // measured rows keep them to the bit (not as the inverse model of
+        // the pose reached gives them back).
+        let mut commanded: Vec<Vec<f64>> = Vec::new();
+        let poses = match &self.configurations {
+            Some(source) => {
+                let read = source.read(
+                    files,
+                    &super::actuator_types(&nominal.robot),
+                    &[],
+                    &self.format.format()?,
+                )?;
+                let rows = read.samples.to_rows();
+                commanded = rows
+                    .iter()
+                    .map(|sample| sample.motor_positions.as_slice().to_vec())
+                    .collect();
+                rows.iter()
+                    .map(|sample| {
+                        real.robot
+                            .direct(sample.motor_positions.as_slice(), &real.robot.home())
+                            .map_err(|cause| {
+                                AppError::plain(
+                                    crate::error::ErrorKind::Input,
+                                    format!(
+                                        "{}, line {}: {cause}",
+                                        read.label,
+                                        sample.line.map_or_else(|| "?".into(), |l| l.to_string())
+                                    ),
+                                )
+                            })
+                    })
+                    .collect::<Result<Vec<_>, _>>()?
+            }
+            None => random_platform_poses(
+                &real.robot,
+                self.count,
+                PlatformWorkspace::of(&real.robot),
+                &mut sampler,
+            )?,
+        };
         let noise = PlatformNoise {
             length: self.noise,
             angle: self.noise,
         };
-        let samples = simulate_platform(&real.robot, measure, &poses, noise, &mut sampler)?;
+        let mut samples = simulate_platform(&real.robot, measure, &poses, noise, &mut sampler)?;
+        for (sample, values) in samples.iter_mut().zip(commanded) {
+            sample.motor_positions = values.into();
+        }
         let text = gecaro_io::format_samples(
             real.robot.actuator_count(),
             measure.columns(),

@@ -14,6 +14,7 @@ mod evaluate;
 mod generate;
 mod identifiable;
 mod identify;
+mod plan;
 
 use gecaro_calib::parallel_robots::PlatformMeasure;
 use gecaro_core::parallel_model::ParallelModel;
@@ -32,6 +33,7 @@ pub use evaluate::{ParallelEvaluateRequest, ParallelEvaluated};
 pub use generate::{ParallelGenerateRequest, ParallelGenerated};
 pub use identifiable::{DEFAULT_POSES, ParallelIdentifiableRequest};
 pub use identify::{ParallelIdentified, ParallelIdentifyRequest};
+pub use plan::{POOL_PER_POSE, ParallelPlanRequest, ParallelPlanned};
 
 /// The kind of a robot file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -265,7 +265,9 @@ fn structural_rank<M: ParallelModel>(
 /// [`Error::Numerical`] when they are not positive definite (a base set
 /// that the data do not determine).
 fn base_system(system: &NormalSystem, base: &[usize]) -> Result<(Vec<f64>, DVector<f64>), Error> {
-    let gram = DMatrix::from_fn(base.len(), base.len(), |i, j| system.gram[(base[i], base[j])]);
+    let gram = DMatrix::from_fn(base.len(), base.len(), |i, j| {
+        system.gram[(base[i], base[j])]
+    });
     let projected = DVector::from_fn(base.len(), |i, _| system.projected[base[i]]);
     let cholesky = gram.cholesky().ok_or_else(|| Error::Numerical {
         message: "the normal equations of the identifiable parameters are not positive definite"
@@ -281,7 +283,9 @@ fn base_system(system: &NormalSystem, base: &[usize]) -> Result<(Vec<f64>, DVect
 /// The condition number of the base columns of W: `√(λmax/λmin)` of their
 /// normal equations.
 fn condition(system: &NormalSystem, base: &[usize]) -> f64 {
-    let gram = DMatrix::from_fn(base.len(), base.len(), |i, j| system.gram[(base[i], base[j])]);
+    let gram = DMatrix::from_fn(base.len(), base.len(), |i, j| {
+        system.gram[(base[i], base[j])]
+    });
     let values = gram.symmetric_eigenvalues();
     let (smallest, largest) = (values.min(), values.max());
     if smallest > 0.0 {

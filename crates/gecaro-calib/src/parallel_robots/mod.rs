@@ -48,6 +48,7 @@ mod identifiability;
 mod identification;
 mod measure;
 mod observation;
+mod planning;
 mod simulation;
 
 pub use evaluation::{PlatformErrors, platform_errors};
@@ -56,6 +57,7 @@ pub use identification::{
     PlatformIdentification, PlatformIdentificationOptions, PlatformParameter, identify_platform,
 };
 pub use measure::{PlatformMeasure, PlatformNoise};
+pub use planning::{PlannedPoses, plan_platform};
 pub use simulation::{
     PlatformWorkspace, perturbed_platform, random_platform_poses, simulate_platform,
 };

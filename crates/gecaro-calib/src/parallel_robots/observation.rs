@@ -3,8 +3,8 @@
 
 use faer::Mat;
 use gecaro_core::parallel_model::{Linearised, ParallelModel};
-use gecaro_data::sample::Sample;
 use gecaro_data::parallel::run_parts;
+use gecaro_data::sample::Sample;
 use nalgebra::{DMatrix, DVector, Isometry3, Matrix3};
 
 use super::measure::{PlatformMeasure, PlatformNoise};
@@ -104,10 +104,10 @@ pub(super) fn normal_system<M: ParallelModel>(
         let mut batch_right = DVector::<f64>::zeros(BATCH_ROWS);
         let mut filled = 0;
         let flush = |batch: &DMatrix<f64>,
-                         right: &DVector<f64>,
-                         filled: usize,
-                         gram: &mut DMatrix<f64>,
-                         projected: &mut DVector<f64>| {
+                     right: &DVector<f64>,
+                     filled: usize,
+                     gram: &mut DMatrix<f64>,
+                     projected: &mut DVector<f64>| {
             let rows = batch.rows(0, filled);
             gram.gemm_tr(1.0, &rows, &rows, 1.0);
             projected.gemv_tr(1.0, &rows, &right.rows(0, filled), 1.0);
@@ -163,7 +163,7 @@ pub(super) fn normal_system<M: ParallelModel>(
 /// equations at its measured pose (each divided by the σ a measured pose's
 /// noise gives it), or its tool point's coordinates through the direct
 /// model from `start` (which is moved to the pose found).
-fn sample_rows<M: ParallelModel>(
+pub(super) fn sample_rows<M: ParallelModel>(
     model: &M,
     sample: &Sample,
     measure: PlatformMeasure,

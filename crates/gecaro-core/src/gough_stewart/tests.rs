@@ -227,7 +227,14 @@ fn a_program_keeps_its_assembly_mode_target_after_target() {
 #[test]
 fn linearised_at_once_is_the_three_derivatives_apart() {
     let hexapod = hexapod();
-    let at = pose(0.01, -0.02, hexapod.home().translation.z + 0.01, 0.05, 0.02, -0.1);
+    let at = pose(
+        0.01,
+        -0.02,
+        hexapod.home().translation.z + 0.01,
+        0.05,
+        0.02,
+        -0.1,
+    );
     let actuators = [0.01, -0.02, 0.03, 0.0, 0.05, -0.04];
     let at_once = hexapod.linearised(&at, &actuators);
     assert!((at_once.closure - hexapod.closure(&at, &actuators)).amax() < 1e-15);

@@ -48,6 +48,7 @@ __all__ = [
     "parallel_identify",
     "parallel_evaluate",
     "parallel_compensate",
+    "parallel_plan",
     "plan",
     "plan_study",
     "predict",
@@ -763,14 +764,17 @@ def iso9283_evaluate(
 def parallel_generate(
     robot: str,
     method: Literal["frame", "position"],
-    count: int,
+    count: int = 0,
     *,
+    configurations: Optional[_PathLike] = None,
     noise: float = 0.0,
     error_level: Optional[float] = None,
     real: Optional[_PathLike] = None,
     seed: int = 1,
     path: Optional[_PathLike] = None,
     real_path: Optional[_PathLike] = None,
+    length_unit: Optional[Literal["m", "mm"]] = None,
+    angle_unit: Optional[Literal["rad", "deg"]] = None,
     overwrite: bool = False,
 ) -> dict[str, Any]:
     """Measurements of a "real" Gough–Stewart platform drawn about ``robot``
@@ -820,6 +824,21 @@ def parallel_evaluate(
     """A platform's direct model against the measured poses of ``data``:
     ``"errors"`` (``"position_rms"``, ``"position_max"`` m; ``"angle_rms"``,
     ``"angle_max"`` rad)."""
+
+def parallel_plan(
+    robot: str,
+    method: Literal["frame", "position"],
+    count: int,
+    *,
+    pool: Optional[int] = None,
+    seed: int = 1,
+    path: Optional[_PathLike] = None,
+    overwrite: bool = False,
+) -> dict[str, Any]:
+    """The ``count`` poses to measure, D-optimal from ``pool`` random
+    reachable poses, as ``gecaro plan hexapod --json``: ``"criterion"``
+    against ``"random_criterion"``, ``"configurations"`` (actuator values,
+    written to ``path``)."""
 
 def parallel_compensate(
     nominal: str,

@@ -84,6 +84,21 @@ export function buildParallel() {
       result.replaceChildren(errorBox(error));
     }
   });
+  const plan = runButton('parallel-plan', 'Plan the poses', async () => {
+    try {
+      const answer = await api('/parallel/plan', {
+        ...common(),
+        count: fieldNumber(count, 'Poses', { min: 1, max: state.info.limits.generate, whole: true }),
+        seed: state.info.defaults.seed,
+        save_as: 'parallel-planned.csv',
+        overwrite: true,
+      });
+      await refreshFiles();
+      result.replaceChildren(h('p', { id: 'parallel-planned', text: `${answer.count} poses of ${answer.pool} candidates chosen for the ${answer.rank} identifiable parameters (D-optimal: log det per equation ${answer.criterion.toFixed(3)}, random poses ${answer.random_criterion.toFixed(3)}); their actuator values written to parallel-planned.csv.` }));
+    } catch (error) {
+      result.replaceChildren(errorBox(error));
+    }
+  });
   const identifiable = runButton('parallel-identifiable', 'Identifiable parameters', async () => {
     try {
       const report = await api('/parallel/identifiable', {
@@ -163,6 +178,7 @@ export function buildParallel() {
       field('Sensor noise σ (mm; mrad)', noise),
       field('Write them to', generated),
       field('Write the real platform to', real),
+      plan,
       generate),
     h('div', { class: 'form' },
       field('Program of platform poses', program),

@@ -25,7 +25,7 @@ use crate::state::AppState;
 /// Every POST route of the API (full paths), each taking a JSON body: for
 /// clients, tests and the fuzz targets. `routes` registers them (a test
 /// checks that each one answers).
-pub const POST_ROUTES: [&str; 21] = [
+pub const POST_ROUTES: [&str; 22] = [
     "/api/robots/check",
     "/api/robots/new",
     "/api/robots/upload",
@@ -40,6 +40,7 @@ pub const POST_ROUTES: [&str; 21] = [
     "/api/iso9283/plan",
     "/api/iso9283/evaluate",
     "/api/parallel/generate",
+    "/api/parallel/plan",
     "/api/parallel/identifiable",
     "/api/parallel/identify",
     "/api/parallel/evaluate",
@@ -73,6 +74,7 @@ pub(crate) fn routes() -> Router<AppState> {
         .route("/iso9283/plan", post(iso9283::plan))
         .route("/iso9283/evaluate", post(iso9283::evaluate))
         .route("/parallel/generate", post(parallel::generate))
+        .route("/parallel/plan", post(parallel::plan))
         .route("/parallel/identifiable", post(parallel::identifiable))
         .route("/parallel/identify", post(parallel::identify))
         .route("/parallel/evaluate", post(parallel::evaluate))

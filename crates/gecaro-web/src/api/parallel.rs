@@ -1,14 +1,15 @@
 //! Parallel robots (issue 79) on the page: a Gough–Stewart platform of the
 //! folder (or the ready `hexapod`) generated, analysed, identified and
 //! evaluated, and a program of its poses compensated:
-//! `/api/parallel/{generate, identifiable, identify, evaluate, compensate}`,
+//! `/api/parallel/{generate, plan, identifiable, identify, evaluate,
+//! compensate}`,
 //! each as the command line's `--json`.
 
 use axum::extract::State;
 use gecaro_app::parallel::{
     ParallelCompensateRequest, ParallelCompensated, ParallelEvaluateRequest, ParallelEvaluated,
     ParallelGenerateRequest, ParallelIdentifiableRequest, ParallelIdentifyRequest,
-    PlatformIdentificationDocument, PlatformRankDocument,
+    ParallelPlanRequest, ParallelPlanned, PlatformIdentificationDocument, PlatformRankDocument,
 };
 use serde::Serialize;
 
@@ -111,5 +112,15 @@ pub(crate) async fn compensate(
                 compensated,
             }))
         })
+        .await
+}
+
+/// The poses to measure, written into the folder when named.
+pub(crate) async fn plan(
+    State(state): State<AppState>,
+    Json(request): Json<ParallelPlanRequest>,
+) -> Result<Json<ParallelPlanned>, ApiError> {
+    state
+        .compute(move |state| Ok(Json(request.run(state.workspace())?)))
         .await
 }

@@ -53,6 +53,15 @@ async fn a_hexapod_is_calibrated_through_the_api() {
         .post("/api/parallel/evaluate", &evaluate("real.toml"))
         .await;
     assert!(rms(&after) <= 1.2 * rms(&floor), "{after} against {floor}");
+    let (status, planned) = api
+        .post(
+            "/api/parallel/plan",
+            &json!({"robot": "hexapod", "method": "frame", "count": 20, "save_as": "plan.csv"}),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{planned}");
+    assert_eq!(planned["configurations"].as_array().map(Vec::len), Some(20));
+    assert!(api.folder.path().join("plan.csv").is_file());
     let (status, compensated) = api
         .post(
             "/api/parallel/compensate",

@@ -1,0 +1,144 @@
+//! The poses to measure (as `gecaro plan` chooses a serial robot's
+//! configurations): from a pool of reachable poses, the `count` whose
+//! equations determine the identifiable parameters best — D-optimal,
+//! `max log det(W_bᵀW_b)`, chosen greedily one pose at a time by the
+//! matrix determinant lemma `det(G + BᵀB) = det(G)·det(I + B·G⁻¹·Bᵀ)`.
+
+use gecaro_core::parallel_model::ParallelModel;
+use gecaro_data::sample::Sample;
+use nalgebra::{DMatrix, Isometry3};
+
+use super::identifiability::{PlatformRankReport, rank_of};
+use super::measure::{PlatformMeasure, PlatformNoise};
+use super::observation::{platform_rows, sample_rows};
+use super::simulation::{PlatformWorkspace, random_platform_poses, simulate_platform};
+use crate::Error;
+use crate::simulation::Sampler;
+
+/// A planned set of poses.
+#[derive(Clone, Debug)]
+pub struct PlannedPoses {
+    /// The chosen poses, in the order chosen.
+    pub poses: Vec<Isometry3<f64>>,
+    /// Their configurations (actuator values), with what the sensor would
+    /// read on the nominal robot.
+    pub samples: Vec<Sample>,
+    /// The identifiable parameters the design is for.
+    pub rank: PlatformRankReport,
+    /// `log det(W_bᵀW_b)` per equation of the chosen poses (the criterion,
+    /// comparable across counts).
+    pub criterion: f64,
+    /// The same of as many random poses of the pool, for comparison.
+    pub random_criterion: f64,
+}
+
+/// Chooses `count` poses of `model` measured by `measure` from `pool`
+/// random reachable poses (seed `seed`).
+///
+/// # Errors
+/// A measure the structure cannot take, a pool or count too small for the
+/// identifiable parameters, a workspace with too few reachable poses.
+pub fn plan_platform<M: ParallelModel>(
+    model: &M,
+    measure: PlatformMeasure,
+    count: usize,
+    pool: usize,
+    seed: u64,
+) -> Result<PlannedPoses, Error> {
+    measure.check_for(model)?;
+    let mut sampler = Sampler::new(seed);
+    let poses = random_platform_poses(model, pool, PlatformWorkspace::of(model), &mut sampler)?;
+    let exact = PlatformNoise {
+        length: 0.0,
+        angle: 0.0,
+    };
+    let candidates = simulate_platform(model, measure, &poses, exact, &mut sampler)?;
+    let rank = rank_of(
+        model,
+        &platform_rows(model, &candidates, measure, None, &mut Vec::new())?,
+        measure,
+    )?;
+    let per_pose = measure.rows_per_sample(model);
+    let unknowns = rank.base.len();
+    if count * per_pose < unknowns || count > pool {
+        return Err(Error::TooFewEquations {
+            equations: count.min(pool) * per_pose,
+            unknowns,
+        });
+    }
+    // Every candidate's rows on the base columns, scaled to unit column
+    // norms over the pool (the criterion then weighs a millimetre of a
+    // joint and a part per thousand of a gain alike).
+    let mut blocks: Vec<DMatrix<f64>> = candidates
+        .iter()
+        .map(|sample| {
+            let mut start = model.home();
+            sample_rows(model, sample, measure, None, &mut start)
+                .map(|(block, _)| block.select_columns(&rank.base))
+        })
+        .collect::<Result<_, _>>()?;
+    let mut norms = vec![0.0f64; unknowns];
+    for block in &blocks {
+        for (j, norm) in norms.iter_mut().enumerate() {
+            *norm += block.column(j).norm_squared();
+        }
+    }
+    for block in &mut blocks {
+        for (j, norm) in norms.iter().enumerate() {
+            block
+                .column_mut(j)
+                .unscale_mut(norm.sqrt().max(f64::MIN_POSITIVE));
+        }
+    }
+    // G starts as a small ridge, so that the first poses are compared by
+    // what they add; it weighs nothing once the design determines G.
+    let ridge = 1e-6 * blocks.len() as f64 / (count as f64);
+    let mut gram = DMatrix::<f64>::identity(unknowns, unknowns) * ridge;
+    let mut chosen = Vec::with_capacity(count);
+    let mut taken = vec![false; blocks.len()];
+    for _ in 0..count {
+        let inverse = gram
+            .clone()
+            .cholesky()
+            .ok_or_else(|| Error::Numerical {
+                message: "the design's normal equations lost positive definiteness".into(),
+            })?
+            .inverse();
+        let gain = |block: &DMatrix<f64>| {
+            let inner = DMatrix::<f64>::identity(block.nrows(), block.nrows())
+                + block * &inverse * block.transpose();
+            inner.determinant().ln()
+        };
+        let best = (0..blocks.len())
+            .filter(|index| !taken[*index])
+            .map(|index| (index, gain(&blocks[index])))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(index, _)| index)
+            .ok_or_else(|| Error::Generation {
+                message: "the pool ran out of poses".into(),
+            })?;
+        taken[best] = true;
+        gram += blocks[best].transpose() * &blocks[best];
+        chosen.push(best);
+    }
+    let criterion_of = |indices: &[usize]| {
+        let mut gram = DMatrix::<f64>::zeros(unknowns, unknowns);
+        for index in indices {
+            gram += blocks[*index].transpose() * &blocks[*index];
+        }
+        gram.cholesky().map_or(f64::NEG_INFINITY, |factor| {
+            2.0 * factor.l().diagonal().iter().map(|d| d.ln()).sum::<f64>()
+        }) / (indices.len() * per_pose) as f64
+    };
+    let random: Vec<usize> = sampler.subset(blocks.len(), count);
+    Ok(PlannedPoses {
+        poses: chosen.iter().map(|index| poses[*index]).collect(),
+        samples: chosen
+            .iter()
+            .map(|index| candidates[*index].clone())
+            .collect(),
+        criterion: criterion_of(&chosen),
+        random_criterion: criterion_of(&random),
+        rank,
+    })
+}
