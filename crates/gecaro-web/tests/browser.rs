@@ -134,12 +134,18 @@ struct Session {
     serving: tokio::task::JoinHandle<Result<(), gecaro_web::Error>>,
     _driver: Driver,
     _profile: tempfile::TempDir,
+    /// One browser at a time (dropped last, after the browser): four
+    /// Chromiums on two cores made the page's own timing (a reload while a
+    /// job ends) differ from a person's.
+    _alone: tokio::sync::MutexGuard<'static, ()>,
 }
 
 impl Session {
     /// The page in a window of `width` × `height`, or `None` (the test then
     /// passes) without a browser, unless CI requires one.
     async fn start(width: u32, height: u32) -> Option<Session> {
+        static ONE_BROWSER: tokio::sync::Mutex<()> = tokio::sync::Mutex::const_new(());
+        let alone = ONE_BROWSER.lock().await;
         let Some((chromium, chromedriver)) = browser() else {
             assert!(
                 std::env::var("GECARO_REQUIRE_E2E").as_deref() != Ok("1"),
@@ -200,6 +206,7 @@ impl Session {
         }
         let client = client.expect("chromedriver answers within 10 s");
         Some(Session {
+            _alone: alone,
             client,
             folder,
             url,

@@ -19,7 +19,13 @@ export function progressText(job) {
   return history.length ? `Iteration ${history.length - 1}: residual RMS ${sci(history[history.length - 1])}` : 'Starting…';
 }
 
-/** Where the jobs a reload must find again are kept (the browser's localStorage). */
+/**
+ * Where the jobs a reload must find again are kept: the tab's
+ * sessionStorage, which a reload keeps and whose quota is the tab's own —
+ * the page's results in localStorage can fill that one, and a job written
+ * there after them was lost (the reloaded page then showed an older result
+ * and its form).
+ */
 const RUNNING_KEY = 'gecaro.running';
 
 /** The jobs this page follows now: id → what a reload resumes (null: cancelled when the page goes). */
@@ -28,7 +34,7 @@ const following = new Map();
 function keepRunning() {
   const resumable = [...following].filter(([, resume]) => resume).map(([id, resume]) => ({ id, ...resume }));
   try {
-    localStorage.setItem(RUNNING_KEY, JSON.stringify(resumable));
+    sessionStorage.setItem(RUNNING_KEY, JSON.stringify(resumable));
   } catch (ignored) { /* storage unavailable: a reload then loses the job, and cancels it */ }
 }
 
@@ -38,8 +44,8 @@ function keepRunning() {
  */
 export function jobsLeftRunning() {
   try {
-    const left = JSON.parse(localStorage.getItem(RUNNING_KEY) || '[]');
-    localStorage.removeItem(RUNNING_KEY);
+    const left = JSON.parse(sessionStorage.getItem(RUNNING_KEY) || '[]');
+    sessionStorage.removeItem(RUNNING_KEY);
     return Array.isArray(left) ? left : [];
   } catch (ignored) {
     return [];
