@@ -37,8 +37,7 @@
 use nalgebra::{DMatrix, DVector, Isometry3, Point3, Translation3, Vector3};
 
 use crate::error::{Error, Field};
-use crate::parallel_model::{ParallelModel, ParameterUnit};
-use crate::stated::{MAX_MAGNITUDE, MIN_GAIN};
+use crate::parallel_model::{ParallelModel, ParameterUnit, check_actuator, check_tool};
 
 /// A Delta robot's arms.
 pub const ARMS: usize = 3;
@@ -110,6 +109,7 @@ impl Delta {
         for (index, arm) in arms.iter().enumerate() {
             check_arm(index + 1, arm)?;
         }
+        check_tool(&tool)?;
         let mut delta = Self {
             name: name.to_owned(),
             directions: directions(&arms),
@@ -373,61 +373,38 @@ impl ParallelModel for Delta {
             .collect()
     }
 
-    fn out_of_range(&self, actuators: &[f64]) -> Vec<usize> {
-        (0..ARMS)
-            .filter(|i| !(self.arms[*i].min..=self.arms[*i].max).contains(&actuators[*i]))
-            .map(|i| i + 1)
-            .collect()
+    fn actuator_range(&self, index: usize) -> (f64, f64) {
+        (self.arms[index].min, self.arms[index].max)
     }
 }
 
-/// The rules a stated arm meets.
+/// The rules a stated arm meets ([`check_actuator`], and arms of a length).
 fn check_arm(number: usize, arm: &Arm) -> Result<(), Error> {
-    let invalid = |key: &'static str, message: String| Error::Invalid {
-        field: Field::Arm { number, key },
-        message,
-    };
-    for (key, vector) in [("base", &arm.base), ("platform", &arm.platform)] {
-        if let Some(value) = vector
-            .iter()
-            .find(|v| !v.is_finite() || v.abs() > MAX_MAGNITUDE)
-        {
-            return Err(invalid(
-                key,
-                format!("{value} is not a length of a Delta robot"),
-            ));
-        }
-    }
-    for (key, value) in [
-        ("azimuth", arm.azimuth),
-        ("offset", arm.offset),
-        ("gain", arm.gain),
-        ("min", arm.min),
-        ("max", arm.max),
-    ] {
-        if !value.is_finite() || value.abs() > MAX_MAGNITUDE {
-            return Err(invalid(
-                key,
-                format!("{value} is not a value of a Delta robot"),
-            ));
-        }
-    }
+    let field = |key| Field::Arm { number, key };
+    check_actuator(
+        field,
+        &[
+            ("base", arm.base.as_slice()),
+            ("azimuth", &[arm.azimuth]),
+            ("offset", &[arm.offset]),
+            ("gain", &[arm.gain]),
+            ("upper_arm", &[arm.upper_arm]),
+            ("forearm", &[arm.forearm]),
+            ("platform", arm.platform.as_slice()),
+            ("min", &[arm.min]),
+            ("max", &[arm.max]),
+        ],
+        arm.gain,
+        arm.min,
+        arm.max,
+    )?;
     for (key, value) in [("upper_arm", arm.upper_arm), ("forearm", arm.forearm)] {
-        if !value.is_finite() || value <= 0.0 || value > MAX_MAGNITUDE {
-            return Err(invalid(key, format!("{value} is not the length of an arm")));
+        if value <= 0.0 {
+            return Err(Error::Invalid {
+                field: field(key),
+                message: format!("{value} is not the length of an arm"),
+            });
         }
-    }
-    if arm.gain.abs() < MIN_GAIN {
-        return Err(invalid("gain", "a gain of zero moves nothing".into()));
-    }
-    if arm.min > arm.max {
-        return Err(invalid(
-            "min",
-            format!(
-                "the range's ends are reversed (min {} > max {})",
-                arm.min, arm.max
-            ),
-        ));
     }
     Ok(())
 }

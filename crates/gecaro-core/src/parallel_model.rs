@@ -12,7 +12,8 @@
 
 use nalgebra::{DMatrix, DVector, Isometry3, Translation3, UnitQuaternion, Vector3};
 
-use crate::error::Error;
+use crate::error::{Error, Field};
+use crate::stated::{MIN_GAIN, check_magnitude};
 
 /// Newton iterations at most: from a start a stroke away, convergence
 /// takes 4–6.
@@ -103,8 +104,21 @@ pub trait ParallelModel: Clone + std::fmt::Debug + Send + Sync {
     /// [`Error::Unreachable`] for a pose no leg or arm reaches.
     fn actuator_values(&self, pose: &Isometry3<f64>) -> Result<Vec<f64>, Error>;
 
+    /// Actuator `index`'s range `(min, max)` (0-based).
+    fn actuator_range(&self, index: usize) -> (f64, f64);
+
     /// The actuators (1-based) whose value is outside its range.
-    fn out_of_range(&self, actuators: &[f64]) -> Vec<usize>;
+    fn out_of_range(&self, actuators: &[f64]) -> Vec<usize> {
+        actuators
+            .iter()
+            .enumerate()
+            .filter(|(index, value)| {
+                let (min, max) = self.actuator_range(*index);
+                !(min..=max).contains(*value)
+            })
+            .map(|(index, _)| index + 1)
+            .collect()
+    }
 
     /// The direct model: the pose the actuator values put the platform at,
     /// by Newton's method on the closure equations from `start` (which
@@ -192,4 +206,42 @@ pub fn moved(pose: &Isometry3<f64>, step: &[f64]) -> Isometry3<f64> {
         Translation3::from(pose.translation.vector + translation),
         rotation * pose.rotation,
     )
+}
+
+/// The tool point a file states: finite and within
+/// [`MAX_MAGNITUDE`](crate::MAX_MAGNITUDE), as every stated length.
+pub(crate) fn check_tool(tool: &Vector3<f64>) -> Result<(), Error> {
+    tool.iter()
+        .try_for_each(|value| check_magnitude(Field::Key("tool"), *value))
+}
+
+/// The rules every actuator of a parallel robot meets as its file states
+/// it (a leg, an arm; `field` names one of its keys): every value finite and
+/// within [`MAX_MAGNITUDE`](crate::MAX_MAGNITUDE), as a serial robot's, a gain
+/// that moves, a range whose ends are in order.
+pub(crate) fn check_actuator(
+    field: impl Fn(&'static str) -> Field,
+    values: &[(&'static str, &[f64])],
+    gain: f64,
+    min: f64,
+    max: f64,
+) -> Result<(), Error> {
+    for (key, values) in values {
+        for value in *values {
+            check_magnitude(field(key), *value)?;
+        }
+    }
+    if gain.abs() < MIN_GAIN {
+        return Err(Error::invalid(
+            field("gain"),
+            "a gain of zero moves nothing",
+        ));
+    }
+    if min > max {
+        return Err(Error::invalid(
+            field("min"),
+            format!("the range's ends are reversed (min {min} > max {max})"),
+        ));
+    }
+    Ok(())
 }

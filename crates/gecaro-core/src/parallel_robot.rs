@@ -123,7 +123,7 @@ impl ParallelModel for ParallelRobot {
         each!(self, robot => robot.actuator_values(pose))
     }
 
-    fn out_of_range(&self, actuators: &[f64]) -> Vec<usize> {
-        each!(self, robot => robot.out_of_range(actuators))
+    fn actuator_range(&self, index: usize) -> (f64, f64) {
+        each!(self, robot => robot.actuator_range(index))
     }
 }

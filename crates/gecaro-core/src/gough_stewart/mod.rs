@@ -62,8 +62,8 @@
 use nalgebra::{DMatrix, DVector, Isometry3, Matrix6, Point3, Vector3, Vector6};
 
 use crate::error::{Error, Field};
-use crate::parallel_model::{Linearised, ParallelModel, ParameterUnit};
-use crate::stated::{MAX_MAGNITUDE, MIN_GAIN};
+use crate::parallel_model::{Linearised, ParallelModel, ParameterUnit, check_actuator, check_tool};
+use crate::stated::MAX_MAGNITUDE;
 
 /// The number of legs of a Gough–Stewart platform.
 pub const LEGS: usize = 6;
@@ -137,14 +137,7 @@ impl GoughStewart {
         for (index, leg) in legs.iter().enumerate() {
             check_leg(index + 1, leg)?;
         }
-        for (axis, value) in ["x", "y", "z"].iter().zip(tool.iter()) {
-            if !value.is_finite() || value.abs() > MAX_MAGNITUDE {
-                return Err(Error::Invalid {
-                    field: Field::Key("tool"),
-                    message: format!("position {axis} is {value}, not a length of a platform"),
-                });
-            }
-        }
+        check_tool(&tool)?;
         let mut platform = Self {
             name: name.to_owned(),
             legs,
@@ -454,57 +447,27 @@ impl ParallelModel for GoughStewart {
             .collect())
     }
 
-    fn out_of_range(&self, actuators: &[f64]) -> Vec<usize> {
-        (0..LEGS)
-            .filter(|i| !(self.legs[*i].min..=self.legs[*i].max).contains(&actuators[*i]))
-            .map(|i| i + 1)
-            .collect()
+    fn actuator_range(&self, index: usize) -> (f64, f64) {
+        (self.legs[index].min, self.legs[index].max)
     }
 }
 
-/// The rules a stated leg meets.
+/// The rules a stated leg meets ([`check_actuator`]).
 fn check_leg(number: usize, leg: &Leg) -> Result<(), Error> {
-    let invalid = |key: &'static str, message: String| Error::Invalid {
-        field: Field::Leg { number, key },
-        message,
-    };
-    for (key, vector) in [("base", &leg.base), ("platform", &leg.platform)] {
-        if let Some(value) = vector
-            .iter()
-            .find(|v| !v.is_finite() || v.abs() > MAX_MAGNITUDE)
-        {
-            return Err(invalid(
-                key,
-                format!("{value} is not a length of a platform"),
-            ));
-        }
-    }
-    for (key, value) in [
-        ("length", leg.length),
-        ("gain", leg.gain),
-        ("min", leg.min),
-        ("max", leg.max),
-    ] {
-        if !value.is_finite() || value.abs() > MAX_MAGNITUDE {
-            return Err(invalid(
-                key,
-                format!("{value} is not a value of a platform"),
-            ));
-        }
-    }
-    if leg.gain.abs() < MIN_GAIN {
-        return Err(invalid("gain", "a gain of zero moves nothing".into()));
-    }
-    if leg.min > leg.max {
-        return Err(invalid(
-            "min",
-            format!(
-                "the range's ends are reversed (min {} > max {})",
-                leg.min, leg.max
-            ),
-        ));
-    }
-    Ok(())
+    check_actuator(
+        |key| Field::Leg { number, key },
+        &[
+            ("base", leg.base.as_slice()),
+            ("platform", leg.platform.as_slice()),
+            ("length", &[leg.length]),
+            ("gain", &[leg.gain]),
+            ("min", &[leg.min]),
+            ("max", &[leg.max]),
+        ],
+        leg.gain,
+        leg.min,
+        leg.max,
+    )
 }
 
 #[cfg(test)]
