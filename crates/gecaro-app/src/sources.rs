@@ -53,12 +53,6 @@ fn load_named(name: &str, files: &dyn Files) -> Result<RobotFile, AppError> {
     }
     match gecaro_io::ready_robot(name) {
         Some(robot) => Ok(robot?),
-        // A ready parallel robot where a serial one is needed: said so.
-        None if crate::parallel::RobotKind::of(name, files)
-            == crate::parallel::RobotKind::Parallel =>
-        {
-            Ok(gecaro_io::load_robot(name)?)
-        }
         None => {
             let path = Path::new(name);
             if path.extension().is_some() || name.contains(['/', std::path::MAIN_SEPARATOR]) {

@@ -96,9 +96,19 @@ pub fn ready_robots() -> &'static [ReadyRobot] {
 /// Returns `None` when there is no such ready robot.
 ///
 /// # Errors
-/// Never for the shipped files (every ready robot is tested), but the parse
+/// A ready parallel robot's name ([`Error::Format`]: a parallel robot where a
+/// serial one is read, said so for every job and front end); never for the
+/// shipped files otherwise (every ready robot is tested), but the parse
 /// error is passed on rather than hidden.
 pub fn ready_robot(name: &str) -> Option<Result<RobotFile, Error>> {
+    if let Some(ready) = READY_PARALLEL
+        .iter()
+        .find(|ready| ready.name.eq_ignore_ascii_case(name))
+    {
+        return Some(Err(crate::robot_toml::parallel_robot_here(&virtual_path(
+            ready.name,
+        ))));
+    }
     READY
         .iter()
         .find(|ready| ready.name.eq_ignore_ascii_case(name))
@@ -114,14 +124,6 @@ pub fn load_robot(path_or_name: &str) -> Result<RobotFile, Error> {
     let path = Path::new(path_or_name);
     if path.is_file() {
         return read_robot_file(path);
-    }
-    if READY_PARALLEL
-        .iter()
-        .any(|ready| ready.name.eq_ignore_ascii_case(path_or_name))
-    {
-        return Err(crate::robot_toml::parallel_robot_here(&virtual_path(
-            path_or_name,
-        )));
     }
     ready_robot(path_or_name).unwrap_or_else(|| {
         if path.extension().is_some() || path_or_name.contains(std::path::MAIN_SEPARATOR) {
