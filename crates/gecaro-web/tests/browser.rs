@@ -1732,6 +1732,15 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
     )
     .await;
     assert!(compensated.contains("60 targets"), "{compensated}");
+    // A setting changed marks the result stale; a σ without its unit is
+    // refused, not read in metres.
+    assert_eq!(count(client, "#parallel-stale").await, 0);
+    set_values(client, &[("parallel-sigma", "0.02")]).await;
+    let stale = text_of(client, "#parallel-stale", 5).await;
+    assert!(stale.contains("settings changed"), "{stale}");
+    click(client, "#parallel-identify").await;
+    let refused = text_of(client, "#parallel-result .error-box", 10).await;
+    assert!(refused.contains("0.02 has no unit"), "{refused}");
     screenshot(client, "17-parallel-robot.png").await;
     let errors = uncaught_errors(client).await;
     assert!(errors.is_empty(), "uncaught errors: {errors:?}");

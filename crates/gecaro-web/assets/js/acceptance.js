@@ -5,7 +5,7 @@
 // before and after calibration.
 import { api } from './api.js';
 import { $, h, download } from './dom.js';
-import { field, FieldError, errorBox, fieldNumber, runButton } from './fields.js';
+import { field, FieldError, errorBox, fieldNumber, runButton, staleOnChange } from './fields.js';
 import { refreshFiles } from './robot-menu.js';
 import { state, tableDocument } from './state.js';
 import { quantity, unitName } from './units.js';
@@ -158,15 +158,9 @@ export function buildAcceptance() {
     }
   });
   // A setting changed after a result makes it stale: said above it, until
-  // the test is planned or evaluated again (heard while capturing: a
-  // field's change event does not bubble when a script sends it).
+  // the test is planned or evaluated again.
   const card = $('acceptance');
-  for (const kind of ['input', 'change']) {
-    card.addEventListener(kind, (event) => {
-      if (event.target.closest('.result') || !result.firstChild || $('iso-stale')) return;
-      result.prepend(h('p', { class: 'warnings', id: 'iso-stale', text: 'The settings changed since this result: plan or evaluate again to see theirs.' }));
-    }, true);
-  }
+  staleOnChange(card, result, 'iso-stale', 'The settings changed since this result: plan or evaluate again to see theirs.');
   card.replaceChildren(
     h('div', { class: 'form' },
       field('Test cube', cube),

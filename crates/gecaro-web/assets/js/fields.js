@@ -121,3 +121,18 @@ export function stat(label, value, extra) {
     h('div', { class: 'value', id: extra && extra.id, text: value }),
     h('div', { class: 'label', text: label }));
 }
+
+/**
+ * Marks the result shown in `card` stale once one of its settings changes:
+ * a warning (id `id`) above the result, until the next run replaces it.
+ * Heard while capturing: a field's change event does not bubble when a
+ * script sends it.
+ */
+export function staleOnChange(card, result, id, text) {
+  for (const kind of ['input', 'change']) {
+    card.addEventListener(kind, (event) => {
+      if (event.target.closest('.result') || !result.firstChild || document.getElementById(id)) return;
+      result.prepend(h('p', { class: 'warnings', id, text }));
+    }, true);
+  }
+}

@@ -4,7 +4,7 @@
 // precision and the verdict, and its direct model judged on held-out poses.
 import { api } from './api.js';
 import { $, h } from './dom.js';
-import { field, FieldError, errorBox, fieldNumber, numberInput, runButton } from './fields.js';
+import { field, FieldError, errorBox, fieldNumber, numberInput, runButton, staleOnChange } from './fields.js';
 import { refreshFiles } from './robot-menu.js';
 import { state } from './state.js';
 import { quantity, unitName } from './units.js';
@@ -45,6 +45,22 @@ function parameterTable(parameters) {
       parameter.name, shown(parameter, parameter.nominal), shown(parameter, parameter.identified),
       shown(parameter, parameter.sigma), parameter.status,
     ].map((cell) => h('td', { text: cell }))))));
+}
+
+/**
+ * The σ field's text, which must carry its unit (`20um`, `0.02mm`): a bare
+ * number beside the data's unit menu is refused, not read in metres.
+ */
+function sigmaWithUnit(input) {
+  const text = input.value.trim();
+  input.classList.remove('invalid');
+  if (text === '') return null;
+  if (/^[-+0-9.,eE]+$/.test(text)) {
+    input.classList.add('invalid');
+    input.focus();
+    throw new FieldError(`Sensor σ: ${text} has no unit; give it with one, as 20um or 0.02mm.`);
+  }
+  return text;
 }
 
 /** Builds the parallel robot's card. */
@@ -119,7 +135,7 @@ export function buildParallel() {
         ...common(),
         data: { file: required(data, 'the measurements file') },
         format: format(),
-        sigma: sigma.value.trim() || null,
+        sigma: sigmaWithUnit(sigma),
         save_as: saveAs.value.trim() || null,
         overwrite: true,
       });
@@ -164,6 +180,7 @@ export function buildParallel() {
       result.replaceChildren(errorBox(error));
     }
   });
+  staleOnChange($('parallel'), result, 'parallel-stale', 'The settings changed since this result: run it again to see theirs.');
   $('parallel').replaceChildren(
     h('div', { class: 'form' },
       field('Parallel robot', robot),
