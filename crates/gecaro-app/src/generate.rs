@@ -163,7 +163,9 @@ impl GenerateRequest {
         }
         let method = self.method.build()?;
         let seed = self.seed.unwrap_or(gecaro_calib::simulation::DEFAULT_SEED);
-        let error_level = self.error_level.unwrap_or(1.0);
+        let error_level = self
+            .error_level
+            .unwrap_or(gecaro_calib::simulation::DEFAULT_ERROR_LEVEL);
         let cell = self.cell.cell()?;
         let payload = self
             .payload

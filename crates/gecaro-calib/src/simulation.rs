@@ -23,6 +23,10 @@ pub use crate::sampler::{CELL_DRAWS, DEFAULT_SEED, RANDOM_STARTS, Sampler, solve
 /// (gains could reach zero, lengths overflow).
 pub const MAX_ERROR_LEVEL: f64 = 50.0;
 
+/// The error level of a simulated real robot when none is asked for: ±1 cm,
+/// ±1°, ±1 % (a parallel robot's: ±1 mm, ±1 mrad, ±0.1 %).
+pub const DEFAULT_ERROR_LEVEL: f64 = 1.0;
+
 /// Largest sensor noise: 1 m (1 rad for orientations). Beyond it no
 /// measurement carries information, and simulated values lose their digits.
 pub const MAX_NOISE: f64 = 1.0;

@@ -307,3 +307,14 @@ fn planned_poses_determine_the_parameters_better_than_random_ones() {
         );
     }
 }
+
+#[test]
+fn an_error_level_beyond_the_serial_robots_bound_is_refused() {
+    let error = perturbed_platform(&ready("hexapod"), 1000.0, &mut Sampler::new(1))
+        .expect_err("refused")
+        .to_string();
+    assert!(
+        error.starts_with("error level: must be a number from 0 to 50"),
+        "{error}"
+    );
+}

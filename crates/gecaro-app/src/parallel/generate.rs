@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use gecaro_calib::parallel_robots::{
     PlatformNoise, PlatformWorkspace, perturbed_platform, random_platform_poses, simulate_platform,
 };
-use gecaro_calib::simulation::{DEFAULT_SEED, Sampler};
+use gecaro_calib::simulation::{DEFAULT_ERROR_LEVEL, DEFAULT_SEED, Sampler};
 use gecaro_calib::study::{Sample, Samples};
 use gecaro_core::parallel_model::ParallelModel;
 use gecaro_io::ParallelRobotFile;
@@ -104,14 +104,7 @@ impl ParallelGenerateRequest {
             }
             (Some(name), None) => load_parallel_robot(name, files)?,
             (None, level) => {
-                let level = level.unwrap_or(1.0);
-                if !(level.is_finite() && (0.0..=100.0).contains(&level)) {
-                    return Err(AppError::setting_value(
-                        "error_level",
-                        level,
-                        "takes 0 to 100 (mm of error on each length)",
-                    ));
-                }
+                let level = level.unwrap_or(DEFAULT_ERROR_LEVEL);
                 let platform = perturbed_platform(&nominal.robot, level, &mut sampler)?
                     .renamed(&format!("{} (simulated real)", nominal.robot.name()));
                 ParallelRobotFile {

@@ -7,7 +7,8 @@ use gecaro_data::sample::Sample;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
 use super::measure::{PlatformMeasure, PlatformNoise};
-use crate::{Error, simulation::Sampler};
+use crate::Error;
+use crate::simulation::{MAX_ERROR_LEVEL, Sampler};
 
 /// Draws per pose kept, at most, before the workspace is said to hold too
 /// few reachable poses.
@@ -70,12 +71,23 @@ impl PlatformWorkspace {
 /// ±`level`·10⁻³ of its value.
 ///
 /// # Errors
-/// When the drawn robot is not one (an error level of metres).
+/// [`Error::InvalidOption`] for a level that is not a number in
+/// 0..=[`MAX_ERROR_LEVEL`] (the serial robots' bound).
 pub fn perturbed_platform<M: ParallelModel>(
     nominal: &M,
     level: f64,
     sampler: &mut Sampler,
 ) -> Result<M, Error> {
+    if !(0.0..=MAX_ERROR_LEVEL).contains(&level) {
+        return Err(Error::InvalidOption {
+            setting: crate::Setting::ErrorLevel,
+            message: format!(
+                "must be a number from 0 to {MAX_ERROR_LEVEL} (±{MAX_ERROR_LEVEL} mm and mrad, \
+                 ±{} % on gains for a parallel robot), not {level:e}",
+                MAX_ERROR_LEVEL / 10.0
+            ),
+        });
+    }
     let mut values = nominal.parameters();
     for (index, value) in values.iter_mut().enumerate() {
         let spread = match nominal.parameter_unit(index) {
