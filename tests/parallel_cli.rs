@@ -228,3 +228,70 @@ fn planned_poses_are_measured_and_identified_as_a_cell_would() {
         .expect("runs");
     assert!(String::from_utf8_lossy(&output.stderr).contains("--criterion has no meaning"));
 }
+
+/// A hexapod measured with every leg within ±12 mm of its zero (poses near
+/// home only) fits its noise there, and the verdict says it holds only
+/// there (`regional`, exit 5 as an untrusted fit), with the measured leg
+/// ranges in words; the calibrated file keeps them, and a program over the
+/// workspace compensated with it is flagged target by target (exit 4).
+#[test]
+fn a_hexapod_measured_near_home_holds_only_there() {
+    let folder = tempfile::tempdir().expect("folder");
+    let at = |name: &str| folder.path().join(name).display().to_string();
+    // Leg values from a fixed linear congruential stream, ±12 mm.
+    let mut state: u64 = 12345;
+    let mut draw = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0) * 0.012
+    };
+    let mut configurations = String::from("qm1,qm2,qm3,qm4,qm5,qm6\n");
+    for _ in 0..60 {
+        let row: Vec<String> = (0..6).map(|_| format!("{:.6}", draw())).collect();
+        configurations.push_str(&(row.join(",") + "\n"));
+    }
+    std::fs::write(at("near.csv"), configurations).expect("written");
+    command("generate hexapod --method frame --noise 2e-5 --seed 8 --configurations")
+        .arg(at("near.csv"))
+        .arg("-o")
+        .arg(at("poses.csv"))
+        .assert()
+        .success();
+    let output = command("identify hexapod --method frame --sigma 20um --data")
+        .arg(at("poses.csv"))
+        .arg("-o")
+        .arg(at("calibrated.toml"))
+        .output()
+        .expect("runs");
+    let text = String::from_utf8_lossy(&output.stdout);
+    let error = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(5), "{text}{error}");
+    assert!(
+        text.contains("fit the stated noise")
+            && text.contains("holds only where the data were taken (qm1 "),
+        "{text}"
+    );
+    assert!(text.contains("predicted tool-point error"), "{text}");
+    let file = std::fs::read_to_string(at("calibrated.toml")).expect("calibrated");
+    assert_eq!(file.matches("measured = [").count(), 6, "{file}");
+    command("generate hexapod --method frame --count 10 --error-level 0 --seed 5 -o")
+        .arg(at("job.csv"))
+        .assert()
+        .success();
+    let output = command("compensate hexapod")
+        .arg(at("calibrated.toml"))
+        .arg("--program")
+        .arg(at("job.csv"))
+        .arg("-o")
+        .arg(at("corrected.csv"))
+        .output()
+        .expect("runs");
+    let error = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(4), "{error}");
+    assert!(
+        error.contains("outside the actuator values the calibration measured"),
+        "{error}"
+    );
+    assert!(std::path::Path::new(&at("corrected.csv")).exists());
+}

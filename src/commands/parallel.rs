@@ -343,6 +343,19 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
         println!("(mm; angles in degrees; gains dimensionless)");
         print_errors("at the measured poses, nominal", &document.errors_before);
         print_errors("at the measured poses, calibrated", &document.errors_after);
+        if let Some(region) = &document.region {
+            println!(
+                "predicted tool-point error: {} mm RMS at the measured poses, {} mm over the \
+                 workspace (largest {} mm; noise floor {} mm)",
+                mm(region.predicted_inside),
+                mm(region.predicted_work),
+                mm(region.predicted_work_max),
+                mm(region.noise_floor)
+            );
+        }
+        for warning in &document.warnings {
+            println!("warning: {warning}");
+        }
         if let Some(path) = &document.written {
             println!("wrote the calibrated platform to {path}");
         }

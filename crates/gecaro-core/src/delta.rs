@@ -376,6 +376,10 @@ impl ParallelModel for Delta {
     fn actuator_range(&self, index: usize) -> (f64, f64) {
         (self.arms[index].min, self.arms[index].max)
     }
+
+    fn actuator_unit(&self) -> ParameterUnit {
+        ParameterUnit::Angle
+    }
 }
 
 /// The rules a stated arm meets ([`check_actuator`], and arms of a length).

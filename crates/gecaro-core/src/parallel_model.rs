@@ -107,6 +107,11 @@ pub trait ParallelModel: Clone + std::fmt::Debug + Send + Sync {
     /// Actuator `index`'s range `(min, max)` (0-based).
     fn actuator_range(&self, index: usize) -> (f64, f64);
 
+    /// What an actuator value is: a leg's length
+    /// ([`Length`](ParameterUnit::Length), m) or a motor's angle
+    /// ([`Angle`](ParameterUnit::Angle), rad).
+    fn actuator_unit(&self) -> ParameterUnit;
+
     /// The actuators (1-based) whose value is outside its range.
     fn out_of_range(&self, actuators: &[f64]) -> Vec<usize> {
         actuators

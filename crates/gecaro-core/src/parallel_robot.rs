@@ -126,4 +126,8 @@ impl ParallelModel for ParallelRobot {
     fn actuator_range(&self, index: usize) -> (f64, f64) {
         each!(self, robot => robot.actuator_range(index))
     }
+
+    fn actuator_unit(&self) -> ParameterUnit {
+        each!(self, robot => robot.actuator_unit())
+    }
 }

@@ -17,6 +17,8 @@
 //! gain = 1                       # optional: K, leg length per actuator unit (1)
 //! min = -100                     # optional: the actuator's range, in the
 //! max = 100                      # length unit for a gain of 1 (±0.1 m)
+//! # measured = [-20, 20]         # written by a calibration that holds only where its
+//!                                # data were taken: the actuator values they covered
 //!
 //! [tool]                         # optional: a point on the platform (its origin)
 //! position = [0, 0, 100]
@@ -51,6 +53,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use gecaro_core::JointRegion;
 use gecaro_core::delta::{Arm, Delta};
 use gecaro_core::gough_stewart::{GoughStewart, Leg};
 use gecaro_core::parallel_model::ParallelModel;
@@ -78,7 +81,9 @@ const TOP_KEYS: &[&str] = &[
     "arm",
     "tool",
 ];
-const LEG_KEYS: &[&str] = &["base", "platform", "length", "gain", "min", "max"];
+const LEG_KEYS: &[&str] = &[
+    "base", "platform", "length", "gain", "min", "max", "measured",
+];
 const ARM_KEYS: &[&str] = &[
     "base",
     "azimuth",
@@ -89,6 +94,7 @@ const ARM_KEYS: &[&str] = &[
     "platform",
     "min",
     "max",
+    "measured",
 ];
 const TOOL_KEYS: &[&str] = &["position"];
 
@@ -106,6 +112,10 @@ pub struct ParallelRobotFile {
     /// poses; `position`: one point, so the platform frame is not
     /// observed); `None` for a platform no calibration made.
     pub calibrated_from: Option<String>,
+    /// The actuator values a calibration's data covered (m for a leg, rad
+    /// for an arm), written when its result holds there only; compensation
+    /// flags targets outside it.
+    pub measured_region: Option<JointRegion>,
 }
 
 #[derive(Deserialize)]
@@ -137,6 +147,7 @@ struct ArmDocument {
     platform: [f64; 3],
     min: f64,
     max: f64,
+    measured: Option<[f64; 2]>,
 }
 
 #[derive(Deserialize)]
@@ -148,6 +159,7 @@ struct LegDocument {
     gain: Option<f64>,
     min: Option<f64>,
     max: Option<f64>,
+    measured: Option<[f64; 2]>,
 }
 
 #[derive(Deserialize)]
@@ -296,10 +308,46 @@ pub fn parse_parallel_robot_file(text: &str, path: &Path) -> Result<ParallelRobo
             ),
         ));
     }
+    // The measured region: every actuator's range, or none.
+    let measured: Vec<Option<[f64; 2]>> = match robot {
+        ParallelRobot::GoughStewart(_) => document
+            .leg
+            .iter()
+            .map(|leg| leg.measured.map(|range| range.map(|value| value * scale)))
+            .collect(),
+        ParallelRobot::Delta(_) => document
+            .arm
+            .iter()
+            .map(|arm| arm.measured.map(|range| range.map(|value| value * radians)))
+            .collect(),
+    };
+    let measured_region = if measured.iter().all(Option::is_none) {
+        None
+    } else {
+        let ranges: Option<Vec<(f64, f64)>> = measured
+            .iter()
+            .map(|range| range.map(|[min, max]| (min, max)))
+            .collect();
+        let ranges = ranges.ok_or_else(|| {
+            at_key(
+                "measured",
+                "the measured range is given for some actuators only: a calibration writes it \
+                 for every one"
+                    .into(),
+            )
+        })?;
+        Some(JointRegion::new(ranges).map_err(|(actuator, message)| {
+            at_key(
+                "measured",
+                format!("actuator {actuator}'s measured range: {message}"),
+            )
+        })?)
+    };
     Ok(ParallelRobotFile {
         robot,
         description: document.description,
         calibrated_from: document.calibrated_from,
+        measured_region,
     })
 }
 
@@ -320,7 +368,7 @@ pub fn format_parallel_robot_file(file: &ParallelRobotFile) -> String {
     let triple = |v: &Vector3<f64>| format!("[{:?}, {:?}, {:?}]", v.x, v.y, v.z);
     match robot {
         ParallelRobot::GoughStewart(platform) => {
-            for leg in platform.legs() {
+            for (index, leg) in platform.legs().iter().enumerate() {
                 let _ = writeln!(text, "\n[[leg]]");
                 let _ = writeln!(text, "base = {}", triple(&leg.base));
                 let _ = writeln!(text, "platform = {}", triple(&leg.platform));
@@ -328,10 +376,11 @@ pub fn format_parallel_robot_file(file: &ParallelRobotFile) -> String {
                 let _ = writeln!(text, "gain = {:?}", leg.gain);
                 let _ = writeln!(text, "min = {:?}", leg.min);
                 let _ = writeln!(text, "max = {:?}", leg.max);
+                measured_line(&mut text, file, index);
             }
         }
         ParallelRobot::Delta(delta) => {
-            for arm in delta.arms() {
+            for (index, arm) in delta.arms().iter().enumerate() {
                 let _ = writeln!(text, "\n[[arm]]");
                 let _ = writeln!(text, "base = {}", triple(&arm.base));
                 let _ = writeln!(text, "azimuth = {:?}", arm.azimuth);
@@ -342,11 +391,24 @@ pub fn format_parallel_robot_file(file: &ParallelRobotFile) -> String {
                 let _ = writeln!(text, "platform = {}", triple(&arm.platform));
                 let _ = writeln!(text, "min = {:?}", arm.min);
                 let _ = writeln!(text, "max = {:?}", arm.max);
+                measured_line(&mut text, file, index);
             }
         }
     }
     let _ = writeln!(text, "\n[tool]\nposition = {}", triple(&robot.tool()));
     text
+}
+
+/// The `measured` line of actuator `index`, when the file has a measured
+/// region.
+fn measured_line(text: &mut String, file: &ParallelRobotFile, index: usize) {
+    if let Some(region) = &file.measured_region {
+        let (min, max) = region.range(index);
+        let _ = writeln!(
+            text,
+            "measured = [{min:?}, {max:?}] # the range the calibration's data covered"
+        );
+    }
 }
 
 /// A TOML basic string.
@@ -436,6 +498,41 @@ mod tests {
             + 1;
         assert!(error.contains(&format!("delta.toml:{line}")), "{error}");
         assert!(error.contains("not the length of an arm"), "{error}");
+    }
+
+    /// A calibration's measured region is written per actuator and read
+    /// back in the file's units; one given for some actuators only is
+    /// refused with its key.
+    #[test]
+    fn a_measured_region_reads_back_and_is_whole_or_absent() {
+        let path = Path::new("hexapod.toml");
+        let mut file = parse_parallel_robot_file(HEXAPOD, path).expect("hexapod");
+        let ranges: Vec<(f64, f64)> = (0..6)
+            .map(|k| (-0.01 - 1e-3 * k as f64, 0.02 + 1e-4 * k as f64))
+            .collect();
+        file.measured_region = Some(JointRegion::new(ranges).expect("region"));
+        let written = format_parallel_robot_file(&file);
+        assert_eq!(
+            parse_parallel_robot_file(&written, path).expect("written"),
+            file
+        );
+        // In millimetres as the ready file states its legs.
+        let once = HEXAPOD.replacen("gain = 1", "gain = 1\nmeasured = [-20, 30]", 1);
+        let error = parse_parallel_robot_file(&once, path)
+            .expect_err("refused")
+            .to_string();
+        assert!(error.contains("some actuators only"), "{error}");
+        let every = HEXAPOD.replace("gain = 1", "gain = 1\nmeasured = [-20, 30]");
+        let read = parse_parallel_robot_file(&every, path).expect("every leg");
+        let region = read.measured_region.expect("a region");
+        assert!(
+            (region.range(5).0 + 0.02).abs() < 1e-15 && (region.range(5).1 - 0.03).abs() < 1e-15
+        );
+        let reversed = HEXAPOD.replace("gain = 1", "gain = 1\nmeasured = [30, -20]");
+        let error = parse_parallel_robot_file(&reversed, path)
+            .expect_err("refused")
+            .to_string();
+        assert!(error.contains("measured range"), "{error}");
     }
 
     #[test]

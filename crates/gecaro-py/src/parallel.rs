@@ -123,7 +123,9 @@ pub(crate) fn parallel_identifiable<'py>(
 /// `method`, σ `sigma` (a number in the data's length unit or a text with
 /// its unit, `"20um"`; `sigma_rotation` for orientations) → `{"outcome",
 /// "summary", "sigma_ratio", "parameters": [{"name", "status", "nominal",
-/// "identified", "sigma"}], "errors_before", "errors_after", …,
+/// "identified", "sigma"}], "errors_before", "errors_after", "region" (where
+/// the result holds: `"measured"` actuator ranges, `"predicted_work"` m,
+/// `"holds_everywhere"`), "warnings", …,
 /// "calibrated": the calibrated platform's file text}`, written to `path`
 /// when given, and `"trusted"`: whether the verdict trusts the fit (as
 /// `Identification.verdict` says for a serial robot). A fit that did not
@@ -199,7 +201,8 @@ pub(crate) fn parallel_evaluate<'py>(
 /// platform `calibrated` (exact: its inverse model) and written to `path`
 /// (`qm1…qm6` and the targets) → `{"targets", "largest_correction" (from
 /// the nominal platform's values), "outside_range": [(line, legs)],
-/// "written", "program": the CSV text}`. A platform calibrated from one
+/// "outside_measured": [(line, actuators)] (outside the ranges a regional
+/// calibration measured), "written", "program": the CSV text}`. A platform calibrated from one
 /// point is refused (its platform frame is not observed).
 #[pyfunction]
 #[pyo3(signature = (

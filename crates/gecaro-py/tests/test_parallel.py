@@ -80,3 +80,35 @@ def test_planned_poses_are_measured_at_their_actuator_values(tmp_path):
     assert measured["configurations"] == 20
     first = [float(v) for v in measured["data"].splitlines()[1].split(",")[:3]]
     assert first == pytest.approx(plan["configurations"][0], abs=1e-12)
+
+
+def test_a_platform_measured_near_home_holds_only_there(tmp_path):
+    # Every leg within ±12 mm of its zero: poses near home only.
+    rows = ["qm1,qm2,qm3,qm4,qm5,qm6"]
+    state = 7
+    for _ in range(60):
+        values = []
+        for _ in range(6):
+            state = (state * 6364136223846793005 + 1442695040888963407) % 2**64
+            values.append(f"{((state >> 11) / 2**53 * 2 - 1) * 0.012:.6f}")
+        rows.append(",".join(values))
+    (tmp_path / "near.csv").write_text("\n".join(rows) + "\n")
+    gecaro.parallel_generate("hexapod", "frame", noise=2e-5, seed=9,
+                             configurations=tmp_path / "near.csv", path=tmp_path / "poses.csv")
+    result = gecaro.parallel_identify("hexapod", "frame", tmp_path / "poses.csv",
+                                      sigma="20um", path=tmp_path / "calibrated.toml")
+    assert result["outcome"] == "regional", result["summary"]
+    assert not result["trusted"]
+    region = result["region"]
+    assert not region["holds_everywhere"]
+    assert region["predicted_work"] > 5 * region["noise_floor"]
+    assert region["narrow_actuators"] == [1, 2, 3, 4, 5, 6]
+    assert all(-0.0121 < low < high < 0.0121 for low, high in region["measured"])
+    gecaro.parallel_generate("hexapod", "frame", 10, error_level=0.0, seed=7,
+                             path=tmp_path / "job.csv")
+    compensated = gecaro.parallel_compensate("hexapod", str(tmp_path / "calibrated.toml"),
+                                             tmp_path / "job.csv", path=tmp_path / "corrected.csv")
+    assert compensated["outside_range"] == []
+    assert len(compensated["outside_measured"]) >= 5
+    line, actuators = compensated["outside_measured"][0]
+    assert line >= 2 and set(actuators) <= {1, 2, 3, 4, 5, 6}

@@ -1722,6 +1722,11 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
     click(client, "#parallel-identify").await;
     let verdict = text_of(client, "#parallel-verdict, #parallel-result .error-box", 30).await;
     assert!(verdict.contains("fit the stated noise"), "{verdict}");
+    let region = text_of(client, "#parallel-region", 5).await;
+    assert!(
+        region.contains("Predicted tool-point error") && region.contains("over the workspace"),
+        "{region}"
+    );
     assert_eq!(count(client, "#parallel-parameters tbody tr").await, 51);
     set_values(client, &[("parallel-program", "hexapod.csv")]).await;
     click(client, "#parallel-compensate").await;

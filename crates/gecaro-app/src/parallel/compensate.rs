@@ -2,12 +2,14 @@
 //! platform poses for a platform that turns, tool-point positions for a
 //! Delta's plate — turned into the actuator values of the calibrated
 //! robot. Its inverse model is explicit, so each target is exact — no
-//! search, no residual — and only a target beyond an actuator's range is
-//! flagged. The corrected program is a data file (`qm1…qm6` and the
+//! search, no residual — and only a target beyond an actuator's range, or
+//! outside the actuator values a calibration that holds there only measured
+//! (its file's `measured` ranges, widened by a tenth), is flagged. The corrected program is a data file (`qm1…qm6` and the
 //! target's `x,y,z,qw,qx,qy,qz`) that every job reads back.
 
 use gecaro_calib::parallel_robots::PlatformMeasure;
 use gecaro_calib::study::{Sample, Samples};
+use gecaro_core::MEASURED_MARGIN;
 use gecaro_core::parallel_model::ParallelModel;
 use gecaro_core::parallel_robot::ParallelRobot;
 use nalgebra::{Isometry3, Translation3};
@@ -49,6 +51,10 @@ pub struct ParallelCompensated {
     /// The program's lines whose corrected actuator values are beyond a
     /// range, with the legs (1-based).
     pub outside_range: Vec<(Option<usize>, Vec<usize>)>,
+    /// The program's lines whose corrected actuator values are outside the
+    /// region the calibration measured (when it holds there only), with
+    /// the actuators (1-based).
+    pub outside_measured: Vec<(Option<usize>, Vec<usize>)>,
     /// Where the corrected program was written.
     pub written: Option<String>,
     /// The corrected program (CSV).
@@ -59,33 +65,50 @@ pub struct ParallelCompensated {
 impl ParallelCompensated {
     /// The error a front end ends with when targets are flagged.
     pub fn failure(&self) -> Option<AppError> {
-        let lines: Vec<String> = self
-            .outside_range
-            .iter()
-            .take(5)
-            .map(|(line, legs)| {
-                let legs: Vec<String> = legs.iter().map(ToString::to_string).collect();
-                format!(
-                    "line {} (leg {})",
-                    line.map_or_else(|| "?".into(), |line| line.to_string()),
-                    legs.join(", ")
-                )
-            })
-            .collect();
-        (!self.outside_range.is_empty()).then(|| {
+        let listed = |flagged: &[(Option<usize>, Vec<usize>)], what: &str| {
+            let lines: Vec<String> = flagged
+                .iter()
+                .take(5)
+                .map(|(line, actuators)| {
+                    let actuators: Vec<String> =
+                        actuators.iter().map(ToString::to_string).collect();
+                    format!(
+                        "line {} ({what} {})",
+                        line.map_or_else(|| "?".into(), |line| line.to_string()),
+                        actuators.join(", ")
+                    )
+                })
+                .collect();
+            format!(
+                "{}{}",
+                lines.join(", "),
+                if flagged.len() > 5 { ", …" } else { "" }
+            )
+        };
+        let mut problems = Vec::new();
+        if !self.outside_range.is_empty() {
+            problems.push(format!(
+                "{} of {} targets need an actuator beyond its range on the calibrated platform: {}",
+                self.outside_range.len(),
+                self.targets,
+                listed(&self.outside_range, "leg")
+            ));
+        }
+        if !self.outside_measured.is_empty() {
+            problems.push(format!(
+                "{} of {} targets are outside the actuator values the calibration measured (its \
+                 result holds there only): {}",
+                self.outside_measured.len(),
+                self.targets,
+                listed(&self.outside_measured, "actuator")
+            ));
+        }
+        (!problems.is_empty()).then(|| {
             AppError::plain(
                 ErrorKind::NotConverged,
                 format!(
-                    "{} of {} targets need an actuator beyond its range on the calibrated \
-                     platform: {}{}; they are written, flagged here only",
-                    self.outside_range.len(),
-                    self.targets,
-                    lines.join(", "),
-                    if self.outside_range.len() > 5 {
-                        ", …"
-                    } else {
-                        ""
-                    }
+                    "{}; they are written, flagged here only",
+                    problems.join("; ")
                 ),
             )
         })
@@ -200,6 +223,11 @@ impl ParallelCompensateRequest {
         };
         let mut corrected = Vec::with_capacity(read.samples.len());
         let mut outside_range = Vec::new();
+        let mut outside_measured = Vec::new();
+        let measured = calibrated
+            .measured_region
+            .as_ref()
+            .map(|region| region.widened(MEASURED_MARGIN));
         let mut unreached = Vec::new();
         let mut largest_correction = 0.0f64;
         for target in read.samples.to_rows() {
@@ -223,6 +251,12 @@ impl ParallelCompensateRequest {
             let out = calibrated.robot.out_of_range(&actuators);
             if !out.is_empty() {
                 outside_range.push((target.line, out));
+            }
+            if let Some(region) = &measured {
+                let outside: Vec<usize> = region.outside(&actuators).map(|k| k + 1).collect();
+                if !outside.is_empty() {
+                    outside_measured.push((target.line, outside));
+                }
             }
             let mut sample: Sample = measure.reading(&calibrated.robot, &pose, &actuators);
             sample.line = target.line;
@@ -254,6 +288,7 @@ impl ParallelCompensateRequest {
             targets: corrected.len(),
             largest_correction,
             outside_range,
+            outside_measured,
             written: written.map(|path| path.display().to_string()),
             text,
         })

@@ -1,7 +1,9 @@
 //! The JSON documents of the parallel robots' jobs (m, rad; gains
 //! dimensionless), for `--json`, the web page and Python.
 
-use gecaro_calib::parallel_robots::{PlatformErrors, PlatformIdentification, PlatformRankReport};
+use gecaro_calib::parallel_robots::{
+    PlatformErrors, PlatformIdentification, PlatformRankReport, PlatformRegion,
+};
 use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};
 use gecaro_core::parallel_robot::ParallelRobot;
 use serde::Serialize;
@@ -142,6 +144,11 @@ pub struct PlatformIdentificationDocument {
     pub parameters: Vec<PlatformParameterDocument>,
     /// Regrouped parameters and what carries them.
     pub regrouped: Vec<PlatformRelationDocument>,
+    /// Where the result holds; `null` for a fit that is no solution.
+    pub region: Option<PlatformRegionDocument>,
+    /// What the verdict adds (a predicted error over the workspace above
+    /// the noise floor).
+    pub warnings: Vec<String>,
     /// The file the calibrated robot was written to.
     pub written: Option<String>,
 }
@@ -169,5 +176,49 @@ impl PlatformIdentificationDocument {
                 sigma: parameter.sigma,
             })
             .collect()
+    }
+}
+
+/// Where a platform's calibration holds (see
+/// [`gecaro_calib::parallel_robots::PlatformRegion`]): actuator ranges as
+/// `[min, max]` (m for a leg, rad for an arm's motor), errors in metres.
+#[derive(Clone, Debug, Serialize)]
+pub struct PlatformRegionDocument {
+    /// The actuator values the data covered.
+    pub measured: Vec<[f64; 2]>,
+    /// The actuators' ranges.
+    pub ranges: Vec<[f64; 2]>,
+    /// RMS of the predicted tool-point error at the measured poses.
+    pub predicted_inside: f64,
+    /// RMS of the predicted tool-point error over the workspace.
+    pub predicted_work: f64,
+    /// The largest predicted tool-point error at a pose of the workspace.
+    pub predicted_work_max: f64,
+    /// What a held-out position measurement of a perfect platform shows
+    /// (√3 σ̂).
+    pub noise_floor: f64,
+    /// Actuators (1-based) whose measured range covers less than half of
+    /// their range.
+    pub narrow_actuators: Vec<usize>,
+    /// Actuators (1-based) that never moved.
+    pub still_actuators: Vec<usize>,
+    /// Whether the result holds over the whole workspace.
+    pub holds_everywhere: bool,
+}
+
+impl From<&PlatformRegion> for PlatformRegionDocument {
+    fn from(region: &PlatformRegion) -> Self {
+        let pairs = |ranges: &[(f64, f64)]| ranges.iter().map(|(a, b)| [*a, *b]).collect();
+        Self {
+            measured: pairs(region.measured.ranges()),
+            ranges: pairs(region.ranges.ranges()),
+            predicted_inside: region.inside,
+            predicted_work: region.work_rms,
+            predicted_work_max: region.work_max,
+            noise_floor: region.floor,
+            narrow_actuators: region.narrow_actuators(),
+            still_actuators: region.still_actuators.clone(),
+            holds_everywhere: region.holds_everywhere,
+        }
     }
 }

@@ -114,6 +114,7 @@ impl ParallelGenerateRequest {
                         nominal.robot.name()
                     )),
                     calibrated_from: None,
+                    measured_region: None,
                 }
             }
         };

@@ -3,8 +3,8 @@
 //! direct model's errors at the measured configurations before and after.
 
 use gecaro_calib::parallel_robots::{
-    PlatformIdentification, PlatformIdentificationOptions, PlatformNoise, identify_platform,
-    platform_errors,
+    PlatformIdentification, PlatformIdentificationOptions, PlatformNoise, PlatformRegion,
+    identify_platform, platform_errors,
 };
 use gecaro_core::parallel_model::ParallelModel;
 use gecaro_core::parallel_robot::ParallelRobot;
@@ -130,10 +130,24 @@ impl ParallelIdentifyRequest {
         let errors_before = platform_errors(&nominal.robot, &samples, measure)?;
         let errors_after = platform_errors(&result.calibrated, &samples, measure)?;
         let name = format!("{} (calibrated)", nominal.robot.name());
+        // A result that holds in the measured region only keeps that region:
+        // compensation flags targets outside it.
+        let regional = result
+            .region
+            .as_ref()
+            .filter(|region| !region.holds_everywhere);
+        let holds = regional.map_or_else(String::new, |region| {
+            format!(
+                "; holds within the measured actuator ranges (predicted {:.4} mm there, {:.4} mm \
+                 over the workspace)",
+                region.inside * 1e3,
+                region.work_rms * 1e3
+            )
+        });
         let calibrated = ParallelRobotFile {
             robot: result.calibrated.clone().renamed(&name),
             description: Some(format!(
-                "{} calibrated by gecaro: {} method on {}, {} parameters identified, verdict {}",
+                "{} calibrated by gecaro: {} method on {}, {} parameters identified, verdict {}{holds}",
                 nominal.robot.name(),
                 measure.name(),
                 read.label,
@@ -141,6 +155,7 @@ impl ParallelIdentifyRequest {
                 result.outcome.as_str()
             )),
             calibrated_from: Some(measure.name().to_owned()),
+            measured_region: regional.map(|region| region.measured.clone()),
         };
         let written = self.output.write(
             files,
@@ -164,6 +179,13 @@ impl ParallelIdentifyRequest {
             rank: result.rank.rank(),
             parameters: PlatformIdentificationDocument::parameters(&nominal.robot, &result),
             regrouped: rank.regrouped,
+            region: result.region.as_ref().map(Into::into),
+            warnings: result
+                .region
+                .as_ref()
+                .and_then(PlatformRegion::warning)
+                .into_iter()
+                .collect(),
             written: written.map(|path| path.display().to_string()),
         };
         Ok(ParallelIdentified {
@@ -195,16 +217,50 @@ fn summary(result: &PlatformIdentification<ParallelRobot>) -> String {
             "converged, but the residuals are {ratio}× the stated noise, far below it: σ \
              overstated, or the same measurements counted twice"
         ),
+        Outcome::Regional => format!(
+            "converged in {} iterations{}, but {}",
+            result.iterations,
+            if ratio.is_empty() {
+                String::new()
+            } else {
+                format!(" and the residuals fit the stated noise (σ̂/σ {ratio})")
+            },
+            result
+                .region
+                .as_ref()
+                .map_or_else(String::new, PlatformRegion::words)
+        ),
         Outcome::Untested => format!(
             "converged in {} iterations; no σ was stated, so the fit is not tested against the \
              noise",
             result.iterations
         ),
-        Outcome::Implausible => format!(
-            "converged, but {} took values no platform has (more than 50 mm, or a gain 10 % off, \
-             from nominal): the robot file or the data are mistaken",
-            result.implausible.join(", ")
-        ),
+        Outcome::Implausible => {
+            // Moved beyond any platform's error but within 3σ of nominal:
+            // the data do not determine them (poses too close together),
+            // which is no mistake in the file.
+            let undetermined = result
+                .parameters
+                .iter()
+                .filter(|parameter| result.implausible.contains(&parameter.name))
+                .all(|parameter| {
+                    parameter.sigma.is_some_and(|sigma| {
+                        (parameter.identified - parameter.nominal).abs() < 3.0 * sigma
+                    })
+                });
+            let cause = match &result.region {
+                Some(region) if undetermined => format!(
+                    "within 3σ of their nominal values: the data do not determine them — {}",
+                    region.words()
+                ),
+                _ => "the robot file or the data are mistaken".to_owned(),
+            };
+            format!(
+                "converged, but {} took values no platform has (more than 50 mm, or a gain 10 % \
+                 off, from nominal), {cause}",
+                result.implausible.join(", ")
+            )
+        }
         Outcome::NotConverged => format!(
             "not converged after {} iterations: more iterations, or a nominal platform nearer \
              the real one",

@@ -17,7 +17,7 @@ mod identify;
 mod plan;
 
 use gecaro_calib::parallel_robots::PlatformMeasure;
-use gecaro_core::parallel_model::ParallelModel;
+use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};
 use gecaro_core::parallel_robot::ParallelRobot;
 use gecaro_io::ParallelRobotFile;
 
@@ -136,9 +136,9 @@ fn measure_of(name: &str) -> Result<PlatformMeasure, AppError> {
 /// platform's six prismatic actuators (read in the file's length unit), a
 /// Delta robot's three motors (in its angle unit).
 fn actuator_types(robot: &ParallelRobot) -> Vec<gecaro_core::FrameType> {
-    let kind = match robot {
-        ParallelRobot::GoughStewart(_) => gecaro_core::FrameType::Prismatic,
-        ParallelRobot::Delta(_) => gecaro_core::FrameType::Revolute,
+    let kind = match robot.actuator_unit() {
+        ParameterUnit::Angle => gecaro_core::FrameType::Revolute,
+        _ => gecaro_core::FrameType::Prismatic,
     };
     vec![kind; robot.actuator_count()]
 }

@@ -9,6 +9,7 @@ use nalgebra::Isometry3;
 use super::identifiability::{PlatformRankReport, rank_of};
 use super::measure::{PlatformMeasure, PlatformNoise};
 use super::observation::{NormalSystem, normal_system, platform_rows};
+use super::region::{PlatformRegion, where_it_holds};
 use crate::Error;
 use crate::identifiability::ParameterStatus;
 use crate::identification::{NoiseTest, Outcome, noise_test};
@@ -81,6 +82,9 @@ pub struct PlatformIdentification<M> {
     pub iterations: usize,
     /// The parameters whose value no platform has (names).
     pub implausible: Vec<String>,
+    /// Where the result holds: the predicted error at the measured poses
+    /// and over the work region; `None` for a fit that is no solution.
+    pub region: Option<PlatformRegion>,
 }
 
 /// Identifies `nominal`'s parameters from `samples` measured by `measure`,
@@ -171,7 +175,7 @@ pub fn identify_platform<M: ParallelModel>(
             break;
         }
     }
-    let (inverse_diagonal, _) = base_system(&system, &rank.base)?;
+    let (inverse, _) = base_system(&system, &rank.base)?;
     rank.rows = count;
     rank.condition_number = condition(&system, &rank.base);
     let freedom = count.saturating_sub(rank.rank());
@@ -191,7 +195,7 @@ pub fn identify_platform<M: ParallelModel>(
                 .base
                 .iter()
                 .position(|c| *c == index)
-                .map(|k| unit_sigma * inverse_diagonal[k].sqrt()),
+                .map(|k| unit_sigma * inverse[(k, k)].sqrt()),
             status: rank.statuses[index],
         })
         .collect();
@@ -208,6 +212,26 @@ pub fn identify_platform<M: ParallelModel>(
         })
         .map(|(_, parameter)| parameter.name.clone())
         .collect();
+    let solved = converged && !diverged;
+    // The floor a held-out position measurement of a perfect platform
+    // shows, √3 σ̂ of a coordinate; the posterior covariance σ̂²·(W_bᵀW_b)⁻¹
+    // (rows weighted by 1/σ: σ̂ is the unit weight's).
+    let region = solved
+        .then(|| {
+            let floor = 3.0_f64.sqrt() * unit_sigma * noise.map_or(1.0, |noise| noise.length);
+            where_it_holds(
+                &current,
+                samples,
+                |index| match measure {
+                    PlatformMeasure::Pose => measure.measured(&samples[index]).ok(),
+                    PlatformMeasure::Point => poses.get(index).copied(),
+                },
+                &rank.base,
+                &(inverse * unit_sigma.powi(2)),
+                floor,
+            )
+        })
+        .flatten();
     let outcome = if diverged {
         Outcome::Diverged
     } else if !converged {
@@ -218,6 +242,12 @@ pub fn identify_platform<M: ParallelModel>(
         match test {
             Some(test) if test.exceeded() => Outcome::ExceedsNoise,
             Some(test) if test.below() => Outcome::BelowNoise,
+            _ if region
+                .as_ref()
+                .is_some_and(|region| !region.holds_everywhere) =>
+            {
+                Outcome::Regional
+            }
             Some(_) => Outcome::FitsNoise,
             None => Outcome::Untested,
         }
@@ -232,6 +262,7 @@ pub fn identify_platform<M: ParallelModel>(
         rms_after: rms(&system),
         iterations,
         implausible,
+        region,
     })
 }
 
@@ -258,13 +289,16 @@ fn structural_rank<M: ParallelModel>(
     rank_of(nominal, &rows, measure)
 }
 
-/// The normal equations of the base columns: the diagonal of their inverse
-/// (the parameters' precision before σ̂) and the Gauss–Newton step.
+/// The normal equations of the base columns: their inverse (the
+/// parameters' covariance before σ̂²) and the Gauss–Newton step.
 ///
 /// # Errors
 /// [`Error::Numerical`] when they are not positive definite (a base set
 /// that the data do not determine).
-fn base_system(system: &NormalSystem, base: &[usize]) -> Result<(Vec<f64>, DVector<f64>), Error> {
+fn base_system(
+    system: &NormalSystem,
+    base: &[usize],
+) -> Result<(DMatrix<f64>, DVector<f64>), Error> {
     let gram = DMatrix::from_fn(base.len(), base.len(), |i, j| {
         system.gram[(base[i], base[j])]
     });
@@ -273,11 +307,7 @@ fn base_system(system: &NormalSystem, base: &[usize]) -> Result<(Vec<f64>, DVect
         message: "the normal equations of the identifiable parameters are not positive definite"
             .into(),
     })?;
-    let inverse = cholesky.inverse();
-    Ok((
-        (0..base.len()).map(|i| inverse[(i, i)]).collect(),
-        cholesky.solve(&projected),
-    ))
+    Ok((cholesky.inverse(), cholesky.solve(&projected)))
 }
 
 /// The condition number of the base columns of W: `√(λmax/λmin)` of their

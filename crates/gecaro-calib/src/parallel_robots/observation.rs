@@ -243,7 +243,7 @@ fn located(sample: &Sample, cause: &dyn std::fmt::Display) -> Error {
 /// `[I, −[R·t]×]·∂x/∂ξ` (`I` alone for a platform that only translates)
 /// with `∂x/∂ξ = −J_x⁻¹·∂F/∂ξ`, plus R in the tool's columns. `None` at a
 /// singular pose.
-fn point_derivative<M: ParallelModel>(
+pub(super) fn point_derivative<M: ParallelModel>(
     model: &M,
     pose: &Isometry3<f64>,
     actuators: &[f64],

@@ -26,10 +26,21 @@ pub struct PlatformWorkspace {
 }
 
 impl PlatformWorkspace {
-    /// The workspace a robot's ranges allow about its home pose: 60 % of
-    /// the shortest of the twelve moves (±x, ±y, ±z; ±turns) it can make
-    /// alone before an actuator leaves its range, found by bisection.
+    /// The share of [`whole`](Self::whole) that [`of`](Self::of) takes.
+    pub const GENERATED_SHARE: f64 = 0.6;
+
+    /// The workspace a robot's ranges allow about its home pose, as points
+    /// generation draws it: [`GENERATED_SHARE`](Self::GENERATED_SHARE) of
+    /// [`whole`](Self::whole).
     pub fn of(model: &impl ParallelModel) -> Self {
+        Self::whole(model).scaled(Self::GENERATED_SHARE)
+    }
+
+    /// The box of the twelve moves (±x, ±y, ±z; ±turns) a robot can make
+    /// alone from its home pose before an actuator leaves its range, found
+    /// by bisection: its whole work region (a pose drawn in it is kept when
+    /// every actuator is within its range).
+    pub fn whole(model: &impl ParallelModel) -> Self {
         let home = model.home();
         let reach = |axis: usize, sign: f64| {
             let inside = |size: f64| {
@@ -56,12 +67,20 @@ impl PlatformWorkspace {
                 .fold(f64::INFINITY, f64::min)
         };
         Self {
-            translation: 0.6 * shortest(0..3),
+            translation: shortest(0..3),
             rotation: if model.pose_freedom() == 6 {
-                0.6 * shortest(3..6)
+                shortest(3..6)
             } else {
                 0.0
             },
+        }
+    }
+
+    /// This workspace with its sides and turns multiplied by `share`.
+    pub fn scaled(self, share: f64) -> Self {
+        Self {
+            translation: self.translation * share,
+            rotation: self.rotation * share,
         }
     }
 }

@@ -450,6 +450,10 @@ impl ParallelModel for GoughStewart {
     fn actuator_range(&self, index: usize) -> (f64, f64) {
         (self.legs[index].min, self.legs[index].max)
     }
+
+    fn actuator_unit(&self) -> ParameterUnit {
+        ParameterUnit::Length
+    }
 }
 
 /// The rules a stated leg meets ([`check_actuator`]).

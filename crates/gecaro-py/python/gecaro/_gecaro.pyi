@@ -810,8 +810,11 @@ def parallel_identify(
 ) -> dict[str, Any]:
     """A platform identified from the data file ``data``, as ``gecaro
     identify hexapod --json``, with ``"calibrated"`` (the platform file's
-    text, written to ``path``) and ``"trusted"``; a fit that did not
-    converge raises NotConvergedError."""
+    text, written to ``path``), ``"trusted"`` and ``"region"`` (where the
+    result holds: ``"measured"`` actuator ranges, ``"predicted_work"`` m
+    over the workspace, ``"holds_everywhere"``; outcome ``"regional"`` when
+    it holds near the data only); a fit that did not converge raises
+    NotConvergedError."""
 
 def parallel_evaluate(
     robot: str,
@@ -853,7 +856,9 @@ def parallel_compensate(
     """A program of platform poses turned into the calibrated platform's
     actuator values (exact, its inverse model), as ``gecaro compensate
     NOMINAL CALIBRATED --json``, with ``"program"`` (the CSV text, written to
-    ``path``); targets beyond an actuator's range in ``"outside_range"``."""
+    ``path``); targets beyond an actuator's range in ``"outside_range"``,
+    outside the actuator values a regional calibration measured in
+    ``"outside_measured"``."""
 
 def join(
     robot: Robot,

@@ -143,6 +143,8 @@ export function buildParallel() {
       result.replaceChildren(
         h('p', { id: 'parallel-verdict', class: answer.trusted ? '' : 'warnings', text: `${answer.robot} — ${answer.method} method on ${answer.data} (${answer.configurations} poses): ${answer.summary}.` }),
         h('p', { id: 'parallel-errors', text: `At the measured poses: nominal ${errorsText(answer.errors_before)}; calibrated ${errorsText(answer.errors_after)}.${answer.written ? ` The calibrated platform was written to ${answer.written}.` : ''}` }),
+        ...(answer.region ? [h('p', { id: 'parallel-region', class: answer.region.holds_everywhere ? '' : 'warnings', text: `Predicted tool-point error: ${quantity(answer.region.predicted_inside, 'length')} ${unitName('length')} RMS at the measured poses, ${quantity(answer.region.predicted_work, 'length')} ${unitName('length')} over the workspace (noise floor ${quantity(answer.region.noise_floor, 'length')} ${unitName('length')})${answer.region.holds_everywhere ? '' : ': the result holds only where the data were taken'}.` })] : []),
+        ...answer.warnings.map((warning) => h('p', { class: 'warnings', text: `Warning: ${warning}.` })),
         parameterTable(answer.parameters));
     } catch (error) {
       result.replaceChildren(errorBox(error));
@@ -173,8 +175,11 @@ export function buildParallel() {
         overwrite: true,
       });
       await refreshFiles();
-      const flagged = answer.outside_range.length
-        ? ` ${answer.outside_range.length} targets need an actuator beyond its range (lines ${answer.outside_range.map(([line]) => line).join(', ')}).` : '';
+      const lines = (flagged) => flagged.map(([line]) => line).join(', ');
+      const flagged = (answer.outside_range.length
+        ? ` ${answer.outside_range.length} targets need an actuator beyond its range (lines ${lines(answer.outside_range)}).` : '')
+        + (answer.outside_measured.length
+          ? ` ${answer.outside_measured.length} targets are outside the actuator values the calibration measured, where it holds (lines ${lines(answer.outside_measured)}).` : '');
       result.replaceChildren(h('p', { id: 'parallel-compensated', class: flagged ? 'warnings' : '', text: `${answer.targets} targets: the calibrated platform’s actuator values (the largest change from the nominal one ${quantity(answer.largest_correction, 'length')} ${unitName('length')}) written to ${answer.written}.${flagged}` }));
     } catch (error) {
       result.replaceChildren(errorBox(error));

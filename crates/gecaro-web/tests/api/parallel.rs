@@ -42,6 +42,14 @@ async fn a_hexapod_is_calibrated_through_the_api() {
         identified["summary"]
     );
     assert_eq!(identified["trusted"], true);
+    // Where it holds: over the whole workspace, predicted within twice the
+    // noise floor.
+    let region = &identified["region"];
+    assert_eq!(region["holds_everywhere"], true, "{region}");
+    assert!(
+        region["predicted_work"].as_f64() < region["noise_floor"].as_f64().map(|f| 2.0 * f),
+        "{region}"
+    );
     assert!(api.folder.path().join("calibrated.toml").is_file());
     let rms = |answer: &Value| answer["errors"]["position_rms"].as_f64().expect("rms");
     let evaluate =
@@ -71,6 +79,7 @@ async fn a_hexapod_is_calibrated_through_the_api() {
         .await;
     assert_eq!(status, StatusCode::OK, "{compensated}");
     assert_eq!(compensated["targets"], 200);
+    assert_eq!(compensated["outside_measured"], json!([]));
     assert!(
         compensated["program"]
             .as_str()

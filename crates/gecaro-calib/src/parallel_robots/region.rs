@@ -1,0 +1,226 @@
+//! Where a parallel robot's calibration holds: its predicted tool-point
+//! error at the measured poses and over the whole work region, as a serial
+//! robot's ([`crate::identification::region`]).
+//!
+//! A fit explains its data where they were taken; parameters the data
+//! excite over a small part of the workspace only (poses within a few
+//! millimetres of home, which barely move the legs) are extrapolated over
+//! the rest. The identification's posterior covariance of the base
+//! parameters, `C = σ̂²·(W_bᵀW_b)⁻¹` (σ̂ the unit weight's), gives at a pose
+//! x the calibrated robot's remaining tool-point error `J_y(x)·δξ_b`
+//! (J_y: the tool point's derivative, [`point_derivative`]), whose
+//! expected squared norm is `trace(J_y C J_yᵀ)`. It is evaluated
+//!
+//! - **at the measured poses**: up to [`REGION_POSES`] of the data's own,
+//!   spread over them;
+//! - **over the work region**: [`WORK_POSES`] poses drawn from a fixed seed
+//!   in the box of the moves the actuators' ranges allow alone from home
+//!   ([`PlatformWorkspace::whole`]), each with every actuator within range.
+//!
+//! The rule is the serial robots': the result holds in the measured region
+//! only when the work region's RMS exceeds both [`FLOOR_FACTOR`] times the
+//! noise floor (√3 σ̂ of a position coordinate) and [`REGION_FACTOR`] times
+//! the measured poses', or when an actuator never moved. The measured
+//! region is then the box of actuator values the data covered, which the
+//! calibrated robot's file carries and compensation checks.
+
+use gecaro_core::JointRegion;
+use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};
+use gecaro_data::sample::Sample;
+use nalgebra::{DMatrix, Isometry3};
+
+use super::observation::{actuator_values, point_derivative};
+use super::simulation::{PlatformWorkspace, random_platform_poses};
+use crate::identification::{FLOOR_FACTOR, REGION_FACTOR, REGION_POSES, WORK_POSES};
+use crate::sampler::{Sampler, spread_indices};
+
+/// The work region's poses are drawn from their own stream.
+const WORK_POSE_SEED: u64 = 0x7e61_0a5f;
+
+/// An actuator whose measured values span less than this (m or rad) never
+/// moved.
+const STILL_SPAN: f64 = 1e-9;
+
+/// A measured range below this part of its actuator's range is named as
+/// one to measure over more of.
+const NARROW_FRACTION: f64 = crate::identification::NARROW_FRACTION;
+
+/// Where a platform's calibration holds; see the module docs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlatformRegion {
+    /// The smallest box of actuator values holding every measured
+    /// configuration (m for a leg, rad for an arm's motor).
+    pub measured: JointRegion,
+    /// The actuators' ranges.
+    pub ranges: JointRegion,
+    /// Whether the actuators turn (their values in degrees in words).
+    pub angular: bool,
+    /// RMS of the predicted tool-point error at the measured poses (m).
+    pub inside: f64,
+    /// RMS of the predicted tool-point error over the work region (m).
+    pub work_rms: f64,
+    /// The largest predicted tool-point error at a pose of the work region
+    /// (m, the RMS of its distribution).
+    pub work_max: f64,
+    /// What a held-out position measurement of a perfect platform shows:
+    /// √3 σ̂ of a position coordinate (m).
+    pub floor: f64,
+    /// Actuators (1-based) whose value never changed in the data.
+    pub still_actuators: Vec<usize>,
+    /// Whether the result holds over the work region.
+    pub holds_everywhere: bool,
+}
+
+impl PlatformRegion {
+    /// Actuators (1-based) whose measured range covers less than half of
+    /// their range.
+    pub fn narrow_actuators(&self) -> Vec<usize> {
+        (0..self.measured.joints())
+            .filter(|k| self.measured.fraction_of(&self.ranges, *k) < NARROW_FRACTION)
+            .map(|k| k + 1)
+            .collect()
+    }
+
+    /// The measured range of actuator `actuator` (1-based) in words:
+    /// `qm2 −15.0…30.0 mm`.
+    pub fn range_words(&self, actuator: usize) -> String {
+        let (min, max) = self.measured.range(actuator - 1);
+        if self.angular {
+            format!(
+                "qm{actuator} {:.1}…{:.1}°",
+                min.to_degrees(),
+                max.to_degrees()
+            )
+        } else {
+            format!("qm{actuator} {:.1}…{:.1} mm", min * 1e3, max * 1e3)
+        }
+    }
+
+    /// A warning when the result holds everywhere but its predicted error
+    /// over the work region is above the noise floor: both figures.
+    pub fn warning(&self) -> Option<String> {
+        (self.holds_everywhere && self.work_rms > self.floor).then(|| {
+            format!(
+                "the calibrated platform is predicted to {:.4} mm over its workspace ({:.1}× the \
+                 noise floor of {:.4} mm), {:.4} mm at the measured poses: measure poses over \
+                 more of the workspace to bring it down",
+                self.work_rms * 1e3,
+                self.work_rms / self.floor,
+                self.floor * 1e3,
+                self.inside * 1e3,
+            )
+        })
+    }
+
+    /// The verdict's clause when the result does not hold everywhere.
+    pub fn words(&self) -> String {
+        let narrow = self.narrow_actuators();
+        let shown: Vec<usize> = if narrow.is_empty() {
+            (1..=self.measured.joints()).collect()
+        } else {
+            narrow
+        };
+        let ranges: Vec<String> = shown.iter().map(|k| self.range_words(*k)).collect();
+        let still = if self.still_actuators.is_empty() {
+            String::new()
+        } else {
+            let list: Vec<String> = self
+                .still_actuators
+                .iter()
+                .map(ToString::to_string)
+                .collect();
+            format!(
+                "; actuator {} never moved, whose parameters no prediction sees",
+                list.join(", ")
+            )
+        };
+        format!(
+            "holds only where the data were taken ({}): predicted {:.4} mm over the work region \
+             (largest {:.4} mm) against {:.4} mm at the measured poses and a noise floor of \
+             {:.4} mm{still}; measure poses spread over the whole workspace",
+            ranges.join(", "),
+            self.work_rms * 1e3,
+            self.work_max * 1e3,
+            self.inside * 1e3,
+            self.floor * 1e3,
+        )
+    }
+}
+
+/// Where `calibrated`, identified from `samples`, holds (module docs);
+/// `pose_of` gives the platform's pose at a sample (measured or solved), for
+/// the covariance `covariance` of the base parameters `base` and the noise
+/// floor `floor` (m). `None` when a pose has no derivative (a singular
+/// one) or the covariance is not positive definite.
+pub(super) fn where_it_holds<M: ParallelModel>(
+    calibrated: &M,
+    samples: &[Sample],
+    pose_of: impl Fn(usize) -> Option<Isometry3<f64>>,
+    base: &[usize],
+    covariance: &DMatrix<f64>,
+    floor: f64,
+) -> Option<PlatformRegion> {
+    let count = calibrated.actuator_count();
+    let measured = JointRegion::covering(
+        count,
+        samples
+            .iter()
+            .filter_map(|sample| actuator_values(calibrated, sample).ok()),
+    );
+    let ranges =
+        JointRegion::new((0..count).map(|k| calibrated.actuator_range(k)).collect()).ok()?;
+    let factor = covariance.clone().cholesky()?.l();
+    // trace(J_b C J_bᵀ) = ‖J_b·L‖² (Frobenius) for C = L·Lᵀ.
+    let spread = |pose: &Isometry3<f64>, actuators: &[f64]| -> Option<f64> {
+        let derivative = point_derivative(calibrated, pose, actuators)?;
+        let columns = DMatrix::from_fn(3, base.len(), |row, k| derivative[(row, base[k])]);
+        Some((columns * &factor).norm_squared())
+    };
+    let rms =
+        |variances: &[f64]| (variances.iter().sum::<f64>() / variances.len().max(1) as f64).sqrt();
+    let inside: Vec<f64> = spread_indices(samples.len(), REGION_POSES)
+        .into_iter()
+        .map(|index| {
+            let actuators = actuator_values(calibrated, &samples[index]).ok()?;
+            spread(&pose_of(index)?, actuators)
+        })
+        .collect::<Option<_>>()?;
+    let mut sampler = Sampler::new(WORK_POSE_SEED);
+    let work_poses = random_platform_poses(
+        calibrated,
+        WORK_POSES,
+        PlatformWorkspace::whole(calibrated),
+        &mut sampler,
+    )
+    .ok()?;
+    let work: Vec<f64> = work_poses
+        .iter()
+        .map(|pose| {
+            let actuators = calibrated.actuator_values(pose).ok()?;
+            spread(pose, &actuators)
+        })
+        .collect::<Option<_>>()?;
+    let (inside, work_rms) = (rms(&inside), rms(&work));
+    let work_max = work.iter().copied().fold(0.0, f64::max).sqrt();
+    let still_actuators: Vec<usize> = (0..count)
+        .filter(|k| {
+            // An actuator with no measured value (an empty range) is still.
+            let (min, max) = measured.range(*k);
+            (max - min).partial_cmp(&STILL_SPAN) != Some(std::cmp::Ordering::Greater)
+        })
+        .map(|k| k + 1)
+        .collect();
+    let holds_everywhere = still_actuators.is_empty()
+        && !(work_rms > FLOOR_FACTOR * floor && work_rms > REGION_FACTOR * inside);
+    Some(PlatformRegion {
+        measured,
+        ranges,
+        angular: calibrated.actuator_unit() == ParameterUnit::Angle,
+        inside,
+        work_rms,
+        work_max,
+        floor,
+        still_actuators,
+        holds_everywhere,
+    })
+}
