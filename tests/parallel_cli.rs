@@ -126,12 +126,12 @@ fn serial_only_options_and_jobs_are_refused_by_name() {
     let error = String::from_utf8_lossy(&output.stderr);
     assert!(!output.status.success());
     assert!(error.contains("a parallel robot"), "{error}");
-    let output = command("identifiable hexapod --method distance")
+    let output = command("identifiable hexapod --method plane1")
         .output()
         .expect("runs");
     let error = String::from_utf8_lossy(&output.stderr);
     assert!(
-        error.contains("`frame` (the platform's pose) or `position`"),
+        error.contains("`frame` (the platform's pose), `position` (its tool point) or `distance`"),
         "{error}"
     );
 }
@@ -294,4 +294,82 @@ fn a_hexapod_measured_near_home_holds_only_there() {
         "{error}"
     );
     assert!(std::path::Path::new(&at("corrected.csv")).exists());
+}
+
+/// A hexapod calibrated from 200 measured distances (a ballbar's or a
+/// tracker's, `pair` and `distance` columns) as a user runs it: 39
+/// parameters identifiable, the fit at the noise, held-out distances at
+/// the real robot's own; a program in the base frame, which distances
+/// never observe, refused for compensation; an odd pose out refused.
+#[test]
+fn a_hexapod_is_calibrated_from_distances_on_the_command_line() {
+    let folder = tempfile::tempdir().expect("folder");
+    let at = |name: &str| folder.path().join(name).display().to_string();
+    command("generate hexapod --method distance --count 400 --noise 2e-5 --seed 3 -o")
+        .arg(at("pairs.csv"))
+        .arg("--real-out")
+        .arg(at("real.toml"))
+        .assert()
+        .success();
+    command("generate hexapod --method distance --count 200 --noise 2e-5 --seed 4 -o")
+        .arg(at("held.csv"))
+        .arg("--real")
+        .arg(at("real.toml"))
+        .assert()
+        .success();
+    let header = std::fs::read_to_string(at("pairs.csv")).expect("pairs");
+    assert!(header.starts_with("qm1,qm2,qm3,qm4,qm5,qm6,pair,distance\n"));
+    let identified = json_output(&[
+        "identify",
+        "hexapod",
+        "--method",
+        "distance",
+        "--sigma",
+        "0.02mm",
+        "--json",
+        "--data",
+        &at("pairs.csv"),
+        "-o",
+        &at("calibrated.toml"),
+    ]);
+    assert_eq!(
+        identified["outcome"], "fits_noise",
+        "{}",
+        identified["summary"]
+    );
+    assert_eq!(identified["rank"], 39);
+    assert_eq!(identified["region"]["distances"], true);
+    let rms = |robot: &str| {
+        json_output(&[
+            "evaluate",
+            robot,
+            "--method",
+            "distance",
+            "--json",
+            "--data",
+            &at("held.csv"),
+        ])["errors"]["position_rms"]
+            .as_f64()
+            .expect("rms")
+    };
+    let (after, floor) = (rms(&at("calibrated.toml")), rms(&at("real.toml")));
+    assert!(after <= 1.3 * floor, "{after} m, floor {floor} m");
+    let output = command("compensate hexapod")
+        .arg(at("calibrated.toml"))
+        .arg("--program")
+        .arg(at("held.csv"))
+        .arg("-o")
+        .arg(at("corrected.csv"))
+        .output()
+        .expect("runs");
+    let error = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(error.contains("its base frame is not observed"), "{error}");
+    let output = command("generate hexapod --method distance --count 5 -o")
+        .arg(at("odd.csv"))
+        .output()
+        .expect("runs");
+    let error = String::from_utf8_lossy(&output.stderr);
+    assert!(error.contains("5 poses are not whole pairs"), "{error}");
+    assert!(!std::path::Path::new(&at("odd.csv")).exists());
 }

@@ -341,12 +341,26 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
         }
         println!("{parameters}");
         println!("(mm; angles in degrees; gains dimensionless)");
-        print_errors("at the measured poses, nominal", &document.errors_before);
-        print_errors("at the measured poses, calibrated", &document.errors_after);
+        let distances = document.method == "distance";
+        print_errors(
+            "at the measured poses, nominal",
+            &document.errors_before,
+            distances,
+        );
+        print_errors(
+            "at the measured poses, calibrated",
+            &document.errors_after,
+            distances,
+        );
         if let Some(region) = &document.region {
             println!(
-                "predicted tool-point error: {} mm RMS at the measured poses, {} mm over the \
-                 workspace (largest {} mm; noise floor {} mm)",
+                "predicted {}: {} mm RMS at the measured poses, {} mm over the workspace \
+                 (largest {} mm; noise floor {} mm)",
+                if region.distances {
+                    "error of a distance from the home pose"
+                } else {
+                    "tool-point error"
+                },
                 mm(region.predicted_inside),
                 mm(region.predicted_work),
                 mm(region.predicted_work_max),
@@ -365,7 +379,8 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
         .map_or(Ok(()), |error| Err(error.into()))
 }
 
-fn print_errors(title: &str, errors: &PlatformErrorsDocument) {
+/// A platform's errors in words: of its positions, or of its distances.
+fn print_errors(title: &str, errors: &PlatformErrorsDocument, distances: bool) {
     let angles = match (errors.angle_rms, errors.angle_max) {
         (Some(rms), Some(max)) => format!(
             "; orientation RMS {}°, max {}°",
@@ -375,7 +390,8 @@ fn print_errors(title: &str, errors: &PlatformErrorsDocument) {
         _ => String::new(),
     };
     println!(
-        "{title}: position RMS {} mm, max {} mm{angles}",
+        "{title}: {} RMS {} mm, max {} mm{angles}",
+        if distances { "distance" } else { "position" },
         mm(errors.position_rms),
         mm(errors.position_max)
     );
@@ -408,7 +424,11 @@ pub(crate) fn evaluate(args: &EvaluateArgs) -> Result<(), Failure> {
         evaluated.method,
         evaluated.configurations
     );
-    print_errors("direct model against the measured", &evaluated.errors);
+    print_errors(
+        "direct model against the measured",
+        &evaluated.errors,
+        evaluated.method == "distance",
+    );
     Ok(())
 }
 

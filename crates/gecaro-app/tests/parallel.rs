@@ -174,9 +174,20 @@ fn identifiable_parameters_of_one_platform_point() {
     .expect("rank");
     assert_eq!(report.rank, 45);
     assert_eq!(report.regrouped.len(), 6);
-    let error = ParallelIdentifiableRequest {
+    let report = ParallelIdentifiableRequest {
         robot: "hexapod".into(),
         method: "distance".into(),
+        data: None,
+        format: Default::default(),
+        count: None,
+        seed: None,
+    }
+    .run(&LocalFiles)
+    .expect("rank");
+    assert_eq!(report.rank, 39);
+    let error = ParallelIdentifiableRequest {
+        robot: "hexapod".into(),
+        method: "plane1".into(),
         data: None,
         format: Default::default(),
         count: None,
@@ -186,7 +197,7 @@ fn identifiable_parameters_of_one_platform_point() {
     .expect_err("refused")
     .to_string();
     assert!(
-        error.contains("`frame` (the platform's pose) or `position`"),
+        error.contains("`position` (its tool point) or `distance`"),
         "{error}"
     );
 }

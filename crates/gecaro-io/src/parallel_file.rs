@@ -7,8 +7,9 @@
 //! name = "hexapod"
 //! description = "a positioning hexapod"   # optional free text
 //! length_unit = "mm"             # optional: "m" (default) or "mm", every length below
-//! calibrated_from = "frame"      # written by a calibration: "frame" (poses) or
+//! calibrated_from = "frame"      # written by a calibration: "frame" (poses),
 //!                                # "position" (one point: the platform frame not observed)
+//!                                # or "distance" (the base frame not observed either)
 //!
 //! [[leg]]                        # six legs, leg 1 first
 //! base = [482.96, -129.41, 0]    # a: the base joint's centre, base frame
@@ -299,12 +300,13 @@ pub fn parse_parallel_robot_file(text: &str, path: &Path) -> Result<ParallelRobo
         }
     };
     if let Some(measured) = document.calibrated_from.as_deref()
-        && !["frame", "position"].contains(&measured)
+        && !["frame", "position", "distance"].contains(&measured)
     {
         return Err(at_key(
             "calibrated_from",
             format!(
-                "\"{measured}\" is not what a platform is calibrated from: \"frame\" or \"position\""
+                "\"{measured}\" is not what a platform is calibrated from: \"frame\", \"position\" \
+                 or \"distance\""
             ),
         ));
     }

@@ -112,3 +112,16 @@ def test_a_platform_measured_near_home_holds_only_there(tmp_path):
     assert len(compensated["outside_measured"]) >= 5
     line, actuators = compensated["outside_measured"][0]
     assert line >= 2 and set(actuators) <= {1, 2, 3, 4, 5, 6}
+
+
+def test_a_hexapod_is_calibrated_from_distances(tmp_path):
+    gecaro.parallel_generate("hexapod", "distance", 400, noise=2e-5, seed=3,
+                             path=tmp_path / "pairs.csv", real_path=tmp_path / "real.toml")
+    assert gecaro.parallel_identifiable("hexapod", "distance")["rank"] == 39
+    result = gecaro.parallel_identify("hexapod", "distance", tmp_path / "pairs.csv",
+                                      sigma="20um", path=tmp_path / "calibrated.toml")
+    assert result["outcome"] == "fits_noise", result["summary"]
+    assert result["rank"] == 39
+    assert 'calibrated_from = "distance"' in result["calibrated"]
+    with pytest.raises(gecaro.errors.InputError, match="5 poses are not whole pairs"):
+        gecaro.parallel_generate("hexapod", "distance", 5, path=tmp_path / "odd.csv")

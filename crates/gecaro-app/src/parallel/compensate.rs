@@ -166,23 +166,39 @@ impl ParallelCompensateRequest {
     pub fn run(&self, files: &dyn Files) -> Result<ParallelCompensated, AppError> {
         let nominal = load_parallel_robot(&self.nominal, files)?;
         let calibrated = load_parallel_robot(&self.calibrated, files)?;
-        if calibrated.calibrated_from.as_deref() == Some("position")
-            && calibrated.robot.pose_freedom() == 6
-        {
-            // One measured point fixes the tool point, not the platform
-            // frame (six of its coordinates are regrouped): a target pose
-            // of that frame would be met in the calibration's gauge, not on
-            // the real platform.
-            return Err(AppError::plain(
-                ErrorKind::Input,
-                format!(
-                    "{} was calibrated from one measured point (calibrated_from = \"position\"): \
-                     its platform frame is not observed, so a program of platform poses cannot \
-                     be compensated with it; calibrate from measured poses (frame) to compensate \
-                     poses",
-                    self.calibrated
-                ),
-            ));
+        match calibrated.calibrated_from.as_deref() {
+            Some("position") if calibrated.robot.pose_freedom() == 6 => {
+                // One measured point fixes the tool point, not the platform
+                // frame (six of its coordinates are regrouped): a target pose
+                // of that frame would be met in the calibration's gauge, not
+                // on the real platform.
+                return Err(AppError::plain(
+                    ErrorKind::Input,
+                    format!(
+                        "{} was calibrated from one measured point (calibrated_from = \
+                         \"position\"): its platform frame is not observed, so a program of \
+                         platform poses cannot be compensated with it; calibrate from measured \
+                         poses (frame) to compensate poses",
+                        self.calibrated
+                    ),
+                ));
+            }
+            Some("distance") => {
+                // Distances see neither where the base frame is nor how it
+                // turns: a target in the base frame would be met in the
+                // calibration's gauge.
+                return Err(AppError::plain(
+                    ErrorKind::Input,
+                    format!(
+                        "{} was calibrated from distances (calibrated_from = \"distance\"): its \
+                         base frame is not observed, so targets stated in it cannot be \
+                         compensated with it; calibrate from measured poses or points to \
+                         compensate a program",
+                        self.calibrated
+                    ),
+                ));
+            }
+            _ => {}
         }
         self.output.check(files, "csv")?;
         // A program may carry the nominal actuator values (a data file, a

@@ -11,7 +11,7 @@ use serde::Serialize;
 /// The identifiable parameters of a platform.
 #[derive(Clone, Debug, Serialize)]
 pub struct PlatformRankDocument {
-    /// `frame` or `position`.
+    /// `frame`, `position` or `distance`.
     pub method: &'static str,
     /// Equations (rows of W).
     pub equations: usize,
@@ -71,7 +71,8 @@ impl PlatformRankDocument {
 /// A platform's errors at measured configurations.
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct PlatformErrorsDocument {
-    /// RMS of the position errors (m).
+    /// RMS of the position errors (m; of the distances for measured
+    /// distances).
     pub position_rms: f64,
     /// The largest position error (m).
     pub position_max: f64,
@@ -114,7 +115,7 @@ pub struct PlatformParameterDocument {
 pub struct PlatformIdentificationDocument {
     /// The robot's name.
     pub robot: String,
-    /// `frame` or `position`.
+    /// `frame`, `position` or `distance`.
     pub method: &'static str,
     /// The data's label.
     pub data: String,
@@ -204,6 +205,10 @@ pub struct PlatformRegionDocument {
     pub still_actuators: Vec<usize>,
     /// Whether the result holds over the whole workspace.
     pub holds_everywhere: bool,
+    /// Whether the errors are of a distance from the home pose's tool
+    /// point (the data measured distances, which observe no base frame),
+    /// not of the tool point.
+    pub distances: bool,
 }
 
 impl From<&PlatformRegion> for PlatformRegionDocument {
@@ -219,6 +224,7 @@ impl From<&PlatformRegion> for PlatformRegionDocument {
             narrow_actuators: region.narrow_actuators(),
             still_actuators: region.still_actuators.clone(),
             holds_everywhere: region.holds_everywhere,
+            distances: region.distances,
         }
     }
 }

@@ -18,7 +18,7 @@ use crate::sources::{DataFormatSpec, DataSource};
 pub struct ParallelEvaluateRequest {
     /// The platform (a calibrated one's file, typically).
     pub robot: String,
-    /// `frame` or `position`.
+    /// `frame`, `position` or `distance`.
     pub method: String,
     /// The held-out measurements.
     pub data: DataSource,
@@ -32,7 +32,7 @@ pub struct ParallelEvaluateRequest {
 pub struct ParallelEvaluated {
     /// The platform's name.
     pub robot: String,
-    /// `frame` or `position`.
+    /// `frame`, `position` or `distance`.
     pub method: &'static str,
     /// The data's label.
     pub data: String,

@@ -25,7 +25,8 @@ use crate::sources::{DataFormatSpec, DataSource};
 pub struct ParallelGenerateRequest {
     /// The nominal platform (a file, or a ready parallel robot's name).
     pub robot: String,
-    /// `frame` (the platform's pose) or `position` (its tool point).
+    /// `frame` (the platform's pose), `position` (its tool point) or
+    /// `distance` (between the tool points of consecutive poses).
     pub method: String,
     /// Measured poses (1 to [`MAX_GENERATE`]); not with `configurations`.
     pub count: usize,

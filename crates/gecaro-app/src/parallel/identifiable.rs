@@ -2,10 +2,11 @@
 //! of a data file, or at random reachable poses.
 
 use gecaro_calib::parallel_robots::{
-    PlatformNoise, PlatformWorkspace, platform_identifiability, random_platform_poses,
-    simulate_platform,
+    PlatformMeasure, PlatformNoise, PlatformWorkspace, platform_identifiability,
+    random_platform_poses, simulate_platform,
 };
 use gecaro_calib::simulation::{DEFAULT_SEED, Sampler};
+use gecaro_core::parallel_model::ParallelModel;
 use serde::Deserialize;
 
 use super::documents::PlatformRankDocument;
@@ -14,7 +15,8 @@ use crate::error::AppError;
 use crate::files::Files;
 use crate::sources::{DataFormatSpec, DataSource};
 
-/// Random poses drawn when no data are given.
+/// Random poses drawn when no data are given (for distances, one equation a
+/// pair, four a parameter when that is more).
 pub const DEFAULT_POSES: usize = 60;
 
 /// The identifiable parameters of a parallel robot.
@@ -23,7 +25,7 @@ pub const DEFAULT_POSES: usize = 60;
 pub struct ParallelIdentifiableRequest {
     /// The platform (a file, or a ready parallel robot's name).
     pub robot: String,
-    /// `frame` or `position`.
+    /// `frame`, `position` or `distance`.
     pub method: String,
     /// The configurations (a data file); random reachable poses without.
     pub data: Option<DataSource>,
@@ -59,7 +61,12 @@ impl ParallelIdentifiableRequest {
                 )
             }
             None => {
-                let count = self.count.unwrap_or(DEFAULT_POSES);
+                let count = self.count.unwrap_or(match measure {
+                    PlatformMeasure::Distance => {
+                        DEFAULT_POSES.max(4 * file.robot.parameters().len())
+                    }
+                    _ => DEFAULT_POSES,
+                });
                 let seed = self.seed.unwrap_or(DEFAULT_SEED);
                 let mut sampler = Sampler::new(seed);
                 let poses = random_platform_poses(

@@ -24,7 +24,7 @@ use crate::sources::{DataFormatSpec, DataSource};
 pub struct ParallelIdentifyRequest {
     /// The nominal platform (a file, or a ready parallel robot's name).
     pub robot: String,
-    /// `frame` or `position`.
+    /// `frame`, `position` or `distance`.
     pub method: String,
     /// The measurements.
     pub data: DataSource,

@@ -118,15 +118,15 @@ fn measure_for(name: &str, robot: &ParallelRobot) -> Result<PlatformMeasure, App
     Ok(measure)
 }
 
-/// The measure called `name`: `frame` (the platform's pose) or `position`
-/// (its tool point).
+/// The measure called `name`: `frame` (the platform's pose), `position`
+/// (its tool point) or `distance` (between the tool points of a pair).
 fn measure_of(name: &str) -> Result<PlatformMeasure, AppError> {
     PlatformMeasure::named(name).map_err(|_| {
         AppError::setting(
             "method",
             format!(
-                "a parallel robot is measured by `frame` (the platform's pose) or `position` \
-                 (its tool point), not `{name}`"
+                "a parallel robot is measured by `frame` (the platform's pose), `position` \
+                 (its tool point) or `distance` (between two tool points), not `{name}`"
             ),
         )
     })

@@ -23,7 +23,7 @@ pub const POOL_PER_POSE: usize = 20;
 pub struct ParallelPlanRequest {
     /// The nominal robot.
     pub robot: String,
-    /// `frame` or `position`.
+    /// `frame`, `position` or `distance`.
     pub method: String,
     /// Poses to choose.
     pub count: usize,

@@ -218,13 +218,20 @@ pub fn identify_platform<M: ParallelModel>(
     // (rows weighted by 1/σ: σ̂ is the unit weight's).
     let region = solved
         .then(|| {
-            let floor = 3.0_f64.sqrt() * unit_sigma * noise.map_or(1.0, |noise| noise.length);
+            // A held-out distance's noise is one coordinate's, a point's three.
+            let coordinates: f64 = if measure == PlatformMeasure::Distance {
+                1.0
+            } else {
+                3.0
+            };
+            let floor = coordinates.sqrt() * unit_sigma * noise.map_or(1.0, |noise| noise.length);
             where_it_holds(
                 &current,
+                measure,
                 samples,
                 |index| match measure {
                     PlatformMeasure::Pose => measure.measured(&samples[index]).ok(),
-                    PlatformMeasure::Point => poses.get(index).copied(),
+                    PlatformMeasure::Point | PlatformMeasure::Distance => poses.get(index).copied(),
                 },
                 &rank.base,
                 &(inverse * unit_sigma.powi(2)),
@@ -278,11 +285,18 @@ fn structural_rank<M: ParallelModel>(
     measure: PlatformMeasure,
     noise: Option<PlatformNoise>,
 ) -> Result<PlatformRankReport, Error> {
+    // Whole observations (a distance's pairs), spread.
+    let size = measure.samples_per_observation();
+    let observations = samples.len() / size;
+    let picked = RANK_SAMPLES / size;
     let taken: Vec<Sample> = if samples.len() <= RANK_SAMPLES {
         samples.to_vec()
     } else {
-        (0..RANK_SAMPLES)
-            .map(|k| samples[k * samples.len() / RANK_SAMPLES].clone())
+        (0..picked)
+            .flat_map(|k| {
+                let first = k * observations / picked * size;
+                samples[first..first + size].to_vec()
+            })
             .collect()
     };
     let rows = platform_rows(nominal, &taken, measure, noise, &mut Vec::new())?;

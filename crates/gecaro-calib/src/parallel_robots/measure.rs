@@ -15,18 +15,28 @@ pub enum PlatformMeasure {
     /// The tool point's position in the base frame (`position`: columns
     /// `x, y, z`).
     Point,
+    /// The distance between the tool point's positions at two
+    /// configurations (`distance`, a ballbar or a tracker's distances:
+    /// columns `pair` and `distance`, two consecutive rows a pair, both
+    /// carrying the distance), as the serial robots' distance method.
+    Distance,
 }
 
 impl PlatformMeasure {
-    /// Both, in the order they are listed to users.
-    pub const ALL: [PlatformMeasure; 2] = [PlatformMeasure::Pose, PlatformMeasure::Point];
+    /// Every measure, in the order they are listed to users.
+    pub const ALL: [PlatformMeasure; 3] = [
+        PlatformMeasure::Pose,
+        PlatformMeasure::Point,
+        PlatformMeasure::Distance,
+    ];
 
     /// The name of the serial method that measures the same (`frame`,
-    /// `position`); the data files' columns are that method's.
+    /// `position`, `distance`); the data files' columns are that method's.
     pub fn name(self) -> &'static str {
         match self {
             PlatformMeasure::Pose => "frame",
             PlatformMeasure::Point => "position",
+            PlatformMeasure::Distance => "distance",
         }
     }
 
@@ -49,21 +59,36 @@ impl PlatformMeasure {
         match self {
             PlatformMeasure::Pose => &[DataColumn::Position, DataColumn::Orientation],
             PlatformMeasure::Point => &[DataColumn::Position],
+            PlatformMeasure::Distance => &[DataColumn::Pair, DataColumn::Distance],
         }
     }
 
-    /// Equations a measured configuration gives `model`: its closure
-    /// equations for a pose, a coordinate each for a point.
-    pub fn rows_per_sample(self, model: &impl ParallelModel) -> usize {
+    /// Equations an observation gives `model`: its closure equations for a
+    /// pose, a coordinate each for a point, one for a distance.
+    pub fn rows_per_observation(self, model: &impl ParallelModel) -> usize {
         match self {
             PlatformMeasure::Pose => model.actuator_count(),
             PlatformMeasure::Point => 3,
+            PlatformMeasure::Distance => 1,
         }
+    }
+
+    /// Equations `samples` samples give `model`.
+    pub fn rows_for(self, model: &impl ParallelModel, samples: usize) -> usize {
+        samples / self.samples_per_observation() * self.rows_per_observation(model)
     }
 
     /// Whether the tool point's parameters are in the equations.
     pub fn measures_tool(self) -> bool {
-        self == PlatformMeasure::Point
+        self != PlatformMeasure::Pose
+    }
+
+    /// Samples one observation takes: a pair for a distance, else one.
+    pub fn samples_per_observation(self) -> usize {
+        match self {
+            PlatformMeasure::Distance => 2,
+            _ => 1,
+        }
     }
 
     /// Refuses a measure a structure cannot take: a pose of a platform
@@ -87,7 +112,8 @@ impl PlatformMeasure {
     }
 
     /// A sample's measured pose (the point's for [`Point`](Self::Point),
-    /// level).
+    /// level; none for a [`Distance`](Self::Distance), whose pairs are
+    /// read by [`check_pairs`]).
     ///
     /// # Errors
     /// [`Error::InvalidData`] naming the sample's line when a column is
@@ -102,7 +128,9 @@ impl PlatformMeasure {
             PlatformMeasure::Pose => sample
                 .orientation
                 .ok_or_else(|| missing("orientation qw, qx, qy, qz"))?,
-            PlatformMeasure::Point => nalgebra::UnitQuaternion::identity(),
+            PlatformMeasure::Point | PlatformMeasure::Distance => {
+                nalgebra::UnitQuaternion::identity()
+            }
         };
         Ok(Isometry3::from_parts(
             Translation3::from(position),
@@ -125,9 +153,81 @@ impl PlatformMeasure {
                 sample.orientation = Some(pose.rotation);
             }
             PlatformMeasure::Point => sample.position = Some(model.tool_point(pose)),
+            // A distance is read of a pair ([`simulate_platform`]).
+            PlatformMeasure::Distance => {}
         }
         sample
     }
+}
+
+/// The measured distance of each pair of `samples` (two consecutive rows
+/// with one `pair` id and one distance, m), checked.
+///
+/// # Errors
+/// [`Error::InvalidData`] naming the line of a row without a pair or a
+/// distance, an odd row out, two rows of a pair with other ids or
+/// distances, a negative distance.
+pub(super) fn check_pairs(samples: &[Sample]) -> Result<Vec<f64>, Error> {
+    let at = |sample: &Sample, message: String| Error::InvalidData {
+        line: sample.line,
+        message,
+    };
+    if !samples.len().is_multiple_of(2) {
+        return Err(at(
+            &samples[samples.len() - 1],
+            format!(
+                "a distance is measured between two configurations: the last of {} rows has \
+                 no pair",
+                samples.len()
+            ),
+        ));
+    }
+    samples
+        .chunks_exact(2)
+        .map(|pair| {
+            let (first, second) = (&pair[0], &pair[1]);
+            for sample in pair {
+                if sample.group.is_none() || sample.distance.is_none() {
+                    return Err(at(
+                        sample,
+                        "the distance measure needs the pair id and the distance".into(),
+                    ));
+                }
+            }
+            if first.group != second.group {
+                return Err(at(
+                    second,
+                    format!(
+                        "pair {} has one row: the two rows of a pair follow each other with one \
+                         pair id (this one is {})",
+                        first.group.unwrap_or(0),
+                        second.group.unwrap_or(0)
+                    ),
+                ));
+            }
+            let (a, b) = (
+                first.distance.unwrap_or(f64::NAN),
+                second.distance.unwrap_or(f64::NAN),
+            );
+            if (a - b).abs() > 1e-9 * a.abs().max(1.0) {
+                return Err(at(
+                    second,
+                    format!(
+                        "pair {} gives two different distances ({a} and {b}); both rows of a \
+                         pair carry the same measured distance",
+                        first.group.unwrap_or(0)
+                    ),
+                ));
+            }
+            if !a.is_finite() || a < 0.0 {
+                return Err(at(
+                    first,
+                    format!("a distance is a length of 0 or more, not {a}"),
+                ));
+            }
+            Ok(a)
+        })
+        .collect()
 }
 
 /// The sensor's noise: σ of a position coordinate (m) and of a rotation

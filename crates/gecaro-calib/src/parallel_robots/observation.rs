@@ -7,7 +7,7 @@ use gecaro_data::parallel::run_parts;
 use gecaro_data::sample::Sample;
 use nalgebra::{DMatrix, DVector, Isometry3, Matrix3};
 
-use super::measure::{PlatformMeasure, PlatformNoise};
+use super::measure::{PlatformMeasure, PlatformNoise, check_pairs};
 use crate::Error;
 
 /// The weighted observation matrix W of every measured configuration: each
@@ -34,19 +34,24 @@ pub(super) fn platform_rows<M: ParallelModel>(
     noise: Option<PlatformNoise>,
     poses: &mut Vec<Isometry3<f64>>,
 ) -> Result<PlatformRows, Error> {
-    measure.check_for(model)?;
-    let per_sample = measure.rows_per_sample(model);
+    check_samples(model, samples, measure)?;
+    let per_observation = measure.rows_per_observation(model);
+    let taken = measure.samples_per_observation();
     let columns = model.parameters().len();
-    let rows = samples.len() * per_sample;
+    let rows = measure.rows_for(model, samples.len());
     let mut matrix = Mat::<f64>::zeros(rows, columns);
     if poses.len() != samples.len() {
         *poses = vec![model.home(); samples.len()];
     }
-    for (index, (sample, start)) in samples.iter().zip(poses.iter_mut()).enumerate() {
-        let (block, _) = sample_rows(model, sample, measure, noise, start)?;
-        for row in 0..per_sample {
+    for (index, (observation, starts)) in samples
+        .chunks_exact(taken)
+        .zip(poses.chunks_exact_mut(taken))
+        .enumerate()
+    {
+        let (block, _) = observation_rows(model, observation, measure, noise, starts)?;
+        for row in 0..per_observation {
             for column in 0..columns {
-                matrix[(index * per_sample + row, column)] = block[(row, column)];
+                matrix[(index * per_observation + row, column)] = block[(row, column)];
             }
         }
     }
@@ -69,7 +74,8 @@ pub(super) struct NormalSystem {
 }
 
 /// Samples a part of the normal equations' sum takes: enough for its set-up
-/// to be nothing, few enough for two cores to share evenly.
+/// to be nothing, few enough for two cores to share evenly; even, so that
+/// no pair of a distance is cut.
 const PART_SAMPLES: usize = 2048;
 
 /// Dense rows added to the normal equations at once.
@@ -86,8 +92,9 @@ pub(super) fn normal_system<M: ParallelModel>(
     noise: Option<PlatformNoise>,
     poses: &mut Vec<Isometry3<f64>>,
 ) -> Result<NormalSystem, Error> {
-    measure.check_for(model)?;
+    check_samples(model, samples, measure)?;
     let columns = model.parameters().len();
+    let taken = measure.samples_per_observation();
     if poses.len() != samples.len() {
         *poses = vec![model.home(); samples.len()];
     }
@@ -112,8 +119,11 @@ pub(super) fn normal_system<M: ParallelModel>(
             gram.gemm_tr(1.0, &rows, &rows, 1.0);
             projected.gemv_tr(1.0, &rows, &right.rows(0, filled), 1.0);
         };
-        for (sample, start) in samples.iter().zip(starts.iter_mut()) {
-            let (block, right) = sample_rows(model, sample, measure, noise, start)?;
+        for (observation, starts) in samples
+            .chunks_exact(taken)
+            .zip(starts.chunks_exact_mut(taken))
+        {
+            let (block, right) = observation_rows(model, observation, measure, noise, starts)?;
             for row in 0..block.nrows() {
                 cost += right[row] * right[row];
                 // A closure equation is added on its own columns (a leg's
@@ -148,7 +158,7 @@ pub(super) fn normal_system<M: ParallelModel>(
         gram: DMatrix::zeros(columns, columns),
         projected: DVector::zeros(columns),
         cost: 0.0,
-        rows: samples.len() * measure.rows_per_sample(model),
+        rows: measure.rows_for(model, samples.len()),
     };
     for part in sums {
         let (gram, projected, cost) = part?;
@@ -159,11 +169,74 @@ pub(super) fn normal_system<M: ParallelModel>(
     Ok(system)
 }
 
+/// What every job checks of `samples` before forming rows: a measure the
+/// structure takes, and a distance's pairs whole.
+fn check_samples(
+    model: &impl ParallelModel,
+    samples: &[Sample],
+    measure: PlatformMeasure,
+) -> Result<(), Error> {
+    measure.check_for(model)?;
+    if measure == PlatformMeasure::Distance {
+        check_pairs(samples)?;
+    }
+    Ok(())
+}
+
+/// One observation's weighted rows of W and their residuals
+/// ([`PlatformMeasure::samples_per_observation`] samples, `starts` their
+/// last solved poses): see [`sample_rows`]; for a distance, the one
+/// equation `u·(∂y_j/∂ξ − ∂y_i/∂ξ)·Δξ = D_measured − D` with `d = y_j − y_i`,
+/// `D = ‖d‖`, `u = d/D` (eq. 19–20 of the serial robots, divided by 2D).
+pub(super) fn observation_rows<M: ParallelModel>(
+    model: &M,
+    observation: &[Sample],
+    measure: PlatformMeasure,
+    noise: Option<PlatformNoise>,
+    starts: &mut [Isometry3<f64>],
+) -> Result<(DMatrix<f64>, DVector<f64>), Error> {
+    if measure != PlatformMeasure::Distance {
+        return sample_rows(model, &observation[0], measure, noise, &mut starts[0]);
+    }
+    let mut points = [nalgebra::Vector3::zeros(); 2];
+    let mut derivatives = Vec::with_capacity(2);
+    for ((sample, start), point) in observation.iter().zip(starts.iter_mut()).zip(&mut points) {
+        let actuators = actuator_values(model, sample)?;
+        let pose = model
+            .direct(actuators, start)
+            .map_err(|cause| located(sample, &cause))?;
+        *start = pose;
+        *point = model.tool_point(&pose);
+        derivatives.push(
+            point_derivative(model, &pose, actuators)
+                .ok_or_else(|| located(sample, &"the platform is singular there"))?,
+        );
+    }
+    let difference = points[1] - points[0];
+    let length = difference.norm();
+    if length <= f64::EPSILON {
+        return Err(located(
+            &observation[1],
+            &"the pair's two configurations put the tool point at one place: a distance of \
+              zero says nothing of the parameters",
+        ));
+    }
+    let direction = (difference / length).transpose();
+    let sigma = noise.map_or(1.0, |noise| noise.length);
+    let rows = DMatrix::from_row_slice(
+        1,
+        derivatives[0].ncols(),
+        (direction * (&derivatives[1] - &derivatives[0]) / sigma).as_slice(),
+    );
+    let measured = observation[0].distance.unwrap_or(f64::NAN);
+    Ok((rows, DVector::from_element(1, (measured - length) / sigma)))
+}
+
 /// One sample's weighted rows of W and their residuals: the closure
 /// equations at its measured pose (each divided by the σ a measured pose's
 /// noise gives it), or its tool point's coordinates through the direct
 /// model from `start` (which is moved to the pose found).
-pub(super) fn sample_rows<M: ParallelModel>(
+fn sample_rows<M: ParallelModel>(
     model: &M,
     sample: &Sample,
     measure: PlatformMeasure,
@@ -191,7 +264,7 @@ pub(super) fn sample_rows<M: ParallelModel>(
             }
             Ok((rows, right))
         }
-        PlatformMeasure::Point => {
+        PlatformMeasure::Point | PlatformMeasure::Distance => {
             let pose = model
                 .direct(actuators, start)
                 .map_err(|cause| located(sample, &cause))?;

@@ -10,7 +10,7 @@ use nalgebra::{DMatrix, Isometry3};
 
 use super::identifiability::{PlatformRankReport, rank_of};
 use super::measure::{PlatformMeasure, PlatformNoise};
-use super::observation::{platform_rows, sample_rows};
+use super::observation::{observation_rows, platform_rows};
 use super::simulation::{PlatformWorkspace, random_platform_poses, simulate_platform};
 use crate::Error;
 use crate::simulation::Sampler;
@@ -58,11 +58,22 @@ pub fn plan_platform<M: ParallelModel>(
         &platform_rows(model, &candidates, measure, None, &mut Vec::new())?,
         measure,
     )?;
-    let per_pose = measure.rows_per_sample(model);
+    // A distance's pairs are chosen whole: `count` poses are count/2 pairs.
+    let taken = measure.samples_per_observation();
+    if !count.is_multiple_of(taken) {
+        return Err(Error::InvalidOption {
+            setting: crate::Setting::Count,
+            message: format!(
+                "a distance is measured between two poses: {count} poses are not whole pairs"
+            ),
+        });
+    }
+    let per_observation = measure.rows_per_observation(model);
     let unknowns = rank.base.len();
-    if count * per_pose < unknowns || count > pool {
+    let observations = count / taken;
+    if observations * per_observation < unknowns || count > pool {
         return Err(Error::TooFewEquations {
-            equations: count.min(pool) * per_pose,
+            equations: observations.min(pool / taken) * per_observation,
             unknowns,
         });
     }
@@ -70,10 +81,10 @@ pub fn plan_platform<M: ParallelModel>(
     // norms over the pool (the criterion then weighs a millimetre of a
     // joint and a part per thousand of a gain alike).
     let mut blocks: Vec<DMatrix<f64>> = candidates
-        .iter()
-        .map(|sample| {
-            let mut start = model.home();
-            sample_rows(model, sample, measure, None, &mut start)
+        .chunks_exact(taken)
+        .map(|observation| {
+            let mut starts = vec![model.home(); taken];
+            observation_rows(model, observation, measure, None, &mut starts)
                 .map(|(block, _)| block.select_columns(&rank.base))
         })
         .collect::<Result<_, _>>()?;
@@ -92,11 +103,11 @@ pub fn plan_platform<M: ParallelModel>(
     }
     // G starts as a small ridge, so that the first poses are compared by
     // what they add; it weighs nothing once the design determines G.
-    let ridge = 1e-6 * blocks.len() as f64 / (count as f64);
+    let ridge = 1e-6 * blocks.len() as f64 / (observations as f64);
     let mut gram = DMatrix::<f64>::identity(unknowns, unknowns) * ridge;
-    let mut chosen = Vec::with_capacity(count);
-    let mut taken = vec![false; blocks.len()];
-    for _ in 0..count {
+    let mut chosen = Vec::with_capacity(observations);
+    let mut used = vec![false; blocks.len()];
+    for _ in 0..observations {
         let inverse = gram
             .clone()
             .cholesky()
@@ -110,14 +121,14 @@ pub fn plan_platform<M: ParallelModel>(
             inner.determinant().ln()
         };
         let best = (0..blocks.len())
-            .filter(|index| !taken[*index])
+            .filter(|index| !used[*index])
             .map(|index| (index, gain(&blocks[index])))
             .max_by(|a, b| a.1.total_cmp(&b.1))
             .map(|(index, _)| index)
             .ok_or_else(|| Error::Generation {
                 message: "the pool ran out of poses".into(),
             })?;
-        taken[best] = true;
+        used[best] = true;
         gram += blocks[best].transpose() * &blocks[best];
         chosen.push(best);
     }
@@ -128,14 +139,19 @@ pub fn plan_platform<M: ParallelModel>(
         }
         gram.cholesky().map_or(f64::NEG_INFINITY, |factor| {
             2.0 * factor.l().diagonal().iter().map(|d| d.ln()).sum::<f64>()
-        }) / (indices.len() * per_pose) as f64
+        }) / (indices.len() * per_observation) as f64
     };
-    let random: Vec<usize> = sampler.subset(blocks.len(), count);
+    let random: Vec<usize> = sampler.subset(blocks.len(), observations);
+    // Each chosen observation's poses and samples (a pair's two).
+    let rows_of = |index: &usize| index * taken..(index + 1) * taken;
     Ok(PlannedPoses {
-        poses: chosen.iter().map(|index| poses[*index]).collect(),
+        poses: chosen
+            .iter()
+            .flat_map(|index| poses[rows_of(index)].to_vec())
+            .collect(),
         samples: chosen
             .iter()
-            .map(|index| candidates[*index].clone())
+            .flat_map(|index| candidates[rows_of(index)].to_vec())
             .collect(),
         criterion: criterion_of(&chosen),
         random_criterion: criterion_of(&random),

@@ -29,6 +29,7 @@ use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};
 use gecaro_data::sample::Sample;
 use nalgebra::{DMatrix, Isometry3};
 
+use super::measure::PlatformMeasure;
 use super::observation::{actuator_values, point_derivative};
 use super::simulation::{PlatformWorkspace, random_platform_poses};
 use crate::identification::{FLOOR_FACTOR, REGION_FACTOR, REGION_POSES, WORK_POSES};
@@ -55,6 +56,10 @@ pub struct PlatformRegion {
     pub ranges: JointRegion,
     /// Whether the actuators turn (their values in degrees in words).
     pub angular: bool,
+    /// Whether the errors are a distance's from the home pose's tool point
+    /// (the data measured distances, which see no base frame), not the
+    /// tool point's.
+    pub distances: bool,
     /// RMS of the predicted tool-point error at the measured poses (m).
     pub inside: f64,
     /// RMS of the predicted tool-point error over the work region (m).
@@ -150,10 +155,14 @@ impl PlatformRegion {
 /// Where `calibrated`, identified from `samples`, holds (module docs);
 /// `pose_of` gives the platform's pose at a sample (measured or solved), for
 /// the covariance `covariance` of the base parameters `base` and the noise
-/// floor `floor` (m). `None` when a pose has no derivative (a singular
-/// one) or the covariance is not positive definite.
+/// floor `floor` (m). Distances observe no base frame, so for them the
+/// error predicted is a distance's, from the home pose's tool point:
+/// `uᵀ·(J_y(x) − J_y(home))` with u the direction between the two points.
+/// `None` when a pose has no derivative (a singular one) or the covariance
+/// is not positive definite.
 pub(super) fn where_it_holds<M: ParallelModel>(
     calibrated: &M,
+    measure: PlatformMeasure,
     samples: &[Sample],
     pose_of: impl Fn(usize) -> Option<Isometry3<f64>>,
     base: &[usize],
@@ -170,10 +179,23 @@ pub(super) fn where_it_holds<M: ParallelModel>(
     let ranges =
         JointRegion::new((0..count).map(|k| calibrated.actuator_range(k)).collect()).ok()?;
     let factor = covariance.clone().cholesky()?.l();
+    let home = calibrated.home();
+    let home_actuators = calibrated.actuator_values(&home).ok()?;
+    let home_point = calibrated.tool_point(&home);
+    let home_derivative = point_derivative(calibrated, &home, &home_actuators)?;
     // trace(J_b C J_bᵀ) = ‖J_b·L‖² (Frobenius) for C = L·Lᵀ.
     let spread = |pose: &Isometry3<f64>, actuators: &[f64]| -> Option<f64> {
-        let derivative = point_derivative(calibrated, pose, actuators)?;
-        let columns = DMatrix::from_fn(3, base.len(), |row, k| derivative[(row, base[k])]);
+        let mut derivative = point_derivative(calibrated, pose, actuators)?;
+        if measure == PlatformMeasure::Distance {
+            let direction = (calibrated.tool_point(pose) - home_point)
+                .try_normalize(f64::EPSILON)
+                .unwrap_or_default();
+            let along = direction.transpose() * (derivative - &home_derivative);
+            derivative = DMatrix::from_row_slice(1, along.ncols(), along.as_slice());
+        }
+        let columns = DMatrix::from_fn(derivative.nrows(), base.len(), |row, k| {
+            derivative[(row, base[k])]
+        });
         Some((columns * &factor).norm_squared())
     };
     let rms =
@@ -216,6 +238,7 @@ pub(super) fn where_it_holds<M: ParallelModel>(
         measured,
         ranges,
         angular: calibrated.actuator_unit() == ParameterUnit::Angle,
+        distances: measure == PlatformMeasure::Distance,
         inside,
         work_rms,
         work_max,

@@ -166,11 +166,13 @@ pub fn random_platform_poses(
 /// What a sensor measures of the `real` robot at `poses`: the actuator
 /// values that put it there (its inverse model) and the measured pose or
 /// tool point with Gaussian noise (σ `noise.length` a coordinate,
-/// `noise.angle` about each axis).
+/// `noise.angle` about each axis); for a distance, consecutive poses are
+/// pairs (`pair` 1, 2, …) and both rows carry the distance between their
+/// tool points, its noise σ `noise.length`.
 ///
 /// # Errors
 /// A measure the structure cannot take, a pose the real robot does not
-/// reach.
+/// reach, an odd number of poses for a distance.
 pub fn simulate_platform<M: ParallelModel>(
     real: &M,
     measure: PlatformMeasure,
@@ -179,6 +181,9 @@ pub fn simulate_platform<M: ParallelModel>(
     sampler: &mut Sampler,
 ) -> Result<Vec<Sample>, Error> {
     measure.check_for(real)?;
+    if measure == PlatformMeasure::Distance {
+        return simulate_distances(real, poses, noise, sampler);
+    }
     poses
         .iter()
         .map(|pose| {
@@ -191,7 +196,7 @@ pub fn simulate_platform<M: ParallelModel>(
                     UnitQuaternion::from_rotation_matrix(&sampler.gaussian_rotation(noise.angle))
                         * pose.rotation,
                 ),
-                PlatformMeasure::Point => *pose,
+                PlatformMeasure::Point | PlatformMeasure::Distance => *pose,
             };
             let mut sample = measure.reading(real, &read, &actuators);
             if measure == PlatformMeasure::Point {
@@ -202,4 +207,36 @@ pub fn simulate_platform<M: ParallelModel>(
             Ok(sample)
         })
         .collect()
+}
+
+/// [`simulate_platform`] of distances.
+fn simulate_distances<M: ParallelModel>(
+    real: &M,
+    poses: &[Isometry3<f64>],
+    noise: PlatformNoise,
+    sampler: &mut Sampler,
+) -> Result<Vec<Sample>, Error> {
+    if !poses.len().is_multiple_of(2) {
+        return Err(Error::InvalidOption {
+            setting: crate::Setting::Count,
+            message: format!(
+                "a distance is measured between two poses: {} poses are not whole pairs",
+                poses.len()
+            ),
+        });
+    }
+    let mut samples = Vec::with_capacity(poses.len());
+    for (index, pair) in poses.chunks_exact(2).enumerate() {
+        let first = real.actuator_values(&pair[0])?;
+        let second = real.actuator_values(&pair[1])?;
+        let distance = (real.tool_point(&pair[1]) - real.tool_point(&pair[0])).norm()
+            + sampler.gaussian(noise.length);
+        for actuators in [first, second] {
+            let mut sample = Sample::new(actuators);
+            sample.group = Some(index as u64 + 1);
+            sample.distance = Some(distance);
+            samples.push(sample);
+        }
+    }
+    Ok(samples)
 }

@@ -763,7 +763,7 @@ def iso9283_evaluate(
 
 def parallel_generate(
     robot: str,
-    method: Literal["frame", "position"],
+    method: Literal["frame", "position", "distance"],
     count: int = 0,
     *,
     configurations: Optional[_PathLike] = None,
@@ -784,7 +784,7 @@ def parallel_generate(
 
 def parallel_identifiable(
     robot: str,
-    method: Literal["frame", "position"],
+    method: Literal["frame", "position", "distance"],
     *,
     data: Optional[_PathLike] = None,
     count: Optional[int] = None,
@@ -797,7 +797,7 @@ def parallel_identifiable(
 
 def parallel_identify(
     robot: str,
-    method: Literal["frame", "position"],
+    method: Literal["frame", "position", "distance"],
     data: _PathLike,
     *,
     sigma: Union[float, str, None] = None,
@@ -818,7 +818,7 @@ def parallel_identify(
 
 def parallel_evaluate(
     robot: str,
-    method: Literal["frame", "position"],
+    method: Literal["frame", "position", "distance"],
     data: _PathLike,
     *,
     length_unit: Optional[Literal["m", "mm"]] = None,
@@ -830,7 +830,7 @@ def parallel_evaluate(
 
 def parallel_plan(
     robot: str,
-    method: Literal["frame", "position"],
+    method: Literal["frame", "position", "distance"],
     count: int,
     *,
     pool: Optional[int] = None,

@@ -26,12 +26,12 @@ function required(input, what) {
   return value;
 }
 
-/** Lengths in the page's unit, angles in its angle unit. */
-function errorsText(errors) {
+/** Lengths in the page's unit, angles in its angle unit; of distances for the `distance` method. */
+function errorsText(errors, method) {
   const length = (value) => quantity(value, 'length');
   const angles = errors.angle_rms === null || errors.angle_rms === undefined ? ''
     : `; orientation RMS ${quantity(errors.angle_rms, 'angle')}, max ${quantity(errors.angle_max, 'angle')} ${unitName('angle')}`;
-  return `position RMS ${length(errors.position_rms)}, max ${length(errors.position_max)} ${unitName('length')}${angles}`;
+  return `${method === 'distance' ? 'distance' : 'position'} RMS ${length(errors.position_rms)}, max ${length(errors.position_max)} ${unitName('length')}${angles}`;
 }
 
 /** The parameters' table: status, nominal, identified, σ. */
@@ -68,7 +68,7 @@ export function buildParallel() {
   const result = h('div', { class: 'result', id: 'parallel-result' });
   const robot = text('robot', 'hexapod, delta, or a parallel robot file of the folder', 'hexapod');
   const method = h('select', { id: 'parallel-method' },
-    [['frame', 'frame: the platform’s pose'], ['position', 'position: its tool point']]
+    [['frame', 'frame: the platform’s pose'], ['position', 'position: its tool point'], ['distance', 'distance: between two tool points']]
       .map(([value, label]) => h('option', { value, text: label })));
   const data = text('data', 'poses.csv (qm1…qm6, x, y, z[, qw, qx, qy, qz])');
   const dataUnit = h('select', { id: 'parallel-data-unit' }, [['m', 'm'], ['mm', 'mm']].map(([value, label]) => h('option', { value, text: label })));
@@ -142,8 +142,8 @@ export function buildParallel() {
       if (answer.written) await refreshFiles();
       result.replaceChildren(
         h('p', { id: 'parallel-verdict', class: answer.trusted ? '' : 'warnings', text: `${answer.robot} — ${answer.method} method on ${answer.data} (${answer.configurations} poses): ${answer.summary}.` }),
-        h('p', { id: 'parallel-errors', text: `At the measured poses: nominal ${errorsText(answer.errors_before)}; calibrated ${errorsText(answer.errors_after)}.${answer.written ? ` The calibrated platform was written to ${answer.written}.` : ''}` }),
-        ...(answer.region ? [h('p', { id: 'parallel-region', class: answer.region.holds_everywhere ? '' : 'warnings', text: `Predicted tool-point error: ${quantity(answer.region.predicted_inside, 'length')} ${unitName('length')} RMS at the measured poses, ${quantity(answer.region.predicted_work, 'length')} ${unitName('length')} over the workspace (noise floor ${quantity(answer.region.noise_floor, 'length')} ${unitName('length')})${answer.region.holds_everywhere ? '' : ': the result holds only where the data were taken'}.` })] : []),
+        h('p', { id: 'parallel-errors', text: `At the measured poses: nominal ${errorsText(answer.errors_before, answer.method)}; calibrated ${errorsText(answer.errors_after, answer.method)}.${answer.written ? ` The calibrated platform was written to ${answer.written}.` : ''}` }),
+        ...(answer.region ? [h('p', { id: 'parallel-region', class: answer.region.holds_everywhere ? '' : 'warnings', text: `Predicted ${answer.region.distances ? 'error of a distance from the home pose' : 'tool-point error'}: ${quantity(answer.region.predicted_inside, 'length')} ${unitName('length')} RMS at the measured poses, ${quantity(answer.region.predicted_work, 'length')} ${unitName('length')} over the workspace (noise floor ${quantity(answer.region.noise_floor, 'length')} ${unitName('length')})${answer.region.holds_everywhere ? '' : ': the result holds only where the data were taken'}.` })] : []),
         ...answer.warnings.map((warning) => h('p', { class: 'warnings', text: `Warning: ${warning}.` })),
         parameterTable(answer.parameters));
     } catch (error) {
@@ -157,7 +157,7 @@ export function buildParallel() {
         data: { file: required(data, 'the held-out measurements file') },
         format: format(),
       });
-      result.replaceChildren(h('p', { id: 'parallel-evaluation', text: `${answer.robot} on ${answer.data} (${answer.configurations} poses): its direct model against the measured, ${errorsText(answer.errors)}.` }));
+      result.replaceChildren(h('p', { id: 'parallel-evaluation', text: `${answer.robot} on ${answer.data} (${answer.configurations} poses): its direct model against the measured, ${errorsText(answer.errors, answer.method)}.` }));
     } catch (error) {
       result.replaceChildren(errorBox(error));
     }
