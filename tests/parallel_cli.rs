@@ -373,3 +373,74 @@ fn a_hexapod_is_calibrated_from_distances_on_the_command_line() {
     assert!(error.contains("5 poses are not whole pairs"), "{error}");
     assert!(!std::path::Path::new(&at("odd.csv")).exists());
 }
+
+/// The precision before measuring: 30 planned poses predict every leg
+/// parameter's σ and a tool-point error over the workspace below the
+/// noise of a held-out measurement; the legs within ±12 mm predict an
+/// error many times it, with the warning; options of serial robots only
+/// refused by name.
+#[test]
+fn a_plan_is_predicted_before_it_is_measured() {
+    let folder = tempfile::tempdir().expect("folder");
+    let at = |name: &str| folder.path().join(name).display().to_string();
+    command("plan hexapod --method frame --count 30 -o")
+        .arg(at("plan.csv"))
+        .assert()
+        .success();
+    let predicted = json_output(&[
+        "predict",
+        "hexapod",
+        "--method",
+        "frame",
+        "--noise",
+        "2e-5",
+        "--json",
+        "--data",
+        &at("plan.csv"),
+    ]);
+    assert_eq!(predicted["rank"], 48);
+    assert_eq!(predicted["parameters"].as_array().map(Vec::len), Some(48));
+    let region = &predicted["region"];
+    assert_eq!(region["holds_everywhere"], true, "{region}");
+    assert!(
+        region["predicted_work"].as_f64() < region["noise_floor"].as_f64(),
+        "{region}"
+    );
+    // Legs within ±12 mm of zero: a plan that calibrates near home only.
+    let mut near = String::from("qm1,qm2,qm3,qm4,qm5,qm6\n");
+    for k in 0..40 {
+        let row: Vec<String> = (0..6)
+            .map(|j| {
+                format!(
+                    "{:.4}",
+                    0.012 * (((k * 7 + j * 13) % 17) as f64 / 8.0 - 1.0)
+                )
+            })
+            .collect();
+        near.push_str(&(row.join(",") + "\n"));
+    }
+    std::fs::write(at("near.csv"), near).expect("written");
+    let output = command("predict hexapod --method frame --noise 2e-5 --data")
+        .arg(at("near.csv"))
+        .output()
+        .expect("runs");
+    let text = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(
+        text.contains("calibrate the platform where they are only"),
+        "{text}"
+    );
+    let output = command("predict hexapod --method frame --noise 2e-5 --monte-carlo 5 --data")
+        .arg(at("plan.csv"))
+        .output()
+        .expect("runs");
+    let error = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        error.contains("--monte-carlo has no meaning for a parallel robot"),
+        "{error}"
+    );
+}

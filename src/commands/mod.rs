@@ -45,6 +45,9 @@ pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
             parallel::identify(&args, args.run.source.robot.as_deref().unwrap_or_default())
         }
         Command::Evaluate(args) if is_parallel(Some(&args.robot)) => parallel::evaluate(&args),
+        Command::Predict(args) if is_parallel(args.robot.as_deref()) => {
+            parallel::predict(&args, args.robot.as_deref().unwrap_or_default())
+        }
         Command::Compensate(args) if is_parallel(Some(&args.calibrated)) => {
             parallel::compensate(&args)
         }

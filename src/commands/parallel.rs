@@ -7,7 +7,7 @@
 use gecaro_app::parallel::{
     ParallelCompensateRequest, ParallelEvaluateRequest, ParallelGenerateRequest,
     ParallelIdentifiableRequest, ParallelIdentifyRequest, ParallelPlanRequest,
-    PlatformErrorsDocument, load_parallel_robot,
+    ParallelPredictRequest, PlatformErrorsDocument, load_parallel_robot,
 };
 use gecaro_app::{DataSource, LocalFiles};
 use gecaro_core::parallel_model::ParallelModel;
@@ -16,6 +16,7 @@ use gecaro_core::parallel_robot::ParallelRobot;
 use super::options::{data_format, name, written};
 use crate::cli::{
     CompensateArgs, EvaluateArgs, GenerateArgs, IdentifiableArgs, IdentifyArgs, PlanArgs,
+    PredictArgs,
 };
 use crate::failure::Failure;
 use crate::format::{number, shown, table};
@@ -508,5 +509,78 @@ pub(crate) fn plan(args: &PlanArgs, robot: &str) -> Result<(), Failure> {
         number(planned.random_criterion, 4),
         output.display()
     );
+    Ok(())
+}
+
+/// `gecaro predict` of a parallel robot: every identifiable parameter's σ
+/// and the calibrated platform's predicted error, before measuring.
+pub(crate) fn predict(args: &PredictArgs, robot: &str) -> Result<(), Failure> {
+    serial_only(&[
+        ("--monte-carlo", args.monte_carlo.is_some()),
+        ("--model", args.model.is_some()),
+        ("--test-poses", args.test_poses.test_poses.is_some()),
+        ("--study", args.study.is_some()),
+    ])?;
+    let (Some(method), Some(data), Some(noise)) = (&args.method, &args.data, args.noise) else {
+        unreachable!("clap requires them without --study");
+    };
+    // --noise is in metres (radians for orientations), whatever the
+    // configurations' units.
+    let predicted = ParallelPredictRequest {
+        robot: robot.to_owned(),
+        method: method.clone(),
+        data: DataSource::File(name(data)),
+        format: data_format(&args.format),
+        sigma: gecaro_io::StandardDeviation::WithUnit(format!("{noise}m")),
+        sigma_rotation: Some(gecaro_io::StandardDeviation::WithUnit(format!(
+            "{noise}rad"
+        ))),
+    }
+    .run(&LocalFiles)?;
+    if args.json {
+        return super::output::print_json(&predicted);
+    }
+    println!(
+        "{} — {} method at the {} configurations of {} (σ {} mm): {} parameters identifiable",
+        shown(&predicted.robot),
+        predicted.method,
+        predicted.configurations,
+        predicted.data,
+        mm(noise),
+        predicted.rank
+    );
+    let mut parameters = table(&["parameter", "predicted σ"], 1);
+    for parameter in &predicted.parameters {
+        parameters.add_row(vec![
+            parameter.name.clone(),
+            match parameter.unit {
+                "m" => mm(parameter.sigma),
+                "rad" => number(parameter.sigma.to_degrees(), 5),
+                _ => number(parameter.sigma, 6),
+            },
+        ]);
+    }
+    println!("{parameters}");
+    println!("(mm; angles in degrees; gains dimensionless)");
+    let region = &predicted.region;
+    println!(
+        "predicted {} of the calibrated platform: {} mm RMS at these configurations, {} mm over \
+         the workspace (largest {} mm; a held-out measurement's noise {} mm)",
+        if region.distances {
+            "error of a distance from the home pose"
+        } else {
+            "tool-point error"
+        },
+        mm(region.predicted_inside),
+        mm(region.predicted_work),
+        mm(region.predicted_work_max),
+        mm(region.noise_floor)
+    );
+    if !region.holds_everywhere {
+        println!(
+            "warning: these configurations calibrate the platform where they are only: \
+             measure poses spread over the whole workspace"
+        );
+    }
     Ok(())
 }

@@ -485,3 +485,75 @@ fn planned_distances_are_whole_pairs() {
         .to_string();
     assert!(error.contains("not whole pairs"), "{error}");
 }
+
+/// Predicted before measuring, from the configurations alone: each
+/// parameter's σ is the one the identification states (within its σ̂/σ),
+/// and the predicted error over the workspace is what a calibration from
+/// those configurations shows held out over it.
+#[test]
+fn a_prediction_before_measuring_matches_the_calibration() {
+    use gecaro_calib::parallel_robots::predict_platform;
+    for (robot, measure, count, seed) in [
+        ("hexapod", PlatformMeasure::Pose, 40, 90),
+        ("delta", PlatformMeasure::Point, 40, 91),
+        ("hexapod", PlatformMeasure::Distance, 300, 92),
+    ] {
+        let nominal = ready(robot);
+        let real = perturbed_platform(&nominal, 1.0, &mut Sampler::new(seed)).expect("real");
+        let data = measured(&real, measure, count, NOISE, seed + 1);
+        // The configurations only: a plan's actuator values.
+        let configurations: Vec<Sample> = data
+            .iter()
+            .map(|sample| Sample::new(sample.motor_positions.clone()))
+            .collect();
+        let prediction =
+            predict_platform(&nominal, &configurations, measure, NOISE).expect("predicted");
+        let result = identify_platform(
+            &nominal,
+            &data,
+            measure,
+            Some(NOISE),
+            &PlatformIdentificationOptions::default(),
+        )
+        .expect("identified");
+        let ratio = result.noise_test.expect("tested").sigma_ratio;
+        for (name, predicted) in &prediction.parameters {
+            let stated = result
+                .parameters
+                .iter()
+                .find(|parameter| &parameter.name == name)
+                .and_then(|parameter| parameter.sigma)
+                .expect("identified with its σ");
+            assert!(
+                (stated / (ratio * predicted) - 1.0).abs() < 0.05,
+                "{robot} {name}: predicted {predicted}, stated {stated}"
+            );
+        }
+        let held_out = measured_within(
+            &real,
+            PlatformWorkspace::whole(&real),
+            measure,
+            200,
+            NOISE,
+            seed + 2,
+        );
+        let floor = platform_errors(&real, &held_out, measure)
+            .expect("floor")
+            .position_rms;
+        let found = platform_errors(&result.calibrated, &held_out, measure)
+            .expect("found")
+            .position_rms;
+        let predicted = (prediction.region.work_rms.powi(2) + floor.powi(2)).sqrt();
+        println!(
+            "{robot} {measure:?}: predicted {:.4} mm over the workspace ({:.4} with the floor), \
+             found {:.4} mm",
+            prediction.region.work_rms * 1e3,
+            predicted * 1e3,
+            found * 1e3
+        );
+        assert!(
+            (0.6..1.6).contains(&(found / predicted)),
+            "{robot} {measure:?}: found {found}, predicted {predicted}"
+        );
+    }
+}

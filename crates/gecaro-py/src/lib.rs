@@ -17,7 +17,7 @@
 //! | [`identification`] | `identify`, `evaluate`, `Identification`, `Parameter`, `ErrorSummary` |
 //! | [`validation`] | `cross_validate` |
 //! | [`compensation`] | `compensate`, `Compensation` |
-//! | [`parallel`] | `parallel_generate`, `parallel_identifiable`, `parallel_identify`, `parallel_evaluate`, `parallel_compensate`, `parallel_plan` |
+//! | [`parallel`] | `parallel_generate`, `parallel_identifiable`, `parallel_identify`, `parallel_evaluate`, `parallel_compensate`, `parallel_plan`, `parallel_predict` |
 //! | [`planning`] | `plan`, `Plan`, `plan_study`, `predict`, `accuracy_curve` |
 //!
 //! Every calibration function maps its arguments onto a request of the
@@ -113,6 +113,7 @@ fn _gecaro(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(parallel::parallel_evaluate, module)?)?;
     module.add_function(wrap_pyfunction!(parallel::parallel_compensate, module)?)?;
     module.add_function(wrap_pyfunction!(parallel::parallel_plan, module)?)?;
+    module.add_function(wrap_pyfunction!(parallel::parallel_predict, module)?)?;
     module.add_function(wrap_pyfunction!(planning::plan, module)?)?;
     module.add_function(wrap_pyfunction!(planning::plan_study, module)?)?;
     module.add_function(wrap_pyfunction!(planning::predict, module)?)?;

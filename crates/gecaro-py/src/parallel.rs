@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use gecaro_app::parallel::{
     ParallelCompensateRequest, ParallelEvaluateRequest, ParallelGenerateRequest,
-    ParallelIdentifiableRequest, ParallelIdentifyRequest,
+    ParallelIdentifiableRequest, ParallelIdentifyRequest, ParallelPredictRequest,
 };
 use gecaro_app::{DataFormatSpec, DataSource, LocalFiles, Output};
 use pyo3::prelude::*;
@@ -261,4 +261,37 @@ pub(crate) fn parallel_plan<'py>(
     let document = to_python(py, &planned)?;
     document.set_item("configurations_csv", planned.text)?;
     Ok(document)
+}
+
+/// The precision of calibrating `robot` from the configurations of the data
+/// file `data` (a plan's actuator values; consecutive rows a pair for
+/// distances) measured by `method` with σ `sigma` (a number in the data's
+/// length unit or a text with its unit; `sigma_rotation` for orientations)
+/// → `{"rank", "parameters": [{"name", "unit", "sigma"}], "region":
+/// {"predicted_inside", "predicted_work", "predicted_work_max",
+/// "noise_floor", "holds_everywhere", …}}` in metres and radians.
+#[pyfunction]
+#[pyo3(signature = (
+    robot, method, data, *, sigma, sigma_rotation = None, length_unit = None, angle_unit = None,
+))]
+pub(crate) fn parallel_predict<'py>(
+    py: Python<'py>,
+    robot: String,
+    method: String,
+    data: PathBuf,
+    sigma: Sigma,
+    sigma_rotation: Option<Sigma>,
+    length_unit: Option<String>,
+    angle_unit: Option<String>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let request = ParallelPredictRequest {
+        robot,
+        method,
+        data: DataSource::File(name(&data)),
+        format: format(length_unit, angle_unit),
+        sigma: sigma.into(),
+        sigma_rotation: sigma_rotation.map(Into::into),
+    };
+    let predicted = py.detach(|| request.run(&LocalFiles)).py()?;
+    to_python(py, &predicted)
 }

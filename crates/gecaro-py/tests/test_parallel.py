@@ -125,3 +125,16 @@ def test_a_hexapod_is_calibrated_from_distances(tmp_path):
     assert 'calibrated_from = "distance"' in result["calibrated"]
     with pytest.raises(gecaro.errors.InputError, match="5 poses are not whole pairs"):
         gecaro.parallel_generate("hexapod", "distance", 5, path=tmp_path / "odd.csv")
+
+
+def test_a_plan_is_predicted_before_it_is_measured(tmp_path):
+    gecaro.parallel_plan("hexapod", "frame", 30, path=tmp_path / "plan.csv")
+    predicted = gecaro.parallel_predict("hexapod", "frame", tmp_path / "plan.csv", sigma="20um")
+    assert predicted["rank"] == 48
+    names = [parameter["name"] for parameter in predicted["parameters"]]
+    assert "a1x" in names and "K6" in names
+    units = {parameter["name"]: parameter["unit"] for parameter in predicted["parameters"]}
+    assert units["a1x"] == "m" and units["K6"] == ""
+    assert predicted["region"]["holds_everywhere"]
+    with pytest.raises(gecaro.errors.InputError, match="has no unit|unit"):
+        gecaro.parallel_predict("hexapod", "frame", tmp_path / "plan.csv", sigma="20")

@@ -1719,6 +1719,17 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
         ],
     )
     .await;
+    click(client, "#parallel-predict").await;
+    let predicted = text_of(
+        client,
+        "#parallel-prediction, #parallel-result .error-box",
+        30,
+    )
+    .await;
+    assert!(
+        predicted.contains("48 parameters identifiable"),
+        "{predicted}"
+    );
     click(client, "#parallel-identify").await;
     let verdict = text_of(client, "#parallel-verdict, #parallel-result .error-box", 30).await;
     assert!(verdict.contains("fit the stated noise"), "{verdict}");

@@ -15,6 +15,7 @@ mod generate;
 mod identifiable;
 mod identify;
 mod plan;
+mod predict;
 
 use gecaro_calib::parallel_robots::PlatformMeasure;
 use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};
@@ -27,13 +28,14 @@ use crate::files::Files;
 pub use compensate::{ParallelCompensateRequest, ParallelCompensated};
 pub use documents::{
     PlatformErrorsDocument, PlatformIdentificationDocument, PlatformParameterDocument,
-    PlatformRankDocument, PlatformRelationDocument,
+    PlatformRankDocument, PlatformRegionDocument, PlatformRelationDocument,
 };
 pub use evaluate::{ParallelEvaluateRequest, ParallelEvaluated};
 pub use generate::{ParallelGenerateRequest, ParallelGenerated};
 pub use identifiable::{DEFAULT_POSES, ParallelIdentifiableRequest};
 pub use identify::{ParallelIdentified, ParallelIdentifyRequest};
 pub use plan::{POOL_PER_POSE, ParallelPlanRequest, ParallelPlanned};
+pub use predict::{ParallelPredictRequest, ParallelPredicted, PredictedParameterDocument};
 
 /// The kind of a robot file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

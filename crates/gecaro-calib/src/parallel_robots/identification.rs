@@ -279,7 +279,7 @@ const RANK_SAMPLES: usize = 2000;
 
 /// The identifiable parameters from at most [`RANK_SAMPLES`] configurations
 /// spread evenly over the data (all of them below that).
-fn structural_rank<M: ParallelModel>(
+pub(super) fn structural_rank<M: ParallelModel>(
     nominal: &M,
     samples: &[Sample],
     measure: PlatformMeasure,
@@ -309,7 +309,7 @@ fn structural_rank<M: ParallelModel>(
 /// # Errors
 /// [`Error::Numerical`] when they are not positive definite (a base set
 /// that the data do not determine).
-fn base_system(
+pub(super) fn base_system(
     system: &NormalSystem,
     base: &[usize],
 ) -> Result<(DMatrix<f64>, DVector<f64>), Error> {

@@ -49,6 +49,7 @@ mod identification;
 mod measure;
 mod observation;
 mod planning;
+mod prediction;
 mod region;
 mod simulation;
 
@@ -59,6 +60,7 @@ pub use identification::{
 };
 pub use measure::{PlatformMeasure, PlatformNoise};
 pub use planning::{PlannedPoses, plan_platform};
+pub use prediction::{PlatformPrediction, predict_platform};
 pub use region::PlatformRegion;
 pub use simulation::{
     PlatformWorkspace, perturbed_platform, random_platform_poses, simulate_platform,

@@ -49,6 +49,7 @@ __all__ = [
     "parallel_evaluate",
     "parallel_compensate",
     "parallel_plan",
+    "parallel_predict",
     "plan",
     "plan_study",
     "predict",
@@ -827,6 +828,22 @@ def parallel_evaluate(
     """A platform's direct model against the measured poses of ``data``:
     ``"errors"`` (``"position_rms"``, ``"position_max"`` m; ``"angle_rms"``,
     ``"angle_max"`` rad)."""
+
+def parallel_predict(
+    robot: str,
+    method: Literal["frame", "position", "distance"],
+    data: _PathLike,
+    *,
+    sigma: Union[float, str],
+    sigma_rotation: Union[float, str, None] = None,
+    length_unit: Optional[Literal["m", "mm"]] = None,
+    angle_unit: Optional[Literal["rad", "deg"]] = None,
+) -> dict[str, Any]:
+    """The precision of calibrating a platform from the configurations of
+    ``data`` (a plan's actuator values), before measuring, as ``gecaro
+    predict hexapod --json``: ``"parameters"`` (each identifiable one's
+    predicted ``"sigma"``) and ``"region"`` (``"predicted_work"`` m over the
+    workspace, ``"holds_everywhere"``)."""
 
 def parallel_plan(
     robot: str,

@@ -115,6 +115,23 @@ export function buildParallel() {
       result.replaceChildren(errorBox(error));
     }
   });
+  const predict = runButton('parallel-predict', 'Predict the precision', async () => {
+    try {
+      const answer = await api('/parallel/predict', {
+        ...common(),
+        data: { file: required(data, 'the configurations to be measured (a plan)') },
+        format: format(),
+        sigma: required(sigma, 'the sensor σ') && sigmaWithUnit(sigma),
+      });
+      const region = answer.region;
+      const what = region.distances ? 'error of a distance from the home pose' : 'tool-point error';
+      const length = (value) => `${quantity(value, 'length')} ${unitName('length')}`;
+      result.replaceChildren(
+        h('p', { id: 'parallel-prediction', class: region.holds_everywhere ? '' : 'warnings', text: `${answer.robot} — ${answer.method} method at the ${answer.configurations} configurations of ${answer.data}: ${answer.rank} parameters identifiable; predicted ${what} ${length(region.predicted_inside)} RMS there, ${length(region.predicted_work)} over the workspace (a held-out measurement's noise ${length(region.noise_floor)})${region.holds_everywhere ? '' : ': these configurations calibrate the platform where they are only'}.` }));
+    } catch (error) {
+      result.replaceChildren(errorBox(error));
+    }
+  });
   const identifiable = runButton('parallel-identifiable', 'Identifiable parameters', async () => {
     try {
       const report = await api('/parallel/identifiable', {
@@ -194,7 +211,7 @@ export function buildParallel() {
       field('Their length unit', dataUnit),
       field('Sensor σ (with its unit)', sigma),
       field('Save the calibrated platform as', saveAs),
-      identifiable, identify, evaluate),
+      identifiable, predict, identify, evaluate),
     h('div', { class: 'form' },
       field('Simulated poses', count),
       field('Sensor noise σ (mm; mrad)', noise),

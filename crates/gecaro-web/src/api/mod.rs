@@ -25,7 +25,7 @@ use crate::state::AppState;
 /// Every POST route of the API (full paths), each taking a JSON body: for
 /// clients, tests and the fuzz targets. `routes` registers them (a test
 /// checks that each one answers).
-pub const POST_ROUTES: [&str; 22] = [
+pub const POST_ROUTES: [&str; 23] = [
     "/api/robots/check",
     "/api/robots/new",
     "/api/robots/upload",
@@ -41,6 +41,7 @@ pub const POST_ROUTES: [&str; 22] = [
     "/api/iso9283/evaluate",
     "/api/parallel/generate",
     "/api/parallel/plan",
+    "/api/parallel/predict",
     "/api/parallel/identifiable",
     "/api/parallel/identify",
     "/api/parallel/evaluate",
@@ -75,6 +76,7 @@ pub(crate) fn routes() -> Router<AppState> {
         .route("/iso9283/evaluate", post(iso9283::evaluate))
         .route("/parallel/generate", post(parallel::generate))
         .route("/parallel/plan", post(parallel::plan))
+        .route("/parallel/predict", post(parallel::predict))
         .route("/parallel/identifiable", post(parallel::identifiable))
         .route("/parallel/identify", post(parallel::identify))
         .route("/parallel/evaluate", post(parallel::evaluate))

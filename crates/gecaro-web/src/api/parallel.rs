@@ -1,15 +1,16 @@
 //! Parallel robots (issue 79) on the page: a Gough–Stewart platform of the
 //! folder (or the ready `hexapod`) generated, analysed, identified and
 //! evaluated, and a program of its poses compensated:
-//! `/api/parallel/{generate, plan, identifiable, identify, evaluate,
-//! compensate}`,
+//! `/api/parallel/{generate, plan, predict, identifiable, identify,
+//! evaluate, compensate}`,
 //! each as the command line's `--json`.
 
 use axum::extract::State;
 use gecaro_app::parallel::{
     ParallelCompensateRequest, ParallelCompensated, ParallelEvaluateRequest, ParallelEvaluated,
     ParallelGenerateRequest, ParallelIdentifiableRequest, ParallelIdentifyRequest,
-    ParallelPlanRequest, ParallelPlanned, PlatformIdentificationDocument, PlatformRankDocument,
+    ParallelPlanRequest, ParallelPlanned, ParallelPredictRequest, ParallelPredicted,
+    PlatformIdentificationDocument, PlatformRankDocument,
 };
 use serde::Serialize;
 
@@ -112,6 +113,17 @@ pub(crate) async fn compensate(
                 compensated,
             }))
         })
+        .await
+}
+
+/// The precision of a calibration from a file's configurations, before
+/// measuring.
+pub(crate) async fn predict(
+    State(state): State<AppState>,
+    Json(request): Json<ParallelPredictRequest>,
+) -> Result<Json<ParallelPredicted>, ApiError> {
+    state
+        .compute(move |state| Ok(Json(request.run(state.workspace())?)))
         .await
 }
 

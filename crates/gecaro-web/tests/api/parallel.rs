@@ -70,6 +70,16 @@ async fn a_hexapod_is_calibrated_through_the_api() {
     assert_eq!(status, StatusCode::OK, "{planned}");
     assert_eq!(planned["configurations"].as_array().map(Vec::len), Some(20));
     assert!(api.folder.path().join("plan.csv").is_file());
+    let (status, predicted) = api
+        .post(
+            "/api/parallel/predict",
+            &json!({"robot": "hexapod", "method": "frame", "data": {"file": "plan.csv"},
+                    "sigma": "20um"}),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{predicted}");
+    assert_eq!(predicted["rank"], 48);
+    assert_eq!(predicted["region"]["holds_everywhere"], true);
     let (status, compensated) = api
         .post(
             "/api/parallel/compensate",

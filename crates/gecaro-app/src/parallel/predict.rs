@@ -1,0 +1,128 @@
+//! The precision of a parallel robot's calibration before measuring: the
+//! configurations to be measured (a plan's actuator values) and the
+//! sensor's σ give every identifiable parameter's σ and the calibrated
+//! robot's predicted error at them and over the workspace
+//! (`gecaro_calib::parallel_robots::predict_platform`).
+
+use gecaro_calib::parallel_robots::{PlatformNoise, predict_platform};
+use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};
+use gecaro_io::StandardDeviation;
+use serde::{Deserialize, Serialize};
+
+use super::documents::PlatformRegionDocument;
+use super::{actuator_types, load_parallel_robot, measure_for};
+use crate::error::AppError;
+use crate::files::Files;
+use crate::sources::{DataFormatSpec, DataSource};
+
+/// A prediction for a parallel robot.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParallelPredictRequest {
+    /// The nominal platform (a file, or a ready parallel robot's name).
+    pub robot: String,
+    /// `frame`, `position` or `distance`.
+    pub method: String,
+    /// The configurations to be measured (their actuator values; a plan's
+    /// file), consecutive rows a pair for distances.
+    pub data: DataSource,
+    /// Units and columns of the configurations file.
+    #[serde(default)]
+    pub format: DataFormatSpec,
+    /// The sensor's σ of a position coordinate (of a distance): a number in
+    /// the data's length unit, or a text with its unit (`"20um"`); also the
+    /// orientations' unless `sigma_rotation` is given.
+    pub sigma: StandardDeviation,
+    /// The σ of a rotation angle: a number in the data's angle unit, or a
+    /// text with its unit (`"0.001deg"`).
+    pub sigma_rotation: Option<StandardDeviation>,
+}
+
+/// One identifiable parameter's predicted precision.
+#[derive(Clone, Debug, Serialize)]
+pub struct PredictedParameterDocument {
+    /// `a1x`, `l3`, `K6`, `tz`.
+    pub name: String,
+    /// `m`, `rad`, or `""` for a gain.
+    pub unit: &'static str,
+    /// Its predicted σ.
+    pub sigma: f64,
+}
+
+/// A prediction, as `gecaro predict … --json` prints it (m, rad).
+#[derive(Clone, Debug, Serialize)]
+pub struct ParallelPredicted {
+    /// The robot's name.
+    pub robot: String,
+    /// `frame`, `position` or `distance`.
+    pub method: &'static str,
+    /// The configurations' label.
+    pub data: String,
+    /// Configurations to be measured.
+    pub configurations: usize,
+    /// Identifiable parameters.
+    pub rank: usize,
+    /// Every identifiable parameter with its predicted σ.
+    pub parameters: Vec<PredictedParameterDocument>,
+    /// The calibrated robot's predicted error at the configurations and
+    /// over the workspace, and whether it will hold there.
+    pub region: PlatformRegionDocument,
+}
+
+impl ParallelPredictRequest {
+    /// Runs the prediction.
+    ///
+    /// # Errors
+    /// A robot or configurations file that cannot be read, a σ that is no
+    /// sensor's, configurations with no pose (naming their line), too few
+    /// equations for the identifiable parameters.
+    pub fn run(&self, files: &dyn Files) -> Result<ParallelPredicted, AppError> {
+        let file = load_parallel_robot(&self.robot, files)?;
+        let measure = measure_for(&self.method, &file.robot)?;
+        let format = self.format.format()?;
+        let read = self
+            .data
+            .read(files, &actuator_types(&file.robot), &[], &format)?;
+        let length = self
+            .sigma
+            .value(false, format.units)
+            .map_err(|message| AppError::setting("sigma", message))?;
+        let angle = self
+            .sigma_rotation
+            .as_ref()
+            .map(|sigma| sigma.value(true, format.units))
+            .transpose()
+            .map_err(|message| AppError::setting("sigma_rotation", message))?;
+        let noise = PlatformNoise {
+            length,
+            angle: angle.unwrap_or(length),
+        };
+        let configurations = read.samples.to_rows();
+        let prediction = predict_platform(&file.robot, &configurations, measure, noise)?;
+        let names = file.robot.parameter_names();
+        Ok(ParallelPredicted {
+            robot: file.robot.name().to_owned(),
+            method: measure.name(),
+            data: read.label,
+            configurations: configurations.len(),
+            rank: prediction.rank.rank(),
+            parameters: prediction
+                .parameters
+                .iter()
+                .map(|(name, sigma)| PredictedParameterDocument {
+                    unit: names
+                        .iter()
+                        .position(|own| own == name)
+                        .map_or("", |index| match file.robot.parameter_unit(index) {
+                            ParameterUnit::Length => "m",
+                            ParameterUnit::Angle => "rad",
+                            ParameterUnit::Gain => "",
+                        }),
+                    name: name.clone(),
+                    sigma: *sigma,
+                })
+                .collect(),
+            region: (&prediction.region).into(),
+        })
+    }
+}

@@ -1,0 +1,157 @@
+//! The precision of a parallel robot's calibration before it is measured
+//! (as [`crate::prediction`] predicts a serial robot's, eq. 11): the
+//! configurations to be measured, the sensor's σ and the nominal robot
+//! give the covariance of the identifiable parameters, `C = (W_bᵀW_b)⁻¹`
+//! with every row divided by its σ, and from it the calibrated robot's
+//! predicted error at the planned poses and over the whole workspace
+//! ([`super::region`]).
+//!
+//! W is formed where the nominal robot puts the platform at each
+//! configuration (its direct model), with what the sensor would read
+//! there; a measured robot near the nominal one has nearly the same W.
+
+use gecaro_core::parallel_model::ParallelModel;
+use gecaro_data::sample::Sample;
+use nalgebra::Isometry3;
+
+use super::identifiability::PlatformRankReport;
+use super::identification::{base_system, structural_rank};
+use super::measure::{PlatformMeasure, PlatformNoise};
+use super::observation::{actuator_values, normal_system};
+use super::region::{PlatformRegion, where_it_holds};
+use crate::Error;
+
+/// What measuring a set of configurations is predicted to give.
+#[derive(Clone, Debug)]
+pub struct PlatformPrediction {
+    /// The identifiable parameters of these configurations.
+    pub rank: PlatformRankReport,
+    /// Every identifiable parameter's name and predicted σ (m, rad, or a
+    /// gain's), in vocabulary order.
+    pub parameters: Vec<(String, f64)>,
+    /// The calibrated robot's predicted error at the configurations and
+    /// over the workspace, and whether it holds there.
+    pub region: PlatformRegion,
+}
+
+/// Predicts measuring `model` by `measure` at the actuator values of
+/// `configurations` (consecutive pairs for a distance) with a sensor of
+/// noise `noise`.
+///
+/// # Errors
+/// A measure the structure cannot take, configurations with another number
+/// of actuator values or no pose (naming their line), too few equations,
+/// configurations that do not determine the identifiable parameters.
+pub fn predict_platform<M: ParallelModel>(
+    model: &M,
+    configurations: &[Sample],
+    measure: PlatformMeasure,
+    noise: PlatformNoise,
+) -> Result<PlatformPrediction, Error> {
+    measure.check_for(model)?;
+    if !(noise.length > 0.0 && noise.angle > 0.0) {
+        return Err(Error::InvalidOption {
+            setting: crate::Setting::Noise,
+            message: "a prediction needs the sensor's σ, above zero".into(),
+        });
+    }
+    let home = model.home();
+    let poses: Vec<Isometry3<f64>> = configurations
+        .iter()
+        .map(|sample| {
+            let actuators = actuator_values(model, sample)?;
+            model
+                .direct(actuators, &home)
+                .map_err(|cause| Error::InvalidData {
+                    line: sample.line,
+                    message: cause.to_string(),
+                })
+        })
+        .collect::<Result<_, _>>()?;
+    let samples = readings(model, configurations, &poses, measure)?;
+    let rank = structural_rank(model, &samples, measure, Some(noise))?;
+    let mut solved = poses.clone();
+    let system = normal_system(model, &samples, measure, Some(noise), &mut solved)?;
+    if system.rows < rank.base.len() {
+        return Err(Error::TooFewEquations {
+            equations: system.rows,
+            unknowns: rank.base.len(),
+        });
+    }
+    let (covariance, _) = base_system(&system, &rank.base)?;
+    let names = model.parameter_names();
+    let parameters = rank
+        .base
+        .iter()
+        .enumerate()
+        .map(|(k, column)| (names[*column].clone(), covariance[(k, k)].sqrt()))
+        .collect();
+    let coordinates: f64 = if measure == PlatformMeasure::Distance {
+        1.0
+    } else {
+        3.0
+    };
+    let region = where_it_holds(
+        model,
+        measure,
+        &samples,
+        |index| poses.get(index).copied(),
+        &rank.base,
+        &covariance,
+        coordinates.sqrt() * noise.length,
+    )
+    .ok_or_else(|| Error::Numerical {
+        message: "the predicted error could not be formed: a configuration is singular".into(),
+    })?;
+    Ok(PlatformPrediction {
+        rank,
+        parameters,
+        region,
+    })
+}
+
+/// What the sensor would read of `model` at `poses` (noise-free), with the
+/// configurations' actuator values and lines; a distance's pairs numbered.
+fn readings<M: ParallelModel>(
+    model: &M,
+    configurations: &[Sample],
+    poses: &[Isometry3<f64>],
+    measure: PlatformMeasure,
+) -> Result<Vec<Sample>, Error> {
+    let read = |sample: &Sample, pose: &Isometry3<f64>| {
+        let mut reading = measure.reading(model, pose, &sample.motor_positions);
+        reading.line = sample.line;
+        reading
+    };
+    if measure != PlatformMeasure::Distance {
+        return Ok(configurations
+            .iter()
+            .zip(poses)
+            .map(|(sample, pose)| read(sample, pose))
+            .collect());
+    }
+    if !configurations.len().is_multiple_of(2) {
+        return Err(Error::InvalidData {
+            line: configurations.last().and_then(|sample| sample.line),
+            message: format!(
+                "a distance is measured between two configurations: the last of {} has no pair",
+                configurations.len()
+            ),
+        });
+    }
+    let mut samples = Vec::with_capacity(configurations.len());
+    for (index, (pair, at)) in configurations
+        .chunks_exact(2)
+        .zip(poses.chunks_exact(2))
+        .enumerate()
+    {
+        let distance = (model.tool_point(&at[1]) - model.tool_point(&at[0])).norm();
+        for (sample, pose) in pair.iter().zip(at) {
+            let mut reading = read(sample, pose);
+            reading.group = Some(index as u64 + 1);
+            reading.distance = Some(distance);
+            samples.push(reading);
+        }
+    }
+    Ok(samples)
+}
