@@ -425,6 +425,20 @@ pub(crate) fn evaluate(args: &EvaluateArgs) -> Result<(), Failure> {
         evaluated.method,
         evaluated.configurations
     );
+    if let Some(frame) = &evaluated.registered {
+        println!(
+            "the data were in another frame: the instrument's registered on all {} rows (the \
+             base at ({}) mm in it), so the errors below are the platform's up to its base \
+             frame's pose",
+            evaluated.configurations,
+            frame
+                .position
+                .iter()
+                .map(|value| mm(*value))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
     print_errors(
         "direct model against the measured",
         &evaluated.errors,

@@ -557,3 +557,78 @@ fn a_prediction_before_measuring_matches_the_calibration() {
         );
     }
 }
+
+/// Measured by a tracker 3 m away and tilted 0.5° (the data in its frame):
+/// the frame is registered before the fit, the calibration fits the noise,
+/// and held out — the tracker's measurements brought into the base frame
+/// by the registration — it is at the noise floor, as in the base frame.
+#[test]
+fn a_tracker_elsewhere_is_registered_before_the_fit() {
+    use nalgebra::{Point3, Translation3, UnitQuaternion, Vector3};
+    let tracker = Isometry3::from_parts(
+        Translation3::new(2.2, -1.7, 0.4),
+        UnitQuaternion::from_scaled_axis(Vector3::new(0.3, -0.5, 20.0).normalize() * 0.6)
+            * UnitQuaternion::from_scaled_axis(Vector3::new(0.0087, 0.0, 0.0)),
+    );
+    let in_tracker = |samples: Vec<Sample>| -> Vec<Sample> {
+        samples
+            .into_iter()
+            .map(|mut sample| {
+                sample.position = sample.position.map(|p| (tracker * Point3::from(p)).coords);
+                sample.orientation = sample.orientation.map(|q| tracker.rotation * q);
+                sample
+            })
+            .collect()
+    };
+    for (robot, measure, seed) in [
+        ("hexapod", PlatformMeasure::Pose, 100),
+        ("hexapod", PlatformMeasure::Point, 110),
+        ("delta", PlatformMeasure::Point, 120),
+    ] {
+        let nominal = ready(robot);
+        let real = perturbed_platform(&nominal, 1.0, &mut Sampler::new(seed)).expect("real");
+        let data = in_tracker(measured(&real, measure, 60, NOISE, seed + 1));
+        let result = identify_platform(
+            &nominal,
+            &data,
+            measure,
+            Some(NOISE),
+            &PlatformIdentificationOptions::default(),
+        )
+        .expect("identified");
+        assert_eq!(result.outcome, Outcome::FitsNoise, "{robot} {measure:?}");
+        let registered = result.registered.expect("registered");
+        let off = (registered.translation.vector - tracker.translation.vector).norm();
+        assert!(
+            off < 0.01,
+            "{robot} {measure:?}: the tracker found {off} m off"
+        );
+        // Held out: the tracker's measurements in the registered base frame.
+        let held_out = measured(&real, measure, 200, NOISE, seed + 2);
+        let floor = platform_errors(&real, &held_out, measure)
+            .expect("floor")
+            .position_rms;
+        let back: Vec<Sample> = in_tracker(held_out)
+            .into_iter()
+            .map(|mut sample| {
+                let inverse = registered.inverse();
+                sample.position = sample.position.map(|p| (inverse * Point3::from(p)).coords);
+                sample.orientation = sample.orientation.map(|q| inverse.rotation * q);
+                sample
+            })
+            .collect();
+        let found = platform_errors(&result.calibrated, &back, measure)
+            .expect("held out")
+            .position_rms;
+        println!(
+            "{robot} {measure:?}: tracker found {:.2} mm off; held out {:.4} mm, floor {:.4} mm",
+            off * 1e3,
+            found * 1e3,
+            floor * 1e3
+        );
+        assert!(
+            found <= 1.3 * floor,
+            "{robot} {measure:?}: {found} against {floor}"
+        );
+    }
+}

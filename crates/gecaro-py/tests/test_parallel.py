@@ -138,3 +138,22 @@ def test_a_plan_is_predicted_before_it_is_measured(tmp_path):
     assert predicted["region"]["holds_everywhere"]
     with pytest.raises(gecaro.errors.InputError, match="has no unit|unit"):
         gecaro.parallel_predict("hexapod", "frame", tmp_path / "plan.csv", sigma="20")
+
+
+def test_poses_measured_from_a_tracker_elsewhere_are_registered(tmp_path):
+    gecaro.parallel_generate("hexapod", "frame", 60, noise=2e-5, seed=3,
+                             path=tmp_path / "poses.csv")
+    lines = (tmp_path / "poses.csv").read_text().splitlines()
+    moved = [lines[0]]
+    for line in lines[1:]:
+        values = line.split(",")
+        # The tracker 2.5 m along x and 1.2 m up: the base at (2.5, 0, 1.2) in it.
+        values[6] = repr(float(values[6]) + 2.5)
+        values[8] = repr(float(values[8]) + 1.2)
+        moved.append(",".join(values))
+    (tmp_path / "tracker.csv").write_text("\n".join(moved) + "\n")
+    result = gecaro.parallel_identify("hexapod", "frame", tmp_path / "tracker.csv", sigma="20um")
+    assert result["outcome"] == "fits_noise", result["summary"]
+    x, y, z = result["registered"]["position"]
+    assert abs(x - 2.5) < 0.01 and abs(y) < 0.01 and abs(z - 1.2) < 0.01
+    assert "registered" in result["summary"]

@@ -8,6 +8,8 @@ use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};
 use gecaro_core::parallel_robot::ParallelRobot;
 use serde::Serialize;
 
+use crate::documents::PoseJson;
+
 /// The identifiable parameters of a platform.
 #[derive(Clone, Debug, Serialize)]
 pub struct PlatformRankDocument {
@@ -147,6 +149,9 @@ pub struct PlatformIdentificationDocument {
     pub regrouped: Vec<PlatformRelationDocument>,
     /// Where the result holds; `null` for a fit that is no solution.
     pub region: Option<PlatformRegionDocument>,
+    /// The base frame in the instrument's frame, when the data were
+    /// measured in another frame and registered before the fit.
+    pub registered: Option<PoseJson>,
     /// What the verdict adds (a predicted error over the workspace above
     /// the noise floor).
     pub warnings: Vec<String>,
@@ -227,4 +232,10 @@ impl From<&PlatformRegion> for PlatformRegionDocument {
             distances: region.distances,
         }
     }
+}
+
+/// A registered frame as a document.
+pub(super) fn pose_document(pose: &nalgebra::Isometry3<f64>) -> PoseJson {
+    (&nalgebra::IsometryMatrix3::from_parts(pose.translation, pose.rotation.to_rotation_matrix()))
+        .into()
 }

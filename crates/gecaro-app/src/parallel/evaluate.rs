@@ -1,13 +1,16 @@
 //! A parallel robot judged on measured configurations: its direct model's
 //! pose (or tool point) at each one's actuator values, against the
-//! measured one.
+//! measured one. Data an instrument took in its own frame (the platform
+//! more than 50 mm off them) are registered on all their rows first, and
+//! the result says so.
 
-use gecaro_calib::parallel_robots::platform_errors;
+use gecaro_calib::parallel_robots::{in_base_frame, measurement_frame, platform_errors};
 use gecaro_core::parallel_model::ParallelModel;
 use serde::Deserialize;
 
-use super::documents::PlatformErrorsDocument;
+use super::documents::{PlatformErrorsDocument, pose_document};
 use super::{actuator_types, load_parallel_robot, measure_for};
+use crate::documents::PoseJson;
 use crate::error::AppError;
 use crate::files::Files;
 use crate::sources::{DataFormatSpec, DataSource};
@@ -40,6 +43,11 @@ pub struct ParallelEvaluated {
     pub configurations: usize,
     /// The errors.
     pub errors: PlatformErrorsDocument,
+    /// The base frame in the instrument's frame, when the data were in
+    /// another frame (the platform more than 50 mm off them) and were
+    /// registered on all their rows before they were judged: the errors are
+    /// then the platform's up to its base frame's pose.
+    pub registered: Option<PoseJson>,
 }
 
 impl ParallelEvaluateRequest {
@@ -57,7 +65,11 @@ impl ParallelEvaluateRequest {
             measure.columns(),
             &self.format.format()?,
         )?;
-        let samples = read.samples.to_rows();
+        let mut samples = read.samples.to_rows();
+        let registered = measurement_frame(&file.robot, &samples, measure);
+        if let Some(frame) = &registered {
+            samples = in_base_frame(&samples, frame);
+        }
         let errors = platform_errors(&file.robot, &samples, measure)?;
         Ok(ParallelEvaluated {
             robot: file.robot.name().to_owned(),
@@ -65,6 +77,7 @@ impl ParallelEvaluateRequest {
             data: read.label,
             configurations: samples.len(),
             errors: errors.into(),
+            registered: registered.as_ref().map(pose_document),
         })
     }
 }

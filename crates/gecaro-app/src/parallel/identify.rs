@@ -11,7 +11,7 @@ use gecaro_core::parallel_robot::ParallelRobot;
 use gecaro_io::{ParallelRobotFile, StandardDeviation};
 use serde::Deserialize;
 
-use super::documents::{PlatformIdentificationDocument, PlatformRankDocument};
+use super::documents::{PlatformIdentificationDocument, PlatformRankDocument, pose_document};
 use super::{actuator_types, load_parallel_robot, measure_for};
 use crate::error::{AppError, ErrorKind};
 use crate::files::Files;
@@ -136,6 +136,22 @@ impl ParallelIdentifyRequest {
             .region
             .as_ref()
             .filter(|region| !region.holds_everywhere);
+        let registered = result
+            .registered
+            .as_ref()
+            .map_or_else(String::new, |frame| {
+                format!(
+                    "; measured in an instrument's frame registered at ({}) mm, turned {:.4}°",
+                    frame
+                        .translation
+                        .vector
+                        .iter()
+                        .map(|value| format!("{:.3}", value * 1e3))
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                    frame.rotation.angle().to_degrees()
+                )
+            });
         let holds = regional.map_or_else(String::new, |region| {
             format!(
                 "; holds within the measured actuator ranges (predicted {:.4} mm there, {:.4} mm \
@@ -147,7 +163,8 @@ impl ParallelIdentifyRequest {
         let calibrated = ParallelRobotFile {
             robot: result.calibrated.clone().renamed(&name),
             description: Some(format!(
-                "{} calibrated by gecaro: {} method on {}, {} parameters identified, verdict {}{holds}",
+                "{} calibrated by gecaro: {} method on {}, {} parameters identified, verdict \
+                 {}{registered}{holds}",
                 nominal.robot.name(),
                 measure.name(),
                 read.label,
@@ -180,6 +197,7 @@ impl ParallelIdentifyRequest {
             parameters: PlatformIdentificationDocument::parameters(&nominal.robot, &result),
             regrouped: rank.regrouped,
             region: result.region.as_ref().map(Into::into),
+            registered: result.registered.as_ref().map(pose_document),
             warnings: result
                 .region
                 .as_ref()
@@ -196,8 +214,30 @@ impl ParallelIdentifyRequest {
     }
 }
 
-/// The verdict in words.
+/// The verdict in words, after the registration of the instrument's frame
+/// when there was one.
 fn summary(result: &PlatformIdentification<ParallelRobot>) -> String {
+    let verdict = verdict(result);
+    match &result.registered {
+        Some(frame) => format!(
+            "the data were in another frame than the base (the nominal platform more than 50 mm \
+             off them): the instrument's frame was registered — the base at ({}) mm in it, \
+             turned {:.3}° — before the fit, which {verdict}",
+            frame
+                .translation
+                .vector
+                .iter()
+                .map(|value| format!("{:.2}", value * 1e3))
+                .collect::<Vec<_>>()
+                .join(", "),
+            frame.rotation.angle().to_degrees()
+        ),
+        None => verdict,
+    }
+}
+
+/// The verdict alone in words.
+fn verdict(result: &PlatformIdentification<ParallelRobot>) -> String {
     use gecaro_calib::identification::Outcome;
     let ratio = result
         .noise_test

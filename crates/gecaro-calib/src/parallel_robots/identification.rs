@@ -9,23 +9,13 @@ use nalgebra::Isometry3;
 use super::identifiability::{PlatformRankReport, rank_of};
 use super::measure::{PlatformMeasure, PlatformNoise};
 use super::observation::{NormalSystem, normal_system, platform_rows};
+use super::plausible::{PLAUSIBLE_ANGLE, PLAUSIBLE_GAIN, PLAUSIBLE_LENGTH};
 use super::region::{PlatformRegion, where_it_holds};
+use super::registration::{in_base_frame, measurement_frame};
 use crate::Error;
 use crate::identifiability::ParameterStatus;
 use crate::identification::{NoiseTest, Outcome, noise_test};
 use nalgebra::{DMatrix, DVector};
-
-/// A joint centre, length or tool coordinate that moved further than this
-/// from its nominal value (m) is no platform's error but a mistaken file
-/// or data set.
-const PLAUSIBLE_LENGTH: f64 = 0.05;
-
-/// An angle (a Delta's arm azimuth or offset) that moved further than this
-/// (rad, 5°), the same.
-const PLAUSIBLE_ANGLE: f64 = 0.087;
-
-/// A gain off its nominal value by more than this fraction, the same.
-const PLAUSIBLE_GAIN: f64 = 0.1;
 
 /// How an identification of a platform runs.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -85,6 +75,9 @@ pub struct PlatformIdentification<M> {
     /// Where the result holds: the predicted error at the measured poses
     /// and over the work region; `None` for a fit that is no solution.
     pub region: Option<PlatformRegion>,
+    /// The base frame in the instrument's frame, when the data were in
+    /// another frame and were registered ([`super::registration`]).
+    pub registered: Option<Isometry3<f64>>,
 }
 
 /// Identifies `nominal`'s parameters from `samples` measured by `measure`,
@@ -101,6 +94,16 @@ pub fn identify_platform<M: ParallelModel>(
     noise: Option<PlatformNoise>,
     options: &PlatformIdentificationOptions,
 ) -> Result<PlatformIdentification<M>, Error> {
+    // Data an instrument took in its own frame, brought into the base frame.
+    let registered = measurement_frame(nominal, samples, measure);
+    let moved;
+    let samples = match &registered {
+        Some(frame) => {
+            moved = in_base_frame(samples, frame);
+            moved.as_slice()
+        }
+        None => samples,
+    };
     let mut rank = structural_rank(nominal, samples, measure, noise)?;
     let mut poses: Vec<Isometry3<f64>> = Vec::new();
     let mut system = normal_system(nominal, samples, measure, noise, &mut poses)?;
@@ -270,6 +273,7 @@ pub fn identify_platform<M: ParallelModel>(
         iterations,
         implausible,
         region,
+        registered,
     })
 }
 

@@ -49,8 +49,10 @@ mod identification;
 mod measure;
 mod observation;
 mod planning;
+mod plausible;
 mod prediction;
 mod region;
+mod registration;
 mod simulation;
 
 pub use evaluation::{PlatformErrors, platform_errors};
@@ -62,6 +64,7 @@ pub use measure::{PlatformMeasure, PlatformNoise};
 pub use planning::{PlannedPoses, plan_platform};
 pub use prediction::{PlatformPrediction, predict_platform};
 pub use region::PlatformRegion;
+pub use registration::{in_base_frame, measurement_frame};
 pub use simulation::{
     PlatformWorkspace, perturbed_platform, random_platform_poses, simulate_platform,
 };

@@ -34,6 +34,12 @@ function errorsText(errors, method) {
   return `${method === 'distance' ? 'distance' : 'position'} RMS ${length(errors.position_rms)}, max ${length(errors.position_max)} ${unitName('length')}${angles}`;
 }
 
+/** The instrument's frame registered before the data were used (the base in it). */
+function registeredLine(pose) {
+  const at = pose.position.map((value) => quantity(value, 'length')).join(', ');
+  return h('p', { id: 'parallel-registered', class: 'hint', text: `The data were in another frame than the base: the instrument's frame was registered first (the base at ${at} ${unitName('length')} in it).` });
+}
+
 /** The parameters' table: status, nominal, identified, σ. */
 function parameterTable(parameters) {
   const shown = (parameter, value) => (value === null || value === undefined ? '–'
@@ -162,6 +168,7 @@ export function buildParallel() {
         h('p', { id: 'parallel-errors', text: `At the measured poses: nominal ${errorsText(answer.errors_before, answer.method)}; calibrated ${errorsText(answer.errors_after, answer.method)}.${answer.written ? ` The calibrated platform was written to ${answer.written}.` : ''}` }),
         ...(answer.region ? [h('p', { id: 'parallel-region', class: answer.region.holds_everywhere ? '' : 'warnings', text: `Predicted ${answer.region.distances ? 'error of a distance from the home pose' : 'tool-point error'}: ${quantity(answer.region.predicted_inside, 'length')} ${unitName('length')} RMS at the measured poses, ${quantity(answer.region.predicted_work, 'length')} ${unitName('length')} over the workspace (noise floor ${quantity(answer.region.noise_floor, 'length')} ${unitName('length')})${answer.region.holds_everywhere ? '' : ': the result holds only where the data were taken'}.` })] : []),
         ...answer.warnings.map((warning) => h('p', { class: 'warnings', text: `Warning: ${warning}.` })),
+        ...(answer.registered ? [registeredLine(answer.registered)] : []),
         parameterTable(answer.parameters));
     } catch (error) {
       result.replaceChildren(errorBox(error));
@@ -174,7 +181,7 @@ export function buildParallel() {
         data: { file: required(data, 'the held-out measurements file') },
         format: format(),
       });
-      result.replaceChildren(h('p', { id: 'parallel-evaluation', text: `${answer.robot} on ${answer.data} (${answer.configurations} poses): its direct model against the measured, ${errorsText(answer.errors, answer.method)}.` }));
+      result.replaceChildren(...(answer.registered ? [registeredLine(answer.registered)] : []), h('p', { id: 'parallel-evaluation', text: `${answer.robot} on ${answer.data} (${answer.configurations} poses): its direct model against the measured, ${errorsText(answer.errors, answer.method)}.` }));
     } catch (error) {
       result.replaceChildren(errorBox(error));
     }
