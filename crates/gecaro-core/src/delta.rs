@@ -37,7 +37,9 @@
 use nalgebra::{DMatrix, DVector, Isometry3, Point3, Translation3, Vector3};
 
 use crate::error::{Error, Field};
-use crate::parallel_model::{ParallelModel, ParameterUnit, check_actuator, check_tool};
+use crate::parallel_model::{
+    EquationVisitor, ParallelModel, ParameterUnit, check_actuator, check_tool,
+};
 
 /// A Delta robot's arms.
 pub const ARMS: usize = 3;
@@ -211,6 +213,10 @@ impl ParallelModel for Delta {
         values
     }
 
+    fn parameter_count(&self) -> usize {
+        PARAMETER_COUNT
+    }
+
     fn parameter_names(&self) -> Vec<String> {
         let mut names = Vec::with_capacity(PARAMETER_COUNT);
         for arm in 1..=ARMS {
@@ -337,6 +343,47 @@ impl ParallelModel for Delta {
             }
         }
         jacobian
+    }
+
+    /// Arm by arm on the stack, each arm's angle's sine and cosine once:
+    /// the rows of [`closure`](ParallelModel::closure),
+    /// [`pose_jacobian`](ParallelModel::pose_jacobian) and
+    /// [`parameter_jacobian`](ParallelModel::parameter_jacobian).
+    fn visit_equations(
+        &self,
+        pose: &Isometry3<f64>,
+        actuators: &[f64],
+        visit: &mut EquationVisitor<'_>,
+    ) {
+        let inverse = pose.rotation.inverse();
+        for (i, arm) in self.arms.iter().enumerate() {
+            let angle = self.angle(i, actuators[i]);
+            let (sin, cos) = angle.sin_cos();
+            let h = self.direction(i);
+            let along = cos * h - sin * Vector3::z();
+            let elbow = arm.base + arm.upper_arm * along;
+            let forearm = pose.transform_point(&Point3::from(arm.platform)).coords - elbow;
+            let length = forearm.norm();
+            let unit = forearm / length;
+            let turned = arm.upper_arm * (-sin * h - cos * Vector3::z());
+            // ∂h/∂φ = (−sin φ, cos φ, 0), from h = (cos φ, sin φ, 0).
+            let sideways = arm.upper_arm * cos * Vector3::new(-h.y, h.x, 0.0);
+            let plate = inverse * unit;
+            let own = [
+                -unit.x,
+                -unit.y,
+                -unit.z,
+                -unit.dot(&sideways),
+                -unit.dot(&turned),
+                -unit.dot(&turned) * actuators[i],
+                -unit.dot(&along),
+                -1.0,
+                plate.x,
+                plate.y,
+                plate.z,
+            ];
+            visit(i, length - arm.forearm, &[unit.x, unit.y, unit.z], &own);
+        }
     }
 
     /// Arm i's equation involves arm i's eleven parameters only.

@@ -10,7 +10,11 @@
 //! platform that turns, `δp` alone for one that only translates (a Delta's);
 //! [`ParallelModel::pose_freedom`] says which (6 or 3).
 
-use nalgebra::{DMatrix, DVector, Isometry3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{
+    DMatrix, DVector, Isometry3, Matrix6, Translation3, UnitQuaternion, Vector3, Vector6,
+};
+
+use smallvec::SmallVec;
 
 use crate::error::{Error, Field};
 use crate::stated::{MIN_GAIN, check_magnitude};
@@ -21,6 +25,11 @@ const MAX_ITERATIONS: usize = 50;
 
 /// The closure equations' residual below which the pose is solved (m).
 const TOLERANCE: f64 = 1e-12;
+
+/// What [`ParallelModel::visit_equations`] calls for each closure equation:
+/// its index, its residual `Fᵢ`, its row of `∂F/∂x` and its coefficients on
+/// its own parameters.
+pub type EquationVisitor<'a> = dyn FnMut(usize, f64, &[f64], &[f64]) + 'a;
 
 /// A parallel robot; see the module docs.
 pub trait ParallelModel: Clone + std::fmt::Debug + Send + Sync {
@@ -42,6 +51,12 @@ pub trait ParallelModel: Clone + std::fmt::Debug + Send + Sync {
 
     /// The names of [`parameters`](Self::parameters).
     fn parameter_names(&self) -> Vec<String>;
+
+    /// How many parameters there are ([`parameters`](Self::parameters)'s
+    /// length, without forming them).
+    fn parameter_count(&self) -> usize {
+        self.parameters().len()
+    }
 
     /// Whether parameter `index` is a gain (dimensionless; the others are
     /// lengths, or angles for a Delta's).
@@ -89,12 +104,39 @@ pub trait ParallelModel: Clone + std::fmt::Debug + Send + Sync {
         }
     }
 
+    /// Each closure equation at `pose` in order, given to `visit` as its
+    /// index, its residual `Fᵢ`, its row of `∂F/∂x` and its coefficients on
+    /// its own parameters ([`equation_parameters`](Self::equation_parameters)),
+    /// without forming the k × parameters matrix: a calibration of 10⁵
+    /// measured poses linearises each once an iteration. By default from
+    /// [`linearised`](Self::linearised).
+    fn visit_equations(
+        &self,
+        pose: &Isometry3<f64>,
+        actuators: &[f64],
+        visit: &mut EquationVisitor<'_>,
+    ) {
+        let Linearised {
+            closure,
+            by_pose,
+            by_parameter,
+        } = self.linearised(pose, actuators);
+        for equation in 0..closure.len() {
+            let row: Vec<f64> = by_pose.row(equation).iter().copied().collect();
+            let own: Vec<f64> = self
+                .equation_parameters(equation)
+                .map(|column| by_parameter[(equation, column)])
+                .collect();
+            visit(equation, closure[equation], &row, &own);
+        }
+    }
+
     /// The parameters closure equation `equation` can involve (a leg's
     /// own eight): the columns of `∂F/∂ξ` outside are zero. All of them by
     /// default.
     fn equation_parameters(&self, equation: usize) -> std::ops::Range<usize> {
         let _ = equation;
-        0..self.parameters().len()
+        0..self.parameter_count()
     }
 
     /// The inverse model: the actuator values that put the platform at
@@ -135,46 +177,170 @@ pub trait ParallelModel: Clone + std::fmt::Debug + Send + Sync {
     /// for values that are not k numbers; [`Error::NoAssembly`] when no
     /// pose closes the chains from `start`.
     fn direct(&self, actuators: &[f64], start: &Isometry3<f64>) -> Result<Isometry3<f64>, Error> {
-        if actuators.len() != self.actuator_count() {
-            return Err(Error::ConfigurationLength {
-                expected: self.actuator_count(),
-                found: actuators.len(),
-            });
+        solve_direct(self, actuators, start).map(|solved| solved.pose)
+    }
+}
+
+/// A pose the direct model solved, with the linearisation of its last
+/// visit there ([`ParallelModel::visit_equations`] at the pose returned):
+/// what the calibration's derivative of the tool point needs, without
+/// visiting the equations again.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolvedPose {
+    /// The platform's pose.
+    pub pose: Isometry3<f64>,
+    /// `∂F/∂x` there, padded as [`linearised_at`]'s.
+    pub jacobian: Matrix6<f64>,
+    /// Each equation's own coefficients ([`ParallelModel::equation_parameters`]),
+    /// one after the other (on the stack for a hexapod's 48 or a Delta's 33).
+    pub coefficients: SmallVec<[f64; 48]>,
+    /// Where each equation's coefficients end in
+    /// [`coefficients`](Self::coefficients).
+    pub ends: [usize; 6],
+}
+
+/// The direct model ([`ParallelModel::direct`]) with its last
+/// linearisation: Newton's method on the closure equations from `start`,
+/// each step halved while it does not lower the residual.
+///
+/// # Errors
+/// As [`ParallelModel::direct`].
+pub fn solve_direct<M: ParallelModel>(
+    model: &M,
+    actuators: &[f64],
+    start: &Isometry3<f64>,
+) -> Result<SolvedPose, Error> {
+    if actuators.len() != model.actuator_count() {
+        return Err(Error::ConfigurationLength {
+            expected: model.actuator_count(),
+            found: actuators.len(),
+        });
+    }
+    if let Some((index, value)) = actuators.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Err(Error::NonFiniteConfiguration {
+            joint: index + 1,
+            value: *value,
+        });
+    }
+    let freedom = model.pose_freedom();
+    // Two linearisations, the current pose's and a trial's, visited in
+    // place (a trial accepted becomes the current one by its index).
+    let blank = || SolvedPose {
+        pose: *start,
+        jacobian: Matrix6::identity(),
+        coefficients: SmallVec::new(),
+        ends: [0; 6],
+    };
+    let mut solved = [blank(), blank()];
+    let mut current = 0;
+    let mut residual = visit_into(model, start, actuators, &mut solved[current]);
+    for _ in 0..MAX_ITERATIONS {
+        if residual.amax() < TOLERANCE {
+            let [first, second] = solved;
+            return Ok(if current == 0 { first } else { second });
         }
-        if let Some((index, value)) = actuators.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            return Err(Error::NonFiniteConfiguration {
-                joint: index + 1,
-                value: *value,
-            });
-        }
-        let mut pose = *start;
-        let mut residual = self.closure(&pose, actuators);
-        for _ in 0..MAX_ITERATIONS {
-            if residual.amax() < TOLERANCE {
-                return Ok(pose);
+        let Some(step) = solve_padded(&solved[current].jacobian, &residual, freedom) else {
+            break;
+        };
+        let trial = 1 - current;
+        let mut lowered = false;
+        for halvings in 0..30 {
+            let next = moved(
+                &solved[current].pose,
+                &(step * 0.5f64.powi(halvings)).as_slice()[..freedom],
+            );
+            let next_residual = visit_into(model, &next, actuators, &mut solved[trial]);
+            if next_residual.norm() < residual.norm() {
+                (residual, current, lowered) = (next_residual, trial, true);
+                break;
             }
-            let Some(step) = self
-                .pose_jacobian(&pose, actuators)
-                .lu()
-                .solve(&(-&residual))
-            else {
-                break;
-            };
-            let lowered = (0..30)
-                .map(|halvings| &step * 0.5f64.powi(halvings))
-                .find_map(|step| {
-                    let next = moved(&pose, step.as_slice());
-                    let next_residual = self.closure(&next, actuators);
-                    (next_residual.norm() < residual.norm()).then_some((next, next_residual))
-                });
-            let Some((next, next_residual)) = lowered else {
-                break;
-            };
-            (pose, residual) = (next, next_residual);
         }
-        Err(Error::NoAssembly {
-            residual: residual.amax(),
-        })
+        if !lowered {
+            break;
+        }
+    }
+    Err(Error::NoAssembly {
+        residual: residual.amax(),
+    })
+}
+
+/// One visit of the equations at `pose` into `solved` (its pose, padded
+/// `∂F/∂x` and coefficients replaced): the closure residuals, padded.
+fn visit_into<M: ParallelModel>(
+    model: &M,
+    pose: &Isometry3<f64>,
+    actuators: &[f64],
+    solved: &mut SolvedPose,
+) -> Vector6<f64> {
+    let mut residual = Vector6::zeros();
+    solved.pose = *pose;
+    solved.jacobian.fill_with_identity();
+    solved.coefficients.clear();
+    model.visit_equations(pose, actuators, &mut |equation, closure, by_pose, own| {
+        residual[equation] = closure;
+        for (column, value) in by_pose.iter().enumerate() {
+            solved.jacobian[(equation, column)] = *value;
+        }
+        solved.coefficients.extend_from_slice(own);
+        solved.ends[equation] = solved.coefficients.len();
+    });
+    residual
+}
+
+/// One visit of the equations at `pose`: the closure residuals `F` and the
+/// linearisation, `∂F/∂x` padded to six equations of six unknowns (an
+/// unused freedom's row and column the identity's, its residual zero):
+/// Newton's step of every structure on the stack. The equations are as many
+/// as the pose's freedoms (six legs, three arms).
+pub fn linearised_at<M: ParallelModel>(
+    model: &M,
+    pose: &Isometry3<f64>,
+    actuators: &[f64],
+) -> (Vector6<f64>, SolvedPose) {
+    let mut solved = SolvedPose {
+        pose: *pose,
+        jacobian: Matrix6::identity(),
+        coefficients: SmallVec::new(),
+        ends: [0; 6],
+    };
+    let residual = visit_into(model, pose, actuators, &mut solved);
+    (residual, solved)
+}
+
+/// Newton's step `−J⁻¹·F` of a padded system ([`linearised_at`]) whose first `freedom`
+/// rows and columns are the structure's: a 3 × 3 system by its closed-form
+/// inverse (a Delta's), else the 6 × 6 by LU; `None` when singular.
+fn solve_padded(
+    jacobian: &Matrix6<f64>,
+    residual: &Vector6<f64>,
+    freedom: usize,
+) -> Option<Vector6<f64>> {
+    if freedom == 3 {
+        let inverse = jacobian
+            .fixed_view::<3, 3>(0, 0)
+            .into_owned()
+            .try_inverse()?;
+        let step = -(inverse * residual.fixed_rows::<3>(0));
+        Some(Vector6::new(step.x, step.y, step.z, 0.0, 0.0, 0.0))
+    } else {
+        jacobian.lu().solve(&(-residual))
+    }
+}
+
+/// `J⁻¹` of a padded system ([`linearised_at`]) whose first `freedom` rows
+/// and columns are the structure's: a 3 × 3 (a Delta's) inverted as one,
+/// in closed form; `None` when singular.
+pub fn padded_inverse(jacobian: &Matrix6<f64>, freedom: usize) -> Option<Matrix6<f64>> {
+    if freedom == 3 {
+        let inverse = jacobian
+            .fixed_view::<3, 3>(0, 0)
+            .into_owned()
+            .try_inverse()?;
+        let mut padded = Matrix6::identity();
+        padded.fixed_view_mut::<3, 3>(0, 0).copy_from(&inverse);
+        Some(padded)
+    } else {
+        jacobian.try_inverse()
     }
 }
 
@@ -249,4 +415,46 @@ pub(crate) fn check_actuator(
         ));
     }
     Ok(())
+}
+
+/// That `model`'s equations as [`ParallelModel::visit_equations`] gives
+/// them are [`ParallelModel::linearised`]'s, to rounding (a structure's own
+/// fast path against its matrices).
+#[cfg(test)]
+pub(crate) fn assert_visits_match_linearised<M: ParallelModel>(
+    model: &M,
+    pose: &Isometry3<f64>,
+    actuators: &[f64],
+) {
+    let Linearised {
+        closure,
+        by_pose,
+        by_parameter,
+    } = model.linearised(pose, actuators);
+    let mut visited = 0;
+    model.visit_equations(pose, actuators, &mut |equation, value, row, own| {
+        visited += 1;
+        assert!(
+            (value - closure[equation]).abs() < 1e-12,
+            "closure {equation}"
+        );
+        for (column, entry) in row.iter().enumerate() {
+            assert!((entry - by_pose[(equation, column)]).abs() < 1e-12);
+        }
+        let columns = model.equation_parameters(equation);
+        assert_eq!(own.len(), columns.len());
+        for (entry, column) in own.iter().zip(columns) {
+            assert!(
+                (entry - by_parameter[(equation, column)]).abs() < 1e-12,
+                "equation {equation}, parameter {column}"
+            );
+        }
+        // Outside its own parameters the row is zero.
+        for column in 0..by_parameter.ncols() {
+            if !model.equation_parameters(equation).contains(&column) {
+                assert_eq!(by_parameter[(equation, column)], 0.0);
+            }
+        }
+    });
+    assert_eq!(visited, closure.len());
 }

@@ -7,7 +7,7 @@ use nalgebra::{DMatrix, DVector, Isometry3, Vector3};
 use crate::delta::Delta;
 use crate::error::Error;
 use crate::gough_stewart::GoughStewart;
-use crate::parallel_model::{Linearised, ParallelModel, ParameterUnit};
+use crate::parallel_model::{EquationVisitor, Linearised, ParallelModel, ParameterUnit};
 
 /// A Gough–Stewart platform or a Delta robot.
 #[derive(Clone, Debug, PartialEq)]
@@ -70,6 +70,10 @@ impl ParallelModel for ParallelRobot {
         each!(self, robot => robot.parameters())
     }
 
+    fn parameter_count(&self) -> usize {
+        each!(self, robot => robot.parameter_count())
+    }
+
     fn parameter_names(&self) -> Vec<String> {
         each!(self, robot => robot.parameter_names())
     }
@@ -113,6 +117,15 @@ impl ParallelModel for ParallelRobot {
 
     fn linearised(&self, pose: &Isometry3<f64>, actuators: &[f64]) -> Linearised {
         each!(self, robot => robot.linearised(pose, actuators))
+    }
+
+    fn visit_equations(
+        &self,
+        pose: &Isometry3<f64>,
+        actuators: &[f64],
+        visit: &mut EquationVisitor<'_>,
+    ) {
+        each!(self, robot => robot.visit_equations(pose, actuators, visit))
     }
 
     fn equation_parameters(&self, equation: usize) -> std::ops::Range<usize> {

@@ -78,7 +78,7 @@ pub fn platform_identifiability<M: ParallelModel>(
 /// joints), then the others in vocabulary order.
 fn candidates(model: &impl ParallelModel, measure: PlatformMeasure) -> Vec<usize> {
     let tool = model.tool_parameters();
-    let others = (0..model.parameters().len()).filter(|index| !tool.contains(index));
+    let others = (0..model.parameter_count()).filter(|index| !tool.contains(index));
     if measure.measures_tool() {
         model.tool_parameters().chain(others).collect()
     } else {
@@ -115,7 +115,7 @@ pub(super) fn rank_of(
             ParameterStatus::Regrouped
         }
     };
-    let mut statuses = vec![ParameterStatus::Excluded; model.parameters().len()];
+    let mut statuses = vec![ParameterStatus::Excluded; model.parameter_count()];
     for (column, parameter) in order.iter().enumerate() {
         statuses[*parameter] = status_of(column);
     }

@@ -17,6 +17,11 @@ use crate::identifiability::ParameterStatus;
 use crate::identification::{NoiseTest, Outcome, noise_test};
 use nalgebra::{DMatrix, DVector};
 
+/// A Gauss–Newton step every component of which is below this part of its
+/// parameter's σ ends the fit without a trial pass over the data: the
+/// parameters are at the minimum to far within their precision.
+const STEP_OF_SIGMA: f64 = 1e-3;
+
 /// How an identification of a platform runs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PlatformIdentificationOptions {
@@ -76,7 +81,7 @@ pub struct PlatformIdentification<M> {
     /// and over the work region; `None` for a fit that is no solution.
     pub region: Option<PlatformRegion>,
     /// The base frame in the instrument's frame, when the data were in
-    /// another frame and were registered ([`super::registration`]).
+    /// another frame and were registered ([`measurement_frame`](super::measurement_frame)).
     pub registered: Option<Isometry3<f64>>,
 }
 
@@ -126,18 +131,23 @@ pub fn identify_platform<M: ParallelModel>(
     let mut diverged = false;
     while iterations < options.max_iterations {
         iterations += 1;
-        let (_, solution) = base_system(&system, &rank.base)?;
+        let (inverse, solution) = base_system(&system, &rank.base)?;
         let cost = system.cost;
         // Gauss–Newton's predicted decrease `gᵀ·Δ`: below the tolerance the
         // parameters are the minimum, and no trial pass over the data is
-        // needed to say so.
+        // needed to say so; nor when every step is a negligible part of its
+        // parameter's σ (σ̂² of the unit weight from this cost).
         let predicted: f64 = rank
             .base
             .iter()
             .zip(solution.iter())
             .map(|(column, step)| system.projected[*column] * step)
             .sum();
-        if iterations > 1 && predicted <= options.tolerance * cost {
+        let unit_variance = cost / count.saturating_sub(rank.base.len()).max(1) as f64;
+        let negligible = solution.iter().enumerate().all(|(k, step)| {
+            step.abs() <= STEP_OF_SIGMA * (inverse[(k, k)] * unit_variance).sqrt()
+        });
+        if iterations > 1 && (predicted <= options.tolerance * cost || negligible) {
             // Iterations count the steps taken.
             iterations -= 1;
             converged = true;

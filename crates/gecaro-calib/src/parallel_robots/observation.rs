@@ -1,14 +1,17 @@
 //! The observation matrix W of a parallel robot's measurements and its
 //! weighted residuals (the module docs of [`super`] state the equations).
 
-use faer::Mat;
-use gecaro_core::parallel_model::{Linearised, ParallelModel};
+use faer::{Mat, MatRef};
+use gecaro_core::parallel_model::{
+    Linearised, ParallelModel, SolvedPose, linearised_at, padded_inverse, solve_direct,
+};
 use gecaro_data::parallel::run_parts;
 use gecaro_data::sample::Sample;
-use nalgebra::{DMatrix, DVector, Isometry3, Matrix3};
+use nalgebra::{DMatrix, DVector, Isometry3, Matrix3, SMatrix};
 
 use super::measure::{PlatformMeasure, PlatformNoise, check_pairs};
 use crate::Error;
+use crate::linalg::add_normal_sums;
 
 /// The weighted observation matrix W of every measured configuration: each
 /// row divided by its σ (1 m when no σ is stated), the columns the model's
@@ -37,11 +40,11 @@ pub(super) fn platform_rows<M: ParallelModel>(
     check_samples(model, samples, measure)?;
     let per_observation = measure.rows_per_observation(model);
     let taken = measure.samples_per_observation();
-    let columns = model.parameters().len();
+    let columns = model.parameter_count();
     let rows = measure.rows_for(model, samples.len());
     let mut matrix = Mat::<f64>::zeros(rows, columns);
     if poses.len() != samples.len() {
-        *poses = vec![model.home(); samples.len()];
+        *poses = starting_poses(model, samples, measure);
     }
     for (index, (observation, starts)) in samples
         .chunks_exact(taken)
@@ -93,10 +96,10 @@ pub(super) fn normal_system<M: ParallelModel>(
     poses: &mut Vec<Isometry3<f64>>,
 ) -> Result<NormalSystem, Error> {
     check_samples(model, samples, measure)?;
-    let columns = model.parameters().len();
+    let columns = model.parameter_count();
     let taken = measure.samples_per_observation();
     if poses.len() != samples.len() {
-        *poses = vec![model.home(); samples.len()];
+        *poses = starting_poses(model, samples, measure);
     }
     let parts: Vec<(&[Sample], &mut [Isometry3<f64>])> = samples
         .chunks(PART_SAMPLES)
@@ -106,51 +109,117 @@ pub(super) fn normal_system<M: ParallelModel>(
         let mut gram = DMatrix::<f64>::zeros(columns, columns);
         let mut projected = DVector::<f64>::zeros(columns);
         let mut cost = 0.0;
-        // A point's rows wait in a batch, added as one product `BᵀB`.
-        let mut batch = DMatrix::<f64>::zeros(BATCH_ROWS, columns);
-        let mut batch_right = DVector::<f64>::zeros(BATCH_ROWS);
+        // A point's rows wait in a batch (row-major), added as one product
+        // `BᵀB` into the lower triangle of its own sums.
+        let mut batch = vec![0.0; BATCH_ROWS * columns];
+        let mut batch_right = vec![0.0; BATCH_ROWS];
+        let mut lower = Mat::<f64>::zeros(columns, columns);
+        let mut lower_right = Mat::<f64>::zeros(columns, 1);
         let mut filled = 0;
-        let flush = |batch: &DMatrix<f64>,
-                     right: &DVector<f64>,
+        // Each closure equation's own block of the normal equations, summed
+        // apart (a leg's 8 × 8) and added into WᵀW once the part is done.
+        let mut blocks: Vec<Vec<f64>> = Vec::new();
+        let mut block_rights: Vec<Vec<f64>> = Vec::new();
+        let flush = |batch: &[f64],
+                     right: &[f64],
                      filled: usize,
-                     gram: &mut DMatrix<f64>,
-                     projected: &mut DVector<f64>| {
-            let rows = batch.rows(0, filled);
-            gram.gemm_tr(1.0, &rows, &rows, 1.0);
-            projected.gemv_tr(1.0, &rows, &right.rows(0, filled), 1.0);
+                     lower: &mut Mat<f64>,
+                     lower_right: &mut Mat<f64>| {
+            add_normal_sums(
+                lower,
+                lower_right,
+                MatRef::from_row_major_slice(&batch[..filled * columns], filled, columns),
+                MatRef::from_column_major_slice(&right[..filled], filled, 1),
+            );
         };
         for (observation, starts) in samples
             .chunks_exact(taken)
             .zip(starts.chunks_exact_mut(taken))
         {
+            // A closure equation is added on its own columns (a leg's
+            // eight), as the model visits it: no matrix formed.
+            if measure == PlatformMeasure::Pose {
+                let sample = &observation[0];
+                let actuators = actuator_values(model, sample)?;
+                let measured = measure.measured(sample)?;
+                model.visit_equations(
+                    &measured,
+                    actuators,
+                    &mut |equation, closure, by_pose, own| {
+                        let sigma = noise.map_or(1.0, |noise| {
+                            noise.closure_variance(by_pose.iter().copied()).sqrt()
+                        });
+                        let right = -closure / sigma;
+                        cost += right * right;
+                        let width = own.len();
+                        if blocks.len() <= equation {
+                            blocks.resize_with(equation + 1, Vec::new);
+                            block_rights.resize_with(equation + 1, Vec::new);
+                        }
+                        let (block, block_right) =
+                            (&mut blocks[equation], &mut block_rights[equation]);
+                        if block.len() != width * width {
+                            *block = vec![0.0; width * width];
+                            *block_right = vec![0.0; width];
+                        }
+                        // w = own/σ: the block += w·wᵀ and its right side += w·r,
+                        // row by row on slices (vectorised).
+                        let weight = 1.0 / sigma;
+                        for ((row, value), projected) in block
+                            .chunks_exact_mut(width)
+                            .zip(own)
+                            .zip(block_right.iter_mut())
+                        {
+                            let scaled = value * weight * weight;
+                            *projected += value * weight * right;
+                            for (entry, other) in row.iter_mut().zip(own) {
+                                *entry += scaled * other;
+                            }
+                        }
+                    },
+                );
+                continue;
+            }
+            // A point's coordinates involve every parameter, and wait in
+            // the batch.
             let (block, right) = observation_rows(model, observation, measure, noise, starts)?;
             for row in 0..block.nrows() {
                 cost += right[row] * right[row];
-                // A closure equation is added on its own columns (a leg's
-                // eight); a point's coordinates involve every parameter, and
-                // wait in the batch.
-                if measure == PlatformMeasure::Pose {
-                    let own = model.equation_parameters(row);
-                    for i in own.clone() {
-                        let value = block[(row, i)];
-                        projected[i] += value * right[row];
-                        for j in own.clone() {
-                            gram[(i, j)] += value * block[(row, j)];
-                        }
-                    }
-                    continue;
+                for (entry, value) in batch[filled * columns..(filled + 1) * columns]
+                    .iter_mut()
+                    .zip(block.row(row).iter())
+                {
+                    *entry = *value;
                 }
-                batch.row_mut(filled).copy_from(&block.row(row));
                 batch_right[filled] = right[row];
                 filled += 1;
                 if filled == BATCH_ROWS {
-                    flush(&batch, &batch_right, filled, &mut gram, &mut projected);
+                    flush(&batch, &batch_right, filled, &mut lower, &mut lower_right);
                     filled = 0;
                 }
             }
         }
         if filled > 0 {
-            flush(&batch, &batch_right, filled, &mut gram, &mut projected);
+            flush(&batch, &batch_right, filled, &mut lower, &mut lower_right);
+        }
+        for i in 0..columns {
+            projected[i] += lower_right[(i, 0)];
+            for j in 0..=i {
+                gram[(i, j)] += lower[(i, j)];
+                if i != j {
+                    gram[(j, i)] += lower[(i, j)];
+                }
+            }
+        }
+        for (equation, (block, block_right)) in blocks.iter().zip(&block_rights).enumerate() {
+            let own = model.equation_parameters(equation);
+            let width = block_right.len();
+            for (a, i) in own.clone().take(width).enumerate() {
+                projected[i] += block_right[a];
+                for (b, j) in own.clone().take(width).enumerate() {
+                    gram[(i, j)] += block[a * width + b];
+                }
+            }
         }
         Ok::<_, Error>((gram, projected, cost))
     });
@@ -167,6 +236,28 @@ pub(super) fn normal_system<M: ParallelModel>(
         system.cost += cost;
     }
     Ok(system)
+}
+
+/// Where each sample's direct model starts when no pose was solved for it
+/// yet: the home pose's orientation at the measured point (less the tool),
+/// within a platform's error of the pose for a measured point (a few Newton
+/// steps fewer than from home), else home itself.
+fn starting_poses<M: ParallelModel>(
+    model: &M,
+    samples: &[Sample],
+    measure: PlatformMeasure,
+) -> Vec<Isometry3<f64>> {
+    let home = model.home();
+    let arm = home.rotation * model.tool();
+    samples
+        .iter()
+        .map(|sample| match (measure, sample.position) {
+            (PlatformMeasure::Point, Some(point)) => {
+                Isometry3::from_parts(nalgebra::Translation3::from(point - arm), home.rotation)
+            }
+            _ => home,
+        })
+        .collect()
 }
 
 /// What every job checks of `samples` before forming rows: a measure the
@@ -201,16 +292,9 @@ pub(super) fn observation_rows<M: ParallelModel>(
     let mut points = [nalgebra::Vector3::zeros(); 2];
     let mut derivatives = Vec::with_capacity(2);
     for ((sample, start), point) in observation.iter().zip(starts.iter_mut()).zip(&mut points) {
-        let actuators = actuator_values(model, sample)?;
-        let pose = model
-            .direct(actuators, start)
-            .map_err(|cause| located(sample, &cause))?;
-        *start = pose;
+        let (pose, derivative) = solved_point(model, sample, start)?;
         *point = model.tool_point(&pose);
-        derivatives.push(
-            point_derivative(model, &pose, actuators)
-                .ok_or_else(|| located(sample, &"the platform is singular there"))?,
-        );
+        derivatives.push(derivative);
     }
     let difference = points[1] - points[0];
     let length = difference.norm();
@@ -265,21 +349,34 @@ fn sample_rows<M: ParallelModel>(
             Ok((rows, right))
         }
         PlatformMeasure::Point | PlatformMeasure::Distance => {
-            let pose = model
-                .direct(actuators, start)
-                .map_err(|cause| located(sample, &cause))?;
-            *start = pose;
+            let (pose, mut rows) = solved_point(model, sample, start)?;
             let sigma = noise.map_or(1.0, |noise| noise.length);
             let point = model.tool_point(&pose);
-            let rows = point_derivative(model, &pose, actuators)
-                .ok_or_else(|| located(sample, &"the platform is singular there"))?
-                / sigma;
+            rows.unscale_mut(sigma);
             let right = DVector::from_fn(3, |axis, _| {
                 (measured.translation.vector[axis] - point[axis]) / sigma
             });
             Ok((rows, right))
         }
     }
+}
+
+/// The pose a sample's actuator values put the platform at, by the direct
+/// model from `start` (moved to it), and the tool point's derivative there.
+///
+/// # Errors
+/// Actuator values with no pose or a singular one, naming the line.
+fn solved_point<M: ParallelModel>(
+    model: &M,
+    sample: &Sample,
+    start: &mut Isometry3<f64>,
+) -> Result<(Isometry3<f64>, DMatrix<f64>), Error> {
+    let actuators = actuator_values(model, sample)?;
+    let solved = solve_direct(model, actuators, start).map_err(|cause| located(sample, &cause))?;
+    *start = solved.pose;
+    let derivative = point_derivative_of(model, &solved)
+        .ok_or_else(|| located(sample, &"the platform is singular there"))?;
+    Ok((solved.pose, derivative))
 }
 
 /// A sample's actuator values, as many as the model has.
@@ -314,27 +411,54 @@ fn located(sample: &Sample, cause: &dyn std::fmt::Display) -> Error {
 
 /// ∂y/∂ξ of the tool point y = p + R·t at the pose the actuators give:
 /// `[I, −[R·t]×]·∂x/∂ξ` (`I` alone for a platform that only translates)
-/// with `∂x/∂ξ = −J_x⁻¹·∂F/∂ξ`, plus R in the tool's columns. `None` at a
-/// singular pose.
+/// with `∂x/∂ξ = −J_x⁻¹·∂F/∂ξ`, plus R in the tool's columns. Each
+/// equation's own coefficients are visited ([`ParallelModel::visit_equations`]):
+/// its columns are `−[I, −[R·t]×]·J_x⁻¹[:, e]` times them, and J_x is
+/// inverted on the stack ([`padded_inverse`]). `None` at a singular pose.
 pub(super) fn point_derivative<M: ParallelModel>(
     model: &M,
     pose: &Isometry3<f64>,
     actuators: &[f64],
 ) -> Option<DMatrix<f64>> {
-    let freedom = model.pose_freedom();
-    let inverse = model.pose_jacobian(pose, actuators).try_inverse()?;
-    let by_pose = -(inverse * model.parameter_jacobian(pose, actuators));
-    let mut to_point = DMatrix::<f64>::zeros(3, freedom);
+    point_derivative_of(model, &linearised_at(model, pose, actuators).1)
+}
+
+/// [`point_derivative`] from a pose the direct model solved, with the
+/// linearisation of its last visit ([`solve_direct`]): no visit more.
+fn point_derivative_of<M: ParallelModel>(model: &M, solved: &SolvedPose) -> Option<DMatrix<f64>> {
+    let SolvedPose {
+        pose,
+        jacobian,
+        coefficients,
+        ends,
+    } = solved;
+    let inverse = padded_inverse(jacobian, model.pose_freedom())?;
+    let mut to_point = SMatrix::<f64, 3, 6>::zeros();
     to_point
-        .view_mut((0, 0), (3, 3))
+        .fixed_view_mut::<3, 3>(0, 0)
         .copy_from(&Matrix3::identity());
-    if freedom == 6 {
+    if model.pose_freedom() == 6 {
         let arm = pose.rotation * model.tool();
         to_point
-            .view_mut((0, 3), (3, 3))
+            .fixed_view_mut::<3, 3>(0, 3)
             .copy_from(&(-arm.cross_matrix()));
     }
-    let mut derivative = to_point * by_pose;
+    // Column e: the tool point's move per unit of equation e's residual.
+    let along = -(to_point * inverse);
+    let mut derivative = DMatrix::<f64>::zeros(3, model.parameter_count());
+    let mut start = 0;
+    for (equation, end) in ends.iter().take(model.actuator_count()).enumerate() {
+        let direction = along.column(equation);
+        for (value, column) in coefficients[start..*end]
+            .iter()
+            .zip(model.equation_parameters(equation))
+        {
+            for row in 0..3 {
+                derivative[(row, column)] += direction[row] * value;
+            }
+        }
+        start = *end;
+    }
     let tool = model.tool_parameters();
     derivative
         .view_mut((0, tool.start), (3, 3))

@@ -11,7 +11,8 @@
 //! the rigid transform `T` (the base frame in the instrument's) that best
 //! maps the one onto the other (Horn/Kabsch, [`crate::registration`]) is
 //! found — from four points of each measured pose (its origin and a
-//! decimetre along each axis), or from the measured points — and every
+//! decimetre along each axis), or from the measured points, of at most
+//! [`FRAME_SAMPLES`] configurations spread over the data — and every
 //! measurement is brought into the base frame by `T⁻¹`. The
 //! identification then finds the rest: the base frame is the nominal
 //! robot's best fit to the data, the frame a vendor's drawing states.
@@ -25,10 +26,16 @@ use super::measure::PlatformMeasure;
 use super::observation::actuator_values;
 use super::plausible::PLAUSIBLE_LENGTH;
 use crate::registration::rigid_fit;
+use crate::sampler::spread_indices;
 
 /// The arm of the points a measured pose gives the fit, along each of its
 /// axes (m).
 const AXIS_POINT: f64 = 0.1;
+
+/// Configurations the frame is found from at most, spread over the data:
+/// six unknowns need few, and the direct model of 10⁵ would cost more than
+/// the fit.
+const FRAME_SAMPLES: usize = 2000;
 
 /// The base frame in the instrument's frame, when `samples` measured by
 /// `measure` are in another frame than `model`'s base (module docs);
@@ -44,7 +51,10 @@ pub fn measurement_frame<M: ParallelModel>(
     }
     let home = model.home();
     let (mut nominal, mut measured) = (Vec::new(), Vec::new());
-    for sample in samples {
+    for sample in spread_indices(samples.len(), FRAME_SAMPLES)
+        .into_iter()
+        .map(|index| &samples[index])
+    {
         let (Ok(actuators), Ok(read)) = (actuator_values(model, sample), measure.measured(sample))
         else {
             continue;

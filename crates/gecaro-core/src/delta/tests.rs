@@ -125,3 +125,12 @@ fn a_pose_out_of_reach_and_a_mistaken_arm_are_named() {
         "arm 3, `forearm`: -0.8 is not the length of an arm"
     );
 }
+
+/// The equations visited on the stack are the matrices' rows.
+#[test]
+fn visited_equations_are_the_linearised_rows() {
+    let delta = delta();
+    let pose = moved(&delta.home(), &[0.03, -0.02, 0.05]);
+    let actuators = [0.1, -0.2, 0.3];
+    crate::parallel_model::assert_visits_match_linearised(&delta, &pose, &actuators);
+}

@@ -62,7 +62,9 @@
 use nalgebra::{DMatrix, DVector, Isometry3, Matrix6, Point3, Vector3, Vector6};
 
 use crate::error::{Error, Field};
-use crate::parallel_model::{Linearised, ParallelModel, ParameterUnit, check_actuator, check_tool};
+use crate::parallel_model::{
+    EquationVisitor, Linearised, ParallelModel, ParameterUnit, check_actuator, check_tool,
+};
 use crate::stated::MAX_MAGNITUDE;
 
 /// The number of legs of a Gough–Stewart platform.
@@ -305,6 +307,10 @@ impl ParallelModel for GoughStewart {
         values
     }
 
+    fn parameter_count(&self) -> usize {
+        PARAMETER_COUNT
+    }
+
     fn parameter_names(&self) -> Vec<String> {
         let mut names = Vec::with_capacity(PARAMETER_COUNT);
         for leg in 1..=LEGS {
@@ -430,6 +436,38 @@ impl ParallelModel for GoughStewart {
             closure,
             by_pose,
             by_parameter,
+        }
+    }
+
+    /// Leg by leg on the stack: a leg's row of `∂F/∂x` is `[uᵢ, R·bᵢ × uᵢ]`
+    /// and its coefficients `[−uᵢ, Rᵀ·uᵢ, −1, −qmᵢ]` (as
+    /// [`linearised`](ParallelModel::linearised)).
+    fn visit_equations(
+        &self,
+        pose: &Isometry3<f64>,
+        actuators: &[f64],
+        visit: &mut EquationVisitor<'_>,
+    ) {
+        let inverse = pose.rotation.inverse();
+        for (i, leg) in self.legs.iter().enumerate() {
+            let arm = pose.rotation * leg.platform;
+            let vector = pose.translation.vector + arm - leg.base;
+            let length = vector.norm();
+            let unit = vector / length;
+            let turn = arm.cross(&unit);
+            let turned = inverse * unit;
+            let row = [unit.x, unit.y, unit.z, turn.x, turn.y, turn.z];
+            let own = [
+                -unit.x,
+                -unit.y,
+                -unit.z,
+                turned.x,
+                turned.y,
+                turned.z,
+                -1.0,
+                -actuators[i],
+            ];
+            visit(i, length - leg.length - leg.gain * actuators[i], &row, &own);
         }
     }
 

@@ -248,3 +248,12 @@ fn linearised_at_once_is_the_three_derivatives_apart() {
         }
     }
 }
+
+/// The equations visited on the stack are the matrices' rows.
+#[test]
+fn visited_equations_are_the_linearised_rows() {
+    let platform = hexapod();
+    let at = pose(0.01, -0.02, 0.55, 0.05, -0.03, 0.1);
+    let actuators = [0.01, -0.02, 0.03, 0.0, 0.02, -0.01];
+    crate::parallel_model::assert_visits_match_linearised(&platform, &at, &actuators);
+}
