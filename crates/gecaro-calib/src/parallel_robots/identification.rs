@@ -81,7 +81,7 @@ pub struct PlatformIdentification<M> {
     /// and over the work region; `None` for a fit that is no solution.
     pub region: Option<PlatformRegion>,
     /// The base frame in the instrument's frame, when the data were in
-    /// another frame and were registered ([`measurement_frame`](super::measurement_frame)).
+    /// another frame and were registered ([`super::measurement_frame`]).
     pub registered: Option<Isometry3<f64>>,
 }
 

@@ -1,6 +1,6 @@
 //! Where a parallel robot's calibration holds: its predicted tool-point
 //! error at the measured poses and over the whole work region, as a serial
-//! robot's ([`crate::identification::region`]).
+//! robot's (`crate::identification`'s region verdict, `RegionPrediction`).
 //!
 //! A fit explains its data where they were taken; parameters the data
 //! excite over a small part of the workspace only (poses within a few
