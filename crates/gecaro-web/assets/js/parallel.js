@@ -80,7 +80,7 @@ export function buildParallel() {
   const dataUnit = h('select', { id: 'parallel-data-unit' }, [['m', 'm'], ['mm', 'mm']].map(([value, label]) => h('option', { value, text: label })));
   const sigma = text('sigma', '20um, 0.02mm');
   const saveAs = text('save', 'calibrated.toml (optional)');
-  const count = numberInput({ id: 'parallel-count', value: '60' });
+  const count = numberInput({ id: 'parallel-count', value: String(state.info.defaults.parallel_poses) });
   const noise = numberInput({ id: 'parallel-noise', value: '0.02' });
   const generated = text('generated', 'poses.csv', 'parallel-poses.csv');
   const real = text('real', 'real platform: real.toml (optional)', 'parallel-real.toml');

@@ -40,6 +40,8 @@ struct Defaults {
     outlier_threshold: f64,
     /// Cycles of an ISO 9283 test.
     cycles: usize,
+    /// Poses a parallel robot's generation and analysis draw.
+    parallel_poses: usize,
 }
 
 /// What the page needs to start.
@@ -115,6 +117,7 @@ pub(crate) async fn info(State(state): State<AppState>) -> Json<Info> {
             seed: gecaro_calib::simulation::DEFAULT_SEED,
             outlier_threshold: gecaro_calib::identification::DEFAULT_OUTLIER_THRESHOLD,
             cycles: gecaro_calib::iso9283::DEFAULT_CYCLES,
+            parallel_poses: gecaro_app::parallel::DEFAULT_POSES,
         },
     })
 }

@@ -39,6 +39,11 @@ async fn info_lists_the_ready_robots_and_the_seven_methods() {
         info["limits"]["folds"],
         json!(gecaro_app::limits::MAX_FOLDS)
     );
+    // The parallel card's pose count starts at the application's default.
+    assert_eq!(
+        info["defaults"]["parallel_poses"],
+        json!(gecaro_app::parallel::DEFAULT_POSES)
+    );
     assert!(
         info["ready"]
             .as_array()
