@@ -157,3 +157,17 @@ def test_poses_measured_from_a_tracker_elsewhere_are_registered(tmp_path):
     x, y, z = result["registered"]["position"]
     assert abs(x - 2.5) < 0.01 and abs(y) < 0.01 and abs(z - 1.2) < 0.01
     assert "registered" in result["summary"]
+
+
+def test_a_measurement_off_is_named_by_its_line(tmp_path):
+    gecaro.parallel_generate("hexapod", "frame", 60, noise=2e-5, seed=3,
+                             path=tmp_path / "poses.csv")
+    lines = (tmp_path / "poses.csv").read_text().splitlines()
+    values = lines[17].split(",")
+    values[6] = repr(float(values[6]) + 0.5e-3)  # x of the row on line 18, 0.5 mm off
+    lines[17] = ",".join(values)
+    (tmp_path / "off.csv").write_text("\n".join(lines) + "\n")
+    result = gecaro.parallel_identify("hexapod", "frame", tmp_path / "off.csv", sigma="20um")
+    assert result["outcome"] == "exceeds_noise"
+    assert result["outliers"][0]["line"] == 18
+    assert "line 18 at" in result["summary"]

@@ -152,6 +152,10 @@ pub struct PlatformIdentificationDocument {
     /// The base frame in the instrument's frame, when the data were
     /// measured in another frame and registered before the fit.
     pub registered: Option<PoseJson>,
+    /// The measurements that stand out from the fit (at most ten, the
+    /// largest first): their line and their residual in units of the
+    /// stated σ (of σ̂ without one).
+    pub outliers: Vec<PlatformOutlierDocument>,
     /// What the verdict adds (a predicted error over the workspace above
     /// the noise floor).
     pub warnings: Vec<String>,
@@ -238,4 +242,13 @@ impl From<&PlatformRegion> for PlatformRegionDocument {
 pub(super) fn pose_document(pose: &nalgebra::Isometry3<f64>) -> PoseJson {
     (&nalgebra::IsometryMatrix3::from_parts(pose.translation, pose.rotation.to_rotation_matrix()))
         .into()
+}
+
+/// A measurement that stands out from a platform's fit.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct PlatformOutlierDocument {
+    /// Its line in the data file (a distance's pair by its first row).
+    pub line: Option<usize>,
+    /// The RMS of its residuals in units of the stated σ (of σ̂ without one).
+    pub ratio: f64,
 }

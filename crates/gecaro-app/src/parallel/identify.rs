@@ -11,7 +11,9 @@ use gecaro_core::parallel_robot::ParallelRobot;
 use gecaro_io::{ParallelRobotFile, StandardDeviation};
 use serde::Deserialize;
 
-use super::documents::{PlatformIdentificationDocument, PlatformRankDocument, pose_document};
+use super::documents::{
+    PlatformIdentificationDocument, PlatformOutlierDocument, PlatformRankDocument, pose_document,
+};
 use super::{actuator_types, load_parallel_robot, measure_for};
 use crate::error::{AppError, ErrorKind};
 use crate::files::Files;
@@ -198,6 +200,14 @@ impl ParallelIdentifyRequest {
             regrouped: rank.regrouped,
             region: result.region.as_ref().map(Into::into),
             registered: result.registered.as_ref().map(pose_document),
+            outliers: result
+                .outliers
+                .iter()
+                .map(|(line, ratio)| PlatformOutlierDocument {
+                    line: *line,
+                    ratio: *ratio,
+                })
+                .collect(),
             warnings: result
                 .region
                 .as_ref()
@@ -215,9 +225,39 @@ impl ParallelIdentifyRequest {
 }
 
 /// The verdict in words, after the registration of the instrument's frame
-/// when there was one.
+/// when there was one, and the measurements that stand out.
 fn summary(result: &PlatformIdentification<ParallelRobot>) -> String {
-    let verdict = verdict(result);
+    let mut verdict = verdict(result);
+    if !result.outliers.is_empty() {
+        let named: Vec<String> = result
+            .outliers
+            .iter()
+            .take(3)
+            .map(|(line, ratio)| {
+                format!(
+                    "line {} at {ratio:.1}σ",
+                    line.map_or_else(|| "?".into(), |line| line.to_string())
+                )
+            })
+            .collect();
+        verdict.push_str(&format!(
+            "; {} measurement{} stand{} out ({}{}): check {}",
+            result.outliers.len(),
+            if result.outliers.len() == 1 { "" } else { "s" },
+            if result.outliers.len() == 1 { "s" } else { "" },
+            named.join(", "),
+            if result.outliers.len() > 3 {
+                ", …"
+            } else {
+                ""
+            },
+            if result.outliers.len() == 1 {
+                "it"
+            } else {
+                "them"
+            }
+        ));
+    }
     match &result.registered {
         Some(frame) => format!(
             "the data were in another frame than the base (the nominal platform more than 50 mm \

@@ -27,8 +27,9 @@ use crate::files::Files;
 
 pub use compensate::{ParallelCompensateRequest, ParallelCompensated};
 pub use documents::{
-    PlatformErrorsDocument, PlatformIdentificationDocument, PlatformParameterDocument,
-    PlatformRankDocument, PlatformRegionDocument, PlatformRelationDocument,
+    PlatformErrorsDocument, PlatformIdentificationDocument, PlatformOutlierDocument,
+    PlatformParameterDocument, PlatformRankDocument, PlatformRegionDocument,
+    PlatformRelationDocument,
 };
 pub use evaluate::{ParallelEvaluateRequest, ParallelEvaluated};
 pub use generate::{ParallelGenerateRequest, ParallelGenerated};

@@ -14,13 +14,16 @@ use super::region::{PlatformRegion, where_it_holds};
 use super::registration::{in_base_frame, measurement_frame};
 use crate::Error;
 use crate::identifiability::ParameterStatus;
-use crate::identification::{NoiseTest, Outcome, noise_test};
+use crate::identification::{DEFAULT_OUTLIER_THRESHOLD, NoiseTest, Outcome, noise_test};
 use nalgebra::{DMatrix, DVector};
 
 /// A Gauss–Newton step every component of which is below this part of its
 /// parameter's σ ends the fit without a trial pass over the data: the
 /// parameters are at the minimum to far within their precision.
 const STEP_OF_SIGMA: f64 = 1e-3;
+
+/// Observations named as standing out, at most.
+const MAX_OUTLIERS_NAMED: usize = 10;
 
 /// How an identification of a platform runs.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -80,6 +83,11 @@ pub struct PlatformIdentification<M> {
     /// Where the result holds: the predicted error at the measured poses
     /// and over the work region; `None` for a fit that is no solution.
     pub region: Option<PlatformRegion>,
+    /// The observations whose residual stands out from the fit: their
+    /// first line (a distance's pair by its first row) and the RMS of their
+    /// rows in units of the stated σ (of σ̂ without one), above
+    /// [`DEFAULT_OUTLIER_THRESHOLD`], the largest first (at most ten).
+    pub outliers: Vec<(Option<usize>, f64)>,
     /// The base frame in the instrument's frame, when the data were in
     /// another frame and were registered ([`super::measurement_frame`]).
     pub registered: Option<Isometry3<f64>>,
@@ -226,6 +234,28 @@ pub fn identify_platform<M: ParallelModel>(
         .map(|(_, parameter)| parameter.name.clone())
         .collect();
     let solved = converged && !diverged;
+    // The observations that stand out, in units of the stated σ (of σ̂
+    // without one: the rows are then in metres).
+    let scale = if noise.is_some() {
+        1.0
+    } else {
+        unit_sigma.max(f64::MIN_POSITIVE)
+    };
+    let mut outliers: Vec<(Option<usize>, f64)> = system
+        .errors
+        .iter()
+        .copied()
+        .enumerate()
+        .map(|(index, error)| {
+            (
+                samples[index * measure.samples_per_observation()].line,
+                error / scale,
+            )
+        })
+        .filter(|(_, ratio)| *ratio > DEFAULT_OUTLIER_THRESHOLD)
+        .collect();
+    outliers.sort_by(|a, b| b.1.total_cmp(&a.1));
+    outliers.truncate(MAX_OUTLIERS_NAMED);
     // The floor a held-out position measurement of a perfect platform
     // shows, √3 σ̂ of a coordinate; the posterior covariance σ̂²·(W_bᵀW_b)⁻¹
     // (rows weighted by 1/σ: σ̂ is the unit weight's).
@@ -283,6 +313,7 @@ pub fn identify_platform<M: ParallelModel>(
         iterations,
         implausible,
         region,
+        outliers,
         registered,
     })
 }

@@ -74,6 +74,9 @@ pub(super) struct NormalSystem {
     pub(super) cost: f64,
     /// Rows of W.
     pub(super) rows: usize,
+    /// Each observation's weighted residual: the RMS of its rows (in units
+    /// of their σ; of 1 m without σ), in order — how far it stands out.
+    pub(super) errors: Vec<f64>,
 }
 
 /// Samples a part of the normal equations' sum takes: enough for its set-up
@@ -120,6 +123,7 @@ pub(super) fn normal_system<M: ParallelModel>(
         // apart (a leg's 8 × 8) and added into WᵀW once the part is done.
         let mut blocks: Vec<Vec<f64>> = Vec::new();
         let mut block_rights: Vec<Vec<f64>> = Vec::new();
+        let mut errors: Vec<f64> = Vec::with_capacity(samples.len() / taken);
         let flush = |batch: &[f64],
                      right: &[f64],
                      filled: usize,
@@ -142,6 +146,7 @@ pub(super) fn normal_system<M: ParallelModel>(
                 let sample = &observation[0];
                 let actuators = actuator_values(model, sample)?;
                 let measured = measure.measured(sample)?;
+                let (before, mut equations) = (cost, 0usize);
                 model.visit_equations(
                     &measured,
                     actuators,
@@ -151,6 +156,7 @@ pub(super) fn normal_system<M: ParallelModel>(
                         });
                         let right = -closure / sigma;
                         cost += right * right;
+                        equations += 1;
                         let width = own.len();
                         if blocks.len() <= equation {
                             blocks.resize_with(equation + 1, Vec::new);
@@ -178,11 +184,13 @@ pub(super) fn normal_system<M: ParallelModel>(
                         }
                     },
                 );
+                errors.push(((cost - before) / equations.max(1) as f64).sqrt());
                 continue;
             }
             // A point's coordinates involve every parameter, and wait in
             // the batch.
             let (block, right) = observation_rows(model, observation, measure, noise, starts)?;
+            errors.push((right.norm_squared() / right.len().max(1) as f64).sqrt());
             for row in 0..block.nrows() {
                 cost += right[row] * right[row];
                 for (entry, value) in batch[filled * columns..(filled + 1) * columns]
@@ -221,19 +229,21 @@ pub(super) fn normal_system<M: ParallelModel>(
                 }
             }
         }
-        Ok::<_, Error>((gram, projected, cost))
+        Ok::<_, Error>((gram, projected, cost, errors))
     });
     let mut system = NormalSystem {
         gram: DMatrix::zeros(columns, columns),
         projected: DVector::zeros(columns),
         cost: 0.0,
         rows: measure.rows_for(model, samples.len()),
+        errors: Vec::with_capacity(samples.len() / taken),
     };
     for part in sums {
-        let (gram, projected, cost) = part?;
+        let (gram, projected, cost, errors) = part?;
         system.gram += gram;
         system.projected += projected;
         system.cost += cost;
+        system.errors.extend(errors);
     }
     Ok(system)
 }
