@@ -60,6 +60,10 @@ pub struct ParallelCompensated {
     /// The corrected program (CSV).
     #[serde(skip)]
     pub text: String,
+    /// What an actuator is called on this robot (`leg`, `arm`), for the
+    /// flagged targets' words.
+    #[serde(skip)]
+    pub actuator_word: &'static str,
 }
 
 impl ParallelCompensated {
@@ -91,7 +95,7 @@ impl ParallelCompensated {
                 "{} of {} targets need an actuator beyond its range on the calibrated platform: {}",
                 self.outside_range.len(),
                 self.targets,
-                listed(&self.outside_range, "leg")
+                listed(&self.outside_range, self.actuator_word)
             ));
         }
         if !self.outside_measured.is_empty() {
@@ -100,7 +104,7 @@ impl ParallelCompensated {
                  result holds there only): {}",
                 self.outside_measured.len(),
                 self.targets,
-                listed(&self.outside_measured, "actuator")
+                listed(&self.outside_measured, self.actuator_word)
             ));
         }
         (!problems.is_empty()).then(|| {
@@ -305,8 +309,32 @@ impl ParallelCompensateRequest {
             largest_correction,
             outside_range,
             outside_measured,
+            actuator_word: calibrated.robot.actuator_word(),
             written: written.map(|path| path.display().to_string()),
             text,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Flagged targets are worded with the robot's own actuators.
+    #[test]
+    fn a_deltas_flagged_targets_name_its_arms() {
+        let compensated = ParallelCompensated {
+            targets: 4,
+            largest_correction: 0.001,
+            outside_range: vec![(Some(3), vec![2])],
+            outside_measured: vec![(Some(5), vec![1, 3])],
+            written: None,
+            text: String::new(),
+            actuator_word: "arm",
+        };
+        let message = compensated.failure().expect("flagged").to_string();
+        assert!(message.contains("line 3 (arm 2)"), "{message}");
+        assert!(message.contains("line 5 (arm 1, 3)"), "{message}");
+        assert!(!message.contains("leg"), "{message}");
     }
 }
