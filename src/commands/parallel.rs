@@ -530,7 +530,6 @@ pub(crate) fn plan(args: &PlanArgs, robot: &str) -> Result<(), Failure> {
 /// and the calibrated platform's predicted error, before measuring.
 pub(crate) fn predict(args: &PredictArgs, robot: &str) -> Result<(), Failure> {
     serial_only(&[
-        ("--monte-carlo", args.monte_carlo.is_some()),
         ("--model", args.model.is_some()),
         ("--test-poses", args.test_poses.test_poses.is_some()),
         ("--study", args.study.is_some()),
@@ -549,6 +548,11 @@ pub(crate) fn predict(args: &PredictArgs, robot: &str) -> Result<(), Failure> {
         sigma_rotation: Some(gecaro_io::StandardDeviation::WithUnit(format!(
             "{noise}rad"
         ))),
+        monte_carlo: args.monte_carlo,
+        // --error-level's 1 is ±1 cm for a serial robot; a parallel robot's
+        // is ±1 mm (and ±1 mrad): the same lengths.
+        error_level: Some(args.error_level * 10.0),
+        seed: Some(args.seed),
     }
     .run(&LocalFiles)?;
     if args.json {
@@ -590,6 +594,16 @@ pub(crate) fn predict(args: &PredictArgs, robot: &str) -> Result<(), Failure> {
         mm(region.predicted_work_max),
         mm(region.noise_floor)
     );
+    if let Some(simulated) = &predicted.monte_carlo {
+        println!(
+            "{} simulated calibrations (real platforms drawn at ±{} mm): {} mm RMS over the \
+             workspace against their real ones (largest {} mm)",
+            simulated.runs,
+            number(args.error_level * 10.0, 3),
+            mm(simulated.work_rms),
+            mm(simulated.work_max)
+        );
+    }
     if !region.holds_everywhere {
         println!(
             "warning: these configurations calibrate the platform where they are only: \

@@ -674,3 +674,49 @@ fn a_measurement_off_is_named_by_its_line() {
         assert!(ratio > 5.0, "{robot}: {ratio}");
     }
 }
+
+/// The prediction before measuring against simulated calibrations from the
+/// same configurations: 8 real robots drawn, each calibrated and judged
+/// against itself over the workspace, their RMS as predicted.
+#[test]
+fn simulated_calibrations_measure_what_was_predicted() {
+    use gecaro_calib::parallel_robots::{predict_platform, simulate_calibrations};
+    for (robot, measure) in [
+        ("hexapod", PlatformMeasure::Pose),
+        ("delta", PlatformMeasure::Point),
+    ] {
+        let nominal = ready(robot);
+        let configurations: Vec<Sample> = measured(&nominal, measure, 40, NOISE, 150)
+            .into_iter()
+            .map(|sample| Sample::new(sample.motor_positions))
+            .collect();
+        let predicted = predict_platform(&nominal, &configurations, measure, NOISE)
+            .expect("predicted")
+            .region
+            .work_rms;
+        let simulated =
+            simulate_calibrations(&nominal, &configurations, measure, NOISE, (8, 1.0, 151))
+                .expect("simulated");
+        println!(
+            "{robot} {measure:?}: predicted {:.4} mm, {} simulated calibrations {:.4} mm",
+            predicted * 1e3,
+            simulated.runs,
+            simulated.work_rms * 1e3
+        );
+        assert!(
+            (0.7..1.4).contains(&(simulated.work_rms / predicted)),
+            "{robot}: simulated {} against predicted {predicted}",
+            simulated.work_rms
+        );
+    }
+    let error = simulate_calibrations(
+        &ready("hexapod"),
+        &[],
+        PlatformMeasure::Distance,
+        NOISE,
+        (1, 1.0, 1),
+    )
+    .expect_err("refused")
+    .to_string();
+    assert!(error.contains("no base frame"), "{error}");
+}

@@ -269,10 +269,13 @@ pub(crate) fn parallel_plan<'py>(
 /// length unit or a text with its unit; `sigma_rotation` for orientations)
 /// → `{"rank", "parameters": [{"name", "unit", "sigma"}], "region":
 /// {"predicted_inside", "predicted_work", "predicted_work_max",
-/// "noise_floor", "holds_everywhere", …}}` in metres and radians.
+/// "noise_floor", "holds_everywhere", …}, "monte_carlo": {"runs",
+/// "work_rms", "work_max"} when `monte_carlo` calibrations are simulated
+/// (real robots drawn at `error_level`: ±mm, ±mrad)}` in metres and radians.
 #[pyfunction]
 #[pyo3(signature = (
     robot, method, data, *, sigma, sigma_rotation = None, length_unit = None, angle_unit = None,
+    monte_carlo = None, error_level = None, seed = 1,
 ))]
 pub(crate) fn parallel_predict<'py>(
     py: Python<'py>,
@@ -283,6 +286,9 @@ pub(crate) fn parallel_predict<'py>(
     sigma_rotation: Option<Sigma>,
     length_unit: Option<String>,
     angle_unit: Option<String>,
+    monte_carlo: Option<usize>,
+    error_level: Option<f64>,
+    seed: u64,
 ) -> PyResult<Bound<'py, PyAny>> {
     let request = ParallelPredictRequest {
         robot,
@@ -291,6 +297,9 @@ pub(crate) fn parallel_predict<'py>(
         format: format(length_unit, angle_unit),
         sigma: sigma.into(),
         sigma_rotation: sigma_rotation.map(Into::into),
+        monte_carlo,
+        error_level,
+        seed: Some(seed),
     };
     let predicted = py.detach(|| request.run(&LocalFiles)).py()?;
     to_python(py, &predicted)

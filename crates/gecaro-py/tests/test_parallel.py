@@ -136,6 +136,11 @@ def test_a_plan_is_predicted_before_it_is_measured(tmp_path):
     units = {parameter["name"]: parameter["unit"] for parameter in predicted["parameters"]}
     assert units["a1x"] == "m" and units["K6"] == ""
     assert predicted["region"]["holds_everywhere"]
+    assert predicted["monte_carlo"] is None
+    simulated = gecaro.parallel_predict("hexapod", "frame", tmp_path / "plan.csv", sigma="20um",
+                                        monte_carlo=3, error_level=1.0, seed=4)
+    ratio = simulated["monte_carlo"]["work_rms"] / simulated["region"]["predicted_work"]
+    assert 0.5 < ratio < 2.0, ratio
     with pytest.raises(gecaro.errors.InputError, match="has no unit|unit"):
         gecaro.parallel_predict("hexapod", "frame", tmp_path / "plan.csv", sigma="20")
 

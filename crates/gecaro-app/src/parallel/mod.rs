@@ -36,7 +36,10 @@ pub use generate::{ParallelGenerateRequest, ParallelGenerated};
 pub use identifiable::{DEFAULT_POSES, ParallelIdentifiableRequest};
 pub use identify::{ParallelIdentified, ParallelIdentifyRequest};
 pub use plan::{POOL_PER_POSE, ParallelPlanRequest, ParallelPlanned};
-pub use predict::{ParallelPredictRequest, ParallelPredicted, PredictedParameterDocument};
+pub use predict::{
+    MAX_SIMULATED_CALIBRATIONS, ParallelPredictRequest, ParallelPredicted,
+    PredictedParameterDocument, SimulatedCalibrationsDocument,
+};
 
 /// The kind of a robot file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

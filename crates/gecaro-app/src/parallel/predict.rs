@@ -4,7 +4,8 @@
 //! robot's predicted error at them and over the workspace
 //! (`gecaro_calib::parallel_robots::predict_platform`).
 
-use gecaro_calib::parallel_robots::{PlatformNoise, predict_platform};
+use gecaro_calib::parallel_robots::{PlatformNoise, predict_platform, simulate_calibrations};
+use gecaro_calib::simulation::{DEFAULT_ERROR_LEVEL, DEFAULT_SEED};
 use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};
 use gecaro_io::StandardDeviation;
 use serde::{Deserialize, Serialize};
@@ -14,6 +15,9 @@ use super::{actuator_types, load_parallel_robot, measure_for};
 use crate::error::AppError;
 use crate::files::Files;
 use crate::sources::{DataFormatSpec, DataSource};
+
+/// Simulated calibrations a prediction runs at most.
+pub const MAX_SIMULATED_CALIBRATIONS: usize = 100;
 
 /// A prediction for a parallel robot.
 #[derive(Clone, Debug, Deserialize)]
@@ -36,6 +40,30 @@ pub struct ParallelPredictRequest {
     /// The σ of a rotation angle: a number in the data's angle unit, or a
     /// text with its unit (`"0.001deg"`).
     pub sigma_rotation: Option<StandardDeviation>,
+    /// Also simulate this many calibrations (real robots drawn at
+    /// `error_level`), each judged against its real robot over the
+    /// workspace: the prediction checked by simulated truth.
+    #[serde(default)]
+    pub monte_carlo: Option<usize>,
+    /// The simulated real robots' errors: ±L mm on every joint centre and
+    /// length, ±L mrad on angles, ±L·10⁻³ on gains (default 1).
+    #[serde(default)]
+    pub error_level: Option<f64>,
+    /// Seed of the simulations (default [`DEFAULT_SEED`]).
+    #[serde(default)]
+    pub seed: Option<u64>,
+}
+
+/// Simulated calibrations' measured error.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct SimulatedCalibrationsDocument {
+    /// Calibrations simulated.
+    pub runs: usize,
+    /// RMS of the calibrated robots' tool-point errors over the workspace
+    /// against their real ones (m).
+    pub work_rms: f64,
+    /// The largest at one pose (m).
+    pub work_max: f64,
 }
 
 /// One identifiable parameter's predicted precision.
@@ -67,6 +95,8 @@ pub struct ParallelPredicted {
     /// The calibrated robot's predicted error at the configurations and
     /// over the workspace, and whether it will hold there.
     pub region: PlatformRegionDocument,
+    /// The simulated calibrations, when asked for.
+    pub monte_carlo: Option<SimulatedCalibrationsDocument>,
 }
 
 impl ParallelPredictRequest {
@@ -99,6 +129,34 @@ impl ParallelPredictRequest {
         };
         let configurations = read.samples.to_rows();
         let prediction = predict_platform(&file.robot, &configurations, measure, noise)?;
+        let monte_carlo = match self.monte_carlo {
+            Some(runs) => {
+                if !(1..=MAX_SIMULATED_CALIBRATIONS).contains(&runs) {
+                    return Err(AppError::setting_value(
+                        "monte_carlo",
+                        runs,
+                        format!("takes 1 to {MAX_SIMULATED_CALIBRATIONS} calibrations"),
+                    ));
+                }
+                let simulated = simulate_calibrations(
+                    &file.robot,
+                    &configurations,
+                    measure,
+                    noise,
+                    (
+                        runs,
+                        self.error_level.unwrap_or(DEFAULT_ERROR_LEVEL),
+                        self.seed.unwrap_or(DEFAULT_SEED),
+                    ),
+                )?;
+                Some(SimulatedCalibrationsDocument {
+                    runs: simulated.runs,
+                    work_rms: simulated.work_rms,
+                    work_max: simulated.work_max,
+                })
+            }
+            None => None,
+        };
         let names = file.robot.parameter_names();
         Ok(ParallelPredicted {
             robot: file.robot.name().to_owned(),
@@ -123,6 +181,7 @@ impl ParallelPredictRequest {
                 })
                 .collect(),
             region: (&prediction.region).into(),
+            monte_carlo,
         })
     }
 }

@@ -62,7 +62,9 @@ pub use identification::{
 };
 pub use measure::{PlatformMeasure, PlatformNoise};
 pub use planning::{PlannedPoses, plan_platform};
-pub use prediction::{PlatformPrediction, predict_platform};
+pub use prediction::{
+    PlatformPrediction, SimulatedCalibrations, predict_platform, simulate_calibrations,
+};
 pub use region::PlatformRegion;
 pub use registration::{in_base_frame, measurement_frame};
 pub use simulation::{

@@ -15,11 +15,18 @@ use gecaro_data::sample::Sample;
 use nalgebra::Isometry3;
 
 use super::identifiability::PlatformRankReport;
-use super::identification::{base_system, structural_rank};
+use super::identification::{
+    PlatformIdentificationOptions, base_system, identify_platform, structural_rank,
+};
 use super::measure::{PlatformMeasure, PlatformNoise};
 use super::observation::{actuator_values, normal_system};
 use super::region::{PlatformRegion, where_it_holds};
+use super::simulation::{
+    PlatformWorkspace, perturbed_platform, random_platform_poses, simulate_platform,
+};
 use crate::Error;
+use crate::identification::WORK_POSES;
+use crate::simulation::Sampler;
 
 /// What measuring a set of configurations is predicted to give.
 #[derive(Clone, Debug)]
@@ -154,4 +161,98 @@ fn readings<M: ParallelModel>(
         }
     }
     Ok(samples)
+}
+
+/// What simulated calibrations from the configurations measured: the
+/// prediction's check by simulated truth ([`simulate_calibrations`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SimulatedCalibrations {
+    /// Calibrations simulated.
+    pub runs: usize,
+    /// RMS over the runs of each calibrated robot's tool-point error
+    /// against its real one over the workspace (m).
+    pub work_rms: f64,
+    /// The largest of those errors at one pose (m).
+    pub work_max: f64,
+}
+
+/// `runs` calibrations of real robots drawn about `model` at `level`
+/// ([`perturbed_platform`]) from measurements at the actuator values of
+/// `configurations` with noise `noise` (seed `seed`), each calibrated robot
+/// judged against its real one at [`WORK_POSES`] poses over the workspace —
+/// the tool point the calibrated robot predicts for the real robot's
+/// actuator values there (for measured poses, which do not observe the tool
+/// point, the calibrated tool's place on the real platform). What [`predict_platform`]'s `region.work_rms`
+/// predicts, measured.
+///
+/// # Errors
+/// Distances (their calibration has no base frame to judge in), and as
+/// [`predict_platform`] and [`identify_platform`].
+pub fn simulate_calibrations<M: ParallelModel>(
+    model: &M,
+    configurations: &[Sample],
+    measure: PlatformMeasure,
+    noise: PlatformNoise,
+    (runs, level, seed): (usize, f64, u64),
+) -> Result<SimulatedCalibrations, Error> {
+    if measure == PlatformMeasure::Distance {
+        return Err(Error::InvalidOption {
+            setting: crate::Setting::Method,
+            message: "simulated calibrations from distances have no base frame to be judged \
+                      in: predict them without simulations"
+                .into(),
+        });
+    }
+    let mut sampler = Sampler::new(seed);
+    let (mut squares, mut count, mut largest) = (0.0, 0usize, 0.0f64);
+    for _ in 0..runs {
+        let real = perturbed_platform(model, level, &mut sampler)?;
+        let home = real.home();
+        let poses: Vec<Isometry3<f64>> = configurations
+            .iter()
+            .map(|sample| {
+                let actuators = actuator_values(&real, sample)?;
+                real.direct(actuators, &home)
+                    .map_err(|cause| Error::InvalidData {
+                        line: sample.line,
+                        message: cause.to_string(),
+                    })
+            })
+            .collect::<Result<_, _>>()?;
+        let samples = simulate_platform(&real, measure, &poses, noise, &mut sampler)?;
+        let result = identify_platform(
+            model,
+            &samples,
+            measure,
+            Some(noise),
+            &PlatformIdentificationOptions::default(),
+        )?;
+        let work = random_platform_poses(
+            &real,
+            WORK_POSES,
+            PlatformWorkspace::whole(&real),
+            &mut sampler,
+        )?;
+        for pose in &work {
+            let actuators = real.actuator_values(pose)?;
+            let calibrated = result
+                .calibrated
+                .direct(&actuators, &result.calibrated.home())?;
+            // Poses measured observe the platform, not the tool point: both
+            // judged at the calibrated tool's place on it.
+            let truth = match measure {
+                PlatformMeasure::Pose => result.calibrated.tool_point(pose),
+                _ => real.tool_point(pose),
+            };
+            let error = (result.calibrated.tool_point(&calibrated) - truth).norm();
+            squares += error * error;
+            largest = largest.max(error);
+            count += 1;
+        }
+    }
+    Ok(SimulatedCalibrations {
+        runs,
+        work_rms: (squares / count.max(1) as f64).sqrt(),
+        work_max: largest,
+    })
 }

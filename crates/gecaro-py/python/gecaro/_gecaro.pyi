@@ -838,12 +838,17 @@ def parallel_predict(
     sigma_rotation: Union[float, str, None] = None,
     length_unit: Optional[Literal["m", "mm"]] = None,
     angle_unit: Optional[Literal["rad", "deg"]] = None,
+    monte_carlo: Optional[int] = None,
+    error_level: Optional[float] = None,
+    seed: int = 1,
 ) -> dict[str, Any]:
     """The precision of calibrating a platform from the configurations of
     ``data`` (a plan's actuator values), before measuring, as ``gecaro
     predict hexapod --json``: ``"parameters"`` (each identifiable one's
     predicted ``"sigma"``) and ``"region"`` (``"predicted_work"`` m over the
-    workspace, ``"holds_everywhere"``)."""
+    workspace, ``"holds_everywhere"``); with ``monte_carlo`` calibrations
+    simulated (real robots at ``error_level``: ±mm, ±mrad), their measured
+    ``"monte_carlo"`` ``"work_rms"``."""
 
 def parallel_plan(
     robot: str,
