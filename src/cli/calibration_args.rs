@@ -84,7 +84,7 @@ pub(crate) struct GenerateArgs {
     #[arg(long, value_name = "REAL.toml", conflicts_with = "error_level")]
     pub(crate) real: Option<PathBuf>,
     /// Errors of the simulated real robot: ±L cm on lengths, ±L° on angles, ±L % on gains
-    /// (default 1).
+    /// (default 1); for a parallel robot ±L mm, ±L mrad, ±L·10⁻³ on gains.
     #[arg(long, value_name = "L")]
     pub(crate) error_level: Option<f64>,
     /// Elastic joints: the drawn real robot's compliances, L·[2e-6, 1e-5] rad/(N·m) per joint,
@@ -269,7 +269,8 @@ pub(crate) struct PredictArgs {
     /// Also run K simulated calibrations and report the errors measured.
     #[arg(long, value_name = "K")]
     pub(crate) monte_carlo: Option<usize>,
-    /// For --monte-carlo: the simulated real robots' error level (1 = ±1 cm, ±1°).
+    /// For --monte-carlo: the simulated real robots' error level (1 = ±1 cm, ±1°; for a
+    /// parallel robot ±1 mm, ±1 mrad).
     #[arg(long, default_value_t = 0.1)]
     pub(crate) error_level: f64,
     /// Seed of the test poses and the simulations.

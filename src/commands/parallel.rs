@@ -549,9 +549,8 @@ pub(crate) fn predict(args: &PredictArgs, robot: &str) -> Result<(), Failure> {
             "{noise}rad"
         ))),
         monte_carlo: args.monte_carlo,
-        // --error-level's 1 is ±1 cm for a serial robot; a parallel robot's
-        // is ±1 mm (and ±1 mrad): the same lengths.
-        error_level: Some(args.error_level * 10.0),
+        // A parallel robot's level, as `generate` reads it: ±L mm, ±L mrad.
+        error_level: Some(args.error_level),
         seed: Some(args.seed),
     }
     .run(&LocalFiles)?;
@@ -599,7 +598,7 @@ pub(crate) fn predict(args: &PredictArgs, robot: &str) -> Result<(), Failure> {
             "{} simulated calibrations (real platforms drawn at ±{} mm): {} mm RMS over the \
              workspace against their real ones (largest {} mm)",
             simulated.runs,
-            number(args.error_level * 10.0, 3),
+            number(args.error_level, 3),
             mm(simulated.work_rms),
             mm(simulated.work_max)
         );
