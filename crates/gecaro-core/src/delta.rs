@@ -309,46 +309,12 @@ impl ParallelModel for Delta {
         jacobian
     }
 
-    /// Row i: `∂Fᵢ/∂B = −uᵀ`, `∂Fᵢ/∂φ = −uᵀ·∂E/∂φ`, `∂Fᵢ/∂θ0 = −uᵀ·∂E/∂θ`,
-    /// `∂Fᵢ/∂K = −uᵀ·∂E/∂θ·qmᵢ`, `∂Fᵢ/∂La = −uᵀ·e`, `∂Fᵢ/∂Lb = −1`,
-    /// `∂Fᵢ/∂c = uᵀ·R`; the tool point is in no closure equation.
-    fn parameter_jacobian(&self, pose: &Isometry3<f64>, actuators: &[f64]) -> DMatrix<f64> {
-        let mut jacobian = DMatrix::zeros(ARMS, PARAMETER_COUNT);
-        for i in 0..ARMS {
-            let arm = &self.arms[i];
-            let unit = self.forearm(pose, i, actuators[i]).normalize();
-            let angle = self.angle(i, actuators[i]);
-            let h = self.direction(i);
-            let along = angle.cos() * h - angle.sin() * Vector3::z();
-            let turned = arm.upper_arm * (-angle.sin() * h - angle.cos() * Vector3::z());
-            let sideways = arm.upper_arm
-                * angle.cos()
-                * Vector3::new(-arm.azimuth.sin(), arm.azimuth.cos(), 0.0);
-            let plate = pose.rotation.inverse() * unit;
-            let row = [
-                -unit.x,
-                -unit.y,
-                -unit.z,
-                -unit.dot(&sideways),
-                -unit.dot(&turned),
-                -unit.dot(&turned) * actuators[i],
-                -unit.dot(&along),
-                -1.0,
-                plate.x,
-                plate.y,
-                plate.z,
-            ];
-            for (k, value) in row.iter().enumerate() {
-                jacobian[(i, i * PARAMETERS_PER_ARM + k)] = *value;
-            }
-        }
-        jacobian
-    }
-
     /// Arm by arm on the stack, each arm's angle's sine and cosine once:
-    /// the rows of [`closure`](ParallelModel::closure),
-    /// [`pose_jacobian`](ParallelModel::pose_jacobian) and
-    /// [`parameter_jacobian`](ParallelModel::parameter_jacobian).
+    /// the rows of [`closure`](ParallelModel::closure) and
+    /// [`pose_jacobian`](ParallelModel::pose_jacobian), and the coefficients
+    /// `∂Fᵢ/∂B = −uᵀ`, `∂Fᵢ/∂φ = −uᵀ·∂E/∂φ`, `∂Fᵢ/∂θ0 = −uᵀ·∂E/∂θ`,
+    /// `∂Fᵢ/∂K = −uᵀ·∂E/∂θ·qmᵢ`, `∂Fᵢ/∂La = −uᵀ·e`, `∂Fᵢ/∂Lb = −1`,
+    /// `∂Fᵢ/∂c = uᵀ·R` (the tool point is in no closure equation).
     fn visit_equations(
         &self,
         pose: &Isometry3<f64>,

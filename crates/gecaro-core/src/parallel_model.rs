@@ -91,45 +91,46 @@ pub trait ParallelModel: Clone + std::fmt::Debug + Send + Sync {
     /// `∂F/∂x` (k × [`pose_freedom`](Self::pose_freedom)).
     fn pose_jacobian(&self, pose: &Isometry3<f64>, actuators: &[f64]) -> DMatrix<f64>;
 
-    /// `∂F/∂ξ` (k × parameters).
-    fn parameter_jacobian(&self, pose: &Isometry3<f64>, actuators: &[f64]) -> DMatrix<f64>;
+    /// `∂F/∂ξ` (k × parameters): each equation's own coefficients
+    /// ([`visit_equations`](Self::visit_equations)) in its own columns.
+    fn parameter_jacobian(&self, pose: &Isometry3<f64>, actuators: &[f64]) -> DMatrix<f64> {
+        self.linearised(pose, actuators).by_parameter
+    }
 
-    /// `F`, `∂F/∂x` and `∂F/∂ξ` at once, for a structure to compute what
-    /// they share once (a calibration linearises every measured pose).
+    /// `F`, `∂F/∂x` and `∂F/∂ξ` at once, as
+    /// [`visit_equations`](Self::visit_equations) gives them row by row.
     fn linearised(&self, pose: &Isometry3<f64>, actuators: &[f64]) -> Linearised {
-        Linearised {
-            closure: self.closure(pose, actuators),
-            by_pose: self.pose_jacobian(pose, actuators),
-            by_parameter: self.parameter_jacobian(pose, actuators),
-        }
+        let equations = self.actuator_count();
+        let mut linearised = Linearised {
+            closure: DVector::zeros(equations),
+            by_pose: DMatrix::zeros(equations, self.pose_freedom()),
+            by_parameter: DMatrix::zeros(equations, self.parameter_count()),
+        };
+        self.visit_equations(pose, actuators, &mut |equation, closure, row, own| {
+            linearised.closure[equation] = closure;
+            for (column, value) in row.iter().enumerate() {
+                linearised.by_pose[(equation, column)] = *value;
+            }
+            for (column, value) in self.equation_parameters(equation).zip(own) {
+                linearised.by_parameter[(equation, column)] = *value;
+            }
+        });
+        linearised
     }
 
     /// Each closure equation at `pose` in order, given to `visit` as its
     /// index, its residual `Fᵢ`, its row of `∂F/∂x` and its coefficients on
     /// its own parameters ([`equation_parameters`](Self::equation_parameters)),
     /// without forming the k × parameters matrix: a calibration of 10⁵
-    /// measured poses linearises each once an iteration. By default from
-    /// [`linearised`](Self::linearised).
+    /// measured poses linearises each once an iteration. The structure's
+    /// equations are written here once; [`linearised`](Self::linearised) and
+    /// [`parameter_jacobian`](Self::parameter_jacobian) gather them.
     fn visit_equations(
         &self,
         pose: &Isometry3<f64>,
         actuators: &[f64],
         visit: &mut EquationVisitor<'_>,
-    ) {
-        let Linearised {
-            closure,
-            by_pose,
-            by_parameter,
-        } = self.linearised(pose, actuators);
-        for equation in 0..closure.len() {
-            let row: Vec<f64> = by_pose.row(equation).iter().copied().collect();
-            let own: Vec<f64> = self
-                .equation_parameters(equation)
-                .map(|column| by_parameter[(equation, column)])
-                .collect();
-            visit(equation, closure[equation], &row, &own);
-        }
-    }
+    );
 
     /// The parameters closure equation `equation` can involve (a leg's
     /// own eight): the columns of `∂F/∂ξ` outside are zero. All of them by
@@ -418,8 +419,10 @@ pub(crate) fn check_actuator(
 }
 
 /// That `model`'s equations as [`ParallelModel::visit_equations`] gives
-/// them are [`ParallelModel::linearised`]'s, to rounding (a structure's own
-/// fast path against its matrices).
+/// them are [`ParallelModel::linearised`]'s and, to rounding, the
+/// structure's own [`closure`](ParallelModel::closure) and
+/// [`pose_jacobian`](ParallelModel::pose_jacobian), written apart (the
+/// coefficients are checked by finite differences in each structure's tests).
 #[cfg(test)]
 pub(crate) fn assert_visits_match_linearised<M: ParallelModel>(
     model: &M,
@@ -457,4 +460,6 @@ pub(crate) fn assert_visits_match_linearised<M: ParallelModel>(
         }
     });
     assert_eq!(visited, closure.len());
+    assert!((closure - model.closure(pose, actuators)).amax() < 1e-12);
+    assert!((by_pose - model.pose_jacobian(pose, actuators)).amax() < 1e-12);
 }

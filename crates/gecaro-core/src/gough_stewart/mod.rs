@@ -63,7 +63,7 @@ use nalgebra::{DMatrix, DVector, Isometry3, Matrix6, Point3, Vector3, Vector6};
 
 use crate::error::{Error, Field};
 use crate::parallel_model::{
-    EquationVisitor, Linearised, ParallelModel, ParameterUnit, check_actuator, check_tool,
+    EquationVisitor, ParallelModel, ParameterUnit, check_actuator, check_tool,
 };
 use crate::stated::MAX_MAGNITUDE;
 
@@ -203,21 +203,11 @@ impl GoughStewart {
         pose: &Isometry3<f64>,
         actuators: &[f64; LEGS],
     ) -> [[f64; PARAMETERS_PER_LEG]; LEGS] {
-        let vectors = self.leg_vectors(pose);
-        std::array::from_fn(|i| {
-            let unit = vectors[i] / vectors[i].norm();
-            let turned = pose.rotation.inverse() * unit;
-            [
-                -unit.x,
-                -unit.y,
-                -unit.z,
-                turned.x,
-                turned.y,
-                turned.z,
-                -1.0,
-                -actuators[i],
-            ]
-        })
+        let mut rows = [[0.0; PARAMETERS_PER_LEG]; LEGS];
+        self.visit_equations(pose, actuators, &mut |leg, _, _, own| {
+            rows[leg].copy_from_slice(own);
+        });
+        rows
     }
 
     /// The residuals `Fᵢ` of the leg equations at a pose.
@@ -397,51 +387,8 @@ impl ParallelModel for GoughStewart {
         DMatrix::from_fn(LEGS, 6, |r, c| jacobian[(r, c)])
     }
 
-    fn parameter_jacobian(&self, pose: &Isometry3<f64>, actuators: &[f64]) -> DMatrix<f64> {
-        let actuators: [f64; LEGS] = std::array::from_fn(|i| actuators[i]);
-        let rows = self.leg_parameter_rows(pose, &actuators);
-        let mut jacobian = DMatrix::zeros(LEGS, PARAMETER_COUNT);
-        for (leg, row) in rows.iter().enumerate() {
-            for (k, value) in row.iter().enumerate() {
-                jacobian[(leg, leg * PARAMETERS_PER_LEG + k)] = *value;
-            }
-        }
-        jacobian
-    }
-
-    /// The leg vectors computed once for all three.
-    fn linearised(&self, pose: &Isometry3<f64>, actuators: &[f64]) -> Linearised {
-        let vectors = self.leg_vectors(pose);
-        let inverse = pose.rotation.inverse();
-        let mut closure = DVector::zeros(LEGS);
-        let mut by_pose = DMatrix::zeros(LEGS, 6);
-        let mut by_parameter = DMatrix::zeros(LEGS, PARAMETER_COUNT);
-        for (i, vector) in vectors.iter().enumerate() {
-            let leg = &self.legs[i];
-            let length = vector.norm();
-            let unit = vector / length;
-            let turn = (pose.rotation * leg.platform).cross(&unit);
-            let turned = inverse * unit;
-            closure[i] = length - leg.length - leg.gain * actuators[i];
-            for axis in 0..3 {
-                by_pose[(i, axis)] = unit[axis];
-                by_pose[(i, 3 + axis)] = turn[axis];
-                by_parameter[(i, i * PARAMETERS_PER_LEG + axis)] = -unit[axis];
-                by_parameter[(i, i * PARAMETERS_PER_LEG + 3 + axis)] = turned[axis];
-            }
-            by_parameter[(i, i * PARAMETERS_PER_LEG + 6)] = -1.0;
-            by_parameter[(i, i * PARAMETERS_PER_LEG + 7)] = -actuators[i];
-        }
-        Linearised {
-            closure,
-            by_pose,
-            by_parameter,
-        }
-    }
-
     /// Leg by leg on the stack: a leg's row of `∂F/∂x` is `[uᵢ, R·bᵢ × uᵢ]`
-    /// and its coefficients `[−uᵢ, Rᵀ·uᵢ, −1, −qmᵢ]` (as
-    /// [`linearised`](ParallelModel::linearised)).
+    /// and its coefficients `[−uᵢ, Rᵀ·uᵢ, −1, −qmᵢ]`.
     fn visit_equations(
         &self,
         pose: &Isometry3<f64>,
