@@ -357,11 +357,7 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
             println!(
                 "predicted {}: {} mm RMS at the measured poses, {} mm over the workspace \
                  (largest {} mm; noise floor {} mm)",
-                if region.distances {
-                    "error of a distance from the home pose"
-                } else {
-                    "tool-point error"
-                },
+                region.error,
                 mm(region.predicted_inside),
                 mm(region.predicted_work),
                 mm(region.predicted_work_max),
@@ -583,11 +579,7 @@ pub(crate) fn predict(args: &PredictArgs, robot: &str) -> Result<(), Failure> {
     println!(
         "predicted {} of the calibrated platform: {} mm RMS at these configurations, {} mm over \
          the workspace (largest {} mm; a held-out measurement's noise {} mm)",
-        if region.distances {
-            "error of a distance from the home pose"
-        } else {
-            "tool-point error"
-        },
+        region.error,
         mm(region.predicted_inside),
         mm(region.predicted_work),
         mm(region.predicted_work_max),

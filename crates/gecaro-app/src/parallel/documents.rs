@@ -218,6 +218,9 @@ pub struct PlatformRegionDocument {
     /// point (the data measured distances, which observe no base frame),
     /// not of the tool point.
     pub distances: bool,
+    /// What is predicted, in words (`tool-point error`, or `error of a
+    /// distance from the home pose`).
+    pub error: &'static str,
 }
 
 impl From<&PlatformRegion> for PlatformRegionDocument {
@@ -234,6 +237,7 @@ impl From<&PlatformRegion> for PlatformRegionDocument {
             still_actuators: region.still_actuators.clone(),
             holds_everywhere: region.holds_everywhere,
             distances: region.distances,
+            error: region.error_words(),
         }
     }
 }

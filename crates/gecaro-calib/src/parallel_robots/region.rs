@@ -86,6 +86,16 @@ impl PlatformRegion {
             .collect()
     }
 
+    /// What is predicted, in words: the tool point's error, or a
+    /// distance's from the home pose (for measured distances).
+    pub fn error_words(&self) -> &'static str {
+        if self.distances {
+            "error of a distance from the home pose"
+        } else {
+            "tool-point error"
+        }
+    }
+
     /// The measured range of actuator `actuator` (1-based) in words:
     /// `qm2 −15.0…30.0 mm`.
     pub fn range_words(&self, actuator: usize) -> String {

@@ -130,7 +130,7 @@ export function buildParallel() {
         sigma: required(sigma, 'the sensor σ') && sigmaWithUnit(sigma),
       });
       const region = answer.region;
-      const what = region.distances ? 'error of a distance from the home pose' : 'tool-point error';
+      const what = region.error;
       const length = (value) => `${quantity(value, 'length')} ${unitName('length')}`;
       result.replaceChildren(
         h('p', { id: 'parallel-prediction', class: region.holds_everywhere ? '' : 'warnings', text: `${answer.robot} — ${answer.method} method at the ${answer.configurations} configurations of ${answer.data}: ${answer.rank} parameters identifiable; predicted ${what} ${length(region.predicted_inside)} RMS there, ${length(region.predicted_work)} over the workspace (a held-out measurement's noise ${length(region.noise_floor)})${region.holds_everywhere ? '' : ': these configurations calibrate the platform where they are only'}.` }));
@@ -166,7 +166,7 @@ export function buildParallel() {
       result.replaceChildren(
         h('p', { id: 'parallel-verdict', class: answer.trusted ? '' : 'warnings', text: `${answer.robot} — ${answer.method} method on ${answer.data} (${answer.configurations} poses): ${answer.summary}.` }),
         h('p', { id: 'parallel-errors', text: `At the measured poses: nominal ${errorsText(answer.errors_before, answer.method)}; calibrated ${errorsText(answer.errors_after, answer.method)}.${answer.written ? ` The calibrated platform was written to ${answer.written}.` : ''}` }),
-        ...(answer.region ? [h('p', { id: 'parallel-region', class: answer.region.holds_everywhere ? '' : 'warnings', text: `Predicted ${answer.region.distances ? 'error of a distance from the home pose' : 'tool-point error'}: ${quantity(answer.region.predicted_inside, 'length')} ${unitName('length')} RMS at the measured poses, ${quantity(answer.region.predicted_work, 'length')} ${unitName('length')} over the workspace (noise floor ${quantity(answer.region.noise_floor, 'length')} ${unitName('length')})${answer.region.holds_everywhere ? '' : ': the result holds only where the data were taken'}.` })] : []),
+        ...(answer.region ? [h('p', { id: 'parallel-region', class: answer.region.holds_everywhere ? '' : 'warnings', text: `Predicted ${answer.region.error}: ${quantity(answer.region.predicted_inside, 'length')} ${unitName('length')} RMS at the measured poses, ${quantity(answer.region.predicted_work, 'length')} ${unitName('length')} over the workspace (noise floor ${quantity(answer.region.noise_floor, 'length')} ${unitName('length')})${answer.region.holds_everywhere ? '' : ': the result holds only where the data were taken'}.` })] : []),
         ...answer.warnings.map((warning) => h('p', { class: 'warnings', text: `Warning: ${warning}.` })),
         ...(answer.registered ? [registeredLine(answer.registered)] : []),
         parameterTable(answer.parameters));
