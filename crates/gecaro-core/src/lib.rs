@@ -86,8 +86,8 @@ pub use gravity::{
 pub use kinematics::turn;
 pub use kinematics::{
     CONFIGURATION_LANES, ChainBuffer, FrameChain, InverseOptions, InverseSolution, InverseSolver,
-    JacobianRows, KinematicModel, KnownMinima, LaneBuffer, OrientationDifference, Target,
-    forward_kinematics, frame_transform, inverse_kinematics, joint_jacobian,
+    JacobianRows, KinematicModel, KnownMinima, LaneBuffer, OrientationDifference, SphericalWrist,
+    Target, forward_kinematics, frame_transform, inverse_kinematics, joint_jacobian,
     orientation_difference, parameter_jacobian, parameter_jacobian_of_chain, pose_difference,
     terminal_pose,
 };

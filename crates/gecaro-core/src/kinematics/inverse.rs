@@ -485,37 +485,88 @@ pub(super) fn inverse_kinematics_near(
     start_motor_positions: &[f64],
     options: &InverseOptions,
 ) -> Result<InverseSolution, Error> {
+    newton_then(robot, model, target, start_motor_positions, options, true)
+}
+
+/// The Newton steps of [`inverse_kinematics_near`] alone: from a start a
+/// step or two from a solution (a configuration of a nearby robot), the
+/// solution, else [`Error::Unreachable`] at once, without the damped
+/// solver's search.
+///
+/// # Errors
+/// As [`inverse_kinematics`].
+pub(super) fn inverse_kinematics_newton(
+    robot: &Robot,
+    model: &KinematicModel,
+    target: &Target,
+    start_motor_positions: &[f64],
+    options: &InverseOptions,
+) -> Result<InverseSolution, Error> {
+    newton_then(robot, model, target, start_motor_positions, options, false)
+}
+
+/// Newton steps from the start, then (`damped`) the damped solver where
+/// they stop short, else [`Error::Unreachable`].
+fn newton_then(
+    robot: &Robot,
+    model: &KinematicModel,
+    target: &Target,
+    start_motor_positions: &[f64],
+    options: &InverseOptions,
+    damped: bool,
+) -> Result<InverseSolution, Error> {
     check_target(target)?;
     let start = robot.joint_positions(start_motor_positions)?;
     let solver = (robot, model, options);
     in_workspace(target, robot.joint_count(), |work| {
-        work.current.joint_positions.copy_from(&start);
-        let mut residual = work.current.evaluate(solver, target);
-        for iteration in 0..=NEWTON_ITERATIONS {
-            if residual <= options.tolerance {
-                return solution(robot, &work.current, iteration, residual);
-            }
-            if iteration == NEWTON_ITERATIONS {
-                break;
-            }
-            work.linearise(model, target);
-            if !newton_step(&work.jacobian, &work.current.error, &mut work.step)
-                || work.step.amax() > MAX_NEWTON_STEP
-            {
-                break;
-            }
-            let candidate_residual =
-                work.candidate
-                    .step_from((&work.current, &work.step), solver, target);
-            // (A NaN is no improvement either.)
-            if candidate_residual.is_nan() || candidate_residual >= residual {
-                break;
-            }
-            std::mem::swap(&mut work.current, &mut work.candidate);
-            residual = candidate_residual;
+        match newton_from(work, solver, target, &start)? {
+            Ok(solution) => Ok(solution),
+            Err(_) if damped => descend_from(work, solver, target, &start, None),
+            Err((iterations, residual)) => Err(Error::Unreachable {
+                iterations,
+                residual,
+                tolerance: options.tolerance,
+            }),
         }
-        descend_from(work, solver, target, &start, None)
     })
+}
+
+/// Newton steps from `start` (see [`inverse_kinematics_near`]): the
+/// solution, or the iterations taken and the error left when they stop
+/// short of it.
+fn newton_from(
+    work: &mut Workspace,
+    solver: Solver<'_>,
+    target: &Target,
+    start: &DVector<f64>,
+) -> Result<Result<InverseSolution, (usize, f64)>, Error> {
+    let (robot, model, options) = solver;
+    work.current.joint_positions.copy_from(start);
+    let mut residual = work.current.evaluate(solver, target);
+    for iteration in 0..=NEWTON_ITERATIONS {
+        if residual <= options.tolerance {
+            return solution(robot, &work.current, iteration, residual).map(Ok);
+        }
+        if iteration == NEWTON_ITERATIONS {
+            break;
+        }
+        work.linearise(model, target);
+        if !newton_step(&work.jacobian, &work.current.error, &mut work.step)
+            || work.step.amax() > MAX_NEWTON_STEP
+        {
+            return Ok(Err((iteration, residual)));
+        }
+        let candidate_residual =
+            work.candidate
+                .step_from((&work.current, &work.step), solver, target);
+        // (A NaN is no improvement either.)
+        if candidate_residual.is_nan() || candidate_residual >= residual {
+            return Ok(Err((iteration, residual)));
+        }
+        std::mem::swap(&mut work.current, &mut work.candidate);
+        residual = candidate_residual;
+    }
+    Ok(Err((NEWTON_ITERATIONS, residual)))
 }
 
 /// `joint_positions` clamped to the joint limits.

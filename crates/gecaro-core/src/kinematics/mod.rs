@@ -17,6 +17,7 @@ mod loaded;
 mod model;
 mod pose_difference;
 mod solver;
+mod spherical_wrist;
 pub mod turn;
 
 pub use direct::{FrameChain, forward_kinematics, frame_transform, terminal_pose};
@@ -27,3 +28,4 @@ pub use lanes::{CONFIGURATION_LANES, LaneBuffer};
 pub use model::{ChainBuffer, JacobianRows, KinematicModel};
 pub use pose_difference::{OrientationDifference, orientation_difference, pose_difference};
 pub use solver::InverseSolver;
+pub use spherical_wrist::SphericalWrist;

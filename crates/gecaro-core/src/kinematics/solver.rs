@@ -12,7 +12,7 @@ use std::borrow::Cow;
 
 use super::inverse::{
     InverseOptions, InverseSolution, Target, inverse_kinematics_avoiding, inverse_kinematics_near,
-    inverse_kinematics_on,
+    inverse_kinematics_newton, inverse_kinematics_on,
 };
 use super::known_minima::KnownMinima;
 use super::model::KinematicModel;
@@ -134,6 +134,21 @@ impl<'a> InverseSolver<'a> {
         options: &InverseOptions,
     ) -> Result<InverseSolution, Error> {
         inverse_kinematics_near(self.robot, &self.model, target, start, options)
+    }
+
+    /// From a start a step or two from a solution (a configuration of a
+    /// nearby robot in closed form): Newton steps alone, and
+    /// [`Error::Unreachable`] at once where they do not converge.
+    ///
+    /// # Errors
+    /// As [`solve`](Self::solve).
+    pub fn solve_newton(
+        &self,
+        target: &Target,
+        start: &[f64],
+        options: &InverseOptions,
+    ) -> Result<InverseSolution, Error> {
+        inverse_kinematics_newton(self.robot, &self.model, target, start, options)
     }
 
     /// One of many starts on one target: given up as soon as its joints come
