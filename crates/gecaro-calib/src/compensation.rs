@@ -504,13 +504,9 @@ fn compensate_one(
         Err(other) => return Err(other.into()),
     };
     // Far from the program's joints is another configuration: flagged.
-    let moved = start.filter(|_| !free).map_or(0.0, |start| {
-        motor_positions
-            .iter()
-            .zip(start)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max)
-    });
+    let moved = start
+        .filter(|_| !free)
+        .map_or(0.0, |start| apart(&motor_positions, start));
     let status = if status == CompensationStatus::Reached && moved > RECONFIGURATION {
         CompensationStatus::Reconfigured
     } else {
@@ -735,10 +731,11 @@ impl Branches<'_, '_> {
         }
         for (branch, motor_positions) in failed {
             let (reach, distance) = self.rank(&branch, motor_positions.as_slice())?;
-            let promising = best.as_ref().is_none_or(|((kept_reach, kept), _)| {
-                reach < *kept_reach || (reach == *kept_reach && distance < kept + BRANCH_MARGIN)
-            });
-            if !promising {
+            let promising = (reach, distance - BRANCH_MARGIN);
+            if best
+                .as_ref()
+                .is_some_and(|(kept, _)| !less(promising, *kept))
+            {
                 continue;
             }
             match self

@@ -404,7 +404,6 @@ impl Robot {
     /// assert!((robot.parameter(theta) - 0.5).abs() < 1e-12);
     /// ```
     pub fn wrap_angles(&mut self) {
-        use std::f64::consts::{PI, TAU};
         let angles: Vec<ParameterId> = self
             .parameters
             .ids()
@@ -419,12 +418,7 @@ impl Robot {
             .collect();
         for id in angles {
             let value = self.parameter(id);
-            let wrapped = value - TAU * ((value + PI) / TAU).ceil() + TAU;
-            let wrapped = if wrapped <= -PI {
-                wrapped + TAU
-            } else {
-                wrapped
-            };
+            let wrapped = crate::kinematics::turn::wrapped(value);
             if wrapped != value {
                 // An angle is never a gain: assigning it cannot fail.
                 let _ = self.assign(id, wrapped);

@@ -55,6 +55,7 @@ use std::f64::consts::{PI, TAU};
 use nalgebra::{IsometryMatrix3, Matrix3, Rotation3, Vector3};
 
 use super::direct::frame_transform;
+use super::turn::wrapped as wrap;
 use crate::frame::{Frame, FrameType, Joint};
 use crate::robot::Robot;
 
@@ -84,8 +85,8 @@ enum Reduction {
 /// reaches a pose ([`SphericalWrist::of`] says whether a robot is one).
 #[derive(Clone, Debug)]
 pub struct SphericalWrist {
-    /// `(−1)T(0)`: frame 0 in the world.
-    base: IsometryMatrix3<f64>,
+    /// `(−1)T(0)⁻¹`: the world in frame 0.
+    base_inverse: IsometryMatrix3<f64>,
     /// `(6)T(7)⁻¹`: frame 6 from the end frame.
     tool_inverse: IsometryMatrix3<f64>,
     /// Frames 1..=6.
@@ -150,7 +151,7 @@ impl SphericalWrist {
             _ => (-PI, PI),
         };
         Some(SphericalWrist {
-            base: frame_transform(&frames[0], 0.0),
+            base_inverse: frame_transform(&frames[0], 0.0).inverse(),
             tool_inverse: frame_transform(&frames[7], 0.0).inverse(),
             frames: std::array::from_fn(|j| frames[j + 1]),
             centre_in_3: frame_transform(&frames[4], 0.0).translation.vector,
@@ -165,7 +166,7 @@ impl SphericalWrist {
     /// arm's reach.
     pub fn branches(&self, pose: &IsometryMatrix3<f64>) -> Vec<[f64; 6]> {
         let [f1, f2, f3, f4, f5, f6] = &self.frames;
-        let wrist = self.base.inverse() * pose * self.tool_inverse;
+        let wrist = self.base_inverse * pose * self.tool_inverse;
         let z6 = wrist.rotation.matrix().column(2).into_owned();
         let centre = wrist.translation.vector - f6.r * z6;
         let u = rot_x(f1.alpha).transpose() * centre - Vector3::new(f1.d, 0.0, 0.0);
@@ -258,12 +259,6 @@ fn rot_x(alpha: f64) -> Matrix3<f64> {
 /// `Rot(z, γ)`.
 fn rot_z(gamma: f64) -> Matrix3<f64> {
     *Rotation3::from_axis_angle(&Vector3::z_axis(), gamma).matrix()
-}
-
-/// An angle in (−π, π].
-fn wrap(angle: f64) -> f64 {
-    let wrapped = angle.rem_euclid(TAU);
-    if wrapped > PI { wrapped - TAU } else { wrapped }
 }
 
 /// `+√x` and `−√x` (one of them when x is rounding's worth from zero, none

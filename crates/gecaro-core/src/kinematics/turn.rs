@@ -26,6 +26,17 @@
 
 use wide::f64x4;
 
+/// `angle` (radians) turned by whole turns into (−π, π].
+pub(crate) fn wrapped(angle: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    let wrapped = angle - TAU * ((angle + PI) / TAU).ceil() + TAU;
+    if wrapped <= -PI {
+        wrapped + TAU
+    } else {
+        wrapped
+    }
+}
+
 /// Lanes taken at once by [`sin_cos_lanes`].
 pub const LANES: usize = 4;
 
