@@ -457,7 +457,7 @@ fn compensate_one(
                 CompensationStatus::Reached,
             )
         }
-        Err(gecaro_core::Error::Unreachable { .. }) => {
+        Err(gecaro_core::Error::Unreachable { met_limit, .. }) => {
             // (Only the program's own joints solve the nominal robot; a
             // previous target's solution does not.)
             let program_joints = start.filter(|_| !free);
@@ -465,7 +465,7 @@ fn compensate_one(
                 nominal,
                 solver,
                 target,
-                program_joints,
+                (program_joints, met_limit),
                 &solve,
                 options,
                 seed,
@@ -557,12 +557,13 @@ fn turned_into_limits(
 /// the closest beyond them. For other arms and targets, starts around the program's
 /// joints within the limits; else that solution beyond them; else starts
 /// anywhere beyond them, a solution that turns back within them first.
-/// `None` when none reaches the target.
+/// `None` when none reaches the target. `met_limit`: whether the solve from
+/// the program's joints within the limits, failed, met one.
 fn fallback(
     (nominal, wrist): (&Robot, Option<&SphericalWrist>),
     solver: &InverseSolver<'_>,
     target: &Target,
-    program_joints: Option<&[f64]>,
+    (program_joints, met_limit): (Option<&[f64]>, bool),
     solve: &dyn Fn(&InverseOptions) -> Result<InverseSolution, gecaro_core::Error>,
     options: &InverseOptions,
     seed: u64,
@@ -586,8 +587,13 @@ fn fallback(
     // the branch's reach on the way) after eight or more solves. Measured
     // on 5,725 hard Stanford targets: that solve fails for 4,743, and 44
     // of their paths could be followed to the end; it meets 23 targets
-    // whose path is cut.
-    let without_limits = reached(solve(&unlimited))?;
+    // whose path is cut. Where the solve within the limits never met one
+    // (`met_limit`), that solve is the same one, failed already.
+    let without_limits = if met_limit {
+        reached(solve(&unlimited))?
+    } else {
+        None
+    };
     let followed = match without_limits {
         Some(_) => continue_from_nominal(nominal, robot, target, start, options)?,
         None => None,

@@ -5,7 +5,8 @@
 //!
 //! 1. **Continuation** ([`continue_from_nominal`]): the robot is moved from
 //!    the nominal parameters to the calibrated ones in small steps, the
-//!    target held, and each step solved from the solution of the one before.
+//!    target held, and each step solved from the solution of the one before
+//!    (Newton steps: it is a step or two away).
 //!    The compensation follows it where the calibrated robot meets the
 //!    target from the program's joints with the limits lifted; elsewhere
 //!    the target nearly always leaves the branch's reach on the way.
@@ -27,7 +28,6 @@
 
 use gecaro_core::{
     InverseOptions, InverseSolution, InverseSolver, KnownMinima, ParameterKind, Robot, Target,
-    inverse_kinematics,
 };
 
 use crate::Error;
@@ -105,6 +105,19 @@ pub(crate) fn continue_from_nominal(
         respect_limits: false,
         ..*options
     };
+    // Each step's solution is near the one before: Newton steps from it,
+    // the damped solver where they do not converge; where several
+    // configurations meet the target (a point for six joints), the damped
+    // solver's, whose moves stay near the start.
+    let redundant = calibrated.joint_count() > target.rows();
+    let solve = |robot: &Robot, start: &[f64]| {
+        let solver = InverseSolver::new(robot);
+        if redundant {
+            solver.solve(target, start, &unlimited)
+        } else {
+            solver.solve_near(target, start, &unlimited)
+        }
+    };
     let mut current = start_motor_positions.to_vec();
     let mut reached = 0.0;
     let mut step = LONGEST_STEP;
@@ -112,7 +125,7 @@ pub(crate) fn continue_from_nominal(
     let mut last = None;
     while reached < 1.0 {
         let next = (reached + step).min(1.0);
-        match inverse_kinematics(&robot_at(next)?, target, &current, &unlimited) {
+        match solve(&robot_at(next)?, &current) {
             Ok(solution) => {
                 current.clone_from(&solution.motor_positions);
                 reached = next;

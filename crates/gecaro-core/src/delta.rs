@@ -374,6 +374,7 @@ impl ParallelModel for Delta {
                         iterations: 0,
                         residual: (c.abs() - radius).max(0.0),
                         tolerance: 0.0,
+                        met_limit: false,
                     });
                 }
                 let (middle, spread) = (b.atan2(a), (c / radius).acos());

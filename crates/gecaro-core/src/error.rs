@@ -126,8 +126,8 @@ pub enum Error {
     /// The numerical inverse geometric model did not reach its target.
     #[error(
         "target not reached by the inverse geometric model after {iterations} iterations \
-         (remaining error {residual:.3e}; tolerance {tolerance:.1e}): \
-         it is out of reach within the joint limits, or needs another start configuration"
+         (remaining error {residual:.3e}; tolerance {tolerance:.1e}): {}",
+        unreachable_text(*.met_limit)
     )]
     Unreachable {
         /// Iterations spent.
@@ -136,7 +136,22 @@ pub enum Error {
         residual: f64,
         /// The tolerance that was asked for.
         tolerance: f64,
+        /// Whether a joint limit bore on the search: an iterate it tried
+        /// had a joint at or beyond a limit (held there). When not, the
+        /// same search without the limits takes the same steps to the
+        /// same end.
+        met_limit: bool,
     },
+}
+
+fn unreachable_text(met_limit: bool) -> &'static str {
+    if met_limit {
+        "a joint met its limit on the way: it is out of reach within the joint limits, \
+         or needs another start configuration"
+    } else {
+        "no joint met a limit on the way: it is out of reach, or needs another start \
+         configuration"
+    }
 }
 
 fn suggestion_text(suggestion: &Option<String>) -> String {

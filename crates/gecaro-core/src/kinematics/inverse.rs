@@ -19,7 +19,9 @@
 //!
 //! Failure is an error, never a silently wrong configuration: when the target
 //! is out of reach within the joint limits, or the iteration stalls from this
-//! start, [`Error::Unreachable`] reports the remaining error. A solve gives up
+//! start, [`Error::Unreachable`] reports the remaining error, and whether a
+//! joint met a limit on the way (if not, the same solve without the limits
+//! would take the same steps). A solve gives up
 //! at a least-squares minimum short of the target (the projected gradient
 //! `Jᵀ Δx` vanishing against `‖J‖ ‖Δx‖`), after five iterations that lower
 //! ‖Δx‖ by rounding's worth, or after 25 that do not halve it.
@@ -208,6 +210,9 @@ struct Workspace {
     held: DMatrix<f64>,
     /// The step from the iterate to the candidate.
     step: DVector<f64>,
+    /// Whether an iterate of this solve had a joint at or beyond a limit
+    /// (see [`Error::Unreachable`]'s `met_limit`).
+    met_limit: bool,
 }
 
 /// Joint positions, the direct model there and the task error.
@@ -252,6 +257,7 @@ impl Workspace {
             jacobian: DMatrix::zeros(rows, joints),
             held: DMatrix::zeros(rows, joints),
             step: DVector::zeros(joints),
+            met_limit: false,
         }
     }
 
@@ -271,18 +277,23 @@ impl Iterate {
         &mut self,
         (from, step): (&Iterate, &DVector<f64>),
         solver: Solver<'_>,
-        target: &Target,
+        (target, met_limit): (&Target, &mut bool),
     ) -> f64 {
         self.joint_positions.copy_from(&from.joint_positions);
         self.joint_positions += step;
-        self.evaluate(solver, target)
+        self.evaluate(solver, (target, met_limit))
     }
 
     /// Clamps the joint positions to the limits (when the options keep
-    /// them) and evaluates the model and the task error there; ‖Δx‖.
-    fn evaluate(&mut self, (robot, model, options): Solver<'_>, target: &Target) -> f64 {
+    /// them; `met_limit` set when a joint is at or beyond one) and
+    /// evaluates the model and the task error there; ‖Δx‖.
+    fn evaluate(
+        &mut self,
+        (robot, model, options): Solver<'_>,
+        (target, met_limit): (&Target, &mut bool),
+    ) -> f64 {
         if options.respect_limits {
-            clamp_to_limits(robot, &mut self.joint_positions);
+            *met_limit |= clamp_to_limits(robot, &mut self.joint_positions);
         }
         model.forward_joints(self.joint_positions.as_slice(), &mut self.chain);
         task_error(target, self.chain.world_from_tool(), &mut self.error);
@@ -300,6 +311,7 @@ fn damped_descent(
     known: Option<&mut KnownMinima>,
 ) -> Result<InverseSolution, Error> {
     in_workspace(target, solver.0.joint_count(), |work| {
+        work.met_limit = false;
         descend_from(work, solver, target, start, known)
     })
 }
@@ -316,7 +328,7 @@ fn descend_from(
     let joints = options.respect_limits.then(|| robot.joints());
     work.current.joint_positions.copy_from(start);
     // ‖Δx‖ of `work.current.error`, kept beside it.
-    let mut residual = work.current.evaluate(solver, target);
+    let mut residual = work.current.evaluate(solver, (target, &mut work.met_limit));
     let mut damping = INITIAL_DAMPING;
     let mut iterations = 0;
     let (mut checkpoint_error, mut checkpoint_iteration) = (residual, 0);
@@ -348,9 +360,11 @@ fn descend_from(
                 damping *= 10.0;
                 continue;
             }
-            let candidate_residual =
-                work.candidate
-                    .step_from((&work.current, &work.step), solver, target);
+            let candidate_residual = work.candidate.step_from(
+                (&work.current, &work.step),
+                solver,
+                (target, &mut work.met_limit),
+            );
             if candidate_residual < residual {
                 let decrease = residual - candidate_residual;
                 stationary = if decrease <= STATIONARY_DECREASE * residual {
@@ -383,6 +397,7 @@ fn descend_from(
             iterations,
             residual,
             tolerance: options.tolerance,
+            met_limit: work.met_limit,
         });
     }
     solution(robot, &work.current, iterations, residual)
@@ -519,6 +534,7 @@ fn newton_then(
     let start = robot.joint_positions(start_motor_positions)?;
     let solver = (robot, model, options);
     in_workspace(target, robot.joint_count(), |work| {
+        work.met_limit = false;
         match newton_from(work, solver, target, &start)? {
             Ok(solution) => Ok(solution),
             Err(_) if damped => descend_from(work, solver, target, &start, None),
@@ -526,6 +542,7 @@ fn newton_then(
                 iterations,
                 residual,
                 tolerance: options.tolerance,
+                met_limit: work.met_limit,
             }),
         }
     })
@@ -542,7 +559,7 @@ fn newton_from(
 ) -> Result<Result<InverseSolution, (usize, f64)>, Error> {
     let (robot, model, options) = solver;
     work.current.joint_positions.copy_from(start);
-    let mut residual = work.current.evaluate(solver, target);
+    let mut residual = work.current.evaluate(solver, (target, &mut work.met_limit));
     for iteration in 0..=NEWTON_ITERATIONS {
         if residual <= options.tolerance {
             return solution(robot, &work.current, iteration, residual).map(Ok);
@@ -556,9 +573,11 @@ fn newton_from(
         {
             return Ok(Err((iteration, residual)));
         }
-        let candidate_residual =
-            work.candidate
-                .step_from((&work.current, &work.step), solver, target);
+        let candidate_residual = work.candidate.step_from(
+            (&work.current, &work.step),
+            solver,
+            (target, &mut work.met_limit),
+        );
         // (A NaN is no improvement either.)
         if candidate_residual.is_nan() || candidate_residual >= residual {
             return Ok(Err((iteration, residual)));
@@ -569,11 +588,15 @@ fn newton_from(
     Ok(Err((NEWTON_ITERATIONS, residual)))
 }
 
-/// `joint_positions` clamped to the joint limits.
-fn clamp_to_limits(robot: &Robot, joint_positions: &mut DVector<f64>) {
+/// `joint_positions` clamped to the joint limits; whether one was at or
+/// beyond a limit.
+fn clamp_to_limits(robot: &Robot, joint_positions: &mut DVector<f64>) -> bool {
+    let mut met = false;
     for (q, joint) in joint_positions.iter_mut().zip(robot.joints()) {
+        met |= *q <= joint.qmin || *q >= joint.qmax;
         *q = q.clamp(joint.qmin, joint.qmax);
     }
+    met
 }
 
 /// The task error `Δx` from frame n+1 at `current` towards the target,
@@ -790,6 +813,64 @@ mod tests {
                 "start {index}: {iterations} iterations, {residual} from the pose"
             );
         }
+    }
+
+    /// A failed solve says whether a joint met a limit on the way; where
+    /// none did, the same solve without the limits takes the same steps to
+    /// the same end (the compensation leaves it out). Poses out of the
+    /// Stanford arm's reach from starts near them: moved into the cylinder
+    /// about the axis of joint 1 that its wrist centre never enters (the
+    /// solves settle beside it, mostly within the limits), or three times
+    /// as far from the base (the prismatic joint runs to its limit). Both
+    /// kinds occur, and every solve that met no limit fails again without
+    /// them, bit for bit.
+    #[test]
+    fn a_failed_solve_says_whether_a_limit_bore_on_it() {
+        let robot = stanford();
+        let model = KinematicModel::new(&robot);
+        let unlimited = InverseOptions {
+            respect_limits: false,
+            ..InverseOptions::default()
+        };
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let (mut met, mut free) = (0, 0);
+        for trial in 0..40 {
+            let goal = random_configuration(&robot, &mut rng);
+            let start: Vec<f64> = goal
+                .iter()
+                .map(|q| q + rng.random_range(-0.05..0.05))
+                .collect();
+            let mut pose = terminal_pose(&robot, &goal).expect("valid");
+            if trial % 2 == 0 {
+                pose.translation.vector.x = rng.random_range(-0.02..0.02);
+                pose.translation.vector.y = rng.random_range(-0.02..0.02);
+            } else {
+                pose.translation.vector *= 3.0;
+            }
+            let target = Target::Frame(pose);
+            for near in [false, true] {
+                let solve = |options: &InverseOptions| {
+                    if near {
+                        inverse_kinematics_near(&robot, &model, &target, &start, options)
+                    } else {
+                        inverse_kinematics_on(&robot, &model, &target, &start, options)
+                    }
+                };
+                let Err(within @ Error::Unreachable { met_limit, .. }) =
+                    solve(&InverseOptions::default())
+                else {
+                    continue;
+                };
+                if met_limit {
+                    met += 1;
+                    continue;
+                }
+                free += 1;
+                let without = solve(&unlimited).expect_err("the same solve");
+                assert_eq!(format!("{without:?}"), format!("{within:?}"));
+            }
+        }
+        assert!(met >= 5 && free >= 5, "{met} met a limit, {free} did not");
     }
 
     /// The shoulder-void pose of the test above from ten starts 0.1 rad
