@@ -275,6 +275,32 @@ fn a_hexapod_measured_near_home_holds_only_there() {
     assert!(text.contains("predicted tool-point error"), "{text}");
     let file = std::fs::read_to_string(at("calibrated.toml")).expect("calibrated");
     assert_eq!(file.matches("measured = [").count(), 6, "{file}");
+    // Used where it was measured (the legs within ±12 mm), it is trusted:
+    // the verdict judges the stated region, and says so.
+    let stated = command("identify hexapod --method frame --sigma 20um --work-region")
+        .arg("qm1=-12..12mm,qm2=-12..12mm,qm3=-12..12mm,qm4=-12..12mm,qm5=-12..12mm,qm6=-12..12mm")
+        .arg("--data")
+        .arg(at("poses.csv"))
+        .output()
+        .expect("runs");
+    let text = String::from_utf8_lossy(&stated.stdout);
+    assert_eq!(stated.status.code(), Some(0), "{text}");
+    assert!(
+        text.contains("fit the stated noise") && text.contains("over the stated work region"),
+        "{text}"
+    );
+    // A region the robot has no actuator for is refused by name.
+    let refused = command("identify hexapod --method frame --sigma 20um --work-region qm7=0..1mm")
+        .arg("--data")
+        .arg(at("poses.csv"))
+        .output()
+        .expect("runs");
+    let error = String::from_utf8_lossy(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(2), "{error}");
+    assert!(
+        error.contains("--work-region: 'qm7' is not an actuator of this robot"),
+        "{error}"
+    );
     command("generate hexapod --method frame --count 10 --error-level 0 --seed 5 -o")
         .arg(at("job.csv"))
         .assert()

@@ -352,8 +352,9 @@ pub(crate) struct IdentificationRunArgs {
     /// The region the calibrated robot will be used in, over which the
     /// verdict predicts its error: joint ranges with their units, e.g.
     /// q1=-90..90deg,q3=0..120deg (joints not named: their limits; default:
-    /// the joint limits). A result that holds in the measured region only
-    /// is not trusted (exit 5) and its file keeps that region.
+    /// the joint limits); a parallel robot's actuator ranges, e.g.
+    /// qm1=-10..10mm. A result that holds in the measured region only is not
+    /// trusted (exit 5) and its file keeps that region.
     #[arg(long, value_name = "q1=MIN..MAXdeg,..")]
     pub(crate) work_region: Option<String>,
 }

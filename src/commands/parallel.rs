@@ -306,6 +306,7 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
         sigma: run.sigma.clone(),
         sigma_rotation: run.sigma_rotation.clone(),
         max_iterations: Some(run.max_iterations),
+        work_region: run.work_region.clone(),
         output: args
             .output
             .as_deref()
@@ -355,11 +356,12 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
         );
         if let Some(region) = &document.region {
             println!(
-                "predicted {}: {} mm RMS at the measured poses, {} mm over the workspace \
-                 (largest {} mm; noise floor {} mm)",
+                "predicted {}: {} mm RMS at the measured poses, {} mm over {} (largest {} \
+                 mm; noise floor {} mm)",
                 region.error,
                 mm(region.predicted_inside),
                 mm(region.predicted_work),
+                region.work_name,
                 mm(region.predicted_work_max),
                 mm(region.noise_floor)
             );

@@ -62,6 +62,7 @@ fn a_hexapod_is_calibrated_from_its_files_to_the_noise_floor() {
         sigma: Some("20um".parse().expect("σ")),
         sigma_rotation: Some("20e-6rad".parse().expect("σ")),
         max_iterations: None,
+        work_region: None,
         output: Output::to(calibrated.clone()),
     }
     .run(&LocalFiles)

@@ -11,6 +11,7 @@ use gecaro_calib::parallel_robots::{
     random_platform_poses, simulate_platform,
 };
 use gecaro_calib::simulation::Sampler;
+use gecaro_core::JointRegion;
 use gecaro_core::parallel_model::ParallelModel;
 use gecaro_core::parallel_robot::ParallelRobot;
 use gecaro_data::sample::Sample;
@@ -410,6 +411,71 @@ fn a_platform_measured_near_home_holds_only_there() {
                 assert_eq!(result.outcome, Outcome::FitsNoise, "{robot} {measure:?}");
             }
         }
+    }
+}
+
+/// The platform measured near home of the test above, used there only: with
+/// the work region stated as the actuator values its data covered, the
+/// verdict predicts its error over that region, which held-out poses near
+/// home confirm, and trusts it (`fits_noise`, not `regional`); the same
+/// data judged over the whole workspace stay `regional`.
+#[test]
+fn a_stated_work_region_is_where_the_verdict_judges() {
+    for (robot, measure, seed) in [
+        ("hexapod", PlatformMeasure::Pose, 40),
+        ("delta", PlatformMeasure::Point, 60),
+    ] {
+        let nominal = ready(robot);
+        let real = perturbed_platform(&nominal, 1.0, &mut Sampler::new(seed)).expect("real");
+        let near = PlatformWorkspace::whole(&real).scaled(0.15);
+        let data = measured_within(&real, near, measure, 60, NOISE, seed + 1);
+        let held_out = measured_within(&real, near, measure, 200, NOISE, seed + 5);
+        let identify = |work_region: Option<JointRegion>| {
+            identify_platform(
+                &nominal,
+                &data,
+                measure,
+                Some(NOISE),
+                &PlatformIdentificationOptions {
+                    work_region,
+                    ..PlatformIdentificationOptions::default()
+                },
+            )
+            .expect("identified")
+        };
+        let whole = identify(None);
+        assert_eq!(whole.outcome, Outcome::Regional, "{robot}");
+        let measured = whole.region.clone().expect("a region").measured;
+        let stated = identify(Some(measured.clone()));
+        let region = stated.region.clone().expect("a region");
+        assert!(!region.work_is_ranges && region.work == measured, "{robot}");
+        let floor = platform_errors(&real, &held_out, measure)
+            .expect("floor")
+            .position_rms;
+        let found = platform_errors(&stated.calibrated, &held_out, measure)
+            .expect("held out")
+            .position_rms;
+        let predicted = (region.work_rms.powi(2) + floor.powi(2)).sqrt();
+        println!(
+            "{robot}: {:?}; held out near home {:.4} mm ({:.2}× floor {:.4} mm), predicted \
+             {:.4} mm over the stated region, {:.4} mm over the workspace",
+            stated.outcome,
+            found * 1e3,
+            found / floor,
+            floor * 1e3,
+            region.work_rms * 1e3,
+            whole.region.as_ref().expect("a region").work_rms * 1e3,
+        );
+        assert!(region.holds_everywhere, "{robot}: {}", region.words());
+        assert_eq!(stated.outcome, Outcome::FitsNoise, "{robot}");
+        assert!(
+            (0.6..1.6).contains(&(found / predicted)),
+            "{robot}: found {found}, predicted {predicted}"
+        );
+        assert!(
+            region.work_rms < 0.5 * whole.region.as_ref().expect("a region").work_rms,
+            "{robot}"
+        );
     }
 }
 

@@ -97,4 +97,4 @@ pub use units::LengthUnit;
 pub use urdf::names::{
     UrdfDocument, UrdfFixedDocument, UrdfFixedLink, UrdfJointDocument, UrdfJointNames, UrdfNames,
 };
-pub use work_region::parse_work_region;
+pub use work_region::{parse_actuator_region, parse_work_region};

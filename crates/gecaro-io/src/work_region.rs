@@ -7,6 +7,10 @@
 //! one. A joint not named keeps its limits. A bare range is refused rather
 //! than read in a unit the writer may not have meant, and so is a range
 //! beyond the joint's limits, where the robot is never used.
+//!
+//! A parallel robot's work region is written the same way over its
+//! actuators, named as the configuration columns name them
+//! (`qm1=-10..10mm,qm4=-5..5mm`; degrees or radians for a Delta's motors).
 
 use gecaro_core::{FrameType, JointRegion, Robot};
 
@@ -30,11 +34,82 @@ use crate::written_lengths::Kind;
 /// assert!(gecaro_io::parse_work_region("q1=-90..90", &robot).is_err());
 /// ```
 pub fn parse_work_region(text: &str, robot: &Robot) -> Result<JointRegion, String> {
-    let mut ranges: Vec<(f64, f64)> = robot
+    let limits: Vec<(f64, f64)> = robot
         .joints()
         .iter()
         .map(|joint| (joint.qmin, joint.qmax))
         .collect();
+    let revolute: Vec<bool> = (1..=limits.len())
+        .map(|joint| robot.frames()[joint].frame_type == FrameType::Revolute)
+        .collect();
+    parse_ranges(text, Names::JOINTS, &limits, &revolute)
+}
+
+/// The work region of `text` for a parallel robot of actuators whose
+/// ranges are `ranges` (m for legs, rad for turning motors: `angular`):
+/// the same ranges as [`parse_work_region`]'s, naming actuators `qm1`…
+/// as the configuration columns do.
+///
+/// # Errors
+/// As [`parse_work_region`], for actuators.
+///
+/// ```
+/// let ranges = [(-0.03, 0.03); 6];
+/// let region = gecaro_io::parse_actuator_region("qm1=-10..10mm, qm4=-5mm..0mm", &ranges, false).unwrap();
+/// assert_eq!(region.range(0), (-0.01, 0.01));
+/// assert_eq!(region.range(3), (-0.005, 0.0));
+/// assert_eq!(region.range(1), (-0.03, 0.03));
+/// assert!(gecaro_io::parse_actuator_region("q1=-10..10mm", &ranges, false).is_err());
+/// assert!(gecaro_io::parse_actuator_region("qm1=-10..10deg", &ranges, false).is_err());
+/// ```
+pub fn parse_actuator_region(
+    text: &str,
+    ranges: &[(f64, f64)],
+    angular: bool,
+) -> Result<JointRegion, String> {
+    parse_ranges(text, Names::ACTUATORS, ranges, &vec![angular; ranges.len()])
+}
+
+/// How the ranges' owners are named: joints `q1`…, actuators `qm1`….
+struct Names {
+    prefix: &'static str,
+    /// One of them, in words, and with its article.
+    one: &'static str,
+    a_one: &'static str,
+    /// What makes its values angles, and lengths.
+    turning: &'static str,
+    sliding: &'static str,
+}
+
+impl Names {
+    const JOINTS: Names = Names {
+        prefix: "q",
+        one: "joint",
+        a_one: "a joint",
+        turning: "the joint is revolute",
+        sliding: "the joint is prismatic",
+    };
+    const ACTUATORS: Names = Names {
+        prefix: "qm",
+        one: "actuator",
+        a_one: "an actuator",
+        turning: "the actuator turns",
+        sliding: "the actuator sets a length",
+    };
+}
+
+/// The region of `text` (module docs) over ranges named by `names`, each
+/// within its `limits` and an angle where `angular`.
+fn parse_ranges(
+    text: &str,
+    names: Names,
+    limits: &[(f64, f64)],
+    angular: &[bool],
+) -> Result<JointRegion, String> {
+    let Names {
+        prefix, one, a_one, ..
+    } = names;
+    let mut ranges = limits.to_vec();
     let mut named = vec![false; ranges.len()];
     let parts: Vec<&str> = text
         .split(',')
@@ -42,31 +117,35 @@ pub fn parse_work_region(text: &str, robot: &Robot) -> Result<JointRegion, Strin
         .filter(|part| !part.is_empty())
         .collect();
     if parts.is_empty() {
-        return Err("no joint range given: write q1=-90..90deg,q2=-45..45deg".into());
+        return Err(format!(
+            "no {one} range given: write {prefix}1=-90..90deg,{prefix}2=-45..45deg"
+        ));
     }
     for part in parts {
         let (name, range) = part.split_once('=').ok_or_else(|| {
-            format!("'{part}' names no joint: write q1=-90..90deg, a joint's name and its range")
+            format!(
+                "'{part}' names no {one}: write {prefix}1=-90..90deg, {a_one}'s name and its range"
+            )
         })?;
-        let joint = name
+        let index = name
             .trim()
-            .strip_prefix('q')
+            .strip_prefix(prefix)
             .and_then(|number| number.parse::<usize>().ok())
-            .filter(|joint| (1..=ranges.len()).contains(joint))
+            .filter(|index| (1..=ranges.len()).contains(index))
             .ok_or_else(|| {
                 format!(
-                    "'{}' is not a joint of this robot: q1 to q{}",
+                    "'{}' is not {a_one} of this robot: {prefix}1 to {prefix}{}",
                     name.trim(),
                     ranges.len()
                 )
             })?;
-        if std::mem::replace(&mut named[joint - 1], true) {
-            return Err(format!("q{joint} is given twice"));
+        if std::mem::replace(&mut named[index - 1], true) {
+            return Err(format!("{prefix}{index} is given twice"));
         }
-        let revolute = robot.frames()[joint].frame_type == FrameType::Revolute;
-        let (min, max) =
-            bounds(range.trim(), revolute).map_err(|message| format!("q{joint}: {message}"))?;
-        let joint_limits = &robot.joints()[joint - 1];
+        let revolute = angular[index - 1];
+        let (min, max) = bounds(range.trim(), revolute, &names)
+            .map_err(|message| format!("{prefix}{index}: {message}"))?;
+        let (qmin, qmax) = limits[index - 1];
         let shown = |value: f64| {
             if revolute {
                 format!("{:.1}°", value.to_degrees())
@@ -75,23 +154,23 @@ pub fn parse_work_region(text: &str, robot: &Robot) -> Result<JointRegion, Strin
             }
         };
         let tolerance = gecaro_core::LIMIT_TOLERANCE;
-        if min < joint_limits.qmin - tolerance || max > joint_limits.qmax + tolerance {
+        if min < qmin - tolerance || max > qmax + tolerance {
             return Err(format!(
-                "q{joint}: {}..{} reaches beyond the joint's limits {}..{}",
+                "{prefix}{index}: {}..{} reaches beyond the {one}'s limits {}..{}",
                 shown(min),
                 shown(max),
-                shown(joint_limits.qmin),
-                shown(joint_limits.qmax)
+                shown(qmin),
+                shown(qmax)
             ));
         }
-        ranges[joint - 1] = (min, max);
+        ranges[index - 1] = (min, max);
     }
-    JointRegion::new(ranges).map_err(|(joint, message)| format!("q{joint}: {message}"))
+    JointRegion::new(ranges).map_err(|(index, message)| format!("{prefix}{index}: {message}"))
 }
 
 /// The bounds of `MIN..MAX` with their units (module docs), in radians or
 /// metres.
-fn bounds(range: &str, revolute: bool) -> Result<(f64, f64), String> {
+fn bounds(range: &str, revolute: bool, names: &Names) -> Result<(f64, f64), String> {
     let (low, high) = range
         .split_once("..")
         .ok_or_else(|| format!("'{range}' is not a range: write MIN..MAX with its unit"))?;
@@ -123,9 +202,9 @@ fn bounds(range: &str, revolute: bool) -> Result<(f64, f64), String> {
             return Err(format!(
                 "'{text}' is not {}",
                 if revolute {
-                    "an angle (deg, rad): the joint is revolute"
+                    format!("an angle (deg, rad): {}", names.turning)
                 } else {
-                    "a length (m, mm, um): the joint is prismatic"
+                    format!("a length (m, mm, um): {}", names.sliding)
                 }
             ));
         }

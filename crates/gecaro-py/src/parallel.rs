@@ -125,7 +125,9 @@ pub(crate) fn parallel_identifiable<'py>(
 /// "summary", "sigma_ratio", "parameters": [{"name", "status", "nominal",
 /// "identified", "sigma"}], "errors_before", "errors_after", "region" (where
 /// the result holds: `"measured"` actuator ranges, `"predicted_work"` m,
-/// `"holds_everywhere"`), "warnings", …,
+/// `"holds_everywhere"`; over `work_region` when given, actuator ranges
+/// with their units as `"qm1=-10..10mm,qm4=-5..5mm"`, else over the
+/// actuators' ranges), "warnings", …,
 /// "calibrated": the calibrated platform's file text}`, written to `path`
 /// when given, and `"trusted"`: whether the verdict trusts the fit (as
 /// `Identification.verdict` says for a serial robot). A fit that did not
@@ -133,7 +135,7 @@ pub(crate) fn parallel_identifiable<'py>(
 #[pyfunction]
 #[pyo3(signature = (
     robot, method, data, *, sigma = None, sigma_rotation = None, length_unit = None,
-    angle_unit = None, max_iterations = 30, path = None, overwrite = false,
+    angle_unit = None, max_iterations = 30, work_region = None, path = None, overwrite = false,
 ))]
 pub(crate) fn parallel_identify<'py>(
     py: Python<'py>,
@@ -145,6 +147,7 @@ pub(crate) fn parallel_identify<'py>(
     length_unit: Option<String>,
     angle_unit: Option<String>,
     max_iterations: usize,
+    work_region: Option<String>,
     path: Option<PathBuf>,
     overwrite: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
@@ -156,6 +159,7 @@ pub(crate) fn parallel_identify<'py>(
         sigma: sigma.map(Into::into),
         sigma_rotation: sigma_rotation.map(Into::into),
         max_iterations: Some(max_iterations),
+        work_region,
         output: output(path.as_deref(), overwrite),
     };
     let identified = py.detach(|| request.run(&LocalFiles)).py()?;

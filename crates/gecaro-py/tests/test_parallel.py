@@ -26,6 +26,26 @@ def test_a_hexapod_identified_from_python_reaches_the_noise_floor(tmp_path):
     assert after["errors"]["position_rms"] <= 1.2 * floor["errors"]["position_rms"]
 
 
+def test_a_stated_work_region_is_where_the_verdict_judges(tmp_path):
+    gecaro.parallel_generate("hexapod", "frame", 60, noise=2e-5, seed=3,
+                             path=tmp_path / "poses.csv")
+    whole = gecaro.parallel_identify("hexapod", "frame", tmp_path / "poses.csv",
+                                     sigma="20um")
+    legs = ",".join(f"qm{leg}=-5..5mm" for leg in range(1, 7))
+    stated = gecaro.parallel_identify("hexapod", "frame", tmp_path / "poses.csv",
+                                      sigma="20um", work_region=legs)
+    assert whole["region"]["work_is_ranges"]
+    assert whole["region"]["work_name"] == "the workspace"
+    region = stated["region"]
+    assert not region["work_is_ranges"]
+    assert region["work_name"] == "the stated work region"
+    assert region["work"][0] == pytest.approx([-0.005, 0.005])
+    assert region["predicted_work"] < whole["region"]["predicted_work"]
+    with pytest.raises(gecaro.InputError, match="work_region"):
+        gecaro.parallel_identify("hexapod", "frame", tmp_path / "poses.csv",
+                                 sigma="20um", work_region="qm1=-5..5deg")
+
+
 def test_a_point_leaves_six_platform_coordinates_regrouped():
     report = gecaro.parallel_identifiable("hexapod", "position")
     assert report["rank"] == 45

@@ -196,8 +196,14 @@ impl PlatformIdentificationDocument {
 pub struct PlatformRegionDocument {
     /// The actuator values the data covered.
     pub measured: Vec<[f64; 2]>,
-    /// The actuators' ranges.
-    pub ranges: Vec<[f64; 2]>,
+    /// The region the platform is used in: the actuators' ranges, or the
+    /// one stated.
+    pub work: Vec<[f64; 2]>,
+    /// Whether `work` is the actuators' ranges (not a stated region).
+    pub work_is_ranges: bool,
+    /// Where the platform is used, in words (`the workspace`, or `the
+    /// stated work region`).
+    pub work_name: &'static str,
     /// RMS of the predicted tool-point error at the measured poses.
     pub predicted_inside: f64,
     /// RMS of the predicted tool-point error over the workspace.
@@ -208,7 +214,7 @@ pub struct PlatformRegionDocument {
     /// (√3 σ̂).
     pub noise_floor: f64,
     /// Actuators (1-based) whose measured range covers less than half of
-    /// their range.
+    /// their work range.
     pub narrow_actuators: Vec<usize>,
     /// Actuators (1-based) that never moved.
     pub still_actuators: Vec<usize>,
@@ -228,7 +234,9 @@ impl From<&PlatformRegion> for PlatformRegionDocument {
         let pairs = |ranges: &[(f64, f64)]| ranges.iter().map(|(a, b)| [*a, *b]).collect();
         Self {
             measured: pairs(region.measured.ranges()),
-            ranges: pairs(region.ranges.ranges()),
+            work: pairs(region.work.ranges()),
+            work_is_ranges: region.work_is_ranges,
+            work_name: region.work_words(),
             predicted_inside: region.inside,
             predicted_work: region.work_rms,
             predicted_work_max: region.work_max,

@@ -6,7 +6,7 @@ use gecaro_calib::parallel_robots::{
     PlatformIdentification, PlatformIdentificationOptions, PlatformNoise, PlatformRegion,
     identify_platform, platform_errors,
 };
-use gecaro_core::parallel_model::ParallelModel;
+use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};
 use gecaro_core::parallel_robot::ParallelRobot;
 use gecaro_io::{ParallelRobotFile, StandardDeviation};
 use serde::Deserialize;
@@ -42,6 +42,12 @@ pub struct ParallelIdentifyRequest {
     pub sigma_rotation: Option<StandardDeviation>,
     /// Gauss–Newton iterations at most (default 30).
     pub max_iterations: Option<usize>,
+    /// The region the platform will be used in, over which the verdict
+    /// predicts its error: actuator ranges with their units
+    /// (`qm1=-10..10mm,qm4=-5..5mm`; actuators not named: their ranges;
+    /// default: the actuators' ranges).
+    #[serde(default)]
+    pub work_region: Option<String>,
     /// The calibrated platform's file.
     #[serde(flatten)]
     pub output: Output,
@@ -127,6 +133,17 @@ impl ParallelIdentifyRequest {
                 ));
             }
             options.max_iterations = iterations;
+        }
+        if let Some(text) = &self.work_region {
+            let robot = &nominal.robot;
+            let ranges: Vec<(f64, f64)> = (0..robot.actuator_count())
+                .map(|k| robot.actuator_range(k))
+                .collect();
+            let angular = robot.actuator_unit() == ParameterUnit::Angle;
+            options.work_region = Some(
+                gecaro_io::parse_actuator_region(text, &ranges, angular)
+                    .map_err(|message| AppError::setting("work_region", message))?,
+            );
         }
         let result = identify_platform(&nominal.robot, &samples, measure, noise, &options)?;
         let errors_before = platform_errors(&nominal.robot, &samples, measure)?;

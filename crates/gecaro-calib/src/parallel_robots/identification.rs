@@ -15,6 +15,7 @@ use super::registration::{in_base_frame, measurement_frame};
 use crate::Error;
 use crate::identifiability::ParameterStatus;
 use crate::identification::{DEFAULT_OUTLIER_THRESHOLD, NoiseTest, Outcome, noise_test};
+use gecaro_core::JointRegion;
 use nalgebra::{DMatrix, DVector};
 
 /// A Gauss–Newton step every component of which is below this part of its
@@ -26,12 +27,16 @@ const STEP_OF_SIGMA: f64 = 1e-3;
 const MAX_OUTLIERS_NAMED: usize = 10;
 
 /// How an identification of a platform runs.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct PlatformIdentificationOptions {
     /// Gauss–Newton iterations at most.
     pub max_iterations: usize,
     /// The relative decrease of the cost below which the fit has converged.
     pub tolerance: f64,
+    /// The region the platform will be used in (a range of each actuator's
+    /// values), over which the verdict predicts its error; `None`: the
+    /// actuators' ranges.
+    pub work_region: Option<JointRegion>,
 }
 
 impl Default for PlatformIdentificationOptions {
@@ -39,6 +44,7 @@ impl Default for PlatformIdentificationOptions {
         Self {
             max_iterations: crate::identification::DEFAULT_MAX_ITERATIONS,
             tolerance: 1e-10,
+            work_region: None,
         }
     }
 }
@@ -279,6 +285,7 @@ pub fn identify_platform<M: ParallelModel>(
                 &rank.base,
                 &(inverse * unit_sigma.powi(2)),
                 floor,
+                options.work_region.as_ref(),
             )
         })
         .flatten();

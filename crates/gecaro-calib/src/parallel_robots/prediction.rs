@@ -106,6 +106,7 @@ pub fn predict_platform<M: ParallelModel>(
         &rank.base,
         &covariance,
         coordinates.sqrt() * noise.length,
+        None,
     )
     .ok_or_else(|| Error::Numerical {
         message: "the predicted error could not be formed: a configuration is singular".into(),

@@ -15,7 +15,11 @@
 //!   spread over them;
 //! - **over the work region**: [`WORK_POSES`] poses drawn from a fixed seed
 //!   in the box of the moves the actuators' ranges allow alone from home
-//!   ([`PlatformWorkspace::whole`]), each with every actuator within range.
+//!   ([`PlatformWorkspace::whole`]), each with every actuator within range;
+//!   or, in a work region the user states (a range of each actuator's
+//!   values), in the box of the moves it allows alone from the pose at its
+//!   centre (the direct model at the ranges' middles), each with every
+//!   actuator within it.
 //!
 //! The rule is the serial robots': the result holds in the measured region
 //! only when the work region's RMS exceeds both [`FLOOR_FACTOR`] times the
@@ -31,7 +35,7 @@ use nalgebra::{DMatrix, Isometry3};
 
 use super::measure::PlatformMeasure;
 use super::observation::{actuator_values, point_derivative};
-use super::simulation::{PlatformWorkspace, random_platform_poses};
+use super::simulation::{PlatformWorkspace, poses_about};
 use crate::identification::{FLOOR_FACTOR, REGION_FACTOR, REGION_POSES, WORK_POSES};
 use crate::sampler::{Sampler, spread_indices};
 
@@ -52,8 +56,12 @@ pub struct PlatformRegion {
     /// The smallest box of actuator values holding every measured
     /// configuration (m for a leg, rad for an arm's motor).
     pub measured: JointRegion,
-    /// The actuators' ranges.
-    pub ranges: JointRegion,
+    /// The region the platform is used in: the actuators' ranges, or the
+    /// one stated.
+    pub work: JointRegion,
+    /// Whether [`work`](Self::work) is the actuators' ranges (not a
+    /// stated region).
+    pub work_is_ranges: bool,
     /// Whether the actuators turn (their values in degrees in words).
     pub angular: bool,
     /// Whether the errors are a distance's from the home pose's tool point
@@ -78,10 +86,10 @@ pub struct PlatformRegion {
 
 impl PlatformRegion {
     /// Actuators (1-based) whose measured range covers less than half of
-    /// their range.
+    /// their work range.
     pub fn narrow_actuators(&self) -> Vec<usize> {
         (0..self.measured.joints())
-            .filter(|k| self.measured.fraction_of(&self.ranges, *k) < NARROW_FRACTION)
+            .filter(|k| self.measured.fraction_of(&self.work, *k) < NARROW_FRACTION)
             .map(|k| k + 1)
             .collect()
     }
@@ -93,6 +101,16 @@ impl PlatformRegion {
             "error of a distance from the home pose"
         } else {
             "tool-point error"
+        }
+    }
+
+    /// Where the platform is used, in words: `the workspace` (the
+    /// actuators' ranges allow), or `the stated work region`.
+    pub fn work_words(&self) -> &'static str {
+        if self.work_is_ranges {
+            "the workspace"
+        } else {
+            "the stated work region"
         }
     }
 
@@ -116,10 +134,11 @@ impl PlatformRegion {
     pub fn warning(&self) -> Option<String> {
         (self.holds_everywhere && self.work_rms > self.floor).then(|| {
             format!(
-                "the calibrated platform is predicted to {:.4} mm over its workspace ({:.1}× the \
-                 noise floor of {:.4} mm), {:.4} mm at the measured poses: measure poses over \
-                 more of the workspace to bring it down",
+                "the calibrated platform is predicted to {:.4} mm over {} ({:.1}× the noise \
+                 floor of {:.4} mm), {:.4} mm at the measured poses: measure poses over more of \
+                 it to bring it down",
                 self.work_rms * 1e3,
+                self.work_words(),
                 self.work_rms / self.floor,
                 self.floor * 1e3,
                 self.inside * 1e3,
@@ -150,14 +169,24 @@ impl PlatformRegion {
             )
         };
         format!(
-            "holds only where the data were taken ({}): predicted {:.4} mm over the work region \
-             (largest {:.4} mm) against {:.4} mm at the measured poses and a noise floor of \
-             {:.4} mm{still}; measure poses spread over the whole workspace",
+            "holds only where the data were taken ({}): predicted {:.4} mm over {} (largest \
+             {:.4} mm) against {:.4} mm at the measured poses and a noise floor of {:.4} \
+             mm{still}; measure poses spread over {}",
             ranges.join(", "),
             self.work_rms * 1e3,
+            if self.work_is_ranges {
+                "the work region"
+            } else {
+                "the stated work region"
+            },
             self.work_max * 1e3,
             self.inside * 1e3,
             self.floor * 1e3,
+            if self.work_is_ranges {
+                "the whole workspace"
+            } else {
+                "all of the stated work region"
+            },
         )
     }
 }
@@ -165,11 +194,14 @@ impl PlatformRegion {
 /// Where `calibrated`, identified from `samples`, holds (module docs);
 /// `pose_of` gives the platform's pose at a sample (measured or solved), for
 /// the covariance `covariance` of the base parameters `base` and the noise
-/// floor `floor` (m). Distances observe no base frame, so for them the
+/// floor `floor` (m); `work` the stated work region, else the actuators'
+/// ranges. Distances observe no base frame, so for them the
 /// error predicted is a distance's, from the home pose's tool point:
 /// `uᵀ·(J_y(x) − J_y(home))` with u the direction between the two points.
-/// `None` when a pose has no derivative (a singular one) or the covariance
-/// is not positive definite.
+/// `None` when a pose has no derivative (a singular one), the covariance
+/// is not positive definite, or no pose reaches the centre of the work
+/// region.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn where_it_holds<M: ParallelModel>(
     calibrated: &M,
     measure: PlatformMeasure,
@@ -178,6 +210,7 @@ pub(super) fn where_it_holds<M: ParallelModel>(
     base: &[usize],
     covariance: &DMatrix<f64>,
     floor: f64,
+    work: Option<&JointRegion>,
 ) -> Option<PlatformRegion> {
     let count = calibrated.actuator_count();
     let measured = JointRegion::covering(
@@ -188,6 +221,8 @@ pub(super) fn where_it_holds<M: ParallelModel>(
     );
     let ranges =
         JointRegion::new((0..count).map(|k| calibrated.actuator_range(k)).collect()).ok()?;
+    let work_is_ranges = work.is_none();
+    let work = work.cloned().unwrap_or(ranges);
     let factor = covariance.clone().cholesky()?.l();
     let home = calibrated.home();
     let home_actuators = calibrated.actuator_values(&home).ok()?;
@@ -218,22 +253,39 @@ pub(super) fn where_it_holds<M: ParallelModel>(
         })
         .collect::<Option<_>>()?;
     let mut sampler = Sampler::new(WORK_POSE_SEED);
-    let work_poses = random_platform_poses(
+    let within = |values: &[f64]| {
+        calibrated.out_of_range(values).is_empty() && (work_is_ranges || work.contains(values))
+    };
+    let centre = if work_is_ranges {
+        home
+    } else {
+        let middles: Vec<f64> = work
+            .ranges()
+            .iter()
+            .map(|(min, max)| 0.5 * (min + max))
+            .collect();
+        calibrated.direct(&middles, &home).ok()?
+    };
+    let work_poses = poses_about(
         calibrated,
+        (
+            &centre,
+            PlatformWorkspace::about(calibrated, &centre, within),
+        ),
         WORK_POSES,
-        PlatformWorkspace::whole(calibrated),
+        within,
         &mut sampler,
     )
     .ok()?;
-    let work: Vec<f64> = work_poses
+    let spreads: Vec<f64> = work_poses
         .iter()
         .map(|pose| {
             let actuators = calibrated.actuator_values(pose).ok()?;
             spread(pose, &actuators)
         })
         .collect::<Option<_>>()?;
-    let (inside, work_rms) = (rms(&inside), rms(&work));
-    let work_max = work.iter().copied().fold(0.0, f64::max).sqrt();
+    let (inside, work_rms) = (rms(&inside), rms(&spreads));
+    let work_max = spreads.iter().copied().fold(0.0, f64::max).sqrt();
     let still_actuators: Vec<usize> = (0..count)
         .filter(|k| {
             // An actuator with no measured value (an empty range) is still.
@@ -246,7 +298,8 @@ pub(super) fn where_it_holds<M: ParallelModel>(
         && !(work_rms > FLOOR_FACTOR * floor && work_rms > REGION_FACTOR * inside);
     Some(PlatformRegion {
         measured,
-        ranges,
+        work,
+        work_is_ranges,
         angular: calibrated.actuator_unit() == ParameterUnit::Angle,
         distances: measure == PlatformMeasure::Distance,
         inside,

@@ -806,6 +806,7 @@ def parallel_identify(
     length_unit: Optional[Literal["m", "mm"]] = None,
     angle_unit: Optional[Literal["rad", "deg"]] = None,
     max_iterations: int = 30,
+    work_region: Optional[str] = None,
     path: Optional[_PathLike] = None,
     overwrite: bool = False,
 ) -> dict[str, Any]:
@@ -813,9 +814,10 @@ def parallel_identify(
     identify hexapod --json``, with ``"calibrated"`` (the platform file's
     text, written to ``path``), ``"trusted"`` and ``"region"`` (where the
     result holds: ``"measured"`` actuator ranges, ``"predicted_work"`` m
-    over the workspace, ``"holds_everywhere"``; outcome ``"regional"`` when
-    it holds near the data only); a fit that did not converge raises
-    NotConvergedError."""
+    over the workspace, or over ``work_region`` when given — actuator
+    ranges with their units, ``"qm1=-10..10mm,qm4=-5..5mm"`` —,
+    ``"holds_everywhere"``; outcome ``"regional"`` when it holds near the
+    data only); a fit that did not converge raises NotConvergedError."""
 
 def parallel_evaluate(
     robot: str,

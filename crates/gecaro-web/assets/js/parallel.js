@@ -80,6 +80,7 @@ export function buildParallel() {
   const dataUnit = h('select', { id: 'parallel-data-unit' }, [['m', 'm'], ['mm', 'mm']].map(([value, label]) => h('option', { value, text: label })));
   const sigma = text('sigma', '20um, 0.02mm');
   const saveAs = text('save', 'calibrated.toml (optional)');
+  const workRegion = text('work-region', 'qm1=-10..10mm,qm4=-5..5mm (optional: the actuators’ ranges)');
   const count = numberInput({ id: 'parallel-count', value: String(state.info.defaults.parallel_poses) });
   const noise = numberInput({ id: 'parallel-noise', value: '0.02' });
   const generated = text('generated', 'poses.csv', 'parallel-poses.csv');
@@ -159,6 +160,7 @@ export function buildParallel() {
         data: { file: required(data, 'the measurements file') },
         format: format(),
         sigma: sigmaWithUnit(sigma),
+        work_region: workRegion.value.trim() || null,
         save_as: saveAs.value.trim() || null,
         overwrite: true,
       });
@@ -166,7 +168,7 @@ export function buildParallel() {
       result.replaceChildren(
         h('p', { id: 'parallel-verdict', class: answer.trusted ? '' : 'warnings', text: `${answer.robot} — ${answer.method} method on ${answer.data} (${answer.configurations} poses): ${answer.summary}.` }),
         h('p', { id: 'parallel-errors', text: `At the measured poses: nominal ${errorsText(answer.errors_before, answer.method)}; calibrated ${errorsText(answer.errors_after, answer.method)}.${answer.written ? ` The calibrated platform was written to ${answer.written}.` : ''}` }),
-        ...(answer.region ? [h('p', { id: 'parallel-region', class: answer.region.holds_everywhere ? '' : 'warnings', text: `Predicted ${answer.region.error}: ${quantity(answer.region.predicted_inside, 'length')} ${unitName('length')} RMS at the measured poses, ${quantity(answer.region.predicted_work, 'length')} ${unitName('length')} over the workspace (noise floor ${quantity(answer.region.noise_floor, 'length')} ${unitName('length')})${answer.region.holds_everywhere ? '' : ': the result holds only where the data were taken'}.` })] : []),
+        ...(answer.region ? [h('p', { id: 'parallel-region', class: answer.region.holds_everywhere ? '' : 'warnings', text: `Predicted ${answer.region.error}: ${quantity(answer.region.predicted_inside, 'length')} ${unitName('length')} RMS at the measured poses, ${quantity(answer.region.predicted_work, 'length')} ${unitName('length')} over ${answer.region.work_name} (noise floor ${quantity(answer.region.noise_floor, 'length')} ${unitName('length')})${answer.region.holds_everywhere ? '' : ': the result holds only where the data were taken'}.` })] : []),
         ...answer.warnings.map((warning) => h('p', { class: 'warnings', text: `Warning: ${warning}.` })),
         ...(answer.registered ? [registeredLine(answer.registered)] : []),
         parameterTable(answer.parameters));
@@ -218,6 +220,7 @@ export function buildParallel() {
       field('Their length unit', dataUnit),
       field('Sensor σ (with its unit)', sigma),
       field('Save the calibrated platform as', saveAs),
+      field('Work region (actuator ranges with units)', workRegion),
       identifiable, predict, identify, evaluate),
     h('div', { class: 'form' },
       field('Simulated poses', count),

@@ -51,6 +51,22 @@ async fn a_hexapod_is_calibrated_through_the_api() {
         "{region}"
     );
     assert!(api.folder.path().join("calibrated.toml").is_file());
+    // Over a stated work region (the page's field): judged there, said so.
+    let (status, stated) = api
+        .post(
+            "/api/parallel/identify",
+            &json!({"robot": "hexapod", "method": "frame", "data": {"file": "poses.csv"},
+                    "sigma": "20um", "work_region": "qm1=-5..5mm,qm2=-5..5mm"}),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{stated}");
+    assert_eq!(stated["region"]["work_is_ranges"], false, "{stated}");
+    assert_eq!(stated["region"]["work_name"], "the stated work region");
+    assert_eq!(stated["region"]["work"][1], json!([-0.005, 0.005]));
+    assert!(
+        stated["region"]["predicted_work"].as_f64() < region["predicted_work"].as_f64(),
+        "{stated}"
+    );
     let rms = |answer: &Value| answer["errors"]["position_rms"].as_f64().expect("rms");
     let evaluate =
         |robot: &str| json!({"robot": robot, "method": "frame", "data": {"file": "held.csv"}});
