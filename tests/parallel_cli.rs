@@ -120,6 +120,60 @@ fn serial_only_options_and_jobs_are_refused_by_name() {
         error.contains("--prior has no meaning for a parallel robot"),
         "{error}"
     );
+    // Every serial option a parallel command would otherwise pass over
+    // without a word (no file is read before the refusal).
+    for (job, option) in [
+        (
+            "identify hexapod --method frame --data x.csv",
+            "--solver lm",
+        ),
+        (
+            "identify hexapod --method frame --data x.csv",
+            "--outlier-threshold 2",
+        ),
+        (
+            "identify hexapod --method frame --data x.csv",
+            "--check-model",
+        ),
+        (
+            "identify hexapod --method frame --data x.csv",
+            "--write-unconverged",
+        ),
+        (
+            "identify hexapod --method frame --data x.csv",
+            "--strict-limits",
+        ),
+        (
+            "identify hexapod --method frame --data x.csv",
+            "--loss-scale 2",
+        ),
+        (
+            "evaluate hexapod --method frame --data x.csv",
+            "--orientation cross-products",
+        ),
+        (
+            "evaluate hexapod --method frame --data x.csv",
+            "--strict-limits",
+        ),
+        (
+            "generate hexapod --method frame --count 5 -o x.csv",
+            "--set-size 5",
+        ),
+        ("identifiable hexapod --method frame", "--plane known"),
+        (
+            "predict hexapod --method frame --noise 2e-5 --data x.csv",
+            "--orientation cross-products",
+        ),
+    ] {
+        let output = command(&format!("{job} {option}")).output().expect("runs");
+        let error = String::from_utf8_lossy(&output.stderr);
+        let name = option.split(' ').next().expect("a name");
+        assert_eq!(output.status.code(), Some(2), "{job} {option}: {error}");
+        assert!(
+            error.contains(&format!("{name} has no meaning for a parallel robot")),
+            "{job} {option}: {error}"
+        );
+    }
     let output = command("fk hexapod --qm 0,0,0,0,0,0")
         .output()
         .expect("runs");

@@ -15,8 +15,8 @@ use gecaro_core::parallel_robot::ParallelRobot;
 
 use super::options::{data_format, name, written};
 use crate::cli::{
-    CompensateArgs, EvaluateArgs, GenerateArgs, IdentifiableArgs, IdentifyArgs, PlanArgs,
-    PredictArgs,
+    CompensateArgs, EvaluateArgs, GenerateArgs, IdentifiableArgs, IdentifyArgs, MethodOptionArgs,
+    PlanArgs, PredictArgs,
 };
 use crate::failure::Failure;
 use crate::format::{number, shown, table};
@@ -28,13 +28,26 @@ fn serial_only(given: &[(&str, bool)]) -> Result<(), Failure> {
         Some((option, _)) => Err(Failure::usage(
             format!("{option} has no meaning for a parallel robot"),
             Some(
-                "a parallel robot takes --method frame|position, --data, --sigma and the data \
-                 file's units and columns"
+                "a parallel robot takes --method frame|position|distance, its data, σ and work \
+                 region, and the data file's units and columns (docs/parallel.md)"
                     .to_owned(),
             ),
         )),
         None => Ok(()),
     }
+}
+
+/// The serial methods' options of `options` (planes, the orientation
+/// difference, link sets), each with whether it was given: none has a
+/// meaning for a parallel robot.
+fn method_options(options: &MethodOptionArgs) -> [(&'static str, bool); 5] {
+    [
+        ("--plane", options.plane.plane.is_some()),
+        ("--plane-normal", options.plane.plane_normal.is_some()),
+        ("--plane-point", options.plane.plane_point.is_some()),
+        ("--orientation", options.orientation != "axis-angle"),
+        ("--set-size", options.set_size.is_some()),
+    ]
 }
 
 fn mm(metres: f64) -> String {
@@ -165,6 +178,7 @@ pub(crate) fn check(robot: &str) -> Result<(), Failure> {
 
 /// `gecaro generate` of a parallel robot.
 pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
+    serial_only(&method_options(&args.method.options))?;
     serial_only(&[
         ("--compliance-level", args.compliance_level.is_some()),
         ("--payload", args.payload.is_some()),
@@ -221,9 +235,12 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
 
 /// `gecaro identifiable` of a parallel robot.
 pub(crate) fn identifiable(args: &IdentifiableArgs, robot: &str) -> Result<(), Failure> {
+    serial_only(&method_options(&args.source.options))?;
     serial_only(&[
         ("--priority", args.priority.is_some()),
         ("--model", args.model.is_some()),
+        ("--study", args.source.study.is_some()),
+        ("--strict-limits", args.source.strict_limits),
     ])?;
     let method = args.source.method.clone().unwrap_or_default();
     let report = ParallelIdentifiableRequest {
@@ -284,12 +301,24 @@ pub(crate) fn identifiable(args: &IdentifiableArgs, robot: &str) -> Result<(), F
 /// `gecaro identify` of a parallel robot.
 pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> {
     let run = &args.run;
+    serial_only(&method_options(&run.source.options))?;
     serial_only(&[
         ("--priority", run.priority.is_some()),
         ("--prior", run.prior.is_some()),
         ("--model", run.model.is_some()),
         ("--loss", run.loss != "l2"),
+        ("--loss-scale", run.loss_scale.is_some()),
         ("--reject", run.reject),
+        (
+            "--outlier-threshold",
+            run.outlier_threshold != gecaro_calib::identification::DEFAULT_OUTLIER_THRESHOLD,
+        ),
+        ("--solver", run.solver != "gauss-newton"),
+        ("--study", run.source.study.is_some()),
+        ("--strict-limits", run.source.strict_limits),
+        ("--check-model", args.check_model),
+        ("--no-check-model", args.no_check_model),
+        ("--write-unconverged", args.write_unconverged),
         ("--plot", args.plot.is_some()),
         ("--residuals", args.residuals.is_some()),
         ("--cv", args.cv.is_some()),
@@ -398,8 +427,10 @@ fn print_errors(title: &str, errors: &PlatformErrorsDocument, distances: bool) {
 
 /// `gecaro evaluate` of a parallel robot.
 pub(crate) fn evaluate(args: &EvaluateArgs) -> Result<(), Failure> {
+    serial_only(&method_options(&args.options))?;
     serial_only(&[
         ("--study", args.study.is_some()),
+        ("--strict-limits", args.strict_limits),
         ("--register", args.register.is_some()),
     ])?;
     let data = args
@@ -484,6 +515,7 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
 /// `gecaro plan` of a parallel robot: D-optimal poses from a pool, written
 /// as the actuator values to command.
 pub(crate) fn plan(args: &PlanArgs, robot: &str) -> Result<(), Failure> {
+    serial_only(&method_options(&args.options))?;
     serial_only(&[
         ("--criterion", args.criterion != "d"),
         ("--candidates", args.candidates.is_some()),
@@ -527,6 +559,7 @@ pub(crate) fn plan(args: &PlanArgs, robot: &str) -> Result<(), Failure> {
 /// `gecaro predict` of a parallel robot: every identifiable parameter's σ
 /// and the calibrated platform's predicted error, before measuring.
 pub(crate) fn predict(args: &PredictArgs, robot: &str) -> Result<(), Failure> {
+    serial_only(&method_options(&args.options))?;
     serial_only(&[
         ("--model", args.model.is_some()),
         ("--test-poses", args.test_poses.test_poses.is_some()),
