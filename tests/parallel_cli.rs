@@ -355,6 +355,27 @@ fn a_hexapod_measured_near_home_holds_only_there() {
         error.contains("--work-region: 'qm7' is not an actuator of this robot"),
         "{error}"
     );
+    // Legs 1 and 2 stretched to 500 mm of stroke: a region with one at
+    // +475 mm and the other at −475 mm has no pose at its centre (their
+    // joints are 259 mm apart on the base and 424 mm on the platform).
+    let hexapod = std::fs::read_to_string("robots/hexapod.toml").expect("the ready hexapod");
+    let stretched = hexapod.replacen("min = -100\nmax = 100", "min = -500\nmax = 500", 2);
+    assert_eq!(stretched.matches("max = 500").count(), 2);
+    std::fs::write(at("stretched.toml"), stretched).expect("written");
+    let refused = command("identify")
+        .arg(at("stretched.toml"))
+        .args(["--method", "frame", "--sigma", "20um", "--work-region"])
+        .arg("qm1=450..500mm,qm2=-500..-450mm")
+        .arg("--data")
+        .arg(at("poses.csv"))
+        .output()
+        .expect("runs");
+    let error = String::from_utf8_lossy(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(2), "{error}");
+    assert!(
+        error.contains("--work-region: no platform pose puts every actuator at the middle"),
+        "{error}"
+    );
     command("generate hexapod --method frame --count 10 --error-level 0 --seed 5 -o")
         .arg(at("job.csv"))
         .assert()

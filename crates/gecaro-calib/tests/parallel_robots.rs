@@ -416,9 +416,10 @@ fn a_platform_measured_near_home_holds_only_there() {
 
 /// The platform measured near home of the test above, used there only: with
 /// the work region stated as the actuator values its data covered, the
-/// verdict predicts its error over that region, which held-out poses near
-/// home confirm, and trusts it (`fits_noise`, not `regional`); the same
-/// data judged over the whole workspace stay `regional`.
+/// verdict predicts its error over that region, which poses held out over
+/// it confirm (actuator values drawn uniformly in it, the real platform's
+/// direct model from home), and trusts it (`fits_noise`, not `regional`);
+/// the same data judged over the whole workspace stay `regional`.
 #[test]
 fn a_stated_work_region_is_where_the_verdict_judges() {
     for (robot, measure, seed) in [
@@ -429,7 +430,6 @@ fn a_stated_work_region_is_where_the_verdict_judges() {
         let real = perturbed_platform(&nominal, 1.0, &mut Sampler::new(seed)).expect("real");
         let near = PlatformWorkspace::whole(&real).scaled(0.15);
         let data = measured_within(&real, near, measure, 60, NOISE, seed + 1);
-        let held_out = measured_within(&real, near, measure, 200, NOISE, seed + 5);
         let identify = |work_region: Option<JointRegion>| {
             identify_platform(
                 &nominal,
@@ -446,6 +446,19 @@ fn a_stated_work_region_is_where_the_verdict_judges() {
         let whole = identify(None);
         assert_eq!(whole.outcome, Outcome::Regional, "{robot}");
         let measured = whole.region.clone().expect("a region").measured;
+        let mut sampler = Sampler::new(seed + 5);
+        let held_out_poses: Vec<Isometry3<f64>> = (0..200)
+            .map(|_| {
+                let values: Vec<f64> = measured
+                    .ranges()
+                    .iter()
+                    .map(|(min, max)| sampler.uniform(*min, *max))
+                    .collect();
+                real.direct(&values, &real.home()).expect("a pose")
+            })
+            .collect();
+        let held_out = simulate_platform(&real, measure, &held_out_poses, NOISE, &mut sampler)
+            .expect("measured");
         let stated = identify(Some(measured.clone()));
         let region = stated.region.clone().expect("a region");
         assert!(!region.work_is_ranges && region.work == measured, "{robot}");
@@ -457,7 +470,7 @@ fn a_stated_work_region_is_where_the_verdict_judges() {
             .position_rms;
         let predicted = (region.work_rms.powi(2) + floor.powi(2)).sqrt();
         println!(
-            "{robot}: {:?}; held out near home {:.4} mm ({:.2}× floor {:.4} mm), predicted \
+            "{robot}: {:?}; held out over the region {:.4} mm ({:.2}× floor {:.4} mm), predicted \
              {:.4} mm over the stated region, {:.4} mm over the workspace",
             stated.outcome,
             found * 1e3,

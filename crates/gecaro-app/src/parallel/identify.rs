@@ -4,7 +4,7 @@
 
 use gecaro_calib::parallel_robots::{
     PlatformIdentification, PlatformIdentificationOptions, PlatformNoise, PlatformRegion,
-    identify_platform, platform_errors,
+    identify_platform, platform_errors, work_region_centre,
 };
 use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};
 use gecaro_core::parallel_robot::ParallelRobot;
@@ -140,10 +140,17 @@ impl ParallelIdentifyRequest {
                 .map(|k| robot.actuator_range(k))
                 .collect();
             let angular = robot.actuator_unit() == ParameterUnit::Angle;
-            options.work_region = Some(
-                gecaro_io::parse_actuator_region(text, &ranges, angular)
-                    .map_err(|message| AppError::setting("work_region", message))?,
-            );
+            let region = gecaro_io::parse_actuator_region(text, &ranges, angular)
+                .map_err(|message| AppError::setting("work_region", message))?;
+            // Its poses are solved from the pose at its centre.
+            if work_region_centre(robot, &region).is_err() {
+                return Err(AppError::setting(
+                    "work_region",
+                    "no platform pose puts every actuator at the middle of its stated range: \
+                     state ranges the platform reaches together",
+                ));
+            }
+            options.work_region = Some(region);
         }
         let result = identify_platform(&nominal.robot, &samples, measure, noise, &options)?;
         let errors_before = platform_errors(&nominal.robot, &samples, measure)?;
@@ -230,6 +237,17 @@ impl ParallelIdentifyRequest {
                 .as_ref()
                 .and_then(PlatformRegion::warning)
                 .into_iter()
+                .chain(
+                    (self.work_region.is_some()
+                        && result.outcome.solved()
+                        && result.region.is_none())
+                    .then(|| {
+                        "no error is predicted over the stated work region: the direct model \
+                         solves too few of its actuator values (state ranges the platform \
+                         reaches together)"
+                            .to_owned()
+                    }),
+                )
                 .collect(),
             written: written.map(|path| path.display().to_string()),
         };

@@ -282,8 +282,7 @@ pub fn identify_platform<M: ParallelModel>(
                     PlatformMeasure::Pose => measure.measured(&samples[index]).ok(),
                     PlatformMeasure::Point | PlatformMeasure::Distance => poses.get(index).copied(),
                 },
-                &rank.base,
-                &(inverse * unit_sigma.powi(2)),
+                (&rank.base, &(inverse * unit_sigma.powi(2))),
                 floor,
                 options.work_region.as_ref(),
             )

@@ -65,7 +65,7 @@ pub use planning::{PlannedPoses, plan_platform};
 pub use prediction::{
     PlatformPrediction, SimulatedCalibrations, predict_platform, simulate_calibrations,
 };
-pub use region::PlatformRegion;
+pub use region::{PlatformRegion, work_region_centre};
 pub use registration::{in_base_frame, measurement_frame};
 pub use simulation::{
     PlatformWorkspace, perturbed_platform, random_platform_poses, simulate_platform,

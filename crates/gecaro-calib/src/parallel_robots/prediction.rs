@@ -103,8 +103,7 @@ pub fn predict_platform<M: ParallelModel>(
         measure,
         &samples,
         |index| poses.get(index).copied(),
-        &rank.base,
-        &covariance,
+        (&rank.base, &covariance),
         coordinates.sqrt() * noise.length,
         None,
     )

@@ -17,9 +17,9 @@
 //!   in the box of the moves the actuators' ranges allow alone from home
 //!   ([`PlatformWorkspace::whole`]), each with every actuator within range;
 //!   or, in a work region the user states (a range of each actuator's
-//!   values), in the box of the moves it allows alone from the pose at its
-//!   centre (the direct model at the ranges' middles), each with every
-//!   actuator within it.
+//!   values, as a serial robot's joint ranges), the poses of actuator
+//!   values drawn uniformly in it: the direct model from the pose at its
+//!   centre (the ranges' middles), a draw it does not solve drawn again.
 //!
 //! The rule is the serial robots': the result holds in the measured region
 //! only when the work region's RMS exceeds both [`FLOOR_FACTOR`] times the
@@ -35,7 +35,7 @@ use nalgebra::{DMatrix, Isometry3};
 
 use super::measure::PlatformMeasure;
 use super::observation::{actuator_values, point_derivative};
-use super::simulation::{PlatformWorkspace, poses_about};
+use super::simulation::{PlatformWorkspace, random_platform_poses};
 use crate::identification::{FLOOR_FACTOR, REGION_FACTOR, REGION_POSES, WORK_POSES};
 use crate::sampler::{Sampler, spread_indices};
 
@@ -174,11 +174,7 @@ impl PlatformRegion {
              mm{still}; measure poses spread over {}",
             ranges.join(", "),
             self.work_rms * 1e3,
-            if self.work_is_ranges {
-                "the work region"
-            } else {
-                "the stated work region"
-            },
+            self.work_words(),
             self.work_max * 1e3,
             self.inside * 1e3,
             self.floor * 1e3,
@@ -193,22 +189,20 @@ impl PlatformRegion {
 
 /// Where `calibrated`, identified from `samples`, holds (module docs);
 /// `pose_of` gives the platform's pose at a sample (measured or solved), for
-/// the covariance `covariance` of the base parameters `base` and the noise
-/// floor `floor` (m); `work` the stated work region, else the actuators'
-/// ranges. Distances observe no base frame, so for them the
+/// the covariance `covariance` of the base parameters `base` (the fit) and
+/// the noise floor `floor` (m); `work` the stated work region, else the
+/// actuators' ranges. Distances observe no base frame, so for them the
 /// error predicted is a distance's, from the home pose's tool point:
 /// `uᵀ·(J_y(x) − J_y(home))` with u the direction between the two points.
 /// `None` when a pose has no derivative (a singular one), the covariance
-/// is not positive definite, or no pose reaches the centre of the work
-/// region.
-#[allow(clippy::too_many_arguments)]
+/// is not positive definite, or the direct model solves too few of the
+/// stated work region's actuator values ([`region_poses`]).
 pub(super) fn where_it_holds<M: ParallelModel>(
     calibrated: &M,
     measure: PlatformMeasure,
     samples: &[Sample],
     pose_of: impl Fn(usize) -> Option<Isometry3<f64>>,
-    base: &[usize],
-    covariance: &DMatrix<f64>,
+    (base, covariance): (&[usize], &DMatrix<f64>),
     floor: f64,
     work: Option<&JointRegion>,
 ) -> Option<PlatformRegion> {
@@ -253,30 +247,17 @@ pub(super) fn where_it_holds<M: ParallelModel>(
         })
         .collect::<Option<_>>()?;
     let mut sampler = Sampler::new(WORK_POSE_SEED);
-    let within = |values: &[f64]| {
-        calibrated.out_of_range(values).is_empty() && (work_is_ranges || work.contains(values))
-    };
-    let centre = if work_is_ranges {
-        home
+    let work_poses = if work_is_ranges {
+        random_platform_poses(
+            calibrated,
+            WORK_POSES,
+            PlatformWorkspace::whole(calibrated),
+            &mut sampler,
+        )
+        .ok()?
     } else {
-        let middles: Vec<f64> = work
-            .ranges()
-            .iter()
-            .map(|(min, max)| 0.5 * (min + max))
-            .collect();
-        calibrated.direct(&middles, &home).ok()?
+        region_poses(calibrated, &work, &mut sampler)?
     };
-    let work_poses = poses_about(
-        calibrated,
-        (
-            &centre,
-            PlatformWorkspace::about(calibrated, &centre, within),
-        ),
-        WORK_POSES,
-        within,
-        &mut sampler,
-    )
-    .ok()?;
     let spreads: Vec<f64> = work_poses
         .iter()
         .map(|pose| {
@@ -309,4 +290,54 @@ pub(super) fn where_it_holds<M: ParallelModel>(
         still_actuators,
         holds_everywhere,
     })
+}
+
+/// Draws per pose kept, at most, before a stated work region is said to
+/// hold too few poses the direct model solves.
+const DRAWS_PER_POSE: usize = 20;
+
+/// [`WORK_POSES`] poses of `model` with their actuator values drawn
+/// uniformly in `region`: the direct model from the pose at its centre (the
+/// ranges' middles), a draw it does not solve (no assembly there, or
+/// another assembly mode) drawn again. `None` when the centre has no pose
+/// or fewer than one draw in [`DRAWS_PER_POSE`] is solved.
+fn region_poses<M: ParallelModel>(
+    model: &M,
+    region: &JointRegion,
+    sampler: &mut Sampler,
+) -> Option<Vec<Isometry3<f64>>> {
+    let centre = work_region_centre(model, region).ok()?;
+    let mut poses = Vec::with_capacity(WORK_POSES);
+    for _ in 0..DRAWS_PER_POSE * WORK_POSES {
+        if poses.len() == WORK_POSES {
+            break;
+        }
+        let values: Vec<f64> = region
+            .ranges()
+            .iter()
+            .map(|(min, max)| sampler.uniform(*min, *max))
+            .collect();
+        if let Ok(pose) = model.direct(&values, &centre) {
+            poses.push(pose);
+        }
+    }
+    (poses.len() == WORK_POSES).then_some(poses)
+}
+
+/// The pose at the centre of a stated work region: the direct model at the
+/// middles of its ranges, from the home pose.
+///
+/// # Errors
+/// [`gecaro_core::Error::NoAssembly`] when no pose puts every actuator
+/// there.
+pub fn work_region_centre<M: ParallelModel>(
+    model: &M,
+    region: &JointRegion,
+) -> Result<Isometry3<f64>, gecaro_core::Error> {
+    let middles: Vec<f64> = region
+        .ranges()
+        .iter()
+        .map(|(min, max)| 0.5 * (min + max))
+        .collect();
+    model.direct(&middles, &model.home())
 }

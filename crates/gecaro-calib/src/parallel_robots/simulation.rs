@@ -41,32 +41,20 @@ impl PlatformWorkspace {
     /// by bisection: its whole work region (a pose drawn in it is kept when
     /// every actuator is within its range).
     pub fn whole(model: &impl ParallelModel) -> Self {
-        Self::about(model, &model.home(), |values| {
-            model.out_of_range(values).is_empty()
-        })
-    }
-
-    /// The box of the twelve moves (±x, ±y, ±z; ±turns) a robot can make
-    /// alone from `centre` with its actuator values `inside` a region, found
-    /// by bisection (up to a metre or a radian).
-    pub(super) fn about(
-        model: &impl ParallelModel,
-        centre: &Isometry3<f64>,
-        inside: impl Fn(&[f64]) -> bool,
-    ) -> Self {
+        let home = model.home();
         let reach = |axis: usize, sign: f64| {
-            let within = |size: f64| {
+            let inside = |size: f64| {
                 let mut step = vec![0.0; model.pose_freedom()];
                 step[axis] = sign * size;
-                let pose = moved(centre, &step);
+                let pose = moved(&home, &step);
                 model
                     .actuator_values(&pose)
-                    .is_ok_and(|values| inside(&values))
+                    .is_ok_and(|values| model.out_of_range(&values).is_empty())
             };
             let (mut low, mut high) = (0.0, 1.0);
             for _ in 0..50 {
                 let middle = 0.5 * (low + high);
-                if within(middle) {
+                if inside(middle) {
                     low = middle;
                 } else {
                     high = middle;
@@ -142,27 +130,7 @@ pub fn random_platform_poses(
     workspace: PlatformWorkspace,
     sampler: &mut Sampler,
 ) -> Result<Vec<Isometry3<f64>>, Error> {
-    poses_about(
-        model,
-        (&model.home(), workspace),
-        count,
-        |values| model.out_of_range(values).is_empty(),
-        sampler,
-    )
-}
-
-/// `count` poses of `model` drawn uniformly in `workspace` about `centre`,
-/// each with its actuator values `inside` a region.
-///
-/// # Errors
-/// As [`random_platform_poses`].
-pub(super) fn poses_about(
-    model: &impl ParallelModel,
-    (centre, workspace): (&Isometry3<f64>, PlatformWorkspace),
-    count: usize,
-    inside: impl Fn(&[f64]) -> bool,
-    sampler: &mut Sampler,
-) -> Result<Vec<Isometry3<f64>>, Error> {
+    let home = model.home();
     let mut poses = Vec::with_capacity(count);
     let mut draws = 0;
     while poses.len() < count {
@@ -182,12 +150,12 @@ pub(super) fn poses_about(
         let offset = Vector3::new(axis(), axis(), axis()) * workspace.translation;
         let turn = Vector3::new(axis(), axis(), axis()) * workspace.rotation;
         let pose = Isometry3::from_parts(
-            Translation3::from(centre.translation.vector + offset),
-            UnitQuaternion::from_scaled_axis(turn) * centre.rotation,
+            Translation3::from(home.translation.vector + offset),
+            UnitQuaternion::from_scaled_axis(turn) * home.rotation,
         );
         if model
             .actuator_values(&pose)
-            .is_ok_and(|values| inside(&values))
+            .is_ok_and(|values| model.out_of_range(&values).is_empty())
         {
             poses.push(pose);
         }
