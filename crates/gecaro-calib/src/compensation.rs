@@ -40,7 +40,7 @@ use nalgebra::{DMatrix, DVector, IsometryMatrix3};
 pub use gecaro_data::program::{CompensatedPoint, CompensationStatus, ProgramPoint, ProgramTarget};
 
 use crate::Error;
-use crate::continuation::{closest_from_nearby_starts, continue_from_nominal};
+use crate::continuation::{NominalPath, closest_from_nearby_starts, continue_from_nominal};
 use crate::parallel::run_parts_with;
 use crate::progress::{Observer, Progress, report};
 use crate::sampler::solve_from_starts;
@@ -152,6 +152,9 @@ pub struct Compensator<'a> {
     /// spherical wrist: where a target is not met near the program's
     /// joints, the calibrated robot's solutions are sought next to them.
     wrist: Option<SphericalWrist>,
+    /// The robots between the nominal and the calibrated one, along which
+    /// the program's branch is followed ([`continue_from_nominal`]).
+    path: Option<NominalPath>,
     matching: Match,
     options: InverseOptions,
     /// The last target reached: where one without joints starts.
@@ -184,6 +187,7 @@ impl<'a> Compensator<'a> {
             nominal: InverseSolver::new(nominal),
             calibrated: InverseSolver::new(calibrated),
             wrist: SphericalWrist::of(nominal),
+            path: NominalPath::new(nominal, calibrated)?,
             matching,
             options: InverseOptions::default(),
             previous: None,
@@ -273,7 +277,7 @@ impl<'a> Compensator<'a> {
                      (index, point): (usize, &ProgramPoint),
                      previous: Option<&[f64]>| {
             compensate_point(
-                (&self.nominal, self.wrist.as_ref()),
+                (&self.nominal, self.wrist.as_ref(), self.path.as_ref()),
                 &self.calibrated,
                 (point, previous),
                 self.matching,
@@ -357,7 +361,11 @@ pub const PART_TIME: std::time::Duration = std::time::Duration::from_millis(20);
 /// else from `previous` (the solution of the point before). `index` seeds
 /// its random starts; `chain` is a buffer for the direct models.
 fn compensate_point(
-    (nominal_solver, wrist): (&InverseSolver<'_>, Option<&SphericalWrist>),
+    (nominal_solver, wrist, path): (
+        &InverseSolver<'_>,
+        Option<&SphericalWrist>,
+        Option<&NominalPath>,
+    ),
     solver: &InverseSolver<'_>,
     (point, previous): (&ProgramPoint, Option<&[f64]>),
     matching: Match,
@@ -386,7 +394,7 @@ fn compensate_point(
     // may reach the target within the limits where the previous one does not.
     let free = joints.is_none();
     let mut result = compensate_one(
-        (nominal, wrist),
+        (nominal, wrist, path),
         solver,
         &target,
         (start, free),
@@ -408,12 +416,21 @@ fn compensate_point(
     Ok(result)
 }
 
+/// What the fallbacks know of the nominal robot: the robot, its arm's
+/// configurations in closed form (a spherical wrist), and the path of
+/// robots from it to the calibrated one.
+type NominalSide<'b> = (
+    &'b Robot,
+    Option<&'b SphericalWrist>,
+    Option<&'b NominalPath>,
+);
+
 /// `target` solved on the calibrated `robot` from `start` (the program's
 /// joints, or when `free` the solution of the point before), with the
 /// fallbacks where that fails; `seed` seeds the random starts, `chain` is
 /// a buffer for the direct model.
 fn compensate_one(
-    nominal: (&Robot, Option<&SphericalWrist>),
+    nominal: NominalSide<'_>,
     solver: &InverseSolver<'_>,
     target: &Target,
     (start, free): (Option<&[f64]>, bool),
@@ -560,7 +577,7 @@ fn turned_into_limits(
 /// `None` when none reaches the target. `met_limit`: whether the solve from
 /// the program's joints within the limits, failed, met one.
 fn fallback(
-    (nominal, wrist): (&Robot, Option<&SphericalWrist>),
+    (nominal, wrist, path): NominalSide<'_>,
     solver: &InverseSolver<'_>,
     target: &Target,
     (program_joints, met_limit): (Option<&[f64]>, bool),
@@ -595,7 +612,10 @@ fn fallback(
         None
     };
     let followed = match without_limits {
-        Some(_) => continue_from_nominal(nominal, robot, target, start, options)?,
+        Some(_) => match path {
+            Some(path) => continue_from_nominal(path, target, start, options)?,
+            None => None,
+        },
         None => None,
     };
     let reference = robot.joint_positions(start)?;

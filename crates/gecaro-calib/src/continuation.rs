@@ -27,7 +27,8 @@
 //! limit: limits are left to the caller.
 
 use gecaro_core::{
-    InverseOptions, InverseSolution, InverseSolver, KnownMinima, ParameterKind, Robot, Target,
+    InverseOptions, InverseSolution, InverseSolver, KinematicModel, KnownMinima, ParameterKind,
+    Robot, Target,
 };
 
 use crate::Error;
@@ -63,44 +64,89 @@ const SHORTEST_STEP: f64 = LONGEST_STEP / 8.0;
 /// Failed steps before the path is given up, whatever their length.
 const MAX_FAILED_STEPS: usize = 64;
 
-/// The calibrated robot's solution for `target`, continued from
-/// `start_motor_positions` (which solve it on `nominal`); `None` when the
-/// path cannot be followed (the target leaves the calibrated robot's reach
-/// on the way).
+/// The path of robots from a nominal robot to its calibrated one (see the
+/// module docs): the parameters' change, and the robots at every whole
+/// step (t = k·[`LONGEST_STEP`]) compiled once for a whole program — nearly
+/// every path is followed by them alone (a step is seldom halved).
+pub(crate) struct NominalPath {
+    calibrated: Robot,
+    change: Vec<f64>,
+    /// The robot at t = (k + 1)·`LONGEST_STEP` and its compiled model.
+    stations: Vec<(Robot, KinematicModel)>,
+}
+
+impl NominalPath {
+    /// The path from `nominal` to `calibrated`; `None` when their
+    /// parameters differ (no path between them).
+    ///
+    /// # Errors
+    /// Configuration errors of the robots (never for robots of the same
+    /// joints).
+    pub(crate) fn new(nominal: &Robot, calibrated: &Robot) -> Result<Option<Self>, Error> {
+        if nominal.parameters() != calibrated.parameters() {
+            return Ok(None);
+        }
+        let change: Vec<f64> = calibrated
+            .parameters()
+            .ids()
+            .iter()
+            .map(|id| {
+                let delta = calibrated.parameter(*id) - nominal.parameter(*id);
+                match id.kind {
+                    ParameterKind::Alpha | ParameterKind::Theta | ParameterKind::Beta => {
+                        // The shortest way round: a wrapped angle is not a turn of change.
+                        delta - std::f64::consts::TAU * (delta / std::f64::consts::TAU).round()
+                    }
+                    _ => delta,
+                }
+            })
+            .collect();
+        let mut path = NominalPath {
+            calibrated: calibrated.clone(),
+            change,
+            stations: Vec::new(),
+        };
+        let whole_steps = (1.0 / LONGEST_STEP).round() as usize;
+        path.stations = (1..=whole_steps)
+            .map(|k| {
+                let robot = path.robot_at(k as f64 * LONGEST_STEP)?;
+                let model = KinematicModel::new(&robot);
+                Ok((robot, model))
+            })
+            .collect::<Result<_, Error>>()?;
+        Ok(Some(path))
+    }
+
+    /// The robot at `t` ∈ [0, 1]: η(t) = η₁ − (1 − t)(η₁ − η₀).
+    fn robot_at(&self, t: f64) -> Result<Robot, Error> {
+        let mut robot = self.calibrated.clone();
+        let back: Vec<f64> = self.change.iter().map(|delta| -(1.0 - t) * delta).collect();
+        robot.apply_deltas(&back)?;
+        Ok(robot)
+    }
+
+    /// The compiled robot at `t` when it is a whole step.
+    fn station(&self, t: f64) -> Option<&(Robot, KinematicModel)> {
+        let steps = t / LONGEST_STEP;
+        (steps.fract() == 0.0 && steps >= 1.0)
+            .then(|| self.stations.get(steps as usize - 1))
+            .flatten()
+    }
+}
+
+/// The calibrated robot's solution for `target`, continued along `path`
+/// from `start_motor_positions` (which solve it on the nominal robot);
+/// `None` when the path cannot be followed (the target leaves the
+/// calibrated robot's reach on the way).
 ///
 /// # Errors
 /// Configuration errors of the robots (never for robots of the same joints).
 pub(crate) fn continue_from_nominal(
-    nominal: &Robot,
-    calibrated: &Robot,
+    path: &NominalPath,
     target: &Target,
     start_motor_positions: &[f64],
     options: &InverseOptions,
 ) -> Result<Option<InverseSolution>, Error> {
-    if nominal.parameters() != calibrated.parameters() {
-        return Ok(None);
-    }
-    let change: Vec<f64> = calibrated
-        .parameters()
-        .ids()
-        .iter()
-        .map(|id| {
-            let delta = calibrated.parameter(*id) - nominal.parameter(*id);
-            match id.kind {
-                ParameterKind::Alpha | ParameterKind::Theta | ParameterKind::Beta => {
-                    // The shortest way round: a wrapped angle is not a turn of change.
-                    delta - std::f64::consts::TAU * (delta / std::f64::consts::TAU).round()
-                }
-                _ => delta,
-            }
-        })
-        .collect();
-    let robot_at = |t: f64| -> Result<Robot, Error> {
-        let mut robot = calibrated.clone();
-        let back: Vec<f64> = change.iter().map(|delta| -(1.0 - t) * delta).collect();
-        robot.apply_deltas(&back)?;
-        Ok(robot)
-    };
     let unlimited = InverseOptions {
         respect_limits: false,
         ..*options
@@ -109,14 +155,21 @@ pub(crate) fn continue_from_nominal(
     // the damped solver where they do not converge; where several
     // configurations meet the target (a point for six joints), the damped
     // solver's, whose moves stay near the start.
-    let redundant = calibrated.joint_count() > target.rows();
-    let solve = |robot: &Robot, start: &[f64]| {
-        let solver = InverseSolver::new(robot);
-        if redundant {
+    let redundant = path.calibrated.joint_count() > target.rows();
+    let solve = |t: f64, start: &[f64]| -> Result<_, Error> {
+        let built;
+        let solver = match path.station(t) {
+            Some((robot, model)) => InverseSolver::bound(robot, model)?,
+            None => {
+                built = path.robot_at(t)?;
+                InverseSolver::new(&built)
+            }
+        };
+        Ok(if redundant {
             solver.solve(target, start, &unlimited)
         } else {
             solver.solve_near(target, start, &unlimited)
-        }
+        })
     };
     let mut current = start_motor_positions.to_vec();
     let mut reached = 0.0;
@@ -125,7 +178,7 @@ pub(crate) fn continue_from_nominal(
     let mut last = None;
     while reached < 1.0 {
         let next = (reached + step).min(1.0);
-        match solve(&robot_at(next)?, &current) {
+        match solve(next, &current)? {
             Ok(solution) => {
                 current.clone_from(&solution.motor_positions);
                 reached = next;
