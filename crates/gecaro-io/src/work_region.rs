@@ -12,6 +12,7 @@
 //! actuators, named as the configuration columns name them
 //! (`qm1=-10..10mm,qm4=-5..5mm`; degrees or radians for a Delta's motors).
 
+use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};
 use gecaro_core::{FrameType, JointRegion, Robot};
 
 use crate::prior::signed_quantity;
@@ -45,29 +46,37 @@ pub fn parse_work_region(text: &str, robot: &Robot) -> Result<JointRegion, Strin
     parse_ranges(text, Names::JOINTS, &limits, &revolute)
 }
 
-/// The work region of `text` for a parallel robot of actuators whose
-/// ranges are `ranges` (m for legs, rad for turning motors: `angular`):
-/// the same ranges as [`parse_work_region`]'s, naming actuators `qm1`…
-/// as the configuration columns do.
+/// The work region of `text` for the parallel robot `model`: the same
+/// ranges as [`parse_work_region`]'s, over its actuators (m for legs, rad
+/// for turning motors), named `qm1`… as the configuration columns name
+/// them.
 ///
 /// # Errors
 /// As [`parse_work_region`], for actuators.
 ///
 /// ```
-/// let ranges = [(-0.03, 0.03); 6];
-/// let region = gecaro_io::parse_actuator_region("qm1=-10..10mm, qm4=-5mm..0mm", &ranges, false).unwrap();
+/// let hexapod = gecaro_io::load_parallel_robot("hexapod").unwrap().robot;
+/// let region = gecaro_io::parse_actuator_region("qm1=-10..10mm, qm4=-5mm..0mm", &hexapod).unwrap();
 /// assert_eq!(region.range(0), (-0.01, 0.01));
 /// assert_eq!(region.range(3), (-0.005, 0.0));
-/// assert_eq!(region.range(1), (-0.03, 0.03));
-/// assert!(gecaro_io::parse_actuator_region("q1=-10..10mm", &ranges, false).is_err());
-/// assert!(gecaro_io::parse_actuator_region("qm1=-10..10deg", &ranges, false).is_err());
+/// assert_eq!(region.range(1), (-0.1, 0.1));
+/// assert!(gecaro_io::parse_actuator_region("q1=-10..10mm", &hexapod).is_err());
+/// assert!(gecaro_io::parse_actuator_region("qm1=-10..10deg", &hexapod).is_err());
 /// ```
 pub fn parse_actuator_region(
     text: &str,
-    ranges: &[(f64, f64)],
-    angular: bool,
+    model: &impl ParallelModel,
 ) -> Result<JointRegion, String> {
-    parse_ranges(text, Names::ACTUATORS, ranges, &vec![angular; ranges.len()])
+    let ranges: Vec<(f64, f64)> = (0..model.actuator_count())
+        .map(|k| model.actuator_range(k))
+        .collect();
+    let angular = model.actuator_unit() == ParameterUnit::Angle;
+    parse_ranges(
+        text,
+        Names::ACTUATORS,
+        &ranges,
+        &vec![angular; ranges.len()],
+    )
 }
 
 /// How the ranges' owners are named: joints `q1`…, actuators `qm1`….

@@ -6,7 +6,7 @@ use gecaro_calib::parallel_robots::{
     PlatformIdentification, PlatformIdentificationOptions, PlatformNoise, PlatformRegion,
     identify_platform, platform_errors, work_region_centre,
 };
-use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};
+use gecaro_core::parallel_model::ParallelModel;
 use gecaro_core::parallel_robot::ParallelRobot;
 use gecaro_io::{ParallelRobotFile, StandardDeviation};
 use serde::Deserialize;
@@ -136,11 +136,7 @@ impl ParallelIdentifyRequest {
         }
         if let Some(text) = &self.work_region {
             let robot = &nominal.robot;
-            let ranges: Vec<(f64, f64)> = (0..robot.actuator_count())
-                .map(|k| robot.actuator_range(k))
-                .collect();
-            let angular = robot.actuator_unit() == ParameterUnit::Angle;
-            let region = gecaro_io::parse_actuator_region(text, &ranges, angular)
+            let region = gecaro_io::parse_actuator_region(text, robot)
                 .map_err(|message| AppError::setting("work_region", message))?;
             // Its poses are solved from the pose at its centre.
             if work_region_centre(robot, &region).is_err() {
