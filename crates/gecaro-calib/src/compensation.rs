@@ -611,12 +611,9 @@ fn fallback(
     } else {
         None
     };
-    let followed = match without_limits {
-        Some(_) => match path {
-            Some(path) => continue_from_nominal(path, target, start, options)?,
-            None => None,
-        },
-        None => None,
+    let followed = match (&without_limits, path) {
+        (Some(_), Some(path)) => continue_from_nominal(path, target, start, options)?,
+        _ => None,
     };
     let reference = robot.joint_positions(start)?;
     if let (Some(wrist), Target::Frame(pose)) = (wrist, target) {
