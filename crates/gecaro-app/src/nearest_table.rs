@@ -9,13 +9,13 @@
 //! The nearest robot is identified as a calibration would (the frame
 //! method, Gauss–Newton on the analytic Jacobian, `gecaro_calib`), from
 //! the robot's own exact tool poses at [`FIT_POSES`] configurations drawn
-//! within its joint limits, starting from the robot with every β set to 0
-//! and every β held there by a prior of σ 1e-12 rad. Its error is measured
+//! within its joint limits, starting from the robot with every β set to 0,
+//! where it stays: β is not identified (priority 0). Its error is measured
 //! on [`CHECK_POSES`] other configurations: the largest distance between
 //! the two tools' origins, and the largest angle between their frames.
 
 use gecaro_calib::prelude::{
-    IdentificationOptions, MethodOptions, Prior, Quiet, Sampler, Study, identify, method,
+    IdentificationOptions, MethodOptions, Quiet, Sampler, Study, identify, method,
     simulate_measurements,
 };
 use gecaro_core::{ParameterId, ParameterKind, Robot, terminal_pose};
@@ -85,27 +85,20 @@ pub(crate) fn nearest_without_beta(robot: &Robot, format: &str) -> Result<Neares
         &mut sampler,
         &mut Quiet,
     )?;
-    let mut prior = Prior::new(1e3, 1e3, 1e3).map_err(gecaro_calib::Error::from)?;
-    prior.overrides = between
-        .clone()
-        .map(|j| ParameterId::new(ParameterKind::Beta, j))
-        .filter(|id| start.parameters().contains(*id))
-        .map(|id| (id, 1e-12))
-        .collect();
+    // β between the joints is not identified (priority 0): held at 0
+    // exactly, whatever the fit's residuals.
+    let mut priority = start.priority();
+    for j in between.clone() {
+        priority.set(ParameterId::new(ParameterKind::Beta, j), 0);
+    }
     let options = IdentificationOptions {
-        prior: Some(prior),
+        priority: Some(priority),
         ..IdentificationOptions::default()
     };
     let study = Study::single(frame, samples, "the robot's own poses");
-    // The prior holds β to a few 1e-10 rad: written, and judged, at 0.
-    let mut spec = identify(&start, &study, &options, &mut Quiet)?
+    let spec = identify(&start, &study, &options, &mut Quiet)?
         .calibrated
         .to_spec();
-    for (j, frame) in spec.frames.iter_mut().enumerate() {
-        if between.contains(&j) {
-            frame.beta = 0.0;
-        }
-    }
     let fitted = Robot::new(spec)?;
     let (mut position_error, mut orientation_error) = (0.0f64, 0.0f64);
     for _ in 0..CHECK_POSES {

@@ -203,6 +203,28 @@ impl FoldedRows {
         self.clone().merged([fold.finish()])
     }
 
+    /// The rows with their right-hand sides `r` moved to `r − W·step`, a
+    /// linear step ([`crate::observation::ObservationSystem::apply_linear_step`]):
+    /// `Wᵀr` less `WᵀW·step`, or a factor's `z` less `R·step` (the part of
+    /// `r` outside the span of W, the factor's last diagonal entry, stays).
+    pub(crate) fn apply_step(&mut self, step: &[f64]) {
+        let c = self.columns;
+        match &mut self.sums {
+            Sums::Gram { gram, projected } => {
+                for i in 0..c {
+                    let change: f64 = (0..c).map(|j| gram[(i.max(j), i.min(j))] * step[j]).sum();
+                    projected[(i, 0)] -= change;
+                }
+            }
+            Sums::Factor(factor) => {
+                for i in 0..c {
+                    let change: f64 = (i..c).map(|j| factor[(i, j)] * step[j]).sum();
+                    factor[(i, c)] -= change;
+                }
+            }
+        }
+    }
+
     /// What this fold keeps.
     pub(crate) fn kind(&self) -> FoldKind {
         match self.sums {

@@ -491,6 +491,26 @@ impl ObservationSystem {
         &self.residuals
     }
 
+    /// An empty system for the residuals of the same sets elsewhere, with
+    /// this one's robust observation weights (a set centred on its mean is
+    /// centred on the weighted mean: [`RowWriter::observation_weight`]).
+    pub(crate) fn for_residuals(&self) -> ObservationSystem {
+        ObservationSystem {
+            observation_weights: self.observation_weights.clone(),
+            ..ObservationSystem::default()
+        }
+    }
+
+    /// Replaces the measured rows' residuals (Δy, not weighted) by those of
+    /// `other`, a system of the same sets written elsewhere
+    /// ([`for_residuals`](Self::for_residuals)); W, its folded sums and the
+    /// appended rows stay.
+    pub(crate) fn take_measured_residuals(&mut self, other: &ObservationSystem) {
+        let rows = self.measured_rows();
+        debug_assert_eq!(other.measured_rows(), rows);
+        self.residuals[..rows].copy_from_slice(&other.residuals[..rows]);
+    }
+
     /// Δy multiplied by the row weights: the right-hand side that goes with [`Self::matrix`].
     pub fn weighted_residuals(&self) -> Vec<f64> {
         let mut weighted = Vec::with_capacity(self.residuals.len());
@@ -501,10 +521,15 @@ impl ObservationSystem {
 
     /// Updates the residuals for a small parameter step through the linear
     /// model: `Δy ← Δy − W·step` (columns of W in this system's layout).
-    /// A folded system updates its appended rows only: its measured rows'
-    /// residuals stay those at the system's parameters (for a negligible
-    /// step, `‖W·step‖² ≤ 1e-12 ‖w r‖²`), and the folded sums are not moved.
+    /// A folded system updates its appended rows and its folded sums
+    /// ([`FoldedRows::apply_step`]); its measured rows' residuals, whose
+    /// rows of W are not held, stay those at the system's parameters: off by
+    /// nothing that counts for a negligible step (`‖W·step‖² ≤ 1e-12 ‖w r‖²`),
+    /// evaluated anew after a larger one ([`take_measured_residuals`](Self::take_measured_residuals)).
     pub(crate) fn apply_linear_step(&mut self, step: &[f64]) {
+        if let Some(folded) = &mut self.folded {
+            folded.apply_step(step);
+        }
         let held = self.held_rows();
         let weights = self.weights_of(held.clone());
         for ((index, row), weight) in held.enumerate().zip(weights) {

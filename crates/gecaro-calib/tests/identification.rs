@@ -850,3 +850,81 @@ fn a_repeatability_study_of_many_cycles_converges() {
     );
     assert!(result.after.rms < 2e-5, "{}", result.after.rms);
 }
+
+/// Where the descent's steps contract by orders of magnitude, its last step
+/// is applied without W evaluated at its end (the linear model's residuals;
+/// a folded system's measured residuals evaluated at the new parameters):
+/// the result is that of a descent made to evaluate W until its step is
+/// negligible, with W held and folded alike.
+#[test]
+fn a_last_step_left_unevaluated_gives_the_evaluated_descents_result() {
+    let (_, mut study) = simulate(1.0, 1e-5, 31, "position", false, 2000);
+    study.sets[0].sigma = Some(1e-5);
+    for streamed_rows in [usize::MAX, 0] {
+        let run = |step_tolerance| {
+            identify(
+                &stanford(),
+                &study,
+                &IdentificationOptions {
+                    streamed_rows,
+                    step_tolerance,
+                    ..IdentificationOptions::default()
+                },
+                &mut Quiet,
+            )
+            .expect("identification")
+        };
+        // At 1e-15 what the contraction leaves is not negligible: W is
+        // evaluated at the end of the last step.
+        let (last, evaluated) = (run(1e-8), run(1e-15));
+        assert_eq!(last.stop_reason, StopReason::Converged);
+        assert_eq!(evaluated.stop_reason, StopReason::Converged);
+        let steps: Vec<f64> = last.history.iter().map(|record| record.step).collect();
+        let n = steps.len();
+        assert!(
+            n >= 3 && steps[n - 1] < 0.1 * steps[n - 2] && steps[n - 1] > 1e-9,
+            "{streamed_rows}: steps {steps:?}"
+        );
+        // The same steps; the last one's end evaluated in one run only,
+        // where the precision reads W there (a relative 1e-6 or so apart).
+        let evaluated_steps: Vec<f64> = evaluated.history.iter().map(|r| r.step).collect();
+        assert_eq!(steps, evaluated_steps, "{streamed_rows}");
+        assert!(
+            last.parameters
+                .iter()
+                .zip(&evaluated.parameters)
+                .any(|(a, b)| a.std != b.std),
+            "{streamed_rows}: W read at the same point"
+        );
+        for (a, b) in last.parameters.iter().zip(&evaluated.parameters) {
+            assert_eq!(a.name, b.name);
+            assert!(
+                (a.identified - b.identified).abs() <= 1e-3 * b.std,
+                "{streamed_rows}: {} {} against {} (σ {})",
+                a.name,
+                a.identified,
+                b.identified,
+                b.std
+            );
+            assert!(
+                (a.std - b.std).abs() <= 1e-4 * b.std,
+                "{streamed_rows}: σ of {} {} against {}",
+                a.name,
+                a.std,
+                b.std
+            );
+        }
+        let worst = last
+            .errors_after
+            .lengths
+            .iter()
+            .zip(&evaluated.errors_after.lengths)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-10, "{streamed_rows}: errors {worst:e} m apart");
+        assert!(
+            (last.residual_sigma - evaluated.residual_sigma).abs()
+                < 1e-9 * evaluated.residual_sigma
+        );
+    }
+}

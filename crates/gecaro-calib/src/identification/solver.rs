@@ -49,6 +49,11 @@ fn at_the_minimum(history: &[IterationRecord]) -> bool {
     let decrease = first * first - last * last;
     last.is_finite() && decrease <= FLAT_DECREASE * last * last
 }
+/// Largest ratio of a step to the one before it at which the descent's
+/// steps are taken to contract ([`Problem::is_final`]): near a minimum
+/// Gauss–Newton shrinks them by orders of magnitude (1.9e-3, then 2.3e-6,
+/// on the Stanford arm's 5,000 positions).
+const FINAL_CONTRACTION: f64 = 0.1;
 /// Continuation stages tried (the first goes straight to nominal).
 const CONTINUATION_ATTEMPTS: usize = 8;
 /// Iterations allowed to re-converge the base parameters after a stage.
@@ -302,13 +307,9 @@ impl<'a> Problem<'a> {
         }
     }
 
-    /// What a step over `parameters` (vocabulary indices, after the
-    /// auxiliary columns) is worth at `iterate` (see [`StepWorth`]): small
-    /// against the parameters, or unable to lower the cost by more than a
-    /// relative 1e-12 (a least-squares step lowers ‖r‖² by ‖W·Δ‖² at most).
-    /// The second test ends iterations on noisy, ill-conditioned data, where
-    /// rounding keeps the computed correction from vanishing at the minimum.
-    pub(super) fn worth(&self, step: &[f64], iterate: &Iterate, parameters: &[usize]) -> StepWorth {
+    /// The length of a negligible step over `parameters` at `iterate`:
+    /// `step_tolerance · (1 + ‖η_b‖)`.
+    fn negligible(&self, iterate: &Iterate, parameters: &[usize]) -> f64 {
         let robot = &iterate.robot;
         let scale = norm(
             &parameters
@@ -316,7 +317,66 @@ impl<'a> Problem<'a> {
                 .map(|i| robot.parameter(robot.parameters().id(*i)))
                 .collect::<Vec<_>>(),
         );
-        if norm(step) <= self.options.step_tolerance * (1.0 + scale) {
+        self.options.step_tolerance * (1.0 + scale)
+    }
+
+    /// Whether a plain step of the descent is its last: the steps contract
+    /// (‖Δ_k‖ ≤ ρ‖Δ_{k−1}‖ with ρ ≤ [`FINAL_CONTRACTION`]) so fast that
+    /// the steps after this one, at most ρ/(1 − ρ)·‖Δ_k‖ together (a
+    /// geometric series: Gauss–Newton's linear convergence at its slowest;
+    /// it is quadratic on data that fit), are negligible. The step is then
+    /// applied without W evaluated at its end ([`Problem::last_step`]).
+    fn is_final(&self, step: &[f64], previous: &IterationRecord, iterate: &Iterate) -> bool {
+        if previous.damping != 0.0 || previous.step <= 0.0 {
+            return false;
+        }
+        let length = norm(step);
+        let contraction = length / previous.step;
+        contraction <= FINAL_CONTRACTION
+            && contraction / (1.0 - contraction) * length <= self.negligible(iterate, &self.base)
+    }
+
+    /// The iterate after a final step ([`Problem::is_final`]): W kept from
+    /// the step's start, the residuals `r − WΔ` of the linear model (exact
+    /// to O(‖Δ‖²), [`Problem::polish`]) — a folded system's measured
+    /// residuals, whose rows of W are not held, evaluated at the new
+    /// parameters (the model's poses, no Jacobian).
+    ///
+    /// # Errors
+    /// When the model cannot be evaluated at the new parameters.
+    fn last_step(
+        &self,
+        current: Iterate,
+        step: &[f64],
+        states: &mut StudyStates,
+    ) -> Result<Iterate, Error> {
+        if !current.system.is_folded() {
+            return Ok(self.polish(current, step, &self.base));
+        }
+        let (robot, auxiliary) = self.stepped(&current, step, &self.base)?;
+        let mut measured = current.system.for_residuals();
+        let layout =
+            ColumnLayout::with_auxiliary(robot.parameters().len(), &[], auxiliary.len(), &[]);
+        self.study
+            .linearise(&robot, &auxiliary, &layout, states, &mut measured)?;
+        let mut current = current;
+        current.system.apply_linear_step(step);
+        current.system.take_measured_residuals(&measured);
+        current.normal.apply_step(step);
+        current.cost = current.system.weighted_cost();
+        current.robot = robot;
+        current.auxiliary = auxiliary;
+        Ok(current)
+    }
+
+    /// What a step over `parameters` (vocabulary indices, after the
+    /// auxiliary columns) is worth at `iterate` (see [`StepWorth`]): small
+    /// against the parameters, or unable to lower the cost by more than a
+    /// relative 1e-12 (a least-squares step lowers ‖r‖² by ‖W·Δ‖² at most).
+    /// The second test ends iterations on noisy, ill-conditioned data, where
+    /// rounding keeps the computed correction from vanishing at the minimum.
+    pub(super) fn worth(&self, step: &[f64], iterate: &Iterate, parameters: &[usize]) -> StepWorth {
+        if norm(step) <= self.negligible(iterate, parameters) {
             return StepWorth::Small;
         }
         let decrease = predicted_decrease(&iterate.normal, step, self.condition, || {
@@ -438,6 +498,18 @@ impl<'a> Problem<'a> {
                     let worth = self.worth(&step, &current, &self.base);
                     if worth != StepWorth::Descent {
                         current = self.finish(current, &step, worth, &self.base);
+                        stop = StopReason::Converged;
+                        break 'iterations;
+                    }
+                    if damping == 0.0
+                        && history
+                            .last()
+                            .is_some_and(|previous| self.is_final(&step, previous, &current))
+                    {
+                        current = self.last_step(current, &step, states)?;
+                        let record = self.record(&current, &step, damping);
+                        report(observer, Progress::Iteration(&record))?;
+                        history.push(record);
                         stop = StopReason::Converged;
                         break 'iterations;
                     }
