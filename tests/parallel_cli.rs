@@ -479,7 +479,8 @@ fn a_hexapod_is_calibrated_from_distances_on_the_command_line() {
 /// parameter's σ and a tool-point error over the workspace below the
 /// noise of a held-out measurement, which four simulated calibrations
 /// measure; the legs within ±12 mm predict an error many times it, with the
-/// warning; options of serial robots only refused by name.
+/// warning, and over a stated region of ±12 mm what simulated calibrations
+/// measure there; options of serial robots only refused by name.
 #[test]
 fn a_plan_is_predicted_before_it_is_measured() {
     let folder = tempfile::tempdir().expect("folder");
@@ -562,6 +563,76 @@ fn a_plan_is_predicted_before_it_is_measured() {
         (0.6..1.6).contains(&(measured / predicted)),
         "{measured} against {predicted}"
     );
+    // The legs' plan judged over the region it will be used in, ±12 mm:
+    // predicted far below the workspace's error, and what simulated
+    // calibrations measure against their real robots over that region.
+    let region = (1..=6)
+        .map(|k| format!("qm{k}=-12..12mm"))
+        .collect::<Vec<_>>()
+        .join(",");
+    let near = json_output(&[
+        "predict",
+        "hexapod",
+        "--method",
+        "frame",
+        "--noise",
+        "2e-5",
+        "--monte-carlo",
+        "4",
+        "--json",
+        "--work-region",
+        &region,
+        "--data",
+        &at("near.csv"),
+    ]);
+    let (measured, predicted) = (
+        near["monte_carlo"]["work_rms"].as_f64().expect("simulated"),
+        near["region"]["predicted_work"]
+            .as_f64()
+            .expect("predicted"),
+    );
+    assert_eq!(near["region"]["work_is_ranges"], false, "{near}");
+    assert_eq!(near["region"]["work_name"], "the stated work region");
+    assert!(
+        (0.6..1.6).contains(&(measured / predicted)),
+        "{measured} against {predicted}"
+    );
+    let whole = json_output(&[
+        "predict",
+        "hexapod",
+        "--method",
+        "frame",
+        "--noise",
+        "2e-5",
+        "--json",
+        "--data",
+        &at("near.csv"),
+    ]);
+    let over_workspace = whole["region"]["predicted_work"]
+        .as_f64()
+        .expect("predicted");
+    assert!(
+        predicted < 0.1 * over_workspace,
+        "{predicted} against {over_workspace}"
+    );
+    for (robot, region, refused) in [
+        ("hexapod", "qm7=0..1mm", "qm7"),
+        (
+            "stanford",
+            "q1=0..10deg",
+            "--work-region of `predict` is a parallel robot's",
+        ),
+    ] {
+        let output = command(&format!(
+            "predict {robot} --method position --noise 2e-5 --work-region {region} --data"
+        ))
+        .arg(at("near.csv"))
+        .output()
+        .expect("runs");
+        let error = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{error}");
+        assert!(error.contains(refused), "{error}");
+    }
     let output = command("predict hexapod --method frame --noise 2e-5 --model full --data")
         .arg(at("plan.csv"))
         .output()

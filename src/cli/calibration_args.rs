@@ -276,6 +276,13 @@ pub(crate) struct PredictArgs {
     /// Seed of the test poses and the simulations.
     #[arg(long, default_value_t = gecaro_calib::simulation::DEFAULT_SEED)]
     pub(crate) seed: u64,
+    /// A parallel robot's work region, over which the calibrated robot's
+    /// error is predicted (and --monte-carlo's calibrations judged):
+    /// actuator ranges with their units, e.g. qm1=-12..12mm (default: the
+    /// whole workspace). A serial robot's prediction is judged at its test
+    /// poses: give those in the region with --test-poses.
+    #[arg(long, value_name = "qm1=MIN..MAXmm,..", conflicts_with = "study")]
+    pub(crate) work_region: Option<String>,
     /// The model predicted, as identify --model takes it (full, no-gains, …, a priority file);
     /// elastic: the compliances too, loaded by the robot's masses and the plan's payload columns
     /// (docs/elastic.md).

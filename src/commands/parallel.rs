@@ -583,6 +583,7 @@ pub(crate) fn predict(args: &PredictArgs, robot: &str) -> Result<(), Failure> {
         // A parallel robot's level, as `generate` reads it: ±L mm, ±L mrad.
         error_level: Some(args.error_level),
         seed: Some(args.seed),
+        work_region: args.work_region.clone(),
     }
     .run(&LocalFiles)?;
     if args.json {
@@ -613,27 +614,34 @@ pub(crate) fn predict(args: &PredictArgs, robot: &str) -> Result<(), Failure> {
     let region = &predicted.region;
     println!(
         "predicted {} of the calibrated platform: {} mm RMS at these configurations, {} mm over \
-         the workspace (largest {} mm; a held-out measurement's noise {} mm)",
+         {} (largest {} mm; a held-out measurement's noise {} mm)",
         region.error,
         mm(region.predicted_inside),
         mm(region.predicted_work),
+        region.work_name,
         mm(region.predicted_work_max),
         mm(region.noise_floor)
     );
     if let Some(simulated) = &predicted.monte_carlo {
         println!(
-            "{} simulated calibrations (real platforms drawn at ±{} mm): {} mm RMS over the \
-             workspace against their real ones (largest {} mm)",
+            "{} simulated calibrations (real platforms drawn at ±{} mm): {} mm RMS over {} \
+             against their real ones (largest {} mm)",
             simulated.runs,
             number(args.error_level, 3),
             mm(simulated.work_rms),
+            region.work_name,
             mm(simulated.work_max)
         );
     }
     if !region.holds_everywhere {
         println!(
             "warning: these configurations calibrate the platform where they are only: \
-             measure poses spread over the whole workspace"
+             measure poses spread over {}",
+            if region.work_is_ranges {
+                "the whole workspace"
+            } else {
+                "the stated work region"
+            }
         );
     }
     Ok(())

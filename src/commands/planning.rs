@@ -268,6 +268,14 @@ pub(crate) fn predict_accuracy(args: &PredictArgs) -> Result<(), Failure> {
     else {
         unreachable!("clap requires them without --study");
     };
+    if args.work_region.is_some() {
+        return Err(Failure::usage(
+            "--work-region of `predict` is a parallel robot's: a serial robot's prediction is \
+             judged at its test poses"
+                .to_owned(),
+            Some("give configurations in the region with --test-poses FILE".to_owned()),
+        ));
+    }
     let mut request = PredictRequest::new(
         RobotSource::Named(robot.clone()),
         method_spec(method, &args.options)?,

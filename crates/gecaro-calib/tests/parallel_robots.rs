@@ -586,7 +586,7 @@ fn a_prediction_before_measuring_matches_the_calibration() {
             .map(|sample| Sample::new(sample.motor_positions.clone()))
             .collect();
         let prediction =
-            predict_platform(&nominal, &configurations, measure, NOISE).expect("predicted");
+            predict_platform(&nominal, &configurations, measure, NOISE, None).expect("predicted");
         let result = identify_platform(
             &nominal,
             &data,
@@ -756,10 +756,14 @@ fn a_measurement_off_is_named_by_its_line() {
 
 /// The prediction before measuring against simulated calibrations from the
 /// same configurations: 8 real robots drawn, each calibrated and judged
-/// against itself over the workspace, their RMS as predicted.
+/// against itself over the workspace, their RMS as predicted; and over a
+/// stated work region (the middle half of every actuator's range), whose
+/// predicted and measured errors are both its own, below the workspace's.
 #[test]
 fn simulated_calibrations_measure_what_was_predicted() {
     use gecaro_calib::parallel_robots::{predict_platform, simulate_calibrations};
+    use gecaro_core::JointRegion;
+    use gecaro_core::parallel_model::ParallelModel;
     for (robot, measure) in [
         ("hexapod", PlatformMeasure::Pose),
         ("delta", PlatformMeasure::Point),
@@ -769,24 +773,50 @@ fn simulated_calibrations_measure_what_was_predicted() {
             .into_iter()
             .map(|sample| Sample::new(sample.motor_positions))
             .collect();
-        let predicted = predict_platform(&nominal, &configurations, measure, NOISE)
-            .expect("predicted")
-            .region
-            .work_rms;
-        let simulated =
-            simulate_calibrations(&nominal, &configurations, measure, NOISE, (8, 1.0, 151))
-                .expect("simulated");
-        println!(
-            "{robot} {measure:?}: predicted {:.4} mm, {} simulated calibrations {:.4} mm",
-            predicted * 1e3,
-            simulated.runs,
-            simulated.work_rms * 1e3
-        );
-        assert!(
-            (0.7..1.4).contains(&(simulated.work_rms / predicted)),
-            "{robot}: simulated {} against predicted {predicted}",
-            simulated.work_rms
-        );
+        let middle = JointRegion::new(
+            (0..nominal.actuator_count())
+                .map(|k| {
+                    let (min, max) = nominal.actuator_range(k);
+                    let quarter = (max - min) / 4.0;
+                    (min + quarter, max - quarter)
+                })
+                .collect(),
+        )
+        .expect("region");
+        let mut over = Vec::new();
+        for work in [None, Some(&middle)] {
+            let predicted = predict_platform(&nominal, &configurations, measure, NOISE, work)
+                .expect("predicted")
+                .region
+                .work_rms;
+            let simulated = simulate_calibrations(
+                &nominal,
+                &configurations,
+                measure,
+                NOISE,
+                (8, 1.0, 151),
+                work,
+            )
+            .expect("simulated");
+            println!(
+                "{robot} {measure:?} over {}: predicted {:.4} mm, {} simulated calibrations {:.4} mm",
+                if work.is_some() {
+                    "the middle"
+                } else {
+                    "the workspace"
+                },
+                predicted * 1e3,
+                simulated.runs,
+                simulated.work_rms * 1e3
+            );
+            assert!(
+                (0.7..1.4).contains(&(simulated.work_rms / predicted)),
+                "{robot}: simulated {} against predicted {predicted}",
+                simulated.work_rms
+            );
+            over.push(predicted);
+        }
+        assert!(over[1] < over[0], "{robot}: {over:?}");
     }
     let error = simulate_calibrations(
         &ready("hexapod"),
@@ -794,6 +824,7 @@ fn simulated_calibrations_measure_what_was_predicted() {
         PlatformMeasure::Distance,
         NOISE,
         (1, 1.0, 1),
+        None,
     )
     .expect_err("refused")
     .to_string();

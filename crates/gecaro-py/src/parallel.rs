@@ -275,11 +275,14 @@ pub(crate) fn parallel_plan<'py>(
 /// {"predicted_inside", "predicted_work", "predicted_work_max",
 /// "noise_floor", "holds_everywhere", …}, "monte_carlo": {"runs",
 /// "work_rms", "work_max"} when `monte_carlo` calibrations are simulated
-/// (real robots drawn at `error_level`: ±mm, ±mrad)}` in metres and radians.
+/// (real robots drawn at `error_level`: ±mm, ±mrad)}` in metres and radians;
+/// over `work_region` when given (actuator ranges with their units,
+/// `"qm1=-12..12mm"`; the region's `work_name` then says so), else over
+/// the whole workspace.
 #[pyfunction]
 #[pyo3(signature = (
     robot, method, data, *, sigma, sigma_rotation = None, length_unit = None, angle_unit = None,
-    monte_carlo = None, error_level = None, seed = 1,
+    monte_carlo = None, error_level = None, seed = 1, work_region = None,
 ))]
 pub(crate) fn parallel_predict<'py>(
     py: Python<'py>,
@@ -293,6 +296,7 @@ pub(crate) fn parallel_predict<'py>(
     monte_carlo: Option<usize>,
     error_level: Option<f64>,
     seed: u64,
+    work_region: Option<String>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let request = ParallelPredictRequest {
         robot,
@@ -304,6 +308,7 @@ pub(crate) fn parallel_predict<'py>(
         monte_carlo,
         error_level,
         seed: Some(seed),
+        work_region,
     };
     let predicted = py.detach(|| request.run(&LocalFiles)).py()?;
     to_python(py, &predicted)

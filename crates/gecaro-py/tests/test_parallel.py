@@ -163,6 +163,16 @@ def test_a_plan_is_predicted_before_it_is_measured(tmp_path):
     assert 0.5 < ratio < 2.0, ratio
     with pytest.raises(gecaro.errors.InputError, match="has no unit|unit"):
         gecaro.parallel_predict("hexapod", "frame", tmp_path / "plan.csv", sigma="20")
+    # Over the region it will be used in: the region's own error, named.
+    region = ",".join(f"qm{k}=-10..10mm" for k in range(1, 7))
+    near = gecaro.parallel_predict("hexapod", "frame", tmp_path / "plan.csv", sigma="20um",
+                                   work_region=region)
+    assert near["region"]["work_name"] == "the stated work region"
+    assert not near["region"]["work_is_ranges"]
+    assert near["region"]["predicted_work"] < predicted["region"]["predicted_work"]
+    with pytest.raises(gecaro.errors.InputError, match="work_region"):
+        gecaro.parallel_predict("hexapod", "frame", tmp_path / "plan.csv", sigma="20um",
+                                work_region="qm1=-0.1..0.1rad")
 
 
 def test_poses_measured_from_a_tracker_elsewhere_are_registered(tmp_path):

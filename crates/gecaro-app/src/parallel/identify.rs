@@ -4,7 +4,7 @@
 
 use gecaro_calib::parallel_robots::{
     PlatformIdentification, PlatformIdentificationOptions, PlatformNoise, PlatformRegion,
-    identify_platform, platform_errors, work_region_centre,
+    identify_platform, platform_errors,
 };
 use gecaro_core::parallel_model::ParallelModel;
 use gecaro_core::parallel_robot::ParallelRobot;
@@ -14,6 +14,7 @@ use serde::Deserialize;
 use super::documents::{
     PlatformIdentificationDocument, PlatformOutlierDocument, PlatformRankDocument, pose_document,
 };
+use super::region::stated_work_region;
 use super::{actuator_types, load_parallel_robot, measure_for};
 use crate::error::{AppError, ErrorKind};
 use crate::files::Files;
@@ -135,18 +136,7 @@ impl ParallelIdentifyRequest {
             options.max_iterations = iterations;
         }
         if let Some(text) = &self.work_region {
-            let robot = &nominal.robot;
-            let region = gecaro_io::parse_actuator_region(text, robot)
-                .map_err(|message| AppError::setting("work_region", message))?;
-            // Its poses are solved from the pose at its centre.
-            if work_region_centre(robot, &region).is_err() {
-                return Err(AppError::setting(
-                    "work_region",
-                    "no platform pose puts every actuator at the middle of its stated range: \
-                     state ranges the platform reaches together",
-                ));
-            }
-            options.work_region = Some(region);
+            options.work_region = Some(stated_work_region(&nominal.robot, text)?);
         }
         let result = identify_platform(&nominal.robot, &samples, measure, noise, &options)?;
         let errors_before = platform_errors(&nominal.robot, &samples, measure)?;

@@ -16,6 +16,7 @@ mod identifiable;
 mod identify;
 mod plan;
 mod predict;
+mod region;
 
 use gecaro_calib::parallel_robots::PlatformMeasure;
 use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};

@@ -11,6 +11,7 @@ use gecaro_io::StandardDeviation;
 use serde::{Deserialize, Serialize};
 
 use super::documents::PlatformRegionDocument;
+use super::region::stated_work_region;
 use super::{actuator_types, load_parallel_robot, measure_for};
 use crate::error::AppError;
 use crate::files::Files;
@@ -52,6 +53,12 @@ pub struct ParallelPredictRequest {
     /// Seed of the simulations (default [`DEFAULT_SEED`]).
     #[serde(default)]
     pub seed: Option<u64>,
+    /// The region the calibrated robot will be used in, over which its
+    /// error is predicted (and the simulated calibrations judged): actuator
+    /// ranges with their units, `"qm1=-12..12mm,qm4=0..20mm"` (actuators not
+    /// named: their ranges). `None`: the whole workspace.
+    #[serde(default)]
+    pub work_region: Option<String>,
 }
 
 /// Simulated calibrations' measured error.
@@ -128,7 +135,13 @@ impl ParallelPredictRequest {
             angle: angle.unwrap_or(length),
         };
         let configurations = read.samples.to_rows();
-        let prediction = predict_platform(&file.robot, &configurations, measure, noise)?;
+        let work = self
+            .work_region
+            .as_deref()
+            .map(|text| stated_work_region(&file.robot, text))
+            .transpose()?;
+        let prediction =
+            predict_platform(&file.robot, &configurations, measure, noise, work.as_ref())?;
         let monte_carlo = match self.monte_carlo {
             Some(runs) => {
                 if !(1..=MAX_SIMULATED_CALIBRATIONS).contains(&runs) {
@@ -148,6 +161,7 @@ impl ParallelPredictRequest {
                         self.error_level.unwrap_or(DEFAULT_ERROR_LEVEL),
                         self.seed.unwrap_or(DEFAULT_SEED),
                     ),
+                    work.as_ref(),
                 )?;
                 Some(SimulatedCalibrationsDocument {
                     runs: simulated.runs,

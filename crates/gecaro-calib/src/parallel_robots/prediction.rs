@@ -10,6 +10,7 @@
 //! configuration (its direct model), with what the sensor would read
 //! there; a measured robot near the nominal one has nearly the same W.
 
+use gecaro_core::JointRegion;
 use gecaro_core::parallel_model::ParallelModel;
 use gecaro_data::sample::Sample;
 use nalgebra::Isometry3;
@@ -20,7 +21,7 @@ use super::identification::{
 };
 use super::measure::{PlatformMeasure, PlatformNoise};
 use super::observation::{actuator_values, normal_system};
-use super::region::{PlatformRegion, where_it_holds};
+use super::region::{PlatformRegion, region_poses, where_it_holds};
 use super::simulation::{
     PlatformWorkspace, perturbed_platform, random_platform_poses, simulate_platform,
 };
@@ -43,17 +44,20 @@ pub struct PlatformPrediction {
 
 /// Predicts measuring `model` by `measure` at the actuator values of
 /// `configurations` (consecutive pairs for a distance) with a sensor of
-/// noise `noise`.
+/// noise `noise`; the calibrated robot's error predicted over `work`, the
+/// actuator ranges it will be used in (`None`: its whole workspace).
 ///
 /// # Errors
 /// A measure the structure cannot take, configurations with another number
 /// of actuator values or no pose (naming their line), too few equations,
-/// configurations that do not determine the identifiable parameters.
+/// configurations that do not determine the identifiable parameters, a
+/// stated region whose actuator values the direct model solves too few of.
 pub fn predict_platform<M: ParallelModel>(
     model: &M,
     configurations: &[Sample],
     measure: PlatformMeasure,
     noise: PlatformNoise,
+    work: Option<&JointRegion>,
 ) -> Result<PlatformPrediction, Error> {
     measure.check_for(model)?;
     if !(noise.length > 0.0 && noise.angle > 0.0) {
@@ -105,10 +109,17 @@ pub fn predict_platform<M: ParallelModel>(
         |index| poses.get(index).copied(),
         (&rank.base, &covariance),
         coordinates.sqrt() * noise.length,
-        None,
+        work,
     )
     .ok_or_else(|| Error::Numerical {
-        message: "the predicted error could not be formed: a configuration is singular".into(),
+        message: if work.is_some() {
+            "the predicted error could not be formed: a configuration is singular, or the \
+             direct model solves too few actuator values of the stated work region (state \
+             ranges the platform reaches together)"
+                .into()
+        } else {
+            "the predicted error could not be formed: a configuration is singular".into()
+        },
     })?;
     Ok(PlatformPrediction {
         rank,
@@ -170,7 +181,7 @@ pub struct SimulatedCalibrations {
     /// Calibrations simulated.
     pub runs: usize,
     /// RMS over the runs of each calibrated robot's tool-point error
-    /// against its real one over the workspace (m).
+    /// against its real one over the workspace, or the stated work region (m).
     pub work_rms: f64,
     /// The largest of those errors at one pose (m).
     pub work_max: f64,
@@ -179,7 +190,8 @@ pub struct SimulatedCalibrations {
 /// `runs` calibrations of real robots drawn about `model` at `level`
 /// ([`perturbed_platform`]) from measurements at the actuator values of
 /// `configurations` with noise `noise` (seed `seed`), each calibrated robot
-/// judged against its real one at [`WORK_POSES`] poses over the workspace —
+/// judged against its real one at [`WORK_POSES`] poses over the workspace,
+/// or over `work` when it is stated (actuator values drawn uniformly in it) —
 /// the tool point the calibrated robot predicts for the real robot's
 /// actuator values there (for measured poses, which do not observe the tool
 /// point, the calibrated tool's place on the real platform). What [`predict_platform`]'s `region.work_rms`
@@ -194,6 +206,7 @@ pub fn simulate_calibrations<M: ParallelModel>(
     measure: PlatformMeasure,
     noise: PlatformNoise,
     (runs, level, seed): (usize, f64, u64),
+    work: Option<&JointRegion>,
 ) -> Result<SimulatedCalibrations, Error> {
     if measure == PlatformMeasure::Distance {
         return Err(Error::InvalidOption {
@@ -227,13 +240,23 @@ pub fn simulate_calibrations<M: ParallelModel>(
             Some(noise),
             &PlatformIdentificationOptions::default(),
         )?;
-        let work = random_platform_poses(
-            &real,
-            WORK_POSES,
-            PlatformWorkspace::whole(&real),
-            &mut sampler,
-        )?;
-        for pose in &work {
+        let poses = match work {
+            None => random_platform_poses(
+                &real,
+                WORK_POSES,
+                PlatformWorkspace::whole(&real),
+                &mut sampler,
+            )?,
+            Some(region) => {
+                region_poses(&real, region, &mut sampler).ok_or_else(|| Error::Numerical {
+                    message: "the direct model of a simulated real robot solves too few actuator \
+                              values of the stated work region (state ranges the platform \
+                              reaches together)"
+                        .into(),
+                })?
+            }
+        };
+        for pose in &poses {
             let actuators = real.actuator_values(pose)?;
             let calibrated = result
                 .calibrated

@@ -301,7 +301,7 @@ const DRAWS_PER_POSE: usize = 20;
 /// ranges' middles), a draw it does not solve (no assembly there, or
 /// another assembly mode) drawn again. `None` when the centre has no pose
 /// or fewer than one draw in [`DRAWS_PER_POSE`] is solved.
-fn region_poses<M: ParallelModel>(
+pub(super) fn region_poses<M: ParallelModel>(
     model: &M,
     region: &JointRegion,
     sampler: &mut Sampler,

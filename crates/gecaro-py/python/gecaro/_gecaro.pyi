@@ -843,14 +843,17 @@ def parallel_predict(
     monte_carlo: Optional[int] = None,
     error_level: Optional[float] = None,
     seed: int = 1,
+    work_region: Optional[str] = None,
 ) -> dict[str, Any]:
     """The precision of calibrating a platform from the configurations of
     ``data`` (a plan's actuator values), before measuring, as ``gecaro
     predict hexapod --json``: ``"parameters"`` (each identifiable one's
     predicted ``"sigma"``) and ``"region"`` (``"predicted_work"`` m over the
-    workspace, ``"holds_everywhere"``); with ``monte_carlo`` calibrations
-    simulated (real robots at ``error_level``: ±mm, ±mrad), their measured
-    ``"monte_carlo"`` ``"work_rms"``."""
+    workspace, or over ``work_region`` when given — actuator ranges with
+    their units, ``"qm1=-12..12mm"`` —, ``"holds_everywhere"``); with
+    ``monte_carlo`` calibrations simulated (real robots at ``error_level``:
+    ±mm, ±mrad), their measured ``"monte_carlo"`` ``"work_rms"`` over the
+    same region."""
 
 def parallel_plan(
     robot: str,

@@ -129,12 +129,13 @@ export function buildParallel() {
         data: { file: required(data, 'the configurations to be measured (a plan)') },
         format: format(),
         sigma: required(sigma, 'the sensor σ') && sigmaWithUnit(sigma),
+        work_region: workRegion.value.trim() || null,
       });
       const region = answer.region;
       const what = region.error;
       const length = (value) => `${quantity(value, 'length')} ${unitName('length')}`;
       result.replaceChildren(
-        h('p', { id: 'parallel-prediction', class: region.holds_everywhere ? '' : 'warnings', text: `${answer.robot} — ${answer.method} method at the ${answer.configurations} configurations of ${answer.data}: ${answer.rank} parameters identifiable; predicted ${what} ${length(region.predicted_inside)} RMS there, ${length(region.predicted_work)} over the workspace (a held-out measurement's noise ${length(region.noise_floor)})${region.holds_everywhere ? '' : ': these configurations calibrate the platform where they are only'}.` }));
+        h('p', { id: 'parallel-prediction', class: region.holds_everywhere ? '' : 'warnings', text: `${answer.robot} — ${answer.method} method at the ${answer.configurations} configurations of ${answer.data}: ${answer.rank} parameters identifiable; predicted ${what} ${length(region.predicted_inside)} RMS there, ${length(region.predicted_work)} over ${region.work_name} (a held-out measurement's noise ${length(region.noise_floor)})${region.holds_everywhere ? '' : ': these configurations calibrate the platform where they are only'}.` }));
     } catch (error) {
       result.replaceChildren(errorBox(error));
     }

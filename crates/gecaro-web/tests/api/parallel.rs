@@ -96,6 +96,20 @@ async fn a_hexapod_is_calibrated_through_the_api() {
     assert_eq!(status, StatusCode::OK, "{predicted}");
     assert_eq!(predicted["rank"], 48);
     assert_eq!(predicted["region"]["holds_everywhere"], true);
+    // The page's work region reaches the prediction.
+    let (status, near) = api
+        .post(
+            "/api/parallel/predict",
+            &json!({"robot": "hexapod", "method": "frame", "data": {"file": "plan.csv"},
+                    "sigma": "20um", "work_region": "qm1=-5..5mm,qm2=-5..5mm"}),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{near}");
+    assert_eq!(near["region"]["work_name"], "the stated work region");
+    assert!(
+        near["region"]["predicted_work"].as_f64() < predicted["region"]["predicted_work"].as_f64(),
+        "{near} against {predicted}"
+    );
     let (status, compensated) = api
         .post(
             "/api/parallel/compensate",
