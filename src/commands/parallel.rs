@@ -28,8 +28,8 @@ fn serial_only(given: &[(&str, bool)]) -> Result<(), Failure> {
         Some((option, _)) => Err(Failure::usage(
             format!("{option} has no meaning for a parallel robot"),
             Some(
-                "a parallel robot takes --method frame|position|distance, its data, σ and work \
-                 region, and the data file's units and columns (docs/parallel.md)"
+                "a parallel robot takes --method frame|position|distance, its data, σ, work \
+                 region and loss, and the data file's units and columns (docs/parallel.md)"
                     .to_owned(),
             ),
         )),
@@ -306,8 +306,6 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
         ("--priority", run.priority.is_some()),
         ("--prior", run.prior.is_some()),
         ("--model", run.model.is_some()),
-        ("--loss", run.loss != "l2"),
-        ("--loss-scale", run.loss_scale.is_some()),
         ("--reject", run.reject),
         (
             "--outlier-threshold",
@@ -336,6 +334,8 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
         sigma_rotation: run.sigma_rotation.clone(),
         max_iterations: Some(run.max_iterations),
         work_region: run.work_region.clone(),
+        loss: Some(run.loss.clone()),
+        loss_scale: run.loss_scale,
         output: args
             .output
             .as_deref()

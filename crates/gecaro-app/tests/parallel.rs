@@ -63,6 +63,8 @@ fn a_hexapod_is_calibrated_from_its_files_to_the_noise_floor() {
         sigma_rotation: Some("20e-6rad".parse().expect("σ")),
         max_iterations: None,
         work_region: None,
+        loss: None,
+        loss_scale: None,
         output: Output::to(calibrated.clone()),
     }
     .run(&LocalFiles)

@@ -130,12 +130,16 @@ pub(crate) fn parallel_identifiable<'py>(
 /// actuators' ranges), "warnings", …,
 /// "calibrated": the calibrated platform's file text}`, written to `path`
 /// when given, and `"trusted"`: whether the verdict trusts the fit (as
-/// `Identification.verdict` says for a serial robot). A fit that did not
-/// converge raises `NotConvergedError`.
+/// `Identification.verdict` says for a serial robot). `loss` `"huber"`,
+/// `"cauchy"` or `"tukey"` (scale `loss_scale` robust σ̂) weighs each
+/// measurement down by its residual after the least-squares fit: the
+/// document's `"loss"`, `"reweightings"`, `"robust_sigma"`,
+/// `"weighed_down"`. A fit that did not converge raises `NotConvergedError`.
 #[pyfunction]
 #[pyo3(signature = (
     robot, method, data, *, sigma = None, sigma_rotation = None, length_unit = None,
-    angle_unit = None, max_iterations = 30, work_region = None, path = None, overwrite = false,
+    angle_unit = None, max_iterations = 30, work_region = None, loss = "l2", loss_scale = None,
+    path = None, overwrite = false,
 ))]
 pub(crate) fn parallel_identify<'py>(
     py: Python<'py>,
@@ -148,6 +152,8 @@ pub(crate) fn parallel_identify<'py>(
     angle_unit: Option<String>,
     max_iterations: usize,
     work_region: Option<String>,
+    loss: &str,
+    loss_scale: Option<f64>,
     path: Option<PathBuf>,
     overwrite: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
@@ -160,6 +166,8 @@ pub(crate) fn parallel_identify<'py>(
         sigma_rotation: sigma_rotation.map(Into::into),
         max_iterations: Some(max_iterations),
         work_region,
+        loss: Some(loss.to_owned()),
+        loss_scale,
         output: output(path.as_deref(), overwrite),
     };
     let identified = py.detach(|| request.run(&LocalFiles)).py()?;

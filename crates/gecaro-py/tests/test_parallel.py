@@ -61,6 +61,31 @@ def test_an_understated_noise_is_not_trusted(tmp_path):
     assert "× the stated noise" in result["summary"]
 
 
+def test_gross_errors_are_weighed_down_by_a_robust_loss(tmp_path):
+    gecaro.parallel_generate("hexapod", "frame", 60, noise=2e-5, seed=3,
+                             path=tmp_path / "poses.csv")
+    lines = (tmp_path / "poses.csv").read_text().splitlines()
+    x = lines[0].split(",").index("x")
+    for row in (6, 18, 34):
+        values = lines[row].split(",")
+        values[x] = repr(float(values[x]) + 0.5e-3)
+        lines[row] = ",".join(values)
+    (tmp_path / "off.csv").write_text("\n".join(lines) + "\n")
+    plain = gecaro.parallel_identify("hexapod", "frame", tmp_path / "off.csv", sigma="20um")
+    assert plain["outcome"] == "exceeds_noise" and not plain["trusted"]
+    assert plain["loss"] == "l2" and plain["reweightings"] == 0
+    robust = gecaro.parallel_identify("hexapod", "frame", tmp_path / "off.csv", sigma="20um",
+                                      loss="huber", loss_scale=2.0)
+    assert robust["outcome"] == "fits_noise", robust["summary"]
+    assert robust["trusted"]
+    assert robust["loss"] == "huber (k = 2 σ̂)"
+    assert robust["weighed_down"] == 3 and robust["ignored"] == 0
+    assert sorted(outlier["line"] for outlier in robust["outliers"]) == [7, 19, 35]
+    with pytest.raises(gecaro.errors.InputError, match="loss"):
+        gecaro.parallel_identify("hexapod", "frame", tmp_path / "off.csv", sigma="20um",
+                                 loss="banana")
+
+
 def test_a_serial_function_refuses_the_hexapod_by_name():
     with pytest.raises(gecaro.errors.InputError, match="a parallel robot"):
         gecaro.Robot.load("hexapod")

@@ -161,6 +161,18 @@ pub struct PlatformIdentificationDocument {
     pub warnings: Vec<String>,
     /// The file the calibrated robot was written to.
     pub written: Option<String>,
+    /// The loss the fit minimised: `l2`, or a robust one with its scale
+    /// (`huber (k = 1.345 σ̂)`).
+    pub loss: String,
+    /// Reweightings of a robust loss (0 for least squares).
+    pub reweightings: usize,
+    /// The robust σ̂ of a row its weights were formed with (in units of
+    /// the stated σ; m without one); `null` for least squares.
+    pub robust_sigma: Option<f64>,
+    /// Measurements a robust loss weighed below one half.
+    pub weighed_down: usize,
+    /// Of them, those it gave no weight at all (a redescending loss).
+    pub ignored: usize,
 }
 
 impl PlatformIdentificationDocument {

@@ -2,6 +2,7 @@
 //! platform, every parameter with its precision, the verdict, and the
 //! direct model's errors at the measured configurations before and after.
 
+use gecaro_calib::identification::{Loss, LossKind};
 use gecaro_calib::parallel_robots::{
     PlatformIdentification, PlatformIdentificationOptions, PlatformNoise, PlatformRegion,
     identify_platform, platform_errors,
@@ -49,6 +50,14 @@ pub struct ParallelIdentifyRequest {
     /// default: the actuators' ranges).
     #[serde(default)]
     pub work_region: Option<String>,
+    /// The loss: `l2` (default), `huber`, `cauchy` or `tukey` — a robust
+    /// one weighs each observation down by its residual after the
+    /// least-squares fit.
+    #[serde(default)]
+    pub loss: Option<String>,
+    /// A robust loss's scale, in robust σ̂ (the loss's default when `None`).
+    #[serde(default)]
+    pub loss_scale: Option<f64>,
     /// The calibrated platform's file.
     #[serde(flatten)]
     pub output: Output,
@@ -138,6 +147,8 @@ impl ParallelIdentifyRequest {
         if let Some(text) = &self.work_region {
             options.work_region = Some(stated_work_region(&nominal.robot, text)?);
         }
+        let kind: LossKind = self.loss.as_deref().unwrap_or("l2").parse()?;
+        options.loss = Loss::from_parts(kind, self.loss_scale)?;
         let result = identify_platform(&nominal.robot, &samples, measure, noise, &options)?;
         let errors_before = platform_errors(&nominal.robot, &samples, measure)?;
         let errors_after = platform_errors(&result.calibrated, &samples, measure)?;
@@ -236,6 +247,15 @@ impl ParallelIdentifyRequest {
                 )
                 .collect(),
             written: written.map(|path| path.display().to_string()),
+            loss: result.loss.to_string(),
+            reweightings: result.reweightings,
+            robust_sigma: result.robust_sigma,
+            weighed_down: weighed_down(&result.weights),
+            ignored: result
+                .weights
+                .iter()
+                .filter(|weight| **weight == 0.0)
+                .count(),
         };
         Ok(ParallelIdentified {
             calibrated,
@@ -245,10 +265,34 @@ impl ParallelIdentifyRequest {
     }
 }
 
+/// Measurements a robust loss weighed below one half.
+fn weighed_down(weights: &[f64]) -> usize {
+    weights.iter().filter(|weight| **weight < 0.5).count()
+}
+
 /// The verdict in words, after the registration of the instrument's frame
-/// when there was one, and the measurements that stand out.
+/// when there was one, and the measurements that stand out (and what a
+/// robust loss made of them).
 fn summary(result: &PlatformIdentification<ParallelRobot>) -> String {
     let mut verdict = verdict(result);
+    if result.reweightings > 0 {
+        let ignored = result
+            .weights
+            .iter()
+            .filter(|weight| **weight == 0.0)
+            .count();
+        verdict.push_str(&format!(
+            "; the robust loss, {}, weighed {} of {} measurements below one half{}",
+            result.loss,
+            weighed_down(&result.weights),
+            result.weights.len(),
+            if ignored > 0 {
+                format!(" ({ignored} not at all)")
+            } else {
+                String::new()
+            }
+        ));
+    }
     if !result.outliers.is_empty() {
         let named: Vec<String> = result
             .outliers

@@ -35,7 +35,10 @@
 //! Jacobians, each step halved while it does not lower the cost; the
 //! precision of each parameter is `σ̂·√diag((WᵀW)⁻¹)`, and the verdict is a
 //! serial robot's [`Outcome`](crate::identification::Outcome) with its χ²
-//! test of the residuals against the stated noise.
+//! test of the residuals against the stated noise. A robust
+//! [`Loss`](crate::identification::Loss) reweights each observation by its
+//! residual after the least-squares fit (iteratively reweighted least
+//! squares, its rows multiplied by `√w`), as for a serial robot.
 //!
 //! # References
 //! W. Khalil, S. Besnard, "Self calibration of Stewart–Gough parallel

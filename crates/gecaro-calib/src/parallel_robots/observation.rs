@@ -70,13 +70,18 @@ pub(super) struct NormalSystem {
     pub(super) gram: DMatrix<f64>,
     /// Wᵀr.
     pub(super) projected: DVector<f64>,
-    /// Σ r² (weighted).
+    /// Σ w r² (the rows weighted by their σ and their observation's
+    /// robust weight w).
     pub(super) cost: f64,
     /// Rows of W.
     pub(super) rows: usize,
-    /// Each observation's weighted residual: the RMS of its rows (in units
-    /// of their σ; of 1 m without σ), in order — how far it stands out.
+    /// Each observation's residual: the RMS of its rows (in units of their
+    /// σ; of 1 m without σ; not of its robust weight), in order — how far
+    /// it stands out.
     pub(super) errors: Vec<f64>,
+    /// Every row's residual, in the same units (not of its robust weight),
+    /// in order: what a robust σ̂ is the spread of.
+    pub(super) residuals: Vec<f64>,
 }
 
 /// Samples a part of the normal equations' sum takes: enough for its set-up
@@ -87,7 +92,9 @@ const PART_SAMPLES: usize = 2048;
 /// Dense rows added to the normal equations at once.
 const BATCH_ROWS: usize = 256;
 
-/// See [`NormalSystem`]; `poses` as for [`platform_rows`].
+/// See [`NormalSystem`]; `poses` as for [`platform_rows`]; `weights`, when
+/// given, each observation's robust weight w (its rows multiplied by √w,
+/// iteratively reweighted least squares).
 ///
 /// # Errors
 /// As [`platform_rows`].
@@ -96,6 +103,7 @@ pub(super) fn normal_system<M: ParallelModel>(
     samples: &[Sample],
     measure: PlatformMeasure,
     noise: Option<PlatformNoise>,
+    weights: Option<&[f64]>,
     poses: &mut Vec<Isometry3<f64>>,
 ) -> Result<NormalSystem, Error> {
     check_samples(model, samples, measure)?;
@@ -104,11 +112,30 @@ pub(super) fn normal_system<M: ParallelModel>(
     if poses.len() != samples.len() {
         *poses = starting_poses(model, samples, measure);
     }
-    let parts: Vec<(&[Sample], &mut [Isometry3<f64>])> = samples
+    let observations = samples.len() / taken;
+    if let Some(weights) = weights
+        && weights.len() != observations
+    {
+        return Err(Error::Numerical {
+            message: format!(
+                "{} robust weights for {observations} observations",
+                weights.len()
+            ),
+        });
+    }
+    let parts: Vec<_> = samples
         .chunks(PART_SAMPLES)
         .zip(poses.chunks_mut(PART_SAMPLES))
+        .enumerate()
+        .map(|(part, (samples, starts))| {
+            let first = part * PART_SAMPLES / taken;
+            let own = weights.map(|weights| &weights[first..first + samples.len() / taken]);
+            (samples, starts, own)
+        })
         .collect();
-    let sums = run_parts(parts, |(samples, starts)| {
+    let sums = run_parts(parts, |(samples, starts, weights)| {
+        // √w of the part's observation `index`.
+        let root = |index: usize| weights.map_or(1.0, |weights| weights[index].sqrt());
         let mut gram = DMatrix::<f64>::zeros(columns, columns);
         let mut projected = DVector::<f64>::zeros(columns);
         let mut cost = 0.0;
@@ -124,6 +151,7 @@ pub(super) fn normal_system<M: ParallelModel>(
         let mut blocks: Vec<Vec<f64>> = Vec::new();
         let mut block_rights: Vec<Vec<f64>> = Vec::new();
         let mut errors: Vec<f64> = Vec::with_capacity(samples.len() / taken);
+        let mut residuals: Vec<f64> = Vec::with_capacity(samples.len() / taken);
         let flush = |batch: &[f64],
                      right: &[f64],
                      filled: usize,
@@ -136,17 +164,19 @@ pub(super) fn normal_system<M: ParallelModel>(
                 MatRef::from_column_major_slice(&right[..filled], filled, 1),
             );
         };
-        for (observation, starts) in samples
+        for (index, (observation, starts)) in samples
             .chunks_exact(taken)
             .zip(starts.chunks_exact_mut(taken))
+            .enumerate()
         {
+            let root = root(index);
             // A closure equation is added on its own columns (a leg's
             // eight), as the model visits it: no matrix formed.
             if measure == PlatformMeasure::Pose {
                 let sample = &observation[0];
                 let actuators = actuator_values(model, sample)?;
                 let measured = measure.measured(sample)?;
-                let (before, mut equations) = (cost, 0usize);
+                let (mut squares, mut equations) = (0.0, 0usize);
                 model.visit_equations(
                     &measured,
                     actuators,
@@ -154,7 +184,9 @@ pub(super) fn normal_system<M: ParallelModel>(
                         let sigma = noise.map_or(1.0, |noise| {
                             noise.closure_variance(by_pose.iter().copied()).sqrt()
                         });
-                        let right = -closure / sigma;
+                        squares += (closure / sigma).powi(2);
+                        residuals.push(-closure / sigma);
+                        let right = -closure * root / sigma;
                         cost += right * right;
                         equations += 1;
                         let width = own.len();
@@ -168,9 +200,9 @@ pub(super) fn normal_system<M: ParallelModel>(
                             *block = vec![0.0; width * width];
                             *block_right = vec![0.0; width];
                         }
-                        // w = own/σ: the block += w·wᵀ and its right side += w·r,
-                        // row by row on slices (vectorised).
-                        let weight = 1.0 / sigma;
+                        // w = own·√w/σ: the block += w·wᵀ and its right side
+                        // += w·r, row by row on slices (vectorised).
+                        let weight = root / sigma;
                         for ((row, value), projected) in block
                             .chunks_exact_mut(width)
                             .zip(own)
@@ -184,22 +216,24 @@ pub(super) fn normal_system<M: ParallelModel>(
                         }
                     },
                 );
-                errors.push(((cost - before) / equations.max(1) as f64).sqrt());
+                errors.push((squares / equations.max(1) as f64).sqrt());
                 continue;
             }
             // A point's coordinates involve every parameter, and wait in
             // the batch.
             let (block, right) = observation_rows(model, observation, measure, noise, starts)?;
             errors.push((right.norm_squared() / right.len().max(1) as f64).sqrt());
+            residuals.extend(right.iter());
             for row in 0..block.nrows() {
-                cost += right[row] * right[row];
+                let weighted = right[row] * root;
+                cost += weighted * weighted;
                 for (entry, value) in batch[filled * columns..(filled + 1) * columns]
                     .iter_mut()
                     .zip(block.row(row).iter())
                 {
-                    *entry = *value;
+                    *entry = *value * root;
                 }
-                batch_right[filled] = right[row];
+                batch_right[filled] = weighted;
                 filled += 1;
                 if filled == BATCH_ROWS {
                     flush(&batch, &batch_right, filled, &mut lower, &mut lower_right);
@@ -229,7 +263,7 @@ pub(super) fn normal_system<M: ParallelModel>(
                 }
             }
         }
-        Ok::<_, Error>((gram, projected, cost, errors))
+        Ok::<_, Error>((gram, projected, cost, errors, residuals))
     });
     let mut system = NormalSystem {
         gram: DMatrix::zeros(columns, columns),
@@ -237,13 +271,15 @@ pub(super) fn normal_system<M: ParallelModel>(
         cost: 0.0,
         rows: measure.rows_for(model, samples.len()),
         errors: Vec::with_capacity(samples.len() / taken),
+        residuals: Vec::with_capacity(measure.rows_for(model, samples.len())),
     };
     for part in sums {
-        let (gram, projected, cost, errors) = part?;
+        let (gram, projected, cost, errors, residuals) = part?;
         system.gram += gram;
         system.projected += projected;
         system.cost += cost;
         system.errors.extend(errors);
+        system.residuals.extend(residuals);
     }
     Ok(system)
 }

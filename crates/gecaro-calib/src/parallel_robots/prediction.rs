@@ -82,7 +82,7 @@ pub fn predict_platform<M: ParallelModel>(
     let samples = readings(model, configurations, &poses, measure)?;
     let rank = structural_rank(model, &samples, measure, Some(noise))?;
     let mut solved = poses.clone();
-    let system = normal_system(model, &samples, measure, Some(noise), &mut solved)?;
+    let system = normal_system(model, &samples, measure, Some(noise), None, &mut solved)?;
     if system.rows < rank.base.len() {
         return Err(Error::TooFewEquations {
             equations: system.rows,

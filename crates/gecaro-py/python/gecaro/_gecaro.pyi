@@ -807,6 +807,8 @@ def parallel_identify(
     angle_unit: Optional[Literal["rad", "deg"]] = None,
     max_iterations: int = 30,
     work_region: Optional[str] = None,
+    loss: _Loss = "l2",
+    loss_scale: Optional[float] = None,
     path: Optional[_PathLike] = None,
     overwrite: bool = False,
 ) -> dict[str, Any]:
@@ -817,7 +819,10 @@ def parallel_identify(
     over the workspace, or over ``work_region`` when given — actuator
     ranges with their units, ``"qm1=-10..10mm,qm4=-5..5mm"`` —,
     ``"holds_everywhere"``; outcome ``"regional"`` when it holds near the
-    data only); a fit that did not converge raises NotConvergedError."""
+    data only). A robust ``loss`` (``loss_scale`` robust σ̂) weighs each
+    measurement down by its residual after the least-squares fit:
+    ``"loss"``, ``"reweightings"``, ``"robust_sigma"``, ``"weighed_down"``,
+    ``"ignored"``. A fit that did not converge raises NotConvergedError."""
 
 def parallel_evaluate(
     robot: str,

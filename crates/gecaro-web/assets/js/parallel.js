@@ -81,6 +81,9 @@ export function buildParallel() {
   const sigma = text('sigma', '20um, 0.02mm');
   const saveAs = text('save', 'calibrated.toml (optional)');
   const workRegion = text('work-region', 'qm1=-10..10mm,qm4=-5..5mm (optional: the actuators’ ranges)');
+  const loss = h('select', { id: 'parallel-loss' },
+    [['l2', 'least squares'], ['huber', 'Huber (mild contamination)'], ['cauchy', 'Cauchy (gross errors)'], ['tukey', 'Tukey (gross errors ignored)']]
+      .map(([value, label]) => h('option', { value, text: label })));
   const count = numberInput({ id: 'parallel-count', value: String(state.info.defaults.parallel_poses) });
   const noise = numberInput({ id: 'parallel-noise', value: '0.02' });
   const generated = text('generated', 'poses.csv', 'parallel-poses.csv');
@@ -162,6 +165,7 @@ export function buildParallel() {
         format: format(),
         sigma: sigmaWithUnit(sigma),
         work_region: workRegion.value.trim() || null,
+        loss: loss.value,
         save_as: saveAs.value.trim() || null,
         overwrite: true,
       });
@@ -222,6 +226,7 @@ export function buildParallel() {
       field('Sensor σ (with its unit)', sigma),
       field('Save the calibrated platform as', saveAs),
       field('Work region (actuator ranges with units)', workRegion),
+      field('Loss', loss),
       identifiable, predict, identify, evaluate),
     h('div', { class: 'form' },
       field('Simulated poses', count),

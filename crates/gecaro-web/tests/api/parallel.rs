@@ -67,6 +67,32 @@ async fn a_hexapod_is_calibrated_through_the_api() {
         stated["region"]["predicted_work"].as_f64() < region["predicted_work"].as_f64(),
         "{stated}"
     );
+    // The page's loss: reweighted, said so; a loss that is none refused by name.
+    let (status, robust) = api
+        .post(
+            "/api/parallel/identify",
+            &json!({"robot": "hexapod", "method": "frame", "data": {"file": "poses.csv"},
+                    "sigma": "20um", "loss": "cauchy"}),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{robust}");
+    assert_eq!(robust["outcome"], "fits_noise", "{}", robust["summary"]);
+    assert!(
+        robust["loss"]
+            .as_str()
+            .is_some_and(|loss| loss.starts_with("cauchy"))
+    );
+    assert!(robust["reweightings"].as_u64() > Some(0), "{robust}");
+    assert_eq!(identified["loss"], "l2");
+    let (status, refused) = api
+        .post(
+            "/api/parallel/identify",
+            &json!({"robot": "hexapod", "method": "frame", "data": {"file": "poses.csv"},
+                    "sigma": "20um", "loss": "banana"}),
+        )
+        .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST, "{refused}");
+    assert!(refused.to_string().contains("loss"), "{refused}");
     let rms = |answer: &Value| answer["errors"]["position_rms"].as_f64().expect("rms");
     let evaluate =
         |robot: &str| json!({"robot": robot, "method": "frame", "data": {"file": "held.csv"}});
