@@ -143,7 +143,7 @@ fn serial_only_options_and_jobs_are_refused_by_name() {
             "identify hexapod --method frame --data x.csv",
             "--strict-limits",
         ),
-        ("identify hexapod --method frame --data x.csv", "--reject"),
+        ("identify hexapod --method frame --data x.csv", "--cv 5"),
         (
             "evaluate hexapod --method frame --data x.csv",
             "--orientation cross-products",
@@ -739,9 +739,9 @@ fn a_hexapod_measured_from_a_tracker_elsewhere_is_registered() {
 }
 
 /// Three of 60 measured poses off by half a millimetre: least squares is
-/// not trusted (the residuals twice the noise, the three named); `--loss
-/// cauchy` weighs them down — trusted, held out at the noise floor, and
-/// the words say what the loss did.
+/// not trusted (the residuals twice the noise, the three named); `--reject`
+/// drops them, `--loss cauchy` weighs them down — trusted, held out at the
+/// noise floor, and the words say what was done.
 #[test]
 fn gross_errors_are_weighed_down_on_the_command_line() {
     let folder = tempfile::tempdir().expect("folder");
@@ -776,6 +776,35 @@ fn gross_errors_are_weighed_down_on_the_command_line() {
         .output()
         .expect("runs");
     assert_eq!(plain.status.code(), Some(5), "not trusted");
+    // Rejected instead: the three dropped, the rest fits the noise.
+    let rejected = json_output(&[
+        "identify",
+        "hexapod",
+        "--method",
+        "frame",
+        "--sigma",
+        "20um",
+        "--reject",
+        "--json",
+        "--data",
+        &at("off.csv"),
+    ]);
+    assert_eq!(rejected["outcome"], "fits_noise", "{}", rejected["summary"]);
+    let mut dropped: Vec<u64> = rejected["rejected"]
+        .as_array()
+        .expect("rejected")
+        .iter()
+        .filter_map(|outlier| outlier["line"].as_u64())
+        .collect();
+    dropped.sort_unstable();
+    assert_eq!(dropped, [7, 19, 35], "{rejected}");
+    assert!(
+        rejected["summary"]
+            .as_str()
+            .is_some_and(|words| words.contains("without the 3 measurements that stood out")),
+        "{}",
+        rejected["summary"]
+    );
     let robust = json_output(&[
         "identify",
         "hexapod",

@@ -306,7 +306,6 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
         ("--priority", run.priority.is_some()),
         ("--prior", run.prior.is_some()),
         ("--model", run.model.is_some()),
-        ("--reject", run.reject),
         (
             "--outlier-threshold",
             run.outlier_threshold != gecaro_calib::identification::DEFAULT_OUTLIER_THRESHOLD,
@@ -336,6 +335,7 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
         work_region: run.work_region.clone(),
         loss: Some(run.loss.clone()),
         loss_scale: run.loss_scale,
+        reject: Some(run.reject),
         output: args
             .output
             .as_deref()

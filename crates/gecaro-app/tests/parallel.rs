@@ -65,6 +65,7 @@ fn a_hexapod_is_calibrated_from_its_files_to_the_noise_floor() {
         work_region: None,
         loss: None,
         loss_scale: None,
+        reject: None,
         output: Output::to(calibrated.clone()),
     }
     .run(&LocalFiles)

@@ -756,9 +756,10 @@ fn a_measurement_off_is_named_by_its_line() {
 
 /// Four of 60 measurements off by half a millimetre: least squares bends
 /// the platform to them (held out well above the floor, the noise test
-/// failed); a robust loss weighs them down — held out at the floor, the
-/// test reading the others' residuals as measured, the four named by line;
-/// and on clean data it changes nothing the verdict says.
+/// failed); rejecting them, or a robust loss that weighs them down, holds
+/// out at the floor — the test reading the others' residuals as measured,
+/// the four named by line; and on clean data a loss changes nothing the
+/// verdict says.
 #[test]
 fn gross_errors_are_weighed_down_by_a_robust_loss() {
     use gecaro_calib::identification::{Loss, LossKind};
@@ -813,6 +814,32 @@ fn gross_errors_are_weighed_down_by_a_robust_loss() {
         let (plain, ratio) = fit(&data, LossKind::L2);
         assert!(ratio > 1.5, "{robot}: least squares {ratio}× the floor");
         assert_eq!(plain.outcome, Outcome::ExceedsNoise, "{robot}");
+        // Rejected instead: the four dropped, the rest identified again.
+        let rejected = identify_platform(
+            &nominal,
+            &data,
+            measure,
+            Some(NOISE),
+            &PlatformIdentificationOptions {
+                reject: true,
+                ..PlatformIdentificationOptions::default()
+            },
+        )
+        .expect("identified");
+        let mut dropped: Vec<usize> = rejected
+            .rejected
+            .iter()
+            .filter_map(|(line, _)| *line)
+            .collect();
+        dropped.sort_unstable();
+        assert_eq!(dropped, off.map(|index| index + 2), "{robot}");
+        assert_eq!(rejected.outcome, Outcome::FitsNoise, "{robot}");
+        let ratio = platform_errors(&rejected.calibrated, &held_out, measure)
+            .expect("held out")
+            .position_rms
+            / floor;
+        println!("{robot} rejected: held out {ratio:.3}× the floor");
+        assert!(ratio <= 1.3, "{robot} rejected: {ratio}× the floor");
         for kind in [LossKind::Huber, LossKind::Cauchy] {
             let (robust, ratio) = fit(&data, kind);
             assert!(ratio <= 1.3, "{robot} {kind:?}: {ratio}× the floor");

@@ -134,12 +134,14 @@ pub(crate) fn parallel_identifiable<'py>(
 /// `"cauchy"` or `"tukey"` (scale `loss_scale` robust σ̂) weighs each
 /// measurement down by its residual after the least-squares fit: the
 /// document's `"loss"`, `"reweightings"`, `"robust_sigma"`,
-/// `"weighed_down"`. A fit that did not converge raises `NotConvergedError`.
+/// `"weighed_down"`; `reject` drops the measurements that stand out and
+/// identifies the rest again, once (`"rejected"`). A fit that did not
+/// converge raises `NotConvergedError`.
 #[pyfunction]
 #[pyo3(signature = (
     robot, method, data, *, sigma = None, sigma_rotation = None, length_unit = None,
     angle_unit = None, max_iterations = 30, work_region = None, loss = "l2", loss_scale = None,
-    path = None, overwrite = false,
+    reject = false, path = None, overwrite = false,
 ))]
 pub(crate) fn parallel_identify<'py>(
     py: Python<'py>,
@@ -154,6 +156,7 @@ pub(crate) fn parallel_identify<'py>(
     work_region: Option<String>,
     loss: &str,
     loss_scale: Option<f64>,
+    reject: bool,
     path: Option<PathBuf>,
     overwrite: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
@@ -168,6 +171,7 @@ pub(crate) fn parallel_identify<'py>(
         work_region,
         loss: Some(loss.to_owned()),
         loss_scale,
+        reject: Some(reject),
         output: output(path.as_deref(), overwrite),
     };
     let identified = py.detach(|| request.run(&LocalFiles)).py()?;

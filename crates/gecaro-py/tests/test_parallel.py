@@ -81,6 +81,10 @@ def test_gross_errors_are_weighed_down_by_a_robust_loss(tmp_path):
     assert robust["loss"] == "huber (k = 2 σ̂)"
     assert robust["weighed_down"] == 3 and robust["ignored"] == 0
     assert sorted(outlier["line"] for outlier in robust["outliers"]) == [7, 19, 35]
+    rejected = gecaro.parallel_identify("hexapod", "frame", tmp_path / "off.csv", sigma="20um",
+                                        reject=True)
+    assert rejected["outcome"] == "fits_noise", rejected["summary"]
+    assert sorted(outlier["line"] for outlier in rejected["rejected"]) == [7, 19, 35]
     with pytest.raises(gecaro.errors.InputError, match="loss"):
         gecaro.parallel_identify("hexapod", "frame", tmp_path / "off.csv", sigma="20um",
                                  loss="banana")

@@ -173,6 +173,9 @@ pub struct PlatformIdentificationDocument {
     pub weighed_down: usize,
     /// Of them, those it gave no weight at all (a redescending loss).
     pub ignored: usize,
+    /// The measurements dropped before the fit (`reject`): their line and
+    /// their residual in the fit with them.
+    pub rejected: Vec<PlatformOutlierDocument>,
 }
 
 impl PlatformIdentificationDocument {

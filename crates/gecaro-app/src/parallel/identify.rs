@@ -58,6 +58,10 @@ pub struct ParallelIdentifyRequest {
     /// A robust loss's scale, in robust σ̂ (the loss's default when `None`).
     #[serde(default)]
     pub loss_scale: Option<f64>,
+    /// Drop the measurements that stand out and identify the rest again,
+    /// once.
+    #[serde(default)]
+    pub reject: Option<bool>,
     /// The calibrated platform's file.
     #[serde(flatten)]
     pub output: Output,
@@ -149,6 +153,7 @@ impl ParallelIdentifyRequest {
         }
         let kind: LossKind = self.loss.as_deref().unwrap_or("l2").parse()?;
         options.loss = Loss::from_parts(kind, self.loss_scale)?;
+        options.reject = self.reject.unwrap_or(false);
         let result = identify_platform(&nominal.robot, &samples, measure, noise, &options)?;
         let errors_before = platform_errors(&nominal.robot, &samples, measure)?;
         let errors_after = platform_errors(&result.calibrated, &samples, measure)?;
@@ -256,6 +261,14 @@ impl ParallelIdentifyRequest {
                 .iter()
                 .filter(|weight| **weight == 0.0)
                 .count(),
+            rejected: result
+                .rejected
+                .iter()
+                .map(|(line, ratio)| PlatformOutlierDocument {
+                    line: *line,
+                    ratio: *ratio,
+                })
+                .collect(),
         };
         Ok(ParallelIdentified {
             calibrated,
@@ -275,6 +288,26 @@ fn weighed_down(weights: &[f64]) -> usize {
 /// robust loss made of them).
 fn summary(result: &PlatformIdentification<ParallelRobot>) -> String {
     let mut verdict = verdict(result);
+    if !result.rejected.is_empty() {
+        let lines: Vec<String> = result
+            .rejected
+            .iter()
+            .take(5)
+            .map(|(line, _)| line.map_or_else(|| "?".into(), |line| line.to_string()))
+            .collect();
+        verdict.push_str(&format!(
+            " without the {} measurement{} that stood out (line{} {}{}), rejected",
+            result.rejected.len(),
+            if result.rejected.len() == 1 { "" } else { "s" },
+            if result.rejected.len() == 1 { "" } else { "s" },
+            lines.join(", "),
+            if result.rejected.len() > 5 {
+                ", …"
+            } else {
+                ""
+            }
+        ));
+    }
     if result.reweightings > 0 {
         let ignored = result
             .weights

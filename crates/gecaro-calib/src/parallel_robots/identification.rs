@@ -6,24 +6,21 @@ use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};
 use gecaro_data::sample::Sample;
 use nalgebra::Isometry3;
 
+use super::descent::{Descent, base_system, descend};
 use super::identifiability::{PlatformRankReport, rank_of};
 use super::measure::{PlatformMeasure, PlatformNoise};
 use super::observation::{NormalSystem, normal_system, platform_rows};
 use super::plausible::{PLAUSIBLE_ANGLE, PLAUSIBLE_GAIN, PLAUSIBLE_LENGTH};
 use super::region::{PlatformRegion, where_it_holds};
 use super::registration::{in_base_frame, measurement_frame};
+use super::reweighting::{Reweighted, reweighted};
 use crate::Error;
 use crate::identifiability::ParameterStatus;
 use crate::identification::{
-    DEFAULT_OUTLIER_THRESHOLD, Loss, MAX_REWEIGHTINGS, NoiseTest, Outcome, noise_test,
+    DEFAULT_OUTLIER_THRESHOLD, Loss, LossKind, NoiseTest, Outcome, noise_test,
 };
 use gecaro_core::JointRegion;
-use nalgebra::{DMatrix, DVector};
-
-/// A Gauss–Newton step every component of which is below this part of its
-/// parameter's σ ends the fit without a trial pass over the data: the
-/// parameters are at the minimum to far within their precision.
-const STEP_OF_SIGMA: f64 = 1e-3;
+use nalgebra::DMatrix;
 
 /// Observations named as standing out, at most.
 const MAX_OUTLIERS_NAMED: usize = 10;
@@ -43,6 +40,9 @@ pub struct PlatformIdentificationOptions {
     /// each observation by its residual after the least-squares fit
     /// ([`identify_platform`]).
     pub loss: Loss,
+    /// Drop the observations that stand out of a solved fit and identify
+    /// the rest again, once.
+    pub reject: bool,
 }
 
 impl Default for PlatformIdentificationOptions {
@@ -52,6 +52,7 @@ impl Default for PlatformIdentificationOptions {
             tolerance: 1e-10,
             work_region: None,
             loss: Loss::default(),
+            reject: false,
         }
     }
 }
@@ -116,150 +117,18 @@ pub struct PlatformIdentification<M> {
     /// outlier threshold of it, from the rows' median absolute deviation;
     /// `None` for least squares.
     pub robust_sigma: Option<f64>,
-}
-
-/// Where a Gauss–Newton descent is: the parameters, the robot they make,
-/// its normal system and each sample's solved pose.
-struct Descent<M> {
-    values: Vec<f64>,
-    current: M,
-    system: NormalSystem,
-    poses: Vec<Isometry3<f64>>,
-    /// Steps taken.
-    iterations: usize,
-    converged: bool,
-    diverged: bool,
-}
-
-/// The σ of a row that standardises the observations' residuals `errors`
-/// (each the RMS of its `rows` rows) under a robust loss: from `start`
-/// (the rows' median absolute deviation, which gross errors do not move),
-/// the RMS of the observations within the outlier threshold of it, with
-/// their degrees of freedom (`unknowns` less), until the observations kept
-/// settle. The median absolute deviation alone reads the rows' fitted
-/// residuals, whose spread shrinks unevenly with their leverage (a
-/// hexapod's 60 clean poses: 0.74 where their σ̂ is 0.94), and named a
-/// clean pose an outlier.
-fn trimmed_sigma(errors: &[f64], rows: usize, unknowns: usize, start: f64) -> f64 {
-    let mut sigma = start;
-    for _ in 0..20 {
-        let (squares, kept) = errors
-            .iter()
-            .filter(|error| **error <= DEFAULT_OUTLIER_THRESHOLD * sigma)
-            .fold((0.0, 0usize), |(squares, kept), error| {
-                (squares + error * error * rows as f64, kept + rows)
-            });
-        let next = (squares / kept.saturating_sub(unknowns).max(1) as f64).sqrt();
-        if next.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
-            || (next - sigma).abs() <= 1e-9 * sigma
-        {
-            break;
-        }
-        sigma = next;
-    }
-    sigma
-}
-
-/// Observation weights that moved less than this: the reweighting settled.
-const WEIGHT_TOLERANCE: f64 = 1e-3;
-
-/// Gauss–Newton on `base` from `from` (with `weights` on the observations,
-/// or none), at most the options' iterations: the full step, halved while it
-/// does not lower the cost; converged when the predicted decrease or every
-/// step is negligible, diverged when no step lowers the cost at the first.
-fn descend<M: ParallelModel>(
-    nominal: &M,
-    samples: &[Sample],
-    (measure, noise): (PlatformMeasure, Option<PlatformNoise>),
-    weights: Option<&[f64]>,
-    base: &[usize],
-    from: Descent<M>,
-    options: &PlatformIdentificationOptions,
-) -> Result<Descent<M>, Error> {
-    let Descent {
-        mut values,
-        mut current,
-        mut system,
-        mut poses,
-        ..
-    } = from;
-    let count = system.rows;
-    let mut iterations = 0;
-    let mut converged = false;
-    let mut diverged = false;
-    while iterations < options.max_iterations {
-        iterations += 1;
-        let (inverse, solution) = base_system(&system, base)?;
-        let cost = system.cost;
-        // Gauss–Newton's predicted decrease `gᵀ·Δ`: below the tolerance the
-        // parameters are the minimum, and no trial pass over the data is
-        // needed to say so; nor when every step is a negligible part of its
-        // parameter's σ (σ̂² of the unit weight from this cost).
-        let predicted: f64 = base
-            .iter()
-            .zip(solution.iter())
-            .map(|(column, step)| system.projected[*column] * step)
-            .sum();
-        let unit_variance = cost / count.saturating_sub(base.len()).max(1) as f64;
-        let negligible = solution.iter().enumerate().all(|(k, step)| {
-            step.abs() <= STEP_OF_SIGMA * (inverse[(k, k)] * unit_variance).sqrt()
-        });
-        if iterations > 1 && (predicted <= options.tolerance * cost || negligible) {
-            // Iterations count the steps taken.
-            iterations -= 1;
-            converged = true;
-            break;
-        }
-        // The full step, halved while it does not lower the cost.
-        let mut accepted = None;
-        for halving in 0..20 {
-            let scale = 0.5f64.powi(halving);
-            let mut trial = values.clone();
-            for (column, step) in base.iter().zip(solution.iter()) {
-                trial[*column] += scale * step;
-            }
-            let Ok(model) = nominal.with_parameters(&trial) else {
-                continue;
-            };
-            let mut trial_poses = poses.clone();
-            let Ok(trial_system) =
-                normal_system(&model, samples, measure, noise, weights, &mut trial_poses)
-            else {
-                continue;
-            };
-            if trial_system.cost <= cost {
-                accepted = Some((trial, model, trial_system, trial_poses));
-                break;
-            }
-        }
-        let Some((trial, model, trial_system, trial_poses)) = accepted else {
-            // No step lowers the cost: the current parameters are the
-            // minimum to the precision of the arithmetic, or the fit failed.
-            converged = iterations > 1;
-            diverged = !converged;
-            break;
-        };
-        let decrease = (cost - trial_system.cost) / cost.max(f64::MIN_POSITIVE);
-        (values, current, system, poses) = (trial, model, trial_system, trial_poses);
-        if decrease < options.tolerance {
-            converged = true;
-            break;
-        }
-    }
-    Ok(Descent {
-        values,
-        current,
-        system,
-        poses,
-        iterations,
-        converged,
-        diverged,
-    })
+    /// The observations dropped before this fit
+    /// ([`reject`](PlatformIdentificationOptions::reject)): their first
+    /// line and residual ratio in the fit with them, the largest first.
+    pub rejected: Vec<(Option<usize>, f64)>,
 }
 
 /// Identifies `nominal`'s parameters from `samples` measured by `measure`,
 /// their noise `noise` when stated (each row weighted by its σ, the
-/// residuals tested against it).
+/// residuals tested against it). With [`reject`](PlatformIdentificationOptions::reject),
+/// the observations that stand out of a solved fit — of a Huber fit for
+/// least squares, which gross errors do not bend — are dropped and the
+/// rest identified again, once ([`PlatformIdentification::rejected`]).
 ///
 /// # Errors
 /// The samples' own errors (missing columns, actuator values with no pose),
@@ -271,6 +140,57 @@ pub fn identify_platform<M: ParallelModel>(
     noise: Option<PlatformNoise>,
     options: &PlatformIdentificationOptions,
 ) -> Result<PlatformIdentification<M>, Error> {
+    let (result, standing_out) = fit_platform(nominal, samples, measure, noise, options)?;
+    if !options.reject || standing_out.is_empty() || !result.outcome.solved() {
+        return Ok(result);
+    }
+    // What stands out of a fit the gross errors do not bend: least squares
+    // spreads them over their neighbours (four Delta points 0.5 mm off
+    // made six good ones stand out), a robust loss does not.
+    let standing_out = if options.loss.is_l2() {
+        let judge = PlatformIdentificationOptions {
+            loss: Loss::new(LossKind::Huber),
+            ..options.clone()
+        };
+        match fit_platform(nominal, samples, measure, noise, &judge)? {
+            (judged, standing_out) if judged.outcome.solved() => standing_out,
+            _ => standing_out,
+        }
+    } else {
+        standing_out
+    };
+    if standing_out.is_empty() {
+        return Ok(result);
+    }
+    let taken = measure.samples_per_observation();
+    let dropped: Vec<usize> = standing_out.iter().map(|(index, _)| *index).collect();
+    let kept: Vec<Sample> = samples
+        .chunks_exact(taken)
+        .enumerate()
+        .filter(|(index, _)| !dropped.contains(index))
+        .flat_map(|(_, observation)| observation.iter().cloned())
+        .collect();
+    let (mut again, _) = fit_platform(nominal, &kept, measure, noise, options)?;
+    again.rejected = standing_out
+        .into_iter()
+        .map(|(index, ratio)| (samples[index * taken].line, ratio))
+        .collect();
+    Ok(again)
+}
+
+/// Every observation that stands out of a fit: its index and residual
+/// ratio, the largest first.
+type StandingOut = Vec<(usize, f64)>;
+
+/// One fit of [`identify_platform`], and every observation that stands out
+/// of it.
+fn fit_platform<M: ParallelModel>(
+    nominal: &M,
+    samples: &[Sample],
+    measure: PlatformMeasure,
+    noise: Option<PlatformNoise>,
+    options: &PlatformIdentificationOptions,
+) -> Result<(PlatformIdentification<M>, StandingOut), Error> {
     // Data an instrument took in its own frame, brought into the base frame.
     let registered = measurement_frame(nominal, samples, measure);
     let moved;
@@ -306,69 +226,23 @@ pub fn identify_platform<M: ParallelModel>(
         diverged: false,
     };
     let fit = (measure, noise);
-    let mut descent = descend(nominal, samples, fit, None, &rank.base, start, options)?;
-    let mut iterations = descent.iterations;
-    // A robust loss: each observation weighted by its residual over the
-    // robust σ̂ (iteratively reweighted least squares from the
-    // least-squares fit), until the weights settle.
-    let (mut weights, mut robust_sigma, mut reweightings) = (Vec::new(), None, 0);
-    if !options.loss.is_l2() && descent.converged {
-        // Rounding residuals of noise-free data are no noise.
-        let floor = if noise.is_some() { 1e-6 } else { 1e-12 };
-        for _ in 0..MAX_REWEIGHTINGS {
-            // The noise of a row, whatever a few gross observations do.
-            let spread = crate::robust::robust_sigma(&descent.system.residuals);
-            let sigma = trimmed_sigma(
-                &descent.system.errors,
-                measure.rows_per_observation(nominal),
-                rank.base.len(),
-                spread.max(floor),
-            )
-            .max(floor);
-            let next: Vec<f64> = descent
-                .system
-                .errors
-                .iter()
-                .map(|error| options.loss.weight(error / sigma))
-                .collect();
-            let moved = if weights.len() == next.len() {
-                weights
-                    .iter()
-                    .zip(&next)
-                    .map(|(a, b): (&f64, &f64)| (a - b).abs())
-                    .fold(0.0, f64::max)
-            } else {
-                f64::INFINITY
-            };
-            robust_sigma = Some(sigma);
-            if moved <= WEIGHT_TOLERANCE {
-                break;
-            }
-            weights = next;
-            descent.system = normal_system(
-                &descent.current,
-                samples,
-                measure,
-                noise,
-                Some(&weights),
-                &mut descent.poses,
-            )?;
-            descent = descend(
-                nominal,
-                samples,
-                fit,
-                Some(&weights),
-                &rank.base,
-                descent,
-                options,
-            )?;
-            iterations += descent.iterations;
-            reweightings += 1;
-            if !descent.converged {
-                break;
-            }
-        }
-    }
+    let limits = (options.max_iterations, options.tolerance);
+    let descent = descend(nominal, samples, fit, None, &rank.base, start, limits)?;
+    let Reweighted {
+        descent,
+        weights,
+        robust_sigma,
+        reweightings,
+        iterations,
+    } = reweighted(
+        nominal,
+        samples,
+        fit,
+        &rank.base,
+        &options.loss,
+        descent,
+        limits,
+    )?;
     let Descent {
         values,
         current,
@@ -450,21 +324,24 @@ pub fn identify_platform<M: ParallelModel>(
         None if noise.is_some() => 1.0,
         None => unit_sigma.max(f64::MIN_POSITIVE),
     };
-    let mut outliers: Vec<(Option<usize>, f64)> = system
+    let mut standing_out: StandingOut = system
         .errors
         .iter()
-        .copied()
+        .map(|error| error / scale)
         .enumerate()
-        .map(|(index, error)| {
-            (
-                samples[index * measure.samples_per_observation()].line,
-                error / scale,
-            )
-        })
         .filter(|(_, ratio)| *ratio > DEFAULT_OUTLIER_THRESHOLD)
         .collect();
-    outliers.sort_by(|a, b| b.1.total_cmp(&a.1));
-    outliers.truncate(MAX_OUTLIERS_NAMED);
+    standing_out.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let outliers: Vec<(Option<usize>, f64)> = standing_out
+        .iter()
+        .take(MAX_OUTLIERS_NAMED)
+        .map(|(index, ratio)| {
+            (
+                samples[index * measure.samples_per_observation()].line,
+                *ratio,
+            )
+        })
+        .collect();
     // The floor a held-out position measurement of a perfect platform
     // shows, √3 σ̂ of a coordinate; the posterior covariance σ̂²·(W_bᵀW_b)⁻¹
     // (rows weighted by 1/σ: σ̂ is the unit weight's).
@@ -511,7 +388,7 @@ pub fn identify_platform<M: ParallelModel>(
             None => Outcome::Untested,
         }
     };
-    Ok(PlatformIdentification {
+    let result = PlatformIdentification {
         calibrated: current,
         parameters,
         rank,
@@ -535,7 +412,9 @@ pub fn identify_platform<M: ParallelModel>(
         reweightings,
         weights,
         robust_sigma,
-    })
+        rejected: Vec::new(),
+    };
+    Ok((result, standing_out))
 }
 
 /// Configurations the rank analysis takes at most: the structure's rank
@@ -566,27 +445,6 @@ pub(super) fn structural_rank<M: ParallelModel>(
     };
     let rows = platform_rows(nominal, &taken, measure, noise, &mut Vec::new())?;
     rank_of(nominal, &rows, measure)
-}
-
-/// The normal equations of the base columns: their inverse (the
-/// parameters' covariance before σ̂²) and the Gauss–Newton step.
-///
-/// # Errors
-/// [`Error::Numerical`] when they are not positive definite (a base set
-/// that the data do not determine).
-pub(super) fn base_system(
-    system: &NormalSystem,
-    base: &[usize],
-) -> Result<(DMatrix<f64>, DVector<f64>), Error> {
-    let gram = DMatrix::from_fn(base.len(), base.len(), |i, j| {
-        system.gram[(base[i], base[j])]
-    });
-    let projected = DVector::from_fn(base.len(), |i, _| system.projected[base[i]]);
-    let cholesky = gram.cholesky().ok_or_else(|| Error::Numerical {
-        message: "the normal equations of the identifiable parameters are not positive definite"
-            .into(),
-    })?;
-    Ok((cholesky.inverse(), cholesky.solve(&projected)))
 }
 
 /// The condition number of the base columns of W: `√(λmax/λmin)` of their

@@ -46,6 +46,7 @@
 //! 1999; D. Daney, "Kinematic calibration of the Gough platform",
 //! Robotica, 2003.
 
+mod descent;
 mod evaluation;
 mod identifiability;
 mod identification;
@@ -56,6 +57,7 @@ mod plausible;
 mod prediction;
 mod region;
 mod registration;
+mod reweighting;
 mod simulation;
 
 pub use evaluation::{PlatformErrors, platform_errors};

@@ -15,10 +15,9 @@ use gecaro_core::parallel_model::ParallelModel;
 use gecaro_data::sample::Sample;
 use nalgebra::Isometry3;
 
+use super::descent::base_system;
 use super::identifiability::PlatformRankReport;
-use super::identification::{
-    PlatformIdentificationOptions, base_system, identify_platform, structural_rank,
-};
+use super::identification::{PlatformIdentificationOptions, identify_platform, structural_rank};
 use super::measure::{PlatformMeasure, PlatformNoise};
 use super::observation::{actuator_values, normal_system};
 use super::region::{PlatformRegion, region_poses, where_it_holds};

@@ -809,6 +809,7 @@ def parallel_identify(
     work_region: Optional[str] = None,
     loss: _Loss = "l2",
     loss_scale: Optional[float] = None,
+    reject: bool = False,
     path: Optional[_PathLike] = None,
     overwrite: bool = False,
 ) -> dict[str, Any]:
@@ -822,7 +823,9 @@ def parallel_identify(
     data only). A robust ``loss`` (``loss_scale`` robust σ̂) weighs each
     measurement down by its residual after the least-squares fit:
     ``"loss"``, ``"reweightings"``, ``"robust_sigma"``, ``"weighed_down"``,
-    ``"ignored"``. A fit that did not converge raises NotConvergedError."""
+    ``"ignored"``; ``reject`` drops the measurements that stand out and
+    identifies the rest again, once (``"rejected"``: their lines). A fit
+    that did not converge raises NotConvergedError."""
 
 def parallel_evaluate(
     robot: str,

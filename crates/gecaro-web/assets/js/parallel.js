@@ -81,6 +81,7 @@ export function buildParallel() {
   const sigma = text('sigma', '20um, 0.02mm');
   const saveAs = text('save', 'calibrated.toml (optional)');
   const workRegion = text('work-region', 'qm1=-10..10mm,qm4=-5..5mm (optional: the actuators’ ranges)');
+  const reject = h('input', { type: 'checkbox', id: 'parallel-reject' });
   const loss = h('select', { id: 'parallel-loss' },
     [['l2', 'least squares'], ['huber', 'Huber (mild contamination)'], ['cauchy', 'Cauchy (gross errors)'], ['tukey', 'Tukey (gross errors ignored)']]
       .map(([value, label]) => h('option', { value, text: label })));
@@ -166,6 +167,7 @@ export function buildParallel() {
         sigma: sigmaWithUnit(sigma),
         work_region: workRegion.value.trim() || null,
         loss: loss.value,
+        reject: reject.checked,
         save_as: saveAs.value.trim() || null,
         overwrite: true,
       });
@@ -227,6 +229,7 @@ export function buildParallel() {
       field('Save the calibrated platform as', saveAs),
       field('Work region (actuator ranges with units)', workRegion),
       field('Loss', loss),
+      field('Drop outliers and refit', reject),
       identifiable, predict, identify, evaluate),
     h('div', { class: 'form' },
       field('Simulated poses', count),

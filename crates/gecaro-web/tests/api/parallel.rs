@@ -72,7 +72,7 @@ async fn a_hexapod_is_calibrated_through_the_api() {
         .post(
             "/api/parallel/identify",
             &json!({"robot": "hexapod", "method": "frame", "data": {"file": "poses.csv"},
-                    "sigma": "20um", "loss": "cauchy"}),
+                    "sigma": "20um", "loss": "cauchy", "reject": true}),
         )
         .await;
     assert_eq!(status, StatusCode::OK, "{robust}");
@@ -83,6 +83,8 @@ async fn a_hexapod_is_calibrated_through_the_api() {
             .is_some_and(|loss| loss.starts_with("cauchy"))
     );
     assert!(robust["reweightings"].as_u64() > Some(0), "{robust}");
+    // Clean data: nothing stands out, nothing rejected.
+    assert_eq!(robust["rejected"], json!([]), "{robust}");
     assert_eq!(identified["loss"], "l2");
     let (status, refused) = api
         .post(
