@@ -111,13 +111,13 @@ fn the_identifiable_parameters_of_measured_poses_are_every_leg_parameter() {
 
 #[test]
 fn serial_only_options_and_jobs_are_refused_by_name() {
-    let output = command("identify hexapod --method frame --data x.csv --prior 1mm")
+    let output = command("identify hexapod --method frame --data x.csv --priority p.toml")
         .output()
         .expect("runs");
     assert_eq!(output.status.code(), Some(2));
     let error = String::from_utf8_lossy(&output.stderr);
     assert!(
-        error.contains("--prior has no meaning for a parallel robot"),
+        error.contains("--priority has no meaning for a parallel robot"),
         "{error}"
     );
     // Every serial option a parallel command would otherwise pass over
@@ -852,4 +852,37 @@ fn gross_errors_are_weighed_down_on_the_command_line() {
     };
     let (after, floor) = (rms(&at("calibrated.toml")), rms(&at("real.toml")));
     assert!(after <= 1.3 * floor, "{after} m, floor {floor} m");
+    // A prior about the nominal values, said; one that lacks a unit's σ refused.
+    let held = json_output(&[
+        "identify",
+        "hexapod",
+        "--method",
+        "frame",
+        "--sigma",
+        "20um",
+        "--prior",
+        "1mm,0.05deg,0.1%",
+        "--json",
+        "--data",
+        &at("poses.csv"),
+    ]);
+    assert_eq!(held["outcome"], "fits_noise", "{}", held["summary"]);
+    assert_eq!(held["prior"], "1 mm, 0.05°, 0.1 %");
+    assert!(
+        held["summary"]
+            .as_str()
+            .is_some_and(|words| words.contains("held by a prior of σ 1 mm, 0.05°, 0.1 %")),
+        "{}",
+        held["summary"]
+    );
+    let output = command("identify hexapod --method frame --sigma 20um --prior 1mm --data")
+        .arg(at("poses.csv"))
+        .output()
+        .expect("runs");
+    let error = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{error}");
+    assert!(
+        error.contains("--prior") && error.contains("lacks the angle and gain σ"),
+        "{error}"
+    );
 }

@@ -29,7 +29,8 @@ fn serial_only(given: &[(&str, bool)]) -> Result<(), Failure> {
             format!("{option} has no meaning for a parallel robot"),
             Some(
                 "a parallel robot takes --method frame|position|distance, its data, σ, work \
-                 region and loss, and the data file's units and columns (docs/parallel.md)"
+                 region, loss, --reject and --prior, and the data file's units and columns \
+                 (docs/parallel.md)"
                     .to_owned(),
             ),
         )),
@@ -304,7 +305,6 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
     serial_only(&method_options(&run.source.options))?;
     serial_only(&[
         ("--priority", run.priority.is_some()),
-        ("--prior", run.prior.is_some()),
         ("--model", run.model.is_some()),
         (
             "--outlier-threshold",
@@ -336,6 +336,7 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
         loss: Some(run.loss.clone()),
         loss_scale: run.loss_scale,
         reject: Some(run.reject),
+        prior: run.prior.clone(),
         output: args
             .output
             .as_deref()

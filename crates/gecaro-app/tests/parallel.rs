@@ -66,6 +66,7 @@ fn a_hexapod_is_calibrated_from_its_files_to_the_noise_floor() {
         loss: None,
         loss_scale: None,
         reject: None,
+        prior: None,
         output: Output::to(calibrated.clone()),
     }
     .run(&LocalFiles)

@@ -135,13 +135,14 @@ pub(crate) fn parallel_identifiable<'py>(
 /// measurement down by its residual after the least-squares fit: the
 /// document's `"loss"`, `"reweightings"`, `"robust_sigma"`,
 /// `"weighed_down"`; `reject` drops the measurements that stand out and
-/// identifies the rest again, once (`"rejected"`). A fit that did not
+/// identifies the rest again, once (`"rejected"`); `prior` (`"1mm,0.05deg,0.1%"`)
+/// holds the parameters about their nominal values. A fit that did not
 /// converge raises `NotConvergedError`.
 #[pyfunction]
 #[pyo3(signature = (
     robot, method, data, *, sigma = None, sigma_rotation = None, length_unit = None,
     angle_unit = None, max_iterations = 30, work_region = None, loss = "l2", loss_scale = None,
-    reject = false, path = None, overwrite = false,
+    reject = false, prior = None, path = None, overwrite = false,
 ))]
 pub(crate) fn parallel_identify<'py>(
     py: Python<'py>,
@@ -157,6 +158,7 @@ pub(crate) fn parallel_identify<'py>(
     loss: &str,
     loss_scale: Option<f64>,
     reject: bool,
+    prior: Option<String>,
     path: Option<PathBuf>,
     overwrite: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
@@ -172,6 +174,7 @@ pub(crate) fn parallel_identify<'py>(
         loss: Some(loss.to_owned()),
         loss_scale,
         reject: Some(reject),
+        prior,
         output: output(path.as_deref(), overwrite),
     };
     let identified = py.detach(|| request.run(&LocalFiles)).py()?;

@@ -85,6 +85,13 @@ def test_gross_errors_are_weighed_down_by_a_robust_loss(tmp_path):
                                         reject=True)
     assert rejected["outcome"] == "fits_noise", rejected["summary"]
     assert sorted(outlier["line"] for outlier in rejected["rejected"]) == [7, 19, 35]
+    held = gecaro.parallel_identify("hexapod", "frame", tmp_path / "off.csv", sigma="20um",
+                                    loss="cauchy", prior="1mm,0.05deg,0.1%")
+    assert held["outcome"] == "fits_noise", held["summary"]
+    assert held["prior"] == "1 mm, 0.05°, 0.1 %"
+    with pytest.raises(gecaro.errors.InputError, match="prior"):
+        gecaro.parallel_identify("hexapod", "frame", tmp_path / "off.csv", sigma="20um",
+                                 prior="1mm")
     with pytest.raises(gecaro.errors.InputError, match="loss"):
         gecaro.parallel_identify("hexapod", "frame", tmp_path / "off.csv", sigma="20um",
                                  loss="banana")

@@ -176,6 +176,8 @@ pub struct PlatformIdentificationDocument {
     /// The measurements dropped before the fit (`reject`): their line and
     /// their residual in the fit with them.
     pub rejected: Vec<PlatformOutlierDocument>,
+    /// The prior the fit was held by, in words (`1 mm, 0.05°, 0.1 %`).
+    pub prior: Option<String>,
 }
 
 impl PlatformIdentificationDocument {

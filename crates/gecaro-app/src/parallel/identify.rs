@@ -2,7 +2,7 @@
 //! platform, every parameter with its precision, the verdict, and the
 //! direct model's errors at the measured configurations before and after.
 
-use gecaro_calib::identification::{Loss, LossKind};
+use gecaro_calib::identification::{Loss, LossKind, Prior};
 use gecaro_calib::parallel_robots::{
     PlatformIdentification, PlatformIdentificationOptions, PlatformNoise, PlatformRegion,
     identify_platform, platform_errors,
@@ -62,6 +62,10 @@ pub struct ParallelIdentifyRequest {
     /// once.
     #[serde(default)]
     pub reject: Option<bool>,
+    /// A Gaussian prior about the nominal values: σ of lengths, angles and
+    /// gains with their units, `"1mm,0.05deg,0.1%"`.
+    #[serde(default)]
+    pub prior: Option<String>,
     /// The calibrated platform's file.
     #[serde(flatten)]
     pub output: Output,
@@ -154,6 +158,14 @@ impl ParallelIdentifyRequest {
         let kind: LossKind = self.loss.as_deref().unwrap_or("l2").parse()?;
         options.loss = Loss::from_parts(kind, self.loss_scale)?;
         options.reject = self.reject.unwrap_or(false);
+        options.prior = match self.prior.as_deref().map(str::trim) {
+            None | Some("") => None,
+            Some(text) => Some(gecaro_io::parse_prior(text).map_err(|message| {
+                AppError::setting("prior", message).with_help(vec![crate::error::Part::Text(
+                    "for example: 1mm,0.05deg,0.1%".into(),
+                )])
+            })?),
+        };
         let result = identify_platform(&nominal.robot, &samples, measure, noise, &options)?;
         let errors_before = platform_errors(&nominal.robot, &samples, measure)?;
         let errors_after = platform_errors(&result.calibrated, &samples, measure)?;
@@ -261,6 +273,7 @@ impl ParallelIdentifyRequest {
                 .iter()
                 .filter(|weight| **weight == 0.0)
                 .count(),
+            prior: result.prior.as_ref().map(prior_words),
             rejected: result
                 .rejected
                 .iter()
@@ -278,6 +291,18 @@ impl ParallelIdentifyRequest {
     }
 }
 
+/// A parallel robot's prior in words, in the units its parameters are
+/// read in: `1 mm, 0.05°, 0.1 %`.
+fn prior_words(prior: &Prior) -> String {
+    let shown = |value: f64| (value * 1e4).round() / 1e4;
+    format!(
+        "{} mm, {}°, {} %",
+        shown(prior.length * 1e3),
+        shown(prior.angle.to_degrees()),
+        shown(prior.gain * 1e2)
+    )
+}
+
 /// Measurements a robust loss weighed below one half.
 fn weighed_down(weights: &[f64]) -> usize {
     weights.iter().filter(|weight| **weight < 0.5).count()
@@ -288,6 +313,12 @@ fn weighed_down(weights: &[f64]) -> usize {
 /// robust loss made of them).
 fn summary(result: &PlatformIdentification<ParallelRobot>) -> String {
     let mut verdict = verdict(result);
+    if let Some(prior) = &result.prior {
+        verdict.push_str(&format!(
+            ", held by a prior of σ {} about the nominal values",
+            prior_words(prior)
+        ));
+    }
     if !result.rejected.is_empty() {
         let lines: Vec<String> = result
             .rejected

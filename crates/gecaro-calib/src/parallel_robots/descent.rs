@@ -17,6 +17,45 @@ use crate::Error;
 /// parameters are at the minimum to far within their precision.
 const STEP_OF_SIGMA: f64 = 1e-3;
 
+/// A Gaussian prior's pseudo-observations on the base parameters: for each,
+/// its column, its nominal value and its weight `s/σ_p` (s the rows' σ̂ of
+/// unit weight, σ_p its prior σ), the row `w·(η₀ − η)` beside the data's.
+#[derive(Clone, Debug, Default)]
+pub(super) struct PriorRows(pub(super) Vec<(usize, f64, f64)>);
+
+impl PriorRows {
+    /// Adds the rows at parameters `values` to `system`'s normal equations
+    /// and cost.
+    fn add_to(&self, system: &mut NormalSystem, values: &[f64]) {
+        for &(column, nominal, weight) in &self.0 {
+            let residual = weight * (nominal - values[column]);
+            system.cost += residual * residual;
+            system.prior_cost += residual * residual;
+            system.gram[(column, column)] += weight * weight;
+            system.projected[column] += weight * residual;
+        }
+    }
+}
+
+/// The normal system of `samples` measured by `fit` at `model` (whose
+/// parameters are `values`), with the observations' `weights` and the
+/// `prior`'s rows; `poses` as for [`normal_system`].
+///
+/// # Errors
+/// As [`normal_system`].
+pub(super) fn system_at<M: ParallelModel>(
+    model: &M,
+    values: &[f64],
+    samples: &[Sample],
+    (measure, noise): (PlatformMeasure, Option<PlatformNoise>),
+    (weights, prior): (Option<&[f64]>, &PriorRows),
+    poses: &mut Vec<Isometry3<f64>>,
+) -> Result<NormalSystem, Error> {
+    let mut system = normal_system(model, samples, measure, noise, weights, poses)?;
+    prior.add_to(&mut system, values);
+    Ok(system)
+}
+
 /// Where a Gauss–Newton descent is: the parameters, the robot they make,
 /// its normal system and each sample's solved pose.
 pub(super) struct Descent<M> {
@@ -31,15 +70,16 @@ pub(super) struct Descent<M> {
 }
 
 /// Gauss–Newton on `base` from `from` (with `weights` on the observations,
-/// or none), at most `max_iterations` steps: the full step, halved while it
+/// or none, and the `prior`'s rows, which `from`'s system has), at most
+/// `max_iterations` steps: the full step, halved while it
 /// does not lower the cost; converged when the predicted decrease or every
 /// step is negligible (the predicted decrease below `tolerance` of the cost),
 /// diverged when no step lowers the cost at the first.
 pub(super) fn descend<M: ParallelModel>(
     nominal: &M,
     samples: &[Sample],
-    (measure, noise): (PlatformMeasure, Option<PlatformNoise>),
-    weights: Option<&[f64]>,
+    fit: (PlatformMeasure, Option<PlatformNoise>),
+    (weights, prior): (Option<&[f64]>, &PriorRows),
     base: &[usize],
     from: Descent<M>,
     (max_iterations, tolerance): (usize, f64),
@@ -90,9 +130,14 @@ pub(super) fn descend<M: ParallelModel>(
                 continue;
             };
             let mut trial_poses = poses.clone();
-            let Ok(trial_system) =
-                normal_system(&model, samples, measure, noise, weights, &mut trial_poses)
-            else {
+            let Ok(trial_system) = system_at(
+                &model,
+                &trial,
+                samples,
+                fit,
+                (weights, prior),
+                &mut trial_poses,
+            ) else {
                 continue;
             };
             if trial_system.cost <= cost {

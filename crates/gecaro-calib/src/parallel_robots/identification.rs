@@ -6,7 +6,7 @@ use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};
 use gecaro_data::sample::Sample;
 use nalgebra::Isometry3;
 
-use super::descent::{Descent, base_system, descend};
+use super::descent::{Descent, PriorRows, base_system, descend, system_at};
 use super::identifiability::{PlatformRankReport, rank_of};
 use super::measure::{PlatformMeasure, PlatformNoise};
 use super::observation::{NormalSystem, normal_system, platform_rows};
@@ -20,6 +20,7 @@ use crate::identification::{
     DEFAULT_OUTLIER_THRESHOLD, Loss, LossKind, NoiseTest, Outcome, noise_test,
 };
 use gecaro_core::JointRegion;
+use gecaro_data::prior::Prior;
 use nalgebra::DMatrix;
 
 /// Observations named as standing out, at most.
@@ -43,6 +44,34 @@ pub struct PlatformIdentificationOptions {
     /// Drop the observations that stand out of a solved fit and identify
     /// the rest again, once.
     pub reject: bool,
+    /// A Gaussian prior on the identifiable parameters about their nominal
+    /// values: σ of lengths (m), of angles (rad), and of gains as a part
+    /// of their nominal value (its per-parameter overrides name a serial
+    /// robot's parameters: refused here). None by default.
+    pub prior: Option<Prior>,
+}
+
+/// A prior's rows on the base columns `base` of `nominal`: each weighted
+/// by `unit/σ_p` of its unit (a gain's σ relative to its nominal value).
+fn prior_rows<M: ParallelModel>(
+    nominal: &M,
+    prior: &Prior,
+    base: &[usize],
+    unit: f64,
+) -> PriorRows {
+    let values = nominal.parameters();
+    PriorRows(
+        base.iter()
+            .map(|column| {
+                let sigma = match nominal.parameter_unit(*column) {
+                    ParameterUnit::Length => prior.length,
+                    ParameterUnit::Angle => prior.angle,
+                    ParameterUnit::Gain => prior.gain * values[*column].abs().max(f64::EPSILON),
+                };
+                (*column, values[*column], unit / sigma)
+            })
+            .collect(),
+    )
 }
 
 impl Default for PlatformIdentificationOptions {
@@ -53,6 +82,7 @@ impl Default for PlatformIdentificationOptions {
             work_region: None,
             loss: Loss::default(),
             reject: false,
+            prior: None,
         }
     }
 }
@@ -117,6 +147,8 @@ pub struct PlatformIdentification<M> {
     /// outlier threshold of it, from the rows' median absolute deviation;
     /// `None` for least squares.
     pub robust_sigma: Option<f64>,
+    /// The prior the fit was held by, if any.
+    pub prior: Option<Prior>,
     /// The observations dropped before this fit
     /// ([`reject`](PlatformIdentificationOptions::reject)): their first
     /// line and residual ratio in the fit with them, the largest first.
@@ -140,6 +172,18 @@ pub fn identify_platform<M: ParallelModel>(
     noise: Option<PlatformNoise>,
     options: &PlatformIdentificationOptions,
 ) -> Result<PlatformIdentification<M>, Error> {
+    if options
+        .prior
+        .as_ref()
+        .is_some_and(|prior| !prior.overrides.is_empty())
+    {
+        return Err(Error::InvalidOption {
+            setting: crate::Setting::Prior,
+            message: "a parallel robot's prior is one σ per unit (lengths, angles, gains): \
+                      its parameters are not a serial robot's, which overrides name"
+                .into(),
+        });
+    }
     let (result, standing_out) = fit_platform(nominal, samples, measure, noise, options)?;
     if !options.reject || standing_out.is_empty() || !result.outcome.solved() {
         return Ok(result);
@@ -227,7 +271,47 @@ fn fit_platform<M: ParallelModel>(
     };
     let fit = (measure, noise);
     let limits = (options.max_iterations, options.tolerance);
-    let descent = descend(nominal, samples, fit, None, &rank.base, start, limits)?;
+    let none = PriorRows::default();
+    let mut descent = descend(
+        nominal,
+        samples,
+        fit,
+        (None, &none),
+        &rank.base,
+        start,
+        limits,
+    )?;
+    let mut prior_iterations = 0;
+    // A prior: its rows weighted by the least-squares fit's σ̂ of unit
+    // weight (as a serial robot's, maximum a posteriori with the noise the
+    // data show), and the descent continued with them.
+    let prior = match &options.prior {
+        Some(prior) if descent.converged => {
+            let unit =
+                (descent.system.cost / count.saturating_sub(rank.base.len()).max(1) as f64).sqrt();
+            let rows = prior_rows(nominal, prior, &rank.base, unit);
+            descent.system = system_at(
+                &descent.current,
+                &descent.values,
+                samples,
+                fit,
+                (None, &rows),
+                &mut descent.poses,
+            )?;
+            prior_iterations = descent.iterations;
+            descent = descend(
+                nominal,
+                samples,
+                fit,
+                (None, &rows),
+                &rank.base,
+                descent,
+                limits,
+            )?;
+            rows
+        }
+        _ => none,
+    };
     let Reweighted {
         descent,
         weights,
@@ -238,11 +322,12 @@ fn fit_platform<M: ParallelModel>(
         nominal,
         samples,
         fit,
-        &rank.base,
+        (&rank.base, &prior),
         &options.loss,
         descent,
         limits,
     )?;
+    let iterations = iterations + prior_iterations;
     let Descent {
         values,
         current,
@@ -272,7 +357,7 @@ fn fit_platform<M: ParallelModel>(
     });
     let rows_each = measure.rows_per_observation(nominal);
     let (tested_cost, tested_rows) = match scale {
-        None => (system.cost, count),
+        None => (system.cost - system.prior_cost, count),
         Some(scale) => system
             .errors
             .iter()
@@ -413,6 +498,7 @@ fn fit_platform<M: ParallelModel>(
         weights,
         robust_sigma,
         rejected: Vec::new(),
+        prior: options.prior.clone(),
     };
     Ok((result, standing_out))
 }

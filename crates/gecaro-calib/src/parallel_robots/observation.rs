@@ -71,8 +71,11 @@ pub(super) struct NormalSystem {
     /// Wᵀr.
     pub(super) projected: DVector<f64>,
     /// Σ w r² (the rows weighted by their σ and their observation's
-    /// robust weight w).
+    /// robust weight w), and a prior's pseudo-observations' when it has
+    /// them ([`prior_cost`](Self::prior_cost)).
     pub(super) cost: f64,
+    /// The part of `cost` a prior's pseudo-observations make (0 without).
+    pub(super) prior_cost: f64,
     /// Rows of W.
     pub(super) rows: usize,
     /// Each observation's residual: the RMS of its rows (in units of their
@@ -269,6 +272,7 @@ pub(super) fn normal_system<M: ParallelModel>(
         gram: DMatrix::zeros(columns, columns),
         projected: DVector::zeros(columns),
         cost: 0.0,
+        prior_cost: 0.0,
         rows: measure.rows_for(model, samples.len()),
         errors: Vec::with_capacity(samples.len() / taken),
         residuals: Vec::with_capacity(measure.rows_for(model, samples.len())),

@@ -7,9 +7,8 @@
 use gecaro_core::parallel_model::ParallelModel;
 use gecaro_data::sample::Sample;
 
-use super::descent::{Descent, descend};
+use super::descent::{Descent, PriorRows, descend, system_at};
 use super::measure::{PlatformMeasure, PlatformNoise};
-use super::observation::normal_system;
 use crate::Error;
 use crate::identification::{DEFAULT_OUTLIER_THRESHOLD, Loss, MAX_REWEIGHTINGS};
 
@@ -59,19 +58,19 @@ pub(super) struct Reweighted<M> {
     pub(super) iterations: usize,
 }
 
-/// The least-squares `descent` of `samples` measured by `fit`, reweighted
-/// by `loss` until no weight moves by more than [`WEIGHT_TOLERANCE`] (at
+/// The least-squares `descent` of `samples` measured by `fit` (with the
+/// `prior`'s rows), reweighted by `loss` until no weight moves by more than [`WEIGHT_TOLERANCE`] (at
 /// most [`MAX_REWEIGHTINGS`] times), each descent on `base` within `limits`
 /// (iterations, tolerance). Least squares, or a descent that did not
 /// converge, is returned as it is.
 ///
 /// # Errors
-/// As [`normal_system`] and [`descend`].
+/// As [`system_at`] and [`descend`].
 pub(super) fn reweighted<M: ParallelModel>(
     nominal: &M,
     samples: &[Sample],
     fit: (PlatformMeasure, Option<PlatformNoise>),
-    base: &[usize],
+    (base, prior): (&[usize], &PriorRows),
     loss: &Loss,
     mut descent: Descent<M>,
     limits: (usize, f64),
@@ -112,15 +111,23 @@ pub(super) fn reweighted<M: ParallelModel>(
                 break;
             }
             weights = next;
-            descent.system = normal_system(
+            descent.system = system_at(
                 &descent.current,
+                &descent.values,
                 samples,
-                measure,
-                noise,
-                Some(&weights),
+                fit,
+                (Some(&weights), prior),
                 &mut descent.poses,
             )?;
-            descent = descend(nominal, samples, fit, Some(&weights), base, descent, limits)?;
+            descent = descend(
+                nominal,
+                samples,
+                fit,
+                (Some(&weights), prior),
+                base,
+                descent,
+                limits,
+            )?;
             iterations += descent.iterations;
             reweightings += 1;
             if !descent.converged {

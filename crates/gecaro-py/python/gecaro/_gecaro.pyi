@@ -810,6 +810,7 @@ def parallel_identify(
     loss: _Loss = "l2",
     loss_scale: Optional[float] = None,
     reject: bool = False,
+    prior: Optional[str] = None,
     path: Optional[_PathLike] = None,
     overwrite: bool = False,
 ) -> dict[str, Any]:
@@ -824,8 +825,10 @@ def parallel_identify(
     measurement down by its residual after the least-squares fit:
     ``"loss"``, ``"reweightings"``, ``"robust_sigma"``, ``"weighed_down"``,
     ``"ignored"``; ``reject`` drops the measurements that stand out and
-    identifies the rest again, once (``"rejected"``: their lines). A fit
-    that did not converge raises NotConvergedError."""
+    identifies the rest again, once (``"rejected"``: their lines); ``prior``
+    (``"1mm,0.05deg,0.1%"``: σ of lengths, angles, gains) holds the parameters
+    about their nominal values (``"prior"`` in words). A fit that did not
+    converge raises NotConvergedError."""
 
 def parallel_evaluate(
     robot: str,

@@ -82,6 +82,7 @@ export function buildParallel() {
   const saveAs = text('save', 'calibrated.toml (optional)');
   const workRegion = text('work-region', 'qm1=-10..10mm,qm4=-5..5mm (optional: the actuators’ ranges)');
   const reject = h('input', { type: 'checkbox', id: 'parallel-reject' });
+  const prior = text('prior', '1mm,0.05deg,0.1% (optional: σ of lengths, angles, gains)');
   const loss = h('select', { id: 'parallel-loss' },
     [['l2', 'least squares'], ['huber', 'Huber (mild contamination)'], ['cauchy', 'Cauchy (gross errors)'], ['tukey', 'Tukey (gross errors ignored)']]
       .map(([value, label]) => h('option', { value, text: label })));
@@ -168,6 +169,7 @@ export function buildParallel() {
         work_region: workRegion.value.trim() || null,
         loss: loss.value,
         reject: reject.checked,
+        prior: prior.value.trim() || null,
         save_as: saveAs.value.trim() || null,
         overwrite: true,
       });
@@ -230,6 +232,7 @@ export function buildParallel() {
       field('Work region (actuator ranges with units)', workRegion),
       field('Loss', loss),
       field('Drop outliers and refit', reject),
+      field('Prior about the nominal values', prior),
       identifiable, predict, identify, evaluate),
     h('div', { class: 'form' },
       field('Simulated poses', count),

@@ -72,7 +72,8 @@ async fn a_hexapod_is_calibrated_through_the_api() {
         .post(
             "/api/parallel/identify",
             &json!({"robot": "hexapod", "method": "frame", "data": {"file": "poses.csv"},
-                    "sigma": "20um", "loss": "cauchy", "reject": true}),
+                    "sigma": "20um", "loss": "cauchy", "reject": true,
+                    "prior": "1mm,0.05deg,0.1%"}),
         )
         .await;
     assert_eq!(status, StatusCode::OK, "{robust}");
@@ -85,6 +86,8 @@ async fn a_hexapod_is_calibrated_through_the_api() {
     assert!(robust["reweightings"].as_u64() > Some(0), "{robust}");
     // Clean data: nothing stands out, nothing rejected.
     assert_eq!(robust["rejected"], json!([]), "{robust}");
+    assert_eq!(robust["prior"], "1 mm, 0.05°, 0.1 %");
+    assert_eq!(identified["prior"], Value::Null);
     assert_eq!(identified["loss"], "l2");
     let (status, refused) = api
         .post(
