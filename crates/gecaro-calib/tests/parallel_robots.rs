@@ -355,6 +355,34 @@ fn an_error_level_beyond_the_serial_robots_bound_is_refused() {
 /// the work region that matches the one found (0.51 mm predicted, 0.45 mm
 /// found for the hexapod's poses); measured over the generated workspace,
 /// the same platform holds everywhere.
+/// A ready robot, a real one drawn at level 1 with `seed`, its whole
+/// workspace, 200 measurements of it held out over that workspace and their
+/// RMS error on the real robot itself (the noise floor).
+struct HeldOutCase {
+    nominal: ParallelRobot,
+    real: ParallelRobot,
+    whole: PlatformWorkspace,
+    held_out: Vec<Sample>,
+    floor: f64,
+}
+
+fn held_out_case(robot: &str, measure: PlatformMeasure, seed: u64) -> HeldOutCase {
+    let nominal = ready(robot);
+    let real = perturbed_platform(&nominal, 1.0, &mut Sampler::new(seed)).expect("real");
+    let whole = PlatformWorkspace::whole(&real);
+    let held_out = measured_within(&real, whole, measure, 200, NOISE, seed + 3);
+    let floor = platform_errors(&real, &held_out, measure)
+        .expect("floor")
+        .position_rms;
+    HeldOutCase {
+        nominal,
+        real,
+        whole,
+        held_out,
+        floor,
+    }
+}
+
 #[test]
 fn a_platform_measured_near_home_holds_only_there() {
     for (robot, measure, seed) in [
@@ -362,13 +390,13 @@ fn a_platform_measured_near_home_holds_only_there() {
         ("hexapod", PlatformMeasure::Point, 50),
         ("delta", PlatformMeasure::Point, 60),
     ] {
-        let nominal = ready(robot);
-        let real = perturbed_platform(&nominal, 1.0, &mut Sampler::new(seed)).expect("real");
-        let whole = PlatformWorkspace::whole(&real);
-        let held_out = measured_within(&real, whole, measure, 200, NOISE, seed + 3);
-        let floor = platform_errors(&real, &held_out, measure)
-            .expect("floor")
-            .position_rms;
+        let HeldOutCase {
+            nominal,
+            real,
+            whole,
+            held_out,
+            floor,
+        } = held_out_case(robot, measure, seed);
         for (share, regional) in [(0.15, true), (PlatformWorkspace::GENERATED_SHARE, false)] {
             let data = measured_within(&real, whole.scaled(share), measure, 60, NOISE, seed + 1);
             let result = identify_platform(
@@ -428,13 +456,13 @@ fn a_prior_holds_what_the_data_do_not_see() {
         ("hexapod", PlatformMeasure::Pose, 40),
         ("delta", PlatformMeasure::Point, 60),
     ] {
-        let nominal = ready(robot);
-        let real = perturbed_platform(&nominal, 1.0, &mut Sampler::new(seed)).expect("real");
-        let whole = PlatformWorkspace::whole(&real);
-        let held_out = measured_within(&real, whole, measure, 200, NOISE, seed + 3);
-        let floor = platform_errors(&real, &held_out, measure)
-            .expect("floor")
-            .position_rms;
+        let HeldOutCase {
+            nominal,
+            real,
+            whole,
+            held_out,
+            floor,
+        } = held_out_case(robot, measure, seed);
         let prior = Prior::new(1e-3, 1e-3, 1e-3).expect("prior");
         for share in [0.15, PlatformWorkspace::GENERATED_SHARE] {
             let data = measured_within(&real, whole.scaled(share), measure, 60, NOISE, seed + 1);
