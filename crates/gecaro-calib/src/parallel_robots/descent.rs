@@ -18,16 +18,30 @@ use crate::Error;
 const STEP_OF_SIGMA: f64 = 1e-3;
 
 /// A Gaussian prior's pseudo-observations on the base parameters: for each,
-/// its column, its nominal value and its weight `s/σ_p` (s the rows' σ̂ of
-/// unit weight, σ_p its prior σ), the row `w·(η₀ − η)` beside the data's.
+/// its column, its nominal value and its prior σ_p, the row
+/// `(s/σ_p)·(η₀ − η)` beside the data's, with `s` the rows' σ̂ of unit
+/// weight (maximum a posteriori with the noise the data show).
 #[derive(Clone, Debug, Default)]
-pub(super) struct PriorRows(pub(super) Vec<(usize, f64, f64)>);
+pub(super) struct PriorRows {
+    pub(super) rows: Vec<(usize, f64, f64)>,
+    /// `s`.
+    pub(super) unit: f64,
+}
 
 impl PriorRows {
+    /// The same rows weighted by `unit` instead.
+    pub(super) fn with_unit(&self, unit: f64) -> PriorRows {
+        PriorRows {
+            rows: self.rows.clone(),
+            unit,
+        }
+    }
+
     /// Adds the rows at parameters `values` to `system`'s normal equations
     /// and cost.
     fn add_to(&self, system: &mut NormalSystem, values: &[f64]) {
-        for &(column, nominal, weight) in &self.0 {
+        for &(column, nominal, sigma) in &self.rows {
+            let weight = self.unit / sigma;
             let residual = weight * (nominal - values[column]);
             system.cost += residual * residual;
             system.prior_cost += residual * residual;

@@ -51,8 +51,8 @@ pub struct PlatformIdentificationOptions {
     pub prior: Option<Prior>,
 }
 
-/// A prior's rows on the base columns `base` of `nominal`: each weighted
-/// by `unit/σ_p` of its unit (a gain's σ relative to its nominal value).
+/// A prior's rows on the base columns `base` of `nominal`, weighted by
+/// `unit/σ_p` of their unit (a gain's σ relative to its nominal value).
 fn prior_rows<M: ParallelModel>(
     nominal: &M,
     prior: &Prior,
@@ -60,18 +60,20 @@ fn prior_rows<M: ParallelModel>(
     unit: f64,
 ) -> PriorRows {
     let values = nominal.parameters();
-    PriorRows(
-        base.iter()
+    PriorRows {
+        rows: base
+            .iter()
             .map(|column| {
                 let sigma = match nominal.parameter_unit(*column) {
                     ParameterUnit::Length => prior.length,
                     ParameterUnit::Angle => prior.angle,
                     ParameterUnit::Gain => prior.gain * values[*column].abs().max(f64::EPSILON),
                 };
-                (*column, values[*column], unit / sigma)
+                (*column, values[*column], sigma)
             })
             .collect(),
-    )
+        unit,
+    }
 }
 
 impl Default for PlatformIdentificationOptions {

@@ -111,6 +111,10 @@ pub(super) fn reweighted<M: ParallelModel>(
                 break;
             }
             weights = next;
+            // A prior weighs against the noise the data show, robustly
+            // (the least-squares σ̂ carries the gross errors).
+            let prior = prior.with_unit(sigma);
+            let prior = &prior;
             descent.system = system_at(
                 &descent.current,
                 &descent.values,
