@@ -323,6 +323,8 @@ fn cross_validation_and_model_choice_from_the_command_line() {
     for (extra, expected) in [
         (&["--cv", "1000"][..], "--cv"),
         (&["--model", "tiny"][..], "unknown model 'tiny'"),
+        // A seed seeds the folds only: alone it would be passed over.
+        (&["--seed", "3"][..], "--cv"),
     ] {
         tracker_command("identify", &robot)
             .args(["--data"])

@@ -406,8 +406,9 @@ pub(crate) struct IdentifyArgs {
     /// held-out error per fold and overall.
     #[arg(long, value_name = "K")]
     pub(crate) cv: Option<usize>,
-    /// Seed of the cross-validation folds.
-    #[arg(long, default_value_t = gecaro_calib::simulation::DEFAULT_SEED)]
+    /// Seed of the cross-validation folds (with --cv only: nothing else of
+    /// an identification is random).
+    #[arg(long, default_value_t = gecaro_calib::simulation::DEFAULT_SEED, requires = "cv")]
     pub(crate) seed: u64,
     /// How the folds hold observations out: random (default:
     /// interpolation) or regions (the ends of each joint's measured range:

@@ -130,6 +130,20 @@ fn parse_ranges(
             "no {one} range given: write {prefix}1=-90..90deg,{prefix}2=-45..45deg"
         ));
     }
+    // `qm1=-1,5..1,5mm`: a decimal comma splits a number in two parts, the
+    // second of which names nothing and starts with a digit.
+    for pair in parts.windows(2) {
+        let (before, part) = (pair[0], pair[1]);
+        if !part.contains('=')
+            && part.starts_with(|c: char| c.is_ascii_digit())
+            && before.ends_with(|c: char| c.is_ascii_digit())
+        {
+            return Err(format!(
+                "'{text}' has a decimal comma (in '{before},{part}'): write decimals with a point \
+                 ({prefix}1=-1.5..1.5mm); a comma separates the ranges"
+            ));
+        }
+    }
     for part in parts {
         let (name, range) = part.split_once('=').ok_or_else(|| {
             format!(
@@ -247,6 +261,8 @@ mod tests {
         refused("q1=0..1deg,q1=0..2deg", "given twice");
         refused("q1=45..-30deg", "starts above its end");
         refused("-30..45deg", "names no joint");
+        refused("q1=-1,5..1,5deg", "has a decimal comma");
+        refused("q1=0..45deg,q2=-10,5..10deg", "has a decimal comma");
         refused("q1=-30deg", "is not a range");
         refused("q1=-400..400deg", "beyond the joint's limits");
         refused("", "no joint range");
