@@ -509,6 +509,26 @@ fn a_prior_holds_what_the_data_do_not_see() {
                     "{robot}: {held_ratio} with the prior, {free_ratio} without"
                 );
             }
+            // A fit stopped before it converged is not held by the prior, nor
+            // reweighted by a loss, and does not say it is.
+            let stopped = identify_platform(
+                &nominal,
+                &data,
+                measure,
+                Some(NOISE),
+                &PlatformIdentificationOptions {
+                    prior: Some(prior.clone()),
+                    loss: gecaro_calib::identification::Loss::new(
+                        gecaro_calib::identification::LossKind::Huber,
+                    ),
+                    max_iterations: 1,
+                    ..PlatformIdentificationOptions::default()
+                },
+            )
+            .expect("identified");
+            assert_eq!(stopped.outcome, Outcome::NotConverged, "{robot}");
+            assert!(stopped.prior.is_none() && stopped.loss.is_l2(), "{robot}");
+            assert_eq!(stopped.reweightings, 0);
             // The prior adds what it knows: no σ grows.
             for (a, b) in held.parameters.iter().zip(&free.parameters) {
                 if let (Some(held), Some(free)) = (a.sigma, b.sigma) {

@@ -158,14 +158,7 @@ impl ParallelIdentifyRequest {
         let kind: LossKind = self.loss.as_deref().unwrap_or("l2").parse()?;
         options.loss = Loss::from_parts(kind, self.loss_scale)?;
         options.reject = self.reject.unwrap_or(false);
-        options.prior = match self.prior.as_deref().map(str::trim) {
-            None | Some("") => None,
-            Some(text) => Some(gecaro_io::parse_prior(text).map_err(|message| {
-                AppError::setting("prior", message).with_help(vec![crate::error::Part::Text(
-                    "for example: 1mm,0.05deg,0.1%".into(),
-                )])
-            })?),
-        };
+        options.prior = crate::settings::prior(self.prior.as_deref(), None)?;
         let result = identify_platform(&nominal.robot, &samples, measure, noise, &options)?;
         let errors_before = platform_errors(&nominal.robot, &samples, measure)?;
         let errors_after = platform_errors(&result.calibrated, &samples, measure)?;
@@ -268,11 +261,7 @@ impl ParallelIdentifyRequest {
             reweightings: result.reweightings,
             robust_sigma: result.robust_sigma,
             weighed_down: weighed_down(&result.weights),
-            ignored: result
-                .weights
-                .iter()
-                .filter(|weight| **weight == 0.0)
-                .count(),
+            ignored: ignored(&result.weights),
             prior: result.prior.as_ref().map(prior_words),
             rejected: result
                 .rejected
@@ -301,6 +290,11 @@ fn prior_words(prior: &Prior) -> String {
         shown(prior.angle.to_degrees()),
         shown(prior.gain * 1e2)
     )
+}
+
+/// Measurements a robust loss gave no weight at all (a redescending one).
+fn ignored(weights: &[f64]) -> usize {
+    weights.iter().filter(|weight| **weight == 0.0).count()
 }
 
 /// Measurements a robust loss weighed below one half.
@@ -340,11 +334,7 @@ fn summary(result: &PlatformIdentification<ParallelRobot>) -> String {
         ));
     }
     if result.reweightings > 0 {
-        let ignored = result
-            .weights
-            .iter()
-            .filter(|weight| **weight == 0.0)
-            .count();
+        let ignored = ignored(&result.weights);
         verdict.push_str(&format!(
             "; the robust loss, {}, weighed {} of {} measurements below one half{}",
             result.loss,

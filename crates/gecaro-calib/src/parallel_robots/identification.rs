@@ -137,7 +137,8 @@ pub struct PlatformIdentification<M> {
     /// The base frame in the instrument's frame, when the data were in
     /// another frame and were registered ([`super::measurement_frame`]).
     pub registered: Option<Isometry3<f64>>,
-    /// The loss the fit minimised.
+    /// The loss the fit minimised (least squares where a robust one was
+    /// asked for but the least-squares fit it starts from did not converge).
     pub loss: Loss,
     /// Reweightings of a robust loss (0 for least squares).
     pub reweightings: usize,
@@ -149,7 +150,8 @@ pub struct PlatformIdentification<M> {
     /// outlier threshold of it, from the rows' median absolute deviation;
     /// `None` for least squares.
     pub robust_sigma: Option<f64>,
-    /// The prior the fit was held by, if any.
+    /// The prior the fit was held by, if any (none where the least-squares
+    /// fit it weighs against did not converge).
     pub prior: Option<Prior>,
     /// The observations dropped before this fit
     /// ([`reject`](PlatformIdentificationOptions::reject)): their first
@@ -283,12 +285,14 @@ fn fit_platform<M: ParallelModel>(
         start,
         limits,
     )?;
-    let mut prior_iterations = 0;
+    let mut iterations = descent.iterations;
     // A prior: its rows weighted by the least-squares fit's σ̂ of unit
     // weight (as a serial robot's, maximum a posteriori with the noise the
-    // data show), and the descent continued with them.
-    let prior = match &options.prior {
-        Some(prior) if descent.converged => {
+    // data show), and the descent continued with them — on a converged fit
+    // only (its σ̂ is no noise otherwise), and reported only where applied.
+    let applied_prior = options.prior.as_ref().filter(|_| descent.converged);
+    let prior = match applied_prior {
+        Some(prior) => {
             let unit =
                 (descent.system.cost / count.saturating_sub(rank.base.len()).max(1) as f64).sqrt();
             let rows = prior_rows(nominal, prior, &rank.base, unit);
@@ -300,7 +304,6 @@ fn fit_platform<M: ParallelModel>(
                 (None, &rows),
                 &mut descent.poses,
             )?;
-            prior_iterations = descent.iterations;
             descent = descend(
                 nominal,
                 samples,
@@ -310,16 +313,17 @@ fn fit_platform<M: ParallelModel>(
                 descent,
                 limits,
             )?;
+            iterations += descent.iterations;
             rows
         }
-        _ => none,
+        None => none,
     };
     let Reweighted {
         descent,
         weights,
         robust_sigma,
         reweightings,
-        iterations,
+        iterations: reweighted_iterations,
     } = reweighted(
         nominal,
         samples,
@@ -329,7 +333,7 @@ fn fit_platform<M: ParallelModel>(
         descent,
         limits,
     )?;
-    let iterations = iterations + prior_iterations;
+    iterations += reweighted_iterations;
     let Descent {
         values,
         current,
@@ -495,12 +499,17 @@ fn fit_platform<M: ParallelModel>(
         region,
         outliers,
         registered,
-        loss: options.loss,
+        // What the fit did: a robust loss reweights a converged fit only.
+        loss: if robust_sigma.is_some() {
+            options.loss
+        } else {
+            Loss::default()
+        },
         reweightings,
         weights,
         robust_sigma,
         rejected: Vec::new(),
-        prior: options.prior.clone(),
+        prior: applied_prior.cloned(),
     };
     Ok((result, standing_out))
 }

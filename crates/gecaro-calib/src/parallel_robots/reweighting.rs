@@ -54,7 +54,8 @@ pub(super) struct Reweighted<M> {
     pub(super) robust_sigma: Option<f64>,
     /// Reweightings made.
     pub(super) reweightings: usize,
-    /// Gauss–Newton steps of every descent, the least-squares one's first.
+    /// Gauss–Newton steps of the reweighted descents (those of the
+    /// `descent` given not counted).
     pub(super) iterations: usize,
 }
 
@@ -76,7 +77,7 @@ pub(super) fn reweighted<M: ParallelModel>(
     limits: (usize, f64),
 ) -> Result<Reweighted<M>, Error> {
     let (measure, noise) = fit;
-    let mut iterations = descent.iterations;
+    let mut iterations = 0;
     let (mut weights, mut robust_sigma, mut reweightings) = (Vec::new(), None, 0);
     if !loss.is_l2() && descent.converged {
         // Rounding residuals of noise-free data are no noise.
