@@ -220,6 +220,25 @@ fn a_delta_is_calibrated_from_its_tool_point_and_a_program_compensated() {
     ]);
     let off = corrected["errors"]["position_rms"].as_f64().expect("rms");
     assert!(off < 0.05e-3, "{off} m off the targets");
+    // Its report: three arms turning, their ranges in degrees, the tool
+    // point's errors at the measured points.
+    command("report delta --method position --sigma 0.02mm --data")
+        .arg(at("points.csv"))
+        .arg("-o")
+        .arg(at("report.html"))
+        .assert()
+        .success();
+    let html = std::fs::read_to_string(at("report.html")).expect("the report");
+    assert!(
+        html.contains("a Delta robot, 3 arms"),
+        "the structure named"
+    );
+    assert!(html.contains("tool point the direct model predicts"));
+    assert!(
+        html.contains("<th>arm</th>") && html.contains("°</td>"),
+        "the arms' ranges in degrees"
+    );
+    assert!(html.contains(identified["summary"].as_str().expect("words")));
     let output = command("identify delta --method frame --data")
         .arg(at("points.csv"))
         .output()
@@ -738,6 +757,25 @@ fn a_hexapod_measured_from_a_tracker_elsewhere_is_registered() {
     assert!(rms(&after) <= 1.3 * rms(&floor), "{after} against {floor}");
 }
 
+/// The data file `from` written to `to` with the poses of lines 7, 19 and
+/// 35 (rows 6, 18, 34 of the file: a header, then data) half a millimetre
+/// off in x.
+fn three_off(from: &str, to: &str) {
+    let text = std::fs::read_to_string(from).expect("read");
+    let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
+    let x = lines[0]
+        .split(',')
+        .position(|column| column == "x")
+        .expect("an x column");
+    for row in [6, 18, 34] {
+        let mut values: Vec<String> = lines[row].split(',').map(str::to_owned).collect();
+        let moved = values[x].parse::<f64>().expect("a number") + 0.5e-3;
+        values[x] = moved.to_string();
+        lines[row] = values.join(",");
+    }
+    std::fs::write(to, lines.join("\n") + "\n").expect("written");
+}
+
 /// Three of 60 measured poses off by half a millimetre: least squares is
 /// not trusted (the residuals twice the noise, the three named); `--reject`
 /// drops them, `--loss cauchy` weighs them down — trusted, held out at the
@@ -758,19 +796,7 @@ fn gross_errors_are_weighed_down_on_the_command_line() {
         .arg(at("real.toml"))
         .assert()
         .success();
-    let text = std::fs::read_to_string(at("poses.csv")).expect("read");
-    let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
-    let x = lines[0]
-        .split(',')
-        .position(|column| column == "x")
-        .expect("an x column");
-    for row in [6, 18, 34] {
-        let mut values: Vec<String> = lines[row].split(',').map(str::to_owned).collect();
-        let moved = values[x].parse::<f64>().expect("a number") + 0.5e-3;
-        values[x] = moved.to_string();
-        lines[row] = values.join(",");
-    }
-    std::fs::write(at("off.csv"), lines.join("\n") + "\n").expect("written");
+    three_off(&at("poses.csv"), &at("off.csv"));
     let plain = command("identify hexapod --method frame --sigma 20um --data")
         .arg(at("off.csv"))
         .output()
@@ -883,6 +909,108 @@ fn gross_errors_are_weighed_down_on_the_command_line() {
     assert_eq!(output.status.code(), Some(2), "{error}");
     assert!(
         error.contains("--prior") && error.contains("lacks the angle and gain σ"),
+        "{error}"
+    );
+}
+
+/// `gecaro report` of a parallel robot: the HTML report of the
+/// identification, with the words `identify` prints, every parameter, the
+/// plots, and the measurements that stand out named by their line — written
+/// whether the fit is trusted or not, the exit status that of `identify`
+/// (5 for a fit its data do not trust).
+#[test]
+fn a_parallel_robot_is_reported_as_identified() {
+    let folder = tempfile::tempdir().expect("folder");
+    let at = |name: &str| folder.path().join(name).display().to_string();
+    command("generate hexapod --method frame --count 60 --noise 2e-5 --seed 3 -o")
+        .arg(at("poses.csv"))
+        .assert()
+        .success();
+    three_off(&at("poses.csv"), &at("off.csv"));
+    let report = |data: &str, name: &str, extra: &[&str]| {
+        let output = command("report hexapod --method frame --sigma 20um --data")
+            .arg(at(data))
+            .args(extra)
+            .arg("-o")
+            .arg(at(name))
+            .output()
+            .expect("runs");
+        let html = std::fs::read_to_string(at(name)).expect("the report is written");
+        // What `identify` prints of the same, trusted or not.
+        let printed = command("identify hexapod --method frame --sigma 20um --json --data")
+            .arg(at(data))
+            .args(extra)
+            .output()
+            .expect("runs");
+        let identified: Value = serde_json::from_slice(&printed.stdout).expect("JSON");
+        (output, html, identified)
+    };
+    // Three poses half a millimetre off: not trusted, said, and named.
+    let (output, html, identified) = report("off.csv", "off.html", &[]);
+    assert_eq!(output.status.code(), Some(5), "not trusted");
+    assert!(html.contains("class=\"verdict bad\""), "the verdict in red");
+    let summary = identified["summary"].as_str().expect("words");
+    assert!(
+        html.contains(summary),
+        "the report says what identify said: {summary}"
+    );
+    assert!(
+        html.contains("Standing out of the fit"),
+        "the outliers listed"
+    );
+    for line in [7, 19, 35] {
+        assert!(
+            html.contains(&format!("<td>{line}</td>")),
+            "line {line} listed"
+        );
+        assert!(
+            html.contains(&format!("(line {line})")),
+            "line {line} on the plot"
+        );
+    }
+    for parameter in identified["parameters"].as_array().expect("parameters") {
+        let name = parameter["name"].as_str().expect("name");
+        assert!(
+            html.contains(&format!("<td>{name}</td>")),
+            "{name} in the table"
+        );
+    }
+    assert_eq!(
+        html.matches("<svg").count(),
+        2,
+        "the histograms and the errors per pose"
+    );
+    // Dropped and identified again: trusted, the three named as dropped.
+    let (output, html, identified) = report("off.csv", "rejected.html", &["--reject"]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert_eq!(identified["outcome"], "fits_noise");
+    assert!(html.contains("class=\"verdict ok\""));
+    assert!(
+        html.contains("Dropped before this fit</strong> (3)"),
+        "the three dropped"
+    );
+    assert!(html.contains("The result holds over the workspace"));
+    // A report is never written over a file without --force.
+    let again = command("report hexapod --method frame --data")
+        .arg(at("poses.csv"))
+        .arg("-o")
+        .arg(at("rejected.html"))
+        .output()
+        .expect("runs");
+    assert!(!again.status.success());
+    assert!(String::from_utf8_lossy(&again.stderr).contains("already exists"));
+    // A serial robot's job still refuses a parallel robot, naming the jobs
+    // that read one.
+    let refused = command("fk hexapod --qm 0,0,0,0,0,0")
+        .output()
+        .expect("runs");
+    let error = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        error.contains("`report`") && error.contains("`compensate`"),
         "{error}"
     );
 }

@@ -177,7 +177,7 @@ fn write_plots(
 }
 
 /// The command line as typed, quoted where a shell would need it.
-fn command_line() -> String {
+pub(crate) fn command_line() -> String {
     std::env::args()
         .enumerate()
         .map(|(index, argument)| {

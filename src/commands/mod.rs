@@ -44,6 +44,9 @@ pub(crate) fn run(cli: Cli) -> Result<(), Failure> {
         Command::Identify(args) if is_parallel(args.run.source.robot.as_deref()) => {
             parallel::identify(&args, args.run.source.robot.as_deref().unwrap_or_default())
         }
+        Command::Report(args) if is_parallel(args.run.source.robot.as_deref()) => {
+            parallel::report(&args, args.run.source.robot.as_deref().unwrap_or_default())
+        }
         Command::Evaluate(args) if is_parallel(Some(&args.robot)) => parallel::evaluate(&args),
         Command::Predict(args) if is_parallel(args.robot.as_deref()) => {
             parallel::predict(&args, args.robot.as_deref().unwrap_or_default())

@@ -1,6 +1,7 @@
-//! The commands of a parallel robot (a Gough–Stewart platform): `robot
-//! show | check`, `generate`, `identifiable`, `identify` and `evaluate` run
-//! the `gecaro_app::parallel` jobs when the robot named is a parallel one;
+//! The commands of a parallel robot (a Gough–Stewart platform, a Delta):
+//! `robot show | check`, `generate`, `identifiable`, `plan`, `predict`,
+//! `identify`, `report`, `evaluate` and `compensate` run the
+//! `gecaro_app::parallel` jobs when the robot named is a parallel one;
 //! an option that means something for serial robots only is refused by
 //! name.
 
@@ -13,10 +14,10 @@ use gecaro_app::{DataSource, LocalFiles};
 use gecaro_core::parallel_model::ParallelModel;
 use gecaro_core::parallel_robot::ParallelRobot;
 
-use super::options::{data_format, name, written};
+use super::options::{data_format, name, output_policy, written};
 use crate::cli::{
-    CompensateArgs, EvaluateArgs, GenerateArgs, IdentifiableArgs, IdentifyArgs, MethodOptionArgs,
-    PlanArgs, PredictArgs,
+    CompensateArgs, EvaluateArgs, GenerateArgs, IdentifiableArgs, IdentificationRunArgs,
+    IdentifyArgs, MethodOptionArgs, PlanArgs, PredictArgs, ReportArgs,
 };
 use crate::failure::Failure;
 use crate::format::{number, shown, table};
@@ -299,9 +300,14 @@ pub(crate) fn identifiable(args: &IdentifiableArgs, robot: &str) -> Result<(), F
     Ok(())
 }
 
-/// `gecaro identify` of a parallel robot.
-pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> {
-    let run = &args.run;
+/// The identification `run` asks of the parallel robot `robot`, the
+/// calibrated platform written to `output`; refuses the options of `run`
+/// that mean something for serial robots only.
+fn identify_request(
+    run: &IdentificationRunArgs,
+    robot: &str,
+    output: gecaro_app::Output,
+) -> Result<ParallelIdentifyRequest, Failure> {
     serial_only(&method_options(&run.source.options))?;
     serial_only(&[
         ("--priority", run.priority.is_some()),
@@ -313,18 +319,12 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
         ("--solver", run.solver != "gauss-newton"),
         ("--study", run.source.study.is_some()),
         ("--strict-limits", run.source.strict_limits),
-        ("--check-model", args.check_model),
-        ("--no-check-model", args.no_check_model),
-        ("--write-unconverged", args.write_unconverged),
-        ("--plot", args.plot.is_some()),
-        ("--residuals", args.residuals.is_some()),
-        ("--cv", args.cv.is_some()),
     ])?;
     let data = run
         .data
         .as_deref()
         .ok_or_else(|| Failure::usage("give the measurements (--data FILE.csv)", None))?;
-    let identified = ParallelIdentifyRequest {
+    Ok(ParallelIdentifyRequest {
         robot: robot.to_owned(),
         method: run.source.method.clone().unwrap_or_default(),
         data: DataSource::File(name(data)),
@@ -337,13 +337,26 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
         loss_scale: run.loss_scale,
         reject: Some(run.reject),
         prior: run.prior.clone(),
-        output: args
-            .output
-            .as_deref()
-            .map(|path| written(path, args.force))
-            .unwrap_or_default(),
-    }
-    .run(&LocalFiles)?;
+        output,
+    })
+}
+
+/// `gecaro identify` of a parallel robot.
+pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> {
+    serial_only(&[
+        ("--check-model", args.check_model),
+        ("--no-check-model", args.no_check_model),
+        ("--write-unconverged", args.write_unconverged),
+        ("--plot", args.plot.is_some()),
+        ("--residuals", args.residuals.is_some()),
+        ("--cv", args.cv.is_some()),
+    ])?;
+    let output = args
+        .output
+        .as_deref()
+        .map(|path| written(path, args.force))
+        .unwrap_or_default();
+    let identified = identify_request(&args.run, robot, output)?.run(&LocalFiles)?;
     let document = &identified.document;
     if args.json {
         super::output::print_json(document)?;
@@ -403,6 +416,28 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
             println!("wrote the calibrated platform to {path}");
         }
     }
+    identified
+        .failure()
+        .map_or(Ok(()), |error| Err(error.into()))
+}
+
+/// `gecaro report` of a parallel robot: the identification, and its HTML
+/// report written whether the fit is trusted or not (it says which), the
+/// exit status that of `identify`.
+pub(crate) fn report(args: &ReportArgs, robot: &str) -> Result<(), Failure> {
+    let identified =
+        identify_request(&args.run, robot, gecaro_app::Output::default())?.run(&LocalFiles)?;
+    let html = identified.report(&super::calibration::command_line())?;
+    gecaro_io::write_atomically(&args.output, html.as_bytes(), output_policy(args.force))?;
+    let document = &identified.document;
+    println!(
+        "wrote the report of {} ({} method, {}) to {}",
+        shown(&document.robot),
+        document.method,
+        document.data,
+        args.output.display()
+    );
+    println!("{}", document.summary);
     identified
         .failure()
         .map_or(Ok(()), |error| Err(error.into()))

@@ -136,9 +136,10 @@ pub fn parse_robot_file(text: &str, path: &Path) -> Result<RobotFile, Error> {
 pub(crate) fn parallel_robot_here(path: &Path) -> Error {
     Error::Format {
         path: path.to_owned(),
-        message: "a parallel robot (`kind = \"parallel\"`, a Gough–Stewart platform), where this \
-                  job needs a serial robot's frames; a parallel robot is read by `robot show`, \
-                  `robot check`, `generate`, `identifiable`, `identify` and `evaluate`"
+        message: "a parallel robot (`kind = \"parallel\"`: a Gough–Stewart platform or a \
+                  Delta), where this job needs a serial robot's frames; a parallel robot is \
+                  read by `robot show`, `robot check`, `generate`, `identifiable`, `plan`, \
+                  `predict`, `identify`, `report`, `evaluate` and `compensate`"
             .into(),
     }
 }

@@ -136,13 +136,15 @@ pub(crate) fn parallel_identifiable<'py>(
 /// document's `"loss"`, `"reweightings"`, `"robust_sigma"`,
 /// `"weighed_down"`; `reject` drops the measurements that stand out and
 /// identifies the rest again, once (`"rejected"`); `prior` (`"1mm,0.05deg,0.1%"`)
-/// holds the parameters about their nominal values. A fit that did not
-/// converge raises `NotConvergedError`.
+/// holds the parameters about their nominal values. `report` names the
+/// file the self-contained HTML report is written to (`gecaro report`;
+/// `"report"` in the document), trusted or not. A fit that did not
+/// converge raises `NotConvergedError` (its report written first).
 #[pyfunction]
 #[pyo3(signature = (
     robot, method, data, *, sigma = None, sigma_rotation = None, length_unit = None,
     angle_unit = None, max_iterations = 30, work_region = None, loss = "l2", loss_scale = None,
-    reject = false, prior = None, path = None, overwrite = false,
+    reject = false, prior = None, path = None, report = None, overwrite = false,
 ))]
 pub(crate) fn parallel_identify<'py>(
     py: Python<'py>,
@@ -160,8 +162,13 @@ pub(crate) fn parallel_identify<'py>(
     reject: bool,
     prior: Option<String>,
     path: Option<PathBuf>,
+    report: Option<PathBuf>,
     overwrite: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
+    // Refused before the work, as the platform's own file is.
+    output(report.as_deref(), overwrite)
+        .check(&LocalFiles, "html")
+        .py()?;
     let request = ParallelIdentifyRequest {
         robot,
         method,
@@ -178,6 +185,14 @@ pub(crate) fn parallel_identify<'py>(
         output: output(path.as_deref(), overwrite),
     };
     let identified = py.detach(|| request.run(&LocalFiles)).py()?;
+    if let Some(report) = &report {
+        let html = py
+            .detach(|| identified.report("gecaro.parallel_identify (Python)"))
+            .py()?;
+        output(Some(report), overwrite)
+            .write(&LocalFiles, "html", html.as_bytes())
+            .py()?;
+    }
     if !identified.converged()
         && let Some(error) = identified.failure()
     {
@@ -185,6 +200,10 @@ pub(crate) fn parallel_identify<'py>(
     }
     let document = to_python(py, &identified.document)?;
     document.set_item("trusted", identified.failure().is_none())?;
+    document.set_item(
+        "report",
+        report.as_deref().map(|report| report.display().to_string()),
+    )?;
     document.set_item(
         "calibrated",
         gecaro_io::format_parallel_robot_file(&identified.calibrated),

@@ -89,6 +89,18 @@ def test_gross_errors_are_weighed_down_by_a_robust_loss(tmp_path):
                                     loss="cauchy", prior="1mm,0.05deg,0.1%")
     assert held["outcome"] == "fits_noise", held["summary"]
     assert held["prior"] == "1 mm, 0.05°, 0.1 %"
+    # The report of the same, with the words the document has and the
+    # lines the fit dropped; never written over a file without overwrite.
+    reported = gecaro.parallel_identify("hexapod", "frame", tmp_path / "off.csv", sigma="20um",
+                                        reject=True, report=tmp_path / "report.html")
+    assert reported["report"] == str(tmp_path / "report.html")
+    html = (tmp_path / "report.html").read_text()
+    assert reported["summary"] in html
+    assert 'class="verdict ok"' in html
+    assert "Dropped before this fit</strong> (3)" in html
+    with pytest.raises(gecaro.errors.InputError, match="exists"):
+        gecaro.parallel_identify("hexapod", "frame", tmp_path / "off.csv", sigma="20um",
+                                 report=tmp_path / "report.html")
     with pytest.raises(gecaro.errors.InputError, match="prior"):
         gecaro.parallel_identify("hexapod", "frame", tmp_path / "off.csv", sigma="20um",
                                  prior="1mm")

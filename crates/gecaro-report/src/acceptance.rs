@@ -6,11 +6,11 @@
 //! keeps metres and radians.
 
 use gecaro_calib::iso9283::{PoseResult, Registration, TestCube, TestEvaluation};
-use maud::{DOCTYPE, Markup, PreEscaped, html};
+use maud::{Markup, PreEscaped, html};
 use plotters::prelude::*;
 
 use crate::Error;
-use crate::html::STYLE;
+use crate::page::page;
 use crate::plots::{AFTER, BEFORE, FONT, plot_error, svg};
 
 /// One measured file of the test.
@@ -321,61 +321,51 @@ pub fn acceptance_report(input: &AcceptanceInput<'_>) -> Result<String, Error> {
             measured.evaluation.worst_repeatability(),
         )
     };
-    let page = html! {
-        (DOCTYPE)
-        html lang="en" {
-            head {
-                meta charset="utf-8";
-                title { "gecaro — ISO 9283 acceptance test" }
-                style { (PreEscaped(STYLE)) }
-            }
-            body {
-                h1 { "Acceptance test (ISO 9283)" }
-                p.muted {
-                    @if let Some(robot) = input.robot { (robot) " — " }
-                    "program " code { (input.program) } " — made by " code { (input.command) }
-                }
-                @for warning in input.warnings { p.warn { (warning) } }
-                h2 { "Summary" }
-                table {
-                    tr { th { "" } th { "measured" } th { "largest AP_P (mm)" } th { "largest RP_l (mm)" } th { "measurement frame" } }
-                    @for (name, measured) in std::iter::once(("before", &input.before)).chain(input.after.as_ref().map(|after| ("after", after))) {
-                        @let (ap, rp) = worst(measured);
-                        tr {
-                            td { (if input.after.is_some() { name } else { "test" }) }
-                            td { (measured.label) }
-                            td { (mm(ap)) }
-                            td { (mm(rp)) }
-                            td { (registration(measured.evaluation)) }
-                        }
-                    }
-                }
-                h2 { "Conditions" }
-                table {
-                    @for (name, value) in input.conditions {
-                        tr { td { (name) } td { (value.unwrap_or("not stated")) } }
-                    }
-                }
-                @for (name, measured) in std::iter::once(("Before calibration", &input.before)).chain(input.after.as_ref().map(|after| ("After calibration", after))) {
-                    h2 { (if input.after.is_some() { name } else { "Characteristics" }) " — " (measured.label) }
-                    (characteristics(measured))
-                }
-                h2 { "The cube and the errors" }
-                p.muted {
-                    "Commanded poses (black), each barycentre's error drawn " (scale) " times larger (red), \
-                     and the sphere of RP_l about it at the same scale (blue)"
-                    @if input.after.is_some() { ", after calibration" } "."
-                }
-                (PreEscaped(cube))
-                h2 { "Repeatability: the attained positions about their barycentre" }
-                p.muted { "x–y of the base frame, µm; the circle is RP_l." }
-                div { (PreEscaped(bullseyes)) }
-                p.muted {
-                    "ISO 9283 clause 7 as gecaro implements it: docs/iso9283.md. Lengths in mm, \
-                     angles in degrees."
+    let body = html! {
+        h1 { "Acceptance test (ISO 9283)" }
+        p.muted {
+            @if let Some(robot) = input.robot { (robot) " — " }
+            "program " code { (input.program) } " — made by " code { (input.command) }
+        }
+        @for warning in input.warnings { p.warn { (warning) } }
+        h2 { "Summary" }
+        table {
+            tr { th { "" } th { "measured" } th { "largest AP_P (mm)" } th { "largest RP_l (mm)" } th { "measurement frame" } }
+            @for (name, measured) in std::iter::once(("before", &input.before)).chain(input.after.as_ref().map(|after| ("after", after))) {
+                @let (ap, rp) = worst(measured);
+                tr {
+                    td { (if input.after.is_some() { name } else { "test" }) }
+                    td { (measured.label) }
+                    td { (mm(ap)) }
+                    td { (mm(rp)) }
+                    td { (registration(measured.evaluation)) }
                 }
             }
         }
+        h2 { "Conditions" }
+        table {
+            @for (name, value) in input.conditions {
+                tr { td { (name) } td { (value.unwrap_or("not stated")) } }
+            }
+        }
+        @for (name, measured) in std::iter::once(("Before calibration", &input.before)).chain(input.after.as_ref().map(|after| ("After calibration", after))) {
+            h2 { (if input.after.is_some() { name } else { "Characteristics" }) " — " (measured.label) }
+            (characteristics(measured))
+        }
+        h2 { "The cube and the errors" }
+        p.muted {
+            "Commanded poses (black), each barycentre's error drawn " (scale) " times larger (red), \
+             and the sphere of RP_l about it at the same scale (blue)"
+            @if input.after.is_some() { ", after calibration" } "."
+        }
+        (PreEscaped(cube))
+        h2 { "Repeatability: the attained positions about their barycentre" }
+        p.muted { "x–y of the base frame, µm; the circle is RP_l." }
+        div { (PreEscaped(bullseyes)) }
+        p.muted {
+            "ISO 9283 clause 7 as gecaro implements it: docs/iso9283.md. Lengths in mm, \
+             angles in degrees."
+        }
     };
-    Ok(page.into_string() + "\n")
+    Ok(page("gecaro — ISO 9283 acceptance test", body))
 }

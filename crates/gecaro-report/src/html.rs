@@ -7,9 +7,10 @@ use gecaro_calib::identifiability::{ParameterStatus, RankReport};
 use gecaro_calib::identification::{Identification, Outlier, Route, StopReason};
 use gecaro_calib::study::Study;
 use gecaro_core::{FrameType, ParameterId, ParameterKind, Robot};
-use maud::{DOCTYPE, Markup, PreEscaped, html};
+use maud::{Markup, PreEscaped, html};
 
 use crate::Error;
+use crate::page::{number, page};
 use crate::plots::{IdentificationSvgs, identification_svgs, robot_projections_svg};
 
 /// What a report is made of.
@@ -23,25 +24,6 @@ pub struct ReportInput<'a> {
     pub identification: &'a Identification,
     /// The command line that produced the report.
     pub command: &'a str,
-}
-
-pub(crate) const STYLE: &str = "body{font-family:system-ui,-apple-system,'Segoe UI',sans-serif;max-width:980px;margin:2rem auto;\
-padding:0 1rem;color:#1d2630;line-height:1.45}h1{margin-bottom:.2rem}h2{margin-top:2rem;border-bottom:1px solid #d8dee6;\
-padding-bottom:.2rem}table{border-collapse:collapse;margin:.6rem 0;font-size:.92rem}td,th{border:1px solid #d8dee6;\
-padding:.25rem .6rem;text-align:right}th{background:#f2f5f8}td:first-child,th:first-child{text-align:left}\
-.muted{color:#5b6775}.verdict{padding:.6rem .9rem;border-radius:4px;border:1px solid}.verdict.ok{background:#e8f3ec;border-color:#1a7f37}.verdict.bad{background:#fbeeee;border-color:#b42318}.ok{color:#1a7f37}.bad{color:#b42318}code{background:#f2f5f8;padding:.1rem .3rem;border-radius:3px}\
-.warn{background:#fff6e5;border:1px solid #f0c36d;padding:.5rem .8rem;border-radius:4px}.id{background:#e8f3ec}\
-.n{background:#fbeeee}.z{background:#f2f2f2}svg{max-width:100%;height:auto}";
-
-fn number(value: f64) -> String {
-    if value == 0.0 {
-        "0".into()
-    } else if value.abs() >= 1e-3 && value.abs() < 1e4 {
-        let text = format!("{value:.6}");
-        text.trim_end_matches('0').trim_end_matches('.').to_owned()
-    } else {
-        format!("{value:.3e}")
-    }
 }
 
 /// The report of an identification (see the module docs).
@@ -65,49 +47,42 @@ pub fn html_report(input: &ReportInput<'_>) -> Result<String, Error> {
         Ok(motor) => Some(robot_projections_svg(&result.calibrated, motor.as_slice())?),
         Err(_) => None,
     };
-    let page = html! {
-        (DOCTYPE)
-        html lang="en" {
-            head {
-                meta charset="utf-8";
-                title { "gecaro report — " (robot.name()) ", " (methods) }
-                style { (PreEscaped(STYLE)) }
-            }
-            body {
-                h1 { "Calibration report" }
-                p.muted {
-                    (robot.name()) " (" (robot.joint_count()) " joints, " (robot.joint_letters())
-                    ") — " (methods) " — made by " code { (input.command) }
-                }
-                (summary(input))
-                (robustness(result))
-                h2 { "Convergence" }
-                (PreEscaped(convergence))
-                h2 { "Errors before and after" }
-                p.muted {
-                    "Per configuration: distance to the measured point, to the mean point of its set, \
-                     to the plane, or distance error of a pair (mm). With outliers, the \
-                     histogram after holds the inliers only."
-                }
-                (PreEscaped(histograms))
-                (PreEscaped(per_configuration))
-                (parameters(result))
-                (identifiable(robot, &result.rank))
-                h2 { "Robot (nominal)" }
-                (robot_table(robot))
-                @if let Some(view) = view {
-                    p.muted {
-                        "Calibrated robot at the middle of its "
-                        (robot.frames().iter().filter(|f| f.frame_type != FrameType::Fixed).count())
-                        " joint ranges (origins of frames 0..n+1, m):"
-                    }
-                    (PreEscaped(view))
-                }
-                p.muted { "gecaro — geometric calibration of serial robots (GECARO, Khalil et al.)." }
-            }
+    let body = html! {
+        h1 { "Calibration report" }
+        p.muted {
+            (robot.name()) " (" (robot.joint_count()) " joints, " (robot.joint_letters())
+            ") — " (methods) " — made by " code { (input.command) }
         }
+        (summary(input))
+        (robustness(result))
+        h2 { "Convergence" }
+        (PreEscaped(convergence))
+        h2 { "Errors before and after" }
+        p.muted {
+            "Per configuration: distance to the measured point, to the mean point of its set, \
+             to the plane, or distance error of a pair (mm). With outliers, the \
+             histogram after holds the inliers only."
+        }
+        (PreEscaped(histograms))
+        (PreEscaped(per_configuration))
+        (parameters(result))
+        (identifiable(robot, &result.rank))
+        h2 { "Robot (nominal)" }
+        (robot_table(robot))
+        @if let Some(view) = view {
+            p.muted {
+                "Calibrated robot at the middle of its "
+                (robot.frames().iter().filter(|f| f.frame_type != FrameType::Fixed).count())
+                " joint ranges (origins of frames 0..n+1, m):"
+            }
+            (PreEscaped(view))
+        }
+        p.muted { "gecaro — geometric calibration of serial robots (GECARO, Khalil et al.)." }
     };
-    Ok(page.into_string() + "\n")
+    Ok(page(
+        &format!("gecaro report — {}, {}", robot.name(), methods),
+        body,
+    ))
 }
 
 /// The summary table and the warnings.

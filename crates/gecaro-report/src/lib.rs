@@ -4,16 +4,20 @@
 //! SVG made with plotters ([`convergence_svg`], [`error_histograms_svg`],
 //! [`errors_per_configuration_svg`], [`robot_projections_svg`]),
 //! and [`html_report`], one HTML file with the plots inline, readable without
-//! a network; [`acceptance_report`], the same for ISO 9283's acceptance test.
+//! a network; [`platform_report`], the same for a parallel robot;
+//! [`acceptance_report`], the same for ISO 9283's acceptance test.
 
 #![warn(missing_docs)]
 
 mod acceptance;
 mod html;
+mod page;
+mod parallel;
 mod plots;
 
 pub use acceptance::{AcceptanceInput, MeasuredInput, acceptance_report, four_decimals};
 pub use html::{ReportInput, html_report};
+pub use parallel::{PlatformReportInput, platform_report};
 pub use plots::{
     IdentificationSvgs, accuracy_curve_svg, convergence_svg, error_histograms_svg,
     errors_per_configuration_svg, identification_svgs, labelled_error_histograms_svg,

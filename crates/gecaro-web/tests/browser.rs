@@ -1750,6 +1750,8 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
         "{region}"
     );
     assert_eq!(count(client, "#parallel-parameters tbody tr").await, 51);
+    let report = text_of(client, "#parallel-report", 5).await;
+    assert_eq!(report, "Download the report (HTML)");
     set_values(client, &[("parallel-program", "hexapod.csv")]).await;
     click(client, "#parallel-compensate").await;
     let compensated = text_of(

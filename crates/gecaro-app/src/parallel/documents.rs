@@ -84,8 +84,8 @@ pub struct PlatformErrorsDocument {
     pub angle_max: Option<f64>,
 }
 
-impl From<PlatformErrors> for PlatformErrorsDocument {
-    fn from(errors: PlatformErrors) -> Self {
+impl From<&PlatformErrors> for PlatformErrorsDocument {
+    fn from(errors: &PlatformErrors) -> Self {
         Self {
             position_rms: errors.position_rms,
             position_max: errors.position_max,

@@ -76,7 +76,7 @@ impl ParallelEvaluateRequest {
             method: measure.name(),
             data: read.label,
             configurations: samples.len(),
-            errors: errors.into(),
+            errors: (&errors).into(),
             registered: registered.as_ref().map(pose_document),
         })
     }

@@ -4,12 +4,13 @@
 
 use gecaro_calib::identification::{Loss, LossKind, Prior};
 use gecaro_calib::parallel_robots::{
-    PlatformIdentification, PlatformIdentificationOptions, PlatformNoise, PlatformRegion,
-    identify_platform, platform_errors,
+    PlatformErrors, PlatformIdentification, PlatformIdentificationOptions, PlatformMeasure,
+    PlatformNoise, PlatformRegion, identify_platform, platform_errors,
 };
 use gecaro_core::parallel_model::ParallelModel;
 use gecaro_core::parallel_robot::ParallelRobot;
 use gecaro_io::{ParallelRobotFile, StandardDeviation};
+use gecaro_report::{PlatformReportInput, platform_report};
 use serde::Deserialize;
 
 use super::documents::{
@@ -80,6 +81,19 @@ pub struct ParallelIdentified {
     pub result: PlatformIdentification<ParallelRobot>,
     /// Its document.
     pub document: PlatformIdentificationDocument,
+    /// What the report shows beside the document.
+    shown: Shown,
+}
+
+/// What a report shows that the document summarises: the nominal robot,
+/// each observation's first line and its errors before and after.
+#[derive(Clone, Debug)]
+struct Shown {
+    nominal: ParallelRobot,
+    measure: PlatformMeasure,
+    observation_lines: Vec<Option<usize>>,
+    errors_before: PlatformErrors,
+    errors_after: PlatformErrors,
 }
 
 impl ParallelIdentified {
@@ -106,6 +120,28 @@ impl ParallelIdentified {
         } else {
             None
         }
+    }
+
+    /// The self-contained HTML report of the identification
+    /// ([`gecaro_report::platform_report`]), made by `command`.
+    ///
+    /// # Errors
+    /// A plot that cannot be drawn.
+    pub fn report(&self, command: &str) -> Result<String, AppError> {
+        let shown = &self.shown;
+        Ok(platform_report(&PlatformReportInput {
+            nominal: &shown.nominal,
+            result: &self.result,
+            measure: shown.measure,
+            data: &self.document.data,
+            observation_lines: &shown.observation_lines,
+            errors_before: &shown.errors_before,
+            errors_after: &shown.errors_after,
+            summary: &self.document.summary,
+            warnings: &self.document.warnings,
+            prior: self.document.prior.as_deref(),
+            command,
+        })?)
     }
 }
 
@@ -224,8 +260,8 @@ impl ParallelIdentifyRequest {
             iterations: result.iterations,
             rms_before: result.rms_before,
             rms_after: result.rms_after,
-            errors_before: errors_before.into(),
-            errors_after: errors_after.into(),
+            errors_before: (&errors_before).into(),
+            errors_after: (&errors_after).into(),
             rank: result.rank.rank(),
             parameters: PlatformIdentificationDocument::parameters(&nominal.robot, &result),
             regrouped: rank.regrouped,
@@ -272,10 +308,22 @@ impl ParallelIdentifyRequest {
                 })
                 .collect(),
         };
+        let observation_lines = samples
+            .iter()
+            .step_by(measure.samples_per_observation())
+            .map(|sample| sample.line)
+            .collect();
         Ok(ParallelIdentified {
             calibrated,
             result,
             document,
+            shown: Shown {
+                nominal: nominal.robot,
+                measure,
+                observation_lines,
+                errors_before,
+                errors_after,
+            },
         })
     }
 }

@@ -10,7 +10,7 @@ use super::observation::actuator_values;
 use crate::Error;
 
 /// The errors of a parallel robot's direct model at measured configurations.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct PlatformErrors {
     /// RMS of the position errors' lengths (m): the platform frame's origin
     /// for poses, the tool point for points, the distance for distances.
@@ -21,6 +21,28 @@ pub struct PlatformErrors {
     pub angle_rms: Option<f64>,
     /// The largest orientation error (rad), for measured poses.
     pub angle_max: Option<f64>,
+    /// Each observation's position error (m), in order: a configuration's
+    /// (a pose's origin, a point), a pair's distance error.
+    pub observations: Vec<f64>,
+}
+
+impl PlatformErrors {
+    /// The summary of each observation's position error and, for measured
+    /// poses, its orientation error.
+    fn of(observations: Vec<f64>, angles: Option<&[f64]>) -> Self {
+        let rms = |values: &[f64]| {
+            (values.iter().map(|value| value * value).sum::<f64>() / values.len().max(1) as f64)
+                .sqrt()
+        };
+        let largest = |values: &[f64]| values.iter().copied().fold(0.0, f64::max);
+        Self {
+            position_rms: rms(&observations),
+            position_max: largest(&observations),
+            angle_rms: angles.map(rms),
+            angle_max: angles.map(largest),
+            observations,
+        }
+    }
 }
 
 /// The errors of `model` at `samples` measured by `measure`: for each, the
@@ -38,9 +60,9 @@ pub fn platform_errors<M: ParallelModel>(
     if measure == PlatformMeasure::Distance {
         return distance_errors(model, samples);
     }
-    let (mut squares, mut largest) = (0.0, 0.0f64);
-    let (mut angle_squares, mut angle_largest) = (0.0, 0.0f64);
     let poses = measure == PlatformMeasure::Pose;
+    let mut observations = Vec::with_capacity(samples.len());
+    let mut angles = Vec::with_capacity(if poses { samples.len() } else { 0 });
     for sample in samples {
         let actuators = actuator_values(model, sample)?;
         let measured = measure.measured(sample)?;
@@ -50,22 +72,15 @@ pub fn platform_errors<M: ParallelModel>(
         } else {
             model.tool_point(&pose)
         };
-        let error = (predicted - measured.translation.vector).norm();
-        squares += error * error;
-        largest = largest.max(error);
+        observations.push((predicted - measured.translation.vector).norm());
         if poses {
-            let angle = (pose.rotation.inverse() * measured.rotation).angle();
-            angle_squares += angle * angle;
-            angle_largest = angle_largest.max(angle);
+            angles.push((pose.rotation.inverse() * measured.rotation).angle());
         }
     }
-    let count = samples.len().max(1) as f64;
-    Ok(PlatformErrors {
-        position_rms: (squares / count).sqrt(),
-        position_max: largest,
-        angle_rms: poses.then(|| (angle_squares / count).sqrt()),
-        angle_max: poses.then_some(angle_largest),
-    })
+    Ok(PlatformErrors::of(
+        observations,
+        poses.then_some(&angles[..]),
+    ))
 }
 
 /// The direct model's pose at a sample's actuator values, from home.
@@ -89,21 +104,14 @@ fn distance_errors<M: ParallelModel>(
     samples: &[Sample],
 ) -> Result<PlatformErrors, Error> {
     let measured = check_pairs(samples)?;
-    let (mut squares, mut largest) = (0.0, 0.0f64);
+    let mut observations = Vec::with_capacity(measured.len());
     for (pair, distance) in samples.chunks_exact(2).zip(&measured) {
         let mut points = Vec::with_capacity(2);
         for sample in pair {
             let actuators = actuator_values(model, sample)?;
             points.push(model.tool_point(&solved(model, sample, actuators)?));
         }
-        let error = ((points[1] - points[0]).norm() - distance).abs();
-        squares += error * error;
-        largest = largest.max(error);
+        observations.push(((points[1] - points[0]).norm() - distance).abs());
     }
-    Ok(PlatformErrors {
-        position_rms: (squares / measured.len().max(1) as f64).sqrt(),
-        position_max: largest,
-        angle_rms: None,
-        angle_max: None,
-    })
+    Ok(PlatformErrors::of(observations, None))
 }

@@ -812,6 +812,7 @@ def parallel_identify(
     reject: bool = False,
     prior: Optional[str] = None,
     path: Optional[_PathLike] = None,
+    report: Optional[_PathLike] = None,
     overwrite: bool = False,
 ) -> dict[str, Any]:
     """A platform identified from the data file ``data``, as ``gecaro
@@ -827,8 +828,10 @@ def parallel_identify(
     ``"ignored"``; ``reject`` drops the measurements that stand out and
     identifies the rest again, once (``"rejected"``: their lines); ``prior``
     (``"1mm,0.05deg,0.1%"``: σ of lengths, angles, gains) holds the parameters
-    about their nominal values (``"prior"`` in words). A fit that did not
-    converge raises NotConvergedError."""
+    about their nominal values (``"prior"`` in words). ``report`` names the
+    file the self-contained HTML report is written to (``gecaro report``;
+    ``"report"``), trusted or not. A fit that did not converge raises
+    NotConvergedError (its report written first)."""
 
 def parallel_evaluate(
     robot: str,

@@ -3,7 +3,7 @@
 // identifiable parameters, its identification with every parameter's
 // precision and the verdict, and its direct model judged on held-out poses.
 import { api } from './api.js';
-import { $, h } from './dom.js';
+import { $, download, h } from './dom.js';
 import { field, FieldError, errorBox, fieldNumber, numberInput, runButton, staleOnChange } from './fields.js';
 import { refreshFiles } from './robot-menu.js';
 import { state } from './state.js';
@@ -180,6 +180,7 @@ export function buildParallel() {
         ...(answer.region ? [h('p', { id: 'parallel-region', class: answer.region.holds_everywhere ? '' : 'warnings', text: `Predicted ${answer.region.error}: ${quantity(answer.region.predicted_inside, 'length')} ${unitName('length')} RMS at the measured poses, ${quantity(answer.region.predicted_work, 'length')} ${unitName('length')} over ${answer.region.work_name} (noise floor ${quantity(answer.region.noise_floor, 'length')} ${unitName('length')})${answer.region.holds_everywhere ? '' : ': the result holds only where the data were taken'}.` })] : []),
         ...answer.warnings.map((warning) => h('p', { class: 'warnings', text: `Warning: ${warning}.` })),
         ...(answer.registered ? [registeredLine(answer.registered)] : []),
+        h('button', { type: 'button', id: 'parallel-report', text: 'Download the report (HTML)', onclick: () => download(`${answer.robot}-report.html`, answer.report, 'text/html') }),
         parameterTable(answer.parameters));
     } catch (error) {
       result.replaceChildren(errorBox(error));

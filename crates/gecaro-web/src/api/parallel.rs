@@ -56,12 +56,14 @@ pub(crate) async fn identifiable(
 }
 
 /// An identification (the calibrated platform written when named), with
-/// whether its verdict trusts it.
+/// whether its verdict trusts it and its report.
 #[derive(Serialize)]
 pub(crate) struct ParallelIdentifiedJson {
     #[serde(flatten)]
     document: PlatformIdentificationDocument,
     trusted: bool,
+    /// The self-contained HTML report, to download.
+    report: String,
 }
 
 /// An identification.
@@ -74,6 +76,7 @@ pub(crate) async fn identify(
             let identified = request.run(state.workspace())?;
             Ok(Json(ParallelIdentifiedJson {
                 trusted: identified.failure().is_none(),
+                report: identified.report("the page's parallel identification")?,
                 document: identified.document,
             }))
         })

@@ -51,6 +51,12 @@ async fn a_hexapod_is_calibrated_through_the_api() {
         "{region}"
     );
     assert!(api.folder.path().join("calibrated.toml").is_file());
+    // The report to download: the verdict's words, every parameter.
+    let report = identified["report"].as_str().expect("the report");
+    assert!(report.starts_with("<!DOCTYPE html>"), "{report:.80}");
+    let summary = identified["summary"].as_str().expect("words");
+    assert!(report.contains(summary), "the report says {summary}");
+    assert!(report.contains("<td>a6x</td>") && report.contains("<td>K6</td>"));
     // Over a stated work region (the page's field): judged there, said so.
     let (status, stated) = api
         .post(
