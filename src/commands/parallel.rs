@@ -516,7 +516,6 @@ pub(crate) fn evaluate(args: &EvaluateArgs) -> Result<(), Failure> {
 /// the calibrated platform's actuator values.
 pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
     serial_only(&[
-        ("--match", args.matching != "pose"),
         ("--rebase", args.rebase),
         ("--base-points", args.base_points.is_some()),
         ("--base-circles", args.base_circles.is_some()),
@@ -529,6 +528,7 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
         calibrated: args.calibrated.clone(),
         program: DataSource::File(name(&args.program)),
         format: data_format(&args.format),
+        matching: Some(args.matching.clone()),
         output: written(&args.output, args.force),
     }
     .run(&LocalFiles)?;
@@ -536,12 +536,19 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
         super::output::print_json(&compensated)?;
     } else {
         println!(
-            "{} targets: actuator values of the calibrated platform (the largest change from \
-             the nominal one {} mm), written to {}",
+            "{} targets ({}): actuator values of the calibrated platform (the largest change \
+             from the nominal one {} mm), written to {}",
             compensated.targets,
+            match compensated.matched {
+                "position" => "tool points",
+                _ => "platform poses",
+            },
             mm(compensated.largest_correction),
             args.output.display()
         );
+        if let Some(note) = &compensated.note {
+            println!("note: {note}");
+        }
     }
     compensated
         .failure()

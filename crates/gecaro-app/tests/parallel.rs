@@ -122,6 +122,7 @@ fn a_hexapod_is_calibrated_from_its_files_to_the_noise_floor() {
         calibrated: calibrated.clone(),
         program: DataSource::File(job.clone()),
         format: Default::default(),
+        matching: None,
         output: Output::to(corrected.clone()),
     }
     .run(&LocalFiles)

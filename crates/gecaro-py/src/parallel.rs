@@ -240,12 +240,15 @@ pub(crate) fn parallel_evaluate<'py>(
 /// (`qm1…qm6` and the targets) → `{"targets", "largest_correction" (from
 /// the nominal platform's values), "outside_range": [(line, legs)],
 /// "outside_measured": [(line, actuators)] (outside the ranges a regional
-/// calibration measured), "written", "program": the CSV text}`. A platform calibrated from one
-/// point is refused (its platform frame is not observed).
+/// calibration measured), "written", "program": the CSV text, "matched",
+/// "note"}`. `match = "position"` reads the targets as tool points
+/// (`x,y,z`; the platform turned as the program's `qw,qx,qy,qz` say, else
+/// level), what a platform calibrated from one point is compensated for;
+/// its poses are refused (its platform frame is not observed).
 #[pyfunction]
 #[pyo3(signature = (
     nominal, calibrated, program, *, path = None, length_unit = None, angle_unit = None,
-    overwrite = false,
+    r#match = "pose", overwrite = false,
 ))]
 pub(crate) fn parallel_compensate<'py>(
     py: Python<'py>,
@@ -255,6 +258,7 @@ pub(crate) fn parallel_compensate<'py>(
     path: Option<PathBuf>,
     length_unit: Option<String>,
     angle_unit: Option<String>,
+    r#match: &str,
     overwrite: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let request = ParallelCompensateRequest {
@@ -262,6 +266,7 @@ pub(crate) fn parallel_compensate<'py>(
         calibrated,
         program: DataSource::File(name(&program)),
         format: format(length_unit, angle_unit),
+        matching: Some(r#match.to_owned()),
         output: output(path.as_deref(), overwrite),
     };
     let compensated = py.detach(|| request.run(&LocalFiles)).py()?;

@@ -127,6 +127,28 @@ def test_a_program_of_poses_is_compensated_on_the_frame_calibrated_platform(tmp_
     assert result["outside_range"] == []
     assert 0.1e-3 < result["largest_correction"] < 10e-3
     assert result["program"].startswith("qm1,qm2,qm3,qm4,qm5,qm6,x,y,z,qw,qx,qy,qz")
+    assert result["matched"] == "pose" and result["note"] is None
+
+
+def test_a_point_calibrated_hexapod_is_compensated_for_its_tool_points(tmp_path):
+    real = tmp_path / "real.toml"
+    gecaro.parallel_generate("hexapod", "position", 60, noise=2e-5, seed=3,
+                             path=tmp_path / "points.csv", real_path=real)
+    gecaro.parallel_generate("hexapod", "position", 50, noise=2e-5, seed=4, real=real,
+                             path=tmp_path / "job.csv")
+    gecaro.parallel_identify("hexapod", "position", tmp_path / "points.csv", sigma="20um",
+                             path=tmp_path / "calibrated.toml")
+    with pytest.raises(gecaro.errors.InputError, match="match position"):
+        gecaro.parallel_compensate("hexapod", str(tmp_path / "calibrated.toml"),
+                                   tmp_path / "job.csv")
+    result = gecaro.parallel_compensate("hexapod", str(tmp_path / "calibrated.toml"),
+                                        tmp_path / "job.csv", match="position",
+                                        path=tmp_path / "corrected.csv")
+    assert result["matched"] == "position"
+    assert "orientation is the calibration's" in result["note"]
+    assert result["program"].startswith("qm1,qm2,qm3,qm4,qm5,qm6,x,y,z\n")
+    reached = gecaro.parallel_evaluate(str(real), "position", tmp_path / "corrected.csv")
+    assert reached["errors"]["position_rms"] < 0.03e-3
 
 
 def test_a_delta_is_identified_from_its_tool_point(tmp_path):

@@ -1760,7 +1760,10 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
         30,
     )
     .await;
-    assert!(compensated.contains("60 targets"), "{compensated}");
+    assert!(
+        compensated.contains("60 targets (platform poses)"),
+        "{compensated}"
+    );
     // A setting changed marks the result stale; a σ without its unit is
     // refused, not read in metres.
     assert_eq!(count(client, "#parallel-stale").await, 0);

@@ -1,11 +1,24 @@
 //! Compensation for a parallel robot: a program of targets (base frame) —
 //! platform poses for a platform that turns, tool-point positions for a
-//! Delta's plate — turned into the actuator values of the calibrated
-//! robot. Its inverse model is explicit, so each target is exact — no
-//! search, no residual — and only a target beyond an actuator's range, or
-//! outside the actuator values a calibration that holds there only measured
-//! (its file's `measured` ranges, widened by a tenth), is flagged. The corrected program is a data file (`qm1…qm6` and the
-//! target's `x,y,z,qw,qx,qy,qz`) that every job reads back.
+//! Delta's plate or, matching the position only, for a platform whose
+//! calibration measured one point — turned into the actuator values of the
+//! calibrated robot. Its inverse model is explicit, so each target is
+//! exact — no search, no residual — and only a target beyond an actuator's
+//! range, or outside the actuator values a calibration that holds there
+//! only measured (its file's `measured` ranges, widened by a tenth), is
+//! flagged. The corrected program is a data file (`qm1…qmk` and the
+//! target: `x,y,z,qw,qx,qy,qz` of a pose, `x,y,z` of a tool point) that
+//! every job reads back.
+//!
+//! A tool-point target of a platform that turns (`match` `position`) is
+//! met with the platform frame turned as the program's `qw,qx,qy,qz` say
+//! when it has them, else as at home (level): the pose `(R, y − R·t)` for
+//! the target `y` and the calibrated tool point `t`. The point is met
+//! exactly; the orientation is the calibration's. One measured point does
+//! not observe the platform frame (six of its coordinates regrouped, held
+//! at the nominal values), so the real platform's turn may differ from the
+//! one commanded by the frame's error the point did not see — the
+//! compensation says so.
 
 use gecaro_calib::parallel_robots::PlatformMeasure;
 use gecaro_calib::study::{Sample, Samples};
@@ -35,6 +48,12 @@ pub struct ParallelCompensateRequest {
     /// Units and columns of the program.
     #[serde(default)]
     pub format: DataFormatSpec,
+    /// What a target asks (`pose`, the default: the platform frame's pose;
+    /// `position`: the tool point's position, for a platform calibrated
+    /// from one point). A Delta's plate only translates: its targets are
+    /// tool points either way.
+    #[serde(default, rename = "match")]
+    pub matching: Option<String>,
     /// The corrected program (CSV).
     #[serde(flatten)]
     pub output: Output,
@@ -55,6 +74,13 @@ pub struct ParallelCompensated {
     /// region the calibration measured (when it holds there only), with
     /// the actuators (1-based).
     pub outside_measured: Vec<(Option<usize>, Vec<usize>)>,
+    /// What the targets were: `pose` (the platform frame's) or
+    /// `position` (the tool point's).
+    pub matched: &'static str,
+    /// What the compensation cannot promise, in words (the orientation of
+    /// a platform whose calibration did not observe its frame, a tool point
+    /// its calibration did not observe).
+    pub note: Option<String>,
     /// Where the corrected program was written.
     pub written: Option<String>,
     /// The corrected program (CSV).
@@ -170,8 +196,20 @@ impl ParallelCompensateRequest {
     pub fn run(&self, files: &dyn Files) -> Result<ParallelCompensated, AppError> {
         let nominal = load_parallel_robot(&self.nominal, files)?;
         let calibrated = load_parallel_robot(&self.calibrated, files)?;
-        match calibrated.calibrated_from.as_deref() {
-            Some("position") if calibrated.robot.pose_freedom() == 6 => {
+        let turns = calibrated.robot.pose_freedom() == 6;
+        let tool_points = match self.matching.as_deref().unwrap_or("pose") {
+            "pose" => !turns,
+            "position" => true,
+            other => {
+                return Err(AppError::setting(
+                    "match",
+                    format!("`{other}` is no match: pose or position"),
+                ));
+            }
+        };
+        let from = calibrated.calibrated_from.as_deref();
+        let note = match from {
+            Some("position") if turns && !tool_points => {
                 // One measured point fixes the tool point, not the platform
                 // frame (six of its coordinates are regrouped): a target pose
                 // of that frame would be met in the calibration's gauge, not
@@ -181,8 +219,9 @@ impl ParallelCompensateRequest {
                     format!(
                         "{} was calibrated from one measured point (calibrated_from = \
                          \"position\"): its platform frame is not observed, so a program of \
-                         platform poses cannot be compensated with it; calibrate from measured \
-                         poses (frame) to compensate poses",
+                         platform poses cannot be compensated with it; compensate a program of \
+                         tool points (match position), or calibrate from measured poses \
+                         (frame) to compensate poses",
                         self.calibrated
                     ),
                 ));
@@ -202,8 +241,19 @@ impl ParallelCompensateRequest {
                     ),
                 ));
             }
-            _ => {}
-        }
+            Some("position") if turns => Some(
+                "the tool points are met; the platform's orientation is the calibration's: one \
+                 measured point does not observe the platform frame, so the real platform may \
+                 turn from the commanded orientation by the frame's error the point did not see"
+                    .to_owned(),
+            ),
+            Some("frame") if tool_points && turns => Some(
+                "the tool point is the file's: a calibration from measured poses does not \
+                 observe it, so the targets are met as far as it is right"
+                    .to_owned(),
+            ),
+            _ => None,
+        };
         self.output.check(files, "csv")?;
         // A program may carry the nominal actuator values (a data file, a
         // program written for the nominal platform): read and left aside.
@@ -212,32 +262,41 @@ impl ParallelCompensateRequest {
         } else {
             Vec::new()
         };
-        // A platform that turns is commanded by its frame's pose; one that
-        // only translates (a Delta's plate) by its tool point's position,
-        // the point its calibration observed.
-        let turns = calibrated.robot.pose_freedom() == 6;
-        let measure = if turns {
-            PlatformMeasure::Pose
-        } else {
+        // A platform that turns is commanded by its frame's pose, or by its
+        // tool point's position; one that only translates (a Delta's plate)
+        // by its tool point's position, the point its calibration observed.
+        let measure = if tool_points {
             PlatformMeasure::Point
+        } else {
+            PlatformMeasure::Pose
         };
-        let read =
-            self.program
-                .read(files, &actuators, measure.columns(), &self.format.format()?)?;
+        let format = self.format.format()?;
+        let mut read = self
+            .program
+            .read(files, &actuators, measure.columns(), &format)?;
+        // Tool points of a platform that turns: turned as the program says
+        // when it has orientations.
+        if tool_points && turns && read.unused_columns.iter().any(|column| column == "qw") {
+            read =
+                self.program
+                    .read(files, &actuators, PlatformMeasure::Pose.columns(), &format)?;
+        }
+        let home = calibrated.robot.home().rotation;
         // The platform's pose that puts `robot`'s tool point (or frame) on
         // the target.
         let pose_for = |robot: &ParallelRobot, target: &Sample| {
             let position = target.position.unwrap_or_default();
-            if turns {
+            if tool_points {
+                let turn = if turns {
+                    target.orientation.unwrap_or(home)
+                } else {
+                    nalgebra::UnitQuaternion::identity()
+                };
+                Isometry3::from_parts(Translation3::from(position - turn * robot.tool()), turn)
+            } else {
                 Isometry3::from_parts(
                     Translation3::from(position),
                     target.orientation.unwrap_or_default(),
-                )
-            } else {
-                Isometry3::translation(
-                    position.x - robot.tool().x,
-                    position.y - robot.tool().y,
-                    position.z - robot.tool().z,
                 )
             }
         };
@@ -310,6 +369,8 @@ impl ParallelCompensateRequest {
             outside_range,
             outside_measured,
             actuator_word: calibrated.robot.actuator_word(),
+            matched: if tool_points { "position" } else { "pose" },
+            note,
             written: written.map(|path| path.display().to_string()),
             text,
         })
@@ -328,6 +389,8 @@ mod tests {
             largest_correction: 0.001,
             outside_range: vec![(Some(3), vec![2])],
             outside_measured: vec![(Some(5), vec![1, 3])],
+            matched: "position",
+            note: None,
             written: None,
             text: String::new(),
             actuator_word: "arm",

@@ -892,6 +892,7 @@ def parallel_compensate(
     path: Optional[_PathLike] = None,
     length_unit: Optional[Literal["m", "mm"]] = None,
     angle_unit: Optional[Literal["rad", "deg"]] = None,
+    match: Literal["pose", "position"] = "pose",
     overwrite: bool = False,
 ) -> dict[str, Any]:
     """A program of platform poses turned into the calibrated platform's
@@ -899,7 +900,11 @@ def parallel_compensate(
     NOMINAL CALIBRATED --json``, with ``"program"`` (the CSV text, written to
     ``path``); targets beyond an actuator's range in ``"outside_range"``,
     outside the actuator values a regional calibration measured in
-    ``"outside_measured"``."""
+    ``"outside_measured"``. ``match="position"`` reads the targets as tool
+    points (``x,y,z``; the platform turned as the program's orientation says,
+    else level) — what a platform calibrated from one point is compensated
+    for (its poses are refused) —, with ``"matched"`` and ``"note"``: what
+    the compensation cannot promise (that platform's orientation)."""
 
 def join(
     robot: Robot,

@@ -199,14 +199,17 @@ export function buildParallel() {
     }
   });
   const program = text('program', 'job.csv (x, y, z, qw, qx, qy, qz)');
+  const matching = h('select', { id: 'parallel-match' },
+    [['pose', 'platform poses'], ['position', 'tool points (x, y, z; calibrated from one point)']].map(([value, label]) => h('option', { value, text: label })));
   const corrected = text('corrected', 'job-compensated.csv', 'job-compensated.csv');
   const compensate = runButton('parallel-compensate', 'Compensate the program', async () => {
     try {
       const answer = await api('/parallel/compensate', {
         nominal: required(robot, 'the nominal parallel robot'),
         calibrated: required(saveAs, 'the calibrated platform (saved above)'),
-        program: { file: required(program, 'the program of platform poses') },
+        program: { file: required(program, 'the program of targets') },
         format: format(),
+        match: matching.value,
         save_as: required(corrected, 'the compensated program to write'),
         overwrite: true,
       });
@@ -216,7 +219,8 @@ export function buildParallel() {
         ? ` ${answer.outside_range.length} targets need an actuator beyond its range (lines ${lines(answer.outside_range)}).` : '')
         + (answer.outside_measured.length
           ? ` ${answer.outside_measured.length} targets are outside the actuator values the calibration measured, where it holds (lines ${lines(answer.outside_measured)}).` : '');
-      result.replaceChildren(h('p', { id: 'parallel-compensated', class: flagged ? 'warnings' : '', text: `${answer.targets} targets: the calibrated platform’s actuator values (the largest change from the nominal one ${quantity(answer.largest_correction, 'length')} ${unitName('length')}) written to ${answer.written}.${flagged}` }));
+      result.replaceChildren(h('p', { id: 'parallel-compensated', class: flagged ? 'warnings' : '', text: `${answer.targets} targets (${answer.matched === 'position' ? 'tool points' : 'platform poses'}): the calibrated platform’s actuator values (the largest change from the nominal one ${quantity(answer.largest_correction, 'length')} ${unitName('length')}) written to ${answer.written}.${flagged}` }),
+        ...(answer.note ? [h('p', { id: 'parallel-compensation-note', class: 'hint', text: `Note: ${answer.note}.` })] : []));
     } catch (error) {
       result.replaceChildren(errorBox(error));
     }
@@ -243,7 +247,8 @@ export function buildParallel() {
       plan,
       generate),
     h('div', { class: 'form' },
-      field('Program of platform poses', program),
+      field('Program of targets', program),
+      field('Its targets are', matching),
       field('Write the compensated program to', corrected),
       compensate),
     h('p', { class: 'hint', text: 'A Gough–Stewart platform: leg i from its base joint aᵢ to its platform joint bᵢ, length ℓᵢ = ‖p + R·bᵢ − aᵢ‖ = lᵢ + Kᵢ·qmᵢ; measured poses identify every leg’s aᵢ, bᵢ, lᵢ, Kᵢ (48 parameters) through the inverse model, one measured point the tool point and all but six platform-joint coordinates. A Delta robot (three arms, the plate only translates) is measured by its tool point: 24 of its 36 parameters (docs/parallel.md).' }),

@@ -164,6 +164,40 @@ async fn a_hexapod_is_calibrated_through_the_api() {
             .starts_with("qm1,")
     );
     assert!(api.folder.path().join("held-compensated.csv").is_file());
+    // The page's match: the poses' origins read as tool points, the file's
+    // tool point taken as it is and said; a match that is none refused.
+    let (status, points) = api
+        .post(
+            "/api/parallel/compensate",
+            &json!({"nominal": "hexapod", "calibrated": "calibrated.toml",
+                    "program": {"file": "held.csv"}, "match": "position",
+                    "save_as": "held-points.csv"}),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{points}");
+    assert_eq!(points["matched"], "position");
+    assert!(
+        points["note"]
+            .as_str()
+            .is_some_and(|note| note.contains("the tool point is the file's")),
+        "{points}"
+    );
+    assert!(
+        points["program"]
+            .as_str()
+            .expect("csv")
+            .starts_with("qm1,qm2,qm3,qm4,qm5,qm6,x,y,z\n")
+    );
+    let (status, refused) = api
+        .post(
+            "/api/parallel/compensate",
+            &json!({"nominal": "hexapod", "calibrated": "calibrated.toml",
+                    "program": {"file": "held.csv"}, "match": "orientation",
+                    "save_as": "held-points.csv"}),
+        )
+        .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST, "{refused}");
+    assert!(refused.to_string().contains("match"), "{refused}");
     let (status, report) = api
         .post(
             "/api/parallel/identifiable",
