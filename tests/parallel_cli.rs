@@ -335,11 +335,30 @@ fn planned_poses_are_measured_and_identified_as_a_cell_would() {
         "{}",
         identified["summary"]
     );
-    let output = command("plan hexapod --method frame --count 20 --criterion a -o")
+    // Planned for the calibrated platform's error over its workspace: said
+    // in words, below random poses'; the test poses are the workspace's,
+    // so a serial robot's --test-poses is refused by name.
+    let output = command("plan hexapod --method frame --count 20 --criterion test -o")
         .arg(at("other.csv"))
         .output()
         .expect("runs");
-    assert!(String::from_utf8_lossy(&output.stderr).contains("--criterion has no meaning"));
+    let said = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(
+        said.contains("(the predicted error over the workspace): predicted RMS tool-point error"),
+        "{said}"
+    );
+    let output = command("plan hexapod --method frame --count 20 --criterion test --test-poses")
+        .arg(at("measured.csv"))
+        .arg("-o")
+        .arg(at("third.csv"))
+        .output()
+        .expect("runs");
+    assert!(String::from_utf8_lossy(&output.stderr).contains("--test-poses has no meaning"));
 }
 
 /// A hexapod measured with every leg within ±12 mm of its zero (poses near

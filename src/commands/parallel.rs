@@ -560,7 +560,9 @@ pub(crate) fn compensate(args: &CompensateArgs) -> Result<(), Failure> {
 pub(crate) fn plan(args: &PlanArgs, robot: &str) -> Result<(), Failure> {
     serial_only(&method_options(&args.options))?;
     serial_only(&[
-        ("--criterion", args.criterion != "d"),
+        // The test criterion's poses are the platform's workspace.
+        ("--test-poses", args.test_poses.test_poses.is_some()),
+        ("--test-pose-count", args.test_poses.test_pose_count != 200),
         ("--candidates", args.candidates.is_some()),
         ("--keep", args.keep.is_some()),
         ("--payload", !args.payloads.is_empty()),
@@ -580,6 +582,7 @@ pub(crate) fn plan(args: &PlanArgs, robot: &str) -> Result<(), Failure> {
         count,
         pool: args.pool,
         seed: Some(args.seed),
+        criterion: Some(args.criterion.clone()),
         output: written(output, args.force),
     }
     .run(&LocalFiles)?;
@@ -587,11 +590,16 @@ pub(crate) fn plan(args: &PlanArgs, robot: &str) -> Result<(), Failure> {
         return super::output::print_json(&planned);
     }
     println!(
-        "{} poses of {} candidates chosen for the {} identifiable parameters (D-optimal): \
-         log det per equation {} against {} for as many random poses; written to {}",
+        "{} poses of {} candidates chosen for the {} identifiable parameters ({}): {} {} \
+         against {} for as many random poses; written to {}",
         planned.count,
         planned.pool,
         planned.rank,
+        match planned.criterion_name {
+            "test" => "the predicted error over the workspace".to_owned(),
+            name => format!("{}-optimal", name.to_uppercase()),
+        },
+        planned.criterion_meaning,
         number(planned.criterion, 4),
         number(planned.random_criterion, 4),
         output.display()

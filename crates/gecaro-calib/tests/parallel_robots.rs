@@ -10,6 +10,7 @@ use gecaro_calib::parallel_robots::{
     identify_platform, perturbed_platform, platform_errors, platform_identifiability,
     random_platform_poses, simulate_platform,
 };
+use gecaro_calib::planning::Criterion;
 use gecaro_calib::simulation::Sampler;
 use gecaro_core::JointRegion;
 use gecaro_core::parallel_model::ParallelModel;
@@ -286,7 +287,8 @@ fn planned_poses_determine_the_parameters_better_than_random_ones() {
         ("delta", PlatformMeasure::Point, 15),
     ] {
         let nominal = ready(robot);
-        let planned = plan_platform(&nominal, measure, count, 400, 7).expect("planned");
+        let planned =
+            plan_platform(&nominal, measure, count, 400, 7, &Criterion::D).expect("planned");
         assert_eq!(planned.poses.len(), count);
         assert!(
             planned.criterion > planned.random_criterion,
@@ -333,6 +335,96 @@ fn planned_poses_determine_the_parameters_better_than_random_ones() {
         assert!(
             planned_error <= 1.1 * random_error,
             "{robot}: {planned_error} against {random_error}"
+        );
+    }
+}
+
+/// Poses planned for the calibrated platform's error over its workspace
+/// (the test criterion: the error the verdict predicts, at its workspace
+/// poses) against D-optimal ones and as many random ones, each calibration
+/// judged on 200 held-out poses drawn over the whole workspace: the test
+/// plan's predicted error is the smallest of the three, and so is the
+/// error found (averaged over real robots and noise draws). A and E plan
+/// too, their values reported.
+#[test]
+fn poses_planned_for_the_workspace_error_calibrate_it_best() {
+    use gecaro_calib::parallel_robots::plan_platform;
+    for (robot, measure, count) in [
+        ("hexapod", PlatformMeasure::Pose, 15),
+        ("delta", PlatformMeasure::Point, 12),
+    ] {
+        let nominal = ready(robot);
+        let plan = |criterion: &str| {
+            let criterion = Criterion::from_name(criterion, Vec::new).expect("a criterion");
+            plan_platform(&nominal, measure, count, 400, 7, &criterion).expect("planned")
+        };
+        let (test, d) = (plan("test"), plan("d"));
+        assert_eq!(test.criterion_name, "test");
+        assert!(
+            test.criterion < test.random_criterion,
+            "{robot}: predicted {} against random {}",
+            test.criterion,
+            test.random_criterion
+        );
+        for other in ["a", "e"] {
+            let planned = plan(other);
+            assert_eq!(planned.poses.len(), count);
+            assert!(planned.criterion.is_finite() && planned.criterion > 0.0);
+        }
+        let mut sampler = Sampler::new(51);
+        let random_poses = random_platform_poses(
+            &nominal,
+            count,
+            PlatformWorkspace::of(&nominal),
+            &mut sampler,
+        )
+        .expect("random");
+        let (mut found_test, mut found_d, mut found_random) = (0.0, 0.0, 0.0);
+        let draws = 4;
+        for draw in 0..draws {
+            let real =
+                perturbed_platform(&nominal, 1.0, &mut Sampler::new(60 + draw)).expect("real");
+            let held_out = measured_within(
+                &real,
+                PlatformWorkspace::whole(&real),
+                measure,
+                200,
+                NOISE,
+                70,
+            );
+            let mut error_of = |poses: &[Isometry3<f64>]| {
+                let data =
+                    simulate_platform(&real, measure, poses, NOISE, &mut sampler).expect("data");
+                let result = identify_platform(
+                    &nominal,
+                    &data,
+                    measure,
+                    Some(NOISE),
+                    &PlatformIdentificationOptions::default(),
+                )
+                .expect("identified");
+                platform_errors(&result.calibrated, &held_out, measure)
+                    .expect("errors")
+                    .position_rms
+                    / f64::from(draws as u32)
+            };
+            found_test += error_of(&test.poses);
+            found_d += error_of(&d.poses);
+            found_random += error_of(&random_poses);
+        }
+        println!(
+            "{robot}: held out over the workspace, test plan {:.4} mm, D {:.4} mm, random {:.4} mm",
+            found_test * 1e3,
+            found_d * 1e3,
+            found_random * 1e3
+        );
+        assert!(
+            found_test < found_random,
+            "{robot}: {found_test} against random {found_random}"
+        );
+        assert!(
+            found_test <= 1.05 * found_d,
+            "{robot}: {found_test} against D {found_d}"
         );
     }
 }
@@ -680,7 +772,15 @@ fn measured_distances_calibrate_a_platform_to_the_noise_floor() {
 fn planned_distances_are_whole_pairs() {
     use gecaro_calib::parallel_robots::plan_platform;
     let nominal = ready("hexapod");
-    let planned = plan_platform(&nominal, PlatformMeasure::Distance, 120, 600, 7).expect("planned");
+    let planned = plan_platform(
+        &nominal,
+        PlatformMeasure::Distance,
+        120,
+        600,
+        7,
+        &Criterion::D,
+    )
+    .expect("planned");
     assert_eq!(planned.samples.len(), 120);
     assert_eq!(planned.poses.len(), 120);
     for pair in planned.samples.chunks_exact(2) {
@@ -688,9 +788,16 @@ fn planned_distances_are_whole_pairs() {
         assert_eq!(pair[0].distance, pair[1].distance);
     }
     assert!(planned.criterion > planned.random_criterion);
-    let error = plan_platform(&nominal, PlatformMeasure::Distance, 121, 600, 7)
-        .expect_err("refused")
-        .to_string();
+    let error = plan_platform(
+        &nominal,
+        PlatformMeasure::Distance,
+        121,
+        600,
+        7,
+        &Criterion::D,
+    )
+    .expect_err("refused")
+    .to_string();
     assert!(error.contains("not whole pairs"), "{error}");
 }
 

@@ -275,13 +275,19 @@ pub(crate) fn parallel_compensate<'py>(
     Ok(document)
 }
 
-/// The `count` poses to measure, chosen D-optimally from `pool` random
-/// reachable poses of `robot` (default 20 × `count`) → `{"count", "rank",
-/// "criterion", "random_criterion" (log det per equation, the plan's and
-/// random poses'), "configurations": actuator values, "written",
-/// "configurations_csv": the file's text}`, written to `path` when given.
+/// The `count` poses to measure, chosen for `criterion` (`"d"`: D-optimal,
+/// `"a"`, `"e"`, `"o4"`, `"o5"`, or `"test"`: the calibrated platform's
+/// predicted error over its workspace) from `pool` random reachable poses
+/// of `robot` (default 20 × `count`) → `{"count", "rank",
+/// "criterion_name", "criterion_meaning", "criterion", "random_criterion"
+/// (the plan's value and random poses'), "configurations": actuator
+/// values, "written", "configurations_csv": the file's text}`, written to
+/// `path` when given.
 #[pyfunction]
-#[pyo3(signature = (robot, method, count, *, pool = None, seed = 1, path = None, overwrite = false))]
+#[pyo3(signature = (
+    robot, method, count, *, pool = None, seed = 1, criterion = "d", path = None,
+    overwrite = false,
+))]
 pub(crate) fn parallel_plan<'py>(
     py: Python<'py>,
     robot: String,
@@ -289,6 +295,7 @@ pub(crate) fn parallel_plan<'py>(
     count: usize,
     pool: Option<usize>,
     seed: u64,
+    criterion: &str,
     path: Option<PathBuf>,
     overwrite: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
@@ -298,6 +305,7 @@ pub(crate) fn parallel_plan<'py>(
         count,
         pool,
         seed: Some(seed),
+        criterion: Some(criterion.to_owned()),
         output: output(path.as_deref(), overwrite),
     };
     let planned = py.detach(|| request.run(&LocalFiles)).py()?;

@@ -164,7 +164,13 @@ def test_a_delta_is_identified_from_its_tool_point(tmp_path):
 def test_planned_poses_are_measured_at_their_actuator_values(tmp_path):
     plan = gecaro.parallel_plan("delta", "position", 20, path=tmp_path / "plan.csv")
     assert plan["count"] == 20 and plan["rank"] == 24
+    assert plan["criterion_name"] == "d"
     assert plan["criterion"] > plan["random_criterion"]
+    aimed = gecaro.parallel_plan("delta", "position", 20, criterion="test")
+    assert aimed["criterion_meaning"].startswith("predicted RMS tool-point error")
+    assert aimed["criterion"] < aimed["random_criterion"]
+    with pytest.raises(gecaro.errors.InputError, match="criterion"):
+        gecaro.parallel_plan("delta", "position", 20, criterion="z")
     measured = gecaro.parallel_generate("delta", "position", configurations=tmp_path / "plan.csv",
                                         noise=2e-5, seed=9)
     assert measured["configurations"] == 20

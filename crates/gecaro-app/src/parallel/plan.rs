@@ -1,8 +1,11 @@
 //! The poses to measure on a parallel robot (D-optimal from a pool of
-//! reachable poses), written as the actuator values to command: a file
-//! `generate --configurations` simulates and a cell measures.
+//! reachable poses by default; A, E, O4, O5, or the calibrated platform's
+//! predicted error over its workspace), written as the actuator values to
+//! command: a file `generate --configurations` simulates and a cell
+//! measures.
 
 use gecaro_calib::parallel_robots::plan_platform;
+use gecaro_calib::planning::Criterion;
 use gecaro_calib::simulation::DEFAULT_SEED;
 use gecaro_calib::study::Samples;
 use gecaro_core::parallel_model::ParallelModel;
@@ -12,6 +15,7 @@ use super::{load_parallel_robot, measure_for};
 use crate::error::AppError;
 use crate::files::Files;
 use crate::limits::MAX_GENERATE;
+use crate::method::parse_name;
 use crate::output::Output;
 
 /// Candidates per chosen pose when the pool is not stated.
@@ -31,6 +35,11 @@ pub struct ParallelPlanRequest {
     pub pool: Option<usize>,
     /// Seed of the pool (default [`DEFAULT_SEED`]).
     pub seed: Option<u64>,
+    /// What the poses are chosen for: `d` (default), `a`, `e`, `o4`, `o5`,
+    /// or `test` (the calibrated platform's predicted error over its
+    /// workspace).
+    #[serde(default)]
+    pub criterion: Option<String>,
     /// The planned configurations (CSV: `qm1…qmk`).
     #[serde(flatten)]
     pub output: Output,
@@ -45,8 +54,15 @@ pub struct ParallelPlanned {
     pub pool: usize,
     /// Identifiable parameters the design is for.
     pub rank: usize,
-    /// `log det(W_bᵀW_b)` per equation, the plan's and as many random
-    /// poses' (parameters scaled to unit column norms over the pool).
+    /// The criterion the poses were chosen for (`d`, `a`, `e`, `o4`, `o5`,
+    /// `test`).
+    pub criterion_name: &'static str,
+    /// What its value is, in words.
+    pub criterion_meaning: &'static str,
+    /// Its value, the plan's and as many random poses' (parameters scaled
+    /// to unit column norms over the pool): D's `log det(W_bᵀW_b)` per
+    /// equation; `test`'s the predicted RMS tool-point error over the
+    /// workspace per unit σ.
     pub criterion: f64,
     /// See `criterion`.
     pub random_criterion: f64,
@@ -77,12 +93,20 @@ impl ParallelPlanRequest {
                 format!("takes 1 to {MAX_GENERATE} candidate poses"),
             ));
         }
+        let criterion = parse_name(
+            "criterion",
+            self.criterion.as_deref(),
+            &Criterion::NAMES,
+            |name| Criterion::from_name(name, Vec::new),
+        )?
+        .unwrap_or(Criterion::D);
         let planned = plan_platform(
             &file.robot,
             measure,
             self.count,
             pool,
             self.seed.unwrap_or(DEFAULT_SEED),
+            &criterion,
         )?;
         let text = gecaro_io::format_samples(
             file.robot.actuator_count(),
@@ -94,6 +118,8 @@ impl ParallelPlanRequest {
             count: planned.samples.len(),
             pool,
             rank: planned.rank.rank(),
+            criterion_name: planned.criterion_name,
+            criterion_meaning: meaning(&criterion),
             criterion: planned.criterion,
             random_criterion: planned.random_criterion,
             configurations: planned
@@ -104,5 +130,15 @@ impl ParallelPlanRequest {
             written: written.map(|path| path.display().to_string()),
             text,
         })
+    }
+}
+
+/// What a parallel plan's criterion value is, in words: a serial plan's
+/// meaning, but D per equation and the test poses the workspace's.
+fn meaning(criterion: &Criterion) -> &'static str {
+    match criterion {
+        Criterion::D => "log det(W_bᵀW_b) per equation",
+        Criterion::TestPoses(_) => "predicted RMS tool-point error over the workspace per unit σ",
+        other => other.meaning(),
     }
 }

@@ -1,8 +1,16 @@
 //! The poses to measure (as `gecaro plan` chooses a serial robot's
 //! configurations): from a pool of reachable poses, the `count` whose
-//! equations determine the identifiable parameters best — D-optimal,
-//! `max log det(W_bᵀW_b)`, chosen greedily one pose at a time by the
-//! matrix determinant lemma `det(G + BᵀB) = det(G)·det(I + B·G⁻¹·Bᵀ)`.
+//! equations determine the identifiable parameters best. D-optimal,
+//! `max log det(W_bᵀW_b)`, by default, chosen greedily one pose at a time
+//! by the matrix determinant lemma `det(G + BᵀB) = det(G)·det(I +
+//! B·G⁻¹·Bᵀ)`; any other criterion of [`Criterion`] (A, E, O4, O5) by the
+//! exchanges a serial plan makes, and `test` — the calibrated platform's
+//! predicted error over its workspace, `trace(M⁻¹·Σ D_tᵀD_t)` with `D_t`
+//! the rows of the error the verdict judges ([`super::region`]: the tool
+//! point's, or a distance's from home) at the verdict's random workspace
+//! poses — likewise. The columns are scaled to unit norms over the pool,
+//! the test rows with them, so the test criterion is the error in metres
+//! per unit σ.
 
 use gecaro_core::parallel_model::ParallelModel;
 use gecaro_data::sample::Sample;
@@ -11,8 +19,11 @@ use nalgebra::{DMatrix, Isometry3};
 use super::identifiability::{PlatformRankReport, rank_of};
 use super::measure::{PlatformMeasure, PlatformNoise};
 use super::observation::{observation_rows, platform_rows};
+use super::region::ErrorRows;
 use super::simulation::{PlatformWorkspace, random_platform_poses, simulate_platform};
 use crate::Error;
+use crate::identification::WORK_POSES;
+use crate::planning::{Criterion, choose_units};
 use crate::simulation::Sampler;
 
 /// A planned set of poses.
@@ -25,15 +36,22 @@ pub struct PlannedPoses {
     pub samples: Vec<Sample>,
     /// The identifiable parameters the design is for.
     pub rank: PlatformRankReport,
-    /// `log det(W_bᵀW_b)` per equation of the chosen poses (the criterion,
-    /// comparable across counts).
+    /// The criterion the poses were chosen for (`d`, `a`, `e`, `o4`,
+    /// `o5`, `test`).
+    pub criterion_name: &'static str,
+    /// Its value for the chosen poses: D's `log det(W_bᵀW_b)` per equation
+    /// (comparable across counts); the others' as a serial plan reports
+    /// them ([`Criterion::meaning`]; `test`: the predicted RMS error over
+    /// the workspace per unit σ).
     pub criterion: f64,
     /// The same of as many random poses of the pool, for comparison.
     pub random_criterion: f64,
 }
 
 /// Chooses `count` poses of `model` measured by `measure` from `pool`
-/// random reachable poses (seed `seed`).
+/// random reachable poses (seed `seed`) for `criterion` (the module docs;
+/// the test criterion's own test poses are the workspace's, whatever it
+/// holds).
 ///
 /// # Errors
 /// A measure the structure cannot take, a pool or count too small for the
@@ -44,6 +62,7 @@ pub fn plan_platform<M: ParallelModel>(
     count: usize,
     pool: usize,
     seed: u64,
+    criterion: &Criterion,
 ) -> Result<PlannedPoses, Error> {
     measure.check_for(model)?;
     let mut sampler = Sampler::new(seed);
@@ -101,6 +120,54 @@ pub fn plan_platform<M: ParallelModel>(
                 .unscale_mut(norm.sqrt().max(f64::MIN_POSITIVE));
         }
     }
+    let (chosen, criterion_value, random_criterion) = if *criterion == Criterion::D {
+        let chosen = greedy_d_optimal(&blocks, observations)?;
+        let criterion_of = |indices: &[usize]| {
+            let mut gram = DMatrix::<f64>::zeros(unknowns, unknowns);
+            for index in indices {
+                gram += blocks[*index].transpose() * &blocks[*index];
+            }
+            gram.cholesky().map_or(f64::NEG_INFINITY, |factor| {
+                2.0 * factor.l().diagonal().iter().map(|d| d.ln()).sum::<f64>()
+            }) / (indices.len() * per_observation) as f64
+        };
+        let random: Vec<usize> = sampler.subset(blocks.len(), observations);
+        (chosen.clone(), criterion_of(&chosen), criterion_of(&random))
+    } else {
+        let random: Vec<usize> = sampler.subset(blocks.len(), observations);
+        let test_rows = if matches!(criterion, Criterion::TestPoses(_)) {
+            test_rows(model, measure, &rank.base, &norms, &mut sampler)?
+        } else {
+            Vec::new()
+        };
+        let found = choose_units(blocks, observations, criterion, &test_rows, &random)?;
+        (found.chosen, found.value, found.compared)
+    };
+    // Each chosen observation's poses and samples (a pair's two).
+    let rows_of = |index: &usize| index * taken..(index + 1) * taken;
+    Ok(PlannedPoses {
+        poses: chosen
+            .iter()
+            .flat_map(|index| poses[rows_of(index)].to_vec())
+            .collect(),
+        samples: chosen
+            .iter()
+            .flat_map(|index| candidates[rows_of(index)].to_vec())
+            .collect(),
+        criterion_name: criterion.name(),
+        criterion: criterion_value,
+        random_criterion,
+        rank,
+    })
+}
+
+/// `observations` of `blocks` chosen greedily for D (module docs).
+///
+/// # Errors
+/// A design whose normal equations lose positive definiteness, a pool
+/// that runs out.
+fn greedy_d_optimal(blocks: &[DMatrix<f64>], observations: usize) -> Result<Vec<usize>, Error> {
+    let unknowns = blocks.first().map_or(0, DMatrix::ncols);
     // G starts as a small ridge, so that the first poses are compared by
     // what they add; it weighs nothing once the design determines G.
     let ridge = 1e-6 * blocks.len() as f64 / (observations as f64);
@@ -132,29 +199,36 @@ pub fn plan_platform<M: ParallelModel>(
         gram += blocks[best].transpose() * &blocks[best];
         chosen.push(best);
     }
-    let criterion_of = |indices: &[usize]| {
-        let mut gram = DMatrix::<f64>::zeros(unknowns, unknowns);
-        for index in indices {
-            gram += blocks[*index].transpose() * &blocks[*index];
-        }
-        gram.cholesky().map_or(f64::NEG_INFINITY, |factor| {
-            2.0 * factor.l().diagonal().iter().map(|d| d.ln()).sum::<f64>()
-        }) / (indices.len() * per_observation) as f64
+    Ok(chosen)
+}
+
+/// The rows of the error the verdict judges ([`ErrorRows`]) at
+/// [`WORK_POSES`] random workspace poses, on the columns `base` scaled as
+/// the pool's (each divided by the square root of its `norms` entry).
+///
+/// # Errors
+/// A workspace with too few reachable poses, or a singular pose.
+fn test_rows<M: ParallelModel>(
+    model: &M,
+    measure: PlatformMeasure,
+    base: &[usize],
+    norms: &[f64],
+    sampler: &mut Sampler,
+) -> Result<Vec<DMatrix<f64>>, Error> {
+    let singular = || Error::Numerical {
+        message: "the platform is singular at a test pose of the workspace".into(),
     };
-    let random: Vec<usize> = sampler.subset(blocks.len(), observations);
-    // Each chosen observation's poses and samples (a pair's two).
-    let rows_of = |index: &usize| index * taken..(index + 1) * taken;
-    Ok(PlannedPoses {
-        poses: chosen
-            .iter()
-            .flat_map(|index| poses[rows_of(index)].to_vec())
-            .collect(),
-        samples: chosen
-            .iter()
-            .flat_map(|index| candidates[rows_of(index)].to_vec())
-            .collect(),
-        criterion: criterion_of(&chosen),
-        random_criterion: criterion_of(&random),
-        rank,
-    })
+    let errors = ErrorRows::new(model, measure).ok_or_else(singular)?;
+    random_platform_poses(model, WORK_POSES, PlatformWorkspace::whole(model), sampler)?
+        .iter()
+        .map(|pose| {
+            let actuators = model.actuator_values(pose)?;
+            let mut rows = errors.at(pose, &actuators, base).ok_or_else(singular)?;
+            for (j, norm) in norms.iter().enumerate() {
+                rows.column_mut(j)
+                    .unscale_mut(norm.sqrt().max(f64::MIN_POSITIVE));
+            }
+            Ok(rows)
+        })
+        .collect()
 }

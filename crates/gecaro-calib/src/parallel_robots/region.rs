@@ -31,7 +31,7 @@
 use gecaro_core::JointRegion;
 use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};
 use gecaro_data::sample::Sample;
-use nalgebra::{DMatrix, Isometry3};
+use nalgebra::{DMatrix, Isometry3, Vector3};
 
 use super::measure::PlatformMeasure;
 use super::observation::{actuator_values, point_derivative};
@@ -218,24 +218,10 @@ pub(super) fn where_it_holds<M: ParallelModel>(
     let work_is_ranges = work.is_none();
     let work = work.cloned().unwrap_or(ranges);
     let factor = covariance.clone().cholesky()?.l();
-    let home = calibrated.home();
-    let home_actuators = calibrated.actuator_values(&home).ok()?;
-    let home_point = calibrated.tool_point(&home);
-    let home_derivative = point_derivative(calibrated, &home, &home_actuators)?;
+    let errors = ErrorRows::new(calibrated, measure)?;
     // trace(J_b C J_bᵀ) = ‖J_b·L‖² (Frobenius) for C = L·Lᵀ.
     let spread = |pose: &Isometry3<f64>, actuators: &[f64]| -> Option<f64> {
-        let mut derivative = point_derivative(calibrated, pose, actuators)?;
-        if measure == PlatformMeasure::Distance {
-            let direction = (calibrated.tool_point(pose) - home_point)
-                .try_normalize(f64::EPSILON)
-                .unwrap_or_default();
-            let along = direction.transpose() * (derivative - &home_derivative);
-            derivative = DMatrix::from_row_slice(1, along.ncols(), along.as_slice());
-        }
-        let columns = DMatrix::from_fn(derivative.nrows(), base.len(), |row, k| {
-            derivative[(row, base[k])]
-        });
-        Some((columns * &factor).norm_squared())
+        Some((errors.at(pose, actuators, base)? * &factor).norm_squared())
     };
     let rms =
         |variances: &[f64]| (variances.iter().sum::<f64>() / variances.len().max(1) as f64).sqrt();
@@ -290,6 +276,55 @@ pub(super) fn where_it_holds<M: ParallelModel>(
         still_actuators,
         holds_everywhere,
     })
+}
+
+/// The rows of the error a calibration of `model` from `measure` is
+/// judged by at a pose, on the parameters' columns: the tool point's
+/// derivative `J_y(x)`, or, for measured distances (which see no base
+/// frame), the derivative of its distance from the home pose's tool point,
+/// `uᵀ·(J_y(x) − J_y(home))` with u the direction between the two points.
+pub(super) struct ErrorRows<'a, M> {
+    model: &'a M,
+    distances: bool,
+    home_point: Vector3<f64>,
+    home_derivative: DMatrix<f64>,
+}
+
+impl<'a, M: ParallelModel> ErrorRows<'a, M> {
+    /// `None` when the home pose has no derivative (a singular one).
+    pub(super) fn new(model: &'a M, measure: PlatformMeasure) -> Option<Self> {
+        let home = model.home();
+        let home_actuators = model.actuator_values(&home).ok()?;
+        Some(Self {
+            model,
+            distances: measure == PlatformMeasure::Distance,
+            home_point: model.tool_point(&home),
+            home_derivative: point_derivative(model, &home, &home_actuators)?,
+        })
+    }
+
+    /// The rows at `pose` (reached by `actuators`) on the columns `base`;
+    /// `None` at a singular pose.
+    pub(super) fn at(
+        &self,
+        pose: &Isometry3<f64>,
+        actuators: &[f64],
+        base: &[usize],
+    ) -> Option<DMatrix<f64>> {
+        let mut derivative = point_derivative(self.model, pose, actuators)?;
+        if self.distances {
+            let direction = (self.model.tool_point(pose) - self.home_point)
+                .try_normalize(f64::EPSILON)
+                .unwrap_or_default();
+            let along = direction.transpose() * (derivative - &self.home_derivative);
+            derivative = DMatrix::from_row_slice(1, along.ncols(), along.as_slice());
+        }
+        Some(DMatrix::from_fn(
+            derivative.nrows(),
+            base.len(),
+            |row, k| derivative[(row, base[k])],
+        ))
+    }
 }
 
 /// Draws per pose kept, at most, before a stated work region is said to

@@ -332,65 +332,27 @@ impl<'a> CandidatePool<'a> {
         let kept_information = self.information_of(kept)?;
         let ridge = candidates.ridge();
         let base = &kept_information + DMatrix::<f64>::identity(width, width) * ridge;
-        let d_only = matches!(objective, Objective::D);
-        let total = if d_only { 3 } else { 6 } * wanted.max(1);
+        let total = steps_of(&objective, wanted);
         let mut steps = 0;
-        let mut step = || {
-            steps += 1;
-            report(
-                observer,
-                Progress::Step {
-                    done: steps.min(total),
-                    total,
-                },
-            )
-        };
-        let mut designs = detmax::detmax(
+        let (chosen, exchanges) = optimise(
             candidates,
-            base.clone(),
+            &base,
             ridge,
             wanted,
             &admissible,
             &mut spacing,
-            &mut step,
-        )?
-        .into_iter();
-        let (mut chosen, mut exchanges) = designs.next().ok_or_else(|| Error::Numerical {
-            message: "planning: no design".into(),
-        })?;
-        if !d_only {
-            // The other criteria continue from each D-optimal design; the
-            // better result is kept (the exchange stops in local optima).
-            exchanges += criteria::exchange(
-                candidates,
-                &base,
-                &mut chosen,
-                &admissible,
-                &mut spacing,
-                &objective,
-                &mut step,
-            )?;
-            for (mut other, other_exchanges) in designs {
-                let more = criteria::exchange(
-                    candidates,
-                    &base,
-                    &mut other,
-                    &admissible,
-                    &mut spacing,
-                    &objective,
-                    &mut step,
-                )?;
-                let value = |flags: &[bool]| {
-                    objective.value(
-                        &candidates.information(&base, (0..flags.len()).filter(|u| flags[*u])),
-                    )
-                };
-                if value(&other) > value(&chosen) {
-                    chosen = other;
-                    exchanges = other_exchanges + more;
-                }
-            }
-        }
+            &objective,
+            || {
+                steps += 1;
+                report(
+                    observer,
+                    Progress::Step {
+                        done: steps.min(total),
+                        total,
+                    },
+                )
+            },
+        )?;
         // The exchanges stop once nothing improves, mostly well before the
         // steps allowed: the part is done.
         report(observer, Progress::Step { done: total, total })?;
@@ -415,6 +377,157 @@ impl<'a> CandidatePool<'a> {
             columns: self.columns.names.clone(),
         })
     }
+}
+
+/// The steps [`optimise`] reports at most for `wanted` units: D's
+/// exchanges, and as many again for the other criteria's.
+fn steps_of(objective: &Objective, wanted: usize) -> usize {
+    let d_only = matches!(objective, Objective::D);
+    (if d_only { 3 } else { 6 }) * wanted.max(1)
+}
+
+/// `wanted` units of `candidates` chosen for `objective` on top of the
+/// information `base` (what is kept, and the ridge `ridge` that keeps it
+/// invertible): the D-optimal designs of the exchange ([`detmax`]), then,
+/// for another criterion, each continued by its own exchange
+/// ([`criteria::exchange`]) and the best kept. Returns which units are
+/// chosen and the exchanges made; `step` hears of each step and may stop
+/// the work.
+///
+/// # Errors
+/// A design whose information is not positive definite, or the error
+/// `step` returns.
+#[allow(clippy::too_many_arguments)]
+fn optimise(
+    candidates: &Blocks,
+    base: &DMatrix<f64>,
+    ridge: f64,
+    wanted: usize,
+    admissible: &[bool],
+    spacing: &mut Spacing,
+    objective: &Objective,
+    mut step: impl FnMut() -> Result<(), Error>,
+) -> Result<(Vec<bool>, usize), Error> {
+    let mut designs = detmax::detmax(
+        candidates,
+        base.clone(),
+        ridge,
+        wanted,
+        admissible,
+        spacing,
+        &mut step,
+    )?
+    .into_iter();
+    let (mut chosen, mut exchanges) = designs.next().ok_or_else(|| Error::Numerical {
+        message: "planning: no design".into(),
+    })?;
+    if !matches!(objective, Objective::D) {
+        // The other criteria continue from each D-optimal design; the
+        // better result is kept (the exchange stops in local optima).
+        exchanges += criteria::exchange(
+            candidates,
+            base,
+            &mut chosen,
+            admissible,
+            spacing,
+            objective,
+            &mut step,
+        )?;
+        for (mut other, other_exchanges) in designs {
+            let more = criteria::exchange(
+                candidates, base, &mut other, admissible, spacing, objective, &mut step,
+            )?;
+            let value = |flags: &[bool]| {
+                objective
+                    .value(&candidates.information(base, (0..flags.len()).filter(|u| flags[*u])))
+            };
+            if value(&other) > value(&chosen) {
+                chosen = other;
+                exchanges = other_exchanges + more;
+            }
+        }
+    }
+    Ok((chosen, exchanges))
+}
+
+/// Units chosen by [`choose_units`], with the criterion's value (as
+/// [`DesignQuality::value`] reports it) of the design and of another
+/// design of the same units to compare with.
+#[derive(Clone, Debug)]
+pub(crate) struct ChosenUnits {
+    /// The chosen units' indices, in increasing order.
+    pub(crate) chosen: Vec<usize>,
+    /// The criterion's value of the chosen design.
+    pub(crate) value: f64,
+    /// Its value of the design compared with.
+    pub(crate) compared: f64,
+}
+
+/// `wanted` of `units` — each a unit's rows on the base columns, scaled as
+/// the caller judges them — chosen for `criterion` by the exchanges a
+/// serial plan makes ([`optimise`], no unit kept, no minimum distance);
+/// the test criterion's `T = Σ D_tᵀD_t` of `test_rows` (its poses' error
+/// rows in the same columns: the structure's own test poses, not the
+/// criterion's joint values). The value of the design `compared` (unit
+/// indices) is reported beside the plan's.
+///
+/// # Errors
+/// No test rows for the test criterion, a design whose information is
+/// not positive definite.
+pub(crate) fn choose_units(
+    units: Vec<DMatrix<f64>>,
+    wanted: usize,
+    criterion: &Criterion,
+    test_rows: &[DMatrix<f64>],
+    compared: &[usize],
+) -> Result<ChosenUnits, Error> {
+    let width = units.first().map_or(0, DMatrix::ncols);
+    let objective = match criterion {
+        Criterion::D => Objective::D,
+        Criterion::A => Objective::A,
+        Criterion::E => Objective::E,
+        Criterion::O4 => Objective::O4,
+        Criterion::O5 => Objective::O5,
+        Criterion::TestPoses(_) => {
+            if test_rows.is_empty() {
+                return Err(Error::InvalidOption {
+                    setting: Setting::TestPoses,
+                    message: "no test poses".into(),
+                });
+            }
+            let weight = test_rows
+                .iter()
+                .fold(DMatrix::zeros(width, width), |weight, rows| {
+                    weight + rows.transpose() * rows
+                });
+            Objective::Test(weight, test_rows.len())
+        }
+    };
+    let count = units.len();
+    let candidates = Blocks { units, width };
+    let ridge = candidates.ridge();
+    let base = DMatrix::<f64>::identity(width, width) * ridge;
+    let mut spacing = Spacing::new(vec![Vec::new(); count], 0.0);
+    let (flags, _) = optimise(
+        &candidates,
+        &base,
+        ridge,
+        wanted,
+        &vec![true; count],
+        &mut spacing,
+        &objective,
+        || Ok(()),
+    )?;
+    let chosen: Vec<usize> = (0..count).filter(|unit| flags[*unit]).collect();
+    let zero = DMatrix::zeros(width, width);
+    let value_of = |indices: &[usize]| {
+        objective.reported(objective.value(&candidates.information(&zero, indices.iter().copied())))
+    };
+    Ok(ChosenUnits {
+        value: value_of(&chosen),
+        compared: value_of(compared),
+        chosen,
+    })
 }
 
 /// The quality of information `information` (kept units included, no ridge)

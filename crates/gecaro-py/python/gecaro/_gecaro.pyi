@@ -876,13 +876,16 @@ def parallel_plan(
     *,
     pool: Optional[int] = None,
     seed: int = 1,
+    criterion: Literal["d", "a", "e", "o4", "o5", "test"] = "d",
     path: Optional[_PathLike] = None,
     overwrite: bool = False,
 ) -> dict[str, Any]:
-    """The ``count`` poses to measure, D-optimal from ``pool`` random
-    reachable poses, as ``gecaro plan hexapod --json``: ``"criterion"``
-    against ``"random_criterion"``, ``"configurations"`` (actuator values,
-    written to ``path``)."""
+    """The ``count`` poses to measure, chosen for ``criterion`` (D-optimal by
+    default; ``"test"``: the calibrated platform's predicted error over its
+    workspace) from ``pool`` random reachable poses, as ``gecaro plan hexapod
+    --json``: ``"criterion"`` (what it is in ``"criterion_meaning"``) against
+    ``"random_criterion"``, ``"configurations"`` (actuator values, written to
+    ``path``)."""
 
 def parallel_compensate(
     nominal: str,

@@ -83,6 +83,8 @@ export function buildParallel() {
   const workRegion = text('work-region', 'qm1=-10..10mm,qm4=-5..5mm (optional: the actuators’ ranges)');
   const reject = h('input', { type: 'checkbox', id: 'parallel-reject' });
   const prior = text('prior', '1mm,0.05deg,0.1% (optional: σ of lengths, angles, gains)');
+  const criterion = h('select', { id: 'parallel-criterion' },
+    [['d', 'D-optimal (the parameters’ confidence volume)'], ['test', 'the predicted error over the workspace'], ['a', 'A-optimal'], ['e', 'E-optimal'], ['o4', 'O4'], ['o5', 'O5']].map(([value, label]) => h('option', { value, text: label })));
   const loss = h('select', { id: 'parallel-loss' },
     [['l2', 'least squares'], ['huber', 'Huber (mild contamination)'], ['cauchy', 'Cauchy (gross errors)'], ['tukey', 'Tukey (gross errors ignored)']]
       .map(([value, label]) => h('option', { value, text: label })));
@@ -118,11 +120,13 @@ export function buildParallel() {
         ...common(),
         count: fieldNumber(count, 'Poses', { min: 1, max: state.info.limits.generate, whole: true }),
         seed: state.info.defaults.seed,
+        criterion: criterion.value,
         save_as: 'parallel-planned.csv',
         overwrite: true,
       });
       await refreshFiles();
-      result.replaceChildren(h('p', { id: 'parallel-planned', text: `${answer.count} poses of ${answer.pool} candidates chosen for the ${answer.rank} identifiable parameters (D-optimal: log det per equation ${answer.criterion.toFixed(3)}, random poses ${answer.random_criterion.toFixed(3)}); their actuator values written to parallel-planned.csv.` }));
+      const aim = answer.criterion_name === 'test' ? 'for the predicted error over the workspace' : `${answer.criterion_name.toUpperCase()}-optimal`;
+      result.replaceChildren(h('p', { id: 'parallel-planned', text: `${answer.count} poses of ${answer.pool} candidates chosen for the ${answer.rank} identifiable parameters (${aim}: ${answer.criterion_meaning} ${answer.criterion.toPrecision(4)}, random poses ${answer.random_criterion.toPrecision(4)}); their actuator values written to parallel-planned.csv.` }));
     } catch (error) {
       result.replaceChildren(errorBox(error));
     }
@@ -244,6 +248,7 @@ export function buildParallel() {
       field('Sensor noise σ (mm; mrad)', noise),
       field('Write them to', generated),
       field('Write the real platform to', real),
+      field('Plan the poses for', criterion),
       plan,
       generate),
     h('div', { class: 'form' },

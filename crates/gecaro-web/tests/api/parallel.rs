@@ -28,6 +28,30 @@ async fn a_hexapod_is_calibrated_through_the_api() {
         )
         .await;
     assert_eq!(status, StatusCode::OK, "{body}");
+    // The page's plan criterion: the workspace error, below random poses';
+    // a criterion that is none refused by name.
+    let (status, planned) = api
+        .post(
+            "/api/parallel/plan",
+            &json!({"robot": "hexapod", "method": "frame", "count": 12, "pool": 200,
+                    "criterion": "test", "save_as": "planned.csv"}),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{planned}");
+    assert_eq!(planned["criterion_name"], "test");
+    assert!(
+        planned["criterion"].as_f64() < planned["random_criterion"].as_f64(),
+        "{planned}"
+    );
+    let (status, refused) = api
+        .post(
+            "/api/parallel/plan",
+            &json!({"robot": "hexapod", "method": "frame", "count": 12, "criterion": "z",
+                    "save_as": "planned.csv", "overwrite": true}),
+        )
+        .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST, "{refused}");
+    assert!(refused.to_string().contains("criterion"), "{refused}");
     let (status, identified) = api
         .post(
             "/api/parallel/identify",
