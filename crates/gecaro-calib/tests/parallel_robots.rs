@@ -47,6 +47,27 @@ fn measured(
     )
 }
 
+/// The RMS error on `held_out` of `nominal` identified (by default, σ
+/// [`NOISE`]) from `data` measured by `measure`.
+fn held_out_rms(
+    nominal: &ParallelRobot,
+    data: &[Sample],
+    measure: PlatformMeasure,
+    held_out: &[Sample],
+) -> f64 {
+    let result = identify_platform(
+        nominal,
+        data,
+        measure,
+        Some(NOISE),
+        &PlatformIdentificationOptions::default(),
+    )
+    .expect("identified");
+    platform_errors(&result.calibrated, held_out, measure)
+        .expect("errors")
+        .position_rms
+}
+
 /// `count` measurements of `real` at poses drawn in `workspace`.
 fn measured_within(
     real: &ParallelRobot,
@@ -311,18 +332,7 @@ fn planned_poses_determine_the_parameters_better_than_random_ones() {
         .expect("random");
         let held_out = measured(&real, measure, 200, NOISE, 42);
         let error_of = |poses: &[Isometry3<f64>], sampler: &mut Sampler| {
-            let data = on_real(poses, sampler);
-            let result = identify_platform(
-                &nominal,
-                &data,
-                measure,
-                Some(noise),
-                &PlatformIdentificationOptions::default(),
-            )
-            .expect("identified");
-            platform_errors(&result.calibrated, &held_out, measure)
-                .expect("errors")
-                .position_rms
+            held_out_rms(&nominal, &on_real(poses, sampler), measure, &held_out)
         };
         // Averaged over five draws of the noise: one draw of 15 poses
         // varies more than the designs differ.
@@ -395,18 +405,7 @@ fn poses_planned_for_the_workspace_error_calibrate_it_best() {
             let mut error_of = |poses: &[Isometry3<f64>]| {
                 let data =
                     simulate_platform(&real, measure, poses, NOISE, &mut sampler).expect("data");
-                let result = identify_platform(
-                    &nominal,
-                    &data,
-                    measure,
-                    Some(NOISE),
-                    &PlatformIdentificationOptions::default(),
-                )
-                .expect("identified");
-                platform_errors(&result.calibrated, &held_out, measure)
-                    .expect("errors")
-                    .position_rms
-                    / f64::from(draws as u32)
+                held_out_rms(&nominal, &data, measure, &held_out) / f64::from(draws as u32)
             };
             found_test += error_of(&test.poses);
             found_d += error_of(&d.poses);

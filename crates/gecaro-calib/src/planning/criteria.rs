@@ -105,6 +105,28 @@ pub(super) enum Objective {
 }
 
 impl Objective {
+    /// `criterion` made concrete: the test criterion's `T` and its number
+    /// of test poses from `test`, which is called for it only.
+    ///
+    /// # Errors
+    /// The error of `test`.
+    pub(super) fn of(
+        criterion: &Criterion,
+        test: impl FnOnce() -> Result<(DMatrix<f64>, usize), Error>,
+    ) -> Result<Self, Error> {
+        Ok(match criterion {
+            Criterion::D => Objective::D,
+            Criterion::A => Objective::A,
+            Criterion::E => Objective::E,
+            Criterion::O4 => Objective::O4,
+            Criterion::O5 => Objective::O5,
+            Criterion::TestPoses(_) => {
+                let (weight, poses) = test()?;
+                Objective::Test(weight, poses)
+            }
+        })
+    }
+
     /// The criterion's value at information `m`: larger is better.
     pub(super) fn value(&self, m: &DMatrix<f64>) -> f64 {
         let weighted = |t: &DMatrix<f64>| match m.clone().cholesky() {

@@ -202,27 +202,21 @@ impl<'a> CandidatePool<'a> {
 
     /// The criterion made concrete in these columns.
     fn objective(&self, criterion: &Criterion) -> Result<Objective, Error> {
-        Ok(match criterion {
-            Criterion::D => Objective::D,
-            Criterion::A => Objective::A,
-            Criterion::E => Objective::E,
-            Criterion::O4 => Objective::O4,
-            Criterion::O5 => Objective::O5,
-            Criterion::TestPoses(poses) => {
-                if poses.is_empty() {
-                    return Err(Error::InvalidOption {
-                        setting: Setting::TestPoses,
-                        message: "no test poses".into(),
-                    });
-                }
-                let width = self.columns.layout.columns();
-                let mut weight = DMatrix::zeros(width, width);
-                for jacobian in self.columns.pose_jacobians(self.robot, poses, true)? {
-                    let position = jacobian.rows(0, 3);
-                    weight += position.transpose() * position;
-                }
-                Objective::Test(weight, poses.len())
+        let poses = match criterion {
+            Criterion::TestPoses(poses) => poses.as_slice(),
+            _ => &[],
+        };
+        Objective::of(criterion, || {
+            if poses.is_empty() {
+                return Err(no_test_poses());
             }
+            let width = self.columns.layout.columns();
+            let mut weight = DMatrix::zeros(width, width);
+            for jacobian in self.columns.pose_jacobians(self.robot, poses, true)? {
+                let position = jacobian.rows(0, 3);
+                weight += position.transpose() * position;
+            }
+            Ok((weight, poses.len()))
         })
     }
 
@@ -482,27 +476,17 @@ pub(crate) fn choose_units(
     compared: &[usize],
 ) -> Result<ChosenUnits, Error> {
     let width = units.first().map_or(0, DMatrix::ncols);
-    let objective = match criterion {
-        Criterion::D => Objective::D,
-        Criterion::A => Objective::A,
-        Criterion::E => Objective::E,
-        Criterion::O4 => Objective::O4,
-        Criterion::O5 => Objective::O5,
-        Criterion::TestPoses(_) => {
-            if test_rows.is_empty() {
-                return Err(Error::InvalidOption {
-                    setting: Setting::TestPoses,
-                    message: "no test poses".into(),
-                });
-            }
-            let weight = test_rows
-                .iter()
-                .fold(DMatrix::zeros(width, width), |weight, rows| {
-                    weight + rows.transpose() * rows
-                });
-            Objective::Test(weight, test_rows.len())
+    let objective = Objective::of(criterion, || {
+        if test_rows.is_empty() {
+            return Err(no_test_poses());
         }
-    };
+        let weight = test_rows
+            .iter()
+            .fold(DMatrix::zeros(width, width), |weight, rows| {
+                weight + rows.transpose() * rows
+            });
+        Ok((weight, test_rows.len()))
+    })?;
     let count = units.len();
     let candidates = Blocks { units, width };
     let ridge = candidates.ridge();
@@ -528,6 +512,14 @@ pub(crate) fn choose_units(
         compared: value_of(compared),
         chosen,
     })
+}
+
+/// The error of the test criterion without test poses.
+fn no_test_poses() -> Error {
+    Error::InvalidOption {
+        setting: Setting::TestPoses,
+        message: "no test poses".into(),
+    }
 }
 
 /// The quality of information `information` (kept units included, no ridge)
