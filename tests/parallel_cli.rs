@@ -1076,3 +1076,44 @@ fn a_parallel_robot_is_reported_as_identified() {
         "{error}"
     );
 }
+
+/// Tool-point targets of a platform that turns are met with the platform
+/// turned as the program says — its `qw,qx,qy,qz`, under their own names
+/// or under the file's mapped by `--columns` alike — and level without
+/// them.
+#[test]
+fn tool_point_targets_keep_the_programs_orientation() {
+    let folder = tempfile::tempdir().expect("folder");
+    let at = |name: &str| folder.path().join(name).display().to_string();
+    command("generate hexapod --method frame --count 5 --error-level 0 --seed 9 -o")
+        .arg(at("job.csv"))
+        .assert()
+        .success();
+    let text = std::fs::read_to_string(at("job.csv")).expect("read");
+    let (header, rows) = text.split_once('\n').expect("a header");
+    assert_eq!(header, "qm1,qm2,qm3,qm4,qm5,qm6,x,y,z,qw,qx,qy,qz");
+    std::fs::write(
+        at("renamed.csv"),
+        format!("qm1,qm2,qm3,qm4,qm5,qm6,X,Y,Z,Q0,Q1,Q2,Q3\n{rows}"),
+    )
+    .expect("written");
+    let corrected = |program: &str, columns: &str, name: &str| {
+        let mut line = command("compensate hexapod hexapod --match position --program");
+        line.arg(at(program));
+        if !columns.is_empty() {
+            line.arg("--columns").arg(columns);
+        }
+        // Exit 4 when a target needs a leg beyond its range: written anyway.
+        line.arg("-o").arg(at(name)).output().expect("runs");
+        std::fs::read_to_string(at(name)).expect("the corrected program")
+    };
+    let plain = corrected("job.csv", "", "plain.csv");
+    let mapped = corrected(
+        "renamed.csv",
+        "x=X,y=Y,z=Z,qw=Q0,qx=Q1,qy=Q2,qz=Q3",
+        "mapped.csv",
+    );
+    let level = corrected("renamed.csv", "x=X,y=Y,z=Z", "level.csv");
+    assert_eq!(plain, mapped, "the orientation read under either name");
+    assert_ne!(plain, level, "without orientations the platform is level");
+}

@@ -146,13 +146,14 @@ impl ParallelCompensated {
 }
 
 impl ParallelCompensateRequest {
-    /// Whether the program's header has actuator columns (`qm1`, or a
-    /// column the format maps to it).
-    fn names_actuators(&self, files: &dyn Files) -> Result<bool, AppError> {
+    /// Whether the program's header has the column `column` (`qm1`, `qw`),
+    /// or a column the format maps to it.
+    fn names_column(&self, files: &dyn Files, column: &str) -> Result<bool, AppError> {
+        let mapped = format!("{column}=");
         if self.format.columns.as_deref().is_some_and(|columns| {
             columns
                 .split(',')
-                .any(|pair| pair.trim().starts_with("qm1="))
+                .any(|pair| pair.trim().starts_with(&mapped))
         }) {
             return Ok(true);
         }
@@ -172,10 +173,10 @@ impl ParallelCompensateRequest {
             }
             DataSource::Csv { text, .. } => text.chars().take(1 << 16).collect(),
             DataSource::Samples { samples, .. } => {
-                return Ok(samples
-                    .as_slice()
-                    .iter()
-                    .any(|sample| !sample.motor_positions().is_empty()));
+                return Ok(samples.as_slice().iter().any(|sample| match column {
+                    "qm1" => !sample.motor_positions().is_empty(),
+                    _ => sample.orientation().is_some(),
+                }));
             }
         };
         let header = head
@@ -185,7 +186,7 @@ impl ParallelCompensateRequest {
             .unwrap_or_default();
         Ok(header
             .split([',', ';', '\t'])
-            .any(|field| field.trim().trim_matches('"') == "qm1"))
+            .any(|field| field.trim().trim_matches('"') == column))
     }
 
     /// Runs the compensation.
@@ -257,7 +258,7 @@ impl ParallelCompensateRequest {
         self.output.check(files, "csv")?;
         // A program may carry the nominal actuator values (a data file, a
         // program written for the nominal platform): read and left aside.
-        let actuators = if self.names_actuators(files)? {
+        let actuators = if self.names_column(files, "qm1")? {
             super::actuator_types(&calibrated.robot)
         } else {
             Vec::new()
@@ -270,17 +271,16 @@ impl ParallelCompensateRequest {
         } else {
             PlatformMeasure::Pose
         };
-        let format = self.format.format()?;
-        let mut read = self
-            .program
-            .read(files, &actuators, measure.columns(), &format)?;
         // Tool points of a platform that turns: turned as the program says
         // when it has orientations.
-        if tool_points && turns && read.unused_columns.iter().any(|column| column == "qw") {
-            read =
-                self.program
-                    .read(files, &actuators, PlatformMeasure::Pose.columns(), &format)?;
-        }
+        let columns = if tool_points && turns && self.names_column(files, "qw")? {
+            PlatformMeasure::Pose.columns()
+        } else {
+            measure.columns()
+        };
+        let read = self
+            .program
+            .read(files, &actuators, columns, &self.format.format()?)?;
         let home = calibrated.robot.home().rotation;
         // The platform's pose that puts `robot`'s tool point (or frame) on
         // the target.
