@@ -1178,3 +1178,79 @@ fn simulated_calibrations_measure_what_was_predicted() {
     .to_string();
     assert!(error.contains("no base frame"), "{error}");
 }
+
+/// The cell changed during the run — the last tenth of 200 measurements
+/// (a tracker bumped: 0.3 mm in x from then on): the outliers of the first
+/// fit form one block in the file's order, named with its lines, and the
+/// verdict is `changed` — with least squares, with a robust loss that
+/// weighs the block down and with `--reject` that drops it, which would
+/// otherwise fit the noise of the cell as it was. Clean data of five real
+/// robots are never named changed.
+#[test]
+fn a_change_during_the_run_is_named_whatever_the_loss() {
+    use gecaro_calib::identification::{Loss, LossKind};
+    for (robot, measure, seed) in [
+        ("hexapod", PlatformMeasure::Pose, 210),
+        ("delta", PlatformMeasure::Point, 220),
+    ] {
+        let nominal = ready(robot);
+        let real = perturbed_platform(&nominal, 1.0, &mut Sampler::new(seed)).expect("real");
+        let mut data = measured(&real, measure, 200, NOISE, seed + 1);
+        for (index, sample) in data.iter_mut().enumerate() {
+            sample.line = Some(index + 2);
+            if index >= 180
+                && let Some(position) = sample.position.as_mut()
+            {
+                position.x += 0.3e-3;
+            }
+        }
+        let fit = |data: &[Sample], loss: LossKind, reject: bool| {
+            identify_platform(
+                &nominal,
+                data,
+                measure,
+                Some(NOISE),
+                &PlatformIdentificationOptions {
+                    loss: Loss::new(loss),
+                    reject,
+                    ..PlatformIdentificationOptions::default()
+                },
+            )
+            .expect("identified")
+        };
+        for (loss, reject) in [
+            (LossKind::L2, false),
+            (LossKind::Cauchy, false),
+            (LossKind::L2, true),
+        ] {
+            let result = fit(&data, loss, reject);
+            assert_eq!(
+                result.outcome,
+                Outcome::Changed,
+                "{robot} {loss:?} {reject}"
+            );
+            let change = result.change.expect("the change");
+            assert_eq!(
+                change.lines,
+                Some((182, 201)),
+                "{robot} {loss:?}: {change:?}"
+            );
+            assert!(
+                change.to_end() && change.outliers_elsewhere <= 2,
+                "{change:?}"
+            );
+        }
+        for draw in 0..5 {
+            let real = perturbed_platform(&nominal, 1.0, &mut Sampler::new(seed + 10 + draw))
+                .expect("real");
+            let clean = measured(&real, measure, 200, NOISE, seed + 20 + draw);
+            let result = fit(&clean, LossKind::L2, false);
+            assert!(
+                result.change.is_none(),
+                "{robot} draw {draw}: {:?}",
+                result.change
+            );
+            assert_ne!(result.outcome, Outcome::Changed);
+        }
+    }
+}

@@ -109,6 +109,23 @@ def test_gross_errors_are_weighed_down_by_a_robust_loss(tmp_path):
                                  loss="banana")
 
 
+def test_a_change_during_the_run_is_named(tmp_path):
+    gecaro.parallel_generate("hexapod", "frame", 200, noise=2e-5, seed=5,
+                             path=tmp_path / "poses.csv")
+    lines = (tmp_path / "poses.csv").read_text().splitlines()
+    x = lines[0].split(",").index("x")
+    for row in range(181, 201):
+        values = lines[row].split(",")
+        values[x] = str(float(values[x]) + 0.3e-3)
+        lines[row] = ",".join(values)
+    (tmp_path / "bumped.csv").write_text("\n".join(lines) + "\n")
+    result = gecaro.parallel_identify("hexapod", "frame", tmp_path / "bumped.csv", sigma="20um",
+                                      loss="cauchy")
+    assert result["outcome"] == "changed" and not result["trusted"]
+    assert result["change"]["lines"] == [182, 201] and result["change"]["to_end"]
+    assert "the data changed during the run" in result["summary"]
+
+
 def test_a_serial_function_refuses_the_hexapod_by_name():
     with pytest.raises(gecaro.errors.InputError, match="a parallel robot"):
         gecaro.Robot.load("hexapod")

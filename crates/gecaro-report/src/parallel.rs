@@ -153,7 +153,8 @@ fn summary(input: &PlatformReportInput<'_>) -> Markup {
             tr {
                 td { "result" }
                 td class=(if outcome.solved() { "ok" } else { "bad" }) {
-                    (outcome.as_str().replace('_', " ")) " after " (result.iterations) " iterations"
+                    (outcome.as_str().replace('_', " ")) " after " (result.iterations)
+                    (if result.iterations == 1 { " iteration" } else { " iterations" })
                 }
             }
             tr {

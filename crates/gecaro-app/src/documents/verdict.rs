@@ -138,6 +138,21 @@ pub struct CellChangeJson {
     pub chance: f64,
 }
 
+impl From<&gecaro_calib::identification::CellChange> for CellChangeJson {
+    fn from(change: &gecaro_calib::identification::CellChange) -> Self {
+        Self {
+            set: change.set,
+            label: change.label.clone(),
+            observations: vec![change.first + 1, change.last + 1],
+            lines: change.lines.map(|(first, last)| vec![first, last]),
+            to_end: change.to_end(),
+            outliers_inside: change.outliers_inside,
+            outliers_elsewhere: change.outliers_elsewhere,
+            chance: change.chance,
+        }
+    }
+}
+
 /// Where an identification's result holds (see
 /// [`gecaro_calib::identification::RegionPrediction`]); joint ranges as
 /// `[min, max]` per joint in radians (metres for a prismatic joint),
@@ -294,20 +309,7 @@ impl From<&Verdict> for VerdictJson {
                 tool_observed: verdict.coverage.tool_observed,
                 base_observed: verdict.coverage.base_observed,
             },
-            changes: verdict
-                .changes
-                .iter()
-                .map(|change| CellChangeJson {
-                    set: change.set,
-                    label: change.label.clone(),
-                    observations: vec![change.first + 1, change.last + 1],
-                    lines: change.lines.map(|(first, last)| vec![first, last]),
-                    to_end: change.to_end(),
-                    outliers_inside: change.outliers_inside,
-                    outliers_elsewhere: change.outliers_elsewhere,
-                    chance: change.chance,
-                })
-                .collect(),
+            changes: verdict.changes.iter().map(Into::into).collect(),
             sets: verdict
                 .sets
                 .iter()

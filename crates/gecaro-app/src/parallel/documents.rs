@@ -178,6 +178,10 @@ pub struct PlatformIdentificationDocument {
     pub rejected: Vec<PlatformOutlierDocument>,
     /// The prior the fit was held by, in words (`1 mm, 0.05°, 0.1 %`).
     pub prior: Option<String>,
+    /// The block of measurements that disagrees with the rest in the
+    /// file's row order (the cell changed during the run; outcome
+    /// `changed`), as a serial identification's `changes` are written.
+    pub change: Option<crate::documents::CellChangeJson>,
 }
 
 impl PlatformIdentificationDocument {

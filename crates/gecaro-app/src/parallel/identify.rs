@@ -195,7 +195,10 @@ impl ParallelIdentifyRequest {
         options.loss = Loss::from_parts(kind, self.loss_scale)?;
         options.reject = self.reject.unwrap_or(false);
         options.prior = crate::settings::prior(self.prior.as_deref(), None)?;
-        let result = identify_platform(&nominal.robot, &samples, measure, noise, &options)?;
+        let mut result = identify_platform(&nominal.robot, &samples, measure, noise, &options)?;
+        if let Some(change) = &mut result.change {
+            change.label.clone_from(&read.label);
+        }
         let errors_before = platform_errors(&nominal.robot, &samples, measure)?;
         let errors_after = platform_errors(&result.calibrated, &samples, measure)?;
         let name = format!("{} (calibrated)", nominal.robot.name());
@@ -299,6 +302,7 @@ impl ParallelIdentifyRequest {
             weighed_down: weighed_down(&result.weights),
             ignored: ignored(&result.weights),
             prior: result.prior.as_ref().map(prior_words),
+            change: result.change.as_ref().map(Into::into),
             rejected: result
                 .rejected
                 .iter()
@@ -477,6 +481,16 @@ fn verdict(result: &PlatformIdentification<ParallelRobot>) -> String {
                 .as_ref()
                 .map_or_else(String::new, PlatformRegion::words)
         ),
+        Outcome::Changed => format!(
+            "converged, but the data changed during the run: {}",
+            result.change.as_ref().map_or_else(String::new, |change| {
+                change.words_with(
+                    gecaro_calib::identification::DEFAULT_OUTLIER_THRESHOLD,
+                    "leave those rows out (a file of their own is identified as another \
+                     cell), or measure the platform again",
+                )
+            })
+        ),
         Outcome::Untested => format!(
             "converged in {} iterations; no σ was stated, so the fit is not tested against the \
              noise",
@@ -509,9 +523,10 @@ fn verdict(result: &PlatformIdentification<ParallelRobot>) -> String {
             )
         }
         Outcome::NotConverged => format!(
-            "not converged after {} iterations: more iterations, or a nominal platform nearer \
+            "not converged after {} iteration{}: more iterations, or a nominal platform nearer \
              the real one",
-            result.iterations
+            result.iterations,
+            if result.iterations == 1 { "" } else { "s" }
         ),
         _ => "diverged: no step lowered the residuals from the nominal platform; check the \
               robot file and the data's units"

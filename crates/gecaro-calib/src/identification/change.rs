@@ -68,8 +68,17 @@ impl CellChange {
         self.last + 1 == self.observations
     }
 
-    /// The block in words, for the verdict.
+    /// The block in words, for the verdict of a study's set.
     pub fn words(&self, threshold: f64) -> String {
+        self.words_with(
+            threshold,
+            "state the change — split the set there, the later rows a set of their own with \
+             their own tool or station — or leave those rows out",
+        )
+    }
+
+    /// The block in words, ending with `remedy`: what to do about it.
+    pub fn words_with(&self, threshold: f64, remedy: &str) -> String {
         let span = self.last - self.first + 1;
         let lines = self.lines.map_or_else(String::new, |(first, last)| {
             format!(" (lines {first}–{last})")
@@ -87,8 +96,7 @@ impl CellChange {
             "{}: observations {}–{}{lines} disagree with the rest as one block ({} of these {span} \
              beyond {threshold} σ̂, {} of the other {}), which scattered gross errors are not: the \
              cell seems to have changed {when} (a reflector re-seated, the tracker moved or \
-             bumped?); state the change — split the set there, the later rows a set of their own \
-             with their own tool or station — or leave those rows out",
+             bumped?); {remedy}",
             self.label,
             self.first + 1,
             self.last + 1,
@@ -117,26 +125,42 @@ pub(super) fn cell_changes(study: &Study, outliers: &[Outlier]) -> Vec<CellChang
             .grouped_observations(set.samples.as_slice())
             .map_or(set.samples.len(), |groups| groups.len());
         let positions: Vec<usize> = located.iter().map(|o| o.location.observation).collect();
-        let Some((i, j, chance)) = densest_block(&positions, observations) else {
-            continue;
-        };
-        let line = |outlier: &Outlier, last: bool| {
-            let lines = &outlier.location.lines;
+        let line = |k: usize, last: bool| {
+            let lines = &located[k].location.lines;
             if last { lines.last() } else { lines.first() }.copied()
         };
-        changes.push(CellChange {
-            set: index,
-            label: set.label.clone(),
-            first: positions[i],
-            last: positions[j],
+        changes.extend(change_among(
+            (index, &set.label),
+            &positions,
             observations,
-            lines: line(located[i], false).zip(line(located[j], true)),
-            outliers_inside: j - i + 1,
-            outliers_elsewhere: positions.len() - (j - i + 1),
-            chance,
-        });
+            line,
+        ));
     }
     changes
+}
+
+/// The change among the outliers at the sorted observation `positions`
+/// of set `(index, label)` of `observations` (module docs): `line(k,
+/// last)` is the first (last) line of the `k`-th outlier's observation,
+/// when known. For data outside a study too (a parallel robot's).
+pub(crate) fn change_among(
+    (set, label): (usize, &str),
+    positions: &[usize],
+    observations: usize,
+    line: impl Fn(usize, bool) -> Option<usize>,
+) -> Option<CellChange> {
+    let (i, j, chance) = densest_block(positions, observations)?;
+    Some(CellChange {
+        set,
+        label: label.to_owned(),
+        first: positions[i],
+        last: positions[j],
+        observations,
+        lines: line(i, false).zip(line(j, true)),
+        outliers_inside: j - i + 1,
+        outliers_elsewhere: positions.len() - (j - i + 1),
+        chance,
+    })
 }
 
 /// The densest block of the sorted outlier `positions` among `n`

@@ -125,6 +125,7 @@ use crate::identifiability::{ParameterStatus, structural_parameters_at};
 use crate::progress::{Observer, Progress, Quiet, report};
 use crate::study::{Study, StudyStates};
 
+pub(crate) use change::change_among;
 pub use change::{CHANGE_LEVEL, CellChange, MIN_CHANGED};
 pub use coarse::COARSE_FRACTION;
 pub use coverage::{Coverage, MIN_REDUNDANCY, STILL_RANGE, UnobservedScale};

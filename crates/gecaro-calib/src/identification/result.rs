@@ -321,10 +321,11 @@ impl Identification {
                 .as_ref()
                 .map_or_else(String::new, |join| format!(": {}", join.words()));
             return Some(format!(
-                "the identification did not converge ({}) after {} iterations; best residual RMS \
-                 {:.3e}{cause}",
+                "the identification did not converge ({}) after {} iteration{}; best residual \
+                 RMS {:.3e}{cause}",
                 self.stop_reason.as_str().replace('_', " "),
                 self.iterations(),
+                if self.iterations() == 1 { "" } else { "s" },
                 self.rms_after(),
             ));
         }

@@ -493,19 +493,17 @@ impl Verdict {
 
     /// The summary sentence after `iterations` updates, for `unknowns`.
     pub(super) fn sentence(&self, iterations: usize, unknowns: usize) -> String {
-        let converged = format!(
-            "converged after {iterations} iteration{}",
-            if iterations == 1 { "" } else { "s" }
-        );
+        let plural = if iterations == 1 { "" } else { "s" };
+        let converged = format!("converged after {iterations} iteration{plural}");
         let residual = self.residual_words();
         match self.outcome {
             Outcome::Diverged => format!(
-                "diverged after {iterations} iterations: no step lowered the residual; the \
-                 result is the best iterate, not a solution"
+                "diverged after {iterations} iteration{plural}: no step lowered the residual; \
+                 the result is the best iterate, not a solution"
             ),
             Outcome::NotConverged => format!(
                 "not converged: the iteration limit came first, after {iterations} \
-                 iterations; the result is the best iterate, not a solution"
+                 iteration{plural}; the result is the best iterate, not a solution"
             ),
             Outcome::Degenerate => format!(
                 "degenerate data: {} distinct configuration{} of {} cannot determine {unknowns} \

@@ -6,6 +6,7 @@ use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};
 use gecaro_data::sample::Sample;
 use nalgebra::Isometry3;
 
+use super::changed::changed_block;
 use super::descent::{Descent, PriorRows, base_system, descend, system_at};
 use super::identifiability::{PlatformRankReport, rank_of};
 use super::measure::{PlatformMeasure, PlatformNoise};
@@ -17,7 +18,7 @@ use super::reweighting::{Reweighted, reweighted};
 use crate::Error;
 use crate::identifiability::ParameterStatus;
 use crate::identification::{
-    DEFAULT_OUTLIER_THRESHOLD, Loss, LossKind, NoiseTest, Outcome, noise_test,
+    CellChange, DEFAULT_OUTLIER_THRESHOLD, Loss, LossKind, NoiseTest, Outcome, noise_test,
 };
 use gecaro_core::JointRegion;
 use gecaro_data::prior::Prior;
@@ -157,6 +158,12 @@ pub struct PlatformIdentification<M> {
     /// ([`reject`](PlatformIdentificationOptions::reject)): their first
     /// line and residual ratio in the fit with them, the largest first.
     pub rejected: Vec<(Option<usize>, f64)>,
+    /// The observations that disagree with the rest as one block in the
+    /// data's row order, at the first fit (before a robust loss or a
+    /// rejection weighs them down): the cell changed during the
+    /// measurement (the test of [`CellChange`]); the outcome is then
+    /// [`Outcome::Changed`]. Its label is empty.
+    pub change: Option<CellChange>,
 }
 
 /// Identifies `nominal`'s parameters from `samples` measured by `measure`,
@@ -189,8 +196,10 @@ pub fn identify_platform<M: ParallelModel>(
         });
     }
     let (result, standing_out) = fit_platform(nominal, samples, measure, noise, options)?;
+    let indices: Vec<usize> = standing_out.iter().map(|(index, _)| *index).collect();
+    let change = changed_block(samples, measure, &indices);
     if !options.reject || standing_out.is_empty() || !result.outcome.solved() {
-        return Ok(result);
+        return Ok(with_change(result, change));
     }
     // What stands out of a fit the gross errors do not bend: least squares
     // spreads them over their neighbours (four Delta points 0.5 mm off
@@ -208,7 +217,7 @@ pub fn identify_platform<M: ParallelModel>(
         standing_out
     };
     if standing_out.is_empty() {
-        return Ok(result);
+        return Ok(with_change(result, change));
     }
     let taken = measure.samples_per_observation();
     let dropped: Vec<usize> = standing_out.iter().map(|(index, _)| *index).collect();
@@ -223,7 +232,21 @@ pub fn identify_platform<M: ParallelModel>(
         .into_iter()
         .map(|(index, ratio)| (samples[index * taken].line, ratio))
         .collect();
-    Ok(again)
+    Ok(with_change(again, change))
+}
+
+/// `result` with the change found at the first fit: a solved fit whose
+/// data changed during the run is [`Outcome::Changed`], whatever its
+/// residuals say (they are those of the cell before or after it).
+fn with_change<M>(
+    mut result: PlatformIdentification<M>,
+    change: Option<CellChange>,
+) -> PlatformIdentification<M> {
+    if change.is_some() && result.outcome.solved() {
+        result.outcome = Outcome::Changed;
+    }
+    result.change = change;
+    result
 }
 
 /// Every observation that stands out of a fit: its index and residual
@@ -510,6 +533,7 @@ fn fit_platform<M: ParallelModel>(
         robust_sigma,
         rejected: Vec::new(),
         prior: applied_prior.cloned(),
+        change: None,
     };
     Ok((result, standing_out))
 }

@@ -46,6 +46,7 @@
 //! 1999; D. Daney, "Kinematic calibration of the Gough platform",
 //! Robotica, 2003.
 
+mod changed;
 mod descent;
 mod evaluation;
 mod identifiability;

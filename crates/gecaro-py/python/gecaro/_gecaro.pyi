@@ -822,7 +822,9 @@ def parallel_identify(
     over the workspace, or over ``work_region`` when given — actuator
     ranges with their units, ``"qm1=-10..10mm,qm4=-5..5mm"`` —,
     ``"holds_everywhere"``; outcome ``"regional"`` when it holds near the
-    data only). A robust ``loss`` (``loss_scale`` robust σ̂) weighs each
+    data only; ``"changed"``, with ``"change"`` — the block's lines —, when
+    the measurements disagree as one block in the file's order: the cell
+    changed during the run). A robust ``loss`` (``loss_scale`` robust σ̂) weighs each
     measurement down by its residual after the least-squares fit:
     ``"loss"``, ``"reweightings"``, ``"robust_sigma"``, ``"weighed_down"``,
     ``"ignored"``; ``reject`` drops the measurements that stand out and
