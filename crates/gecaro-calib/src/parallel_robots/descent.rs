@@ -57,7 +57,7 @@ impl PriorRows {
 ///
 /// # Errors
 /// As [`normal_system`].
-pub(super) fn system_at<M: ParallelModel>(
+fn system_at<M: ParallelModel>(
     model: &M,
     values: &[f64],
     samples: &[Sample],
@@ -182,6 +182,32 @@ pub(super) fn descend<M: ParallelModel>(
         converged,
         diverged,
     })
+}
+
+/// [`descend`] from `from` under another weighting `(weights, prior)`: the
+/// normal system re-formed at `from`'s parameters with it first (a robust
+/// loss's new weights, a prior's rows added after the least-squares fit).
+///
+/// # Errors
+/// As [`descend`].
+pub(super) fn descend_reweighted<M: ParallelModel>(
+    nominal: &M,
+    samples: &[Sample],
+    fit: (PlatformMeasure, Option<PlatformNoise>),
+    weighting: (Option<&[f64]>, &PriorRows),
+    base: &[usize],
+    mut from: Descent<M>,
+    limits: (usize, f64),
+) -> Result<Descent<M>, Error> {
+    from.system = system_at(
+        &from.current,
+        &from.values,
+        samples,
+        fit,
+        weighting,
+        &mut from.poses,
+    )?;
+    descend(nominal, samples, fit, weighting, base, from, limits)
 }
 
 /// The normal equations of the base columns: their inverse (the

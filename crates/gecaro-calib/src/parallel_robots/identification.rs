@@ -7,7 +7,7 @@ use gecaro_data::sample::Sample;
 use nalgebra::Isometry3;
 
 use super::changed::changed_block;
-use super::descent::{Descent, PriorRows, base_system, descend, system_at};
+use super::descent::{Descent, PriorRows, base_system, descend, descend_reweighted};
 use super::identifiability::{PlatformRankReport, rank_of};
 use super::measure::{PlatformMeasure, PlatformNoise};
 use super::observation::{NormalSystem, normal_system, platform_rows};
@@ -319,15 +319,7 @@ fn fit_platform<M: ParallelModel>(
             let unit =
                 (descent.system.cost / count.saturating_sub(rank.base.len()).max(1) as f64).sqrt();
             let rows = prior_rows(nominal, prior, &rank.base, unit);
-            descent.system = system_at(
-                &descent.current,
-                &descent.values,
-                samples,
-                fit,
-                (None, &rows),
-                &mut descent.poses,
-            )?;
-            descent = descend(
+            descent = descend_reweighted(
                 nominal,
                 samples,
                 fit,

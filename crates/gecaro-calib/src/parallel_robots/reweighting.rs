@@ -7,7 +7,7 @@
 use gecaro_core::parallel_model::ParallelModel;
 use gecaro_data::sample::Sample;
 
-use super::descent::{Descent, PriorRows, descend, system_at};
+use super::descent::{Descent, PriorRows, descend_reweighted};
 use super::measure::{PlatformMeasure, PlatformNoise};
 use crate::Error;
 use crate::identification::{DEFAULT_OUTLIER_THRESHOLD, Loss, MAX_REWEIGHTINGS};
@@ -66,7 +66,7 @@ pub(super) struct Reweighted<M> {
 /// converge, is returned as it is.
 ///
 /// # Errors
-/// As [`system_at`] and [`descend`].
+/// As [`descend_reweighted`].
 pub(super) fn reweighted<M: ParallelModel>(
     nominal: &M,
     samples: &[Sample],
@@ -116,15 +116,7 @@ pub(super) fn reweighted<M: ParallelModel>(
             // (the least-squares σ̂ carries the gross errors).
             let prior = prior.with_unit(sigma);
             let prior = &prior;
-            descent.system = system_at(
-                &descent.current,
-                &descent.values,
-                samples,
-                fit,
-                (Some(&weights), prior),
-                &mut descent.poses,
-            )?;
-            descent = descend(
+            descent = descend_reweighted(
                 nominal,
                 samples,
                 fit,
