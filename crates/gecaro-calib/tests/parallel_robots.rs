@@ -1254,3 +1254,101 @@ fn a_change_during_the_run_is_named_whatever_the_loss() {
         }
     }
 }
+
+/// `samples` as an instrument whose frame `frame` is the base frame seen
+/// from it measures them: positions and orientations by `frame`.
+fn seen_from(frame: &Isometry3<f64>, samples: Vec<Sample>) -> Vec<Sample> {
+    samples
+        .into_iter()
+        .map(|mut sample| {
+            sample.position = sample
+                .position
+                .map(|p| (frame * nalgebra::Point3::from(p)).coords);
+            sample.orientation = sample.orientation.map(|q| frame.rotation * q);
+            sample
+        })
+        .collect()
+}
+
+/// Two sets measured from two tracker stations, the second 2.5 m away and
+/// turned: identified together, each station's frame an unknown, the
+/// platform is calibrated to the noise floor and the second station found
+/// within its σ; the same data with the second set registered in closed
+/// form on the nominal robot and taken as one set (what a user without
+/// stations would do) carry that registration's error, and say so.
+#[test]
+fn sets_from_two_stations_calibrate_a_platform_with_each_stations_frame() {
+    use gecaro_calib::parallel_robots::identify_platform_sets;
+    use gecaro_calib::parallel_robots::{in_base_frame, measurement_frame};
+    use nalgebra::{Translation3, UnitQuaternion, Vector3};
+    let station = Isometry3::from_parts(
+        Translation3::new(-1.4, 2.1, -0.3),
+        UnitQuaternion::from_scaled_axis(Vector3::new(0.1, -0.2, 1.0).normalize() * 2.2),
+    );
+    for (robot, measure, seed, bound) in [
+        ("hexapod", PlatformMeasure::Pose, 400, 1.2),
+        ("hexapod", PlatformMeasure::Point, 410, 1.3),
+        ("delta", PlatformMeasure::Point, 420, 1.3),
+    ] {
+        let nominal = ready(robot);
+        let real = perturbed_platform(&nominal, 1.0, &mut Sampler::new(seed)).expect("real");
+        let first = measured(&real, measure, 40, NOISE, seed + 1);
+        let second = seen_from(&station, measured(&real, measure, 40, NOISE, seed + 2));
+        let options = PlatformIdentificationOptions::default();
+        let result =
+            identify_platform_sets(&nominal, &[&first, &second], measure, Some(NOISE), &options)
+                .expect("identified");
+        let held_out = measured(&real, measure, 200, NOISE, seed + 3);
+        let floor = platform_errors(&real, &held_out, measure)
+            .expect("floor")
+            .position_rms;
+        let rms = |robot: &ParallelRobot| {
+            platform_errors(robot, &held_out, measure)
+                .expect("errors")
+                .position_rms
+        };
+        let found = &result.stations[0];
+        let sigma = found.sigma;
+        let off = found.frame.translation.vector - station.translation.vector;
+        let turned = (found.frame.rotation * station.rotation.inverse()).scaled_axis();
+        // The station's error in units of its σ, along the base axes
+        // (the correction's translation is at the base origin: the
+        // station's own, turned by its rotation, is what the σ bound).
+        let seen = found.frame.rotation.inverse() * off;
+        let within = (0..3)
+            .map(|k| seen[k].abs() / sigma[k])
+            .chain((0..3).map(|k| turned[k].abs() / sigma[3 + k]))
+            .fold(0.0, f64::max);
+        // One set as a user without stations would have it: the second
+        // registered in closed form on the nominal robot.
+        let registered = measurement_frame(&nominal, &second, measure).expect("a frame");
+        let together: Vec<Sample> = first
+            .iter()
+            .cloned()
+            .chain(in_base_frame(&second, &registered))
+            .collect();
+        let as_one = identify_platform(&nominal, &together, measure, Some(NOISE), &options)
+            .expect("identified as one");
+        println!(
+            "{robot} {measure:?}: floor {:.4} mm; two stations {:.4} mm ({:?}), station off \
+             {:.3} mm, {:.3} mrad, {within:.2} σ at most; as one set {:.4} mm ({:?}, σ̂/σ {:.2})",
+            floor * 1e3,
+            rms(&result.calibrated) * 1e3,
+            result.outcome,
+            off.norm() * 1e3,
+            turned.norm() * 1e3,
+            rms(&as_one.calibrated) * 1e3,
+            as_one.outcome,
+            as_one.noise_test.map_or(f64::NAN, |test| test.sigma_ratio),
+        );
+        assert_eq!(result.outcome, Outcome::FitsNoise, "{robot} {measure:?}");
+        assert_eq!(result.stations.len(), 1);
+        assert!(
+            rms(&result.calibrated) <= bound * floor,
+            "{robot} {measure:?}: {} against the floor {floor}",
+            rms(&result.calibrated)
+        );
+        assert!(within < 4.0, "{robot} {measure:?}: the station {within} σ off");
+        assert_ne!(as_one.outcome, Outcome::FitsNoise, "{robot} {measure:?}");
+    }
+}

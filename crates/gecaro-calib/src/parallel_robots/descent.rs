@@ -10,6 +10,7 @@ use nalgebra::{DMatrix, DVector, Isometry3};
 
 use super::measure::{PlatformMeasure, PlatformNoise};
 use super::observation::{NormalSystem, normal_system};
+use super::stations::StationFrames;
 use crate::Error;
 
 /// A Gauss–Newton step every component of which is below this part of its
@@ -51,9 +52,20 @@ impl PriorRows {
     }
 }
 
-/// The normal system of `samples` measured by `fit` at `model` (whose
-/// parameters are `values`), with the observations' `weights` and the
-/// `prior`'s rows; `poses` as for [`normal_system`].
+/// What a fit's samples are: their measure, their noise when stated, and
+/// the stations that measured them ([`super::stations`]: with several,
+/// the unknowns of their corrections follow the robot's parameters).
+#[derive(Clone, Copy)]
+pub(super) struct Fit<'a> {
+    pub(super) measure: PlatformMeasure,
+    pub(super) noise: Option<PlatformNoise>,
+    pub(super) stations: &'a StationFrames,
+}
+
+/// The normal system of `samples` measured as `fit` says at `model` (whose
+/// parameters, with the stations' corrections after them, are `values`),
+/// with the observations' `weights` and the `prior`'s rows; `poses` as
+/// for [`normal_system`].
 ///
 /// # Errors
 /// As [`normal_system`].
@@ -61,17 +73,27 @@ fn system_at<M: ParallelModel>(
     model: &M,
     values: &[f64],
     samples: &[Sample],
-    (measure, noise): (PlatformMeasure, Option<PlatformNoise>),
+    fit: Fit<'_>,
     (weights, prior): (Option<&[f64]>, &PriorRows),
     poses: &mut Vec<Isometry3<f64>>,
 ) -> Result<NormalSystem, Error> {
-    let mut system = normal_system(model, samples, measure, noise, weights, poses)?;
+    let stations = fit.stations.at(&values[model.parameter_count()..]);
+    let mut system = normal_system(
+        model,
+        samples,
+        fit.measure,
+        fit.noise,
+        weights,
+        &stations,
+        poses,
+    )?;
     prior.add_to(&mut system, values);
     Ok(system)
 }
 
-/// Where a Gauss–Newton descent is: the parameters, the robot they make,
-/// its normal system and each sample's solved pose.
+/// Where a Gauss–Newton descent is: the parameters (and the stations'
+/// corrections after them), the robot they make, its normal system and
+/// each sample's solved pose.
 pub(super) struct Descent<M> {
     pub(super) values: Vec<f64>,
     pub(super) current: M,
@@ -92,7 +114,7 @@ pub(super) struct Descent<M> {
 pub(super) fn descend<M: ParallelModel>(
     nominal: &M,
     samples: &[Sample],
-    fit: (PlatformMeasure, Option<PlatformNoise>),
+    fit: Fit<'_>,
     (weights, prior): (Option<&[f64]>, &PriorRows),
     base: &[usize],
     from: Descent<M>,
@@ -140,7 +162,7 @@ pub(super) fn descend<M: ParallelModel>(
             for (column, step) in base.iter().zip(solution.iter()) {
                 trial[*column] += scale * step;
             }
-            let Ok(model) = nominal.with_parameters(&trial) else {
+            let Ok(model) = nominal.with_parameters(&trial[..nominal.parameter_count()]) else {
                 continue;
             };
             let mut trial_poses = poses.clone();
@@ -193,7 +215,7 @@ pub(super) fn descend<M: ParallelModel>(
 pub(super) fn descend_reweighted<M: ParallelModel>(
     nominal: &M,
     samples: &[Sample],
-    fit: (PlatformMeasure, Option<PlatformNoise>),
+    fit: Fit<'_>,
     weighting: (Option<&[f64]>, &PriorRows),
     base: &[usize],
     mut from: Descent<M>,

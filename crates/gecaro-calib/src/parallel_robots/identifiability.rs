@@ -9,6 +9,7 @@ use gecaro_data::sample::Sample;
 
 use super::measure::PlatformMeasure;
 use super::observation::{PlatformRows, platform_rows};
+use super::stations::StationFrames;
 use crate::Error;
 use crate::identifiability::{ParameterStatus, RELATIVE_ZERO_FLOOR};
 use crate::linalg::{
@@ -68,7 +69,14 @@ pub fn platform_identifiability<M: ParallelModel>(
     samples: &[Sample],
     measure: PlatformMeasure,
 ) -> Result<PlatformRankReport, Error> {
-    let rows = platform_rows(model, samples, measure, None, &mut Vec::new())?;
+    let rows = platform_rows(
+        model,
+        samples,
+        measure,
+        None,
+        &StationFrames::single(),
+        &mut Vec::new(),
+    )?;
     rank_of(model, &rows, measure)
 }
 

@@ -7,14 +7,15 @@ use gecaro_data::sample::Sample;
 use nalgebra::Isometry3;
 
 use super::changed::changed_block;
-use super::descent::{Descent, PriorRows, base_system, descend, descend_reweighted};
+use super::descent::{Descent, Fit, PriorRows, base_system, descend, descend_reweighted};
 use super::identifiability::{PlatformRankReport, rank_of};
 use super::measure::{PlatformMeasure, PlatformNoise};
-use super::observation::{NormalSystem, normal_system, platform_rows};
+use super::observation::{NormalSystem, PlatformRows, normal_system, platform_rows};
 use super::plausible::{PLAUSIBLE_ANGLE, PLAUSIBLE_GAIN, PLAUSIBLE_LENGTH};
 use super::region::{PlatformRegion, where_it_holds};
 use super::registration::{in_base_frame, measurement_frame};
 use super::reweighting::{Reweighted, reweighted};
+use super::stations::{STATION_UNKNOWNS, StationFrames};
 use crate::Error;
 use crate::identifiability::ParameterStatus;
 use crate::identification::{
@@ -138,6 +139,9 @@ pub struct PlatformIdentification<M> {
     /// The base frame in the instrument's frame, when the data were in
     /// another frame and were registered ([`super::measurement_frame`]).
     pub registered: Option<Isometry3<f64>>,
+    /// Each set's station after the first ([`identify_platform_sets`]), in
+    /// order: empty for one set.
+    pub stations: Vec<PlatformStation>,
     /// The loss the fit minimised (least squares where a robust one was
     /// asked for but the least-squares fit it starts from did not converge).
     pub loss: Loss,
@@ -166,6 +170,17 @@ pub struct PlatformIdentification<M> {
     pub change: Option<CellChange>,
 }
 
+/// A later set's station, identified: where the base frame is seen from it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlatformStation {
+    /// The base frame in the station's frame: its closed-form registration
+    /// with the identified correction (what the set's data are read in).
+    pub frame: Isometry3<f64>,
+    /// σ of the correction's translation (m, along the base frame's axes)
+    /// and rotation (rad, about them).
+    pub sigma: [f64; 6],
+}
+
 /// Identifies `nominal`'s parameters from `samples` measured by `measure`,
 /// their noise `noise` when stated (each row weighted by its σ, the
 /// residuals tested against it). With [`reject`](PlatformIdentificationOptions::reject),
@@ -183,6 +198,26 @@ pub fn identify_platform<M: ParallelModel>(
     noise: Option<PlatformNoise>,
     options: &PlatformIdentificationOptions,
 ) -> Result<PlatformIdentification<M>, Error> {
+    identify_platform_sets(nominal, &[samples], measure, noise, options)
+}
+
+/// [`identify_platform`] from several sets, each measured from its own
+/// station (a tracker moved between them): each registered in closed
+/// form, the first's frame the base frame, and every later one's small
+/// correction identified with the parameters ([`super::stations`];
+/// [`PlatformIdentification::stations`]). Distances have no frame: their
+/// sets are one set. The samples' lines are their own file's; their
+/// observations are counted over the sets in order.
+///
+/// # Errors
+/// As [`identify_platform`]; no set at all.
+pub fn identify_platform_sets<M: ParallelModel>(
+    nominal: &M,
+    sets: &[&[Sample]],
+    measure: PlatformMeasure,
+    noise: Option<PlatformNoise>,
+    options: &PlatformIdentificationOptions,
+) -> Result<PlatformIdentification<M>, Error> {
     if options
         .prior
         .as_ref()
@@ -195,9 +230,29 @@ pub fn identify_platform<M: ParallelModel>(
                 .into(),
         });
     }
-    let (result, standing_out) = fit_platform(nominal, samples, measure, noise, options)?;
+    let samples: Vec<Sample> = sets.iter().flat_map(|set| set.iter().cloned()).collect();
+    let taken = measure.samples_per_observation();
+    if let Some(set) = sets.iter().find(|set| !set.len().is_multiple_of(taken)) {
+        return Err(Error::InvalidData {
+            line: set.last().and_then(|sample| sample.line),
+            message: "a distance is measured between two rows: the set ends with half a pair"
+                .into(),
+        });
+    }
+    let stations = if sets.len() > 1 && measure != PlatformMeasure::Distance {
+        StationFrames::new(
+            sets.iter()
+                .enumerate()
+                .flat_map(|(station, set)| std::iter::repeat_n(station, set.len()))
+                .collect(),
+        )
+    } else {
+        StationFrames::single()
+    };
+    let (result, standing_out) =
+        fit_platform(nominal, &samples, &stations, measure, noise, options)?;
     let indices: Vec<usize> = standing_out.iter().map(|(index, _)| *index).collect();
-    let change = changed_block(samples, measure, &indices);
+    let change = changed_block(&samples, measure, &indices);
     if !options.reject || standing_out.is_empty() || !result.outcome.solved() {
         return Ok(with_change(result, change));
     }
@@ -209,7 +264,7 @@ pub fn identify_platform<M: ParallelModel>(
             loss: Loss::new(LossKind::Huber),
             ..options.clone()
         };
-        match fit_platform(nominal, samples, measure, noise, &judge)? {
+        match fit_platform(nominal, &samples, &stations, measure, noise, &judge)? {
             (judged, standing_out) if judged.outcome.solved() => standing_out,
             _ => standing_out,
         }
@@ -219,15 +274,20 @@ pub fn identify_platform<M: ParallelModel>(
     if standing_out.is_empty() {
         return Ok(with_change(result, change));
     }
-    let taken = measure.samples_per_observation();
     let dropped: Vec<usize> = standing_out.iter().map(|(index, _)| *index).collect();
-    let kept: Vec<Sample> = samples
-        .chunks_exact(taken)
-        .enumerate()
-        .filter(|(index, _)| !dropped.contains(index))
-        .flat_map(|(_, observation)| observation.iter().cloned())
+    let keep = |index: usize| !dropped.contains(&(index / taken));
+    let kept: Vec<Sample> = (0..samples.len())
+        .filter(|index| keep(*index))
+        .map(|index| samples[index].clone())
         .collect();
-    let (mut again, _) = fit_platform(nominal, &kept, measure, noise, options)?;
+    let (mut again, _) = fit_platform(
+        nominal,
+        &kept,
+        &stations.kept(keep),
+        measure,
+        noise,
+        options,
+    )?;
     again.rejected = standing_out
         .into_iter()
         .map(|(index, ratio)| (samples[index * taken].line, ratio))
@@ -258,28 +318,32 @@ type StandingOut = Vec<(usize, f64)>;
 fn fit_platform<M: ParallelModel>(
     nominal: &M,
     samples: &[Sample],
+    stations: &StationFrames,
     measure: PlatformMeasure,
     noise: Option<PlatformNoise>,
     options: &PlatformIdentificationOptions,
 ) -> Result<(PlatformIdentification<M>, StandingOut), Error> {
-    // Data an instrument took in its own frame, brought into the base frame.
-    let registered = measurement_frame(nominal, samples, measure);
-    let moved;
-    let samples = match &registered {
-        Some(frame) => {
-            moved = in_base_frame(samples, frame);
-            moved.as_slice()
-        }
-        None => samples,
-    };
-    let mut rank = structural_rank(nominal, samples, measure, noise)?;
+    // Data an instrument took in its own frame, brought into the base
+    // frame, a station at a time.
+    let (registrations, moved) = register_stations(nominal, samples, stations, measure);
+    let registered = registrations.first().copied().flatten();
+    let samples = moved.as_deref().unwrap_or(samples);
+    let mut rank = structural_rank(nominal, samples, stations, measure, noise)?;
+    let parameter_count = nominal.parameter_count();
+    // The identified columns: the base set, then the stations' corrections.
+    let base: Vec<usize> = rank
+        .base
+        .iter()
+        .copied()
+        .chain(parameter_count..parameter_count + stations.unknowns())
+        .collect();
     let mut poses: Vec<Isometry3<f64>> = Vec::new();
-    let system = normal_system(nominal, samples, measure, noise, None, &mut poses)?;
+    let system = normal_system(nominal, samples, measure, noise, None, stations, &mut poses)?;
     let count = system.rows;
-    if count < rank.base.len() {
+    if count < base.len() {
         return Err(Error::TooFewEquations {
             equations: count,
-            unknowns: rank.base.len(),
+            unknowns: base.len(),
         });
     }
     let rms = |system: &NormalSystem| {
@@ -287,8 +351,10 @@ fn fit_platform<M: ParallelModel>(
         (system.cost / count as f64).sqrt() * sigma
     };
     let rms_before = rms(&system);
+    let mut values = nominal.parameters();
+    values.resize(parameter_count + stations.unknowns(), 0.0);
     let start = Descent {
-        values: nominal.parameters(),
+        values,
         current: nominal.clone(),
         system,
         poses,
@@ -296,18 +362,14 @@ fn fit_platform<M: ParallelModel>(
         converged: false,
         diverged: false,
     };
-    let fit = (measure, noise);
+    let fit = Fit {
+        measure,
+        noise,
+        stations,
+    };
     let limits = (options.max_iterations, options.tolerance);
     let none = PriorRows::default();
-    let mut descent = descend(
-        nominal,
-        samples,
-        fit,
-        (None, &none),
-        &rank.base,
-        start,
-        limits,
-    )?;
+    let mut descent = descend(nominal, samples, fit, (None, &none), &base, start, limits)?;
     let mut iterations = descent.iterations;
     // A prior: its rows weighted by the least-squares fit's σ̂ of unit
     // weight (as a serial robot's, maximum a posteriori with the noise the
@@ -317,17 +379,10 @@ fn fit_platform<M: ParallelModel>(
     let prior = match applied_prior {
         Some(prior) => {
             let unit =
-                (descent.system.cost / count.saturating_sub(rank.base.len()).max(1) as f64).sqrt();
+                (descent.system.cost / count.saturating_sub(base.len()).max(1) as f64).sqrt();
             let rows = prior_rows(nominal, prior, &rank.base, unit);
-            descent = descend_reweighted(
-                nominal,
-                samples,
-                fit,
-                (None, &rows),
-                &rank.base,
-                descent,
-                limits,
-            )?;
+            descent =
+                descend_reweighted(nominal, samples, fit, (None, &rows), &base, descent, limits)?;
             iterations += descent.iterations;
             rows
         }
@@ -343,7 +398,7 @@ fn fit_platform<M: ParallelModel>(
         nominal,
         samples,
         fit,
-        (&rank.base, &prior),
+        (&base, &prior),
         &options.loss,
         descent,
         limits,
@@ -358,9 +413,10 @@ fn fit_platform<M: ParallelModel>(
         diverged,
         ..
     } = descent;
-    let (inverse, _) = base_system(&system, &rank.base)?;
+    let (inverse, _) = base_system(&system, &base)?;
     rank.rows = count;
-    rank.condition_number = condition(&system, &rank.base);
+    rank.condition_number = condition(&system, &base);
+    let corrections = stations.at(&values[parameter_count..]);
     // What the test and σ̂ read: in least squares the fit's cost; with a
     // robust loss the residuals as measured of the observations within the
     // outlier threshold of σ̂ (as a serial robot's, `identification::tested`:
@@ -387,7 +443,7 @@ fn fit_platform<M: ParallelModel>(
                 (cost + error * error * rows_each as f64, rows + rows_each)
             }),
     };
-    let freedom = tested_rows.saturating_sub(rank.rank());
+    let freedom = tested_rows.saturating_sub(base.len());
     let test = noise.map(|_| noise_test(tested_cost, freedom));
     // σ̂ of a unit weight: √(χ²/ν) with σ stated, the residuals' own otherwise.
     let unit_sigma = (tested_cost / freedom.max(1) as f64).sqrt();
@@ -400,8 +456,7 @@ fn fit_platform<M: ParallelModel>(
             name,
             nominal: nominal_values[index],
             identified: values[index],
-            sigma: rank
-                .base
+            sigma: base
                 .iter()
                 .position(|c| *c == index)
                 .map(|k| unit_sigma * inverse[(k, k)].sqrt()),
@@ -465,10 +520,18 @@ fn fit_platform<M: ParallelModel>(
                 measure,
                 samples,
                 |index| match measure {
-                    PlatformMeasure::Pose => measure.measured(&samples[index]).ok(),
+                    PlatformMeasure::Pose => measure
+                        .measured(&samples[index])
+                        .ok()
+                        .map(|pose| corrections.corrected_measurement(index, &pose)),
                     PlatformMeasure::Point | PlatformMeasure::Distance => poses.get(index).copied(),
                 },
-                (&rank.base, &(inverse * unit_sigma.powi(2))),
+                // The robot's covariance: the stations' corrections marginalised.
+                (
+                    &rank.base,
+                    &(inverse.view((0, 0), (rank.base.len(), rank.base.len()))
+                        * unit_sigma.powi(2)),
+                ),
                 floor,
                 options.work_region.as_ref(),
             )
@@ -494,6 +557,13 @@ fn fit_platform<M: ParallelModel>(
             None => Outcome::Untested,
         }
     };
+    let later_stations = station_frames(
+        &registrations,
+        &corrections,
+        &inverse,
+        rank.base.len(),
+        unit_sigma,
+    );
     let result = PlatformIdentification {
         calibrated: current,
         parameters,
@@ -514,6 +584,7 @@ fn fit_platform<M: ParallelModel>(
         region,
         outliers,
         registered,
+        stations: later_stations,
         // What the fit did: a robust loss reweights a converged fit only.
         loss: if robust_sigma.is_some() {
             options.loss
@@ -530,15 +601,92 @@ fn fit_platform<M: ParallelModel>(
     Ok((result, standing_out))
 }
 
+/// Each set's samples brought into the base frame, a station at a time
+/// ([`measurement_frame`]): each station's registration (`None` where its
+/// data were in the base frame already, or give no frame) and the moved
+/// samples (`None` when none moved).
+fn register_stations<M: ParallelModel>(
+    nominal: &M,
+    samples: &[Sample],
+    stations: &StationFrames,
+    measure: PlatformMeasure,
+) -> (Vec<Option<Isometry3<f64>>>, Option<Vec<Sample>>) {
+    let count = stations.corrected() + 1;
+    let of_station = |station: usize| -> Vec<usize> {
+        (0..samples.len())
+            .filter(|index| stations.station_of(*index) == station)
+            .collect()
+    };
+    let registrations: Vec<Option<Isometry3<f64>>> = (0..count)
+        .map(|station| {
+            let own: Vec<Sample> = of_station(station)
+                .into_iter()
+                .map(|index| samples[index].clone())
+                .collect();
+            measurement_frame(nominal, &own, measure)
+        })
+        .collect();
+    if registrations.iter().all(Option::is_none) {
+        return (registrations, None);
+    }
+    let mut moved = samples.to_vec();
+    for (station, frame) in registrations.iter().enumerate() {
+        let Some(frame) = frame else { continue };
+        let indices = of_station(station);
+        let own: Vec<Sample> = indices
+            .iter()
+            .map(|index| samples[*index].clone())
+            .collect();
+        for (index, sample) in indices.into_iter().zip(in_base_frame(&own, frame)) {
+            moved[index] = sample;
+        }
+    }
+    (registrations, Some(moved))
+}
+
+/// The later stations' frames and precision: each the base frame in the
+/// station's frame, `T_s·δ_s⁻¹` (its registration `T_s`, the identity
+/// without one; `δ_s` the identified correction), and its correction's σ
+/// from the covariance `inverse·σ̂²` (the corrections' columns after the
+/// `parameters` identified).
+fn station_frames(
+    registrations: &[Option<Isometry3<f64>>],
+    corrections: &StationFrames,
+    inverse: &DMatrix<f64>,
+    parameters: usize,
+    unit_sigma: f64,
+) -> Vec<PlatformStation> {
+    (1..=corrections.corrected())
+        .map(|station| {
+            let registration = registrations
+                .get(station)
+                .copied()
+                .flatten()
+                .unwrap_or_else(Isometry3::identity);
+            let first = parameters + STATION_UNKNOWNS * (station - 1);
+            PlatformStation {
+                frame: registration * corrections.correction(station).inverse(),
+                sigma: std::array::from_fn(|k| {
+                    unit_sigma * inverse[(first + k, first + k)].max(0.0).sqrt()
+                }),
+            }
+        })
+        .collect()
+}
+
 /// Configurations the rank analysis takes at most: the structure's rank
 /// shows in a few thousand equations; more add precision, not rank.
 const RANK_SAMPLES: usize = 2000;
 
 /// The identifiable parameters from at most [`RANK_SAMPLES`] configurations
-/// spread evenly over the data (all of them below that).
+/// spread evenly over the data (all of them below that), measured from
+/// `stations`: their corrections' columns projected out of W first, so
+/// that a parameter whose effect a station's frame takes is not counted
+/// identifiable.
 pub(super) fn structural_rank<M: ParallelModel>(
     nominal: &M,
     samples: &[Sample],
+    stations: &StationFrames,
     measure: PlatformMeasure,
     noise: Option<PlatformNoise>,
 ) -> Result<PlatformRankReport, Error> {
@@ -546,18 +694,47 @@ pub(super) fn structural_rank<M: ParallelModel>(
     let size = measure.samples_per_observation();
     let observations = samples.len() / size;
     let picked = RANK_SAMPLES / size;
-    let taken: Vec<Sample> = if samples.len() <= RANK_SAMPLES {
-        samples.to_vec()
+    let indices: Vec<usize> = if samples.len() <= RANK_SAMPLES {
+        (0..samples.len()).collect()
     } else {
         (0..picked)
             .flat_map(|k| {
                 let first = k * observations / picked * size;
-                samples[first..first + size].to_vec()
+                first..first + size
             })
             .collect()
     };
-    let rows = platform_rows(nominal, &taken, measure, noise, &mut Vec::new())?;
+    let taken: Vec<Sample> = indices
+        .iter()
+        .map(|index| samples[*index].clone())
+        .collect();
+    let mut chosen = vec![false; samples.len()];
+    for index in &indices {
+        chosen[*index] = true;
+    }
+    let stations = stations.kept(|index| chosen[index]);
+    let mut rows = platform_rows(nominal, &taken, measure, noise, &stations, &mut Vec::new())?;
+    if stations.unknowns() > 0 {
+        rows = without_corrections(rows, nominal.parameter_count());
+    }
     rank_of(nominal, &rows, measure)
+}
+
+/// W's first `parameters` columns with what the columns after them (the
+/// stations' corrections) can take projected out: `(I − Q·Qᵀ)·W_ξ`, `Q` an
+/// orthonormal basis of the corrections' columns.
+fn without_corrections(rows: PlatformRows, parameters: usize) -> PlatformRows {
+    let matrix = &rows.matrix;
+    let (count, columns) = (matrix.nrows(), matrix.ncols());
+    let corrections = DMatrix::from_fn(count, columns - parameters, |i, j| {
+        matrix[(i, parameters + j)]
+    });
+    let basis = corrections.qr().q();
+    let own = DMatrix::from_fn(count, parameters, |i, j| matrix[(i, j)]);
+    let projected = &own - &basis * (basis.transpose() * &own);
+    PlatformRows {
+        matrix: faer::Mat::from_fn(count, parameters, |i, j| projected[(i, j)]),
+    }
 }
 
 /// The condition number of the base columns of W: `√(λmax/λmin)` of their

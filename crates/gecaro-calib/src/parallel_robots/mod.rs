@@ -60,11 +60,13 @@ mod region;
 mod registration;
 mod reweighting;
 mod simulation;
+mod stations;
 
 pub use evaluation::{PlatformErrors, platform_errors};
 pub use identifiability::{PlatformRankReport, platform_identifiability};
 pub use identification::{
-    PlatformIdentification, PlatformIdentificationOptions, PlatformParameter, identify_platform,
+    PlatformIdentification, PlatformIdentificationOptions, PlatformParameter, PlatformStation,
+    identify_platform, identify_platform_sets,
 };
 pub use measure::{PlatformMeasure, PlatformNoise};
 pub use planning::{PlannedPoses, plan_platform};

@@ -10,6 +10,7 @@ use gecaro_data::sample::Sample;
 use nalgebra::{DMatrix, DVector, Isometry3, Matrix3, SMatrix};
 
 use super::measure::{PlatformMeasure, PlatformNoise, check_pairs};
+use super::stations::{STATION_UNKNOWNS, StationFrames, point_columns, pose_columns};
 use crate::Error;
 use crate::linalg::add_normal_sums;
 
@@ -22,9 +23,11 @@ pub(super) struct PlatformRows {
 }
 
 /// The rows of `samples` at `model`'s parameters, held (for the rank
-/// analysis of a few thousand configurations). `poses` holds each sample's
-/// last solved pose (the start of its next direct model: the assembly mode
-/// kept, and few Newton steps); it is filled on the first call.
+/// analysis of a few thousand configurations), with the columns of the
+/// `stations`' corrections after the parameters ([`super::stations`]).
+/// `poses` holds each sample's last solved pose (the start of its next
+/// direct model: the assembly mode kept, and few Newton steps); it is
+/// filled on the first call.
 ///
 /// # Errors
 /// A measure the structure cannot take, a sample without the measure's
@@ -35,12 +38,13 @@ pub(super) fn platform_rows<M: ParallelModel>(
     samples: &[Sample],
     measure: PlatformMeasure,
     noise: Option<PlatformNoise>,
+    stations: &StationFrames,
     poses: &mut Vec<Isometry3<f64>>,
 ) -> Result<PlatformRows, Error> {
     check_samples(model, samples, measure)?;
     let per_observation = measure.rows_per_observation(model);
     let taken = measure.samples_per_observation();
-    let columns = model.parameter_count();
+    let columns = model.parameter_count() + stations.unknowns();
     let rows = measure.rows_for(model, samples.len());
     let mut matrix = Mat::<f64>::zeros(rows, columns);
     if poses.len() != samples.len() {
@@ -51,7 +55,15 @@ pub(super) fn platform_rows<M: ParallelModel>(
         .zip(poses.chunks_exact_mut(taken))
         .enumerate()
     {
-        let (block, _) = observation_rows(model, observation, measure, noise, starts)?;
+        let first = index * taken;
+        let (block, _) = observation_rows(
+            model,
+            observation,
+            measure,
+            noise,
+            (stations, first),
+            starts,
+        )?;
         for row in 0..per_observation {
             for column in 0..columns {
                 matrix[(index * per_observation + row, column)] = block[(row, column)];
@@ -95,9 +107,9 @@ const PART_SAMPLES: usize = 2048;
 /// Dense rows added to the normal equations at once.
 const BATCH_ROWS: usize = 256;
 
-/// See [`NormalSystem`]; `poses` as for [`platform_rows`]; `weights`, when
-/// given, each observation's robust weight w (its rows multiplied by √w,
-/// iteratively reweighted least squares).
+/// See [`NormalSystem`]; `stations` and `poses` as for [`platform_rows`];
+/// `weights`, when given, each observation's robust weight w (its rows
+/// multiplied by √w, iteratively reweighted least squares).
 ///
 /// # Errors
 /// As [`platform_rows`].
@@ -107,10 +119,12 @@ pub(super) fn normal_system<M: ParallelModel>(
     measure: PlatformMeasure,
     noise: Option<PlatformNoise>,
     weights: Option<&[f64]>,
+    stations: &StationFrames,
     poses: &mut Vec<Isometry3<f64>>,
 ) -> Result<NormalSystem, Error> {
     check_samples(model, samples, measure)?;
-    let columns = model.parameter_count();
+    let parameters = model.parameter_count();
+    let columns = parameters + stations.unknowns();
     let taken = measure.samples_per_observation();
     if poses.len() != samples.len() {
         *poses = starting_poses(model, samples, measure);
@@ -133,10 +147,10 @@ pub(super) fn normal_system<M: ParallelModel>(
         .map(|(part, (samples, starts))| {
             let first = part * PART_SAMPLES / taken;
             let own = weights.map(|weights| &weights[first..first + samples.len() / taken]);
-            (samples, starts, own)
+            (part * PART_SAMPLES, samples, starts, own)
         })
         .collect();
-    let sums = run_parts(parts, |(samples, starts, weights)| {
+    let sums = run_parts(parts, |(offset, samples, starts, weights)| {
         // √w of the part's observation `index`.
         let root = |index: usize| weights.map_or(1.0, |weights| weights[index].sqrt());
         let mut gram = DMatrix::<f64>::zeros(columns, columns);
@@ -150,9 +164,11 @@ pub(super) fn normal_system<M: ParallelModel>(
         let mut lower_right = Mat::<f64>::zeros(columns, 1);
         let mut filled = 0;
         // Each closure equation's own block of the normal equations, summed
-        // apart (a leg's 8 × 8) and added into WᵀW once the part is done.
-        let mut blocks: Vec<Vec<f64>> = Vec::new();
-        let mut block_rights: Vec<Vec<f64>> = Vec::new();
+        // apart (a leg's 8 × 8, with its station's correction 14 × 14) for
+        // each station, and added into WᵀW once the part is done.
+        let mut blocks: Vec<Vec<Vec<f64>>> = Vec::new();
+        let mut block_rights: Vec<Vec<Vec<f64>>> = Vec::new();
+        let mut extended: Vec<f64> = Vec::new();
         let mut errors: Vec<f64> = Vec::with_capacity(samples.len() / taken);
         let mut residuals: Vec<f64> = Vec::with_capacity(samples.len() / taken);
         let flush = |batch: &[f64],
@@ -173,12 +189,20 @@ pub(super) fn normal_system<M: ParallelModel>(
             .enumerate()
         {
             let root = root(index);
+            let first = offset + index * taken;
             // A closure equation is added on its own columns (a leg's
-            // eight), as the model visits it: no matrix formed.
+            // eight, and its station's correction), as the model visits it:
+            // no matrix formed.
             if measure == PlatformMeasure::Pose {
                 let sample = &observation[0];
                 let actuators = actuator_values(model, sample)?;
-                let measured = measure.measured(sample)?;
+                let measured = stations.corrected_measurement(first, &measure.measured(sample)?);
+                let station = stations.station_of(first);
+                if blocks.len() <= station {
+                    blocks.resize_with(station + 1, Vec::new);
+                    block_rights.resize_with(station + 1, Vec::new);
+                }
+                let (blocks, block_rights) = (&mut blocks[station], &mut block_rights[station]);
                 let (mut squares, mut equations) = (0.0, 0usize);
                 model.visit_equations(
                     &measured,
@@ -192,6 +216,14 @@ pub(super) fn normal_system<M: ParallelModel>(
                         let right = -closure * root / sigma;
                         cost += right * right;
                         equations += 1;
+                        let own = if station == 0 {
+                            own
+                        } else {
+                            extended.clear();
+                            extended.extend_from_slice(own);
+                            extended.extend(pose_columns(by_pose, &measured.translation.vector));
+                            extended.as_slice()
+                        };
                         let width = own.len();
                         if blocks.len() <= equation {
                             blocks.resize_with(equation + 1, Vec::new);
@@ -224,7 +256,14 @@ pub(super) fn normal_system<M: ParallelModel>(
             }
             // A point's coordinates involve every parameter, and wait in
             // the batch.
-            let (block, right) = observation_rows(model, observation, measure, noise, starts)?;
+            let (block, right) = observation_rows(
+                model,
+                observation,
+                measure,
+                noise,
+                (stations, first),
+                starts,
+            )?;
             errors.push((right.norm_squared() / right.len().max(1) as f64).sqrt());
             residuals.extend(right.iter());
             for row in 0..block.nrows() {
@@ -256,13 +295,26 @@ pub(super) fn normal_system<M: ParallelModel>(
                 }
             }
         }
-        for (equation, (block, block_right)) in blocks.iter().zip(&block_rights).enumerate() {
-            let own = model.equation_parameters(equation);
-            let width = block_right.len();
-            for (a, i) in own.clone().take(width).enumerate() {
-                projected[i] += block_right[a];
-                for (b, j) in own.clone().take(width).enumerate() {
-                    gram[(i, j)] += block[a * width + b];
+        for (station, (blocks, block_rights)) in blocks.iter().zip(&block_rights).enumerate() {
+            let correction = match station {
+                0 => 0..0,
+                _ => {
+                    let start = parameters + STATION_UNKNOWNS * (station - 1);
+                    start..start + STATION_UNKNOWNS
+                }
+            };
+            for (equation, (block, block_right)) in blocks.iter().zip(block_rights).enumerate() {
+                let width = block_right.len();
+                let own: Vec<usize> = model
+                    .equation_parameters(equation)
+                    .take(width - correction.len())
+                    .chain(correction.clone())
+                    .collect();
+                for (a, i) in own.iter().enumerate() {
+                    projected[*i] += block_right[a];
+                    for (b, j) in own.iter().enumerate() {
+                        gram[(*i, *j)] += block[a * width + b];
+                    }
                 }
             }
         }
@@ -325,8 +377,9 @@ fn check_samples(
 }
 
 /// One observation's weighted rows of W and their residuals
-/// ([`PlatformMeasure::samples_per_observation`] samples, `starts` their
-/// last solved poses): see [`sample_rows`]; for a distance, the one
+/// ([`PlatformMeasure::samples_per_observation`] samples, the first the
+/// data's sample `first` measured from one of the `stations`, `starts`
+/// their last solved poses): see [`sample_rows`]; for a distance, the one
 /// equation `u·(∂y_j/∂ξ − ∂y_i/∂ξ)·Δξ = D_measured − D` with `d = y_j − y_i`,
 /// `D = ‖d‖`, `u = d/D` (eq. 19–20 of the serial robots, divided by 2D).
 pub(super) fn observation_rows<M: ParallelModel>(
@@ -334,10 +387,18 @@ pub(super) fn observation_rows<M: ParallelModel>(
     observation: &[Sample],
     measure: PlatformMeasure,
     noise: Option<PlatformNoise>,
+    (stations, first): (&StationFrames, usize),
     starts: &mut [Isometry3<f64>],
 ) -> Result<(DMatrix<f64>, DVector<f64>), Error> {
     if measure != PlatformMeasure::Distance {
-        return sample_rows(model, &observation[0], measure, noise, &mut starts[0]);
+        return sample_rows(
+            model,
+            &observation[0],
+            measure,
+            noise,
+            (stations, first),
+            &mut starts[0],
+        );
     }
     let mut points = [nalgebra::Vector3::zeros(); 2];
     let mut derivatives = Vec::with_capacity(2);
@@ -357,11 +418,10 @@ pub(super) fn observation_rows<M: ParallelModel>(
     }
     let direction = (difference / length).transpose();
     let sigma = noise.map_or(1.0, |noise| noise.length);
-    let rows = DMatrix::from_row_slice(
-        1,
-        derivatives[0].ncols(),
-        (direction * (&derivatives[1] - &derivatives[0]) / sigma).as_slice(),
-    );
+    // A distance has no frame: no correction's columns, zero.
+    let mut rows = DMatrix::zeros(1, derivatives[0].ncols() + stations.unknowns());
+    rows.columns_mut(0, derivatives[0].ncols())
+        .copy_from(&(direction * (&derivatives[1] - &derivatives[0]) / sigma));
     let measured = observation[0].distance.unwrap_or(f64::NAN);
     Ok((rows, DVector::from_element(1, (measured - length) / sigma)))
 }
@@ -369,23 +429,38 @@ pub(super) fn observation_rows<M: ParallelModel>(
 /// One sample's weighted rows of W and their residuals: the closure
 /// equations at its measured pose (each divided by the σ a measured pose's
 /// noise gives it), or its tool point's coordinates through the direct
-/// model from `start` (which is moved to the pose found).
+/// model from `start` (which is moved to the pose found); the measurement
+/// corrected by its station's correction, whose columns follow the
+/// parameters' (the data's sample `index` of `stations`).
 fn sample_rows<M: ParallelModel>(
     model: &M,
     sample: &Sample,
     measure: PlatformMeasure,
     noise: Option<PlatformNoise>,
+    (stations, index): (&StationFrames, usize),
     start: &mut Isometry3<f64>,
 ) -> Result<(DMatrix<f64>, DVector<f64>), Error> {
     let actuators = actuator_values(model, sample)?;
-    let measured = measure.measured(sample)?;
+    let measured = stations.corrected_measurement(index, &measure.measured(sample)?);
+    let parameters = model.parameter_count();
+    let correction = stations.first_column(index, parameters);
     match measure {
         PlatformMeasure::Pose => {
             let Linearised {
                 closure,
                 by_pose,
-                by_parameter: mut rows,
+                by_parameter,
             } = model.linearised(&measured, actuators);
+            let mut rows = by_parameter.resize_horizontally(parameters + stations.unknowns(), 0.0);
+            if let Some(column) = correction {
+                for equation in 0..rows.nrows() {
+                    let row: Vec<f64> = by_pose.row(equation).iter().copied().collect();
+                    let coefficients = pose_columns(&row, &measured.translation.vector);
+                    for (offset, value) in coefficients.into_iter().enumerate() {
+                        rows[(equation, column + offset)] = value;
+                    }
+                }
+            }
             let mut right = -closure;
             for equation in 0..rows.nrows() {
                 let sigma = noise.map_or(1.0, |noise| {
@@ -399,9 +474,14 @@ fn sample_rows<M: ParallelModel>(
             Ok((rows, right))
         }
         PlatformMeasure::Point | PlatformMeasure::Distance => {
-            let (pose, mut rows) = solved_point(model, sample, start)?;
+            let (pose, derivative) = solved_point(model, sample, start)?;
             let sigma = noise.map_or(1.0, |noise| noise.length);
             let point = model.tool_point(&pose);
+            let mut rows = derivative.resize_horizontally(parameters + stations.unknowns(), 0.0);
+            if let Some(column) = correction {
+                rows.fixed_view_mut::<3, STATION_UNKNOWNS>(0, column)
+                    .copy_from(&point_columns(&measured.translation.vector));
+            }
             rows.unscale_mut(sigma);
             let right = DVector::from_fn(3, |axis, _| {
                 (measured.translation.vector[axis] - point[axis]) / sigma
@@ -548,6 +628,7 @@ mod tests {
                 &samples,
                 PlatformMeasure::Point,
                 None,
+                &StationFrames::single(),
                 &mut Vec::new(),
             )
             .expect("rows");
@@ -580,6 +661,84 @@ mod tests {
                         "{name} row {row}, {}: {numeric} against {analytic}",
                         model.parameter_names()[column]
                     );
+                }
+            }
+        }
+    }
+
+    /// The columns of a second station's correction against central
+    /// differences of the residuals: `W·Δ = r` with `W = −∂r/∂δ`, for
+    /// measured poses and points (unweighted: a pose's row σ moves with
+    /// the pose, which Gauss–Newton's rows leave out).
+    #[test]
+    fn station_columns_match_finite_differences() {
+        let model: ParallelRobot = gecaro_io::load_parallel_robot("hexapod")
+            .expect("a ready parallel robot")
+            .robot;
+        let mut sampler = Sampler::new(5);
+        let poses = random_platform_poses(&model, 3, PlatformWorkspace::of(&model), &mut sampler)
+            .expect("poses");
+        let noise = PlatformNoise {
+            length: 2e-5,
+            angle: 3e-5,
+        };
+        for measure in [PlatformMeasure::Pose, PlatformMeasure::Point] {
+            let samples =
+                simulate_platform(&model, measure, &poses, noise, &mut sampler).expect("samples");
+            let stations = StationFrames::new(vec![0, 1, 1]);
+            let parameters = model.parameter_count();
+            let rows = platform_rows(
+                &model,
+                &samples,
+                measure,
+                None,
+                &stations,
+                &mut Vec::new(),
+            )
+            .expect("rows");
+            let residuals = |correction: &[f64]| -> Vec<f64> {
+                let moved = stations.at(correction);
+                let mut starts = vec![model.home(); samples.len()];
+                (0..samples.len())
+                    .flat_map(|index| {
+                        observation_rows(
+                            &model,
+                            &samples[index..=index],
+                            measure,
+                            None,
+                            (&moved, index),
+                            &mut starts[index..=index],
+                        )
+                        .expect("rows")
+                        .1
+                        .iter()
+                        .copied()
+                        .collect::<Vec<_>>()
+                    })
+                    .collect()
+            };
+            let h = 1e-7;
+            for unknown in 0..STATION_UNKNOWNS {
+                let mut plus = [0.0; STATION_UNKNOWNS];
+                plus[unknown] = h;
+                let mut minus = [0.0; STATION_UNKNOWNS];
+                minus[unknown] = -h;
+                let (up, down) = (residuals(&plus), residuals(&minus));
+                for row in 0..up.len() {
+                    let numeric = -(up[row] - down[row]) / (2.0 * h);
+                    let analytic = rows.matrix[(row, parameters + unknown)];
+                    let tolerance = 1e-5 * (1.0 + numeric.abs());
+                    assert!(
+                        (numeric - analytic).abs() < tolerance,
+                        "{measure:?} row {row}, unknown {unknown}: {numeric} against {analytic}"
+                    );
+                }
+            }
+            // The first station's rows have no correction.
+            let first_rows = measure.rows_per_observation(&model);
+            for row in 0..first_rows {
+                for unknown in 0..STATION_UNKNOWNS {
+                    assert_eq!(rows.matrix[(row, parameters + unknown)], 0.0);
                 }
             }
         }

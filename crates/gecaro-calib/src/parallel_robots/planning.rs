@@ -21,6 +21,7 @@ use super::measure::{PlatformMeasure, PlatformNoise};
 use super::observation::{observation_rows, platform_rows};
 use super::region::ErrorRows;
 use super::simulation::{PlatformWorkspace, random_platform_poses, simulate_platform};
+use super::stations::StationFrames;
 use crate::Error;
 use crate::identification::WORK_POSES;
 use crate::planning::{Criterion, choose_units};
@@ -74,7 +75,14 @@ pub fn plan_platform<M: ParallelModel>(
     let candidates = simulate_platform(model, measure, &poses, exact, &mut sampler)?;
     let rank = rank_of(
         model,
-        &platform_rows(model, &candidates, measure, None, &mut Vec::new())?,
+        &platform_rows(
+            model,
+            &candidates,
+            measure,
+            None,
+            &StationFrames::single(),
+            &mut Vec::new(),
+        )?,
         measure,
     )?;
     // A distance's pairs are chosen whole: `count` poses are count/2 pairs.
@@ -103,8 +111,15 @@ pub fn plan_platform<M: ParallelModel>(
         .chunks_exact(taken)
         .map(|observation| {
             let mut starts = vec![model.home(); taken];
-            observation_rows(model, observation, measure, None, &mut starts)
-                .map(|(block, _)| block.select_columns(&rank.base))
+            observation_rows(
+                model,
+                observation,
+                measure,
+                None,
+                (&StationFrames::single(), 0),
+                &mut starts,
+            )
+            .map(|(block, _)| block.select_columns(&rank.base))
         })
         .collect::<Result<_, _>>()?;
     let mut norms = vec![0.0f64; unknowns];

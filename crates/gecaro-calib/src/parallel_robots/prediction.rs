@@ -24,6 +24,7 @@ use super::region::{PlatformRegion, region_poses, where_it_holds};
 use super::simulation::{
     PlatformWorkspace, perturbed_platform, random_platform_poses, simulate_platform,
 };
+use super::stations::StationFrames;
 use crate::Error;
 use crate::identification::WORK_POSES;
 use crate::simulation::Sampler;
@@ -79,9 +80,23 @@ pub fn predict_platform<M: ParallelModel>(
         })
         .collect::<Result<_, _>>()?;
     let samples = readings(model, configurations, &poses, measure)?;
-    let rank = structural_rank(model, &samples, measure, Some(noise))?;
+    let rank = structural_rank(
+        model,
+        &samples,
+        &StationFrames::single(),
+        measure,
+        Some(noise),
+    )?;
     let mut solved = poses.clone();
-    let system = normal_system(model, &samples, measure, Some(noise), None, &mut solved)?;
+    let system = normal_system(
+        model,
+        &samples,
+        measure,
+        Some(noise),
+        None,
+        &StationFrames::single(),
+        &mut solved,
+    )?;
     if system.rows < rank.base.len() {
         return Err(Error::TooFewEquations {
             equations: system.rows,

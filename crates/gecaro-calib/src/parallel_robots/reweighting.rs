@@ -7,8 +7,7 @@
 use gecaro_core::parallel_model::ParallelModel;
 use gecaro_data::sample::Sample;
 
-use super::descent::{Descent, PriorRows, descend_reweighted};
-use super::measure::{PlatformMeasure, PlatformNoise};
+use super::descent::{Descent, Fit, PriorRows, descend_reweighted};
 use crate::Error;
 use crate::identification::{DEFAULT_OUTLIER_THRESHOLD, Loss, MAX_REWEIGHTINGS};
 
@@ -70,13 +69,13 @@ pub(super) struct Reweighted<M> {
 pub(super) fn reweighted<M: ParallelModel>(
     nominal: &M,
     samples: &[Sample],
-    fit: (PlatformMeasure, Option<PlatformNoise>),
+    fit: Fit<'_>,
     (base, prior): (&[usize], &PriorRows),
     loss: &Loss,
     mut descent: Descent<M>,
     limits: (usize, f64),
 ) -> Result<Reweighted<M>, Error> {
-    let (measure, noise) = fit;
+    let (measure, noise) = (fit.measure, fit.noise);
     let mut iterations = 0;
     let (mut weights, mut robust_sigma, mut reweightings) = (Vec::new(), None, 0);
     if !loss.is_l2() && descent.converged {
