@@ -1117,3 +1117,129 @@ fn tool_point_targets_keep_the_programs_orientation() {
     assert_eq!(plain, mapped, "the orientation read under either name");
     assert_ne!(plain, level, "without orientations the platform is level");
 }
+
+/// Two files of a hexapod's poses, the second measured from a tracker
+/// station 2.6 m away and turned 130°: `--data` twice identifies the
+/// station with the platform (fits the noise, the station within a
+/// millimetre, held-out poses at the real platform's own error), the
+/// report names both files, a measurement off in the second file is named
+/// by its file and line, and a serial robot's second `--data` is refused
+/// with where several sets go.
+#[test]
+fn files_from_two_tracker_stations_are_identified_together() {
+    let folder = tempfile::tempdir().expect("folder");
+    let at = |name: &str| folder.path().join(name).display().to_string();
+    let station = nalgebra::Isometry3::from_parts(
+        nalgebra::Translation3::new(-1.2, 2.3, -0.25),
+        nalgebra::UnitQuaternion::from_euler_angles(0.01, -0.02, 2.27),
+    );
+    command("generate hexapod --method frame --count 40 --noise 2e-5 --seed 21 -o")
+        .arg(at("first.csv"))
+        .arg("--real-out")
+        .arg(at("real.toml"))
+        .assert()
+        .success();
+    for (name, count, seed) in [("later.csv", "40", "22"), ("held.csv", "200", "23")] {
+        command("generate hexapod --method frame --noise 2e-5")
+            .args(["--count", count, "--seed", seed, "-o"])
+            .arg(at(name))
+            .arg("--real")
+            .arg(at("real.toml"))
+            .assert()
+            .success();
+    }
+    in_tracker_frame(&at("later.csv"), &at("station2.csv"), &station);
+    let identify = |second: &str, extra: &[&str]| {
+        let mut args = vec![
+            "identify", "hexapod", "--method", "frame", "--sigma", "20um", "--json", "--data",
+        ];
+        let (first, second) = (at("first.csv"), at(second));
+        args.extend([first.as_str(), "--data", second.as_str()]);
+        args.extend(extra);
+        json_output(&args)
+    };
+    let identified = identify("station2.csv", &["-o", &at("calibrated.toml")]);
+    assert_eq!(
+        identified["outcome"], "fits_noise",
+        "{}",
+        identified["summary"]
+    );
+    let found = &identified["stations"][0];
+    assert!(
+        found["data"]
+            .as_str()
+            .expect("data")
+            .ends_with("station2.csv"),
+        "{found}"
+    );
+    let position: Vec<f64> = found["frame"]["position"]
+        .as_array()
+        .expect("a position")
+        .iter()
+        .filter_map(Value::as_f64)
+        .collect();
+    let off = (nalgebra::Vector3::from_column_slice(&position) - station.translation.vector).norm();
+    assert!(off < 1e-3, "the station found {off} m off: {found}");
+    let summary = identified["summary"].as_str().expect("summary");
+    assert!(
+        summary.contains("station2.csv was measured from another station"),
+        "{summary}"
+    );
+    let evaluated = |robot: &str| {
+        json_output(&[
+            "evaluate",
+            robot,
+            "--method",
+            "frame",
+            "--json",
+            "--data",
+            &at("held.csv"),
+        ])["errors"]["position_rms"]
+            .as_f64()
+            .expect("rms")
+    };
+    let (after, floor) = (
+        evaluated(&at("calibrated.toml")),
+        evaluated(&at("real.toml")),
+    );
+    assert!(after <= 1.2 * floor, "{after} against the floor {floor}");
+    // The report names both files.
+    command("report hexapod --method frame --sigma 20um --data")
+        .arg(at("first.csv"))
+        .arg("--data")
+        .arg(at("station2.csv"))
+        .arg("-o")
+        .arg(at("report.html"))
+        .assert()
+        .success();
+    let html = std::fs::read_to_string(at("report.html")).expect("the report");
+    assert!(
+        html.contains("first.csv") && html.contains("station2.csv"),
+        "the report names both files"
+    );
+    // A measurement off in the second file: named by its file and line.
+    three_off(&at("station2.csv"), &at("station2-off.csv"));
+    let output = command("identify hexapod --method frame --sigma 20um --json --data")
+        .arg(at("first.csv"))
+        .arg("--data")
+        .arg(at("station2-off.csv"))
+        .assert()
+        .failure();
+    let off: Value = serde_json::from_slice(&output.get_output().stdout).expect("JSON");
+    let outliers = off["outliers"].as_array().expect("outliers");
+    assert!(
+        outliers.iter().any(|outlier| {
+            outlier["data"]
+                .as_str()
+                .is_some_and(|data| data.ends_with("station2-off.csv"))
+                && outlier["line"] == 19
+        }),
+        "{off}"
+    );
+    // A serial robot's sets go in a study file.
+    let refused = command("identify stanford --method position --data a.csv --data b.csv")
+        .assert()
+        .failure();
+    let error = String::from_utf8_lossy(&refused.get_output().stderr).to_string();
+    assert!(error.contains("study file"), "{error}");
+}

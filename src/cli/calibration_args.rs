@@ -298,14 +298,18 @@ pub(crate) struct PredictArgs {
 pub(crate) struct IdentificationRunArgs {
     #[command(flatten)]
     pub(crate) source: StudySource,
-    /// Measurements (CSV).
+    /// Measurements (CSV). A parallel robot takes it again for each set
+    /// measured from another tracker station (each station's frame is
+    /// identified with the platform); a serial robot's several sets go in a
+    /// study file (--study).
     #[arg(
         long,
         value_name = "DATA.csv",
         required_unless_present = "study",
-        conflicts_with = "study"
+        conflicts_with = "study",
+        action = clap::ArgAction::Append
     )]
-    pub(crate) data: Option<PathBuf>,
+    pub(crate) data: Vec<PathBuf>,
     /// The sensor's standard deviation: with its unit (20um, 0.02mm), or a
     /// number in the data's length unit (--length-unit; metres by default).
     /// Also the orientations' unless --sigma-rotation. The rows are weighted

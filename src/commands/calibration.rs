@@ -12,7 +12,9 @@ use gecaro_calib::identification::{ErrorSummary, Identification, StopReason};
 use gecaro_calib::{Progress, each_iteration};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use super::options::{fit_settings, measurements, method_spec, name, output_policy, print_notes};
+use super::options::{
+    fit_settings, measurements, method_spec, name, one_data_file, output_policy, print_notes,
+};
 use super::progress::with_steps;
 use crate::cli::{
     DemoArgs, EvaluateArgs, GenerateArgs, IdentificationRunArgs, IdentifyArgs, ReportArgs,
@@ -115,7 +117,7 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
 
 /// The identification request of a command line.
 fn request(args: &IdentificationRunArgs) -> Result<IdentifyRequest, Failure> {
-    let mut request = IdentifyRequest::new(measurements(&args.source, args.data.as_deref())?);
+    let mut request = IdentifyRequest::new(measurements(&args.source, one_data_file(&args.data)?)?);
     request.measurements.sigma = args.sigma.clone();
     request.measurements.sigma_rotation = args.sigma_rotation.clone();
     request.settings = fit_settings(args);

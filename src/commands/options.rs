@@ -1,7 +1,7 @@
 //! Command-line arguments as the application layer's requests, and what
 //! several commands print of them.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use gecaro_app::{
     DataFormatSpec, DataSource, Dialect, FitSettings, Measurements, MethodSpec, Note,
@@ -168,6 +168,20 @@ pub(crate) fn measurements(source: &Source, data: Option<&Path>) -> Result<Measu
         sigma: None,
         sigma_rotation: None,
     })
+}
+
+/// A serial robot's one data file of `--data`, given at most once: its
+/// several sets are a study file's.
+pub(crate) fn one_data_file(data: &[PathBuf]) -> Result<Option<&Path>, Failure> {
+    match data {
+        [] => Ok(None),
+        [one] => Ok(Some(one)),
+        _ => Err(Failure::usage(
+            "a serial robot takes one --data file: its several sets go in a study file \
+             (--study; each set with its method, σ, reflector and station, docs/studies.md)",
+            None,
+        )),
+    }
 }
 
 /// The identification settings of the command line.

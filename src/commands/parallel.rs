@@ -320,14 +320,18 @@ fn identify_request(
         ("--study", run.source.study.is_some()),
         ("--strict-limits", run.source.strict_limits),
     ])?;
-    let data = run
+    let (data, stations) = run
         .data
-        .as_deref()
+        .split_first()
         .ok_or_else(|| Failure::usage("give the measurements (--data FILE.csv)", None))?;
     Ok(ParallelIdentifyRequest {
         robot: robot.to_owned(),
         method: run.source.method.clone().unwrap_or_default(),
         data: DataSource::File(name(data)),
+        stations: stations
+            .iter()
+            .map(|path| DataSource::File(name(path)))
+            .collect(),
         format: data_format(&run.source.format),
         sigma: run.sigma.clone(),
         sigma_rotation: run.sigma_rotation.clone(),

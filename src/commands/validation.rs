@@ -4,7 +4,7 @@
 use gecaro_app::{CompareModelsRequest, LocalFiles};
 use gecaro_calib::validation::{CrossValidation, Folds};
 
-use super::options::{fit_settings, measurements, print_notes};
+use super::options::{fit_settings, measurements, one_data_file, print_notes};
 use super::progress::with_steps;
 use crate::cli::CompareModelsArgs;
 use crate::failure::Failure;
@@ -69,7 +69,7 @@ pub(super) fn print_cross_validation(validation: &CrossValidation) {
 
 pub(crate) fn compare(args: &CompareModelsArgs) -> Result<(), Failure> {
     let mut request = CompareModelsRequest::new(
-        measurements(&args.run.source, args.run.data.as_deref())?,
+        measurements(&args.run.source, one_data_file(&args.run.data)?)?,
         args.models.split(',').map(str::to_owned).collect(),
         args.cv,
     );

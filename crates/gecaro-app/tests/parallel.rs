@@ -58,6 +58,7 @@ fn a_hexapod_is_calibrated_from_its_files_to_the_noise_floor() {
         robot: "hexapod".into(),
         method: "frame".into(),
         data: DataSource::File(data),
+        stations: Vec::new(),
         format: Default::default(),
         sigma: Some("20um".parse().expect("σ")),
         sigma_rotation: Some("20e-6rad".parse().expect("σ")),

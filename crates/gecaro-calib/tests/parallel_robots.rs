@@ -983,7 +983,7 @@ fn a_measurement_off_is_named_by_its_line() {
         )
         .expect("identified");
         assert_eq!(result.outcome, Outcome::ExceedsNoise, "{robot}");
-        let (line, ratio) = result.outliers[0];
+        let (line, ratio) = (result.outliers[0].line, result.outliers[0].ratio);
         assert_eq!(line, Some(19), "{robot}: {:?}", result.outliers);
         assert!(ratio > 5.0, "{robot}: {ratio}");
     }
@@ -1064,7 +1064,7 @@ fn gross_errors_are_weighed_down_by_a_robust_loss() {
         let mut dropped: Vec<usize> = rejected
             .rejected
             .iter()
-            .filter_map(|(line, _)| *line)
+            .filter_map(|outlier| outlier.line)
             .collect();
         dropped.sort_unstable();
         assert_eq!(dropped, off.map(|index| index + 2), "{robot}");
@@ -1083,7 +1083,7 @@ fn gross_errors_are_weighed_down_by_a_robust_loss() {
             let mut named: Vec<usize> = robust
                 .outliers
                 .iter()
-                .filter_map(|(line, _)| *line)
+                .filter_map(|outlier| outlier.line)
                 .collect();
             named.sort_unstable();
             assert_eq!(named, off.map(|index| index + 2), "{robot} {kind:?}");
@@ -1348,7 +1348,10 @@ fn sets_from_two_stations_calibrate_a_platform_with_each_stations_frame() {
             "{robot} {measure:?}: {} against the floor {floor}",
             rms(&result.calibrated)
         );
-        assert!(within < 4.0, "{robot} {measure:?}: the station {within} σ off");
+        assert!(
+            within < 4.0,
+            "{robot} {measure:?}: the station {within} σ off"
+        );
         assert_ne!(as_one.outcome, Outcome::FitsNoise, "{robot} {measure:?}");
     }
 }

@@ -11,6 +11,7 @@ use gecaro_app::parallel::{
     ParallelIdentifiableRequest, ParallelIdentifyRequest, ParallelPredictRequest,
 };
 use gecaro_app::{DataFormatSpec, DataSource, LocalFiles, Output};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use crate::documents::to_python;
@@ -119,8 +120,10 @@ pub(crate) fn parallel_identifiable<'py>(
     to_python(py, &report)
 }
 
-/// Identifies `robot`'s parameters from the data file `data` measured by
-/// `method`, σ `sigma` (a number in the data's length unit or a text with
+/// Identifies `robot`'s parameters from the data file `data` (or a list
+/// of files, each measured from its own tracker station: each station's
+/// frame identified with the platform, `"stations"` in the document)
+/// measured by `method`, σ `sigma` (a number in the data's length unit or a text with
 /// its unit, `"20um"`; `sigma_rotation` for orientations) → `{"outcome",
 /// "summary", "sigma_ratio", "parameters": [{"name", "status", "nominal",
 /// "identified", "sigma"}], "errors_before", "errors_after", "region" (where
@@ -140,6 +143,22 @@ pub(crate) fn parallel_identifiable<'py>(
 /// file the self-contained HTML report is written to (`gecaro report`;
 /// `"report"` in the document), trusted or not. A fit that did not
 /// converge raises `NotConvergedError` (its report written first).
+/// One data file, or several (one a tracker station).
+#[derive(FromPyObject)]
+pub(crate) enum DataPaths {
+    One(PathBuf),
+    Several(Vec<PathBuf>),
+}
+
+impl DataPaths {
+    fn paths(self) -> Vec<PathBuf> {
+        match self {
+            DataPaths::One(path) => vec![path],
+            DataPaths::Several(paths) => paths,
+        }
+    }
+}
+
 #[pyfunction]
 #[pyo3(signature = (
     robot, method, data, *, sigma = None, sigma_rotation = None, length_unit = None,
@@ -150,7 +169,7 @@ pub(crate) fn parallel_identify<'py>(
     py: Python<'py>,
     robot: String,
     method: String,
-    data: PathBuf,
+    data: DataPaths,
     sigma: Option<Sigma>,
     sigma_rotation: Option<Sigma>,
     length_unit: Option<String>,
@@ -169,10 +188,20 @@ pub(crate) fn parallel_identify<'py>(
     output(report.as_deref(), overwrite)
         .check(&LocalFiles, "html")
         .py()?;
+    let paths = data.paths();
+    let Some((first, stations)) = paths.split_first() else {
+        return Err(PyValueError::new_err(
+            "data: give a data file, or a list of them (one a tracker station)",
+        ));
+    };
     let request = ParallelIdentifyRequest {
         robot,
         method,
-        data: DataSource::File(name(&data)),
+        data: DataSource::File(name(first)),
+        stations: stations
+            .iter()
+            .map(|path| DataSource::File(name(path)))
+            .collect(),
         format: format(length_unit, angle_unit),
         sigma: sigma.map(Into::into),
         sigma_rotation: sigma_rotation.map(Into::into),

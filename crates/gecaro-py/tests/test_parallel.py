@@ -299,3 +299,30 @@ def test_a_measurement_off_is_named_by_its_line(tmp_path):
     assert result["outcome"] == "exceeds_noise"
     assert result["outliers"][0]["line"] == 18
     assert "line 18 at" in result["summary"]
+
+
+def test_files_from_two_tracker_stations_are_identified_together(tmp_path):
+    real = tmp_path / "real.toml"
+    gecaro.parallel_generate("hexapod", "frame", 40, noise=2e-5, seed=31,
+                             path=tmp_path / "first.csv", real_path=real)
+    gecaro.parallel_generate("hexapod", "frame", 40, noise=2e-5, seed=32, real=real,
+                             path=tmp_path / "later.csv")
+    lines = (tmp_path / "later.csv").read_text().splitlines()
+    moved = [lines[0]]
+    for line in lines[1:]:
+        values = line.split(",")
+        # The second station 1.8 m along y and 0.3 m down: the base at (0, 1.8, -0.3) in it.
+        values[7] = repr(float(values[7]) + 1.8)
+        values[8] = repr(float(values[8]) - 0.3)
+        moved.append(",".join(values))
+    (tmp_path / "station2.csv").write_text("\n".join(moved) + "\n")
+    result = gecaro.parallel_identify("hexapod", "frame",
+                                      [tmp_path / "first.csv", tmp_path / "station2.csv"],
+                                      sigma="20um")
+    assert result["outcome"] == "fits_noise", result["summary"]
+    (station,) = result["stations"]
+    assert station["data"].endswith("station2.csv")
+    x, y, z = station["frame"]["position"]
+    assert abs(x) < 1e-3 and abs(y - 1.8) < 1e-3 and abs(z + 0.3) < 1e-3
+    with pytest.raises(ValueError, match="data"):
+        gecaro.parallel_identify("hexapod", "frame", [], sigma="20um")

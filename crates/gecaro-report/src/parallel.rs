@@ -9,7 +9,9 @@
 //! printed and returned, so that the report says what the terminal said.
 
 use gecaro_calib::identifiability::ParameterStatus;
-use gecaro_calib::parallel_robots::{PlatformErrors, PlatformIdentification, PlatformMeasure};
+use gecaro_calib::parallel_robots::{
+    PlatformErrors, PlatformIdentification, PlatformMeasure, PlatformOutlier,
+};
 use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};
 use gecaro_core::parallel_robot::ParallelRobot;
 use maud::{Markup, PreEscaped, html};
@@ -27,12 +29,14 @@ pub struct PlatformReportInput<'a> {
     pub result: &'a PlatformIdentification<ParallelRobot>,
     /// What was measured.
     pub measure: PlatformMeasure,
-    /// The data's label (its file).
+    /// The data's label (its file, or its files).
     pub data: &'a str,
-    /// The first line of each observation in the data, in order (a
-    /// distance's pair by its first row; none for data not read from a
+    /// Each set's label (its file), in order: one for one file.
+    pub sets: &'a [String],
+    /// Each observation's set and first line in its file, in order (a
+    /// distance's pair by its first row; no line for data not read from a
     /// file's lines): the plots name them.
-    pub observation_lines: &'a [Option<usize>],
+    pub observation_lines: &'a [(usize, Option<usize>)],
     /// The direct model's errors at the measured configurations, nominal.
     pub errors_before: &'a PlatformErrors,
     /// The same, calibrated.
@@ -70,20 +74,23 @@ pub fn platform_report(input: &PlatformReportInput<'_>) -> Result<String, Error>
         .observation_lines
         .iter()
         .enumerate()
-        .map(|(index, line)| match line {
-            Some(line) => format!("{}: observation {} (line {line})", input.data, index + 1),
-            None => format!("{}: observation {}", input.data, index + 1),
+        .map(|(index, (set, line))| {
+            let file = input.sets.get(*set).map_or(input.data, String::as_str);
+            match line {
+                Some(line) => format!("{file}: observation {} (line {line})", index + 1),
+                None => format!("{file}: observation {}", index + 1),
+            }
         })
         .collect();
     let ringed: Vec<usize> = result
         .outliers
         .iter()
-        .filter_map(|(line, _)| {
-            line.and_then(|line| {
+        .filter_map(|outlier| {
+            outlier.line.and_then(|line| {
                 input
                     .observation_lines
                     .iter()
-                    .position(|first| *first == Some(line))
+                    .position(|first| *first == (outlier.set, Some(line)))
             })
         })
         .collect();
@@ -210,6 +217,18 @@ fn summary(input: &PlatformReportInput<'_>) -> Markup {
                     }
                 }
             }
+            @for (station, data) in result.stations.iter().zip(input.sets.iter().skip(1)) {
+                tr {
+                    td { "station of " (data) " (identified)" }
+                    td {
+                        "the base frame at ("
+                        (station.frame.translation.vector.iter().map(|value| number(value * 1e3)).collect::<Vec<_>>().join(", "))
+                        ") mm, turned " (number(station.frame.rotation.angle().to_degrees())) "° (σ "
+                        (number(station.sigma[..3].iter().map(|s| s * s).sum::<f64>().sqrt() * 1e3)) " mm, "
+                        (number(station.sigma[3..].iter().map(|s| s * s).sum::<f64>().sqrt().to_degrees())) "°)"
+                    }
+                }
+            }
         }
         @if !input.warnings.is_empty() {
             div.warn {
@@ -286,16 +305,20 @@ fn actuator_range(robot: &ParallelRobot, (low, high): (f64, f64)) -> String {
 /// dropped.
 fn measurements(input: &PlatformReportInput<'_>) -> Markup {
     let result = input.result;
-    let listed = |title: &str, observations: &[(Option<usize>, f64)]| {
+    let several = input.sets.len() > 1;
+    let listed = |title: &str, observations: &[PlatformOutlier]| {
         html! {
             @if !observations.is_empty() {
                 p { strong { (title) } " (" (observations.len()) "):" }
                 table {
-                    tr { th { "line" } th { "residual (σ)" } }
-                    @for (line, ratio) in observations {
+                    tr { @if several { th { "file" } } th { "line" } th { "residual (σ)" } }
+                    @for outlier in observations {
                         tr {
-                            td { (line.map_or_else(|| "–".to_owned(), |line| line.to_string())) }
-                            td { (format!("{ratio:.1}")) }
+                            @if several {
+                                td { (input.sets.get(outlier.set).map_or("–", String::as_str)) }
+                            }
+                            td { (outlier.line.map_or_else(|| "–".to_owned(), |line| line.to_string())) }
+                            td { (format!("{:.1}", outlier.ratio)) }
                         }
                     }
                 }

@@ -1773,6 +1773,22 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
     click(client, "#parallel-identify").await;
     let refused = text_of(client, "#parallel-result .error-box", 10).await;
     assert!(refused.contains("0.02 has no unit"), "{refused}");
+    // A file from another tracker station (here the same poses again):
+    // its station identified with the platform and shown.
+    set_values(
+        client,
+        &[
+            ("parallel-sigma", "20um"),
+            ("parallel-stations", "hexapod.csv"),
+        ],
+    )
+    .await;
+    click(client, "#parallel-identify").await;
+    let station = text_of(client, ".parallel-station", 30).await;
+    assert!(
+        station.contains("hexapod.csv was measured from another station"),
+        "{station}"
+    );
     screenshot(client, "17-parallel-robot.png").await;
     let errors = uncaught_errors(client).await;
     assert!(errors.is_empty(), "uncaught errors: {errors:?}");

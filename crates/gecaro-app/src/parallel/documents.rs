@@ -182,6 +182,24 @@ pub struct PlatformIdentificationDocument {
     /// file's row order (the cell changed during the run; outcome
     /// `changed`), as a serial identification's `changes` are written.
     pub change: Option<crate::documents::CellChangeJson>,
+    /// Each later data file's station (several files, each measured from
+    /// its own tracker station; empty for one file): where the base frame
+    /// is seen from it.
+    pub stations: Vec<PlatformStationDocument>,
+}
+
+/// A later data file's tracker station, identified with the platform.
+#[derive(Clone, Debug, Serialize)]
+pub struct PlatformStationDocument {
+    /// The data file measured from it.
+    pub data: String,
+    /// The base frame in the station's frame (m, rad): what its data are
+    /// read in.
+    pub frame: PoseJson,
+    /// σ of the station's position along the base frame's axes (m).
+    pub sigma_position: [f64; 3],
+    /// σ of its orientation about the base frame's axes (rad).
+    pub sigma_rotation: [f64; 3],
 }
 
 impl PlatformIdentificationDocument {
@@ -278,8 +296,11 @@ pub(super) fn pose_document(pose: &nalgebra::Isometry3<f64>) -> PoseJson {
 }
 
 /// A measurement that stands out from a platform's fit.
-#[derive(Clone, Copy, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize)]
 pub struct PlatformOutlierDocument {
+    /// Its data file, when the fit read several (`None` for one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub data: Option<String>,
     /// Its line in the data file (a distance's pair by its first row).
     pub line: Option<usize>,
     /// The RMS of its residuals in units of the stated σ (of σ̂ without one).

@@ -5,8 +5,10 @@
 use gecaro_calib::identification::{Loss, LossKind, Prior};
 use gecaro_calib::parallel_robots::{
     PlatformErrors, PlatformIdentification, PlatformIdentificationOptions, PlatformMeasure,
-    PlatformNoise, PlatformRegion, identify_platform, platform_errors,
+    PlatformNoise, PlatformOutlier, PlatformRegion, identify_platform_sets, in_base_frame,
+    platform_errors,
 };
+use gecaro_calib::study::Sample;
 use gecaro_core::parallel_model::ParallelModel;
 use gecaro_core::parallel_robot::ParallelRobot;
 use gecaro_io::{ParallelRobotFile, StandardDeviation};
@@ -14,7 +16,8 @@ use gecaro_report::{PlatformReportInput, platform_report};
 use serde::Deserialize;
 
 use super::documents::{
-    PlatformIdentificationDocument, PlatformOutlierDocument, PlatformRankDocument, pose_document,
+    PlatformIdentificationDocument, PlatformOutlierDocument, PlatformRankDocument,
+    PlatformStationDocument, pose_document,
 };
 use super::region::stated_work_region;
 use super::{actuator_types, load_parallel_robot, measure_for};
@@ -33,6 +36,13 @@ pub struct ParallelIdentifyRequest {
     pub method: String,
     /// The measurements.
     pub data: DataSource,
+    /// More sets of the same measure, each measured from another tracker
+    /// station (the instrument moved between them), in order: each set's
+    /// frame is registered and identified with the platform, the first
+    /// set's frame the base frame. Distances have no frame: their sets are
+    /// read as one. Units and columns as `format` says for every set.
+    #[serde(default)]
+    pub stations: Vec<DataSource>,
     /// Units and columns of the data file.
     #[serde(default)]
     pub format: DataFormatSpec,
@@ -91,7 +101,8 @@ pub struct ParallelIdentified {
 struct Shown {
     nominal: ParallelRobot,
     measure: PlatformMeasure,
-    observation_lines: Vec<Option<usize>>,
+    sets: Vec<String>,
+    observation_lines: Vec<(usize, Option<usize>)>,
     errors_before: PlatformErrors,
     errors_after: PlatformErrors,
 }
@@ -134,6 +145,7 @@ impl ParallelIdentified {
             result: &self.result,
             measure: shown.measure,
             data: &self.document.data,
+            sets: &shown.sets,
             observation_lines: &shown.observation_lines,
             errors_before: &shown.errors_before,
             errors_after: &shown.errors_after,
@@ -157,13 +169,26 @@ impl ParallelIdentifyRequest {
         let measure = measure_for(&self.method, &nominal.robot)?;
         self.output.check(files, "toml")?;
         let format = self.format.format()?;
-        let read = self.data.read(
-            files,
-            &actuator_types(&nominal.robot),
-            measure.columns(),
-            &format,
-        )?;
-        let samples = read.samples.to_rows();
+        let reads = std::iter::once(&self.data)
+            .chain(&self.stations)
+            .map(|source| {
+                source.read(
+                    files,
+                    &actuator_types(&nominal.robot),
+                    measure.columns(),
+                    &format,
+                )
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let labels: Vec<String> = reads.iter().map(|read| read.label.clone()).collect();
+        let label = labels.join(" + ");
+        let sets: Vec<Vec<Sample>> = reads.iter().map(|read| read.samples.to_rows()).collect();
+        let set_of: Vec<usize> = sets
+            .iter()
+            .enumerate()
+            .flat_map(|(set, samples)| std::iter::repeat_n(set, samples.len()))
+            .collect();
+        let samples: Vec<Sample> = sets.iter().flatten().cloned().collect();
         let value = |setting: &str, sigma: &Option<StandardDeviation>, rotation: bool| {
             sigma
                 .as_ref()
@@ -195,12 +220,27 @@ impl ParallelIdentifyRequest {
         options.loss = Loss::from_parts(kind, self.loss_scale)?;
         options.reject = self.reject.unwrap_or(false);
         options.prior = crate::settings::prior(self.prior.as_deref(), None)?;
-        let mut result = identify_platform(&nominal.robot, &samples, measure, noise, &options)?;
+        let borrowed: Vec<&[Sample]> = sets.iter().map(Vec::as_slice).collect();
+        let mut result =
+            identify_platform_sets(&nominal.robot, &borrowed, measure, noise, &options)?;
         if let Some(change) = &mut result.change {
-            change.label.clone_from(&read.label);
+            change.label.clone_from(&labels[change.set]);
         }
-        let errors_before = platform_errors(&nominal.robot, &samples, measure)?;
-        let errors_after = platform_errors(&result.calibrated, &samples, measure)?;
+        // The errors in the base frame: each set's samples brought there by
+        // the frame its registration and correction found.
+        let frames = std::iter::once(result.registered)
+            .chain(result.stations.iter().map(|station| Some(station.frame)))
+            .chain(std::iter::repeat(None));
+        let in_base: Vec<Sample> = sets
+            .iter()
+            .zip(frames)
+            .flat_map(|(set, frame)| match frame {
+                Some(frame) => in_base_frame(set, &frame),
+                None => set.clone(),
+            })
+            .collect();
+        let errors_before = platform_errors(&nominal.robot, &in_base, measure)?;
+        let errors_after = platform_errors(&result.calibrated, &in_base, measure)?;
         let name = format!("{} (calibrated)", nominal.robot.name());
         // A result that holds in the measured region only keeps that region:
         // compensation flags targets outside it.
@@ -239,7 +279,7 @@ impl ParallelIdentifyRequest {
                  {}{registered}{holds}",
                 nominal.robot.name(),
                 measure.name(),
-                read.label,
+                label,
                 result.rank.rank(),
                 result.outcome.as_str()
             )),
@@ -251,14 +291,19 @@ impl ParallelIdentifyRequest {
             "toml",
             gecaro_io::format_parallel_robot_file(&calibrated).as_bytes(),
         )?;
-        let rank = PlatformRankDocument::new(&result.rank, read.label.clone());
+        let rank = PlatformRankDocument::new(&result.rank, label.clone());
+        let outlier = |outlier: &PlatformOutlier| PlatformOutlierDocument {
+            data: (labels.len() > 1).then(|| labels[outlier.set].clone()),
+            line: outlier.line,
+            ratio: outlier.ratio,
+        };
         let document = PlatformIdentificationDocument {
             robot: nominal.robot.name().to_owned(),
             method: measure.name(),
-            data: read.label,
+            data: label,
             configurations: samples.len(),
             outcome: result.outcome.as_str(),
-            summary: summary(&result),
+            summary: summary(&result, &labels),
             sigma_ratio: result.noise_test.map(|test| test.sigma_ratio),
             iterations: result.iterations,
             rms_before: result.rms_before,
@@ -270,14 +315,7 @@ impl ParallelIdentifyRequest {
             regrouped: rank.regrouped,
             region: result.region.as_ref().map(Into::into),
             registered: result.registered.as_ref().map(pose_document),
-            outliers: result
-                .outliers
-                .iter()
-                .map(|(line, ratio)| PlatformOutlierDocument {
-                    line: *line,
-                    ratio: *ratio,
-                })
-                .collect(),
+            outliers: result.outliers.iter().map(outlier).collect(),
             warnings: result
                 .region
                 .as_ref()
@@ -303,19 +341,24 @@ impl ParallelIdentifyRequest {
             ignored: ignored(&result.weights),
             prior: result.prior.as_ref().map(prior_words),
             change: result.change.as_ref().map(Into::into),
-            rejected: result
-                .rejected
+            rejected: result.rejected.iter().map(outlier).collect(),
+            stations: labels
                 .iter()
-                .map(|(line, ratio)| PlatformOutlierDocument {
-                    line: *line,
-                    ratio: *ratio,
+                .skip(1)
+                .zip(&result.stations)
+                .map(|(data, station)| PlatformStationDocument {
+                    data: data.clone(),
+                    frame: pose_document(&station.frame),
+                    sigma_position: [station.sigma[0], station.sigma[1], station.sigma[2]],
+                    sigma_rotation: [station.sigma[3], station.sigma[4], station.sigma[5]],
                 })
                 .collect(),
         };
         let observation_lines = samples
             .iter()
+            .zip(&set_of)
             .step_by(measure.samples_per_observation())
-            .map(|sample| sample.line)
+            .map(|(sample, set)| (*set, sample.line))
             .collect();
         Ok(ParallelIdentified {
             calibrated,
@@ -324,6 +367,7 @@ impl ParallelIdentifyRequest {
             shown: Shown {
                 nominal: nominal.robot,
                 measure,
+                sets: labels,
                 observation_lines,
                 errors_before,
                 errors_after,
@@ -357,8 +401,19 @@ fn weighed_down(weights: &[f64]) -> usize {
 /// The verdict in words, after the registration of the instrument's frame
 /// when there was one, and the measurements that stand out (and what a
 /// robust loss made of them).
-fn summary(result: &PlatformIdentification<ParallelRobot>) -> String {
+fn summary(result: &PlatformIdentification<ParallelRobot>, labels: &[String]) -> String {
     let mut verdict = verdict(result);
+    // A line (`line 19`), with its file when there are several
+    // (`station2.csv:19`).
+    let line_of = |outlier: &PlatformOutlier| {
+        let line = outlier
+            .line
+            .map_or_else(|| "?".into(), |line| line.to_string());
+        match labels.get(outlier.set).filter(|_| labels.len() > 1) {
+            Some(label) => format!("{label}:{line}"),
+            None => format!("line {line}"),
+        }
+    };
     if let Some(prior) = &result.prior {
         verdict.push_str(&format!(
             ", held by a prior of σ {} about the nominal values",
@@ -366,18 +421,28 @@ fn summary(result: &PlatformIdentification<ParallelRobot>) -> String {
         ));
     }
     if !result.rejected.is_empty() {
-        let lines: Vec<String> = result
-            .rejected
-            .iter()
-            .take(5)
-            .map(|(line, _)| line.map_or_else(|| "?".into(), |line| line.to_string()))
-            .collect();
+        let shown = &result.rejected[..result.rejected.len().min(5)];
+        let listed = if labels.len() > 1 {
+            shown.iter().map(line_of).collect::<Vec<_>>().join(", ")
+        } else {
+            let numbers: Vec<String> = shown
+                .iter()
+                .map(|outlier| {
+                    outlier
+                        .line
+                        .map_or_else(|| "?".into(), |line| line.to_string())
+                })
+                .collect();
+            format!(
+                "line{} {}",
+                if numbers.len() == 1 { "" } else { "s" },
+                numbers.join(", ")
+            )
+        };
         verdict.push_str(&format!(
-            " without the {} measurement{} that stood out (line{} {}{}), rejected",
+            " without the {} measurement{} that stood out ({listed}{}), rejected",
             result.rejected.len(),
             if result.rejected.len() == 1 { "" } else { "s" },
-            if result.rejected.len() == 1 { "" } else { "s" },
-            lines.join(", "),
             if result.rejected.len() > 5 {
                 ", …"
             } else {
@@ -404,12 +469,7 @@ fn summary(result: &PlatformIdentification<ParallelRobot>) -> String {
             .outliers
             .iter()
             .take(3)
-            .map(|(line, ratio)| {
-                format!(
-                    "line {} at {ratio:.1}σ",
-                    line.map_or_else(|| "?".into(), |line| line.to_string())
-                )
-            })
+            .map(|outlier| format!("{} at {:.1}σ", line_of(outlier), outlier.ratio))
             .collect();
         verdict.push_str(&format!(
             "; {} measurement{} stand{} out ({}{}): check {}",
@@ -429,22 +489,40 @@ fn summary(result: &PlatformIdentification<ParallelRobot>) -> String {
             }
         ));
     }
+    for (label, station) in labels.iter().skip(1).zip(&result.stations) {
+        verdict.push_str(&format!(
+            "; {label} was measured from another station, identified with the platform: the \
+             base at ({}) mm in it, turned {:.4}° (σ {:.3} mm, {:.4}°)",
+            millimetres(&station.frame.translation.vector),
+            station.frame.rotation.angle().to_degrees(),
+            station.sigma[..3].iter().map(|s| s * s).sum::<f64>().sqrt() * 1e3,
+            station.sigma[3..]
+                .iter()
+                .map(|s| s * s)
+                .sum::<f64>()
+                .sqrt()
+                .to_degrees(),
+        ));
+    }
     match &result.registered {
         Some(frame) => format!(
             "the data were in another frame than the base (the nominal platform more than 50 mm \
              off them): the instrument's frame was registered — the base at ({}) mm in it, \
              turned {:.3}° — before the fit, which {verdict}",
-            frame
-                .translation
-                .vector
-                .iter()
-                .map(|value| format!("{:.2}", value * 1e3))
-                .collect::<Vec<_>>()
-                .join(", "),
+            millimetres(&frame.translation.vector),
             frame.rotation.angle().to_degrees()
         ),
         None => verdict,
     }
+}
+
+/// A position in millimetres, two decimals: `12.34, -5.00, 0.25`.
+fn millimetres(position: &nalgebra::Vector3<f64>) -> String {
+    position
+        .iter()
+        .map(|value| format!("{:.2}", value * 1e3))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// The verdict alone in words.

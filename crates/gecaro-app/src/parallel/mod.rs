@@ -30,7 +30,7 @@ pub use compensate::{ParallelCompensateRequest, ParallelCompensated};
 pub use documents::{
     PlatformErrorsDocument, PlatformIdentificationDocument, PlatformOutlierDocument,
     PlatformParameterDocument, PlatformRankDocument, PlatformRegionDocument,
-    PlatformRelationDocument,
+    PlatformRelationDocument, PlatformStationDocument,
 };
 pub use evaluate::{ParallelEvaluateRequest, ParallelEvaluated};
 pub use generate::{ParallelGenerateRequest, ParallelGenerated};

@@ -135,7 +135,7 @@ pub struct PlatformIdentification<M> {
     /// first line (a distance's pair by its first row) and the RMS of their
     /// rows in units of the stated σ (of σ̂ without one), above
     /// [`DEFAULT_OUTLIER_THRESHOLD`], the largest first (at most ten).
-    pub outliers: Vec<(Option<usize>, f64)>,
+    pub outliers: Vec<PlatformOutlier>,
     /// The base frame in the instrument's frame, when the data were in
     /// another frame and were registered ([`super::measurement_frame`]).
     pub registered: Option<Isometry3<f64>>,
@@ -161,13 +161,25 @@ pub struct PlatformIdentification<M> {
     /// The observations dropped before this fit
     /// ([`reject`](PlatformIdentificationOptions::reject)): their first
     /// line and residual ratio in the fit with them, the largest first.
-    pub rejected: Vec<(Option<usize>, f64)>,
+    pub rejected: Vec<PlatformOutlier>,
     /// The observations that disagree with the rest as one block in the
     /// data's row order, at the first fit (before a robust loss or a
     /// rejection weighs them down): the cell changed during the
     /// measurement (the test of [`CellChange`]); the outcome is then
     /// [`Outcome::Changed`]. Its label is empty.
     pub change: Option<CellChange>,
+}
+
+/// An observation a fit names: where it is, and how far it stands out.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlatformOutlier {
+    /// Its set ([`identify_platform_sets`]; 0 for one set).
+    pub set: usize,
+    /// Its first line in its set's file (a distance's pair by its first
+    /// row).
+    pub line: Option<usize>,
+    /// The RMS of its rows in units of the stated σ (of σ̂ without one).
+    pub ratio: f64,
 }
 
 /// A later set's station, identified: where the base frame is seen from it.
@@ -204,10 +216,12 @@ pub fn identify_platform<M: ParallelModel>(
 /// [`identify_platform`] from several sets, each measured from its own
 /// station (a tracker moved between them): each registered in closed
 /// form, the first's frame the base frame, and every later one's small
-/// correction identified with the parameters ([`super::stations`];
-/// [`PlatformIdentification::stations`]). Distances have no frame: their
-/// sets are one set. The samples' lines are their own file's; their
-/// observations are counted over the sets in order.
+/// rigid correction `δ_s` (six unknowns after the robot's parameters, its
+/// measurements read as `δ_s·m`) identified with the parameters
+/// ([`PlatformIdentification::stations`]; the module docs of [`super`]).
+/// Distances have no frame: their sets are one set. The samples' lines
+/// are their own file's; their observations are counted over the sets in
+/// order.
 ///
 /// # Errors
 /// As [`identify_platform`]; no set at all.
@@ -239,20 +253,25 @@ pub fn identify_platform_sets<M: ParallelModel>(
                 .into(),
         });
     }
+    let set_of: Vec<usize> = sets
+        .iter()
+        .enumerate()
+        .flat_map(|(set, samples)| std::iter::repeat_n(set, samples.len()))
+        .collect();
     let stations = if sets.len() > 1 && measure != PlatformMeasure::Distance {
-        StationFrames::new(
-            sets.iter()
-                .enumerate()
-                .flat_map(|(station, set)| std::iter::repeat_n(station, set.len()))
-                .collect(),
-        )
+        StationFrames::new(set_of.clone())
     } else {
         StationFrames::single()
     };
-    let (result, standing_out) =
-        fit_platform(nominal, &samples, &stations, measure, noise, options)?;
-    let indices: Vec<usize> = standing_out.iter().map(|(index, _)| *index).collect();
-    let change = changed_block(&samples, measure, &indices);
+    let (result, standing_out) = fit_platform(
+        nominal,
+        &samples,
+        (&stations, &set_of),
+        measure,
+        noise,
+        options,
+    )?;
+    let change = changed_set(sets, measure, &standing_out);
     if !options.reject || standing_out.is_empty() || !result.outcome.solved() {
         return Ok(with_change(result, change));
     }
@@ -264,7 +283,14 @@ pub fn identify_platform_sets<M: ParallelModel>(
             loss: Loss::new(LossKind::Huber),
             ..options.clone()
         };
-        match fit_platform(nominal, &samples, &stations, measure, noise, &judge)? {
+        match fit_platform(
+            nominal,
+            &samples,
+            (&stations, &set_of),
+            measure,
+            noise,
+            &judge,
+        )? {
             (judged, standing_out) if judged.outcome.solved() => standing_out,
             _ => standing_out,
         }
@@ -280,19 +306,55 @@ pub fn identify_platform_sets<M: ParallelModel>(
         .filter(|index| keep(*index))
         .map(|index| samples[index].clone())
         .collect();
+    let kept_sets: Vec<usize> = (0..samples.len())
+        .filter(|index| keep(*index))
+        .map(|index| set_of[index])
+        .collect();
     let (mut again, _) = fit_platform(
         nominal,
         &kept,
-        &stations.kept(keep),
+        (&stations.kept(keep), &kept_sets),
         measure,
         noise,
         options,
     )?;
     again.rejected = standing_out
         .into_iter()
-        .map(|(index, ratio)| (samples[index * taken].line, ratio))
+        .map(|(index, ratio)| PlatformOutlier {
+            set: set_of[index * taken],
+            line: samples[index * taken].line,
+            ratio,
+        })
         .collect();
     Ok(with_change(again, change))
+}
+
+/// The change of [`changed_block`] within one of the `sets` (a block of
+/// consecutive observations of one file: the cell changed while it was
+/// measured), the observations `standing_out` counted over the sets in
+/// order; the first set with one.
+fn changed_set(
+    sets: &[&[Sample]],
+    measure: PlatformMeasure,
+    standing_out: &StandingOut,
+) -> Option<CellChange> {
+    let taken = measure.samples_per_observation();
+    let mut first = 0;
+    for (set, samples) in sets.iter().enumerate() {
+        let observations = samples.len() / taken;
+        let own: Vec<usize> = standing_out
+            .iter()
+            .map(|(index, _)| *index)
+            .filter(|index| (first..first + observations).contains(index))
+            .map(|index| index - first)
+            .collect();
+        if let Some(mut change) = changed_block(samples, measure, &own) {
+            change.set = set;
+            return Some(change);
+        }
+        first += observations;
+    }
+    None
 }
 
 /// `result` with the change found at the first fit: a solved fit whose
@@ -318,7 +380,7 @@ type StandingOut = Vec<(usize, f64)>;
 fn fit_platform<M: ParallelModel>(
     nominal: &M,
     samples: &[Sample],
-    stations: &StationFrames,
+    (stations, set_of): (&StationFrames, &[usize]),
     measure: PlatformMeasure,
     noise: Option<PlatformNoise>,
     options: &PlatformIdentificationOptions,
@@ -493,14 +555,16 @@ fn fit_platform<M: ParallelModel>(
         .filter(|(_, ratio)| *ratio > DEFAULT_OUTLIER_THRESHOLD)
         .collect();
     standing_out.sort_by(|a, b| b.1.total_cmp(&a.1));
-    let outliers: Vec<(Option<usize>, f64)> = standing_out
+    let outliers: Vec<PlatformOutlier> = standing_out
         .iter()
         .take(MAX_OUTLIERS_NAMED)
         .map(|(index, ratio)| {
-            (
-                samples[index * measure.samples_per_observation()].line,
-                *ratio,
-            )
+            let first = index * measure.samples_per_observation();
+            PlatformOutlier {
+                set: set_of.get(first).copied().unwrap_or(0),
+                line: samples[first].line,
+                ratio: *ratio,
+            }
         })
         .collect();
     // The floor a held-out position measurement of a perfect platform

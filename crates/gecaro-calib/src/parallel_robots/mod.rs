@@ -40,6 +40,18 @@
 //! residual after the least-squares fit (iteratively reweighted least
 //! squares, its rows multiplied by `√w`), as for a serial robot.
 //!
+//! # Several stations
+//! Sets measured from several tracker stations
+//! ([`identify_platform_sets`]): each set is registered in closed form on
+//! the nominal robot; the first set's frame is the base frame, and every
+//! later station `s` keeps a rigid correction `δ_s = (t_s, r_s)`,
+//! identified with the parameters (its measurements read as `δ_s·m`). Its
+//! columns: for a measured pose, from the closure row `∂Fᵢ/∂x = [g_p; g_r]`
+//! (`δp`, then `ω` with `R ← exp(ω)·R`), `[g_p, g_r + p × g_p]`; for a
+//! measured point `m`, `[−I, [m]×]`. The rank analysis projects them out
+//! of W first, so a parameter a station's frame takes is not counted
+//! identifiable.
+//!
 //! # References
 //! W. Khalil, S. Besnard, "Self calibration of Stewart–Gough parallel
 //! robots without extra sensors", IEEE Trans. Robotics and Automation,
@@ -65,8 +77,8 @@ mod stations;
 pub use evaluation::{PlatformErrors, platform_errors};
 pub use identifiability::{PlatformRankReport, platform_identifiability};
 pub use identification::{
-    PlatformIdentification, PlatformIdentificationOptions, PlatformParameter, PlatformStation,
-    identify_platform, identify_platform_sets,
+    PlatformIdentification, PlatformIdentificationOptions, PlatformOutlier, PlatformParameter,
+    PlatformStation, identify_platform, identify_platform_sets,
 };
 pub use measure::{PlatformMeasure, PlatformNoise};
 pub use planning::{PlannedPoses, plan_platform};

@@ -687,15 +687,8 @@ mod tests {
                 simulate_platform(&model, measure, &poses, noise, &mut sampler).expect("samples");
             let stations = StationFrames::new(vec![0, 1, 1]);
             let parameters = model.parameter_count();
-            let rows = platform_rows(
-                &model,
-                &samples,
-                measure,
-                None,
-                &stations,
-                &mut Vec::new(),
-            )
-            .expect("rows");
+            let rows = platform_rows(&model, &samples, measure, None, &stations, &mut Vec::new())
+                .expect("rows");
             let residuals = |correction: &[f64]| -> Vec<f64> {
                 let moved = stations.at(correction);
                 let mut starts = vec![model.home(); samples.len()];

@@ -799,7 +799,7 @@ def parallel_identifiable(
 def parallel_identify(
     robot: str,
     method: Literal["frame", "position", "distance"],
-    data: _PathLike,
+    data: Union[_PathLike, Sequence[_PathLike]],
     *,
     sigma: Union[float, str, None] = None,
     sigma_rotation: Union[float, str, None] = None,
@@ -815,7 +815,9 @@ def parallel_identify(
     report: Optional[_PathLike] = None,
     overwrite: bool = False,
 ) -> dict[str, Any]:
-    """A platform identified from the data file ``data``, as ``gecaro
+    """A platform identified from the data file ``data`` — or a list of
+    files, each measured from its own tracker station (``"stations"``: each
+    later file's station, identified with the platform) — as ``gecaro
     identify hexapod --json``, with ``"calibrated"`` (the platform file's
     text, written to ``path``), ``"trusted"`` and ``"region"`` (where the
     result holds: ``"measured"`` actuator ranges, ``"predicted_work"`` m

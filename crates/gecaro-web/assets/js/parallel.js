@@ -77,6 +77,7 @@ export function buildParallel() {
     [['frame', 'frame: the platform’s pose'], ['position', 'position: its tool point'], ['distance', 'distance: between two tool points']]
       .map(([value, label]) => h('option', { value, text: label })));
   const data = text('data', 'poses.csv (qm1…qm6, x, y, z[, qw, qx, qy, qz])');
+  const stations = text('stations', 'station2.csv, station3.csv (optional: the same measure from other tracker stations)');
   const dataUnit = h('select', { id: 'parallel-data-unit' }, [['m', 'm'], ['mm', 'mm']].map(([value, label]) => h('option', { value, text: label })));
   const sigma = text('sigma', '20um, 0.02mm');
   const saveAs = text('save', 'calibrated.toml (optional)');
@@ -168,6 +169,7 @@ export function buildParallel() {
       const answer = await api('/parallel/identify', {
         ...common(),
         data: { file: required(data, 'the measurements file') },
+        stations: stations.value.split(',').map((file) => file.trim()).filter((file) => file !== '').map((file) => ({ file })),
         format: format(),
         sigma: sigmaWithUnit(sigma),
         work_region: workRegion.value.trim() || null,
@@ -184,6 +186,7 @@ export function buildParallel() {
         ...(answer.region ? [h('p', { id: 'parallel-region', class: answer.region.holds_everywhere ? '' : 'warnings', text: `Predicted ${answer.region.error}: ${quantity(answer.region.predicted_inside, 'length')} ${unitName('length')} RMS at the measured poses, ${quantity(answer.region.predicted_work, 'length')} ${unitName('length')} over ${answer.region.work_name} (noise floor ${quantity(answer.region.noise_floor, 'length')} ${unitName('length')})${answer.region.holds_everywhere ? '' : ': the result holds only where the data were taken'}.` })] : []),
         ...answer.warnings.map((warning) => h('p', { class: 'warnings', text: `Warning: ${warning}.` })),
         ...(answer.registered ? [registeredLine(answer.registered)] : []),
+        ...answer.stations.map((station) => h('p', { class: 'parallel-station hint', text: `${station.data} was measured from another station, identified with the platform: the base at ${station.frame.position.map((value) => quantity(value, 'length')).join(', ')} ${unitName('length')} in it.` })),
         h('button', { type: 'button', id: 'parallel-report', text: 'Download the report (HTML)', onclick: () => download(`${answer.robot}-report.html`, answer.report, 'text/html') }),
         parameterTable(answer.parameters));
     } catch (error) {
@@ -235,6 +238,7 @@ export function buildParallel() {
       field('Parallel robot', robot),
       field('Measured', method),
       field('Measurements', data),
+      field('From other tracker stations', stations),
       field('Their length unit', dataUnit),
       field('Sensor σ (with its unit)', sigma),
       field('Save the calibrated platform as', saveAs),

@@ -259,3 +259,68 @@ async fn a_robot_outside_the_folder_is_not_read() {
     assert_ne!(status, StatusCode::OK);
     assert!(body.to_string().contains("hexapod"), "{body}");
 }
+
+/// The page's other tracker stations: a second file of poses, uploaded as
+/// a tracker 2.3 m away reads them, identified with the first; the
+/// station found where it stands.
+#[tokio::test]
+async fn a_second_stations_file_is_identified_with_the_first() {
+    let api = Api::new();
+    for (count, seed, save, real) in [
+        (40, 11, "first.csv", json!({"real_save_as": "real.toml"})),
+        (40, 12, "later.csv", json!({"real": "real.toml"})),
+    ] {
+        let mut request = json!({"robot": "hexapod", "method": "frame", "count": count,
+                                 "noise": 2e-5, "seed": seed, "save_as": save});
+        for (key, value) in real.as_object().expect("an object") {
+            request[key] = value.clone();
+        }
+        let (status, body) = api.post("/api/parallel/generate", &request).await;
+        assert_eq!(status, StatusCode::OK, "{body}");
+    }
+    // The later file as a tracker at (0.4, 2.3, -0.2) m, turned 90° about
+    // the vertical, reads it: (x, y, z) → (0.4 − y, 2.3 + x, z − 0.2), the
+    // orientation turned alike.
+    let text = std::fs::read_to_string(api.folder.path().join("later.csv")).expect("data");
+    let turn = nalgebra::UnitQuaternion::from_euler_angles(0.0, 0.0, std::f64::consts::FRAC_PI_2);
+    let mut lines = text.lines();
+    let mut moved = format!("{}\n", lines.next().expect("header"));
+    for line in lines {
+        let v: Vec<f64> = line
+            .split(',')
+            .map(|v| v.parse().expect("a number"))
+            .collect();
+        let q = turn
+            * nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+                v[9], v[10], v[11], v[12],
+            ));
+        let mut row: Vec<f64> = v[..6].to_vec();
+        row.extend([0.4 - v[7], 2.3 + v[6], v[8] - 0.2, q.w, q.i, q.j, q.k]);
+        let row: Vec<String> = row.iter().map(|value| format!("{value:?}")).collect();
+        moved.push_str(&(row.join(",") + "\n"));
+    }
+    let (status, identified) = api
+        .post(
+            "/api/parallel/identify",
+            &json!({"robot": "hexapod", "method": "frame", "data": {"file": "first.csv"},
+                    "stations": [{"csv": {"text": moved, "name": "station2.csv"}}],
+                    "sigma": "20um"}),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{identified}");
+    assert_eq!(
+        identified["outcome"], "fits_noise",
+        "{}",
+        identified["summary"]
+    );
+    let station = &identified["stations"][0];
+    assert_eq!(station["data"], "station2.csv", "{station}");
+    let position = &station["frame"]["position"];
+    let off = [0.4, 2.3, -0.2]
+        .iter()
+        .enumerate()
+        .map(|(k, truth)| (position[k].as_f64().expect("a number") - truth).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    assert!(off < 1e-3, "the station found {off} m off: {station}");
+}
