@@ -1243,3 +1243,82 @@ fn files_from_two_tracker_stations_are_identified_together() {
     let error = String::from_utf8_lossy(&refused.get_output().stderr).to_string();
     assert!(error.contains("study file"), "{error}");
 }
+
+/// `--residuals` and `--plot` of a parallel fit: one row per measured
+/// pose with its line, the three dropped by `--reject` at weight 0 and
+/// named outliers, the errors after the fit those the document sums; the
+/// two plots written.
+#[test]
+fn a_parallel_fits_residuals_and_plots_are_written() {
+    let folder = tempfile::tempdir().expect("folder");
+    let at = |name: &str| folder.path().join(name).display().to_string();
+    command("generate hexapod --method frame --count 60 --noise 2e-5 --seed 3 -o")
+        .arg(at("poses.csv"))
+        .assert()
+        .success();
+    three_off(&at("poses.csv"), &at("off.csv"));
+    let identified = json_output(&[
+        "identify",
+        "hexapod",
+        "--method",
+        "frame",
+        "--sigma",
+        "20um",
+        "--reject",
+        "--json",
+        "--data",
+        &at("off.csv"),
+        "--residuals",
+        &at("residuals.csv"),
+        "--plot",
+        &at("plots"),
+    ]);
+    assert_eq!(
+        identified["outcome"], "fits_noise",
+        "{}",
+        identified["summary"]
+    );
+    // No field is quoted: the file's label has no comma here.
+    let text = std::fs::read_to_string(at("residuals.csv")).expect("the residuals");
+    let mut records = text.lines().map(|line| line.split(',').collect::<Vec<_>>());
+    let header = records.next().expect("a header");
+    let column = |name: &str| {
+        header
+            .iter()
+            .position(|field| *field == name)
+            .unwrap_or_else(|| panic!("no {name} in {header:?}"))
+    };
+    let rows: Vec<Vec<&str>> = records.collect();
+    assert_eq!(rows.len(), 60);
+    assert!(header.contains(&"rotation_after_deg"));
+    let (lines, weight, outlier, after) = (
+        column("lines"),
+        column("weight"),
+        column("outlier"),
+        column("error_after_mm"),
+    );
+    for row in &rows {
+        let dropped = ["7", "19", "35"].contains(&row[lines]);
+        assert_eq!(row[weight] == "0", dropped, "{row:?}");
+        if dropped {
+            assert_eq!(row[outlier], "true", "{row:?}");
+        }
+    }
+    let squares: f64 = rows
+        .iter()
+        .map(|row| row[after].parse::<f64>().expect("a number").powi(2))
+        .sum();
+    let rms = (squares / rows.len() as f64).sqrt();
+    let stated = identified["errors_after"]["position_rms"]
+        .as_f64()
+        .expect("rms")
+        * 1e3;
+    assert!(
+        (rms - stated).abs() <= 1e-9 * stated,
+        "{rms} against {stated}"
+    );
+    for plot in ["errors_histogram.svg", "errors_per_configuration.svg"] {
+        let svg = std::fs::read_to_string(folder.path().join("plots").join(plot)).expect(plot);
+        assert!(svg.contains("<svg"), "{plot}");
+    }
+}

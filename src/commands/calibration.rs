@@ -155,24 +155,37 @@ fn write_plots(
     identified: &Identified,
     force: bool,
 ) -> Result<Vec<PathBuf>, Failure> {
+    let plots = identified.plots()?;
+    write_svgs(
+        folder,
+        &[
+            ("convergence.svg", plots.convergence),
+            ("errors_histogram.svg", plots.errors_histogram),
+            (
+                "errors_per_configuration.svg",
+                plots.errors_per_configuration,
+            ),
+        ],
+        force,
+    )
+}
+
+/// `named` SVG plots written into `folder` (created if missing), none over
+/// a file without `force`: their paths.
+pub(crate) fn write_svgs(
+    folder: &Path,
+    named: &[(&str, String)],
+    force: bool,
+) -> Result<Vec<PathBuf>, Failure> {
     std::fs::create_dir_all(folder).map_err(|error| gecaro_io::Error::Write {
         path: folder.to_owned(),
         message: error.to_string(),
     })?;
-    let plots = identified.plots()?;
-    let named = [
-        ("convergence.svg", plots.convergence),
-        ("errors_histogram.svg", plots.errors_histogram),
-        (
-            "errors_per_configuration.svg",
-            plots.errors_per_configuration,
-        ),
-    ];
     let paths: Vec<PathBuf> = named.iter().map(|(file, _)| folder.join(file)).collect();
     for path in &paths {
         check_output(path, force)?;
     }
-    for (path, (_, svg)) in paths.iter().zip(&named) {
+    for (path, (_, svg)) in paths.iter().zip(named) {
         gecaro_io::write_atomically(path, svg.as_bytes(), output_policy(force))?;
     }
     Ok(paths)
@@ -331,7 +344,7 @@ pub(crate) fn identify(args: &IdentifyArgs) -> Result<(), Failure> {
         .map_or(Ok(()), |misfit| Err(misfit.into()))
 }
 
-fn display_list(paths: &[PathBuf]) -> String {
+pub(crate) fn display_list(paths: &[PathBuf]) -> String {
     paths
         .iter()
         .map(|path| path.display().to_string())

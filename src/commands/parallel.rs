@@ -351,8 +351,6 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
         ("--check-model", args.check_model),
         ("--no-check-model", args.no_check_model),
         ("--write-unconverged", args.write_unconverged),
-        ("--plot", args.plot.is_some()),
-        ("--residuals", args.residuals.is_some()),
         ("--cv", args.cv.is_some()),
     ])?;
     let output = args
@@ -360,7 +358,29 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
         .as_deref()
         .map(|path| written(path, args.force))
         .unwrap_or_default();
+    if let Some(path) = &args.residuals {
+        super::calibration::check_output(path, args.force)?;
+    }
     let identified = identify_request(&args.run, robot, output)?.run(&LocalFiles)?;
+    // Written whether or not the fit converged: they say what went wrong.
+    if let Some(path) = &args.residuals {
+        let csv = identified.residuals_csv()?;
+        gecaro_io::write_atomically(path, csv.as_bytes(), output_policy(args.force))?;
+    }
+    let plots = match &args.plot {
+        Some(folder) => {
+            let plots = identified.plots()?;
+            super::calibration::write_svgs(
+                folder,
+                &[
+                    ("errors_histogram.svg", plots.errors_histogram),
+                    ("errors_per_configuration.svg", plots.errors_per_observation),
+                ],
+                args.force,
+            )?
+        }
+        None => Vec::new(),
+    };
     let document = &identified.document;
     if args.json {
         super::output::print_json(document)?;
@@ -418,6 +438,15 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
         }
         if let Some(path) = &document.written {
             println!("wrote the calibrated platform to {path}");
+        }
+        if let Some(path) = &args.residuals {
+            println!("wrote the residuals to {}", path.display());
+        }
+        if !plots.is_empty() {
+            println!(
+                "wrote the plots to {}",
+                super::calibration::display_list(&plots)
+            );
         }
     }
     identified

@@ -141,8 +141,10 @@ pub(crate) fn parallel_identifiable<'py>(
 /// identifies the rest again, once (`"rejected"`); `prior` (`"1mm,0.05deg,0.1%"`)
 /// holds the parameters about their nominal values. `report` names the
 /// file the self-contained HTML report is written to (`gecaro report`;
-/// `"report"` in the document), trusted or not. A fit that did not
-/// converge raises `NotConvergedError` (its report written first).
+/// `"report"` in the document), trusted or not; `residuals` the CSV file
+/// of every measurement's errors and residual (`gecaro identify
+/// --residuals`; `"residuals"`). A fit that did not converge raises
+/// `NotConvergedError` (its report and residuals written first).
 /// One data file, or several (one a tracker station).
 #[derive(FromPyObject)]
 pub(crate) enum DataPaths {
@@ -163,7 +165,8 @@ impl DataPaths {
 #[pyo3(signature = (
     robot, method, data, *, sigma = None, sigma_rotation = None, length_unit = None,
     angle_unit = None, max_iterations = 30, work_region = None, loss = "l2", loss_scale = None,
-    reject = false, prior = None, path = None, report = None, overwrite = false,
+    reject = false, prior = None, path = None, report = None, residuals = None,
+    overwrite = false,
 ))]
 pub(crate) fn parallel_identify<'py>(
     py: Python<'py>,
@@ -182,11 +185,15 @@ pub(crate) fn parallel_identify<'py>(
     prior: Option<String>,
     path: Option<PathBuf>,
     report: Option<PathBuf>,
+    residuals: Option<PathBuf>,
     overwrite: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     // Refused before the work, as the platform's own file is.
     output(report.as_deref(), overwrite)
         .check(&LocalFiles, "html")
+        .py()?;
+    output(residuals.as_deref(), overwrite)
+        .check(&LocalFiles, "csv")
         .py()?;
     let paths = data.paths();
     let Some((first, stations)) = paths.split_first() else {
@@ -222,6 +229,12 @@ pub(crate) fn parallel_identify<'py>(
             .write(&LocalFiles, "html", html.as_bytes())
             .py()?;
     }
+    if let Some(residuals) = &residuals {
+        let csv = identified.residuals_csv().py()?;
+        output(Some(residuals), overwrite)
+            .write(&LocalFiles, "csv", csv.as_bytes())
+            .py()?;
+    }
     if !identified.converged()
         && let Some(error) = identified.failure()
     {
@@ -232,6 +245,12 @@ pub(crate) fn parallel_identify<'py>(
     document.set_item(
         "report",
         report.as_deref().map(|report| report.display().to_string()),
+    )?;
+    document.set_item(
+        "residuals",
+        residuals
+            .as_deref()
+            .map(|residuals| residuals.display().to_string()),
     )?;
     document.set_item(
         "calibrated",

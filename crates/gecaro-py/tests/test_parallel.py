@@ -326,3 +326,16 @@ def test_files_from_two_tracker_stations_are_identified_together(tmp_path):
     assert abs(x) < 1e-3 and abs(y - 1.8) < 1e-3 and abs(z + 0.3) < 1e-3
     with pytest.raises(ValueError, match="data"):
         gecaro.parallel_identify("hexapod", "frame", [], sigma="20um")
+
+
+def test_a_parallel_fits_residuals_are_written(tmp_path):
+    gecaro.parallel_generate("hexapod", "position", 60, noise=2e-5, seed=3,
+                             path=tmp_path / "points.csv")
+    result = gecaro.parallel_identify("hexapod", "position", tmp_path / "points.csv",
+                                      sigma="20um", residuals=tmp_path / "residuals.csv")
+    assert result["residuals"] == str(tmp_path / "residuals.csv")
+    lines = (tmp_path / "residuals.csv").read_text().splitlines()
+    assert lines[0].startswith("set,file,kind,observation,lines,error_before_mm,error_after_mm,")
+    assert "rotation_after_deg" not in lines[0]
+    assert len(lines) == 61
+    assert lines[1].split(",")[2:5] == ["configuration", "1", "2"]  # the header is line 1

@@ -17,7 +17,7 @@ mod plots;
 
 pub use acceptance::{AcceptanceInput, MeasuredInput, acceptance_report, four_decimals};
 pub use html::{ReportInput, html_report};
-pub use parallel::{PlatformReportInput, platform_report};
+pub use parallel::{PlatformPlots, PlatformReportInput, platform_plots, platform_report};
 pub use plots::{
     IdentificationSvgs, accuracy_curve_svg, convergence_svg, error_histograms_svg,
     errors_per_configuration_svg, identification_svgs, labelled_error_histograms_svg,

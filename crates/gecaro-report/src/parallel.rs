@@ -9,6 +9,7 @@
 //! printed and returned, so that the report says what the terminal said.
 
 use gecaro_calib::identifiability::ParameterStatus;
+use gecaro_calib::identification::DEFAULT_OUTLIER_THRESHOLD;
 use gecaro_calib::parallel_robots::{
     PlatformErrors, PlatformIdentification, PlatformMeasure, PlatformOutlier,
 };
@@ -51,13 +52,22 @@ pub struct PlatformReportInput<'a> {
     pub command: &'a str,
 }
 
-/// The report of a parallel robot's identification (see the module docs).
+/// The two plots of a parallel robot's identification, as SVG.
+#[derive(Clone, Debug)]
+pub struct PlatformPlots {
+    /// The histograms of the observations' errors before and after (mm).
+    pub errors_histogram: String,
+    /// Every observation's error before and after (mm), those standing out
+    /// of the fit ringed, each titled by its file and line.
+    pub errors_per_observation: String,
+}
+
+/// The plots the report shows ([`PlatformPlots`]), for `gecaro identify
+/// --plot` too.
 ///
 /// # Errors
 /// [`Error::Plot`] if a plot cannot be drawn.
-pub fn platform_report(input: &PlatformReportInput<'_>) -> Result<String, Error> {
-    let (robot, result) = (input.nominal, input.result);
-    let method = input.measure.name();
+pub fn platform_plots(input: &PlatformReportInput<'_>) -> Result<PlatformPlots, Error> {
     let millimetres = |errors: &PlatformErrors| -> Vec<f64> {
         errors
             .observations
@@ -69,7 +79,7 @@ pub fn platform_report(input: &PlatformReportInput<'_>) -> Result<String, Error>
         millimetres(input.errors_before),
         millimetres(input.errors_after),
     );
-    let histograms = error_histograms_svg(&before, &after, "mm")?;
+    let errors_histogram = error_histograms_svg(&before, &after, "mm")?;
     let names: Vec<String> = input
         .observation_lines
         .iter()
@@ -82,19 +92,33 @@ pub fn platform_report(input: &PlatformReportInput<'_>) -> Result<String, Error>
             }
         })
         .collect();
-    let ringed: Vec<usize> = result
-        .outliers
+    let ringed: Vec<usize> = input
+        .result
+        .residual_ratios
         .iter()
-        .filter_map(|outlier| {
-            outlier.line.and_then(|line| {
-                input
-                    .observation_lines
-                    .iter()
-                    .position(|first| *first == (outlier.set, Some(line)))
-            })
-        })
+        .enumerate()
+        .filter(|(_, ratio)| **ratio > DEFAULT_OUTLIER_THRESHOLD)
+        .map(|(index, _)| index)
         .collect();
-    let per_observation = errors_per_configuration_svg(&before, &after, &ringed, &names, "mm")?;
+    let errors_per_observation =
+        errors_per_configuration_svg(&before, &after, &ringed, &names, "mm")?;
+    Ok(PlatformPlots {
+        errors_histogram,
+        errors_per_observation,
+    })
+}
+
+/// The report of a parallel robot's identification (see the module docs).
+///
+/// # Errors
+/// [`Error::Plot`] if a plot cannot be drawn.
+pub fn platform_report(input: &PlatformReportInput<'_>) -> Result<String, Error> {
+    let (robot, result) = (input.nominal, input.result);
+    let method = input.measure.name();
+    let PlatformPlots {
+        errors_histogram: histograms,
+        errors_per_observation: per_observation,
+    } = platform_plots(input)?;
     let body = html! {
         h1 { "Calibration report" }
         p.muted {

@@ -1752,6 +1752,8 @@ async fn a_tracker_cell_runs_from_the_page_as_a_study() {
     assert_eq!(count(client, "#parallel-parameters tbody tr").await, 51);
     let report = text_of(client, "#parallel-report", 5).await;
     assert_eq!(report, "Download the report (HTML)");
+    let residuals = text_of(client, "#parallel-residuals", 5).await;
+    assert_eq!(residuals, "Download the residuals (CSV)");
     set_values(client, &[("parallel-program", "hexapod.csv")]).await;
     click(client, "#parallel-compensate").await;
     let compensated = text_of(

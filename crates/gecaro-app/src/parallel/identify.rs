@@ -12,7 +12,7 @@ use gecaro_calib::study::Sample;
 use gecaro_core::parallel_model::ParallelModel;
 use gecaro_core::parallel_robot::ParallelRobot;
 use gecaro_io::{ParallelRobotFile, StandardDeviation};
-use gecaro_report::{PlatformReportInput, platform_report};
+use gecaro_report::{PlatformPlots, PlatformReportInput, platform_plots, platform_report};
 use serde::Deserialize;
 
 use super::documents::{
@@ -20,6 +20,7 @@ use super::documents::{
     PlatformStationDocument, pose_document,
 };
 use super::region::stated_work_region;
+use super::residuals::{ObservationPlaces, platform_residuals_csv};
 use super::{actuator_types, load_parallel_robot, measure_for};
 use crate::error::{AppError, ErrorKind};
 use crate::files::Files;
@@ -103,6 +104,7 @@ struct Shown {
     measure: PlatformMeasure,
     sets: Vec<String>,
     observation_lines: Vec<(usize, Option<usize>)>,
+    places: ObservationPlaces,
     errors_before: PlatformErrors,
     errors_after: PlatformErrors,
 }
@@ -133,14 +135,37 @@ impl ParallelIdentified {
         }
     }
 
-    /// The self-contained HTML report of the identification
-    /// ([`gecaro_report::platform_report`]), made by `command`.
+    /// Every observation's errors and residual as CSV text, one row per
+    /// configuration (or distance's pair): the serial residuals' columns
+    /// ([`crate::residuals_csv`]) — `set`, `file`, `kind`, `observation`,
+    /// `lines`, `error_before_mm`, `error_after_mm`, the rotation errors of
+    /// measured poses, `residual_sigmas`, `weight` (0 for a measurement
+    /// `reject` dropped), `outlier`.
+    ///
+    /// # Errors
+    /// As [`crate::residuals_csv`].
+    pub fn residuals_csv(&self) -> Result<String, AppError> {
+        let shown = &self.shown;
+        platform_residuals_csv(
+            &self.result,
+            &shown.places,
+            (&shown.errors_before, &shown.errors_after),
+        )
+    }
+
+    /// The report's two plots as SVG: the errors' histograms before and
+    /// after, and every observation's error (those standing out ringed).
     ///
     /// # Errors
     /// A plot that cannot be drawn.
-    pub fn report(&self, command: &str) -> Result<String, AppError> {
+    pub fn plots(&self) -> Result<PlatformPlots, AppError> {
+        Ok(platform_plots(&self.report_input(""))?)
+    }
+
+    /// What the report and the plots are made from.
+    fn report_input<'a>(&'a self, command: &'a str) -> PlatformReportInput<'a> {
         let shown = &self.shown;
-        Ok(platform_report(&PlatformReportInput {
+        PlatformReportInput {
             nominal: &shown.nominal,
             result: &self.result,
             measure: shown.measure,
@@ -153,7 +178,16 @@ impl ParallelIdentified {
             warnings: &self.document.warnings,
             prior: self.document.prior.as_deref(),
             command,
-        })?)
+        }
+    }
+
+    /// The self-contained HTML report of the identification
+    /// ([`gecaro_report::platform_report`]), made by `command`.
+    ///
+    /// # Errors
+    /// A plot that cannot be drawn.
+    pub fn report(&self, command: &str) -> Result<String, AppError> {
+        Ok(platform_report(&self.report_input(command))?)
     }
 }
 
@@ -354,12 +388,24 @@ impl ParallelIdentifyRequest {
                 })
                 .collect(),
         };
+        let taken = measure.samples_per_observation();
         let observation_lines = samples
             .iter()
             .zip(&set_of)
-            .step_by(measure.samples_per_observation())
+            .step_by(taken)
             .map(|(sample, set)| (*set, sample.line))
             .collect();
+        let places = ObservationPlaces {
+            labels: labels.clone(),
+            places: samples
+                .chunks_exact(taken)
+                .zip(set_of.iter().step_by(taken))
+                .map(|(observation, set)| {
+                    (*set, observation.iter().map(|sample| sample.line).collect())
+                })
+                .collect(),
+            kind: if taken == 2 { "pair" } else { "configuration" },
+        };
         Ok(ParallelIdentified {
             calibrated,
             result,
@@ -369,6 +415,7 @@ impl ParallelIdentifyRequest {
                 measure,
                 sets: labels,
                 observation_lines,
+                places,
                 errors_before,
                 errors_after,
             },

@@ -17,6 +17,7 @@ mod identify;
 mod plan;
 mod predict;
 mod region;
+mod residuals;
 
 use gecaro_calib::parallel_robots::PlatformMeasure;
 use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};

@@ -24,6 +24,9 @@ pub struct PlatformErrors {
     /// Each observation's position error (m), in order: a configuration's
     /// (a pose's origin, a point), a pair's distance error.
     pub observations: Vec<f64>,
+    /// Each measured pose's orientation error (rad), in order; empty for
+    /// points and distances.
+    pub observation_angles: Vec<f64>,
 }
 
 impl PlatformErrors {
@@ -41,6 +44,7 @@ impl PlatformErrors {
             angle_rms: angles.map(rms),
             angle_max: angles.map(largest),
             observations,
+            observation_angles: angles.map(<[f64]>::to_vec).unwrap_or_default(),
         }
     }
 }

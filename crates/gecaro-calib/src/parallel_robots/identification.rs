@@ -136,6 +136,15 @@ pub struct PlatformIdentification<M> {
     /// rows in units of the stated σ (of σ̂ without one), above
     /// [`DEFAULT_OUTLIER_THRESHOLD`], the largest first (at most ten).
     pub outliers: Vec<PlatformOutlier>,
+    /// Every observation's residual, in order: the RMS of its rows in the
+    /// units the outliers' `ratio` is in (the stated σ, of σ̂ without one;
+    /// with a robust loss, its robust σ̂); a [`dropped`](Self::dropped)
+    /// one's in the fit with it.
+    pub residual_ratios: Vec<f64>,
+    /// The observations dropped before this fit (indices over every set's
+    /// observations, in order; [`rejected`](Self::rejected) names them):
+    /// [`weights`](Self::weights) and the fit's sums count the others only.
+    pub dropped: Vec<usize>,
     /// The base frame in the instrument's frame, when the data were in
     /// another frame and were registered ([`super::measurement_frame`]).
     pub registered: Option<Isometry3<f64>>,
@@ -318,6 +327,20 @@ pub fn identify_platform_sets<M: ParallelModel>(
         noise,
         options,
     )?;
+    // Every observation's residual: the kept ones' in this fit, the
+    // dropped ones' in the fit with them.
+    let mut dropped_sorted = dropped.clone();
+    dropped_sorted.sort_unstable();
+    let mut kept_ratios = again.residual_ratios.iter();
+    again.residual_ratios = (0..samples.len() / taken)
+        .map(
+            |index| match standing_out.iter().find(|(at, _)| *at == index) {
+                Some((_, ratio)) => *ratio,
+                None => kept_ratios.next().copied().unwrap_or(f64::NAN),
+            },
+        )
+        .collect();
+    again.dropped = dropped_sorted;
     again.rejected = standing_out
         .into_iter()
         .map(|(index, ratio)| PlatformOutlier {
@@ -547,10 +570,10 @@ fn fit_platform<M: ParallelModel>(
         None if noise.is_some() => 1.0,
         None => unit_sigma.max(f64::MIN_POSITIVE),
     };
-    let mut standing_out: StandingOut = system
-        .errors
+    let residual_ratios: Vec<f64> = system.errors.iter().map(|error| error / scale).collect();
+    let mut standing_out: StandingOut = residual_ratios
         .iter()
-        .map(|error| error / scale)
+        .copied()
         .enumerate()
         .filter(|(_, ratio)| *ratio > DEFAULT_OUTLIER_THRESHOLD)
         .collect();
@@ -647,6 +670,8 @@ fn fit_platform<M: ParallelModel>(
         implausible,
         region,
         outliers,
+        residual_ratios,
+        dropped: Vec::new(),
         registered,
         stations: later_stations,
         // What the fit did: a robust loss reweights a converged fit only.

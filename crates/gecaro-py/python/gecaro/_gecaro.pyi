@@ -813,6 +813,7 @@ def parallel_identify(
     prior: Optional[str] = None,
     path: Optional[_PathLike] = None,
     report: Optional[_PathLike] = None,
+    residuals: Optional[_PathLike] = None,
     overwrite: bool = False,
 ) -> dict[str, Any]:
     """A platform identified from the data file ``data`` — or a list of
@@ -834,8 +835,11 @@ def parallel_identify(
     (``"1mm,0.05deg,0.1%"``: σ of lengths, angles, gains) holds the parameters
     about their nominal values (``"prior"`` in words). ``report`` names the
     file the self-contained HTML report is written to (``gecaro report``;
-    ``"report"``), trusted or not. A fit that did not converge raises
-    NotConvergedError (its report written first)."""
+    ``"report"``), trusted or not; ``residuals`` the CSV file of every
+    measurement's errors before and after, its residual, weight and whether
+    it stands out (``gecaro identify --residuals``; ``"residuals"``). A fit
+    that did not converge raises NotConvergedError (its report and
+    residuals written first)."""
 
 def parallel_evaluate(
     robot: str,

@@ -188,6 +188,7 @@ export function buildParallel() {
         ...(answer.registered ? [registeredLine(answer.registered)] : []),
         ...answer.stations.map((station) => h('p', { class: 'parallel-station hint', text: `${station.data} was measured from another station, identified with the platform: the base at ${station.frame.position.map((value) => quantity(value, 'length')).join(', ')} ${unitName('length')} in it.` })),
         h('button', { type: 'button', id: 'parallel-report', text: 'Download the report (HTML)', onclick: () => download(`${answer.robot}-report.html`, answer.report, 'text/html') }),
+        h('button', { type: 'button', id: 'parallel-residuals', text: 'Download the residuals (CSV)', onclick: () => download(`${answer.robot}-residuals.csv`, answer.residuals, 'text/csv') }),
         parameterTable(answer.parameters));
     } catch (error) {
       result.replaceChildren(errorBox(error));

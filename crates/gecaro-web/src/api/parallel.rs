@@ -56,7 +56,7 @@ pub(crate) async fn identifiable(
 }
 
 /// An identification (the calibrated platform written when named), with
-/// whether its verdict trusts it and its report.
+/// whether its verdict trusts it, its report and its residuals.
 #[derive(Serialize)]
 pub(crate) struct ParallelIdentifiedJson {
     #[serde(flatten)]
@@ -64,6 +64,8 @@ pub(crate) struct ParallelIdentifiedJson {
     trusted: bool,
     /// The self-contained HTML report, to download.
     report: String,
+    /// Every measurement's errors and residual (CSV), to download.
+    residuals: String,
 }
 
 /// An identification.
@@ -77,6 +79,7 @@ pub(crate) async fn identify(
             Ok(Json(ParallelIdentifiedJson {
                 trusted: identified.failure().is_none(),
                 report: identified.report("the page's parallel identification")?,
+                residuals: identified.residuals_csv()?,
                 document: identified.document,
             }))
         })

@@ -81,6 +81,13 @@ async fn a_hexapod_is_calibrated_through_the_api() {
     let summary = identified["summary"].as_str().expect("words");
     assert!(report.contains(summary), "the report says {summary}");
     assert!(report.contains("<td>a6x</td>") && report.contains("<td>K6</td>"));
+    // The residuals to download: a row per measured pose.
+    let residuals = identified["residuals"].as_str().expect("the residuals");
+    assert!(
+        residuals.starts_with("set,file,kind,observation,lines,"),
+        "{residuals:.80}"
+    );
+    assert_eq!(residuals.lines().count(), 61);
     // Over a stated work region (the page's field): judged there, said so.
     let (status, stated) = api
         .post(
