@@ -45,7 +45,6 @@ pub fn residuals_csv(
         }
         by_observation[point.index] = Some(point.deviation);
     }
-    let mut writer = csv::Writer::from_writer(Vec::new());
     let mut header = vec![
         "set",
         "file",
@@ -62,13 +61,7 @@ pub fn residuals_csv(
     if !by_observation.is_empty() {
         header.extend(["dx_mm", "dy_mm", "dz_mm"]);
     }
-    let failed = |error: csv::Error| {
-        AppError::plain(
-            ErrorKind::Numerical,
-            format!("cannot write the residuals: {error}"),
-        )
-    };
-    writer.write_record(&header).map_err(failed)?;
+    let mut rows = Vec::new();
     let number = |value: Option<f64>| value.map_or_else(String::new, |v| format!("{v}"));
     for (index, located) in locate_observations(study).iter().enumerate() {
         let before = result.errors_before.get(index);
@@ -105,6 +98,27 @@ pub fn residuals_csv(
                 row.push(number(deviation.map(|d| d[axis] * 1e3)));
             }
         }
+        rows.push(row);
+    }
+    residual_table(&header, rows)
+}
+
+/// A residuals file's CSV text: `header`, then `rows` (the serial and the
+/// parallel residuals write theirs alike).
+///
+/// # Errors
+/// [`ErrorKind::Numerical`] if the CSV cannot be written (it always can:
+/// the writer is in memory).
+pub(crate) fn residual_table(header: &[&str], rows: Vec<Vec<String>>) -> Result<String, AppError> {
+    let failed = |error: csv::Error| {
+        AppError::plain(
+            ErrorKind::Numerical,
+            format!("cannot write the residuals: {error}"),
+        )
+    };
+    let mut writer = csv::Writer::from_writer(Vec::new());
+    writer.write_record(header).map_err(failed)?;
+    for row in rows {
         writer.write_record(&row).map_err(failed)?;
     }
     let bytes = writer

@@ -18,7 +18,8 @@ use gecaro_calib::identification::DEFAULT_OUTLIER_THRESHOLD;
 use gecaro_calib::parallel_robots::{PlatformErrors, PlatformIdentification};
 use gecaro_core::parallel_robot::ParallelRobot;
 
-use crate::error::{AppError, ErrorKind};
+use crate::error::AppError;
+use crate::residuals::residual_table;
 
 /// Where the identification's observations are, in its order: each one's
 /// set (file) and the lines of its samples.
@@ -36,19 +37,12 @@ pub(super) struct ObservationPlaces {
 /// `places`, the direct model's errors `before` and `after` it.
 ///
 /// # Errors
-/// [`ErrorKind::Numerical`] if the CSV cannot be written (it always can:
-/// the writer is in memory).
+/// As [`residual_table`].
 pub(super) fn platform_residuals_csv(
     result: &PlatformIdentification<ParallelRobot>,
     places: &ObservationPlaces,
     (before, after): (&PlatformErrors, &PlatformErrors),
 ) -> Result<String, AppError> {
-    let failed = |error: csv::Error| {
-        AppError::plain(
-            ErrorKind::Numerical,
-            format!("cannot write the residuals: {error}"),
-        )
-    };
     let rotation = !before.observation_angles.is_empty();
     let mut header = vec![
         "set",
@@ -63,8 +57,7 @@ pub(super) fn platform_residuals_csv(
         header.extend(["rotation_before_deg", "rotation_after_deg"]);
     }
     header.extend(["residual_sigmas", "weight", "outlier"]);
-    let mut writer = csv::Writer::from_writer(Vec::new());
-    writer.write_record(&header).map_err(failed)?;
+    let mut rows = Vec::new();
     let number = |value: Option<f64>| value.map_or_else(String::new, |v| format!("{v}"));
     let mut in_set = vec![0usize; places.labels.len()];
     for (index, (set, lines)) in places.places.iter().enumerate() {
@@ -111,15 +104,7 @@ pub(super) fn platform_residuals_csv(
                 .is_some_and(|ratio| ratio > DEFAULT_OUTLIER_THRESHOLD)
                 .to_string(),
         );
-        writer.write_record(&row).map_err(failed)?;
+        rows.push(row);
     }
-    let bytes = writer
-        .into_inner()
-        .map_err(|error| failed(error.into_error().into()))?;
-    String::from_utf8(bytes).map_err(|error| {
-        AppError::plain(
-            ErrorKind::Numerical,
-            format!("cannot write the residuals: {error}"),
-        )
-    })
+    residual_table(&header, rows)
 }
