@@ -1355,3 +1355,71 @@ fn sets_from_two_stations_calibrate_a_platform_with_each_stations_frame() {
         assert_ne!(as_one.outcome, Outcome::FitsNoise, "{robot} {measure:?}");
     }
 }
+
+/// Two stations with mistakes in the second's file: three measurements off
+/// are dropped by `reject` and named by their set and line (the station
+/// still found, the fit at the noise), and a block at the end of the
+/// second file is named a change of that set.
+#[test]
+fn mistakes_in_a_later_stations_file_are_named_by_its_set_and_line() {
+    use gecaro_calib::parallel_robots::identify_platform_sets;
+    use nalgebra::{Translation3, UnitQuaternion, Vector3};
+    let station = Isometry3::from_parts(
+        Translation3::new(0.9, -2.2, 0.1),
+        UnitQuaternion::from_scaled_axis(Vector3::z() * 1.3),
+    );
+    let nominal = ready("hexapod");
+    let measure = PlatformMeasure::Pose;
+    let real = perturbed_platform(&nominal, 1.0, &mut Sampler::new(430)).expect("real");
+    let first = measured(&real, measure, 40, NOISE, 431);
+    let second = measured(&real, measure, 40, NOISE, 432);
+    let off = |samples: &[Sample], rows: &[usize]| -> Vec<Sample> {
+        let mut moved = samples.to_vec();
+        for row in rows {
+            if let Some(position) = &mut moved[*row].position {
+                position.x += 0.5e-3;
+            }
+        }
+        seen_from(&station, moved)
+    };
+    let options = PlatformIdentificationOptions {
+        reject: true,
+        ..PlatformIdentificationOptions::default()
+    };
+    let three = off(&second, &[4, 17, 30]);
+    let result =
+        identify_platform_sets(&nominal, &[&first, &three], measure, Some(NOISE), &options)
+            .expect("identified");
+    assert_eq!(result.outcome, Outcome::FitsNoise, "{:?}", result.rejected);
+    let mut named: Vec<(usize, Option<usize>)> = result
+        .rejected
+        .iter()
+        .map(|outlier| (outlier.set, outlier.line))
+        .collect();
+    named.sort_unstable();
+    let lines: Vec<(usize, Option<usize>)> = [4, 17, 30].map(|row| (1, second[row].line)).to_vec();
+    assert_eq!(named, lines);
+    assert_eq!(result.dropped.len(), 3);
+    assert_eq!(result.residual_ratios.len(), 80);
+    let found = result.stations[0].frame.translation.vector - station.translation.vector;
+    assert!(found.norm() < 1e-3, "the station {} m off", found.norm());
+    // The last 6 of the second file off together: a change of that set.
+    let block = off(&second, &(34..40).collect::<Vec<_>>());
+    let changed = identify_platform_sets(
+        &nominal,
+        &[&first, &block],
+        measure,
+        Some(NOISE),
+        &PlatformIdentificationOptions::default(),
+    )
+    .expect("identified");
+    let change = changed.change.clone().unwrap_or_else(|| {
+        panic!(
+            "no change named: {:?}, {:?}",
+            changed.outcome, changed.outliers
+        )
+    });
+    assert_eq!(changed.outcome, Outcome::Changed);
+    assert_eq!(change.set, 1);
+    assert!(change.to_end(), "{change:?}");
+}
