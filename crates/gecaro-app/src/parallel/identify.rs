@@ -653,8 +653,12 @@ fn verdict(result: &PlatformIdentification<ParallelRobot>) -> String {
             result.iterations,
             if result.iterations == 1 { "" } else { "s" }
         ),
-        _ => "diverged: no step lowered the residuals from the nominal platform; check the \
-              robot file and the data's units"
+        Outcome::Diverged => "diverged: no step lowered the residuals from the nominal \
+                              platform; check the robot file and the data's units"
             .to_owned(),
+        // A serial robot's outcomes a parallel fit does not produce (a
+        // degenerate or repeated design, an underdetermined or incomplete
+        // model): named as they are, should one come.
+        other => other.as_str().replace('_', " "),
     }
 }
