@@ -1236,6 +1236,23 @@ fn files_from_two_tracker_stations_are_identified_together() {
         }),
         "{off}"
     );
+    // Actuator values no pose has in the second file: named by its file
+    // and line.
+    let text = std::fs::read_to_string(at("station2.csv")).expect("data");
+    let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
+    lines[5] = "1,2,3,4,5,6,0.1,0.2,0.3,1,0,0,0".into();
+    std::fs::write(at("station2-bad.csv"), lines.join("\n") + "\n").expect("written");
+    let refused = command("identify hexapod --method frame --sigma 20um --data")
+        .arg(at("first.csv"))
+        .arg("--data")
+        .arg(at("station2-bad.csv"))
+        .assert()
+        .failure();
+    let error = String::from_utf8_lossy(&refused.get_output().stderr).to_string();
+    assert!(
+        error.contains("station2-bad.csv:6: no platform pose"),
+        "{error}"
+    );
     // A serial robot's sets go in a study file.
     let refused = command("identify stanford --method position --data a.csv --data b.csv")
         .assert()

@@ -254,6 +254,15 @@ impl ParallelIdentifyRequest {
         options.loss = Loss::from_parts(kind, self.loss_scale)?;
         options.reject = self.reject.unwrap_or(false);
         options.prior = crate::settings::prior(self.prior.as_deref(), None)?;
+        // With several files, a sample's problem (actuator values with no
+        // pose, a missing column) is named by its file as well as its line:
+        // each file's configurations are solved once first.
+        if sets.len() > 1 {
+            for (set, label) in sets.iter().zip(&labels) {
+                platform_errors(&nominal.robot, set, measure)
+                    .map_err(|error| in_file(label, error))?;
+            }
+        }
         let borrowed: Vec<&[Sample]> = sets.iter().map(Vec::as_slice).collect();
         let mut result =
             identify_platform_sets(&nominal.robot, &borrowed, measure, noise, &options)?;
@@ -420,6 +429,18 @@ impl ParallelIdentifyRequest {
                 errors_after,
             },
         })
+    }
+}
+
+/// `error` of a sample of the file `label`, named `file:line:` as a data
+/// file's reading errors are (an error of no line as it is).
+fn in_file(label: &str, error: gecaro_calib::Error) -> AppError {
+    match error {
+        gecaro_calib::Error::InvalidData {
+            line: Some(line),
+            message,
+        } => AppError::plain(ErrorKind::Input, format!("{label}:{line}: {message}")),
+        other => other.into(),
     }
 }
 
