@@ -132,6 +132,16 @@ pub trait ParallelModel: Clone + std::fmt::Debug + Send + Sync {
         visit: &mut EquationVisitor<'_>,
     );
 
+    /// The parameters that define the base and the platform frames when
+    /// nothing outside the robot measures them (a measuring leg's
+    /// self-calibration): held at their stated values, the frames are the
+    /// drawing's. Empty (the default) for a structure without such a
+    /// convention, which is then calibrated only by an instrument that sees
+    /// its frames.
+    fn frame_parameters(&self) -> Vec<usize> {
+        Vec::new()
+    }
+
     /// The parameters closure equation `equation` can involve (a leg's
     /// own eight): the columns of `∂F/∂ξ` outside are zero. All of them by
     /// default.

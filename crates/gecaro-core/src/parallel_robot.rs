@@ -119,6 +119,10 @@ impl ParallelModel for ParallelRobot {
         each!(self, robot => robot.linearised(pose, actuators))
     }
 
+    fn frame_parameters(&self) -> Vec<usize> {
+        each!(self, robot => robot.frame_parameters())
+    }
+
     fn visit_equations(
         &self,
         pose: &Isometry3<f64>,

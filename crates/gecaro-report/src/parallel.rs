@@ -137,6 +137,8 @@ pub fn platform_report(input: &PlatformReportInput<'_>) -> Result<String, Error>
                     tool point the direct model predicts from the measured one (mm).",
                 PlatformMeasure::Distance => "Per measured pair: the predicted distance \
                     between the pair's tool points against the measured one (mm).",
+                PlatformMeasure::Leg => "Per configuration: the measuring leg's length the \
+                    direct model predicts against the one it read (mm).",
             })
             " These are the data the fit saw: judge the calibration on held-out \
              measurements (gecaro evaluate)."
@@ -238,6 +240,19 @@ fn summary(input: &PlatformReportInput<'_>) -> Markup {
                         "the base frame at ("
                         (frame.translation.vector.iter().map(|value| number(value * 1e3)).collect::<Vec<_>>().join(", "))
                         ") mm, turned " (number(frame.rotation.angle().to_degrees())) "°"
+                    }
+                }
+            }
+            @if let Some(leg) = &result.leg {
+                tr {
+                    td { "measuring leg (identified)" }
+                    td {
+                        "base socket ("
+                        (leg.identified.base.iter().map(|value| number(value * 1e3)).collect::<Vec<_>>().join(", "))
+                        ") mm, platform socket ("
+                        (leg.identified.platform.iter().map(|value| number(value * 1e3)).collect::<Vec<_>>().join(", "))
+                        ") mm, length at reading 0 " (number(leg.identified.length * 1e3)) " mm (σ "
+                        (number(leg.sigma[6] * 1e3)) " mm); the frames those of joints 1–3 as drawn"
                     }
                 }
             }

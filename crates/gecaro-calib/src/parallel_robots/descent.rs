@@ -8,9 +8,9 @@ use gecaro_core::parallel_model::ParallelModel;
 use gecaro_data::sample::Sample;
 use nalgebra::{DMatrix, DVector, Isometry3};
 
+use super::auxiliary::Auxiliary;
 use super::measure::{PlatformMeasure, PlatformNoise};
 use super::observation::{NormalSystem, normal_system};
-use super::stations::StationFrames;
 use crate::Error;
 
 /// A Gauss–Newton step every component of which is below this part of its
@@ -53,13 +53,13 @@ impl PriorRows {
 }
 
 /// What a fit's samples are: their measure, their noise when stated, and
-/// the stations that measured them ([`super::stations`]: with several,
-/// the unknowns of their corrections follow the robot's parameters).
+/// the auxiliary unknowns after the robot's parameters (stations'
+/// corrections, a measuring leg: [`super::auxiliary`]).
 #[derive(Clone, Copy)]
 pub(super) struct Fit<'a> {
     pub(super) measure: PlatformMeasure,
     pub(super) noise: Option<PlatformNoise>,
-    pub(super) stations: &'a StationFrames,
+    pub(super) auxiliary: &'a Auxiliary,
 }
 
 /// The normal system of `samples` measured as `fit` says at `model` (whose
@@ -77,22 +77,22 @@ fn system_at<M: ParallelModel>(
     (weights, prior): (Option<&[f64]>, &PriorRows),
     poses: &mut Vec<Isometry3<f64>>,
 ) -> Result<NormalSystem, Error> {
-    let stations = fit.stations.at(&values[model.parameter_count()..]);
+    let auxiliary = fit.auxiliary.at(&values[model.parameter_count()..]);
     let mut system = normal_system(
         model,
         samples,
         fit.measure,
         fit.noise,
         weights,
-        &stations,
+        &auxiliary,
         poses,
     )?;
     prior.add_to(&mut system, values);
     Ok(system)
 }
 
-/// Where a Gauss–Newton descent is: the parameters (and the stations'
-/// corrections after them), the robot they make, its normal system and
+/// Where a Gauss–Newton descent is: the parameters (and the auxiliary
+/// unknowns after them), the robot they make, its normal system and
 /// each sample's solved pose.
 pub(super) struct Descent<M> {
     pub(super) values: Vec<f64>,

@@ -5,6 +5,7 @@
 use gecaro_core::parallel_model::ParallelModel;
 use gecaro_data::sample::Sample;
 
+use super::leg::MeasuringLeg;
 use super::measure::{PlatformMeasure, check_pairs};
 use super::observation::actuator_values;
 use crate::Error;
@@ -61,8 +62,15 @@ pub fn platform_errors<M: ParallelModel>(
     samples: &[Sample],
     measure: PlatformMeasure,
 ) -> Result<PlatformErrors, Error> {
-    if measure == PlatformMeasure::Distance {
-        return distance_errors(model, samples);
+    match measure {
+        PlatformMeasure::Distance => return distance_errors(model, samples),
+        PlatformMeasure::Leg => {
+            return Err(Error::InvalidOption {
+                setting: crate::Setting::Method,
+                message: "a measuring leg's errors are its readings' (leg_errors)".into(),
+            });
+        }
+        PlatformMeasure::Pose | PlatformMeasure::Point => {}
     }
     let poses = measure == PlatformMeasure::Pose;
     let mut observations = Vec::with_capacity(samples.len());
@@ -85,6 +93,33 @@ pub fn platform_errors<M: ParallelModel>(
         observations,
         poses.then_some(&angles[..]),
     ))
+}
+
+/// The errors of `model` carrying the measuring leg `leg` at `samples`
+/// read by it: for each configuration, the direct model from the home pose,
+/// and the leg's predicted length against `l + K·s` (m).
+///
+/// # Errors
+/// Samples without the model's number of actuator values or a reading, or
+/// actuator values with no pose (naming the sample's line).
+pub fn leg_errors<M: ParallelModel>(
+    model: &M,
+    leg: &MeasuringLeg,
+    samples: &[Sample],
+) -> Result<PlatformErrors, Error> {
+    let observations = samples
+        .iter()
+        .map(|sample| {
+            let actuators = actuator_values(model, sample)?;
+            let reading = sample.distance.ok_or_else(|| Error::InvalidData {
+                line: sample.line,
+                message: "the leg measure needs the leg's reading, `distance`".into(),
+            })?;
+            let pose = solved(model, sample, actuators)?;
+            Ok((leg.length_at(&pose) - leg.length - leg.gain * reading).abs())
+        })
+        .collect::<Result<Vec<f64>, Error>>()?;
+    Ok(PlatformErrors::of(observations, None))
 }
 
 /// The direct model's pose at a sample's actuator values, from home.

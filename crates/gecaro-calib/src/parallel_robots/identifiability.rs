@@ -7,9 +7,9 @@ use faer::Mat;
 use gecaro_core::parallel_model::ParallelModel;
 use gecaro_data::sample::Sample;
 
+use super::auxiliary::Auxiliary;
 use super::measure::PlatformMeasure;
 use super::observation::{PlatformRows, platform_rows};
-use super::stations::StationFrames;
 use crate::Error;
 use crate::identifiability::{ParameterStatus, RELATIVE_ZERO_FLOOR};
 use crate::linalg::{
@@ -74,7 +74,7 @@ pub fn platform_identifiability<M: ParallelModel>(
         samples,
         measure,
         None,
-        &StationFrames::single(),
+        &Auxiliary::none(),
         &mut Vec::new(),
     )?;
     rank_of(model, &rows, measure)
@@ -83,12 +83,19 @@ pub fn platform_identifiability<M: ParallelModel>(
 /// The candidate parameters of a measure, in the order QR keeps them: the
 /// tool point's first when it is measured (the point a user measured is
 /// identified; what a point does not observe is left to the platform's
-/// joints), then the others in vocabulary order.
+/// joints), then the others in vocabulary order — for a measuring leg,
+/// without the parameters of the frames' convention, which are excluded.
 fn candidates(model: &impl ParallelModel, measure: PlatformMeasure) -> Vec<usize> {
     let tool = model.tool_parameters();
     let others = (0..model.parameter_count()).filter(|index| !tool.contains(index));
     if measure.measures_tool() {
         model.tool_parameters().chain(others).collect()
+    } else if measure == PlatformMeasure::Leg {
+        // Nothing outside the robot sees its frames: the parameters that
+        // hold them by the structure's convention keep their stated values
+        // (QR's pivoting would hold others, its own choice of frames).
+        let frames = model.frame_parameters();
+        others.filter(|index| !frames.contains(index)).collect()
     } else {
         others.collect()
     }

@@ -6,9 +6,11 @@ use gecaro_core::parallel_model::{ParallelModel, ParameterUnit};
 use gecaro_data::sample::Sample;
 use nalgebra::Isometry3;
 
+use super::auxiliary::Auxiliary;
 use super::changed::changed_block;
 use super::descent::{Descent, Fit, PriorRows, base_system, descend, descend_reweighted};
 use super::identifiability::{PlatformRankReport, rank_of};
+use super::leg::{LEG_UNKNOWNS, MeasuringLeg};
 use super::measure::{PlatformMeasure, PlatformNoise};
 use super::observation::{NormalSystem, PlatformRows, normal_system, platform_rows};
 use super::plausible::{PLAUSIBLE_ANGLE, PLAUSIBLE_GAIN, PLAUSIBLE_LENGTH};
@@ -51,6 +53,10 @@ pub struct PlatformIdentificationOptions {
     /// of their nominal value (its per-parameter overrides name a serial
     /// robot's parameters: refused here). None by default.
     pub prior: Option<Prior>,
+    /// The measuring leg's mount for the `leg` measure, as stated (its
+    /// length at reading 0 is found from the data on the nominal robot;
+    /// its mount and length are then identified with the parameters).
+    pub leg: Option<MeasuringLeg>,
 }
 
 /// A prior's rows on the base columns `base` of `nominal`, weighted by
@@ -87,6 +93,7 @@ impl Default for PlatformIdentificationOptions {
             loss: Loss::default(),
             reject: false,
             prior: None,
+            leg: None,
         }
     }
 }
@@ -151,6 +158,8 @@ pub struct PlatformIdentification<M> {
     /// Each set's station after the first ([`identify_platform_sets`]), in
     /// order: empty for one set.
     pub stations: Vec<PlatformStation>,
+    /// The measuring leg of the `leg` measure: as stated and as identified.
+    pub leg: Option<IdentifiedLeg>,
     /// The loss the fit minimised (least squares where a robust one was
     /// asked for but the least-squares fit it starts from did not converge).
     pub loss: Loss,
@@ -177,6 +186,18 @@ pub struct PlatformIdentification<M> {
     /// measurement (the test of [`CellChange`]); the outcome is then
     /// [`Outcome::Changed`]. Its label is empty.
     pub change: Option<CellChange>,
+}
+
+/// A measuring leg, identified with the platform.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IdentifiedLeg {
+    /// As stated, with its length at reading 0 found from the data on the
+    /// nominal platform (the start of the fit).
+    pub stated: MeasuringLeg,
+    /// As identified.
+    pub identified: MeasuringLeg,
+    /// σ of its unknowns `[a, b, l]` (m).
+    pub sigma: [f64; LEG_UNKNOWNS],
 }
 
 /// An observation a fit names: where it is, and how far it stands out.
@@ -267,15 +288,28 @@ pub fn identify_platform_sets<M: ParallelModel>(
         .enumerate()
         .flat_map(|(set, samples)| std::iter::repeat_n(set, samples.len()))
         .collect();
-    let stations = if sets.len() > 1 && measure != PlatformMeasure::Distance {
+    let stations = if sets.len() > 1 && measure.has_frame() {
         StationFrames::new(set_of.clone())
     } else {
         StationFrames::single()
     };
+    let leg = match (measure, options.leg) {
+        (PlatformMeasure::Leg, None) => {
+            return Err(Error::InvalidOption {
+                setting: crate::Setting::Method,
+                message: "the leg measure needs the measuring leg's mount: its base and \
+                          platform sockets"
+                    .into(),
+            });
+        }
+        (PlatformMeasure::Leg, Some(leg)) => Some(leg),
+        _ => None,
+    };
+    let auxiliary = Auxiliary { stations, leg };
     let (result, standing_out) = fit_platform(
         nominal,
         &samples,
-        (&stations, &set_of),
+        (&auxiliary, &set_of),
         measure,
         noise,
         options,
@@ -295,7 +329,7 @@ pub fn identify_platform_sets<M: ParallelModel>(
         match fit_platform(
             nominal,
             &samples,
-            (&stations, &set_of),
+            (&auxiliary, &set_of),
             measure,
             noise,
             &judge,
@@ -322,7 +356,7 @@ pub fn identify_platform_sets<M: ParallelModel>(
     let (mut again, _) = fit_platform(
         nominal,
         &kept,
-        (&stations.kept(keep), &kept_sets),
+        (&auxiliary.kept(keep), &kept_sets),
         measure,
         noise,
         options,
@@ -403,27 +437,34 @@ type StandingOut = Vec<(usize, f64)>;
 fn fit_platform<M: ParallelModel>(
     nominal: &M,
     samples: &[Sample],
-    (stations, set_of): (&StationFrames, &[usize]),
+    (auxiliary, set_of): (&Auxiliary, &[usize]),
     measure: PlatformMeasure,
     noise: Option<PlatformNoise>,
     options: &PlatformIdentificationOptions,
 ) -> Result<(PlatformIdentification<M>, StandingOut), Error> {
     // Data an instrument took in its own frame, brought into the base
     // frame, a station at a time.
-    let (registrations, moved) = register_stations(nominal, samples, stations, measure);
+    let (registrations, moved) = register_stations(nominal, samples, &auxiliary.stations, measure);
     let registered = registrations.first().copied().flatten();
     let samples = moved.as_deref().unwrap_or(samples);
-    let mut rank = structural_rank(nominal, samples, stations, measure, noise)?;
+    // A measuring leg's zero, from its readings on the nominal platform.
+    let auxiliary = &Auxiliary {
+        stations: auxiliary.stations.clone(),
+        leg: auxiliary.leg.map(|leg| zeroed_leg(nominal, &leg, samples)),
+    };
+    let mut rank = structural_rank(nominal, samples, auxiliary, measure, noise)?;
     let parameter_count = nominal.parameter_count();
-    // The identified columns: the base set, then the stations' corrections.
+    // The identified columns: the base set, then the auxiliary unknowns.
     let base: Vec<usize> = rank
         .base
         .iter()
         .copied()
-        .chain(parameter_count..parameter_count + stations.unknowns())
+        .chain(parameter_count..parameter_count + auxiliary.count())
         .collect();
     let mut poses: Vec<Isometry3<f64>> = Vec::new();
-    let system = normal_system(nominal, samples, measure, noise, None, stations, &mut poses)?;
+    let system = normal_system(
+        nominal, samples, measure, noise, None, auxiliary, &mut poses,
+    )?;
     let count = system.rows;
     if count < base.len() {
         return Err(Error::TooFewEquations {
@@ -437,7 +478,7 @@ fn fit_platform<M: ParallelModel>(
     };
     let rms_before = rms(&system);
     let mut values = nominal.parameters();
-    values.resize(parameter_count + stations.unknowns(), 0.0);
+    values.extend(auxiliary.start());
     let start = Descent {
         values,
         current: nominal.clone(),
@@ -450,7 +491,7 @@ fn fit_platform<M: ParallelModel>(
     let fit = Fit {
         measure,
         noise,
-        stations,
+        auxiliary,
     };
     let limits = (options.max_iterations, options.tolerance);
     let none = PriorRows::default();
@@ -501,7 +542,7 @@ fn fit_platform<M: ParallelModel>(
     let (inverse, _) = base_system(&system, &base)?;
     rank.rows = count;
     rank.condition_number = condition(&system, &base);
-    let corrections = stations.at(&values[parameter_count..]);
+    let found = auxiliary.at(&values[parameter_count..]);
     // What the test and σ̂ read: in least squares the fit's cost; with a
     // robust loss the residuals as measured of the observations within the
     // outlier threshold of σ̂ (as a serial robot's, `identification::tested`:
@@ -596,11 +637,12 @@ fn fit_platform<M: ParallelModel>(
     let region = solved
         .then(|| {
             // A held-out distance's noise is one coordinate's, a point's three.
-            let coordinates: f64 = if measure == PlatformMeasure::Distance {
-                1.0
-            } else {
-                3.0
-            };
+            let coordinates: f64 =
+                if matches!(measure, PlatformMeasure::Distance | PlatformMeasure::Leg) {
+                    1.0
+                } else {
+                    3.0
+                };
             let floor = coordinates.sqrt() * unit_sigma * noise.map_or(1.0, |noise| noise.length);
             where_it_holds(
                 &current,
@@ -610,8 +652,10 @@ fn fit_platform<M: ParallelModel>(
                     PlatformMeasure::Pose => measure
                         .measured(&samples[index])
                         .ok()
-                        .map(|pose| corrections.corrected_measurement(index, &pose)),
-                    PlatformMeasure::Point | PlatformMeasure::Distance => poses.get(index).copied(),
+                        .map(|pose| found.stations.corrected_measurement(index, &pose)),
+                    PlatformMeasure::Point | PlatformMeasure::Distance | PlatformMeasure::Leg => {
+                        poses.get(index).copied()
+                    }
                 },
                 // The robot's covariance: the stations' corrections marginalised.
                 (
@@ -646,11 +690,21 @@ fn fit_platform<M: ParallelModel>(
     };
     let later_stations = station_frames(
         &registrations,
-        &corrections,
+        &found.stations,
         &inverse,
         rank.base.len(),
         unit_sigma,
     );
+    let leg = auxiliary.leg.zip(found.leg).map(|(stated, identified)| {
+        let first = auxiliary.leg_column(rank.base.len());
+        IdentifiedLeg {
+            stated,
+            identified,
+            sigma: std::array::from_fn(|k| {
+                unit_sigma * inverse[(first + k, first + k)].max(0.0).sqrt()
+            }),
+        }
+    });
     let result = PlatformIdentification {
         calibrated: current,
         parameters,
@@ -674,6 +728,7 @@ fn fit_platform<M: ParallelModel>(
         dropped: Vec::new(),
         registered,
         stations: later_stations,
+        leg,
         // What the fit did: a robust loss reweights a converged fit only.
         loss: if robust_sigma.is_some() {
             options.loss
@@ -694,6 +749,25 @@ fn fit_platform<M: ParallelModel>(
 /// ([`measurement_frame`]): each station's registration (`None` where its
 /// data were in the base frame already, or give no frame) and the moved
 /// samples (`None` when none moved).
+/// `leg` with its length at reading 0 found from `samples` (their
+/// readings) on the nominal platform's poses (the direct model from home);
+/// as it is when no pose is solved.
+fn zeroed_leg<M: ParallelModel>(
+    nominal: &M,
+    leg: &MeasuringLeg,
+    samples: &[Sample],
+) -> MeasuringLeg {
+    let home = nominal.home();
+    let (poses, readings): (Vec<Isometry3<f64>>, Vec<f64>) = samples
+        .iter()
+        .filter_map(|sample| {
+            let actuators = super::observation::actuator_values(nominal, sample).ok()?;
+            Some((nominal.direct(actuators, &home).ok()?, sample.distance?))
+        })
+        .unzip();
+    leg.zeroed(&poses, &readings)
+}
+
 fn register_stations<M: ParallelModel>(
     nominal: &M,
     samples: &[Sample],
@@ -769,13 +843,13 @@ const RANK_SAMPLES: usize = 2000;
 
 /// The identifiable parameters from at most [`RANK_SAMPLES`] configurations
 /// spread evenly over the data (all of them below that), measured from
-/// `stations`: their corrections' columns projected out of W first, so
-/// that a parameter whose effect a station's frame takes is not counted
-/// identifiable.
+/// the `auxiliary` unknowns: their columns projected out of W first, so
+/// that a parameter whose effect a station's frame or the measuring leg's
+/// mount takes is not counted identifiable.
 pub(super) fn structural_rank<M: ParallelModel>(
     nominal: &M,
     samples: &[Sample],
-    stations: &StationFrames,
+    auxiliary: &Auxiliary,
     measure: PlatformMeasure,
     noise: Option<PlatformNoise>,
 ) -> Result<PlatformRankReport, Error> {
@@ -801,9 +875,9 @@ pub(super) fn structural_rank<M: ParallelModel>(
     for index in &indices {
         chosen[*index] = true;
     }
-    let stations = stations.kept(|index| chosen[index]);
-    let mut rows = platform_rows(nominal, &taken, measure, noise, &stations, &mut Vec::new())?;
-    if stations.unknowns() > 0 {
+    let auxiliary = auxiliary.kept(|index| chosen[index]);
+    let mut rows = platform_rows(nominal, &taken, measure, noise, &auxiliary, &mut Vec::new())?;
+    if auxiliary.count() > 0 {
         rows = without_corrections(rows, nominal.parameter_count());
     }
     rank_of(nominal, &rows, measure)

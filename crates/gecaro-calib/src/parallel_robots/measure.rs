@@ -20,23 +20,31 @@ pub enum PlatformMeasure {
     /// columns `pair` and `distance`, two consecutive rows a pair, both
     /// carrying the distance), as the serial robots' distance method.
     Distance,
+    /// A measuring leg's reading at each configuration (`leg`: column
+    /// `distance`, the reading; the leg's mount stated,
+    /// [`MeasuringLeg`](super::MeasuringLeg)): no instrument outside the
+    /// robot.
+    Leg,
 }
 
 impl PlatformMeasure {
     /// Every measure, in the order they are listed to users.
-    pub const ALL: [PlatformMeasure; 3] = [
+    pub const ALL: [PlatformMeasure; 4] = [
         PlatformMeasure::Pose,
         PlatformMeasure::Point,
         PlatformMeasure::Distance,
+        PlatformMeasure::Leg,
     ];
 
     /// The name of the serial method that measures the same (`frame`,
-    /// `position`, `distance`); the data files' columns are that method's.
+    /// `position`, `distance`; `leg`, a parallel robot's own); the data
+    /// files' columns are that method's.
     pub fn name(self) -> &'static str {
         match self {
             PlatformMeasure::Pose => "frame",
             PlatformMeasure::Point => "position",
             PlatformMeasure::Distance => "distance",
+            PlatformMeasure::Leg => "leg",
         }
     }
 
@@ -60,16 +68,18 @@ impl PlatformMeasure {
             PlatformMeasure::Pose => &[DataColumn::Position, DataColumn::Orientation],
             PlatformMeasure::Point => &[DataColumn::Position],
             PlatformMeasure::Distance => &[DataColumn::Pair, DataColumn::Distance],
+            PlatformMeasure::Leg => &[DataColumn::Distance],
         }
     }
 
     /// Equations an observation gives `model`: its closure equations for a
-    /// pose, a coordinate each for a point, one for a distance.
+    /// pose, a coordinate each for a point, one for a distance or a leg's
+    /// reading.
     pub fn rows_per_observation(self, model: &impl ParallelModel) -> usize {
         match self {
             PlatformMeasure::Pose => model.actuator_count(),
             PlatformMeasure::Point => 3,
-            PlatformMeasure::Distance => 1,
+            PlatformMeasure::Distance | PlatformMeasure::Leg => 1,
         }
     }
 
@@ -80,7 +90,13 @@ impl PlatformMeasure {
 
     /// Whether the tool point's parameters are in the equations.
     pub fn measures_tool(self) -> bool {
-        self != PlatformMeasure::Pose
+        matches!(self, PlatformMeasure::Point | PlatformMeasure::Distance)
+    }
+
+    /// Whether the data are in an instrument's frame (a pose, a point),
+    /// which may be registered; distances and a leg's readings have none.
+    pub fn has_frame(self) -> bool {
+        matches!(self, PlatformMeasure::Pose | PlatformMeasure::Point)
     }
 
     /// Samples one observation takes: a pair for a distance, else one.
@@ -98,6 +114,16 @@ impl PlatformMeasure {
     /// # Errors
     /// [`Error::InvalidOption`] naming the measure that fits.
     pub fn check_for(self, model: &impl ParallelModel) -> Result<(), Error> {
+        if self == PlatformMeasure::Leg && model.frame_parameters().is_empty() {
+            return Err(Error::InvalidOption {
+                setting: crate::Setting::Method,
+                message: format!(
+                    "a measuring leg sees no frame, and {} has no convention of joints that \
+                     would hold its frames: measure its tool point (method `position`)",
+                    model.name()
+                ),
+            });
+        }
         if self == PlatformMeasure::Pose && model.pose_freedom() < 6 {
             return Err(Error::InvalidOption {
                 setting: crate::Setting::Method,
@@ -123,12 +149,18 @@ impl PlatformMeasure {
             line: sample.line,
             message: format!("the {} measure needs the {what}", self.name()),
         };
+        if self == PlatformMeasure::Leg {
+            return Err(Error::InvalidData {
+                line: sample.line,
+                message: "a measuring leg reads a length, not a pose".into(),
+            });
+        }
         let position = sample.position.ok_or_else(|| missing("position x, y, z"))?;
         let rotation = match self {
             PlatformMeasure::Pose => sample
                 .orientation
                 .ok_or_else(|| missing("orientation qw, qx, qy, qz"))?,
-            PlatformMeasure::Point | PlatformMeasure::Distance => {
+            PlatformMeasure::Point | PlatformMeasure::Distance | PlatformMeasure::Leg => {
                 nalgebra::UnitQuaternion::identity()
             }
         };
@@ -153,8 +185,9 @@ impl PlatformMeasure {
                 sample.orientation = Some(pose.rotation);
             }
             PlatformMeasure::Point => sample.position = Some(model.tool_point(pose)),
-            // A distance is read of a pair ([`simulate_platform`]).
-            PlatformMeasure::Distance => {}
+            // A distance is read of a pair ([`simulate_platform`]), a leg's
+            // reading of its mount ([`super::simulate_leg`]).
+            PlatformMeasure::Distance | PlatformMeasure::Leg => {}
         }
         sample
     }

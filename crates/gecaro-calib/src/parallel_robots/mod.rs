@@ -58,11 +58,13 @@
 //! 1999; D. Daney, "Kinematic calibration of the Gough platform",
 //! Robotica, 2003.
 
+mod auxiliary;
 mod changed;
 mod descent;
 mod evaluation;
 mod identifiability;
 mod identification;
+mod leg;
 mod measure;
 mod observation;
 mod planning;
@@ -74,12 +76,13 @@ mod reweighting;
 mod simulation;
 mod stations;
 
-pub use evaluation::{PlatformErrors, platform_errors};
+pub use evaluation::{PlatformErrors, leg_errors, platform_errors};
 pub use identifiability::{PlatformRankReport, platform_identifiability};
 pub use identification::{
-    PlatformIdentification, PlatformIdentificationOptions, PlatformOutlier, PlatformParameter,
-    PlatformStation, identify_platform, identify_platform_sets,
+    IdentifiedLeg, PlatformIdentification, PlatformIdentificationOptions, PlatformOutlier,
+    PlatformParameter, PlatformStation, identify_platform, identify_platform_sets,
 };
+pub use leg::{LEG_UNKNOWNS, MeasuringLeg};
 pub use measure::{PlatformMeasure, PlatformNoise};
 pub use planning::{PlannedPoses, plan_platform};
 pub use prediction::{
@@ -88,5 +91,5 @@ pub use prediction::{
 pub use region::{PlatformRegion, work_region_centre};
 pub use registration::{in_base_frame, measurement_frame};
 pub use simulation::{
-    PlatformWorkspace, perturbed_platform, random_platform_poses, simulate_platform,
+    PlatformWorkspace, perturbed_platform, random_platform_poses, simulate_leg, simulate_platform,
 };

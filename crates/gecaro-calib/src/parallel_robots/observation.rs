@@ -9,8 +9,10 @@ use gecaro_data::parallel::run_parts;
 use gecaro_data::sample::Sample;
 use nalgebra::{DMatrix, DVector, Isometry3, Matrix3, SMatrix};
 
+use super::auxiliary::Auxiliary;
+use super::leg::LEG_UNKNOWNS;
 use super::measure::{PlatformMeasure, PlatformNoise, check_pairs};
-use super::stations::{STATION_UNKNOWNS, StationFrames, point_columns, pose_columns};
+use super::stations::{STATION_UNKNOWNS, point_columns, pose_columns};
 use crate::Error;
 use crate::linalg::add_normal_sums;
 
@@ -24,7 +26,8 @@ pub(super) struct PlatformRows {
 
 /// The rows of `samples` at `model`'s parameters, held (for the rank
 /// analysis of a few thousand configurations), with the columns of the
-/// `stations`' corrections after the parameters ([`super::stations`]).
+/// `auxiliary` unknowns after the parameters (stations' corrections, a
+/// measuring leg: [`super::auxiliary`]).
 /// `poses` holds each sample's last solved pose (the start of its next
 /// direct model: the assembly mode kept, and few Newton steps); it is
 /// filled on the first call.
@@ -38,13 +41,13 @@ pub(super) fn platform_rows<M: ParallelModel>(
     samples: &[Sample],
     measure: PlatformMeasure,
     noise: Option<PlatformNoise>,
-    stations: &StationFrames,
+    auxiliary: &Auxiliary,
     poses: &mut Vec<Isometry3<f64>>,
 ) -> Result<PlatformRows, Error> {
     check_samples(model, samples, measure)?;
     let per_observation = measure.rows_per_observation(model);
     let taken = measure.samples_per_observation();
-    let columns = model.parameter_count() + stations.unknowns();
+    let columns = model.parameter_count() + auxiliary.count();
     let rows = measure.rows_for(model, samples.len());
     let mut matrix = Mat::<f64>::zeros(rows, columns);
     if poses.len() != samples.len() {
@@ -61,7 +64,7 @@ pub(super) fn platform_rows<M: ParallelModel>(
             observation,
             measure,
             noise,
-            (stations, first),
+            (auxiliary, first),
             starts,
         )?;
         for row in 0..per_observation {
@@ -107,7 +110,7 @@ const PART_SAMPLES: usize = 2048;
 /// Dense rows added to the normal equations at once.
 const BATCH_ROWS: usize = 256;
 
-/// See [`NormalSystem`]; `stations` and `poses` as for [`platform_rows`];
+/// See [`NormalSystem`]; `auxiliary` and `poses` as for [`platform_rows`];
 /// `weights`, when given, each observation's robust weight w (its rows
 /// multiplied by √w, iteratively reweighted least squares).
 ///
@@ -119,12 +122,13 @@ pub(super) fn normal_system<M: ParallelModel>(
     measure: PlatformMeasure,
     noise: Option<PlatformNoise>,
     weights: Option<&[f64]>,
-    stations: &StationFrames,
+    auxiliary: &Auxiliary,
     poses: &mut Vec<Isometry3<f64>>,
 ) -> Result<NormalSystem, Error> {
     check_samples(model, samples, measure)?;
     let parameters = model.parameter_count();
-    let columns = parameters + stations.unknowns();
+    let columns = parameters + auxiliary.count();
+    let stations = &auxiliary.stations;
     let taken = measure.samples_per_observation();
     if poses.len() != samples.len() {
         *poses = starting_poses(model, samples, measure);
@@ -261,7 +265,7 @@ pub(super) fn normal_system<M: ParallelModel>(
                 observation,
                 measure,
                 noise,
-                (stations, first),
+                (auxiliary, first),
                 starts,
             )?;
             errors.push((right.norm_squared() / right.len().max(1) as f64).sqrt());
@@ -378,8 +382,8 @@ fn check_samples(
 
 /// One observation's weighted rows of W and their residuals
 /// ([`PlatformMeasure::samples_per_observation`] samples, the first the
-/// data's sample `first` measured from one of the `stations`, `starts`
-/// their last solved poses): see [`sample_rows`]; for a distance, the one
+/// data's sample `first`, with the `auxiliary` unknowns, `starts` their
+/// last solved poses): see [`sample_rows`]; for a distance, the one
 /// equation `u·(∂y_j/∂ξ − ∂y_i/∂ξ)·Δξ = D_measured − D` with `d = y_j − y_i`,
 /// `D = ‖d‖`, `u = d/D` (eq. 19–20 of the serial robots, divided by 2D).
 pub(super) fn observation_rows<M: ParallelModel>(
@@ -387,7 +391,7 @@ pub(super) fn observation_rows<M: ParallelModel>(
     observation: &[Sample],
     measure: PlatformMeasure,
     noise: Option<PlatformNoise>,
-    (stations, first): (&StationFrames, usize),
+    (auxiliary, first): (&Auxiliary, usize),
     starts: &mut [Isometry3<f64>],
 ) -> Result<(DMatrix<f64>, DVector<f64>), Error> {
     if measure != PlatformMeasure::Distance {
@@ -396,7 +400,7 @@ pub(super) fn observation_rows<M: ParallelModel>(
             &observation[0],
             measure,
             noise,
-            (stations, first),
+            (auxiliary, first),
             &mut starts[0],
         );
     }
@@ -419,7 +423,7 @@ pub(super) fn observation_rows<M: ParallelModel>(
     let direction = (difference / length).transpose();
     let sigma = noise.map_or(1.0, |noise| noise.length);
     // A distance has no frame: no correction's columns, zero.
-    let mut rows = DMatrix::zeros(1, derivatives[0].ncols() + stations.unknowns());
+    let mut rows = DMatrix::zeros(1, derivatives[0].ncols() + auxiliary.count());
     rows.columns_mut(0, derivatives[0].ncols())
         .copy_from(&(direction * (&derivatives[1] - &derivatives[0]) / sigma));
     let measured = observation[0].distance.unwrap_or(f64::NAN);
@@ -431,15 +435,20 @@ pub(super) fn observation_rows<M: ParallelModel>(
 /// noise gives it), or its tool point's coordinates through the direct
 /// model from `start` (which is moved to the pose found); the measurement
 /// corrected by its station's correction, whose columns follow the
-/// parameters' (the data's sample `index` of `stations`).
+/// parameters' (the data's sample `index`, the `auxiliary` unknowns); or a
+/// measuring leg's equation ([`leg_rows`]).
 fn sample_rows<M: ParallelModel>(
     model: &M,
     sample: &Sample,
     measure: PlatformMeasure,
     noise: Option<PlatformNoise>,
-    (stations, index): (&StationFrames, usize),
+    (auxiliary, index): (&Auxiliary, usize),
     start: &mut Isometry3<f64>,
 ) -> Result<(DMatrix<f64>, DVector<f64>), Error> {
+    if measure == PlatformMeasure::Leg {
+        return leg_rows(model, sample, noise, auxiliary, start);
+    }
+    let stations = &auxiliary.stations;
     let actuators = actuator_values(model, sample)?;
     let measured = stations.corrected_measurement(index, &measure.measured(sample)?);
     let parameters = model.parameter_count();
@@ -451,7 +460,7 @@ fn sample_rows<M: ParallelModel>(
                 by_pose,
                 by_parameter,
             } = model.linearised(&measured, actuators);
-            let mut rows = by_parameter.resize_horizontally(parameters + stations.unknowns(), 0.0);
+            let mut rows = by_parameter.resize_horizontally(parameters + auxiliary.count(), 0.0);
             if let Some(column) = correction {
                 for equation in 0..rows.nrows() {
                     let row: Vec<f64> = by_pose.row(equation).iter().copied().collect();
@@ -473,11 +482,11 @@ fn sample_rows<M: ParallelModel>(
             }
             Ok((rows, right))
         }
-        PlatformMeasure::Point | PlatformMeasure::Distance => {
+        PlatformMeasure::Point | PlatformMeasure::Distance | PlatformMeasure::Leg => {
             let (pose, derivative) = solved_point(model, sample, start)?;
             let sigma = noise.map_or(1.0, |noise| noise.length);
             let point = model.tool_point(&pose);
-            let mut rows = derivative.resize_horizontally(parameters + stations.unknowns(), 0.0);
+            let mut rows = derivative.resize_horizontally(parameters + auxiliary.count(), 0.0);
             if let Some(column) = correction {
                 rows.fixed_view_mut::<3, STATION_UNKNOWNS>(0, column)
                     .copy_from(&point_columns(&measured.translation.vector));
@@ -556,26 +565,44 @@ pub(super) fn point_derivative<M: ParallelModel>(
 /// [`point_derivative`] from a pose the direct model solved, with the
 /// linearisation of its last visit ([`solve_direct`]): no visit more.
 fn point_derivative_of<M: ParallelModel>(model: &M, solved: &SolvedPose) -> Option<DMatrix<f64>> {
-    let SolvedPose {
-        pose,
-        jacobian,
-        coefficients,
-        ends,
-    } = solved;
-    let inverse = padded_inverse(jacobian, model.pose_freedom())?;
     let mut to_point = SMatrix::<f64, 3, 6>::zeros();
     to_point
         .fixed_view_mut::<3, 3>(0, 0)
         .copy_from(&Matrix3::identity());
     if model.pose_freedom() == 6 {
-        let arm = pose.rotation * model.tool();
+        let arm = solved.pose.rotation * model.tool();
         to_point
             .fixed_view_mut::<3, 3>(0, 3)
             .copy_from(&(-arm.cross_matrix()));
     }
-    // Column e: the tool point's move per unit of equation e's residual.
-    let along = -(to_point * inverse);
-    let mut derivative = DMatrix::<f64>::zeros(3, model.parameter_count());
+    let mut derivative = through_pose(model, solved, &to_point)?;
+    let tool = model.tool_parameters();
+    derivative
+        .view_mut((0, tool.start), (3, 3))
+        .copy_from(solved.pose.rotation.to_rotation_matrix().matrix());
+    Some(derivative)
+}
+
+/// `by_pose·∂x/∂ξ` of quantities whose derivative with respect to the
+/// pose is `by_pose` (rows × `[δp; ω]`), at a pose the direct model solved:
+/// `∂x/∂ξ = −J_x⁻¹·∂F/∂ξ` (the implicit function theorem), each equation's
+/// own coefficients visited once and `J_x` inverted on the stack
+/// ([`padded_inverse`]). `None` at a singular pose.
+fn through_pose<M: ParallelModel, const R: usize>(
+    model: &M,
+    solved: &SolvedPose,
+    by_pose: &SMatrix<f64, R, 6>,
+) -> Option<DMatrix<f64>> {
+    let SolvedPose {
+        jacobian,
+        coefficients,
+        ends,
+        ..
+    } = solved;
+    let inverse = padded_inverse(jacobian, model.pose_freedom())?;
+    // Column e: the quantities' move per unit of equation e's residual.
+    let along = -(by_pose * inverse);
+    let mut derivative = DMatrix::<f64>::zeros(R, model.parameter_count());
     let mut start = 0;
     for (equation, end) in ends.iter().take(model.actuator_count()).enumerate() {
         let direction = along.column(equation);
@@ -583,17 +610,59 @@ fn point_derivative_of<M: ParallelModel>(model: &M, solved: &SolvedPose) -> Opti
             .iter()
             .zip(model.equation_parameters(equation))
         {
-            for row in 0..3 {
+            for row in 0..R {
                 derivative[(row, column)] += direction[row] * value;
             }
         }
         start = *end;
     }
-    let tool = model.tool_parameters();
-    derivative
-        .view_mut((0, tool.start), (3, 3))
-        .copy_from(pose.rotation.to_rotation_matrix().matrix());
     Some(derivative)
+}
+
+/// A measuring leg's weighted row and residual at a sample (its reading in
+/// `distance`): the platform's pose by the direct model from `start`
+/// (moved to it), then `G` of [`super::leg`] linearised through it, the
+/// leg's own columns after the stations' corrections.
+///
+/// # Errors
+/// No leg stated, a sample without its reading, actuator values with no
+/// pose or a singular one (naming the line).
+fn leg_rows<M: ParallelModel>(
+    model: &M,
+    sample: &Sample,
+    noise: Option<PlatformNoise>,
+    auxiliary: &Auxiliary,
+    start: &mut Isometry3<f64>,
+) -> Result<(DMatrix<f64>, DVector<f64>), Error> {
+    let leg = auxiliary.leg.ok_or_else(|| Error::InvalidOption {
+        setting: crate::Setting::Method,
+        message: "the leg measure needs the measuring leg's mount".into(),
+    })?;
+    let reading = sample.distance.ok_or_else(|| {
+        located(
+            sample,
+            &"the leg measure needs the leg's reading, `distance`",
+        )
+    })?;
+    let actuators = actuator_values(model, sample)?;
+    let solved = solve_direct(model, actuators, start).map_err(|cause| located(sample, &cause))?;
+    *start = solved.pose;
+    let (closure, by_pose, own) = leg.equation(&solved.pose, reading, model.pose_freedom());
+    let derivative = through_pose(
+        model,
+        &solved,
+        &SMatrix::<f64, 1, 6>::from_row_slice(&by_pose),
+    )
+    .ok_or_else(|| located(sample, &"the platform is singular there"))?;
+    let parameters = model.parameter_count();
+    let mut rows = derivative.resize_horizontally(parameters + auxiliary.count(), 0.0);
+    let column = auxiliary.leg_column(parameters);
+    for (offset, value) in own.into_iter().enumerate().take(LEG_UNKNOWNS) {
+        rows[(0, column + offset)] = value;
+    }
+    let sigma = noise.map_or(1.0, |noise| noise.length);
+    rows.unscale_mut(sigma);
+    Ok((rows, DVector::from_element(1, -closure / sigma)))
 }
 
 #[cfg(test)]
@@ -601,6 +670,7 @@ mod tests {
     use gecaro_core::parallel_robot::ParallelRobot;
 
     use super::*;
+    use crate::parallel_robots::stations::StationFrames;
     use crate::parallel_robots::{PlatformWorkspace, random_platform_poses, simulate_platform};
     use crate::simulation::Sampler;
 
@@ -628,7 +698,7 @@ mod tests {
                 &samples,
                 PlatformMeasure::Point,
                 None,
-                &StationFrames::single(),
+                &Auxiliary::none(),
                 &mut Vec::new(),
             )
             .expect("rows");
@@ -685,7 +755,10 @@ mod tests {
         for measure in [PlatformMeasure::Pose, PlatformMeasure::Point] {
             let samples =
                 simulate_platform(&model, measure, &poses, noise, &mut sampler).expect("samples");
-            let stations = StationFrames::new(vec![0, 1, 1]);
+            let stations = Auxiliary {
+                stations: StationFrames::new(vec![0, 1, 1]),
+                leg: None,
+            };
             let parameters = model.parameter_count();
             let rows = platform_rows(&model, &samples, measure, None, &stations, &mut Vec::new())
                 .expect("rows");
@@ -733,6 +806,85 @@ mod tests {
                 for unknown in 0..STATION_UNKNOWNS {
                     assert_eq!(rows.matrix[(row, parameters + unknown)], 0.0);
                 }
+            }
+        }
+    }
+
+    /// A measuring leg's row against central differences of its residual:
+    /// on the platform's parameters (through the direct model) and on the
+    /// leg's own `a, b, l`.
+    #[test]
+    fn leg_rows_match_finite_differences() {
+        use crate::parallel_robots::MeasuringLeg;
+        let model: ParallelRobot = gecaro_io::load_parallel_robot("hexapod")
+            .expect("a ready parallel robot")
+            .robot;
+        let leg = MeasuringLeg {
+            base: nalgebra::Vector3::new(0.25, -0.1, 0.0),
+            platform: nalgebra::Vector3::new(-0.12, 0.08, 0.0),
+            length: 0.6,
+            gain: 1.0,
+        };
+        let mut sampler = Sampler::new(7);
+        let poses = random_platform_poses(&model, 3, PlatformWorkspace::of(&model), &mut sampler)
+            .expect("poses");
+        let exact = PlatformNoise {
+            length: 0.0,
+            angle: 0.0,
+        };
+        let samples =
+            crate::parallel_robots::simulate_leg(&model, &leg, &poses, exact, &mut sampler)
+                .expect("readings");
+        let auxiliary = Auxiliary {
+            stations: crate::parallel_robots::stations::StationFrames::single(),
+            leg: Some(leg),
+        };
+        let rows = platform_rows(
+            &model,
+            &samples,
+            PlatformMeasure::Leg,
+            None,
+            &auxiliary,
+            &mut Vec::new(),
+        )
+        .expect("rows");
+        let parameters = model.parameter_count();
+        let mut values = model.parameters();
+        values.extend(auxiliary.start());
+        let residuals = |values: &[f64]| -> Vec<f64> {
+            let robot = model.with_parameters(&values[..parameters]).expect("model");
+            let moved = auxiliary.at(&values[parameters..]);
+            let mut starts = vec![model.home(); samples.len()];
+            (0..samples.len())
+                .map(|index| {
+                    observation_rows(
+                        &robot,
+                        &samples[index..=index],
+                        PlatformMeasure::Leg,
+                        None,
+                        (&moved, index),
+                        &mut starts[index..=index],
+                    )
+                    .expect("rows")
+                    .1[0]
+                })
+                .collect()
+        };
+        let h = 1e-7;
+        for column in 0..values.len() {
+            let step = |delta: f64| {
+                let mut changed = values.clone();
+                changed[column] += delta;
+                residuals(&changed)
+            };
+            let (up, down) = (step(h), step(-h));
+            for row in 0..up.len() {
+                let numeric = -(up[row] - down[row]) / (2.0 * h);
+                let analytic = rows.matrix[(row, column)];
+                assert!(
+                    (numeric - analytic).abs() < 1e-6 * (1.0 + numeric.abs()),
+                    "row {row}, column {column}: {numeric} against {analytic}"
+                );
             }
         }
     }

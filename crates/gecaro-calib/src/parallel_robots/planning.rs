@@ -16,12 +16,12 @@ use gecaro_core::parallel_model::ParallelModel;
 use gecaro_data::sample::Sample;
 use nalgebra::{DMatrix, Isometry3};
 
+use super::auxiliary::Auxiliary;
 use super::identifiability::{PlatformRankReport, rank_of};
 use super::measure::{PlatformMeasure, PlatformNoise};
 use super::observation::{observation_rows, platform_rows};
 use super::region::ErrorRows;
 use super::simulation::{PlatformWorkspace, random_platform_poses, simulate_platform};
-use super::stations::StationFrames;
 use crate::Error;
 use crate::identification::WORK_POSES;
 use crate::planning::{Criterion, choose_units};
@@ -80,7 +80,7 @@ pub fn plan_platform<M: ParallelModel>(
             &candidates,
             measure,
             None,
-            &StationFrames::single(),
+            &Auxiliary::none(),
             &mut Vec::new(),
         )?,
         measure,
@@ -116,7 +116,7 @@ pub fn plan_platform<M: ParallelModel>(
                 observation,
                 measure,
                 None,
-                (&StationFrames::single(), 0),
+                (&Auxiliary::none(), 0),
                 &mut starts,
             )
             .map(|(block, _)| block.select_columns(&rank.base))

@@ -15,6 +15,7 @@ use gecaro_core::parallel_model::ParallelModel;
 use gecaro_data::sample::Sample;
 use nalgebra::Isometry3;
 
+use super::auxiliary::Auxiliary;
 use super::descent::base_system;
 use super::identifiability::PlatformRankReport;
 use super::identification::{PlatformIdentificationOptions, identify_platform, structural_rank};
@@ -24,7 +25,6 @@ use super::region::{PlatformRegion, region_poses, where_it_holds};
 use super::simulation::{
     PlatformWorkspace, perturbed_platform, random_platform_poses, simulate_platform,
 };
-use super::stations::StationFrames;
 use crate::Error;
 use crate::identification::WORK_POSES;
 use crate::simulation::Sampler;
@@ -80,13 +80,7 @@ pub fn predict_platform<M: ParallelModel>(
         })
         .collect::<Result<_, _>>()?;
     let samples = readings(model, configurations, &poses, measure)?;
-    let rank = structural_rank(
-        model,
-        &samples,
-        &StationFrames::single(),
-        measure,
-        Some(noise),
-    )?;
+    let rank = structural_rank(model, &samples, &Auxiliary::none(), measure, Some(noise))?;
     let mut solved = poses.clone();
     let system = normal_system(
         model,
@@ -94,7 +88,7 @@ pub fn predict_platform<M: ParallelModel>(
         measure,
         Some(noise),
         None,
-        &StationFrames::single(),
+        &Auxiliary::none(),
         &mut solved,
     )?;
     if system.rows < rank.base.len() {

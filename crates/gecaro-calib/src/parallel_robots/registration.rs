@@ -16,7 +16,8 @@
 //! measurement is brought into the base frame by `T⁻¹`. The
 //! identification then finds the rest: the base frame is the nominal
 //! robot's best fit to the data, the frame a vendor's drawing states.
-//! Distances have no frame and are never registered.
+//! Distances and a measuring leg's readings have no frame and are never
+//! registered.
 
 use gecaro_core::parallel_model::ParallelModel;
 use gecaro_data::sample::Sample;
@@ -46,7 +47,7 @@ pub fn measurement_frame<M: ParallelModel>(
     samples: &[Sample],
     measure: PlatformMeasure,
 ) -> Option<Isometry3<f64>> {
-    if measure == PlatformMeasure::Distance {
+    if !measure.has_frame() {
         return None;
     }
     let home = model.home();

@@ -6,6 +6,7 @@ use gecaro_core::parallel_model::{ParallelModel, ParameterUnit, moved};
 use gecaro_data::sample::Sample;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
+use super::leg::MeasuringLeg;
 use super::measure::{PlatformMeasure, PlatformNoise};
 use crate::Error;
 use crate::simulation::{MAX_ERROR_LEVEL, Sampler};
@@ -181,8 +182,17 @@ pub fn simulate_platform<M: ParallelModel>(
     sampler: &mut Sampler,
 ) -> Result<Vec<Sample>, Error> {
     measure.check_for(real)?;
-    if measure == PlatformMeasure::Distance {
-        return simulate_distances(real, poses, noise, sampler);
+    match measure {
+        PlatformMeasure::Distance => return simulate_distances(real, poses, noise, sampler),
+        PlatformMeasure::Leg => {
+            return Err(Error::InvalidOption {
+                setting: crate::Setting::Method,
+                message: "a measuring leg's readings are simulated with its mount \
+                          (simulate_leg)"
+                    .into(),
+            });
+        }
+        PlatformMeasure::Pose | PlatformMeasure::Point => {}
     }
     poses
         .iter()
@@ -196,7 +206,7 @@ pub fn simulate_platform<M: ParallelModel>(
                     UnitQuaternion::from_rotation_matrix(&sampler.gaussian_rotation(noise.angle))
                         * pose.rotation,
                 ),
-                PlatformMeasure::Point | PlatformMeasure::Distance => *pose,
+                PlatformMeasure::Point | PlatformMeasure::Distance | PlatformMeasure::Leg => *pose,
             };
             let mut sample = measure.reading(real, &read, &actuators);
             if measure == PlatformMeasure::Point {
@@ -204,6 +214,34 @@ pub fn simulate_platform<M: ParallelModel>(
                     .position
                     .map(|point| point + sampler.gaussian_vector(noise.length));
             }
+            Ok(sample)
+        })
+        .collect()
+}
+
+/// What a measuring leg `leg` on the `real` robot reads at `poses`: the
+/// actuator values that put it there and the leg's reading
+/// `(‖p + R·b − a‖ − l)/K` with Gaussian noise of σ `noise.length` on its
+/// length, in the `distance` column.
+///
+/// # Errors
+/// A structure a measuring leg cannot calibrate, a pose the real robot
+/// does not reach.
+pub fn simulate_leg<M: ParallelModel>(
+    real: &M,
+    leg: &MeasuringLeg,
+    poses: &[Isometry3<f64>],
+    noise: PlatformNoise,
+    sampler: &mut Sampler,
+) -> Result<Vec<Sample>, Error> {
+    PlatformMeasure::Leg.check_for(real)?;
+    poses
+        .iter()
+        .map(|pose| {
+            let mut sample = Sample::new(real.actuator_values(pose)?);
+            sample.distance = Some(
+                (leg.length_at(pose) + sampler.gaussian(noise.length) - leg.length) / leg.gain,
+            );
             Ok(sample)
         })
         .collect()

@@ -418,6 +418,38 @@ impl ParallelModel for GoughStewart {
         }
     }
 
+    /// A 3-2-1 convention on the first three legs' joints, for each of
+    /// the base (`a`) and the platform (`b`): joint 1's three coordinates
+    /// (the frame's origin), joint 2's two across the line from joint 1 to
+    /// it (its direction), and joint 3's one along the normal of the three
+    /// joints' plane (the turn about that line) — the coordinates chosen
+    /// from the stated joints, so that they hold the frame whatever its
+    /// axes are drawn along.
+    fn frame_parameters(&self) -> Vec<usize> {
+        let largest = |vector: Vector3<f64>| vector.iamax();
+        let mut held = Vec::with_capacity(12);
+        let base: fn(&Leg) -> Vector3<f64> = |leg| leg.base;
+        let platform: fn(&Leg) -> Vector3<f64> = |leg| leg.platform;
+        for (offset, joint) in [(0, base), (3, platform)] {
+            let (one, two, three) = (
+                joint(&self.legs[0]),
+                joint(&self.legs[1]),
+                joint(&self.legs[2]),
+            );
+            let along = largest(two - one);
+            let normal = largest((two - one).cross(&(three - one)));
+            held.extend((0..3).map(|axis| offset + axis));
+            held.extend(
+                (0..3)
+                    .filter(|axis| *axis != along)
+                    .map(|axis| PARAMETERS_PER_LEG + offset + axis),
+            );
+            held.push(2 * PARAMETERS_PER_LEG + offset + normal);
+        }
+        held.sort_unstable();
+        held
+    }
+
     /// Leg i's equation involves leg i's eight parameters only.
     fn equation_parameters(&self, equation: usize) -> std::ops::Range<usize> {
         equation * PARAMETERS_PER_LEG..(equation + 1) * PARAMETERS_PER_LEG
