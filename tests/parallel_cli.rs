@@ -1339,3 +1339,94 @@ fn a_parallel_fits_residuals_and_plots_are_written() {
         assert!(svg.contains("<svg"), "{plot}");
     }
 }
+
+/// The autonomous way on the command line: a hexapod's own actuators and a
+/// measuring leg's readings (σ 1 µm) generated and identified — the fit at
+/// the noise, the leg found and its frames said to be the joints', the
+/// leg's lengths after the fit at the noise where the nominal's are a
+/// tenth of a millimetre off; the leg's options refused where they mean
+/// nothing (another method, a serial robot, a job that takes no leg yet).
+#[test]
+fn a_measuring_legs_readings_calibrate_a_hexapod_on_the_command_line() {
+    let folder = tempfile::tempdir().expect("folder");
+    let at = |name: &str| folder.path().join(name).display().to_string();
+    let mount = [
+        "--leg-base",
+        "250mm,-100mm,0",
+        "--leg-platform=-120mm,80mm,0",
+    ];
+    command("generate hexapod --method leg --count 600 --noise 1e-6 --seed 5 -o")
+        .arg(at("legs.csv"))
+        .args(mount)
+        .assert()
+        .success();
+    let mut args = vec![
+        "identify", "hexapod", "--method", "leg", "--sigma", "1um", "--json",
+    ];
+    args.extend(mount);
+    let legs = at("legs.csv");
+    args.extend(["--data", legs.as_str()]);
+    let identified = json_output(&args);
+    assert_eq!(
+        identified["outcome"], "fits_noise",
+        "{}",
+        identified["summary"]
+    );
+    let summary = identified["summary"].as_str().expect("summary");
+    assert!(
+        summary.contains("the measuring leg found") && summary.contains("joints 1–3"),
+        "{summary}"
+    );
+    assert_eq!(identified["leg"]["gain"], 1.0, "{}", identified["leg"]);
+    let rms = |errors: &Value| errors["position_rms"].as_f64().expect("rms");
+    let (before, after) = (
+        rms(&identified["errors_before"]),
+        rms(&identified["errors_after"]),
+    );
+    assert!(after < 2e-6 && before > 50.0 * after, "{before} → {after}");
+    // The frames' convention: twelve joint coordinates held, the tool not seen.
+    let statuses: Vec<&str> = identified["parameters"]
+        .as_array()
+        .expect("parameters")
+        .iter()
+        .filter_map(|parameter| parameter["status"].as_str())
+        .collect();
+    assert_eq!(
+        statuses
+            .iter()
+            .filter(|status| **status == "excluded")
+            .count(),
+        15,
+        "{statuses:?}"
+    );
+    for (line, wanted) in [
+        (
+            "identify hexapod --method frame --sigma 20um --leg-base 0,0,0 --data x.csv",
+            "--leg-base: states a measuring leg",
+        ),
+        (
+            "identify stanford --method position --leg-base 0,0,0 --data x.csv",
+            "--leg-base is a parallel robot's measuring leg",
+        ),
+        (
+            "generate stanford --method leg --count 5 -o x.csv",
+            "--method leg is a parallel robot's measuring leg",
+        ),
+        (
+            "identify hexapod --method leg --sigma 1um --data x.csv",
+            "--leg-base: the `leg` method needs the measuring leg's base socket",
+        ),
+        (
+            "evaluate hexapod --method leg --data x.csv",
+            "is not there yet",
+        ),
+    ] {
+        let output = command(line)
+            .current_dir(folder.path())
+            .output()
+            .expect("runs");
+        let error = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success(), "{line}");
+        assert!(error.contains(wanted), "{line}: {error}");
+    }
+}

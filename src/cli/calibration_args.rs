@@ -69,6 +69,8 @@ pub(crate) struct GenerateArgs {
     pub(crate) robot: String,
     #[command(flatten)]
     pub(crate) method: MethodArgs,
+    #[command(flatten)]
+    pub(crate) leg: LegArgs,
     /// Number of configurations (rows of the data file).
     #[arg(long, required_unless_present = "configurations")]
     pub(crate) count: Option<usize>,
@@ -298,6 +300,8 @@ pub(crate) struct PredictArgs {
 pub(crate) struct IdentificationRunArgs {
     #[command(flatten)]
     pub(crate) source: StudySource,
+    #[command(flatten)]
+    pub(crate) leg: LegArgs,
     /// Measurements (CSV). A parallel robot takes it again for each set
     /// measured from another tracker station (each station's frame is
     /// identified with the platform); a serial robot's several sets go in a

@@ -99,7 +99,10 @@ pub(crate) struct IkArgs {
 /// The method names of the registry, for clap's value list.
 pub(super) fn method_names() -> clap::builder::PossibleValuesParser {
     clap::builder::PossibleValuesParser::new(
-        gecaro_calib::methods::METHODS.iter().map(|info| info.name),
+        gecaro_calib::methods::METHODS
+            .iter()
+            .map(|info| info.name)
+            .chain([gecaro_calib::parallel_robots::PlatformMeasure::Leg.name()]),
     )
 }
 
@@ -142,6 +145,36 @@ pub(crate) struct PlaneArgs {
         value_name = "X,Y,Z"
     )]
     pub(crate) plane_point: Option<Vec<f64>>,
+}
+
+/// A parallel robot's measuring leg (`--method leg`): a redundant leg
+/// sensor, or a ballbar between a base and a platform socket.
+#[derive(Debug, Args)]
+pub(crate) struct LegArgs {
+    /// For --method leg (a parallel robot's measuring leg: a redundant leg
+    /// sensor, or a ballbar between two sockets): its base socket's centre
+    /// in the base frame, with units (250mm,-100mm,0).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub(crate) leg_base: Option<String>,
+    /// For --method leg: its platform socket's centre in the platform
+    /// frame, with units.
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub(crate) leg_platform: Option<String>,
+    /// For --method leg: metres of length per unit of its reading (default
+    /// 1: the reading is a length in the data's unit).
+    #[arg(long, value_name = "K")]
+    pub(crate) leg_gain: Option<f64>,
+}
+
+impl LegArgs {
+    /// The options given, by name (for a serial robot, which has no leg).
+    pub(crate) fn given(&self) -> [(&'static str, bool); 3] {
+        [
+            ("--leg-base", self.leg_base.is_some()),
+            ("--leg-platform", self.leg_platform.is_some()),
+            ("--leg-gain", self.leg_gain.is_some()),
+        ]
+    }
 }
 
 #[derive(Debug, Args)]

@@ -57,6 +57,7 @@ fn spinner(message: impl Into<String>) -> ProgressBar {
 }
 
 pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
+    super::options::no_measuring_leg(&args.leg, Some(&args.method.method))?;
     let method = method_spec(&args.method.method, &args.method.options)?;
     let mut request = GenerateRequest::new(RobotSource::Named(args.robot.clone()), method, 0);
     request.count = args.count;
@@ -117,6 +118,7 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
 
 /// The identification request of a command line.
 fn request(args: &IdentificationRunArgs) -> Result<IdentifyRequest, Failure> {
+    super::options::no_measuring_leg(&args.leg, args.source.method.as_deref())?;
     let mut request = IdentifyRequest::new(measurements(&args.source, one_data_file(&args.data)?)?);
     request.measurements.sigma = args.sigma.clone();
     request.measurements.sigma_rotation = args.sigma_rotation.clone();

@@ -170,6 +170,32 @@ pub(crate) fn measurements(source: &Source, data: Option<&Path>) -> Result<Measu
     })
 }
 
+/// A serial robot has no measuring leg: `--method leg` and the `--leg-*`
+/// options are a parallel robot's (docs/parallel.md), refused by name.
+pub(crate) fn no_measuring_leg(
+    leg: &crate::cli::LegArgs,
+    method: Option<&str>,
+) -> Result<(), Failure> {
+    let given = leg.given();
+    let option = given
+        .iter()
+        .find(|(_, given)| *given)
+        .map(|(option, _)| *option)
+        .or((method == Some("leg")).then_some("--method leg"));
+    match option {
+        Some(option) => Err(Failure::usage(
+            format!("{option} is a parallel robot's measuring leg: a serial robot has none"),
+            Some(
+                "a serial robot is measured by an instrument outside it (--method position, \
+                 frame, distance, …); a measuring leg calibrates a Gough–Stewart platform \
+                 (docs/parallel.md)"
+                    .to_owned(),
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
 /// A serial robot's one data file of `--data`, given at most once: its
 /// several sets are a study file's.
 pub(crate) fn one_data_file(data: &[PathBuf]) -> Result<Option<&Path>, Failure> {

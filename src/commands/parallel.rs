@@ -213,6 +213,9 @@ pub(crate) fn generate(args: &GenerateArgs) -> Result<(), Failure> {
         seed: Some(args.seed),
         output,
         real_save_as: args.real_out.as_deref().map(name),
+        leg_base: args.leg.leg_base.clone(),
+        leg_platform: args.leg.leg_platform.clone(),
+        leg_gain: args.leg.leg_gain,
     }
     .run(&LocalFiles)?;
     println!(
@@ -332,6 +335,9 @@ fn identify_request(
             .iter()
             .map(|path| DataSource::File(name(path)))
             .collect(),
+        leg_base: run.leg.leg_base.clone(),
+        leg_platform: run.leg.leg_platform.clone(),
+        leg_gain: run.leg.leg_gain,
         format: data_format(&run.source.format),
         sigma: run.sigma.clone(),
         sigma_rotation: run.sigma_rotation.clone(),
@@ -410,16 +416,15 @@ pub(crate) fn identify(args: &IdentifyArgs, robot: &str) -> Result<(), Failure> 
         }
         println!("{parameters}");
         println!("(mm; angles in degrees; gains dimensionless)");
-        let distances = document.method == "distance";
         print_errors(
             "at the measured poses, nominal",
             &document.errors_before,
-            distances,
+            document.method,
         );
         print_errors(
             "at the measured poses, calibrated",
             &document.errors_after,
-            distances,
+            document.method,
         );
         if let Some(region) = &document.region {
             println!(
@@ -476,8 +481,9 @@ pub(crate) fn report(args: &ReportArgs, robot: &str) -> Result<(), Failure> {
         .map_or(Ok(()), |error| Err(error.into()))
 }
 
-/// A platform's errors in words: of its positions, or of its distances.
-fn print_errors(title: &str, errors: &PlatformErrorsDocument, distances: bool) {
+/// A platform's errors in words: of its positions, its distances, or its
+/// measuring leg's lengths (`method`).
+fn print_errors(title: &str, errors: &PlatformErrorsDocument, method: &str) {
     let angles = match (errors.angle_rms, errors.angle_max) {
         (Some(rms), Some(max)) => format!(
             "; orientation RMS {}°, max {}°",
@@ -488,7 +494,11 @@ fn print_errors(title: &str, errors: &PlatformErrorsDocument, distances: bool) {
     };
     println!(
         "{title}: {} RMS {} mm, max {} mm{angles}",
-        if distances { "distance" } else { "position" },
+        match method {
+            "distance" => "distance",
+            "leg" => "leg length",
+            _ => "position",
+        },
         mm(errors.position_rms),
         mm(errors.position_max)
     );
@@ -540,7 +550,7 @@ pub(crate) fn evaluate(args: &EvaluateArgs) -> Result<(), Failure> {
     print_errors(
         "direct model against the measured",
         &evaluated.errors,
-        evaluated.method == "distance",
+        evaluated.method,
     );
     Ok(())
 }

@@ -68,6 +68,7 @@ pub(super) fn print_cross_validation(validation: &CrossValidation) {
 }
 
 pub(crate) fn compare(args: &CompareModelsArgs) -> Result<(), Failure> {
+    super::options::no_measuring_leg(&args.run.leg, args.run.source.method.as_deref())?;
     let mut request = CompareModelsRequest::new(
         measurements(&args.run.source, one_data_file(&args.run.data)?)?,
         args.models.split(',').map(str::to_owned).collect(),

@@ -24,6 +24,9 @@ fn generate(folder: &std::path::Path, name: &str, count: usize, seed: u64) -> St
         seed: Some(seed),
         output: Output::to(path.clone()),
         real_save_as: None,
+        leg_base: None,
+        leg_platform: None,
+        leg_gain: None,
     }
     .run(&LocalFiles)
     .expect("generated");
@@ -48,6 +51,9 @@ fn a_hexapod_is_calibrated_from_its_files_to_the_noise_floor() {
         seed: Some(7),
         output: Output::default(),
         real_save_as: Some(folder.path().join("real.toml").display().to_string()),
+        leg_base: None,
+        leg_platform: None,
+        leg_gain: None,
     }
     .run(&LocalFiles)
     .expect("real platform");
@@ -59,6 +65,9 @@ fn a_hexapod_is_calibrated_from_its_files_to_the_noise_floor() {
         method: "frame".into(),
         data: DataSource::File(data),
         stations: Vec::new(),
+        leg_base: None,
+        leg_platform: None,
+        leg_gain: None,
         format: Default::default(),
         sigma: Some("20um".parse().expect("σ")),
         sigma_rotation: Some("20e-6rad".parse().expect("σ")),
@@ -114,6 +123,9 @@ fn a_hexapod_is_calibrated_from_its_files_to_the_noise_floor() {
         seed: Some(11),
         output: Output::to(job.clone()),
         real_save_as: None,
+        leg_base: None,
+        leg_platform: None,
+        leg_gain: None,
     }
     .run(&LocalFiles)
     .expect("job");

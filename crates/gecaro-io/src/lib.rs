@@ -75,7 +75,9 @@ pub use parallel_file::{
 pub use payload::{
     MAX_PAYLOAD_CENTRE, MAX_PAYLOAD_KG, PayloadSpec, Quantity, check_payload, parse_payload,
 };
-pub use pose::{parse_pose, parse_tool_pose, pose_from_matrix, pose_from_seven, unit_quaternion};
+pub use pose::{
+    parse_point, parse_pose, parse_tool_pose, pose_from_matrix, pose_from_seven, unit_quaternion,
+};
 pub use prior::{StandardDeviation, parse_angle, parse_override, parse_prior, parse_signed_angle};
 pub use problem::{DocumentError, Location};
 pub use program::{

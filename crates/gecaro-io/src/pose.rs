@@ -53,6 +53,30 @@ pub fn parse_tool_pose(text: &str) -> Result<IsometryMatrix3<f64>, String> {
     parse_pose(text, "tool", "frame n+1")
 }
 
+/// A point as a person writes it, `x,y,z` each with its unit (`250mm,-100mm,0`;
+/// bare numbers metres, a bare number beside one with a unit refused but 0):
+/// the mount of a measuring leg's socket. `what` names it in messages.
+///
+/// ```
+/// let point = gecaro_io::parse_point("250mm,-100mm,0", "the leg's base").unwrap();
+/// assert_eq!(point, nalgebra::Vector3::new(0.25, -0.1, 0.0));
+/// let error = gecaro_io::parse_point("250,-100mm,0", "the leg's base").unwrap_err();
+/// assert!(error.contains("mixes units"), "{error}");
+/// ```
+///
+/// # Errors
+/// Not three coordinates, a coordinate that is no length, mixed units.
+pub fn parse_point(text: &str, what: &str) -> Result<nalgebra::Vector3<f64>, String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let [x, y, z] = parts.as_slice() else {
+        return Err(format!(
+            "{what} is three coordinates x,y,z, each with its unit (250mm,-100mm,0), not '{text}'"
+        ));
+    };
+    let [x, y, z] = crate::written_lengths::point(&[*x, *y, *z], what)?;
+    Ok(nalgebra::Vector3::new(x, y, z))
+}
+
 /// A pose as a person writes it, as [`parse_tool_pose`] reads a tool's: of
 /// the `what` (a tool, the measurement frame) in its `parent` frame, named
 /// so in messages.

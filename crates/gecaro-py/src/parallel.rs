@@ -41,7 +41,9 @@ fn format(length_unit: Option<String>, angle_unit: Option<String>) -> DataFormat
 /// of the file `configurations`, a plan's) of a "real" platform drawn about `robot`
 /// at error level `error_level` (±L mm, gains ±L·10⁻³; or the platform file
 /// `real`), at random reachable poses, by `method` (`"frame"`: the
-/// platform's pose; `"position"`: its tool point), noise σ `noise` (m; rad
+/// platform's pose; `"position"`: its tool point; `"leg"`: a measuring
+/// leg's readings, its sockets `leg_base` and `leg_platform` as mounted,
+/// points with their units, `"250mm,-100mm,0"`), noise σ `noise` (m; rad
 /// for orientations) → `{"configurations", "data": the CSV text, "real":
 /// the real platform's file text}`; written to `path` (and `real_path`)
 /// when given.
@@ -49,7 +51,7 @@ fn format(length_unit: Option<String>, angle_unit: Option<String>) -> DataFormat
 #[pyo3(signature = (
     robot, method, count = 0, *, configurations = None, noise = 0.0, error_level = None,
     real = None, seed = 1, path = None, real_path = None, length_unit = None,
-    angle_unit = None, overwrite = false,
+    angle_unit = None, leg_base = None, leg_platform = None, leg_gain = None, overwrite = false,
 ))]
 pub(crate) fn parallel_generate<'py>(
     py: Python<'py>,
@@ -65,6 +67,9 @@ pub(crate) fn parallel_generate<'py>(
     real_path: Option<PathBuf>,
     length_unit: Option<String>,
     angle_unit: Option<String>,
+    leg_base: Option<String>,
+    leg_platform: Option<String>,
+    leg_gain: Option<f64>,
     overwrite: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let request = ParallelGenerateRequest {
@@ -81,6 +86,9 @@ pub(crate) fn parallel_generate<'py>(
         seed: Some(seed),
         output: output(path.as_deref(), overwrite),
         real_save_as: real_path.as_deref().map(name),
+        leg_base,
+        leg_platform,
+        leg_gain,
     };
     let generated = py.detach(|| request.run(&LocalFiles)).py()?;
     let document = pyo3::types::PyDict::new(py);
@@ -144,7 +152,11 @@ pub(crate) fn parallel_identifiable<'py>(
 /// `"report"` in the document), trusted or not; `residuals` the CSV file
 /// of every measurement's errors and residual (`gecaro identify
 /// --residuals`; `"residuals"`). A fit that did not converge raises
-/// `NotConvergedError` (its report and residuals written first).
+/// `NotConvergedError` (its report and residuals written first). The
+/// `"leg"` method calibrates a Gough–Stewart platform from its own
+/// actuators and a measuring leg's readings, its sockets `leg_base` and
+/// `leg_platform` (points with their units) and gain `leg_gain` (1 by
+/// default): `"leg"` in the document, the leg identified.
 /// One data file, or several (one a tracker station).
 #[derive(FromPyObject)]
 pub(crate) enum DataPaths {
@@ -166,7 +178,7 @@ impl DataPaths {
     robot, method, data, *, sigma = None, sigma_rotation = None, length_unit = None,
     angle_unit = None, max_iterations = 30, work_region = None, loss = "l2", loss_scale = None,
     reject = false, prior = None, path = None, report = None, residuals = None,
-    overwrite = false,
+    leg_base = None, leg_platform = None, leg_gain = None, overwrite = false,
 ))]
 pub(crate) fn parallel_identify<'py>(
     py: Python<'py>,
@@ -186,6 +198,9 @@ pub(crate) fn parallel_identify<'py>(
     path: Option<PathBuf>,
     report: Option<PathBuf>,
     residuals: Option<PathBuf>,
+    leg_base: Option<String>,
+    leg_platform: Option<String>,
+    leg_gain: Option<f64>,
     overwrite: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     // Refused before the work, as the platform's own file is.
@@ -209,6 +224,9 @@ pub(crate) fn parallel_identify<'py>(
             .iter()
             .map(|path| DataSource::File(name(path)))
             .collect(),
+        leg_base,
+        leg_platform,
+        leg_gain,
         format: format(length_unit, angle_unit),
         sigma: sigma.map(Into::into),
         sigma_rotation: sigma_rotation.map(Into::into),

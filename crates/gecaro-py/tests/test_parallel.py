@@ -339,3 +339,15 @@ def test_a_parallel_fits_residuals_are_written(tmp_path):
     assert "rotation_after_deg" not in lines[0]
     assert len(lines) == 61
     assert lines[1].split(",")[2:5] == ["configuration", "1", "2"]  # the header is line 1
+
+
+def test_a_measuring_leg_calibrates_a_hexapod_without_an_instrument(tmp_path):
+    leg = {"leg_base": "250mm,-100mm,0", "leg_platform": "-120mm,80mm,0"}
+    gecaro.parallel_generate("hexapod", "leg", 600, noise=1e-6, seed=5,
+                             path=tmp_path / "legs.csv", **leg)
+    result = gecaro.parallel_identify("hexapod", "leg", tmp_path / "legs.csv", sigma="1um", **leg)
+    assert result["outcome"] == "fits_noise", result["summary"]
+    assert result["leg"]["gain"] == 1.0
+    assert "joints 1–3" in result["summary"]
+    with pytest.raises(ValueError, match="leg_base"):
+        gecaro.parallel_identify("hexapod", "leg", tmp_path / "legs.csv", sigma="1um")

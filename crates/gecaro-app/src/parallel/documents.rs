@@ -186,6 +186,26 @@ pub struct PlatformIdentificationDocument {
     /// its own tracker station; empty for one file): where the base frame
     /// is seen from it.
     pub stations: Vec<PlatformStationDocument>,
+    /// The measuring leg of the `leg` method, identified.
+    pub leg: Option<PlatformLegDocument>,
+}
+
+/// A measuring leg, identified with the platform (m).
+#[derive(Clone, Debug, Serialize)]
+pub struct PlatformLegDocument {
+    /// Its base socket's centre, in the base frame.
+    pub base: [f64; 3],
+    /// Its platform socket's centre, in the platform frame.
+    pub platform: [f64; 3],
+    /// Its length at reading 0.
+    pub length: f64,
+    /// Its gain, as stated.
+    pub gain: f64,
+    /// σ of `base`, `platform` and `length`, in that order.
+    pub sigma: [f64; 7],
+    /// Its length at reading 0 as the data gave it on the nominal platform
+    /// (the start of the fit).
+    pub stated_length: f64,
 }
 
 /// A later data file's tracker station, identified with the platform.

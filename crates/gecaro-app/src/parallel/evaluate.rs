@@ -9,7 +9,7 @@ use gecaro_core::parallel_model::ParallelModel;
 use serde::Deserialize;
 
 use super::documents::{PlatformErrorsDocument, pose_document};
-use super::{actuator_types, load_parallel_robot, measure_for};
+use super::{actuator_types, load_parallel_robot, measure_without_leg};
 use crate::documents::PoseJson;
 use crate::error::AppError;
 use crate::files::Files;
@@ -58,7 +58,7 @@ impl ParallelEvaluateRequest {
     /// pose (naming the line).
     pub fn run(&self, files: &dyn Files) -> Result<ParallelEvaluated, AppError> {
         let file = load_parallel_robot(&self.robot, files)?;
-        let measure = measure_for(&self.method, &file.robot)?;
+        let measure = measure_without_leg(&self.method, &file.robot, "evaluate")?;
         let read = self.data.read(
             files,
             &actuator_types(&file.robot),

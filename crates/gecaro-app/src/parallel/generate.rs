@@ -4,7 +4,8 @@
 use std::path::PathBuf;
 
 use gecaro_calib::parallel_robots::{
-    PlatformNoise, PlatformWorkspace, perturbed_platform, random_platform_poses, simulate_platform,
+    MeasuringLeg, PlatformNoise, PlatformWorkspace, perturbed_platform, random_platform_poses,
+    simulate_leg, simulate_platform,
 };
 use gecaro_calib::simulation::{DEFAULT_ERROR_LEVEL, DEFAULT_SEED, Sampler};
 use gecaro_calib::study::{Sample, Samples};
@@ -12,6 +13,7 @@ use gecaro_core::parallel_model::ParallelModel;
 use gecaro_io::ParallelRobotFile;
 use serde::Deserialize;
 
+use super::leg::measuring_leg;
 use super::{load_parallel_robot, measure_for};
 use crate::error::AppError;
 use crate::files::Files;
@@ -25,8 +27,9 @@ use crate::sources::{DataFormatSpec, DataSource};
 pub struct ParallelGenerateRequest {
     /// The nominal platform (a file, or a ready parallel robot's name).
     pub robot: String,
-    /// `frame` (the platform's pose), `position` (its tool point) or
-    /// `distance` (between the tool points of consecutive poses).
+    /// `frame` (the platform's pose), `position` (its tool point),
+    /// `distance` (between the tool points of consecutive poses) or `leg`
+    /// (a measuring leg's readings).
     pub method: String,
     /// Measured poses (1 to [`MAX_GENERATE`]); not with `configurations`.
     pub count: usize,
@@ -52,6 +55,17 @@ pub struct ParallelGenerateRequest {
     pub output: Output,
     /// Where the real platform is written (TOML), if anywhere.
     pub real_save_as: Option<String>,
+    /// The `leg` method's measuring leg, mounted where stated (its reading
+    /// 0 at the real platform's home): its base socket, a point with its
+    /// units.
+    #[serde(default)]
+    pub leg_base: Option<String>,
+    /// Its platform socket, likewise.
+    #[serde(default)]
+    pub leg_platform: Option<String>,
+    /// Its gain (default 1).
+    #[serde(default)]
+    pub leg_gain: Option<f64>,
 }
 
 /// What a generation made.
@@ -76,6 +90,12 @@ impl ParallelGenerateRequest {
     pub fn run(&self, files: &dyn Files) -> Result<ParallelGenerated, AppError> {
         let nominal = load_parallel_robot(&self.robot, files)?;
         let measure = measure_for(&self.method, &nominal.robot)?;
+        let leg = measuring_leg(
+            measure,
+            self.leg_base.as_deref(),
+            self.leg_platform.as_deref(),
+            self.leg_gain,
+        )?;
         self.output.check(files, "csv")?;
         if let Some(name) = &self.real_save_as {
             files.check_output(name, "toml", self.output.overwrite)?;
@@ -164,7 +184,18 @@ impl ParallelGenerateRequest {
             length: self.noise,
             angle: self.noise,
         };
-        let mut samples = simulate_platform(&real.robot, measure, &poses, noise, &mut sampler)?;
+        let mut samples = match leg {
+            Some(leg) => {
+                // The leg where it is stated, its reading 0 at the real
+                // platform's home.
+                let mounted = MeasuringLeg {
+                    length: leg.length_at(&real.robot.home()),
+                    ..leg
+                };
+                simulate_leg(&real.robot, &mounted, &poses, noise, &mut sampler)?
+            }
+            None => simulate_platform(&real.robot, measure, &poses, noise, &mut sampler)?,
+        };
         for (sample, values) in samples.iter_mut().zip(commanded) {
             sample.motor_positions = values.into();
         }

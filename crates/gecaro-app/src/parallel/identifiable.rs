@@ -10,7 +10,7 @@ use gecaro_core::parallel_model::ParallelModel;
 use serde::Deserialize;
 
 use super::documents::PlatformRankDocument;
-use super::{actuator_types, load_parallel_robot, measure_for};
+use super::{actuator_types, load_parallel_robot, measure_without_leg};
 use crate::error::AppError;
 use crate::files::Files;
 use crate::sources::{DataFormatSpec, DataSource};
@@ -45,7 +45,7 @@ impl ParallelIdentifiableRequest {
     /// A robot or data file that cannot be read, too few equations.
     pub fn run(&self, files: &dyn Files) -> Result<PlatformRankDocument, AppError> {
         let file = load_parallel_robot(&self.robot, files)?;
-        let measure = measure_for(&self.method, &file.robot)?;
+        let measure = measure_without_leg(&self.method, &file.robot, "identifiable")?;
         let (samples, source) = match &self.data {
             Some(data) => {
                 let read = data.read(

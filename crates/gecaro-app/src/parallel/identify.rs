@@ -6,7 +6,7 @@ use gecaro_calib::identification::{Loss, LossKind, Prior};
 use gecaro_calib::parallel_robots::{
     PlatformErrors, PlatformIdentification, PlatformIdentificationOptions, PlatformMeasure,
     PlatformNoise, PlatformOutlier, PlatformRegion, identify_platform_sets, in_base_frame,
-    platform_errors,
+    leg_errors, platform_errors,
 };
 use gecaro_calib::study::Sample;
 use gecaro_core::parallel_model::ParallelModel;
@@ -16,9 +16,10 @@ use gecaro_report::{PlatformPlots, PlatformReportInput, platform_plots, platform
 use serde::Deserialize;
 
 use super::documents::{
-    PlatformIdentificationDocument, PlatformOutlierDocument, PlatformRankDocument,
-    PlatformStationDocument, pose_document,
+    PlatformIdentificationDocument, PlatformLegDocument, PlatformOutlierDocument,
+    PlatformRankDocument, PlatformStationDocument, pose_document,
 };
+use super::leg::measuring_leg;
 use super::region::stated_work_region;
 use super::residuals::{ObservationPlaces, platform_residuals_csv};
 use super::{actuator_types, load_parallel_robot, measure_for};
@@ -44,6 +45,16 @@ pub struct ParallelIdentifyRequest {
     /// read as one. Units and columns as `format` says for every set.
     #[serde(default)]
     pub stations: Vec<DataSource>,
+    /// The `leg` method's measuring leg: its base socket's centre (base
+    /// frame), a point with its units (`250mm,-100mm,0`).
+    #[serde(default)]
+    pub leg_base: Option<String>,
+    /// Its platform socket's centre (platform frame), likewise.
+    #[serde(default)]
+    pub leg_platform: Option<String>,
+    /// Its gain: metres of length per unit of reading (default 1).
+    #[serde(default)]
+    pub leg_gain: Option<f64>,
     /// Units and columns of the data file.
     #[serde(default)]
     pub format: DataFormatSpec,
@@ -201,6 +212,13 @@ impl ParallelIdentifyRequest {
     pub fn run(&self, files: &dyn Files) -> Result<ParallelIdentified, AppError> {
         let nominal = load_parallel_robot(&self.robot, files)?;
         let measure = measure_for(&self.method, &nominal.robot)?;
+        // Before any file is read: a leg the method needs, or does not take.
+        let leg = measuring_leg(
+            measure,
+            self.leg_base.as_deref(),
+            self.leg_platform.as_deref(),
+            self.leg_gain,
+        )?;
         self.output.check(files, "toml")?;
         let format = self.format.format()?;
         let reads = std::iter::once(&self.data)
@@ -254,6 +272,7 @@ impl ParallelIdentifyRequest {
         options.loss = Loss::from_parts(kind, self.loss_scale)?;
         options.reject = self.reject.unwrap_or(false);
         options.prior = crate::settings::prior(self.prior.as_deref(), None)?;
+        options.leg = leg;
         // With several files, a sample's problem (actuator values with no
         // pose, a missing column) is named by its file as well as its line:
         // each file's configurations are solved once first.
@@ -282,8 +301,16 @@ impl ParallelIdentifyRequest {
                 None => set.clone(),
             })
             .collect();
-        let errors_before = platform_errors(&nominal.robot, &in_base, measure)?;
-        let errors_after = platform_errors(&result.calibrated, &in_base, measure)?;
+        let (errors_before, errors_after) = match &result.leg {
+            Some(leg) => (
+                leg_errors(&nominal.robot, &leg.stated, &in_base)?,
+                leg_errors(&result.calibrated, &leg.identified, &in_base)?,
+            ),
+            None => (
+                platform_errors(&nominal.robot, &in_base, measure)?,
+                platform_errors(&result.calibrated, &in_base, measure)?,
+            ),
+        };
         let name = format!("{} (calibrated)", nominal.robot.name());
         // A result that holds in the measured region only keeps that region:
         // compensation flags targets outside it.
@@ -396,6 +423,14 @@ impl ParallelIdentifyRequest {
                     sigma_rotation: [station.sigma[3], station.sigma[4], station.sigma[5]],
                 })
                 .collect(),
+            leg: result.leg.as_ref().map(|leg| PlatformLegDocument {
+                base: leg.identified.base.into(),
+                platform: leg.identified.platform.into(),
+                length: leg.identified.length,
+                gain: leg.identified.gain,
+                sigma: leg.sigma,
+                stated_length: leg.stated.length,
+            }),
         };
         let taken = measure.samples_per_observation();
         let observation_lines = samples
@@ -555,6 +590,18 @@ fn summary(result: &PlatformIdentification<ParallelRobot>, labels: &[String]) ->
             } else {
                 "them"
             }
+        ));
+    }
+    if let Some(leg) = &result.leg {
+        verdict.push_str(&format!(
+            "; the measuring leg found with its base socket at ({}) mm, its platform socket at \
+             ({}) mm and its length at reading 0 {:.3} mm (σ {:.4} mm); nothing outside the \
+             robot measured its frames: they are those of joints 1–3 at their stated \
+             coordinates, and its tool point is as stated",
+            millimetres(&leg.identified.base),
+            millimetres(&leg.identified.platform),
+            leg.identified.length * 1e3,
+            leg.sigma[6] * 1e3,
         ));
     }
     for (label, station) in labels.iter().skip(1).zip(&result.stations) {

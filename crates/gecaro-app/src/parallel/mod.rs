@@ -14,6 +14,7 @@ mod evaluate;
 mod generate;
 mod identifiable;
 mod identify;
+mod leg;
 mod plan;
 mod predict;
 mod region;
@@ -29,9 +30,9 @@ use crate::files::Files;
 
 pub use compensate::{ParallelCompensateRequest, ParallelCompensated};
 pub use documents::{
-    PlatformErrorsDocument, PlatformIdentificationDocument, PlatformOutlierDocument,
-    PlatformParameterDocument, PlatformRankDocument, PlatformRegionDocument,
-    PlatformRelationDocument, PlatformStationDocument,
+    PlatformErrorsDocument, PlatformIdentificationDocument, PlatformLegDocument,
+    PlatformOutlierDocument, PlatformParameterDocument, PlatformRankDocument,
+    PlatformRegionDocument, PlatformRelationDocument, PlatformStationDocument,
 };
 pub use evaluate::{ParallelEvaluateRequest, ParallelEvaluated};
 pub use generate::{ParallelGenerateRequest, ParallelGenerated};
@@ -126,15 +127,39 @@ fn measure_for(name: &str, robot: &ParallelRobot) -> Result<PlatformMeasure, App
     Ok(measure)
 }
 
+/// [`measure_for`] for a job that does not take a measuring leg yet
+/// (`job`: identifiable, evaluate, plan, predict): the `leg` method refused
+/// by name, with what takes it.
+fn measure_without_leg(
+    name: &str,
+    robot: &ParallelRobot,
+    job: &str,
+) -> Result<PlatformMeasure, AppError> {
+    let measure = measure_for(name, robot)?;
+    if measure == PlatformMeasure::Leg {
+        return Err(AppError::setting(
+            "method",
+            format!(
+                "`leg` is generated, identified and reported (generate, identify, report); \
+                 {job} of a measuring leg is not there yet: judge the calibrated platform with \
+                 an instrument's held-out data (frame, position, distance)"
+            ),
+        ));
+    }
+    Ok(measure)
+}
+
 /// The measure called `name`: `frame` (the platform's pose), `position`
-/// (its tool point) or `distance` (between the tool points of a pair).
+/// (its tool point), `distance` (between the tool points of a pair) or
+/// `leg` (a measuring leg's readings).
 fn measure_of(name: &str) -> Result<PlatformMeasure, AppError> {
     PlatformMeasure::named(name).map_err(|_| {
         AppError::setting(
             "method",
             format!(
                 "a parallel robot is measured by `frame` (the platform's pose), `position` \
-                 (its tool point) or `distance` (between two tool points), not `{name}`"
+                 (its tool point), `distance` (between two tool points) or `leg` (a measuring \
+                 leg's readings), not `{name}`"
             ),
         )
     })

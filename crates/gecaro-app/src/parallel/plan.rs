@@ -11,7 +11,7 @@ use gecaro_calib::study::Samples;
 use gecaro_core::parallel_model::ParallelModel;
 use serde::{Deserialize, Serialize};
 
-use super::{load_parallel_robot, measure_for};
+use super::{load_parallel_robot, measure_without_leg};
 use crate::error::AppError;
 use crate::files::Files;
 use crate::limits::MAX_GENERATE;
@@ -83,7 +83,7 @@ impl ParallelPlanRequest {
     /// small for the identifiable parameters, a file that cannot be written.
     pub fn run(&self, files: &dyn Files) -> Result<ParallelPlanned, AppError> {
         let file = load_parallel_robot(&self.robot, files)?;
-        let measure = measure_for(&self.method, &file.robot)?;
+        let measure = measure_without_leg(&self.method, &file.robot, "plan")?;
         self.output.check(files, "csv")?;
         let pool = self.pool.unwrap_or(POOL_PER_POSE * self.count);
         if !(1..=MAX_GENERATE).contains(&pool) {

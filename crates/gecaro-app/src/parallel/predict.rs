@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 
 use super::documents::PlatformRegionDocument;
 use super::region::stated_work_region;
-use super::{actuator_types, load_parallel_robot, measure_for};
+use super::{actuator_types, load_parallel_robot, measure_without_leg};
 use crate::error::AppError;
 use crate::files::Files;
 use crate::sources::{DataFormatSpec, DataSource};
@@ -115,7 +115,7 @@ impl ParallelPredictRequest {
     /// equations for the identifiable parameters.
     pub fn run(&self, files: &dyn Files) -> Result<ParallelPredicted, AppError> {
         let file = load_parallel_robot(&self.robot, files)?;
-        let measure = measure_for(&self.method, &file.robot)?;
+        let measure = measure_without_leg(&self.method, &file.robot, "predict")?;
         let format = self.format.format()?;
         let read = self
             .data

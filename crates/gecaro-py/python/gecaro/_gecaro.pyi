@@ -764,7 +764,7 @@ def iso9283_evaluate(
 
 def parallel_generate(
     robot: str,
-    method: Literal["frame", "position", "distance"],
+    method: Literal["frame", "position", "distance", "leg"],
     count: int = 0,
     *,
     configurations: Optional[_PathLike] = None,
@@ -776,6 +776,9 @@ def parallel_generate(
     real_path: Optional[_PathLike] = None,
     length_unit: Optional[Literal["m", "mm"]] = None,
     angle_unit: Optional[Literal["rad", "deg"]] = None,
+    leg_base: Optional[str] = None,
+    leg_platform: Optional[str] = None,
+    leg_gain: Optional[float] = None,
     overwrite: bool = False,
 ) -> dict[str, Any]:
     """Measurements of a "real" Gough–Stewart platform drawn about ``robot``
@@ -798,7 +801,7 @@ def parallel_identifiable(
 
 def parallel_identify(
     robot: str,
-    method: Literal["frame", "position", "distance"],
+    method: Literal["frame", "position", "distance", "leg"],
     data: Union[_PathLike, Sequence[_PathLike]],
     *,
     sigma: Union[float, str, None] = None,
@@ -814,6 +817,9 @@ def parallel_identify(
     path: Optional[_PathLike] = None,
     report: Optional[_PathLike] = None,
     residuals: Optional[_PathLike] = None,
+    leg_base: Optional[str] = None,
+    leg_platform: Optional[str] = None,
+    leg_gain: Optional[float] = None,
     overwrite: bool = False,
 ) -> dict[str, Any]:
     """A platform identified from the data file ``data`` — or a list of

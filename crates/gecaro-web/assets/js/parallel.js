@@ -74,9 +74,15 @@ export function buildParallel() {
   const result = h('div', { class: 'result', id: 'parallel-result' });
   const robot = text('robot', 'hexapod, delta, or a parallel robot file of the folder', 'hexapod');
   const method = h('select', { id: 'parallel-method' },
-    [['frame', 'frame: the platform’s pose'], ['position', 'position: its tool point'], ['distance', 'distance: between two tool points']]
+    [['frame', 'frame: the platform’s pose'], ['position', 'position: its tool point'], ['distance', 'distance: between two tool points'], ['leg', 'leg: a measuring leg’s readings (no instrument)']]
       .map(([value, label]) => h('option', { value, text: label })));
   const data = text('data', 'poses.csv (qm1…qm6, x, y, z[, qw, qx, qy, qz])');
+  const legBase = text('leg-base', 'for leg: its base socket, 250mm,-100mm,0');
+  const legPlatform = text('leg-platform', 'for leg: its platform socket, -120mm,80mm,0');
+  // A measuring leg's sockets, for the leg method only.
+  const leg = () => (method.value === 'leg'
+    ? { leg_base: required(legBase, 'the measuring leg’s base socket'), leg_platform: required(legPlatform, 'the measuring leg’s platform socket') }
+    : {});
   const stations = text('stations', 'station2.csv, station3.csv (optional: the same measure from other tracker stations)');
   const dataUnit = h('select', { id: 'parallel-data-unit' }, [['m', 'm'], ['mm', 'mm']].map(([value, label]) => h('option', { value, text: label })));
   const sigma = text('sigma', '20um, 0.02mm');
@@ -105,6 +111,7 @@ export function buildParallel() {
         seed: state.info.defaults.seed,
         save_as: required(generated, 'the data file to write'),
         real_save_as: real.value.trim() || null,
+        ...leg(),
         overwrite: true,
       });
       await refreshFiles();
@@ -170,6 +177,7 @@ export function buildParallel() {
         ...common(),
         data: { file: required(data, 'the measurements file') },
         stations: stations.value.split(',').map((file) => file.trim()).filter((file) => file !== '').map((file) => ({ file })),
+        ...leg(),
         format: format(),
         sigma: sigmaWithUnit(sigma),
         work_region: workRegion.value.trim() || null,
@@ -240,6 +248,8 @@ export function buildParallel() {
       field('Measured', method),
       field('Measurements', data),
       field('From other tracker stations', stations),
+      field('Measuring leg’s base socket', legBase),
+      field('Measuring leg’s platform socket', legPlatform),
       field('Their length unit', dataUnit),
       field('Sensor σ (with its unit)', sigma),
       field('Save the calibrated platform as', saveAs),

@@ -331,3 +331,39 @@ async fn a_second_stations_file_is_identified_with_the_first() {
         .sqrt();
     assert!(off < 1e-3, "the station found {off} m off: {station}");
 }
+
+/// The page's measuring leg: generated and identified through the API
+/// with its two sockets, the leg found; the method without them refused by
+/// name.
+#[tokio::test]
+async fn a_measuring_leg_is_identified_through_the_api() {
+    let api = Api::new();
+    let leg = json!({"leg_base": "250mm,-100mm,0", "leg_platform": "-120mm,80mm,0"});
+    let mut request = json!({"robot": "hexapod", "method": "leg", "count": 600, "noise": 1e-6,
+                             "seed": 5, "save_as": "legs.csv"});
+    for (key, value) in leg.as_object().expect("an object") {
+        request[key] = value.clone();
+    }
+    let (status, body) = api.post("/api/parallel/generate", &request).await;
+    assert_eq!(status, StatusCode::OK, "{body}");
+    let mut identify = json!({"robot": "hexapod", "method": "leg", "data": {"file": "legs.csv"},
+                              "sigma": "1um"});
+    let (status, refused) = api.post("/api/parallel/identify", &identify).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST, "{refused}");
+    assert!(refused.to_string().contains("leg_base"), "{refused}");
+    for (key, value) in leg.as_object().expect("an object") {
+        identify[key] = value.clone();
+    }
+    let (status, identified) = api.post("/api/parallel/identify", &identify).await;
+    assert_eq!(status, StatusCode::OK, "{identified}");
+    assert_eq!(
+        identified["outcome"], "fits_noise",
+        "{}",
+        identified["summary"]
+    );
+    assert!(
+        identified["leg"]["length"].as_f64() > Some(0.5),
+        "{}",
+        identified["leg"]
+    );
+}
