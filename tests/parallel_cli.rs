@@ -225,7 +225,7 @@ fn serial_only_options_and_jobs_are_refused_by_name() {
         .expect("runs");
     let error = String::from_utf8_lossy(&output.stderr);
     assert!(
-        error.contains("`frame` (the platform's pose), `position` (its tool point) or `distance`"),
+        error.contains("`frame` (the platform's pose), `position` (its tool point), `distance`"),
         "{error}"
     );
 }

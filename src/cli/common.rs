@@ -147,8 +147,10 @@ pub(crate) struct PlaneArgs {
     pub(crate) plane_point: Option<Vec<f64>>,
 }
 
-/// A parallel robot's measuring leg (`--method leg`): a redundant leg
-/// sensor, or a ballbar between a base and a platform socket.
+// A parallel robot's measuring leg (`--method leg`): a redundant leg
+// sensor, or a ballbar between a base and a platform socket. (A line
+// comment: a flattened struct's doc comment would become the command's
+// description.)
 #[derive(Debug, Args)]
 pub(crate) struct LegArgs {
     /// For --method leg (a parallel robot's measuring leg: a redundant leg

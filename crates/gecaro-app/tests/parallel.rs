@@ -216,7 +216,7 @@ fn identifiable_parameters_of_one_platform_point() {
     .expect_err("refused")
     .to_string();
     assert!(
-        error.contains("`position` (its tool point) or `distance`"),
+        error.contains("`position` (its tool point), `distance`"),
         "{error}"
     );
 }
