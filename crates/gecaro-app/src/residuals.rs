@@ -45,19 +45,7 @@ pub fn residuals_csv(
         }
         by_observation[point.index] = Some(point.deviation);
     }
-    let mut header = vec![
-        "set",
-        "file",
-        "kind",
-        "observation",
-        "lines",
-        "error_before_mm",
-        "error_after_mm",
-    ];
-    if rotation {
-        header.extend(["rotation_before_deg", "rotation_after_deg"]);
-    }
-    header.extend(["residual_sigmas", "weight", "outlier"]);
+    let mut header = residual_header(rotation);
     if !by_observation.is_empty() {
         header.extend(["dx_mm", "dy_mm", "dz_mm"]);
     }
@@ -101,6 +89,27 @@ pub fn residuals_csv(
         rows.push(row);
     }
     residual_table(&header, rows)
+}
+
+/// The columns every residuals file begins with — an observation's place,
+/// its errors before and after (their rotations when the data have
+/// orientations), its standardised residual, weight and whether it stands
+/// out — the serial and the parallel ones alike.
+pub(crate) fn residual_header(rotation: bool) -> Vec<&'static str> {
+    let mut header = vec![
+        "set",
+        "file",
+        "kind",
+        "observation",
+        "lines",
+        "error_before_mm",
+        "error_after_mm",
+    ];
+    if rotation {
+        header.extend(["rotation_before_deg", "rotation_after_deg"]);
+    }
+    header.extend(["residual_sigmas", "weight", "outlier"]);
+    header
 }
 
 /// A residuals file's CSV text: `header`, then `rows` (the serial and the

@@ -235,12 +235,13 @@ impl ParallelIdentifyRequest {
         let labels: Vec<String> = reads.iter().map(|read| read.label.clone()).collect();
         let label = labels.join(" + ");
         let sets: Vec<Vec<Sample>> = reads.iter().map(|read| read.samples.to_rows()).collect();
-        let set_of: Vec<usize> = sets
+        // Every sample's set and line, in the fit's order (sets one after
+        // the other).
+        let lines: Vec<(usize, Option<usize>)> = sets
             .iter()
             .enumerate()
-            .flat_map(|(set, samples)| std::iter::repeat_n(set, samples.len()))
+            .flat_map(|(set, samples)| samples.iter().map(move |sample| (set, sample.line)))
             .collect();
-        let samples: Vec<Sample> = sets.iter().flatten().cloned().collect();
         let value = |setting: &str, sigma: &Option<StandardDeviation>, rotation: bool| {
             sigma
                 .as_ref()
@@ -293,14 +294,19 @@ impl ParallelIdentifyRequest {
         let frames = std::iter::once(result.registered)
             .chain(result.stations.iter().map(|station| Some(station.frame)))
             .chain(std::iter::repeat(None));
-        let in_base: Vec<Sample> = sets
-            .iter()
-            .zip(frames)
-            .flat_map(|(set, frame)| match frame {
-                Some(frame) => in_base_frame(set, &frame),
-                None => set.clone(),
-            })
-            .collect();
+        // One set in the base frame already is read as it is (10⁵ poses
+        // are not copied).
+        let in_base: std::borrow::Cow<'_, [Sample]> = match sets.as_slice() {
+            [one] if result.registered.is_none() => std::borrow::Cow::Borrowed(one.as_slice()),
+            _ => sets
+                .iter()
+                .zip(frames)
+                .flat_map(|(set, frame)| match frame {
+                    Some(frame) => in_base_frame(set, &frame),
+                    None => set.clone(),
+                })
+                .collect(),
+        };
         let (errors_before, errors_after) = match &result.leg {
             Some(leg) => (
                 leg_errors(&nominal.robot, &leg.stated, &in_base)?,
@@ -371,7 +377,7 @@ impl ParallelIdentifyRequest {
             robot: nominal.robot.name().to_owned(),
             method: measure.name(),
             data: label,
-            configurations: samples.len(),
+            configurations: lines.len(),
             outcome: result.outcome.as_str(),
             summary: summary(&result, &labels),
             sigma_ratio: result.noise_test.map(|test| test.sigma_ratio),
@@ -433,22 +439,11 @@ impl ParallelIdentifyRequest {
             }),
         };
         let taken = measure.samples_per_observation();
-        let observation_lines = samples
-            .iter()
-            .zip(&set_of)
-            .step_by(taken)
-            .map(|(sample, set)| (*set, sample.line))
-            .collect();
+        let observation_lines = lines.iter().step_by(taken).copied().collect();
         let places = ObservationPlaces {
             labels: labels.clone(),
-            places: samples
-                .chunks_exact(taken)
-                .zip(set_of.iter().step_by(taken))
-                .map(|(observation, set)| {
-                    (*set, observation.iter().map(|sample| sample.line).collect())
-                })
-                .collect(),
-            kind: if taken == 2 { "pair" } else { "configuration" },
+            samples: lines,
+            taken,
         };
         Ok(ParallelIdentified {
             calibrated,

@@ -19,7 +19,7 @@ use gecaro_calib::parallel_robots::{PlatformErrors, PlatformIdentification};
 use gecaro_core::parallel_robot::ParallelRobot;
 
 use crate::error::AppError;
-use crate::residuals::residual_table;
+use crate::residuals::{residual_header, residual_table};
 
 /// Where the identification's observations are, in its order: each one's
 /// set (file) and the lines of its samples.
@@ -27,10 +27,10 @@ use crate::residuals::residual_table;
 pub(super) struct ObservationPlaces {
     /// The sets' labels, in order.
     pub(super) labels: Vec<String>,
-    /// Each observation's set and its samples' lines.
-    pub(super) places: Vec<(usize, Vec<Option<usize>>)>,
-    /// `configuration`, or `pair` for distances.
-    pub(super) kind: &'static str,
+    /// Each sample's set and line, in order.
+    pub(super) samples: Vec<(usize, Option<usize>)>,
+    /// Samples an observation takes (2 for a distance's pair).
+    pub(super) taken: usize,
 }
 
 /// The residuals CSV (module docs) of `result`, its observations at
@@ -44,33 +44,27 @@ pub(super) fn platform_residuals_csv(
     (before, after): (&PlatformErrors, &PlatformErrors),
 ) -> Result<String, AppError> {
     let rotation = !before.observation_angles.is_empty();
-    let mut header = vec![
-        "set",
-        "file",
-        "kind",
-        "observation",
-        "lines",
-        "error_before_mm",
-        "error_after_mm",
-    ];
-    if rotation {
-        header.extend(["rotation_before_deg", "rotation_after_deg"]);
-    }
-    header.extend(["residual_sigmas", "weight", "outlier"]);
+    let header = residual_header(rotation);
     let mut rows = Vec::new();
     let number = |value: Option<f64>| value.map_or_else(String::new, |v| format!("{v}"));
     let mut in_set = vec![0usize; places.labels.len()];
-    for (index, (set, lines)) in places.places.iter().enumerate() {
+    let kind = if places.taken == 2 {
+        "pair"
+    } else {
+        "configuration"
+    };
+    for (index, observation) in places.samples.chunks_exact(places.taken).enumerate() {
+        let set = &observation[0].0;
         in_set[*set] += 1;
         let ratio = result.residual_ratios.get(index).copied();
         let mut row = vec![
             (set + 1).to_string(),
             places.labels[*set].clone(),
-            places.kind.to_owned(),
+            kind.to_owned(),
             in_set[*set].to_string(),
-            lines
+            observation
                 .iter()
-                .map(|line| line.map_or_else(|| "?".into(), |line| line.to_string()))
+                .map(|(_, line)| line.map_or_else(|| "?".into(), |line| line.to_string()))
                 .collect::<Vec<_>>()
                 .join(" "),
             number(before.observations.get(index).map(|error| error * 1e3)),

@@ -274,7 +274,11 @@ pub fn identify_platform_sets<M: ParallelModel>(
                 .into(),
         });
     }
-    let samples: Vec<Sample> = sets.iter().flat_map(|set| set.iter().cloned()).collect();
+    // One set's samples as they are (10⁵ measured poses are not copied).
+    let samples: std::borrow::Cow<'_, [Sample]> = match sets {
+        [one] => std::borrow::Cow::Borrowed(*one),
+        _ => sets.iter().flat_map(|set| set.iter().cloned()).collect(),
+    };
     let taken = measure.samples_per_observation();
     if let Some(set) = sets.iter().find(|set| !set.len().is_multiple_of(taken)) {
         return Err(Error::InvalidData {
@@ -774,34 +778,19 @@ fn register_stations<M: ParallelModel>(
     stations: &StationFrames,
     measure: PlatformMeasure,
 ) -> (Vec<Option<Isometry3<f64>>>, Option<Vec<Sample>>) {
-    let count = stations.corrected() + 1;
-    let of_station = |station: usize| -> Vec<usize> {
-        (0..samples.len())
-            .filter(|index| stations.station_of(*index) == station)
-            .collect()
-    };
-    let registrations: Vec<Option<Isometry3<f64>>> = (0..count)
-        .map(|station| {
-            let own: Vec<Sample> = of_station(station)
-                .into_iter()
-                .map(|index| samples[index].clone())
-                .collect();
-            measurement_frame(nominal, &own, measure)
-        })
+    let ranges = stations.ranges(samples.len());
+    let registrations: Vec<Option<Isometry3<f64>>> = ranges
+        .iter()
+        .map(|range| measurement_frame(nominal, &samples[range.clone()], measure))
         .collect();
     if registrations.iter().all(Option::is_none) {
         return (registrations, None);
     }
     let mut moved = samples.to_vec();
-    for (station, frame) in registrations.iter().enumerate() {
-        let Some(frame) = frame else { continue };
-        let indices = of_station(station);
-        let own: Vec<Sample> = indices
-            .iter()
-            .map(|index| samples[*index].clone())
-            .collect();
-        for (index, sample) in indices.into_iter().zip(in_base_frame(&own, frame)) {
-            moved[index] = sample;
+    for (range, frame) in ranges.into_iter().zip(&registrations) {
+        if let Some(frame) = frame {
+            let registered = in_base_frame(&samples[range.clone()], frame);
+            moved[range].clone_from_slice(&registered);
         }
     }
     (registrations, Some(moved))

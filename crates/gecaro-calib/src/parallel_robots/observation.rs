@@ -460,7 +460,7 @@ fn sample_rows<M: ParallelModel>(
                 by_pose,
                 by_parameter,
             } = model.linearised(&measured, actuators);
-            let mut rows = by_parameter.resize_horizontally(parameters + auxiliary.count(), 0.0);
+            let mut rows = with_columns(by_parameter, parameters + auxiliary.count());
             if let Some(column) = correction {
                 for equation in 0..rows.nrows() {
                     let row: Vec<f64> = by_pose.row(equation).iter().copied().collect();
@@ -486,7 +486,7 @@ fn sample_rows<M: ParallelModel>(
             let (pose, derivative) = solved_point(model, sample, start)?;
             let sigma = noise.map_or(1.0, |noise| noise.length);
             let point = model.tool_point(&pose);
-            let mut rows = derivative.resize_horizontally(parameters + auxiliary.count(), 0.0);
+            let mut rows = with_columns(derivative, parameters + auxiliary.count());
             if let Some(column) = correction {
                 rows.fixed_view_mut::<3, STATION_UNKNOWNS>(0, column)
                     .copy_from(&point_columns(&measured.translation.vector));
@@ -497,6 +497,16 @@ fn sample_rows<M: ParallelModel>(
             });
             Ok((rows, right))
         }
+    }
+}
+
+/// `rows` widened to `columns` with zeros (the auxiliary unknowns'), as
+/// they are when there are none: no copy on the fit's common path.
+fn with_columns(rows: DMatrix<f64>, columns: usize) -> DMatrix<f64> {
+    if rows.ncols() == columns {
+        rows
+    } else {
+        rows.resize_horizontally(columns, 0.0)
     }
 }
 

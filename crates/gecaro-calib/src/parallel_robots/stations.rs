@@ -68,6 +68,25 @@ impl StationFrames {
         self.corrections.len().saturating_sub(1)
     }
 
+    /// Each station's samples among `count`, as ranges: a station's
+    /// samples follow each other (its set's, the sets in order).
+    pub(super) fn ranges(&self, count: usize) -> Vec<std::ops::Range<usize>> {
+        if self.of_sample.is_empty() {
+            return std::iter::once(0..count).collect();
+        }
+        let mut ranges: Vec<std::ops::Range<usize>> = Vec::new();
+        for (index, station) in self.of_sample.iter().enumerate().take(count) {
+            match ranges.get_mut(*station) {
+                Some(range) => range.end = index + 1,
+                None => {
+                    ranges.resize(*station, 0..0);
+                    ranges.push(index..index + 1);
+                }
+            }
+        }
+        ranges
+    }
+
     /// Sample `index`'s station.
     pub(super) fn station_of(&self, index: usize) -> usize {
         self.of_sample.get(index).copied().unwrap_or(0)
