@@ -1384,6 +1384,58 @@ fn a_measuring_legs_readings_calibrate_a_hexapod_on_the_command_line() {
         rms(&identified["errors_after"]),
     );
     assert!(after < 2e-6 && before > 50.0 * after, "{before} → {after}");
+    // Its platform, written and read back, compensated for a program: the
+    // frames it holds said.
+    command("identify hexapod --method leg --sigma 1um")
+        .args(mount)
+        .arg("--data")
+        .arg(at("legs.csv"))
+        .arg("-o")
+        .arg(at("calibrated.toml"))
+        .assert()
+        .success();
+    command("generate hexapod --method frame --count 10 --error-level 0 --seed 6 -o")
+        .arg(at("program.csv"))
+        .assert()
+        .success();
+    let compensated = command("compensate hexapod")
+        .arg(at("calibrated.toml"))
+        .arg("--program")
+        .arg(at("program.csv"))
+        .arg("-o")
+        .arg(at("compensated.csv"))
+        .assert()
+        .success();
+    let said = String::from_utf8_lossy(&compensated.get_output().stdout).to_string();
+    assert!(said.contains("joints 1–3"), "{said}");
+    // Readings in millimetres read as metres: named, with the unit to state.
+    let text = std::fs::read_to_string(at("legs.csv")).expect("data");
+    let mut lines = text.lines();
+    let mut in_mm = format!("{}\n", lines.next().expect("header"));
+    for line in lines {
+        let mut values: Vec<String> = line.split(',').map(str::to_owned).collect();
+        let reading: f64 = values[6].parse().expect("a reading");
+        values[6] = format!("{:?}", reading * 1e3);
+        in_mm.push_str(&(values.join(",") + "\n"));
+    }
+    std::fs::write(at("legs-mm.csv"), in_mm).expect("written");
+    let output = command("identify hexapod --method leg --sigma 1um")
+        .args(mount)
+        .arg("--data")
+        .arg(at("legs-mm.csv"))
+        .output()
+        .expect("runs");
+    let error = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        !output.status.success() && error.contains("--length-unit mm"),
+        "{error}"
+    );
+    // Two files of a leg's readings are one set (a leg has no frame).
+    let mut twice = args.clone();
+    twice.extend(["--data", legs.as_str()]);
+    let both = json_output(&twice);
+    assert_eq!(both["configurations"], 1200, "{}", both["summary"]);
+    assert_eq!(both["stations"], serde_json::json!([]));
     // The frames' convention: twelve joint coordinates held, the tool not seen.
     let statuses: Vec<&str> = identified["parameters"]
         .as_array()

@@ -126,6 +126,8 @@ pub enum Setting {
     WorkRegion,
     /// What a sensor measures (a method).
     Method,
+    /// A measuring leg's gain.
+    LegGain,
 }
 
 impl Setting {
@@ -153,6 +155,7 @@ impl Setting {
             Setting::WorkRegion => "work_region",
             Setting::MaxIncidence => "max_incidence",
             Setting::Method => "method",
+            Setting::LegGain => "leg_gain",
         }
     }
 }

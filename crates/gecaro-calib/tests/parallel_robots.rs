@@ -1571,3 +1571,22 @@ fn a_measuring_leg_calibrates_a_hexapod_without_an_instrument() {
         region.work_rms
     );
 }
+
+/// A calibrated platform's file says what it was calibrated from by the
+/// measure's name, and gecaro reads every one of them back.
+#[test]
+fn every_measure_a_platform_is_calibrated_from_is_read_back() {
+    let nominal = ready("hexapod");
+    for measure in PlatformMeasure::ALL {
+        let file = gecaro_io::ParallelRobotFile {
+            robot: nominal.clone(),
+            description: None,
+            calibrated_from: Some(measure.name().to_owned()),
+            measured_region: None,
+        };
+        let text = gecaro_io::format_parallel_robot_file(&file);
+        let read = gecaro_io::parse_parallel_robot_file(&text, std::path::Path::new("back.toml"))
+            .unwrap_or_else(|error| panic!("{}: {error}", measure.name()));
+        assert_eq!(read.calibrated_from.as_deref(), Some(measure.name()));
+    }
+}

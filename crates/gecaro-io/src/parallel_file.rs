@@ -8,8 +8,9 @@
 //! description = "a positioning hexapod"   # optional free text
 //! length_unit = "mm"             # optional: "m" (default) or "mm", every length below
 //! calibrated_from = "frame"      # written by a calibration: "frame" (poses),
-//!                                # "position" (one point: the platform frame not observed)
-//!                                # or "distance" (the base frame not observed either)
+//!                                # "position" (one point: the platform frame not observed),
+//!                                # "distance" (the base frame not observed either) or
+//!                                # "leg" (a measuring leg: the frames the joints' convention)
 //!
 //! [[leg]]                        # six legs, leg 1 first
 //! base = [482.96, -129.41, 0]    # a: the base joint's centre, base frame
@@ -111,7 +112,8 @@ pub struct ParallelRobotFile {
     pub description: Option<String>,
     /// What the calibration that made this platform measured (`frame`: its
     /// poses; `position`: one point, so the platform frame is not
-    /// observed); `None` for a platform no calibration made.
+    /// observed; `distance`; `leg`: a measuring leg, the frames held by its
+    /// joints' convention); `None` for a platform no calibration made.
     pub calibrated_from: Option<String>,
     /// The actuator values a calibration's data covered (m for a leg, rad
     /// for an arm), written when its result holds there only; compensation
@@ -299,14 +301,17 @@ pub fn parse_parallel_robot_file(text: &str, path: &Path) -> Result<ParallelRobo
             ));
         }
     };
+    // The measures a platform is calibrated from, by the names of
+    // `gecaro_calib`'s `PlatformMeasure` (its tests read each back).
+    const CALIBRATED_FROM: [&str; 4] = ["frame", "position", "distance", "leg"];
     if let Some(measured) = document.calibrated_from.as_deref()
-        && !["frame", "position", "distance"].contains(&measured)
+        && !CALIBRATED_FROM.contains(&measured)
     {
         return Err(at_key(
             "calibrated_from",
             format!(
-                "\"{measured}\" is not what a platform is calibrated from: \"frame\", \"position\" \
-                 or \"distance\""
+                "\"{measured}\" is not what a platform is calibrated from: \"frame\", \"position\", \
+                 \"distance\" or \"leg\""
             ),
         ));
     }

@@ -248,6 +248,13 @@ impl ParallelCompensateRequest {
                  turn from the commanded orientation by the frame's error the point did not see"
                     .to_owned(),
             ),
+            Some("leg") => Some(
+                "a measuring leg sees no frame and no tool point: the targets are met in the \
+                 frames joints 1–3 make at their stated coordinates, and the tool point is the \
+                 file's, so they are met as far as the platform's base and tool are where the \
+                 drawing puts them"
+                    .to_owned(),
+            ),
             Some("frame") if tool_points && turns => Some(
                 "the tool point is the file's: a calibration from measured poses does not \
                  observe it, so the targets are met as far as it is right"

@@ -5,8 +5,8 @@
 use gecaro_calib::identification::{Loss, LossKind, Prior};
 use gecaro_calib::parallel_robots::{
     PlatformErrors, PlatformIdentification, PlatformIdentificationOptions, PlatformMeasure,
-    PlatformNoise, PlatformOutlier, PlatformRegion, identify_platform_sets, in_base_frame,
-    leg_errors, platform_errors,
+    PlatformNoise, PlatformOutlier, PlatformRegion, check_platform_samples, identify_platform_sets,
+    in_base_frame, leg_errors, platform_errors,
 };
 use gecaro_calib::study::Sample;
 use gecaro_core::parallel_model::ParallelModel;
@@ -279,7 +279,7 @@ impl ParallelIdentifyRequest {
         // each file's configurations are solved once first.
         if sets.len() > 1 {
             for (set, label) in sets.iter().zip(&labels) {
-                platform_errors(&nominal.robot, set, measure)
+                check_platform_samples(&nominal.robot, set, measure)
                     .map_err(|error| in_file(label, error))?;
             }
         }

@@ -9,9 +9,6 @@ use gecaro_calib::parallel_robots::{MeasuringLeg, PlatformMeasure};
 
 use crate::error::AppError;
 
-/// The largest gain stated: a reading of a micrometre a metre long.
-const MAX_GAIN: f64 = 1e6;
-
 /// The measuring leg the `leg` method needs (`None` for the others, which
 /// refuse a leg stated), its length 0 until the data set it.
 ///
@@ -57,20 +54,9 @@ pub(super) fn measuring_leg(
     };
     let base = point(base, "leg_base", "base")?;
     let platform = point(platform, "leg_platform", "platform")?;
-    let gain = gain.unwrap_or(1.0);
-    if !(gain.is_finite() && gain != 0.0 && gain.abs() <= MAX_GAIN && gain.abs() >= 1.0 / MAX_GAIN)
-    {
-        return Err(AppError::setting_value(
-            "leg_gain",
-            gain,
-            "is the metres of length a unit of the leg's reading makes: 1 for a reading in \
-             the data's length unit, never 0",
-        ));
-    }
-    Ok(Some(MeasuringLeg {
+    Ok(Some(MeasuringLeg::new(
         base,
         platform,
-        length: 0.0,
-        gain,
-    }))
+        gain.unwrap_or(1.0),
+    )?))
 }

@@ -5,7 +5,7 @@
 use gecaro_core::parallel_model::ParallelModel;
 use gecaro_data::sample::Sample;
 
-use super::leg::MeasuringLeg;
+use super::leg::{MeasuringLeg, leg_reading};
 use super::measure::{PlatformMeasure, check_pairs};
 use super::observation::actuator_values;
 use crate::Error;
@@ -111,15 +111,45 @@ pub fn leg_errors<M: ParallelModel>(
         .iter()
         .map(|sample| {
             let actuators = actuator_values(model, sample)?;
-            let reading = sample.distance.ok_or_else(|| Error::InvalidData {
-                line: sample.line,
-                message: "the leg measure needs the leg's reading, `distance`".into(),
-            })?;
+            let reading = leg_reading(sample)?;
             let pose = solved(model, sample, actuators)?;
             Ok((leg.length_at(&pose) - leg.length - leg.gain * reading).abs())
         })
         .collect::<Result<Vec<f64>, Error>>()?;
     Ok(PlatformErrors::of(observations, None))
+}
+
+/// Whether `samples` are what `measure` reads of `model`, a sample that is
+/// not named by its line: the measure's columns, a distance's pairs whole,
+/// actuator values whose pose the direct model finds from the home pose —
+/// what a fit would otherwise meet mid-way, when it can no longer say in
+/// which of several files.
+///
+/// # Errors
+/// As [`platform_errors`] (and [`leg_errors`] for a leg's readings).
+pub fn check_platform_samples<M: ParallelModel>(
+    model: &M,
+    samples: &[Sample],
+    measure: PlatformMeasure,
+) -> Result<(), Error> {
+    measure.check_for(model)?;
+    if measure == PlatformMeasure::Distance {
+        check_pairs(samples)?;
+    }
+    for sample in samples {
+        let actuators = actuator_values(model, sample)?;
+        match measure {
+            PlatformMeasure::Pose | PlatformMeasure::Point => {
+                measure.measured(sample)?;
+            }
+            PlatformMeasure::Leg => {
+                leg_reading(sample)?;
+            }
+            PlatformMeasure::Distance => {}
+        }
+        solved(model, sample, actuators)?;
+    }
+    Ok(())
 }
 
 /// The direct model's pose at a sample's actuator values, from home.

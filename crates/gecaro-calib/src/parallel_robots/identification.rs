@@ -12,7 +12,9 @@ use super::descent::{Descent, Fit, PriorRows, base_system, descend, descend_rewe
 use super::identifiability::{PlatformRankReport, rank_of};
 use super::leg::{LEG_UNKNOWNS, MeasuringLeg};
 use super::measure::{PlatformMeasure, PlatformNoise};
-use super::observation::{NormalSystem, PlatformRows, normal_system, platform_rows};
+use super::observation::{
+    NormalSystem, PlatformRows, actuator_values, normal_system, platform_rows,
+};
 use super::plausible::{PLAUSIBLE_ANGLE, PLAUSIBLE_GAIN, PLAUSIBLE_LENGTH};
 use super::region::{PlatformRegion, where_it_holds};
 use super::registration::{in_base_frame, measurement_frame};
@@ -306,7 +308,9 @@ pub fn identify_platform_sets<M: ParallelModel>(
                     .into(),
             });
         }
-        (PlatformMeasure::Leg, Some(leg)) => Some(leg),
+        (PlatformMeasure::Leg, Some(leg)) => {
+            Some(MeasuringLeg::new(leg.base, leg.platform, leg.gain)?)
+        }
         _ => None,
     };
     let auxiliary = Auxiliary { stations, leg };
@@ -454,7 +458,10 @@ fn fit_platform<M: ParallelModel>(
     // A measuring leg's zero, from its readings on the nominal platform.
     let auxiliary = &Auxiliary {
         stations: auxiliary.stations.clone(),
-        leg: auxiliary.leg.map(|leg| zeroed_leg(nominal, &leg, samples)),
+        leg: auxiliary
+            .leg
+            .map(|leg| zeroed_leg(nominal, &leg, samples))
+            .transpose()?,
     };
     let mut rank = structural_rank(nominal, samples, auxiliary, measure, noise)?;
     let parameter_count = nominal.parameter_count();
@@ -749,29 +756,71 @@ fn fit_platform<M: ParallelModel>(
     Ok((result, standing_out))
 }
 
-/// Each set's samples brought into the base frame, a station at a time
-/// ([`measurement_frame`]): each station's registration (`None` where its
-/// data were in the base frame already, or give no frame) and the moved
-/// samples (`None` when none moved).
 /// `leg` with its length at reading 0 found from `samples` (their
-/// readings) on the nominal platform's poses (the direct model from home);
-/// as it is when no pose is solved.
+/// readings) on the nominal platform's poses (the direct model from home),
+/// checked: the leg's lengths there must follow its readings to within
+/// what a platform's errors make ([`PLAUSIBLE_LENGTH`] RMS).
+///
+/// # Errors
+/// [`Error::WrongUnit`] for readings in millimetres read as metres (they
+/// fit once divided by 1,000); [`Error::InvalidData`] for readings no leg
+/// mounted where stated gives (the sockets or the gain mistaken).
 fn zeroed_leg<M: ParallelModel>(
     nominal: &M,
     leg: &MeasuringLeg,
     samples: &[Sample],
-) -> MeasuringLeg {
+) -> Result<MeasuringLeg, Error> {
     let home = nominal.home();
     let (poses, readings): (Vec<Isometry3<f64>>, Vec<f64>) = samples
         .iter()
         .filter_map(|sample| {
-            let actuators = super::observation::actuator_values(nominal, sample).ok()?;
+            let actuators = actuator_values(nominal, sample).ok()?;
             Some((nominal.direct(actuators, &home).ok()?, sample.distance?))
         })
         .unzip();
-    leg.zeroed(&poses, &readings)
+    // The RMS of the leg's length against `l + K·s` with the readings
+    // scaled by `scale`, its zero found for them.
+    let misfit = |scale: f64| {
+        let scaled: Vec<f64> = readings.iter().map(|reading| reading * scale).collect();
+        let zeroed = leg.zeroed(&poses, &scaled);
+        let squares: f64 = poses
+            .iter()
+            .zip(&scaled)
+            .map(|(pose, reading)| {
+                (zeroed.length_at(pose) - zeroed.length - zeroed.gain * reading).powi(2)
+            })
+            .sum();
+        (zeroed, (squares / poses.len().max(1) as f64).sqrt())
+    };
+    let (zeroed, off) = misfit(1.0);
+    if off <= PLAUSIBLE_LENGTH {
+        return Ok(zeroed);
+    }
+    if misfit(1e-3).1 <= PLAUSIBLE_LENGTH {
+        return Err(Error::WrongUnit {
+            quantity: "length",
+            unit: "mm",
+            message: format!(
+                "the measuring leg's readings depart from its lengths on the nominal platform \
+                 by {off:.3} m RMS, as no platform's errors do; read as millimetres they \
+                 follow them: the data are in millimetres"
+            ),
+        });
+    }
+    Err(Error::InvalidData {
+        line: None,
+        message: format!(
+            "the measuring leg's readings depart from its lengths on the nominal platform by \
+             {off:.3} m RMS, as no platform's errors do: its sockets (leg base, leg platform) \
+             or its gain are not as stated"
+        ),
+    })
 }
 
+/// Each set's samples brought into the base frame, a station at a time
+/// ([`measurement_frame`]): each station's registration (`None` where its
+/// data were in the base frame already, or give no frame) and the moved
+/// samples (`None` when none moved).
 fn register_stations<M: ParallelModel>(
     nominal: &M,
     samples: &[Sample],

@@ -32,10 +32,17 @@
 //! joints for a Gough–Stewart platform) and the tool point keeps its
 //! stated place.
 
+use gecaro_data::sample::Sample;
 use nalgebra::{Isometry3, Point3, Vector3};
+
+use crate::Error;
 
 /// The unknowns of a measuring leg: `a` (3), `b` (3), `l`.
 pub const LEG_UNKNOWNS: usize = 7;
+
+/// The largest gain a leg's reading has (and the inverse, the smallest): a
+/// micrometre a unit, or a kilometre.
+const MAX_GAIN: f64 = 1e6;
 
 /// A measuring leg's mount and reading (module docs). Lengths in metres.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -51,6 +58,44 @@ pub struct MeasuringLeg {
 }
 
 impl MeasuringLeg {
+    /// A leg mounted at `base` and `platform` whose reading makes `gain`
+    /// metres a unit, its length at reading 0 not known yet (0: the data
+    /// give it).
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] for a socket not finite or beyond a cell,
+    /// or a gain no sensor has (0, not finite, beyond 10⁶ either way).
+    pub fn new(base: Vector3<f64>, platform: Vector3<f64>, gain: f64) -> Result<Self, Error> {
+        let in_a_cell = |point: &Vector3<f64>| {
+            point
+                .iter()
+                .all(|value| value.is_finite() && value.abs() <= gecaro_core::MAX_MAGNITUDE)
+        };
+        if !in_a_cell(&base) || !in_a_cell(&platform) {
+            return Err(Error::InvalidOption {
+                setting: crate::Setting::Method,
+                message: "a measuring leg's sockets are points of the cell (finite, within \
+                          1 km)"
+                    .into(),
+            });
+        }
+        if !(gain.is_finite() && (1.0 / MAX_GAIN..=MAX_GAIN).contains(&gain.abs())) {
+            return Err(Error::InvalidOption {
+                setting: crate::Setting::LegGain,
+                message: format!(
+                    "{gain} is not the metres of length a unit of the leg's reading makes: 1 \
+                     for a reading in the data's length unit, never 0"
+                ),
+            });
+        }
+        Ok(Self {
+            base,
+            platform,
+            length: 0.0,
+            gain,
+        })
+    }
+
     /// The leg's length `‖p + R·b − a‖` with the platform at `pose`.
     pub fn length_at(&self, pose: &Isometry3<f64>) -> f64 {
         (pose * Point3::from(self.platform) - Point3::from(self.base)).norm()
@@ -128,4 +173,15 @@ impl MeasuringLeg {
             ],
         )
     }
+}
+
+/// A sample's reading of the measuring leg, its `distance` column.
+///
+/// # Errors
+/// [`Error::InvalidData`] naming the line of a sample without it.
+pub(super) fn leg_reading(sample: &Sample) -> Result<f64, Error> {
+    sample.distance.ok_or_else(|| Error::InvalidData {
+        line: sample.line,
+        message: "the leg measure needs the leg's reading, `distance`".into(),
+    })
 }

@@ -76,7 +76,7 @@ mod reweighting;
 mod simulation;
 mod stations;
 
-pub use evaluation::{PlatformErrors, leg_errors, platform_errors};
+pub use evaluation::{PlatformErrors, check_platform_samples, leg_errors, platform_errors};
 pub use identifiability::{PlatformRankReport, platform_identifiability};
 pub use identification::{
     IdentifiedLeg, PlatformIdentification, PlatformIdentificationOptions, PlatformOutlier,

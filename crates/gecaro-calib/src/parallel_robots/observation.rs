@@ -10,7 +10,7 @@ use gecaro_data::sample::Sample;
 use nalgebra::{DMatrix, DVector, Isometry3, Matrix3, SMatrix};
 
 use super::auxiliary::Auxiliary;
-use super::leg::LEG_UNKNOWNS;
+use super::leg::{LEG_UNKNOWNS, leg_reading};
 use super::measure::{PlatformMeasure, PlatformNoise, check_pairs};
 use super::stations::{STATION_UNKNOWNS, point_columns, pose_columns};
 use crate::Error;
@@ -445,16 +445,18 @@ fn sample_rows<M: ParallelModel>(
     (auxiliary, index): (&Auxiliary, usize),
     start: &mut Isometry3<f64>,
 ) -> Result<(DMatrix<f64>, DVector<f64>), Error> {
-    if measure == PlatformMeasure::Leg {
-        return leg_rows(model, sample, noise, auxiliary, start);
-    }
     let stations = &auxiliary.stations;
-    let actuators = actuator_values(model, sample)?;
-    let measured = stations.corrected_measurement(index, &measure.measured(sample)?);
     let parameters = model.parameter_count();
     let correction = stations.first_column(index, parameters);
+    // A measurement in the base frame, by its station's correction.
+    let measured = || -> Result<Isometry3<f64>, Error> {
+        Ok(stations.corrected_measurement(index, &measure.measured(sample)?))
+    };
     match measure {
+        PlatformMeasure::Leg => leg_rows(model, sample, noise, auxiliary, start),
         PlatformMeasure::Pose => {
+            let actuators = actuator_values(model, sample)?;
+            let measured = measured()?;
             let Linearised {
                 closure,
                 by_pose,
@@ -482,7 +484,8 @@ fn sample_rows<M: ParallelModel>(
             }
             Ok((rows, right))
         }
-        PlatformMeasure::Point | PlatformMeasure::Distance | PlatformMeasure::Leg => {
+        PlatformMeasure::Point | PlatformMeasure::Distance => {
+            let measured = measured()?;
             let (pose, derivative) = solved_point(model, sample, start)?;
             let sigma = noise.map_or(1.0, |noise| noise.length);
             let point = model.tool_point(&pose);
@@ -648,12 +651,7 @@ fn leg_rows<M: ParallelModel>(
         setting: crate::Setting::Method,
         message: "the leg measure needs the measuring leg's mount".into(),
     })?;
-    let reading = sample.distance.ok_or_else(|| {
-        located(
-            sample,
-            &"the leg measure needs the leg's reading, `distance`",
-        )
-    })?;
+    let reading = leg_reading(sample)?;
     let actuators = actuator_values(model, sample)?;
     let solved = solve_direct(model, actuators, start).map_err(|cause| located(sample, &cause))?;
     *start = solved.pose;
