@@ -52,7 +52,11 @@ fn spinner(message: impl Into<String>) -> ProgressBar {
             .unwrap_or_else(|_| ProgressStyle::default_spinner()),
     );
     bar.set_message(message.into());
-    bar.enable_steady_tick(std::time::Duration::from_millis(120));
+    // The ticking thread only where the spinner is drawn (a terminal): a
+    // script's or a pipe's run gains a thread's start and end for nothing.
+    if !bar.is_hidden() {
+        bar.enable_steady_tick(std::time::Duration::from_millis(120));
+    }
     bar
 }
 
