@@ -69,18 +69,14 @@ impl Repeatability {
     }
 }
 
-/// The repeated poses of `study` and the fit of `system` judged against
-/// them (module docs), from the residuals' `chi_square` over `freedom`
-/// degrees of freedom; `None` without [`MIN_FREEDOM`] among the repeats.
-pub(super) fn repeatability(
-    study: &Study,
-    system: &ObservationSystem,
-    chi_square: f64,
-    freedom: usize,
-) -> Option<Repeatability> {
+/// The observations of `study` (numbered across its sets) that measure
+/// one pose more than once, a group for each pose (module docs): what only
+/// the data decide, found on another core while the fit ends. None beyond
+/// [`MAX_CONFIGURATIONS`].
+pub(super) fn repeated_poses(study: &Study) -> Vec<Vec<usize>> {
     let configurations: usize = study.sets.iter().map(|set| set.samples.len()).sum();
     if configurations > MAX_CONFIGURATIONS {
-        return None;
+        return Vec::new();
     }
     let mut groups: Vec<Vec<usize>> = Vec::new();
     let mut first = 0;
@@ -103,6 +99,19 @@ pub(super) fn repeatability(
         first += count;
     }
     groups.retain(|members| members.len() > 1);
+    groups
+}
+
+/// The fit of `system` judged against the noise its repeated poses
+/// measure (`groups`, from [`repeated_poses`]; module docs), from the
+/// residuals' `chi_square` over `freedom` degrees of freedom; `None`
+/// without [`MIN_FREEDOM`] among the repeats.
+pub(super) fn repeatability(
+    groups: &[Vec<usize>],
+    system: &ObservationSystem,
+    chi_square: f64,
+    freedom: usize,
+) -> Option<Repeatability> {
     if groups.is_empty() {
         return None;
     }

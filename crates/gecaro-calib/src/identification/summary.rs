@@ -36,13 +36,18 @@ pub(super) struct Begun {
 }
 
 /// The identification at the end of the reweighted phase (reached by
-/// `route`, with the data's `repeats`): parameters with their precision,
-/// errors, outliers and warnings.
+/// `route`, with the data's `repeats` and its repeated poses): parameters
+/// with their precision, errors, outliers and warnings.
 pub(super) fn summarise(
     problem: &Problem<'_>,
     nominal: &Robot,
     begun: Begun,
-    (reweighted, route, scale, repeats): (Reweighted, Route, Option<UnobservedScale>, Repeats),
+    (reweighted, route, scale, (repeats, repeated_poses)): (
+        Reweighted,
+        Route,
+        Option<UnobservedScale>,
+        (Repeats, Vec<Vec<usize>>),
+    ),
     rank: RankReport,
     excited: Excitation,
     initial_auxiliary: &[f64],
@@ -256,7 +261,7 @@ pub(super) fn summarise(
             degrees_of_freedom: tested.freedom,
             unknowns: columns - problem.joined,
             repeatability: repeatability::repeatability(
-                study,
+                &repeated_poses,
                 &best.system,
                 tested.cost,
                 tested.freedom,
