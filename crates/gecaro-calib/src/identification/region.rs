@@ -214,22 +214,23 @@ impl PointVariance<'_> {
         let mut chain = ChainBuffer::default();
         let mut rows = Vec::new();
         let count = self.model.parameter_count();
-        let width = self.columns.len();
-        let mut jacobian = nalgebra::DMatrix::<f64>::zeros(3, width);
-        let mut projected = nalgebra::DMatrix::<f64>::zeros(3, width);
-        let (mut sum, mut largest) = (0.0, 0.0_f64);
-        for pose in poses {
+        // Every pose's three rows J_p stacked, then one product with L.
+        let mut jacobian = nalgebra::DMatrix::<f64>::zeros(3 * poses.len(), self.columns.len());
+        for (at, pose) in poses.iter().enumerate() {
             self.model.forward(pose, &mut chain).ok()?;
             self.model
                 .jacobian_rows(&chain, &mut rows, JacobianRows::Position);
             for (column, index) in self.columns.iter().enumerate() {
                 for axis in 0..3 {
-                    jacobian[(axis, column)] = rows[axis * count + index];
+                    jacobian[(3 * at + axis, column)] = rows[axis * count + index];
                 }
             }
-            // J_p L, whose squared norm is trace(J_p C J_pᵀ).
-            projected.gemm(1.0, &jacobian, &self.factor, 0.0);
-            let variance = projected.norm_squared();
+        }
+        // J_p L, whose squared norm is trace(J_p C J_pᵀ).
+        let projected = jacobian * &self.factor;
+        let (mut sum, mut largest) = (0.0, 0.0_f64);
+        for at in 0..poses.len() {
+            let variance = projected.rows(3 * at, 3).norm_squared();
             sum += variance;
             largest = largest.max(variance);
         }
