@@ -20,6 +20,9 @@ use clap::Parser;
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 fn main() -> ExitCode {
+    // The parallel splits' workers, placed before any work begins (see
+    // `gecaro_data::parallel`).
+    gecaro_data::parallel::start_workers();
     miette::set_hook(Box::new(|_| {
         Box::new(
             miette::MietteHandlerOpts::new()
@@ -52,13 +55,10 @@ fn main() -> ExitCode {
 /// being written and exits as the signal would (128 + its number). The web
 /// server stops on its own terms (it finishes the requests under way).
 ///
-/// Started at once, even for a run that writes nothing: besides watching,
-/// its thread is the process's first, which Linux places on the spawning
-/// core (the process's load is not yet measured a millisecond in). Started
-/// later instead, that first placement fell to the reading's helper, which
-/// then waited for the main thread instead of taking parts: an
-/// `identify` of 5,000 positions took 1 ms longer (docs/performance.md,
-/// "The first thread's core").
+/// Set up at once, even for a run that writes nothing: set up with the
+/// first output instead, an `identify` of 5,000 positions (which writes
+/// none) measured 0.2 ms slower, not faster (docs/performance.md, "Workers
+/// kept").
 fn remove_temporaries_on_signals() {
     use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
     let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else {

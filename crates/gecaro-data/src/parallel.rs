@@ -1,19 +1,32 @@
-//! Work split over the cores with scoped standard-library threads: the
-//! independent per-configuration kinematics and the row blocks of the tall
-//! observation matrix. Every split is by contiguous parts whose results are
-//! combined in part order, so results do not depend on the number of cores,
-//! nor on which thread ran which part.
+//! Work split over the cores: the independent per-configuration kinematics
+//! and the row blocks of the tall observation matrix. Every split is by
+//! contiguous parts whose results are combined in part order, so results
+//! do not depend on the number of cores, nor on which thread ran which part.
 //!
 //! The parts are taken in turn by whichever thread is free (this one
 //! included, from the start), not dealt out in advance: a thread the
-//! system starts late or runs slowly (a virtual machine's second core is
-//! often both, by milliseconds at a process's first spawn) then takes
-//! fewer parts instead of holding the others up. Callers cut about
-//! [`PARTS_PER_THREAD`] parts per thread for that.
+//! system starts late or runs slowly then takes fewer parts instead of
+//! holding the others up. Callers cut about [`PARTS_PER_THREAD`] parts per
+//! thread for that.
+//!
+//! The helpers are the process's worker threads ([`start_workers`]:
+//! `rayon-core`'s global pool, one thread fewer than the cores, since the
+//! caller takes parts too), not threads started for each split. A thread
+//! started for a split is placed by the system's fork balancing, which
+//! often put it on the caller's own core, and on a virtual machine whose
+//! idle core sleeps it began 0.6 ms late: at 5,000 configurations, where a
+//! split lasts about a millisecond, two helpers in three came after the
+//! caller had taken most parts. A worker woken for a split is placed on an
+//! idle core and came within 30 µs in five splits of six
+//! (docs/performance.md, "Workers kept"). One split at a time holds the
+//! workers; a split that finds them held (a server's concurrent requests,
+//! a split within a part) runs on threads started for it, as does every
+//! split of a process forked after its workers started (Python's
+//! `multiprocessing`): the child has none.
 
 use std::sync::Mutex;
 use std::sync::OnceLock;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// About how many parts per thread a caller cuts its work into, so that
 /// the threads finish together however unevenly they run.
@@ -25,6 +38,53 @@ pub const PARTS_PER_THREAD: usize = 8;
 pub fn available_threads() -> usize {
     static THREADS: OnceLock<usize> = OnceLock::new();
     *THREADS.get_or_init(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get))
+}
+
+/// Starts the process's worker threads (see the module docs), if not yet
+/// started: a program calls it first thing, so that the workers are placed
+/// before the work begins; [`run_parts`] calls it otherwise. None on one
+/// core. The pool another library of the process built first is used as
+/// it is.
+pub fn start_workers() {
+    let _ = workers_started_in();
+}
+
+/// The process that started the workers, once started (`None`: one core).
+fn workers_started_in() -> Option<u32> {
+    static STARTED_IN: OnceLock<Option<u32>> = OnceLock::new();
+    *STARTED_IN.get_or_init(|| {
+        let helpers = available_threads().checked_sub(1).filter(|&n| n > 0)?;
+        let _ = rayon_core::ThreadPoolBuilder::new()
+            .num_threads(helpers)
+            .thread_name(|index| format!("gecaro-worker-{index}"))
+            .build_global();
+        Some(std::process::id())
+    })
+}
+
+/// The workers held by one split at a time: a split that finds them held
+/// (by another thread's, or by the split whose part it runs in) starts
+/// threads of its own rather than wait for them.
+struct Workers;
+
+static WORKERS_HELD: AtomicBool = AtomicBool::new(false);
+
+impl Workers {
+    /// The workers, when started in this process and free; free again when
+    /// dropped (a panic included).
+    fn claim() -> Option<Self> {
+        (workers_started_in() == Some(std::process::id())
+            && WORKERS_HELD
+                .compare_exchange(false, true, Ordering::Acquire, Ordering::Relaxed)
+                .is_ok())
+        .then_some(Workers)
+    }
+}
+
+impl Drop for Workers {
+    fn drop(&mut self) {
+        WORKERS_HELD.store(false, Ordering::Release);
+    }
 }
 
 /// `work` applied to every part, results in part order: at most
@@ -76,15 +136,28 @@ pub fn run_parts_with<T: Send, R: Send, S>(
             }
         }
     };
-    std::thread::scope(|scope| {
-        let helpers: Vec<_> = (1..threads).map(|_| scope.spawn(take_parts)).collect();
-        take_parts();
-        for helper in helpers {
-            helper
-                .join()
-                .unwrap_or_else(|payload| std::panic::resume_unwind(payload));
-        }
-    });
+    if let Some(_workers) = Workers::claim() {
+        // A panic in a helper's part is resumed here once all have ended.
+        rayon_core::in_place_scope(|scope| {
+            for _ in 1..threads {
+                scope.spawn(|_| take_parts());
+            }
+            take_parts();
+        });
+    } else {
+        // Another split has the workers (a server's requests, the tests'
+        // threads, a split within a part), or this is a forked child, whose
+        // parent's workers are not in it: threads of its own.
+        std::thread::scope(|scope| {
+            let helpers: Vec<_> = (1..threads).map(|_| scope.spawn(take_parts)).collect();
+            take_parts();
+            for helper in helpers {
+                helper
+                    .join()
+                    .unwrap_or_else(|payload| std::panic::resume_unwind(payload));
+            }
+        });
+    }
     results
         .into_iter()
         .map(|slot| {
@@ -187,6 +260,33 @@ mod tests {
                 len < PARALLEL_SCAN || available_threads() * PARTS_PER_THREAD == 1
             );
         }
+    }
+
+    /// Splits from several threads at once, each with a split within every
+    /// part, come back whole and in order: one holds the workers, the
+    /// others run on threads of their own.
+    #[test]
+    fn concurrent_and_nested_splits_complete_in_order() {
+        let expected = |k: usize| -> Vec<usize> {
+            (0..50)
+                .map(|part| (0..10).map(|x| x * part).sum::<usize>() + k)
+                .collect()
+        };
+        std::thread::scope(|scope| {
+            let runs: Vec<_> = (0..4)
+                .map(|k| {
+                    scope.spawn(move || {
+                        run_parts((0..50).collect(), |part: usize| {
+                            let inner = run_parts((0..10).collect(), |x: usize| x * part);
+                            inner.iter().sum::<usize>() + k
+                        })
+                    })
+                })
+                .collect();
+            for (k, run) in runs.into_iter().enumerate() {
+                assert_eq!(run.join().expect("no panic"), expected(k));
+            }
+        });
     }
 
     #[test]

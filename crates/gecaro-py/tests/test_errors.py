@@ -333,3 +333,33 @@ def test_misaligned_and_odd_arrays_are_converted_not_refused_or_panicking():
     assert np.array_equal(robot.jacobian(odd), robot.jacobian(values))
     data = gecaro.Data(odd, position=np.zeros((10, 3)))
     assert np.array_equal(data.qm, values)
+
+
+def test_a_forked_child_identifies_without_its_parents_workers(tmp_path):
+    """The parallel splits run on the process's worker threads, which a
+    child forked after they started (multiprocessing's fork) does not
+    have: the child's identification runs on threads of its own instead of
+    waiting for workers that are not there."""
+    script = tmp_path / "fork.py"
+    script.write_text(
+        textwrap.dedent(
+            """
+            import os, sys, gecaro
+            robot = gecaro.Robot.load("stanford")
+            data = gecaro.generate(robot, "position", 5000, noise=1e-5).data
+            before = gecaro.identify(robot, "position", data, sigma=1e-5)
+            child = os.fork()
+            if child == 0:
+                again = gecaro.identify(robot, "position", data, sigma=1e-5)
+                same = (again.errors_after == before.errors_after).all()
+                os._exit(0 if same else 3)
+            _, status = os.waitpid(child, 0)
+            print("child", os.waitstatus_to_exitcode(status), flush=True)
+            """
+        )
+    )
+    output = subprocess.run(
+        [sys.executable, str(script)], capture_output=True, text=True, timeout=60
+    )
+    assert output.returncode == 0, output
+    assert output.stdout.strip() == "child 0", output

@@ -69,11 +69,14 @@ impl Repeatability {
     }
 }
 
-/// The observations of `study` (numbered across its sets) that measure
-/// one pose more than once, a group for each pose (module docs): what only
-/// the data decide, found on another core while the fit ends. None beyond
-/// [`MAX_CONFIGURATIONS`].
-pub(super) fn repeated_poses(study: &Study) -> Vec<Vec<usize>> {
+/// Observations (numbered across a study's sets) grouped by the pose they
+/// measure, the groups of more than one.
+pub(super) type PoseGroups = Vec<Vec<usize>>;
+
+/// The observations of `study` that measure one pose more than once, a
+/// group for each pose (module docs): what only the data decide, found on
+/// another core while the fit ends. None beyond [`MAX_CONFIGURATIONS`].
+pub(super) fn repeated_poses(study: &Study) -> PoseGroups {
     let configurations: usize = study.sets.iter().map(|set| set.samples.len()).sum();
     if configurations > MAX_CONFIGURATIONS {
         return Vec::new();

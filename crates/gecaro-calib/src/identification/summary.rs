@@ -14,6 +14,7 @@ use crate::linalg::{LeastSquaresRows, NormalEquations, precision, sandwich_diago
 
 use super::coverage::{Coverage, UnobservedScale};
 use super::parameter::IdentifiedParameter;
+use super::repeatability::PoseGroups;
 use super::repeats::Repeats;
 use super::result::{ErrorSummary, Identification, Route};
 use super::reweighting::Reweighted;
@@ -46,7 +47,7 @@ pub(super) fn summarise(
         Reweighted,
         Route,
         Option<UnobservedScale>,
-        (Repeats, Vec<Vec<usize>>),
+        (Repeats, PoseGroups),
     ),
     rank: RankReport,
     excited: Excitation,
