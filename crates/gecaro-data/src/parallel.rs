@@ -168,6 +168,34 @@ pub fn run_parts_with<T: Send, R: Send, S>(
         .collect()
 }
 
+/// `aside` on another core while `here` runs on this thread: both results.
+/// `aside` goes to the process's workers when it has them (without holding
+/// them: the splits `here` makes share them, as do the others' splits), to
+/// a thread started for it otherwise. A panic in either is resumed here.
+pub fn beside<A: Send, B>(aside: impl FnOnce() -> A + Send, here: impl FnOnce() -> B) -> (A, B) {
+    if available_threads() < 2 {
+        return (aside(), here());
+    }
+    if workers_started_in() == Some(std::process::id()) {
+        let mut aside_result = None;
+        let here_result = rayon_core::in_place_scope(|scope| {
+            scope.spawn(|_| aside_result = Some(aside()));
+            here()
+        });
+        let aside_result = aside_result.expect("the scope ended after its job");
+        (aside_result, here_result)
+    } else {
+        std::thread::scope(|scope| {
+            let aside = scope.spawn(aside);
+            let here_result = here();
+            let aside_result = aside
+                .join()
+                .unwrap_or_else(|payload| std::panic::resume_unwind(payload));
+            (aside_result, here_result)
+        })
+    }
+}
+
 /// Items from which a light pass over them (a sum, a range, a count, a
 /// selection's pass: a few nanoseconds an item) is read in parts on all
 /// cores: a thread's start costs about what such a pass over some ten
@@ -287,6 +315,29 @@ mod tests {
                 assert_eq!(run.join().expect("no panic"), expected(k));
             }
         });
+    }
+
+    /// Work beside a split's parts, and splits within it, from a split's
+    /// part and from this thread: both results, whole.
+    #[test]
+    fn work_beside_comes_back_with_this_threads() {
+        let (aside, here) = beside(
+            || run_parts((0..20).collect(), |x: usize| x * 2),
+            || run_parts((0..30).collect(), |x: usize| x + 1),
+        );
+        assert_eq!(aside, (0..20).map(|x| x * 2).collect::<Vec<_>>());
+        assert_eq!(here, (1..=30).collect::<Vec<_>>());
+        let nested = run_parts((0..8).collect(), |part: usize| {
+            let (a, b) = beside(|| part * 3, || part + 1);
+            a + b
+        });
+        assert_eq!(nested, (0..8).map(|p| 4 * p + 1).collect::<Vec<_>>());
+    }
+
+    #[test]
+    #[should_panic(expected = "aside")]
+    fn a_panic_beside_reaches_the_caller() {
+        beside(|| panic!("aside"), || 1);
     }
 
     #[test]

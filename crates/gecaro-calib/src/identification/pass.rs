@@ -147,115 +147,116 @@ pub(super) fn fit_pass(
         run.history.insert(0, jump);
     }
     // What repeats in the data is counted, and its repeated poses grouped,
-    // on another core while the pass ends on this one (the statistics, the
-    // precision, the coverage): a tenth of a second at 10⁶ configurations,
-    // a fifth of a millisecond at 5,000. Loads do not change them.
-    std::thread::scope(|scope| {
-        let counting = scope.spawn(|| {
+    // on another core while the pass goes on on this one (the reweighting,
+    // the scale, the loads): a tenth of a second at 10⁶ configurations, a
+    // fifth of a millisecond at 5,000. Loads do not change them.
+    let (counted, ended) = gecaro_data::parallel::beside(
+        || {
             (
                 repeats::repeats(study),
                 repeatability::repeated_poses(study),
             )
-        });
-        let counted = move || {
-            counting
-                .join()
-                .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
-        };
-        let prior_rows = if extras.is_empty() {
-            options
-                .prior
-                .as_ref()
-                .map(|prior| prior_rows(prior, problem.nominal, &problem, rank.relations()))
-                .unwrap_or_default()
-        } else {
-            extra_prior_rows(&second_pass_prior(), &problem, extras)
-        };
-        let reweighted =
-            problem.reweighted(run, options.loss, prior_rows, &mut states, observer)?;
-        // Moved parameters a base parameter absorbs join the base set ([`tied`]).
-        let (problem, mut reweighted) = if study.observes_scale() {
-            tied::joined(problem, nominal, &rank, reweighted, &mut states)?
-        } else {
-            (problem, reweighted)
-        };
-        let scale = if study.observes_scale() {
-            None
-        } else {
-            // The final weights and prior rows, at the scaled robot: its
-            // residuals are the same multiplied by the factor.
-            let weighted = problem.with_weighting(reweighted.weighting.clone());
-            let (moved, scale) =
-                scale::rescaled(&weighted, nominal, &rank, &reweighted.run.best, &mut states)?;
-            if let Some(moved) = moved {
-                reweighted.statistics = statistics::ResidualStatistics::of(
-                    &moved.system,
-                    &options.loss,
-                    study.equation_count(),
-                    problem.layout.columns(),
-                );
-                reweighted.run.best = moved;
+        },
+        || -> Result<_, Error> {
+            let prior_rows = if extras.is_empty() {
+                options
+                    .prior
+                    .as_ref()
+                    .map(|prior| prior_rows(prior, problem.nominal, &problem, rank.relations()))
+                    .unwrap_or_default()
+            } else {
+                extra_prior_rows(&second_pass_prior(), &problem, extras)
+            };
+            let reweighted =
+                problem.reweighted(run, options.loss, prior_rows, &mut states, observer)?;
+            // Moved parameters a base parameter absorbs join the base set ([`tied`]).
+            let (problem, mut reweighted) = if study.observes_scale() {
+                tied::joined(problem, nominal, &rank, reweighted, &mut states)?
+            } else {
+                (problem, reweighted)
+            };
+            let scale = if study.observes_scale() {
+                None
+            } else {
+                // The final weights and prior rows, at the scaled robot: its
+                // residuals are the same multiplied by the factor.
+                let weighted = problem.with_weighting(reweighted.weighting.clone());
+                let (moved, scale) =
+                    scale::rescaled(&weighted, nominal, &rank, &reweighted.run.best, &mut states)?;
+                if let Some(moved) = moved {
+                    reweighted.statistics = statistics::ResidualStatistics::of(
+                        &moved.system,
+                        &options.loss,
+                        study.equation_count(),
+                        problem.layout.columns(),
+                    );
+                    reweighted.run.best = moved;
+                }
+                Some(scale)
+            };
+            let given_loads_cost = reweighted.run.best.system.measured_cost();
+            let (mut reweighted, loaded) =
+                loads::follow_the_loads(&problem, reweighted, &mut states)?;
+            // The same fit written the way nearest to the nominal ([`branch`]).
+            if let Some(nearer) = branch::nearest_branch(nominal, &reweighted.run.best.robot) {
+                let problem = problem.with_study(loaded.as_ref().unwrap_or(study));
+                let weighted = problem.with_weighting(reweighted.weighting.clone());
+                let auxiliary = reweighted.run.best.auxiliary.clone();
+                reweighted.run.best =
+                    weighted.assemble(&nearer, &auxiliary, &weighted.layout, &mut states)?;
             }
-            Some(scale)
-        };
-        let given_loads_cost = reweighted.run.best.system.measured_cost();
-        let (mut reweighted, loaded) = loads::follow_the_loads(&problem, reweighted, &mut states)?;
-        let problem = problem.with_study(loaded.as_ref().unwrap_or(study));
-        // The same fit written the way nearest to the nominal ([`branch`]).
-        if let Some(nearer) = branch::nearest_branch(nominal, &reweighted.run.best.robot) {
-            let weighted = problem.with_weighting(reweighted.weighting.clone());
-            let auxiliary = reweighted.run.best.auxiliary.clone();
-            reweighted.run.best =
-                weighted.assemble(&nearer, &auxiliary, &weighted.layout, &mut states)?;
-        }
-        let mut result = summarise(
-            &problem,
-            nominal,
-            begun,
-            (reweighted, route, scale, counted()),
-            rank,
-            excited,
-            &initial_auxiliary,
-        )?;
-        if let Some(coarse) = &coarse {
-            result.warnings.push(Warning::CoarseStart(coarse.note()));
-        }
-        result.second_pass = extras
+            Ok((problem, reweighted, scale, given_loads_cost, loaded))
+        },
+    );
+    let (problem, reweighted, scale, given_loads_cost, loaded) = ended?;
+    let problem = problem.with_study(loaded.as_ref().unwrap_or(study));
+    let mut result = summarise(
+        &problem,
+        nominal,
+        begun,
+        (reweighted, route, scale, counted),
+        rank,
+        excited,
+        &initial_auxiliary,
+    )?;
+    if let Some(coarse) = &coarse {
+        result.warnings.push(Warning::CoarseStart(coarse.note()));
+    }
+    result.second_pass = extras
+        .iter()
+        .map(|index| nominal.parameters().id(*index).to_string())
+        .collect();
+    if !result.joined.is_empty() {
+        result.warnings.push(Warning::Joined {
+            parameters: result.joined.clone(),
+            prior: second_pass_prior(),
+        });
+    }
+    if !extras.is_empty() || !result.joined.is_empty() {
+        // The added and joined parameters are held by their prior, and
+        // correlate with the base parameters they nearly regroup with by
+        // construction.
+        let added: Vec<String> = result
+            .second_pass
             .iter()
-            .map(|index| nominal.parameters().id(*index).to_string())
+            .chain(&result.joined)
+            .cloned()
             .collect();
-        if !result.joined.is_empty() {
-            result.warnings.push(Warning::Joined {
-                parameters: result.joined.clone(),
-                prior: second_pass_prior(),
-            });
-        }
-        if !extras.is_empty() || !result.joined.is_empty() {
-            // The added and joined parameters are held by their prior, and
-            // correlate with the base parameters they nearly regroup with by
-            // construction.
-            let added: Vec<String> = result
-                .second_pass
-                .iter()
-                .chain(&result.joined)
-                .cloned()
-                .collect();
-            result
-                .correlated
-                .retain(|(a, b, _)| !added.contains(a) && !added.contains(b));
-            result
-                .warnings
-                .retain(|w| !matches!(w, Warning::Correlated(_)));
-            result
-                .warnings
-                .extend(correlation_warning(&result.correlated));
-        }
-        drop(problem);
-        Ok(Passed {
-            result,
-            given_loads_cost,
-            loaded,
-        })
+        result
+            .correlated
+            .retain(|(a, b, _)| !added.contains(a) && !added.contains(b));
+        result
+            .warnings
+            .retain(|w| !matches!(w, Warning::Correlated(_)));
+        result
+            .warnings
+            .extend(correlation_warning(&result.correlated));
+    }
+    drop(problem);
+    Ok(Passed {
+        result,
+        given_loads_cost,
+        loaded,
     })
 }
 
