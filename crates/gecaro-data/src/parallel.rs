@@ -9,9 +9,9 @@
 //! holding the others up. Callers cut about [`PARTS_PER_THREAD`] parts per
 //! thread for that.
 //!
-//! The helpers are the process's worker threads ([`start_workers`]:
-//! `rayon-core`'s global pool, one thread fewer than the cores, since the
-//! caller takes parts too), not threads started for each split. A thread
+//! The helpers are the process's worker threads ([`start_workers`]: a
+//! `rayon-core` pool of gecaro's own, one thread fewer than the cores, since
+//! the caller takes parts too), not threads started for each split. A thread
 //! started for a split is placed by the system's fork balancing, which
 //! often put it on the caller's own core, and on a virtual machine whose
 //! idle core sleeps it began 0.6 ms late: at 5,000 configurations, where a
@@ -42,30 +42,46 @@ pub fn available_threads() -> usize {
 
 /// Starts the process's worker threads (see the module docs), if not yet
 /// started: a program calls it first thing, so that the workers are placed
-/// before the work begins; [`run_parts`] calls it otherwise. None on one
-/// core. The pool another library of the process built first is used as
-/// it is.
+/// before the work begins; [`run_parts`] and [`beside`] call it otherwise.
+/// None on one core.
 pub fn start_workers() {
-    let _ = workers_started_in();
+    let _ = workers();
 }
 
-/// The process that started the workers, once started (`None`: one core).
-fn workers_started_in() -> Option<u32> {
-    static STARTED_IN: OnceLock<Option<u32>> = OnceLock::new();
-    *STARTED_IN.get_or_init(|| {
-        let helpers = available_threads().checked_sub(1).filter(|&n| n > 0)?;
-        let _ = rayon_core::ThreadPoolBuilder::new()
-            .num_threads(helpers)
-            .thread_name(|index| format!("gecaro-worker-{index}"))
-            .build_global();
-        Some(std::process::id())
-    })
+/// The process's workers, once started, and the process they were started
+/// in (`None`: one core, or no thread could be started).
+fn started() -> Option<&'static (rayon_core::ThreadPool, u32)> {
+    static STARTED: OnceLock<Option<(rayon_core::ThreadPool, u32)>> = OnceLock::new();
+    STARTED
+        .get_or_init(|| {
+            let helpers = available_threads().checked_sub(1).filter(|&n| n > 0)?;
+            let pool = rayon_core::ThreadPoolBuilder::new()
+                .num_threads(helpers)
+                .thread_name(|index| format!("gecaro-worker-{index}"))
+                .build()
+                .ok()?;
+            // Running: a new thread is often placed on its starter's core,
+            // where it would start only when this thread first waits (at a
+            // split's end, the split then without its help); waited for
+            // here, 0.3 ms, it starts at once and is woken on the idle core
+            // from then on.
+            pool.install(|| ());
+            Some((pool, std::process::id()))
+        })
+        .as_ref()
+}
+
+/// The workers, when this process started them (a forked child has none).
+fn workers() -> Option<&'static rayon_core::ThreadPool> {
+    started()
+        .filter(|(_, process)| *process == std::process::id())
+        .map(|(pool, _)| pool)
 }
 
 /// The workers held by one split at a time: a split that finds them held
 /// (by another thread's, or by the split whose part it runs in) starts
 /// threads of its own rather than wait for them.
-struct Workers;
+struct Workers(&'static rayon_core::ThreadPool);
 
 static WORKERS_HELD: AtomicBool = AtomicBool::new(false);
 
@@ -73,11 +89,11 @@ impl Workers {
     /// The workers, when started in this process and free; free again when
     /// dropped (a panic included).
     fn claim() -> Option<Self> {
-        (workers_started_in() == Some(std::process::id())
-            && WORKERS_HELD
-                .compare_exchange(false, true, Ordering::Acquire, Ordering::Relaxed)
-                .is_ok())
-        .then_some(Workers)
+        let pool = workers()?;
+        WORKERS_HELD
+            .compare_exchange(false, true, Ordering::Acquire, Ordering::Relaxed)
+            .is_ok()
+            .then_some(Workers(pool))
     }
 }
 
@@ -136,9 +152,9 @@ pub fn run_parts_with<T: Send, R: Send, S>(
             }
         }
     };
-    if let Some(_workers) = Workers::claim() {
+    if let Some(workers) = Workers::claim() {
         // A panic in a helper's part is resumed here once all have ended.
-        rayon_core::in_place_scope(|scope| {
+        workers.0.in_place_scope(|scope| {
             for _ in 1..threads {
                 scope.spawn(|_| take_parts());
             }
@@ -176,9 +192,9 @@ pub fn beside<A: Send, B>(aside: impl FnOnce() -> A + Send, here: impl FnOnce() 
     if available_threads() < 2 {
         return (aside(), here());
     }
-    if workers_started_in() == Some(std::process::id()) {
+    if let Some(pool) = workers() {
         let mut aside_result = None;
-        let here_result = rayon_core::in_place_scope(|scope| {
+        let here_result = pool.in_place_scope(|scope| {
             scope.spawn(|_| aside_result = Some(aside()));
             here()
         });
