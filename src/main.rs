@@ -20,9 +20,6 @@ use clap::Parser;
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 fn main() -> ExitCode {
-    // The parallel splits' workers, placed before any work begins (see
-    // `gecaro_data::parallel`).
-    gecaro_data::parallel::start_workers();
     miette::set_hook(Box::new(|_| {
         Box::new(
             miette::MietteHandlerOpts::new()
@@ -57,8 +54,7 @@ fn main() -> ExitCode {
 ///
 /// Set up at once, even for a run that writes nothing: set up with the
 /// first output instead, an `identify` of 5,000 positions (which writes
-/// none) measured 0.2 ms slower, not faster (docs/performance.md, "Workers
-/// kept").
+/// none) was no faster (docs/performance.md, "Workers kept").
 fn remove_temporaries_on_signals() {
     use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
     let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else {

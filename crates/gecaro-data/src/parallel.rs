@@ -9,9 +9,10 @@
 //! holding the others up. Callers cut about [`PARTS_PER_THREAD`] parts per
 //! thread for that.
 //!
-//! The helpers are the process's worker threads ([`start_workers`]: a
-//! `rayon-core` pool of gecaro's own, one thread fewer than the cores, since
-//! the caller takes parts too), not threads started for each split. A thread
+//! The helpers are the process's worker threads (a `rayon-core` pool of
+//! gecaro's own, one thread fewer than the cores, since the caller takes
+//! parts too; started by the first split), not threads started for each
+//! split. A thread
 //! started for a split is placed by the system's fork balancing, which
 //! often put it on the caller's own core, and on a virtual machine whose
 //! idle core sleeps it began 0.6 ms late: at 5,000 configurations, where a
@@ -40,16 +41,8 @@ pub fn available_threads() -> usize {
     *THREADS.get_or_init(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get))
 }
 
-/// Starts the process's worker threads (see the module docs), if not yet
-/// started: a program calls it first thing, so that the workers are placed
-/// before the work begins; [`run_parts`] and [`beside`] call it otherwise.
-/// None on one core.
-pub fn start_workers() {
-    let _ = workers();
-}
-
-/// The process's workers, once started, and the process they were started
-/// in (`None`: one core, or no thread could be started).
+/// The process's workers, started at the first call, and the process they
+/// were started in (`None`: one core, or no thread could be started).
 fn started() -> Option<&'static (rayon_core::ThreadPool, u32)> {
     static STARTED: OnceLock<Option<(rayon_core::ThreadPool, u32)>> = OnceLock::new();
     STARTED
@@ -167,11 +160,7 @@ pub fn run_parts_with<T: Send, R: Send, S>(
         std::thread::scope(|scope| {
             let helpers: Vec<_> = (1..threads).map(|_| scope.spawn(take_parts)).collect();
             take_parts();
-            for helper in helpers {
-                helper
-                    .join()
-                    .unwrap_or_else(|payload| std::panic::resume_unwind(payload));
-            }
+            helpers.into_iter().for_each(joined);
         });
     }
     results
@@ -185,14 +174,16 @@ pub fn run_parts_with<T: Send, R: Send, S>(
 }
 
 /// `aside` on another core while `here` runs on this thread: both results.
-/// `aside` goes to the process's workers when it has them (without holding
-/// them: the splits `here` makes share them, as do the others' splits), to
-/// a thread started for it otherwise. A panic in either is resumed here.
+/// `aside` goes to the process's workers when no split holds them (without
+/// holding them: the splits `here` makes share them), to a thread started
+/// for it otherwise — within a split's part, queued behind the workers'
+/// own parts, it would keep the caller waiting while they take the rest.
+/// A panic in either is resumed here.
 pub fn beside<A: Send, B>(aside: impl FnOnce() -> A + Send, here: impl FnOnce() -> B) -> (A, B) {
     if available_threads() < 2 {
         return (aside(), here());
     }
-    if let Some(pool) = workers() {
+    if let Some(pool) = workers().filter(|_| !WORKERS_HELD.load(Ordering::Acquire)) {
         let mut aside_result = None;
         let here_result = pool.in_place_scope(|scope| {
             scope.spawn(|_| aside_result = Some(aside()));
@@ -204,12 +195,16 @@ pub fn beside<A: Send, B>(aside: impl FnOnce() -> A + Send, here: impl FnOnce() 
         std::thread::scope(|scope| {
             let aside = scope.spawn(aside);
             let here_result = here();
-            let aside_result = aside
-                .join()
-                .unwrap_or_else(|payload| std::panic::resume_unwind(payload));
-            (aside_result, here_result)
+            (joined(aside), here_result)
         })
     }
+}
+
+/// A started thread's result, its panic resumed here.
+fn joined<T>(thread: std::thread::ScopedJoinHandle<'_, T>) -> T {
+    thread
+        .join()
+        .unwrap_or_else(|payload| std::panic::resume_unwind(payload))
 }
 
 /// Items from which a light pass over them (a sum, a range, a count, a
@@ -331,6 +326,29 @@ mod tests {
                 assert_eq!(run.join().expect("no panic"), expected(k));
             }
         });
+    }
+
+    /// Work beside each part of a split (a Monte Carlo run's identification
+    /// in each part) leaves the caller taking its share of the parts: the
+    /// workers the split holds are not waited for by the parts' work beside.
+    #[test]
+    fn work_beside_within_a_split_leaves_the_caller_its_share() {
+        if available_threads() < 2 {
+            return;
+        }
+        let caller = std::thread::current().id();
+        let taken_here = run_parts((0..16).collect(), |_: usize| {
+            let (_, here) = beside(
+                || std::thread::sleep(std::time::Duration::from_millis(1)),
+                || {
+                    std::thread::sleep(std::time::Duration::from_millis(5));
+                    std::thread::current().id() == caller
+                },
+            );
+            here
+        });
+        let taken_here = taken_here.into_iter().filter(|here| *here).count();
+        assert!(taken_here >= 3, "the caller took {taken_here} parts of 16");
     }
 
     /// Work beside a split's parts, and splits within it, from a split's
