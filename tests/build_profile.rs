@@ -103,3 +103,56 @@ fn the_profile_sections_are_read_as_written() {
         ]
     );
 }
+
+/// The Rust files under `folder` (recursively), `target` folders left out.
+fn rust_files(folder: &Path, files: &mut Vec<std::path::PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(folder) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let path = entry.path();
+        if path.is_dir() && path.file_name().is_some_and(|name| name != "target") {
+            rust_files(&path, files);
+        } else if path.extension().is_some_and(|extension| extension == "rs") {
+            files.push(path);
+        }
+    }
+}
+
+/// The workspace denies `unsafe` code (Cargo.toml's `[workspace.lints]`),
+/// and one module allows it: gecaro-io's mapping of small data files
+/// (`whole.rs`, whose docs state why it is sound enough). A second
+/// `allow(unsafe_code)` must come with its own reasons, and this list.
+#[test]
+fn one_module_may_use_unsafe() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    for folder in ["src", "crates", "tests", "benches", "examples", "fuzz"] {
+        rust_files(&root.join(folder), &mut files);
+    }
+    assert!(files.len() > 100, "the sources were not found: {files:?}");
+    // Written in two halves, so that this file does not name itself.
+    let (inner, outer) = (
+        concat!("#![allow(", "unsafe_code)]"),
+        concat!("#[allow(", "unsafe_code)]"),
+    );
+    let allowing: Vec<String> = files
+        .iter()
+        .filter(|path| {
+            std::fs::read_to_string(path).is_ok_and(|text| {
+                text.lines()
+                    .any(|line| line.trim_start().starts_with(inner))
+                    || text.contains(outer)
+            })
+        })
+        .map(|path| {
+            path.strip_prefix(root)
+                .unwrap_or(path)
+                .display()
+                .to_string()
+        })
+        .collect();
+    assert_eq!(allowing, ["crates/gecaro-io/src/whole.rs"]);
+    let manifest = std::fs::read_to_string(root.join("Cargo.toml")).expect("the manifest");
+    assert!(manifest.contains("unsafe_code = \"deny\""));
+}

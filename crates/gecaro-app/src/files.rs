@@ -19,10 +19,49 @@ use crate::error::{AppError, ErrorKind};
 pub struct Opened {
     /// The file as messages name it.
     pub path: PathBuf,
-    /// Its content, to be read once.
-    pub reader: Box<dyn Read + Send>,
-    /// Its length in bytes, when known (for progress).
-    pub length: Option<u64>,
+    /// Its content.
+    pub bytes: OpenedBytes,
+}
+
+/// An opened input's content.
+pub enum OpenedBytes {
+    /// All of it in memory, read where it lies: a small local file mapped
+    /// ([`gecaro_io::map_small`]), a served folder's text.
+    Whole(gecaro_io::WholeFile),
+    /// A stream to be read once, and its length in bytes when known (for
+    /// progress, and room for a long file's rows).
+    Stream {
+        /// The content.
+        reader: Box<dyn Read + Send>,
+        /// Its length in bytes, when known.
+        length: Option<u64>,
+    },
+}
+
+impl OpenedBytes {
+    /// The content as a reader of it takes it.
+    pub fn content(&mut self) -> gecaro_io::Content<'_> {
+        match self {
+            OpenedBytes::Whole(whole) => gecaro_io::Content::Whole(whole),
+            OpenedBytes::Stream { reader, length } => gecaro_io::Content::Stream(reader, *length),
+        }
+    }
+
+    /// Its length in bytes, when known.
+    pub fn length(&self) -> Option<u64> {
+        match self {
+            OpenedBytes::Whole(whole) => u64::try_from(whole.len()).ok(),
+            OpenedBytes::Stream { length, .. } => *length,
+        }
+    }
+
+    /// The content as a stream, read once from its start.
+    pub fn into_reader(self) -> Box<dyn Read + Send> {
+        match self {
+            OpenedBytes::Whole(whole) => Box::new(std::io::Cursor::new(whole)),
+            OpenedBytes::Stream { reader, .. } => reader,
+        }
+    }
 }
 
 /// Reading and writing the files a request names; see the module docs.
@@ -137,11 +176,15 @@ impl Files for LocalFiles {
     fn open(&self, name: &str, _: &[&str]) -> Result<Opened, AppError> {
         let path = PathBuf::from(name);
         let file = gecaro_io::open_input(&path)?;
-        Ok(Opened {
-            length: file.metadata().ok().map(|metadata| metadata.len()),
-            path,
-            reader: Box::new(std::io::BufReader::with_capacity(1 << 16, file)),
-        })
+        let length = file.metadata().ok().map(|metadata| metadata.len());
+        let bytes = match length.and_then(|length| gecaro_io::map_small(&file, length)) {
+            Some(whole) => OpenedBytes::Whole(whole),
+            None => OpenedBytes::Stream {
+                reader: Box::new(std::io::BufReader::with_capacity(1 << 16, file)),
+                length,
+            },
+        };
+        Ok(Opened { path, bytes })
     }
 
     fn read_text(&self, name: &str, _: &[&str]) -> Result<(PathBuf, String), AppError> {

@@ -125,7 +125,7 @@ pub use demo::{DEMO_COUNTS, DEMO_HELD_OUT, Demo, DemoRequest, DemoRun};
 pub use deviations::{PointDeviation, point_deviations};
 pub use error::{AppError, Dialect, ErrorKind};
 pub use evaluation_frame::RegisterShare;
-pub use files::{Files, LocalFiles, Opened};
+pub use files::{Files, LocalFiles, Opened, OpenedBytes};
 pub use generate::{GenerateRequest, Generated, data_file_name};
 pub use identifiable::{IdentifiabilityAnalysis, IdentifiableRequest};
 pub use identify::{

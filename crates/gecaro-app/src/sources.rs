@@ -163,9 +163,10 @@ impl CsvInput<'_> {
         most: u64,
         what: &str,
     ) -> Result<(String, std::path::PathBuf), AppError> {
-        self.parse(files, |reader, path, _| {
+        self.parse(files, |mut content, path| {
             let mut text = String::new();
-            reader
+            content
+                .reader()
                 .take(most + 1)
                 .read_to_string(&mut text)
                 .map_err(|cause| gecaro_io::Error::Read {
@@ -187,26 +188,24 @@ impl CsvInput<'_> {
         })
     }
 
-    /// The file read by `parse` (its reader, the path its messages name,
-    /// and its length in bytes when known).
+    /// The file read by `parse` (its content, and the path its messages
+    /// name).
     ///
     /// # Errors
     /// A file that cannot be opened, and `parse`'s.
     pub(crate) fn parse<T>(
         &self,
         files: &dyn Files,
-        parse: impl FnOnce(&mut dyn std::io::Read, &Path, Option<u64>) -> Result<T, AppError>,
+        parse: impl FnOnce(gecaro_io::Content<'_>, &Path) -> Result<T, AppError>,
     ) -> Result<T, AppError> {
         match self {
             CsvInput::File(name) => {
                 let mut opened = files.open(name, &["csv"])?;
-                parse(&mut opened.reader, &opened.path, opened.length)
+                parse(opened.bytes.content(), &opened.path)
             }
-            CsvInput::Text { text, label } => parse(
-                &mut text.as_bytes(),
-                Path::new(label),
-                u64::try_from(text.len()).ok(),
-            ),
+            CsvInput::Text { text, label } => {
+                parse(gecaro_io::Content::Whole(text.as_bytes()), Path::new(label))
+            }
         }
     }
 }
@@ -333,10 +332,9 @@ impl DataSource {
                 });
             }
         };
-        let file = input.parse(files, |reader, path, length| {
-            Ok(gecaro_io::parse_samples_of_length(
-                reader,
-                length,
+        let file = input.parse(files, |content, path| {
+            Ok(gecaro_io::parse_samples_from(
+                content,
                 path,
                 (joint_types, columns),
                 format,

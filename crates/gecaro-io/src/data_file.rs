@@ -34,6 +34,7 @@
 use gecaro_core::{FrameType, LinkMass};
 use gecaro_data::sample::DataColumn;
 use gecaro_data::samples::{SampleRef, SampleSlice, Samples};
+use std::borrow::Cow;
 use std::io::Read;
 use std::path::Path;
 
@@ -48,6 +49,7 @@ use crate::output::{OutputPolicy, write_with};
 use crate::pose::{NORMALISED_TOLERANCE, SILENT_TOLERANCE};
 use crate::rotation::RotationFormat;
 use crate::stated_units::{stated_units, units_line, units_to_read};
+use crate::whole::{Content, map_small};
 
 /// Files up to this size are read whole, and their rows in parts on all
 /// cores; longer ones (or endless streams) record by record.
@@ -116,7 +118,8 @@ pub fn data_headers(joint_count: usize, columns: &[DataColumn]) -> Vec<String> {
         .collect()
 }
 
-/// Reads a data file for a robot with these joint types (1..n).
+/// Reads a data file for a robot with these joint types (1..n): mapped
+/// into memory when small ([`map_small`]), else read in chunks.
 ///
 /// # Errors
 /// [`Error::Read`] when it cannot be opened or is not a regular file,
@@ -128,13 +131,13 @@ pub fn read_samples(
     format: &DataFormat,
 ) -> Result<DataFile, Error> {
     let (file, length) = open_regular(path)?;
-    parse_samples_of_length(
-        std::io::BufReader::with_capacity(1 << 16, file),
-        Some(length),
-        path,
-        (joint_types, columns),
-        format,
-    )
+    let whole = map_small(&file, length);
+    let mut reader = std::io::BufReader::with_capacity(1 << 16, file);
+    let content = match &whole {
+        Some(whole) => Content::Whole(whole),
+        None => Content::Stream(&mut reader, Some(length)),
+    };
+    parse_samples_from(content, path, (joint_types, columns), format)
 }
 
 /// Parses data from any reader; `path` only names it in messages.
@@ -142,45 +145,61 @@ pub fn read_samples(
 /// # Errors
 /// [`Error::Parse`] with line and column.
 pub fn parse_samples(
-    reader: impl Read,
+    mut reader: impl Read,
     path: &Path,
     joint_types: &[FrameType],
     columns: &[DataColumn],
     format: &DataFormat,
 ) -> Result<DataFile, Error> {
-    parse_samples_of_length(reader, None, path, (joint_types, columns), format)
+    parse_samples_from(
+        Content::Stream(&mut reader, None),
+        path,
+        (joint_types, columns),
+        format,
+    )
 }
 
-/// [`parse_samples`] of a reader whose `length` in bytes is known (a
-/// file's): the samples of a long file are given room for all its rows at
-/// once, from the rows of its first chunk, instead of growing (and being
-/// copied) as they are read. The samples are the same; a wrong length
-/// costs only memory or a copy.
+/// [`parse_samples`] of a file's content: read where it lies when it is in
+/// memory whole (up to [`IN_MEMORY_BYTES`]; beyond, as a stream). Of a
+/// stream whose length is known (a file's), the samples of a long one are
+/// given room for all its rows at once, from the rows of its first chunk,
+/// instead of growing (and being copied) as they are read. The samples are
+/// the same; a wrong length costs only memory or a copy.
 ///
 /// # Errors
 /// [`Error::Parse`] with line and column.
-pub fn parse_samples_of_length(
-    mut reader: impl Read,
-    length: Option<u64>,
+pub fn parse_samples_from(
+    content: Content<'_>,
     path: &Path,
     (joint_types, columns): (&[FrameType], &[DataColumn]),
     format: &DataFormat,
 ) -> Result<DataFile, Error> {
-    // Room for the whole head at once: a long file's head becomes the
-    // buffer of its first chunk.
-    let mut head = Vec::with_capacity(IN_MEMORY_BYTES + 1);
-    (&mut reader)
-        .take(IN_MEMORY_BYTES as u64 + 1)
-        .read_to_end(&mut head)
-        .map_err(|cause| Error::Read {
-            path: path.to_owned(),
-            cause,
-        })?;
+    let (mut head, unread, length): (Cow<'_, [u8]>, _, _) = match content {
+        Content::Whole(bytes) if bytes.len() <= IN_MEMORY_BYTES => (bytes.into(), None, None),
+        mut content => {
+            let length = match &content {
+                Content::Whole(bytes) => u64::try_from(bytes.len()).ok(),
+                Content::Stream(_, length) => *length,
+            };
+            // Room for the whole head at once: a long file's head becomes
+            // the buffer of its first chunk.
+            let mut head = Vec::with_capacity(IN_MEMORY_BYTES + 1);
+            content
+                .reader()
+                .take(IN_MEMORY_BYTES as u64 + 1)
+                .read_to_end(&mut head)
+                .map_err(|cause| Error::Read {
+                    path: path.to_owned(),
+                    cause,
+                })?;
+            (head.into(), Some(content), length)
+        }
+    };
     // Lines ended by a carriage return alone (Excel's "CSV (Macintosh)")
     // are read as lines (issue 75: "more records than lines").
     let carriage_returns = carriage_returns_only(&head);
     if carriage_returns {
-        for byte in &mut head {
+        for byte in head.to_mut() {
             if *byte == b'\r' {
                 *byte = b'\n';
             }
@@ -198,11 +217,19 @@ pub fn parse_samples_of_length(
         },
         None => format.clone(),
     };
-    let mut translated = CarriageReturnLines(&mut reader);
-    let rest: Option<&mut dyn Read> = match (head.len() > IN_MEMORY_BYTES, carriage_returns) {
-        (false, _) => None,
-        (true, true) => Some(&mut translated),
-        (true, false) => Some(translated.0),
+    // The rest of a file longer than its head, lines ended as the head's.
+    let mut unread = unread;
+    let mut translated;
+    let rest: Option<&mut dyn Read> = match unread.as_mut() {
+        Some(unread) if head.len() > IN_MEMORY_BYTES => {
+            if carriage_returns {
+                translated = CarriageReturnLines(unread.reader());
+                Some(&mut translated)
+            } else {
+                Some(unread.reader())
+            }
+        }
+        _ => None,
     };
     parse_from(
         (head, rest),
@@ -221,7 +248,7 @@ pub fn parse_samples_of_length(
 /// longer than [`IN_MEMORY_BYTES`] (its rows are then read in chunks, see
 /// [`Chunking`]; those of a file in memory in parts on all cores).
 fn parse_from(
-    (head, rest): (Vec<u8>, Option<&mut dyn Read>),
+    (head, rest): (Cow<'_, [u8]>, Option<&mut dyn Read>),
     path: &Path,
     (joint_types, columns): (&[FrameType], &[DataColumn]),
     format: &DataFormat,
@@ -348,9 +375,12 @@ fn parse_from(
         error,
     } = match rest {
         None => rows.read_all(&head[start..], lines_before, separator),
-        Some(rest) if memchr::memchr(b'"', &head).is_none() => {
-            rows.read_chunks((head, start, rest), lines_before, separator, chunking)
-        }
+        Some(rest) if memchr::memchr(b'"', &head).is_none() => rows.read_chunks(
+            (head.into_owned(), start, rest),
+            lines_before,
+            separator,
+            chunking,
+        ),
         // Quoted fields may hold line breaks: one pass over the stream.
         Some(rest) => {
             let (mut csv, _) = csv_reader((&head[..]).chain(rest), format.delimiter);
@@ -733,6 +763,54 @@ mod tests {
         parse(text, columns).expect_err("invalid").to_string()
     }
 
+    /// A data file mapped into memory ([`read_samples`] of a small file)
+    /// reads as the same bytes streamed: its samples and line numbers, its
+    /// carriage-return lines, stated units, quoted fields, and its errors
+    /// (with their lines).
+    #[test]
+    fn a_mapped_file_reads_as_its_bytes_streamed() {
+        let folder = tempfile::tempdir().expect("a folder");
+        let texts = [
+            "qm1,qm2,x,y,z\n0.1,0.2,1,2,3\n# a note\n0.3,0.4,4,5,6",
+            "qm1,qm2,x,y,z\r0.1,0.2,1,2,3\r0.3,0.4,4,5,6\r",
+            "# units: angle_unit = deg, length_unit = mm\nqm1,qm2,x,y,z\n10,20,100,200,300\n",
+            "qm1,qm2,x,y,\"z\"\n0.1,0.2,1,2,\"3\"\n",
+            "qm1,qm2,x,y,z\n0.1,0.2,1,2,3\n0.3,nan,4,5,6\n",
+            "qm1,qm2,x,y,z\n",
+        ];
+        for (index, text) in texts.iter().enumerate() {
+            let path = folder.path().join(format!("d{index}.csv"));
+            std::fs::write(&path, text).expect("written");
+            let file = std::fs::File::open(&path).expect("opened");
+            assert!(map_small(&file, text.len() as u64).is_some(), "{text:?}");
+            let columns = [DataColumn::Position];
+            let mapped = read_samples(&path, &TWO_REVOLUTE, &columns, &DataFormat::default());
+            let streamed = parse_samples(
+                text.as_bytes(),
+                &path,
+                &TWO_REVOLUTE,
+                &columns,
+                &DataFormat::default(),
+            );
+            match (mapped, streamed) {
+                (Ok(mapped), Ok(streamed)) => {
+                    assert_eq!(mapped.samples, streamed.samples, "{text:?}");
+                    let lines = |file: &DataFile| {
+                        (0..file.samples.len())
+                            .map(|i| file.samples.get(i).line())
+                            .collect::<Vec<_>>()
+                    };
+                    assert_eq!(lines(&mapped), lines(&streamed), "{text:?}");
+                    assert_eq!(mapped.notes, streamed.notes);
+                }
+                (Err(mapped), Err(streamed)) => {
+                    assert_eq!(mapped.to_string(), streamed.to_string());
+                }
+                (mapped, streamed) => panic!("{text:?}: {mapped:?} against {streamed:?}"),
+            }
+        }
+    }
+
     /// A row's σ (issue 74): `sigma` in the file's length unit and
     /// `sigma_angle` in its angle unit, an empty field stating none, a
     /// decimal comma read as such; written back in metres and radians and
@@ -869,7 +947,7 @@ mod tests {
         let read = |text: &str, limit: usize, length: Option<u64>| {
             let (head, mut rest) = text.as_bytes().split_at(1000);
             parse_from(
-                (head.to_vec(), Some(&mut rest)),
+                (head.into(), Some(&mut rest)),
                 Path::new("data.csv"),
                 (&TWO_REVOLUTE, &columns),
                 &DataFormat::default(),
@@ -1188,7 +1266,7 @@ mod tests {
         let limited = |text: &str, limit: usize| {
             let (head, mut rest) = text.as_bytes().split_at(1000);
             parse_from(
-                (head.to_vec(), Some(&mut rest)),
+                (head.into(), Some(&mut rest)),
                 Path::new("plain.csv"),
                 (&TWO_REVOLUTE, &columns),
                 &DataFormat::default(),

@@ -42,6 +42,7 @@ mod test_cube;
 mod toml_source;
 mod units;
 mod urdf;
+mod whole;
 mod work_region;
 mod written_lengths;
 
@@ -49,7 +50,7 @@ pub use columns::{ColumnMap, DataUnits, Delimiter, header_names, joint_types};
 pub use conversion::{ChainEnds, Exported, Imported};
 pub use data_file::{
     DataFile, DataFormat, data_headers, format_configurations, format_samples, parse_samples,
-    parse_samples_of_length, read_samples, write_samples,
+    parse_samples_from, read_samples, write_samples,
 };
 pub use data_rows::MAX_CONFIGURATIONS;
 pub use dh::{DhConvention, TableUnits};
@@ -99,4 +100,5 @@ pub use units::LengthUnit;
 pub use urdf::names::{
     UrdfDocument, UrdfFixedDocument, UrdfFixedLink, UrdfJointDocument, UrdfJointNames, UrdfNames,
 };
+pub use whole::{Content, MAPPED_MAX_BYTES, WholeFile, map_small};
 pub use work_region::{parse_actuator_region, parse_work_region};

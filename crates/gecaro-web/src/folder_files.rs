@@ -6,7 +6,7 @@
 
 use std::path::PathBuf;
 
-use gecaro_app::{AppError, ErrorKind, Files, Opened};
+use gecaro_app::{AppError, ErrorKind, Files, Opened, OpenedBytes};
 
 use crate::error::ApiError;
 use crate::limits::MAX_SAMPLES;
@@ -31,8 +31,7 @@ impl Files for Workspace {
         let (_, text) = self.read_text(name, extensions).map_err(app_error)?;
         Ok(Opened {
             path: PathBuf::from(name),
-            length: Some(text.len() as u64),
-            reader: Box::new(std::io::Cursor::new(text.into_bytes())),
+            bytes: OpenedBytes::Whole(gecaro_io::WholeFile::Read(text.into_bytes())),
         })
     }
 

@@ -370,9 +370,9 @@ impl CompensateRequest {
         let mut program = input
             .map(|input| {
                 let format = self.format.format()?;
-                let program = input.parse(files, |reader, path, _| {
+                let program = input.parse(files, |mut content, path| {
                     Ok(gecaro_io::parse_program(
-                        reader,
+                        content.reader(),
                         path,
                         &nominal.robot,
                         &format,
@@ -458,11 +458,9 @@ impl CompensateRequest {
         let calibrated = &prepared.calibrated;
         let (nominal, solved_calibrated) = (&prepared.solved.0, &prepared.solved.1);
         let format = self.format.format()?;
-        let Opened {
-            path,
-            mut reader,
-            length,
-        } = files.open(name, &["csv"])?;
+        let Opened { path, bytes } = files.open(name, &["csv"])?;
+        let length = bytes.length();
+        let mut reader = bytes.into_reader();
         let mut program = ProgramReader::new(&mut reader, &path, nominal, &format)?;
         let layout = program.layout().clone();
         let mut compensator = Compensator::new(nominal, solved_calibrated, prepared.matching)?

@@ -162,7 +162,7 @@ impl ParallelCompensateRequest {
                 let opened = files.open(name, &["csv"])?;
                 let mut head = Vec::new();
                 std::io::Read::read_to_end(
-                    &mut std::io::Read::take(opened.reader, 1 << 16),
+                    &mut std::io::Read::take(opened.bytes.into_reader(), 1 << 16),
                     &mut head,
                 )
                 .map_err(|cause| gecaro_io::Error::Read {
