@@ -173,6 +173,30 @@ mod tests {
         assert!(error.contains("Centimetres read as metres?"), "{error}");
     }
 
+    /// Through [`identify`](crate::identification::identify), whose fit
+    /// starts beside the check: the check's error is the one returned, not
+    /// the fit's (whichever ends first), on another core and within a
+    /// split's part alike.
+    #[test]
+    fn an_identification_returns_the_check_s_error() {
+        let (robot, study) = scaled(1000.0);
+        let identified = || {
+            crate::identification::identify(
+                &robot,
+                &study,
+                &crate::identification::IdentificationOptions::default(),
+                &mut Quiet,
+            )
+            .expect_err("1000×")
+            .to_string()
+        };
+        let error = identified();
+        assert!(error.contains("Millimetres read as metres?"), "{error}");
+        for error in crate::parallel::run_parts((0..4).collect(), |_: usize| identified()) {
+            assert!(error.contains("Millimetres read as metres?"), "{error}");
+        }
+    }
+
     #[test]
     fn metres_read_as_millimetres_are_named_before_fitting() {
         let (robot, study) = scaled(1e-3);
