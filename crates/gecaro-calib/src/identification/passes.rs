@@ -84,9 +84,12 @@ pub(super) fn score_tests(
         return Ok(ScoreTests::default());
     }
     let all: Vec<usize> = (0..columns).collect();
-    let (wide_explained, wide_rank) = normal.explained(&all, EIGENVALUE_FLOOR);
-    let (narrow_explained, narrow_rank) =
-        normal.explained(&all[..auxiliary.len() + base.len()], EIGENVALUE_FLOOR);
+    // The two spectra on two cores.
+    let ((wide_explained, wide_rank), (narrow_explained, narrow_rank)) =
+        crate::parallel::beside_if_free(
+            || normal.explained(&all, EIGENVALUE_FLOOR),
+            || normal.explained(&all[..auxiliary.len() + base.len()], EIGENVALUE_FLOOR),
+        );
     let total: f64 = right.iter().map(|r| r * r).sum();
     let freedom = rows.saturating_sub(wide_rank).max(1) as f64;
     let rest = total - wide_explained;

@@ -126,8 +126,13 @@ pub(super) fn where_it_holds(
         columns: &columns,
         factor: block.cholesky()?.l(),
     };
-    let inside = predicted.rms(&inside_poses)?.0;
-    let (work_rms, work_max) = predicted.rms(&work_poses)?;
+    // The two regions' predictions on two cores (0.1 ms each at 500 poses).
+    let (inside, work_prediction) = crate::parallel::beside_if_free(
+        || predicted.rms(&inside_poses),
+        || predicted.rms(&work_poses),
+    );
+    let inside = inside?.0;
+    let (work_rms, work_max) = work_prediction?;
     let still_joints = result.verdict.coverage.still_joints.clone();
     let joints = robot.joint_count();
     let holds_everywhere = still_joints.is_empty()
