@@ -54,6 +54,8 @@ use crate::whole::{Content, map_small};
 /// Files up to this size are read whole, and their rows in parts on all
 /// cores; longer ones (or endless streams) record by record.
 const IN_MEMORY_BYTES: usize = 16 << 20;
+// A file small enough to be mapped is parsed whole where it lies.
+const _: () = assert!(crate::whole::MAPPED_MAX_BYTES == IN_MEMORY_BYTES as u64);
 
 /// How a data file is written: the units of its lengths and angles, and
 /// other names of its columns. The default is gecaro's own (metres,
@@ -160,11 +162,11 @@ pub fn parse_samples(
 }
 
 /// [`parse_samples`] of a file's content: read where it lies when it is in
-/// memory whole (up to [`IN_MEMORY_BYTES`]; beyond, as a stream). Of a
-/// stream whose length is known (a file's), the samples of a long one are
-/// given room for all its rows at once, from the rows of its first chunk,
-/// instead of growing (and being copied) as they are read. The samples are
-/// the same; a wrong length costs only memory or a copy.
+/// memory whole (up to 16 MiB; beyond, as a stream). Of a stream whose
+/// length is known (a file's), the samples of a long one are given room for
+/// all its rows at once, from the rows of its first chunk, instead of
+/// growing (and being copied) as they are read. The samples are the same;
+/// a wrong length costs only memory or a copy.
 ///
 /// # Errors
 /// [`Error::Parse`] with line and column.
