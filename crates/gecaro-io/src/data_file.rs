@@ -176,7 +176,7 @@ pub fn parse_samples_from(
     (joint_types, columns): (&[FrameType], &[DataColumn]),
     format: &DataFormat,
 ) -> Result<DataFile, Error> {
-    let (mut head, unread, length): (Cow<'_, [u8]>, _, _) = match content {
+    let (mut head, mut unread, length): (Cow<'_, [u8]>, _, _) = match content {
         Content::Whole(bytes) if bytes.len() <= IN_MEMORY_BYTES => (bytes.into(), None, None),
         mut content => {
             let length = match &content {
@@ -220,7 +220,6 @@ pub fn parse_samples_from(
         None => format.clone(),
     };
     // The rest of a file longer than its head, lines ended as the head's.
-    let mut unread = unread;
     let mut translated;
     let rest: Option<&mut dyn Read> = match unread.as_mut() {
         Some(unread) if head.len() > IN_MEMORY_BYTES => {
@@ -763,6 +762,41 @@ mod tests {
 
     fn error_of(text: &str, columns: &[DataColumn]) -> String {
         parse(text, columns).expect_err("invalid").to_string()
+    }
+
+    /// Bytes in memory longer than a file read whole (an upload, a served
+    /// folder's text) are read in chunks from where they lie, as the same
+    /// bytes streamed.
+    #[test]
+    fn long_bytes_in_memory_read_as_streamed() {
+        let mut text = String::from("qm1,qm2,x,y,z\n");
+        let mut row = 0;
+        while text.len() <= IN_MEMORY_BYTES + 1000 {
+            text.push_str(&format!("{}.5,0.25,1,2,{}\n", row % 7, row % 997));
+            row += 1;
+        }
+        let columns = [DataColumn::Position];
+        let path = Path::new("long.csv");
+        let whole = parse_samples_from(
+            Content::Whole(text.as_bytes()),
+            path,
+            (&TWO_REVOLUTE, &columns),
+            &DataFormat::default(),
+        )
+        .expect("whole");
+        let streamed = parse_samples(
+            text.as_bytes(),
+            path,
+            &TWO_REVOLUTE,
+            &columns,
+            &DataFormat::default(),
+        )
+        .expect("streamed");
+        assert_eq!(whole.samples.len(), row);
+        assert_eq!(whole.samples, streamed.samples);
+        let last = whole.samples.get(row - 1);
+        assert_eq!(last.line(), Some(row + 1));
+        assert_eq!(last.position().map(|p| p.z), Some(((row - 1) % 997) as f64));
     }
 
     /// A data file mapped into memory ([`read_samples`] of a small file)
