@@ -80,7 +80,7 @@ pub(super) fn summarise(
     // The errors after the fit, its outliers and the test of its residuals
     // on another core, while this one takes the precision and what is read
     // from it (each about a tenth of a millisecond at 5,000 configurations).
-    let (fitted, described) = crate::parallel::beside(
+    let (fitted, estimated) = crate::parallel::beside_if_free(
         || fit_errors(study, &best.system, &statistics, options, columns),
         || -> Result<_, Error> {
             // Precision at the solution: σ² (W_bᵀ W_b)⁻¹, and the condition
@@ -207,7 +207,7 @@ pub(super) fn summarise(
                 &parameters,
                 &moved,
             ));
-            Ok((
+            Ok(Estimates {
                 condition_number,
                 variance,
                 joined,
@@ -216,10 +216,10 @@ pub(super) fn summarise(
                 moved,
                 correlated,
                 warnings,
-            ))
+            })
         },
     );
-    let (
+    let Estimates {
         condition_number,
         variance,
         joined,
@@ -228,7 +228,7 @@ pub(super) fn summarise(
         moved,
         correlated,
         mut warnings,
-    ) = described?;
+    } = estimated?;
     let FitErrors {
         errors_after,
         outliers,
@@ -343,6 +343,27 @@ pub(super) fn summarise(
         stop_reason: stop,
         not_excited: excited.not_excited,
     })
+}
+
+/// The unknowns at the solution with their precision, and what the normal
+/// equations say of them: [`summarise`]'s part beside [`fit_errors`].
+struct Estimates {
+    /// The condition number of W_b (of the data's rows).
+    condition_number: f64,
+    /// σ² of the residuals as the loss weighed them.
+    variance: f64,
+    /// The parameters joined to the structural base set ([`tied`]).
+    joined: Vec<String>,
+    /// The auxiliary unknowns (frames, the method's own).
+    auxiliary: Vec<IdentifiedParameter>,
+    /// The base parameters.
+    parameters: Vec<IdentifiedParameter>,
+    /// Parameters outside the base set that moved.
+    moved: Vec<IdentifiedParameter>,
+    /// The strongly correlated pairs.
+    correlated: Vec<(String, String, f64)>,
+    /// The warnings of the set-up, the correlations and the excitation.
+    warnings: Vec<Warning>,
 }
 
 /// What the residuals at the solution say ([`fit_errors`]).
