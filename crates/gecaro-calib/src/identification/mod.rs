@@ -117,8 +117,6 @@ mod weighting;
 mod words;
 
 use std::borrow::Cow;
-use std::ops::ControlFlow;
-use std::sync::atomic::{AtomicBool, Ordering};
 
 use gecaro_core::Robot;
 
@@ -233,31 +231,9 @@ fn identify_as(
     further: bool,
 ) -> Result<Identification, Error> {
     options::check_options(robot, options)?;
-    // The data's units are checked on another core while the fit starts on
-    // this one (each about 0.2 ms at 5,000 configurations): a check that
-    // fails stops the fit at its next report, and its error is the one
-    // returned.
-    let failed = AtomicBool::new(false);
-    let (checked, first) = crate::parallel::beside_if_free(
-        || {
-            let checked = angle_unit::check_angle_unit(robot, study)
-                .and_then(|()| data_scale::check_data_scale(robot, study));
-            failed.store(checked.is_err(), Ordering::Release);
-            checked
-        },
-        || {
-            let mut watching = |progress: Progress<'_>| {
-                if failed.load(Ordering::Acquire) {
-                    ControlFlow::Break(())
-                } else {
-                    observer.observe(progress)
-                }
-            };
-            fit(robot, study, options, &mut watching)
-        },
-    );
-    checked?;
-    let first = first?;
+    angle_unit::check_angle_unit(robot, study)?;
+    data_scale::check_data_scale(robot, study)?;
+    let first = fit(robot, study, options, observer)?;
     if !further && (!options.reject || first.outliers.is_empty()) {
         return Ok(first);
     }
